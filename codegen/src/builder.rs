@@ -1,0 +1,1 @@
+//! The build-script API, in the style of prost-build.

@@ -1,0 +1,1 @@
+//! The thesis's derivation (chapter 3) carried out on symbols.

@@ -1,0 +1,1 @@
+//! Optimisation (CSE, constant folding) and emission of Rust tokens.

@@ -1,0 +1,16 @@
+//! # trocar-codegen — closed-form constrained Jacobians as allocation-free Rust
+//!
+//! From a [`trocar::description::RobotDescription`], the generator derives symbolically the
+//! constrained Jacobian `J^r_0e` (thesis (3.15), (3.24), (3.28), (3.29)), its manipulability and
+//! what a controller needs around them, and emits fixed-size, `#![no_std]` Rust.
+//!
+//! Modules, one per concept: [`symbolic`] (the exact expression engine), [`derivation`] (the
+//! thesis's steps on symbols), [`emit`] (optimisation and Rust tokens), [`builder`] (the
+//! `build.rs` API) and [`cli`] (the `trocar` command line).
+#![warn(missing_docs)]
+
+pub mod builder;
+pub mod cli;
+pub mod derivation;
+pub mod emit;
+pub mod symbolic;

@@ -1,0 +1,1 @@
+//! Closed kinematic chains and cooperating arms (Freitas, Leite, Lizarralde 2010).

@@ -1,0 +1,1 @@
+//! Reading descriptions from TOML with locations for every field.

@@ -1,0 +1,1 @@
+//! Importing numeric chains from URDF files.

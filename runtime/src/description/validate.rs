@@ -1,0 +1,1 @@
+//! Validation of descriptions: every rule with the field it names.

@@ -1,0 +1,36 @@
+//! # trocar — kinematics for robots constrained at a point of their chain
+//!
+//! The numeric runtime of trocar: rigid motions and twists ([`se3`]), serial-chain kinematics
+//! ([`kinematics`]), the constrained Jacobian of a remote centre of motion ([`constraint`]),
+//! manipulability ([`manipulability`]), finite-difference references ([`finite_diff`]), and — with the
+//! `std` feature — robot descriptions ([`description`]), verification of generated code ([`verify`]),
+//! control and simulation.
+//!
+//! Everything a control loop calls is allocation-free, works on `nalgebra` fixed-size types and
+//! builds with `#![no_std]` (`default-features = false`; `libm` supplies the math functions).
+//! Equation numbers refer to F. de G. Coutinho, *Redundant manipulator control with kinematic
+//! constraint for robotic assisted surgery*, MSc thesis, COPPE/UFRJ, 2015.
+#![cfg_attr(not(feature = "std"), no_std)]
+#![warn(missing_docs)]
+
+pub mod constraint;
+pub mod control;
+pub mod finite_diff;
+pub mod kinematics;
+pub mod manipulability;
+pub mod real;
+pub mod se3;
+
+#[cfg(feature = "std")]
+pub mod closed_chain;
+#[cfg(feature = "std")]
+pub mod description;
+#[cfg(feature = "std")]
+pub mod simulation;
+#[cfg(feature = "std")]
+pub mod verify;
+
+pub use real::Real;
+
+/// Re-export of the linear-algebra crate the runtime's types come from.
+pub use nalgebra;

@@ -1,0 +1,1 @@
+//! Manipulability w = sqrt(|det(J Jᵀ)|) (3.36).

@@ -1,0 +1,1 @@
+//! Kinematic simulations of the thesis's scenarios (chapter 4).

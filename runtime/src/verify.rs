@@ -1,0 +1,1 @@
+//! Verification of generated kinematics against the numeric runtime and finite differences.
