@@ -26,6 +26,10 @@ pub mod closed_chain;
 #[cfg(feature = "std")]
 pub mod description;
 #[cfg(feature = "std")]
+pub mod plot;
+#[cfg(feature = "std")]
+pub mod robot;
+#[cfg(feature = "std")]
 pub mod simulation;
 #[cfg(feature = "std")]
 pub mod verify;

@@ -1,0 +1,1 @@
+//! Plots (SVG/PNG) of simulation traces, with plotters.
