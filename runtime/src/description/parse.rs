@@ -1,1 +1,487 @@
-//! Reading descriptions from TOML with locations for every field.
+//! Reading descriptions from TOML, with the location of every joint.
+//!
+//! The format (see the shipped files in `runtime/robots/`):
+//!
+//! ```toml
+//! [robot]
+//! name = "bidirectional_zy"
+//!
+//! [parameters]          # named lengths and their nominal values
+//! l_a = 0.15
+//!
+//! [[joints]]            # base first; link frame k is joint k's frame
+//! name = "torso"
+//! type = "revolute"     # or "prismatic", or "twist" with v = [..], w = [..]
+//! xyz = [0, 0, 0]       # origin from the parent frame; entries may be "l_a + l_b"
+//! rpy = [0, 0, 0]       # or rotation = [[..], [..], [..]] (row-major)
+//! axis = [0, 0, 1]
+//!
+//! [end_effector]
+//! name = "tool"
+//! xyz = [0, "l_8", 0]
+//!
+//! [constraint]
+//! link = 6              # constrained link i (1-based)
+//! xyz = [0, "l_a", 0]   # g_ir
+//! h = ["x", "z"]        # axis letters x y z (linear) rx ry rz (angular), or rows of 6 numbers
+//! wrist = "zy"          # optional: unidirectional | zy | zx (thesis basis for Λ#)
+//! ```
+
+use super::{
+    ConstraintDesc, DescriptionError, EndEffector, JointDesc, JointKind, Location, Origin,
+    Parameter, RobotDescription, Rotation, Scalar, Wrist,
+};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRobot {
+    robot: RawMeta,
+    #[serde(default)]
+    parameters: toml::Table,
+    #[serde(default)]
+    joints: Vec<toml::Spanned<RawJoint>>,
+    end_effector: Option<RawFrame>,
+    constraint: Option<RawConstraint>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawMeta {
+    name: String,
+}
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum RawScalar {
+    Number(f64),
+    Text(String),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawJoint {
+    name: String,
+    #[serde(rename = "type")]
+    kind: String,
+    xyz: Option<[RawScalar; 3]>,
+    rpy: Option<[f64; 3]>,
+    rotation: Option<[[f64; 3]; 3]>,
+    axis: Option<[f64; 3]>,
+    v: Option<[RawScalar; 3]>,
+    w: Option<[f64; 3]>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawFrame {
+    name: Option<String>,
+    xyz: Option<[RawScalar; 3]>,
+    rpy: Option<[f64; 3]>,
+    rotation: Option<[[f64; 3]; 3]>,
+}
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum RawH {
+    Letters(Vec<String>),
+    Rows(Vec<[f64; 6]>),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawConstraint {
+    link: usize,
+    xyz: Option<[RawScalar; 3]>,
+    rpy: Option<[f64; 3]>,
+    rotation: Option<[[f64; 3]; 3]>,
+    h: RawH,
+    wrist: Option<String>,
+}
+
+/// Position of byte `offset` in `text`, 1-based.
+pub(crate) fn location_of(text: &str, offset: usize) -> Location {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    Location { line, column }
+}
+
+struct Ctx<'a> {
+    file: Option<&'a Path>,
+}
+
+impl Ctx<'_> {
+    fn err(
+        &self,
+        loc: Option<Location>,
+        field: &str,
+        message: impl Into<String>,
+    ) -> DescriptionError {
+        DescriptionError {
+            file: self.file.map(Path::to_path_buf),
+            line: loc.map(|l| l.line),
+            column: loc.map(|l| l.column),
+            field: field.to_string(),
+            message: message.into(),
+        }
+    }
+}
+
+impl Scalar {
+    /// A constant.
+    pub fn constant(value: f64) -> Self {
+        Scalar {
+            constant: value,
+            terms: Vec::new(),
+        }
+    }
+
+    /// A single parameter.
+    pub fn param(name: &str) -> Self {
+        Scalar {
+            constant: 0.0,
+            terms: vec![(1.0, name.to_string())],
+        }
+    }
+
+    /// `true` when no parameter appears.
+    pub fn is_constant(&self) -> bool {
+        self.terms.is_empty()
+    }
+
+    /// Parses `"l_a + l_b"`, `"-0.5*l_8 + 0.1"`, `"2 * l_a"` or a number.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let mut out = Scalar::default();
+        let compact: String = text.chars().filter(|c| !c.is_whitespace()).collect();
+        if compact.is_empty() {
+            return Err("empty expression".into());
+        }
+        // Split into signed terms.
+        let mut terms = Vec::new();
+        let mut start = 0;
+        let bytes = compact.as_bytes();
+        for k in 1..bytes.len() {
+            let prev = bytes[k - 1];
+            if (bytes[k] == b'+' || bytes[k] == b'-')
+                && prev != b'e'
+                && prev != b'E'
+                && prev != b'*'
+            {
+                terms.push(&compact[start..k]);
+                start = k;
+            }
+        }
+        terms.push(&compact[start..]);
+        for term in terms {
+            let (sign, body) = match term.as_bytes().first() {
+                Some(b'-') => (-1.0, &term[1..]),
+                Some(b'+') => (1.0, &term[1..]),
+                _ => (1.0, term),
+            };
+            let mut coefficient = sign;
+            let mut name: Option<&str> = None;
+            for factor in body.split('*') {
+                if let Ok(v) = factor.parse::<f64>() {
+                    coefficient *= v;
+                } else if is_identifier(factor) {
+                    if name.is_some() {
+                        return Err(format!("`{text}` is not linear in the parameters"));
+                    }
+                    name = Some(factor);
+                } else {
+                    return Err(format!(
+                        "cannot read `{factor}` in `{text}`: expected a number or a parameter name"
+                    ));
+                }
+            }
+            match name {
+                None => out.constant += coefficient,
+                Some(n) => match out.terms.iter_mut().find(|(_, m)| m == n) {
+                    Some((c, _)) => *c += coefficient,
+                    None => out.terms.push((coefficient, n.to_string())),
+                },
+            }
+        }
+        out.terms.retain(|(c, _)| *c != 0.0);
+        Ok(out)
+    }
+
+    /// Value with the given parameter lookup; `Err(name)` for an unknown parameter.
+    pub fn eval(&self, lookup: impl Fn(&str) -> Option<f64>) -> Result<f64, String> {
+        let mut v = self.constant;
+        for (c, n) in &self.terms {
+            v += c * lookup(n).ok_or_else(|| n.clone())?;
+        }
+        Ok(v)
+    }
+}
+
+/// `true` for a Rust-style identifier (`l_a`, `L8`).
+pub(crate) fn is_identifier(s: &str) -> bool {
+    let mut chars = s.chars();
+    matches!(chars.next(), Some(c) if c.is_ascii_alphabetic() || c == '_')
+        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
+fn scalar(
+    ctx: &Ctx,
+    loc: Option<Location>,
+    field: &str,
+    raw: &RawScalar,
+) -> Result<Scalar, DescriptionError> {
+    match raw {
+        RawScalar::Number(v) => Ok(Scalar::constant(*v)),
+        RawScalar::Text(t) => Scalar::parse(t).map_err(|m| ctx.err(loc, field, m)),
+    }
+}
+
+fn origin(
+    ctx: &Ctx,
+    loc: Option<Location>,
+    field: &str,
+    xyz: &Option<[RawScalar; 3]>,
+    rpy: &Option<[f64; 3]>,
+    rotation: &Option<[[f64; 3]; 3]>,
+) -> Result<Origin, DescriptionError> {
+    let xyz = match xyz {
+        Some(v) => [
+            scalar(ctx, loc, &format!("{field}.xyz[0]"), &v[0])?,
+            scalar(ctx, loc, &format!("{field}.xyz[1]"), &v[1])?,
+            scalar(ctx, loc, &format!("{field}.xyz[2]"), &v[2])?,
+        ],
+        None => Default::default(),
+    };
+    let rotation = match (rpy, rotation) {
+        (Some(_), Some(_)) => {
+            return Err(ctx.err(
+                loc,
+                &format!("{field}.rotation"),
+                "give either `rpy` or `rotation`, not both",
+            ))
+        }
+        (Some(r), None) => Rotation::Rpy(*r),
+        (None, Some(m)) => Rotation::Matrix(*m),
+        (None, None) => Rotation::Rpy([0.0; 3]),
+    };
+    Ok(Origin { xyz, rotation })
+}
+
+impl RobotDescription {
+    /// Reads a description from TOML text. `file` is used in error messages only.
+    pub fn from_toml_str(text: &str, file: Option<&Path>) -> Result<Self, DescriptionError> {
+        let ctx = Ctx { file };
+        let raw: RawRobot = toml::from_str(text).map_err(|e| {
+            let loc = e.span().map(|s| location_of(text, s.start));
+            let field = e
+                .message()
+                .split('`')
+                .nth(1)
+                .unwrap_or("(document)")
+                .to_string();
+            ctx.err(loc, &field, e.message().trim())
+        })?;
+        let mut parameters = Vec::new();
+        for (name, value) in &raw.parameters {
+            let value = match value {
+                toml::Value::Float(v) => *v,
+                toml::Value::Integer(v) => *v as f64,
+                _ => {
+                    return Err(ctx.err(
+                        None,
+                        &format!("parameters.{name}"),
+                        "a parameter's nominal value must be a number",
+                    ))
+                }
+            };
+            parameters.push(Parameter {
+                name: name.clone(),
+                value,
+            });
+        }
+        let mut joints = Vec::new();
+        for (k, spanned) in raw.joints.iter().enumerate() {
+            let loc = Some(location_of(text, spanned.span().start));
+            let j = spanned.get_ref();
+            let field = format!("joints[{k}]");
+            let kind =
+                match j.kind.as_str() {
+                    "revolute" | "prismatic" => {
+                        let axis = j.axis.ok_or_else(|| {
+                            ctx.err(loc, &format!("{field}.axis"), "missing axis")
+                        })?;
+                        if j.kind == "revolute" {
+                            JointKind::Revolute { axis }
+                        } else {
+                            JointKind::Prismatic { axis }
+                        }
+                    }
+                    "twist" => {
+                        let v = j.v.as_ref().ok_or_else(|| {
+                            ctx.err(loc, &format!("{field}.v"), "a twist joint needs `v`")
+                        })?;
+                        let w = j.w.ok_or_else(|| {
+                            ctx.err(loc, &format!("{field}.w"), "a twist joint needs `w`")
+                        })?;
+                        JointKind::Twist {
+                            v: [
+                                scalar(&ctx, loc, &format!("{field}.v[0]"), &v[0])?,
+                                scalar(&ctx, loc, &format!("{field}.v[1]"), &v[1])?,
+                                scalar(&ctx, loc, &format!("{field}.v[2]"), &v[2])?,
+                            ],
+                            w,
+                        }
+                    }
+                    other => return Err(ctx.err(
+                        loc,
+                        &format!("{field}.type"),
+                        format!(
+                            "unknown joint type `{other}` (expected revolute, prismatic or twist)"
+                        ),
+                    )),
+                };
+            joints.push(JointDesc {
+                name: j.name.clone(),
+                origin: origin(&ctx, loc, &field, &j.xyz, &j.rpy, &j.rotation)?,
+                kind,
+                location: loc,
+            });
+        }
+        let end_effector = match &raw.end_effector {
+            Some(f) => EndEffector {
+                name: f.name.clone().unwrap_or_else(|| "end_effector".into()),
+                origin: origin(&ctx, None, "end_effector", &f.xyz, &f.rpy, &f.rotation)?,
+            },
+            None => EndEffector {
+                name: "end_effector".into(),
+                origin: Origin {
+                    xyz: Default::default(),
+                    rotation: Rotation::Rpy([0.0; 3]),
+                },
+            },
+        };
+        let constraint = match &raw.constraint {
+            None => None,
+            Some(c) => {
+                let h = match &c.h {
+                    RawH::Rows(rows) => rows.clone(),
+                    RawH::Letters(letters) => letters
+                        .iter()
+                        .enumerate()
+                        .map(|(k, l)| {
+                            let index =
+                                ["x", "y", "z", "rx", "ry", "rz"]
+                                    .iter()
+                                    .position(|a| a == l)
+                                    .ok_or_else(|| {
+                                        ctx.err(
+                                    None,
+                                    &format!("constraint.h[{k}]"),
+                                    format!("unknown axis `{l}` (expected x, y, z, rx, ry or rz)"),
+                                )
+                                    })?;
+                            let mut row = [0.0; 6];
+                            row[index] = 1.0;
+                            Ok(row)
+                        })
+                        .collect::<Result<_, _>>()?,
+                };
+                let wrist = match c.wrist.as_deref() {
+                    None => None,
+                    Some("unidirectional") => Some(Wrist::Unidirectional),
+                    Some("zy") => Some(Wrist::Zy),
+                    Some("zx") => Some(Wrist::Zx),
+                    Some(other) => {
+                        return Err(ctx.err(
+                            None,
+                            "constraint.wrist",
+                            format!("unknown wrist `{other}` (expected unidirectional, zy or zx)"),
+                        ))
+                    }
+                };
+                Some(ConstraintDesc {
+                    link: c.link,
+                    origin: origin(&ctx, None, "constraint", &c.xyz, &c.rpy, &c.rotation)?,
+                    h,
+                    wrist,
+                })
+            }
+        };
+        Ok(RobotDescription {
+            name: raw.robot.name,
+            parameters,
+            joints,
+            end_effector,
+            constraint,
+            source: file.map(Path::to_path_buf),
+        })
+    }
+
+    /// Reads a description from a TOML file.
+    pub fn from_toml_file(path: impl AsRef<Path>) -> Result<Self, DescriptionError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|e| DescriptionError {
+            file: Some(PathBuf::from(path)),
+            line: None,
+            column: None,
+            field: "(file)".into(),
+            message: format!("cannot read the file: {e}"),
+        })?;
+        Self::from_toml_str(&text, Some(path))
+    }
+
+    /// One of the shipped descriptions (see [`super::PRESETS`]) by name.
+    pub fn preset(name: &str) -> Result<Self, DescriptionError> {
+        let text = super::preset(name).ok_or_else(|| DescriptionError {
+            file: None,
+            line: None,
+            column: None,
+            field: "preset".into(),
+            message: format!(
+                "unknown preset `{name}` (expected one of: {})",
+                super::preset_names().collect::<Vec<_>>().join(", ")
+            ),
+        })?;
+        Self::from_toml_str(text, Some(Path::new(&format!("<preset {name}>"))))
+    }
+
+    /// Nominal value of a parameter.
+    pub fn parameter(&self, name: &str) -> Option<f64> {
+        self.parameters
+            .iter()
+            .find(|p| p.name == name)
+            .map(|p| p.value)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scalars_parse_linear_combinations() {
+        let s = Scalar::parse("l_a + l_b").unwrap();
+        assert_eq!(s.terms, vec![(1.0, "l_a".into()), (1.0, "l_b".into())]);
+        let s = Scalar::parse("-0.5*l_8 + 0.1 - 2e-1").unwrap();
+        assert_eq!(s.terms, vec![(-0.5, "l_8".into())]);
+        assert!((s.constant - (-0.1)).abs() < 1e-15);
+        assert!(Scalar::parse("l_a*l_b").is_err());
+        assert!(Scalar::parse("l_a + $").is_err());
+        assert_eq!(Scalar::parse("2*l_a").unwrap().eval(|_| Some(0.5)), Ok(1.0));
+        assert_eq!(
+            Scalar::parse("l_q").unwrap().eval(|_| None),
+            Err("l_q".into())
+        );
+    }
+
+    #[test]
+    fn every_shipped_description_reads() {
+        for name in super::super::preset_names() {
+            let d = RobotDescription::preset(name).unwrap();
+            assert_eq!(d.joints.len(), 8, "{name}");
+            assert_eq!(d.constraint.as_ref().unwrap().link, 6);
+            assert!(d.joints[1].location.unwrap().line > 10);
+        }
+    }
+}

@@ -2,11 +2,26 @@
 
 /// `(name, TOML text)` of every shipped description.
 pub const PRESETS: &[(&str, &str)] = &[
-    ("unidirectional", include_str!("../../robots/unidirectional.toml")),
-    ("bidirectional-zy", include_str!("../../robots/bidirectional-zy.toml")),
-    ("bidirectional-zx", include_str!("../../robots/bidirectional-zx.toml")),
-    ("dia10_like_zy", include_str!("../../robots/dia10_like_zy.toml")),
-    ("dia10_like_zx", include_str!("../../robots/dia10_like_zx.toml")),
+    (
+        "unidirectional",
+        include_str!("../../robots/unidirectional.toml"),
+    ),
+    (
+        "bidirectional-zy",
+        include_str!("../../robots/bidirectional-zy.toml"),
+    ),
+    (
+        "bidirectional-zx",
+        include_str!("../../robots/bidirectional-zx.toml"),
+    ),
+    (
+        "dia10_like_zy",
+        include_str!("../../robots/dia10_like_zy.toml"),
+    ),
+    (
+        "dia10_like_zx",
+        include_str!("../../robots/dia10_like_zx.toml"),
+    ),
 ];
 
 /// The TOML text of a shipped description, by name.
