@@ -1,6 +1,318 @@
 //! The `trocar` command line (SPEC §5).
+//!
+//! ```text
+//! trocar generate ROBOT.toml [-o OUT.rs] [--real f32|f64]
+//! trocar eval ROBOT.toml --q 0.1,0.2,... [--param l_a=0.15 ...] [--what jr|manip|jc|jb0i|jb0e|fk] [--json] [--numeric]
+//! trocar verify ROBOT.toml [--samples N]
+//! trocar jacobian --urdf FILE.urdf --tip LINK --q ... [--frame body|spatial] [--json]
+//! trocar simulate SCENARIO [--method pinv|dls|fi] [--drift-correction on|off] [--csv OUT.csv] [--plot OUT.svg]
+//! trocar preset unidirectional|bidirectional-zy|bidirectional-zx
+//! ```
+//!
+//! `ROBOT.toml` may also be the name of a shipped description (`bidirectional-zy`, `dia10_like_zy`, ...).
+//! Matrices print as JSON `{"rows": R, "cols": C, "data": [[row], ...]}` with `--json`, as aligned
+//! text otherwise. Errors go to stderr with a non-zero exit code and say what is wrong and where.
+
+use clap::{Parser, Subcommand, ValueEnum};
+use std::fmt;
+use std::path::{Path, PathBuf};
+use trocar::description::{preset_names, DescriptionError, RobotDescription};
+
+/// Command-line arguments of `trocar`.
+#[derive(Debug, Parser)]
+#[command(
+    name = "trocar",
+    version,
+    about = "Constrained (RCM) kinematics: generate, evaluate, verify, simulate"
+)]
+pub struct Cli {
+    /// The subcommand.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands of `trocar`.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Emit the generated Rust module for a robot description.
+    Generate {
+        /// Robot description (TOML file or shipped description name).
+        robot: String,
+        /// Output file (stdout when absent).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Scalar type of the generated code.
+        #[arg(long, value_enum, default_value_t = RealArg::Generic)]
+        real: RealArg,
+    },
+    /// Evaluate the constrained Jacobian and friends at a configuration.
+    Eval {
+        /// Robot description (TOML file or shipped description name).
+        robot: String,
+        /// All n joint values, base first, comma separated.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            allow_hyphen_values = true,
+            required = true
+        )]
+        q: Vec<f64>,
+        /// Parameter values `name=value` (nominal values otherwise).
+        #[arg(long = "param", value_parser = parse_param)]
+        params: Vec<(String, f64)>,
+        /// What to evaluate.
+        #[arg(long, value_enum, default_value_t = What::Jr)]
+        what: What,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+        /// Use the numeric runtime instead of the derived closed form.
+        #[arg(long)]
+        numeric: bool,
+    },
+    /// Check generated expressions against the numeric runtime and finite differences.
+    Verify {
+        /// Robot description (TOML file or shipped description name).
+        robot: String,
+        /// Number of random configurations.
+        #[arg(long, default_value_t = 1000)]
+        samples: usize,
+        /// Seed of the random configurations.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
+    /// Body or spatial Jacobian of a URDF chain.
+    Jacobian {
+        /// The URDF file.
+        #[arg(long)]
+        urdf: PathBuf,
+        /// The tip link (end effector).
+        #[arg(long)]
+        tip: String,
+        /// All joint values from the root to the tip, comma separated.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            allow_hyphen_values = true,
+            required = true
+        )]
+        q: Vec<f64>,
+        /// Frame of the Jacobian.
+        #[arg(long, value_enum, default_value_t = Frame::Body)]
+        frame: Frame,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Run one of the thesis's simulations (1, 2, 3, 4, exp421) or a closed-chain one.
+    Simulate {
+        /// Scenario name.
+        scenario: String,
+        /// Inverse used for J^r.
+        #[arg(long, value_enum)]
+        method: Option<Method>,
+        /// Close the loop on the trocar position.
+        #[arg(long, value_enum, default_value_t = OnOff::On)]
+        drift_correction: OnOff,
+        /// Write the trace as CSV.
+        #[arg(long)]
+        csv: Option<PathBuf>,
+        /// Write the figures (SVG; a .png path gives PNG).
+        #[arg(long)]
+        plot: Option<PathBuf>,
+    },
+    /// Print a shipped description (TOML).
+    Preset {
+        /// Name of the preset.
+        name: String,
+    },
+}
+
+/// Scalar type of generated code.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum RealArg {
+    /// Generic over `T: trocar::Real`.
+    Generic,
+    /// `f32`.
+    F32,
+    /// `f64`.
+    F64,
+}
+
+/// What `trocar eval` computes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum What {
+    /// Constrained Jacobian J^r_0e (3.15).
+    Jr,
+    /// Manipulability of J^r (3.36).
+    Manip,
+    /// J_c = Ad_gei Λ† (3.33).
+    Jc,
+    /// Partial body Jacobian J^B_0i (3.13).
+    Jb0i,
+    /// Body Jacobian J^B_0e (2.55).
+    Jb0e,
+    /// Forward kinematics g_0e as a 4×4 homogeneous matrix.
+    Fk,
+}
+
+/// Frame of `trocar jacobian`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Frame {
+    /// Body Jacobian (2.55).
+    Body,
+    /// Spatial Jacobian (2.53).
+    Spatial,
+}
+
+/// Inverse used by the controller.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Method {
+    /// Moore–Penrose pseudo-inverse.
+    Pinv,
+    /// Damped least squares with variable damping (3.44)–(3.46).
+    Dls,
+    /// Filtered inverse (3.47)–(3.50).
+    Fi,
+}
+
+/// A switch.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum OnOff {
+    /// On.
+    On,
+    /// Off.
+    Off,
+}
+
+fn parse_param(s: &str) -> Result<(String, f64), String> {
+    let (name, value) = s
+        .split_once('=')
+        .ok_or_else(|| format!("`{s}`: expected name=value"))?;
+    let value: f64 = value
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}`: `{value}` is not a number"))?;
+    if !value.is_finite() {
+        return Err(format!("`{s}`: the value must be finite"));
+    }
+    Ok((name.trim().to_string(), value))
+}
+
+/// An error of the command line: printed to stderr, exit code 1.
+#[derive(Debug)]
+pub struct CliError(pub String);
+
+impl fmt::Display for CliError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for CliError {}
+
+impl From<DescriptionError> for CliError {
+    fn from(e: DescriptionError) -> Self {
+        CliError(e.to_string())
+    }
+}
+
+/// Loads a description from a file, or a shipped description by name when no such file exists.
+pub fn load_robot(robot: &str) -> Result<RobotDescription, DescriptionError> {
+    let path = Path::new(robot);
+    if !path.exists() && preset_names().any(|n| n == robot) {
+        RobotDescription::preset(robot)
+    } else {
+        RobotDescription::from_toml_file(path)
+    }
+}
+
+/// A matrix in row-major order, as printed by the command line.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MatrixOut {
+    /// Row count.
+    pub rows: usize,
+    /// Column count.
+    pub cols: usize,
+    /// Entries, row by row.
+    pub data: Vec<Vec<f64>>,
+}
+
+impl MatrixOut {
+    /// From a nalgebra matrix.
+    pub fn from_nalgebra<R: trocar::nalgebra::Dim, C: trocar::nalgebra::Dim, S>(
+        m: &trocar::nalgebra::Matrix<f64, R, C, S>,
+    ) -> Self
+    where
+        S: trocar::nalgebra::RawStorage<f64, R, C>,
+    {
+        let (rows, cols) = m.shape();
+        MatrixOut {
+            rows,
+            cols,
+            data: (0..rows)
+                .map(|r| (0..cols).map(|c| m[(r, c)]).collect())
+                .collect(),
+        }
+    }
+
+    /// The SPEC §5 JSON form `{"rows": R, "cols": C, "data": [[row], ...]}`.
+    pub fn to_json(&self) -> String {
+        serde_json::json!({ "rows": self.rows, "cols": self.cols, "data": self.data }).to_string()
+    }
+
+    /// Aligned text, one row a line.
+    pub fn to_text(&self) -> String {
+        let cells: Vec<Vec<String>> = self
+            .data
+            .iter()
+            .map(|r| r.iter().map(|v| format!("{v:.9}")).collect())
+            .collect();
+        let width = cells.iter().flatten().map(String::len).max().unwrap_or(0);
+        cells
+            .iter()
+            .map(|r| {
+                r.iter()
+                    .map(|c| format!("{c:>width$}"))
+                    .collect::<Vec<_>>()
+                    .join("  ")
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    }
+}
 
 /// Runs the command line with the process arguments and returns the exit code.
 pub fn main() -> i32 {
-    0
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            let _ = e.print();
+            return if e.use_stderr() { 2 } else { 0 };
+        }
+    };
+    match run(cli) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e}");
+            1
+        }
+    }
+}
+
+/// Runs a parsed command; returns the exit code, or an error to print.
+pub fn run(cli: Cli) -> Result<i32, CliError> {
+    match cli.command {
+        Command::Preset { name } => {
+            let text = trocar::description::preset(&name).ok_or_else(|| {
+                CliError(format!(
+                    "unknown preset `{name}` (expected one of: {})",
+                    preset_names().collect::<Vec<_>>().join(", ")
+                ))
+            })?;
+            print!("{text}");
+            Ok(0)
+        }
+        _ => Err(CliError("this subcommand is not available yet".into())),
+    }
 }

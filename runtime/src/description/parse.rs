@@ -305,42 +305,43 @@ impl RobotDescription {
             let loc = Some(location_of(text, spanned.span().start));
             let j = spanned.get_ref();
             let field = format!("joints[{k}]");
-            let kind =
-                match j.kind.as_str() {
-                    "revolute" | "prismatic" => {
-                        let axis = j.axis.ok_or_else(|| {
-                            ctx.err(loc, &format!("{field}.axis"), "missing axis")
-                        })?;
-                        if j.kind == "revolute" {
-                            JointKind::Revolute { axis }
-                        } else {
-                            JointKind::Prismatic { axis }
-                        }
+            let kind = match j.kind.as_str() {
+                "revolute" | "prismatic" => {
+                    let axis = j
+                        .axis
+                        .ok_or_else(|| ctx.err(loc, &format!("{field}.axis"), "missing axis"))?;
+                    if j.kind == "revolute" {
+                        JointKind::Revolute { axis }
+                    } else {
+                        JointKind::Prismatic { axis }
                     }
-                    "twist" => {
-                        let v = j.v.as_ref().ok_or_else(|| {
-                            ctx.err(loc, &format!("{field}.v"), "a twist joint needs `v`")
-                        })?;
-                        let w = j.w.ok_or_else(|| {
-                            ctx.err(loc, &format!("{field}.w"), "a twist joint needs `w`")
-                        })?;
-                        JointKind::Twist {
-                            v: [
-                                scalar(&ctx, loc, &format!("{field}.v[0]"), &v[0])?,
-                                scalar(&ctx, loc, &format!("{field}.v[1]"), &v[1])?,
-                                scalar(&ctx, loc, &format!("{field}.v[2]"), &v[2])?,
-                            ],
-                            w,
-                        }
+                }
+                "twist" => {
+                    let v = j.v.as_ref().ok_or_else(|| {
+                        ctx.err(loc, &format!("{field}.v"), "a twist joint needs `v`")
+                    })?;
+                    let w = j.w.ok_or_else(|| {
+                        ctx.err(loc, &format!("{field}.w"), "a twist joint needs `w`")
+                    })?;
+                    JointKind::Twist {
+                        v: [
+                            scalar(&ctx, loc, &format!("{field}.v[0]"), &v[0])?,
+                            scalar(&ctx, loc, &format!("{field}.v[1]"), &v[1])?,
+                            scalar(&ctx, loc, &format!("{field}.v[2]"), &v[2])?,
+                        ],
+                        w,
                     }
-                    other => return Err(ctx.err(
+                }
+                other => {
+                    return Err(ctx.err(
                         loc,
                         &format!("{field}.type"),
                         format!(
                             "unknown joint type `{other}` (expected revolute, prismatic or twist)"
                         ),
-                    )),
-                };
+                    ))
+                }
+            };
             joints.push(JointDesc {
                 name: j.name.clone(),
                 origin: origin(&ctx, loc, &field, &j.xyz, &j.rpy, &j.rotation)?,
