@@ -10,8 +10,10 @@
 //! every error is a [`DescriptionError`] naming file, line and field.
 
 mod error;
+mod locate;
 mod parse;
 mod presets;
+mod serialize;
 mod urdf;
 mod validate;
 

@@ -1,0 +1,1 @@
+//! Writing descriptions back to TOML.
