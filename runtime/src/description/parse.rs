@@ -397,48 +397,49 @@ impl RobotDescription {
                     Ok(())
                 }
             };
-            let kind =
-                match j.kind.as_str() {
-                    "revolute" | "prismatic" => {
-                        let why = format!("a {} joint has an `axis`, not a twist", j.kind);
-                        unused("v", j.v.is_some(), &why)?;
-                        unused("w", j.w.is_some(), &why)?;
-                        let axis = j.axis.ok_or_else(|| {
-                            ctx.err(
-                                &format!("{field}.axis"),
-                                format!("a {} joint needs `axis = [x, y, z]`", j.kind),
-                            )
-                        })?;
-                        if j.kind == "revolute" {
-                            JointKind::Revolute { axis }
-                        } else {
-                            JointKind::Prismatic { axis }
-                        }
+            let kind = match j.kind.as_str() {
+                "revolute" | "prismatic" => {
+                    let why = format!("a {} joint has an `axis`, not a twist", j.kind);
+                    unused("v", j.v.is_some(), &why)?;
+                    unused("w", j.w.is_some(), &why)?;
+                    let axis = j.axis.ok_or_else(|| {
+                        ctx.err(
+                            &format!("{field}.axis"),
+                            format!("a {} joint needs `axis = [x, y, z]`", j.kind),
+                        )
+                    })?;
+                    if j.kind == "revolute" {
+                        JointKind::Revolute { axis }
+                    } else {
+                        JointKind::Prismatic { axis }
                     }
-                    "twist" => {
-                        unused(
-                            "axis",
-                            j.axis.is_some(),
-                            "a twist joint has `v` and `w`, not an `axis`",
-                        )?;
-                        let v = j.v.as_ref().ok_or_else(|| {
-                            ctx.err(&format!("{field}.v"), "a twist joint needs `v = [x, y, z]`")
-                        })?;
-                        let w = j.w.ok_or_else(|| {
-                            ctx.err(&format!("{field}.w"), "a twist joint needs `w = [x, y, z]`")
-                        })?;
-                        JointKind::Twist {
-                            v: scalars(&ctx, &format!("{field}.v"), v)?,
-                            w,
-                        }
+                }
+                "twist" => {
+                    unused(
+                        "axis",
+                        j.axis.is_some(),
+                        "a twist joint has `v` and `w`, not an `axis`",
+                    )?;
+                    let v = j.v.as_ref().ok_or_else(|| {
+                        ctx.err(&format!("{field}.v"), "a twist joint needs `v = [x, y, z]`")
+                    })?;
+                    let w = j.w.ok_or_else(|| {
+                        ctx.err(&format!("{field}.w"), "a twist joint needs `w = [x, y, z]`")
+                    })?;
+                    JointKind::Twist {
+                        v: scalars(&ctx, &format!("{field}.v"), v)?,
+                        w,
                     }
-                    other => return Err(ctx.err(
+                }
+                other => {
+                    return Err(ctx.err(
                         &format!("{field}.type"),
                         format!(
                             "unknown joint type `{other}` (expected revolute, prismatic or twist)"
                         ),
-                    )),
-                };
+                    ))
+                }
+            };
             joints.push(JointDesc {
                 name: j.name.clone(),
                 origin: origin(&ctx, &field, &j.xyz, &j.rpy, &j.rotation)?,
