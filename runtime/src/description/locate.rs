@@ -56,13 +56,20 @@ fn segments(path: &str) -> Vec<Segment<'_>> {
 pub(crate) struct Locator<'a> {
     text: &'a str,
     root: Option<DeTable<'a>>,
+    /// `false` when the text has TOML syntax errors (the document was recovered).
+    pub(crate) syntax_ok: bool,
 }
 
 impl<'a> Locator<'a> {
     /// Parses `text`; a text that is not TOML gives a locator that knows nothing.
     pub(crate) fn new(text: &'a str) -> Self {
-        let root = DeTable::parse(text).ok().map(Spanned::into_inner);
-        Locator { text, root }
+        // Recoverable: a document with a duplicate key still locates its other fields.
+        let (root, errors) = DeTable::parse_recoverable(text);
+        Locator {
+            text,
+            root: Some(root.into_inner()),
+            syntax_ok: errors.is_empty(),
+        }
     }
 
     /// Where `field` is written: the key for a key, the element for an index; a missing key
@@ -98,6 +105,71 @@ impl<'a> Locator<'a> {
             }
         }
         best.map(|span| location_of(self.text, span.start))
+    }
+
+    /// The table (`constraint`, `joints[2]`) whose header is the last one before byte `offset`;
+    /// `""` for the top level.
+    pub(crate) fn table_before(&self, offset: usize) -> String {
+        let mut best = (0, String::new());
+        let Some(root) = self.root.as_ref() else {
+            return best.1;
+        };
+        for (k, v) in root.iter() {
+            let name = k.get_ref().to_string();
+            match v.get_ref() {
+                DeValue::Table(_) if v.span().start <= offset && v.span().start >= best.0 => {
+                    best = (v.span().start, name);
+                }
+                DeValue::Array(a) => {
+                    for (i, item) in a.iter().enumerate() {
+                        let start = item.span().start;
+                        if matches!(item.get_ref(), DeValue::Table(_))
+                            && start <= offset
+                            && start >= best.0
+                        {
+                            best = (start, format!("{name}[{i}]"));
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+        best.1
+    }
+
+    /// For an array of scalars at `path`: the path of its first element that is neither a number
+    /// nor a string.
+    pub(crate) fn first_non_scalar(&self, path: &str) -> Option<String> {
+        let mut value: Option<&DeValue<'a>> = None;
+        let mut table = self.root.as_ref();
+        for segment in segments(path) {
+            match segment {
+                Segment::Key(key) => {
+                    let t = match value {
+                        None => table?,
+                        Some(DeValue::Table(t)) => t,
+                        Some(_) => return None,
+                    };
+                    value = Some(t.iter().find(|(k, _)| k.get_ref() == key)?.1.get_ref());
+                    table = None;
+                }
+                Segment::Index(i) => match value {
+                    Some(DeValue::Array(a)) => value = Some(a.get(i)?.get_ref()),
+                    _ => return None,
+                },
+            }
+        }
+        let Some(DeValue::Array(a)) = value else {
+            return None;
+        };
+        a.iter()
+            .position(|item| {
+                !matches!(
+                    item.get_ref(),
+                    DeValue::Integer(_) | DeValue::Float(_) | DeValue::String(_)
+                )
+            })
+            .map(|k| format!("{path}[{k}]"))
     }
 
     /// The most specific field whose key or value span contains byte `offset`.

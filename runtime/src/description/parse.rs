@@ -298,7 +298,14 @@ fn toml_error(ctx: &Ctx, text: &str, e: &toml::de::Error) -> DescriptionError {
     let offset = e.span().map(|s| s.start);
     let at = offset.and_then(|o| ctx.locator.path_at(o));
     let quoted = message.split('`').nth(1).unwrap_or("").to_string();
-    let (field, message) = if let Some(rest) = message.strip_prefix("unknown field `") {
+    let syntax = !ctx.locator.syntax_ok && message != "duplicate key";
+    let (field, message) = if syntax {
+        // Paths in a broken document can mislead: the position says where.
+        (
+            "(document)".to_string(),
+            format!("not valid TOML: {message}"),
+        )
+    } else if let Some(rest) = message.strip_prefix("unknown field `") {
         let field = at.unwrap_or_else(|| quoted.clone());
         let table = parent_of(&field).to_string();
         let expected = rest.split_once(", ").map_or("", |(_, e)| e).to_string();
@@ -313,7 +320,10 @@ fn toml_error(ctx: &Ctx, text: &str, e: &toml::de::Error) -> DescriptionError {
         );
         (field, message)
     } else if message.starts_with("missing field `") {
-        let table = at.unwrap_or_default();
+        let table = match e.span() {
+            Some(span) if !span.is_empty() => at.unwrap_or_default(),
+            _ => String::new(),
+        };
         let field = if table.is_empty() {
             quoted.clone()
         } else {
@@ -324,6 +334,8 @@ fn toml_error(ctx: &Ctx, text: &str, e: &toml::de::Error) -> DescriptionError {
             format!("missing key `{quoted}` {}", table_phrase(&table)),
         )
     } else if message.contains("untagged enum RawScalar") {
+        // The span is the array's: name the offending element.
+        let at = at.map(|a| ctx.locator.first_non_scalar(&a).unwrap_or(a));
         (
             at.unwrap_or_else(|| "(document)".into()),
             "expected a number or a parameter expression such as \"l_a + l_b\"".into(),
@@ -334,9 +346,19 @@ fn toml_error(ctx: &Ctx, text: &str, e: &toml::de::Error) -> DescriptionError {
             "expected axis letters such as [\"x\", \"z\"] or rows of 6 numbers".into(),
         )
     } else if message == "duplicate key" {
-        let field = at.unwrap_or_else(|| "(document)".into());
-        let key = field.rsplit('.').next().unwrap_or("").to_string();
-        let table = parent_of(&field).to_string();
+        // The second key is not in the (recovered) document: name it from the text.
+        let span = e.span().unwrap_or(0..0);
+        let key = text
+            .get(span.clone())
+            .unwrap_or("")
+            .trim_matches(['"', '\''])
+            .to_string();
+        let table = ctx.locator.table_before(span.start);
+        let field = if table.is_empty() {
+            key.clone()
+        } else {
+            format!("{table}.{key}")
+        };
         (
             field,
             format!("duplicate key `{key}` {}", table_phrase(&table)),
@@ -346,7 +368,11 @@ fn toml_error(ctx: &Ctx, text: &str, e: &toml::de::Error) -> DescriptionError {
     } else {
         ("(document)".into(), format!("not valid TOML: {message}"))
     };
-    let loc = offset.map(|o| location_of(text, o));
+    let loc = match ctx.locator.locate(&field) {
+        // The element named above, rather than the array the error points at.
+        Some(l) if field.ends_with(']') => Some(l),
+        _ => offset.map(|o| location_of(text, o)),
+    };
     DescriptionError {
         file: ctx.file.map(Path::to_path_buf),
         line: loc.map(|l| l.line),

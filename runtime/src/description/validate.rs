@@ -390,20 +390,21 @@ impl Checker<'_> {
             return;
         }
         let i = c.link;
+        if self.d.joints.len() < i + 2 {
+            self.err(
+                "constraint.wrist",
+                format!(
+                    "wrist `{name}` needs two joints after the constrained link {i} (joints {} and {}); the robot has {}",
+                    i + 1,
+                    i + 2,
+                    self.d.joints.len()
+                ),
+            );
+            return;
+        }
         for (offset, (axis, letter)) in [([0.0, 0.0, 1.0], "z"), second].into_iter().enumerate() {
             let k = i + offset; // 0-based index of joint i + 1 + offset
-            let Some(j) = self.d.joints.get(k) else {
-                self.err(
-                    "constraint.wrist",
-                    format!(
-                        "wrist `{name}` needs two joints after the constrained link {i} (joints {} and {}); the robot has {}",
-                        i + 1,
-                        i + 2,
-                        self.d.joints.len()
-                    ),
-                );
-                return;
-            };
+            let j = &self.d.joints[k];
             let ok = matches!(j.kind, JointKind::Revolute { axis: a } if a == axis);
             if !ok {
                 self.err(
