@@ -383,13 +383,30 @@ fn toml_error(ctx: &Ctx, text: &str, e: &toml::de::Error) -> DescriptionError {
 }
 
 impl RobotDescription {
-    /// Reads a description from TOML text and validates it. `file` is used in error messages only.
+    /// Reads a description from TOML text and validates it ([`RobotDescription::validate`]), every
+    /// error with the line and column of its field. `file` is used in error messages only.
     pub fn from_toml_str(text: &str, file: Option<&Path>) -> Result<Self, DescriptionError> {
         let locator = Locator::new(text);
-        let ctx = Ctx {
-            file,
-            locator: &locator,
-        };
+        let description = Self::read(text, file, &locator)?;
+        let problems = super::validate::problems(&description, &|field| locator.locate(field));
+        match problems.into_iter().next() {
+            Some(first) => Err(first),
+            None => Ok(description),
+        }
+    }
+
+    /// Reads a description from TOML text without the checks of [`RobotDescription::validate`]:
+    /// only the format is checked (TOML syntax, known keys, types, axis letters, joint types).
+    /// Use [`RobotDescription::problems`] to list every problem of the result at once.
+    pub fn from_toml_str_unvalidated(
+        text: &str,
+        file: Option<&Path>,
+    ) -> Result<Self, DescriptionError> {
+        Self::read(text, file, &Locator::new(text))
+    }
+
+    fn read(text: &str, file: Option<&Path>, locator: &Locator) -> Result<Self, DescriptionError> {
+        let ctx = Ctx { file, locator };
         let raw: RawRobot = toml::from_str(text).map_err(|e| toml_error(&ctx, text, &e))?;
         let mut parameters = Vec::new();
         for (name, value) in &raw.parameters {
@@ -541,19 +558,14 @@ impl RobotDescription {
                 })
             }
         };
-        let description = RobotDescription {
+        Ok(RobotDescription {
             name: raw.robot.name,
             parameters,
             joints,
             end_effector,
             constraint,
             source: file.map(Path::to_path_buf),
-        };
-        let problems = super::validate::problems(&description, &|field| locator.locate(field));
-        match problems.into_iter().next() {
-            Some(first) => Err(first),
-            None => Ok(description),
-        }
+        })
     }
 
     /// Reads a description from a TOML file.
