@@ -13,8 +13,11 @@ fn number(v: f64) -> String {
         "nan".into()
     } else if v.is_infinite() {
         if v > 0.0 { "inf" } else { "-inf" }.into()
+    } else if v.fract() == 0.0 && v.abs() < 1e15 && !(v == 0.0 && v.is_sign_negative()) {
+        // Whole numbers as TOML integers (`0`, `1`, `-2`): they read back as the same f64.
+        format!("{}", v as i64)
     } else {
-        // `{:?}` is the shortest representation that round-trips and always has a `.` or an `e`.
+        // `{:?}` is the shortest representation that round-trips.
         format!("{v:?}")
     }
 }

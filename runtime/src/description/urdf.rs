@@ -6,7 +6,8 @@
 //! - `revolute` and `continuous` joints become revolute joints, `prismatic` joints prismatic ones;
 //!   the axis is normalised (a zero or non-finite axis is an error);
 //! - a joint's origin (`xyz`, `rpy`) is kept as written; `fixed` joints are folded into the origin
-//!   of the next moving joint (which then carries a rotation matrix), or into the end effector;
+//!   of the next moving joint (which then carries a rotation matrix, with entries below 1e-15 set
+//!   to 0), or into the end effector;
 //! - `floating`, `planar` and `spherical` joints on the path are errors;
 //! - the end effector is the tip link's frame, named after it.
 //!
@@ -73,10 +74,13 @@ impl Pose {
         }
     }
 
+    /// As an origin with a rotation matrix; entries below 1e-15 in magnitude (the rounding noise of
+    /// `cos(π/2)` in composed rpy rotations) are written as 0.
     fn to_origin(self) -> Origin {
+        let snap = |x: f64| if x.abs() < 1e-15 { 0.0 } else { x };
         Origin {
-            xyz: self.p.map(Scalar::constant),
-            rotation: Rotation::Matrix(self.r),
+            xyz: self.p.map(|x| Scalar::constant(snap(x))),
+            rotation: Rotation::Matrix(self.r.map(|row| row.map(snap))),
         }
     }
 }
