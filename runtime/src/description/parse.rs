@@ -10,11 +10,11 @@
 //! l_a = 0.15
 //!
 //! [[joints]]            # base first; link frame k is joint k's frame
-//! name = "torso"
-//! type = "revolute"     # or "prismatic", or "twist" with v = [..], w = [..]
-//! xyz = [0, 0, 0]       # origin from the parent frame; entries may be "l_a + l_b"
-//! rpy = [0, 0, 0]       # or rotation = [[..], [..], [..]] (row-major)
-//! axis = [0, 0, 1]
+//! name = "torso"        # unique
+//! type = "revolute"     # or "prismatic", or "twist" with v = [..], w = [..] instead of axis
+//! xyz = [0, 0, 0]       # origin from the parent frame; entries may be "l_a + l_b", "-0.5*l_8 + 0.1"
+//! rpy = [0, 0, 0]       # or rotation = [[..], [..], [..]] (row-major); default: identity
+//! axis = [0, 0, 1]      # unit
 //!
 //! [end_effector]
 //! name = "tool"
