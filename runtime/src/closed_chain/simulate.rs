@@ -120,23 +120,52 @@ impl Trace {
     }
 
     /// Draws the panels as an SVG file (one panel per row).
+    ///
+    /// Text needs a TrueType font (plotters is built with `ab_glyph`): the file named by the
+    /// `TROCAR_FONT` environment variable, else the first of a few usual system fonts (DejaVu
+    /// Sans, Liberation Sans, Arial); without one this errors instead of drawing unlabelled axes.
     pub fn plot_svg(&self, path: impl AsRef<Path>) -> Result<(), ClosedChainError> {
-        use plotters::prelude::*;
         let path = path.as_ref();
+        let size = (900, 300 * self.panels.len().max(1) as u32);
         let io = |e: String| ClosedChainError::Io {
             path: path.display().to_string(),
             message: e,
         };
-        let h = 300 * self.panels.len().max(1) as u32;
-        let root = SVGBackend::new(path, (900, h)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| io(e.to_string()))?;
+        ensure_font().map_err(io)?;
+        let root = plotters::prelude::IntoDrawingArea::into_drawing_area(
+            plotters::prelude::SVGBackend::new(path, size),
+        );
+        self.draw(root).map_err(io)
+    }
+
+    /// Draws the panels as a PNG file (same layout and font requirement as [`Trace::plot_svg`]).
+    pub fn plot_png(&self, path: impl AsRef<Path>) -> Result<(), ClosedChainError> {
+        let path = path.as_ref();
+        let size = (900, 300 * self.panels.len().max(1) as u32);
+        let io = |e: String| ClosedChainError::Io {
+            path: path.display().to_string(),
+            message: e,
+        };
+        ensure_font().map_err(io)?;
+        let root = plotters::prelude::IntoDrawingArea::into_drawing_area(
+            plotters::prelude::BitMapBackend::new(path, size),
+        );
+        self.draw(root).map_err(io)
+    }
+
+    fn draw<DB: plotters::prelude::DrawingBackend>(
+        &self,
+        root: plotters::drawing::DrawingArea<DB, plotters::coord::Shift>,
+    ) -> Result<(), String> {
+        use plotters::prelude::*;
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
         let areas = root.split_evenly((self.panels.len().max(1), 1));
         let palette = [BLUE, RED, GREEN, MAGENTA, CYAN, BLACK];
         for (panel, area) in self.panels.iter().zip(areas.iter()) {
             let mut series = Vec::new();
             for (xc, yc, label) in &panel.lines {
                 let (Some(x), Some(y)) = (self.column(xc), self.column(yc)) else {
-                    return Err(io(format!("no column `{xc}` or `{yc}`")));
+                    return Err(format!("no column `{xc}` or `{yc}`"));
                 };
                 series.push((x, y, label.clone()));
             }
@@ -163,16 +192,16 @@ impl Trace {
             let mut chart = ChartBuilder::on(area)
                 .caption(&panel.title, ("sans-serif", 18))
                 .margin(10)
-                .x_label_area_size(35)
-                .y_label_area_size(70)
+                .x_label_area_size(40)
+                .y_label_area_size(80)
                 .build_cartesian_2d(x0..x1, y0..y1)
-                .map_err(|e| io(e.to_string()))?;
+                .map_err(|e| e.to_string())?;
             chart
                 .configure_mesh()
                 .x_desc(panel.x_label.as_str())
                 .y_desc(panel.y_label.as_str())
                 .draw()
-                .map_err(|e| io(e.to_string()))?;
+                .map_err(|e| e.to_string())?;
             for (k, (x, y, label)) in series.into_iter().enumerate() {
                 let color = palette[k % palette.len()];
                 chart
@@ -182,7 +211,7 @@ impl Trace {
                             .filter(|(a, b)| a.is_finite() && b.is_finite()),
                         color.stroke_width(2),
                     ))
-                    .map_err(|e| io(e.to_string()))?
+                    .map_err(|e| e.to_string())?
                     .label(label)
                     .legend(move |(a, b)| PathElement::new(vec![(a, b), (a + 20, b)], color));
             }
@@ -191,11 +220,47 @@ impl Trace {
                 .background_style(WHITE.mix(0.8))
                 .border_style(BLACK)
                 .draw()
-                .map_err(|e| io(e.to_string()))?;
+                .map_err(|e| e.to_string())?;
         }
-        root.present().map_err(|e| io(e.to_string()))?;
+        root.present().map_err(|e| e.to_string())?;
         Ok(())
     }
+}
+
+const FONT_CANDIDATES: [&str; 8] = [
+    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+    "/usr/share/fonts/TTF/DejaVuSans.ttf",
+    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
+    "/usr/share/fonts/dejavu-sans-fonts/DejaVuSans.ttf",
+    "/usr/share/fonts/truetype/liberation/LiberationSans-Regular.ttf",
+    "/usr/share/fonts/liberation-sans/LiberationSans-Regular.ttf",
+    "/System/Library/Fonts/Supplemental/Arial.ttf",
+    "C:\\Windows\\Fonts\\arial.ttf",
+];
+
+/// Registers a font for plotters' `sans-serif` family once (see [`Trace::plot_svg`]).
+fn ensure_font() -> Result<(), String> {
+    static FONT: std::sync::OnceLock<Result<(), String>> = std::sync::OnceLock::new();
+    FONT.get_or_init(|| {
+        let env = std::env::var("TROCAR_FONT").ok();
+        let candidates = env.iter().map(String::as_str).chain(FONT_CANDIDATES);
+        for c in candidates {
+            if let Ok(bytes) = std::fs::read(c) {
+                let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+                if plotters::style::register_font(
+                    "sans-serif",
+                    plotters::style::FontStyle::Normal,
+                    bytes,
+                )
+                .is_ok()
+                {
+                    return Ok(());
+                }
+            }
+        }
+        Err("no TrueType font found for plot text: set TROCAR_FONT to a .ttf file".into())
+    })
+    .clone()
 }
 
 /// A reference `t ↦ (x_d(t), ẋ_d(t))`.
@@ -229,9 +294,13 @@ pub fn simulate(
                         DVector::from_element(1, 0.35 * w * (w * t).cos()),
                     )
                 } else {
-                    // Pulse train: period 5 s, low 6.6 rad, high 7.3 rad; its derivative is zero
-                    // between the edges (a step has no finite feed-forward).
-                    let level = if (t / 5.0).fract() < 0.5 { 6.6 } else { 7.3 };
+                    // Pulse train: period 6 s, 7.3 rad on [2, 5) s, 6.6 rad otherwise; its
+                    // derivative is zero between the edges (a step has no finite feed-forward).
+                    let level = if (2.0..5.0).contains(&t.rem_euclid(6.0)) {
+                        7.3
+                    } else {
+                        6.6
+                    };
                     (DVector::from_element(1, level), DVector::zeros(1))
                 }
             };
@@ -455,7 +524,10 @@ pub fn simulate_mechanism(
         columns.push(format!("u_{}", names[i]));
     }
     columns.push("constraint".into());
-    columns.push("sigma_min_jcp".into());
+    let has_passive = !mech.passive_indices().is_empty();
+    if has_passive {
+        columns.push("sigma_min_jcp".into());
+    }
     if with_objective {
         columns.push("objective".into());
     }
@@ -478,7 +550,9 @@ pub fn simulate_mechanism(
             }
             row.extend(u.iter());
             row.push(mech.structural(&theta).norm());
-            row.push(linalg::sigma_min(&mech.differential(&theta)?.j_cp));
+            if has_passive {
+                row.push(linalg::sigma_min(&mech.differential(&theta)?.j_cp));
+            }
             if with_objective {
                 if let Some(obj) = &opts.objective {
                     row.push(obj.value(mech, &theta)?);
