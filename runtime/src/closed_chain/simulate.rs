@@ -321,7 +321,7 @@ pub fn simulate(
         }
         "stewart" | "planar-stewart" => {
             let mech = description::shipped("planar-stewart")?;
-            let theta0 = stewart::inverse_kinematics(&mech, Pose2::new(13.0, 12.5, 0.5))?;
+            let theta0 = stewart::inverse_kinematics(&mech, Pose2::new(13.0, 12.5, -0.5))?;
             let w = 2.0 * PI / 10.0;
             let reference = move |t: f64| -> (DVector<f64>, DVector<f64>) {
                 (
