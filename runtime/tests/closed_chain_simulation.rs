@@ -136,3 +136,24 @@ fn bad_options_and_names_are_errors() {
         ));
     }
 }
+
+/// Writes PNG/SVG plots of the scenarios to the temporary directory for visual review
+/// (`cargo test -p trocar --test closed_chain_simulation -- --ignored`).
+#[test]
+#[ignore]
+fn write_plots_for_review() {
+    let dir = std::env::temp_dir();
+    use trocar::closed_chain::redundancy::Objective;
+    let o = SimOptions {
+        objective: Some(Objective::JointLimits),
+        null_gain: 5.0,
+        ..SimOptions::default()
+    };
+    let tr = simulate("cooperative", &o, None).unwrap();
+    tr.plot_png(dir.join("cc_coop_obj.png")).unwrap();
+    let tr = simulate("four-bar", &SimOptions::default(), None).unwrap();
+    tr.plot_png(dir.join("cc_fb.png")).unwrap();
+    tr.plot_svg(dir.join("cc_fb.svg")).unwrap();
+    let tr = simulate("stewart", &SimOptions::default(), None).unwrap();
+    tr.plot_png(dir.join("cc_stewart.png")).unwrap();
+}

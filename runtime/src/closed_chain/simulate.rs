@@ -196,10 +196,20 @@ impl Trace {
                 .y_label_area_size(80)
                 .build_cartesian_2d(x0..x1, y0..y1)
                 .map_err(|e| e.to_string())?;
+            let scale = y0.abs().max(y1.abs());
+            let span = y1 - y0;
+            let y_fmt = move |v: &f64| {
+                if !(1e-2..1e4).contains(&scale) || span < 1e-3 {
+                    format!("{v:.2e}")
+                } else {
+                    format!("{v:.3}")
+                }
+            };
             chart
                 .configure_mesh()
                 .x_desc(panel.x_label.as_str())
                 .y_desc(panel.y_label.as_str())
+                .y_label_formatter(&y_fmt)
                 .draw()
                 .map_err(|e| e.to_string())?;
             for (k, (x, y, label)) in series.into_iter().enumerate() {
