@@ -212,3 +212,45 @@ fn null_space_objectives_improve_without_disturbing_the_task() {
         assert!(f_with > f_plain, "{}", obj.name());
     }
 }
+
+#[test]
+fn stretched_arm_with_gripped_object_is_a_serial_singularity() {
+    use trocar::closed_chain::{ClosedChainError, SingularityKind};
+    let m = two_arms(&ContactModel::Gripped).unwrap();
+    // Arm 1 fully stretched along α; the object (gripped) continues along the same line.
+    let a = 30f64.to_radians();
+    let (l1, l2, l3, half) = (1.0, 0.8, 0.3, 0.3);
+    let reach = l1 + l2 + l3;
+    let centre = [(reach + half) * a.cos(), (reach + half) * a.sin()];
+    // Arm 2 (base (2, 0)) holds the other end, pointing back along −α: two-link IK of its wrist.
+    let c2 = [centre[0] + half * a.cos(), centre[1] + half * a.sin()];
+    let psi = a + std::f64::consts::PI;
+    let w = [c2[0] - l3 * psi.cos() - 2.0, c2[1] - l3 * psi.sin()];
+    let q2 = ((w[0] * w[0] + w[1] * w[1] - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)).acos();
+    let q1 = w[1].atan2(w[0]) - (l2 * q2.sin()).atan2(l1 + l2 * q2.cos());
+    let q3 = psi - q1 - q2;
+    let th = DVector::from_vec(vec![a, 0.0, 0.0, q1, q2, q3]);
+    assert!(m.structural(&th).norm() < 1e-12);
+    let rep = m.classify(&th).unwrap();
+    assert_eq!(rep.kind, Some(SingularityKind::Serial), "{rep:?}");
+    assert_eq!(rep.task_rank, 2);
+    // The controller refuses to invert there instead of returning huge or NaN velocities.
+    let red = m.reduced(&th).unwrap();
+    let r = resolve(
+        &red.jacobian,
+        &DVector::from_vec(vec![0.1, 0.0, 0.0]),
+        &red.active_constraint,
+        &DVector::zeros(red.active_constraint.nrows()),
+        None,
+    );
+    assert!(matches!(
+        r,
+        Err(ClosedChainError::Singular {
+            kind: SingularityKind::Serial,
+            ..
+        })
+    ));
+    // Bending the elbow makes it regular again.
+    let (_, th2) = assembled(&ContactModel::Gripped);
+    assert_eq!(m.classify(&th2).unwrap().kind, None);
+}
