@@ -21,7 +21,7 @@
 //! of chain 1 (plus fixed offsets), so it is continuous along a motion, as in the source's figures
 //! (`φ ∈ [5.88, 7.89]` rad for the four-bar linkage).
 
-use super::linalg::{self, RANK_TOLERANCE};
+use super::linalg;
 use super::{ClosedChainError, SingularityKind};
 use nalgebra::{DMatrix, DVector, Vector3};
 use std::f64::consts::PI;
@@ -164,6 +164,9 @@ impl Output {
 }
 
 /// A closed planar mechanism: chains joined at a common frame, joints split into active/passive.
+///
+/// Build it with [`Mechanism::new`] (or from a description); after editing `chains` rebuild it
+/// with [`Mechanism::new`], which recomputes the joint partition.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Mechanism {
     /// Name.
@@ -876,7 +879,6 @@ pub fn reduce(d: &Differential) -> Result<Reduced, ClosedChainError> {
             return Err(ClosedChainError::NonFinite { what: what.into() });
         }
     }
-    let _ = RANK_TOLERANCE;
     Ok(Reduced {
         jacobian,
         passive_map,

@@ -6,7 +6,7 @@ use super::four_bar::FourBar;
 use super::mechanism::{Mechanism, Pose2};
 use super::redundancy::{resolve, Objective};
 use super::{linalg, stewart, ClosedChainError};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DVector;
 use std::f64::consts::PI;
 use std::path::Path;
 
@@ -591,7 +591,6 @@ pub fn simulate_mechanism(
         let k4 = f(&(&theta + dt * &k3), t + dt)?;
         theta += (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
     }
-    let _ = DMatrix::<f64>::zeros(0, 0);
     Ok(Trace {
         name: mech.name.clone(),
         columns,
