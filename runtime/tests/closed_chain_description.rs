@@ -72,16 +72,22 @@ fn shipped_mechanisms() {
 
 #[test]
 fn errors_name_the_field() {
-    let (f, m, _) = field_of(&GOOD.replace(
+    let (f, m, line) = field_of(&GOOD.replace(
         "type = \"revolute\"\norigin = { x = 1.4 }",
         "type = \"spherical\"\norigin = { x = 1.4 }",
     ));
     assert_eq!(f, "chains[1].joints[1].type");
+    assert_eq!(
+        line,
+        Some(27),
+        "line of `type` in the second joint of the second chain"
+    );
     assert!(m.contains("spherical"));
     let (f, _, _) = field_of(&GOOD.replace("origin = { x = 1.2 }", "origin = { x = 1.2, z = 3 }"));
     assert_eq!(f, "chains[0].joints[1].origin.z");
-    let (f, m, _) = field_of(&GOOD.replace("\"-a/2\"", "\"-b/2\""));
+    let (f, m, line) = field_of(&GOOD.replace("\"-a/2\"", "\"-b/2\""));
     assert_eq!(f, "chains[0].base.x");
+    assert_eq!(line, Some(8));
     assert!(m.contains("unknown parameter `b`"));
     let (f, _, _) = field_of(&GOOD.replace("outputs = [\"phi\"]", "outputs = [\"psi\"]"));
     assert_eq!(f, "outputs[0]");
@@ -114,4 +120,27 @@ fn errors_name_the_field() {
     // Display mentions the field.
     let e = description::from_toml_str(&GOOD.replace("\"-a/2\"", "\"-b/2\"")).unwrap_err();
     assert!(e.to_string().contains("chains[0].base.x"));
+}
+
+#[test]
+fn errors_in_shipped_files_point_at_the_line() {
+    // Break the third joint's type in the Stewart file and check the reported line.
+    let src = description::STEWART_TOML.replacen("type = \"prismatic\"", "type = \"screw\"", 2);
+    let line_of_second = src
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| l.contains("\"screw\""))
+        .nth(1)
+        .unwrap()
+        .0
+        + 1;
+    match description::from_toml_str(&src) {
+        Err(ClosedChainError::Description(d)) => {
+            assert_eq!(d.field, "chains[0].joints[1].type");
+            let first = src.lines().position(|l| l.contains("\"screw\"")).unwrap() + 1;
+            assert_eq!(d.line, Some(first));
+            assert!(first < line_of_second);
+        }
+        other => panic!("{other:?}"),
+    }
 }

@@ -123,7 +123,82 @@ pub fn from_toml_str_with_contacts(
         params: Vec::new(),
         h_override: h.map(|h| h.to_vec()),
     };
-    r.mechanism(&table)
+    r.mechanism(&table).map_err(|e| match e {
+        ClosedChainError::Description(mut d) if d.line.is_none() => {
+            d.line = locate(src, &d.field);
+            ClosedChainError::Description(d)
+        }
+        other => other,
+    })
+}
+
+/// Best-effort line of a field path such as `chains[1].joints[0].origin.x` in the TOML text
+/// (array-of-tables headers are counted; inline tables resolve to the line of their key).
+fn locate(src: &str, field: &str) -> Option<usize> {
+    let lines: Vec<&str> = src.lines().collect();
+    let is_header = |l: &str| l.trim_start().starts_with('[');
+    let mut header = String::new();
+    let (mut start, mut end) = (0usize, lines.len());
+    let mut key = None;
+    for seg in field.split('.') {
+        let (name, index) = match seg.find('[') {
+            Some(b) => (
+                &seg[..b],
+                seg[b + 1..]
+                    .trim_end_matches(']')
+                    .split("][")
+                    .next()?
+                    .parse::<usize>()
+                    .ok(),
+            ),
+            None => (seg, None),
+        };
+        let qualified = if header.is_empty() {
+            name.to_string()
+        } else {
+            format!("{header}.{name}")
+        };
+        let aot = format!("[[{qualified}]]");
+        let tbl = format!("[{qualified}]");
+        let found: Vec<usize> = (start..end)
+            .filter(|&i| {
+                let t = lines[i].trim();
+                t == aot || t == tbl
+            })
+            .collect();
+        if !found.is_empty() {
+            let i = found[index.unwrap_or(0).min(found.len() - 1)];
+            // The section runs to the next header of the same or an outer level.
+            let stop = (i + 1..end)
+                .find(|&j| {
+                    let t = lines[j].trim();
+                    is_header(t)
+                        && !t.starts_with(&format!("[[{qualified}."))
+                        && !t.starts_with(&format!("[{qualified}."))
+                })
+                .unwrap_or(end);
+            start = i;
+            end = stop;
+            header = qualified;
+            key = None;
+            continue;
+        }
+        // A key inside the current section (before any nested header).
+        let sec_end = (start + 1..end)
+            .find(|&j| is_header(lines[j]))
+            .unwrap_or(end);
+        let first = if header.is_empty() { 0 } else { start + 1 };
+        if let Some(i) = (first..sec_end).find(|&i| {
+            let t = lines[i].trim_start();
+            t.strip_prefix(name)
+                .is_some_and(|r| r.trim_start().starts_with('='))
+        }) {
+            key = Some(i);
+        }
+        break;
+    }
+    key.or(if header.is_empty() { None } else { Some(start) })
+        .map(|i| i + 1)
 }
 
 struct Reader {
