@@ -143,6 +143,28 @@ fn bad_options_and_names_are_errors() {
 #[ignore]
 fn write_plots_for_review() {
     let dir = std::env::temp_dir();
+    for name in [
+        "four-bar",
+        "four-bar-sine",
+        "stewart",
+        "cooperative",
+        "cooperative-gripped",
+    ] {
+        let tr = simulate(name, &SimOptions::default(), None).unwrap();
+        for c in tr.columns.iter().filter(|c| c.starts_with("e_")) {
+            println!(
+                "{name} {c}: initial {:.3e}, max after 1 s {:.3e}, final {:.3e}",
+                tr.column(c).unwrap()[0],
+                max_abs_between(&tr, c, 1.0, 10.0),
+                tr.last(c).unwrap()
+            );
+        }
+        println!(
+            "{name} max constraint residual {:.3e}",
+            max_abs_between(&tr, "constraint", 0.0, 10.0)
+        );
+        tr.plot_svg(dir.join(format!("cc_{name}.svg"))).unwrap();
+    }
     use trocar::closed_chain::redundancy::Objective;
     let o = SimOptions {
         objective: Some(Objective::JointLimits),
