@@ -313,6 +313,90 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             print!("{text}");
             Ok(0)
         }
+        Command::Simulate {
+            scenario,
+            method,
+            drift_correction,
+            csv,
+            plot,
+        } => simulate(
+            &scenario,
+            method,
+            drift_correction,
+            csv.as_deref(),
+            plot.as_deref(),
+        ),
         _ => Err(CliError("this subcommand is not available yet".into())),
     }
+}
+
+/// A progress bar on stderr (hidden when stderr is not a terminal).
+pub fn progress_bar(len: u64, what: &str) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new(len);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{msg:>12} [{bar:40}] {percent:>3}% {elapsed_precise} eta {eta}",
+        )
+        .expect("static template")
+        .progress_chars("=> "),
+    );
+    bar.set_message(what.to_string());
+    bar
+}
+
+fn simulate(
+    scenario: &str,
+    method: Option<Method>,
+    drift_correction: OnOff,
+    csv: Option<&Path>,
+    plot: Option<&Path>,
+) -> Result<i32, CliError> {
+    use trocar::closed_chain;
+    if closed_chain::scenario_names().contains(&scenario) {
+        if method.is_some() || drift_correction == OnOff::Off {
+            return Err(CliError(format!(
+                "`{scenario}` is a closed-chain scenario: --method and --drift-correction apply to the RCM scenarios only"
+            )));
+        }
+        let bar = progress_bar(1000, scenario);
+        let mut progress = |f: f64| bar.set_position((f.clamp(0.0, 1.0) * 1000.0) as u64);
+        let trace = closed_chain::simulate(
+            scenario,
+            &closed_chain::SimOptions::default(),
+            Some(&mut progress),
+        )
+        .map_err(|e| CliError(e.to_string()))?;
+        bar.finish_and_clear();
+        if let Some(path) = csv {
+            trace.write_csv(path).map_err(|e| CliError(e.to_string()))?;
+        }
+        if let Some(path) = plot {
+            let png = path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+            let written = if png {
+                trace.plot_png(path)
+            } else {
+                trace.plot_svg(path)
+            };
+            written.map_err(|e| CliError(e.to_string()))?;
+        }
+        eprintln!("{}", trace_summary(&trace.columns, &trace.rows));
+        return Ok(0);
+    }
+    Err(CliError(format!(
+        "unknown scenario `{scenario}` (expected one of: {})",
+        closed_chain::scenario_names().join(", ")
+    )))
+}
+
+/// One line a column: the final value and the largest magnitude.
+fn trace_summary(columns: &[String], rows: &[Vec<f64>]) -> String {
+    let mut out = String::from("column            final        max |.|");
+    for (k, name) in columns.iter().enumerate().skip(1) {
+        let last = rows.last().map_or(f64::NAN, |r| r[k]);
+        let max = rows.iter().map(|r| r[k].abs()).fold(0.0, f64::max);
+        out += &format!("\n{name:<12} {last:>12.4e} {max:>12.4e}");
+    }
+    out
 }
