@@ -6,13 +6,27 @@ use trocar::description::{
     preset, DescriptionError, JointKind, Location, Parameter, RobotDescription, Rotation,
 };
 
+/// A shipped description without its end-of-line comments (so that edits can match whole lines).
+fn shipped(name: &str) -> String {
+    preset(name)
+        .unwrap()
+        .lines()
+        .map(|l| match l.find(" #") {
+            Some(k) if !l.starts_with('#') => l[..k].trim_end(),
+            _ => l,
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+        + "\n"
+}
+
 /// The shipped `bidirectional-zy` description: 8 joints, constraint on link 6, H = (x_r, z_r).
 fn base() -> String {
-    preset("bidirectional-zy").unwrap().to_string()
+    shipped("bidirectional-zy")
 }
 
 fn unidirectional() -> String {
-    preset("unidirectional").unwrap().to_string()
+    shipped("unidirectional")
 }
 
 /// Replaces the first `from` after the line `name = "joint"`.
@@ -396,6 +410,13 @@ fn parameter_names_are_identifiers() {
         ("\"2nd\"", None),
         "not an identifier",
     );
+    let text = replace_once(&base(), "l_8 = 0.21", "l_8 = 0.21\ntype = 1.0");
+    expect(
+        &text,
+        "parameters.type",
+        ("type = 1.0", None),
+        "Rust keyword",
+    );
 }
 
 #[test]
@@ -593,8 +614,8 @@ fn wrist_inconsistent_with_the_joints_after_the_constraint() {
         "revolute about y",
     );
     assert!(e.message.contains("wrist `zy`"), "{e}");
-    let zx = preset("bidirectional-zx").unwrap();
-    let text = in_joint(zx, "shaft_8", "axis = [1, 0, 0]", "axis = [0, 1, 0]");
+    let zx = shipped("bidirectional-zx");
+    let text = in_joint(&zx, "shaft_8", "axis = [1, 0, 0]", "axis = [0, 1, 0]");
     expect(
         &text,
         "joints[7].axis",

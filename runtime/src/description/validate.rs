@@ -7,7 +7,7 @@
 //! | rule | field |
 //! |---|---|
 //! | the robot has a name | `robot.name` |
-//! | parameter names are identifiers, unique, with finite values | `parameters.NAME` |
+//! | parameter names are identifiers (not Rust keywords), unique, with finite values | `parameters.NAME` |
 //! | at least one joint | `joints` |
 //! | joint names are non-empty and unique | `joints[k].name` |
 //! | revolute/prismatic axis finite, non-zero, unit (±1e-9) | `joints[k].axis` |
@@ -28,6 +28,15 @@ use super::parse::is_identifier;
 use super::{
     DescriptionError, JointKind, Location, Origin, RobotDescription, Rotation, Scalar, Wrist,
 };
+
+/// Rust's strict and reserved keywords (2021 and 2024 editions) and `_`: not parameter names.
+const RUST_KEYWORDS: &[&str] = &[
+    "as", "break", "const", "continue", "crate", "else", "enum", "extern", "false", "fn", "for",
+    "if", "impl", "in", "let", "loop", "match", "mod", "move", "mut", "pub", "ref", "return",
+    "self", "Self", "static", "struct", "super", "trait", "true", "type", "unsafe", "use", "where",
+    "while", "async", "await", "dyn", "abstract", "become", "box", "do", "final", "macro",
+    "override", "priv", "typeof", "unsized", "virtual", "yield", "try", "gen",
+];
 
 /// Tolerance on unit norms and orthonormality.
 pub const TOLERANCE: f64 = 1e-9;
@@ -157,7 +166,15 @@ impl Checker<'_> {
         }
         for (k, p) in d.parameters.iter().enumerate() {
             let field = format!("parameters.{}", p.name);
-            if !is_identifier(&p.name) {
+            if RUST_KEYWORDS.contains(&p.name.as_str()) || p.name == "_" {
+                self.err(
+                    &field,
+                    format!(
+                        "parameter name `{}` is a Rust keyword; parameters become arguments of generated code",
+                        p.name
+                    ),
+                );
+            } else if !is_identifier(&p.name) {
                 self.err(
                     &field,
                     format!(
