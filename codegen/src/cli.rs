@@ -258,7 +258,12 @@ impl MatrixOut {
 
     /// The SPEC §5 JSON form `{"rows": R, "cols": C, "data": [[row], ...]}`.
     pub fn to_json(&self) -> String {
-        serde_json::json!({ "rows": self.rows, "cols": self.cols, "data": self.data }).to_string()
+        let data =
+            serde_json::to_string(&self.data).expect("finite or null numbers always serialise");
+        format!(
+            r#"{{"rows": {}, "cols": {}, "data": {data}}}"#,
+            self.rows, self.cols
+        )
     }
 
     /// Aligned text, one row a line.
@@ -326,8 +331,115 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             csv.as_deref(),
             plot.as_deref(),
         ),
+        Command::Eval {
+            robot,
+            q,
+            params,
+            what,
+            json,
+            numeric,
+        } => {
+            let desc = load_robot(&robot)?;
+            let out = if numeric {
+                eval_numeric(&desc, &q, &params, what)?
+            } else {
+                return Err(CliError(
+                    "the closed-form path is not available yet: pass --numeric".into(),
+                ));
+            };
+            println!("{}", if json { out.to_json() } else { out.to_text() });
+            Ok(0)
+        }
+        Command::Jacobian {
+            urdf,
+            tip,
+            q,
+            frame,
+            json,
+        } => {
+            let desc = RobotDescription::from_urdf_file(&urdf, &tip)?;
+            let robot = numeric_robot(&desc, &[])?;
+            check_q(&desc, &q)?;
+            let j = match frame {
+                Frame::Body => robot.body_jacobian(&q),
+                Frame::Spatial => robot.spatial_jacobian(&q),
+            }
+            .map_err(robot_error(&desc))?;
+            let out = MatrixOut::from_nalgebra(&j);
+            println!("{}", if json { out.to_json() } else { out.to_text() });
+            Ok(0)
+        }
         _ => Err(CliError("this subcommand is not available yet".into())),
     }
+}
+
+fn robot_error(desc: &RobotDescription) -> impl Fn(trocar::robot::RobotError) -> CliError + '_ {
+    move |e| {
+        let file = desc
+            .source
+            .as_ref()
+            .map(|p| format!("{}: ", p.display()))
+            .unwrap_or_default();
+        CliError(format!("{file}{e}"))
+    }
+}
+
+/// The numeric robot of a description with parameter overrides.
+pub fn numeric_robot(
+    desc: &RobotDescription,
+    params: &[(String, f64)],
+) -> Result<trocar::robot::Robot<f64>, CliError> {
+    trocar::robot::Robot::from_description(desc, params).map_err(robot_error(desc))
+}
+
+/// Checks that `q` has one finite value per joint.
+pub fn check_q(desc: &RobotDescription, q: &[f64]) -> Result<(), CliError> {
+    if q.len() != desc.joints.len() {
+        return Err(CliError(format!(
+            "--q has {} values but `{}` has {} joints (give all joint values, base first)",
+            q.len(),
+            desc.name,
+            desc.joints.len()
+        )));
+    }
+    if let Some(k) = q.iter().position(|v| !v.is_finite()) {
+        return Err(CliError(format!("--q: value {} is not finite", k + 1)));
+    }
+    Ok(())
+}
+
+/// `trocar eval --numeric`: the runtime's numeric kinematics.
+pub fn eval_numeric(
+    desc: &RobotDescription,
+    q: &[f64],
+    params: &[(String, f64)],
+    what: What,
+) -> Result<MatrixOut, CliError> {
+    check_q(desc, q)?;
+    let robot = numeric_robot(desc, params)?;
+    let err = robot_error(desc);
+    let needs_constraint = matches!(what, What::Jr | What::Manip | What::Jc | What::Jb0i);
+    if needs_constraint && desc.constraint.is_none() {
+        return Err(CliError(format!(
+            "`{}` has no [constraint]: only --what jb0e and fk apply",
+            desc.name
+        )));
+    }
+    Ok(match what {
+        What::Jr => MatrixOut::from_nalgebra(&robot.constrained_jacobian(q).map_err(err)?),
+        What::Manip => {
+            let w = robot.manipulability(q).map_err(err)?;
+            MatrixOut {
+                rows: 1,
+                cols: 1,
+                data: vec![vec![w]],
+            }
+        }
+        What::Jc => MatrixOut::from_nalgebra(&robot.moving_rcm_jacobian(q).map_err(err)?),
+        What::Jb0i => MatrixOut::from_nalgebra(&robot.partial_body_jacobian(q).map_err(err)?),
+        What::Jb0e => MatrixOut::from_nalgebra(&robot.body_jacobian(q).map_err(err)?),
+        What::Fk => MatrixOut::from_nalgebra(&robot.forward_kinematics_matrix(q).map_err(err)?),
+    })
 }
 
 /// A progress bar on stderr (hidden when stderr is not a terminal).
