@@ -257,9 +257,17 @@ impl Matrix {
         Ok(out)
     }
 
-    /// Inverse of a square matrix by adjugate over determinant (one `Inv` atom at most).
+    /// Inverse of a square matrix: entry-wise for a diagonal matrix (so `d · d⁻¹` cancels by
+    /// rule `inverse_cancel`), otherwise adjugate over determinant (one `Inv` atom).
     pub fn inverse(&self) -> Result<Matrix, SymbolicError> {
         let n = self.rows;
+        if n == self.cols && (0..n).all(|i| (0..n).all(|j| i == j || self.get(i, j).is_zero())) {
+            let mut out = Matrix::zeros(n, n);
+            for i in 0..n {
+                out.set(i, i, self.get(i, i).inv()?);
+            }
+            return Ok(out);
+        }
         let det = self.det()?;
         let inv_det = det.inv()?;
         if n == 1 {

@@ -15,7 +15,7 @@
 //! | `inverse_of_constant` | `1/c → c⁻¹` exactly (error for 0) | [`Poly::inv`] |
 //! | `inverse_of_monomial` | `1/(c·Π p_j^e_j) → c⁻¹ Π p_j^(−e_j)` for parameters `p_j` | [`Poly::inv`] |
 //! | `inverse_normalise` | `1/(c·P) → c⁻¹ · Inv(P)`, `P` with leading coefficient 1, interned once | [`Poly::inv`] |
-//! | `inverse_cancel` | `P · Inv(P) → 1` when a product's factor is exactly the interned `P` | [`Poly::mul`] |
+//! | `inverse_cancel` | `k·P·Inv(P) → k` when a whole sum or product is exactly that | [`Poly::mul`], [`Poly::add`] |
 //!
 //! Since `{s_k² + c_k² − 1}` is a Gröbner basis for any order with `s_k > c_k`, reducing every
 //! `s_k` to degree ≤ 1 gives a **unique** representative of each class modulo `s_k² + c_k² = 1`:
@@ -328,14 +328,14 @@ impl Poly {
         self.as_constant().is_some_and(|c| c.is_one())
     }
 
-    /// Sum.
+    /// Sum (with rule `inverse_cancel`).
     pub fn add(&self, other: &Poly) -> Poly {
         let mut v = Vec::with_capacity(self.len() + other.len());
         v.extend(self.terms.iter().cloned());
         v.extend(other.terms.iter().cloned());
-        Poly {
+        inverse_cancel(Poly {
             terms: collect_like_terms(v),
-        }
+        })
     }
 
     /// Difference.
@@ -829,6 +829,8 @@ mod tests {
     fn rule_inverse_cancel() {
         assert_eq!(p("(1 + la^2) / (1 + la^2)"), Poly::one());
         assert_eq!(p("(2 + 2*la^2) / (1 + la^2)"), Poly::integer(2));
+        assert_eq!(p("1/(1 + la^2) + la^2/(1 + la^2)"), Poly::one());
+        assert_ne!(p("1/(1 + la^2) + la/(1 + la^2)"), Poly::one());
     }
 
     #[test]
