@@ -11,6 +11,7 @@
 //! (`a[col][row]`), exactly nalgebra's `ArrayStorage`, so
 //! `SMatrix::<T, rows, cols>::from_data(ArrayStorage(a))` is free.
 
+pub mod bridge;
 pub mod program;
 pub mod rust;
 
