@@ -1,0 +1,297 @@
+//! Loads the description, calls the generator, and re-exposes the generated module's items on
+//! the struct.
+
+use crate::attr::{self, Source};
+use crate::inline;
+use proc_macro2::{Span, TokenStream};
+use quote::{format_ident, quote};
+use std::collections::BTreeSet;
+use std::path::PathBuf;
+use syn::visit_mut::VisitMut;
+use syn::{Fields, Ident, Item, ItemStruct, LitStr};
+use trocar::description::{preset_names, RobotDescription};
+use trocar_codegen::builder::{generate_module, module_name, ModuleOptions};
+
+/// The whole expansion.
+pub(crate) fn expand(attr: TokenStream, item: TokenStream) -> syn::Result<TokenStream> {
+    let strukt: ItemStruct = syn::parse2(item).map_err(|e| {
+        syn::Error::new(
+            e.span(),
+            "#[constrained_robot] applies to a unit struct, e.g. `pub struct Arm;`",
+        )
+    })?;
+    let attr = attr::parse(attr);
+    let shape = match (&strukt.fields, strukt.generics.params.is_empty()) {
+        (Fields::Unit, true) => Ok(()),
+        (Fields::Unit, false) => Err(syn::Error::new_spanned(
+            &strukt.generics,
+            "#[constrained_robot] applies to a unit struct without generic parameters",
+        )),
+        (fields, _) => Err(syn::Error::new_spanned(
+            fields,
+            "#[constrained_robot] applies to a unit struct (`struct Arm;`): the generated \
+             functions are associated functions and need no fields",
+        )),
+    };
+    let attr = match (attr, shape) {
+        (Ok(a), Ok(())) => a,
+        (Err(mut a), Err(s)) => {
+            a.combine(s);
+            return Err(a);
+        }
+        (Err(e), _) | (_, Err(e)) => return Err(e),
+    };
+
+    let ident = &strukt.ident;
+    let (desc, tracked, source_span) = load(&attr.source, &ident.to_string())?;
+
+    let module = attr.module.clone().unwrap_or_else(|| {
+        let mut m = module_name(&ident.to_string());
+        if m == ident.to_string() {
+            m.push_str("_kinematics");
+        }
+        Ident::new(&m, ident.span())
+    });
+    let options = ModuleOptions {
+        real: attr.real,
+        module_name: Some(module.to_string()),
+    };
+    let tokens = generate_module(&desc, &options).map_err(|e| {
+        syn::Error::new(source_span, format_args!("trocar-codegen: {e}"))
+    })?;
+    let mut module_item: syn::ItemMod = syn::parse2(tokens).map_err(|e| {
+        syn::Error::new(
+            source_span,
+            format_args!("trocar-codegen produced tokens that do not parse (a bug): {e}"),
+        )
+    })?;
+    module_item.vis = strukt.vis.clone();
+    module_item.ident = module.clone();
+
+    let impl_and_aliases = delegates(&strukt, &module_item);
+    let tracked = tracked.map(|path| {
+        let lit = LitStr::new(&path.display().to_string(), source_span);
+        quote! {
+            // Rebuild when the description file changes.
+            const _: &[u8] = ::core::include_bytes!(#lit);
+        }
+    });
+    Ok(quote! {
+        #strukt
+        #module_item
+        #impl_and_aliases
+        #tracked
+    })
+}
+
+/// The description, the file to track (if any) and the span of the source key.
+fn load(
+    source: &Source,
+    default_name: &str,
+) -> syn::Result<(RobotDescription, Option<PathBuf>, Span)> {
+    match source {
+        Source::Preset(lit) => {
+            let name = lit.value();
+            if trocar::description::preset(&name).is_none() {
+                return Err(syn::Error::new(
+                    lit.span(),
+                    format_args!(
+                        "unknown preset `{name}`; the presets are: {}",
+                        preset_names().collect::<Vec<_>>().join(", ")
+                    ),
+                ));
+            }
+            let d = RobotDescription::preset(&name).map_err(|e| {
+                syn::Error::new(lit.span(), format_args!("invalid preset description: {e}"))
+            })?;
+            Ok((d, None, lit.span()))
+        }
+        Source::File(lit) => {
+            let base = std::env::var_os("CARGO_MANIFEST_DIR")
+                .map(PathBuf::from)
+                .unwrap_or_default();
+            let path = base.join(lit.value());
+            if let Err(e) = std::fs::metadata(&path) {
+                return Err(syn::Error::new(
+                    lit.span(),
+                    format_args!(
+                        "cannot read the description `{}`: resolved to `{}` (relative to the \
+                         calling crate's CARGO_MANIFEST_DIR): {e}",
+                        lit.value(),
+                        path.display()
+                    ),
+                ));
+            }
+            // Canonical when it exists: messages and `include_bytes!` get a clean absolute path.
+            let path = std::fs::canonicalize(&path).unwrap_or(path);
+            let d = RobotDescription::from_toml_file(&path).map_err(|e| {
+                syn::Error::new(lit.span(), format_args!("invalid robot description: {e}"))
+            })?;
+            Ok((d, Some(path), lit.span()))
+        }
+        Source::Toml(lit) => {
+            let d = RobotDescription::from_toml_str(&lit.value(), None).map_err(|e| {
+                syn::Error::new(
+                    lit.span(),
+                    format_args!(
+                        "invalid robot description (line:column within the string): {e}"
+                    ),
+                )
+            })?;
+            Ok((d, None, lit.span()))
+        }
+        Source::Inline(lists) => {
+            let d = inline::build(lists, default_name)?;
+            Ok((d, None, lists.first.unwrap_or_else(Span::call_site)))
+        }
+    }
+}
+
+/// Prefixes the module's own item names (`N`, `Params`, `JointTrig`, ...) with `module::`.
+struct Qualify<'a> {
+    module: &'a Ident,
+    names: &'a BTreeSet<String>,
+}
+
+impl VisitMut for Qualify<'_> {
+    fn visit_path_mut(&mut self, path: &mut syn::Path) {
+        if path.leading_colon.is_none()
+            && path.segments.len() == 1
+            && self.names.contains(&path.segments[0].ident.to_string())
+        {
+            let m = self.module;
+            let seg = path.segments[0].clone();
+            *path = syn::parse_quote!(#m::#seg);
+        }
+        syn::visit_mut::visit_path_mut(self, path);
+    }
+}
+
+/// First paragraph of the doc comments, intra-doc links turned into plain code.
+fn summary(attrs: &[syn::Attribute]) -> String {
+    let mut out = String::new();
+    for a in attrs {
+        if !a.path().is_ident("doc") {
+            continue;
+        }
+        if let syn::Meta::NameValue(nv) = &a.meta {
+            if let syn::Expr::Lit(syn::ExprLit {
+                lit: syn::Lit::Str(s),
+                ..
+            }) = &nv.value
+            {
+                let line = s.value();
+                if line.trim().is_empty() {
+                    if out.is_empty() {
+                        continue;
+                    }
+                    break;
+                }
+                out.push_str(line.trim());
+                out.push(' ');
+            }
+        }
+    }
+    out.replace("[`", "`").replace("`]", "`").trim().to_string()
+}
+
+fn delegates(strukt: &ItemStruct, module: &syn::ItemMod) -> TokenStream {
+    let ident = &strukt.ident;
+    let vis = &strukt.vis;
+    let m = &module.ident;
+    let items: &[Item] = module.content.as_ref().map_or(&[], |(_, i)| i);
+    let names: BTreeSet<String> = items
+        .iter()
+        .filter_map(|i| match i {
+            Item::Const(c) => Some(c.ident.to_string()),
+            Item::Struct(s) => Some(s.ident.to_string()),
+            Item::Fn(f) => Some(f.sig.ident.to_string()),
+            Item::Type(t) => Some(t.ident.to_string()),
+            _ => None,
+        })
+        .collect();
+    let mut qualify = Qualify {
+        module: m,
+        names: &names,
+    };
+    let mut assoc = Vec::new();
+    let mut aliases = Vec::new();
+    for item in items {
+        match item {
+            Item::Const(c) => {
+                let (name, ty) = (&c.ident, &c.ty);
+                let doc = format!("{} (`{m}::{name}`)", summary(&c.attrs));
+                assoc.push(quote! { #[doc = #doc] pub const #name: #ty = #m::#name; });
+            }
+            Item::Struct(s) => {
+                let alias = format_ident!("{}{}", ident, s.ident);
+                let name = &s.ident;
+                let params: Vec<_> = s.generics.type_params().map(|p| &p.ident).collect();
+                let doc = format!("`{m}::{name}`: {}", summary(&s.attrs));
+                let generics = if params.is_empty() {
+                    quote!()
+                } else {
+                    quote!(<#(#params),*>)
+                };
+                aliases.push(quote! {
+                    #[doc = #doc]
+                    #vis type #alias #generics = #m::#name #generics;
+                });
+            }
+            Item::Fn(f) => {
+                let mut sig = f.sig.clone();
+                qualify.visit_signature_mut(&mut sig);
+                let name = &sig.ident;
+                let args = sig.inputs.iter().filter_map(|a| match a {
+                    syn::FnArg::Typed(t) => Some(&t.pat),
+                    syn::FnArg::Receiver(_) => None,
+                });
+                let doc = format!("{}\n\nDelegates to `{m}::{name}`.", summary(&f.attrs));
+                assoc.push(quote! {
+                    #[doc = #doc]
+                    #[inline]
+                    #[must_use]
+                    pub #sig { #m::#name(#(#args),*) }
+                });
+            }
+            _ => {}
+        }
+    }
+    let params_alias = format_ident!("{}Params", ident);
+    let nominal = if names.contains("Params") {
+        let params_ty: Option<&syn::ItemStruct> = items.iter().find_map(|i| match i {
+            Item::Struct(s) if s.ident == "Params" => Some(s),
+            _ => None,
+        });
+        let generic = params_ty.is_some_and(|s| s.generics.type_params().next().is_some());
+        if generic {
+            quote! {
+                /// The description's nominal parameter values (`Params::nominal()`).
+                #[inline]
+                #[must_use]
+                pub fn nominal_params<T: ::trocar::Real>() -> #params_alias<T> {
+                    #m::Params::nominal()
+                }
+            }
+        } else {
+            quote! {
+                /// The description's nominal parameter values (`Params::nominal()`).
+                #[inline]
+                #[must_use]
+                pub fn nominal_params() -> #params_alias {
+                    #m::Params::nominal()
+                }
+            }
+        }
+    } else {
+        quote!()
+    };
+    quote! {
+        #(#aliases)*
+        #[allow(dead_code)]
+        impl #ident {
+            #(#assoc)*
+            #nominal
+        }
+    }
+}

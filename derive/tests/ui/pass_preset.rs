@@ -1,0 +1,36 @@
+//! Every preset, generic and monomorphic, as associated functions of unit structs.
+use trocar_derive::constrained_robot;
+
+#[constrained_robot(preset = "bidirectional-zy")]
+pub struct Zy;
+
+#[constrained_robot(preset = "bidirectional-zx", real = "f32")]
+struct Zx;
+
+#[constrained_robot(preset = "unidirectional", real = "f64", module = "uni_kin")]
+struct Uni;
+
+fn main() {
+    let q = [0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
+    let p: ZyParams<f64> = Zy::nominal_params();
+    let jr: [[f64; 6]; 6] = Zy::constrained_jacobian(&q, &p);
+    let w = Zy::manipulability(&q, &p);
+    // (3.42): w = l_b² |sin θ7| / l_a².
+    let expected = p.l_b * p.l_b * q[6].sin().abs() / (p.l_a * p.l_a);
+    assert!((w - expected).abs() < 1e-12, "{w} vs {expected}");
+    assert_eq!(jr.len(), Zy::M);
+    assert_eq!(zy::N, 8);
+
+    let qf = q.map(|x| x as f32);
+    let pf: ZxParams = Zx::nominal_params();
+    let t: ZxJointTrig = ZxJointTrig::new(&qf);
+    let jt: [[f32; 6]; 6] = Zx::constrained_jacobian_trig(&t, &pf);
+    let jf: [[f32; 6]; 6] = Zx::constrained_jacobian(&qf, &pf);
+    assert!(jf.iter().flatten().all(|x| x.is_finite()));
+    assert_eq!(jf, jt);
+
+    let pu = uni_kin::Params::nominal();
+    let ju: [[f64; 6]; 7] = Uni::constrained_jacobian(&q, &pu);
+    assert!(Uni::manipulability(&q, &pu) > 0.0);
+    assert_eq!(ju.len(), 7);
+}
