@@ -34,7 +34,11 @@ fn main() {
     let p = Unidirectional::nominal_params::<f64>();
     let jr = Unidirectional::constrained_jacobian(&Q0, &p);
     print_matrix("unidirectional: J^r (3.24)", &jr);
-    compare("unidirectional", &jr, Unidirectional::manipulability(&Q0, &p));
+    compare(
+        "unidirectional",
+        &jr,
+        Unidirectional::manipulability(&Q0, &p),
+    );
 
     let p = BidirectionalZy::nominal_params::<f64>();
     let jr = BidirectionalZy::constrained_jacobian(&Q0, &p);

@@ -18,7 +18,7 @@ pub(crate) enum Source {
     File(LitStr),
     Toml(LitStr),
     /// The structured form: the lists, by key.
-    Inline(InlineLists),
+    Inline(Box<InlineLists>),
 }
 
 /// The lists of the structured inline form.
@@ -51,14 +51,21 @@ fn string(meta: &Meta, errors: &mut Errors) -> Option<LitStr> {
                     other.span(),
                     format_args!(
                         "`{}` takes a string literal",
-                        meta.path().get_ident().map(|i| i.to_string()).unwrap_or_default()
+                        meta.path()
+                            .get_ident()
+                            .map(|i| i.to_string())
+                            .unwrap_or_default()
                     ),
                 );
                 None
             }
         },
         _ => {
-            let key = meta.path().get_ident().map(|i| i.to_string()).unwrap_or_default();
+            let key = meta
+                .path()
+                .get_ident()
+                .map(|i| i.to_string())
+                .unwrap_or_default();
             errors.at(meta.span(), format_args!("expected `{key} = \"...\"`"));
             None
         }
@@ -69,7 +76,11 @@ fn list(meta: &Meta, errors: &mut Errors) -> Option<MetaList> {
     match meta {
         Meta::List(l) => Some(l.clone()),
         _ => {
-            let key = meta.path().get_ident().map(|i| i.to_string()).unwrap_or_default();
+            let key = meta
+                .path()
+                .get_ident()
+                .map(|i| i.to_string())
+                .unwrap_or_default();
             errors.at(meta.span(), format_args!("expected `{key}(...)`"));
             None
         }
@@ -186,7 +197,13 @@ pub(crate) fn parse(tokens: TokenStream) -> syn::Result<Attr> {
             } else {
                 "name/params/end_effector/constraint"
             };
-            set_source(&mut source, &mut errors, key, first, Source::Inline(inline));
+            set_source(
+                &mut source,
+                &mut errors,
+                key,
+                first,
+                Source::Inline(Box::new(inline)),
+            );
         }
     }
     let source = match source {

@@ -64,7 +64,9 @@ impl Parse for JointItem {
 fn key_of(meta: &Meta) -> (String, Span) {
     let p = meta.path();
     (
-        p.get_ident().map(|i| i.to_string()).unwrap_or_else(|| p.to_token_stream().to_string()),
+        p.get_ident()
+            .map(|i| i.to_string())
+            .unwrap_or_else(|| p.to_token_stream().to_string()),
         p.span(),
     )
 }
@@ -137,7 +139,11 @@ fn axis(e: &Expr, field: &str, spans: &mut Spans) -> syn::Result<[f64; 3]> {
         _ => (1.0, e),
     };
     if let Expr::Path(p) = inner {
-        let letter = p.path.get_ident().map(|i| i.to_string()).unwrap_or_default();
+        let letter = p
+            .path
+            .get_ident()
+            .map(|i| i.to_string())
+            .unwrap_or_default();
         let k = match letter.as_str() {
             "x" => 0,
             "y" => 1,
@@ -145,7 +151,9 @@ fn axis(e: &Expr, field: &str, spans: &mut Spans) -> syn::Result<[f64; 3]> {
             _ => {
                 return Err(syn::Error::new(
                     e.span(),
-                    format_args!("unknown axis `{letter}` (expected x, y, z, -x, -y, -z or (x, y, z))"),
+                    format_args!(
+                        "unknown axis `{letter}` (expected x, y, z, -x, -y, -z or (x, y, z))"
+                    ),
                 ))
             }
         };
@@ -205,8 +213,14 @@ fn joint(k: usize, item: &JointItem, spans: &mut Spans, errors: &mut Errors) -> 
         .as_ref()
         .map(|n| n.to_string())
         .unwrap_or_else(|| format!("joint_{}", k + 1));
-    spans.add(&field, item.name.as_ref().map_or(item.kind.span(), Ident::span));
-    spans.add(format!("{field}.name"), item.name.as_ref().map_or(item.kind.span(), Ident::span));
+    spans.add(
+        &field,
+        item.name.as_ref().map_or(item.kind.span(), Ident::span),
+    );
+    spans.add(
+        format!("{field}.name"),
+        item.name.as_ref().map_or(item.kind.span(), Ident::span),
+    );
     spans.add(format!("{field}.type"), item.kind.span());
     let mut origin = identity();
     let mut ax: Option<[f64; 3]> = None;
@@ -259,7 +273,9 @@ fn joint(k: usize, item: &JointItem, spans: &mut Spans, errors: &mut Errors) -> 
             let axis = ax.unwrap_or_else(|| {
                 errors.at(
                     item.kind.span(),
-                    format_args!("a {kind} joint needs an axis: `{kind}(z, ...)` or `axis = (x, y, z)`"),
+                    format_args!(
+                        "a {kind} joint needs an axis: `{kind}(z, ...)` or `axis = (x, y, z)`"
+                    ),
                 );
                 [0.0, 0.0, 1.0]
             });
@@ -271,7 +287,10 @@ fn joint(k: usize, item: &JointItem, spans: &mut Spans, errors: &mut Errors) -> 
         }
         "twist" => {
             if v.is_none() || w.is_none() {
-                errors.at(item.kind.span(), "a twist joint needs `v = (..)` and `w = (..)`");
+                errors.at(
+                    item.kind.span(),
+                    "a twist joint needs `v = (..)` and `w = (..)`",
+                );
             }
             JointKind::Twist {
                 v: v.unwrap_or_default(),
@@ -281,9 +300,13 @@ fn joint(k: usize, item: &JointItem, spans: &mut Spans, errors: &mut Errors) -> 
         other => {
             errors.at(
                 item.kind.span(),
-                format_args!("unknown joint type `{other}` (expected revolute, prismatic or twist)"),
+                format_args!(
+                    "unknown joint type `{other}` (expected revolute, prismatic or twist)"
+                ),
             );
-            JointKind::Revolute { axis: [0.0, 0.0, 1.0] }
+            JointKind::Revolute {
+                axis: [0.0, 0.0, 1.0],
+            }
         }
     };
     JointDesc {
@@ -317,7 +340,10 @@ fn constraint(l: &MetaList, spans: &mut Spans, errors: &mut Errors) -> Option<Co
                         lit: syn::Lit::Int(i),
                         ..
                     }) => i.base10_parse::<usize>(),
-                    _ => Err(syn::Error::new(value.span(), "expected the link number (1-based)")),
+                    _ => Err(syn::Error::new(
+                        value.span(),
+                        "expected the link number (1-based)",
+                    )),
                 });
             }
             "h" => {
@@ -373,7 +399,9 @@ fn constraint(l: &MetaList, spans: &mut Spans, errors: &mut Errors) -> Option<Co
                     other => {
                         errors.at(
                             value.span(),
-                            format_args!("unknown wrist `{other}` (expected unidirectional, zy or zx)"),
+                            format_args!(
+                                "unknown wrist `{other}` (expected unidirectional, zy or zx)"
+                            ),
                         );
                         None
                     }
@@ -381,15 +409,23 @@ fn constraint(l: &MetaList, spans: &mut Spans, errors: &mut Errors) -> Option<Co
             }
             _ => errors.at(
                 kspan,
-                format_args!("unknown key `{key}` in constraint (expected link, xyz, rpy, h, wrist)"),
+                format_args!(
+                    "unknown key `{key}` in constraint (expected link, xyz, rpy, h, wrist)"
+                ),
             ),
         }
     }
     if link.is_none() {
-        errors.at(l.path.span(), "the constraint needs `link = i` (the constrained link, 1-based)");
+        errors.at(
+            l.path.span(),
+            "the constraint needs `link = i` (the constrained link, 1-based)",
+        );
     }
     if h.is_none() {
-        errors.at(l.path.span(), "the constraint needs `h = (..)`, e.g. `h = (x, z)`");
+        errors.at(
+            l.path.span(),
+            "the constraint needs `h = (..)`, e.g. `h = (x, z)`",
+        );
     }
     Some(ConstraintDesc {
         link: link?,
@@ -422,7 +458,10 @@ pub(crate) fn build(lists: &InlineLists, default_name: &str) -> syn::Result<Robo
                 let (key, kspan) = key_of(meta);
                 spans.add(format!("parameters.{key}"), kspan);
                 if let Some(v) = value_of(meta, &mut errors).and_then(|e| errors.ok(number(e))) {
-                    parameters.push(Parameter { name: key, value: v });
+                    parameters.push(Parameter {
+                        name: key,
+                        value: v,
+                    });
                 }
             }
         }
@@ -446,7 +485,13 @@ pub(crate) fn build(lists: &InlineLists, default_name: &str) -> syn::Result<Robo
         spans.add("end_effector", l.path.span());
         if let Some(metas) = errors.ok(parse_list::<Meta>(l)) {
             for meta in &metas {
-                if origin_args(meta, "end_effector.", &mut end_effector.origin, &mut spans, &mut errors) {
+                if origin_args(
+                    meta,
+                    "end_effector.",
+                    &mut end_effector.origin,
+                    &mut spans,
+                    &mut errors,
+                ) {
                     continue;
                 }
                 let (key, kspan) = key_of(meta);
@@ -464,7 +509,9 @@ pub(crate) fn build(lists: &InlineLists, default_name: &str) -> syn::Result<Robo
                 } else {
                     errors.at(
                         kspan,
-                        format_args!("unknown key `{key}` in end_effector (expected name, xyz, rpy)"),
+                        format_args!(
+                            "unknown key `{key}` in end_effector (expected name, xyz, rpy)"
+                        ),
                     );
                 }
             }
@@ -497,5 +544,8 @@ pub(crate) fn build(lists: &InlineLists, default_name: &str) -> syn::Result<Robo
 
 /// `invalid description: field `x`: message` (no file or line: the span says where).
 fn describe(e: &DescriptionError) -> String {
-    format!("invalid robot description: field `{}`: {}", e.field, e.message)
+    format!(
+        "invalid robot description: field `{}`: {}",
+        e.field, e.message
+    )
 }

@@ -85,6 +85,8 @@ pub fn damping(w: f32, w0: f32, alpha0: f32) -> f32 {
 
 /// Damped least squares `x = Jᵀ (J Jᵀ + κ² I)⁻¹ b` for a 6 × C matrix given column-major
 /// (`j[col][row]`, as generated), by Cholesky of the 6 × 6 `J Jᵀ + κ² I`. Allocation-free.
+// Index loops mirror the textbook Cholesky formulas.
+#[allow(clippy::needless_range_loop)]
 pub fn dls<const C: usize>(j: &[[f32; 6]; C], b: &[f32; 6], kappa: f32) -> Option<[f32; C]> {
     let mut a = [[0.0f32; 6]; 6];
     for (r, row) in a.iter_mut().enumerate() {
@@ -161,14 +163,7 @@ pub fn control_step(
     let x = dls(&jr, u, kappa).ok_or(StepError::Singular)?;
     // (3.27): V^B_0i = Λ# v0i = (v_x, v_y, v_z, −v_z/l_a, ω_y, v_x/l_a).
     let v0i = [x[0], x[1], x[2], x[3]];
-    let twist_i = [
-        v0i[0],
-        v0i[1],
-        v0i[2],
-        -v0i[2] / l_a,
-        v0i[3],
-        v0i[0] / l_a,
-    ];
+    let twist_i = [v0i[0], v0i[1], v0i[2], -v0i[2] / l_a, v0i[3], v0i[0] / l_a];
     let jb = dia10::partial_body_jacobian_trig(&t, &p);
     let before = dls(&jb, &twist_i, tuning.kappa_b).ok_or(StepError::Singular)?;
     let mut qdot = [0.0f32; N];

@@ -23,7 +23,11 @@ fn check(q: [f64; 8], l_a: f64, u: [f64; 6], tuning: Tuning) {
     let trocar = trocar_point(&qf, l_a as f32);
     let uf = u.map(|x| x as f32);
     let step = control_step(&qf, &trocar, &uf, &tuning).expect("regular configuration");
-    assert!((step.l_a as f64 - l_a).abs() < 1e-5, "l_a {} vs {l_a}", step.l_a);
+    assert!(
+        (step.l_a as f64 - l_a).abs() < 1e-5,
+        "l_a {} vs {l_a}",
+        step.l_a
+    );
 
     let d = RobotDescription::preset("dia10_like_zy").unwrap();
     let robot = Robot::<f64>::from_description(&d, &[("l_a".into(), l_a)]).unwrap();
@@ -50,8 +54,18 @@ fn check(q: [f64; 8], l_a: f64, u: [f64; 6], tuning: Tuning) {
 #[test]
 fn matches_the_numeric_runtime_at_q0() {
     let q0 = [0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
-    check(q0, 0.15, [0.01, -0.02, 0.005, 0.0, 0.02, -0.01], Tuning::default());
-    check(q0, 0.22, [-0.03, 0.01, 0.0, 0.1, 0.0, 0.05], Tuning::default());
+    check(
+        q0,
+        0.15,
+        [0.01, -0.02, 0.005, 0.0, 0.02, -0.01],
+        Tuning::default(),
+    );
+    check(
+        q0,
+        0.22,
+        [-0.03, 0.01, 0.0, 0.1, 0.0, 0.05],
+        Tuning::default(),
+    );
 }
 
 #[test]

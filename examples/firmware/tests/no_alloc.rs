@@ -42,8 +42,10 @@ fn control_step_does_not_allocate() {
     use trocar_firmware::{control_step, Tuning};
     let q0 = [0.0f32, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
     let t = trocar_firmware::dia10::JointTrig::new(&q0);
-    let (r, p) =
-        trocar_firmware::dia10::forward_kinematics_i_trig(&t, &trocar_firmware::dia10::Params { l_a: 0.15 });
+    let (r, p) = trocar_firmware::dia10::forward_kinematics_i_trig(
+        &t,
+        &trocar_firmware::dia10::Params { l_a: 0.15 },
+    );
     let trocar = [0, 1, 2].map(|k| p[k] + 0.15 * r[1][k]);
     let tuning = Tuning::default();
 
@@ -56,7 +58,14 @@ fn control_step_does_not_allocate() {
     let mut q = q0;
     let n = allocations_during(|| {
         for k in 0..1000 {
-            let u = [0.01, -0.02 * (k as f32 * 0.01).sin(), 0.005, 0.0, 0.02, -0.01];
+            let u = [
+                0.01,
+                -0.02 * (k as f32 * 0.01).sin(),
+                0.005,
+                0.0,
+                0.02,
+                -0.01,
+            ];
             let step = control_step(&q, &trocar, &u, &tuning).expect("regular");
             for (qi, dq) in q.iter_mut().zip(step.qdot) {
                 *qi += 0.002 * dq;
