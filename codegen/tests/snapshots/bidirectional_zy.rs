@@ -11,7 +11,9 @@ pub mod bidirectional_zy {
     #![allow(
         clippy::approx_constant,
         clippy::excessive_precision,
-        clippy::unreadable_literal
+        clippy::unreadable_literal,
+        clippy::too_many_lines,
+        clippy::doc_markdown
     )]
     /// Number of joints `n` (length of `q`, base first).
     pub const N: usize = 8;
