@@ -178,8 +178,8 @@ fn cross_check(desc: &RobotDescription, samples: usize, seed: u64) {
         let lambda_sharp = match cd.wrist {
             Some(Wrist::Unidirectional) => {
                 let mut b = vec![vec![0.0; 5]; 6];
-                for k in 0..5 {
-                    b[k][k] = 1.0;
+                for (k, row) in b.iter_mut().take(5).enumerate() {
+                    row[k] = 1.0;
                 }
                 b[5][0] = 1.0 / la;
                 b
