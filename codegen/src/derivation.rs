@@ -18,6 +18,23 @@
 //! monomials in `s_k, c_k, q_k`, parameters (also negative powers) and `Inv` atoms, with exact
 //! rational coefficients. The per-joint transforms are kept as well ([`Derivation::joint_transforms`])
 //! so an emitter may evaluate forward kinematics as a product instead of the expanded form.
+//!
+//! # For an emitter
+//! Walk [`Matrix::entries`] (row-major) and [`Poly::terms`]: each term is a [`Rational`]
+//! coefficient ([`Rational::to_f64`], or [`Rational::to_parts`] for exact literals) times a
+//! [`crate::symbolic::Monomial`] whose [`factors`](crate::symbolic::Monomial::factors) are
+//! `(Atom, exponent)`: `Sin(k)`/`Cos(k)` → one `sin_cos(q[k])` per joint, `Joint(k)` → `q[k]`,
+//! `Param(p)` with a possibly negative exponent → `params.<name>` (hoist `1/param`),
+//! `Inv(id)` → `1 / P` with `P` = [`crate::symbolic::inverse_denominator`]`(id)` (hoist it;
+//! it never depends on an `Inv` itself). Which joints/parameters a result needs:
+//! [`Poly::joints`], [`Matrix::joints`], [`Derivation::dependencies`].
+//!
+//! # Size budgets
+//! Generic chains grow like `3^n` terms when fully expanded. The matrices of the thesis are
+//! always expanded (`g_0i`, `g_ie`, `J^B_0i`, `J^B_0e2`, `J^r`, `J_c`, `Λ`, `Λ#`, `Λ†`);
+//! the full-chain `g_0e`, `J^B_0e` only within [`EXPANSION_BUDGET`] (else `None`: use the
+//! factorisation `g_0e = g_0i g_ie`, `J^B_0e = [Ad_{g_ei} J^B_0i | J^B_0e2]`), and the closed-form
+//! manipulability only within [`MANIPULABILITY_BUDGET`].
 
 use crate::symbolic::{rational_null_space, Matrix, Poly, Rational, SymbolicError, Transform};
 use std::collections::BTreeSet;
