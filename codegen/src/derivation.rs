@@ -1,7 +1,7 @@
 //! The thesis's derivation (chapter 3) carried out on symbols, from any valid
 //! [`RobotDescription`].
 //!
-//! Steps, with the thesis's equation numbers (see [`derive`]):
+//! Steps, with the thesis's equation numbers (see [`derive()`]):
 //!
 //! 1. Each joint `k` gives `T_k = origin_k · exp(ξ̂_k q_k)` (parent frame → `F_k`), with `ξ_k` the
 //!    joint twist in `F_k` (2.25)–(2.27), linear part first.
@@ -224,12 +224,12 @@ pub struct Derivation {
 }
 
 /// Largest estimated number of terms of one entry of an expanded product (`len(a) · len(b) ·
-/// inner dimension`) that [`derive`] computes for the optional full-chain expansions
+/// inner dimension`) that [`derive()`] computes for the optional full-chain expansions
 /// ([`Derivation::fk_e`], [`Derivation::body_jacobian_e`]). The matrices the thesis needs
 /// (`g_0i`, `g_ie`, `J^B_0i`, `J^B_0e2`, `J^r`, `J_c`, manipulability) are always expanded.
 pub const EXPANSION_BUDGET: usize = 20_000;
 
-/// Largest total number of terms of `J^r` for which [`derive`] forms the closed-form
+/// Largest total number of terms of `J^r` for which [`derive()`] forms the closed-form
 /// manipulability (the presets and dia10_like have well under 100).
 pub const MANIPULABILITY_BUDGET: usize = 400;
 

@@ -253,3 +253,24 @@ fn dia10_like_jr_depends_only_on_joints_7_and_8() {
         assert_eq!(*w2, expected);
     }
 }
+
+#[test]
+fn decimal_geometry_stays_exact() {
+    // 0.194, 1.037, 0.38, 0.39, 0.33, 0.21 are read as exact decimals (97/500, ...): no long
+    // binary-fraction coefficients appear anywhere in dia10_like.
+    let d = derive(&dia10_like(false)).unwrap();
+    let fk = d.fk_e.as_ref().unwrap();
+    let digits = fk
+        .pos
+        .entries()
+        .iter()
+        .map(Poly::max_coefficient_digits)
+        .max()
+        .unwrap();
+    assert!(digits <= 8, "{digits}");
+    // x coordinate of the end effector contains exactly 0.194 c1 = 97/500 c1
+    let p0 = d.fk_e.unwrap().pos.get(0, 0).clone();
+    let term = Poly::parse("97/500*c1", &[]).unwrap();
+    let t = &term.terms()[0];
+    assert!(p0.terms().contains(t));
+}
