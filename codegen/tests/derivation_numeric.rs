@@ -375,7 +375,15 @@ fn random_chain(seed: u64) -> RobotDescription {
 #[test]
 fn random_chain_with_prismatic_screw_and_three_row_h() {
     let desc = random_chain(7);
+    let t = std::time::Instant::now();
     let d = derive(&desc).unwrap();
+    println!(
+        "random chain: {:.1} ms; sizes {:?}; fk_e expanded: {}, manipulability closed form: {}",
+        t.elapsed().as_secs_f64() * 1e3,
+        d.sizes(),
+        d.fk_e.is_some(),
+        d.constraint.as_ref().unwrap().manipulability.is_some()
+    );
     let c = d.constraint.as_ref().unwrap();
     assert_eq!((c.r, c.m), (3, 6));
     assert!(d.joint_is_linear[3]);
