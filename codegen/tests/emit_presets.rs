@@ -27,13 +27,15 @@ fn presets_generate_and_print_op_counts() {
 /// the derivation's expanded polynomials.
 #[test]
 fn programs_agree_with_expanded_polynomials() {
-    use trocar_codegen::emit::bridge::matrix_program;
+    use trocar_codegen::emit::bridge::{manipulability_from_jr, matrix_program};
     use trocar_codegen::symbolic::Env;
     for name in preset_names() {
         let desc = RobotDescription::preset(name).unwrap();
         let d = derive(&desc).unwrap();
         let c = d.constraint.as_ref().unwrap();
         let spec = module_spec(&d, "m");
+        // The fallback used when the derivation has no closed-form manipulability.
+        let fallback = manipulability_from_jr(&d, &c.jr);
         let by_name = |n: &str| &spec.functions.iter().find(|f| f.name == n).unwrap().program;
         let mut seed = 0x1234_5678_9abc_def1u64;
         for _ in 0..200 {
@@ -63,8 +65,9 @@ fn programs_agree_with_expanded_polynomials() {
                 }
                 v
             };
-            let mut fk = col_major(&d.fk_e.rot);
-            fk.extend(col_major(&d.fk_e.pos));
+            let fk_e = d.fk_e.as_ref().unwrap();
+            let mut fk = col_major(&fk_e.rot);
+            fk.extend(col_major(&fk_e.pos));
             for (prog, expected) in [
                 (by_name("constrained_jacobian"), col_major(&c.jr)),
                 (by_name("constraint_jacobian_c"), col_major(&c.jc)),
@@ -72,11 +75,18 @@ fn programs_agree_with_expanded_polynomials() {
                     by_name("partial_body_jacobian"),
                     col_major(&c.body_jacobian_i),
                 ),
-                (by_name("body_jacobian"), col_major(&d.body_jacobian_e)),
+                (
+                    by_name("body_jacobian"),
+                    col_major(d.body_jacobian_e.as_ref().unwrap()),
+                ),
                 (by_name("forward_kinematics"), fk),
                 (
                     by_name("manipulability_squared"),
-                    vec![c.manipulability.squared.eval(&env)],
+                    vec![c.manipulability.as_ref().unwrap().squared.eval(&env)],
+                ),
+                (
+                    &fallback.1,
+                    vec![c.manipulability.as_ref().unwrap().squared.eval(&env)],
                 ),
                 (&matrix_program(&d, &c.jr), col_major(&c.jr)),
             ] {
