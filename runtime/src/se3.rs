@@ -164,14 +164,21 @@ pub fn log_so3<T: RealField + Copy>(r: &Matrix3<T>) -> Vector3<T> {
 pub fn exp_twist<T: RealField + Copy>(xi: &Twist<T>, theta: T) -> Se3<T> {
     let v = linear(xi) * theta;
     let phi = angular(xi) * theta;
-    let (a, b, c) = exp_coefficients(phi.norm_squared());
+    let a2 = phi.norm_squared();
+    if a2 == T::zero() {
+        return Se3::from_translation(v);
+    }
+    let (a, b, c) = exp_coefficients(a2);
+    // φ̂² = φ φᵀ − a² I, so R = I + a φ̂ + b φ̂² without 3×3 products.
     let w = hat(&phi);
-    let w2 = w * w;
+    let w2 = phi * phi.transpose() - Matrix3::identity() * a2;
     let rotation = Matrix3::identity() + w * a + w2 * b;
-    let vmat = Matrix3::identity() + w * b + w2 * c;
+    // V v = v + b φ × v + c φ × (φ × v).
+    let pv = phi.cross(&v);
+    let translation = v + pv * b + phi.cross(&pv) * c;
     Se3 {
         rotation,
-        translation: vmat * v,
+        translation,
     }
 }
 
