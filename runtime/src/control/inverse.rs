@@ -138,10 +138,26 @@ impl<T: RealField + Copy, const R: usize, const C: usize> FilteredInverse<T, R, 
         -(jt * s_r * gamma_r + s_l * jt * gamma_l)
     }
 
-    /// One explicit-Euler step of length `dt` of (3.49).
-    pub fn update(&mut self, j: &SMatrix<T, R, C>, gamma_r: T, gamma_l: T, dt: T) {
-        let d = self.derivative(j, gamma_r, gamma_l);
-        self.theta += d * dt;
+    /// Integrates (3.49) over `dt` with `J` held constant, by explicit Euler in `n` equal
+    /// sub-steps, `n = ⌈2 dt max(Γ_r, Γ_l) ‖J‖²_F⌉` (at most 4096): the linear part of (3.49) has
+    /// rates up to `(Γ_r + Γ_l) σ²_max ≤ 2 max(Γ) ‖J‖²_F`, so each sub-step is stable. Returns `n`.
+    pub fn update(&mut self, j: &SMatrix<T, R, C>, gamma_r: T, gamma_l: T, dt: T) -> usize {
+        let g = if gamma_r > gamma_l { gamma_r } else { gamma_l };
+        let two: T = nalgebra::convert(2.0);
+        let rate: f64 = (two * dt * g * j.norm_squared())
+            .to_subset()
+            .unwrap_or(f64::INFINITY);
+        let n = if rate.is_finite() {
+            (libm::ceil(rate) as usize).clamp(1, 4096)
+        } else {
+            4096
+        };
+        let h = dt / nalgebra::convert::<f64, T>(n as f64);
+        for _ in 0..n {
+            let d = self.derivative(j, gamma_r, gamma_l);
+            self.theta += d * h;
+        }
+        n
     }
 
     /// The matrix `Θ Θᵀ Jᵀ` of (3.50) that maps `dV` to `u`.
