@@ -36,6 +36,8 @@ mod quaternion;
 pub use inverse::{damped_pinv, determinant, manipulability, pinv, Damping, FilteredInverse};
 pub use quaternion::{orientation_error, Quaternion};
 
+use crate::constraint::Constraint;
+use crate::kinematics::Chain;
 use crate::se3::Se3;
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3, Vector6};
 
@@ -86,7 +88,59 @@ pub trait ConstrainedKinematics<
     /// The selection `H ∈ R^{R×6}` of the constrained directions (3.1).
     fn h(&self) -> SMatrix<T, R, 6>;
     /// Poses and Jacobians at joints `q` with the constraint at `l_a`.
-    fn evaluate(&self, q: &SVector<T, N>, l_a: T) -> ConstrainedState<T, I, R, K, M>;
+    fn evaluate(
+        &self,
+        q: &SVector<T, N>,
+        l_a: T,
+    ) -> Result<ConstrainedState<T, I, R, K, M>, ControlError>;
+}
+
+/// The numeric runtime behind [`ConstrainedKinematics`]: a [`Chain`] and the thesis's
+/// [`Constraint`] (whose offset is moved to `l_a` at every evaluation).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ChainKinematics<T: RealField + Copy, const N: usize, const R: usize> {
+    /// The serial chain.
+    pub chain: Chain<T, N>,
+    /// The constraint (its frame `g_ir = (I, (0, l_a, 0))` is reset to each `l_a`).
+    pub constraint: Constraint<T, R>,
+}
+
+impl<
+        T: RealField + Copy,
+        const N: usize,
+        const I: usize,
+        const R: usize,
+        const K: usize,
+        const M: usize,
+    > ConstrainedKinematics<T, N, I, R, K, M> for ChainKinematics<T, N, R>
+{
+    fn g_0i(&self, q: &SVector<T, N>) -> Se3<T> {
+        self.chain.link_frame(I, q)
+    }
+
+    fn h(&self) -> SMatrix<T, R, 6> {
+        *self.constraint.h()
+    }
+
+    fn evaluate(
+        &self,
+        q: &SVector<T, N>,
+        l_a: T,
+    ) -> Result<ConstrainedState<T, I, R, K, M>, ControlError> {
+        assert_eq!(self.constraint.link(), I, "the constraint is on link I");
+        let mut c = self.constraint;
+        c.set_offset(l_a).map_err(|_| ControlError::Kinematics)?;
+        let (jr, jc) = c.constrained_jacobians::<N, M>(&self.chain, q);
+        Ok(ConstrainedState {
+            g_0e: self.chain.forward_kinematics(q),
+            g_0i: self.chain.link_frame(I, q),
+            jr,
+            jb0i: self.chain.partial_body_jacobian::<I>(q),
+            jc,
+            lambda_sharp: c.lambda_null_space::<K>(),
+            lambda_pinv: *c.lambda_pinv(),
+        })
+    }
 }
 
 /// How `J^r_0e` is inverted (Table 4.1).
@@ -179,6 +233,8 @@ pub enum ControlError {
     SingularJb0i,
     /// A NaN or infinity appeared.
     NonFinite,
+    /// The kinematics could not be evaluated (e.g. `l_a = 0`: the trocar at `F_i`).
+    Kinematics,
 }
 
 impl core::fmt::Display for ControlError {
@@ -187,6 +243,9 @@ impl core::fmt::Display for ControlError {
             ControlError::SingularJr => "the constrained Jacobian J^r_0e is singular",
             ControlError::SingularJb0i => "the partial Jacobian J^B_0i is singular",
             ControlError::NonFinite => "a non-finite value appeared in the control step",
+            ControlError::Kinematics => {
+                "the constrained kinematics could not be evaluated (trocar at F_i?)"
+            }
         })
     }
 }
@@ -271,7 +330,7 @@ impl<
         // 1. l_a from the trocar point.
         let g_0i = kin.g_0i(q);
         let l_a = Self::l_a(&g_0i, &rcm.trocar);
-        let s = kin.evaluate(q, l_a);
+        let s = kin.evaluate(q, l_a)?;
         let h = kin.h();
 
         // 2. Lateral offset of the trocar from the link, in F_r (R_ir = I), and drift correction.

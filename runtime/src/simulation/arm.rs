@@ -5,7 +5,7 @@
 //! column of joint `k` in frame `F_b` is `Ad_{g_kb}⁻¹ ξ_k`. `Λ#` is the thesis's basis (3.23)
 //! (one constrained direction, `x_r`) or (3.27) (`x_r`, `z_r`).
 
-use crate::control::{ConstrainedKinematics, ConstrainedState};
+use crate::control::{ConstrainedKinematics, ConstrainedState, ControlError};
 use crate::description::{JointKind, RobotDescription, Rotation};
 use crate::se3::Se3;
 use nalgebra::{Matrix3, Matrix6, Rotation3, SMatrix, SVector, Unit, Vector3};
@@ -199,7 +199,11 @@ impl<const N: usize, const I: usize, const R: usize, const K: usize, const M: us
         h
     }
 
-    fn evaluate(&self, q: &SVector<f64, N>, l_a: f64) -> ConstrainedState<f64, I, R, K, M> {
+    fn evaluate(
+        &self,
+        q: &SVector<f64, N>,
+        l_a: f64,
+    ) -> Result<ConstrainedState<f64, I, R, K, M>, ControlError> {
         assert!(R <= 2 && K + R == 6 && M == K + N - I);
         let (frames, g_0e) = self.frames(q);
         let g_0i = frames[I - 1];
@@ -219,7 +223,7 @@ impl<const N: usize, const I: usize, const R: usize, const K: usize, const M: us
         for (k, f) in frames.iter().enumerate().skip(I) {
             jr.set_column(K + k - I, &self.column(k, f, &g_0e));
         }
-        ConstrainedState {
+        Ok(ConstrainedState {
             g_0e,
             g_0i,
             jr,
@@ -227,7 +231,7 @@ impl<const N: usize, const I: usize, const R: usize, const K: usize, const M: us
             jc: ad_ei * lambda_pinv,
             lambda_sharp: ls,
             lambda_pinv,
-        }
+        })
     }
 }
 
@@ -259,7 +263,7 @@ mod tests {
                 .unwrap();
         let q = q0();
         let la = 0.15;
-        let s: ConstrainedState<f64, 6, 2, 4, 6> = arm.evaluate(&q, la);
+        let s: ConstrainedState<f64, 6, 2, 4, 6> = arm.evaluate(&q, la).unwrap();
         assert!((arm.lambda(la) * s.lambda_sharp).norm() < 1e-14);
         let h = 1e-7;
         for k in 0..6 {
@@ -283,7 +287,7 @@ mod tests {
         let arm1 =
             Arm::<8, 6, 1>::from_description(&RobotDescription::preset("dia10_like_zy").unwrap())
                 .unwrap();
-        let s1: ConstrainedState<f64, 6, 1, 5, 7> = arm1.evaluate(&q, la);
+        let s1: ConstrainedState<f64, 6, 1, 5, 7> = arm1.evaluate(&q, la).unwrap();
         let a1 = -c8 * (l8 + lb * c7) / la;
         let a2 = -s8 * (l8 + lb * c7) / la;
         let a3 = -s8 * (la + lb + l8 * c7);

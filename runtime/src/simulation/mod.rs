@@ -13,6 +13,10 @@
 //!   `z_r` offset from the link axis is set to zero).
 //! - `l_a = (p_t − p_0i) · y_i` is recomputed every step.
 //!
+//! The controller is driven by the numeric runtime ([`ChainKinematics`]: [`crate::kinematics`],
+//! [`crate::constraint`]); the measurements use a second, independent implementation of the
+//! arm's kinematics ([`Arm`], built directly from the description).
+//!
 //! # Measurements (independent of the controller; from forward kinematics only)
 //! - `vr = (vr_x, vr_z)`: lateral velocity, in `F_r`, of the material point of link 6 that is at
 //!   the trocar at step `k`: `R_0i(q_k)ᵀ (m(q_{k+1}) − m(q_k)) / dt`, `m(q) = p_0i(q) + l_a(k) y_i(q)`.
@@ -27,8 +31,10 @@ pub use arm::Arm;
 pub use scenario::{Method, Scenario, ScenarioConfig, SimulationError};
 pub use trace::{Summary, Trace, TraceRow};
 
-use crate::control::{self, Controller, ControllerConfig, Rcm};
+use crate::constraint::Constraint;
+use crate::control::{self, ChainKinematics, Controller, ControllerConfig, Rcm};
 use crate::description::RobotDescription;
+use crate::robot::Robot;
 use nalgebra::{SVector, Vector3};
 
 /// Number of joints of `dia10_like`.
@@ -38,12 +44,23 @@ pub const JOINTS: usize = 8;
 pub fn run(config: &ScenarioConfig, progress: impl FnMut(f64)) -> Result<Trace, SimulationError> {
     let d = RobotDescription::preset(config.scenario.robot())
         .map_err(|e| SimulationError::Description(e.to_string()))?;
+    let desc = |e: &dyn std::fmt::Display| SimulationError::Description(e.to_string());
+    let robot = Robot::<f64>::from_description(&d, &[]).map_err(|e| desc(&e))?;
+    let chain = robot.to_chain::<8>().map_err(|e| desc(&e))?;
     if config.scenario.constrained_directions() == 1 {
         let arm = Arm::<8, 6, 1>::from_description(&d).map_err(SimulationError::Description)?;
-        run_arm::<1, 5, 7>(config, &arm, progress)
+        let kin = ChainKinematics {
+            chain,
+            constraint: Constraint::<f64, 1>::thesis(6, L_A0).map_err(|e| desc(&e))?,
+        };
+        run_arm::<1, 5, 7>(config, &kin, &arm, progress)
     } else {
         let arm = Arm::<8, 6, 2>::from_description(&d).map_err(SimulationError::Description)?;
-        run_arm::<2, 4, 6>(config, &arm, progress)
+        let kin = ChainKinematics {
+            chain,
+            constraint: Constraint::<f64, 2>::thesis(6, L_A0).map_err(|e| desc(&e))?,
+        };
+        run_arm::<2, 4, 6>(config, &kin, &arm, progress)
     }
 }
 
@@ -53,14 +70,14 @@ pub const Q0: [f64; 8] = [0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
 /// `l_a` at `q0` (SPEC §3.2).
 pub const L_A0: f64 = 0.15;
 
+/// Runs with the numeric runtime (`kin`) driving the controller, and the independent
+/// description-built [`Arm`] measuring.
 fn run_arm<const R: usize, const K: usize, const M: usize>(
     config: &ScenarioConfig,
+    kin: &impl control::ConstrainedKinematics<f64, 8, 6, R, K, M>,
     arm: &Arm<8, 6, R>,
     mut progress: impl FnMut(f64),
-) -> Result<Trace, SimulationError>
-where
-    Arm<8, 6, R>: control::ConstrainedKinematics<f64, 8, 6, R, K, M>,
-{
+) -> Result<Trace, SimulationError> {
     let dt = config.dt;
     let steps = (config.duration / dt).round() as usize;
     let mut q = SVector::<f64, 8>::from(Q0);
@@ -82,7 +99,7 @@ where
         }
         let rcm = Rcm { trocar, dv };
         let out = ctrl
-            .step(arm, &q, &reference, &rcm, dt)
+            .step(kin, &q, &reference, &rcm, dt)
             .map_err(|e| SimulationError::Control { t, error: e })?;
         let q_next = q + out.qd * dt;
 
