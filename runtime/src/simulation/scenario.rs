@@ -87,8 +87,10 @@ impl std::error::Error for SimulationError {}
 pub const A: f64 = 0.03;
 /// Frequency `ω` of the simulations (rad/s).
 pub const OMEGA: f64 = 2.0 * PI / 200.0;
-/// Half-range of the experiment's rotation about the joint-7 axis (rad): `7π/72`, so that from
-/// `q7 = 0.5` the wrist passes `q7 = 0` (the thesis: `q7 ∈ [−π/36, π/4]`).
+/// Half-range of the experiment's rotation about the joint-7 axis at `q0` (rad), `7π/72`: the
+/// rotation `(7π/72)(cos ωk − 1) ∈ [−0.61, 0]` replaces the thesis's `(π/18)(cos ωk − 1)` about
+/// the end-effector x axis, which leaves this arm's `q7 ≥ 0.5`. With it `q7` sweeps
+/// `[0.06, 0.8]` and `J^B_0i` passes near a singularity (see CONTROL.md).
 pub const EXP421_AMPLITUDE: f64 = 7.0 * PI / 72.0;
 /// Frequency of experiment 4.2.1 per iteration (`2π/7000` rad per 2 ms step).
 pub const OMEGA_K_421: f64 = 2.0 * PI / 7000.0;
@@ -170,10 +172,13 @@ impl Scenario {
         }
     }
 
-    /// The desired pose and velocity at time `t`, from the initial end-effector pose `g0`.
-    /// Offsets of (4.1)–(4.5) are in base coordinates; the orientation (4.4) is a rotation `φ_x`
-    /// about base x applied to the initial one. Experiment 4.2.1 moves along and rotates about
-    /// the initial end-effector x axis.
+    /// The desired pose and velocity at time `t`, from the initial end-effector pose `g0` and
+    /// the axis of joint 7 at `q0` (`axis7`, base coordinates).
+    /// Offsets of (4.1)–(4.5) are in base coordinates. The rotation (4.4),
+    /// `φ = −(π/8) sin ωt`, is applied about `axis7` (about base x, as printed, this arm's `q7`
+    /// stays in `[0.48, 0.91]`, far from the `J^r` singularity `q7 = 0` the scenario is meant to
+    /// cross). Experiment 4.2.1 moves along the initial end-effector x axis and rotates about
+    /// `axis7` (see [`EXP421_AMPLITUDE`]).
     pub fn reference(self, t: f64, dt: f64, g0: &Se3<f64>, axis7: &Vector3<f64>) -> Reference<f64> {
         let axis7 = *axis7;
         let w = OMEGA;
