@@ -150,9 +150,11 @@ around them is written by hand from the same numbers.
   joint 7 at `q0`; then `q7` crosses 0 (`J^r_0e` singular) and `J^B_0i` also comes near a
   singularity (`w_i` down to 1e-4).
 - Experiment 4.2.1: `(π/18)(cos ωk − 1)` about the end-effector x axis leaves `q7 ≥ 0.5`; we
-  rotate by `(7π/72)(cos ωk − 1)` about the joint-7 axis at `q0`. On this arm the run then meets
-  a near-singularity of **`J^B_0i`** (`w_i` down to 4e-5 with pinv), while `w_r` stays ≥ 0.055: it compares the
-  methods at the partial Jacobian's singularity; scenario 3 is the `J^r_0e` one.
+  rotate by `(7π/72)(cos ωk − 1)` about the joint-7 axis at `q0`. On this arm `q7` then comes
+  down to 0.06 at t ≈ 3.4 s (`w_r` = 0.083, under DLS's `w0 = 0.1`) without crossing 0, and
+  `J^B_0i` passes near a singularity at t ≈ 7–9 s (`w_i` down to 4e-5 with pinv). The
+  pseudo-inverse's peak comes from the latter; scenario 3 is the run that crosses the `J^r_0e`
+  singularity.
 - Scenario 4: the commanded lateral RCM motion (4.6) (±5.3 cm in `x_r` and `z_r`) with the
   end-effector orientation held drives this arm's wrist through `q7 = 0` at t ≈ 25 s and again
   at t ≈ 48 s; with the pseudo-inverse the run diverges there (last rows of the drift table).
@@ -169,7 +171,7 @@ const TAIL: &str = r#"
   inverse stay bounded: peak `|θ̇|` 0.79 rad/s (DLS) and 0.54–0.66 rad/s (FI), with end-effector
   error ≤ 9.4 mm while damping acts. The test bound is 1 rad/s for both. In the experiment the
   pseudo-inverse peaks at 39 rad/s (150 with the correction) at `J^B_0i`'s near-singularity,
-  DLS at 4.7 rad/s and FI at 6.0 rad/s; FI lags (‖dp − p‖ up to 16 mm) because `Θ` follows
+  DLS at 4.7 rad/s and FI at 6.0 rad/s (both at t ≈ 3.4 s, where `w_r` is smallest); FI lags (‖dp − p‖ up to 16 mm) because `Θ` follows
   `J^r` with `Γ = 5` while `K_p = 270`.
 - **The price of damping `J^B_0i`**: damping the partial Jacobian realises a link velocity
   slightly different from `Λ# v0i + Λ† dv_0r`, so the RCM constraint is no longer exact where
@@ -182,6 +184,10 @@ const TAIL: &str = r#"
   the drift stays ≤ 0.27 µm and `|vr − dv|` ≤ 6e-7 m/s: the 1e-6 m/s bound holds with the
   issue's finite-difference measure, because the loop cancels the integration error that the
   measure sees, instead of only bounding it.
+- **Cost.** One control step (f64, dia10_like zy, kinematics from the numeric runtime,
+  `cargo bench -p trocar --bench control`): about 5–6 µs for each of pinv, DLS and FI on the
+  shared 2-core machine this was measured on (load average ≈ 7, so an upper figure); the step
+  allocates nothing (`tests/control_alloc.rs`).
 - Scenarios 1, 2 and the first 20 s of 4 meet `|vr − dv| ≤ 1e-6` m/s, drift ≤ 1e-4 m and
   `‖dp − p‖ ≤ 1e-3` m after 10 s (in fact ≤ 4e-6 m throughout), with the correction on.
 "#;
