@@ -140,3 +140,96 @@ fn step_realises_the_cartesian_command_and_the_rcm_velocity() {
         "{vr}"
     );
 }
+
+/// The controller runs in f32 (embedded users) and stays close to the f64 run over 5 s of
+/// scenario-2-like tracking with the numeric runtime.
+#[test]
+fn f32_controller_tracks_like_f64() {
+    let d = RobotDescription::preset("dia10_like_zy").unwrap();
+    let k64 = ChainKinematics {
+        chain: Robot::<f64>::from_description(&d, &[])
+            .unwrap()
+            .to_chain::<8>()
+            .unwrap(),
+        constraint: Constraint::<f64, 2>::thesis(6, 0.15).unwrap(),
+    };
+    let k32 = ChainKinematics {
+        chain: Robot::<f32>::from_description(&d, &[])
+            .unwrap()
+            .to_chain::<8>()
+            .unwrap(),
+        constraint: Constraint::<f32, 2>::thesis(6, 0.15).unwrap(),
+    };
+    let cfg64 = ControllerConfig {
+        kp: 5.0,
+        ko: 10.0,
+        method: Method::Dls(Damping::Variable {
+            alpha0: 0.05,
+            w0: 0.1,
+        }),
+        jb0i_damping: None,
+        kr: 20.0,
+    };
+    let cfg32 = ControllerConfig {
+        kp: 5.0f32,
+        ko: 10.0,
+        method: Method::Dls(Damping::Variable {
+            alpha0: 0.05,
+            w0: 0.1,
+        }),
+        jb0i_damping: None,
+        kr: 20.0,
+    };
+    let mut c64 = Controller::<f64, 8, 6, 2, 4, 6>::new(cfg64);
+    let mut c32 = Controller::<f32, 8, 6, 2, 4, 6>::new(cfg32);
+    let mut q64 = SVector::<f64, 8>::from([0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3]);
+    let mut q32: SVector<f32, 8> = q64.cast();
+    let g0 = k64.chain.forward_kinematics(&q64);
+    let gi = k64.chain.link_frame(6, &q64);
+    let trocar = gi.translation + gi.rotation.column(1) * 0.15;
+    let dt = 0.002;
+    for k in 0..2500 {
+        let t = k as f64 * dt;
+        let w = 0.1;
+        let r64 = Reference {
+            position: g0.translation + Vector3::new(0.02 * (w * t).sin(), 0.0, 0.0),
+            rotation: g0.rotation,
+            velocity: Vector3::new(0.02 * w * (w * t).cos(), 0.0, 0.0),
+            angular_velocity: Vector3::zeros(),
+        };
+        let r32 = Reference {
+            position: r64.position.cast(),
+            rotation: r64.rotation.cast(),
+            velocity: r64.velocity.cast(),
+            angular_velocity: r64.angular_velocity.cast(),
+        };
+        let o64 = c64
+            .step(
+                &k64,
+                &q64,
+                &r64,
+                &Rcm {
+                    trocar,
+                    dv: SVector::zeros(),
+                },
+                dt,
+            )
+            .unwrap();
+        let o32 = c32
+            .step(
+                &k32,
+                &q32,
+                &r32,
+                &Rcm {
+                    trocar: trocar.cast(),
+                    dv: SVector::zeros(),
+                },
+                dt as f32,
+            )
+            .unwrap();
+        q64 += o64.qd * dt;
+        q32 += o32.qd * dt as f32;
+    }
+    let diff = (q32.cast::<f64>() - q64).amax();
+    assert!(diff < 1e-3, "f32 and f64 joints differ by {diff}");
+}
