@@ -28,8 +28,10 @@ mod scenario;
 mod trace;
 
 pub use arm::Arm;
-pub use scenario::{Method, Scenario, ScenarioConfig, SimulationError};
-pub use trace::{Summary, Trace, TraceRow};
+pub use scenario::{
+    Method, Scenario, ScenarioConfig, SimulationError, A, EXP421_AMPLITUDE, OMEGA, OMEGA_K_421,
+};
+pub use trace::{Summary, Trace, TraceRow, CSV_HEADER};
 
 use crate::constraint::Constraint;
 use crate::control::{self, ChainKinematics, Controller, ControllerConfig, Rcm};
