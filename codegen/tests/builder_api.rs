@@ -142,3 +142,16 @@ fn snapshot_bidirectional_zy() {
         );
     }
 }
+
+/// A robot without a constraint gets forward kinematics and the body Jacobian only.
+#[test]
+fn unconstrained_robot() {
+    let text = trocar::description::preset("unidirectional").unwrap();
+    let cut = text.find("[constraint]").unwrap();
+    let desc = RobotDescription::from_toml_str(&text[..cut], None).unwrap();
+    let code = generate_module_string(&desc, &ModuleOptions::default()).unwrap();
+    assert!(code.contains("pub fn forward_kinematics<T: ::trocar::Real>"));
+    assert!(code.contains("-> [[T; 6]; N]"));
+    assert!(!code.contains("constrained_jacobian"));
+    assert!(!code.contains("pub const M"));
+}
