@@ -1,7 +1,7 @@
 //! The thesis's derivation (chapter 3) carried out on symbols, from any valid
 //! [`RobotDescription`].
 //!
-//! Steps, with the thesis's equation numbers (see [`derive`]):
+//! Steps, with the thesis's equation numbers (see [`derive()`]):
 //!
 //! 1. Each joint `k` gives `T_k = origin_k · exp(ξ̂_k q_k)` (parent frame → `F_k`), with `ξ_k` the
 //!    joint twist in `F_k` (2.25)–(2.27), linear part first.
@@ -18,6 +18,23 @@
 //! monomials in `s_k, c_k, q_k`, parameters (also negative powers) and `Inv` atoms, with exact
 //! rational coefficients. The per-joint transforms are kept as well ([`Derivation::joint_transforms`])
 //! so an emitter may evaluate forward kinematics as a product instead of the expanded form.
+//!
+//! # For an emitter
+//! Walk [`Matrix::entries`] (row-major) and [`Poly::terms`]: each term is a [`Rational`]
+//! coefficient ([`Rational::to_f64`], or [`Rational::to_parts`] for exact literals) times a
+//! [`crate::symbolic::Monomial`] whose [`factors`](crate::symbolic::Monomial::factors) are
+//! `(Atom, exponent)`: `Sin(k)`/`Cos(k)` → one `sin_cos(q[k])` per joint, `Joint(k)` → `q[k]`,
+//! `Param(p)` with a possibly negative exponent → `params.<name>` (hoist `1/param`),
+//! `Inv(id)` → `1 / P` with `P` = [`crate::symbolic::inverse_denominator`]`(id)` (hoist it;
+//! it never depends on an `Inv` itself). Which joints/parameters a result needs:
+//! [`Poly::joints`], [`Matrix::joints`], [`Derivation::dependencies`].
+//!
+//! # Size budgets
+//! Generic chains grow like `3^n` terms when fully expanded. The matrices of the thesis are
+//! always expanded (`g_0i`, `g_ie`, `J^B_0i`, `J^B_0e2`, `J^r`, `J_c`, `Λ`, `Λ#`, `Λ†`);
+//! the full-chain `g_0e`, `J^B_0e` only within [`EXPANSION_BUDGET`] (else `None`: use the
+//! factorisation `g_0e = g_0i g_ie`, `J^B_0e = [Ad_{g_ei} J^B_0i | J^B_0e2]`), and the closed-form
+//! manipulability only within [`MANIPULABILITY_BUDGET`].
 
 use crate::symbolic::{rational_null_space, Matrix, Poly, Rational, SymbolicError, Transform};
 use std::collections::BTreeSet;
@@ -148,7 +165,8 @@ pub struct ConstrainedDerivation {
     pub lambda: Matrix,
     /// Which basis `Λ#` is.
     pub basis: NullBasis,
-    /// `Λ#`, `6 × (6 − r)`, with `Λ Λ# = 0` (checked symbolically).
+    /// `Λ#`, `6 × (6 − r)`, with `Λ Λ# = 0` (checked symbolically for the thesis bases; for the
+    /// derived basis it holds by construction, exactly when `R_ir` is exact, otherwise to rounding).
     pub lambda_sharp: Matrix,
     /// `Λ† = Λᵀ (Λ Λᵀ)⁻¹`, `6 × r` (3.31)–(3.33).
     pub lambda_pinv: Matrix,
@@ -166,8 +184,10 @@ pub struct ConstrainedDerivation {
     pub jr: Matrix,
     /// `J_c = Ad_{g_ei} Λ†`, `6 × r` (3.33).
     pub jc: Matrix,
-    /// Manipulability of `J^r` (3.36)–(3.42).
-    pub manipulability: Manipulability,
+    /// Manipulability of `J^r` (3.36)–(3.42) in closed form; `None` when `J^r` has more than
+    /// [`MANIPULABILITY_BUDGET`] terms (generic chains: the minors would swell); then compute
+    /// `det(J^r J^rᵀ)` numerically from the evaluated `J^r` (a 6×6 determinant).
+    pub manipulability: Option<Manipulability>,
 }
 
 /// The symbolic derivation for one robot: what an emitter turns into Rust.
@@ -192,12 +212,40 @@ pub struct Derivation {
     pub joint_transforms: Vec<Transform>,
     /// `g_ne`, the end effector relative to the last joint frame (constant).
     pub end_effector: Transform,
-    /// `g_0e(q)`, forward kinematics.
-    pub fk_e: Transform,
-    /// `J^B_0e(q)`, `6 × n` (2.53)–(2.55).
-    pub body_jacobian_e: Matrix,
+    /// `g_0e(q)`, forward kinematics, fully expanded; `None` when the expansion would exceed
+    /// [`EXPANSION_BUDGET`] (generic chains grow like `3^n` terms). Then evaluate it as a product:
+    /// `fk_i · g_ie` for a constrained robot, or the [`Derivation::joint_transforms`] in order.
+    pub fk_e: Option<Transform>,
+    /// `J^B_0e(q)`, `6 × n` (2.53)–(2.55), fully expanded; `None` beyond [`EXPANSION_BUDGET`].
+    /// For a constrained robot it is `[Ad_{g_ei} J^B_0i | J^B_0e2]` (3.12)–(3.14).
+    pub body_jacobian_e: Option<Matrix>,
     /// The constrained part, when the description has a constraint.
     pub constraint: Option<ConstrainedDerivation>,
+}
+
+/// Largest estimated number of terms of one entry of an expanded product (`len(a) · len(b) ·
+/// inner dimension`) that [`derive()`] computes for the optional full-chain expansions
+/// ([`Derivation::fk_e`], [`Derivation::body_jacobian_e`]). The matrices the thesis needs
+/// (`g_0i`, `g_ie`, `J^B_0i`, `J^B_0e2`, `J^r`, `J_c`, manipulability) are always expanded.
+pub const EXPANSION_BUDGET: usize = 20_000;
+
+/// Largest total number of terms of `J^r` for which [`derive()`] forms the closed-form
+/// manipulability (the presets and dia10_like have well under 100).
+pub const MANIPULABILITY_BUDGET: usize = 400;
+
+fn max_len(m: &Matrix) -> usize {
+    m.entries().iter().map(Poly::len).max().unwrap_or(0)
+}
+
+/// `a · b` expanded, or `None` when the estimated entry size exceeds [`EXPANSION_BUDGET`].
+fn compose_within_budget(a: &Transform, b: &Transform) -> Option<Transform> {
+    let la = max_len(&a.rot).max(max_len(&a.pos)).max(1);
+    let lb = max_len(&b.rot).max(max_len(&b.pos)).max(1);
+    if la.saturating_mul(lb).saturating_mul(4) > EXPANSION_BUDGET {
+        None
+    } else {
+        Some(a.compose(b))
+    }
 }
 
 struct Ctx<'a> {
@@ -365,19 +413,30 @@ fn inv(field: &str, e: impl fmt::Display) -> DerivationError {
 
 /// Body Jacobian columns `Ad_{g_ke}⁻¹ ξ_k` for `k = 0..upto` with `g_ke = T_{k+1} ⋯ T_{upto−1} · tail`
 /// (2.53)–(2.55); returns the `6 × upto` matrix.
+/// `None` when an intermediate product exceeds [`EXPANSION_BUDGET`] and `budget` is set.
 fn body_jacobian(
     twists: &[Matrix],
     transforms: &[Transform],
+    from: usize,
     upto: usize,
     tail: &Transform,
-) -> Matrix {
+    budget: bool,
+) -> Option<Matrix> {
     let mut g = tail.clone();
-    let mut cols: Vec<Matrix> = vec![Matrix::zeros(6, 1); upto];
-    for k in (0..upto).rev() {
-        cols[k] = g.adjoint_inverse_apply(&twists[k]);
-        g = transforms[k].compose(&g);
+    let mut cols: Vec<Matrix> = vec![Matrix::zeros(6, 1); upto - from];
+    for k in (from..upto).rev() {
+        cols[k - from] = g.adjoint_inverse_apply(&twists[k]);
+        if k > from {
+            g = if budget {
+                compose_within_budget(&transforms[k], &g)?
+            } else {
+                transforms[k].compose(&g)
+            };
+        }
     }
-    Matrix::from_fn(6, upto, |i, j| cols[j].get(i, 0).clone())
+    Some(Matrix::from_fn(6, upto - from, |i, j| {
+        cols[j].get(i, 0).clone()
+    }))
 }
 
 /// Derives everything for `desc` (see the module documentation for the steps).
@@ -415,16 +474,6 @@ pub fn derive(desc: &RobotDescription) -> Result<Derivation, DerivationError> {
     }
     let end_effector = ctx.origin(&desc.end_effector.origin, "end_effector")?;
 
-    // Forward kinematics g_0k (2.21).
-    let mut prefix = Vec::with_capacity(n + 1);
-    prefix.push(Transform::identity());
-    for t in &transforms {
-        let next = prefix[prefix.len() - 1].compose(t);
-        prefix.push(next);
-    }
-    let fk_e = prefix[n].compose(&end_effector);
-    let body_jacobian_e = body_jacobian(&twists, &transforms, n, &end_effector);
-
     let constraint = match &desc.constraint {
         None => None,
         Some(c) => Some(derive_constraint(
@@ -432,10 +481,37 @@ pub fn derive(desc: &RobotDescription) -> Result<Derivation, DerivationError> {
             c,
             &twists,
             &transforms,
-            &prefix,
             &end_effector,
-            &body_jacobian_e,
         )?),
+    };
+    let (fk_e, body_jacobian_e) = match &constraint {
+        // g_0e = g_0i g_ie; J^B_0e = [Ad_{g_ei} J^B_0i | J^B_0e2] (3.12)–(3.14).
+        Some(c) => {
+            let fk = compose_within_budget(&c.fk_i, &c.g_ie);
+            let size = max_len(&c.ad_g_ei).saturating_mul(max_len(&c.body_jacobian_i));
+            let jb = if size.saturating_mul(6) > EXPANSION_BUDGET {
+                None
+            } else {
+                Some(
+                    c.ad_g_ei
+                        .mul(&c.body_jacobian_i)
+                        .hstack(&c.body_jacobian_e2),
+                )
+            };
+            (fk, jb)
+        }
+        None => {
+            // Forward kinematics g_0e = T_1 ⋯ T_n g_ne (2.21).
+            let mut g = Some(Transform::identity());
+            for t in &transforms {
+                g = g.and_then(|g| compose_within_budget(&g, t));
+            }
+            let fk = g.and_then(|g| compose_within_budget(&g, &end_effector));
+            (
+                fk,
+                body_jacobian(&twists, &transforms, 0, n, &end_effector, true),
+            )
+        }
     };
 
     Ok(Derivation {
@@ -458,9 +534,7 @@ fn derive_constraint(
     c: &trocar::description::ConstraintDesc,
     twists: &[Matrix],
     transforms: &[Transform],
-    prefix: &[Transform],
     end_effector: &Transform,
-    body_jacobian_e: &Matrix,
 ) -> Result<ConstrainedDerivation, DerivationError> {
     let n = transforms.len();
     let i = c.link;
@@ -552,6 +626,13 @@ fn derive_constraint(
             for col in &cols[1..] {
                 ls = ls.hstack(col);
             }
+            if !lambda.mul(&ls).is_zero() {
+                return Err(DerivationError::new(
+                    DerivationErrorKind::WristMismatch,
+                    "constraint.wrist",
+                    "the thesis basis (3.23)/(3.27) needs g_ir = (I, (0, l_a, 0)) and H = x_r (or x_r, z_r); Λ Λ# ≠ 0 here",
+                ));
+            }
             let kind = if r == 1 {
                 NullBasis::Thesis323
             } else {
@@ -560,31 +641,35 @@ fn derive_constraint(
             (kind, ls)
         }
     };
-    if !lambda.mul(&lambda_sharp).is_zero() {
-        return Err(DerivationError::new(
-            DerivationErrorKind::WristMismatch,
-            "constraint.wrist",
-            "the thesis basis (3.23)/(3.27) needs g_ir = (I, (0, l_a, 0)) and H = x_r (or x_r, z_r); Λ Λ# ≠ 0 here",
-        ));
-    }
     let llt = lambda.mul(&lambda.transpose());
     let lambda_pinv = lambda.transpose().mul(
         &llt.inverse()
             .map_err(|e| DerivationError::symbolic("constraint", e))?,
     );
 
-    let fk_i = prefix[i].clone();
+    // g_0i = T_1 ⋯ T_i and g_ie = T_j ⋯ T_n g_ne (2.21)
+    let mut fk_i = Transform::identity();
+    for t in &transforms[..i] {
+        fk_i = fk_i.compose(t);
+    }
     let mut g_ie = end_effector.clone();
     for t in transforms[i..].iter().rev() {
         g_ie = t.compose(&g_ie);
     }
     let ad_g_ei = g_ie.adjoint_inverse();
-    let body_jacobian_i = body_jacobian(twists, transforms, i, &Transform::identity());
-    let body_jacobian_e2 = body_jacobian_e.block(0, i, 6, n - i);
+    let ident = Transform::identity();
+    // Without a budget `body_jacobian` always returns `Some`.
+    let body_jacobian_i = body_jacobian(twists, transforms, 0, i, &ident, false)
+        .unwrap_or_else(|| Matrix::zeros(6, i));
+    let body_jacobian_e2 = body_jacobian(twists, transforms, i, n, end_effector, false)
+        .unwrap_or_else(|| Matrix::zeros(6, n - i));
     let jr = ad_g_ei.mul(&lambda_sharp).hstack(&body_jacobian_e2);
     let jc = ad_g_ei.mul(&lambda_pinv);
-    let manipulability =
-        manipulability(&jr).map_err(|e| DerivationError::symbolic("constraint", e))?;
+    let manipulability = if jr.total_terms() > MANIPULABILITY_BUDGET {
+        None
+    } else {
+        Some(manipulability(&jr).map_err(|e| DerivationError::symbolic("constraint", e))?)
+    };
     Ok(ConstrainedDerivation {
         link: i,
         r,
@@ -630,39 +715,48 @@ impl Derivation {
     /// Size summary `(name, rows, cols, total terms)` of every derived matrix, for reports.
     pub fn sizes(&self) -> Vec<(&'static str, usize, usize, usize)> {
         let t = |name, m: &Matrix| (name, m.rows(), m.cols(), m.total_terms());
-        let mut v = vec![
-            t("fk_e.rot", &self.fk_e.rot),
-            t("fk_e.pos", &self.fk_e.pos),
-            t("body_jacobian_e", &self.body_jacobian_e),
-        ];
+        let mut v = Vec::new();
+        if let Some(fk) = &self.fk_e {
+            v.push(t("fk_e.rot", &fk.rot));
+            v.push(t("fk_e.pos", &fk.pos));
+        }
+        if let Some(jb) = &self.body_jacobian_e {
+            v.push(t("body_jacobian_e", jb));
+        }
         if let Some(c) = &self.constraint {
             v.push(t("fk_i.rot", &c.fk_i.rot));
             v.push(t("fk_i.pos", &c.fk_i.pos));
             v.push(t("body_jacobian_i", &c.body_jacobian_i));
             v.push(t("jr", &c.jr));
             v.push(t("jc", &c.jc));
-            v.push((
-                "manipulability_squared",
-                1,
-                1,
-                c.manipulability.squared.len(),
-            ));
+            if let Some(w) = &c.manipulability {
+                v.push(("manipulability_squared", 1, 1, w.squared.len()));
+            }
         }
         v
     }
 
     /// Joints (0-based) each named result depends on.
     pub fn dependencies(&self) -> Vec<(&'static str, BTreeSet<usize>)> {
+        let all: BTreeSet<usize> = (0..self.n).collect();
         let mut v = vec![
-            ("fk_e", self.fk_e.joints()),
-            ("body_jacobian_e", self.body_jacobian_e.joints()),
+            (
+                "fk_e",
+                self.fk_e.as_ref().map_or(all.clone(), Transform::joints),
+            ),
+            (
+                "body_jacobian_e",
+                self.body_jacobian_e.as_ref().map_or(all, Matrix::joints),
+            ),
         ];
         if let Some(c) = &self.constraint {
             v.push(("fk_i", c.fk_i.joints()));
             v.push(("body_jacobian_i", c.body_jacobian_i.joints()));
             v.push(("jr", c.jr.joints()));
             v.push(("jc", c.jc.joints()));
-            v.push(("manipulability", c.manipulability.squared.joints()));
+            if let Some(w) = &c.manipulability {
+                v.push(("manipulability", w.squared.joints()));
+            }
         }
         v
     }

@@ -201,8 +201,11 @@ fn bidirectional_zx_is_derived_and_printed_3_29_is_not_equal() {
 fn manipulability_zy_is_3_42() {
     let (_, c) = derived("bidirectional-zy");
     // (3.42) w = lb² |s7| / la²  ⇔  w² = lb⁴ s7² / la⁴
-    assert_eq!(c.manipulability.squared, parse("lb^4*s7^2/la^4"));
-    match &c.manipulability.form {
+    assert_eq!(
+        c.manipulability.as_ref().unwrap().squared,
+        parse("lb^4*s7^2/la^4")
+    );
+    match &c.manipulability.as_ref().unwrap().form {
         trocar_codegen::derivation::ManipulabilityForm::AbsDet(d) => {
             assert_eq!(d.mul(d), parse("lb^4*s7^2/la^4"));
         }
@@ -214,13 +217,16 @@ fn manipulability_zy_is_3_42() {
 fn manipulability_zx_is_3_41() {
     let (_, c) = derived("bidirectional-zx");
     // (3.41) w = lb² |c7| / la²  ⇔  w² = lb⁴ c7² / la⁴
-    assert_eq!(c.manipulability.squared, parse("lb^4*c7^2/la^4"));
+    assert_eq!(
+        c.manipulability.as_ref().unwrap().squared,
+        parse("lb^4*c7^2/la^4")
+    );
 }
 
 #[test]
 fn manipulability_unidirectional_against_3_40() {
     let (_, c) = derived("unidirectional");
-    let w2 = &c.manipulability.squared;
+    let w2 = &c.manipulability.as_ref().unwrap().squared;
     // Derived: w² = lb² (s7² (la + lb)² + 2) / la².
     assert_eq!(*w2, parse("lb^2*(s7^2*(la + lb)^2 + 2)/la^2"));
     // The extracted (3.40) reads "wr = l2 b sin (θ7) 2(la + lb)2 + 2 l2 a": with the radical
@@ -238,7 +244,7 @@ fn dia10_like_jr_depends_only_on_joints_7_and_8() {
         assert_eq!(c.jr.joints().into_iter().collect::<Vec<_>>(), vec![6, 7]);
         assert_eq!(c.body_jacobian_i.joints().into_iter().max(), Some(5));
         // dia10_like: lb = 0.33 − la, l8 = 0.21; the presets' closed forms with those values.
-        let w2 = &c.manipulability.squared;
+        let w2 = &c.manipulability.as_ref().unwrap().squared;
         let expected = if zx {
             Poly::parse("(33/100 - la)^4*c7^2/la^4", &["la"]).unwrap()
         } else {
@@ -246,4 +252,25 @@ fn dia10_like_jr_depends_only_on_joints_7_and_8() {
         };
         assert_eq!(*w2, expected);
     }
+}
+
+#[test]
+fn decimal_geometry_stays_exact() {
+    // 0.194, 1.037, 0.38, 0.39, 0.33, 0.21 are read as exact decimals (97/500, ...): no long
+    // binary-fraction coefficients appear anywhere in dia10_like.
+    let d = derive(&dia10_like(false)).unwrap();
+    let fk = d.fk_e.as_ref().unwrap();
+    let digits = fk
+        .pos
+        .entries()
+        .iter()
+        .map(Poly::max_coefficient_digits)
+        .max()
+        .unwrap();
+    assert!(digits <= 8, "{digits}");
+    // x coordinate of the end effector contains exactly 0.194 c1 = 97/500 c1
+    let p0 = d.fk_e.unwrap().pos.get(0, 0).clone();
+    let term = Poly::parse("97/500*c1", &[]).unwrap();
+    let t = &term.terms()[0];
+    assert!(p0.terms().contains(t));
 }

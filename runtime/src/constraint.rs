@@ -9,6 +9,47 @@
 //! [`Constraint<T, R>`] caches `Λ`, `Λ#` and `Λ†` and recomputes them when the constraint frame
 //! moves ([`Constraint::set_offset`], a few dozen flops): in the thesis's setting the link slides
 //! through a fixed trocar, so `l_a` changes every control step. Nothing here allocates.
+//!
+//! ```
+//! use trocar::constraint::Constraint;
+//! use trocar::kinematics::{Chain, Joint};
+//! use trocar::nalgebra::{SMatrix, SVector, Vector3};
+//! use trocar::se3::Se3;
+//!
+//! // The `bidirectional-zy` wrist after a 6-joint arm (here: six revolute joints about z, x, ...).
+//! let (l_a, l_b, l_8) = (0.15, 0.18, 0.21);
+//! let at = |x: f64, y: f64, z: f64| Se3::from_translation(Vector3::new(x, y, z));
+//! let (x, y, z) = (Vector3::x(), Vector3::y(), Vector3::z());
+//! let chain = Chain::new(
+//!     [
+//!         Joint::revolute(at(0.0, 0.0, 0.0), z),
+//!         Joint::revolute(at(0.194, 0.0, 1.037), x),
+//!         Joint::revolute(at(0.0, 0.38, 0.0), x),
+//!         Joint::revolute(at(0.0, 0.0, 0.0), y),
+//!         Joint::revolute(at(0.0, 0.39, 0.0), x),
+//!         Joint::revolute(at(0.0, 0.0, 0.0), y),
+//!         Joint::revolute(at(0.0, l_a + l_b, 0.0), z),
+//!         Joint::revolute(at(0.0, 0.0, 0.0), y),
+//!     ],
+//!     at(0.0, l_8, 0.0),
+//! );
+//! // H = (x_r, z_r) at link 6, thesis basis (3.27).
+//! let mut rcm = Constraint::<f64, 2>::thesis(6, l_a).unwrap();
+//! let q = SVector::<f64, 8>::from([0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3]);
+//!
+//! // Every control step: move the constraint frame, then J^r (3.15) and J_c (3.33).
+//! rcm.set_offset(0.16).unwrap();
+//! let (jr, jc): (SMatrix<f64, 6, 6>, SMatrix<f64, 6, 2>) = rcm.constrained_jacobians(&chain, &q);
+//! # let _ = jc;
+//! // Given [v0i; θ̇_jn] from (J^r)† u, the joint rates before the constraint (3.10):
+//! let v0i = SVector::<f64, 4>::new(0.01, 0.0, -0.02, 0.1);
+//! let v_0i = rcm.link_velocity(&v0i, &SVector::zeros());
+//! let th_1i: SVector<f64, 6> = rcm.joint_rates_before_constraint::<8, 6>(&chain, &q, &v_0i).unwrap();
+//! // The constraint holds: Λ J^B_0i θ̇_{1..i} = 0.
+//! let jb0i = chain.partial_body_jacobian::<6>(&q);
+//! assert!((rcm.lambda() * jb0i * th_1i).amax() < 1e-12);
+//! # let _ = jr;
+//! ```
 
 use crate::kinematics::{body_jacobian_columns, constrained_jacobian_columns, Chain};
 use crate::se3::{Adjoint, Se3, Twist};

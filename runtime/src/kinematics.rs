@@ -55,7 +55,7 @@ impl<T: RealField + Copy> Joint<T> {
 }
 
 /// Forward kinematics `g_0e = Π_k (origin_k exp(ξ̂_k θ_k)) · g_ne` of the chain `joints` with the
-/// end-effector (tool) transform `tool` from the last joint's frame (2.30).
+/// end-effector (tool) transform `tool` from the last joint's frame (2.35).
 ///
 /// With `tool = Se3::identity()` this is `g_0n`, the frame of the last joint.
 ///

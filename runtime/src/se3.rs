@@ -39,7 +39,7 @@ pub fn vee<T: RealField + Copy>(m: &Matrix3<T>) -> Vector3<T> {
     )
 }
 
-/// The 4×4 matrix `ξ̂ = [[ω̂, v], [0, 0]]` of a twist (2.24).
+/// The 4×4 matrix `ξ̂ = [[ω̂, v], [0, 0]]` of a twist (the `∧` of (2.29)).
 #[inline]
 pub fn twist_hat<T: RealField + Copy>(xi: &Twist<T>) -> Matrix4<T> {
     let w = hat(&angular(xi));
@@ -76,13 +76,13 @@ pub fn twist<T: RealField + Copy>(v: &Vector3<T>, w: &Vector3<T>) -> Twist<T> {
     Twist::new(v.x, v.y, v.z, w.x, w.y, w.z)
 }
 
-/// The twist of a revolute joint with unit axis `ω` through the point `q`: `ξ = (−ω × q, ω)` (2.27).
+/// The twist of a revolute joint with unit axis `ω` through the point `q`: `ξ = (−ω × q, ω)` (2.30).
 #[inline]
 pub fn revolute_twist<T: RealField + Copy>(axis: &Vector3<T>, point: &Vector3<T>) -> Twist<T> {
     twist(&(-axis.cross(point)), axis)
 }
 
-/// The twist of a prismatic joint with unit direction `v`: `ξ = (v, 0)` (2.27).
+/// The twist of a prismatic joint with unit direction `v`: `ξ = (v, 0)` (2.31).
 #[inline]
 pub fn prismatic_twist<T: RealField + Copy>(direction: &Vector3<T>) -> Twist<T> {
     twist(direction, &Vector3::zeros())
@@ -113,7 +113,7 @@ fn exp_coefficients<T: RealField + Copy>(a2: T) -> (T, T, T) {
     }
 }
 
-/// The exponential of `φ̂` on SO(3) (Rodrigues' formula, (2.14)): `I + (sin a/a) φ̂ + ((1 − cos a)/a²) φ̂²`,
+/// The exponential of `φ̂` on SO(3) (Rodrigues' formula (2.7)): `I + (sin a/a) φ̂ + ((1 − cos a)/a²) φ̂²`,
 /// `a = ‖φ‖`. `φ = ω θ` for a rotation by `θ` about the unit axis `ω`.
 #[inline]
 pub fn exp_so3<T: RealField + Copy>(phi: &Vector3<T>) -> Matrix3<T> {
@@ -157,21 +157,28 @@ pub fn log_so3<T: RealField + Copy>(r: &Matrix3<T>) -> Vector3<T> {
 
 /// The exponential of a twist times a joint value, `exp(ξ̂ θ)` ((2.25) and (2.27)).
 ///
-/// For a revolute twist `ξ = (−ω × q, ω)` with `‖ω‖ = 1` this is (2.27):
-/// `(e^{ω̂θ}, (I − e^{ω̂θ})(ω × v) + ω ωᵀ v θ)`; for a prismatic twist `(v, 0)` it is `(I, vθ)` (2.25);
+/// For a revolute twist `ξ = (−ω × q, ω)` with `‖ω‖ = 1` this is (2.25):
+/// `(e^{ω̂θ}, (I − e^{ω̂θ})(ω × v) + ω ωᵀ v θ)`; for a prismatic twist `(v, 0)` it is `(I, vθ)` (2.27);
 /// a general screw (any `ω`) uses `(e^{φ̂}, V(φ) v θ)` with `φ = ω θ`, the same map.
 #[inline]
 pub fn exp_twist<T: RealField + Copy>(xi: &Twist<T>, theta: T) -> Se3<T> {
     let v = linear(xi) * theta;
     let phi = angular(xi) * theta;
-    let (a, b, c) = exp_coefficients(phi.norm_squared());
+    let a2 = phi.norm_squared();
+    if a2 == T::zero() {
+        return Se3::from_translation(v);
+    }
+    let (a, b, c) = exp_coefficients(a2);
+    // φ̂² = φ φᵀ − a² I, so R = I + a φ̂ + b φ̂² without 3×3 products.
     let w = hat(&phi);
-    let w2 = w * w;
+    let w2 = phi * phi.transpose() - Matrix3::identity() * a2;
     let rotation = Matrix3::identity() + w * a + w2 * b;
-    let vmat = Matrix3::identity() + w * b + w2 * c;
+    // V v = v + b φ × v + c φ × (φ × v).
+    let pv = phi.cross(&v);
+    let translation = v + pv * b + phi.cross(&pv) * c;
     Se3 {
         rotation,
-        translation: vmat * v,
+        translation,
     }
 }
 
@@ -348,7 +355,7 @@ impl<T: RealField + Copy> Mul<&Se3<T>> for &Se3<T> {
 
 /// The Adjoint `Ad_g` of a rigid transform (2.43): `Ad_g = [[R, p̂R], [0, R]]`, acting on twists
 /// `(v, ω)`: `Ad_g ξ = (R v + p × R ω, R ω)`. It maps twists from the coordinates of frame `B` to
-/// those of frame `A` for `g = g_AB`, and `Ad_g Ad_h = Ad_{gh}`, `Ad_g⁻¹ = Ad_{g⁻¹}`.
+/// those of frame `A` for `g = g_AB`, and `Ad_g Ad_h = Ad_{gh}` (2.46), `Ad_g⁻¹ = Ad_{g⁻¹}` (2.45).
 ///
 /// Applying it with [`Adjoint::apply`] / [`Adjoint::apply_inverse`] never forms the 6×6 matrix.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -364,7 +371,7 @@ impl<T: RealField + Copy> Adjoint<T> {
         twist(&v, &w)
     }
 
-    /// `Ad_g⁻¹ ξ = (Rᵀ (v − p × ω), Rᵀ ω)` (2.43).
+    /// `Ad_g⁻¹ ξ = (Rᵀ (v − p × ω), Rᵀ ω)` (2.45).
     #[inline]
     pub fn apply_inverse(&self, xi: &Twist<T>) -> Twist<T> {
         let g = &self.0;
@@ -385,7 +392,7 @@ impl<T: RealField + Copy> Adjoint<T> {
         m
     }
 
-    /// The 6×6 matrix `Ad_g⁻¹ = [[Rᵀ, −Rᵀ p̂], [0, Rᵀ]]` (2.43).
+    /// The 6×6 matrix `Ad_g⁻¹ = [[Rᵀ, −Rᵀ p̂], [0, Rᵀ]]` (2.45).
     pub fn inverse_matrix(&self) -> Matrix6<T> {
         let g = &self.0;
         let rt = g.rotation.transpose();
@@ -397,7 +404,7 @@ impl<T: RealField + Copy> Adjoint<T> {
         m
     }
 
-    /// `Ad_g⁻¹` as an Adjoint: `Ad_{g⁻¹}`.
+    /// `Ad_g⁻¹` as an Adjoint: `Ad_{g⁻¹}` (2.45).
     #[inline]
     pub fn inverse(&self) -> Self {
         Adjoint(self.0.inverse())
@@ -437,7 +444,7 @@ mod tests {
 
     #[test]
     fn exp_matches_closed_forms() {
-        // Revolute (2.27) with unit ω.
+        // Revolute (2.25) with unit ω.
         let w = Vector3::new(1.0, 2.0, -2.0) / 3.0;
         let q = Vector3::new(0.5, -0.1, 0.3);
         let xi = revolute_twist(&w, &q);
@@ -448,7 +455,7 @@ mod tests {
         let p = (Matrix3::identity() - r) * w.cross(&v) + w * w.dot(&v) * th;
         assert!((g.rotation - r).norm() < 1e-14);
         assert!((g.translation - p).norm() < 1e-14);
-        // Prismatic (2.25).
+        // Prismatic (2.27).
         let d = Vector3::new(0.0, 0.6, 0.8);
         let g = exp_twist(&prismatic_twist(&d), 0.7);
         assert_eq!(g.rotation, Matrix3::identity());

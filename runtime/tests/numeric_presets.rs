@@ -397,3 +397,24 @@ fn user_errors_are_results() {
     let l = robot.lambda().unwrap();
     assert!((l * robot.lambda_null_space().unwrap()).amax() < 1e-14);
 }
+
+/// SPEC §3.2: both Jacobians (J^B_0i and J^r) are regular at the start configuration q0.
+#[test]
+fn dia10_like_start_configuration_is_regular() {
+    let q0 = [0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
+    for name in ["dia10_like_zy", "dia10_like_zx"] {
+        let robot =
+            Robot::<f64>::from_description(&RobotDescription::preset(name).unwrap(), &[]).unwrap();
+        let s0i = robot.partial_body_jacobian(&q0).unwrap().singular_values();
+        let sr = robot.constrained_jacobian(&q0).unwrap().singular_values();
+        println!(
+            "{name}: σ(J^B_0i) ∈ [{:.3e}, {:.3e}], σ(J^r) ∈ [{:.3e}, {:.3e}], w_r = {:.4e}",
+            s0i.min(),
+            s0i.max(),
+            sr.min(),
+            sr.max(),
+            robot.manipulability(&q0).unwrap()
+        );
+        assert!(s0i.min() > 1e-2 && sr.min() > 1e-2, "{name}");
+    }
+}

@@ -294,15 +294,19 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
     }];
     let mut functions = Vec::new();
 
-    let fk = cheaper(
-        {
-            let mut prog = new_program(d);
-            let t = PolyBuilder::new(&mut prog).transform(&d.fk_e);
-            prog.set_outputs(t.outputs());
-            prog
-        },
-        fk_product_program(d, n, Some(&d.end_effector)),
-    );
+    let fk_product = fk_product_program(d, n, Some(&d.end_effector));
+    let fk = match &d.fk_e {
+        Some(fk_e) => cheaper(
+            {
+                let mut prog = new_program(d);
+                let t = PolyBuilder::new(&mut prog).transform(fk_e);
+                prog.set_outputs(t.outputs());
+                prog
+            },
+            fk_product,
+        ),
+        None => fk_product,
+    };
     functions.push(function(
         "forward_kinematics",
         "Forward kinematics `g_0e(q) = (R_0e, p_0e)` of the end effector",
@@ -312,10 +316,11 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
         fk,
         None,
     ));
-    let jb = cheaper(
-        matrix_program(d, &d.body_jacobian_e),
-        body_jacobian_product_program(d, n, Some(&d.end_effector)),
-    );
+    let jb_product = body_jacobian_product_program(d, n, Some(&d.end_effector));
+    let jb = match &d.body_jacobian_e {
+        Some(m) => cheaper(matrix_program(d, m), jb_product),
+        None => jb_product,
+    };
     functions.push(function(
         "body_jacobian",
         "Body Jacobian `J^B_0e(q)` of the whole chain, 6 × N (twist order `(v, ω)`)",
@@ -404,7 +409,10 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
             fki,
             None,
         ));
-        let (w, w2) = manipulability_programs(d, &c.manipulability.form);
+        let (w, w2) = match &c.manipulability {
+            Some(m) => manipulability_programs(d, &m.form),
+            None => manipulability_from_jr(d, &c.jr),
+        };
         functions.push(function(
             "manipulability",
             "Manipulability `w = sqrt(det(J^r J^rᵀ))` of the constrained Jacobian (closed form: \
@@ -471,6 +479,68 @@ fn manipulability_programs(d: &Derivation, form: &ManipulabilityForm) -> (Progra
         }
     }
     (w, w2)
+}
+
+/// Manipulability when the derivation has no closed form (beyond its size budget): from the
+/// program values of `J^r` (6 × m), `det(J Jᵀ) = Σ_S det(J[:, S])²` over the 6-column subsets `S`
+/// (Cauchy–Binet), each minor by Laplace expansion along the rows with the sub-minors of every
+/// column subset memoised, so they are shared between minors. Division-free and exact in
+/// exact arithmetic. Returns the programs of `w` and `w²`.
+pub fn manipulability_from_jr(d: &Derivation, jr: &Matrix) -> (Program, Program) {
+    let mut w2 = new_program(d);
+    let vals = PolyBuilder::new(&mut w2).matrix(jr);
+    let (rows, cols) = (jr.rows(), jr.cols());
+    let entry = |r: usize, c: usize| vals[c * rows + r];
+    let mut memo: HashMap<u64, ValueId> = HashMap::new();
+    let mut acc = w2.constant(0.0);
+    for mask in 0u64..(1u64 << cols) {
+        if mask.count_ones() as usize == rows {
+            let m = minor(&mut w2, &entry, &mut memo, mask);
+            let sq = w2.mul(m, m);
+            acc = w2.add(acc, sq);
+        }
+    }
+    w2.set_outputs(vec![acc]);
+    let mut w = w2.clone();
+    let r = w.sqrt(acc);
+    w.set_outputs(vec![r]);
+    (w, w2)
+}
+
+/// Determinant of rows `0..|mask|` and the columns in `mask` (increasing), Laplace along the last
+/// row, memoised by column mask.
+fn minor(
+    p: &mut Program,
+    entry: &dyn Fn(usize, usize) -> ValueId,
+    memo: &mut HashMap<u64, ValueId>,
+    mask: u64,
+) -> ValueId {
+    if mask == 0 {
+        return p.constant(1.0);
+    }
+    if let Some(&v) = memo.get(&mask) {
+        return v;
+    }
+    let k = mask.count_ones() as usize;
+    let row = k - 1;
+    let mut acc = p.constant(0.0);
+    let mut pos = 0;
+    for c in 0..64 {
+        if mask & (1u64 << c) == 0 {
+            continue;
+        }
+        let sub = minor(p, entry, memo, mask & !(1u64 << c));
+        let t = p.mul(entry(row, c), sub);
+        // Sign of the cofactor of (row, pos) with row = k − 1.
+        acc = if (row + pos) % 2 == 0 {
+            p.add(acc, t)
+        } else {
+            p.sub(acc, t)
+        };
+        pos += 1;
+    }
+    memo.insert(mask, acc);
+    acc
 }
 
 fn module_doc(d: &Derivation) -> String {

@@ -13,7 +13,7 @@
 //!
 //! | rule | statement | where |
 //! |---|---|---|
-//! | `hash_cons` | structurally equal operations get the same [`ValueId`] | [`Program::intern`] |
+//! | `hash_cons` | structurally equal operations get the same [`ValueId`] | `Program::intern` |
 //! | `commutative_order` | `a + b`, `a · b` stored with operands sorted by id | [`Program::add`], [`Program::mul`] |
 //! | `fold_constants` | an operation on constants is replaced by its value | each constructor |
 //! | `add_zero` | `x + 0 → x`, `x − 0 → x`, `0 − x → −x` | [`Program::add`], [`Program::sub`] |

@@ -56,6 +56,8 @@ impl Atom {
     }
 }
 
+const EXPONENT_OVERFLOW: &str = "exponent overflow in a monomial (|exponent| > i32::MAX)";
+
 /// A product of atom powers, sorted by atom, exponents non-zero.
 #[derive(Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Debug, Default)]
 pub struct Monomial(Vec<(Atom, i32)>);
@@ -95,6 +97,9 @@ impl Monomial {
     }
 
     /// Rule `exponent_add`: merge the sorted factor lists adding exponents, dropping zeros.
+    ///
+    /// # Panics
+    /// When an exponent leaves the `i32` range (checked, never wraps).
     pub fn mul(&self, other: &Monomial) -> Monomial {
         let (a, b) = (&self.0, &other.0);
         let mut out = Vec::with_capacity(a.len() + b.len());
@@ -110,7 +115,7 @@ impl Monomial {
                     j += 1;
                 }
                 std::cmp::Ordering::Equal => {
-                    let e = a[i].1 + b[j].1;
+                    let e = a[i].1.checked_add(b[j].1).expect(EXPONENT_OVERFLOW);
                     if e != 0 {
                         out.push((a[i].0, e));
                     }

@@ -5,7 +5,9 @@ pub mod small {
     #![allow(
         clippy::approx_constant,
         clippy::excessive_precision,
-        clippy::unreadable_literal
+        clippy::unreadable_literal,
+        clippy::too_many_lines,
+        clippy::doc_markdown
     )]
     /// Number of joints.
     pub const N: usize = 8;
