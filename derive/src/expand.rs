@@ -297,3 +297,57 @@ fn delegates(strukt: &ItemStruct, module: &syn::ItemMod) -> TokenStream {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use quote::quote;
+
+    /// The file form puts `include_bytes!` of the canonical path in the expansion: rustc records
+    /// the file in its dep-info, so editing it rebuilds the calling crate.
+    #[test]
+    fn file_form_tracks_the_description_file() {
+        let t = std::time::Instant::now();
+        let out = super::expand(
+            quote!(file = "tests/ui/robots/arm.toml", real = "f32"),
+            quote!(
+                pub struct Arm;
+            ),
+        )
+        .expect("valid description")
+        .to_string();
+        eprintln!(
+            "expansion of dia10_like_zy (test profile): {:?}",
+            t.elapsed()
+        );
+        let path = std::fs::canonicalize(
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/ui/robots/arm.toml"),
+        )
+        .unwrap();
+        let lit = format!("{:?}", path.display().to_string());
+        assert!(out.contains("include_bytes"), "{out}");
+        assert!(out.contains(&lit), "no {lit} in the expansion");
+        assert!(out.contains("impl Arm"));
+        assert!(out.contains("pub type ArmParams"));
+    }
+
+    #[test]
+    fn presets_are_not_tracked_and_errors_are_collected() {
+        let out = super::expand(
+            quote!(preset = "unidirectional"),
+            quote!(
+                struct Uni;
+            ),
+        )
+        .unwrap()
+        .to_string();
+        assert!(!out.contains("include_bytes"));
+        let e = super::expand(
+            quote!(foo = 1, real = "f16"),
+            quote!(
+                struct A;
+            ),
+        )
+        .unwrap_err();
+        assert_eq!(e.into_iter().count(), 2);
+    }
+}
