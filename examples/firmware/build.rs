@@ -1,6 +1,5 @@
 //! Generates the arm's closed-form kinematics (f32) into `OUT_DIR/dia10.rs`.
-use trocar_codegen::builder::Builder;
-use trocar_codegen::emit::Real;
+use trocar_codegen::{Builder, Real};
 
 fn main() {
     if let Err(e) = Builder::new()
