@@ -121,9 +121,7 @@ impl Trace {
 
     /// Draws the panels as an SVG file (one panel per row).
     ///
-    /// Text needs a TrueType font (plotters is built with `ab_glyph`): the file named by the
-    /// `TROCAR_FONT` environment variable, else the first of a few usual system fonts (DejaVu
-    /// Sans, Liberation Sans, Arial); without one this errors instead of drawing unlabelled axes.
+    /// Text uses the font embedded in [`crate::plot`], so figures render the same everywhere.
     pub fn plot_svg(&self, path: impl AsRef<Path>) -> Result<(), ClosedChainError> {
         let path = path.as_ref();
         let size = (900, 300 * self.panels.len().max(1) as u32);
@@ -237,40 +235,9 @@ impl Trace {
     }
 }
 
-const FONT_CANDIDATES: [&str; 8] = [
-    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
-    "/usr/share/fonts/TTF/DejaVuSans.ttf",
-    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
-    "/usr/share/fonts/dejavu-sans-fonts/DejaVuSans.ttf",
-    "/usr/share/fonts/truetype/liberation/LiberationSans-Regular.ttf",
-    "/usr/share/fonts/liberation-sans/LiberationSans-Regular.ttf",
-    "/System/Library/Fonts/Supplemental/Arial.ttf",
-    "C:\\Windows\\Fonts\\arial.ttf",
-];
-
-/// Registers a font for plotters' `sans-serif` family once (see [`Trace::plot_svg`]).
+/// Registers the embedded plot font for plotters' `sans-serif` family (see [`crate::plot`]).
 fn ensure_font() -> Result<(), String> {
-    static FONT: std::sync::OnceLock<Result<(), String>> = std::sync::OnceLock::new();
-    FONT.get_or_init(|| {
-        let env = std::env::var("TROCAR_FONT").ok();
-        let candidates = env.iter().map(String::as_str).chain(FONT_CANDIDATES);
-        for c in candidates {
-            if let Ok(bytes) = std::fs::read(c) {
-                let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
-                if plotters::style::register_font(
-                    "sans-serif",
-                    plotters::style::FontStyle::Normal,
-                    bytes,
-                )
-                .is_ok()
-                {
-                    return Ok(());
-                }
-            }
-        }
-        Err("no TrueType font found for plot text: set TROCAR_FONT to a .ttf file".into())
-    })
-    .clone()
+    crate::plot::register_font().map_err(|e| e.to_string())
 }
 
 /// A reference `t ↦ (x_d(t), ẋ_d(t))`.

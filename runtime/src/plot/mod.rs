@@ -11,7 +11,8 @@ use std::path::Path;
 /// file), embedded so that figures render the same everywhere.
 static FONT: &[u8] = include_bytes!("DejaVuSans.ttf");
 
-fn register_font() -> Result<(), PlotError> {
+/// Registers the embedded font as plotters' `sans-serif` family (once; later calls are free).
+pub(crate) fn register_font() -> Result<(), PlotError> {
     static ONCE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
     let ok = *ONCE.get_or_init(|| {
         plotters::style::register_font("sans-serif", FontStyle::Normal, FONT).is_ok()
