@@ -43,15 +43,19 @@ pub fn determinant<T: RealField + Copy, const D: usize>(m: &SMatrix<T, D, D>) ->
     determinant_in_place(a.as_mut_slice(), D)
 }
 
-/// Manipulability (3.36): `w = sqrt(|det(J Jᵀ)|)`. For a wide `J` of full row rank, the product of
-/// its singular values (3.39). For a square `J` this equals `|det J|` (see [`manipulability_square`],
-/// better conditioned).
+/// Manipulability (3.36): `w = sqrt(|det(J Jᵀ)|)`, the product of the singular values (3.39).
+/// A square `J` gives `|det J|` directly (better conditioned than squaring), a tall one
+/// `sqrt(|det(Jᵀ J)|)`.
 pub fn manipulability<T: RealField + Copy, const R: usize, const C: usize>(
     j: &SMatrix<T, R, C>,
 ) -> T {
     if R == C {
         let mut a = *j;
         return determinant_in_place(a.as_mut_slice(), R).abs();
+    }
+    if R > C {
+        // Tall: the product of the singular values is √|det(Jᵀ J)|.
+        return determinant(&(j.transpose() * j)).abs().sqrt();
     }
     let jjt = j * j.transpose();
     determinant(&jjt).abs().sqrt()

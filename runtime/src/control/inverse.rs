@@ -1,5 +1,5 @@
 //! Inverses of the Jacobians: pseudo-inverse, damped least squares with variable damping
-//! (3.43)–(3.46), the filtered inverse (3.47)–(3.50), and manipulability (3.36).
+//! (3.43)–(3.46), and the filtered inverse (3.47)–(3.50).
 //!
 //! Everything works on fixed-size `nalgebra` matrices of any shape and allocates nothing: the
 //! linear systems are the Gram matrices `J Jᵀ + κ² I` (or `Jᵀ J + κ² I` when `J` has more rows
@@ -37,50 +37,6 @@ impl<T: RealField + Copy> Damping<T> {
             }
         }
     }
-}
-
-/// Determinant of a small square matrix by Gaussian elimination with partial pivoting.
-pub fn determinant<T: RealField + Copy, const D: usize>(m: &SMatrix<T, D, D>) -> T {
-    let mut a = *m;
-    let mut det = T::one();
-    for c in 0..D {
-        let mut p = c;
-        for r in c + 1..D {
-            if a[(r, c)].abs() > a[(p, c)].abs() {
-                p = r;
-            }
-        }
-        if a[(p, c)] == T::zero() {
-            return T::zero();
-        }
-        if p != c {
-            a.swap_rows(p, c);
-            det = -det;
-        }
-        let pivot = a[(c, c)];
-        det *= pivot;
-        for r in c + 1..D {
-            let f = a[(r, c)] / pivot;
-            for k in c + 1..D {
-                let v = a[(c, k)];
-                a[(r, k)] -= f * v;
-            }
-        }
-    }
-    det
-}
-
-/// Manipulability (3.36), (3.39): `w = √|det(J Jᵀ)|` for a wide or square `J`, `√|det(Jᵀ J)|` for
-/// a tall one (the product of the singular values in both cases).
-pub fn manipulability<T: RealField + Copy, const R: usize, const C: usize>(
-    j: &SMatrix<T, R, C>,
-) -> T {
-    let d = if R <= C {
-        determinant(&(j * j.transpose()))
-    } else {
-        determinant(&(j.transpose() * j))
-    };
-    d.abs().sqrt()
 }
 
 /// The damped least-squares inverse `Jᵀ (J Jᵀ + κ² I)⁻¹` (3.43), (3.46), computed as
@@ -217,6 +173,7 @@ mod tests {
 
     #[test]
     fn manipulability_is_the_product_of_singular_values() {
+        use crate::manipulability::{determinant, manipulability};
         let j = sample();
         let svd = nalgebra::linalg::SVD::new(j, false, false);
         let prod: f64 = svd.singular_values.iter().product();

@@ -33,7 +33,8 @@
 mod inverse;
 mod quaternion;
 
-pub use inverse::{damped_pinv, determinant, manipulability, pinv, Damping, FilteredInverse};
+pub use crate::manipulability::{determinant, manipulability};
+pub use inverse::{damped_pinv, pinv, Damping, FilteredInverse};
 pub use quaternion::{orientation_error, Quaternion};
 
 use crate::constraint::Constraint;
