@@ -9,6 +9,8 @@ macro_rules! generated {
     };
 }
 
+pub mod control;
+
 generated!(
     "unidirectional.rs",
     "bidirectional_zy.rs",
