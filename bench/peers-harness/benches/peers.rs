@@ -1,0 +1,82 @@
+//! One criterion run: the peers' generated C, the harness's Rust f64 reference, and trig floors.
+//! Bench ids: `<case>/<implementation>`; `bench/peers_table.py` turns the medians into the table.
+use criterion::{black_box, criterion_group, criterion_main, Criterion};
+use trocar_peers_harness::{eval, floor_eight, floor_two, Case, Peer};
+
+fn peers(c: &mut Criterion) {
+    for case in [Case::Uni, Case::Bzy, Case::Bzx, Case::DiaZy] {
+        let mut g = c.benchmark_group(case.name());
+        let (q, p) = case.inputs();
+        let mut out = vec![0.0; case.out_len()];
+        for peer in Peer::ALL {
+            g.bench_function(peer.name(), |b| {
+                b.iter(|| {
+                    eval(peer, case, black_box(&q), black_box(&p), &mut out);
+                    black_box(&mut out);
+                })
+            });
+        }
+        g.finish();
+    }
+}
+
+fn trig(c: &mut Criterion) {
+    let mut g = c.benchmark_group("trig");
+    let q2 = [0.5f64, 0.3];
+    let q8 = [0.0f64, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
+    g.bench_function("c_glibc_two_sincos", |b| {
+        let mut o = [0.0; 4];
+        b.iter(|| {
+            floor_two(black_box(&q2), &mut o);
+            black_box(&o);
+        })
+    });
+    g.bench_function("c_glibc_eight_sincos", |b| {
+        let mut o = [0.0; 16];
+        b.iter(|| {
+            floor_eight(black_box(&q8), &mut o);
+            black_box(&o);
+        })
+    });
+    g.bench_function("rust_std_two_sin_cos_f64", |b| {
+        b.iter(|| {
+            let q = black_box(q2);
+            black_box([q[0].sin_cos(), q[1].sin_cos()])
+        })
+    });
+    g.bench_function("trocar_real_two_sin_cos_f64", |b| {
+        b.iter(|| {
+            let q = black_box(q2);
+            black_box([<f64 as trocar::Real>::sin_cos(q[0]), <f64 as trocar::Real>::sin_cos(q[1])])
+        })
+    });
+    g.bench_function("libm_two_sin_cos_f64", |b| {
+        b.iter(|| {
+            let q = black_box(q2);
+            black_box([(libm::sin(q[0]), libm::cos(q[0])), (libm::sin(q[1]), libm::cos(q[1]))])
+        })
+    });
+    let q2f = [0.5f32, 0.3];
+    g.bench_function("rust_std_two_sin_cos_f32", |b| {
+        b.iter(|| {
+            let q = black_box(q2f);
+            black_box([q[0].sin_cos(), q[1].sin_cos()])
+        })
+    });
+    g.bench_function("trocar_real_two_sin_cos_f32", |b| {
+        b.iter(|| {
+            let q = black_box(q2f);
+            black_box([<f32 as trocar::Real>::sin_cos(q[0]), <f32 as trocar::Real>::sin_cos(q[1])])
+        })
+    });
+    g.bench_function("libm_two_sin_cos_f32", |b| {
+        b.iter(|| {
+            let q = black_box(q2f);
+            black_box([(libm::sinf(q[0]), libm::cosf(q[0])), (libm::sinf(q[1]), libm::cosf(q[1]))])
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, peers, trig);
+criterion_main!(benches);

@@ -1,0 +1,35 @@
+//! Compiles the peers' generated C (written by `bench/peers_gen.py` into `bench/out/`, or
+//! `$TROCAR_PEERS_OUT`) with `-O3 -march=native`, as a user of CasADi or SymPy would.
+use std::path::PathBuf;
+
+fn main() {
+    let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").unwrap());
+    let out = std::env::var("TROCAR_PEERS_OUT")
+        .map(PathBuf::from)
+        .unwrap_or_else(|_| manifest.join("../out"));
+    let files = ["casadi_peers.c", "casadi_cse_peers.c", "sympy_peers.c"];
+    for f in files {
+        let p = out.join(f);
+        if !p.exists() {
+            panic!(
+                "{} is missing: run bench/peers.sh (or `python bench/peers_gen.py bench/out`) first",
+                p.display()
+            );
+        }
+        println!("cargo:rerun-if-changed={}", p.display());
+    }
+    println!("cargo:rerun-if-changed=c/floor.c");
+    println!("cargo:rerun-if-env-changed=TROCAR_PEERS_OUT");
+    let mut b = cc::Build::new();
+    b.compiler("gcc")
+        .opt_level(3)
+        .flag("-march=native")
+        .flag("-std=c99")
+        .warnings(false)
+        .file(manifest.join("c/floor.c"));
+    for f in files {
+        b.file(out.join(f));
+    }
+    b.compile("peers");
+    println!("cargo:rustc-link-lib=m");
+}
