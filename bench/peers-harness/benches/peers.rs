@@ -56,7 +56,19 @@ fn trig(c: &mut Criterion) {
             black_box([(libm::sin(q[0]), libm::cos(q[0])), (libm::sin(q[1]), libm::cos(q[1]))])
         })
     });
+    g.bench_function("fast_two_sin_cos_f64", |b| {
+        b.iter(|| {
+            let q = black_box(q2);
+            black_box([trocar::real::fast::sin_cos_f64(q[0]), trocar::real::fast::sin_cos_f64(q[1])])
+        })
+    });
     let q2f = [0.5f32, 0.3];
+    g.bench_function("fast_two_sin_cos_f32", |b| {
+        b.iter(|| {
+            let q = black_box(q2f);
+            black_box([trocar::real::fast::sin_cos_f32(q[0]), trocar::real::fast::sin_cos_f32(q[1])])
+        })
+    });
     g.bench_function("rust_std_two_sin_cos_f32", |b| {
         b.iter(|| {
             let q = black_box(q2f);

@@ -1,0 +1,72 @@
+//! Driver for `valgrind --tool=callgrind --toggle-collect='*measured_loop*'`:
+//! `cg_driver IMPL CASE N` evaluates one function N times inside `measured_loop`, so the collected
+//! instruction count divided by N is instructions per evaluation (the loop's own ~5 instructions
+//! per iteration included; `cg_driver noop - N` measures them).
+//! IMPL: casadi | casadi_cse | sympy | rust_reference | noop | trig_c_glibc | trig_std_f64 |
+//! trig_fast_f64 | trig_std_f32 | trig_fast_f32 | trig_libm_f64 | trig_libm_f32. CASE: uni | bzy | bzx | dia_zy | -.
+use std::hint::black_box;
+use trocar_peers_harness::{eval, floor_two, Case, Peer};
+
+#[inline(never)]
+fn measured_loop(n: usize, f: &mut dyn FnMut()) {
+    for _ in 0..n {
+        f();
+    }
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    if args.len() != 4 {
+        eprintln!("usage: cg_driver IMPL CASE N");
+        std::process::exit(2);
+    }
+    let n: usize = args[3].parse().expect("N");
+    let q2 = [0.5f64, 0.3];
+    let q2f = [0.5f32, 0.3];
+    match args[1].as_str() {
+        "noop" => measured_loop(n, &mut || {
+            black_box(black_box(&q2));
+        }),
+        "trig_c_glibc" => {
+            let mut o = [0.0; 4];
+            measured_loop(n, &mut || {
+                floor_two(black_box(&q2), &mut o);
+                black_box(&o);
+            })
+        }
+        "trig_std_f64" => measured_loop(n, &mut || {
+            let q = black_box(q2);
+            black_box([q[0].sin_cos(), q[1].sin_cos()]);
+        }),
+        "trig_fast_f64" => measured_loop(n, &mut || {
+            let q = black_box(q2);
+            black_box([trocar::real::fast::sin_cos_f64(q[0]), trocar::real::fast::sin_cos_f64(q[1])]);
+        }),
+        "trig_libm_f64" => measured_loop(n, &mut || {
+            let q = black_box(q2);
+            black_box([(libm::sin(q[0]), libm::cos(q[0])), (libm::sin(q[1]), libm::cos(q[1]))]);
+        }),
+        "trig_std_f32" => measured_loop(n, &mut || {
+            let q = black_box(q2f);
+            black_box([q[0].sin_cos(), q[1].sin_cos()]);
+        }),
+        "trig_fast_f32" => measured_loop(n, &mut || {
+            let q = black_box(q2f);
+            black_box([trocar::real::fast::sin_cos_f32(q[0]), trocar::real::fast::sin_cos_f32(q[1])]);
+        }),
+        "trig_libm_f32" => measured_loop(n, &mut || {
+            let q = black_box(q2f);
+            black_box([(libm::sinf(q[0]), libm::cosf(q[0])), (libm::sinf(q[1]), libm::cosf(q[1]))]);
+        }),
+        name => {
+            let peer = Peer::from_name(name).unwrap_or_else(|| panic!("unknown IMPL {name}"));
+            let case = Case::from_name(&args[2]).unwrap_or_else(|| panic!("unknown CASE {}", args[2]));
+            let (q, p) = case.inputs();
+            let mut out = vec![0.0; case.out_len()];
+            measured_loop(n, &mut || {
+                eval(peer, case, black_box(&q), black_box(&p), &mut out);
+                black_box(&mut out);
+            });
+        }
+    }
+}
