@@ -139,28 +139,13 @@ pub mod fast {
     /// `|x|` above which [`sin_cos_f32`] defers to `libm`.
     pub const F32_FAST_LIMIT: f32 = 4096.0;
 
-    #[cold]
-    #[inline(never)]
-    fn slow64(x: f64) -> (f64, f64) {
-        (libm::sin(x), libm::cos(x))
-    }
+    const FRAC_2_PI_64: f64 = 6.36619772367581382433e-01;
+    const TOINT_64: f64 = 1.5 / f64::EPSILON;
 
-    #[cold]
-    #[inline(never)]
-    fn slow32(x: f32) -> (f32, f32) {
-        (libm::sinf(x), libm::cosf(x))
-    }
-
-    /// `(sin x, cos x)` for `f64`, < 1 ulp (see the [module docs](self)).
-    #[inline]
-    pub fn sin_cos_f64(x: f64) -> (f64, f64) {
-        const FRAC_2_PI: f64 = 6.36619772367581382433e-01;
-        // pi/2 = P1 + P2 + P3 + P4 (fdlibm's pio2_1, pio2_2, pio2_3 of 33 bits, pio2_3t).
-        const P1: f64 = 1.57079632673412561417e+00;
-        const P2: f64 = 6.07710050630396597660e-11;
-        const P3: f64 = 2.02226624871116645580e-21;
-        const P4: f64 = 8.47842766036889956997e-32;
-        const TOINT: f64 = 1.5 / f64::EPSILON;
+    /// fdlibm `__kernel_sin(y0, y1, 1)` and `__kernel_cos(y0, y1)` on `|y0 + y1| ≤ π/4`, then the
+    /// quadrant select and the sign of `x`.
+    #[inline(always)]
+    fn finish64(y0: f64, y1: f64, quadrant: u32, sign: u64) -> (f64, f64) {
         const S1: f64 = -1.66666666666666324348e-01;
         const S2: f64 = 8.33333333332248946124e-03;
         const S3: f64 = -1.98412698298579493134e-04;
@@ -173,24 +158,6 @@ pub mod fast {
         const C4: f64 = -2.75573143513906633035e-07;
         const C5: f64 = 2.08757232129817482790e-09;
         const C6: f64 = -1.13596475577881948265e-11;
-
-        let sign = x.to_bits() & (1u64 << 63);
-        let ax = f64::from_bits(x.to_bits() & !(1u64 << 63));
-        if !(ax <= F64_FAST_LIMIT) {
-            return slow64(x);
-        }
-        // n = round(ax * 2/pi), 0 <= n < 2^20: every n * P1..P3 below is exact.
-        let t = ax * FRAC_2_PI + TOINT;
-        let quadrant = t.to_bits() as u32;
-        let fnum = t - TOINT;
-        let r1 = ax - fnum * P1; // exact (Sterbenz)
-        let (r2, e1) = two_sum64(r1, -(fnum * P2));
-        let (hi, e2) = two_sum64(r2, -(fnum * P3));
-        let lo = (e1 + e2) - fnum * P4;
-        let y0 = hi + lo;
-        let y1 = (hi - y0) + lo;
-
-        // Kernels (fdlibm __kernel_sin(y0, y1, 1), __kernel_cos(y0, y1)).
         let z = y0 * y0;
         let w = z * z;
         let rs = S2 + z * (S3 + z * S4) + z * w * (S5 + z * S6);
@@ -200,46 +167,81 @@ pub mod fast {
         let hz = 0.5 * z;
         let wc = 1.0 - hz;
         let c = wc + (((1.0 - wc) - hz) + (z * rc - y0 * y1));
-
         let (s, c) = if quadrant & 1 == 0 { (s, c) } else { (c, -s) };
         let (s, c) = if quadrant & 2 == 0 { (s, c) } else { (-s, -c) };
         (f64::from_bits(s.to_bits() ^ sign), c)
     }
 
-    /// `(sin x, cos x)` for `f32`, ≤ 2 ulp, single-precision arithmetic only (see the
-    /// [module docs](self)).
-    #[inline]
-    pub fn sin_cos_f32(x: f32) -> (f32, f32) {
-        const FRAC_2_PI: f32 = 0.636_619_75;
-        // pi/2 = P1 + P2 + P3 + P4, the first three of 12 bits (n < 2^12 keeps n * P_k exact).
-        const P1: f32 = 1.570_800_8; // 0x1.922p0
-        const P2: f32 = -4.453_584_6e-6; // -0x1.2aep-18
-        const P3: f32 = -8.706_138e-10; // -0x1.deap-31
-        const P4: f32 = 6.223_372e-14; // 0x1.184698p-44
-        const TOINT: f32 = 1.5 / f32::EPSILON;
-        // Cephes sinf/cosf minimax coefficients on [-pi/4, pi/4].
+    /// The careful reduction: π/2 in four parts (three of 33 bits, `n·P_k` exact for `n < 2²⁰`),
+    /// remainder carried as a double-word by TwoSum. Used when the one-step reduction of
+    /// [`sin_cos_f64`] cancels (x within ~2⁻¹⁶ relative of a multiple of π/2), and beyond
+    /// [`F64_FAST_LIMIT`] (and for NaN, ±∞) it defers to `libm`.
+    #[cold]
+    #[inline(never)]
+    fn careful64(x: f64) -> (f64, f64) {
+        const P1: f64 = 1.57079632673412561417e+00;
+        const P2: f64 = 6.07710050630396597660e-11;
+        const P3: f64 = 2.02226624871116645580e-21;
+        const P4: f64 = 8.47842766036889956997e-32;
+        let sign = x.to_bits() & (1u64 << 63);
+        let ax = f64::from_bits(x.to_bits() & !(1u64 << 63));
+        if !(ax <= F64_FAST_LIMIT) {
+            return (libm::sin(x), libm::cos(x));
+        }
+        let t = ax * FRAC_2_PI_64 + TOINT_64;
+        let quadrant = t.to_bits() as u32;
+        let fnum = t - TOINT_64;
+        let r1 = ax - fnum * P1; // exact (Sterbenz)
+        let (r2, e1) = two_sum64(r1, -(fnum * P2));
+        let (hi, e2) = two_sum64(r2, -(fnum * P3));
+        let lo = (e1 + e2) - fnum * P4;
+        let y0 = hi + lo;
+        let y1 = (hi - y0) + lo;
+        finish64(y0, y1, quadrant, sign)
+    }
+
+    /// `(sin x, cos x)` for `f64`, < 1 ulp (see the [module docs](self)).
+    ///
+    /// One-step Cody–Waite reduction as in musl's `__rem_pio2` (`P1` of 33 bits, `n·P1` exact,
+    /// `P1T = π/2 − P1`), with musl's cancellation test sending the rare arguments near a
+    /// multiple of π/2 to the careful reduction; branch-free otherwise (`|x| ≤ π/4` included).
+    #[inline(always)]
+    pub fn sin_cos_f64(x: f64) -> (f64, f64) {
+        const P1: f64 = 1.57079632673412561417e+00;
+        const P1T: f64 = 6.07710050650619224932e-11;
+        let sign = x.to_bits() & (1u64 << 63);
+        let ax = f64::from_bits(x.to_bits() & !(1u64 << 63));
+        if !(ax <= F64_FAST_LIMIT) {
+            return careful64(x);
+        }
+        let t = ax * FRAC_2_PI_64 + TOINT_64;
+        let quadrant = t.to_bits() as u32;
+        let fnum = t - TOINT_64;
+        let r = ax - fnum * P1; // exact
+        let w = fnum * P1T;
+        let y0 = r - w;
+        let ex = (ax.to_bits() >> 52) as i64;
+        let ey = ((y0.to_bits() >> 52) & 0x7ff) as i64;
+        if ex - ey > 16 {
+            return careful64(x);
+        }
+        let y1 = (r - y0) - w;
+        finish64(y0, y1, quadrant, sign)
+    }
+
+    const FRAC_2_PI_32: f32 = 0.636_619_75;
+    const TOINT_32: f32 = 1.5 / f32::EPSILON;
+
+    /// Cephes `sinf`/`cosf` minimax kernels on `|y0 + y1| ≤ π/4` with the tail `y1`, then the
+    /// quadrant select and the sign of `x`.
+    #[inline(always)]
+    fn finish32(y0: f32, y1: f32, quadrant: u32, sign: u32) -> (f32, f32) {
         const S1: f32 = -1.666_665_5e-1;
         const S2: f32 = 8.332_161e-3;
         const S3: f32 = -1.951_529_6e-4;
         const C1: f32 = 4.166_664_6e-2;
         const C2: f32 = -1.388_731_6e-3;
         const C3: f32 = 2.443_315_7e-5;
-
-        let sign = x.to_bits() & (1u32 << 31);
-        let ax = f32::from_bits(x.to_bits() & !(1u32 << 31));
-        if !(ax <= F32_FAST_LIMIT) {
-            return slow32(x);
-        }
-        let t = ax * FRAC_2_PI + TOINT;
-        let quadrant = t.to_bits();
-        let fnum = t - TOINT;
-        let r1 = ax - fnum * P1;
-        let (r2, e1) = two_sum32(r1, -(fnum * P2));
-        let (hi, e2) = two_sum32(r2, -(fnum * P3));
-        let lo = (e1 + e2) - fnum * P4;
-        let y0 = hi + lo;
-        let y1 = (hi - y0) + lo;
-
         let z = y0 * y0;
         // sin(y0 + y1) ~ y0 + y0 z S(z) + y1 (1 - z/2)
         let s = y0 + (y0 * z * (S1 + z * (S2 + z * S3)) + y1 * (1.0 - 0.5 * z));
@@ -247,10 +249,63 @@ pub mod fast {
         let hz = 0.5 * z;
         let wc = 1.0 - hz;
         let c = wc + (((1.0 - wc) - hz) + (z * z * (C1 + z * (C2 + z * C3)) - y0 * y1));
-
         let (s, c) = if quadrant & 1 == 0 { (s, c) } else { (c, -s) };
         let (s, c) = if quadrant & 2 == 0 { (s, c) } else { (-s, -c) };
         (f32::from_bits(s.to_bits() ^ sign), c)
+    }
+
+    /// Careful reduction for `f32`: π/2 = P1 + P2 + P3 + P4, the first three of 12 bits
+    /// (`n·P_k` exact for `n < 2¹²`), remainder as a double-word by TwoSum; beyond
+    /// [`F32_FAST_LIMIT`] (and NaN, ±∞) `libm`'s `sinf`/`cosf`.
+    #[cold]
+    #[inline(never)]
+    fn careful32(x: f32) -> (f32, f32) {
+        const P1: f32 = 1.570_800_8; // 0x1.922p0
+        const P2: f32 = -4.453_584_6e-6; // -0x1.2aep-18
+        const P3: f32 = -8.706_138e-10; // -0x1.deap-31
+        const P4: f32 = 6.223_372e-14; // 0x1.184698p-44
+        let sign = x.to_bits() & (1u32 << 31);
+        let ax = f32::from_bits(x.to_bits() & !(1u32 << 31));
+        if !(ax <= F32_FAST_LIMIT) {
+            return (libm::sinf(x), libm::cosf(x));
+        }
+        let t = ax * FRAC_2_PI_32 + TOINT_32;
+        let quadrant = t.to_bits();
+        let fnum = t - TOINT_32;
+        let r1 = ax - fnum * P1;
+        let (r2, e1) = two_sum32(r1, -(fnum * P2));
+        let (hi, e2) = two_sum32(r2, -(fnum * P3));
+        let lo = (e1 + e2) - fnum * P4;
+        let y0 = hi + lo;
+        let y1 = (hi - y0) + lo;
+        finish32(y0, y1, quadrant, sign)
+    }
+
+    /// `(sin x, cos x)` for `f32`, < 1 ulp, single-precision arithmetic only (see the
+    /// [module docs](self)). One-step reduction (`P1` of 12 bits, `P1T = π/2 − P1`); arguments
+    /// whose reduction cancels by more than 8 bits take the careful path.
+    #[inline(always)]
+    pub fn sin_cos_f32(x: f32) -> (f32, f32) {
+        const P1: f32 = 1.570_800_8; // 0x1.922p0
+        const P1T: f32 = -4.454_455e-6; // pi/2 - P1, rounded
+        let sign = x.to_bits() & (1u32 << 31);
+        let ax = f32::from_bits(x.to_bits() & !(1u32 << 31));
+        if !(ax <= F32_FAST_LIMIT) {
+            return careful32(x);
+        }
+        let t = ax * FRAC_2_PI_32 + TOINT_32;
+        let quadrant = t.to_bits();
+        let fnum = t - TOINT_32;
+        let r = ax - fnum * P1; // exact
+        let w = fnum * P1T;
+        let y0 = r - w;
+        let ex = (ax.to_bits() >> 23) as i32;
+        let ey = ((y0.to_bits() >> 23) & 0xff) as i32;
+        if ex - ey > 8 {
+            return careful32(x);
+        }
+        let y1 = (r - y0) - w;
+        finish32(y0, y1, quadrant, sign)
     }
 }
 
