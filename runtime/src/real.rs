@@ -211,6 +211,9 @@ pub mod fast {
         const P1T: f64 = 6.07710050650619224932e-11;
         let sign = x.to_bits() & (1u64 << 63);
         let ax = f64::from_bits(x.to_bits() & !(1u64 << 63));
+        if ax <= core::f64::consts::FRAC_PI_4 {
+            return finish64(ax, 0.0, 0, sign);
+        }
         if !(ax <= F64_FAST_LIMIT) {
             return careful64(x);
         }
@@ -290,6 +293,9 @@ pub mod fast {
         const P1T: f32 = -4.454_455e-6; // pi/2 - P1, rounded
         let sign = x.to_bits() & (1u32 << 31);
         let ax = f32::from_bits(x.to_bits() & !(1u32 << 31));
+        if ax <= core::f32::consts::FRAC_PI_4 {
+            return finish32(ax, 0.0, 0, sign);
+        }
         if !(ax <= F32_FAST_LIMIT) {
             return careful32(x);
         }
