@@ -258,7 +258,12 @@ impl MatrixOut {
 
     /// The SPEC §5 JSON form `{"rows": R, "cols": C, "data": [[row], ...]}`.
     pub fn to_json(&self) -> String {
-        serde_json::json!({ "rows": self.rows, "cols": self.cols, "data": self.data }).to_string()
+        let data =
+            serde_json::to_string(&self.data).expect("finite or null numbers always serialise");
+        format!(
+            r#"{{"rows": {}, "cols": {}, "data": {data}}}"#,
+            self.rows, self.cols
+        )
     }
 
     /// Aligned text, one row a line.
@@ -313,6 +318,197 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             print!("{text}");
             Ok(0)
         }
+        Command::Simulate {
+            scenario,
+            method,
+            drift_correction,
+            csv,
+            plot,
+        } => simulate(
+            &scenario,
+            method,
+            drift_correction,
+            csv.as_deref(),
+            plot.as_deref(),
+        ),
+        Command::Eval {
+            robot,
+            q,
+            params,
+            what,
+            json,
+            numeric,
+        } => {
+            let desc = load_robot(&robot)?;
+            let out = if numeric {
+                eval_numeric(&desc, &q, &params, what)?
+            } else {
+                return Err(CliError(
+                    "the closed-form path is not available yet: pass --numeric".into(),
+                ));
+            };
+            println!("{}", if json { out.to_json() } else { out.to_text() });
+            Ok(0)
+        }
+        Command::Jacobian {
+            urdf,
+            tip,
+            q,
+            frame,
+            json,
+        } => {
+            let desc = RobotDescription::from_urdf_file(&urdf, &tip)?;
+            let robot = numeric_robot(&desc, &[])?;
+            check_q(&desc, &q)?;
+            let j = match frame {
+                Frame::Body => robot.body_jacobian(&q),
+                Frame::Spatial => robot.spatial_jacobian(&q),
+            }
+            .map_err(robot_error(&desc))?;
+            let out = MatrixOut::from_nalgebra(&j);
+            println!("{}", if json { out.to_json() } else { out.to_text() });
+            Ok(0)
+        }
         _ => Err(CliError("this subcommand is not available yet".into())),
     }
+}
+
+fn robot_error(desc: &RobotDescription) -> impl Fn(trocar::robot::RobotError) -> CliError + '_ {
+    move |e| {
+        let file = desc
+            .source
+            .as_ref()
+            .map(|p| format!("{}: ", p.display()))
+            .unwrap_or_default();
+        CliError(format!("{file}{e}"))
+    }
+}
+
+/// The numeric robot of a description with parameter overrides.
+pub fn numeric_robot(
+    desc: &RobotDescription,
+    params: &[(String, f64)],
+) -> Result<trocar::robot::Robot<f64>, CliError> {
+    trocar::robot::Robot::from_description(desc, params).map_err(robot_error(desc))
+}
+
+/// Checks that `q` has one finite value per joint.
+pub fn check_q(desc: &RobotDescription, q: &[f64]) -> Result<(), CliError> {
+    if q.len() != desc.joints.len() {
+        return Err(CliError(format!(
+            "--q has {} values but `{}` has {} joints (give all joint values, base first)",
+            q.len(),
+            desc.name,
+            desc.joints.len()
+        )));
+    }
+    if let Some(k) = q.iter().position(|v| !v.is_finite()) {
+        return Err(CliError(format!("--q: value {} is not finite", k + 1)));
+    }
+    Ok(())
+}
+
+/// `trocar eval --numeric`: the runtime's numeric kinematics.
+pub fn eval_numeric(
+    desc: &RobotDescription,
+    q: &[f64],
+    params: &[(String, f64)],
+    what: What,
+) -> Result<MatrixOut, CliError> {
+    check_q(desc, q)?;
+    let robot = numeric_robot(desc, params)?;
+    let err = robot_error(desc);
+    let needs_constraint = matches!(what, What::Jr | What::Manip | What::Jc | What::Jb0i);
+    if needs_constraint && desc.constraint.is_none() {
+        return Err(CliError(format!(
+            "`{}` has no [constraint]: only --what jb0e and fk apply",
+            desc.name
+        )));
+    }
+    Ok(match what {
+        What::Jr => MatrixOut::from_nalgebra(&robot.constrained_jacobian(q).map_err(err)?),
+        What::Manip => {
+            let w = robot.manipulability(q).map_err(err)?;
+            MatrixOut {
+                rows: 1,
+                cols: 1,
+                data: vec![vec![w]],
+            }
+        }
+        What::Jc => MatrixOut::from_nalgebra(&robot.moving_rcm_jacobian(q).map_err(err)?),
+        What::Jb0i => MatrixOut::from_nalgebra(&robot.partial_body_jacobian(q).map_err(err)?),
+        What::Jb0e => MatrixOut::from_nalgebra(&robot.body_jacobian(q).map_err(err)?),
+        What::Fk => MatrixOut::from_nalgebra(&robot.forward_kinematics_matrix(q).map_err(err)?),
+    })
+}
+
+/// A progress bar on stderr (hidden when stderr is not a terminal).
+pub fn progress_bar(len: u64, what: &str) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new(len);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{msg:>12} [{bar:40}] {percent:>3}% {elapsed_precise} eta {eta}",
+        )
+        .expect("static template")
+        .progress_chars("=> "),
+    );
+    bar.set_message(what.to_string());
+    bar
+}
+
+fn simulate(
+    scenario: &str,
+    method: Option<Method>,
+    drift_correction: OnOff,
+    csv: Option<&Path>,
+    plot: Option<&Path>,
+) -> Result<i32, CliError> {
+    use trocar::closed_chain;
+    if closed_chain::scenario_names().contains(&scenario) {
+        if method.is_some() || drift_correction == OnOff::Off {
+            return Err(CliError(format!(
+                "`{scenario}` is a closed-chain scenario: --method and --drift-correction apply to the RCM scenarios only"
+            )));
+        }
+        let bar = progress_bar(1000, scenario);
+        let mut progress = |f: f64| bar.set_position((f.clamp(0.0, 1.0) * 1000.0) as u64);
+        let trace = closed_chain::simulate(
+            scenario,
+            &closed_chain::SimOptions::default(),
+            Some(&mut progress),
+        )
+        .map_err(|e| CliError(e.to_string()))?;
+        bar.finish_and_clear();
+        if let Some(path) = csv {
+            trace.write_csv(path).map_err(|e| CliError(e.to_string()))?;
+        }
+        if let Some(path) = plot {
+            let png = path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+            let written = if png {
+                trace.plot_png(path)
+            } else {
+                trace.plot_svg(path)
+            };
+            written.map_err(|e| CliError(e.to_string()))?;
+        }
+        eprintln!("{}", trace_summary(&trace.columns, &trace.rows));
+        return Ok(0);
+    }
+    Err(CliError(format!(
+        "unknown scenario `{scenario}` (expected one of: {})",
+        closed_chain::scenario_names().join(", ")
+    )))
+}
+
+/// One line a column: the final value and the largest magnitude.
+fn trace_summary(columns: &[String], rows: &[Vec<f64>]) -> String {
+    let mut out = String::from("column            final        max |.|");
+    for (k, name) in columns.iter().enumerate().skip(1) {
+        let last = rows.last().map_or(f64::NAN, |r| r[k]);
+        let max = rows.iter().map(|r| r[k].abs()).fold(0.0, f64::max);
+        out += &format!("\n{name:<12} {last:>12.4e} {max:>12.4e}");
+    }
+    out
 }

@@ -1,1 +1,763 @@
-//! The thesis's derivation (chapter 3) carried out on symbols.
+//! The thesis's derivation (chapter 3) carried out on symbols, from any valid
+//! [`RobotDescription`].
+//!
+//! Steps, with the thesis's equation numbers (see [`derive()`]):
+//!
+//! 1. Each joint `k` gives `T_k = origin_k · exp(ξ̂_k q_k)` (parent frame → `F_k`), with `ξ_k` the
+//!    joint twist in `F_k` (2.25)–(2.27), linear part first.
+//! 2. Forward kinematics `g_0e = T_1 ⋯ T_n · g_ne` and `g_0i = T_1 ⋯ T_i` (2.21).
+//! 3. Body Jacobians (2.53)–(2.55), (3.13): column `k` is `Ad_{g_ke}⁻¹ ξ_k`; `J^B_0i` is the same
+//!    for the chain cut at `F_i`, `J^B_0e2` the columns `j..n` of `J^B_0e`.
+//! 4. The constraint: `Λ = H Ad_{g_ri}` (3.4), (3.22), (3.26); the null-space basis `Λ#`
+//!    ((3.23), (3.27) for the wrist presets, see [`NullBasis`]); `Λ† = Λᵀ(ΛΛᵀ)⁻¹`.
+//! 5. `J^r_0e = [Ad_{g_ei} Λ# | J^B_0e2]` (3.15), `J_c = Ad_{g_ei} Λ†` (3.33).
+//! 6. Manipulability (3.36)–(3.39) in closed form: `|det J^r|` when square, otherwise
+//!    `sqrt(Σ maximal minors²)` (Cauchy–Binet); the squared value is a polynomial.
+//!
+//! Every matrix is a [`Matrix`] of canonical [`Poly`]s: entries are fully expanded sums of
+//! monomials in `s_k, c_k, q_k`, parameters (also negative powers) and `Inv` atoms, with exact
+//! rational coefficients. The per-joint transforms are kept as well ([`Derivation::joint_transforms`])
+//! so an emitter may evaluate forward kinematics as a product instead of the expanded form.
+//!
+//! # For an emitter
+//! Walk [`Matrix::entries`] (row-major) and [`Poly::terms`]: each term is a [`Rational`]
+//! coefficient ([`Rational::to_f64`], or [`Rational::to_parts`] for exact literals) times a
+//! [`crate::symbolic::Monomial`] whose [`factors`](crate::symbolic::Monomial::factors) are
+//! `(Atom, exponent)`: `Sin(k)`/`Cos(k)` → one `sin_cos(q[k])` per joint, `Joint(k)` → `q[k]`,
+//! `Param(p)` with a possibly negative exponent → `params.<name>` (hoist `1/param`),
+//! `Inv(id)` → `1 / P` with `P` = [`crate::symbolic::inverse_denominator`]`(id)` (hoist it;
+//! it never depends on an `Inv` itself). Which joints/parameters a result needs:
+//! [`Poly::joints`], [`Matrix::joints`], [`Derivation::dependencies`].
+//!
+//! # Size budgets
+//! Generic chains grow like `3^n` terms when fully expanded. The matrices of the thesis are
+//! always expanded (`g_0i`, `g_ie`, `J^B_0i`, `J^B_0e2`, `J^r`, `J_c`, `Λ`, `Λ#`, `Λ†`);
+//! the full-chain `g_0e`, `J^B_0e` only within [`EXPANSION_BUDGET`] (else `None`: use the
+//! factorisation `g_0e = g_0i g_ie`, `J^B_0e = [Ad_{g_ei} J^B_0i | J^B_0e2]`), and the closed-form
+//! manipulability only within [`MANIPULABILITY_BUDGET`].
+
+use crate::symbolic::{rational_null_space, Matrix, Poly, Rational, SymbolicError, Transform};
+use std::collections::BTreeSet;
+use std::fmt;
+use trocar::description::{
+    DescriptionError, JointKind, Origin, RobotDescription, Rotation, Scalar, Wrist,
+};
+
+/// What kind of problem a [`DerivationError`] reports.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DerivationErrorKind {
+    /// A malformed field (non-finite number, non-unit axis, unknown parameter, bad `H`, ...).
+    Invalid,
+    /// The method's requirement `n − r ≥ 6` (and `m = 6 − r + n − i ≥ 6`) does not hold.
+    TooFewJoints,
+    /// The wrist preset's basis (3.23)/(3.27) is not a null basis of `Λ` for this geometry.
+    WristMismatch,
+    /// A symbolic operation failed (division by an expression that is identically zero).
+    Symbolic,
+}
+
+/// Why a description could not be derived, and which field is at fault.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DerivationError {
+    /// The kind of problem.
+    pub kind: DerivationErrorKind,
+    /// The field, as a path such as `joints[3].axis` or `constraint.h`.
+    pub field: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl DerivationError {
+    fn new(
+        kind: DerivationErrorKind,
+        field: impl Into<String>,
+        message: impl Into<String>,
+    ) -> Self {
+        DerivationError {
+            kind,
+            field: field.into(),
+            message: message.into(),
+        }
+    }
+
+    fn symbolic(field: &str, e: SymbolicError) -> Self {
+        Self::new(DerivationErrorKind::Symbolic, field, e.to_string())
+    }
+
+    /// The same error as a [`DescriptionError`] located in `desc`'s source file (and at the
+    /// joint's line when the field names a joint that has a location).
+    pub fn into_description_error(self, desc: &RobotDescription) -> DescriptionError {
+        let loc = self
+            .field
+            .strip_prefix("joints[")
+            .and_then(|s| s.split(']').next())
+            .and_then(|k| k.parse::<usize>().ok())
+            .and_then(|k| desc.joints.get(k))
+            .and_then(|j| j.location);
+        DescriptionError {
+            file: desc.source.clone(),
+            line: loc.map(|l| l.line),
+            column: loc.map(|l| l.column),
+            field: self.field,
+            message: self.message,
+        }
+    }
+}
+
+impl fmt::Display for DerivationError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "field `{}`: {}", self.field, self.message)
+    }
+}
+
+impl std::error::Error for DerivationError {}
+
+/// Which null-space basis `Λ#` was used (its columns are the components of `v0i`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NullBasis {
+    /// Thesis (3.23), `r = 1`: columns `e1 + e6/l_a, e2, e3, e4, e5`, i.e.
+    /// `v0i = (v_x, v_y, v_z, ω_x, ω_y)`, `ω_z = v_x / l_a`.
+    Thesis323,
+    /// Thesis (3.27), `r = 2`: columns `e1 + e6/l_a, e2, e3 − e4/l_a, e5`, i.e.
+    /// `v0i = (v_x, v_y, v_z, ω_y)`, `ω_x = −v_z/l_a`, `ω_z = v_x/l_a`.
+    Thesis327,
+    /// Derived for a general `H`: `Λ# = Ad_{g_ir} N`, with `N` the exact null basis of `H` from
+    /// its reduced row echelon form (one column per free coordinate of `H`, in increasing order,
+    /// see [`rational_null_space`]). Since `Λ = H Ad_{g_ri}` and `Ad_{g_ri} Ad_{g_ir} = I`,
+    /// `Λ Λ# = H N = 0`; no division is needed. `v0i` is then the free coordinates of the twist
+    /// of `F_r` (body frame of `F_r`), and the manipulability of `J^r` refers to this basis.
+    Derived,
+}
+
+/// The closed form of the manipulability of `J^r_0e` (3.36)–(3.39).
+#[derive(Clone, Debug, PartialEq)]
+pub enum ManipulabilityForm {
+    /// `J^r` is square: `w = |det J^r|`, the polynomial `det J^r` given.
+    AbsDet(Poly),
+    /// `J^r` is wide: `w = sqrt(Σ minors²)` (Cauchy–Binet: `det(J Jᵀ) = Σ minors²`), with each
+    /// maximal minor and the columns it keeps (0-based, increasing).
+    SqrtSumOfSquares(Vec<(Vec<usize>, Poly)>),
+}
+
+/// Manipulability of `J^r_0e` in closed form.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Manipulability {
+    /// `w² = det(J^r J^rᵀ)`: a polynomial, cheap for thresholds (3.44).
+    pub squared: Poly,
+    /// How `w` itself is computed.
+    pub form: ManipulabilityForm,
+}
+
+/// Everything derived for the constraint (present when the description has one).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConstrainedDerivation {
+    /// The constrained link `i` (1-based); `j = i + 1`.
+    pub link: usize,
+    /// Number of constrained directions `r` (rows of `H`).
+    pub r: usize,
+    /// Number of columns of `J^r`: `m = 6 − r + n − i`.
+    pub m: usize,
+    /// `H ∈ R^{r×6}` (3.1), exact.
+    pub h: Matrix,
+    /// `g_ir`, the constraint frame `F_r` relative to `F_i`.
+    pub g_ir: Transform,
+    /// `Λ = H Ad_{g_ri}` (3.4), `r × 6`.
+    pub lambda: Matrix,
+    /// Which basis `Λ#` is.
+    pub basis: NullBasis,
+    /// `Λ#`, `6 × (6 − r)`, with `Λ Λ# = 0` (checked symbolically for the thesis bases; for the
+    /// derived basis it holds by construction, exactly when `R_ir` is exact, otherwise to rounding).
+    pub lambda_sharp: Matrix,
+    /// `Λ† = Λᵀ (Λ Λᵀ)⁻¹`, `6 × r` (3.31)–(3.33).
+    pub lambda_pinv: Matrix,
+    /// `g_0i(q_1..q_i)`, forward kinematics to the constrained link.
+    pub fk_i: Transform,
+    /// `g_ie(q_j..q_n)`.
+    pub g_ie: Transform,
+    /// `Ad_{g_ei} = Ad_{g_ie}⁻¹`, `6 × 6`.
+    pub ad_g_ei: Matrix,
+    /// `J^B_0i(q_1..q_i)`, `6 × i` (3.13).
+    pub body_jacobian_i: Matrix,
+    /// `J^B_0e2(q_j..q_n)`, `6 × (n − i)` (3.14).
+    pub body_jacobian_e2: Matrix,
+    /// `J^r_0e = [Ad_{g_ei} Λ# | J^B_0e2]`, `6 × m` (3.15).
+    pub jr: Matrix,
+    /// `J_c = Ad_{g_ei} Λ†`, `6 × r` (3.33).
+    pub jc: Matrix,
+    /// Manipulability of `J^r` (3.36)–(3.42) in closed form; `None` when `J^r` has more than
+    /// [`MANIPULABILITY_BUDGET`] terms (generic chains: the minors would swell); then compute
+    /// `det(J^r J^rᵀ)` numerically from the evaluated `J^r` (a 6×6 determinant).
+    pub manipulability: Option<Manipulability>,
+}
+
+/// The symbolic derivation for one robot: what an emitter turns into Rust.
+///
+/// Joint indices in expressions are 0-based positions in `q`; parameter indices are positions
+/// in [`Derivation::params`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Derivation {
+    /// Robot name.
+    pub name: String,
+    /// Parameter names, in declaration order (the index used by `Atom::Param`).
+    pub params: Vec<String>,
+    /// Nominal parameter values, same order.
+    pub param_values: Vec<f64>,
+    /// Number of joints `n`.
+    pub n: usize,
+    /// Which joints are prismatic-like (their value `q_k` appears itself, not through `s_k, c_k`).
+    pub joint_is_linear: Vec<bool>,
+    /// `ξ_k` in `F_k`, `6 × 1` each.
+    pub twists: Vec<Matrix>,
+    /// `T_k = origin_k · exp(ξ̂_k q_k)`, parent → `F_k`, one per joint.
+    pub joint_transforms: Vec<Transform>,
+    /// `g_ne`, the end effector relative to the last joint frame (constant).
+    pub end_effector: Transform,
+    /// `g_0e(q)`, forward kinematics, fully expanded; `None` when the expansion would exceed
+    /// [`EXPANSION_BUDGET`] (generic chains grow like `3^n` terms). Then evaluate it as a product:
+    /// `fk_i · g_ie` for a constrained robot, or the [`Derivation::joint_transforms`] in order.
+    pub fk_e: Option<Transform>,
+    /// `J^B_0e(q)`, `6 × n` (2.53)–(2.55), fully expanded; `None` beyond [`EXPANSION_BUDGET`].
+    /// For a constrained robot it is `[Ad_{g_ei} J^B_0i | J^B_0e2]` (3.12)–(3.14).
+    pub body_jacobian_e: Option<Matrix>,
+    /// The constrained part, when the description has a constraint.
+    pub constraint: Option<ConstrainedDerivation>,
+}
+
+/// Largest estimated number of terms of one entry of an expanded product (`len(a) · len(b) ·
+/// inner dimension`) that [`derive()`] computes for the optional full-chain expansions
+/// ([`Derivation::fk_e`], [`Derivation::body_jacobian_e`]). The matrices the thesis needs
+/// (`g_0i`, `g_ie`, `J^B_0i`, `J^B_0e2`, `J^r`, `J_c`, manipulability) are always expanded.
+pub const EXPANSION_BUDGET: usize = 20_000;
+
+/// Largest total number of terms of `J^r` for which [`derive()`] forms the closed-form
+/// manipulability (the presets and dia10_like have well under 100).
+pub const MANIPULABILITY_BUDGET: usize = 400;
+
+fn max_len(m: &Matrix) -> usize {
+    m.entries().iter().map(Poly::len).max().unwrap_or(0)
+}
+
+/// `a · b` expanded, or `None` when the estimated entry size exceeds [`EXPANSION_BUDGET`].
+fn compose_within_budget(a: &Transform, b: &Transform) -> Option<Transform> {
+    let la = max_len(&a.rot).max(max_len(&a.pos)).max(1);
+    let lb = max_len(&b.rot).max(max_len(&b.pos)).max(1);
+    if la.saturating_mul(lb).saturating_mul(4) > EXPANSION_BUDGET {
+        None
+    } else {
+        Some(a.compose(b))
+    }
+}
+
+struct Ctx<'a> {
+    desc: &'a RobotDescription,
+}
+
+impl Ctx<'_> {
+    fn number(&self, x: f64, field: &str) -> Result<Rational, DerivationError> {
+        Rational::from_f64_decimal(x)
+            .map_err(|e| DerivationError::new(DerivationErrorKind::Invalid, field, e.to_string()))
+    }
+
+    fn scalar(&self, s: &Scalar, field: &str) -> Result<Poly, DerivationError> {
+        let mut p = Poly::constant(self.number(s.constant, field)?);
+        for (c, name) in &s.terms {
+            let idx = self
+                .desc
+                .parameters
+                .iter()
+                .position(|q| &q.name == name)
+                .ok_or_else(|| {
+                    DerivationError::new(
+                        DerivationErrorKind::Invalid,
+                        field,
+                        format!("unknown parameter `{name}`"),
+                    )
+                })?;
+            p = p.add(&Poly::param(idx).scale(&self.number(*c, field)?));
+        }
+        Ok(p)
+    }
+
+    fn rotation(&self, r: &Rotation, field: &str) -> Result<Matrix, DerivationError> {
+        let m: [[f64; 3]; 3] = match r {
+            Rotation::Matrix(m) => *m,
+            Rotation::Rpy([roll, pitch, yaw]) => {
+                let (sr, cr) = roll.sin_cos();
+                let (sp, cp) = pitch.sin_cos();
+                let (sy, cy) = yaw.sin_cos();
+                // R = Rz(yaw) Ry(pitch) Rx(roll)
+                [
+                    [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+                    [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+                    [-sp, cp * sr, cp * cr],
+                ]
+            }
+        };
+        let mut out = Matrix::zeros(3, 3);
+        for (i, row) in m.iter().enumerate() {
+            for (j, x) in row.iter().enumerate() {
+                let r = Rational::from_f64_snapped(*x).map_err(|e| {
+                    DerivationError::new(DerivationErrorKind::Invalid, field, e.to_string())
+                })?;
+                out.set(i, j, Poly::constant(r));
+            }
+        }
+        Ok(out)
+    }
+
+    fn origin(&self, o: &Origin, field: &str) -> Result<Transform, DerivationError> {
+        let pos = Matrix::column_vector(vec![
+            self.scalar(&o.xyz[0], &format!("{field}.xyz[0]"))?,
+            self.scalar(&o.xyz[1], &format!("{field}.xyz[1]"))?,
+            self.scalar(&o.xyz[2], &format!("{field}.xyz[2]"))?,
+        ]);
+        Ok(Transform {
+            rot: self.rotation(&o.rotation, &format!("{field}.rotation"))?,
+            pos,
+        })
+    }
+
+    fn unit_axis(&self, a: &[f64; 3], field: &str) -> Result<[Rational; 3], DerivationError> {
+        let norm = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+        if !norm.is_finite() || (norm - 1.0).abs() > 1e-9 {
+            return Err(DerivationError::new(
+                DerivationErrorKind::Invalid,
+                field,
+                format!("axis {a:?} is not a unit vector (norm {norm})"),
+            ));
+        }
+        Ok([
+            Rational::from_f64_snapped(a[0]).map_err(|e| inv(field, e))?,
+            Rational::from_f64_snapped(a[1]).map_err(|e| inv(field, e))?,
+            Rational::from_f64_snapped(a[2]).map_err(|e| inv(field, e))?,
+        ])
+    }
+
+    /// `(ξ_k, exp(ξ̂_k q_k), linear?)` for joint `k` (0-based) (2.25)–(2.27), (2.36).
+    fn joint(&self, k: usize) -> Result<(Matrix, Transform, bool), DerivationError> {
+        let j = &self.desc.joints[k];
+        let field = format!("joints[{k}]");
+        let c = |r: &Rational| Poly::constant(r.clone());
+        let (v, w): ([Poly; 3], Option<[Rational; 3]>) = match &j.kind {
+            JointKind::Revolute { axis } => {
+                let w = self.unit_axis(axis, &format!("{field}.axis"))?;
+                ([Poly::zero(), Poly::zero(), Poly::zero()], Some(w))
+            }
+            JointKind::Prismatic { axis } => {
+                let v = self.unit_axis(axis, &format!("{field}.axis"))?;
+                ([c(&v[0]), c(&v[1]), c(&v[2])], None)
+            }
+            JointKind::Twist { v, w } => {
+                let vp = [
+                    self.scalar(&v[0], &format!("{field}.v[0]"))?,
+                    self.scalar(&v[1], &format!("{field}.v[1]"))?,
+                    self.scalar(&v[2], &format!("{field}.v[2]"))?,
+                ];
+                if w.iter().all(|x| *x == 0.0) {
+                    (vp, None)
+                } else {
+                    (vp, Some(self.unit_axis(w, &format!("{field}.w"))?))
+                }
+            }
+        };
+        let q = Poly::joint(k);
+        match w {
+            None => {
+                let xi = Matrix::column_vector(vec![
+                    v[0].clone(),
+                    v[1].clone(),
+                    v[2].clone(),
+                    Poly::zero(),
+                    Poly::zero(),
+                    Poly::zero(),
+                ]);
+                let g = Transform {
+                    rot: Matrix::identity(3),
+                    pos: Matrix::column_vector(v.iter().map(|x| x.mul(&q)).collect()),
+                };
+                Ok((xi, g, true))
+            }
+            Some(w) => {
+                let wp = [c(&w[0]), c(&w[1]), c(&w[2])];
+                let what = Matrix::hat(&wp);
+                let what2 = what.mul(&what);
+                let (s, cs) = (Poly::sin(k), Poly::cos(k));
+                // Rodrigues (2.14): R = I + ŵ s + ŵ² (1 − c)
+                let rot = Matrix::identity(3)
+                    .add(&what.scale(&s))
+                    .add(&what2.scale(&Poly::one().sub(&cs)));
+                // p = (I − R)(ω × v) + ω ωᵀ v q (2.36)
+                let vcol = Matrix::column_vector(v.to_vec());
+                let wxv = what.mul(&vcol);
+                let mut pos = Matrix::identity(3).sub(&rot).mul(&wxv);
+                let wv = wp[0]
+                    .mul(&v[0])
+                    .add(&wp[1].mul(&v[1]))
+                    .add(&wp[2].mul(&v[2]));
+                let linear = !wv.is_zero();
+                if linear {
+                    let wcol = Matrix::column_vector(wp.to_vec());
+                    pos = pos.add(&wcol.scale(&wv.mul(&q)));
+                }
+                let mut xi = v.to_vec();
+                xi.extend(wp.iter().cloned());
+                Ok((Matrix::column_vector(xi), Transform { rot, pos }, linear))
+            }
+        }
+    }
+}
+
+fn inv(field: &str, e: impl fmt::Display) -> DerivationError {
+    DerivationError::new(DerivationErrorKind::Invalid, field, e.to_string())
+}
+
+/// Body Jacobian columns `Ad_{g_ke}⁻¹ ξ_k` for `k = 0..upto` with `g_ke = T_{k+1} ⋯ T_{upto−1} · tail`
+/// (2.53)–(2.55); returns the `6 × upto` matrix.
+/// `None` when an intermediate product exceeds [`EXPANSION_BUDGET`] and `budget` is set.
+fn body_jacobian(
+    twists: &[Matrix],
+    transforms: &[Transform],
+    from: usize,
+    upto: usize,
+    tail: &Transform,
+    budget: bool,
+) -> Option<Matrix> {
+    let mut g = tail.clone();
+    let mut cols: Vec<Matrix> = vec![Matrix::zeros(6, 1); upto - from];
+    for k in (from..upto).rev() {
+        cols[k - from] = g.adjoint_inverse_apply(&twists[k]);
+        if k > from {
+            g = if budget {
+                compose_within_budget(&transforms[k], &g)?
+            } else {
+                transforms[k].compose(&g)
+            };
+        }
+    }
+    Some(Matrix::from_fn(6, upto - from, |i, j| {
+        cols[j].get(i, 0).clone()
+    }))
+}
+
+/// Derives everything for `desc` (see the module documentation for the steps).
+///
+/// # Errors
+/// A [`DerivationError`] naming the field for malformed numbers, axes, parameters or `H`;
+/// [`DerivationErrorKind::TooFewJoints`] when `n − r < 6` or `m < 6`;
+/// [`DerivationErrorKind::WristMismatch`] when a wrist preset's basis does not annihilate `Λ`.
+pub fn derive(desc: &RobotDescription) -> Result<Derivation, DerivationError> {
+    let ctx = Ctx { desc };
+    let n = desc.joints.len();
+    if n == 0 {
+        return Err(DerivationError::new(
+            DerivationErrorKind::Invalid,
+            "joints",
+            "the robot has no joint",
+        ));
+    }
+    if n > u16::MAX as usize || desc.parameters.len() > u16::MAX as usize {
+        return Err(DerivationError::new(
+            DerivationErrorKind::Invalid,
+            "joints",
+            "too many joints or parameters",
+        ));
+    }
+    let mut twists = Vec::with_capacity(n);
+    let mut transforms = Vec::with_capacity(n);
+    let mut linear = Vec::with_capacity(n);
+    for k in 0..n {
+        let origin = ctx.origin(&desc.joints[k].origin, &format!("joints[{k}].origin"))?;
+        let (xi, e, lin) = ctx.joint(k)?;
+        twists.push(xi);
+        transforms.push(origin.compose(&e));
+        linear.push(lin);
+    }
+    let end_effector = ctx.origin(&desc.end_effector.origin, "end_effector")?;
+
+    let constraint = match &desc.constraint {
+        None => None,
+        Some(c) => Some(derive_constraint(
+            &ctx,
+            c,
+            &twists,
+            &transforms,
+            &end_effector,
+        )?),
+    };
+    let (fk_e, body_jacobian_e) = match &constraint {
+        // g_0e = g_0i g_ie; J^B_0e = [Ad_{g_ei} J^B_0i | J^B_0e2] (3.12)–(3.14).
+        Some(c) => {
+            let fk = compose_within_budget(&c.fk_i, &c.g_ie);
+            let size = max_len(&c.ad_g_ei).saturating_mul(max_len(&c.body_jacobian_i));
+            let jb = if size.saturating_mul(6) > EXPANSION_BUDGET {
+                None
+            } else {
+                Some(
+                    c.ad_g_ei
+                        .mul(&c.body_jacobian_i)
+                        .hstack(&c.body_jacobian_e2),
+                )
+            };
+            (fk, jb)
+        }
+        None => {
+            // Forward kinematics g_0e = T_1 ⋯ T_n g_ne (2.21).
+            let mut g = Some(Transform::identity());
+            for t in &transforms {
+                g = g.and_then(|g| compose_within_budget(&g, t));
+            }
+            let fk = g.and_then(|g| compose_within_budget(&g, &end_effector));
+            (
+                fk,
+                body_jacobian(&twists, &transforms, 0, n, &end_effector, true),
+            )
+        }
+    };
+
+    Ok(Derivation {
+        name: desc.name.clone(),
+        params: desc.parameters.iter().map(|p| p.name.clone()).collect(),
+        param_values: desc.parameters.iter().map(|p| p.value).collect(),
+        n,
+        joint_is_linear: linear,
+        twists,
+        joint_transforms: transforms,
+        end_effector,
+        fk_e,
+        body_jacobian_e,
+        constraint,
+    })
+}
+
+fn derive_constraint(
+    ctx: &Ctx<'_>,
+    c: &trocar::description::ConstraintDesc,
+    twists: &[Matrix],
+    transforms: &[Transform],
+    end_effector: &Transform,
+) -> Result<ConstrainedDerivation, DerivationError> {
+    let n = transforms.len();
+    let i = c.link;
+    if i == 0 || i > n {
+        return Err(DerivationError::new(
+            DerivationErrorKind::Invalid,
+            "constraint.link",
+            format!("link {i} is not one of the links 1..={n}"),
+        ));
+    }
+    let r = c.h.len();
+    if r == 0 || r > 5 {
+        return Err(DerivationError::new(
+            DerivationErrorKind::Invalid,
+            "constraint.h",
+            format!("H must have 1 to 5 rows, it has {r}"),
+        ));
+    }
+    let mut h_rat = Vec::with_capacity(r);
+    for (k, row) in c.h.iter().enumerate() {
+        let mut v = Vec::with_capacity(6);
+        for x in row {
+            v.push(
+                Rational::from_f64_decimal(*x)
+                    .map_err(|e| inv(&format!("constraint.h[{k}]"), e))?,
+            );
+        }
+        h_rat.push(v);
+    }
+    let (rank, null_h) = rational_null_space(&h_rat, 6);
+    if rank != r {
+        return Err(DerivationError::new(
+            DerivationErrorKind::Invalid,
+            "constraint.h",
+            format!("the rows of H are linearly dependent (rank {rank} < {r})"),
+        ));
+    }
+    if n < 6 + r {
+        return Err(DerivationError::new(
+            DerivationErrorKind::TooFewJoints,
+            "joints",
+            format!("the method needs n − r ≥ 6, here n = {n}, r = {r}"),
+        ));
+    }
+    let m = 6 - r + n - i;
+    if m < 6 {
+        return Err(DerivationError::new(
+            DerivationErrorKind::TooFewJoints,
+            "constraint.link",
+            format!("J^r would have m = 6 − r + n − i = {m} < 6 columns (n − i = {} joints after the constraint, r = {r})", n - i),
+        ));
+    }
+    let h = Matrix::from_rationals(&h_rat);
+    let g_ir = ctx.origin(&c.origin, "constraint.origin")?;
+    let lambda = h.mul(&g_ir.adjoint_inverse()); // Ad_{g_ri} = Ad_{g_ir}⁻¹
+
+    let (basis, lambda_sharp) = match c.wrist {
+        None => {
+            let nmat = Matrix::from_fn(6, 6 - r, |a, b| Poly::constant(null_h[b][a].clone()));
+            (NullBasis::Derived, g_ir.adjoint().mul(&nmat))
+        }
+        Some(w) => {
+            let la = g_ir.pos.get(1, 0).clone();
+            let inv_la = la
+                .inv()
+                .map_err(|e| DerivationError::symbolic("constraint.origin.xyz[1]", e))?;
+            let e = |k: usize| {
+                Matrix::from_fn(6, 1, |a, _| if a == k { Poly::one() } else { Poly::zero() })
+            };
+            let cols: Vec<Matrix> = match (w, r) {
+                (Wrist::Unidirectional, 1) => {
+                    vec![e(0).add(&e(5).scale(&inv_la)), e(1), e(2), e(3), e(4)]
+                }
+                (Wrist::Zy | Wrist::Zx, 2) => vec![
+                    e(0).add(&e(5).scale(&inv_la)),
+                    e(1),
+                    e(2).sub(&e(3).scale(&inv_la)),
+                    e(4),
+                ],
+                _ => {
+                    return Err(DerivationError::new(
+                        DerivationErrorKind::WristMismatch,
+                        "constraint.wrist",
+                        format!("wrist preset {w:?} does not fit an H with {r} row(s)"),
+                    ))
+                }
+            };
+            let mut ls = cols[0].clone();
+            for col in &cols[1..] {
+                ls = ls.hstack(col);
+            }
+            if !lambda.mul(&ls).is_zero() {
+                return Err(DerivationError::new(
+                    DerivationErrorKind::WristMismatch,
+                    "constraint.wrist",
+                    "the thesis basis (3.23)/(3.27) needs g_ir = (I, (0, l_a, 0)) and H = x_r (or x_r, z_r); Λ Λ# ≠ 0 here",
+                ));
+            }
+            let kind = if r == 1 {
+                NullBasis::Thesis323
+            } else {
+                NullBasis::Thesis327
+            };
+            (kind, ls)
+        }
+    };
+    let llt = lambda.mul(&lambda.transpose());
+    let lambda_pinv = lambda.transpose().mul(
+        &llt.inverse()
+            .map_err(|e| DerivationError::symbolic("constraint", e))?,
+    );
+
+    // g_0i = T_1 ⋯ T_i and g_ie = T_j ⋯ T_n g_ne (2.21)
+    let mut fk_i = Transform::identity();
+    for t in &transforms[..i] {
+        fk_i = fk_i.compose(t);
+    }
+    let mut g_ie = end_effector.clone();
+    for t in transforms[i..].iter().rev() {
+        g_ie = t.compose(&g_ie);
+    }
+    let ad_g_ei = g_ie.adjoint_inverse();
+    let ident = Transform::identity();
+    // Without a budget `body_jacobian` always returns `Some`.
+    let body_jacobian_i = body_jacobian(twists, transforms, 0, i, &ident, false)
+        .unwrap_or_else(|| Matrix::zeros(6, i));
+    let body_jacobian_e2 = body_jacobian(twists, transforms, i, n, end_effector, false)
+        .unwrap_or_else(|| Matrix::zeros(6, n - i));
+    let jr = ad_g_ei.mul(&lambda_sharp).hstack(&body_jacobian_e2);
+    let jc = ad_g_ei.mul(&lambda_pinv);
+    let manipulability = if jr.total_terms() > MANIPULABILITY_BUDGET {
+        None
+    } else {
+        Some(manipulability(&jr).map_err(|e| DerivationError::symbolic("constraint", e))?)
+    };
+    Ok(ConstrainedDerivation {
+        link: i,
+        r,
+        m,
+        h,
+        g_ir,
+        lambda,
+        basis,
+        lambda_sharp,
+        lambda_pinv,
+        fk_i,
+        g_ie,
+        ad_g_ei,
+        body_jacobian_i,
+        body_jacobian_e2,
+        jr,
+        jc,
+        manipulability,
+    })
+}
+
+/// Manipulability of a `6 × m` matrix (`m ≥ 6`) in closed form (3.36)–(3.39).
+pub fn manipulability(j: &Matrix) -> Result<Manipulability, SymbolicError> {
+    if j.rows() == j.cols() {
+        let d = j.det()?;
+        Ok(Manipulability {
+            squared: d.mul(&d),
+            form: ManipulabilityForm::AbsDet(d),
+        })
+    } else {
+        let minors = j.maximal_minors()?;
+        let squared = minors
+            .iter()
+            .fold(Poly::zero(), |s, (_, p)| s.add(&p.mul(p)));
+        Ok(Manipulability {
+            squared,
+            form: ManipulabilityForm::SqrtSumOfSquares(minors),
+        })
+    }
+}
+
+impl Derivation {
+    /// Size summary `(name, rows, cols, total terms)` of every derived matrix, for reports.
+    pub fn sizes(&self) -> Vec<(&'static str, usize, usize, usize)> {
+        let t = |name, m: &Matrix| (name, m.rows(), m.cols(), m.total_terms());
+        let mut v = Vec::new();
+        if let Some(fk) = &self.fk_e {
+            v.push(t("fk_e.rot", &fk.rot));
+            v.push(t("fk_e.pos", &fk.pos));
+        }
+        if let Some(jb) = &self.body_jacobian_e {
+            v.push(t("body_jacobian_e", jb));
+        }
+        if let Some(c) = &self.constraint {
+            v.push(t("fk_i.rot", &c.fk_i.rot));
+            v.push(t("fk_i.pos", &c.fk_i.pos));
+            v.push(t("body_jacobian_i", &c.body_jacobian_i));
+            v.push(t("jr", &c.jr));
+            v.push(t("jc", &c.jc));
+            if let Some(w) = &c.manipulability {
+                v.push(("manipulability_squared", 1, 1, w.squared.len()));
+            }
+        }
+        v
+    }
+
+    /// Joints (0-based) each named result depends on.
+    pub fn dependencies(&self) -> Vec<(&'static str, BTreeSet<usize>)> {
+        let all: BTreeSet<usize> = (0..self.n).collect();
+        let mut v = vec![
+            (
+                "fk_e",
+                self.fk_e.as_ref().map_or(all.clone(), Transform::joints),
+            ),
+            (
+                "body_jacobian_e",
+                self.body_jacobian_e.as_ref().map_or(all, Matrix::joints),
+            ),
+        ];
+        if let Some(c) = &self.constraint {
+            v.push(("fk_i", c.fk_i.joints()));
+            v.push(("body_jacobian_i", c.body_jacobian_i.joints()));
+            v.push(("jr", c.jr.joints()));
+            v.push(("jc", c.jc.joints()));
+            if let Some(w) = &c.manipulability {
+                v.push(("manipulability", w.squared.joints()));
+            }
+        }
+        v
+    }
+}

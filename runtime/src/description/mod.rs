@@ -6,12 +6,33 @@
 //! `"l_a + l_b"`), which stay symbolic in generated code and become runtime inputs.
 //!
 //! Descriptions are read from TOML ([`RobotDescription::from_toml_str`],
-//! [`RobotDescription::from_toml_file`]) or imported from URDF ([`RobotDescription::from_urdf_file`]);
-//! every error is a [`DescriptionError`] naming file, line and field.
+//! [`RobotDescription::from_toml_file`], [`RobotDescription::preset`]) or imported from URDF
+//! ([`RobotDescription::from_urdf_file`], [`RobotDescription::from_urdf_str`]), and written back
+//! with [`RobotDescription::to_toml_string`]. Every error is a [`DescriptionError`] naming file,
+//! line, column and field (`` robot.toml:61:1: field `joints[7].axis`: ... ``); field paths follow the
+//! TOML (`constraint.h[1]`, `parameters.l_a`, `end_effector.xyz[1]`; joint indices 0-based).
+//!
+//! Reading validates (see [`validate`](RobotDescription::validate) for the rules: unit axes,
+//! rotations, declared parameters, unique names, `H` of full rank with at most 5 rows, the
+//! constrained link, `n − r ≥ 6`, wrist presets consistent with `H`, `g_ir` and the wrist joints).
+//!
+//! ```
+//! use trocar::description::RobotDescription;
+//!
+//! let d = RobotDescription::preset("bidirectional-zy").unwrap();
+//! assert_eq!(d.joints.len(), 8);
+//! let text = d.to_toml_string();
+//! let bad = text.replace("h = [\"x\", \"z\"]", "h = [\"x\", \"x\"]");
+//! let e = RobotDescription::from_toml_str(&bad, None).unwrap_err();
+//! assert_eq!(e.field, "constraint.h[1]");
+//! assert!(e.line.is_some());
+//! ```
 
 mod error;
+mod locate;
 mod parse;
 mod presets;
+mod serialize;
 mod urdf;
 mod validate;
 
@@ -88,7 +109,8 @@ pub struct JointDesc {
     pub origin: Origin,
     /// Type and axis or twist.
     pub kind: JointKind,
-    /// Where the joint was written, when read from a file.
+    /// Where the joint was written (its `[[joints]]` header, or its `<joint>` element in a URDF),
+    /// when read from text; [`RobotDescription::validate`] uses it for joint errors.
     pub location: Option<Location>,
 }
 
@@ -115,11 +137,13 @@ pub enum Wrist {
 /// The constraint `H V^B_0r = 0` at the frame `F_r` fixed in link `i` (3.1).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ConstraintDesc {
-    /// The constrained link `i`, 1-based (link `i` is joint `i`'s frame, between joints `i` and `i+1`).
+    /// The constrained link `i`, 1-based (link `i` is joint `i`'s frame, between joints `i` and `i+1`);
+    /// valid descriptions have `1 ≤ i ≤ n − 1`.
     pub link: usize,
     /// `g_ir`: the constraint frame relative to `F_i`; the thesis takes `(I, (0, l_a, 0))`.
     pub origin: Origin,
-    /// Rows of `H ∈ R^{r×6}` (twist order `(v, ω)`).
+    /// Rows of `H ∈ R^{r×6}` (twist order `(v, ω)`); valid descriptions have `1 ≤ r ≤ 5`
+    /// independent rows and `n − r ≥ 6`.
     pub h: Vec<[f64; 6]>,
     /// Wrist preset: when given, `Λ#` is the thesis's basis; otherwise a derived basis.
     pub wrist: Option<Wrist>,

@@ -1,4 +1,4 @@
-//! Reading descriptions from TOML, with the location of every joint.
+//! Reading descriptions from TOML, with the location of every field.
 //!
 //! The format (see the shipped files in `runtime/robots/`):
 //!
@@ -10,11 +10,11 @@
 //! l_a = 0.15
 //!
 //! [[joints]]            # base first; link frame k is joint k's frame
-//! name = "torso"
-//! type = "revolute"     # or "prismatic", or "twist" with v = [..], w = [..]
-//! xyz = [0, 0, 0]       # origin from the parent frame; entries may be "l_a + l_b"
-//! rpy = [0, 0, 0]       # or rotation = [[..], [..], [..]] (row-major)
-//! axis = [0, 0, 1]
+//! name = "torso"        # unique
+//! type = "revolute"     # or "prismatic", or "twist" with v = [..], w = [..] instead of axis
+//! xyz = [0, 0, 0]       # origin from the parent frame; entries may be "l_a + l_b", "-0.5*l_8 + 0.1"
+//! rpy = [0, 0, 0]       # or rotation = [[..], [..], [..]] (row-major); default: identity
+//! axis = [0, 0, 1]      # unit
 //!
 //! [end_effector]
 //! name = "tool"
@@ -26,10 +26,16 @@
 //! h = ["x", "z"]        # axis letters x y z (linear) rx ry rz (angular), or rows of 6 numbers
 //! wrist = "zy"          # optional: unidirectional | zy | zx (thesis basis for Λ#)
 //! ```
+//!
+//! Every key is checked (`deny_unknown_fields`), every error names the field by path
+//! (`joints[3].axis`, `constraint.h[1]`, `parameters.l_a`) with its line and column (looked up by
+//! [`super::locate`]), and the result is validated ([`RobotDescription::validate`]) before it is
+//! returned.
 
+use super::locate::{location_of, Locator};
 use super::{
-    ConstraintDesc, DescriptionError, EndEffector, JointDesc, JointKind, Location, Origin,
-    Parameter, RobotDescription, Rotation, Scalar, Wrist,
+    ConstraintDesc, DescriptionError, EndEffector, JointDesc, JointKind, Origin, Parameter,
+    RobotDescription, Rotation, Scalar, Wrist,
 };
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -86,7 +92,7 @@ struct RawFrame {
 #[serde(untagged)]
 enum RawH {
     Letters(Vec<String>),
-    Rows(Vec<[f64; 6]>),
+    Rows(Vec<Vec<f64>>),
 }
 
 #[derive(Deserialize)]
@@ -100,25 +106,17 @@ struct RawConstraint {
     wrist: Option<String>,
 }
 
-/// Position of byte `offset` in `text`, 1-based.
-pub(crate) fn location_of(text: &str, offset: usize) -> Location {
-    let before = &text[..offset.min(text.len())];
-    let line = before.matches('\n').count() + 1;
-    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
-    Location { line, column }
-}
+/// The axis letters of `H` rows, in twist order `(v, ω)`.
+pub(crate) const AXIS_LETTERS: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];
 
 struct Ctx<'a> {
     file: Option<&'a Path>,
+    locator: &'a Locator<'a>,
 }
 
 impl Ctx<'_> {
-    fn err(
-        &self,
-        loc: Option<Location>,
-        field: &str,
-        message: impl Into<String>,
-    ) -> DescriptionError {
+    fn err(&self, field: &str, message: impl Into<String>) -> DescriptionError {
+        let loc = self.locator.locate(field);
         DescriptionError {
             file: self.file.map(Path::to_path_buf),
             line: loc.map(|l| l.line),
@@ -163,15 +161,29 @@ impl Scalar {
         let mut start = 0;
         let bytes = compact.as_bytes();
         for k in 1..bytes.len() {
-            let prev = bytes[k - 1];
-            if (bytes[k] == b'+' || bytes[k] == b'-')
-                && prev != b'e'
-                && prev != b'E'
-                && prev != b'*'
-            {
-                terms.push(&compact[start..k]);
-                start = k;
+            if bytes[k] != b'+' && bytes[k] != b'-' {
+                continue;
             }
+            let prev = bytes[k - 1];
+            if prev == b'*' {
+                continue;
+            }
+            if prev == b'e' || prev == b'E' {
+                // The sign of an exponent (`2e-3`) when the factor so far is a mantissa; a name
+                // ending in `e` (`l_e-0.1`) is followed by a new term.
+                let factor_start = compact[start..k - 1]
+                    .rfind(['*', '+', '-'])
+                    .map_or(start, |p| start + p + 1);
+                let mantissa = &compact[factor_start..k - 1];
+                if !mantissa.is_empty()
+                    && mantissa.bytes().all(|b| b.is_ascii_digit() || b == b'.')
+                    && mantissa.bytes().any(|b| b.is_ascii_digit())
+                {
+                    continue;
+                }
+            }
+            terms.push(&compact[start..k]);
+            start = k;
         }
         terms.push(&compact[start..]);
         for term in terms {
@@ -183,7 +195,8 @@ impl Scalar {
             let mut coefficient = sign;
             let mut name: Option<&str> = None;
             for factor in body.split('*') {
-                if let Ok(v) = factor.parse::<f64>() {
+                let numeric = factor.starts_with(|c: char| c.is_ascii_digit() || c == '.');
+                if let (true, Ok(v)) = (numeric, factor.parse::<f64>()) {
                     coefficient *= v;
                 } else if is_identifier(factor) {
                     if name.is_some() {
@@ -225,38 +238,35 @@ pub(crate) fn is_identifier(s: &str) -> bool {
         && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
 }
 
-fn scalar(
-    ctx: &Ctx,
-    loc: Option<Location>,
-    field: &str,
-    raw: &RawScalar,
-) -> Result<Scalar, DescriptionError> {
+fn scalar(ctx: &Ctx, field: &str, raw: &RawScalar) -> Result<Scalar, DescriptionError> {
     match raw {
         RawScalar::Number(v) => Ok(Scalar::constant(*v)),
-        RawScalar::Text(t) => Scalar::parse(t).map_err(|m| ctx.err(loc, field, m)),
+        RawScalar::Text(t) => Scalar::parse(t).map_err(|m| ctx.err(field, m)),
     }
+}
+
+fn scalars(ctx: &Ctx, field: &str, raw: &[RawScalar; 3]) -> Result<[Scalar; 3], DescriptionError> {
+    Ok([
+        scalar(ctx, &format!("{field}[0]"), &raw[0])?,
+        scalar(ctx, &format!("{field}[1]"), &raw[1])?,
+        scalar(ctx, &format!("{field}[2]"), &raw[2])?,
+    ])
 }
 
 fn origin(
     ctx: &Ctx,
-    loc: Option<Location>,
     field: &str,
     xyz: &Option<[RawScalar; 3]>,
     rpy: &Option<[f64; 3]>,
     rotation: &Option<[[f64; 3]; 3]>,
 ) -> Result<Origin, DescriptionError> {
     let xyz = match xyz {
-        Some(v) => [
-            scalar(ctx, loc, &format!("{field}.xyz[0]"), &v[0])?,
-            scalar(ctx, loc, &format!("{field}.xyz[1]"), &v[1])?,
-            scalar(ctx, loc, &format!("{field}.xyz[2]"), &v[2])?,
-        ],
+        Some(v) => scalars(ctx, &format!("{field}.xyz"), v)?,
         None => Default::default(),
     };
     let rotation = match (rpy, rotation) {
         (Some(_), Some(_)) => {
             return Err(ctx.err(
-                loc,
                 &format!("{field}.rotation"),
                 "give either `rpy` or `rotation`, not both",
             ))
@@ -268,30 +278,148 @@ fn origin(
     Ok(Origin { xyz, rotation })
 }
 
+/// `field` without its last key: the table it lives in.
+fn parent_of(field: &str) -> &str {
+    field.rfind('.').map_or("", |k| &field[..k])
+}
+
+fn table_phrase(table: &str) -> String {
+    if table.is_empty() {
+        "at the top level".into()
+    } else {
+        format!("in table `{table}`")
+    }
+}
+
+/// A serde/TOML error as a description error: the field found from the error's span, a message
+/// that names the key and its table.
+fn toml_error(ctx: &Ctx, text: &str, e: &toml::de::Error) -> DescriptionError {
+    let message = e.message().trim();
+    let offset = e.span().map(|s| s.start);
+    let at = offset.and_then(|o| ctx.locator.path_at(o));
+    let quoted = message.split('`').nth(1).unwrap_or("").to_string();
+    let syntax = !ctx.locator.syntax_ok && message != "duplicate key";
+    let (field, message) = if syntax {
+        // Paths in a broken document can mislead: the position says where.
+        (
+            "(document)".to_string(),
+            format!("not valid TOML: {message}"),
+        )
+    } else if let Some(rest) = message.strip_prefix("unknown field `") {
+        let field = at.unwrap_or_else(|| quoted.clone());
+        let table = parent_of(&field).to_string();
+        let expected = rest.split_once(", ").map_or("", |(_, e)| e).to_string();
+        let message = format!(
+            "unknown key `{quoted}` {}{}",
+            table_phrase(&table),
+            if expected.is_empty() {
+                String::new()
+            } else {
+                format!(" ({expected})")
+            }
+        );
+        (field, message)
+    } else if message.starts_with("missing field `") {
+        let table = match e.span() {
+            Some(span) if !span.is_empty() => at.unwrap_or_default(),
+            _ => String::new(),
+        };
+        let field = if table.is_empty() {
+            quoted.clone()
+        } else {
+            format!("{table}.{quoted}")
+        };
+        (
+            field,
+            format!("missing key `{quoted}` {}", table_phrase(&table)),
+        )
+    } else if message.contains("untagged enum RawScalar") {
+        // The span is the array's: name the offending element.
+        let at = at.map(|a| ctx.locator.first_non_scalar(&a).unwrap_or(a));
+        (
+            at.unwrap_or_else(|| "(document)".into()),
+            "expected a number or a parameter expression such as \"l_a + l_b\"".into(),
+        )
+    } else if message.contains("untagged enum RawH") {
+        (
+            at.unwrap_or_else(|| "constraint.h".into()),
+            "expected axis letters such as [\"x\", \"z\"] or rows of 6 numbers".into(),
+        )
+    } else if message == "duplicate key" {
+        // The second key is not in the (recovered) document: name it from the text.
+        let span = e.span().unwrap_or(0..0);
+        let key = text
+            .get(span.clone())
+            .unwrap_or("")
+            .trim_matches(['"', '\''])
+            .to_string();
+        let table = ctx.locator.table_before(span.start);
+        let field = if table.is_empty() {
+            key.clone()
+        } else {
+            format!("{table}.{key}")
+        };
+        (
+            field,
+            format!("duplicate key `{key}` {}", table_phrase(&table)),
+        )
+    } else if let Some(field) = at {
+        (field, message.to_string())
+    } else {
+        ("(document)".into(), format!("not valid TOML: {message}"))
+    };
+    let loc = match ctx.locator.locate(&field) {
+        // The element named above, rather than the array the error points at.
+        Some(l) if field.ends_with(']') => Some(l),
+        _ => offset.map(|o| location_of(text, o)),
+    };
+    DescriptionError {
+        file: ctx.file.map(Path::to_path_buf),
+        line: loc.map(|l| l.line),
+        column: loc.map(|l| l.column),
+        field,
+        message,
+    }
+}
+
 impl RobotDescription {
-    /// Reads a description from TOML text. `file` is used in error messages only.
+    /// Reads a description from TOML text and validates it ([`RobotDescription::validate`]), every
+    /// error with the line and column of its field. `file` is used in error messages only.
     pub fn from_toml_str(text: &str, file: Option<&Path>) -> Result<Self, DescriptionError> {
-        let ctx = Ctx { file };
-        let raw: RawRobot = toml::from_str(text).map_err(|e| {
-            let loc = e.span().map(|s| location_of(text, s.start));
-            let field = e
-                .message()
-                .split('`')
-                .nth(1)
-                .unwrap_or("(document)")
-                .to_string();
-            ctx.err(loc, &field, e.message().trim())
-        })?;
+        let locator = Locator::new(text);
+        let description = Self::read(text, file, &locator)?;
+        let problems = super::validate::problems(&description, &|field| locator.locate(field));
+        match problems.into_iter().next() {
+            Some(first) => Err(first),
+            None => Ok(description),
+        }
+    }
+
+    /// Reads a description from TOML text without the checks of [`RobotDescription::validate`]:
+    /// only the format is checked (TOML syntax, known keys, types, axis letters, joint types).
+    /// Use [`RobotDescription::problems`] to list every problem of the result at once.
+    pub fn from_toml_str_unvalidated(
+        text: &str,
+        file: Option<&Path>,
+    ) -> Result<Self, DescriptionError> {
+        Self::read(text, file, &Locator::new(text))
+    }
+
+    fn read(text: &str, file: Option<&Path>, locator: &Locator) -> Result<Self, DescriptionError> {
+        let ctx = Ctx { file, locator };
+        let raw: RawRobot = toml::from_str(text).map_err(|e| toml_error(&ctx, text, &e))?;
         let mut parameters = Vec::new();
         for (name, value) in &raw.parameters {
             let value = match value {
                 toml::Value::Float(v) => *v,
                 toml::Value::Integer(v) => *v as f64,
-                _ => {
+                other => {
                     return Err(ctx.err(
-                        None,
                         &format!("parameters.{name}"),
-                        "a parameter's nominal value must be a number",
+                        format!(
+                            "a parameter's nominal value must be a number, not a {}",
+                            other.type_str()
+                        ),
                     ))
                 }
             };
@@ -305,11 +433,24 @@ impl RobotDescription {
             let loc = Some(location_of(text, spanned.span().start));
             let j = spanned.get_ref();
             let field = format!("joints[{k}]");
+            let unused = |key: &str, present: bool, why: &str| {
+                if present {
+                    Err(ctx.err(&format!("{field}.{key}"), why.to_string()))
+                } else {
+                    Ok(())
+                }
+            };
             let kind = match j.kind.as_str() {
                 "revolute" | "prismatic" => {
-                    let axis = j
-                        .axis
-                        .ok_or_else(|| ctx.err(loc, &format!("{field}.axis"), "missing axis"))?;
+                    let why = format!("a {} joint has an `axis`, not a twist", j.kind);
+                    unused("v", j.v.is_some(), &why)?;
+                    unused("w", j.w.is_some(), &why)?;
+                    let axis = j.axis.ok_or_else(|| {
+                        ctx.err(
+                            &format!("{field}.axis"),
+                            format!("a {} joint needs `axis = [x, y, z]`", j.kind),
+                        )
+                    })?;
                     if j.kind == "revolute" {
                         JointKind::Revolute { axis }
                     } else {
@@ -317,24 +458,24 @@ impl RobotDescription {
                     }
                 }
                 "twist" => {
+                    unused(
+                        "axis",
+                        j.axis.is_some(),
+                        "a twist joint has `v` and `w`, not an `axis`",
+                    )?;
                     let v = j.v.as_ref().ok_or_else(|| {
-                        ctx.err(loc, &format!("{field}.v"), "a twist joint needs `v`")
+                        ctx.err(&format!("{field}.v"), "a twist joint needs `v = [x, y, z]`")
                     })?;
                     let w = j.w.ok_or_else(|| {
-                        ctx.err(loc, &format!("{field}.w"), "a twist joint needs `w`")
+                        ctx.err(&format!("{field}.w"), "a twist joint needs `w = [x, y, z]`")
                     })?;
                     JointKind::Twist {
-                        v: [
-                            scalar(&ctx, loc, &format!("{field}.v[0]"), &v[0])?,
-                            scalar(&ctx, loc, &format!("{field}.v[1]"), &v[1])?,
-                            scalar(&ctx, loc, &format!("{field}.v[2]"), &v[2])?,
-                        ],
+                        v: scalars(&ctx, &format!("{field}.v"), v)?,
                         w,
                     }
                 }
                 other => {
                     return Err(ctx.err(
-                        loc,
                         &format!("{field}.type"),
                         format!(
                             "unknown joint type `{other}` (expected revolute, prismatic or twist)"
@@ -344,7 +485,7 @@ impl RobotDescription {
             };
             joints.push(JointDesc {
                 name: j.name.clone(),
-                origin: origin(&ctx, loc, &field, &j.xyz, &j.rpy, &j.rotation)?,
+                origin: origin(&ctx, &field, &j.xyz, &j.rpy, &j.rotation)?,
                 kind,
                 location: loc,
             });
@@ -352,7 +493,7 @@ impl RobotDescription {
         let end_effector = match &raw.end_effector {
             Some(f) => EndEffector {
                 name: f.name.clone().unwrap_or_else(|| "end_effector".into()),
-                origin: origin(&ctx, None, "end_effector", &f.xyz, &f.rpy, &f.rotation)?,
+                origin: origin(&ctx, "end_effector", &f.xyz, &f.rpy, &f.rotation)?,
             },
             None => EndEffector {
                 name: "end_effector".into(),
@@ -366,22 +507,31 @@ impl RobotDescription {
             None => None,
             Some(c) => {
                 let h = match &c.h {
-                    RawH::Rows(rows) => rows.clone(),
+                    RawH::Rows(rows) => rows
+                        .iter()
+                        .enumerate()
+                        .map(|(k, row)| {
+                            <[f64; 6]>::try_from(row.as_slice()).map_err(|_| {
+                                ctx.err(
+                                    &format!("constraint.h[{k}]"),
+                                    format!(
+                                        "a row of H has 6 entries (twist order vx vy vz wx wy wz), this one has {}",
+                                        row.len()
+                                    ),
+                                )
+                            })
+                        })
+                        .collect::<Result<_, _>>()?,
                     RawH::Letters(letters) => letters
                         .iter()
                         .enumerate()
                         .map(|(k, l)| {
-                            let index =
-                                ["x", "y", "z", "rx", "ry", "rz"]
-                                    .iter()
-                                    .position(|a| a == l)
-                                    .ok_or_else(|| {
-                                        ctx.err(
-                                    None,
+                            let index = AXIS_LETTERS.iter().position(|a| a == l).ok_or_else(|| {
+                                ctx.err(
                                     &format!("constraint.h[{k}]"),
                                     format!("unknown axis `{l}` (expected x, y, z, rx, ry or rz)"),
                                 )
-                                    })?;
+                            })?;
                             let mut row = [0.0; 6];
                             row[index] = 1.0;
                             Ok(row)
@@ -395,7 +545,6 @@ impl RobotDescription {
                     Some("zx") => Some(Wrist::Zx),
                     Some(other) => {
                         return Err(ctx.err(
-                            None,
                             "constraint.wrist",
                             format!("unknown wrist `{other}` (expected unidirectional, zy or zx)"),
                         ))
@@ -403,7 +552,7 @@ impl RobotDescription {
                 };
                 Some(ConstraintDesc {
                     link: c.link,
-                    origin: origin(&ctx, None, "constraint", &c.xyz, &c.rpy, &c.rotation)?,
+                    origin: origin(&ctx, "constraint", &c.xyz, &c.rpy, &c.rotation)?,
                     h,
                     wrist,
                 })

@@ -1,1 +1,481 @@
 //! Validation of descriptions: every rule with the field it names.
+//!
+//! [`RobotDescription::from_toml_str`] runs these checks before it returns and gives every error the
+//! line and column of its field; [`RobotDescription::validate`] runs them on any description (built
+//! in code, imported from URDF), with lines known for joints read from a file.
+//!
+//! | rule | field |
+//! |---|---|
+//! | the robot has a name | `robot.name` |
+//! | parameter names are identifiers (not Rust keywords), unique, with finite values | `parameters.NAME` |
+//! | at least one joint | `joints` |
+//! | joint names are non-empty and unique | `joints[k].name` |
+//! | revolute/prismatic axis finite, non-zero, unit (±1e-9) | `joints[k].axis` |
+//! | twist: `‖ω‖ = 1`, or `ω = 0` and `‖v‖ = 1` (checked when `v` is numeric; a parametric `v` must not be zero) | `joints[k].w`, `joints[k].v` |
+//! | numbers finite (xyz, rpy, rotation, axis, v, w, H, parameter values) | the number's field |
+//! | every parameter named in a length is declared in `[parameters]` | `….xyz[c]`, `joints[k].v[c]` |
+//! | rotation matrices orthonormal with determinant 1 (±1e-9) | `….rotation` |
+//! | constrained link `1 ≤ i ≤ n − 1` (joint `i` before it, joint `i + 1` after it) | `constraint.link` |
+//! | H has 1 to 5 rows, none zero, linearly independent | `constraint.h`, `constraint.h[k]` |
+//! | the method needs `n − r ≥ 6` | `constraint.h` |
+//! | wrist `unidirectional` needs `H = x_r`; `zy`/`zx` need `H = (x_r, z_r)` | `constraint.wrist` |
+//! | wrist `zy`: joint `i+1` revolute about z, joint `i+2` about y (`zx`: about x) | `joints[i].axis`, `joints[i+1].axis` |
+//! | a wrist needs `g_ir = (I, (0, l_a, 0))` with `l_a` a parameter of non-zero nominal value | `constraint.xyz[c]`, `constraint.rpy`/`constraint.rotation` |
+//!
+//! Joint indices in field paths are 0-based (`joints[0]` is joint 1), as in the TOML array.
+
+use super::parse::is_identifier;
+use super::{
+    DescriptionError, JointKind, Location, Origin, RobotDescription, Rotation, Scalar, Wrist,
+};
+
+/// Rust's strict and reserved keywords (2021 and 2024 editions) and `_`: not parameter names.
+const RUST_KEYWORDS: &[&str] = &[
+    "as", "break", "const", "continue", "crate", "else", "enum", "extern", "false", "fn", "for",
+    "if", "impl", "in", "let", "loop", "match", "mod", "move", "mut", "pub", "ref", "return",
+    "self", "Self", "static", "struct", "super", "trait", "true", "type", "unsafe", "use", "where",
+    "while", "async", "await", "dyn", "abstract", "become", "box", "do", "final", "macro",
+    "override", "priv", "typeof", "unsized", "virtual", "yield", "try", "gen",
+];
+
+/// Tolerance on unit norms and orthonormality.
+pub const TOLERANCE: f64 = 1e-9;
+
+struct Checker<'a> {
+    d: &'a RobotDescription,
+    locate: &'a dyn Fn(&str) -> Option<Location>,
+    out: Vec<DescriptionError>,
+}
+
+fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+fn fmt3(v: &[f64; 3]) -> String {
+    format!("[{}, {}, {}]", v[0], v[1], v[2])
+}
+
+impl Checker<'_> {
+    fn err(&mut self, field: &str, message: impl Into<String>) {
+        let loc = (self.locate)(field);
+        self.out.push(DescriptionError {
+            file: self.d.source.clone(),
+            line: loc.map(|l| l.line),
+            column: loc.map(|l| l.column),
+            field: field.to_string(),
+            message: message.into(),
+        });
+    }
+
+    fn finite(&mut self, field: &str, values: &[f64]) -> bool {
+        if values.iter().all(|v| v.is_finite()) {
+            true
+        } else {
+            self.err(field, "numbers must be finite (no inf or nan)");
+            false
+        }
+    }
+
+    fn scalar(&mut self, field: &str, s: &Scalar) {
+        if !s.constant.is_finite() || s.terms.iter().any(|(c, _)| !c.is_finite()) {
+            self.err(field, "numbers must be finite (no inf or nan)");
+        }
+        for (_, name) in &s.terms {
+            if self.d.parameter(name).is_none() {
+                let declared: Vec<_> = self.d.parameters.iter().map(|p| p.name.as_str()).collect();
+                self.err(
+                    field,
+                    format!(
+                        "unknown parameter `{name}`: declare it in [parameters] (declared: {})",
+                        if declared.is_empty() {
+                            "none".to_string()
+                        } else {
+                            declared.join(", ")
+                        }
+                    ),
+                );
+            }
+        }
+    }
+
+    fn origin(&mut self, prefix: &str, o: &Origin) {
+        for (c, s) in o.xyz.iter().enumerate() {
+            self.scalar(&format!("{prefix}.xyz[{c}]"), s);
+        }
+        match &o.rotation {
+            Rotation::Rpy(rpy) => {
+                self.finite(&format!("{prefix}.rpy"), rpy);
+            }
+            Rotation::Matrix(m) => {
+                let field = format!("{prefix}.rotation");
+                if !self.finite(&field, m.as_flattened()) {
+                    return;
+                }
+                let mut worst: f64 = 0.0;
+                for a in 0..3 {
+                    for b in 0..3 {
+                        // (R Rᵀ)_ab − δ_ab: rows orthonormal.
+                        let dot: f64 = (0..3).map(|k| m[a][k] * m[b][k]).sum();
+                        worst = worst.max((dot - f64::from(u8::from(a == b))).abs());
+                    }
+                }
+                let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+                    - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                    + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+                if worst > TOLERANCE {
+                    self.err(
+                        &field,
+                        format!(
+                            "not a rotation: the rows are not orthonormal (R Rᵀ differs from I by {worst:.3e})"
+                        ),
+                    );
+                } else if (det - 1.0).abs() > TOLERANCE {
+                    self.err(
+                        &field,
+                        format!("not a rotation: det R = {det} (a reflection); it must be 1"),
+                    );
+                }
+            }
+        }
+    }
+
+    fn unit_axis(&mut self, field: &str, axis: &[f64; 3]) {
+        if !self.finite(field, axis) {
+            return;
+        }
+        let n = norm(axis);
+        if n == 0.0 {
+            self.err(field, "the axis is zero; it must be a unit vector");
+        } else if (n - 1.0).abs() > TOLERANCE {
+            let u = axis.map(|x| x / n);
+            self.err(
+                field,
+                format!(
+                    "the axis {} is not a unit vector (norm {n}); write {}",
+                    fmt3(axis),
+                    fmt3(&u)
+                ),
+            );
+        }
+    }
+
+    fn run(&mut self) {
+        let d = self.d;
+        if d.name.trim().is_empty() {
+            self.err("robot.name", "the robot needs a name");
+        }
+        for (k, p) in d.parameters.iter().enumerate() {
+            let field = format!("parameters.{}", p.name);
+            if RUST_KEYWORDS.contains(&p.name.as_str()) || p.name == "_" {
+                self.err(
+                    &field,
+                    format!(
+                        "parameter name `{}` is a Rust keyword; parameters become arguments of generated code",
+                        p.name
+                    ),
+                );
+            } else if !is_identifier(&p.name) {
+                self.err(
+                    &field,
+                    format!(
+                        "parameter name `{}` is not an identifier (letters, digits, `_`, not starting with a digit)",
+                        p.name
+                    ),
+                );
+            }
+            if d.parameters[..k].iter().any(|q| q.name == p.name) {
+                self.err(&field, format!("parameter `{}` is declared twice", p.name));
+            }
+            self.finite(&field, &[p.value]);
+        }
+        if d.joints.is_empty() {
+            self.err("joints", "the robot needs at least one joint ([[joints]])");
+        }
+        for (k, j) in d.joints.iter().enumerate() {
+            let prefix = format!("joints[{k}]");
+            if j.name.trim().is_empty() {
+                self.err(&format!("{prefix}.name"), "a joint needs a name");
+            } else if let Some(first) = d.joints[..k].iter().position(|o| o.name == j.name) {
+                self.err(
+                    &format!("{prefix}.name"),
+                    format!(
+                        "duplicate joint name `{}` (already used by joints[{first}])",
+                        j.name
+                    ),
+                );
+            }
+            self.origin(&prefix, &j.origin);
+            match &j.kind {
+                JointKind::Revolute { axis } | JointKind::Prismatic { axis } => {
+                    self.unit_axis(&format!("{prefix}.axis"), axis);
+                }
+                JointKind::Twist { v, w } => {
+                    for (c, s) in v.iter().enumerate() {
+                        self.scalar(&format!("{prefix}.v[{c}]"), s);
+                    }
+                    let wf = format!("{prefix}.w");
+                    if self.finite(&wf, w) {
+                        let nw = norm(w);
+                        if nw != 0.0 && (nw - 1.0).abs() > TOLERANCE {
+                            self.err(
+                                &wf,
+                                format!("a twist needs ‖ω‖ = 1, or ω = 0 and ‖v‖ = 1; ‖ω‖ = {nw}"),
+                            );
+                        } else if nw == 0.0 {
+                            let vf = format!("{prefix}.v");
+                            if v.iter().all(Scalar::is_constant) {
+                                let vc = [v[0].constant, v[1].constant, v[2].constant];
+                                let nv = norm(&vc);
+                                if nv.is_finite() && (nv - 1.0).abs() > TOLERANCE {
+                                    self.err(
+                                        &vf,
+                                        format!(
+                                            "a twist with ω = 0 (prismatic) needs ‖v‖ = 1; ‖v‖ = {nv}"
+                                        ),
+                                    );
+                                }
+                            } else if v.iter().all(|s| s.is_constant() && s.constant == 0.0) {
+                                self.err(&vf, "a twist with ω = 0 needs v ≠ 0");
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        self.origin("end_effector", &d.end_effector.origin);
+        if let Some(c) = &d.constraint {
+            self.constraint(c);
+        }
+    }
+
+    fn constraint(&mut self, c: &super::ConstraintDesc) {
+        let n = self.d.joints.len();
+        let link_ok = c.link >= 1 && c.link < n;
+        if !link_ok {
+            self.err(
+                "constraint.link",
+                format!(
+                    "constrained link {} does not exist between two joints: link i lies between joints i and i + 1, so 1 ≤ i ≤ n − 1 = {} (n = {n} joints)",
+                    c.link,
+                    n.saturating_sub(1)
+                ),
+            );
+        }
+        self.origin("constraint", &c.origin);
+        let r = c.h.len();
+        if r == 0 {
+            self.err(
+                "constraint.h",
+                "H needs at least one row (remove [constraint] for an unconstrained robot)",
+            );
+        } else if r > 5 {
+            self.err(
+                "constraint.h",
+                format!(
+                    "H has {r} rows; at most 5 (r = 6 would leave the constrained link no motion)"
+                ),
+            );
+        }
+        // Rows: finite, non-zero, independent (Gram–Schmidt against the previous rows).
+        let mut basis: Vec<[f64; 6]> = Vec::new();
+        for (k, row) in c.h.iter().enumerate() {
+            let field = format!("constraint.h[{k}]");
+            if !self.finite(&field, row) {
+                continue;
+            }
+            let size = norm(row);
+            if size == 0.0 {
+                self.err(&field, "a row of H is zero");
+                continue;
+            }
+            let mut rest = *row;
+            for b in &basis {
+                let dot: f64 = (0..6).map(|t| rest[t] * b[t]).sum();
+                for t in 0..6 {
+                    rest[t] -= dot * b[t];
+                }
+            }
+            let left = norm(&rest);
+            if left <= 1e-9 * size {
+                self.err(
+                    &field,
+                    format!("this row of H is a linear combination of the rows before it (H must have rank r = {r})"),
+                );
+                continue;
+            }
+            basis.push(rest.map(|x| x / left));
+        }
+        if r >= 1 && n < 6 + r {
+            self.err(
+                "constraint.h",
+                format!(
+                    "the method requires n − r ≥ 6 (n joints, r rows of H); here n = {n}, r = {r}: n − r = {}",
+                    n as i64 - r as i64
+                ),
+            );
+        }
+        if let Some(w) = c.wrist {
+            self.wrist(c, w, link_ok);
+        }
+    }
+
+    fn wrist(&mut self, c: &super::ConstraintDesc, w: Wrist, link_ok: bool) {
+        let (name, rows, basis): (&str, &[[f64; 6]], &str) = match w {
+            Wrist::Unidirectional => (
+                "unidirectional",
+                &[[1.0, 0.0, 0.0, 0.0, 0.0, 0.0]],
+                "(3.23)",
+            ),
+            Wrist::Zy => (
+                "zy",
+                &[
+                    [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+                    [0.0, 0.0, 1.0, 0.0, 0.0, 0.0],
+                ],
+                "(3.27)",
+            ),
+            Wrist::Zx => (
+                "zx",
+                &[
+                    [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+                    [0.0, 0.0, 1.0, 0.0, 0.0, 0.0],
+                ],
+                "(3.27)",
+            ),
+        };
+        if c.h.as_slice() != rows {
+            let wanted = if rows.len() == 1 {
+                "H = x_r (h = [\"x\"])"
+            } else {
+                "H = (x_r, z_r) (h = [\"x\", \"z\"])"
+            };
+            self.err(
+                "constraint.wrist",
+                format!("wrist `{name}` uses the thesis basis {basis}, which needs {wanted}"),
+            );
+        }
+        // g_ir = (I, (0, l_a, 0)).
+        let needs = format!(
+            "wrist `{name}` uses the thesis basis {basis}, which needs g_ir = (I, (0, l_a, 0)) with l_a a parameter"
+        );
+        for c_ in [0, 2] {
+            let s = &c.origin.xyz[c_];
+            if !(s.is_constant() && s.constant == 0.0) {
+                self.err(
+                    &format!("constraint.xyz[{c_}]"),
+                    format!("{needs}: this entry must be 0"),
+                );
+            }
+        }
+        let y = &c.origin.xyz[1];
+        match y.terms.as_slice() {
+            [(coefficient, p)] if *coefficient == 1.0 && y.constant == 0.0 => {
+                if self.d.parameter(p) == Some(0.0) {
+                    self.err(
+                        "constraint.xyz[1]",
+                        format!(
+                            "{needs}: the nominal value of `{p}` is 0 and the basis divides by it"
+                        ),
+                    );
+                }
+            }
+            _ => self.err(
+                "constraint.xyz[1]",
+                format!("{needs}: this entry must be a single parameter name such as \"l_a\""),
+            ),
+        }
+        let identity = match &c.origin.rotation {
+            Rotation::Rpy(rpy) => rpy.iter().all(|a| *a == 0.0),
+            Rotation::Matrix(m) => {
+                (0..3).all(|a| (0..3).all(|b| m[a][b] == f64::from(u8::from(a == b))))
+            }
+        };
+        if !identity {
+            let field = match c.origin.rotation {
+                Rotation::Rpy(_) => "constraint.rpy",
+                Rotation::Matrix(_) => "constraint.rotation",
+            };
+            self.err(field, format!("{needs}: the rotation must be the identity"));
+        }
+        // The two joints after the constraint.
+        let second = match w {
+            Wrist::Unidirectional => return,
+            Wrist::Zy => ([0.0, 1.0, 0.0], "y"),
+            Wrist::Zx => ([1.0, 0.0, 0.0], "x"),
+        };
+        if !link_ok {
+            return;
+        }
+        let i = c.link;
+        if self.d.joints.len() < i + 2 {
+            self.err(
+                "constraint.wrist",
+                format!(
+                    "wrist `{name}` needs two joints after the constrained link {i} (joints {} and {}); the robot has {}",
+                    i + 1,
+                    i + 2,
+                    self.d.joints.len()
+                ),
+            );
+            return;
+        }
+        for (offset, (axis, letter)) in [([0.0, 0.0, 1.0], "z"), second].into_iter().enumerate() {
+            let k = i + offset; // 0-based index of joint i + 1 + offset
+            let j = &self.d.joints[k];
+            let ok = matches!(j.kind, JointKind::Revolute { axis: a } if a == axis);
+            if !ok {
+                self.err(
+                    &format!("joints[{k}].axis"),
+                    format!(
+                        "wrist `{name}` needs joint {} (`{}`, the {} after the constrained link) revolute about {letter} (axis = {})",
+                        k + 1,
+                        j.name,
+                        if offset == 0 { "first" } else { "second" },
+                        fmt3(&axis)
+                    ),
+                );
+            }
+        }
+    }
+}
+
+/// Every problem of `d`, in a fixed order (description, parameters, joints, end effector,
+/// constraint); `locate` gives the position of a field path.
+pub(crate) fn problems(
+    d: &RobotDescription,
+    locate: &dyn Fn(&str) -> Option<Location>,
+) -> Vec<DescriptionError> {
+    let mut checker = Checker {
+        d,
+        locate,
+        out: Vec::new(),
+    };
+    checker.run();
+    checker.out
+}
+
+/// Position of `joints[k]…` from the joint's recorded location.
+fn joint_location(d: &RobotDescription, field: &str) -> Option<Location> {
+    let rest = field.strip_prefix("joints[")?;
+    let k: usize = rest[..rest.find(']')?].parse().ok()?;
+    d.joints.get(k)?.location
+}
+
+impl RobotDescription {
+    /// Checks every rule of this module; the first problem found, if any.
+    ///
+    /// Descriptions read by [`RobotDescription::from_toml_str`] are already valid. On a description
+    /// built in code or imported, errors carry the source file and, for joints with a recorded
+    /// location, the line.
+    pub fn validate(&self) -> Result<(), DescriptionError> {
+        match self.problems().into_iter().next() {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
+    }
+
+    /// Every problem of this description (empty when valid), in a fixed order.
+    pub fn problems(&self) -> Vec<DescriptionError> {
+        problems(self, &|field| joint_location(self, field))
+    }
+}

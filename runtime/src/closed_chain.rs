@@ -1,1 +1,0 @@
-//! Closed kinematic chains and cooperating arms (Freitas, Leite, Lizarralde 2010).

@@ -1,0 +1,220 @@
+//! Dense linear algebra for closed chains: ranks, pseudo-inverses, null spaces, the annihilator
+//! `Ã` of (19)/(31)/(41) and the singular-value analysis of the source's §5.4.
+//!
+//! Everything works on `nalgebra`'s dynamic [`DMatrix`]; empty matrices (a mechanism without
+//! passive joints has an `r × 0` block `J_Cp`) are handled without calling the SVD.
+
+use nalgebra::{DMatrix, DVector};
+
+/// Relative tolerance on singular values used for ranks: `σ_i` counts when `σ_i > tol · max(σ_1, 1)`.
+pub const RANK_TOLERANCE: f64 = 1e-9;
+
+/// Singular values (descending) and full orthogonal factors `U` (`r × r`), `V` (`c × c`) of `m`.
+///
+/// `nalgebra`'s SVD is thin; padding `m` with zero rows or columns to a square matrix yields the
+/// full factors, so null spaces and left null spaces can be read off them.
+fn full_svd(m: &DMatrix<f64>) -> (DVector<f64>, DMatrix<f64>, DMatrix<f64>) {
+    let (r, c) = m.shape();
+    let s = r.max(c);
+    let mut sq = DMatrix::zeros(s, s);
+    sq.view_mut((0, 0), (r, c)).copy_from(m);
+    let svd = sq.svd(true, true);
+    let u = svd.u.expect("U requested");
+    let v_t = svd.v_t.expect("V requested");
+    // `svd` sorts singular values in descending order, U and Vᵀ accordingly.
+    let sv = svd.singular_values.rows(0, r.min(c)).into_owned();
+    let u = u.view((0, 0), (r, r)).into_owned();
+    let v = v_t.transpose().view((0, 0), (c, c)).into_owned();
+    (sv, u, v)
+}
+
+/// The singular-value decomposition `J = U Σ Vᵀ = Σ σ_i u_i v_iᵀ` read as in the source's §5.4.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SvdAnalysis {
+    /// Singular values `σ_1 ≥ σ_2 ≥ … ≥ 0` (`min(m, n)` of them).
+    pub singular_values: Vec<f64>,
+    /// The rank `k`: the number of `σ_i > tol · max(σ_1, 1)` ([`RANK_TOLERANCE`]).
+    pub rank: usize,
+    /// `true` when `k = m` (full rank: every end-effector velocity is feasible).
+    pub full_rank: bool,
+    /// Basis of the feasible end-effector velocities `R(J) = span{u_1, …, u_k}` (columns, `m × k`).
+    pub range: DMatrix<f64>,
+    /// Basis of the null-space velocities `N(J) = span{v_{k+1}, …, v_n}` (columns, `n × (n − k)`).
+    pub null_space: DMatrix<f64>,
+    /// Basis of the lost end-effector directions `span{u_{k+1}, …, u_m}` (columns, `m × (m − k)`):
+    /// empty at a regular configuration.
+    pub lost_directions: DMatrix<f64>,
+    /// Condition number `σ_1 / σ_min` (infinite when rank-deficient or empty).
+    pub condition: f64,
+}
+
+/// The SVD analysis of §5.4 of a Jacobian `J ∈ R^{m×n}`: rank, feasible velocities `R(J)`,
+/// null-space velocities `N(J)` and the directions lost at a singularity.
+pub fn svd_analysis(j: &DMatrix<f64>) -> SvdAnalysis {
+    let (m, n) = j.shape();
+    if m == 0 || n == 0 {
+        return SvdAnalysis {
+            singular_values: Vec::new(),
+            rank: 0,
+            full_rank: m == 0,
+            range: DMatrix::zeros(m, 0),
+            null_space: DMatrix::identity(n, n),
+            lost_directions: DMatrix::identity(m, m),
+            condition: f64::INFINITY,
+        };
+    }
+    let (sv, u, v) = full_svd(j);
+    let k = rank_of_values(sv.as_slice());
+    let condition = if k == m.min(n) && k > 0 {
+        sv[0] / sv[k - 1]
+    } else {
+        f64::INFINITY
+    };
+    SvdAnalysis {
+        singular_values: sv.iter().copied().collect(),
+        rank: k,
+        full_rank: k == m,
+        range: u.columns(0, k).into_owned(),
+        null_space: v.columns(k, n - k).into_owned(),
+        lost_directions: u.columns(k, m - k).into_owned(),
+        condition,
+    }
+}
+
+fn rank_of_values(sv: &[f64]) -> usize {
+    let max = sv.iter().copied().fold(0.0_f64, f64::max);
+    let tol = RANK_TOLERANCE * max.max(1.0);
+    sv.iter().filter(|&&s| s > tol).count()
+}
+
+/// Numerical rank (see [`RANK_TOLERANCE`]).
+pub fn rank(m: &DMatrix<f64>) -> usize {
+    if m.nrows() == 0 || m.ncols() == 0 {
+        return 0;
+    }
+    let sv = m.clone().svd(false, false).singular_values;
+    rank_of_values(sv.as_slice())
+}
+
+/// Smallest singular value `σ_min` (`0` for an empty dimension).
+pub fn sigma_min(m: &DMatrix<f64>) -> f64 {
+    if m.nrows() == 0 || m.ncols() == 0 {
+        return 0.0;
+    }
+    m.clone()
+        .svd(false, false)
+        .singular_values
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Moore–Penrose pseudo-inverse `M†` (singular values below the rank tolerance are dropped).
+pub fn pseudo_inverse(m: &DMatrix<f64>) -> DMatrix<f64> {
+    let (r, c) = m.shape();
+    if r == 0 || c == 0 {
+        return DMatrix::zeros(c, r);
+    }
+    let svd = m.clone().svd(true, true);
+    let max = svd.singular_values.iter().copied().fold(0.0_f64, f64::max);
+    let tol = RANK_TOLERANCE * max.max(1.0);
+    svd.pseudo_inverse(tol)
+        .unwrap_or_else(|_| DMatrix::zeros(c, r))
+}
+
+/// Orthonormal basis (columns) of the null space `N(M)`.
+pub fn null_space(m: &DMatrix<f64>) -> DMatrix<f64> {
+    let (r, c) = m.shape();
+    if r == 0 || c == 0 {
+        return DMatrix::identity(c, c);
+    }
+    let (sv, _, v) = full_svd(m);
+    let k = rank_of_values(sv.as_slice());
+    v.columns(k, c - k).into_owned()
+}
+
+/// Orthonormal basis (columns) of the range `R(M)`.
+pub fn range_space(m: &DMatrix<f64>) -> DMatrix<f64> {
+    let (r, c) = m.shape();
+    if r == 0 || c == 0 {
+        return DMatrix::zeros(r, 0);
+    }
+    let (sv, u, _) = full_svd(m);
+    let k = rank_of_values(sv.as_slice());
+    u.columns(0, k).into_owned()
+}
+
+/// An annihilator `Ã` of `A`: orthonormal rows spanning the left null space, so `Ã A = 0` and
+/// `Ã` has full row rank `rows(A) − rank(A)` ((19), (31), (41)).
+///
+/// Any other annihilator differs by an invertible left factor, which cancels in (7) and (8).
+pub fn annihilator(a: &DMatrix<f64>) -> DMatrix<f64> {
+    let (r, c) = a.shape();
+    if r == 0 {
+        return DMatrix::zeros(0, 0);
+    }
+    if c == 0 {
+        return DMatrix::identity(r, r);
+    }
+    let (sv, u, _) = full_svd(a);
+    let k = rank_of_values(sv.as_slice());
+    u.columns(k, r - k).transpose()
+}
+
+/// Left pseudo-inverse `A† = (AᵀA)⁻¹Aᵀ` of a full-column-rank `A`, so `A† A = I` ((19), (31), (41)).
+///
+/// Returns `None` when `A` does not have full column rank.
+pub fn left_pseudo_inverse(a: &DMatrix<f64>) -> Option<DMatrix<f64>> {
+    if rank(a) < a.ncols() {
+        return None;
+    }
+    (a.transpose() * a)
+        .try_inverse()
+        .map(|inv| inv * a.transpose())
+}
+
+/// `true` when every entry is finite.
+pub fn all_finite(m: &DMatrix<f64>) -> bool {
+    m.iter().all(|x| x.is_finite())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn annihilator_and_left_inverse_of_stacked_identities() {
+        let mut a = DMatrix::zeros(9, 3);
+        for k in 0..3 {
+            a.view_mut((3 * k, 0), (3, 3)).fill_with_identity();
+        }
+        let at = annihilator(&a);
+        assert_eq!(at.shape(), (6, 9));
+        assert!((&at * &a).norm() < 1e-12);
+        assert_eq!(rank(&at), 6);
+        let ad = left_pseudo_inverse(&a).unwrap();
+        assert!((ad * &a - DMatrix::<f64>::identity(3, 3)).norm() < 1e-12);
+    }
+
+    #[test]
+    fn svd_analysis_of_a_rank_deficient_matrix() {
+        let j = DMatrix::from_row_slice(2, 3, &[1.0, 2.0, 3.0, 2.0, 4.0, 6.0]);
+        let s = svd_analysis(&j);
+        assert_eq!(s.rank, 1);
+        assert!(!s.full_rank);
+        assert_eq!(s.null_space.shape(), (3, 2));
+        assert!((&j * &s.null_space).norm() < 1e-12);
+        assert_eq!(s.lost_directions.shape(), (2, 1));
+        assert!((j.transpose() * &s.lost_directions).norm() < 1e-12);
+        assert!(s.condition.is_infinite());
+    }
+
+    #[test]
+    fn empty_matrices_do_not_panic() {
+        let e = DMatrix::<f64>::zeros(3, 0);
+        assert_eq!(rank(&e), 0);
+        assert_eq!(pseudo_inverse(&e).shape(), (0, 3));
+        assert_eq!(null_space(&e).shape(), (0, 0));
+        assert_eq!(range_space(&e).shape(), (3, 0));
+    }
+}
