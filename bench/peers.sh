@@ -65,7 +65,7 @@ for impl in noop trig_c_glibc trig_std_f64 trig_fast_f64 trig_libm_f64 trig_std_
   run "$impl" -
 done
 for case in uni bzy bzx dia_zy; do
-  for impl in casadi casadi_cse sympy rust_reference; do
+  for impl in casadi casadi_cse sympy numeric rust_reference; do
     run "$impl" "$case"
   done
 done

@@ -16,7 +16,8 @@ import sys
 CASES = [("uni", "J^r unidirectional 6x7"), ("bzy", "J^r bidirectional-zy 6x6"),
          ("bzx", "J^r bidirectional-zx 6x6"), ("dia_zy", "dia10_like zy: FK + J^B_0i + J^r")]
 IMPLS = [("casadi", "CasADi C (SX, defaults)"), ("casadi_cse", "CasADi C (SX, cse=True)"),
-         ("sympy", "SymPy C (cse + ccode)"), ("rust_reference", "harness Rust f64 reference (numeric, loops)"),
+         ("sympy", "SymPy C (cse + ccode)"), ("numeric", "trocar numeric runtime (Chain + Constraint, f64)"),
+         ("rust_reference", "harness f64 reference (Vec-based loops)"),
          ("ours_f64", "trocar generated f64"), ("ours_f32", "trocar generated f32")]
 TRIG = [("c_glibc_two_sincos", "trig_c_glibc", "C glibc sin+cos of 2 joints (gcc merges into sincos)"),
         ("rust_std_two_sin_cos_f64", "trig_std_f64", "Rust std f64::sin_cos x2"),

@@ -16,6 +16,13 @@ fn peers(c: &mut Criterion) {
                 })
             });
         }
+        let mut num = trocar_peers_harness::numeric::Numeric::new(case, &p);
+        g.bench_function("numeric", |b| {
+            b.iter(|| {
+                num.eval(black_box(&q), black_box(&p), &mut out);
+                black_box(&mut out);
+            })
+        });
         g.finish();
     }
 }

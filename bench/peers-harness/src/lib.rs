@@ -336,3 +336,77 @@ pub mod reference {
         }
     }
 }
+
+/// trocar's numeric runtime (`trocar::kinematics::Chain`, `trocar::constraint::Constraint`) on
+/// the same cases, built from the shipped descriptions (`RobotDescription::preset`).
+pub mod numeric {
+    use super::Case;
+    use trocar::constraint::Constraint;
+    use trocar::description::RobotDescription;
+    use trocar::kinematics::Chain;
+    use trocar::nalgebra::{SMatrix, SVector};
+    use trocar::robot::Robot;
+
+    /// A prepared case: the typed chain and constraint, as a control loop would hold them.
+    pub enum Numeric {
+        /// Unidirectional preset.
+        Uni(Chain<f64, 8>, Constraint<f64, 1>),
+        /// A bidirectional preset.
+        Bi(Chain<f64, 8>, Constraint<f64, 2>),
+        /// dia10_like zy.
+        Dia(Chain<f64, 8>, Constraint<f64, 2>),
+    }
+
+    impl Numeric {
+        /// Builds the case with parameters `p` (presets: l_a, l_b, l_8; dia10_like: l_a).
+        pub fn new(case: Case, p: &[f64]) -> Numeric {
+            let (name, params): (&str, &[&str]) = match case {
+                Case::Uni => ("unidirectional", &["l_a", "l_b", "l_8"]),
+                Case::Bzy => ("bidirectional-zy", &["l_a", "l_b", "l_8"]),
+                Case::Bzx => ("bidirectional-zx", &["l_a", "l_b", "l_8"]),
+                Case::DiaZy => ("dia10_like_zy", &["l_a"]),
+            };
+            let d = RobotDescription::preset(name).expect("preset");
+            let overrides: Vec<(String, f64)> =
+                params.iter().zip(p).map(|(n, v)| (n.to_string(), *v)).collect();
+            let robot = Robot::<f64>::from_description(&d, &overrides).expect("robot");
+            let chain = robot.to_chain::<8>().expect("chain");
+            match case {
+                Case::Uni => Numeric::Uni(chain, robot.to_constraint().expect("constraint")),
+                Case::Bzy | Case::Bzx => Numeric::Bi(chain, robot.to_constraint().expect("constraint")),
+                Case::DiaZy => Numeric::Dia(chain, robot.to_constraint().expect("constraint")),
+            }
+        }
+
+        /// Evaluates into `out` (the layout of [`super::eval`]). Presets take `q = (θ7, θ8)`
+        /// (joints 1–6 are zero: J^r does not depend on them); dia10_like takes `q = θ1..θ8`
+        /// and moves the constraint to `l_a = p[0]` first (`Constraint::set_offset`), as every
+        /// control step must.
+        #[inline(always)]
+        pub fn eval(&mut self, q: &[f64], p: &[f64], out: &mut [f64]) {
+            match self {
+                Numeric::Uni(chain, c) => {
+                    let q8 = SVector::<f64, 8>::from([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, q[0], q[1]]);
+                    let jr: SMatrix<f64, 6, 7> = c.constrained_jacobian(chain, &q8);
+                    out[..42].copy_from_slice(jr.as_slice());
+                }
+                Numeric::Bi(chain, c) => {
+                    let q8 = SVector::<f64, 8>::from([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, q[0], q[1]]);
+                    let jr: SMatrix<f64, 6, 6> = c.constrained_jacobian(chain, &q8);
+                    out[..36].copy_from_slice(jr.as_slice());
+                }
+                Numeric::Dia(chain, c) => {
+                    let q8 = SVector::<f64, 8>::from_column_slice(&q[..8]);
+                    c.set_offset(p[0]).expect("l_a");
+                    let g = chain.forward_kinematics(&q8);
+                    let jb: SMatrix<f64, 6, 6> = chain.partial_body_jacobian::<6>(&q8);
+                    let jr: SMatrix<f64, 6, 6> = c.constrained_jacobian(chain, &q8);
+                    out[..9].copy_from_slice(g.rotation.as_slice());
+                    out[9..12].copy_from_slice(g.translation.as_slice());
+                    out[12..48].copy_from_slice(jb.as_slice());
+                    out[48..84].copy_from_slice(jr.as_slice());
+                }
+            }
+        }
+    }
+}

@@ -229,3 +229,22 @@ fn peers_agree_with_the_reference() {
         }
     }
 }
+
+#[test]
+fn numeric_runtime_agrees_with_the_reference() {
+    use trocar_peers_harness::numeric::Numeric;
+    let mut seed = 6;
+    for case in [Case::Uni, Case::Bzy, Case::Bzx, Case::DiaZy] {
+        for _ in 0..100 {
+            let (q, p) = random_inputs(case, &mut seed);
+            let mut want = vec![0.0; case.out_len()];
+            reference::eval(case, &q, &p, &mut want);
+            let mut got = vec![f64::NAN; case.out_len()];
+            Numeric::new(case, &p).eval(&q, &p, &mut got);
+            let scale = want.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+            for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+                assert!((g - w).abs() <= 1e-12 * scale, "numeric {case:?} [{i}]: {g} vs {w}");
+            }
+        }
+    }
+}

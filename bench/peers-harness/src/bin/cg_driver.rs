@@ -2,7 +2,7 @@
 //! `cg_driver IMPL CASE N` evaluates one function N times inside `measured_loop`, so the collected
 //! instruction count divided by N is instructions per evaluation (the loop's own ~5 instructions
 //! per iteration included; `cg_driver noop - N` measures them).
-//! IMPL: casadi | casadi_cse | sympy | rust_reference | noop | trig_c_glibc | trig_std_f64 |
+//! IMPL: casadi | casadi_cse | sympy | rust_reference | numeric | noop | trig_c_glibc | trig_std_f64 |
 //! trig_fast_f64 | trig_std_f32 | trig_fast_f32 | trig_libm_f64 | trig_libm_f32. CASE: uni | bzy | bzx | dia_zy | -.
 use std::hint::black_box;
 use trocar_peers_harness::{eval, floor_two, Case, Peer};
@@ -58,6 +58,16 @@ fn main() {
             let q = black_box(q2f);
             black_box([(libm::sinf(q[0]), libm::cosf(q[0])), (libm::sinf(q[1]), libm::cosf(q[1]))]);
         }),
+        "numeric" => {
+            let case = Case::from_name(&args[2]).unwrap_or_else(|| panic!("unknown CASE {}", args[2]));
+            let (q, p) = case.inputs();
+            let mut num = trocar_peers_harness::numeric::Numeric::new(case, &p);
+            let mut out = vec![0.0; case.out_len()];
+            measured_loop(n, &mut || {
+                num.eval(black_box(&q), black_box(&p), &mut out);
+                black_box(&mut out);
+            });
+        }
         name => {
             let peer = Peer::from_name(name).unwrap_or_else(|| panic!("unknown IMPL {name}"));
             let case = Case::from_name(&args[2]).unwrap_or_else(|| panic!("unknown CASE {}", args[2]));
