@@ -43,6 +43,27 @@ else
   cargo bench --bench peers -- --warm-up-time 2 --measurement-time 5
 fi
 
+echo "== thread CPU time (robust to other load on the machine)" >&2
+cargo build --release -q --bin cg_driver
+cjson="{"
+csep=""
+cpurun() { # impl case
+  local ns
+  ns=$(CPUTIME=1 "$harness/target/release/cg_driver" "$1" "$2" 200000)
+  cjson="$cjson$csep\"$1/$2\": $ns"
+  csep=", "
+  echo "$1/$2: $ns ns/eval (thread CPU time)" >&2
+}
+for impl in noop trig_c_glibc trig_std_f64 trig_fast_f64 trig_libm_f64 trig_std_f32 trig_fast_f32 trig_libm_f32; do
+  cpurun "$impl" -
+done
+for case in uni bzy bzx dia_zy; do
+  for impl in casadi casadi_cse sympy numeric rust_reference; do
+    cpurun "$impl" "$case"
+  done
+done
+echo "$cjson}" > "$out/cputime.json"
+
 echo "== callgrind" >&2
 export TROCAR_PEERS_NO_AVX512=1
 CARGO_TARGET_DIR="$harness/target/cg" RUSTFLAGS="-C target-cpu=native -C target-feature=-avx512f" \

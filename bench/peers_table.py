@@ -60,10 +60,11 @@ def main():
     cg = load(os.path.join(out, "callgrind.json"))
     ops = load(os.path.join(out, "opcounts.json"))
     asm = load(os.path.join(out, "asm_counts.json"))
+    cpu = load(os.path.join(out, "cputime.json"))
     noop = cg.get("noop/-")
     lines = []
-    lines.append("| function | implementation | ns/eval (median) | instr/eval (callgrind) | source ops: mul / add+sub / div / neg / sin+cos | x86 FP instr: mul / add+sub / fma / div, calls |")
-    lines.append("|---|---|---:|---:|---|---|")
+    lines.append("| function | implementation | ns/eval CPU time (median) | ns/eval criterion (median) | instr/eval (callgrind) | source ops: mul / add+sub / div / neg / sin+cos | x86 FP instr: mul / add+sub / fma / div, calls |")
+    lines.append("|---|---|---:|---:|---:|---|---|")
     for case, cdesc in CASES:
         for impl, idesc in IMPLS:
             t = median(crit, case, impl)
@@ -72,6 +73,7 @@ def main():
                 continue
             if ins is not None and noop is not None:
                 ins = ins - noop
+            ct = cpu.get(f"{impl}/{case}")
             o = ops.get(f"{impl}_{case}")
             if o:
                 adds = o.get("add", 0) + o.get("sub", 0)
@@ -84,18 +86,19 @@ def main():
                 mach = f"{a['mul']} / {a['add']} / {a['fma']} / {a['div']}, {a['calls']}"
             else:
                 mach = "-"
-            lines.append(f"| {cdesc} | {idesc} | {fmt(t)} | {fmt(ins, 0)} | {src} | {mach} |")
+            lines.append(f"| {cdesc} | {idesc} | {fmt(ct)} | {fmt(t)} | {fmt(ins, 0)} | {src} | {mach} |")
     lines.append("")
-    lines.append("| trigonometry (two joints) | ns (median) | instr (callgrind) |")
-    lines.append("|---|---:|---:|")
+    lines.append("| trigonometry (two joints, arguments 0.5 and 0.3) | ns CPU time (median) | ns criterion (median) | instr (callgrind) |")
+    lines.append("|---|---:|---:|---:|")
     for bench, cgname, desc in TRIG:
         t = median(crit, "trig", bench) if bench else None
         ins = cg.get(f"{cgname}/-") if cgname else None
         if ins is not None and noop is not None:
             ins = ins - noop
+        ct = cpu.get(f"{cgname}/-") if cgname else None
         if t is None and ins is None:
             continue
-        lines.append(f"| {desc} | {fmt(t)} | {fmt(ins, 0)} |")
+        lines.append(f"| {desc} | {fmt(ct)} | {fmt(t)} | {fmt(ins, 0)} |")
     if noop is not None:
         lines.append("")
         lines.append(f"Instruction counts are net of the driver loop ({noop:.0f} instructions per iteration, measured with `cg_driver noop`).")

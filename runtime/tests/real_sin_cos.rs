@@ -1,7 +1,8 @@
 //! `trocar::real::fast::{sin_cos_f64, sin_cos_f32}` (the `no_std` `Real::sin_cos`) against std.
 //!
-//! f64: at most 1 ulp from std (glibc, itself < 1 ulp from the exact value). f32: at most 2 ulp
-//! and 1.2e-7 absolute from the exact value (std's f64 `sin_cos`, exact to far below an f32 ulp).
+//! f64: at most 1 ulp from std (glibc, itself < 1 ulp from the exact value). f32: < 1 ulp and
+//! ≤ 6e-8 absolute from the exact value (std's f64 `sin_cos`, exact to far below an f32 ulp);
+//! measured exhaustively on [-4096, 4096]: 0.849 ulp, 5.06e-8.
 //! The exhaustive f32 check and a 10⁷-sample f64 check are `#[ignore]`d (run with
 //! `cargo test --release -p trocar --test real_sin_cos -- --ignored`).
 use trocar::real::fast::{sin_cos_f32, sin_cos_f64, F32_FAST_LIMIT, F64_FAST_LIMIT};
@@ -59,7 +60,7 @@ fn check32(x: f32, worst: &mut (f64, f64)) {
     let (us, uc) = (ulps32(s, ws), ulps32(c, wc));
     let abs = ((s as f64 - ws).abs()).max((c as f64 - wc).abs());
     assert!(
-        us <= 2.0 && uc <= 2.0 && abs <= 1.2e-7,
+        us < 1.0 && uc < 1.0 && abs <= 6e-8,
         "x = {x:e}: sin {s:e} vs {ws:e} ({us} ulp), cos {c:e} vs {wc:e} ({uc} ulp)"
     );
     worst.0 = worst.0.max(us).max(uc);
