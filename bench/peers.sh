@@ -32,19 +32,30 @@ python3 "$here/asm_counts.py" "$out" > /dev/null
 echo "== machine" >&2
 { lscpu | grep -E 'Model name|^CPU\(s\)|MHz' ; gcc --version | head -1; rustc --version; uptime; } | tee "$out/machine.txt" >&2
 
+# Our generated code joins in when the generator's Builder is in this checkout (feature `ours`).
+features=()
+ours_impls=""
+if grep -qs "pub struct Builder" "$here/../codegen/src/builder.rs"; then
+  features=(--features ours)
+  ours_impls="ours_f64 ours_f64_given_trig ours_f32"
+  echo "== trocar_codegen::builder::Builder found: benchmarking our generated code too" >&2
+else
+  echo "== no trocar_codegen::builder::Builder in this checkout: peers and numeric runtime only" >&2
+fi
+
 cd "$harness"
-echo "== check the peers against the f64 reference" >&2
-cargo test --release -q
+echo "== check the peers (and ours) against the f64 reference" >&2
+cargo test --release -q "${features[@]}"
 
 echo "== criterion" >&2
 if [ -n "${QUICK:-}" ]; then
-  cargo bench --bench peers -- --warm-up-time 1 --measurement-time 2
+  cargo bench --bench peers "${features[@]}" -- --warm-up-time 1 --measurement-time 2
 else
-  cargo bench --bench peers -- --warm-up-time 2 --measurement-time 5
+  cargo bench --bench peers "${features[@]}" -- --warm-up-time 2 --measurement-time 5
 fi
 
 echo "== thread CPU time (robust to other load on the machine)" >&2
-cargo build --release -q --bin cg_driver
+cargo build --release -q --bin cg_driver "${features[@]}"
 cjson="{"
 csep=""
 cpurun() { # impl case
@@ -58,7 +69,7 @@ for impl in noop trig_c_glibc trig_std_f64 trig_fast_f64 trig_libm_f64 trig_std_
   cpurun "$impl" -
 done
 for case in uni bzy bzx dia_zy; do
-  for impl in casadi casadi_cse sympy numeric rust_reference; do
+  for impl in casadi casadi_cse sympy numeric rust_reference $ours_impls; do
     cpurun "$impl" "$case"
   done
 done
@@ -67,7 +78,7 @@ echo "$cjson}" > "$out/cputime.json"
 echo "== callgrind" >&2
 export TROCAR_PEERS_NO_AVX512=1
 CARGO_TARGET_DIR="$harness/target/cg" RUSTFLAGS="-C target-cpu=native -C target-feature=-avx512f" \
-  cargo build --release -q --bin cg_driver
+  cargo build --release -q --bin cg_driver "${features[@]}"
 driver="$harness/target/cg/release/cg_driver"
 n=10000
 json="{"
@@ -86,7 +97,7 @@ for impl in noop trig_c_glibc trig_std_f64 trig_fast_f64 trig_libm_f64 trig_std_
   run "$impl" -
 done
 for case in uni bzy bzx dia_zy; do
-  for impl in casadi casadi_cse sympy numeric rust_reference; do
+  for impl in casadi casadi_cse sympy numeric rust_reference $ours_impls; do
     run "$impl" "$case"
   done
 done

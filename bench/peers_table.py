@@ -18,7 +18,8 @@ CASES = [("uni", "J^r unidirectional 6x7"), ("bzy", "J^r bidirectional-zy 6x6"),
 IMPLS = [("casadi", "CasADi C (SX, defaults)"), ("casadi_cse", "CasADi C (SX, cse=True)"),
          ("sympy", "SymPy C (cse + ccode)"), ("numeric", "trocar numeric runtime (Chain + Constraint, f64)"),
          ("rust_reference", "harness f64 reference (Vec-based loops)"),
-         ("ours_f64", "trocar generated f64"), ("ours_f32", "trocar generated f32")]
+         ("ours_f64", "trocar generated f64"), ("ours_f64_given_trig", "trocar generated f64, given JointTrig (no trig)"),
+         ("ours_f32", "trocar generated f32")]
 TRIG = [("c_glibc_two_sincos", "trig_c_glibc", "C glibc sin+cos of 2 joints (gcc merges into sincos)"),
         ("rust_std_two_sin_cos_f64", "trig_std_f64", "Rust std f64::sin_cos x2"),
         ("trocar_real_two_sin_cos_f64", None, "trocar::Real::sin_cos f64 x2 (std build)"),

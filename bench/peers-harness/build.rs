@@ -36,5 +36,18 @@ fn main() {
         b.file(out.join(f));
     }
     b.compile("peers");
+
+    // trocar's generated modules (feature `ours`), from the shipped descriptions, generic over Real.
+    #[cfg(feature = "ours")]
+    {
+        let robots = manifest.join("../../runtime/robots");
+        trocar_codegen::builder::Builder::new()
+            .robot(robots.join("unidirectional.toml"))
+            .robot(robots.join("bidirectional-zy.toml"))
+            .robot(robots.join("bidirectional-zx.toml"))
+            .robot(robots.join("dia10_like_zy.toml"))
+            .compile()
+            .expect("trocar code generation");
+    }
     println!("cargo:rustc-link-lib=m");
 }

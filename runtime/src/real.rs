@@ -103,10 +103,11 @@ impl_real!(f32, sin_cos_f32, sqrtf, fabsf);
 
 /// Fast, accurate `(sin x, cos x)` without `std`: what [`Real::sin_cos`] uses in `no_std` builds.
 ///
-/// Both functions are branch-free on their fast path (one well-predicted compare): a Cody–Waite
-/// reduction `x = n·π/2 + r` with π/2 split in four parts, the first three short enough that
-/// `n·P_k` is exact, carried as a double-word `r = hi + lo` (TwoSum), then **both** kernels on
-/// `[-π/4, π/4]` (sharing `r²`) and a quadrant select. `sin` keeps the sign of zero.
+/// Both functions: `|x| ≤ π/4` goes straight to the kernels; otherwise a one-step Cody–Waite
+/// reduction `x = n·π/2 + (y0 + y1)` (`n·P1` exact) whose cancellation test sends the rare
+/// arguments near a multiple of π/2 to a careful reduction (π/2 in four parts, remainder as a
+/// double-word by TwoSum); then **both** kernels (sharing `r²`), a branch-free quadrant select,
+/// and the sign of `x` (`sin(−0) = −0`). Inline; the rare paths are `#[cold]`.
 ///
 /// - `f64`: fdlibm/musl minimax kernels (`|sin r/r − P| < 2⁻⁵⁸`, `|cos r − Q| < 2⁻⁵⁸`) with the
 ///   tail `lo` folded in; musl's one-step reduction (`P1` of 33 bits) with its cancellation test,

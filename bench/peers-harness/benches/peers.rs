@@ -23,6 +23,32 @@ fn peers(c: &mut Criterion) {
                 black_box(&mut out);
             })
         });
+        #[cfg(feature = "ours")]
+        {
+            use trocar_peers_harness::ours;
+            g.bench_function("ours_f64", |b| {
+                b.iter(|| {
+                    ours::eval(case, black_box(&q), black_box(&p), &mut out);
+                    black_box(&mut out);
+                })
+            });
+            let trig = ours::Trig::new(case, &q);
+            g.bench_function("ours_f64_given_trig", |b| {
+                b.iter(|| {
+                    ours::eval_trig(case, black_box(&trig), black_box(&p), &mut out);
+                    black_box(&mut out);
+                })
+            });
+            let (q32, p32): (Vec<f32>, Vec<f32>) =
+                (q.iter().map(|&x| x as f32).collect(), p.iter().map(|&x| x as f32).collect());
+            let mut out32 = vec![0.0f32; case.out_len()];
+            g.bench_function("ours_f32", |b| {
+                b.iter(|| {
+                    ours::eval(case, black_box(&q32), black_box(&p32), &mut out32);
+                    black_box(&mut out32);
+                })
+            });
+        }
         g.finish();
     }
 }

@@ -410,3 +410,110 @@ pub mod numeric {
         }
     }
 }
+
+/// trocar's generated code (feature `ours`): the modules `Builder` writes for the shipped
+/// descriptions, generic over `trocar::Real` (so f64 and f32 from the same source).
+#[cfg(feature = "ours")]
+pub mod ours {
+    #![allow(missing_docs, clippy::all)]
+    use super::Case;
+    use trocar::Real;
+
+    include!(concat!(env!("OUT_DIR"), "/unidirectional.rs"));
+    include!(concat!(env!("OUT_DIR"), "/bidirectional_zy.rs"));
+    include!(concat!(env!("OUT_DIR"), "/bidirectional_zx.rs"));
+    include!(concat!(env!("OUT_DIR"), "/dia10_like_zy.rs"));
+
+    #[inline(always)]
+    fn put<T: Real, const C: usize>(m: &[[T; 6]; C], out: &mut [T]) {
+        for (j, col) in m.iter().enumerate() {
+            out[6 * j..6 * j + 6].copy_from_slice(col);
+        }
+    }
+
+    #[inline(always)]
+    fn q8<T: Real>(q: &[T]) -> [T; 8] {
+        let z = T::ZERO;
+        [z, z, z, z, z, z, q[0], q[1]]
+    }
+
+    /// Our generated functions called with joint values (each function does its own `sin_cos`);
+    /// same layout as [`super::eval`].
+    #[inline(always)]
+    pub fn eval<T: Real>(case: Case, q: &[T], p: &[T], out: &mut [T]) {
+        match case {
+            Case::Uni => {
+                let pp = unidirectional::Params { l_a: p[0], l_b: p[1], l_8: p[2] };
+                put(&unidirectional::constrained_jacobian(&q8(q), &pp), out);
+            }
+            Case::Bzy => {
+                let pp = bidirectional_zy::Params { l_a: p[0], l_b: p[1], l_8: p[2] };
+                put(&bidirectional_zy::constrained_jacobian(&q8(q), &pp), out);
+            }
+            Case::Bzx => {
+                let pp = bidirectional_zx::Params { l_a: p[0], l_b: p[1], l_8: p[2] };
+                put(&bidirectional_zx::constrained_jacobian(&q8(q), &pp), out);
+            }
+            Case::DiaZy => {
+                // One JointTrig per control step shared by FK, J^B_0i and J^r (8 sin_cos).
+                let qq: [T; 8] = core::array::from_fn(|k| q[k]);
+                let pp = dia10_like_zy::Params { l_a: p[0] };
+                let t = dia10_like_zy::JointTrig::new(&qq);
+                let (r, pos) = dia10_like_zy::forward_kinematics_trig(&t, &pp);
+                for j in 0..3 {
+                    out[3 * j..3 * j + 3].copy_from_slice(&r[j]);
+                }
+                out[9..12].copy_from_slice(&pos);
+                put(&dia10_like_zy::partial_body_jacobian_trig(&t, &pp), &mut out[12..48]);
+                put(&dia10_like_zy::constrained_jacobian_trig(&t, &pp), &mut out[48..84]);
+            }
+        }
+    }
+
+    /// Precomputed trig of the case's joints (presets: θ7, θ8; dia10_like: all 8).
+    pub struct Trig<T: Real> {
+        /// `JointTrig` of the preset modules (same shape for the three presets).
+        pub t: unidirectional::JointTrig<T>,
+        /// `JointTrig` of dia10_like.
+        pub d: dia10_like_zy::JointTrig<T>,
+    }
+
+    impl<T: Real> Trig<T> {
+        /// `sin_cos` of every joint, once.
+        pub fn new(case: Case, q: &[T]) -> Self {
+            let qq: [T; 8] = if case == Case::DiaZy { core::array::from_fn(|k| q[k]) } else { q8(q) };
+            Trig { t: unidirectional::JointTrig::new(&qq), d: dia10_like_zy::JointTrig::new(&qq) }
+        }
+    }
+
+    /// The `_trig` functions given precomputed sines and cosines (no trigonometry inside).
+    #[inline(always)]
+    pub fn eval_trig<T: Real>(case: Case, t: &Trig<T>, p: &[T], out: &mut [T]) {
+        match case {
+            Case::Uni => {
+                let pp = unidirectional::Params { l_a: p[0], l_b: p[1], l_8: p[2] };
+                put(&unidirectional::constrained_jacobian_trig(&t.t, &pp), out);
+            }
+            Case::Bzy => {
+                let pp = bidirectional_zy::Params { l_a: p[0], l_b: p[1], l_8: p[2] };
+                let tt = bidirectional_zy::JointTrig { q: t.t.q, sin: t.t.sin, cos: t.t.cos };
+                put(&bidirectional_zy::constrained_jacobian_trig(&tt, &pp), out);
+            }
+            Case::Bzx => {
+                let pp = bidirectional_zx::Params { l_a: p[0], l_b: p[1], l_8: p[2] };
+                let tt = bidirectional_zx::JointTrig { q: t.t.q, sin: t.t.sin, cos: t.t.cos };
+                put(&bidirectional_zx::constrained_jacobian_trig(&tt, &pp), out);
+            }
+            Case::DiaZy => {
+                let pp = dia10_like_zy::Params { l_a: p[0] };
+                let (r, pos) = dia10_like_zy::forward_kinematics_trig(&t.d, &pp);
+                for j in 0..3 {
+                    out[3 * j..3 * j + 3].copy_from_slice(&r[j]);
+                }
+                out[9..12].copy_from_slice(&pos);
+                put(&dia10_like_zy::partial_body_jacobian_trig(&t.d, &pp), &mut out[12..48]);
+                put(&dia10_like_zy::constrained_jacobian_trig(&t.d, &pp), &mut out[48..84]);
+            }
+        }
+    }
+}

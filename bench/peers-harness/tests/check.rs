@@ -248,3 +248,31 @@ fn numeric_runtime_agrees_with_the_reference() {
         }
     }
 }
+
+#[cfg(feature = "ours")]
+#[test]
+fn ours_agree_with_the_reference_f64_and_f32() {
+    use trocar_peers_harness::ours;
+    let mut seed = 8;
+    for case in [Case::Uni, Case::Bzy, Case::Bzx, Case::DiaZy] {
+        for _ in 0..200 {
+            let (q, p) = random_inputs(case, &mut seed);
+            let mut want = vec![0.0; case.out_len()];
+            reference::eval(case, &q, &p, &mut want);
+            let scale = want.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+            let mut got = vec![f64::NAN; case.out_len()];
+            ours::eval(case, &q, &p, &mut got);
+            let mut got_t = vec![f64::NAN; case.out_len()];
+            ours::eval_trig(case, &ours::Trig::new(case, &q), &p, &mut got_t);
+            let (q32, p32): (Vec<f32>, Vec<f32>) =
+                (q.iter().map(|&x| x as f32).collect(), p.iter().map(|&x| x as f32).collect());
+            let mut got32 = vec![f32::NAN; case.out_len()];
+            ours::eval(case, &q32, &p32, &mut got32);
+            for i in 0..want.len() {
+                assert!((got[i] - want[i]).abs() <= 1e-12 * scale, "ours f64 {case:?} [{i}]");
+                assert!((got_t[i] - want[i]).abs() <= 1e-12 * scale, "ours trig {case:?} [{i}]");
+                assert!((got32[i] as f64 - want[i]).abs() <= 2e-5 * scale, "ours f32 {case:?} [{i}]");
+            }
+        }
+    }
+}

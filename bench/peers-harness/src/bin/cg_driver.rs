@@ -3,7 +3,8 @@
 //! `cg_driver IMPL CASE N` evaluates one function N times inside `measured_loop`, so the collected
 //! instruction count divided by N is instructions per evaluation (the loop's own ~5 instructions
 //! per iteration included; `cg_driver noop - N` measures them).
-//! IMPL: casadi | casadi_cse | sympy | rust_reference | numeric | noop | trig_c_glibc | trig_std_f64 |
+//! IMPL: casadi | casadi_cse | sympy | rust_reference | numeric | ours_f64 | ours_f64_given_trig |
+//! ours_f32 (feature `ours`) | noop | trig_c_glibc | trig_std_f64 |
 //! trig_fast_f64 | trig_std_f32 | trig_fast_f32 | trig_libm_f64 | trig_libm_f32. CASE: uni | bzy | bzx | dia_zy | -.
 use std::hint::black_box;
 use trocar_peers_harness::{eval, floor_two, Case, Peer};
@@ -105,6 +106,35 @@ fn main() {
                 num.eval(black_box(&q), black_box(&p), &mut out);
                 black_box(&mut out);
             });
+        }
+        #[cfg(feature = "ours")]
+        "ours_f64" | "ours_f64_given_trig" | "ours_f32" => {
+            use trocar_peers_harness::ours;
+            let case = Case::from_name(&args[2]).unwrap_or_else(|| panic!("unknown CASE {}", args[2]));
+            let (q, p) = case.inputs();
+            let mut out = vec![0.0; case.out_len()];
+            match args[1].as_str() {
+                "ours_f64" => measured_loop(n, &mut || {
+                    ours::eval(case, black_box(&q), black_box(&p), &mut out);
+                    black_box(&mut out);
+                }),
+                "ours_f64_given_trig" => {
+                    let t = ours::Trig::new(case, &q);
+                    measured_loop(n, &mut || {
+                        ours::eval_trig(case, black_box(&t), black_box(&p), &mut out);
+                        black_box(&mut out);
+                    })
+                }
+                _ => {
+                    let (q32, p32): (Vec<f32>, Vec<f32>) =
+                        (q.iter().map(|&x| x as f32).collect(), p.iter().map(|&x| x as f32).collect());
+                    let mut out32 = vec![0.0f32; case.out_len()];
+                    measured_loop(n, &mut || {
+                        ours::eval(case, black_box(&q32), black_box(&p32), &mut out32);
+                        black_box(&mut out32);
+                    })
+                }
+            }
         }
         name => {
             let peer = Peer::from_name(name).unwrap_or_else(|| panic!("unknown IMPL {name}"));
