@@ -13,6 +13,7 @@
 //! Matrices print as JSON `{"rows": R, "cols": C, "data": [[row], ...]}` with `--json`, as aligned
 //! text otherwise. Errors go to stderr with a non-zero exit code and say what is wrong and where.
 
+use crate::evaluate::Generated;
 use clap::{Parser, Subcommand, ValueEnum};
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -343,9 +344,7 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             let out = if numeric {
                 eval_numeric(&desc, &q, &params, what)?
             } else {
-                return Err(CliError(
-                    "the closed-form path is not available yet: pass --numeric".into(),
-                ));
+                eval_generated(&desc, &q, &params, what)?
             };
             println!("{}", if json { out.to_json() } else { out.to_text() });
             Ok(0)
@@ -369,8 +368,111 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             println!("{}", if json { out.to_json() } else { out.to_text() });
             Ok(0)
         }
-        _ => Err(CliError("this subcommand is not available yet".into())),
+        Command::Generate {
+            robot,
+            output,
+            real,
+        } => {
+            let desc = load_robot(&robot)?;
+            let options = crate::builder::ModuleOptions {
+                real: match real {
+                    RealArg::Generic => crate::emit::Real::Generic,
+                    RealArg::F32 => crate::emit::Real::F32,
+                    RealArg::F64 => crate::emit::Real::F64,
+                },
+                module_name: None,
+            };
+            let code = crate::builder::generate_module_string(&desc, &options)
+                .map_err(|e| CliError(e.to_string()))?;
+            match output {
+                Some(path) => std::fs::write(&path, code)
+                    .map_err(|e| CliError(format!("{}: {e}", path.display())))?,
+                None => print!("{code}"),
+            }
+            Ok(0)
+        }
+        Command::Verify {
+            robot,
+            samples,
+            seed,
+        } => {
+            let desc = load_robot(&robot)?;
+            if samples == 0 {
+                return Err(CliError("--samples must be at least 1".into()));
+            }
+            let generated = Generated::new(&desc).map_err(|e| CliError(e.to_string()))?;
+            let bar = progress_bar(samples as u64, "verify");
+            let report = trocar::verify::verify(
+                &desc,
+                &generated,
+                samples,
+                seed,
+                trocar::verify::Tolerances::default(),
+                |f| bar.set_position((f * samples as f64).round() as u64),
+            )
+            .map_err(robot_error(&desc))?;
+            bar.finish_and_clear();
+            print!("{report}");
+            if report.passed() {
+                println!("all checks passed");
+                Ok(0)
+            } else {
+                for c in report.checks.iter().filter(|c| !c.passed()) {
+                    eprintln!("mismatch in `{}` at q = {:?}", c.name, c.worst_q);
+                }
+                Ok(1)
+            }
+        }
     }
+}
+
+/// `trocar eval` without `--numeric`: the generated closed forms, interpreted exactly as emitted.
+pub fn eval_generated(
+    desc: &RobotDescription,
+    q: &[f64],
+    params: &[(String, f64)],
+    what: What,
+) -> Result<MatrixOut, CliError> {
+    check_q(desc, q)?;
+    let generated = Generated::new(desc).map_err(|e| CliError(e.to_string()))?;
+    let mut values = generated.nominal_params();
+    for (name, value) in params {
+        let k = desc
+            .parameters
+            .iter()
+            .position(|p| &p.name == name)
+            .ok_or_else(|| {
+                CliError(format!(
+                    "unknown parameter `{name}` (the description declares: {})",
+                    desc.parameters
+                        .iter()
+                        .map(|p| p.name.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ))
+            })?;
+        values[k] = *value;
+    }
+    let function = match what {
+        What::Jr => "constrained_jacobian",
+        What::Manip => "manipulability",
+        What::Jc => "constraint_jacobian_c",
+        What::Jb0i => "partial_body_jacobian",
+        What::Jb0e => "body_jacobian",
+        What::Fk => "forward_kinematics",
+    };
+    let m = generated.evaluate(function, q, &values).ok_or_else(|| {
+        CliError(format!(
+            "`{}` has no generated `{function}` (a robot without [constraint] has only fk and jb0e)",
+            desc.name
+        ))
+    })?;
+    if m.iter().any(|v| !v.is_finite()) {
+        return Err(CliError(format!(
+            "`{function}` is not finite at this configuration (a parameter that divides is zero?)"
+        )));
+    }
+    Ok(MatrixOut::from_nalgebra(&m))
 }
 
 fn robot_error(desc: &RobotDescription) -> impl Fn(trocar::robot::RobotError) -> CliError + '_ {
@@ -496,10 +598,63 @@ fn simulate(
         eprintln!("{}", trace_summary(&trace.columns, &trace.rows));
         return Ok(0);
     }
-    Err(CliError(format!(
-        "unknown scenario `{scenario}` (expected one of: {})",
-        closed_chain::scenario_names().join(", ")
-    )))
+    use trocar::simulation;
+    let Ok(which) = simulation::Scenario::from_name(scenario) else {
+        return Err(CliError(format!(
+            "unknown scenario `{scenario}` (expected 1, 2, 3, 4, exp421, or one of: {})",
+            closed_chain::scenario_names().join(", ")
+        )));
+    };
+    let method = match method {
+        Some(Method::Pinv) => simulation::Method::Pinv,
+        Some(Method::Dls) => simulation::Method::Dls,
+        Some(Method::Fi) => simulation::Method::Fi,
+        None => which.default_method(),
+    };
+    let config = simulation::ScenarioConfig::new(which)
+        .with_method(method)
+        .with_drift_correction(drift_correction == OnOff::On);
+    let bar = progress_bar(1000, &format!("scenario {scenario}"));
+    let trace = simulation::run(&config, |f| {
+        bar.set_position((f.clamp(0.0, 1.0) * 1000.0) as u64)
+    })
+    .map_err(|e| CliError(e.to_string()))?;
+    bar.finish_and_clear();
+    if let Some(path) = csv {
+        trace
+            .write_csv(path)
+            .map_err(|e| CliError(format!("{}: {e}", path.display())))?;
+    }
+    if let Some(path) = plot {
+        trocar::plot::write_figure(&trace, path).map_err(|e| CliError(e.to_string()))?;
+    }
+    let s = trace.summary();
+    eprintln!(
+        "scenario {scenario} ({method:?}, drift correction {}):\n  \
+         max |vr - dv| after the first step {:.3e} m/s\n  \
+         max RCM drift {:.3e} m (final {:.3e} m)\n  \
+         max position error {:.3e} m (after 10 s {:.3e} m), max orientation error {:.3e}\n  \
+         peak joint speed {:.3e} rad/s, min w_r {:.3e}, min w_i {:.3e}, min |q7| {:.3e} rad\n  \
+         l_a in [{:.4}, {:.4}] m",
+        if drift_correction == OnOff::On {
+            "on"
+        } else {
+            "off"
+        },
+        s.max_rcm_velocity_error,
+        s.max_drift,
+        s.final_drift,
+        s.max_ep,
+        s.max_ep_after_10s,
+        s.max_eo,
+        s.peak_qd,
+        s.min_w_r,
+        s.min_w_i,
+        s.min_abs_q7,
+        s.l_a_range.0,
+        s.l_a_range.1,
+    );
+    Ok(0)
 }
 
 /// One line a column: the final value and the largest magnitude.

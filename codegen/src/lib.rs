@@ -13,4 +13,8 @@ pub mod builder;
 pub mod cli;
 pub mod derivation;
 pub mod emit;
+pub mod evaluate;
 pub mod symbolic;
+
+pub use builder::{generate_module, generate_module_string, Builder, Error, ModuleOptions};
+pub use emit::Real;

@@ -185,3 +185,75 @@ fn urdf_jacobian_matches_the_same_arm_in_toml() {
         }
     }
 }
+
+#[test]
+fn closed_form_eval_equals_numeric_eval() {
+    for robot in ["unidirectional", "bidirectional-zx", "dia10_like_zy"] {
+        for what in ["jr", "jc", "jb0i", "jb0e", "fk", "manip"] {
+            let args = |numeric: bool| {
+                let mut a = vec![
+                    "eval", robot, "--what", what, "--json", "--q", Q0, "--param", "l_a=0.17",
+                ];
+                if numeric {
+                    a.push("--numeric");
+                }
+                trocar(&a)
+            };
+            let ((c1, generated, e1), (c2, numeric, e2)) = (args(false), args(true));
+            assert_eq!((c1, c2), (0, 0), "{e1}{e2}");
+            let (a, b) = (json_matrix(&generated), json_matrix(&numeric));
+            assert_eq!((a.0, a.1), (b.0, b.1), "{robot} {what}");
+            for (ra, rb) in a.2.iter().zip(&b.2) {
+                for (x, y) in ra.iter().zip(rb) {
+                    assert!((x - y).abs() < 1e-12, "{robot} {what}: {x} vs {y}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn verify_passes_on_the_shipped_robots_and_prints_a_table() {
+    for robot in [
+        "unidirectional",
+        "bidirectional-zy",
+        "bidirectional-zx",
+        "dia10_like_zx",
+    ] {
+        let (code, out, err) = trocar(&["verify", robot, "--samples", "200"]);
+        assert_eq!(code, 0, "{out}{err}");
+        assert!(
+            out.contains("jr: generated vs numeric") && out.contains("all checks passed"),
+            "{out}"
+        );
+    }
+    let (code, _, err) = trocar(&["verify", "bidirectional-zy", "--samples", "0"]);
+    assert_eq!(code, 1, "{err}");
+}
+
+#[test]
+fn generate_writes_a_formatted_module() {
+    let dir = std::env::temp_dir().join(format!("trocar-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("zy.rs");
+    let (code, _, err) = trocar(&[
+        "generate",
+        "bidirectional-zy",
+        "--real",
+        "f32",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        text.starts_with("// This file is @generated"),
+        "{}",
+        &text[..80]
+    );
+    assert!(text.contains("pub fn constrained_jacobian") && text.contains("f32"));
+    syn::parse_file(&text).expect("the module parses as Rust");
+    let (code, _, err) = trocar(&["generate", "runtime/tests/data/does-not-exist.toml"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("does-not-exist.toml"), "{err}");
+}

@@ -627,6 +627,12 @@ impl<T: RealField + Copy> Robot<T> {
 
 /// `sqrt(|det(J Jᵀ)|)` of a dynamic matrix (3.36).
 pub fn manipulability_dynamic<T: RealField + Copy>(j: &DMatrix<T>) -> T {
+    if j.is_square() {
+        // |det J| directly: squaring first would double the condition number.
+        let mut a = j.clone();
+        let n = a.nrows();
+        return crate::manipulability::determinant_in_place(a.as_mut_slice(), n).abs();
+    }
     let mut jjt = j * j.transpose();
     let n = jjt.nrows();
     crate::manipulability::determinant_in_place(jjt.as_mut_slice(), n)

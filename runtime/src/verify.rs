@@ -76,7 +76,8 @@ pub trait Candidate {
 pub struct Check {
     /// What was compared, e.g. `jr: generated vs numeric`.
     pub name: String,
-    /// Largest error, relative to the reference's norm (or absolute when the norm is below 1).
+    /// Largest error, relative to the reference's norm (or absolute when the norm is below 1);
+    /// for manipulability, relative to Hadamard's bound `Π‖row_k(J^r)‖`.
     pub max_error: f64,
     /// The tolerance the error is held to.
     pub tolerance: f64,
@@ -320,7 +321,27 @@ pub fn verify(
                     &mut tallies.last_mut().expect("just pushed").1
                 }
             };
-            tally.record(relative_error(&got, &reference), &q);
+            let error = match quantity {
+                // Manipulability is a product of six singular values: its error is measured
+                // relative to Hadamard's bound Π‖row_k(J^r)‖ (squared for the squared value),
+                // the natural scale of a determinant, as matrices are measured relative to
+                // their norm.
+                Quantity::Manipulability | Quantity::ManipulabilitySquared => {
+                    let jr = robot.constrained_jacobian(&q)?;
+                    let mut bound: f64 = jr.row_iter().map(|r| r.norm()).product();
+                    if quantity == Quantity::ManipulabilitySquared {
+                        bound *= bound;
+                    }
+                    let diff = (got[(0, 0)] - reference[(0, 0)]).abs();
+                    if got.shape() != (1, 1) || diff.is_nan() {
+                        f64::INFINITY
+                    } else {
+                        diff / bound.max(1.0)
+                    }
+                }
+                _ => relative_error(&got, &reference),
+            };
+            tally.record(error, &q);
         }
         // Finite differences of the candidate's forward kinematics.
         let fk = |qq: &[f64]| {

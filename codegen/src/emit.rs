@@ -1,1 +1,0 @@
-//! Optimisation (CSE, constant folding) and emission of Rust tokens.

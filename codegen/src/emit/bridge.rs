@@ -1,0 +1,564 @@
+//! From the symbolic engine's canonical polynomials ([`crate::symbolic::Poly`]) to programs, and
+//! from a [`Derivation`] to a [`ModuleSpec`].
+//!
+//! A canonical polynomial is a sum of monomials with rational coefficients, so the bridge is
+//! direct: each term becomes a [`Term`] (coefficient rounded to the nearest `f64`) and the sum is
+//! built by [`Program::sum_of_monomials`] (Horner factoring, CSE). An `Inv(P)` atom becomes one
+//! shared division `1 / P` per program.
+//!
+//! Forward kinematics is built in **product form** `T_1 ⋯ T_n g_ne` from the per-joint
+//! transforms ([`Derivation::joint_transforms`]), and each body-Jacobian column
+//! `Ad⁻¹_{g_ke} ξ_k = (R_keᵀ (v_k + ω_k × p_ke), R_keᵀ ω_k)` from the suffix products
+//! `g_ke = T_{k+1} ⋯ T_n g_ne`, whenever that program is cheaper than the expanded polynomials
+//! (both are built and the one with fewer live operations is kept); the two are equal as
+//! functions (the expanded form is what the derivation's symbolic tests check).
+
+use super::program::{Atom, Program, Term, ValueId};
+use super::rust::{ConstItem, Function, ModuleSpec, Shape};
+use crate::derivation::{Derivation, ManipulabilityForm};
+use crate::symbolic::{self, inverse_denominator, Matrix, Poly, Transform};
+use std::collections::HashMap;
+
+/// Builds polynomials into one program, sharing `1/P` for each `Inv` atom.
+pub struct PolyBuilder<'a> {
+    prog: &'a mut Program,
+    inverses: HashMap<u32, ValueId>,
+}
+
+impl<'a> PolyBuilder<'a> {
+    /// A builder writing into `prog` (whose parameter indices are the derivation's).
+    pub fn new(prog: &'a mut Program) -> Self {
+        PolyBuilder {
+            prog,
+            inverses: HashMap::new(),
+        }
+    }
+
+    /// The program.
+    pub fn program(&mut self) -> &mut Program {
+        self.prog
+    }
+
+    fn atom(&mut self, a: symbolic::Atom) -> Atom {
+        match a {
+            symbolic::Atom::Sin(k) => Atom::Sin(k as usize),
+            symbolic::Atom::Cos(k) => Atom::Cos(k as usize),
+            symbolic::Atom::Joint(k) => Atom::Joint(k as usize),
+            symbolic::Atom::Param(p) => Atom::Param(p as usize),
+            symbolic::Atom::Inv(id) => {
+                if let Some(&v) = self.inverses.get(&id) {
+                    return Atom::Value(v);
+                }
+                let den = inverse_denominator(id);
+                let d = self.poly(&den);
+                let one = self.prog.constant(1.0);
+                let v = self.prog.div(one, d);
+                self.inverses.insert(id, v);
+                Atom::Value(v)
+            }
+        }
+    }
+
+    /// One polynomial as a value.
+    pub fn poly(&mut self, p: &Poly) -> ValueId {
+        let terms: Vec<Term> = p
+            .terms()
+            .iter()
+            .map(|(m, c)| {
+                let factors: Vec<(Atom, i32)> = m
+                    .factors()
+                    .iter()
+                    .map(|&(a, e)| (self.atom(a), e))
+                    .collect();
+                Term::new(c.to_f64(), factors)
+            })
+            .collect();
+        self.prog.sum_of_monomials(&terms)
+    }
+
+    /// A matrix as values, **column-major**.
+    pub fn matrix(&mut self, m: &Matrix) -> Vec<ValueId> {
+        let mut out = Vec::with_capacity(m.rows() * m.cols());
+        for c in 0..m.cols() {
+            for r in 0..m.rows() {
+                out.push(self.poly(m.get(r, c)));
+            }
+        }
+        out
+    }
+
+    /// A transform as values: `R` row-major `[[v; 3]; 3]` and `p`.
+    pub fn transform(&mut self, t: &Transform) -> NumTransform {
+        let mut rot = [[ValueId(0); 3]; 3];
+        let mut pos = [ValueId(0); 3];
+        for (i, row) in rot.iter_mut().enumerate() {
+            for (j, e) in row.iter_mut().enumerate() {
+                *e = self.poly(t.rot.get(i, j));
+            }
+            pos[i] = self.poly(t.pos.get(i, 0));
+        }
+        NumTransform { rot, pos }
+    }
+}
+
+/// A rigid transform whose entries are program values (`rot[row][col]`).
+#[derive(Clone, Copy, Debug)]
+pub struct NumTransform {
+    /// `R`, row-major.
+    pub rot: [[ValueId; 3]; 3],
+    /// `p`.
+    pub pos: [ValueId; 3],
+}
+
+impl NumTransform {
+    /// `g h = (R_g R_h, R_g p_h + p_g)` (2.21).
+    pub fn compose(&self, h: &NumTransform, p: &mut Program) -> NumTransform {
+        let mut rot = [[ValueId(0); 3]; 3];
+        let mut pos = [ValueId(0); 3];
+        for (i, row) in rot.iter_mut().enumerate() {
+            for (j, e) in row.iter_mut().enumerate() {
+                let col = [h.rot[0][j], h.rot[1][j], h.rot[2][j]];
+                *e = dot(p, &self.rot[i], &col);
+            }
+            let d = dot(p, &self.rot[i], &h.pos);
+            pos[i] = p.add(d, self.pos[i]);
+        }
+        NumTransform { rot, pos }
+    }
+
+    /// Outputs in the [`Shape::Transform`] layout: `R` column-major, then `p`.
+    pub fn outputs(&self) -> Vec<ValueId> {
+        let mut v = Vec::with_capacity(12);
+        for j in 0..3 {
+            for i in 0..3 {
+                v.push(self.rot[i][j]);
+            }
+        }
+        v.extend_from_slice(&self.pos);
+        v
+    }
+}
+
+fn dot(p: &mut Program, a: &[ValueId; 3], b: &[ValueId; 3]) -> ValueId {
+    let mut acc = p.constant(0.0);
+    for k in 0..3 {
+        let m = p.mul(a[k], b[k]);
+        acc = p.add(acc, m);
+    }
+    acc
+}
+
+fn cross(p: &mut Program, a: &[ValueId; 3], b: &[ValueId; 3]) -> [ValueId; 3] {
+    let mut out = [ValueId(0); 3];
+    for (i, o) in out.iter_mut().enumerate() {
+        let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+        let x = p.mul(a[j], b[k]);
+        let y = p.mul(a[k], b[j]);
+        *o = p.sub(x, y);
+    }
+    out
+}
+
+/// Rᵀ x.
+fn rot_t_apply(p: &mut Program, r: &[[ValueId; 3]; 3], x: &[ValueId; 3]) -> [ValueId; 3] {
+    let mut out = [ValueId(0); 3];
+    for (j, o) in out.iter_mut().enumerate() {
+        *o = dot(p, &[r[0][j], r[1][j], r[2][j]], x);
+    }
+    out
+}
+
+fn new_program(d: &Derivation) -> Program {
+    Program::new(d.params.clone())
+}
+
+/// A program with the expanded polynomials of `m` as outputs (column-major).
+pub fn matrix_program(d: &Derivation, m: &Matrix) -> Program {
+    let mut prog = new_program(d);
+    let outs = PolyBuilder::new(&mut prog).matrix(m);
+    prog.set_outputs(outs);
+    prog
+}
+
+/// Forward kinematics of the first `upto` joints (then `tail`, if given), product form.
+fn fk_product_program(d: &Derivation, upto: usize, tail: Option<&Transform>) -> Program {
+    let mut prog = new_program(d);
+    let mut b = PolyBuilder::new(&mut prog);
+    let mut acc: Option<NumTransform> = None;
+    let mut factors: Vec<NumTransform> = d.joint_transforms[..upto]
+        .iter()
+        .map(|t| b.transform(t))
+        .collect();
+    if let Some(t) = tail {
+        factors.push(b.transform(t));
+    }
+    for f in factors {
+        acc = Some(match acc {
+            None => f,
+            Some(a) => a.compose(&f, &mut prog),
+        });
+    }
+    let acc = acc.unwrap_or_else(|| {
+        let mut b = PolyBuilder::new(&mut prog);
+        b.transform(&Transform::identity())
+    });
+    prog.set_outputs(acc.outputs());
+    prog
+}
+
+/// Body Jacobian of the chain `joints[..upto]` then `tail` (`J^B_0e` with `tail = g_ne`,
+/// `J^B_0i` with `upto = i` and no tail), product form.
+fn body_jacobian_product_program(d: &Derivation, upto: usize, tail: Option<&Transform>) -> Program {
+    let mut prog = new_program(d);
+    let mut b = PolyBuilder::new(&mut prog);
+    let joints: Vec<NumTransform> = d.joint_transforms[..upto]
+        .iter()
+        .map(|t| b.transform(t))
+        .collect();
+    let twists: Vec<([ValueId; 3], [ValueId; 3])> = d.twists[..upto]
+        .iter()
+        .map(|x| {
+            let v = [
+                b.poly(x.get(0, 0)),
+                b.poly(x.get(1, 0)),
+                b.poly(x.get(2, 0)),
+            ];
+            let w = [
+                b.poly(x.get(3, 0)),
+                b.poly(x.get(4, 0)),
+                b.poly(x.get(5, 0)),
+            ];
+            (v, w)
+        })
+        .collect();
+    let mut g = match tail {
+        Some(t) => b.transform(t),
+        None => b.transform(&Transform::identity()),
+    };
+    let mut cols = vec![[ValueId(0); 6]; upto];
+    for k in (0..upto).rev() {
+        // g = g_ke: F_k → F_e.
+        let (v, w) = &twists[k];
+        let wxp = cross(&mut prog, w, &g.pos);
+        let mut lin_in = [ValueId(0); 3];
+        for i in 0..3 {
+            lin_in[i] = prog.add(v[i], wxp[i]);
+        }
+        let lin = rot_t_apply(&mut prog, &g.rot, &lin_in);
+        let ang = rot_t_apply(&mut prog, &g.rot, w);
+        cols[k] = [lin[0], lin[1], lin[2], ang[0], ang[1], ang[2]];
+        g = joints[k].compose(&g, &mut prog);
+    }
+    prog.set_outputs(cols.into_iter().flatten().collect());
+    prog
+}
+
+fn cheaper(a: Program, b: Program) -> Program {
+    if b.live_len() < a.live_len() {
+        b
+    } else {
+        a
+    }
+}
+
+fn function(
+    name: &str,
+    summary: &str,
+    equation: &str,
+    details: &str,
+    shape: Shape,
+    program: Program,
+    dims: Option<(&str, &str)>,
+) -> Function {
+    Function {
+        name: name.into(),
+        summary: summary.into(),
+        equation: equation.into(),
+        details: details.into(),
+        shape,
+        program,
+        dims: dims.map(|(r, c)| (r.into(), c.into())),
+    }
+}
+
+/// The module for a derivation: constants, `Params`, `JointTrig` and the functions
+/// `forward_kinematics`, `body_jacobian` and, with a constraint, `constrained_jacobian`,
+/// `constraint_jacobian_c`, `partial_body_jacobian`, `forward_kinematics_i`, `manipulability`,
+/// `manipulability_squared`.
+pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
+    let n = d.n;
+    let mut consts = vec![ConstItem {
+        name: "N".into(),
+        value: n,
+        doc: "Number of joints `n` (length of `q`, base first).".into(),
+    }];
+    let mut functions = Vec::new();
+
+    let fk_product = fk_product_program(d, n, Some(&d.end_effector));
+    let fk = match &d.fk_e {
+        Some(fk_e) => cheaper(
+            {
+                let mut prog = new_program(d);
+                let t = PolyBuilder::new(&mut prog).transform(fk_e);
+                prog.set_outputs(t.outputs());
+                prog
+            },
+            fk_product,
+        ),
+        None => fk_product,
+    };
+    functions.push(function(
+        "forward_kinematics",
+        "Forward kinematics `g_0e(q) = (R_0e, p_0e)` of the end effector",
+        "(2.21)",
+        "",
+        Shape::Transform,
+        fk,
+        None,
+    ));
+    let jb_product = body_jacobian_product_program(d, n, Some(&d.end_effector));
+    let jb = match &d.body_jacobian_e {
+        Some(m) => cheaper(matrix_program(d, m), jb_product),
+        None => jb_product,
+    };
+    functions.push(function(
+        "body_jacobian",
+        "Body Jacobian `J^B_0e(q)` of the whole chain, 6 × N (twist order `(v, ω)`)",
+        "(2.53)–(2.55)",
+        "",
+        Shape::Matrix { rows: 6, cols: n },
+        jb,
+        Some(("6", "N")),
+    ));
+
+    if let Some(c) = &d.constraint {
+        consts.push(ConstItem {
+            name: "I".into(),
+            value: c.link,
+            doc: "The constrained link `i` (1-based): joints `1..=I` come before the constraint."
+                .into(),
+        });
+        consts.push(ConstItem {
+            name: "R".into(),
+            value: c.r,
+            doc: "Number of constrained directions `r` (rows of `H`).".into(),
+        });
+        consts.push(ConstItem {
+            name: "M".into(),
+            value: c.m,
+            doc: "Number of columns of `J^r_0e`: `m = 6 − r + n − i`.".into(),
+        });
+        let basis = format!(
+            "Null-space basis `Λ#`: {:?} (see `trocar_codegen::derivation::NullBasis`). \
+             Columns: the {} components of `v0i`, then joints {}..={}.",
+            c.basis,
+            6 - c.r,
+            c.link + 1,
+            n
+        );
+        functions.push(function(
+            "constrained_jacobian",
+            "Constrained Jacobian `J^r_0e = [Ad_{g_ei} Λ# | J^B_0e2]`, 6 × M",
+            "(3.15) (presets: (3.24), (3.28), (3.29))",
+            &basis,
+            Shape::Matrix { rows: 6, cols: c.m },
+            matrix_program(d, &c.jr),
+            Some(("6", "M")),
+        ));
+        functions.push(function(
+            "constraint_jacobian_c",
+            "Jacobian of the moving constraint `J_c = Ad_{g_ei} Λ†`, 6 × R",
+            "(3.33)",
+            "",
+            Shape::Matrix { rows: 6, cols: c.r },
+            matrix_program(d, &c.jc),
+            Some(("6", "R")),
+        ));
+        let jbi = cheaper(
+            matrix_program(d, &c.body_jacobian_i),
+            body_jacobian_product_program(d, c.link, None),
+        );
+        functions.push(function(
+            "partial_body_jacobian",
+            "Partial body Jacobian `J^B_0i(q_1..q_i)` of the chain cut at the constrained link, 6 × I",
+            "(3.13)",
+            "",
+            Shape::Matrix {
+                rows: 6,
+                cols: c.link,
+            },
+            jbi,
+            Some(("6", "I")),
+        ));
+        let fki = cheaper(
+            {
+                let mut prog = new_program(d);
+                let t = PolyBuilder::new(&mut prog).transform(&c.fk_i);
+                prog.set_outputs(t.outputs());
+                prog
+            },
+            fk_product_program(d, c.link, None),
+        );
+        functions.push(function(
+            "forward_kinematics_i",
+            "Forward kinematics `g_0i(q_1..q_i) = (R_0i, p_0i)` of the constrained link's frame",
+            "(2.21)",
+            "With the trocar fixed in space, `l_a = (p_trocar − p_0i) · y_i` where `y_i` is \
+             column 1 of `R_0i`.",
+            Shape::Transform,
+            fki,
+            None,
+        ));
+        let (w, w2) = match &c.manipulability {
+            Some(m) => manipulability_programs(d, &m.form),
+            None => manipulability_from_jr(d, &c.jr),
+        };
+        functions.push(function(
+            "manipulability",
+            "Manipulability `w = sqrt(det(J^r J^rᵀ))` of the constrained Jacobian (closed form: \
+             `|det J^r|` when square, Cauchy–Binet sum of squared maximal minors when wide)",
+            "(3.36)–(3.39) (presets: (3.40)–(3.42))",
+            "",
+            Shape::Scalar,
+            w,
+            None,
+        ));
+        functions.push(function(
+            "manipulability_squared",
+            "Squared manipulability `w² = det(J^r J^rᵀ)` (no square root, for thresholds such as \
+             (3.44))",
+            "(3.36)",
+            "",
+            Shape::Scalar,
+            w2,
+            None,
+        ));
+    }
+
+    ModuleSpec {
+        name: module_name.into(),
+        doc: module_doc(d),
+        joints: n,
+        params: d
+            .params
+            .iter()
+            .cloned()
+            .zip(d.param_values.iter().copied())
+            .collect(),
+        consts,
+        functions,
+    }
+}
+
+fn manipulability_programs(d: &Derivation, form: &ManipulabilityForm) -> (Program, Program) {
+    let mut w = new_program(d);
+    let mut w2 = new_program(d);
+    match form {
+        ManipulabilityForm::AbsDet(det) => {
+            let v = PolyBuilder::new(&mut w).poly(det);
+            let a = w.abs(v);
+            w.set_outputs(vec![a]);
+            let v = PolyBuilder::new(&mut w2).poly(det);
+            let s = w2.mul(v, v);
+            w2.set_outputs(vec![s]);
+        }
+        ManipulabilityForm::SqrtSumOfSquares(minors) => {
+            for prog in [&mut w, &mut w2] {
+                let mut b = PolyBuilder::new(prog);
+                let vals: Vec<ValueId> = minors.iter().map(|(_, m)| b.poly(m)).collect();
+                let mut acc = prog.constant(0.0);
+                for v in vals {
+                    let s = prog.mul(v, v);
+                    acc = prog.add(acc, s);
+                }
+                prog.set_outputs(vec![acc]);
+            }
+            let s = w.outputs()[0];
+            let r = w.sqrt(s);
+            w.set_outputs(vec![r]);
+        }
+    }
+    (w, w2)
+}
+
+/// Manipulability when the derivation has no closed form (beyond its size budget): from the
+/// program values of `J^r` (6 × m), `det(J Jᵀ) = Σ_S det(J[:, S])²` over the 6-column subsets `S`
+/// (Cauchy–Binet), each minor by Laplace expansion along the rows with the sub-minors of every
+/// column subset memoised, so they are shared between minors. Division-free and exact in
+/// exact arithmetic. Returns the programs of `w` and `w²`.
+pub fn manipulability_from_jr(d: &Derivation, jr: &Matrix) -> (Program, Program) {
+    let mut w2 = new_program(d);
+    let vals = PolyBuilder::new(&mut w2).matrix(jr);
+    let (rows, cols) = (jr.rows(), jr.cols());
+    let entry = |r: usize, c: usize| vals[c * rows + r];
+    let mut memo: HashMap<u64, ValueId> = HashMap::new();
+    let mut acc = w2.constant(0.0);
+    for mask in 0u64..(1u64 << cols) {
+        if mask.count_ones() as usize == rows {
+            let m = minor(&mut w2, &entry, &mut memo, mask);
+            let sq = w2.mul(m, m);
+            acc = w2.add(acc, sq);
+        }
+    }
+    w2.set_outputs(vec![acc]);
+    let mut w = w2.clone();
+    let r = w.sqrt(acc);
+    w.set_outputs(vec![r]);
+    (w, w2)
+}
+
+/// Determinant of rows `0..|mask|` and the columns in `mask` (increasing), Laplace along the last
+/// row, memoised by column mask.
+fn minor(
+    p: &mut Program,
+    entry: &dyn Fn(usize, usize) -> ValueId,
+    memo: &mut HashMap<u64, ValueId>,
+    mask: u64,
+) -> ValueId {
+    if mask == 0 {
+        return p.constant(1.0);
+    }
+    if let Some(&v) = memo.get(&mask) {
+        return v;
+    }
+    let k = mask.count_ones() as usize;
+    let row = k - 1;
+    let mut acc = p.constant(0.0);
+    let mut pos = 0;
+    for c in 0..64 {
+        if mask & (1u64 << c) == 0 {
+            continue;
+        }
+        let sub = minor(p, entry, memo, mask & !(1u64 << c));
+        let t = p.mul(entry(row, c), sub);
+        // Sign of the cofactor of (row, pos) with row = k − 1.
+        acc = if (row + pos) % 2 == 0 {
+            p.add(acc, t)
+        } else {
+            p.sub(acc, t)
+        };
+        pos += 1;
+    }
+    memo.insert(mask, acc);
+    acc
+}
+
+fn module_doc(d: &Derivation) -> String {
+    let mut s = format!(
+        "Closed-form kinematics of `{}` ({} joints), derived symbolically by trocar-codegen.\n\n\
+         Every function takes the joint values `q` (base first, radians or metres) and the \
+         named parameters ([`Params`]); each has a `_trig` variant taking a [`JointTrig`] so \
+         one set of `sin_cos` calls serves a whole control step.\n\n\
+         **Array order:** matrices are column-major, `[[T; rows]; cols]` (`a[col][row]`), \
+         which is nalgebra's `ArrayStorage`: \
+         `SMatrix::<T, rows, cols>::from_data(ArrayStorage(a))` is free.",
+        d.name, d.n
+    );
+    if let Some(c) = &d.constraint {
+        s.push_str(&format!(
+            "\n\nConstraint at link {} with r = {} constrained direction(s); `J^r_0e` is 6 × {}.",
+            c.link, c.r, c.m
+        ));
+    }
+    s
+}

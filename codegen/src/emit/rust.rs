@@ -1,0 +1,696 @@
+//! Rust tokens for a robot module: `Params`, `JointTrig`, constants and one function (plus its
+//! `_trig` variant) per [`Function`].
+
+use super::program::{Op, Program, ValueId};
+use proc_macro2::{Ident, Literal, Span, TokenStream};
+use quote::{format_ident, quote};
+use std::fmt::Write as _;
+
+/// The scalar type of generated code.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default, Hash)]
+pub enum Real {
+    /// Generic over `T: ::trocar::Real` (works for `f32` and `f64`).
+    #[default]
+    Generic,
+    /// Monomorphic `f32`.
+    F32,
+    /// Monomorphic `f64`.
+    F64,
+}
+
+impl std::str::FromStr for Real {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "generic" | "T" => Ok(Real::Generic),
+            "f32" => Ok(Real::F32),
+            "f64" => Ok(Real::F64),
+            other => Err(format!(
+                "unknown real type `{other}` (expected f32, f64 or generic)"
+            )),
+        }
+    }
+}
+
+/// What a function returns; outputs of its program are in this layout.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Shape {
+    /// One scalar.
+    Scalar,
+    /// A `rows × cols` matrix returned **column-major** as `[[T; rows]; cols]`; the program's
+    /// outputs are in column-major order (output `c · rows + r` is entry `(r, c)`).
+    Matrix {
+        /// Rows.
+        rows: usize,
+        /// Columns.
+        cols: usize,
+    },
+    /// A rigid transform `(R, p)` returned as `([[T; 3]; 3], [T; 3])`, `R` column-major; the
+    /// outputs are the 9 entries of `R` column-major then the 3 of `p`.
+    Transform,
+}
+
+impl Shape {
+    /// Number of outputs.
+    pub fn len(&self) -> usize {
+        match *self {
+            Shape::Scalar => 1,
+            Shape::Matrix { rows, cols } => rows * cols,
+            Shape::Transform => 12,
+        }
+    }
+
+    /// `true` for an empty matrix.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// One function to emit.
+#[derive(Clone, Debug)]
+pub struct Function {
+    /// Rust name (the `_trig` variant gets the suffix `_trig`).
+    pub name: String,
+    /// First line of the doc comment, e.g. "The constrained Jacobian `J^r_0e`".
+    pub summary: String,
+    /// The thesis equation(s) it implements, e.g. "(3.15)".
+    pub equation: String,
+    /// More documentation (markdown paragraphs), may be empty.
+    pub details: String,
+    /// Output layout.
+    pub shape: Shape,
+    /// The program; its outputs match `shape`.
+    pub program: Program,
+    /// Names of the dimensions for the signature, e.g. `("6", "M")`; `None` uses numbers.
+    pub dims: Option<(String, String)>,
+}
+
+/// A named `usize` constant of the module.
+#[derive(Clone, Debug)]
+pub struct ConstItem {
+    /// Name (e.g. `N`).
+    pub name: String,
+    /// Value.
+    pub value: usize,
+    /// Doc comment.
+    pub doc: String,
+}
+
+/// A robot module to emit.
+#[derive(Clone, Debug)]
+pub struct ModuleSpec {
+    /// Module name (a Rust identifier).
+    pub name: String,
+    /// Module documentation (markdown).
+    pub doc: String,
+    /// Number of joints `n` (length of `q`).
+    pub joints: usize,
+    /// Named parameters and nominal values, in declaration order (the order of program
+    /// parameter indices).
+    pub params: Vec<(String, f64)>,
+    /// `usize` constants (`N` must be among them; it types `q`).
+    pub consts: Vec<ConstItem>,
+    /// Functions.
+    pub functions: Vec<Function>,
+}
+
+struct Ty {
+    real: Real,
+}
+
+impl Ty {
+    fn t(&self) -> TokenStream {
+        match self.real {
+            Real::Generic => quote!(T),
+            Real::F32 => quote!(f32),
+            Real::F64 => quote!(f64),
+        }
+    }
+    fn generics(&self) -> TokenStream {
+        match self.real {
+            Real::Generic => quote!(<T: ::trocar::Real>),
+            _ => quote!(),
+        }
+    }
+    fn args(&self) -> TokenStream {
+        match self.real {
+            Real::Generic => quote!(<T>),
+            _ => quote!(),
+        }
+    }
+    fn real_path(&self) -> TokenStream {
+        let t = self.t();
+        quote!(<#t as ::trocar::Real>)
+    }
+    fn lit(&self, x: f64) -> TokenStream {
+        let r = self.real_path();
+        if x == 0.0 {
+            return quote!(#r::ZERO);
+        }
+        if x == 1.0 {
+            return quote!(#r::ONE);
+        }
+        match self.real {
+            Real::Generic => {
+                let l = Literal::f64_unsuffixed(x);
+                quote!(#r::lit(#l))
+            }
+            Real::F32 | Real::F64 => {
+                // The f64's shortest round-trip decimal with the target suffix: rustc rounds the
+                // decimal directly to the target type (correct rounding for f32).
+                let mut s = format!("{x:?}");
+                if !s.contains('.') && !s.contains('e') {
+                    s.push_str(".0");
+                }
+                s.push_str(if self.real == Real::F32 {
+                    "_f32"
+                } else {
+                    "_f64"
+                });
+                match s.parse::<Literal>() {
+                    Ok(l) => quote!(#l),
+                    Err(_) => {
+                        let l = Literal::f64_unsuffixed(x);
+                        quote!(#r::lit(#l))
+                    }
+                }
+            }
+        }
+    }
+}
+
+const PREC_SUM: u8 = 1;
+const PREC_PROD: u8 = 2;
+const PREC_NEG: u8 = 3;
+const PREC_ATOM: u8 = 4;
+
+/// How joint and parameter values are reached in a function body.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Access {
+    /// `q: &[T; N]`, trig computed in the body.
+    Q,
+    /// `t: &JointTrig<T>`.
+    Trig,
+}
+
+struct BodyWriter<'a> {
+    prog: &'a Program,
+    ty: &'a Ty,
+    access: Access,
+    /// Name of a let-bound value.
+    bound: Vec<Option<Ident>>,
+    inline: Vec<bool>,
+}
+
+impl BodyWriter<'_> {
+    fn expr(&self, v: ValueId) -> (TokenStream, u8) {
+        if let Some(id) = &self.bound[v.index()] {
+            return (quote!(#id), PREC_ATOM);
+        }
+        let r = self.ty.real_path();
+        let op = self.prog.op(v);
+        match *op {
+            Op::Const(c) => {
+                let x = c.value();
+                if x < 0.0 {
+                    let l = self.ty.lit(-x);
+                    (quote!(-#l), PREC_NEG)
+                } else {
+                    (self.ty.lit(x), PREC_ATOM)
+                }
+            }
+            Op::Param(p) => {
+                let name = format_ident!("{}", self.prog.params()[p]);
+                (quote!(p.#name), PREC_ATOM)
+            }
+            Op::Joint(k) => {
+                let k = Literal::usize_unsuffixed(k);
+                match self.access {
+                    Access::Q => (quote!(q[#k]), PREC_ATOM),
+                    Access::Trig => (quote!(t.q[#k]), PREC_ATOM),
+                }
+            }
+            Op::Sin(k) | Op::Cos(k) => {
+                let sin = matches!(op, Op::Sin(_));
+                match self.access {
+                    Access::Q => {
+                        let id = format_ident!("{}{}", if sin { "s" } else { "c" }, k + 1);
+                        (quote!(#id), PREC_ATOM)
+                    }
+                    Access::Trig => {
+                        let k = Literal::usize_unsuffixed(k);
+                        if sin {
+                            (quote!(t.sin[#k]), PREC_ATOM)
+                        } else {
+                            (quote!(t.cos[#k]), PREC_ATOM)
+                        }
+                    }
+                }
+            }
+            Op::Add(a, b) => self.binary(a, b, quote!(+), PREC_SUM),
+            Op::Sub(a, b) => self.binary(a, b, quote!(-), PREC_SUM),
+            Op::Mul(a, b) => self.binary(a, b, quote!(*), PREC_PROD),
+            Op::Div(a, b) => self.binary(a, b, quote!(/), PREC_PROD),
+            Op::Neg(a) => {
+                let x = self.operand(a, PREC_NEG);
+                (quote!(-#x), PREC_NEG)
+            }
+            Op::Sqrt(a) => {
+                let (x, _) = self.expr(a);
+                (quote!(#r::sqrt(#x)), PREC_ATOM)
+            }
+            Op::Abs(a) => {
+                let (x, _) = self.expr(a);
+                (quote!(#r::abs(#x)), PREC_ATOM)
+            }
+        }
+    }
+
+    /// `v` as an operand that needs precedence at least `min`.
+    fn operand(&self, v: ValueId, min: u8) -> TokenStream {
+        let (x, p) = self.expr(v);
+        if p < min {
+            quote!((#x))
+        } else {
+            x
+        }
+    }
+
+    fn binary(&self, a: ValueId, b: ValueId, op: TokenStream, prec: u8) -> (TokenStream, u8) {
+        // Left-associative: the right operand must bind tighter to keep the evaluation order.
+        let x = self.operand(a, prec);
+        let y = self.operand(b, prec + 1);
+        (quote!(#x #op #y), prec)
+    }
+}
+
+/// The statements (trig prelude and `let` bindings) and the output expressions of a program.
+fn body(prog: &Program, ty: &Ty, access: Access) -> (Vec<TokenStream>, Vec<TokenStream>) {
+    let live = prog.live();
+    let n = prog.ops().len();
+    let mut uses = vec![0usize; n];
+    for (i, op) in prog.ops().iter().enumerate() {
+        if live[i] {
+            for a in op.operands() {
+                uses[a.index()] += 1;
+            }
+        }
+    }
+    for o in prog.outputs() {
+        uses[o.index()] += 1;
+    }
+    let mut w = BodyWriter {
+        prog,
+        ty,
+        access,
+        bound: vec![None; n],
+        inline: vec![false; n],
+    };
+    let mut stmts = Vec::new();
+    if access == Access::Q {
+        let r = ty.real_path();
+        let mut used_sin = std::collections::BTreeSet::new();
+        let mut used_cos = std::collections::BTreeSet::new();
+        for (i, op) in prog.ops().iter().enumerate() {
+            if live[i] {
+                match *op {
+                    Op::Sin(k) => {
+                        used_sin.insert(k);
+                    }
+                    Op::Cos(k) => {
+                        used_cos.insert(k);
+                    }
+                    _ => {}
+                }
+            }
+        }
+        for k in prog.trig_joints() {
+            let s = if used_sin.contains(&k) {
+                let id = format_ident!("s{}", k + 1);
+                quote!(#id)
+            } else {
+                quote!(_)
+            };
+            let c = if used_cos.contains(&k) {
+                let id = format_ident!("c{}", k + 1);
+                quote!(#id)
+            } else {
+                quote!(_)
+            };
+            let kk = Literal::usize_unsuffixed(k);
+            stmts.push(quote!(let (#s, #c) = #r::sin_cos(q[#kk]);));
+        }
+    }
+    let mut counter = 0usize;
+    for (i, op) in prog.ops().iter().enumerate() {
+        if !live[i] {
+            continue;
+        }
+        let atom = matches!(
+            op,
+            Op::Const(_) | Op::Param(_) | Op::Joint(_) | Op::Sin(_) | Op::Cos(_)
+        );
+        if atom || uses[i] <= 1 {
+            w.inline[i] = true;
+            continue;
+        }
+        let (e, _) = w.expr(ValueId(i as u32));
+        let id = format_ident!("x{}", counter);
+        counter += 1;
+        stmts.push(quote!(let #id = #e;));
+        w.bound[i] = Some(id);
+    }
+    let outs = prog.outputs().iter().map(|&o| w.expr(o).0).collect();
+    (stmts, outs)
+}
+
+fn shape_tokens(shape: Shape, ty: &Ty, outs: &[TokenStream]) -> (TokenStream, TokenStream) {
+    let t = ty.t();
+    match shape {
+        Shape::Scalar => (quote!(#t), outs[0].clone()),
+        Shape::Matrix { rows, cols } => {
+            let r = Literal::usize_unsuffixed(rows);
+            let c = Literal::usize_unsuffixed(cols);
+            let columns = outs.chunks(rows.max(1)).map(|col| quote!([#(#col),*]));
+            (quote!([[#t; #r]; #c]), quote!([#(#columns),*]))
+        }
+        Shape::Transform => {
+            let columns = outs[..9].chunks(3).map(|col| quote!([#(#col),*]));
+            let p = &outs[9..12];
+            (
+                quote!(([[#t; 3]; 3], [#t; 3])),
+                quote!(([#(#columns),*], [#(#p),*])),
+            )
+        }
+    }
+}
+
+fn dims_tokens(f: &Function, ty: &Ty) -> Option<TokenStream> {
+    let (r, c) = f.dims.as_ref()?;
+    let t = ty.t();
+    let r: TokenStream = r.parse().ok()?;
+    let c: TokenStream = c.parse().ok()?;
+    Some(match f.shape {
+        Shape::Matrix { .. } => quote!([[#t; #r]; #c]),
+        _ => return None,
+    })
+}
+
+fn layout_doc(shape: Shape, dims: Option<&(String, String)>, t: &str) -> String {
+    match shape {
+        Shape::Scalar => String::new(),
+        Shape::Matrix { rows, cols } => {
+            let (r, c) = dims
+                .cloned()
+                .unwrap_or_else(|| (rows.to_string(), cols.to_string()));
+            format!(
+                "Returns the {rows} × {cols} matrix **column-major**: `[[{t}; {r}]; {c}]` holds {c} \
+                 columns of {r} entries, `a[col][row]`. The conversion to nalgebra is free: \
+                 `SMatrix::<{t}, {rows}, {cols}>::from_data(ArrayStorage(a))`."
+            )
+        }
+        Shape::Transform => "Returns `(R, p)`: the rotation **column-major** (`r[col][row]`, \
+             nalgebra: `Matrix3::from_data(ArrayStorage(r))`) and the position."
+            .to_string(),
+    }
+}
+
+fn doc_attrs(text: &str) -> TokenStream {
+    let lines = text.lines().map(|l| {
+        let l = if l.is_empty() {
+            String::new()
+        } else {
+            format!(" {l}")
+        };
+        quote!(#[doc = #l])
+    });
+    quote!(#(#lines)*)
+}
+
+fn function_tokens(f: &Function, ty: &Ty, n: usize) -> TokenStream {
+    let t = ty.t();
+    let generics = ty.generics();
+    let args = ty.args();
+    let counts = f.program.op_counts();
+    let name = format_ident!("{}", f.name);
+    let name_trig = format_ident!("{}_trig", f.name);
+    let mut doc = String::new();
+    let _ = writeln!(doc, "{}, thesis {}.", f.summary, f.equation);
+    if !f.details.is_empty() {
+        let _ = writeln!(doc, "\n{}", f.details);
+    }
+    let layout = layout_doc(f.shape, f.dims.as_ref(), &t.to_string());
+    if !layout.is_empty() {
+        let _ = writeln!(doc, "\n{layout}");
+    }
+    let _ = writeln!(doc, "\nOperations: {counts}.");
+    let doc_q = doc_attrs(&doc);
+    let doc_t = doc_attrs(&format!(
+        "[`{}`] from precomputed joint sines and cosines ([`JointTrig`]), thesis {}.\n\n{}\
+         Operations: {} (the `sin_cos` calls are done once in [`JointTrig::new`]).",
+        f.name,
+        f.equation,
+        if layout.is_empty() {
+            String::new()
+        } else {
+            format!("{layout}\n\n")
+        },
+        super::program::OpCounts { trig: 0, ..counts }
+    ));
+    let (stmts_q, outs_q) = body(&f.program, ty, Access::Q);
+    let (stmts_t, outs_t) = body(&f.program, ty, Access::Trig);
+    let (ret, value_q) = shape_tokens(f.shape, ty, &outs_q);
+    let ret = dims_tokens(f, ty).unwrap_or(ret);
+    let (_, value_t) = shape_tokens(f.shape, ty, &outs_t);
+    let live = f.program.live();
+    let uses_q = f
+        .program
+        .ops()
+        .iter()
+        .zip(&live)
+        .any(|(op, &l)| l && matches!(op, Op::Joint(_) | Op::Sin(_) | Op::Cos(_)));
+    let uses_p = f
+        .program
+        .ops()
+        .iter()
+        .zip(&live)
+        .any(|(op, &l)| l && matches!(op, Op::Param(_)));
+    let q = if uses_q { quote!(q) } else { quote!(_q) };
+    let tt = if uses_q { quote!(t) } else { quote!(_t) };
+    let p = if uses_p { quote!(p) } else { quote!(_p) };
+    let n_ty = if n > 0 { quote!(N) } else { quote!(0) };
+    quote! {
+        #doc_q
+        #[inline]
+        #[must_use]
+        pub fn #name #generics (#q: &[#t; #n_ty], #p: &Params #args) -> #ret {
+            #(#stmts_q)*
+            #value_q
+        }
+
+        #doc_t
+        #[inline]
+        #[must_use]
+        pub fn #name_trig #generics (#tt: &JointTrig #args, #p: &Params #args) -> #ret {
+            #(#stmts_t)*
+            #value_t
+        }
+    }
+}
+
+fn params_tokens(spec: &ModuleSpec, ty: &Ty) -> TokenStream {
+    let t = ty.t();
+    let generics = ty.generics();
+    let args = ty.args();
+    let doc_struct = doc_attrs(&format!(
+        "The named parameters of `{}`: runtime inputs of every function.",
+        spec.name
+    ));
+    if spec.params.is_empty() {
+        return match ty.real {
+            Real::Generic => quote! {
+                #doc_struct
+                #[derive(Clone, Copy, Debug, Default, PartialEq)]
+                pub struct Params<T>(::core::marker::PhantomData<T>);
+
+                impl<T: ::trocar::Real> Params<T> {
+                    /// The description's nominal values (this robot has no parameters).
+                    #[inline]
+                    #[must_use]
+                    pub fn nominal() -> Self {
+                        Params(::core::marker::PhantomData)
+                    }
+                }
+            },
+            _ => quote! {
+                #doc_struct
+                #[derive(Clone, Copy, Debug, Default, PartialEq)]
+                pub struct Params;
+
+                impl Params {
+                    /// The description's nominal values (this robot has no parameters).
+                    #[inline]
+                    #[must_use]
+                    pub fn nominal() -> Self {
+                        Params
+                    }
+                }
+            },
+        };
+    }
+    let fields = spec.params.iter().map(|(name, value)| {
+        let id = format_ident!("{}", name);
+        let d = format!(" `{name}` (nominal value {value:?}).");
+        quote!(#[doc = #d] pub #id: #t,)
+    });
+    let inits = spec.params.iter().map(|(name, value)| {
+        let id = format_ident!("{}", name);
+        let v = ty.lit(*value);
+        quote!(#id: #v,)
+    });
+    quote! {
+        #doc_struct
+        #[derive(Clone, Copy, Debug, Default, PartialEq)]
+        pub struct Params #generics {
+            #(#fields)*
+        }
+
+        impl #generics Params #args {
+            /// The description's nominal values.
+            #[inline]
+            #[must_use]
+            pub fn nominal() -> Self {
+                Params { #(#inits)* }
+            }
+        }
+    }
+}
+
+fn trig_tokens(spec: &ModuleSpec, ty: &Ty) -> TokenStream {
+    let t = ty.t();
+    let r = ty.real_path();
+    let generics = ty.generics();
+    let args = ty.args();
+    let n = spec.joints;
+    let mut used = vec![false; n];
+    for f in &spec.functions {
+        for k in f.program.trig_joints() {
+            if k < n {
+                used[k] = true;
+            }
+        }
+    }
+    let mut stmts = Vec::new();
+    let mut sins = Vec::new();
+    let mut coss = Vec::new();
+    for (k, &u) in used.iter().enumerate() {
+        if u {
+            let s = format_ident!("s{}", k + 1);
+            let c = format_ident!("c{}", k + 1);
+            let kk = Literal::usize_unsuffixed(k);
+            stmts.push(quote!(let (#s, #c) = #r::sin_cos(q[#kk]);));
+            sins.push(quote!(#s));
+            coss.push(quote!(#c));
+        } else {
+            sins.push(quote!(#r::ZERO));
+            coss.push(quote!(#r::ONE));
+        }
+    }
+    let joints_doc = used
+        .iter()
+        .enumerate()
+        .filter(|(_, &u)| u)
+        .map(|(k, _)| (k + 1).to_string())
+        .collect::<Vec<_>>()
+        .join(", ");
+    let doc = doc_attrs(&format!(
+        "Joint values with the sine and cosine of every joint the functions use (joints \
+         {joints_doc}, 1-based), computed once per control step and shared by the `_trig` \
+         functions.\n\nUnused entries hold `sin = 0`, `cos = 1`."
+    ));
+    let q = if n > 0 { quote!(q) } else { quote!(_q) };
+    quote! {
+        #doc
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        pub struct JointTrig #generics {
+            /// The joint values `q`, base first.
+            pub q: [#t; N],
+            /// `sin q[k]`.
+            pub sin: [#t; N],
+            /// `cos q[k]`.
+            pub cos: [#t; N],
+        }
+
+        impl #generics JointTrig #args {
+            /// One `sin_cos` per used joint.
+            #[inline]
+            #[must_use]
+            pub fn new(#q: &[#t; N]) -> Self {
+                #(#stmts)*
+                JointTrig { q: *#q, sin: [#(#sins),*], cos: [#(#coss),*] }
+            }
+        }
+    }
+}
+
+/// The items of a robot module (without the `mod` wrapper).
+pub fn module_items(spec: &ModuleSpec, real: Real) -> TokenStream {
+    let ty = Ty { real };
+    let consts = spec.consts.iter().map(|c| {
+        let id = format_ident!("{}", c.name);
+        let v = Literal::usize_unsuffixed(c.value);
+        let d = doc_attrs(&c.doc);
+        quote!(#d pub const #id: usize = #v;)
+    });
+    let params = params_tokens(spec, &ty);
+    let trig = trig_tokens(spec, &ty);
+    let fns = spec
+        .functions
+        .iter()
+        .map(|f| function_tokens(f, &ty, spec.joints));
+    quote! {
+        #(#consts)*
+        #params
+        #trig
+        #(#fns)*
+    }
+}
+
+/// The whole module `pub mod <name> { ... }`, with its documentation and lint attributes.
+pub fn module_tokens(spec: &ModuleSpec, real: Real) -> TokenStream {
+    let name = Ident::new(&spec.name, Span::call_site());
+    let doc = spec.doc.lines().map(|l| {
+        let l = if l.is_empty() {
+            String::new()
+        } else {
+            format!(" {l}")
+        };
+        quote!(#![doc = #l])
+    });
+    let items = module_items(spec, real);
+    quote! {
+        pub mod #name {
+            #(#doc)*
+            // Literals are the description's values written in full: they may look like
+            // well-known constants (e.g. 1/√2) or carry more digits than f32 holds; rustc rounds
+            // them correctly.
+            #![allow(
+                clippy::approx_constant,
+                clippy::excessive_precision,
+                clippy::unreadable_literal,
+                clippy::too_many_lines,
+                clippy::doc_markdown
+            )]
+            #items
+        }
+    }
+}
+
+/// Formats tokens of a file with prettyplease, headed by the `@generated` line.
+pub fn format_file(tokens: TokenStream) -> Result<String, syn::Error> {
+    let file: syn::File = syn::parse2(tokens)?;
+    Ok(format!(
+        "// This file is @generated by trocar-codegen. Do not edit.\n\n{}",
+        prettyplease::unparse(&file)
+    ))
+}

@@ -1,0 +1,56 @@
+//! The generated programs of every shipped and fixture description agree with the numeric
+//! runtime and with finite differences (`trocar verify` as a library).
+
+use trocar::description::{preset_names, RobotDescription};
+use trocar::verify::{verify, Tolerances};
+use trocar_codegen::evaluate::Generated;
+
+fn check(description: &RobotDescription, samples: usize) {
+    let generated = Generated::new(description).expect("derivable");
+    let report = verify(
+        description,
+        &generated,
+        samples,
+        11,
+        Tolerances::default(),
+        |_| {},
+    )
+    .expect("numeric runtime accepts the description");
+    assert!(report.passed(), "{report}");
+    let expected = if description.constraint.is_some() {
+        9
+    } else {
+        2
+    };
+    assert_eq!(report.checks.len(), expected, "{report}");
+}
+
+#[test]
+fn shipped_descriptions() {
+    for name in preset_names() {
+        check(&RobotDescription::preset(name).unwrap(), 500);
+    }
+}
+
+#[test]
+fn fixtures_with_rotated_rcm_prismatic_joint_and_three_row_h() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/generated/robots/");
+    for file in ["rotated_rcm.toml", "chain9_prismatic.toml"] {
+        check(
+            &RobotDescription::from_toml_file(format!("{root}{file}")).unwrap(),
+            200,
+        );
+    }
+}
+
+#[test]
+fn urdf_arm_without_constraint() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../runtime/tests/data/arm7.urdf"
+    );
+    check(
+        &RobotDescription::from_urdf_file(path, "tool").unwrap(),
+        200,
+    );
+}

@@ -1,0 +1,241 @@
+//! Inverses of the Jacobians: pseudo-inverse, damped least squares with variable damping
+//! (3.43)–(3.46), the filtered inverse (3.47)–(3.50), and manipulability (3.36).
+//!
+//! Everything works on fixed-size `nalgebra` matrices of any shape and allocates nothing: the
+//! linear systems are the Gram matrices `J Jᵀ + κ² I` (or `Jᵀ J + κ² I` when `J` has more rows
+//! than columns), solved by Cholesky.
+
+use nalgebra::{Cholesky, RealField, SMatrix};
+
+/// Damping of the least-squares inverse `J†_κ = Jᵀ (J Jᵀ + κ² I)⁻¹` (3.43), (3.46).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Damping<T> {
+    /// A constant `κ` (the thesis's Table 4.2, "κ = 0.05").
+    Constant(T),
+    /// Variable damping (3.44): `κ = 0` if `w ≥ w0`, else `α0 (1 − w/w0)²`, with `w` the
+    /// manipulability of the matrix being inverted.
+    Variable {
+        /// Scale `α0` (the largest damping, reached at `w = 0`).
+        alpha0: T,
+        /// Threshold `w0` of manipulability under which damping starts.
+        w0: T,
+    },
+}
+
+impl<T: RealField + Copy> Damping<T> {
+    /// The damping factor `κ` at manipulability `w`.
+    pub fn kappa(&self, w: T) -> T {
+        match *self {
+            Damping::Constant(k) => k,
+            Damping::Variable { alpha0, w0 } => {
+                if w >= w0 {
+                    T::zero()
+                } else {
+                    let s = T::one() - w / w0;
+                    alpha0 * s * s
+                }
+            }
+        }
+    }
+}
+
+/// Determinant of a small square matrix by Gaussian elimination with partial pivoting.
+pub fn determinant<T: RealField + Copy, const D: usize>(m: &SMatrix<T, D, D>) -> T {
+    let mut a = *m;
+    let mut det = T::one();
+    for c in 0..D {
+        let mut p = c;
+        for r in c + 1..D {
+            if a[(r, c)].abs() > a[(p, c)].abs() {
+                p = r;
+            }
+        }
+        if a[(p, c)] == T::zero() {
+            return T::zero();
+        }
+        if p != c {
+            a.swap_rows(p, c);
+            det = -det;
+        }
+        let pivot = a[(c, c)];
+        det *= pivot;
+        for r in c + 1..D {
+            let f = a[(r, c)] / pivot;
+            for k in c + 1..D {
+                let v = a[(c, k)];
+                a[(r, k)] -= f * v;
+            }
+        }
+    }
+    det
+}
+
+/// Manipulability (3.36), (3.39): `w = √|det(J Jᵀ)|` for a wide or square `J`, `√|det(Jᵀ J)|` for
+/// a tall one (the product of the singular values in both cases).
+pub fn manipulability<T: RealField + Copy, const R: usize, const C: usize>(
+    j: &SMatrix<T, R, C>,
+) -> T {
+    let d = if R <= C {
+        determinant(&(j * j.transpose()))
+    } else {
+        determinant(&(j.transpose() * j))
+    };
+    d.abs().sqrt()
+}
+
+/// The damped least-squares inverse `Jᵀ (J Jᵀ + κ² I)⁻¹` (3.43), (3.46), computed as
+/// `(Jᵀ J + κ² I)⁻¹ Jᵀ` when `J` is tall (the same matrix for `κ > 0`). With `κ = 0` it is the
+/// Moore–Penrose pseudo-inverse of a full-rank `J`. `None` if the Gram matrix is not positive
+/// definite (a singular `J` with `κ = 0`).
+pub fn damped_pinv<T: RealField + Copy, const R: usize, const C: usize>(
+    j: &SMatrix<T, R, C>,
+    kappa: T,
+) -> Option<SMatrix<T, C, R>> {
+    let k2 = kappa * kappa;
+    if R <= C {
+        let gram = j * j.transpose() + SMatrix::<T, R, R>::identity() * k2;
+        // Jᵀ G⁻¹ = (G⁻¹ J)ᵀ, G symmetric.
+        let x = Cholesky::new(gram)?.solve(j);
+        let out = x.transpose();
+        out.iter().all(|v| v.is_finite()).then_some(out)
+    } else {
+        let gram = j.transpose() * j + SMatrix::<T, C, C>::identity() * k2;
+        let out = Cholesky::new(gram)?.solve(&j.transpose());
+        out.iter().all(|v| v.is_finite()).then_some(out)
+    }
+}
+
+/// The pseudo-inverse of a full-rank `J` (`damped_pinv` with `κ = 0`).
+pub fn pinv<T: RealField + Copy, const R: usize, const C: usize>(
+    j: &SMatrix<T, R, C>,
+) -> Option<SMatrix<T, C, R>> {
+    damped_pinv(j, T::zero())
+}
+
+/// The filtered inverse (3.47)–(3.50): a state `Θ ∈ R^{C×R}` driven towards an inverse of
+/// `J ∈ R^{R×C}` by `Θ̇ = −(Γ_r Jᵀ S_r + Γ_l S_l Jᵀ)`, `S_r = J Θ − I`, `S_l = Θ J − I`, and the
+/// control `u = Θ Θᵀ Jᵀ dV`.
+///
+/// (3.49) writes one gain matrix `Γ`; the thesis's experiments give two scalars `Γ_r`, `Γ_l`
+/// (Table 4.3), read here as the gains of the right- and left-inverse error terms.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FilteredInverse<T: RealField + Copy, const R: usize, const C: usize> {
+    /// The state `Θ`.
+    pub theta: SMatrix<T, C, R>,
+}
+
+impl<T: RealField + Copy, const R: usize, const C: usize> FilteredInverse<T, R, C> {
+    /// Starts from a given `Θ(0)` (e.g. the pseudo-inverse of `J` at the initial configuration).
+    pub fn new(theta: SMatrix<T, C, R>) -> Self {
+        FilteredInverse { theta }
+    }
+
+    /// `Θ̇` of (3.49) at the current `J`.
+    pub fn derivative(&self, j: &SMatrix<T, R, C>, gamma_r: T, gamma_l: T) -> SMatrix<T, C, R> {
+        let s_r = j * self.theta - SMatrix::<T, R, R>::identity();
+        let s_l = self.theta * j - SMatrix::<T, C, C>::identity();
+        let jt = j.transpose();
+        -(jt * s_r * gamma_r + s_l * jt * gamma_l)
+    }
+
+    /// Integrates (3.49) over `dt` with `J` held constant, by explicit Euler in `n` equal
+    /// sub-steps, `n = ⌈2 dt max(Γ_r, Γ_l) ‖J‖²_F⌉` (at most 4096): the linear part of (3.49) has
+    /// rates up to `(Γ_r + Γ_l) σ²_max ≤ 2 max(Γ) ‖J‖²_F`, so each sub-step is stable. Returns `n`.
+    pub fn update(&mut self, j: &SMatrix<T, R, C>, gamma_r: T, gamma_l: T, dt: T) -> usize {
+        let g = if gamma_r > gamma_l { gamma_r } else { gamma_l };
+        let two: T = nalgebra::convert(2.0);
+        let rate: f64 = (two * dt * g * j.norm_squared())
+            .to_subset()
+            .unwrap_or(f64::INFINITY);
+        let n = if rate.is_finite() {
+            (libm::ceil(rate) as usize).clamp(1, 4096)
+        } else {
+            4096
+        };
+        let h = dt / nalgebra::convert::<f64, T>(n as f64);
+        for _ in 0..n {
+            let d = self.derivative(j, gamma_r, gamma_l);
+            self.theta += d * h;
+        }
+        n
+    }
+
+    /// The matrix `Θ Θᵀ Jᵀ` of (3.50) that maps `dV` to `u`.
+    pub fn inverse(&self, j: &SMatrix<T, R, C>) -> SMatrix<T, C, R> {
+        self.theta * (self.theta.transpose() * j.transpose())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Matrix6, SMatrix};
+
+    fn sample() -> SMatrix<f64, 6, 7> {
+        SMatrix::<f64, 6, 7>::from_fn(|r, c| {
+            ((r * 7 + c) as f64 * 0.731).sin() + if r == c { 2.0 } else { 0.0 }
+        })
+    }
+
+    #[test]
+    fn pinv_is_a_right_inverse_and_matches_svd() {
+        let j = sample();
+        let p = pinv(&j).unwrap();
+        assert!((j * p - Matrix6::identity()).norm() < 1e-12);
+        let svd = nalgebra::linalg::SVD::new(j, true, true);
+        let reference = svd.pseudo_inverse(1e-14).unwrap();
+        assert!((p - reference).norm() < 1e-10);
+        let tall = j.transpose();
+        let pt = pinv(&tall).unwrap();
+        assert!((pt * tall - Matrix6::identity()).norm() < 1e-12);
+    }
+
+    #[test]
+    fn damped_inverse_forms_agree_and_singular_pinv_fails() {
+        let j = sample();
+        let a = damped_pinv(&j, 0.3).unwrap();
+        let b = damped_pinv(&j.transpose(), 0.3).unwrap().transpose();
+        assert!((a - b).norm() < 1e-12);
+        let mut s = j;
+        s.set_row(5, &(s.row(0) * 2.0));
+        assert!(pinv(&s).is_none() || pinv(&s).unwrap().norm() > 1e6);
+        assert!(damped_pinv(&s, 0.05).unwrap().norm() < 1e3);
+    }
+
+    #[test]
+    fn variable_damping_follows_3_44() {
+        let d = Damping::Variable {
+            alpha0: 0.05f64,
+            w0: 0.2,
+        };
+        assert_eq!(d.kappa(0.3), 0.0);
+        assert_eq!(d.kappa(0.2), 0.0);
+        assert!((d.kappa(0.1) - 0.05 * 0.25).abs() < 1e-15);
+        assert_eq!(d.kappa(0.0), 0.05);
+        assert_eq!(Damping::Constant(0.01).kappa(7.0), 0.01);
+    }
+
+    #[test]
+    fn manipulability_is_the_product_of_singular_values() {
+        let j = sample();
+        let svd = nalgebra::linalg::SVD::new(j, false, false);
+        let prod: f64 = svd.singular_values.iter().product();
+        assert!((manipulability(&j) - prod).abs() < 1e-10 * prod);
+        assert!((manipulability(&j.transpose()) - prod).abs() < 1e-10 * prod);
+        let m =
+            Matrix6::from_fn(|r, c| (r as f64 + 1.0).powi(c as i32 % 3) + (r == c) as u8 as f64);
+        assert!((determinant(&m) - m.determinant()).abs() < 1e-9 * m.determinant().abs());
+    }
+
+    #[test]
+    fn filtered_inverse_converges_to_the_inverse() {
+        let j = sample() * 0.5;
+        let mut fi = FilteredInverse::new(SMatrix::<f64, 7, 6>::zeros());
+        for _ in 0..20000 {
+            fi.update(&j, 5.0, 5.0, 0.002);
+        }
+        assert!((j * fi.theta - Matrix6::identity()).norm() < 1e-6);
+        // Θ Θᵀ Jᵀ then is a right inverse too.
+        assert!((j * fi.inverse(&j) - Matrix6::identity()).norm() < 1e-5);
+    }
+}

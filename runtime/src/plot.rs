@@ -1,1 +1,0 @@
-//! Plots (SVG/PNG) of simulation traces, with plotters.

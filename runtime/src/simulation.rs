@@ -1,1 +1,0 @@
-//! Kinematic simulations of the thesis's scenarios (chapter 4).

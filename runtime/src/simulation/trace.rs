@@ -1,0 +1,157 @@
+//! The recorded simulation: one row per control step, CSV output and summary figures.
+
+use super::{Method, Scenario};
+use std::io::Write;
+use std::path::Path;
+
+/// One control step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TraceRow {
+    /// Time (s).
+    pub t: f64,
+    /// `‖dp − p_0e‖` (m).
+    pub ep_norm: f64,
+    /// `‖ε̃‖` of the quaternion error.
+    pub eo_norm: f64,
+    /// Lateral velocity `(vr_x, vr_z)` of the link point at the trocar, in `F_r` (m/s), from
+    /// finite differences of forward kinematics over `[t, t + dt]`.
+    pub vr: [f64; 2],
+    /// Distance from the trocar point to the link axis (m).
+    pub rcm_drift: f64,
+    /// Manipulability of `J^r_0e`.
+    pub w_r: f64,
+    /// Manipulability of `J^B_0i`.
+    pub w_i: f64,
+    /// `l_a` (m).
+    pub l_a: f64,
+    /// Joints (rad).
+    pub q: [f64; 8],
+    /// Joint velocities (rad/s).
+    pub qd: [f64; 8],
+    /// Position error in the end-effector frame, `R_0eᵀ(dp − p)` (m).
+    pub ep: [f64; 3],
+    /// Orientation error `ε̃` (base coordinates).
+    pub eo: [f64; 3],
+    /// Commanded RCM velocity on `(x_r, z_r)` (m/s).
+    pub dv_cmd: [f64; 2],
+    /// Damping applied to `J^r_0e`.
+    pub kappa_r: f64,
+}
+
+/// A simulation run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Trace {
+    /// The scenario.
+    pub scenario: Scenario,
+    /// The method.
+    pub method: Method,
+    /// Whether the drift correction was on.
+    pub drift_correction: bool,
+    /// Number of constrained directions (1: only `vr_x` is constrained).
+    pub constrained_directions: usize,
+    /// Sample time (s).
+    pub dt: f64,
+    /// One row per step.
+    pub rows: Vec<TraceRow>,
+}
+
+/// The CSV header, in column order.
+pub const CSV_HEADER: &str = "t,ep_norm,eo_norm,vr_x,vr_z,rcm_drift,w_r,w_i,l_a,\
+q1,q2,q3,q4,q5,q6,q7,q8,qd1,qd2,qd3,qd4,qd5,qd6,qd7,qd8";
+
+/// Figures of merit of a run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Summary {
+    /// Largest `|vr − dv_cmd|` in the constrained directions after the first step (m/s).
+    pub max_rcm_velocity_error: f64,
+    /// Largest `‖vr‖` (both lateral directions, including commanded motion) (m/s).
+    pub max_vr: f64,
+    /// Largest distance trocar–link axis (m).
+    pub max_drift: f64,
+    /// Distance trocar–link axis at the end (m).
+    pub final_drift: f64,
+    /// Largest `ep_norm` (m).
+    pub max_ep: f64,
+    /// Largest `ep_norm` after 10 s (m).
+    pub max_ep_after_10s: f64,
+    /// Largest `eo_norm`.
+    pub max_eo: f64,
+    /// Largest `|θ̇_k|` over joints and time (rad/s).
+    pub peak_qd: f64,
+    /// Smallest manipulability of `J^r_0e`.
+    pub min_w_r: f64,
+    /// Smallest manipulability of `J^B_0i`.
+    pub min_w_i: f64,
+    /// Smallest `|q7|` (rad).
+    pub min_abs_q7: f64,
+    /// Range of `l_a` (m).
+    pub l_a_range: (f64, f64),
+}
+
+impl Trace {
+    /// Writes the CSV (columns [`CSV_HEADER`]) to a writer.
+    pub fn to_csv(&self, mut w: impl Write) -> std::io::Result<()> {
+        writeln!(w, "{CSV_HEADER}")?;
+        for r in &self.rows {
+            write!(
+                w,
+                "{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
+                r.t, r.ep_norm, r.eo_norm, r.vr[0], r.vr[1], r.rcm_drift, r.w_r, r.w_i, r.l_a
+            )?;
+            for v in r.q.iter().chain(r.qd.iter()) {
+                write!(w, ",{v:e}")?;
+            }
+            writeln!(w)?;
+        }
+        Ok(())
+    }
+
+    /// Writes the CSV to a file.
+    pub fn write_csv(&self, path: impl AsRef<Path>) -> std::io::Result<()> {
+        let f = std::fs::File::create(path)?;
+        let mut w = std::io::BufWriter::new(f);
+        self.to_csv(&mut w)?;
+        w.flush()
+    }
+
+    /// `|vr − dv_cmd|` in the constrained directions at a row.
+    pub fn rcm_velocity_error(&self, r: &TraceRow) -> f64 {
+        let ex = r.vr[0] - r.dv_cmd[0];
+        if self.constrained_directions == 1 {
+            ex.abs()
+        } else {
+            ex.hypot(r.vr[1] - r.dv_cmd[1])
+        }
+    }
+
+    /// Figures of merit.
+    pub fn summary(&self) -> Summary {
+        let max = |f: &dyn Fn(&TraceRow) -> f64| self.rows.iter().map(f).fold(0.0, f64::max);
+        let min =
+            |f: &dyn Fn(&TraceRow) -> f64| self.rows.iter().map(f).fold(f64::INFINITY, f64::min);
+        Summary {
+            max_rcm_velocity_error: self
+                .rows
+                .iter()
+                .skip(1)
+                .map(|r| self.rcm_velocity_error(r))
+                .fold(0.0, f64::max),
+            max_vr: max(&|r| r.vr[0].hypot(r.vr[1])),
+            max_drift: max(&|r| r.rcm_drift),
+            final_drift: self.rows.last().map_or(0.0, |r| r.rcm_drift),
+            max_ep: max(&|r| r.ep_norm),
+            max_ep_after_10s: self
+                .rows
+                .iter()
+                .filter(|r| r.t >= 10.0)
+                .map(|r| r.ep_norm)
+                .fold(0.0, f64::max),
+            max_eo: max(&|r| r.eo_norm),
+            peak_qd: max(&|r| r.qd.iter().fold(0.0, |a: f64, v| a.max(v.abs()))),
+            min_w_r: min(&|r| r.w_r),
+            min_w_i: min(&|r| r.w_i),
+            min_abs_q7: min(&|r| r.q[6].abs()),
+            l_a_range: (min(&|r| r.l_a), max(&|r| r.l_a)),
+        }
+    }
+}

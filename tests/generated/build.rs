@@ -1,0 +1,40 @@
+//! Runs the builder for the shipped robots and the fixtures, as a user's build script would.
+
+use trocar_codegen::builder::Builder;
+use trocar_codegen::emit::Real;
+
+fn main() {
+    let robots = "../../runtime/robots";
+    let mut b = Builder::new();
+    for name in [
+        "unidirectional",
+        "bidirectional-zy",
+        "bidirectional-zx",
+        "dia10_like_zy",
+        "dia10_like_zx",
+    ] {
+        b.robot(format!("{robots}/{name}.toml"));
+    }
+    b.robot("robots/rotated_rcm.toml");
+    b.robot("robots/chain9_prismatic.toml");
+    if let Err(e) = b.compile() {
+        panic!("trocar-codegen: {e}");
+    }
+    // Monomorphic variants (`--real f32|f64`).
+    let mut f32b = Builder::new();
+    f32b.robot_as(
+        format!("{robots}/bidirectional-zy.toml"),
+        "bidirectional_zy_f32",
+    )
+    .robot_as("robots/rotated_rcm.toml", "rotated_rcm_f32")
+    .real(Real::F32);
+    if let Err(e) = f32b.compile() {
+        panic!("trocar-codegen: {e}");
+    }
+    let mut f64b = Builder::new();
+    f64b.robot_as(format!("{robots}/dia10_like_zx.toml"), "dia10_like_zx_f64")
+        .real(Real::F64);
+    if let Err(e) = f64b.compile() {
+        panic!("trocar-codegen: {e}");
+    }
+}

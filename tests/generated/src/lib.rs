@@ -1,0 +1,23 @@
+//! Generated modules, compiled in a `#![no_std]` crate (nothing but `core` and `trocar::Real`).
+#![no_std]
+#![deny(warnings)]
+#![warn(missing_docs)]
+
+macro_rules! generated {
+    ($($file:literal),* $(,)?) => {
+        $(include!(concat!(env!("OUT_DIR"), "/", $file));)*
+    };
+}
+
+generated!(
+    "unidirectional.rs",
+    "bidirectional_zy.rs",
+    "bidirectional_zx.rs",
+    "dia10_like_zy.rs",
+    "dia10_like_zx.rs",
+    "rotated_rcm.rs",
+    "chain9_prismatic.rs",
+    "bidirectional_zy_f32.rs",
+    "rotated_rcm_f32.rs",
+    "dia10_like_zx_f64.rs",
+);
