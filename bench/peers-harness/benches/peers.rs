@@ -1,0 +1,127 @@
+//! One criterion run: the peers' generated C, the harness's Rust f64 reference, and trig floors.
+//! Bench ids: `<case>/<implementation>`; `bench/peers_table.py` turns the medians into the table.
+use criterion::{black_box, criterion_group, criterion_main, Criterion};
+use trocar_peers_harness::{eval, floor_eight, floor_two, Case, Peer};
+
+fn peers(c: &mut Criterion) {
+    for case in [Case::Uni, Case::Bzy, Case::Bzx, Case::DiaZy] {
+        let mut g = c.benchmark_group(case.name());
+        let (q, p) = case.inputs();
+        let mut out = vec![0.0; case.out_len()];
+        for peer in Peer::ALL {
+            g.bench_function(peer.name(), |b| {
+                b.iter(|| {
+                    eval(peer, case, black_box(&q), black_box(&p), &mut out);
+                    black_box(&mut out);
+                })
+            });
+        }
+        let mut num = trocar_peers_harness::numeric::Numeric::new(case, &p);
+        g.bench_function("numeric", |b| {
+            b.iter(|| {
+                num.eval(black_box(&q), black_box(&p), &mut out);
+                black_box(&mut out);
+            })
+        });
+        #[cfg(feature = "ours")]
+        {
+            use trocar_peers_harness::ours;
+            g.bench_function("ours_f64", |b| {
+                b.iter(|| {
+                    ours::eval(case, black_box(&q), black_box(&p), &mut out);
+                    black_box(&mut out);
+                })
+            });
+            let trig = ours::Trig::new(case, &q);
+            g.bench_function("ours_f64_given_trig", |b| {
+                b.iter(|| {
+                    ours::eval_trig(case, black_box(&trig), black_box(&p), &mut out);
+                    black_box(&mut out);
+                })
+            });
+            let (q32, p32): (Vec<f32>, Vec<f32>) =
+                (q.iter().map(|&x| x as f32).collect(), p.iter().map(|&x| x as f32).collect());
+            let mut out32 = vec![0.0f32; case.out_len()];
+            g.bench_function("ours_f32", |b| {
+                b.iter(|| {
+                    ours::eval(case, black_box(&q32), black_box(&p32), &mut out32);
+                    black_box(&mut out32);
+                })
+            });
+        }
+        g.finish();
+    }
+}
+
+fn trig(c: &mut Criterion) {
+    let mut g = c.benchmark_group("trig");
+    let q2 = [0.5f64, 0.3];
+    let q8 = [0.0f64, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
+    g.bench_function("c_glibc_two_sincos", |b| {
+        let mut o = [0.0; 4];
+        b.iter(|| {
+            floor_two(black_box(&q2), &mut o);
+            black_box(&o);
+        })
+    });
+    g.bench_function("c_glibc_eight_sincos", |b| {
+        let mut o = [0.0; 16];
+        b.iter(|| {
+            floor_eight(black_box(&q8), &mut o);
+            black_box(&o);
+        })
+    });
+    g.bench_function("rust_std_two_sin_cos_f64", |b| {
+        b.iter(|| {
+            let q = black_box(q2);
+            black_box([q[0].sin_cos(), q[1].sin_cos()])
+        })
+    });
+    g.bench_function("trocar_real_two_sin_cos_f64", |b| {
+        b.iter(|| {
+            let q = black_box(q2);
+            black_box([<f64 as trocar::Real>::sin_cos(q[0]), <f64 as trocar::Real>::sin_cos(q[1])])
+        })
+    });
+    g.bench_function("libm_two_sin_cos_f64", |b| {
+        b.iter(|| {
+            let q = black_box(q2);
+            black_box([(libm::sin(q[0]), libm::cos(q[0])), (libm::sin(q[1]), libm::cos(q[1]))])
+        })
+    });
+    g.bench_function("fast_two_sin_cos_f64", |b| {
+        b.iter(|| {
+            let q = black_box(q2);
+            black_box([trocar::real::fast::sin_cos_f64(q[0]), trocar::real::fast::sin_cos_f64(q[1])])
+        })
+    });
+    let q2f = [0.5f32, 0.3];
+    g.bench_function("fast_two_sin_cos_f32", |b| {
+        b.iter(|| {
+            let q = black_box(q2f);
+            black_box([trocar::real::fast::sin_cos_f32(q[0]), trocar::real::fast::sin_cos_f32(q[1])])
+        })
+    });
+    g.bench_function("rust_std_two_sin_cos_f32", |b| {
+        b.iter(|| {
+            let q = black_box(q2f);
+            black_box([q[0].sin_cos(), q[1].sin_cos()])
+        })
+    });
+    g.bench_function("trocar_real_two_sin_cos_f32", |b| {
+        b.iter(|| {
+            let q = black_box(q2f);
+            black_box([<f32 as trocar::Real>::sin_cos(q[0]), <f32 as trocar::Real>::sin_cos(q[1])])
+        })
+    });
+    g.bench_function("libm_two_sin_cos_f32", |b| {
+        b.iter(|| {
+            let q = black_box(q2f);
+            black_box([(libm::sinf(q[0]), libm::cosf(q[0])), (libm::sinf(q[1]), libm::cosf(q[1]))])
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, peers, trig);
+criterion_main!(benches);

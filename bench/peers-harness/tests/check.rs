@@ -1,0 +1,278 @@
+//! The peers' C computes the right matrices: the harness's f64 reference is checked against the
+//! thesis's closed forms (3.24), manipulability (3.41)/(3.42), the constraint itself and finite
+//! differences; then every peer is checked against the reference.
+use trocar_peers_harness::reference::{self, Tf};
+use trocar_peers_harness::{eval, Case, Peer, PRESETS};
+
+fn lcg(seed: &mut u64) -> f64 {
+    *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    ((*seed >> 11) as f64) / ((1u64 << 53) as f64)
+}
+
+fn random_inputs(case: Case, seed: &mut u64) -> (Vec<f64>, Vec<f64>) {
+    let (mut q, mut p) = case.inputs();
+    for x in q.iter_mut() {
+        *x = (lcg(seed) - 0.5) * 6.0;
+    }
+    if case == Case::DiaZy {
+        p[0] = 0.05 + 0.25 * lcg(seed);
+    } else {
+        for x in p.iter_mut() {
+            *x = 0.05 + 0.3 * lcg(seed);
+        }
+    }
+    (q, p)
+}
+
+fn get(j: &[f64], r: usize, c: usize) -> f64 {
+    j[6 * c + r]
+}
+
+#[test]
+fn reference_unidirectional_is_3_24() {
+    let mut seed = 1;
+    for _ in 0..100 {
+        let (q, p) = random_inputs(Case::Uni, &mut seed);
+        let mut j = vec![0.0; 42];
+        reference::eval(Case::Uni, &q, &p, &mut j);
+        let (s7, c7, s8, c8) = (q[0].sin(), q[0].cos(), q[1].sin(), q[1].cos());
+        let (la, lb, l8) = (p[0], p[1], p[2]);
+        let a1 = -c8 * (l8 + lb * c7) / la;
+        let a2 = -s8 * (l8 + lb * c7) / la;
+        let a3 = -s8 * (la + lb + l8 * c7);
+        let a4 = c8 * (la + lb + l8 * c7);
+        let t = [
+            [a1, c8 * s7, -s8, a3, -l8 * s7 * s8, -l8 * c8, 0.0],
+            [lb * s7 / la, c7, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [a2, s7 * s8, c8, a4, l8 * c8 * s7, -l8 * s8, 0.0],
+            [-s8 / la, 0.0, 0.0, c7 * c8, c8 * s7, -s8, 0.0],
+            [0.0, 0.0, 0.0, -s7, c7, 0.0, 1.0],
+            [c8 / la, 0.0, 0.0, c7 * s8, s7 * s8, c8, 0.0],
+        ];
+        for r in 0..6 {
+            for c in 0..7 {
+                assert!((get(&j, r, c) - t[r][c]).abs() < 1e-12, "({r},{c})");
+            }
+        }
+    }
+}
+
+fn det6(j: &[f64]) -> f64 {
+    let mut a = [[0.0; 6]; 6];
+    for r in 0..6 {
+        for c in 0..6 {
+            a[r][c] = get(j, r, c);
+        }
+    }
+    let mut det = 1.0;
+    for k in 0..6 {
+        let piv = (k..6).max_by(|&x, &y| a[x][k].abs().total_cmp(&a[y][k].abs())).unwrap();
+        if piv != k {
+            a.swap(piv, k);
+            det = -det;
+        }
+        det *= a[k][k];
+        for r in k + 1..6 {
+            let f = a[r][k] / a[k][k];
+            for c in k..6 {
+                a[r][c] -= f * a[k][c];
+            }
+        }
+    }
+    det
+}
+
+#[test]
+fn reference_bidirectional_manipulability_is_3_41_3_42() {
+    let mut seed = 2;
+    for _ in 0..100 {
+        for case in [Case::Bzy, Case::Bzx] {
+            let (q, p) = random_inputs(case, &mut seed);
+            let mut j = vec![0.0; 36];
+            reference::eval(case, &q, &p, &mut j);
+            let t = if case == Case::Bzy { q[0].sin() } else { q[0].cos() };
+            let want = p[1] * p[1] * t.abs() / (p[0] * p[0]);
+            assert!((det6(&j).abs() - want).abs() < 1e-10 * (1.0 + want), "{case:?}");
+        }
+    }
+}
+
+/// Ad_{g_ri} Ad_{g_ie} maps the first columns of J^r back to F_r, where H V = 0 must hold.
+#[test]
+fn reference_first_columns_satisfy_the_constraint() {
+    let mut seed = 3;
+    for case in PRESETS {
+        for _ in 0..50 {
+            let (q, p) = random_inputs(case, &mut seed);
+            let mut j = vec![0.0; case.out_len()];
+            reference::eval(case, &q, &p, &mut j);
+            let ncols = case.out_len() / 6 - 2;
+            // V^B_0i = Ad_{g_ie} col; V^B_0r = Ad_{g_ri} V^B_0i with g_ri = (I, -(0, l_a, 0)).
+            let wrist = if case == Case::Bzx { b'x' } else { b'y' };
+            let g_ie = reference::mul(
+                &reference::mul(
+                    &reference::joint([0.0, p[0] + p[1], 0.0], b'z', q[0]),
+                    &reference::joint([0.0; 3], wrist, q[1]),
+                ),
+                &Tf { r: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], p: [0.0, p[2], 0.0] },
+            );
+            let g_ei = inv(&g_ie);
+            let g_ir = Tf { r: g_ei.r.map(|_| [0.0; 3]), p: [0.0, p[0], 0.0] };
+            let g_ir = Tf { r: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], ..g_ir };
+            for c in 0..ncols {
+                let col: [f64; 6] = core::array::from_fn(|r| get(&j, r, c));
+                let v0i = reference::ad_inv(&g_ei, col);
+                let v0r = reference::ad_inv(&g_ir, v0i);
+                assert!(v0r[0].abs() < 1e-12, "x_r");
+                if case != Case::Uni {
+                    assert!(v0r[2].abs() < 1e-12, "z_r");
+                }
+            }
+        }
+    }
+}
+
+fn inv(g: &Tf) -> Tf {
+    let mut r = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            r[i][j] = g.r[j][i];
+        }
+    }
+    let p = core::array::from_fn(|i| -(0..3).map(|k| r[i][k] * g.p[k]).sum::<f64>());
+    Tf { r, p }
+}
+
+/// Body velocity (R^T p', (R^T R')^v) by central differences.
+fn fd_body(f: impl Fn(f64) -> Tf) -> [f64; 6] {
+    let h = 1e-6;
+    let (a, b, g) = (f(h), f(-h), f(0.0));
+    let mut out = [0.0; 6];
+    let mut rd = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            rd[i][j] = (a.r[i][j] - b.r[i][j]) / (2.0 * h);
+        }
+    }
+    for i in 0..3 {
+        out[i] = (0..3).map(|k| g.r[k][i] * (a.p[k] - b.p[k]) / (2.0 * h)).sum();
+    }
+    let w = |i: usize, j: usize| (0..3).map(|k| g.r[k][i] * rd[k][j]).sum::<f64>();
+    out[3] = w(2, 1);
+    out[4] = w(0, 2);
+    out[5] = w(1, 0);
+    out
+}
+
+#[test]
+fn reference_dia_body_jacobians_match_finite_differences() {
+    use reference::{joint, DIA_AXES_ZY, DIA_ORIGINS};
+    let mut seed = 4;
+    for _ in 0..20 {
+        let (q, p) = random_inputs(Case::DiaZy, &mut seed);
+        let mut out = vec![0.0; 84];
+        reference::eval(Case::DiaZy, &q, &p, &mut out);
+        let chain = |q: &[f64], n: usize| {
+            let mut g = Tf { r: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], p: [0.0; 3] };
+            for k in 0..n {
+                g = reference::mul(&g, &joint(DIA_ORIGINS[k], DIA_AXES_ZY[k], q[k]));
+            }
+            g
+        };
+        // FK
+        let g = reference::dia_fk(&q);
+        let g8 = reference::mul(&chain(&q, 8), &Tf { r: g.r.map(|_| [0.0; 3]), p: [0.0, 0.21, 0.0] });
+        for i in 0..3 {
+            assert!((g.p[i] - g8.p[i]).abs() < 1e-12 && (out[9 + i] - g.p[i]).abs() < 1e-12);
+        }
+        // J^B_0i (6 joints)
+        for k in 0..6 {
+            let col = fd_body(|h| {
+                let mut qq = q.clone();
+                qq[k] += h;
+                chain(&qq, 6)
+            });
+            for r in 0..6 {
+                assert!((out[12 + 6 * k + r] - col[r]).abs() < 1e-7, "jb0i ({r},{k})");
+            }
+        }
+        // J^B_0e2 columns of J^r (joints 7, 8) against the FK to the end effector
+        for (k, c) in [(6usize, 4usize), (7, 5)] {
+            let col = fd_body(|h| {
+                let mut qq = q.clone();
+                qq[k] += h;
+                reference::dia_fk(&qq)
+            });
+            for r in 0..6 {
+                assert!((out[48 + 6 * c + r] - col[r]).abs() < 1e-7, "jr ({r},{c})");
+            }
+        }
+    }
+}
+
+#[test]
+fn peers_agree_with_the_reference() {
+    let mut seed = 5;
+    for case in [Case::Uni, Case::Bzy, Case::Bzx, Case::DiaZy] {
+        for _ in 0..200 {
+            let (q, p) = random_inputs(case, &mut seed);
+            let mut want = vec![0.0; case.out_len()];
+            reference::eval(case, &q, &p, &mut want);
+            let scale = want.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+            for peer in [Peer::Casadi, Peer::CasadiCse, Peer::Sympy] {
+                let mut got = vec![f64::NAN; case.out_len()];
+                eval(peer, case, &q, &p, &mut got);
+                for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+                    assert!((g - w).abs() <= 1e-12 * scale, "{peer:?} {case:?} [{i}]: {g} vs {w}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn numeric_runtime_agrees_with_the_reference() {
+    use trocar_peers_harness::numeric::Numeric;
+    let mut seed = 6;
+    for case in [Case::Uni, Case::Bzy, Case::Bzx, Case::DiaZy] {
+        for _ in 0..100 {
+            let (q, p) = random_inputs(case, &mut seed);
+            let mut want = vec![0.0; case.out_len()];
+            reference::eval(case, &q, &p, &mut want);
+            let mut got = vec![f64::NAN; case.out_len()];
+            Numeric::new(case, &p).eval(&q, &p, &mut got);
+            let scale = want.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+            for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+                assert!((g - w).abs() <= 1e-12 * scale, "numeric {case:?} [{i}]: {g} vs {w}");
+            }
+        }
+    }
+}
+
+#[cfg(feature = "ours")]
+#[test]
+fn ours_agree_with_the_reference_f64_and_f32() {
+    use trocar_peers_harness::ours;
+    let mut seed = 8;
+    for case in [Case::Uni, Case::Bzy, Case::Bzx, Case::DiaZy] {
+        for _ in 0..200 {
+            let (q, p) = random_inputs(case, &mut seed);
+            let mut want = vec![0.0; case.out_len()];
+            reference::eval(case, &q, &p, &mut want);
+            let scale = want.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+            let mut got = vec![f64::NAN; case.out_len()];
+            ours::eval(case, &q, &p, &mut got);
+            let mut got_t = vec![f64::NAN; case.out_len()];
+            ours::eval_trig(case, &ours::Trig::new(case, &q), &p, &mut got_t);
+            let (q32, p32): (Vec<f32>, Vec<f32>) =
+                (q.iter().map(|&x| x as f32).collect(), p.iter().map(|&x| x as f32).collect());
+            let mut got32 = vec![f32::NAN; case.out_len()];
+            ours::eval(case, &q32, &p32, &mut got32);
+            for i in 0..want.len() {
+                assert!((got[i] - want[i]).abs() <= 1e-12 * scale, "ours f64 {case:?} [{i}]");
+                assert!((got_t[i] - want[i]).abs() <= 1e-12 * scale, "ours trig {case:?} [{i}]");
+                assert!((got32[i] as f64 - want[i]).abs() <= 2e-5 * scale, "ours f32 {case:?} [{i}]");
+            }
+        }
+    }
+}

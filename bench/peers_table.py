@@ -1,0 +1,113 @@
+#!/usr/bin/env python3
+"""Collects bench/peers.sh's measurements into one Markdown table.
+
+Inputs (all optional, missing cells print as "-"):
+  CRITERION_DIR/<case>/<impl>/new/estimates.json   criterion medians (ns/eval)
+  OUT/callgrind.json                              {"impl/case": instructions per eval}
+  OUT/opcounts.json                               source-level op counts from peers_gen.py
+  OUT/asm_counts.json                             FP instructions in the compiled functions
+Usage: peers_table.py OUT CRITERION_DIR
+"""
+
+import json
+import os
+import sys
+
+CASES = [("uni", "J^r unidirectional 6x7"), ("bzy", "J^r bidirectional-zy 6x6"),
+         ("bzx", "J^r bidirectional-zx 6x6"), ("dia_zy", "dia10_like zy: FK + J^B_0i + J^r")]
+IMPLS = [("casadi", "CasADi C (SX, defaults)"), ("casadi_cse", "CasADi C (SX, cse=True)"),
+         ("sympy", "SymPy C (cse + ccode)"), ("numeric", "trocar numeric runtime (Chain + Constraint, f64)"),
+         ("rust_reference", "harness f64 reference (Vec-based loops)"),
+         ("ours_f64", "trocar generated f64"), ("ours_f64_given_trig", "trocar generated f64, given JointTrig (no trig)"),
+         ("ours_f32", "trocar generated f32")]
+TRIG = [("c_glibc_two_sincos", "trig_c_glibc", "C glibc sin+cos of 2 joints (gcc merges into sincos)"),
+        ("rust_std_two_sin_cos_f64", "trig_std_f64", "Rust std f64::sin_cos x2"),
+        ("trocar_real_two_sin_cos_f64", None, "trocar::Real::sin_cos f64 x2 (std build)"),
+        (None, "trig_fast_f64", "trocar::real::fast::sin_cos_f64 x2 (no_std path)"),
+        ("libm_two_sin_cos_f64", "trig_libm_f64", "libm crate sin, cos f64 x2 (previous no_std path)"),
+        ("rust_std_two_sin_cos_f32", "trig_std_f32", "Rust std f32::sin_cos x2"),
+        ("trocar_real_two_sin_cos_f32", None, "trocar::Real::sin_cos f32 x2 (std build)"),
+        (None, "trig_fast_f32", "trocar::real::fast::sin_cos_f32 x2 (no_std path)"),
+        ("libm_two_sin_cos_f32", "trig_libm_f32", "libm crate sinf, cosf x2 (previous no_std path)"),
+        ("fast_two_sin_cos_f64", None, "trocar::real::fast::sin_cos_f64 x2 (criterion)"),
+        ("fast_two_sin_cos_f32", None, "trocar::real::fast::sin_cos_f32 x2 (criterion)")]
+
+
+def load(path):
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return {}
+
+
+def median(crit, group, name):
+    est = load(os.path.join(crit, group, name, "new", "estimates.json"))
+    if not est:
+        return None
+    return est["median"]["point_estimate"]
+
+
+def fmt(x, nd=1):
+    if x is None:
+        return "-"
+    if isinstance(x, float):
+        return f"{x:.{nd}f}"
+    return str(x)
+
+
+def main():
+    out, crit = sys.argv[1], sys.argv[2]
+    cg = load(os.path.join(out, "callgrind.json"))
+    ops = load(os.path.join(out, "opcounts.json"))
+    asm = load(os.path.join(out, "asm_counts.json"))
+    cpu = load(os.path.join(out, "cputime.json"))
+    noop = cg.get("noop/-")
+    lines = []
+    lines.append("| function | implementation | ns/eval CPU time (median) | ns/eval criterion (median) | instr/eval (callgrind) | source ops: mul / add+sub / div / neg / sin+cos | x86 FP instr: mul / add+sub / fma / div, calls |")
+    lines.append("|---|---|---:|---:|---:|---|---|")
+    for case, cdesc in CASES:
+        for impl, idesc in IMPLS:
+            t = median(crit, case, impl)
+            ins = cg.get(f"{impl}/{case}")
+            if t is None and ins is None:
+                continue
+            if ins is not None and noop is not None:
+                ins = ins - noop
+            ct = cpu.get(f"{impl}/{case}")
+            o = ops.get(f"{impl}_{case}")
+            if o:
+                adds = o.get("add", 0) + o.get("sub", 0)
+                muls = o.get("mul", 0) + o.get("pow", 0) + o.get("sq", 0)
+                src = f"{muls} / {adds} / {o.get('div', 0)} / {o.get('neg', 0)} / {o.get('sin', 0) + o.get('cos', 0)}"
+            else:
+                src = "-"
+            a = asm.get(f"{impl}_{case}")
+            if a:
+                mach = f"{a['mul']} / {a['add']} / {a['fma']} / {a['div']}, {a['calls']}"
+            else:
+                mach = "-"
+            lines.append(f"| {cdesc} | {idesc} | {fmt(ct)} | {fmt(t)} | {fmt(ins, 0)} | {src} | {mach} |")
+    lines.append("")
+    lines.append("| trigonometry (two joints, arguments 0.5 and 0.3) | ns CPU time (median) | ns criterion (median) | instr (callgrind) |")
+    lines.append("|---|---:|---:|---:|")
+    for bench, cgname, desc in TRIG:
+        t = median(crit, "trig", bench) if bench else None
+        ins = cg.get(f"{cgname}/-") if cgname else None
+        if ins is not None and noop is not None:
+            ins = ins - noop
+        ct = cpu.get(f"{cgname}/-") if cgname else None
+        if t is None and ins is None:
+            continue
+        lines.append(f"| {desc} | {fmt(ct)} | {fmt(t)} | {fmt(ins, 0)} |")
+    if noop is not None:
+        lines.append("")
+        lines.append(f"Instruction counts are net of the driver loop ({noop:.0f} instructions per iteration, measured with `cg_driver noop`).")
+    text = "\n".join(lines) + "\n"
+    with open(os.path.join(out, "table.md"), "w") as f:
+        f.write(text)
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
