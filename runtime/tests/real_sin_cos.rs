@@ -70,7 +70,10 @@ fn check32(x: f32, worst: &mut (f64, f64)) {
 struct Lcg(u64);
 impl Lcg {
     fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         self.0
     }
     fn unit(&mut self) -> f64 {
@@ -103,7 +106,11 @@ fn f64_special_values() {
         check64(x, &mut m);
     }
     assert_eq!(sin_cos_f64(0.0).0.to_bits(), 0.0f64.to_bits());
-    assert_eq!(sin_cos_f64(-0.0).0.to_bits(), (-0.0f64).to_bits(), "sin(-0) = -0");
+    assert_eq!(
+        sin_cos_f64(-0.0).0.to_bits(),
+        (-0.0f64).to_bits(),
+        "sin(-0) = -0"
+    );
     assert_eq!(sin_cos_f64(-0.0).1, 1.0);
     assert_eq!(sin_cos_f64(5e-324), (5e-324, 1.0));
     let (s, c) = sin_cos_f64(f64::NAN);
@@ -177,7 +184,11 @@ fn f32_special_values() {
     ] {
         check32(x, &mut w);
     }
-    assert_eq!(sin_cos_f32(-0.0).0.to_bits(), (-0.0f32).to_bits(), "sin(-0) = -0");
+    assert_eq!(
+        sin_cos_f32(-0.0).0.to_bits(),
+        (-0.0f32).to_bits(),
+        "sin(-0) = -0"
+    );
     assert_eq!(sin_cos_f32(0.0), (0.0, 1.0));
 }
 
@@ -189,7 +200,10 @@ fn f32_grid_random_and_all_magnitudes() {
     }
     let mut r = Lcg(3);
     for _ in 0..1_000_000 {
-        check32(((r.unit() - 0.5) * 2.0 * F32_FAST_LIMIT as f64) as f32, &mut w);
+        check32(
+            ((r.unit() - 0.5) * 2.0 * F32_FAST_LIMIT as f64) as f32,
+            &mut w,
+        );
         check32(f32::from_bits(r.next() as u32), &mut w);
     }
     eprintln!("f32 sampled: max {:.3} ulp, max abs {:e}", w.0, w.1);
@@ -205,5 +219,8 @@ fn f32_exhaustive_fast_path() {
         check32(x, &mut w);
         check32(-x, &mut w);
     }
-    eprintln!("f32 exhaustive |x| <= {F32_FAST_LIMIT}: max {:.3} ulp, max abs {:e}", w.0, w.1);
+    eprintln!(
+        "f32 exhaustive |x| <= {F32_FAST_LIMIT}: max {:.3} ulp, max abs {:e}",
+        w.0, w.1
+    );
 }
