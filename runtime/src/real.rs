@@ -125,6 +125,14 @@ impl_real!(f32, sin_cos_f32, sqrtf, fabsf);
 ///
 /// `sin(−0) = −0`, `cos(±0) = 1`, NaN for NaN and ±∞. With the `std` feature [`Real::sin_cos`]
 /// keeps std's `sin_cos` (glibc): see `BENCHMARKS.md` for the timings behind that choice.
+// The kernels' coefficients are the published fdlibm/musl and Cephes minimax values, written to
+// the digits of their sources so they can be checked against them; 2/π stays a literal beside
+// its split parts for the same reason. `!(|x| <= LIMIT)` is meant: it sends NaN to the slow path.
+#[allow(
+    clippy::excessive_precision,
+    clippy::approx_constant,
+    clippy::neg_cmp_op_on_partial_ord
+)]
 pub mod fast {
     #[inline(always)]
     fn two_sum64(a: f64, b: f64) -> (f64, f64) {
