@@ -366,7 +366,7 @@ fn toml_error(ctx: &Ctx, text: &str, e: &toml::de::Error) -> DescriptionError {
     } else if let Some(field) = at {
         (field, message.to_string())
     } else {
-        ("(document)".into(), format!("not valid TOML: {message}"))
+        ("(document)".into(), message.to_string())
     };
     let loc = match ctx.locator.locate(&field) {
         // The element named above, rather than the array the error points at.

@@ -11,6 +11,8 @@
 //! - `floating`, `planar` and `spherical` joints on the path are errors;
 //! - the end effector is the tip link's frame, named after it.
 //!
+//! Errors name the URDF joint (`joint[elbow].axis`, with the line of its `<joint>` element) or
+//! `tip_link`; the imported joints keep the line of their `<joint>` element as their location.
 //! Branches that do not lead to the tip are ignored. The result has no parameters and no constraint:
 //! add one with [`RobotDescription::with_constraint`], or convert the chain to TOML with
 //! [`RobotDescription::to_toml_string`] and add a `[constraint]` table there.

@@ -22,6 +22,11 @@
 //! | wrist `zy`: joint `i+1` revolute about z, joint `i+2` about y (`zx`: about x) | `joints[i].axis`, `joints[i+1].axis` |
 //! | a wrist needs `g_ir = (I, (0, l_a, 0))` with `l_a` a parameter of non-zero nominal value | `constraint.xyz[c]`, `constraint.rpy`/`constraint.rotation` |
 //!
+//! Reading TOML checks the format before these rules, with the same field paths: TOML syntax
+//! (`(document)`, with the position), unknown keys (the key and its table) and missing keys, types,
+//! expressions (`"l_a + l_b"`, linear in the parameters), joint types, `rpy` and `rotation` not both,
+//! rows of `H` of 6 entries and known axis letters (`constraint.h[k]`), known wrist names.
+//!
 //! Joint indices in field paths are 0-based (`joints[0]` is joint 1), as in the TOML array.
 
 use super::parse::is_identifier;
