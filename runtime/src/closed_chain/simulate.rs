@@ -123,31 +123,31 @@ impl Trace {
     ///
     /// Text uses the font embedded in [`crate::plot`], so figures render the same everywhere.
     pub fn plot_svg(&self, path: impl AsRef<Path>) -> Result<(), ClosedChainError> {
-        let path = path.as_ref();
-        let size = (900, 300 * self.panels.len().max(1) as u32);
-        let io = |e: String| ClosedChainError::Io {
-            path: path.display().to_string(),
-            message: e,
-        };
-        ensure_font().map_err(io)?;
-        let root = plotters::prelude::IntoDrawingArea::into_drawing_area(
-            plotters::prelude::SVGBackend::new(path, size),
-        );
-        self.draw(root).map_err(io)
+        self.plot_to(path.as_ref(), |p, size| {
+            plotters::prelude::SVGBackend::new(p, size)
+        })
     }
 
-    /// Draws the panels as a PNG file (same layout and font requirement as [`Trace::plot_svg`]).
+    /// Draws the panels as a PNG file (same layout and font as [`Trace::plot_svg`]).
     pub fn plot_png(&self, path: impl AsRef<Path>) -> Result<(), ClosedChainError> {
-        let path = path.as_ref();
+        self.plot_to(path.as_ref(), |p, size| {
+            plotters::prelude::BitMapBackend::new(p, size)
+        })
+    }
+
+    /// Draws the panels, one per row, on the backend `backend(path, size)` makes.
+    fn plot_to<'p, DB: plotters::prelude::DrawingBackend>(
+        &self,
+        path: &'p Path,
+        backend: impl FnOnce(&'p Path, (u32, u32)) -> DB,
+    ) -> Result<(), ClosedChainError> {
         let size = (900, 300 * self.panels.len().max(1) as u32);
         let io = |e: String| ClosedChainError::Io {
             path: path.display().to_string(),
             message: e,
         };
         ensure_font().map_err(io)?;
-        let root = plotters::prelude::IntoDrawingArea::into_drawing_area(
-            plotters::prelude::BitMapBackend::new(path, size),
-        );
+        let root = plotters::prelude::IntoDrawingArea::into_drawing_area(backend(path, size));
         self.draw(root).map_err(io)
     }
 
