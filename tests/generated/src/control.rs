@@ -14,18 +14,11 @@ use trocar::nalgebra::{ArrayStorage, Matrix3, RealField, SMatrix, SVector, Vecto
 use trocar::se3::Se3;
 use trocar::Real;
 
-/// `Λ#` (3.27) at `l_a`: columns `v0i = (v_x, v_y, v_z, ω_y)` with `ω_x = −v_z / l_a`,
-/// `ω_z = v_x / l_a`.
+/// `Λ#` (3.27) at `l_a`, from the runtime's [`trocar::constraint::thesis_null_space`].
 fn lambda_sharp_bidirectional<T: RealField + Copy>(l_a: T) -> SMatrix<T, 6, 4> {
-    let z = T::zero();
-    let o = T::one();
-    let inv = o / l_a;
-    SMatrix::from_data(ArrayStorage([
-        [o, z, z, z, z, inv],
-        [z, o, z, z, z, z],
-        [z, z, o, -inv, z, z],
-        [z, z, z, z, o, z],
-    ]))
+    let mut columns = [trocar::se3::Twist::<T>::zeros(); 4];
+    trocar::constraint::thesis_null_space(l_a, &mut columns);
+    SMatrix::from_columns(&columns)
 }
 
 /// `Λ† = Λᵀ (Λ Λᵀ)⁻¹ = Λᵀ / (1 + l_a²)` for `H = (x_r, z_r)`, `g_ir = (I, (0, l_a, 0))`.
