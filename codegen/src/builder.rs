@@ -18,6 +18,7 @@
 //! file. The lower-level entry points [`generate_module`] (tokens) and [`generate_module_string`]
 //! (formatted file) serve the command line and the proc-macro.
 
+use crate::closed_chain::{self, MechanismSource};
 use crate::derivation;
 use crate::emit::{self, bridge, Real};
 use proc_macro2::TokenStream;
@@ -159,6 +160,7 @@ enum Source {
 #[derive(Clone, Debug, Default)]
 pub struct Builder {
     robots: Vec<(Source, Option<String>)>,
+    mechanisms: Vec<(PathBuf, Option<String>)>,
     real: Real,
     out_dir: Option<PathBuf>,
     emit_rerun: bool,
@@ -193,6 +195,21 @@ impl Builder {
     pub fn description(&mut self, desc: RobotDescription) -> &mut Self {
         self.robots
             .push((Source::Description(Box::new(desc)), None));
+        self
+    }
+
+    /// Adds a closed-mechanism description file (TOML, `runtime/robots/mechanisms/*.toml`): the
+    /// module has the closed-form reduced Jacobian (8) and passive velocities (7) (see
+    /// [`crate::closed_chain`]); may be called several times.
+    pub fn mechanism(&mut self, path: impl AsRef<Path>) -> &mut Self {
+        self.mechanisms.push((path.as_ref().to_path_buf(), None));
+        self
+    }
+
+    /// Adds a closed-mechanism description file and names its module.
+    pub fn mechanism_as(&mut self, path: impl AsRef<Path>, module: &str) -> &mut Self {
+        self.mechanisms
+            .push((path.as_ref().to_path_buf(), Some(module.to_string())));
         self
     }
 
@@ -245,6 +262,16 @@ impl Builder {
                 return Err(Error::DuplicateModule(module));
             }
         }
+        for (path, name) in &self.mechanisms {
+            let src = MechanismSource::from_file(path)?;
+            let module = closed_chain::emit::module_name_for(&src.mechanism.name, name.as_deref())?;
+            let code =
+                closed_chain::emit::generate_mechanism_string(&src, Some(&module), self.real)?;
+            let file = format!("{module}.rs");
+            if out.insert(file, code).is_some() {
+                return Err(Error::DuplicateModule(module));
+            }
+        }
         Ok(out)
     }
 
@@ -263,6 +290,9 @@ impl Builder {
                 if let Source::File(p) = src {
                     println!("cargo:rerun-if-changed={}", p.display());
                 }
+            }
+            for (p, _) in &self.mechanisms {
+                println!("cargo:rerun-if-changed={}", p.display());
             }
         }
         let files = self.generate()?;

@@ -13,6 +13,7 @@
 //! Matrices print as JSON `{"rows": R, "cols": C, "data": [[row], ...]}` with `--json`, as aligned
 //! text otherwise. Errors go to stderr with a non-zero exit code and say what is wrong and where.
 
+use crate::closed_chain::MechanismSource;
 use crate::evaluate::Generated;
 use clap::{Parser, Subcommand, ValueEnum};
 use std::fmt;
@@ -155,6 +156,10 @@ pub enum What {
     Jb0e,
     /// Forward kinematics g_0e as a 4×4 homogeneous matrix.
     Fk,
+    /// Closed mechanisms: the passive map `−J_Cp⁻¹ J_Ca` of (7) (second source).
+    Passive,
+    /// Closed mechanisms: `det J_Cp` (zero at parallel singularities).
+    Det,
 }
 
 /// Frame of `trocar jacobian`.
@@ -225,6 +230,180 @@ pub fn load_robot(robot: &str) -> Result<RobotDescription, DescriptionError> {
         RobotDescription::preset(robot)
     } else {
         RobotDescription::from_toml_file(path)
+    }
+}
+
+/// Is `robot` a closed mechanism: a TOML file with `[[chains]]`, or the name of a shipped
+/// mechanism (`four-bar`, `planar-stewart`, `cooperative-arms`) when no such file exists?
+pub fn is_mechanism(robot: &str) -> bool {
+    let path = Path::new(robot);
+    if path.exists() {
+        std::fs::read_to_string(path).is_ok_and(|t| crate::closed_chain::is_mechanism_toml(&t))
+    } else {
+        trocar::closed_chain::description::SHIPPED.contains(&robot)
+    }
+}
+
+/// Loads a mechanism from a file, or a shipped mechanism by name when no such file exists.
+pub fn load_mechanism(robot: &str) -> Result<MechanismSource, DescriptionError> {
+    let path = Path::new(robot);
+    if path.exists() {
+        MechanismSource::from_file(path)
+    } else {
+        MechanismSource::shipped(robot)
+    }
+}
+
+/// `trocar eval` for a closed mechanism: `--what jr` (reduced Jacobian (8)), `jc` (`J_C`),
+/// `passive` (`−J_Cp⁻¹ J_Ca`, (7)) or `det` (`det J_Cp`), at all joint values `q`; from the
+/// generated closed forms (interpreted exactly as emitted) or, with `numeric`, the runtime.
+pub fn eval_mechanism(
+    src: &MechanismSource,
+    q: &[f64],
+    params: &[(String, f64)],
+    what: What,
+    numeric: bool,
+) -> Result<MatrixOut, CliError> {
+    let m = &src.mechanism;
+    let n = m.n_joints();
+    if q.len() != n {
+        return Err(CliError(format!(
+            "--q: `{}` has {n} joints ({}), got {} values",
+            m.name,
+            m.joint_names().join(", "),
+            q.len()
+        )));
+    }
+    if let Some(k) = q.iter().position(|x| !x.is_finite()) {
+        return Err(CliError(format!("--q: value {k} is not finite")));
+    }
+    let mut values: Vec<f64> = m.parameters.iter().map(|(_, v)| *v).collect();
+    for (name, value) in params {
+        let k = m
+            .parameters
+            .iter()
+            .position(|(p, _)| p == name)
+            .ok_or_else(|| {
+                CliError(format!(
+                    "unknown parameter `{name}` (the mechanism declares: {})",
+                    m.parameters
+                        .iter()
+                        .map(|(p, _)| p.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ))
+            })?;
+        values[k] = *value;
+    }
+    let (na, np, no) = (
+        m.active_indices().len(),
+        m.passive_indices().len(),
+        m.outputs.len(),
+    );
+    let singular = || {
+        CliError(format!(
+            "J_Cp is singular at this configuration (parallel singularity of `{}`)",
+            m.name
+        ))
+    };
+    if numeric {
+        let mech = if params.is_empty() {
+            m.clone()
+        } else {
+            let mut table: toml::Table = src
+                .text
+                .parse()
+                .map_err(|e| CliError(format!("TOML syntax: {e}")))?;
+            if let Some(toml::Value::Table(pt)) = table.get_mut("parameters") {
+                for ((name, _), v) in m.parameters.iter().zip(&values) {
+                    pt.insert(name.clone(), toml::Value::Float(*v));
+                }
+            }
+            trocar::closed_chain::description::from_toml_str(&table.to_string())
+                .map_err(|e| CliError(e.to_string()))?
+        };
+        let theta = trocar::nalgebra::DVector::from_row_slice(q);
+        let d = mech
+            .differential(&theta)
+            .map_err(|e| CliError(e.to_string()))?;
+        return Ok(match what {
+            What::Jc => MatrixOut::from_nalgebra(&d.j_c),
+            What::Det if d.j_cp.is_square() => MatrixOut {
+                rows: 1,
+                cols: 1,
+                data: vec![vec![d.j_cp.clone().determinant()]],
+            },
+            What::Jr | What::Passive => {
+                let r = mech.reduced(&theta).map_err(|e| CliError(e.to_string()))?;
+                if what == What::Jr {
+                    MatrixOut::from_nalgebra(&r.jacobian)
+                } else {
+                    MatrixOut::from_nalgebra(&r.passive_map)
+                }
+            }
+            _ => return Err(unsupported_for_mechanism(what)),
+        });
+    }
+    let d = src.derive()?;
+    let spec = crate::closed_chain::emit::module_spec(&d, "mechanism");
+    let eval = |name: &str| {
+        spec.functions
+            .iter()
+            .find(|f| f.name == name)
+            .map(|f| f.program.eval(q, &values))
+            .ok_or_else(|| CliError(format!("internal: no generated `{name}`")))
+    };
+    let out = match what {
+        What::Jc => column_major(&eval("constraint_jacobian")?, d.j_c.rows(), n),
+        What::Det => column_major(&eval("constraint_determinant")?, 1, 1),
+        What::Jr | What::Passive => {
+            let num = eval("reduced_numerators")?;
+            let rows = 1 + no + np;
+            let (first, count) = if what == What::Jr {
+                (1, no)
+            } else {
+                (1 + no, np)
+            };
+            let mut data = vec![vec![0.0; na]; count];
+            for a in 0..na {
+                let det = num[a * rows];
+                if !(det.is_finite() && det != 0.0) {
+                    return Err(singular());
+                }
+                for (r, row) in data.iter_mut().enumerate() {
+                    row[a] = num[a * rows + first + r] / det;
+                }
+            }
+            MatrixOut {
+                rows: count,
+                cols: na,
+                data,
+            }
+        }
+        _ => return Err(unsupported_for_mechanism(what)),
+    };
+    if out.data.iter().flatten().any(|v| !v.is_finite()) {
+        return Err(singular());
+    }
+    Ok(out)
+}
+
+fn unsupported_for_mechanism(what: What) -> CliError {
+    CliError(format!(
+        "--what {}: not defined for a closed mechanism (use jr, jc, passive or det)",
+        what.to_possible_value()
+            .map(|v| v.get_name().to_string())
+            .unwrap_or_default()
+    ))
+}
+
+fn column_major(v: &[f64], rows: usize, cols: usize) -> MatrixOut {
+    MatrixOut {
+        rows,
+        cols,
+        data: (0..rows)
+            .map(|r| (0..cols).map(|c| v[c * rows + r]).collect())
+            .collect(),
     }
 }
 
@@ -340,6 +519,12 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             json,
             numeric,
         } => {
+            if is_mechanism(&robot) {
+                let src = load_mechanism(&robot)?;
+                let out = eval_mechanism(&src, &q, &params, what, numeric)?;
+                println!("{}", if json { out.to_json() } else { out.to_text() });
+                return Ok(0);
+            }
             let desc = load_robot(&robot)?;
             let out = if numeric {
                 eval_numeric(&desc, &q, &params, what)?
@@ -373,17 +558,24 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             output,
             real,
         } => {
-            let desc = load_robot(&robot)?;
-            let options = crate::builder::ModuleOptions {
-                real: match real {
-                    RealArg::Generic => crate::emit::Real::Generic,
-                    RealArg::F32 => crate::emit::Real::F32,
-                    RealArg::F64 => crate::emit::Real::F64,
-                },
-                module_name: None,
+            let real = match real {
+                RealArg::Generic => crate::emit::Real::Generic,
+                RealArg::F32 => crate::emit::Real::F32,
+                RealArg::F64 => crate::emit::Real::F64,
             };
-            let code = crate::builder::generate_module_string(&desc, &options)
-                .map_err(|e| CliError(e.to_string()))?;
+            let code = if is_mechanism(&robot) {
+                let src = load_mechanism(&robot)?;
+                crate::closed_chain::emit::generate_mechanism_string(&src, None, real)
+                    .map_err(|e| CliError(e.to_string()))?
+            } else {
+                let desc = load_robot(&robot)?;
+                let options = crate::builder::ModuleOptions {
+                    real,
+                    module_name: None,
+                };
+                crate::builder::generate_module_string(&desc, &options)
+                    .map_err(|e| CliError(e.to_string()))?
+            };
             match output {
                 Some(path) => std::fs::write(&path, code)
                     .map_err(|e| CliError(format!("{}: {e}", path.display())))?,
@@ -460,6 +652,7 @@ pub fn eval_generated(
         What::Jb0i => "partial_body_jacobian",
         What::Jb0e => "body_jacobian",
         What::Fk => "forward_kinematics",
+        What::Passive | What::Det => return Err(serial_only(desc, what)),
     };
     let m = generated.evaluate(function, q, &values).ok_or_else(|| {
         CliError(format!(
@@ -518,6 +711,9 @@ pub fn eval_numeric(
     what: What,
 ) -> Result<MatrixOut, CliError> {
     check_q(desc, q)?;
+    if matches!(what, What::Passive | What::Det) {
+        return Err(serial_only(desc, what));
+    }
     let robot = numeric_robot(desc, params)?;
     let err = robot_error(desc);
     let needs_constraint = matches!(what, What::Jr | What::Manip | What::Jc | What::Jb0i);
@@ -541,7 +737,18 @@ pub fn eval_numeric(
         What::Jb0i => MatrixOut::from_nalgebra(&robot.partial_body_jacobian(q).map_err(err)?),
         What::Jb0e => MatrixOut::from_nalgebra(&robot.body_jacobian(q).map_err(err)?),
         What::Fk => MatrixOut::from_nalgebra(&robot.forward_kinematics_matrix(q).map_err(err)?),
+        What::Passive | What::Det => return Err(serial_only(desc, what)),
     })
+}
+
+fn serial_only(desc: &RobotDescription, what: What) -> CliError {
+    CliError(format!(
+        "--what {}: only for closed mechanisms (`{}` is a serial robot)",
+        what.to_possible_value()
+            .map(|v| v.get_name().to_string())
+            .unwrap_or_default(),
+        desc.name
+    ))
 }
 
 /// A progress bar on stderr (hidden when stderr is not a terminal).

@@ -11,6 +11,7 @@
 
 pub mod builder;
 pub mod cli;
+pub mod closed_chain;
 pub mod derivation;
 pub mod emit;
 pub mod evaluate;

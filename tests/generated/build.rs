@@ -37,4 +37,18 @@ fn main() {
     if let Err(e) = f64b.compile() {
         panic!("trocar-codegen: {e}");
     }
+    // Closed mechanisms: reduced Jacobian (8) and passive velocities (7) in closed form.
+    let mechanisms = "../../runtime/robots/mechanisms";
+    let mut mb = Builder::new();
+    mb.mechanism(format!("{mechanisms}/four-bar.toml"))
+        .mechanism(format!("{mechanisms}/planar-stewart.toml"));
+    if let Err(e) = mb.compile() {
+        panic!("trocar-codegen: {e}");
+    }
+    let mut mb32 = Builder::new();
+    mb32.mechanism_as(format!("{mechanisms}/four-bar.toml"), "four_bar_f32")
+        .real(Real::F32);
+    if let Err(e) = mb32.compile() {
+        panic!("trocar-codegen: {e}");
+    }
 }

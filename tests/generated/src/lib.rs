@@ -23,3 +23,6 @@ generated!(
     "rotated_rcm_f32.rs",
     "dia10_like_zx_f64.rs",
 );
+
+// Closed mechanisms (four-bar linkage, planar Gough–Stewart platform).
+generated!("four_bar.rs", "planar_stewart.rs", "four_bar_f32.rs");

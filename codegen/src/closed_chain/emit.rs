@@ -1,0 +1,421 @@
+//! A Rust module for a closed mechanism, in the style of the serial-robot modules.
+//!
+//! The polynomial parts (`constraint_jacobian`, `task_jacobian`, `constraint_determinant`,
+//! `reduced_numerators`) go through the shared optimiser and emitter ([`crate::emit`]: CSE,
+//! Horner factoring, operation counts, `_trig` variants); the functions that divide by
+//! `det J_Cp` (`reduced_jacobian`, `passive_map`, `passive_velocities`) wrap them and return
+//! `None` instead of a NaN or an infinity when `det J_Cp` is zero or not finite.
+
+use super::{MechanismDerivation, MechanismSource};
+use crate::builder::Error;
+use crate::emit::bridge::PolyBuilder;
+use crate::emit::{self, ConstItem, Function, ModuleSpec, Program, Real, Shape};
+use proc_macro2::{Ident, Span, TokenStream};
+use quote::quote;
+
+fn program(d: &MechanismDerivation) -> Program {
+    Program::new(d.params.clone())
+}
+
+fn matrix_program(d: &MechanismDerivation, m: &crate::symbolic::Matrix) -> Program {
+    let mut prog = program(d);
+    let outs = PolyBuilder::new(&mut prog).matrix(m);
+    prog.set_outputs(outs);
+    prog
+}
+
+const SOURCE: &str = "of Freitas, Leite & Lizarralde (2010)";
+
+/// The module description: constants, `Params`, `JointTrig` and the polynomial functions.
+pub fn module_spec(d: &MechanismDerivation, module_name: &str) -> ModuleSpec {
+    let n = d.n();
+    let (na, np, no, r) = (
+        d.active.len(),
+        d.passive.len(),
+        d.outputs.len(),
+        d.j_c.rows(),
+    );
+    let rows = 1 + no + np;
+    let c = |name: &str, value: usize, doc: &str| ConstItem {
+        name: name.into(),
+        value,
+        doc: doc.into(),
+    };
+    let consts = vec![
+        c(
+            "N",
+            n,
+            "Number of joints `n` (length of `q`: all joints, active and passive, in the \
+             description's order).",
+        ),
+        c("N_ACTIVE", na, "Number of active joints `n_a` (θ_a)."),
+        c("N_PASSIVE", np, "Number of passive joints `n_p` (θ_p)."),
+        c("N_OUTPUTS", no, "Number of task outputs `m_x`."),
+        c(
+            "R",
+            r,
+            "Number of structural equations `r = 3(m − 1)` (rows of `J_C`); equals `N_PASSIVE`.",
+        ),
+        c(
+            "NUMERATOR_ROWS",
+            rows,
+            "Rows of [`reduced_numerators`]: `1 + N_OUTPUTS + N_PASSIVE`.",
+        ),
+    ];
+    let mut functions = Vec::new();
+    let f = |name: &str,
+             summary: &str,
+             equation: &str,
+             details: &str,
+             shape: Shape,
+             program: Program,
+             dims: Option<(&str, &str)>| Function {
+        name: name.into(),
+        summary: summary.into(),
+        equation: format!("{equation} {SOURCE}"),
+        details: details.into(),
+        shape,
+        program,
+        dims: dims.map(|(a, b)| (a.into(), b.into())),
+    };
+    functions.push(f(
+        "constraint_jacobian",
+        "Constraint Jacobian `J_C = Ã J = ∂c/∂θ` (rows: `pose_1 − pose_k`, `(x, y, φ)` per chain \
+         k = 2..m), R × N",
+        "(3), (19), (31)",
+        "",
+        Shape::Matrix { rows: r, cols: n },
+        matrix_program(d, &d.j_c),
+        Some(("R", "N")),
+    ));
+    functions.push(f(
+        "task_jacobian",
+        "Analytic Jacobian of the task `J_A = S_x A† J` (chain Jacobians averaged), N_OUTPUTS × N",
+        "(4), (19), (31)",
+        "",
+        Shape::Matrix { rows: no, cols: n },
+        matrix_program(d, &d.j_a),
+        Some(("N_OUTPUTS", "N")),
+    ));
+    let mut det = program(d);
+    let v = PolyBuilder::new(&mut det).poly(&d.det_j_cp);
+    det.set_outputs(vec![v]);
+    functions.push(f(
+        "constraint_determinant",
+        "`det J_Cp`, the determinant of the passive columns of `J_C`: zero exactly at the \
+         parallel (actuator) singularities, where the passive joints can move with the active \
+         joints locked",
+        "(7), §4.5",
+        "",
+        Shape::Scalar,
+        det,
+        None,
+    ));
+    let mut num = program(d);
+    let mut b = PolyBuilder::new(&mut num);
+    let det_v = b.poly(&d.det_j_cp);
+    let red = b.matrix(&d.reduced_numerator);
+    let pas = b.matrix(&d.passive_numerator);
+    let mut outs = Vec::with_capacity(rows * na);
+    for a in 0..na {
+        outs.push(det_v);
+        outs.extend_from_slice(&red[a * no..(a + 1) * no]);
+        outs.extend_from_slice(&pas[a * np..(a + 1) * np]);
+    }
+    num.set_outputs(outs);
+    functions.push(f(
+        "reduced_numerators",
+        "Numerators and denominator of the reduced kinematics, sharing their subexpressions: \
+         per active joint (column), `det J_Cp`, then the column of \
+         `det(J_Cp) · J = det(J_Cp) J_Aa − J_Ap adj(J_Cp) J_Ca`, then the column of \
+         `−adj(J_Cp) J_Ca`",
+        "(7)–(8)",
+        "Rows: `0` is `det J_Cp` (the same in every column), `1..=N_OUTPUTS` the numerator of \
+         the reduced Jacobian `J` (8), the last `N_PASSIVE` the numerator of the passive map \
+         `θ̇_p = −J_Cp⁻¹ J_Ca θ̇_a` (7). [`reduced_jacobian`] and [`passive_map`] divide them.",
+        Shape::Matrix { rows, cols: na },
+        num,
+        Some(("NUMERATOR_ROWS", "N_ACTIVE")),
+    ));
+    ModuleSpec {
+        name: module_name.into(),
+        doc: module_doc(d),
+        joints: n,
+        params: d
+            .params
+            .iter()
+            .cloned()
+            .zip(d.param_values.iter().copied())
+            .collect(),
+        consts,
+        functions,
+    }
+}
+
+fn module_doc(d: &MechanismDerivation) -> String {
+    let joints: Vec<String> = d
+        .joint_names
+        .iter()
+        .enumerate()
+        .map(|(k, name)| {
+            format!(
+                "`q[{k}]` = `{name}` ({}, {})",
+                if d.active.contains(&k) {
+                    "active"
+                } else {
+                    "passive"
+                },
+                if d.joint_is_linear[k] {
+                    "prismatic, m"
+                } else {
+                    "revolute, rad"
+                }
+            )
+        })
+        .collect();
+    let outputs: Vec<&str> = d.outputs.iter().map(|o| o.name()).collect();
+    let passive: Vec<&str> = d
+        .passive
+        .iter()
+        .map(|&k| d.joint_names[k].as_str())
+        .collect();
+    let active: Vec<&str> = d
+        .active
+        .iter()
+        .map(|&k| d.joint_names[k].as_str())
+        .collect();
+    format!(
+        "Closed-form reduced kinematics of the closed mechanism `{}`, derived symbolically by \
+         trocar-codegen (equations of Freitas, Leite & Lizarralde, CBA 2010).\n\n\
+         With `J_C = [J_Ca J_Cp]`, `J_A = [J_Aa J_Ap]` (5)–(6) and `J_Cp` invertible:\n\
+         `J = J_Aa − J_Ap J_Cp⁻¹ J_Ca = (det(J_Cp) J_Aa − J_Ap adj(J_Cp) J_Ca) / det(J_Cp)` (8) \
+         and `θ̇_p = −adj(J_Cp) J_Ca θ̇_a / det(J_Cp)` (7), numerators and `det J_Cp` as \
+         expanded polynomials.\n\n\
+         Joints: {}.\n\n\
+         Active columns: {}; passive rows of the passive map: {}; task outputs (rows of `J`): {}.\n\n\
+         Every function takes **all** joint values `q`, active and passive: solve the passive \
+         joints first (closed form where there is one, e.g. \
+         `trocar::closed_chain::four_bar::FourBar::passive`, or Newton's method, \
+         `trocar::closed_chain::Mechanism::solve_passive`). The functions that divide by \
+         `det J_Cp` return `None` when it is zero or not finite, and never a NaN.\n\n\
+         **Array order:** matrices are column-major, `[[T; rows]; cols]` (`a[col][row]`), \
+         which is nalgebra's `ArrayStorage`.",
+        d.name,
+        joints.join(", "),
+        active.join(", "),
+        passive.join(", "),
+        outputs.join(", "),
+    )
+}
+
+/// The hand-written wrappers that divide by `det J_Cp`.
+fn wrapper_tokens(d: &MechanismDerivation, real: Real) -> TokenStream {
+    let t = match real {
+        Real::Generic => quote!(T),
+        Real::F32 => quote!(f32),
+        Real::F64 => quote!(f64),
+    };
+    let (generics, args) = match real {
+        Real::Generic => (quote!(<T: ::trocar::Real>), quote!(<T>)),
+        _ => (quote!(), quote!()),
+    };
+    let rl = quote!(<#t as ::trocar::Real>);
+    let active: Vec<TokenStream> = d
+        .active
+        .iter()
+        .map(|&k| {
+            let l = proc_macro2::Literal::usize_unsuffixed(k);
+            quote!(#l)
+        })
+        .collect();
+    let passive: Vec<TokenStream> = d
+        .passive
+        .iter()
+        .map(|&k| {
+            let l = proc_macro2::Literal::usize_unsuffixed(k);
+            quote!(#l)
+        })
+        .collect();
+    let quotient_generics = match real {
+        Real::Generic => quote!(<T: ::trocar::Real, const ROWS: usize>),
+        _ => quote!(<const ROWS: usize>),
+    };
+    quote! {
+        /// Indices in `q` of the active joints θ_a (the columns of `J`).
+        pub const ACTIVE: [usize; N_ACTIVE] = [#(#active),*];
+        /// Indices in `q` of the passive joints θ_p (the rows of the passive map).
+        pub const PASSIVE: [usize; N_PASSIVE] = [#(#passive),*];
+
+        /// Rows `first..first + ROWS` of every column of `a` divided by row 0 (`det J_Cp`);
+        /// `None` when the determinant is zero or any value is not finite.
+        #[inline]
+        fn quotient #quotient_generics (
+            a: &[[#t; NUMERATOR_ROWS]; N_ACTIVE],
+            first: usize,
+        ) -> Option<[[#t; ROWS]; N_ACTIVE]> {
+            let mut out = [[#rl::ZERO; ROWS]; N_ACTIVE];
+            for (o, col) in out.iter_mut().zip(a.iter()) {
+                let det = col[0];
+                if !(#rl::is_finite(det) && det != #rl::ZERO) {
+                    return None;
+                }
+                for (x, v) in o.iter_mut().zip(col.iter().skip(first)) {
+                    let y = *v / det;
+                    if !#rl::is_finite(y) {
+                        return None;
+                    }
+                    *x = y;
+                }
+            }
+            Some(out)
+        }
+
+        /// The reduced Jacobian `J = J_Aa − J_Ap J_Cp⁻¹ J_Ca` (8) of Freitas, Leite & Lizarralde
+        /// (2010): `ẋ = J θ̇_a`, N_OUTPUTS × N_ACTIVE, **column-major** (`a[col][row]`).
+        ///
+        /// `q` holds all joints (passive ones solved by the caller). `None` when `det J_Cp` is
+        /// zero or not finite (parallel singularity) or the result is not finite.
+        /// Computed as [`reduced_numerators`] divided by `det J_Cp`.
+        #[inline]
+        #[must_use]
+        pub fn reduced_jacobian #generics (
+            q: &[#t; N],
+            p: &Params #args,
+        ) -> Option<[[#t; N_OUTPUTS]; N_ACTIVE]> {
+            quotient(&reduced_numerators(q, p), 1)
+        }
+
+        /// [`reduced_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]).
+        #[inline]
+        #[must_use]
+        pub fn reduced_jacobian_trig #generics (
+            t: &JointTrig #args,
+            p: &Params #args,
+        ) -> Option<[[#t; N_OUTPUTS]; N_ACTIVE]> {
+            quotient(&reduced_numerators_trig(t, p), 1)
+        }
+
+        /// The passive map `−J_Cp⁻¹ J_Ca` (7) of Freitas, Leite & Lizarralde (2010):
+        /// `θ̇_p = passive_map · θ̇_a`, N_PASSIVE × N_ACTIVE, **column-major**; rows in the
+        /// order of [`PASSIVE`]. `None` when `det J_Cp` is zero or not finite.
+        #[inline]
+        #[must_use]
+        pub fn passive_map #generics (
+            q: &[#t; N],
+            p: &Params #args,
+        ) -> Option<[[#t; N_PASSIVE]; N_ACTIVE]> {
+            quotient(&reduced_numerators(q, p), 1 + N_OUTPUTS)
+        }
+
+        /// [`passive_map`] from precomputed joint sines and cosines ([`JointTrig`]).
+        #[inline]
+        #[must_use]
+        pub fn passive_map_trig #generics (
+            t: &JointTrig #args,
+            p: &Params #args,
+        ) -> Option<[[#t; N_PASSIVE]; N_ACTIVE]> {
+            quotient(&reduced_numerators_trig(t, p), 1 + N_OUTPUTS)
+        }
+
+        /// Passive velocities `θ̇_p = −J_Cp⁻¹ J_Ca θ̇_a` (7) of Freitas, Leite & Lizarralde
+        /// (2010), in the order of [`PASSIVE`], for the active velocities `qd_active` (in the
+        /// order of [`ACTIVE`]). `None` when `det J_Cp` is zero or not finite, or a result is
+        /// not finite.
+        #[inline]
+        #[must_use]
+        pub fn passive_velocities #generics (
+            q: &[#t; N],
+            qd_active: &[#t; N_ACTIVE],
+            p: &Params #args,
+        ) -> Option<[#t; N_PASSIVE]> {
+            let m = passive_map(q, p)?;
+            let mut v = [#rl::ZERO; N_PASSIVE];
+            for (col, w) in m.iter().zip(qd_active.iter()) {
+                for (x, e) in v.iter_mut().zip(col.iter()) {
+                    *x += *e * *w;
+                }
+            }
+            if v.iter().all(|x| #rl::is_finite(*x)) {
+                Some(v)
+            } else {
+                None
+            }
+        }
+    }
+}
+
+/// The items of a mechanism module (without the `mod` wrapper).
+pub fn module_items(d: &MechanismDerivation, module_name: &str, real: Real) -> TokenStream {
+    let spec = module_spec(d, module_name);
+    let items = emit::module_items(&spec, real);
+    let wrappers = wrapper_tokens(d, real);
+    quote! {
+        #items
+        #wrappers
+    }
+}
+
+/// The whole module `pub mod <name> { ... }` with its documentation and lint attributes.
+pub fn module_tokens(d: &MechanismDerivation, module_name: &str, real: Real) -> TokenStream {
+    let spec = module_spec(d, module_name);
+    let name = Ident::new(module_name, Span::call_site());
+    let doc = spec.doc.lines().map(|l| {
+        let l = if l.is_empty() {
+            String::new()
+        } else {
+            format!(" {l}")
+        };
+        quote!(#![doc = #l])
+    });
+    let items = module_items(d, module_name, real);
+    quote! {
+        pub mod #name {
+            #(#doc)*
+            // Literals are the description's values written in full: they may look like
+            // well-known constants or carry more digits than f32 holds; rustc rounds them.
+            #![allow(
+                clippy::approx_constant,
+                clippy::excessive_precision,
+                clippy::unreadable_literal,
+                clippy::too_many_lines,
+                clippy::doc_markdown
+            )]
+            #items
+        }
+    }
+}
+
+/// The module name for a mechanism named `mechanism` (snake-cased), or `module` when given.
+pub fn module_name_for(mechanism: &str, module: Option<&str>) -> Result<String, Error> {
+    let name = module
+        .map(str::to_string)
+        .unwrap_or_else(|| crate::builder::module_name(mechanism));
+    if syn::parse_str::<Ident>(&name).is_err() {
+        return Err(Error::BadModuleName(name));
+    }
+    Ok(name)
+}
+
+/// The formatted module file (prettyplease, headed by the `@generated` line) of a mechanism.
+pub fn generate_mechanism_string(
+    src: &MechanismSource,
+    module: Option<&str>,
+    real: Real,
+) -> Result<String, Error> {
+    let d = src.derive().map_err(Error::Description)?;
+    for (k, name) in d.params.iter().enumerate() {
+        if syn::parse_str::<Ident>(name).is_err() {
+            return Err(Error::Description(
+                super::MechanismError::new(
+                    format!("parameters.{name}"),
+                    format!(
+                        "parameter {k} `{name}` is not a Rust identifier (a field of `Params`)"
+                    ),
+                )
+                .into_description_error(src.file.as_deref()),
+            ));
+        }
+    }
+    let name = module_name_for(&d.name, module)?;
+    emit::format_file(module_tokens(&d, &name, real)).map_err(|e| Error::Internal(e.to_string()))
+}
