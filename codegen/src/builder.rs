@@ -11,6 +11,9 @@
 //! }
 //! ```
 //! and in the crate: `include!(concat!(env!("OUT_DIR"), "/arm.rs"));` which defines `pub mod arm`.
+//! Closed mechanisms are added with [`Builder::mechanism`] (`runtime/robots/mechanisms/*.toml`);
+//! their modules hold the reduced Jacobian (8) and passive velocities (7) in closed form
+//! ([`crate::closed_chain`]).
 //!
 //! [`Builder::generate`] returns the code without writing anything (for tests and the CLI);
 //! [`Builder::compile`] writes `<robot_name>.rs` into `OUT_DIR` (or [`Builder::out_dir`]), only

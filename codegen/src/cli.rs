@@ -2,14 +2,17 @@
 //!
 //! ```text
 //! trocar generate ROBOT.toml [-o OUT.rs] [--real f32|f64]
-//! trocar eval ROBOT.toml --q 0.1,0.2,... [--param l_a=0.15 ...] [--what jr|manip|jc|jb0i|jb0e|fk] [--json] [--numeric]
+//! trocar eval ROBOT.toml --q 0.1,0.2,... [--param l_a=0.15 ...] [--what jr|manip|jc|jb0i|jb0e|fk|passive|det] [--json] [--numeric]
 //! trocar verify ROBOT.toml [--samples N]
 //! trocar jacobian --urdf FILE.urdf --tip LINK --q ... [--frame body|spatial] [--json]
 //! trocar simulate SCENARIO [--method pinv|dls|fi] [--drift-correction on|off] [--csv OUT.csv] [--plot OUT.svg]
 //! trocar preset unidirectional|bidirectional-zy|bidirectional-zx
 //! ```
 //!
-//! `ROBOT.toml` may also be the name of a shipped description (`bidirectional-zy`, `dia10_like_zy`, ...).
+//! `ROBOT.toml` may also be the name of a shipped description (`bidirectional-zy`, `dia10_like_zy`, ...),
+//! or a closed mechanism (a TOML file with `[[chains]]`, or `four-bar`, `planar-stewart`): then
+//! `generate` emits its closed-form reduced kinematics ([`crate::closed_chain`]) and `eval` takes
+//! all joint values with `--what jr|jc|passive|det`.
 //! Matrices print as JSON `{"rows": R, "cols": C, "data": [[row], ...]}` with `--json`, as aligned
 //! text otherwise. Errors go to stderr with a non-zero exit code and say what is wrong and where.
 
@@ -36,9 +39,9 @@ pub struct Cli {
 /// The subcommands of `trocar`.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Emit the generated Rust module for a robot description.
+    /// Emit the generated Rust module for a robot description or a closed mechanism.
     Generate {
-        /// Robot description (TOML file or shipped description name).
+        /// Robot or mechanism description (TOML file or shipped name).
         robot: String,
         /// Output file (stdout when absent).
         #[arg(short, long)]
@@ -49,7 +52,7 @@ pub enum Command {
     },
     /// Evaluate the constrained Jacobian and friends at a configuration.
     Eval {
-        /// Robot description (TOML file or shipped description name).
+        /// Robot or mechanism description (TOML file or shipped name).
         robot: String,
         /// All n joint values, base first, comma separated.
         #[arg(

@@ -735,16 +735,40 @@ mod tests {
         };
         let jc = d.j_c.eval(&env);
         let ja = d.j_a.eval(&env);
-        for i in 0..3 {
-            for j in 0..4 {
-                assert!((jc[i][j] - num.j_c[(i, j)]).abs() < 1e-13, "J_C[{i}][{j}]");
+        for (i, row) in jc.iter().enumerate() {
+            for (j, x) in row.iter().enumerate() {
+                assert!((x - num.j_c[(i, j)]).abs() < 1e-13, "J_C[{i}][{j}]");
             }
         }
-        for j in 0..4 {
-            assert!((ja[0][j] - num.j_a[(0, j)]).abs() < 1e-13);
+        for (j, x) in ja[0].iter().enumerate() {
+            assert!((x - num.j_a[(0, j)]).abs() < 1e-13);
         }
         let det = d.det_j_cp.eval(&env);
         assert!((det - num.j_cp.determinant()).abs() < 1e-12);
+    }
+
+    /// The numerators satisfy their defining identities exactly (symbolically):
+    /// `J_Cp · (−adj(J_Cp) J_Ca) = −det(J_Cp) J_Ca` and
+    /// `det(J_Cp) J_Aa + J_Ap · (−adj(J_Cp) J_Ca) = det(J_Cp) · J`.
+    #[test]
+    fn numerators_solve_the_constraint_exactly() {
+        for name in ["four-bar", "planar-stewart"] {
+            let d = MechanismSource::shipped(name).unwrap().derive().unwrap();
+            let j_cp = select_columns(&d.j_c, &d.passive);
+            let j_ca = select_columns(&d.j_c, &d.active);
+            assert_eq!(
+                j_cp.mul(&d.passive_numerator),
+                j_ca.scale(&d.det_j_cp.neg()),
+                "{name}"
+            );
+            let j_aa = select_columns(&d.j_a, &d.active);
+            let j_ap = select_columns(&d.j_a, &d.passive);
+            assert_eq!(
+                j_aa.scale(&d.det_j_cp).add(&j_ap.mul(&d.passive_numerator)),
+                d.reduced_numerator,
+                "{name}"
+            );
+        }
     }
 
     #[test]
