@@ -360,13 +360,14 @@ pub fn eval_mechanism(
         What::Jc => column_major(&eval("constraint_jacobian")?, d.j_c.rows(), n),
         What::Det => column_major(&eval("constraint_determinant")?, 1, 1),
         What::Jr | What::Passive => {
-            let num = eval("reduced_numerators")?;
-            let rows = 1 + no + np;
-            let (first, count) = if what == What::Jr {
-                (1, no)
+            let (function, count) = if what == What::Jr {
+                ("reduced_jacobian_numerator", no)
             } else {
-                (1 + no, np)
+                ("passive_map_numerator", np)
             };
+            // Column-major, row 0 of every column is det J_Cp.
+            let num = eval(function)?;
+            let rows = 1 + count;
             let mut data = vec![vec![0.0; na]; count];
             for a in 0..na {
                 let det = num[a * rows];
@@ -374,7 +375,7 @@ pub fn eval_mechanism(
                     return Err(singular());
                 }
                 for (r, row) in data.iter_mut().enumerate() {
-                    row[a] = num[a * rows + first + r] / det;
+                    row[a] = num[a * rows + 1 + r] / det;
                 }
             }
             MatrixOut {

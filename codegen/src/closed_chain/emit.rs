@@ -1,7 +1,7 @@
 //! A Rust module for a closed mechanism, in the style of the serial-robot modules.
 //!
 //! The polynomial parts (`constraint_jacobian`, `task_jacobian`, `constraint_determinant`,
-//! `reduced_numerators`) go through the shared optimiser and emitter ([`crate::emit`]: CSE,
+//! `reduced_jacobian_numerator`, `passive_map_numerator`) go through the shared optimiser and emitter ([`crate::emit`]: CSE,
 //! Horner factoring, operation counts, `_trig` variants); the functions that divide by
 //! `det J_Cp` (`reduced_jacobian`, `passive_map`, `passive_velocities`) wrap them and return
 //! `None` instead of a NaN or an infinity when `det J_Cp` is zero or not finite.
@@ -35,7 +35,6 @@ pub fn module_spec(d: &MechanismDerivation, module_name: &str) -> ModuleSpec {
         d.outputs.len(),
         d.j_c.rows(),
     );
-    let rows = 1 + no + np;
     let c = |name: &str, value: usize, doc: &str| ConstItem {
         name: name.into(),
         value,
@@ -55,11 +54,6 @@ pub fn module_spec(d: &MechanismDerivation, module_name: &str) -> ModuleSpec {
             "R",
             r,
             "Number of structural equations `r = 3(m − 1)` (rows of `J_C`); equals `N_PASSIVE`.",
-        ),
-        c(
-            "NUMERATOR_ROWS",
-            rows,
-            "Rows of [`reduced_numerators`]: `1 + N_OUTPUTS + N_PASSIVE`.",
         ),
     ];
     let mut functions = Vec::new();
@@ -111,31 +105,49 @@ pub fn module_spec(d: &MechanismDerivation, module_name: &str) -> ModuleSpec {
         det,
         None,
     ));
-    let mut num = program(d);
-    let mut b = PolyBuilder::new(&mut num);
-    let det_v = b.poly(&d.det_j_cp);
-    let red = b.matrix(&d.reduced_numerator);
-    let pas = b.matrix(&d.passive_numerator);
-    let mut outs = Vec::with_capacity(rows * na);
-    for a in 0..na {
-        outs.push(det_v);
-        outs.extend_from_slice(&red[a * no..(a + 1) * no]);
-        outs.extend_from_slice(&pas[a * np..(a + 1) * np]);
-    }
-    num.set_outputs(outs);
+    // Each numerator with `det J_Cp` as row 0 of every column, in one program so that the
+    // determinant and the adjugate share their minors.
+    let numerator = |m: &crate::symbolic::Matrix| {
+        let mut prog = program(d);
+        let mut b = PolyBuilder::new(&mut prog);
+        let det_v = b.poly(&d.det_j_cp);
+        let vals = b.matrix(m);
+        let rows = m.rows();
+        let mut outs = Vec::with_capacity((rows + 1) * na);
+        for a in 0..na {
+            outs.push(det_v);
+            outs.extend_from_slice(&vals[a * rows..(a + 1) * rows]);
+        }
+        prog.set_outputs(outs);
+        prog
+    };
     functions.push(f(
-        "reduced_numerators",
-        "Numerators and denominator of the reduced kinematics, sharing their subexpressions: \
-         per active joint (column), `det J_Cp`, then the column of \
-         `det(J_Cp) · J = det(J_Cp) J_Aa − J_Ap adj(J_Cp) J_Ca`, then the column of \
-         `−adj(J_Cp) J_Ca`",
-        "(7)–(8)",
-        "Rows: `0` is `det J_Cp` (the same in every column), `1..=N_OUTPUTS` the numerator of \
-         the reduced Jacobian `J` (8), the last `N_PASSIVE` the numerator of the passive map \
-         `θ̇_p = −J_Cp⁻¹ J_Ca θ̇_a` (7). [`reduced_jacobian`] and [`passive_map`] divide them.",
-        Shape::Matrix { rows, cols: na },
-        num,
-        Some(("NUMERATOR_ROWS", "N_ACTIVE")),
+        "reduced_jacobian_numerator",
+        "`det J_Cp` and the numerator `det(J_Cp) · J = det(J_Cp) J_Aa − J_Ap adj(J_Cp) J_Ca` of \
+         the reduced Jacobian",
+        "(8)",
+        "Row 0 of every column is `det J_Cp`; rows `1..=N_OUTPUTS` are the column of \
+         `det(J_Cp) · J`. [`reduced_jacobian`] divides them.",
+        Shape::Matrix {
+            rows: 1 + no,
+            cols: na,
+        },
+        numerator(&d.reduced_numerator),
+        Some(("1 + N_OUTPUTS", "N_ACTIVE")),
+    ));
+    functions.push(f(
+        "passive_map_numerator",
+        "`det J_Cp` and the numerator `−adj(J_Cp) J_Ca` of the passive map \
+         `θ̇_p = −J_Cp⁻¹ J_Ca θ̇_a`",
+        "(7)",
+        "Row 0 of every column is `det J_Cp`; rows `1..=N_PASSIVE` are the column of \
+         `−adj(J_Cp) J_Ca`, in the order of [`PASSIVE`]. [`passive_map`] divides them.",
+        Shape::Matrix {
+            rows: 1 + np,
+            cols: na,
+        },
+        numerator(&d.passive_numerator),
+        Some(("1 + N_PASSIVE", "N_ACTIVE")),
     ));
     ModuleSpec {
         name: module_name.into(),
@@ -237,8 +249,8 @@ fn wrapper_tokens(d: &MechanismDerivation, real: Real) -> TokenStream {
         })
         .collect();
     let quotient_generics = match real {
-        Real::Generic => quote!(<T: ::trocar::Real, const ROWS: usize>),
-        _ => quote!(<const ROWS: usize>),
+        Real::Generic => quote!(<T: ::trocar::Real, const IN: usize, const OUT: usize>),
+        _ => quote!(<const IN: usize, const OUT: usize>),
     };
     quote! {
         /// Indices in `q` of the active joints θ_a (the columns of `J`).
@@ -246,20 +258,19 @@ fn wrapper_tokens(d: &MechanismDerivation, real: Real) -> TokenStream {
         /// Indices in `q` of the passive joints θ_p (the rows of the passive map).
         pub const PASSIVE: [usize; N_PASSIVE] = [#(#passive),*];
 
-        /// Rows `first..first + ROWS` of every column of `a` divided by row 0 (`det J_Cp`);
-        /// `None` when the determinant is zero or any value is not finite.
+        /// Rows `1..` of every column of `a` divided by row 0 (`det J_Cp`); `None` when the
+        /// determinant is zero or any value is not finite.
         #[inline]
         fn quotient #quotient_generics (
-            a: &[[#t; NUMERATOR_ROWS]; N_ACTIVE],
-            first: usize,
-        ) -> Option<[[#t; ROWS]; N_ACTIVE]> {
-            let mut out = [[#rl::ZERO; ROWS]; N_ACTIVE];
+            a: &[[#t; IN]; N_ACTIVE],
+        ) -> Option<[[#t; OUT]; N_ACTIVE]> {
+            let mut out = [[#rl::ZERO; OUT]; N_ACTIVE];
             for (o, col) in out.iter_mut().zip(a.iter()) {
                 let det = col[0];
                 if !(#rl::is_finite(det) && det != #rl::ZERO) {
                     return None;
                 }
-                for (x, v) in o.iter_mut().zip(col.iter().skip(first)) {
+                for (x, v) in o.iter_mut().zip(col.iter().skip(1)) {
                     let y = *v / det;
                     if !#rl::is_finite(y) {
                         return None;
@@ -275,14 +286,14 @@ fn wrapper_tokens(d: &MechanismDerivation, real: Real) -> TokenStream {
         ///
         /// `q` holds all joints (passive ones solved by the caller). `None` when `det J_Cp` is
         /// zero or not finite (parallel singularity) or the result is not finite.
-        /// Computed as [`reduced_numerators`] divided by `det J_Cp`.
+        /// Computed as [`reduced_jacobian_numerator`] divided by `det J_Cp`.
         #[inline]
         #[must_use]
         pub fn reduced_jacobian #generics (
             q: &[#t; N],
             p: &Params #args,
         ) -> Option<[[#t; N_OUTPUTS]; N_ACTIVE]> {
-            quotient(&reduced_numerators(q, p), 1)
+            quotient(&reduced_jacobian_numerator(q, p))
         }
 
         /// [`reduced_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]).
@@ -292,7 +303,7 @@ fn wrapper_tokens(d: &MechanismDerivation, real: Real) -> TokenStream {
             t: &JointTrig #args,
             p: &Params #args,
         ) -> Option<[[#t; N_OUTPUTS]; N_ACTIVE]> {
-            quotient(&reduced_numerators_trig(t, p), 1)
+            quotient(&reduced_jacobian_numerator_trig(t, p))
         }
 
         /// The passive map `−J_Cp⁻¹ J_Ca` (7) of Freitas, Leite & Lizarralde (2010):
@@ -304,7 +315,7 @@ fn wrapper_tokens(d: &MechanismDerivation, real: Real) -> TokenStream {
             q: &[#t; N],
             p: &Params #args,
         ) -> Option<[[#t; N_PASSIVE]; N_ACTIVE]> {
-            quotient(&reduced_numerators(q, p), 1 + N_OUTPUTS)
+            quotient(&passive_map_numerator(q, p))
         }
 
         /// [`passive_map`] from precomputed joint sines and cosines ([`JointTrig`]).
@@ -314,7 +325,7 @@ fn wrapper_tokens(d: &MechanismDerivation, real: Real) -> TokenStream {
             t: &JointTrig #args,
             p: &Params #args,
         ) -> Option<[[#t; N_PASSIVE]; N_ACTIVE]> {
-            quotient(&reduced_numerators_trig(t, p), 1 + N_OUTPUTS)
+            quotient(&passive_map_numerator_trig(t, p))
         }
 
         /// Passive velocities `θ̇_p = −J_Cp⁻¹ J_Ca θ̇_a` (7) of Freitas, Leite & Lizarralde

@@ -30,8 +30,6 @@ pub mod four_bar {
     pub const N_OUTPUTS: usize = 1;
     /// Number of structural equations `r = 3(m − 1)` (rows of `J_C`); equals `N_PASSIVE`.
     pub const R: usize = 3;
-    /// Rows of [`reduced_numerators`]: `1 + N_OUTPUTS + N_PASSIVE`.
-    pub const NUMERATOR_ROWS: usize = 5;
     /// The named parameters of `four_bar`: runtime inputs of every function.
     #[derive(Clone, Copy, Debug, Default, PartialEq)]
     pub struct Params<T: ::trocar::Real> {
@@ -215,74 +213,120 @@ pub mod four_bar {
         let x1 = (t.sin[2] * t.cos[1] - t.sin[1] * t.cos[2]) * t.cos[0];
         ((x1 + t.sin[3] - x0) * p.l4 + (x1 - x0) * p.l3) * p.l2
     }
-    /// Numerators and denominator of the reduced kinematics, sharing their subexpressions: per active joint (column), `det J_Cp`, then the column of `det(J_Cp) · J = det(J_Cp) J_Aa − J_Ap adj(J_Cp) J_Ca`, then the column of `−adj(J_Cp) J_Ca`, thesis (7)–(8) of Freitas, Leite & Lizarralde (2010).
+    /// `det J_Cp` and the numerator `det(J_Cp) · J = det(J_Cp) J_Aa − J_Ap adj(J_Cp) J_Ca` of the reduced Jacobian, thesis (8) of Freitas, Leite & Lizarralde (2010).
     ///
-    /// Rows: `0` is `det J_Cp` (the same in every column), `1..=N_OUTPUTS` the numerator of the reduced Jacobian `J` (8), the last `N_PASSIVE` the numerator of the passive map `θ̇_p = −J_Cp⁻¹ J_Ca θ̇_a` (7). [`reduced_jacobian`] and [`passive_map`] divide them.
+    /// Row 0 of every column is `det J_Cp`; rows `1..=N_OUTPUTS` are the column of `det(J_Cp) · J`. [`reduced_jacobian`] divides them.
     ///
-    /// Returns the 5 × 1 matrix **column-major**: `[[T; NUMERATOR_ROWS]; N_ACTIVE]` holds N_ACTIVE columns of NUMERATOR_ROWS entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<T, 5, 1>::from_data(ArrayStorage(a))`.
+    /// Returns the 2 × 1 matrix **column-major**: `[[T; 1 + N_OUTPUTS]; N_ACTIVE]` holds N_ACTIVE columns of 1 + N_OUTPUTS entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<T, 2, 1>::from_data(ArrayStorage(a))`.
     ///
-    /// Operations: 23 add, 36 mul, 0 div, 0 sqrt, 4 trig (sin_cos), 0 neg, 0 abs.
+    /// Operations: 7 add, 13 mul, 0 div, 0 sqrt, 4 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn reduced_numerators<T: ::trocar::Real>(
+    pub fn reduced_jacobian_numerator<T: ::trocar::Real>(
         q: &[T; N],
         p: &Params<T>,
-    ) -> [[T; NUMERATOR_ROWS]; N_ACTIVE] {
+    ) -> [[T; 1 + N_OUTPUTS]; N_ACTIVE] {
+        let (s1, c1) = <T as ::trocar::Real>::sin_cos(q[0]);
+        let (s2, c2) = <T as ::trocar::Real>::sin_cos(q[1]);
+        let (s3, c3) = <T as ::trocar::Real>::sin_cos(q[2]);
+        let (s4, _) = <T as ::trocar::Real>::sin_cos(q[3]);
+        let x0 = (s2 * s3 + c2 * c3) * s1;
+        let x1 = (s3 * c2 - s2 * c3) * c1;
+        [
+            [
+                ((x1 + s4 - x0) * p.l4 + (x1 - x0) * p.l3) * p.l2,
+                p.l2 * (c3 * s1 - s3 * c1) * p.l1,
+            ],
+        ]
+    }
+    /// [`reduced_jacobian_numerator`] from precomputed joint sines and cosines ([`JointTrig`]), thesis (8) of Freitas, Leite & Lizarralde (2010).
+    ///
+    /// Returns the 2 × 1 matrix **column-major**: `[[T; 1 + N_OUTPUTS]; N_ACTIVE]` holds N_ACTIVE columns of 1 + N_OUTPUTS entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<T, 2, 1>::from_data(ArrayStorage(a))`.
+    ///
+    /// Operations: 7 add, 13 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
+    #[inline]
+    #[must_use]
+    pub fn reduced_jacobian_numerator_trig<T: ::trocar::Real>(
+        t: &JointTrig<T>,
+        p: &Params<T>,
+    ) -> [[T; 1 + N_OUTPUTS]; N_ACTIVE] {
+        let x0 = (t.sin[1] * t.sin[2] + t.cos[1] * t.cos[2]) * t.sin[0];
+        let x1 = (t.sin[2] * t.cos[1] - t.sin[1] * t.cos[2]) * t.cos[0];
+        [
+            [
+                ((x1 + t.sin[3] - x0) * p.l4 + (x1 - x0) * p.l3) * p.l2,
+                p.l2 * (t.cos[2] * t.sin[0] - t.sin[2] * t.cos[0]) * p.l1,
+            ],
+        ]
+    }
+    /// `det J_Cp` and the numerator `−adj(J_Cp) J_Ca` of the passive map `θ̇_p = −J_Cp⁻¹ J_Ca θ̇_a`, thesis (7) of Freitas, Leite & Lizarralde (2010).
+    ///
+    /// Row 0 of every column is `det J_Cp`; rows `1..=N_PASSIVE` are the column of `−adj(J_Cp) J_Ca`, in the order of [`PASSIVE`]. [`passive_map`] divides them.
+    ///
+    /// Returns the 4 × 1 matrix **column-major**: `[[T; 1 + N_PASSIVE]; N_ACTIVE]` holds N_ACTIVE columns of 1 + N_PASSIVE entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<T, 4, 1>::from_data(ArrayStorage(a))`.
+    ///
+    /// Operations: 23 add, 35 mul, 0 div, 0 sqrt, 4 trig (sin_cos), 0 neg, 0 abs.
+    #[inline]
+    #[must_use]
+    pub fn passive_map_numerator<T: ::trocar::Real>(
+        q: &[T; N],
+        p: &Params<T>,
+    ) -> [[T; 1 + N_PASSIVE]; N_ACTIVE] {
         let (s1, c1) = <T as ::trocar::Real>::sin_cos(q[0]);
         let (s2, c2) = <T as ::trocar::Real>::sin_cos(q[1]);
         let (s3, c3) = <T as ::trocar::Real>::sin_cos(q[2]);
         let (s4, c4) = <T as ::trocar::Real>::sin_cos(q[3]);
         let x0 = (s2 * s3 + c2 * c3) * s1;
         let x1 = (s3 * c2 - s2 * c3) * c1;
-        let x2 = p.l2 * (c3 * s1 - s3 * c1);
-        let x3 = p.l4 + p.l3;
-        let x4 = p.l1 + c2 * x3;
-        let x5 = s3 * s4;
-        let x6 = c3 * c4;
-        let x7 = c1 * (s3 * c4 + c3 * s4);
-        let x8 = s2 * p.l3;
+        let x2 = p.l4 + p.l3;
+        let x3 = c2 * x2 + p.l1;
+        let x4 = s3 * s4;
+        let x5 = c3 * c4;
+        let x6 = c1 * (s3 * c4 + c3 * s4);
+        let x7 = s2 * p.l3;
         [
             [
                 ((x1 + s4 - x0) * p.l4 + (x1 - x0) * p.l3) * p.l2,
-                x2 * p.l1,
                 p.l2
-                    * (s1 * (c3 * x4 + s2 * (s3 * x3))
-                        + (c1 * (s2 * (c3 * x3) - s3 * x4) - s4 * p.l4)),
-                p.l1 * (p.l4 * (s1 * (x5 - x6) + (x7 - s2)) - x8),
-                p.l1 * (p.l4 * (s1 * (x6 - x5) + (s2 - x7)) + (x2 + x8)),
+                    * (s1 * (c3 * x3 + s2 * (s3 * x2))
+                        + (c1 * (s2 * (c3 * x2) - s3 * x3) - s4 * p.l4)),
+                p.l1 * (p.l4 * (s1 * (x4 - x5) + (x6 - s2)) - x7),
+                p.l1
+                    * (p.l4 * (s1 * (x5 - x4) + (s2 - x6))
+                        + (x7 + p.l2 * (c3 * s1 - s3 * c1))),
             ],
         ]
     }
-    /// [`reduced_numerators`] from precomputed joint sines and cosines ([`JointTrig`]), thesis (7)–(8) of Freitas, Leite & Lizarralde (2010).
+    /// [`passive_map_numerator`] from precomputed joint sines and cosines ([`JointTrig`]), thesis (7) of Freitas, Leite & Lizarralde (2010).
     ///
-    /// Returns the 5 × 1 matrix **column-major**: `[[T; NUMERATOR_ROWS]; N_ACTIVE]` holds N_ACTIVE columns of NUMERATOR_ROWS entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<T, 5, 1>::from_data(ArrayStorage(a))`.
+    /// Returns the 4 × 1 matrix **column-major**: `[[T; 1 + N_PASSIVE]; N_ACTIVE]` holds N_ACTIVE columns of 1 + N_PASSIVE entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<T, 4, 1>::from_data(ArrayStorage(a))`.
     ///
-    /// Operations: 23 add, 36 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
+    /// Operations: 23 add, 35 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn reduced_numerators_trig<T: ::trocar::Real>(
+    pub fn passive_map_numerator_trig<T: ::trocar::Real>(
         t: &JointTrig<T>,
         p: &Params<T>,
-    ) -> [[T; NUMERATOR_ROWS]; N_ACTIVE] {
+    ) -> [[T; 1 + N_PASSIVE]; N_ACTIVE] {
         let x0 = (t.sin[1] * t.sin[2] + t.cos[1] * t.cos[2]) * t.sin[0];
         let x1 = (t.sin[2] * t.cos[1] - t.sin[1] * t.cos[2]) * t.cos[0];
-        let x2 = p.l2 * (t.cos[2] * t.sin[0] - t.sin[2] * t.cos[0]);
-        let x3 = p.l4 + p.l3;
-        let x4 = p.l1 + t.cos[1] * x3;
-        let x5 = t.sin[2] * t.sin[3];
-        let x6 = t.cos[2] * t.cos[3];
-        let x7 = t.cos[0] * (t.sin[2] * t.cos[3] + t.cos[2] * t.sin[3]);
-        let x8 = t.sin[1] * p.l3;
+        let x2 = p.l4 + p.l3;
+        let x3 = t.cos[1] * x2 + p.l1;
+        let x4 = t.sin[2] * t.sin[3];
+        let x5 = t.cos[2] * t.cos[3];
+        let x6 = t.cos[0] * (t.sin[2] * t.cos[3] + t.cos[2] * t.sin[3]);
+        let x7 = t.sin[1] * p.l3;
         [
             [
                 ((x1 + t.sin[3] - x0) * p.l4 + (x1 - x0) * p.l3) * p.l2,
-                x2 * p.l1,
                 p.l2
-                    * (t.sin[0] * (t.cos[2] * x4 + t.sin[1] * (t.sin[2] * x3))
-                        + (t.cos[0] * (t.sin[1] * (t.cos[2] * x3) - t.sin[2] * x4)
+                    * (t.sin[0] * (t.cos[2] * x3 + t.sin[1] * (t.sin[2] * x2))
+                        + (t.cos[0] * (t.sin[1] * (t.cos[2] * x2) - t.sin[2] * x3)
                             - t.sin[3] * p.l4)),
-                p.l1 * (p.l4 * (t.sin[0] * (x5 - x6) + (x7 - t.sin[1])) - x8),
-                p.l1 * (p.l4 * (t.sin[0] * (x6 - x5) + (t.sin[1] - x7)) + (x2 + x8)),
+                p.l1 * (p.l4 * (t.sin[0] * (x4 - x5) + (x6 - t.sin[1])) - x7),
+                p.l1
+                    * (p.l4 * (t.sin[0] * (x5 - x4) + (t.sin[1] - x6))
+                        + (x7 + p.l2 * (t.cos[2] * t.sin[0] - t.sin[2] * t.cos[0]))),
             ],
         ]
     }
@@ -290,14 +334,13 @@ pub mod four_bar {
     pub const ACTIVE: [usize; N_ACTIVE] = [0];
     /// Indices in `q` of the passive joints θ_p (the rows of the passive map).
     pub const PASSIVE: [usize; N_PASSIVE] = [1, 2, 3];
-    /// Rows `first..first + ROWS` of every column of `a` divided by row 0 (`det J_Cp`);
-    /// `None` when the determinant is zero or any value is not finite.
+    /// Rows `1..` of every column of `a` divided by row 0 (`det J_Cp`); `None` when the
+    /// determinant is zero or any value is not finite.
     #[inline]
-    fn quotient<T: ::trocar::Real, const ROWS: usize>(
-        a: &[[T; NUMERATOR_ROWS]; N_ACTIVE],
-        first: usize,
-    ) -> Option<[[T; ROWS]; N_ACTIVE]> {
-        let mut out = [[<T as ::trocar::Real>::ZERO; ROWS]; N_ACTIVE];
+    fn quotient<T: ::trocar::Real, const IN: usize, const OUT: usize>(
+        a: &[[T; IN]; N_ACTIVE],
+    ) -> Option<[[T; OUT]; N_ACTIVE]> {
+        let mut out = [[<T as ::trocar::Real>::ZERO; OUT]; N_ACTIVE];
         for (o, col) in out.iter_mut().zip(a.iter()) {
             let det = col[0];
             if !(<T as ::trocar::Real>::is_finite(det)
@@ -305,7 +348,7 @@ pub mod four_bar {
             {
                 return None;
             }
-            for (x, v) in o.iter_mut().zip(col.iter().skip(first)) {
+            for (x, v) in o.iter_mut().zip(col.iter().skip(1)) {
                 let y = *v / det;
                 if !<T as ::trocar::Real>::is_finite(y) {
                     return None;
@@ -320,14 +363,14 @@ pub mod four_bar {
     ///
     /// `q` holds all joints (passive ones solved by the caller). `None` when `det J_Cp` is
     /// zero or not finite (parallel singularity) or the result is not finite.
-    /// Computed as [`reduced_numerators`] divided by `det J_Cp`.
+    /// Computed as [`reduced_jacobian_numerator`] divided by `det J_Cp`.
     #[inline]
     #[must_use]
     pub fn reduced_jacobian<T: ::trocar::Real>(
         q: &[T; N],
         p: &Params<T>,
     ) -> Option<[[T; N_OUTPUTS]; N_ACTIVE]> {
-        quotient(&reduced_numerators(q, p), 1)
+        quotient(&reduced_jacobian_numerator(q, p))
     }
     /// [`reduced_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]).
     #[inline]
@@ -336,7 +379,7 @@ pub mod four_bar {
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> Option<[[T; N_OUTPUTS]; N_ACTIVE]> {
-        quotient(&reduced_numerators_trig(t, p), 1)
+        quotient(&reduced_jacobian_numerator_trig(t, p))
     }
     /// The passive map `−J_Cp⁻¹ J_Ca` (7) of Freitas, Leite & Lizarralde (2010):
     /// `θ̇_p = passive_map · θ̇_a`, N_PASSIVE × N_ACTIVE, **column-major**; rows in the
@@ -347,7 +390,7 @@ pub mod four_bar {
         q: &[T; N],
         p: &Params<T>,
     ) -> Option<[[T; N_PASSIVE]; N_ACTIVE]> {
-        quotient(&reduced_numerators(q, p), 1 + N_OUTPUTS)
+        quotient(&passive_map_numerator(q, p))
     }
     /// [`passive_map`] from precomputed joint sines and cosines ([`JointTrig`]).
     #[inline]
@@ -356,7 +399,7 @@ pub mod four_bar {
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> Option<[[T; N_PASSIVE]; N_ACTIVE]> {
-        quotient(&reduced_numerators_trig(t, p), 1 + N_OUTPUTS)
+        quotient(&passive_map_numerator_trig(t, p))
     }
     /// Passive velocities `θ̇_p = −J_Cp⁻¹ J_Ca θ̇_a` (7) of Freitas, Leite & Lizarralde
     /// (2010), in the order of [`PASSIVE`], for the active velocities `qd_active` (in the
