@@ -592,6 +592,13 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             samples,
             seed,
         } => {
+            if is_mechanism(&robot) {
+                return Err(CliError(format!(
+                    "`{robot}` is a closed mechanism: `verify` checks serial robots; compare the \
+                     closed form with the runtime by `trocar eval {robot} --q ... --what jr` \
+                     with and without `--numeric`"
+                )));
+            }
             let desc = load_robot(&robot)?;
             if samples == 0 {
                 return Err(CliError("--samples must be at least 1".into()));

@@ -199,4 +199,7 @@ fn cli_eval_mechanism() {
     let (code, _, err) = trocar(&["eval", "four-bar", "--q", "0,0,0,0"]);
     assert_eq!(code, 1);
     assert!(err.contains("singular"), "{err}");
+    let (code, _, err) = trocar(&["verify", "four-bar"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("closed mechanism"), "{err}");
 }
