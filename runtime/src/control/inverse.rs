@@ -3,9 +3,13 @@
 //!
 //! Everything works on fixed-size `nalgebra` matrices of any shape and allocates nothing: the
 //! linear systems are the Gram matrices `J Jᵀ + κ² I` (or `Jᵀ J + κ² I` when `J` has more rows
-//! than columns), solved by Cholesky.
+//! than columns), solved by Cholesky; a square `J` without damping is solved by its LU factors.
+//!
+//! A control step needs each inverse applied to one vector only: [`PreparedJacobian`] factors a
+//! Jacobian once for its manipulability and `x = J†_κ v`, without forming `J†_κ`.
 
-use nalgebra::{Cholesky, RealField, SMatrix};
+use crate::manipulability::{manipulability, SquareLu};
+use nalgebra::{Cholesky, RealField, SMatrix, SVector};
 
 /// Damping of the least-squares inverse `J†_κ = Jᵀ (J Jᵀ + κ² I)⁻¹` (3.43), (3.46).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -58,6 +62,72 @@ pub fn damped_pinv<T: RealField + Copy, const R: usize, const C: usize>(
         let gram = j.transpose() * j + SMatrix::<T, C, C>::identity() * k2;
         let out = Cholesky::new(gram)?.solve(&j.transpose());
         out.iter().all(|v| v.is_finite()).then_some(out)
+    }
+}
+
+/// `x = J†_κ v = Jᵀ (J Jᵀ + κ² I)⁻¹ v` (3.43), (3.46) (`(Jᵀ J + κ² I)⁻¹ Jᵀ v` when `J` is tall),
+/// without forming `J†_κ`: one Cholesky factorisation of the Gram matrix and one right-hand
+/// side. `None` if the Gram matrix is not positive definite or `x` is not finite.
+pub fn damped_solve<T: RealField + Copy, const R: usize, const C: usize>(
+    j: &SMatrix<T, R, C>,
+    kappa: T,
+    v: &SVector<T, R>,
+) -> Option<SVector<T, C>> {
+    let k2 = kappa * kappa;
+    let x = if R <= C {
+        let gram = j * j.transpose() + SMatrix::<T, R, R>::identity() * k2;
+        j.tr_mul(&Cholesky::new(gram)?.solve(v))
+    } else {
+        let gram = j.tr_mul(j) + SMatrix::<T, C, C>::identity() * k2;
+        Cholesky::new(gram)?.solve(&j.tr_mul(v))
+    };
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+/// A Jacobian `J ∈ R^{R×C}` prepared for one control step: its manipulability `w` (3.36) and
+/// `x = J†_κ v` at the damping chosen from `w` (3.44).
+///
+/// A square `J` is factored once by LU: `w = |det J|` and, without damping, `x = J⁻¹ v` come
+/// from the same factors (and solving `J` itself is better conditioned than its Gram matrix).
+/// With damping, or for a non-square `J`, `x` comes from [`damped_solve`].
+#[derive(Clone, Copy, Debug)]
+pub struct PreparedJacobian<'a, T: RealField + Copy, const R: usize, const C: usize> {
+    j: &'a SMatrix<T, R, C>,
+    lu: Option<SquareLu<T, R>>,
+    w: T,
+}
+
+impl<'a, T: RealField + Copy, const R: usize, const C: usize> PreparedJacobian<'a, T, R, C> {
+    /// Factors `j` (LU when square) and computes its manipulability.
+    pub fn new(j: &'a SMatrix<T, R, C>) -> Self {
+        if R == C {
+            let square = SMatrix::<T, R, R>::from_iterator(j.iter().copied());
+            let lu = SquareLu::new(&square);
+            let w = lu.determinant().abs();
+            PreparedJacobian { j, lu: Some(lu), w }
+        } else {
+            PreparedJacobian {
+                j,
+                lu: None,
+                w: manipulability(j),
+            }
+        }
+    }
+
+    /// The manipulability `w = sqrt(|det(J Jᵀ)|)` (3.36), `|det J|` when square.
+    pub fn manipulability(&self) -> T {
+        self.w
+    }
+
+    /// `x = J†_κ v`: the pseudo-inverse (the inverse when square) for `κ = 0`, damped least
+    /// squares (3.43) otherwise. `None` if `J` is singular with `κ = 0`, or `x` is not finite.
+    pub fn solve(&self, kappa: T, v: &SVector<T, R>) -> Option<SVector<T, C>> {
+        match &self.lu {
+            Some(lu) if kappa == T::zero() => lu
+                .solve(v)
+                .map(|x| SVector::<T, C>::from_iterator(x.iter().copied())),
+            _ => damped_solve(self.j, kappa, v),
+        }
     }
 }
 
@@ -156,6 +226,58 @@ mod tests {
         s.set_row(5, &(s.row(0) * 2.0));
         assert!(pinv(&s).is_none() || pinv(&s).unwrap().norm() > 1e6);
         assert!(damped_pinv(&s, 0.05).unwrap().norm() < 1e3);
+    }
+
+    #[test]
+    fn damped_solve_applies_the_damped_inverse_to_one_vector() {
+        let j = sample();
+        let v = nalgebra::Vector6::new(0.3, -1.2, 0.5, 2.0, -0.7, 0.1);
+        for kappa in [0.0, 0.05, 0.3] {
+            let x = damped_solve(&j, kappa, &v).unwrap();
+            assert!((x - damped_pinv(&j, kappa).unwrap() * v).norm() < 1e-12);
+            let tall = j.transpose();
+            let w = SMatrix::<f64, 7, 1>::from_fn(|r, _| (r as f64 * 0.4).cos());
+            let y = damped_solve(&tall, kappa, &w).unwrap();
+            assert!((y - damped_pinv(&tall, kappa).unwrap() * w).norm() < 1e-12);
+        }
+        let mut s = j;
+        s.set_row(5, &(s.row(0) * 2.0));
+        assert!(damped_solve(&s, 0.0, &v).is_none_or(|x| x.norm() > 1e6));
+        assert!(damped_solve(&s, 0.05, &v).unwrap().norm() < 1e3);
+    }
+
+    #[test]
+    fn prepared_jacobian_matches_the_separate_computations() {
+        use crate::manipulability::manipulability;
+        let v = nalgebra::Vector6::new(0.3, -1.2, 0.5, 2.0, -0.7, 0.1);
+        // Square: LU for w and for κ = 0, the Gram matrix for κ > 0.
+        let sq = Matrix6::from_fn(|r, c| {
+            ((r * 6 + c) as f64 * 0.917).sin() + 0.5 * (r == c) as u8 as f64
+        });
+        let prep = PreparedJacobian::new(&sq);
+        let svd_w: f64 = sq.svd(false, false).singular_values.iter().product();
+        assert!((prep.manipulability() - svd_w).abs() < 1e-12 * svd_w);
+        let x = prep.solve(0.0, &v).unwrap();
+        assert!((sq * x - v).norm() < 1e-12);
+        assert!((x - sq.try_inverse().unwrap() * v).norm() < 1e-10 * x.norm());
+        let xd = prep.solve(0.2, &v).unwrap();
+        assert!((xd - damped_pinv(&sq, 0.2).unwrap() * v).norm() < 1e-12);
+        // Wide: manipulability from the Gram matrix, pseudo-inverse by Cholesky.
+        let j = sample();
+        let prep = PreparedJacobian::new(&j);
+        assert_eq!(prep.manipulability(), manipulability(&j));
+        assert!((prep.solve(0.0, &v).unwrap() - pinv(&j).unwrap() * v).norm() < 1e-12);
+        // Singular square: no inverse, w = 0, damping still solves.
+        let mut s = sq;
+        s.set_column(3, &(s.column(1) * 2.0));
+        s.set_column(4, &(s.column(1) * -3.0));
+        let prep = PreparedJacobian::new(&s);
+        assert!(prep.manipulability() < 1e-14);
+        assert!(prep.solve(0.0, &v).is_none_or(|x| x.norm() > 1e10));
+        assert!(prep.solve(0.05, &v).unwrap().iter().all(|x| x.is_finite()));
+        assert!(PreparedJacobian::new(&Matrix6::<f64>::zeros())
+            .solve(0.0, &v)
+            .is_none());
     }
 
     #[test]

@@ -34,7 +34,7 @@ mod inverse;
 mod quaternion;
 
 pub use crate::manipulability::{determinant, manipulability};
-pub use inverse::{damped_pinv, pinv, Damping, FilteredInverse};
+pub use inverse::{damped_pinv, damped_solve, pinv, Damping, FilteredInverse, PreparedJacobian};
 pub use quaternion::{orientation_error, Quaternion};
 
 use crate::constraint::Constraint;
@@ -94,6 +94,25 @@ pub trait ConstrainedKinematics<
         q: &SVector<T, N>,
         l_a: T,
     ) -> Result<ConstrainedState<T, I, R, K, M>, ControlError>;
+
+    /// `l_a = (p_trocar − p_0i) · y_i` at joints `q` (SPEC §3.2) and [`Self::evaluate`] there:
+    /// what a control step asks of the kinematics. The default calls [`Self::g_0i`], then
+    /// [`Self::evaluate`]; an implementation that can share work between the two (one set of
+    /// joint sines and cosines) overrides it.
+    fn evaluate_at_trocar(
+        &self,
+        q: &SVector<T, N>,
+        trocar: &Vector3<T>,
+    ) -> Result<(T, ConstrainedState<T, I, R, K, M>), ControlError> {
+        let l_a = trocar_offset(&self.g_0i(q), trocar);
+        Ok((l_a, self.evaluate(q, l_a)?))
+    }
+}
+
+/// `l_a = (p_trocar − p_0i) · y_i` (SPEC §3.2): the position of the trocar along the constrained
+/// link, whose frame `F_i` is `g_0i` (the link runs along `y_i`).
+pub fn trocar_offset<T: RealField + Copy>(g_0i: &Se3<T>, trocar: &Vector3<T>) -> T {
+    (trocar - g_0i.translation).dot(&g_0i.rotation.column(1).into_owned())
 }
 
 /// The numeric runtime behind [`ConstrainedKinematics`]: a [`Chain`] and the thesis's
@@ -313,9 +332,9 @@ impl<
         self.fi_started = false;
     }
 
-    /// `l_a = (p_trocar − p_0i) · y_i` (SPEC §3.2).
+    /// `l_a = (p_trocar − p_0i) · y_i` (SPEC §3.2), [`trocar_offset`].
     pub fn l_a(g_0i: &Se3<T>, trocar: &Vector3<T>) -> T {
-        (trocar - g_0i.translation).dot(&g_0i.rotation.column(1).into_owned())
+        trocar_offset(g_0i, trocar)
     }
 
     /// One control step at joints `q`; `dt` is the sample time (used by the filtered inverse).
@@ -328,10 +347,8 @@ impl<
         dt: T,
     ) -> Result<StepOutput<T, N, R>, ControlError> {
         let c = self.config;
-        // 1. l_a from the trocar point.
-        let g_0i = kin.g_0i(q);
-        let l_a = Self::l_a(&g_0i, &rcm.trocar);
-        let s = kin.evaluate(q, l_a)?;
+        // 1. l_a from the trocar point, and the kinematics there.
+        let (l_a, s) = kin.evaluate_at_trocar(q, &rcm.trocar)?;
         let h = kin.h();
 
         // 2. Lateral offset of the trocar from the link, in F_r (R_ir = I), and drift correction.
@@ -350,14 +367,16 @@ impl<
 
         // 4. [v0i; θ̇_jn] = J_inv (u − J_c dv_0r) (3.34).
         let dv_e = u - s.jc * dv_0r;
-        let w_r = manipulability(&s.jr);
-        let w_i = manipulability(&s.jb0i);
+        let jr = PreparedJacobian::new(&s.jr);
+        let jb0i = PreparedJacobian::new(&s.jb0i);
+        let w_r = jr.manipulability();
+        let w_i = jb0i.manipulability();
         let mut kappa_r = T::zero();
         let x: SVector<T, M> = match c.method {
-            Method::Pinv => pinv(&s.jr).ok_or(ControlError::SingularJr)? * dv_e,
+            Method::Pinv => jr.solve(T::zero(), &dv_e).ok_or(ControlError::SingularJr)?,
             Method::Dls(d) => {
                 kappa_r = d.kappa(w_r);
-                damped_pinv(&s.jr, kappa_r).ok_or(ControlError::SingularJr)? * dv_e
+                jr.solve(kappa_r, &dv_e).ok_or(ControlError::SingularJr)?
             }
             Method::Fi { gamma_r, gamma_l } => {
                 if !self.fi_started {
@@ -374,8 +393,9 @@ impl<
         let v0i: SVector<T, K> = x.fixed_rows::<K>(0).into_owned();
         let v_0i = s.lambda_sharp * v0i + s.lambda_pinv * dv_0r;
         let kappa_i = c.jb0i_damping.map_or(T::zero(), |d| d.kappa(w_i));
-        let jb_inv = damped_pinv(&s.jb0i, kappa_i).ok_or(ControlError::SingularJb0i)?;
-        let qd_i = jb_inv * v_0i;
+        let qd_i = jb0i
+            .solve(kappa_i, &v_0i)
+            .ok_or(ControlError::SingularJb0i)?;
 
         let mut qd = SVector::<T, N>::zeros();
         for k in 0..I {

@@ -9,7 +9,7 @@
 //! `(1, 0, 0, 0, 0, −l_a)` and `(0, 0, 1, l_a, 0, 0)`, so `Λ† = Λᵀ / (1 + l_a²)`.
 //! No allocation, no `std`.
 
-use trocar::control::{ConstrainedKinematics, ConstrainedState, ControlError};
+use trocar::control::{trocar_offset, ConstrainedKinematics, ConstrainedState, ControlError};
 use trocar::nalgebra::{ArrayStorage, Matrix3, RealField, SMatrix, SVector, Vector3};
 use trocar::se3::Se3;
 use trocar::Real;
@@ -82,15 +82,44 @@ macro_rules! generated_kinematics {
                 q: &SVector<T, 8>,
                 l_a: T,
             ) -> Result<ConstrainedState<T, 6, 2, 4, 6>, ControlError> {
+                let t = crate::$m::JointTrig::new(&q.data.0[0]);
+                let g_0i = se3(crate::$m::forward_kinematics_i_trig(&t, &self.params));
+                self.evaluate_trig(&t, g_0i, l_a)
+            }
+
+            /// One `JointTrig` for `g_0i`, `l_a` and everything else.
+            #[inline]
+            fn evaluate_at_trocar(
+                &self,
+                q: &SVector<T, 8>,
+                trocar: &Vector3<T>,
+            ) -> Result<(T, ConstrainedState<T, 6, 2, 4, 6>), ControlError> {
+                let t = crate::$m::JointTrig::new(&q.data.0[0]);
+                let g_0i = se3(crate::$m::forward_kinematics_i_trig(&t, &self.params));
+                let l_a = trocar_offset(&g_0i, trocar);
+                Ok((l_a, self.evaluate_trig(&t, g_0i, l_a)?))
+            }
+        }
+
+        impl<T: Real + RealField + Copy> $name<T> {
+            /// [`ConstrainedKinematics::evaluate`] from the joints' sines and cosines and `g_0i`
+            /// (which does not depend on `l_a`).
+            #[inline]
+            fn evaluate_trig(
+                &self,
+                t: &crate::$m::JointTrig<T>,
+                g_0i: Se3<T>,
+                l_a: T,
+            ) -> Result<ConstrainedState<T, 6, 2, 4, 6>, ControlError> {
                 if l_a == T::zero() || !l_a.is_finite() {
                     return Err(ControlError::Kinematics);
                 }
                 let mut p = self.params;
                 p.l_a = l_a;
-                let t = crate::$m::JointTrig::new(&q.data.0[0]);
+                let t = *t;
                 Ok(ConstrainedState {
                     g_0e: se3(crate::$m::forward_kinematics_trig(&t, &p)),
-                    g_0i: se3(crate::$m::forward_kinematics_i_trig(&t, &p)),
+                    g_0i,
                     jr: SMatrix::from_data(ArrayStorage(crate::$m::constrained_jacobian_trig(
                         &t, &p,
                     ))),
