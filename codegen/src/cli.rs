@@ -847,6 +847,9 @@ fn simulate(
         trocar::plot::write_figure(&trace, path).map_err(|e| CliError(e.to_string()))?;
     }
     let s = trace.summary();
+    if let Some(note) = which.deviation() {
+        eprintln!("scenario {scenario} on the reference arm: {note} (see runtime/CONTROL.md)");
+    }
     eprintln!(
         "scenario {scenario} ({method:?}, drift correction {}):\n  \
          max |vr - dv| after the first step {:.3e} m/s\n  \

@@ -30,6 +30,7 @@ mod trace;
 pub use arm::Arm;
 pub use scenario::{
     Method, Scenario, ScenarioConfig, SimulationError, A, EXP421_AMPLITUDE, OMEGA, OMEGA_K_421,
+    S4_RCM_AMPLITUDE, S4_RCM_AMPLITUDE_THESIS,
 };
 pub use trace::{Summary, Trace, TraceRow, CSV_HEADER};
 
@@ -94,7 +95,7 @@ fn run_arm<const R: usize, const K: usize, const M: usize>(
     for k in 0..=steps {
         let t = k as f64 * dt;
         let reference = config.scenario.reference(t, dt, &g_0e0, &axis7);
-        let dv_all = config.scenario.rcm_velocity(t, dt);
+        let dv_all = config.rcm_velocity(t);
         let mut dv = SVector::<f64, R>::zeros();
         for (r, v) in dv.iter_mut().enumerate() {
             *v = dv_all[r];

@@ -14,7 +14,9 @@ pub enum Scenario {
     S2,
     /// Simulation 3: bidirectional zy, through singularities, (4.3)–(4.4).
     S3,
-    /// Simulation 4: moving RCM, (4.5)–(4.6).
+    /// Simulation 4: moving RCM, trajectory (4.5) = (4.2) and the RCM velocity of (4.6) with the
+    /// amplitude [`ScenarioConfig::s4_rcm_amplitude`] ([`S4_RCM_AMPLITUDE`], −1 mm/s, on this
+    /// arm; (4.6) as printed has +5 mm/s and is not feasible here).
     S4,
     /// Experiment 4.2.1 in kinematic simulation: pinv vs DLS vs FI near the `J^r` singularity.
     Exp421,
@@ -94,6 +96,22 @@ pub const OMEGA: f64 = 2.0 * PI / 200.0;
 pub const EXP421_AMPLITUDE: f64 = 7.0 * PI / 72.0;
 /// Frequency of experiment 4.2.1 per iteration (`2π/7000` rad per 2 ms step).
 pub const OMEGA_K_421: f64 = 2.0 * PI / 7000.0;
+/// Amplitude `a` (m/s) of the thesis's RCM velocity (4.6), `dv_0r = a (sin 3ωt, −sin 3ωt)`:
+/// 5 mm/s, which moves the trocar by up to `2a/(3ω)` = 10.6 cm along `x_r` and `z_r`.
+pub const S4_RCM_AMPLITUDE_THESIS: f64 = 0.005;
+/// Amplitude `a` (m/s) of scenario 4's RCM velocity on the reference arm: −1 mm/s, i.e. (4.6)
+/// scaled by −1/5 (trocar excursion up to 2.1 cm along `x_r` and `z_r`).
+///
+/// With (4.6) as printed ([`S4_RCM_AMPLITUDE_THESIS`]) the joint trajectory is unique while both
+/// Jacobians are regular, and it reaches `q7 = 0` (`J^r_0e` singular) at t ≈ 24.6 s: on this arm,
+/// from `q0` (`q7 = 0.5`), motion of the trocar along `+x_r` turns link 6 onto the tool axis.
+/// There `z_r`, which rotates with the link about the tool axis, turns at
+/// `|dv_z| / (l_b |sin q7|)` rad/s, so following the command exactly needs unbounded `q6`, `q8`
+/// rates; afterwards the elbow stretches (`q3 → 0`, `J^B_0i` singular) and the link leaves the
+/// trocar. With the sign reversed the trocar first moves the link away from the tool axis, and at
+/// 1 mm/s the run stays regular (`|q7| ≥ 0.39`, `w_r ≥ 0.033`, `w_i ≥ 0.038`); at 1.5 mm/s the
+/// elbow stretches out (`q3 → 0`) at t ≈ 162 s. See `runtime/CONTROL.md`.
+pub const S4_RCM_AMPLITUDE: f64 = -0.001;
 
 impl Scenario {
     /// All scenarios, in order.
@@ -245,16 +263,24 @@ impl Scenario {
         }
     }
 
-    /// The commanded RCM velocity `dv_0r` on `(x_r, z_r)` (m/s): (4.6) for scenario 4,
-    /// `sin(8 ω k)` cm/s on `x_r` for the experiment, zero otherwise.
-    pub fn rcm_velocity(self, t: f64, dt: f64) -> [f64; 2] {
+    /// How the scenario departs from the thesis on the reference arm (one line, for the
+    /// command-line output), if it does; `runtime/CONTROL.md` gives the reasons and numbers.
+    pub fn deviation(self) -> Option<&'static str> {
         match self {
-            Scenario::S4 => {
-                let v = 0.005 * (3.0 * OMEGA * t).sin();
-                [v, -v]
-            }
-            Scenario::Exp421 => [0.01 * (8.0 * OMEGA_K_421 / dt * t).sin(), 0.0],
-            _ => [0.0, 0.0],
+            Scenario::S3 => Some(
+                "the rotation (4.4) is applied about the joint-7 axis at q0 \
+                 (about base x this arm's q7 stays in [0.48, 0.91])",
+            ),
+            Scenario::S4 => Some(
+                "dv_0r = -1 (sin 3wt, -sin 3wt) mm/s, (4.6) scaled by -1/5: as printed \
+                 (+5 mm/s) the trocar turns link 6 onto the tool axis (q7 = 0 at t = 24.6 s, \
+                 unbounded roll rates), then out of the arm's reach",
+            ),
+            Scenario::Exp421 => Some(
+                "rotation (7pi/72)(cos wk - 1) about the joint-7 axis at q0 \
+                 (the thesis's (pi/18)(cos wk - 1) about x_e leaves q7 >= 0.5)",
+            ),
+            Scenario::S1 | Scenario::S2 => None,
         }
     }
 }
@@ -290,6 +316,10 @@ pub struct ScenarioConfig {
     pub dls_w0_i: f64,
     /// Filtered inverse gains `Γ_r = Γ_l`.
     pub fi_gamma: f64,
+    /// Amplitude `a` (m/s) of scenario 4's RCM velocity `dv_0r = a (sin 3ωt, −sin 3ωt)`:
+    /// [`S4_RCM_AMPLITUDE`] by default, [`S4_RCM_AMPLITUDE_THESIS`] for (4.6) as printed.
+    /// Unused by the other scenarios.
+    pub s4_rcm_amplitude: f64,
 }
 
 impl ScenarioConfig {
@@ -311,6 +341,7 @@ impl ScenarioConfig {
             dls_w0_r: 0.1,
             dls_w0_i: 0.01,
             fi_gamma: 5.0,
+            s4_rcm_amplitude: S4_RCM_AMPLITUDE,
         }
     }
 
@@ -318,6 +349,20 @@ impl ScenarioConfig {
     pub fn with_method(mut self, method: Method) -> Self {
         self.method = method;
         self
+    }
+
+    /// The commanded RCM velocity `dv_0r` on `(x_r, z_r)` (m/s) at time `t`:
+    /// `a (sin 3ωt, −sin 3ωt)` with `a` = [`ScenarioConfig::s4_rcm_amplitude`] for scenario 4
+    /// ((4.6) has `a` = 5 mm/s), `sin(8 ω k)` cm/s on `x_r` for the experiment, zero otherwise.
+    pub fn rcm_velocity(&self, t: f64) -> [f64; 2] {
+        match self.scenario {
+            Scenario::S4 => {
+                let v = self.s4_rcm_amplitude * (3.0 * OMEGA * t).sin();
+                [v, -v]
+            }
+            Scenario::Exp421 => [0.01 * (8.0 * OMEGA_K_421 / self.dt * t).sin(), 0.0],
+            _ => [0.0, 0.0],
+        }
     }
 
     /// The same with the drift correction on or off.

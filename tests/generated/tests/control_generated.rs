@@ -157,7 +157,7 @@ fn run<Kin: ConstrainedKinematics<f64, 8, 6, 2, 4, 6>>(
     for k in 0..steps {
         let t = k as f64 * dt;
         let reference = config.scenario.reference(t, dt, &g_0e0, &axis7);
-        let dv_all = config.scenario.rcm_velocity(t, dt);
+        let dv_all = config.rcm_velocity(t);
         let dv = SVector::<f64, 2>::new(dv_all[0], dv_all[1]);
         let step = ctrl
             .step(kin, &q, &reference, &Rcm { trocar, dv }, dt)
