@@ -1,4 +1,4 @@
-//! `trocar::real::fast::{sin_cos_f64, sin_cos_f32}` (the `no_std` `Real::sin_cos`) against std.
+//! `trocar::real::fast::{sin_cos_f64, sin_cos_f32}` (what `Real::sin_cos` uses) against std.
 //!
 //! f64: at most 1 ulp from std (glibc, itself < 1 ulp from the exact value). f32: < 1 ulp and
 //! ≤ 6e-8 absolute from the exact value (std's f64 `sin_cos`, exact to far below an f32 ulp);

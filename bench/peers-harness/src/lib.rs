@@ -84,6 +84,15 @@ extern "C" {
     fn sympy_bzx(q: *const f64, p: *const f64, jr: *mut f64);
     fn sympy_dia_zy(q: *const f64, p: *const f64, fk: *mut f64, jb0i: *mut f64, jr: *mut f64);
 
+    fn casadi_uni_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
+    fn casadi_bzy_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
+    fn casadi_bzx_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
+    fn casadi_dia_zy_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
+    fn casadi_cse_uni_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
+    fn casadi_cse_bzy_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
+    fn casadi_cse_bzx_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
+    fn casadi_cse_dia_zy_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
+
     fn floor_two_sincos(q: *const f64, out: *mut f64);
     fn floor_eight_sincos(q: *const f64, out: *mut f64);
 }
@@ -133,6 +142,28 @@ fn casadi_fn(peer: Peer, case: Case) -> CasadiFn {
     }
 }
 
+/// CasADi's work sizes `(sz_arg, sz_res, sz_iw, sz_w)` of `peer` (CasADi) for `case`, from the
+/// generated `*_work` function.
+pub fn casadi_work_sizes(peer: Peer, case: Case) -> [i64; 4] {
+    type WorkFn = unsafe extern "C" fn(*mut i64, *mut i64, *mut i64, *mut i64) -> c_int;
+    let f: WorkFn = match (peer, case) {
+        (Peer::Casadi, Case::Uni) => casadi_uni_work,
+        (Peer::Casadi, Case::Bzy) => casadi_bzy_work,
+        (Peer::Casadi, Case::Bzx) => casadi_bzx_work,
+        (Peer::Casadi, Case::DiaZy) => casadi_dia_zy_work,
+        (Peer::CasadiCse, Case::Uni) => casadi_cse_uni_work,
+        (Peer::CasadiCse, Case::Bzy) => casadi_cse_bzy_work,
+        (Peer::CasadiCse, Case::Bzx) => casadi_cse_bzx_work,
+        (Peer::CasadiCse, Case::DiaZy) => casadi_cse_dia_zy_work,
+        _ => panic!("not a CasADi peer"),
+    };
+    let mut sz = [0i64; 4];
+    let [a, r, iw, w] = &mut sz;
+    // SAFETY: the generated `*_work` functions write one casadi_int through each non-null pointer.
+    unsafe { f(a, r, iw, w) };
+    sz
+}
+
 /// Evaluates `case` with implementation `peer` into `out` (length [`Case::out_len`]).
 #[inline(always)]
 pub fn eval(peer: Peer, case: Case, q: &[f64], p: &[f64], out: &mut [f64]) {
@@ -146,11 +177,10 @@ pub fn eval(peer: Peer, case: Case, q: &[f64], p: &[f64], out: &mut [f64]) {
             let arg = [q.as_ptr(), p.as_ptr()];
             // Output blocks; only the first `outs().len()` are used by the callee.
             let res: [*mut f64; 3] = [o, o.wrapping_add(12), o.wrapping_add(48)];
-            let mut w = [0.0f64; 64];
-            let mut iw = [0i64; 8];
-            // SAFETY: SX-generated code reads arg[0..2], writes res[0..n_out]; w and iw are larger
-            // than the function's `_work` sizes (checked in tests).
-            unsafe { f(arg.as_ptr(), res.as_ptr(), iw.as_mut_ptr(), w.as_mut_ptr(), 0) };
+            // SAFETY: SX-generated code reads arg[0..2] and writes res[0..n_out]. Its work sizes
+            // sz_iw and sz_w are 0 (checked in tests: `casadi_work_sizes`), so it never touches
+            // iw or w, and null is a valid work pointer (no per-call scratch to zero).
+            unsafe { f(arg.as_ptr(), res.as_ptr(), core::ptr::null_mut(), core::ptr::null_mut(), 0) };
         }
         // SAFETY: the SymPy functions read q[0..nq], p[0..np] and write the output blocks.
         Peer::Sympy => unsafe {
@@ -424,11 +454,12 @@ pub mod ours {
     include!(concat!(env!("OUT_DIR"), "/bidirectional_zx.rs"));
     include!(concat!(env!("OUT_DIR"), "/dia10_like_zy.rs"));
 
+    /// The first `C` columns of 6 of `out`, as the generated functions return them, so a result
+    /// is written straight into `out` (as the peers' C writes through its pointer).
     #[inline(always)]
-    fn put<T: Real, const C: usize>(m: &[[T; 6]; C], out: &mut [T]) {
-        for (j, col) in m.iter().enumerate() {
-            out[6 * j..6 * j + 6].copy_from_slice(col);
-        }
+    fn cols<T: Real, const C: usize>(out: &mut [T]) -> &mut [[T; 6]; C] {
+        let (chunks, _) = out.as_chunks_mut::<6>();
+        (&mut chunks[..C]).try_into().expect("out holds C columns")
     }
 
     #[inline(always)]
@@ -444,15 +475,15 @@ pub mod ours {
         match case {
             Case::Uni => {
                 let pp = unidirectional::Params { l_a: p[0], l_b: p[1], l_8: p[2] };
-                put(&unidirectional::constrained_jacobian(&q8(q), &pp), out);
+                *cols(out) = unidirectional::constrained_jacobian(&q8(q), &pp);
             }
             Case::Bzy => {
                 let pp = bidirectional_zy::Params { l_a: p[0], l_b: p[1], l_8: p[2] };
-                put(&bidirectional_zy::constrained_jacobian(&q8(q), &pp), out);
+                *cols(out) = bidirectional_zy::constrained_jacobian(&q8(q), &pp);
             }
             Case::Bzx => {
                 let pp = bidirectional_zx::Params { l_a: p[0], l_b: p[1], l_8: p[2] };
-                put(&bidirectional_zx::constrained_jacobian(&q8(q), &pp), out);
+                *cols(out) = bidirectional_zx::constrained_jacobian(&q8(q), &pp);
             }
             Case::DiaZy => {
                 // One JointTrig per control step shared by FK, J^B_0i and J^r (8 sin_cos).
@@ -460,20 +491,24 @@ pub mod ours {
                 let pp = dia10_like_zy::Params { l_a: p[0] };
                 let t = dia10_like_zy::JointTrig::new(&qq);
                 let (r, pos) = dia10_like_zy::forward_kinematics_trig(&t, &pp);
-                for j in 0..3 {
-                    out[3 * j..3 * j + 3].copy_from_slice(&r[j]);
-                }
-                out[9..12].copy_from_slice(&pos);
-                put(&dia10_like_zy::partial_body_jacobian_trig(&t, &pp), &mut out[12..48]);
-                put(&dia10_like_zy::constrained_jacobian_trig(&t, &pp), &mut out[48..84]);
+                let (rows, _) = out[..12].as_chunks_mut::<3>();
+                rows[..3].copy_from_slice(&r);
+                rows[3] = pos;
+                *cols(&mut out[12..]) = dia10_like_zy::partial_body_jacobian_trig(&t, &pp);
+                *cols(&mut out[48..]) = dia10_like_zy::constrained_jacobian_trig(&t, &pp);
             }
         }
     }
 
-    /// Precomputed trig of the case's joints (presets: θ7, θ8; dia10_like: all 8).
+    /// Precomputed trig of the case's joints (presets: θ7, θ8; dia10_like: all 8), as each
+    /// module's own `JointTrig` (computed once, outside the timed loop).
     pub struct Trig<T: Real> {
-        /// `JointTrig` of the preset modules (same shape for the three presets).
+        /// `JointTrig` of `unidirectional`.
         pub t: unidirectional::JointTrig<T>,
+        /// `JointTrig` of `bidirectional_zy`.
+        pub zy: bidirectional_zy::JointTrig<T>,
+        /// `JointTrig` of `bidirectional_zx`.
+        pub zx: bidirectional_zx::JointTrig<T>,
         /// `JointTrig` of dia10_like.
         pub d: dia10_like_zy::JointTrig<T>,
     }
@@ -482,7 +517,12 @@ pub mod ours {
         /// `sin_cos` of every joint, once.
         pub fn new(case: Case, q: &[T]) -> Self {
             let qq: [T; 8] = if case == Case::DiaZy { core::array::from_fn(|k| q[k]) } else { q8(q) };
-            Trig { t: unidirectional::JointTrig::new(&qq), d: dia10_like_zy::JointTrig::new(&qq) }
+            Trig {
+                t: unidirectional::JointTrig::new(&qq),
+                zy: bidirectional_zy::JointTrig::new(&qq),
+                zx: bidirectional_zx::JointTrig::new(&qq),
+                d: dia10_like_zy::JointTrig::new(&qq),
+            }
         }
     }
 
@@ -492,27 +532,24 @@ pub mod ours {
         match case {
             Case::Uni => {
                 let pp = unidirectional::Params { l_a: p[0], l_b: p[1], l_8: p[2] };
-                put(&unidirectional::constrained_jacobian_trig(&t.t, &pp), out);
+                *cols(out) = unidirectional::constrained_jacobian_trig(&t.t, &pp);
             }
             Case::Bzy => {
                 let pp = bidirectional_zy::Params { l_a: p[0], l_b: p[1], l_8: p[2] };
-                let tt = bidirectional_zy::JointTrig { q: t.t.q, sin: t.t.sin, cos: t.t.cos };
-                put(&bidirectional_zy::constrained_jacobian_trig(&tt, &pp), out);
+                *cols(out) = bidirectional_zy::constrained_jacobian_trig(&t.zy, &pp);
             }
             Case::Bzx => {
                 let pp = bidirectional_zx::Params { l_a: p[0], l_b: p[1], l_8: p[2] };
-                let tt = bidirectional_zx::JointTrig { q: t.t.q, sin: t.t.sin, cos: t.t.cos };
-                put(&bidirectional_zx::constrained_jacobian_trig(&tt, &pp), out);
+                *cols(out) = bidirectional_zx::constrained_jacobian_trig(&t.zx, &pp);
             }
             Case::DiaZy => {
                 let pp = dia10_like_zy::Params { l_a: p[0] };
                 let (r, pos) = dia10_like_zy::forward_kinematics_trig(&t.d, &pp);
-                for j in 0..3 {
-                    out[3 * j..3 * j + 3].copy_from_slice(&r[j]);
-                }
-                out[9..12].copy_from_slice(&pos);
-                put(&dia10_like_zy::partial_body_jacobian_trig(&t.d, &pp), &mut out[12..48]);
-                put(&dia10_like_zy::constrained_jacobian_trig(&t.d, &pp), &mut out[48..84]);
+                let (rows, _) = out[..12].as_chunks_mut::<3>();
+                rows[..3].copy_from_slice(&r);
+                rows[3] = pos;
+                *cols(&mut out[12..]) = dia10_like_zy::partial_body_jacobian_trig(&t.d, &pp);
+                *cols(&mut out[48..]) = dia10_like_zy::constrained_jacobian_trig(&t.d, &pp);
             }
         }
     }

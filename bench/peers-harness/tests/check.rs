@@ -276,3 +276,16 @@ fn ours_agree_with_the_reference_f64_and_f32() {
         }
     }
 }
+
+/// The CasADi functions need no `iw` or `w` scratch, which is why `eval` passes null for both.
+#[test]
+fn casadi_functions_need_no_work_arrays() {
+    for peer in [Peer::Casadi, Peer::CasadiCse] {
+        for case in [Case::Uni, Case::Bzy, Case::Bzx, Case::DiaZy] {
+            let [n_arg, n_res, n_iw, n_w] = trocar_peers_harness::casadi_work_sizes(peer, case);
+            assert_eq!((n_iw, n_w), (0, 0), "{peer:?} {case:?}");
+            assert_eq!(n_arg, 2, "{peer:?} {case:?}");
+            assert!((1..=3).contains(&n_res), "{peer:?} {case:?}");
+        }
+    }
+}

@@ -332,11 +332,6 @@ impl<
         self.fi_started = false;
     }
 
-    /// `l_a = (p_trocar − p_0i) · y_i` (SPEC §3.2), [`trocar_offset`].
-    pub fn l_a(g_0i: &Se3<T>, trocar: &Vector3<T>) -> T {
-        trocar_offset(g_0i, trocar)
-    }
-
     /// One control step at joints `q`; `dt` is the sample time (used by the filtered inverse).
     pub fn step<Kin: ConstrainedKinematics<T, N, I, R, K, M>>(
         &mut self,
