@@ -134,7 +134,11 @@ fn small_module_snapshot() {
     assert!(text.contains(
         "pub fn two_columns<T: ::trocar::Real>(q: &[T; N], p: &Params<T>) -> [[T; 6]; 2]"
     ));
-    assert!(text.contains("let (s7, c7) = <T as ::trocar::Real>::sin_cos(q[6]);"));
+    assert!(text.contains(
+        "let ([s7, s8], [c7, c8]) = <T as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);"
+    ));
+    // Only what a function uses is bound.
+    assert!(text.contains("let ([s7], [_]) = <T as ::trocar::Real>::sin_cos_array(&[q[6]]);"));
     check_golden("tests/snapshots/emit_small.rs", &text);
 }
 

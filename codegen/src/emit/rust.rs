@@ -324,22 +324,12 @@ fn body(prog: &Program, ty: &Ty, access: Access) -> (Vec<TokenStream>, Vec<Token
                 }
             }
         }
-        for k in prog.trig_joints() {
-            let s = if used_sin.contains(&k) {
-                let id = format_ident!("s{}", k + 1);
-                quote!(#id)
-            } else {
-                quote!(_)
-            };
-            let c = if used_cos.contains(&k) {
-                let id = format_ident!("c{}", k + 1);
-                quote!(#id)
-            } else {
-                quote!(_)
-            };
-            let kk = Literal::usize_unsuffixed(k);
-            stmts.push(quote!(let (#s, #c) = #r::sin_cos(q[#kk]);));
-        }
+        stmts.extend(trig_statement(
+            &r,
+            &prog.trig_joints(),
+            |k| used_sin.contains(&k),
+            |k| used_cos.contains(&k),
+        ));
     }
     let mut counter = 0usize;
     for (i, op) in prog.ops().iter().enumerate() {
@@ -580,15 +570,14 @@ fn trig_tokens(spec: &ModuleSpec, ty: &Ty) -> TokenStream {
             }
         }
     }
-    let mut stmts = Vec::new();
+    let joints: Vec<usize> = (0..n).filter(|&k| used[k]).collect();
+    let stmts = trig_statement(&r, &joints, |_| true, |_| true);
     let mut sins = Vec::new();
     let mut coss = Vec::new();
     for (k, &u) in used.iter().enumerate() {
         if u {
             let s = format_ident!("s{}", k + 1);
             let c = format_ident!("c{}", k + 1);
-            let kk = Literal::usize_unsuffixed(k);
-            stmts.push(quote!(let (#s, #c) = #r::sin_cos(q[#kk]);));
             sins.push(quote!(#s));
             coss.push(quote!(#c));
         } else {
@@ -622,15 +611,45 @@ fn trig_tokens(spec: &ModuleSpec, ty: &Ty) -> TokenStream {
         }
 
         impl #generics JointTrig #args {
-            /// One `sin_cos` per used joint.
+            /// The sines and cosines of the used joints, in one `sin_cos_array` call.
             #[inline]
             #[must_use]
             pub fn new(#q: &[#t; N]) -> Self {
-                #(#stmts)*
+                #stmts
                 JointTrig { q: *#q, sin: [#(#sins),*], cos: [#(#coss),*] }
             }
         }
     }
+}
+
+/// `let ([s.., ..], [c.., ..]) = R::sin_cos_array(&[q[k], ..]);`: the sines and cosines of the
+/// joints `ks` (0-based, ascending) in one call (rule `one_trig`: one `sin_cos` per joint, batched
+/// so that the runtime can compute them side by side), binding `s{k+1}` and `c{k+1}` where
+/// `bind_sin(k)` and `bind_cos(k)` hold and `_` elsewhere. Nothing when `ks` is empty.
+fn trig_statement(
+    r: &TokenStream,
+    ks: &[usize],
+    bind_sin: impl Fn(usize) -> bool,
+    bind_cos: impl Fn(usize) -> bool,
+) -> Option<TokenStream> {
+    if ks.is_empty() {
+        return None;
+    }
+    let bind = |k: usize, yes: bool, letter: &str| {
+        if yes {
+            let id = format_ident!("{}{}", letter, k + 1);
+            quote!(#id)
+        } else {
+            quote!(_)
+        }
+    };
+    let sins = ks.iter().map(|&k| bind(k, bind_sin(k), "s"));
+    let coss = ks.iter().map(|&k| bind(k, bind_cos(k), "c"));
+    let args = ks.iter().map(|&k| {
+        let kk = Literal::usize_unsuffixed(k);
+        quote!(q[#kk])
+    });
+    Some(quote!(let ([#(#sins),*], [#(#coss),*]) = #r::sin_cos_array(&[#(#args),*]);))
 }
 
 /// The items of a robot module (without the `mod` wrapper).

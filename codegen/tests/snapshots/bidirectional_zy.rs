@@ -58,18 +58,13 @@ pub mod bidirectional_zy {
         pub cos: [T; N],
     }
     impl<T: ::trocar::Real> JointTrig<T> {
-        /// One `sin_cos` per used joint.
+        /// The sines and cosines of the used joints, in one `sin_cos_array` call.
         #[inline]
         #[must_use]
         pub fn new(q: &[T; N]) -> Self {
-            let (s1, c1) = <T as ::trocar::Real>::sin_cos(q[0]);
-            let (s2, c2) = <T as ::trocar::Real>::sin_cos(q[1]);
-            let (s3, c3) = <T as ::trocar::Real>::sin_cos(q[2]);
-            let (s4, c4) = <T as ::trocar::Real>::sin_cos(q[3]);
-            let (s5, c5) = <T as ::trocar::Real>::sin_cos(q[4]);
-            let (s6, c6) = <T as ::trocar::Real>::sin_cos(q[5]);
-            let (s7, c7) = <T as ::trocar::Real>::sin_cos(q[6]);
-            let (s8, c8) = <T as ::trocar::Real>::sin_cos(q[7]);
+            let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <T as ::trocar::Real>::sin_cos_array(
+                &[q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7]],
+            );
             JointTrig {
                 q: *q,
                 sin: [s1, s2, s3, s4, s5, s6, s7, s8],
@@ -88,14 +83,9 @@ pub mod bidirectional_zy {
         q: &[T; N],
         p: &Params<T>,
     ) -> ([[T; 3]; 3], [T; 3]) {
-        let (s1, c1) = <T as ::trocar::Real>::sin_cos(q[0]);
-        let (s2, c2) = <T as ::trocar::Real>::sin_cos(q[1]);
-        let (s3, c3) = <T as ::trocar::Real>::sin_cos(q[2]);
-        let (s4, c4) = <T as ::trocar::Real>::sin_cos(q[3]);
-        let (s5, c5) = <T as ::trocar::Real>::sin_cos(q[4]);
-        let (s6, c6) = <T as ::trocar::Real>::sin_cos(q[5]);
-        let (s7, c7) = <T as ::trocar::Real>::sin_cos(q[6]);
-        let (s8, c8) = <T as ::trocar::Real>::sin_cos(q[7]);
+        let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <T as ::trocar::Real>::sin_cos_array(
+            &[q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7]],
+        );
         let x0 = p.l_a + p.l_b;
         let x1 = s1 * c2;
         let x2 = s1 * s2;
@@ -230,13 +220,9 @@ pub mod bidirectional_zy {
     #[inline]
     #[must_use]
     pub fn body_jacobian<T: ::trocar::Real>(q: &[T; N], p: &Params<T>) -> [[T; 6]; N] {
-        let (s2, c2) = <T as ::trocar::Real>::sin_cos(q[1]);
-        let (s3, c3) = <T as ::trocar::Real>::sin_cos(q[2]);
-        let (s4, c4) = <T as ::trocar::Real>::sin_cos(q[3]);
-        let (s5, c5) = <T as ::trocar::Real>::sin_cos(q[4]);
-        let (s6, c6) = <T as ::trocar::Real>::sin_cos(q[5]);
-        let (s7, c7) = <T as ::trocar::Real>::sin_cos(q[6]);
-        let (s8, c8) = <T as ::trocar::Real>::sin_cos(q[7]);
+        let ([s2, s3, s4, s5, s6, s7, s8], [c2, c3, c4, c5, c6, c7, c8]) = <T as ::trocar::Real>::sin_cos_array(
+            &[q[1], q[2], q[3], q[4], q[5], q[6], q[7]],
+        );
         let x0 = c7 * c8;
         let x1 = c7 * s8;
         let x2 = s7 * p.l_8;
@@ -466,8 +452,7 @@ pub mod bidirectional_zy {
         q: &[T; N],
         p: &Params<T>,
     ) -> [[T; 6]; M] {
-        let (s7, c7) = <T as ::trocar::Real>::sin_cos(q[6]);
-        let (s8, c8) = <T as ::trocar::Real>::sin_cos(q[7]);
+        let ([s7, s8], [c7, c8]) = <T as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
         let x0 = <T as ::trocar::Real>::ONE / p.l_a;
         let x1 = (c7 * p.l_b + p.l_8) * x0;
         let x2 = x0 * s7;
@@ -590,8 +575,7 @@ pub mod bidirectional_zy {
         q: &[T; N],
         p: &Params<T>,
     ) -> [[T; 6]; R] {
-        let (s7, c7) = <T as ::trocar::Real>::sin_cos(q[6]);
-        let (s8, c8) = <T as ::trocar::Real>::sin_cos(q[7]);
+        let ([s7, s8], [c7, c8]) = <T as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
         let x0 = <T as ::trocar::Real>::ONE
             / (<T as ::trocar::Real>::ONE + p.l_a * p.l_a);
         let x1 = <T as ::trocar::Real>::ONE + p.l_a * (p.l_a + p.l_b);
@@ -665,11 +649,9 @@ pub mod bidirectional_zy {
         q: &[T; N],
         _p: &Params<T>,
     ) -> [[T; 6]; I] {
-        let (s2, c2) = <T as ::trocar::Real>::sin_cos(q[1]);
-        let (s3, c3) = <T as ::trocar::Real>::sin_cos(q[2]);
-        let (s4, c4) = <T as ::trocar::Real>::sin_cos(q[3]);
-        let (s5, c5) = <T as ::trocar::Real>::sin_cos(q[4]);
-        let (s6, c6) = <T as ::trocar::Real>::sin_cos(q[5]);
+        let ([s2, s3, s4, s5, s6], [c2, c3, c4, c5, c6]) = <T as ::trocar::Real>::sin_cos_array(
+            &[q[1], q[2], q[3], q[4], q[5]],
+        );
         let x0 = s5 * s6;
         let x1 = s5 * c6;
         let x2 = c5 * s6;
@@ -840,12 +822,9 @@ pub mod bidirectional_zy {
         q: &[T; N],
         _p: &Params<T>,
     ) -> ([[T; 3]; 3], [T; 3]) {
-        let (s1, c1) = <T as ::trocar::Real>::sin_cos(q[0]);
-        let (s2, c2) = <T as ::trocar::Real>::sin_cos(q[1]);
-        let (s3, c3) = <T as ::trocar::Real>::sin_cos(q[2]);
-        let (s4, c4) = <T as ::trocar::Real>::sin_cos(q[3]);
-        let (s5, c5) = <T as ::trocar::Real>::sin_cos(q[4]);
-        let (s6, c6) = <T as ::trocar::Real>::sin_cos(q[5]);
+        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <T as ::trocar::Real>::sin_cos_array(
+            &[q[0], q[1], q[2], q[3], q[4], q[5]],
+        );
         let x0 = s1 * c2;
         let x1 = s1 * s2;
         let x2 = c1 * c2;
@@ -950,7 +929,7 @@ pub mod bidirectional_zy {
     #[inline]
     #[must_use]
     pub fn manipulability<T: ::trocar::Real>(q: &[T; N], p: &Params<T>) -> T {
-        let (s7, _) = <T as ::trocar::Real>::sin_cos(q[6]);
+        let ([s7], [_]) = <T as ::trocar::Real>::sin_cos_array(&[q[6]]);
         let x0 = <T as ::trocar::Real>::ONE / p.l_a;
         <T as ::trocar::Real>::abs(s7 * (x0 * x0) * (p.l_b * p.l_b))
     }
@@ -969,7 +948,7 @@ pub mod bidirectional_zy {
     #[inline]
     #[must_use]
     pub fn manipulability_squared<T: ::trocar::Real>(q: &[T; N], p: &Params<T>) -> T {
-        let (s7, _) = <T as ::trocar::Real>::sin_cos(q[6]);
+        let ([s7], [_]) = <T as ::trocar::Real>::sin_cos_array(&[q[6]]);
         let x0 = <T as ::trocar::Real>::ONE / p.l_a;
         let x1 = s7 * (x0 * x0) * (p.l_b * p.l_b);
         x1 * x1

@@ -46,12 +46,13 @@ pub mod small {
         pub cos: [T; N],
     }
     impl<T: ::trocar::Real> JointTrig<T> {
-        /// One `sin_cos` per used joint.
+        /// The sines and cosines of the used joints, in one `sin_cos_array` call.
         #[inline]
         #[must_use]
         pub fn new(q: &[T; N]) -> Self {
-            let (s7, c7) = <T as ::trocar::Real>::sin_cos(q[6]);
-            let (s8, c8) = <T as ::trocar::Real>::sin_cos(q[7]);
+            let ([s7, s8], [c7, c8]) = <T as ::trocar::Real>::sin_cos_array(
+                &[q[6], q[7]],
+            );
             JointTrig {
                 q: *q,
                 sin: [
@@ -85,8 +86,7 @@ pub mod small {
     #[inline]
     #[must_use]
     pub fn two_columns<T: ::trocar::Real>(q: &[T; N], p: &Params<T>) -> [[T; 6]; 2] {
-        let (s7, c7) = <T as ::trocar::Real>::sin_cos(q[6]);
-        let (s8, c8) = <T as ::trocar::Real>::sin_cos(q[7]);
+        let ([s7, s8], [c7, c8]) = <T as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
         let x0 = <T as ::trocar::Real>::ONE / p.l_a;
         let x1 = (c7 * p.l_b + p.l_8) * x0;
         [
@@ -146,7 +146,7 @@ pub mod small {
     #[inline]
     #[must_use]
     pub fn manipulability<T: ::trocar::Real>(q: &[T; N], p: &Params<T>) -> T {
-        let (s7, _) = <T as ::trocar::Real>::sin_cos(q[6]);
+        let ([s7], [_]) = <T as ::trocar::Real>::sin_cos_array(&[q[6]]);
         let x0 = <T as ::trocar::Real>::ONE / p.l_a;
         <T as ::trocar::Real>::abs(s7 * (x0 * x0) * (p.l_b * p.l_b))
     }

@@ -71,14 +71,13 @@ pub mod four_bar {
         pub cos: [T; N],
     }
     impl<T: ::trocar::Real> JointTrig<T> {
-        /// One `sin_cos` per used joint.
+        /// The sines and cosines of the used joints, in one `sin_cos_array` call.
         #[inline]
         #[must_use]
         pub fn new(q: &[T; N]) -> Self {
-            let (s1, c1) = <T as ::trocar::Real>::sin_cos(q[0]);
-            let (s2, c2) = <T as ::trocar::Real>::sin_cos(q[1]);
-            let (s3, c3) = <T as ::trocar::Real>::sin_cos(q[2]);
-            let (s4, c4) = <T as ::trocar::Real>::sin_cos(q[3]);
+            let ([s1, s2, s3, s4], [c1, c2, c3, c4]) = <T as ::trocar::Real>::sin_cos_array(
+                &[q[0], q[1], q[2], q[3]],
+            );
             JointTrig {
                 q: *q,
                 sin: [s1, s2, s3, s4],
@@ -97,10 +96,9 @@ pub mod four_bar {
         q: &[T; N],
         p: &Params<T>,
     ) -> [[T; R]; N] {
-        let (s1, c1) = <T as ::trocar::Real>::sin_cos(q[0]);
-        let (s2, c2) = <T as ::trocar::Real>::sin_cos(q[1]);
-        let (s3, c3) = <T as ::trocar::Real>::sin_cos(q[2]);
-        let (s4, c4) = <T as ::trocar::Real>::sin_cos(q[3]);
+        let ([s1, s2, s3, s4], [c1, c2, c3, c4]) = <T as ::trocar::Real>::sin_cos_array(
+            &[q[0], q[1], q[2], q[3]],
+        );
         let x0 = p.l3 + p.l4;
         let x1 = x0 * c2;
         let x2 = x1 + p.l1;
@@ -192,10 +190,9 @@ pub mod four_bar {
     #[inline]
     #[must_use]
     pub fn constraint_determinant<T: ::trocar::Real>(q: &[T; N], p: &Params<T>) -> T {
-        let (s1, c1) = <T as ::trocar::Real>::sin_cos(q[0]);
-        let (s2, c2) = <T as ::trocar::Real>::sin_cos(q[1]);
-        let (s3, c3) = <T as ::trocar::Real>::sin_cos(q[2]);
-        let (s4, _) = <T as ::trocar::Real>::sin_cos(q[3]);
+        let ([s1, s2, s3, s4], [c1, c2, c3, _]) = <T as ::trocar::Real>::sin_cos_array(
+            &[q[0], q[1], q[2], q[3]],
+        );
         let x0 = (s2 * s3 + c2 * c3) * s1;
         let x1 = (s3 * c2 - s2 * c3) * c1;
         ((x1 + s4 - x0) * p.l4 + (x1 - x0) * p.l3) * p.l2
@@ -226,10 +223,9 @@ pub mod four_bar {
         q: &[T; N],
         p: &Params<T>,
     ) -> [[T; 1 + N_OUTPUTS]; N_ACTIVE] {
-        let (s1, c1) = <T as ::trocar::Real>::sin_cos(q[0]);
-        let (s2, c2) = <T as ::trocar::Real>::sin_cos(q[1]);
-        let (s3, c3) = <T as ::trocar::Real>::sin_cos(q[2]);
-        let (s4, _) = <T as ::trocar::Real>::sin_cos(q[3]);
+        let ([s1, s2, s3, s4], [c1, c2, c3, _]) = <T as ::trocar::Real>::sin_cos_array(
+            &[q[0], q[1], q[2], q[3]],
+        );
         let x0 = (s2 * s3 + c2 * c3) * s1;
         let x1 = (s3 * c2 - s2 * c3) * c1;
         [
@@ -272,10 +268,9 @@ pub mod four_bar {
         q: &[T; N],
         p: &Params<T>,
     ) -> [[T; 1 + N_PASSIVE]; N_ACTIVE] {
-        let (s1, c1) = <T as ::trocar::Real>::sin_cos(q[0]);
-        let (s2, c2) = <T as ::trocar::Real>::sin_cos(q[1]);
-        let (s3, c3) = <T as ::trocar::Real>::sin_cos(q[2]);
-        let (s4, c4) = <T as ::trocar::Real>::sin_cos(q[3]);
+        let ([s1, s2, s3, s4], [c1, c2, c3, c4]) = <T as ::trocar::Real>::sin_cos_array(
+            &[q[0], q[1], q[2], q[3]],
+        );
         let x0 = (s2 * s3 + c2 * c3) * s1;
         let x1 = (s3 * c2 - s2 * c3) * c1;
         let x2 = p.l4 + p.l3;
