@@ -38,8 +38,8 @@ pub trait Real:
     /// `(sin x, cos x)`.
     fn sin_cos(self) -> (Self, Self);
     /// `(sin x_k, cos x_k)` for every `k`: what generated code calls, once per control step, for
-    /// all the joints it uses. Exactly [`Real::sin_cos`] of each element; `f64` computes the
-    /// elements side by side ([`fast::sin_cos_f64_array`]), which vector units can run together.
+    /// all the joints it uses. Exactly [`Real::sin_cos`] of each element; `f64` computes four
+    /// elements side by side where the target has AVX2 ([`fast::sin_cos_f64_array`]).
     #[inline(always)]
     fn sin_cos_array<const N: usize>(x: &[Self; N]) -> ([Self; N], [Self; N]) {
         let mut s = [Self::ZERO; N];
@@ -263,22 +263,45 @@ pub mod fast {
         finish64(y0, y1, quadrant, sign)
     }
 
-    /// [`sin_cos_f64`] of every element, bit for bit, computed side by side: the main path of
-    /// [`sin_cos_f64`] (one-step reduction, both kernels, quadrant select) runs branch-free on all
-    /// elements, so the compiler can vectorise it (about 1.5× faster for eight joints with
-    /// AVX2). If any element needs more (beyond [`F64_FAST_LIMIT`], NaN, ±∞, or a reduction that
-    /// may have cancelled: `|y0| < 2⁻¹⁶ |x|`, which holds whenever musl's exponent test of
-    /// [`sin_cos_f64`] does), every element is recomputed by [`sin_cos_f64`].
+    /// [`sin_cos_f64`] of every element, bit for bit. Where the target has AVX2, four elements
+    /// at a time go through [`sin_cos_f64_x4`] (measured: eight joints in 28 ns instead of 45,
+    /// four in 14 instead of 26), and the rest one by one; without AVX2 (where the four-wide
+    /// kernel measured no faster) every element goes through [`sin_cos_f64`].
     #[inline(always)]
     pub fn sin_cos_f64_array<const N: usize>(x: &[f64; N]) -> ([f64; N], [f64; N]) {
+        let mut s = [0.0; N];
+        let mut c = [0.0; N];
+        #[allow(unused_mut)]
+        let mut k = 0;
+        #[cfg(target_feature = "avx2")]
+        while k + 4 <= N {
+            let (s4, c4) = sin_cos_f64_x4(&[x[k], x[k + 1], x[k + 2], x[k + 3]]);
+            s[k..k + 4].copy_from_slice(&s4);
+            c[k..k + 4].copy_from_slice(&c4);
+            k += 4;
+        }
+        for j in k..N {
+            (s[j], c[j]) = sin_cos_f64(x[j]);
+        }
+        (s, c)
+    }
+
+    /// [`sin_cos_f64`] of four elements, bit for bit, computed side by side: the main path of
+    /// [`sin_cos_f64`] (one-step reduction, both kernels, quadrant select) runs branch-free on
+    /// all four, so the compiler can put them in one AVX2 register. If any element needs more
+    /// (beyond [`F64_FAST_LIMIT`], NaN, ±∞, or a reduction that may have cancelled:
+    /// `|y0| < 2⁻¹⁶ |x|`, which holds whenever musl's exponent test of [`sin_cos_f64`] does),
+    /// all four are recomputed by [`sin_cos_f64`].
+    #[inline(always)]
+    pub fn sin_cos_f64_x4(x: &[f64; 4]) -> ([f64; 4], [f64; 4]) {
         const P1: f64 = 1.57079632673412561417e+00;
         const P1T: f64 = 6.07710050650619224932e-11;
         const TWO_M16: f64 = 1.0 / 65536.0;
         const ABS: u64 = !(1u64 << 63);
-        let mut s = [0.0; N];
-        let mut c = [0.0; N];
+        let mut s = [0.0; 4];
+        let mut c = [0.0; 4];
         let mut slow = false;
-        for k in 0..N {
+        for k in 0..4 {
             let sign = x[k].to_bits() & !ABS;
             let ax = f64::from_bits(x[k].to_bits() & ABS);
             // |x| ≤ π/4 takes n = 0 (y0 = |x|, y1 = 0) as in sin_cos_f64, as a select.
@@ -294,7 +317,7 @@ pub mod fast {
             (s[k], c[k]) = finish64(y0, y1, quadrant, sign);
         }
         if slow {
-            for k in 0..N {
+            for k in 0..4 {
                 (s[k], c[k]) = sin_cos_f64(x[k]);
             }
         }

@@ -225,13 +225,13 @@ fn f32_exhaustive_fast_path() {
     );
 }
 
-/// `sin_cos_f64_array` (what generated code calls through `Real::sin_cos_array`) is
-/// `sin_cos_f64` of each element, bit for bit: random arguments, the neighbours of π/4 and of
-/// multiples of π/2 (where the careful reduction takes over), huge arguments, NaN and ±∞, in
-/// arrays that mix them.
+/// `sin_cos_f64_x4` and `sin_cos_f64_array` (what generated code calls through
+/// `Real::sin_cos_array`) are `sin_cos_f64` of each element, bit for bit: random arguments, the
+/// neighbours of π/4 and of multiples of π/2 (where the careful reduction takes over), huge
+/// arguments, NaN and ±∞, in arrays that mix them.
 #[test]
 fn array_version_equals_the_scalar_one_bit_for_bit() {
-    use trocar::real::fast::sin_cos_f64_array;
+    use trocar::real::fast::{sin_cos_f64_array, sin_cos_f64_x4};
     use trocar::Real;
     let mut special = Vec::new();
     for k in 0..2000i64 {
@@ -285,18 +285,24 @@ fn array_version_equals_the_scalar_one_bit_for_bit() {
         }
         let (s, c) = sin_cos_f64_array(&x);
         let (s2, c2) = <f64 as Real>::sin_cos_array(&x);
+        let (lo_s, lo_c) = sin_cos_f64_x4(&[x[0], x[1], x[2], x[3]]);
+        let (hi_s, hi_c) = sin_cos_f64_x4(&[x[4], x[5], x[6], x[7]]);
+        let (s4, c4) = ([lo_s, hi_s].concat(), [lo_c, hi_c].concat());
+        let (s5, c5) = sin_cos_f64_array(&[x[0], x[1], x[2], x[3], x[4]]);
         for k in 0..8 {
             let (ss, cc) = sin_cos_f64(x[k]);
+            let want = (ss.to_bits(), cc.to_bits());
+            assert_eq!((s[k].to_bits(), c[k].to_bits()), want, "x = {:e}", x[k]);
+            assert_eq!((s2[k].to_bits(), c2[k].to_bits()), want);
             assert_eq!(
-                (s[k].to_bits(), c[k].to_bits()),
-                (ss.to_bits(), cc.to_bits()),
-                "x = {:e}",
+                (s4[k].to_bits(), c4[k].to_bits()),
+                want,
+                "x4, x = {:e}",
                 x[k]
             );
-            assert_eq!(
-                (s2[k].to_bits(), c2[k].to_bits()),
-                (ss.to_bits(), cc.to_bits())
-            );
+            if k < 5 {
+                assert_eq!((s5[k].to_bits(), c5[k].to_bits()), want);
+            }
             checked += 1;
         }
     }

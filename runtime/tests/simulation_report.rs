@@ -218,10 +218,12 @@ const TAIL: &str = r#"
   `w_r < w0 = 0.1`, to 1.7e-4 m; FI to 1.1e-3 m (its `Θ` lags `J^r`). `J^B_0i` is never
   damped (`w_i > 0.01`), so the RCM constraint is exact for all three: `|vr − dv|` ≤ 3.5e-7 m/s
   with the correction.
-- **Cost.** One control step (f64, dia10_like zy, kinematics from the numeric runtime,
-  `cargo bench -p trocar --bench control`): about 5–6 µs for each of pinv, DLS and FI on the
-  shared 2-core machine this was measured on (load average ≈ 7, so an upper figure); the step
-  allocates nothing (`tests/control_alloc.rs`).
+- **Cost.** One control step (f64, dia10_like zy, criterion medians on an otherwise idle
+  2-core AMD EPYC): with the kinematics from the numeric runtime
+  (`cargo bench -p trocar --bench control`) 2.6 µs (pinv), 2.7 µs (DLS), 3.2 µs (FI), of which
+  the numeric kinematics are 2.1 µs; with the generated closed forms
+  (`cargo bench -p trocar-tests-generated --bench control_step`, DLS, drift correction on)
+  0.84 µs. The step allocates nothing (`tests/control_alloc.rs`). See `BENCHMARKS.md`.
 - Scenarios 1, 2 and 4 (200 s; scenario 4 with this arm's command) meet `|vr − dv| ≤ 1e-6`
   m/s, drift ≤ 1e-4 m and `‖dp − p‖ ≤ 1e-3` m after 10 s (in fact ≤ 3e-7 m throughout), with
   the correction on.

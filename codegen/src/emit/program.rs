@@ -29,7 +29,7 @@
 //! | `monomial_prefix` | a monomial's atoms are multiplied in a canonical order, coefficient last, so equal sub-products are shared | [`Program::monomial`] |
 //! | `sign_normalise` | a sum whose terms are all negative is built as `−(sum of the negations)`; a sum whose coefficients share one magnitude `c` as `c · (sum)` | [`Program::sum_of_monomials`] |
 //! | `one_inverse` | `x⁻ᵏ` is built as `(1/x)ᵏ`, with `1/x` a single shared division | [`Program::power`] |
-//! | `one_trig` | `sin q_k` and `cos q_k` come from one `sin_cos` call per joint | [`Program::op_counts`], emission |
+//! | `one_trig` | `sin q_k` and `cos q_k` come from one `sin_cos` per joint, all of a function's joints in one `sin_cos_array` call | [`Program::op_counts`], emission |
 //! | `dead_code` | only values reachable from the outputs are emitted and counted | [`Program::live`] |
 
 use std::collections::{BTreeMap, HashMap};

@@ -15,6 +15,9 @@
 //! through `black_box`), and inputs and outputs pass through `black_box`, so nothing is
 //! constant-folded or hoisted out of the loop. The cycling costs the same in every variant.
 //!
+//! `floor/write_6x6_f64` writes a dense `6 × 6` result of one multiplication per entry in the
+//! same harness: the floor under any given-trig `J^r`.
+//!
 //! Ratios (numeric / generated) are computed from the medians of one run; see `BENCHMARKS.md`.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
@@ -183,5 +186,25 @@ fn full_set(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, constrained_jacobian, full_set);
+/// The floor under any dense `6 × 6` result in this harness: the same cycling and `black_box`
+/// as `generated_trig/f64`, and a result whose 36 entries are each one multiplication of two
+/// `JointTrig` values (no division, no shared subexpression). What a given-trig `J^r` costs
+/// above this is its arithmetic.
+fn store_floor(c: &mut Criterion) {
+    use g::bidirectional_zy as m;
+    let qs: [[f64; m::N]; CONFIGS] = configs();
+    let trig: [m::JointTrig<f64>; CONFIGS] = qs.map(|q| m::JointTrig::new(&q));
+    let mut k = 0;
+    c.bench_function("floor/write_6x6_f64", |b| {
+        b.iter(|| {
+            let t = black_box(&trig[next(&mut k)]);
+            let out: [[f64; 6]; 6] = core::array::from_fn(|col| {
+                core::array::from_fn(|row| t.sin[(col + row) % 8] * t.cos[(3 * col + row) % 8])
+            });
+            black_box(out)
+        })
+    });
+}
+
+criterion_group!(benches, constrained_jacobian, full_set, store_floor);
 criterion_main!(benches);
