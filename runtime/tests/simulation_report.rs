@@ -176,7 +176,7 @@ around them is written by hand from the same numbers.
 - Experiment 4.2.1: `(π/18)(cos ωk − 1)` about the end-effector x axis leaves `q7 ≥ 0.5`; we
   rotate by `(7π/72)(cos ωk − 1)` about the joint-7 axis at `q0`. On this arm `q7` then comes
   down to 0.06 at t ≈ 3.4 s (`w_r` = 0.083, under DLS's `w0 = 0.1`) without crossing 0, and
-  `J^B_0i` passes near a singularity at t ≈ 7–9 s (`w_i` down to 4e-5 with pinv). The
+  `J^B_0i` passes near a singularity at t ≈ 7–9 s (`w_i` down to 6e-5 with pinv). The
   pseudo-inverse's peak comes from the latter; scenario 3 is the run that crosses the `J^r_0e`
   singularity.
 - Scenario 4: (4.6) as printed, `dv_0r = 5 (sin 3ωt, −sin 3ωt)` mm/s, moves the trocar by up
@@ -196,8 +196,8 @@ around them is written by hand from the same numbers.
 const TAIL: &str = r#"
 ## Findings
 
-- **Singularities.** In scenario 3 the pseudo-inverse meets `q7 → 0` (`w_r` down to 3e-10) and
-  the joint velocities explode (peak 6e5–1e8 rad/s; the run is lost). DLS and the filtered
+- **Singularities.** In scenario 3 the pseudo-inverse meets `q7 → 0` (`w_r` down to 8e-10) and
+  the joint velocities explode (peak 7e4–8e7 rad/s; the run is lost). DLS and the filtered
   inverse stay bounded: peak `|θ̇|` 0.79 rad/s (DLS) and 0.54–0.66 rad/s (FI), with end-effector
   error ≤ 9.4 mm while damping acts. The test bound is 1 rad/s for both. In the experiment the
   pseudo-inverse peaks at 39 rad/s (150 with the correction) at `J^B_0i`'s near-singularity,
