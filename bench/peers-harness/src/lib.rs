@@ -128,35 +128,27 @@ impl Peer {
     }
 }
 
-fn casadi_fn(peer: Peer, case: Case) -> CasadiFn {
+type CasadiWorkFn = unsafe extern "C" fn(*mut i64, *mut i64, *mut i64, *mut i64) -> c_int;
+
+/// The generated CasADi function of `peer` for `case` and its `*_work` size query.
+fn casadi_fn(peer: Peer, case: Case) -> (CasadiFn, CasadiWorkFn) {
     match (peer, case) {
-        (Peer::Casadi, Case::Uni) => casadi_uni,
-        (Peer::Casadi, Case::Bzy) => casadi_bzy,
-        (Peer::Casadi, Case::Bzx) => casadi_bzx,
-        (Peer::Casadi, Case::DiaZy) => casadi_dia_zy,
-        (Peer::CasadiCse, Case::Uni) => casadi_cse_uni,
-        (Peer::CasadiCse, Case::Bzy) => casadi_cse_bzy,
-        (Peer::CasadiCse, Case::Bzx) => casadi_cse_bzx,
-        (Peer::CasadiCse, Case::DiaZy) => casadi_cse_dia_zy,
-        _ => unreachable!(),
+        (Peer::Casadi, Case::Uni) => (casadi_uni, casadi_uni_work),
+        (Peer::Casadi, Case::Bzy) => (casadi_bzy, casadi_bzy_work),
+        (Peer::Casadi, Case::Bzx) => (casadi_bzx, casadi_bzx_work),
+        (Peer::Casadi, Case::DiaZy) => (casadi_dia_zy, casadi_dia_zy_work),
+        (Peer::CasadiCse, Case::Uni) => (casadi_cse_uni, casadi_cse_uni_work),
+        (Peer::CasadiCse, Case::Bzy) => (casadi_cse_bzy, casadi_cse_bzy_work),
+        (Peer::CasadiCse, Case::Bzx) => (casadi_cse_bzx, casadi_cse_bzx_work),
+        (Peer::CasadiCse, Case::DiaZy) => (casadi_cse_dia_zy, casadi_cse_dia_zy_work),
+        _ => panic!("{peer:?} is not a CasADi peer"),
     }
 }
 
 /// CasADi's work sizes `(sz_arg, sz_res, sz_iw, sz_w)` of `peer` (CasADi) for `case`, from the
 /// generated `*_work` function.
 pub fn casadi_work_sizes(peer: Peer, case: Case) -> [i64; 4] {
-    type WorkFn = unsafe extern "C" fn(*mut i64, *mut i64, *mut i64, *mut i64) -> c_int;
-    let f: WorkFn = match (peer, case) {
-        (Peer::Casadi, Case::Uni) => casadi_uni_work,
-        (Peer::Casadi, Case::Bzy) => casadi_bzy_work,
-        (Peer::Casadi, Case::Bzx) => casadi_bzx_work,
-        (Peer::Casadi, Case::DiaZy) => casadi_dia_zy_work,
-        (Peer::CasadiCse, Case::Uni) => casadi_cse_uni_work,
-        (Peer::CasadiCse, Case::Bzy) => casadi_cse_bzy_work,
-        (Peer::CasadiCse, Case::Bzx) => casadi_cse_bzx_work,
-        (Peer::CasadiCse, Case::DiaZy) => casadi_cse_dia_zy_work,
-        _ => panic!("not a CasADi peer"),
-    };
+    let (_, f) = casadi_fn(peer, case);
     let mut sz = [0i64; 4];
     let [a, r, iw, w] = &mut sz;
     // SAFETY: the generated `*_work` functions write one casadi_int through each non-null pointer.
@@ -173,7 +165,7 @@ pub fn eval(peer: Peer, case: Case, q: &[f64], p: &[f64], out: &mut [f64]) {
     let o = out.as_mut_ptr();
     match peer {
         Peer::Casadi | Peer::CasadiCse => {
-            let f = casadi_fn(peer, case);
+            let (f, _) = casadi_fn(peer, case);
             let arg = [q.as_ptr(), p.as_ptr()];
             // Output blocks; only the first `outs().len()` are used by the callee.
             let res: [*mut f64; 3] = [o, o.wrapping_add(12), o.wrapping_add(48)];
