@@ -238,8 +238,6 @@ pub mod fast {
     /// multiple of π/2 to the careful reduction; branch-free otherwise (`|x| ≤ π/4` included).
     #[inline(always)]
     pub fn sin_cos_f64(x: f64) -> (f64, f64) {
-        const P1: f64 = 1.57079632673412561417e+00;
-        const P1T: f64 = 6.07710050650619224932e-11;
         let sign = x.to_bits() & (1u64 << 63);
         let ax = f64::from_bits(x.to_bits() & !(1u64 << 63));
         if ax <= core::f64::consts::FRAC_PI_4 {
@@ -248,19 +246,30 @@ pub mod fast {
         if !(ax <= F64_FAST_LIMIT) {
             return careful64(x);
         }
+        let (y0, y1, quadrant) = one_step64(ax);
+        let ex = (ax.to_bits() >> 52) as i64;
+        let ey = ((y0.to_bits() >> 52) & 0x7ff) as i64;
+        if ex - ey > 16 {
+            return careful64(x);
+        }
+        finish64(y0, y1, quadrant, sign)
+    }
+
+    /// musl's one-step Cody–Waite reduction of `ax = |x| ≤ F64_FAST_LIMIT`:
+    /// `ax = n·π/2 + (y0 + y1)` with `P1` of 33 bits (`n·P1` exact) and `P1T = π/2 − P1`;
+    /// returns `(y0, y1, n mod 2³²)`. Its result cancels when `x` is near a multiple of π/2,
+    /// which the callers test.
+    #[inline(always)]
+    fn one_step64(ax: f64) -> (f64, f64, u32) {
+        const P1: f64 = 1.57079632673412561417e+00;
+        const P1T: f64 = 6.07710050650619224932e-11;
         let t = ax * FRAC_2_PI_64 + TOINT_64;
         let quadrant = t.to_bits() as u32;
         let fnum = t - TOINT_64;
         let r = ax - fnum * P1; // exact
         let w = fnum * P1T;
         let y0 = r - w;
-        let ex = (ax.to_bits() >> 52) as i64;
-        let ey = ((y0.to_bits() >> 52) & 0x7ff) as i64;
-        if ex - ey > 16 {
-            return careful64(x);
-        }
-        let y1 = (r - y0) - w;
-        finish64(y0, y1, quadrant, sign)
+        (y0, (r - y0) - w, quadrant)
     }
 
     /// [`sin_cos_f64`] of every element, bit for bit. Where the target has AVX2, four elements
@@ -294,8 +303,6 @@ pub mod fast {
     /// all four are recomputed by [`sin_cos_f64`].
     #[inline(always)]
     pub fn sin_cos_f64_x4(x: &[f64; 4]) -> ([f64; 4], [f64; 4]) {
-        const P1: f64 = 1.57079632673412561417e+00;
-        const P1T: f64 = 6.07710050650619224932e-11;
         const TWO_M16: f64 = 1.0 / 65536.0;
         const ABS: u64 = !(1u64 << 63);
         let mut s = [0.0; 4];
@@ -304,15 +311,14 @@ pub mod fast {
         for k in 0..4 {
             let sign = x[k].to_bits() & !ABS;
             let ax = f64::from_bits(x[k].to_bits() & ABS);
-            // |x| ≤ π/4 takes n = 0 (y0 = |x|, y1 = 0) as in sin_cos_f64, as a select.
+            // |x| ≤ π/4 goes to the kernels unreduced, as in sin_cos_f64, by a select.
+            let (y0, y1, quadrant) = one_step64(ax);
             let small = ax <= core::f64::consts::FRAC_PI_4;
-            let t = ax * FRAC_2_PI_64 + TOINT_64;
-            let quadrant = if small { 0 } else { t.to_bits() as u32 };
-            let fnum = if small { 0.0 } else { t - TOINT_64 };
-            let r = ax - fnum * P1; // exact
-            let w = fnum * P1T;
-            let y0 = r - w;
-            let y1 = (r - y0) - w;
+            let (y0, y1, quadrant) = if small {
+                (ax, 0.0, 0)
+            } else {
+                (y0, y1, quadrant)
+            };
             slow |= !(ax <= F64_FAST_LIMIT) | (f64::from_bits(y0.to_bits() & ABS) < ax * TWO_M16);
             (s[k], c[k]) = finish64(y0, y1, quadrant, sign);
         }
