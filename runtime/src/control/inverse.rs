@@ -44,35 +44,25 @@ impl<T: RealField + Copy> Damping<T> {
 }
 
 /// The damped least-squares inverse `Jᵀ (J Jᵀ + κ² I)⁻¹` (3.43), (3.46), computed as
-/// `(Jᵀ J + κ² I)⁻¹ Jᵀ` when `J` is tall (the same matrix for `κ > 0`). With `κ = 0` it is the
-/// Moore–Penrose pseudo-inverse of a full-rank `J`. `None` if the Gram matrix is not positive
-/// definite (a singular `J` with `κ = 0`).
+/// `(Jᵀ J + κ² I)⁻¹ Jᵀ` when `J` is tall (the same matrix for `κ > 0`): [`damped_solve`] of the
+/// identity. With `κ = 0` it is the Moore–Penrose pseudo-inverse of a full-rank `J`. `None` if the
+/// Gram matrix is not positive definite (a singular `J` with `κ = 0`).
 pub fn damped_pinv<T: RealField + Copy, const R: usize, const C: usize>(
     j: &SMatrix<T, R, C>,
     kappa: T,
 ) -> Option<SMatrix<T, C, R>> {
-    let k2 = kappa * kappa;
-    if R <= C {
-        let gram = j * j.transpose() + SMatrix::<T, R, R>::identity() * k2;
-        // Jᵀ G⁻¹ = (G⁻¹ J)ᵀ, G symmetric.
-        let x = Cholesky::new(gram)?.solve(j);
-        let out = x.transpose();
-        out.iter().all(|v| v.is_finite()).then_some(out)
-    } else {
-        let gram = j.transpose() * j + SMatrix::<T, C, C>::identity() * k2;
-        let out = Cholesky::new(gram)?.solve(&j.transpose());
-        out.iter().all(|v| v.is_finite()).then_some(out)
-    }
+    damped_solve(j, kappa, &SMatrix::<T, R, R>::identity())
 }
 
-/// `x = J†_κ v = Jᵀ (J Jᵀ + κ² I)⁻¹ v` (3.43), (3.46) (`(Jᵀ J + κ² I)⁻¹ Jᵀ v` when `J` is tall),
-/// without forming `J†_κ`: one Cholesky factorisation of the Gram matrix and one right-hand
-/// side. `None` if the Gram matrix is not positive definite or `x` is not finite.
-pub fn damped_solve<T: RealField + Copy, const R: usize, const C: usize>(
+/// `X = J†_κ V = Jᵀ (J Jᵀ + κ² I)⁻¹ V` (3.43), (3.46) (`(Jᵀ J + κ² I)⁻¹ Jᵀ V` when `J` is tall)
+/// for `K` right-hand sides, without forming `J†_κ` (a control step has one, `V = v`): one
+/// Cholesky factorisation of the Gram matrix. `None` if the Gram matrix is not positive definite
+/// or `X` is not finite.
+pub fn damped_solve<T: RealField + Copy, const R: usize, const C: usize, const K: usize>(
     j: &SMatrix<T, R, C>,
     kappa: T,
-    v: &SVector<T, R>,
-) -> Option<SVector<T, C>> {
+    v: &SMatrix<T, R, K>,
+) -> Option<SMatrix<T, C, K>> {
     let k2 = kappa * kappa;
     let x = if R <= C {
         let gram = j * j.transpose() + SMatrix::<T, R, R>::identity() * k2;
