@@ -116,18 +116,17 @@ macro_rules! generated_kinematics {
                 }
                 let mut p = self.params;
                 p.l_a = l_a;
-                let t = *t;
                 Ok(ConstrainedState {
-                    g_0e: se3(crate::$m::forward_kinematics_trig(&t, &p)),
+                    g_0e: se3(crate::$m::forward_kinematics_trig(t, &p)),
                     g_0i,
                     jr: SMatrix::from_data(ArrayStorage(crate::$m::constrained_jacobian_trig(
-                        &t, &p,
+                        t, &p,
                     ))),
                     jb0i: SMatrix::from_data(ArrayStorage(
-                        crate::$m::partial_body_jacobian_trig(&t, &p),
+                        crate::$m::partial_body_jacobian_trig(t, &p),
                     )),
                     jc: SMatrix::from_data(ArrayStorage(crate::$m::constraint_jacobian_c_trig(
-                        &t, &p,
+                        t, &p,
                     ))),
                     lambda_sharp: lambda_sharp_bidirectional(l_a),
                     lambda_pinv: lambda_pinv_bidirectional(l_a),
