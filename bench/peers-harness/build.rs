@@ -40,7 +40,7 @@ fn main() {
     // trocar's generated modules (feature `ours`), from the shipped descriptions, generic over Real.
     #[cfg(feature = "ours")]
     {
-        let robots = manifest.join("../../runtime/robots");
+        let robots = manifest.join("../../runtime/model/robots");
         trocar_codegen::builder::Builder::new()
             .robot(robots.join("unidirectional.toml"))
             .robot(robots.join("bidirectional-zy.toml"))

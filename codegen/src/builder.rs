@@ -11,7 +11,7 @@
 //! }
 //! ```
 //! and in the crate: `include!(concat!(env!("OUT_DIR"), "/arm.rs"));` which defines `pub mod arm`.
-//! Closed mechanisms are added with [`Builder::mechanism`] (`runtime/robots/mechanisms/*.toml`);
+//! Closed mechanisms are added with [`Builder::mechanism`] (`runtime/model/robots/mechanisms/*.toml`);
 //! their modules hold the reduced Jacobian (8) and passive velocities (7) in closed form
 //! ([`crate::closed_chain`]).
 //!
@@ -28,7 +28,7 @@ use proc_macro2::TokenStream;
 use std::collections::BTreeMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
-use trocar::description::{DescriptionError, RobotDescription};
+use trocar_model::description::{DescriptionError, RobotDescription};
 
 /// Why generation failed.
 #[derive(Debug)]
@@ -201,7 +201,7 @@ impl Builder {
         self
     }
 
-    /// Adds a closed-mechanism description file (TOML, `runtime/robots/mechanisms/*.toml`): the
+    /// Adds a closed-mechanism description file (TOML, `runtime/model/robots/mechanisms/*.toml`): the
     /// module has the closed-form reduced Jacobian (8) and passive velocities (7) (see
     /// [`crate::closed_chain`]); may be called several times.
     pub fn mechanism(&mut self, path: impl AsRef<Path>) -> &mut Self {

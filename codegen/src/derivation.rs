@@ -39,7 +39,7 @@
 use crate::symbolic::{rational_null_space, Matrix, Poly, Rational, SymbolicError, Transform};
 use std::collections::BTreeSet;
 use std::fmt;
-use trocar::description::{
+use trocar_model::description::{
     DescriptionError, JointKind, Origin, RobotDescription, Rotation, Scalar, Wrist,
 };
 
@@ -531,7 +531,7 @@ pub fn derive(desc: &RobotDescription) -> Result<Derivation, DerivationError> {
 
 fn derive_constraint(
     ctx: &Ctx<'_>,
-    c: &trocar::description::ConstraintDesc,
+    c: &trocar_model::description::ConstraintDesc,
     twists: &[Matrix],
     transforms: &[Transform],
     end_effector: &Transform,

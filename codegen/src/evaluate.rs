@@ -8,9 +8,9 @@
 use crate::builder::{module_name, Error};
 use crate::derivation;
 use crate::emit::{bridge, Function, ModuleSpec, Shape};
-use trocar::description::RobotDescription;
 use trocar::nalgebra::DMatrix;
-use trocar::verify::{Candidate, Quantity};
+use trocar_model::description::RobotDescription;
+use trocar_model::verify::{Candidate, Quantity};
 
 /// A robot's generated functions, ready to evaluate.
 #[derive(Clone, Debug)]

@@ -2,14 +2,14 @@
 //! file, line and field, and the golden snapshot of one generated module.
 
 use std::path::PathBuf;
-use trocar::description::RobotDescription;
 use trocar_codegen::builder::{
     generate_module, generate_module_string, module_name, Builder, Error, ModuleOptions,
 };
 use trocar_codegen::emit::Real;
+use trocar_model::description::RobotDescription;
 
 fn robots() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../runtime/robots")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../runtime/model/robots")
 }
 
 fn temp_dir(tag: &str) -> PathBuf {
@@ -146,7 +146,7 @@ fn snapshot_bidirectional_zy() {
 /// A robot without a constraint gets forward kinematics and the body Jacobian only.
 #[test]
 fn unconstrained_robot() {
-    let text = trocar::description::preset("unidirectional").unwrap();
+    let text = trocar_model::description::preset("unidirectional").unwrap();
     let cut = text.find("[constraint]").unwrap();
     let desc = RobotDescription::from_toml_str(&text[..cut], None).unwrap();
     let code = generate_module_string(&desc, &ModuleOptions::default()).unwrap();

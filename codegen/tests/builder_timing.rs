@@ -3,8 +3,8 @@
 //! `cargo test -p trocar-codegen --release --test builder_timing -- --nocapture`.
 
 use std::time::Instant;
-use trocar::description::RobotDescription;
 use trocar_codegen::builder::{generate_module_string, ModuleOptions};
+use trocar_model::description::RobotDescription;
 
 #[test]
 fn dia10_like_generation_time() {

@@ -7,12 +7,12 @@ mod derivation_support;
 use derivation_support::*;
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
-use trocar::description::{
+use trocar_codegen::derivation::{derive, DerivationErrorKind, ManipulabilityForm, NullBasis};
+use trocar_codegen::symbolic::Env;
+use trocar_model::description::{
     ConstraintDesc, EndEffector, JointDesc, JointKind, Origin, Parameter, RobotDescription,
     Rotation, Wrist,
 };
-use trocar_codegen::derivation::{derive, DerivationErrorKind, ManipulabilityForm, NullBasis};
-use trocar_codegen::symbolic::Env;
 
 const TOL: f64 = 1e-12;
 
@@ -272,7 +272,7 @@ fn derived_basis_on_a_preset_geometry() {
     assert_eq!(der.constraint.unwrap().basis, NullBasis::Derived);
 }
 
-fn rand_scalar(rng: &mut StdRng, lo: f64, hi: f64) -> trocar::description::Scalar {
+fn rand_scalar(rng: &mut StdRng, lo: f64, hi: f64) -> trocar_model::description::Scalar {
     num((rng.gen_range(lo..hi) * 1000.0_f64).round() / 1000.0)
 }
 

@@ -2,10 +2,10 @@
 //! interpreted programs agree with the derivation's expanded polynomials.
 
 use std::time::Instant;
-use trocar::description::{preset_names, RobotDescription};
 use trocar_codegen::builder::{generate_module_string, ModuleOptions};
 use trocar_codegen::derivation::derive;
 use trocar_codegen::emit::bridge::module_spec;
+use trocar_model::description::{preset_names, RobotDescription};
 
 #[test]
 fn presets_generate_and_print_op_counts() {

@@ -2,9 +2,9 @@
 //! `cargo test -p trocar-codegen --release --test emit_timing_breakdown -- --nocapture`.
 
 use std::time::Instant;
-use trocar::description::RobotDescription;
 use trocar_codegen::derivation::derive;
 use trocar_codegen::emit::{bridge::module_spec, format_file, module_tokens, Real};
+use trocar_model::description::RobotDescription;
 
 #[test]
 fn dia10_like_breakdown() {

@@ -1,9 +1,9 @@
 //! The generated programs of every shipped and fixture description agree with the numeric
 //! runtime and with finite differences (`trocar verify` as a library).
 
-use trocar::description::{preset_names, RobotDescription};
-use trocar::verify::{verify, Tolerances};
 use trocar_codegen::evaluate::Generated;
+use trocar_model::description::{preset_names, RobotDescription};
+use trocar_model::verify::{verify, Tolerances};
 
 fn check(description: &RobotDescription, samples: usize) {
     let generated = Generated::new(description).expect("derivable");
@@ -47,7 +47,7 @@ fn fixtures_with_rotated_rcm_prismatic_joint_and_three_row_h() {
 fn urdf_arm_without_constraint() {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../runtime/tests/data/arm7.urdf"
+        "/../runtime/model/tests/data/arm7.urdf"
     );
     check(
         &RobotDescription::from_urdf_file(path, "tool").unwrap(),

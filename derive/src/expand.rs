@@ -9,8 +9,8 @@ use std::collections::BTreeSet;
 use std::path::PathBuf;
 use syn::visit_mut::VisitMut;
 use syn::{Fields, Ident, Item, ItemStruct, LitStr};
-use trocar::description::{preset_names, RobotDescription};
 use trocar_codegen::builder::{generate_module, module_name, ModuleOptions};
+use trocar_model::description::{preset_names, RobotDescription};
 
 /// The whole expansion.
 pub(crate) fn expand(attr: TokenStream, item: TokenStream) -> syn::Result<TokenStream> {
@@ -96,7 +96,7 @@ fn load(
     match source {
         Source::Preset(lit) => {
             let name = lit.value();
-            if trocar::description::preset(&name).is_none() {
+            if trocar_model::description::preset(&name).is_none() {
                 return Err(syn::Error::new(
                     lit.span(),
                     format_args!(

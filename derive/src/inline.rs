@@ -10,7 +10,7 @@ use syn::parse::{Parse, ParseStream, Parser};
 use syn::punctuated::Punctuated;
 use syn::spanned::Spanned;
 use syn::{Expr, Ident, Meta, MetaList, Token};
-use trocar::description::{
+use trocar_model::description::{
     ConstraintDesc, DescriptionError, EndEffector, JointDesc, JointKind, Origin, Parameter,
     RobotDescription, Rotation, Scalar, Wrist,
 };

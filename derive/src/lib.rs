@@ -21,7 +21,7 @@
 //! Exactly one description source:
 //!
 //! - `preset = "bidirectional-zy"`: a description shipped with trocar
-//!   ([`trocar::description::PRESETS`]).
+//!   ([`trocar_model::description::PRESETS`]).
 //! - `file = "robots/arm.toml"`: a TOML description, relative to the calling crate's
 //!   `CARGO_MANIFEST_DIR`. The expansion contains `include_bytes!` of the file, so editing it
 //!   rebuilds the crate.

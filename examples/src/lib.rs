@@ -42,8 +42,8 @@ pub fn max_difference<const C: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use trocar::description::RobotDescription;
-    use trocar::robot::Robot;
+    use trocar_model::description::RobotDescription;
+    use trocar_model::robot::Robot;
 
     #[test]
     fn file_form_matches_the_numeric_runtime() {

@@ -2,9 +2,8 @@
 //!
 //! The numeric runtime of trocar: rigid motions and twists ([`se3`]), serial-chain kinematics
 //! ([`kinematics`]), the constrained Jacobian of a remote centre of motion ([`constraint`]),
-//! manipulability ([`manipulability`]), finite-difference references ([`finite_diff`]), and — with the
-//! `std` feature — robot descriptions ([`description`]), verification of generated code ([`verify`]),
-//! control and simulation.
+//! manipulability ([`manipulability`]), finite-difference references ([`finite_diff`]) and the
+//! constrained kinematic controller ([`control`]).
 //!
 //! Everything a control loop calls is allocation-free, works on `nalgebra` fixed-size types and
 //! builds with `#![no_std]` (`default-features = false`; `libm` supplies the math functions).
@@ -20,19 +19,6 @@ pub mod kinematics;
 pub mod manipulability;
 pub mod real;
 pub mod se3;
-
-#[cfg(feature = "std")]
-pub mod closed_chain;
-#[cfg(feature = "std")]
-pub mod description;
-#[cfg(feature = "std")]
-pub mod plot;
-#[cfg(feature = "std")]
-pub mod robot;
-#[cfg(feature = "std")]
-pub mod simulation;
-#[cfg(feature = "std")]
-pub mod verify;
 
 pub use real::Real;
 

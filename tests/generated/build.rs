@@ -4,7 +4,7 @@ use trocar_codegen::builder::Builder;
 use trocar_codegen::emit::Real;
 
 fn main() {
-    let robots = "../../runtime/robots";
+    let robots = "../../runtime/model/robots";
     let mut b = Builder::new();
     for name in [
         "unidirectional",
@@ -38,7 +38,7 @@ fn main() {
         panic!("trocar-codegen: {e}");
     }
     // Closed mechanisms: reduced Jacobian (8) and passive velocities (7) in closed form.
-    let mechanisms = "../../runtime/robots/mechanisms";
+    let mechanisms = "../../runtime/model/robots/mechanisms";
     let mut mb = Builder::new();
     mb.mechanism(format!("{mechanisms}/four-bar.toml"))
         .mechanism(format!("{mechanisms}/planar-stewart.toml"));

@@ -2,11 +2,11 @@
 //!
 //! Equation numbers refer to G. M. Freitas, A. C. Leite, F. Lizarralde, *Controle de sistemas
 //! robóticos com restrições cinemáticas*, CBA 2010. A mechanism is described as in
-//! [`trocar::closed_chain::description`] (`runtime/robots/mechanisms/*.toml`): open planar chains
+//! [`trocar_model::closed_chain::description`] (`runtime/model/robots/mechanisms/*.toml`): open planar chains
 //! that all reach one common frame, joints split into active `θ_a` and passive `θ_p`.
 //!
 //! [`derive_mechanism`] carries the runtime's numeric construction
-//! ([`trocar::closed_chain::Mechanism::differential`]) out on symbols:
+//! ([`trocar_model::closed_chain::Mechanism::differential`]) out on symbols:
 //!
 //! 1. Each chain's pose: angles add, so the frame's rotation is `(cos Σθ, sin Σθ)` expanded into
 //!    products of `s_k, c_k`; positions are sums of lengths times those (`l cos(Σθ)`,
@@ -23,8 +23,8 @@
 //!
 //! Every function is a function of **all** joint values, active and passive: the caller solves the
 //! passive joints (for the four-bar linkage with the runtime's closed form
-//! [`trocar::closed_chain::four_bar::FourBar::passive`], which needs `acos`, or with Newton's
-//! method [`trocar::closed_chain::Mechanism::solve_passive`]). Off the constraint manifold the
+//! [`trocar_model::closed_chain::four_bar::FourBar::passive`], which needs `acos`, or with Newton's
+//! method [`trocar_model::closed_chain::Mechanism::solve_passive`]). Off the constraint manifold the
 //! results are those of the same formulas, as in the runtime.
 //!
 //! Lengths (`x`, `y` of `base`, `tip` and `origin`) may be expressions of the parameters (`+ − * /`,
@@ -41,8 +41,8 @@ pub mod emit;
 use crate::symbolic::{Matrix, Poly, Rational, SymbolicError};
 use std::fmt;
 use std::path::{Path, PathBuf};
-use trocar::closed_chain::{description, ClosedChainError, JointType, Mechanism, Output};
-use trocar::description::DescriptionError;
+use trocar_model::closed_chain::{description, ClosedChainError, JointType, Mechanism, Output};
+use trocar_model::description::DescriptionError;
 
 /// A mechanism derivation's results: everything the emitter needs.
 ///

@@ -1,10 +1,10 @@
 //! Shared helpers of the `derivation_*` tests: the preset descriptions built programmatically
-//! (geometry of `runtime/robots/*.toml` and SPEC §3.1, §3.2) and an independent, plain-`f64`
+//! (geometry of `runtime/model/robots/*.toml` and SPEC §3.1, §3.2) and an independent, plain-`f64`
 //! numeric implementation of the kinematics (4×4 products and adjoints), written without the
 //! symbolic engine.
 #![allow(dead_code)]
 
-use trocar::description::{
+use trocar_model::description::{
     ConstraintDesc, EndEffector, JointDesc, JointKind, Origin, Parameter, RobotDescription,
     Rotation, Scalar, Wrist,
 };
@@ -43,7 +43,7 @@ const X: [f64; 3] = [1.0, 0.0, 0.0];
 const Y: [f64; 3] = [0.0, 1.0, 0.0];
 const Z: [f64; 3] = [0.0, 0.0, 1.0];
 
-/// Joints 1–6 of dia10_like (SPEC §3.2), as in `runtime/robots/*.toml`.
+/// Joints 1–6 of dia10_like (SPEC §3.2), as in `runtime/model/robots/*.toml`.
 pub fn dia10_first_six() -> Vec<JointDesc> {
     vec![
         revolute("torso", [num(0.0), num(0.0), num(0.0)], Z),

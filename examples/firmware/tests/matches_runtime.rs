@@ -1,11 +1,11 @@
-//! The f32 control step agrees with the f64 numeric runtime (`trocar::robot::Robot`, nalgebra
+//! The f32 control step agrees with the f64 numeric runtime (`trocar_model::robot::Robot`, nalgebra
 //! inverses) on the same law: `[v0i; θ̇_78] = J^rᵀ(J^r J^rᵀ + κ²I)⁻¹ u`,
 //! `θ̇_1..6 = J^B_0iᵀ(J^B_0i J^B_0iᵀ + κ_b²I)⁻¹ Λ# v0i`.
 
-use trocar::description::RobotDescription;
 use trocar::nalgebra::{DMatrix, DVector};
-use trocar::robot::Robot;
 use trocar_firmware::{control_step, dia10, Tuning};
+use trocar_model::description::RobotDescription;
+use trocar_model::robot::Robot;
 
 fn dls(j: &DMatrix<f64>, b: &DVector<f64>, kappa: f64) -> DVector<f64> {
     let a = j * j.transpose() + DMatrix::identity(6, 6) * (kappa * kappa);

@@ -5,10 +5,10 @@
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use trocar::constraint::Constraint;
 use trocar::control::{ChainKinematics, ConstrainedKinematics, Controller, Rcm, Reference};
-use trocar::description::RobotDescription;
 use trocar::nalgebra::{SVector, Vector3};
-use trocar::robot::Robot;
-use trocar::simulation::{Method, Scenario, ScenarioConfig, L_A0, Q0};
+use trocar_model::description::RobotDescription;
+use trocar_model::robot::Robot;
+use trocar_sim::simulation::{Method, Scenario, ScenarioConfig, L_A0, Q0};
 use trocar_tests_generated::control::GeneratedKinematics;
 
 fn bench_step<Kin: ConstrainedKinematics<f64, 8, 6, 2, 4, 6>>(

@@ -22,10 +22,10 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use trocar::constraint::Constraint;
-use trocar::description::RobotDescription;
 use trocar::kinematics::Chain;
 use trocar::nalgebra::SVector;
-use trocar::robot::Robot;
+use trocar_model::description::RobotDescription;
+use trocar_model::robot::Robot;
 use trocar_tests_generated as g;
 
 /// Number of configurations cycled through (a power of two: the index is masked).

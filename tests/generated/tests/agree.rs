@@ -5,8 +5,8 @@
 //! emitted body Jacobians. Manipulability errors are measured against its natural scale, the
 //! Hadamard bound `Π ‖row_i(J^r)‖`.
 
-use trocar::description::{JointKind, Origin, RobotDescription, Rotation, Wrist};
 use trocar::nalgebra::{DMatrix, Matrix3, Vector3};
+use trocar_model::description::{JointKind, Origin, RobotDescription, Rotation, Wrist};
 use trocar_tests_generated as g;
 
 const SAMPLES: usize = 2000;
@@ -128,7 +128,7 @@ fn rotation(r: &Rotation) -> Matrix3<f64> {
 impl Reference {
     fn new(desc: &RobotDescription, params: &[(String, f64)]) -> Self {
         let lookup = |n: &str| params.iter().find(|(m, _)| m == n).map(|(_, v)| *v);
-        let scalar = |s: &trocar::description::Scalar| s.eval(lookup).unwrap();
+        let scalar = |s: &trocar_model::description::Scalar| s.eval(lookup).unwrap();
         let origin = |o: &Origin| Se3 {
             r: rotation(&o.rotation),
             p: Vector3::new(scalar(&o.xyz[0]), scalar(&o.xyz[1]), scalar(&o.xyz[2])),
@@ -327,7 +327,7 @@ fn desc(file: &str) -> RobotDescription {
     let path = if file.starts_with("robots/") {
         format!("{root}/{file}")
     } else {
-        format!("{root}/../../runtime/robots/{file}")
+        format!("{root}/../../runtime/model/robots/{file}")
     };
     RobotDescription::from_toml_file(&path).unwrap()
 }

@@ -1,13 +1,13 @@
 //! The generated closed-mechanism modules against independent computations: the runtime's numeric
-//! reduced kinematics (7)–(8) (SVD-based, `trocar::closed_chain`), finite differences of the
+//! reduced kinematics (7)–(8) (SVD-based, `trocar_model::closed_chain`), finite differences of the
 //! closed-form passive solution of the four-bar linkage and of the closed-form inverse kinematics
 //! of the planar Gough–Stewart platform, and the runtime's singularity classification.
 // Entries are compared by (row, column) index against nalgebra matrices.
 #![allow(clippy::needless_range_loop)]
 
-use trocar::closed_chain::four_bar::FourBar;
-use trocar::closed_chain::{description, stewart, Mechanism, Pose2, SingularityKind};
 use trocar::nalgebra::{DMatrix, DVector};
+use trocar_model::closed_chain::four_bar::FourBar;
+use trocar_model::closed_chain::{description, stewart, Mechanism, Pose2, SingularityKind};
 use trocar_tests_generated::{four_bar, four_bar_f32, planar_stewart};
 
 fn four_bar_mechanism() -> (Mechanism, FourBar) {

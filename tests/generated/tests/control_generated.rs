@@ -7,10 +7,10 @@ use std::cell::Cell;
 
 use trocar::constraint::Constraint;
 use trocar::control::{ChainKinematics, ConstrainedKinematics, ConstrainedState, Controller, Rcm};
-use trocar::description::RobotDescription;
 use trocar::nalgebra::{SVector, Vector3};
-use trocar::robot::Robot;
-use trocar::simulation::{Method, Scenario, ScenarioConfig, L_A0, Q0};
+use trocar_model::description::RobotDescription;
+use trocar_model::robot::Robot;
+use trocar_sim::simulation::{Method, Scenario, ScenarioConfig, L_A0, Q0};
 use trocar_tests_generated::control::{Dia10LikeZx, Dia10LikeZy, GeneratedKinematics};
 
 /// Counts the allocations of the current thread (tests run in parallel threads).
@@ -136,7 +136,7 @@ fn generated_state_matches_numeric_zx() {
     );
 }
 
-/// Runs `steps` steps of a scenario (explicit Euler as `trocar::simulation`, trocar moved by the
+/// Runs `steps` steps of a scenario (explicit Euler as `trocar_sim::simulation`, trocar moved by the
 /// commanded RCM velocity) with kinematics `kin`; returns the joints after every step.
 fn run<Kin: ConstrainedKinematics<f64, 8, 6, 2, 4, 6>>(
     kin: &Kin,

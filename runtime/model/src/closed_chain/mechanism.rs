@@ -1,0 +1,929 @@
+//! Planar mechanisms made of open chains joined by structural equations (source §3–§4).
+//!
+//! A [`Mechanism`] is a list of open [`Chain`]s that all end at the same frame (the end effector
+//! `E_e`, the platform `E_s` or the object `E_c`). The structural equations (9)–(10), (23)–(24),
+//! (32)–(33) say that every chain reaches the same pose; with the joint vector
+//! `θ = (θ_chain1, θ_chain2, …)` they read `c(θ) = 0` (2), `c_k = pose_1(θ) − pose_k(θ)` for
+//! `k = 2, …, m` (angles wrapped to `(−π, π]`).
+//!
+//! Differential kinematics stacks the chain Jacobians `S J_k` (`S` of (14) keeps `(v_x, v_y, ω_z)`):
+//! `J θ̇ = A v` (17), (29), (37)–(39), `A = [I; …; I]`, and
+//! `J_C = Ã J`, `J_A = A† J` (19), (31), (40)–(41). Joints are partitioned into active `θ_a` and
+//! passive `θ_p`; `J_C = [J_Ca J_Cp]`, `J_A = [J_Aa J_Ap]` (5)–(6); passive velocities
+//! `θ̇_p = −J_Cp⁻¹ J_Ca θ̇_a` (7) and the reduced Jacobian `J = J_Aa − J_Ap J_Cp⁻¹ J_Ca` (8).
+//!
+//! When there are more constraints than passive joints (`r > n_p`, cooperating arms: "the
+//! number of constraints is not equal to the number of passive joints", §5.1) `J_Cp⁻¹` becomes
+//! the left inverse `J_Cp†` and the active velocities must in addition satisfy
+//! `Cᵀ J_Ca θ̇_a = 0`, `C` a basis of `R(J_Cp)^⊥` ([`Reduced::active_constraint`]).
+//!
+//! Angles are not wrapped in `θ` or in the outputs: an orientation is the sum of the joint angles
+//! of chain 1 (plus fixed offsets), so it is continuous along a motion, as in the source's figures
+//! (`φ ∈ [5.88, 7.89]` rad for the four-bar linkage).
+
+use super::linalg;
+use super::{ClosedChainError, SingularityKind};
+use nalgebra::{DMatrix, DVector, Vector3};
+use std::f64::consts::PI;
+
+/// A planar pose `(x, y, angle)`: the transform `Trans(x, y) · Rot_z(angle)`.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Pose2 {
+    /// x coordinate.
+    pub x: f64,
+    /// y coordinate.
+    pub y: f64,
+    /// Rotation about z (rad), not wrapped.
+    pub angle: f64,
+}
+
+impl Pose2 {
+    /// The identity transform.
+    pub const IDENTITY: Pose2 = Pose2 {
+        x: 0.0,
+        y: 0.0,
+        angle: 0.0,
+    };
+
+    /// A pose from its coordinates.
+    pub const fn new(x: f64, y: f64, angle: f64) -> Self {
+        Pose2 { x, y, angle }
+    }
+
+    /// Composition `self · other` (other expressed in self's frame).
+    pub fn compose(&self, other: &Pose2) -> Pose2 {
+        let (s, c) = self.angle.sin_cos();
+        Pose2 {
+            x: self.x + c * other.x - s * other.y,
+            y: self.y + s * other.x + c * other.y,
+            angle: self.angle + other.angle,
+        }
+    }
+
+    /// The inverse transform.
+    pub fn inverse(&self) -> Pose2 {
+        let (s, c) = self.angle.sin_cos();
+        Pose2 {
+            x: -(c * self.x + s * self.y),
+            y: -(-s * self.x + c * self.y),
+            angle: -self.angle,
+        }
+    }
+
+    /// `(x, y, angle)` as a vector.
+    pub fn to_vector(&self) -> Vector3<f64> {
+        Vector3::new(self.x, self.y, self.angle)
+    }
+
+    /// `true` when every coordinate is finite.
+    pub fn is_finite(&self) -> bool {
+        self.x.is_finite() && self.y.is_finite() && self.angle.is_finite()
+    }
+}
+
+/// Wraps an angle to `(−π, π]`.
+pub fn wrap_angle(a: f64) -> f64 {
+    let w = (a + PI).rem_euclid(2.0 * PI) - PI;
+    if w <= -PI {
+        w + 2.0 * PI
+    } else {
+        w
+    }
+}
+
+/// What a planar joint does.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum JointType {
+    /// Rotation about z through the joint frame's origin.
+    Revolute,
+    /// Translation along a unit `axis` of the joint frame.
+    Prismatic {
+        /// Unit direction in the joint frame.
+        axis: [f64; 2],
+    },
+}
+
+/// One joint of a planar chain: the joint frame is `origin` from the previous frame; the joint
+/// then moves the next link by `Rot_z(θ)` or `Trans(θ · axis)`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlanarJoint {
+    /// Unique name in the mechanism.
+    pub name: String,
+    /// Revolute or prismatic.
+    pub kind: JointType,
+    /// Fixed transform from the previous frame (chain base or previous joint) to the joint frame.
+    pub origin: Pose2,
+    /// Active (actuated, `θ_a`) or passive (`θ_p`).
+    pub active: bool,
+    /// Optional limits `[θ_min, θ_max]` (used by the joint-limit objective of (46)).
+    pub limits: Option<[f64; 2]>,
+}
+
+/// An open planar chain from the ground to the common frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Chain {
+    /// Name (for messages).
+    pub name: String,
+    /// Pose of the chain's base in the world frame `E_0`.
+    pub base: Pose2,
+    /// Joints, base first.
+    pub joints: Vec<PlanarJoint>,
+    /// Fixed transform from the last joint's moving frame to the common frame.
+    pub tip: Pose2,
+}
+
+/// One component of the task vector `x` (1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Output {
+    /// Position x of the common frame.
+    X,
+    /// Position y of the common frame.
+    Y,
+    /// Orientation `φ` of the common frame.
+    Phi,
+}
+
+impl Output {
+    /// Index in `(x, y, φ)`.
+    pub fn index(self) -> usize {
+        match self {
+            Output::X => 0,
+            Output::Y => 1,
+            Output::Phi => 2,
+        }
+    }
+
+    /// Name as written in descriptions: `x`, `y` or `phi`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Output::X => "x",
+            Output::Y => "y",
+            Output::Phi => "phi",
+        }
+    }
+}
+
+/// A closed planar mechanism: chains joined at a common frame, joints split into active/passive.
+///
+/// Build it with [`Mechanism::new`] (or from a description); after editing `chains` rebuild it
+/// with [`Mechanism::new`], which recomputes the joint partition.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mechanism {
+    /// Name.
+    pub name: String,
+    /// The open chains; all end at the common frame.
+    pub chains: Vec<Chain>,
+    /// The task components `x ⊂ (x, y, φ)`, in order.
+    pub outputs: Vec<Output>,
+    /// Named parameters the mechanism was built from (kept for the example modules).
+    pub parameters: Vec<(String, f64)>,
+    /// A configuration near an assembly (optional, all joints), used as a start for Newton.
+    pub initial: Option<Vec<f64>>,
+    offsets: Vec<usize>,
+    active: Vec<usize>,
+    passive: Vec<usize>,
+}
+
+/// Jacobians of a mechanism at a configuration ((17)–(19), (29)–(31), (40)–(41)).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Differential {
+    /// Stacked chain Jacobians `J = blockdiag(S J_1, …, S J_m)` (`3m × n`).
+    pub j: DMatrix<f64>,
+    /// `A = [I; …; I]` (`3m × 3`).
+    pub a: DMatrix<f64>,
+    /// Constraint Jacobian `J_C = Ã J` (`3(m−1) × n`), with `Ã` the difference annihilator
+    /// (`Ã = [[I, −I, 0, …], [I, 0, −I, …], …]`), so `J_C = ∂c/∂θ` exactly.
+    pub j_c: DMatrix<f64>,
+    /// Analytic Jacobian of the task `J_A = S_x A† J` (`m_x × n`), `A† = (1/m)[I … I]`.
+    pub j_a: DMatrix<f64>,
+    /// Active columns of `J_C`.
+    pub j_ca: DMatrix<f64>,
+    /// Passive columns of `J_C`.
+    pub j_cp: DMatrix<f64>,
+    /// Active columns of `J_A`.
+    pub j_aa: DMatrix<f64>,
+    /// Passive columns of `J_A`.
+    pub j_ap: DMatrix<f64>,
+}
+
+/// The reduced differential kinematics in the active joints ((7), (8)).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Reduced {
+    /// `J = J_Aa − J_Ap J_Cp⁻¹ J_Ca` (8), `m_x × n_a`.
+    pub jacobian: DMatrix<f64>,
+    /// `−J_Cp⁻¹ J_Ca` (7), `n_p × n_a`: `θ̇_p = passive_map · θ̇_a`.
+    pub passive_map: DMatrix<f64>,
+    /// `J_Cp⁻¹` (or the left inverse `J_Cp†` when `r > n_p`), `n_p × r`.
+    pub j_cp_inverse: DMatrix<f64>,
+    /// Orthonormal basis `C` of `R(J_Cp)^⊥` (`r × (r − n_p)`; empty for parallel mechanisms).
+    pub complement: DMatrix<f64>,
+    /// `Cᵀ J_Ca` (`(r − n_p) × n_a`): admissible active velocities satisfy `Cᵀ J_Ca θ̇_a = 0`.
+    pub active_constraint: DMatrix<f64>,
+}
+
+/// Result of the singularity classification of §4.3/§4.5 at a configuration.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SingularityReport {
+    /// `rank(J_Cp)`.
+    pub rank_j_cp: usize,
+    /// Number of passive joints `n_p`.
+    pub n_passive: usize,
+    /// Smallest singular value of `J_Cp` (0 without passive joints).
+    pub sigma_min_j_cp: f64,
+    /// Dimension of the feasible task velocities `rank([J_C; J_A]) − rank(J_C)`; equals `rank(J)`
+    /// of (8) when `J_Cp` is invertible.
+    pub task_rank: usize,
+    /// Task dimension `m_x`.
+    pub task_dim: usize,
+    /// `None` at a regular configuration.
+    pub kind: Option<SingularityKind>,
+}
+
+impl Mechanism {
+    /// Builds and validates a mechanism.
+    ///
+    /// Errors (field paths as in descriptions): fewer than two chains, a chain without joints,
+    /// duplicate joint names, non-finite numbers, zero prismatic axes, empty or repeated outputs.
+    pub fn new(
+        name: impl Into<String>,
+        mut chains: Vec<Chain>,
+        outputs: Vec<Output>,
+    ) -> Result<Self, ClosedChainError> {
+        let name = name.into();
+        if chains.len() < 2 {
+            return Err(ClosedChainError::invalid(
+                "chains",
+                format!(
+                    "a closed mechanism needs at least two chains, found {}",
+                    chains.len()
+                ),
+            ));
+        }
+        if outputs.is_empty() {
+            return Err(ClosedChainError::invalid(
+                "outputs",
+                "at least one task output (x, y or phi) is required",
+            ));
+        }
+        for (i, o) in outputs.iter().enumerate() {
+            if outputs[..i].contains(o) {
+                return Err(ClosedChainError::invalid(
+                    format!("outputs[{i}]"),
+                    format!("output `{}` repeated", o.name()),
+                ));
+            }
+        }
+        let mut names: Vec<&str> = Vec::new();
+        for (ci, ch) in chains.iter_mut().enumerate() {
+            if ch.joints.is_empty() {
+                return Err(ClosedChainError::invalid(
+                    format!("chains[{ci}].joints"),
+                    "a chain needs at least one joint",
+                ));
+            }
+            if !ch.base.is_finite() {
+                return Err(ClosedChainError::invalid(
+                    format!("chains[{ci}].base"),
+                    "not finite",
+                ));
+            }
+            if !ch.tip.is_finite() {
+                return Err(ClosedChainError::invalid(
+                    format!("chains[{ci}].tip"),
+                    "not finite",
+                ));
+            }
+            for (ji, j) in ch.joints.iter_mut().enumerate() {
+                let field = format!("chains[{ci}].joints[{ji}]");
+                if !j.origin.is_finite() {
+                    return Err(ClosedChainError::invalid(
+                        format!("{field}.origin"),
+                        "not finite",
+                    ));
+                }
+                if let JointType::Prismatic { axis } = &mut j.kind {
+                    let n = (axis[0] * axis[0] + axis[1] * axis[1]).sqrt();
+                    if !(n.is_finite() && n > 1e-12) {
+                        return Err(ClosedChainError::invalid(
+                            format!("{field}.axis"),
+                            "prismatic axis must be a non-zero finite vector",
+                        ));
+                    }
+                    axis[0] /= n;
+                    axis[1] /= n;
+                }
+                if let Some([lo, hi]) = j.limits {
+                    if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                        return Err(ClosedChainError::invalid(
+                            format!("{field}.limits"),
+                            "limits must be finite with min < max",
+                        ));
+                    }
+                }
+            }
+        }
+        let mut offsets = Vec::with_capacity(chains.len() + 1);
+        let mut active = Vec::new();
+        let mut passive = Vec::new();
+        let mut k = 0;
+        for (ci, ch) in chains.iter().enumerate() {
+            offsets.push(k);
+            for (ji, j) in ch.joints.iter().enumerate() {
+                if names.contains(&j.name.as_str()) {
+                    return Err(ClosedChainError::invalid(
+                        format!("chains[{ci}].joints[{ji}].name"),
+                        format!("duplicate joint name `{}`", j.name),
+                    ));
+                }
+                names.push(&j.name);
+                if j.active {
+                    active.push(k);
+                } else {
+                    passive.push(k);
+                }
+                k += 1;
+            }
+        }
+        offsets.push(k);
+        if active.is_empty() {
+            return Err(ClosedChainError::invalid(
+                "chains",
+                "no active joint: mark at least one joint `active = true`",
+            ));
+        }
+        let r = 3 * (chains.len() - 1);
+        if passive.len() > r {
+            return Err(ClosedChainError::invalid(
+                "chains",
+                format!(
+                    "{} passive joints but only {r} structural equations: passive joints are not determined",
+                    passive.len()
+                ),
+            ));
+        }
+        Ok(Mechanism {
+            name,
+            chains,
+            outputs,
+            parameters: Vec::new(),
+            initial: None,
+            offsets,
+            active,
+            passive,
+        })
+    }
+
+    /// Total number of joints `n`.
+    pub fn n_joints(&self) -> usize {
+        *self.offsets.last().unwrap_or(&0)
+    }
+
+    /// Number of structural equations `r = 3(m − 1)`.
+    pub fn n_constraints(&self) -> usize {
+        3 * (self.chains.len() - 1)
+    }
+
+    /// Indices (in `θ`) of the active joints.
+    pub fn active_indices(&self) -> &[usize] {
+        &self.active
+    }
+
+    /// Indices (in `θ`) of the passive joints.
+    pub fn passive_indices(&self) -> &[usize] {
+        &self.passive
+    }
+
+    /// Effective degrees of freedom `n_e = n − r` (Grübler count, Definition 3).
+    pub fn effective_dof(&self) -> isize {
+        self.n_joints() as isize - self.n_constraints() as isize
+    }
+
+    /// Joint names in `θ` order.
+    pub fn joint_names(&self) -> Vec<&str> {
+        self.chains
+            .iter()
+            .flat_map(|c| c.joints.iter().map(|j| j.name.as_str()))
+            .collect()
+    }
+
+    /// All joints in `θ` order.
+    pub fn joints(&self) -> impl Iterator<Item = &PlanarJoint> {
+        self.chains.iter().flat_map(|c| c.joints.iter())
+    }
+
+    /// Index of the joint named `name`.
+    pub fn joint_index(&self, name: &str) -> Option<usize> {
+        self.joint_names().iter().position(|n| *n == name)
+    }
+
+    /// A named parameter.
+    pub fn parameter(&self, name: &str) -> Option<f64> {
+        self.parameters
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| *v)
+    }
+
+    /// Range of chain `k`'s joints in `θ`.
+    pub fn chain_range(&self, k: usize) -> std::ops::Range<usize> {
+        self.offsets[k]..self.offsets[k + 1]
+    }
+
+    /// Splits `θ` into `(θ_a, θ_p)`.
+    pub fn split(&self, theta: &DVector<f64>) -> (DVector<f64>, DVector<f64>) {
+        (
+            DVector::from_iterator(self.active.len(), self.active.iter().map(|&i| theta[i])),
+            DVector::from_iterator(self.passive.len(), self.passive.iter().map(|&i| theta[i])),
+        )
+    }
+
+    /// Joins `(θ_a, θ_p)` into `θ`.
+    pub fn join(&self, active: &DVector<f64>, passive: &DVector<f64>) -> DVector<f64> {
+        let mut t = DVector::zeros(self.n_joints());
+        for (k, &i) in self.active.iter().enumerate() {
+            t[i] = active[k];
+        }
+        for (k, &i) in self.passive.iter().enumerate() {
+            t[i] = passive[k];
+        }
+        t
+    }
+
+    /// Checks that `theta` holds one finite value per joint.
+    pub fn check_theta(&self, theta: &DVector<f64>) -> Result<(), ClosedChainError> {
+        if theta.len() != self.n_joints() {
+            return Err(ClosedChainError::Dimension {
+                what: "joint vector θ".into(),
+                expected: self.n_joints(),
+                got: theta.len(),
+            });
+        }
+        if let Some(i) = theta.iter().position(|x| !x.is_finite()) {
+            return Err(ClosedChainError::NonFinite {
+                what: format!("joint `{}`", self.joint_names()[i]),
+            });
+        }
+        Ok(())
+    }
+
+    /// Frames along chain `k` at joint values `q` (the chain's slice of `θ`): the pose of each joint
+    /// frame (before its motion), then the common frame reached by the chain.
+    pub fn chain_frames(&self, k: usize, q: &[f64]) -> (Vec<Pose2>, Pose2) {
+        let ch = &self.chains[k];
+        let mut g = ch.base;
+        let mut frames = Vec::with_capacity(ch.joints.len());
+        for (j, &qj) in ch.joints.iter().zip(q) {
+            g = g.compose(&j.origin);
+            frames.push(g);
+            let motion = match j.kind {
+                JointType::Revolute => Pose2::new(0.0, 0.0, qj),
+                JointType::Prismatic { axis } => Pose2::new(qj * axis[0], qj * axis[1], 0.0),
+            };
+            g = g.compose(&motion);
+        }
+        (frames, g.compose(&ch.tip))
+    }
+
+    /// Pose of the common frame reached through chain `k` (forward kinematics of one open chain,
+    /// (11), (12), (23)).
+    pub fn chain_pose(&self, k: usize, theta: &DVector<f64>) -> Pose2 {
+        let r = self.chain_range(k);
+        self.chain_frames(k, &theta.as_slice()[r]).1
+    }
+
+    /// `S J_k` of chain `k` (`3 × n_k`, rows `(v_x, v_y, ω_z)` in the world frame): the planar
+    /// geometric Jacobians (15)–(16), (26)–(28), (38).
+    pub fn chain_jacobian(&self, k: usize, theta: &DVector<f64>) -> DMatrix<f64> {
+        let r = self.chain_range(k);
+        let q = &theta.as_slice()[r];
+        let (frames, end) = self.chain_frames(k, q);
+        let ch = &self.chains[k];
+        let mut jk = DMatrix::zeros(3, q.len());
+        for (c, (j, f)) in ch.joints.iter().zip(&frames).enumerate() {
+            match j.kind {
+                JointType::Revolute => {
+                    jk[(0, c)] = -(end.y - f.y);
+                    jk[(1, c)] = end.x - f.x;
+                    jk[(2, c)] = 1.0;
+                }
+                JointType::Prismatic { axis } => {
+                    let (s, co) = f.angle.sin_cos();
+                    jk[(0, c)] = co * axis[0] - s * axis[1];
+                    jk[(1, c)] = s * axis[0] + co * axis[1];
+                }
+            }
+        }
+        jk
+    }
+
+    /// The structural equations `c(θ)` (2): `pose_1 − pose_k`, `k = 2..m`, angles wrapped.
+    pub fn structural(&self, theta: &DVector<f64>) -> DVector<f64> {
+        let m = self.chains.len();
+        let p1 = self.chain_pose(0, theta);
+        let mut c = DVector::zeros(3 * (m - 1));
+        for k in 1..m {
+            let pk = self.chain_pose(k, theta);
+            c[3 * (k - 1)] = p1.x - pk.x;
+            c[3 * (k - 1) + 1] = p1.y - pk.y;
+            c[3 * (k - 1) + 2] = wrap_angle(p1.angle - pk.angle);
+        }
+        c
+    }
+
+    /// The pose of the common frame, `A† (pose_1, …, pose_m)` (chain angles unwrapped next to
+    /// chain 1's), as `(x, y, φ)`.
+    pub fn common_pose(&self, theta: &DVector<f64>) -> Pose2 {
+        let m = self.chains.len() as f64;
+        let p1 = self.chain_pose(0, theta);
+        let (mut x, mut y, mut a) = (0.0, 0.0, 0.0);
+        for k in 0..self.chains.len() {
+            let pk = self.chain_pose(k, theta);
+            x += pk.x;
+            y += pk.y;
+            a += p1.angle + wrap_angle(pk.angle - p1.angle);
+        }
+        Pose2::new(x / m, y / m, a / m)
+    }
+
+    /// The task vector `x = h(θ)` (1): the selected outputs of [`Mechanism::common_pose`].
+    pub fn task(&self, theta: &DVector<f64>) -> DVector<f64> {
+        let p = self.common_pose(theta).to_vector();
+        DVector::from_iterator(
+            self.outputs.len(),
+            self.outputs.iter().map(|o| p[o.index()]),
+        )
+    }
+
+    /// Stacked Jacobian `J` and `A` of `J θ̇ = A v` ((17), (29), (39)).
+    pub fn stacked(&self, theta: &DVector<f64>) -> (DMatrix<f64>, DMatrix<f64>) {
+        let m = self.chains.len();
+        let n = self.n_joints();
+        let mut j = DMatrix::zeros(3 * m, n);
+        let mut a = DMatrix::zeros(3 * m, 3);
+        for k in 0..m {
+            let r = self.chain_range(k);
+            let jk = self.chain_jacobian(k, theta);
+            j.view_mut((3 * k, r.start), (3, r.len())).copy_from(&jk);
+            a.view_mut((3 * k, 0), (3, 3)).fill_with_identity();
+        }
+        (j, a)
+    }
+
+    /// The difference annihilator `Ã = [[I, −I, 0, …], [I, 0, −I, …], …]` (`3(m−1) × 3m`), `Ã A = 0`.
+    pub fn difference_annihilator(&self) -> DMatrix<f64> {
+        let m = self.chains.len();
+        let mut at = DMatrix::zeros(3 * (m - 1), 3 * m);
+        for k in 1..m {
+            at.view_mut((3 * (k - 1), 0), (3, 3)).fill_with_identity();
+            at.view_mut((3 * (k - 1), 3 * k), (3, 3))
+                .copy_from(&(-DMatrix::<f64>::identity(3, 3)));
+        }
+        at
+    }
+
+    /// Task selection `S_x` (`m_x × 3`).
+    pub fn output_selection(&self) -> DMatrix<f64> {
+        let mut s = DMatrix::zeros(self.outputs.len(), 3);
+        for (i, o) in self.outputs.iter().enumerate() {
+            s[(i, o.index())] = 1.0;
+        }
+        s
+    }
+
+    /// `J_C = Ã J`, `J_A = S_x A† J` and their active/passive blocks ((19), (31), (41), (5)–(6)).
+    pub fn differential(&self, theta: &DVector<f64>) -> Result<Differential, ClosedChainError> {
+        self.check_theta(theta)?;
+        let (j, a) = self.stacked(theta);
+        let at = self.difference_annihilator();
+        let a_dag = linalg::left_pseudo_inverse(&a)
+            .ok_or_else(|| ClosedChainError::invalid("chains", "A has no left pseudo-inverse"))?;
+        let j_c = &at * &j;
+        let j_a = self.output_selection() * a_dag * &j;
+        let j_ca = j_c.select_columns(&self.active);
+        let j_cp = j_c.select_columns(&self.passive);
+        let j_aa = j_a.select_columns(&self.active);
+        let j_ap = j_a.select_columns(&self.passive);
+        Ok(Differential {
+            j,
+            a,
+            j_c,
+            j_a,
+            j_ca,
+            j_cp,
+            j_aa,
+            j_ap,
+        })
+    }
+
+    /// The reduced kinematics (7)–(8) at `θ`.
+    ///
+    /// Errors with [`ClosedChainError::Singular`] (kind [`SingularityKind::Parallel`]) when `J_Cp`
+    /// loses rank: the passive joints can then move with the active joints locked.
+    pub fn reduced(&self, theta: &DVector<f64>) -> Result<Reduced, ClosedChainError> {
+        let d = self.differential(theta)?;
+        reduce(&d)
+    }
+
+    /// Passive velocities `θ̇_p = −J_Cp⁻¹ J_Ca θ̇_a` (7).
+    pub fn passive_velocities(
+        &self,
+        theta: &DVector<f64>,
+        active_velocities: &DVector<f64>,
+    ) -> Result<DVector<f64>, ClosedChainError> {
+        if active_velocities.len() != self.active.len() {
+            return Err(ClosedChainError::Dimension {
+                what: "active velocities θ̇_a".into(),
+                expected: self.active.len(),
+                got: active_velocities.len(),
+            });
+        }
+        Ok(self.reduced(theta)?.passive_map * active_velocities)
+    }
+
+    /// Forward kinematics of the closed chain: the passive joints for given active joints, by
+    /// Newton's method on the structural equations `c(θ_a, θ_p) = 0` from `passive_guess`.
+    ///
+    /// Errors: singular `J_Cp` on the way ([`ClosedChainError::Singular`]), no convergence
+    /// ([`ClosedChainError::NoConvergence`]: e.g. active joints outside the workspace), and, for
+    /// `r > n_p`, active joints inconsistent with the constraints.
+    pub fn solve_passive(
+        &self,
+        active: &DVector<f64>,
+        passive_guess: &DVector<f64>,
+    ) -> Result<DVector<f64>, ClosedChainError> {
+        if active.len() != self.active.len() {
+            return Err(ClosedChainError::Dimension {
+                what: "active joints θ_a".into(),
+                expected: self.active.len(),
+                got: active.len(),
+            });
+        }
+        if passive_guess.len() != self.passive.len() {
+            return Err(ClosedChainError::Dimension {
+                what: "passive guess θ_p".into(),
+                expected: self.passive.len(),
+                got: passive_guess.len(),
+            });
+        }
+        let mut theta = self.join(active, passive_guess);
+        self.check_theta(&theta)?;
+        let mut res = self.structural(&theta).norm();
+        for _ in 0..100 {
+            if res < 1e-13 {
+                return Ok(self.split(&theta).1);
+            }
+            let d = self.differential(&theta)?;
+            let smin = linalg::sigma_min(&d.j_cp);
+            if linalg::rank(&d.j_cp) < self.passive.len() {
+                return Err(ClosedChainError::Singular {
+                    kind: SingularityKind::Parallel,
+                    what: "J_Cp while solving the structural equations".into(),
+                    sigma_min: smin,
+                });
+            }
+            let c = self.structural(&theta);
+            let step = -(linalg::pseudo_inverse(&d.j_cp) * &c);
+            // Damped Newton: halve the step until the residual decreases.
+            let mut t = 1.0;
+            let mut accepted = false;
+            for _ in 0..30 {
+                let mut trial = theta.clone();
+                for (k, &i) in self.passive.iter().enumerate() {
+                    trial[i] += t * step[k];
+                }
+                let r = self.structural(&trial).norm();
+                if r.is_finite() && r < res {
+                    theta = trial;
+                    res = r;
+                    accepted = true;
+                    break;
+                }
+                t *= 0.5;
+            }
+            if !accepted {
+                break;
+            }
+        }
+        if res < 1e-10 {
+            return Ok(self.split(&theta).1);
+        }
+        Err(ClosedChainError::NoConvergence {
+            what: "structural equations c(θ_a, θ_p) = 0 (active joints may be outside the workspace or inconsistent)".into(),
+            residual: res,
+        })
+    }
+
+    /// Assembles a configuration: Gauss–Newton with minimum-norm steps on all joints for
+    /// `c(θ) = 0` and, when given, `task(θ) = target`, starting from `guess`.
+    pub fn assemble(
+        &self,
+        guess: &DVector<f64>,
+        target: Option<&DVector<f64>>,
+    ) -> Result<DVector<f64>, ClosedChainError> {
+        self.check_theta(guess)?;
+        if let Some(t) = target {
+            if t.len() != self.outputs.len() {
+                return Err(ClosedChainError::Dimension {
+                    what: "task target".into(),
+                    expected: self.outputs.len(),
+                    got: t.len(),
+                });
+            }
+        }
+        let resid = |th: &DVector<f64>| -> DVector<f64> {
+            let c = self.structural(th);
+            match target {
+                None => c,
+                Some(t) => {
+                    let e = self.task(th) - t;
+                    DVector::from_iterator(c.len() + e.len(), c.iter().chain(e.iter()).copied())
+                }
+            }
+        };
+        let mut theta = guess.clone();
+        let mut r = resid(&theta);
+        for _ in 0..200 {
+            let rn = r.norm();
+            if rn < 1e-13 {
+                return Ok(theta);
+            }
+            let d = self.differential(&theta)?;
+            let jm = match target {
+                None => d.j_c.clone(),
+                Some(_) => {
+                    let mut m = DMatrix::zeros(d.j_c.nrows() + d.j_a.nrows(), d.j_c.ncols());
+                    m.rows_mut(0, d.j_c.nrows()).copy_from(&d.j_c);
+                    m.rows_mut(d.j_c.nrows(), d.j_a.nrows()).copy_from(&d.j_a);
+                    m
+                }
+            };
+            let step = -(linalg::pseudo_inverse(&jm) * &r);
+            let mut t = 1.0;
+            let mut accepted = false;
+            for _ in 0..30 {
+                let trial = &theta + t * &step;
+                let rt = resid(&trial);
+                if rt.norm().is_finite() && rt.norm() < rn {
+                    theta = trial;
+                    r = rt;
+                    accepted = true;
+                    break;
+                }
+                t *= 0.5;
+            }
+            if !accepted {
+                break;
+            }
+        }
+        if r.norm() < 1e-10 {
+            return Ok(theta);
+        }
+        Err(ClosedChainError::NoConvergence {
+            what: "assembly of the mechanism (structural equations and task target)".into(),
+            residual: r.norm(),
+        })
+    }
+
+    /// Singularity classification (§4.5): parallel (actuator) when `rank(J_Cp) < n_p`, serial
+    /// (end-effector) when the feasible task velocities lose dimension
+    /// (`rank([J_C; J_A]) − rank(J_C) < m_x`, i.e. `rank J < m_x` for (8)), structural when both.
+    pub fn classify(&self, theta: &DVector<f64>) -> Result<SingularityReport, ClosedChainError> {
+        let d = self.differential(theta)?;
+        let rank_j_cp = linalg::rank(&d.j_cp);
+        let mut stacked = DMatrix::zeros(d.j_c.nrows() + d.j_a.nrows(), d.j_c.ncols());
+        stacked.rows_mut(0, d.j_c.nrows()).copy_from(&d.j_c);
+        stacked
+            .rows_mut(d.j_c.nrows(), d.j_a.nrows())
+            .copy_from(&d.j_a);
+        let task_rank = linalg::rank(&stacked).saturating_sub(linalg::rank(&d.j_c));
+        let parallel = rank_j_cp < self.passive.len();
+        let serial = task_rank < self.outputs.len();
+        let kind = match (serial, parallel) {
+            (false, false) => None,
+            (true, false) => Some(SingularityKind::Serial),
+            (false, true) => Some(SingularityKind::Parallel),
+            (true, true) => Some(SingularityKind::Structural),
+        };
+        Ok(SingularityReport {
+            rank_j_cp,
+            n_passive: self.passive.len(),
+            sigma_min_j_cp: linalg::sigma_min(&d.j_cp),
+            task_rank,
+            task_dim: self.outputs.len(),
+            kind,
+        })
+    }
+
+    /// The SVD analysis of §5.4 applied to the reduced Jacobian `J` of (8) at `θ`.
+    pub fn svd_analysis(
+        &self,
+        theta: &DVector<f64>,
+    ) -> Result<linalg::SvdAnalysis, ClosedChainError> {
+        Ok(linalg::svd_analysis(&self.reduced(theta)?.jacobian))
+    }
+
+    /// Points along the structure (joint frames and the common frame of every chain), as
+    /// polylines, for obstacle distances and drawings.
+    pub fn polylines(&self, theta: &DVector<f64>) -> Vec<Vec<[f64; 2]>> {
+        (0..self.chains.len())
+            .map(|k| {
+                let r = self.chain_range(k);
+                let (frames, end) = self.chain_frames(k, &theta.as_slice()[r]);
+                let mut pts = vec![[self.chains[k].base.x, self.chains[k].base.y]];
+                pts.extend(frames.iter().map(|f| [f.x, f.y]));
+                pts.push([end.x, end.y]);
+                pts
+            })
+            .collect()
+    }
+}
+
+/// The reduced kinematics from the Jacobian blocks ((7), (8)); see [`Mechanism::reduced`].
+pub fn reduce(d: &Differential) -> Result<Reduced, ClosedChainError> {
+    let n_p = d.j_cp.ncols();
+    let r = d.j_cp.nrows();
+    let rank_cp = linalg::rank(&d.j_cp);
+    if rank_cp < n_p {
+        return Err(ClosedChainError::Singular {
+            kind: SingularityKind::Parallel,
+            what: "J_Cp (passive joints move with the active joints locked)".into(),
+            sigma_min: linalg::sigma_min(&d.j_cp),
+        });
+    }
+    let j_cp_inverse = if n_p == r {
+        d.j_cp
+            .clone()
+            .try_inverse()
+            .ok_or(ClosedChainError::Singular {
+                kind: SingularityKind::Parallel,
+                what: "J_Cp".into(),
+                sigma_min: 0.0,
+            })?
+    } else {
+        linalg::pseudo_inverse(&d.j_cp)
+    };
+    let passive_map = -(&j_cp_inverse * &d.j_ca);
+    let jacobian = &d.j_aa + &d.j_ap * &passive_map;
+    let complement = if n_p == r {
+        DMatrix::zeros(r, 0)
+    } else if n_p == 0 {
+        DMatrix::identity(r, r)
+    } else {
+        linalg::null_space(&d.j_cp.transpose())
+    };
+    let active_constraint = complement.transpose() * &d.j_ca;
+    for (m, what) in [
+        (&jacobian, "reduced Jacobian J"),
+        (&passive_map, "passive map −J_Cp⁻¹J_Ca"),
+    ] {
+        if !linalg::all_finite(m) {
+            return Err(ClosedChainError::NonFinite { what: what.into() });
+        }
+    }
+    Ok(Reduced {
+        jacobian,
+        passive_map,
+        j_cp_inverse,
+        complement,
+        active_constraint,
+    })
+}
+
+/// `J_C = Ã J` and `J_A = A† J` for any stacked `J` and full-column-rank `A` ((19), (31), (41)),
+/// with `Ã` from [`linalg::annihilator`] (orthonormal rows). Returns `(J_C, J_A)`.
+pub fn constraint_and_analytic(
+    j: &DMatrix<f64>,
+    a: &DMatrix<f64>,
+) -> Result<(DMatrix<f64>, DMatrix<f64>), ClosedChainError> {
+    if j.nrows() != a.nrows() {
+        return Err(ClosedChainError::Dimension {
+            what: "rows of A (must match the stacked Jacobian J)".into(),
+            expected: j.nrows(),
+            got: a.nrows(),
+        });
+    }
+    let a_dag = linalg::left_pseudo_inverse(a)
+        .ok_or_else(|| ClosedChainError::invalid("A", "A must have full column rank (A† A = I)"))?;
+    let at = linalg::annihilator(a);
+    Ok((at * j, a_dag * j))
+}
+
+/// Splits `(J_C, J_A)` by active/passive columns and reduces them ((5)–(8)).
+pub fn reduce_blocks(
+    j_c: &DMatrix<f64>,
+    j_a: &DMatrix<f64>,
+    active: &[usize],
+    passive: &[usize],
+) -> Result<Reduced, ClosedChainError> {
+    let d = Differential {
+        j: DMatrix::zeros(0, 0),
+        a: DMatrix::zeros(0, 0),
+        j_ca: j_c.select_columns(active),
+        j_cp: j_c.select_columns(passive),
+        j_aa: j_a.select_columns(active),
+        j_ap: j_a.select_columns(passive),
+        j_c: j_c.clone(),
+        j_a: j_a.clone(),
+    };
+    reduce(&d)
+}

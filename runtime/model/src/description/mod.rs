@@ -1,0 +1,176 @@
+//! Robot descriptions, shared by the generator and the runtime.
+//!
+//! A description is link by link, URDF-style (SPEC §2): each joint has a fixed origin from its
+//! parent frame, an axis in its own frame and a type, or a raw twist `(v, ω)`. Link frame `k` is
+//! joint `k`'s frame. Lengths may be numbers or **named parameters** (linear combinations such as
+//! `"l_a + l_b"`), which stay symbolic in generated code and become runtime inputs.
+//!
+//! Descriptions are read from TOML ([`RobotDescription::from_toml_str`],
+//! [`RobotDescription::from_toml_file`], [`RobotDescription::preset`]) or imported from URDF
+//! ([`RobotDescription::from_urdf_file`], [`RobotDescription::from_urdf_str`]), and written back
+//! with [`RobotDescription::to_toml_string`]. Every error is a [`DescriptionError`] naming file,
+//! line, column and field (`` robot.toml:61:1: field `joints[7].axis`: ... ``); field paths follow the
+//! TOML (`constraint.h[1]`, `parameters.l_a`, `end_effector.xyz[1]`; joint indices 0-based).
+//!
+//! Reading validates (see [`validate`](RobotDescription::validate) for the rules: unit axes,
+//! rotations, declared parameters, unique names, `H` of full rank with at most 5 rows, the
+//! constrained link, `n − r ≥ 6`, wrist presets consistent with `H`, `g_ir` and the wrist joints).
+//!
+//! ```
+//! use trocar_model::description::RobotDescription;
+//!
+//! let d = RobotDescription::preset("bidirectional-zy").unwrap();
+//! assert_eq!(d.joints.len(), 8);
+//! let text = d.to_toml_string();
+//! let bad = text.replace("h = [\"x\", \"z\"]", "h = [\"x\", \"x\"]");
+//! let e = RobotDescription::from_toml_str(&bad, None).unwrap_err();
+//! assert_eq!(e.field, "constraint.h[1]");
+//! assert!(e.line.is_some());
+//! ```
+
+mod error;
+mod locate;
+mod parse;
+mod presets;
+mod serialize;
+mod urdf;
+mod validate;
+
+pub use error::DescriptionError;
+pub use presets::{preset, preset_names, PRESETS};
+
+/// A length (or any linear quantity): `constant + Σ coefficient · parameter`.
+///
+/// Written in TOML as a number (`0.33`), a parameter name (`"l_a"`) or a linear combination
+/// (`"l_a + l_b"`, `"-0.5*l_8 + 0.1"`).
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Scalar {
+    /// The constant part.
+    pub constant: f64,
+    /// `(coefficient, parameter name)` pairs, each name at most once.
+    pub terms: Vec<(f64, String)>,
+}
+
+/// Orientation of a frame relative to its parent.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Rotation {
+    /// Roll, pitch, yaw about fixed x, y, z (URDF convention: `R = Rz(yaw) Ry(pitch) Rx(roll)`).
+    Rpy([f64; 3]),
+    /// A rotation matrix, row-major.
+    Matrix([[f64; 3]; 3]),
+}
+
+/// A fixed transform from a parent frame: translation `xyz` and a rotation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Origin {
+    /// Translation; components may be parameters.
+    pub xyz: [Scalar; 3],
+    /// Rotation.
+    pub rotation: Rotation,
+}
+
+/// What a joint does in its own frame.
+#[derive(Clone, Debug, PartialEq)]
+pub enum JointKind {
+    /// Rotation about `axis` (unit) through the joint frame's origin: `ξ = (0, axis)`.
+    Revolute {
+        /// Unit axis in the joint frame.
+        axis: [f64; 3],
+    },
+    /// Translation along `axis` (unit): `ξ = (axis, 0)`.
+    Prismatic {
+        /// Unit axis in the joint frame.
+        axis: [f64; 3],
+    },
+    /// A raw twist `ξ = (v, ω)` in the joint frame: `‖ω‖ = 1`, or `ω = 0` and `‖v‖ = 1`.
+    Twist {
+        /// Linear part; components may be parameters (e.g. `v = −ω × q` with `q` a parameter).
+        v: [Scalar; 3],
+        /// Angular part.
+        w: [f64; 3],
+    },
+}
+
+/// Where an item was written: 1-based line and column in its source file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct Location {
+    /// 1-based line.
+    pub line: usize,
+    /// 1-based column.
+    pub column: usize,
+}
+
+/// One joint (and the link frame it carries).
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointDesc {
+    /// Unique name.
+    pub name: String,
+    /// Fixed transform from the parent frame (the previous joint's frame, or the base).
+    pub origin: Origin,
+    /// Type and axis or twist.
+    pub kind: JointKind,
+    /// Where the joint was written (its `[[joints]]` header, or its `<joint>` element in a URDF),
+    /// when read from text; [`RobotDescription::validate`] uses it for joint errors.
+    pub location: Option<Location>,
+}
+
+/// The end-effector frame `F_e`, fixed in the last link.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EndEffector {
+    /// Name of the frame.
+    pub name: String,
+    /// Transform from the last joint's frame to `F_e`.
+    pub origin: Origin,
+}
+
+/// The thesis's wrist presets, which fix the null-space basis `Λ#` to (3.23) or (3.27).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Wrist {
+    /// `H = x_r`, basis (3.23); J^r is (3.24).
+    Unidirectional,
+    /// `H = (x_r, z_r)`, last joints about z then y, basis (3.27); J^r is (3.28).
+    Zy,
+    /// `H = (x_r, z_r)`, last joints about z then x, basis (3.27); J^r is (3.29).
+    Zx,
+}
+
+/// The constraint `H V^B_0r = 0` at the frame `F_r` fixed in link `i` (3.1).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConstraintDesc {
+    /// The constrained link `i`, 1-based (link `i` is joint `i`'s frame, between joints `i` and `i+1`);
+    /// valid descriptions have `1 ≤ i ≤ n − 1`.
+    pub link: usize,
+    /// `g_ir`: the constraint frame relative to `F_i`; the thesis takes `(I, (0, l_a, 0))`.
+    pub origin: Origin,
+    /// Rows of `H ∈ R^{r×6}` (twist order `(v, ω)`); valid descriptions have `1 ≤ r ≤ 5`
+    /// independent rows and `n − r ≥ 6`.
+    pub h: Vec<[f64; 6]>,
+    /// Wrist preset: when given, `Λ#` is the thesis's basis; otherwise a derived basis.
+    pub wrist: Option<Wrist>,
+}
+
+/// A named parameter and its nominal value (used by numeric evaluation unless overridden).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Parameter {
+    /// Name, a Rust identifier.
+    pub name: String,
+    /// Nominal value.
+    pub value: f64,
+}
+
+/// A serial manipulator with an optional point constraint.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RobotDescription {
+    /// Robot name (a Rust identifier once snake-cased; used for generated module names).
+    pub name: String,
+    /// Named parameters, in declaration order.
+    pub parameters: Vec<Parameter>,
+    /// Joints, base first.
+    pub joints: Vec<JointDesc>,
+    /// End-effector frame.
+    pub end_effector: EndEffector,
+    /// The RCM constraint, if any.
+    pub constraint: Option<ConstraintDesc>,
+    /// The file the description was read from, if any (for error messages).
+    pub source: Option<std::path::PathBuf>,
+}

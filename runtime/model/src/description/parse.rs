@@ -1,0 +1,637 @@
+//! Reading descriptions from TOML, with the location of every field.
+//!
+//! The format (see the shipped files in `runtime/model/robots/`):
+//!
+//! ```toml
+//! [robot]
+//! name = "bidirectional_zy"
+//!
+//! [parameters]          # named lengths and their nominal values
+//! l_a = 0.15
+//!
+//! [[joints]]            # base first; link frame k is joint k's frame
+//! name = "torso"        # unique
+//! type = "revolute"     # or "prismatic", or "twist" with v = [..], w = [..] instead of axis
+//! xyz = [0, 0, 0]       # origin from the parent frame; entries may be "l_a + l_b", "-0.5*l_8 + 0.1"
+//! rpy = [0, 0, 0]       # or rotation = [[..], [..], [..]] (row-major); default: identity
+//! axis = [0, 0, 1]      # unit
+//!
+//! [end_effector]
+//! name = "tool"
+//! xyz = [0, "l_8", 0]
+//!
+//! [constraint]
+//! link = 6              # constrained link i (1-based)
+//! xyz = [0, "l_a", 0]   # g_ir
+//! h = ["x", "z"]        # axis letters x y z (linear) rx ry rz (angular), or rows of 6 numbers
+//! wrist = "zy"          # optional: unidirectional | zy | zx (thesis basis for Λ#)
+//! ```
+//!
+//! Every key is checked (`deny_unknown_fields`), every error names the field by path
+//! (`joints[3].axis`, `constraint.h[1]`, `parameters.l_a`) with its line and column (looked up by
+//! [`super::locate`]), and the result is validated ([`RobotDescription::validate`]) before it is
+//! returned.
+
+use super::locate::{location_of, Locator};
+use super::{
+    ConstraintDesc, DescriptionError, EndEffector, JointDesc, JointKind, Origin, Parameter,
+    RobotDescription, Rotation, Scalar, Wrist,
+};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRobot {
+    robot: RawMeta,
+    #[serde(default)]
+    parameters: toml::Table,
+    #[serde(default)]
+    joints: Vec<toml::Spanned<RawJoint>>,
+    end_effector: Option<RawFrame>,
+    constraint: Option<RawConstraint>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawMeta {
+    name: String,
+}
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum RawScalar {
+    Number(f64),
+    Text(String),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawJoint {
+    name: String,
+    #[serde(rename = "type")]
+    kind: String,
+    xyz: Option<[RawScalar; 3]>,
+    rpy: Option<[f64; 3]>,
+    rotation: Option<[[f64; 3]; 3]>,
+    axis: Option<[f64; 3]>,
+    v: Option<[RawScalar; 3]>,
+    w: Option<[f64; 3]>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawFrame {
+    name: Option<String>,
+    xyz: Option<[RawScalar; 3]>,
+    rpy: Option<[f64; 3]>,
+    rotation: Option<[[f64; 3]; 3]>,
+}
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum RawH {
+    Letters(Vec<String>),
+    Rows(Vec<Vec<f64>>),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawConstraint {
+    link: usize,
+    xyz: Option<[RawScalar; 3]>,
+    rpy: Option<[f64; 3]>,
+    rotation: Option<[[f64; 3]; 3]>,
+    h: RawH,
+    wrist: Option<String>,
+}
+
+/// The axis letters of `H` rows, in twist order `(v, ω)`.
+pub(crate) const AXIS_LETTERS: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];
+
+struct Ctx<'a> {
+    file: Option<&'a Path>,
+    locator: &'a Locator<'a>,
+}
+
+impl Ctx<'_> {
+    fn err(&self, field: &str, message: impl Into<String>) -> DescriptionError {
+        let loc = self.locator.locate(field);
+        DescriptionError {
+            file: self.file.map(Path::to_path_buf),
+            line: loc.map(|l| l.line),
+            column: loc.map(|l| l.column),
+            field: field.to_string(),
+            message: message.into(),
+        }
+    }
+}
+
+impl Scalar {
+    /// A constant.
+    pub fn constant(value: f64) -> Self {
+        Scalar {
+            constant: value,
+            terms: Vec::new(),
+        }
+    }
+
+    /// A single parameter.
+    pub fn param(name: &str) -> Self {
+        Scalar {
+            constant: 0.0,
+            terms: vec![(1.0, name.to_string())],
+        }
+    }
+
+    /// `true` when no parameter appears.
+    pub fn is_constant(&self) -> bool {
+        self.terms.is_empty()
+    }
+
+    /// Parses `"l_a + l_b"`, `"-0.5*l_8 + 0.1"`, `"2 * l_a"` or a number.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let mut out = Scalar::default();
+        let compact: String = text.chars().filter(|c| !c.is_whitespace()).collect();
+        if compact.is_empty() {
+            return Err("empty expression".into());
+        }
+        // Split into signed terms.
+        let mut terms = Vec::new();
+        let mut start = 0;
+        let bytes = compact.as_bytes();
+        for k in 1..bytes.len() {
+            if bytes[k] != b'+' && bytes[k] != b'-' {
+                continue;
+            }
+            let prev = bytes[k - 1];
+            if prev == b'*' {
+                continue;
+            }
+            if prev == b'e' || prev == b'E' {
+                // The sign of an exponent (`2e-3`) when the factor so far is a mantissa; a name
+                // ending in `e` (`l_e-0.1`) is followed by a new term.
+                let factor_start = compact[start..k - 1]
+                    .rfind(['*', '+', '-'])
+                    .map_or(start, |p| start + p + 1);
+                let mantissa = &compact[factor_start..k - 1];
+                if !mantissa.is_empty()
+                    && mantissa.bytes().all(|b| b.is_ascii_digit() || b == b'.')
+                    && mantissa.bytes().any(|b| b.is_ascii_digit())
+                {
+                    continue;
+                }
+            }
+            terms.push(&compact[start..k]);
+            start = k;
+        }
+        terms.push(&compact[start..]);
+        for term in terms {
+            let (sign, body) = match term.as_bytes().first() {
+                Some(b'-') => (-1.0, &term[1..]),
+                Some(b'+') => (1.0, &term[1..]),
+                _ => (1.0, term),
+            };
+            let mut coefficient = sign;
+            let mut name: Option<&str> = None;
+            for factor in body.split('*') {
+                let numeric = factor.starts_with(|c: char| c.is_ascii_digit() || c == '.');
+                if let (true, Ok(v)) = (numeric, factor.parse::<f64>()) {
+                    coefficient *= v;
+                } else if is_identifier(factor) {
+                    if name.is_some() {
+                        return Err(format!("`{text}` is not linear in the parameters"));
+                    }
+                    name = Some(factor);
+                } else {
+                    return Err(format!(
+                        "cannot read `{factor}` in `{text}`: expected a number or a parameter name"
+                    ));
+                }
+            }
+            match name {
+                None => out.constant += coefficient,
+                Some(n) => match out.terms.iter_mut().find(|(_, m)| m == n) {
+                    Some((c, _)) => *c += coefficient,
+                    None => out.terms.push((coefficient, n.to_string())),
+                },
+            }
+        }
+        out.terms.retain(|(c, _)| *c != 0.0);
+        Ok(out)
+    }
+
+    /// Value with the given parameter lookup; `Err(name)` for an unknown parameter.
+    pub fn eval(&self, lookup: impl Fn(&str) -> Option<f64>) -> Result<f64, String> {
+        let mut v = self.constant;
+        for (c, n) in &self.terms {
+            v += c * lookup(n).ok_or_else(|| n.clone())?;
+        }
+        Ok(v)
+    }
+}
+
+/// `true` for a Rust-style identifier (`l_a`, `L8`).
+pub(crate) fn is_identifier(s: &str) -> bool {
+    let mut chars = s.chars();
+    matches!(chars.next(), Some(c) if c.is_ascii_alphabetic() || c == '_')
+        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
+fn scalar(ctx: &Ctx, field: &str, raw: &RawScalar) -> Result<Scalar, DescriptionError> {
+    match raw {
+        RawScalar::Number(v) => Ok(Scalar::constant(*v)),
+        RawScalar::Text(t) => Scalar::parse(t).map_err(|m| ctx.err(field, m)),
+    }
+}
+
+fn scalars(ctx: &Ctx, field: &str, raw: &[RawScalar; 3]) -> Result<[Scalar; 3], DescriptionError> {
+    Ok([
+        scalar(ctx, &format!("{field}[0]"), &raw[0])?,
+        scalar(ctx, &format!("{field}[1]"), &raw[1])?,
+        scalar(ctx, &format!("{field}[2]"), &raw[2])?,
+    ])
+}
+
+fn origin(
+    ctx: &Ctx,
+    field: &str,
+    xyz: &Option<[RawScalar; 3]>,
+    rpy: &Option<[f64; 3]>,
+    rotation: &Option<[[f64; 3]; 3]>,
+) -> Result<Origin, DescriptionError> {
+    let xyz = match xyz {
+        Some(v) => scalars(ctx, &format!("{field}.xyz"), v)?,
+        None => Default::default(),
+    };
+    let rotation = match (rpy, rotation) {
+        (Some(_), Some(_)) => {
+            return Err(ctx.err(
+                &format!("{field}.rotation"),
+                "give either `rpy` or `rotation`, not both",
+            ))
+        }
+        (Some(r), None) => Rotation::Rpy(*r),
+        (None, Some(m)) => Rotation::Matrix(*m),
+        (None, None) => Rotation::Rpy([0.0; 3]),
+    };
+    Ok(Origin { xyz, rotation })
+}
+
+/// `field` without its last key: the table it lives in.
+fn parent_of(field: &str) -> &str {
+    field.rfind('.').map_or("", |k| &field[..k])
+}
+
+fn table_phrase(table: &str) -> String {
+    if table.is_empty() {
+        "at the top level".into()
+    } else {
+        format!("in table `{table}`")
+    }
+}
+
+/// A serde/TOML error as a description error: the field found from the error's span, a message
+/// that names the key and its table.
+fn toml_error(ctx: &Ctx, text: &str, e: &toml::de::Error) -> DescriptionError {
+    let message = e.message().trim();
+    let offset = e.span().map(|s| s.start);
+    let at = offset.and_then(|o| ctx.locator.path_at(o));
+    let quoted = message.split('`').nth(1).unwrap_or("").to_string();
+    let syntax = !ctx.locator.syntax_ok && message != "duplicate key";
+    let (field, message) = if syntax {
+        // Paths in a broken document can mislead: the position says where.
+        (
+            "(document)".to_string(),
+            format!("not valid TOML: {message}"),
+        )
+    } else if let Some(rest) = message.strip_prefix("unknown field `") {
+        let field = at.unwrap_or_else(|| quoted.clone());
+        let table = parent_of(&field).to_string();
+        let expected = rest.split_once(", ").map_or("", |(_, e)| e).to_string();
+        let message = format!(
+            "unknown key `{quoted}` {}{}",
+            table_phrase(&table),
+            if expected.is_empty() {
+                String::new()
+            } else {
+                format!(" ({expected})")
+            }
+        );
+        (field, message)
+    } else if message.starts_with("missing field `") {
+        let table = match e.span() {
+            Some(span) if !span.is_empty() => at.unwrap_or_default(),
+            _ => String::new(),
+        };
+        let field = if table.is_empty() {
+            quoted.clone()
+        } else {
+            format!("{table}.{quoted}")
+        };
+        (
+            field,
+            format!("missing key `{quoted}` {}", table_phrase(&table)),
+        )
+    } else if message.contains("untagged enum RawScalar") {
+        // The span is the array's: name the offending element.
+        let at = at.map(|a| ctx.locator.first_non_scalar(&a).unwrap_or(a));
+        (
+            at.unwrap_or_else(|| "(document)".into()),
+            "expected a number or a parameter expression such as \"l_a + l_b\"".into(),
+        )
+    } else if message.contains("untagged enum RawH") {
+        (
+            at.unwrap_or_else(|| "constraint.h".into()),
+            "expected axis letters such as [\"x\", \"z\"] or rows of 6 numbers".into(),
+        )
+    } else if message == "duplicate key" {
+        // The second key is not in the (recovered) document: name it from the text.
+        let span = e.span().unwrap_or(0..0);
+        let key = text
+            .get(span.clone())
+            .unwrap_or("")
+            .trim_matches(['"', '\''])
+            .to_string();
+        let table = ctx.locator.table_before(span.start);
+        let field = if table.is_empty() {
+            key.clone()
+        } else {
+            format!("{table}.{key}")
+        };
+        (
+            field,
+            format!("duplicate key `{key}` {}", table_phrase(&table)),
+        )
+    } else if let Some(field) = at {
+        (field, message.to_string())
+    } else {
+        ("(document)".into(), message.to_string())
+    };
+    let loc = match ctx.locator.locate(&field) {
+        // The element named above, rather than the array the error points at.
+        Some(l) if field.ends_with(']') => Some(l),
+        _ => offset.map(|o| location_of(text, o)),
+    };
+    DescriptionError {
+        file: ctx.file.map(Path::to_path_buf),
+        line: loc.map(|l| l.line),
+        column: loc.map(|l| l.column),
+        field,
+        message,
+    }
+}
+
+impl RobotDescription {
+    /// Reads a description from TOML text and validates it ([`RobotDescription::validate`]), every
+    /// error with the line and column of its field. `file` is used in error messages only.
+    pub fn from_toml_str(text: &str, file: Option<&Path>) -> Result<Self, DescriptionError> {
+        let locator = Locator::new(text);
+        let description = Self::read(text, file, &locator)?;
+        let problems = super::validate::problems(&description, &|field| locator.locate(field));
+        match problems.into_iter().next() {
+            Some(first) => Err(first),
+            None => Ok(description),
+        }
+    }
+
+    /// Reads a description from TOML text without the checks of [`RobotDescription::validate`]:
+    /// only the format is checked (TOML syntax, known keys, types, axis letters, joint types).
+    /// Use [`RobotDescription::problems`] to list every problem of the result at once.
+    pub fn from_toml_str_unvalidated(
+        text: &str,
+        file: Option<&Path>,
+    ) -> Result<Self, DescriptionError> {
+        Self::read(text, file, &Locator::new(text))
+    }
+
+    fn read(text: &str, file: Option<&Path>, locator: &Locator) -> Result<Self, DescriptionError> {
+        let ctx = Ctx { file, locator };
+        let raw: RawRobot = toml::from_str(text).map_err(|e| toml_error(&ctx, text, &e))?;
+        let mut parameters = Vec::new();
+        for (name, value) in &raw.parameters {
+            let value = match value {
+                toml::Value::Float(v) => *v,
+                toml::Value::Integer(v) => *v as f64,
+                other => {
+                    return Err(ctx.err(
+                        &format!("parameters.{name}"),
+                        format!(
+                            "a parameter's nominal value must be a number, not a {}",
+                            other.type_str()
+                        ),
+                    ))
+                }
+            };
+            parameters.push(Parameter {
+                name: name.clone(),
+                value,
+            });
+        }
+        let mut joints = Vec::new();
+        for (k, spanned) in raw.joints.iter().enumerate() {
+            let loc = Some(location_of(text, spanned.span().start));
+            let j = spanned.get_ref();
+            let field = format!("joints[{k}]");
+            let unused = |key: &str, present: bool, why: &str| {
+                if present {
+                    Err(ctx.err(&format!("{field}.{key}"), why.to_string()))
+                } else {
+                    Ok(())
+                }
+            };
+            let kind = match j.kind.as_str() {
+                "revolute" | "prismatic" => {
+                    let why = format!("a {} joint has an `axis`, not a twist", j.kind);
+                    unused("v", j.v.is_some(), &why)?;
+                    unused("w", j.w.is_some(), &why)?;
+                    let axis = j.axis.ok_or_else(|| {
+                        ctx.err(
+                            &format!("{field}.axis"),
+                            format!("a {} joint needs `axis = [x, y, z]`", j.kind),
+                        )
+                    })?;
+                    if j.kind == "revolute" {
+                        JointKind::Revolute { axis }
+                    } else {
+                        JointKind::Prismatic { axis }
+                    }
+                }
+                "twist" => {
+                    unused(
+                        "axis",
+                        j.axis.is_some(),
+                        "a twist joint has `v` and `w`, not an `axis`",
+                    )?;
+                    let v = j.v.as_ref().ok_or_else(|| {
+                        ctx.err(&format!("{field}.v"), "a twist joint needs `v = [x, y, z]`")
+                    })?;
+                    let w = j.w.ok_or_else(|| {
+                        ctx.err(&format!("{field}.w"), "a twist joint needs `w = [x, y, z]`")
+                    })?;
+                    JointKind::Twist {
+                        v: scalars(&ctx, &format!("{field}.v"), v)?,
+                        w,
+                    }
+                }
+                other => {
+                    return Err(ctx.err(
+                        &format!("{field}.type"),
+                        format!(
+                            "unknown joint type `{other}` (expected revolute, prismatic or twist)"
+                        ),
+                    ))
+                }
+            };
+            joints.push(JointDesc {
+                name: j.name.clone(),
+                origin: origin(&ctx, &field, &j.xyz, &j.rpy, &j.rotation)?,
+                kind,
+                location: loc,
+            });
+        }
+        let end_effector = match &raw.end_effector {
+            Some(f) => EndEffector {
+                name: f.name.clone().unwrap_or_else(|| "end_effector".into()),
+                origin: origin(&ctx, "end_effector", &f.xyz, &f.rpy, &f.rotation)?,
+            },
+            None => EndEffector {
+                name: "end_effector".into(),
+                origin: Origin {
+                    xyz: Default::default(),
+                    rotation: Rotation::Rpy([0.0; 3]),
+                },
+            },
+        };
+        let constraint = match &raw.constraint {
+            None => None,
+            Some(c) => {
+                let h = match &c.h {
+                    RawH::Rows(rows) => rows
+                        .iter()
+                        .enumerate()
+                        .map(|(k, row)| {
+                            <[f64; 6]>::try_from(row.as_slice()).map_err(|_| {
+                                ctx.err(
+                                    &format!("constraint.h[{k}]"),
+                                    format!(
+                                        "a row of H has 6 entries (twist order vx vy vz wx wy wz), this one has {}",
+                                        row.len()
+                                    ),
+                                )
+                            })
+                        })
+                        .collect::<Result<_, _>>()?,
+                    RawH::Letters(letters) => letters
+                        .iter()
+                        .enumerate()
+                        .map(|(k, l)| {
+                            let index = AXIS_LETTERS.iter().position(|a| a == l).ok_or_else(|| {
+                                ctx.err(
+                                    &format!("constraint.h[{k}]"),
+                                    format!("unknown axis `{l}` (expected x, y, z, rx, ry or rz)"),
+                                )
+                            })?;
+                            let mut row = [0.0; 6];
+                            row[index] = 1.0;
+                            Ok(row)
+                        })
+                        .collect::<Result<_, _>>()?,
+                };
+                let wrist = match c.wrist.as_deref() {
+                    None => None,
+                    Some("unidirectional") => Some(Wrist::Unidirectional),
+                    Some("zy") => Some(Wrist::Zy),
+                    Some("zx") => Some(Wrist::Zx),
+                    Some(other) => {
+                        return Err(ctx.err(
+                            "constraint.wrist",
+                            format!("unknown wrist `{other}` (expected unidirectional, zy or zx)"),
+                        ))
+                    }
+                };
+                Some(ConstraintDesc {
+                    link: c.link,
+                    origin: origin(&ctx, "constraint", &c.xyz, &c.rpy, &c.rotation)?,
+                    h,
+                    wrist,
+                })
+            }
+        };
+        Ok(RobotDescription {
+            name: raw.robot.name,
+            parameters,
+            joints,
+            end_effector,
+            constraint,
+            source: file.map(Path::to_path_buf),
+        })
+    }
+
+    /// Reads a description from a TOML file.
+    pub fn from_toml_file(path: impl AsRef<Path>) -> Result<Self, DescriptionError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|e| DescriptionError {
+            file: Some(PathBuf::from(path)),
+            line: None,
+            column: None,
+            field: "(file)".into(),
+            message: format!("cannot read the file: {e}"),
+        })?;
+        Self::from_toml_str(&text, Some(path))
+    }
+
+    /// One of the shipped descriptions (see [`super::PRESETS`]) by name.
+    pub fn preset(name: &str) -> Result<Self, DescriptionError> {
+        let text = super::preset(name).ok_or_else(|| DescriptionError {
+            file: None,
+            line: None,
+            column: None,
+            field: "preset".into(),
+            message: format!(
+                "unknown preset `{name}` (expected one of: {})",
+                super::preset_names().collect::<Vec<_>>().join(", ")
+            ),
+        })?;
+        Self::from_toml_str(text, Some(Path::new(&format!("<preset {name}>"))))
+    }
+
+    /// Nominal value of a parameter.
+    pub fn parameter(&self, name: &str) -> Option<f64> {
+        self.parameters
+            .iter()
+            .find(|p| p.name == name)
+            .map(|p| p.value)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scalars_parse_linear_combinations() {
+        let s = Scalar::parse("l_a + l_b").unwrap();
+        assert_eq!(s.terms, vec![(1.0, "l_a".into()), (1.0, "l_b".into())]);
+        let s = Scalar::parse("-0.5*l_8 + 0.1 - 2e-1").unwrap();
+        assert_eq!(s.terms, vec![(-0.5, "l_8".into())]);
+        assert!((s.constant - (-0.1)).abs() < 1e-15);
+        assert!(Scalar::parse("l_a*l_b").is_err());
+        assert!(Scalar::parse("l_a + $").is_err());
+        assert_eq!(Scalar::parse("2*l_a").unwrap().eval(|_| Some(0.5)), Ok(1.0));
+        assert_eq!(
+            Scalar::parse("l_q").unwrap().eval(|_| None),
+            Err("l_q".into())
+        );
+    }
+
+    #[test]
+    fn every_shipped_description_reads() {
+        for name in super::super::preset_names() {
+            let d = RobotDescription::preset(name).unwrap();
+            assert_eq!(d.joints.len(), 8, "{name}");
+            assert_eq!(d.constraint.as_ref().unwrap().link, 6);
+            assert!(d.joints[1].location.unwrap().line > 10);
+        }
+    }
+}

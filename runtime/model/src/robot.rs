@@ -1,0 +1,646 @@
+//! A numeric robot built from a description with parameter values: dynamic-size front end of the
+//! kinematics kernels, for the CLI (`trocar eval --numeric`, `trocar jacobian`) and verification.
+//!
+//! [`Robot`] evaluates a [`RobotDescription`] with its nominal `[parameters]` (or overrides) and
+//! answers with `DMatrix` outputs; every error on user input is a [`RobotError`], never a panic.
+//! The kernels it calls are those of the allocation-free typed API ([`trocar::kinematics`],
+//! [`trocar::constraint`]); [`Robot::to_chain`] and [`Robot::to_constraint`] hand a description to
+//! that API for control loops.
+
+use crate::description::{JointKind, Origin, RobotDescription, Rotation, Scalar};
+use nalgebra::{convert, DMatrix, DVector, Matrix3, RealField, SMatrix, Vector3};
+use std::fmt;
+use trocar::constraint::{Constraint, ConstraintError, NullSpaceBasis};
+use trocar::kinematics::{self, Chain, Joint};
+use trocar::se3::{self, Adjoint, Se3, Twist};
+
+/// Why a robot cannot be built or evaluated.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RobotError {
+    /// A length names a parameter that has no value.
+    UnknownParameter {
+        /// The parameter.
+        name: String,
+        /// Where it is used, e.g. `joints[6].xyz[1]`.
+        field: String,
+    },
+    /// An override names a parameter the description does not declare.
+    UnknownOverride(String),
+    /// A parameter value (nominal or override) is not finite.
+    BadParameterValue(String),
+    /// Wrong number of joint values.
+    WrongJointCount {
+        /// Joints of the robot.
+        expected: usize,
+        /// Values given.
+        got: usize,
+    },
+    /// The operation needs a constraint and the description has none.
+    NoConstraint,
+    /// The constrained link is not one of the robot's links `1..=n`.
+    LinkOutOfRange {
+        /// The link given.
+        link: usize,
+        /// Joints of the robot.
+        joints: usize,
+    },
+    /// The method needs `n − r ≥ 6` (SPEC §3).
+    TooFewJoints {
+        /// Joints.
+        n: usize,
+        /// Constraint rows.
+        r: usize,
+    },
+    /// A joint axis or twist is zero, not unit, or not finite.
+    BadAxis {
+        /// The field, e.g. `joints[2].axis`.
+        field: String,
+    },
+    /// A rotation matrix is not a rotation.
+    BadRotation {
+        /// The field, e.g. `joints[2].rotation`.
+        field: String,
+    },
+    /// The constraint is invalid (dependent rows, thesis basis with another frame, `l_a = 0`, ...).
+    Constraint(ConstraintError),
+    /// The typed conversion was asked for the wrong size.
+    WrongSize {
+        /// What was asked for.
+        what: &'static str,
+        /// The robot's size.
+        expected: usize,
+        /// The size asked for.
+        got: usize,
+    },
+}
+
+impl fmt::Display for RobotError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::UnknownParameter { name, field } => {
+                write!(f, "field `{field}`: unknown parameter `{name}`")
+            }
+            Self::UnknownOverride(n) => write!(f, "unknown parameter `{n}` (not in [parameters])"),
+            Self::BadParameterValue(n) => write!(f, "parameter `{n}` is not a finite number"),
+            Self::WrongJointCount { expected, got } => {
+                write!(
+                    f,
+                    "{got} joint values given, the robot has {expected} joints"
+                )
+            }
+            Self::NoConstraint => write!(f, "the robot has no [constraint]"),
+            Self::LinkOutOfRange { link, joints } => write!(
+                f,
+                "field `constraint.link`: link {link} is not one of 1..={joints}"
+            ),
+            Self::TooFewJoints { n, r } => write!(
+                f,
+                "field `constraint.h`: the method needs n − r ≥ 6, here n = {n}, r = {r}"
+            ),
+            Self::BadAxis { field } => {
+                write!(f, "field `{field}`: the axis must be a finite unit vector")
+            }
+            Self::BadRotation { field } => {
+                write!(f, "field `{field}`: not a rotation matrix")
+            }
+            Self::Constraint(e) => write!(f, "field `constraint`: {e}"),
+            Self::WrongSize {
+                what,
+                expected,
+                got,
+            } => write!(f, "{what}: the robot has {expected}, {got} asked for"),
+        }
+    }
+}
+
+impl std::error::Error for RobotError {}
+
+impl From<ConstraintError> for RobotError {
+    fn from(e: ConstraintError) -> Self {
+        Self::Constraint(e)
+    }
+}
+
+/// A constraint with a number of rows known at run time.
+#[derive(Clone, Debug, PartialEq)]
+enum AnyConstraint<T: RealField + Copy> {
+    R1(Constraint<T, 1>),
+    R2(Constraint<T, 2>),
+    R3(Constraint<T, 3>),
+    R4(Constraint<T, 4>),
+    R5(Constraint<T, 5>),
+}
+
+macro_rules! dispatch {
+    ($self:expr, $c:ident => $body:expr) => {
+        match $self {
+            AnyConstraint::R1($c) => $body,
+            AnyConstraint::R2($c) => $body,
+            AnyConstraint::R3($c) => $body,
+            AnyConstraint::R4($c) => $body,
+            AnyConstraint::R5($c) => $body,
+        }
+    };
+}
+
+impl<T: RealField + Copy> AnyConstraint<T> {
+    fn new(
+        link: usize,
+        g_ir: Se3<T>,
+        h: &[[f64; 6]],
+        basis: NullSpaceBasis,
+    ) -> Result<Self, ConstraintError> {
+        fn typed<T: RealField + Copy, const R: usize>(
+            link: usize,
+            g_ir: Se3<T>,
+            h: &[[f64; 6]],
+            basis: NullSpaceBasis,
+        ) -> Result<Constraint<T, R>, ConstraintError> {
+            let m = SMatrix::<T, R, 6>::from_fn(|r, c| convert(h[r][c]));
+            Constraint::with_basis(link, g_ir, m, basis)
+        }
+        Ok(match h.len() {
+            1 => Self::R1(typed(link, g_ir, h, basis)?),
+            2 => Self::R2(typed(link, g_ir, h, basis)?),
+            3 => Self::R3(typed(link, g_ir, h, basis)?),
+            4 => Self::R4(typed(link, g_ir, h, basis)?),
+            5 => Self::R5(typed(link, g_ir, h, basis)?),
+            r => return Err(ConstraintError::BadRowCount(r)),
+        })
+    }
+
+    fn rows(&self) -> usize {
+        dispatch!(self, c => c.h().nrows())
+    }
+
+    fn link(&self) -> usize {
+        dispatch!(self, c => c.link())
+    }
+
+    fn lambda(&self) -> DMatrix<T> {
+        dispatch!(self, c => {
+            let m = c.lambda();
+            DMatrix::from_column_slice(m.nrows(), 6, m.as_slice())
+        })
+    }
+
+    fn lambda_pinv(&self) -> DMatrix<T> {
+        dispatch!(self, c => {
+            let m = c.lambda_pinv();
+            DMatrix::from_column_slice(6, m.ncols(), m.as_slice())
+        })
+    }
+
+    fn lambda_null_space_columns(&self) -> &[Twist<T>] {
+        dispatch!(self, c => c.lambda_null_space_columns())
+    }
+}
+
+/// A numeric robot: a [`RobotDescription`] evaluated with parameter values, answering with
+/// dynamic-size matrices. Joint values `q` are all `n` joints, base first.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Robot<T: RealField + Copy = f64> {
+    description: RobotDescription,
+    parameters: Vec<(String, f64)>,
+    joints: Vec<Joint<T>>,
+    tool: Se3<T>,
+    constraint: Option<AnyConstraint<T>>,
+}
+
+fn eval_scalar(s: &Scalar, params: &[(String, f64)], field: &str) -> Result<f64, RobotError> {
+    s.eval(|n| params.iter().find(|(p, _)| p == n).map(|(_, v)| *v))
+        .map_err(|name| RobotError::UnknownParameter {
+            name,
+            field: field.to_string(),
+        })
+}
+
+fn eval_origin<T: RealField + Copy>(
+    o: &Origin,
+    params: &[(String, f64)],
+    field: &str,
+) -> Result<Se3<T>, RobotError> {
+    let mut p = [0.0; 3];
+    for (k, s) in o.xyz.iter().enumerate() {
+        p[k] = eval_scalar(s, params, &format!("{field}.xyz[{k}]"))?;
+    }
+    let r: Matrix3<f64> = match &o.rotation {
+        Rotation::Rpy([r, p, y]) => {
+            if ![r, p, y].iter().all(|x| x.is_finite()) {
+                return Err(RobotError::BadRotation {
+                    field: format!("{field}.rpy"),
+                });
+            }
+            se3::rotation_from_rpy(*r, *p, *y)
+        }
+        Rotation::Matrix(m) => {
+            let m = Matrix3::from_fn(|r, c| m[r][c]);
+            let ok = m.iter().all(|x| x.is_finite())
+                && (m.transpose() * m - Matrix3::identity()).amax() < 1e-6
+                && m.determinant() > 0.0;
+            if !ok {
+                return Err(RobotError::BadRotation {
+                    field: format!("{field}.rotation"),
+                });
+            }
+            m
+        }
+    };
+    Ok(Se3::new(
+        r.map(convert),
+        Vector3::new(convert(p[0]), convert(p[1]), convert(p[2])),
+    ))
+}
+
+fn unit(axis: &[f64; 3], field: String) -> Result<Vector3<f64>, RobotError> {
+    let a = Vector3::new(axis[0], axis[1], axis[2]);
+    if !a.iter().all(|x| x.is_finite()) || (a.norm() - 1.0).abs() > 1e-9 {
+        return Err(RobotError::BadAxis { field });
+    }
+    Ok(a)
+}
+
+impl<T: RealField + Copy> Robot<T> {
+    /// Builds the robot from a description: `[parameters]` at their nominal values, except those
+    /// in `overrides` (`(name, value)`; an unknown name is an error).
+    pub fn from_description(
+        description: &RobotDescription,
+        overrides: &[(String, f64)],
+    ) -> Result<Self, RobotError> {
+        let mut parameters: Vec<(String, f64)> = description
+            .parameters
+            .iter()
+            .map(|p| (p.name.clone(), p.value))
+            .collect();
+        for (name, value) in overrides {
+            match parameters.iter_mut().find(|(n, _)| n == name) {
+                Some(p) => p.1 = *value,
+                None => return Err(RobotError::UnknownOverride(name.clone())),
+            }
+        }
+        if let Some((n, _)) = parameters.iter().find(|(_, v)| !v.is_finite()) {
+            return Err(RobotError::BadParameterValue(n.clone()));
+        }
+        let mut joints = Vec::with_capacity(description.joints.len());
+        for (k, j) in description.joints.iter().enumerate() {
+            let field = format!("joints[{k}]");
+            let origin = eval_origin(&j.origin, &parameters, &field)?;
+            let xi: Twist<f64> = match &j.kind {
+                JointKind::Revolute { axis } => {
+                    let a = unit(axis, format!("{field}.axis"))?;
+                    se3::twist(&Vector3::zeros(), &a)
+                }
+                JointKind::Prismatic { axis } => {
+                    se3::prismatic_twist(&unit(axis, format!("{field}.axis"))?)
+                }
+                JointKind::Twist { v, w } => {
+                    let mut vv = [0.0; 3];
+                    for (c, s) in v.iter().enumerate() {
+                        vv[c] = eval_scalar(s, &parameters, &format!("{field}.v[{c}]"))?;
+                    }
+                    let v = Vector3::from(vv);
+                    let w = Vector3::new(w[0], w[1], w[2]);
+                    let ok = v.iter().chain(w.iter()).all(|x| x.is_finite())
+                        && if w.norm() > 0.0 {
+                            (w.norm() - 1.0).abs() < 1e-9
+                        } else {
+                            (v.norm() - 1.0).abs() < 1e-9
+                        };
+                    if !ok {
+                        return Err(RobotError::BadAxis {
+                            field: format!("{field}.w"),
+                        });
+                    }
+                    se3::twist(&v, &w)
+                }
+            };
+            joints.push(Joint::from_twist(origin, xi.map(convert)));
+        }
+        let tool = eval_origin(
+            &description.end_effector.origin,
+            &parameters,
+            "end_effector",
+        )?;
+        let n = joints.len();
+        let constraint = match &description.constraint {
+            None => None,
+            Some(c) => {
+                if c.link == 0 || c.link > n {
+                    return Err(RobotError::LinkOutOfRange {
+                        link: c.link,
+                        joints: n,
+                    });
+                }
+                let r = c.h.len();
+                if r == 0 || r > 5 {
+                    return Err(ConstraintError::BadRowCount(r).into());
+                }
+                if n < r + 6 {
+                    return Err(RobotError::TooFewJoints { n, r });
+                }
+                let g_ir = eval_origin(&c.origin, &parameters, "constraint")?;
+                let basis = match (c.wrist, r) {
+                    (None, _) => NullSpaceBasis::Computed,
+                    (Some(_), 1) => NullSpaceBasis::Unidirectional,
+                    (Some(_), _) => NullSpaceBasis::Bidirectional,
+                };
+                Some(AnyConstraint::new(c.link, g_ir, &c.h, basis)?)
+            }
+        };
+        Ok(Self {
+            description: description.clone(),
+            parameters,
+            joints,
+            tool,
+            constraint,
+        })
+    }
+
+    /// Changes one parameter's value and rebuilds the robot (e.g. `l_a` as the link slides
+    /// through the trocar). On error the robot is unchanged.
+    pub fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), RobotError> {
+        let mut overrides = self.parameters.clone();
+        match overrides.iter_mut().find(|(n, _)| n == name) {
+            Some(p) => p.1 = value,
+            None => return Err(RobotError::UnknownOverride(name.to_string())),
+        }
+        *self = Self::from_description(&self.description, &overrides)?;
+        Ok(())
+    }
+
+    /// The description the robot was built from.
+    pub fn description(&self) -> &RobotDescription {
+        &self.description
+    }
+
+    /// Parameter values in use, in declaration order.
+    pub fn parameters(&self) -> &[(String, f64)] {
+        &self.parameters
+    }
+
+    /// Number of joints `n`.
+    pub fn dof(&self) -> usize {
+        self.joints.len()
+    }
+
+    /// The joints (numeric), base first.
+    pub fn joints(&self) -> &[Joint<T>] {
+        &self.joints
+    }
+
+    /// The end-effector transform `g_ne`.
+    pub fn tool(&self) -> &Se3<T> {
+        &self.tool
+    }
+
+    /// The constrained link `i` (1-based), if there is a constraint.
+    pub fn constrained_link(&self) -> Option<usize> {
+        self.constraint.as_ref().map(|c| c.link())
+    }
+
+    /// The number of constraint rows `r`, if there is a constraint.
+    pub fn constraint_rows(&self) -> Option<usize> {
+        self.constraint.as_ref().map(|c| c.rows())
+    }
+
+    fn check_q(&self, q: &[T]) -> Result<(), RobotError> {
+        if q.len() != self.joints.len() {
+            return Err(RobotError::WrongJointCount {
+                expected: self.joints.len(),
+                got: q.len(),
+            });
+        }
+        Ok(())
+    }
+
+    fn constraint(&self) -> Result<&AnyConstraint<T>, RobotError> {
+        self.constraint.as_ref().ok_or(RobotError::NoConstraint)
+    }
+
+    /// Forward kinematics `g_0e(θ)`.
+    pub fn forward_kinematics(&self, q: &[T]) -> Result<Se3<T>, RobotError> {
+        self.check_q(q)?;
+        Ok(kinematics::forward_kinematics(&self.joints, q, &self.tool))
+    }
+
+    /// Forward kinematics as the homogeneous 4×4 matrix `[[R, p], [0, 1]]`.
+    pub fn forward_kinematics_matrix(&self, q: &[T]) -> Result<DMatrix<T>, RobotError> {
+        let g = self.forward_kinematics(q)?.to_homogeneous();
+        Ok(DMatrix::from_column_slice(4, 4, g.as_slice()))
+    }
+
+    /// The frame `g_0k` of link `k` (`0` is the base, `n` the last joint's frame).
+    pub fn link_frame(&self, k: usize, q: &[T]) -> Result<Se3<T>, RobotError> {
+        self.check_q(q)?;
+        if k > self.joints.len() {
+            return Err(RobotError::LinkOutOfRange {
+                link: k,
+                joints: self.joints.len(),
+            });
+        }
+        Ok(kinematics::forward_kinematics(
+            &self.joints[..k],
+            &q[..k],
+            &Se3::identity(),
+        ))
+    }
+
+    /// The body Jacobian `J^B_0e(θ)`, 6×n (2.54)–(2.55).
+    pub fn body_jacobian(&self, q: &[T]) -> Result<DMatrix<T>, RobotError> {
+        self.check_q(q)?;
+        let mut cols = vec![Twist::zeros(); self.joints.len()];
+        kinematics::body_jacobian_columns(&self.joints, q, &self.tool, &mut cols);
+        Ok(columns_to_dmatrix(&cols))
+    }
+
+    /// The spatial Jacobian `J^S_0e(θ)`, 6×n (2.53).
+    pub fn spatial_jacobian(&self, q: &[T]) -> Result<DMatrix<T>, RobotError> {
+        self.check_q(q)?;
+        let mut cols = vec![Twist::zeros(); self.joints.len()];
+        kinematics::spatial_jacobian_columns(&self.joints, q, &mut cols);
+        Ok(columns_to_dmatrix(&cols))
+    }
+
+    /// The partial body Jacobian `J^B_0k(θ_1..θ_k)`, 6×k (3.13), of the chain cut at `F_k`.
+    pub fn partial_body_jacobian_at(&self, k: usize, q: &[T]) -> Result<DMatrix<T>, RobotError> {
+        self.check_q(q)?;
+        if k > self.joints.len() {
+            return Err(RobotError::LinkOutOfRange {
+                link: k,
+                joints: self.joints.len(),
+            });
+        }
+        let mut cols = vec![Twist::zeros(); k];
+        kinematics::body_jacobian_columns(&self.joints[..k], &q[..k], &Se3::identity(), &mut cols);
+        Ok(columns_to_dmatrix(&cols))
+    }
+
+    /// `J^B_0i` (3.13) at the constrained link `i`, 6×i.
+    pub fn partial_body_jacobian(&self, q: &[T]) -> Result<DMatrix<T>, RobotError> {
+        let i = self.constraint()?.link();
+        self.partial_body_jacobian_at(i, q)
+    }
+
+    /// The split (3.12) at the constrained link: `(J^B_0e1, J^B_0e2)`, 6×i and 6×(n−i).
+    pub fn body_jacobian_split(&self, q: &[T]) -> Result<(DMatrix<T>, DMatrix<T>), RobotError> {
+        let i = self.constraint()?.link();
+        let j = self.body_jacobian(q)?;
+        Ok((
+            j.columns(0, i).into_owned(),
+            j.columns(i, self.joints.len() - i).into_owned(),
+        ))
+    }
+
+    /// `Λ = H Ad_{g_ri}`, r×6 (3.3).
+    pub fn lambda(&self) -> Result<DMatrix<T>, RobotError> {
+        Ok(self.constraint()?.lambda())
+    }
+
+    /// `Λ#`, 6×(6−r): the thesis basis (3.23)/(3.27) when the description names a wrist preset,
+    /// the computed basis otherwise (see [`NullSpaceBasis`]).
+    pub fn lambda_null_space(&self) -> Result<DMatrix<T>, RobotError> {
+        Ok(columns_to_dmatrix(
+            self.constraint()?.lambda_null_space_columns(),
+        ))
+    }
+
+    /// `Λ† = Λᵀ (Λ Λᵀ)⁻¹`, 6×r.
+    pub fn lambda_pinv(&self) -> Result<DMatrix<T>, RobotError> {
+        Ok(self.constraint()?.lambda_pinv())
+    }
+
+    /// The constrained Jacobian `J^r_0e = [Ad_{g_ei} Λ# | J^B_0e2]`, 6×m, `m = 6 − r + n − i` (3.15).
+    pub fn constrained_jacobian(&self, q: &[T]) -> Result<DMatrix<T>, RobotError> {
+        self.check_q(q)?;
+        let c = self.constraint()?;
+        let i = c.link();
+        let sharp = c.lambda_null_space_columns();
+        let mut cols = vec![Twist::zeros(); sharp.len() + self.joints.len() - i];
+        kinematics::constrained_jacobian_columns(
+            &self.joints[i..],
+            &q[i..],
+            &self.tool,
+            sharp,
+            &mut cols,
+        );
+        Ok(columns_to_dmatrix(&cols))
+    }
+
+    /// `J_c = Ad_{g_ei} Λ†`, 6×r (3.33).
+    pub fn moving_rcm_jacobian(&self, q: &[T]) -> Result<DMatrix<T>, RobotError> {
+        self.check_q(q)?;
+        let c = self.constraint()?;
+        let i = c.link();
+        let g_ie = kinematics::forward_kinematics(&self.joints[i..], &q[i..], &self.tool);
+        let jc = Adjoint(g_ie).inverse_matrix() * c.lambda_pinv();
+        Ok(DMatrix::from_column_slice(6, jc.ncols(), jc.as_slice()))
+    }
+
+    /// Manipulability of the constrained Jacobian, `w_r = sqrt(|det(J^r J^rᵀ)|)` (3.36).
+    pub fn manipulability(&self, q: &[T]) -> Result<T, RobotError> {
+        Ok(manipulability_dynamic(&self.constrained_jacobian(q)?))
+    }
+
+    /// (3.10)/(3.31): `θ̇_{1..i} = (J^B_0i)† (Λ# v0i + Λ† dv_0r)` (`dv_0r` empty or zero for a
+    /// fixed RCM), with the SVD pseudo-inverse.
+    pub fn joint_rates_before_constraint(
+        &self,
+        q: &[T],
+        v0i: &[T],
+        dv_0r: &[T],
+    ) -> Result<DVector<T>, RobotError> {
+        let c = self.constraint()?;
+        let sharp = c.lambda_null_space_columns();
+        if v0i.len() != sharp.len() {
+            return Err(RobotError::WrongSize {
+                what: "v0i",
+                expected: sharp.len(),
+                got: v0i.len(),
+            });
+        }
+        let mut v = Twist::zeros();
+        for (s, &x) in sharp.iter().zip(v0i) {
+            v += s * x;
+        }
+        if !dv_0r.is_empty() {
+            if dv_0r.len() != c.rows() {
+                return Err(RobotError::WrongSize {
+                    what: "dv_0r",
+                    expected: c.rows(),
+                    got: dv_0r.len(),
+                });
+            }
+            v += c.lambda_pinv() * DVector::from_column_slice(dv_0r);
+        }
+        let j = self.partial_body_jacobian(q)?;
+        let eps: T = convert(1e-12);
+        let pinv = j
+            .pseudo_inverse(eps)
+            .map_err(|_| RobotError::BadParameterValue("(pseudo-inverse)".into()))?;
+        Ok(pinv * DVector::from_column_slice(v.as_slice()))
+    }
+
+    /// The finite-difference body Jacobian (central differences through the SE(3) log), step `h`.
+    pub fn finite_difference_body_jacobian(&self, q: &[T], h: T) -> Result<DMatrix<T>, RobotError> {
+        self.check_q(q)?;
+        let mut qq = q.to_vec();
+        let mut cols = vec![Twist::zeros(); self.joints.len()];
+        trocar::finite_diff::body_jacobian_columns(&self.joints, &mut qq, &self.tool, h, &mut cols);
+        Ok(columns_to_dmatrix(&cols))
+    }
+
+    /// The typed chain for the allocation-free API. Errors if `N ≠ n`.
+    pub fn to_chain<const N: usize>(&self) -> Result<Chain<T, N>, RobotError> {
+        let joints: [Joint<T>; N] =
+            self.joints
+                .as_slice()
+                .try_into()
+                .map_err(|_| RobotError::WrongSize {
+                    what: "joints",
+                    expected: self.joints.len(),
+                    got: N,
+                })?;
+        Ok(Chain::new(joints, self.tool))
+    }
+
+    /// The typed constraint for the allocation-free API. Errors if there is none or `R ≠ r`.
+    pub fn to_constraint<const R: usize>(&self) -> Result<Constraint<T, R>, RobotError> {
+        let c = self.constraint()?;
+        let wrong = RobotError::WrongSize {
+            what: "constraint rows",
+            expected: c.rows(),
+            got: R,
+        };
+        let (link, g, basis, h) = dispatch!(c, c => (
+            c.link(),
+            *c.frame(),
+            c.basis(),
+            c.h().as_slice().to_vec()
+        ));
+        if c.rows() != R {
+            return Err(wrong);
+        }
+        let h = SMatrix::<T, R, 6>::from_column_slice(&h);
+        Ok(Constraint::with_basis(link, g, h, basis)?)
+    }
+}
+
+/// `sqrt(|det(J Jᵀ)|)` of a dynamic matrix (3.36).
+pub fn manipulability_dynamic<T: RealField + Copy>(j: &DMatrix<T>) -> T {
+    if j.is_square() {
+        // |det J| directly: squaring first would double the condition number.
+        let mut a = j.clone();
+        let n = a.nrows();
+        return trocar::manipulability::determinant_in_place(a.as_mut_slice(), n).abs();
+    }
+    let mut jjt = j * j.transpose();
+    let n = jjt.nrows();
+    trocar::manipulability::determinant_in_place(jjt.as_mut_slice(), n)
+        .abs()
+        .sqrt()
+}
+
+/// A 6×k dynamic matrix from twist columns.
+fn columns_to_dmatrix<T: RealField + Copy>(cols: &[Twist<T>]) -> DMatrix<T> {
+    DMatrix::from_fn(6, cols.len(), |r, c| cols[c][r])
+}

@@ -1,0 +1,567 @@
+//! Simulations of the source's §6 (Figures 4 and 5) and of the cooperating arms, as traces.
+
+use nalgebra::DVector;
+use std::f64::consts::PI;
+use std::path::Path;
+use trocar_model::closed_chain::cooperative::{two_arms, ContactModel};
+use trocar_model::closed_chain::description;
+use trocar_model::closed_chain::four_bar::FourBar;
+use trocar_model::closed_chain::mechanism::{Mechanism, Pose2};
+use trocar_model::closed_chain::redundancy::{resolve, Objective};
+use trocar_model::closed_chain::{linalg, stewart, ClosedChainError};
+
+/// Scenario names accepted by [`simulate`].
+pub fn scenario_names() -> &'static [&'static str] {
+    &[
+        "four-bar",
+        "four-bar-sine",
+        "stewart",
+        "cooperative",
+        "cooperative-gripped",
+    ]
+}
+
+/// Options of a simulation. Integration is fourth-order Runge–Kutta of the closed loop
+/// `θ̇_a = u(θ, t)`, `θ̇_p = −J_Cp⁻¹ (J_Ca u + k_c c(θ))` (7) (with a constraint-stabilising
+/// term `k_c c`, which is zero on the constraint manifold).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SimOptions {
+    /// Simulated time (s); `None` for the scenario's default (10 s, as in the source's figures).
+    pub duration: Option<f64>,
+    /// Integration step (s).
+    pub dt: f64,
+    /// Record one sample every `record_every` steps (the last step is always recorded).
+    pub record_every: usize,
+    /// Task gains `K` (one per output); `None` for the source's values.
+    pub gains: Option<Vec<f64>>,
+    /// Null-space objective of (46) (used only where the mechanism is redundant).
+    pub objective: Option<Objective>,
+    /// Gain `K_0` of `u_0 = K_0 ∂f/∂θ_a` (46).
+    pub null_gain: f64,
+    /// Contact model for the cooperative scenario (`cooperative-gripped` forces `Gripped`).
+    pub contact: ContactModel,
+    /// Constraint stabilisation gain `k_c` (1/s).
+    pub constraint_gain: f64,
+}
+
+impl Default for SimOptions {
+    fn default() -> Self {
+        SimOptions {
+            duration: None,
+            dt: 1e-3,
+            record_every: 10,
+            gains: None,
+            objective: None,
+            null_gain: 1.0,
+            contact: ContactModel::PointWithFriction,
+            constraint_gain: 10.0,
+        }
+    }
+}
+
+/// One plot panel: lines `(x column, y column, legend)`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Panel {
+    /// Title.
+    pub title: String,
+    /// x-axis label.
+    pub x_label: String,
+    /// y-axis label.
+    pub y_label: String,
+    /// Lines to draw.
+    pub lines: Vec<(String, String, String)>,
+}
+
+/// A time series: named columns, one row per recorded sample, and suggested plot panels.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Trace {
+    /// Scenario name.
+    pub name: String,
+    /// Column names (`t` first).
+    pub columns: Vec<String>,
+    /// Samples (each as long as `columns`).
+    pub rows: Vec<Vec<f64>>,
+    /// Panels drawn by [`Trace::plot_svg`].
+    pub panels: Vec<Panel>,
+}
+
+impl Trace {
+    /// A column by name.
+    pub fn column(&self, name: &str) -> Option<Vec<f64>> {
+        let i = self.columns.iter().position(|c| c == name)?;
+        Some(self.rows.iter().map(|r| r[i]).collect())
+    }
+
+    /// The last value of a column.
+    pub fn last(&self, name: &str) -> Option<f64> {
+        let i = self.columns.iter().position(|c| c == name)?;
+        self.rows.last().map(|r| r[i])
+    }
+
+    /// The trace as CSV text (header line, then one line per sample).
+    pub fn to_csv(&self) -> String {
+        let mut s = self.columns.join(",");
+        s.push('\n');
+        for r in &self.rows {
+            let line: Vec<String> = r.iter().map(|x| format!("{x:.12e}")).collect();
+            s.push_str(&line.join(","));
+            s.push('\n');
+        }
+        s
+    }
+
+    /// Writes the CSV to `path`.
+    pub fn write_csv(&self, path: impl AsRef<Path>) -> Result<(), ClosedChainError> {
+        let path = path.as_ref();
+        std::fs::write(path, self.to_csv()).map_err(|e| ClosedChainError::Io {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })
+    }
+
+    /// Draws the panels as an SVG file (one panel per row).
+    ///
+    /// Text uses the font embedded in [`crate::plot`], so figures render the same everywhere.
+    pub fn plot_svg(&self, path: impl AsRef<Path>) -> Result<(), ClosedChainError> {
+        self.plot_to(path.as_ref(), |p, size| {
+            plotters::prelude::SVGBackend::new(p, size)
+        })
+    }
+
+    /// Draws the panels as a PNG file (same layout and font as [`Trace::plot_svg`]).
+    pub fn plot_png(&self, path: impl AsRef<Path>) -> Result<(), ClosedChainError> {
+        self.plot_to(path.as_ref(), |p, size| {
+            plotters::prelude::BitMapBackend::new(p, size)
+        })
+    }
+
+    /// Draws the panels, one per row, on the backend `backend(path, size)` makes.
+    fn plot_to<'p, DB: plotters::prelude::DrawingBackend>(
+        &self,
+        path: &'p Path,
+        backend: impl FnOnce(&'p Path, (u32, u32)) -> DB,
+    ) -> Result<(), ClosedChainError> {
+        let size = (900, 300 * self.panels.len().max(1) as u32);
+        let io = |e: String| ClosedChainError::Io {
+            path: path.display().to_string(),
+            message: e,
+        };
+        ensure_font().map_err(io)?;
+        let root = plotters::prelude::IntoDrawingArea::into_drawing_area(backend(path, size));
+        self.draw(root).map_err(io)
+    }
+
+    fn draw<DB: plotters::prelude::DrawingBackend>(
+        &self,
+        root: plotters::drawing::DrawingArea<DB, plotters::coord::Shift>,
+    ) -> Result<(), String> {
+        use plotters::prelude::*;
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        let areas = root.split_evenly((self.panels.len().max(1), 1));
+        let palette = [BLUE, RED, GREEN, MAGENTA, CYAN, BLACK];
+        for (panel, area) in self.panels.iter().zip(areas.iter()) {
+            let mut series = Vec::new();
+            for (xc, yc, label) in &panel.lines {
+                let (Some(x), Some(y)) = (self.column(xc), self.column(yc)) else {
+                    return Err(format!("no column `{xc}` or `{yc}`"));
+                };
+                series.push((x, y, label.clone()));
+            }
+            let (mut x0, mut x1, mut y0, mut y1) =
+                (f64::INFINITY, -f64::INFINITY, f64::INFINITY, -f64::INFINITY);
+            for (x, y, _) in &series {
+                for (&a, &b) in x.iter().zip(y) {
+                    if a.is_finite() && b.is_finite() {
+                        x0 = x0.min(a);
+                        x1 = x1.max(a);
+                        y0 = y0.min(b);
+                        y1 = y1.max(b);
+                    }
+                }
+            }
+            if !(x0.is_finite() && y0.is_finite()) {
+                continue;
+            }
+            if x1 - x0 < 1e-12 {
+                x1 = x0 + 1.0;
+            }
+            let pad = ((y1 - y0) * 0.08).max(1e-9);
+            let (y0, y1) = (y0 - pad, y1 + pad);
+            let mut chart = ChartBuilder::on(area)
+                .caption(&panel.title, ("sans-serif", 18))
+                .margin(10)
+                .x_label_area_size(40)
+                .y_label_area_size(80)
+                .build_cartesian_2d(x0..x1, y0..y1)
+                .map_err(|e| e.to_string())?;
+            let scale = y0.abs().max(y1.abs());
+            let span = y1 - y0;
+            let y_fmt = move |v: &f64| {
+                if !(1e-2..1e4).contains(&scale) || span < 1e-3 {
+                    format!("{v:.2e}")
+                } else {
+                    format!("{v:.3}")
+                }
+            };
+            chart
+                .configure_mesh()
+                .x_desc(panel.x_label.as_str())
+                .y_desc(panel.y_label.as_str())
+                .y_label_formatter(&y_fmt)
+                .draw()
+                .map_err(|e| e.to_string())?;
+            for (k, (x, y, label)) in series.into_iter().enumerate() {
+                let color = palette[k % palette.len()];
+                chart
+                    .draw_series(LineSeries::new(
+                        x.into_iter()
+                            .zip(y)
+                            .filter(|(a, b)| a.is_finite() && b.is_finite()),
+                        color.stroke_width(2),
+                    ))
+                    .map_err(|e| e.to_string())?
+                    .label(label)
+                    .legend(move |(a, b)| PathElement::new(vec![(a, b), (a + 20, b)], color));
+            }
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .draw()
+                .map_err(|e| e.to_string())?;
+        }
+        root.present().map_err(|e| e.to_string())?;
+        Ok(())
+    }
+}
+
+/// Registers the embedded plot font for plotters' `sans-serif` family (see [`crate::plot`]).
+fn ensure_font() -> Result<(), String> {
+    crate::plot::register_font().map_err(|e| e.to_string())
+}
+
+/// A reference `t ↦ (x_d(t), ẋ_d(t))`.
+pub type Reference<'a> = dyn Fn(f64) -> (DVector<f64>, DVector<f64>) + 'a;
+
+/// Runs one of the source's simulations by name (see [`scenario_names`]):
+///
+/// - `four-bar`: orientation tracking of a pulse train (Figure 4a–b), `K = 50`;
+/// - `four-bar-sine`: orientation tracking of a sinusoid (Figure 4c–d);
+/// - `stewart`: planar Gough–Stewart pose tracking of a sinusoid (Figure 5), `K_x = diag(50, 50, 1)`;
+/// - `cooperative`: two arms with point contacts (redundant) tracking a sinusoidal object pose,
+///   with the null-space objective of `opts.objective`; `cooperative-gripped`: gripped contacts.
+///
+/// `progress` receives the completed fraction in `[0, 1]`.
+pub fn simulate(
+    name: &str,
+    opts: &SimOptions,
+    progress: Option<&mut dyn FnMut(f64)>,
+) -> Result<Trace, ClosedChainError> {
+    match name {
+        "four-bar" | "four-bar-pulse" | "four-bar-sine" => {
+            let mech = description::shipped("four-bar")?;
+            let fb = FourBar::from_mechanism(&mech)?;
+            let theta0 = fb.configuration(1.2)?;
+            let sine = name == "four-bar-sine";
+            let reference = move |t: f64| -> (DVector<f64>, DVector<f64>) {
+                if sine {
+                    let w = 2.0 * PI / 5.0;
+                    (
+                        DVector::from_element(1, 6.95 + 0.35 * (w * t).sin()),
+                        DVector::from_element(1, 0.35 * w * (w * t).cos()),
+                    )
+                } else {
+                    // Pulse train: period 6 s, 7.3 rad on [2, 5) s, 6.6 rad otherwise; its
+                    // derivative is zero between the edges (a step has no finite feed-forward).
+                    let level = if (2.0..5.0).contains(&t.rem_euclid(6.0)) {
+                        7.3
+                    } else {
+                        6.6
+                    };
+                    (DVector::from_element(1, level), DVector::zeros(1))
+                }
+            };
+            let gains = opts.gains.clone().unwrap_or_else(|| vec![50.0]);
+            let mut tr =
+                simulate_mechanism(&mech, &theta0, &reference, &gains, 10.0, opts, progress)?;
+            tr.name = name.to_string();
+            tr.panels = vec![
+                panel(
+                    "(a) orientation of the end effector",
+                    "phi (rad)",
+                    &[("phi_d", "φ_d"), ("phi", "φ")],
+                ),
+                panel("(b) orientation error", "e_phi (rad)", &[("e_phi", "e_φ")]),
+                panel("active joint velocity", "u (rad/s)", &[("u_theta1", "θ̇1")]),
+            ];
+            Ok(tr)
+        }
+        "stewart" | "planar-stewart" => {
+            let mech = description::shipped("planar-stewart")?;
+            let theta0 = stewart::inverse_kinematics(&mech, Pose2::new(13.0, 12.5, -0.5))?;
+            let w = 2.0 * PI / 10.0;
+            let reference = move |t: f64| -> (DVector<f64>, DVector<f64>) {
+                (
+                    DVector::from_vec(vec![
+                        14.0 + 3.0 * (w * t).sin(),
+                        14.0 + 2.5 * (2.0 * w * t).sin(),
+                        0.3 * (w * t).sin(),
+                    ]),
+                    DVector::from_vec(vec![
+                        3.0 * w * (w * t).cos(),
+                        5.0 * w * (2.0 * w * t).cos(),
+                        0.3 * w * (w * t).cos(),
+                    ]),
+                )
+            };
+            let gains = opts.gains.clone().unwrap_or_else(|| vec![50.0, 50.0, 1.0]);
+            let mut tr =
+                simulate_mechanism(&mech, &theta0, &reference, &gains, 10.0, opts, progress)?;
+            tr.name = "stewart".into();
+            tr.panels = vec![
+                Panel {
+                    title: "(a) platform position".into(),
+                    x_label: "X (m)".into(),
+                    y_label: "Y (m)".into(),
+                    lines: vec![
+                        ("x_d".into(), "y_d".into(), "p_d".into()),
+                        ("x".into(), "y".into(), "p".into()),
+                    ],
+                },
+                panel(
+                    "(b) position error",
+                    "e_p (m)",
+                    &[("e_x", "e_px"), ("e_y", "e_py")],
+                ),
+                panel("(c) orientation error", "e_phi (rad)", &[("e_phi", "e_φ")]),
+                panel("legs and J_Cp", "", &[("sigma_min_jcp", "σ_min(J_Cp)")]),
+            ];
+            Ok(tr)
+        }
+        "cooperative" | "cooperative-gripped" => {
+            let model = if name == "cooperative-gripped" {
+                ContactModel::Gripped
+            } else {
+                opts.contact.clone()
+            };
+            let mech = two_arms(&model)?;
+            let x0 = DVector::from_vec(vec![1.0, 1.2, 0.0]);
+            let guess = DVector::from_vec(mech.initial.clone().unwrap_or_default());
+            let theta0 = mech.assemble(&guess, Some(&x0))?;
+            let w = 2.0 * PI / 5.0;
+            let reference = move |t: f64| -> (DVector<f64>, DVector<f64>) {
+                (
+                    DVector::from_vec(vec![
+                        1.05 + 0.15 * (w * t).sin(),
+                        1.15 + 0.1 * (2.0 * w * t).sin(),
+                        0.05 + 0.15 * (w * t).sin(),
+                    ]),
+                    DVector::from_vec(vec![
+                        0.15 * w * (w * t).cos(),
+                        0.2 * w * (2.0 * w * t).cos(),
+                        0.15 * w * (w * t).cos(),
+                    ]),
+                )
+            };
+            let gains = opts.gains.clone().unwrap_or_else(|| vec![50.0, 50.0, 50.0]);
+            let mut tr =
+                simulate_mechanism(&mech, &theta0, &reference, &gains, 10.0, opts, progress)?;
+            tr.name = name.to_string();
+            tr.panels = vec![
+                panel(
+                    "object position",
+                    "(m)",
+                    &[("x_d", "x_d"), ("x", "x"), ("y_d", "y_d"), ("y", "y")],
+                ),
+                panel(
+                    "object pose error",
+                    "e",
+                    &[("e_x", "e_x"), ("e_y", "e_y"), ("e_phi", "e_φ")],
+                ),
+                panel("constraint residual", "|c(θ)|", &[("constraint", "‖c‖")]),
+            ];
+            if tr.columns.iter().any(|c| c == "objective") {
+                tr.panels.push(panel(
+                    "null-space objective (46)",
+                    "f",
+                    &[(
+                        "objective",
+                        opts.objective.as_ref().map_or("f", |o| o.name()),
+                    )],
+                ));
+            }
+            Ok(tr)
+        }
+        _ => Err(ClosedChainError::UnknownScenario {
+            name: name.into(),
+            known: scenario_names().to_vec(),
+        }),
+    }
+}
+
+fn panel(title: &str, y: &str, cols: &[(&str, &str)]) -> Panel {
+    Panel {
+        title: title.into(),
+        x_label: "t (s)".into(),
+        y_label: y.into(),
+        lines: cols
+            .iter()
+            .map(|(c, l)| ("t".to_string(), c.to_string(), l.to_string()))
+            .collect(),
+    }
+}
+
+/// The closed-loop joint velocities at `(t, θ)`: (45) with the admissibility rows, then (7).
+fn closed_loop(
+    mech: &Mechanism,
+    theta: &DVector<f64>,
+    t: f64,
+    reference: &Reference<'_>,
+    gains: &[f64],
+    opts: &SimOptions,
+) -> Result<(DVector<f64>, DVector<f64>), ClosedChainError> {
+    let red = mech.reduced(theta)?;
+    let x = mech.task(theta);
+    let (xd, xd_dot) = reference(t);
+    let e = &xd - &x;
+    let v = DVector::from_iterator(e.len(), (0..e.len()).map(|i| xd_dot[i] + gains[i] * e[i]));
+    let c = mech.structural(theta);
+    let rows = &red.active_constraint;
+    let rhs = -opts.constraint_gain * (red.complement.transpose() * &c);
+    let redundant = rows.nrows() + red.jacobian.nrows() < red.jacobian.ncols();
+    let u0 = match (&opts.objective, redundant) {
+        (Some(obj), true) => Some(opts.null_gain * obj.gradient(mech, theta)?),
+        _ => None,
+    };
+    let u = resolve(&red.jacobian, &v, rows, &rhs, u0.as_ref())?;
+    let pdot = &red.passive_map * &u - opts.constraint_gain * (&red.j_cp_inverse * &c);
+    Ok((mech.join(&u, &pdot), u))
+}
+
+/// Simulates the kinematic control `u = J†(ẋ_d + K e) + (I − J†J) u_0` (45) of any mechanism
+/// from `theta0` (a consistent configuration) along `reference`, for `opts.duration` (or
+/// `default_duration`) seconds. Columns: `t`, then for each output `o`: `o_d`, `o`, `e_o`; then
+/// `u_<active joint>`, `constraint` (‖c(θ)‖), `sigma_min_jcp`, `objective` (when set and the
+/// mechanism is redundant), and every joint.
+#[allow(clippy::too_many_arguments)]
+pub fn simulate_mechanism(
+    mech: &Mechanism,
+    theta0: &DVector<f64>,
+    reference: &Reference<'_>,
+    gains: &[f64],
+    default_duration: f64,
+    opts: &SimOptions,
+    mut progress: Option<&mut dyn FnMut(f64)>,
+) -> Result<Trace, ClosedChainError> {
+    mech.check_theta(theta0)?;
+    let duration = opts.duration.unwrap_or(default_duration);
+    if !(duration.is_finite() && duration > 0.0) {
+        return Err(ClosedChainError::Option {
+            field: "duration".into(),
+            message: "must be positive".into(),
+        });
+    }
+    if !(opts.dt.is_finite() && opts.dt > 0.0 && opts.dt <= duration) {
+        return Err(ClosedChainError::Option {
+            field: "dt".into(),
+            message: "must be positive and at most the duration".into(),
+        });
+    }
+    if gains.len() != mech.outputs.len() || gains.iter().any(|g| !(g.is_finite() && *g > 0.0)) {
+        return Err(ClosedChainError::Option {
+            field: "gains".into(),
+            message: format!("need {} positive gains", mech.outputs.len()),
+        });
+    }
+    if !(opts.null_gain.is_finite()
+        && opts.constraint_gain.is_finite()
+        && opts.constraint_gain >= 0.0)
+    {
+        return Err(ClosedChainError::Option {
+            field: "null_gain/constraint_gain".into(),
+            message: "must be finite (constraint gain ≥ 0)".into(),
+        });
+    }
+    let every = opts.record_every.max(1);
+    let steps = (duration / opts.dt).round().max(1.0) as usize;
+    let dt = duration / steps as f64;
+    let names = mech.joint_names();
+    let redundant = {
+        let red = mech.reduced(theta0)?;
+        red.active_constraint.nrows() + red.jacobian.nrows() < red.jacobian.ncols()
+    };
+    let with_objective = opts.objective.is_some() && redundant;
+    let mut columns = vec!["t".to_string()];
+    for o in &mech.outputs {
+        columns.push(format!("{}_d", o.name()));
+        columns.push(o.name().to_string());
+        columns.push(format!("e_{}", o.name()));
+    }
+    for &i in mech.active_indices() {
+        columns.push(format!("u_{}", names[i]));
+    }
+    columns.push("constraint".into());
+    let has_passive = !mech.passive_indices().is_empty();
+    if has_passive {
+        columns.push("sigma_min_jcp".into());
+    }
+    if with_objective {
+        columns.push("objective".into());
+    }
+    for n in &names {
+        columns.push(n.to_string());
+    }
+    let mut rows = Vec::new();
+    let mut theta = theta0.clone();
+    for k in 0..=steps {
+        let t = k as f64 * dt;
+        if k % every == 0 || k == steps {
+            let (_, u) = closed_loop(mech, &theta, t, reference, gains, opts)?;
+            let x = mech.task(&theta);
+            let (xd, _) = reference(t);
+            let mut row = vec![t];
+            for i in 0..x.len() {
+                row.push(xd[i]);
+                row.push(x[i]);
+                row.push(xd[i] - x[i]);
+            }
+            row.extend(u.iter());
+            row.push(mech.structural(&theta).norm());
+            if has_passive {
+                row.push(linalg::sigma_min(&mech.differential(&theta)?.j_cp));
+            }
+            if with_objective {
+                if let Some(obj) = &opts.objective {
+                    row.push(obj.value(mech, &theta)?);
+                }
+            }
+            row.extend(theta.iter());
+            if row.iter().any(|x| !x.is_finite()) {
+                return Err(ClosedChainError::NonFinite {
+                    what: format!("simulation state at t = {t}"),
+                });
+            }
+            rows.push(row);
+            if let Some(p) = progress.as_deref_mut() {
+                p(k as f64 / steps as f64);
+            }
+        }
+        if k == steps {
+            break;
+        }
+        let f = |th: &DVector<f64>, tt: f64| -> Result<DVector<f64>, ClosedChainError> {
+            Ok(closed_loop(mech, th, tt, reference, gains, opts)?.0)
+        };
+        let k1 = f(&theta, t)?;
+        let k2 = f(&(&theta + 0.5 * dt * &k1), t + 0.5 * dt)?;
+        let k3 = f(&(&theta + 0.5 * dt * &k2), t + 0.5 * dt)?;
+        let k4 = f(&(&theta + dt * &k3), t + dt)?;
+        theta += (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+    }
+    Ok(Trace {
+        name: mech.name.clone(),
+        columns,
+        rows,
+        panels: Vec::new(),
+    })
+}

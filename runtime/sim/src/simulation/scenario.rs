@@ -1,0 +1,405 @@
+//! The scenarios of SPEC §3.2 / thesis §4.1–4.2.1 and their configuration.
+
+use core::f64::consts::PI;
+use nalgebra::{Matrix3, Rotation3, Vector3};
+use trocar::control::{
+    ControlError, ControllerConfig, Damping, Method as ControlMethod, Reference,
+};
+use trocar::se3::Se3;
+
+/// A simulation scenario.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scenario {
+    /// Simulation 1: unidirectional constraint (`H = x_r` on the zy arm), trajectory (4.1).
+    S1,
+    /// Simulation 2: bidirectional, zy wrist, trajectory (4.2).
+    S2,
+    /// Simulation 3: bidirectional zy, through singularities, (4.3)–(4.4).
+    S3,
+    /// Simulation 4: moving RCM, trajectory (4.5) = (4.2) and the RCM velocity of (4.6) with the
+    /// amplitude [`ScenarioConfig::s4_rcm_amplitude`] ([`S4_RCM_AMPLITUDE`], −1 mm/s, on this
+    /// arm; (4.6) as printed has +5 mm/s and is not feasible here).
+    S4,
+    /// Experiment 4.2.1 in kinematic simulation: pinv vs DLS vs FI near the `J^r` singularity.
+    Exp421,
+}
+
+/// How `J^r_0e` (and `J^B_0i`) are inverted.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// Pseudo-inverses of `J^r_0e` and `J^B_0i`.
+    Pinv,
+    /// Damped least squares with variable damping (3.44) on `J^r_0e` and `J^B_0i`.
+    Dls,
+    /// Filtered inverse of `J^r_0e` (3.47)–(3.50); damped least squares (3.44) on `J^B_0i`.
+    Fi,
+}
+
+impl Method {
+    /// `"pinv"`, `"dls"` or `"fi"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Pinv => "pinv",
+            Method::Dls => "dls",
+            Method::Fi => "fi",
+        }
+    }
+
+    /// Parses `"pinv"`, `"dls"` or `"fi"`.
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "pinv" => Some(Method::Pinv),
+            "dls" => Some(Method::Dls),
+            "fi" => Some(Method::Fi),
+            _ => None,
+        }
+    }
+}
+
+/// Why a simulation failed.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SimulationError {
+    /// Unknown scenario name.
+    UnknownScenario(String),
+    /// The robot description could not be used.
+    Description(String),
+    /// The controller failed at time `t`.
+    Control {
+        /// Time (s).
+        t: f64,
+        /// The failure.
+        error: ControlError,
+    },
+}
+
+impl core::fmt::Display for SimulationError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            SimulationError::UnknownScenario(s) => write!(
+                f,
+                "unknown scenario `{s}` (expected one of: 1, 2, 3, 4, exp421)"
+            ),
+            SimulationError::Description(s) => write!(f, "robot description: {s}"),
+            SimulationError::Control { t, error } => write!(f, "at t = {t:.3} s: {error}"),
+        }
+    }
+}
+
+impl std::error::Error for SimulationError {}
+
+/// Amplitude `A` of the simulations (m).
+pub const A: f64 = 0.03;
+/// Frequency `ω` of the simulations (rad/s).
+pub const OMEGA: f64 = 2.0 * PI / 200.0;
+/// Half-range of the experiment's rotation about the joint-7 axis at `q0` (rad), `7π/72`: the
+/// rotation `(7π/72)(cos ωk − 1) ∈ [−0.61, 0]` replaces the thesis's `(π/18)(cos ωk − 1)` about
+/// the end-effector x axis, which leaves this arm's `q7 ≥ 0.5`. With it `q7` sweeps
+/// `[0.06, 0.8]` and `J^B_0i` passes near a singularity (see CONTROL.md).
+pub const EXP421_AMPLITUDE: f64 = 7.0 * PI / 72.0;
+/// Frequency of experiment 4.2.1 per iteration (`2π/7000` rad per 2 ms step).
+pub const OMEGA_K_421: f64 = 2.0 * PI / 7000.0;
+/// Amplitude `a` (m/s) of the thesis's RCM velocity (4.6), `dv_0r = a (sin 3ωt, −sin 3ωt)`:
+/// 5 mm/s, which moves the trocar by up to `2a/(3ω)` = 10.6 cm along `x_r` and `z_r`.
+pub const S4_RCM_AMPLITUDE_THESIS: f64 = 0.005;
+/// Amplitude `a` (m/s) of scenario 4's RCM velocity on the reference arm: −1 mm/s, i.e. (4.6)
+/// scaled by −1/5 (trocar excursion up to 2.1 cm along `x_r` and `z_r`).
+///
+/// With (4.6) as printed ([`S4_RCM_AMPLITUDE_THESIS`]) the joint trajectory is unique while both
+/// Jacobians are regular, and it reaches `q7 = 0` (`J^r_0e` singular) at t ≈ 24.6 s: on this arm,
+/// from `q0` (`q7 = 0.5`), motion of the trocar along `+x_r` turns link 6 onto the tool axis.
+/// There `z_r`, which rotates with the link about the tool axis, turns at
+/// `|dv_z| / (l_b |sin q7|)` rad/s, so following the command exactly needs unbounded `q6`, `q8`
+/// rates; afterwards the elbow stretches (`q3 → 0`, `J^B_0i` singular) and the link leaves the
+/// trocar. With the sign reversed the trocar first moves the link away from the tool axis, and at
+/// 1 mm/s the run stays regular (`|q7| ≥ 0.39`, `w_r ≥ 0.033`, `w_i ≥ 0.038`); at 1.5 mm/s the
+/// elbow stretches out (`q3 → 0`) at t ≈ 162 s. See `runtime/sim/CONTROL.md`.
+pub const S4_RCM_AMPLITUDE: f64 = -0.001;
+
+impl Scenario {
+    /// All scenarios, in order.
+    pub const ALL: [Scenario; 5] = [
+        Scenario::S1,
+        Scenario::S2,
+        Scenario::S3,
+        Scenario::S4,
+        Scenario::Exp421,
+    ];
+
+    /// Parses `"1"`, `"2"`, `"3"`, `"4"` or `"exp421"`.
+    pub fn from_name(name: &str) -> Result<Self, SimulationError> {
+        match name {
+            "1" => Ok(Scenario::S1),
+            "2" => Ok(Scenario::S2),
+            "3" => Ok(Scenario::S3),
+            "4" => Ok(Scenario::S4),
+            "exp421" => Ok(Scenario::Exp421),
+            other => Err(SimulationError::UnknownScenario(other.to_string())),
+        }
+    }
+
+    /// The name [`Scenario::from_name`] accepts.
+    pub fn name(self) -> &'static str {
+        match self {
+            Scenario::S1 => "1",
+            Scenario::S2 => "2",
+            Scenario::S3 => "3",
+            Scenario::S4 => "4",
+            Scenario::Exp421 => "exp421",
+        }
+    }
+
+    /// A one-line description (used as plot title).
+    pub fn title(self) -> &'static str {
+        match self {
+            Scenario::S1 => "Simulation 1: unidirectional constraint (x_r), trajectory (4.1)",
+            Scenario::S2 => "Simulation 2: bidirectional constraint, zy wrist, trajectory (4.2)",
+            Scenario::S3 => "Simulation 3: bidirectional zy through singularities (4.3)-(4.4)",
+            Scenario::S4 => "Simulation 4: moving RCM (4.5)-(4.6)",
+            Scenario::Exp421 => "Experiment 4.2.1 (kinematic simulation): pinv vs DLS vs FI",
+        }
+    }
+
+    /// The shipped robot description used.
+    pub fn robot(self) -> &'static str {
+        "dia10_like_zy"
+    }
+
+    /// `1` (`H = x_r`) for scenario 1, `2` (`H = (x_r, z_r)`) otherwise.
+    pub fn constrained_directions(self) -> usize {
+        if self == Scenario::S1 {
+            1
+        } else {
+            2
+        }
+    }
+
+    /// The thesis's method for the scenario: DLS for simulation 3, the filtered inverse for the
+    /// experiment, the pseudo-inverse otherwise.
+    pub fn default_method(self) -> Method {
+        match self {
+            Scenario::S3 => Method::Dls,
+            Scenario::Exp421 => Method::Fi,
+            _ => Method::Pinv,
+        }
+    }
+
+    /// Duration (s): one period `2π/ω = 200 s` for the simulations, 5000 steps of 2 ms for the
+    /// experiment.
+    pub fn duration(self) -> f64 {
+        match self {
+            Scenario::Exp421 => 10.0,
+            _ => 200.0,
+        }
+    }
+
+    /// The desired pose and velocity at time `t`, from the initial end-effector pose `g0` and
+    /// the axis of joint 7 at `q0` (`axis7`, base coordinates).
+    /// Offsets of (4.1)–(4.5) are in base coordinates. The rotation (4.4),
+    /// `φ = −(π/8) sin ωt`, is applied about `axis7` (about base x, as printed, this arm's `q7`
+    /// stays in `[0.48, 0.91]`, far from the `J^r` singularity `q7 = 0` the scenario is meant to
+    /// cross). Experiment 4.2.1 moves along the initial end-effector x axis and rotates about
+    /// `axis7` (see [`EXP421_AMPLITUDE`]).
+    pub fn reference(self, t: f64, dt: f64, g0: &Se3<f64>, axis7: &Vector3<f64>) -> Reference<f64> {
+        let axis7 = *axis7;
+        let w = OMEGA;
+        let (s, c) = (f64::sin, f64::cos);
+        let (offset, velocity, rotation, angular_velocity) = match self {
+            Scenario::S1 => (
+                Vector3::new(
+                    0.5 * A * s(w * t),
+                    2.2 * A * c(2.0 * w * t) - 2.2 * A,
+                    A * s(2.0 * w * t),
+                ),
+                Vector3::new(
+                    0.5 * A * w * c(w * t),
+                    -4.4 * A * w * s(2.0 * w * t),
+                    2.0 * A * w * c(2.0 * w * t),
+                ),
+                g0.rotation,
+                Vector3::zeros(),
+            ),
+            Scenario::S2 | Scenario::S4 => (
+                Vector3::new(
+                    0.5 * A * s(w * t),
+                    -2.0 * A * s(3.0 * w * t - PI / 2.0) - 2.0 * A,
+                    0.5 * A * s(2.0 * w * t),
+                ),
+                Vector3::new(
+                    0.5 * A * w * c(w * t),
+                    -6.0 * A * w * c(3.0 * w * t - PI / 2.0),
+                    A * w * c(2.0 * w * t),
+                ),
+                g0.rotation,
+                Vector3::zeros(),
+            ),
+            Scenario::S3 => {
+                let amp = PI / 8.0;
+                let phi = -amp * s(w * t);
+                let phid = -amp * w * c(w * t);
+                (
+                    Vector3::new(0.0, 0.9 * A * s(w * t - PI / 2.0) + 0.9 * A, 0.0),
+                    Vector3::new(0.0, 0.9 * A * w * c(w * t - PI / 2.0), 0.0),
+                    axis_angle(axis7, phi) * g0.rotation,
+                    axis7 * phid,
+                )
+            }
+            Scenario::Exp421 => {
+                let amp = EXP421_AMPLITUDE;
+                let wt = OMEGA_K_421 / dt;
+                let x0 = g0.rotation.column(0).into_owned();
+                let ro = amp * (c(wt * t) - 1.0);
+                let rod = -amp * wt * s(wt * t);
+                (
+                    x0 * 0.03 * s(wt * t),
+                    x0 * 0.03 * wt * c(wt * t),
+                    axis_angle(axis7, ro) * g0.rotation,
+                    axis7 * rod,
+                )
+            }
+        };
+        Reference {
+            position: g0.translation + offset,
+            rotation,
+            velocity,
+            angular_velocity,
+        }
+    }
+
+    /// How the scenario departs from the thesis on the reference arm (one line, for the
+    /// command-line output), if it does; `runtime/sim/CONTROL.md` gives the reasons and numbers.
+    pub fn deviation(self) -> Option<&'static str> {
+        match self {
+            Scenario::S3 => Some(
+                "the rotation (4.4) is applied about the joint-7 axis at q0 \
+                 (about base x this arm's q7 stays in [0.48, 0.91])",
+            ),
+            Scenario::S4 => Some(
+                "dv_0r = -1 (sin 3wt, -sin 3wt) mm/s, (4.6) scaled by -1/5: as printed \
+                 (+5 mm/s) the trocar turns link 6 onto the tool axis (q7 = 0 at t = 24.6 s, \
+                 unbounded roll rates), then out of the arm's reach",
+            ),
+            Scenario::Exp421 => Some(
+                "rotation (7pi/72)(cos wk - 1) about the joint-7 axis at q0 \
+                 (the thesis's (pi/18)(cos wk - 1) about x_e leaves q7 >= 0.5)",
+            ),
+            Scenario::S1 | Scenario::S2 => None,
+        }
+    }
+}
+
+fn axis_angle(axis: Vector3<f64>, a: f64) -> Matrix3<f64> {
+    Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(axis), a).into_inner()
+}
+
+/// What to simulate and how.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScenarioConfig {
+    /// The scenario.
+    pub scenario: Scenario,
+    /// Inverse of the Jacobians.
+    pub method: Method,
+    /// Close the RCM loop: `dv_0r = dv_cmd + K_r e_r` (beyond the thesis).
+    pub drift_correction: bool,
+    /// Gain `K_r` (1/s) of the drift correction when on.
+    pub kr: f64,
+    /// Sample time (s).
+    pub dt: f64,
+    /// Duration (s).
+    pub duration: f64,
+    /// Position gain `K_p`.
+    pub kp: f64,
+    /// Orientation gain `K_o`.
+    pub ko: f64,
+    /// DLS: largest damping `α0` (the thesis's `κ`).
+    pub dls_alpha0: f64,
+    /// DLS: manipulability threshold `w0` of `J^r_0e`.
+    pub dls_w0_r: f64,
+    /// DLS: manipulability threshold `w0` of `J^B_0i`.
+    pub dls_w0_i: f64,
+    /// Filtered inverse gains `Γ_r = Γ_l`.
+    pub fi_gamma: f64,
+    /// Amplitude `a` (m/s) of scenario 4's RCM velocity `dv_0r = a (sin 3ωt, −sin 3ωt)`:
+    /// [`S4_RCM_AMPLITUDE`] by default, [`S4_RCM_AMPLITUDE_THESIS`] for (4.6) as printed.
+    /// Unused by the other scenarios.
+    pub s4_rcm_amplitude: f64,
+}
+
+impl ScenarioConfig {
+    /// The thesis's settings for a scenario: gains of Table 4.2 (`K_p = 5`, `K_o = 10`,
+    /// `κ = 0.05`) or Table 4.3 for the experiment (`K_p = 270`, `K_o = 1500`, `κ = 0.01`,
+    /// `Γ_r = Γ_l = 5`), 2 ms, its default method, drift correction off (`K_r = 20 /s` when on).
+    pub fn new(scenario: Scenario) -> Self {
+        let exp = scenario == Scenario::Exp421;
+        ScenarioConfig {
+            scenario,
+            method: scenario.default_method(),
+            drift_correction: false,
+            kr: 20.0,
+            dt: 0.002,
+            duration: scenario.duration(),
+            kp: if exp { 270.0 } else { 5.0 },
+            ko: if exp { 1500.0 } else { 10.0 },
+            dls_alpha0: if exp { 0.01 } else { 0.05 },
+            dls_w0_r: 0.1,
+            dls_w0_i: 0.01,
+            fi_gamma: 5.0,
+            s4_rcm_amplitude: S4_RCM_AMPLITUDE,
+        }
+    }
+
+    /// The same with another method.
+    pub fn with_method(mut self, method: Method) -> Self {
+        self.method = method;
+        self
+    }
+
+    /// The commanded RCM velocity `dv_0r` on `(x_r, z_r)` (m/s) at time `t`:
+    /// `a (sin 3ωt, −sin 3ωt)` with `a` = [`ScenarioConfig::s4_rcm_amplitude`] for scenario 4
+    /// ((4.6) has `a` = 5 mm/s), `sin(8 ω k)` cm/s on `x_r` for the experiment, zero otherwise.
+    pub fn rcm_velocity(&self, t: f64) -> [f64; 2] {
+        match self.scenario {
+            Scenario::S4 => {
+                let v = self.s4_rcm_amplitude * (3.0 * OMEGA * t).sin();
+                [v, -v]
+            }
+            Scenario::Exp421 => [0.01 * (8.0 * OMEGA_K_421 / self.dt * t).sin(), 0.0],
+            _ => [0.0, 0.0],
+        }
+    }
+
+    /// The same with the drift correction on or off.
+    pub fn with_drift_correction(mut self, on: bool) -> Self {
+        self.drift_correction = on;
+        self
+    }
+
+    /// The controller's configuration.
+    pub fn controller_config(&self) -> ControllerConfig<f64> {
+        let dls_r = Damping::Variable {
+            alpha0: self.dls_alpha0,
+            w0: self.dls_w0_r,
+        };
+        let dls_i = Damping::Variable {
+            alpha0: self.dls_alpha0,
+            w0: self.dls_w0_i,
+        };
+        let (method, jb0i_damping) = match self.method {
+            Method::Pinv => (ControlMethod::Pinv, None),
+            Method::Dls => (ControlMethod::Dls(dls_r), Some(dls_i)),
+            Method::Fi => (
+                ControlMethod::Fi {
+                    gamma_r: self.fi_gamma,
+                    gamma_l: self.fi_gamma,
+                },
+                Some(dls_i),
+            ),
+        };
+        ControllerConfig {
+            kp: self.kp,
+            ko: self.ko,
+            method,
+            jb0i_damping,
+            kr: if self.drift_correction { self.kr } else { 0.0 },
+        }
+    }
+}

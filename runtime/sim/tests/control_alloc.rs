@@ -1,0 +1,129 @@
+//! The control step allocates nothing: a counting global allocator (this test binary only).
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use trocar::constraint::Constraint;
+use trocar::control::{
+    ChainKinematics, ConstrainedKinematics, Controller, ControllerConfig, Damping, Method, Rcm,
+    Reference,
+};
+use trocar::nalgebra::{SVector, Vector2, Vector3};
+use trocar_model::description::RobotDescription;
+use trocar_model::robot::Robot;
+use trocar_sim::simulation::{Arm, Q0};
+
+struct Counting;
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+thread_local! {
+    /// Only allocations of the thread running the steps are counted (the test harness's own
+    /// threads may allocate concurrently).
+    static ARMED: Cell<bool> = const { Cell::new(false) };
+}
+
+fn count() {
+    if ARMED.try_with(Cell::get).unwrap_or(false) {
+        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+    }
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        count();
+        System.alloc(layout)
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        System.dealloc(ptr, layout)
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        count();
+        System.realloc(ptr, layout, new_size)
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+#[test]
+fn control_step_allocates_nothing() {
+    let d = RobotDescription::preset("dia10_like_zy").unwrap();
+    let arm = Arm::<8, 6, 2>::from_description(&d).unwrap();
+    let numeric = ChainKinematics {
+        chain: Robot::<f64>::from_description(&d, &[])
+            .unwrap()
+            .to_chain::<8>()
+            .unwrap(),
+        constraint: Constraint::<f64, 2>::thesis(6, 0.15).unwrap(),
+    };
+    // The counter sees an allocation on this thread.
+    ARMED.with(|a| a.set(true));
+    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    let v = std::hint::black_box(vec![1u8; 16]);
+    let seen = ALLOCATIONS.load(Ordering::SeqCst) - before;
+    ARMED.with(|a| a.set(false));
+    drop(v);
+    assert_eq!(seen, 1);
+    // Each call counts the allocations of its own 9000 steps (after its setup).
+    assert_eq!(run(&numeric, &arm), 9000);
+    assert_eq!(run(&arm, &arm), 9000);
+}
+
+/// 3000 steps with each inverse; asserts no allocation and returns the number of steps.
+fn run(kin: &impl ConstrainedKinematics<f64, 8, 6, 2, 4, 6>, arm: &Arm<8, 6, 2>) -> usize {
+    let q0 = SVector::<f64, 8>::from(Q0);
+    let (frames, g0) = arm.frames(&q0);
+    let trocar = frames[5].translation + frames[5].rotation.column(1) * 0.15;
+    let methods = [
+        Method::Pinv,
+        Method::Dls(Damping::Variable {
+            alpha0: 0.05,
+            w0: 0.1,
+        }),
+        Method::Fi {
+            gamma_r: 5.0,
+            gamma_l: 5.0,
+        },
+    ];
+    let mut steps = 0;
+    ARMED.with(|a| a.set(true));
+    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    for method in methods {
+        let mut ctrl = Controller::<f64, 8, 6, 2, 4, 6>::new(ControllerConfig {
+            kp: 5.0,
+            ko: 10.0,
+            method,
+            jb0i_damping: Some(Damping::Variable {
+                alpha0: 0.05,
+                w0: 0.01,
+            }),
+            kr: 20.0,
+        });
+        let mut q = q0;
+        for k in 0..3000 {
+            let t = k as f64 * 0.002;
+            let reference = Reference {
+                position: g0.translation + Vector3::new(0.01 * t.sin(), 0.0, 0.0),
+                rotation: g0.rotation,
+                velocity: Vector3::new(0.01 * t.cos(), 0.0, 0.0),
+                angular_velocity: Vector3::zeros(),
+            };
+            let rcm = Rcm {
+                trocar,
+                dv: Vector2::new(0.001, 0.0),
+            };
+            let out = ctrl.step(kin, &q, &reference, &rcm, 0.002).unwrap();
+            q += out.qd * 0.002;
+            steps += 1;
+        }
+    }
+    let after = ALLOCATIONS.load(Ordering::SeqCst);
+    ARMED.with(|a| a.set(false));
+    assert_eq!(
+        after - before,
+        0,
+        "{} allocations in {steps} steps",
+        after - before
+    );
+    steps
+}

@@ -1,0 +1,235 @@
+//! Both kinematics paths behind `ConstrainedKinematics` agree: the numeric runtime
+//! (`ChainKinematics`: kinematics + constraint) and the simulations' description-built `Arm`.
+
+use rand::{rngs::StdRng, Rng, SeedableRng};
+use trocar::constraint::Constraint;
+use trocar::control::{
+    ChainKinematics, ConstrainedKinematics, ConstrainedState, Controller, ControllerConfig,
+    Damping, Method, Rcm, Reference,
+};
+use trocar::nalgebra::{SVector, Vector3};
+use trocar_model::description::RobotDescription;
+use trocar_model::robot::Robot;
+use trocar_sim::simulation::Arm;
+
+fn close<const I: usize, const R: usize, const K: usize, const M: usize>(
+    a: &ConstrainedState<f64, I, R, K, M>,
+    b: &ConstrainedState<f64, I, R, K, M>,
+) {
+    let tol = 1e-11;
+    assert!((a.g_0e.rotation - b.g_0e.rotation).norm() < tol);
+    assert!((a.g_0e.translation - b.g_0e.translation).norm() < tol);
+    assert!((a.g_0i.translation - b.g_0i.translation).norm() < tol);
+    assert!((a.jr - b.jr).norm() < tol, "{}", a.jr - b.jr);
+    assert!((a.jb0i - b.jb0i).norm() < tol);
+    assert!((a.jc - b.jc).norm() < tol);
+    assert!((a.lambda_sharp - b.lambda_sharp).norm() < tol);
+    assert!((a.lambda_pinv - b.lambda_pinv).norm() < tol);
+}
+
+fn check<const R: usize, const K: usize, const M: usize>(name: &str)
+where
+    Arm<8, 6, R>: ConstrainedKinematics<f64, 8, 6, R, K, M>,
+{
+    let d = RobotDescription::preset(name).unwrap();
+    let arm = Arm::<8, 6, R>::from_description(&d).unwrap();
+    let chain = Robot::<f64>::from_description(&d, &[])
+        .unwrap()
+        .to_chain::<8>()
+        .unwrap();
+    let kin = ChainKinematics {
+        chain,
+        constraint: Constraint::<f64, R>::thesis(6, 0.15).unwrap(),
+    };
+    let mut rng = StdRng::seed_from_u64(5);
+    for _ in 0..50 {
+        let q = SVector::<f64, 8>::from_fn(|_, _| rng.gen_range(-1.5..1.5));
+        let l_a = rng.gen_range(0.05..0.3);
+        let a: ConstrainedState<f64, 6, R, K, M> = arm.evaluate(&q, l_a).unwrap();
+        let b: ConstrainedState<f64, 6, R, K, M> = kin.evaluate(&q, l_a).unwrap();
+        close(&a, &b);
+        // The same controller step through both paths.
+        let g = a.g_0e;
+        let trocar = a.g_0i.translation + a.g_0i.rotation.column(1) * l_a;
+        let reference = Reference {
+            position: g.translation + Vector3::new(0.01, -0.02, 0.005),
+            rotation: g.rotation,
+            velocity: Vector3::new(0.001, 0.0, 0.0),
+            angular_velocity: Vector3::new(0.0, 0.01, 0.0),
+        };
+        let rcm = Rcm {
+            trocar: trocar + a.g_0i.rotation.column(0) * 1e-4,
+            dv: SVector::<f64, R>::from_element(0.002),
+        };
+        let config = ControllerConfig {
+            kp: 5.0,
+            ko: 10.0,
+            method: Method::Dls(Damping::Variable {
+                alpha0: 0.05,
+                w0: 0.1,
+            }),
+            jb0i_damping: Some(Damping::Variable {
+                alpha0: 0.05,
+                w0: 0.01,
+            }),
+            kr: 20.0,
+        };
+        let mut c1 = Controller::<f64, 8, 6, R, K, M>::new(config);
+        let mut c2 = c1;
+        let o1 = c1.step(&arm, &q, &reference, &rcm, 0.002).unwrap();
+        let o2 = c2.step(&kin, &q, &reference, &rcm, 0.002).unwrap();
+        assert!((o1.qd - o2.qd).norm() < 1e-8 * (1.0 + o1.qd.norm()));
+        assert!((o1.l_a - l_a).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn numeric_runtime_and_description_arm_agree() {
+    check::<2, 4, 6>("dia10_like_zy");
+    check::<2, 4, 6>("dia10_like_zx");
+    check::<1, 5, 7>("dia10_like_zy");
+}
+
+/// The step solves what it claims: with the pseudo-inverse, the commanded end-effector twist is
+/// `J^r x + J_c dv_0r = u` and the link velocity satisfies `H V^B_0r = dv_0r` exactly.
+#[test]
+fn step_realises_the_cartesian_command_and_the_rcm_velocity() {
+    let d = RobotDescription::preset("dia10_like_zy").unwrap();
+    let arm = Arm::<8, 6, 2>::from_description(&d).unwrap();
+    let q = SVector::<f64, 8>::from([0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3]);
+    let l_a = 0.15;
+    let s: ConstrainedState<f64, 6, 2, 4, 6> = arm.evaluate(&q, l_a).unwrap();
+    let trocar = s.g_0i.translation + s.g_0i.rotation.column(1) * l_a;
+    let reference = Reference {
+        position: s.g_0e.translation + Vector3::new(0.003, 0.0, -0.002),
+        rotation: s.g_0e.rotation,
+        velocity: Vector3::new(0.0, 0.004, 0.0),
+        angular_velocity: Vector3::new(0.02, 0.0, 0.0),
+    };
+    let dv = SVector::<f64, 2>::new(0.003, -0.001);
+    let mut c = Controller::<f64, 8, 6, 2, 4, 6>::new(ControllerConfig {
+        kp: 5.0,
+        ko: 10.0,
+        method: Method::Pinv,
+        jb0i_damping: None,
+        kr: 0.0,
+    });
+    let out = c
+        .step(&arm, &q, &reference, &Rcm { trocar, dv }, 0.002)
+        .unwrap();
+    // End-effector body twist from the full body Jacobian by finite differences of FK.
+    let h = 1e-7;
+    let (_, gp) = arm.frames(&(q + out.qd * h));
+    let (_, gm) = arm.frames(&(q - out.qd * h));
+    let rt = s.g_0e.rotation.transpose();
+    let v = rt * (gp.translation - gm.translation) / (2.0 * h);
+    let w = rt * (gp.rotation - gm.rotation) / (2.0 * h);
+    let w = Vector3::new(w[(2, 1)], w[(0, 2)], w[(1, 0)]);
+    assert!(
+        (v - out.u.fixed_rows::<3>(0)).norm() < 1e-7,
+        "{v} {}",
+        out.u
+    );
+    assert!((w - out.u.fixed_rows::<3>(3)).norm() < 1e-7);
+    // Lateral velocity of the link point at the trocar.
+    let pp = arm.link_point(&(q + out.qd * h), l_a);
+    let pm = arm.link_point(&(q - out.qd * h), l_a);
+    let vr = s.g_0i.rotation.transpose() * (pp - pm) / (2.0 * h);
+    assert!(
+        (vr.x - dv[0]).abs() < 1e-8 && (vr.z - dv[1]).abs() < 1e-8,
+        "{vr}"
+    );
+}
+
+/// The controller runs in f32 (embedded users) and stays close to the f64 run over 5 s of
+/// scenario-2-like tracking with the numeric runtime.
+#[test]
+fn f32_controller_tracks_like_f64() {
+    let d = RobotDescription::preset("dia10_like_zy").unwrap();
+    let k64 = ChainKinematics {
+        chain: Robot::<f64>::from_description(&d, &[])
+            .unwrap()
+            .to_chain::<8>()
+            .unwrap(),
+        constraint: Constraint::<f64, 2>::thesis(6, 0.15).unwrap(),
+    };
+    let k32 = ChainKinematics {
+        chain: Robot::<f32>::from_description(&d, &[])
+            .unwrap()
+            .to_chain::<8>()
+            .unwrap(),
+        constraint: Constraint::<f32, 2>::thesis(6, 0.15).unwrap(),
+    };
+    let cfg64 = ControllerConfig {
+        kp: 5.0,
+        ko: 10.0,
+        method: Method::Dls(Damping::Variable {
+            alpha0: 0.05,
+            w0: 0.1,
+        }),
+        jb0i_damping: None,
+        kr: 20.0,
+    };
+    let cfg32 = ControllerConfig {
+        kp: 5.0f32,
+        ko: 10.0,
+        method: Method::Dls(Damping::Variable {
+            alpha0: 0.05,
+            w0: 0.1,
+        }),
+        jb0i_damping: None,
+        kr: 20.0,
+    };
+    let mut c64 = Controller::<f64, 8, 6, 2, 4, 6>::new(cfg64);
+    let mut c32 = Controller::<f32, 8, 6, 2, 4, 6>::new(cfg32);
+    let mut q64 = SVector::<f64, 8>::from([0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3]);
+    let mut q32: SVector<f32, 8> = q64.cast();
+    let g0 = k64.chain.forward_kinematics(&q64);
+    let gi = k64.chain.link_frame(6, &q64);
+    let trocar = gi.translation + gi.rotation.column(1) * 0.15;
+    let dt = 0.002;
+    for k in 0..2500 {
+        let t = k as f64 * dt;
+        let w = 0.1;
+        let r64 = Reference {
+            position: g0.translation + Vector3::new(0.02 * (w * t).sin(), 0.0, 0.0),
+            rotation: g0.rotation,
+            velocity: Vector3::new(0.02 * w * (w * t).cos(), 0.0, 0.0),
+            angular_velocity: Vector3::zeros(),
+        };
+        let r32 = Reference {
+            position: r64.position.cast(),
+            rotation: r64.rotation.cast(),
+            velocity: r64.velocity.cast(),
+            angular_velocity: r64.angular_velocity.cast(),
+        };
+        let o64 = c64
+            .step(
+                &k64,
+                &q64,
+                &r64,
+                &Rcm {
+                    trocar,
+                    dv: SVector::zeros(),
+                },
+                dt,
+            )
+            .unwrap();
+        let o32 = c32
+            .step(
+                &k32,
+                &q32,
+                &r32,
+                &Rcm {
+                    trocar: trocar.cast(),
+                    dv: SVector::zeros(),
+                },
+                dt as f32,
+            )
+            .unwrap();
+        q64 += o64.qd * dt;
+        q32 += o32.qd * dt as f32;
+    }
+    let diff = (q32.cast::<f64>() - q64).amax();
+    assert!(diff < 1e-3, "f32 and f64 joints differ by {diff}");
+}

@@ -1,0 +1,141 @@
+//! The scenarios of SPEC §3.2 with the bounds issue 5 asks for. Every run is 2 ms explicit Euler.
+
+use trocar_sim::simulation::{
+    run, Method, Scenario, ScenarioConfig, Summary, S4_RCM_AMPLITUDE, S4_RCM_AMPLITUDE_THESIS,
+};
+
+fn summary(cfg: ScenarioConfig) -> Summary {
+    let s = run(&cfg, |_| {}).expect("simulation runs").summary();
+    eprintln!(
+        "{} {} drift-correction={}: {s:?}",
+        cfg.scenario.name(),
+        cfg.method.name(),
+        cfg.drift_correction
+    );
+    s
+}
+
+/// With the correction: |vr| ≤ 1e-6 m/s after the first step (constrained directions), drift
+/// ≤ 1e-4 m, ‖e_p‖ ≤ 1e-3 m after 10 s; without: the drift grows (reported) to many times more.
+fn holds_the_trocar(cfg: ScenarioConfig) {
+    let on = summary(cfg.with_drift_correction(true));
+    assert!(on.max_rcm_velocity_error <= 1e-6, "{on:?}");
+    assert!(on.max_drift <= 1e-4, "{on:?}");
+    assert!(on.max_ep_after_10s <= 1e-3, "{on:?}");
+    let off = summary(cfg.with_drift_correction(false));
+    assert!(
+        off.max_drift > 100.0 * on.max_drift,
+        "off {off:?} on {on:?}"
+    );
+}
+
+#[test]
+fn scenario_1_holds_the_trocar() {
+    holds_the_trocar(ScenarioConfig::new(Scenario::S1));
+}
+
+#[test]
+fn scenario_2_holds_the_trocar() {
+    holds_the_trocar(ScenarioConfig::new(Scenario::S2));
+}
+
+/// Scenario 4 (moving RCM) over its whole 200 s, with this arm's command
+/// `dv_0r = a (sin 3ωt, −sin 3ωt)`, `a` = `S4_RCM_AMPLITUDE` ((4.6) scaled by −1/5): the link
+/// follows the commanded RCM velocity to 1e-6 m/s, with the bounds of scenarios 1 and 2.
+#[test]
+fn scenario_4_moving_rcm_follows_the_command() {
+    let cfg = ScenarioConfig::new(Scenario::S4);
+    assert_eq!(cfg.duration, 200.0);
+    assert_eq!(cfg.s4_rcm_amplitude, S4_RCM_AMPLITUDE);
+    let tr = run(&cfg.with_drift_correction(true), |_| {}).unwrap();
+    let peak_cmd = tr
+        .rows
+        .iter()
+        .map(|r| r.dv_cmd[0].hypot(r.dv_cmd[1]))
+        .fold(0.0, f64::max);
+    let s = tr.summary();
+    eprintln!("4 pinv drift-correction=true: {s:?}; peak command {peak_cmd}");
+    assert!(
+        peak_cmd > 1.4e-3,
+        "the command moves the trocar (peak {peak_cmd})"
+    );
+    assert!(s.max_rcm_velocity_error <= 1e-6, "{s:?}");
+    assert!(s.max_drift <= 1e-4, "{s:?}");
+    assert!(s.max_ep_after_10s <= 1e-3, "{s:?}");
+    let off = summary(cfg.with_drift_correction(false));
+    assert!(off.max_drift > 100.0 * s.max_drift, "off {off:?} on {s:?}");
+}
+
+/// (4.6) as printed (5 mm/s): up to the singularity the controller tracks the end effector to
+/// 1e-4 and the RCM velocity to 1e-6 m/s, and the trajectory reaches `q7 ≈ 0`, where `J^r_0e` is singular, at
+/// t ≈ 24.6 s: the motion that forces the deviation of `S4_RCM_AMPLITUDE`.
+#[test]
+fn scenario_4_as_printed_drives_the_wrist_to_q7_zero() {
+    let mut cfg = ScenarioConfig::new(Scenario::S4).with_drift_correction(true);
+    cfg.s4_rcm_amplitude = S4_RCM_AMPLITUDE_THESIS;
+    cfg.duration = 24.5;
+    let s = summary(cfg);
+    assert!(s.max_ep <= 1e-4 && s.max_eo <= 1e-4, "tracks: {s:?}");
+    assert!(s.max_rcm_velocity_error <= 1e-6, "follows dv_0r: {s:?}");
+    assert!(
+        s.min_abs_q7 < 0.01 && s.min_w_r < 2e-3,
+        "reaches q7 = 0: {s:?}"
+    );
+}
+
+/// Scenario 3 passes near the `J^r_0e` singularity: the pseudo-inverse spikes, DLS and the
+/// filtered inverse stay under 1 rad/s (measured: 0.79 and 0.66 rad/s).
+#[test]
+fn scenario_3_singularity_is_handled_by_dls_and_fi() {
+    let cfg = ScenarioConfig::new(Scenario::S3).with_drift_correction(true);
+    let dls = summary(cfg.with_method(Method::Dls));
+    let fi = summary(cfg.with_method(Method::Fi));
+    assert!(dls.min_w_r < 1e-2, "passes near the singularity: {dls:?}");
+    assert!(dls.peak_qd < 1.0 && fi.peak_qd < 1.0, "{dls:?} {fi:?}");
+    match run(&cfg.with_method(Method::Pinv), |_| {}) {
+        Ok(tr) => {
+            let pinv = tr.summary();
+            assert!(pinv.peak_qd > 100.0 * dls.peak_qd, "{pinv:?}");
+        }
+        Err(e) => eprintln!("pinv failed: {e}"),
+    }
+}
+
+#[test]
+fn csv_has_the_issue_columns() {
+    let mut cfg = ScenarioConfig::new(Scenario::S2);
+    cfg.duration = 0.1;
+    let tr = run(&cfg, |_| {}).unwrap();
+    let mut out = Vec::new();
+    tr.to_csv(&mut out).unwrap();
+    let text = String::from_utf8(out).unwrap();
+    let mut lines = text.lines();
+    let expect = "t,ep_norm,eo_norm,vr_x,vr_z,rcm_drift,w_r,w_i,l_a,q1,q2,q3,q4,q5,q6,q7,q8,\
+qd1,qd2,qd3,qd4,qd5,qd6,qd7,qd8";
+    assert_eq!(lines.next(), Some(expect));
+    let rows: Vec<&str> = lines.collect();
+    assert_eq!(rows.len(), 51);
+    assert!(rows.iter().all(|l| l.split(',').count() == 25));
+    assert!(Scenario::from_name("5").is_err());
+    assert_eq!(Scenario::from_name("exp421").unwrap(), Scenario::Exp421);
+}
+
+#[test]
+fn progress_reaches_one_and_figures_are_written() {
+    let mut cfg = ScenarioConfig::new(Scenario::S1);
+    cfg.duration = 2.0;
+    let mut last = 0.0;
+    let tr = run(&cfg, |p| {
+        assert!(p >= last);
+        last = p;
+    })
+    .unwrap();
+    assert_eq!(last, 1.0);
+    let dir = std::env::temp_dir().join(format!("trocar-plot-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    trocar_sim::plot::write_figure(&tr, dir.join("s1.svg")).unwrap();
+    let svg = std::fs::read_to_string(dir.join("s1.svg")).unwrap();
+    assert!(svg.contains("<svg") && svg.contains("joint velocities"));
+    assert!(trocar_sim::plot::write_figure(&tr, dir.join("s1.txt")).is_err());
+    std::fs::remove_dir_all(&dir).ok();
+}
