@@ -52,6 +52,7 @@
 //! ```
 
 use crate::kinematics::{body_jacobian_columns, constrained_jacobian_columns, Chain};
+use crate::manipulability::SquareLu;
 use crate::se3::{Adjoint, Se3, Twist};
 use core::fmt;
 use nalgebra::{convert, RealField, SMatrix, SVector, Vector3};
@@ -214,81 +215,22 @@ pub fn thesis_null_space<T: RealField + Copy>(l_a: T, out: &mut [Twist<T>]) {
     }
 }
 
-/// Solves `A x = b` for a square `n×n` matrix `a` (column-major, `a.len() == n²`) by Gaussian
-/// elimination with partial pivoting, in place: `b` becomes `x`, `a` is destroyed. Returns `false`
-/// if `A` is singular (a zero pivot).
-pub fn solve_in_place<T: RealField + Copy>(a: &mut [T], n: usize, b: &mut [T]) -> bool {
-    assert_eq!(a.len(), n * n);
-    assert_eq!(b.len(), n);
-    for c in 0..n {
-        let mut best = c;
-        for r in c + 1..n {
-            if a[c * n + r].abs() > a[c * n + best].abs() {
-                best = r;
-            }
-        }
-        let p = a[c * n + best];
-        if p == T::zero() || !p.is_finite() {
-            return false;
-        }
-        if best != c {
-            for k in 0..n {
-                a.swap(k * n + c, k * n + best);
-            }
-            b.swap(c, best);
-        }
-        for r in c + 1..n {
-            let f = a[c * n + r] / p;
-            if f != T::zero() {
-                for k in c..n {
-                    let v = a[k * n + c];
-                    a[k * n + r] -= f * v;
-                }
-                let v = b[c];
-                b[r] -= f * v;
-            }
-        }
-    }
-    for c in (0..n).rev() {
-        let mut s = b[c];
-        for k in c + 1..n {
-            s -= a[k * n + c] * b[k];
-        }
-        b[c] = s / a[c * n + c];
-    }
-    true
-}
-
-/// `M† y` for a full-rank `M` (R×C): the exact solution when square (LU with partial pivoting),
-/// the minimum-norm solution `Mᵀ (M Mᵀ)⁻¹ y` when wide, the least-squares solution
-/// `(Mᵀ M)⁻¹ Mᵀ y` when tall. `None` if `M` is rank-deficient (use damped least squares there).
+/// `M† y` for a full-rank `M` (R×C): the exact solution when square, the minimum-norm solution
+/// `Mᵀ (M Mᵀ)⁻¹ y` when wide, the least-squares solution `(Mᵀ M)⁻¹ Mᵀ y` when tall, each through
+/// the one LU factorisation of the core ([`SquareLu`]). `None` if `M` is rank-deficient (use damped least squares there).
 pub fn pseudo_inverse_apply<T: RealField + Copy, const R: usize, const C: usize>(
     m: &SMatrix<T, R, C>,
     y: &SVector<T, R>,
 ) -> Option<SVector<T, C>> {
     if R == C {
-        let mut a = *m;
-        let mut b = *y;
-        if !solve_in_place(a.as_mut_slice(), R, b.as_mut_slice()) {
-            return None;
-        }
-        let mut x = SVector::<T, C>::zeros();
-        x.as_mut_slice().copy_from_slice(b.as_slice());
-        Some(x)
+        let square = SMatrix::<T, R, R>::from_iterator(m.iter().copied());
+        let x = SquareLu::new(&square).solve(y)?;
+        Some(SVector::<T, C>::from_iterator(x.iter().copied()))
     } else if R < C {
-        let mut g = m * m.transpose();
-        let mut b = *y;
-        if !solve_in_place(g.as_mut_slice(), R, b.as_mut_slice()) {
-            return None;
-        }
+        let b = SquareLu::new(&(m * m.transpose())).solve(y)?;
         Some(m.transpose() * b)
     } else {
-        let mut g = m.transpose() * m;
-        let mut b = m.transpose() * y;
-        if !solve_in_place(g.as_mut_slice(), C, b.as_mut_slice()) {
-            return None;
-        }
-        Some(b)
+        SquareLu::new(&(m.transpose() * m)).solve(&(m.transpose() * y))
     }
 }
 
