@@ -2,10 +2,10 @@
 //! file, line and field, and the golden snapshot of one generated module.
 
 use std::path::PathBuf;
-use trocar_codegen::builder::{
+use trocar_codegen::Real;
+use trocar_codegen::{
     generate_module, generate_module_string, module_name, Builder, Error, ModuleOptions,
 };
-use trocar_codegen::emit::Real;
 use trocar_model::description::RobotDescription;
 
 fn robots() -> PathBuf {
@@ -116,6 +116,7 @@ fn generate_module_tokens_and_string_agree() {
     let options = ModuleOptions {
         real: Real::Generic,
         module_name: Some("uni".into()),
+        ..ModuleOptions::default()
     };
     let tokens = generate_module(&desc, &options).unwrap();
     let file: syn::File = syn::parse2(tokens).unwrap();

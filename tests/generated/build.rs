@@ -1,7 +1,7 @@
 //! Runs the builder for the shipped robots and the fixtures, as a user's build script would.
 
-use trocar_codegen::builder::Builder;
-use trocar_codegen::emit::Real;
+use trocar_codegen::Builder;
+use trocar_codegen::Real;
 
 fn main() {
     let robots = "../../runtime/model/robots";
