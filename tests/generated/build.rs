@@ -51,4 +51,16 @@ fn main() {
     if let Err(e) = mb32.compile() {
         panic!("trocar-codegen: {e}");
     }
+    // Generated code naming the runtime through a re-export (`Builder::runtime_path`).
+    let mut reexport = Builder::new();
+    reexport
+        .robot_as(
+            format!("{robots}/bidirectional-zy.toml"),
+            "bidirectional_zy_reexport",
+        )
+        .mechanism_as(format!("{mechanisms}/four-bar.toml"), "four_bar_reexport")
+        .runtime_path("crate::reexport::trocar");
+    if let Err(e) = reexport.compile() {
+        panic!("trocar-codegen: {e}");
+    }
 }
