@@ -38,9 +38,9 @@ ours_impls=""
 if grep -qs "pub struct Builder" "$here/../codegen/src/builder.rs"; then
   features=(--features ours)
   ours_impls="ours_f64 ours_f64_given_trig ours_f32"
-  echo "== trocar_codegen::builder::Builder found: benchmarking our generated code too" >&2
+  echo "== trocar_codegen::Builder found: benchmarking our generated code too" >&2
 else
-  echo "== no trocar_codegen::builder::Builder in this checkout: peers and numeric runtime only" >&2
+  echo "== no trocar_codegen::Builder in this checkout: peers and numeric runtime only" >&2
 fi
 
 cd "$harness"

@@ -41,7 +41,7 @@ fn main() {
     #[cfg(feature = "ours")]
     {
         let robots = manifest.join("../../runtime/model/robots");
-        trocar_codegen::builder::Builder::new()
+        trocar_codegen::Builder::new()
             .robot(robots.join("unidirectional.toml"))
             .robot(robots.join("bidirectional-zy.toml"))
             .robot(robots.join("bidirectional-zx.toml"))

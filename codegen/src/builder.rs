@@ -2,10 +2,10 @@
 //!
 //! ```no_run
 //! // build.rs
-//! fn main() -> Result<(), trocar_codegen::builder::Error> {
-//!     trocar_codegen::builder::Builder::new()
+//! fn main() -> Result<(), trocar_codegen::Error> {
+//!     trocar_codegen::Builder::new()
 //!         .robot("robots/arm.toml")
-//!         .real(trocar_codegen::emit::Real::F64)
+//!         .real(trocar_codegen::Real::F64)
 //!         .compile()?;
 //!     Ok(())
 //! }
@@ -18,129 +18,55 @@
 //! [`Builder::generate`] returns the code without writing anything (for tests and the CLI);
 //! [`Builder::compile`] writes `<robot_name>.rs` into `OUT_DIR` (or [`Builder::out_dir`]), only
 //! when the content changed, and prints `cargo:rerun-if-changed=<file>` for every description
-//! file. The lower-level entry points [`generate_module`] (tokens) and [`generate_module_string`]
-//! (formatted file) serve the command line and the proc-macro.
+//! file. The lower-level entry points [`generate_module`] (tokens), [`generate_module_string`]
+//! and [`generate_mechanism_string`] (formatted file) serve the command line and the attribute.
 
 use crate::closed_chain::{self, MechanismSource};
 use crate::derivation;
-use crate::emit::{self, bridge, Real};
+use crate::emit::{self, bridge, Real, Runtime};
+use crate::error::Error;
+use crate::naming::checked_module_name;
 use proc_macro2::TokenStream;
 use std::collections::BTreeMap;
-use std::fmt;
 use std::path::{Path, PathBuf};
-use trocar_model::description::{DescriptionError, RobotDescription};
-
-/// Why generation failed.
-#[derive(Debug)]
-pub enum Error {
-    /// The description is unreadable, invalid or cannot be derived; names file, line and field.
-    Description(DescriptionError),
-    /// Reading or writing a file.
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The I/O error.
-        source: std::io::Error,
-    },
-    /// No output directory: neither [`Builder::out_dir`] nor the `OUT_DIR` variable.
-    NoOutDir,
-    /// Two robots would be written to the same file.
-    DuplicateModule(String),
-    /// A module name is not a Rust identifier.
-    BadModuleName(String),
-    /// The generated tokens did not parse as a file (a bug in the generator).
-    Internal(String),
-}
-
-impl fmt::Display for Error {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Error::Description(e) => write!(f, "{e}"),
-            Error::Io { path, source } => write!(f, "{}: {source}", path.display()),
-            Error::NoOutDir => write!(
-                f,
-                "no output directory: call `Builder::out_dir` or run from a build script (OUT_DIR)"
-            ),
-            Error::DuplicateModule(m) => write!(f, "two robots generate the module `{m}`"),
-            Error::BadModuleName(m) => write!(f, "`{m}` is not a valid module name"),
-            Error::Internal(m) => write!(f, "internal generator error: {m}"),
-        }
-    }
-}
-
-impl std::error::Error for Error {
-    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        match self {
-            Error::Description(e) => Some(e),
-            Error::Io { source, .. } => Some(source),
-            _ => None,
-        }
-    }
-}
-
-impl From<DescriptionError> for Error {
-    fn from(e: DescriptionError) -> Self {
-        Error::Description(e)
-    }
-}
+use trocar_model::description::RobotDescription;
 
 /// Options of one generated module.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct ModuleOptions {
     /// Scalar type of the generated code.
     pub real: Real,
-    /// Module name; default: the robot's name, snake-cased.
+    /// Module name; default: the robot's name, snake-cased ([`crate::module_name`]).
     pub module_name: Option<String>,
+    /// The path through which the generated code names the runtime crate `trocar`; default
+    /// `::trocar` (see [`Builder::runtime_path`]).
+    pub runtime_path: Option<String>,
 }
 
-/// The module name for a robot name: lower snake case, a valid identifier.
-pub fn module_name(robot: &str) -> String {
-    let mut s = String::new();
-    let mut prev_lower = false;
-    for ch in robot.chars() {
-        if ch.is_ascii_alphanumeric() {
-            if ch.is_ascii_uppercase() && prev_lower {
-                s.push('_');
-            }
-            prev_lower = ch.is_ascii_lowercase() || ch.is_ascii_digit();
-            s.push(ch.to_ascii_lowercase());
-        } else {
-            if !s.ends_with('_') {
-                s.push('_');
-            }
-            prev_lower = false;
+impl ModuleOptions {
+    fn runtime(&self) -> Result<Runtime, Error> {
+        match &self.runtime_path {
+            None => Ok(Runtime::default()),
+            Some(p) => Runtime::new(p).ok_or_else(|| Error::BadRuntimePath(p.clone())),
         }
-    }
-    let s = s.trim_matches('_').to_string();
-    if s.is_empty() || s.starts_with(|c: char| c.is_ascii_digit()) {
-        format!("robot_{s}")
-    } else if syn::parse_str::<syn::Ident>(&s).is_err() {
-        format!("{s}_")
-    } else {
-        s
     }
 }
 
 fn spec_for(desc: &RobotDescription, options: &ModuleOptions) -> Result<emit::ModuleSpec, Error> {
-    let name = options
-        .module_name
-        .clone()
-        .unwrap_or_else(|| module_name(&desc.name));
-    if syn::parse_str::<syn::Ident>(&name).is_err() {
-        return Err(Error::BadModuleName(name));
-    }
+    let name = checked_module_name(&desc.name, options.module_name.as_deref())?;
     let d =
         derivation::derive(desc).map_err(|e| Error::Description(e.into_description_error(desc)))?;
     Ok(bridge::module_spec(&d, &name))
 }
 
-/// The module `pub mod <name> { ... }` for a description, as tokens (for the proc-macro).
+/// The module `pub mod <name> { ... }` for a description, as tokens (for the attribute).
 pub fn generate_module(
     desc: &RobotDescription,
     options: &ModuleOptions,
 ) -> Result<TokenStream, Error> {
+    let runtime = options.runtime()?;
     let spec = spec_for(desc, options)?;
-    Ok(emit::module_tokens(&spec, options.real))
+    Ok(emit::module_tokens_in(&spec, options.real, &runtime))
 }
 
 /// The module as a formatted file (prettyplease), headed
@@ -151,6 +77,22 @@ pub fn generate_module_string(
 ) -> Result<String, Error> {
     let tokens = generate_module(desc, options)?;
     emit::format_file(tokens).map_err(|e| Error::Internal(e.to_string()))
+}
+
+/// The module of a closed mechanism as a formatted file (prettyplease, headed by the
+/// `@generated` line): the closed-form reduced Jacobian (8) and passive velocities (7)
+/// ([`crate::closed_chain`]).
+pub fn generate_mechanism_string(
+    src: &MechanismSource,
+    options: &ModuleOptions,
+) -> Result<String, Error> {
+    let runtime = options.runtime()?;
+    closed_chain::emit::generate_mechanism_string(
+        src,
+        options.module_name.as_deref(),
+        options.real,
+        &runtime,
+    )
 }
 
 #[derive(Clone, Debug)]
@@ -165,6 +107,7 @@ pub struct Builder {
     robots: Vec<(Source, Option<String>)>,
     mechanisms: Vec<(PathBuf, Option<String>)>,
     real: Real,
+    runtime_path: Option<String>,
     out_dir: Option<PathBuf>,
     emit_rerun: bool,
 }
@@ -222,6 +165,15 @@ impl Builder {
         self
     }
 
+    /// The path through which generated code names the runtime crate `trocar` (prost-build's
+    /// `prost_path`), e.g. `"::my_reexport::trocar"` for a crate that depends on `trocar` only
+    /// through a re-export; default `"::trocar"`. A path that is not a Rust path makes
+    /// [`Builder::generate`] fail with [`Error::BadRuntimePath`].
+    pub fn runtime_path(&mut self, path: impl Into<String>) -> &mut Self {
+        self.runtime_path = Some(path.into());
+        self
+    }
+
     /// Output directory for [`Builder::compile`] (default: the `OUT_DIR` variable).
     pub fn out_dir(&mut self, dir: impl AsRef<Path>) -> &mut Self {
         self.out_dir = Some(dir.as_ref().to_path_buf());
@@ -251,14 +203,12 @@ impl Builder {
     pub fn generate(&self) -> Result<BTreeMap<String, String>, Error> {
         let mut out = BTreeMap::new();
         for (desc, name) in self.load()? {
+            let module = checked_module_name(&desc.name, name.as_deref())?;
             let options = ModuleOptions {
                 real: self.real,
-                module_name: name,
+                module_name: Some(module.clone()),
+                runtime_path: self.runtime_path.clone(),
             };
-            let module = options
-                .module_name
-                .clone()
-                .unwrap_or_else(|| module_name(&desc.name));
             let code = generate_module_string(&desc, &options)?;
             let file = format!("{module}.rs");
             if out.insert(file, code).is_some() {
@@ -267,9 +217,13 @@ impl Builder {
         }
         for (path, name) in &self.mechanisms {
             let src = MechanismSource::from_file(path)?;
-            let module = closed_chain::emit::module_name_for(&src.mechanism.name, name.as_deref())?;
-            let code =
-                closed_chain::emit::generate_mechanism_string(&src, Some(&module), self.real)?;
+            let module = checked_module_name(&src.mechanism.name, name.as_deref())?;
+            let options = ModuleOptions {
+                real: self.real,
+                module_name: Some(module.clone()),
+                runtime_path: self.runtime_path.clone(),
+            };
+            let code = generate_mechanism_string(&src, &options)?;
             let file = format!("{module}.rs");
             if out.insert(file, code).is_some() {
                 return Err(Error::DuplicateModule(module));
@@ -320,7 +274,7 @@ impl Builder {
 
 /// Writes `content` to `path` unless the file already holds exactly it (no needless rebuilds).
 /// Returns whether the file was written.
-pub fn write_if_changed(path: &Path, content: &str) -> Result<bool, Error> {
+fn write_if_changed(path: &Path, content: &str) -> Result<bool, Error> {
     if let Ok(old) = std::fs::read_to_string(path) {
         if old == content {
             return Ok(false);

@@ -3,16 +3,20 @@
 //!
 //! The programs evaluated here are exactly those the emitter turns into Rust (after CSE, constant
 //! folding and factoring), interpreted in `f64`; the compiled form is checked separately by the
-//! generated-code test crate.
+//! generated-code test crate. Functions are named by the catalogue
+//! ([`trocar_model::catalogue::Function`]), as the emitter names them.
 
-use crate::builder::{module_name, Error};
+use crate::closed_chain::{emit as mechanism_emit, MechanismDerivation};
 use crate::derivation;
-use crate::emit::{bridge, Function, ModuleSpec, Shape};
+use crate::emit::{bridge, ModuleSpec, Shape};
+use crate::error::Error;
+use crate::naming::module_name;
 use trocar::nalgebra::DMatrix;
+use trocar_model::catalogue::Function;
 use trocar_model::description::RobotDescription;
-use trocar_model::verify::{Candidate, Quantity};
+use trocar_model::verify::Candidate;
 
-/// A robot's generated functions, ready to evaluate.
+/// A robot's or a mechanism's generated functions, ready to evaluate.
 #[derive(Clone, Debug)]
 pub struct Generated {
     spec: ModuleSpec,
@@ -28,26 +32,43 @@ impl Generated {
         })
     }
 
-    /// The module as emitted.
-    pub fn spec(&self) -> &ModuleSpec {
-        &self.spec
+    /// The polynomial functions of a closed mechanism's module ([`Function::is_program`]:
+    /// `constraint_jacobian`, `task_jacobian`, `constraint_determinant` and the numerators);
+    /// `q` holds all joints, active and passive.
+    pub fn mechanism(derivation: &MechanismDerivation) -> Self {
+        Generated {
+            spec: mechanism_emit::module_spec(derivation, &module_name(&derivation.name)),
+        }
     }
 
-    /// The function called `name`, if the module has one.
-    pub fn function(&self, name: &str) -> Option<&Function> {
-        self.spec.functions.iter().find(|f| f.name == name)
+    /// Whether the module has the function `function`.
+    pub fn has(&self, function: Function) -> bool {
+        self.spec.function(function).is_some()
     }
 
-    /// Evaluates the function `name` at `q` with parameter values in declaration order; a
-    /// transform comes back as a 4×4 homogeneous matrix. `None` when there is no such function
-    /// or the argument lengths are wrong.
-    pub fn evaluate(&self, name: &str, q: &[f64], params: &[f64]) -> Option<DMatrix<f64>> {
-        let f = self.function(name)?;
+    /// Nominal parameter values, in declaration order.
+    pub fn nominal_params(&self) -> Vec<f64> {
+        self.spec.params.iter().map(|(_, v)| *v).collect()
+    }
+
+    /// The outputs of `function` at `q` with parameter values in declaration order, in the
+    /// emitted layout (matrices column-major; a transform as `R` column-major then `p`). `None`
+    /// when the module has no such function or the argument lengths are wrong.
+    pub fn outputs(&self, function: Function, q: &[f64], params: &[f64]) -> Option<Vec<f64>> {
+        let f = self.spec.function(function)?;
         if q.len() != self.spec.joints || params.len() != self.spec.params.len() {
             return None;
         }
-        let out = f.program.eval(q, params);
-        Some(match f.shape {
+        Some(f.program.eval(q, params))
+    }
+
+    /// Evaluates `function` at `q` with parameter values in declaration order; a transform comes
+    /// back as a 4×4 homogeneous matrix. `None` when the module has no such function or the
+    /// argument lengths are wrong.
+    pub fn evaluate(&self, function: Function, q: &[f64], params: &[f64]) -> Option<DMatrix<f64>> {
+        let out = self.outputs(function, q, params)?;
+        let shape = self.spec.function(function)?.shape;
+        Some(match shape {
             Shape::Scalar => DMatrix::from_element(1, 1, out[0]),
             Shape::Matrix { rows, cols } => DMatrix::from_column_slice(rows, cols, &out),
             Shape::Transform => {
@@ -62,28 +83,10 @@ impl Generated {
             }
         })
     }
-
-    /// Nominal parameter values, in declaration order.
-    pub fn nominal_params(&self) -> Vec<f64> {
-        self.spec.params.iter().map(|(_, v)| *v).collect()
-    }
-}
-
-/// The generated function that computes a quantity.
-pub fn function_name(quantity: Quantity) -> &'static str {
-    match quantity {
-        Quantity::ConstrainedJacobian => "constrained_jacobian",
-        Quantity::ConstraintJacobianC => "constraint_jacobian_c",
-        Quantity::PartialBodyJacobian => "partial_body_jacobian",
-        Quantity::ForwardKinematics => "forward_kinematics",
-        Quantity::ConstrainedLinkKinematics => "forward_kinematics_i",
-        Quantity::Manipulability => "manipulability",
-        Quantity::ManipulabilitySquared => "manipulability_squared",
-    }
 }
 
 impl Candidate for Generated {
-    fn evaluate(&self, quantity: Quantity, q: &[f64], params: &[f64]) -> Option<DMatrix<f64>> {
-        Generated::evaluate(self, function_name(quantity), q, params)
+    fn evaluate(&self, function: Function, q: &[f64], params: &[f64]) -> Option<DMatrix<f64>> {
+        Generated::evaluate(self, function, q, params)
     }
 }

@@ -9,18 +9,51 @@
 //! and passive velocities (7), as polynomial numerators over `det J_Cp`
 //! ([`closed_chain`], [`Builder::mechanism`]).
 //!
-//! Modules, one per concept: [`symbolic`] (the exact expression engine), [`derivation`] (the
-//! thesis's steps on symbols), [`closed_chain`] (the same for closed mechanisms), [`emit`]
-//! (optimisation and Rust tokens), [`builder`] (the `build.rs` API) and [`cli`] (the `trocar`
-//! command line).
+//! # Use
+//!
+//! From a build script, in the style of prost-build:
+//!
+//! ```no_run
+//! // build.rs
+//! fn main() -> Result<(), trocar_codegen::Error> {
+//!     trocar_codegen::Builder::new()
+//!         .robot("robots/arm.toml")
+//!         .real(trocar_codegen::Real::F64)
+//!         .compile()?;
+//!     Ok(())
+//! }
+//! ```
+//!
+//! and in the crate `include!(concat!(env!("OUT_DIR"), "/arm.rs"));`, which defines `pub mod arm`
+//! (the module name is [`module_name`] of the robot's name). Generated code names the runtime
+//! crate as `::trocar`; [`Builder::runtime_path`] changes that path.
+//!
+//! - [`Builder`], [`ModuleOptions`], [`generate_module`], [`generate_module_string`],
+//!   [`generate_mechanism_string`]: generation; [`Error`] says why it failed.
+//! - [`catalogue`]: every function a generated module holds (name, equation, shape).
+//! - [`evaluate`]: the generated functions evaluated in `f64` exactly as emitted (`trocar eval`,
+//!   `trocar verify`).
+//! - [`attribute`]: the `#[constrained_robot(...)]` attribute of `trocar-derive`.
+//! - [`symbolic`] (the exact expression engine), [`derivation`] (the thesis's steps on symbols)
+//!   and [`closed_chain`] (the same for closed mechanisms): the derivation itself, for whoever
+//!   wants the symbolic results.
 #![warn(missing_docs)]
 
-pub mod builder;
+pub mod attribute;
+mod builder;
 pub mod closed_chain;
 pub mod derivation;
+#[doc(hidden)]
 pub mod emit;
+mod error;
 pub mod evaluate;
+mod naming;
 pub mod symbolic;
 
-pub use builder::{generate_module, generate_module_string, Builder, Error, ModuleOptions};
+pub use builder::{
+    generate_mechanism_string, generate_module, generate_module_string, Builder, ModuleOptions,
+};
 pub use emit::Real;
+pub use error::Error;
+pub use naming::module_name;
+pub use trocar_model::catalogue;

@@ -2,10 +2,10 @@
 //! file, line and field, and the golden snapshot of one generated module.
 
 use std::path::PathBuf;
-use trocar_codegen::builder::{
+use trocar_codegen::Real;
+use trocar_codegen::{
     generate_module, generate_module_string, module_name, Builder, Error, ModuleOptions,
 };
-use trocar_codegen::emit::Real;
 use trocar_model::description::RobotDescription;
 
 fn robots() -> PathBuf {
@@ -116,6 +116,7 @@ fn generate_module_tokens_and_string_agree() {
     let options = ModuleOptions {
         real: Real::Generic,
         module_name: Some("uni".into()),
+        ..ModuleOptions::default()
     };
     let tokens = generate_module(&desc, &options).unwrap();
     let file: syn::File = syn::parse2(tokens).unwrap();
@@ -154,4 +155,45 @@ fn unconstrained_robot() {
     assert!(code.contains("-> [[T; 6]; N]"));
     assert!(!code.contains("constrained_jacobian"));
     assert!(!code.contains("pub const M"));
+}
+
+/// `Builder::runtime_path` (prost-build's `prost_path`): every path to the runtime crate in the
+/// generated text goes through the given path; the default stays `::trocar`. The generated
+/// modules are compiled and run in `tests/generated` (`tests/runtime_path.rs`).
+#[test]
+fn runtime_path_is_used_everywhere() {
+    let files = Builder::new()
+        .robot(robots().join("bidirectional-zy.toml"))
+        .mechanism(robots().join("mechanisms/four-bar.toml"))
+        .runtime_path("::my_reexport::trocar")
+        .generate()
+        .unwrap();
+    for (file, code) in &files {
+        assert!(code.contains("T: ::my_reexport::trocar::Real"), "{file}");
+        assert!(
+            code.contains("<T as ::my_reexport::trocar::Real>"),
+            "{file}"
+        );
+        let bare = code.replace("::my_reexport::trocar::", "");
+        assert!(
+            !bare.contains("trocar::"),
+            "{file} names the runtime elsewhere"
+        );
+    }
+    let default = Builder::new()
+        .robot(robots().join("bidirectional-zy.toml"))
+        .generate()
+        .unwrap();
+    assert!(default["bidirectional_zy.rs"].contains("<T as ::trocar::Real>"));
+    assert!(!default["bidirectional_zy.rs"].contains("my_reexport"));
+
+    let err = Builder::new()
+        .robot(robots().join("bidirectional-zy.toml"))
+        .runtime_path("not a path")
+        .generate()
+        .unwrap_err();
+    assert!(
+        matches!(err, Error::BadRuntimePath(ref p) if p == "not a path"),
+        "{err}"
+    );
 }

@@ -3,7 +3,7 @@
 //! `cargo test -p trocar-codegen --release --test builder_timing -- --nocapture`.
 
 use std::time::Instant;
-use trocar_codegen::builder::{generate_module_string, ModuleOptions};
+use trocar_codegen::{generate_module_string, ModuleOptions};
 use trocar_model::description::RobotDescription;
 
 #[test]

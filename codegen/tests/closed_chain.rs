@@ -2,9 +2,8 @@
 //! (file and field), and the golden snapshot of the four-bar module.
 
 use std::path::PathBuf;
-use trocar_codegen::builder::{Builder, Error};
-use trocar_codegen::closed_chain::{emit, MechanismSource};
-use trocar_codegen::emit::Real;
+use trocar_codegen::closed_chain::MechanismSource;
+use trocar_codegen::{generate_mechanism_string, Builder, Error, ModuleOptions, Real};
 use trocar_model::closed_chain::description;
 
 fn mechanisms() -> PathBuf {
@@ -73,7 +72,7 @@ fn builder_errors_name_file_and_field() {
 #[test]
 fn snapshot_four_bar() {
     let src = MechanismSource::shipped("four-bar").unwrap();
-    let text = emit::generate_mechanism_string(&src, None, Real::Generic).unwrap();
+    let text = generate_mechanism_string(&src, &ModuleOptions::default()).unwrap();
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/snapshots/four_bar.rs");
     let old = std::fs::read_to_string(&path).unwrap_or_default();
     if old != text {

@@ -2,9 +2,10 @@
 //! interpreted programs agree with the derivation's expanded polynomials.
 
 use std::time::Instant;
-use trocar_codegen::builder::{generate_module_string, ModuleOptions};
+use trocar_codegen::catalogue::Function;
 use trocar_codegen::derivation::derive;
 use trocar_codegen::emit::bridge::module_spec;
+use trocar_codegen::{generate_module_string, ModuleOptions};
 use trocar_model::description::{preset_names, RobotDescription};
 
 #[test]
@@ -36,7 +37,7 @@ fn programs_agree_with_expanded_polynomials() {
         let spec = module_spec(&d, "m");
         // The fallback used when the derivation has no closed-form manipulability.
         let fallback = manipulability_from_jr(&d, &c.jr);
-        let by_name = |n: &str| &spec.functions.iter().find(|f| f.name == n).unwrap().program;
+        let by_name = |f: Function| &spec.function(f).unwrap().program;
         let mut seed = 0x1234_5678_9abc_def1u64;
         for _ in 0..200 {
             let mut rnd = || {
@@ -69,19 +70,19 @@ fn programs_agree_with_expanded_polynomials() {
             let mut fk = col_major(&fk_e.rot);
             fk.extend(col_major(&fk_e.pos));
             for (prog, expected) in [
-                (by_name("constrained_jacobian"), col_major(&c.jr)),
-                (by_name("constraint_jacobian_c"), col_major(&c.jc)),
+                (by_name(Function::ConstrainedJacobian), col_major(&c.jr)),
+                (by_name(Function::ConstraintJacobianC), col_major(&c.jc)),
                 (
-                    by_name("partial_body_jacobian"),
+                    by_name(Function::PartialBodyJacobian),
                     col_major(&c.body_jacobian_i),
                 ),
                 (
-                    by_name("body_jacobian"),
+                    by_name(Function::BodyJacobian),
                     col_major(d.body_jacobian_e.as_ref().unwrap()),
                 ),
-                (by_name("forward_kinematics"), fk),
+                (by_name(Function::ForwardKinematics), fk),
                 (
-                    by_name("manipulability_squared"),
+                    by_name(Function::ManipulabilitySquared),
                     vec![c.manipulability.as_ref().unwrap().squared.eval(&env)],
                 ),
                 (

@@ -1,4 +1,5 @@
-//! `#[constrained_robot(...)]`: a thin front over [`trocar_codegen`].
+//! `#[constrained_robot(...)]`: a thin front over [`trocar_codegen`] (one call to
+//! `trocar_codegen::attribute::expand`, where the grammar lives).
 //!
 //! Applied to a unit struct, the attribute reads a robot description, lets the generator derive
 //! the closed-form constrained kinematics, and puts the generated module next to the struct with
@@ -21,7 +22,7 @@
 //! Exactly one description source:
 //!
 //! - `preset = "bidirectional-zy"`: a description shipped with trocar
-//!   ([`trocar_model::description::PRESETS`]).
+//!   (`trocar_model::description::PRESETS`).
 //! - `file = "robots/arm.toml"`: a TOML description, relative to the calling crate's
 //!   `CARGO_MANIFEST_DIR`. The expansion contains `include_bytes!` of the file, so editing it
 //!   rebuilds the crate.
@@ -73,16 +74,9 @@
 
 use proc_macro::TokenStream;
 
-mod attr;
-mod errors;
-mod expand;
-mod inline;
-
 /// Generates the constrained kinematics of a robot as associated functions of a unit struct.
 /// See the [crate documentation](crate) for the syntax.
 #[proc_macro_attribute]
 pub fn constrained_robot(attr: TokenStream, item: TokenStream) -> TokenStream {
-    expand::expand(attr.into(), item.into())
-        .unwrap_or_else(syn::Error::into_compile_error)
-        .into()
+    trocar_codegen::attribute::expand(attr.into(), item.into()).into()
 }

@@ -1,7 +1,7 @@
 //! Runs the builder for the shipped robots and the fixtures, as a user's build script would.
 
-use trocar_codegen::builder::Builder;
-use trocar_codegen::emit::Real;
+use trocar_codegen::Builder;
+use trocar_codegen::Real;
 
 fn main() {
     let robots = "../../runtime/model/robots";
@@ -49,6 +49,18 @@ fn main() {
     mb32.mechanism_as(format!("{mechanisms}/four-bar.toml"), "four_bar_f32")
         .real(Real::F32);
     if let Err(e) = mb32.compile() {
+        panic!("trocar-codegen: {e}");
+    }
+    // Generated code naming the runtime through a re-export (`Builder::runtime_path`).
+    let mut reexport = Builder::new();
+    reexport
+        .robot_as(
+            format!("{robots}/bidirectional-zy.toml"),
+            "bidirectional_zy_reexport",
+        )
+        .mechanism_as(format!("{mechanisms}/four-bar.toml"), "four_bar_reexport")
+        .runtime_path("crate::reexport::trocar");
+    if let Err(e) = reexport.compile() {
         panic!("trocar-codegen: {e}");
     }
 }

@@ -19,6 +19,7 @@
 use clap::{Parser, Subcommand, ValueEnum};
 use std::fmt;
 use std::path::{Path, PathBuf};
+use trocar_codegen::catalogue::Function;
 use trocar_codegen::closed_chain::MechanismSource;
 use trocar_codegen::evaluate::Generated;
 use trocar_model::description::{preset_names, DescriptionError, RobotDescription};
@@ -349,22 +350,20 @@ pub fn eval_mechanism(
         });
     }
     let d = src.derive()?;
-    let spec = trocar_codegen::closed_chain::emit::module_spec(&d, "mechanism");
-    let eval = |name: &str| {
-        spec.functions
-            .iter()
-            .find(|f| f.name == name)
-            .map(|f| f.program.eval(q, &values))
-            .ok_or_else(|| CliError(format!("internal: no generated `{name}`")))
+    let generated = Generated::mechanism(&d);
+    let eval = |f: Function| {
+        generated
+            .outputs(f, q, &values)
+            .ok_or_else(|| CliError(format!("internal: no generated `{f}`")))
     };
     let out = match what {
-        What::Jc => column_major(&eval("constraint_jacobian")?, d.j_c.rows(), n),
-        What::Det => column_major(&eval("constraint_determinant")?, 1, 1),
+        What::Jc => column_major(&eval(Function::ConstraintJacobian)?, d.j_c.rows(), n),
+        What::Det => column_major(&eval(Function::ConstraintDeterminant)?, 1, 1),
         What::Jr | What::Passive => {
             let (function, count) = if what == What::Jr {
-                ("reduced_jacobian_numerator", no)
+                (Function::ReducedJacobianNumerator, no)
             } else {
-                ("passive_map_numerator", np)
+                (Function::PassiveMapNumerator, np)
             };
             // Column-major, row 0 of every column is det J_Cp.
             let num = eval(function)?;
@@ -564,21 +563,21 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             real,
         } => {
             let real = match real {
-                RealArg::Generic => trocar_codegen::emit::Real::Generic,
-                RealArg::F32 => trocar_codegen::emit::Real::F32,
-                RealArg::F64 => trocar_codegen::emit::Real::F64,
+                RealArg::Generic => trocar_codegen::Real::Generic,
+                RealArg::F32 => trocar_codegen::Real::F32,
+                RealArg::F64 => trocar_codegen::Real::F64,
+            };
+            let options = trocar_codegen::ModuleOptions {
+                real,
+                ..Default::default()
             };
             let code = if is_mechanism(&robot) {
                 let src = load_mechanism(&robot)?;
-                trocar_codegen::closed_chain::emit::generate_mechanism_string(&src, None, real)
+                trocar_codegen::generate_mechanism_string(&src, &options)
                     .map_err(|e| CliError(e.to_string()))?
             } else {
                 let desc = load_robot(&robot)?;
-                let options = trocar_codegen::builder::ModuleOptions {
-                    real,
-                    module_name: None,
-                };
-                trocar_codegen::builder::generate_module_string(&desc, &options)
+                trocar_codegen::generate_module_string(&desc, &options)
                     .map_err(|e| CliError(e.to_string()))?
             };
             match output {
@@ -658,12 +657,12 @@ pub fn eval_generated(
         values[k] = *value;
     }
     let function = match what {
-        What::Jr => "constrained_jacobian",
-        What::Manip => "manipulability",
-        What::Jc => "constraint_jacobian_c",
-        What::Jb0i => "partial_body_jacobian",
-        What::Jb0e => "body_jacobian",
-        What::Fk => "forward_kinematics",
+        What::Jr => Function::ConstrainedJacobian,
+        What::Manip => Function::Manipulability,
+        What::Jc => Function::ConstraintJacobianC,
+        What::Jb0i => Function::PartialBodyJacobian,
+        What::Jb0e => Function::BodyJacobian,
+        What::Fk => Function::ForwardKinematics,
         What::Passive | What::Det => return Err(serial_only(desc, what)),
     };
     let m = generated.evaluate(function, q, &values).ok_or_else(|| {

@@ -7,11 +7,14 @@
 //! `None` instead of a NaN or an infinity when `det J_Cp` is zero or not finite.
 
 use super::{MechanismDerivation, MechanismSource};
-use crate::builder::Error;
 use crate::emit::bridge::PolyBuilder;
-use crate::emit::{self, ConstItem, Function, ModuleSpec, Program, Real, Shape};
-use proc_macro2::{Ident, Span, TokenStream};
-use quote::quote;
+use crate::emit::rust::Ty;
+use crate::emit::{self, ConstItem, Function, ModuleSpec, Program, Real, Runtime};
+use crate::error::Error;
+use crate::naming::checked_module_name;
+use proc_macro2::{Ident, TokenStream};
+use quote::{format_ident, quote};
+use trocar_model::catalogue::{Function as F, Size};
 
 fn program(d: &MechanismDerivation) -> Program {
     Program::new(d.params.clone())
@@ -23,8 +26,6 @@ fn matrix_program(d: &MechanismDerivation, m: &crate::symbolic::Matrix) -> Progr
     prog.set_outputs(outs);
     prog
 }
-
-const SOURCE: &str = "of Freitas, Leite & Lizarralde (2010)";
 
 /// The module description: constants, `Params`, `JointTrig` and the polynomial functions.
 pub fn module_spec(d: &MechanismDerivation, module_name: &str) -> ModuleSpec {
@@ -57,53 +58,40 @@ pub fn module_spec(d: &MechanismDerivation, module_name: &str) -> ModuleSpec {
         ),
     ];
     let mut functions = Vec::new();
-    let f = |name: &str,
-             summary: &str,
-             equation: &str,
-             details: &str,
-             shape: Shape,
-             program: Program,
-             dims: Option<(&str, &str)>| Function {
-        name: name.into(),
-        summary: summary.into(),
-        equation: format!("{equation} {SOURCE}"),
-        details: details.into(),
-        shape,
-        program,
-        dims: dims.map(|(a, b)| (a.into(), b.into())),
+    let size = |s: Size| match s {
+        Size::N => n,
+        Size::NActive => na,
+        Size::NPassive => np,
+        Size::NOutputs => no,
+        Size::R => r,
+        Size::I | Size::M => unreachable!("a mechanism module has no size {s:?}"),
     };
-    functions.push(f(
-        "constraint_jacobian",
+    functions.push(Function::catalogued(
+        F::ConstraintJacobian,
         "Constraint Jacobian `J_C = Ã J = ∂c/∂θ` (rows: `pose_1 − pose_k`, `(x, y, φ)` per chain \
          k = 2..m), R × N",
-        "(3), (19), (31)",
         "",
-        Shape::Matrix { rows: r, cols: n },
         matrix_program(d, &d.j_c),
-        Some(("R", "N")),
+        size,
     ));
-    functions.push(f(
-        "task_jacobian",
+    functions.push(Function::catalogued(
+        F::TaskJacobian,
         "Analytic Jacobian of the task `J_A = S_x A† J` (chain Jacobians averaged), N_OUTPUTS × N",
-        "(4), (19), (31)",
         "",
-        Shape::Matrix { rows: no, cols: n },
         matrix_program(d, &d.j_a),
-        Some(("N_OUTPUTS", "N")),
+        size,
     ));
     let mut det = program(d);
     let v = PolyBuilder::new(&mut det).poly(&d.det_j_cp);
     det.set_outputs(vec![v]);
-    functions.push(f(
-        "constraint_determinant",
+    functions.push(Function::catalogued(
+        F::ConstraintDeterminant,
         "`det J_Cp`, the determinant of the passive columns of `J_C`: zero exactly at the \
          parallel (actuator) singularities, where the passive joints can move with the active \
          joints locked",
-        "(7), §4.5",
         "",
-        Shape::Scalar,
         det,
-        None,
+        size,
     ));
     // Each numerator with `det J_Cp` as row 0 of every column, in one program so that the
     // determinant and the adjugate share their minors.
@@ -121,33 +109,29 @@ pub fn module_spec(d: &MechanismDerivation, module_name: &str) -> ModuleSpec {
         prog.set_outputs(outs);
         prog
     };
-    functions.push(f(
-        "reduced_jacobian_numerator",
+    functions.push(Function::catalogued(
+        F::ReducedJacobianNumerator,
         "`det J_Cp` and the numerator `det(J_Cp) · J = det(J_Cp) J_Aa − J_Ap adj(J_Cp) J_Ca` of \
          the reduced Jacobian",
-        "(8)",
-        "Row 0 of every column is `det J_Cp`; rows `1..=N_OUTPUTS` are the column of \
-         `det(J_Cp) · J`. [`reduced_jacobian`] divides them.",
-        Shape::Matrix {
-            rows: 1 + no,
-            cols: na,
-        },
+        &format!(
+            "Row 0 of every column is `det J_Cp`; rows `1..=N_OUTPUTS` are the column of \
+             `det(J_Cp) · J`. [`{}`] divides them.",
+            F::ReducedJacobian.name()
+        ),
         numerator(&d.reduced_numerator),
-        Some(("1 + N_OUTPUTS", "N_ACTIVE")),
+        size,
     ));
-    functions.push(f(
-        "passive_map_numerator",
+    functions.push(Function::catalogued(
+        F::PassiveMapNumerator,
         "`det J_Cp` and the numerator `−adj(J_Cp) J_Ca` of the passive map \
          `θ̇_p = −J_Cp⁻¹ J_Ca θ̇_a`",
-        "(7)",
-        "Row 0 of every column is `det J_Cp`; rows `1..=N_PASSIVE` are the column of \
-         `−adj(J_Cp) J_Ca`, in the order of [`PASSIVE`]. [`passive_map`] divides them.",
-        Shape::Matrix {
-            rows: 1 + np,
-            cols: na,
-        },
+        &format!(
+            "Row 0 of every column is `det J_Cp`; rows `1..=N_PASSIVE` are the column of \
+             `−adj(J_Cp) J_Ca`, in the order of [`PASSIVE`]. [`{}`] divides them.",
+            F::PassiveMap.name()
+        ),
         numerator(&d.passive_numerator),
-        Some(("1 + N_PASSIVE", "N_ACTIVE")),
+        size,
     ));
     ModuleSpec {
         name: module_name.into(),
@@ -221,17 +205,11 @@ fn module_doc(d: &MechanismDerivation) -> String {
 }
 
 /// The hand-written wrappers that divide by `det J_Cp`.
-fn wrapper_tokens(d: &MechanismDerivation, real: Real) -> TokenStream {
-    let t = match real {
-        Real::Generic => quote!(T),
-        Real::F32 => quote!(f32),
-        Real::F64 => quote!(f64),
-    };
-    let (generics, args) = match real {
-        Real::Generic => (quote!(<T: ::trocar::Real>), quote!(<T>)),
-        _ => (quote!(), quote!()),
-    };
-    let rl = quote!(<#t as ::trocar::Real>);
+fn wrapper_tokens(d: &MechanismDerivation, ty: &Ty) -> TokenStream {
+    let t = ty.t();
+    let (generics, args) = (ty.generics(), ty.args());
+    let rl = ty.real_path();
+    let rt = ty.runtime();
     let active: Vec<TokenStream> = d
         .active
         .iter()
@@ -248,10 +226,19 @@ fn wrapper_tokens(d: &MechanismDerivation, real: Real) -> TokenStream {
             quote!(#l)
         })
         .collect();
-    let quotient_generics = match real {
-        Real::Generic => quote!(<T: ::trocar::Real, const IN: usize, const OUT: usize>),
+    let quotient_generics = match ty.real {
+        Real::Generic => quote!(<T: #rt::Real, const IN: usize, const OUT: usize>),
         _ => quote!(<const IN: usize, const OUT: usize>),
     };
+    let reduced = format_ident!("{}", F::ReducedJacobian.name());
+    let reduced_trig = format_ident!("{}", F::ReducedJacobian.trig_name());
+    let reduced_num = format_ident!("{}", F::ReducedJacobianNumerator.name());
+    let reduced_num_trig = format_ident!("{}", F::ReducedJacobianNumerator.trig_name());
+    let passive_map = format_ident!("{}", F::PassiveMap.name());
+    let passive_map_trig = format_ident!("{}", F::PassiveMap.trig_name());
+    let passive_num = format_ident!("{}", F::PassiveMapNumerator.name());
+    let passive_num_trig = format_ident!("{}", F::PassiveMapNumerator.trig_name());
+    let velocities = format_ident!("{}", F::PassiveVelocities.name());
     quote! {
         /// Indices in `q` of the active joints θ_a (the columns of `J`).
         pub const ACTIVE: [usize; N_ACTIVE] = [#(#active),*];
@@ -289,21 +276,21 @@ fn wrapper_tokens(d: &MechanismDerivation, real: Real) -> TokenStream {
         /// Computed as [`reduced_jacobian_numerator`] divided by `det J_Cp`.
         #[inline]
         #[must_use]
-        pub fn reduced_jacobian #generics (
+        pub fn #reduced #generics (
             q: &[#t; N],
             p: &Params #args,
         ) -> Option<[[#t; N_OUTPUTS]; N_ACTIVE]> {
-            quotient(&reduced_jacobian_numerator(q, p))
+            quotient(&#reduced_num(q, p))
         }
 
         /// [`reduced_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]).
         #[inline]
         #[must_use]
-        pub fn reduced_jacobian_trig #generics (
+        pub fn #reduced_trig #generics (
             t: &JointTrig #args,
             p: &Params #args,
         ) -> Option<[[#t; N_OUTPUTS]; N_ACTIVE]> {
-            quotient(&reduced_jacobian_numerator_trig(t, p))
+            quotient(&#reduced_num_trig(t, p))
         }
 
         /// The passive map `−J_Cp⁻¹ J_Ca` (7) of Freitas, Leite & Lizarralde (2010):
@@ -311,21 +298,21 @@ fn wrapper_tokens(d: &MechanismDerivation, real: Real) -> TokenStream {
         /// order of [`PASSIVE`]. `None` when `det J_Cp` is zero or not finite.
         #[inline]
         #[must_use]
-        pub fn passive_map #generics (
+        pub fn #passive_map #generics (
             q: &[#t; N],
             p: &Params #args,
         ) -> Option<[[#t; N_PASSIVE]; N_ACTIVE]> {
-            quotient(&passive_map_numerator(q, p))
+            quotient(&#passive_num(q, p))
         }
 
         /// [`passive_map`] from precomputed joint sines and cosines ([`JointTrig`]).
         #[inline]
         #[must_use]
-        pub fn passive_map_trig #generics (
+        pub fn #passive_map_trig #generics (
             t: &JointTrig #args,
             p: &Params #args,
         ) -> Option<[[#t; N_PASSIVE]; N_ACTIVE]> {
-            quotient(&passive_map_numerator_trig(t, p))
+            quotient(&#passive_num_trig(t, p))
         }
 
         /// Passive velocities `θ̇_p = −J_Cp⁻¹ J_Ca θ̇_a` (7) of Freitas, Leite & Lizarralde
@@ -334,12 +321,12 @@ fn wrapper_tokens(d: &MechanismDerivation, real: Real) -> TokenStream {
         /// not finite.
         #[inline]
         #[must_use]
-        pub fn passive_velocities #generics (
+        pub fn #velocities #generics (
             q: &[#t; N],
             qd_active: &[#t; N_ACTIVE],
             p: &Params #args,
         ) -> Option<[#t; N_PASSIVE]> {
-            let m = passive_map(q, p)?;
+            let m = #passive_map(q, p)?;
             let mut v = [#rl::ZERO; N_PASSIVE];
             for (col, w) in m.iter().zip(qd_active.iter()) {
                 for (x, e) in v.iter_mut().zip(col.iter()) {
@@ -356,62 +343,43 @@ fn wrapper_tokens(d: &MechanismDerivation, real: Real) -> TokenStream {
 }
 
 /// The items of a mechanism module (without the `mod` wrapper).
-pub fn module_items(d: &MechanismDerivation, module_name: &str, real: Real) -> TokenStream {
-    let spec = module_spec(d, module_name);
-    let items = emit::module_items(&spec, real);
-    let wrappers = wrapper_tokens(d, real);
+pub fn module_items(
+    d: &MechanismDerivation,
+    spec: &ModuleSpec,
+    real: Real,
+    runtime: &Runtime,
+) -> TokenStream {
+    let items = emit::module_items_in(spec, real, runtime);
+    let wrappers = wrapper_tokens(d, &Ty::new(real, runtime));
     quote! {
         #items
         #wrappers
     }
 }
 
-/// The whole module `pub mod <name> { ... }` with its documentation and lint attributes.
-pub fn module_tokens(d: &MechanismDerivation, module_name: &str, real: Real) -> TokenStream {
+/// The whole module `pub mod <name> { ... }` with its documentation and lint attributes
+/// ([`emit::wrap_module`]).
+pub fn module_tokens(
+    d: &MechanismDerivation,
+    module_name: &str,
+    real: Real,
+    runtime: &Runtime,
+) -> TokenStream {
     let spec = module_spec(d, module_name);
-    let name = Ident::new(module_name, Span::call_site());
-    let doc = spec.doc.lines().map(|l| {
-        let l = if l.is_empty() {
-            String::new()
-        } else {
-            format!(" {l}")
-        };
-        quote!(#![doc = #l])
-    });
-    let items = module_items(d, module_name, real);
-    quote! {
-        pub mod #name {
-            #(#doc)*
-            // Literals are the description's values written in full: they may look like
-            // well-known constants or carry more digits than f32 holds; rustc rounds them.
-            #![allow(
-                clippy::approx_constant,
-                clippy::excessive_precision,
-                clippy::unreadable_literal,
-                clippy::too_many_lines,
-                clippy::doc_markdown
-            )]
-            #items
-        }
-    }
+    emit::wrap_module(
+        module_name,
+        &spec.doc,
+        module_items(d, &spec, real, runtime),
+    )
 }
 
-/// The module name for a mechanism named `mechanism` (snake-cased), or `module` when given.
-pub fn module_name_for(mechanism: &str, module: Option<&str>) -> Result<String, Error> {
-    let name = module
-        .map(str::to_string)
-        .unwrap_or_else(|| crate::builder::module_name(mechanism));
-    if syn::parse_str::<Ident>(&name).is_err() {
-        return Err(Error::BadModuleName(name));
-    }
-    Ok(name)
-}
-
-/// The formatted module file (prettyplease, headed by the `@generated` line) of a mechanism.
+/// The formatted module file (prettyplease, headed by the `@generated` line) of a mechanism,
+/// named `module` or after the mechanism.
 pub fn generate_mechanism_string(
     src: &MechanismSource,
     module: Option<&str>,
     real: Real,
+    runtime: &Runtime,
 ) -> Result<String, Error> {
     let d = src.derive().map_err(Error::Description)?;
     for (k, name) in d.params.iter().enumerate() {
@@ -427,6 +395,7 @@ pub fn generate_mechanism_string(
             ));
         }
     }
-    let name = module_name_for(&d.name, module)?;
-    emit::format_file(module_tokens(&d, &name, real)).map_err(|e| Error::Internal(e.to_string()))
+    let name = checked_module_name(&d.name, module)?;
+    emit::format_file(module_tokens(&d, &name, real, runtime))
+        .map_err(|e| Error::Internal(e.to_string()))
 }

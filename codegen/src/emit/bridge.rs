@@ -14,10 +14,11 @@
 //! functions (the expanded form is what the derivation's symbolic tests check).
 
 use super::program::{Atom, Program, Term, ValueId};
-use super::rust::{ConstItem, Function, ModuleSpec, Shape};
+use super::rust::{ConstItem, Function, ModuleSpec};
 use crate::derivation::{Derivation, ManipulabilityForm};
 use crate::symbolic::{self, inverse_denominator, Matrix, Poly, Transform};
 use std::collections::HashMap;
+use trocar_model::catalogue::{Function as F, Size};
 
 /// Builds polynomials into one program, sharing `1/P` for each `Inv` atom.
 pub struct PolyBuilder<'a> {
@@ -126,7 +127,7 @@ impl NumTransform {
         NumTransform { rot, pos }
     }
 
-    /// Outputs in the [`Shape::Transform`] layout: `R` column-major, then `p`.
+    /// Outputs in the [`super::Shape::Transform`] layout: `R` column-major, then `p`.
     pub fn outputs(&self) -> Vec<ValueId> {
         let mut v = Vec::with_capacity(12);
         for j in 0..3 {
@@ -261,26 +262,6 @@ fn cheaper(a: Program, b: Program) -> Program {
     }
 }
 
-fn function(
-    name: &str,
-    summary: &str,
-    equation: &str,
-    details: &str,
-    shape: Shape,
-    program: Program,
-    dims: Option<(&str, &str)>,
-) -> Function {
-    Function {
-        name: name.into(),
-        summary: summary.into(),
-        equation: equation.into(),
-        details: details.into(),
-        shape,
-        program,
-        dims: dims.map(|(r, c)| (r.into(), c.into())),
-    }
-}
-
 /// The module for a derivation: constants, `Params`, `JointTrig` and the functions
 /// `forward_kinematics`, `body_jacobian` and, with a constraint, `constrained_jacobian`,
 /// `constraint_jacobian_c`, `partial_body_jacobian`, `forward_kinematics_i`, `manipulability`,
@@ -293,6 +274,13 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
         doc: "Number of joints `n` (length of `q`, base first).".into(),
     }];
     let mut functions = Vec::new();
+    let size = |s: Size| match (s, &d.constraint) {
+        (Size::N, _) => n,
+        (Size::I, Some(c)) => c.link,
+        (Size::R, Some(c)) => c.r,
+        (Size::M, Some(c)) => c.m,
+        _ => unreachable!("a serial module has no size {s:?}"),
+    };
 
     let fk_product = fk_product_program(d, n, Some(&d.end_effector));
     let fk = match &d.fk_e {
@@ -307,28 +295,24 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
         ),
         None => fk_product,
     };
-    functions.push(function(
-        "forward_kinematics",
+    functions.push(Function::catalogued(
+        F::ForwardKinematics,
         "Forward kinematics `g_0e(q) = (R_0e, p_0e)` of the end effector",
-        "(2.21)",
         "",
-        Shape::Transform,
         fk,
-        None,
+        size,
     ));
     let jb_product = body_jacobian_product_program(d, n, Some(&d.end_effector));
     let jb = match &d.body_jacobian_e {
         Some(m) => cheaper(matrix_program(d, m), jb_product),
         None => jb_product,
     };
-    functions.push(function(
-        "body_jacobian",
+    functions.push(Function::catalogued(
+        F::BodyJacobian,
         "Body Jacobian `J^B_0e(q)` of the whole chain, 6 × N (twist order `(v, ω)`)",
-        "(2.53)–(2.55)",
         "",
-        Shape::Matrix { rows: 6, cols: n },
         jb,
-        Some(("6", "N")),
+        size,
     ));
 
     if let Some(c) = &d.constraint {
@@ -356,39 +340,30 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
             c.link + 1,
             n
         );
-        functions.push(function(
-            "constrained_jacobian",
+        functions.push(Function::catalogued(
+            F::ConstrainedJacobian,
             "Constrained Jacobian `J^r_0e = [Ad_{g_ei} Λ# | J^B_0e2]`, 6 × M",
-            "(3.15) (presets: (3.24), (3.28), (3.29))",
             &basis,
-            Shape::Matrix { rows: 6, cols: c.m },
             matrix_program(d, &c.jr),
-            Some(("6", "M")),
+            size,
         ));
-        functions.push(function(
-            "constraint_jacobian_c",
+        functions.push(Function::catalogued(
+            F::ConstraintJacobianC,
             "Jacobian of the moving constraint `J_c = Ad_{g_ei} Λ†`, 6 × R",
-            "(3.33)",
             "",
-            Shape::Matrix { rows: 6, cols: c.r },
             matrix_program(d, &c.jc),
-            Some(("6", "R")),
+            size,
         ));
         let jbi = cheaper(
             matrix_program(d, &c.body_jacobian_i),
             body_jacobian_product_program(d, c.link, None),
         );
-        functions.push(function(
-            "partial_body_jacobian",
+        functions.push(Function::catalogued(
+            F::PartialBodyJacobian,
             "Partial body Jacobian `J^B_0i(q_1..q_i)` of the chain cut at the constrained link, 6 × I",
-            "(3.13)",
             "",
-            Shape::Matrix {
-                rows: 6,
-                cols: c.link,
-            },
             jbi,
-            Some(("6", "I")),
+            size,
         ));
         let fki = cheaper(
             {
@@ -399,39 +374,33 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
             },
             fk_product_program(d, c.link, None),
         );
-        functions.push(function(
-            "forward_kinematics_i",
+        functions.push(Function::catalogued(
+            F::ConstrainedLinkKinematics,
             "Forward kinematics `g_0i(q_1..q_i) = (R_0i, p_0i)` of the constrained link's frame",
-            "(2.21)",
             "With the trocar fixed in space, `l_a = (p_trocar − p_0i) · y_i` where `y_i` is \
              column 1 of `R_0i`.",
-            Shape::Transform,
             fki,
-            None,
+            size,
         ));
         let (w, w2) = match &c.manipulability {
             Some(m) => manipulability_programs(d, &m.form),
             None => manipulability_from_jr(d, &c.jr),
         };
-        functions.push(function(
-            "manipulability",
+        functions.push(Function::catalogued(
+            F::Manipulability,
             "Manipulability `w = sqrt(det(J^r J^rᵀ))` of the constrained Jacobian (closed form: \
              `|det J^r|` when square, Cauchy–Binet sum of squared maximal minors when wide)",
-            "(3.36)–(3.39) (presets: (3.40)–(3.42))",
             "",
-            Shape::Scalar,
             w,
-            None,
+            size,
         ));
-        functions.push(function(
-            "manipulability_squared",
+        functions.push(Function::catalogued(
+            F::ManipulabilitySquared,
             "Squared manipulability `w² = det(J^r J^rᵀ)` (no square root, for thresholds such as \
              (3.44))",
-            "(3.36)",
             "",
-            Shape::Scalar,
             w2,
-            None,
+            size,
         ));
     }
 

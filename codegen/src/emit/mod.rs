@@ -17,5 +17,6 @@ pub mod rust;
 
 pub use program::{Atom, Const, Op, OpCounts, Program, Term, ValueId};
 pub use rust::{
-    format_file, module_items, module_tokens, ConstItem, Function, ModuleSpec, Real, Shape,
+    format_file, module_items, module_items_in, module_tokens, module_tokens_in, wrap_module,
+    ConstItem, Function, ModuleSpec, Real, Runtime, Shape, DEFAULT_RUNTIME_PATH,
 };

@@ -5,6 +5,7 @@ use super::program::{Op, Program, ValueId};
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
 use std::fmt::Write as _;
+use trocar_model::catalogue;
 
 /// The scalar type of generated code.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Default, Hash)]
@@ -85,6 +86,53 @@ pub struct Function {
     pub dims: Option<(String, String)>,
 }
 
+impl Function {
+    /// The function `entry` of the catalogue ([`trocar_model::catalogue`]): its name, equation
+    /// (with the source's citation when it is not the thesis) and shape, the sizes of the module
+    /// given by `size`; matrices name their dimensions in the signature (`[[T; 6]; M]`).
+    pub fn catalogued(
+        entry: catalogue::Function,
+        summary: &str,
+        details: &str,
+        program: Program,
+        size: impl Fn(catalogue::Size) -> usize,
+    ) -> Function {
+        let (shape, dims) = match entry.shape() {
+            catalogue::Shape::Scalar => (Shape::Scalar, None),
+            catalogue::Shape::Transform => (Shape::Transform, None),
+            catalogue::Shape::Matrix { rows, cols } => (
+                Shape::Matrix {
+                    rows: rows.value(&size),
+                    cols: cols.value(&size),
+                },
+                Some((rows.to_string(), cols.to_string())),
+            ),
+            catalogue::Shape::Vector(len) => (
+                Shape::Matrix {
+                    rows: len.value(&size),
+                    cols: 1,
+                },
+                Some((len.to_string(), "1".to_string())),
+            ),
+        };
+        let citation = entry.source().citation();
+        let equation = if citation.is_empty() {
+            entry.equation().to_string()
+        } else {
+            format!("{} {citation}", entry.equation())
+        };
+        Function {
+            name: entry.name().into(),
+            summary: summary.into(),
+            equation,
+            details: details.into(),
+            shape,
+            program,
+            dims,
+        }
+    }
+}
+
 /// A named `usize` constant of the module.
 #[derive(Clone, Debug)]
 pub struct ConstItem {
@@ -114,33 +162,105 @@ pub struct ModuleSpec {
     pub functions: Vec<Function>,
 }
 
-struct Ty {
-    real: Real,
+impl ModuleSpec {
+    /// The emitted function `f` of the catalogue, if the module has it.
+    pub fn function(&self, f: catalogue::Function) -> Option<&Function> {
+        self.functions.iter().find(|x| x.name == f.name())
+    }
+}
+
+/// The default path of the runtime crate in emitted code ([`Runtime`]).
+pub const DEFAULT_RUNTIME_PATH: &str = "::trocar";
+
+/// The path through which emitted code names the runtime crate `trocar` (`<T: ::trocar::Real>`),
+/// `::trocar` by default; another path (e.g. `::my_reexport::trocar`) serves a crate that reaches
+/// `trocar` through a re-export (prost-build's `prost_path`).
+#[derive(Clone, Debug)]
+pub struct Runtime {
+    path: String,
+    tokens: TokenStream,
+}
+
+impl Runtime {
+    /// The runtime at `path`; `None` when `path` is not a Rust path.
+    pub fn new(path: &str) -> Option<Self> {
+        let parsed: syn::Path = syn::parse_str(path).ok()?;
+        Some(Runtime {
+            path: path.to_string(),
+            tokens: quote!(#parsed),
+        })
+    }
+
+    /// The path as given.
+    pub fn path(&self) -> &str {
+        &self.path
+    }
+
+    /// The path as tokens.
+    pub fn tokens(&self) -> &TokenStream {
+        &self.tokens
+    }
+}
+
+/// Equal when the paths are written alike.
+impl PartialEq for Runtime {
+    fn eq(&self, other: &Self) -> bool {
+        self.path == other.path
+    }
+}
+
+impl Eq for Runtime {}
+
+impl Default for Runtime {
+    fn default() -> Self {
+        Runtime::new(DEFAULT_RUNTIME_PATH).expect("a valid path")
+    }
+}
+
+/// The scalar type and the runtime path of emitted code, with the token fragments built from
+/// them.
+pub(crate) struct Ty {
+    pub(crate) real: Real,
+    runtime: TokenStream,
 }
 
 impl Ty {
-    fn t(&self) -> TokenStream {
+    pub(crate) fn new(real: Real, runtime: &Runtime) -> Self {
+        Ty {
+            real,
+            runtime: runtime.tokens.clone(),
+        }
+    }
+
+    /// The runtime crate's path, e.g. `::trocar`.
+    pub(crate) fn runtime(&self) -> &TokenStream {
+        &self.runtime
+    }
+
+    pub(crate) fn t(&self) -> TokenStream {
         match self.real {
             Real::Generic => quote!(T),
             Real::F32 => quote!(f32),
             Real::F64 => quote!(f64),
         }
     }
-    fn generics(&self) -> TokenStream {
+    pub(crate) fn generics(&self) -> TokenStream {
+        let rt = &self.runtime;
         match self.real {
-            Real::Generic => quote!(<T: ::trocar::Real>),
+            Real::Generic => quote!(<T: #rt::Real>),
             _ => quote!(),
         }
     }
-    fn args(&self) -> TokenStream {
+    pub(crate) fn args(&self) -> TokenStream {
         match self.real {
             Real::Generic => quote!(<T>),
             _ => quote!(),
         }
     }
-    fn real_path(&self) -> TokenStream {
+    pub(crate) fn real_path(&self) -> TokenStream {
         let t = self.t();
-        quote!(<#t as ::trocar::Real>)
+        let rt = &self.runtime;
+        quote!(<#t as #rt::Real>)
     }
     fn lit(&self, x: f64) -> TokenStream {
         let r = self.real_path();
@@ -496,6 +616,7 @@ fn params_tokens(spec: &ModuleSpec, ty: &Ty) -> TokenStream {
         "The named parameters of `{}`: runtime inputs of every function.",
         spec.name
     ));
+    let rt = ty.runtime();
     if spec.params.is_empty() {
         return match ty.real {
             Real::Generic => quote! {
@@ -503,7 +624,7 @@ fn params_tokens(spec: &ModuleSpec, ty: &Ty) -> TokenStream {
                 #[derive(Clone, Copy, Debug, Default, PartialEq)]
                 pub struct Params<T>(::core::marker::PhantomData<T>);
 
-                impl<T: ::trocar::Real> Params<T> {
+                impl<T: #rt::Real> Params<T> {
                     /// The description's nominal values (this robot has no parameters).
                     #[inline]
                     #[must_use]
@@ -652,9 +773,14 @@ fn trig_statement(
     Some(quote!(let ([#(#sins),*], [#(#coss),*]) = #r::sin_cos_array(&[#(#args),*]);))
 }
 
-/// The items of a robot module (without the `mod` wrapper).
+/// The items of a robot module (without the `mod` wrapper), naming the runtime `::trocar`.
 pub fn module_items(spec: &ModuleSpec, real: Real) -> TokenStream {
-    let ty = Ty { real };
+    module_items_in(spec, real, &Runtime::default())
+}
+
+/// The items of a robot module (without the `mod` wrapper), naming the runtime by `runtime`.
+pub fn module_items_in(spec: &ModuleSpec, real: Real, runtime: &Runtime) -> TokenStream {
+    let ty = Ty::new(real, runtime);
     let consts = spec.consts.iter().map(|c| {
         let id = format_ident!("{}", c.name);
         let v = Literal::usize_unsuffixed(c.value);
@@ -675,10 +801,22 @@ pub fn module_items(spec: &ModuleSpec, real: Real) -> TokenStream {
     }
 }
 
-/// The whole module `pub mod <name> { ... }`, with its documentation and lint attributes.
+/// The whole module `pub mod <name> { ... }`, with its documentation and lint attributes, naming
+/// the runtime `::trocar`.
 pub fn module_tokens(spec: &ModuleSpec, real: Real) -> TokenStream {
-    let name = Ident::new(&spec.name, Span::call_site());
-    let doc = spec.doc.lines().map(|l| {
+    module_tokens_in(spec, real, &Runtime::default())
+}
+
+/// The whole module `pub mod <name> { ... }`, naming the runtime by `runtime`.
+pub fn module_tokens_in(spec: &ModuleSpec, real: Real, runtime: &Runtime) -> TokenStream {
+    wrap_module(&spec.name, &spec.doc, module_items_in(spec, real, runtime))
+}
+
+/// The module wrapper of every generated module, serial or mechanism: `pub mod <name> { ... }`
+/// with `doc` (markdown, one `#![doc]` a line) and the lint attributes, around `items`.
+pub fn wrap_module(name: &str, doc: &str, items: TokenStream) -> TokenStream {
+    let name = Ident::new(name, Span::call_site());
+    let doc = doc.lines().map(|l| {
         let l = if l.is_empty() {
             String::new()
         } else {
@@ -686,7 +824,6 @@ pub fn module_tokens(spec: &ModuleSpec, real: Real) -> TokenStream {
         };
         quote!(#![doc = #l])
     });
-    let items = module_items(spec, real);
     quote! {
         pub mod #name {
             #(#doc)*

@@ -4,6 +4,7 @@
 //! model, and converted to the numeric types of [`trocar`].
 #![warn(missing_docs)]
 
+pub mod catalogue;
 pub mod closed_chain;
 pub mod description;
 pub mod robot;

@@ -12,63 +12,31 @@
 //! The result is a [`Report`] with the largest error of each check and the configuration where it
 //! happened.
 
+use crate::catalogue::Function;
 use crate::description::RobotDescription;
 use crate::robot::{Robot, RobotError};
 use nalgebra::{DMatrix, Matrix3, Vector3};
 use std::fmt;
 use trocar::se3::Se3;
 
-/// A quantity a candidate can evaluate.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Quantity {
-    /// Constrained Jacobian `J^r_0e` (3.15), 6×m.
-    ConstrainedJacobian,
-    /// `J_c = Ad_gei Λ†` (3.33), 6×r.
-    ConstraintJacobianC,
-    /// Partial body Jacobian `J^B_0i` (3.13), 6×i.
-    PartialBodyJacobian,
-    /// Forward kinematics `g_0e` as a 4×4 homogeneous matrix.
-    ForwardKinematics,
-    /// Forward kinematics `g_0i` (frame of the constrained link) as a 4×4 homogeneous matrix.
-    ConstrainedLinkKinematics,
-    /// Manipulability of `J^r` (3.36), 1×1.
-    Manipulability,
-    /// Squared manipulability `det(J^r J^rᵀ)`, 1×1.
-    ManipulabilitySquared,
-}
-
-impl Quantity {
-    /// Every quantity, in report order.
-    pub const ALL: [Quantity; 7] = [
-        Quantity::ForwardKinematics,
-        Quantity::ConstrainedLinkKinematics,
-        Quantity::PartialBodyJacobian,
-        Quantity::ConstrainedJacobian,
-        Quantity::ConstraintJacobianC,
-        Quantity::Manipulability,
-        Quantity::ManipulabilitySquared,
-    ];
-
-    /// Short name, as in `trocar eval --what`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Quantity::ConstrainedJacobian => "jr",
-            Quantity::ConstraintJacobianC => "jc",
-            Quantity::PartialBodyJacobian => "jb0i",
-            Quantity::ForwardKinematics => "fk",
-            Quantity::ConstrainedLinkKinematics => "fk0i",
-            Quantity::Manipulability => "manip",
-            Quantity::ManipulabilitySquared => "manip2",
-        }
-    }
-}
+/// The generated functions [`verify`] checks against the numeric runtime, in report order.
+pub const CHECKED: [Function; 7] = [
+    Function::ForwardKinematics,
+    Function::ConstrainedLinkKinematics,
+    Function::PartialBodyJacobian,
+    Function::ConstrainedJacobian,
+    Function::ConstraintJacobianC,
+    Function::Manipulability,
+    Function::ManipulabilitySquared,
+];
 
 /// An implementation of a robot's kinematics to be checked.
 pub trait Candidate {
-    /// Evaluates `quantity` at joints `q` (all n, base first) and parameter values `params`
-    /// (every named parameter of the description, in declaration order). `None` when the candidate
-    /// does not provide this quantity.
-    fn evaluate(&self, quantity: Quantity, q: &[f64], params: &[f64]) -> Option<DMatrix<f64>>;
+    /// Evaluates the generated function `function` ([`crate::catalogue`]) at joints `q` (all n,
+    /// base first) and parameter values `params` (every named parameter of the description, in
+    /// declaration order); a transform as a 4 × 4 homogeneous matrix. `None` when the candidate
+    /// does not provide this function.
+    fn evaluate(&self, function: Function, q: &[f64], params: &[f64]) -> Option<DMatrix<f64>>;
 }
 
 /// The largest error of one check over all samples.
@@ -262,7 +230,7 @@ pub fn verify(
     let mut rng = SplitMix64::new(seed);
     let n = description.joints.len();
     let link = description.constraint.as_ref().map(|c| c.link);
-    let mut tallies: Vec<(Quantity, Tally)> = Vec::new();
+    let mut tallies: Vec<(Function, Tally)> = Vec::new();
     let mut fd_numeric = Tally::new(
         "jb0e: numeric vs finite differences of fk".into(),
         tolerances.finite_difference,
@@ -289,24 +257,25 @@ pub fn verify(
             .collect();
         let values: Vec<f64> = params.iter().map(|(_, v)| *v).collect();
         let robot = Robot::<f64>::from_description(description, &params)?;
-        for quantity in Quantity::ALL {
+        for quantity in CHECKED {
             let Some(got) = candidate.evaluate(quantity, &q, &values) else {
                 continue;
             };
             let reference = match quantity {
-                Quantity::ConstrainedJacobian => robot.constrained_jacobian(&q)?,
-                Quantity::ConstraintJacobianC => robot.moving_rcm_jacobian(&q)?,
-                Quantity::PartialBodyJacobian => robot.partial_body_jacobian(&q)?,
-                Quantity::ForwardKinematics => robot.forward_kinematics_matrix(&q)?,
-                Quantity::ConstrainedLinkKinematics => {
+                Function::ConstrainedJacobian => robot.constrained_jacobian(&q)?,
+                Function::ConstraintJacobianC => robot.moving_rcm_jacobian(&q)?,
+                Function::PartialBodyJacobian => robot.partial_body_jacobian(&q)?,
+                Function::ForwardKinematics => robot.forward_kinematics_matrix(&q)?,
+                Function::ConstrainedLinkKinematics => {
                     let Some(i) = link else { continue };
                     let m = robot.link_frame(i, &q)?.to_homogeneous();
                     DMatrix::from_iterator(4, 4, m.iter().copied())
                 }
-                Quantity::Manipulability => DMatrix::from_element(1, 1, robot.manipulability(&q)?),
-                Quantity::ManipulabilitySquared => {
+                Function::Manipulability => DMatrix::from_element(1, 1, robot.manipulability(&q)?),
+                Function::ManipulabilitySquared => {
                     DMatrix::from_element(1, 1, robot.manipulability(&q)?.powi(2))
                 }
+                _ => continue,
             };
             let tally = match tallies.iter_mut().find(|(k, _)| *k == quantity) {
                 Some((_, t)) => t,
@@ -314,7 +283,7 @@ pub fn verify(
                     tallies.push((
                         quantity,
                         Tally::new(
-                            format!("{}: generated vs numeric", quantity.name()),
+                            format!("{}: generated vs numeric", quantity.short_name()),
                             tolerances.exact,
                         ),
                     ));
@@ -326,10 +295,10 @@ pub fn verify(
                 // relative to Hadamard's bound Π‖row_k(J^r)‖ (squared for the squared value),
                 // the natural scale of a determinant, as matrices are measured relative to
                 // their norm.
-                Quantity::Manipulability | Quantity::ManipulabilitySquared => {
+                Function::Manipulability | Function::ManipulabilitySquared => {
                     let jr = robot.constrained_jacobian(&q)?;
                     let mut bound: f64 = jr.row_iter().map(|r| r.norm()).product();
-                    if quantity == Quantity::ManipulabilitySquared {
+                    if quantity == Function::ManipulabilitySquared {
                         bound *= bound;
                     }
                     let diff = (got[(0, 0)] - reference[(0, 0)]).abs();
@@ -346,7 +315,7 @@ pub fn verify(
         // Finite differences of the candidate's forward kinematics.
         let fk = |qq: &[f64]| {
             candidate
-                .evaluate(Quantity::ForwardKinematics, qq, &values)
+                .evaluate(Function::ForwardKinematics, qq, &values)
                 .and_then(|m| se3_from_matrix(&m))
         };
         if fk(&q).is_some() {
@@ -357,10 +326,10 @@ pub fn verify(
         if let Some(i) = link {
             let fk0i = |qq: &[f64]| {
                 candidate
-                    .evaluate(Quantity::ConstrainedLinkKinematics, qq, &values)
+                    .evaluate(Function::ConstrainedLinkKinematics, qq, &values)
                     .and_then(|m| se3_from_matrix(&m))
             };
-            let jb0i = candidate.evaluate(Quantity::PartialBodyJacobian, &q, &values);
+            let jb0i = candidate.evaluate(Function::PartialBodyJacobian, &q, &values);
             if let (Some(jb0i), Some(fd)) = (jb0i, finite_difference_jacobian(fk0i, &q, i, h)) {
                 any_fd_candidate = true;
                 fd_candidate.record(relative_error(&fd, &jb0i), &q);
@@ -368,7 +337,7 @@ pub fn verify(
         }
         progress((s + 1) as f64 / samples.max(1) as f64);
     }
-    tallies.sort_by_key(|(k, _)| Quantity::ALL.iter().position(|a| a == k));
+    tallies.sort_by_key(|(k, _)| CHECKED.iter().position(|a| a == k));
     let mut checks: Vec<Check> = tallies.into_iter().map(|(_, t)| t.check).collect();
     if fd_numeric.check.count > 0 {
         checks.push(fd_numeric.check);
@@ -394,7 +363,7 @@ mod tests {
     }
 
     impl Candidate for Numeric {
-        fn evaluate(&self, quantity: Quantity, q: &[f64], params: &[f64]) -> Option<DMatrix<f64>> {
+        fn evaluate(&self, quantity: Function, q: &[f64], params: &[f64]) -> Option<DMatrix<f64>> {
             let overrides: Vec<(String, f64)> = self
                 .description
                 .parameters
@@ -404,10 +373,10 @@ mod tests {
                 .collect();
             let robot = Robot::<f64>::from_description(&self.description, &overrides).ok()?;
             let mut m = match quantity {
-                Quantity::ConstrainedJacobian => robot.constrained_jacobian(q).ok()?,
-                Quantity::ForwardKinematics => robot.forward_kinematics_matrix(q).ok()?,
-                Quantity::PartialBodyJacobian => robot.partial_body_jacobian(q).ok()?,
-                Quantity::ConstrainedLinkKinematics => {
+                Function::ConstrainedJacobian => robot.constrained_jacobian(q).ok()?,
+                Function::ForwardKinematics => robot.forward_kinematics_matrix(q).ok()?,
+                Function::PartialBodyJacobian => robot.partial_body_jacobian(q).ok()?,
+                Function::ConstrainedLinkKinematics => {
                     let i = self.description.constraint.as_ref()?.link;
                     DMatrix::from_iterator(
                         4,

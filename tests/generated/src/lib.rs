@@ -26,3 +26,12 @@ generated!(
 
 // Closed mechanisms (four-bar linkage, planar Gough–Stewart platform).
 generated!("four_bar.rs", "planar_stewart.rs", "four_bar_f32.rs");
+
+/// The runtime crate re-exported, as a crate that depends on `trocar` only through another crate
+/// would see it: the modules below name it `crate::reexport::trocar`
+/// (`Builder::runtime_path`).
+pub mod reexport {
+    pub use trocar;
+}
+
+generated!("bidirectional_zy_reexport.rs", "four_bar_reexport.rs");

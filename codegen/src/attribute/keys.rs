@@ -1,12 +1,12 @@
 //! The attribute's top-level keys.
 
-use crate::errors::Errors;
+use super::errors::Errors;
+use crate::emit::Real;
 use proc_macro2::{Span, TokenStream};
 use syn::parse::Parser;
 use syn::punctuated::Punctuated;
 use syn::spanned::Spanned;
 use syn::{Expr, ExprLit, Lit, LitStr, Meta, MetaList, Token};
-use trocar_codegen::emit::Real;
 
 /// Every key the attribute accepts (for "unknown key" messages).
 pub(crate) const KEYS: &str =

@@ -2,8 +2,8 @@
 //! → a [`RobotDescription`], with the span of every field so the description's own validation
 //! errors land on the right token.
 
-use crate::attr::InlineLists;
-use crate::errors::Errors;
+use super::errors::Errors;
+use super::keys::InlineLists;
 use proc_macro2::Span;
 use quote::ToTokens;
 use syn::parse::{Parse, ParseStream, Parser};
@@ -86,9 +86,15 @@ fn text(e: &Expr) -> String {
     e.to_token_stream().to_string()
 }
 
+/// The one parser of lengths written in the attribute: the text of an expression (tokens printed
+/// with spaces, e.g. `l_a + l_b`, `- 0.5 * l_8`) → a [`Scalar`].
+fn parse_length(text: &str) -> Result<Scalar, String> {
+    Scalar::parse(text)
+}
+
 /// A length: a number, a parameter name or a linear combination (`l_a + l_b`, `-0.5 * l_8`).
 fn scalar(e: &Expr) -> syn::Result<Scalar> {
-    Scalar::parse(&text(e)).map_err(|m| {
+    parse_length(&text(e)).map_err(|m| {
         syn::Error::new(
             e.span(),
             format_args!("expected a number, a parameter or a linear combination: {m}"),
@@ -97,7 +103,7 @@ fn scalar(e: &Expr) -> syn::Result<Scalar> {
 }
 
 fn number(e: &Expr) -> syn::Result<f64> {
-    match Scalar::parse(&text(e)) {
+    match parse_length(&text(e)) {
         Ok(s) if s.is_constant() => Ok(s.constant),
         _ => Err(syn::Error::new(
             e.span(),

@@ -1,26 +1,47 @@
-//! Loads the description, calls the generator, and re-exposes the generated module's items on
-//! the struct.
+//! The attribute `#[constrained_robot(...)]` of the `trocar-derive` crate, on
+//! [`proc_macro2`] tokens: the derive crate is one call to [`expand`] (as `pest_derive` calls
+//! `pest_generator`).
+//!
+//! [`expand`] parses the attribute's keys (one description source: `preset = "..."`,
+//! `file = "..."`, `toml = "..."` or the structured inline form `params(..)`, `joints(..)`,
+//! `end_effector(..)`, `constraint(..)`; options `real`, `module`, `name`), loads and validates the
+//! description, generates its module ([`crate::generate_module`]) and puts it next to the unit
+//! struct, whose associated functions delegate to the module's functions. The grammar is
+//! documented on `trocar_derive::constrained_robot`.
+//!
+//! Every problem is a `compile_error!` at the offending token, several at once; the `file` form
+//! expands to `include_bytes!` of the description so that editing it rebuilds the calling crate.
 
-use crate::attr::{self, Source};
-use crate::inline;
+mod errors;
+mod inline;
+mod keys;
+
+use self::keys::Source;
+use crate::builder::{generate_module, ModuleOptions};
+use crate::naming::module_name;
 use proc_macro2::{Span, TokenStream};
 use quote::{format_ident, quote};
 use std::collections::BTreeSet;
 use std::path::PathBuf;
 use syn::visit_mut::VisitMut;
 use syn::{Fields, Ident, Item, ItemStruct, LitStr};
-use trocar_codegen::builder::{generate_module, module_name, ModuleOptions};
 use trocar_model::description::{preset_names, RobotDescription};
 
-/// The whole expansion.
-pub(crate) fn expand(attr: TokenStream, item: TokenStream) -> syn::Result<TokenStream> {
+/// The expansion of `#[constrained_robot(attr)] item`: the struct, the generated module, the
+/// delegating `impl` and type aliases, or `compile_error!`s at the offending tokens.
+pub fn expand(attr: TokenStream, item: TokenStream) -> TokenStream {
+    try_expand(attr, item).unwrap_or_else(syn::Error::into_compile_error)
+}
+
+/// The expansion, or the (combined) errors.
+fn try_expand(attr: TokenStream, item: TokenStream) -> syn::Result<TokenStream> {
     let strukt: ItemStruct = syn::parse2(item).map_err(|e| {
         syn::Error::new(
             e.span(),
             "#[constrained_robot] applies to a unit struct, e.g. `pub struct Arm;`",
         )
     })?;
-    let attr = attr::parse(attr);
+    let attr = keys::parse(attr);
     let shape = match (&strukt.fields, strukt.generics.params.is_empty()) {
         (Fields::Unit, true) => Ok(()),
         (Fields::Unit, false) => Err(syn::Error::new_spanned(
@@ -55,6 +76,7 @@ pub(crate) fn expand(attr: TokenStream, item: TokenStream) -> syn::Result<TokenS
     let options = ModuleOptions {
         real: attr.real,
         module_name: Some(module.to_string()),
+        ..ModuleOptions::default()
     };
     let tokens = generate_module(&desc, &options)
         .map_err(|e| syn::Error::new(source_span, format_args!("trocar-codegen: {e}")))?;
@@ -307,8 +329,8 @@ mod tests {
     #[test]
     fn file_form_tracks_the_description_file() {
         let t = std::time::Instant::now();
-        let out = super::expand(
-            quote!(file = "tests/ui/robots/arm.toml", real = "f32"),
+        let out = super::try_expand(
+            quote!(file = "../derive/tests/ui/robots/arm.toml", real = "f32"),
             quote!(
                 pub struct Arm;
             ),
@@ -320,7 +342,8 @@ mod tests {
             t.elapsed()
         );
         let path = std::fs::canonicalize(
-            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/ui/robots/arm.toml"),
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("../derive/tests/ui/robots/arm.toml"),
         )
         .unwrap();
         let lit = format!("{:?}", path.display().to_string());
@@ -332,7 +355,7 @@ mod tests {
 
     #[test]
     fn presets_are_not_tracked_and_errors_are_collected() {
-        let out = super::expand(
+        let out = super::try_expand(
             quote!(preset = "unidirectional"),
             quote!(
                 struct Uni;
@@ -341,7 +364,7 @@ mod tests {
         .unwrap()
         .to_string();
         assert!(!out.contains("include_bytes"));
-        let e = super::expand(
+        let e = super::try_expand(
             quote!(foo = 1, real = "f16"),
             quote!(
                 struct A;

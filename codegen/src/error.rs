@@ -1,0 +1,65 @@
+//! The generator's error type.
+
+use std::fmt;
+use std::path::PathBuf;
+use trocar_model::description::DescriptionError;
+
+/// Why generation failed.
+#[derive(Debug)]
+pub enum Error {
+    /// The description is unreadable, invalid or cannot be derived; names file, line and field.
+    Description(DescriptionError),
+    /// Reading or writing a file.
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// No output directory: neither [`crate::Builder::out_dir`] nor the `OUT_DIR` variable.
+    NoOutDir,
+    /// Two robots would be written to the same file.
+    DuplicateModule(String),
+    /// A module name is not a Rust identifier.
+    BadModuleName(String),
+    /// The runtime path ([`crate::Builder::runtime_path`]) is not a Rust path.
+    BadRuntimePath(String),
+    /// The generated tokens did not parse as a file (a bug in the generator).
+    Internal(String),
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::Description(e) => write!(f, "{e}"),
+            Error::Io { path, source } => write!(f, "{}: {source}", path.display()),
+            Error::NoOutDir => write!(
+                f,
+                "no output directory: call `Builder::out_dir` or run from a build script (OUT_DIR)"
+            ),
+            Error::DuplicateModule(m) => write!(f, "two robots generate the module `{m}`"),
+            Error::BadModuleName(m) => write!(f, "`{m}` is not a valid module name"),
+            Error::BadRuntimePath(p) => write!(
+                f,
+                "`{p}` is not a valid runtime path (expected a Rust path such as `::trocar`)"
+            ),
+            Error::Internal(m) => write!(f, "internal generator error: {m}"),
+        }
+    }
+}
+
+impl std::error::Error for Error {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Error::Description(e) => Some(e),
+            Error::Io { source, .. } => Some(source),
+            _ => None,
+        }
+    }
+}
+
+impl From<DescriptionError> for Error {
+    fn from(e: DescriptionError) -> Self {
+        Error::Description(e)
+    }
+}

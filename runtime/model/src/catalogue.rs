@@ -1,0 +1,432 @@
+//! The catalogue of emitted functions: every function trocar-codegen writes into a generated
+//! module, with its Rust name, the equation it implements, the shape of its result and what it
+//! computes.
+//!
+//! The generator names the functions it emits from here, its evaluator finds them from here, the
+//! command line maps `trocar eval --what` onto them and the numeric verification
+//! ([`crate::verify`]) asks a [`crate::verify::Candidate`] for them by [`Function`]: renaming a
+//! function is one edit here, and removing one is a compile error wherever it is used.
+//!
+//! Serial robots (thesis numbering) get [`Function::SERIAL`]; those without a constraint only
+//! [`Function::ForwardKinematics`] and [`Function::BodyJacobian`]. Closed planar mechanisms
+//! (numbering of Freitas, Leite & Lizarralde, CBA 2010) get [`Function::MECHANISM`].
+//!
+//! Every generated function `f` also has a variant `f_trig` ([`Function::trig_name`]) taking the
+//! joints' sines and cosines instead of `q`. Matrices are returned column-major.
+
+use std::fmt;
+
+/// A size of a generated module, emitted as a `usize` constant of that module.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Size {
+    /// `N`: number of joints `n` (length of `q`).
+    N,
+    /// `I`: the constrained link `i` (1-based) of a serial robot.
+    I,
+    /// `R`: rows of `H` (constrained directions, serial robots) or structural equations
+    /// `3(m − 1)` (mechanisms).
+    R,
+    /// `M`: columns of `J^r_0e`, `m = 6 − r + n − i` (3.15).
+    M,
+    /// `N_ACTIVE`: active joints `n_a` of a mechanism.
+    NActive,
+    /// `N_PASSIVE`: passive joints `n_p` of a mechanism.
+    NPassive,
+    /// `N_OUTPUTS`: task outputs `m_x` of a mechanism.
+    NOutputs,
+}
+
+impl Size {
+    /// The name of the module constant, e.g. `N_ACTIVE`.
+    pub const fn const_name(self) -> &'static str {
+        match self {
+            Size::N => "N",
+            Size::I => "I",
+            Size::R => "R",
+            Size::M => "M",
+            Size::NActive => "N_ACTIVE",
+            Size::NPassive => "N_PASSIVE",
+            Size::NOutputs => "N_OUTPUTS",
+        }
+    }
+}
+
+/// One dimension of a result: a number or an expression of the module's sizes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Dim {
+    /// A fixed number (`6` rows of a twist).
+    Fixed(usize),
+    /// A size of the module.
+    Size(Size),
+    /// `1 + size` (a row holding `det J_Cp` above the numerator rows).
+    OnePlus(Size),
+}
+
+impl Dim {
+    /// The value for a module whose sizes are given by `size`.
+    pub fn value(self, size: impl Fn(Size) -> usize) -> usize {
+        match self {
+            Dim::Fixed(k) => k,
+            Dim::Size(s) => size(s),
+            Dim::OnePlus(s) => 1 + size(s),
+        }
+    }
+}
+
+/// As written in a generated signature: `6`, `N`, `1 + N_OUTPUTS`.
+impl fmt::Display for Dim {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Dim::Fixed(k) => write!(f, "{k}"),
+            Dim::Size(s) => f.write_str(s.const_name()),
+            Dim::OnePlus(s) => write!(f, "1 + {}", s.const_name()),
+        }
+    }
+}
+
+/// What a generated function returns.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Shape {
+    /// One scalar.
+    Scalar,
+    /// A vector `[T; len]`.
+    Vector(Dim),
+    /// A `rows × cols` matrix, column-major `[[T; rows]; cols]`.
+    Matrix {
+        /// Rows.
+        rows: Dim,
+        /// Columns.
+        cols: Dim,
+    },
+    /// A rigid transform `(R, p)` as `([[T; 3]; 3], [T; 3])`, `R` column-major; evaluated
+    /// numerically as a 4 × 4 homogeneous matrix.
+    Transform,
+}
+
+/// Whose equation numbers a function cites.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Source {
+    /// The thesis (serial robots).
+    Thesis,
+    /// G. M. Freitas, A. C. Leite, F. Lizarralde, *Controle de sistemas robóticos com restrições
+    /// cinemáticas*, CBA 2010 (closed mechanisms).
+    FreitasLeiteLizarralde2010,
+}
+
+impl Source {
+    /// How generated documentation cites it after an equation number (empty for the thesis).
+    pub const fn citation(self) -> &'static str {
+        match self {
+            Source::Thesis => "",
+            Source::FreitasLeiteLizarralde2010 => "of Freitas, Leite & Lizarralde (2010)",
+        }
+    }
+}
+
+/// A function of a generated module.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Function {
+    /// `forward_kinematics`: `g_0e(q)` of the end effector (2.21).
+    ForwardKinematics,
+    /// `body_jacobian`: `J^B_0e(q)`, 6 × N (2.53)–(2.55).
+    BodyJacobian,
+    /// `constrained_jacobian`: `J^r_0e = [Ad_{g_ei} Λ# | J^B_0e2]`, 6 × M (3.15).
+    ConstrainedJacobian,
+    /// `constraint_jacobian_c`: `J_c = Ad_{g_ei} Λ†`, 6 × R (3.33).
+    ConstraintJacobianC,
+    /// `partial_body_jacobian`: `J^B_0i(q_1..q_i)`, 6 × I (3.13).
+    PartialBodyJacobian,
+    /// `forward_kinematics_i`: `g_0i(q_1..q_i)` of the constrained link's frame (2.21).
+    ConstrainedLinkKinematics,
+    /// `manipulability`: `w = sqrt(det(J^r J^rᵀ))` (3.36)–(3.39).
+    Manipulability,
+    /// `manipulability_squared`: `w² = det(J^r J^rᵀ)` (3.36).
+    ManipulabilitySquared,
+    /// `constraint_jacobian` (mechanisms): `J_C = ∂c/∂θ`, R × N (3), (19), (31).
+    ConstraintJacobian,
+    /// `task_jacobian` (mechanisms): `J_A = S_x A† J`, N_OUTPUTS × N (4), (19), (31).
+    TaskJacobian,
+    /// `constraint_determinant` (mechanisms): `det J_Cp` (7).
+    ConstraintDeterminant,
+    /// `reduced_jacobian_numerator` (mechanisms): `det J_Cp` above `det(J_Cp) · J`,
+    /// (1 + N_OUTPUTS) × N_ACTIVE (8).
+    ReducedJacobianNumerator,
+    /// `passive_map_numerator` (mechanisms): `det J_Cp` above `−adj(J_Cp) J_Ca`,
+    /// (1 + N_PASSIVE) × N_ACTIVE (7).
+    PassiveMapNumerator,
+    /// `reduced_jacobian` (mechanisms): `J = J_Aa − J_Ap J_Cp⁻¹ J_Ca`, N_OUTPUTS × N_ACTIVE, `None`
+    /// at a parallel singularity (8).
+    ReducedJacobian,
+    /// `passive_map` (mechanisms): `−J_Cp⁻¹ J_Ca`, N_PASSIVE × N_ACTIVE, `None` at a parallel
+    /// singularity (7).
+    PassiveMap,
+    /// `passive_velocities` (mechanisms): `θ̇_p = −J_Cp⁻¹ J_Ca θ̇_a`, `None` at a parallel
+    /// singularity (7).
+    PassiveVelocities,
+}
+
+use Dim::{Fixed, OnePlus};
+use Size::{NActive, NOutputs, NPassive, I, M, N, R};
+
+impl Function {
+    /// The functions of a serial robot's module, in emission order (the last six only with a
+    /// constraint).
+    pub const SERIAL: [Function; 8] = [
+        Function::ForwardKinematics,
+        Function::BodyJacobian,
+        Function::ConstrainedJacobian,
+        Function::ConstraintJacobianC,
+        Function::PartialBodyJacobian,
+        Function::ConstrainedLinkKinematics,
+        Function::Manipulability,
+        Function::ManipulabilitySquared,
+    ];
+
+    /// The functions of a closed mechanism's module, in emission order: the polynomial ones, then
+    /// the ones that divide by `det J_Cp`.
+    pub const MECHANISM: [Function; 8] = [
+        Function::ConstraintJacobian,
+        Function::TaskJacobian,
+        Function::ConstraintDeterminant,
+        Function::ReducedJacobianNumerator,
+        Function::PassiveMapNumerator,
+        Function::ReducedJacobian,
+        Function::PassiveMap,
+        Function::PassiveVelocities,
+    ];
+
+    /// The Rust name of the generated function.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Function::ForwardKinematics => "forward_kinematics",
+            Function::BodyJacobian => "body_jacobian",
+            Function::ConstrainedJacobian => "constrained_jacobian",
+            Function::ConstraintJacobianC => "constraint_jacobian_c",
+            Function::PartialBodyJacobian => "partial_body_jacobian",
+            Function::ConstrainedLinkKinematics => "forward_kinematics_i",
+            Function::Manipulability => "manipulability",
+            Function::ManipulabilitySquared => "manipulability_squared",
+            Function::ConstraintJacobian => "constraint_jacobian",
+            Function::TaskJacobian => "task_jacobian",
+            Function::ConstraintDeterminant => "constraint_determinant",
+            Function::ReducedJacobianNumerator => "reduced_jacobian_numerator",
+            Function::PassiveMapNumerator => "passive_map_numerator",
+            Function::ReducedJacobian => "reduced_jacobian",
+            Function::PassiveMap => "passive_map",
+            Function::PassiveVelocities => "passive_velocities",
+        }
+    }
+
+    /// The Rust name of the variant taking the joints' sines and cosines (`JointTrig`).
+    pub fn trig_name(self) -> String {
+        format!("{}_trig", self.name())
+    }
+
+    /// The function called `name` (the Rust name, without `_trig`), if there is one.
+    pub fn from_name(name: &str) -> Option<Function> {
+        Function::SERIAL
+            .into_iter()
+            .chain(Function::MECHANISM)
+            .find(|f| f.name() == name)
+    }
+
+    /// The short name of the quantity (`trocar eval --what`, the lines of a verification report):
+    /// `jr`, `jc`, `jb0i`, `jb0e`, `fk`, `fk0i`, `manip`, `manip2`; for mechanisms `jc`, `ja`,
+    /// `det`, `jr_num`, `passive_num`, `jr`, `passive`, `passive_vel`.
+    pub const fn short_name(self) -> &'static str {
+        match self {
+            Function::ForwardKinematics => "fk",
+            Function::BodyJacobian => "jb0e",
+            Function::ConstrainedJacobian => "jr",
+            Function::ConstraintJacobianC => "jc",
+            Function::PartialBodyJacobian => "jb0i",
+            Function::ConstrainedLinkKinematics => "fk0i",
+            Function::Manipulability => "manip",
+            Function::ManipulabilitySquared => "manip2",
+            Function::ConstraintJacobian => "jc",
+            Function::TaskJacobian => "ja",
+            Function::ConstraintDeterminant => "det",
+            Function::ReducedJacobianNumerator => "jr_num",
+            Function::PassiveMapNumerator => "passive_num",
+            Function::ReducedJacobian => "jr",
+            Function::PassiveMap => "passive",
+            Function::PassiveVelocities => "passive_vel",
+        }
+    }
+
+    /// The quantity computed, as a formula: `J^r_0e`, `det J_Cp`, ...
+    pub const fn quantity(self) -> &'static str {
+        match self {
+            Function::ForwardKinematics => "g_0e",
+            Function::BodyJacobian => "J^B_0e",
+            Function::ConstrainedJacobian => "J^r_0e",
+            Function::ConstraintJacobianC => "J_c = Ad_{g_ei} Λ†",
+            Function::PartialBodyJacobian => "J^B_0i",
+            Function::ConstrainedLinkKinematics => "g_0i",
+            Function::Manipulability => "w = sqrt(det(J^r J^rᵀ))",
+            Function::ManipulabilitySquared => "w² = det(J^r J^rᵀ)",
+            Function::ConstraintJacobian => "J_C",
+            Function::TaskJacobian => "J_A",
+            Function::ConstraintDeterminant => "det J_Cp",
+            Function::ReducedJacobianNumerator => "det(J_Cp) · J",
+            Function::PassiveMapNumerator => "−adj(J_Cp) J_Ca",
+            Function::ReducedJacobian => "J = J_Aa − J_Ap J_Cp⁻¹ J_Ca",
+            Function::PassiveMap => "−J_Cp⁻¹ J_Ca",
+            Function::PassiveVelocities => "θ̇_p = −J_Cp⁻¹ J_Ca θ̇_a",
+        }
+    }
+
+    /// Whether the function belongs to closed mechanisms (rather than serial robots).
+    pub const fn is_mechanism(self) -> bool {
+        matches!(self.source(), Source::FreitasLeiteLizarralde2010)
+    }
+
+    /// Whose equation numbers [`Function::equation`] gives.
+    pub const fn source(self) -> Source {
+        match self {
+            Function::ForwardKinematics
+            | Function::BodyJacobian
+            | Function::ConstrainedJacobian
+            | Function::ConstraintJacobianC
+            | Function::PartialBodyJacobian
+            | Function::ConstrainedLinkKinematics
+            | Function::Manipulability
+            | Function::ManipulabilitySquared => Source::Thesis,
+            _ => Source::FreitasLeiteLizarralde2010,
+        }
+    }
+
+    /// The equation(s) implemented, as cited in the generated documentation, e.g. `(3.15)`.
+    pub const fn equation(self) -> &'static str {
+        match self {
+            Function::ForwardKinematics | Function::ConstrainedLinkKinematics => "(2.21)",
+            Function::BodyJacobian => "(2.53)–(2.55)",
+            Function::ConstrainedJacobian => "(3.15) (presets: (3.24), (3.28), (3.29))",
+            Function::ConstraintJacobianC => "(3.33)",
+            Function::PartialBodyJacobian => "(3.13)",
+            Function::Manipulability => "(3.36)–(3.39) (presets: (3.40)–(3.42))",
+            Function::ManipulabilitySquared => "(3.36)",
+            Function::ConstraintJacobian => "(3), (19), (31)",
+            Function::TaskJacobian => "(4), (19), (31)",
+            Function::ConstraintDeterminant => "(7), §4.5",
+            Function::ReducedJacobianNumerator | Function::ReducedJacobian => "(8)",
+            Function::PassiveMapNumerator | Function::PassiveMap | Function::PassiveVelocities => {
+                "(7)"
+            }
+        }
+    }
+
+    /// The shape of the result.
+    pub const fn shape(self) -> Shape {
+        use Shape::{Matrix, Scalar, Transform, Vector};
+        match self {
+            Function::ForwardKinematics | Function::ConstrainedLinkKinematics => Transform,
+            Function::BodyJacobian => Matrix {
+                rows: Fixed(6),
+                cols: Dim::Size(N),
+            },
+            Function::ConstrainedJacobian => Matrix {
+                rows: Fixed(6),
+                cols: Dim::Size(M),
+            },
+            Function::ConstraintJacobianC => Matrix {
+                rows: Fixed(6),
+                cols: Dim::Size(R),
+            },
+            Function::PartialBodyJacobian => Matrix {
+                rows: Fixed(6),
+                cols: Dim::Size(I),
+            },
+            Function::Manipulability
+            | Function::ManipulabilitySquared
+            | Function::ConstraintDeterminant => Scalar,
+            Function::ConstraintJacobian => Matrix {
+                rows: Dim::Size(R),
+                cols: Dim::Size(N),
+            },
+            Function::TaskJacobian => Matrix {
+                rows: Dim::Size(NOutputs),
+                cols: Dim::Size(N),
+            },
+            Function::ReducedJacobianNumerator => Matrix {
+                rows: OnePlus(NOutputs),
+                cols: Dim::Size(NActive),
+            },
+            Function::PassiveMapNumerator => Matrix {
+                rows: OnePlus(NPassive),
+                cols: Dim::Size(NActive),
+            },
+            Function::ReducedJacobian => Matrix {
+                rows: Dim::Size(NOutputs),
+                cols: Dim::Size(NActive),
+            },
+            Function::PassiveMap => Matrix {
+                rows: Dim::Size(NPassive),
+                cols: Dim::Size(NActive),
+            },
+            Function::PassiveVelocities => Vector(Dim::Size(NPassive)),
+        }
+    }
+
+    /// Whether the result is an `Option`, `None` where it is not defined (a zero `det J_Cp`).
+    pub const fn is_fallible(self) -> bool {
+        matches!(
+            self,
+            Function::ReducedJacobian | Function::PassiveMap | Function::PassiveVelocities
+        )
+    }
+
+    /// Whether the result is an expanded polynomial program (with CSE and Horner factoring),
+    /// as opposed to a fixed wrapper around such programs (the quotients by `det J_Cp`).
+    pub const fn is_program(self) -> bool {
+        !self.is_fallible()
+    }
+}
+
+/// The Rust name.
+impl fmt::Display for Function {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_unique_and_round_trip() {
+        let all: Vec<Function> = Function::SERIAL
+            .into_iter()
+            .chain(Function::MECHANISM)
+            .collect();
+        for (k, a) in all.iter().enumerate() {
+            assert_eq!(Function::from_name(a.name()), Some(*a));
+            assert_eq!(a.trig_name(), format!("{}_trig", a.name()));
+            for b in &all[k + 1..] {
+                assert_ne!(a.name(), b.name());
+            }
+        }
+        assert!(all
+            .iter()
+            .all(|f| f.is_mechanism() == Function::MECHANISM.contains(f)));
+    }
+
+    #[test]
+    fn dimensions_print_as_in_signatures() {
+        let size = |s: Size| match s {
+            Size::NOutputs => 2,
+            Size::NActive => 1,
+            _ => 7,
+        };
+        match Function::ReducedJacobianNumerator.shape() {
+            Shape::Matrix { rows, cols } => {
+                assert_eq!(rows.to_string(), "1 + N_OUTPUTS");
+                assert_eq!(cols.to_string(), "N_ACTIVE");
+                assert_eq!((rows.value(size), cols.value(size)), (3, 1));
+            }
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(Dim::Fixed(6).to_string(), "6");
+    }
+}
