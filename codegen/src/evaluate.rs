@@ -1,5 +1,5 @@
-//! Evaluation of the generated programs: the closed-form path of `trocar eval` and the candidate
-//! that `trocar verify` checks.
+//! Evaluation of the generated programs: the closed-form path of `trocar eval` and what
+//! `trocar verify` checks.
 //!
 //! The programs evaluated here are exactly those the emitter turns into Rust (after CSE, constant
 //! folding and factoring), interpreted in `f64`; the compiled form is checked separately by the
@@ -8,9 +8,7 @@
 use crate::builder::{module_name, Error};
 use crate::derivation;
 use crate::emit::{bridge, Function, ModuleSpec, Shape};
-use trocar::nalgebra::DMatrix;
 use trocar_model::description::RobotDescription;
-use trocar_model::verify::{Candidate, Quantity};
 
 /// A robot's generated functions, ready to evaluate.
 #[derive(Clone, Debug)]
@@ -41,24 +39,37 @@ impl Generated {
     /// Evaluates the function `name` at `q` with parameter values in declaration order; a
     /// transform comes back as a 4×4 homogeneous matrix. `None` when there is no such function
     /// or the argument lengths are wrong.
-    pub fn evaluate(&self, name: &str, q: &[f64], params: &[f64]) -> Option<DMatrix<f64>> {
+    pub fn evaluate(&self, name: &str, q: &[f64], params: &[f64]) -> Option<Evaluated> {
         let f = self.function(name)?;
         if q.len() != self.spec.joints || params.len() != self.spec.params.len() {
             return None;
         }
         let out = f.program.eval(q, params);
         Some(match f.shape {
-            Shape::Scalar => DMatrix::from_element(1, 1, out[0]),
-            Shape::Matrix { rows, cols } => DMatrix::from_column_slice(rows, cols, &out),
+            Shape::Scalar => Evaluated {
+                rows: 1,
+                cols: 1,
+                values: vec![out[0]],
+            },
+            Shape::Matrix { rows, cols } => Evaluated {
+                rows,
+                cols,
+                values: out[..rows * cols].to_vec(),
+            },
             Shape::Transform => {
-                let mut m = DMatrix::identity(4, 4);
+                let mut values = vec![0.0; 16];
                 for c in 0..3 {
                     for r in 0..3 {
-                        m[(r, c)] = out[c * 3 + r];
+                        values[c * 4 + r] = out[c * 3 + r];
                     }
-                    m[(c, 3)] = out[9 + c];
+                    values[12 + c] = out[9 + c];
                 }
-                m
+                values[15] = 1.0;
+                Evaluated {
+                    rows: 4,
+                    cols: 4,
+                    values,
+                }
             }
         })
     }
@@ -69,21 +80,21 @@ impl Generated {
     }
 }
 
-/// The generated function that computes a quantity.
-pub fn function_name(quantity: Quantity) -> &'static str {
-    match quantity {
-        Quantity::ConstrainedJacobian => "constrained_jacobian",
-        Quantity::ConstraintJacobianC => "constraint_jacobian_c",
-        Quantity::PartialBodyJacobian => "partial_body_jacobian",
-        Quantity::ForwardKinematics => "forward_kinematics",
-        Quantity::ConstrainedLinkKinematics => "forward_kinematics_i",
-        Quantity::Manipulability => "manipulability",
-        Quantity::ManipulabilitySquared => "manipulability_squared",
-    }
+/// The value of a generated function: a `rows`×`cols` matrix (1×1 for a scalar, 4×4 homogeneous
+/// for a transform), entries in column-major order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Evaluated {
+    /// Row count.
+    pub rows: usize,
+    /// Column count.
+    pub cols: usize,
+    /// The `rows × cols` entries, column by column.
+    pub values: Vec<f64>,
 }
 
-impl Candidate for Generated {
-    fn evaluate(&self, quantity: Quantity, q: &[f64], params: &[f64]) -> Option<DMatrix<f64>> {
-        Generated::evaluate(self, function_name(quantity), q, params)
+impl Evaluated {
+    /// The entry at row `r`, column `c`.
+    pub fn get(&self, r: usize, c: usize) -> f64 {
+        self.values[c * self.rows + r]
     }
 }

@@ -12,11 +12,12 @@
 //! The result is a [`Report`] with the largest error of each check and the configuration where it
 //! happened.
 
-use crate::description::RobotDescription;
 use crate::robot::{Robot, RobotError};
-use nalgebra::{DMatrix, Matrix3, Vector3};
+use faer::Mat;
+use nalgebra::{Matrix3, Vector3};
 use std::fmt;
 use trocar::se3::Se3;
+use trocar_model::description::RobotDescription;
 
 /// A quantity a candidate can evaluate.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -68,7 +69,7 @@ pub trait Candidate {
     /// Evaluates `quantity` at joints `q` (all n, base first) and parameter values `params`
     /// (every named parameter of the description, in declaration order). `None` when the candidate
     /// does not provide this quantity.
-    fn evaluate(&self, quantity: Quantity, q: &[f64], params: &[f64]) -> Option<DMatrix<f64>>;
+    fn evaluate(&self, quantity: Quantity, q: &[f64], params: &[f64]) -> Option<Mat<f64>>;
 }
 
 /// The largest error of one check over all samples.
@@ -177,12 +178,12 @@ impl SplitMix64 {
     }
 }
 
-fn relative_error(a: &DMatrix<f64>, b: &DMatrix<f64>) -> f64 {
+fn relative_error(a: &Mat<f64>, b: &Mat<f64>) -> f64 {
     if a.shape() != b.shape() {
         return f64::INFINITY;
     }
-    let diff = (a - b).norm();
-    let scale = b.norm().max(1.0);
+    let diff = (a - b).norm_l2();
+    let scale = b.norm_l2().max(1.0);
     if diff.is_nan() {
         f64::INFINITY
     } else {
@@ -190,7 +191,7 @@ fn relative_error(a: &DMatrix<f64>, b: &DMatrix<f64>) -> f64 {
     }
 }
 
-fn se3_from_matrix(m: &DMatrix<f64>) -> Option<Se3<f64>> {
+fn se3_from_matrix(m: &Mat<f64>) -> Option<Se3<f64>> {
     if m.shape() != (4, 4) {
         return None;
     }
@@ -206,9 +207,9 @@ fn finite_difference_jacobian(
     q: &[f64],
     columns: usize,
     h: f64,
-) -> Option<DMatrix<f64>> {
+) -> Option<Mat<f64>> {
     let g = pose(q)?;
-    let mut out = DMatrix::zeros(6, columns);
+    let mut out = Mat::zeros(6, columns);
     let mut qq = q.to_vec();
     for k in 0..columns {
         qq[k] = q[k] + h;
@@ -216,7 +217,10 @@ fn finite_difference_jacobian(
         qq[k] = q[k] - h;
         let minus = g.inverse_compose(&pose(&qq)?).log();
         qq[k] = q[k];
-        out.set_column(k, &((plus - minus) / (2.0 * h)));
+        let column = (plus - minus) / (2.0 * h);
+        for r in 0..6 {
+            out[(r, k)] = column[r];
+        }
     }
     Some(out)
 }
@@ -278,7 +282,7 @@ pub fn verify(
             .joints
             .iter()
             .map(|j| match j.kind {
-                crate::description::JointKind::Prismatic { .. } => rng.uniform(-0.5, 0.5),
+                trocar_model::description::JointKind::Prismatic { .. } => rng.uniform(-0.5, 0.5),
                 _ => rng.uniform(-core::f64::consts::PI, core::f64::consts::PI),
             })
             .collect();
@@ -301,11 +305,11 @@ pub fn verify(
                 Quantity::ConstrainedLinkKinematics => {
                     let Some(i) = link else { continue };
                     let m = robot.link_frame(i, &q)?.to_homogeneous();
-                    DMatrix::from_iterator(4, 4, m.iter().copied())
+                    Mat::from_fn(4, 4, |r, c| m[(r, c)])
                 }
-                Quantity::Manipulability => DMatrix::from_element(1, 1, robot.manipulability(&q)?),
+                Quantity::Manipulability => Mat::full(1, 1, robot.manipulability(&q)?),
                 Quantity::ManipulabilitySquared => {
-                    DMatrix::from_element(1, 1, robot.manipulability(&q)?.powi(2))
+                    Mat::full(1, 1, robot.manipulability(&q)?.powi(2))
                 }
             };
             let tally = match tallies.iter_mut().find(|(k, _)| *k == quantity) {
@@ -328,7 +332,7 @@ pub fn verify(
                 // their norm.
                 Quantity::Manipulability | Quantity::ManipulabilitySquared => {
                     let jr = robot.constrained_jacobian(&q)?;
-                    let mut bound: f64 = jr.row_iter().map(|r| r.norm()).product();
+                    let mut bound: f64 = jr.row_iter().map(|r| r.norm_l2()).product();
                     if quantity == Quantity::ManipulabilitySquared {
                         bound *= bound;
                     }
@@ -394,7 +398,7 @@ mod tests {
     }
 
     impl Candidate for Numeric {
-        fn evaluate(&self, quantity: Quantity, q: &[f64], params: &[f64]) -> Option<DMatrix<f64>> {
+        fn evaluate(&self, quantity: Quantity, q: &[f64], params: &[f64]) -> Option<Mat<f64>> {
             let overrides: Vec<(String, f64)> = self
                 .description
                 .parameters
@@ -409,16 +413,8 @@ mod tests {
                 Quantity::PartialBodyJacobian => robot.partial_body_jacobian(q).ok()?,
                 Quantity::ConstrainedLinkKinematics => {
                     let i = self.description.constraint.as_ref()?.link;
-                    DMatrix::from_iterator(
-                        4,
-                        4,
-                        robot
-                            .link_frame(i, q)
-                            .ok()?
-                            .to_homogeneous()
-                            .iter()
-                            .copied(),
-                    )
+                    let g = robot.link_frame(i, q).ok()?.to_homogeneous();
+                    Mat::from_fn(4, 4, |r, c| g[(r, c)])
                 }
                 _ => return None,
             };
