@@ -722,9 +722,7 @@ impl Candidate for GeneratedCandidate<'_> {
     }
 }
 
-fn robot_error(
-    desc: &RobotDescription,
-) -> impl Fn(trocar_sim::robot::RobotError) -> CliError + '_ {
+fn robot_error(desc: &RobotDescription) -> impl Fn(trocar_sim::robot::RobotError) -> CliError + '_ {
     move |e| {
         let file = desc
             .source

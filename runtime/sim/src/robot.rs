@@ -201,7 +201,9 @@ impl<T: RobotScalar> Robot<T> {
     /// `Λ#`, 6×(6−r): the thesis basis (3.23)/(3.27) when the description names a wrist preset,
     /// the computed basis otherwise (see [`trocar::constraint::NullSpaceBasis`]).
     pub fn lambda_null_space(&self) -> Result<Mat<T>, RobotError> {
-        Ok(columns_to_mat(self.constraint()?.lambda_null_space_columns()))
+        Ok(columns_to_mat(
+            self.constraint()?.lambda_null_space_columns(),
+        ))
     }
 
     /// `Λ† = Λᵀ (Λ Λᵀ)⁻¹`, 6×r.
@@ -294,7 +296,13 @@ impl<T: RobotScalar> Robot<T> {
         self.check_q(q)?;
         let mut qq = q.to_vec();
         let mut cols = vec![Twist::zeros(); self.dof()];
-        trocar::finite_diff::body_jacobian_columns(self.joints(), &mut qq, self.tool(), h, &mut cols);
+        trocar::finite_diff::body_jacobian_columns(
+            self.joints(),
+            &mut qq,
+            self.tool(),
+            h,
+            &mut cols,
+        );
         Ok(columns_to_mat(&cols))
     }
 

@@ -2,9 +2,9 @@
 //! (3.10), J^B_0e θ̇ = J^r_0e [v0i; θ̇_jn] (3.9)–(3.11), the printed (3.24), the manipulability
 //! claims (3.41)/(3.42), the typed API against the dynamic one, f32 against f64, and errors.
 
+use faer::{Col, Mat};
 use rand::{rngs::StdRng, Rng, SeedableRng};
 use trocar::constraint::Constraint;
-use faer::{Col, Mat};
 use trocar::nalgebra::{SMatrix, SVector, Vector3};
 use trocar::se3::{rotation_from_rpy, Adjoint, Se3};
 use trocar_model::description::{RobotDescription, Scalar};
