@@ -1,12 +1,12 @@
 //! `#[constrained_robot(preset = ...)]` on each thesis preset: prints `J^r_0e` and its
-//! manipulability at `q0`, and compares them with the numeric runtime (`trocar_model::robot::Robot`).
+//! manipulability at `q0`, and compares them with the numeric runtime (`trocar_sim::robot::Robot`).
 //!
 //! Run: `cargo run --example derive_presets` (from the workspace root).
 
 use trocar_derive::constrained_robot;
 use trocar_examples::{max_difference, print_matrix, Dia10, Q0};
 use trocar_model::description::RobotDescription;
-use trocar_model::robot::Robot;
+use trocar_sim::robot::Robot;
 
 #[constrained_robot(preset = "unidirectional")]
 struct Unidirectional;

@@ -1,5 +1,5 @@
-//! Evaluation of the generated programs: the closed-form path of `trocar eval` and the candidate
-//! that `trocar verify` checks.
+//! Evaluation of the generated programs: the closed-form path of `trocar eval` and what
+//! `trocar verify` checks.
 //!
 //! The programs evaluated here are exactly those the emitter turns into Rust (after CSE, constant
 //! folding and factoring), interpreted in `f64`; the compiled form is checked separately by the
@@ -11,10 +11,8 @@ use crate::derivation;
 use crate::emit::{bridge, ModuleSpec, Shape};
 use crate::error::Error;
 use crate::naming::module_name;
-use trocar::nalgebra::DMatrix;
 use trocar_model::catalogue::Function;
 use trocar_model::description::RobotDescription;
-use trocar_model::verify::Candidate;
 
 /// A robot's or a mechanism's generated functions, ready to evaluate.
 #[derive(Clone, Debug)]
@@ -65,28 +63,54 @@ impl Generated {
     /// Evaluates `function` at `q` with parameter values in declaration order; a transform comes
     /// back as a 4×4 homogeneous matrix. `None` when the module has no such function or the
     /// argument lengths are wrong.
-    pub fn evaluate(&self, function: Function, q: &[f64], params: &[f64]) -> Option<DMatrix<f64>> {
+    pub fn evaluate(&self, function: Function, q: &[f64], params: &[f64]) -> Option<Evaluated> {
         let out = self.outputs(function, q, params)?;
         let shape = self.spec.function(function)?.shape;
         Some(match shape {
-            Shape::Scalar => DMatrix::from_element(1, 1, out[0]),
-            Shape::Matrix { rows, cols } => DMatrix::from_column_slice(rows, cols, &out),
+            Shape::Scalar => Evaluated {
+                rows: 1,
+                cols: 1,
+                values: vec![out[0]],
+            },
+            Shape::Matrix { rows, cols } => Evaluated {
+                rows,
+                cols,
+                values: out[..rows * cols].to_vec(),
+            },
             Shape::Transform => {
-                let mut m = DMatrix::identity(4, 4);
+                let mut values = vec![0.0; 16];
                 for c in 0..3 {
                     for r in 0..3 {
-                        m[(r, c)] = out[c * 3 + r];
+                        values[c * 4 + r] = out[c * 3 + r];
                     }
-                    m[(c, 3)] = out[9 + c];
+                    values[12 + c] = out[9 + c];
                 }
-                m
+                values[15] = 1.0;
+                Evaluated {
+                    rows: 4,
+                    cols: 4,
+                    values,
+                }
             }
         })
     }
 }
 
-impl Candidate for Generated {
-    fn evaluate(&self, function: Function, q: &[f64], params: &[f64]) -> Option<DMatrix<f64>> {
-        Generated::evaluate(self, function, q, params)
+/// The value of a generated function: a `rows`×`cols` matrix (1×1 for a scalar, 4×4 homogeneous
+/// for a transform), entries in column-major order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Evaluated {
+    /// Row count.
+    pub rows: usize,
+    /// Column count.
+    pub cols: usize,
+    /// The `rows × cols` entries, column by column.
+    pub values: Vec<f64>,
+}
+
+impl Evaluated {
+    /// The entry at row `r`, column `c`.
+    pub fn get(&self, r: usize, c: usize) -> f64 {
+        self.values[c * self.rows + r]
     }
 }

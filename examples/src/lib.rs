@@ -25,10 +25,7 @@ pub fn print_matrix<const C: usize>(title: &str, a: &[[f64; 6]; C]) {
 }
 
 /// Largest entry-wise difference between a column-major array and a numeric matrix.
-pub fn max_difference<const C: usize>(
-    a: &[[f64; 6]; C],
-    b: &trocar::nalgebra::DMatrix<f64>,
-) -> f64 {
+pub fn max_difference<const C: usize>(a: &[[f64; 6]; C], b: &faer::Mat<f64>) -> f64 {
     assert_eq!((b.nrows(), b.ncols()), (6, C));
     let mut d = 0.0f64;
     for (c, col) in a.iter().enumerate() {
@@ -43,7 +40,7 @@ pub fn max_difference<const C: usize>(
 mod tests {
     use super::*;
     use trocar_model::description::RobotDescription;
-    use trocar_model::robot::Robot;
+    use trocar_sim::robot::Robot;
 
     #[test]
     fn file_form_matches_the_numeric_runtime() {

@@ -21,8 +21,9 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 use trocar_codegen::catalogue::Function;
 use trocar_codegen::closed_chain::MechanismSource;
-use trocar_codegen::evaluate::Generated;
+use trocar_codegen::evaluate::{Evaluated, Generated};
 use trocar_model::description::{preset_names, DescriptionError, RobotDescription};
+use trocar_sim::verify::Candidate;
 
 /// Command-line arguments of `trocar`.
 #[derive(Debug, Parser)]
@@ -440,6 +441,22 @@ impl MatrixOut {
         }
     }
 
+    /// From a faer matrix (the numeric runtime's answers).
+    pub fn from_faer(m: &faer::Mat<f64>) -> Self {
+        MatrixOut {
+            rows: m.nrows(),
+            cols: m.ncols(),
+            data: (0..m.nrows())
+                .map(|r| (0..m.ncols()).map(|c| m[(r, c)]).collect())
+                .collect(),
+        }
+    }
+
+    /// From a generated function's value (column-major).
+    pub fn from_evaluated(m: &Evaluated) -> Self {
+        column_major(&m.values, m.rows, m.cols)
+    }
+
     /// The SPEC §5 JSON form `{"rows": R, "cols": C, "data": [[row], ...]}`.
     pub fn to_json(&self) -> String {
         let data =
@@ -553,7 +570,7 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
                 Frame::Spatial => robot.spatial_jacobian(&q),
             }
             .map_err(robot_error(&desc))?;
-            let out = MatrixOut::from_nalgebra(&j);
+            let out = MatrixOut::from_faer(&j);
             println!("{}", if json { out.to_json() } else { out.to_text() });
             Ok(0)
         }
@@ -605,12 +622,12 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             }
             let generated = Generated::new(&desc).map_err(|e| CliError(e.to_string()))?;
             let bar = progress_bar(samples as u64, "verify");
-            let report = trocar_model::verify::verify(
+            let report = trocar_sim::verify::verify(
                 &desc,
-                &generated,
+                &GeneratedCandidate(&generated),
                 samples,
                 seed,
-                trocar_model::verify::Tolerances::default(),
+                trocar_sim::verify::Tolerances::default(),
                 |f| bar.set_position((f * samples as f64).round() as u64),
             )
             .map_err(robot_error(&desc))?;
@@ -671,17 +688,27 @@ pub fn eval_generated(
             desc.name
         ))
     })?;
-    if m.iter().any(|v| !v.is_finite()) {
+    if m.values.iter().any(|v| !v.is_finite()) {
         return Err(CliError(format!(
             "`{function}` is not finite at this configuration (a parameter that divides is zero?)"
         )));
     }
-    Ok(MatrixOut::from_nalgebra(&m))
+    Ok(MatrixOut::from_evaluated(&m))
 }
 
-fn robot_error(
-    desc: &RobotDescription,
-) -> impl Fn(trocar_model::robot::RobotError) -> CliError + '_ {
+/// The generated closed forms, interpreted exactly as emitted, as the candidate `trocar verify`
+/// checks against the numeric runtime ([`trocar_sim::verify`]).
+#[derive(Clone, Copy, Debug)]
+pub struct GeneratedCandidate<'a>(pub &'a Generated);
+
+impl Candidate for GeneratedCandidate<'_> {
+    fn evaluate(&self, function: Function, q: &[f64], params: &[f64]) -> Option<faer::Mat<f64>> {
+        let m = self.0.evaluate(function, q, params)?;
+        Some(faer::Mat::from_fn(m.rows, m.cols, |r, c| m.get(r, c)))
+    }
+}
+
+fn robot_error(desc: &RobotDescription) -> impl Fn(trocar_sim::robot::RobotError) -> CliError + '_ {
     move |e| {
         let file = desc
             .source
@@ -696,8 +723,8 @@ fn robot_error(
 pub fn numeric_robot(
     desc: &RobotDescription,
     params: &[(String, f64)],
-) -> Result<trocar_model::robot::Robot<f64>, CliError> {
-    trocar_model::robot::Robot::from_description(desc, params).map_err(robot_error(desc))
+) -> Result<trocar_sim::robot::Robot<f64>, CliError> {
+    trocar_sim::robot::Robot::from_description(desc, params).map_err(robot_error(desc))
 }
 
 /// Checks that `q` has one finite value per joint.
@@ -737,7 +764,7 @@ pub fn eval_numeric(
         )));
     }
     Ok(match what {
-        What::Jr => MatrixOut::from_nalgebra(&robot.constrained_jacobian(q).map_err(err)?),
+        What::Jr => MatrixOut::from_faer(&robot.constrained_jacobian(q).map_err(err)?),
         What::Manip => {
             let w = robot.manipulability(q).map_err(err)?;
             MatrixOut {
@@ -746,10 +773,10 @@ pub fn eval_numeric(
                 data: vec![vec![w]],
             }
         }
-        What::Jc => MatrixOut::from_nalgebra(&robot.moving_rcm_jacobian(q).map_err(err)?),
-        What::Jb0i => MatrixOut::from_nalgebra(&robot.partial_body_jacobian(q).map_err(err)?),
-        What::Jb0e => MatrixOut::from_nalgebra(&robot.body_jacobian(q).map_err(err)?),
-        What::Fk => MatrixOut::from_nalgebra(&robot.forward_kinematics_matrix(q).map_err(err)?),
+        What::Jc => MatrixOut::from_faer(&robot.moving_rcm_jacobian(q).map_err(err)?),
+        What::Jb0i => MatrixOut::from_faer(&robot.partial_body_jacobian(q).map_err(err)?),
+        What::Jb0e => MatrixOut::from_faer(&robot.body_jacobian(q).map_err(err)?),
+        What::Fk => MatrixOut::from_faer(&robot.forward_kinematics_matrix(q).map_err(err)?),
         What::Passive | What::Det => return Err(serial_only(desc, what)),
     })
 }

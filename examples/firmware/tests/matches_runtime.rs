@@ -1,15 +1,18 @@
-//! The f32 control step agrees with the f64 numeric runtime (`trocar_model::robot::Robot`, nalgebra
-//! inverses) on the same law: `[v0i; θ̇_78] = J^rᵀ(J^r J^rᵀ + κ²I)⁻¹ u`,
+//! The f32 control step agrees with the f64 numeric runtime (`trocar_sim::robot::Robot`, faer
+//! solves) on the same law: `[v0i; θ̇_78] = J^rᵀ(J^r J^rᵀ + κ²I)⁻¹ u`,
 //! `θ̇_1..6 = J^B_0iᵀ(J^B_0i J^B_0iᵀ + κ_b²I)⁻¹ Λ# v0i`.
 
-use trocar::nalgebra::{DMatrix, DVector};
+use faer::linalg::solvers::Solve;
+use faer::{Col, Mat};
 use trocar_firmware::{control_step, dia10, Tuning};
 use trocar_model::description::RobotDescription;
-use trocar_model::robot::Robot;
+use trocar_sim::robot::Robot;
 
-fn dls(j: &DMatrix<f64>, b: &DVector<f64>, kappa: f64) -> DVector<f64> {
-    let a = j * j.transpose() + DMatrix::identity(6, 6) * (kappa * kappa);
-    j.transpose() * a.try_inverse().expect("invertible") * b
+/// `Jᵀ (J Jᵀ + κ² I)⁻¹ b`, the solve by faer's LU.
+fn dls(j: &Mat<f64>, b: &Col<f64>, kappa: f64) -> Col<f64> {
+    let damping = Mat::from_fn(6, 6, |r, c| if r == c { kappa * kappa } else { 0.0 });
+    let a = j * j.transpose() + damping;
+    j.transpose() * a.partial_piv_lu().solve(b)
 }
 
 fn trocar_point(q: &[f32; 8], l_a: f32) -> [f32; 3] {
@@ -35,12 +38,16 @@ fn check(q: [f64; 8], l_a: f64, u: [f64; 6], tuning: Tuning) {
     let w = robot.manipulability(&q).unwrap();
     assert!((w - step.manipulability as f64).abs() < 1e-4 * w.max(1.0));
     let kappa = trocar_firmware::damping(w as f32, tuning.w0, tuning.alpha0) as f64;
-    let x = dls(&jr, &DVector::from_column_slice(&u), kappa);
+    let x = dls(&jr, &Col::from_fn(6, |k| u[k]), kappa);
     let sharp = robot.lambda_null_space().unwrap();
-    let twist_i = &sharp * x.rows(0, 4);
+    let twist_i = &sharp * x.as_ref().subrows(0, 4);
     let jb = robot.partial_body_jacobian(&q).unwrap();
     let before = dls(&jb, &twist_i, tuning.kappa_b as f64);
-    let expected: Vec<f64> = before.iter().chain(x.rows(4, 2).iter()).copied().collect();
+    let expected: Vec<f64> = before
+        .iter()
+        .chain(x.as_ref().subrows(4, 2).iter())
+        .copied()
+        .collect();
     let scale = expected.iter().fold(1.0f64, |m, v| m.max(v.abs()));
     for (k, (a, b)) in step.qdot.iter().zip(&expected).enumerate() {
         assert!(

@@ -7,33 +7,33 @@ use trocar::control::{
     ChainKinematics, ConstrainedKinematics, Controller, ControllerConfig, Damping, Method, Rcm,
     Reference,
 };
+use trocar::kinematics::Chain;
 use trocar::nalgebra::{SVector, Vector2};
 use trocar_model::description::RobotDescription;
-use trocar_model::robot::Robot;
-use trocar_sim::simulation::{Arm, Q0};
+use trocar_model::numeric::NumericModel;
+use trocar_sim::simulation::Q0;
 
 fn bench(c: &mut Criterion) {
     let d = RobotDescription::preset("dia10_like_zy").unwrap();
-    let arm = Arm::<8, 6, 2>::from_description(&d).unwrap();
+    let chain = NumericModel::<f64>::from_description(&d, &[])
+        .unwrap()
+        .to_chain::<8>()
+        .unwrap();
     let numeric = ChainKinematics {
-        chain: Robot::<f64>::from_description(&d, &[])
-            .unwrap()
-            .to_chain::<8>()
-            .unwrap(),
+        chain,
         constraint: Constraint::<f64, 2>::thesis(6, 0.15).unwrap(),
     };
-    bench_path(c, "numeric", &numeric, &arm);
-    bench_path(c, "arm", &arm, &arm);
+    bench_path(c, "numeric", &numeric, &chain);
 }
 
 fn bench_path(
     c: &mut Criterion,
     path: &str,
     kin: &impl ConstrainedKinematics<f64, 8, 6, 2, 4, 6>,
-    arm: &Arm<8, 6, 2>,
+    chain: &Chain<f64, 8>,
 ) {
     let q = SVector::<f64, 8>::from(Q0);
-    let (frames, g0) = arm.frames(&q);
+    let (frames, g0) = (chain.link_frames(&q), chain.forward_kinematics(&q));
     let trocar = frames[5].translation + frames[5].rotation.column(1) * 0.15;
     let reference = Reference {
         position: g0.translation,

@@ -1,16 +1,96 @@
-//! Both kinematics paths behind `ConstrainedKinematics` agree: the numeric runtime
-//! (`ChainKinematics`: kinematics + constraint) and the simulations' description-built `Arm`.
+//! Both kinematics paths behind `ConstrainedKinematics` agree: the typed runtime
+//! (`ChainKinematics`: kinematics + `Constraint::thesis`) and the dynamic-size numeric robot built
+//! from the description (`trocar_sim::robot::Robot`, on faer, its `l_a` parameter moved to each
+//! `l_a`), and what the simulations measure with the typed chain.
 
+use faer::Mat;
 use rand::{rngs::StdRng, Rng, SeedableRng};
 use trocar::constraint::Constraint;
 use trocar::control::{
-    ChainKinematics, ConstrainedKinematics, ConstrainedState, Controller, ControllerConfig,
-    Damping, Method, Rcm, Reference,
+    ChainKinematics, ConstrainedKinematics, ConstrainedState, ControlError, Controller,
+    ControllerConfig, Damping, Method, Rcm, Reference,
 };
-use trocar::nalgebra::{SVector, Vector3};
+use trocar::kinematics::Chain;
+use trocar::nalgebra::{SMatrix, SVector, Vector3};
+use trocar::se3::Se3;
 use trocar_model::description::RobotDescription;
-use trocar_model::robot::Robot;
-use trocar_sim::simulation::Arm;
+use trocar_model::numeric::NumericModel;
+use trocar_sim::robot::Robot;
+
+/// The description-built dynamic robot behind `ConstrainedKinematics`: every quantity from the
+/// faer [`Robot`] with `l_a` set, copied into the fixed sizes.
+struct Described<const R: usize> {
+    robot: Robot<f64>,
+}
+
+impl<const R: usize> Described<R> {
+    /// The robot of `name` with its constraint cut to the first `R` rows of `H`.
+    fn new(name: &str) -> Self {
+        let mut d = RobotDescription::preset(name).unwrap();
+        d.constraint.as_mut().unwrap().h.truncate(R);
+        Described {
+            robot: Robot::from_description(&d, &[]).unwrap(),
+        }
+    }
+
+    /// Forward kinematics `(link frames g_01 … g_08, g_0e)`.
+    fn frames(&self, q: &SVector<f64, 8>) -> ([Se3<f64>; 8], Se3<f64>) {
+        let f = std::array::from_fn(|k| self.robot.link_frame(k + 1, q.as_slice()).unwrap());
+        (f, self.robot.forward_kinematics(q.as_slice()).unwrap())
+    }
+
+    /// The point of link 6 at `l_a` along `y_6`.
+    fn link_point(&self, q: &SVector<f64, 8>, l_a: f64) -> Vector3<f64> {
+        let g = self.frames(q).0[5];
+        g.translation + g.rotation.column(1) * l_a
+    }
+}
+
+fn fixed<const C: usize>(m: &Mat<f64>) -> SMatrix<f64, 6, C> {
+    assert_eq!(m.shape(), (6, C));
+    SMatrix::from_fn(|r, c| m[(r, c)])
+}
+
+impl<const R: usize, const K: usize, const M: usize> ConstrainedKinematics<f64, 8, 6, R, K, M>
+    for Described<R>
+{
+    fn g_0i(&self, q: &SVector<f64, 8>) -> Se3<f64> {
+        self.robot.link_frame(6, q.as_slice()).unwrap()
+    }
+
+    fn h(&self) -> SMatrix<f64, R, 6> {
+        let h = &self.robot.description().constraint.as_ref().unwrap().h;
+        SMatrix::from_fn(|r, c| h[r][c])
+    }
+
+    fn evaluate(
+        &self,
+        q: &SVector<f64, 8>,
+        l_a: f64,
+    ) -> Result<ConstrainedState<f64, 6, R, K, M>, ControlError> {
+        let mut robot = self.robot.clone();
+        robot
+            .set_parameter("l_a", l_a)
+            .map_err(|_| ControlError::Kinematics)?;
+        let q = q.as_slice();
+        Ok(ConstrainedState {
+            g_0e: robot.forward_kinematics(q).unwrap(),
+            g_0i: robot.link_frame(6, q).unwrap(),
+            jr: fixed(&robot.constrained_jacobian(q).unwrap()),
+            jb0i: fixed(&robot.partial_body_jacobian(q).unwrap()),
+            jc: fixed(&robot.moving_rcm_jacobian(q).unwrap()),
+            lambda_sharp: fixed(&robot.lambda_null_space().unwrap()),
+            lambda_pinv: fixed(&robot.lambda_pinv().unwrap()),
+        })
+    }
+}
+
+fn chain(name: &str) -> Chain<f64, 8> {
+    NumericModel::<f64>::from_description(&RobotDescription::preset(name).unwrap(), &[])
+        .unwrap()
+        .to_chain::<8>()
+        .unwrap()
+}
 
 fn close<const I: usize, const R: usize, const K: usize, const M: usize>(
     a: &ConstrainedState<f64, I, R, K, M>,
@@ -29,16 +109,11 @@ fn close<const I: usize, const R: usize, const K: usize, const M: usize>(
 
 fn check<const R: usize, const K: usize, const M: usize>(name: &str)
 where
-    Arm<8, 6, R>: ConstrainedKinematics<f64, 8, 6, R, K, M>,
+    Described<R>: ConstrainedKinematics<f64, 8, 6, R, K, M>,
 {
-    let d = RobotDescription::preset(name).unwrap();
-    let arm = Arm::<8, 6, R>::from_description(&d).unwrap();
-    let chain = Robot::<f64>::from_description(&d, &[])
-        .unwrap()
-        .to_chain::<8>()
-        .unwrap();
+    let arm = Described::<R>::new(name);
     let kin = ChainKinematics {
-        chain,
+        chain: chain(name),
         constraint: Constraint::<f64, R>::thesis(6, 0.15).unwrap(),
     };
     let mut rng = StdRng::seed_from_u64(5);
@@ -84,7 +159,7 @@ where
 }
 
 #[test]
-fn numeric_runtime_and_description_arm_agree() {
+fn numeric_runtime_and_description_robot_agree() {
     check::<2, 4, 6>("dia10_like_zy");
     check::<2, 4, 6>("dia10_like_zx");
     check::<1, 5, 7>("dia10_like_zy");
@@ -94,8 +169,7 @@ fn numeric_runtime_and_description_arm_agree() {
 /// `J^r x + J_c dv_0r = u` and the link velocity satisfies `H V^B_0r = dv_0r` exactly.
 #[test]
 fn step_realises_the_cartesian_command_and_the_rcm_velocity() {
-    let d = RobotDescription::preset("dia10_like_zy").unwrap();
-    let arm = Arm::<8, 6, 2>::from_description(&d).unwrap();
+    let arm = Described::<2>::new("dia10_like_zy");
     let q = SVector::<f64, 8>::from([0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3]);
     let l_a = 0.15;
     let s: ConstrainedState<f64, 6, 2, 4, 6> = arm.evaluate(&q, l_a).unwrap();
@@ -147,14 +221,11 @@ fn step_realises_the_cartesian_command_and_the_rcm_velocity() {
 fn f32_controller_tracks_like_f64() {
     let d = RobotDescription::preset("dia10_like_zy").unwrap();
     let k64 = ChainKinematics {
-        chain: Robot::<f64>::from_description(&d, &[])
-            .unwrap()
-            .to_chain::<8>()
-            .unwrap(),
+        chain: chain("dia10_like_zy"),
         constraint: Constraint::<f64, 2>::thesis(6, 0.15).unwrap(),
     };
     let k32 = ChainKinematics {
-        chain: Robot::<f32>::from_description(&d, &[])
+        chain: NumericModel::<f32>::from_description(&d, &[])
             .unwrap()
             .to_chain::<8>()
             .unwrap(),
@@ -232,4 +303,74 @@ fn f32_controller_tracks_like_f64() {
     }
     let diff = (q32.cast::<f64>() - q64).amax();
     assert!(diff < 1e-3, "f32 and f64 joints differ by {diff}");
+}
+
+/// The simulations' measurements come from the typed chain: its frames at the zero
+/// configuration are SPEC §3.2's table.
+#[test]
+fn zero_configuration_matches_spec_table() {
+    let chain = chain("dia10_like_zy");
+    let q = SVector::<f64, 8>::zeros();
+    let f = chain.link_frames(&q);
+    let e = chain.forward_kinematics(&q);
+    assert!((f[5].translation - Vector3::new(0.194, 0.77, 1.037)).norm() < 1e-12);
+    assert!((f[6].translation - Vector3::new(0.194, 1.10, 1.037)).norm() < 1e-12);
+    assert!((e.translation - Vector3::new(0.194, 1.31, 1.037)).norm() < 1e-12);
+}
+
+/// The body Jacobian columns agree with finite differences of the chain's frames, and
+/// Λ Λ# = 0, J^r reproduces (3.24) at q0 and w_r is (3.42), through `ChainKinematics`.
+#[test]
+fn jacobians_match_finite_differences_and_thesis() {
+    let kin2 = ChainKinematics {
+        chain: chain("dia10_like_zy"),
+        constraint: Constraint::<f64, 2>::thesis(6, 0.15).unwrap(),
+    };
+    let q = SVector::<f64, 8>::from([0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3]);
+    let la = 0.15;
+    let s: ConstrainedState<f64, 6, 2, 4, 6> = kin2.evaluate(&q, la).unwrap();
+    let mut c = kin2.constraint;
+    c.set_offset(la).unwrap();
+    assert!((c.lambda() * s.lambda_sharp).norm() < 1e-14);
+    let h = 1e-7;
+    for k in 0..6 {
+        let mut qp = q;
+        qp[k] += h;
+        let mut qm = q;
+        qm[k] -= h;
+        let gp = kin2.chain.link_frame(6, &qp);
+        let gm = kin2.chain.link_frame(6, &qm);
+        let rt = s.g_0i.rotation.transpose();
+        let v = rt * (gp.translation - gm.translation) / (2.0 * h);
+        let wh = rt * (gp.rotation - gm.rotation) / (2.0 * h);
+        let w = Vector3::new(wh[(2, 1)], wh[(0, 2)], wh[(1, 0)]);
+        let col = s.jb0i.column(k);
+        assert!((col.fixed_rows::<3>(0) - v).norm() < 1e-6, "v col {k}");
+        assert!((col.fixed_rows::<3>(3) - w).norm() < 1e-6, "w col {k}");
+    }
+    let (lb, l8) = (0.33 - la, 0.21);
+    let (s7, c7, s8, c8) = (q[6].sin(), q[6].cos(), q[7].sin(), q[7].cos());
+    // Check the unidirectional J^r (3.24), which SPEC states is exact for this geometry.
+    let kin1 = ChainKinematics {
+        chain: kin2.chain,
+        constraint: Constraint::<f64, 1>::thesis(6, la).unwrap(),
+    };
+    let s1: ConstrainedState<f64, 6, 1, 5, 7> = kin1.evaluate(&q, la).unwrap();
+    let a1 = -c8 * (l8 + lb * c7) / la;
+    let a2 = -s8 * (l8 + lb * c7) / la;
+    let a3 = -s8 * (la + lb + l8 * c7);
+    let a4 = c8 * (la + lb + l8 * c7);
+    #[rustfmt::skip]
+    let expect = SMatrix::<f64, 6, 7>::from_row_slice(&[
+        a1, c8 * s7, -s8, a3, -l8 * s7 * s8, -l8 * c8, 0.0,
+        lb * s7 / la, c7, 0.0, 0.0, 0.0, 0.0, 0.0,
+        a2, s7 * s8, c8, a4, l8 * c8 * s7, -l8 * s8, 0.0,
+        -s8 / la, 0.0, 0.0, c7 * c8, c8 * s7, -s8, 0.0,
+        0.0, 0.0, 0.0, -s7, c7, 0.0, 1.0,
+        c8 / la, 0.0, 0.0, c7 * s8, s7 * s8, c8, 0.0,
+    ]);
+    assert!((s1.jr - expect).norm() < 1e-12, "{}", s1.jr - expect);
+    // Manipulability claim (3.42) for zy: w_r = lb² |sin θ7| / la².
+    let w = trocar::control::manipulability(&s.jr);
+    assert!((w - lb * lb * s7.abs() / (la * la)).abs() < 1e-9, "{w}");
 }

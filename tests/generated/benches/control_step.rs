@@ -7,7 +7,7 @@ use trocar::constraint::Constraint;
 use trocar::control::{ChainKinematics, ConstrainedKinematics, Controller, Rcm, Reference};
 use trocar::nalgebra::{SVector, Vector3};
 use trocar_model::description::RobotDescription;
-use trocar_model::robot::Robot;
+use trocar_model::numeric::NumericModel;
 use trocar_sim::simulation::{Method, Scenario, ScenarioConfig, L_A0, Q0};
 use trocar_tests_generated::control::GeneratedKinematics;
 
@@ -39,7 +39,7 @@ fn bench_step<Kin: ConstrainedKinematics<f64, 8, 6, 2, 4, 6>>(
 fn control_step(c: &mut Criterion) {
     let d = RobotDescription::preset("dia10_like_zy").unwrap();
     let numeric = ChainKinematics {
-        chain: Robot::<f64>::from_description(&d, &[])
+        chain: NumericModel::<f64>::from_description(&d, &[])
             .unwrap()
             .to_chain::<8>()
             .unwrap(),

@@ -25,7 +25,7 @@ use trocar::constraint::Constraint;
 use trocar::kinematics::Chain;
 use trocar::nalgebra::SVector;
 use trocar_model::description::RobotDescription;
-use trocar_model::robot::Robot;
+use trocar_model::numeric::NumericModel;
 use trocar_tests_generated as g;
 
 /// Number of configurations cycled through (a power of two: the index is masked).
@@ -46,8 +46,8 @@ fn configs<const N: usize>() -> [[f64; N]; CONFIGS] {
     })
 }
 
-fn robot<T: trocar::nalgebra::RealField + Copy>(name: &str) -> Robot<T> {
-    Robot::<T>::from_description(&RobotDescription::preset(name).unwrap(), &[]).unwrap()
+fn robot<T: trocar::nalgebra::RealField + Copy>(name: &str) -> NumericModel<T> {
+    NumericModel::<T>::from_description(&RobotDescription::preset(name).unwrap(), &[]).unwrap()
 }
 
 /// Next index in `0..CONFIGS`, opaque to the optimiser.

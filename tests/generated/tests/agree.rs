@@ -1,11 +1,14 @@
 //! Every emitted function against an independent plain-`f64` computation written here from the
-//! description (product of exponentials, adjoints, `Λ`, `Λ#`, `Λ†` with nalgebra), at thousands
+//! description (product of exponentials, adjoints, `Λ`, `Λ#`, `Λ†`; 3×3 blocks with nalgebra,
+//! dynamic matrices, inverse and determinants with faer), at thousands
 //! of random configurations and parameter values: max error ≤ 1e-12 relative to the matrix norm
 //! in f64, ≤ 1e-4 in f32; and finite differences of the emitted forward kinematics against the
 //! emitted body Jacobians. Manipulability errors are measured against its natural scale, the
 //! Hadamard bound `Π ‖row_i(J^r)‖`.
 
-use trocar::nalgebra::{DMatrix, Matrix3, Vector3};
+use faer::linalg::solvers::DenseSolveCore;
+use faer::Mat;
+use trocar::nalgebra::{Matrix3, Vector3};
 use trocar_model::description::{JointKind, Origin, RobotDescription, Rotation, Wrist};
 use trocar_tests_generated as g;
 
@@ -38,8 +41,8 @@ impl Se3 {
         }
     }
     /// `Ad_g = [[R, p̂R], [0, R]]` (2.43).
-    fn adjoint(&self) -> DMatrix<f64> {
-        let mut a = DMatrix::zeros(6, 6);
+    fn adjoint(&self) -> Mat<f64> {
+        let mut a = Mat::zeros(6, 6);
         let pr = hat(&self.p) * self.r;
         for i in 0..3 {
             for j in 0..3 {
@@ -179,8 +182,8 @@ impl Reference {
     }
 
     /// Body Jacobian of joints `0..upto` then `tail`: column k is `Ad⁻¹_{g_ke} ξ_k` (2.53)–(2.55).
-    fn body_jacobian(&self, q: &[f64], upto: usize, tail: Option<&Se3>) -> DMatrix<f64> {
-        let mut j = DMatrix::zeros(6, upto);
+    fn body_jacobian(&self, q: &[f64], upto: usize, tail: Option<&Se3>) -> Mat<f64> {
+        let mut j = Mat::zeros(6, upto);
         for k in 0..upto {
             let mut g = Se3::identity();
             for l in k + 1..upto {
@@ -189,35 +192,39 @@ impl Reference {
             if let Some(t) = tail {
                 g = g.compose(t);
             }
-            let xi = DMatrix::from_column_slice(6, 1, &self.twists[k]);
+            let xi = Mat::from_fn(6, 1, |r, _| self.twists[k][r]);
             let col = g.inverse().adjoint() * xi;
-            j.set_column(k, &col.column(0));
+            for r in 0..6 {
+                j[(r, k)] = col[(r, 0)];
+            }
         }
         j
     }
 
     /// `(J^r_0e, J_c)` (3.15), (3.33).
-    fn constrained(&self, q: &[f64]) -> (DMatrix<f64>, DMatrix<f64>) {
+    fn constrained(&self, q: &[f64]) -> (Mat<f64>, Mat<f64>) {
         let (i, g_ir, h, wrist) = self.constraint.clone().unwrap();
         let n = self.twists.len();
         let r = h.len();
-        let hm = DMatrix::from_fn(r, 6, |a, b| h[a][b]);
+        let hm = Mat::from_fn(r, 6, |a, b| h[a][b]);
         let lambda = &hm * g_ir.inverse().adjoint();
-        let e = |k: usize| DMatrix::from_fn(6, 1, |a, _| if a == k { 1.0 } else { 0.0 });
+        let e = |k: usize| Mat::from_fn(6, 1, |a, _| if a == k { 1.0 } else { 0.0 });
         let la = g_ir.p.y;
         let sharp = match wrist {
             Some(Wrist::Unidirectional) => {
-                let cols = [&e(0) + e(5) / la, e(1), e(2), e(3), e(4)];
-                DMatrix::from_fn(6, 5, |a, b| cols[b][(a, 0)])
+                let cols = [&e(0) + div(&e(5), la), e(1), e(2), e(3), e(4)];
+                Mat::from_fn(6, 5, |a, b| cols[b][(a, 0)])
             }
             Some(_) => {
-                let cols = [&e(0) + e(5) / la, e(1), &e(2) - e(3) / la, e(4)];
-                DMatrix::from_fn(6, 4, |a, b| cols[b][(a, 0)])
+                let cols = [&e(0) + div(&e(5), la), e(1), &e(2) - div(&e(3), la), e(4)];
+                Mat::from_fn(6, 4, |a, b| cols[b][(a, 0)])
             }
             None => g_ir.adjoint() * null_basis(&hm),
         };
-        assert!((&lambda * &sharp).norm() < 1e-12, "Λ Λ# ≠ 0");
-        let pinv = lambda.transpose() * (&lambda * lambda.transpose()).try_inverse().unwrap();
+        assert!((&lambda * &sharp).norm_l2() < 1e-12, "Λ Λ# ≠ 0");
+        let gram = &lambda * lambda.transpose();
+        let pinv = lambda.transpose() * gram.partial_piv_lu().inverse();
+        assert!(pinv.norm_max().is_finite(), "Λ Λᵀ is singular");
         let mut g_ie = Se3::identity();
         for k in i..n {
             g_ie = g_ie.compose(&self.joint(k, q));
@@ -227,17 +234,20 @@ impl Reference {
         let jb = self.body_jacobian(q, n, Some(&self.tool));
         let left = &ad_ei * sharp;
         let m = left.ncols() + n - i;
-        let mut jr = DMatrix::zeros(6, m);
-        jr.view_mut((0, 0), (6, left.ncols())).copy_from(&left);
-        jr.view_mut((0, left.ncols()), (6, n - i))
-            .copy_from(&jb.view((0, i), (6, n - i)));
+        let mut jr = Mat::zeros(6, m);
+        jr.as_mut()
+            .submatrix_mut(0, 0, 6, left.ncols())
+            .copy_from(&left);
+        jr.as_mut()
+            .submatrix_mut(0, left.ncols(), 6, n - i)
+            .copy_from(jb.as_ref().submatrix(0, i, 6, n - i));
         (jr, ad_ei * pinv)
     }
 }
 
 /// The null basis of `H` from its reduced row echelon form: one column per free coordinate,
 /// increasing (the choice documented by `trocar_codegen::derivation::NullBasis::Derived`).
-fn null_basis(h: &DMatrix<f64>) -> DMatrix<f64> {
+fn null_basis(h: &Mat<f64>) -> Mat<f64> {
     let mut m = h.clone();
     let mut pivots = Vec::new();
     let mut row = 0;
@@ -245,7 +255,11 @@ fn null_basis(h: &DMatrix<f64>) -> DMatrix<f64> {
         let Some(p) = (row..m.nrows()).find(|&r| m[(r, col)].abs() > 1e-12) else {
             continue;
         };
-        m.swap_rows(row, p);
+        for x in 0..6 {
+            let t = m[(row, x)];
+            m[(row, x)] = m[(p, x)];
+            m[(p, x)] = t;
+        }
         let inv = 1.0 / m[(row, col)];
         for x in 0..6 {
             m[(row, x)] *= inv;
@@ -265,7 +279,7 @@ fn null_basis(h: &DMatrix<f64>) -> DMatrix<f64> {
         }
     }
     let free: Vec<usize> = (0..6).filter(|c| !pivots.contains(c)).collect();
-    let mut n = DMatrix::zeros(6, free.len());
+    let mut n = Mat::zeros(6, free.len());
     for (k, &f) in free.iter().enumerate() {
         n[(f, k)] = 1.0;
         for (r, &pc) in pivots.iter().enumerate() {
@@ -277,13 +291,13 @@ fn null_basis(h: &DMatrix<f64>) -> DMatrix<f64> {
 
 /// `w = sqrt(det(J Jᵀ))` (3.36) — `|det J|` by LU when square, which is better conditioned — and
 /// its natural scale, the Hadamard bound `Π ‖row_i(J)‖ ≥ w`, against which errors are measured.
-fn manipulability_ref(j: &DMatrix<f64>) -> (f64, f64) {
+fn manipulability_ref(j: &Mat<f64>) -> (f64, f64) {
     let w = if j.nrows() == j.ncols() {
-        j.clone().determinant().abs()
+        j.determinant().abs()
     } else {
         (j * j.transpose()).determinant().abs().sqrt()
     };
-    let scale = j.row_iter().map(|r| r.norm()).product::<f64>();
+    let scale = j.row_iter().map(|r| r.norm_l2()).product::<f64>();
     (w, scale)
 }
 
@@ -299,17 +313,22 @@ impl Rng {
 }
 
 /// `max |a − b| / max(‖b‖_F, 1)`.
-fn rel_err(a: &DMatrix<f64>, b: &DMatrix<f64>) -> f64 {
+fn rel_err(a: &Mat<f64>, b: &Mat<f64>) -> f64 {
     assert_eq!(a.shape(), b.shape());
-    (a - b).amax() / b.norm().max(1.0)
+    (a - b).norm_max() / b.norm_l2().max(1.0)
 }
 
-fn from_cols<T: Copy + Into<f64>, const R: usize, const C: usize>(a: &[[T; R]; C]) -> DMatrix<f64> {
-    DMatrix::from_fn(R, C, |r, c| a[c][r].into())
+/// `m / s`, entry by entry.
+fn div(m: &Mat<f64>, s: f64) -> Mat<f64> {
+    Mat::from_fn(m.nrows(), m.ncols(), |r, c| m[(r, c)] / s)
 }
 
-fn transform_matrix<T: Copy + Into<f64>>(t: &([[T; 3]; 3], [T; 3])) -> DMatrix<f64> {
-    DMatrix::from_fn(3, 4, |r, c| {
+fn from_cols<T: Copy + Into<f64>, const R: usize, const C: usize>(a: &[[T; R]; C]) -> Mat<f64> {
+    Mat::from_fn(R, C, |r, c| a[c][r].into())
+}
+
+fn transform_matrix<T: Copy + Into<f64>>(t: &([[T; 3]; 3], [T; 3])) -> Mat<f64> {
+    Mat::from_fn(3, 4, |r, c| {
         if c < 3 {
             t.0[c][r].into()
         } else {
@@ -318,8 +337,8 @@ fn transform_matrix<T: Copy + Into<f64>>(t: &([[T; 3]; 3], [T; 3])) -> DMatrix<f
     })
 }
 
-fn se3_matrix(g: &Se3) -> DMatrix<f64> {
-    DMatrix::from_fn(3, 4, |r, c| if c < 3 { g.r[(r, c)] } else { g.p[r] })
+fn se3_matrix(g: &Se3) -> Mat<f64> {
+    Mat::from_fn(3, 4, |r, c| if c < 3 { g.r[(r, c)] } else { g.p[r] })
 }
 
 fn desc(file: &str) -> RobotDescription {
@@ -333,19 +352,19 @@ fn desc(file: &str) -> RobotDescription {
 }
 
 /// Body velocity from finite differences of forward kinematics, `(Rᵀ ṗ, (Rᵀ Ṙ)^∨)`.
-fn fd_body_jacobian(fk: impl Fn(&[f64]) -> DMatrix<f64>, q: &[f64], cols: usize) -> DMatrix<f64> {
+fn fd_body_jacobian(fk: impl Fn(&[f64]) -> Mat<f64>, q: &[f64], cols: usize) -> Mat<f64> {
     let h = 1e-6;
     let g0 = fk(q);
-    let r0 = g0.view((0, 0), (3, 3)).into_owned();
-    let mut j = DMatrix::zeros(6, cols);
+    let r0 = Matrix3::from_fn(|r, c| g0[(r, c)]);
+    let mut j = Mat::zeros(6, cols);
     for k in 0..cols {
         let mut qp = q.to_vec();
         let mut qm = q.to_vec();
         qp[k] += h;
         qm[k] -= h;
-        let d = (fk(&qp) - fk(&qm)) / (2.0 * h);
-        let pd = r0.transpose() * d.view((0, 3), (3, 1));
-        let w = r0.transpose() * d.view((0, 0), (3, 3));
+        let d = div(&(fk(&qp) - fk(&qm)), 2.0 * h);
+        let pd = r0.transpose() * Vector3::new(d[(0, 3)], d[(1, 3)], d[(2, 3)]);
+        let w = r0.transpose() * Matrix3::from_fn(|r, c| d[(r, c)]);
         let col = [pd[0], pd[1], pd[2], w[(2, 1)], w[(0, 2)], w[(1, 0)]];
         for (r, x) in col.iter().enumerate() {
             j[(r, k)] = *x;

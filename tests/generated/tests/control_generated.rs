@@ -9,7 +9,7 @@ use trocar::constraint::Constraint;
 use trocar::control::{ChainKinematics, ConstrainedKinematics, ConstrainedState, Controller, Rcm};
 use trocar::nalgebra::{SVector, Vector3};
 use trocar_model::description::RobotDescription;
-use trocar_model::robot::Robot;
+use trocar_model::numeric::NumericModel;
 use trocar_sim::simulation::{Method, Scenario, ScenarioConfig, L_A0, Q0};
 use trocar_tests_generated::control::{Dia10LikeZx, Dia10LikeZy, GeneratedKinematics};
 
@@ -58,7 +58,7 @@ impl Rng {
 fn numeric(name: &str) -> ChainKinematics<f64, 8, 2> {
     let d = RobotDescription::preset(name).unwrap();
     ChainKinematics {
-        chain: Robot::<f64>::from_description(&d, &[])
+        chain: NumericModel::<f64>::from_description(&d, &[])
             .unwrap()
             .to_chain::<8>()
             .unwrap(),

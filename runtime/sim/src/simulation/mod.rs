@@ -14,8 +14,9 @@
 //! - `l_a = (p_t − p_0i) · y_i` is recomputed every step.
 //!
 //! The controller is driven by the numeric runtime ([`ChainKinematics`]: [`trocar::kinematics`],
-//! [`trocar::constraint`]); the measurements use a second, independent implementation of the
-//! arm's kinematics ([`Arm`], built directly from the description).
+//! [`trocar::constraint`]); the measurements are taken from forward kinematics of the same chain
+//! ([`Chain::forward_kinematics`], [`Chain::link_frame`]), independently of the controller's
+//! Jacobians.
 //!
 //! # Measurements (independent of the controller; from forward kinematics only)
 //! - `vr = (vr_x, vr_z)`: lateral velocity, in `F_r`, of the material point of link 6 that is at
@@ -23,11 +24,9 @@
 //! - `rcm_drift`: distance from the trocar point to the axis of link 6.
 //! - `ep_norm = ‖dp − p_0e‖`, `eo_norm = ‖ε̃‖` (vector part of `Q_d ⊗ Q⁻¹`).
 
-mod arm;
 mod scenario;
 mod trace;
 
-pub use arm::Arm;
 pub use scenario::{
     Method, Scenario, ScenarioConfig, SimulationError, A, EXP421_AMPLITUDE, OMEGA, OMEGA_K_421,
     S4_RCM_AMPLITUDE, S4_RCM_AMPLITUDE_THESIS,
@@ -37,8 +36,9 @@ pub use trace::{Summary, Trace, TraceRow, CSV_HEADER};
 use nalgebra::{SVector, Vector3};
 use trocar::constraint::Constraint;
 use trocar::control::{self, ChainKinematics, Controller, ControllerConfig, Rcm};
+use trocar::kinematics::Chain;
 use trocar_model::description::RobotDescription;
-use trocar_model::robot::Robot;
+use trocar_model::numeric::NumericModel;
 
 /// Number of joints of `dia10_like`.
 pub const JOINTS: usize = 8;
@@ -48,22 +48,20 @@ pub fn run(config: &ScenarioConfig, progress: impl FnMut(f64)) -> Result<Trace, 
     let d = RobotDescription::preset(config.scenario.robot())
         .map_err(|e| SimulationError::Description(e.to_string()))?;
     let desc = |e: &dyn std::fmt::Display| SimulationError::Description(e.to_string());
-    let robot = Robot::<f64>::from_description(&d, &[]).map_err(|e| desc(&e))?;
+    let robot = NumericModel::<f64>::from_description(&d, &[]).map_err(|e| desc(&e))?;
     let chain = robot.to_chain::<8>().map_err(|e| desc(&e))?;
     if config.scenario.constrained_directions() == 1 {
-        let arm = Arm::<8, 6, 1>::from_description(&d).map_err(SimulationError::Description)?;
         let kin = ChainKinematics {
             chain,
             constraint: Constraint::<f64, 1>::thesis(6, L_A0).map_err(|e| desc(&e))?,
         };
-        run_arm::<1, 5, 7>(config, &kin, &arm, progress)
+        run_arm::<1, 5, 7>(config, &kin, progress)
     } else {
-        let arm = Arm::<8, 6, 2>::from_description(&d).map_err(SimulationError::Description)?;
         let kin = ChainKinematics {
             chain,
             constraint: Constraint::<f64, 2>::thesis(6, L_A0).map_err(|e| desc(&e))?,
         };
-        run_arm::<2, 4, 6>(config, &kin, &arm, progress)
+        run_arm::<2, 4, 6>(config, &kin, progress)
     }
 }
 
@@ -73,20 +71,26 @@ pub const Q0: [f64; 8] = [0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
 /// `l_a` at `q0` (SPEC §3.2).
 pub const L_A0: f64 = 0.15;
 
-/// Runs with the numeric runtime (`kin`) driving the controller, and the independent
-/// description-built [`Arm`] measuring.
+/// The position of the point of link 6 at `l_a` along `y_6`: `p_06 + l_a y_6`.
+fn link_point(chain: &Chain<f64, 8>, q: &SVector<f64, 8>, l_a: f64) -> Vector3<f64> {
+    let g = chain.link_frame(6, q);
+    g.translation + g.rotation.column(1) * l_a
+}
+
+/// Runs with the numeric runtime (`kin`) driving the controller, and forward kinematics of its
+/// chain measuring.
 fn run_arm<const R: usize, const K: usize, const M: usize>(
     config: &ScenarioConfig,
-    kin: &impl control::ConstrainedKinematics<f64, 8, 6, R, K, M>,
-    arm: &Arm<8, 6, R>,
+    kin: &ChainKinematics<f64, 8, R>,
     mut progress: impl FnMut(f64),
 ) -> Result<Trace, SimulationError> {
     let dt = config.dt;
     let steps = (config.duration / dt).round() as usize;
+    let chain = &kin.chain;
     let mut q = SVector::<f64, 8>::from(Q0);
-    let (frames0, g_0e0) = arm.frames(&q);
-    let g_0i0 = frames0[5];
-    let axis7 = frames0[6].rotation.column(2).into_owned();
+    let g_0e0 = chain.forward_kinematics(&q);
+    let g_0i0 = chain.link_frame(6, &q);
+    let axis7 = chain.link_frame(7, &q).rotation.column(2).into_owned();
     let mut trocar = g_0i0.translation + g_0i0.rotation.column(1) * L_A0;
     let ctrl_config: ControllerConfig<f64> = config.controller_config();
     let mut ctrl = Controller::<f64, 8, 6, R, K, M>::new(ctrl_config);
@@ -107,14 +111,14 @@ fn run_arm<const R: usize, const K: usize, const M: usize>(
         let q_next = q + out.qd * dt;
 
         // Measurements from forward kinematics.
-        let (frames, g_0e) = arm.frames(&q);
-        let g_0i = frames[5];
+        let g_0e = chain.forward_kinematics(&q);
+        let g_0i = chain.link_frame(6, &q);
         let y_i = g_0i.rotation.column(1).into_owned();
         let rel = trocar - g_0i.translation;
         let l_a = rel.dot(&y_i);
         let rcm_drift = (rel - y_i * l_a).norm();
         let m_now = g_0i.translation + y_i * l_a;
-        let m_next = arm.link_point(&q_next, l_a);
+        let m_next = link_point(chain, &q_next, l_a);
         let vr3 = g_0i.rotation.transpose() * (m_next - m_now) / dt;
         let ep = reference.position - g_0e.translation;
         let eq = control::orientation_error(&reference.rotation, &g_0e.rotation);
@@ -140,7 +144,7 @@ fn run_arm<const R: usize, const K: usize, const M: usize>(
         trocar += g_0i.rotation * lateral * dt;
         q = q_next;
         if R == 1 {
-            let g = arm.frames(&q).0[5];
+            let g = chain.link_frame(6, &q);
             let z_r = g.rotation.column(2).into_owned();
             let off = trocar - g.translation;
             trocar -= z_r * off.dot(&z_r);

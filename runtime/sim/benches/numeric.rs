@@ -7,7 +7,7 @@ use trocar::constraint::Constraint;
 use trocar::kinematics::Chain;
 use trocar::nalgebra::{SMatrix, SVector};
 use trocar_model::description::RobotDescription;
-use trocar_model::robot::Robot;
+use trocar_sim::robot::Robot;
 
 const Q0: [f64; 8] = [0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
 

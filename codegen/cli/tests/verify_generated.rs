@@ -1,15 +1,16 @@
 //! The generated programs of every shipped and fixture description agree with the numeric
 //! runtime and with finite differences (`trocar verify` as a library).
 
+use trocar_cli::GeneratedCandidate;
 use trocar_codegen::evaluate::Generated;
 use trocar_model::description::{preset_names, RobotDescription};
-use trocar_model::verify::{verify, Tolerances};
+use trocar_sim::verify::{verify, Tolerances};
 
 fn check(description: &RobotDescription, samples: usize) {
     let generated = Generated::new(description).expect("derivable");
     let report = verify(
         description,
-        &generated,
+        &GeneratedCandidate(&generated),
         samples,
         11,
         Tolerances::default(),
@@ -34,7 +35,7 @@ fn shipped_descriptions() {
 
 #[test]
 fn fixtures_with_rotated_rcm_prismatic_joint_and_three_row_h() {
-    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/generated/robots/");
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/generated/robots/");
     for file in ["rotated_rcm.toml", "chain9_prismatic.toml"] {
         check(
             &RobotDescription::from_toml_file(format!("{root}{file}")).unwrap(),
@@ -47,7 +48,7 @@ fn fixtures_with_rotated_rcm_prismatic_joint_and_three_row_h() {
 fn urdf_arm_without_constraint() {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../runtime/model/tests/data/arm7.urdf"
+        "/../../runtime/model/tests/data/arm7.urdf"
     );
     check(
         &RobotDescription::from_urdf_file(path, "tool").unwrap(),

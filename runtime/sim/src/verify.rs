@@ -12,12 +12,13 @@
 //! The result is a [`Report`] with the largest error of each check and the configuration where it
 //! happened.
 
-use crate::catalogue::Function;
-use crate::description::RobotDescription;
 use crate::robot::{Robot, RobotError};
-use nalgebra::{DMatrix, Matrix3, Vector3};
+use faer::Mat;
+use nalgebra::{Matrix3, Vector3};
 use std::fmt;
 use trocar::se3::Se3;
+use trocar_model::catalogue::Function;
+use trocar_model::description::RobotDescription;
 
 /// The generated functions [`verify`] checks against the numeric runtime, in report order.
 pub const CHECKED: [Function; 7] = [
@@ -32,11 +33,11 @@ pub const CHECKED: [Function; 7] = [
 
 /// An implementation of a robot's kinematics to be checked.
 pub trait Candidate {
-    /// Evaluates the generated function `function` ([`crate::catalogue`]) at joints `q` (all n,
+    /// Evaluates the generated function `function` ([`trocar_model::catalogue`]) at joints `q` (all n,
     /// base first) and parameter values `params` (every named parameter of the description, in
     /// declaration order); a transform as a 4 × 4 homogeneous matrix. `None` when the candidate
     /// does not provide this function.
-    fn evaluate(&self, function: Function, q: &[f64], params: &[f64]) -> Option<DMatrix<f64>>;
+    fn evaluate(&self, function: Function, q: &[f64], params: &[f64]) -> Option<Mat<f64>>;
 }
 
 /// The largest error of one check over all samples.
@@ -145,12 +146,12 @@ impl SplitMix64 {
     }
 }
 
-fn relative_error(a: &DMatrix<f64>, b: &DMatrix<f64>) -> f64 {
+fn relative_error(a: &Mat<f64>, b: &Mat<f64>) -> f64 {
     if a.shape() != b.shape() {
         return f64::INFINITY;
     }
-    let diff = (a - b).norm();
-    let scale = b.norm().max(1.0);
+    let diff = (a - b).norm_l2();
+    let scale = b.norm_l2().max(1.0);
     if diff.is_nan() {
         f64::INFINITY
     } else {
@@ -158,7 +159,7 @@ fn relative_error(a: &DMatrix<f64>, b: &DMatrix<f64>) -> f64 {
     }
 }
 
-fn se3_from_matrix(m: &DMatrix<f64>) -> Option<Se3<f64>> {
+fn se3_from_matrix(m: &Mat<f64>) -> Option<Se3<f64>> {
     if m.shape() != (4, 4) {
         return None;
     }
@@ -174,9 +175,9 @@ fn finite_difference_jacobian(
     q: &[f64],
     columns: usize,
     h: f64,
-) -> Option<DMatrix<f64>> {
+) -> Option<Mat<f64>> {
     let g = pose(q)?;
-    let mut out = DMatrix::zeros(6, columns);
+    let mut out = Mat::zeros(6, columns);
     let mut qq = q.to_vec();
     for k in 0..columns {
         qq[k] = q[k] + h;
@@ -184,7 +185,10 @@ fn finite_difference_jacobian(
         qq[k] = q[k] - h;
         let minus = g.inverse_compose(&pose(&qq)?).log();
         qq[k] = q[k];
-        out.set_column(k, &((plus - minus) / (2.0 * h)));
+        let column = (plus - minus) / (2.0 * h);
+        for r in 0..6 {
+            out[(r, k)] = column[r];
+        }
     }
     Some(out)
 }
@@ -246,7 +250,7 @@ pub fn verify(
             .joints
             .iter()
             .map(|j| match j.kind {
-                crate::description::JointKind::Prismatic { .. } => rng.uniform(-0.5, 0.5),
+                trocar_model::description::JointKind::Prismatic { .. } => rng.uniform(-0.5, 0.5),
                 _ => rng.uniform(-core::f64::consts::PI, core::f64::consts::PI),
             })
             .collect();
@@ -269,11 +273,11 @@ pub fn verify(
                 Function::ConstrainedLinkKinematics => {
                     let Some(i) = link else { continue };
                     let m = robot.link_frame(i, &q)?.to_homogeneous();
-                    DMatrix::from_iterator(4, 4, m.iter().copied())
+                    Mat::from_fn(4, 4, |r, c| m[(r, c)])
                 }
-                Function::Manipulability => DMatrix::from_element(1, 1, robot.manipulability(&q)?),
+                Function::Manipulability => Mat::full(1, 1, robot.manipulability(&q)?),
                 Function::ManipulabilitySquared => {
-                    DMatrix::from_element(1, 1, robot.manipulability(&q)?.powi(2))
+                    Mat::full(1, 1, robot.manipulability(&q)?.powi(2))
                 }
                 _ => continue,
             };
@@ -297,7 +301,7 @@ pub fn verify(
                 // their norm.
                 Function::Manipulability | Function::ManipulabilitySquared => {
                     let jr = robot.constrained_jacobian(&q)?;
-                    let mut bound: f64 = jr.row_iter().map(|r| r.norm()).product();
+                    let mut bound: f64 = jr.row_iter().map(|r| r.norm_l2()).product();
                     if quantity == Function::ManipulabilitySquared {
                         bound *= bound;
                     }
@@ -363,7 +367,7 @@ mod tests {
     }
 
     impl Candidate for Numeric {
-        fn evaluate(&self, quantity: Function, q: &[f64], params: &[f64]) -> Option<DMatrix<f64>> {
+        fn evaluate(&self, quantity: Function, q: &[f64], params: &[f64]) -> Option<Mat<f64>> {
             let overrides: Vec<(String, f64)> = self
                 .description
                 .parameters
@@ -378,16 +382,8 @@ mod tests {
                 Function::PartialBodyJacobian => robot.partial_body_jacobian(q).ok()?,
                 Function::ConstrainedLinkKinematics => {
                     let i = self.description.constraint.as_ref()?.link;
-                    DMatrix::from_iterator(
-                        4,
-                        4,
-                        robot
-                            .link_frame(i, q)
-                            .ok()?
-                            .to_homogeneous()
-                            .iter()
-                            .copied(),
-                    )
+                    let g = robot.link_frame(i, q).ok()?.to_homogeneous();
+                    Mat::from_fn(4, 4, |r, c| g[(r, c)])
                 }
                 _ => return None,
             };

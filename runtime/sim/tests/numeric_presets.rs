@@ -2,12 +2,13 @@
 //! (3.10), J^B_0e θ̇ = J^r_0e [v0i; θ̇_jn] (3.9)–(3.11), the printed (3.24), the manipulability
 //! claims (3.41)/(3.42), the typed API against the dynamic one, f32 against f64, and errors.
 
+use faer::{Col, Mat};
 use rand::{rngs::StdRng, Rng, SeedableRng};
 use trocar::constraint::Constraint;
-use trocar::nalgebra::{DMatrix, DVector, SMatrix, SVector, Vector3};
+use trocar::nalgebra::{SMatrix, SVector, Vector3};
 use trocar::se3::{rotation_from_rpy, Adjoint, Se3};
 use trocar_model::description::{RobotDescription, Scalar};
-use trocar_model::robot::{Robot, RobotError};
+use trocar_sim::robot::{Robot, RobotError};
 
 const ALL: [&str; 5] = [
     "unidirectional",
@@ -33,7 +34,7 @@ fn random_q(rng: &mut StdRng, n: usize) -> Vec<f64> {
 }
 
 /// `H Ad_{g_ri}` straight from the description (not from `Robot::lambda`).
-fn h_ad_gri(robot: &Robot<f64>) -> DMatrix<f64> {
+fn h_ad_gri(robot: &Robot<f64>) -> Mat<f64> {
     let c = robot.description().constraint.clone().unwrap();
     let look = |n: &str| {
         robot
@@ -55,13 +56,36 @@ fn h_ad_gri(robot: &Robot<f64>) -> DMatrix<f64> {
         }
     };
     let ad_gri = Adjoint(Se3::new(r, p)).inverse_matrix();
-    let h = DMatrix::from_fn(c.h.len(), 6, |i, j| c.h[i][j]);
-    let ad = DMatrix::from_column_slice(6, 6, ad_gri.as_slice());
+    let h = Mat::from_fn(c.h.len(), 6, |i, j| c.h[i][j]);
+    let ad = dense(ad_gri.as_slice(), 6, 6);
     h * ad
 }
 
-fn max_abs(m: &DMatrix<f64>) -> f64 {
-    m.amax()
+fn max_abs(m: &Mat<f64>) -> f64 {
+    m.norm_max()
+}
+
+/// A faer matrix from column-major entries.
+fn dense(m: &[f64], rows: usize, cols: usize) -> Mat<f64> {
+    Mat::from_fn(rows, cols, |r, c| m[c * rows + r])
+}
+
+/// Singular values by faer's SVD, decreasing.
+fn singular_values(m: &Mat<f64>) -> Vec<f64> {
+    m.singular_values().expect("SVD converges")
+}
+
+fn min(v: &[f64]) -> f64 {
+    v.iter().copied().fold(f64::INFINITY, f64::min)
+}
+
+fn max(v: &[f64]) -> f64 {
+    v.iter().copied().fold(0.0, f64::max)
+}
+
+/// Numerical rank: singular values above `eps`.
+fn rank(m: &Mat<f64>, eps: f64) -> usize {
+    singular_values(m).iter().filter(|&&s| s > eps).count()
 }
 
 #[test]
@@ -78,10 +102,10 @@ fn lambda_times_null_space_is_zero() {
             let s = robot.lambda_null_space().unwrap();
             let r = robot.constraint_rows().unwrap();
             assert_eq!(s.shape(), (6, 6 - r));
-            assert!(max_abs(&(&l * &s)) < 1e-12, "{name}: Λ Λ# = {}", &l * &s);
-            assert_eq!(s.rank(1e-9), 6 - r, "{name}: Λ# has full column rank");
+            assert!(max_abs(&(&l * &s)) < 1e-12, "{name}: Λ Λ# = {:?}", &l * &s);
+            assert_eq!(rank(&s, 1e-9), 6 - r, "{name}: Λ# has full column rank");
             let p = robot.lambda_pinv().unwrap();
-            assert!(max_abs(&(&l * &p - DMatrix::identity(r, r))) < 1e-12);
+            assert!(max_abs(&(&l * &p - Mat::<f64>::identity(r, r))) < 1e-12);
         }
     }
 }
@@ -100,8 +124,8 @@ fn constrained_jacobian_reproduces_the_body_velocity() {
             let q = random_q(&mut rng, n);
             let jb0i = robot.partial_body_jacobian(&q).unwrap();
             // Stay away from singular J^B_0i (3.10 needs its inverse).
-            let sv = jb0i.singular_values();
-            if sv.min() < 1e-2 {
+            let sv = singular_values(&jb0i);
+            if min(&sv) < 1e-2 {
                 continue;
             }
             checked += 1;
@@ -110,18 +134,20 @@ fn constrained_jacobian_reproduces_the_body_velocity() {
             let th_1i = robot.joint_rates_before_constraint(&q, &v0i, &[]).unwrap();
             // The constraint: H Ad_gri J^B_0i θ̇_{1..i} = 0.
             let c = h_ad_gri(&robot) * &jb0i * &th_1i;
-            assert!(c.amax() < 1e-12, "{name}: constraint violated by {c}");
+            assert!(c.norm_max() < 1e-12, "{name}: constraint violated by {c:?}");
             // (3.9)–(3.11).
-            let th = DVector::from_iterator(n, th_1i.iter().copied().chain(th_jn.iter().copied()));
+            let th_all: Vec<f64> = th_1i.iter().copied().chain(th_jn.iter().copied()).collect();
+            let th = Col::from_fn(n, |k| th_all[k]);
             let lhs = robot.body_jacobian(&q).unwrap() * th;
-            let vv = DVector::from_iterator(
-                6 - r + n - i,
-                v0i.iter().copied().chain(th_jn.iter().copied()),
-            );
+            let vv_all: Vec<f64> = v0i.iter().copied().chain(th_jn.iter().copied()).collect();
+            let vv = Col::from_fn(6 - r + n - i, |k| vv_all[k]);
             let jr = robot.constrained_jacobian(&q).unwrap();
             assert_eq!(jr.shape(), (6, 6 - r + n - i));
             let rhs = &jr * vv;
-            assert!((&lhs - &rhs).amax() < 1e-12, "{name}: {lhs} vs {rhs}");
+            assert!(
+                (&lhs - &rhs).norm_max() < 1e-12,
+                "{name}: {lhs:?} vs {rhs:?}"
+            );
             // The split (3.12): J^B_0e1 = Ad_{g_ei} J^B_0i.
             let (j1, j2) = robot.body_jacobian_split(&q).unwrap();
             let g_ie = robot
@@ -130,9 +156,9 @@ fn constrained_jacobian_reproduces_the_body_velocity() {
                 .inverse()
                 .compose(&robot.forward_kinematics(&q).unwrap());
             let ad = Adjoint(g_ie).inverse_matrix();
-            let ad = DMatrix::from_column_slice(6, 6, ad.as_slice());
-            assert!((j1 - ad * &jb0i).amax() < 1e-12);
-            assert!((j2 - jr.columns(6 - r, n - i)).amax() == 0.0);
+            let ad = dense(ad.as_slice(), 6, 6);
+            assert!((j1 - ad * &jb0i).norm_max() < 1e-12);
+            assert!((j2 - jr.as_ref().subcols(6 - r, n - i)).norm_max() == 0.0);
         }
     }
 }
@@ -209,7 +235,7 @@ fn unidirectional_preset_is_the_printed_3_24() {
         let q = random_q(&mut rng, 8);
         let jr = robot.constrained_jacobian(&q).unwrap();
         let printed = printed_3_24(q[6], q[7], la, lb, l8);
-        let diff = (jr - DMatrix::from_column_slice(6, 7, printed.as_slice())).amax();
+        let diff = (jr - dense(printed.as_slice(), 6, 7)).norm_max();
         assert!(diff < 1e-12, "differs by {diff:e} at q = {q:?}");
     }
 }
@@ -246,12 +272,14 @@ fn typed_api_matches_dynamic() {
         let c: Constraint<f64, R> = robot.to_constraint().unwrap();
         let qv = SVector::<f64, 8>::from_column_slice(q);
         let (jr, jc) = c.constrained_jacobians::<8, M>(&chain, &qv);
-        let d = |m: &[f64], r, cc| DMatrix::from_column_slice(r, cc, m);
+        let d = dense;
         assert_eq!(
             d(jr.as_slice(), 6, M),
             robot.constrained_jacobian(q).unwrap()
         );
-        assert!((d(jc.as_slice(), 6, R) - robot.moving_rcm_jacobian(q).unwrap()).amax() < 1e-15);
+        assert!(
+            (d(jc.as_slice(), 6, R) - robot.moving_rcm_jacobian(q).unwrap()).norm_max() < 1e-15
+        );
         assert_eq!(
             d(chain.body_jacobian(&qv).as_slice(), 6, 8),
             robot.body_jacobian(q).unwrap()
@@ -276,7 +304,7 @@ fn typed_api_matches_dynamic() {
         let th_dyn = robot
             .joint_rates_before_constraint(q, v0i.as_slice(), &[])
             .unwrap();
-        assert!((DVector::from_column_slice(th.as_slice()) - th_dyn).amax() < 1e-9);
+        assert!((Col::from_fn(6, |k| th[k]) - th_dyn).norm_max() < 1e-9);
         // Manipulability (3.36).
         let w = trocar::manipulability::manipulability(&jr);
         assert!((w - robot.manipulability(q).unwrap()).abs() < 1e-12 * (1.0 + w));
@@ -299,10 +327,11 @@ fn f32_agrees_with_f64() {
         let q: Vec<f64> = random_q(&mut rng, 8);
         let q32: Vec<f32> = q.iter().map(|&x| x as f32).collect();
         let a = r64.constrained_jacobian(&q).unwrap();
-        let b = r32.constrained_jacobian(&q32).unwrap().map(|x| x as f64);
+        let b32 = r32.constrained_jacobian(&q32).unwrap();
+        let b = Mat::from_fn(b32.nrows(), b32.ncols(), |r, c| b32[(r, c)] as f64);
         assert!(
-            (&a - &b).amax() < 1e-4 * (1.0 + a.amax()),
-            "{name}: {a} vs {b}"
+            (&a - &b).norm_max() < 1e-4 * (1.0 + a.norm_max()),
+            "{name}: {a:?} vs {b:?}"
         );
         // Typed f32 chain from the f64 one.
         let chain64 = r64.to_chain::<8>().unwrap();
@@ -310,8 +339,8 @@ fn f32_agrees_with_f64() {
         let qv = SVector::<f32, 8>::from_column_slice(&q32);
         let jb32 = chain32.body_jacobian(&qv).map(|x| x as f64);
         let jb64 = r64.body_jacobian(&q).unwrap();
-        let jb32 = DMatrix::from_column_slice(6, 8, jb32.as_slice());
-        assert!((&jb64 - &jb32).amax() < 1e-4 * (1.0 + jb64.amax()));
+        let jb32 = dense(jb32.as_slice(), 6, 8);
+        assert!((&jb64 - &jb32).norm_max() < 1e-4 * (1.0 + jb64.norm_max()));
         // Finite differences in f32 with the f32 step.
         let fd = trocar::finite_diff::body_jacobian(
             &chain32,
@@ -319,9 +348,9 @@ fn f32_agrees_with_f64() {
             trocar::finite_diff::default_step::<f32>(),
         )
         .map(|x| x as f64);
-        let fd = DMatrix::from_column_slice(6, 8, fd.as_slice());
+        let fd = dense(fd.as_slice(), 6, 8);
         assert!(
-            (&jb64 - &fd).amax() < 2e-2,
+            (&jb64 - &fd).norm_max() < 2e-2,
             "{name}: f32 finite differences"
         );
     }
@@ -395,7 +424,7 @@ fn user_errors_are_results() {
     c.h = vec![[0.2, 1.0, 0.0, 0.3, 0.0, 0.0]];
     let robot = Robot::<f64>::from_description(&general, &[]).unwrap();
     let l = robot.lambda().unwrap();
-    assert!((l * robot.lambda_null_space().unwrap()).amax() < 1e-14);
+    assert!((l * robot.lambda_null_space().unwrap()).norm_max() < 1e-14);
 }
 
 /// SPEC §3.2: both Jacobians (J^B_0i and J^r) are regular at the start configuration q0.
@@ -405,16 +434,16 @@ fn dia10_like_start_configuration_is_regular() {
     for name in ["dia10_like_zy", "dia10_like_zx"] {
         let robot =
             Robot::<f64>::from_description(&RobotDescription::preset(name).unwrap(), &[]).unwrap();
-        let s0i = robot.partial_body_jacobian(&q0).unwrap().singular_values();
-        let sr = robot.constrained_jacobian(&q0).unwrap().singular_values();
+        let s0i = singular_values(&robot.partial_body_jacobian(&q0).unwrap());
+        let sr = singular_values(&robot.constrained_jacobian(&q0).unwrap());
         println!(
             "{name}: σ(J^B_0i) ∈ [{:.3e}, {:.3e}], σ(J^r) ∈ [{:.3e}, {:.3e}], w_r = {:.4e}",
-            s0i.min(),
-            s0i.max(),
-            sr.min(),
-            sr.max(),
+            min(&s0i),
+            max(&s0i),
+            min(&sr),
+            max(&sr),
             robot.manipulability(&q0).unwrap()
         );
-        assert!(s0i.min() > 1e-2 && sr.min() > 1e-2, "{name}");
+        assert!(min(&s0i) > 1e-2 && min(&sr) > 1e-2, "{name}");
     }
 }

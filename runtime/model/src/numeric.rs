@@ -1,18 +1,18 @@
-//! A numeric robot built from a description with parameter values: dynamic-size front end of the
-//! kinematics kernels, for the CLI (`trocar eval --numeric`, `trocar jacobian`) and verification.
+//! A description evaluated with parameter values: the joints, tool and constraint of the
+//! allocation-free typed API ([`trocar::kinematics`], [`trocar::constraint`]).
 //!
-//! [`Robot`] evaluates a [`RobotDescription`] with its nominal `[parameters]` (or overrides) and
-//! answers with `DMatrix` outputs; every error on user input is a [`RobotError`], never a panic.
-//! The kernels it calls are those of the allocation-free typed API ([`trocar::kinematics`],
-//! [`trocar::constraint`]); [`Robot::to_chain`] and [`Robot::to_constraint`] hand a description to
-//! that API for control loops.
+//! [`NumericModel`] evaluates a [`RobotDescription`] with its nominal `[parameters]` (or
+//! overrides); every error on user input is a [`RobotError`], never a panic.
+//! [`NumericModel::to_chain`] and [`NumericModel::to_constraint`] hand the description to the typed
+//! API for control loops; the dynamic-size numeric reference (`trocar_sim::robot::Robot`) is built
+//! on it.
 
 use crate::description::{JointKind, Origin, RobotDescription, Rotation, Scalar};
-use nalgebra::{convert, DMatrix, DVector, Matrix3, RealField, SMatrix, Vector3};
+use nalgebra::{convert, Matrix3, RealField, SMatrix, Vector3};
 use std::fmt;
 use trocar::constraint::{Constraint, ConstraintError, NullSpaceBasis};
-use trocar::kinematics::{self, Chain, Joint};
-use trocar::se3::{self, Adjoint, Se3, Twist};
+use trocar::kinematics::{Chain, Joint};
+use trocar::se3::{self, Se3, Twist};
 
 /// Why a robot cannot be built or evaluated.
 #[derive(Clone, Debug, PartialEq)]
@@ -44,7 +44,7 @@ pub enum RobotError {
         /// Joints of the robot.
         joints: usize,
     },
-    /// The method needs `n − r ≥ 6` (SPEC §3).
+    /// The method needs `n − r ≥ 6` (§3.1).
     TooFewJoints {
         /// Joints.
         n: usize,
@@ -121,13 +121,18 @@ impl From<ConstraintError> for RobotError {
     }
 }
 
-/// A constraint with a number of rows known at run time.
+/// A constraint (3.3) with a number of rows `r` (1 to 5) known at run time.
 #[derive(Clone, Debug, PartialEq)]
-enum AnyConstraint<T: RealField + Copy> {
+pub enum AnyConstraint<T: RealField + Copy> {
+    /// `r = 1`.
     R1(Constraint<T, 1>),
+    /// `r = 2`.
     R2(Constraint<T, 2>),
+    /// `r = 3`.
     R3(Constraint<T, 3>),
+    /// `r = 4`.
     R4(Constraint<T, 4>),
+    /// `r = 5`.
     R5(Constraint<T, 5>),
 }
 
@@ -169,37 +174,65 @@ impl<T: RealField + Copy> AnyConstraint<T> {
         })
     }
 
-    fn rows(&self) -> usize {
+    /// The number of constraint rows `r`.
+    pub fn rows(&self) -> usize {
         dispatch!(self, c => c.h().nrows())
     }
 
-    fn link(&self) -> usize {
+    /// The constrained link `i` (1-based).
+    pub fn link(&self) -> usize {
         dispatch!(self, c => c.link())
     }
 
-    fn lambda(&self) -> DMatrix<T> {
+    /// `Λ = H Ad_{g_ri}` (3.3), r×6, column-major.
+    pub fn lambda_column_major(&self) -> Vec<T> {
+        dispatch!(self, c => c.lambda().as_slice().to_vec())
+    }
+
+    /// `Λ† = Λᵀ (Λ Λᵀ)⁻¹`, 6×r, column-major.
+    pub fn lambda_pinv_column_major(&self) -> Vec<T> {
+        dispatch!(self, c => c.lambda_pinv().as_slice().to_vec())
+    }
+
+    /// `J_c = Ad_{g_ei} Λ†` (3.33), 6×r, column-major, from `g_ie`.
+    pub fn moving_rcm_jacobian_column_major(&self, g_ie: &Se3<T>) -> Vec<T> {
         dispatch!(self, c => {
-            let m = c.lambda();
-            DMatrix::from_column_slice(m.nrows(), 6, m.as_slice())
+            (trocar::se3::Adjoint(*g_ie).inverse_matrix() * c.lambda_pinv())
+                .as_slice()
+                .to_vec()
         })
     }
 
-    fn lambda_pinv(&self) -> DMatrix<T> {
-        dispatch!(self, c => {
-            let m = c.lambda_pinv();
-            DMatrix::from_column_slice(6, m.ncols(), m.as_slice())
-        })
-    }
-
-    fn lambda_null_space_columns(&self) -> &[Twist<T>] {
+    /// The columns of `Λ#`, 6×(6−r): the thesis basis (3.23)/(3.27) or the computed one.
+    pub fn lambda_null_space_columns(&self) -> &[Twist<T>] {
         dispatch!(self, c => c.lambda_null_space_columns())
+    }
+
+    /// The typed constraint. Errors if `R ≠ r`.
+    pub fn to_constraint<const R: usize>(&self) -> Result<Constraint<T, R>, RobotError> {
+        let wrong = RobotError::WrongSize {
+            what: "constraint rows",
+            expected: self.rows(),
+            got: R,
+        };
+        let (link, g, basis, h) = dispatch!(self, c => (
+            c.link(),
+            *c.frame(),
+            c.basis(),
+            c.h().as_slice().to_vec()
+        ));
+        if self.rows() != R {
+            return Err(wrong);
+        }
+        let h = SMatrix::<T, R, 6>::from_column_slice(&h);
+        Ok(Constraint::with_basis(link, g, h, basis)?)
     }
 }
 
-/// A numeric robot: a [`RobotDescription`] evaluated with parameter values, answering with
-/// dynamic-size matrices. Joint values `q` are all `n` joints, base first.
+/// A [`RobotDescription`] evaluated with parameter values: numeric joints (base first), tool and
+/// constraint.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Robot<T: RealField + Copy = f64> {
+pub struct NumericModel<T: RealField + Copy = f64> {
     description: RobotDescription,
     parameters: Vec<(String, f64)>,
     joints: Vec<Joint<T>>,
@@ -260,7 +293,7 @@ fn unit(axis: &[f64; 3], field: String) -> Result<Vector3<f64>, RobotError> {
     Ok(a)
 }
 
-impl<T: RealField + Copy> Robot<T> {
+impl<T: RealField + Copy> NumericModel<T> {
     /// Builds the robot from a description: `[parameters]` at their nominal values, except those
     /// in `overrides` (`(name, value)`; an unknown name is an error).
     pub fn from_description(
@@ -403,190 +436,9 @@ impl<T: RealField + Copy> Robot<T> {
         self.constraint.as_ref().map(|c| c.rows())
     }
 
-    fn check_q(&self, q: &[T]) -> Result<(), RobotError> {
-        if q.len() != self.joints.len() {
-            return Err(RobotError::WrongJointCount {
-                expected: self.joints.len(),
-                got: q.len(),
-            });
-        }
-        Ok(())
-    }
-
-    fn constraint(&self) -> Result<&AnyConstraint<T>, RobotError> {
-        self.constraint.as_ref().ok_or(RobotError::NoConstraint)
-    }
-
-    /// Forward kinematics `g_0e(θ)`.
-    pub fn forward_kinematics(&self, q: &[T]) -> Result<Se3<T>, RobotError> {
-        self.check_q(q)?;
-        Ok(kinematics::forward_kinematics(&self.joints, q, &self.tool))
-    }
-
-    /// Forward kinematics as the homogeneous 4×4 matrix `[[R, p], [0, 1]]`.
-    pub fn forward_kinematics_matrix(&self, q: &[T]) -> Result<DMatrix<T>, RobotError> {
-        let g = self.forward_kinematics(q)?.to_homogeneous();
-        Ok(DMatrix::from_column_slice(4, 4, g.as_slice()))
-    }
-
-    /// The frame `g_0k` of link `k` (`0` is the base, `n` the last joint's frame).
-    pub fn link_frame(&self, k: usize, q: &[T]) -> Result<Se3<T>, RobotError> {
-        self.check_q(q)?;
-        if k > self.joints.len() {
-            return Err(RobotError::LinkOutOfRange {
-                link: k,
-                joints: self.joints.len(),
-            });
-        }
-        Ok(kinematics::forward_kinematics(
-            &self.joints[..k],
-            &q[..k],
-            &Se3::identity(),
-        ))
-    }
-
-    /// The body Jacobian `J^B_0e(θ)`, 6×n (2.54)–(2.55).
-    pub fn body_jacobian(&self, q: &[T]) -> Result<DMatrix<T>, RobotError> {
-        self.check_q(q)?;
-        let mut cols = vec![Twist::zeros(); self.joints.len()];
-        kinematics::body_jacobian_columns(&self.joints, q, &self.tool, &mut cols);
-        Ok(columns_to_dmatrix(&cols))
-    }
-
-    /// The spatial Jacobian `J^S_0e(θ)`, 6×n (2.53).
-    pub fn spatial_jacobian(&self, q: &[T]) -> Result<DMatrix<T>, RobotError> {
-        self.check_q(q)?;
-        let mut cols = vec![Twist::zeros(); self.joints.len()];
-        kinematics::spatial_jacobian_columns(&self.joints, q, &mut cols);
-        Ok(columns_to_dmatrix(&cols))
-    }
-
-    /// The partial body Jacobian `J^B_0k(θ_1..θ_k)`, 6×k (3.13), of the chain cut at `F_k`.
-    pub fn partial_body_jacobian_at(&self, k: usize, q: &[T]) -> Result<DMatrix<T>, RobotError> {
-        self.check_q(q)?;
-        if k > self.joints.len() {
-            return Err(RobotError::LinkOutOfRange {
-                link: k,
-                joints: self.joints.len(),
-            });
-        }
-        let mut cols = vec![Twist::zeros(); k];
-        kinematics::body_jacobian_columns(&self.joints[..k], &q[..k], &Se3::identity(), &mut cols);
-        Ok(columns_to_dmatrix(&cols))
-    }
-
-    /// `J^B_0i` (3.13) at the constrained link `i`, 6×i.
-    pub fn partial_body_jacobian(&self, q: &[T]) -> Result<DMatrix<T>, RobotError> {
-        let i = self.constraint()?.link();
-        self.partial_body_jacobian_at(i, q)
-    }
-
-    /// The split (3.12) at the constrained link: `(J^B_0e1, J^B_0e2)`, 6×i and 6×(n−i).
-    pub fn body_jacobian_split(&self, q: &[T]) -> Result<(DMatrix<T>, DMatrix<T>), RobotError> {
-        let i = self.constraint()?.link();
-        let j = self.body_jacobian(q)?;
-        Ok((
-            j.columns(0, i).into_owned(),
-            j.columns(i, self.joints.len() - i).into_owned(),
-        ))
-    }
-
-    /// `Λ = H Ad_{g_ri}`, r×6 (3.3).
-    pub fn lambda(&self) -> Result<DMatrix<T>, RobotError> {
-        Ok(self.constraint()?.lambda())
-    }
-
-    /// `Λ#`, 6×(6−r): the thesis basis (3.23)/(3.27) when the description names a wrist preset,
-    /// the computed basis otherwise (see [`NullSpaceBasis`]).
-    pub fn lambda_null_space(&self) -> Result<DMatrix<T>, RobotError> {
-        Ok(columns_to_dmatrix(
-            self.constraint()?.lambda_null_space_columns(),
-        ))
-    }
-
-    /// `Λ† = Λᵀ (Λ Λᵀ)⁻¹`, 6×r.
-    pub fn lambda_pinv(&self) -> Result<DMatrix<T>, RobotError> {
-        Ok(self.constraint()?.lambda_pinv())
-    }
-
-    /// The constrained Jacobian `J^r_0e = [Ad_{g_ei} Λ# | J^B_0e2]`, 6×m, `m = 6 − r + n − i` (3.15).
-    pub fn constrained_jacobian(&self, q: &[T]) -> Result<DMatrix<T>, RobotError> {
-        self.check_q(q)?;
-        let c = self.constraint()?;
-        let i = c.link();
-        let sharp = c.lambda_null_space_columns();
-        let mut cols = vec![Twist::zeros(); sharp.len() + self.joints.len() - i];
-        kinematics::constrained_jacobian_columns(
-            &self.joints[i..],
-            &q[i..],
-            &self.tool,
-            sharp,
-            &mut cols,
-        );
-        Ok(columns_to_dmatrix(&cols))
-    }
-
-    /// `J_c = Ad_{g_ei} Λ†`, 6×r (3.33).
-    pub fn moving_rcm_jacobian(&self, q: &[T]) -> Result<DMatrix<T>, RobotError> {
-        self.check_q(q)?;
-        let c = self.constraint()?;
-        let i = c.link();
-        let g_ie = kinematics::forward_kinematics(&self.joints[i..], &q[i..], &self.tool);
-        let jc = Adjoint(g_ie).inverse_matrix() * c.lambda_pinv();
-        Ok(DMatrix::from_column_slice(6, jc.ncols(), jc.as_slice()))
-    }
-
-    /// Manipulability of the constrained Jacobian, `w_r = sqrt(|det(J^r J^rᵀ)|)` (3.36).
-    pub fn manipulability(&self, q: &[T]) -> Result<T, RobotError> {
-        Ok(manipulability_dynamic(&self.constrained_jacobian(q)?))
-    }
-
-    /// (3.10)/(3.31): `θ̇_{1..i} = (J^B_0i)† (Λ# v0i + Λ† dv_0r)` (`dv_0r` empty or zero for a
-    /// fixed RCM), with the SVD pseudo-inverse.
-    pub fn joint_rates_before_constraint(
-        &self,
-        q: &[T],
-        v0i: &[T],
-        dv_0r: &[T],
-    ) -> Result<DVector<T>, RobotError> {
-        let c = self.constraint()?;
-        let sharp = c.lambda_null_space_columns();
-        if v0i.len() != sharp.len() {
-            return Err(RobotError::WrongSize {
-                what: "v0i",
-                expected: sharp.len(),
-                got: v0i.len(),
-            });
-        }
-        let mut v = Twist::zeros();
-        for (s, &x) in sharp.iter().zip(v0i) {
-            v += s * x;
-        }
-        if !dv_0r.is_empty() {
-            if dv_0r.len() != c.rows() {
-                return Err(RobotError::WrongSize {
-                    what: "dv_0r",
-                    expected: c.rows(),
-                    got: dv_0r.len(),
-                });
-            }
-            v += c.lambda_pinv() * DVector::from_column_slice(dv_0r);
-        }
-        let j = self.partial_body_jacobian(q)?;
-        let eps: T = convert(1e-12);
-        let pinv = j
-            .pseudo_inverse(eps)
-            .map_err(|_| RobotError::BadParameterValue("(pseudo-inverse)".into()))?;
-        Ok(pinv * DVector::from_column_slice(v.as_slice()))
-    }
-
-    /// The finite-difference body Jacobian (central differences through the SE(3) log), step `h`.
-    pub fn finite_difference_body_jacobian(&self, q: &[T], h: T) -> Result<DMatrix<T>, RobotError> {
-        self.check_q(q)?;
-        let mut qq = q.to_vec();
-        let mut cols = vec![Twist::zeros(); self.joints.len()];
-        trocar::finite_diff::body_jacobian_columns(&self.joints, &mut qq, &self.tool, h, &mut cols);
-        Ok(columns_to_dmatrix(&cols))
+    /// The constraint, if the description has one.
+    pub fn constraint(&self) -> Option<&AnyConstraint<T>> {
+        self.constraint.as_ref()
     }
 
     /// The typed chain for the allocation-free API. Errors if `N ≠ n`.
@@ -605,42 +457,9 @@ impl<T: RealField + Copy> Robot<T> {
 
     /// The typed constraint for the allocation-free API. Errors if there is none or `R ≠ r`.
     pub fn to_constraint<const R: usize>(&self) -> Result<Constraint<T, R>, RobotError> {
-        let c = self.constraint()?;
-        let wrong = RobotError::WrongSize {
-            what: "constraint rows",
-            expected: c.rows(),
-            got: R,
-        };
-        let (link, g, basis, h) = dispatch!(c, c => (
-            c.link(),
-            *c.frame(),
-            c.basis(),
-            c.h().as_slice().to_vec()
-        ));
-        if c.rows() != R {
-            return Err(wrong);
-        }
-        let h = SMatrix::<T, R, 6>::from_column_slice(&h);
-        Ok(Constraint::with_basis(link, g, h, basis)?)
+        self.constraint
+            .as_ref()
+            .ok_or(RobotError::NoConstraint)?
+            .to_constraint()
     }
-}
-
-/// `sqrt(|det(J Jᵀ)|)` of a dynamic matrix (3.36).
-pub fn manipulability_dynamic<T: RealField + Copy>(j: &DMatrix<T>) -> T {
-    if j.is_square() {
-        // |det J| directly: squaring first would double the condition number.
-        let mut a = j.clone();
-        let n = a.nrows();
-        return trocar::manipulability::determinant_in_place(a.as_mut_slice(), n).abs();
-    }
-    let mut jjt = j * j.transpose();
-    let n = jjt.nrows();
-    trocar::manipulability::determinant_in_place(jjt.as_mut_slice(), n)
-        .abs()
-        .sqrt()
-}
-
-/// A 6×k dynamic matrix from twist columns.
-fn columns_to_dmatrix<T: RealField + Copy>(cols: &[Twist<T>]) -> DMatrix<T> {
-    DMatrix::from_fn(6, cols.len(), |r, c| cols[c][r])
 }

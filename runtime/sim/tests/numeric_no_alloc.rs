@@ -6,7 +6,7 @@ use trocar::constraint::Constraint;
 use trocar::kinematics::Chain;
 use trocar::nalgebra::{SMatrix, SVector};
 use trocar_model::description::RobotDescription;
-use trocar_model::robot::Robot;
+use trocar_sim::robot::Robot;
 
 struct Counting;
 

@@ -1,0 +1,362 @@
+//! A numeric robot built from a description with parameter values: the dynamic-size numeric
+//! reference, for the CLI (`trocar eval --numeric`, `trocar jacobian`), [`crate::verify`] and the
+//! tests of generated code.
+//!
+//! [`Robot`] evaluates a [`RobotDescription`] with its nominal `[parameters]` (or overrides) and
+//! answers with [`faer::Mat`] outputs; every error on user input is a [`RobotError`], never a
+//! panic. The kernels it calls are those of the allocation-free typed API
+//! ([`trocar::kinematics`], [`trocar::constraint`]) on the [`NumericModel`] of `trocar-model`;
+//! [`Robot::to_chain`] and [`Robot::to_constraint`] hand the description to that API for control
+//! loops. Pseudo-inverses and determinants of dynamic matrices are faer's dense decompositions.
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::{Col, Mat};
+use nalgebra::convert;
+use trocar::constraint::Constraint;
+use trocar::kinematics::{self, Chain, Joint};
+use trocar::se3::{Se3, Twist};
+use trocar_model::description::RobotDescription;
+pub use trocar_model::numeric::{AnyConstraint, NumericModel, RobotError};
+
+/// A scalar the numeric robot works in: a real field for both nalgebra (the typed kernels) and
+/// faer (the dynamic matrices), i.e. `f32` or `f64`.
+pub trait RobotScalar: nalgebra::RealField + Copy + faer::traits::RealField {}
+
+impl<T: nalgebra::RealField + Copy + faer::traits::RealField> RobotScalar for T {}
+
+/// A numeric robot: a [`RobotDescription`] evaluated with parameter values, answering with
+/// dynamic-size [`faer::Mat`] matrices. Joint values `q` are all `n` joints, base first.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Robot<T: RobotScalar = f64> {
+    model: NumericModel<T>,
+}
+
+impl<T: RobotScalar> Robot<T> {
+    /// Builds the robot from a description: `[parameters]` at their nominal values, except those
+    /// in `overrides` (`(name, value)`; an unknown name is an error).
+    pub fn from_description(
+        description: &RobotDescription,
+        overrides: &[(String, f64)],
+    ) -> Result<Self, RobotError> {
+        Ok(Robot {
+            model: NumericModel::from_description(description, overrides)?,
+        })
+    }
+
+    /// The robot of an evaluated description.
+    pub fn from_model(model: NumericModel<T>) -> Self {
+        Robot { model }
+    }
+
+    /// The evaluated description (joints, tool, constraint) the robot computes with.
+    pub fn model(&self) -> &NumericModel<T> {
+        &self.model
+    }
+
+    /// Changes one parameter's value and rebuilds the robot (e.g. `l_a` as the link slides
+    /// through the trocar). On error the robot is unchanged.
+    pub fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), RobotError> {
+        self.model.set_parameter(name, value)
+    }
+
+    /// The description the robot was built from.
+    pub fn description(&self) -> &RobotDescription {
+        self.model.description()
+    }
+
+    /// Parameter values in use, in declaration order.
+    pub fn parameters(&self) -> &[(String, f64)] {
+        self.model.parameters()
+    }
+
+    /// Number of joints `n`.
+    pub fn dof(&self) -> usize {
+        self.model.dof()
+    }
+
+    /// The joints (numeric), base first.
+    pub fn joints(&self) -> &[Joint<T>] {
+        self.model.joints()
+    }
+
+    /// The end-effector transform `g_ne`.
+    pub fn tool(&self) -> &Se3<T> {
+        self.model.tool()
+    }
+
+    /// The constrained link `i` (1-based), if there is a constraint.
+    pub fn constrained_link(&self) -> Option<usize> {
+        self.model.constrained_link()
+    }
+
+    /// The number of constraint rows `r`, if there is a constraint.
+    pub fn constraint_rows(&self) -> Option<usize> {
+        self.model.constraint_rows()
+    }
+
+    fn check_q(&self, q: &[T]) -> Result<(), RobotError> {
+        if q.len() != self.dof() {
+            return Err(RobotError::WrongJointCount {
+                expected: self.dof(),
+                got: q.len(),
+            });
+        }
+        Ok(())
+    }
+
+    fn constraint(&self) -> Result<&AnyConstraint<T>, RobotError> {
+        self.model.constraint().ok_or(RobotError::NoConstraint)
+    }
+
+    /// Forward kinematics `g_0e(θ)` (2.35).
+    pub fn forward_kinematics(&self, q: &[T]) -> Result<Se3<T>, RobotError> {
+        self.check_q(q)?;
+        Ok(kinematics::forward_kinematics(
+            self.joints(),
+            q,
+            self.tool(),
+        ))
+    }
+
+    /// Forward kinematics as the homogeneous 4×4 matrix `[[R, p], [0, 1]]`.
+    pub fn forward_kinematics_matrix(&self, q: &[T]) -> Result<Mat<T>, RobotError> {
+        let g = self.forward_kinematics(q)?.to_homogeneous();
+        Ok(Mat::from_fn(4, 4, |r, c| g[(r, c)]))
+    }
+
+    /// The frame `g_0k` of link `k` (`0` is the base, `n` the last joint's frame).
+    pub fn link_frame(&self, k: usize, q: &[T]) -> Result<Se3<T>, RobotError> {
+        self.check_q(q)?;
+        if k > self.dof() {
+            return Err(RobotError::LinkOutOfRange {
+                link: k,
+                joints: self.dof(),
+            });
+        }
+        Ok(kinematics::forward_kinematics(
+            &self.joints()[..k],
+            &q[..k],
+            &Se3::identity(),
+        ))
+    }
+
+    /// The body Jacobian `J^B_0e(θ)`, 6×n (2.54)–(2.55).
+    pub fn body_jacobian(&self, q: &[T]) -> Result<Mat<T>, RobotError> {
+        self.check_q(q)?;
+        let mut cols = vec![Twist::zeros(); self.dof()];
+        kinematics::body_jacobian_columns(self.joints(), q, self.tool(), &mut cols);
+        Ok(columns_to_mat(&cols))
+    }
+
+    /// The spatial Jacobian `J^S_0e(θ)`, 6×n (2.53).
+    pub fn spatial_jacobian(&self, q: &[T]) -> Result<Mat<T>, RobotError> {
+        self.check_q(q)?;
+        let mut cols = vec![Twist::zeros(); self.dof()];
+        kinematics::spatial_jacobian_columns(self.joints(), q, &mut cols);
+        Ok(columns_to_mat(&cols))
+    }
+
+    /// The partial body Jacobian `J^B_0k(θ_1..θ_k)`, 6×k (3.13), of the chain cut at `F_k`.
+    pub fn partial_body_jacobian_at(&self, k: usize, q: &[T]) -> Result<Mat<T>, RobotError> {
+        self.check_q(q)?;
+        if k > self.dof() {
+            return Err(RobotError::LinkOutOfRange {
+                link: k,
+                joints: self.dof(),
+            });
+        }
+        let mut cols = vec![Twist::zeros(); k];
+        kinematics::body_jacobian_columns(
+            &self.joints()[..k],
+            &q[..k],
+            &Se3::identity(),
+            &mut cols,
+        );
+        Ok(columns_to_mat(&cols))
+    }
+
+    /// `J^B_0i` (3.13) at the constrained link `i`, 6×i.
+    pub fn partial_body_jacobian(&self, q: &[T]) -> Result<Mat<T>, RobotError> {
+        let i = self.constraint()?.link();
+        self.partial_body_jacobian_at(i, q)
+    }
+
+    /// The split (3.12) at the constrained link: `(J^B_0e1, J^B_0e2)`, 6×i and 6×(n−i).
+    pub fn body_jacobian_split(&self, q: &[T]) -> Result<(Mat<T>, Mat<T>), RobotError> {
+        let i = self.constraint()?.link();
+        let j = self.body_jacobian(q)?;
+        let n = self.dof();
+        Ok((
+            j.as_ref().subcols(0, i).to_owned(),
+            j.as_ref().subcols(i, n - i).to_owned(),
+        ))
+    }
+
+    /// `Λ = H Ad_{g_ri}`, r×6 (3.3).
+    pub fn lambda(&self) -> Result<Mat<T>, RobotError> {
+        let c = self.constraint()?;
+        Ok(column_major(&c.lambda_column_major(), c.rows(), 6))
+    }
+
+    /// `Λ#`, 6×(6−r): the thesis basis (3.23)/(3.27) when the description names a wrist preset,
+    /// the computed basis otherwise (see [`trocar::constraint::NullSpaceBasis`]).
+    pub fn lambda_null_space(&self) -> Result<Mat<T>, RobotError> {
+        Ok(columns_to_mat(
+            self.constraint()?.lambda_null_space_columns(),
+        ))
+    }
+
+    /// `Λ† = Λᵀ (Λ Λᵀ)⁻¹`, 6×r.
+    pub fn lambda_pinv(&self) -> Result<Mat<T>, RobotError> {
+        let c = self.constraint()?;
+        Ok(column_major(&c.lambda_pinv_column_major(), 6, c.rows()))
+    }
+
+    /// The constrained Jacobian `J^r_0e = [Ad_{g_ei} Λ# | J^B_0e2]`, 6×m, `m = 6 − r + n − i` (3.15).
+    pub fn constrained_jacobian(&self, q: &[T]) -> Result<Mat<T>, RobotError> {
+        self.check_q(q)?;
+        let c = self.constraint()?;
+        let i = c.link();
+        let sharp = c.lambda_null_space_columns();
+        let mut cols = vec![Twist::zeros(); sharp.len() + self.dof() - i];
+        kinematics::constrained_jacobian_columns(
+            &self.joints()[i..],
+            &q[i..],
+            self.tool(),
+            sharp,
+            &mut cols,
+        );
+        Ok(columns_to_mat(&cols))
+    }
+
+    /// `J_c = Ad_{g_ei} Λ†`, 6×r (3.33).
+    pub fn moving_rcm_jacobian(&self, q: &[T]) -> Result<Mat<T>, RobotError> {
+        self.check_q(q)?;
+        let c = self.constraint()?;
+        let i = c.link();
+        let g_ie = kinematics::forward_kinematics(&self.joints()[i..], &q[i..], self.tool());
+        Ok(column_major(
+            &c.moving_rcm_jacobian_column_major(&g_ie),
+            6,
+            c.rows(),
+        ))
+    }
+
+    /// Manipulability of the constrained Jacobian, `w_r = sqrt(|det(J^r J^rᵀ)|)` (3.36).
+    pub fn manipulability(&self, q: &[T]) -> Result<T, RobotError> {
+        Ok(manipulability_dynamic(&self.constrained_jacobian(q)?))
+    }
+
+    /// (3.10)/(3.31): `θ̇_{1..i} = (J^B_0i)† (Λ# v0i + Λ† dv_0r)` (`dv_0r` empty or zero for a
+    /// fixed RCM), with the SVD pseudo-inverse (faer's SVD; singular values below `1e-12` are
+    /// dropped).
+    pub fn joint_rates_before_constraint(
+        &self,
+        q: &[T],
+        v0i: &[T],
+        dv_0r: &[T],
+    ) -> Result<Col<T>, RobotError> {
+        let c = self.constraint()?;
+        let sharp = c.lambda_null_space_columns();
+        if v0i.len() != sharp.len() {
+            return Err(RobotError::WrongSize {
+                what: "v0i",
+                expected: sharp.len(),
+                got: v0i.len(),
+            });
+        }
+        let mut v = Twist::zeros();
+        for (s, &x) in sharp.iter().zip(v0i) {
+            v += s * x;
+        }
+        if !dv_0r.is_empty() {
+            if dv_0r.len() != c.rows() {
+                return Err(RobotError::WrongSize {
+                    what: "dv_0r",
+                    expected: c.rows(),
+                    got: dv_0r.len(),
+                });
+            }
+            let pinv = c.lambda_pinv_column_major();
+            for (k, &x) in dv_0r.iter().enumerate() {
+                for r in 0..6 {
+                    v[r] += pinv[k * 6 + r] * x;
+                }
+            }
+        }
+        let j = self.partial_body_jacobian(q)?;
+        let pinv = pseudo_inverse(&j, convert(1e-12))
+            .ok_or_else(|| RobotError::BadParameterValue("(pseudo-inverse)".into()))?;
+        let v = Col::from_fn(6, |r| v[r]);
+        Ok(&pinv * &v)
+    }
+
+    /// The finite-difference body Jacobian (central differences through the SE(3) log), step `h`.
+    pub fn finite_difference_body_jacobian(&self, q: &[T], h: T) -> Result<Mat<T>, RobotError> {
+        self.check_q(q)?;
+        let mut qq = q.to_vec();
+        let mut cols = vec![Twist::zeros(); self.dof()];
+        trocar::finite_diff::body_jacobian_columns(
+            self.joints(),
+            &mut qq,
+            self.tool(),
+            h,
+            &mut cols,
+        );
+        Ok(columns_to_mat(&cols))
+    }
+
+    /// The typed chain for the allocation-free API. Errors if `N ≠ n`.
+    pub fn to_chain<const N: usize>(&self) -> Result<Chain<T, N>, RobotError> {
+        self.model.to_chain()
+    }
+
+    /// The typed constraint for the allocation-free API. Errors if there is none or `R ≠ r`.
+    pub fn to_constraint<const R: usize>(&self) -> Result<Constraint<T, R>, RobotError> {
+        self.model.to_constraint()
+    }
+}
+
+/// `sqrt(|det(J Jᵀ)|)` of a dynamic matrix (3.36), by faer's LU (`|det J|` directly when `J` is
+/// square: squaring first would double the condition number).
+pub fn manipulability_dynamic<T: RobotScalar>(j: &Mat<T>) -> T {
+    if j.nrows() == j.ncols() {
+        return nalgebra::ComplexField::abs(j.determinant());
+    }
+    let jjt = j * j.transpose();
+    nalgebra::ComplexField::sqrt(nalgebra::ComplexField::abs(jjt.determinant()))
+}
+
+/// The Moore–Penrose pseudo-inverse from faer's SVD, with singular values at or below `tolerance`
+/// (absolute) treated as zero. `None` when the SVD does not converge.
+pub fn pseudo_inverse<T: RobotScalar>(m: &Mat<T>, tolerance: T) -> Option<Mat<T>> {
+    let svd = m.thin_svd().ok()?;
+    let par = faer::Par::Seq;
+    let mut pinv = Mat::zeros(m.ncols(), m.nrows());
+    let mut buffer = MemBuffer::new(faer::linalg::svd::pseudoinverse_from_svd_scratch::<T>(
+        m.nrows(),
+        m.ncols(),
+        par,
+    ));
+    faer::linalg::svd::pseudoinverse_from_svd_with_tolerance(
+        pinv.as_mut(),
+        svd.S(),
+        svd.U(),
+        svd.V(),
+        tolerance,
+        T::zero(),
+        par,
+        MemStack::new(&mut buffer),
+    );
+    Some(pinv)
+}
+
+/// A 6×k matrix from twist columns.
+fn columns_to_mat<T: RobotScalar>(cols: &[Twist<T>]) -> Mat<T> {
+    Mat::from_fn(6, cols.len(), |r, c| cols[c][r])
+}
+
+/// A `rows`×`cols` matrix from column-major entries.
+fn column_major<T: RobotScalar>(values: &[T], rows: usize, cols: usize) -> Mat<T> {
+    Mat::from_fn(rows, cols, |r, c| values[c * rows + r])
+}
