@@ -176,7 +176,7 @@ fn runtime_path_is_used_everywhere() {
         );
         let bare = code.replace("::my_reexport::trocar::", "");
         assert!(
-            !bare.contains("trocar::"),
+            !bare.contains("::trocar::"),
             "{file} names the runtime elsewhere"
         );
     }
