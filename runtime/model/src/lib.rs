@@ -6,5 +6,6 @@
 
 pub mod closed_chain;
 pub mod description;
+pub mod expr;
 pub mod robot;
 pub mod verify;
