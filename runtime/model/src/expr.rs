@@ -31,7 +31,7 @@
 //! let lin = e.linear().unwrap();
 //! assert_eq!(lin.terms, vec![(-0.5, "l_8".to_string())]);
 //! let err = Expr::parse("l_a * l_b").unwrap().linear().unwrap_err();
-//! assert_eq!(err.at, 6);
+//! assert_eq!(err.at, 4); // the `*`
 //! assert_eq!(Expr::parse("l_a + $").unwrap_err().at, 6);
 //! ```
 
@@ -157,7 +157,10 @@ impl Linear {
     }
 
     fn scale(mut self, k: f64) -> Self {
-        self.constant *= k;
+        if self.constant != 0.0 {
+            // (a zero constant stays zero, also for an infinite factor)
+            self.constant *= k;
+        }
         for (c, _) in &mut self.terms {
             *c *= k;
         }
@@ -178,6 +181,14 @@ impl Linear {
     fn as_constant(&self) -> Option<f64> {
         self.terms.is_empty().then_some(self.constant)
     }
+}
+
+/// `true` for a name the grammar reads as one symbol: a Rust-style identifier (`l_a`, `L8`,
+/// `_x`) — letters, digits and `_`, not starting with a digit.
+pub fn is_name(s: &str) -> bool {
+    let mut chars = s.chars();
+    matches!(chars.next(), Some(c) if c.is_ascii_alphabetic() || c == '_')
+        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
 }
 
 /// Parses a length expression (see the [module](self) grammar).
@@ -278,6 +289,14 @@ impl Expr {
     /// operator or symbol) when it is not linear in its parameters. Products and quotients
     /// need a constant factor or divisor; powers need a constant base (or exponent 1).
     pub fn linear(&self) -> Result<Linear, ExprError> {
+        let mut out = self.linear_part()?;
+        if out.constant == 0.0 {
+            out.constant = 0.0; // not −0
+        }
+        Ok(out)
+    }
+
+    fn linear_part(&self) -> Result<Linear, ExprError> {
         Ok(match self {
             Expr::Number { value, .. } => Linear::constant(*value),
             Expr::Pi { .. } => Linear::constant(std::f64::consts::PI),
@@ -285,10 +304,10 @@ impl Expr {
                 constant: 0.0,
                 terms: vec![(1.0, name.clone())],
             },
-            Expr::Neg { operand, .. } => operand.linear()?.scale(-1.0),
+            Expr::Neg { operand, .. } => operand.linear_part()?.scale(-1.0),
             Expr::Binary { op, lhs, rhs, at } => {
-                let a = lhs.linear()?;
-                let b = rhs.linear()?;
+                let a = lhs.linear_part()?;
+                let b = rhs.linear_part()?;
                 let mut out = match op {
                     BinOp::Add => a.add(b, 1.0),
                     BinOp::Sub => a.add(b, -1.0),
@@ -321,7 +340,7 @@ impl Expr {
                 out
             }
             Expr::Pow { base, exponent, at } => {
-                let b = base.linear()?;
+                let b = base.linear_part()?;
                 match (b.as_constant(), exponent) {
                     (Some(k), _) => Linear::constant(k.powi(*exponent)),
                     (None, 1) => b,

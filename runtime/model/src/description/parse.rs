@@ -172,13 +172,6 @@ impl Scalar {
     }
 }
 
-/// `true` for a Rust-style identifier (`l_a`, `L8`).
-pub(crate) fn is_identifier(s: &str) -> bool {
-    let mut chars = s.chars();
-    matches!(chars.next(), Some(c) if c.is_ascii_alphabetic() || c == '_')
-        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
-}
-
 fn scalar(ctx: &Ctx, field: &str, raw: &RawScalar) -> Result<Scalar, DescriptionError> {
     match raw {
         RawScalar::Number(v) => Ok(Scalar::constant(*v)),
