@@ -9,7 +9,8 @@
 //! 3. Body Jacobians (2.53)–(2.55), (3.13): column `k` is `Ad_{g_ke}⁻¹ ξ_k`; `J^B_0i` is the same
 //!    for the chain cut at `F_i`, `J^B_0e2` the columns `j..n` of `J^B_0e`.
 //! 4. The constraint: `Λ = H Ad_{g_ri}` (3.4), (3.22), (3.26); the null-space basis `Λ#`
-//!    ((3.23), (3.27) for the wrist presets, see [`NullBasis`]); `Λ† = Λᵀ(ΛΛᵀ)⁻¹`.
+//!    ((3.23), (3.27) for the wrist presets, see [`NullSpaceBasis`] and
+//!    [`ConstraintDesc::basis`](trocar_model::description::ConstraintDesc::basis)); `Λ† = Λᵀ(ΛΛᵀ)⁻¹`.
 //! 5. `J^r_0e = [Ad_{g_ei} Λ# | J^B_0e2]` (3.15), `J_c = Ad_{g_ei} Λ†` (3.33).
 //! 6. Manipulability (3.36)–(3.39) in closed form: `|det J^r|` when square, otherwise
 //!    `sqrt(Σ maximal minors²)` (Cauchy–Binet); the squared value is a polynomial.
@@ -39,8 +40,9 @@
 use crate::symbolic::{rational_null_space, Matrix, Poly, Rational, SymbolicError, Transform};
 use std::collections::BTreeSet;
 use std::fmt;
+pub use trocar::constraint::NullSpaceBasis;
 use trocar_model::description::{
-    DescriptionError, JointKind, Origin, RobotDescription, Rotation, Scalar, Wrist,
+    admit, AdmissionError, DescriptionError, JointKind, Origin, RobotDescription, Rotation, Scalar,
 };
 
 /// What kind of problem a [`DerivationError`] reports.
@@ -112,23 +114,6 @@ impl fmt::Display for DerivationError {
 
 impl std::error::Error for DerivationError {}
 
-/// Which null-space basis `Λ#` was used (its columns are the components of `v0i`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum NullBasis {
-    /// Thesis (3.23), `r = 1`: columns `e1 + e6/l_a, e2, e3, e4, e5`, i.e.
-    /// `v0i = (v_x, v_y, v_z, ω_x, ω_y)`, `ω_z = v_x / l_a`.
-    Thesis323,
-    /// Thesis (3.27), `r = 2`: columns `e1 + e6/l_a, e2, e3 − e4/l_a, e5`, i.e.
-    /// `v0i = (v_x, v_y, v_z, ω_y)`, `ω_x = −v_z/l_a`, `ω_z = v_x/l_a`.
-    Thesis327,
-    /// Derived for a general `H`: `Λ# = Ad_{g_ir} N`, with `N` the exact null basis of `H` from
-    /// its reduced row echelon form (one column per free coordinate of `H`, in increasing order,
-    /// see [`rational_null_space`]). Since `Λ = H Ad_{g_ri}` and `Ad_{g_ri} Ad_{g_ir} = I`,
-    /// `Λ Λ# = H N = 0`; no division is needed. `v0i` is then the free coordinates of the twist
-    /// of `F_r` (body frame of `F_r`), and the manipulability of `J^r` refers to this basis.
-    Derived,
-}
-
 /// The closed form of the manipulability of `J^r_0e` (3.36)–(3.39).
 #[derive(Clone, Debug, PartialEq)]
 pub enum ManipulabilityForm {
@@ -163,8 +148,14 @@ pub struct ConstrainedDerivation {
     pub g_ir: Transform,
     /// `Λ = H Ad_{g_ri}` (3.4), `r × 6`.
     pub lambda: Matrix,
-    /// Which basis `Λ#` is.
-    pub basis: NullBasis,
+    /// Which basis `Λ#` is: the thesis's (3.23) or (3.27) for a wrist preset, otherwise
+    /// [`NullSpaceBasis::Computed`], here built exactly: `Λ# = Ad_{g_ir} N`, with `N` the exact
+    /// null basis of `H` from its reduced row echelon form (one column per free coordinate of
+    /// `H`, in increasing order, see [`rational_null_space`]). Since `Λ = H Ad_{g_ri}` and
+    /// `Ad_{g_ri} Ad_{g_ir} = I`, `Λ Λ# = H N = 0`; no division is needed. `v0i` is then the free
+    /// coordinates of the twist of `F_r` (body frame of `F_r`), and the manipulability of `J^r`
+    /// refers to this basis.
+    pub basis: NullSpaceBasis,
     /// `Λ#`, `6 × (6 − r)`, with `Λ Λ# = 0` (checked symbolically for the thesis bases; for the
     /// derived basis it holds by construction, exactly when `R_ir` is exact, otherwise to rounding).
     pub lambda_sharp: Matrix,
@@ -282,15 +273,14 @@ impl Ctx<'_> {
         let m: [[f64; 3]; 3] = match r {
             Rotation::Matrix(m) => *m,
             Rotation::Rpy([roll, pitch, yaw]) => {
-                let (sr, cr) = roll.sin_cos();
-                let (sp, cp) = pitch.sin_cos();
-                let (sy, cy) = yaw.sin_cos();
-                // R = Rz(yaw) Ry(pitch) Rx(roll)
-                [
-                    [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-                    [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-                    [-sp, cp * sr, cp * cr],
-                ]
+                // R = Rz(yaw) Ry(pitch) Rx(roll), with `f64::sin_cos`; the entries become exact
+                // rationals below.
+                let m = trocar::se3::rotation_from_rpy_sin_cos(
+                    roll.sin_cos(),
+                    pitch.sin_cos(),
+                    yaw.sin_cos(),
+                );
+                [0, 1, 2].map(|r| [0, 1, 2].map(|c| m[(r, c)]))
             }
         };
         let mut out = Matrix::zeros(3, 3);
@@ -538,21 +528,17 @@ fn derive_constraint(
 ) -> Result<ConstrainedDerivation, DerivationError> {
     let n = transforms.len();
     let i = c.link;
-    if i == 0 || i > n {
-        return Err(DerivationError::new(
-            DerivationErrorKind::Invalid,
-            "constraint.link",
-            format!("link {i} is not one of the links 1..={n}"),
-        ));
-    }
     let r = c.h.len();
-    if r == 0 || r > 5 {
-        return Err(DerivationError::new(
-            DerivationErrorKind::Invalid,
-            "constraint.h",
-            format!("H must have 1 to 5 rows, it has {r}"),
-        ));
-    }
+    // The admission rules of the method, written once in the model.
+    admit(n, i, r).map_err(|e| {
+        let kind = match e {
+            AdmissionError::TooFewJoints { .. } | AdmissionError::TooFewColumns { .. } => {
+                DerivationErrorKind::TooFewJoints
+            }
+            _ => DerivationErrorKind::Invalid,
+        };
+        DerivationError::new(kind, e.field(), e.to_string())
+    })?;
     let mut h_rat = Vec::with_capacity(r);
     for (k, row) in c.h.iter().enumerate() {
         let mut v = Vec::with_capacity(6);
@@ -572,31 +558,27 @@ fn derive_constraint(
             format!("the rows of H are linearly dependent (rank {rank} < {r})"),
         ));
     }
-    if n < 6 + r {
-        return Err(DerivationError::new(
-            DerivationErrorKind::TooFewJoints,
-            "joints",
-            format!("the method needs n − r ≥ 6, here n = {n}, r = {r}"),
-        ));
-    }
     let m = 6 - r + n - i;
-    if m < 6 {
-        return Err(DerivationError::new(
-            DerivationErrorKind::TooFewJoints,
-            "constraint.link",
-            format!("J^r would have m = 6 − r + n − i = {m} < 6 columns (n − i = {} joints after the constraint, r = {r})", n - i),
-        ));
-    }
     let h = Matrix::from_rationals(&h_rat);
     let g_ir = ctx.origin(&c.origin, "constraint.origin")?;
     let lambda = h.mul(&g_ir.adjoint_inverse()); // Ad_{g_ri} = Ad_{g_ir}⁻¹
 
-    let (basis, lambda_sharp) = match c.wrist {
-        None => {
+    // Which basis: the one rule of the model (`ConstraintDesc::basis`).
+    let basis = c.basis();
+    let lambda_sharp = match basis {
+        NullSpaceBasis::Computed => {
             let nmat = Matrix::from_fn(6, 6 - r, |a, b| Poly::constant(null_h[b][a].clone()));
-            (NullBasis::Derived, g_ir.adjoint().mul(&nmat))
+            g_ir.adjoint().mul(&nmat)
         }
-        Some(w) => {
+        NullSpaceBasis::Unidirectional | NullSpaceBasis::Bidirectional => {
+            let w = c.wrist.map_or_else(String::new, |w| format!("{w:?}"));
+            if !basis.fits_rows(r) {
+                return Err(DerivationError::new(
+                    DerivationErrorKind::WristMismatch,
+                    "constraint.wrist",
+                    format!("wrist preset {w} does not fit an H with {r} row(s)"),
+                ));
+            }
             let la = g_ir.pos.get(1, 0).clone();
             let inv_la = la
                 .inv()
@@ -604,23 +586,17 @@ fn derive_constraint(
             let e = |k: usize| {
                 Matrix::from_fn(6, 1, |a, _| if a == k { Poly::one() } else { Poly::zero() })
             };
-            let cols: Vec<Matrix> = match (w, r) {
-                (Wrist::Unidirectional, 1) => {
-                    vec![e(0).add(&e(5).scale(&inv_la)), e(1), e(2), e(3), e(4)]
-                }
-                (Wrist::Zy | Wrist::Zx, 2) => vec![
+            let cols: Vec<Matrix> = if basis == NullSpaceBasis::Unidirectional {
+                // (3.23)
+                vec![e(0).add(&e(5).scale(&inv_la)), e(1), e(2), e(3), e(4)]
+            } else {
+                // (3.27)
+                vec![
                     e(0).add(&e(5).scale(&inv_la)),
                     e(1),
                     e(2).sub(&e(3).scale(&inv_la)),
                     e(4),
-                ],
-                _ => {
-                    return Err(DerivationError::new(
-                        DerivationErrorKind::WristMismatch,
-                        "constraint.wrist",
-                        format!("wrist preset {w:?} does not fit an H with {r} row(s)"),
-                    ))
-                }
+                ]
             };
             let mut ls = cols[0].clone();
             for col in &cols[1..] {
@@ -633,12 +609,7 @@ fn derive_constraint(
                     "the thesis basis (3.23)/(3.27) needs g_ir = (I, (0, l_a, 0)) and H = x_r (or x_r, z_r); Λ Λ# ≠ 0 here",
                 ));
             }
-            let kind = if r == 1 {
-                NullBasis::Thesis323
-            } else {
-                NullBasis::Thesis327
-            };
-            (kind, ls)
+            ls
         }
     };
     let llt = lambda.mul(&lambda.transpose());

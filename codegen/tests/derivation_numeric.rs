@@ -7,7 +7,7 @@ mod derivation_support;
 use derivation_support::*;
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
-use trocar_codegen::derivation::{derive, DerivationErrorKind, ManipulabilityForm, NullBasis};
+use trocar_codegen::derivation::{derive, DerivationErrorKind, ManipulabilityForm, NullSpaceBasis};
 use trocar_codegen::symbolic::Env;
 use trocar_model::description::{
     ConstraintDesc, EndEffector, JointDesc, JointKind, Origin, Parameter, RobotDescription,
@@ -195,7 +195,7 @@ fn cross_check(desc: &RobotDescription, samples: usize, seed: u64) {
                 b
             }
             None => {
-                assert_eq!(c.basis, NullBasis::Derived);
+                assert_eq!(c.basis, NullSpaceBasis::Computed);
                 let b = c.lambda_sharp.eval(&env);
                 let prod = mat_mul(&lambda, &b);
                 assert!(prod.iter().flatten().all(|x| x.abs() < 1e-12), "Λ Λ# ≠ 0");
@@ -269,7 +269,7 @@ fn derived_basis_on_a_preset_geometry() {
     d.constraint.as_mut().unwrap().wrist = None;
     cross_check(&d, 30, 30);
     let der = derive(&d).unwrap();
-    assert_eq!(der.constraint.unwrap().basis, NullBasis::Derived);
+    assert_eq!(der.constraint.unwrap().basis, NullSpaceBasis::Computed);
 }
 
 fn rand_scalar(rng: &mut StdRng, lo: f64, hi: f64) -> trocar_model::description::Scalar {

@@ -7,7 +7,7 @@
 mod derivation_support;
 
 use derivation_support::*;
-use trocar_codegen::derivation::{derive, ConstrainedDerivation, Derivation, NullBasis};
+use trocar_codegen::derivation::{derive, ConstrainedDerivation, Derivation, NullSpaceBasis};
 use trocar_codegen::symbolic::{Matrix, Poly};
 
 fn parse(t: &str) -> Poly {
@@ -128,7 +128,7 @@ fn derived_3_29() -> Matrix {
 #[test]
 fn unidirectional_equals_printed_3_24() {
     let (_, c) = derived("unidirectional");
-    assert_eq!(c.basis, NullBasis::Thesis323);
+    assert_eq!(c.basis, NullSpaceBasis::Unidirectional);
     assert_eq!((c.r, c.m), (1, 7));
     assert_eq!(c.jr, printed_3_24());
 }
@@ -152,7 +152,7 @@ fn lambda_is_3_22_and_3_26() {
 #[test]
 fn bidirectional_zy_equals_3_28_after_the_misprint_correction() {
     let (_, c) = derived("bidirectional-zy");
-    assert_eq!(c.basis, NullBasis::Thesis327);
+    assert_eq!(c.basis, NullSpaceBasis::Bidirectional);
     assert_eq!(c.jr, thesis_3_28("l8*s7*c8"));
     // The printed entry (3, 4) `l8 c7 c8` is not equal, and it is the only difference.
     let printed = thesis_3_28("l8*c7*c8");

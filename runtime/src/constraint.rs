@@ -74,6 +74,36 @@ pub enum NullSpaceBasis {
     Computed,
 }
 
+impl NullSpaceBasis {
+    /// The thesis's basis for `r` rows of `H`: (3.23) for `r = 1` (`H = x_r`), (3.27) for `r = 2`
+    /// (`H = (x_r, z_r)`); `None` otherwise.
+    pub const fn thesis(r: usize) -> Option<Self> {
+        match r {
+            1 => Some(Self::Unidirectional),
+            2 => Some(Self::Bidirectional),
+            _ => None,
+        }
+    }
+
+    /// The number of rows of `H` a thesis basis is written for (1 for (3.23), 2 for (3.27));
+    /// `None` for the computed basis, which fits any `H`.
+    pub const fn thesis_rows(self) -> Option<usize> {
+        match self {
+            Self::Unidirectional => Some(1),
+            Self::Bidirectional => Some(2),
+            Self::Computed => None,
+        }
+    }
+
+    /// Whether this basis can be used with `r` rows of `H`.
+    pub const fn fits_rows(self, r: usize) -> bool {
+        match self.thesis_rows() {
+            Some(rows) => rows == r,
+            None => true,
+        }
+    }
+}
+
 /// Why a constraint cannot be built or moved.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ConstraintError {
@@ -274,11 +304,8 @@ impl<T: RealField + Copy, const R: usize> Constraint<T, R> {
     /// The thesis's constraint at link `link` with `g_ir = (I, (0, l_a, 0))`: for `R = 1`,
     /// `H = x_r` (3.21) and the basis (3.23); for `R = 2`, `H = (x_r, z_r)` (3.25) and (3.27).
     pub fn thesis(link: usize, l_a: T) -> Result<Self, ConstraintError> {
-        let (h, basis) = match R {
-            1 => (thesis_h::<T, R>(), NullSpaceBasis::Unidirectional),
-            2 => (thesis_h::<T, R>(), NullSpaceBasis::Bidirectional),
-            _ => return Err(ConstraintError::NotThesisH),
-        };
+        let basis = NullSpaceBasis::thesis(R).ok_or(ConstraintError::NotThesisH)?;
+        let h = thesis_h::<T, R>();
         let g_ir = Se3::from_translation(Vector3::new(T::zero(), l_a, T::zero()));
         Self::with_basis(link, g_ir, h, basis)
     }
@@ -300,14 +327,8 @@ impl<T: RealField + Copy, const R: usize> Constraint<T, R> {
             *row = h.row(k).transpose();
         }
         null_space_of_rows(&rows[..R], &mut null_h[..6 - R])?;
-        match basis {
-            NullSpaceBasis::Unidirectional if R != 1 || h != thesis_h::<T, R>() => {
-                return Err(ConstraintError::NotThesisH)
-            }
-            NullSpaceBasis::Bidirectional if R != 2 || h != thesis_h::<T, R>() => {
-                return Err(ConstraintError::NotThesisH)
-            }
-            _ => {}
+        if basis != NullSpaceBasis::Computed && (!basis.fits_rows(R) || h != thesis_h::<T, R>()) {
+            return Err(ConstraintError::NotThesisH);
         }
         let mut c = Self {
             link,

@@ -209,9 +209,19 @@ pub fn log<T: RealField + Copy>(g: &Se3<T>) -> Twist<T> {
 
 /// The rotation `R = Rz(yaw) Ry(pitch) Rx(roll)` of URDF's `rpy` (fixed axes x, then y, then z).
 pub fn rotation_from_rpy<T: RealField + Copy>(roll: T, pitch: T, yaw: T) -> Matrix3<T> {
-    let (sr, cr) = roll.sin_cos();
-    let (sp, cp) = pitch.sin_cos();
-    let (sy, cy) = yaw.sin_cos();
+    rotation_from_rpy_sin_cos(roll.sin_cos(), pitch.sin_cos(), yaw.sin_cos())
+}
+
+/// [`rotation_from_rpy`] from the angles' `(sin, cos)`: `R = Rz(yaw) Ry(pitch) Rx(roll)`.
+///
+/// The one place the product is written; callers that must reproduce a given rounding (the
+/// generator, which turns the entries into exact rationals) pass sines and cosines computed with
+/// `f64::sin_cos`.
+pub fn rotation_from_rpy_sin_cos<T: RealField + Copy>(
+    (sr, cr): (T, T),
+    (sp, cp): (T, T),
+    (sy, cy): (T, T),
+) -> Matrix3<T> {
     Matrix3::new(
         cy * cp,
         cy * sp * sr - sy * cr,

@@ -333,9 +333,9 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
             doc: "Number of columns of `J^r_0e`: `m = 6 − r + n − i`.".into(),
         });
         let basis = format!(
-            "Null-space basis `Λ#`: {:?} (see `trocar_codegen::derivation::NullBasis`). \
+            "Null-space basis `Λ#`: {} (see `trocar_codegen::derivation::NullBasis`). \
              Columns: the {} components of `v0i`, then joints {}..={}.",
-            c.basis,
+            basis_label(c.basis),
             6 - c.r,
             c.link + 1,
             n
@@ -530,4 +530,15 @@ fn module_doc(d: &Derivation) -> String {
         ));
     }
     s
+}
+
+/// The basis's name in the emitted documentation (the names the generator used before the basis
+/// type moved to `trocar::constraint`; kept so that emitted code stays byte-identical).
+fn basis_label(b: crate::derivation::NullSpaceBasis) -> &'static str {
+    use crate::derivation::NullSpaceBasis;
+    match b {
+        NullSpaceBasis::Unidirectional => "Thesis323",
+        NullSpaceBasis::Bidirectional => "Thesis327",
+        NullSpaceBasis::Computed => "Derived",
+    }
 }

@@ -483,21 +483,67 @@ impl Poly {
         PolyDisplay { poly: self, names }
     }
 
-    /// Parses an expression such as `-c8*(l_8 + l_b*c7)/l_a + 2^-1*s7^2` with `+ - * / ^`,
-    /// parentheses, decimal numbers, `sK`/`cK`/`qK` (thesis joint `K`, 1-based) and the given
-    /// parameter names. Intended for tests and hand-written reference matrices.
+    /// Parses an expression such as `-c8*(l_8 + l_b*c7)/l_a + 2^-1*s7^2` with the
+    /// [length-expression grammar](trocar_model::expr) (`+ - * / ^`, parentheses, numbers, `pi`)
+    /// where a name is one of the given parameter names or `sK`/`cK`/`qK` (thesis joint `K`,
+    /// 1-based). Intended for tests and hand-written reference matrices.
     pub fn parse(text: &str, names: &[&str]) -> Result<Poly, SymbolicError> {
-        let mut p = Parser {
-            s: text.as_bytes(),
-            i: 0,
-            names,
+        let expr = trocar_model::expr::Expr::parse(text)
+            .map_err(|e| SymbolicError::Parse(e.at, e.message))?;
+        Poly::from_expr(&expr, &|id| {
+            if let Some(p) = names.iter().position(|n| *n == id) {
+                return Some(Poly::param(p));
+            }
+            let (head, num) = id.split_at(1);
+            let k: usize = num.parse().ok().filter(|k| *k >= 1)?;
+            match head {
+                "s" => Some(Poly::sin(k - 1)),
+                "c" => Some(Poly::cos(k - 1)),
+                "q" => Some(Poly::joint(k - 1)),
+                _ => None,
+            }
+        })
+    }
+
+    /// The polynomial of a parsed [length expression](trocar_model::expr::Expr): numbers exactly
+    /// as their decimal reading ([`Rational::from_f64_decimal`]), `pi` as that of its `f64` value,
+    /// each symbol as `symbol(name)` (`None`: an unknown identifier, reported at its offset),
+    /// `/` and negative powers through [`Poly::div`] and [`Poly::inv`].
+    pub fn from_expr(
+        expr: &trocar_model::expr::Expr,
+        symbol: &dyn Fn(&str) -> Option<Poly>,
+    ) -> Result<Poly, SymbolicError> {
+        use trocar_model::expr::{BinOp, Expr};
+        let number = |x: f64, at: usize| {
+            Rational::from_f64_decimal(x)
+                .map(Poly::constant)
+                .map_err(|_| SymbolicError::Parse(at, "bad number".into()))
         };
-        let r = p.sum()?;
-        p.ws();
-        if p.i != p.s.len() {
-            return Err(p.err("unexpected character"));
-        }
-        Ok(r)
+        Ok(match expr {
+            Expr::Number { value, at } => number(*value, *at)?,
+            Expr::Pi { at } => number(std::f64::consts::PI, *at)?,
+            Expr::Symbol { name, at } => symbol(name)
+                .ok_or_else(|| SymbolicError::Parse(*at, format!("unknown identifier `{name}`")))?,
+            Expr::Neg { operand, .. } => Poly::from_expr(operand, symbol)?.neg(),
+            Expr::Binary { op, lhs, rhs, .. } => {
+                let a = Poly::from_expr(lhs, symbol)?;
+                let b = Poly::from_expr(rhs, symbol)?;
+                match op {
+                    BinOp::Add => a.add(&b),
+                    BinOp::Sub => a.sub(&b),
+                    BinOp::Mul => a.mul(&b),
+                    BinOp::Div => a.div(&b)?,
+                }
+            }
+            Expr::Pow { base, exponent, .. } => {
+                let p = Poly::from_expr(base, symbol)?.pow(exponent.unsigned_abs());
+                if *exponent < 0 {
+                    p.inv()?
+                } else {
+                    p
+                }
+            }
+        })
     }
 }
 
@@ -625,145 +671,6 @@ impl fmt::Display for PolyDisplay<'_> {
             write!(f, "{}", parts.join("*"))?;
         }
         Ok(())
-    }
-}
-
-struct Parser<'a> {
-    s: &'a [u8],
-    i: usize,
-    names: &'a [&'a str],
-}
-
-impl Parser<'_> {
-    fn err(&self, m: &str) -> SymbolicError {
-        SymbolicError::Parse(self.i, m.to_string())
-    }
-    fn ws(&mut self) {
-        while self.i < self.s.len() && self.s[self.i].is_ascii_whitespace() {
-            self.i += 1;
-        }
-    }
-    fn peek(&mut self) -> Option<u8> {
-        self.ws();
-        self.s.get(self.i).copied()
-    }
-    fn sum(&mut self) -> Result<Poly, SymbolicError> {
-        let mut acc = match self.peek() {
-            Some(b'-') => {
-                self.i += 1;
-                self.product()?.neg()
-            }
-            Some(b'+') => {
-                self.i += 1;
-                self.product()?
-            }
-            _ => self.product()?,
-        };
-        loop {
-            match self.peek() {
-                Some(b'+') => {
-                    self.i += 1;
-                    acc = acc.add(&self.product()?);
-                }
-                Some(b'-') => {
-                    self.i += 1;
-                    acc = acc.sub(&self.product()?);
-                }
-                _ => return Ok(acc),
-            }
-        }
-    }
-    fn product(&mut self) -> Result<Poly, SymbolicError> {
-        let mut acc = self.power()?;
-        loop {
-            match self.peek() {
-                Some(b'*') => {
-                    self.i += 1;
-                    acc = acc.mul(&self.power()?);
-                }
-                Some(b'/') => {
-                    self.i += 1;
-                    acc = acc.div(&self.power()?)?;
-                }
-                _ => return Ok(acc),
-            }
-        }
-    }
-    fn power(&mut self) -> Result<Poly, SymbolicError> {
-        let base = self.primary()?;
-        if self.peek() == Some(b'^') {
-            self.i += 1;
-            self.ws();
-            let neg = self.s.get(self.i) == Some(&b'-');
-            if neg {
-                self.i += 1;
-            }
-            let start = self.i;
-            while self.i < self.s.len() && self.s[self.i].is_ascii_digit() {
-                self.i += 1;
-            }
-            let n: u32 = std::str::from_utf8(&self.s[start..self.i])
-                .ok()
-                .and_then(|t| t.parse().ok())
-                .ok_or_else(|| self.err("expected an exponent"))?;
-            let p = base.pow(n);
-            return if neg { p.inv() } else { Ok(p) };
-        }
-        Ok(base)
-    }
-    fn primary(&mut self) -> Result<Poly, SymbolicError> {
-        match self.peek() {
-            Some(b'(') => {
-                self.i += 1;
-                let r = self.sum()?;
-                if self.peek() != Some(b')') {
-                    return Err(self.err("expected ')'"));
-                }
-                self.i += 1;
-                Ok(r)
-            }
-            Some(b'-') => {
-                self.i += 1;
-                Ok(self.power()?.neg())
-            }
-            Some(ch) if ch.is_ascii_digit() || ch == b'.' => {
-                let start = self.i;
-                while self.i < self.s.len()
-                    && (self.s[self.i].is_ascii_digit() || self.s[self.i] == b'.')
-                {
-                    self.i += 1;
-                }
-                let t = std::str::from_utf8(&self.s[start..self.i]).unwrap_or("");
-                let x: f64 = t.parse().map_err(|_| self.err("bad number"))?;
-                let r = Rational::from_f64_decimal(x).map_err(|_| self.err("bad number"))?;
-                Ok(Poly::constant(r))
-            }
-            Some(ch) if ch.is_ascii_alphabetic() || ch == b'_' => {
-                let start = self.i;
-                while self.i < self.s.len()
-                    && (self.s[self.i].is_ascii_alphanumeric() || self.s[self.i] == b'_')
-                {
-                    self.i += 1;
-                }
-                let id = std::str::from_utf8(&self.s[start..self.i]).unwrap_or("");
-                if let Some(p) = self.names.iter().position(|n| *n == id) {
-                    return Ok(Poly::param(p));
-                }
-                let (head, num) = id.split_at(1);
-                let k: usize = num
-                    .parse()
-                    .ok()
-                    .filter(|k| *k >= 1)
-                    .ok_or_else(|| self.err("unknown identifier"))?;
-                match head {
-                    "s" => Ok(Poly::sin(k - 1)),
-                    "c" => Ok(Poly::cos(k - 1)),
-                    "q" => Ok(Poly::joint(k - 1)),
-                    _ => Err(self.err("unknown identifier")),
-                }
-            }
-            _ => Err(self.err("expected an expression")),
-        }
     }
 }
 

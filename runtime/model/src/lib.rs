@@ -7,4 +7,5 @@
 pub mod catalogue;
 pub mod closed_chain;
 pub mod description;
+pub mod expr;
 pub mod numeric;

@@ -7,7 +7,9 @@
 //! API for control loops; the dynamic-size numeric reference (`trocar_sim::robot::Robot`) is built
 //! on it.
 
-use crate::description::{JointKind, Origin, RobotDescription, Rotation, Scalar};
+use crate::description::{
+    admit, AdmissionError, JointKind, Origin, RobotDescription, Rotation, Scalar,
+};
 use nalgebra::{convert, Matrix3, RealField, SMatrix, Vector3};
 use std::fmt;
 use trocar::constraint::{Constraint, ConstraintError, NullSpaceBasis};
@@ -63,6 +65,9 @@ pub enum RobotError {
     },
     /// The constraint is invalid (dependent rows, thesis basis with another frame, `l_a = 0`, ...).
     Constraint(ConstraintError),
+    /// Another admission rule of the method is broken (see
+    /// [`admission_problems`](crate::description::admission_problems)).
+    NotAdmitted(AdmissionError),
     /// The typed conversion was asked for the wrong size.
     WrongSize {
         /// What was asked for.
@@ -104,6 +109,7 @@ impl fmt::Display for RobotError {
                 write!(f, "field `{field}`: not a rotation matrix")
             }
             Self::Constraint(e) => write!(f, "field `constraint`: {e}"),
+            Self::NotAdmitted(e) => write!(f, "field `{}`: {e}", e.field()),
             Self::WrongSize {
                 what,
                 expected,
@@ -114,6 +120,18 @@ impl fmt::Display for RobotError {
 }
 
 impl std::error::Error for RobotError {}
+
+impl From<AdmissionError> for RobotError {
+    fn from(e: AdmissionError) -> Self {
+        match e {
+            AdmissionError::LinkOutOfRange { link, n } => Self::LinkOutOfRange { link, joints: n },
+            AdmissionError::NoRows => ConstraintError::BadRowCount(0).into(),
+            AdmissionError::TooManyRows { r } => ConstraintError::BadRowCount(r).into(),
+            AdmissionError::TooFewJoints { n, r } => Self::TooFewJoints { n, r },
+            e @ AdmissionError::TooFewColumns { .. } => Self::NotAdmitted(e),
+        }
+    }
+}
 
 impl From<ConstraintError> for RobotError {
     fn from(e: ConstraintError) -> Self {
@@ -358,26 +376,9 @@ impl<T: RealField + Copy> NumericModel<T> {
         let constraint = match &description.constraint {
             None => None,
             Some(c) => {
-                if c.link == 0 || c.link > n {
-                    return Err(RobotError::LinkOutOfRange {
-                        link: c.link,
-                        joints: n,
-                    });
-                }
-                let r = c.h.len();
-                if r == 0 || r > 5 {
-                    return Err(ConstraintError::BadRowCount(r).into());
-                }
-                if n < r + 6 {
-                    return Err(RobotError::TooFewJoints { n, r });
-                }
+                admit(n, c.link, c.h.len())?;
                 let g_ir = eval_origin(&c.origin, &parameters, "constraint")?;
-                let basis = match (c.wrist, r) {
-                    (None, _) => NullSpaceBasis::Computed,
-                    (Some(_), 1) => NullSpaceBasis::Unidirectional,
-                    (Some(_), _) => NullSpaceBasis::Bidirectional,
-                };
-                Some(AnyConstraint::new(c.link, g_ir, &c.h, basis)?)
+                Some(AnyConstraint::new(c.link, g_ir, &c.h, c.basis())?)
             }
         };
         Ok(Self {

@@ -246,7 +246,7 @@ impl Reference {
 }
 
 /// The null basis of `H` from its reduced row echelon form: one column per free coordinate,
-/// increasing (the choice documented by `trocar_codegen::derivation::NullBasis::Derived`).
+/// increasing (the choice documented by `trocar::constraint::NullSpaceBasis::Computed`).
 fn null_basis(h: &Mat<f64>) -> Mat<f64> {
     let mut m = h.clone();
     let mut pivots = Vec::new();

@@ -38,6 +38,8 @@ mod validate;
 
 pub use error::DescriptionError;
 pub use presets::{preset, preset_names, PRESETS};
+pub use trocar::constraint::NullSpaceBasis;
+pub use validate::{admission_problems, admit, AdmissionError};
 
 /// A length (or any linear quantity): `constant + Σ coefficient · parameter`.
 ///
@@ -134,6 +136,31 @@ pub enum Wrist {
     Zx,
 }
 
+impl Wrist {
+    /// The null-space basis `Λ#` this preset selects: (3.23) for `unidirectional`, (3.27) for
+    /// `zy` and `zx` (which differ in `J^r`: (3.28), (3.29)).
+    pub const fn basis(self) -> NullSpaceBasis {
+        match self {
+            Wrist::Unidirectional => NullSpaceBasis::Unidirectional,
+            Wrist::Zy | Wrist::Zx => NullSpaceBasis::Bidirectional,
+        }
+    }
+}
+
+impl ConstraintDesc {
+    /// Which basis of `null(Λ)` this constraint uses for `Λ#` — the one rule every consumer
+    /// (validation, the generator's derivation, the numeric robot) follows: the wrist preset's
+    /// thesis basis ([`Wrist::basis`]) when one is given, otherwise
+    /// [`NullSpaceBasis::Computed`]. Whether the thesis basis fits `H` and `g_ir` is checked by
+    /// validation (and again by whoever builds `Λ#`): see [`NullSpaceBasis::fits_rows`].
+    pub const fn basis(&self) -> NullSpaceBasis {
+        match self.wrist {
+            Some(w) => w.basis(),
+            None => NullSpaceBasis::Computed,
+        }
+    }
+}
+
 /// The constraint `H V^B_0r = 0` at the frame `F_r` fixed in link `i` (3.1).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ConstraintDesc {
@@ -145,7 +172,8 @@ pub struct ConstraintDesc {
     /// Rows of `H ∈ R^{r×6}` (twist order `(v, ω)`); valid descriptions have `1 ≤ r ≤ 5`
     /// independent rows and `n − r ≥ 6`.
     pub h: Vec<[f64; 6]>,
-    /// Wrist preset: when given, `Λ#` is the thesis's basis; otherwise a derived basis.
+    /// Wrist preset: when given, `Λ#` is the thesis's basis; otherwise a derived basis (see
+    /// [`ConstraintDesc::basis`]).
     pub wrist: Option<Wrist>,
 }
 

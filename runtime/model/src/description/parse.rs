@@ -149,76 +149,17 @@ impl Scalar {
         self.terms.is_empty()
     }
 
-    /// Parses `"l_a + l_b"`, `"-0.5*l_8 + 0.1"`, `"2 * l_a"` or a number.
+    /// Parses `"l_a + l_b"`, `"-0.5*l_8 + 0.1"`, `"2 * l_a"`, `"(l_a + l_b)/2"` or a number: any
+    /// [length expression](crate::expr) linear in its parameters. The error names the byte
+    /// offset of the offending token.
     pub fn parse(text: &str) -> Result<Self, String> {
-        let mut out = Scalar::default();
-        let compact: String = text.chars().filter(|c| !c.is_whitespace()).collect();
-        if compact.is_empty() {
-            return Err("empty expression".into());
-        }
-        // Split into signed terms.
-        let mut terms = Vec::new();
-        let mut start = 0;
-        let bytes = compact.as_bytes();
-        for k in 1..bytes.len() {
-            if bytes[k] != b'+' && bytes[k] != b'-' {
-                continue;
-            }
-            let prev = bytes[k - 1];
-            if prev == b'*' {
-                continue;
-            }
-            if prev == b'e' || prev == b'E' {
-                // The sign of an exponent (`2e-3`) when the factor so far is a mantissa; a name
-                // ending in `e` (`l_e-0.1`) is followed by a new term.
-                let factor_start = compact[start..k - 1]
-                    .rfind(['*', '+', '-'])
-                    .map_or(start, |p| start + p + 1);
-                let mantissa = &compact[factor_start..k - 1];
-                if !mantissa.is_empty()
-                    && mantissa.bytes().all(|b| b.is_ascii_digit() || b == b'.')
-                    && mantissa.bytes().any(|b| b.is_ascii_digit())
-                {
-                    continue;
-                }
-            }
-            terms.push(&compact[start..k]);
-            start = k;
-        }
-        terms.push(&compact[start..]);
-        for term in terms {
-            let (sign, body) = match term.as_bytes().first() {
-                Some(b'-') => (-1.0, &term[1..]),
-                Some(b'+') => (1.0, &term[1..]),
-                _ => (1.0, term),
-            };
-            let mut coefficient = sign;
-            let mut name: Option<&str> = None;
-            for factor in body.split('*') {
-                let numeric = factor.starts_with(|c: char| c.is_ascii_digit() || c == '.');
-                if let (true, Ok(v)) = (numeric, factor.parse::<f64>()) {
-                    coefficient *= v;
-                } else if is_identifier(factor) {
-                    if name.is_some() {
-                        return Err(format!("`{text}` is not linear in the parameters"));
-                    }
-                    name = Some(factor);
-                } else {
-                    return Err(format!(
-                        "cannot read `{factor}` in `{text}`: expected a number or a parameter name"
-                    ));
-                }
-            }
-            match name {
-                None => out.constant += coefficient,
-                Some(n) => match out.terms.iter_mut().find(|(_, m)| m == n) {
-                    Some((c, _)) => *c += coefficient,
-                    None => out.terms.push((coefficient, n.to_string())),
-                },
-            }
-        }
-        out.terms.retain(|(c, _)| *c != 0.0);
-        Ok(out)
+        let linear = crate::expr::Expr::parse(text)
+            .and_then(|e| e.linear())
+            .map_err(|e| format!("cannot read `{text}`: {e}"))?;
+        Ok(Scalar {
+            constant: linear.constant,
+            terms: linear.terms,
+        })
     }
 
     /// Value with the given parameter lookup; `Err(name)` for an unknown parameter.
@@ -229,13 +170,6 @@ impl Scalar {
         }
         Ok(v)
     }
-}
-
-/// `true` for a Rust-style identifier (`l_a`, `L8`).
-pub(crate) fn is_identifier(s: &str) -> bool {
-    let mut chars = s.chars();
-    matches!(chars.next(), Some(c) if c.is_ascii_alphabetic() || c == '_')
-        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
 }
 
 fn scalar(ctx: &Ctx, field: &str, raw: &RawScalar) -> Result<Scalar, DescriptionError> {

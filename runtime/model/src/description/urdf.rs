@@ -27,16 +27,14 @@ use urdf_rs::JointType;
 
 type Mat3 = [[f64; 3]; 3];
 
-/// `R = Rz(yaw) Ry(pitch) Rx(roll)` (URDF convention).
+/// `R = Rz(yaw) Ry(pitch) Rx(roll)` (URDF convention), [`trocar::se3::rotation_from_rpy_sin_cos`].
 fn rpy_matrix(rpy: [f64; 3]) -> Mat3 {
-    let (sr, cr) = rpy[0].sin_cos();
-    let (sp, cp) = rpy[1].sin_cos();
-    let (sy, cy) = rpy[2].sin_cos();
-    [
-        [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-        [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-        [-sp, cp * sr, cp * cr],
-    ]
+    let m = trocar::se3::rotation_from_rpy_sin_cos(
+        rpy[0].sin_cos(),
+        rpy[1].sin_cos(),
+        rpy[2].sin_cos(),
+    );
+    [0, 1, 2].map(|r| [0, 1, 2].map(|c| m[(r, c)]))
 }
 
 fn mat_mul(a: &Mat3, b: &Mat3) -> Mat3 {

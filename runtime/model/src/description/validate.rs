@@ -18,6 +18,7 @@
 //! | constrained link `1 ≤ i ≤ n − 1` (joint `i` before it, joint `i + 1` after it) | `constraint.link` |
 //! | H has 1 to 5 rows, none zero, linearly independent | `constraint.h`, `constraint.h[k]` |
 //! | the method needs `n − r ≥ 6` | `constraint.h` |
+//! | `J^r` needs `m = 6 − r + n − i ≥ 6` columns (3.15) | `constraint.link` |
 //! | wrist `unidirectional` needs `H = x_r`; `zy`/`zx` need `H = (x_r, z_r)` | `constraint.wrist` |
 //! | wrist `zy`: joint `i+1` revolute about z, joint `i+2` about y (`zx`: about x) | `joints[i].axis`, `joints[i+1].axis` |
 //! | a wrist needs `g_ir = (I, (0, l_a, 0))` with `l_a` a parameter of non-zero nominal value | `constraint.xyz[c]`, `constraint.rpy`/`constraint.rotation` |
@@ -28,11 +29,16 @@
 //! rows of `H` of 6 entries and known axis letters (`constraint.h[k]`), known wrist names.
 //!
 //! Joint indices in field paths are 0-based (`joints[0]` is joint 1), as in the TOML array.
+//!
+//! The admission rules of the method — which constrained link, how many rows of `H`, how many
+//! joints — are written once, in [`admission_problems`]; the generator's derivation and the numeric
+//! robot call it too.
 
-use super::parse::is_identifier;
 use super::{
-    DescriptionError, JointKind, Location, Origin, RobotDescription, Rotation, Scalar, Wrist,
+    DescriptionError, JointKind, Location, NullSpaceBasis, Origin, RobotDescription, Rotation,
+    Scalar, Wrist,
 };
+use crate::expr::is_name as is_identifier;
 
 /// Rust's strict and reserved keywords (2021 and 2024 editions) and `_`: not parameter names.
 const RUST_KEYWORDS: &[&str] = &[
@@ -42,6 +48,127 @@ const RUST_KEYWORDS: &[&str] = &[
     "while", "async", "await", "dyn", "abstract", "become", "box", "do", "final", "macro",
     "override", "priv", "typeof", "unsized", "virtual", "yield", "try", "gen",
 ];
+
+/// A constraint the method (thesis chapter 3) does not admit: the rules on the constrained link
+/// `i`, the rows `r` of `H` and the joints `n`, in the order [`admission_problems`] checks them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AdmissionError {
+    /// The constrained link is not `1 ≤ i ≤ n − 1` (joint `i` before it, joint `i + 1` after it).
+    LinkOutOfRange {
+        /// The link `i` given.
+        link: usize,
+        /// Joints `n`.
+        n: usize,
+    },
+    /// `H` has no row.
+    NoRows,
+    /// `H` has more than 5 rows.
+    TooManyRows {
+        /// Rows `r`.
+        r: usize,
+    },
+    /// The method needs `n − r ≥ 6`.
+    TooFewJoints {
+        /// Joints `n`.
+        n: usize,
+        /// Rows `r`.
+        r: usize,
+    },
+    /// `J^r` (3.15) would have `m = 6 − r + n − i < 6` columns.
+    TooFewColumns {
+        /// Columns `m`.
+        m: usize,
+        /// Joints `n − i` after the constrained link.
+        after: usize,
+        /// Rows `r`.
+        r: usize,
+    },
+}
+
+impl AdmissionError {
+    /// The description field the rule is about.
+    pub fn field(&self) -> &'static str {
+        match self {
+            Self::LinkOutOfRange { .. } | Self::TooFewColumns { .. } => "constraint.link",
+            Self::NoRows | Self::TooManyRows { .. } | Self::TooFewJoints { .. } => "constraint.h",
+        }
+    }
+}
+
+impl std::fmt::Display for AdmissionError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            Self::LinkOutOfRange { link, n } => write!(
+                f,
+                "constrained link {link} does not exist between two joints: link i lies between joints i and i + 1, so 1 ≤ i ≤ n − 1 = {} (n = {n} joints)",
+                n.saturating_sub(1)
+            ),
+            Self::NoRows => write!(
+                f,
+                "H needs at least one row (remove [constraint] for an unconstrained robot)"
+            ),
+            Self::TooManyRows { r } => write!(
+                f,
+                "H has {r} rows; at most 5 (r = 6 would leave the constrained link no motion)"
+            ),
+            Self::TooFewJoints { n, r } => write!(
+                f,
+                "the method requires n − r ≥ 6 (n joints, r rows of H); here n = {n}, r = {r}: n − r = {}",
+                n as i64 - r as i64
+            ),
+            Self::TooFewColumns { m, after, r } => write!(
+                f,
+                "J^r would have m = 6 − r + n − i = {m} < 6 columns (n − i = {after} joints after the constraint, r = {r})"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for AdmissionError {}
+
+/// Every admission rule a constraint at link `link` with `r` rows of `H` on `n` joints breaks,
+/// in a fixed order: the link (`1 ≤ i ≤ n − 1`), the rows (`1 ≤ r ≤ 5`), `n − r ≥ 6`, and
+/// `m = 6 − r + n − i ≥ 6` (checked only when the others hold). Empty when admitted.
+pub fn admission_problems(n: usize, link: usize, r: usize) -> Vec<AdmissionError> {
+    let mut out = Vec::new();
+    let link_ok = link >= 1 && link < n;
+    if !link_ok {
+        out.push(AdmissionError::LinkOutOfRange { link, n });
+    }
+    if r == 0 {
+        out.push(AdmissionError::NoRows);
+    } else if r > 5 {
+        out.push(AdmissionError::TooManyRows { r });
+    }
+    if r >= 1 && n < 6 + r {
+        out.push(AdmissionError::TooFewJoints { n, r });
+    }
+    if out.is_empty() {
+        let m = 6 - r + n - link;
+        if m < 6 {
+            out.push(AdmissionError::TooFewColumns {
+                m,
+                after: n - link,
+                r,
+            });
+        }
+    }
+    out
+}
+
+/// The admission rule broken (see [`admission_problems`]), if any: `n − r ≥ 6` first (it is about
+/// the robot as a whole), then the others in the order of [`admission_problems`].
+pub fn admit(n: usize, link: usize, r: usize) -> Result<(), AdmissionError> {
+    let problems = admission_problems(n, link, r);
+    let first = problems
+        .iter()
+        .find(|e| matches!(e, AdmissionError::TooFewJoints { .. }))
+        .or(problems.first());
+    match first {
+        Some(e) => Err(*e),
+        None => Ok(()),
+    }
+}
 
 /// Tolerance on unit norms and orthonormality.
 pub const TOLERANCE: f64 = 1e-9;
@@ -255,32 +382,27 @@ impl Checker<'_> {
 
     fn constraint(&mut self, c: &super::ConstraintDesc) {
         let n = self.d.joints.len();
-        let link_ok = c.link >= 1 && c.link < n;
-        if !link_ok {
-            self.err(
-                "constraint.link",
-                format!(
-                    "constrained link {} does not exist between two joints: link i lies between joints i and i + 1, so 1 ≤ i ≤ n − 1 = {} (n = {n} joints)",
-                    c.link,
-                    n.saturating_sub(1)
-                ),
-            );
-        }
-        self.origin("constraint", &c.origin);
         let r = c.h.len();
-        if r == 0 {
-            self.err(
-                "constraint.h",
-                "H needs at least one row (remove [constraint] for an unconstrained robot)",
-            );
-        } else if r > 5 {
-            self.err(
-                "constraint.h",
-                format!(
-                    "H has {r} rows; at most 5 (r = 6 would leave the constrained link no motion)"
-                ),
-            );
-        }
+        let admission = admission_problems(n, c.link, r);
+        let link_ok = !admission
+            .iter()
+            .any(|e| matches!(e, AdmissionError::LinkOutOfRange { .. }));
+        // Reported in the order of the fields (the link, the frame, then H), and `m ≥ 6` last.
+        let report = |this: &mut Self, which: &dyn Fn(&AdmissionError) -> bool| {
+            for e in admission.iter().filter(|e| which(e)) {
+                this.err(e.field(), e.to_string());
+            }
+        };
+        report(self, &|e| {
+            matches!(e, AdmissionError::LinkOutOfRange { .. })
+        });
+        self.origin("constraint", &c.origin);
+        report(self, &|e| {
+            matches!(
+                e,
+                AdmissionError::NoRows | AdmissionError::TooManyRows { .. }
+            )
+        });
         // Rows: finite, non-zero, independent (Gram–Schmidt against the previous rows).
         let mut basis: Vec<[f64; 6]> = Vec::new();
         for (k, row) in c.h.iter().enumerate() {
@@ -310,43 +432,26 @@ impl Checker<'_> {
             }
             basis.push(rest.map(|x| x / left));
         }
-        if r >= 1 && n < 6 + r {
-            self.err(
-                "constraint.h",
-                format!(
-                    "the method requires n − r ≥ 6 (n joints, r rows of H); here n = {n}, r = {r}: n − r = {}",
-                    n as i64 - r as i64
-                ),
-            );
-        }
+        report(self, &|e| matches!(e, AdmissionError::TooFewJoints { .. }));
         if let Some(w) = c.wrist {
             self.wrist(c, w, link_ok);
         }
+        report(self, &|e| matches!(e, AdmissionError::TooFewColumns { .. }));
     }
 
     fn wrist(&mut self, c: &super::ConstraintDesc, w: Wrist, link_ok: bool) {
-        let (name, rows, basis): (&str, &[[f64; 6]], &str) = match w {
-            Wrist::Unidirectional => (
-                "unidirectional",
-                &[[1.0, 0.0, 0.0, 0.0, 0.0, 0.0]],
-                "(3.23)",
-            ),
-            Wrist::Zy => (
-                "zy",
-                &[
-                    [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-                    [0.0, 0.0, 1.0, 0.0, 0.0, 0.0],
-                ],
-                "(3.27)",
-            ),
-            Wrist::Zx => (
-                "zx",
-                &[
-                    [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-                    [0.0, 0.0, 1.0, 0.0, 0.0, 0.0],
-                ],
-                "(3.27)",
-            ),
+        let name = match w {
+            Wrist::Unidirectional => "unidirectional",
+            Wrist::Zy => "zy",
+            Wrist::Zx => "zx",
+        };
+        // The thesis bases are written for H = x_r (3.21) and H = (x_r, z_r) (3.25).
+        const X_R: [f64; 6] = [1.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+        const Z_R: [f64; 6] = [0.0, 0.0, 1.0, 0.0, 0.0, 0.0];
+        let (rows, basis): (&[[f64; 6]], &str) = match c.basis() {
+            NullSpaceBasis::Unidirectional => (&[X_R], "(3.23)"),
+            NullSpaceBasis::Bidirectional => (&[X_R, Z_R], "(3.27)"),
+            NullSpaceBasis::Computed => return,
         };
         if c.h.as_slice() != rows {
             let wanted = if rows.len() == 1 {

@@ -1,0 +1,662 @@
+//! Length expressions: the one parser of the arithmetic written in descriptions.
+//!
+//! Every length a description may write as text — a serial robot's `xyz` and twist `v`
+//! ([`Scalar`](crate::description::Scalar)), a closed mechanism's lengths and angles, the
+//! generator's symbolic polynomials — is read here into an [`Expr`] that keeps its symbols.
+//! Callers then evaluate it ([`Expr::eval`]), require it to be linear in the parameters
+//! ([`Expr::linear`], the serial `Scalar`: `constant + Σ coefficient · parameter`), or walk the
+//! tree themselves (the generator turns it into an exact polynomial).
+//!
+//! The grammar (whitespace separates tokens and is otherwise ignored):
+//!
+//! ```text
+//! sum     = ["+" | "-"] product { ("+" | "-") product }
+//! product = unary { ("*" | "/") unary }
+//! unary   = ("-" | "+") unary | power
+//! power   = primary [ "^" ["-"] digits ]
+//! primary = number | name | "pi" | "(" sum ")"
+//! number  = digits-and-dots [ ("e" | "E") ["+" | "-"] digits ]      (2, 0.33, .5, 2e-3)
+//! name    = (letter | "_") { letter | digit | "_" }
+//! ```
+//!
+//! `pi` is the constant π; every other name is a symbol. Errors carry the byte offset of the
+//! offending token ([`ExprError::at`]).
+//!
+//! ```
+//! use trocar_model::expr::Expr;
+//!
+//! let e = Expr::parse("-0.5*l_8 + 0.1").unwrap();
+//! assert_eq!(e.symbols(), vec!["l_8"]);
+//! assert_eq!(e.eval(|_| Some(2.0)).unwrap(), -0.9);
+//! let lin = e.linear().unwrap();
+//! assert_eq!(lin.terms, vec![(-0.5, "l_8".to_string())]);
+//! let err = Expr::parse("l_a * l_b").unwrap().linear().unwrap_err();
+//! assert_eq!(err.at, 4); // the `*`
+//! assert_eq!(Expr::parse("l_a + $").unwrap_err().at, 6);
+//! ```
+
+use std::fmt;
+
+/// A binary operator of [`Expr::Binary`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BinOp {
+    /// `+`
+    Add,
+    /// `-`
+    Sub,
+    /// `*`
+    Mul,
+    /// `/`
+    Div,
+}
+
+impl BinOp {
+    fn symbol(self) -> char {
+        match self {
+            BinOp::Add => '+',
+            BinOp::Sub => '-',
+            BinOp::Mul => '*',
+            BinOp::Div => '/',
+        }
+    }
+}
+
+/// A parsed length expression. Offsets (`at`) are byte offsets into the parsed text.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Expr {
+    /// A decimal literal, as `f64` (`str::parse`).
+    Number {
+        /// The value.
+        value: f64,
+        /// Offset of the literal.
+        at: usize,
+    },
+    /// The constant `pi` (π).
+    Pi {
+        /// Offset of `pi`.
+        at: usize,
+    },
+    /// A named parameter (any identifier other than `pi`).
+    Symbol {
+        /// The name.
+        name: String,
+        /// Offset of the name.
+        at: usize,
+    },
+    /// Unary minus.
+    Neg {
+        /// The negated expression.
+        operand: Box<Expr>,
+        /// Offset of the `-`.
+        at: usize,
+    },
+    /// `lhs op rhs`.
+    Binary {
+        /// The operator.
+        op: BinOp,
+        /// Left operand.
+        lhs: Box<Expr>,
+        /// Right operand.
+        rhs: Box<Expr>,
+        /// Offset of the operator.
+        at: usize,
+    },
+    /// `base ^ exponent`, an integer exponent (possibly negative).
+    Pow {
+        /// The base.
+        base: Box<Expr>,
+        /// The exponent.
+        exponent: i32,
+        /// Offset of the `^`.
+        at: usize,
+    },
+}
+
+/// A parse or evaluation error: a message and the byte offset it refers to.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ExprError {
+    /// Byte offset into the expression's text.
+    pub at: usize,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl ExprError {
+    fn new(at: usize, message: impl Into<String>) -> Self {
+        ExprError {
+            at,
+            message: message.into(),
+        }
+    }
+}
+
+impl fmt::Display for ExprError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} (at byte {})", self.message, self.at)
+    }
+}
+
+impl std::error::Error for ExprError {}
+
+/// An expression linear in its parameters: `constant + Σ coefficient · parameter`
+/// (what the serial description's [`Scalar`](crate::description::Scalar) holds).
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Linear {
+    /// The constant part.
+    pub constant: f64,
+    /// `(coefficient, parameter)` pairs, each name once, in order of first appearance, none zero.
+    pub terms: Vec<(f64, String)>,
+}
+
+impl Linear {
+    fn constant(value: f64) -> Self {
+        Linear {
+            constant: value,
+            terms: Vec::new(),
+        }
+    }
+
+    fn scale(mut self, k: f64) -> Self {
+        if self.constant != 0.0 {
+            // (a zero constant stays zero, also for an infinite factor)
+            self.constant *= k;
+        }
+        for (c, _) in &mut self.terms {
+            *c *= k;
+        }
+        self
+    }
+
+    fn add(mut self, other: Linear, sign: f64) -> Self {
+        self.constant += sign * other.constant;
+        for (c, n) in other.terms {
+            match self.terms.iter_mut().find(|(_, m)| *m == n) {
+                Some((d, _)) => *d += sign * c,
+                None => self.terms.push((sign * c, n)),
+            }
+        }
+        self
+    }
+
+    fn as_constant(&self) -> Option<f64> {
+        self.terms.is_empty().then_some(self.constant)
+    }
+}
+
+/// `true` for a name the grammar reads as one symbol: a Rust-style identifier (`l_a`, `L8`,
+/// `_x`) — letters, digits and `_`, not starting with a digit.
+pub fn is_name(s: &str) -> bool {
+    let mut chars = s.chars();
+    matches!(chars.next(), Some(c) if c.is_ascii_alphabetic() || c == '_')
+        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
+/// Parses a length expression (see the [module](self) grammar).
+pub fn parse(text: &str) -> Result<Expr, ExprError> {
+    Expr::parse(text)
+}
+
+impl Expr {
+    /// Parses a length expression (see the [module](self) grammar).
+    pub fn parse(text: &str) -> Result<Expr, ExprError> {
+        let mut p = Parser {
+            s: text.as_bytes(),
+            i: 0,
+        };
+        if p.peek().is_none() {
+            return Err(ExprError::new(p.i, "empty expression"));
+        }
+        let e = p.sum()?;
+        if p.peek().is_some() {
+            return Err(p.unexpected());
+        }
+        Ok(e)
+    }
+
+    /// The byte offset this node was written at (its operator for operations).
+    pub fn at(&self) -> usize {
+        match self {
+            Expr::Number { at, .. }
+            | Expr::Pi { at }
+            | Expr::Symbol { at, .. }
+            | Expr::Neg { at, .. }
+            | Expr::Binary { at, .. }
+            | Expr::Pow { at, .. } => *at,
+        }
+    }
+
+    /// The symbols (parameter names) used, each once, in order of first appearance.
+    pub fn symbols(&self) -> Vec<&str> {
+        fn walk<'a>(e: &'a Expr, out: &mut Vec<&'a str>) {
+            match e {
+                Expr::Number { .. } | Expr::Pi { .. } => {}
+                Expr::Symbol { name, .. } => {
+                    if !out.contains(&name.as_str()) {
+                        out.push(name);
+                    }
+                }
+                Expr::Neg { operand, .. } => walk(operand, out),
+                Expr::Binary { lhs, rhs, .. } => {
+                    walk(lhs, out);
+                    walk(rhs, out);
+                }
+                Expr::Pow { base, .. } => walk(base, out),
+            }
+        }
+        let mut out = Vec::new();
+        walk(self, &mut out);
+        out
+    }
+
+    /// `true` when no symbol appears.
+    pub fn is_constant(&self) -> bool {
+        self.symbols().is_empty()
+    }
+
+    /// The value, with `lookup` giving each parameter's value. Errors: an unknown parameter (at
+    /// its offset) and division by zero (at the `/`).
+    pub fn eval(&self, lookup: impl Fn(&str) -> Option<f64>) -> Result<f64, ExprError> {
+        self.eval_with(&lookup)
+    }
+
+    fn eval_with(&self, lookup: &dyn Fn(&str) -> Option<f64>) -> Result<f64, ExprError> {
+        Ok(match self {
+            Expr::Number { value, .. } => *value,
+            Expr::Pi { .. } => std::f64::consts::PI,
+            Expr::Symbol { name, at } => lookup(name)
+                .ok_or_else(|| ExprError::new(*at, format!("unknown parameter `{name}`")))?,
+            Expr::Neg { operand, .. } => -operand.eval_with(lookup)?,
+            Expr::Binary { op, lhs, rhs, at } => {
+                let a = lhs.eval_with(lookup)?;
+                let b = rhs.eval_with(lookup)?;
+                match op {
+                    BinOp::Add => a + b,
+                    BinOp::Sub => a - b,
+                    BinOp::Mul => a * b,
+                    BinOp::Div => {
+                        if b == 0.0 {
+                            return Err(ExprError::new(*at, "division by zero"));
+                        }
+                        a / b
+                    }
+                }
+            }
+            Expr::Pow { base, exponent, .. } => base.eval_with(lookup)?.powi(*exponent),
+        })
+    }
+
+    /// The expression as `constant + Σ coefficient · parameter`, or an error (at the offending
+    /// operator or symbol) when it is not linear in its parameters. Products and quotients
+    /// need a constant factor or divisor; powers need a constant base (or exponent 1).
+    pub fn linear(&self) -> Result<Linear, ExprError> {
+        let mut out = self.linear_part()?;
+        if out.constant == 0.0 {
+            out.constant = 0.0; // not −0
+        }
+        Ok(out)
+    }
+
+    fn linear_part(&self) -> Result<Linear, ExprError> {
+        Ok(match self {
+            Expr::Number { value, .. } => Linear::constant(*value),
+            Expr::Pi { .. } => Linear::constant(std::f64::consts::PI),
+            Expr::Symbol { name, .. } => Linear {
+                constant: 0.0,
+                terms: vec![(1.0, name.clone())],
+            },
+            Expr::Neg { operand, .. } => operand.linear_part()?.scale(-1.0),
+            Expr::Binary { op, lhs, rhs, at } => {
+                let a = lhs.linear_part()?;
+                let b = rhs.linear_part()?;
+                let mut out = match op {
+                    BinOp::Add => a.add(b, 1.0),
+                    BinOp::Sub => a.add(b, -1.0),
+                    BinOp::Mul => match (a.as_constant(), b.as_constant()) {
+                        (Some(k), _) => b.scale(k),
+                        (None, Some(k)) => a.scale(k),
+                        (None, None) => {
+                            return Err(ExprError::new(*at, "not linear in the parameters"))
+                        }
+                    },
+                    BinOp::Div => match b.as_constant() {
+                        Some(0.0) => return Err(ExprError::new(*at, "division by zero")),
+                        Some(k) => {
+                            let mut a = a;
+                            a.constant /= k;
+                            for (c, _) in &mut a.terms {
+                                *c /= k;
+                            }
+                            a
+                        }
+                        None => {
+                            return Err(ExprError::new(
+                                *at,
+                                "not linear in the parameters (division by a parameter)",
+                            ))
+                        }
+                    },
+                };
+                out.terms.retain(|(c, _)| *c != 0.0);
+                out
+            }
+            Expr::Pow { base, exponent, at } => {
+                let b = base.linear_part()?;
+                match (b.as_constant(), exponent) {
+                    (Some(k), _) => Linear::constant(k.powi(*exponent)),
+                    (None, 1) => b,
+                    (None, _) => return Err(ExprError::new(*at, "not linear in the parameters")),
+                }
+            }
+        })
+    }
+}
+
+impl fmt::Display for Expr {
+    /// Fully parenthesised where precedence needs it; reads back to an equal tree (offsets aside).
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fn prec(e: &Expr) -> u8 {
+            match e {
+                Expr::Binary {
+                    op: BinOp::Add | BinOp::Sub,
+                    ..
+                } => 1,
+                Expr::Binary { .. } => 2,
+                Expr::Neg { .. } => 3,
+                Expr::Pow { .. } => 4,
+                _ => 5,
+            }
+        }
+        fn child(f: &mut fmt::Formatter<'_>, e: &Expr, min: u8) -> fmt::Result {
+            if prec(e) < min {
+                write!(f, "({e})")
+            } else {
+                write!(f, "{e}")
+            }
+        }
+        match self {
+            Expr::Number { value, .. } => write!(f, "{value:?}"),
+            Expr::Pi { .. } => write!(f, "pi"),
+            Expr::Symbol { name, .. } => write!(f, "{name}"),
+            Expr::Neg { operand, .. } => {
+                write!(f, "-")?;
+                child(f, operand, 4)
+            }
+            Expr::Binary { op, lhs, rhs, .. } => {
+                let p = prec(self);
+                child(f, lhs, p)?;
+                write!(f, " {} ", op.symbol())?;
+                child(f, rhs, p + 1)
+            }
+            Expr::Pow { base, exponent, .. } => {
+                child(f, base, 5)?;
+                write!(f, "^{exponent}")
+            }
+        }
+    }
+}
+
+struct Parser<'a> {
+    s: &'a [u8],
+    i: usize,
+}
+
+impl Parser<'_> {
+    fn peek(&mut self) -> Option<u8> {
+        while self.i < self.s.len() && self.s[self.i].is_ascii_whitespace() {
+            self.i += 1;
+        }
+        self.s.get(self.i).copied()
+    }
+
+    fn unexpected(&mut self) -> ExprError {
+        match self.peek() {
+            None => ExprError::new(self.i, "the expression ends too early"),
+            Some(_) => {
+                let text = std::str::from_utf8(&self.s[self.i..]).unwrap_or("");
+                let c = text.chars().next().unwrap_or('?');
+                ExprError::new(
+                    self.i,
+                    format!("unexpected `{c}`: expected a number, a parameter name, `pi` or `(`"),
+                )
+            }
+        }
+    }
+
+    fn sum(&mut self) -> Result<Expr, ExprError> {
+        let mut acc = self.product()?;
+        loop {
+            let op = match self.peek() {
+                Some(b'+') => BinOp::Add,
+                Some(b'-') => BinOp::Sub,
+                _ => return Ok(acc),
+            };
+            let at = self.i;
+            self.i += 1;
+            let rhs = self.product()?;
+            acc = Expr::Binary {
+                op,
+                lhs: Box::new(acc),
+                rhs: Box::new(rhs),
+                at,
+            };
+        }
+    }
+
+    fn product(&mut self) -> Result<Expr, ExprError> {
+        let mut acc = self.unary()?;
+        loop {
+            let op = match self.peek() {
+                Some(b'*') => BinOp::Mul,
+                Some(b'/') => BinOp::Div,
+                _ => return Ok(acc),
+            };
+            let at = self.i;
+            self.i += 1;
+            let rhs = self.unary()?;
+            acc = Expr::Binary {
+                op,
+                lhs: Box::new(acc),
+                rhs: Box::new(rhs),
+                at,
+            };
+        }
+    }
+
+    fn unary(&mut self) -> Result<Expr, ExprError> {
+        match self.peek() {
+            Some(b'-') => {
+                let at = self.i;
+                self.i += 1;
+                Ok(Expr::Neg {
+                    operand: Box::new(self.unary()?),
+                    at,
+                })
+            }
+            Some(b'+') => {
+                self.i += 1;
+                self.unary()
+            }
+            _ => self.power(),
+        }
+    }
+
+    fn power(&mut self) -> Result<Expr, ExprError> {
+        let base = self.primary()?;
+        if self.peek() != Some(b'^') {
+            return Ok(base);
+        }
+        let at = self.i;
+        self.i += 1;
+        let neg = self.peek() == Some(b'-');
+        if neg {
+            self.i += 1;
+        }
+        self.peek();
+        let start = self.i;
+        while self.i < self.s.len() && self.s[self.i].is_ascii_digit() {
+            self.i += 1;
+        }
+        let n: i32 = std::str::from_utf8(&self.s[start..self.i])
+            .ok()
+            .and_then(|t| t.parse().ok())
+            .ok_or_else(|| ExprError::new(start, "expected an integer exponent"))?;
+        Ok(Expr::Pow {
+            base: Box::new(base),
+            exponent: if neg { -n } else { n },
+            at,
+        })
+    }
+
+    fn primary(&mut self) -> Result<Expr, ExprError> {
+        match self.peek() {
+            Some(b'(') => {
+                let open = self.i;
+                self.i += 1;
+                let e = self.sum()?;
+                if self.peek() != Some(b')') {
+                    return Err(ExprError::new(
+                        self.i,
+                        format!("expected `)` to close the `(` at byte {open}"),
+                    ));
+                }
+                self.i += 1;
+                Ok(e)
+            }
+            Some(c) if c.is_ascii_digit() || c == b'.' => {
+                let start = self.i;
+                while self.i < self.s.len()
+                    && (self.s[self.i].is_ascii_digit() || self.s[self.i] == b'.')
+                {
+                    self.i += 1;
+                }
+                // An exponent: `e`, an optional sign, then digits (else `e` starts a name).
+                if let Some(b'e' | b'E') = self.s.get(self.i) {
+                    let mut j = self.i + 1;
+                    if let Some(b'+' | b'-') = self.s.get(j) {
+                        j += 1;
+                    }
+                    if self.s.get(j).is_some_and(u8::is_ascii_digit) {
+                        while self.s.get(j).is_some_and(u8::is_ascii_digit) {
+                            j += 1;
+                        }
+                        self.i = j;
+                    }
+                }
+                let t = std::str::from_utf8(&self.s[start..self.i]).unwrap_or("");
+                let value: f64 = t
+                    .parse()
+                    .map_err(|_| ExprError::new(start, format!("cannot read the number `{t}`")))?;
+                Ok(Expr::Number { value, at: start })
+            }
+            Some(c) if c.is_ascii_alphabetic() || c == b'_' => {
+                let start = self.i;
+                while self.i < self.s.len()
+                    && (self.s[self.i].is_ascii_alphanumeric() || self.s[self.i] == b'_')
+                {
+                    self.i += 1;
+                }
+                let name = std::str::from_utf8(&self.s[start..self.i]).unwrap_or("");
+                Ok(if name == "pi" {
+                    Expr::Pi { at: start }
+                } else {
+                    Expr::Symbol {
+                        name: name.to_string(),
+                        at: start,
+                    }
+                })
+            }
+            _ => Err(self.unexpected()),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn value(t: &str) -> f64 {
+        Expr::parse(t)
+            .unwrap()
+            .eval(|n| match n {
+                "a" => Some(2.0),
+                "l_e" => Some(0.5),
+                _ => None,
+            })
+            .unwrap()
+    }
+
+    #[test]
+    fn grammar() {
+        assert_eq!(value("1 + 2 * 3"), 7.0);
+        assert_eq!(value("(1 + 2) * 3"), 9.0);
+        assert_eq!(value("-a^2"), -4.0);
+        assert_eq!(value("a^-1"), 0.5);
+        assert_eq!(Expr::parse("2^3^1").unwrap_err().at, 3);
+        assert_eq!(value("- -a"), 2.0);
+        assert_eq!(value("+a"), 2.0);
+        assert_eq!(value("a*-3"), -6.0);
+        assert_eq!(value("8/a/2"), 2.0);
+        assert_eq!(value("1 - 2 - 3"), -4.0);
+        assert_eq!(value("2e-3"), 2e-3);
+        assert_eq!(value("2E+3"), 2e3);
+        assert_eq!(value(".5"), 0.5);
+        assert_eq!(value("l_e-0.1"), 0.4);
+        assert_eq!(value("2/3*pi"), 2.0 / 3.0 * std::f64::consts::PI);
+        assert_eq!(Expr::parse("2e").unwrap_err().at, 1);
+        assert_eq!(Expr::parse("2*pi_x + pi").unwrap().symbols(), vec!["pi_x"]);
+    }
+
+    #[test]
+    fn errors_carry_offsets() {
+        let at = |t: &str| Expr::parse(t).unwrap_err().at;
+        assert_eq!(at(""), 0);
+        assert_eq!(at("   "), 3);
+        assert_eq!(at("1 +"), 3);
+        assert_eq!(at("l_a + $"), 6);
+        assert_eq!(at("(1 + 2"), 6);
+        assert_eq!(at("1.2.3"), 0);
+        assert_eq!(at("a^b"), 2);
+        assert_eq!(at("a b"), 2);
+        let e = Expr::parse("1 / (a - a)").unwrap();
+        assert_eq!(e.eval(|_| Some(1.0)).unwrap_err().at, 2);
+        let e = Expr::parse("1 + l9").unwrap();
+        let err = e.eval(|_| None).unwrap_err();
+        assert_eq!(
+            (err.at, err.message.as_str()),
+            (4, "unknown parameter `l9`")
+        );
+        assert!(err.to_string().contains("at byte 4"));
+    }
+
+    #[test]
+    fn linearity() {
+        let l = |t: &str| Expr::parse(t).unwrap().linear();
+        let s = l("-0.5*l_8 + 0.1 - 2e-1").unwrap();
+        assert_eq!(s.terms, vec![(-0.5, "l_8".to_string())]);
+        assert_eq!(s.constant, 0.1 - 0.2);
+        assert_eq!(l("a - a").unwrap(), Linear::default());
+        assert_eq!(l("(a + 2*b)/2 - b").unwrap().terms, vec![(0.5, "a".into())]);
+        assert_eq!(l("2^2*a").unwrap().terms, vec![(4.0, "a".into())]);
+        assert_eq!(l("a*b").unwrap_err().at, 1);
+        assert_eq!(l("1 + 1/a").unwrap_err().at, 5);
+        assert_eq!(l("a^2").unwrap_err().at, 1);
+        assert_eq!(l("a/0").unwrap_err().at, 1);
+    }
+
+    #[test]
+    fn display_reads_back() {
+        for t in [
+            "-(a + b)*c",
+            "a - (b - c)",
+            "a/(b*c)",
+            "(-a)^2",
+            "-a^2",
+            "2e-3*pi + l_e",
+        ] {
+            let e = Expr::parse(t).unwrap();
+            let again = Expr::parse(&e.to_string()).unwrap();
+            let v = |e: &Expr| e.eval(|_| Some(0.7)).unwrap();
+            assert_eq!(v(&e), v(&again), "{t} → {e}");
+        }
+    }
+}

@@ -1,0 +1,94 @@
+//! The admission rules of the method, written once (`admission_problems`), as validation, the
+//! numeric robot and the basis rule use them.
+
+use trocar_model::description::{
+    admission_problems, admit, AdmissionError, NullSpaceBasis, RobotDescription, Wrist,
+};
+use trocar_model::numeric::{NumericModel as Robot, RobotError};
+
+#[test]
+fn the_rules_in_order() {
+    assert_eq!(admit(8, 6, 2), Ok(()));
+    assert_eq!(admit(8, 7, 1), Ok(()));
+    assert_eq!(
+        admission_problems(8, 8, 1),
+        vec![AdmissionError::LinkOutOfRange { link: 8, n: 8 }]
+    );
+    assert_eq!(
+        admission_problems(8, 0, 0),
+        vec![
+            AdmissionError::LinkOutOfRange { link: 0, n: 8 },
+            AdmissionError::NoRows
+        ]
+    );
+    assert_eq!(
+        admission_problems(6, 6, 2),
+        vec![
+            AdmissionError::LinkOutOfRange { link: 6, n: 6 },
+            AdmissionError::TooFewJoints { n: 6, r: 2 }
+        ]
+    );
+    // `n − r ≥ 6` is reported first by `admit`.
+    assert_eq!(
+        admit(6, 6, 2),
+        Err(AdmissionError::TooFewJoints { n: 6, r: 2 })
+    );
+    assert_eq!(
+        admission_problems(11, 1, 6),
+        vec![
+            AdmissionError::TooManyRows { r: 6 },
+            AdmissionError::TooFewJoints { n: 11, r: 6 }
+        ]
+    );
+    // J^r needs m = 6 − r + n − i ≥ 6 columns.
+    let e = admit(8, 7, 2).unwrap_err();
+    assert_eq!(
+        e,
+        AdmissionError::TooFewColumns {
+            m: 5,
+            after: 1,
+            r: 2
+        }
+    );
+    assert_eq!(e.field(), "constraint.link");
+}
+
+#[test]
+fn every_builder_applies_them() {
+    // link 7 of 8 with r = 2: m = 5.
+    let mut d = RobotDescription::preset("bidirectional-zy").unwrap();
+    let c = d.constraint.as_mut().unwrap();
+    c.link = 7;
+    c.wrist = None;
+    let e = d.validate().unwrap_err();
+    assert_eq!(e.field, "constraint.link");
+    assert!(e.message.contains("m = 6 − r + n − i = 5"), "{e}");
+    assert!(matches!(
+        Robot::<f64>::from_description(&d, &[]).unwrap_err(),
+        RobotError::NotAdmitted(AdmissionError::TooFewColumns { m: 5, .. })
+    ));
+}
+
+#[test]
+fn the_basis_rule() {
+    let d = RobotDescription::preset("unidirectional").unwrap();
+    assert_eq!(
+        d.constraint.unwrap().basis(),
+        NullSpaceBasis::Unidirectional
+    );
+    for name in ["bidirectional-zy", "bidirectional-zx", "dia10_like_zx"] {
+        let mut d = RobotDescription::preset(name).unwrap();
+        let c = d.constraint.as_mut().unwrap();
+        assert_eq!(c.basis(), NullSpaceBasis::Bidirectional, "{name}");
+        c.wrist = None;
+        assert_eq!(c.basis(), NullSpaceBasis::Computed, "{name}");
+    }
+    assert_eq!(Wrist::Zx.basis(), Wrist::Zy.basis());
+    assert_eq!(
+        NullSpaceBasis::thesis(1),
+        Some(Wrist::Unidirectional.basis())
+    );
+    assert!(Wrist::Unidirectional.basis().fits_rows(1));
+    assert!(!Wrist::Zy.basis().fits_rows(1));
+    assert!(NullSpaceBasis::Computed.fits_rows(4));
+}
