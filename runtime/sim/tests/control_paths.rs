@@ -24,10 +24,15 @@ struct Described<const R: usize> {
 }
 
 impl<const R: usize> Described<R> {
-    /// The robot of `name` with its constraint cut to the first `R` rows of `H`.
+    /// The robot of `name` with its constraint cut to the first `R` rows of `H` (one row, `x_r`,
+    /// is the unidirectional wrist).
     fn new(name: &str) -> Self {
         let mut d = RobotDescription::preset(name).unwrap();
-        d.constraint.as_mut().unwrap().h.truncate(R);
+        let c = d.constraint.as_mut().unwrap();
+        c.h.truncate(R);
+        if R == 1 {
+            c.wrist = Some(trocar_model::description::Wrist::Unidirectional);
+        }
         Described {
             robot: Robot::from_description(&d, &[]).unwrap(),
         }

@@ -47,8 +47,9 @@ const HEADER: &str = "| run | peak \\|θ̇\\| (rad/s) | max ‖dp − p‖ (m) |
 #[test]
 #[ignore]
 fn write_control_md() {
-    let figures = std::env::var("TROCAR_FIGURES")
-        .unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../target/figures").to_string());
+    let figures = std::env::var("TROCAR_FIGURES").unwrap_or_else(|_| {
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../../target/figures").to_string()
+    });
     std::fs::create_dir_all(&figures).unwrap();
     let mut md = String::new();
     md.push_str(HEAD);
