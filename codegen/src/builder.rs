@@ -21,13 +21,14 @@
 //! file. The lower-level entry points [`generate_module`] (tokens) and [`generate_module_string`]
 //! (formatted file) serve the command line and the proc-macro.
 
-use crate::closed_chain::{self, MechanismSource};
+use crate::closed_chain;
 use crate::derivation;
 use crate::emit::{self, bridge, Real};
 use proc_macro2::TokenStream;
 use std::collections::BTreeMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
+use trocar_model::closed_chain::MechanismModel;
 use trocar_model::description::{DescriptionError, RobotDescription};
 
 /// Why generation failed.
@@ -266,8 +267,8 @@ impl Builder {
             }
         }
         for (path, name) in &self.mechanisms {
-            let src = MechanismSource::from_file(path)?;
-            let module = closed_chain::emit::module_name_for(&src.mechanism.name, name.as_deref())?;
+            let src = MechanismModel::from_toml_file(path)?;
+            let module = closed_chain::emit::module_name_for(&src.name, name.as_deref())?;
             let code =
                 closed_chain::emit::generate_mechanism_string(&src, Some(&module), self.real)?;
             let file = format!("{module}.rs");

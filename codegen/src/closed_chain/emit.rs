@@ -6,12 +6,13 @@
 //! `det J_Cp` (`reduced_jacobian`, `passive_map`, `passive_velocities`) wrap them and return
 //! `None` instead of a NaN or an infinity when `det J_Cp` is zero or not finite.
 
-use super::{MechanismDerivation, MechanismSource};
+use super::MechanismDerivation;
 use crate::builder::Error;
 use crate::emit::bridge::PolyBuilder;
 use crate::emit::{self, ConstItem, Function, ModuleSpec, Program, Real, Shape};
 use proc_macro2::{Ident, Span, TokenStream};
 use quote::quote;
+use trocar_model::closed_chain::MechanismModel;
 
 fn program(d: &MechanismDerivation) -> Program {
     Program::new(d.params.clone())
@@ -409,11 +410,11 @@ pub fn module_name_for(mechanism: &str, module: Option<&str>) -> Result<String, 
 
 /// The formatted module file (prettyplease, headed by the `@generated` line) of a mechanism.
 pub fn generate_mechanism_string(
-    src: &MechanismSource,
+    model: &MechanismModel,
     module: Option<&str>,
     real: Real,
 ) -> Result<String, Error> {
-    let d = src.derive().map_err(Error::Description)?;
+    let d = super::derive(model).map_err(Error::Description)?;
     for (k, name) in d.params.iter().enumerate() {
         if syn::parse_str::<Ident>(name).is_err() {
             return Err(Error::Description(
@@ -423,7 +424,7 @@ pub fn generate_mechanism_string(
                         "parameter {k} `{name}` is not a Rust identifier (a field of `Params`)"
                     ),
                 )
-                .into_description_error(src.file.as_deref()),
+                .into_description_error(model.file.as_deref()),
             ));
         }
     }

@@ -1,12 +1,12 @@
 //! Closed planar mechanisms (second source, SPEC §4): the reduced Jacobian in closed form.
 //!
 //! Equation numbers refer to G. M. Freitas, A. C. Leite, F. Lizarralde, *Controle de sistemas
-//! robóticos com restrições cinemáticas*, CBA 2010. A mechanism is described as in
-//! [`trocar_model::closed_chain::description`] (`runtime/model/robots/mechanisms/*.toml`): open planar chains
-//! that all reach one common frame, joints split into active `θ_a` and passive `θ_p`.
+//! robóticos com restrições cinemáticas*, CBA 2010. A mechanism is the symbolic model
+//! [`trocar_model::closed_chain::MechanismModel`] (`runtime/model/robots/mechanisms/*.toml`): open
+//! planar chains that all reach one common frame, joints split into active `θ_a` and passive `θ_p`.
 //!
-//! [`derive_mechanism`] carries the runtime's numeric construction
-//! ([`trocar_model::closed_chain::Mechanism::differential`]) out on symbols:
+//! [`derive_mechanism`] carries the numeric construction of trocar-sim (`Mechanism::differential`)
+//! out on symbols:
 //!
 //! 1. Each chain's pose: angles add, so the frame's rotation is `(cos Σθ, sin Σθ)` expanded into
 //!    products of `s_k, c_k`; positions are sums of lengths times those (`l cos(Σθ)`,
@@ -22,13 +22,13 @@
 //!    parallel (actuator) singularities.
 //!
 //! Every function is a function of **all** joint values, active and passive: the caller solves the
-//! passive joints (for the four-bar linkage with the runtime's closed form
-//! [`trocar_model::closed_chain::four_bar::FourBar::passive`], which needs `acos`, or with Newton's
-//! method [`trocar_model::closed_chain::Mechanism::solve_passive`]). Off the constraint manifold the
-//! results are those of the same formulas, as in the runtime.
+//! passive joints (for the four-bar linkage with the closed form `FourBar::passive` of
+//! trocar-sim, which needs `acos`, or with Newton's method, `Mechanism::solve_passive`). Off the
+//! constraint manifold the results are those of the same formulas, as in the numeric reference.
 //!
 //! Lengths (`x`, `y` of `base`, `tip` and `origin`) may be expressions of the parameters (`+ − * /`,
-//! parentheses, `pi`); they stay symbolic and become fields of the generated `Params`. Fixed
+//! parentheses, `pi`, parsed once by trocar-model into a [`LengthExpr`]); they stay symbolic and
+//! become fields of the generated `Params`. Fixed
 //! angles must be constants (numbers and `pi`): their sines and cosines are exact for multiples
 //! of `π/2`, and the `f64` values otherwise. Mechanisms whose `J_Cp` is not square (more
 //! structural equations than passive joints, such as cooperating arms with point contacts) are
@@ -40,8 +40,10 @@ pub mod emit;
 
 use crate::symbolic::{Matrix, Poly, Rational, SymbolicError};
 use std::fmt;
-use std::path::{Path, PathBuf};
-use trocar_model::closed_chain::{description, ClosedChainError, JointType, Mechanism, Output};
+use std::path::Path;
+use trocar_model::closed_chain::{
+    JointKind, LengthAlgebra, LengthExpr, MechanismModel, Output, PoseExpr,
+};
 use trocar_model::description::DescriptionError;
 
 /// A mechanism derivation's results: everything the emitter needs.
@@ -124,101 +126,10 @@ impl fmt::Display for MechanismError {
 
 impl std::error::Error for MechanismError {}
 
-/// A mechanism description read for the generator: the runtime's validated [`Mechanism`] and the
-/// raw TOML (for the symbolic length expressions).
-#[derive(Clone, Debug)]
-pub struct MechanismSource {
-    /// The validated mechanism.
-    pub mechanism: Mechanism,
-    /// The TOML text.
-    pub text: String,
-    /// The file it came from, if any.
-    pub file: Option<PathBuf>,
-}
-
-fn closed_chain_error(e: ClosedChainError, file: Option<&Path>) -> DescriptionError {
-    match e {
-        ClosedChainError::Description(mut d) => {
-            if d.file.is_none() {
-                d.file = file.map(Path::to_path_buf);
-            }
-            d
-        }
-        other => DescriptionError {
-            file: file.map(Path::to_path_buf),
-            line: None,
-            column: None,
-            field: String::new(),
-            message: other.to_string(),
-        },
-    }
-}
-
-impl MechanismSource {
-    /// Reads and validates a mechanism description file (errors name file, line and field).
-    pub fn from_file(path: impl AsRef<Path>) -> Result<Self, DescriptionError> {
-        let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|e| DescriptionError {
-            file: Some(path.to_path_buf()),
-            line: None,
-            column: None,
-            field: String::new(),
-            message: format!("cannot read: {e}"),
-        })?;
-        let mut s = Self::from_toml_str(&text).map_err(|mut e| {
-            e.file = Some(path.to_path_buf());
-            e
-        })?;
-        s.file = Some(path.to_path_buf());
-        Ok(s)
-    }
-
-    /// Reads and validates a mechanism description from TOML text.
-    pub fn from_toml_str(text: &str) -> Result<Self, DescriptionError> {
-        let mechanism =
-            description::from_toml_str(text).map_err(|e| closed_chain_error(e, None))?;
-        Ok(MechanismSource {
-            mechanism,
-            text: text.to_string(),
-            file: None,
-        })
-    }
-
-    /// A shipped mechanism by name (`four-bar`, `planar-stewart`, `cooperative-arms`).
-    pub fn shipped(name: &str) -> Result<Self, DescriptionError> {
-        let text = match name {
-            "four-bar" => description::FOUR_BAR_TOML,
-            "planar-stewart" | "stewart" => description::STEWART_TOML,
-            "cooperative-arms" | "cooperative" => description::COOPERATIVE_TOML,
-            _ => {
-                return Err(DescriptionError {
-                    file: None,
-                    line: None,
-                    column: None,
-                    field: String::new(),
-                    message: format!(
-                        "unknown mechanism `{name}`; shipped: {}",
-                        description::SHIPPED.join(", ")
-                    ),
-                })
-            }
-        };
-        Self::from_toml_str(text)
-    }
-
-    /// Derives the closed-form reduced kinematics ([`derive_mechanism`]); errors name the file.
-    pub fn derive(&self) -> Result<MechanismDerivation, DescriptionError> {
-        derive_mechanism(&self.mechanism, &self.text)
-            .map_err(|e| e.into_description_error(self.file.as_deref()))
-    }
-}
-
-/// Does this TOML text describe a closed mechanism (a top-level `[[chains]]` array) rather than a
-/// serial robot?
-pub fn is_mechanism_toml(text: &str) -> bool {
-    text.parse::<toml::Table>()
-        .map(|t| t.contains_key("chains"))
-        .unwrap_or(false)
+/// Derives the closed-form reduced kinematics of `model` ([`derive_mechanism`]); errors name the
+/// model's file.
+pub fn derive(model: &MechanismModel) -> Result<MechanismDerivation, DescriptionError> {
+    derive_mechanism(model).map_err(|e| e.into_description_error(model.file.as_deref()))
 }
 
 /// A frame along a chain: position and rotation `(cos, sin)` of its accumulated angle.
@@ -242,62 +153,70 @@ impl Frame {
     }
 }
 
-struct Reader<'a> {
-    table: toml::Table,
-    params: &'a [(String, f64)],
-}
+/// Lengths as polynomials of the parameters: numbers read exactly, `pi` its `f64` value.
+struct Length(Poly);
 
-impl Reader<'_> {
-    fn chain(&self, ci: usize) -> Option<&toml::Table> {
-        self.table.get("chains")?.as_array()?.get(ci)?.as_table()
+impl LengthAlgebra for Length {
+    type Error = String;
+    fn number(x: f64) -> Result<Self, String> {
+        Rational::from_f64_decimal(x)
+            .map(|r| Length(Poly::constant(r)))
+            .map_err(|e| e.to_string())
     }
-
-    fn pose_table<'t>(t: Option<&'t toml::Table>, key: &str) -> Option<&'t toml::Table> {
-        t?.get(key)?.as_table()
+    fn param(index: usize) -> Result<Self, String> {
+        Ok(Length(Poly::param(index)))
     }
-
-    /// The symbolic `x`, `y` and the constant angle's `(cos, sin)` of a pose table.
-    fn pose(
-        &self,
-        t: Option<&toml::Table>,
-        path: &str,
-        angle: f64,
-    ) -> Result<(Poly, Poly, Poly, Poly), MechanismError> {
-        let len = |k: &str| -> Result<Poly, MechanismError> {
-            let field = format!("{path}.{k}");
-            match t.and_then(|t| t.get(k)) {
-                None => Ok(Poly::zero()),
-                Some(toml::Value::Float(f)) => constant(*f, &field),
-                Some(toml::Value::Integer(i)) => constant(*i as f64, &field),
-                Some(toml::Value::String(s)) => {
-                    parse_length(s, self.params).map_err(|m| MechanismError::new(field, m))
-                }
-                Some(_) => Err(MechanismError::new(
-                    field,
-                    "expected a number or expression",
-                )),
-            }
-        };
-        if let Some(toml::Value::String(s)) = t.and_then(|t| t.get("angle")) {
-            if let Some(p) = self.params.iter().find(|(n, _)| mentions(s, n)) {
-                return Err(MechanismError::new(
-                    format!("{path}.angle"),
-                    format!(
-                        "fixed angles must be constants (numbers and `pi`) for the generator; \
-                         `{s}` uses the parameter `{}`",
-                        p.0
-                    ),
-                ));
-            }
-        }
-        let (c, s) = angle_cos_sin(angle, &format!("{path}.angle"))?;
-        Ok((len("x")?, len("y")?, c, s))
+    fn neg(self) -> Self {
+        Length(self.0.neg())
+    }
+    fn add(self, rhs: Self) -> Self {
+        Length(self.0.add(&rhs.0))
+    }
+    fn sub(self, rhs: Self) -> Self {
+        Length(self.0.sub(&rhs.0))
+    }
+    fn mul(self, rhs: Self) -> Self {
+        Length(self.0.mul(&rhs.0))
+    }
+    fn div(self, rhs: Self) -> Result<Self, String> {
+        self.0
+            .div(&rhs.0)
+            .map(Length)
+            .map_err(|e: SymbolicError| e.to_string())
     }
 }
 
-fn mentions(expr: &str, name: &str) -> bool {
-    expr.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
-        .any(|w| w == name)
+/// A length expression as a polynomial of the parameters ([`Poly::param`] by index).
+pub fn length_poly(e: &LengthExpr) -> Result<Poly, String> {
+    e.fold::<Length>().map(|l| l.0)
+}
+
+/// The symbolic `x`, `y` and the constant angle's `(cos, sin)` of a pose.
+fn pose(
+    m: &MechanismModel,
+    p: &PoseExpr,
+    path: &str,
+) -> Result<(Poly, Poly, Poly, Poly), MechanismError> {
+    let len = |e: &LengthExpr, k: &str| {
+        length_poly(e).map_err(|msg| MechanismError::new(format!("{path}.{k}"), msg))
+    };
+    if let Some(&k) = p.angle.parameters().first() {
+        return Err(MechanismError::new(
+            format!("{path}.angle"),
+            format!(
+                "fixed angles must be constants (numbers and `pi`) for the generator; \
+                 the angle uses the parameter `{}`",
+                m.parameters[k].name
+            ),
+        ));
+    }
+    let angle_field = format!("{path}.angle");
+    let angle = p
+        .angle
+        .eval(&[])
+        .map_err(|msg| MechanismError::new(angle_field.clone(), msg))?;
+    let (c, s) = angle_cos_sin(angle, &angle_field)?;
+    Ok((len(&p.x, "x")?, len(&p.y, "y")?, c, s))
 }
 
 fn constant(x: f64, field: &str) -> Result<Poly, MechanismError> {
@@ -306,7 +225,8 @@ fn constant(x: f64, field: &str) -> Result<Poly, MechanismError> {
         .map_err(|e| MechanismError::new(field, e.to_string()))
 }
 
-/// A prismatic joint's unit axis (normalised by the runtime), read with the "snap unit" rule.
+/// A prismatic joint's unit axis (normalised as in the numeric model), read with the "snap
+/// unit" rule.
 fn unit_axis(axis: [f64; 2], field: &str) -> Result<(Poly, Poly), MechanismError> {
     let r = |x: f64| {
         Rational::from_f64_snapped(x)
@@ -327,150 +247,6 @@ fn angle_cos_sin(a: f64, field: &str) -> Result<(Poly, Poly), MechanismError> {
     }
     let (s, c) = a.sin_cos();
     Ok((constant(c, field)?, constant(s, field)?))
-}
-
-/// Parses a length expression of the parameters into a polynomial: numbers (read exactly),
-/// parameter names, `pi` (its `f64` value), `+ − * /` and parentheses.
-pub fn parse_length(src: &str, params: &[(String, f64)]) -> Result<Poly, String> {
-    let toks = tokenize(src)?;
-    let mut p = ExprParser {
-        toks: &toks,
-        pos: 0,
-        params,
-    };
-    let v = p.expr()?;
-    if p.pos != toks.len() {
-        return Err(format!("unexpected token in `{src}`"));
-    }
-    Ok(v)
-}
-
-#[derive(Clone, Debug, PartialEq)]
-enum Tok {
-    Num(f64),
-    Id(String),
-    Op(char),
-}
-
-fn tokenize(s: &str) -> Result<Vec<Tok>, String> {
-    let cs: Vec<char> = s.chars().collect();
-    let mut i = 0;
-    let mut out = Vec::new();
-    while i < cs.len() {
-        let c = cs[i];
-        if c.is_whitespace() {
-            i += 1;
-        } else if "+-*/()".contains(c) {
-            out.push(Tok::Op(c));
-            i += 1;
-        } else if c.is_ascii_digit() || c == '.' {
-            let st = i;
-            while i < cs.len()
-                && (cs[i].is_ascii_digit()
-                    || cs[i] == '.'
-                    || cs[i] == 'e'
-                    || cs[i] == 'E'
-                    || ((cs[i] == '-' || cs[i] == '+') && matches!(cs[i - 1], 'e' | 'E')))
-            {
-                i += 1;
-            }
-            let t: String = cs[st..i].iter().collect();
-            out.push(Tok::Num(
-                t.parse().map_err(|_| format!("bad number `{t}`"))?,
-            ));
-        } else if c.is_ascii_alphabetic() || c == '_' {
-            let st = i;
-            while i < cs.len() && (cs[i].is_ascii_alphanumeric() || cs[i] == '_') {
-                i += 1;
-            }
-            out.push(Tok::Id(cs[st..i].iter().collect()));
-        } else {
-            return Err(format!("unexpected character `{c}` in `{s}`"));
-        }
-    }
-    if out.is_empty() {
-        return Err("empty expression".into());
-    }
-    Ok(out)
-}
-
-struct ExprParser<'a> {
-    toks: &'a [Tok],
-    pos: usize,
-    params: &'a [(String, f64)],
-}
-
-impl ExprParser<'_> {
-    fn peek(&self) -> Option<&Tok> {
-        self.toks.get(self.pos)
-    }
-
-    fn expr(&mut self) -> Result<Poly, String> {
-        let mut v = self.term()?;
-        while let Some(Tok::Op(c @ ('+' | '-'))) = self.peek().cloned() {
-            self.pos += 1;
-            let r = self.term()?;
-            v = if c == '+' { v.add(&r) } else { v.sub(&r) };
-        }
-        Ok(v)
-    }
-
-    fn term(&mut self) -> Result<Poly, String> {
-        let mut v = self.unary()?;
-        while let Some(Tok::Op(c @ ('*' | '/'))) = self.peek().cloned() {
-            self.pos += 1;
-            let r = self.unary()?;
-            v = if c == '*' {
-                v.mul(&r)
-            } else {
-                v.div(&r).map_err(|e: SymbolicError| e.to_string())?
-            };
-        }
-        Ok(v)
-    }
-
-    fn unary(&mut self) -> Result<Poly, String> {
-        match self.peek().cloned() {
-            Some(Tok::Op('-')) => {
-                self.pos += 1;
-                Ok(self.unary()?.neg())
-            }
-            Some(Tok::Op('+')) => {
-                self.pos += 1;
-                self.unary()
-            }
-            Some(Tok::Op('(')) => {
-                self.pos += 1;
-                let v = self.expr()?;
-                if self.peek() != Some(&Tok::Op(')')) {
-                    return Err("missing `)`".into());
-                }
-                self.pos += 1;
-                Ok(v)
-            }
-            Some(Tok::Num(x)) => {
-                self.pos += 1;
-                Rational::from_f64_decimal(x)
-                    .map(Poly::constant)
-                    .map_err(|e| e.to_string())
-            }
-            Some(Tok::Id(name)) => {
-                self.pos += 1;
-                if name == "pi" {
-                    return Rational::from_f64_decimal(std::f64::consts::PI)
-                        .map(Poly::constant)
-                        .map_err(|e| e.to_string());
-                }
-                self.params
-                    .iter()
-                    .position(|(n, _)| *n == name)
-                    .map(Poly::param)
-                    .ok_or_else(|| format!("unknown parameter `{name}`"))
-            }
-            Some(t) => Err(format!("unexpected `{t:?}`")),
-            None => Err("expression ends too early".into()),
-        }
-    }
 }
 
 /// The columns `cols` of `m`.
@@ -511,17 +287,13 @@ pub fn adjugate(a: &Matrix) -> Result<Matrix, SymbolicError> {
 
 /// Derives the closed-form reduced kinematics (7)–(8) of a mechanism (see the module docs).
 ///
-/// `text` is the mechanism's TOML description (the source of `mechanism`), read again for the
-/// symbolic length expressions. Errors: `J_Cp` not square (`chains`), contact models
-/// (`chains[k].contact`), angles depending on parameters, unknown parameters.
-pub fn derive_mechanism(
-    mechanism: &Mechanism,
-    text: &str,
-) -> Result<MechanismDerivation, MechanismError> {
-    let m = mechanism;
-    let n = m.n_joints();
+/// Errors: `J_Cp` not square (`chains`), contact models (`chains[k].contact`), angles depending
+/// on parameters, lengths the polynomials cannot hold.
+pub fn derive_mechanism(m: &MechanismModel) -> Result<MechanismDerivation, MechanismError> {
+    let (active, passive) = m.partition();
+    let n = active.len() + passive.len();
     let r = m.n_constraints();
-    let n_p = m.passive_indices().len();
+    let n_p = passive.len();
     if n_p != r {
         return Err(MechanismError::new(
             "chains",
@@ -533,16 +305,8 @@ pub fn derive_mechanism(
             ),
         ));
     }
-    let table: toml::Table = text
-        .parse()
-        .map_err(|e: toml::de::Error| MechanismError::new("", format!("TOML syntax: {e}")))?;
-    let reader = Reader {
-        table,
-        params: &m.parameters,
-    };
     for (ci, ch) in m.chains.iter().enumerate() {
-        let t = reader.chain(ci);
-        if t.is_none_or(|t| t.contains_key("contact")) {
+        if ch.contact.is_some() {
             return Err(MechanismError::new(
                 format!("chains[{ci}].contact"),
                 format!(
@@ -552,74 +316,62 @@ pub fn derive_mechanism(
             ));
         }
     }
+    let nominal = m.nominal_values();
 
     // Steps 1–2: chain poses and Jacobians S J_k, placed in their columns of θ.
     let mut chain_jacobians = Vec::with_capacity(m.chains.len());
+    let mut start = 0;
     for (ci, ch) in m.chains.iter().enumerate() {
-        let ct = reader.chain(ci);
         let path = format!("chains[{ci}]");
-        let (bx, by, bc, bs) = reader.pose(
-            Reader::pose_table(ct, "base"),
-            &format!("{path}.base"),
-            ch.base.angle,
-        )?;
+        let (bx, by, bc, bs) = pose(m, &ch.base, &format!("{path}.base"))?;
         let mut g = Frame {
             x: bx,
             y: by,
             c: bc,
             s: bs,
         };
-        let range = m.chain_range(ci);
-        let joints_t = ct
-            .and_then(|t| t.get("joints"))
-            .and_then(toml::Value::as_array);
         let mut frames = Vec::with_capacity(ch.joints.len());
+        let mut axes = Vec::with_capacity(ch.joints.len());
         for (ji, j) in ch.joints.iter().enumerate() {
-            let k = range.start + ji;
-            let jt = joints_t
-                .and_then(|a| a.get(ji))
-                .and_then(toml::Value::as_table);
-            let (ox, oy, oc, os) = reader.pose(
-                Reader::pose_table(jt, "origin"),
-                &format!("{path}.joints[{ji}].origin"),
-                j.origin.angle,
-            )?;
+            let k = start + ji;
+            let (ox, oy, oc, os) = pose(m, &j.origin, &format!("{path}.joints[{ji}].origin"))?;
             g = g.compose(&ox, &oy, &oc, &os);
             frames.push(g.clone());
-            g = match j.kind {
-                JointType::Revolute => {
-                    g.compose(&Poly::zero(), &Poly::zero(), &Poly::cos(k), &Poly::sin(k))
-                }
-                JointType::Prismatic { axis } => {
-                    let (ax, ay) = unit_axis(axis, &format!("{path}.joints[{ji}].axis"))?;
+            let field = format!("{path}.joints[{ji}].axis");
+            let axis = j
+                .kind
+                .unit_axis(&nominal, &field)
+                .map_err(|e| MechanismError::new(e.field, e.message))?
+                .map(|a| unit_axis(a, &field))
+                .transpose()?;
+            g = match &axis {
+                None => g.compose(&Poly::zero(), &Poly::zero(), &Poly::cos(k), &Poly::sin(k)),
+                Some((ax, ay)) => {
                     let q = Poly::joint(k);
-                    g.compose(&q.mul(&ax), &q.mul(&ay), &Poly::one(), &Poly::zero())
+                    g.compose(&q.mul(ax), &q.mul(ay), &Poly::one(), &Poly::zero())
                 }
             };
+            axes.push(axis);
         }
-        let (tx, ty, tc, ts) = reader.pose(
-            Reader::pose_table(ct, "tip"),
-            &format!("{path}.tip"),
-            ch.tip.angle,
-        )?;
+        let (tx, ty, tc, ts) = pose(m, &ch.tip, &format!("{path}.tip"))?;
         let end = g.compose(&tx, &ty, &tc, &ts);
         let mut jk = Matrix::zeros(3, n);
-        for (ji, (j, f)) in ch.joints.iter().zip(&frames).enumerate() {
-            let k = range.start + ji;
-            match j.kind {
-                JointType::Revolute => {
+        for (ji, (axis, f)) in axes.iter().zip(&frames).enumerate() {
+            let k = start + ji;
+            match axis {
+                None => {
                     jk.set(0, k, end.y.sub(&f.y).neg());
                     jk.set(1, k, end.x.sub(&f.x));
                     jk.set(2, k, Poly::one());
                 }
-                JointType::Prismatic { axis } => {
-                    let (ax, ay) = unit_axis(axis, &format!("{path}.joints[{ji}].axis"))?;
-                    jk.set(0, k, f.c.mul(&ax).sub(&f.s.mul(&ay)));
-                    jk.set(1, k, f.s.mul(&ax).add(&f.c.mul(&ay)));
+                Some((ax, ay)) => {
+                    jk.set(0, k, f.c.mul(ax).sub(&f.s.mul(ay)));
+                    jk.set(1, k, f.s.mul(ax).add(&f.c.mul(ay)));
                 }
             }
         }
         chain_jacobians.push(jk);
+        start += ch.joints.len();
     }
 
     // Step 3: J_C = Ã J (rows J_1 − J_k), J_A = S_x (1/m) Σ J_k.
@@ -643,8 +395,6 @@ pub fn derive_mechanism(
     });
 
     // Step 4: det, adjugate, numerators.
-    let active = m.active_indices().to_vec();
-    let passive = m.passive_indices().to_vec();
     let j_ca = select_columns(&j_c, &active);
     let j_cp = select_columns(&j_c, &passive);
     let j_aa = select_columns(&j_a, &active);
@@ -664,12 +414,14 @@ pub fn derive_mechanism(
 
     Ok(MechanismDerivation {
         name: m.name.clone(),
-        params: m.parameters.iter().map(|(n, _)| n.clone()).collect(),
-        param_values: m.parameters.iter().map(|(_, v)| *v).collect(),
-        joint_names: m.joint_names().iter().map(|s| s.to_string()).collect(),
+        params: m.parameters.iter().map(|p| p.name.clone()).collect(),
+        param_values: nominal,
+        joint_names: m.joint_names(),
         joint_is_linear: m
-            .joints()
-            .map(|j| matches!(j.kind, JointType::Prismatic { .. }))
+            .chains
+            .iter()
+            .flat_map(|c| &c.joints)
+            .map(|j| matches!(j.kind, JointKind::Prismatic { .. }))
             .collect(),
         active,
         passive,
@@ -686,12 +438,14 @@ pub fn derive_mechanism(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::symbolic::Env;
-    use trocar::nalgebra::DVector;
+    use trocar_model::closed_chain::FOUR_BAR_TOML;
 
     #[test]
     fn lengths_are_symbolic() {
-        let p = vec![("l0".to_string(), 1.0), ("l3".to_string(), 0.6)];
+        let p = ["l0", "l3"];
+        let parse_length = |s: &str, p: &[&str]| -> Result<Poly, String> {
+            length_poly(&LengthExpr::parse(s, p)?)
+        };
         let e = parse_length("-l0/2 + 2*(l3 - 0.5)", &p).unwrap();
         assert_eq!(
             e,
@@ -719,41 +473,13 @@ mod tests {
         assert_eq!(m.mul(&adj), Matrix::identity(3).scale(&det));
     }
 
-    /// The symbolic J_C and J_A of the four-bar linkage equal the runtime's numeric ones.
-    #[test]
-    fn four_bar_matches_runtime_differential() {
-        let src = MechanismSource::shipped("four-bar").unwrap();
-        let d = src.derive().unwrap();
-        let q = [1.1, 5.3, 1.7, 4.9];
-        let num = src
-            .mechanism
-            .differential(&DVector::from_row_slice(&q))
-            .unwrap();
-        let env = Env {
-            q: &q,
-            params: &d.param_values,
-        };
-        let jc = d.j_c.eval(&env);
-        let ja = d.j_a.eval(&env);
-        for (i, row) in jc.iter().enumerate() {
-            for (j, x) in row.iter().enumerate() {
-                assert!((x - num.j_c[(i, j)]).abs() < 1e-13, "J_C[{i}][{j}]");
-            }
-        }
-        for (j, x) in ja[0].iter().enumerate() {
-            assert!((x - num.j_a[(0, j)]).abs() < 1e-13);
-        }
-        let det = d.det_j_cp.eval(&env);
-        assert!((det - num.j_cp.determinant()).abs() < 1e-12);
-    }
-
     /// The numerators satisfy their defining identities exactly (symbolically):
     /// `J_Cp · (−adj(J_Cp) J_Ca) = −det(J_Cp) J_Ca` and
     /// `det(J_Cp) J_Aa + J_Ap · (−adj(J_Cp) J_Ca) = det(J_Cp) · J`.
     #[test]
     fn numerators_solve_the_constraint_exactly() {
         for name in ["four-bar", "planar-stewart"] {
-            let d = MechanismSource::shipped(name).unwrap().derive().unwrap();
+            let d = derive(&MechanismModel::shipped(name).unwrap()).unwrap();
             let j_cp = select_columns(&d.j_c, &d.passive);
             let j_ca = select_columns(&d.j_c, &d.active);
             assert_eq!(
@@ -773,25 +499,20 @@ mod tests {
 
     #[test]
     fn non_square_j_cp_is_an_error() {
-        let e = MechanismSource::shipped("cooperative-arms")
-            .unwrap()
-            .derive()
-            .unwrap_err();
+        let e =
+            derive_mechanism(&MechanismModel::shipped("cooperative-arms").unwrap()).unwrap_err();
         assert_eq!(e.field, "chains");
         assert!(e.message.contains("square"), "{}", e.message);
     }
 
     #[test]
     fn parameter_angles_are_rejected() {
-        let text = description::FOUR_BAR_TOML.replace(
+        let text = FOUR_BAR_TOML.replace(
             "base = { x = \"l0/2\" }",
             "base = { x = \"l0/2\", angle = \"l0 - 1\" }",
         );
-        assert_ne!(text, description::FOUR_BAR_TOML);
-        let e = MechanismSource::from_toml_str(&text)
-            .unwrap()
-            .derive()
-            .unwrap_err();
+        assert_ne!(text, FOUR_BAR_TOML);
+        let e = derive_mechanism(&MechanismModel::from_toml_str(&text).unwrap()).unwrap_err();
         assert_eq!(e.field, "chains[1].base.angle");
     }
 }
