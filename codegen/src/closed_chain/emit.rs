@@ -6,7 +6,7 @@
 //! `det J_Cp` (`reduced_jacobian`, `passive_map`, `passive_velocities`) wrap them and return
 //! `None` instead of a NaN or an infinity when `det J_Cp` is zero or not finite.
 
-use super::MechanismDerivation;
+use super::derive::{derive, MechanismDerivation, MechanismError};
 use crate::builder::Error;
 use crate::emit::bridge::PolyBuilder;
 use crate::emit::{self, ConstItem, Function, ModuleSpec, Program, Real, Shape};
@@ -414,11 +414,11 @@ pub fn generate_mechanism_string(
     module: Option<&str>,
     real: Real,
 ) -> Result<String, Error> {
-    let d = super::derive(model).map_err(Error::Description)?;
+    let d = derive(model).map_err(Error::Description)?;
     for (k, name) in d.params.iter().enumerate() {
         if syn::parse_str::<Ident>(name).is_err() {
             return Err(Error::Description(
-                super::MechanismError::new(
+                MechanismError::new(
                     format!("parameters.{name}"),
                     format!(
                         "parameter {k} `{name}` is not a Rust identifier (a field of `Params`)"
