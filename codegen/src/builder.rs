@@ -21,7 +21,7 @@
 //! file. The lower-level entry points [`generate_module`] (tokens), [`generate_module_string`]
 //! and [`generate_mechanism_string`] (formatted file) serve the command line and the attribute.
 
-use crate::closed_chain::{self, MechanismSource};
+use crate::closed_chain;
 use crate::derivation;
 use crate::emit::{self, bridge, Real, Runtime};
 use crate::error::Error;
@@ -29,6 +29,7 @@ use crate::naming::checked_module_name;
 use proc_macro2::TokenStream;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use trocar_model::closed_chain::MechanismModel;
 use trocar_model::description::RobotDescription;
 
 /// Options of one generated module.
@@ -83,7 +84,7 @@ pub fn generate_module_string(
 /// `@generated` line): the closed-form reduced Jacobian (8) and passive velocities (7)
 /// ([`crate::closed_chain`]).
 pub fn generate_mechanism_string(
-    src: &MechanismSource,
+    src: &MechanismModel,
     options: &ModuleOptions,
 ) -> Result<String, Error> {
     let runtime = options.runtime()?;
@@ -216,8 +217,8 @@ impl Builder {
             }
         }
         for (path, name) in &self.mechanisms {
-            let src = MechanismSource::from_file(path)?;
-            let module = checked_module_name(&src.mechanism.name, name.as_deref())?;
+            let src = MechanismModel::from_toml_file(path)?;
+            let module = checked_module_name(&src.name, name.as_deref())?;
             let options = ModuleOptions {
                 real: self.real,
                 module_name: Some(module.clone()),

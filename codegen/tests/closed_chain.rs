@@ -2,9 +2,8 @@
 //! (file and field), and the golden snapshot of the four-bar module.
 
 use std::path::PathBuf;
-use trocar_codegen::closed_chain::MechanismSource;
 use trocar_codegen::{generate_mechanism_string, Builder, Error, ModuleOptions, Real};
-use trocar_model::closed_chain::description;
+use trocar_model::closed_chain::{MechanismModel, FOUR_BAR_TOML};
 
 fn mechanisms() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../runtime/model/robots/mechanisms")
@@ -49,7 +48,7 @@ fn builder_errors_name_file_and_field() {
     let bad = dir.join("bad.toml");
     std::fs::write(
         &bad,
-        description::FOUR_BAR_TOML.replace("origin = { x = \"l1\" }", "origin = { x = \"l9\" }"),
+        FOUR_BAR_TOML.replace("origin = { x = \"l1\" }", "origin = { x = \"l9\" }"),
     )
     .unwrap();
     let err = Builder::new().mechanism(&bad).generate().unwrap_err();
@@ -71,7 +70,7 @@ fn builder_errors_name_file_and_field() {
 /// `tests/snapshots/four_bar.rs` and fails when it differs.
 #[test]
 fn snapshot_four_bar() {
-    let src = MechanismSource::shipped("four-bar").unwrap();
+    let src = MechanismModel::shipped("four-bar").unwrap();
     let text = generate_mechanism_string(&src, &ModuleOptions::default()).unwrap();
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/snapshots/four_bar.rs");
     let old = std::fs::read_to_string(&path).unwrap_or_default();

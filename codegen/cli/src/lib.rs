@@ -20,9 +20,10 @@ use clap::{Parser, Subcommand, ValueEnum};
 use std::fmt;
 use std::path::{Path, PathBuf};
 use trocar_codegen::catalogue::Function;
-use trocar_codegen::closed_chain::MechanismSource;
 use trocar_codegen::evaluate::{Evaluated, Generated};
+use trocar_model::closed_chain::MechanismModel;
 use trocar_model::description::{preset_names, DescriptionError, RobotDescription};
+use trocar_model::Description;
 use trocar_sim::verify::Candidate;
 
 /// Command-line arguments of `trocar`.
@@ -228,84 +229,41 @@ impl From<DescriptionError> for CliError {
     }
 }
 
-/// Loads a description from a file, or a shipped description by name when no such file exists.
-pub fn load_robot(robot: &str) -> Result<RobotDescription, DescriptionError> {
-    let path = Path::new(robot);
-    if !path.exists() && preset_names().any(|n| n == robot) {
-        RobotDescription::preset(robot)
-    } else {
-        RobotDescription::from_toml_file(path)
-    }
-}
-
-/// Is `robot` a closed mechanism: a TOML file with `[[chains]]`, or the name of a shipped
-/// mechanism (`four-bar`, `planar-stewart`, `cooperative-arms`) when no such file exists?
-pub fn is_mechanism(robot: &str) -> bool {
-    let path = Path::new(robot);
-    if path.exists() {
-        std::fs::read_to_string(path)
-            .is_ok_and(|t| trocar_codegen::closed_chain::is_mechanism_toml(&t))
-    } else {
-        trocar_model::closed_chain::description::SHIPPED.contains(&robot)
-    }
-}
-
-/// Loads a mechanism from a file, or a shipped mechanism by name when no such file exists.
-pub fn load_mechanism(robot: &str) -> Result<MechanismSource, DescriptionError> {
-    let path = Path::new(robot);
-    if path.exists() {
-        MechanismSource::from_file(path)
-    } else {
-        MechanismSource::shipped(robot)
-    }
-}
-
 /// `trocar eval` for a closed mechanism: `--what jr` (reduced Jacobian (8)), `jc` (`J_C`),
 /// `passive` (`−J_Cp⁻¹ J_Ca`, (7)) or `det` (`det J_Cp`), at all joint values `q`; from the
 /// generated closed forms (interpreted exactly as emitted) or, with `numeric`, the runtime.
 pub fn eval_mechanism(
-    src: &MechanismSource,
+    m: &MechanismModel,
     q: &[f64],
     params: &[(String, f64)],
     what: What,
     numeric: bool,
 ) -> Result<MatrixOut, CliError> {
-    let m = &src.mechanism;
-    let n = m.n_joints();
+    let names = m.joint_names();
+    let n = names.len();
     if q.len() != n {
         return Err(CliError(format!(
             "--q: `{}` has {n} joints ({}), got {} values",
             m.name,
-            m.joint_names().join(", "),
+            names.join(", "),
             q.len()
         )));
     }
     if let Some(k) = q.iter().position(|x| !x.is_finite()) {
         return Err(CliError(format!("--q: value {k} is not finite")));
     }
-    let mut values: Vec<f64> = m.parameters.iter().map(|(_, v)| *v).collect();
+    let mut values = m.nominal_values();
     for (name, value) in params {
-        let k = m
-            .parameters
-            .iter()
-            .position(|(p, _)| p == name)
-            .ok_or_else(|| {
-                CliError(format!(
-                    "unknown parameter `{name}` (the mechanism declares: {})",
-                    m.parameters
-                        .iter()
-                        .map(|(p, _)| p.as_str())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ))
-            })?;
+        let k = m.parameter_index(name).ok_or_else(|| {
+            CliError(format!(
+                "unknown parameter `{name}` (the mechanism declares: {})",
+                m.parameter_names().join(", ")
+            ))
+        })?;
         values[k] = *value;
     }
-    let (na, np, no) = (
-        m.active_indices().len(),
-        m.passive_indices().len(),
-        m.outputs.len(),
-    );
+    let (active, passive) = m.partition();
+    let (na, np, no) = (active.len(), passive.len(), m.outputs.len());
     let singular = || {
         CliError(format!(
             "J_Cp is singular at this configuration (parallel singularity of `{}`)",
@@ -313,21 +271,8 @@ pub fn eval_mechanism(
         ))
     };
     if numeric {
-        let mech = if params.is_empty() {
-            m.clone()
-        } else {
-            let mut table: toml::Table = src
-                .text
-                .parse()
-                .map_err(|e| CliError(format!("TOML syntax: {e}")))?;
-            if let Some(toml::Value::Table(pt)) = table.get_mut("parameters") {
-                for ((name, _), v) in m.parameters.iter().zip(&values) {
-                    pt.insert(name.clone(), toml::Value::Float(*v));
-                }
-            }
-            trocar_model::closed_chain::description::from_toml_str(&table.to_string())
-                .map_err(|e| CliError(e.to_string()))?
-        };
+        let mech = trocar_sim::closed_chain::Mechanism::from_model(m, &values)
+            .map_err(|e| CliError(e.to_string()))?;
         let theta = trocar::nalgebra::DVector::from_row_slice(q);
         let d = mech
             .differential(&theta)
@@ -337,7 +282,7 @@ pub fn eval_mechanism(
             What::Det if d.j_cp.is_square() => MatrixOut {
                 rows: 1,
                 cols: 1,
-                data: vec![vec![d.j_cp.clone().determinant()]],
+                data: vec![vec![trocar_sim::closed_chain::linalg::determinant(&d.j_cp)]],
             },
             What::Jr | What::Passive => {
                 let r = mech.reduced(&theta).map_err(|e| CliError(e.to_string()))?;
@@ -350,7 +295,7 @@ pub fn eval_mechanism(
             _ => return Err(unsupported_for_mechanism(what)),
         });
     }
-    let d = src.derive()?;
+    let d = trocar_codegen::closed_chain::derive(m)?;
     let generated = Generated::mechanism(&d);
     let eval = |f: Function| {
         generated
@@ -540,13 +485,14 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             json,
             numeric,
         } => {
-            if is_mechanism(&robot) {
-                let src = load_mechanism(&robot)?;
-                let out = eval_mechanism(&src, &q, &params, what, numeric)?;
-                println!("{}", if json { out.to_json() } else { out.to_text() });
-                return Ok(0);
-            }
-            let desc = load_robot(&robot)?;
+            let desc = match Description::load(&robot)? {
+                Description::Mechanism(m) => {
+                    let out = eval_mechanism(&m, &q, &params, what, numeric)?;
+                    println!("{}", if json { out.to_json() } else { out.to_text() });
+                    return Ok(0);
+                }
+                Description::Serial(desc) => desc,
+            };
             let out = if numeric {
                 eval_numeric(&desc, &q, &params, what)?
             } else {
@@ -588,14 +534,15 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
                 real,
                 ..Default::default()
             };
-            let code = if is_mechanism(&robot) {
-                let src = load_mechanism(&robot)?;
-                trocar_codegen::generate_mechanism_string(&src, &options)
-                    .map_err(|e| CliError(e.to_string()))?
-            } else {
-                let desc = load_robot(&robot)?;
-                trocar_codegen::generate_module_string(&desc, &options)
-                    .map_err(|e| CliError(e.to_string()))?
+            let code = match Description::load(&robot)? {
+                Description::Mechanism(m) => {
+                    trocar_codegen::generate_mechanism_string(&m, &options)
+                        .map_err(|e| CliError(e.to_string()))?
+                }
+                Description::Serial(desc) => {
+                    trocar_codegen::generate_module_string(&desc, &options)
+                        .map_err(|e| CliError(e.to_string()))?
+                }
             };
             match output {
                 Some(path) => std::fs::write(&path, code)
@@ -609,14 +556,13 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             samples,
             seed,
         } => {
-            if is_mechanism(&robot) {
+            let Description::Serial(desc) = Description::load(&robot)? else {
                 return Err(CliError(format!(
                     "`{robot}` is a closed mechanism: `verify` checks serial robots; compare the \
                      closed form with the runtime by `trocar eval {robot} --q ... --what jr` \
                      with and without `--numeric`"
                 )));
-            }
-            let desc = load_robot(&robot)?;
+            };
             if samples == 0 {
                 return Err(CliError("--samples must be at least 1".into()));
             }

@@ -2,7 +2,7 @@
 //! TOML, and their errors.
 
 use std::process::Command;
-use trocar_model::closed_chain::four_bar::FourBar;
+use trocar_sim::closed_chain::four_bar::FourBar;
 
 fn trocar(args: &[&str]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_trocar"))

@@ -6,7 +6,7 @@
 //! `det J_Cp` (`reduced_jacobian`, `passive_map`, `passive_velocities`) wrap them and return
 //! `None` instead of a NaN or an infinity when `det J_Cp` is zero or not finite.
 
-use super::{MechanismDerivation, MechanismSource};
+use super::derive::{derive, MechanismDerivation, MechanismError};
 use crate::emit::bridge::PolyBuilder;
 use crate::emit::rust::Ty;
 use crate::emit::{self, ConstItem, Function, ModuleSpec, Program, Real, Runtime};
@@ -15,6 +15,7 @@ use crate::naming::checked_module_name;
 use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
 use trocar_model::catalogue::{Function as F, Size};
+use trocar_model::closed_chain::MechanismModel;
 
 fn program(d: &MechanismDerivation) -> Program {
     Program::new(d.params.clone())
@@ -376,22 +377,22 @@ pub fn module_tokens(
 /// The formatted module file (prettyplease, headed by the `@generated` line) of a mechanism,
 /// named `module` or after the mechanism.
 pub fn generate_mechanism_string(
-    src: &MechanismSource,
+    model: &MechanismModel,
     module: Option<&str>,
     real: Real,
     runtime: &Runtime,
 ) -> Result<String, Error> {
-    let d = src.derive().map_err(Error::Description)?;
+    let d = derive(model).map_err(Error::Description)?;
     for (k, name) in d.params.iter().enumerate() {
         if syn::parse_str::<Ident>(name).is_err() {
             return Err(Error::Description(
-                super::MechanismError::new(
+                MechanismError::new(
                     format!("parameters.{name}"),
                     format!(
                         "parameter {k} `{name}` is not a Rust identifier (a field of `Params`)"
                     ),
                 )
-                .into_description_error(src.file.as_deref()),
+                .into_description_error(model.file.as_deref()),
             ));
         }
     }

@@ -2,10 +2,14 @@
 //!
 //! Serial robots (TOML, URDF) and closed planar mechanisms (TOML) are read into one validated
 //! model, and converted to the numeric types of [`trocar`] ([`numeric::NumericModel`]).
+//! [`Description::load`] decides which reader a file or a shipped name goes to.
 #![warn(missing_docs)]
 
 pub mod catalogue;
 pub mod closed_chain;
 pub mod description;
 pub mod expr;
+mod load;
 pub mod numeric;
+
+pub use load::Description;

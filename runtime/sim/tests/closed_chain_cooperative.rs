@@ -3,10 +3,10 @@
 //! objectives improve their index without disturbing the task.
 
 use trocar::nalgebra::{DMatrix, DVector};
-use trocar_model::closed_chain::cooperative::{contact_jacobians, two_arms, ContactModel};
-use trocar_model::closed_chain::mechanism::reduce_blocks;
-use trocar_model::closed_chain::redundancy::{null_projector, resolve, Objective};
-use trocar_model::closed_chain::{linalg, Mechanism};
+use trocar_sim::closed_chain::cooperative::{contact_jacobians, two_arms, ContactModel};
+use trocar_sim::closed_chain::mechanism::reduce_blocks;
+use trocar_sim::closed_chain::redundancy::{null_projector, resolve, Objective};
+use trocar_sim::closed_chain::{linalg, Mechanism};
 use trocar_sim::closed_chain::{simulate, SimOptions};
 
 fn assembled(model: &ContactModel) -> (Mechanism, DVector<f64>) {
@@ -216,7 +216,7 @@ fn null_space_objectives_improve_without_disturbing_the_task() {
 
 #[test]
 fn stretched_arm_with_gripped_object_is_a_serial_singularity() {
-    use trocar_model::closed_chain::{ClosedChainError, SingularityKind};
+    use trocar_sim::closed_chain::{ClosedChainError, SingularityKind};
     let m = two_arms(&ContactModel::Gripped).unwrap();
     // Arm 1 fully stretched along α; the object (gripped) continues along the same line.
     let a = 30f64.to_radians();

@@ -1,7 +1,7 @@
 //! The source's simulations (§6, Figures 4 and 5) and the cooperating arms: tracking errors
 //! converge; traces are written as CSV and SVG.
 
-use trocar_model::closed_chain::ClosedChainError;
+use trocar_sim::closed_chain::ClosedChainError;
 use trocar_sim::closed_chain::{simulate, SimOptions, Trace};
 
 fn max_abs_between(tr: &Trace, col: &str, t0: f64, t1: f64) -> f64 {
@@ -160,7 +160,7 @@ fn write_plots_for_review() {
         );
         tr.plot_svg(dir.join(format!("cc_{name}.svg"))).unwrap();
     }
-    use trocar_model::closed_chain::redundancy::Objective;
+    use trocar_sim::closed_chain::redundancy::Objective;
     let o = SimOptions {
         objective: Some(Objective::JointLimits),
         null_gain: 5.0,

@@ -1,13 +1,13 @@
 //! The generated closed-mechanism modules against independent computations: the runtime's numeric
-//! reduced kinematics (7)–(8) (SVD-based, `trocar_model::closed_chain`), finite differences of the
+//! reduced kinematics (7)–(8) (SVD-based, `trocar_sim::closed_chain`), finite differences of the
 //! closed-form passive solution of the four-bar linkage and of the closed-form inverse kinematics
 //! of the planar Gough–Stewart platform, and the runtime's singularity classification.
 // Entries are compared by (row, column) index against nalgebra matrices.
 #![allow(clippy::needless_range_loop)]
 
 use trocar::nalgebra::{DMatrix, DVector};
-use trocar_model::closed_chain::four_bar::FourBar;
-use trocar_model::closed_chain::{description, stewart, Mechanism, Pose2, SingularityKind};
+use trocar_sim::closed_chain::four_bar::FourBar;
+use trocar_sim::closed_chain::{description, stewart, Mechanism, Pose2, SingularityKind};
 use trocar_tests_generated::{four_bar, four_bar_f32, planar_stewart};
 
 fn four_bar_mechanism() -> (Mechanism, FourBar) {
@@ -344,4 +344,34 @@ fn planar_stewart_matches_runtime_and_inverse_kinematics() {
     }
     assert!(worst <= 1e-12, "worst relative difference {worst:e}");
     assert!(worst_fd <= 1e-8, "worst |J ∂d/∂pose − I| {worst_fd:e}");
+}
+
+/// The symbolic J_C and J_A of the four-bar linkage equal the numeric reference's.
+#[test]
+fn four_bar_matches_runtime_differential() {
+    use trocar_codegen::symbolic::Env;
+    use trocar_model::closed_chain::MechanismModel;
+    let model = MechanismModel::shipped("four-bar").unwrap();
+    let d = trocar_codegen::closed_chain::derive(&model).unwrap();
+    let q = [1.1, 5.3, 1.7, 4.9];
+    let num = Mechanism::nominal(&model)
+        .unwrap()
+        .differential(&DVector::from_row_slice(&q))
+        .unwrap();
+    let env = Env {
+        q: &q,
+        params: &d.param_values,
+    };
+    let jc = d.j_c.eval(&env);
+    let ja = d.j_a.eval(&env);
+    for (i, row) in jc.iter().enumerate() {
+        for (j, x) in row.iter().enumerate() {
+            assert!((x - num.j_c[(i, j)]).abs() < 1e-13, "J_C[{i}][{j}]");
+        }
+    }
+    for (j, x) in ja[0].iter().enumerate() {
+        assert!((x - num.j_a[(0, j)]).abs() < 1e-13);
+    }
+    let det = d.det_j_cp.eval(&env);
+    assert!((det - trocar_sim::closed_chain::linalg::determinant(&num.j_cp)).abs() < 1e-12);
 }

@@ -1,14 +1,16 @@
 //! Simulations of the source's §6 (Figures 4 and 5) and of the cooperating arms, as traces.
 
+use super::cooperative::{two_arms, ContactModel};
+use super::description;
+use super::error::ClosedChainError;
+use super::four_bar::FourBar;
+use super::linalg;
+use super::mechanism::{Mechanism, Pose2};
+use super::redundancy::{resolve, Objective};
+use super::stewart;
 use nalgebra::DVector;
 use std::f64::consts::PI;
 use std::path::Path;
-use trocar_model::closed_chain::cooperative::{two_arms, ContactModel};
-use trocar_model::closed_chain::description;
-use trocar_model::closed_chain::four_bar::FourBar;
-use trocar_model::closed_chain::mechanism::{Mechanism, Pose2};
-use trocar_model::closed_chain::redundancy::{resolve, Objective};
-use trocar_model::closed_chain::{linalg, stewart, ClosedChainError};
 
 /// Scenario names accepted by [`simulate`].
 pub fn scenario_names() -> &'static [&'static str] {

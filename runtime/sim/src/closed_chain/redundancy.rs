@@ -14,9 +14,9 @@
 //! `∂f/∂θ_a = g_a + Pᵀ g_p` where `g = ∂f/∂θ`; then `ḟ = (∂f/∂θ_a)ᵀ u`, so the null-space term
 //! raises `f` at the rate `K_0 ‖(I − J†J) ∂f/∂θ_a‖² ≥ 0`.
 
+use super::error::{ClosedChainError, SingularityKind};
 use super::linalg;
 use super::mechanism::Mechanism;
-use super::{ClosedChainError, SingularityKind};
 use nalgebra::{DMatrix, DVector};
 
 /// Objective functions `f(θ_a)` of (46), to be increased in the null space.
@@ -118,8 +118,7 @@ pub fn manipulability(j: &DMatrix<f64>) -> f64 {
     if j.nrows() > j.ncols() {
         return 0.0;
     }
-    let sv = j.clone().svd(false, false).singular_values;
-    sv.iter().product()
+    linalg::singular_values(j).iter().product()
 }
 
 fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {

@@ -3,7 +3,7 @@
 //! differences of that map, and parallel singularities detected by the rank of J_Cp.
 
 use trocar::nalgebra::DVector;
-use trocar_model::closed_chain::{
+use trocar_sim::closed_chain::{
     description, stewart, ClosedChainError, Mechanism, Pose2, SingularityKind,
 };
 

@@ -7,8 +7,8 @@
 //! `J_Cp` is singular when the three leg lines meet at a point (or are parallel): the platform
 //! can then turn about that point with the legs locked (a parallel singularity).
 
+use super::error::ClosedChainError;
 use super::mechanism::{JointType, Mechanism, Pose2};
-use super::ClosedChainError;
 use nalgebra::DVector;
 
 fn check_layout(m: &Mechanism) -> Result<(), ClosedChainError> {
@@ -47,7 +47,7 @@ pub fn inverse_kinematics(m: &Mechanism, pose: Pose2) -> Result<DVector<f64>, Cl
         let d = (f.x * f.x + f.y * f.y).sqrt();
         if d < 1e-12 {
             return Err(ClosedChainError::Singular {
-                kind: super::SingularityKind::Structural,
+                kind: super::error::SingularityKind::Structural,
                 what: format!("leg `{}` has zero length", ch.name),
                 sigma_min: 0.0,
             });

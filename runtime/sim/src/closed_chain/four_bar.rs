@@ -15,8 +15,8 @@
 //! branch with joint 4 above the diagonal joint 3 → joint 2, for `0 < θ1 < π`). They give the
 //! source's orientation range: `φ ∈ [5.81, 7.98]` rad over `θ1 ∈ [0.7227, 2.2784]` rad.
 
+use super::error::ClosedChainError;
 use super::mechanism::Mechanism;
-use super::ClosedChainError;
 use nalgebra::DVector;
 use std::f64::consts::PI;
 

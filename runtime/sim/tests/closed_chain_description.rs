@@ -1,6 +1,6 @@
 //! Mechanism descriptions: the shipped files and errors that name the field.
 
-use trocar_model::closed_chain::{description, ClosedChainError, JointType, Output};
+use trocar_sim::closed_chain::{description, ClosedChainError, JointType, Output};
 
 fn field_of(src: &str) -> (String, String, Option<usize>) {
     match description::from_toml_str(src) {
@@ -60,7 +60,7 @@ fn shipped_mechanisms() {
     assert!(description::shipped("five-bar").is_err());
     description::from_toml_str(GOOD).unwrap();
     // The files on disk are the ones compiled in.
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/robots/mechanisms/");
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../model/robots/mechanisms/");
     for f in [
         "four-bar.toml",
         "planar-stewart.toml",

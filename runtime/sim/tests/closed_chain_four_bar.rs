@@ -2,8 +2,8 @@
 //! against finite differences of independent position-level solutions.
 
 use trocar::nalgebra::DVector;
-use trocar_model::closed_chain::ClosedChainError;
-use trocar_model::closed_chain::{
+use trocar_sim::closed_chain::ClosedChainError;
+use trocar_sim::closed_chain::{
     description, four_bar::FourBar, linalg, Mechanism, SingularityKind,
 };
 
@@ -89,10 +89,10 @@ fn any_annihilator_gives_the_same_reduced_jacobian() {
     let (m, fb) = setup();
     let th = fb.configuration(1.3).unwrap();
     let (j, a) = m.stacked(&th);
-    let (jc, ja) = trocar_model::closed_chain::mechanism::constraint_and_analytic(&j, &a).unwrap();
+    let (jc, ja) = trocar_sim::closed_chain::mechanism::constraint_and_analytic(&j, &a).unwrap();
     // J_A here is the full pose; select φ.
     let ja_phi = ja.rows(2, 1).into_owned();
-    let red = trocar_model::closed_chain::mechanism::reduce_blocks(
+    let red = trocar_sim::closed_chain::mechanism::reduce_blocks(
         &jc,
         &ja_phi,
         m.active_indices(),

@@ -8,25 +8,15 @@
 //! the relative rotation, `H = [0 0 1]` (42). (In the plane, twists are `(v_x, v_y, ω)`.)
 //!
 //! Two equivalent routes are provided: [`contact_jacobians`] builds (39)–(41) literally from the
-//! arms' Jacobians; [`attach_contact`] turns each row of `H` into a passive joint of the arm's
-//! chain (a rotation row into a revolute joint at the contact, a translation row into a
+//! arms' Jacobians; [`Mechanism::from_model`] turns each row of `H` into a passive joint of the
+//! arm's chain (a rotation row into a revolute joint at the contact, a translation row into a
 //! prismatic joint), so that the generic [`Mechanism`] machinery applies.
 
+use super::error::ClosedChainError;
 use super::linalg;
-use super::mechanism::{Chain, JointType, Mechanism, PlanarJoint, Pose2};
-use super::{description, ClosedChainError};
+use super::mechanism::Mechanism;
 use nalgebra::{DMatrix, Matrix3};
-
-/// A contact between an arm's end effector and the object.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Contact {
-    /// Rows of `H`: the free directions `(v_x, v_y, ω)` in the contact (end-effector) frame.
-    /// Empty for a gripped contact.
-    pub h: Vec<[f64; 3]>,
-    /// Transform from the contact frame to the object frame `E_c` (`P_eic` and the relative
-    /// orientation of (32)–(33)).
-    pub object: Pose2,
-}
+use trocar_model::closed_chain::{LengthExpr, MechanismModel};
 
 /// The contact models of §5.3.
 #[derive(Clone, Debug, PartialEq)]
@@ -131,44 +121,16 @@ pub fn contact_jacobians(
     })
 }
 
-/// Appends a contact to an arm's chain: each row of `H` becomes a passive joint at the contact
-/// frame (`(0, 0, 1)` a revolute joint, `(v_x, v_y, 0)` a prismatic joint along that direction),
-/// then the chain continues to the object frame. Errors name `h[i]` for a row that mixes
-/// rotation and translation or is zero.
-pub fn attach_contact(mut chain: Chain, contact: &Contact) -> Result<Chain, ClosedChainError> {
-    if contact.h.is_empty() {
-        chain.tip = chain.tip.compose(&contact.object);
-        return Ok(chain);
-    }
-    let mut origin = chain.tip;
-    for (i, row) in contact.h.iter().enumerate() {
-        let lin = (row[0] * row[0] + row[1] * row[1]).sqrt();
-        let kind = if lin < 1e-12 && (row[2] - 1.0).abs() < 1e-12 {
-            JointType::Revolute
-        } else if row[2].abs() < 1e-12 && lin > 1e-12 && lin.is_finite() {
-            JointType::Prismatic {
-                axis: [row[0] / lin, row[1] / lin],
-            }
-        } else {
-            return Err(ClosedChainError::invalid(
-                format!("h[{i}]"),
-                "a free direction must be a rotation (0, 0, 1) or a translation (v_x, v_y, 0)",
-            ));
-        };
-        chain.joints.push(PlanarJoint {
-            name: format!("{}_contact{}", chain.name, i + 1),
-            kind,
-            origin,
-            active: false,
-            limits: None,
-        });
-        origin = Pose2::IDENTITY;
-    }
-    chain.tip = contact.object;
-    Ok(chain)
-}
-
 /// The shipped two-arm system (`cooperative-arms.toml`) with every contact replaced by `model`.
 pub fn two_arms(model: &ContactModel) -> Result<Mechanism, ClosedChainError> {
-    description::from_toml_str_with_contacts(description::COOPERATIVE_TOML, Some(&model.h()))
+    let mut m = MechanismModel::shipped("cooperative-arms")?;
+    with_contacts(&mut m, &model.h());
+    Mechanism::nominal(&m)
+}
+
+/// Replaces the selection `H` of every contact of `model` by the rows `h`.
+pub fn with_contacts(model: &mut MechanismModel, h: &[[f64; 3]]) {
+    for c in model.chains.iter_mut().filter_map(|c| c.contact.as_mut()) {
+        c.h = h.iter().map(|r| r.map(LengthExpr::Number)).collect();
+    }
 }

@@ -21,10 +21,12 @@
 //! of chain 1 (plus fixed offsets), so it is continuous along a motion, as in the source's figures
 //! (`φ ∈ [5.88, 7.89]` rad for the four-bar linkage).
 
+use super::error::{ClosedChainError, SingularityKind};
 use super::linalg;
-use super::{ClosedChainError, SingularityKind};
 use nalgebra::{DMatrix, DVector, Vector3};
 use std::f64::consts::PI;
+pub use trocar_model::closed_chain::Output;
+use trocar_model::closed_chain::{ContactJoint, MechanismModel};
 
 /// A planar pose `(x, y, angle)`: the transform `Trans(x, y) · Rot_z(angle)`.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
@@ -132,41 +134,10 @@ pub struct Chain {
     pub tip: Pose2,
 }
 
-/// One component of the task vector `x` (1).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Output {
-    /// Position x of the common frame.
-    X,
-    /// Position y of the common frame.
-    Y,
-    /// Orientation `φ` of the common frame.
-    Phi,
-}
-
-impl Output {
-    /// Index in `(x, y, φ)`.
-    pub fn index(self) -> usize {
-        match self {
-            Output::X => 0,
-            Output::Y => 1,
-            Output::Phi => 2,
-        }
-    }
-
-    /// Name as written in descriptions: `x`, `y` or `phi`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Output::X => "x",
-            Output::Y => "y",
-            Output::Phi => "phi",
-        }
-    }
-}
-
 /// A closed planar mechanism: chains joined at a common frame, joints split into active/passive.
 ///
-/// Build it with [`Mechanism::new`] (or from a description); after editing `chains` rebuild it
-/// with [`Mechanism::new`], which recomputes the joint partition.
+/// Built from a [`MechanismModel`] at parameter values ([`Mechanism::from_model`]); the model's
+/// admission rules are the only ones.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Mechanism {
     /// Name.
@@ -240,137 +211,117 @@ pub struct SingularityReport {
 }
 
 impl Mechanism {
-    /// Builds and validates a mechanism.
-    ///
-    /// Errors (field paths as in descriptions): fewer than two chains, a chain without joints,
-    /// duplicate joint names, non-finite numbers, zero prismatic axes, empty or repeated outputs.
-    pub fn new(
-        name: impl Into<String>,
-        mut chains: Vec<Chain>,
-        outputs: Vec<Output>,
-    ) -> Result<Self, ClosedChainError> {
-        let name = name.into();
-        if chains.len() < 2 {
-            return Err(ClosedChainError::invalid(
-                "chains",
-                format!(
-                    "a closed mechanism needs at least two chains, found {}",
-                    chains.len()
-                ),
-            ));
+    /// The mechanism `model` at parameter values `values` (one per model parameter, in
+    /// declaration order): every length evaluated, prismatic axes normalised, contacts turned
+    /// into passive joints (one per row of `H`, (36)–(42)). Errors: the model's admission rules
+    /// ([`MechanismModel::validate`], [`MechanismModel::check_values`]) at these values.
+    pub fn from_model(model: &MechanismModel, values: &[f64]) -> Result<Self, ClosedChainError> {
+        if values.len() != model.parameters.len() {
+            return Err(ClosedChainError::Dimension {
+                what: "parameter values".into(),
+                expected: model.parameters.len(),
+                got: values.len(),
+            });
         }
-        if outputs.is_empty() {
-            return Err(ClosedChainError::invalid(
-                "outputs",
-                "at least one task output (x, y or phi) is required",
-            ));
-        }
-        for (i, o) in outputs.iter().enumerate() {
-            if outputs[..i].contains(o) {
-                return Err(ClosedChainError::invalid(
-                    format!("outputs[{i}]"),
-                    format!("output `{}` repeated", o.name()),
-                ));
-            }
-        }
-        let mut names: Vec<&str> = Vec::new();
-        for (ci, ch) in chains.iter_mut().enumerate() {
-            if ch.joints.is_empty() {
-                return Err(ClosedChainError::invalid(
-                    format!("chains[{ci}].joints"),
-                    "a chain needs at least one joint",
-                ));
-            }
-            if !ch.base.is_finite() {
-                return Err(ClosedChainError::invalid(
-                    format!("chains[{ci}].base"),
-                    "not finite",
-                ));
-            }
-            if !ch.tip.is_finite() {
-                return Err(ClosedChainError::invalid(
-                    format!("chains[{ci}].tip"),
-                    "not finite",
-                ));
-            }
-            for (ji, j) in ch.joints.iter_mut().enumerate() {
-                let field = format!("chains[{ci}].joints[{ji}]");
-                if !j.origin.is_finite() {
-                    return Err(ClosedChainError::invalid(
-                        format!("{field}.origin"),
-                        "not finite",
-                    ));
-                }
-                if let JointType::Prismatic { axis } = &mut j.kind {
-                    let n = (axis[0] * axis[0] + axis[1] * axis[1]).sqrt();
-                    if !(n.is_finite() && n > 1e-12) {
-                        return Err(ClosedChainError::invalid(
-                            format!("{field}.axis"),
-                            "prismatic axis must be a non-zero finite vector",
-                        ));
-                    }
-                    axis[0] /= n;
-                    axis[1] /= n;
-                }
-                if let Some([lo, hi]) = j.limits {
-                    if !(lo.is_finite() && hi.is_finite() && lo < hi) {
-                        return Err(ClosedChainError::invalid(
-                            format!("{field}.limits"),
-                            "limits must be finite with min < max",
-                        ));
-                    }
-                }
-            }
-        }
-        let mut offsets = Vec::with_capacity(chains.len() + 1);
-        let mut active = Vec::new();
-        let mut passive = Vec::new();
-        let mut k = 0;
-        for (ci, ch) in chains.iter().enumerate() {
-            offsets.push(k);
+        model.validate()?;
+        model.check_values(values)?;
+        let pose = |p: &trocar_model::closed_chain::PoseExpr, field: &str| {
+            p.eval(values, field).map(|[x, y, a]| Pose2::new(x, y, a))
+        };
+        let mut chains = Vec::with_capacity(model.chains.len());
+        let mut initial = Vec::new();
+        let mut any_initial = false;
+        for (ci, ch) in model.chains.iter().enumerate() {
+            let path = format!("chains[{ci}]");
+            let mut joints = Vec::with_capacity(ch.n_joints());
             for (ji, j) in ch.joints.iter().enumerate() {
-                if names.contains(&j.name.as_str()) {
-                    return Err(ClosedChainError::invalid(
-                        format!("chains[{ci}].joints[{ji}].name"),
-                        format!("duplicate joint name `{}`", j.name),
-                    ));
+                let jp = format!("{path}.joints[{ji}]");
+                let kind = match j.kind.unit_axis(values, &format!("{jp}.axis"))? {
+                    None => JointType::Revolute,
+                    Some(axis) => JointType::Prismatic { axis },
+                };
+                match &j.initial {
+                    None => initial.push(0.0),
+                    Some(e) => {
+                        any_initial = true;
+                        initial.push(trocar_model::closed_chain::eval(
+                            e,
+                            values,
+                            &format!("{jp}.initial"),
+                        )?);
+                    }
                 }
-                names.push(&j.name);
-                if j.active {
-                    active.push(k);
-                } else {
-                    passive.push(k);
-                }
-                k += 1;
+                joints.push(PlanarJoint {
+                    name: j.name.clone(),
+                    kind,
+                    origin: pose(&j.origin, &format!("{jp}.origin"))?,
+                    active: j.active,
+                    limits: trocar_model::closed_chain::joint_limits(j, values, &jp)?,
+                });
             }
+            let mut tip = pose(&ch.tip, &format!("{path}.tip"))?;
+            if let Some(c) = &ch.contact {
+                // The free directions of the contact become passive joints at the contact frame,
+                // then the chain continues to the object frame (see [`super::cooperative`]).
+                let cp = format!("{path}.contact");
+                let object = pose(&c.object, &format!("{cp}.object"))?;
+                let names = ch.joint_names();
+                let mut origin = tip;
+                for (i, cj) in c.joints(values, &cp)?.into_iter().enumerate() {
+                    joints.push(PlanarJoint {
+                        name: names[ch.joints.len() + i].clone(),
+                        kind: match cj {
+                            ContactJoint::Revolute => JointType::Revolute,
+                            ContactJoint::Prismatic(axis) => JointType::Prismatic { axis },
+                        },
+                        origin,
+                        active: false,
+                        limits: None,
+                    });
+                    initial.push(0.0);
+                    origin = Pose2::IDENTITY;
+                }
+                tip = if c.h.is_empty() {
+                    tip.compose(&object)
+                } else {
+                    object
+                };
+            }
+            chains.push(Chain {
+                name: ch.name.clone(),
+                base: pose(&ch.base, &format!("{path}.base"))?,
+                joints,
+                tip,
+            });
+        }
+        let (active, passive) = model.partition();
+        let mut offsets = Vec::with_capacity(chains.len() + 1);
+        let mut k = 0;
+        for ch in &chains {
+            offsets.push(k);
+            k += ch.joints.len();
         }
         offsets.push(k);
-        if active.is_empty() {
-            return Err(ClosedChainError::invalid(
-                "chains",
-                "no active joint: mark at least one joint `active = true`",
-            ));
-        }
-        let r = 3 * (chains.len() - 1);
-        if passive.len() > r {
-            return Err(ClosedChainError::invalid(
-                "chains",
-                format!(
-                    "{} passive joints but only {r} structural equations: passive joints are not determined",
-                    passive.len()
-                ),
-            ));
-        }
         Ok(Mechanism {
-            name,
+            name: model.name.clone(),
             chains,
-            outputs,
-            parameters: Vec::new(),
-            initial: None,
+            outputs: model.outputs.clone(),
+            parameters: model
+                .parameters
+                .iter()
+                .zip(values)
+                .map(|(p, v)| (p.name.clone(), *v))
+                .collect(),
+            initial: any_initial.then_some(initial),
             offsets,
             active,
             passive,
         })
+    }
+
+    /// The mechanism `model` at its nominal parameter values.
+    pub fn nominal(model: &MechanismModel) -> Result<Self, ClosedChainError> {
+        Self::from_model(model, &model.nominal_values())
     }
 
     /// Total number of joints `n`.
@@ -851,14 +802,11 @@ pub fn reduce(d: &Differential) -> Result<Reduced, ClosedChainError> {
         });
     }
     let j_cp_inverse = if n_p == r {
-        d.j_cp
-            .clone()
-            .try_inverse()
-            .ok_or(ClosedChainError::Singular {
-                kind: SingularityKind::Parallel,
-                what: "J_Cp".into(),
-                sigma_min: 0.0,
-            })?
+        linalg::inverse(&d.j_cp).ok_or(ClosedChainError::Singular {
+            kind: SingularityKind::Parallel,
+            what: "J_Cp".into(),
+            sigma_min: 0.0,
+        })?
     } else {
         linalg::pseudo_inverse(&d.j_cp)
     };

@@ -1,31 +1,56 @@
 //! Dense linear algebra for closed chains: ranks, pseudo-inverses, null spaces, the annihilator
 //! `Ã` of (19)/(31)/(41) and the singular-value analysis of the source's §5.4.
 //!
-//! Everything works on `nalgebra`'s dynamic [`DMatrix`]; empty matrices (a mechanism without
-//! passive joints has an `r × 0` block `J_Cp`) are handled without calling the SVD.
+//! Thin wrappers over faer's dense decompositions (SVD, LU) for nalgebra's dynamic [`DMatrix`],
+//! which the closed-chain API uses: a `DMatrix` is viewed in place as a faer matrix (both are
+//! column-major), and the factors are copied back. Empty matrices (a mechanism without passive
+//! joints has an `r × 0` block `J_Cp`) are handled without calling a decomposition.
 
-use nalgebra::{DMatrix, DVector};
+use faer::linalg::solvers::DenseSolveCore;
+use faer::{Mat, MatRef};
+use nalgebra::DMatrix;
 
 /// Relative tolerance on singular values used for ranks: `σ_i` counts when `σ_i > tol · max(σ_1, 1)`.
 pub const RANK_TOLERANCE: f64 = 1e-9;
 
-/// Singular values (descending) and full orthogonal factors `U` (`r × r`), `V` (`c × c`) of `m`.
-///
-/// `nalgebra`'s SVD is thin; padding `m` with zero rows or columns to a square matrix yields the
-/// full factors, so null spaces and left null spaces can be read off them.
-fn full_svd(m: &DMatrix<f64>) -> (DVector<f64>, DMatrix<f64>, DMatrix<f64>) {
-    let (r, c) = m.shape();
-    let s = r.max(c);
-    let mut sq = DMatrix::zeros(s, s);
-    sq.view_mut((0, 0), (r, c)).copy_from(m);
-    let svd = sq.svd(true, true);
-    let u = svd.u.expect("U requested");
-    let v_t = svd.v_t.expect("V requested");
-    // `svd` sorts singular values in descending order, U and Vᵀ accordingly.
-    let sv = svd.singular_values.rows(0, r.min(c)).into_owned();
-    let u = u.view((0, 0), (r, r)).into_owned();
-    let v = v_t.transpose().view((0, 0), (c, c)).into_owned();
-    (sv, u, v)
+/// `m` viewed as a faer matrix (no copy).
+fn view(m: &DMatrix<f64>) -> MatRef<'_, f64> {
+    MatRef::from_column_major_slice(m.as_slice(), m.nrows(), m.ncols())
+}
+
+/// A faer matrix (or a block of one) copied into a `DMatrix`.
+fn to_dmatrix(m: MatRef<'_, f64>) -> DMatrix<f64> {
+    DMatrix::from_fn(m.nrows(), m.ncols(), |i, j| m[(i, j)])
+}
+
+/// Singular values (descending) and full orthogonal factors `U` (`r × r`), `V` (`c × c`) of a
+/// non-empty `m` (faer's full SVD).
+fn full_svd(m: &DMatrix<f64>) -> (Vec<f64>, Mat<f64>, Mat<f64>) {
+    match view(m).svd() {
+        Ok(svd) => {
+            let s = svd.S().column_vector().iter().copied().collect();
+            (s, svd.U().to_owned(), svd.V().to_owned())
+        }
+        // The SVD did not converge (non-finite entries): no direction counts.
+        Err(_) => {
+            let (r, c) = m.shape();
+            (
+                vec![0.0; r.min(c)],
+                Mat::identity(r, r),
+                Mat::identity(c, c),
+            )
+        }
+    }
+}
+
+/// Singular values of `m`, descending (empty for an empty matrix).
+pub fn singular_values(m: &DMatrix<f64>) -> Vec<f64> {
+    if m.nrows() == 0 || m.ncols() == 0 {
+        return Vec::new();
+    }
+    view(m)
+        .singular_values()
+        .unwrap_or_else(|_| vec![f64::NAN; m.nrows().min(m.ncols())])
 }
 
 /// The singular-value decomposition `J = U Σ Vᵀ = Σ σ_i u_i v_iᵀ` read as in the source's §5.4.
@@ -64,19 +89,19 @@ pub fn svd_analysis(j: &DMatrix<f64>) -> SvdAnalysis {
         };
     }
     let (sv, u, v) = full_svd(j);
-    let k = rank_of_values(sv.as_slice());
+    let k = rank_of_values(&sv);
     let condition = if k == m.min(n) && k > 0 {
         sv[0] / sv[k - 1]
     } else {
         f64::INFINITY
     };
     SvdAnalysis {
-        singular_values: sv.iter().copied().collect(),
+        singular_values: sv,
         rank: k,
         full_rank: k == m,
-        range: u.columns(0, k).into_owned(),
-        null_space: v.columns(k, n - k).into_owned(),
-        lost_directions: u.columns(k, m - k).into_owned(),
+        range: to_dmatrix(u.as_ref().subcols(0, k)),
+        null_space: to_dmatrix(v.as_ref().subcols(k, n - k)),
+        lost_directions: to_dmatrix(u.as_ref().subcols(k, m - k)),
         condition,
     }
 }
@@ -89,11 +114,7 @@ fn rank_of_values(sv: &[f64]) -> usize {
 
 /// Numerical rank (see [`RANK_TOLERANCE`]).
 pub fn rank(m: &DMatrix<f64>) -> usize {
-    if m.nrows() == 0 || m.ncols() == 0 {
-        return 0;
-    }
-    let sv = m.clone().svd(false, false).singular_values;
-    rank_of_values(sv.as_slice())
+    rank_of_values(&singular_values(m))
 }
 
 /// Smallest singular value `σ_min` (`0` for an empty dimension).
@@ -101,12 +122,7 @@ pub fn sigma_min(m: &DMatrix<f64>) -> f64 {
     if m.nrows() == 0 || m.ncols() == 0 {
         return 0.0;
     }
-    m.clone()
-        .svd(false, false)
-        .singular_values
-        .iter()
-        .copied()
-        .fold(f64::INFINITY, f64::min)
+    singular_values(m).into_iter().fold(f64::INFINITY, f64::min)
 }
 
 /// Moore–Penrose pseudo-inverse `M†` (singular values below the rank tolerance are dropped).
@@ -115,11 +131,27 @@ pub fn pseudo_inverse(m: &DMatrix<f64>) -> DMatrix<f64> {
     if r == 0 || c == 0 {
         return DMatrix::zeros(c, r);
     }
-    let svd = m.clone().svd(true, true);
-    let max = svd.singular_values.iter().copied().fold(0.0_f64, f64::max);
+    let Ok(svd) = view(m).thin_svd() else {
+        return DMatrix::zeros(c, r);
+    };
+    let s = svd.S().column_vector();
+    let max = s.iter().copied().fold(0.0_f64, f64::max);
     let tol = RANK_TOLERANCE * max.max(1.0);
-    svd.pseudo_inverse(tol)
-        .unwrap_or_else(|_| DMatrix::zeros(c, r))
+    // M† = V Σ⁺ Uᵀ over the singular values above the tolerance.
+    let (u, v) = (svd.U(), svd.V());
+    let mut out = DMatrix::zeros(c, r);
+    for (k, &sk) in s.iter().enumerate() {
+        if sk > tol {
+            let inv = 1.0 / sk;
+            for j in 0..r {
+                let ujk = u[(j, k)] * inv;
+                for i in 0..c {
+                    out[(i, j)] += v[(i, k)] * ujk;
+                }
+            }
+        }
+    }
+    out
 }
 
 /// Orthonormal basis (columns) of the null space `N(M)`.
@@ -129,8 +161,8 @@ pub fn null_space(m: &DMatrix<f64>) -> DMatrix<f64> {
         return DMatrix::identity(c, c);
     }
     let (sv, _, v) = full_svd(m);
-    let k = rank_of_values(sv.as_slice());
-    v.columns(k, c - k).into_owned()
+    let k = rank_of_values(&sv);
+    to_dmatrix(v.as_ref().subcols(k, c - k))
 }
 
 /// Orthonormal basis (columns) of the range `R(M)`.
@@ -140,8 +172,8 @@ pub fn range_space(m: &DMatrix<f64>) -> DMatrix<f64> {
         return DMatrix::zeros(r, 0);
     }
     let (sv, u, _) = full_svd(m);
-    let k = rank_of_values(sv.as_slice());
-    u.columns(0, k).into_owned()
+    let k = rank_of_values(&sv);
+    to_dmatrix(u.as_ref().subcols(0, k))
 }
 
 /// An annihilator `Ã` of `A`: orthonormal rows spanning the left null space, so `Ã A = 0` and
@@ -157,8 +189,31 @@ pub fn annihilator(a: &DMatrix<f64>) -> DMatrix<f64> {
         return DMatrix::identity(r, r);
     }
     let (sv, u, _) = full_svd(a);
-    let k = rank_of_values(sv.as_slice());
-    u.columns(k, r - k).transpose()
+    let k = rank_of_values(&sv);
+    to_dmatrix(u.as_ref().subcols(k, r - k).transpose())
+}
+
+/// The inverse of a square matrix by faer's LU with partial pivoting; `None` when it is singular
+/// (a zero pivot) or the result is not finite.
+pub fn inverse(m: &DMatrix<f64>) -> Option<DMatrix<f64>> {
+    let n = m.nrows();
+    if n != m.ncols() {
+        return None;
+    }
+    if n == 0 {
+        return Some(DMatrix::zeros(0, 0));
+    }
+    let lu = view(m).partial_piv_lu();
+    let inv = to_dmatrix(lu.inverse().as_ref());
+    all_finite(&inv).then_some(inv)
+}
+
+/// The determinant of a square matrix (faer's LU); `1` for an empty matrix.
+pub fn determinant(m: &DMatrix<f64>) -> f64 {
+    if m.nrows() == 0 {
+        return 1.0;
+    }
+    view(m).determinant()
 }
 
 /// Left pseudo-inverse `A† = (AᵀA)⁻¹Aᵀ` of a full-column-rank `A`, so `A† A = I` ((19), (31), (41)).
@@ -168,9 +223,7 @@ pub fn left_pseudo_inverse(a: &DMatrix<f64>) -> Option<DMatrix<f64>> {
     if rank(a) < a.ncols() {
         return None;
     }
-    (a.transpose() * a)
-        .try_inverse()
-        .map(|inv| inv * a.transpose())
+    inverse(&(a.transpose() * a)).map(|inv| inv * a.transpose())
 }
 
 /// `true` when every entry is finite.

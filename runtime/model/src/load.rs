@@ -1,0 +1,64 @@
+//! Which reader a description goes to: the one place that tells serial robots from closed
+//! mechanisms.
+
+use crate::closed_chain::{self, MechanismModel};
+use crate::description::{preset_names, DescriptionError, RobotDescription};
+use std::path::Path;
+
+/// A description read by [`Description::load`]: a serial robot or a closed mechanism.
+#[derive(Clone, Debug)]
+#[allow(clippy::large_enum_variant)]
+pub enum Description {
+    /// A serial robot (TOML description or preset).
+    Serial(RobotDescription),
+    /// A closed planar mechanism (a TOML file with `[[chains]]`, or a shipped mechanism).
+    Mechanism(MechanismModel),
+}
+
+impl Description {
+    /// Loads `name_or_path`: an existing file is a closed mechanism when it is TOML with a
+    /// top-level `chains` array (`[[chains]]`), a serial robot otherwise; a name that is not a
+    /// file is a shipped mechanism (`four-bar`, `planar-stewart`, `cooperative-arms`) or a serial
+    /// preset (`bidirectional-zy`, …). Errors name the file, line and field.
+    pub fn load(name_or_path: &str) -> Result<Self, DescriptionError> {
+        let path = Path::new(name_or_path);
+        if !path.exists() {
+            if closed_chain::shipped_text(name_or_path).is_some() {
+                return MechanismModel::shipped(name_or_path).map(Description::Mechanism);
+            }
+            if preset_names().any(|n| n == name_or_path) {
+                return RobotDescription::preset(name_or_path).map(Description::Serial);
+            }
+            return RobotDescription::from_toml_file(path).map(Description::Serial);
+        }
+        let text = std::fs::read_to_string(path).map_err(|e| DescriptionError {
+            file: Some(path.to_path_buf()),
+            line: None,
+            column: None,
+            field: "(file)".into(),
+            message: format!("cannot read the file: {e}"),
+        })?;
+        match closed_chain::parse_table(&text) {
+            Ok(table) if table.contains_key("chains") => {
+                MechanismModel::from_table(&table, &text, Some(path)).map(Description::Mechanism)
+            }
+            _ => RobotDescription::from_toml_str(&text, Some(path)).map(Description::Serial),
+        }
+    }
+
+    /// The mechanism, if this is one.
+    pub fn as_mechanism(&self) -> Option<&MechanismModel> {
+        match self {
+            Description::Mechanism(m) => Some(m),
+            Description::Serial(_) => None,
+        }
+    }
+
+    /// The serial robot, if this is one.
+    pub fn as_serial(&self) -> Option<&RobotDescription> {
+        match self {
+            Description::Serial(d) => Some(d),
+            Description::Mechanism(_) => None,
+        }
+    }
+}
