@@ -98,6 +98,7 @@ fn small_module() -> ModuleSpec {
                 shape: Shape::Matrix { rows: 6, cols: 2 },
                 program: j,
                 dims: None,
+                takes_joints: true,
             },
             Function {
                 name: "manipulability".into(),
@@ -107,8 +108,10 @@ fn small_module() -> ModuleSpec {
                 shape: Shape::Scalar,
                 program: w,
                 dims: None,
+                takes_joints: true,
             },
         ],
+        controller: None,
     }
 }
 

@@ -65,7 +65,7 @@ pub fn module_spec(d: &MechanismDerivation, module_name: &str) -> ModuleSpec {
         Size::NPassive => np,
         Size::NOutputs => no,
         Size::R => r,
-        Size::I | Size::M => unreachable!("a mechanism module has no size {s:?}"),
+        Size::I | Size::M | Size::K => unreachable!("a mechanism module has no size {s:?}"),
     };
     functions.push(Function::catalogued(
         F::ConstraintJacobian,
@@ -146,6 +146,7 @@ pub fn module_spec(d: &MechanismDerivation, module_name: &str) -> ModuleSpec {
             .collect(),
         consts,
         functions,
+        controller: None,
     }
 }
 
@@ -192,8 +193,8 @@ fn module_doc(d: &MechanismDerivation) -> String {
          Active columns: {}; passive rows of the passive map: {}; task outputs (rows of `J`): {}.\n\n\
          Every function takes **all** joint values `q`, active and passive: solve the passive \
          joints first (closed form where there is one, e.g. \
-         `trocar::closed_chain::four_bar::FourBar::passive`, or Newton's method, \
-         `trocar::closed_chain::Mechanism::solve_passive`). The functions that divide by \
+         `trocar_sim::closed_chain::four_bar::FourBar::passive`, or Newton's method, \
+         `trocar_sim::closed_chain::Mechanism::solve_passive`). The functions that divide by \
          `det J_Cp` return `None` when it is zero or not finite, and never a NaN.\n\n\
          **Array order:** matrices are column-major, `[[T; rows]; cols]` (`a[col][row]`), \
          which is nalgebra's `ArrayStorage`.",

@@ -279,6 +279,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
         (Size::I, Some(c)) => c.link,
         (Size::R, Some(c)) => c.r,
         (Size::M, Some(c)) => c.m,
+        (Size::K, Some(c)) => 6 - c.r,
         _ => unreachable!("a serial module has no size {s:?}"),
     };
 
@@ -332,9 +333,16 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
             value: c.m,
             doc: "Number of columns of `J^r_0e`: `m = 6 − r + n − i`.".into(),
         });
+        consts.push(ConstItem {
+            name: "K".into(),
+            value: 6 - c.r,
+            doc: "Number of columns of `Λ#`: `k = 6 − r`, the free directions of the constrained \
+                  link's twist."
+                .into(),
+        });
         let basis = format!(
-            "Null-space basis `Λ#`: {} (see `trocar_codegen::derivation::NullBasis`). \
-             Columns: the {} components of `v0i`, then joints {}..={}.",
+            "Null-space basis `Λ#` ([`lambda_null_space`]): {}. Columns: the {} components of \
+             `v0i`, then joints {}..={}.",
             basis_label(c.basis),
             6 - c.r,
             c.link + 1,
@@ -402,6 +410,27 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
             w2,
             size,
         ));
+        functions.push(Function::catalogued(
+            F::ConstraintSelection,
+            "The constrained directions `H`, R × 6: the constraint is `H V^B_0r = 0`",
+            "",
+            matrix_program(d, &c.h),
+            size,
+        ));
+        functions.push(Function::catalogued(
+            F::LambdaNullSpace,
+            "Null-space basis `Λ#` of `Λ = H Ad_{g_ri}` (3.3), 6 × K: `V^B_0i = Λ# v0i`",
+            "",
+            matrix_program(d, &c.lambda_sharp),
+            size,
+        ));
+        functions.push(Function::catalogued(
+            F::LambdaPinv,
+            "`Λ† = Λᵀ (Λ Λᵀ)⁻¹`, 6 × R",
+            "",
+            matrix_program(d, &c.lambda_pinv),
+            size,
+        ));
     }
 
     ModuleSpec {
@@ -416,6 +445,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
             .collect(),
         consts,
         functions,
+        controller: super::controller::trocar_offset_parameter(d),
     }
 }
 
@@ -537,8 +567,13 @@ fn module_doc(d: &Derivation) -> String {
 fn basis_label(b: crate::derivation::NullSpaceBasis) -> &'static str {
     use crate::derivation::NullSpaceBasis;
     match b {
-        NullSpaceBasis::Unidirectional => "Thesis323",
-        NullSpaceBasis::Bidirectional => "Thesis327",
-        NullSpaceBasis::Computed => "Derived",
+        NullSpaceBasis::Unidirectional => "the thesis's (3.23), `ω_z = v_x / l_a`",
+        NullSpaceBasis::Bidirectional => {
+            "the thesis's (3.27), `ω_x = −v_z / l_a`, `ω_z = v_x / l_a`"
+        }
+        NullSpaceBasis::Computed => {
+            "`Ad_{g_ir} N_H`, `N_H` the null basis of `H` from its reduced row echelon form (one \
+             column per free coordinate, increasing)"
+        }
     }
 }

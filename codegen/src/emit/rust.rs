@@ -84,6 +84,9 @@ pub struct Function {
     pub program: Program,
     /// Names of the dimensions for the signature, e.g. `("6", "M")`; `None` uses numbers.
     pub dims: Option<(String, String)>,
+    /// Whether the function takes the joints (`f(&q, &params)` and `f_trig(&trig, &params)`);
+    /// otherwise it is `f(&params)` alone.
+    pub takes_joints: bool,
 }
 
 impl Function {
@@ -129,6 +132,7 @@ impl Function {
             shape,
             program,
             dims,
+            takes_joints: entry.takes_joints(),
         }
     }
 }
@@ -160,6 +164,9 @@ pub struct ModuleSpec {
     pub consts: Vec<ConstItem>,
     /// Functions.
     pub functions: Vec<Function>,
+    /// The parameter the runtime controller sets to the trocar offset `l_a`, when the module
+    /// emits the controller glue (`Kinematics`, see [`super::controller`]).
+    pub controller: Option<String>,
 }
 
 impl ModuleSpec {
@@ -525,7 +532,7 @@ fn layout_doc(shape: Shape, dims: Option<&(String, String)>, t: &str) -> String 
     }
 }
 
-fn doc_attrs(text: &str) -> TokenStream {
+pub(crate) fn doc_attrs(text: &str) -> TokenStream {
     let lines = text.lines().map(|l| {
         let l = if l.is_empty() {
             String::new()
@@ -589,6 +596,22 @@ fn function_tokens(f: &Function, ty: &Ty, n: usize) -> TokenStream {
     let tt = if uses_q { quote!(t) } else { quote!(_t) };
     let p = if uses_p { quote!(p) } else { quote!(_p) };
     let n_ty = if n > 0 { quote!(N) } else { quote!(0) };
+    if !f.takes_joints {
+        assert!(
+            !uses_q,
+            "`{}` is catalogued as independent of the joints",
+            f.name
+        );
+        return quote! {
+            #doc_q
+            #[inline]
+            #[must_use]
+            pub fn #name #generics (#p: &Params #args) -> #ret {
+                #(#stmts_q)*
+                #value_q
+            }
+        };
+    }
     quote! {
         #doc_q
         #[inline]
@@ -793,11 +816,16 @@ pub fn module_items_in(spec: &ModuleSpec, real: Real, runtime: &Runtime) -> Toke
         .functions
         .iter()
         .map(|f| function_tokens(f, &ty, spec.joints));
+    let controller = spec
+        .controller
+        .as_deref()
+        .map(|offset| super::controller::tokens(&ty, offset));
     quote! {
         #(#consts)*
         #params
         #trig
         #(#fns)*
+        #controller
     }
 }
 

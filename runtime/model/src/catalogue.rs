@@ -28,6 +28,8 @@ pub enum Size {
     R,
     /// `M`: columns of `J^r_0e`, `m = 6 − r + n − i` (3.15).
     M,
+    /// `K`: columns of `Λ#`, `6 − r` (3.6).
+    K,
     /// `N_ACTIVE`: active joints `n_a` of a mechanism.
     NActive,
     /// `N_PASSIVE`: passive joints `n_p` of a mechanism.
@@ -44,6 +46,7 @@ impl Size {
             Size::I => "I",
             Size::R => "R",
             Size::M => "M",
+            Size::K => "K",
             Size::NActive => "N_ACTIVE",
             Size::NPassive => "N_PASSIVE",
             Size::NOutputs => "N_OUTPUTS",
@@ -142,6 +145,13 @@ pub enum Function {
     Manipulability,
     /// `manipulability_squared`: `w² = det(J^r J^rᵀ)` (3.36).
     ManipulabilitySquared,
+    /// `constraint_selection`: `H`, R × 6 (3.1); depends on no joint.
+    ConstraintSelection,
+    /// `lambda_null_space`: the null-space basis `Λ#` of `Λ = H Ad_{g_ri}`, 6 × K (3.6),
+    /// (3.23)/(3.27) for the thesis's wrists; depends only on the parameters.
+    LambdaNullSpace,
+    /// `lambda_pinv`: `Λ† = Λᵀ (Λ Λᵀ)⁻¹`, 6 × R (3.31); depends only on the parameters.
+    LambdaPinv,
     /// `constraint_jacobian` (mechanisms): `J_C = ∂c/∂θ`, R × N (3), (19), (31).
     ConstraintJacobian,
     /// `task_jacobian` (mechanisms): `J_A = S_x A† J`, N_OUTPUTS × N (4), (19), (31).
@@ -166,12 +176,12 @@ pub enum Function {
 }
 
 use Dim::{Fixed, OnePlus};
-use Size::{NActive, NOutputs, NPassive, I, M, N, R};
+use Size::{NActive, NOutputs, NPassive, I, K, M, N, R};
 
 impl Function {
-    /// The functions of a serial robot's module, in emission order (the last six only with a
-    /// constraint).
-    pub const SERIAL: [Function; 8] = [
+    /// The functions of a serial robot's module, in emission order (all but the first two only
+    /// with a constraint).
+    pub const SERIAL: [Function; 11] = [
         Function::ForwardKinematics,
         Function::BodyJacobian,
         Function::ConstrainedJacobian,
@@ -180,6 +190,9 @@ impl Function {
         Function::ConstrainedLinkKinematics,
         Function::Manipulability,
         Function::ManipulabilitySquared,
+        Function::ConstraintSelection,
+        Function::LambdaNullSpace,
+        Function::LambdaPinv,
     ];
 
     /// The functions of a closed mechanism's module, in emission order: the polynomial ones, then
@@ -206,6 +219,9 @@ impl Function {
             Function::ConstrainedLinkKinematics => "forward_kinematics_i",
             Function::Manipulability => "manipulability",
             Function::ManipulabilitySquared => "manipulability_squared",
+            Function::ConstraintSelection => "constraint_selection",
+            Function::LambdaNullSpace => "lambda_null_space",
+            Function::LambdaPinv => "lambda_pinv",
             Function::ConstraintJacobian => "constraint_jacobian",
             Function::TaskJacobian => "task_jacobian",
             Function::ConstraintDeterminant => "constraint_determinant",
@@ -243,6 +259,9 @@ impl Function {
             Function::ConstrainedLinkKinematics => "fk0i",
             Function::Manipulability => "manip",
             Function::ManipulabilitySquared => "manip2",
+            Function::ConstraintSelection => "h",
+            Function::LambdaNullSpace => "lambda_sharp",
+            Function::LambdaPinv => "lambda_pinv",
             Function::ConstraintJacobian => "jc",
             Function::TaskJacobian => "ja",
             Function::ConstraintDeterminant => "det",
@@ -265,6 +284,9 @@ impl Function {
             Function::ConstrainedLinkKinematics => "g_0i",
             Function::Manipulability => "w = sqrt(det(J^r J^rᵀ))",
             Function::ManipulabilitySquared => "w² = det(J^r J^rᵀ)",
+            Function::ConstraintSelection => "H",
+            Function::LambdaNullSpace => "Λ#",
+            Function::LambdaPinv => "Λ† = Λᵀ (Λ Λᵀ)⁻¹",
             Function::ConstraintJacobian => "J_C",
             Function::TaskJacobian => "J_A",
             Function::ConstraintDeterminant => "det J_Cp",
@@ -291,7 +313,10 @@ impl Function {
             | Function::PartialBodyJacobian
             | Function::ConstrainedLinkKinematics
             | Function::Manipulability
-            | Function::ManipulabilitySquared => Source::Thesis,
+            | Function::ManipulabilitySquared
+            | Function::ConstraintSelection
+            | Function::LambdaNullSpace
+            | Function::LambdaPinv => Source::Thesis,
             _ => Source::FreitasLeiteLizarralde2010,
         }
     }
@@ -306,6 +331,9 @@ impl Function {
             Function::PartialBodyJacobian => "(3.13)",
             Function::Manipulability => "(3.36)–(3.39) (presets: (3.40)–(3.42))",
             Function::ManipulabilitySquared => "(3.36)",
+            Function::ConstraintSelection => "(3.1)",
+            Function::LambdaNullSpace => "(3.6) (presets: (3.23), (3.27))",
+            Function::LambdaPinv => "(3.31)",
             Function::ConstraintJacobian => "(3), (19), (31)",
             Function::TaskJacobian => "(4), (19), (31)",
             Function::ConstraintDeterminant => "(7), §4.5",
@@ -336,6 +364,18 @@ impl Function {
             Function::PartialBodyJacobian => Matrix {
                 rows: Fixed(6),
                 cols: Dim::Size(I),
+            },
+            Function::ConstraintSelection => Matrix {
+                rows: Dim::Size(R),
+                cols: Fixed(6),
+            },
+            Function::LambdaNullSpace => Matrix {
+                rows: Fixed(6),
+                cols: Dim::Size(K),
+            },
+            Function::LambdaPinv => Matrix {
+                rows: Fixed(6),
+                cols: Dim::Size(R),
             },
             Function::Manipulability
             | Function::ManipulabilitySquared
@@ -373,6 +413,16 @@ impl Function {
         matches!(
             self,
             Function::ReducedJacobian | Function::PassiveMap | Function::PassiveVelocities
+        )
+    }
+
+    /// Whether the function takes the joints: `false` for the constraint's own matrices (`H`,
+    /// `Λ#`, `Λ†`), which depend only on the parameters and are emitted as `f(&params)` without
+    /// a `_trig` variant.
+    pub const fn takes_joints(self) -> bool {
+        !matches!(
+            self,
+            Function::ConstraintSelection | Function::LambdaNullSpace | Function::LambdaPinv
         )
     }
 

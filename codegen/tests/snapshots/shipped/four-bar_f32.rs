@@ -10,7 +10,7 @@ pub mod four_bar {
     //!
     //! Active columns: theta1; passive rows of the passive map: theta3, theta2, theta4; task outputs (rows of `J`): phi.
     //!
-    //! Every function takes **all** joint values `q`, active and passive: solve the passive joints first (closed form where there is one, e.g. `trocar::closed_chain::four_bar::FourBar::passive`, or Newton's method, `trocar::closed_chain::Mechanism::solve_passive`). The functions that divide by `det J_Cp` return `None` when it is zero or not finite, and never a NaN.
+    //! Every function takes **all** joint values `q`, active and passive: solve the passive joints first (closed form where there is one, e.g. `trocar_sim::closed_chain::four_bar::FourBar::passive`, or Newton's method, `trocar_sim::closed_chain::Mechanism::solve_passive`). The functions that divide by `det J_Cp` return `None` when it is zero or not finite, and never a NaN.
     //!
     //! **Array order:** matrices are column-major, `[[T; rows]; cols]` (`a[col][row]`), which is nalgebra's `ArrayStorage`.
     #![allow(

@@ -10,7 +10,7 @@ pub mod planar_stewart {
     //!
     //! Active columns: d2, d5, d8; passive rows of the passive map: theta1, theta3, theta4, theta6, theta7, theta9; task outputs (rows of `J`): x, y, phi.
     //!
-    //! Every function takes **all** joint values `q`, active and passive: solve the passive joints first (closed form where there is one, e.g. `trocar::closed_chain::four_bar::FourBar::passive`, or Newton's method, `trocar::closed_chain::Mechanism::solve_passive`). The functions that divide by `det J_Cp` return `None` when it is zero or not finite, and never a NaN.
+    //! Every function takes **all** joint values `q`, active and passive: solve the passive joints first (closed form where there is one, e.g. `trocar_sim::closed_chain::four_bar::FourBar::passive`, or Newton's method, `trocar_sim::closed_chain::Mechanism::solve_passive`). The functions that divide by `det J_Cp` return `None` when it is zero or not finite, and never a NaN.
     //!
     //! **Array order:** matrices are column-major, `[[T; rows]; cols]` (`a[col][row]`), which is nalgebra's `ArrayStorage`.
     #![allow(

@@ -23,6 +23,8 @@ pub mod rotated_rcm {
     pub const R: usize = 2;
     /// Number of columns of `J^r_0e`: `m = 6 − r + n − i`.
     pub const M: usize = 6;
+    /// Number of columns of `Λ#`: `k = 6 − r`, the free directions of the constrained link's twist.
+    pub const K: usize = 4;
     /// The named parameters of `rotated_rcm`: runtime inputs of every function.
     #[derive(Clone, Copy, Debug, Default, PartialEq)]
     pub struct Params {
@@ -428,7 +430,7 @@ pub mod rotated_rcm {
     }
     /// Constrained Jacobian `J^r_0e = [Ad_{g_ei} Λ# | J^B_0e2]`, 6 × M, thesis (3.15) (presets: (3.24), (3.28), (3.29)).
     ///
-    /// Null-space basis `Λ#`: Derived (see `trocar_codegen::derivation::NullBasis`). Columns: the 4 components of `v0i`, then joints 7..=8.
+    /// Null-space basis `Λ#` ([`lambda_null_space`]): `Ad_{g_ir} N_H`, `N_H` the null basis of `H` from its reduced row echelon form (one column per free coordinate, increasing). Columns: the 4 components of `v0i`, then joints 7..=8.
     ///
     /// Returns the 6 × 6 matrix **column-major**: `[[f64; 6]; M]` holds M columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f64, 6, 6>::from_data(ArrayStorage(a))`.
     ///
@@ -940,5 +942,101 @@ pub mod rotated_rcm {
     pub fn manipulability_squared_trig(t: &JointTrig, p: &Params) -> f64 {
         let x0 = (p.l_a * (p.l_a - 0.66_f64) + 0.1089_f64) * t.cos[6];
         x0 * x0
+    }
+    /// The constrained directions `H`, R × 6: the constraint is `H V^B_0r = 0`, thesis (3.1).
+    ///
+    /// Returns the 2 × 6 matrix **column-major**: `[[f64; R]; 6]` holds 6 columns of R entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f64, 2, 6>::from_data(ArrayStorage(a))`.
+    ///
+    /// Operations: 0 add, 0 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs.
+    #[inline]
+    #[must_use]
+    pub fn constraint_selection(_p: &Params) -> [[f64; R]; 6] {
+        [
+            [<f64 as ::trocar::Real>::ONE, <f64 as ::trocar::Real>::ZERO],
+            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
+            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ONE],
+            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
+            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
+            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
+        ]
+    }
+    /// Null-space basis `Λ#` of `Λ = H Ad_{g_ri}` (3.3), 6 × K: `V^B_0i = Λ# v0i`, thesis (3.6) (presets: (3.23), (3.27)).
+    ///
+    /// Returns the 6 × 4 matrix **column-major**: `[[f64; 6]; K]` holds K columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f64, 6, 4>::from_data(ArrayStorage(a))`.
+    ///
+    /// Operations: 0 add, 2 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 2 neg, 0 abs.
+    #[inline]
+    #[must_use]
+    pub fn lambda_null_space(p: &Params) -> [[f64; 6]; K] {
+        let x0 = -(0.8_f64 * p.l_a);
+        let x1 = 0.6_f64 * p.l_a;
+        [
+            [
+                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::Real>::ZERO,
+            ],
+            [
+                x0,
+                <f64 as ::trocar::Real>::ZERO,
+                -x1,
+                0.6_f64,
+                <f64 as ::trocar::Real>::ZERO,
+                -0.8_f64,
+            ],
+            [
+                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::Real>::ZERO,
+            ],
+            [
+                x1,
+                <f64 as ::trocar::Real>::ZERO,
+                x0,
+                0.8_f64,
+                <f64 as ::trocar::Real>::ZERO,
+                0.6_f64,
+            ],
+        ]
+    }
+    /// `Λ† = Λᵀ (Λ Λᵀ)⁻¹`, 6 × R, thesis (3.31).
+    ///
+    /// Returns the 6 × 2 matrix **column-major**: `[[f64; 6]; R]` holds R columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f64, 6, 2>::from_data(ArrayStorage(a))`.
+    ///
+    /// Operations: 1 add, 6 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 3 neg, 0 abs.
+    #[inline]
+    #[must_use]
+    pub fn lambda_pinv(p: &Params) -> [[f64; 6]; R] {
+        let x0 = <f64 as ::trocar::Real>::ONE
+            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+        let x1 = 0.6_f64 * x0;
+        let x2 = 0.8_f64 * x0;
+        let x3 = p.l_a * x0;
+        let x4 = -(0.8_f64 * x3);
+        let x5 = 0.6_f64 * x3;
+        [
+            [
+                x1,
+                <f64 as ::trocar::Real>::ZERO,
+                -x2,
+                x4,
+                <f64 as ::trocar::Real>::ZERO,
+                -x5,
+            ],
+            [
+                x2,
+                <f64 as ::trocar::Real>::ZERO,
+                x1,
+                x5,
+                <f64 as ::trocar::Real>::ZERO,
+                x4,
+            ],
+        ]
     }
 }

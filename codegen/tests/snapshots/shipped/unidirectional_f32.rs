@@ -23,6 +23,8 @@ pub mod unidirectional {
     pub const R: usize = 1;
     /// Number of columns of `J^r_0e`: `m = 6 − r + n − i`.
     pub const M: usize = 7;
+    /// Number of columns of `Λ#`: `k = 6 − r`, the free directions of the constrained link's twist.
+    pub const K: usize = 5;
     /// The named parameters of `unidirectional`: runtime inputs of every function.
     #[derive(Clone, Copy, Debug, Default, PartialEq)]
     pub struct Params {
@@ -426,7 +428,7 @@ pub mod unidirectional {
     }
     /// Constrained Jacobian `J^r_0e = [Ad_{g_ei} Λ# | J^B_0e2]`, 6 × M, thesis (3.15) (presets: (3.24), (3.28), (3.29)).
     ///
-    /// Null-space basis `Λ#`: Thesis323 (see `trocar_codegen::derivation::NullBasis`). Columns: the 5 components of `v0i`, then joints 7..=8.
+    /// Null-space basis `Λ#` ([`lambda_null_space`]): the thesis's (3.23), `ω_z = v_x / l_a`. Columns: the 5 components of `v0i`, then joints 7..=8.
     ///
     /// Returns the 6 × 7 matrix **column-major**: `[[f32; 6]; M]` holds M columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f32, 6, 7>::from_data(ArrayStorage(a))`.
     ///
@@ -897,5 +899,210 @@ pub mod unidirectional {
         let x3 = p.l_b * (x0 * t.sin[6]);
         let x4 = t.sin[6] * (p.l_b * (<f32 as ::trocar::Real>::ONE + x1));
         x1 * x1 + x2 * x2 + x3 * x3 + x4 * x4
+    }
+    /// The constrained directions `H`, R × 6: the constraint is `H V^B_0r = 0`, thesis (3.1).
+    ///
+    /// Returns the 1 × 6 matrix **column-major**: `[[f32; R]; 6]` holds 6 columns of R entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f32, 1, 6>::from_data(ArrayStorage(a))`.
+    ///
+    /// Operations: 0 add, 0 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs.
+    #[inline]
+    #[must_use]
+    pub fn constraint_selection(_p: &Params) -> [[f32; R]; 6] {
+        [
+            [<f32 as ::trocar::Real>::ONE],
+            [<f32 as ::trocar::Real>::ZERO],
+            [<f32 as ::trocar::Real>::ZERO],
+            [<f32 as ::trocar::Real>::ZERO],
+            [<f32 as ::trocar::Real>::ZERO],
+            [<f32 as ::trocar::Real>::ZERO],
+        ]
+    }
+    /// Null-space basis `Λ#` of `Λ = H Ad_{g_ri}` (3.3), 6 × K: `V^B_0i = Λ# v0i`, thesis (3.6) (presets: (3.23), (3.27)).
+    ///
+    /// Returns the 6 × 5 matrix **column-major**: `[[f32; 6]; K]` holds K columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f32, 6, 5>::from_data(ArrayStorage(a))`.
+    ///
+    /// Operations: 0 add, 0 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs.
+    #[inline]
+    #[must_use]
+    pub fn lambda_null_space(p: &Params) -> [[f32; 6]; K] {
+        [
+            [
+                <f32 as ::trocar::Real>::ONE,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ONE / p.l_a,
+            ],
+            [
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ONE,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+            ],
+            [
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ONE,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+            ],
+            [
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ONE,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+            ],
+            [
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ONE,
+                <f32 as ::trocar::Real>::ZERO,
+            ],
+        ]
+    }
+    /// `Λ† = Λᵀ (Λ Λᵀ)⁻¹`, 6 × R, thesis (3.31).
+    ///
+    /// Returns the 6 × 1 matrix **column-major**: `[[f32; 6]; R]` holds R columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f32, 6, 1>::from_data(ArrayStorage(a))`.
+    ///
+    /// Operations: 1 add, 2 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs.
+    #[inline]
+    #[must_use]
+    pub fn lambda_pinv(p: &Params) -> [[f32; 6]; R] {
+        let x0 = <f32 as ::trocar::Real>::ONE
+            / (<f32 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+        [
+            [
+                x0,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                -(p.l_a * x0),
+            ],
+        ]
+    }
+    /// The runtime controller's kinematics on this module's closed forms: `::trocar::control::ConstrainedKinematics<_, N, I, R, K, M>`, so that `::trocar::control::Controller` runs on generated code.
+    ///
+    /// Every evaluation sets `params.l_a` (the constraint frame's offset along the link's `y` axis, `g_ir = (I, (0, l_a, 0))`) to the `l_a` it is given, and computes `g_0e`, `J^r_0e` (3.15), `J^B_0i` (3.13), `J_c` (3.33), `Λ#` (3.6) and `Λ†` (3.31) from one [`JointTrig`]. `l_a` zero or not finite is `ControlError::Kinematics`.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct Kinematics {
+        /// The parameters; the trocar offset is overwritten at every evaluation.
+        pub params: Params,
+    }
+    impl Kinematics {
+        /// With the description's nominal parameters.
+        #[inline]
+        #[must_use]
+        pub fn nominal() -> Self {
+            Kinematics {
+                params: Params::nominal(),
+            }
+        }
+    }
+    impl Kinematics {
+        /// A pose from the generated `(R column-major, p)`.
+        #[inline]
+        fn pose((r, p): ([[f32; 3]; 3], [f32; 3])) -> ::trocar::se3::Se3<f32> {
+            ::trocar::se3::Se3 {
+                rotation: ::trocar::nalgebra::Matrix3::from_data(
+                    ::trocar::nalgebra::ArrayStorage(r),
+                ),
+                translation: ::trocar::nalgebra::Vector3::from_data(
+                    ::trocar::nalgebra::ArrayStorage([p]),
+                ),
+            }
+        }
+        /// The constrained state from the joints' sines and cosines and `g_0i` (which does
+        /// not depend on the trocar offset).
+        #[inline]
+        fn state(
+            &self,
+            t: &JointTrig,
+            g_0i: ::trocar::se3::Se3<f32>,
+            l_a: f32,
+        ) -> ::core::result::Result<
+            ::trocar::control::ConstrainedState<f32, I, R, K, M>,
+            ::trocar::control::ControlError,
+        > {
+            if l_a == <f32 as ::trocar::Real>::ZERO
+                || !<f32 as ::trocar::Real>::is_finite(l_a)
+            {
+                return ::core::result::Result::Err(
+                    ::trocar::control::ControlError::Kinematics,
+                );
+            }
+            let mut p = self.params;
+            p.l_a = l_a;
+            ::core::result::Result::Ok(::trocar::control::ConstrainedState {
+                g_0e: Self::pose(forward_kinematics_trig(t, &p)),
+                g_0i,
+                jr: ::trocar::nalgebra::SMatrix::from_data(
+                    ::trocar::nalgebra::ArrayStorage(constrained_jacobian_trig(t, &p)),
+                ),
+                jb0i: ::trocar::nalgebra::SMatrix::from_data(
+                    ::trocar::nalgebra::ArrayStorage(partial_body_jacobian_trig(t, &p)),
+                ),
+                jc: ::trocar::nalgebra::SMatrix::from_data(
+                    ::trocar::nalgebra::ArrayStorage(constraint_jacobian_c_trig(t, &p)),
+                ),
+                lambda_sharp: ::trocar::nalgebra::SMatrix::from_data(
+                    ::trocar::nalgebra::ArrayStorage(lambda_null_space(&p)),
+                ),
+                lambda_pinv: ::trocar::nalgebra::SMatrix::from_data(
+                    ::trocar::nalgebra::ArrayStorage(lambda_pinv(&p)),
+                ),
+            })
+        }
+    }
+    impl ::trocar::control::ConstrainedKinematics<f32, N, I, R, K, M> for Kinematics {
+        #[inline]
+        fn g_0i(
+            &self,
+            q: &::trocar::nalgebra::SVector<f32, N>,
+        ) -> ::trocar::se3::Se3<f32> {
+            Self::pose(forward_kinematics_i(&q.data.0[0], &self.params))
+        }
+        #[inline]
+        fn h(&self) -> ::trocar::nalgebra::SMatrix<f32, R, 6> {
+            ::trocar::nalgebra::SMatrix::from_data(
+                ::trocar::nalgebra::ArrayStorage(constraint_selection(&self.params)),
+            )
+        }
+        #[inline]
+        fn evaluate(
+            &self,
+            q: &::trocar::nalgebra::SVector<f32, N>,
+            l_a: f32,
+        ) -> ::core::result::Result<
+            ::trocar::control::ConstrainedState<f32, I, R, K, M>,
+            ::trocar::control::ControlError,
+        > {
+            let t = JointTrig::new(&q.data.0[0]);
+            let g_0i = Self::pose(forward_kinematics_i_trig(&t, &self.params));
+            self.state(&t, g_0i, l_a)
+        }
+        /// One `JointTrig` for `g_0i`, `l_a` and everything else.
+        #[inline]
+        fn evaluate_at_trocar(
+            &self,
+            q: &::trocar::nalgebra::SVector<f32, N>,
+            trocar: &::trocar::nalgebra::Vector3<f32>,
+        ) -> ::core::result::Result<
+            (f32, ::trocar::control::ConstrainedState<f32, I, R, K, M>),
+            ::trocar::control::ControlError,
+        > {
+            let t = JointTrig::new(&q.data.0[0]);
+            let g_0i = Self::pose(forward_kinematics_i_trig(&t, &self.params));
+            let l_a = ::trocar::control::trocar_offset(&g_0i, trocar);
+            ::core::result::Result::Ok((l_a, self.state(&t, g_0i, l_a)?))
+        }
     }
 }
