@@ -1,7 +1,7 @@
 //! # trocar-firmware — an RCM control step for a surgical arm, as firmware would run it
 //!
 //! The kinematics of `dia10_like_zy` (the reference arm, bidirectional constraint, zy wrist) are
-//! generated in `build.rs` with [`trocar_codegen::Builder`] (f32, closed form) and
+//! generated in `build.rs` with `trocar_codegen::Builder` (f32, closed form) and
 //! included below. [`control_step`] is one iteration of the thesis's constrained controller
 //! (3.17)–(3.18) with damped least squares (3.43)–(3.44):
 //!
