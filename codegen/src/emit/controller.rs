@@ -12,7 +12,6 @@
 //! form get the glue ([`trocar_offset_parameter`]); the others keep `H`, `Λ#` and `Λ†` as plain
 //! functions.
 
-use super::rust::{doc_attrs, Ty};
 use super::Real;
 use crate::derivation::Derivation;
 use crate::symbolic::{Matrix, Poly};
@@ -37,20 +36,21 @@ pub fn trocar_offset_parameter(d: &Derivation) -> Option<String> {
 
 /// `Kinematics<T>` and its `ConstrainedKinematics` implementation, for a module whose trocar
 /// offset is the parameter `offset`.
-pub(crate) fn tokens(ty: &Ty, offset: &str) -> TokenStream {
-    let rt = ty.runtime().clone();
-    let t = ty.t();
-    let generics = ty.generics();
-    let args = ty.args();
+/// `rt` is the path of the runtime crate in emitted code (`::trocar`).
+pub(crate) fn tokens(rt: &TokenStream, real: Real, offset: &str) -> TokenStream {
     let offset = format_ident!("{}", offset);
-    let (impl_generics, ty_args) = match ty.real {
+    let (t, generics, args, impl_generics, ty_args) = match real {
         Real::Generic => (
+            quote!(T),
+            quote!(<T: #rt::Real>),
+            quote!(<T>),
             quote!(<T: #rt::Real + #rt::nalgebra::RealField>),
             quote!(<T>),
         ),
-        _ => (quote!(), quote!()),
+        Real::F32 => (quote!(f32), quote!(), quote!(), quote!(), quote!()),
+        Real::F64 => (quote!(f64), quote!(), quote!(), quote!(), quote!()),
     };
-    let real = ty.real_path();
+    let real = quote!(<#t as #rt::Real>);
     let struct_doc = format!(
         "The runtime controller's kinematics on this module's closed forms: \
          `{rt}::control::ConstrainedKinematics<_, N, I, R, K, M>`, so that \
@@ -62,9 +62,16 @@ pub(crate) fn tokens(ty: &Ty, offset: &str) -> TokenStream {
         rt = rt.to_string().replace(' ', ""),
         offset = offset,
     );
-    let struct_doc = doc_attrs(&struct_doc);
+    let struct_doc = struct_doc.lines().map(|l| {
+        let l = if l.is_empty() {
+            String::new()
+        } else {
+            format!(" {l}")
+        };
+        quote!(#[doc = #l])
+    });
     quote! {
-        #struct_doc
+        #(#struct_doc)*
         #[derive(Clone, Copy, Debug, PartialEq)]
         pub struct Kinematics #generics {
             /// The parameters; the trocar offset is overwritten at every evaluation.

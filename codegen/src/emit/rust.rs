@@ -532,7 +532,7 @@ fn layout_doc(shape: Shape, dims: Option<&(String, String)>, t: &str) -> String 
     }
 }
 
-pub(crate) fn doc_attrs(text: &str) -> TokenStream {
+fn doc_attrs(text: &str) -> TokenStream {
     let lines = text.lines().map(|l| {
         let l = if l.is_empty() {
             String::new()
@@ -819,7 +819,7 @@ pub fn module_items_in(spec: &ModuleSpec, real: Real, runtime: &Runtime) -> Toke
     let controller = spec
         .controller
         .as_deref()
-        .map(|offset| super::controller::tokens(&ty, offset));
+        .map(|offset| super::controller::tokens(ty.runtime(), real, offset));
     quote! {
         #(#consts)*
         #params
