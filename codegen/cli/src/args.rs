@@ -1,0 +1,175 @@
+//! The command-line arguments (clap types) of `trocar`.
+
+use clap::{Parser, Subcommand, ValueEnum};
+use std::path::PathBuf;
+
+/// Command-line arguments of `trocar`.
+#[derive(Debug, Parser)]
+#[command(
+    name = "trocar",
+    version,
+    about = "Constrained (RCM) kinematics: generate, evaluate, verify, simulate"
+)]
+pub struct Cli {
+    /// The subcommand.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands of `trocar`.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Emit the generated Rust module for a robot description or a closed mechanism.
+    Generate {
+        /// Robot or mechanism description (TOML file or shipped name).
+        robot: String,
+        /// Output file (stdout when absent).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Scalar type of the generated code.
+        #[arg(long, value_enum, default_value_t = RealArg::Generic)]
+        real: RealArg,
+    },
+    /// Evaluate the constrained Jacobian and friends at a configuration.
+    Eval {
+        /// Robot or mechanism description (TOML file or shipped name).
+        robot: String,
+        /// All n joint values, base first, comma separated.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            allow_hyphen_values = true,
+            required = true
+        )]
+        q: Vec<f64>,
+        /// Parameter values `name=value` (nominal values otherwise).
+        #[arg(long = "param", value_parser = crate::params::parse)]
+        params: Vec<(String, f64)>,
+        /// What to evaluate.
+        #[arg(long, value_enum, default_value_t = What::Jr)]
+        what: What,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+        /// Use the numeric runtime instead of the derived closed form.
+        #[arg(long)]
+        numeric: bool,
+    },
+    /// Check generated expressions against the numeric runtime and finite differences.
+    Verify {
+        /// Robot description (TOML file or shipped description name).
+        robot: String,
+        /// Number of random configurations.
+        #[arg(long, default_value_t = 1000)]
+        samples: usize,
+        /// Seed of the random configurations.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
+    /// Body or spatial Jacobian of a URDF chain.
+    Jacobian {
+        /// The URDF file.
+        #[arg(long)]
+        urdf: PathBuf,
+        /// The tip link (end effector).
+        #[arg(long)]
+        tip: String,
+        /// All joint values from the root to the tip, comma separated.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            allow_hyphen_values = true,
+            required = true
+        )]
+        q: Vec<f64>,
+        /// Frame of the Jacobian.
+        #[arg(long, value_enum, default_value_t = Frame::Body)]
+        frame: Frame,
+        /// Print JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Run one of the thesis's simulations (1, 2, 3, 4, exp421) or a closed-chain one.
+    Simulate {
+        /// Scenario name.
+        scenario: String,
+        /// Inverse used for J^r.
+        #[arg(long, value_enum)]
+        method: Option<Method>,
+        /// Close the loop on the trocar position.
+        #[arg(long, value_enum, default_value_t = OnOff::On)]
+        drift_correction: OnOff,
+        /// Write the trace as CSV.
+        #[arg(long)]
+        csv: Option<PathBuf>,
+        /// Write the figures (SVG; a .png path gives PNG).
+        #[arg(long)]
+        plot: Option<PathBuf>,
+    },
+    /// Print a shipped description (TOML).
+    Preset {
+        /// Name of the preset.
+        name: String,
+    },
+}
+
+/// Scalar type of generated code.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum RealArg {
+    /// Generic over `T: trocar::Real`.
+    Generic,
+    /// `f32`.
+    F32,
+    /// `f64`.
+    F64,
+}
+
+/// What `trocar eval` computes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum What {
+    /// Constrained Jacobian J^r_0e (3.15).
+    Jr,
+    /// Manipulability of J^r (3.36).
+    Manip,
+    /// J_c = Ad_gei Λ† (3.33).
+    Jc,
+    /// Partial body Jacobian J^B_0i (3.13).
+    Jb0i,
+    /// Body Jacobian J^B_0e (2.55).
+    Jb0e,
+    /// Forward kinematics g_0e as a 4×4 homogeneous matrix.
+    Fk,
+    /// Closed mechanisms: the passive map `−J_Cp⁻¹ J_Ca` of (7) (second source).
+    Passive,
+    /// Closed mechanisms: `det J_Cp` (zero at parallel singularities).
+    Det,
+}
+
+/// Frame of `trocar jacobian`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Frame {
+    /// Body Jacobian (2.55).
+    Body,
+    /// Spatial Jacobian (2.53).
+    Spatial,
+}
+
+/// Inverse used by the controller.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Method {
+    /// Moore–Penrose pseudo-inverse.
+    Pinv,
+    /// Damped least squares with variable damping (3.44)–(3.46).
+    Dls,
+    /// Filtered inverse (3.47)–(3.50).
+    Fi,
+}
+
+/// A switch.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum OnOff {
+    /// On.
+    On,
+    /// Off.
+    Off,
+}

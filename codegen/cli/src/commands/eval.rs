@@ -1,0 +1,259 @@
+//! `trocar eval`: the constrained Jacobian and friends of a serial robot or a closed mechanism
+//! at one configuration, from the generated closed forms or (`--numeric`) the numeric runtime.
+
+use crate::args::What;
+use crate::output::{CliError, MatrixOut};
+use crate::params;
+use crate::robot::{check_q, numeric_robot, robot_error};
+use clap::ValueEnum;
+use trocar_codegen::catalogue::Function;
+use trocar_codegen::evaluate::Generated;
+use trocar_model::closed_chain::MechanismModel;
+use trocar_model::description::RobotDescription;
+use trocar_model::Description;
+
+/// `trocar eval`: loads `robot` (file or shipped name) and evaluates `what` at all joint values
+/// `q`, with the parameter overrides `params` (`(name, value)`).
+pub fn eval(
+    robot: &str,
+    q: &[f64],
+    params: &[(String, f64)],
+    what: What,
+    numeric: bool,
+) -> Result<MatrixOut, CliError> {
+    match Description::load(robot)? {
+        Description::Mechanism(m) => eval_mechanism(&m, q, params, what, numeric),
+        Description::Serial(desc) => eval_serial(&desc, q, params, what, numeric),
+    }
+}
+
+/// `trocar eval` for a serial robot: `--what jr` (J^r_0e, (3.15)), `manip` ((3.36)), `jc`
+/// ((3.33)), `jb0i` ((3.13)), `jb0e` ((2.55)) or `fk`; from the generated closed forms
+/// (interpreted exactly as emitted) or, with `numeric`, the numeric runtime.
+pub fn eval_serial(
+    desc: &RobotDescription,
+    q: &[f64],
+    params: &[(String, f64)],
+    what: What,
+    numeric: bool,
+) -> Result<MatrixOut, CliError> {
+    check_q(desc, q)?;
+    let declared = desc.parameters.iter().map(|p| (p.name.as_str(), p.value));
+    let values = params::resolve(declared, params, "description")?;
+    if matches!(what, What::Passive | What::Det) {
+        return Err(CliError(format!(
+            "--what {}: only for closed mechanisms (`{}` is a serial robot)",
+            what_name(what),
+            desc.name
+        )));
+    }
+    if numeric {
+        serial_numeric(desc, q, &values, what)
+    } else {
+        serial_generated(desc, q, &values, what)
+    }
+}
+
+/// The generated closed forms of a serial robot, interpreted exactly as emitted.
+fn serial_generated(
+    desc: &RobotDescription,
+    q: &[f64],
+    values: &[f64],
+    what: What,
+) -> Result<MatrixOut, CliError> {
+    let generated = Generated::new(desc).map_err(CliError::from_display)?;
+    let function = match what {
+        What::Jr => Function::ConstrainedJacobian,
+        What::Manip => Function::Manipulability,
+        What::Jc => Function::ConstraintJacobianC,
+        What::Jb0i => Function::PartialBodyJacobian,
+        What::Jb0e => Function::BodyJacobian,
+        What::Fk => Function::ForwardKinematics,
+        What::Passive | What::Det => unreachable!("rejected by eval_serial"),
+    };
+    let m = generated.evaluate(function, q, values).ok_or_else(|| {
+        CliError(format!(
+            "`{}` has no generated `{function}` (a robot without [constraint] has only fk and jb0e)",
+            desc.name
+        ))
+    })?;
+    if m.values.iter().any(|v| !v.is_finite()) {
+        return Err(CliError(format!(
+            "`{function}` is not finite at this configuration (a parameter that divides is zero?)"
+        )));
+    }
+    Ok(MatrixOut::from_evaluated(&m))
+}
+
+/// The numeric runtime's kinematics of a serial robot.
+fn serial_numeric(
+    desc: &RobotDescription,
+    q: &[f64],
+    values: &[f64],
+    what: What,
+) -> Result<MatrixOut, CliError> {
+    let robot = numeric_robot(desc, values)?;
+    let err = robot_error(desc);
+    let needs_constraint = matches!(what, What::Jr | What::Manip | What::Jc | What::Jb0i);
+    if needs_constraint && desc.constraint.is_none() {
+        return Err(CliError(format!(
+            "`{}` has no [constraint]: only --what jb0e and fk apply",
+            desc.name
+        )));
+    }
+    Ok(match what {
+        What::Jr => MatrixOut::from_faer(&robot.constrained_jacobian(q).map_err(err)?),
+        What::Manip => MatrixOut::scalar(robot.manipulability(q).map_err(err)?),
+        What::Jc => MatrixOut::from_faer(&robot.moving_rcm_jacobian(q).map_err(err)?),
+        What::Jb0i => MatrixOut::from_faer(&robot.partial_body_jacobian(q).map_err(err)?),
+        What::Jb0e => MatrixOut::from_faer(&robot.body_jacobian(q).map_err(err)?),
+        What::Fk => MatrixOut::from_faer(&robot.forward_kinematics_matrix(q).map_err(err)?),
+        What::Passive | What::Det => unreachable!("rejected by eval_serial"),
+    })
+}
+
+/// `trocar eval` for a closed mechanism: `--what jr` (reduced Jacobian (8)), `jc` (`J_C`),
+/// `passive` (`−J_Cp⁻¹ J_Ca`, (7)) or `det` (`det J_Cp`), at all joint values `q`; from the
+/// generated closed forms (interpreted exactly as emitted) or, with `numeric`, the runtime.
+pub fn eval_mechanism(
+    m: &MechanismModel,
+    q: &[f64],
+    params: &[(String, f64)],
+    what: What,
+    numeric: bool,
+) -> Result<MatrixOut, CliError> {
+    let names = m.joint_names();
+    let n = names.len();
+    if q.len() != n {
+        return Err(CliError(format!(
+            "--q: `{}` has {n} joints ({}), got {} values",
+            m.name,
+            names.join(", "),
+            q.len()
+        )));
+    }
+    if let Some(k) = q.iter().position(|x| !x.is_finite()) {
+        return Err(CliError(format!("--q: value {k} is not finite")));
+    }
+    let declared = m.parameter_names().into_iter().zip(m.nominal_values());
+    let values = params::resolve(declared, params, "mechanism")?;
+    if numeric {
+        mechanism_numeric(m, q, &values, what)
+    } else {
+        mechanism_generated(m, q, &values, what)
+    }
+}
+
+/// The numeric runtime's differential kinematics of a closed mechanism.
+fn mechanism_numeric(
+    m: &MechanismModel,
+    q: &[f64],
+    values: &[f64],
+    what: What,
+) -> Result<MatrixOut, CliError> {
+    let mech = trocar_sim::closed_chain::Mechanism::from_model(m, values)
+        .map_err(CliError::from_display)?;
+    let theta = trocar::nalgebra::DVector::from_row_slice(q);
+    let d = mech.differential(&theta).map_err(CliError::from_display)?;
+    Ok(match what {
+        What::Jc => MatrixOut::from_nalgebra(&d.j_c),
+        What::Det if d.j_cp.is_square() => {
+            MatrixOut::scalar(trocar_sim::closed_chain::linalg::determinant(&d.j_cp))
+        }
+        What::Jr | What::Passive => {
+            let r = mech.reduced(&theta).map_err(CliError::from_display)?;
+            if what == What::Jr {
+                MatrixOut::from_nalgebra(&r.jacobian)
+            } else {
+                MatrixOut::from_nalgebra(&r.passive_map)
+            }
+        }
+        _ => return Err(unsupported_for_mechanism(what)),
+    })
+}
+
+/// The generated closed forms of a closed mechanism, interpreted exactly as emitted.
+fn mechanism_generated(
+    m: &MechanismModel,
+    q: &[f64],
+    values: &[f64],
+    what: What,
+) -> Result<MatrixOut, CliError> {
+    let n = q.len();
+    let (active, passive) = m.partition();
+    let (na, np, no) = (active.len(), passive.len(), m.outputs.len());
+    let singular = || {
+        CliError(format!(
+            "J_Cp is singular at this configuration (parallel singularity of `{}`)",
+            m.name
+        ))
+    };
+    let d = trocar_codegen::closed_chain::derive(m)?;
+    let generated = Generated::mechanism(&d);
+    let eval = |f: Function| {
+        generated
+            .outputs(f, q, values)
+            .ok_or_else(|| CliError(format!("internal: no generated `{f}`")))
+    };
+    let out = match what {
+        What::Jc => MatrixOut::column_major(&eval(Function::ConstraintJacobian)?, d.j_c.rows(), n),
+        What::Det => MatrixOut::column_major(&eval(Function::ConstraintDeterminant)?, 1, 1),
+        What::Jr | What::Passive => {
+            let (function, count) = if what == What::Jr {
+                (Function::ReducedJacobianNumerator, no)
+            } else {
+                (Function::PassiveMapNumerator, np)
+            };
+            // Column-major, row 0 of every column is det J_Cp.
+            let num = eval(function)?;
+            let rows = 1 + count;
+            let mut data = vec![vec![0.0; na]; count];
+            for a in 0..na {
+                let det = num[a * rows];
+                if !(det.is_finite() && det != 0.0) {
+                    return Err(singular());
+                }
+                for (r, row) in data.iter_mut().enumerate() {
+                    row[a] = num[a * rows + 1 + r] / det;
+                }
+            }
+            MatrixOut {
+                rows: count,
+                cols: na,
+                data,
+            }
+        }
+        _ => return Err(unsupported_for_mechanism(what)),
+    };
+    if !out.is_finite() {
+        return Err(singular());
+    }
+    Ok(out)
+}
+
+fn unsupported_for_mechanism(what: What) -> CliError {
+    CliError(format!(
+        "--what {}: not defined for a closed mechanism (use jr, jc, passive or det)",
+        what_name(what)
+    ))
+}
+
+/// The command-line spelling of `what`.
+fn what_name(what: What) -> String {
+    what.to_possible_value()
+        .map(|v| v.get_name().to_string())
+        .unwrap_or_default()
+}
+
+/// Runs `trocar eval`: prints the matrix as JSON or aligned text.
+pub(crate) fn run(
+    robot: &str,
+    q: &[f64],
+    params: &[(String, f64)],
+    what: What,
+    json: bool,
+    numeric: bool,
+) -> Result<i32, CliError> {
+    eval(robot, q, params, what, numeric)?.print(json);
+    Ok(0)
+}

@@ -1,0 +1,37 @@
+//! `trocar generate`: the emitted Rust module of a serial robot or a closed mechanism.
+
+use crate::args::RealArg;
+use crate::output::CliError;
+use std::path::Path;
+use trocar_model::Description;
+
+/// The generated Rust module of `robot` (file or shipped name): the closed forms of a serial
+/// robot, or the reduced kinematics of a closed mechanism, in the scalar type `real`.
+pub fn generate(robot: &str, real: RealArg) -> Result<String, CliError> {
+    let real = match real {
+        RealArg::Generic => trocar_codegen::Real::Generic,
+        RealArg::F32 => trocar_codegen::Real::F32,
+        RealArg::F64 => trocar_codegen::Real::F64,
+    };
+    let options = trocar_codegen::ModuleOptions {
+        real,
+        ..Default::default()
+    };
+    match Description::load(robot)? {
+        Description::Mechanism(m) => trocar_codegen::generate_mechanism_string(&m, &options),
+        Description::Serial(desc) => trocar_codegen::generate_module_string(&desc, &options),
+    }
+    .map_err(CliError::from_display)
+}
+
+/// Runs `trocar generate`: writes the module to `output`, or stdout.
+pub(crate) fn run(robot: &str, output: Option<&Path>, real: RealArg) -> Result<i32, CliError> {
+    let code = generate(robot, real)?;
+    match output {
+        Some(path) => {
+            std::fs::write(path, code).map_err(|e| CliError(format!("{}: {e}", path.display())))?
+        }
+        None => print!("{code}"),
+    }
+    Ok(0)
+}
