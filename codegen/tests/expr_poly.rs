@@ -1,8 +1,10 @@
 //! `Poly::from_expr` (the generator's reading of [`trocar_model::expr`]) gives, on every string of
 //! every shipped mechanism, exactly the polynomial the closed-chain length parser it replaces gave
-//! (kept here verbatim as the reference), and `Poly::parse` reads the grammar's forms.
+//! (kept here verbatim as the reference; so does the mechanism derivation's `length_poly`), and
+//! `Poly::parse` reads the grammar's forms.
 
 use std::path::Path;
+use trocar_codegen::closed_chain::length_poly;
 use trocar_codegen::symbolic::{Poly, Rational, SymbolicError};
 use trocar_model::expr::Expr;
 
@@ -43,11 +45,15 @@ fn mechanism_lengths_agree_with_the_old_parser() {
             let Ok(old) = old_parse_length(&s, &params) else {
                 continue;
             };
-            let new = Poly::from_expr(&Expr::parse(&s).unwrap(), &|n| {
+            let expr = Expr::parse(&s).unwrap();
+            let new = Poly::from_expr(&expr, &|n| {
                 params.iter().position(|(p, _)| p == n).map(Poly::param)
             })
             .unwrap_or_else(|e| panic!("{name}: `{s}`: {e}"));
             assert_eq!(new, old, "{name}: `{s}`");
+            // What the mechanism derivation reads its lengths with.
+            let names: Vec<&str> = params.iter().map(|(n, _)| n.as_str()).collect();
+            assert_eq!(length_poly(&expr, &names), Ok(old), "{name}: `{s}`");
             checked += 1;
         }
     }

@@ -3,10 +3,9 @@
 use crate::symbolic::{Matrix, Poly, Rational, SymbolicError};
 use std::fmt;
 use std::path::Path;
-use trocar_model::closed_chain::{
-    JointKind, LengthAlgebra, LengthExpr, MechanismModel, Output, PoseExpr,
-};
+use trocar_model::closed_chain::{JointKind, MechanismModel, Output, PoseExpr};
 use trocar_model::description::DescriptionError;
+use trocar_model::expr::Expr;
 
 /// A mechanism derivation's results: everything the emitter needs.
 ///
@@ -115,42 +114,13 @@ impl Frame {
     }
 }
 
-/// Lengths as polynomials of the parameters: numbers read exactly, `pi` its `f64` value.
-struct Length(Poly);
-
-impl LengthAlgebra for Length {
-    type Error = String;
-    fn number(x: f64) -> Result<Self, String> {
-        Rational::from_f64_decimal(x)
-            .map(|r| Length(Poly::constant(r)))
-            .map_err(|e| e.to_string())
-    }
-    fn param(index: usize) -> Result<Self, String> {
-        Ok(Length(Poly::param(index)))
-    }
-    fn neg(self) -> Self {
-        Length(self.0.neg())
-    }
-    fn add(self, rhs: Self) -> Self {
-        Length(self.0.add(&rhs.0))
-    }
-    fn sub(self, rhs: Self) -> Self {
-        Length(self.0.sub(&rhs.0))
-    }
-    fn mul(self, rhs: Self) -> Self {
-        Length(self.0.mul(&rhs.0))
-    }
-    fn div(self, rhs: Self) -> Result<Self, String> {
-        self.0
-            .div(&rhs.0)
-            .map(Length)
-            .map_err(|e: SymbolicError| e.to_string())
-    }
-}
-
-/// A length expression as a polynomial of the parameters ([`Poly::param`] by index).
-pub fn length_poly(e: &LengthExpr) -> Result<Poly, String> {
-    e.fold::<Length>().map(|l| l.0)
+/// A length expression as a polynomial of the parameters `names` (parameter `k` is
+/// [`Poly::param`]`(k)`), through [`Poly::from_expr`] as for serial descriptions: numbers read
+/// exactly as their decimals, `pi` as its `f64` value.
+pub fn length_poly(e: &Expr, names: &[&str]) -> Result<Poly, SymbolicError> {
+    Poly::from_expr(e, &|name| {
+        names.iter().position(|n| *n == name).map(Poly::param)
+    })
 }
 
 /// The symbolic `x`, `y` and the constant angle's `(cos, sin)` of a pose.
@@ -159,10 +129,19 @@ fn pose(
     p: &PoseExpr,
     path: &str,
 ) -> Result<(Poly, Poly, Poly, Poly), MechanismError> {
-    let len = |e: &LengthExpr, k: &str| {
-        length_poly(e).map_err(|msg| MechanismError::new(format!("{path}.{k}"), msg))
+    let names = m.parameter_names();
+    let len = |e: &Expr, k: &str| {
+        length_poly(e, &names)
+            .map_err(|err| MechanismError::new(format!("{path}.{k}"), err.to_string()))
     };
-    if let Some(&k) = p.angle.parameters().first() {
+    // (the first parameter in declaration order, as named before)
+    let first = p
+        .angle
+        .symbols()
+        .into_iter()
+        .filter_map(|s| m.parameter_index(s))
+        .min();
+    if let Some(k) = first {
         return Err(MechanismError::new(
             format!("{path}.angle"),
             format!(
@@ -175,8 +154,8 @@ fn pose(
     let angle_field = format!("{path}.angle");
     let angle = p
         .angle
-        .eval(&[])
-        .map_err(|msg| MechanismError::new(angle_field.clone(), msg))?;
+        .eval(|_| None)
+        .map_err(|err| MechanismError::new(angle_field.clone(), err.to_string()))?;
     let (c, s) = angle_cos_sin(angle, &angle_field)?;
     Ok((len(&p.x, "x")?, len(&p.y, "y")?, c, s))
 }
@@ -279,6 +258,7 @@ pub fn derive_mechanism(m: &MechanismModel) -> Result<MechanismDerivation, Mecha
         }
     }
     let nominal = m.nominal_values();
+    let at_nominal = m.lookup(&nominal);
 
     // Steps 1–2: chain poses and Jacobians S J_k, placed in their columns of θ.
     let mut chain_jacobians = Vec::with_capacity(m.chains.len());
@@ -302,7 +282,7 @@ pub fn derive_mechanism(m: &MechanismModel) -> Result<MechanismDerivation, Mecha
             let field = format!("{path}.joints[{ji}].axis");
             let axis = j
                 .kind
-                .unit_axis(&nominal, &field)
+                .unit_axis(&at_nominal, &field)
                 .map_err(|e| MechanismError::new(e.field, e.message))?
                 .map(|a| unit_axis(a, &field))
                 .transpose()?;
@@ -377,7 +357,7 @@ pub fn derive_mechanism(m: &MechanismModel) -> Result<MechanismDerivation, Mecha
     Ok(MechanismDerivation {
         name: m.name.clone(),
         params: m.parameters.iter().map(|p| p.name.clone()).collect(),
-        param_values: nominal,
+        param_values: nominal.clone(),
         joint_names: m.joint_names(),
         joint_is_linear: m
             .chains
@@ -406,7 +386,8 @@ mod tests {
     fn lengths_are_symbolic() {
         let p = ["l0", "l3"];
         let parse_length = |s: &str, p: &[&str]| -> Result<Poly, String> {
-            length_poly(&LengthExpr::parse(s, p)?)
+            let e = Expr::parse(s).map_err(|e| e.to_string())?;
+            length_poly(&e, p).map_err(|e| e.to_string())
         };
         let e = parse_length("-l0/2 + 2*(l3 - 0.5)", &p).unwrap();
         assert_eq!(

@@ -27,8 +27,9 @@
 //! constraint manifold the results are those of the same formulas, as in the numeric reference.
 //!
 //! Lengths (`x`, `y` of `base`, `tip` and `origin`) may be expressions of the parameters (`+ − * /`,
-//! parentheses, `pi`, parsed once by trocar-model into a
-//! [`LengthExpr`](trocar_model::closed_chain::LengthExpr)); they stay symbolic and
+//! parentheses, `pi`, parsed once by trocar-model into an
+//! [`Expr`](trocar_model::expr::Expr), made a polynomial by [`Poly::from_expr`](crate::symbolic::Poly::from_expr)
+//! as serial lengths are); they stay symbolic and
 //! become fields of the generated `Params`. Fixed
 //! angles must be constants (numbers and `pi`): their sines and cosines are exact for multiples
 //! of `π/2`, and the `f64` values otherwise. Mechanisms whose `J_Cp` is not square (more

@@ -248,6 +248,30 @@ impl Expr {
         out
     }
 
+    /// Checks that every symbol is `known`; else the error `unknown parameter` at the first
+    /// unknown one (as [`Expr::eval`] words it).
+    pub fn check_symbols(&self, known: impl Fn(&str) -> bool) -> Result<(), ExprError> {
+        fn walk(e: &Expr, known: &dyn Fn(&str) -> bool) -> Result<(), ExprError> {
+            match e {
+                Expr::Number { .. } | Expr::Pi { .. } => Ok(()),
+                Expr::Symbol { name, at } => {
+                    if known(name) {
+                        Ok(())
+                    } else {
+                        Err(ExprError::new(*at, format!("unknown parameter `{name}`")))
+                    }
+                }
+                Expr::Neg { operand, .. } => walk(operand, known),
+                Expr::Binary { lhs, rhs, .. } => {
+                    walk(lhs, known)?;
+                    walk(rhs, known)
+                }
+                Expr::Pow { base, .. } => walk(base, known),
+            }
+        }
+        walk(self, &known)
+    }
+
     /// `true` when no symbol appears.
     pub fn is_constant(&self) -> bool {
         self.symbols().is_empty()
@@ -606,6 +630,10 @@ mod tests {
         assert_eq!(Expr::parse("2*pi_x + pi").unwrap().symbols(), vec!["pi_x"]);
     }
 
+    fn err_at(at: usize, name: &str) -> ExprError {
+        ExprError::new(at, format!("unknown parameter `{name}`"))
+    }
+
     #[test]
     fn errors_carry_offsets() {
         let at = |t: &str| Expr::parse(t).unwrap_err().at;
@@ -626,6 +654,9 @@ mod tests {
             (4, "unknown parameter `l9`")
         );
         assert!(err.to_string().contains("at byte 4"));
+        let e = Expr::parse("a * (2 - l9) + l8").unwrap();
+        assert_eq!(e.check_symbols(|n| n.len() == 1), Err(err_at(9, "l9")));
+        assert_eq!(e.check_symbols(|_| true), Ok(()));
     }
 
     #[test]

@@ -5,7 +5,8 @@
 //! A mechanism is a list of open planar chains that all reach one common frame (the end effector
 //! `E_e`, the platform `E_s` or the held object `E_c`); the structural equations (2), (9)–(10),
 //! (23)–(24), (32)–(33) say every chain reaches the same pose. Lengths stay expressions of named
-//! parameters ([`LengthExpr`], the one length-expression parser of mechanisms), so the generator
+//! parameters (an [`Expr`](crate::expr::Expr) of the one length-expression parser,
+//! [`crate::expr`], whose symbols are looked up by name), so the generator
 //! derives closed forms with the parameters as symbols, and the numeric simulation (trocar-sim)
 //! evaluates them at any parameter values.
 //!
@@ -24,14 +25,12 @@
 //! # Format
 #![doc = include_str!("format.md")]
 
-mod length;
 mod model;
 mod read;
 
-pub use length::{LengthAlgebra, LengthExpr};
 pub use model::{
-    contact_joint, eval, joint_limits, ChainModel, ContactJoint, ContactSpec, JointKind,
-    JointModel, MechanismModel, Output, Parameter, PoseExpr,
+    contact_joint, eval, joint_limits, number, ChainModel, ContactJoint, ContactSpec, JointKind,
+    JointModel, Lookup, MechanismModel, Output, Parameter, PoseExpr,
 };
 pub use read::{shipped_text, COOPERATIVE_TOML, FOUR_BAR_TOML, SHIPPED, STEWART_TOML};
 

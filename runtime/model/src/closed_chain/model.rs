@@ -1,9 +1,20 @@
 //! The symbolic model of a closed planar mechanism: chains, joints and lengths as written, with
 //! the admission rules of the structural equations (2), (9)–(10), (23)–(24), (32)–(33).
 
-use super::length::LengthExpr;
 use crate::description::DescriptionError;
+use crate::expr::Expr;
 use std::path::PathBuf;
+
+/// Parameter values by name (`None`: not a parameter): what the model's expressions are
+/// evaluated with ([`MechanismModel::lookup`] gives one for values in declaration order).
+pub type Lookup<'a> = dyn Fn(&str) -> Option<f64> + 'a;
+
+/// The number `value` as an expression (a TOML literal, an absent field).
+pub const fn number(value: f64) -> Expr {
+    Expr::Number { value, at: 0 }
+}
+
+const ZERO: Expr = number(0.0);
 
 /// One component of the task vector `x` (1).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -42,7 +53,7 @@ pub struct Parameter {
     /// Name (an identifier, not `pi`).
     pub name: String,
     /// The value as written (an expression of the parameters declared before it).
-    pub expr: LengthExpr,
+    pub expr: Expr,
     /// Its value with the nominal values of the parameters before it.
     pub nominal: f64,
 }
@@ -51,24 +62,24 @@ pub struct Parameter {
 #[derive(Clone, Debug, PartialEq)]
 pub struct PoseExpr {
     /// x coordinate.
-    pub x: LengthExpr,
+    pub x: Expr,
     /// y coordinate.
-    pub y: LengthExpr,
+    pub y: Expr,
     /// Rotation about z (rad).
-    pub angle: LengthExpr,
+    pub angle: Expr,
 }
 
 impl PoseExpr {
     /// The identity pose.
     pub const IDENTITY: PoseExpr = PoseExpr {
-        x: LengthExpr::ZERO,
-        y: LengthExpr::ZERO,
-        angle: LengthExpr::ZERO,
+        x: ZERO,
+        y: ZERO,
+        angle: ZERO,
     };
 
-    /// `(x, y, angle)` at parameter values `values`; errors name `field` and are raised for
-    /// non-finite results.
-    pub fn eval(&self, values: &[f64], field: &str) -> Result<[f64; 3], DescriptionError> {
+    /// `(x, y, angle)` with the parameter values `values`; errors name `field` and are raised
+    /// for non-finite results.
+    pub fn eval(&self, values: &Lookup, field: &str) -> Result<[f64; 3], DescriptionError> {
         Ok([
             eval(&self.x, values, &format!("{field}.x"))?,
             eval(&self.y, values, &format!("{field}.y"))?,
@@ -85,16 +96,16 @@ pub enum JointKind {
     /// Translation along `axis` (normalised when evaluated, [`JointKind::unit_axis`]).
     Prismatic {
         /// Direction in the joint frame, as written.
-        axis: [LengthExpr; 2],
+        axis: [Expr; 2],
     },
 }
 
 impl JointKind {
-    /// The prismatic joint's unit axis at `values` (`None` for a revolute joint). Errors (field
-    /// `field`) for a zero or non-finite axis.
+    /// The prismatic joint's unit axis with the parameter values `values` (`None` for a
+    /// revolute joint). Errors (field `field`) for a zero or non-finite axis.
     pub fn unit_axis(
         &self,
-        values: &[f64],
+        values: &Lookup,
         field: &str,
     ) -> Result<Option<[f64; 2]>, DescriptionError> {
         let JointKind::Prismatic { axis } = self else {
@@ -128,16 +139,16 @@ pub struct JointModel {
     /// Active (actuated, `θ_a`) or passive (`θ_p`).
     pub active: bool,
     /// Optional limits `[θ_min, θ_max]` (used by the joint-limit objective of (46)).
-    pub limits: Option<[LengthExpr; 2]>,
+    pub limits: Option<[Expr; 2]>,
     /// Optional value near an assembly.
-    pub initial: Option<LengthExpr>,
+    pub initial: Option<Expr>,
 }
 
 /// A contact of an arm's end effector with a held object (35)–(42).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ContactSpec {
     /// Rows of `H`: the free directions `(v_x, v_y, ω)` in the contact frame (empty: gripped).
-    pub h: Vec<[LengthExpr; 3]>,
+    pub h: Vec<[Expr; 3]>,
     /// Transform from the contact frame to the object frame `E_c`.
     pub object: PoseExpr,
 }
@@ -152,12 +163,13 @@ pub enum ContactJoint {
 }
 
 impl ContactSpec {
-    /// The passive joint of each row of `H` at `values`: `(0, 0, 1)` a revolute joint,
+    /// The passive joint of each row of `H` with the parameter values `values`: `(0, 0, 1)` a
+    /// revolute joint,
     /// `(v_x, v_y, 0)` a prismatic joint along that direction (36)–(42). Errors name
     /// `{field}.h[i]` for a row that mixes rotation and translation or is zero.
     pub fn joints(
         &self,
-        values: &[f64],
+        values: &Lookup,
         field: &str,
     ) -> Result<Vec<ContactJoint>, DescriptionError> {
         self.h
@@ -251,6 +263,15 @@ impl MechanismModel {
     /// Parameter names, in declaration order.
     pub fn parameter_names(&self) -> Vec<&str> {
         self.parameters.iter().map(|p| p.name.as_str()).collect()
+    }
+
+    /// The parameter values `values` (one per parameter, in declaration order) looked up by
+    /// name, what the model's expressions are evaluated with ([`eval`]).
+    pub fn lookup<'a>(&'a self, values: &'a [f64]) -> impl Fn(&str) -> Option<f64> + 'a {
+        move |name| {
+            self.parameter_index(name)
+                .and_then(|k| values.get(k).copied())
+        }
     }
 
     /// Index of the parameter `name`.
@@ -362,6 +383,7 @@ impl MechanismModel {
     /// The value admission rules at parameter values `values`: every number finite, prismatic
     /// axes non-zero, limits with `min < max`, contact rows a rotation or a translation.
     pub fn check_values(&self, values: &[f64]) -> Result<(), DescriptionError> {
+        let values = &self.lookup(values);
         for (ci, ch) in self.chains.iter().enumerate() {
             let path = format!("chains[{ci}]");
             ch.base.eval(values, &format!("{path}.base"))?;
@@ -384,10 +406,11 @@ impl MechanismModel {
     }
 }
 
-/// A joint's limits at `values` (field `{joint}.limits`): finite with `min < max`.
+/// A joint's limits with the parameter values `values` (field `{joint}.limits`): finite with
+/// `min < max`.
 pub fn joint_limits(
     j: &JointModel,
-    values: &[f64],
+    values: &Lookup,
     joint: &str,
 ) -> Result<Option<[f64; 2]>, DescriptionError> {
     let Some([lo, hi]) = &j.limits else {
@@ -401,9 +424,10 @@ pub fn joint_limits(
     Ok(Some([lo, hi]))
 }
 
-/// Evaluates `e` at `values`; errors (division by zero, non-finite) name `field`.
-pub fn eval(e: &LengthExpr, values: &[f64], field: &str) -> Result<f64, DescriptionError> {
-    let x = e.eval(values).map_err(|m| invalid(field, m))?;
+/// Evaluates `e` with the parameter values `values` (looked up by name); errors (unknown
+/// parameter, division by zero, non-finite) name `field`.
+pub fn eval(e: &Expr, values: &Lookup, field: &str) -> Result<f64, DescriptionError> {
+    let x = e.eval(values).map_err(|m| invalid(field, m.to_string()))?;
     if !x.is_finite() {
         return Err(invalid(field, "not finite"));
     }

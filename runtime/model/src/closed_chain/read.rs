@@ -1,11 +1,11 @@
 //! The TOML reader of mechanism descriptions (format: see the parent module).
 
-use super::length::LengthExpr;
 use super::model::{
-    invalid, ChainModel, ContactSpec, JointKind, JointModel, MechanismModel, Output, Parameter,
-    PoseExpr,
+    invalid, number, ChainModel, ContactSpec, JointKind, JointModel, MechanismModel, Output,
+    Parameter, PoseExpr,
 };
 use crate::description::DescriptionError;
+use crate::expr::{is_name, Expr};
 use std::path::Path;
 use toml::{Table, Value};
 
@@ -233,12 +233,11 @@ impl Reader {
                 .ok_or_else(|| err("parameters", "must be a table of name = number"))?;
             for (k, v) in p {
                 let field = format!("parameters.{k}");
-                if !is_ident(k) || k == "pi" {
+                if !is_name(k) || k == "pi" {
                     return Err(err(field, "parameter names must be identifiers (not `pi`)"));
                 }
                 let expr = self.expr(v, &field)?;
-                let values: Vec<f64> = self.params.iter().map(|(_, v)| *v).collect();
-                let nominal = super::model::eval(&expr, &values, &field)?;
+                let nominal = super::model::eval(&expr, &|n| self.value(n), &field)?;
                 self.params.push((k.clone(), nominal));
                 parameters.push(Parameter {
                     name: k.clone(),
@@ -331,7 +330,7 @@ impl Reader {
             ],
         )?;
         let name = match jt.get("name") {
-            Some(Value::String(s)) if is_ident(s) => s.clone(),
+            Some(Value::String(s)) if is_name(s) => s.clone(),
             Some(_) => {
                 return Err(err(
                     format!("{jp}.name"),
@@ -352,7 +351,7 @@ impl Reader {
             }
             Some("prismatic") => {
                 let axis = match jt.get("axis") {
-                    None => [LengthExpr::Number(1.0), LengthExpr::Number(0.0)],
+                    None => [number(1.0), number(0.0)],
                     Some(Value::Array(a)) if a.len() == 2 => [
                         self.expr(&a[0], &format!("{jp}.axis[0]"))?,
                         self.expr(&a[1], &format!("{jp}.axis[1]"))?,
@@ -446,10 +445,9 @@ impl Reader {
             )
         })?;
         check_keys(t, path, &["x", "y", "angle"])?;
-        let get = |k: &str| -> Result<LengthExpr, DescriptionError> {
-            t.get(k).map_or(Ok(LengthExpr::ZERO), |v| {
-                self.expr(v, &format!("{path}.{k}"))
-            })
+        let get = |k: &str| -> Result<Expr, DescriptionError> {
+            t.get(k)
+                .map_or(Ok(number(0.0)), |v| self.expr(v, &format!("{path}.{k}")))
         };
         Ok(PoseExpr {
             x: get("x")?,
@@ -458,15 +456,20 @@ impl Reader {
         })
     }
 
-    /// A number field: a TOML number or a length expression of the parameters declared so far.
-    fn expr(&self, v: &Value, field: &str) -> Result<LengthExpr, DescriptionError> {
+    /// The nominal value of the parameter `name` declared so far.
+    fn value(&self, name: &str) -> Option<f64> {
+        self.params.iter().find(|(n, _)| n == name).map(|(_, v)| *v)
+    }
+
+    /// A number field: a TOML number or a length expression ([`Expr`]) of the parameters
+    /// declared so far.
+    fn expr(&self, v: &Value, field: &str) -> Result<Expr, DescriptionError> {
         let e = match v {
-            Value::Float(f) => LengthExpr::Number(*f),
-            Value::Integer(i) => LengthExpr::Number(*i as f64),
-            Value::String(s) => {
-                let names: Vec<&str> = self.params.iter().map(|(n, _)| n.as_str()).collect();
-                LengthExpr::parse(s, &names).map_err(|m| err(field, m))?
-            }
+            Value::Float(f) => number(*f),
+            Value::Integer(i) => number(*i as f64),
+            Value::String(s) => Expr::parse(s)
+                .and_then(|e| e.check_symbols(|n| self.value(n).is_some()).map(|()| e))
+                .map_err(|e| err(field, format!("cannot read `{s}`: {e}")))?,
             _ => {
                 return Err(err(
                     field,
@@ -474,19 +477,13 @@ impl Reader {
                 ))
             }
         };
-        if let LengthExpr::Number(x) = e {
-            if !x.is_finite() {
+        if let Expr::Number { value, .. } = e {
+            if !value.is_finite() {
                 return Err(err(field, "not finite"));
             }
         }
         Ok(e)
     }
-}
-
-fn is_ident(s: &str) -> bool {
-    let mut c = s.chars();
-    matches!(c.next(), Some(ch) if ch.is_ascii_alphabetic() || ch == '_')
-        && c.all(|ch| ch.is_ascii_alphanumeric() || ch == '_')
 }
 
 #[cfg(test)]
@@ -498,5 +495,38 @@ mod tests {
         for n in SHIPPED {
             MechanismModel::shipped(n).unwrap();
         }
+    }
+
+    /// A length field read as the reader reads it, evaluated with the parameters in scope.
+    fn eval_expr(src: &str, p: &[(&str, f64)]) -> Result<f64, String> {
+        let r = Reader {
+            params: p.iter().map(|(n, v)| (n.to_string(), *v)).collect(),
+        };
+        let e = r
+            .expr(&Value::String(src.into()), "f")
+            .map_err(|e| e.message)?;
+        super::super::model::eval(&e, &|n| r.value(n), "f").map_err(|e| e.message)
+    }
+
+    #[test]
+    fn expressions() {
+        let p = [("l0", 1.0), ("l3", 0.6)];
+        assert_eq!(eval_expr("-l0/2", &p).unwrap(), -0.5);
+        assert!((eval_expr("l3 + 2*(l0 - 0.5)", &p).unwrap() - 1.6).abs() < 1e-15);
+        assert!(
+            (eval_expr("2/3*pi", &p).unwrap() - 2.0 * std::f64::consts::PI / 3.0).abs() < 1e-15
+        );
+        assert!(eval_expr("l9", &p).unwrap_err().contains("l9"));
+        assert!(eval_expr("1e-3", &p).unwrap() == 1e-3);
+        assert!(eval_expr("1 +", &p).is_err());
+        assert!(eval_expr("1/(l0 - l0)", &p).is_err());
+        let e = Expr::parse("l3 * (l0 + l3)").unwrap();
+        let mut used: Vec<usize> = e
+            .symbols()
+            .into_iter()
+            .filter_map(|s| p.iter().position(|(n, _)| *n == s))
+            .collect();
+        used.sort_unstable();
+        assert_eq!(used, [0, 1]);
     }
 }

@@ -16,7 +16,7 @@ use super::error::ClosedChainError;
 use super::linalg;
 use super::mechanism::Mechanism;
 use nalgebra::{DMatrix, Matrix3};
-use trocar_model::closed_chain::{LengthExpr, MechanismModel};
+use trocar_model::closed_chain::{number, MechanismModel};
 
 /// The contact models of §5.3.
 #[derive(Clone, Debug, PartialEq)]
@@ -131,6 +131,6 @@ pub fn two_arms(model: &ContactModel) -> Result<Mechanism, ClosedChainError> {
 /// Replaces the selection `H` of every contact of `model` by the rows `h`.
 pub fn with_contacts(model: &mut MechanismModel, h: &[[f64; 3]]) {
     for c in model.chains.iter_mut().filter_map(|c| c.contact.as_mut()) {
-        c.h = h.iter().map(|r| r.map(LengthExpr::Number)).collect();
+        c.h = h.iter().map(|r| r.map(number)).collect();
     }
 }

@@ -225,8 +225,10 @@ impl Mechanism {
         }
         model.validate()?;
         model.check_values(values)?;
+        let lookup = model.lookup(values);
+        let lookup: &trocar_model::closed_chain::Lookup = &lookup;
         let pose = |p: &trocar_model::closed_chain::PoseExpr, field: &str| {
-            p.eval(values, field).map(|[x, y, a]| Pose2::new(x, y, a))
+            p.eval(lookup, field).map(|[x, y, a]| Pose2::new(x, y, a))
         };
         let mut chains = Vec::with_capacity(model.chains.len());
         let mut initial = Vec::new();
@@ -236,7 +238,7 @@ impl Mechanism {
             let mut joints = Vec::with_capacity(ch.n_joints());
             for (ji, j) in ch.joints.iter().enumerate() {
                 let jp = format!("{path}.joints[{ji}]");
-                let kind = match j.kind.unit_axis(values, &format!("{jp}.axis"))? {
+                let kind = match j.kind.unit_axis(lookup, &format!("{jp}.axis"))? {
                     None => JointType::Revolute,
                     Some(axis) => JointType::Prismatic { axis },
                 };
@@ -246,7 +248,7 @@ impl Mechanism {
                         any_initial = true;
                         initial.push(trocar_model::closed_chain::eval(
                             e,
-                            values,
+                            lookup,
                             &format!("{jp}.initial"),
                         )?);
                     }
@@ -256,7 +258,7 @@ impl Mechanism {
                     kind,
                     origin: pose(&j.origin, &format!("{jp}.origin"))?,
                     active: j.active,
-                    limits: trocar_model::closed_chain::joint_limits(j, values, &jp)?,
+                    limits: trocar_model::closed_chain::joint_limits(j, lookup, &jp)?,
                 });
             }
             let mut tip = pose(&ch.tip, &format!("{path}.tip"))?;
@@ -267,7 +269,7 @@ impl Mechanism {
                 let object = pose(&c.object, &format!("{cp}.object"))?;
                 let names = ch.joint_names();
                 let mut origin = tip;
-                for (i, cj) in c.joints(values, &cp)?.into_iter().enumerate() {
+                for (i, cj) in c.joints(lookup, &cp)?.into_iter().enumerate() {
                     joints.push(PlanarJoint {
                         name: names[ch.joints.len() + i].clone(),
                         kind: match cj {
