@@ -364,10 +364,10 @@ pub mod reference {
 pub mod numeric {
     use super::Case;
     use trocar::constraint::Constraint;
-    use trocar::description::RobotDescription;
+    use trocar_model::description::RobotDescription;
     use trocar::kinematics::Chain;
     use trocar::nalgebra::{SMatrix, SVector};
-    use trocar::robot::Robot;
+    use trocar_model::numeric::NumericModel as Robot;
 
     /// A prepared case: the typed chain and constraint, as a control loop would hold them.
     pub enum Numeric {
