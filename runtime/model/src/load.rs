@@ -31,13 +31,7 @@ impl Description {
             }
             return RobotDescription::from_toml_file(path).map(Description::Serial);
         }
-        let text = std::fs::read_to_string(path).map_err(|e| DescriptionError {
-            file: Some(path.to_path_buf()),
-            line: None,
-            column: None,
-            field: "(file)".into(),
-            message: format!("cannot read the file: {e}"),
-        })?;
+        let text = DescriptionError::read_file(path)?;
         match closed_chain::parse_table(&text) {
             Ok(table) if table.contains_key("chains") => {
                 MechanismModel::from_table(&table, &text, Some(path)).map(Description::Mechanism)

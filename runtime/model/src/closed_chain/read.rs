@@ -49,13 +49,7 @@ impl MechanismModel {
     /// Reads a mechanism description from a file; errors name the file, the line and the field.
     pub fn from_toml_file(path: impl AsRef<Path>) -> Result<Self, DescriptionError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|e| DescriptionError {
-            file: Some(path.to_path_buf()),
-            line: None,
-            column: None,
-            field: String::new(),
-            message: format!("cannot read: {e}"),
-        })?;
+        let text = DescriptionError::read_file(path)?;
         let table = parse_table(&text).map_err(|mut e| {
             e.file = Some(path.to_path_buf());
             e

@@ -37,3 +37,17 @@ impl fmt::Display for DescriptionError {
 }
 
 impl std::error::Error for DescriptionError {}
+
+impl DescriptionError {
+    /// Reads a description file as text; an unreadable file (missing, not UTF-8, ...) is an error
+    /// naming the file.
+    pub fn read_file(path: &std::path::Path) -> Result<String, DescriptionError> {
+        std::fs::read_to_string(path).map_err(|e| DescriptionError {
+            file: Some(PathBuf::from(path)),
+            line: None,
+            column: None,
+            field: "(file)".into(),
+            message: format!("cannot read the file: {e}"),
+        })
+    }
+}

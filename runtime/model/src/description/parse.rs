@@ -38,7 +38,7 @@ use super::{
     RobotDescription, Rotation, Scalar, Wrist,
 };
 use serde::Deserialize;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -505,13 +505,7 @@ impl RobotDescription {
     /// Reads a description from a TOML file.
     pub fn from_toml_file(path: impl AsRef<Path>) -> Result<Self, DescriptionError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|e| DescriptionError {
-            file: Some(PathBuf::from(path)),
-            line: None,
-            column: None,
-            field: "(file)".into(),
-            message: format!("cannot read the file: {e}"),
-        })?;
+        let text = DescriptionError::read_file(path)?;
         Self::from_toml_str(&text, Some(path))
     }
 

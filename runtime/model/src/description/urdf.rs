@@ -115,13 +115,7 @@ impl RobotDescription {
         tip_link: &str,
     ) -> Result<Self, DescriptionError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|e| DescriptionError {
-            file: Some(path.to_path_buf()),
-            line: None,
-            column: None,
-            field: "(file)".into(),
-            message: format!("cannot read the file: {e}"),
-        })?;
+        let text = DescriptionError::read_file(path)?;
         Self::from_urdf_text(&text, tip_link, Some(path))
     }
 
