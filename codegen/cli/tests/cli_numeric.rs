@@ -1,40 +1,10 @@
 //! The `trocar` binary's numeric subcommands, run as a user would.
 
-use std::process::Command;
+mod common;
 
-fn trocar(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_trocar"))
-        .args(args)
-        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .output()
-        .expect("the trocar binary runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::{json_matrix, trocar};
 
 const Q0: &str = "0,-0.3,0.9,0.2,-0.6,0.1,0.5,0.3";
-
-fn json_matrix(text: &str) -> (usize, usize, Vec<Vec<f64>>) {
-    let v: serde_json::Value = serde_json::from_str(text.trim()).expect("valid JSON");
-    let rows = v["rows"].as_u64().unwrap() as usize;
-    let cols = v["cols"].as_u64().unwrap() as usize;
-    let data = v["data"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|r| {
-            r.as_array()
-                .unwrap()
-                .iter()
-                .map(|x| x.as_f64().unwrap())
-                .collect()
-        })
-        .collect();
-    (rows, cols, data)
-}
 
 #[test]
 fn json_keys_come_in_the_spec_order() {

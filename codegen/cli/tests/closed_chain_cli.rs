@@ -1,37 +1,11 @@
 //! Closed mechanisms through the command line: `trocar generate` and `trocar eval` on a mechanism
 //! TOML, and their errors.
 
-use std::process::Command;
+mod common;
+
+use common::{json_matrix, trocar};
 use trocar_sim::closed_chain::four_bar::FourBar;
 
-fn trocar(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_trocar"))
-        .args(args)
-        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .output()
-        .expect("the trocar binary runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
-fn json_data(text: &str) -> Vec<Vec<f64>> {
-    let v: serde_json::Value = serde_json::from_str(text.trim()).expect("valid JSON");
-    v["data"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|r| {
-            r.as_array()
-                .unwrap()
-                .iter()
-                .map(|x| x.as_f64().unwrap())
-                .collect()
-        })
-        .collect()
-}
 #[test]
 fn cli_generate_mechanism() {
     let (code, out, err) = trocar(&["generate", "runtime/model/robots/mechanisms/four-bar.toml"]);
@@ -77,7 +51,7 @@ fn cli_eval_mechanism() {
             "--numeric",
         ]);
         assert_eq!((c1, c2), (0, 0), "{e1}{e2}");
-        let (a, b) = (json_data(&gen), json_data(&num));
+        let (a, b) = (json_matrix(&gen).2, json_matrix(&num).2);
         assert_eq!(a.len(), b.len());
         for (ra, rb) in a.iter().zip(&b) {
             for (x, y) in ra.iter().zip(rb) {
@@ -103,7 +77,7 @@ fn cli_eval_mechanism() {
         "--json",
         "--numeric",
     ]);
-    assert!((json_data(&gen)[0][0] - json_data(&num)[0][0]).abs() < 1e-12);
+    assert!((json_matrix(&gen).2[0][0] - json_matrix(&num).2[0][0]).abs() < 1e-12);
     // Errors.
     let (code, _, err) = trocar(&["eval", "four-bar", "--q", "1,2,3"]);
     assert_eq!(code, 1);
