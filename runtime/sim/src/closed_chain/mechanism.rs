@@ -548,8 +548,8 @@ impl Mechanism {
         self.check_theta(theta)?;
         let (j, a) = self.stacked(theta);
         let at = self.difference_annihilator();
-        let a_dag = linalg::left_pseudo_inverse(&a)
-            .ok_or_else(|| ClosedChainError::invalid("chains", "A has no left pseudo-inverse"))?;
+        // `A` stacks one 3 × 3 identity per chain, so `Aᵀ A = m I` and `A† = Aᵀ / m` exactly.
+        let a_dag = a.transpose() / self.chains.len() as f64;
         let j_c = &at * &j;
         let j_a = self.output_selection() * a_dag * &j;
         let j_ca = j_c.select_columns(&self.active);
