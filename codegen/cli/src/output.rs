@@ -29,6 +29,20 @@ impl From<DescriptionError> for CliError {
     }
 }
 
+/// Writes `text` to stdout. A reader that has gone away (`trocar generate … | head`) is not an
+/// error: the rest of the output is unwanted, and the command ends normally instead of panicking
+/// on the broken pipe. Any other failure to write is an error.
+pub(crate) fn write_stdout(text: &str) -> Result<(), CliError> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(CliError(format!("cannot write to stdout: {e}")))
+        }
+        _ => Ok(()),
+    }
+}
+
 /// Prints an error to stderr and returns the exit code of a failed command.
 pub(crate) fn print_error(e: &CliError) -> i32 {
     eprintln!("error: {e}");
@@ -135,8 +149,9 @@ impl MatrixOut {
             .join("\n")
     }
 
-    /// Prints the matrix to stdout, as JSON or aligned text.
-    pub(crate) fn print(&self, json: bool) {
-        println!("{}", if json { self.to_json() } else { self.to_text() });
+    /// Prints the matrix to stdout, as JSON or aligned text ([`write_stdout`]).
+    pub(crate) fn print(&self, json: bool) -> Result<(), CliError> {
+        let text = if json { self.to_json() } else { self.to_text() };
+        write_stdout(&format!("{text}\n"))
     }
 }

@@ -227,3 +227,28 @@ fn generate_writes_a_formatted_module() {
     assert_eq!(code, 1);
     assert!(err.contains("does-not-exist.toml"), "{err}");
 }
+
+/// A reader that closes the pipe early (`trocar generate … | head -c 10`) ends the command
+/// normally: no panic on the broken pipe, exit code 0.
+#[test]
+fn a_closed_stdout_is_not_a_panic() {
+    use std::process::{Command, Stdio};
+    for args in [
+        &["generate", "dia10_like_zy"][..],
+        &["eval", "bidirectional-zy", "--q", Q0, "--json"][..],
+        &["preset", "bidirectional-zy"][..],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_trocar"))
+            .args(args)
+            .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("the trocar binary runs");
+        drop(child.stdout.take()); // the reader goes away before anything is written
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert_eq!(out.status.code(), Some(0), "{args:?}: {err}");
+    }
+}

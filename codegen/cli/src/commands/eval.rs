@@ -254,6 +254,6 @@ pub(crate) fn run(
     json: bool,
     numeric: bool,
 ) -> Result<i32, CliError> {
-    eval(robot, q, params, what, numeric)?.print(json);
+    eval(robot, q, params, what, numeric)?.print(json)?;
     Ok(0)
 }

@@ -1,7 +1,7 @@
 //! `trocar generate`: the emitted Rust module of a serial robot or a closed mechanism.
 
 use crate::args::RealArg;
-use crate::output::CliError;
+use crate::output::{write_stdout, CliError};
 use std::path::Path;
 use trocar_model::Description;
 
@@ -31,7 +31,7 @@ pub(crate) fn run(robot: &str, output: Option<&Path>, real: RealArg) -> Result<i
         Some(path) => {
             std::fs::write(path, code).map_err(|e| CliError(format!("{}: {e}", path.display())))?
         }
-        None => print!("{code}"),
+        None => write_stdout(&code)?,
     }
     Ok(0)
 }

@@ -29,6 +29,6 @@ pub(crate) fn run(
     frame: Frame,
     json: bool,
 ) -> Result<i32, CliError> {
-    jacobian(urdf, tip, q, frame)?.print(json);
+    jacobian(urdf, tip, q, frame)?.print(json)?;
     Ok(0)
 }

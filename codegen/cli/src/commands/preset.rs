@@ -1,6 +1,6 @@
 //! `trocar preset`: the TOML text of a shipped description.
 
-use crate::output::CliError;
+use crate::output::{write_stdout, CliError};
 use trocar_model::description::preset_names;
 
 /// The TOML text of the shipped description `name`.
@@ -15,6 +15,6 @@ pub fn preset(name: &str) -> Result<&'static str, CliError> {
 
 /// Runs `trocar preset`: prints the description.
 pub(crate) fn run(name: &str) -> Result<i32, CliError> {
-    print!("{}", preset(name)?);
+    write_stdout(preset(name)?)?;
     Ok(0)
 }

@@ -1,7 +1,7 @@
 //! `trocar verify`: the generated closed forms of a serial robot against the numeric runtime
 //! and finite differences.
 
-use crate::output::CliError;
+use crate::output::{write_stdout, CliError};
 use crate::progress::with_progress;
 use crate::robot::robot_error;
 use trocar_codegen::catalogue::Function;
@@ -54,9 +54,9 @@ pub fn verify(
 /// Runs `trocar verify`: prints the report; exit code 1 when a check fails.
 pub(crate) fn run(robot: &str, samples: usize, seed: u64) -> Result<i32, CliError> {
     let report = with_progress("verify", |progress| verify(robot, samples, seed, progress))?;
-    print!("{report}");
+    write_stdout(&report.to_string())?;
     if report.passed() {
-        println!("all checks passed");
+        write_stdout("all checks passed\n")?;
         Ok(0)
     } else {
         for c in report.checks.iter().filter(|c| !c.passed()) {
