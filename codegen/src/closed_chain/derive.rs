@@ -195,37 +195,6 @@ fn select_columns(m: &Matrix, cols: &[usize]) -> Matrix {
     Matrix::from_fn(m.rows(), cols.len(), |r, c| m.get(r, cols[c]).clone())
 }
 
-/// The adjugate `adj(A)` (transposed cofactors) of a square matrix, so `A adj(A) = det(A) I`.
-pub fn adjugate(a: &Matrix) -> Result<Matrix, SymbolicError> {
-    let n = a.rows();
-    if n != a.cols() {
-        return Err(SymbolicError::Overflow);
-    }
-    if n == 0 {
-        return Ok(Matrix::zeros(0, 0));
-    }
-    if n == 1 {
-        return Ok(Matrix::identity(1));
-    }
-    let mut out = Matrix::zeros(n, n);
-    for i in 0..n {
-        for j in 0..n {
-            // Entry (i, j) of adj(A) is the cofactor of A at (j, i).
-            let minor = Matrix::from_fn(n - 1, n - 1, |r, c| {
-                let rr = if r < j { r } else { r + 1 };
-                let cc = if c < i { c } else { c + 1 };
-                a.get(rr, cc).clone()
-            });
-            let mut cof = minor.det()?;
-            if (i + j) % 2 == 1 {
-                cof = cof.neg();
-            }
-            out.set(i, j, cof);
-        }
-    }
-    Ok(out)
-}
-
 /// Derives the closed-form reduced kinematics (7)–(8) of a mechanism (see the module docs).
 ///
 /// Errors: `J_Cp` not square (`chains`), contact models (`chains[k].contact`), angles depending
@@ -350,7 +319,7 @@ pub fn derive_mechanism(m: &MechanismModel) -> Result<MechanismDerivation, Mecha
              active ones (structural singularity at every configuration)",
         ));
     }
-    let adj_j_cp = adjugate(&j_cp).map_err(sym)?;
+    let adj_j_cp = j_cp.adjugate().map_err(sym)?;
     let passive_numerator = adj_j_cp.mul(&j_ca).scale(&Poly::integer(-1));
     let reduced_numerator = j_aa.scale(&det_j_cp).add(&j_ap.mul(&passive_numerator));
 
@@ -411,7 +380,7 @@ mod tests {
             )
             .unwrap()
         });
-        let adj = adjugate(&m).unwrap();
+        let adj = m.adjugate().unwrap();
         let det = m.det().unwrap();
         assert_eq!(m.mul(&adj), Matrix::identity(3).scale(&det));
     }

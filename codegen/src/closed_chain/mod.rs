@@ -41,6 +41,4 @@
 mod derive;
 pub mod emit;
 
-pub use derive::{
-    adjugate, derive, derive_mechanism, length_poly, MechanismDerivation, MechanismError,
-};
+pub use derive::{derive, derive_mechanism, length_poly, MechanismDerivation, MechanismError};

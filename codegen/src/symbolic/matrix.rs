@@ -273,15 +273,31 @@ impl Matrix {
         if n == 1 {
             return Ok(Matrix::from_fn(1, 1, |_, _| inv_det.clone()));
         }
+        Ok(self.adjugate()?.scale(&inv_det))
+    }
+
+    /// The adjugate `adj(A)` (transposed cofactors) of a square matrix, so `A adj(A) = det(A) I`.
+    pub fn adjugate(&self) -> Result<Matrix, SymbolicError> {
+        let n = self.rows;
+        if n != self.cols {
+            return Err(SymbolicError::Overflow);
+        }
+        if n == 0 {
+            return Ok(Matrix::zeros(0, 0));
+        }
+        if n == 1 {
+            return Ok(Matrix::identity(1));
+        }
         let mut out = Matrix::zeros(n, n);
         for i in 0..n {
             for j in 0..n {
-                let minor = Matrix::from_fn(n - 1, n - 1, |a, b| {
-                    let r = if a < j { a } else { a + 1 };
-                    let c = if b < i { b } else { b + 1 };
-                    self.get(r, c).clone()
+                // Entry (i, j) of adj(A) is the cofactor of A at (j, i).
+                let minor = Matrix::from_fn(n - 1, n - 1, |r, c| {
+                    let rr = if r < j { r } else { r + 1 };
+                    let cc = if c < i { c } else { c + 1 };
+                    self.get(rr, cc).clone()
                 });
-                let mut cof = minor.det()?.mul(&inv_det);
+                let mut cof = minor.det()?;
                 if (i + j) % 2 == 1 {
                     cof = cof.neg();
                 }
