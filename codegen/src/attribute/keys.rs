@@ -40,6 +40,14 @@ pub(crate) struct Attr {
     pub module: Option<syn::Ident>,
 }
 
+/// The key of `meta` (`file` in `file = "..."`), empty for a path that is not one identifier.
+fn key(meta: &Meta) -> String {
+    meta.path()
+        .get_ident()
+        .map(|i| i.to_string())
+        .unwrap_or_default()
+}
+
 fn string(meta: &Meta, errors: &mut Errors) -> Option<LitStr> {
     match meta {
         Meta::NameValue(nv) => match &nv.value {
@@ -49,24 +57,16 @@ fn string(meta: &Meta, errors: &mut Errors) -> Option<LitStr> {
             other => {
                 errors.at(
                     other.span(),
-                    format_args!(
-                        "`{}` takes a string literal",
-                        meta.path()
-                            .get_ident()
-                            .map(|i| i.to_string())
-                            .unwrap_or_default()
-                    ),
+                    format_args!("`{}` takes a string literal", key(meta)),
                 );
                 None
             }
         },
         _ => {
-            let key = meta
-                .path()
-                .get_ident()
-                .map(|i| i.to_string())
-                .unwrap_or_default();
-            errors.at(meta.span(), format_args!("expected `{key} = \"...\"`"));
+            errors.at(
+                meta.span(),
+                format_args!("expected `{} = \"...\"`", key(meta)),
+            );
             None
         }
     }
@@ -76,12 +76,7 @@ fn list(meta: &Meta, errors: &mut Errors) -> Option<MetaList> {
     match meta {
         Meta::List(l) => Some(l.clone()),
         _ => {
-            let key = meta
-                .path()
-                .get_ident()
-                .map(|i| i.to_string())
-                .unwrap_or_default();
-            errors.at(meta.span(), format_args!("expected `{key}(...)`"));
+            errors.at(meta.span(), format_args!("expected `{}(...)`", key(meta)));
             None
         }
     }
