@@ -52,10 +52,10 @@
 //! ```
 
 use crate::kinematics::{body_jacobian_columns, constrained_jacobian_columns, Chain};
-use crate::manipulability::SquareLu;
+use crate::manipulability::{SquareDim, SquareLu};
 use crate::se3::{Adjoint, Se3, Twist};
 use core::fmt;
-use nalgebra::{convert, RealField, SMatrix, SVector, Vector3};
+use nalgebra::{convert, Const, RealField, SMatrix, SVector, Vector3};
 
 /// Which basis of `null(Λ)` is used for `Λ#`. `J^r_0e` and its manipulability depend on the
 /// choice (a different basis multiplies `J^r` on the right by an invertible matrix).
@@ -251,13 +251,17 @@ pub fn thesis_null_space<T: RealField + Copy>(l_a: T, out: &mut [Twist<T>]) {
 pub fn pseudo_inverse_apply<T: RealField + Copy, const R: usize, const C: usize>(
     m: &SMatrix<T, R, C>,
     y: &SVector<T, R>,
-) -> Option<SVector<T, C>> {
+) -> Option<SVector<T, C>>
+where
+    Const<R>: SquareDim,
+    Const<C>: SquareDim,
+{
     if R == C {
         let square = SMatrix::<T, R, R>::from_iterator(m.iter().copied());
         let x = SquareLu::new(&square).solve(y)?;
         Some(SVector::<T, C>::from_iterator(x.iter().copied()))
     } else if R < C {
-        let b = SquareLu::new(&(m * m.transpose())).solve(y)?;
+        let b: SVector<T, R> = SquareLu::new(&(m * m.transpose())).solve(y)?;
         Some(m.transpose() * b)
     } else {
         SquareLu::new(&(m.transpose() * m)).solve(&(m.transpose() * y))
@@ -268,7 +272,11 @@ pub fn pseudo_inverse_apply<T: RealField + Copy, const R: usize, const C: usize>
 /// `(Mᵀ M)⁻¹ Mᵀ`. `None` if `M` is rank-deficient.
 pub fn pseudo_inverse<T: RealField + Copy, const R: usize, const C: usize>(
     m: &SMatrix<T, R, C>,
-) -> Option<SMatrix<T, C, R>> {
+) -> Option<SMatrix<T, C, R>>
+where
+    Const<R>: SquareDim,
+    Const<C>: SquareDim,
+{
     let mut out = SMatrix::<T, C, R>::zeros();
     for k in 0..R {
         let mut e = SVector::<T, R>::zeros();
@@ -294,7 +302,10 @@ pub struct Constraint<T: RealField + Copy, const R: usize> {
     lambda_pinv: SMatrix<T, 6, R>,
 }
 
-impl<T: RealField + Copy, const R: usize> Constraint<T, R> {
+impl<T: RealField + Copy, const R: usize> Constraint<T, R>
+where
+    Const<R>: SquareDim,
+{
     /// A constraint at link `link` (1-based `i`) with frame `g_ir` and selection `H`, using the
     /// computed basis ([`NullSpaceBasis::Computed`]).
     pub fn new(link: usize, g_ir: Se3<T>, h: SMatrix<T, R, 6>) -> Result<Self, ConstraintError> {
@@ -385,14 +396,17 @@ impl<T: RealField + Copy, const R: usize> Constraint<T, R> {
         }
         // Λ = H Ad_{g_ri} = H Ad⁻¹_{g_ir} (3.3).
         let lambda = self.h * Adjoint(g_ir).inverse_matrix();
-        let lambda_pinv = pseudo_inverse(&lambda).ok_or(ConstraintError::DependentRows)?;
+        let lambda_pinv =
+            pseudo_inverse::<T, R, 6>(&lambda).ok_or(ConstraintError::DependentRows)?;
         self.g_ir = g_ir;
         self.lambda_sharp = sharp;
         self.lambda = lambda;
         self.lambda_pinv = lambda_pinv;
         Ok(())
     }
+}
 
+impl<T: RealField + Copy, const R: usize> Constraint<T, R> {
     /// The constrained link `i` (1-based).
     pub fn link(&self) -> usize {
         self.link
@@ -539,7 +553,10 @@ impl<T: RealField + Copy, const R: usize> Constraint<T, R> {
         chain: &Chain<T, N>,
         q: &SVector<T, N>,
         v_0i: &Twist<T>,
-    ) -> Option<SVector<T, I>> {
+    ) -> Option<SVector<T, I>>
+    where
+        Const<I>: SquareDim,
+    {
         assert_eq!(I, self.link, "θ̇_{{1..i}} has i entries");
         let mut cols = [Twist::zeros(); I];
         body_jacobian_columns(
@@ -549,7 +566,7 @@ impl<T: RealField + Copy, const R: usize> Constraint<T, R> {
             &mut cols,
         );
         let j = crate::kinematics::matrix_from_columns(&cols);
-        pseudo_inverse_apply(&j, v_0i)
+        pseudo_inverse_apply::<T, 6, I>(&j, v_0i)
     }
 }
 

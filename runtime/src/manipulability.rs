@@ -1,82 +1,37 @@
 //! Manipulability `w = sqrt(|det(J Jᵀ)|)` (3.36), the product of the singular values of `J` (3.39);
-//! for a square `J`, `w = |det J|`. Allocation-free.
+//! for a square `J`, `w = |det J|`. Allocation-free; every factorisation is nalgebra's fixed-size
+//! LU with partial pivoting.
 
-use nalgebra::{RealField, SMatrix, SVector};
+use nalgebra::{Const, DimMin, RealField, SMatrix, SVector, LU};
 
-/// LU factorisation with partial pivoting, in place, of a square `n×n` matrix (column-major `a`,
-/// `a.len() == n²`): afterwards `a` holds `U` on and above the diagonal and the multipliers of
-/// the unit lower `L` below it, and `pivot(c, r)` has been called with the row `r ≥ c` swapped
-/// into row `c` at column `c`. Returns `det a`; stops early with `0` at an exactly zero pivot
-/// (the factors are then incomplete).
-pub fn lu_in_place<T: RealField + Copy>(
-    a: &mut [T],
-    n: usize,
-    mut pivot: impl FnMut(usize, usize),
-) -> T {
-    assert_eq!(a.len(), n * n, "an n×n matrix");
-    let mut det = T::one();
-    for c in 0..n {
-        let mut best = c;
-        for r in c + 1..n {
-            if a[c * n + r].abs() > a[c * n + best].abs() {
-                best = r;
-            }
-        }
-        let p = a[c * n + best];
-        if p == T::zero() {
-            return T::zero();
-        }
-        pivot(c, best);
-        if best != c {
-            for k in 0..n {
-                a.swap(k * n + c, k * n + best);
-            }
-            det = -det;
-        }
-        det *= p;
-        for r in c + 1..n {
-            a[c * n + r] /= p;
-        }
-        for k in c + 1..n {
-            let v = a[k * n + c];
-            if v != T::zero() {
-                for r in c + 1..n {
-                    let l = a[c * n + r];
-                    a[k * n + r] -= l * v;
-                }
-            }
-        }
-    }
-    det
-}
+/// The square sizes `Const<D>` that nalgebra factors at compile-time size (`min(D, D) = D`; every
+/// `D` up to 127). Write `where Const<D>: SquareDim` on a function generic over a size `D` that
+/// calls [`SquareLu`], [`determinant`] or [`manipulability`].
+pub trait SquareDim: DimMin<Self, Output = Self> {}
 
-/// The determinant of a square `n×n` matrix (column-major `a`, `a.len() == n²`) by Gaussian
-/// elimination with partial pivoting ([`lu_in_place`]); `a` is destroyed.
-pub fn determinant_in_place<T: RealField + Copy>(a: &mut [T], n: usize) -> T {
-    lu_in_place(a, n, |_, _| {})
-}
+impl<D: DimMin<D, Output = D>> SquareDim for D {}
 
-/// A square `J ∈ R^{D×D}` factored once (LU with partial pivoting), for the determinant and for
-/// solving `J x = b` from the same factors: what a control step needs of a square Jacobian, its
-/// manipulability `|det J|` (3.36) and its inverse applied to one vector.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SquareLu<T: RealField + Copy, const D: usize> {
-    factors: SMatrix<T, D, D>,
-    pivots: [usize; D],
+/// A square `J ∈ R^{D×D}` factored once (nalgebra's LU with partial pivoting), for the
+/// determinant and for solving `J x = b` from the same factors: what a control step needs of a
+/// square Jacobian, its manipulability `|det J|` (3.36) and its inverse applied to one vector.
+#[derive(Clone, Debug)]
+pub struct SquareLu<T: RealField + Copy, const D: usize>
+where
+    Const<D>: SquareDim,
+{
+    lu: LU<T, Const<D>, Const<D>>,
     det: T,
 }
 
-impl<T: RealField + Copy, const D: usize> SquareLu<T, D> {
+impl<T: RealField + Copy, const D: usize> SquareLu<T, D>
+where
+    Const<D>: SquareDim,
+{
     /// Factors `m`.
     pub fn new(m: &SMatrix<T, D, D>) -> Self {
-        let mut factors = *m;
-        let mut pivots = [0; D];
-        let det = lu_in_place(factors.as_mut_slice(), D, |c, r| pivots[c] = r);
-        SquareLu {
-            factors,
-            pivots,
-            det,
-        }
+        let lu = LU::new(*m);
+        let det = lu.determinant();
+        SquareLu { lu, det }
     }
 
     /// `det J`.
@@ -89,32 +44,18 @@ impl<T: RealField + Copy, const D: usize> SquareLu<T, D> {
         if self.det == T::zero() {
             return None;
         }
-        let a = self.factors.as_slice();
-        let mut x = *b;
-        for (c, &r) in self.pivots.iter().enumerate() {
-            x.swap_rows(c, r);
-        }
-        for c in 0..D {
-            let xc = x[c];
-            for r in c + 1..D {
-                x[r] -= a[c * D + r] * xc;
-            }
-        }
-        for c in (0..D).rev() {
-            x[c] /= a[c * D + c];
-            let xc = x[c];
-            for r in 0..c {
-                x[r] -= a[c * D + r] * xc;
-            }
-        }
-        x.iter().all(|v| v.is_finite()).then_some(x)
+        self.lu
+            .solve::<Const<D>, Const<1>, _>(b)
+            .filter(|x| x.iter().all(|v| v.is_finite()))
     }
 }
 
 /// The determinant of a square matrix (LU with partial pivoting).
-pub fn determinant<T: RealField + Copy, const D: usize>(m: &SMatrix<T, D, D>) -> T {
-    let mut a = *m;
-    determinant_in_place(a.as_mut_slice(), D)
+pub fn determinant<T: RealField + Copy, const D: usize>(m: &SMatrix<T, D, D>) -> T
+where
+    Const<D>: SquareDim,
+{
+    LU::new(*m).determinant()
 }
 
 /// Manipulability (3.36): `w = sqrt(|det(J Jᵀ)|)`, the product of the singular values (3.39).
@@ -122,21 +63,27 @@ pub fn determinant<T: RealField + Copy, const D: usize>(m: &SMatrix<T, D, D>) ->
 /// `sqrt(|det(Jᵀ J)|)`.
 pub fn manipulability<T: RealField + Copy, const R: usize, const C: usize>(
     j: &SMatrix<T, R, C>,
-) -> T {
+) -> T
+where
+    Const<R>: SquareDim,
+    Const<C>: SquareDim,
+{
     if R == C {
-        let mut a = *j;
-        return determinant_in_place(a.as_mut_slice(), R).abs();
+        let square = SMatrix::<T, R, R>::from_iterator(j.iter().copied());
+        return determinant(&square).abs();
     }
     if R > C {
         // Tall: the product of the singular values is √|det(Jᵀ J)|.
         return determinant(&(j.transpose() * j)).abs().sqrt();
     }
-    let jjt = j * j.transpose();
-    determinant(&jjt).abs().sqrt()
+    determinant(&(j * j.transpose())).abs().sqrt()
 }
 
 /// Manipulability of a square Jacobian: `w = |det J|` (3.36).
-pub fn manipulability_square<T: RealField + Copy, const D: usize>(j: &SMatrix<T, D, D>) -> T {
+pub fn manipulability_square<T: RealField + Copy, const D: usize>(j: &SMatrix<T, D, D>) -> T
+where
+    Const<D>: SquareDim,
+{
     determinant(j).abs()
 }
 

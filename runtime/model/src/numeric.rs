@@ -10,10 +10,11 @@
 use crate::description::{
     admit, AdmissionError, JointKind, Origin, RobotDescription, Rotation, Scalar,
 };
-use nalgebra::{convert, Matrix3, RealField, SMatrix, Vector3};
+use nalgebra::{convert, Const, Matrix3, RealField, SMatrix, Vector3};
 use std::fmt;
 use trocar::constraint::{Constraint, ConstraintError, NullSpaceBasis};
 use trocar::kinematics::{Chain, Joint};
+use trocar::manipulability::SquareDim;
 use trocar::se3::{self, Se3, Twist};
 
 /// Why a robot cannot be built or evaluated.
@@ -178,7 +179,10 @@ impl<T: RealField + Copy> AnyConstraint<T> {
             g_ir: Se3<T>,
             h: &[[f64; 6]],
             basis: NullSpaceBasis,
-        ) -> Result<Constraint<T, R>, ConstraintError> {
+        ) -> Result<Constraint<T, R>, ConstraintError>
+        where
+            Const<R>: SquareDim,
+        {
             let m = SMatrix::<T, R, 6>::from_fn(|r, c| convert(h[r][c]));
             Constraint::with_basis(link, g_ir, m, basis)
         }
@@ -227,7 +231,10 @@ impl<T: RealField + Copy> AnyConstraint<T> {
     }
 
     /// The typed constraint. Errors if `R ≠ r`.
-    pub fn to_constraint<const R: usize>(&self) -> Result<Constraint<T, R>, RobotError> {
+    pub fn to_constraint<const R: usize>(&self) -> Result<Constraint<T, R>, RobotError>
+    where
+        Const<R>: SquareDim,
+    {
         let wrong = RobotError::WrongSize {
             what: "constraint rows",
             expected: self.rows(),
@@ -457,7 +464,10 @@ impl<T: RealField + Copy> NumericModel<T> {
     }
 
     /// The typed constraint for the allocation-free API. Errors if there is none or `R ≠ r`.
-    pub fn to_constraint<const R: usize>(&self) -> Result<Constraint<T, R>, RobotError> {
+    pub fn to_constraint<const R: usize>(&self) -> Result<Constraint<T, R>, RobotError>
+    where
+        Const<R>: SquareDim,
+    {
         self.constraint
             .as_ref()
             .ok_or(RobotError::NoConstraint)?

@@ -5,7 +5,8 @@
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use trocar::constraint::Constraint;
 use trocar::kinematics::Chain;
-use trocar::nalgebra::{SMatrix, SVector};
+use trocar::manipulability::SquareDim;
+use trocar::nalgebra::{Const, SMatrix, SVector};
 use trocar_model::description::RobotDescription;
 use trocar_sim::robot::Robot;
 
@@ -15,7 +16,10 @@ fn robot(name: &str) -> Robot<f64> {
     Robot::from_description(&RobotDescription::preset(name).unwrap(), &[]).unwrap()
 }
 
-fn bench_jr<const R: usize, const M: usize>(c: &mut Criterion, name: &str) {
+fn bench_jr<const R: usize, const M: usize>(c: &mut Criterion, name: &str)
+where
+    Const<R>: SquareDim,
+{
     let robot = robot(name);
     let chain: Chain<f64, 8> = robot.to_chain().unwrap();
     let mut constraint: Constraint<f64, R> = robot.to_constraint().unwrap();

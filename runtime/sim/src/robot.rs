@@ -11,9 +11,10 @@
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::{Col, Mat};
-use nalgebra::convert;
+use nalgebra::{convert, Const};
 use trocar::constraint::Constraint;
 use trocar::kinematics::{self, Chain, Joint};
+use trocar::manipulability::SquareDim;
 use trocar::se3::{Se3, Twist};
 use trocar_model::description::RobotDescription;
 pub use trocar_model::numeric::{AnyConstraint, NumericModel, RobotError};
@@ -312,7 +313,10 @@ impl<T: RobotScalar> Robot<T> {
     }
 
     /// The typed constraint for the allocation-free API. Errors if there is none or `R ≠ r`.
-    pub fn to_constraint<const R: usize>(&self) -> Result<Constraint<T, R>, RobotError> {
+    pub fn to_constraint<const R: usize>(&self) -> Result<Constraint<T, R>, RobotError>
+    where
+        Const<R>: SquareDim,
+    {
         self.model.to_constraint()
     }
 }

@@ -11,7 +11,8 @@ use trocar::control::{
     ControllerConfig, Damping, Method, Rcm, Reference,
 };
 use trocar::kinematics::Chain;
-use trocar::nalgebra::{SMatrix, SVector, Vector3};
+use trocar::manipulability::SquareDim;
+use trocar::nalgebra::{Const, SMatrix, SVector, Vector3};
 use trocar::se3::Se3;
 use trocar_model::description::RobotDescription;
 use trocar_model::numeric::NumericModel;
@@ -115,6 +116,8 @@ fn close<const I: usize, const R: usize, const K: usize, const M: usize>(
 fn check<const R: usize, const K: usize, const M: usize>(name: &str)
 where
     Described<R>: ConstrainedKinematics<f64, 8, 6, R, K, M>,
+    Const<R>: SquareDim,
+    Const<M>: SquareDim,
 {
     let arm = Described::<R>::new(name);
     let kin = ChainKinematics {

@@ -5,7 +5,8 @@
 use faer::{Col, Mat};
 use rand::{rngs::StdRng, Rng, SeedableRng};
 use trocar::constraint::Constraint;
-use trocar::nalgebra::{SMatrix, SVector, Vector3};
+use trocar::manipulability::SquareDim;
+use trocar::nalgebra::{Const, SMatrix, SVector, Vector3};
 use trocar::se3::{rotation_from_rpy, Adjoint, Se3};
 use trocar_model::description::{RobotDescription, Scalar};
 use trocar_sim::robot::{Robot, RobotError};
@@ -267,7 +268,11 @@ fn bidirectional_manipulability_claims() {
 #[test]
 fn typed_api_matches_dynamic() {
     let mut rng = StdRng::seed_from_u64(5);
-    fn check<const R: usize, const K: usize, const M: usize>(robot: &Robot<f64>, q: &[f64]) {
+    fn check<const R: usize, const K: usize, const M: usize>(robot: &Robot<f64>, q: &[f64])
+    where
+        Const<R>: SquareDim,
+        Const<M>: SquareDim,
+    {
         let chain = robot.to_chain::<8>().unwrap();
         let c: Constraint<f64, R> = robot.to_constraint().unwrap();
         let qv = SVector::<f64, 8>::from_column_slice(q);
@@ -306,7 +311,7 @@ fn typed_api_matches_dynamic() {
             .unwrap();
         assert!((Col::from_fn(6, |k| th[k]) - th_dyn).norm_max() < 1e-9);
         // Manipulability (3.36).
-        let w = trocar::manipulability::manipulability(&jr);
+        let w = trocar::manipulability::manipulability::<f64, 6, M>(&jr);
         assert!((w - robot.manipulability(q).unwrap()).abs() < 1e-12 * (1.0 + w));
     }
     for _ in 0..20 {

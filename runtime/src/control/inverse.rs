@@ -8,8 +8,8 @@
 //! A control step needs each inverse applied to one vector only: [`PreparedJacobian`] factors a
 //! Jacobian once for its manipulability and `x = J†_κ v`, without forming `J†_κ`.
 
-use crate::manipulability::{manipulability, SquareLu};
-use nalgebra::{Cholesky, RealField, SMatrix, SVector};
+use crate::manipulability::{manipulability, SquareDim, SquareLu};
+use nalgebra::{Cholesky, Const, RealField, SMatrix, SVector};
 
 /// Damping of the least-squares inverse `J†_κ = Jᵀ (J Jᵀ + κ² I)⁻¹` (3.43), (3.46).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -80,14 +80,21 @@ pub fn damped_solve<T: RealField + Copy, const R: usize, const C: usize, const K
 /// A square `J` is factored once by LU: `w = |det J|` and, without damping, `x = J⁻¹ v` come
 /// from the same factors (and solving `J` itself is better conditioned than its Gram matrix).
 /// With damping, or for a non-square `J`, `x` comes from [`damped_solve`].
-#[derive(Clone, Copy, Debug)]
-pub struct PreparedJacobian<'a, T: RealField + Copy, const R: usize, const C: usize> {
+#[derive(Clone, Debug)]
+pub struct PreparedJacobian<'a, T: RealField + Copy, const R: usize, const C: usize>
+where
+    Const<R>: SquareDim,
+{
     j: &'a SMatrix<T, R, C>,
     lu: Option<SquareLu<T, R>>,
     w: T,
 }
 
-impl<'a, T: RealField + Copy, const R: usize, const C: usize> PreparedJacobian<'a, T, R, C> {
+impl<'a, T: RealField + Copy, const R: usize, const C: usize> PreparedJacobian<'a, T, R, C>
+where
+    Const<R>: SquareDim,
+    Const<C>: SquareDim,
+{
     /// Factors `j` (LU when square) and computes its manipulability.
     pub fn new(j: &'a SMatrix<T, R, C>) -> Self {
         if R == C {

@@ -39,8 +39,9 @@ pub use quaternion::{orientation_error, Quaternion};
 
 use crate::constraint::Constraint;
 use crate::kinematics::Chain;
+use crate::manipulability::SquareDim;
 use crate::se3::Se3;
-use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector3, Vector6};
+use nalgebra::{Const, Matrix3, RealField, SMatrix, SVector, Vector3, Vector6};
 
 /// Everything the controller needs from the kinematics at `(q, l_a)`.
 ///
@@ -133,6 +134,8 @@ impl<
         const K: usize,
         const M: usize,
     > ConstrainedKinematics<T, N, I, R, K, M> for ChainKinematics<T, N, R>
+where
+    Const<R>: SquareDim,
 {
     fn g_0i(&self, q: &SVector<T, N>) -> Se3<T> {
         self.chain.link_frame(I, q)
@@ -340,7 +343,12 @@ impl<
         reference: &Reference<T>,
         rcm: &Rcm<T, R>,
         dt: T,
-    ) -> Result<StepOutput<T, N, R>, ControlError> {
+    ) -> Result<StepOutput<T, N, R>, ControlError>
+    where
+        Const<R>: SquareDim,
+        Const<I>: SquareDim,
+        Const<M>: SquareDim,
+    {
         let c = self.config;
         // 1. l_a from the trocar point, and the kinematics there.
         let (l_a, s) = kin.evaluate_at_trocar(q, &rcm.trocar)?;

@@ -33,10 +33,11 @@ pub use scenario::{
 };
 pub use trace::{Summary, Trace, TraceRow, CSV_HEADER};
 
-use nalgebra::{SVector, Vector3};
+use nalgebra::{Const, SVector, Vector3};
 use trocar::constraint::Constraint;
 use trocar::control::{self, ChainKinematics, Controller, ControllerConfig, Rcm};
 use trocar::kinematics::Chain;
+use trocar::manipulability::SquareDim;
 use trocar_model::description::RobotDescription;
 use trocar_model::numeric::NumericModel;
 
@@ -83,7 +84,11 @@ fn run_arm<const R: usize, const K: usize, const M: usize>(
     config: &ScenarioConfig,
     kin: &ChainKinematics<f64, 8, R>,
     mut progress: impl FnMut(f64),
-) -> Result<Trace, SimulationError> {
+) -> Result<Trace, SimulationError>
+where
+    Const<R>: SquareDim,
+    Const<M>: SquareDim,
+{
     let dt = config.dt;
     let steps = (config.duration / dt).round() as usize;
     let chain = &kin.chain;
