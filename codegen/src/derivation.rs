@@ -12,8 +12,13 @@
 //!    ((3.23), (3.27) for the wrist presets, see [`NullSpaceBasis`] and
 //!    [`ConstraintDesc::basis`](trocar_model::description::ConstraintDesc::basis)); `Λ† = Λᵀ(ΛΛᵀ)⁻¹`.
 //! 5. `J^r_0e = [Ad_{g_ei} Λ# | J^B_0e2]` (3.15), `J_c = Ad_{g_ei} Λ†` (3.33).
-//! 6. Manipulability (3.36)–(3.39) in closed form: `|det J^r|` when square, otherwise
-//!    `sqrt(Σ maximal minors²)` (Cauchy–Binet); the squared value is a polynomial.
+//!    With the constraint on the last link (`i = n`) `J^B_0e2` has no column and
+//!    `J^r_0e = Ad_{g_ei} Λ#`.
+//! 6. The task (a `[task]` section): `S J^r_0e`, the rows of the end-effector twist the task
+//!    commands.
+//! 7. Manipulability (3.36)–(3.39) in closed form, of `S J^r` with a task and of `J^r` without:
+//!    `|det|` when square, otherwise `sqrt(Σ maximal minors²)` (Cauchy–Binet); the squared value
+//!    is a polynomial.
 //!
 //! Every matrix is a [`Matrix`] of canonical [`Poly`]s: entries are fully expanded sums of
 //! monomials in `s_k, c_k, q_k`, parameters (also negative powers) and `Inv` atoms, with exact
@@ -175,10 +180,24 @@ pub struct ConstrainedDerivation {
     pub jr: Matrix,
     /// `J_c = Ad_{g_ei} Λ†`, `6 × r` (3.33).
     pub jc: Matrix,
-    /// Manipulability of `J^r` (3.36)–(3.42) in closed form; `None` when `J^r` has more than
+    /// The task selection and task Jacobian `S J^r`, when the description has a `[task]`.
+    pub task: Option<TaskDerivation>,
+    /// Manipulability (3.36)–(3.42) in closed form of what the task commands — `S J^r` with a
+    /// task, `J^r` without; `None` when that matrix has more than
     /// [`MANIPULABILITY_BUDGET`] terms (generic chains: the minors would swell); then compute
     /// `det(J^r J^rᵀ)` numerically from the evaluated `J^r` (a 6×6 determinant).
     pub manipulability: Option<Manipulability>,
+}
+
+/// The task of a `[task]` section: `S ∈ R^{t×6}` selects rows of the end-effector body twist
+/// `V^B_0e` (components in `F_e`), and `S J^r_0e` maps the constrained coordinates
+/// `(v0i, θ̇_j..θ̇_n)` to them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TaskDerivation {
+    /// `S`, `t × 6`, exact.
+    pub s: Matrix,
+    /// `S J^r_0e`, `t × m`.
+    pub jacobian: Matrix,
 }
 
 /// The symbolic derivation for one robot: what an emitter turns into Rust.
@@ -469,6 +488,7 @@ pub fn derive(desc: &RobotDescription) -> Result<Derivation, DerivationError> {
         Some(c) => Some(derive_constraint(
             &ctx,
             c,
+            desc.task.as_ref().map(|t| t.select.as_slice()),
             &twists,
             &transforms,
             &end_effector,
@@ -522,6 +542,7 @@ pub fn derive(desc: &RobotDescription) -> Result<Derivation, DerivationError> {
 fn derive_constraint(
     ctx: &Ctx<'_>,
     c: &trocar_model::description::ConstraintDesc,
+    task: Option<&[[f64; 6]]>,
     twists: &[Matrix],
     transforms: &[Transform],
     end_effector: &Transform,
@@ -530,7 +551,7 @@ fn derive_constraint(
     let i = c.link;
     let r = c.h.len();
     // The admission rules of the method, written once in the model.
-    admit(n, i, r).map_err(|e| {
+    admit(n, i, r, task.map_or(6, <[[f64; 6]]>::len)).map_err(|e| {
         let kind = match e {
             AdmissionError::TooFewJoints { .. } | AdmissionError::TooFewColumns { .. } => {
                 DerivationErrorKind::TooFewJoints
@@ -634,12 +655,36 @@ fn derive_constraint(
         .unwrap_or_else(|| Matrix::zeros(6, i));
     let body_jacobian_e2 = body_jacobian(twists, transforms, i, n, end_effector, false)
         .unwrap_or_else(|| Matrix::zeros(6, n - i));
+    // With i = n there is no joint after the constraint: J^B_0e2 has no column and
+    // J^r_0e = Ad_{g_ei} Λ#.
     let jr = ad_g_ei.mul(&lambda_sharp).hstack(&body_jacobian_e2);
     let jc = ad_g_ei.mul(&lambda_pinv);
-    let manipulability = if jr.total_terms() > MANIPULABILITY_BUDGET {
+    // The task: S selects rows of the end-effector twist, S J^r is the task Jacobian.
+    let task = match task {
+        None => None,
+        Some(rows) => {
+            let mut s_rat = Vec::with_capacity(rows.len());
+            for (k, row) in rows.iter().enumerate() {
+                let mut v = Vec::with_capacity(6);
+                for x in row {
+                    v.push(
+                        Rational::from_f64_decimal(*x)
+                            .map_err(|e| inv(&format!("task.select[{k}]"), e))?,
+                    );
+                }
+                s_rat.push(v);
+            }
+            let s = Matrix::from_rationals(&s_rat);
+            let sj = s.mul(&jr);
+            Some(TaskDerivation { s, jacobian: sj })
+        }
+    };
+    // Manipulability of what the task commands: S J^r with a task, J^r without.
+    let commanded = task.as_ref().map_or(&jr, |t| &t.jacobian);
+    let manipulability = if commanded.total_terms() > MANIPULABILITY_BUDGET {
         None
     } else {
-        Some(manipulability(&jr).map_err(|e| DerivationError::symbolic("constraint", e))?)
+        Some(manipulability(commanded).map_err(|e| DerivationError::symbolic("constraint", e))?)
     };
     Ok(ConstrainedDerivation {
         link: i,
@@ -658,11 +703,13 @@ fn derive_constraint(
         body_jacobian_e2,
         jr,
         jc,
+        task,
         manipulability,
     })
 }
 
-/// Manipulability of a `6 × m` matrix (`m ≥ 6`) in closed form (3.36)–(3.39).
+/// Manipulability of a `t × m` matrix (`m ≥ t`: `J^r`, `6 × m`, or a task Jacobian `S J^r`) in
+/// closed form (3.36)–(3.39).
 pub fn manipulability(j: &Matrix) -> Result<Manipulability, SymbolicError> {
     if j.rows() == j.cols() {
         let d = j.det()?;
@@ -700,6 +747,9 @@ impl Derivation {
             v.push(t("body_jacobian_i", &c.body_jacobian_i));
             v.push(t("jr", &c.jr));
             v.push(t("jc", &c.jc));
+            if let Some(task) = &c.task {
+                v.push(t("task_jacobian", &task.jacobian));
+            }
             if let Some(w) = &c.manipulability {
                 v.push(("manipulability_squared", 1, 1, w.squared.len()));
             }
@@ -725,6 +775,9 @@ impl Derivation {
             v.push(("body_jacobian_i", c.body_jacobian_i.joints()));
             v.push(("jr", c.jr.joints()));
             v.push(("jc", c.jc.joints()));
+            if let Some(task) = &c.task {
+                v.push(("task_jacobian", task.jacobian.joints()));
+            }
             if let Some(w) = &c.manipulability {
                 v.push(("manipulability", w.squared.joints()));
             }

@@ -327,6 +327,7 @@ fn random_chain(seed: u64) -> RobotDescription {
             name: format!("j{k}"),
             origin: Origin { xyz, rotation },
             kind,
+            limits: None,
             location: None,
         });
     }
@@ -368,6 +369,7 @@ fn random_chain(seed: u64) -> RobotDescription {
             h,
             wrist: None,
         }),
+        task: None,
         source: None,
     }
 }

@@ -35,8 +35,10 @@ fn programs_agree_with_expanded_polynomials() {
         let d = derive(&desc).unwrap();
         let c = d.constraint.as_ref().unwrap();
         let spec = module_spec(&d, "m");
-        // The fallback used when the derivation has no closed-form manipulability.
-        let fallback = manipulability_from_jr(&d, &c.jr);
+        // The fallback used when the derivation has no closed-form manipulability (of S J^r
+        // with a task).
+        let commanded = c.task.as_ref().map_or(&c.jr, |t| &t.jacobian);
+        let fallback = manipulability_from_jr(&d, commanded);
         let by_name = |f: Function| &spec.function(f).unwrap().program;
         let mut seed = 0x1234_5678_9abc_def1u64;
         for _ in 0..200 {

@@ -129,8 +129,10 @@ pub enum RealArg {
 pub enum What {
     /// Constrained Jacobian J^r_0e (3.15).
     Jr,
-    /// Manipulability of J^r (3.36).
+    /// Manipulability (3.36) of what the task commands: of S J^r with a [task], of J^r without.
     Manip,
+    /// Task Jacobian S J^r_0e (rows of the end-effector body twist selected by [task]).
+    Task,
     /// J_c = Ad_gei Λ† (3.33).
     Jc,
     /// Partial body Jacobian J^B_0i (3.13).

@@ -18,10 +18,12 @@ fn check(description: &RobotDescription, samples: usize) {
     )
     .expect("numeric runtime accepts the description");
     assert!(report.passed(), "{report}");
-    let expected = if description.constraint.is_some() {
-        9
-    } else {
-        2
+    // Without a constraint: the two finite-difference checks; with one, seven closed forms
+    // against the numeric runtime besides; with a task, S J^r as well.
+    let expected = match (&description.constraint, &description.task) {
+        (None, _) => 2,
+        (Some(_), None) => 9,
+        (Some(_), Some(_)) => 10,
     };
     assert_eq!(report.checks.len(), expected, "{report}");
 }

@@ -319,6 +319,7 @@ fn joint(k: usize, item: &JointItem, spans: &mut Spans, errors: &mut Errors) -> 
         name,
         origin,
         kind,
+        limits: None,
         location: None,
     }
 }
@@ -537,6 +538,7 @@ pub(crate) fn build(lists: &InlineLists, default_name: &str) -> syn::Result<Robo
         joints,
         end_effector,
         constraint,
+        task: None,
         source: None,
     };
     let mut errors = Errors::default();

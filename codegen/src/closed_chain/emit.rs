@@ -65,7 +65,9 @@ pub fn module_spec(d: &MechanismDerivation, module_name: &str) -> ModuleSpec {
         Size::NPassive => np,
         Size::NOutputs => no,
         Size::R => r,
-        Size::I | Size::M | Size::K => unreachable!("a mechanism module has no size {s:?}"),
+        Size::I | Size::M | Size::K | Size::T => {
+            unreachable!("a mechanism module has no size {s:?}")
+        }
     };
     functions.push(Function::catalogued(
         F::ConstraintJacobian,

@@ -280,6 +280,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
         (Size::R, Some(c)) => c.r,
         (Size::M, Some(c)) => c.m,
         (Size::K, Some(c)) => 6 - c.r,
+        (Size::T, Some(c)) => c.task.as_ref().map_or(6, |t| t.s.rows()),
         _ => unreachable!("a serial module has no size {s:?}"),
     };
 
@@ -390,22 +391,32 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
             fki,
             size,
         ));
-        let (w, w2) = match &c.manipulability {
-            Some(m) => manipulability_programs(d, &m.form),
-            None => manipulability_from_jr(d, &c.jr),
+        // Of what the task commands: S J^r with a task, J^r without.
+        let (w, w2) = match (&c.manipulability, &c.task) {
+            (Some(m), _) => manipulability_programs(d, &m.form),
+            (None, Some(t)) => manipulability_from_jr(d, &t.jacobian),
+            (None, None) => manipulability_from_jr(d, &c.jr),
         };
-        functions.push(Function::catalogued(
-            F::Manipulability,
-            "Manipulability `w = sqrt(det(J^r J^rᵀ))` of the constrained Jacobian (closed form: \
-             `|det J^r|` when square, Cauchy–Binet sum of squared maximal minors when wide)",
-            "",
-            w,
-            size,
-        ));
+        let (w_doc, w2_doc) = if c.task.is_some() {
+            (
+                "Manipulability `w = sqrt(det((S J^r)(S J^r)ᵀ))` of the task Jacobian \
+                 ([`constrained_task_jacobian`]; closed form: `|det S J^r|` when square, \
+                 Cauchy–Binet sum of squared maximal minors when wide)",
+                "Squared manipulability `w² = det((S J^r)(S J^r)ᵀ)` of the task Jacobian (no \
+                 square root, for thresholds such as (3.44))",
+            )
+        } else {
+            (
+                "Manipulability `w = sqrt(det(J^r J^rᵀ))` of the constrained Jacobian (closed form: \
+                 `|det J^r|` when square, Cauchy–Binet sum of squared maximal minors when wide)",
+                "Squared manipulability `w² = det(J^r J^rᵀ)` (no square root, for thresholds such as \
+                 (3.44))",
+            )
+        };
+        functions.push(Function::catalogued(F::Manipulability, w_doc, "", w, size));
         functions.push(Function::catalogued(
             F::ManipulabilitySquared,
-            "Squared manipulability `w² = det(J^r J^rᵀ)` (no square root, for thresholds such as \
-             (3.44))",
+            w2_doc,
             "",
             w2,
             size,
@@ -431,6 +442,29 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
             matrix_program(d, &c.lambda_pinv),
             size,
         ));
+        if let Some(t) = &c.task {
+            consts.push(ConstItem {
+                name: "T".into(),
+                value: t.s.rows(),
+                doc: "Number of task rows `t` (rows of `S`, the `[task]` selection).".into(),
+            });
+            functions.push(Function::catalogued(
+                F::TaskSelection,
+                "The task selection `S`, T × 6: the rows of the end-effector body twist \
+                 `V^B_0e = (v, ω)` (components in the end-effector frame) that the task commands",
+                "",
+                matrix_program(d, &t.s),
+                size,
+            ));
+            functions.push(Function::catalogued(
+                F::ConstrainedTaskJacobian,
+                "Task Jacobian `S J^r_0e`, T × M: the commanded rows of the end-effector twist per \
+                 unit of `(v0i, θ̇_j..θ̇_n)`",
+                "",
+                matrix_program(d, &t.jacobian),
+                size,
+            ));
+        }
     }
 
     ModuleSpec {
@@ -558,6 +592,14 @@ fn module_doc(d: &Derivation) -> String {
             "\n\nConstraint at link {} with r = {} constrained direction(s); `J^r_0e` is 6 × {}.",
             c.link, c.r, c.m
         ));
+        if let Some(t) = &c.task {
+            s.push_str(&format!(
+                " The task commands {} row(s) of the end-effector twist (`S J^r_0e` is {} × {}).",
+                t.s.rows(),
+                t.s.rows(),
+                c.m
+            ));
+        }
     }
     s
 }

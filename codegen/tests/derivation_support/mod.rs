@@ -35,6 +35,7 @@ pub fn revolute(name: &str, xyz: [Scalar; 3], axis: [f64; 3]) -> JointDesc {
         name: name.into(),
         origin: origin(xyz),
         kind: JointKind::Revolute { axis },
+        limits: None,
         location: None,
     }
 }
@@ -91,6 +92,7 @@ fn robot(
             h,
             wrist,
         }),
+        task: None,
         source: None,
     }
 }

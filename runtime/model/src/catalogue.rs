@@ -30,6 +30,8 @@ pub enum Size {
     M,
     /// `K`: columns of `Λ#`, `6 − r` (3.6).
     K,
+    /// `T`: rows of the task selection `S` (a `[task]` section).
+    T,
     /// `N_ACTIVE`: active joints `n_a` of a mechanism.
     NActive,
     /// `N_PASSIVE`: passive joints `n_p` of a mechanism.
@@ -47,6 +49,7 @@ impl Size {
             Size::R => "R",
             Size::M => "M",
             Size::K => "K",
+            Size::T => "T",
             Size::NActive => "N_ACTIVE",
             Size::NPassive => "N_PASSIVE",
             Size::NOutputs => "N_OUTPUTS",
@@ -141,9 +144,10 @@ pub enum Function {
     PartialBodyJacobian,
     /// `forward_kinematics_i`: `g_0i(q_1..q_i)` of the constrained link's frame (2.21).
     ConstrainedLinkKinematics,
-    /// `manipulability`: `w = sqrt(det(J^r J^rᵀ))` (3.36)–(3.39).
+    /// `manipulability`: `w = sqrt(det(J^r J^rᵀ))` (3.36)–(3.39); with a `[task]`, that of
+    /// `S J^r_0e`.
     Manipulability,
-    /// `manipulability_squared`: `w² = det(J^r J^rᵀ)` (3.36).
+    /// `manipulability_squared`: `w² = det(J^r J^rᵀ)` (3.36); with a `[task]`, that of `S J^r_0e`.
     ManipulabilitySquared,
     /// `constraint_selection`: `H`, R × 6 (3.1); depends on no joint.
     ConstraintSelection,
@@ -152,6 +156,12 @@ pub enum Function {
     LambdaNullSpace,
     /// `lambda_pinv`: `Λ† = Λᵀ (Λ Λᵀ)⁻¹`, 6 × R (3.31); depends only on the parameters.
     LambdaPinv,
+    /// `task_selection`: the task's selection `S`, T × 6, rows of the end-effector body twist
+    /// (components in `F_e`); only with a `[task]`; depends on no joint.
+    TaskSelection,
+    /// `constrained_task_jacobian`: `S J^r_0e`, T × M, what the task commands; only with a
+    /// `[task]`.
+    ConstrainedTaskJacobian,
     /// `constraint_jacobian` (mechanisms): `J_C = ∂c/∂θ`, R × N (3), (19), (31).
     ConstraintJacobian,
     /// `task_jacobian` (mechanisms): `J_A = S_x A† J`, N_OUTPUTS × N (4), (19), (31).
@@ -176,12 +186,12 @@ pub enum Function {
 }
 
 use Dim::{Fixed, OnePlus};
-use Size::{NActive, NOutputs, NPassive, I, K, M, N, R};
+use Size::{NActive, NOutputs, NPassive, I, K, M, N, R, T};
 
 impl Function {
     /// The functions of a serial robot's module, in emission order (all but the first two only
-    /// with a constraint).
-    pub const SERIAL: [Function; 11] = [
+    /// with a constraint, the last two only with a task).
+    pub const SERIAL: [Function; 13] = [
         Function::ForwardKinematics,
         Function::BodyJacobian,
         Function::ConstrainedJacobian,
@@ -193,6 +203,8 @@ impl Function {
         Function::ConstraintSelection,
         Function::LambdaNullSpace,
         Function::LambdaPinv,
+        Function::TaskSelection,
+        Function::ConstrainedTaskJacobian,
     ];
 
     /// The functions of a closed mechanism's module, in emission order: the polynomial ones, then
@@ -222,6 +234,8 @@ impl Function {
             Function::ConstraintSelection => "constraint_selection",
             Function::LambdaNullSpace => "lambda_null_space",
             Function::LambdaPinv => "lambda_pinv",
+            Function::TaskSelection => "task_selection",
+            Function::ConstrainedTaskJacobian => "constrained_task_jacobian",
             Function::ConstraintJacobian => "constraint_jacobian",
             Function::TaskJacobian => "task_jacobian",
             Function::ConstraintDeterminant => "constraint_determinant",
@@ -247,7 +261,8 @@ impl Function {
     }
 
     /// The short name of the quantity (`trocar eval --what`, the lines of a verification report):
-    /// `jr`, `jc`, `jb0i`, `jb0e`, `fk`, `fk0i`, `manip`, `manip2`; for mechanisms `jc`, `ja`,
+    /// `jr`, `jc`, `jb0i`, `jb0e`, `fk`, `fk0i`, `manip`, `manip2`, `h`, `lambda_sharp`,
+    /// `lambda_pinv`, `s`, `task`; for mechanisms `jc`, `ja`,
     /// `det`, `jr_num`, `passive_num`, `jr`, `passive`, `passive_vel`.
     pub const fn short_name(self) -> &'static str {
         match self {
@@ -262,6 +277,8 @@ impl Function {
             Function::ConstraintSelection => "h",
             Function::LambdaNullSpace => "lambda_sharp",
             Function::LambdaPinv => "lambda_pinv",
+            Function::TaskSelection => "s",
+            Function::ConstrainedTaskJacobian => "task",
             Function::ConstraintJacobian => "jc",
             Function::TaskJacobian => "ja",
             Function::ConstraintDeterminant => "det",
@@ -287,6 +304,8 @@ impl Function {
             Function::ConstraintSelection => "H",
             Function::LambdaNullSpace => "Λ#",
             Function::LambdaPinv => "Λ† = Λᵀ (Λ Λᵀ)⁻¹",
+            Function::TaskSelection => "S",
+            Function::ConstrainedTaskJacobian => "S J^r_0e",
             Function::ConstraintJacobian => "J_C",
             Function::TaskJacobian => "J_A",
             Function::ConstraintDeterminant => "det J_Cp",
@@ -316,7 +335,9 @@ impl Function {
             | Function::ManipulabilitySquared
             | Function::ConstraintSelection
             | Function::LambdaNullSpace
-            | Function::LambdaPinv => Source::Thesis,
+            | Function::LambdaPinv
+            | Function::TaskSelection
+            | Function::ConstrainedTaskJacobian => Source::Thesis,
             _ => Source::FreitasLeiteLizarralde2010,
         }
     }
@@ -334,6 +355,7 @@ impl Function {
             Function::ConstraintSelection => "(3.1)",
             Function::LambdaNullSpace => "(3.6) (presets: (3.23), (3.27))",
             Function::LambdaPinv => "(3.31)",
+            Function::TaskSelection | Function::ConstrainedTaskJacobian => "(3.15)",
             Function::ConstraintJacobian => "(3), (19), (31)",
             Function::TaskJacobian => "(4), (19), (31)",
             Function::ConstraintDeterminant => "(7), §4.5",
@@ -376,6 +398,14 @@ impl Function {
             Function::LambdaPinv => Matrix {
                 rows: Fixed(6),
                 cols: Dim::Size(R),
+            },
+            Function::TaskSelection => Matrix {
+                rows: Dim::Size(T),
+                cols: Fixed(6),
+            },
+            Function::ConstrainedTaskJacobian => Matrix {
+                rows: Dim::Size(T),
+                cols: Dim::Size(M),
             },
             Function::Manipulability
             | Function::ManipulabilitySquared
@@ -422,7 +452,10 @@ impl Function {
     pub const fn takes_joints(self) -> bool {
         !matches!(
             self,
-            Function::ConstraintSelection | Function::LambdaNullSpace | Function::LambdaPinv
+            Function::ConstraintSelection
+                | Function::LambdaNullSpace
+                | Function::LambdaPinv
+                | Function::TaskSelection
         )
     }
 

@@ -40,19 +40,14 @@ pub enum RobotError {
     },
     /// The operation needs a constraint and the description has none.
     NoConstraint,
+    /// The operation needs a task selection and the description has no `[task]`.
+    NoTask,
     /// The constrained link is not one of the robot's links `1..=n`.
     LinkOutOfRange {
         /// The link given.
         link: usize,
         /// Joints of the robot.
         joints: usize,
-    },
-    /// The method needs `n − r ≥ 6` (§3.1).
-    TooFewJoints {
-        /// Joints.
-        n: usize,
-        /// Constraint rows.
-        r: usize,
     },
     /// A joint axis or twist is zero, not unit, or not finite.
     BadAxis {
@@ -95,13 +90,10 @@ impl fmt::Display for RobotError {
                 )
             }
             Self::NoConstraint => write!(f, "the robot has no [constraint]"),
+            Self::NoTask => write!(f, "the robot has no [task]"),
             Self::LinkOutOfRange { link, joints } => write!(
                 f,
                 "field `constraint.link`: link {link} is not one of 1..={joints}"
-            ),
-            Self::TooFewJoints { n, r } => write!(
-                f,
-                "field `constraint.h`: the method needs n − r ≥ 6, here n = {n}, r = {r}"
             ),
             Self::BadAxis { field } => {
                 write!(f, "field `{field}`: the axis must be a finite unit vector")
@@ -128,8 +120,9 @@ impl From<AdmissionError> for RobotError {
             AdmissionError::LinkOutOfRange { link, n } => Self::LinkOutOfRange { link, joints: n },
             AdmissionError::NoRows => ConstraintError::BadRowCount(0).into(),
             AdmissionError::TooManyRows { r } => ConstraintError::BadRowCount(r).into(),
-            AdmissionError::TooFewJoints { n, r } => Self::TooFewJoints { n, r },
-            e @ AdmissionError::TooFewColumns { .. } => Self::NotAdmitted(e),
+            e @ (AdmissionError::TooFewJoints { .. } | AdmissionError::TooFewColumns { .. }) => {
+                Self::NotAdmitted(e)
+            }
         }
     }
 }
@@ -383,7 +376,7 @@ impl<T: RealField + Copy> NumericModel<T> {
         let constraint = match &description.constraint {
             None => None,
             Some(c) => {
-                admit(n, c.link, c.h.len())?;
+                admit(n, c.link, c.h.len(), description.task_rows())?;
                 let g_ir = eval_origin(&c.origin, &parameters, "constraint")?;
                 Some(AnyConstraint::new(c.link, g_ir, &c.h, c.basis())?)
             }

@@ -8,49 +8,67 @@ use trocar_model::numeric::{NumericModel as Robot, RobotError};
 
 #[test]
 fn the_rules_in_order() {
-    assert_eq!(admit(8, 6, 2), Ok(()));
-    assert_eq!(admit(8, 7, 1), Ok(()));
+    // Without a task (t = 6): the thesis's n − r ≥ 6 and m = 6 − r + n − i ≥ 6.
+    assert_eq!(admit(8, 6, 2, 6), Ok(()));
+    assert_eq!(admit(8, 7, 1, 6), Ok(()));
+    // The last link (i = n) is a link of the robot; with the whole twist as the task J^r is short.
     assert_eq!(
-        admission_problems(8, 8, 1),
-        vec![AdmissionError::LinkOutOfRange { link: 8, n: 8 }]
+        admission_problems(8, 8, 1, 6),
+        vec![AdmissionError::TooFewColumns {
+            m: 5,
+            after: 0,
+            r: 1,
+            t: 6
+        }]
     );
     assert_eq!(
-        admission_problems(8, 0, 0),
+        admission_problems(8, 9, 1, 6),
+        vec![AdmissionError::LinkOutOfRange { link: 9, n: 8 }]
+    );
+    assert_eq!(
+        admission_problems(8, 0, 0, 6),
         vec![
             AdmissionError::LinkOutOfRange { link: 0, n: 8 },
             AdmissionError::NoRows
         ]
     );
     assert_eq!(
-        admission_problems(6, 6, 2),
+        admission_problems(6, 7, 2, 6),
         vec![
-            AdmissionError::LinkOutOfRange { link: 6, n: 6 },
-            AdmissionError::TooFewJoints { n: 6, r: 2 }
+            AdmissionError::LinkOutOfRange { link: 7, n: 6 },
+            AdmissionError::TooFewJoints { n: 6, r: 2, t: 6 }
         ]
     );
-    // `n − r ≥ 6` is reported first by `admit`.
+    // `n − r ≥ t` is reported first by `admit`.
     assert_eq!(
-        admit(6, 6, 2),
-        Err(AdmissionError::TooFewJoints { n: 6, r: 2 })
+        admit(6, 7, 2, 6),
+        Err(AdmissionError::TooFewJoints { n: 6, r: 2, t: 6 })
     );
     assert_eq!(
-        admission_problems(11, 1, 6),
+        admission_problems(11, 1, 6, 6),
         vec![
             AdmissionError::TooManyRows { r: 6 },
-            AdmissionError::TooFewJoints { n: 11, r: 6 }
+            AdmissionError::TooFewJoints { n: 11, r: 6, t: 6 }
         ]
     );
-    // J^r needs m = 6 − r + n − i ≥ 6 columns.
-    let e = admit(8, 7, 2).unwrap_err();
+    // J^r needs m = 6 − r + n − i ≥ t columns.
+    let e = admit(8, 7, 2, 6).unwrap_err();
     assert_eq!(
         e,
         AdmissionError::TooFewColumns {
             m: 5,
             after: 1,
-            r: 2
+            r: 2,
+            t: 6
         }
     );
     assert_eq!(e.field(), "constraint.link");
+    // A task of t rows: n − r ≥ t and m ≥ t, reported on the task.
+    assert_eq!(admit(7, 7, 2, 4), Ok(()));
+    assert_eq!(admit(8, 7, 2, 5), Ok(()));
+    let e = admit(7, 7, 2, 5).unwrap_err();
+    assert_eq!(e.field(), "task.select");
+    assert!(e.to_string().contains("= 4 columns"), "{e}");
 }
 
 #[test]
@@ -62,7 +80,7 @@ fn every_builder_applies_them() {
     c.wrist = None;
     let e = d.validate().unwrap_err();
     assert_eq!(e.field, "constraint.link");
-    assert!(e.message.contains("m = 6 − r + n − i = 5"), "{e}");
+    assert!(e.message.contains("m = (6 − r) + (n − i) = 5"), "{e}");
     assert!(matches!(
         Robot::<f64>::from_description(&d, &[]).unwrap_err(),
         RobotError::NotAdmitted(AdmissionError::TooFewColumns { m: 5, .. })

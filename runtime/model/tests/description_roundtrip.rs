@@ -32,7 +32,8 @@ fn every_preset_is_valid_and_round_trips() {
             "bidirectional-zy",
             "bidirectional-zx",
             "dia10_like_zy",
-            "dia10_like_zx"
+            "dia10_like_zx",
+            "panda-laparoscope"
         ]
     );
     for name in names {
@@ -164,10 +165,12 @@ prop_compose! {
                     1 => JointKind::Prismatic { axis },
                     _ => JointKind::Twist { v, w: axis },
                 },
+                limits: None,
                 location: None,
             }).collect(),
             end_effector: EndEffector { name: "tool".into(), origin: ee },
             constraint: constraint.map(|(link, origin, h, wrist)| ConstraintDesc { link, origin, h, wrist }),
+            task: None,
             source: None,
         }
     }

@@ -308,5 +308,8 @@ fn a_constraint_can_be_added_to_an_import() {
     two.h.push([0.0, 1.0, 0.0, 0.0, 0.0, 0.0]);
     let e = d.with_constraint(two).unwrap_err();
     assert_eq!(e.field, "constraint.h");
-    assert!(e.message.contains("n − r ≥ 6"), "{e}");
+    assert!(
+        e.message.contains("n − r ≥ t") && e.message.contains("t = 6"),
+        "{e}"
+    );
 }

@@ -551,25 +551,30 @@ fn n_minus_r_below_six() {
     let end = start + 1 + text[start + 1..].find("[[joints]]").unwrap();
     let text = format!("{}{}", &text[..start], &text[end..]);
     let text = replace_once(&text, "link = 6", "link = 5");
-    let e = expect(&text, "constraint.h", ("h = ", None), "requires n − r ≥ 6");
+    let e = expect(&text, "constraint.h", ("h = ", None), "requires n − r ≥ t");
     assert!(e.message.contains("n = 7, r = 2"), "{e}");
 }
 
 #[test]
 fn constrained_link_out_of_range() {
-    for link in ["0", "8", "9", "1000"] {
+    for link in ["0", "9", "1000"] {
         let text = replace_once(&base(), "link = 6", &format!("link = {link}"));
-        let e = expect(
-            &text,
-            "constraint.link",
-            ("link = ", None),
-            "1 ≤ i ≤ n − 1 = 7",
-        );
+        let e = expect(&text, "constraint.link", ("link = ", None), "1 ≤ i ≤ n = 8");
         assert!(
             e.message.contains(&format!("constrained link {link}")),
             "{e}"
         );
     }
+    // The last link is a link, but with the whole twist as the task J^r has too few columns.
+    let text = replace_once(&base(), "link = 6", "link = 8");
+    let d = RobotDescription::from_toml_str_unvalidated(&text, None).unwrap();
+    let problems = d.problems();
+    assert!(
+        problems.iter().any(|p| p.field == "constraint.link"
+            && p.message.contains("= 4 columns")
+            && p.message.contains("t = 6")),
+        "{problems:?}"
+    );
 }
 
 #[test]

@@ -243,9 +243,29 @@ impl<T: RobotScalar> Robot<T> {
         ))
     }
 
-    /// Manipulability of the constrained Jacobian, `w_r = sqrt(|det(J^r J^rᵀ)|)` (3.36).
+    /// The task selection `S`, t×6 (rows of the end-effector body twist, components in `F_e`), or
+    /// `None` without a `[task]`.
+    pub fn task_selection(&self) -> Option<Mat<T>> {
+        let task = self.description().task.as_ref()?;
+        Some(Mat::from_fn(task.select.len(), 6, |r, c| {
+            convert(task.select[r][c])
+        }))
+    }
+
+    /// The task Jacobian `S J^r_0e`, t×m. Errors without a `[task]`.
+    pub fn task_jacobian(&self, q: &[T]) -> Result<Mat<T>, RobotError> {
+        let s = self.task_selection().ok_or(RobotError::NoTask)?;
+        Ok(s * self.constrained_jacobian(q)?)
+    }
+
+    /// Manipulability (3.36) of what the task commands: `w = sqrt(|det(J Jᵀ)|)` of `S J^r_0e` with
+    /// a `[task]`, of `J^r_0e` without.
     pub fn manipulability(&self, q: &[T]) -> Result<T, RobotError> {
-        Ok(manipulability_dynamic(&self.constrained_jacobian(q)?))
+        let jr = self.constrained_jacobian(q)?;
+        Ok(match self.task_selection() {
+            Some(s) => manipulability_dynamic(&(s * jr)),
+            None => manipulability_dynamic(&jr),
+        })
     }
 
     /// (3.10)/(3.31): `θ̇_{1..i} = (J^B_0i)† (Λ# v0i + Λ† dv_0r)` (`dv_0r` empty or zero for a

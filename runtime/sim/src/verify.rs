@@ -21,12 +21,13 @@ use trocar_model::catalogue::Function;
 use trocar_model::description::RobotDescription;
 
 /// The generated functions [`verify`] checks against the numeric runtime, in report order.
-pub const CHECKED: [Function; 7] = [
+pub const CHECKED: [Function; 8] = [
     Function::ForwardKinematics,
     Function::ConstrainedLinkKinematics,
     Function::PartialBodyJacobian,
     Function::ConstrainedJacobian,
     Function::ConstraintJacobianC,
+    Function::ConstrainedTaskJacobian,
     Function::Manipulability,
     Function::ManipulabilitySquared,
 ];
@@ -268,6 +269,7 @@ pub fn verify(
             let reference = match quantity {
                 Function::ConstrainedJacobian => robot.constrained_jacobian(&q)?,
                 Function::ConstraintJacobianC => robot.moving_rcm_jacobian(&q)?,
+                Function::ConstrainedTaskJacobian => robot.task_jacobian(&q)?,
                 Function::PartialBodyJacobian => robot.partial_body_jacobian(&q)?,
                 Function::ForwardKinematics => robot.forward_kinematics_matrix(&q)?,
                 Function::ConstrainedLinkKinematics => {
@@ -295,12 +297,15 @@ pub fn verify(
                 }
             };
             let error = match quantity {
-                // Manipulability is a product of six singular values: its error is measured
-                // relative to Hadamard's bound Π‖row_k(J^r)‖ (squared for the squared value),
+                // Manipulability is a product of singular values: its error is measured
+                // relative to Hadamard's bound Π‖row_k(J)‖ (squared for the squared value),
                 // the natural scale of a determinant, as matrices are measured relative to
-                // their norm.
+                // their norm; J is S J^r with a task, J^r without.
                 Function::Manipulability | Function::ManipulabilitySquared => {
-                    let jr = robot.constrained_jacobian(&q)?;
+                    let jr = match robot.task_selection() {
+                        Some(_) => robot.task_jacobian(&q)?,
+                        None => robot.constrained_jacobian(&q)?,
+                    };
                     let mut bound: f64 = jr.row_iter().map(|r| r.norm_l2()).product();
                     if quantity == Function::ManipulabilitySquared {
                         bound *= bound;

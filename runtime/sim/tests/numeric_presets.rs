@@ -8,7 +8,7 @@ use trocar::constraint::Constraint;
 use trocar::manipulability::SquareDim;
 use trocar::nalgebra::{Const, SMatrix, SVector, Vector3};
 use trocar::se3::{rotation_from_rpy, Adjoint, Se3};
-use trocar_model::description::{RobotDescription, Scalar};
+use trocar_model::description::{AdmissionError, RobotDescription, Scalar};
 use trocar_sim::robot::{Robot, RobotError};
 
 const ALL: [&str; 5] = [
@@ -383,8 +383,11 @@ fn user_errors_are_results() {
     let mut bad = d.clone();
     bad.joints.pop();
     let e = Robot::<f64>::from_description(&bad, &[]).unwrap_err();
-    assert_eq!(e, RobotError::TooFewJoints { n: 7, r: 2 });
-    assert!(e.to_string().contains("n − r ≥ 6"));
+    assert_eq!(
+        e,
+        RobotError::NotAdmitted(AdmissionError::TooFewJoints { n: 7, r: 2, t: 6 })
+    );
+    assert!(e.to_string().contains("n − r ≥ t") && e.to_string().contains("n = 7, r = 2, t = 6"));
 
     let mut bad = d.clone();
     bad.constraint.as_mut().unwrap().link = 9;

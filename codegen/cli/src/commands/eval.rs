@@ -65,6 +65,7 @@ fn serial_generated(
     let function = match what {
         What::Jr => Function::ConstrainedJacobian,
         What::Manip => Function::Manipulability,
+        What::Task => Function::ConstrainedTaskJacobian,
         What::Jc => Function::ConstraintJacobianC,
         What::Jb0i => Function::PartialBodyJacobian,
         What::Jb0e => Function::BodyJacobian,
@@ -72,10 +73,17 @@ fn serial_generated(
         What::Passive | What::Det => unreachable!("rejected by eval_serial"),
     };
     let m = generated.evaluate(function, q, values).ok_or_else(|| {
-        CliError(format!(
-            "`{}` has no generated `{function}` (a robot without [constraint] has only fk and jb0e)",
-            desc.name
-        ))
+        CliError(if what == What::Task {
+            format!(
+                "`{}` has no [task]: --what task needs one (select = [\"x\", \"y\", \"z\", \"rz\"], ...)",
+                desc.name
+            )
+        } else {
+            format!(
+                "`{}` has no generated `{function}` (a robot without [constraint] has only fk and jb0e)",
+                desc.name
+            )
+        })
     })?;
     if m.values.iter().any(|v| !v.is_finite()) {
         return Err(CliError(format!(
@@ -94,7 +102,10 @@ fn serial_numeric(
 ) -> Result<MatrixOut, CliError> {
     let robot = numeric_robot(desc, values)?;
     let err = robot_error(desc);
-    let needs_constraint = matches!(what, What::Jr | What::Manip | What::Jc | What::Jb0i);
+    let needs_constraint = matches!(
+        what,
+        What::Jr | What::Manip | What::Jc | What::Jb0i | What::Task
+    );
     if needs_constraint && desc.constraint.is_none() {
         return Err(CliError(format!(
             "`{}` has no [constraint]: only --what jb0e and fk apply",
@@ -104,6 +115,15 @@ fn serial_numeric(
     Ok(match what {
         What::Jr => MatrixOut::from_faer(&robot.constrained_jacobian(q).map_err(err)?),
         What::Manip => MatrixOut::scalar(robot.manipulability(q).map_err(err)?),
+        What::Task => {
+            if desc.task.is_none() {
+                return Err(CliError(format!(
+                    "`{}` has no [task]: --what task needs one (select = [\"x\", \"y\", \"z\", \"rz\"], ...)",
+                    desc.name
+                )));
+            }
+            MatrixOut::from_faer(&robot.task_jacobian(q).map_err(err)?)
+        }
         What::Jc => MatrixOut::from_faer(&robot.moving_rcm_jacobian(q).map_err(err)?),
         What::Jb0i => MatrixOut::from_faer(&robot.partial_body_jacobian(q).map_err(err)?),
         What::Jb0e => MatrixOut::from_faer(&robot.body_jacobian(q).map_err(err)?),

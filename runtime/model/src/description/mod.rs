@@ -41,6 +41,13 @@ pub use presets::{preset, preset_names, PRESETS};
 pub use trocar::constraint::NullSpaceBasis;
 pub use validate::{admission_problems, admit, AdmissionError};
 
+impl RobotDescription {
+    /// The number `t` of task rows: those of the `[task]` selection, or 6 (the whole twist).
+    pub fn task_rows(&self) -> usize {
+        self.task.as_ref().map_or(6, |t| t.select.len())
+    }
+}
+
 /// A length (or any linear quantity): `constant + Σ coefficient · parameter`.
 ///
 /// Written in TOML as a number (`0.33`), a parameter name (`"l_a"`) or a linear combination
@@ -111,6 +118,9 @@ pub struct JointDesc {
     pub origin: Origin,
     /// Type and axis or twist.
     pub kind: JointKind,
+    /// Lower and upper limit of `q` (rad or m), when known (`limits = [lo, hi]` in TOML, the
+    /// `<limit>` of a URDF joint); the simulation keeps the joints inside them.
+    pub limits: Option<[f64; 2]>,
     /// Where the joint was written (its `[[joints]]` header, or its `<joint>` element in a URDF),
     /// when read from text; [`RobotDescription::validate`] uses it for joint errors.
     pub location: Option<Location>,
@@ -164,17 +174,30 @@ impl ConstraintDesc {
 /// The constraint `H V^B_0r = 0` at the frame `F_r` fixed in link `i` (3.1).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ConstraintDesc {
-    /// The constrained link `i`, 1-based (link `i` is joint `i`'s frame, between joints `i` and `i+1`);
-    /// valid descriptions have `1 ≤ i ≤ n − 1`.
+    /// The constrained link `i`, 1-based (link `i` is joint `i`'s frame, carried by joint `i`);
+    /// valid descriptions have `1 ≤ i ≤ n` (`i = n`: the constraint is on the last link, no joint
+    /// after it, and `J^r_0e = Ad_{g_ei} Λ#`).
     pub link: usize,
     /// `g_ir`: the constraint frame relative to `F_i`; the thesis takes `(I, (0, l_a, 0))`.
     pub origin: Origin,
     /// Rows of `H ∈ R^{r×6}` (twist order `(v, ω)`); valid descriptions have `1 ≤ r ≤ 5`
-    /// independent rows and `n − r ≥ 6`.
+    /// independent rows and `n − r ≥ t` (`t` task rows, see [`RobotDescription::task_rows`]).
     pub h: Vec<[f64; 6]>,
     /// Wrist preset: when given, `Λ#` is the thesis's basis; otherwise a derived basis (see
     /// [`ConstraintDesc::basis`]).
     pub wrist: Option<Wrist>,
+}
+
+/// The task: which rows of the end-effector twist the task commands, `S ∈ R^{t×6}`; the task
+/// Jacobian is `S J^r_0e`.
+///
+/// `J^r_0e` maps to the body twist `V^B_0e = (v, ω)` of the end-effector frame `F_e`, so the rows
+/// select components **in `F_e`**: `"x"` is the tip's velocity along `x_e`, `"rz"` the rotation
+/// rate about `z_e` (the roll about a shaft that runs along `z_e`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TaskDesc {
+    /// Rows of `S` (twist order `(v, ω)`), 1 to 6, linearly independent.
+    pub select: Vec<[f64; 6]>,
 }
 
 /// A named parameter and its nominal value (used by numeric evaluation unless overridden).
@@ -199,6 +222,8 @@ pub struct RobotDescription {
     pub end_effector: EndEffector,
     /// The RCM constraint, if any.
     pub constraint: Option<ConstraintDesc>,
+    /// The task selection, if any (default: all six rows of the twist).
+    pub task: Option<TaskDesc>,
     /// The file the description was read from, if any (for error messages).
     pub source: Option<std::path::PathBuf>,
 }

@@ -33,9 +33,10 @@
 //! returned.
 
 use super::locate::{location_of, Locator};
+use super::urdf::{import_chain, UrdfChain};
 use super::{
     ConstraintDesc, DescriptionError, EndEffector, JointDesc, JointKind, Origin, Parameter,
-    RobotDescription, Rotation, Scalar, Wrist,
+    RobotDescription, Rotation, Scalar, TaskDesc, Wrist,
 };
 use serde::Deserialize;
 use std::path::Path;
@@ -50,12 +51,29 @@ struct RawRobot {
     joints: Vec<toml::Spanned<RawJoint>>,
     end_effector: Option<RawFrame>,
     constraint: Option<RawConstraint>,
+    task: Option<RawTask>,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawMeta {
     name: String,
+    urdf: Option<String>,
+    base: Option<String>,
+    tip: Option<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawTask {
+    select: RawH,
+}
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum RawLink {
+    Index(usize),
+    Name(String),
 }
 
 #[derive(Deserialize)]
@@ -77,6 +95,7 @@ struct RawJoint {
     axis: Option<[f64; 3]>,
     v: Option<[RawScalar; 3]>,
     w: Option<[f64; 3]>,
+    limits: Option<[f64; 2]>,
 }
 
 #[derive(Deserialize)]
@@ -98,7 +117,7 @@ enum RawH {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawConstraint {
-    link: usize,
+    link: RawLink,
     xyz: Option<[RawScalar; 3]>,
     rpy: Option<[f64; 3]>,
     rotation: Option<[[f64; 3]; 3]>,
@@ -210,6 +229,98 @@ fn origin(
         (None, None) => Rotation::Rpy([0.0; 3]),
     };
     Ok(Origin { xyz, rotation })
+}
+
+/// Rows of a selection matrix (`constraint.h`, `task.select`): axis letters or rows of 6 numbers.
+fn selection(ctx: &Ctx, prefix: &str, raw: &RawH) -> Result<Vec<[f64; 6]>, DescriptionError> {
+    match raw {
+        RawH::Rows(rows) => rows
+            .iter()
+            .enumerate()
+            .map(|(k, row)| {
+                <[f64; 6]>::try_from(row.as_slice()).map_err(|_| {
+                    ctx.err(
+                        &format!("{prefix}[{k}]"),
+                        format!(
+                            "a row has 6 entries (twist order vx vy vz wx wy wz), this one has {}",
+                            row.len()
+                        ),
+                    )
+                })
+            })
+            .collect(),
+        RawH::Letters(letters) => letters
+            .iter()
+            .enumerate()
+            .map(|(k, l)| {
+                let index = AXIS_LETTERS.iter().position(|a| a == l).ok_or_else(|| {
+                    ctx.err(
+                        &format!("{prefix}[{k}]"),
+                        format!("unknown axis `{l}` (expected x, y, z, rx, ry or rz)"),
+                    )
+                })?;
+                let mut row = [0.0; 6];
+                row[index] = 1.0;
+                Ok(row)
+            })
+            .collect(),
+    }
+}
+
+/// The chain of `[robot] urdf = "…"` between `base` and `tip`, the URDF read relative to the TOML
+/// file's folder (shipped descriptions read their shipped URDF).
+fn urdf_chain(ctx: &Ctx, rel: &str, meta: &RawMeta) -> Result<UrdfChain, DescriptionError> {
+    let tip = meta.tip.as_deref().ok_or_else(|| {
+        ctx.err(
+            "robot.tip",
+            "a chain from a URDF needs `tip = \"LINK\"` in [robot]: the link that carries the end effector",
+        )
+    })?;
+    let (text, path) = match super::presets::shipped_urdf(ctx.file, rel) {
+        Some(text) => (text.to_string(), std::path::PathBuf::from(rel)),
+        None => {
+            let path = match ctx.file.and_then(Path::parent) {
+                Some(dir) => dir.join(rel),
+                None => std::path::PathBuf::from(rel),
+            };
+            let text = std::fs::read(&path).map_err(|e| {
+                ctx.err(
+                    "robot.urdf",
+                    format!("cannot read the URDF `{}`: {e}", path.display()),
+                )
+            })?;
+            let text = String::from_utf8(text).map_err(|e| {
+                ctx.err(
+                    "robot.urdf",
+                    format!(
+                        "the URDF `{}` is not UTF-8 (invalid byte at offset {})",
+                        path.display(),
+                        e.utf8_error().valid_up_to()
+                    ),
+                )
+            })?;
+            (text, path)
+        }
+    };
+    let mut chain = import_chain(&text, meta.base.as_deref(), tip, Some(&path), &|key| {
+        format!("robot.{key}")
+    })
+    .map_err(|mut e| {
+        // Base and tip errors are about this file's keys; the others about the URDF's text.
+        if e.field.starts_with("robot.") {
+            let at = ctx.err(&e.field, "");
+            e.file = at.file;
+            e.line = at.line;
+            e.column = at.column;
+            e.message = format!("{} (in `{}`)", e.message, path.display());
+        }
+        e
+    })?;
+    // Joint lines are the URDF's, not this file's.
+    for j in &mut chain.joints {
+        j.location = None;
+    }
+    Ok(chain)
 }
 
 /// `field` without its last key: the table it lives in.
@@ -362,7 +473,27 @@ impl RobotDescription {
                 value,
             });
         }
-        let mut joints = Vec::new();
+        let urdf = match &raw.robot.urdf {
+            Some(rel) => Some(urdf_chain(&ctx, rel, &raw.robot)?),
+            None => {
+                for (key, given) in [("base", &raw.robot.base), ("tip", &raw.robot.tip)] {
+                    if given.is_some() {
+                        return Err(ctx.err(
+                            &format!("robot.{key}"),
+                            format!("`{key}` names a URDF link: it needs `urdf = \"FILE.urdf\"` in [robot]"),
+                        ));
+                    }
+                }
+                None
+            }
+        };
+        if urdf.is_some() && !raw.joints.is_empty() {
+            return Err(ctx.err(
+                "joints[0]",
+                "the chain comes from the URDF (`robot.urdf`): remove the [[joints]] tables, or the `urdf` key",
+            ));
+        }
+        let mut joints = urdf.as_ref().map_or_else(Vec::new, |u| u.joints.clone());
         for (k, spanned) in raw.joints.iter().enumerate() {
             let loc = Some(location_of(text, spanned.span().start));
             let j = spanned.get_ref();
@@ -417,14 +548,23 @@ impl RobotDescription {
                     ))
                 }
             };
+            if let Some([lo, hi]) = j.limits {
+                if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                    return Err(ctx.err(
+                        &format!("{field}.limits"),
+                        format!("limits = [lower, upper] need finite numbers with lower < upper, not [{lo}, {hi}]"),
+                    ));
+                }
+            }
             joints.push(JointDesc {
                 name: j.name.clone(),
                 origin: origin(&ctx, &field, &j.xyz, &j.rpy, &j.rotation)?,
                 kind,
+                limits: j.limits,
                 location: loc,
             });
         }
-        let end_effector = match &raw.end_effector {
+        let mut end_effector = match &raw.end_effector {
             Some(f) => EndEffector {
                 name: f.name.clone().unwrap_or_else(|| "end_effector".into()),
                 origin: origin(&ctx, "end_effector", &f.xyz, &f.rpy, &f.rotation)?,
@@ -437,40 +577,45 @@ impl RobotDescription {
                 },
             },
         };
+        if let Some(u) = &urdf {
+            // `[end_effector]` is written relative to the tip link's frame.
+            end_effector.origin = u.tip.compose(&end_effector.origin);
+            if raw.end_effector.as_ref().is_none_or(|f| f.name.is_none()) {
+                end_effector.name = raw.robot.tip.clone().unwrap_or_default();
+            }
+        }
         let constraint = match &raw.constraint {
             None => None,
             Some(c) => {
-                let h = match &c.h {
-                    RawH::Rows(rows) => rows
-                        .iter()
-                        .enumerate()
-                        .map(|(k, row)| {
-                            <[f64; 6]>::try_from(row.as_slice()).map_err(|_| {
-                                ctx.err(
-                                    &format!("constraint.h[{k}]"),
-                                    format!(
-                                        "a row of H has 6 entries (twist order vx vy vz wx wy wz), this one has {}",
-                                        row.len()
-                                    ),
-                                )
-                            })
-                        })
-                        .collect::<Result<_, _>>()?,
-                    RawH::Letters(letters) => letters
-                        .iter()
-                        .enumerate()
-                        .map(|(k, l)| {
-                            let index = AXIS_LETTERS.iter().position(|a| a == l).ok_or_else(|| {
-                                ctx.err(
-                                    &format!("constraint.h[{k}]"),
-                                    format!("unknown axis `{l}` (expected x, y, z, rx, ry or rz)"),
-                                )
-                            })?;
-                            let mut row = [0.0; 6];
-                            row[index] = 1.0;
-                            Ok(row)
-                        })
-                        .collect::<Result<_, _>>()?,
+                let h = selection(&ctx, "constraint.h", &c.h)?;
+                let (link, offset) = match &c.link {
+                    RawLink::Index(i) => (*i, None),
+                    RawLink::Name(name) => {
+                        let Some(u) = &urdf else {
+                            return Err(ctx.err(
+                                "constraint.link",
+                                format!("`{name}` is a link name, which needs the chain from a URDF (`urdf = \"FILE.urdf\"` in [robot]); otherwise give the link's number i (link i is carried by joint i)"),
+                            ));
+                        };
+                        let Some((_, k, pose)) = u.links.iter().find(|(n, _, _)| n == name) else {
+                            let on_path: Vec<&str> =
+                                u.links.iter().map(|(n, _, _)| n.as_str()).collect();
+                            return Err(ctx.err(
+                                "constraint.link",
+                                format!(
+                                    "link `{name}` is not on the chain from the base to the tip (links on it: {})",
+                                    on_path.join(", ")
+                                ),
+                            ));
+                        };
+                        if *k == 0 {
+                            return Err(ctx.err(
+                                "constraint.link",
+                                format!("link `{name}` is fixed to the base (no joint moves it); the constraint needs a link that a joint carries"),
+                            ));
+                        }
+                        (*k, Some(*pose))
+                    }
                 };
                 let wrist = match c.wrist.as_deref() {
                     None => None,
@@ -484,9 +629,14 @@ impl RobotDescription {
                         ))
                     }
                 };
+                let origin = origin(&ctx, "constraint", &c.xyz, &c.rpy, &c.rotation)?;
                 Some(ConstraintDesc {
-                    link: c.link,
-                    origin: origin(&ctx, "constraint", &c.xyz, &c.rpy, &c.rotation)?,
+                    link,
+                    // Written relative to the named link's frame, which sits at `offset` in F_i.
+                    origin: match offset {
+                        Some(pose) => pose.compose(&origin),
+                        None => origin,
+                    },
                     h,
                     wrist,
                 })
@@ -498,6 +648,12 @@ impl RobotDescription {
             joints,
             end_effector,
             constraint,
+            task: match &raw.task {
+                Some(t) => Some(TaskDesc {
+                    select: selection(&ctx, "task.select", &t.select)?,
+                }),
+                None => None,
+            },
             source: file.map(Path::to_path_buf),
         })
     }
@@ -557,6 +713,13 @@ mod tests {
     fn every_shipped_description_reads() {
         for name in super::super::preset_names() {
             let d = RobotDescription::preset(name).unwrap();
+            if name == "panda-laparoscope" {
+                // The chain comes from the shipped URDF: no TOML lines for its joints.
+                assert_eq!(d.joints.len(), 7);
+                assert_eq!(d.constraint.as_ref().unwrap().link, 7);
+                assert!(d.joints.iter().all(|j| j.location.is_none()));
+                continue;
+            }
             assert_eq!(d.joints.len(), 8, "{name}");
             assert_eq!(d.constraint.as_ref().unwrap().link, 6);
             assert!(d.joints[1].location.unwrap().line > 10);

@@ -1,4 +1,5 @@
-//! The description files shipped with trocar: the thesis's three wrist presets and the reference arm.
+//! The description files shipped with trocar: the thesis's three wrist presets, the reference arm
+//! and a Franka Panda holding a laparoscope (its chain from the shipped `urdf/panda.urdf`).
 
 /// `(name, TOML text)` of every shipped description.
 pub const PRESETS: &[(&str, &str)] = &[
@@ -22,7 +23,32 @@ pub const PRESETS: &[(&str, &str)] = &[
         "dia10_like_zx",
         include_str!("../../robots/dia10_like_zx.toml"),
     ),
+    (
+        "panda-laparoscope",
+        include_str!("../../robots/panda-laparoscope.toml"),
+    ),
 ];
+
+/// `(path relative to the shipped descriptions, URDF text)` of every URDF a shipped description
+/// takes its chain from (`[robot] urdf = "…"`).
+pub const SHIPPED_URDFS: &[(&str, &str)] = &[(
+    "urdf/panda.urdf",
+    include_str!("../../robots/urdf/panda.urdf"),
+)];
+
+/// The shipped URDF `rel` when `file` is a shipped description (`<preset NAME>`), else `None`.
+pub(crate) fn shipped_urdf(file: Option<&std::path::Path>, rel: &str) -> Option<&'static str> {
+    let shipped = file
+        .and_then(|f| f.to_str())
+        .is_some_and(|f| f.starts_with("<preset ") && f.ends_with('>'));
+    if !shipped {
+        return None;
+    }
+    SHIPPED_URDFS
+        .iter()
+        .find(|(path, _)| *path == rel)
+        .map(|(_, text)| *text)
+}
 
 /// The TOML text of a shipped description, by name.
 pub fn preset(name: &str) -> Option<&'static str> {

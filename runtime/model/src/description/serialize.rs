@@ -147,6 +147,9 @@ impl RobotDescription {
             };
             let _ = writeln!(out, "type = \"{kind}\"");
             origin(&mut out, &j.origin);
+            if let Some([lo, hi]) = j.limits {
+                let _ = writeln!(out, "limits = [{}, {}]", number(lo), number(hi));
+            }
             match &j.kind {
                 JointKind::Revolute { axis } | JointKind::Prismatic { axis } => {
                     let _ = writeln!(out, "axis = {}", array3(axis));
@@ -173,33 +176,7 @@ impl RobotDescription {
         if let Some(c) = &self.constraint {
             let _ = writeln!(out, "\n[constraint]\nlink = {}", c.link);
             origin(&mut out, &c.origin);
-            let letters: Option<Vec<String>> =
-                c.h.iter()
-                    .map(|row| {
-                        let ones: Vec<usize> = (0..6).filter(|&k| row[k] != 0.0).collect();
-                        match ones.as_slice() {
-                            [k] if row[*k] == 1.0 && !row.iter().any(|x| x.is_sign_negative()) => {
-                                Some(string(AXIS_LETTERS[*k]))
-                            }
-                            _ => None,
-                        }
-                    })
-                    .collect();
-            match letters {
-                Some(l) if !l.is_empty() => {
-                    let _ = writeln!(out, "h = [{}]", l.join(", "));
-                }
-                _ => {
-                    let rows: Vec<String> =
-                        c.h.iter()
-                            .map(|row| {
-                                let entries: Vec<String> = row.iter().map(|x| number(*x)).collect();
-                                format!("[{}]", entries.join(", "))
-                            })
-                            .collect();
-                    let _ = writeln!(out, "h = [{}]", rows.join(", "));
-                }
-            }
+            let _ = writeln!(out, "h = {}", selection(&c.h));
             if let Some(w) = c.wrist {
                 let name = match w {
                     Wrist::Unidirectional => "unidirectional",
@@ -209,6 +186,38 @@ impl RobotDescription {
                 let _ = writeln!(out, "wrist = \"{name}\"");
             }
         }
+        if let Some(t) = &self.task {
+            let _ = writeln!(out, "\n[task]\nselect = {}", selection(&t.select));
+        }
         out
+    }
+}
+
+/// Rows of a selection (`H`, `S`): axis letters when every row is one, else rows of 6 numbers.
+fn selection(rows: &[[f64; 6]]) -> String {
+    let letters: Option<Vec<String>> = rows
+        .iter()
+        .map(|row| {
+            let ones: Vec<usize> = (0..6).filter(|&k| row[k] != 0.0).collect();
+            match ones.as_slice() {
+                [k] if row[*k] == 1.0 && !row.iter().any(|x| x.is_sign_negative()) => {
+                    Some(string(AXIS_LETTERS[*k]))
+                }
+                _ => None,
+            }
+        })
+        .collect();
+    match letters {
+        Some(l) if !l.is_empty() => format!("[{}]", l.join(", ")),
+        _ => {
+            let rows: Vec<String> = rows
+                .iter()
+                .map(|row| {
+                    let entries: Vec<String> = row.iter().map(|x| number(*x)).collect();
+                    format!("[{}]", entries.join(", "))
+                })
+                .collect();
+            format!("[{}]", rows.join(", "))
+        }
     }
 }

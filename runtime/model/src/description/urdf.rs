@@ -8,8 +8,16 @@
 //! - a joint's origin (`xyz`, `rpy`) is kept as written; `fixed` joints are folded into the origin
 //!   of the next moving joint (which then carries a rotation matrix, with entries below 1e-15 set
 //!   to 0), or into the end effector;
-//! - `floating`, `planar` and `spherical` joints on the path are errors;
+//! - `floating`, `planar` and `spherical` joints on the path are errors, and so are `<mimic>`
+//!   joints (their value would silently become an independent entry of `q`);
+//! - a joint's `<limit lower upper>` becomes its [`limits`](super::JointDesc::limits) (none for
+//!   `continuous` joints);
+//! - every link a joint names must be declared with `<link>`;
 //! - the end effector is the tip link's frame, named after it.
+//!
+//! A TOML description takes its chain from a URDF with `[robot] urdf = "panda.urdf"` (relative to
+//! the TOML file), `base` and `tip` link names; its `[constraint] link` may then name a URDF link
+//! (see [`super::parse`]).
 //!
 //! Errors name the URDF joint (`joint[elbow].axis`, with the line of its `<joint>` element) or
 //! `tip_link`; the imported joints keep the line of their `<joint>` element as their location.
@@ -52,13 +60,26 @@ fn mat_vec(a: &Mat3, v: &[f64; 3]) -> [f64; 3] {
 }
 
 /// A rigid transform `(R, p)`.
-#[derive(Clone, Copy)]
-struct Pose {
-    r: Mat3,
-    p: [f64; 3],
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Pose {
+    /// Rotation, row-major.
+    pub r: Mat3,
+    /// Translation.
+    pub p: [f64; 3],
 }
 
 impl Pose {
+    pub(crate) fn identity() -> Self {
+        Pose {
+            r: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+            p: [0.0; 3],
+        }
+    }
+
+    pub(crate) fn is_identity(&self) -> bool {
+        *self == Self::identity()
+    }
+
     fn from_urdf(o: &urdf_rs::Pose) -> Self {
         Pose {
             r: rpy_matrix(o.rpy.0),
@@ -66,7 +87,7 @@ impl Pose {
         }
     }
 
-    fn then(&self, other: &Pose) -> Pose {
+    pub(crate) fn then(&self, other: &Pose) -> Pose {
         let q = mat_vec(&self.r, &other.p);
         Pose {
             r: mat_mul(&self.r, &other.r),
@@ -74,9 +95,47 @@ impl Pose {
         }
     }
 
+    /// `self · o`: an origin `o` written in the frame this pose places, as an origin in the frame
+    /// this pose is relative to. Lengths stay linear in the parameters
+    /// (`p + R · xyz`, coefficients below 1e-15 dropped as rounding noise); the rotation becomes
+    /// a matrix, unless this pose is a pure translation (then `o`'s rotation is kept as written).
+    pub(crate) fn compose(&self, o: &Origin) -> Origin {
+        if self.is_identity() {
+            return o.clone();
+        }
+        let snap = |x: f64| if x.abs() < 1e-15 { 0.0 } else { x };
+        let xyz = [0, 1, 2].map(|c| {
+            let mut out = Scalar::constant(self.p[c]);
+            for (k, s) in o.xyz.iter().enumerate() {
+                let a = self.r[c][k];
+                out.constant += a * s.constant;
+                for (coefficient, name) in &s.terms {
+                    let add = snap(a * coefficient);
+                    match out.terms.iter_mut().find(|(_, n)| n == name) {
+                        Some((c, _)) => *c += add,
+                        None => out.terms.push((add, name.clone())),
+                    }
+                }
+            }
+            out.constant = snap(out.constant);
+            out.terms.retain(|(c, _)| *c != 0.0);
+            out
+        });
+        let rotation = if self.r == Self::identity().r {
+            o.rotation.clone()
+        } else {
+            let own = match &o.rotation {
+                Rotation::Rpy(rpy) => rpy_matrix(*rpy),
+                Rotation::Matrix(m) => *m,
+            };
+            Rotation::Matrix(mat_mul(&self.r, &own).map(|row| row.map(snap)))
+        };
+        Origin { xyz, rotation }
+    }
+
     /// As an origin with a rotation matrix; entries below 1e-15 in magnitude (the rounding noise of
     /// `cos(π/2)` in composed rpy rotations) are written as 0.
-    fn to_origin(self) -> Origin {
+    pub(crate) fn to_origin(self) -> Origin {
         let snap = |x: f64| if x.abs() < 1e-15 { 0.0 } else { x };
         Origin {
             xyz: self.p.map(|x| Scalar::constant(snap(x))),
@@ -105,6 +164,23 @@ fn origin_of(o: &urdf_rs::Pose) -> Origin {
         xyz: o.xyz.0.map(Scalar::constant),
         rotation: Rotation::Rpy(o.rpy.0),
     }
+}
+
+/// The chain of a URDF between a base and a tip link, as [`from_urdf_file`] imports it, with
+/// where every link of the path sits on it (for naming a constrained link by its URDF name).
+///
+/// [`from_urdf_file`]: RobotDescription::from_urdf_file
+pub(crate) struct UrdfChain {
+    /// The URDF's robot name.
+    pub name: String,
+    /// The moving joints, base first.
+    pub joints: Vec<JointDesc>,
+    /// The tip link's frame relative to the last moving joint's frame (fixed joints folded), or
+    /// to the base when there is no moving joint.
+    pub tip: Pose,
+    /// Every link on the path from the base to the tip: its name, the number `k` of moving
+    /// joints before it (its frame is fixed in link `k`) and its pose relative to `F_k`.
+    pub links: Vec<(String, usize, Pose)>,
 }
 
 impl RobotDescription {
@@ -136,161 +212,216 @@ impl RobotDescription {
         tip_link: &str,
         file: Option<&Path>,
     ) -> Result<Self, DescriptionError> {
-        let err = |field: &str, line: Option<Location>, message: String| DescriptionError {
-            file: file.map(Path::to_path_buf),
-            line: line.map(|l| l.line),
-            column: line.map(|l| l.column),
-            field: field.to_string(),
-            message,
-        };
-        let robot = urdf_rs::read_from_string(text)
-            .map_err(|e| err("(document)", None, format!("not a valid URDF: {e}")))?;
-        let known_link = |name: &str| {
-            robot.links.iter().any(|l| l.name == name)
-                || robot
-                    .joints
-                    .iter()
-                    .any(|j| j.parent.link == name || j.child.link == name)
-        };
-        if !known_link(tip_link) {
-            let names: Vec<&str> = robot.links.iter().map(|l| l.name.as_str()).collect();
-            return Err(err(
-                "tip_link",
-                None,
-                format!(
-                    "unknown tip link `{tip_link}` (links: {})",
-                    if names.is_empty() {
-                        "none".to_string()
-                    } else {
-                        names.join(", ")
-                    }
-                ),
-            ));
-        }
-        // Walk up from the tip to the root.
-        let mut chain = Vec::new();
-        let mut current = tip_link.to_string();
-        loop {
-            let parents: Vec<&urdf_rs::Joint> = robot
-                .joints
-                .iter()
-                .filter(|j| j.child.link == current)
-                .collect();
-            match parents.as_slice() {
-                [] => break,
-                [j] => {
-                    if chain.len() > robot.joints.len() {
-                        return Err(err(
-                            &format!("joint[{}]", j.name),
-                            joint_location(text, &j.name),
-                            "the joints form a cycle: a URDF must be a tree".into(),
-                        ));
-                    }
-                    chain.push(*j);
-                    current = j.parent.link.clone();
-                }
-                [a, b, ..] => {
-                    return Err(err(
-                        &format!("joint[{}]", b.name),
-                        joint_location(text, &b.name),
-                        format!(
-                            "link `{current}` is the child of two joints (`{}` and `{}`): a URDF must be a tree",
-                            a.name, b.name
-                        ),
-                    ))
-                }
-            }
-        }
-        chain.reverse();
-        let mut joints = Vec::new();
-        let mut pending: Option<Pose> = None;
-        for j in chain {
-            let field = format!("joint[{}]", j.name);
-            let line = joint_location(text, &j.name);
-            let finite = j
-                .origin
-                .xyz
-                .iter()
-                .chain(j.origin.rpy.iter())
-                .all(|x| x.is_finite());
-            if !finite {
-                return Err(err(
-                    &format!("{field}.origin"),
-                    line,
-                    "origin numbers must be finite".into(),
-                ));
-            }
-            let moving = match j.joint_type {
-                JointType::Fixed => None,
-                JointType::Revolute | JointType::Continuous => Some(true),
-                JointType::Prismatic => Some(false),
-                JointType::Floating | JointType::Planar | JointType::Spherical => {
-                    return Err(err(
-                        &format!("{field}.type"),
-                        line,
-                        format!(
-                            "joint type `{:?}` is not supported on the path to `{tip_link}` (only revolute, continuous, prismatic and fixed)",
-                            j.joint_type
-                        )
-                        .to_lowercase(),
-                    ))
-                }
-            };
-            let here = Pose::from_urdf(&j.origin);
-            let Some(revolute) = moving else {
-                pending = Some(match pending {
-                    Some(p) => p.then(&here),
-                    None => here,
-                });
-                continue;
-            };
-            let a = j.axis.xyz.0;
-            let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-            if !n.is_finite() || n == 0.0 {
-                return Err(err(
-                    &format!("{field}.axis"),
-                    line,
-                    format!(
-                        "the axis [{}, {}, {}] cannot be normalised",
-                        a[0], a[1], a[2]
-                    ),
-                ));
-            }
-            let axis = a.map(|x| x / n);
-            let origin = match pending.take() {
-                Some(p) => p.then(&here).to_origin(),
-                None => origin_of(&j.origin),
-            };
-            joints.push(JointDesc {
-                name: j.name.clone(),
-                origin,
-                kind: if revolute {
-                    JointKind::Revolute { axis }
-                } else {
-                    JointKind::Prismatic { axis }
-                },
-                location: line,
-            });
-        }
+        let chain = import_chain(text, None, tip_link, file, &|f| format!("{f}_link"))?;
         let end_effector = EndEffector {
             name: tip_link.to_string(),
-            origin: match pending {
-                Some(p) => p.to_origin(),
-                None => Origin {
+            origin: if chain.tip.is_identity() {
+                Origin {
                     xyz: Default::default(),
                     rotation: Rotation::Rpy([0.0; 3]),
-                },
+                }
+            } else {
+                chain.tip.to_origin()
             },
         };
         let description = RobotDescription {
-            name: robot.name.clone(),
+            name: chain.name,
             parameters: Vec::new(),
-            joints,
+            joints: chain.joints,
             end_effector,
             constraint: None,
+            task: None,
             source: file.map(Path::to_path_buf),
         };
         description.validate()?;
         Ok(description)
     }
+}
+
+/// Imports the chain from `base` (default: the root link) to `tip` of URDF `text` (the rules are
+/// the module documentation's). Errors about the base and tip links are given the field
+/// `field("base")`/`field("tip")` (the TOML reader maps them to `robot.base`, `robot.tip`).
+pub(crate) fn import_chain(
+    text: &str,
+    base: Option<&str>,
+    tip_link: &str,
+    file: Option<&Path>,
+    field_of: &dyn Fn(&str) -> String,
+) -> Result<UrdfChain, DescriptionError> {
+    let err = |field: &str, line: Option<Location>, message: String| DescriptionError {
+        file: file.map(Path::to_path_buf),
+        line: line.map(|l| l.line),
+        column: line.map(|l| l.column),
+        field: field.to_string(),
+        message,
+    };
+    let robot = urdf_rs::read_from_string(text)
+        .map_err(|e| err("(document)", None, format!("not a valid URDF: {e}")))?;
+    let link_names = || {
+        let names: Vec<&str> = robot.links.iter().map(|l| l.name.as_str()).collect();
+        if names.is_empty() {
+            "none".to_string()
+        } else {
+            names.join(", ")
+        }
+    };
+    let declared = |name: &str| robot.links.iter().any(|l| l.name == name);
+    for (what, name) in [("tip", Some(tip_link)), ("base", base)] {
+        if let Some(name) = name {
+            if !declared(name) {
+                return Err(err(
+                    &field_of(what),
+                    None,
+                    format!("unknown {what} link `{name}` (links: {})", link_names()),
+                ));
+            }
+        }
+    }
+    for j in &robot.joints {
+        for (end, name) in [("parent", &j.parent.link), ("child", &j.child.link)] {
+            if !declared(name) {
+                return Err(err(
+                    &format!("joint[{}].{end}", j.name),
+                    joint_location(text, &j.name),
+                    format!("the {end} link `{name}` is not declared with <link name=\"{name}\">"),
+                ));
+            }
+        }
+    }
+    // Walk up from the tip to the base (or the root). One map from child link to joint, so the
+    // walk is linear in the chain's length.
+    let mut parent_joint: std::collections::HashMap<&str, &urdf_rs::Joint> =
+        std::collections::HashMap::with_capacity(robot.joints.len());
+    for j in &robot.joints {
+        if let Some(other) = parent_joint.insert(j.child.link.as_str(), j) {
+            return Err(err(
+                &format!("joint[{}]", j.name),
+                joint_location(text, &j.name),
+                format!(
+                    "link `{}` is the child of two joints (`{}` and `{}`): a URDF must be a tree",
+                    j.child.link, other.name, j.name
+                ),
+            ));
+        }
+    }
+    let mut chain = Vec::new();
+    let mut current = tip_link;
+    while base != Some(current) {
+        let Some(j) = parent_joint.get(current) else {
+            if let Some(base) = base {
+                return Err(err(
+                    &field_of("tip"),
+                    None,
+                    format!("the tip link `{tip_link}` is not below the base link `{base}`: the path from the tip up to the root (`{current}`) does not pass through the base"),
+                ));
+            }
+            break;
+        };
+        if chain.len() > robot.joints.len() {
+            return Err(err(
+                &format!("joint[{}]", j.name),
+                joint_location(text, &j.name),
+                "the joints form a cycle: a URDF must be a tree".into(),
+            ));
+        }
+        chain.push(*j);
+        current = j.parent.link.as_str();
+    }
+    chain.reverse();
+    let mut joints = Vec::new();
+    let mut pending = Pose::identity();
+    let mut links = vec![(current.to_string(), 0, Pose::identity())];
+    for j in chain {
+        let field = format!("joint[{}]", j.name);
+        let line = joint_location(text, &j.name);
+        let finite = j
+            .origin
+            .xyz
+            .iter()
+            .chain(j.origin.rpy.iter())
+            .all(|x| x.is_finite());
+        if !finite {
+            return Err(err(
+                &format!("{field}.origin"),
+                line,
+                "origin numbers must be finite".into(),
+            ));
+        }
+        if j.mimic.is_some() && j.joint_type != JointType::Fixed {
+            return Err(err(
+                &format!("{field}.mimic"),
+                line,
+                format!("joint `{}` mimics another joint; mimic joints are not supported (their value would become an independent entry of q): remove <mimic> or make the joint fixed", j.name),
+            ));
+        }
+        let moving = match j.joint_type {
+            JointType::Fixed => None,
+            JointType::Revolute | JointType::Continuous => Some(true),
+            JointType::Prismatic => Some(false),
+            JointType::Floating | JointType::Planar | JointType::Spherical => {
+                return Err(err(
+                    &format!("{field}.type"),
+                    line,
+                    format!(
+                        "joint type `{:?}` is not supported on the path to `{tip_link}` (only revolute, continuous, prismatic and fixed)",
+                        j.joint_type
+                    )
+                    .to_lowercase(),
+                ))
+            }
+        };
+        let here = Pose::from_urdf(&j.origin);
+        let Some(revolute) = moving else {
+            pending = pending.then(&here);
+            links.push((j.child.link.clone(), joints.len(), pending));
+            continue;
+        };
+        let a = j.axis.xyz.0;
+        let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+        if !n.is_finite() || n == 0.0 {
+            return Err(err(
+                &format!("{field}.axis"),
+                line,
+                format!(
+                    "the axis [{}, {}, {}] cannot be normalised",
+                    a[0], a[1], a[2]
+                ),
+            ));
+        }
+        let axis = a.map(|x| x / n);
+        let origin = if pending.is_identity() {
+            origin_of(&j.origin)
+        } else {
+            pending.then(&here).to_origin()
+        };
+        pending = Pose::identity();
+        let limits = match j.joint_type {
+            JointType::Continuous => None,
+            _ if j.limit.lower < j.limit.upper
+                && j.limit.lower.is_finite()
+                && j.limit.upper.is_finite() =>
+            {
+                Some([j.limit.lower, j.limit.upper])
+            }
+            _ => None,
+        };
+        joints.push(JointDesc {
+            name: j.name.clone(),
+            origin,
+            kind: if revolute {
+                JointKind::Revolute { axis }
+            } else {
+                JointKind::Prismatic { axis }
+            },
+            limits,
+            location: line,
+        });
+        links.push((j.child.link.clone(), joints.len(), Pose::identity()));
+    }
+    Ok(UrdfChain {
+        name: robot.name.clone(),
+        joints,
+        tip: pending,
+        links,
+    })
 }

@@ -15,10 +15,11 @@
 //! | numbers finite (xyz, rpy, rotation, axis, v, w, H, parameter values) | the number's field |
 //! | every parameter named in a length is declared in `[parameters]` | `….xyz[c]`, `joints[k].v[c]` |
 //! | rotation matrices orthonormal with determinant 1 (±1e-9) | `….rotation` |
-//! | constrained link `1 ≤ i ≤ n − 1` (joint `i` before it, joint `i + 1` after it) | `constraint.link` |
+//! | constrained link `1 ≤ i ≤ n` (link `i` is carried by joint `i`) | `constraint.link` |
 //! | H has 1 to 5 rows, none zero, linearly independent | `constraint.h`, `constraint.h[k]` |
-//! | the method needs `n − r ≥ 6` | `constraint.h` |
-//! | `J^r` needs `m = 6 − r + n − i ≥ 6` columns (3.15) | `constraint.link` |
+//! | the method needs `n − r ≥ t` (`t` task rows, 6 without `[task]`) | `constraint.h` (`task.select` with a task) |
+//! | `J^r` needs `m = (6 − r) + (n − i) ≥ t` columns (3.15) | `constraint.link` (`task.select` with a task) |
+//! | task rows: 1 to 6, none zero, linearly independent | `task.select`, `task.select[k]` |
 //! | wrist `unidirectional` needs `H = x_r`; `zy`/`zx` need `H = (x_r, z_r)` | `constraint.wrist` |
 //! | wrist `zy`: joint `i+1` revolute about z, joint `i+2` about y (`zx`: about x) | `joints[i].axis`, `joints[i+1].axis` |
 //! | a wrist needs `g_ir = (I, (0, l_a, 0))` with `l_a` a parameter of non-zero nominal value | `constraint.xyz[c]`, `constraint.rpy`/`constraint.rotation` |
@@ -50,10 +51,11 @@ const RUST_KEYWORDS: &[&str] = &[
 ];
 
 /// A constraint the method (thesis chapter 3) does not admit: the rules on the constrained link
-/// `i`, the rows `r` of `H` and the joints `n`, in the order [`admission_problems`] checks them.
+/// `i`, the rows `r` of `H`, the joints `n` and the `t` task rows (six without a `[task]`), in the
+/// order [`admission_problems`] checks them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum AdmissionError {
-    /// The constrained link is not `1 ≤ i ≤ n − 1` (joint `i` before it, joint `i + 1` after it).
+    /// The constrained link is not `1 ≤ i ≤ n` (link `i` is carried by joint `i`).
     LinkOutOfRange {
         /// The link `i` given.
         link: usize,
@@ -67,14 +69,17 @@ pub enum AdmissionError {
         /// Rows `r`.
         r: usize,
     },
-    /// The method needs `n − r ≥ 6`.
+    /// The robot keeps `n − r` degrees of freedom under the constraint, fewer than the `t` task
+    /// rows (the thesis's `n − r ≥ 6` when the task is the whole twist).
     TooFewJoints {
         /// Joints `n`.
         n: usize,
         /// Rows `r`.
         r: usize,
+        /// Task rows `t`.
+        t: usize,
     },
-    /// `J^r` (3.15) would have `m = 6 − r + n − i < 6` columns.
+    /// `J^r` (3.15) has `m = (6 − r) + (n − i)` columns, fewer than the `t` task rows.
     TooFewColumns {
         /// Columns `m`.
         m: usize,
@@ -82,13 +87,17 @@ pub enum AdmissionError {
         after: usize,
         /// Rows `r`.
         r: usize,
+        /// Task rows `t`.
+        t: usize,
     },
 }
 
 impl AdmissionError {
-    /// The description field the rule is about.
+    /// The description field the rule is about (`task.select` when a `[task]` selects fewer than
+    /// six rows and the count is what fails).
     pub fn field(&self) -> &'static str {
         match self {
+            Self::TooFewJoints { t, .. } | Self::TooFewColumns { t, .. } if *t < 6 => "task.select",
             Self::LinkOutOfRange { .. } | Self::TooFewColumns { .. } => "constraint.link",
             Self::NoRows | Self::TooManyRows { .. } | Self::TooFewJoints { .. } => "constraint.h",
         }
@@ -100,8 +109,7 @@ impl std::fmt::Display for AdmissionError {
         match *self {
             Self::LinkOutOfRange { link, n } => write!(
                 f,
-                "constrained link {link} does not exist between two joints: link i lies between joints i and i + 1, so 1 ≤ i ≤ n − 1 = {} (n = {n} joints)",
-                n.saturating_sub(1)
+                "constrained link {link} is not a link of the robot: link i is carried by joint i, so 1 ≤ i ≤ n = {n}"
             ),
             Self::NoRows => write!(
                 f,
@@ -111,28 +119,43 @@ impl std::fmt::Display for AdmissionError {
                 f,
                 "H has {r} rows; at most 5 (r = 6 would leave the constrained link no motion)"
             ),
-            Self::TooFewJoints { n, r } => write!(
-                f,
-                "the method requires n − r ≥ 6 (n joints, r rows of H); here n = {n}, r = {r}: n − r = {}",
-                n as i64 - r as i64
-            ),
-            Self::TooFewColumns { m, after, r } => write!(
-                f,
-                "J^r would have m = 6 − r + n − i = {m} < 6 columns (n − i = {after} joints after the constraint, r = {r})"
-            ),
+            Self::TooFewJoints { n, r, t } => {
+                write!(
+                    f,
+                    "the method requires n − r ≥ t (n joints, r rows of H, t task rows); here n = {n}, r = {r}, t = {t}: n − r = {}",
+                    n as i64 - r as i64
+                )?;
+                if t == 6 {
+                    write!(f, "; a smaller task can be selected with [task] select = [...]")?;
+                }
+                Ok(())
+            }
+            Self::TooFewColumns { m, after, r, t } => {
+                write!(
+                    f,
+                    "J^r has m = (6 − r) + (n − i) = {m} columns (r = {r}, n − i = {after} joints after the constraint), fewer than the t = {t} task rows"
+                )?;
+                if t == 6 {
+                    write!(
+                        f,
+                        "; move the constraint to an earlier link or select fewer task rows with [task] select = [...]"
+                    )?;
+                }
+                Ok(())
+            }
         }
     }
 }
 
 impl std::error::Error for AdmissionError {}
 
-/// Every admission rule a constraint at link `link` with `r` rows of `H` on `n` joints breaks,
-/// in a fixed order: the link (`1 ≤ i ≤ n − 1`), the rows (`1 ≤ r ≤ 5`), `n − r ≥ 6`, and
-/// `m = 6 − r + n − i ≥ 6` (checked only when the others hold). Empty when admitted.
-pub fn admission_problems(n: usize, link: usize, r: usize) -> Vec<AdmissionError> {
+/// Every admission rule a constraint at link `link` with `r` rows of `H` on `n` joints and a task
+/// of `t` rows (`6` without a `[task]`) breaks, in a fixed order: the link (`1 ≤ i ≤ n`), the rows
+/// (`1 ≤ r ≤ 5`), `n − r ≥ t`, and `m = (6 − r) + (n − i) ≥ t` (checked only when the others hold).
+/// Empty when admitted. With `t = 6` these are the thesis's `n − r ≥ 6` and `m ≥ 6` (3.15).
+pub fn admission_problems(n: usize, link: usize, r: usize, t: usize) -> Vec<AdmissionError> {
     let mut out = Vec::new();
-    let link_ok = link >= 1 && link < n;
-    if !link_ok {
+    if !(1..=n).contains(&link) {
         out.push(AdmissionError::LinkOutOfRange { link, n });
     }
     if r == 0 {
@@ -140,26 +163,27 @@ pub fn admission_problems(n: usize, link: usize, r: usize) -> Vec<AdmissionError
     } else if r > 5 {
         out.push(AdmissionError::TooManyRows { r });
     }
-    if r >= 1 && n < 6 + r {
-        out.push(AdmissionError::TooFewJoints { n, r });
+    if r >= 1 && n < t + r {
+        out.push(AdmissionError::TooFewJoints { n, r, t });
     }
     if out.is_empty() {
         let m = 6 - r + n - link;
-        if m < 6 {
+        if m < t {
             out.push(AdmissionError::TooFewColumns {
                 m,
                 after: n - link,
                 r,
+                t,
             });
         }
     }
     out
 }
 
-/// The admission rule broken (see [`admission_problems`]), if any: `n − r ≥ 6` first (it is about
+/// The admission rule broken (see [`admission_problems`]), if any: `n − r ≥ t` first (it is about
 /// the robot as a whole), then the others in the order of [`admission_problems`].
-pub fn admit(n: usize, link: usize, r: usize) -> Result<(), AdmissionError> {
-    let problems = admission_problems(n, link, r);
+pub fn admit(n: usize, link: usize, r: usize, t: usize) -> Result<(), AdmissionError> {
+    let problems = admission_problems(n, link, r, t);
     let first = problems
         .iter()
         .find(|e| matches!(e, AdmissionError::TooFewJoints { .. }))
@@ -291,6 +315,51 @@ impl Checker<'_> {
         }
     }
 
+    /// Rows of a selection (`H` of the constraint, `S` of the task): finite, non-zero and linearly
+    /// independent (Gram–Schmidt against the rows before each), each error on `{prefix}[k]`.
+    fn independent_rows(&mut self, prefix: &str, what: &str, rows: &[[f64; 6]]) {
+        let r = rows.len();
+        let mut basis: Vec<[f64; 6]> = Vec::new();
+        for (k, row) in rows.iter().enumerate() {
+            let field = format!("{prefix}[{k}]");
+            if !self.finite(&field, row) {
+                continue;
+            }
+            let size = norm(row);
+            if size == 0.0 {
+                self.err(&field, format!("a row of {what} is zero"));
+                continue;
+            }
+            let mut rest = *row;
+            for b in &basis {
+                let dot: f64 = (0..6).map(|t| rest[t] * b[t]).sum();
+                for t in 0..6 {
+                    rest[t] -= dot * b[t];
+                }
+            }
+            let left = norm(&rest);
+            if left <= 1e-9 * size {
+                self.err(
+                    &field,
+                    format!("this row of {what} is a linear combination of the rows before it ({what} must have rank {r})"),
+                );
+                continue;
+            }
+            basis.push(rest.map(|x| x / left));
+        }
+    }
+
+    fn task(&mut self, task: &super::TaskDesc) {
+        let t = task.select.len();
+        if t == 0 || t > 6 {
+            self.err(
+                "task.select",
+                format!("a task selects 1 to 6 rows of the end-effector twist, not {t}"),
+            );
+        }
+        self.independent_rows("task.select", "the task selection S", &task.select);
+    }
+
     fn run(&mut self) {
         let d = self.d;
         if d.name.trim().is_empty() {
@@ -375,6 +444,15 @@ impl Checker<'_> {
             }
         }
         self.origin("end_effector", &d.end_effector.origin);
+        if let Some(t) = &d.task {
+            self.task(t);
+            if d.constraint.is_none() {
+                self.err(
+                    "task",
+                    "a [task] selects rows of the constrained Jacobian J^r; it needs a [constraint]",
+                );
+            }
+        }
         if let Some(c) = &d.constraint {
             self.constraint(c);
         }
@@ -383,7 +461,7 @@ impl Checker<'_> {
     fn constraint(&mut self, c: &super::ConstraintDesc) {
         let n = self.d.joints.len();
         let r = c.h.len();
-        let admission = admission_problems(n, c.link, r);
+        let admission = admission_problems(n, c.link, r, self.d.task_rows());
         let link_ok = !admission
             .iter()
             .any(|e| matches!(e, AdmissionError::LinkOutOfRange { .. }));
@@ -403,35 +481,7 @@ impl Checker<'_> {
                 AdmissionError::NoRows | AdmissionError::TooManyRows { .. }
             )
         });
-        // Rows: finite, non-zero, independent (Gram–Schmidt against the previous rows).
-        let mut basis: Vec<[f64; 6]> = Vec::new();
-        for (k, row) in c.h.iter().enumerate() {
-            let field = format!("constraint.h[{k}]");
-            if !self.finite(&field, row) {
-                continue;
-            }
-            let size = norm(row);
-            if size == 0.0 {
-                self.err(&field, "a row of H is zero");
-                continue;
-            }
-            let mut rest = *row;
-            for b in &basis {
-                let dot: f64 = (0..6).map(|t| rest[t] * b[t]).sum();
-                for t in 0..6 {
-                    rest[t] -= dot * b[t];
-                }
-            }
-            let left = norm(&rest);
-            if left <= 1e-9 * size {
-                self.err(
-                    &field,
-                    format!("this row of H is a linear combination of the rows before it (H must have rank r = {r})"),
-                );
-                continue;
-            }
-            basis.push(rest.map(|x| x / left));
-        }
+        self.independent_rows("constraint.h", "H", &c.h);
         report(self, &|e| matches!(e, AdmissionError::TooFewJoints { .. }));
         if let Some(w) = c.wrist {
             self.wrist(c, w, link_ok);
