@@ -246,7 +246,10 @@ impl Builder {
         if self.emit_rerun {
             for (src, _) in &self.robots {
                 if let Source::File(p) = src {
-                    println!("cargo:rerun-if-changed={}", p.display());
+                    // The description and the URDF its chain may come from.
+                    for f in RobotDescription::files_read(p) {
+                        println!("cargo:rerun-if-changed={}", f.display());
+                    }
                 }
             }
             for (p, _) in &self.mechanisms {

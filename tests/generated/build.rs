@@ -12,6 +12,9 @@ fn main() {
         "bidirectional-zx",
         "dia10_like_zy",
         "dia10_like_zx",
+        "panda-laparoscope",
+        "iiwa-endoscope",
+        "iiwa-link6",
     ] {
         b.robot(format!("{robots}/{name}.toml"));
     }

@@ -35,6 +35,19 @@ fn shipped_descriptions() {
     }
 }
 
+/// URDF-based robots: the constraint on the last link with a task (`iiwa-endoscope`; the Panda is
+/// a shipped description, above) and on a middle link (`iiwa-link6`).
+#[test]
+fn urdf_robots_on_the_last_and_a_middle_link() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../runtime/model/robots/");
+    for file in ["iiwa-endoscope.toml", "iiwa-link6.toml"] {
+        check(
+            &RobotDescription::from_toml_file(format!("{root}{file}")).unwrap(),
+            300,
+        );
+    }
+}
+
 #[test]
 fn fixtures_with_rotated_rcm_prismatic_joint_and_three_row_h() {
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/generated/robots/");

@@ -22,6 +22,9 @@ generated!(
     "bidirectional_zy_f32.rs",
     "rotated_rcm_f32.rs",
     "dia10_like_zx_f64.rs",
+    "panda_laparoscope.rs",
+    "iiwa_endoscope.rs",
+    "iiwa_link6.rs",
 );
 
 // Closed mechanisms (four-bar linkage, planar Gough–Stewart platform).

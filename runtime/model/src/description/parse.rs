@@ -658,6 +658,30 @@ impl RobotDescription {
         })
     }
 
+    /// The files a TOML description at `path` is read from: `path` itself and, when its chain comes
+    /// from a URDF (`[robot] urdf = "…"`), that URDF (for `cargo:rerun-if-changed`). Unreadable
+    /// files are listed all the same: reading them reports the error.
+    pub fn files_read(path: impl AsRef<Path>) -> Vec<std::path::PathBuf> {
+        let path = path.as_ref();
+        let mut out = vec![path.to_path_buf()];
+        let urdf = std::fs::read_to_string(path)
+            .ok()
+            .and_then(|text| text.parse::<toml::Table>().ok())
+            .and_then(|t| {
+                t.get("robot")?
+                    .get("urdf")?
+                    .as_str()
+                    .map(std::string::ToString::to_string)
+            });
+        if let Some(rel) = urdf {
+            out.push(match path.parent() {
+                Some(dir) => dir.join(rel),
+                None => rel.into(),
+            });
+        }
+        out
+    }
+
     /// Reads a description from a TOML file.
     pub fn from_toml_file(path: impl AsRef<Path>) -> Result<Self, DescriptionError> {
         let path = path.as_ref();
