@@ -95,18 +95,25 @@ fn try_expand(attr: TokenStream, item: TokenStream) -> syn::Result<TokenStream> 
     module_item.ident = module.clone();
 
     let impl_and_aliases = delegates(&strukt, &module_item);
-    let tracked = tracked.map(|path| {
-        let lit = LitStr::new(&path.display().to_string(), source_span);
-        quote! {
-            // Rebuild when the description file changes.
-            const _: &[u8] = ::core::include_bytes!(#lit);
-        }
-    });
+    // The description file and the URDF its chain may come from.
+    let tracked: Vec<TokenStream> = tracked
+        .map(RobotDescription::files_read)
+        .unwrap_or_default()
+        .into_iter()
+        .map(|path| {
+            let path = std::fs::canonicalize(&path).unwrap_or(path);
+            let lit = LitStr::new(&path.display().to_string(), source_span);
+            quote! {
+                // Rebuild when the description file changes.
+                const _: &[u8] = ::core::include_bytes!(#lit);
+            }
+        })
+        .collect();
     Ok(quote! {
         #strukt
         #module_item
         #impl_and_aliases
-        #tracked
+        #(#tracked)*
     })
 }
 
@@ -351,6 +358,29 @@ mod tests {
         assert!(out.contains(&lit), "no {lit} in the expansion");
         assert!(out.contains("impl Arm"));
         assert!(out.contains("pub type ArmParams"));
+    }
+
+    /// A description whose chain comes from a URDF: both files are tracked, and the module has
+    /// the task functions.
+    #[test]
+    fn file_form_tracks_the_urdf_too() {
+        let out = super::try_expand(
+            quote!(file = "../runtime/model/robots/panda-laparoscope.toml"),
+            quote!(
+                pub struct Panda;
+            ),
+        )
+        .expect("valid description")
+        .to_string();
+        let urdf = std::fs::canonicalize(
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("../runtime/model/robots/urdf/panda.urdf"),
+        )
+        .unwrap();
+        let lit = format!("{:?}", urdf.display().to_string());
+        assert!(out.contains(&lit), "no {lit} in the expansion");
+        assert_eq!(out.matches("include_bytes").count(), 2);
+        assert!(out.contains("constrained_task_jacobian"));
     }
 
     #[test]
