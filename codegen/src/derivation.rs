@@ -416,6 +416,20 @@ impl Ctx<'_> {
     }
 }
 
+/// Rows of a selection matrix (`H`, `S`) as exact rationals; errors name `{prefix}[k]`.
+fn rational_rows(rows: &[[f64; 6]], prefix: &str) -> Result<Vec<Vec<Rational>>, DerivationError> {
+    rows.iter()
+        .enumerate()
+        .map(|(k, row)| {
+            row.iter()
+                .map(|x| {
+                    Rational::from_f64_decimal(*x).map_err(|e| inv(&format!("{prefix}[{k}]"), e))
+                })
+                .collect()
+        })
+        .collect()
+}
+
 fn inv(field: &str, e: impl fmt::Display) -> DerivationError {
     DerivationError::new(DerivationErrorKind::Invalid, field, e.to_string())
 }
@@ -560,17 +574,7 @@ fn derive_constraint(
         };
         DerivationError::new(kind, e.field(), e.to_string())
     })?;
-    let mut h_rat = Vec::with_capacity(r);
-    for (k, row) in c.h.iter().enumerate() {
-        let mut v = Vec::with_capacity(6);
-        for x in row {
-            v.push(
-                Rational::from_f64_decimal(*x)
-                    .map_err(|e| inv(&format!("constraint.h[{k}]"), e))?,
-            );
-        }
-        h_rat.push(v);
-    }
+    let h_rat = rational_rows(&c.h, "constraint.h")?;
     let (rank, null_h) = rational_null_space(&h_rat, 6);
     if rank != r {
         return Err(DerivationError::new(
@@ -663,18 +667,7 @@ fn derive_constraint(
     let task = match task {
         None => None,
         Some(rows) => {
-            let mut s_rat = Vec::with_capacity(rows.len());
-            for (k, row) in rows.iter().enumerate() {
-                let mut v = Vec::with_capacity(6);
-                for x in row {
-                    v.push(
-                        Rational::from_f64_decimal(*x)
-                            .map_err(|e| inv(&format!("task.select[{k}]"), e))?,
-                    );
-                }
-                s_rat.push(v);
-            }
-            let s = Matrix::from_rationals(&s_rat);
+            let s = Matrix::from_rationals(&rational_rows(rows, "task.select")?);
             let sj = s.mul(&jr);
             Some(TaskDerivation { s, jacobian: sj })
         }

@@ -283,20 +283,10 @@ fn urdf_chain(ctx: &Ctx, rel: &str, meta: &RawMeta) -> Result<UrdfChain, Descrip
                 Some(dir) => dir.join(rel),
                 None => std::path::PathBuf::from(rel),
             };
-            let text = std::fs::read(&path).map_err(|e| {
+            let text = DescriptionError::read_file(&path).map_err(|e| {
                 ctx.err(
                     "robot.urdf",
-                    format!("cannot read the URDF `{}`: {e}", path.display()),
-                )
-            })?;
-            let text = String::from_utf8(text).map_err(|e| {
-                ctx.err(
-                    "robot.urdf",
-                    format!(
-                        "the URDF `{}` is not UTF-8 (invalid byte at offset {})",
-                        path.display(),
-                        e.utf8_error().valid_up_to()
-                    ),
+                    format!("the URDF `{}`: {}", path.display(), e.message),
                 )
             })?;
             (text, path)
