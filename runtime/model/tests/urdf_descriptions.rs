@@ -158,6 +158,11 @@ fn urdf_errors_name_file_and_field() {
     assert_eq!(e.field, "constraint.link");
     assert!(e.message.contains("fixed to the base"), "{}", e.message);
 
+    let bad_limits = "[robot]\nname = \"a\"\n[[joints]]\nname = \"j\"\ntype = \"revolute\"\naxis = [0, 0, 1]\nlimits = [1, -1]\n";
+    let e = RobotDescription::from_toml_str(bad_limits, None).unwrap_err();
+    assert_eq!(e.field, "joints[0].limits");
+    assert_eq!(e.line, Some(7));
+
     let by_name_without_urdf = "[robot]\nname = \"a\"\n[[joints]]\nname = \"j\"\ntype = \"revolute\"\naxis = [0, 0, 1]\n[constraint]\nlink = \"l\"\nh = [\"x\"]\n";
     let e = RobotDescription::from_toml_str(by_name_without_urdf, None).unwrap_err();
     assert_eq!(e.field, "constraint.link");

@@ -538,14 +538,6 @@ impl RobotDescription {
                     ))
                 }
             };
-            if let Some([lo, hi]) = j.limits {
-                if !(lo.is_finite() && hi.is_finite() && lo < hi) {
-                    return Err(ctx.err(
-                        &format!("{field}.limits"),
-                        format!("limits = [lower, upper] need finite numbers with lower < upper, not [{lo}, {hi}]"),
-                    ));
-                }
-            }
             joints.push(JointDesc {
                 name: j.name.clone(),
                 origin: origin(&ctx, &field, &j.xyz, &j.rpy, &j.rotation)?,

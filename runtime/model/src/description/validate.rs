@@ -11,6 +11,7 @@
 //! | at least one joint | `joints` |
 //! | joint names are non-empty and unique | `joints[k].name` |
 //! | revolute/prismatic axis finite, non-zero, unit (±1e-9) | `joints[k].axis` |
+//! | joint limits finite with lower < upper | `joints[k].limits` |
 //! | twist: `‖ω‖ = 1`, or `ω = 0` and `‖v‖ = 1` (checked when `v` is numeric; a parametric `v` must not be zero) | `joints[k].w`, `joints[k].v` |
 //! | numbers finite (xyz, rpy, rotation, axis, v, w, H, parameter values) | the number's field |
 //! | every parameter named in a length is declared in `[parameters]` | `….xyz[c]`, `joints[k].v[c]` |
@@ -406,6 +407,14 @@ impl Checker<'_> {
                 );
             }
             self.origin(&prefix, &j.origin);
+            if let Some([lo, hi]) = j.limits {
+                if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                    self.err(
+                        &format!("{prefix}.limits"),
+                        format!("limits = [lower, upper] need finite numbers with lower < upper, not [{lo}, {hi}]"),
+                    );
+                }
+            }
             match &j.kind {
                 JointKind::Revolute { axis } | JointKind::Prismatic { axis } => {
                     self.unit_axis(&format!("{prefix}.axis"), axis);
