@@ -89,7 +89,8 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Run one of the thesis's simulations (1, 2, 3, 4, exp421) or a closed-chain one.
+    /// Run one of the thesis's simulations (1, 2, 3, 4, exp421), the Panda laparoscope
+    /// (panda-laparoscope) or a closed-chain one.
     Simulate {
         /// Scenario name.
         scenario: String,

@@ -269,7 +269,7 @@ fn delegates(strukt: &ItemStruct, module: &syn::ItemMod) -> TokenStream {
                     #vis type #alias #generics = #m::#name #generics;
                 });
             }
-            Item::Fn(f) => {
+            Item::Fn(f) if matches!(f.vis, syn::Visibility::Public(_)) => {
                 let mut sig = f.sig.clone();
                 qualify.visit_signature_mut(&mut sig);
                 let name = &sig.ident;

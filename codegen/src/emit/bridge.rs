@@ -386,8 +386,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
         functions.push(Function::catalogued(
             F::ConstrainedLinkKinematics,
             "Forward kinematics `g_0i(q_1..q_i) = (R_0i, p_0i)` of the constrained link's frame",
-            "With the trocar fixed in space, `l_a = (p_trocar − p_0i) · y_i` where `y_i` is \
-             column 1 of `R_0i`.",
+            "",
             fki,
             size,
         ));
@@ -442,6 +441,18 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
             matrix_program(d, &c.lambda_pinv),
             size,
         ));
+        functions.push(Function::catalogued(
+            F::ConstraintFrame,
+            "The constraint frame `g_ir = (R_ir, p_ir)`: `F_r` in the constrained link's frame `F_i`",
+            "",
+            {
+                let mut prog = new_program(d);
+                let t = PolyBuilder::new(&mut prog).transform(&c.g_ir);
+                prog.set_outputs(t.outputs());
+                prog
+            },
+            size,
+        ));
         if let Some(t) = &c.task {
             consts.push(ConstItem {
                 name: "T".into(),
@@ -479,7 +490,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
             .collect(),
         consts,
         functions,
-        controller: super::controller::trocar_offset_parameter(d),
+        controller: super::controller::ControllerSpec::of(d),
     }
 }
 

@@ -1,43 +1,288 @@
-//! The controller glue of a constrained robot's module: `Kinematics<T>`, an implementation of the
-//! runtime controller's `ConstrainedKinematics` trait on the module's own closed forms, so that the
-//! controller (pinv, damped least squares, filtered inverse, drift correction, moving trocar) runs
-//! on generated code with no hand-written kinematics.
+//! What one control step of a constrained robot needs, emitted into its module:
 //!
-//! One control step asks for `g_0i`, then, with the trocar offset `l_a = (p_trocar − p_0i) · y_i`
-//! set as the constraint frame's parameter, `g_0e`, `J^r_0e` (3.15), `J^B_0i` (3.13), `J_c`
-//! (3.33), `Λ#` (3.6) and `Λ†` (3.31): all from one [`JointTrig`](crate) per step.
+//! - `StepKinematics`, caller-owned storage for `g_0e`, `g_0i` (2.21), `J^B_0i` (3.13),
+//!   `J^r_0e` (3.15), `J_c` (3.33), `Λ#` (3.6), `Λ†` (3.31) and, with a task, `S J^r_0e`;
+//! - `step_kinematics`, which fills it from one `JointTrig` (and, when the constraint frame
+//!   slides along the link, from the trocar point: the offset `l_a` is computed first);
+//! - when the constraint frame slides along the link, `Kinematics<T>`: an implementation of the
+//!   runtime controller's `ConstrainedKinematics` trait on those closed forms, so that the
+//!   controller (pinv, damped least squares, filtered inverse, drift correction, moving trocar,
+//!   null-space objectives) runs on generated code with no hand-written kinematics.
 //!
-//! The trait's convention (the thesis's) is `g_ir = (I, (0, l_a, 0))`: the constraint frame is
-//! the link's frame moved along `y_i` by one parameter. Modules whose constraint frame has that
-//! form get the glue ([`trocar_offset_parameter`]); the others keep `H`, `Λ#` and `Λ†` as plain
-//! functions.
+//! The constraint frame slides along the link when `g_ir = (R_ir, o + l_a d)` for one parameter
+//! `l_a` with `R_ir` and `o` free of it and `d` a constant direction ([`shaft_parameter`]): the
+//! thesis's `(I, (0, l_a, 0))` and a laparoscope's `(I, (0, 0, flange + l_a))` alike. Every step
+//! puts `F_r` at the point of that line nearest to the trocar,
+//! `l_a = ((p_t − p_0i − R_0i o) · R_0i d) / |d|²`.
 
 use super::Real;
 use crate::derivation::Derivation;
-use crate::symbolic::{Matrix, Poly};
+use crate::symbolic::{inverse_denominator, Atom, Transform};
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 
-/// The parameter that places the constraint frame on the link, when `g_ir = (I, (0, p, 0))` for
-/// one named parameter `p` (the trocar offset `l_a` of the thesis); `None` otherwise.
-pub fn trocar_offset_parameter(d: &Derivation) -> Option<String> {
-    let c = d.constraint.as_ref()?;
-    if c.g_ir.rot != Matrix::identity(3) {
-        return None;
-    }
-    let p = c.g_ir.pos.entries();
-    if !p[0].is_zero() || !p[2].is_zero() {
-        return None;
-    }
-    (0..d.params.len())
-        .find(|&k| p[1] == Poly::param(k))
-        .map(|k| d.params[k].clone())
+/// What the module's step functions and controller glue are built from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ControllerSpec {
+    /// The parameter that slides the constraint frame along the link ([`shaft_parameter`]).
+    pub offset: Option<String>,
+    /// Whether the module has a task selection (`task_selection`, `constrained_task_jacobian`).
+    pub task: bool,
 }
 
-/// `Kinematics<T>` and its `ConstrainedKinematics` implementation, for a module whose trocar
-/// offset is the parameter `offset`.
-/// `rt` is the path of the runtime crate in emitted code (`::trocar`).
-pub(crate) fn tokens(rt: &TokenStream, real: Real, offset: &str) -> TokenStream {
+impl ControllerSpec {
+    /// For a derivation with a constraint; `None` without one.
+    pub fn of(d: &Derivation) -> Option<Self> {
+        let c = d.constraint.as_ref()?;
+        Some(ControllerSpec {
+            offset: shaft_parameter(d),
+            task: c.task.is_some(),
+        })
+    }
+}
+
+/// The parameter that slides the constraint frame along a fixed line of the constrained link:
+/// `g_ir = (R_ir, o + p d)` with `R_ir` and `o` free of `p` and `d` a nonzero constant. A
+/// parameter named `l_a` is preferred; otherwise the only such parameter; `None` if there is
+/// none or the choice is ambiguous.
+pub fn shaft_parameter(d: &Derivation) -> Option<String> {
+    let c = d.constraint.as_ref()?;
+    let candidates: Vec<usize> = (0..d.params.len())
+        .filter(|&k| slides_along_line(&c.g_ir, k))
+        .collect();
+    let k = match candidates.iter().find(|&&k| d.params[k] == "l_a") {
+        Some(&k) => k,
+        None if candidates.len() == 1 => candidates[0],
+        None => return None,
+    };
+    Some(d.params[k].clone())
+}
+
+/// Whether `g` is `(R, o + p_k d)`: `R` free of parameter `k`, the translation affine in it with
+/// constant coefficients, not all zero.
+fn slides_along_line(g: &Transform, k: usize) -> bool {
+    if g.rot.entries().iter().any(|e| e.params().contains(&k)) {
+        return false;
+    }
+    let mut moves = false;
+    for e in g.pos.entries() {
+        for (m, _) in e.terms() {
+            let mentions = m.factors().iter().any(|&(a, _)| match a {
+                Atom::Param(p) => p as usize == k,
+                Atom::Inv(id) => inverse_denominator(id).params().contains(&k),
+                _ => false,
+            });
+            if mentions {
+                if m.factors() != [(Atom::Param(k as u16), 1)] {
+                    return false;
+                }
+                moves = true;
+            }
+        }
+    }
+    moves
+}
+
+/// The step storage, the step function and, with a sliding constraint frame, the controller
+/// glue. `rt` is the path of the runtime crate in emitted code (`::trocar`).
+pub(crate) fn tokens(rt: &TokenStream, real: Real, spec: &ControllerSpec) -> TokenStream {
+    let (t, generics, args) = match real {
+        Real::Generic => (quote!(T), quote!(<T: #rt::Real>), quote!(<T>)),
+        Real::F32 => (quote!(f32), quote!(), quote!()),
+        Real::F64 => (quote!(f64), quote!(), quote!()),
+    };
+    let r = quote!(<#t as #rt::Real>);
+    let (task_field, task_zero, task_fill, task_check) = if spec.task {
+        (
+            quote! {
+                /// `S J^r_0e`, T × M (`constrained_task_jacobian`).
+                pub task_jacobian: [[#t; T]; M],
+            },
+            quote!(task_jacobian: [[z; T]; M],),
+            quote!(out.task_jacobian = constrained_task_jacobian_trig(t, p);),
+            quote!(&&finite(out.task_jacobian.as_flattened())),
+        )
+    } else {
+        (quote!(), quote!(), quote!(), quote!())
+    };
+    let (offset_field, offset_zero, offset_doc) = match &spec.offset {
+        Some(name) => (
+            {
+                let doc = format!(
+                    " The trocar offset `{name}` of this step: the constraint frame's position \
+                     along the link."
+                );
+                quote! {
+                    #[doc = #doc]
+                    pub offset: #t,
+                }
+            },
+            quote!(offset: z,),
+            format!(
+                "\n\nThe constraint frame slides along the link with `params.{name}`: \
+                 [`step_kinematics`] sets it to the trocar's offset first."
+            ),
+        ),
+        None => (quote!(), quote!(), String::new()),
+    };
+    let struct_doc = doc_lines(&format!(
+        "What one control step needs, in storage the caller owns (matrices column-major): \
+         filled by [`step_kinematics`].{offset_doc}"
+    ));
+    // Everything after g_0i, at the parameters `p`: one place for the step's contents.
+    let fill_fn = quote! {
+        /// Fills everything but `g_0i` (and the offset) at the parameters `p`; `false` if an
+        /// output is not finite.
+        #[inline]
+        fn fill_step #generics (
+            t: &JointTrig #args,
+            p: &Params #args,
+            out: &mut StepKinematics #args,
+        ) -> bool {
+            out.g_0e = forward_kinematics_trig(t, p);
+            out.jb0i = partial_body_jacobian_trig(t, p);
+            out.jr = constrained_jacobian_trig(t, p);
+            out.jc = constraint_jacobian_c_trig(t, p);
+            out.lambda_sharp = lambda_null_space(p);
+            out.lambda_pinv = lambda_pinv(p);
+            #task_fill
+            let finite = |x: &[#t]| x.iter().all(|&v| #r::is_finite(v));
+            finite(&out.g_0e.1)
+                && finite(&out.g_0i.1)
+                && finite(out.g_0e.0.as_flattened())
+                && finite(out.g_0i.0.as_flattened())
+                && finite(out.jb0i.as_flattened())
+                && finite(out.jr.as_flattened())
+                && finite(out.jc.as_flattened())
+                && finite(out.lambda_sharp.as_flattened())
+                && finite(out.lambda_pinv.as_flattened())
+                #task_check
+        }
+    };
+    let step_fn = match &spec.offset {
+        Some(name) => {
+            let offset = format_ident!("{}", name);
+            let doc_offset = format!(
+                " `{name}` of the point of the line `g_ir(l) = (R_ir, o + l d)` nearest to \
+                 `trocar` (base coordinates) with the link at `g_0i`: \
+                 `((p_t − p_0i − R_0i o) · R_0i d) / |d|²`, with `o` and `d` from \
+                 [`constraint_frame`] at `{name} = 0` and `1`."
+            );
+            quote! {
+                #[doc = #doc_offset]
+                #[inline]
+                #[must_use]
+                pub fn trocar_offset #generics (
+                    g_0i: &([[#t; 3]; 3], [#t; 3]),
+                    trocar: &[#t; 3],
+                    params: &Params #args,
+                ) -> #t {
+                    let mut p = *params;
+                    p.#offset = #r::ZERO;
+                    let o = constraint_frame(&p).1;
+                    p.#offset = #r::ONE;
+                    let o1 = constraint_frame(&p).1;
+                    let d = [o1[0] - o[0], o1[1] - o[1], o1[2] - o[2]];
+                    let (rot, pos) = g_0i;
+                    let mut num = #r::ZERO;
+                    for i in 0..3 {
+                        // Row i of R_0i applied to o and d.
+                        let ro = rot[0][i] * o[0] + rot[1][i] * o[1] + rot[2][i] * o[2];
+                        let rd = rot[0][i] * d[0] + rot[1][i] * d[1] + rot[2][i] * d[2];
+                        num += (trocar[i] - pos[i] - ro) * rd;
+                    }
+                    num / (d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+                }
+
+                /// One control step's kinematics from one `JointTrig`: `g_0i`, the trocar
+                /// offset at `trocar` ([`trocar_offset`], stored in `out.offset`), then
+                /// everything else at that offset. Returns `false` if an output is not finite
+                /// (e.g. a null-space basis that divides by the offset, at offset 0); `out` is
+                /// then not meaningful.
+                #[inline]
+                pub fn step_kinematics #generics (
+                    t: &JointTrig #args,
+                    trocar: &[#t; 3],
+                    params: &Params #args,
+                    out: &mut StepKinematics #args,
+                ) -> bool {
+                    out.g_0i = forward_kinematics_i_trig(t, params);
+                    out.offset = trocar_offset(&out.g_0i, trocar, params);
+                    let mut p = *params;
+                    p.#offset = out.offset;
+                    #r::is_finite(out.offset) && fill_step(t, &p, out)
+                }
+            }
+        }
+        None => quote! {
+            /// One control step's kinematics from one `JointTrig`, at the parameters given.
+            /// Returns `false` if an output is not finite; `out` is then not meaningful.
+            #[inline]
+            pub fn step_kinematics #generics (
+                t: &JointTrig #args,
+                params: &Params #args,
+                out: &mut StepKinematics #args,
+            ) -> bool {
+                out.g_0i = forward_kinematics_i_trig(t, params);
+                fill_step(t, params, out)
+            }
+        },
+    };
+    let glue = spec
+        .offset
+        .as_deref()
+        .map(|name| glue_tokens(rt, real, name, spec.task));
+    quote! {
+        #struct_doc
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        pub struct StepKinematics #generics {
+            #offset_field
+            /// `g_0e = (R_0e, p_0e)` of the end effector.
+            pub g_0e: ([[#t; 3]; 3], [#t; 3]),
+            /// `g_0i = (R_0i, p_0i)` of the constrained link.
+            pub g_0i: ([[#t; 3]; 3], [#t; 3]),
+            /// `J^B_0i`, 6 × I.
+            pub jb0i: [[#t; 6]; I],
+            /// `J^r_0e`, 6 × M.
+            pub jr: [[#t; 6]; M],
+            /// `J_c = Ad_{g_ei} Λ†`, 6 × R.
+            pub jc: [[#t; 6]; R],
+            /// `Λ#`, 6 × K.
+            pub lambda_sharp: [[#t; 6]; K],
+            /// `Λ†`, 6 × R.
+            pub lambda_pinv: [[#t; 6]; R],
+            #task_field
+        }
+
+        impl #generics StepKinematics #args {
+            /// All zeros (storage to be filled by [`step_kinematics`]).
+            #[inline]
+            #[must_use]
+            pub fn zeroed() -> Self {
+                let z = #r::ZERO;
+                StepKinematics {
+                    #offset_zero
+                    g_0e: ([[z; 3]; 3], [z; 3]),
+                    g_0i: ([[z; 3]; 3], [z; 3]),
+                    jb0i: [[z; 6]; I],
+                    jr: [[z; 6]; M],
+                    jc: [[z; 6]; R],
+                    lambda_sharp: [[z; 6]; K],
+                    lambda_pinv: [[z; 6]; R],
+                    #task_zero
+                }
+            }
+        }
+
+        #fill_fn
+        #step_fn
+        #glue
+    }
+}
+
+/// `Kinematics<T>` and its `ConstrainedKinematics` implementation, for a module whose
+/// constraint frame slides along the link with the parameter `offset`.
+fn glue_tokens(rt: &TokenStream, real: Real, offset: &str, task: bool) -> TokenStream {
     let offset = format_ident!("{}", offset);
     let (t, generics, args, impl_generics, ty_args) = match real {
         Real::Generic => (
@@ -51,27 +296,34 @@ pub(crate) fn tokens(rt: &TokenStream, real: Real, offset: &str) -> TokenStream 
         Real::F64 => (quote!(f64), quote!(), quote!(), quote!(), quote!()),
     };
     let real = quote!(<#t as #rt::Real>);
+    let (p_const, selection) = if task {
+        (
+            quote!({ T }),
+            quote! {
+                #rt::nalgebra::SMatrix::from_data(#rt::nalgebra::ArrayStorage(
+                    task_selection(&self.params),
+                ))
+            },
+        )
+    } else {
+        (quote!(6), quote!(#rt::nalgebra::SMatrix::identity()))
+    };
     let struct_doc = format!(
         "The runtime controller's kinematics on this module's closed forms: \
-         `{rt}::control::ConstrainedKinematics<_, N, I, R, K, M>`, so that \
+         `{rt}::control::ConstrainedKinematics<_, N, I, R, K, M, {p}>`, so that \
          `{rt}::control::Controller` runs on generated code.\n\n\
-         Every evaluation sets `params.{offset}` (the constraint frame's offset along the \
-         link's `y` axis, `g_ir = (I, (0, {offset}, 0))`) to the `l_a` it is given, and computes \
-         `g_0e`, `J^r_0e` (3.15), `J^B_0i` (3.13), `J_c` (3.33), `Λ#` (3.6) and `Λ†` (3.31) from \
-         one [`JointTrig`]. `l_a` zero or not finite is `ControlError::Kinematics`.",
+         The constraint frame slides along the link with `params.{offset}` \
+         (`g_ir = (R_ir, o + {offset} d)`, [`constraint_frame`]); a step computes \
+         everything from one [`JointTrig`] with [`step_kinematics`]. A non-finite output (e.g. \
+         a basis that divides by the offset, at offset 0) is `ControlError::Kinematics`.",
         rt = rt.to_string().replace(' ', ""),
+        p = if task { "T" } else { "6" },
         offset = offset,
     );
-    let struct_doc = struct_doc.lines().map(|l| {
-        let l = if l.is_empty() {
-            String::new()
-        } else {
-            format!(" {l}")
-        };
-        quote!(#[doc = #l])
-    });
+    let struct_doc = doc_lines(&struct_doc);
+    let state_ty = quote!(#rt::control::ConstrainedState<#t, I, R, K, M>);
     quote! {
-        #(#struct_doc)*
+        #struct_doc
         #[derive(Clone, Copy, Debug, PartialEq)]
         pub struct Kinematics #generics {
             /// The parameters; the trocar offset is overwritten at every evaluation.
@@ -97,46 +349,26 @@ pub(crate) fn tokens(rt: &TokenStream, real: Real, offset: &str) -> TokenStream 
                 }
             }
 
-            /// The constrained state from the joints' sines and cosines and `g_0i` (which does
-            /// not depend on the trocar offset).
+            /// The runtime's state from a filled [`StepKinematics`].
             #[inline]
-            fn state(
-                &self,
-                t: &JointTrig #ty_args,
-                g_0i: #rt::se3::Se3<#t>,
-                l_a: #t,
-            ) -> ::core::result::Result<
-                #rt::control::ConstrainedState<#t, I, R, K, M>,
-                #rt::control::ControlError,
-            > {
-                if l_a == #real::ZERO || !#real::is_finite(l_a) {
-                    return ::core::result::Result::Err(#rt::control::ControlError::Kinematics);
-                }
-                let mut p = self.params;
-                p.#offset = l_a;
-                ::core::result::Result::Ok(#rt::control::ConstrainedState {
-                    g_0e: Self::pose(forward_kinematics_trig(t, &p)),
-                    g_0i,
-                    jr: #rt::nalgebra::SMatrix::from_data(#rt::nalgebra::ArrayStorage(
-                        constrained_jacobian_trig(t, &p),
-                    )),
-                    jb0i: #rt::nalgebra::SMatrix::from_data(#rt::nalgebra::ArrayStorage(
-                        partial_body_jacobian_trig(t, &p),
-                    )),
-                    jc: #rt::nalgebra::SMatrix::from_data(#rt::nalgebra::ArrayStorage(
-                        constraint_jacobian_c_trig(t, &p),
-                    )),
+            fn state(s: &StepKinematics #ty_args) -> #state_ty {
+                #rt::control::ConstrainedState {
+                    g_0e: Self::pose(s.g_0e),
+                    g_0i: Self::pose(s.g_0i),
+                    jr: #rt::nalgebra::SMatrix::from_data(#rt::nalgebra::ArrayStorage(s.jr)),
+                    jb0i: #rt::nalgebra::SMatrix::from_data(#rt::nalgebra::ArrayStorage(s.jb0i)),
+                    jc: #rt::nalgebra::SMatrix::from_data(#rt::nalgebra::ArrayStorage(s.jc)),
                     lambda_sharp: #rt::nalgebra::SMatrix::from_data(#rt::nalgebra::ArrayStorage(
-                        lambda_null_space(&p),
+                        s.lambda_sharp,
                     )),
                     lambda_pinv: #rt::nalgebra::SMatrix::from_data(#rt::nalgebra::ArrayStorage(
-                        lambda_pinv(&p),
+                        s.lambda_pinv,
                     )),
-                })
+                }
             }
         }
 
-        impl #impl_generics #rt::control::ConstrainedKinematics<#t, N, I, R, K, M>
+        impl #impl_generics #rt::control::ConstrainedKinematics<#t, N, I, R, K, M, #p_const>
             for Kinematics #ty_args
         {
             #[inline]
@@ -152,34 +384,66 @@ pub(crate) fn tokens(rt: &TokenStream, real: Real, offset: &str) -> TokenStream 
             }
 
             #[inline]
+            fn shaft(&self) -> #rt::control::Shaft<#t> {
+                let mut p = self.params;
+                p.#offset = #real::ZERO;
+                let at_zero = Self::pose(constraint_frame(&p));
+                p.#offset = #real::ONE;
+                let at_one = Self::pose(constraint_frame(&p));
+                #rt::control::Shaft::from_frames(&at_zero, &at_one)
+            }
+
+            #[inline]
+            fn task_selection(&self) -> #rt::nalgebra::SMatrix<#t, #p_const, 6> {
+                #selection
+            }
+
+            #[inline]
             fn evaluate(
                 &self,
                 q: &#rt::nalgebra::SVector<#t, N>,
                 l_a: #t,
-            ) -> ::core::result::Result<
-                #rt::control::ConstrainedState<#t, I, R, K, M>,
-                #rt::control::ControlError,
-            > {
+            ) -> ::core::result::Result<#state_ty, #rt::control::ControlError> {
                 let t = JointTrig::new(&q.data.0[0]);
-                let g_0i = Self::pose(forward_kinematics_i_trig(&t, &self.params));
-                self.state(&t, g_0i, l_a)
+                let mut p = self.params;
+                p.#offset = l_a;
+                let mut s = StepKinematics::zeroed();
+                s.g_0i = forward_kinematics_i_trig(&t, &p);
+                s.offset = l_a;
+                if !#real::is_finite(l_a) || !fill_step(&t, &p, &mut s) {
+                    return ::core::result::Result::Err(#rt::control::ControlError::Kinematics);
+                }
+                ::core::result::Result::Ok(Self::state(&s))
             }
 
-            /// One `JointTrig` for `g_0i`, `l_a` and everything else.
+            /// One `JointTrig` and one [`step_kinematics`] for `l_a` and everything else.
             #[inline]
             fn evaluate_at_trocar(
                 &self,
                 q: &#rt::nalgebra::SVector<#t, N>,
                 trocar: &#rt::nalgebra::Vector3<#t>,
-            ) -> ::core::result::Result<
-                (#t, #rt::control::ConstrainedState<#t, I, R, K, M>),
-                #rt::control::ControlError,
-            > {
+            ) -> ::core::result::Result<(#t, #state_ty), #rt::control::ControlError> {
                 let t = JointTrig::new(&q.data.0[0]);
-                let g_0i = Self::pose(forward_kinematics_i_trig(&t, &self.params));
-                let l_a = #rt::control::trocar_offset(&g_0i, trocar);
-                ::core::result::Result::Ok((l_a, self.state(&t, g_0i, l_a)?))
+                let mut s = StepKinematics::zeroed();
+                if !step_kinematics(&t, &trocar.data.0[0], &self.params, &mut s) {
+                    return ::core::result::Result::Err(#rt::control::ControlError::Kinematics);
+                }
+                ::core::result::Result::Ok((s.offset, Self::state(&s)))
             }
         }
+
     }
+}
+
+/// `#[doc]` attributes, one a line (paragraphs separated by empty lines).
+fn doc_lines(text: &str) -> TokenStream {
+    let lines = text.lines().map(|l| {
+        let l = if l.is_empty() {
+            String::new()
+        } else {
+            format!(" {l}")
+        };
+        quote!(#[doc = #l])
+    });
+    quote!(#(#lines)*)
 }

@@ -164,9 +164,10 @@ pub struct ModuleSpec {
     pub consts: Vec<ConstItem>,
     /// Functions.
     pub functions: Vec<Function>,
-    /// The parameter the runtime controller sets to the trocar offset `l_a`, when the module
-    /// emits the controller glue (`Kinematics`, see [`super::controller`]).
-    pub controller: Option<String>,
+    /// The control-step items of a constrained robot (`StepKinematics`, `step_kinematics` and,
+    /// when the constraint frame slides along the link, `Kinematics`; see
+    /// [`super::controller`]).
+    pub controller: Option<super::controller::ControllerSpec>,
 }
 
 impl ModuleSpec {
@@ -818,8 +819,8 @@ pub fn module_items_in(spec: &ModuleSpec, real: Real, runtime: &Runtime) -> Toke
         .map(|f| function_tokens(f, &ty, spec.joints));
     let controller = spec
         .controller
-        .as_deref()
-        .map(|offset| super::controller::tokens(ty.runtime(), real, offset));
+        .as_ref()
+        .map(|c| super::controller::tokens(ty.runtime(), real, c));
     quote! {
         #(#consts)*
         #params

@@ -156,6 +156,9 @@ pub enum Function {
     LambdaNullSpace,
     /// `lambda_pinv`: `Λ† = Λᵀ (Λ Λᵀ)⁻¹`, 6 × R (3.31); depends only on the parameters.
     LambdaPinv,
+    /// `constraint_frame`: `g_ir`, the constraint frame `F_r` in the constrained link's frame
+    /// (3.3); depends only on the parameters.
+    ConstraintFrame,
     /// `task_selection`: the task's selection `S`, T × 6, rows of the end-effector body twist
     /// (components in `F_e`); only with a `[task]`; depends on no joint.
     TaskSelection,
@@ -191,7 +194,7 @@ use Size::{NActive, NOutputs, NPassive, I, K, M, N, R, T};
 impl Function {
     /// The functions of a serial robot's module, in emission order (all but the first two only
     /// with a constraint, the last two only with a task).
-    pub const SERIAL: [Function; 13] = [
+    pub const SERIAL: [Function; 14] = [
         Function::ForwardKinematics,
         Function::BodyJacobian,
         Function::ConstrainedJacobian,
@@ -203,6 +206,7 @@ impl Function {
         Function::ConstraintSelection,
         Function::LambdaNullSpace,
         Function::LambdaPinv,
+        Function::ConstraintFrame,
         Function::TaskSelection,
         Function::ConstrainedTaskJacobian,
     ];
@@ -234,6 +238,7 @@ impl Function {
             Function::ConstraintSelection => "constraint_selection",
             Function::LambdaNullSpace => "lambda_null_space",
             Function::LambdaPinv => "lambda_pinv",
+            Function::ConstraintFrame => "constraint_frame",
             Function::TaskSelection => "task_selection",
             Function::ConstrainedTaskJacobian => "constrained_task_jacobian",
             Function::ConstraintJacobian => "constraint_jacobian",
@@ -262,7 +267,7 @@ impl Function {
 
     /// The short name of the quantity (`trocar eval --what`, the lines of a verification report):
     /// `jr`, `jc`, `jb0i`, `jb0e`, `fk`, `fk0i`, `manip`, `manip2`, `h`, `lambda_sharp`,
-    /// `lambda_pinv`, `s`, `task`; for mechanisms `jc`, `ja`,
+    /// `lambda_pinv`, `gir`, `s`, `task`; for mechanisms `jc`, `ja`,
     /// `det`, `jr_num`, `passive_num`, `jr`, `passive`, `passive_vel`.
     pub const fn short_name(self) -> &'static str {
         match self {
@@ -277,6 +282,7 @@ impl Function {
             Function::ConstraintSelection => "h",
             Function::LambdaNullSpace => "lambda_sharp",
             Function::LambdaPinv => "lambda_pinv",
+            Function::ConstraintFrame => "constraint_frame",
             Function::TaskSelection => "s",
             Function::ConstrainedTaskJacobian => "task",
             Function::ConstraintJacobian => "jc",
@@ -304,6 +310,7 @@ impl Function {
             Function::ConstraintSelection => "H",
             Function::LambdaNullSpace => "Λ#",
             Function::LambdaPinv => "Λ† = Λᵀ (Λ Λᵀ)⁻¹",
+            Function::ConstraintFrame => "g_ir",
             Function::TaskSelection => "S",
             Function::ConstrainedTaskJacobian => "S J^r_0e",
             Function::ConstraintJacobian => "J_C",
@@ -336,6 +343,7 @@ impl Function {
             | Function::ConstraintSelection
             | Function::LambdaNullSpace
             | Function::LambdaPinv
+            | Function::ConstraintFrame
             | Function::TaskSelection
             | Function::ConstrainedTaskJacobian => Source::Thesis,
             _ => Source::FreitasLeiteLizarralde2010,
@@ -355,6 +363,7 @@ impl Function {
             Function::ConstraintSelection => "(3.1)",
             Function::LambdaNullSpace => "(3.6) (presets: (3.23), (3.27))",
             Function::LambdaPinv => "(3.31)",
+            Function::ConstraintFrame => "(3.3)",
             Function::TaskSelection | Function::ConstrainedTaskJacobian => "(3.15)",
             Function::ConstraintJacobian => "(3), (19), (31)",
             Function::TaskJacobian => "(4), (19), (31)",
@@ -370,7 +379,9 @@ impl Function {
     pub const fn shape(self) -> Shape {
         use Shape::{Matrix, Scalar, Transform, Vector};
         match self {
-            Function::ForwardKinematics | Function::ConstrainedLinkKinematics => Transform,
+            Function::ForwardKinematics
+            | Function::ConstrainedLinkKinematics
+            | Function::ConstraintFrame => Transform,
             Function::BodyJacobian => Matrix {
                 rows: Fixed(6),
                 cols: Dim::Size(N),
@@ -447,7 +458,7 @@ impl Function {
     }
 
     /// Whether the function takes the joints: `false` for the constraint's own matrices (`H`,
-    /// `Λ#`, `Λ†`), which depend only on the parameters and are emitted as `f(&params)` without
+    /// `Λ#`, `Λ†`, `g_ir`) and the task's `S`, which depend only on the parameters and are emitted as `f(&params)` without
     /// a `_trig` variant.
     pub const fn takes_joints(self) -> bool {
         !matches!(
@@ -455,6 +466,7 @@ impl Function {
             Function::ConstraintSelection
                 | Function::LambdaNullSpace
                 | Function::LambdaPinv
+                | Function::ConstraintFrame
                 | Function::TaskSelection
         )
     }

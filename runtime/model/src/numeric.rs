@@ -13,6 +13,7 @@ use crate::description::{
 use nalgebra::{convert, Const, Matrix3, RealField, SMatrix, Vector3};
 use std::fmt;
 use trocar::constraint::{Constraint, ConstraintError, NullSpaceBasis};
+use trocar::control::{ChainKinematics, Shaft};
 use trocar::kinematics::{Chain, Joint};
 use trocar::manipulability::SquareDim;
 use trocar::se3::{self, Se3, Twist};
@@ -64,6 +65,9 @@ pub enum RobotError {
     /// Another admission rule of the method is broken (see
     /// [`admission_problems`](crate::description::admission_problems)).
     NotAdmitted(AdmissionError),
+    /// The controller needs the constraint frame to slide along the link with a parameter `l_a`
+    /// (`g_ir = (R_ir, o + l_a d)`), and it does not.
+    NoShaft,
     /// The typed conversion was asked for the wrong size.
     WrongSize {
         /// What was asked for.
@@ -91,6 +95,11 @@ impl fmt::Display for RobotError {
             }
             Self::NoConstraint => write!(f, "the robot has no [constraint]"),
             Self::NoTask => write!(f, "the robot has no [task]"),
+            Self::NoShaft => write!(
+                f,
+                "field `constraint.xyz`: the trocar must slide along the link with a parameter \
+                 `l_a` (g_ir = (R_ir, o + l_a d)) for the controller to follow it"
+            ),
             Self::LinkOutOfRange { link, joints } => write!(
                 f,
                 "field `constraint.link`: link {link} is not one of 1..={joints}"
@@ -197,6 +206,11 @@ impl<T: RealField + Copy> AnyConstraint<T> {
     /// The constrained link `i` (1-based).
     pub fn link(&self) -> usize {
         dispatch!(self, c => c.link())
+    }
+
+    /// The constraint frame `g_ir`.
+    pub fn frame(&self) -> Se3<T> {
+        dispatch!(self, c => *c.frame())
     }
 
     /// `Λ = H Ad_{g_ri}` (3.3), r×6, column-major.
@@ -465,5 +479,71 @@ impl<T: RealField + Copy> NumericModel<T> {
             .as_ref()
             .ok_or(RobotError::NoConstraint)?
             .to_constraint()
+    }
+
+    /// The line along which the trocar offset, the parameter `l_a`, slides the constraint frame:
+    /// `g_ir(l_a) = (R_ir, o + l_a d)`, read off `g_ir` at `l_a = 1, 2, 3` (so that a basis that
+    /// divides by `l_a` is never evaluated at 0). Errors without a constraint, without a
+    /// parameter `l_a`, or if `g_ir` is not of that form.
+    pub fn shaft(&self) -> Result<Shaft<T>, RobotError> {
+        let frame = |v: f64| -> Result<Se3<T>, RobotError> {
+            let mut m = self.clone();
+            m.set_parameter("l_a", v)?;
+            Ok(m.constraint
+                .as_ref()
+                .ok_or(RobotError::NoConstraint)?
+                .frame())
+        };
+        let (f1, f2, f3) = (frame(1.0)?, frame(2.0)?, frame(3.0)?);
+        let d = f2.translation - f1.translation;
+        let shaft = Shaft {
+            rotation: f1.rotation,
+            origin: f1.translation - d,
+            direction: d,
+        };
+        let tol: T = convert(1e-9);
+        let scale = T::one() + shaft.origin.norm() + d.norm();
+        let predicted = shaft.frame(convert(3.0));
+        if d.norm() <= tol
+            || (predicted.translation - f3.translation).norm() > tol * scale
+            || (f2.rotation - f1.rotation).amax() > tol
+            || (f3.rotation - f1.rotation).amax() > tol
+        {
+            return Err(RobotError::NoShaft);
+        }
+        Ok(shaft)
+    }
+
+    /// The task selection `S` (P × 6), the identity without a `[task]` (then `P` must be 6).
+    /// Errors if `P` is not the number of task rows.
+    pub fn task_selection<const P: usize>(&self) -> Result<SMatrix<T, P, 6>, RobotError> {
+        let rows = self.description.task_rows();
+        if rows != P {
+            return Err(RobotError::WrongSize {
+                what: "task rows",
+                expected: rows,
+                got: P,
+            });
+        }
+        Ok(match &self.description.task {
+            Some(task) => SMatrix::from_fn(|r, c| convert(task.select[r][c])),
+            None => SMatrix::identity(),
+        })
+    }
+
+    /// The numeric runtime as the controller's kinematics: the typed chain, constraint, its
+    /// [`shaft`](Self::shaft) and the task selection. Errors on any size mismatch.
+    pub fn to_kinematics<const N: usize, const R: usize, const P: usize>(
+        &self,
+    ) -> Result<ChainKinematics<T, N, R, P>, RobotError>
+    where
+        Const<R>: SquareDim,
+    {
+        Ok(ChainKinematics {
+            chain: self.to_chain()?,
+            constraint: self.to_constraint()?,
+            shaft: self.shaft()?,
+            task: self.task_selection()?,
+        })
     }
 }

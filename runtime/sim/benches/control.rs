@@ -19,10 +19,7 @@ fn bench(c: &mut Criterion) {
         .unwrap()
         .to_chain::<8>()
         .unwrap();
-    let numeric = ChainKinematics {
-        chain,
-        constraint: Constraint::<f64, 2>::thesis(6, 0.15).unwrap(),
-    };
+    let numeric = ChainKinematics::thesis(chain, Constraint::<f64, 2>::thesis(6, 0.15).unwrap());
     bench_path(c, "numeric", &numeric, &chain);
 }
 

@@ -51,15 +51,9 @@ fn control_step_allocates_nothing() {
     let d = RobotDescription::preset("dia10_like_zy").unwrap();
     let model = NumericModel::<f64>::from_description(&d, &[]).unwrap();
     let chain = model.to_chain::<8>().unwrap();
-    let numeric = ChainKinematics {
-        chain,
-        constraint: Constraint::<f64, 2>::thesis(6, 0.15).unwrap(),
-    };
+    let numeric = ChainKinematics::thesis(chain, Constraint::<f64, 2>::thesis(6, 0.15).unwrap());
     // The constraint as the description states it (wrist preset, `g_ir` from `[constraint]`).
-    let described = ChainKinematics {
-        chain,
-        constraint: model.to_constraint::<2>().unwrap(),
-    };
+    let described = ChainKinematics::thesis(chain, model.to_constraint::<2>().unwrap());
     // The counter sees an allocation on this thread.
     ARMED.with(|a| a.set(true));
     let before = ALLOCATIONS.load(Ordering::SeqCst);

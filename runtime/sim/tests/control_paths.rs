@@ -8,7 +8,7 @@ use rand::{rngs::StdRng, Rng, SeedableRng};
 use trocar::constraint::Constraint;
 use trocar::control::{
     ChainKinematics, ConstrainedKinematics, ConstrainedState, ControlError, Controller,
-    ControllerConfig, Damping, Method, Rcm, Reference,
+    ControllerConfig, Damping, Method, Rcm, Reference, Shaft,
 };
 use trocar::kinematics::Chain;
 use trocar::manipulability::SquareDim;
@@ -69,6 +69,14 @@ impl<const R: usize, const K: usize, const M: usize> ConstrainedKinematics<f64, 
         SMatrix::from_fn(|r, c| h[r][c])
     }
 
+    fn shaft(&self) -> Shaft<f64> {
+        Shaft::along_y()
+    }
+
+    fn task_selection(&self) -> SMatrix<f64, 6, 6> {
+        SMatrix::identity()
+    }
+
     fn evaluate(
         &self,
         q: &SVector<f64, 8>,
@@ -120,10 +128,7 @@ where
     Const<M>: SquareDim,
 {
     let arm = Described::<R>::new(name);
-    let kin = ChainKinematics {
-        chain: chain(name),
-        constraint: Constraint::<f64, R>::thesis(6, 0.15).unwrap(),
-    };
+    let kin = ChainKinematics::thesis(chain(name), Constraint::<f64, R>::thesis(6, 0.15).unwrap());
     let mut rng = StdRng::seed_from_u64(5);
     for _ in 0..50 {
         let q = SVector::<f64, 8>::from_fn(|_, _| rng.gen_range(-1.5..1.5));
@@ -228,17 +233,17 @@ fn step_realises_the_cartesian_command_and_the_rcm_velocity() {
 #[test]
 fn f32_controller_tracks_like_f64() {
     let d = RobotDescription::preset("dia10_like_zy").unwrap();
-    let k64 = ChainKinematics {
-        chain: chain("dia10_like_zy"),
-        constraint: Constraint::<f64, 2>::thesis(6, 0.15).unwrap(),
-    };
-    let k32 = ChainKinematics {
-        chain: NumericModel::<f32>::from_description(&d, &[])
+    let k64 = ChainKinematics::thesis(
+        chain("dia10_like_zy"),
+        Constraint::<f64, 2>::thesis(6, 0.15).unwrap(),
+    );
+    let k32 = ChainKinematics::thesis(
+        NumericModel::<f32>::from_description(&d, &[])
             .unwrap()
             .to_chain::<8>()
             .unwrap(),
-        constraint: Constraint::<f32, 2>::thesis(6, 0.15).unwrap(),
-    };
+        Constraint::<f32, 2>::thesis(6, 0.15).unwrap(),
+    );
     let cfg64 = ControllerConfig {
         kp: 5.0,
         ko: 10.0,
@@ -330,10 +335,10 @@ fn zero_configuration_matches_spec_table() {
 /// Λ Λ# = 0, J^r reproduces (3.24) at q0 and w_r is (3.42), through `ChainKinematics`.
 #[test]
 fn jacobians_match_finite_differences_and_thesis() {
-    let kin2 = ChainKinematics {
-        chain: chain("dia10_like_zy"),
-        constraint: Constraint::<f64, 2>::thesis(6, 0.15).unwrap(),
-    };
+    let kin2 = ChainKinematics::thesis(
+        chain("dia10_like_zy"),
+        Constraint::<f64, 2>::thesis(6, 0.15).unwrap(),
+    );
     let q = SVector::<f64, 8>::from([0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3]);
     let la = 0.15;
     let s: ConstrainedState<f64, 6, 2, 4, 6> = kin2.evaluate(&q, la).unwrap();
@@ -359,10 +364,7 @@ fn jacobians_match_finite_differences_and_thesis() {
     let (lb, l8) = (0.33 - la, 0.21);
     let (s7, c7, s8, c8) = (q[6].sin(), q[6].cos(), q[7].sin(), q[7].cos());
     // Check the unidirectional J^r (3.24), which SPEC states is exact for this geometry.
-    let kin1 = ChainKinematics {
-        chain: kin2.chain,
-        constraint: Constraint::<f64, 1>::thesis(6, la).unwrap(),
-    };
+    let kin1 = ChainKinematics::thesis(kin2.chain, Constraint::<f64, 1>::thesis(6, la).unwrap());
     let s1: ConstrainedState<f64, 6, 1, 5, 7> = kin1.evaluate(&q, la).unwrap();
     let a1 = -c8 * (l8 + lb * c7) / la;
     let a2 = -s8 * (l8 + lb * c7) / la;

@@ -13,9 +13,10 @@
 //! builds without `std`.
 //!
 //! # The step
-//! 1. `l_a = (p_trocar − p_0i) · y_i`: the constraint frame `F_r = (R_0i, p_0i + l_a y_i)` is the
-//!    point of link `i` at the trocar (`R_ir = I`, the link runs along `y_i`, SPEC §3.2).
-//! 2. Drift correction (beyond the thesis): `e_r = H_v R_0iᵀ (p_trocar − p_0r)`, the lateral
+//! 1. `l_a` places the constraint frame at the trocar: `g_ir(l_a) = (R_ir, o + l_a d)` moves
+//!    along the link's [`Shaft`] (the thesis's arm: `R_ir = I`, `o = 0`, `d = y_i`), and `l_a`
+//!    is the offset of the point of the shaft nearest to the trocar.
+//! 2. Drift correction (beyond the thesis): `e_r = H_v R_0rᵀ (p_trocar − p_0r)`, the lateral
 //!    offset of the trocar from the link in `F_r`'s constrained directions, and
 //!    `dv_0r = dv_cmd + K_r e_r`. With `K_r = 0` this is the thesis's controller.
 //! 3. Cartesian law (2.66)/Table 4.1: `e_p = R_0eᵀ(dp − p)`, `e_q = Q_d ⊗ Q⁻¹ = {η̃, ε̃}`,
@@ -25,17 +26,34 @@
 //!    which makes `ε̃̇ = −½ K_o η̃ ε̃` exactly (the thesis adds the body `dω` to the base `ε̃`; the
 //!    two agree at zero error). The `−û_o e_p` term uses the commanded angular velocity `u_o`,
 //!    which makes `ė_p = −K_p e_p` exactly.
-//! 4. `[v0i; θ̇_jn] = J_inv (u − J_c dv_0r)` (3.34) with `J_inv` the pseudo-inverse, the damped
-//!    inverse or the filtered inverse of `J^r_0e`.
+//! 4. `[v0i; θ̇_jn] = J_inv S (u − J_c dv_0r)` (3.34) with `J_inv` the pseudo-inverse, the damped
+//!    inverse or the filtered inverse of the task Jacobian `S J^r_0e`. `S` selects the rows of
+//!    the end-effector body twist that the task commands (`S = I`, `P = 6`, for a full 6-D task
+//!    as in the thesis; a trocar leaves an instrument on the last link `6 − r` freedoms, so a
+//!    laparoscope commands the tip's position and its roll, `P = 4`).
 //! 5. `V^B_0i = Λ# v0i + Λ† dv_0r` (3.33), `θ̇_{1..i} = J^B_0i^{inv} V^B_0i` (3.18), with the
-//!    pseudo-inverse or the damped inverse of `J^B_0i`.
+//!    pseudo-inverse or the damped inverse of `J^B_0i`. When `J^B_0i` is wide (`i > 6`, e.g. a
+//!    7-DOF arm with the constraint on its last link), the spare freedom follows an objective
+//!    ([`NullSpaceObjective`], (44)–(46) of Freitas, Leite & Lizarralde 2010):
+//!    `θ̇_{1..i} = u0 + J^B_0i^{inv} (V^B_0i − J^B_0i u0)`.
+//!
+//! With the constraint on the last link (`i = n`) there are no joints after it: `J^r_0e =
+//! Ad_{g_ei} Λ#` does not depend on `q`, so the arm's closeness to a singularity is that of
+//! `J^B_0i` (`w_i` of [`StepOutput`]), and the damping of [`ControllerConfig::jb0i_damping`] is
+//! the one that matters.
 
 mod inverse;
 mod quaternion;
+mod redundancy;
+mod shaft;
 
 pub use crate::manipulability::{determinant, manipulability};
 pub use inverse::{damped_pinv, damped_solve, pinv, Damping, FilteredInverse, PreparedJacobian};
 pub use quaternion::{orientation_error, Quaternion};
+pub use redundancy::{
+    lie_bracket, manipulability_gradient, resolve_with_null_space, NullSpaceObjective,
+};
+pub use shaft::Shaft;
 
 use crate::constraint::Constraint;
 use crate::kinematics::Chain;
@@ -72,10 +90,11 @@ pub struct ConstrainedState<
 }
 
 /// Constrained kinematics of an `N`-joint arm with the RCM on link `I`, `R` constrained
-/// directions (see [`ConstrainedState`] for `K`, `M`).
+/// directions and `P` task rows (see [`ConstrainedState`] for `K`, `M`).
 ///
-/// Convention (the thesis's and SPEC §3): `F_r` is `F_i` translated by `l_a` along `y_i`
-/// (`g_ir = (I, (0, l_a, 0))`), and the rows of `H` select directions of `F_r`.
+/// The constraint frame moves along the link's [`Shaft`] with the trocar offset `l_a`, and the
+/// rows of `H` select directions of `F_r`; the task selection `S` selects rows of the
+/// end-effector body twist.
 pub trait ConstrainedKinematics<
     T: RealField + Copy,
     const N: usize,
@@ -83,12 +102,18 @@ pub trait ConstrainedKinematics<
     const R: usize,
     const K: usize,
     const M: usize,
+    const P: usize = 6,
 >
 {
     /// The pose `g_0i(q)` of the constrained link's frame.
     fn g_0i(&self, q: &SVector<T, N>) -> Se3<T>;
     /// The selection `H ∈ R^{R×6}` of the constrained directions (3.1).
     fn h(&self) -> SMatrix<T, R, 6>;
+    /// The line of the constrained link along which `l_a` moves the constraint frame.
+    fn shaft(&self) -> Shaft<T>;
+    /// The task selection `S ∈ R^{P×6}`: rows of the end-effector body twist that the task
+    /// commands (the identity for a full 6-D task).
+    fn task_selection(&self) -> SMatrix<T, P, 6>;
     /// Poses and Jacobians at joints `q` with the constraint at `l_a`.
     fn evaluate(
         &self,
@@ -96,34 +121,52 @@ pub trait ConstrainedKinematics<
         l_a: T,
     ) -> Result<ConstrainedState<T, I, R, K, M>, ControlError>;
 
-    /// `l_a = (p_trocar − p_0i) · y_i` at joints `q` (SPEC §3.2) and [`Self::evaluate`] there:
-    /// what a control step asks of the kinematics. The default calls [`Self::g_0i`], then
-    /// [`Self::evaluate`]; an implementation that can share work between the two (one set of
-    /// joint sines and cosines) overrides it.
+    /// `l_a` of the point of the shaft nearest to the trocar at joints `q`
+    /// ([`Shaft::offset`]) and [`Self::evaluate`] there: what a control step asks of the
+    /// kinematics. The default calls [`Self::g_0i`], then [`Self::evaluate`]; an implementation
+    /// that can share work between the two (one set of joint sines and cosines) overrides it.
     fn evaluate_at_trocar(
         &self,
         q: &SVector<T, N>,
         trocar: &Vector3<T>,
     ) -> Result<(T, ConstrainedState<T, I, R, K, M>), ControlError> {
-        let l_a = trocar_offset(&self.g_0i(q), trocar);
+        let l_a = self.shaft().offset(&self.g_0i(q), trocar);
         Ok((l_a, self.evaluate(q, l_a)?))
     }
 }
 
-/// `l_a = (p_trocar − p_0i) · y_i` (SPEC §3.2): the position of the trocar along the constrained
-/// link, whose frame `F_i` is `g_0i` (the link runs along `y_i`).
+/// `l_a = (p_trocar − p_0i) · y_i`: the position of the trocar along a link that runs along
+/// `y_i` (the thesis's convention, [`Shaft::along_y`]); [`Shaft::offset`] in general.
 pub fn trocar_offset<T: RealField + Copy>(g_0i: &Se3<T>, trocar: &Vector3<T>) -> T {
-    (trocar - g_0i.translation).dot(&g_0i.rotation.column(1).into_owned())
+    Shaft::along_y().offset(g_0i, trocar)
 }
 
-/// The numeric runtime behind [`ConstrainedKinematics`]: a [`Chain`] and the thesis's
-/// [`Constraint`] (whose offset is moved to `l_a` at every evaluation).
+/// The numeric runtime behind [`ConstrainedKinematics`]: a [`Chain`], a [`Constraint`] whose
+/// frame is moved along `shaft` to `l_a` at every evaluation, and the task selection.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ChainKinematics<T: RealField + Copy, const N: usize, const R: usize> {
+pub struct ChainKinematics<T: RealField + Copy, const N: usize, const R: usize, const P: usize = 6>
+{
     /// The serial chain.
     pub chain: Chain<T, N>,
-    /// The constraint (its frame `g_ir = (I, (0, l_a, 0))` is reset to each `l_a`).
+    /// The constraint (its frame is reset to `shaft.frame(l_a)` at each evaluation).
     pub constraint: Constraint<T, R>,
+    /// The line along which the constraint frame moves.
+    pub shaft: Shaft<T>,
+    /// The task selection `S`.
+    pub task: SMatrix<T, P, 6>,
+}
+
+impl<T: RealField + Copy, const N: usize, const R: usize> ChainKinematics<T, N, R, 6> {
+    /// The thesis's setting: the constraint frame moves along `y_i` ([`Shaft::along_y`]) and
+    /// the task is the whole end-effector twist (`S = I`).
+    pub fn thesis(chain: Chain<T, N>, constraint: Constraint<T, R>) -> Self {
+        ChainKinematics {
+            chain,
+            constraint,
+            shaft: Shaft::along_y(),
+            task: SMatrix::identity(),
+        }
+    }
 }
 
 impl<
@@ -133,7 +176,8 @@ impl<
         const R: usize,
         const K: usize,
         const M: usize,
-    > ConstrainedKinematics<T, N, I, R, K, M> for ChainKinematics<T, N, R>
+        const P: usize,
+    > ConstrainedKinematics<T, N, I, R, K, M, P> for ChainKinematics<T, N, R, P>
 where
     Const<R>: SquareDim,
 {
@@ -145,6 +189,14 @@ where
         *self.constraint.h()
     }
 
+    fn shaft(&self) -> Shaft<T> {
+        self.shaft
+    }
+
+    fn task_selection(&self) -> SMatrix<T, P, 6> {
+        self.task
+    }
+
     fn evaluate(
         &self,
         q: &SVector<T, N>,
@@ -152,7 +204,8 @@ where
     ) -> Result<ConstrainedState<T, I, R, K, M>, ControlError> {
         assert_eq!(self.constraint.link(), I, "the constraint is on link I");
         let mut c = self.constraint;
-        c.set_offset(l_a).map_err(|_| ControlError::Kinematics)?;
+        c.set_frame(self.shaft.frame(l_a))
+            .map_err(|_| ControlError::Kinematics)?;
         let (jr, jc) = c.constrained_jacobians::<N, M>(&self.chain, q);
         Ok(ConstrainedState {
             g_0e: self.chain.forward_kinematics(q),
@@ -166,7 +219,7 @@ where
     }
 }
 
-/// How `J^r_0e` is inverted (Table 4.1).
+/// How the task Jacobian `S J^r_0e` (`J^r_0e` for a 6-D task) is inverted (Table 4.1).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Method<T> {
     /// The pseudo-inverse `(J^r)† = J^rᵀ (J^r J^rᵀ)⁻¹` (the inverse when square).
@@ -189,7 +242,7 @@ pub struct ControllerConfig<T> {
     pub kp: T,
     /// Orientation gain `K_o` (1/s).
     pub ko: T,
-    /// Inverse of `J^r_0e`.
+    /// Inverse of the task Jacobian `S J^r_0e`.
     pub method: Method<T>,
     /// Damping of the inverse of `J^B_0i`; `None` for the pseudo-inverse.
     pub jb0i_damping: Option<Damping<T>>,
@@ -237,7 +290,8 @@ pub struct StepOutput<T: RealField + Copy, const N: usize, const R: usize> {
     pub lateral_error: SVector<T, R>,
     /// The RCM velocity used, `dv_0r = dv_cmd + K_r e_r`.
     pub dv_0r: SVector<T, R>,
-    /// Manipulability of `J^r_0e`.
+    /// Manipulability of the task Jacobian `S J^r_0e` (of `J^r_0e` for a 6-D task); constant
+    /// when the constraint is on the last link.
     pub w_r: T,
     /// Manipulability of `J^B_0i`.
     pub w_i: T,
@@ -278,8 +332,9 @@ impl std::error::Error for ControlError {}
 
 /// The constrained kinematic controller (Table 4.1 with the moving RCM and drift correction).
 ///
-/// Holds the filtered-inverse state `Θ` (unused by the other methods). Generic over the sizes
-/// of [`ConstrainedKinematics`]; `K = 6 − R` and `M = K + N − I` are checked at compile time.
+/// Holds the filtered-inverse state `Θ` (unused by the other methods) and the objective of the
+/// spare freedom of `J^B_0i`. Generic over the sizes of [`ConstrainedKinematics`];
+/// `K = 6 − R`, `M = K + N − I` and `P ≤ M` are checked at compile time.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Controller<
     T: RealField + Copy,
@@ -288,10 +343,14 @@ pub struct Controller<
     const R: usize,
     const K: usize,
     const M: usize,
+    const P: usize = 6,
 > {
     /// Gains and methods.
     pub config: ControllerConfig<T>,
-    fi: FilteredInverse<T, 6, M>,
+    /// What the spare freedom of the joints before the constraint does when `J^B_0i` is wide
+    /// (`I > 6`); [`NullSpaceObjective::None`] by default.
+    pub objective: NullSpaceObjective<T, N>,
+    fi: FilteredInverse<T, P, M>,
     fi_started: bool,
 }
 
@@ -310,23 +369,33 @@ impl<
         const R: usize,
         const K: usize,
         const M: usize,
-    > Controller<T, N, I, R, K, M>
+        const P: usize,
+    > Controller<T, N, I, R, K, M, P>
 {
-    const SIZES_OK: () = assert!(K + R == 6 && M == K + N - I && I <= N && R >= 1);
+    const SIZES_OK: () =
+        assert!(K + R == 6 && M == K + N - I && I <= N && R >= 1 && P >= 1 && P <= M);
 
-    /// A controller; with [`Method::Fi`], `Θ` starts at `(J^r_0e)†` on the first step.
+    /// A controller; with [`Method::Fi`], `Θ` starts at `(S J^r_0e)†` on the first step.
     pub fn new(config: ControllerConfig<T>) -> Self {
         #[allow(clippy::let_unit_value)]
         let () = Self::SIZES_OK;
         Controller {
             config,
+            objective: NullSpaceObjective::None,
             fi: FilteredInverse::new(SMatrix::zeros()),
             fi_started: false,
         }
     }
 
+    /// The same controller with the objective of the spare freedom of `J^B_0i`.
+    #[must_use]
+    pub fn with_objective(mut self, objective: NullSpaceObjective<T, N>) -> Self {
+        self.objective = objective;
+        self
+    }
+
     /// The filtered-inverse state `Θ`.
-    pub fn theta(&self) -> &SMatrix<T, M, 6> {
+    pub fn theta(&self) -> &SMatrix<T, M, P> {
         &self.fi.theta
     }
 
@@ -336,7 +405,7 @@ impl<
     }
 
     /// One control step at joints `q`; `dt` is the sample time (used by the filtered inverse).
-    pub fn step<Kin: ConstrainedKinematics<T, N, I, R, K, M>>(
+    pub fn step<Kin: ConstrainedKinematics<T, N, I, R, K, M, P>>(
         &mut self,
         kin: &Kin,
         q: &SVector<T, N>,
@@ -348,15 +417,16 @@ impl<
         Const<R>: SquareDim,
         Const<I>: SquareDim,
         Const<M>: SquareDim,
+        Const<P>: SquareDim,
     {
         let c = self.config;
         // 1. l_a from the trocar point, and the kinematics there.
         let (l_a, s) = kin.evaluate_at_trocar(q, &rcm.trocar)?;
         let h = kin.h();
+        let shaft = kin.shaft();
 
-        // 2. Lateral offset of the trocar from the link, in F_r (R_ir = I), and drift correction.
-        let p_0r = s.g_0i.translation + s.g_0i.rotation.column(1) * l_a;
-        let lateral_error = h_linear(&h, &(s.g_0i.rotation.transpose() * (rcm.trocar - p_0r)));
+        // 2. Lateral offset of the trocar from the link, in F_r, and drift correction.
+        let lateral_error = h_linear(&h, &shaft.trocar_in_frame(&s.g_0i, l_a, &rcm.trocar));
         let dv_0r = rcm.dv + lateral_error * c.kr;
 
         // 3. Cartesian law (2.66) with the quaternion error (2.62)–(2.65).
@@ -368,9 +438,11 @@ impl<
         let up = rt * reference.velocity + ep * c.kp - uo.cross(&ep);
         let u = Vector6::new(up.x, up.y, up.z, uo.x, uo.y, uo.z);
 
-        // 4. [v0i; θ̇_jn] = J_inv (u − J_c dv_0r) (3.34).
-        let dv_e = u - s.jc * dv_0r;
-        let jr = PreparedJacobian::new(&s.jr);
+        // 4. [v0i; θ̇_jn] = J_inv S (u − J_c dv_0r) (3.34), J = S J^r.
+        let sel = kin.task_selection();
+        let task_jr: SMatrix<T, P, M> = sel * s.jr;
+        let dv_e: SVector<T, P> = sel * (u - s.jc * dv_0r);
+        let jr = PreparedJacobian::new(&task_jr);
         let jb0i = PreparedJacobian::new(&s.jb0i);
         let w_r = jr.manipulability();
         let w_i = jb0i.manipulability();
@@ -383,22 +455,27 @@ impl<
             }
             Method::Fi { gamma_r, gamma_l } => {
                 if !self.fi_started {
-                    self.fi = FilteredInverse::new(pinv(&s.jr).ok_or(ControlError::SingularJr)?);
+                    self.fi = FilteredInverse::new(pinv(&task_jr).ok_or(ControlError::SingularJr)?);
                     self.fi_started = true;
                 }
-                let x = self.fi.inverse(&s.jr) * dv_e;
-                self.fi.update(&s.jr, gamma_r, gamma_l, dt);
+                let x = self.fi.inverse(&task_jr) * dv_e;
+                self.fi.update(&task_jr, gamma_r, gamma_l, dt);
                 x
             }
         };
 
-        // 5. V^B_0i = Λ# v0i + Λ† dv_0r (3.33); θ̇_1..i = J^B_0i^inv V^B_0i (3.18).
+        // 5. V^B_0i = Λ# v0i + Λ† dv_0r (3.33); θ̇_1..i = J^B_0i^inv V^B_0i (3.18), plus the
+        //    objective's motion in the null space of J^B_0i when it is wide ((44)–(46)).
         let v0i: SVector<T, K> = x.fixed_rows::<K>(0).into_owned();
         let v_0i = s.lambda_sharp * v0i + s.lambda_pinv * dv_0r;
         let kappa_i = c.jb0i_damping.map_or(T::zero(), |d| d.kappa(w_i));
-        let qd_i = jb0i
-            .solve(kappa_i, &v_0i)
-            .ok_or(ControlError::SingularJb0i)?;
+        let qd_i = if I > 6 && self.objective != NullSpaceObjective::None {
+            let u0 = self.objective.gradient::<I>(q, &s.jb0i);
+            resolve_with_null_space(&s.jb0i, kappa_i, &v_0i, &u0)
+        } else {
+            jb0i.solve(kappa_i, &v_0i)
+        }
+        .ok_or(ControlError::SingularJb0i)?;
 
         let mut qd = SVector::<T, N>::zeros();
         for k in 0..I {

@@ -38,13 +38,13 @@ fn bench_step<Kin: ConstrainedKinematics<f64, 8, 6, 2, 4, 6>>(
 
 fn control_step(c: &mut Criterion) {
     let d = RobotDescription::preset("dia10_like_zy").unwrap();
-    let numeric = ChainKinematics {
-        chain: NumericModel::<f64>::from_description(&d, &[])
+    let numeric = ChainKinematics::thesis(
+        NumericModel::<f64>::from_description(&d, &[])
             .unwrap()
             .to_chain::<8>()
             .unwrap(),
-        constraint: Constraint::<f64, 2>::thesis(6, L_A0).unwrap(),
-    };
+        Constraint::<f64, 2>::thesis(6, L_A0).unwrap(),
+    );
     let generated = GeneratedKinematics::<f64>::nominal();
     let config = ScenarioConfig::new(Scenario::S2)
         .with_method(Method::Dls)

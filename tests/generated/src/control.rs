@@ -11,3 +11,7 @@ pub type Dia10LikeZx<T> = crate::dia10_like_zx::Kinematics<T>;
 
 /// The generated kinematics of the reference arm the thesis's scenarios use (`dia10_like_zy`).
 pub type GeneratedKinematics<T> = Dia10LikeZy<T>;
+
+/// The Franka Panda with a laparoscope (`panda-laparoscope`: constraint on the last link, shaft
+/// along the flange's `z`, task `x y z rz`) through its generated closed forms.
+pub type PandaLaparoscope<T> = crate::panda_laparoscope::Kinematics<T>;

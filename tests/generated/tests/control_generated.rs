@@ -57,13 +57,13 @@ impl Rng {
 /// The numeric runtime for a shipped robot, with the thesis's bidirectional constraint on link 6.
 fn numeric(name: &str) -> ChainKinematics<f64, 8, 2> {
     let d = RobotDescription::preset(name).unwrap();
-    ChainKinematics {
-        chain: NumericModel::<f64>::from_description(&d, &[])
+    ChainKinematics::thesis(
+        NumericModel::<f64>::from_description(&d, &[])
             .unwrap()
             .to_chain::<8>()
             .unwrap(),
-        constraint: Constraint::<f64, 2>::thesis(6, L_A0).unwrap(),
-    }
+        Constraint::<f64, 2>::thesis(6, L_A0).unwrap(),
+    )
 }
 
 fn assert_states_agree(

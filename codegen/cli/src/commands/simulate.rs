@@ -85,7 +85,7 @@ fn rcm_scenario(
 ) -> Result<String, CliError> {
     let Ok(which) = simulation::Scenario::from_name(scenario) else {
         return Err(CliError(format!(
-            "unknown scenario `{scenario}` (expected 1, 2, 3, 4, exp421, or one of: {})",
+            "unknown scenario `{scenario}` (expected 1, 2, 3, 4, exp421, panda-laparoscope, or one of: {})",
             closed_chain::scenario_names().join(", ")
         )));
     };
@@ -123,7 +123,7 @@ fn rcm_scenario(
          max RCM drift {:.3e} m (final {:.3e} m)\n  \
          max position error {:.3e} m (after 10 s {:.3e} m), max orientation error {:.3e}\n  \
          peak joint speed {:.3e} rad/s, min w_r {:.3e}, min w_i {:.3e}, min |q7| {:.3e} rad\n  \
-         l_a in [{:.4}, {:.4}] m",
+         l_a in [{:.4}, {:.4}] m{}",
         if drift_correction == OnOff::On {
             "on"
         } else {
@@ -141,6 +141,10 @@ fn rcm_scenario(
         s.min_abs_q7,
         s.l_a_range.0,
         s.l_a_range.1,
+        s.min_limit_margin.map_or(String::new(), |m| format!(
+            "\n  closest approach to a joint limit {m:.4} rad{}",
+            if m < 0.0 { " (BEYOND A LIMIT)" } else { "" }
+        )),
     );
     Ok(out)
 }

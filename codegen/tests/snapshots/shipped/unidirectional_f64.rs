@@ -748,8 +748,6 @@ pub mod unidirectional {
     }
     /// Forward kinematics `g_0i(q_1..q_i) = (R_0i, p_0i)` of the constrained link's frame, thesis (2.21).
     ///
-    /// With the trocar fixed in space, `l_a = (p_trocar − p_0i) · y_i` where `y_i` is column 1 of `R_0i`.
-    ///
     /// Returns `(R, p)`: the rotation **column-major** (`r[col][row]`, nalgebra: `Matrix3::from_data(ArrayStorage(r))`) and the position.
     ///
     /// Operations: 28 add, 58 mul, 0 div, 0 sqrt, 6 trig (sin_cos), 1 neg, 0 abs.
@@ -989,9 +987,138 @@ pub mod unidirectional {
             ],
         ]
     }
-    /// The runtime controller's kinematics on this module's closed forms: `::trocar::control::ConstrainedKinematics<_, N, I, R, K, M>`, so that `::trocar::control::Controller` runs on generated code.
+    /// The constraint frame `g_ir = (R_ir, p_ir)`: `F_r` in the constrained link's frame `F_i`, thesis (3.3).
     ///
-    /// Every evaluation sets `params.l_a` (the constraint frame's offset along the link's `y` axis, `g_ir = (I, (0, l_a, 0))`) to the `l_a` it is given, and computes `g_0e`, `J^r_0e` (3.15), `J^B_0i` (3.13), `J_c` (3.33), `Λ#` (3.6) and `Λ†` (3.31) from one [`JointTrig`]. `l_a` zero or not finite is `ControlError::Kinematics`.
+    /// Returns `(R, p)`: the rotation **column-major** (`r[col][row]`, nalgebra: `Matrix3::from_data(ArrayStorage(r))`) and the position.
+    ///
+    /// Operations: 0 add, 0 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs.
+    #[inline]
+    #[must_use]
+    pub fn constraint_frame(p: &Params) -> ([[f64; 3]; 3], [f64; 3]) {
+        (
+            [
+                [
+                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::Real>::ZERO,
+                ],
+                [
+                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::Real>::ZERO,
+                ],
+                [
+                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::Real>::ONE,
+                ],
+            ],
+            [<f64 as ::trocar::Real>::ZERO, p.l_a, <f64 as ::trocar::Real>::ZERO],
+        )
+    }
+    /// What one control step needs, in storage the caller owns (matrices column-major): filled by [`step_kinematics`].
+    ///
+    /// The constraint frame slides along the link with `params.l_a`: [`step_kinematics`] sets it to the trocar's offset first.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct StepKinematics {
+        /// The trocar offset `l_a` of this step: the constraint frame's position along the link.
+        pub offset: f64,
+        /// `g_0e = (R_0e, p_0e)` of the end effector.
+        pub g_0e: ([[f64; 3]; 3], [f64; 3]),
+        /// `g_0i = (R_0i, p_0i)` of the constrained link.
+        pub g_0i: ([[f64; 3]; 3], [f64; 3]),
+        /// `J^B_0i`, 6 × I.
+        pub jb0i: [[f64; 6]; I],
+        /// `J^r_0e`, 6 × M.
+        pub jr: [[f64; 6]; M],
+        /// `J_c = Ad_{g_ei} Λ†`, 6 × R.
+        pub jc: [[f64; 6]; R],
+        /// `Λ#`, 6 × K.
+        pub lambda_sharp: [[f64; 6]; K],
+        /// `Λ†`, 6 × R.
+        pub lambda_pinv: [[f64; 6]; R],
+    }
+    impl StepKinematics {
+        /// All zeros (storage to be filled by [`step_kinematics`]).
+        #[inline]
+        #[must_use]
+        pub fn zeroed() -> Self {
+            let z = <f64 as ::trocar::Real>::ZERO;
+            StepKinematics {
+                offset: z,
+                g_0e: ([[z; 3]; 3], [z; 3]),
+                g_0i: ([[z; 3]; 3], [z; 3]),
+                jb0i: [[z; 6]; I],
+                jr: [[z; 6]; M],
+                jc: [[z; 6]; R],
+                lambda_sharp: [[z; 6]; K],
+                lambda_pinv: [[z; 6]; R],
+            }
+        }
+    }
+    /// Fills everything but `g_0i` (and the offset) at the parameters `p`; `false` if an
+    /// output is not finite.
+    #[inline]
+    fn fill_step(t: &JointTrig, p: &Params, out: &mut StepKinematics) -> bool {
+        out.g_0e = forward_kinematics_trig(t, p);
+        out.jb0i = partial_body_jacobian_trig(t, p);
+        out.jr = constrained_jacobian_trig(t, p);
+        out.jc = constraint_jacobian_c_trig(t, p);
+        out.lambda_sharp = lambda_null_space(p);
+        out.lambda_pinv = lambda_pinv(p);
+        let finite = |x: &[f64]| {
+            x.iter().all(|&v| <f64 as ::trocar::Real>::is_finite(v))
+        };
+        finite(&out.g_0e.1) && finite(&out.g_0i.1) && finite(out.g_0e.0.as_flattened())
+            && finite(out.g_0i.0.as_flattened()) && finite(out.jb0i.as_flattened())
+            && finite(out.jr.as_flattened()) && finite(out.jc.as_flattened())
+            && finite(out.lambda_sharp.as_flattened())
+            && finite(out.lambda_pinv.as_flattened())
+    }
+    /// `l_a` of the point of the line `g_ir(l) = (R_ir, o + l d)` nearest to `trocar` (base coordinates) with the link at `g_0i`: `((p_t − p_0i − R_0i o) · R_0i d) / |d|²`, with `o` and `d` from [`constraint_frame`] at `l_a = 0` and `1`.
+    #[inline]
+    #[must_use]
+    pub fn trocar_offset(
+        g_0i: &([[f64; 3]; 3], [f64; 3]),
+        trocar: &[f64; 3],
+        params: &Params,
+    ) -> f64 {
+        let mut p = *params;
+        p.l_a = <f64 as ::trocar::Real>::ZERO;
+        let o = constraint_frame(&p).1;
+        p.l_a = <f64 as ::trocar::Real>::ONE;
+        let o1 = constraint_frame(&p).1;
+        let d = [o1[0] - o[0], o1[1] - o[1], o1[2] - o[2]];
+        let (rot, pos) = g_0i;
+        let mut num = <f64 as ::trocar::Real>::ZERO;
+        for i in 0..3 {
+            let ro = rot[0][i] * o[0] + rot[1][i] * o[1] + rot[2][i] * o[2];
+            let rd = rot[0][i] * d[0] + rot[1][i] * d[1] + rot[2][i] * d[2];
+            num += (trocar[i] - pos[i] - ro) * rd;
+        }
+        num / (d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+    }
+    /// One control step's kinematics from one `JointTrig`: `g_0i`, the trocar
+    /// offset at `trocar` ([`trocar_offset`], stored in `out.offset`), then
+    /// everything else at that offset. Returns `false` if an output is not finite
+    /// (e.g. a null-space basis that divides by the offset, at offset 0); `out` is
+    /// then not meaningful.
+    #[inline]
+    pub fn step_kinematics(
+        t: &JointTrig,
+        trocar: &[f64; 3],
+        params: &Params,
+        out: &mut StepKinematics,
+    ) -> bool {
+        out.g_0i = forward_kinematics_i_trig(t, params);
+        out.offset = trocar_offset(&out.g_0i, trocar, params);
+        let mut p = *params;
+        p.l_a = out.offset;
+        <f64 as ::trocar::Real>::is_finite(out.offset) && fill_step(t, &p, out)
+    }
+    /// The runtime controller's kinematics on this module's closed forms: `::trocar::control::ConstrainedKinematics<_, N, I, R, K, M, 6>`, so that `::trocar::control::Controller` runs on generated code.
+    ///
+    /// The constraint frame slides along the link with `params.l_a` (`g_ir = (R_ir, o + l_a d)`, [`constraint_frame`]); a step computes everything from one [`JointTrig`] with [`step_kinematics`]. A non-finite output (e.g. a basis that divides by the offset, at offset 0) is `ControlError::Kinematics`.
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Kinematics {
         /// The parameters; the trocar offset is overwritten at every evaluation.
@@ -1020,49 +1147,33 @@ pub mod unidirectional {
                 ),
             }
         }
-        /// The constrained state from the joints' sines and cosines and `g_0i` (which does
-        /// not depend on the trocar offset).
+        /// The runtime's state from a filled [`StepKinematics`].
         #[inline]
         fn state(
-            &self,
-            t: &JointTrig,
-            g_0i: ::trocar::se3::Se3<f64>,
-            l_a: f64,
-        ) -> ::core::result::Result<
-            ::trocar::control::ConstrainedState<f64, I, R, K, M>,
-            ::trocar::control::ControlError,
-        > {
-            if l_a == <f64 as ::trocar::Real>::ZERO
-                || !<f64 as ::trocar::Real>::is_finite(l_a)
-            {
-                return ::core::result::Result::Err(
-                    ::trocar::control::ControlError::Kinematics,
-                );
-            }
-            let mut p = self.params;
-            p.l_a = l_a;
-            ::core::result::Result::Ok(::trocar::control::ConstrainedState {
-                g_0e: Self::pose(forward_kinematics_trig(t, &p)),
-                g_0i,
+            s: &StepKinematics,
+        ) -> ::trocar::control::ConstrainedState<f64, I, R, K, M> {
+            ::trocar::control::ConstrainedState {
+                g_0e: Self::pose(s.g_0e),
+                g_0i: Self::pose(s.g_0i),
                 jr: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(constrained_jacobian_trig(t, &p)),
+                    ::trocar::nalgebra::ArrayStorage(s.jr),
                 ),
                 jb0i: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(partial_body_jacobian_trig(t, &p)),
+                    ::trocar::nalgebra::ArrayStorage(s.jb0i),
                 ),
                 jc: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(constraint_jacobian_c_trig(t, &p)),
+                    ::trocar::nalgebra::ArrayStorage(s.jc),
                 ),
                 lambda_sharp: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(lambda_null_space(&p)),
+                    ::trocar::nalgebra::ArrayStorage(s.lambda_sharp),
                 ),
                 lambda_pinv: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(lambda_pinv(&p)),
+                    ::trocar::nalgebra::ArrayStorage(s.lambda_pinv),
                 ),
-            })
+            }
         }
     }
-    impl ::trocar::control::ConstrainedKinematics<f64, N, I, R, K, M> for Kinematics {
+    impl ::trocar::control::ConstrainedKinematics<f64, N, I, R, K, M, 6> for Kinematics {
         #[inline]
         fn g_0i(
             &self,
@@ -1077,6 +1188,19 @@ pub mod unidirectional {
             )
         }
         #[inline]
+        fn shaft(&self) -> ::trocar::control::Shaft<f64> {
+            let mut p = self.params;
+            p.l_a = <f64 as ::trocar::Real>::ZERO;
+            let at_zero = Self::pose(constraint_frame(&p));
+            p.l_a = <f64 as ::trocar::Real>::ONE;
+            let at_one = Self::pose(constraint_frame(&p));
+            ::trocar::control::Shaft::from_frames(&at_zero, &at_one)
+        }
+        #[inline]
+        fn task_selection(&self) -> ::trocar::nalgebra::SMatrix<f64, 6, 6> {
+            ::trocar::nalgebra::SMatrix::identity()
+        }
+        #[inline]
         fn evaluate(
             &self,
             q: &::trocar::nalgebra::SVector<f64, N>,
@@ -1086,10 +1210,19 @@ pub mod unidirectional {
             ::trocar::control::ControlError,
         > {
             let t = JointTrig::new(&q.data.0[0]);
-            let g_0i = Self::pose(forward_kinematics_i_trig(&t, &self.params));
-            self.state(&t, g_0i, l_a)
+            let mut p = self.params;
+            p.l_a = l_a;
+            let mut s = StepKinematics::zeroed();
+            s.g_0i = forward_kinematics_i_trig(&t, &p);
+            s.offset = l_a;
+            if !<f64 as ::trocar::Real>::is_finite(l_a) || !fill_step(&t, &p, &mut s) {
+                return ::core::result::Result::Err(
+                    ::trocar::control::ControlError::Kinematics,
+                );
+            }
+            ::core::result::Result::Ok(Self::state(&s))
         }
-        /// One `JointTrig` for `g_0i`, `l_a` and everything else.
+        /// One `JointTrig` and one [`step_kinematics`] for `l_a` and everything else.
         #[inline]
         fn evaluate_at_trocar(
             &self,
@@ -1100,9 +1233,13 @@ pub mod unidirectional {
             ::trocar::control::ControlError,
         > {
             let t = JointTrig::new(&q.data.0[0]);
-            let g_0i = Self::pose(forward_kinematics_i_trig(&t, &self.params));
-            let l_a = ::trocar::control::trocar_offset(&g_0i, trocar);
-            ::core::result::Result::Ok((l_a, self.state(&t, g_0i, l_a)?))
+            let mut s = StepKinematics::zeroed();
+            if !step_kinematics(&t, &trocar.data.0[0], &self.params, &mut s) {
+                return ::core::result::Result::Err(
+                    ::trocar::control::ControlError::Kinematics,
+                );
+            }
+            ::core::result::Result::Ok((s.offset, Self::state(&s)))
         }
     }
 }

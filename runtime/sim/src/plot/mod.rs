@@ -177,16 +177,19 @@ pub fn draw<DB: DrawingBackend>(
             ("|eps| (quaternion)", col(&|r| r.eo_norm)),
         ],
     )?;
+    let [a, b] = trace.lateral_axes;
+    let (va, vb) = (format!("v along {a}"), format!("v along {b}"));
+    let (ca, cb) = (format!("commanded {a}"), format!("commanded {b}"));
     panel(
         &panels[1],
         "(b) lateral velocity of the link at the trocar (F_r)",
         "m/s",
         &t,
         &[
-            ("vr_x", col(&|r| r.vr[0])),
-            ("vr_z", col(&|r| r.vr[1])),
-            ("commanded x", col(&|r| r.dv_cmd[0])),
-            ("commanded z", col(&|r| r.dv_cmd[1])),
+            (va.as_str(), col(&|r| r.vr[0])),
+            (vb.as_str(), col(&|r| r.vr[1])),
+            (ca.as_str(), col(&|r| r.dv_cmd[0])),
+            (cb.as_str(), col(&|r| r.dv_cmd[1])),
         ],
     )?;
     panel(
@@ -206,7 +209,7 @@ pub fn draw<DB: DrawingBackend>(
         &t,
         &[("l_a (m)", col(&|r| r.l_a)), ("q7 (rad)", col(&|r| r.q[6]))],
     )?;
-    let qd: Vec<(String, Vec<f64>)> = (0..8)
+    let qd: Vec<(String, Vec<f64>)> = (0..trace.joints)
         .map(|k| (format!("qd{}", k + 1), col(&|r| r.qd[k])))
         .collect();
     let qd_ref: Vec<(&str, Vec<f64>)> = qd.iter().map(|(n, v)| (n.as_str(), v.clone())).collect();

@@ -19,8 +19,10 @@
 //! Jacobians.
 //!
 //! # Measurements (independent of the controller; from forward kinematics only)
-//! - `vr = (vr_x, vr_z)`: lateral velocity, in `F_r`, of the material point of link 6 that is at
-//!   the trocar at step `k`: `R_0i(q_k)ᵀ (m(q_{k+1}) − m(q_k)) / dt`, `m(q) = p_0i(q) + l_a(k) y_i(q)`.
+//! - `vr = (vr_x, vr_z)`: lateral velocity, in `F_r`, of the material point of the constrained
+//!   link that is at the trocar at step `k`, over the step:
+//!   `R_0r(q_k)ᵀ (m(q_{k+1}) − m(q_k)) / dt`, `m(q) = p of g_0i(q) g_ir(l_a(k))`, along the axes
+//!   of `F_r` normal to the shaft (`x_r`, `z_r` on the reference arm; `x_r`, `y_r` on the Panda).
 //! - `rcm_drift`: distance from the trocar point to the axis of link 6.
 //! - `ep_norm = ‖dp − p_0e‖`, `eo_norm = ‖ε̃‖` (vector part of `Q_d ⊗ Q⁻¹`).
 
@@ -28,14 +30,17 @@ mod scenario;
 mod trace;
 
 pub use scenario::{
-    Method, Scenario, ScenarioConfig, SimulationError, A, EXP421_AMPLITUDE, OMEGA, OMEGA_K_421,
-    S4_RCM_AMPLITUDE, S4_RCM_AMPLITUDE_THESIS,
+    panda_reference, Method, Scenario, ScenarioConfig, SimulationError, A, EXP421_AMPLITUDE, OMEGA,
+    OMEGA_K_421, PANDA_CIRCLE_RADIUS, PANDA_DURATION, PANDA_Q0, PANDA_ROLL_AMPLITUDE,
+    PANDA_TIP_DEPTH, S4_RCM_AMPLITUDE, S4_RCM_AMPLITUDE_THESIS,
 };
 pub use trace::{Summary, Trace, TraceRow, CSV_HEADER};
 
 use nalgebra::{Const, SVector, Vector3};
 use trocar::constraint::Constraint;
-use trocar::control::{self, ChainKinematics, Controller, ControllerConfig, Rcm};
+use trocar::control::{
+    self, ChainKinematics, Controller, ControllerConfig, NullSpaceObjective, Rcm, Shaft,
+};
 use trocar::kinematics::Chain;
 use trocar::manipulability::SquareDim;
 use trocar_model::description::RobotDescription;
@@ -50,18 +55,21 @@ pub fn run(config: &ScenarioConfig, progress: impl FnMut(f64)) -> Result<Trace, 
         .map_err(|e| SimulationError::Description(e.to_string()))?;
     let desc = |e: &dyn std::fmt::Display| SimulationError::Description(e.to_string());
     let robot = NumericModel::<f64>::from_description(&d, &[]).map_err(|e| desc(&e))?;
+    if config.scenario == Scenario::Panda {
+        return run_panda(config, &robot, progress);
+    }
     let chain = robot.to_chain::<8>().map_err(|e| desc(&e))?;
     if config.scenario.constrained_directions() == 1 {
-        let kin = ChainKinematics {
+        let kin = ChainKinematics::thesis(
             chain,
-            constraint: Constraint::<f64, 1>::thesis(6, L_A0).map_err(|e| desc(&e))?,
-        };
+            Constraint::<f64, 1>::thesis(6, L_A0).map_err(|e| desc(&e))?,
+        );
         run_arm::<1, 5, 7>(config, &kin, progress)
     } else {
-        let kin = ChainKinematics {
+        let kin = ChainKinematics::thesis(
             chain,
-            constraint: Constraint::<f64, 2>::thesis(6, L_A0).map_err(|e| desc(&e))?,
-        };
+            Constraint::<f64, 2>::thesis(6, L_A0).map_err(|e| desc(&e))?,
+        );
         run_arm::<2, 4, 6>(config, &kin, progress)
     }
 }
@@ -72,10 +80,51 @@ pub const Q0: [f64; 8] = [0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
 /// `l_a` at `q0` (SPEC §3.2).
 pub const L_A0: f64 = 0.15;
 
-/// The position of the point of link 6 at `l_a` along `y_6`: `p_06 + l_a y_6`.
-fn link_point(chain: &Chain<f64, 8>, q: &SVector<f64, 8>, l_a: f64) -> Vector3<f64> {
-    let g = chain.link_frame(6, q);
-    g.translation + g.rotation.column(1) * l_a
+/// What is measured of the RCM at one step, from forward kinematics only.
+struct RcmMeasurement {
+    /// The trocar's offset along the shaft.
+    l_a: f64,
+    /// Distance from the trocar to the shaft's axis.
+    drift: f64,
+    /// Velocity over `[q, q_next]` of the link's material point at the trocar, in `F_r`.
+    velocity: Vector3<f64>,
+}
+
+/// Measures the RCM of link `link` moving along `shaft` over one step from `q` to `q_next`:
+/// the velocity of the material point at the trocar is its displacement over the step divided by
+/// `dt` (the net lateral motion of the tissue point; explicit Euler's chord error included, and
+/// the drift correction's velocity too).
+fn measure_rcm<const N: usize>(
+    chain: &Chain<f64, N>,
+    link: usize,
+    shaft: &Shaft<f64>,
+    q: &SVector<f64, N>,
+    q_next: &SVector<f64, N>,
+    trocar: &Vector3<f64>,
+    dt: f64,
+) -> RcmMeasurement {
+    let g = chain.link_frame(link, q);
+    let l_a = shaft.offset(&g, trocar);
+    let g_0r = shaft.constraint_pose(&g, l_a);
+    let g_next = shaft.constraint_pose(&chain.link_frame(link, q_next), l_a);
+    RcmMeasurement {
+        l_a,
+        drift: shaft.trocar_in_frame(&g, l_a, trocar).norm(),
+        velocity: g_0r.rotation.transpose() * (g_next.translation - g_0r.translation) / dt,
+    }
+}
+
+/// Names of the axes of `F_r`.
+const AXIS_NAMES: [&str; 3] = ["x_r", "y_r", "z_r"];
+
+/// The two axes of `F_r` normal to the shaft, in order (`[0, 2]` for a shaft along `y_r`).
+fn lateral_axes(shaft: &Shaft<f64>) -> [usize; 2] {
+    let along = (shaft.rotation.transpose() * shaft.direction).abs().imax();
+    match along {
+        0 => [1, 2],
+        1 => [0, 2],
+        _ => [0, 1],
+    }
 }
 
 /// Runs with the numeric runtime (`kin`) driving the controller, and forward kinematics of its
@@ -118,24 +167,18 @@ where
         // Measurements from forward kinematics.
         let g_0e = chain.forward_kinematics(&q);
         let g_0i = chain.link_frame(6, &q);
-        let y_i = g_0i.rotation.column(1).into_owned();
-        let rel = trocar - g_0i.translation;
-        let l_a = rel.dot(&y_i);
-        let rcm_drift = (rel - y_i * l_a).norm();
-        let m_now = g_0i.translation + y_i * l_a;
-        let m_next = link_point(chain, &q_next, l_a);
-        let vr3 = g_0i.rotation.transpose() * (m_next - m_now) / dt;
+        let m = measure_rcm(chain, 6, &kin.shaft, &q, &q_next, &trocar, dt);
         let ep = reference.position - g_0e.translation;
         let eq = control::orientation_error(&reference.rotation, &g_0e.rotation);
         rows.push(TraceRow {
             t,
             ep_norm: ep.norm(),
             eo_norm: eq.eps.norm(),
-            vr: [vr3.x, vr3.z],
-            rcm_drift,
+            vr: [m.velocity.x, m.velocity.z],
+            rcm_drift: m.drift,
             w_r: out.w_r,
             w_i: out.w_i,
-            l_a,
+            l_a: m.l_a,
             q: q.into(),
             qd: out.qd.into(),
             ep: (g_0e.rotation.transpose() * ep).into(),
@@ -165,6 +208,104 @@ where
         drift_correction: config.drift_correction,
         constrained_directions: R,
         dt,
+        joints: 8,
+        lateral_axes: ["x_r", "z_r"],
+        joint_limits: None,
+        rows,
+    })
+}
+
+/// The Panda laparoscope ([`Scenario::Panda`]): the numeric runtime of `panda-laparoscope`
+/// (7 joints, constraint on the last link, `H = (x_r, y_r)`, task `x y z rz`) drives the
+/// controller; the spare freedom of the arm keeps the joints from their URDF limits.
+fn run_panda(
+    config: &ScenarioConfig,
+    robot: &NumericModel<f64>,
+    mut progress: impl FnMut(f64),
+) -> Result<Trace, SimulationError> {
+    let desc = |e: &dyn std::fmt::Display| SimulationError::Description(e.to_string());
+    let kin = robot.to_kinematics::<7, 2, 4>().map_err(|e| desc(&e))?;
+    let limits: Vec<[f64; 2]> = robot
+        .description()
+        .joints
+        .iter()
+        .map(|j| j.limits.unwrap_or([f64::NEG_INFINITY, f64::INFINITY]))
+        .collect();
+    let objective = NullSpaceObjective::JointLimits {
+        gain: config.null_space_gain,
+        lower: SVector::from_fn(|k, _| limits[k][0]),
+        upper: SVector::from_fn(|k, _| limits[k][1]),
+    };
+    let dt = config.dt;
+    let steps = (config.duration / dt).round() as usize;
+    let chain = &kin.chain;
+    let mut q = SVector::<f64, 7>::from(PANDA_Q0);
+    let g_0e0 = chain.forward_kinematics(&q);
+    let l_a0 = robot
+        .parameters()
+        .iter()
+        .find(|(n, _)| n == "l_a")
+        .map_or(0.0, |p| p.1);
+    let trocar = kin
+        .shaft
+        .constraint_pose(&chain.link_frame(7, &q), l_a0)
+        .translation;
+    let axes = lateral_axes(&kin.shaft);
+    let mut ctrl = Controller::<f64, 7, 7, 2, 4, 4, 4>::new(config.controller_config())
+        .with_objective(objective);
+    let mut rows = Vec::with_capacity(steps + 1);
+    let report_every = (steps / 100).max(1);
+    let none = Vector3::zeros();
+    for k in 0..=steps {
+        let t = k as f64 * dt;
+        let reference = config.scenario.reference(t, dt, &g_0e0, &none);
+        let rcm = Rcm {
+            trocar,
+            dv: SVector::<f64, 2>::zeros(),
+        };
+        let out = ctrl
+            .step(&kin, &q, &reference, &rcm, dt)
+            .map_err(|e| SimulationError::Control { t, error: e })?;
+        let q_next = q + out.qd * dt;
+        let g_0e = chain.forward_kinematics(&q);
+        let m = measure_rcm(chain, 7, &kin.shaft, &q, &q_next, &trocar, dt);
+        let ep = reference.position - g_0e.translation;
+        let eq = control::orientation_error(&reference.rotation, &g_0e.rotation);
+        let mut qa = [0.0; 8];
+        let mut qda = [0.0; 8];
+        qa[..7].copy_from_slice(q.as_slice());
+        qda[..7].copy_from_slice(out.qd.as_slice());
+        rows.push(TraceRow {
+            t,
+            ep_norm: ep.norm(),
+            eo_norm: eq.eps.norm(),
+            vr: [m.velocity[axes[0]], m.velocity[axes[1]]],
+            rcm_drift: m.drift,
+            w_r: out.w_r,
+            w_i: out.w_i,
+            l_a: m.l_a,
+            q: qa,
+            qd: qda,
+            ep: (g_0e.rotation.transpose() * ep).into(),
+            eo: eq.eps.into(),
+            dv_cmd: [0.0, 0.0],
+            kappa_r: out.kappa_r,
+        });
+        q = q_next;
+        if k % report_every == 0 {
+            progress(k as f64 / steps as f64);
+        }
+    }
+    progress(1.0);
+    Ok(Trace {
+        scenario: config.scenario,
+        method: config.method,
+        drift_correction: config.drift_correction,
+        constrained_directions: 2,
+        dt,
+        joints: 7,
+        lateral_axes: [AXIS_NAMES[axes[0]], AXIS_NAMES[axes[1]]],
+        joint_limits: Some(limits),
         rows,
     })
 }

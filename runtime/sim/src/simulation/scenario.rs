@@ -22,7 +22,34 @@ pub enum Scenario {
     S4,
     /// Experiment 4.2.1 in kinematic simulation: pinv vs DLS vs FI near the `J^r` singularity.
     Exp421,
+    /// A Franka Panda holding a 0.40 m laparoscope through a trocar (`panda-laparoscope`: the
+    /// constraint on the last link, task `x y z rz`): the tip draws a circle of radius
+    /// [`PANDA_CIRCLE_RADIUS`] in the plane normal to the shaft at `t = 0`, centred on the start
+    /// tip position, once in [`PANDA_DURATION`], while the shaft rolls
+    /// `(π/6) sin(2πt/20)`; joint limits from the URDF, with the spare freedom of the arm kept
+    /// away from them ((44)–(46) of Freitas, Leite & Lizarralde 2010).
+    Panda,
 }
+
+/// Radius of the Panda scenario's circle (m).
+pub const PANDA_CIRCLE_RADIUS: f64 = 0.01;
+/// Duration of the Panda scenario (s): one circle.
+pub const PANDA_DURATION: f64 = 20.0;
+/// Amplitude of the Panda scenario's roll about the shaft (rad).
+pub const PANDA_ROLL_AMPLITUDE: f64 = PI / 6.0;
+/// Depth of the laparoscope's tip below the trocar at the start (m): the tool length 0.40 m
+/// minus the nominal `l_a` = 0.25 m.
+pub const PANDA_TIP_DEPTH: f64 = 0.15;
+/// The Panda's start configuration `(0, −π/4, 0, −3π/4, 0, π/2, π/4)` (rad).
+pub const PANDA_Q0: [f64; 7] = [
+    0.0,
+    -PI / 4.0,
+    0.0,
+    -3.0 * PI / 4.0,
+    0.0,
+    PI / 2.0,
+    PI / 4.0,
+];
 
 /// How `J^r_0e` (and `J^B_0i`) are inverted.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -77,7 +104,7 @@ impl core::fmt::Display for SimulationError {
         match self {
             SimulationError::UnknownScenario(s) => write!(
                 f,
-                "unknown scenario `{s}` (expected one of: 1, 2, 3, 4, exp421)"
+                "unknown scenario `{s}` (expected one of: 1, 2, 3, 4, exp421, panda-laparoscope)"
             ),
             SimulationError::Description(s) => write!(f, "robot description: {s}"),
             SimulationError::Control { t, error } => write!(f, "at t = {t:.3} s: {error}"),
@@ -117,15 +144,16 @@ pub const S4_RCM_AMPLITUDE: f64 = -0.001;
 
 impl Scenario {
     /// All scenarios, in order.
-    pub const ALL: [Scenario; 5] = [
+    pub const ALL: [Scenario; 6] = [
         Scenario::S1,
         Scenario::S2,
         Scenario::S3,
         Scenario::S4,
         Scenario::Exp421,
+        Scenario::Panda,
     ];
 
-    /// Parses `"1"`, `"2"`, `"3"`, `"4"` or `"exp421"`.
+    /// Parses `"1"`, `"2"`, `"3"`, `"4"`, `"exp421"` or `"panda-laparoscope"`.
     pub fn from_name(name: &str) -> Result<Self, SimulationError> {
         match name {
             "1" => Ok(Scenario::S1),
@@ -133,6 +161,7 @@ impl Scenario {
             "3" => Ok(Scenario::S3),
             "4" => Ok(Scenario::S4),
             "exp421" => Ok(Scenario::Exp421),
+            "panda-laparoscope" => Ok(Scenario::Panda),
             other => Err(SimulationError::UnknownScenario(other.to_string())),
         }
     }
@@ -145,6 +174,7 @@ impl Scenario {
             Scenario::S3 => "3",
             Scenario::S4 => "4",
             Scenario::Exp421 => "exp421",
+            Scenario::Panda => "panda-laparoscope",
         }
     }
 
@@ -156,15 +186,22 @@ impl Scenario {
             Scenario::S3 => "Simulation 3: bidirectional zy through singularities (4.3)-(4.4)",
             Scenario::S4 => "Simulation 4: moving RCM (4.5)-(4.6)",
             Scenario::Exp421 => "Experiment 4.2.1 (kinematic simulation): pinv vs DLS vs FI",
+            Scenario::Panda => {
+                "Panda laparoscope: 1 cm circle of the tip with a +-30 deg roll through a trocar"
+            }
         }
     }
 
     /// The shipped robot description used.
     pub fn robot(self) -> &'static str {
-        "dia10_like_zy"
+        match self {
+            Scenario::Panda => "panda-laparoscope",
+            _ => "dia10_like_zy",
+        }
     }
 
-    /// `1` (`H = x_r`) for scenario 1, `2` (`H = (x_r, z_r)`) otherwise.
+    /// `1` (`H = x_r`) for scenario 1, `2` otherwise (`(x_r, z_r)` on the reference arm,
+    /// `(x_r, y_r)` on the Panda).
     pub fn constrained_directions(self) -> usize {
         if self == Scenario::S1 {
             1
@@ -173,11 +210,11 @@ impl Scenario {
         }
     }
 
-    /// The thesis's method for the scenario: DLS for simulation 3, the filtered inverse for the
-    /// experiment, the pseudo-inverse otherwise.
+    /// The thesis's method for the scenario: DLS for simulation 3 and the Panda, the filtered
+    /// inverse for the experiment, the pseudo-inverse otherwise.
     pub fn default_method(self) -> Method {
         match self {
-            Scenario::S3 => Method::Dls,
+            Scenario::S3 | Scenario::Panda => Method::Dls,
             Scenario::Exp421 => Method::Fi,
             _ => Method::Pinv,
         }
@@ -188,6 +225,7 @@ impl Scenario {
     pub fn duration(self) -> f64 {
         match self {
             Scenario::Exp421 => 10.0,
+            Scenario::Panda => PANDA_DURATION,
             _ => 200.0,
         }
     }
@@ -198,8 +236,12 @@ impl Scenario {
     /// `φ = −(π/8) sin ωt`, is applied about `axis7` (about base x, as printed, this arm's `q7`
     /// stays in `[0.48, 0.91]`, far from the `J^r` singularity `q7 = 0` the scenario is meant to
     /// cross). Experiment 4.2.1 moves along the initial end-effector x axis and rotates about
-    /// `axis7` (see [`EXP421_AMPLITUDE`]).
+    /// `axis7` (see [`EXP421_AMPLITUDE`]). The Panda scenario ignores `axis7`: see
+    /// [`panda_reference`].
     pub fn reference(self, t: f64, dt: f64, g0: &Se3<f64>, axis7: &Vector3<f64>) -> Reference<f64> {
+        if self == Scenario::Panda {
+            return panda_reference(t, g0);
+        }
         let axis7 = *axis7;
         let w = OMEGA;
         let (s, c) = (f64::sin, f64::cos);
@@ -256,6 +298,7 @@ impl Scenario {
                     axis7 * rod,
                 )
             }
+            Scenario::Panda => unreachable!("returned above"),
         };
         Reference {
             position: g0.translation + offset,
@@ -282,8 +325,52 @@ impl Scenario {
                 "rotation (7pi/72)(cos wk - 1) about the joint-7 axis at q0 \
                  (the thesis's (pi/18)(cos wk - 1) about x_e leaves q7 >= 0.5)",
             ),
-            Scenario::S1 | Scenario::S2 => None,
+            Scenario::S1 | Scenario::S2 | Scenario::Panda => None,
         }
+    }
+}
+
+/// The Panda scenario's desired tip pose at `t` from the start pose `g0` of the tip frame (the
+/// shaft along its `z`, the trocar [`PANDA_TIP_DEPTH`] behind the tip).
+///
+/// - Position: `p0 + ρ (x0 cos ωt + y0 sin ωt)` with `ρ` = [`PANDA_CIRCLE_RADIUS`],
+///   `ω = 2π/20` rad/s, `x0`, `y0` the start tip frame's axes (so the tip starts 1 cm from the
+///   circle, at its centre, and the position loop closes the gap in the first seconds).
+/// - Orientation: the one the trocar allows there, rolled: the shaft through the trocar and the
+///   desired tip (`z_d ∥ p_d − p_trocar`, the smallest rotation from `z0`), times a roll
+///   `φ = (π/6) sin ωt` about the shaft. So the whole reference is feasible and `eo_norm` goes to
+///   zero with the position error; the task commands only the roll of it (`rz`).
+/// - Velocities: `ṗ_d` exactly; `ω_d` from central differences of the desired rotation
+///   (`h = 1e-6` s).
+pub fn panda_reference(t: f64, g0: &Se3<f64>) -> Reference<f64> {
+    let w = 2.0 * PI / PANDA_DURATION;
+    let x0 = g0.rotation.column(0).into_owned();
+    let y0 = g0.rotation.column(1).into_owned();
+    let z0 = g0.rotation.column(2).into_owned();
+    let trocar = g0.translation - z0 * PANDA_TIP_DEPTH;
+    let position =
+        |t: f64| g0.translation + (x0 * (w * t).cos() + y0 * (w * t).sin()) * PANDA_CIRCLE_RADIUS;
+    let rotation = |t: f64| {
+        let z = (position(t) - trocar).normalize();
+        let align = Rotation3::rotation_between(&z0, &z)
+            .unwrap_or_else(Rotation3::identity)
+            .into_inner();
+        let roll = PANDA_ROLL_AMPLITUDE * (w * t).sin();
+        align * g0.rotation * Rotation3::from_axis_angle(&Vector3::z_axis(), roll).into_inner()
+    };
+    let h = 1e-6;
+    let r = rotation(t);
+    let rdot = (rotation(t + h) - rotation(t - h)) / (2.0 * h);
+    let omega = rdot * r.transpose();
+    Reference {
+        position: position(t),
+        rotation: r,
+        velocity: (y0 * (w * t).cos() - x0 * (w * t).sin()) * (PANDA_CIRCLE_RADIUS * w),
+        angular_velocity: Vector3::new(
+            0.5 * (omega[(2, 1)] - omega[(1, 2)]),
+            0.5 * (omega[(0, 2)] - omega[(2, 0)]),
+            0.5 * (omega[(1, 0)] - omega[(0, 1)]),
+        ),
     }
 }
 
@@ -318,6 +405,9 @@ pub struct ScenarioConfig {
     pub dls_w0_i: f64,
     /// Filtered inverse gains `Γ_r = Γ_l`.
     pub fi_gamma: f64,
+    /// Gain `K` (1/s) of the null-space objective (46) (joint-limit distance) on a redundant
+    /// arm (the Panda); unused on the reference arm, which has none.
+    pub null_space_gain: f64,
     /// Amplitude `a` (m/s) of scenario 4's RCM velocity `dv_0r = a (sin 3ωt, −sin 3ωt)`:
     /// [`S4_RCM_AMPLITUDE`] by default, [`S4_RCM_AMPLITUDE_THESIS`] for (4.6) as printed.
     /// Unused by the other scenarios.
@@ -328,8 +418,14 @@ impl ScenarioConfig {
     /// The thesis's settings for a scenario: gains of Table 4.2 (`K_p = 5`, `K_o = 10`,
     /// `κ = 0.05`) or Table 4.3 for the experiment (`K_p = 270`, `K_o = 1500`, `κ = 0.01`,
     /// `Γ_r = Γ_l = 5`), 2 ms, its default method, drift correction off (`K_r = 20 /s` when on).
+    ///
+    /// The Panda: the same gains, and variable damping starting below `w0 = 1e-3` for the task
+    /// Jacobian `S J^r` (constant there, `w_r` = trocar–tip distance², 0.0225 m² at the start,
+    /// so the damping only acts when the tip comes within 3.2 cm of the trocar), `0.01` for
+    /// `J^B_0i`; null-space gain 10 /s.
     pub fn new(scenario: Scenario) -> Self {
         let exp = scenario == Scenario::Exp421;
+        let panda = scenario == Scenario::Panda;
         ScenarioConfig {
             scenario,
             method: scenario.default_method(),
@@ -340,9 +436,10 @@ impl ScenarioConfig {
             kp: if exp { 270.0 } else { 5.0 },
             ko: if exp { 1500.0 } else { 10.0 },
             dls_alpha0: if exp { 0.01 } else { 0.05 },
-            dls_w0_r: 0.1,
+            dls_w0_r: if panda { 1e-3 } else { 0.1 },
             dls_w0_i: 0.01,
             fi_gamma: 5.0,
+            null_space_gain: 10.0,
             s4_rcm_amplitude: S4_RCM_AMPLITUDE,
         }
     }

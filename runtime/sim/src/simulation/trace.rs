@@ -13,8 +13,11 @@ pub struct TraceRow {
     pub ep_norm: f64,
     /// `‖ε̃‖` of the quaternion error.
     pub eo_norm: f64,
-    /// Lateral velocity `(vr_x, vr_z)` of the link point at the trocar, in `F_r` (m/s), from
-    /// finite differences of forward kinematics over `[t, t + dt]`.
+    /// Lateral velocity of the link point at the trocar, in `F_r` (m/s), from finite
+    /// differences of forward kinematics over `[t, t + dt]`: its components along the two axes
+    /// of `F_r` normal to the shaft, in axis order (`(x_r, z_r)` on the reference arm, whose link
+    /// runs along `y`; `(x_r, y_r)` on the Panda's laparoscope, along `z`). The CSV names them
+    /// `vr_x`, `vr_z` for every robot.
     pub vr: [f64; 2],
     /// Distance from the trocar point to the link axis (m).
     pub rcm_drift: f64,
@@ -24,15 +27,15 @@ pub struct TraceRow {
     pub w_i: f64,
     /// `l_a` (m).
     pub l_a: f64,
-    /// Joints (rad).
+    /// Joints (rad); the first [`Trace::joints`] entries are used.
     pub q: [f64; 8],
-    /// Joint velocities (rad/s).
+    /// Joint velocities (rad/s); the first [`Trace::joints`] entries are used.
     pub qd: [f64; 8],
     /// Position error in the end-effector frame, `R_0eᵀ(dp − p)` (m).
     pub ep: [f64; 3],
     /// Orientation error `ε̃` (base coordinates).
     pub eo: [f64; 3],
-    /// Commanded RCM velocity on `(x_r, z_r)` (m/s).
+    /// Commanded RCM velocity on the lateral axes of [`TraceRow::vr`] (m/s).
     pub dv_cmd: [f64; 2],
     /// Damping applied to `J^r_0e`.
     pub kappa_r: f64,
@@ -51,11 +54,19 @@ pub struct Trace {
     pub constrained_directions: usize,
     /// Sample time (s).
     pub dt: f64,
+    /// Number of joints `n` (8 on the reference arm, 7 on the Panda).
+    pub joints: usize,
+    /// The axes of `F_r` of [`TraceRow::vr`]'s components: `["x_r", "z_r"]` on the reference
+    /// arm, `["x_r", "y_r"]` on the Panda.
+    pub lateral_axes: [&'static str; 2],
+    /// Joint limits `[lower, upper]` (rad) of the `n` joints, when the robot has them.
+    pub joint_limits: Option<Vec<[f64; 2]>>,
     /// One row per step.
     pub rows: Vec<TraceRow>,
 }
 
-/// The CSV header, in column order.
+/// The CSV header of the reference arm (8 joints), in column order; [`Trace::csv_header`] for
+/// any robot.
 pub const CSV_HEADER: &str = "t,ep_norm,eo_norm,vr_x,vr_z,rcm_drift,w_r,w_i,l_a,\
 q1,q2,q3,q4,q5,q6,q7,q8,qd1,qd2,qd3,qd4,qd5,qd6,qd7,qd8";
 
@@ -84,21 +95,37 @@ pub struct Summary {
     pub min_w_i: f64,
     /// Smallest `|q7|` (rad).
     pub min_abs_q7: f64,
+    /// Smallest distance of a joint to its nearest limit (rad; negative beyond a limit), when
+    /// the robot has limits.
+    pub min_limit_margin: Option<f64>,
     /// Range of `l_a` (m).
     pub l_a_range: (f64, f64),
 }
 
 impl Trace {
-    /// Writes the CSV (columns [`CSV_HEADER`]) to a writer.
+    /// The CSV header: `t,ep_norm,eo_norm,vr_x,vr_z,rcm_drift,w_r,w_i,l_a`, then `q1..qn`,
+    /// `qd1..qdn` ([`CSV_HEADER`] on the reference arm).
+    pub fn csv_header(&self) -> String {
+        let mut h = String::from("t,ep_norm,eo_norm,vr_x,vr_z,rcm_drift,w_r,w_i,l_a");
+        for prefix in ["q", "qd"] {
+            for k in 1..=self.joints {
+                h += &format!(",{prefix}{k}");
+            }
+        }
+        h
+    }
+
+    /// Writes the CSV (columns [`Trace::csv_header`]) to a writer.
     pub fn to_csv(&self, mut w: impl Write) -> std::io::Result<()> {
-        writeln!(w, "{CSV_HEADER}")?;
+        writeln!(w, "{}", self.csv_header())?;
+        let n = self.joints;
         for r in &self.rows {
             write!(
                 w,
                 "{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
                 r.t, r.ep_norm, r.eo_norm, r.vr[0], r.vr[1], r.rcm_drift, r.w_r, r.w_i, r.l_a
             )?;
-            for v in r.q.iter().chain(r.qd.iter()) {
+            for v in r.q[..n].iter().chain(r.qd[..n].iter()) {
                 write!(w, ",{v:e}")?;
             }
             writeln!(w)?;
@@ -151,6 +178,15 @@ impl Trace {
             min_w_r: min(&|r| r.w_r),
             min_w_i: min(&|r| r.w_i),
             min_abs_q7: min(&|r| r.q[6].abs()),
+            min_limit_margin: self.joint_limits.as_ref().map(|limits| {
+                min(&|r| {
+                    limits
+                        .iter()
+                        .zip(&r.q)
+                        .map(|(l, q)| (q - l[0]).min(l[1] - q))
+                        .fold(f64::INFINITY, f64::min)
+                })
+            }),
             l_a_range: (min(&|r| r.l_a), max(&|r| r.l_a)),
         }
     }
