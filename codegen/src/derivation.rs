@@ -231,6 +231,9 @@ pub struct Derivation {
     pub body_jacobian_e: Option<Matrix>,
     /// The constrained part, when the description has a constraint.
     pub constraint: Option<ConstrainedDerivation>,
+    /// Joint limits `[lower, upper]` (rad or m), when every joint has them (from the URDF or
+    /// `limits = [lo, hi]`).
+    pub joint_limits: Option<Vec<[f64; 2]>>,
 }
 
 /// Largest estimated number of terms of one entry of an expanded product (`len(a) · len(b) ·
@@ -550,6 +553,7 @@ pub fn derive(desc: &RobotDescription) -> Result<Derivation, DerivationError> {
         fk_e,
         body_jacobian_e,
         constraint,
+        joint_limits: desc.joints.iter().map(|j| j.limits).collect(),
     })
 }
 

@@ -112,6 +112,7 @@ fn small_module() -> ModuleSpec {
             },
         ],
         controller: None,
+        joint_limits: None,
     }
 }
 

@@ -178,23 +178,43 @@ fn load(
     }
 }
 
-/// Prefixes the module's own item names (`N`, `Params`, `JointTrig`, ...) with `module::`.
+/// Prefixes the module's own item names (`N`, `Params`, `JointTrig`, ...) with `module::`:
+/// type names where a type is expected, constant and function names in expressions (array
+/// lengths), so that a generic parameter `T` and a module constant `T` (task rows) stay apart.
 struct Qualify<'a> {
     module: &'a Ident,
-    names: &'a BTreeSet<String>,
+    /// The module's types (structs, aliases).
+    types: &'a BTreeSet<String>,
+    /// The module's constants and functions.
+    values: &'a BTreeSet<String>,
 }
 
-impl VisitMut for Qualify<'_> {
-    fn visit_path_mut(&mut self, path: &mut syn::Path) {
+impl Qualify<'_> {
+    fn qualify(&self, path: &mut syn::Path, names: &BTreeSet<String>) {
         if path.leading_colon.is_none()
             && path.segments.len() == 1
-            && self.names.contains(&path.segments[0].ident.to_string())
+            && names.contains(&path.segments[0].ident.to_string())
         {
             let m = self.module;
             let seg = path.segments[0].clone();
             *path = syn::parse_quote!(#m::#seg);
         }
-        syn::visit_mut::visit_path_mut(self, path);
+    }
+}
+
+impl VisitMut for Qualify<'_> {
+    fn visit_type_path_mut(&mut self, tp: &mut syn::TypePath) {
+        if tp.qself.is_none() {
+            self.qualify(&mut tp.path, self.types);
+        }
+        syn::visit_mut::visit_type_path_mut(self, tp);
+    }
+
+    fn visit_expr_path_mut(&mut self, ep: &mut syn::ExprPath) {
+        if ep.qself.is_none() {
+            self.qualify(&mut ep.path, self.values);
+        }
+        syn::visit_mut::visit_expr_path_mut(self, ep);
     }
 }
 
@@ -231,26 +251,35 @@ fn delegates(strukt: &ItemStruct, module: &syn::ItemMod) -> TokenStream {
     let vis = &strukt.vis;
     let m = &module.ident;
     let items: &[Item] = module.content.as_ref().map_or(&[], |(_, i)| i);
-    let names: BTreeSet<String> = items
+    let types: BTreeSet<String> = items
+        .iter()
+        .filter_map(|i| match i {
+            Item::Struct(s) => Some(s.ident.to_string()),
+            Item::Type(t) => Some(t.ident.to_string()),
+            _ => None,
+        })
+        .collect();
+    let values: BTreeSet<String> = items
         .iter()
         .filter_map(|i| match i {
             Item::Const(c) => Some(c.ident.to_string()),
-            Item::Struct(s) => Some(s.ident.to_string()),
             Item::Fn(f) => Some(f.sig.ident.to_string()),
-            Item::Type(t) => Some(t.ident.to_string()),
             _ => None,
         })
         .collect();
     let mut qualify = Qualify {
         module: m,
-        names: &names,
+        types: &types,
+        values: &values,
     };
     let mut assoc = Vec::new();
     let mut aliases = Vec::new();
     for item in items {
         match item {
             Item::Const(c) => {
-                let (name, ty) = (&c.ident, &c.ty);
+                let mut ty = (*c.ty).clone();
+                qualify.visit_type_mut(&mut ty);
+                let name = &c.ident;
                 let doc = format!("{} (`{m}::{name}`)", summary(&c.attrs));
                 assoc.push(quote! { #[doc = #doc] pub const #name: #ty = #m::#name; });
             }
@@ -289,7 +318,7 @@ fn delegates(strukt: &ItemStruct, module: &syn::ItemMod) -> TokenStream {
         }
     }
     let params_alias = format_ident!("{}Params", ident);
-    let nominal = if names.contains("Params") {
+    let nominal = if types.contains("Params") {
         let params_ty: Option<&syn::ItemStruct> = items.iter().find_map(|i| match i {
             Item::Struct(s) if s.ident == "Params" => Some(s),
             _ => None,

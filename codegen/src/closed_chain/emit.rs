@@ -149,6 +149,7 @@ pub fn module_spec(d: &MechanismDerivation, module_name: &str) -> ModuleSpec {
         consts,
         functions,
         controller: None,
+        joint_limits: None,
     }
 }
 

@@ -491,6 +491,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
         consts,
         functions,
         controller: super::controller::ControllerSpec::of(d),
+        joint_limits: d.joint_limits.clone(),
     }
 }
 

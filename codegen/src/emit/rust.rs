@@ -168,6 +168,8 @@ pub struct ModuleSpec {
     /// when the constraint frame slides along the link, `Kinematics`; see
     /// [`super::controller`]).
     pub controller: Option<super::controller::ControllerSpec>,
+    /// Joint limits `[lower, upper]`, emitted as `JOINT_LIMITS` when every joint has them.
+    pub joint_limits: Option<Vec<[f64; 2]>>,
 }
 
 impl ModuleSpec {
@@ -812,6 +814,14 @@ pub fn module_items_in(spec: &ModuleSpec, real: Real, runtime: &Runtime) -> Toke
         quote!(#d pub const #id: usize = #v;)
     });
     let params = params_tokens(spec, &ty);
+    let limits = spec.joint_limits.as_ref().map(|limits| {
+        let rows = limits.iter().map(|[lo, hi]| quote!([#lo, #hi]));
+        quote! {
+            /// Joint limits `[lower, upper]` (rad for revolute joints, m for prismatic ones),
+            /// base first, from the description (its URDF's `<limit>` or `limits = [lo, hi]`).
+            pub const JOINT_LIMITS: [[f64; 2]; N] = [#(#rows),*];
+        }
+    });
     let trig = trig_tokens(spec, &ty);
     let fns = spec
         .functions
@@ -823,6 +833,7 @@ pub fn module_items_in(spec: &ModuleSpec, real: Real, runtime: &Runtime) -> Toke
         .map(|c| super::controller::tokens(ty.runtime(), real, c));
     quote! {
         #(#consts)*
+        #limits
         #params
         #trig
         #(#fns)*

@@ -1,0 +1,64 @@
+//! The f32 controller on generated kinematics follows the Panda scenario like the f64 numeric
+//! runtime (`trocar_sim`): the same reference and trocar, joints within f32 accuracy, the trocar
+//! held and the tip on the circle (measured with f64 forward kinematics of the numeric model).
+
+use trocar::control::Reference;
+use trocar::nalgebra::{SVector, Vector3};
+use trocar_model::description::RobotDescription;
+use trocar_model::numeric::NumericModel;
+use trocar_panda::{control_step, controller, Q0};
+use trocar_sim::simulation::{panda_reference, run, Scenario, ScenarioConfig, PANDA_TIP_DEPTH};
+
+fn to_f32(r: &Reference<f64>) -> Reference<f32> {
+    Reference {
+        position: r.position.cast(),
+        rotation: r.rotation.cast(),
+        velocity: r.velocity.cast(),
+        angular_velocity: r.angular_velocity.cast(),
+    }
+}
+
+#[test]
+fn f32_generated_controller_tracks_like_the_f64_numeric_run() {
+    let steps = 2500; // 5 s of the 20 s scenario
+    let dt = 0.002;
+    let f64_run = run(
+        &ScenarioConfig::new(Scenario::Panda).with_drift_correction(true),
+        |_| {},
+    )
+    .unwrap();
+    let d = RobotDescription::preset("panda-laparoscope").unwrap();
+    let chain = NumericModel::<f64>::from_description(&d, &[])
+        .unwrap()
+        .to_chain::<7>()
+        .unwrap();
+    let q64 = |q: &[f32; 7]| SVector::<f64, 7>::from_fn(|k, _| f64::from(q[k]));
+    let g0 = chain.forward_kinematics(&q64(&Q0));
+    let trocar = g0.translation - g0.rotation.column(2) * PANDA_TIP_DEPTH;
+    let trocar32 = [trocar.x as f32, trocar.y as f32, trocar.z as f32];
+    let mut ctrl = controller();
+    let mut q = Q0;
+    let (mut worst, mut drift) = (0.0f64, 0.0f64);
+    for k in 0..steps {
+        let reference = to_f32(&panda_reference(k as f64 * dt, &g0));
+        let out = control_step(&mut ctrl, &q, &reference, &trocar32, dt as f32).unwrap();
+        let row = &f64_run.rows[k].q;
+        for j in 0..7 {
+            worst = worst.max((f64::from(q[j]) - row[j]).abs());
+        }
+        // Distance of the trocar from the shaft (z of link 7's frame).
+        let g = chain.link_frame(7, &q64(&q));
+        let z: Vector3<f64> = g.rotation.column(2).into_owned();
+        let rel = trocar - g.translation;
+        drift = drift.max((rel - z * rel.dot(&z)).norm());
+        for (qk, v) in q.iter_mut().zip(out.qd.iter()) {
+            *qk += dt as f32 * v;
+        }
+    }
+    let tip = chain.forward_kinematics(&q64(&q)).translation;
+    let tip_error = (tip - panda_reference(steps as f64 * dt, &g0).position).norm();
+    println!("f32 vs f64 joints {worst:.2e} rad, drift {drift:.2e} m, tip error {tip_error:.2e} m");
+    assert!(worst < 1e-3, "f32 joints differ from f64 by {worst}");
+    assert!(drift < 1e-4, "the trocar moved off the shaft by {drift} m");
+    assert!(tip_error < 1e-4, "tip error {tip_error} m after 5 s");
+}
