@@ -27,6 +27,17 @@ pub mod iiwa_endoscope {
     pub const K: usize = 4;
     /// Number of task rows `t` (rows of `S`, the `[task]` selection).
     pub const T: usize = 4;
+    /// Joint limits `[lower, upper]` (rad for revolute joints, m for prismatic ones),
+    /// base first, from the description (its URDF's `<limit>` or `limits = [lo, hi]`).
+    pub const JOINT_LIMITS: [[f64; 2]; N] = [
+        [-2.9670597283903604f64, 2.9670597283903604f64],
+        [-2.0943951023931953f64, 2.0943951023931953f64],
+        [-2.9670597283903604f64, 2.9670597283903604f64],
+        [-2.0943951023931953f64, 2.0943951023931953f64],
+        [-2.9670597283903604f64, 2.9670597283903604f64],
+        [-2.0943951023931953f64, 2.0943951023931953f64],
+        [-3.0543261909900763f64, 3.0543261909900763f64],
+    ];
     /// The named parameters of `iiwa_endoscope`: runtime inputs of every function.
     #[derive(Clone, Copy, Debug, Default, PartialEq)]
     pub struct Params {

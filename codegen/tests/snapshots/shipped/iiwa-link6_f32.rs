@@ -25,6 +25,17 @@ pub mod iiwa_link6 {
     pub const M: usize = 6;
     /// Number of columns of `Λ#`: `k = 6 − r`, the free directions of the constrained link's twist.
     pub const K: usize = 5;
+    /// Joint limits `[lower, upper]` (rad for revolute joints, m for prismatic ones),
+    /// base first, from the description (its URDF's `<limit>` or `limits = [lo, hi]`).
+    pub const JOINT_LIMITS: [[f64; 2]; N] = [
+        [-2.9670597283903604f64, 2.9670597283903604f64],
+        [-2.0943951023931953f64, 2.0943951023931953f64],
+        [-2.9670597283903604f64, 2.9670597283903604f64],
+        [-2.0943951023931953f64, 2.0943951023931953f64],
+        [-2.9670597283903604f64, 2.9670597283903604f64],
+        [-2.0943951023931953f64, 2.0943951023931953f64],
+        [-3.0543261909900763f64, 3.0543261909900763f64],
+    ];
     /// The named parameters of `iiwa_link6`: runtime inputs of every function.
     #[derive(Clone, Copy, Debug, Default, PartialEq)]
     pub struct Params {

@@ -27,6 +27,17 @@ pub mod panda_laparoscope {
     pub const K: usize = 4;
     /// Number of task rows `t` (rows of `S`, the `[task]` selection).
     pub const T: usize = 4;
+    /// Joint limits `[lower, upper]` (rad for revolute joints, m for prismatic ones),
+    /// base first, from the description (its URDF's `<limit>` or `limits = [lo, hi]`).
+    pub const JOINT_LIMITS: [[f64; 2]; N] = [
+        [-2.8973f64, 2.8973f64],
+        [-1.7628f64, 1.7628f64],
+        [-2.8973f64, 2.8973f64],
+        [-3.0718f64, -0.0698f64],
+        [-2.8973f64, 2.8973f64],
+        [-0.0175f64, 3.7525f64],
+        [-2.8973f64, 2.8973f64],
+    ];
     /// The named parameters of `panda_laparoscope`: runtime inputs of every function.
     #[derive(Clone, Copy, Debug, Default, PartialEq)]
     pub struct Params {
