@@ -440,8 +440,17 @@ impl<
 
         // 4. [v0i; θ̇_jn] = J_inv S (u − J_c dv_0r) (3.34), J = S J^r.
         let sel = kin.task_selection();
-        let task_jr: SMatrix<T, P, M> = sel * s.jr;
-        let dv_e: SVector<T, P> = sel * (u - s.jc * dv_0r);
+        let rhs = u - s.jc * dv_0r;
+        // A whole 6-D task (S = I) needs no product.
+        let whole = P == 6 && sel == SMatrix::<T, P, 6>::identity();
+        let (task_jr, dv_e): (SMatrix<T, P, M>, SVector<T, P>) = if whole {
+            (
+                SMatrix::from_iterator(s.jr.iter().copied()),
+                SVector::from_iterator(rhs.iter().copied()),
+            )
+        } else {
+            (sel * s.jr, sel * rhs)
+        };
         let jr = PreparedJacobian::new(&task_jr);
         let jb0i = PreparedJacobian::new(&s.jb0i);
         let w_r = jr.manipulability();

@@ -1,15 +1,132 @@
-//! One full constrained control step (f64, DLS on `J^r_0e` and `J^B_0i`, drift correction on) on
-//! `dia10_like_zy`, with the generated closed forms and with the numeric runtime, in one run.
-//! Issue 7's target: a full constrained control step ≤ 1 µs median.
+//! One full constrained control step (f64, DLS on the task Jacobian and on `J^B_0i`, drift
+//! correction on), in one criterion run:
+//!
+//! - `dia10_like_zy` with the generated closed forms and with the numeric runtime;
+//! - the Panda laparoscope (`panda-laparoscope`: constraint on the last link, task `x y z rz`,
+//!   joint-limit objective on the arm's spare freedom) with the generated closed forms;
+//! - for both generated robots, the **baseline**: the step of 2026-11-23 written out
+//!   ([`baseline::step`]: nalgebra's `LU` for square matrices, Cholesky of the Gram matrix
+//!   otherwise, the matrices copied entry by entry), on the same generated kinematics, so that a
+//!   faster step is measured against it in one run (the target of the real-robot work: ≤ 0.57×).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use trocar::constraint::Constraint;
-use trocar::control::{ChainKinematics, ConstrainedKinematics, Controller, Rcm, Reference};
+use trocar::control::{
+    ChainKinematics, ConstrainedKinematics, Controller, ControllerConfig, NullSpaceObjective, Rcm,
+    Reference,
+};
 use trocar::nalgebra::{SVector, Vector3};
 use trocar_model::description::RobotDescription;
 use trocar_model::numeric::NumericModel;
-use trocar_sim::simulation::{Method, Scenario, ScenarioConfig, L_A0, Q0};
-use trocar_tests_generated::control::GeneratedKinematics;
+use trocar_sim::simulation::{Method, Scenario, ScenarioConfig, L_A0, PANDA_Q0, Q0};
+use trocar_tests_generated::control::{GeneratedKinematics, PandaLaparoscope};
+
+/// The control step of 2026-11-23: the algorithm of `trocar::control::Controller::step`
+/// (pseudo-inverse or damped least squares), with nalgebra's fixed-size `LU` for square matrices
+/// and `from_iterator` copies.
+mod baseline {
+    use trocar::control::{
+        damped_solve, orientation_error, resolve_with_null_space, ConstrainedKinematics,
+        ControllerConfig, Method, NullSpaceObjective, Rcm, Reference,
+    };
+    use trocar::nalgebra::{Const, DimMin, SMatrix, SVector, Vector3, Vector6};
+
+    fn prepared<const R: usize, const C: usize>(
+        j: &SMatrix<f64, R, C>,
+        kappa_of: impl Fn(f64) -> f64,
+        v: &SVector<f64, R>,
+    ) -> Option<(SVector<f64, C>, f64)>
+    where
+        Const<R>: DimMin<Const<R>, Output = Const<R>>,
+    {
+        if R == C {
+            let square = SMatrix::<f64, R, R>::from_iterator(j.iter().copied());
+            let lu = square.lu();
+            let w = lu.determinant().abs();
+            let kappa = kappa_of(w);
+            if kappa == 0.0 {
+                let x = lu.solve(v)?;
+                return Some((SVector::<f64, C>::from_iterator(x.iter().copied()), w));
+            }
+            return Some((damped_solve(j, kappa, v)?, w));
+        }
+        let w = (j * j.transpose()).lu().determinant().abs().sqrt();
+        Some((damped_solve(j, kappa_of(w), v)?, w))
+    }
+
+    /// One step; `None` where the controller would fail.
+    #[allow(clippy::too_many_arguments)]
+    pub fn step<
+        Kin: ConstrainedKinematics<f64, N, I, R, K, M, P>,
+        const N: usize,
+        const I: usize,
+        const R: usize,
+        const K: usize,
+        const M: usize,
+        const P: usize,
+    >(
+        c: &ControllerConfig<f64>,
+        objective: &NullSpaceObjective<f64, N>,
+        kin: &Kin,
+        q: &SVector<f64, N>,
+        reference: &Reference<f64>,
+        rcm: &Rcm<f64, R>,
+    ) -> Option<SVector<f64, N>>
+    where
+        Const<I>: DimMin<Const<I>, Output = Const<I>>,
+        Const<P>: DimMin<Const<P>, Output = Const<P>>,
+    {
+        let (l_a, s) = kin.evaluate_at_trocar(q, &rcm.trocar).ok()?;
+        let h = kin.h();
+        let e = kin.shaft().trocar_in_frame(&s.g_0i, l_a, &rcm.trocar);
+        let lateral: SVector<f64, R> = h.fixed_columns::<3>(0) * e;
+        let dv_0r = rcm.dv + lateral * c.kr;
+        let rt = s.g_0e.rotation.transpose();
+        let ep = rt * (reference.position - s.g_0e.translation);
+        let eq = orientation_error(&reference.rotation, &s.g_0e.rotation);
+        let uo = rt * (reference.angular_velocity + eq.eps * c.ko);
+        let up: Vector3<f64> = rt * reference.velocity + ep * c.kp - uo.cross(&ep);
+        let u = Vector6::new(up.x, up.y, up.z, uo.x, uo.y, uo.z);
+        let sel = kin.task_selection();
+        let rhs = u - s.jc * dv_0r;
+        let (task_jr, dv_e): (SMatrix<f64, P, M>, SVector<f64, P>) =
+            if P == 6 && sel == SMatrix::<f64, P, 6>::identity() {
+                (
+                    SMatrix::from_iterator(s.jr.iter().copied()),
+                    SVector::from_iterator(rhs.iter().copied()),
+                )
+            } else {
+                (sel * s.jr, sel * rhs)
+            };
+        let damping_r = match c.method {
+            Method::Dls(d) => Some(d),
+            _ => None,
+        };
+        let (x, _) = prepared(&task_jr, |w| damping_r.map_or(0.0, |d| d.kappa(w)), &dv_e)?;
+        let v0i: SVector<f64, K> = x.fixed_rows::<K>(0).into_owned();
+        let v_0i = s.lambda_sharp * v0i + s.lambda_pinv * dv_0r;
+        let kappa_i = |w: f64| c.jb0i_damping.map_or(0.0, |d| d.kappa(w));
+        let qd_i: SVector<f64, I> = if I > 6 && *objective != NullSpaceObjective::None {
+            let w = (s.jb0i * s.jb0i.transpose())
+                .lu()
+                .determinant()
+                .abs()
+                .sqrt();
+            let u0 = objective.gradient::<I>(q, &s.jb0i);
+            resolve_with_null_space(&s.jb0i, kappa_i(w), &v_0i, &u0)?
+        } else {
+            prepared(&s.jb0i, kappa_i, &v_0i)?.0
+        };
+        let mut qd = SVector::<f64, N>::zeros();
+        for k in 0..I {
+            qd[k] = qd_i[k];
+        }
+        for k in I..N {
+            qd[k] = x[K + k - I];
+        }
+        qd.iter().all(|v| v.is_finite()).then_some(qd)
+    }
+}
 
 fn bench_step<Kin: ConstrainedKinematics<f64, 8, 6, 2, 4, 6>>(
     c: &mut Criterion,
@@ -36,7 +153,7 @@ fn bench_step<Kin: ConstrainedKinematics<f64, 8, 6, 2, 4, 6>>(
     });
 }
 
-fn control_step(c: &mut Criterion) {
+fn dia10(c: &mut Criterion) {
     let d = RobotDescription::preset("dia10_like_zy").unwrap();
     let numeric = ChainKinematics::thesis(
         NumericModel::<f64>::from_description(&d, &[])
@@ -71,6 +188,30 @@ fn control_step(c: &mut Criterion) {
         &rcm,
         &config,
     );
+    let cfg: ControllerConfig<f64> = config.controller_config();
+    let q = q0 + SVector::<f64, 8>::from_element(0.01);
+    let none = NullSpaceObjective::None;
+    // Same result as the controller's step (the baseline is the same algorithm).
+    let mut ctrl = Controller::<f64, 8, 6, 2, 4, 6>::new(cfg);
+    let now = ctrl
+        .step(&generated, &q, &reference, &rcm, config.dt)
+        .unwrap()
+        .qd;
+    let then = baseline::step(&cfg, &none, &generated, &q, &reference, &rcm).unwrap();
+    assert!((now - then).amax() < 1e-9, "baseline and step differ");
+    c.bench_function("control_step/generated_baseline", |b| {
+        b.iter(|| {
+            baseline::step(
+                &cfg,
+                &none,
+                black_box(&generated),
+                black_box(&q),
+                black_box(&reference),
+                black_box(&rcm),
+            )
+            .unwrap()
+        })
+    });
     bench_step(
         c,
         "control_step/numeric",
@@ -81,7 +222,6 @@ fn control_step(c: &mut Criterion) {
     );
     // The kinematics alone.
     let l_a = L_A0 + 0.001;
-    let q = q0 + SVector::<f64, 8>::from_element(0.01);
     c.bench_function("evaluate/generated", |b| {
         b.iter(|| black_box(&generated).evaluate(black_box(&q), black_box(l_a)))
     });
@@ -96,5 +236,62 @@ fn control_step(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, control_step);
+fn panda(c: &mut Criterion) {
+    let kin = PandaLaparoscope::<f64>::nominal();
+    let config = ScenarioConfig::new(Scenario::Panda).with_drift_correction(true);
+    let cfg = config.controller_config();
+    let limits: Vec<[f64; 2]> = RobotDescription::preset("panda-laparoscope")
+        .unwrap()
+        .joints
+        .iter()
+        .map(|j| j.limits.unwrap())
+        .collect();
+    let objective = NullSpaceObjective::JointLimits {
+        gain: config.null_space_gain,
+        lower: SVector::from_fn(|k, _| limits[k][0]),
+        upper: SVector::from_fn(|k, _| limits[k][1]),
+    };
+    let q0 = SVector::<f64, 7>::from(PANDA_Q0);
+    let s = ConstrainedKinematics::<f64, 7, 7, 2, 4, 4, 4>::evaluate(&kin, &q0, 0.25).unwrap();
+    let trocar = s.g_0i.transform_point(&Vector3::new(0.0, 0.0, 0.357));
+    let reference = config
+        .scenario
+        .reference(1.0, config.dt, &s.g_0e, &Vector3::zeros());
+    let rcm = Rcm {
+        trocar: trocar + Vector3::new(1e-5, 0.0, 0.0),
+        dv: SVector::<f64, 2>::zeros(),
+    };
+    let q = q0 + SVector::<f64, 7>::from_element(0.01);
+    let mut ctrl = Controller::<f64, 7, 7, 2, 4, 4, 4>::new(cfg).with_objective(objective);
+    let now = ctrl.step(&kin, &q, &reference, &rcm, config.dt).unwrap().qd;
+    let then = baseline::step(&cfg, &objective, &kin, &q, &reference, &rcm).unwrap();
+    assert!((now - then).amax() < 1e-9, "baseline and step differ");
+    c.bench_function("panda_step/generated", |b| {
+        b.iter(|| {
+            ctrl.step(
+                black_box(&kin),
+                black_box(&q),
+                black_box(&reference),
+                black_box(&rcm),
+                black_box(config.dt),
+            )
+            .unwrap()
+        })
+    });
+    c.bench_function("panda_step/generated_baseline", |b| {
+        b.iter(|| {
+            baseline::step(
+                &cfg,
+                &objective,
+                black_box(&kin),
+                black_box(&q),
+                black_box(&reference),
+                black_box(&rcm),
+            )
+            .unwrap()
+        })
+    });
+}
+
+criterion_group!(benches, dia10, panda);
 criterion_main!(benches);
