@@ -129,9 +129,9 @@ impl From<AdmissionError> for RobotError {
             AdmissionError::LinkOutOfRange { link, n } => Self::LinkOutOfRange { link, joints: n },
             AdmissionError::NoRows => ConstraintError::BadRowCount(0).into(),
             AdmissionError::TooManyRows { r } => ConstraintError::BadRowCount(r).into(),
-            e @ (AdmissionError::TooFewJoints { .. } | AdmissionError::TooFewColumns { .. }) => {
-                Self::NotAdmitted(e)
-            }
+            e @ (AdmissionError::TooFewJoints { .. }
+            | AdmissionError::TooFewColumns { .. }
+            | AdmissionError::TooFewJointsBefore { .. }) => Self::NotAdmitted(e),
         }
     }
 }

@@ -110,3 +110,23 @@ fn the_basis_rule() {
     assert!(!Wrist::Zy.basis().fits_rows(1));
     assert!(NullSpaceBasis::Computed.fits_rows(4));
 }
+
+/// The controller resolves the constrained link's twist through `J^B_0i` (6 × i): fewer than six
+/// joints before the constraint cannot give it every twist, whatever the task.
+#[test]
+fn six_joints_before_the_constraint() {
+    assert_eq!(
+        admission_problems(9, 5, 2, 6),
+        vec![AdmissionError::TooFewJointsBefore { link: 5 }]
+    );
+    // With a small task too, and reported on the constrained link with its number.
+    let e = admit(9, 3, 2, 3).unwrap_err();
+    assert_eq!(e, AdmissionError::TooFewJointsBefore { link: 3 });
+    assert_eq!(e.field(), "constraint.link");
+    assert!(
+        e.to_string().contains("i ≥ 6") && e.to_string().contains("i = 3"),
+        "{e}"
+    );
+    assert_eq!(admit(9, 6, 2, 6), Ok(()));
+    assert_eq!(admit(7, 7, 2, 4), Ok(()));
+}

@@ -80,6 +80,12 @@ pub enum AdmissionError {
         /// Task rows `t`.
         t: usize,
     },
+    /// Fewer than 6 joints before the constrained link: `J^B_0i` (6 × i) cannot give the link
+    /// every twist `Λ# v0i + Λ† dv_0r` (3.33) that the controller resolves through it (3.18).
+    TooFewJointsBefore {
+        /// The link `i`.
+        link: usize,
+    },
     /// `J^r` (3.15) has `m = (6 − r) + (n − i)` columns, fewer than the `t` task rows.
     TooFewColumns {
         /// Columns `m`.
@@ -99,7 +105,9 @@ impl AdmissionError {
     pub fn field(&self) -> &'static str {
         match self {
             Self::TooFewJoints { t, .. } | Self::TooFewColumns { t, .. } if *t < 6 => "task.select",
-            Self::LinkOutOfRange { .. } | Self::TooFewColumns { .. } => "constraint.link",
+            Self::LinkOutOfRange { .. }
+            | Self::TooFewColumns { .. }
+            | Self::TooFewJointsBefore { .. } => "constraint.link",
             Self::NoRows | Self::TooManyRows { .. } | Self::TooFewJoints { .. } => "constraint.h",
         }
     }
@@ -131,6 +139,10 @@ impl std::fmt::Display for AdmissionError {
                 }
                 Ok(())
             }
+            Self::TooFewJointsBefore { link } => write!(
+                f,
+                "the joints before the constrained link must give it any twist (J^B_0i of rank 6, resolving V^B_0i = Λ# v0i + Λ† dv_0r), which needs i ≥ 6 joints; here i = {link}"
+            ),
             Self::TooFewColumns { m, after, r, t } => {
                 write!(
                     f,
@@ -152,7 +164,8 @@ impl std::error::Error for AdmissionError {}
 
 /// Every admission rule a constraint at link `link` with `r` rows of `H` on `n` joints and a task
 /// of `t` rows (`6` without a `[task]`) breaks, in a fixed order: the link (`1 ≤ i ≤ n`), the rows
-/// (`1 ≤ r ≤ 5`), `n − r ≥ t`, and `m = (6 − r) + (n − i) ≥ t` (checked only when the others hold).
+/// (`1 ≤ r ≤ 5`), `n − r ≥ t`, `i ≥ 6` (rank 6 of `J^B_0i`), and `m = (6 − r) + (n − i) ≥ t`
+/// (the last two checked only when the others hold).
 /// Empty when admitted. With `t = 6` these are the thesis's `n − r ≥ 6` and `m ≥ 6` (3.15).
 pub fn admission_problems(n: usize, link: usize, r: usize, t: usize) -> Vec<AdmissionError> {
     let mut out = Vec::new();
@@ -168,6 +181,9 @@ pub fn admission_problems(n: usize, link: usize, r: usize, t: usize) -> Vec<Admi
         out.push(AdmissionError::TooFewJoints { n, r, t });
     }
     if out.is_empty() {
+        if link < 6 {
+            out.push(AdmissionError::TooFewJointsBefore { link });
+        }
         let m = 6 - r + n - link;
         if m < t {
             out.push(AdmissionError::TooFewColumns {
