@@ -28,6 +28,12 @@ pub struct ControllerSpec {
     pub offset: Option<String>,
     /// Whether the module has a task selection (`task_selection`, `constrained_task_jacobian`).
     pub task: bool,
+    /// Rows of the task Jacobian `S J^r` (6 without a task).
+    pub task_rows: usize,
+    /// Columns `m` of `J^r`.
+    pub m: usize,
+    /// The constrained link `i` (columns of `J^B_0i`).
+    pub link: usize,
 }
 
 impl ControllerSpec {
@@ -37,6 +43,9 @@ impl ControllerSpec {
         Some(ControllerSpec {
             offset: shaft_parameter(d),
             task: c.task.is_some(),
+            task_rows: c.task.as_ref().map_or(6, |t| t.s.rows()),
+            m: c.m,
+            link: c.link,
         })
     }
 }
@@ -231,7 +240,16 @@ pub(crate) fn tokens(rt: &TokenStream, real: Real, spec: &ControllerSpec) -> Tok
     let glue = spec
         .offset
         .as_deref()
-        .map(|name| glue_tokens(rt, real, name, spec.task));
+        .map(|name| glue_tokens(rt, real, name, spec));
+    // The fixed-size solves of a step: the task Jacobian when square, J^B_0i when 6 × 6.
+    let mut sizes = Vec::new();
+    if spec.task_rows == spec.m {
+        sizes.push(spec.m);
+    }
+    if spec.link == 6 && !sizes.contains(&6) {
+        sizes.push(6);
+    }
+    let solvers = sizes.iter().map(|&d| lu_solve_tokens(rt, real, d));
     quote! {
         #struct_doc
         #[derive(Clone, Copy, Debug, PartialEq)]
@@ -276,13 +294,15 @@ pub(crate) fn tokens(rt: &TokenStream, real: Real, spec: &ControllerSpec) -> Tok
 
         #fill_fn
         #step_fn
+        #(#solvers)*
         #glue
     }
 }
 
 /// `Kinematics<T>` and its `ConstrainedKinematics` implementation, for a module whose
 /// constraint frame slides along the link with the parameter `offset`.
-fn glue_tokens(rt: &TokenStream, real: Real, offset: &str, task: bool) -> TokenStream {
+fn glue_tokens(rt: &TokenStream, real: Real, offset: &str, spec: &ControllerSpec) -> TokenStream {
+    let task = spec.task;
     let offset = format_ident!("{}", offset);
     let (t, generics, args, impl_generics, ty_args) = match real {
         Real::Generic => (
@@ -322,6 +342,36 @@ fn glue_tokens(rt: &TokenStream, real: Real, offset: &str, task: bool) -> TokenS
     );
     let struct_doc = doc_lines(&struct_doc);
     let state_ty = quote!(#rt::control::ConstrainedState<#t, I, R, K, M>);
+    let solve_task = (spec.task_rows == spec.m).then(|| {
+        let name = format_ident!("lu_solve_{}", spec.m);
+        quote! {
+            /// The square task Jacobian solved by the straight-line elimination emitted for
+            /// this size.
+            #[inline]
+            fn solve_task(
+                &self,
+                j: &#rt::nalgebra::SMatrix<#t, #p_const, M>,
+                b: &#rt::nalgebra::SVector<#t, #p_const>,
+            ) -> ::core::option::Option<(#rt::nalgebra::SVector<#t, M>, #t)> {
+                let (x, det) = #name(&j.data.0, &b.data.0[0]);
+                ::core::option::Option::Some((#rt::nalgebra::SVector::from(x), det))
+            }
+        }
+    });
+    let solve_jb0i = (spec.link == 6).then(|| {
+        quote! {
+            /// `J^B_0i` (6 × 6) solved by the straight-line elimination emitted for this size.
+            #[inline]
+            fn solve_jb0i(
+                &self,
+                j: &#rt::nalgebra::SMatrix<#t, 6, I>,
+                b: &#rt::nalgebra::SVector<#t, 6>,
+            ) -> ::core::option::Option<(#rt::nalgebra::SVector<#t, I>, #t)> {
+                let (x, det) = lu_solve_6(&j.data.0, &b.data.0[0]);
+                ::core::option::Option::Some((#rt::nalgebra::SVector::from(x), det))
+            }
+        }
+    });
     quote! {
         #struct_doc
         #[derive(Clone, Copy, Debug, PartialEq)]
@@ -416,6 +466,9 @@ fn glue_tokens(rt: &TokenStream, real: Real, offset: &str, task: bool) -> TokenS
                 ::core::result::Result::Ok(Self::state(&s))
             }
 
+            #solve_task
+            #solve_jb0i
+
             /// One `JointTrig` and one [`step_kinematics`] for `l_a` and everything else.
             #[inline]
             fn evaluate_at_trocar(
@@ -446,4 +499,97 @@ fn doc_lines(text: &str) -> TokenStream {
         quote!(#[doc = #l])
     });
     quote!(#(#lines)*)
+}
+
+/// `lu_solve_{d}`: `J x = b` for a square `d × d` matrix (column-major `[col][row]`) by Gaussian
+/// elimination with partial pivoting, written out for this size: every entry a local variable,
+/// the row exchanges of the pivot search as selects, `b` eliminated alongside. Returns `x` and
+/// `det J` (`x` is not meaningful when `det J` is 0 or not finite).
+pub(crate) fn lu_solve_tokens(rt: &TokenStream, real: Real, d: usize) -> TokenStream {
+    let (t, generics) = match real {
+        Real::Generic => (quote!(T), quote!(<T: #rt::Real>)),
+        Real::F32 => (quote!(f32), quote!()),
+        Real::F64 => (quote!(f64), quote!()),
+    };
+    let r = quote!(<#t as #rt::Real>);
+    let name = format_ident!("lu_solve_{}", d);
+    let a = |row: usize, col: usize| format_ident!("a{}_{}", row, col);
+    let bv = |row: usize| format_ident!("b{}", row);
+    let mut body = Vec::new();
+    for row in 0..d {
+        for col in 0..d {
+            let v = a(row, col);
+            body.push(quote!(let mut #v = j[#col][#row];));
+        }
+        let v = bv(row);
+        body.push(quote!(let mut #v = b[#row];));
+    }
+    body.push(quote!(let mut det = #r::ONE;));
+    let inv = |c: usize| format_ident!("inv{}", c);
+    for c in 0..d {
+        // Pivot: bring the largest |a_rc| (r ≥ c) to row c, one compare-and-exchange per row.
+        for row in c + 1..d {
+            let (pc, pr) = (a(c, c), a(row, c));
+            let mut swaps = Vec::new();
+            for col in c..d {
+                let (x, y) = (a(c, col), a(row, col));
+                swaps.push(quote!(let (mut #x, mut #y) = if s { (#y, #x) } else { (#x, #y) };));
+            }
+            let (bx, by) = (bv(c), bv(row));
+            body.push(quote! {
+                let s = #r::abs(#pr) > #r::abs(#pc);
+                #(#swaps)*
+                let (mut #bx, mut #by) = if s { (#by, #bx) } else { (#bx, #by) };
+                if s {
+                    det = -det;
+                }
+            });
+        }
+        let p = a(c, c);
+        let iv = inv(c);
+        body.push(quote! {
+            det *= #p;
+            let #iv = #r::ONE / #p;
+        });
+        for row in c + 1..d {
+            let l = a(row, c);
+            let mut upd = Vec::new();
+            for col in c + 1..d {
+                let (x, y) = (a(row, col), a(c, col));
+                upd.push(quote!(#x -= l * #y;));
+            }
+            let (brow, bc) = (bv(row), bv(c));
+            body.push(quote! {
+                let l = #l * #iv;
+                #(#upd)*
+                #brow -= l * #bc;
+            });
+        }
+    }
+    // Back substitution: x_c = (b_c − Σ_{k>c} a_ck x_k) / a_cc.
+    let x = |c: usize| format_ident!("x{}", c);
+    for c in (0..d).rev() {
+        let (xc, bc, iv) = (x(c), bv(c), inv(c));
+        let terms = (c + 1..d).map(|k| {
+            let (ack, xk) = (a(c, k), x(k));
+            quote!(- #ack * #xk)
+        });
+        body.push(quote!(let #xc = (#bc #(#terms)*) * #iv;));
+    }
+    let xs = (0..d).map(x);
+    let doc = format!(
+        " `J x = b` for a square {d} × {d} `J` (column-major `j[col][row]`): Gaussian elimination \
+         with partial pivoting written out for this size. Returns `(x, det J)`; `x` is not \
+         meaningful when `det J` is 0 or not finite."
+    );
+    quote! {
+        #[doc = #doc]
+        #[inline]
+        #[must_use]
+        #[allow(unused_mut, unused_assignments, clippy::many_single_char_names, clippy::too_many_lines)]
+        pub fn #name #generics (j: &[[#t; #d]; #d], b: &[#t; #d]) -> ([#t; #d], #t) {
+            #(#body)*
+            ([#(#xs),*], det)
+        }
+    }
 }

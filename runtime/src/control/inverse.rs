@@ -87,6 +87,8 @@ where
 {
     j: &'a SMatrix<T, R, C>,
     lu: Option<SquareLu<T, R>>,
+    /// Cholesky factors of `J Jᵀ` for a wide `J` (`None` when not positive definite).
+    gram: Option<Cholesky<T, Const<R>>>,
     w: T,
 }
 
@@ -95,17 +97,37 @@ where
     Const<R>: SquareDim,
     Const<C>: SquareDim,
 {
-    /// Factors `j` (LU when square) and computes its manipulability.
+    /// Factors `j` (LU when square, Cholesky of `J Jᵀ` when wide) and computes its
+    /// manipulability.
     pub fn new(j: &'a SMatrix<T, R, C>) -> Self {
         if R == C {
             let square = SMatrix::<T, R, R>::from_iterator(j.iter().copied());
             let lu = SquareLu::new(&square);
             let w = lu.determinant().abs();
-            PreparedJacobian { j, lu: Some(lu), w }
+            PreparedJacobian {
+                j,
+                lu: Some(lu),
+                gram: None,
+                w,
+            }
+        } else if R < C {
+            // w = sqrt(det(J Jᵀ)) = Π L_kk of J Jᵀ = L Lᵀ; 0 when J Jᵀ is not positive definite.
+            let gram = Cholesky::new(j * j.transpose());
+            let w = gram.as_ref().map_or(T::zero(), |g| {
+                let l = g.l_dirty();
+                (0..R).fold(T::one(), |p, k| p * l[(k, k)])
+            });
+            PreparedJacobian {
+                j,
+                lu: None,
+                gram,
+                w,
+            }
         } else {
             PreparedJacobian {
                 j,
                 lu: None,
+                gram: None,
                 w: manipulability(j),
             }
         }
@@ -116,13 +138,22 @@ where
         self.w
     }
 
+    /// The Jacobian.
+    pub fn jacobian(&self) -> &SMatrix<T, R, C> {
+        self.j
+    }
+
     /// `x = J†_κ v`: the pseudo-inverse (the inverse when square) for `κ = 0`, damped least
     /// squares (3.43) otherwise. `None` if `J` is singular with `κ = 0`, or `x` is not finite.
     pub fn solve(&self, kappa: T, v: &SVector<T, R>) -> Option<SVector<T, C>> {
-        match &self.lu {
-            Some(lu) if kappa == T::zero() => lu
+        match (&self.lu, &self.gram) {
+            (Some(lu), _) if kappa == T::zero() => lu
                 .solve(v)
                 .map(|x| SVector::<T, C>::from_iterator(x.iter().copied())),
+            (_, Some(g)) if kappa == T::zero() => {
+                let x = self.j.tr_mul(&g.solve(v));
+                x.iter().all(|v| v.is_finite()).then_some(x)
+            }
             _ => damped_solve(self.j, kappa, v),
         }
     }
@@ -259,11 +290,30 @@ mod tests {
         assert!((x - sq.try_inverse().unwrap() * v).norm() < 1e-10 * x.norm());
         let xd = prep.solve(0.2, &v).unwrap();
         assert!((xd - damped_pinv(&sq, 0.2).unwrap() * v).norm() < 1e-12);
-        // Wide: manipulability from the Gram matrix, pseudo-inverse by Cholesky.
+        // Wide: manipulability and pseudo-inverse from the Cholesky factors of the Gram matrix
+        // (w = Π L_kk), equal to the LU determinant's and the SVD's to rounding.
         let j = sample();
         let prep = PreparedJacobian::new(&j);
-        assert_eq!(prep.manipulability(), manipulability(&j));
+        let w = manipulability(&j);
+        assert!((prep.manipulability() - w).abs() < 1e-13 * w);
+        let svd_w: f64 = j.svd(false, false).singular_values.iter().product();
+        assert!((prep.manipulability() - svd_w).abs() < 1e-12 * svd_w);
         assert!((prep.solve(0.0, &v).unwrap() - pinv(&j).unwrap() * v).norm() < 1e-12);
+        // Wide and rank-deficient: w ≈ 0, and the solves stay finite (Jᵀ maps the Gram
+        // matrix's near-null direction, null(Jᵀ), to zero).
+        let mut jw = j;
+        jw.set_row(4, &(jw.row(2) * 1.5));
+        let prep = PreparedJacobian::new(&jw);
+        // (Rounding leaves a pivot of order ε: w of order sqrt(ε), against w ≈ 1 when regular.)
+        assert!(
+            prep.manipulability() < 1e-5 * w,
+            "{}",
+            prep.manipulability()
+        );
+        assert!(prep
+            .solve(0.0, &v)
+            .is_none_or(|x| x.iter().all(|x| x.is_finite())));
+        assert!(prep.solve(0.05, &v).unwrap().iter().all(|x| x.is_finite()));
         // Singular square: no inverse, w = 0, damping still solves.
         let mut s = sq;
         s.set_column(3, &(s.column(1) * 2.0));

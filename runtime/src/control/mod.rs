@@ -121,6 +121,21 @@ pub trait ConstrainedKinematics<
         l_a: T,
     ) -> Result<ConstrainedState<T, I, R, K, M>, ControlError>;
 
+    /// `J x = b` for the task Jacobian `J = S J^r_0e` when it is square (`P = M`), by a solve
+    /// specialised for this robot (generated modules emit a straight-line elimination for their
+    /// size): `Some((x, det J))`, `x` meaningful only when `det J` is finite and not 0. `None`
+    /// (the default) lets the controller factor `J` itself.
+    fn solve_task(&self, j: &SMatrix<T, P, M>, b: &SVector<T, P>) -> Option<(SVector<T, M>, T)> {
+        let _ = (j, b);
+        None
+    }
+
+    /// `J x = b` for `J = J^B_0i` when it is square (`I = 6`), as [`Self::solve_task`].
+    fn solve_jb0i(&self, j: &SMatrix<T, 6, I>, b: &SVector<T, 6>) -> Option<(SVector<T, I>, T)> {
+        let _ = (j, b);
+        None
+    }
+
     /// `l_a` of the point of the shaft nearest to the trocar at joints `q`
     /// ([`Shaft::offset`]) and [`Self::evaluate`] there: what a control step asks of the
     /// kinematics. The default calls [`Self::g_0i`], then [`Self::evaluate`]; an implementation
@@ -451,16 +466,34 @@ impl<
         } else {
             (sel * s.jr, sel * rhs)
         };
-        let jr = PreparedJacobian::new(&task_jr);
-        let jb0i = PreparedJacobian::new(&s.jb0i);
-        let w_r = jr.manipulability();
-        let w_i = jb0i.manipulability();
+        // The robot's own square solves when it has them (det = 0 or not finite: not usable).
+        let usable =
+            |r: Option<(SVector<T, M>, T)>| r.filter(|(_, d)| *d != T::zero() && d.is_finite());
+        let direct_r = match c.method {
+            Method::Fi { .. } => None,
+            _ => usable(kin.solve_task(&task_jr, &dv_e)),
+        };
+        let jr = match direct_r {
+            Some(_) => None,
+            None => Some(PreparedJacobian::new(&task_jr)),
+        };
+        let w_r = direct_r.map_or_else(
+            || jr.as_ref().map_or(T::zero(), |j| j.manipulability()),
+            |(_, d)| d.abs(),
+        );
         let mut kappa_r = T::zero();
+        let solve_r = |kappa: T| -> Option<SVector<T, M>> {
+            match (&direct_r, &jr) {
+                (Some((x, _)), _) if kappa == T::zero() => Some(*x),
+                (_, Some(j)) => j.solve(kappa, &dv_e),
+                _ => damped_solve(&task_jr, kappa, &dv_e),
+            }
+        };
         let x: SVector<T, M> = match c.method {
-            Method::Pinv => jr.solve(T::zero(), &dv_e).ok_or(ControlError::SingularJr)?,
+            Method::Pinv => solve_r(T::zero()).ok_or(ControlError::SingularJr)?,
             Method::Dls(d) => {
                 kappa_r = d.kappa(w_r);
-                jr.solve(kappa_r, &dv_e).ok_or(ControlError::SingularJr)?
+                solve_r(kappa_r).ok_or(ControlError::SingularJr)?
             }
             Method::Fi { gamma_r, gamma_l } => {
                 if !self.fi_started {
@@ -477,12 +510,34 @@ impl<
         //    objective's motion in the null space of J^B_0i when it is wide ((44)–(46)).
         let v0i: SVector<T, K> = x.fixed_rows::<K>(0).into_owned();
         let v_0i = s.lambda_sharp * v0i + s.lambda_pinv * dv_0r;
+        let direct_i = kin
+            .solve_jb0i(&s.jb0i, &v_0i)
+            .filter(|(_, d)| *d != T::zero() && d.is_finite());
+        let jb0i = match direct_i {
+            Some(_) => None,
+            None => Some(PreparedJacobian::new(&s.jb0i)),
+        };
+        let w_i = direct_i.map_or_else(
+            || jb0i.as_ref().map_or(T::zero(), |j| j.manipulability()),
+            |(_, d)| d.abs(),
+        );
         let kappa_i = c.jb0i_damping.map_or(T::zero(), |d| d.kappa(w_i));
         let qd_i = if I > 6 && self.objective != NullSpaceObjective::None {
+            // (44)–(45) as u0 + J†_κ (V − J u0) (`resolve_with_null_space`), on the factors
+            // already computed for w_i.
             let u0 = self.objective.gradient::<I>(q, &s.jb0i);
-            resolve_with_null_space(&s.jb0i, kappa_i, &v_0i, &u0)
+            let rhs = v_0i - s.jb0i * u0;
+            match &jb0i {
+                Some(j) => j.solve(kappa_i, &rhs),
+                None => damped_solve(&s.jb0i, kappa_i, &rhs),
+            }
+            .map(|x| x + u0)
         } else {
-            jb0i.solve(kappa_i, &v_0i)
+            match (&direct_i, &jb0i) {
+                (Some((x, _)), _) if kappa_i == T::zero() => Some(*x),
+                (_, Some(j)) => j.solve(kappa_i, &v_0i),
+                _ => damped_solve(&s.jb0i, kappa_i, &v_0i),
+            }
         }
         .ok_or(ControlError::SingularJb0i)?;
 

@@ -1134,6 +1134,312 @@ pub mod bidirectional_zx {
         p.l_a = out.offset;
         <f64 as ::trocar::Real>::is_finite(out.offset) && fill_step(t, &p, out)
     }
+    /// `J x = b` for a square 6 × 6 `J` (column-major `j[col][row]`): Gaussian elimination with partial pivoting written out for this size. Returns `(x, det J)`; `x` is not meaningful when `det J` is 0 or not finite.
+    #[inline]
+    #[must_use]
+    #[allow(
+        unused_mut,
+        unused_assignments,
+        clippy::many_single_char_names,
+        clippy::too_many_lines
+    )]
+    pub fn lu_solve_6(
+        j: &[[f64; 6usize]; 6usize],
+        b: &[f64; 6usize],
+    ) -> ([f64; 6usize], f64) {
+        let mut a0_0 = j[0usize][0usize];
+        let mut a0_1 = j[1usize][0usize];
+        let mut a0_2 = j[2usize][0usize];
+        let mut a0_3 = j[3usize][0usize];
+        let mut a0_4 = j[4usize][0usize];
+        let mut a0_5 = j[5usize][0usize];
+        let mut b0 = b[0usize];
+        let mut a1_0 = j[0usize][1usize];
+        let mut a1_1 = j[1usize][1usize];
+        let mut a1_2 = j[2usize][1usize];
+        let mut a1_3 = j[3usize][1usize];
+        let mut a1_4 = j[4usize][1usize];
+        let mut a1_5 = j[5usize][1usize];
+        let mut b1 = b[1usize];
+        let mut a2_0 = j[0usize][2usize];
+        let mut a2_1 = j[1usize][2usize];
+        let mut a2_2 = j[2usize][2usize];
+        let mut a2_3 = j[3usize][2usize];
+        let mut a2_4 = j[4usize][2usize];
+        let mut a2_5 = j[5usize][2usize];
+        let mut b2 = b[2usize];
+        let mut a3_0 = j[0usize][3usize];
+        let mut a3_1 = j[1usize][3usize];
+        let mut a3_2 = j[2usize][3usize];
+        let mut a3_3 = j[3usize][3usize];
+        let mut a3_4 = j[4usize][3usize];
+        let mut a3_5 = j[5usize][3usize];
+        let mut b3 = b[3usize];
+        let mut a4_0 = j[0usize][4usize];
+        let mut a4_1 = j[1usize][4usize];
+        let mut a4_2 = j[2usize][4usize];
+        let mut a4_3 = j[3usize][4usize];
+        let mut a4_4 = j[4usize][4usize];
+        let mut a4_5 = j[5usize][4usize];
+        let mut b4 = b[4usize];
+        let mut a5_0 = j[0usize][5usize];
+        let mut a5_1 = j[1usize][5usize];
+        let mut a5_2 = j[2usize][5usize];
+        let mut a5_3 = j[3usize][5usize];
+        let mut a5_4 = j[4usize][5usize];
+        let mut a5_5 = j[5usize][5usize];
+        let mut b5 = b[5usize];
+        let mut det = <f64 as ::trocar::Real>::ONE;
+        let s = <f64 as ::trocar::Real>::abs(a1_0) > <f64 as ::trocar::Real>::abs(a0_0);
+        let (mut a0_0, mut a1_0) = if s { (a1_0, a0_0) } else { (a0_0, a1_0) };
+        let (mut a0_1, mut a1_1) = if s { (a1_1, a0_1) } else { (a0_1, a1_1) };
+        let (mut a0_2, mut a1_2) = if s { (a1_2, a0_2) } else { (a0_2, a1_2) };
+        let (mut a0_3, mut a1_3) = if s { (a1_3, a0_3) } else { (a0_3, a1_3) };
+        let (mut a0_4, mut a1_4) = if s { (a1_4, a0_4) } else { (a0_4, a1_4) };
+        let (mut a0_5, mut a1_5) = if s { (a1_5, a0_5) } else { (a0_5, a1_5) };
+        let (mut b0, mut b1) = if s { (b1, b0) } else { (b0, b1) };
+        if s {
+            det = -det;
+        }
+        let s = <f64 as ::trocar::Real>::abs(a2_0) > <f64 as ::trocar::Real>::abs(a0_0);
+        let (mut a0_0, mut a2_0) = if s { (a2_0, a0_0) } else { (a0_0, a2_0) };
+        let (mut a0_1, mut a2_1) = if s { (a2_1, a0_1) } else { (a0_1, a2_1) };
+        let (mut a0_2, mut a2_2) = if s { (a2_2, a0_2) } else { (a0_2, a2_2) };
+        let (mut a0_3, mut a2_3) = if s { (a2_3, a0_3) } else { (a0_3, a2_3) };
+        let (mut a0_4, mut a2_4) = if s { (a2_4, a0_4) } else { (a0_4, a2_4) };
+        let (mut a0_5, mut a2_5) = if s { (a2_5, a0_5) } else { (a0_5, a2_5) };
+        let (mut b0, mut b2) = if s { (b2, b0) } else { (b0, b2) };
+        if s {
+            det = -det;
+        }
+        let s = <f64 as ::trocar::Real>::abs(a3_0) > <f64 as ::trocar::Real>::abs(a0_0);
+        let (mut a0_0, mut a3_0) = if s { (a3_0, a0_0) } else { (a0_0, a3_0) };
+        let (mut a0_1, mut a3_1) = if s { (a3_1, a0_1) } else { (a0_1, a3_1) };
+        let (mut a0_2, mut a3_2) = if s { (a3_2, a0_2) } else { (a0_2, a3_2) };
+        let (mut a0_3, mut a3_3) = if s { (a3_3, a0_3) } else { (a0_3, a3_3) };
+        let (mut a0_4, mut a3_4) = if s { (a3_4, a0_4) } else { (a0_4, a3_4) };
+        let (mut a0_5, mut a3_5) = if s { (a3_5, a0_5) } else { (a0_5, a3_5) };
+        let (mut b0, mut b3) = if s { (b3, b0) } else { (b0, b3) };
+        if s {
+            det = -det;
+        }
+        let s = <f64 as ::trocar::Real>::abs(a4_0) > <f64 as ::trocar::Real>::abs(a0_0);
+        let (mut a0_0, mut a4_0) = if s { (a4_0, a0_0) } else { (a0_0, a4_0) };
+        let (mut a0_1, mut a4_1) = if s { (a4_1, a0_1) } else { (a0_1, a4_1) };
+        let (mut a0_2, mut a4_2) = if s { (a4_2, a0_2) } else { (a0_2, a4_2) };
+        let (mut a0_3, mut a4_3) = if s { (a4_3, a0_3) } else { (a0_3, a4_3) };
+        let (mut a0_4, mut a4_4) = if s { (a4_4, a0_4) } else { (a0_4, a4_4) };
+        let (mut a0_5, mut a4_5) = if s { (a4_5, a0_5) } else { (a0_5, a4_5) };
+        let (mut b0, mut b4) = if s { (b4, b0) } else { (b0, b4) };
+        if s {
+            det = -det;
+        }
+        let s = <f64 as ::trocar::Real>::abs(a5_0) > <f64 as ::trocar::Real>::abs(a0_0);
+        let (mut a0_0, mut a5_0) = if s { (a5_0, a0_0) } else { (a0_0, a5_0) };
+        let (mut a0_1, mut a5_1) = if s { (a5_1, a0_1) } else { (a0_1, a5_1) };
+        let (mut a0_2, mut a5_2) = if s { (a5_2, a0_2) } else { (a0_2, a5_2) };
+        let (mut a0_3, mut a5_3) = if s { (a5_3, a0_3) } else { (a0_3, a5_3) };
+        let (mut a0_4, mut a5_4) = if s { (a5_4, a0_4) } else { (a0_4, a5_4) };
+        let (mut a0_5, mut a5_5) = if s { (a5_5, a0_5) } else { (a0_5, a5_5) };
+        let (mut b0, mut b5) = if s { (b5, b0) } else { (b0, b5) };
+        if s {
+            det = -det;
+        }
+        det *= a0_0;
+        let inv0 = <f64 as ::trocar::Real>::ONE / a0_0;
+        let l = a1_0 * inv0;
+        a1_1 -= l * a0_1;
+        a1_2 -= l * a0_2;
+        a1_3 -= l * a0_3;
+        a1_4 -= l * a0_4;
+        a1_5 -= l * a0_5;
+        b1 -= l * b0;
+        let l = a2_0 * inv0;
+        a2_1 -= l * a0_1;
+        a2_2 -= l * a0_2;
+        a2_3 -= l * a0_3;
+        a2_4 -= l * a0_4;
+        a2_5 -= l * a0_5;
+        b2 -= l * b0;
+        let l = a3_0 * inv0;
+        a3_1 -= l * a0_1;
+        a3_2 -= l * a0_2;
+        a3_3 -= l * a0_3;
+        a3_4 -= l * a0_4;
+        a3_5 -= l * a0_5;
+        b3 -= l * b0;
+        let l = a4_0 * inv0;
+        a4_1 -= l * a0_1;
+        a4_2 -= l * a0_2;
+        a4_3 -= l * a0_3;
+        a4_4 -= l * a0_4;
+        a4_5 -= l * a0_5;
+        b4 -= l * b0;
+        let l = a5_0 * inv0;
+        a5_1 -= l * a0_1;
+        a5_2 -= l * a0_2;
+        a5_3 -= l * a0_3;
+        a5_4 -= l * a0_4;
+        a5_5 -= l * a0_5;
+        b5 -= l * b0;
+        let s = <f64 as ::trocar::Real>::abs(a2_1) > <f64 as ::trocar::Real>::abs(a1_1);
+        let (mut a1_1, mut a2_1) = if s { (a2_1, a1_1) } else { (a1_1, a2_1) };
+        let (mut a1_2, mut a2_2) = if s { (a2_2, a1_2) } else { (a1_2, a2_2) };
+        let (mut a1_3, mut a2_3) = if s { (a2_3, a1_3) } else { (a1_3, a2_3) };
+        let (mut a1_4, mut a2_4) = if s { (a2_4, a1_4) } else { (a1_4, a2_4) };
+        let (mut a1_5, mut a2_5) = if s { (a2_5, a1_5) } else { (a1_5, a2_5) };
+        let (mut b1, mut b2) = if s { (b2, b1) } else { (b1, b2) };
+        if s {
+            det = -det;
+        }
+        let s = <f64 as ::trocar::Real>::abs(a3_1) > <f64 as ::trocar::Real>::abs(a1_1);
+        let (mut a1_1, mut a3_1) = if s { (a3_1, a1_1) } else { (a1_1, a3_1) };
+        let (mut a1_2, mut a3_2) = if s { (a3_2, a1_2) } else { (a1_2, a3_2) };
+        let (mut a1_3, mut a3_3) = if s { (a3_3, a1_3) } else { (a1_3, a3_3) };
+        let (mut a1_4, mut a3_4) = if s { (a3_4, a1_4) } else { (a1_4, a3_4) };
+        let (mut a1_5, mut a3_5) = if s { (a3_5, a1_5) } else { (a1_5, a3_5) };
+        let (mut b1, mut b3) = if s { (b3, b1) } else { (b1, b3) };
+        if s {
+            det = -det;
+        }
+        let s = <f64 as ::trocar::Real>::abs(a4_1) > <f64 as ::trocar::Real>::abs(a1_1);
+        let (mut a1_1, mut a4_1) = if s { (a4_1, a1_1) } else { (a1_1, a4_1) };
+        let (mut a1_2, mut a4_2) = if s { (a4_2, a1_2) } else { (a1_2, a4_2) };
+        let (mut a1_3, mut a4_3) = if s { (a4_3, a1_3) } else { (a1_3, a4_3) };
+        let (mut a1_4, mut a4_4) = if s { (a4_4, a1_4) } else { (a1_4, a4_4) };
+        let (mut a1_5, mut a4_5) = if s { (a4_5, a1_5) } else { (a1_5, a4_5) };
+        let (mut b1, mut b4) = if s { (b4, b1) } else { (b1, b4) };
+        if s {
+            det = -det;
+        }
+        let s = <f64 as ::trocar::Real>::abs(a5_1) > <f64 as ::trocar::Real>::abs(a1_1);
+        let (mut a1_1, mut a5_1) = if s { (a5_1, a1_1) } else { (a1_1, a5_1) };
+        let (mut a1_2, mut a5_2) = if s { (a5_2, a1_2) } else { (a1_2, a5_2) };
+        let (mut a1_3, mut a5_3) = if s { (a5_3, a1_3) } else { (a1_3, a5_3) };
+        let (mut a1_4, mut a5_4) = if s { (a5_4, a1_4) } else { (a1_4, a5_4) };
+        let (mut a1_5, mut a5_5) = if s { (a5_5, a1_5) } else { (a1_5, a5_5) };
+        let (mut b1, mut b5) = if s { (b5, b1) } else { (b1, b5) };
+        if s {
+            det = -det;
+        }
+        det *= a1_1;
+        let inv1 = <f64 as ::trocar::Real>::ONE / a1_1;
+        let l = a2_1 * inv1;
+        a2_2 -= l * a1_2;
+        a2_3 -= l * a1_3;
+        a2_4 -= l * a1_4;
+        a2_5 -= l * a1_5;
+        b2 -= l * b1;
+        let l = a3_1 * inv1;
+        a3_2 -= l * a1_2;
+        a3_3 -= l * a1_3;
+        a3_4 -= l * a1_4;
+        a3_5 -= l * a1_5;
+        b3 -= l * b1;
+        let l = a4_1 * inv1;
+        a4_2 -= l * a1_2;
+        a4_3 -= l * a1_3;
+        a4_4 -= l * a1_4;
+        a4_5 -= l * a1_5;
+        b4 -= l * b1;
+        let l = a5_1 * inv1;
+        a5_2 -= l * a1_2;
+        a5_3 -= l * a1_3;
+        a5_4 -= l * a1_4;
+        a5_5 -= l * a1_5;
+        b5 -= l * b1;
+        let s = <f64 as ::trocar::Real>::abs(a3_2) > <f64 as ::trocar::Real>::abs(a2_2);
+        let (mut a2_2, mut a3_2) = if s { (a3_2, a2_2) } else { (a2_2, a3_2) };
+        let (mut a2_3, mut a3_3) = if s { (a3_3, a2_3) } else { (a2_3, a3_3) };
+        let (mut a2_4, mut a3_4) = if s { (a3_4, a2_4) } else { (a2_4, a3_4) };
+        let (mut a2_5, mut a3_5) = if s { (a3_5, a2_5) } else { (a2_5, a3_5) };
+        let (mut b2, mut b3) = if s { (b3, b2) } else { (b2, b3) };
+        if s {
+            det = -det;
+        }
+        let s = <f64 as ::trocar::Real>::abs(a4_2) > <f64 as ::trocar::Real>::abs(a2_2);
+        let (mut a2_2, mut a4_2) = if s { (a4_2, a2_2) } else { (a2_2, a4_2) };
+        let (mut a2_3, mut a4_3) = if s { (a4_3, a2_3) } else { (a2_3, a4_3) };
+        let (mut a2_4, mut a4_4) = if s { (a4_4, a2_4) } else { (a2_4, a4_4) };
+        let (mut a2_5, mut a4_5) = if s { (a4_5, a2_5) } else { (a2_5, a4_5) };
+        let (mut b2, mut b4) = if s { (b4, b2) } else { (b2, b4) };
+        if s {
+            det = -det;
+        }
+        let s = <f64 as ::trocar::Real>::abs(a5_2) > <f64 as ::trocar::Real>::abs(a2_2);
+        let (mut a2_2, mut a5_2) = if s { (a5_2, a2_2) } else { (a2_2, a5_2) };
+        let (mut a2_3, mut a5_3) = if s { (a5_3, a2_3) } else { (a2_3, a5_3) };
+        let (mut a2_4, mut a5_4) = if s { (a5_4, a2_4) } else { (a2_4, a5_4) };
+        let (mut a2_5, mut a5_5) = if s { (a5_5, a2_5) } else { (a2_5, a5_5) };
+        let (mut b2, mut b5) = if s { (b5, b2) } else { (b2, b5) };
+        if s {
+            det = -det;
+        }
+        det *= a2_2;
+        let inv2 = <f64 as ::trocar::Real>::ONE / a2_2;
+        let l = a3_2 * inv2;
+        a3_3 -= l * a2_3;
+        a3_4 -= l * a2_4;
+        a3_5 -= l * a2_5;
+        b3 -= l * b2;
+        let l = a4_2 * inv2;
+        a4_3 -= l * a2_3;
+        a4_4 -= l * a2_4;
+        a4_5 -= l * a2_5;
+        b4 -= l * b2;
+        let l = a5_2 * inv2;
+        a5_3 -= l * a2_3;
+        a5_4 -= l * a2_4;
+        a5_5 -= l * a2_5;
+        b5 -= l * b2;
+        let s = <f64 as ::trocar::Real>::abs(a4_3) > <f64 as ::trocar::Real>::abs(a3_3);
+        let (mut a3_3, mut a4_3) = if s { (a4_3, a3_3) } else { (a3_3, a4_3) };
+        let (mut a3_4, mut a4_4) = if s { (a4_4, a3_4) } else { (a3_4, a4_4) };
+        let (mut a3_5, mut a4_5) = if s { (a4_5, a3_5) } else { (a3_5, a4_5) };
+        let (mut b3, mut b4) = if s { (b4, b3) } else { (b3, b4) };
+        if s {
+            det = -det;
+        }
+        let s = <f64 as ::trocar::Real>::abs(a5_3) > <f64 as ::trocar::Real>::abs(a3_3);
+        let (mut a3_3, mut a5_3) = if s { (a5_3, a3_3) } else { (a3_3, a5_3) };
+        let (mut a3_4, mut a5_4) = if s { (a5_4, a3_4) } else { (a3_4, a5_4) };
+        let (mut a3_5, mut a5_5) = if s { (a5_5, a3_5) } else { (a3_5, a5_5) };
+        let (mut b3, mut b5) = if s { (b5, b3) } else { (b3, b5) };
+        if s {
+            det = -det;
+        }
+        det *= a3_3;
+        let inv3 = <f64 as ::trocar::Real>::ONE / a3_3;
+        let l = a4_3 * inv3;
+        a4_4 -= l * a3_4;
+        a4_5 -= l * a3_5;
+        b4 -= l * b3;
+        let l = a5_3 * inv3;
+        a5_4 -= l * a3_4;
+        a5_5 -= l * a3_5;
+        b5 -= l * b3;
+        let s = <f64 as ::trocar::Real>::abs(a5_4) > <f64 as ::trocar::Real>::abs(a4_4);
+        let (mut a4_4, mut a5_4) = if s { (a5_4, a4_4) } else { (a4_4, a5_4) };
+        let (mut a4_5, mut a5_5) = if s { (a5_5, a4_5) } else { (a4_5, a5_5) };
+        let (mut b4, mut b5) = if s { (b5, b4) } else { (b4, b5) };
+        if s {
+            det = -det;
+        }
+        det *= a4_4;
+        let inv4 = <f64 as ::trocar::Real>::ONE / a4_4;
+        let l = a5_4 * inv4;
+        a5_5 -= l * a4_5;
+        b5 -= l * b4;
+        det *= a5_5;
+        let inv5 = <f64 as ::trocar::Real>::ONE / a5_5;
+        let x5 = (b5) * inv5;
+        let x4 = (b4 - a4_5 * x5) * inv4;
+        let x3 = (b3 - a3_4 * x4 - a3_5 * x5) * inv3;
+        let x2 = (b2 - a2_3 * x3 - a2_4 * x4 - a2_5 * x5) * inv2;
+        let x1 = (b1 - a1_2 * x2 - a1_3 * x3 - a1_4 * x4 - a1_5 * x5) * inv1;
+        let x0 = (b0 - a0_1 * x1 - a0_2 * x2 - a0_3 * x3 - a0_4 * x4 - a0_5 * x5) * inv0;
+        ([x0, x1, x2, x3, x4, x5], det)
+    }
     /// The runtime controller's kinematics on this module's closed forms: `::trocar::control::ConstrainedKinematics<_, N, I, R, K, M, 6>`, so that `::trocar::control::Controller` runs on generated code.
     ///
     /// The constraint frame slides along the link with `params.l_a` (`g_ir = (R_ir, o + l_a d)`, [`constraint_frame`]); a step computes everything from one [`JointTrig`] with [`step_kinematics`]. A non-finite output (e.g. a basis that divides by the offset, at offset 0) is `ControlError::Kinematics`.
@@ -1239,6 +1545,27 @@ pub mod bidirectional_zx {
                 );
             }
             ::core::result::Result::Ok(Self::state(&s))
+        }
+        /// The square task Jacobian solved by the straight-line elimination emitted for
+        /// this size.
+        #[inline]
+        fn solve_task(
+            &self,
+            j: &::trocar::nalgebra::SMatrix<f64, 6, M>,
+            b: &::trocar::nalgebra::SVector<f64, 6>,
+        ) -> ::core::option::Option<(::trocar::nalgebra::SVector<f64, M>, f64)> {
+            let (x, det) = lu_solve_6(&j.data.0, &b.data.0[0]);
+            ::core::option::Option::Some((::trocar::nalgebra::SVector::from(x), det))
+        }
+        /// `J^B_0i` (6 × 6) solved by the straight-line elimination emitted for this size.
+        #[inline]
+        fn solve_jb0i(
+            &self,
+            j: &::trocar::nalgebra::SMatrix<f64, 6, I>,
+            b: &::trocar::nalgebra::SVector<f64, 6>,
+        ) -> ::core::option::Option<(::trocar::nalgebra::SVector<f64, I>, f64)> {
+            let (x, det) = lu_solve_6(&j.data.0, &b.data.0[0]);
+            ::core::option::Option::Some((::trocar::nalgebra::SVector::from(x), det))
         }
         /// One `JointTrig` and one [`step_kinematics`] for `l_a` and everything else.
         #[inline]
