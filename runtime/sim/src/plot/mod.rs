@@ -198,7 +198,7 @@ pub fn draw<DB: DrawingBackend>(
         "w",
         &t,
         &[
-            ("w_r (J^r_0e)", col(&|r| r.w_r)),
+            ("w_r (S J^r_0e, the task)", col(&|r| r.w_r)),
             ("w_i (J^B_0i)", col(&|r| r.w_i)),
         ],
     )?;
