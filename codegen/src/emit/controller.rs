@@ -140,14 +140,9 @@ pub(crate) fn tokens(rt: &TokenStream, real: Real, spec: &ControllerSpec) -> Tok
     ));
     // Everything after g_0i, at the parameters `p`: one place for the step's contents.
     let fill_fn = quote! {
-        /// Fills everything but `g_0i` (and the offset) at the parameters `p`; `false` if an
-        /// output is not finite.
+        /// Fills everything but `g_0i` (and the offset) at the parameters `p`.
         #[inline]
-        fn fill_step #generics (
-            t: &JointTrig #args,
-            p: &Params #args,
-            out: &mut StepKinematics #args,
-        ) -> bool {
+        fn fill_step #generics (t: &JointTrig #args, p: &Params #args, out: &mut StepKinematics #args) {
             out.g_0e = forward_kinematics_trig(t, p);
             out.jb0i = partial_body_jacobian_trig(t, p);
             out.jr = constrained_jacobian_trig(t, p);
@@ -155,6 +150,11 @@ pub(crate) fn tokens(rt: &TokenStream, real: Real, spec: &ControllerSpec) -> Tok
             out.lambda_sharp = lambda_null_space(p);
             out.lambda_pinv = lambda_pinv(p);
             #task_fill
+        }
+
+        /// Whether every output of a filled step is finite.
+        #[inline]
+        fn step_is_finite #generics (out: &StepKinematics #args) -> bool {
             let finite = |x: &[#t]| x.iter().all(|&v| #r::is_finite(v));
             finite(&out.g_0e.1)
                 && finite(&out.g_0i.1)
@@ -219,7 +219,8 @@ pub(crate) fn tokens(rt: &TokenStream, real: Real, spec: &ControllerSpec) -> Tok
                     out.offset = trocar_offset(&out.g_0i, trocar, params);
                     let mut p = *params;
                     p.#offset = out.offset;
-                    #r::is_finite(out.offset) && fill_step(t, &p, out)
+                    fill_step(t, &p, out);
+                    #r::is_finite(out.offset) && step_is_finite(out)
                 }
             }
         }
@@ -233,7 +234,8 @@ pub(crate) fn tokens(rt: &TokenStream, real: Real, spec: &ControllerSpec) -> Tok
                 out: &mut StepKinematics #args,
             ) -> bool {
                 out.g_0i = forward_kinematics_i_trig(t, params);
-                fill_step(t, params, out)
+                fill_step(t, params, out);
+                step_is_finite(out)
             }
         },
     };
@@ -334,8 +336,10 @@ fn glue_tokens(rt: &TokenStream, real: Real, offset: &str, spec: &ControllerSpec
          `{rt}::control::Controller` runs on generated code.\n\n\
          The constraint frame slides along the link with `params.{offset}` \
          (`g_ir = (R_ir, o + {offset} d)`, [`constraint_frame`]); a step computes \
-         everything from one [`JointTrig`] with [`step_kinematics`]. A non-finite output (e.g. \
-         a basis that divides by the offset, at offset 0) is `ControlError::Kinematics`.",
+         everything from one [`JointTrig`] as [`step_kinematics`] does. A non-finite offset is \
+         `ControlError::Kinematics`; other non-finite outputs (e.g. a basis that divides by the \
+         offset, at offset 0) reach the joint rates, which the controller rejects \
+         (`ControlError::NonFinite`).",
         rt = rt.to_string().replace(' ', ""),
         p = if task { "T" } else { "6" },
         offset = offset,
@@ -460,7 +464,8 @@ fn glue_tokens(rt: &TokenStream, real: Real, offset: &str, spec: &ControllerSpec
                 let mut s = StepKinematics::zeroed();
                 s.g_0i = forward_kinematics_i_trig(&t, &p);
                 s.offset = l_a;
-                if !#real::is_finite(l_a) || !fill_step(&t, &p, &mut s) {
+                fill_step(&t, &p, &mut s);
+                if !#real::is_finite(l_a) || !step_is_finite(&s) {
                     return ::core::result::Result::Err(#rt::control::ControlError::Kinematics);
                 }
                 ::core::result::Result::Ok(Self::state(&s))
@@ -469,18 +474,25 @@ fn glue_tokens(rt: &TokenStream, real: Real, offset: &str, spec: &ControllerSpec
             #solve_task
             #solve_jb0i
 
-            /// One `JointTrig` and one [`step_kinematics`] for `l_a` and everything else.
+            /// One `JointTrig` for `g_0i`, `l_a` and everything else.
             #[inline]
             fn evaluate_at_trocar(
                 &self,
                 q: &#rt::nalgebra::SVector<#t, N>,
                 trocar: &#rt::nalgebra::Vector3<#t>,
             ) -> ::core::result::Result<(#t, #state_ty), #rt::control::ControlError> {
+                // As `step_kinematics`, without checking every output: the controller checks
+                // the joint rates it computes from them.
                 let t = JointTrig::new(&q.data.0[0]);
                 let mut s = StepKinematics::zeroed();
-                if !step_kinematics(&t, &trocar.data.0[0], &self.params, &mut s) {
+                s.g_0i = forward_kinematics_i_trig(&t, &self.params);
+                s.offset = trocar_offset(&s.g_0i, &trocar.data.0[0], &self.params);
+                if !#real::is_finite(s.offset) {
                     return ::core::result::Result::Err(#rt::control::ControlError::Kinematics);
                 }
+                let mut p = self.params;
+                p.#offset = s.offset;
+                fill_step(&t, &p, &mut s);
                 ::core::result::Result::Ok((s.offset, Self::state(&s)))
             }
         }

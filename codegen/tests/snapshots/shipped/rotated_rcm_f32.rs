@@ -1098,16 +1098,19 @@ pub mod rotated_rcm {
             }
         }
     }
-    /// Fills everything but `g_0i` (and the offset) at the parameters `p`; `false` if an
-    /// output is not finite.
+    /// Fills everything but `g_0i` (and the offset) at the parameters `p`.
     #[inline]
-    fn fill_step(t: &JointTrig, p: &Params, out: &mut StepKinematics) -> bool {
+    fn fill_step(t: &JointTrig, p: &Params, out: &mut StepKinematics) {
         out.g_0e = forward_kinematics_trig(t, p);
         out.jb0i = partial_body_jacobian_trig(t, p);
         out.jr = constrained_jacobian_trig(t, p);
         out.jc = constraint_jacobian_c_trig(t, p);
         out.lambda_sharp = lambda_null_space(p);
         out.lambda_pinv = lambda_pinv(p);
+    }
+    /// Whether every output of a filled step is finite.
+    #[inline]
+    fn step_is_finite(out: &StepKinematics) -> bool {
         let finite = |x: &[f32]| {
             x.iter().all(|&v| <f32 as ::trocar::Real>::is_finite(v))
         };
@@ -1156,7 +1159,8 @@ pub mod rotated_rcm {
         out.offset = trocar_offset(&out.g_0i, trocar, params);
         let mut p = *params;
         p.l_a = out.offset;
-        <f32 as ::trocar::Real>::is_finite(out.offset) && fill_step(t, &p, out)
+        fill_step(t, &p, out);
+        <f32 as ::trocar::Real>::is_finite(out.offset) && step_is_finite(out)
     }
     /// `J x = b` for a square 6 × 6 `J` (column-major `j[col][row]`): Gaussian elimination with partial pivoting written out for this size. Returns `(x, det J)`; `x` is not meaningful when `det J` is 0 or not finite.
     #[inline]
@@ -1466,7 +1470,7 @@ pub mod rotated_rcm {
     }
     /// The runtime controller's kinematics on this module's closed forms: `::trocar::control::ConstrainedKinematics<_, N, I, R, K, M, 6>`, so that `::trocar::control::Controller` runs on generated code.
     ///
-    /// The constraint frame slides along the link with `params.l_a` (`g_ir = (R_ir, o + l_a d)`, [`constraint_frame`]); a step computes everything from one [`JointTrig`] with [`step_kinematics`]. A non-finite output (e.g. a basis that divides by the offset, at offset 0) is `ControlError::Kinematics`.
+    /// The constraint frame slides along the link with `params.l_a` (`g_ir = (R_ir, o + l_a d)`, [`constraint_frame`]); a step computes everything from one [`JointTrig`] as [`step_kinematics`] does. A non-finite offset is `ControlError::Kinematics`; other non-finite outputs (e.g. a basis that divides by the offset, at offset 0) reach the joint rates, which the controller rejects (`ControlError::NonFinite`).
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Kinematics {
         /// The parameters; the trocar offset is overwritten at every evaluation.
@@ -1563,7 +1567,8 @@ pub mod rotated_rcm {
             let mut s = StepKinematics::zeroed();
             s.g_0i = forward_kinematics_i_trig(&t, &p);
             s.offset = l_a;
-            if !<f32 as ::trocar::Real>::is_finite(l_a) || !fill_step(&t, &p, &mut s) {
+            fill_step(&t, &p, &mut s);
+            if !<f32 as ::trocar::Real>::is_finite(l_a) || !step_is_finite(&s) {
                 return ::core::result::Result::Err(
                     ::trocar::control::ControlError::Kinematics,
                 );
@@ -1591,7 +1596,7 @@ pub mod rotated_rcm {
             let (x, det) = lu_solve_6(&j.data.0, &b.data.0[0]);
             ::core::option::Option::Some((::trocar::nalgebra::SVector::from(x), det))
         }
-        /// One `JointTrig` and one [`step_kinematics`] for `l_a` and everything else.
+        /// One `JointTrig` for `g_0i`, `l_a` and everything else.
         #[inline]
         fn evaluate_at_trocar(
             &self,
@@ -1603,11 +1608,16 @@ pub mod rotated_rcm {
         > {
             let t = JointTrig::new(&q.data.0[0]);
             let mut s = StepKinematics::zeroed();
-            if !step_kinematics(&t, &trocar.data.0[0], &self.params, &mut s) {
+            s.g_0i = forward_kinematics_i_trig(&t, &self.params);
+            s.offset = trocar_offset(&s.g_0i, &trocar.data.0[0], &self.params);
+            if !<f32 as ::trocar::Real>::is_finite(s.offset) {
                 return ::core::result::Result::Err(
                     ::trocar::control::ControlError::Kinematics,
                 );
             }
+            let mut p = self.params;
+            p.l_a = s.offset;
+            fill_step(&t, &p, &mut s);
             ::core::result::Result::Ok((s.offset, Self::state(&s)))
         }
     }
