@@ -6,8 +6,11 @@
 //!   joint-limit objective on the arm's spare freedom) with the generated closed forms;
 //! - for both generated robots, the **baseline**: the step of 2026-11-23 written out
 //!   ([`baseline::step`]: nalgebra's `LU` for square matrices, Cholesky of the Gram matrix
-//!   otherwise, the matrices copied entry by entry), on the same generated kinematics, so that a
-//!   faster step is measured against it in one run (the target of the real-robot work: ≤ 0.57×).
+//!   otherwise, the matrices copied entry by entry), so that a faster step is measured against it
+//!   in one run (the target of the real-robot work: ≤ 0.57×). On `dia10_like` the baseline also
+//!   evaluates the kinematics as the generated glue of that day did ([`baseline::ThenGlue`]: the
+//!   module's functions one by one, `l_a` along `y_i`); the Panda had no glue then, so its
+//!   baseline runs on today's `Kinematics`.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use trocar::constraint::Constraint;
@@ -29,7 +32,79 @@ mod baseline {
         damped_solve, orientation_error, resolve_with_null_space, ConstrainedKinematics,
         ControllerConfig, Method, NullSpaceObjective, Rcm, Reference,
     };
-    use trocar::nalgebra::{Const, DimMin, SMatrix, SVector, Vector3, Vector6};
+    use trocar::control::{trocar_offset, ConstrainedState, ControlError, Shaft};
+    use trocar::nalgebra::{ArrayStorage, Const, DimMin, Matrix3, SMatrix, SVector, Vector3, Vector6};
+    use trocar::se3::Se3;
+    use trocar_tests_generated::dia10_like_zy as dia10;
+
+    /// The reference arm's kinematics evaluated as the generated glue of 2026-11-23 did: one
+    /// `JointTrig`, `g_0i`, `l_a = (p_t − p_0i) · y_i`, then each function into the state.
+    pub struct ThenGlue(pub dia10::Params<f64>);
+
+    fn pose((r, p): ([[f64; 3]; 3], [f64; 3])) -> Se3<f64> {
+        Se3 {
+            rotation: Matrix3::from_data(ArrayStorage(r)),
+            translation: Vector3::from_data(ArrayStorage([p])),
+        }
+    }
+
+    impl ThenGlue {
+        fn state(
+            &self,
+            t: &dia10::JointTrig<f64>,
+            g_0i: Se3<f64>,
+            l_a: f64,
+        ) -> Result<ConstrainedState<f64, 6, 2, 4, 6>, ControlError> {
+            if l_a == 0.0 || !l_a.is_finite() {
+                return Err(ControlError::Kinematics);
+            }
+            let mut p = self.0;
+            p.l_a = l_a;
+            Ok(ConstrainedState {
+                g_0e: pose(dia10::forward_kinematics_trig(t, &p)),
+                g_0i,
+                jr: SMatrix::from_data(ArrayStorage(dia10::constrained_jacobian_trig(t, &p))),
+                jb0i: SMatrix::from_data(ArrayStorage(dia10::partial_body_jacobian_trig(t, &p))),
+                jc: SMatrix::from_data(ArrayStorage(dia10::constraint_jacobian_c_trig(t, &p))),
+                lambda_sharp: SMatrix::from_data(ArrayStorage(dia10::lambda_null_space(&p))),
+                lambda_pinv: SMatrix::from_data(ArrayStorage(dia10::lambda_pinv(&p))),
+            })
+        }
+    }
+
+    impl ConstrainedKinematics<f64, 8, 6, 2, 4, 6> for ThenGlue {
+        fn g_0i(&self, q: &SVector<f64, 8>) -> Se3<f64> {
+            pose(dia10::forward_kinematics_i(&q.data.0[0], &self.0))
+        }
+        fn h(&self) -> SMatrix<f64, 2, 6> {
+            SMatrix::from_data(ArrayStorage(dia10::constraint_selection(&self.0)))
+        }
+        fn shaft(&self) -> Shaft<f64> {
+            Shaft::along_y()
+        }
+        fn task_selection(&self) -> SMatrix<f64, 6, 6> {
+            SMatrix::identity()
+        }
+        fn evaluate(
+            &self,
+            q: &SVector<f64, 8>,
+            l_a: f64,
+        ) -> Result<ConstrainedState<f64, 6, 2, 4, 6>, ControlError> {
+            let t = dia10::JointTrig::new(&q.data.0[0]);
+            let g_0i = pose(dia10::forward_kinematics_i_trig(&t, &self.0));
+            self.state(&t, g_0i, l_a)
+        }
+        fn evaluate_at_trocar(
+            &self,
+            q: &SVector<f64, 8>,
+            trocar: &Vector3<f64>,
+        ) -> Result<(f64, ConstrainedState<f64, 6, 2, 4, 6>), ControlError> {
+            let t = dia10::JointTrig::new(&q.data.0[0]);
+            let g_0i = pose(dia10::forward_kinematics_i_trig(&t, &self.0));
+            let l_a = trocar_offset(&g_0i, trocar);
+            Ok((l_a, self.state(&t, g_0i, l_a)?))
+        }
+    }
 
     fn prepared<const R: usize, const C: usize>(
         j: &SMatrix<f64, R, C>,
@@ -197,14 +272,15 @@ fn dia10(c: &mut Criterion) {
         .step(&generated, &q, &reference, &rcm, config.dt)
         .unwrap()
         .qd;
-    let then = baseline::step(&cfg, &none, &generated, &q, &reference, &rcm).unwrap();
+    let then_glue = baseline::ThenGlue(trocar_tests_generated::dia10_like_zy::Params::nominal());
+    let then = baseline::step(&cfg, &none, &then_glue, &q, &reference, &rcm).unwrap();
     assert!((now - then).amax() < 1e-9, "baseline and step differ");
     c.bench_function("control_step/generated_baseline", |b| {
         b.iter(|| {
             baseline::step(
                 &cfg,
                 &none,
-                black_box(&generated),
+                black_box(&then_glue),
                 black_box(&q),
                 black_box(&reference),
                 black_box(&rcm),
