@@ -73,7 +73,7 @@ def count(name, seen=None):
 
 
 res = {}
-for case in ("uni", "bzy", "bzx", "dia_zy"):
+for case in ("uni", "bzy", "bzx", "dia_zy", "panda", "panda_i"):
     for impl in ("casadi", "casadi_cse", "sympy"):
         c = count(f"{impl}:{impl}_{case}")
         calls = {}

@@ -1,18 +1,28 @@
 #!/usr/bin/env bash
-# trocar vs CasADi- and SymPy-generated C, in one command (not part of CI):
+# trocar vs CasADi- and SymPy-generated C and Pinocchio, in one command (not part of CI):
 #
 #   bench/peers.sh            # everything: generate, check, criterion, callgrind, table
 #   QUICK=1 bench/peers.sh    # shorter criterion runs
+#   NO_PINOCCHIO=1 bench/peers.sh   # without Pinocchio (no pin wheels)
 #
-# 1. a virtual environment bench/.venv with casadi and sympy (PyPI);
-# 2. bench/peers_gen.py writes the peers' C for J^r of the three presets and dia10_like's
-#    FK + J^B_0i + J^r into bench/out/;
+# 1. a virtual environment bench/.venv with casadi and sympy (PyPI), and Pinocchio's C++ from the
+#    wheels pin (brings libpinocchio), cmeel-eigen and cmeel-urdfdom-headers (all pinned below);
+# 2. bench/peers_gen.py writes the peers' C for J^r of the three presets, dia10_like's
+#    FK + J^B_0i + J^r, and the Franka Panda's pose + body Jacobian of panda_link8 / panda_link7
+#    (from trocar's shipped URDF) into bench/out/;
 # 3. the harness bench/peers-harness (its own workspace, not a member of trocar's) compiles that C
-#    with gcc -O3 -march=native (cc crate), checks every peer against its f64 reference
-#    (cargo test), and times everything in one criterion run;
-# 4. callgrind counts instructions per evaluation (a build without AVX-512, which valgrind 3.19
+#    with gcc -O3 -march=native (cc crate), and, when the venv has Pinocchio (feature
+#    `pinocchio`), c/pinocchio_panda.cpp with g++ -O3 at the DEFAULT x86-64 ISA (no
+#    -march=native: the wheel's libpinocchio is built for the default ISA, and a -march=native
+#    (AVX-512) build of the calling code segfaults in Pinocchio's Model destructor on this machine);
+#    checks every implementation against its f64 reference and each other (cargo test), and times
+#    everything in one criterion run;
+# 4. thread CPU time per evaluation (cg_driver CPUTIME=1);
+# 5. the Panda again with EVERYTHING at the default x86-64 ISA (Rust -C target-cpu=x86-64, C with
+#    -march=x86-64; TROCAR_PEERS_DEFAULT_ISA=1): criterion and CPU time, target/default-isa/;
+# 6. callgrind counts instructions per evaluation (a build without AVX-512, which valgrind 3.19
 #    cannot decode);
-# 5. bench/peers_table.py writes bench/out/table.md.
+# 7. bench/peers_table.py writes bench/out/table.md (and bench/out/panda.md).
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 out="$here/out"
@@ -24,24 +34,56 @@ if [ ! -x "$here/.venv/bin/python" ]; then
   python3 -m venv "$here/.venv"
 fi
 "$here/.venv/bin/pip" install -q "casadi==3.8.2" "sympy==1.14.0"
+# Pinocchio 4.1.0's C++ library and headers (pin -> libpinocchio, coal, cmeel-boost, cmeel-urdfdom),
+# plus the headers its own headers include: Eigen 3.4.1 and urdfdom_headers 3.0.0 (the version its
+# CMake config was built with: PINOCCHIO_URDFDOM_HEADERS_MAJOR_VERSION=3). Optional.
+pin_features=""
+if [ -z "${NO_PINOCCHIO:-}" ]; then
+  if "$here/.venv/bin/pip" install -q "pin==4.1.0" "cmeel-eigen==3.4.1" "cmeel-urdfdom-headers==3.0.0"; then
+    prefix="$("$here/.venv/bin/python" -c 'import os, sysconfig; print(os.path.join(sysconfig.get_paths()["purelib"], "cmeel.prefix"))')"
+    if [ -f "$prefix/include/pinocchio/algorithm/frames.hpp" ] && [ -f "$prefix/include/eigen3/Eigen/Core" ]; then
+      export TROCAR_PINOCCHIO_PREFIX="$prefix"
+      pin_features="pinocchio"
+      echo "== Pinocchio $("$here/.venv/bin/python" -c 'import pinocchio; print(pinocchio.__version__)') at $prefix" >&2
+    fi
+  fi
+  [ -n "$pin_features" ] || echo "== Pinocchio not available: the Panda without it" >&2
+fi
 
 echo "== generate the peers' C" >&2
 "$here/.venv/bin/python" "$here/peers_gen.py" "$out"
 python3 "$here/asm_counts.py" "$out" > /dev/null
 
 echo "== machine" >&2
-{ lscpu | grep -E 'Model name|^CPU\(s\)|MHz' ; gcc --version | head -1; rustc --version; uptime; } | tee "$out/machine.txt" >&2
+{ lscpu | grep -E 'Model name|^CPU\(s\)|MHz' ; gcc --version | head -1; g++ --version | head -1; rustc --version
+  "$here/.venv/bin/pip" list 2>/dev/null | grep -iE '^(casadi|sympy|pin|libpinocchio|cmeel-eigen|cmeel-urdfdom-headers) ' || true
+  uptime; } | tee "$out/machine.txt" >&2
 
 # Our generated code joins in when the generator's Builder is in this checkout (feature `ours`).
-features=()
+feature_list=""
 ours_impls=""
 if grep -qs "pub struct Builder" "$here/../codegen/src/builder.rs"; then
-  features=(--features ours)
+  feature_list="ours"
   ours_impls="ours_f64 ours_f64_given_trig ours_f32"
   echo "== trocar_codegen::Builder found: benchmarking our generated code too" >&2
 else
   echo "== no trocar_codegen::Builder in this checkout: peers and numeric runtime only" >&2
 fi
+pin_impls=""
+if [ -n "$pin_features" ]; then
+  feature_list="${feature_list:+$feature_list,}$pin_features"
+  pin_impls="pinocchio pinocchio_fk"
+fi
+features=()
+[ -z "$feature_list" ] || features=(--features "$feature_list")
+# Implementations measured per case (the numeric runtime has no panda_link8 frame).
+impls_for() {
+  case "$1" in
+    panda) echo "noop trig_c_glibc casadi casadi_cse sympy rust_reference $ours_impls ${ours_impls:+ours_trig} $pin_impls" ;;
+    panda_i) echo "noop trig_c_glibc casadi casadi_cse sympy numeric rust_reference $ours_impls ${ours_impls:+ours_trig} $pin_impls" ;;
+    *) echo "casadi casadi_cse sympy numeric rust_reference $ours_impls" ;;
+  esac
+}
 
 cd "$harness"
 echo "== check the peers (and ours) against the f64 reference" >&2
@@ -68,12 +110,37 @@ cpurun() { # impl case
 for impl in noop trig_c_glibc trig_std_f64 trig_fast_f64 trig_libm_f64 trig_std_f32 trig_fast_f32 trig_libm_f32; do
   cpurun "$impl" -
 done
-for case in uni bzy bzx dia_zy; do
-  for impl in casadi casadi_cse sympy numeric rust_reference $ours_impls; do
+for case in uni bzy bzx dia_zy panda panda_i; do
+  for impl in $(impls_for $case); do
     cpurun "$impl" "$case"
   done
 done
 echo "$cjson}" > "$out/cputime.json"
+
+if [ -n "$ours_impls$pin_impls" ]; then
+  echo "== the Panda with everything at the default x86-64 ISA (Rust and C; Pinocchio always is)" >&2
+  export TROCAR_PEERS_DEFAULT_ISA=1
+  dflt=(env CARGO_TARGET_DIR="$harness/target/default-isa" RUSTFLAGS="-C target-cpu=x86-64")
+  "${dflt[@]}" cargo test --release -q "${features[@]}"
+  if [ -n "${QUICK:-}" ]; then
+    "${dflt[@]}" cargo bench --bench peers "${features[@]}" -- '^panda' --warm-up-time 1 --measurement-time 2
+  else
+    "${dflt[@]}" cargo bench --bench peers "${features[@]}" -- '^panda' --warm-up-time 2 --measurement-time 5
+  fi
+  "${dflt[@]}" cargo build --release -q --bin cg_driver "${features[@]}"
+  cjson="{"
+  csep=""
+  for case in panda panda_i; do
+    for impl in $(impls_for $case); do
+      ns=$(CPUTIME=1 "$harness/target/default-isa/release/cg_driver" "$impl" "$case" 200000)
+      cjson="$cjson$csep\"$impl/$case\": $ns"
+      csep=", "
+      echo "default ISA $impl/$case: $ns ns/eval (thread CPU time)" >&2
+    done
+  done
+  echo "$cjson}" > "$out/cputime_default_isa.json"
+  unset TROCAR_PEERS_DEFAULT_ISA
+fi
 
 echo "== callgrind" >&2
 export TROCAR_PEERS_NO_AVX512=1
@@ -96,12 +163,12 @@ run() { # impl case
 for impl in noop trig_c_glibc trig_std_f64 trig_fast_f64 trig_libm_f64 trig_std_f32 trig_fast_f32 trig_libm_f32; do
   run "$impl" -
 done
-for case in uni bzy bzx dia_zy; do
-  for impl in casadi casadi_cse sympy numeric rust_reference $ours_impls; do
+for case in uni bzy bzx dia_zy panda panda_i; do
+  for impl in $(impls_for $case); do
     run "$impl" "$case"
   done
 done
 echo "$json}" > "$out/callgrind.json"
 
 echo "== table" >&2
-python3 "$here/peers_table.py" "$out" "$harness/target/criterion"
+python3 "$here/peers_table.py" "$out" "$harness/target/criterion" "$harness/target/default-isa/criterion"

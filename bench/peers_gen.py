@@ -14,14 +14,22 @@ The kinematics below is written once against plain Python arithmetic on "scalars
 expressions or CasADi SX; literals 0 and 1 are kept as Python ints and folded away (both tools do the
 same folding themselves: 0*x = 0 in SymPy and in SX).
 
+The Franka Panda (cases ``panda`` and ``panda_i``) is read from trocar's shipped URDF
+(runtime/model/robots/urdf/panda.urdf): joint k is g_{k-1,k}(q_k) = Trans(xyz_k) Rot_rpy(rpy_k) Rot(z, q_k),
+the fixed joint panda_joint8 folded into the tip. The fixed rotations Rot_rpy (rpy = +-pi/2 about x,
+written 1.5707963267948966) are snapped to exact 0 and +-1 where they are within 1e-12 of them, as
+trocar's generator does; without that, both tools would carry products with cos(pi/2) = 6.1e-17.
+
 Usage: peers_gen.py OUTDIR
 Writes OUTDIR/casadi_peers.c, OUTDIR/sympy_peers.c, OUTDIR/peers.h, OUTDIR/opcounts.json.
 """
 
 import json
+import math
 import os
 import sys
 import time
+import xml.etree.ElementTree as ET
 
 
 # ---------------------------------------------------------------------------------------------
@@ -192,6 +200,72 @@ def dia10(wrist, S, C, la):
     return g, jb0i, jr
 
 
+# ---------------------------------------------------------------------------------------------
+# The Franka Panda from trocar's shipped URDF
+
+PANDA_URDF = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "runtime", "model", "robots",
+                          "urdf", "panda.urdf")
+
+
+def snap(x):
+    """0 and +-1 exactly (as Python ints, folded by the scalar helpers) when within 1e-12."""
+    for v in (0, 1, -1):
+        if abs(x - v) < 1e-12:
+            return v
+    return x
+
+
+def rpy_matrix(r, p, y):
+    """URDF rpy: Rot(z, y) Rot(y, p) Rot(x, r), entries snapped."""
+    cr, sr, cp, sp_, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
+    m = [[cy * cp, cy * sp_ * sr - sy * cr, cy * sp_ * cr + sy * sr],
+         [sy * cp, sy * sp_ * sr + cy * cr, sy * sp_ * cr - cy * sr],
+         [-sp_, cp * sr, cp * cr]]
+    return [[snap(x) for x in row] for row in m]
+
+
+def panda_chain(base="panda_link0", tip="panda_link8"):
+    """[(R_fixed, xyz, axis letter)] of the movable joints from base to tip, and the fixed tip
+    transform (R, p) after the last movable joint (folded fixed joints)."""
+    root = ET.parse(PANDA_URDF).getroot()
+    by_child = {j.find("child").get("link"): j for j in root.findall("joint")}
+    path = []
+    link = tip
+    while link != base:
+        j = by_child[link]
+        path.append(j)
+        link = j.find("parent").get("link")
+    path.reverse()
+    joints, pending = [], (IDENT, [0, 0, 0])
+    for j in path:
+        o = j.find("origin")
+        xyz = [snap(float(v)) for v in o.get("xyz", "0 0 0").split()]
+        rpy = [float(v) for v in o.get("rpy", "0 0 0").split()]
+        g = compose(pending, (rpy_matrix(*rpy), xyz))
+        if j.get("type") == "fixed":
+            pending = g
+            continue
+        if j.get("type") not in ("revolute", "continuous"):
+            raise ValueError(j.get("type"))
+        axis = [snap(float(v)) for v in j.find("axis").get("xyz").split()]
+        letter = {(1, 0, 0): "x", (0, 1, 0): "y", (0, 0, 1): "z"}[tuple(axis)]
+        joints.append((g[0], g[1], letter))
+        pending = (IDENT, [0, 0, 0])
+    return joints, pending
+
+
+def panda(S, C, tip_link):
+    """g_0,tip and the body Jacobian of the link `tip_link` (6x7): `panda_link8` (the flange, what
+    Pinocchio is asked for) or `panda_link7` (trocar's constrained link frame F_i of panda-laparoscope,
+    where panda_link8's fixed offset is folded into g_ir)."""
+    joints, tip = panda_chain(tip=tip_link)
+    tfs = [(matmul3(R0, rot(a, S[k], C[k])), list(xyz)) for k, (R0, xyz, a) in enumerate(joints)]
+    g = tip
+    for t in reversed(tfs):
+        g = compose(t, g)
+    return g, body_jacobian_cols(tfs, [a for _, _, a in joints], tip)
+
+
 def flatten_cols(cols):
     return [x for col in cols for x in col]  # column-major
 
@@ -209,6 +283,10 @@ CASES = {
     "bzy": dict(nq=2, params=["l_a", "l_b", "l_8"], outs=[("jr", 36)]),
     "bzx": dict(nq=2, params=["l_a", "l_b", "l_8"], outs=[("jr", 36)]),
     "dia_zy": dict(nq=8, params=["l_a"], outs=[("fk", 12), ("jb0i", 36), ("jr", 36)]),
+    # Panda: FK (R column-major, p) and body Jacobian (6x7) of panda_link8 / of panda_link7 (F_i).
+    # l_a is not used by these outputs; it is an input like trocar's Params.
+    "panda": dict(nq=7, params=["l_a"], outs=[("fk", 12), ("jb", 42)]),
+    "panda_i": dict(nq=7, params=["l_a"], outs=[("fk", 12), ("jb", 42)]),
 }
 
 
@@ -218,6 +296,9 @@ def build(case, sin, cos, qs, ps):
     if case == "dia_zy":
         g, jb, jr = dia10("y", S, C, ps[0])
         return [fk_flat(g), flatten_cols(jb), flatten_cols(jr)]
+    if case in ("panda", "panda_i"):
+        g, jb = panda(S, C, "panda_link8" if case == "panda" else "panda_link7")
+        return [fk_flat(g), flatten_cols(jb)]
     return [flatten_cols(preset(case, S, C, *ps))]
 
 

@@ -4,9 +4,12 @@
 Inputs (all optional, missing cells print as "-"):
   CRITERION_DIR/<case>/<impl>/new/estimates.json   criterion medians (ns/eval)
   OUT/callgrind.json                              {"impl/case": instructions per eval}
+  OUT/cputime.json                                {"impl/case": thread CPU time ns per eval}
   OUT/opcounts.json                               source-level op counts from peers_gen.py
   OUT/asm_counts.json                             FP instructions in the compiled functions
-Usage: peers_table.py OUT CRITERION_DIR
+  DEFAULT_ISA_CRITERION_DIR, OUT/cputime_default_isa.json   the Panda's default-ISA run
+Usage: peers_table.py OUT CRITERION_DIR [DEFAULT_ISA_CRITERION_DIR]
+Writes OUT/table.md (every case) and OUT/panda.md (the Panda: trocar vs Pinocchio).
 """
 
 import json
@@ -14,12 +17,19 @@ import os
 import sys
 
 CASES = [("uni", "J^r unidirectional 6x7"), ("bzy", "J^r bidirectional-zy 6x6"),
-         ("bzx", "J^r bidirectional-zx 6x6"), ("dia_zy", "dia10_like zy: FK + J^B_0i + J^r")]
+         ("bzx", "J^r bidirectional-zx 6x6"), ("dia_zy", "dia10_like zy: FK + J^B_0i + J^r"),
+         ("panda", "Panda panda_link8: pose + J^B 6x7"),
+         ("panda_i", "Panda F_i = panda_link7: g_0i + J^B_0i 6x7")]
+PANDA = [c for c in CASES if c[0].startswith("panda")]
 IMPLS = [("casadi", "CasADi C (SX, defaults)"), ("casadi_cse", "CasADi C (SX, cse=True)"),
          ("sympy", "SymPy C (cse + ccode)"), ("numeric", "trocar numeric runtime (Chain + Constraint, f64)"),
          ("rust_reference", "harness f64 reference (Vec-based loops)"),
          ("ours_f64", "trocar generated f64"), ("ours_f64_given_trig", "trocar generated f64, given JointTrig (no trig)"),
-         ("ours_f32", "trocar generated f32")]
+         ("ours_f32", "trocar generated f32"),
+         ("pinocchio", "Pinocchio C++ computeFrameJacobian(LOCAL), pose from it (g++ -O3, default ISA)"),
+         ("pinocchio_fk", "Pinocchio C++ forwardKinematics + updateFramePlacement + computeFrameJacobian (default ISA)"),
+         ("ours_trig", "floor: trocar JointTrig::new alone (7 joints)"),
+         ("trig_c_glibc", "floor: C glibc sin + cos of the 7 joints")]
 TRIG = [("c_glibc_two_sincos", "trig_c_glibc", "C glibc sin+cos of 2 joints (gcc merges into sincos)"),
         ("rust_std_two_sin_cos_f64", "trig_std_f64", "Rust std f64::sin_cos x2"),
         ("trocar_real_two_sin_cos_f64", None, "trocar::Real::sin_cos f64 x2 (std build)"),
@@ -63,6 +73,12 @@ def main():
     asm = load(os.path.join(out, "asm_counts.json"))
     cpu = load(os.path.join(out, "cputime.json"))
     noop = cg.get("noop/-")
+
+    def net(ins, case):
+        """Instructions net of the driver loop (the Panda's loop also cycles its 16 configurations)."""
+        base = cg.get(f"noop/{case}", noop) if case.startswith("panda") else noop
+        return ins - base if ins is not None and base is not None else ins
+
     lines = []
     lines.append("| function | implementation | ns/eval CPU time (median) | ns/eval criterion (median) | instr/eval (callgrind) | source ops: mul / add+sub / div / neg / sin+cos | x86 FP instr: mul / add+sub / fma / div, calls |")
     lines.append("|---|---|---:|---:|---:|---|---|")
@@ -72,8 +88,7 @@ def main():
             ins = cg.get(f"{impl}/{case}")
             if t is None and ins is None:
                 continue
-            if ins is not None and noop is not None:
-                ins = ins - noop
+            ins = net(ins, case)
             ct = cpu.get(f"{impl}/{case}")
             o = ops.get(f"{impl}_{case}")
             if o:
@@ -103,10 +118,71 @@ def main():
     if noop is not None:
         lines.append("")
         lines.append(f"Instruction counts are net of the driver loop ({noop:.0f} instructions per iteration, measured with `cg_driver noop`).")
+    panda = panda_table(out, crit, sys.argv[3] if len(sys.argv) > 3 else None, cg, cpu, net)
     text = "\n".join(lines) + "\n"
+    if panda:
+        text += "\n" + panda
+        with open(os.path.join(out, "panda.md"), "w") as f:
+            f.write(panda)
     with open(os.path.join(out, "table.md"), "w") as f:
         f.write(text)
     print(text)
+
+
+PANDA_IMPLS = [
+    ("pinocchio", "Pinocchio C++ `computeFrameJacobian(.., LOCAL, J)`; pose = `data.iMf[0]`, left by it"),
+    ("pinocchio_fk", "Pinocchio C++ `forwardKinematics` + `updateFramePlacement` + `computeFrameJacobian`"),
+    ("ours_f64", "trocar generated f64: `JointTrig::new` (7 `sin_cos`) + pose + Jacobian `_trig`"),
+    ("ours_f64_given_trig", "trocar generated f64, given `JointTrig` (no trig)"),
+    ("ours_f32", "trocar generated f32"),
+    ("casadi", "CasADi C (SX, defaults)"),
+    ("casadi_cse", "CasADi C (SX, cse=True)"),
+    ("sympy", "SymPy C (cse + ccode)"),
+    ("numeric", "trocar numeric runtime (`Chain::link_frame` + `partial_body_jacobian`, f64)"),
+    ("rust_reference", "harness f64 reference (Vec-based loops)"),
+    ("ours_trig", "floor: trocar `JointTrig::new` alone (`sin_cos_array` of the 7 joints)"),
+    ("trig_c_glibc", "floor: C glibc `sin` + `cos` of the 7 joints (gcc merges into `sincos`)"),
+]
+
+
+def panda_table(out, crit, crit_default, cg, cpu, net):
+    """The Panda: every implementation in the native-Rust run and in the default-ISA run, and the
+    ratios of trocar's generated code to Pinocchio's computeFrameJacobian."""
+    cpu_d = load(os.path.join(out, "cputime_default_isa.json"))
+    rows = []
+    for case, cdesc in PANDA:
+        for impl, idesc in PANDA_IMPLS:
+            t = median(crit, case, impl)
+            td = median(crit_default, case, impl) if crit_default else None
+            ins = net(cg.get(f"{impl}/{case}"), case)
+            if t is None and td is None and ins is None:
+                continue
+            rows.append(f"| {cdesc} | {idesc} | {fmt(t)} | {fmt(cpu.get(f'{impl}/{case}'))} | "
+                        f"{fmt(td)} | {fmt(cpu_d.get(f'{impl}/{case}'))} | {fmt(ins, 0)} |")
+    if not rows:
+        return ""
+    lines = ["| frame: output | implementation | ns criterion, Rust native | ns CPU time, Rust native | "
+             "ns criterion, all default ISA | ns CPU time, all default ISA | instr/eval (callgrind) |",
+             "|---|---|---:|---:|---:|---:|---:|"] + rows
+    ratios = []
+    for case, cdesc in PANDA:
+        for label, c, cp in (("Rust native", crit, cpu), ("all default ISA", crit_default, cpu_d)):
+            if not c:
+                continue
+            pin = median(c, case, "pinocchio")
+            for impl in ("ours_f64", "ours_f64_given_trig", "sympy", "casadi"):
+                t = median(c, case, impl)
+                if pin and t:
+                    ratios.append(f"| {cdesc} | {label} | {impl} | {t:.1f} / {pin:.1f} = **{t / pin:.2f}×** |")
+    if ratios:
+        lines += ["", "| frame: output | run | implementation | criterion median / Pinocchio `computeFrameJacobian` |",
+                  "|---|---|---|---|"] + ratios
+    lines += ["", "Pinocchio is always g++ -O3 at the default x86-64 ISA (the wheel's libpinocchio is; see "
+              "build.rs). \"Rust native\": our Rust at `-C target-cpu=native`, the peers' C at "
+              "`-march=native`; \"all default ISA\": Rust `-C target-cpu=x86-64`, C `-march=x86-64`. "
+              "Every Panda implementation cycles through the same 16 configurations. Instruction counts "
+              "(native build without AVX-512) are net of the Panda driver loop (`cg_driver noop panda`)."]
+    return "\n".join(lines) + "\n"
 
 
 if __name__ == "__main__":

@@ -1,6 +1,9 @@
 //! Compiles the peers' generated C (written by `bench/peers_gen.py` into `bench/out/`, or
-//! `$TROCAR_PEERS_OUT`) with `-O3 -march=native`, as a user of CasADi or SymPy would.
-use std::path::PathBuf;
+//! `$TROCAR_PEERS_OUT`) with `-O3 -march=native` (`-march=x86-64` with
+//! `$TROCAR_PEERS_DEFAULT_ISA`), as a user of CasADi or SymPy would; with the
+//! feature `pinocchio`, Pinocchio's C++ on the Panda (`c/pinocchio_panda.cpp`) with g++ `-O3` at
+//! the default x86-64 ISA (see `pinocchio` below).
+use std::path::{Path, PathBuf};
 
 fn main() {
     let manifest = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").unwrap());
@@ -23,10 +26,14 @@ fn main() {
     // valgrind 3.19 cannot decode AVX-512 (EVEX): the callgrind build turns it off for both languages.
     println!("cargo:rerun-if-env-changed=TROCAR_PEERS_NO_AVX512");
     let no_avx512 = std::env::var_os("TROCAR_PEERS_NO_AVX512").is_some();
+    // The Panda's default-ISA run (bench/peers.sh, with RUSTFLAGS="-C target-cpu=x86-64"): the
+    // peers' C at the default x86-64 ISA too, like Pinocchio.
+    println!("cargo:rerun-if-env-changed=TROCAR_PEERS_DEFAULT_ISA");
+    let default_isa = std::env::var_os("TROCAR_PEERS_DEFAULT_ISA").is_some();
     let mut b = cc::Build::new();
     b.compiler("gcc")
         .opt_level(3)
-        .flag("-march=native")
+        .flag(if default_isa { "-march=x86-64" } else { "-march=native" })
         .warnings(false)
         .file(manifest.join("c/floor.c"));
     if no_avx512 {
@@ -46,8 +53,108 @@ fn main() {
             .robot(robots.join("bidirectional-zy.toml"))
             .robot(robots.join("bidirectional-zx.toml"))
             .robot(robots.join("dia10_like_zy.toml"))
+            // The Franka Panda with a laparoscope (its chain from urdf/panda.urdf): module
+            // `panda_laparoscope`, whose forward_kinematics_i / partial_body_jacobian are g_0i
+            // and J^B_0i of its constrained link frame F_i = panda_link7's (panda_joint8's fixed
+            // 0.107 m is folded into g_ir), compared with Pinocchio (feature `pinocchio`).
+            .robot(robots.join("panda-laparoscope.toml"))
+            // Bench-only: the same chain up to panda_link8, no constraint (module `panda_link8`:
+            // forward_kinematics and body_jacobian of the flange itself).
+            .robot(manifest.join("panda-link8.toml"))
             .compile()
             .expect("trocar code generation");
     }
+
+    if std::env::var_os("CARGO_FEATURE_PINOCCHIO").is_some() {
+        pinocchio(&manifest);
+    }
     println!("cargo:rustc-link-lib=m");
+}
+
+/// Pinocchio (pip wheel `pin`, which brings `libpinocchio`; Eigen and the urdfdom headers from
+/// `cmeel-eigen` and `cmeel-urdfdom-headers`), all under one `cmeel.prefix`.
+///
+/// Built with g++ `-O3` at the DEFAULT x86-64 ISA (`-march=x86-64`, no `-march=native`): the
+/// wheel's libraries are built for it, and a `-march=native` build of this file segfaults on
+/// this AVX-512 machine (in `free` from `ModelTpl::~ModelTpl`): most likely Eigen's alignment
+/// (`EIGEN_MAX_ALIGN_BYTES`: 16 at the default ISA, 64 with AVX-512), part of the layout of
+/// Pinocchio's `Model` and `Data`, then disagrees with the library. The definitions are those of
+/// the CMake target `pinocchio::pinocchio` (`lib/cmake/pinocchio/pinocchioTargets.cmake`, coal's
+/// too, plus a Release build's `NDEBUG`), so
+/// `computeFrameJacobian`, `forwardKinematics` and `updateFramePlacement` on `VectorXd` /
+/// `Matrix6x` are the library's explicitly instantiated ones, as in a CMake user's build.
+fn pinocchio(manifest: &Path) {
+    println!("cargo:rerun-if-env-changed=TROCAR_PINOCCHIO_PREFIX");
+    println!("cargo:rerun-if-changed=c/pinocchio_panda.cpp");
+    let prefix = match std::env::var_os("TROCAR_PINOCCHIO_PREFIX") {
+        Some(p) => PathBuf::from(p),
+        None => venv_prefix(&manifest.join("../.venv")).unwrap_or_else(|| {
+            panic!(
+                "feature `pinocchio`: set TROCAR_PINOCCHIO_PREFIX to the `cmeel.prefix` of an \
+                 environment with pin, cmeel-eigen and cmeel-urdfdom-headers (bench/peers.sh does)"
+            )
+        }),
+    };
+    let include = prefix.join("include");
+    let lib = prefix.join("lib");
+    for need in [
+        include.join("pinocchio/algorithm/frames.hpp"),
+        include.join("eigen3/Eigen/Core"),
+        include.join("urdfdom_headers/urdf_model/model.h"),
+        lib.join("libpinocchio_default.so"),
+        lib.join("libpinocchio_parsers.so"),
+    ] {
+        if !need.exists() {
+            panic!("feature `pinocchio`: {} is missing", need.display());
+        }
+    }
+    let mut b = cc::Build::new();
+    b.cpp(true)
+        .compiler("g++")
+        .opt_level(3)
+        .flag("-std=c++17")
+        // The default ISA, stated (cc adds it only when rustc's target-cpu is the default).
+        .flag("-march=x86-64")
+        .warnings(false)
+        .include(&include)
+        .include(include.join("eigen3"))
+        .include(include.join("urdfdom_headers"))
+        .file(manifest.join("c/pinocchio_panda.cpp"));
+    for (k, v) in [
+        // A CMake Release build's -DNDEBUG (the wheel's libraries are built so: no assert text).
+        ("NDEBUG", None),
+        ("PINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION", None),
+        ("PINOCCHIO_WITH_URDFDOM", None),
+        ("PINOCCHIO_URDFDOM_HEADERS_MAJOR_VERSION", Some("3")),
+        ("PINOCCHIO_URDFDOM_HEADERS_MINOR_VERSION", Some("0")),
+        ("PINOCCHIO_URDFDOM_HEADERS_PATCH_VERSION", Some("0")),
+        ("PINOCCHIO_WITH_COLLISION", None),
+        ("PINOCCHIO_WITH_HPP_FCL", None),
+        ("COAL_BACKWARD_COMPATIBILITY_WITH_HPP_FCL", None),
+        ("COAL_HAS_OCTOMAP", None),
+        ("COAL_HAVE_OCTOMAP", None),
+        ("OCTOMAP_MAJOR_VERSION", Some("1")),
+        ("OCTOMAP_MINOR_VERSION", Some("10")),
+        ("OCTOMAP_PATCH_VERSION", Some("0")),
+        ("BOOST_MPL_LIMIT_LIST_SIZE", Some("30")),
+        ("BOOST_MPL_LIMIT_VECTOR_SIZE", Some("30")),
+        ("BOOST_MPL_CFG_NO_PREPROCESSED_HEADERS", None),
+        ("BOOST_FUSION_INVOKE_MAX_ARITY", Some("12")),
+    ] {
+        b.define(k, v);
+    }
+    b.compile("pinocchio_panda");
+    println!("cargo:rustc-link-search=native={}", lib.display());
+    println!("cargo:rustc-link-lib=dylib=pinocchio_parsers");
+    println!("cargo:rustc-link-lib=dylib=pinocchio_default");
+    // The bench, test and driver binaries find the wheel's libraries without LD_LIBRARY_PATH.
+    println!("cargo:rustc-link-arg=-Wl,-rpath,{}", lib.display());
+}
+
+/// `<venv>/lib/python3.*/site-packages/cmeel.prefix`, if there is one.
+fn venv_prefix(venv: &Path) -> Option<PathBuf> {
+    let lib = std::fs::read_dir(venv.join("lib")).ok()?;
+    lib.filter_map(|e| e.ok())
+        .map(|e| e.path().join("site-packages/cmeel.prefix"))
+        .find(|p| p.join("include/pinocchio").is_dir())
 }

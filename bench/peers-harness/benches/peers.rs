@@ -1,4 +1,5 @@
-//! One criterion run: the peers' generated C, the harness's Rust f64 reference, and trig floors.
+//! One criterion run: the peers' generated C, the harness's Rust f64 reference, Pinocchio on the
+//! Panda (feature `pinocchio`), and trig floors.
 //! Bench ids: `<case>/<implementation>`; `bench/peers_table.py` turns the medians into the table.
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use trocar_peers_harness::{eval, floor_eight, floor_two, Case, Peer};
@@ -45,6 +46,104 @@ fn peers(c: &mut Criterion) {
             g.bench_function("ours_f32", |b| {
                 b.iter(|| {
                     ours::eval(case, black_box(&q32), black_box(&p32), &mut out32);
+                    black_box(&mut out32);
+                })
+            });
+        }
+        g.finish();
+    }
+}
+
+/// The Panda cases: every implementation cycles through the same 16 configurations
+/// ([`Case::configs`]), the index passed through `black_box`, so q changes on every call.
+fn panda(c: &mut Criterion) {
+    for case in [Case::Panda, Case::PandaI] {
+        let mut g = c.benchmark_group(case.name());
+        let qs = case.configs();
+        assert_eq!(qs.len(), 16);
+        let (_, p) = case.inputs();
+        let mut out = vec![0.0; case.out_len()];
+        for peer in Peer::ALL {
+            let mut k = 0usize;
+            g.bench_function(peer.name(), |b| {
+                b.iter(|| {
+                    k = black_box(k + 1) & 15;
+                    eval(peer, case, &qs[k], black_box(&p), &mut out);
+                    black_box(&mut out);
+                })
+            });
+        }
+        if case == Case::PandaI {
+            let mut num = trocar_peers_harness::numeric::Numeric::new(case, &p);
+            let mut k = 0usize;
+            g.bench_function("numeric", |b| {
+                b.iter(|| {
+                    k = black_box(k + 1) & 15;
+                    num.eval(&qs[k], black_box(&p), &mut out);
+                    black_box(&mut out);
+                })
+            });
+        }
+        // The trigonometry floor: glibc sin + cos of the 7 joints, in C compiled like the peers.
+        let mut k = 0usize;
+        let mut o14 = [0.0; 14];
+        g.bench_function("trig_c_glibc", |b| {
+            b.iter(|| {
+                k = black_box(k + 1) & 15;
+                trocar_peers_harness::floor_seven(&qs[k], &mut o14);
+                black_box(&mut o14);
+            })
+        });
+        #[cfg(feature = "pinocchio")]
+        {
+            use trocar_peers_harness::pinocchio::{Pinocchio, Variant};
+            // Model from the URDF once, outside the timed loop.
+            let mut pin = Pinocchio::new(case);
+            for v in Variant::ALL {
+                let mut k = 0usize;
+                g.bench_function(v.name(), |b| {
+                    b.iter(|| {
+                        k = black_box(k + 1) & 15;
+                        pin.eval(v, &qs[k]);
+                    })
+                });
+            }
+        }
+        #[cfg(feature = "ours")]
+        {
+            use trocar_peers_harness::ours;
+            let mut k = 0usize;
+            g.bench_function("ours_f64", |b| {
+                b.iter(|| {
+                    k = black_box(k + 1) & 15;
+                    ours::eval(case, &qs[k], black_box(&p), &mut out);
+                    black_box(&mut out);
+                })
+            });
+            let mut k = 0usize;
+            g.bench_function("ours_trig", |b| {
+                b.iter(|| {
+                    k = black_box(k + 1) & 15;
+                    black_box(ours::panda_trig::<f64>(&qs[k]));
+                })
+            });
+            let trigs: Vec<ours::Trig<f64>> = qs.iter().map(|q| ours::Trig::new(case, q)).collect();
+            let mut k = 0usize;
+            g.bench_function("ours_f64_given_trig", |b| {
+                b.iter(|| {
+                    k = black_box(k + 1) & 15;
+                    ours::eval_trig(case, &trigs[k], black_box(&p), &mut out);
+                    black_box(&mut out);
+                })
+            });
+            let qs32: Vec<Vec<f32>> = qs.iter().map(|q| q.iter().map(|&x| x as f32).collect()).collect();
+            let p32: Vec<f32> = p.iter().map(|&x| x as f32).collect();
+            let mut out32 = vec![0.0f32; case.out_len()];
+            let mut k = 0usize;
+            g.bench_function("ours_f32", |b| {
+                b.iter(|| {
+                    k = black_box(k + 1) & 15;
+                    ours::eval(case, &qs32[k], black_box(&p32), &mut out32);
                     black_box(&mut out32);
                 })
             });
@@ -123,5 +222,5 @@ fn trig(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, peers, trig);
+criterion_group!(benches, peers, panda, trig);
 criterion_main!(benches);

@@ -7,6 +7,16 @@
 //!   6×7, 6×6, 6×6.
 //! - `dia_zy`: dia10_like (SPEC 3.2) with the zy wrist; `q = θ1..θ8`, `p = (l_a)`; outputs FK
 //!   (R column-major then p, 12), J^B_0i (6×6), J^r (6×6).
+//! - `panda`: the Franka Panda (trocar's shipped `urdf/panda.urdf`), pose and body Jacobian
+//!   (6×7) of the flange `panda_link8`, what a Panda user asks Pinocchio for
+//!   (`computeFrameJacobian(.., LOCAL, ..)` and the frame placement); `q = θ1..θ7`, `p = (l_a)`
+//!   (unused by these outputs); outputs FK (12), J (42).
+//! - `panda_i`: the same of `panda_link7`, the constrained link frame F_i of the shipped
+//!   `panda-laparoscope` (panda_joint8's fixed 0.107 m is folded into its g_ir): trocar's
+//!   `forward_kinematics_i` + `partial_body_jacobian` (J^B_0i).
+//!
+//! The Panda cases are timed over [`Case::configs`] (16 configurations within the joint limits,
+//! cycled), the others at the fixed [`Case::inputs`].
 
 use core::ffi::c_int;
 
@@ -24,7 +34,28 @@ pub enum Case {
     Bzx,
     /// dia10_like zy: FK + J^B_0i + J^r.
     DiaZy,
+    /// Panda: pose + body Jacobian of `panda_link8` (the flange).
+    Panda,
+    /// Panda: pose + body Jacobian of `panda_link7`, panda-laparoscope's F_i (g_0i + J^B_0i).
+    PandaI,
 }
+
+/// Every case.
+pub const CASES: [Case; 6] = [Case::Uni, Case::Bzy, Case::Bzx, Case::DiaZy, Case::Panda, Case::PandaI];
+
+/// The Panda's joint limits (`urdf/panda.urdf`, `<limit lower upper>`).
+pub const PANDA_LIMITS: [(f64, f64); 7] = [
+    (-2.8973, 2.8973),
+    (-1.7628, 1.7628),
+    (-2.8973, 2.8973),
+    (-3.0718, -0.0698),
+    (-2.8973, 2.8973),
+    (-0.0175, 3.7525),
+    (-2.8973, 2.8973),
+];
+
+/// The shipped Panda URDF (`runtime/model/robots/urdf/panda.urdf`).
+pub const PANDA_URDF: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../runtime/model/robots/urdf/panda.urdf");
 
 impl Case {
     /// Short name used in file and bench names.
@@ -34,11 +65,49 @@ impl Case {
             Case::Bzy => "bzy",
             Case::Bzx => "bzx",
             Case::DiaZy => "dia_zy",
+            Case::Panda => "panda",
+            Case::PandaI => "panda_i",
         }
     }
     /// Parses [`Case::name`].
     pub fn from_name(s: &str) -> Option<Case> {
-        [Case::Uni, Case::Bzy, Case::Bzx, Case::DiaZy].into_iter().find(|c| c.name() == s)
+        CASES.into_iter().find(|c| c.name() == s)
+    }
+    /// Whether this is one of the Panda cases.
+    pub fn is_panda(self) -> bool {
+        matches!(self, Case::Panda | Case::PandaI)
+    }
+    /// Number of joint inputs.
+    pub fn nq(self) -> usize {
+        match self {
+            Case::DiaZy => 8,
+            Case::Panda | Case::PandaI => 7,
+            _ => 2,
+        }
+    }
+    /// Number of parameters.
+    pub fn np(self) -> usize {
+        match self {
+            Case::DiaZy | Case::Panda | Case::PandaI => 1,
+            _ => 3,
+        }
+    }
+    /// The joint configurations a benchmark cycles through: for the Panda, [`Case::inputs`]
+    /// then 15 pseudo-random configurations uniform within the joint limits (fixed seed); for the
+    /// other cases only [`Case::inputs`].
+    pub fn configs(self) -> Vec<Vec<f64>> {
+        let mut qs = vec![self.inputs().0];
+        if self.is_panda() {
+            let mut seed = 0x5eed_u64;
+            let mut next = || {
+                seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                ((seed >> 11) as f64) / ((1u64 << 53) as f64)
+            };
+            while qs.len() < 16 {
+                qs.push(PANDA_LIMITS.iter().map(|&(lo, hi)| lo + (hi - lo) * next()).collect());
+            }
+        }
+        qs
     }
     /// Output sizes (column-major blocks).
     pub fn outs(self) -> &'static [usize] {
@@ -46,6 +115,7 @@ impl Case {
             Case::Uni => &[42],
             Case::Bzy | Case::Bzx => &[36],
             Case::DiaZy => &[12, 36, 36],
+            Case::Panda | Case::PandaI => &[12, 42],
         }
     }
     /// Total output length.
@@ -56,6 +126,8 @@ impl Case {
     pub fn inputs(self) -> (Vec<f64>, Vec<f64>) {
         match self {
             Case::DiaZy => (vec![0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3], vec![0.15]),
+            // The configuration of the README's `trocar eval panda-laparoscope` examples.
+            Case::Panda | Case::PandaI => (vec![0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8], vec![0.25]),
             _ => (vec![0.5, 0.3], vec![0.15, 0.18, 0.21]),
         }
     }
@@ -78,11 +150,17 @@ extern "C" {
     fn casadi_cse_bzy(a: *const *const f64, r: *const *mut f64, iw: *mut i64, w: *mut f64, m: c_int) -> c_int;
     fn casadi_cse_bzx(a: *const *const f64, r: *const *mut f64, iw: *mut i64, w: *mut f64, m: c_int) -> c_int;
     fn casadi_cse_dia_zy(a: *const *const f64, r: *const *mut f64, iw: *mut i64, w: *mut f64, m: c_int) -> c_int;
+    fn casadi_panda(a: *const *const f64, r: *const *mut f64, iw: *mut i64, w: *mut f64, m: c_int) -> c_int;
+    fn casadi_panda_i(a: *const *const f64, r: *const *mut f64, iw: *mut i64, w: *mut f64, m: c_int) -> c_int;
+    fn casadi_cse_panda(a: *const *const f64, r: *const *mut f64, iw: *mut i64, w: *mut f64, m: c_int) -> c_int;
+    fn casadi_cse_panda_i(a: *const *const f64, r: *const *mut f64, iw: *mut i64, w: *mut f64, m: c_int) -> c_int;
 
     fn sympy_uni(q: *const f64, p: *const f64, jr: *mut f64);
     fn sympy_bzy(q: *const f64, p: *const f64, jr: *mut f64);
     fn sympy_bzx(q: *const f64, p: *const f64, jr: *mut f64);
     fn sympy_dia_zy(q: *const f64, p: *const f64, fk: *mut f64, jb0i: *mut f64, jr: *mut f64);
+    fn sympy_panda(q: *const f64, p: *const f64, fk: *mut f64, jb: *mut f64);
+    fn sympy_panda_i(q: *const f64, p: *const f64, fk: *mut f64, jb: *mut f64);
 
     fn casadi_uni_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
     fn casadi_bzy_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
@@ -92,9 +170,14 @@ extern "C" {
     fn casadi_cse_bzy_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
     fn casadi_cse_bzx_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
     fn casadi_cse_dia_zy_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
+    fn casadi_panda_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
+    fn casadi_panda_i_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
+    fn casadi_cse_panda_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
+    fn casadi_cse_panda_i_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
 
     fn floor_two_sincos(q: *const f64, out: *mut f64);
     fn floor_eight_sincos(q: *const f64, out: *mut f64);
+    fn floor_seven_sincos(q: *const f64, out: *mut f64);
 }
 
 /// Which implementation.
@@ -141,6 +224,10 @@ fn casadi_fn(peer: Peer, case: Case) -> (CasadiFn, CasadiWorkFn) {
         (Peer::CasadiCse, Case::Bzy) => (casadi_cse_bzy, casadi_cse_bzy_work),
         (Peer::CasadiCse, Case::Bzx) => (casadi_cse_bzx, casadi_cse_bzx_work),
         (Peer::CasadiCse, Case::DiaZy) => (casadi_cse_dia_zy, casadi_cse_dia_zy_work),
+        (Peer::Casadi, Case::Panda) => (casadi_panda, casadi_panda_work),
+        (Peer::Casadi, Case::PandaI) => (casadi_panda_i, casadi_panda_i_work),
+        (Peer::CasadiCse, Case::Panda) => (casadi_cse_panda, casadi_cse_panda_work),
+        (Peer::CasadiCse, Case::PandaI) => (casadi_cse_panda_i, casadi_cse_panda_i_work),
         _ => panic!("{peer:?} is not a CasADi peer"),
     }
 }
@@ -156,12 +243,16 @@ pub fn casadi_work_sizes(peer: Peer, case: Case) -> [i64; 4] {
     sz
 }
 
+/// Doubles of CasADi work space `eval` hands to the Panda functions (the only ones with
+/// `sz_w > 0`; checked in tests against `casadi_work_sizes`).
+pub const CASADI_W: usize = 64;
+
 /// Evaluates `case` with implementation `peer` into `out` (length [`Case::out_len`]).
 #[inline(always)]
 pub fn eval(peer: Peer, case: Case, q: &[f64], p: &[f64], out: &mut [f64]) {
     assert!(out.len() >= case.out_len());
-    assert!(q.len() >= if case == Case::DiaZy { 8 } else { 2 });
-    assert!(p.len() >= if case == Case::DiaZy { 1 } else { 3 });
+    assert!(q.len() >= case.nq());
+    assert!(p.len() >= case.np());
     let o = out.as_mut_ptr();
     match peer {
         Peer::Casadi | Peer::CasadiCse => {
@@ -169,10 +260,19 @@ pub fn eval(peer: Peer, case: Case, q: &[f64], p: &[f64], out: &mut [f64]) {
             let arg = [q.as_ptr(), p.as_ptr()];
             // Output blocks; only the first `outs().len()` are used by the callee.
             let res: [*mut f64; 3] = [o, o.wrapping_add(12), o.wrapping_add(48)];
-            // SAFETY: SX-generated code reads arg[0..2] and writes res[0..n_out]. Its work sizes
-            // sz_iw and sz_w are 0 (checked in tests: `casadi_work_sizes`), so it never touches
-            // iw or w, and null is a valid work pointer (no per-call scratch to zero).
-            unsafe { f(arg.as_ptr(), res.as_ptr(), core::ptr::null_mut(), core::ptr::null_mut(), 0) };
+            if case.is_panda() {
+                // The Panda functions use sz_w ≤ CASADI_W doubles of scratch, which they write
+                // before reading: uninitialised stack space, no per-call zeroing.
+                let mut w = core::mem::MaybeUninit::<[f64; CASADI_W]>::uninit();
+                // SAFETY: reads arg[0..2], writes res[0..2], uses w[0..sz_w] (sz_w ≤ CASADI_W,
+                // sz_iw = 0: tests).
+                unsafe { f(arg.as_ptr(), res.as_ptr(), core::ptr::null_mut(), w.as_mut_ptr().cast(), 0) };
+            } else {
+                // SAFETY: SX-generated code reads arg[0..2] and writes res[0..n_out]. Its work sizes
+                // sz_iw and sz_w are 0 (checked in tests: `casadi_work_sizes`), so it never touches
+                // iw or w, and null is a valid work pointer (no per-call scratch to zero).
+                unsafe { f(arg.as_ptr(), res.as_ptr(), core::ptr::null_mut(), core::ptr::null_mut(), 0) };
+            }
         }
         // SAFETY: the SymPy functions read q[0..nq], p[0..np] and write the output blocks.
         Peer::Sympy => unsafe {
@@ -181,6 +281,8 @@ pub fn eval(peer: Peer, case: Case, q: &[f64], p: &[f64], out: &mut [f64]) {
                 Case::Bzy => sympy_bzy(q.as_ptr(), p.as_ptr(), o),
                 Case::Bzx => sympy_bzx(q.as_ptr(), p.as_ptr(), o),
                 Case::DiaZy => sympy_dia_zy(q.as_ptr(), p.as_ptr(), o, o.add(12), o.add(48)),
+                Case::Panda => sympy_panda(q.as_ptr(), p.as_ptr(), o, o.add(12)),
+                Case::PandaI => sympy_panda_i(q.as_ptr(), p.as_ptr(), o, o.add(12)),
             }
         },
         Peer::RustReference => reference::eval(case, q, p, out),
@@ -197,6 +299,13 @@ pub fn floor_two(q: &[f64; 2], out: &mut [f64; 4]) {
 pub fn floor_eight(q: &[f64; 8], out: &mut [f64; 16]) {
     // SAFETY: reads 8, writes 16.
     unsafe { floor_eight_sincos(q.as_ptr(), out.as_mut_ptr()) }
+}
+
+/// The same for the Panda's seven joints (`q` holds at least 7).
+pub fn floor_seven(q: &[f64], out: &mut [f64; 14]) {
+    assert!(q.len() >= 7);
+    // SAFETY: reads 7, writes 14.
+    unsafe { floor_seven_sincos(q.as_ptr(), out.as_mut_ptr()) }
 }
 
 /// f64 reference of the same kinematics, written independently of `peers_gen.py`.
@@ -325,6 +434,50 @@ pub mod reference {
         g
     }
 
+    /// URDF `rpy`: Rot(z, y) Rot(y, p) Rot(x, r), evaluated in f64 as written (no rounding of
+    /// cos(π/2) to 0).
+    pub fn rpy(r: f64, p: f64, y: f64) -> M3 {
+        let (sr, cr) = r.sin_cos();
+        let (sp, cp) = p.sin_cos();
+        let (sy, cy) = y.sin_cos();
+        [
+            [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+            [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+            [-sp, cp * sr, cp * cr],
+        ]
+    }
+
+    /// The Panda's revolute joints `(xyz, rpy)` of `<origin>` in `urdf/panda.urdf` (every axis z),
+    /// copied by hand from the file (independently of `peers_gen.py`'s parser and of trocar's).
+    pub const PANDA_JOINTS: [([f64; 3], [f64; 3]); 7] = [
+        ([0.0, 0.0, 0.333], [0.0, 0.0, 0.0]),
+        ([0.0, 0.0, 0.0], [-1.5707963267948966, 0.0, 0.0]),
+        ([0.0, -0.316, 0.0], [1.5707963267948966, 0.0, 0.0]),
+        ([0.0825, 0.0, 0.0], [1.5707963267948966, 0.0, 0.0]),
+        ([-0.0825, 0.384, 0.0], [-1.5707963267948966, 0.0, 0.0]),
+        ([0.0, 0.0, 0.0], [1.5707963267948966, 0.0, 0.0]),
+        ([0.088, 0.0, 0.0], [1.5707963267948966, 0.0, 0.0]),
+    ];
+    /// `panda_joint8` (fixed): panda_link7 → panda_link8.
+    pub const PANDA_FLANGE: [f64; 3] = [0.0, 0.0, 0.107];
+
+    /// Joint k of the Panda: Trans(xyz) Rot_rpy Rot(z, q).
+    pub fn panda_joint(k: usize, q: f64) -> Tf {
+        let (xyz, [r, p, y]) = PANDA_JOINTS[k];
+        mul(&Tf { r: rpy(r, p, y), p: xyz }, &joint([0.0; 3], b'z', q))
+    }
+
+    /// Pose and body Jacobian (7 columns) of `panda_link8` (`flange`) or `panda_link7`.
+    pub fn panda(q: &[f64], flange: bool) -> (Tf, Vec<[f64; 6]>) {
+        let tfs: Vec<Tf> = (0..7).map(|k| panda_joint(k, q[k])).collect();
+        let tip = Tf { r: I3, p: if flange { PANDA_FLANGE } else { [0.0; 3] } };
+        let mut g = tip;
+        for t in tfs.iter().rev() {
+            g = mul(t, &g);
+        }
+        (g, body_jacobian(&tfs, b"zzzzzzz", &tip))
+    }
+
     /// Evaluates a case, column-major outputs (see the crate docs).
     pub fn eval(case: Case, q: &[f64], p: &[f64], out: &mut [f64]) {
         let mut put = |off: usize, cols: &[[f64; 6]]| {
@@ -333,6 +486,16 @@ pub mod reference {
             }
         };
         match case {
+            Case::Panda | Case::PandaI => {
+                let (g, jb) = panda(q, case == Case::Panda);
+                put(12, &jb);
+                for j in 0..3 {
+                    for i in 0..3 {
+                        out[3 * j + i] = g.r[i][j];
+                    }
+                }
+                out[9..12].copy_from_slice(&g.p);
+            }
             Case::DiaZy => {
                 let tfs: Vec<Tf> = (0..8).map(|k| joint(DIA_ORIGINS[k], DIA_AXES_ZY[k], q[k])).collect();
                 let tip = Tf { r: I3, p: [0.0, 0.21, 0.0] };
@@ -377,16 +540,28 @@ pub mod numeric {
         Bi(Chain<f64, 8>, Constraint<f64, 2>),
         /// dia10_like zy.
         Dia(Chain<f64, 8>, Constraint<f64, 2>),
+        /// Panda, F_i of panda-laparoscope: `link_frame(7)` + `partial_body_jacobian::<7>`.
+        PandaI(Chain<f64, 7>),
     }
 
     impl Numeric {
         /// Builds the case with parameters `p` (presets: l_a, l_b, l_8; dia10_like: l_a).
+        ///
+        /// # Panics
+        /// For [`Case::Panda`] (panda_link8 is not a frame of the description's chain: the numeric
+        /// runtime is measured on [`Case::PandaI`]).
         pub fn new(case: Case, p: &[f64]) -> Numeric {
+            if case == Case::PandaI {
+                let d = RobotDescription::preset("panda-laparoscope").expect("preset");
+                let robot = Robot::<f64>::from_description(&d, &[("l_a".into(), p[0])]).expect("robot");
+                return Numeric::PandaI(robot.to_chain::<7>().expect("chain"));
+            }
             let (name, params): (&str, &[&str]) = match case {
                 Case::Uni => ("unidirectional", &["l_a", "l_b", "l_8"]),
                 Case::Bzy => ("bidirectional-zy", &["l_a", "l_b", "l_8"]),
                 Case::Bzx => ("bidirectional-zx", &["l_a", "l_b", "l_8"]),
                 Case::DiaZy => ("dia10_like_zy", &["l_a"]),
+                Case::Panda | Case::PandaI => panic!("no numeric runtime for {case:?}"),
             };
             let d = RobotDescription::preset(name).expect("preset");
             let overrides: Vec<(String, f64)> =
@@ -397,6 +572,7 @@ pub mod numeric {
                 Case::Uni => Numeric::Uni(chain, robot.to_constraint().expect("constraint")),
                 Case::Bzy | Case::Bzx => Numeric::Bi(chain, robot.to_constraint().expect("constraint")),
                 Case::DiaZy => Numeric::Dia(chain, robot.to_constraint().expect("constraint")),
+                Case::Panda | Case::PandaI => unreachable!(),
             }
         }
 
@@ -428,6 +604,14 @@ pub mod numeric {
                     out[12..48].copy_from_slice(jb.as_slice());
                     out[48..84].copy_from_slice(jr.as_slice());
                 }
+                Numeric::PandaI(chain) => {
+                    let q7 = SVector::<f64, 7>::from_column_slice(&q[..7]);
+                    let g = chain.link_frame(7, &q7);
+                    let jb: SMatrix<f64, 6, 7> = chain.partial_body_jacobian::<7>(&q7);
+                    out[..9].copy_from_slice(g.rotation.as_slice());
+                    out[9..12].copy_from_slice(g.translation.as_slice());
+                    out[12..54].copy_from_slice(jb.as_slice());
+                }
             }
         }
     }
@@ -445,6 +629,8 @@ pub mod ours {
     include!(concat!(env!("OUT_DIR"), "/bidirectional_zy.rs"));
     include!(concat!(env!("OUT_DIR"), "/bidirectional_zx.rs"));
     include!(concat!(env!("OUT_DIR"), "/dia10_like_zy.rs"));
+    include!(concat!(env!("OUT_DIR"), "/panda_laparoscope.rs"));
+    include!(concat!(env!("OUT_DIR"), "/panda_link8.rs"));
 
     /// The first `C` columns of 6 of `out`, as the generated functions return them, so a result
     /// is written straight into `out` (as the peers' C writes through its pointer).
@@ -458,6 +644,20 @@ pub mod ours {
     fn q8<T: Real>(q: &[T]) -> [T; 8] {
         let z = T::ZERO;
         [z, z, z, z, z, z, q[0], q[1]]
+    }
+
+    /// The first `N` joint values (zeros past the end of `q`).
+    #[inline(always)]
+    fn first<T: Real, const N: usize>(q: &[T]) -> [T; N] {
+        core::array::from_fn(|k| q.get(k).copied().unwrap_or(T::ZERO))
+    }
+
+    /// `(R, p)` into `out[..12]` (R column-major, then p).
+    #[inline(always)]
+    fn put_pose<T: Real>(out: &mut [T], (r, pos): ([[T; 3]; 3], [T; 3])) {
+        let (rows, _) = out[..12].as_chunks_mut::<3>();
+        rows[..3].copy_from_slice(&r);
+        rows[3] = pos;
     }
 
     /// Our generated functions called with joint values (each function does its own `sin_cos`);
@@ -489,6 +689,22 @@ pub mod ours {
                 *cols(&mut out[12..]) = dia10_like_zy::partial_body_jacobian_trig(&t, &pp);
                 *cols(&mut out[48..]) = dia10_like_zy::constrained_jacobian_trig(&t, &pp);
             }
+            Case::Panda => {
+                // panda_link8 (bench-local description, no constraint): one JointTrig (7 sin_cos)
+                // shared by forward_kinematics and body_jacobian.
+                let t = panda_link8::JointTrig::new(&first::<T, 7>(q));
+                let pp = panda_link8::Params::nominal();
+                put_pose(out, panda_link8::forward_kinematics_trig(&t, &pp));
+                *cols(&mut out[12..]) = panda_link8::body_jacobian_trig(&t, &pp);
+            }
+            Case::PandaI => {
+                // panda-laparoscope: one JointTrig (7 sin_cos) shared by forward_kinematics_i
+                // (g_0i) and partial_body_jacobian (J^B_0i).
+                let t = panda_laparoscope::JointTrig::new(&first::<T, 7>(q));
+                let pp = panda_laparoscope::Params { l_a: p[0] };
+                put_pose(out, panda_laparoscope::forward_kinematics_i_trig(&t, &pp));
+                *cols(&mut out[12..]) = panda_laparoscope::partial_body_jacobian_trig(&t, &pp);
+            }
         }
     }
 
@@ -503,19 +719,33 @@ pub mod ours {
         pub zx: bidirectional_zx::JointTrig<T>,
         /// `JointTrig` of dia10_like.
         pub d: dia10_like_zy::JointTrig<T>,
+        /// `JointTrig` of panda-laparoscope.
+        pub pi: panda_laparoscope::JointTrig<T>,
+        /// `JointTrig` of the bench's panda_link8.
+        pub p8: panda_link8::JointTrig<T>,
     }
 
     impl<T: Real> Trig<T> {
         /// `sin_cos` of every joint, once.
         pub fn new(case: Case, q: &[T]) -> Self {
-            let qq: [T; 8] = if case == Case::DiaZy { core::array::from_fn(|k| q[k]) } else { q8(q) };
+            let qq: [T; 8] = if case == Case::DiaZy { first(q) } else { q8(q) };
+            let q7: [T; 7] = first(q);
             Trig {
                 t: unidirectional::JointTrig::new(&qq),
                 zy: bidirectional_zy::JointTrig::new(&qq),
                 zx: bidirectional_zx::JointTrig::new(&qq),
-                d: dia10_like_zy::JointTrig::new(&qq),
+                d: dia10_like_zy::JointTrig::new(&first(q)),
+                pi: panda_laparoscope::JointTrig::new(&q7),
+                p8: panda_link8::JointTrig::new(&q7),
             }
         }
+    }
+
+    /// The Panda's trigonometry alone: `JointTrig::new` of panda-laparoscope (one
+    /// `sin_cos_array` of the 7 joints), the part of [`eval`] that [`eval_trig`] leaves out.
+    #[inline(always)]
+    pub fn panda_trig<T: Real>(q: &[T]) -> panda_laparoscope::JointTrig<T> {
+        panda_laparoscope::JointTrig::new(&first::<T, 7>(q))
     }
 
     /// The `_trig` functions given precomputed sines and cosines (no trigonometry inside).
@@ -543,6 +773,129 @@ pub mod ours {
                 *cols(&mut out[12..]) = dia10_like_zy::partial_body_jacobian_trig(&t.d, &pp);
                 *cols(&mut out[48..]) = dia10_like_zy::constrained_jacobian_trig(&t.d, &pp);
             }
+            Case::Panda => {
+                let pp = panda_link8::Params::nominal();
+                put_pose(out, panda_link8::forward_kinematics_trig(&t.p8, &pp));
+                *cols(&mut out[12..]) = panda_link8::body_jacobian_trig(&t.p8, &pp);
+            }
+            Case::PandaI => {
+                let pp = panda_laparoscope::Params { l_a: p[0] };
+                put_pose(out, panda_laparoscope::forward_kinematics_i_trig(&t.pi, &pp));
+                *cols(&mut out[12..]) = panda_laparoscope::partial_body_jacobian_trig(&t.pi, &pp);
+            }
+        }
+    }
+}
+
+/// Pinocchio's C++ (feature `pinocchio`, `c/pinocchio_panda.cpp`, built by g++ -O3 at the
+/// default x86-64 ISA against the pip wheel `pin`): the Panda model read from [`PANDA_URDF`] once
+/// (`pinocchio::urdf::buildModel`), then per evaluation the LOCAL frame Jacobian of a frame and
+/// its placement.
+#[cfg(feature = "pinocchio")]
+pub mod pinocchio {
+    use super::Case;
+    use core::ffi::{c_char, c_int, c_void};
+    use std::ffi::CString;
+
+    extern "C" {
+        fn pin_panda_new(urdf: *const c_char, frame: *const c_char) -> *mut c_void;
+        fn pin_panda_free(p: *mut c_void);
+        fn pin_panda_nq(p: *const c_void) -> c_int;
+        fn pin_panda_nv(p: *const c_void) -> c_int;
+        fn pin_panda_frame_jacobian(p: *mut c_void, q: *const f64);
+        fn pin_panda_fk_frame_jacobian(p: *mut c_void, q: *const f64);
+        fn pin_panda_placement(p: *const c_void, which: c_int, out: *mut f64);
+        fn pin_panda_jacobian(p: *const c_void, out: *mut f64);
+    }
+
+    /// How the pose is obtained beside `computeFrameJacobian(model, data, q, frame, LOCAL, J)`.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    pub enum Variant {
+        /// `computeFrameJacobian` alone: its LOCAL backward pass leaves the frame's placement in
+        /// the world in `data.iMf[0]` (no other work).
+        FrameJacobian,
+        /// `forwardKinematics` + `updateFramePlacement` (`data.oMf[frame]`) +
+        /// `computeFrameJacobian`: the documented route to both.
+        FkFrameJacobian,
+    }
+
+    impl Variant {
+        /// Both.
+        pub const ALL: [Variant; 2] = [Variant::FrameJacobian, Variant::FkFrameJacobian];
+        /// Bench / driver name.
+        pub fn name(self) -> &'static str {
+            match self {
+                Variant::FrameJacobian => "pinocchio",
+                Variant::FkFrameJacobian => "pinocchio_fk",
+            }
+        }
+        /// Parses [`Variant::name`].
+        pub fn from_name(s: &str) -> Option<Variant> {
+            Variant::ALL.into_iter().find(|v| v.name() == s)
+        }
+    }
+
+    /// Model, Data, q and J of one frame (owned by the C++ side).
+    pub struct Pinocchio {
+        ptr: *mut c_void,
+        nq: usize,
+    }
+
+    impl Pinocchio {
+        /// The Panda from [`super::PANDA_URDF`], for the frame of `case`: `panda_link8`
+        /// ([`Case::Panda`]) or `panda_link7` ([`Case::PandaI`]).
+        ///
+        /// # Panics
+        /// If the URDF cannot be read or the case is not a Panda case.
+        pub fn new(case: Case) -> Pinocchio {
+            let frame = match case {
+                Case::Panda => "panda_link8",
+                Case::PandaI => "panda_link7",
+                _ => panic!("Pinocchio runs the Panda cases only, not {case:?}"),
+            };
+            let urdf = CString::new(super::PANDA_URDF).unwrap();
+            let frame = CString::new(frame).unwrap();
+            // SAFETY: two NUL-terminated strings; null on failure.
+            let ptr = unsafe { pin_panda_new(urdf.as_ptr(), frame.as_ptr()) };
+            assert!(!ptr.is_null(), "pinocchio could not build the Panda model");
+            // SAFETY: ptr is a live PinPanda.
+            let (nq, nv) = unsafe { (pin_panda_nq(ptr), pin_panda_nv(ptr)) };
+            assert_eq!((nq, nv), (7, 7), "the Panda has 7 revolute joints");
+            Pinocchio { ptr, nq: 7 }
+        }
+
+        /// One evaluation at `q` (length ≥ 7); the results stay in Pinocchio's `Data` and `J`
+        /// ([`Pinocchio::read`]).
+        #[inline(always)]
+        pub fn eval(&mut self, variant: Variant, q: &[f64]) {
+            assert!(q.len() >= self.nq);
+            // SAFETY: ptr is live; the C++ side reads nq doubles.
+            unsafe {
+                match variant {
+                    Variant::FrameJacobian => pin_panda_frame_jacobian(self.ptr, q.as_ptr()),
+                    Variant::FkFrameJacobian => pin_panda_fk_frame_jacobian(self.ptr, q.as_ptr()),
+                }
+            }
+        }
+
+        /// The last results in the layout of [`super::eval`]: the pose (12: `data.iMf[0]` for
+        /// [`Variant::FrameJacobian`], `data.oMf[frame]` for [`Variant::FkFrameJacobian`]) and J
+        /// (42, column-major).
+        pub fn read(&self, variant: Variant, out: &mut [f64]) {
+            assert!(out.len() >= 54);
+            let which = if variant == Variant::FrameJacobian { 0 } else { 1 };
+            // SAFETY: ptr is live; writes 12 and 42 doubles.
+            unsafe {
+                pin_panda_placement(self.ptr, which, out.as_mut_ptr());
+                pin_panda_jacobian(self.ptr, out.as_mut_ptr().add(12));
+            }
+        }
+    }
+
+    impl Drop for Pinocchio {
+        fn drop(&mut self) {
+            // SAFETY: allocated by pin_panda_new, freed once.
+            unsafe { pin_panda_free(self.ptr) }
         }
     }
 }

@@ -1,8 +1,10 @@
 //! The peers' C computes the right matrices: the harness's f64 reference is checked against the
 //! thesis's closed forms (3.24), manipulability (3.41)/(3.42), the constraint itself and finite
-//! differences; then every peer is checked against the reference.
+//! differences; then every peer is checked against the reference. The Panda's reference (from the
+//! URDF's numbers) is checked against finite differences, then Pinocchio (feature `pinocchio`),
+//! the peers and trocar's generated code against it and against each other.
 use trocar_peers_harness::reference::{self, Tf};
-use trocar_peers_harness::{eval, Case, Peer, PRESETS};
+use trocar_peers_harness::{eval, Case, Peer, CASES, PRESETS};
 
 fn lcg(seed: &mut u64) -> f64 {
     *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
@@ -213,7 +215,7 @@ fn reference_dia_body_jacobians_match_finite_differences() {
 #[test]
 fn peers_agree_with_the_reference() {
     let mut seed = 5;
-    for case in [Case::Uni, Case::Bzy, Case::Bzx, Case::DiaZy] {
+    for case in CASES {
         for _ in 0..200 {
             let (q, p) = random_inputs(case, &mut seed);
             let mut want = vec![0.0; case.out_len()];
@@ -234,7 +236,7 @@ fn peers_agree_with_the_reference() {
 fn numeric_runtime_agrees_with_the_reference() {
     use trocar_peers_harness::numeric::Numeric;
     let mut seed = 6;
-    for case in [Case::Uni, Case::Bzy, Case::Bzx, Case::DiaZy] {
+    for case in [Case::Uni, Case::Bzy, Case::Bzx, Case::DiaZy, Case::PandaI] {
         for _ in 0..100 {
             let (q, p) = random_inputs(case, &mut seed);
             let mut want = vec![0.0; case.out_len()];
@@ -254,7 +256,7 @@ fn numeric_runtime_agrees_with_the_reference() {
 fn ours_agree_with_the_reference_f64_and_f32() {
     use trocar_peers_harness::ours;
     let mut seed = 8;
-    for case in [Case::Uni, Case::Bzy, Case::Bzx, Case::DiaZy] {
+    for case in CASES {
         for _ in 0..200 {
             let (q, p) = random_inputs(case, &mut seed);
             let mut want = vec![0.0; case.out_len()];
@@ -277,15 +279,140 @@ fn ours_agree_with_the_reference_f64_and_f32() {
     }
 }
 
-/// The CasADi functions need no `iw` or `w` scratch, which is why `eval` passes null for both.
+/// The CasADi functions need no `iw` or `w` scratch, which is why `eval` passes null for both;
+/// the Panda's need `w`, at most `CASADI_W` doubles, which `eval` passes.
 #[test]
 fn casadi_functions_need_no_work_arrays() {
     for peer in [Peer::Casadi, Peer::CasadiCse] {
-        for case in [Case::Uni, Case::Bzy, Case::Bzx, Case::DiaZy] {
+        for case in CASES {
             let [n_arg, n_res, n_iw, n_w] = trocar_peers_harness::casadi_work_sizes(peer, case);
-            assert_eq!((n_iw, n_w), (0, 0), "{peer:?} {case:?}");
+            if case.is_panda() {
+                assert_eq!(n_iw, 0, "{peer:?} {case:?}");
+                assert!(n_w as usize <= trocar_peers_harness::CASADI_W, "{peer:?} {case:?}: sz_w {n_w}");
+            } else {
+                assert_eq!((n_iw, n_w), (0, 0), "{peer:?} {case:?}");
+            }
             assert_eq!(n_arg, 2, "{peer:?} {case:?}");
             assert!((1..=3).contains(&n_res), "{peer:?} {case:?}");
+        }
+    }
+}
+
+/// The Panda's configurations: random in ±3 rad, and the benchmark's 16 (within the limits).
+fn panda_inputs(case: Case, seed: &mut u64, n: usize) -> Vec<(Vec<f64>, Vec<f64>)> {
+    let (_, p) = case.inputs();
+    let mut v: Vec<(Vec<f64>, Vec<f64>)> = case.configs().into_iter().map(|q| (q, p.clone())).collect();
+    v.extend((0..n).map(|_| random_inputs(case, seed)));
+    v
+}
+
+#[test]
+fn reference_panda_matches_finite_differences_and_the_urdf() {
+    let mut seed = 9;
+    for case in [Case::Panda, Case::PandaI] {
+        for (q, p) in panda_inputs(case, &mut seed, 20) {
+            let mut out = vec![0.0; case.out_len()];
+            reference::eval(case, &q, &p, &mut out);
+            let flange = case == Case::Panda;
+            // The pose is the product of the URDF's joint transforms (and panda_joint8's offset).
+            let (g, _) = reference::panda(&q, flange);
+            for j in 0..3 {
+                for i in 0..3 {
+                    assert_eq!(out[3 * j + i], g.r[i][j]);
+                }
+            }
+            // The columns of J are the body velocities of the pose per joint.
+            for k in 0..7 {
+                let col = fd_body(|h| {
+                    let mut qq = q.clone();
+                    qq[k] += h;
+                    reference::panda(&qq, flange).0
+                });
+                for r in 0..6 {
+                    assert!((out[12 + 6 * k + r] - col[r]).abs() < 1e-7, "{case:?} J ({r},{k})");
+                }
+            }
+            // panda_link8 = panda_link7 · (I, (0, 0, 0.107)).
+            if flange {
+                let (g7, _) = reference::panda(&q, false);
+                for i in 0..3 {
+                    let want = g7.p[i] + g7.r[i][2] * reference::PANDA_FLANGE[2];
+                    assert!((out[9 + i] - want).abs() < 1e-15);
+                }
+            }
+        }
+    }
+}
+
+/// Pinocchio's LOCAL frame Jacobian and placement of panda_link8 (case `panda`) and panda_link7
+/// (`panda_i`), both routes (placement left by computeFrameJacobian in data.iMf[0], and
+/// forwardKinematics + updateFramePlacement), against the reference.
+#[cfg(feature = "pinocchio")]
+#[test]
+fn pinocchio_agrees_with_the_reference() {
+    use trocar_peers_harness::pinocchio::{Pinocchio, Variant};
+    let mut seed = 10;
+    for case in [Case::Panda, Case::PandaI] {
+        let mut pin = Pinocchio::new(case);
+        for (q, p) in panda_inputs(case, &mut seed, 100) {
+            let mut want = vec![0.0; case.out_len()];
+            reference::eval(case, &q, &p, &mut want);
+            for v in Variant::ALL {
+                pin.eval(v, &q);
+                let mut got = vec![f64::NAN; case.out_len()];
+                pin.read(v, &mut got);
+                for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+                    assert!((g - w).abs() <= 1e-12, "pinocchio {v:?} {case:?} [{i}]: {g} vs {w}");
+                }
+            }
+        }
+    }
+}
+
+/// trocar's generated g_0i + J^B_0i of panda-laparoscope against Pinocchio's panda_link7 (the
+/// same frame), and the bench's panda_link8 module against Pinocchio's panda_link8; and
+/// panda-laparoscope's against Pinocchio's panda_link8 moved by panda_joint8's fixed offset
+/// (J^B_08 = Ad_{g_78}^{-1} J^B_07, g_08 = g_07 g_78).
+#[cfg(all(feature = "pinocchio", feature = "ours"))]
+#[test]
+fn ours_agree_with_pinocchio() {
+    use trocar_peers_harness::ours;
+    use trocar_peers_harness::pinocchio::{Pinocchio, Variant};
+    let mut seed = 11;
+    let mut pin8 = Pinocchio::new(Case::Panda);
+    for case in [Case::Panda, Case::PandaI] {
+        let mut pin = Pinocchio::new(case);
+        for (q, p) in panda_inputs(case, &mut seed, 100) {
+            let mut ours = vec![f64::NAN; case.out_len()];
+            ours::eval(case, &q, &p, &mut ours);
+            let mut theirs = vec![f64::NAN; case.out_len()];
+            pin.eval(Variant::FrameJacobian, &q);
+            pin.read(Variant::FrameJacobian, &mut theirs);
+            for (i, (a, b)) in ours.iter().zip(&theirs).enumerate() {
+                assert!((a - b).abs() <= 1e-12, "ours vs pinocchio {case:?} [{i}]: {a} vs {b}");
+            }
+            if case == Case::PandaI {
+                let mut flange = vec![f64::NAN; 54];
+                pin8.eval(Variant::FrameJacobian, &q);
+                pin8.read(Variant::FrameJacobian, &mut flange);
+                let d = reference::PANDA_FLANGE[2];
+                for i in 0..3 {
+                    let p8 = ours[9 + i] + ours[6 + i] * d;
+                    assert!((p8 - flange[9 + i]).abs() <= 1e-12);
+                    for j in 0..3 {
+                        assert!((ours[3 * j + i] - flange[3 * j + i]).abs() <= 1e-12);
+                    }
+                }
+                for k in 0..7 {
+                    let c: [f64; 6] = core::array::from_fn(|r| ours[12 + 6 * k + r]);
+                    let g78 = Tf { r: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], p: [0.0, 0.0, d] };
+                    let c8 = reference::ad_inv(&g78, c);
+                    for r in 0..6 {
+                        let b = flange[12 + 6 * k + r];
+                        assert!((c8[r] - b).abs() <= 1e-12, "F_i moved to panda_link8 ({r},{k}): {} vs {b}", c8[r]);
+                    }
+                }
+            }
         }
     }
 }

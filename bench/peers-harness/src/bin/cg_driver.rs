@@ -4,8 +4,12 @@
 //! instruction count divided by N is instructions per evaluation (the loop's own ~5 instructions
 //! per iteration included; `cg_driver noop - N` measures them).
 //! IMPL: casadi | casadi_cse | sympy | rust_reference | numeric | ours_f64 | ours_f64_given_trig |
-//! ours_f32 (feature `ours`) | noop | trig_c_glibc | trig_std_f64 |
-//! trig_fast_f64 | trig_std_f32 | trig_fast_f32 | trig_libm_f64 | trig_libm_f32. CASE: uni | bzy | bzx | dia_zy | -.
+//! ours_f32 (feature `ours`) | pinocchio | pinocchio_fk (feature `pinocchio`, Panda cases) |
+//! ours_trig | trig_c_glibc (Panda cases: the 7 joints' trigonometry alone) | noop |
+//! trig_c_glibc | trig_std_f64 | trig_fast_f64 | trig_std_f32 | trig_fast_f32 | trig_libm_f64 |
+//! trig_libm_f32. CASE: uni | bzy | bzx | dia_zy | panda | panda_i | -.
+//! The Panda cases cycle through `Case::configs` (16 configurations, the index through
+//! `black_box`), as the criterion bench does.
 use std::hint::black_box;
 use trocar_peers_harness::{eval, floor_two, Case, Peer};
 
@@ -62,6 +66,9 @@ fn main() {
     let n: usize = args[3].parse().expect("N");
     let q2 = [0.5f64, 0.3];
     let q2f = [0.5f32, 0.3];
+    if let Some(case) = Case::from_name(&args[2]).filter(|c| c.is_panda()) {
+        return panda(&args[1], case, n);
+    }
     match args[1].as_str() {
         "noop" => measured_loop(n, &mut || {
             black_box(black_box(&q2));
@@ -143,6 +150,86 @@ fn main() {
             let mut out = vec![0.0; case.out_len()];
             measured_loop(n, &mut || {
                 eval(peer, case, black_box(&q), black_box(&p), &mut out);
+                black_box(&mut out);
+            });
+        }
+    }
+}
+
+/// The Panda cases: every implementation cycles through the 16 configurations of `Case::configs`.
+fn panda(name: &str, case: Case, n: usize) {
+    let qs = case.configs();
+    let (_, p) = case.inputs();
+    let mut out = vec![0.0; case.out_len()];
+    let mut k = 0usize;
+    match name {
+        "numeric" => {
+            let mut num = trocar_peers_harness::numeric::Numeric::new(case, &p);
+            measured_loop(n, &mut || {
+                k = black_box(k + 1) & 15;
+                num.eval(&qs[k], black_box(&p), &mut out);
+                black_box(&mut out);
+            });
+        }
+        #[cfg(feature = "pinocchio")]
+        "pinocchio" | "pinocchio_fk" => {
+            use trocar_peers_harness::pinocchio::{Pinocchio, Variant};
+            let v = Variant::from_name(name).unwrap();
+            let mut pin = Pinocchio::new(case);
+            measured_loop(n, &mut || {
+                k = black_box(k + 1) & 15;
+                pin.eval(v, &qs[k]);
+            });
+        }
+        #[cfg(feature = "ours")]
+        "ours_f64" => measured_loop(n, &mut || {
+            k = black_box(k + 1) & 15;
+            trocar_peers_harness::ours::eval(case, &qs[k], black_box(&p), &mut out);
+            black_box(&mut out);
+        }),
+        #[cfg(feature = "ours")]
+        "ours_f64_given_trig" => {
+            use trocar_peers_harness::ours;
+            let trigs: Vec<ours::Trig<f64>> = qs.iter().map(|q| ours::Trig::new(case, q)).collect();
+            measured_loop(n, &mut || {
+                k = black_box(k + 1) & 15;
+                ours::eval_trig(case, &trigs[k], black_box(&p), &mut out);
+                black_box(&mut out);
+            })
+        }
+        #[cfg(feature = "ours")]
+        "ours_f32" => {
+            let qs32: Vec<Vec<f32>> = qs.iter().map(|q| q.iter().map(|&x| x as f32).collect()).collect();
+            let p32: Vec<f32> = p.iter().map(|&x| x as f32).collect();
+            let mut out32 = vec![0.0f32; case.out_len()];
+            measured_loop(n, &mut || {
+                k = black_box(k + 1) & 15;
+                trocar_peers_harness::ours::eval(case, &qs32[k], black_box(&p32), &mut out32);
+                black_box(&mut out32);
+            })
+        }
+        "noop" => measured_loop(n, &mut || {
+            k = black_box(k + 1) & 15;
+            black_box(&qs[k]);
+        }),
+        "trig_c_glibc" => {
+            let mut o14 = [0.0; 14];
+            measured_loop(n, &mut || {
+                k = black_box(k + 1) & 15;
+                trocar_peers_harness::floor_seven(&qs[k], &mut o14);
+                black_box(&mut o14);
+            })
+        }
+        #[cfg(feature = "ours")]
+        "ours_trig" => measured_loop(n, &mut || {
+            k = black_box(k + 1) & 15;
+            black_box(trocar_peers_harness::ours::panda_trig::<f64>(&qs[k]));
+        }),
+        name => {
+            let peer = Peer::from_name(name).unwrap_or_else(|| panic!("unknown IMPL {name} for {case:?}"));
+            measured_loop(n, &mut || {
+                k = black_box(k + 1) & 15;
+                eval(peer, case, &qs[k], black_box(&p), &mut out);
                 black_box(&mut out);
             });
         }
