@@ -33,7 +33,9 @@ mod baseline {
         ControllerConfig, Method, NullSpaceObjective, Rcm, Reference,
     };
     use trocar::control::{trocar_offset, ConstrainedState, ControlError, Shaft};
-    use trocar::nalgebra::{ArrayStorage, Const, DimMin, Matrix3, SMatrix, SVector, Vector3, Vector6};
+    use trocar::nalgebra::{
+        ArrayStorage, Const, DimMin, Matrix3, SMatrix, SVector, Vector3, Vector6,
+    };
     use trocar::se3::Se3;
     use trocar_tests_generated::dia10_like_zy as dia10;
 
