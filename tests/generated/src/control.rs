@@ -15,3 +15,7 @@ pub type GeneratedKinematics<T> = Dia10LikeZy<T>;
 /// The Franka Panda with a laparoscope (`panda-laparoscope`: constraint on the last link, shaft
 /// along the flange's `z`, task `x y z rz`) through its generated closed forms.
 pub type PandaLaparoscope<T> = crate::panda_laparoscope::Kinematics<T>;
+
+/// The KUKA iiwa 14 with an endoscope (`iiwa-endoscope`: constraint on the last link, task
+/// `x y z rz`) through its generated closed forms.
+pub type IiwaEndoscope<T> = crate::iiwa_endoscope::Kinematics<T>;

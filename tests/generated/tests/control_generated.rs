@@ -16,8 +16,8 @@ use trocar_model::description::RobotDescription;
 use trocar_model::numeric::NumericModel;
 use trocar_sim::simulation::PANDA_Q0;
 use trocar_sim::simulation::{Method, Scenario, ScenarioConfig, L_A0, Q0};
-use trocar_tests_generated::control::PandaLaparoscope;
 use trocar_tests_generated::control::{Dia10LikeZx, Dia10LikeZy, GeneratedKinematics};
+use trocar_tests_generated::control::{IiwaEndoscope, PandaLaparoscope};
 use trocar_tests_generated::panda_laparoscope as panda;
 
 /// Counts the allocations of the current thread (tests run in parallel threads).
@@ -313,23 +313,12 @@ fn generated_step_kinematics_match_numeric_at_random_configurations() {
             rng.uniform(-0.6, 0.6),
             rng.uniform(0.0, 1.0),
         );
-        let (la_g, g) =
-            ConstrainedKinematics::<f64, 7, 7, 2, 4, 4, 4>::evaluate_at_trocar(&gen, &q, &trocar)
-                .unwrap();
-        let (la_n, n) =
-            ConstrainedKinematics::<f64, 7, 7, 2, 4, 4, 4>::evaluate_at_trocar(&num, &q, &trocar)
-                .unwrap();
-        assert!((la_g - la_n).abs() <= 1e-13, "l_a {la_g} vs {la_n}");
-        close_panda("R_0e", &g.g_0e.rotation, &n.g_0e.rotation, 1e-13);
-        close_panda("p_0e", &g.g_0e.translation, &n.g_0e.translation, 1e-13);
-        close_panda("R_0i", &g.g_0i.rotation, &n.g_0i.rotation, 1e-13);
-        close_panda("J^r", &g.jr, &n.jr, 1e-12);
-        close_panda("J^B_0i", &g.jb0i, &n.jb0i, 1e-12);
-        close_panda("J_c", &g.jc, &n.jc, 1e-12);
-        close_panda("Λ#", &g.lambda_sharp, &n.lambda_sharp, 1e-12);
-        close_panda("Λ†", &g.lambda_pinv, &n.lambda_pinv, 1e-12);
+        let la_g = states_agree(&gen, &num, &q, &trocar);
 
         // The plain step function fills the same, and S J^r.
+        let (_, n) =
+            ConstrainedKinematics::<f64, 7, 7, 2, 4, 4, 4>::evaluate_at_trocar(&num, &q, &trocar)
+                .unwrap();
         let t = panda::JointTrig::new(&q.data.0[0]);
         let mut s = panda::StepKinematics::zeroed();
         assert!(panda::step_kinematics(
@@ -341,6 +330,63 @@ fn generated_step_kinematics_match_numeric_at_random_configurations() {
         assert_eq!(s.offset, la_g);
         let task = SMatrix::<f64, 4, 4>::from_data(trocar::nalgebra::ArrayStorage(s.task_jacobian));
         close_panda("S J^r", &task, &(num.task * n.jr), 1e-12);
+    }
+}
+
+/// Generated and numeric kinematics agree at `q` with the trocar at `trocar`; returns `l_a`.
+fn states_agree<G, Num>(
+    gen: &G,
+    num: &Num,
+    q: &SVector<f64, 7>,
+    trocar: &trocar::nalgebra::Vector3<f64>,
+) -> f64
+where
+    G: ConstrainedKinematics<f64, 7, 7, 2, 4, 4, 4>,
+    Num: ConstrainedKinematics<f64, 7, 7, 2, 4, 4, 4>,
+{
+    let (la_g, g) = gen.evaluate_at_trocar(q, trocar).unwrap();
+    let (la_n, n) = num.evaluate_at_trocar(q, trocar).unwrap();
+    assert!((la_g - la_n).abs() <= 1e-13, "l_a {la_g} vs {la_n}");
+    close_panda("R_0e", &g.g_0e.rotation, &n.g_0e.rotation, 1e-13);
+    close_panda("p_0e", &g.g_0e.translation, &n.g_0e.translation, 1e-13);
+    close_panda("R_0i", &g.g_0i.rotation, &n.g_0i.rotation, 1e-13);
+    close_panda("J^r", &g.jr, &n.jr, 1e-12);
+    close_panda("J^B_0i", &g.jb0i, &n.jb0i, 1e-12);
+    close_panda("J_c", &g.jc, &n.jc, 1e-12);
+    close_panda("Λ#", &g.lambda_sharp, &n.lambda_sharp, 1e-12);
+    close_panda("Λ†", &g.lambda_pinv, &n.lambda_pinv, 1e-12);
+    close_panda("S", &gen.task_selection(), &num.task_selection(), 0.0);
+    let (gs, ns) = (gen.shaft(), num.shaft());
+    close_panda("R_ir", &gs.rotation, &ns.rotation, 1e-13);
+    close_panda("o", &gs.origin, &ns.origin, 1e-12);
+    close_panda("d", &gs.direction, &ns.direction, 1e-12);
+    la_g
+}
+
+/// A second URDF robot with the constraint on its last link (the KUKA iiwa with an endoscope,
+/// the flange frame folded from `iiwa_joint_ee`'s origin): the generated controller kinematics
+/// equal the numeric ones built from its description too.
+#[test]
+fn iiwa_endoscope_controller_kinematics_match_numeric() {
+    let d = RobotDescription::from_toml_file(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../runtime/model/robots/iiwa-endoscope.toml"),
+    )
+    .unwrap();
+    let num = NumericModel::<f64>::from_description(&d, &[])
+        .unwrap()
+        .to_kinematics::<7, 2, 4>()
+        .unwrap();
+    let gen = IiwaEndoscope::<f64>::nominal();
+    let mut rng = Rng(0x1ead_beef_cafe);
+    for _ in 0..100 {
+        let q = SVector::<f64, 7>::from_fn(|_, _| rng.uniform(-2.0, 2.0));
+        let trocar = trocar::nalgebra::Vector3::new(
+            rng.uniform(-0.6, 0.6),
+            rng.uniform(-0.6, 0.6),
+            rng.uniform(0.2, 1.2),
+        );
+        states_agree(&gen, &num, &q, &trocar);
     }
 }
 
