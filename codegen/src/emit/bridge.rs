@@ -181,6 +181,15 @@ pub fn matrix_program(d: &Derivation, m: &Matrix) -> Program {
     prog
 }
 
+/// A rigid transform's expanded entries as a program, outputs in the [`super::Shape::Transform`]
+/// layout.
+pub fn transform_program(d: &Derivation, t: &Transform) -> Program {
+    let mut prog = new_program(d);
+    let values = PolyBuilder::new(&mut prog).transform(t);
+    prog.set_outputs(values.outputs());
+    prog
+}
+
 /// Forward kinematics of the first `upto` joints (then `tail`, if given), product form.
 fn fk_product_program(d: &Derivation, upto: usize, tail: Option<&Transform>) -> Program {
     let mut prog = new_program(d);
@@ -286,15 +295,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
 
     let fk_product = fk_product_program(d, n, Some(&d.end_effector));
     let fk = match &d.fk_e {
-        Some(fk_e) => cheaper(
-            {
-                let mut prog = new_program(d);
-                let t = PolyBuilder::new(&mut prog).transform(fk_e);
-                prog.set_outputs(t.outputs());
-                prog
-            },
-            fk_product,
-        ),
+        Some(fk_e) => cheaper(transform_program(d, fk_e), fk_product),
         None => fk_product,
     };
     functions.push(Function::catalogued(
@@ -375,12 +376,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
             size,
         ));
         let fki = cheaper(
-            {
-                let mut prog = new_program(d);
-                let t = PolyBuilder::new(&mut prog).transform(&c.fk_i);
-                prog.set_outputs(t.outputs());
-                prog
-            },
+            transform_program(d, &c.fk_i),
             fk_product_program(d, c.link, None),
         );
         functions.push(Function::catalogued(
@@ -445,12 +441,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
             F::ConstraintFrame,
             "The constraint frame `g_ir = (R_ir, p_ir)`: `F_r` in the constrained link's frame `F_i`",
             "",
-            {
-                let mut prog = new_program(d);
-                let t = PolyBuilder::new(&mut prog).transform(&c.g_ir);
-                prog.set_outputs(t.outputs());
-                prog
-            },
+            transform_program(d, &c.g_ir),
             size,
         ));
         if let Some(t) = &c.task {
