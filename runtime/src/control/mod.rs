@@ -369,6 +369,13 @@ pub struct Controller<
     fi_started: bool,
 }
 
+/// A direct solve `(x, det J)` when `J` is regular (`det J` finite and not 0).
+fn regular<T: RealField + Copy, const C: usize>(
+    solved: Option<(SVector<T, C>, T)>,
+) -> Option<(SVector<T, C>, T)> {
+    solved.filter(|(_, det)| *det != T::zero() && det.is_finite())
+}
+
 /// Splits `e` on `H`'s linear part: `H_v e`.
 fn h_linear<T: RealField + Copy, const R: usize>(
     h: &SMatrix<T, R, 6>,
@@ -466,12 +473,10 @@ impl<
         } else {
             (sel * s.jr, sel * rhs)
         };
-        // The robot's own square solves when it has them (det = 0 or not finite: not usable).
-        let usable =
-            |r: Option<(SVector<T, M>, T)>| r.filter(|(_, d)| *d != T::zero() && d.is_finite());
+        // The robot's own square solves when it has them.
         let direct_r = match c.method {
             Method::Fi { .. } => None,
-            _ => usable(kin.solve_task(&task_jr, &dv_e)),
+            _ => regular(kin.solve_task(&task_jr, &dv_e)),
         };
         let jr = match direct_r {
             Some(_) => None,
@@ -510,9 +515,7 @@ impl<
         //    objective's motion in the null space of J^B_0i when it is wide ((44)–(46)).
         let v0i: SVector<T, K> = x.fixed_rows::<K>(0).into_owned();
         let v_0i = s.lambda_sharp * v0i + s.lambda_pinv * dv_0r;
-        let direct_i = kin
-            .solve_jb0i(&s.jb0i, &v_0i)
-            .filter(|(_, d)| *d != T::zero() && d.is_finite());
+        let direct_i = regular(kin.solve_jb0i(&s.jb0i, &v_0i));
         let jb0i = match direct_i {
             Some(_) => None,
             None => Some(PreparedJacobian::new(&s.jb0i)),
