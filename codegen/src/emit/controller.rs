@@ -215,12 +215,23 @@ pub(crate) fn tokens(rt: &TokenStream, real: Real, spec: &ControllerSpec) -> Tok
                     params: &Params #args,
                     out: &mut StepKinematics #args,
                 ) -> bool {
+                    fill_at_trocar(t, trocar, params, out);
+                    #r::is_finite(out.offset) && step_is_finite(out)
+                }
+
+                /// [`step_kinematics`] without the finiteness check.
+                #[inline]
+                fn fill_at_trocar #generics (
+                    t: &JointTrig #args,
+                    trocar: &[#t; 3],
+                    params: &Params #args,
+                    out: &mut StepKinematics #args,
+                ) {
                     out.g_0i = forward_kinematics_i_trig(t, params);
                     out.offset = trocar_offset(&out.g_0i, trocar, params);
                     let mut p = *params;
                     p.#offset = out.offset;
                     fill_step(t, &p, out);
-                    #r::is_finite(out.offset) && step_is_finite(out)
                 }
             }
         }
@@ -485,14 +496,10 @@ fn glue_tokens(rt: &TokenStream, real: Real, offset: &str, spec: &ControllerSpec
                 // the joint rates it computes from them.
                 let t = JointTrig::new(&q.data.0[0]);
                 let mut s = StepKinematics::zeroed();
-                s.g_0i = forward_kinematics_i_trig(&t, &self.params);
-                s.offset = trocar_offset(&s.g_0i, &trocar.data.0[0], &self.params);
+                fill_at_trocar(&t, &trocar.data.0[0], &self.params, &mut s);
                 if !#real::is_finite(s.offset) {
                     return ::core::result::Result::Err(#rt::control::ControlError::Kinematics);
                 }
-                let mut p = self.params;
-                p.#offset = s.offset;
-                fill_step(&t, &p, &mut s);
                 ::core::result::Result::Ok((s.offset, Self::state(&s)))
             }
         }

@@ -1155,12 +1155,22 @@ pub mod rotated_rcm {
         params: &Params,
         out: &mut StepKinematics,
     ) -> bool {
+        fill_at_trocar(t, trocar, params, out);
+        <f64 as ::trocar::Real>::is_finite(out.offset) && step_is_finite(out)
+    }
+    /// [`step_kinematics`] without the finiteness check.
+    #[inline]
+    fn fill_at_trocar(
+        t: &JointTrig,
+        trocar: &[f64; 3],
+        params: &Params,
+        out: &mut StepKinematics,
+    ) {
         out.g_0i = forward_kinematics_i_trig(t, params);
         out.offset = trocar_offset(&out.g_0i, trocar, params);
         let mut p = *params;
         p.l_a = out.offset;
         fill_step(t, &p, out);
-        <f64 as ::trocar::Real>::is_finite(out.offset) && step_is_finite(out)
     }
     /// `J x = b` for a square 6 × 6 `J` (column-major `j[col][row]`): Gaussian elimination with partial pivoting written out for this size. Returns `(x, det J)`; `x` is not meaningful when `det J` is 0 or not finite.
     #[inline]
@@ -1608,16 +1618,12 @@ pub mod rotated_rcm {
         > {
             let t = JointTrig::new(&q.data.0[0]);
             let mut s = StepKinematics::zeroed();
-            s.g_0i = forward_kinematics_i_trig(&t, &self.params);
-            s.offset = trocar_offset(&s.g_0i, &trocar.data.0[0], &self.params);
+            fill_at_trocar(&t, &trocar.data.0[0], &self.params, &mut s);
             if !<f64 as ::trocar::Real>::is_finite(s.offset) {
                 return ::core::result::Result::Err(
                     ::trocar::control::ControlError::Kinematics,
                 );
             }
-            let mut p = self.params;
-            p.l_a = s.offset;
-            fill_step(&t, &p, &mut s);
             ::core::result::Result::Ok((s.offset, Self::state(&s)))
         }
     }
