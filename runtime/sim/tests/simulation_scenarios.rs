@@ -141,10 +141,10 @@ fn progress_reaches_one_and_figures_are_written() {
 }
 
 /// The Panda laparoscope (constraint on the last link, task `x y z rz`, joint limits): the tip
-/// closes its 1 cm start error and then follows the circle to 1e-4 m after 2 s, the shaft rolls
+/// spirals out from rest onto the circle and follows it to 1e-4 m after 2 s, the shaft rolls
 /// as commanded, the drift stays under 0.1 mm, no joint passes a limit, and the net lateral
-/// motion of the link at the trocar is below 1e-6 m/s once the start transient is over (during
-/// its first 0.33 s, explicit Euler's chord at 2 ms moves it up to 2.6e-5 m/s; measured).
+/// motion of the link at the trocar over each step (the chord of explicit Euler's step, not the
+/// instantaneous `J q̇`) stays below 1e-6 m/s over the whole run.
 #[test]
 fn panda_laparoscope_holds_the_trocar_and_the_task() {
     let cfg = ScenarioConfig::new(Scenario::Panda).with_drift_correction(true);
@@ -165,11 +165,9 @@ fn panda_laparoscope_holds_the_trocar_and_the_task() {
     // The whole reference (shaft through the trocar, rolled) is feasible: orientation too.
     assert!(after(2.0, &|r| r.eo_norm) <= 1e-4, "{s:?}");
     let vr = |r: &trocar_sim::simulation::TraceRow| r.vr[0].hypot(r.vr[1]);
-    assert!(
-        after(0.5, &vr) <= 1e-6,
-        "lateral velocity after the transient"
-    );
-    assert!(after(0.0, &vr) <= 3e-5, "lateral velocity in the transient");
+    let max_vr = after(0.0, &vr);
+    eprintln!("max lateral velocity {max_vr:.3e} m/s");
+    assert!(max_vr <= 1e-6, "lateral velocity {max_vr:.3e} m/s");
     let margin = s.min_limit_margin.expect("the URDF has limits");
     assert!(margin > 0.0, "a joint passed its limit: {s:?}");
     // The roll joint sweeps about ±30° around its start: the roll is commanded, not just kept.

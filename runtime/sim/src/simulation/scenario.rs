@@ -26,7 +26,7 @@ pub enum Scenario {
     /// constraint on the last link, task `x y z rz`): the tip draws a circle of radius
     /// [`PANDA_CIRCLE_RADIUS`] in the plane normal to the shaft at `t = 0`, centred on the start
     /// tip position, once in [`PANDA_DURATION`], while the shaft rolls
-    /// `(π/6) sin(2πt/20)`; joint limits from the URDF, with the spare freedom of the arm kept
+    /// `(π/6) sin(2πt/20)`, both reached from rest in [`PANDA_RAMP`]; joint limits from the URDF, with the spare freedom of the arm kept
     /// away from them ((44)–(46) of Freitas, Leite & Lizarralde 2010).
     Panda,
 }
@@ -35,6 +35,9 @@ pub enum Scenario {
 pub const PANDA_CIRCLE_RADIUS: f64 = 0.01;
 /// Duration of the Panda scenario (s): one circle.
 pub const PANDA_DURATION: f64 = 20.0;
+/// Time (s) in which the Panda scenario's reference spirals out from the start tip position
+/// onto its circle, and its roll grows to full amplitude (see [`panda_reference`]).
+pub const PANDA_RAMP: f64 = 2.0;
 /// Amplitude of the Panda scenario's roll about the shaft (rad).
 pub const PANDA_ROLL_AMPLITUDE: f64 = PI / 6.0;
 /// Depth of the laparoscope's tip below the trocar at the start (m): the tool length 0.40 m
@@ -333,13 +336,15 @@ impl Scenario {
 /// The Panda scenario's desired tip pose at `t` from the start pose `g0` of the tip frame (the
 /// shaft along its `z`, the trocar [`PANDA_TIP_DEPTH`] behind the tip).
 ///
-/// - Position: `p0 + ρ (x0 cos ωt + y0 sin ωt)` with `ρ` = [`PANDA_CIRCLE_RADIUS`],
-///   `ω = 2π/20` rad/s, `x0`, `y0` the start tip frame's axes (so the tip starts 1 cm from the
-///   circle, at its centre, and the position loop closes the gap in the first seconds).
+/// - Position: `p0 + ρ s(t) (x0 cos ωt + y0 sin ωt)` with `ρ` = [`PANDA_CIRCLE_RADIUS`],
+///   `ω = 2π/20` rad/s, `x0`, `y0` the start tip frame's axes, and `s` the quintic smooth step
+///   `10τ³ − 15τ⁴ + 6τ⁵`, `τ = t /` [`PANDA_RAMP`] clamped to `[0, 1]`: the reference starts at
+///   the tip, at rest, and spirals out onto the circle in the first [`PANDA_RAMP`] seconds
+///   (a step onto the circle would ask the arm for a 1 cm jump at `t = 0`).
 /// - Orientation: the one the trocar allows there, rolled: the shaft through the trocar and the
 ///   desired tip (`z_d ∥ p_d − p_trocar`, the smallest rotation from `z0`), times a roll
-///   `φ = (π/6) sin ωt` about the shaft. So the whole reference is feasible and `eo_norm` goes to
-///   zero with the position error; the task commands only the roll of it (`rz`).
+///   `φ = (π/6) s(t) sin ωt` about the shaft. So the whole reference is feasible and `eo_norm`
+///   stays with the position error; the task commands only the roll of it (`rz`).
 /// - Velocities: `ṗ_d` exactly; `ω_d` from central differences of the desired rotation
 ///   (`h = 1e-6` s).
 pub fn panda_reference(t: f64, g0: &Se3<f64>) -> Reference<f64> {
@@ -348,14 +353,22 @@ pub fn panda_reference(t: f64, g0: &Se3<f64>) -> Reference<f64> {
     let y0 = g0.rotation.column(1).into_owned();
     let z0 = g0.rotation.column(2).into_owned();
     let trocar = g0.translation - z0 * PANDA_TIP_DEPTH;
-    let position =
-        |t: f64| g0.translation + (x0 * (w * t).cos() + y0 * (w * t).sin()) * PANDA_CIRCLE_RADIUS;
+    let position = |t: f64| {
+        g0.translation
+            + (x0 * (w * t).cos() + y0 * (w * t).sin()) * (PANDA_CIRCLE_RADIUS * smooth_step(t).0)
+    };
     let rotation = |t: f64| {
         let z = (position(t) - trocar).normalize();
-        let align = Rotation3::rotation_between(&z0, &z)
-            .unwrap_or_else(Rotation3::identity)
-            .into_inner();
-        let roll = PANDA_ROLL_AMPLITUDE * (w * t).sin();
+        // The smallest rotation taking z0 to z (Rodrigues about z0 × z); computed here because
+        // nalgebra's `rotation_between` returns NaN when the two are within ~1e-8 rad.
+        let axis = z0.cross(&z);
+        let sin = axis.norm();
+        let align = if sin > 0.0 {
+            axis_angle(axis / sin, sin.atan2(z0.dot(&z)))
+        } else {
+            Matrix3::identity()
+        };
+        let roll = PANDA_ROLL_AMPLITUDE * smooth_step(t).0 * (w * t).sin();
         align * g0.rotation * Rotation3::from_axis_angle(&Vector3::z_axis(), roll).into_inner()
     };
     let h = 1e-6;
@@ -365,13 +378,31 @@ pub fn panda_reference(t: f64, g0: &Se3<f64>) -> Reference<f64> {
     Reference {
         position: position(t),
         rotation: r,
-        velocity: (y0 * (w * t).cos() - x0 * (w * t).sin()) * (PANDA_CIRCLE_RADIUS * w),
+        velocity: {
+            let (s, ds) = smooth_step(t);
+            let (sin, cos) = (w * t).sin_cos();
+            ((y0 * cos - x0 * sin) * (s * w) + (x0 * cos + y0 * sin) * ds) * PANDA_CIRCLE_RADIUS
+        },
         angular_velocity: Vector3::new(
             0.5 * (omega[(2, 1)] - omega[(1, 2)]),
             0.5 * (omega[(0, 2)] - omega[(2, 0)]),
             0.5 * (omega[(1, 0)] - omega[(0, 1)]),
         ),
     }
+}
+
+/// The Panda scenario's start ramp `s(t)` and its derivative: the quintic smooth step
+/// `10τ³ − 15τ⁴ + 6τ⁵` in `τ = t /` [`PANDA_RAMP`], 0 before the start and 1 after the ramp;
+/// `s`, `ṡ` and `s̈` are continuous, zero at the start.
+fn smooth_step(t: f64) -> (f64, f64) {
+    let tau = (t / PANDA_RAMP).clamp(0.0, 1.0);
+    let s = tau * tau * tau * (10.0 + tau * (-15.0 + 6.0 * tau));
+    let ds = if t > 0.0 && t < PANDA_RAMP {
+        30.0 * tau * tau * (1.0 - tau) * (1.0 - tau) / PANDA_RAMP
+    } else {
+        0.0
+    };
+    (s, ds)
 }
 
 fn axis_angle(axis: Vector3<f64>, a: f64) -> Matrix3<f64> {
