@@ -38,8 +38,8 @@ pub trait Real:
     /// `(sin x, cos x)`.
     fn sin_cos(self) -> (Self, Self);
     /// `(sin x_k, cos x_k)` for every `k`: what generated code calls, once per control step, for
-    /// all the joints it uses. Exactly [`Real::sin_cos`] of each element; `f64` computes four
-    /// elements side by side where the target has AVX2 ([`fast::sin_cos_f64_array`]).
+    /// all the joints it uses. Exactly [`Real::sin_cos`] of each element; `f64` computes eight
+    /// (AVX-512) or four (AVX2) elements side by side ([`fast::sin_cos_f64_array`]).
     #[inline(always)]
     fn sin_cos_array<const N: usize>(x: &[Self; N]) -> ([Self; N], [Self; N]) {
         let mut s = [Self::ZERO; N];
@@ -272,43 +272,78 @@ pub mod fast {
         (y0, (r - y0) - w, quadrant)
     }
 
-    /// [`sin_cos_f64`] of every element, bit for bit. Where the target has AVX2, four elements
-    /// at a time go through [`sin_cos_f64_x4`] (measured: eight joints in 28 ns instead of 45,
-    /// four in 14 instead of 26), and the rest one by one; without AVX2 (where the four-wide
-    /// kernel measured no faster) every element goes through [`sin_cos_f64`].
+    /// Lanes of the side-by-side kernel [`sin_cos_f64_lanes`] for [`sin_cos_f64_array`]: eight
+    /// where the target has AVX-512, four where it has AVX2, none (one element at a time)
+    /// otherwise, where the side-by-side kernel measured no faster.
+    pub const F64_LANES: usize = if cfg!(target_feature = "avx512f") {
+        8
+    } else if cfg!(target_feature = "avx2") {
+        4
+    } else {
+        1
+    };
+
+    /// [`sin_cos_f64`] of every element, bit for bit. With [`F64_LANES`] > 1 the elements go
+    /// through [`sin_cos_f64_lanes`] that many at a time, the last group padded with zeros
+    /// when two or more are left (one left goes alone through [`sin_cos_f64`]). Measured on a
+    /// 7-joint arm (AVX-512 machine): 4 + 3 (four lanes, then three one by one) 47–53 ns; one
+    /// padded group of eight, see BENCHMARKS.md.
     #[inline(always)]
     pub fn sin_cos_f64_array<const N: usize>(x: &[f64; N]) -> ([f64; N], [f64; N]) {
+        if F64_LANES == 8 {
+            lanes_array::<N, 8>(x)
+        } else if F64_LANES == 4 {
+            lanes_array::<N, 4>(x)
+        } else {
+            let mut s = [0.0; N];
+            let mut c = [0.0; N];
+            for j in 0..N {
+                (s[j], c[j]) = sin_cos_f64(x[j]);
+            }
+            (s, c)
+        }
+    }
+
+    #[inline(always)]
+    fn lanes_array<const N: usize, const W: usize>(x: &[f64; N]) -> ([f64; N], [f64; N]) {
         let mut s = [0.0; N];
         let mut c = [0.0; N];
-        #[allow(unused_mut)]
         let mut k = 0;
-        #[cfg(target_feature = "avx2")]
-        while k + 4 <= N {
-            let (s4, c4) = sin_cos_f64_x4(&[x[k], x[k + 1], x[k + 2], x[k + 3]]);
-            s[k..k + 4].copy_from_slice(&s4);
-            c[k..k + 4].copy_from_slice(&c4);
-            k += 4;
+        while k + 2 <= N {
+            let m = W.min(N - k);
+            let mut xs = [0.0; W];
+            xs[..m].copy_from_slice(&x[k..k + m]);
+            let (sw, cw) = sin_cos_f64_lanes::<W>(&xs);
+            s[k..k + m].copy_from_slice(&sw[..m]);
+            c[k..k + m].copy_from_slice(&cw[..m]);
+            k += m;
         }
-        for j in k..N {
-            (s[j], c[j]) = sin_cos_f64(x[j]);
+        if k < N {
+            (s[k], c[k]) = sin_cos_f64(x[k]);
         }
         (s, c)
     }
 
-    /// [`sin_cos_f64`] of four elements, bit for bit, computed side by side: the main path of
-    /// [`sin_cos_f64`] (one-step reduction, both kernels, quadrant select) runs branch-free on
-    /// all four, so the compiler can put them in one AVX2 register. If any element needs more
-    /// (beyond [`F64_FAST_LIMIT`], NaN, ±∞, or a reduction that may have cancelled:
-    /// `|y0| < 2⁻¹⁶ |x|`, which holds whenever musl's exponent test of [`sin_cos_f64`] does),
-    /// all four are recomputed by [`sin_cos_f64`].
+    /// [`sin_cos_f64`] of four elements: [`sin_cos_f64_lanes`] with `W = 4`.
     #[inline(always)]
     pub fn sin_cos_f64_x4(x: &[f64; 4]) -> ([f64; 4], [f64; 4]) {
+        sin_cos_f64_lanes::<4>(x)
+    }
+
+    /// [`sin_cos_f64`] of `W` elements, bit for bit, computed side by side: the main path of
+    /// [`sin_cos_f64`] (one-step reduction, both kernels, quadrant select) runs branch-free on
+    /// all of them, so the compiler can put them in vector registers. If any element needs more
+    /// (beyond [`F64_FAST_LIMIT`], NaN, ±∞, or a reduction that may have cancelled:
+    /// `|y0| < 2⁻¹⁶ |x|`, which holds whenever musl's exponent test of [`sin_cos_f64`] does),
+    /// all are recomputed by [`sin_cos_f64`].
+    #[inline(always)]
+    pub fn sin_cos_f64_lanes<const W: usize>(x: &[f64; W]) -> ([f64; W], [f64; W]) {
         const TWO_M16: f64 = 1.0 / 65536.0;
         const ABS: u64 = !(1u64 << 63);
-        let mut s = [0.0; 4];
-        let mut c = [0.0; 4];
+        let mut s = [0.0; W];
+        let mut c = [0.0; W];
         let mut slow = false;
-        for k in 0..4 {
+        for k in 0..W {
             let sign = x[k].to_bits() & !ABS;
             let ax = f64::from_bits(x[k].to_bits() & ABS);
             // |x| ≤ π/4 goes to the kernels unreduced, as in sin_cos_f64, by a select.
@@ -323,7 +358,7 @@ pub mod fast {
             (s[k], c[k]) = finish64(y0, y1, quadrant, sign);
         }
         if slow {
-            for k in 0..4 {
+            for k in 0..W {
                 (s[k], c[k]) = sin_cos_f64(x[k]);
             }
         }

@@ -225,13 +225,13 @@ fn f32_exhaustive_fast_path() {
     );
 }
 
-/// `sin_cos_f64_x4` and `sin_cos_f64_array` (what generated code calls through
+/// `sin_cos_f64_lanes` (eight and four lanes) and `sin_cos_f64_array` (what generated code calls through
 /// `Real::sin_cos_array`) are `sin_cos_f64` of each element, bit for bit: random arguments, the
 /// neighbours of π/4 and of multiples of π/2 (where the careful reduction takes over), huge
 /// arguments, NaN and ±∞, in arrays that mix them.
 #[test]
 fn array_version_equals_the_scalar_one_bit_for_bit() {
-    use trocar::real::fast::{sin_cos_f64_array, sin_cos_f64_x4};
+    use trocar::real::fast::{sin_cos_f64_array, sin_cos_f64_lanes, sin_cos_f64_x4};
     use trocar::Real;
     let mut special = Vec::new();
     for k in 0..2000i64 {
@@ -289,6 +289,8 @@ fn array_version_equals_the_scalar_one_bit_for_bit() {
         let (hi_s, hi_c) = sin_cos_f64_x4(&[x[4], x[5], x[6], x[7]]);
         let (s4, c4) = ([lo_s, hi_s].concat(), [lo_c, hi_c].concat());
         let (s5, c5) = sin_cos_f64_array(&[x[0], x[1], x[2], x[3], x[4]]);
+        let (s7, c7) = sin_cos_f64_array(&[x[0], x[1], x[2], x[3], x[4], x[5], x[6]]);
+        let (s8, c8) = sin_cos_f64_lanes(&x);
         for k in 0..8 {
             let (ss, cc) = sin_cos_f64(x[k]);
             let want = (ss.to_bits(), cc.to_bits());
@@ -303,6 +305,15 @@ fn array_version_equals_the_scalar_one_bit_for_bit() {
             if k < 5 {
                 assert_eq!((s5[k].to_bits(), c5[k].to_bits()), want);
             }
+            if k < 7 {
+                assert_eq!((s7[k].to_bits(), c7[k].to_bits()), want);
+            }
+            assert_eq!(
+                (s8[k].to_bits(), c8[k].to_bits()),
+                want,
+                "x8, x = {:e}",
+                x[k]
+            );
             checked += 1;
         }
     }

@@ -9,7 +9,7 @@
 //! Jacobian once for its manipulability and `x = J†_κ v`, without forming `J†_κ`.
 
 use crate::manipulability::{manipulability, SquareDim, SquareLu};
-use nalgebra::{Cholesky, Const, RealField, SMatrix, SVector};
+use nalgebra::{Const, RealField, SMatrix, SVector};
 
 /// Damping of the least-squares inverse `J†_κ = Jᵀ (J Jᵀ + κ² I)⁻¹` (3.43), (3.46).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -43,6 +43,112 @@ impl<T: RealField + Copy> Damping<T> {
     }
 }
 
+/// The root-free Cholesky factorisation `A = L D Lᵀ` (`L` unit lower triangular, `D` diagonal)
+/// of a symmetric positive definite `A` of fixed size `D`, with forward and back substitution
+/// for `A x = b`: the Gram matrices of the least-squares inverses.
+///
+/// Root-free because each square root of `A = L Lᵀ` lies on the chain of dependent operations
+/// that bounds a control step's latency; `sqrt(det A)` takes one at the end. Written out over the
+/// fixed size (the compiler unrolls it for a 6 × 6 Gram matrix) rather than through
+/// `nalgebra::Cholesky`, whose loops over matrix views dominated a control step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GramCholesky<T: RealField + Copy, const D: usize> {
+    /// `L` below the diagonal (the diagonal, 1, and the upper triangle are not stored).
+    l: SMatrix<T, D, D>,
+    /// The pivots `D_kk`.
+    d: SVector<T, D>,
+    /// `1 / D_kk`.
+    inv_d: SVector<T, D>,
+}
+
+impl<T: RealField + Copy, const D: usize> GramCholesky<T, D> {
+    /// Factors `a` (only its lower triangle is read). `None` unless `a` is positive definite to
+    /// working precision: every pivot finite and `D_jj > D ε A_jj` (`ε` the machine epsilon of
+    /// `T`). `D_jj / A_jj` is the squared sine of the angle between row `j` of `J` and the span
+    /// of the rows before it when `A = J Jᵀ`; below `D ε` it is rounding noise, and so would be
+    /// the solution.
+    pub fn new(a: &SMatrix<T, D, D>) -> Option<Self> {
+        let tol = T::default_epsilon() * nalgebra::convert::<f64, T>(D as f64);
+        // w[(i, k)] = L_ik D_k for k < i, then overwritten by L_ik.
+        let mut l = *a;
+        let mut d = SVector::<T, D>::zeros();
+        let mut inv_d = SVector::<T, D>::zeros();
+        for j in 0..D {
+            // Row j of W = L D: its entries left of the diagonal, from the rows above.
+            for k in 0..j {
+                let mut w = l[(j, k)];
+                for m in 0..k {
+                    w -= l[(j, m)] * l[(k, m)];
+                }
+                l[(j, k)] = w;
+            }
+            let ajj = l[(j, j)];
+            let mut dj = ajj;
+            for k in 0..j {
+                let ljk = l[(j, k)] * inv_d[k];
+                dj -= ljk * l[(j, k)];
+                l[(j, k)] = ljk;
+            }
+            // A NaN pivot fails the comparison too.
+            let positive = dj > tol * ajj && dj.is_finite() && ajj.is_finite();
+            if !positive {
+                return None;
+            }
+            d[j] = dj;
+            inv_d[j] = T::one() / dj;
+        }
+        Some(GramCholesky { l, d, inv_d })
+    }
+
+    /// `sqrt(det A) = sqrt(Π D_kk)`.
+    pub fn sqrt_determinant(&self) -> T {
+        self.d.iter().fold(T::one(), |p, &v| p * v).sqrt()
+    }
+
+    /// `x = A⁻¹ b` by `L y = b`, `D z = y`, `Lᵀ x = z`, for each of the `K` columns of `b`.
+    pub fn solve<const K: usize>(&self, b: &SMatrix<T, D, K>) -> SMatrix<T, D, K> {
+        let mut x = *b;
+        for c in 0..K {
+            for i in 0..D {
+                let mut v = x[(i, c)];
+                for k in 0..i {
+                    v -= self.l[(i, k)] * x[(k, c)];
+                }
+                x[(i, c)] = v;
+            }
+            for i in (0..D).rev() {
+                let mut v = x[(i, c)] * self.inv_d[i];
+                for k in i + 1..D {
+                    v -= self.l[(k, i)] * x[(k, c)];
+                }
+                x[(i, c)] = v;
+            }
+        }
+        x
+    }
+}
+
+/// The lower triangle of the Gram matrix `J Jᵀ + κ² I` (the upper triangle is left zero: only
+/// [`GramCholesky`] reads it).
+fn gram_lower<T: RealField + Copy, const R: usize, const C: usize>(
+    j: &SMatrix<T, R, C>,
+    k2: T,
+) -> SMatrix<T, R, R> {
+    let mut a = SMatrix::<T, R, R>::zeros();
+    for c in 0..C {
+        for k in 0..R {
+            let x = j[(k, c)];
+            for i in k..R {
+                a[(i, k)] += j[(i, c)] * x;
+            }
+        }
+    }
+    for i in 0..R {
+        a[(i, i)] += k2;
+    }
+    a
+}
+
 /// The damped least-squares inverse `Jᵀ (J Jᵀ + κ² I)⁻¹` (3.43), (3.46), computed as
 /// `(Jᵀ J + κ² I)⁻¹ Jᵀ` when `J` is tall (the same matrix for `κ > 0`): [`damped_solve`] of the
 /// identity. With `κ = 0` it is the Moore–Penrose pseudo-inverse of a full-rank `J`. `None` if the
@@ -65,11 +171,9 @@ pub fn damped_solve<T: RealField + Copy, const R: usize, const C: usize, const K
 ) -> Option<SMatrix<T, C, K>> {
     let k2 = kappa * kappa;
     let x = if R <= C {
-        let gram = j * j.transpose() + SMatrix::<T, R, R>::identity() * k2;
-        j.tr_mul(&Cholesky::new(gram)?.solve(v))
+        j.tr_mul(&GramCholesky::new(&gram_lower(j, k2))?.solve(v))
     } else {
-        let gram = j.tr_mul(j) + SMatrix::<T, C, C>::identity() * k2;
-        Cholesky::new(gram)?.solve(&j.tr_mul(v))
+        GramCholesky::new(&gram_lower(&j.transpose(), k2))?.solve(&j.tr_mul(v))
     };
     x.iter().all(|v| v.is_finite()).then_some(x)
 }
@@ -88,7 +192,7 @@ where
     j: &'a SMatrix<T, R, C>,
     lu: Option<SquareLu<T, R>>,
     /// Cholesky factors of `J Jᵀ` for a wide `J` (`None` when not positive definite).
-    gram: Option<Cholesky<T, Const<R>>>,
+    gram: Option<GramCholesky<T, R>>,
     w: T,
 }
 
@@ -112,11 +216,10 @@ where
             }
         } else if R < C {
             // w = sqrt(det(J Jᵀ)) = Π L_kk of J Jᵀ = L Lᵀ; 0 when J Jᵀ is not positive definite.
-            let gram = Cholesky::new(j * j.transpose());
-            let w = gram.as_ref().map_or(T::zero(), |g| {
-                let l = g.l_dirty();
-                (0..R).fold(T::one(), |p, k| p * l[(k, k)])
-            });
+            let gram = GramCholesky::new(&gram_lower(j, T::zero()));
+            let w = gram
+                .as_ref()
+                .map_or(T::zero(), GramCholesky::sqrt_determinant);
             PreparedJacobian {
                 j,
                 lu: None,
@@ -252,7 +355,10 @@ mod tests {
         assert!((a - b).norm() < 1e-12);
         let mut s = j;
         s.set_row(5, &(s.row(0) * 2.0));
-        assert!(pinv(&s).is_none() || pinv(&s).unwrap().norm() > 1e6);
+        assert!(
+            pinv(&s).is_none(),
+            "a rank-deficient J has no pseudo-inverse by the Gram matrix"
+        );
         assert!(damped_pinv(&s, 0.05).unwrap().norm() < 1e3);
     }
 
@@ -270,7 +376,7 @@ mod tests {
         }
         let mut s = j;
         s.set_row(5, &(s.row(0) * 2.0));
-        assert!(damped_solve(&s, 0.0, &v).is_none_or(|x| x.norm() > 1e6));
+        assert!(damped_solve(&s, 0.0, &v).is_none());
         assert!(damped_solve(&s, 0.05, &v).unwrap().norm() < 1e3);
     }
 
@@ -363,5 +469,29 @@ mod tests {
         assert!((j * fi.theta - Matrix6::identity()).norm() < 1e-6);
         // Θ Θᵀ Jᵀ then is a right inverse too.
         assert!((j * fi.inverse(&j) - Matrix6::identity()).norm() < 1e-5);
+    }
+
+    /// The fixed-size Cholesky factor agrees with nalgebra's (factor, `sqrt(det)`, solve) and
+    /// refuses matrices that are not positive definite, or not finite.
+    #[test]
+    fn gram_cholesky_matches_nalgebra_and_refuses_indefinite() {
+        let j = sample();
+        let a = j * j.transpose();
+        let ours = GramCholesky::new(&a).expect("positive definite");
+        let theirs = nalgebra::Cholesky::new(a).unwrap();
+        let b = SMatrix::<f64, 6, 2>::from_fn(|i, c| (i as f64 - 2.0) * (c as f64 + 0.5));
+        assert!((ours.solve(&b) - theirs.solve(&b)).norm() < 1e-12);
+        assert!((a * ours.solve(&b) - b).norm() < 1e-12);
+        assert!((ours.sqrt_determinant() - a.determinant().sqrt()).abs() < 1e-12);
+        let mut indefinite = a;
+        indefinite[(3, 3)] = -1.0;
+        assert!(GramCholesky::new(&indefinite).is_none());
+        let mut nan = a;
+        nan[(5, 5)] = f64::NAN;
+        assert!(GramCholesky::new(&nan).is_none());
+        let mut inf = a;
+        inf[(0, 0)] = f64::INFINITY;
+        assert!(GramCholesky::new(&inf).is_none());
+        assert!(GramCholesky::new(&SMatrix::<f64, 3, 3>::zeros()).is_none());
     }
 }

@@ -48,7 +48,9 @@ mod redundancy;
 mod shaft;
 
 pub use crate::manipulability::{determinant, manipulability};
-pub use inverse::{damped_pinv, damped_solve, pinv, Damping, FilteredInverse, PreparedJacobian};
+pub use inverse::{
+    damped_pinv, damped_solve, pinv, Damping, FilteredInverse, GramCholesky, PreparedJacobian,
+};
 pub use quaternion::{orientation_error, Quaternion};
 pub use redundancy::{
     lie_bracket, manipulability_gradient, resolve_with_null_space, NullSpaceObjective,

@@ -13,9 +13,9 @@
 //! - manipulability `f = w = sqrt(det(J Jᵀ))` of `J^B_0i`, whose gradient comes from the
 //!   Jacobian itself ([`manipulability_gradient`]).
 
-use super::inverse::damped_solve;
+use super::inverse::{damped_solve, GramCholesky};
 use crate::se3::Twist;
-use nalgebra::{Cholesky, RealField, SMatrix, SVector, Vector3};
+use nalgebra::{RealField, SMatrix, SVector, Vector3};
 
 /// The objective whose gradient drives the spare freedom of the joints before the constraint
 /// (46): `u0 = gain · ∂f/∂θ`.
@@ -93,11 +93,10 @@ pub fn lie_bracket<T: RealField + Copy>(a: &Twist<T>, b: &Twist<T>) -> Twist<T> 
 pub fn manipulability_gradient<T: RealField + Copy, const C: usize>(
     j: &SMatrix<T, 6, C>,
 ) -> Option<SVector<T, C>> {
-    let chol = Cholesky::new(j * j.transpose())?;
+    let chol = GramCholesky::new(&(j * j.transpose()))?;
     // A = (JJᵀ)⁻¹ J: row j of J† is column j of A.
     let a = chol.solve(j);
-    let l = chol.l();
-    let w = (0..6).fold(T::one(), |p, k| p * l[(k, k)]);
+    let w = chol.sqrt_determinant();
     let g = SVector::<T, C>::from_fn(|k, _| {
         let jk: Twist<T> = j.column(k).into_owned();
         let mut tr = T::zero();

@@ -64,10 +64,12 @@ impl<T: RealField + Copy> Shaft<T> {
 
     /// The offset of `trocar` from the shaft, in `F_r`'s coordinates at `l_a`:
     /// `R_0rᵀ (p_t − p_0r)`. Its components along the constrained directions are the lateral
-    /// error of the drift correction.
+    /// error of the drift correction. Computed as `R_irᵀ (R_0iᵀ (p_t − p_0i) − o − l_a d)`,
+    /// without forming `g_0r`.
     pub fn trocar_in_frame(&self, g_0i: &Se3<T>, l_a: T, trocar: &Vector3<T>) -> Vector3<T> {
-        let g_0r = self.constraint_pose(g_0i, l_a);
-        g_0r.rotation.transpose() * (trocar - g_0r.translation)
+        let in_link = g_0i.rotation.tr_mul(&(trocar - g_0i.translation));
+        self.rotation
+            .tr_mul(&(in_link - self.origin - self.direction * l_a))
     }
 }
 

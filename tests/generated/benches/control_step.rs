@@ -5,8 +5,9 @@
 //! - the Panda laparoscope (`panda-laparoscope`: constraint on the last link, task `x y z rz`,
 //!   joint-limit objective on the arm's spare freedom) with the generated closed forms;
 //! - for both generated robots, the **baseline**: the step of 2026-11-23 written out
-//!   ([`baseline::step`]: nalgebra's `LU` for square matrices, Cholesky of the Gram matrix
-//!   otherwise, the matrices copied entry by entry), so that a faster step is measured against it
+//!   ([`baseline::step`]: nalgebra's `LU` for square matrices, nalgebra's `Cholesky` of the Gram
+//!   matrix otherwise, as the runtime's `damped_solve` then did, the matrices copied entry by
+//!   entry), so that a faster step is measured against it
 //!   in one run (the target of the real-robot work: ≤ 0.57×). On `dia10_like` the baseline also
 //!   evaluates the kinematics as the generated glue of that day did ([`baseline::ThenGlue`]: the
 //!   module's functions one by one, `l_a` along `y_i`); the Panda had no glue then, so its
@@ -29,12 +30,12 @@ use trocar_tests_generated::control::{GeneratedKinematics, PandaLaparoscope};
 /// and `from_iterator` copies.
 mod baseline {
     use trocar::control::{
-        damped_solve, orientation_error, resolve_with_null_space, ConstrainedKinematics,
-        ControllerConfig, Method, NullSpaceObjective, Rcm, Reference,
+        orientation_error, ConstrainedKinematics, ControllerConfig, Method, NullSpaceObjective,
+        Rcm, Reference,
     };
     use trocar::control::{trocar_offset, ConstrainedState, ControlError, Shaft};
     use trocar::nalgebra::{
-        ArrayStorage, Const, DimMin, Matrix3, SMatrix, SVector, Vector3, Vector6,
+        ArrayStorage, Cholesky, Const, DimMin, Matrix3, SMatrix, SVector, Vector3, Vector6,
     };
     use trocar::se3::Se3;
     use trocar_tests_generated::dia10_like_zy as dia10;
@@ -108,6 +109,33 @@ mod baseline {
         }
     }
 
+    /// `trocar::control::damped_solve` of that day: nalgebra's `Cholesky` of the Gram matrix.
+    fn damped_solve<const R: usize, const C: usize>(
+        j: &SMatrix<f64, R, C>,
+        kappa: f64,
+        v: &SVector<f64, R>,
+    ) -> Option<SVector<f64, C>> {
+        let k2 = kappa * kappa;
+        let x = if R <= C {
+            let gram = j * j.transpose() + SMatrix::<f64, R, R>::identity() * k2;
+            j.tr_mul(&Cholesky::new(gram)?.solve(v))
+        } else {
+            let gram = j.tr_mul(j) + SMatrix::<f64, C, C>::identity() * k2;
+            Cholesky::new(gram)?.solve(&j.tr_mul(v))
+        };
+        x.iter().all(|v| v.is_finite()).then_some(x)
+    }
+
+    /// `trocar::control::resolve_with_null_space` of that day.
+    fn resolve_with_null_space<const C: usize>(
+        j: &SMatrix<f64, 6, C>,
+        kappa: f64,
+        v: &SVector<f64, 6>,
+        u0: &SVector<f64, C>,
+    ) -> Option<SVector<f64, C>> {
+        Some(damped_solve(j, kappa, &(v - j * u0))? + u0)
+    }
+
     fn prepared<const R: usize, const C: usize>(
         j: &SMatrix<f64, R, C>,
         kappa_of: impl Fn(f64) -> f64,
@@ -155,7 +183,9 @@ mod baseline {
     {
         let (l_a, s) = kin.evaluate_at_trocar(q, &rcm.trocar).ok()?;
         let h = kin.h();
-        let e = kin.shaft().trocar_in_frame(&s.g_0i, l_a, &rcm.trocar);
+        // `Shaft::trocar_in_frame` of that day: through `g_0r`.
+        let g_0r = kin.shaft().constraint_pose(&s.g_0i, l_a);
+        let e = g_0r.rotation.transpose() * (rcm.trocar - g_0r.translation);
         let lateral: SVector<f64, R> = h.fixed_columns::<3>(0) * e;
         let dv_0r = rcm.dv + lateral * c.kr;
         let rt = s.g_0e.rotation.transpose();
