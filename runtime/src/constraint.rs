@@ -257,9 +257,9 @@ where
     Const<C>: SquareDim,
 {
     if R == C {
-        let square = SMatrix::<T, R, R>::from_iterator(m.iter().copied());
+        let square = SMatrix::<T, R, R>::from_fn(|r, c| m[(r, c)]);
         let x = SquareLu::new(&square).solve(y)?;
-        Some(SVector::<T, C>::from_iterator(x.iter().copied()))
+        Some(SVector::<T, C>::from_fn(|r, _| x[r]))
     } else if R < C {
         let b: SVector<T, R> = SquareLu::new(&(m * m.transpose())).solve(y)?;
         Some(m.transpose() * b)

@@ -69,7 +69,7 @@ where
     Const<C>: SquareDim,
 {
     if R == C {
-        let square = SMatrix::<T, R, R>::from_iterator(j.iter().copied());
+        let square = SMatrix::<T, R, R>::from_fn(|r, c| j[(r, c)]);
         return determinant(&square).abs();
     }
     if R > C {

@@ -522,7 +522,9 @@ fn doc_lines(text: &str) -> TokenStream {
 
 /// `lu_solve_{d}`: `J x = b` for a square `d × d` matrix (column-major `[col][row]`) by Gaussian
 /// elimination with partial pivoting, written out for this size: every entry a local variable,
-/// the row exchanges of the pivot search as selects, `b` eliminated alongside. Returns `x` and
+/// each row exchange of the pivot search a branch (predicted in a control loop, whose consecutive
+/// matrices pivot alike: dia10_like's control step measured 298 ns against 391 ns with the
+/// exchanges as selects), `b` eliminated alongside. Returns `x` and
 /// `det J` (`x` is not meaningful when `det J` is 0 or not finite).
 pub(crate) fn lu_solve_tokens(rt: &TokenStream, real: Real, d: usize) -> TokenStream {
     let (t, generics) = match real {
@@ -546,20 +548,21 @@ pub(crate) fn lu_solve_tokens(rt: &TokenStream, real: Real, d: usize) -> TokenSt
     body.push(quote!(let mut det = #r::ONE;));
     let inv = |c: usize| format_ident!("inv{}", c);
     for c in 0..d {
-        // Pivot: bring the largest |a_rc| (r ≥ c) to row c, one compare-and-exchange per row.
+        // Pivot: bring the largest |a_rc| (r ≥ c) to row c, one compare-and-exchange per row,
+        // as a branch: a controller's consecutive matrices pivot alike, so the branches are
+        // predicted and the comparisons leave the chain of dependent operations.
         for row in c + 1..d {
             let (pc, pr) = (a(c, c), a(row, c));
             let mut swaps = Vec::new();
             for col in c..d {
                 let (x, y) = (a(c, col), a(row, col));
-                swaps.push(quote!(let (mut #x, mut #y) = if s { (#y, #x) } else { (#x, #y) };));
+                swaps.push(quote!(::core::mem::swap(&mut #x, &mut #y);));
             }
             let (bx, by) = (bv(c), bv(row));
             body.push(quote! {
-                let s = #r::abs(#pr) > #r::abs(#pc);
-                #(#swaps)*
-                let (mut #bx, mut #by) = if s { (#by, #bx) } else { (#bx, #by) };
-                if s {
+                if #r::abs(#pr) > #r::abs(#pc) {
+                    #(#swaps)*
+                    ::core::mem::swap(&mut #bx, &mut #by);
                     det = -det;
                 }
             });

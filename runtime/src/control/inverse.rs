@@ -53,12 +53,12 @@ impl<T: RealField + Copy> Damping<T> {
 /// `nalgebra::Cholesky`, whose loops over matrix views dominated a control step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GramCholesky<T: RealField + Copy, const D: usize> {
-    /// `L` below the diagonal (the diagonal, 1, and the upper triangle are not stored).
-    l: SMatrix<T, D, D>,
-    /// The pivots `D_kk`.
-    d: SVector<T, D>,
+    /// `L` below the diagonal, row by row (`l[i][k]`, `k < i`; the rest is not used).
+    l: [[T; D]; D],
     /// `1 / D_kk`.
-    inv_d: SVector<T, D>,
+    inv_d: [T; D],
+    /// `sqrt(Π D_kk)`.
+    sqrt_det: T,
 }
 
 impl<T: RealField + Copy, const D: usize> GramCholesky<T, D> {
@@ -69,62 +69,79 @@ impl<T: RealField + Copy, const D: usize> GramCholesky<T, D> {
     /// the solution.
     pub fn new(a: &SMatrix<T, D, D>) -> Option<Self> {
         let tol = T::default_epsilon() * nalgebra::convert::<f64, T>(D as f64);
-        // w[(i, k)] = L_ik D_k for k < i, then overwritten by L_ik.
-        let mut l = *a;
-        let mut d = SVector::<T, D>::zeros();
-        let mut inv_d = SVector::<T, D>::zeros();
-        for j in 0..D {
-            // Row j of W = L D: its entries left of the diagonal, from the rows above.
-            for k in 0..j {
-                let mut w = l[(j, k)];
-                for m in 0..k {
-                    w -= l[(j, m)] * l[(k, m)];
-                }
-                l[(j, k)] = w;
+        let mut l = [[T::zero(); D]; D];
+        for (i, row) in l.iter_mut().enumerate() {
+            for (k, v) in row.iter_mut().enumerate().take(i + 1) {
+                *v = a[(i, k)];
             }
-            let ajj = l[(j, j)];
+        }
+        let mut inv_d = [T::zero(); D];
+        let mut det = T::one();
+        // Tested once at the end: the loop stays free of branches.
+        let mut positive = true;
+        for j in 0..D {
+            let (above, rest) = l.split_at_mut(j);
+            let row = &mut rest[0];
+            // Row j of W = L D left of the diagonal, from the rows above (already L).
+            for k in 0..j {
+                let mut w = row[k];
+                for m in 0..k {
+                    w -= row[m] * above[k][m];
+                }
+                row[k] = w;
+            }
+            let ajj = row[j];
             let mut dj = ajj;
             for k in 0..j {
-                let ljk = l[(j, k)] * inv_d[k];
-                dj -= ljk * l[(j, k)];
-                l[(j, k)] = ljk;
+                let ljk = row[k] * inv_d[k];
+                dj -= ljk * row[k];
+                row[k] = ljk;
             }
             // A NaN pivot fails the comparison too.
-            let positive = dj > tol * ajj && dj.is_finite() && ajj.is_finite();
-            if !positive {
-                return None;
-            }
-            d[j] = dj;
+            positive &= dj > tol * ajj && dj.is_finite() && ajj.is_finite();
+            det *= dj;
             inv_d[j] = T::one() / dj;
         }
-        Some(GramCholesky { l, d, inv_d })
+        positive.then(|| GramCholesky {
+            l,
+            inv_d,
+            sqrt_det: det.sqrt(),
+        })
     }
 
     /// `sqrt(det A) = sqrt(Π D_kk)`.
     pub fn sqrt_determinant(&self) -> T {
-        self.d.iter().fold(T::one(), |p, &v| p * v).sqrt()
+        self.sqrt_det
     }
 
     /// `x = A⁻¹ b` by `L y = b`, `D z = y`, `Lᵀ x = z`, for each of the `K` columns of `b`.
     pub fn solve<const K: usize>(&self, b: &SMatrix<T, D, K>) -> SMatrix<T, D, K> {
-        let mut x = *b;
+        let mut out = *b;
         for c in 0..K {
+            let mut x = [T::zero(); D];
+            for (i, v) in x.iter_mut().enumerate() {
+                *v = b[(i, c)];
+            }
             for i in 0..D {
-                let mut v = x[(i, c)];
-                for k in 0..i {
-                    v -= self.l[(i, k)] * x[(k, c)];
-                }
-                x[(i, c)] = v;
+                let (done, rest) = x.split_at_mut(i);
+                let row = &self.l[i];
+                rest[0] = done
+                    .iter()
+                    .zip(row)
+                    .fold(rest[0], |v, (xk, lik)| v - *lik * *xk);
             }
             for i in (0..D).rev() {
-                let mut v = x[(i, c)] * self.inv_d[i];
-                for k in i + 1..D {
-                    v -= self.l[(k, i)] * x[(k, c)];
-                }
-                x[(i, c)] = v;
+                let (head, done) = x.split_at_mut(i + 1);
+                head[i] = done
+                    .iter()
+                    .zip(&self.l[i + 1..])
+                    .fold(head[i] * self.inv_d[i], |v, (xk, lk)| v - lk[i] * *xk);
+            }
+            for (i, v) in x.iter().enumerate() {
+                out[(i, c)] = *v;
             }
         }
-        x
+        out
     }
 }
 
@@ -205,7 +222,7 @@ where
     /// manipulability.
     pub fn new(j: &'a SMatrix<T, R, C>) -> Self {
         if R == C {
-            let square = SMatrix::<T, R, R>::from_iterator(j.iter().copied());
+            let square = SMatrix::<T, R, R>::from_fn(|r, c| j[(r, c)]);
             let lu = SquareLu::new(&square);
             let w = lu.determinant().abs();
             PreparedJacobian {
@@ -250,9 +267,9 @@ where
     /// squares (3.43) otherwise. `None` if `J` is singular with `κ = 0`, or `x` is not finite.
     pub fn solve(&self, kappa: T, v: &SVector<T, R>) -> Option<SVector<T, C>> {
         match (&self.lu, &self.gram) {
-            (Some(lu), _) if kappa == T::zero() => lu
-                .solve(v)
-                .map(|x| SVector::<T, C>::from_iterator(x.iter().copied())),
+            (Some(lu), _) if kappa == T::zero() => {
+                lu.solve(v).map(|x| SVector::<T, C>::from_fn(|r, _| x[r]))
+            }
             (_, Some(g)) if kappa == T::zero() => {
                 let x = self.j.tr_mul(&g.solve(v));
                 x.iter().all(|v| v.is_finite()).then_some(x)

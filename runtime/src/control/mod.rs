@@ -466,11 +466,13 @@ impl<
         let sel = kin.task_selection();
         let rhs = u - s.jc * dv_0r;
         // A whole 6-D task (S = I) needs no product.
-        let whole = P == 6 && sel == SMatrix::<T, P, 6>::identity();
+        let whole = P == 6
+            && (0..P)
+                .all(|r| (0..6).all(|c| sel[(r, c)] == if r == c { T::one() } else { T::zero() }));
         let (task_jr, dv_e): (SMatrix<T, P, M>, SVector<T, P>) = if whole {
             (
-                SMatrix::from_iterator(s.jr.iter().copied()),
-                SVector::from_iterator(rhs.iter().copied()),
+                SMatrix::from_fn(|r, c| s.jr[(r, c)]),
+                SVector::from_fn(|r, _| rhs[r]),
             )
         } else {
             (sel * s.jr, sel * rhs)

@@ -11,7 +11,9 @@
 //!   in one run (the target of the real-robot work: ≤ 0.57×). On `dia10_like` the baseline also
 //!   evaluates the kinematics as the generated glue of that day did ([`baseline::ThenGlue`]: the
 //!   module's functions one by one, `l_a` along `y_i`); the Panda had no glue then, so its
-//!   baseline runs on today's `Kinematics`.
+//!   baseline runs on today's `Kinematics`;
+//! - `_16q`: the same pairs cycling through 16 configurations around `q0`, so that consecutive
+//!   steps see different matrices (branch prediction of the pivoting no longer learns one).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use trocar::constraint::Constraint;
@@ -235,6 +237,22 @@ mod baseline {
     }
 }
 
+/// 16 configurations around `q0` (each joint `q0 + 0.01 + 0.15 u`, `u` uniform in [−1, 1] from
+/// a fixed LCG): the `_16q` benches cycle through them, so that the steps do not all see the same
+/// matrices (the emitted LU's pivot branches are predicted only as far as the pivots repeat).
+fn configurations<const N: usize>(q0: &SVector<f64, N>) -> [SVector<f64, N>; 16] {
+    let mut seed = 0x2545_f491_4f6c_dd1du64;
+    core::array::from_fn(|_| {
+        q0 + SVector::<f64, N>::from_fn(|_, _| {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let u = (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
+            0.01 + 0.15 * u
+        })
+    })
+}
+
 fn bench_step<Kin: ConstrainedKinematics<f64, 8, 6, 2, 4, 6>>(
     c: &mut Criterion,
     name: &str,
@@ -320,6 +338,35 @@ fn dia10(c: &mut Criterion) {
             .unwrap()
         })
     });
+    let qs = configurations(&q0);
+    let mut k = 0usize;
+    c.bench_function("control_step/generated_16q", |b| {
+        b.iter(|| {
+            k = (k + 1) % 16;
+            ctrl.step(
+                black_box(&generated),
+                black_box(&qs[k]),
+                black_box(&reference),
+                black_box(&rcm),
+                black_box(config.dt),
+            )
+            .unwrap()
+        })
+    });
+    c.bench_function("control_step/generated_baseline_16q", |b| {
+        b.iter(|| {
+            k = (k + 1) % 16;
+            baseline::step(
+                &cfg,
+                &none,
+                black_box(&then_glue),
+                black_box(&qs[k]),
+                black_box(&reference),
+                black_box(&rcm),
+            )
+            .unwrap()
+        })
+    });
     bench_step(
         c,
         "control_step/numeric",
@@ -393,6 +440,35 @@ fn panda(c: &mut Criterion) {
                 &objective,
                 black_box(&kin),
                 black_box(&q),
+                black_box(&reference),
+                black_box(&rcm),
+            )
+            .unwrap()
+        })
+    });
+    let qs = configurations(&q0);
+    let mut k = 0usize;
+    c.bench_function("panda_step/generated_16q", |b| {
+        b.iter(|| {
+            k = (k + 1) % 16;
+            ctrl.step(
+                black_box(&kin),
+                black_box(&qs[k]),
+                black_box(&reference),
+                black_box(&rcm),
+                black_box(config.dt),
+            )
+            .unwrap()
+        })
+    });
+    c.bench_function("panda_step/generated_baseline_16q", |b| {
+        b.iter(|| {
+            k = (k + 1) % 16;
+            baseline::step(
+                &cfg,
+                &objective,
+                black_box(&kin),
+                black_box(&qs[k]),
                 black_box(&reference),
                 black_box(&rcm),
             )

@@ -1278,31 +1278,28 @@ pub mod iiwa_endoscope {
         let mut a3_3 = j[3usize][3usize];
         let mut b3 = b[3usize];
         let mut det = <f32 as ::trocar::Real>::ONE;
-        let s = <f32 as ::trocar::Real>::abs(a1_0) > <f32 as ::trocar::Real>::abs(a0_0);
-        let (mut a0_0, mut a1_0) = if s { (a1_0, a0_0) } else { (a0_0, a1_0) };
-        let (mut a0_1, mut a1_1) = if s { (a1_1, a0_1) } else { (a0_1, a1_1) };
-        let (mut a0_2, mut a1_2) = if s { (a1_2, a0_2) } else { (a0_2, a1_2) };
-        let (mut a0_3, mut a1_3) = if s { (a1_3, a0_3) } else { (a0_3, a1_3) };
-        let (mut b0, mut b1) = if s { (b1, b0) } else { (b0, b1) };
-        if s {
+        if <f32 as ::trocar::Real>::abs(a1_0) > <f32 as ::trocar::Real>::abs(a0_0) {
+            ::core::mem::swap(&mut a0_0, &mut a1_0);
+            ::core::mem::swap(&mut a0_1, &mut a1_1);
+            ::core::mem::swap(&mut a0_2, &mut a1_2);
+            ::core::mem::swap(&mut a0_3, &mut a1_3);
+            ::core::mem::swap(&mut b0, &mut b1);
             det = -det;
         }
-        let s = <f32 as ::trocar::Real>::abs(a2_0) > <f32 as ::trocar::Real>::abs(a0_0);
-        let (mut a0_0, mut a2_0) = if s { (a2_0, a0_0) } else { (a0_0, a2_0) };
-        let (mut a0_1, mut a2_1) = if s { (a2_1, a0_1) } else { (a0_1, a2_1) };
-        let (mut a0_2, mut a2_2) = if s { (a2_2, a0_2) } else { (a0_2, a2_2) };
-        let (mut a0_3, mut a2_3) = if s { (a2_3, a0_3) } else { (a0_3, a2_3) };
-        let (mut b0, mut b2) = if s { (b2, b0) } else { (b0, b2) };
-        if s {
+        if <f32 as ::trocar::Real>::abs(a2_0) > <f32 as ::trocar::Real>::abs(a0_0) {
+            ::core::mem::swap(&mut a0_0, &mut a2_0);
+            ::core::mem::swap(&mut a0_1, &mut a2_1);
+            ::core::mem::swap(&mut a0_2, &mut a2_2);
+            ::core::mem::swap(&mut a0_3, &mut a2_3);
+            ::core::mem::swap(&mut b0, &mut b2);
             det = -det;
         }
-        let s = <f32 as ::trocar::Real>::abs(a3_0) > <f32 as ::trocar::Real>::abs(a0_0);
-        let (mut a0_0, mut a3_0) = if s { (a3_0, a0_0) } else { (a0_0, a3_0) };
-        let (mut a0_1, mut a3_1) = if s { (a3_1, a0_1) } else { (a0_1, a3_1) };
-        let (mut a0_2, mut a3_2) = if s { (a3_2, a0_2) } else { (a0_2, a3_2) };
-        let (mut a0_3, mut a3_3) = if s { (a3_3, a0_3) } else { (a0_3, a3_3) };
-        let (mut b0, mut b3) = if s { (b3, b0) } else { (b0, b3) };
-        if s {
+        if <f32 as ::trocar::Real>::abs(a3_0) > <f32 as ::trocar::Real>::abs(a0_0) {
+            ::core::mem::swap(&mut a0_0, &mut a3_0);
+            ::core::mem::swap(&mut a0_1, &mut a3_1);
+            ::core::mem::swap(&mut a0_2, &mut a3_2);
+            ::core::mem::swap(&mut a0_3, &mut a3_3);
+            ::core::mem::swap(&mut b0, &mut b3);
             det = -det;
         }
         det *= a0_0;
@@ -1322,20 +1319,18 @@ pub mod iiwa_endoscope {
         a3_2 -= l * a0_2;
         a3_3 -= l * a0_3;
         b3 -= l * b0;
-        let s = <f32 as ::trocar::Real>::abs(a2_1) > <f32 as ::trocar::Real>::abs(a1_1);
-        let (mut a1_1, mut a2_1) = if s { (a2_1, a1_1) } else { (a1_1, a2_1) };
-        let (mut a1_2, mut a2_2) = if s { (a2_2, a1_2) } else { (a1_2, a2_2) };
-        let (mut a1_3, mut a2_3) = if s { (a2_3, a1_3) } else { (a1_3, a2_3) };
-        let (mut b1, mut b2) = if s { (b2, b1) } else { (b1, b2) };
-        if s {
+        if <f32 as ::trocar::Real>::abs(a2_1) > <f32 as ::trocar::Real>::abs(a1_1) {
+            ::core::mem::swap(&mut a1_1, &mut a2_1);
+            ::core::mem::swap(&mut a1_2, &mut a2_2);
+            ::core::mem::swap(&mut a1_3, &mut a2_3);
+            ::core::mem::swap(&mut b1, &mut b2);
             det = -det;
         }
-        let s = <f32 as ::trocar::Real>::abs(a3_1) > <f32 as ::trocar::Real>::abs(a1_1);
-        let (mut a1_1, mut a3_1) = if s { (a3_1, a1_1) } else { (a1_1, a3_1) };
-        let (mut a1_2, mut a3_2) = if s { (a3_2, a1_2) } else { (a1_2, a3_2) };
-        let (mut a1_3, mut a3_3) = if s { (a3_3, a1_3) } else { (a1_3, a3_3) };
-        let (mut b1, mut b3) = if s { (b3, b1) } else { (b1, b3) };
-        if s {
+        if <f32 as ::trocar::Real>::abs(a3_1) > <f32 as ::trocar::Real>::abs(a1_1) {
+            ::core::mem::swap(&mut a1_1, &mut a3_1);
+            ::core::mem::swap(&mut a1_2, &mut a3_2);
+            ::core::mem::swap(&mut a1_3, &mut a3_3);
+            ::core::mem::swap(&mut b1, &mut b3);
             det = -det;
         }
         det *= a1_1;
@@ -1348,11 +1343,10 @@ pub mod iiwa_endoscope {
         a3_2 -= l * a1_2;
         a3_3 -= l * a1_3;
         b3 -= l * b1;
-        let s = <f32 as ::trocar::Real>::abs(a3_2) > <f32 as ::trocar::Real>::abs(a2_2);
-        let (mut a2_2, mut a3_2) = if s { (a3_2, a2_2) } else { (a2_2, a3_2) };
-        let (mut a2_3, mut a3_3) = if s { (a3_3, a2_3) } else { (a2_3, a3_3) };
-        let (mut b2, mut b3) = if s { (b3, b2) } else { (b2, b3) };
-        if s {
+        if <f32 as ::trocar::Real>::abs(a3_2) > <f32 as ::trocar::Real>::abs(a2_2) {
+            ::core::mem::swap(&mut a2_2, &mut a3_2);
+            ::core::mem::swap(&mut a2_3, &mut a3_3);
+            ::core::mem::swap(&mut b2, &mut b3);
             det = -det;
         }
         det *= a2_2;

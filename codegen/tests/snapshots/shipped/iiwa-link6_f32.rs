@@ -1097,59 +1097,54 @@ pub mod iiwa_link6 {
         let mut a5_5 = j[5usize][5usize];
         let mut b5 = b[5usize];
         let mut det = <f32 as ::trocar::Real>::ONE;
-        let s = <f32 as ::trocar::Real>::abs(a1_0) > <f32 as ::trocar::Real>::abs(a0_0);
-        let (mut a0_0, mut a1_0) = if s { (a1_0, a0_0) } else { (a0_0, a1_0) };
-        let (mut a0_1, mut a1_1) = if s { (a1_1, a0_1) } else { (a0_1, a1_1) };
-        let (mut a0_2, mut a1_2) = if s { (a1_2, a0_2) } else { (a0_2, a1_2) };
-        let (mut a0_3, mut a1_3) = if s { (a1_3, a0_3) } else { (a0_3, a1_3) };
-        let (mut a0_4, mut a1_4) = if s { (a1_4, a0_4) } else { (a0_4, a1_4) };
-        let (mut a0_5, mut a1_5) = if s { (a1_5, a0_5) } else { (a0_5, a1_5) };
-        let (mut b0, mut b1) = if s { (b1, b0) } else { (b0, b1) };
-        if s {
+        if <f32 as ::trocar::Real>::abs(a1_0) > <f32 as ::trocar::Real>::abs(a0_0) {
+            ::core::mem::swap(&mut a0_0, &mut a1_0);
+            ::core::mem::swap(&mut a0_1, &mut a1_1);
+            ::core::mem::swap(&mut a0_2, &mut a1_2);
+            ::core::mem::swap(&mut a0_3, &mut a1_3);
+            ::core::mem::swap(&mut a0_4, &mut a1_4);
+            ::core::mem::swap(&mut a0_5, &mut a1_5);
+            ::core::mem::swap(&mut b0, &mut b1);
             det = -det;
         }
-        let s = <f32 as ::trocar::Real>::abs(a2_0) > <f32 as ::trocar::Real>::abs(a0_0);
-        let (mut a0_0, mut a2_0) = if s { (a2_0, a0_0) } else { (a0_0, a2_0) };
-        let (mut a0_1, mut a2_1) = if s { (a2_1, a0_1) } else { (a0_1, a2_1) };
-        let (mut a0_2, mut a2_2) = if s { (a2_2, a0_2) } else { (a0_2, a2_2) };
-        let (mut a0_3, mut a2_3) = if s { (a2_3, a0_3) } else { (a0_3, a2_3) };
-        let (mut a0_4, mut a2_4) = if s { (a2_4, a0_4) } else { (a0_4, a2_4) };
-        let (mut a0_5, mut a2_5) = if s { (a2_5, a0_5) } else { (a0_5, a2_5) };
-        let (mut b0, mut b2) = if s { (b2, b0) } else { (b0, b2) };
-        if s {
+        if <f32 as ::trocar::Real>::abs(a2_0) > <f32 as ::trocar::Real>::abs(a0_0) {
+            ::core::mem::swap(&mut a0_0, &mut a2_0);
+            ::core::mem::swap(&mut a0_1, &mut a2_1);
+            ::core::mem::swap(&mut a0_2, &mut a2_2);
+            ::core::mem::swap(&mut a0_3, &mut a2_3);
+            ::core::mem::swap(&mut a0_4, &mut a2_4);
+            ::core::mem::swap(&mut a0_5, &mut a2_5);
+            ::core::mem::swap(&mut b0, &mut b2);
             det = -det;
         }
-        let s = <f32 as ::trocar::Real>::abs(a3_0) > <f32 as ::trocar::Real>::abs(a0_0);
-        let (mut a0_0, mut a3_0) = if s { (a3_0, a0_0) } else { (a0_0, a3_0) };
-        let (mut a0_1, mut a3_1) = if s { (a3_1, a0_1) } else { (a0_1, a3_1) };
-        let (mut a0_2, mut a3_2) = if s { (a3_2, a0_2) } else { (a0_2, a3_2) };
-        let (mut a0_3, mut a3_3) = if s { (a3_3, a0_3) } else { (a0_3, a3_3) };
-        let (mut a0_4, mut a3_4) = if s { (a3_4, a0_4) } else { (a0_4, a3_4) };
-        let (mut a0_5, mut a3_5) = if s { (a3_5, a0_5) } else { (a0_5, a3_5) };
-        let (mut b0, mut b3) = if s { (b3, b0) } else { (b0, b3) };
-        if s {
+        if <f32 as ::trocar::Real>::abs(a3_0) > <f32 as ::trocar::Real>::abs(a0_0) {
+            ::core::mem::swap(&mut a0_0, &mut a3_0);
+            ::core::mem::swap(&mut a0_1, &mut a3_1);
+            ::core::mem::swap(&mut a0_2, &mut a3_2);
+            ::core::mem::swap(&mut a0_3, &mut a3_3);
+            ::core::mem::swap(&mut a0_4, &mut a3_4);
+            ::core::mem::swap(&mut a0_5, &mut a3_5);
+            ::core::mem::swap(&mut b0, &mut b3);
             det = -det;
         }
-        let s = <f32 as ::trocar::Real>::abs(a4_0) > <f32 as ::trocar::Real>::abs(a0_0);
-        let (mut a0_0, mut a4_0) = if s { (a4_0, a0_0) } else { (a0_0, a4_0) };
-        let (mut a0_1, mut a4_1) = if s { (a4_1, a0_1) } else { (a0_1, a4_1) };
-        let (mut a0_2, mut a4_2) = if s { (a4_2, a0_2) } else { (a0_2, a4_2) };
-        let (mut a0_3, mut a4_3) = if s { (a4_3, a0_3) } else { (a0_3, a4_3) };
-        let (mut a0_4, mut a4_4) = if s { (a4_4, a0_4) } else { (a0_4, a4_4) };
-        let (mut a0_5, mut a4_5) = if s { (a4_5, a0_5) } else { (a0_5, a4_5) };
-        let (mut b0, mut b4) = if s { (b4, b0) } else { (b0, b4) };
-        if s {
+        if <f32 as ::trocar::Real>::abs(a4_0) > <f32 as ::trocar::Real>::abs(a0_0) {
+            ::core::mem::swap(&mut a0_0, &mut a4_0);
+            ::core::mem::swap(&mut a0_1, &mut a4_1);
+            ::core::mem::swap(&mut a0_2, &mut a4_2);
+            ::core::mem::swap(&mut a0_3, &mut a4_3);
+            ::core::mem::swap(&mut a0_4, &mut a4_4);
+            ::core::mem::swap(&mut a0_5, &mut a4_5);
+            ::core::mem::swap(&mut b0, &mut b4);
             det = -det;
         }
-        let s = <f32 as ::trocar::Real>::abs(a5_0) > <f32 as ::trocar::Real>::abs(a0_0);
-        let (mut a0_0, mut a5_0) = if s { (a5_0, a0_0) } else { (a0_0, a5_0) };
-        let (mut a0_1, mut a5_1) = if s { (a5_1, a0_1) } else { (a0_1, a5_1) };
-        let (mut a0_2, mut a5_2) = if s { (a5_2, a0_2) } else { (a0_2, a5_2) };
-        let (mut a0_3, mut a5_3) = if s { (a5_3, a0_3) } else { (a0_3, a5_3) };
-        let (mut a0_4, mut a5_4) = if s { (a5_4, a0_4) } else { (a0_4, a5_4) };
-        let (mut a0_5, mut a5_5) = if s { (a5_5, a0_5) } else { (a0_5, a5_5) };
-        let (mut b0, mut b5) = if s { (b5, b0) } else { (b0, b5) };
-        if s {
+        if <f32 as ::trocar::Real>::abs(a5_0) > <f32 as ::trocar::Real>::abs(a0_0) {
+            ::core::mem::swap(&mut a0_0, &mut a5_0);
+            ::core::mem::swap(&mut a0_1, &mut a5_1);
+            ::core::mem::swap(&mut a0_2, &mut a5_2);
+            ::core::mem::swap(&mut a0_3, &mut a5_3);
+            ::core::mem::swap(&mut a0_4, &mut a5_4);
+            ::core::mem::swap(&mut a0_5, &mut a5_5);
+            ::core::mem::swap(&mut b0, &mut b5);
             det = -det;
         }
         det *= a0_0;
@@ -1189,44 +1184,40 @@ pub mod iiwa_link6 {
         a5_4 -= l * a0_4;
         a5_5 -= l * a0_5;
         b5 -= l * b0;
-        let s = <f32 as ::trocar::Real>::abs(a2_1) > <f32 as ::trocar::Real>::abs(a1_1);
-        let (mut a1_1, mut a2_1) = if s { (a2_1, a1_1) } else { (a1_1, a2_1) };
-        let (mut a1_2, mut a2_2) = if s { (a2_2, a1_2) } else { (a1_2, a2_2) };
-        let (mut a1_3, mut a2_3) = if s { (a2_3, a1_3) } else { (a1_3, a2_3) };
-        let (mut a1_4, mut a2_4) = if s { (a2_4, a1_4) } else { (a1_4, a2_4) };
-        let (mut a1_5, mut a2_5) = if s { (a2_5, a1_5) } else { (a1_5, a2_5) };
-        let (mut b1, mut b2) = if s { (b2, b1) } else { (b1, b2) };
-        if s {
+        if <f32 as ::trocar::Real>::abs(a2_1) > <f32 as ::trocar::Real>::abs(a1_1) {
+            ::core::mem::swap(&mut a1_1, &mut a2_1);
+            ::core::mem::swap(&mut a1_2, &mut a2_2);
+            ::core::mem::swap(&mut a1_3, &mut a2_3);
+            ::core::mem::swap(&mut a1_4, &mut a2_4);
+            ::core::mem::swap(&mut a1_5, &mut a2_5);
+            ::core::mem::swap(&mut b1, &mut b2);
             det = -det;
         }
-        let s = <f32 as ::trocar::Real>::abs(a3_1) > <f32 as ::trocar::Real>::abs(a1_1);
-        let (mut a1_1, mut a3_1) = if s { (a3_1, a1_1) } else { (a1_1, a3_1) };
-        let (mut a1_2, mut a3_2) = if s { (a3_2, a1_2) } else { (a1_2, a3_2) };
-        let (mut a1_3, mut a3_3) = if s { (a3_3, a1_3) } else { (a1_3, a3_3) };
-        let (mut a1_4, mut a3_4) = if s { (a3_4, a1_4) } else { (a1_4, a3_4) };
-        let (mut a1_5, mut a3_5) = if s { (a3_5, a1_5) } else { (a1_5, a3_5) };
-        let (mut b1, mut b3) = if s { (b3, b1) } else { (b1, b3) };
-        if s {
+        if <f32 as ::trocar::Real>::abs(a3_1) > <f32 as ::trocar::Real>::abs(a1_1) {
+            ::core::mem::swap(&mut a1_1, &mut a3_1);
+            ::core::mem::swap(&mut a1_2, &mut a3_2);
+            ::core::mem::swap(&mut a1_3, &mut a3_3);
+            ::core::mem::swap(&mut a1_4, &mut a3_4);
+            ::core::mem::swap(&mut a1_5, &mut a3_5);
+            ::core::mem::swap(&mut b1, &mut b3);
             det = -det;
         }
-        let s = <f32 as ::trocar::Real>::abs(a4_1) > <f32 as ::trocar::Real>::abs(a1_1);
-        let (mut a1_1, mut a4_1) = if s { (a4_1, a1_1) } else { (a1_1, a4_1) };
-        let (mut a1_2, mut a4_2) = if s { (a4_2, a1_2) } else { (a1_2, a4_2) };
-        let (mut a1_3, mut a4_3) = if s { (a4_3, a1_3) } else { (a1_3, a4_3) };
-        let (mut a1_4, mut a4_4) = if s { (a4_4, a1_4) } else { (a1_4, a4_4) };
-        let (mut a1_5, mut a4_5) = if s { (a4_5, a1_5) } else { (a1_5, a4_5) };
-        let (mut b1, mut b4) = if s { (b4, b1) } else { (b1, b4) };
-        if s {
+        if <f32 as ::trocar::Real>::abs(a4_1) > <f32 as ::trocar::Real>::abs(a1_1) {
+            ::core::mem::swap(&mut a1_1, &mut a4_1);
+            ::core::mem::swap(&mut a1_2, &mut a4_2);
+            ::core::mem::swap(&mut a1_3, &mut a4_3);
+            ::core::mem::swap(&mut a1_4, &mut a4_4);
+            ::core::mem::swap(&mut a1_5, &mut a4_5);
+            ::core::mem::swap(&mut b1, &mut b4);
             det = -det;
         }
-        let s = <f32 as ::trocar::Real>::abs(a5_1) > <f32 as ::trocar::Real>::abs(a1_1);
-        let (mut a1_1, mut a5_1) = if s { (a5_1, a1_1) } else { (a1_1, a5_1) };
-        let (mut a1_2, mut a5_2) = if s { (a5_2, a1_2) } else { (a1_2, a5_2) };
-        let (mut a1_3, mut a5_3) = if s { (a5_3, a1_3) } else { (a1_3, a5_3) };
-        let (mut a1_4, mut a5_4) = if s { (a5_4, a1_4) } else { (a1_4, a5_4) };
-        let (mut a1_5, mut a5_5) = if s { (a5_5, a1_5) } else { (a1_5, a5_5) };
-        let (mut b1, mut b5) = if s { (b5, b1) } else { (b1, b5) };
-        if s {
+        if <f32 as ::trocar::Real>::abs(a5_1) > <f32 as ::trocar::Real>::abs(a1_1) {
+            ::core::mem::swap(&mut a1_1, &mut a5_1);
+            ::core::mem::swap(&mut a1_2, &mut a5_2);
+            ::core::mem::swap(&mut a1_3, &mut a5_3);
+            ::core::mem::swap(&mut a1_4, &mut a5_4);
+            ::core::mem::swap(&mut a1_5, &mut a5_5);
+            ::core::mem::swap(&mut b1, &mut b5);
             det = -det;
         }
         det *= a1_1;
@@ -1255,31 +1246,28 @@ pub mod iiwa_link6 {
         a5_4 -= l * a1_4;
         a5_5 -= l * a1_5;
         b5 -= l * b1;
-        let s = <f32 as ::trocar::Real>::abs(a3_2) > <f32 as ::trocar::Real>::abs(a2_2);
-        let (mut a2_2, mut a3_2) = if s { (a3_2, a2_2) } else { (a2_2, a3_2) };
-        let (mut a2_3, mut a3_3) = if s { (a3_3, a2_3) } else { (a2_3, a3_3) };
-        let (mut a2_4, mut a3_4) = if s { (a3_4, a2_4) } else { (a2_4, a3_4) };
-        let (mut a2_5, mut a3_5) = if s { (a3_5, a2_5) } else { (a2_5, a3_5) };
-        let (mut b2, mut b3) = if s { (b3, b2) } else { (b2, b3) };
-        if s {
+        if <f32 as ::trocar::Real>::abs(a3_2) > <f32 as ::trocar::Real>::abs(a2_2) {
+            ::core::mem::swap(&mut a2_2, &mut a3_2);
+            ::core::mem::swap(&mut a2_3, &mut a3_3);
+            ::core::mem::swap(&mut a2_4, &mut a3_4);
+            ::core::mem::swap(&mut a2_5, &mut a3_5);
+            ::core::mem::swap(&mut b2, &mut b3);
             det = -det;
         }
-        let s = <f32 as ::trocar::Real>::abs(a4_2) > <f32 as ::trocar::Real>::abs(a2_2);
-        let (mut a2_2, mut a4_2) = if s { (a4_2, a2_2) } else { (a2_2, a4_2) };
-        let (mut a2_3, mut a4_3) = if s { (a4_3, a2_3) } else { (a2_3, a4_3) };
-        let (mut a2_4, mut a4_4) = if s { (a4_4, a2_4) } else { (a2_4, a4_4) };
-        let (mut a2_5, mut a4_5) = if s { (a4_5, a2_5) } else { (a2_5, a4_5) };
-        let (mut b2, mut b4) = if s { (b4, b2) } else { (b2, b4) };
-        if s {
+        if <f32 as ::trocar::Real>::abs(a4_2) > <f32 as ::trocar::Real>::abs(a2_2) {
+            ::core::mem::swap(&mut a2_2, &mut a4_2);
+            ::core::mem::swap(&mut a2_3, &mut a4_3);
+            ::core::mem::swap(&mut a2_4, &mut a4_4);
+            ::core::mem::swap(&mut a2_5, &mut a4_5);
+            ::core::mem::swap(&mut b2, &mut b4);
             det = -det;
         }
-        let s = <f32 as ::trocar::Real>::abs(a5_2) > <f32 as ::trocar::Real>::abs(a2_2);
-        let (mut a2_2, mut a5_2) = if s { (a5_2, a2_2) } else { (a2_2, a5_2) };
-        let (mut a2_3, mut a5_3) = if s { (a5_3, a2_3) } else { (a2_3, a5_3) };
-        let (mut a2_4, mut a5_4) = if s { (a5_4, a2_4) } else { (a2_4, a5_4) };
-        let (mut a2_5, mut a5_5) = if s { (a5_5, a2_5) } else { (a2_5, a5_5) };
-        let (mut b2, mut b5) = if s { (b5, b2) } else { (b2, b5) };
-        if s {
+        if <f32 as ::trocar::Real>::abs(a5_2) > <f32 as ::trocar::Real>::abs(a2_2) {
+            ::core::mem::swap(&mut a2_2, &mut a5_2);
+            ::core::mem::swap(&mut a2_3, &mut a5_3);
+            ::core::mem::swap(&mut a2_4, &mut a5_4);
+            ::core::mem::swap(&mut a2_5, &mut a5_5);
+            ::core::mem::swap(&mut b2, &mut b5);
             det = -det;
         }
         det *= a2_2;
@@ -1299,20 +1287,18 @@ pub mod iiwa_link6 {
         a5_4 -= l * a2_4;
         a5_5 -= l * a2_5;
         b5 -= l * b2;
-        let s = <f32 as ::trocar::Real>::abs(a4_3) > <f32 as ::trocar::Real>::abs(a3_3);
-        let (mut a3_3, mut a4_3) = if s { (a4_3, a3_3) } else { (a3_3, a4_3) };
-        let (mut a3_4, mut a4_4) = if s { (a4_4, a3_4) } else { (a3_4, a4_4) };
-        let (mut a3_5, mut a4_5) = if s { (a4_5, a3_5) } else { (a3_5, a4_5) };
-        let (mut b3, mut b4) = if s { (b4, b3) } else { (b3, b4) };
-        if s {
+        if <f32 as ::trocar::Real>::abs(a4_3) > <f32 as ::trocar::Real>::abs(a3_3) {
+            ::core::mem::swap(&mut a3_3, &mut a4_3);
+            ::core::mem::swap(&mut a3_4, &mut a4_4);
+            ::core::mem::swap(&mut a3_5, &mut a4_5);
+            ::core::mem::swap(&mut b3, &mut b4);
             det = -det;
         }
-        let s = <f32 as ::trocar::Real>::abs(a5_3) > <f32 as ::trocar::Real>::abs(a3_3);
-        let (mut a3_3, mut a5_3) = if s { (a5_3, a3_3) } else { (a3_3, a5_3) };
-        let (mut a3_4, mut a5_4) = if s { (a5_4, a3_4) } else { (a3_4, a5_4) };
-        let (mut a3_5, mut a5_5) = if s { (a5_5, a3_5) } else { (a3_5, a5_5) };
-        let (mut b3, mut b5) = if s { (b5, b3) } else { (b3, b5) };
-        if s {
+        if <f32 as ::trocar::Real>::abs(a5_3) > <f32 as ::trocar::Real>::abs(a3_3) {
+            ::core::mem::swap(&mut a3_3, &mut a5_3);
+            ::core::mem::swap(&mut a3_4, &mut a5_4);
+            ::core::mem::swap(&mut a3_5, &mut a5_5);
+            ::core::mem::swap(&mut b3, &mut b5);
             det = -det;
         }
         det *= a3_3;
@@ -1325,11 +1311,10 @@ pub mod iiwa_link6 {
         a5_4 -= l * a3_4;
         a5_5 -= l * a3_5;
         b5 -= l * b3;
-        let s = <f32 as ::trocar::Real>::abs(a5_4) > <f32 as ::trocar::Real>::abs(a4_4);
-        let (mut a4_4, mut a5_4) = if s { (a5_4, a4_4) } else { (a4_4, a5_4) };
-        let (mut a4_5, mut a5_5) = if s { (a5_5, a4_5) } else { (a4_5, a5_5) };
-        let (mut b4, mut b5) = if s { (b5, b4) } else { (b4, b5) };
-        if s {
+        if <f32 as ::trocar::Real>::abs(a5_4) > <f32 as ::trocar::Real>::abs(a4_4) {
+            ::core::mem::swap(&mut a4_4, &mut a5_4);
+            ::core::mem::swap(&mut a4_5, &mut a5_5);
+            ::core::mem::swap(&mut b4, &mut b5);
             det = -det;
         }
         det *= a4_4;

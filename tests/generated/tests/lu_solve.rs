@@ -1,0 +1,102 @@
+//! The emitted straight-line solves `lu_solve_6` (dia10_like: J^r and J^B_0i) and `lu_solve_4`
+//! (the Panda's task Jacobian) against nalgebra's LU with partial pivoting: random matrices,
+//! matrices that need a row exchange at every column (a permuted diagonal, zero diagonals), and
+//! singular ones (`det` exactly 0 or at rounding level, which the controller's `regular` rule
+//! then refuses).
+
+use proptest::prelude::*;
+use trocar::nalgebra::{DMatrix, DVector, SMatrix, SVector};
+use trocar_tests_generated::dia10_like_zy as dia10;
+use trocar_tests_generated::panda_laparoscope as panda;
+
+/// `j[col][row]` of a nalgebra matrix.
+fn columns<const D: usize>(m: &SMatrix<f64, D, D>) -> [[f64; D]; D] {
+    core::array::from_fn(|c| core::array::from_fn(|r| m[(r, c)]))
+}
+
+fn check<const D: usize>(m: &SMatrix<f64, D, D>, b: &SVector<f64, D>, x: [f64; D], det: f64) {
+    let md = DMatrix::from_column_slice(D, D, m.as_slice());
+    let bd = DVector::from_column_slice(b.as_slice());
+    let lu = md.clone().lu();
+    let want_det = lu.determinant();
+    let scale = md.amax().powi(D as i32).max(1e-300);
+    assert!(
+        (det - want_det).abs() <= 1e-12 * scale,
+        "det {det} vs {want_det} for {md}"
+    );
+    if want_det.abs() > 1e-6 * scale {
+        let want = lu.solve(&bd).unwrap();
+        let x = DVector::from_column_slice(&x);
+        assert!(
+            (&x - &want).amax() <= 1e-9 * want.amax().max(1.0),
+            "x {x} vs {want} for {md}"
+        );
+        assert!((&md * &x - &bd).amax() <= 1e-10 * (md.amax() * x.amax()).max(bd.amax()));
+    }
+}
+
+fn solve6(m: &SMatrix<f64, 6, 6>, b: &SVector<f64, 6>) {
+    let (x, det) = dia10::lu_solve_6(&columns(m), &b.data.0[0]);
+    check(m, b, x, det);
+}
+
+fn solve4(m: &SMatrix<f64, 4, 4>, b: &SVector<f64, 4>) {
+    let (x, det) = panda::lu_solve_4(&columns(m), &b.data.0[0]);
+    check(m, b, x, det);
+}
+
+#[test]
+fn every_row_exchange_and_singular_matrices() {
+    let b6 = SVector::<f64, 6>::from_fn(|r, _| r as f64 - 2.5);
+    // Anti-diagonal and cyclic permutations scaled: a pivot exchange at every column.
+    for shift in 1..6 {
+        let m = SMatrix::<f64, 6, 6>::from_fn(|r, c| {
+            if (r + shift) % 6 == c {
+                1.0 + r as f64
+            } else {
+                1e-3 * (r * 6 + c) as f64
+            }
+        });
+        solve6(&m, &b6);
+    }
+    let anti = SMatrix::<f64, 6, 6>::from_fn(|r, c| if r + c == 5 { 2.0 } else { 0.0 });
+    solve6(&anti, &b6);
+    // Zero diagonal with a full off-diagonal.
+    let zero_diag = SMatrix::<f64, 6, 6>::from_fn(|r, c| {
+        if r == c {
+            0.0
+        } else {
+            (r + 2 * c) as f64 * 0.1 + 0.3
+        }
+    });
+    solve6(&zero_diag, &b6);
+    // Singular: a repeated row, and zeros.
+    let mut rank5 = zero_diag;
+    rank5.set_row(4, &(zero_diag.row(1) * 3.0));
+    let (_, det) = dia10::lu_solve_6(&columns(&rank5), &b6.data.0[0]);
+    assert!(det.abs() < 1e-12, "rank-5 det {det}");
+    // All zeros: a zero pivot, then 0 · ∞; "0 or not finite" is what the controller refuses.
+    let (_, det) = dia10::lu_solve_6(&[[0.0; 6]; 6], &b6.data.0[0]);
+    assert!(det == 0.0 || !det.is_finite(), "zero matrix det {det}");
+    let b4 = SVector::<f64, 4>::new(1.0, -2.0, 0.5, 3.0);
+    let anti4 = SMatrix::<f64, 4, 4>::from_fn(|r, c| if r + c == 3 { -1.5 } else { 0.01 });
+    solve4(&anti4, &b4);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(500))]
+
+    #[test]
+    fn six_by_six_matches_nalgebra(entries in proptest::collection::vec(-2.0f64..2.0, 42)) {
+        let m = SMatrix::<f64, 6, 6>::from_fn(|r, c| entries[r * 6 + c]);
+        let b = SVector::<f64, 6>::from_fn(|r, _| entries[36 + r]);
+        solve6(&m, &b);
+    }
+
+    #[test]
+    fn four_by_four_matches_nalgebra(entries in proptest::collection::vec(-2.0f64..2.0, 20)) {
+        let m = SMatrix::<f64, 4, 4>::from_fn(|r, c| entries[r * 4 + c]);
+        let b = SVector::<f64, 4>::from_fn(|r, _| entries[16 + r]);
+        solve4(&m, &b);
+    }
+}
