@@ -61,11 +61,12 @@ impl<T: RealField + Copy> Quaternion<T> {
             r[(0, 2)] + r[(2, 0)], // 4 ε1 ε3
             r[(2, 1)] + r[(1, 2)], // 4 ε2 ε3
         );
+        let inv = T::one() / s;
         let (eta, e1, e2, e3) = match k {
-            0 => (quarter * s, a / s, b / s, c / s),
-            1 => (a / s, quarter * s, e / s, f / s),
-            2 => (b / s, e / s, quarter * s, g / s),
-            _ => (c / s, f / s, g / s, quarter * s),
+            0 => (quarter * s, a * inv, b * inv, c * inv),
+            1 => (a * inv, quarter * s, e * inv, f * inv),
+            2 => (b * inv, e * inv, quarter * s, g * inv),
+            _ => (c * inv, f * inv, g * inv, quarter * s),
         };
         if eta < T::zero() {
             Quaternion {
@@ -108,19 +109,15 @@ impl<T: RealField + Copy> Quaternion<T> {
 /// The orientation error `e_q = Q_d ⊗ Q⁻¹ = {η̃, ε̃}` of (2.62)–(2.63): the quaternion of
 /// `R_Δ = dR_0e R_0eᵀ` (its vector part is in base coordinates). The sign is chosen so that
 /// `η̃ ≥ 0` (the shorter of the two rotations `±e_q`, which represent the same `R_Δ`).
+///
+/// Computed as the quaternion of the product `R_Δ` rather than as the product of two
+/// quaternions: one extraction instead of two, and while tracking `R_Δ` is near the identity,
+/// where the extraction is best conditioned.
 pub fn orientation_error<T: RealField + Copy>(
     desired: &Matrix3<T>,
     current: &Matrix3<T>,
 ) -> Quaternion<T> {
-    let e = Quaternion::from_rotation(desired).mul(&Quaternion::from_rotation(current).inverse());
-    if e.eta < T::zero() {
-        Quaternion {
-            eta: -e.eta,
-            eps: -e.eps,
-        }
-    } else {
-        e
-    }
+    Quaternion::from_rotation(&(desired * current.transpose()))
 }
 
 #[cfg(test)]

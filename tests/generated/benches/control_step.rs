@@ -31,11 +31,11 @@ use trocar_tests_generated::control::{GeneratedKinematics, PandaLaparoscope};
 /// (pseudo-inverse or damped least squares), with nalgebra's fixed-size `LU` for square matrices
 /// and `from_iterator` copies.
 mod baseline {
-    use trocar::control::{
-        orientation_error, ConstrainedKinematics, ControllerConfig, Method, NullSpaceObjective,
-        Rcm, Reference,
-    };
     use trocar::control::{trocar_offset, ConstrainedState, ControlError, Shaft};
+    use trocar::control::{
+        ConstrainedKinematics, ControllerConfig, Method, NullSpaceObjective, Quaternion, Rcm,
+        Reference,
+    };
     use trocar::nalgebra::{
         ArrayStorage, Cholesky, Const, DimMin, Matrix3, SMatrix, SVector, Vector3, Vector6,
     };
@@ -108,6 +108,21 @@ mod baseline {
             let g_0i = pose(dia10::forward_kinematics_i_trig(&t, &self.0));
             let l_a = trocar_offset(&g_0i, trocar);
             Ok((l_a, self.state(&t, g_0i, l_a)?))
+        }
+    }
+
+    /// `trocar::control::orientation_error` of that day: the product of the two rotations'
+    /// quaternions (each extracted as today, by Shepperd's method).
+    fn orientation_error(desired: &Matrix3<f64>, current: &Matrix3<f64>) -> Quaternion<f64> {
+        let e =
+            Quaternion::from_rotation(desired).mul(&Quaternion::from_rotation(current).inverse());
+        if e.eta < 0.0 {
+            Quaternion {
+                eta: -e.eta,
+                eps: -e.eps,
+            }
+        } else {
+            e
         }
     }
 
