@@ -601,33 +601,3 @@ impl<
         })
     }
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Unit rows are recognised (and picking them is `S x`); anything else is left to the product.
-    #[test]
-    fn selected_rows_are_the_unit_rows_of_s() {
-        let identity = SMatrix::<f64, 6, 6>::identity();
-        assert_eq!(selected_rows(&identity), Some([0, 1, 2, 3, 4, 5]));
-        // x y z rz
-        let mut s = SMatrix::<f64, 4, 6>::zeros();
-        for (r, c) in [0, 1, 2, 5].into_iter().enumerate() {
-            s[(r, c)] = 1.0;
-        }
-        let rows = selected_rows(&s).expect("a selection");
-        assert_eq!(rows, [0, 1, 2, 5]);
-        let x = SVector::<f64, 6>::from_fn(|r, _| (r as f64 + 1.0) * 0.7);
-        assert_eq!(SVector::<f64, 4>::from_fn(|r, _| x[rows[r]]), s * x);
-        let mut scaled = s;
-        scaled[(3, 5)] = 2.0;
-        assert_eq!(selected_rows(&scaled), None);
-        let mut two = s;
-        two[(0, 3)] = 1.0;
-        assert_eq!(selected_rows(&two), None);
-        let mut empty = s;
-        empty[(1, 1)] = 0.0;
-        assert_eq!(selected_rows(&empty), None);
-    }
-}
