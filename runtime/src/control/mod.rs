@@ -371,28 +371,6 @@ pub struct Controller<
     fi_started: bool,
 }
 
-/// The rows of the twist that `S` selects, when each row of `S` is a unit row vector (`S = I`
-/// and every selection of a `[task]` section): then `S x` is `x` at those rows.
-fn selected_rows<T: RealField + Copy, const P: usize>(s: &SMatrix<T, P, 6>) -> Option<[usize; P]> {
-    let mut rows = [0; P];
-    for (r, row) in rows.iter_mut().enumerate() {
-        let mut ones = 0;
-        for c in 0..6 {
-            let v = s[(r, c)];
-            if v == T::one() {
-                ones += 1;
-                *row = c;
-            } else if v != T::zero() {
-                return None;
-            }
-        }
-        if ones != 1 {
-            return None;
-        }
-    }
-    Some(rows)
-}
-
 /// A direct solve `(x, det J)` when `J` is regular (`det J` finite and not 0).
 fn regular<T: RealField + Copy, const C: usize>(
     solved: Option<(SVector<T, C>, T)>,
@@ -487,8 +465,7 @@ impl<
         // 4. [v0i; θ̇_jn] = J_inv S (u − J_c dv_0r) (3.34), J = S J^r.
         let sel = kin.task_selection();
         let rhs = u - s.jc * dv_0r;
-        // A whole 6-D task (S = I) is a copy, and a selection of rows (every `[task]` section)
-        // picks them: no product.
+        // A whole 6-D task (S = I) needs no product.
         let whole = P == 6
             && (0..P)
                 .all(|r| (0..6).all(|c| sel[(r, c)] == if r == c { T::one() } else { T::zero() }));
@@ -496,11 +473,6 @@ impl<
             (
                 SMatrix::from_fn(|r, c| s.jr[(r, c)]),
                 SVector::from_fn(|r, _| rhs[r]),
-            )
-        } else if let Some(rows) = selected_rows(&sel) {
-            (
-                SMatrix::from_fn(|r, c| s.jr[(rows[r], c)]),
-                SVector::from_fn(|r, _| rhs[rows[r]]),
             )
         } else {
             (sel * s.jr, sel * rhs)
