@@ -100,10 +100,10 @@ pub enum Command {
         /// Close the loop on the trocar position.
         #[arg(long, value_enum, default_value_t = OnOff::On)]
         drift_correction: OnOff,
-        /// Write the trace as CSV.
+        /// Write the trace as CSV (checked before the run, written whole when it succeeds).
         #[arg(long)]
         csv: Option<PathBuf>,
-        /// Write the figures (SVG; a .png path gives PNG).
+        /// Write the figures to a `.svg` or `.png` file (checked before the run).
         #[arg(long)]
         plot: Option<PathBuf>,
     },

@@ -43,6 +43,130 @@ pub(crate) fn write_stdout(text: &str) -> Result<(), CliError> {
     }
 }
 
+/// What an output file holds, for the checks made before any work: `trocar simulate --plot`
+/// must name a `.svg` or `.png` file; a CSV or a generated module may have any name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum OutputKind {
+    /// A figure (`--plot`): SVG or PNG, by the extension.
+    Figure,
+    /// Anything else (`--csv`, `generate -o`).
+    Data,
+}
+
+/// The output files of one command, checked before the command does any work and written
+/// atomically after it has succeeded: each is first written under a temporary name in its own
+/// directory, then renamed over the requested name once every output has been written, so a
+/// failure (or a closed terminal) leaves no half-written or stale-looking file behind.
+#[derive(Debug, Default)]
+pub(crate) struct Outputs {
+    /// `(option, requested path, temporary path)` of each output.
+    files: Vec<(&'static str, std::path::PathBuf, std::path::PathBuf)>,
+}
+
+impl Outputs {
+    /// Checks the outputs up front: every path names a file in a directory that exists, figures
+    /// end in `.svg` or `.png`, and no two outputs are the same file. Errors name the option
+    /// and the path.
+    pub(crate) fn check(
+        requested: &[(&'static str, Option<&std::path::Path>, OutputKind)],
+    ) -> Result<Outputs, CliError> {
+        let mut out = Outputs::default();
+        for &(option, path, kind) in requested {
+            let Some(path) = path else { continue };
+            let shown = path.display();
+            let Some(name) = path.file_name() else {
+                return Err(CliError(format!("{option} {shown}: not a file name")));
+            };
+            if kind == OutputKind::Figure {
+                let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+                if !ext.eq_ignore_ascii_case("svg") && !ext.eq_ignore_ascii_case("png") {
+                    return Err(CliError(format!(
+                        "{option} {shown}: a figure is written as SVG or PNG; name the file `….svg` or `….png`"
+                    )));
+                }
+            }
+            let dir = match path.parent() {
+                Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+                _ => std::path::PathBuf::from("."),
+            };
+            if !dir.is_dir() {
+                return Err(CliError(format!(
+                    "{option} {shown}: the directory {} does not exist",
+                    dir.display()
+                )));
+            }
+            if path.is_dir() {
+                return Err(CliError(format!("{option} {shown}: is a directory")));
+            }
+            // The same file under two names: compare the directories resolved and the names.
+            let key = (dir.canonicalize().unwrap_or(dir.clone()), name.to_owned());
+            for (other, p, _) in &out.files {
+                let d = match p.parent() {
+                    Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+                    _ => std::path::PathBuf::from("."),
+                };
+                if (
+                    d.canonicalize().unwrap_or(d),
+                    p.file_name().map(|n| n.to_owned()),
+                ) == (key.0.clone(), Some(key.1.clone()))
+                {
+                    return Err(CliError(format!(
+                        "{option} {shown} and {other} {}: the same file for two outputs",
+                        p.display()
+                    )));
+                }
+            }
+            // The temporary keeps the extension: the figure's format follows it.
+            let mut temp = std::ffi::OsString::from(".");
+            temp.push(name);
+            temp.push(format!(".partial-{}", std::process::id()));
+            if let Some(ext) = path.extension() {
+                temp.push(".");
+                temp.push(ext);
+            }
+            out.files.push((option, path.to_path_buf(), dir.join(temp)));
+        }
+        Ok(out)
+    }
+
+    /// Where to write the output requested as `path` until [`Outputs::commit`].
+    pub(crate) fn temporary<'a>(&'a self, path: &'a std::path::Path) -> &'a std::path::Path {
+        self.files
+            .iter()
+            .find(|(_, p, _)| p == path)
+            .map_or(path, |(_, _, t)| t.as_path())
+    }
+
+    /// `e` with every temporary file name replaced by the name the user gave.
+    pub(crate) fn explain(&self, e: CliError) -> CliError {
+        let mut text = e.0;
+        for (_, path, temp) in &self.files {
+            text = text.replace(&temp.display().to_string(), &path.display().to_string());
+        }
+        CliError(text)
+    }
+
+    /// Renames every temporary file over its requested name.
+    pub(crate) fn commit(mut self) -> Result<(), CliError> {
+        for (option, path, temp) in std::mem::take(&mut self.files) {
+            std::fs::rename(&temp, &path).map_err(|e| {
+                let _ = std::fs::remove_file(&temp);
+                CliError(format!("{option} {}: {e}", path.display()))
+            })?;
+        }
+        Ok(())
+    }
+}
+
+impl Drop for Outputs {
+    /// Removes the temporary files of a command that failed.
+    fn drop(&mut self) {
+        for (_, _, temp) in &self.files {
+            let _ = std::fs::remove_file(temp);
+        }
+    }
+}
+
 /// Prints an error to stderr and returns the exit code of a failed command.
 pub(crate) fn print_error(e: &CliError) -> i32 {
     eprintln!("error: {e}");

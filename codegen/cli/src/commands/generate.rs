@@ -1,7 +1,7 @@
 //! `trocar generate`: the emitted Rust module of a serial robot or a closed mechanism.
 
 use crate::args::RealArg;
-use crate::output::{write_stdout, CliError};
+use crate::output::{write_stdout, CliError, OutputKind, Outputs};
 use std::path::Path;
 use trocar_model::Description;
 
@@ -26,10 +26,13 @@ pub fn generate(robot: &str, real: RealArg) -> Result<String, CliError> {
 
 /// Runs `trocar generate`: writes the module to `output`, or stdout.
 pub(crate) fn run(robot: &str, output: Option<&Path>, real: RealArg) -> Result<i32, CliError> {
+    let outputs = Outputs::check(&[("-o", output, OutputKind::Data)])?;
     let code = generate(robot, real)?;
     match output {
         Some(path) => {
-            std::fs::write(path, code).map_err(|e| CliError(format!("{}: {e}", path.display())))?
+            std::fs::write(outputs.temporary(path), code)
+                .map_err(|e| CliError(format!("-o {}: {e}", path.display())))?;
+            outputs.commit()?;
         }
         None => write_stdout(&code)?,
     }

@@ -1,14 +1,16 @@
 //! `trocar simulate`: the thesis's RCM scenarios and the closed-chain simulations.
 
 use crate::args::{Method, OnOff};
-use crate::output::CliError;
+use crate::output::{CliError, OutputKind, Outputs};
 use crate::progress::with_progress;
 use std::path::Path;
 use trocar_sim::{closed_chain, simulation};
 
 /// Runs the simulation `scenario` (`1`, `2`, `3`, `4`, `exp421`, or a closed-chain scenario such
-/// as `four-bar`), writes the trace to `csv` and the figures to `plot` (PNG for a `.png` path,
-/// SVG otherwise) when given, and returns the summary `trocar simulate` prints to stderr.
+/// as `four-bar`), writes the trace to `csv` and the figures to `plot` (`.svg` or `.png`) when
+/// given, and returns the summary `trocar simulate` prints to stderr. Both paths are checked
+/// before the simulation runs and the files are written whole, once it has succeeded
+/// (`output::Outputs`).
 /// `method` (default: the scenario's) and `drift_correction` apply to the RCM scenarios only.
 pub fn simulate(
     scenario: &str,
@@ -17,11 +19,32 @@ pub fn simulate(
     csv: Option<&Path>,
     plot: Option<&Path>,
 ) -> Result<String, CliError> {
-    if closed_chain::scenario_names().contains(&scenario) {
-        closed_chain_scenario(scenario, method, drift_correction, csv, plot)
+    let outputs = Outputs::check(&[
+        ("--csv", csv, OutputKind::Data),
+        ("--plot", plot, OutputKind::Figure),
+    ])?;
+    let csv = csv.map(|p| outputs.temporary(p).to_path_buf());
+    let plot = plot.map(|p| outputs.temporary(p).to_path_buf());
+    let summary = if closed_chain::scenario_names().contains(&scenario) {
+        closed_chain_scenario(
+            scenario,
+            method,
+            drift_correction,
+            csv.as_deref(),
+            plot.as_deref(),
+        )
     } else {
-        rcm_scenario(scenario, method, drift_correction, csv, plot)
+        rcm_scenario(
+            scenario,
+            method,
+            drift_correction,
+            csv.as_deref(),
+            plot.as_deref(),
+        )
     }
+    .map_err(|e| outputs.explain(e))?;
+    outputs.commit()?;
+    Ok(summary)
 }
 
 /// Runs `trocar simulate`: the summary goes to stderr.
@@ -60,7 +83,9 @@ fn closed_chain_scenario(
     })
     .map_err(CliError::from_display)?;
     if let Some(path) = csv {
-        trace.write_csv(path).map_err(CliError::from_display)?;
+        trace
+            .write_csv(path)
+            .map_err(|e| CliError(format!("--csv {}: {e}", path.display())))?;
     }
     if let Some(path) = plot {
         let png = path
@@ -71,7 +96,7 @@ fn closed_chain_scenario(
         } else {
             trace.plot_svg(path)
         };
-        written.map_err(CliError::from_display)?;
+        written.map_err(|e| CliError(format!("--plot {}: {e}", path.display())))?;
     }
     Ok(trace_summary(&trace.columns, &trace.rows))
 }
@@ -105,10 +130,11 @@ fn rcm_scenario(
     if let Some(path) = csv {
         trace
             .write_csv(path)
-            .map_err(|e| CliError(format!("{}: {e}", path.display())))?;
+            .map_err(|e| CliError(format!("--csv {}: {e}", path.display())))?;
     }
     if let Some(path) = plot {
-        trocar_sim::plot::write_figure(&trace, path).map_err(CliError::from_display)?;
+        trocar_sim::plot::write_figure(&trace, path)
+            .map_err(|e| CliError(format!("--plot {}: {e}", path.display())))?;
     }
     let s = trace.summary();
     let mut out = String::new();
