@@ -44,6 +44,15 @@ impl Generated {
         self.spec.function(function).is_some()
     }
 
+    /// The parameters `function` divides by ([`Program::divisor_params`](crate::emit::program::Program::divisor_params)):
+    /// where its result is not finite when one of them is 0. Empty when the module has no
+    /// such function.
+    pub fn divisors(&self, function: Function) -> Vec<String> {
+        self.spec
+            .function(function)
+            .map_or_else(Vec::new, |f| f.program.divisor_params())
+    }
+
     /// Nominal parameter values, in declaration order.
     pub fn nominal_params(&self) -> Vec<f64> {
         self.spec.params.iter().map(|(_, v)| *v).collect()

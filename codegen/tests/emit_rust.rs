@@ -99,6 +99,7 @@ fn small_module() -> ModuleSpec {
                 program: j,
                 dims: None,
                 takes_joints: true,
+                zero_when_not_finite: false,
             },
             Function {
                 name: "manipulability".into(),
@@ -109,6 +110,7 @@ fn small_module() -> ModuleSpec {
                 program: w,
                 dims: None,
                 takes_joints: true,
+                zero_when_not_finite: false,
             },
         ],
         controller: None,

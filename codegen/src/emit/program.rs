@@ -582,6 +582,39 @@ impl Program {
         acc.unwrap_or_else(|| self.constant(0.0))
     }
 
+    /// The parameters that a live division's divisor depends on: where the program can divide
+    /// by zero (a parameter at 0), in the order of [`Program::params`].
+    pub fn divisor_params(&self) -> Vec<String> {
+        let live = self.live();
+        let mut seen = vec![false; self.ops.len()];
+        let mut found = vec![false; self.params.len()];
+        let mut stack: Vec<ValueId> = self
+            .ops
+            .iter()
+            .zip(&live)
+            .filter_map(|(op, &l)| match *op {
+                Op::Div(_, b) if l => Some(b),
+                _ => None,
+            })
+            .collect();
+        while let Some(v) = stack.pop() {
+            let i = v.0 as usize;
+            if std::mem::replace(&mut seen[i], true) {
+                continue;
+            }
+            if let Op::Param(k) = self.ops[i] {
+                found[k] = true;
+            }
+            stack.extend(self.ops[i].operands());
+        }
+        self.params
+            .iter()
+            .zip(found)
+            .filter(|&(_, f)| f)
+            .map(|(name, _)| name.clone())
+            .collect()
+    }
+
     /// Rule `dead_code`: `live[v]` is `true` when `v` is reachable from an output.
     pub fn live(&self) -> Vec<bool> {
         let mut live = vec![false; self.ops.len()];

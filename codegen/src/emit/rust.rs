@@ -87,6 +87,9 @@ pub struct Function {
     /// Whether the function takes the joints (`f(&q, &params)` and `f_trig(&trig, &params)`);
     /// otherwise it is `f(&params)` alone.
     pub takes_joints: bool,
+    /// A scalar that returns 0 where its closed form is not finite (the manipulability: 0 means
+    /// "singular" to a controller, `+∞` would mean the opposite).
+    pub zero_when_not_finite: bool,
 }
 
 impl Function {
@@ -133,6 +136,10 @@ impl Function {
             program,
             dims,
             takes_joints: entry.takes_joints(),
+            zero_when_not_finite: matches!(
+                entry,
+                catalogue::Function::Manipulability | catalogue::Function::ManipulabilitySquared
+            ),
         }
     }
 }
@@ -563,10 +570,50 @@ fn function_tokens(f: &Function, ty: &Ty, n: usize) -> TokenStream {
     if !layout.is_empty() {
         let _ = writeln!(doc, "\n{layout}");
     }
+    let guard = f.zero_when_not_finite && f.shape == Shape::Scalar;
+    let not_finite = if guard {
+        let divisors = f.program.divisor_params();
+        let by = if divisors.is_empty() {
+            String::new()
+        } else {
+            format!(
+                " at a parameter it divides by equal to 0 ({}), or",
+                divisors
+                    .iter()
+                    .map(|p| format!("`{p}`"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        };
+        format!(
+            "Returns 0 where the closed form is not finite:{by} where a NaN or infinite input makes it so. \
+             0 reads as singular to a controller that damps when the manipulability is small; \
+             `+∞` would read as far from singular."
+        )
+    } else {
+        String::new()
+    };
+    if guard {
+        let _ = writeln!(doc, "\n{not_finite}");
+    } else {
+        let divisors = f.program.divisor_params();
+        if !divisors.is_empty() {
+            let _ = writeln!(
+                doc,
+                "\nDivides by {}: the result is not finite where that is 0 (nor, in general, with a NaN or \
+                 infinite input); test it with `is_finite` where that can happen.",
+                divisors
+                    .iter()
+                    .map(|p| format!("`{p}`"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        }
+    }
     let _ = writeln!(doc, "\nOperations: {counts}.");
     let doc_q = doc_attrs(&doc);
     let doc_t = doc_attrs(&format!(
-        "[`{}`] from precomputed joint sines and cosines ([`JointTrig`]), thesis {}.\n\n{}\
+        "[`{}`] from precomputed joint sines and cosines ([`JointTrig`]), thesis {}.\n\n{}{}\
          Operations: {} (the `sin_cos` calls are done once in [`JointTrig::new`]).",
         f.name,
         f.equation,
@@ -575,6 +622,11 @@ fn function_tokens(f: &Function, ty: &Ty, n: usize) -> TokenStream {
         } else {
             format!("{layout}\n\n")
         },
+        if guard {
+            format!("{not_finite}\n\n")
+        } else {
+            String::new()
+        },
         super::program::OpCounts { trig: 0, ..counts }
     ));
     let (stmts_q, outs_q) = body(&f.program, ty, Access::Q);
@@ -582,6 +634,18 @@ fn function_tokens(f: &Function, ty: &Ty, n: usize) -> TokenStream {
     let (ret, value_q) = shape_tokens(f.shape, ty, &outs_q);
     let ret = dims_tokens(f, ty).unwrap_or(ret);
     let (_, value_t) = shape_tokens(f.shape, ty, &outs_t);
+    let (value_q, value_t) = if guard {
+        let r = ty.real_path();
+        let wrap = |v: TokenStream| {
+            quote! {{
+                let w = #v;
+                if #r::is_finite(w) { w } else { #r::ZERO }
+            }}
+        };
+        (wrap(value_q), wrap(value_t))
+    } else {
+        (value_q, value_t)
+    };
     let live = f.program.live();
     let uses_q = f
         .program

@@ -447,6 +447,8 @@ pub mod bidirectional_zy {
     ///
     /// Returns the 6 × 6 matrix **column-major**: `[[T; 6]; M]` holds M columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<T, 6, 6>::from_data(ArrayStorage(a))`.
     ///
+    /// Divides by `l_a`: the result is not finite where that is 0 (nor, in general, with a NaN or infinite input); test it with `is_finite` where that can happen.
+    ///
     /// Operations: 2 add, 22 mul, 1 div, 0 sqrt, 2 trig (sin_cos), 10 neg, 0 abs.
     #[inline]
     #[must_use]
@@ -569,6 +571,8 @@ pub mod bidirectional_zy {
     /// Jacobian of the moving constraint `J_c = Ad_{g_ei} Λ†`, 6 × R, thesis (3.33).
     ///
     /// Returns the 6 × 2 matrix **column-major**: `[[T; 6]; R]` holds R columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<T, 6, 2>::from_data(ArrayStorage(a))`.
+    ///
+    /// Divides by `l_a`: the result is not finite where that is 0 (nor, in general, with a NaN or infinite input); test it with `is_finite` where that can happen.
     ///
     /// Operations: 7 add, 26 mul, 1 div, 0 sqrt, 2 trig (sin_cos), 4 neg, 0 abs.
     #[inline]
@@ -925,24 +929,44 @@ pub mod bidirectional_zy {
     }
     /// Manipulability `w = sqrt(det(J^r J^rᵀ))` of the constrained Jacobian (closed form: `|det J^r|` when square, Cauchy–Binet sum of squared maximal minors when wide), thesis (3.36)–(3.39) (presets: (3.40)–(3.42)).
     ///
+    /// Returns 0 where the closed form is not finite: at a parameter it divides by equal to 0 (`l_a`), or where a NaN or infinite input makes it so. 0 reads as singular to a controller that damps when the manipulability is small; `+∞` would read as far from singular.
+    ///
     /// Operations: 0 add, 4 mul, 1 div, 0 sqrt, 1 trig (sin_cos), 0 neg, 1 abs.
     #[inline]
     #[must_use]
     pub fn manipulability<T: ::trocar::Real>(q: &[T; N], p: &Params<T>) -> T {
         let ([s7], [_]) = <T as ::trocar::Real>::sin_cos_array(&[q[6]]);
         let x0 = <T as ::trocar::Real>::ONE / p.l_a;
-        <T as ::trocar::Real>::abs(s7 * (x0 * x0) * (p.l_b * p.l_b))
+        {
+            let w = <T as ::trocar::Real>::abs(s7 * (x0 * x0) * (p.l_b * p.l_b));
+            if <T as ::trocar::Real>::is_finite(w) {
+                w
+            } else {
+                <T as ::trocar::Real>::ZERO
+            }
+        }
     }
     /// [`manipulability`] from precomputed joint sines and cosines ([`JointTrig`]), thesis (3.36)–(3.39) (presets: (3.40)–(3.42)).
+    ///
+    /// Returns 0 where the closed form is not finite: at a parameter it divides by equal to 0 (`l_a`), or where a NaN or infinite input makes it so. 0 reads as singular to a controller that damps when the manipulability is small; `+∞` would read as far from singular.
     ///
     /// Operations: 0 add, 4 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 1 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
     pub fn manipulability_trig<T: ::trocar::Real>(t: &JointTrig<T>, p: &Params<T>) -> T {
         let x0 = <T as ::trocar::Real>::ONE / p.l_a;
-        <T as ::trocar::Real>::abs(t.sin[6] * (x0 * x0) * (p.l_b * p.l_b))
+        {
+            let w = <T as ::trocar::Real>::abs(t.sin[6] * (x0 * x0) * (p.l_b * p.l_b));
+            if <T as ::trocar::Real>::is_finite(w) {
+                w
+            } else {
+                <T as ::trocar::Real>::ZERO
+            }
+        }
     }
     /// Squared manipulability `w² = det(J^r J^rᵀ)` (no square root, for thresholds such as (3.44)), thesis (3.36).
+    ///
+    /// Returns 0 where the closed form is not finite: at a parameter it divides by equal to 0 (`l_a`), or where a NaN or infinite input makes it so. 0 reads as singular to a controller that damps when the manipulability is small; `+∞` would read as far from singular.
     ///
     /// Operations: 0 add, 5 mul, 1 div, 0 sqrt, 1 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
@@ -951,9 +975,18 @@ pub mod bidirectional_zy {
         let ([s7], [_]) = <T as ::trocar::Real>::sin_cos_array(&[q[6]]);
         let x0 = <T as ::trocar::Real>::ONE / p.l_a;
         let x1 = s7 * (x0 * x0) * (p.l_b * p.l_b);
-        x1 * x1
+        {
+            let w = x1 * x1;
+            if <T as ::trocar::Real>::is_finite(w) {
+                w
+            } else {
+                <T as ::trocar::Real>::ZERO
+            }
+        }
     }
     /// [`manipulability_squared`] from precomputed joint sines and cosines ([`JointTrig`]), thesis (3.36).
+    ///
+    /// Returns 0 where the closed form is not finite: at a parameter it divides by equal to 0 (`l_a`), or where a NaN or infinite input makes it so. 0 reads as singular to a controller that damps when the manipulability is small; `+∞` would read as far from singular.
     ///
     /// Operations: 0 add, 5 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
@@ -964,7 +997,14 @@ pub mod bidirectional_zy {
     ) -> T {
         let x0 = <T as ::trocar::Real>::ONE / p.l_a;
         let x1 = t.sin[6] * (x0 * x0) * (p.l_b * p.l_b);
-        x1 * x1
+        {
+            let w = x1 * x1;
+            if <T as ::trocar::Real>::is_finite(w) {
+                w
+            } else {
+                <T as ::trocar::Real>::ZERO
+            }
+        }
     }
     /// The constrained directions `H`, R × 6: the constraint is `H V^B_0r = 0`, thesis (3.1).
     ///
@@ -986,6 +1026,8 @@ pub mod bidirectional_zy {
     /// Null-space basis `Λ#` of `Λ = H Ad_{g_ri}` (3.3), 6 × K: `V^B_0i = Λ# v0i`, thesis (3.6) (presets: (3.23), (3.27)).
     ///
     /// Returns the 6 × 4 matrix **column-major**: `[[T; 6]; K]` holds K columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<T, 6, 4>::from_data(ArrayStorage(a))`.
+    ///
+    /// Divides by `l_a`: the result is not finite where that is 0 (nor, in general, with a NaN or infinite input); test it with `is_finite` where that can happen.
     ///
     /// Operations: 0 add, 0 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs.
     #[inline]
@@ -1030,6 +1072,8 @@ pub mod bidirectional_zy {
     /// `Λ† = Λᵀ (Λ Λᵀ)⁻¹`, 6 × R, thesis (3.31).
     ///
     /// Returns the 6 × 2 matrix **column-major**: `[[T; 6]; R]` holds R columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<T, 6, 2>::from_data(ArrayStorage(a))`.
+    ///
+    /// Divides by `l_a`: the result is not finite where that is 0 (nor, in general, with a NaN or infinite input); test it with `is_finite` where that can happen.
     ///
     /// Operations: 1 add, 2 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs.
     #[inline]

@@ -82,6 +82,8 @@ pub mod small {
     ///
     /// Returns the 6 × 2 matrix **column-major**: `[[T; 6]; 2]` holds 2 columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<T, 6, 2>::from_data(ArrayStorage(a))`.
     ///
+    /// Divides by `l_a`: the result is not finite where that is 0 (nor, in general, with a NaN or infinite input); test it with `is_finite` where that can happen.
+    ///
     /// Operations: 1 add, 10 mul, 1 div, 0 sqrt, 2 trig (sin_cos), 3 neg, 0 abs.
     #[inline]
     #[must_use]
@@ -141,6 +143,8 @@ pub mod small {
         ]
     }
     /// Manipulability, thesis (3.42).
+    ///
+    /// Divides by `l_a`: the result is not finite where that is 0 (nor, in general, with a NaN or infinite input); test it with `is_finite` where that can happen.
     ///
     /// Operations: 0 add, 4 mul, 1 div, 0 sqrt, 1 trig (sin_cos), 0 neg, 1 abs.
     #[inline]

@@ -86,9 +86,39 @@ fn serial_generated(
         })
     })?;
     if m.values.iter().any(|v| !v.is_finite()) {
-        return Err(CliError(format!(
-            "`{function}` is not finite at this configuration (a parameter that divides is zero?)"
-        )));
+        // Say which parameter it divides by is (numerically) zero, when one is.
+        let names: Vec<&str> = desc.parameters.iter().map(|p| p.name.as_str()).collect();
+        let divisors: Vec<(String, f64)> = generated
+            .divisors(function)
+            .into_iter()
+            .filter_map(|d| {
+                let k = names.iter().position(|n| *n == d)?;
+                Some((d, values[k]))
+            })
+            .collect();
+        let list = |only_zero: bool| {
+            divisors
+                .iter()
+                .filter(|(_, v)| !only_zero || v.abs() < f64::MIN_POSITIVE)
+                .map(|(d, v)| format!("`{d}` = {v:e}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let zero = list(true);
+        return Err(CliError(if !zero.is_empty() {
+            format!(
+                "`{function}` is not finite at this configuration: it divides by {zero} (zero or subnormal)"
+            )
+        } else if !divisors.is_empty() {
+            format!(
+                "`{function}` is not finite at this configuration: an intermediate value overflowed; it divides by {}",
+                list(false)
+            )
+        } else {
+            format!(
+                "`{function}` is not finite at this configuration: an intermediate value overflowed (a joint value or a parameter too large)"
+            )
+        }));
     }
     Ok(MatrixOut::from_evaluated(&m))
 }

@@ -1199,6 +1199,8 @@ pub mod chain9_prismatic {
     ///
     /// Returns the 6 × 3 matrix **column-major**: `[[f64; 6]; R]` holds R columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f64, 6, 3>::from_data(ArrayStorage(a))`.
     ///
+    /// Divides by `l_a`: the result is not finite where that is 0 (nor, in general, with a NaN or infinite input); test it with `is_finite` where that can happen.
+    ///
     /// Operations: 207 add, 243 mul, 1 div, 0 sqrt, 3 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
     #[must_use]
@@ -2046,38 +2048,58 @@ pub mod chain9_prismatic {
     }
     /// Manipulability `w = sqrt(det(J^r J^rᵀ))` of the constrained Jacobian (closed form: `|det J^r|` when square, Cauchy–Binet sum of squared maximal minors when wide), thesis (3.36)–(3.39) (presets: (3.40)–(3.42)).
     ///
+    /// Returns 0 where the closed form is not finite: where a NaN or infinite input makes it so. 0 reads as singular to a controller that damps when the manipulability is small; `+∞` would read as far from singular.
+    ///
     /// Operations: 8 add, 9 mul, 0 div, 0 sqrt, 2 trig (sin_cos), 0 neg, 1 abs.
     #[inline]
     #[must_use]
     pub fn manipulability(q: &[f64; N], p: &Params) -> f64 {
         let ([s7, _], [c7, c8]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
-        <f64 as ::trocar::Real>::abs(
-            (p.l_a
-                * (0.4800000000000001_f64 + 0.003840000000000001_f64 * s7
-                    + 0.03200000000000001_f64 * c7 - 0.8000000000000002_f64 * p.l_a)
-                - (0.07200000000000001_f64 + 0.0011520000000000002_f64 * s7
-                    + 0.009600000000000003_f64 * c7)) * c8
-                + s7 * (0.0011520000000000002_f64 - 0.003840000000000001_f64 * p.l_a),
-        )
+        {
+            let w = <f64 as ::trocar::Real>::abs(
+                (p.l_a
+                    * (0.4800000000000001_f64 + 0.003840000000000001_f64 * s7
+                        + 0.03200000000000001_f64 * c7 - 0.8000000000000002_f64 * p.l_a)
+                    - (0.07200000000000001_f64 + 0.0011520000000000002_f64 * s7
+                        + 0.009600000000000003_f64 * c7)) * c8
+                    + s7 * (0.0011520000000000002_f64 - 0.003840000000000001_f64 * p.l_a),
+            );
+            if <f64 as ::trocar::Real>::is_finite(w) {
+                w
+            } else {
+                <f64 as ::trocar::Real>::ZERO
+            }
+        }
     }
     /// [`manipulability`] from precomputed joint sines and cosines ([`JointTrig`]), thesis (3.36)–(3.39) (presets: (3.40)–(3.42)).
+    ///
+    /// Returns 0 where the closed form is not finite: where a NaN or infinite input makes it so. 0 reads as singular to a controller that damps when the manipulability is small; `+∞` would read as far from singular.
     ///
     /// Operations: 8 add, 9 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 1 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
     pub fn manipulability_trig(t: &JointTrig, p: &Params) -> f64 {
-        <f64 as ::trocar::Real>::abs(
-            (p.l_a
-                * (0.4800000000000001_f64 + 0.003840000000000001_f64 * t.sin[6]
-                    + 0.03200000000000001_f64 * t.cos[6]
-                    - 0.8000000000000002_f64 * p.l_a)
-                - (0.07200000000000001_f64 + 0.0011520000000000002_f64 * t.sin[6]
-                    + 0.009600000000000003_f64 * t.cos[6])) * t.cos[7]
-                + t.sin[6]
-                    * (0.0011520000000000002_f64 - 0.003840000000000001_f64 * p.l_a),
-        )
+        {
+            let w = <f64 as ::trocar::Real>::abs(
+                (p.l_a
+                    * (0.4800000000000001_f64 + 0.003840000000000001_f64 * t.sin[6]
+                        + 0.03200000000000001_f64 * t.cos[6]
+                        - 0.8000000000000002_f64 * p.l_a)
+                    - (0.07200000000000001_f64 + 0.0011520000000000002_f64 * t.sin[6]
+                        + 0.009600000000000003_f64 * t.cos[6])) * t.cos[7]
+                    + t.sin[6]
+                        * (0.0011520000000000002_f64 - 0.003840000000000001_f64 * p.l_a),
+            );
+            if <f64 as ::trocar::Real>::is_finite(w) {
+                w
+            } else {
+                <f64 as ::trocar::Real>::ZERO
+            }
+        }
     }
     /// Squared manipulability `w² = det(J^r J^rᵀ)` (no square root, for thresholds such as (3.44)), thesis (3.36).
+    ///
+    /// Returns 0 where the closed form is not finite: where a NaN or infinite input makes it so. 0 reads as singular to a controller that damps when the manipulability is small; `+∞` would read as far from singular.
     ///
     /// Operations: 8 add, 10 mul, 0 div, 0 sqrt, 2 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
@@ -2090,9 +2112,18 @@ pub mod chain9_prismatic {
             - (0.07200000000000001_f64 + 0.0011520000000000002_f64 * s7
                 + 0.009600000000000003_f64 * c7)) * c8
             + s7 * (0.0011520000000000002_f64 - 0.003840000000000001_f64 * p.l_a);
-        x0 * x0
+        {
+            let w = x0 * x0;
+            if <f64 as ::trocar::Real>::is_finite(w) {
+                w
+            } else {
+                <f64 as ::trocar::Real>::ZERO
+            }
+        }
     }
     /// [`manipulability_squared`] from precomputed joint sines and cosines ([`JointTrig`]), thesis (3.36).
+    ///
+    /// Returns 0 where the closed form is not finite: where a NaN or infinite input makes it so. 0 reads as singular to a controller that damps when the manipulability is small; `+∞` would read as far from singular.
     ///
     /// Operations: 8 add, 10 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
@@ -2104,7 +2135,14 @@ pub mod chain9_prismatic {
             - (0.07200000000000001_f64 + 0.0011520000000000002_f64 * t.sin[6]
                 + 0.009600000000000003_f64 * t.cos[6])) * t.cos[7]
             + t.sin[6] * (0.0011520000000000002_f64 - 0.003840000000000001_f64 * p.l_a);
-        x0 * x0
+        {
+            let w = x0 * x0;
+            if <f64 as ::trocar::Real>::is_finite(w) {
+                w
+            } else {
+                <f64 as ::trocar::Real>::ZERO
+            }
+        }
     }
     /// The constrained directions `H`, R × 6: the constraint is `H V^B_0r = 0`, thesis (3.1).
     ///
@@ -2185,6 +2223,8 @@ pub mod chain9_prismatic {
     /// `Λ† = Λᵀ (Λ Λᵀ)⁻¹`, 6 × R, thesis (3.31).
     ///
     /// Returns the 6 × 3 matrix **column-major**: `[[f64; 6]; R]` holds R columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f64, 6, 3>::from_data(ArrayStorage(a))`.
+    ///
+    /// Divides by `l_a`: the result is not finite where that is 0 (nor, in general, with a NaN or infinite input); test it with `is_finite` where that can happen.
     ///
     /// Operations: 1 add, 2 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs.
     #[inline]

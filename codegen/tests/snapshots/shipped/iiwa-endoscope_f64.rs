@@ -482,6 +482,8 @@ pub mod iiwa_endoscope {
     ///
     /// Returns the 6 × 2 matrix **column-major**: `[[f64; 6]; R]` holds R columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f64, 6, 2>::from_data(ArrayStorage(a))`.
     ///
+    /// Divides by `l_a`: the result is not finite where that is 0 (nor, in general, with a NaN or infinite input); test it with `is_finite` where that can happen.
+    ///
     /// Operations: 4 add, 4 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs.
     #[inline]
     #[must_use]
@@ -852,37 +854,73 @@ pub mod iiwa_endoscope {
     }
     /// Manipulability `w = sqrt(det((S J^r)(S J^r)ᵀ))` of the task Jacobian ([`constrained_task_jacobian`]; closed form: `|det S J^r|` when square, Cauchy–Binet sum of squared maximal minors when wide), thesis (3.36)–(3.39) (presets: (3.40)–(3.42)).
     ///
+    /// Returns 0 where the closed form is not finite: where a NaN or infinite input makes it so. 0 reads as singular to a controller that damps when the manipulability is small; `+∞` would read as far from singular.
+    ///
     /// Operations: 2 add, 1 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 1 abs.
     #[inline]
     #[must_use]
     pub fn manipulability(_q: &[f64; N], p: &Params) -> f64 {
-        <f64 as ::trocar::Real>::abs(p.l_a * (p.l_a - 0.6_f64) + 0.09_f64)
+        {
+            let w = <f64 as ::trocar::Real>::abs(p.l_a * (p.l_a - 0.6_f64) + 0.09_f64);
+            if <f64 as ::trocar::Real>::is_finite(w) {
+                w
+            } else {
+                <f64 as ::trocar::Real>::ZERO
+            }
+        }
     }
     /// [`manipulability`] from precomputed joint sines and cosines ([`JointTrig`]), thesis (3.36)–(3.39) (presets: (3.40)–(3.42)).
+    ///
+    /// Returns 0 where the closed form is not finite: where a NaN or infinite input makes it so. 0 reads as singular to a controller that damps when the manipulability is small; `+∞` would read as far from singular.
     ///
     /// Operations: 2 add, 1 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 1 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
     pub fn manipulability_trig(_t: &JointTrig, p: &Params) -> f64 {
-        <f64 as ::trocar::Real>::abs(p.l_a * (p.l_a - 0.6_f64) + 0.09_f64)
+        {
+            let w = <f64 as ::trocar::Real>::abs(p.l_a * (p.l_a - 0.6_f64) + 0.09_f64);
+            if <f64 as ::trocar::Real>::is_finite(w) {
+                w
+            } else {
+                <f64 as ::trocar::Real>::ZERO
+            }
+        }
     }
     /// Squared manipulability `w² = det((S J^r)(S J^r)ᵀ)` of the task Jacobian (no square root, for thresholds such as (3.44)), thesis (3.36).
+    ///
+    /// Returns 0 where the closed form is not finite: where a NaN or infinite input makes it so. 0 reads as singular to a controller that damps when the manipulability is small; `+∞` would read as far from singular.
     ///
     /// Operations: 2 add, 2 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
     #[must_use]
     pub fn manipulability_squared(_q: &[f64; N], p: &Params) -> f64 {
         let x0 = p.l_a * (p.l_a - 0.6_f64) + 0.09_f64;
-        x0 * x0
+        {
+            let w = x0 * x0;
+            if <f64 as ::trocar::Real>::is_finite(w) {
+                w
+            } else {
+                <f64 as ::trocar::Real>::ZERO
+            }
+        }
     }
     /// [`manipulability_squared`] from precomputed joint sines and cosines ([`JointTrig`]), thesis (3.36).
+    ///
+    /// Returns 0 where the closed form is not finite: where a NaN or infinite input makes it so. 0 reads as singular to a controller that damps when the manipulability is small; `+∞` would read as far from singular.
     ///
     /// Operations: 2 add, 2 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
     pub fn manipulability_squared_trig(_t: &JointTrig, p: &Params) -> f64 {
         let x0 = p.l_a * (p.l_a - 0.6_f64) + 0.09_f64;
-        x0 * x0
+        {
+            let w = x0 * x0;
+            if <f64 as ::trocar::Real>::is_finite(w) {
+                w
+            } else {
+                <f64 as ::trocar::Real>::ZERO
+            }
+        }
     }
     /// The constrained directions `H`, R × 6: the constraint is `H V^B_0r = 0`, thesis (3.1).
     ///
@@ -948,6 +986,8 @@ pub mod iiwa_endoscope {
     /// `Λ† = Λᵀ (Λ Λᵀ)⁻¹`, 6 × R, thesis (3.31).
     ///
     /// Returns the 6 × 2 matrix **column-major**: `[[f64; 6]; R]` holds R columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f64, 6, 2>::from_data(ArrayStorage(a))`.
+    ///
+    /// Divides by `l_a`: the result is not finite where that is 0 (nor, in general, with a NaN or infinite input); test it with `is_finite` where that can happen.
     ///
     /// Operations: 3 add, 2 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs.
     #[inline]

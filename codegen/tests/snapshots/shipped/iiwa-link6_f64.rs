@@ -503,6 +503,8 @@ pub mod iiwa_link6 {
     ///
     /// Returns the 6 × 1 matrix **column-major**: `[[f64; 6]; R]` holds R columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f64, 6, 1>::from_data(ArrayStorage(a))`.
     ///
+    /// Divides by `l_a`: the result is not finite where that is 0 (nor, in general, with a NaN or infinite input); test it with `is_finite` where that can happen.
+    ///
     /// Operations: 1 add, 4 mul, 1 div, 0 sqrt, 1 trig (sin_cos), 1 neg, 0 abs.
     #[inline]
     #[must_use]
@@ -779,35 +781,71 @@ pub mod iiwa_link6 {
     }
     /// Manipulability `w = sqrt(det(J^r J^rᵀ))` of the constrained Jacobian (closed form: `|det J^r|` when square, Cauchy–Binet sum of squared maximal minors when wide), thesis (3.36)–(3.39) (presets: (3.40)–(3.42)).
     ///
+    /// Returns 0 where the closed form is not finite: where a NaN or infinite input makes it so. 0 reads as singular to a controller that damps when the manipulability is small; `+∞` would read as far from singular.
+    ///
     /// Operations: 0 add, 0 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 1 abs.
     #[inline]
     #[must_use]
     pub fn manipulability(_q: &[f64; N], p: &Params) -> f64 {
-        <f64 as ::trocar::Real>::abs(p.l_a)
+        {
+            let w = <f64 as ::trocar::Real>::abs(p.l_a);
+            if <f64 as ::trocar::Real>::is_finite(w) {
+                w
+            } else {
+                <f64 as ::trocar::Real>::ZERO
+            }
+        }
     }
     /// [`manipulability`] from precomputed joint sines and cosines ([`JointTrig`]), thesis (3.36)–(3.39) (presets: (3.40)–(3.42)).
+    ///
+    /// Returns 0 where the closed form is not finite: where a NaN or infinite input makes it so. 0 reads as singular to a controller that damps when the manipulability is small; `+∞` would read as far from singular.
     ///
     /// Operations: 0 add, 0 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 1 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
     pub fn manipulability_trig(_t: &JointTrig, p: &Params) -> f64 {
-        <f64 as ::trocar::Real>::abs(p.l_a)
+        {
+            let w = <f64 as ::trocar::Real>::abs(p.l_a);
+            if <f64 as ::trocar::Real>::is_finite(w) {
+                w
+            } else {
+                <f64 as ::trocar::Real>::ZERO
+            }
+        }
     }
     /// Squared manipulability `w² = det(J^r J^rᵀ)` (no square root, for thresholds such as (3.44)), thesis (3.36).
+    ///
+    /// Returns 0 where the closed form is not finite: where a NaN or infinite input makes it so. 0 reads as singular to a controller that damps when the manipulability is small; `+∞` would read as far from singular.
     ///
     /// Operations: 0 add, 1 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
     #[must_use]
     pub fn manipulability_squared(_q: &[f64; N], p: &Params) -> f64 {
-        p.l_a * p.l_a
+        {
+            let w = p.l_a * p.l_a;
+            if <f64 as ::trocar::Real>::is_finite(w) {
+                w
+            } else {
+                <f64 as ::trocar::Real>::ZERO
+            }
+        }
     }
     /// [`manipulability_squared`] from precomputed joint sines and cosines ([`JointTrig`]), thesis (3.36).
+    ///
+    /// Returns 0 where the closed form is not finite: where a NaN or infinite input makes it so. 0 reads as singular to a controller that damps when the manipulability is small; `+∞` would read as far from singular.
     ///
     /// Operations: 0 add, 1 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
     pub fn manipulability_squared_trig(_t: &JointTrig, p: &Params) -> f64 {
-        p.l_a * p.l_a
+        {
+            let w = p.l_a * p.l_a;
+            if <f64 as ::trocar::Real>::is_finite(w) {
+                w
+            } else {
+                <f64 as ::trocar::Real>::ZERO
+            }
+        }
     }
     /// The constrained directions `H`, R × 6: the constraint is `H V^B_0r = 0`, thesis (3.1).
     ///
@@ -880,6 +918,8 @@ pub mod iiwa_link6 {
     /// `Λ† = Λᵀ (Λ Λᵀ)⁻¹`, 6 × R, thesis (3.31).
     ///
     /// Returns the 6 × 1 matrix **column-major**: `[[f64; 6]; R]` holds R columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f64, 6, 1>::from_data(ArrayStorage(a))`.
+    ///
+    /// Divides by `l_a`: the result is not finite where that is 0 (nor, in general, with a NaN or infinite input); test it with `is_finite` where that can happen.
     ///
     /// Operations: 1 add, 2 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs.
     #[inline]

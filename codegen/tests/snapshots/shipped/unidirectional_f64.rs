@@ -432,6 +432,8 @@ pub mod unidirectional {
     ///
     /// Returns the 6 × 7 matrix **column-major**: `[[f64; 6]; M]` holds M columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f64, 6, 7>::from_data(ArrayStorage(a))`.
     ///
+    /// Divides by `l_a`: the result is not finite where that is 0 (nor, in general, with a NaN or infinite input); test it with `is_finite` where that can happen.
+    ///
     /// Operations: 3 add, 19 mul, 1 div, 0 sqrt, 2 trig (sin_cos), 9 neg, 0 abs.
     #[inline]
     #[must_use]
@@ -557,6 +559,8 @@ pub mod unidirectional {
     /// Jacobian of the moving constraint `J_c = Ad_{g_ei} Λ†`, 6 × R, thesis (3.33).
     ///
     /// Returns the 6 × 1 matrix **column-major**: `[[f64; 6]; R]` holds R columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f64, 6, 1>::from_data(ArrayStorage(a))`.
+    ///
+    /// Divides by `l_a`: the result is not finite where that is 0 (nor, in general, with a NaN or infinite input); test it with `is_finite` where that can happen.
     ///
     /// Operations: 4 add, 13 mul, 1 div, 0 sqrt, 2 trig (sin_cos), 2 neg, 0 abs.
     #[inline]
@@ -846,6 +850,8 @@ pub mod unidirectional {
     }
     /// Manipulability `w = sqrt(det(J^r J^rᵀ))` of the constrained Jacobian (closed form: `|det J^r|` when square, Cauchy–Binet sum of squared maximal minors when wide), thesis (3.36)–(3.39) (presets: (3.40)–(3.42)).
     ///
+    /// Returns 0 where the closed form is not finite: at a parameter it divides by equal to 0 (`l_a`), or where a NaN or infinite input makes it so. 0 reads as singular to a controller that damps when the manipulability is small; `+∞` would read as far from singular.
+    ///
     /// Operations: 4 add, 11 mul, 1 div, 1 sqrt, 1 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
     #[must_use]
@@ -856,9 +862,18 @@ pub mod unidirectional {
         let x2 = p.l_b * (x0 * c7);
         let x3 = p.l_b * (x0 * s7);
         let x4 = s7 * (p.l_b * (<f64 as ::trocar::Real>::ONE + x1));
-        <f64 as ::trocar::Real>::sqrt(x1 * x1 + x2 * x2 + x3 * x3 + x4 * x4)
+        {
+            let w = <f64 as ::trocar::Real>::sqrt(x1 * x1 + x2 * x2 + x3 * x3 + x4 * x4);
+            if <f64 as ::trocar::Real>::is_finite(w) {
+                w
+            } else {
+                <f64 as ::trocar::Real>::ZERO
+            }
+        }
     }
     /// [`manipulability`] from precomputed joint sines and cosines ([`JointTrig`]), thesis (3.36)–(3.39) (presets: (3.40)–(3.42)).
+    ///
+    /// Returns 0 where the closed form is not finite: at a parameter it divides by equal to 0 (`l_a`), or where a NaN or infinite input makes it so. 0 reads as singular to a controller that damps when the manipulability is small; `+∞` would read as far from singular.
     ///
     /// Operations: 4 add, 11 mul, 1 div, 1 sqrt, 0 trig (sin_cos), 0 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
@@ -869,9 +884,18 @@ pub mod unidirectional {
         let x2 = p.l_b * (x0 * t.cos[6]);
         let x3 = p.l_b * (x0 * t.sin[6]);
         let x4 = t.sin[6] * (p.l_b * (<f64 as ::trocar::Real>::ONE + x1));
-        <f64 as ::trocar::Real>::sqrt(x1 * x1 + x2 * x2 + x3 * x3 + x4 * x4)
+        {
+            let w = <f64 as ::trocar::Real>::sqrt(x1 * x1 + x2 * x2 + x3 * x3 + x4 * x4);
+            if <f64 as ::trocar::Real>::is_finite(w) {
+                w
+            } else {
+                <f64 as ::trocar::Real>::ZERO
+            }
+        }
     }
     /// Squared manipulability `w² = det(J^r J^rᵀ)` (no square root, for thresholds such as (3.44)), thesis (3.36).
+    ///
+    /// Returns 0 where the closed form is not finite: at a parameter it divides by equal to 0 (`l_a`), or where a NaN or infinite input makes it so. 0 reads as singular to a controller that damps when the manipulability is small; `+∞` would read as far from singular.
     ///
     /// Operations: 4 add, 11 mul, 1 div, 0 sqrt, 1 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
@@ -883,9 +907,18 @@ pub mod unidirectional {
         let x2 = p.l_b * (x0 * c7);
         let x3 = p.l_b * (x0 * s7);
         let x4 = s7 * (p.l_b * (<f64 as ::trocar::Real>::ONE + x1));
-        x1 * x1 + x2 * x2 + x3 * x3 + x4 * x4
+        {
+            let w = x1 * x1 + x2 * x2 + x3 * x3 + x4 * x4;
+            if <f64 as ::trocar::Real>::is_finite(w) {
+                w
+            } else {
+                <f64 as ::trocar::Real>::ZERO
+            }
+        }
     }
     /// [`manipulability_squared`] from precomputed joint sines and cosines ([`JointTrig`]), thesis (3.36).
+    ///
+    /// Returns 0 where the closed form is not finite: at a parameter it divides by equal to 0 (`l_a`), or where a NaN or infinite input makes it so. 0 reads as singular to a controller that damps when the manipulability is small; `+∞` would read as far from singular.
     ///
     /// Operations: 4 add, 11 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
@@ -896,7 +929,14 @@ pub mod unidirectional {
         let x2 = p.l_b * (x0 * t.cos[6]);
         let x3 = p.l_b * (x0 * t.sin[6]);
         let x4 = t.sin[6] * (p.l_b * (<f64 as ::trocar::Real>::ONE + x1));
-        x1 * x1 + x2 * x2 + x3 * x3 + x4 * x4
+        {
+            let w = x1 * x1 + x2 * x2 + x3 * x3 + x4 * x4;
+            if <f64 as ::trocar::Real>::is_finite(w) {
+                w
+            } else {
+                <f64 as ::trocar::Real>::ZERO
+            }
+        }
     }
     /// The constrained directions `H`, R × 6: the constraint is `H V^B_0r = 0`, thesis (3.1).
     ///
@@ -918,6 +958,8 @@ pub mod unidirectional {
     /// Null-space basis `Λ#` of `Λ = H Ad_{g_ri}` (3.3), 6 × K: `V^B_0i = Λ# v0i`, thesis (3.6) (presets: (3.23), (3.27)).
     ///
     /// Returns the 6 × 5 matrix **column-major**: `[[f64; 6]; K]` holds K columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f64, 6, 5>::from_data(ArrayStorage(a))`.
+    ///
+    /// Divides by `l_a`: the result is not finite where that is 0 (nor, in general, with a NaN or infinite input); test it with `is_finite` where that can happen.
     ///
     /// Operations: 0 add, 0 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
@@ -969,6 +1011,8 @@ pub mod unidirectional {
     /// `Λ† = Λᵀ (Λ Λᵀ)⁻¹`, 6 × R, thesis (3.31).
     ///
     /// Returns the 6 × 1 matrix **column-major**: `[[f64; 6]; R]` holds R columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f64, 6, 1>::from_data(ArrayStorage(a))`.
+    ///
+    /// Divides by `l_a`: the result is not finite where that is 0 (nor, in general, with a NaN or infinite input); test it with `is_finite` where that can happen.
     ///
     /// Operations: 1 add, 2 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs.
     #[inline]
