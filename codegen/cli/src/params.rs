@@ -3,7 +3,7 @@
 
 use crate::output::CliError;
 
-/// Parses one `--param name=value` (the value finite).
+/// Parses one `--param name=value` (the value obeying [`trocar_model::validity`]).
 pub(crate) fn parse(s: &str) -> Result<(String, f64), String> {
     let (name, value) = s
         .split_once('=')
@@ -12,8 +12,8 @@ pub(crate) fn parse(s: &str) -> Result<(String, f64), String> {
         .trim()
         .parse()
         .map_err(|_| format!("`{s}`: `{value}` is not a number"))?;
-    if !value.is_finite() {
-        return Err(format!("`{s}`: the value must be finite"));
+    if let Err(problem) = trocar_model::validity::check(value) {
+        return Err(format!("`{s}`: {value:e} {problem}"));
     }
     Ok((name.trim().to_string(), value))
 }

@@ -41,8 +41,12 @@ pub(crate) fn check_q(desc: &RobotDescription, q: &[f64]) -> Result<(), CliError
             desc.joints.len()
         )));
     }
-    if let Some(k) = q.iter().position(|v| !v.is_finite()) {
-        return Err(CliError(format!("--q: value {} is not finite", k + 1)));
+    if let Err((k, problem)) = trocar_model::validity::check_all(q) {
+        return Err(CliError(format!(
+            "--q: value {} ({:e}) {problem}",
+            k + 1,
+            q[k]
+        )));
     }
     Ok(())
 }

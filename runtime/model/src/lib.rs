@@ -11,5 +11,6 @@ pub mod description;
 pub mod expr;
 mod load;
 pub mod numeric;
+pub mod validity;
 
 pub use load::Description;

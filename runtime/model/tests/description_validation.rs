@@ -762,3 +762,29 @@ fn from_toml_file_names_the_file() {
     assert!(e.message.contains("cannot read"), "{e}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Every number obeys one rule (`trocar_model::validity`): finite, not subnormal, within ±1e6.
+/// `xyz = [0, 0.21, 1e308]` used to be accepted.
+#[test]
+fn numbers_obey_one_rule() {
+    let text = replace_once(&base(), "l_8 = 0.21", "l_8 = 1e308");
+    expect(
+        &text,
+        "parameters.l_8",
+        ("l_8 = 1e308", None),
+        "beyond ±1e6",
+    );
+    let text = replace_once(
+        &base(),
+        "xyz = [0.194, 0, 1.037]",
+        "xyz = [0.194, 0, 1e308]",
+    );
+    expect(
+        &text,
+        "joints[1].xyz[2]",
+        ("xyz = [0.194, 0, 1e308]", None),
+        "beyond ±1e6",
+    );
+    let text = replace_once(&base(), "l_b = 0.18", "l_b = 1e-320");
+    expect(&text, "parameters.l_b", ("l_b = 1e-320", None), "subnormal");
+}

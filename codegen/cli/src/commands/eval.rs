@@ -182,8 +182,13 @@ pub fn eval_mechanism(
             q.len()
         )));
     }
-    if let Some(k) = q.iter().position(|x| !x.is_finite()) {
-        return Err(CliError(format!("--q: value {k} is not finite")));
+    if let Err((k, problem)) = trocar_model::validity::check_all(q) {
+        return Err(CliError(format!(
+            "--q: value {} ({}, {:e}) {problem}",
+            k + 1,
+            names[k],
+            q[k]
+        )));
     }
     let declared = m.parameter_names().into_iter().zip(m.nominal_values());
     let values = params::resolve(declared, params, "mechanism")?;

@@ -240,19 +240,22 @@ impl Checker<'_> {
         });
     }
 
+    /// Every number of `values` obeys [`crate::validity`]; otherwise an error at `field`.
     fn finite(&mut self, field: &str, values: &[f64]) -> bool {
-        if values.iter().all(|v| v.is_finite()) {
-            true
-        } else {
-            self.err(field, "numbers must be finite (no inf or nan)");
-            false
+        match crate::validity::check_all(values) {
+            Ok(()) => true,
+            Err((k, problem)) => {
+                self.err(field, format!("{:e} {problem}", values[k]));
+                false
+            }
         }
     }
 
     fn scalar(&mut self, field: &str, s: &Scalar) {
-        if !s.constant.is_finite() || s.terms.iter().any(|(c, _)| !c.is_finite()) {
-            self.err(field, "numbers must be finite (no inf or nan)");
-        }
+        let numbers: Vec<f64> = std::iter::once(s.constant)
+            .chain(s.terms.iter().map(|(c, _)| *c))
+            .collect();
+        self.finite(field, &numbers);
         for (_, name) in &s.terms {
             if self.d.parameter(name).is_none() {
                 let declared: Vec<_> = self.d.parameters.iter().map(|p| p.name.as_str()).collect();
