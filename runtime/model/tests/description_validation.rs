@@ -788,3 +788,17 @@ fn numbers_obey_one_rule() {
     let text = replace_once(&base(), "l_b = 0.18", "l_b = 1e-320");
     expect(&text, "parameters.l_b", ("l_b = 1e-320", None), "subnormal");
 }
+
+/// A file that is not UTF-8 is refused with the line, column and byte offset of the first bad
+/// byte (it used to say only "stream did not contain valid UTF-8").
+#[test]
+fn non_utf8_files_name_the_first_bad_byte() {
+    let dir = std::env::temp_dir().join(format!("trocar-utf8-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("robot.toml");
+    std::fs::write(&path, b"[robot]\nname = \"ab\xffc\"\n").unwrap();
+    let e = RobotDescription::from_toml_file(&path).unwrap_err();
+    assert_eq!((e.line, e.column), (Some(2), Some(11)), "{e}");
+    assert!(e.message.contains("0xff at byte offset 18"), "{e}");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -40,14 +40,39 @@ impl std::error::Error for DescriptionError {}
 
 impl DescriptionError {
     /// Reads a description file as text; an unreadable file (missing, not UTF-8, ...) is an error
-    /// naming the file.
+    /// naming the file, and for text that is not UTF-8 the line, column and byte offset of the
+    /// first invalid byte.
     pub fn read_file(path: &std::path::Path) -> Result<String, DescriptionError> {
-        std::fs::read_to_string(path).map_err(|e| DescriptionError {
+        let error = |line, column, message| DescriptionError {
             file: Some(PathBuf::from(path)),
-            line: None,
-            column: None,
+            line,
+            column,
             field: "(file)".into(),
-            message: format!("cannot read the file: {e}"),
+            message,
+        };
+        let bytes = std::fs::read(path)
+            .map_err(|e| error(None, None, format!("cannot read the file: {e}")))?;
+        String::from_utf8(bytes).map_err(|e| {
+            let at = e.utf8_error().valid_up_to();
+            let before = &e.as_bytes()[..at];
+            let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
+            let line_start = before
+                .iter()
+                .rposition(|&b| b == b'\n')
+                .map_or(0, |k| k + 1);
+            // Columns count characters, as the TOML errors do (the prefix is valid UTF-8).
+            let column = String::from_utf8_lossy(&before[line_start..])
+                .chars()
+                .count()
+                + 1;
+            error(
+                Some(line),
+                Some(column),
+                format!(
+                    "the file is not UTF-8 text: invalid byte 0x{:02x} at byte offset {at}",
+                    e.as_bytes()[at]
+                ),
+            )
         })
     }
 }
