@@ -371,6 +371,51 @@ pub struct Controller<
     fi_started: bool,
 }
 
+/// `θ̇` with the constraint first, for a damped `J = J^B_0i`: with `A = Λ J` (the constrained
+/// directions of the link's twist, `Λ = (Λ†ᵀ Λ†)⁻¹ Λ†ᵀ` recovered from `Λ†`) and
+/// `P = I − A† A`,
+/// `θ̇ = A† dv_0r + P u0 + (J P)†_κ (V − J (A† dv_0r + P u0))`, so `A θ̇ = dv_0r` holds exactly
+/// and only the rest of `V` is damped (3.46), with the objective's `u0` ((44)–(46)) in the same
+/// null space when there is one; where `A A^T` is singular, `A†` is damped by the same `κ`.
+/// `None` if a Gram matrix is singular even so.
+fn constraint_first<T: RealField + Copy, const I: usize, const R: usize>(
+    j: &SMatrix<T, 6, I>,
+    lambda_pinv: &SMatrix<T, 6, R>,
+    kappa: T,
+    v: &SVector<T, 6>,
+    dv_0r: &SVector<T, R>,
+    u0: Option<&SVector<T, I>>,
+) -> Option<SVector<T, I>> {
+    let lambda: SMatrix<T, R, 6> =
+        GramCholesky::new(&lambda_pinv.tr_mul(lambda_pinv))?.solve(&lambda_pinv.transpose());
+    let a: SMatrix<T, R, I> = lambda * j;
+    // Where `J` cannot move the link in a constrained direction (`A A^T` singular), that
+    // stage is damped too: the constraint then holds as well as the arm allows.
+    let aat = GramCholesky::new(&(a * a.transpose())).or_else(|| {
+        GramCholesky::new(&(a * a.transpose() + SMatrix::<T, R, R>::identity() * (kappa * kappa)))
+    })?;
+    let first: SVector<T, I> = a.tr_mul(&aat.solve(dv_0r));
+    // P x = x − Aᵀ (A Aᵀ)⁻¹ A x.
+    let project = |x: &SVector<T, I>| -> SVector<T, I> { x - a.tr_mul(&aat.solve(&(a * x))) };
+    let p: SMatrix<T, I, I> = SMatrix::from_columns(&core::array::from_fn::<_, I, _>(|c| {
+        project(&SVector::<T, I>::from_fn(|r, _| {
+            if r == c {
+                T::one()
+            } else {
+                T::zero()
+            }
+        }))
+    }));
+    let base = first + u0.map_or_else(SVector::zeros, project);
+    let jp = j * p;
+    // `J P` has rank ≤ I − R: its Gram matrix is positive definite only through `κ²`. A `κ`
+    // just above 0 (variable damping (3.44) as `w` crosses `w0`) would leave it singular to
+    // working precision, so `κ` is at least 1e-6 of the largest entry of `J` here.
+    let floor = j.amax() * nalgebra::convert::<f64, T>(1e-6);
+    let rest = damped_solve(&jp, kappa.abs().max(floor), &(v - j * base))?;
+    Some(base + rest)
+}
+
 /// A direct solve `(x, det J)` when `J` is regular (`det J` finite and not 0).
 fn regular<T: RealField + Copy, const C: usize>(
     solved: Option<(SVector<T, C>, T)>,
@@ -529,7 +574,18 @@ impl<
             |(_, d)| d.abs(),
         );
         let kappa_i = c.jb0i_damping.map_or(T::zero(), |d| d.kappa(w_i));
-        let qd_i = if I > 6 && self.objective != NullSpaceObjective::None {
+        let objective = I > 6 && self.objective != NullSpaceObjective::None;
+        let qd_i = if kappa_i != T::zero() {
+            // Damped: the constraint first. `Λ J^B_0i θ̇ = dv_0r` exactly, the rest of `V^B_0i`
+            // damped in its null space (`constraint_first`); damping all of `V^B_0i` let the
+            // link leave the trocar by 0.5 mm where DLS crosses a singularity.
+            let u0 = if objective {
+                Some(self.objective.gradient::<I>(q, &s.jb0i))
+            } else {
+                None
+            };
+            constraint_first(&s.jb0i, &s.lambda_pinv, kappa_i, &v_0i, &dv_0r, u0.as_ref())
+        } else if objective {
             // (44)–(45) as u0 + J†_κ (V − J u0) (`resolve_with_null_space`), on the factors
             // already computed for w_i.
             let u0 = self.objective.gradient::<I>(q, &s.jb0i);
@@ -541,7 +597,7 @@ impl<
             .map(|x| x + u0)
         } else {
             match (&direct_i, &jb0i) {
-                (Some((x, _)), _) if kappa_i == T::zero() => Some(*x),
+                (Some((x, _)), _) => Some(*x),
                 (_, Some(j)) => j.solve(kappa_i, &v_0i),
                 _ => damped_solve(&s.jb0i, kappa_i, &v_0i),
             }
