@@ -652,6 +652,14 @@ pub mod ours {
         core::array::from_fn(|k| q.get(k).copied().unwrap_or(T::ZERO))
     }
 
+    /// The Panda's 7 joint values, borrowed in place (as a controller holds them): a copy made
+    /// element by element just before the call would be read back as vectors while its stores
+    /// are in flight, a store-to-load forwarding stall the callers do not have.
+    #[inline(always)]
+    fn joints7<T: Real>(q: &[T]) -> &[T; 7] {
+        q[..7].try_into().expect("the Panda has 7 joint values")
+    }
+
     /// `(R, p)` into `out[..12]` (R column-major, then p).
     #[inline(always)]
     fn put_pose<T: Real>(out: &mut [T], (r, pos): ([[T; 3]; 3], [T; 3])) {
@@ -692,7 +700,7 @@ pub mod ours {
             Case::Panda => {
                 // panda_link8 (bench-local description, no constraint): one JointTrig (7 sin_cos)
                 // shared by forward_kinematics and body_jacobian.
-                let t = panda_link8::JointTrig::new(&first::<T, 7>(q));
+                let t = panda_link8::JointTrig::new(joints7(q));
                 let pp = panda_link8::Params::nominal();
                 put_pose(out, panda_link8::forward_kinematics_trig(&t, &pp));
                 *cols(&mut out[12..]) = panda_link8::body_jacobian_trig(&t, &pp);
@@ -700,7 +708,7 @@ pub mod ours {
             Case::PandaI => {
                 // panda-laparoscope: one JointTrig (7 sin_cos) shared by forward_kinematics_i
                 // (g_0i) and partial_body_jacobian (J^B_0i).
-                let t = panda_laparoscope::JointTrig::new(&first::<T, 7>(q));
+                let t = panda_laparoscope::JointTrig::new(joints7(q));
                 let pp = panda_laparoscope::Params { l_a: p[0] };
                 put_pose(out, panda_laparoscope::forward_kinematics_i_trig(&t, &pp));
                 *cols(&mut out[12..]) = panda_laparoscope::partial_body_jacobian_trig(&t, &pp);
@@ -745,7 +753,7 @@ pub mod ours {
     /// `sin_cos_array` of the 7 joints), the part of [`eval`] that [`eval_trig`] leaves out.
     #[inline(always)]
     pub fn panda_trig<T: Real>(q: &[T]) -> panda_laparoscope::JointTrig<T> {
-        panda_laparoscope::JointTrig::new(&first::<T, 7>(q))
+        panda_laparoscope::JointTrig::new(joints7(q))
     }
 
     /// The `_trig` functions given precomputed sines and cosines (no trigonometry inside).

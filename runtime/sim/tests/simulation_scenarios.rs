@@ -95,7 +95,10 @@ fn scenario_3_singularity_is_handled_by_dls_and_fi() {
     // Where `J^B_0i` is damped too, the constraint comes first (`Λ J^B_0i θ̇ = dv_0r` exactly,
     // the rest damped): the link stays within 1e-6 m of the trocar (measured 4.8e-7 m; damping
     // all of `V^B_0i` let it drift 5.1e-4 m at t ≈ 140 s).
-    assert!(dls.max_drift <= 1e-6 && fi.max_drift <= 1e-6, "{dls:?} {fi:?}");
+    assert!(
+        dls.max_drift <= 1e-6 && fi.max_drift <= 1e-6,
+        "{dls:?} {fi:?}"
+    );
     match run(&cfg.with_method(Method::Pinv), |_| {}) {
         Ok(tr) => {
             let pinv = tr.summary();
