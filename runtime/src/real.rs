@@ -316,6 +316,9 @@ pub mod fast {
             // joints took 47 ns instead of 17 in one AVX-512 group).
             let xs: [f64; W] = core::array::from_fn(|l| x[k + l.min(m - 1)]);
             let (sw, cw) = sin_cos_f64_lanes::<W>(&xs);
+            // Element by element: `copy_from_slice` here sent the results through memory too
+            // (7 joints 44 ns instead of 17, AVX-512).
+            #[allow(clippy::manual_memcpy)]
             for l in 0..m {
                 s[k + l] = sw[l];
                 c[k + l] = cw[l];
