@@ -85,10 +85,7 @@ impl Outputs {
                     )));
                 }
             }
-            let dir = match path.parent() {
-                Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-                _ => std::path::PathBuf::from("."),
-            };
+            let dir = directory(path);
             if !dir.is_dir() {
                 return Err(CliError(format!(
                     "{option} {shown}: the directory {} does not exist",
@@ -101,10 +98,7 @@ impl Outputs {
             // The same file under two names: compare the directories resolved and the names.
             let key = (dir.canonicalize().unwrap_or(dir.clone()), name.to_owned());
             for (other, p, _) in &out.files {
-                let d = match p.parent() {
-                    Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-                    _ => std::path::PathBuf::from("."),
-                };
+                let d = directory(p);
                 if (
                     d.canonicalize().unwrap_or(d),
                     p.file_name().map(|n| n.to_owned()),
@@ -155,6 +149,14 @@ impl Outputs {
             })?;
         }
         Ok(())
+    }
+}
+
+/// The directory a file `path` goes into (`.` for a bare file name).
+fn directory(path: &std::path::Path) -> std::path::PathBuf {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => std::path::PathBuf::from("."),
     }
 }
 
