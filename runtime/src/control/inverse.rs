@@ -207,10 +207,23 @@ where
     Const<R>: SquareDim,
 {
     j: &'a SMatrix<T, R, C>,
-    lu: Option<SquareLu<T, R>>,
-    /// Cholesky factors of `J Jᵀ` for a wide `J` (`None` when not positive definite).
-    gram: Option<GramCholesky<T, R>>,
+    factors: Factors<T, R>,
     w: T,
+}
+
+/// The factors a [`PreparedJacobian`] keeps: one variant, so that the struct holds only the
+/// one it uses (it is built and moved once per control step).
+#[derive(Clone, Debug)]
+enum Factors<T: RealField + Copy, const R: usize>
+where
+    Const<R>: SquareDim,
+{
+    /// LU of a square `J`.
+    Lu(SquareLu<T, R>),
+    /// Root-free Cholesky of `J Jᵀ` for a wide `J`.
+    Gram(GramCholesky<T, R>),
+    /// None: a tall `J`, or a wide one whose `J Jᵀ` is not positive definite.
+    None,
 }
 
 impl<'a, T: RealField + Copy, const R: usize, const C: usize> PreparedJacobian<'a, T, R, C>
@@ -227,8 +240,7 @@ where
             let w = lu.determinant().abs();
             PreparedJacobian {
                 j,
-                lu: Some(lu),
-                gram: None,
+                factors: Factors::Lu(lu),
                 w,
             }
         } else if R < C {
@@ -239,15 +251,13 @@ where
                 .map_or(T::zero(), GramCholesky::sqrt_determinant);
             PreparedJacobian {
                 j,
-                lu: None,
-                gram,
+                factors: gram.map_or(Factors::None, Factors::Gram),
                 w,
             }
         } else {
             PreparedJacobian {
                 j,
-                lu: None,
-                gram: None,
+                factors: Factors::None,
                 w: manipulability(j),
             }
         }
@@ -266,11 +276,11 @@ where
     /// `x = J†_κ v`: the pseudo-inverse (the inverse when square) for `κ = 0`, damped least
     /// squares (3.43) otherwise. `None` if `J` is singular with `κ = 0`, or `x` is not finite.
     pub fn solve(&self, kappa: T, v: &SVector<T, R>) -> Option<SVector<T, C>> {
-        match (&self.lu, &self.gram) {
-            (Some(lu), _) if kappa == T::zero() => {
+        match &self.factors {
+            Factors::Lu(lu) if kappa == T::zero() => {
                 lu.solve(v).map(|x| SVector::<T, C>::from_fn(|r, _| x[r]))
             }
-            (_, Some(g)) if kappa == T::zero() => {
+            Factors::Gram(g) if kappa == T::zero() => {
                 let x = self.j.tr_mul(&g.solve(v));
                 x.iter().all(|v| v.is_finite()).then_some(x)
             }
