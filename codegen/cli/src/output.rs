@@ -95,20 +95,19 @@ impl Outputs {
             if path.is_dir() {
                 return Err(CliError(format!("{option} {shown}: is a directory")));
             }
-            // The same file under two names: compare the directories resolved and the names.
-            let key = (dir.canonicalize().unwrap_or(dir.clone()), name.to_owned());
-            for (other, p, _) in &out.files {
+            // The same file under two names: the directories resolved and the names.
+            let same = |p: &std::path::Path| {
                 let d = directory(p);
-                if (
+                (
                     d.canonicalize().unwrap_or(d),
                     p.file_name().map(|n| n.to_owned()),
-                ) == (key.0.clone(), Some(key.1.clone()))
-                {
-                    return Err(CliError(format!(
-                        "{option} {shown} and {other} {}: the same file for two outputs",
-                        p.display()
-                    )));
-                }
+                )
+            };
+            if let Some((other, p, _)) = out.files.iter().find(|(_, p, _)| same(p) == same(path)) {
+                return Err(CliError(format!(
+                    "{option} {shown} and {other} {}: the same file for two outputs",
+                    p.display()
+                )));
             }
             // The temporary keeps the extension: the figure's format follows it.
             let mut temp = std::ffi::OsString::from(".");

@@ -571,19 +571,18 @@ fn function_tokens(f: &Function, ty: &Ty, n: usize) -> TokenStream {
         let _ = writeln!(doc, "\n{layout}");
     }
     let guard = f.zero_when_not_finite && f.shape == Shape::Scalar;
+    let divisors = f
+        .program
+        .divisor_params()
+        .iter()
+        .map(|p| format!("`{p}`"))
+        .collect::<Vec<_>>()
+        .join(", ");
     let not_finite = if guard {
-        let divisors = f.program.divisor_params();
         let by = if divisors.is_empty() {
             String::new()
         } else {
-            format!(
-                " at a parameter it divides by equal to 0 ({}), or",
-                divisors
-                    .iter()
-                    .map(|p| format!("`{p}`"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )
+            format!(" at a parameter it divides by equal to 0 ({divisors}), or")
         };
         format!(
             "Returns 0 where the closed form is not finite:{by} where a NaN or infinite input makes it so. \
@@ -595,20 +594,12 @@ fn function_tokens(f: &Function, ty: &Ty, n: usize) -> TokenStream {
     };
     if guard {
         let _ = writeln!(doc, "\n{not_finite}");
-    } else {
-        let divisors = f.program.divisor_params();
-        if !divisors.is_empty() {
-            let _ = writeln!(
-                doc,
-                "\nDivides by {}: the result is not finite where that is 0 (nor, in general, with a NaN or \
-                 infinite input); test it with `is_finite` where that can happen.",
-                divisors
-                    .iter()
-                    .map(|p| format!("`{p}`"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            );
-        }
+    } else if !divisors.is_empty() {
+        let _ = writeln!(
+            doc,
+            "\nDivides by {divisors}: the result is not finite where that is 0 (nor, in general, with a NaN or \
+             infinite input); test it with `is_finite` where that can happen."
+        );
     }
     let _ = writeln!(doc, "\nOperations: {counts}.");
     let doc_q = doc_attrs(&doc);

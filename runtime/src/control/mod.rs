@@ -389,24 +389,15 @@ fn constraint_first<T: RealField + Copy, const I: usize, const R: usize>(
     let lambda: SMatrix<T, R, 6> =
         GramCholesky::new(&lambda_pinv.tr_mul(lambda_pinv))?.solve(&lambda_pinv.transpose());
     let a: SMatrix<T, R, I> = lambda * j;
+    let aat = a * a.transpose();
     // Where `J` cannot move the link in a constrained direction (`A A^T` singular), that
     // stage is damped too: the constraint then holds as well as the arm allows.
-    let aat = GramCholesky::new(&(a * a.transpose())).or_else(|| {
-        GramCholesky::new(&(a * a.transpose() + SMatrix::<T, R, R>::identity() * (kappa * kappa)))
-    })?;
+    let aat = GramCholesky::new(&aat)
+        .or_else(|| GramCholesky::new(&(aat + SMatrix::<T, R, R>::identity() * (kappa * kappa))))?;
     let first: SVector<T, I> = a.tr_mul(&aat.solve(dv_0r));
-    // P x = x − Aᵀ (A Aᵀ)⁻¹ A x.
-    let project = |x: &SVector<T, I>| -> SVector<T, I> { x - a.tr_mul(&aat.solve(&(a * x))) };
-    let p: SMatrix<T, I, I> = SMatrix::from_columns(&core::array::from_fn::<_, I, _>(|c| {
-        project(&SVector::<T, I>::from_fn(|r, _| {
-            if r == c {
-                T::one()
-            } else {
-                T::zero()
-            }
-        }))
-    }));
-    let base = first + u0.map_or_else(SVector::zeros, project);
+    // P = I − Aᵀ (A Aᵀ)⁻¹ A.
+    let p = SMatrix::<T, I, I>::identity() - a.tr_mul(&aat.solve(&a));
+    let base = first + u0.map_or_else(SVector::zeros, |u| p * u);
     let jp = j * p;
     // `J P` has rank ≤ I − R: its Gram matrix is positive definite only through `κ²`. A `κ`
     // just above 0 (variable damping (3.44) as `w` crosses `w0`) would leave it singular to
