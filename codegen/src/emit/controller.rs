@@ -254,7 +254,8 @@ pub(crate) fn tokens(rt: &TokenStream, real: Real, spec: &ControllerSpec) -> Tok
         .offset
         .as_deref()
         .map(|name| glue_tokens(rt, real, name, spec));
-    // The fixed-size solves of a step: the task Jacobian when square, J^B_0i when 6 × 6.
+    // The fixed-size solves of a step: the task Jacobian when square, J^B_0i when 6 × 6 or
+    // 6 × 7.
     let mut sizes = Vec::new();
     if spec.task_rows == spec.m {
         sizes.push(spec.m);
@@ -262,7 +263,14 @@ pub(crate) fn tokens(rt: &TokenStream, real: Real, spec: &ControllerSpec) -> Tok
     if spec.link == 6 && !sizes.contains(&6) {
         sizes.push(6);
     }
-    let solvers = sizes.iter().map(|&d| lu_solve_tokens(rt, real, d));
+    let mut solvers: Vec<TokenStream> = sizes
+        .iter()
+        .map(|&d| lu_solve_tokens(rt, real, d))
+        .collect();
+    // J^B_0i with one redundant joint (6 × 7): the minimum-norm solve.
+    if spec.link == 7 {
+        solvers.push(min_norm_solve_tokens(rt, real, 6));
+    }
     quote! {
         #struct_doc
         #[derive(Clone, Copy, Debug, PartialEq)]
@@ -373,17 +381,32 @@ fn glue_tokens(rt: &TokenStream, real: Real, offset: &str, spec: &ControllerSpec
             }
         }
     });
-    let solve_jb0i = (spec.link == 6).then(|| {
+    // J^B_0i through the straight-line solve emitted for its size: 6 × 6 (x, det J), or 6 × 7
+    // with one redundant joint (the minimum-norm x, w = sqrt(det(J Jᵀ))).
+    let jb0i_solver = match spec.link {
+        6 => Some((
+            format_ident!("lu_solve_6"),
+            " `J^B_0i` (6 × 6) solved by the straight-line elimination emitted for this size.",
+        )),
+        7 => Some((
+            format_ident!("min_norm_solve_6"),
+            " `J^B_0i` (6 × 7, one redundant joint): the minimum-norm solution and \
+             `w = sqrt(det(J Jᵀ))` from the straight-line solve emitted for this size (`w = 0` \
+             where it does not apply; the controller then factors `J` itself).",
+        )),
+        _ => None,
+    };
+    let solve_jb0i = jb0i_solver.map(|(name, doc)| {
         quote! {
-            /// `J^B_0i` (6 × 6) solved by the straight-line elimination emitted for this size.
+            #[doc = #doc]
             #[inline]
             fn solve_jb0i(
                 &self,
                 j: &#rt::nalgebra::SMatrix<#t, 6, I>,
                 b: &#rt::nalgebra::SVector<#t, 6>,
             ) -> ::core::option::Option<(#rt::nalgebra::SVector<#t, I>, #t)> {
-                let (x, det) = lu_solve_6(&j.data.0, &b.data.0[0]);
-                ::core::option::Option::Some((#rt::nalgebra::SVector::from(x), det))
+                let (x, det_or_w) = #name(&j.data.0, &b.data.0[0]);
+                ::core::option::Option::Some((#rt::nalgebra::SVector::from(x), det_or_w))
             }
         }
     });
@@ -527,23 +550,120 @@ fn doc_lines(text: &str) -> TokenStream {
 /// exchanges as selects), `b` eliminated alongside. Returns `x` and
 /// `det J` (`x` is not meaningful when `det J` is 0 or not finite).
 pub(crate) fn lu_solve_tokens(rt: &TokenStream, real: Real, d: usize) -> TokenStream {
-    let (t, generics) = match real {
+    let (t, generics) = real_generics(rt, real);
+    let name = format_ident!("lu_solve_{}", d);
+    let mut body = elimination_tokens(rt, real, d, 1);
+    let xs = back_substitution(&mut body, d, 0);
+    let doc = format!(
+        " `J x = b` for a square {d} × {d} `J` (column-major `j[col][row]`): Gaussian elimination \
+         with partial pivoting written out for this size. Returns `(x, det J)`; `x` is not \
+         meaningful when `det J` is 0 or not finite."
+    );
+    quote! {
+        #[doc = #doc]
+        #[inline]
+        #[must_use]
+        #[allow(unused_mut, unused_assignments, clippy::many_single_char_names, clippy::too_many_lines)]
+        pub fn #name #generics (j: &[[#t; #d]; #d], b: &[#t; #d]) -> ([#t; #d], #t) {
+            #(#body)*
+            ([#(#xs),*], det)
+        }
+    }
+}
+
+/// The largest `1 + a·a` [`min_norm_solve_tokens`]' function accepts: the unit null vector's
+/// component on the last column is at least 10⁻².
+const MIN_NORM_MAX_NN: f64 = 1e4;
+
+/// `min_norm_solve_{d}`: the minimum-norm solution `x = J⁺ b` of a `J = [A c] ∈ R^{d×(d+1)}`
+/// with one redundant column (a 7-joint `J^B_0i`), from the elimination of its leading block `A`
+/// with both right-hand sides `b` and `c`:
+///
+/// `y = A⁻¹ b`, `a = A⁻¹ c`; `n = [a; −1]` spans the null space of `J`, so
+/// `x = [y − s a; s]` with `s = (a·y) / (1 + a·a)` (the particular solution `[y; 0]` less its
+/// component along `n`), and `w = sqrt(det(J Jᵀ)) = |det A| sqrt(1 + a·a)` (3.36), since
+/// `J Jᵀ = A Aᵀ + c cᵀ` (the matrix determinant lemma).
+///
+/// `A` is conditioned like `J` unless the last column carries `J`'s rank (`A` nearly singular,
+/// `a` large): the function then returns `w = 0` (`1 + a·a > 10⁴`, or `det A` zero or not
+/// finite) and the controller factors `J` itself.
+pub(crate) fn min_norm_solve_tokens(rt: &TokenStream, real: Real, d: usize) -> TokenStream {
+    let (t, generics) = real_generics(rt, real);
+    let r = quote!(<#t as #rt::Real>);
+    let name = format_ident!("min_norm_solve_{}", d);
+    let mut body = elimination_tokens(rt, real, d, 2);
+    let ys = back_substitution(&mut body, d, 0);
+    let as_ = back_substitution(&mut body, d, 1);
+    let cols = d + 1;
+    let max_nn = MIN_NORM_MAX_NN;
+    let xs = ys.iter().zip(&as_).map(|(y, a)| quote!(#y - s * #a));
+    body.push(quote! {
+        let nn = #r::ONE #(+ #as_ * #as_)*;
+        let s = (#(#as_ * #ys)+*) / nn;
+        let w = if nn <= #r::lit(#max_nn) { #r::abs(det) * #r::sqrt(nn) } else { #r::ZERO };
+    });
+    let doc = format!(
+        " The minimum-norm solution `x = J⁺ b` of `J x = b` for a {d} × {cols} `J` \
+         (column-major `j[col][row]`) with one redundant column: with `A` its leading {d} × {d} \
+         block and `c` its last column, `y = A⁻¹ b`, `a = A⁻¹ c` (one elimination with partial \
+         pivoting, written out for this size), `x = [y − s a; s]`, `s = (a·y) / (1 + a·a)`. \
+         Returns `(x, w)` with `w = sqrt(det(J Jᵀ)) = |det A| sqrt(1 + a·a)` (3.36); `w = 0` \
+         where this does not apply (`A` singular, or `1 + a·a > {max_nn:e}`: the last column \
+         carries `J`'s rank and `A` is badly conditioned), and then `x` is not meaningful."
+    );
+    quote! {
+        #[doc = #doc]
+        #[inline]
+        #[must_use]
+        #[allow(unused_mut, unused_assignments, clippy::many_single_char_names, clippy::too_many_lines)]
+        pub fn #name #generics (j: &[[#t; #d]; #cols], b: &[#t; #d]) -> ([#t; #cols], #t) {
+            #(#body)*
+            ([#(#xs,)* s], w)
+        }
+    }
+}
+
+/// The element type and generics of an emitted solve.
+fn real_generics(rt: &TokenStream, real: Real) -> (TokenStream, TokenStream) {
+    match real {
         Real::Generic => (quote!(T), quote!(<T: #rt::Real>)),
         Real::F32 => (quote!(f32), quote!()),
         Real::F64 => (quote!(f64), quote!()),
-    };
+    }
+}
+
+/// Variable names of the written-out elimination: `a{row}_{col}` for the leading block, and
+/// `b{rhs}_{row}` for right-hand side `rhs` (the first is the argument `b`, a second one is the
+/// last column of `j`).
+fn elim_a(row: usize, col: usize) -> proc_macro2::Ident {
+    format_ident!("a{}_{}", row, col)
+}
+
+fn elim_b(rhs: usize, row: usize) -> proc_macro2::Ident {
+    format_ident!("b{}_{}", rhs, row)
+}
+
+/// Gaussian elimination with partial pivoting of the leading `d × d` block of `j`, written out,
+/// carrying `rhs` right-hand sides: `b`, then (if 2) column `d` of `j`. Leaves `U` in the `a`
+/// variables, the eliminated right-hand sides in the `b` variables, `1 / U_cc` in `inv{c}` and
+/// `det` = the block's determinant.
+fn elimination_tokens(rt: &TokenStream, real: Real, d: usize, rhs: usize) -> Vec<TokenStream> {
+    let (t, _) = real_generics(rt, real);
     let r = quote!(<#t as #rt::Real>);
-    let name = format_ident!("lu_solve_{}", d);
-    let a = |row: usize, col: usize| format_ident!("a{}_{}", row, col);
-    let bv = |row: usize| format_ident!("b{}", row);
+    let a = elim_a;
     let mut body = Vec::new();
     for row in 0..d {
         for col in 0..d {
             let v = a(row, col);
             body.push(quote!(let mut #v = j[#col][#row];));
         }
-        let v = bv(row);
+        let v = elim_b(0, row);
         body.push(quote!(let mut #v = b[#row];));
+        for k in 1..rhs {
+            let v = elim_b(k, row);
+            let col = d + k - 1;
+            body.push(quote!(let mut #v = j[#col][#row];));
+        }
     }
     body.push(quote!(let mut det = #r::ONE;));
     let inv = |c: usize| format_ident!("inv{}", c);
@@ -558,11 +678,13 @@ pub(crate) fn lu_solve_tokens(rt: &TokenStream, real: Real, d: usize) -> TokenSt
                 let (x, y) = (a(c, col), a(row, col));
                 swaps.push(quote!(::core::mem::swap(&mut #x, &mut #y);));
             }
-            let (bx, by) = (bv(c), bv(row));
+            for k in 0..rhs {
+                let (bx, by) = (elim_b(k, c), elim_b(k, row));
+                swaps.push(quote!(::core::mem::swap(&mut #bx, &mut #by);));
+            }
             body.push(quote! {
                 if #r::abs(#pr) > #r::abs(#pc) {
                     #(#swaps)*
-                    ::core::mem::swap(&mut #bx, &mut #by);
                     det = -det;
                 }
             });
@@ -580,38 +702,37 @@ pub(crate) fn lu_solve_tokens(rt: &TokenStream, real: Real, d: usize) -> TokenSt
                 let (x, y) = (a(row, col), a(c, col));
                 upd.push(quote!(#x -= l * #y;));
             }
-            let (brow, bc) = (bv(row), bv(c));
+            for k in 0..rhs {
+                let (brow, bc) = (elim_b(k, row), elim_b(k, c));
+                upd.push(quote!(#brow -= l * #bc;));
+            }
             body.push(quote! {
                 let l = #l * #iv;
                 #(#upd)*
-                #brow -= l * #bc;
             });
         }
     }
-    // Back substitution: x_c = (b_c − Σ_{k>c} a_ck x_k) / a_cc.
-    let x = |c: usize| format_ident!("x{}", c);
+    body
+}
+
+/// Back substitution `x_c = (b_c − Σ_{k>c} a_ck x_k) / a_cc` of right-hand side `k` after
+/// [`elimination_tokens`]; returns the names of the solution's entries.
+fn back_substitution(body: &mut Vec<TokenStream>, d: usize, k: usize) -> Vec<proc_macro2::Ident> {
+    let x = |c: usize| {
+        if k == 0 {
+            format_ident!("x{}", c)
+        } else {
+            format_ident!("x{}_{}", k, c)
+        }
+    };
+    let inv = |c: usize| format_ident!("inv{}", c);
     for c in (0..d).rev() {
-        let (xc, bc, iv) = (x(c), bv(c), inv(c));
-        let terms = (c + 1..d).map(|k| {
-            let (ack, xk) = (a(c, k), x(k));
-            quote!(- #ack * #xk)
+        let (xc, bc, iv) = (x(c), elim_b(k, c), inv(c));
+        let terms = (c + 1..d).map(|j| {
+            let (acj, xj) = (elim_a(c, j), x(j));
+            quote!(- #acj * #xj)
         });
         body.push(quote!(let #xc = (#bc #(#terms)*) * #iv;));
     }
-    let xs = (0..d).map(x);
-    let doc = format!(
-        " `J x = b` for a square {d} × {d} `J` (column-major `j[col][row]`): Gaussian elimination \
-         with partial pivoting written out for this size. Returns `(x, det J)`; `x` is not \
-         meaningful when `det J` is 0 or not finite."
-    );
-    quote! {
-        #[doc = #doc]
-        #[inline]
-        #[must_use]
-        #[allow(unused_mut, unused_assignments, clippy::many_single_char_names, clippy::too_many_lines)]
-        pub fn #name #generics (j: &[[#t; #d]; #d], b: &[#t; #d]) -> ([#t; #d], #t) {
-            #(#body)*
-            ([#(#xs),*], det)
-        }
-    }
+    (0..d).map(x).collect()
 }

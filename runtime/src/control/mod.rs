@@ -132,7 +132,11 @@ pub trait ConstrainedKinematics<
         None
     }
 
-    /// `J x = b` for `J = J^B_0i` when it is square (`I = 6`), as [`Self::solve_task`].
+    /// `J x = b` for `J = J^B_0i` by a solve specialised for this robot, as
+    /// [`Self::solve_task`]: when it is square (`I = 6`), `Some((x, det J))`; with one redundant
+    /// joint (`I = 7`), the minimum-norm solution `x = J⁺ b` and `w = sqrt(det(J Jᵀ))` (3.36)
+    /// in place of the determinant. `x` is meaningful only when the second value is finite and
+    /// not 0; otherwise (and by default, `None`) the controller factors `J` itself.
     fn solve_jb0i(&self, j: &SMatrix<T, 6, I>, b: &SVector<T, 6>) -> Option<(SVector<T, I>, T)> {
         let _ = (j, b);
         None
@@ -555,7 +559,15 @@ impl<
         //    objective's motion in the null space of J^B_0i when it is wide ((44)–(46)).
         let v0i: SVector<T, K> = x.fixed_rows::<K>(0).into_owned();
         let v_0i = s.lambda_sharp * v0i + s.lambda_pinv * dv_0r;
-        let direct_i = regular(kin.solve_jb0i(&s.jb0i, &v_0i));
+        //    With an objective, u0 + J⁺ (V^B_0i − J^B_0i u0) ((44)–(45)): the right-hand side
+        //    is known before J^B_0i is factored, so one solve gives both.
+        let objective = I > 6 && self.objective != NullSpaceObjective::None;
+        let u0 = objective.then(|| self.objective.gradient::<I>(q, &s.jb0i));
+        let rhs_i = match &u0 {
+            Some(u0) => v_0i - s.jb0i * u0,
+            None => v_0i,
+        };
+        let direct_i = regular(kin.solve_jb0i(&s.jb0i, &rhs_i));
         let jb0i = match direct_i {
             Some(_) => None,
             None => Some(PreparedJacobian::new(&s.jb0i)),
@@ -565,33 +577,21 @@ impl<
             |(_, d)| d.abs(),
         );
         let kappa_i = c.jb0i_damping.map_or(T::zero(), |d| d.kappa(w_i));
-        let objective = I > 6 && self.objective != NullSpaceObjective::None;
         let qd_i = if kappa_i != T::zero() {
             // Damped: the constraint first. `Λ J^B_0i θ̇ = dv_0r` exactly, the rest of `V^B_0i`
             // damped in its null space (`constraint_first`); damping all of `V^B_0i` let the
             // link leave the trocar by 0.5 mm where DLS crosses a singularity.
-            let u0 = if objective {
-                Some(self.objective.gradient::<I>(q, &s.jb0i))
-            } else {
-                None
-            };
             constraint_first(&s.jb0i, &s.lambda_pinv, kappa_i, &v_0i, &dv_0r, u0.as_ref())
-        } else if objective {
-            // (44)–(45) as u0 + J†_κ (V − J u0) (`resolve_with_null_space`), on the factors
-            // already computed for w_i.
-            let u0 = self.objective.gradient::<I>(q, &s.jb0i);
-            let rhs = v_0i - s.jb0i * u0;
-            match &jb0i {
-                Some(j) => j.solve(kappa_i, &rhs),
-                None => damped_solve(&s.jb0i, kappa_i, &rhs),
-            }
-            .map(|x| x + u0)
         } else {
             match (&direct_i, &jb0i) {
                 (Some((x, _)), _) => Some(*x),
-                (_, Some(j)) => j.solve(kappa_i, &v_0i),
-                _ => damped_solve(&s.jb0i, kappa_i, &v_0i),
+                (_, Some(j)) => j.solve(kappa_i, &rhs_i),
+                _ => damped_solve(&s.jb0i, kappa_i, &rhs_i),
             }
+            .map(|x| match &u0 {
+                Some(u0) => x + u0,
+                None => x,
+            })
         }
         .ok_or(ControlError::SingularJb0i)?;
 

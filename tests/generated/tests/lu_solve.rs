@@ -2,7 +2,8 @@
 //! (the Panda's task Jacobian) against nalgebra's LU with partial pivoting: random matrices,
 //! matrices that need a row exchange at every column (a permuted diagonal, zero diagonals), and
 //! singular ones (`det` exactly 0 or at rounding level, which the controller's `regular` rule
-//! then refuses).
+//! then refuses). The Panda's `min_norm_solve_6` (its 6 × 7 J^B_0i) against nalgebra's SVD:
+//! the pseudo-inverse's solution and the product of the singular values.
 
 use proptest::prelude::*;
 use trocar::nalgebra::{DMatrix, DVector, SMatrix, SVector};
@@ -83,6 +84,81 @@ fn every_row_exchange_and_singular_matrices() {
     solve4(&anti4, &b4);
 }
 
+/// `min_norm_solve_6` of `m` against the SVD: `x = J⁺ b` and `w = Π σ`, or refused (`w = 0`)
+/// exactly when the unit null vector's last component is below 10⁻² (with a margin for
+/// rounding either side of the threshold). Returns whether it was admitted.
+fn min_norm(m: &SMatrix<f64, 6, 7>, b: &SVector<f64, 6>, tol: f64) -> bool {
+    let cols: [[f64; 6]; 7] = core::array::from_fn(|c| core::array::from_fn(|r| m[(r, c)]));
+    let (x, w) = panda::min_norm_solve_6(&cols, &b.data.0[0]);
+    let svd = m.svd(true, true);
+    let sigma = svd.singular_values;
+    let want_w: f64 = sigma.iter().product();
+    // The last component of J's unit null vector n̂: e₇'s projection on the null space (the
+    // complement of J's row space) is (e₇·n̂) n̂, of norm |n̂₇|.
+    let vt = m.transpose().svd(true, true);
+    let rows_span = vt.u.unwrap();
+    let mut n = SVector::<f64, 7>::from_fn(|k, _| if k == 6 { 1.0 } else { 0.0 });
+    for c in 0..6 {
+        let u = rows_span.column(c);
+        n -= u * u.dot(&n);
+    }
+    let last = n.norm();
+    if w == 0.0 {
+        assert!(
+            last < 1.01e-2 || sigma.min() < 1e-12 * sigma.max(),
+            "refused although the last component of the null vector is {last}: {m}"
+        );
+        return false;
+    }
+    assert!(
+        last > 0.99e-2,
+        "admitted with a null vector's last component {last}: {m}"
+    );
+    assert!(
+        (w - want_w).abs() <= tol * want_w,
+        "w {w} vs {want_w} for {m}"
+    );
+    let want = svd.pseudo_inverse(0.0).unwrap() * b;
+    let x = SVector::<f64, 7>::from(x);
+    assert!(
+        (x - want).norm() <= tol * want.norm().max(1e-300),
+        "x {x} vs {want} for {m}"
+    );
+    true
+}
+
+#[test]
+fn min_norm_solve_matches_the_svd() {
+    let b = SVector::<f64, 6>::new(0.3, -1.2, 0.5, 2.0, -0.7, 0.1);
+    let sample = SMatrix::<f64, 6, 7>::from_fn(|r, c| {
+        ((r * 7 + c) as f64 * 0.731).sin() + if r == c { 2.0 } else { 0.0 }
+    });
+    assert!(min_norm(&sample, &b, 1e-13));
+    // A row exchange at every column of the leading block.
+    let mut cyclic = sample;
+    for r in 0..6 {
+        cyclic.set_row(r, &sample.row((r + 1) % 6));
+    }
+    assert!(min_norm(&cyclic, &b, 1e-13));
+    // A leading block 0.05 from singular whose last column restores the rank: admitted (1 + a·a
+    // of order 10³), accurate.
+    let mut near = sample;
+    let dependent = near.column(1) * 0.5 - near.column(3) * 2.0;
+    near.set_column(5, &(dependent + near.column(5) * 0.05));
+    near.set_column(6, &(near.column(6) + dependent));
+    assert!(min_norm(&near, &b, 1e-12));
+    // The leading block singular, the last column carrying the rank: refused.
+    let mut last = sample;
+    last.set_column(5, &(last.column(1) * 0.5 - last.column(3) * 2.0));
+    assert!(!min_norm(&last, &b, 1e-12));
+    // J singular (two equal rows), and all zeros: refused.
+    let mut rank5 = sample;
+    rank5.set_row(4, &(sample.row(1) * 3.0));
+    assert!(!min_norm(&rank5, &b, 1e-12));
+    let (_, w) = panda::min_norm_solve_6(&[[0.0; 6]; 7], &b.data.0[0]);
+    assert!(w == 0.0 || !w.is_finite(), "zero matrix w {w}");
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(500))]
 
@@ -91,6 +167,18 @@ proptest! {
         let m = SMatrix::<f64, 6, 6>::from_fn(|r, c| entries[r * 6 + c]);
         let b = SVector::<f64, 6>::from_fn(|r, _| entries[36 + r]);
         solve6(&m, &b);
+    }
+
+    #[test]
+    fn six_by_seven_minimum_norm_matches_the_svd(
+        entries in proptest::collection::vec(-2.0f64..2.0, 48)
+    ) {
+        let m = SMatrix::<f64, 6, 7>::from_fn(|r, c| entries[r * 7 + c]);
+        let b = SVector::<f64, 6>::from_fn(|r, _| entries[42 + r]);
+        // Random matrices are mostly well-conditioned; the tolerance covers cond(J) up to ~10³.
+        let sigma = m.svd(false, false).singular_values;
+        let cond = sigma.max() / sigma.min();
+        min_norm(&m, &b, 1e-14 * cond.max(10.0) * 10.0);
     }
 
     #[test]

@@ -1301,29 +1301,29 @@ pub mod iiwa_endoscope {
         let mut a0_1 = j[1usize][0usize];
         let mut a0_2 = j[2usize][0usize];
         let mut a0_3 = j[3usize][0usize];
-        let mut b0 = b[0usize];
+        let mut b0_0 = b[0usize];
         let mut a1_0 = j[0usize][1usize];
         let mut a1_1 = j[1usize][1usize];
         let mut a1_2 = j[2usize][1usize];
         let mut a1_3 = j[3usize][1usize];
-        let mut b1 = b[1usize];
+        let mut b0_1 = b[1usize];
         let mut a2_0 = j[0usize][2usize];
         let mut a2_1 = j[1usize][2usize];
         let mut a2_2 = j[2usize][2usize];
         let mut a2_3 = j[3usize][2usize];
-        let mut b2 = b[2usize];
+        let mut b0_2 = b[2usize];
         let mut a3_0 = j[0usize][3usize];
         let mut a3_1 = j[1usize][3usize];
         let mut a3_2 = j[2usize][3usize];
         let mut a3_3 = j[3usize][3usize];
-        let mut b3 = b[3usize];
+        let mut b0_3 = b[3usize];
         let mut det = <f64 as ::trocar::Real>::ONE;
         if <f64 as ::trocar::Real>::abs(a1_0) > <f64 as ::trocar::Real>::abs(a0_0) {
             ::core::mem::swap(&mut a0_0, &mut a1_0);
             ::core::mem::swap(&mut a0_1, &mut a1_1);
             ::core::mem::swap(&mut a0_2, &mut a1_2);
             ::core::mem::swap(&mut a0_3, &mut a1_3);
-            ::core::mem::swap(&mut b0, &mut b1);
+            ::core::mem::swap(&mut b0_0, &mut b0_1);
             det = -det;
         }
         if <f64 as ::trocar::Real>::abs(a2_0) > <f64 as ::trocar::Real>::abs(a0_0) {
@@ -1331,7 +1331,7 @@ pub mod iiwa_endoscope {
             ::core::mem::swap(&mut a0_1, &mut a2_1);
             ::core::mem::swap(&mut a0_2, &mut a2_2);
             ::core::mem::swap(&mut a0_3, &mut a2_3);
-            ::core::mem::swap(&mut b0, &mut b2);
+            ::core::mem::swap(&mut b0_0, &mut b0_2);
             det = -det;
         }
         if <f64 as ::trocar::Real>::abs(a3_0) > <f64 as ::trocar::Real>::abs(a0_0) {
@@ -1339,7 +1339,7 @@ pub mod iiwa_endoscope {
             ::core::mem::swap(&mut a0_1, &mut a3_1);
             ::core::mem::swap(&mut a0_2, &mut a3_2);
             ::core::mem::swap(&mut a0_3, &mut a3_3);
-            ::core::mem::swap(&mut b0, &mut b3);
+            ::core::mem::swap(&mut b0_0, &mut b0_3);
             det = -det;
         }
         det *= a0_0;
@@ -1348,29 +1348,29 @@ pub mod iiwa_endoscope {
         a1_1 -= l * a0_1;
         a1_2 -= l * a0_2;
         a1_3 -= l * a0_3;
-        b1 -= l * b0;
+        b0_1 -= l * b0_0;
         let l = a2_0 * inv0;
         a2_1 -= l * a0_1;
         a2_2 -= l * a0_2;
         a2_3 -= l * a0_3;
-        b2 -= l * b0;
+        b0_2 -= l * b0_0;
         let l = a3_0 * inv0;
         a3_1 -= l * a0_1;
         a3_2 -= l * a0_2;
         a3_3 -= l * a0_3;
-        b3 -= l * b0;
+        b0_3 -= l * b0_0;
         if <f64 as ::trocar::Real>::abs(a2_1) > <f64 as ::trocar::Real>::abs(a1_1) {
             ::core::mem::swap(&mut a1_1, &mut a2_1);
             ::core::mem::swap(&mut a1_2, &mut a2_2);
             ::core::mem::swap(&mut a1_3, &mut a2_3);
-            ::core::mem::swap(&mut b1, &mut b2);
+            ::core::mem::swap(&mut b0_1, &mut b0_2);
             det = -det;
         }
         if <f64 as ::trocar::Real>::abs(a3_1) > <f64 as ::trocar::Real>::abs(a1_1) {
             ::core::mem::swap(&mut a1_1, &mut a3_1);
             ::core::mem::swap(&mut a1_2, &mut a3_2);
             ::core::mem::swap(&mut a1_3, &mut a3_3);
-            ::core::mem::swap(&mut b1, &mut b3);
+            ::core::mem::swap(&mut b0_1, &mut b0_3);
             det = -det;
         }
         det *= a1_1;
@@ -1378,29 +1378,384 @@ pub mod iiwa_endoscope {
         let l = a2_1 * inv1;
         a2_2 -= l * a1_2;
         a2_3 -= l * a1_3;
-        b2 -= l * b1;
+        b0_2 -= l * b0_1;
         let l = a3_1 * inv1;
         a3_2 -= l * a1_2;
         a3_3 -= l * a1_3;
-        b3 -= l * b1;
+        b0_3 -= l * b0_1;
         if <f64 as ::trocar::Real>::abs(a3_2) > <f64 as ::trocar::Real>::abs(a2_2) {
             ::core::mem::swap(&mut a2_2, &mut a3_2);
             ::core::mem::swap(&mut a2_3, &mut a3_3);
-            ::core::mem::swap(&mut b2, &mut b3);
+            ::core::mem::swap(&mut b0_2, &mut b0_3);
             det = -det;
         }
         det *= a2_2;
         let inv2 = <f64 as ::trocar::Real>::ONE / a2_2;
         let l = a3_2 * inv2;
         a3_3 -= l * a2_3;
-        b3 -= l * b2;
+        b0_3 -= l * b0_2;
         det *= a3_3;
         let inv3 = <f64 as ::trocar::Real>::ONE / a3_3;
-        let x3 = (b3) * inv3;
-        let x2 = (b2 - a2_3 * x3) * inv2;
-        let x1 = (b1 - a1_2 * x2 - a1_3 * x3) * inv1;
-        let x0 = (b0 - a0_1 * x1 - a0_2 * x2 - a0_3 * x3) * inv0;
+        let x3 = (b0_3) * inv3;
+        let x2 = (b0_2 - a2_3 * x3) * inv2;
+        let x1 = (b0_1 - a1_2 * x2 - a1_3 * x3) * inv1;
+        let x0 = (b0_0 - a0_1 * x1 - a0_2 * x2 - a0_3 * x3) * inv0;
         ([x0, x1, x2, x3], det)
+    }
+    /// The minimum-norm solution `x = J⁺ b` of `J x = b` for a 6 × 7 `J` (column-major `j[col][row]`) with one redundant column: with `A` its leading 6 × 6 block and `c` its last column, `y = A⁻¹ b`, `a = A⁻¹ c` (one elimination with partial pivoting, written out for this size), `x = [y − s a; s]`, `s = (a·y) / (1 + a·a)`. Returns `(x, w)` with `w = sqrt(det(J Jᵀ)) = |det A| sqrt(1 + a·a)` (3.36); `w = 0` where this does not apply (`A` singular, or `1 + a·a > 1e4`: the last column carries `J`'s rank and `A` is badly conditioned), and then `x` is not meaningful.
+    #[inline]
+    #[must_use]
+    #[allow(
+        unused_mut,
+        unused_assignments,
+        clippy::many_single_char_names,
+        clippy::too_many_lines
+    )]
+    pub fn min_norm_solve_6(
+        j: &[[f64; 6usize]; 7usize],
+        b: &[f64; 6usize],
+    ) -> ([f64; 7usize], f64) {
+        let mut a0_0 = j[0usize][0usize];
+        let mut a0_1 = j[1usize][0usize];
+        let mut a0_2 = j[2usize][0usize];
+        let mut a0_3 = j[3usize][0usize];
+        let mut a0_4 = j[4usize][0usize];
+        let mut a0_5 = j[5usize][0usize];
+        let mut b0_0 = b[0usize];
+        let mut b1_0 = j[6usize][0usize];
+        let mut a1_0 = j[0usize][1usize];
+        let mut a1_1 = j[1usize][1usize];
+        let mut a1_2 = j[2usize][1usize];
+        let mut a1_3 = j[3usize][1usize];
+        let mut a1_4 = j[4usize][1usize];
+        let mut a1_5 = j[5usize][1usize];
+        let mut b0_1 = b[1usize];
+        let mut b1_1 = j[6usize][1usize];
+        let mut a2_0 = j[0usize][2usize];
+        let mut a2_1 = j[1usize][2usize];
+        let mut a2_2 = j[2usize][2usize];
+        let mut a2_3 = j[3usize][2usize];
+        let mut a2_4 = j[4usize][2usize];
+        let mut a2_5 = j[5usize][2usize];
+        let mut b0_2 = b[2usize];
+        let mut b1_2 = j[6usize][2usize];
+        let mut a3_0 = j[0usize][3usize];
+        let mut a3_1 = j[1usize][3usize];
+        let mut a3_2 = j[2usize][3usize];
+        let mut a3_3 = j[3usize][3usize];
+        let mut a3_4 = j[4usize][3usize];
+        let mut a3_5 = j[5usize][3usize];
+        let mut b0_3 = b[3usize];
+        let mut b1_3 = j[6usize][3usize];
+        let mut a4_0 = j[0usize][4usize];
+        let mut a4_1 = j[1usize][4usize];
+        let mut a4_2 = j[2usize][4usize];
+        let mut a4_3 = j[3usize][4usize];
+        let mut a4_4 = j[4usize][4usize];
+        let mut a4_5 = j[5usize][4usize];
+        let mut b0_4 = b[4usize];
+        let mut b1_4 = j[6usize][4usize];
+        let mut a5_0 = j[0usize][5usize];
+        let mut a5_1 = j[1usize][5usize];
+        let mut a5_2 = j[2usize][5usize];
+        let mut a5_3 = j[3usize][5usize];
+        let mut a5_4 = j[4usize][5usize];
+        let mut a5_5 = j[5usize][5usize];
+        let mut b0_5 = b[5usize];
+        let mut b1_5 = j[6usize][5usize];
+        let mut det = <f64 as ::trocar::Real>::ONE;
+        if <f64 as ::trocar::Real>::abs(a1_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+            ::core::mem::swap(&mut a0_0, &mut a1_0);
+            ::core::mem::swap(&mut a0_1, &mut a1_1);
+            ::core::mem::swap(&mut a0_2, &mut a1_2);
+            ::core::mem::swap(&mut a0_3, &mut a1_3);
+            ::core::mem::swap(&mut a0_4, &mut a1_4);
+            ::core::mem::swap(&mut a0_5, &mut a1_5);
+            ::core::mem::swap(&mut b0_0, &mut b0_1);
+            ::core::mem::swap(&mut b1_0, &mut b1_1);
+            det = -det;
+        }
+        if <f64 as ::trocar::Real>::abs(a2_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+            ::core::mem::swap(&mut a0_0, &mut a2_0);
+            ::core::mem::swap(&mut a0_1, &mut a2_1);
+            ::core::mem::swap(&mut a0_2, &mut a2_2);
+            ::core::mem::swap(&mut a0_3, &mut a2_3);
+            ::core::mem::swap(&mut a0_4, &mut a2_4);
+            ::core::mem::swap(&mut a0_5, &mut a2_5);
+            ::core::mem::swap(&mut b0_0, &mut b0_2);
+            ::core::mem::swap(&mut b1_0, &mut b1_2);
+            det = -det;
+        }
+        if <f64 as ::trocar::Real>::abs(a3_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+            ::core::mem::swap(&mut a0_0, &mut a3_0);
+            ::core::mem::swap(&mut a0_1, &mut a3_1);
+            ::core::mem::swap(&mut a0_2, &mut a3_2);
+            ::core::mem::swap(&mut a0_3, &mut a3_3);
+            ::core::mem::swap(&mut a0_4, &mut a3_4);
+            ::core::mem::swap(&mut a0_5, &mut a3_5);
+            ::core::mem::swap(&mut b0_0, &mut b0_3);
+            ::core::mem::swap(&mut b1_0, &mut b1_3);
+            det = -det;
+        }
+        if <f64 as ::trocar::Real>::abs(a4_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+            ::core::mem::swap(&mut a0_0, &mut a4_0);
+            ::core::mem::swap(&mut a0_1, &mut a4_1);
+            ::core::mem::swap(&mut a0_2, &mut a4_2);
+            ::core::mem::swap(&mut a0_3, &mut a4_3);
+            ::core::mem::swap(&mut a0_4, &mut a4_4);
+            ::core::mem::swap(&mut a0_5, &mut a4_5);
+            ::core::mem::swap(&mut b0_0, &mut b0_4);
+            ::core::mem::swap(&mut b1_0, &mut b1_4);
+            det = -det;
+        }
+        if <f64 as ::trocar::Real>::abs(a5_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+            ::core::mem::swap(&mut a0_0, &mut a5_0);
+            ::core::mem::swap(&mut a0_1, &mut a5_1);
+            ::core::mem::swap(&mut a0_2, &mut a5_2);
+            ::core::mem::swap(&mut a0_3, &mut a5_3);
+            ::core::mem::swap(&mut a0_4, &mut a5_4);
+            ::core::mem::swap(&mut a0_5, &mut a5_5);
+            ::core::mem::swap(&mut b0_0, &mut b0_5);
+            ::core::mem::swap(&mut b1_0, &mut b1_5);
+            det = -det;
+        }
+        det *= a0_0;
+        let inv0 = <f64 as ::trocar::Real>::ONE / a0_0;
+        let l = a1_0 * inv0;
+        a1_1 -= l * a0_1;
+        a1_2 -= l * a0_2;
+        a1_3 -= l * a0_3;
+        a1_4 -= l * a0_4;
+        a1_5 -= l * a0_5;
+        b0_1 -= l * b0_0;
+        b1_1 -= l * b1_0;
+        let l = a2_0 * inv0;
+        a2_1 -= l * a0_1;
+        a2_2 -= l * a0_2;
+        a2_3 -= l * a0_3;
+        a2_4 -= l * a0_4;
+        a2_5 -= l * a0_5;
+        b0_2 -= l * b0_0;
+        b1_2 -= l * b1_0;
+        let l = a3_0 * inv0;
+        a3_1 -= l * a0_1;
+        a3_2 -= l * a0_2;
+        a3_3 -= l * a0_3;
+        a3_4 -= l * a0_4;
+        a3_5 -= l * a0_5;
+        b0_3 -= l * b0_0;
+        b1_3 -= l * b1_0;
+        let l = a4_0 * inv0;
+        a4_1 -= l * a0_1;
+        a4_2 -= l * a0_2;
+        a4_3 -= l * a0_3;
+        a4_4 -= l * a0_4;
+        a4_5 -= l * a0_5;
+        b0_4 -= l * b0_0;
+        b1_4 -= l * b1_0;
+        let l = a5_0 * inv0;
+        a5_1 -= l * a0_1;
+        a5_2 -= l * a0_2;
+        a5_3 -= l * a0_3;
+        a5_4 -= l * a0_4;
+        a5_5 -= l * a0_5;
+        b0_5 -= l * b0_0;
+        b1_5 -= l * b1_0;
+        if <f64 as ::trocar::Real>::abs(a2_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+            ::core::mem::swap(&mut a1_1, &mut a2_1);
+            ::core::mem::swap(&mut a1_2, &mut a2_2);
+            ::core::mem::swap(&mut a1_3, &mut a2_3);
+            ::core::mem::swap(&mut a1_4, &mut a2_4);
+            ::core::mem::swap(&mut a1_5, &mut a2_5);
+            ::core::mem::swap(&mut b0_1, &mut b0_2);
+            ::core::mem::swap(&mut b1_1, &mut b1_2);
+            det = -det;
+        }
+        if <f64 as ::trocar::Real>::abs(a3_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+            ::core::mem::swap(&mut a1_1, &mut a3_1);
+            ::core::mem::swap(&mut a1_2, &mut a3_2);
+            ::core::mem::swap(&mut a1_3, &mut a3_3);
+            ::core::mem::swap(&mut a1_4, &mut a3_4);
+            ::core::mem::swap(&mut a1_5, &mut a3_5);
+            ::core::mem::swap(&mut b0_1, &mut b0_3);
+            ::core::mem::swap(&mut b1_1, &mut b1_3);
+            det = -det;
+        }
+        if <f64 as ::trocar::Real>::abs(a4_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+            ::core::mem::swap(&mut a1_1, &mut a4_1);
+            ::core::mem::swap(&mut a1_2, &mut a4_2);
+            ::core::mem::swap(&mut a1_3, &mut a4_3);
+            ::core::mem::swap(&mut a1_4, &mut a4_4);
+            ::core::mem::swap(&mut a1_5, &mut a4_5);
+            ::core::mem::swap(&mut b0_1, &mut b0_4);
+            ::core::mem::swap(&mut b1_1, &mut b1_4);
+            det = -det;
+        }
+        if <f64 as ::trocar::Real>::abs(a5_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+            ::core::mem::swap(&mut a1_1, &mut a5_1);
+            ::core::mem::swap(&mut a1_2, &mut a5_2);
+            ::core::mem::swap(&mut a1_3, &mut a5_3);
+            ::core::mem::swap(&mut a1_4, &mut a5_4);
+            ::core::mem::swap(&mut a1_5, &mut a5_5);
+            ::core::mem::swap(&mut b0_1, &mut b0_5);
+            ::core::mem::swap(&mut b1_1, &mut b1_5);
+            det = -det;
+        }
+        det *= a1_1;
+        let inv1 = <f64 as ::trocar::Real>::ONE / a1_1;
+        let l = a2_1 * inv1;
+        a2_2 -= l * a1_2;
+        a2_3 -= l * a1_3;
+        a2_4 -= l * a1_4;
+        a2_5 -= l * a1_5;
+        b0_2 -= l * b0_1;
+        b1_2 -= l * b1_1;
+        let l = a3_1 * inv1;
+        a3_2 -= l * a1_2;
+        a3_3 -= l * a1_3;
+        a3_4 -= l * a1_4;
+        a3_5 -= l * a1_5;
+        b0_3 -= l * b0_1;
+        b1_3 -= l * b1_1;
+        let l = a4_1 * inv1;
+        a4_2 -= l * a1_2;
+        a4_3 -= l * a1_3;
+        a4_4 -= l * a1_4;
+        a4_5 -= l * a1_5;
+        b0_4 -= l * b0_1;
+        b1_4 -= l * b1_1;
+        let l = a5_1 * inv1;
+        a5_2 -= l * a1_2;
+        a5_3 -= l * a1_3;
+        a5_4 -= l * a1_4;
+        a5_5 -= l * a1_5;
+        b0_5 -= l * b0_1;
+        b1_5 -= l * b1_1;
+        if <f64 as ::trocar::Real>::abs(a3_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+            ::core::mem::swap(&mut a2_2, &mut a3_2);
+            ::core::mem::swap(&mut a2_3, &mut a3_3);
+            ::core::mem::swap(&mut a2_4, &mut a3_4);
+            ::core::mem::swap(&mut a2_5, &mut a3_5);
+            ::core::mem::swap(&mut b0_2, &mut b0_3);
+            ::core::mem::swap(&mut b1_2, &mut b1_3);
+            det = -det;
+        }
+        if <f64 as ::trocar::Real>::abs(a4_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+            ::core::mem::swap(&mut a2_2, &mut a4_2);
+            ::core::mem::swap(&mut a2_3, &mut a4_3);
+            ::core::mem::swap(&mut a2_4, &mut a4_4);
+            ::core::mem::swap(&mut a2_5, &mut a4_5);
+            ::core::mem::swap(&mut b0_2, &mut b0_4);
+            ::core::mem::swap(&mut b1_2, &mut b1_4);
+            det = -det;
+        }
+        if <f64 as ::trocar::Real>::abs(a5_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+            ::core::mem::swap(&mut a2_2, &mut a5_2);
+            ::core::mem::swap(&mut a2_3, &mut a5_3);
+            ::core::mem::swap(&mut a2_4, &mut a5_4);
+            ::core::mem::swap(&mut a2_5, &mut a5_5);
+            ::core::mem::swap(&mut b0_2, &mut b0_5);
+            ::core::mem::swap(&mut b1_2, &mut b1_5);
+            det = -det;
+        }
+        det *= a2_2;
+        let inv2 = <f64 as ::trocar::Real>::ONE / a2_2;
+        let l = a3_2 * inv2;
+        a3_3 -= l * a2_3;
+        a3_4 -= l * a2_4;
+        a3_5 -= l * a2_5;
+        b0_3 -= l * b0_2;
+        b1_3 -= l * b1_2;
+        let l = a4_2 * inv2;
+        a4_3 -= l * a2_3;
+        a4_4 -= l * a2_4;
+        a4_5 -= l * a2_5;
+        b0_4 -= l * b0_2;
+        b1_4 -= l * b1_2;
+        let l = a5_2 * inv2;
+        a5_3 -= l * a2_3;
+        a5_4 -= l * a2_4;
+        a5_5 -= l * a2_5;
+        b0_5 -= l * b0_2;
+        b1_5 -= l * b1_2;
+        if <f64 as ::trocar::Real>::abs(a4_3) > <f64 as ::trocar::Real>::abs(a3_3) {
+            ::core::mem::swap(&mut a3_3, &mut a4_3);
+            ::core::mem::swap(&mut a3_4, &mut a4_4);
+            ::core::mem::swap(&mut a3_5, &mut a4_5);
+            ::core::mem::swap(&mut b0_3, &mut b0_4);
+            ::core::mem::swap(&mut b1_3, &mut b1_4);
+            det = -det;
+        }
+        if <f64 as ::trocar::Real>::abs(a5_3) > <f64 as ::trocar::Real>::abs(a3_3) {
+            ::core::mem::swap(&mut a3_3, &mut a5_3);
+            ::core::mem::swap(&mut a3_4, &mut a5_4);
+            ::core::mem::swap(&mut a3_5, &mut a5_5);
+            ::core::mem::swap(&mut b0_3, &mut b0_5);
+            ::core::mem::swap(&mut b1_3, &mut b1_5);
+            det = -det;
+        }
+        det *= a3_3;
+        let inv3 = <f64 as ::trocar::Real>::ONE / a3_3;
+        let l = a4_3 * inv3;
+        a4_4 -= l * a3_4;
+        a4_5 -= l * a3_5;
+        b0_4 -= l * b0_3;
+        b1_4 -= l * b1_3;
+        let l = a5_3 * inv3;
+        a5_4 -= l * a3_4;
+        a5_5 -= l * a3_5;
+        b0_5 -= l * b0_3;
+        b1_5 -= l * b1_3;
+        if <f64 as ::trocar::Real>::abs(a5_4) > <f64 as ::trocar::Real>::abs(a4_4) {
+            ::core::mem::swap(&mut a4_4, &mut a5_4);
+            ::core::mem::swap(&mut a4_5, &mut a5_5);
+            ::core::mem::swap(&mut b0_4, &mut b0_5);
+            ::core::mem::swap(&mut b1_4, &mut b1_5);
+            det = -det;
+        }
+        det *= a4_4;
+        let inv4 = <f64 as ::trocar::Real>::ONE / a4_4;
+        let l = a5_4 * inv4;
+        a5_5 -= l * a4_5;
+        b0_5 -= l * b0_4;
+        b1_5 -= l * b1_4;
+        det *= a5_5;
+        let inv5 = <f64 as ::trocar::Real>::ONE / a5_5;
+        let x5 = (b0_5) * inv5;
+        let x4 = (b0_4 - a4_5 * x5) * inv4;
+        let x3 = (b0_3 - a3_4 * x4 - a3_5 * x5) * inv3;
+        let x2 = (b0_2 - a2_3 * x3 - a2_4 * x4 - a2_5 * x5) * inv2;
+        let x1 = (b0_1 - a1_2 * x2 - a1_3 * x3 - a1_4 * x4 - a1_5 * x5) * inv1;
+        let x0 = (b0_0 - a0_1 * x1 - a0_2 * x2 - a0_3 * x3 - a0_4 * x4 - a0_5 * x5)
+            * inv0;
+        let x1_5 = (b1_5) * inv5;
+        let x1_4 = (b1_4 - a4_5 * x1_5) * inv4;
+        let x1_3 = (b1_3 - a3_4 * x1_4 - a3_5 * x1_5) * inv3;
+        let x1_2 = (b1_2 - a2_3 * x1_3 - a2_4 * x1_4 - a2_5 * x1_5) * inv2;
+        let x1_1 = (b1_1 - a1_2 * x1_2 - a1_3 * x1_3 - a1_4 * x1_4 - a1_5 * x1_5) * inv1;
+        let x1_0 = (b1_0 - a0_1 * x1_1 - a0_2 * x1_2 - a0_3 * x1_3 - a0_4 * x1_4
+            - a0_5 * x1_5) * inv0;
+        let nn = <f64 as ::trocar::Real>::ONE + x1_0 * x1_0 + x1_1 * x1_1 + x1_2 * x1_2
+            + x1_3 * x1_3 + x1_4 * x1_4 + x1_5 * x1_5;
+        let s = (x1_0 * x0 + x1_1 * x1 + x1_2 * x2 + x1_3 * x3 + x1_4 * x4 + x1_5 * x5)
+            / nn;
+        let w = if nn <= <f64 as ::trocar::Real>::lit(10000f64) {
+            <f64 as ::trocar::Real>::abs(det) * <f64 as ::trocar::Real>::sqrt(nn)
+        } else {
+            <f64 as ::trocar::Real>::ZERO
+        };
+        (
+            [
+                x0 - s * x1_0,
+                x1 - s * x1_1,
+                x2 - s * x1_2,
+                x3 - s * x1_3,
+                x4 - s * x1_4,
+                x5 - s * x1_5,
+                s,
+            ],
+            w,
+        )
     }
     /// The runtime controller's kinematics on this module's closed forms: `::trocar::control::ConstrainedKinematics<_, N, I, R, K, M, T>`, so that `::trocar::control::Controller` runs on generated code.
     ///
@@ -1522,6 +1877,19 @@ pub mod iiwa_endoscope {
         ) -> ::core::option::Option<(::trocar::nalgebra::SVector<f64, M>, f64)> {
             let (x, det) = lu_solve_4(&j.data.0, &b.data.0[0]);
             ::core::option::Option::Some((::trocar::nalgebra::SVector::from(x), det))
+        }
+        /// `J^B_0i` (6 × 7, one redundant joint): the minimum-norm solution and `w = sqrt(det(J Jᵀ))` from the straight-line solve emitted for this size (`w = 0` where it does not apply; the controller then factors `J` itself).
+        #[inline]
+        fn solve_jb0i(
+            &self,
+            j: &::trocar::nalgebra::SMatrix<f64, 6, I>,
+            b: &::trocar::nalgebra::SVector<f64, 6>,
+        ) -> ::core::option::Option<(::trocar::nalgebra::SVector<f64, I>, f64)> {
+            let (x, det_or_w) = min_norm_solve_6(&j.data.0, &b.data.0[0]);
+            ::core::option::Option::Some((
+                ::trocar::nalgebra::SVector::from(x),
+                det_or_w,
+            ))
         }
         /// One `JointTrig` for `g_0i`, `l_a` and everything else.
         #[inline]

@@ -1193,42 +1193,42 @@ pub mod unidirectional {
         let mut a0_3 = j[3usize][0usize];
         let mut a0_4 = j[4usize][0usize];
         let mut a0_5 = j[5usize][0usize];
-        let mut b0 = b[0usize];
+        let mut b0_0 = b[0usize];
         let mut a1_0 = j[0usize][1usize];
         let mut a1_1 = j[1usize][1usize];
         let mut a1_2 = j[2usize][1usize];
         let mut a1_3 = j[3usize][1usize];
         let mut a1_4 = j[4usize][1usize];
         let mut a1_5 = j[5usize][1usize];
-        let mut b1 = b[1usize];
+        let mut b0_1 = b[1usize];
         let mut a2_0 = j[0usize][2usize];
         let mut a2_1 = j[1usize][2usize];
         let mut a2_2 = j[2usize][2usize];
         let mut a2_3 = j[3usize][2usize];
         let mut a2_4 = j[4usize][2usize];
         let mut a2_5 = j[5usize][2usize];
-        let mut b2 = b[2usize];
+        let mut b0_2 = b[2usize];
         let mut a3_0 = j[0usize][3usize];
         let mut a3_1 = j[1usize][3usize];
         let mut a3_2 = j[2usize][3usize];
         let mut a3_3 = j[3usize][3usize];
         let mut a3_4 = j[4usize][3usize];
         let mut a3_5 = j[5usize][3usize];
-        let mut b3 = b[3usize];
+        let mut b0_3 = b[3usize];
         let mut a4_0 = j[0usize][4usize];
         let mut a4_1 = j[1usize][4usize];
         let mut a4_2 = j[2usize][4usize];
         let mut a4_3 = j[3usize][4usize];
         let mut a4_4 = j[4usize][4usize];
         let mut a4_5 = j[5usize][4usize];
-        let mut b4 = b[4usize];
+        let mut b0_4 = b[4usize];
         let mut a5_0 = j[0usize][5usize];
         let mut a5_1 = j[1usize][5usize];
         let mut a5_2 = j[2usize][5usize];
         let mut a5_3 = j[3usize][5usize];
         let mut a5_4 = j[4usize][5usize];
         let mut a5_5 = j[5usize][5usize];
-        let mut b5 = b[5usize];
+        let mut b0_5 = b[5usize];
         let mut det = <f64 as ::trocar::Real>::ONE;
         if <f64 as ::trocar::Real>::abs(a1_0) > <f64 as ::trocar::Real>::abs(a0_0) {
             ::core::mem::swap(&mut a0_0, &mut a1_0);
@@ -1237,7 +1237,7 @@ pub mod unidirectional {
             ::core::mem::swap(&mut a0_3, &mut a1_3);
             ::core::mem::swap(&mut a0_4, &mut a1_4);
             ::core::mem::swap(&mut a0_5, &mut a1_5);
-            ::core::mem::swap(&mut b0, &mut b1);
+            ::core::mem::swap(&mut b0_0, &mut b0_1);
             det = -det;
         }
         if <f64 as ::trocar::Real>::abs(a2_0) > <f64 as ::trocar::Real>::abs(a0_0) {
@@ -1247,7 +1247,7 @@ pub mod unidirectional {
             ::core::mem::swap(&mut a0_3, &mut a2_3);
             ::core::mem::swap(&mut a0_4, &mut a2_4);
             ::core::mem::swap(&mut a0_5, &mut a2_5);
-            ::core::mem::swap(&mut b0, &mut b2);
+            ::core::mem::swap(&mut b0_0, &mut b0_2);
             det = -det;
         }
         if <f64 as ::trocar::Real>::abs(a3_0) > <f64 as ::trocar::Real>::abs(a0_0) {
@@ -1257,7 +1257,7 @@ pub mod unidirectional {
             ::core::mem::swap(&mut a0_3, &mut a3_3);
             ::core::mem::swap(&mut a0_4, &mut a3_4);
             ::core::mem::swap(&mut a0_5, &mut a3_5);
-            ::core::mem::swap(&mut b0, &mut b3);
+            ::core::mem::swap(&mut b0_0, &mut b0_3);
             det = -det;
         }
         if <f64 as ::trocar::Real>::abs(a4_0) > <f64 as ::trocar::Real>::abs(a0_0) {
@@ -1267,7 +1267,7 @@ pub mod unidirectional {
             ::core::mem::swap(&mut a0_3, &mut a4_3);
             ::core::mem::swap(&mut a0_4, &mut a4_4);
             ::core::mem::swap(&mut a0_5, &mut a4_5);
-            ::core::mem::swap(&mut b0, &mut b4);
+            ::core::mem::swap(&mut b0_0, &mut b0_4);
             det = -det;
         }
         if <f64 as ::trocar::Real>::abs(a5_0) > <f64 as ::trocar::Real>::abs(a0_0) {
@@ -1277,7 +1277,7 @@ pub mod unidirectional {
             ::core::mem::swap(&mut a0_3, &mut a5_3);
             ::core::mem::swap(&mut a0_4, &mut a5_4);
             ::core::mem::swap(&mut a0_5, &mut a5_5);
-            ::core::mem::swap(&mut b0, &mut b5);
+            ::core::mem::swap(&mut b0_0, &mut b0_5);
             det = -det;
         }
         det *= a0_0;
@@ -1288,42 +1288,42 @@ pub mod unidirectional {
         a1_3 -= l * a0_3;
         a1_4 -= l * a0_4;
         a1_5 -= l * a0_5;
-        b1 -= l * b0;
+        b0_1 -= l * b0_0;
         let l = a2_0 * inv0;
         a2_1 -= l * a0_1;
         a2_2 -= l * a0_2;
         a2_3 -= l * a0_3;
         a2_4 -= l * a0_4;
         a2_5 -= l * a0_5;
-        b2 -= l * b0;
+        b0_2 -= l * b0_0;
         let l = a3_0 * inv0;
         a3_1 -= l * a0_1;
         a3_2 -= l * a0_2;
         a3_3 -= l * a0_3;
         a3_4 -= l * a0_4;
         a3_5 -= l * a0_5;
-        b3 -= l * b0;
+        b0_3 -= l * b0_0;
         let l = a4_0 * inv0;
         a4_1 -= l * a0_1;
         a4_2 -= l * a0_2;
         a4_3 -= l * a0_3;
         a4_4 -= l * a0_4;
         a4_5 -= l * a0_5;
-        b4 -= l * b0;
+        b0_4 -= l * b0_0;
         let l = a5_0 * inv0;
         a5_1 -= l * a0_1;
         a5_2 -= l * a0_2;
         a5_3 -= l * a0_3;
         a5_4 -= l * a0_4;
         a5_5 -= l * a0_5;
-        b5 -= l * b0;
+        b0_5 -= l * b0_0;
         if <f64 as ::trocar::Real>::abs(a2_1) > <f64 as ::trocar::Real>::abs(a1_1) {
             ::core::mem::swap(&mut a1_1, &mut a2_1);
             ::core::mem::swap(&mut a1_2, &mut a2_2);
             ::core::mem::swap(&mut a1_3, &mut a2_3);
             ::core::mem::swap(&mut a1_4, &mut a2_4);
             ::core::mem::swap(&mut a1_5, &mut a2_5);
-            ::core::mem::swap(&mut b1, &mut b2);
+            ::core::mem::swap(&mut b0_1, &mut b0_2);
             det = -det;
         }
         if <f64 as ::trocar::Real>::abs(a3_1) > <f64 as ::trocar::Real>::abs(a1_1) {
@@ -1332,7 +1332,7 @@ pub mod unidirectional {
             ::core::mem::swap(&mut a1_3, &mut a3_3);
             ::core::mem::swap(&mut a1_4, &mut a3_4);
             ::core::mem::swap(&mut a1_5, &mut a3_5);
-            ::core::mem::swap(&mut b1, &mut b3);
+            ::core::mem::swap(&mut b0_1, &mut b0_3);
             det = -det;
         }
         if <f64 as ::trocar::Real>::abs(a4_1) > <f64 as ::trocar::Real>::abs(a1_1) {
@@ -1341,7 +1341,7 @@ pub mod unidirectional {
             ::core::mem::swap(&mut a1_3, &mut a4_3);
             ::core::mem::swap(&mut a1_4, &mut a4_4);
             ::core::mem::swap(&mut a1_5, &mut a4_5);
-            ::core::mem::swap(&mut b1, &mut b4);
+            ::core::mem::swap(&mut b0_1, &mut b0_4);
             det = -det;
         }
         if <f64 as ::trocar::Real>::abs(a5_1) > <f64 as ::trocar::Real>::abs(a1_1) {
@@ -1350,7 +1350,7 @@ pub mod unidirectional {
             ::core::mem::swap(&mut a1_3, &mut a5_3);
             ::core::mem::swap(&mut a1_4, &mut a5_4);
             ::core::mem::swap(&mut a1_5, &mut a5_5);
-            ::core::mem::swap(&mut b1, &mut b5);
+            ::core::mem::swap(&mut b0_1, &mut b0_5);
             det = -det;
         }
         det *= a1_1;
@@ -1360,31 +1360,31 @@ pub mod unidirectional {
         a2_3 -= l * a1_3;
         a2_4 -= l * a1_4;
         a2_5 -= l * a1_5;
-        b2 -= l * b1;
+        b0_2 -= l * b0_1;
         let l = a3_1 * inv1;
         a3_2 -= l * a1_2;
         a3_3 -= l * a1_3;
         a3_4 -= l * a1_4;
         a3_5 -= l * a1_5;
-        b3 -= l * b1;
+        b0_3 -= l * b0_1;
         let l = a4_1 * inv1;
         a4_2 -= l * a1_2;
         a4_3 -= l * a1_3;
         a4_4 -= l * a1_4;
         a4_5 -= l * a1_5;
-        b4 -= l * b1;
+        b0_4 -= l * b0_1;
         let l = a5_1 * inv1;
         a5_2 -= l * a1_2;
         a5_3 -= l * a1_3;
         a5_4 -= l * a1_4;
         a5_5 -= l * a1_5;
-        b5 -= l * b1;
+        b0_5 -= l * b0_1;
         if <f64 as ::trocar::Real>::abs(a3_2) > <f64 as ::trocar::Real>::abs(a2_2) {
             ::core::mem::swap(&mut a2_2, &mut a3_2);
             ::core::mem::swap(&mut a2_3, &mut a3_3);
             ::core::mem::swap(&mut a2_4, &mut a3_4);
             ::core::mem::swap(&mut a2_5, &mut a3_5);
-            ::core::mem::swap(&mut b2, &mut b3);
+            ::core::mem::swap(&mut b0_2, &mut b0_3);
             det = -det;
         }
         if <f64 as ::trocar::Real>::abs(a4_2) > <f64 as ::trocar::Real>::abs(a2_2) {
@@ -1392,7 +1392,7 @@ pub mod unidirectional {
             ::core::mem::swap(&mut a2_3, &mut a4_3);
             ::core::mem::swap(&mut a2_4, &mut a4_4);
             ::core::mem::swap(&mut a2_5, &mut a4_5);
-            ::core::mem::swap(&mut b2, &mut b4);
+            ::core::mem::swap(&mut b0_2, &mut b0_4);
             det = -det;
         }
         if <f64 as ::trocar::Real>::abs(a5_2) > <f64 as ::trocar::Real>::abs(a2_2) {
@@ -1400,7 +1400,7 @@ pub mod unidirectional {
             ::core::mem::swap(&mut a2_3, &mut a5_3);
             ::core::mem::swap(&mut a2_4, &mut a5_4);
             ::core::mem::swap(&mut a2_5, &mut a5_5);
-            ::core::mem::swap(&mut b2, &mut b5);
+            ::core::mem::swap(&mut b0_2, &mut b0_5);
             det = -det;
         }
         det *= a2_2;
@@ -1409,29 +1409,29 @@ pub mod unidirectional {
         a3_3 -= l * a2_3;
         a3_4 -= l * a2_4;
         a3_5 -= l * a2_5;
-        b3 -= l * b2;
+        b0_3 -= l * b0_2;
         let l = a4_2 * inv2;
         a4_3 -= l * a2_3;
         a4_4 -= l * a2_4;
         a4_5 -= l * a2_5;
-        b4 -= l * b2;
+        b0_4 -= l * b0_2;
         let l = a5_2 * inv2;
         a5_3 -= l * a2_3;
         a5_4 -= l * a2_4;
         a5_5 -= l * a2_5;
-        b5 -= l * b2;
+        b0_5 -= l * b0_2;
         if <f64 as ::trocar::Real>::abs(a4_3) > <f64 as ::trocar::Real>::abs(a3_3) {
             ::core::mem::swap(&mut a3_3, &mut a4_3);
             ::core::mem::swap(&mut a3_4, &mut a4_4);
             ::core::mem::swap(&mut a3_5, &mut a4_5);
-            ::core::mem::swap(&mut b3, &mut b4);
+            ::core::mem::swap(&mut b0_3, &mut b0_4);
             det = -det;
         }
         if <f64 as ::trocar::Real>::abs(a5_3) > <f64 as ::trocar::Real>::abs(a3_3) {
             ::core::mem::swap(&mut a3_3, &mut a5_3);
             ::core::mem::swap(&mut a3_4, &mut a5_4);
             ::core::mem::swap(&mut a3_5, &mut a5_5);
-            ::core::mem::swap(&mut b3, &mut b5);
+            ::core::mem::swap(&mut b0_3, &mut b0_5);
             det = -det;
         }
         det *= a3_3;
@@ -1439,30 +1439,31 @@ pub mod unidirectional {
         let l = a4_3 * inv3;
         a4_4 -= l * a3_4;
         a4_5 -= l * a3_5;
-        b4 -= l * b3;
+        b0_4 -= l * b0_3;
         let l = a5_3 * inv3;
         a5_4 -= l * a3_4;
         a5_5 -= l * a3_5;
-        b5 -= l * b3;
+        b0_5 -= l * b0_3;
         if <f64 as ::trocar::Real>::abs(a5_4) > <f64 as ::trocar::Real>::abs(a4_4) {
             ::core::mem::swap(&mut a4_4, &mut a5_4);
             ::core::mem::swap(&mut a4_5, &mut a5_5);
-            ::core::mem::swap(&mut b4, &mut b5);
+            ::core::mem::swap(&mut b0_4, &mut b0_5);
             det = -det;
         }
         det *= a4_4;
         let inv4 = <f64 as ::trocar::Real>::ONE / a4_4;
         let l = a5_4 * inv4;
         a5_5 -= l * a4_5;
-        b5 -= l * b4;
+        b0_5 -= l * b0_4;
         det *= a5_5;
         let inv5 = <f64 as ::trocar::Real>::ONE / a5_5;
-        let x5 = (b5) * inv5;
-        let x4 = (b4 - a4_5 * x5) * inv4;
-        let x3 = (b3 - a3_4 * x4 - a3_5 * x5) * inv3;
-        let x2 = (b2 - a2_3 * x3 - a2_4 * x4 - a2_5 * x5) * inv2;
-        let x1 = (b1 - a1_2 * x2 - a1_3 * x3 - a1_4 * x4 - a1_5 * x5) * inv1;
-        let x0 = (b0 - a0_1 * x1 - a0_2 * x2 - a0_3 * x3 - a0_4 * x4 - a0_5 * x5) * inv0;
+        let x5 = (b0_5) * inv5;
+        let x4 = (b0_4 - a4_5 * x5) * inv4;
+        let x3 = (b0_3 - a3_4 * x4 - a3_5 * x5) * inv3;
+        let x2 = (b0_2 - a2_3 * x3 - a2_4 * x4 - a2_5 * x5) * inv2;
+        let x1 = (b0_1 - a1_2 * x2 - a1_3 * x3 - a1_4 * x4 - a1_5 * x5) * inv1;
+        let x0 = (b0_0 - a0_1 * x1 - a0_2 * x2 - a0_3 * x3 - a0_4 * x4 - a0_5 * x5)
+            * inv0;
         ([x0, x1, x2, x3, x4, x5], det)
     }
     /// The runtime controller's kinematics on this module's closed forms: `::trocar::control::ConstrainedKinematics<_, N, I, R, K, M, 6>`, so that `::trocar::control::Controller` runs on generated code.
@@ -1579,8 +1580,11 @@ pub mod unidirectional {
             j: &::trocar::nalgebra::SMatrix<f64, 6, I>,
             b: &::trocar::nalgebra::SVector<f64, 6>,
         ) -> ::core::option::Option<(::trocar::nalgebra::SVector<f64, I>, f64)> {
-            let (x, det) = lu_solve_6(&j.data.0, &b.data.0[0]);
-            ::core::option::Option::Some((::trocar::nalgebra::SVector::from(x), det))
+            let (x, det_or_w) = lu_solve_6(&j.data.0, &b.data.0[0]);
+            ::core::option::Option::Some((
+                ::trocar::nalgebra::SVector::from(x),
+                det_or_w,
+            ))
         }
         /// One `JointTrig` for `g_0i`, `l_a` and everything else.
         #[inline]
