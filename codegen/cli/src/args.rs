@@ -100,6 +100,10 @@ pub enum Command {
         /// Close the loop on the trocar position.
         #[arg(long, value_enum, default_value_t = OnOff::On)]
         drift_correction: OnOff,
+        /// Joint speed limit in rad/s (`none` for none, as in the thesis; default 2). Above it
+        /// the task slows down and the motion that keeps the link on the trocar is kept.
+        #[arg(long, value_name = "RAD_PER_S", value_parser = parse_speed_limit)]
+        max_joint_speed: Option<SpeedLimit>,
         /// Write the trace as CSV (checked before the run, written whole when it succeeds).
         #[arg(long)]
         csv: Option<PathBuf>,
@@ -166,6 +170,32 @@ pub enum Method {
     Dls,
     /// Filtered inverse (3.47)–(3.50).
     Fi,
+}
+
+/// A joint speed limit given on the command line: `none`, or a positive speed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SpeedLimit {
+    /// No limit.
+    None,
+    /// At most this speed (rad/s).
+    At(f64),
+}
+
+/// Parses `--max-joint-speed`: `none`, or a positive number that passes the number rule
+/// (`trocar_model::validity`).
+fn parse_speed_limit(s: &str) -> Result<SpeedLimit, String> {
+    if s.eq_ignore_ascii_case("none") {
+        return Ok(SpeedLimit::None);
+    }
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a number (rad/s) or `none`"))?;
+    trocar_model::validity::check(v).map_err(|p| format!("`{s}`: {p}"))?;
+    if v <= 0.0 {
+        return Err(format!("`{s}`: a speed limit must be positive (or `none`)"));
+    }
+    Ok(SpeedLimit::At(v))
 }
 
 /// A switch.

@@ -30,12 +30,12 @@ mod robot;
 
 use clap::Parser;
 
-pub use args::{Cli, Command, Frame, Method, OnOff, RealArg, What};
+pub use args::{Cli, Command, Frame, Method, OnOff, RealArg, SpeedLimit, What};
 pub use commands::eval::{eval, eval_mechanism, eval_serial};
 pub use commands::generate::generate;
 pub use commands::jacobian::jacobian;
 pub use commands::preset::preset;
-pub use commands::simulate::simulate;
+pub use commands::simulate::{simulate, RcmOptions};
 pub use commands::verify::{verify, GeneratedCandidate};
 pub use output::{CliError, MatrixOut};
 
@@ -83,12 +83,16 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             scenario,
             method,
             drift_correction,
+            max_joint_speed,
             csv,
             plot,
         } => commands::simulate::run(
             &scenario,
-            method,
-            drift_correction,
+            &commands::simulate::RcmOptions {
+                method,
+                drift_correction,
+                max_joint_speed,
+            },
             csv.as_deref(),
             plot.as_deref(),
         ),

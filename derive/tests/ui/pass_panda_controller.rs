@@ -23,6 +23,7 @@ fn main() {
         method: Method::Pinv,
         jb0i_damping: Some(Damping::Constant(0.0)),
         kr: 20.0,
+        max_joint_speed: None,
     })
     .with_objective(NullSpaceObjective::JointLimits {
         gain: 10.0,

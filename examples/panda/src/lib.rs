@@ -71,6 +71,7 @@ pub fn controller() -> PandaController {
             w0: 0.01,
         }),
         kr: 20.0,
+        max_joint_speed: None,
     })
     .with_objective(NullSpaceObjective::JointLimits {
         gain: 10.0,

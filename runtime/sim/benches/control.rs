@@ -68,6 +68,7 @@ fn bench_path(
                 w0: 0.01,
             }),
             kr: 20.0,
+            max_joint_speed: None,
         });
         c.bench_function(&format!("control_step_dia10_zy_{path}_{name}"), |b| {
             b.iter(|| {

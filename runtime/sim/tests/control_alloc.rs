@@ -96,6 +96,7 @@ fn run(kin: &impl ConstrainedKinematics<f64, 8, 6, 2, 4, 6>, chain: &Chain<f64, 
                 w0: 0.01,
             }),
             kr: 20.0,
+            max_joint_speed: None,
         });
         let mut q = q0;
         for k in 0..3000 {

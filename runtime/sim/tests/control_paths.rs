@@ -161,6 +161,7 @@ where
                 w0: 0.01,
             }),
             kr: 20.0,
+            max_joint_speed: None,
         };
         let mut c1 = Controller::<f64, 8, 6, R, K, M>::new(config);
         let mut c2 = c1;
@@ -200,6 +201,7 @@ fn step_realises_the_cartesian_command_and_the_rcm_velocity() {
         method: Method::Pinv,
         jb0i_damping: None,
         kr: 0.0,
+        max_joint_speed: None,
     });
     let out = c
         .step(&arm, &q, &reference, &Rcm { trocar, dv }, 0.002)
@@ -226,6 +228,32 @@ fn step_realises_the_cartesian_command_and_the_rcm_velocity() {
         (vr.x - dv[0]).abs() < 1e-8 && (vr.z - dv[1]).abs() < 1e-8,
         "{vr}"
     );
+    // Under a joint speed limit at half that step's peak: the task's share is scaled, the
+    // constraint's kept. The link still moves at `dv` across the trocar (finite differences of
+    // the chain, not the controller's own Jacobians), and no joint exceeds the limit.
+    let limit = 0.5 * out.qd.amax();
+    c.config.max_joint_speed = Some(limit);
+    let slow = c
+        .step(&arm, &q, &reference, &Rcm { trocar, dv }, 0.002)
+        .unwrap();
+    assert!(
+        (slow.qd.amax() - limit).abs() <= 1e-12 * limit,
+        "{}",
+        slow.qd
+    );
+    let pp = arm.link_point(&(q + slow.qd * h), l_a);
+    let pm = arm.link_point(&(q - slow.qd * h), l_a);
+    let vr = s.g_0i.rotation.transpose() * (pp - pm) / (2.0 * h);
+    assert!(
+        (vr.x - dv[0]).abs() < 1e-8 && (vr.z - dv[1]).abs() < 1e-8,
+        "{vr}"
+    );
+    // Scaling the whole θ̇ instead would move the link at half `dv`.
+    let halved = out.qd * (limit / out.qd.amax());
+    let pp = arm.link_point(&(q + halved * h), l_a);
+    let pm = arm.link_point(&(q - halved * h), l_a);
+    let vr_halved = s.g_0i.rotation.transpose() * (pp - pm) / (2.0 * h);
+    assert!((vr_halved.x - dv[0]).abs() > 1e-4, "{vr_halved}");
 }
 
 /// The controller runs in f32 (embedded users) and stays close to the f64 run over 5 s of
@@ -253,6 +281,7 @@ fn f32_controller_tracks_like_f64() {
         }),
         jb0i_damping: None,
         kr: 20.0,
+        max_joint_speed: None,
     };
     let cfg32 = ControllerConfig {
         kp: 5.0f32,
@@ -263,6 +292,7 @@ fn f32_controller_tracks_like_f64() {
         }),
         jb0i_damping: None,
         kr: 20.0,
+        max_joint_speed: None,
     };
     let mut c64 = Controller::<f64, 8, 6, 2, 4, 6>::new(cfg64);
     let mut c32 = Controller::<f32, 8, 6, 2, 4, 6>::new(cfg32);

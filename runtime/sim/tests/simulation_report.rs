@@ -31,6 +31,17 @@ fn row(label: &str, s: &Summary) -> String {
     )
 }
 
+/// "Correction on": this crate's controller (drift correction, the default joint speed limit);
+/// "off": the thesis's (neither).
+fn ours_or_thesis(cfg: ScenarioConfig, correction: bool) -> ScenarioConfig {
+    let cfg = cfg.with_drift_correction(correction);
+    if correction {
+        cfg
+    } else {
+        cfg.with_max_joint_speed(None)
+    }
+}
+
 /// The heading of a scenario's method-comparison table.
 fn heading(scenario: Scenario) -> String {
     match scenario {
@@ -60,9 +71,7 @@ fn write_control_md() {
         md.push_str(HEADER);
         for dc in [false, true] {
             for m in [Method::Pinv, Method::Dls, Method::Fi] {
-                let cfg = ScenarioConfig::new(scenario)
-                    .with_method(m)
-                    .with_drift_correction(dc);
+                let cfg = ours_or_thesis(ScenarioConfig::new(scenario).with_method(m), dc);
                 let label = format!(
                     "{} (correction {})",
                     m.name(),
@@ -88,7 +97,7 @@ fn write_control_md() {
     md.push_str(HEADER);
     for scenario in [Scenario::S1, Scenario::S2, Scenario::S4] {
         for dc in [false, true] {
-            let cfg = ScenarioConfig::new(scenario).with_drift_correction(dc);
+            let cfg = ours_or_thesis(ScenarioConfig::new(scenario), dc);
             let label = format!(
                 "scenario {} ({} s, correction {})",
                 scenario.name(),
@@ -108,6 +117,33 @@ fn write_control_md() {
         }
     }
 
+    // The drift of every scenario and method, with the correction, with and without the joint
+    // speed limit.
+    md.push_str(DRIFT_EVERYWHERE);
+    md.push_str("| scenario | pinv | dls | fi |\n|---|---:|---:|---:|\n");
+    for scenario in [
+        Scenario::S1,
+        Scenario::S2,
+        Scenario::S3,
+        Scenario::S4,
+        Scenario::Exp421,
+    ] {
+        let mut line = format!("| {} |", scenario.name());
+        for m in [Method::Pinv, Method::Dls, Method::Fi] {
+            let cfg = ours_or_thesis(ScenarioConfig::new(scenario).with_method(m), true);
+            let drift = |cfg| match go(cfg) {
+                (Ok(tr), _) => format!("{:.1e}", tr.summary().max_drift),
+                (Err(e), _) => format!("failed: {e}"),
+            };
+            let limited = drift(cfg);
+            let free = drift(cfg.with_max_joint_speed(None));
+            write!(line, " **{limited}** ({free}) |").unwrap();
+        }
+        md.push_str(&line);
+        md.push('\n');
+    }
+    md.push_str(DRIFT_AFTER);
+
     // Scenario 4 with (4.6) as printed: up to the J^r singularity, then the whole run.
     md.push_str(AS_PRINTED);
     md.push_str(HEADER);
@@ -126,6 +162,7 @@ fn write_control_md() {
         }
     }
     md.push_str(TAIL);
+    md.push_str(PANDA);
     let out = concat!(env!("CARGO_MANIFEST_DIR"), "/CONTROL.md");
     std::fs::write(out, md).unwrap();
 }
@@ -156,8 +193,11 @@ around them is written by hand from the same numbers.
   **fi** = filtered inverse of `J^r_0e` (`Γ_r = Γ_l = 5`, `Θ(0) = (J^r_0e)†` at `q0`) with the
   DLS above on `J^B_0i`. `Θ` is integrated over each 2 ms with `⌈2 dt Γ ‖J^r‖²_F⌉` Euler
   sub-steps: `‖J^r‖` grows like `1/l_a`, and a single 2 ms step of (3.49) diverges.
-- Drift correction ("correction on"): `dv_0r = dv_cmd + K_r e_r`, `K_r = 20 /s`, `e_r` the
-  offset of the trocar from the link in `F_r`'s constrained directions. Off = the thesis.
+- "Correction on" is this crate's controller: drift correction `dv_0r = dv_cmd + K_r e_r`,
+  `K_r = 20 /s`, `e_r` the offset of the trocar from the link in `F_r`'s constrained directions,
+  and a joint speed limit of 2 rad/s that scales the task's share of `θ̇` and keeps the
+  constraint's (section "RCM drift in every scenario"). "Correction off" is the thesis's
+  controller: neither.
 - Measures (from forward kinematics of the chain, `trocar::kinematics::Chain`, not from the
   controller's Jacobians):
   `vr` = lateral velocity in `F_r` of the material point of link 6 at the trocar, by finite
@@ -198,17 +238,22 @@ around them is written by hand from the same numbers.
 const TAIL: &str = r#"
 ## Findings
 
-- **Singularities.** In scenario 3 the pseudo-inverse meets `q7 → 0` (`w_r` down to 8e-10) and
-  the joint velocities explode (peak 7e4–8e7 rad/s; the run is lost). DLS and the filtered
+- **Singularities.** In scenario 3 the thesis's pseudo-inverse (correction off, no speed limit)
+  meets `q7 → 0` (`w_r` down to 8e-10) and the joint velocities explode (peak 8e7 rad/s; the
+  run is lost); with the speed limit it passes at 2 rad/s and keeps to the trocar. DLS and the filtered
   inverse stay bounded: peak `|θ̇|` 0.79 rad/s (DLS) and 0.54–0.66 rad/s (FI), with end-effector
-  error ≤ 9.4 mm while damping acts. The test bound is 1 rad/s for both. In the experiment the
-  pseudo-inverse peaks at 39 rad/s (150 with the correction) at `J^B_0i`'s near-singularity,
-  DLS at 4.7 rad/s and FI at 6.0 rad/s (both at t ≈ 3.4 s, where `w_r` is smallest); FI lags (‖dp − p‖ up to 16 mm) because `Θ` follows
-  `J^r` with `Γ = 5` while `K_p = 270`.
-- **The price of damping `J^B_0i`**: damping the partial Jacobian realises a link velocity
-  slightly different from `Λ# v0i + Λ† dv_0r`, so the RCM constraint is no longer exact where
-  `w_i < w0`: `|vr|` reaches 1.6–2 mm/s in scenario 3 and the drift 0.5 mm (correction on) or
-  33 mm (off). Damping only `J^r_0e` keeps the constraint exact (any `v0i` satisfies it).
+  error ≤ 9.4 mm while damping acts. The test bound is 1 rad/s for both. In the experiment,
+  without the limit, the pseudo-inverse peaks at 39 rad/s at `J^B_0i`'s near-singularity, DLS
+  at 31 rad/s and FI at 40 rad/s (the constraint met first, the rest of the twist damped with
+  `κ ≤ 0.01`); with it every method stays at 2 rad/s and ‖dp − p‖ peaks at 6–23 mm while the
+  limit acts, back under 0.4 mm by the end. FI lags (‖dp − p‖ up to 16 mm) because `Θ` follows `J^r`
+  with `Γ = 5` while `K_p = 270`.
+- **The price of damping `J^B_0i`**: damping the whole partial Jacobian, as the thesis does,
+  realises a link velocity slightly different from `Λ# v0i + Λ† dv_0r`, so the RCM constraint is
+  no longer exact where `w_i < w0`: in scenario 3 `|vr|` reached 2 mm/s and the drift 33 mm
+  without the correction. This crate's controller damps only the rest of the twist once the
+  constraint is met (section "RCM drift in every scenario"), with or without the correction:
+  scenario 3's drift is 1e-5 m without it, 4.8e-7 m with it.
 - **Drift.** With 2 ms explicit Euler the velocity constraint holds to first order only: the
   measured lateral velocity of the link at the trocar is up to 2.4e-7 m/s (scenarios 1, 2) and
   5.5e-7 m/s (scenario 4), and over 200 s the link drifts from the trocar by 9.5 µm
@@ -261,5 +306,85 @@ S4_RCM_AMPLITUDE_THESIS`), drift correction on:
   same 5 mm/s along fixed directions (the axes of `F_r` at `q0`) instead of `F_r`'s does not
   help: the elbow stretches out at t ≈ 20 s. An excursion of 10.6 cm along each axis, against
   `l_b = 0.18` m in `q0`, is more than this arm can follow.
+
+"#;
+
+const DRIFT_EVERYWHERE: &str = r#"
+## RCM drift in every scenario, with every method
+
+Two things keep the link on the trocar where the arm passes near a singularity.
+
+**The constraint first where `J^B_0i` is damped.** Damping `J^B_0i` (DLS with variable
+damping, and the filtered inverse, which damps `J^B_0i` the same way) used to damp the whole
+twist `V^B_0i = Λ# v0i + Λ† dv_0r`, its constrained part included: in simulation 3 the link left
+the trocar by 5.1e-4 m at t ≈ 140 s, where `J^B_0i` is nearly singular (`w_i` 7e-5). The
+controller resolves the constrained directions first: with `A = Λ J^B_0i` and `P = I − A† A`,
+`θ̇ = A† dv_0r + (J P)†_κ (V − J A† dv_0r)`, so `Λ J^B_0i θ̇ = dv_0r` holds exactly and only the
+rest of the twist is damped (the objective's `u0` of (44)–(46) goes in the same null space;
+where `A Aᵀ` itself is singular `A†` is damped by the same `κ`).
+
+**A joint speed limit that slows the task, not the constraint.** The velocity constraint holds
+for the rates at the start of a step; held over the 2 ms step, the joints move along a straight
+line and the link's point at the trocar follows a chord that leaves it off the trocar by about
+`½ l (|θ̇| dt)²` (`l` the lever from the moving joints), a second-order term that the
+correction `K_r e_r` (4 % of the offset per step at `K_r = 20 /s`) removes only slowly. Near the
+wrist singularity of experiment 4.2.1 (gains 270 and 1500) every method drove joints at
+30–150 rad/s, 0.06–0.3 rad per step, and the link left the trocar by up to 5.7 mm; raising `K_r`
+to 100 or 250 /s did not help, because one step's chord already exceeded 0.1 mm. With
+`ControllerConfig::max_joint_speed` (2 rad/s by default in the simulations,
+`trocar simulate --max-joint-speed`), a `θ̇` beyond the limit becomes `θ̇_c + α (θ̇ − θ̇_c)`,
+`θ̇_c = A† dv_0r` the constraint's own motion, `α ∈ [0, 1]` the largest within the limit: the
+link still moves across the trocar exactly as commanded, and the end effector slows down for the
+few steps where the limit acts (scaling all of `θ̇` instead would also slow a moving trocar's
+motion and let the link fall behind it: 3.9 mm measured at 1 rad/s). Away from singularities
+no joint comes near the limit (peak 0.08 rad/s in scenarios 1, 2 and 4, 0.8 rad/s with DLS in
+scenario 3, 0.26 rad/s on the Panda), so those runs are unchanged.
+
+Max distance trocar – link axis (m), drift correction on, every scenario and method (`trocar
+simulate S --method M`, 2 ms explicit Euler); in bold with the default joint speed limit of
+2 rad/s, in parentheses without a limit (`--max-joint-speed none`):
+
+"#;
+
+const DRIFT_AFTER: &str = r#"
+**Every run stays within 0.1 mm of the trocar with the limit.** Without it the pseudo-inverse
+loses the trocar at the singularities of simulation 3 and experiment 4.2.1 (the thesis's point:
+it fails there), and DLS and FI exceed 0.1 mm in experiment 4.2.1. The tracking cost of the
+limit shows in the method-comparison tables above (rows "correction on").
+"#;
+
+const PANDA: &str = r#"
+## The Panda laparoscope (`trocar simulate panda-laparoscope`)
+
+A Franka Panda (URDF chain, 7 joints) holds a 0.40 m laparoscope on its flange through a trocar
+0.25 m along the shaft: the constraint on the last link (`H = (x_r, y_r)`, the shaft along `z`),
+task `x y z rz` (tip position and roll), start `q0 = (0, −π/4, 0, −3π/4, 0, π/2, π/4)`. Over 20 s
+the tip follows a circle of radius 1 cm in the plane normal to the shaft at `t = 0`, centred on the
+start tip position, while the shaft rolls `(π/6) sin(2πt/20)`; both start from rest, at the start
+pose: radius and roll are scaled by the quintic smooth step `s(t) = 10τ³ − 15τ⁴ + 6τ⁵`,
+`τ = t/2 s`, so the reference spirals out onto the circle in the first 2 s. The desired
+orientation is the one the trocar allows (shaft through the trocar and the desired tip), rolled.
+`K_p = 5`, `K_o = 10`, DLS with variable damping (`α0 = 0.05`; `w0 = 1e-3` on `S J^r`, which is
+constant here — `w_r` = trocar–tip distance² = 0.0225 m² — and `0.01` on `J^B_0i`), drift
+correction `K_r = 20 /s`, joint-limit objective (46) with gain 10 /s on the arm's one spare
+freedom, 2 ms explicit Euler. Measured (drift correction on):
+
+| quantity | value | target |
+|---|---:|---:|
+| tip position error, whole run (after 2 s) | ≤ 2.7e-6 m (1.7e-6 m) | ≤ 1e-4 m after 2 s |
+| orientation error (`‖ε̃‖`), whole run (after 2 s) | ≤ 3.3e-5 (2.0e-5) | — |
+| distance trocar – shaft axis, whole run | ≤ 4.9e-8 m | ≤ 1e-4 m |
+| net lateral velocity of the shaft at the trocar, whole run | ≤ 1.1e-7 m/s | ≤ 1e-6 m/s |
+| peak joint rate | 0.26 rad/s (q̇7, at 1.3 s) | — |
+| closest approach to a URDF joint limit | 0.65 rad | > 0 |
+| `w_i` (manipulability of `J^B_0i`) | 0.077–0.083 | — |
+
+The lateral velocity is measured as on the reference arm: the displacement of the shaft's point
+at the trocar over one step, divided by `dt`. The constraint holds for the rates at the start of
+each step; with the rates held over the 2 ms step that point follows a chord whose lateral
+component is `O(dt |θ̇|²)`. It matters at the start: a reference that begins on the circle, 1 cm
+from the tip, makes the arm close the gap at 0.27 rad/s and the chord then reaches 2.6e-5 m/s
+(measured); from rest, as here, it stays at 1.1e-7 m/s. The drift the chord leaves (≤ 49 nm) is
+what the correction removes.
 
 "#;

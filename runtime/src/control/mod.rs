@@ -269,6 +269,14 @@ pub struct ControllerConfig<T> {
     pub jb0i_damping: Option<Damping<T>>,
     /// Gain `K_r` (1/s) of the RCM drift correction; `0` reproduces the thesis.
     pub kr: T,
+    /// Joint speed limit (rad/s, m/s for a prismatic joint), `None` for none. Where `θ̇`
+    /// exceeds it, the task's share of `θ̇` is scaled down and the constraint's is kept:
+    /// `θ̇ = θ̇_c + α (θ̇ − θ̇_c)` with `θ̇_c = A† dv_0r` (`A = Λ J^B_0i`) and the largest
+    /// `α ∈ [0, 1]` within the limit, so `Λ J^B_0i θ̇ = dv_0r` still holds and the link keeps
+    /// to the trocar while the end effector slows down. Over a sample time `dt` the joints move
+    /// along a straight line, which leaves the link off the trocar by a second-order term
+    /// (≈ ½ l (|θ̇| dt)² per step for a lever `l`); bounding `|θ̇|` bounds that drift.
+    pub max_joint_speed: Option<T>,
 }
 
 /// The desired end-effector motion at one instant, in base coordinates.
@@ -373,6 +381,32 @@ pub struct Controller<
     pub objective: NullSpaceObjective<T, N>,
     fi: FilteredInverse<T, P, M>,
     fi_started: bool,
+}
+
+/// `θ̇_c + α (θ̇ − θ̇_c)` for [`ControllerConfig::max_joint_speed`]: `θ̇_c = A† dv_0r` on the
+/// joints up to the constrained link (zero after it), `A = Λ J^B_0i`, and the largest
+/// `α ∈ [0, 1]` that keeps every entry within `±limit` (`α = 0`, `θ̇ = θ̇_c`, if `θ̇_c` alone
+/// exceeds it). `None` if `A Aᵀ` is singular.
+fn within_speed_limit<T: RealField + Copy, const N: usize, const I: usize, const R: usize>(
+    qd: &SVector<T, N>,
+    j: &SMatrix<T, 6, I>,
+    lambda_pinv: &SMatrix<T, 6, R>,
+    dv_0r: &SVector<T, R>,
+    limit: T,
+) -> Option<SVector<T, N>> {
+    let lambda: SMatrix<T, R, 6> =
+        GramCholesky::new(&lambda_pinv.tr_mul(lambda_pinv))?.solve(&lambda_pinv.transpose());
+    let a: SMatrix<T, R, I> = lambda * j;
+    let c_i: SVector<T, I> = a.tr_mul(&GramCholesky::new(&(a * a.transpose()))?.solve(dv_0r));
+    let c = SVector::<T, N>::from_fn(|k, _| if k < I { c_i[k] } else { T::zero() });
+    let r = qd - c;
+    // |c_k + α r_k| ≤ limit for every k: α ≤ (limit − sign(r_k) c_k) / |r_k|.
+    let alpha = (0..N)
+        .filter(|&k| r[k] != T::zero())
+        .map(|k| (limit - c[k] * r[k].signum()) / r[k].abs())
+        .fold(T::one(), |a, b| a.min(b))
+        .max(T::zero());
+    Some(c + r * alpha)
 }
 
 /// `θ̇` with the constraint first, for a damped `J = J^B_0i`: with `A = Λ J` (the constrained
@@ -604,6 +638,12 @@ impl<
         }
         if !qd.iter().all(|v| v.is_finite()) {
             return Err(ControlError::NonFinite);
+        }
+        if let Some(limit) = c.max_joint_speed {
+            if qd.amax() > limit {
+                qd = within_speed_limit(&qd, &s.jb0i, &s.lambda_pinv, &dv_0r, limit)
+                    .ok_or(ControlError::SingularJb0i)?;
+            }
         }
         Ok(StepOutput {
             qd,

@@ -303,9 +303,12 @@ fn dia10(c: &mut Criterion) {
         Constraint::<f64, 2>::thesis(6, L_A0).unwrap(),
     );
     let generated = GeneratedKinematics::<f64>::nominal();
+    // No joint speed limit: the baseline has none (and this configuration's rates exceed the
+    // default).
     let config = ScenarioConfig::new(Scenario::S2)
         .with_method(Method::Dls)
-        .with_drift_correction(true);
+        .with_drift_correction(true)
+        .with_max_joint_speed(None);
     let q0 = SVector::<f64, 8>::from(Q0);
     let g_0e0 = numeric.chain.forward_kinematics(&q0);
     let axis7 = numeric
@@ -408,7 +411,9 @@ fn dia10(c: &mut Criterion) {
 
 fn panda(c: &mut Criterion) {
     let kin = PandaLaparoscope::<f64>::nominal();
-    let config = ScenarioConfig::new(Scenario::Panda).with_drift_correction(true);
+    let config = ScenarioConfig::new(Scenario::Panda)
+        .with_drift_correction(true)
+        .with_max_joint_speed(None);
     let cfg = config.controller_config();
     let limits: Vec<[f64; 2]> = RobotDescription::preset("panda-laparoscope")
         .unwrap()

@@ -1,21 +1,42 @@
 //! `trocar simulate`: the thesis's RCM scenarios and the closed-chain simulations.
 
-use crate::args::{Method, OnOff};
+use crate::args::{Method, OnOff, SpeedLimit};
 use crate::output::{CliError, OutputKind, Outputs};
 use crate::progress::with_progress;
 use std::path::Path;
 use trocar_sim::{closed_chain, simulation};
+
+/// How an RCM scenario's controller runs (`trocar simulate`'s options).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RcmOptions {
+    /// Inverse used for `J^r` (default: the scenario's).
+    pub method: Option<Method>,
+    /// The drift correction `K_r e_r`.
+    pub drift_correction: OnOff,
+    /// The joint speed limit (default: `trocar_sim::simulation::MAX_JOINT_SPEED`).
+    pub max_joint_speed: Option<SpeedLimit>,
+}
+
+impl Default for RcmOptions {
+    /// The scenario's method, drift correction on, the default speed limit.
+    fn default() -> Self {
+        RcmOptions {
+            method: None,
+            drift_correction: OnOff::On,
+            max_joint_speed: None,
+        }
+    }
+}
 
 /// Runs the simulation `scenario` (`1`, `2`, `3`, `4`, `exp421`, or a closed-chain scenario such
 /// as `four-bar`), writes the trace to `csv` and the figures to `plot` (`.svg` or `.png`) when
 /// given, and returns the summary `trocar simulate` prints to stderr. Both paths are checked
 /// before the simulation runs and the files are written whole, once it has succeeded
 /// (`output::Outputs`).
-/// `method` (default: the scenario's) and `drift_correction` apply to the RCM scenarios only.
+/// `options` apply to the RCM scenarios only.
 pub fn simulate(
     scenario: &str,
-    method: Option<Method>,
-    drift_correction: OnOff,
+    options: &RcmOptions,
     csv: Option<&Path>,
     plot: Option<&Path>,
 ) -> Result<String, CliError> {
@@ -26,21 +47,9 @@ pub fn simulate(
     let csv = csv.map(|p| outputs.temporary(p).to_path_buf());
     let plot = plot.map(|p| outputs.temporary(p).to_path_buf());
     let summary = if closed_chain::scenario_names().contains(&scenario) {
-        closed_chain_scenario(
-            scenario,
-            method,
-            drift_correction,
-            csv.as_deref(),
-            plot.as_deref(),
-        )
+        closed_chain_scenario(scenario, options, csv.as_deref(), plot.as_deref())
     } else {
-        rcm_scenario(
-            scenario,
-            method,
-            drift_correction,
-            csv.as_deref(),
-            plot.as_deref(),
-        )
+        rcm_scenario(scenario, options, csv.as_deref(), plot.as_deref())
     }
     .map_err(|e| outputs.explain(e))?;
     outputs.commit()?;
@@ -50,28 +59,23 @@ pub fn simulate(
 /// Runs `trocar simulate`: the summary goes to stderr.
 pub(crate) fn run(
     scenario: &str,
-    method: Option<Method>,
-    drift_correction: OnOff,
+    options: &RcmOptions,
     csv: Option<&Path>,
     plot: Option<&Path>,
 ) -> Result<i32, CliError> {
-    eprintln!(
-        "{}",
-        simulate(scenario, method, drift_correction, csv, plot)?
-    );
+    eprintln!("{}", simulate(scenario, options, csv, plot)?);
     Ok(0)
 }
 
 fn closed_chain_scenario(
     scenario: &str,
-    method: Option<Method>,
-    drift_correction: OnOff,
+    options: &RcmOptions,
     csv: Option<&Path>,
     plot: Option<&Path>,
 ) -> Result<String, CliError> {
-    if method.is_some() || drift_correction == OnOff::Off {
+    if *options != RcmOptions::default() {
         return Err(CliError(format!(
-            "`{scenario}` is a closed-chain scenario: --method and --drift-correction apply to the RCM scenarios only"
+            "`{scenario}` is a closed-chain scenario: --method, --drift-correction and --max-joint-speed apply to the RCM scenarios only"
         )));
     }
     let trace = with_progress(scenario, |progress| {
@@ -103,11 +107,15 @@ fn closed_chain_scenario(
 
 fn rcm_scenario(
     scenario: &str,
-    method: Option<Method>,
-    drift_correction: OnOff,
+    options: &RcmOptions,
     csv: Option<&Path>,
     plot: Option<&Path>,
 ) -> Result<String, CliError> {
+    let RcmOptions {
+        method,
+        drift_correction,
+        max_joint_speed,
+    } = *options;
     let Ok(which) = simulation::Scenario::from_name(scenario) else {
         return Err(CliError(format!(
             "unknown scenario `{scenario}` (expected 1, 2, 3, 4, exp421, panda-laparoscope, or one of: {})",
@@ -120,9 +128,14 @@ fn rcm_scenario(
         Some(Method::Fi) => simulation::Method::Fi,
         None => which.default_method(),
     };
-    let config = simulation::ScenarioConfig::new(which)
+    let mut config = simulation::ScenarioConfig::new(which)
         .with_method(method)
         .with_drift_correction(drift_correction == OnOff::On);
+    match max_joint_speed {
+        Some(SpeedLimit::None) => config = config.with_max_joint_speed(None),
+        Some(SpeedLimit::At(v)) => config = config.with_max_joint_speed(Some(v)),
+        None => {}
+    }
     let trace = with_progress(&format!("scenario {scenario}"), |progress| {
         simulation::run(&config, progress)
     })
@@ -144,7 +157,7 @@ fn rcm_scenario(
         );
     }
     out += &format!(
-        "scenario {scenario} ({method:?}, drift correction {}):\n  \
+        "scenario {scenario} ({method:?}, drift correction {}, joint speed limit {}):\n  \
          max |vr - dv| after the first step {:.3e} m/s\n  \
          max RCM drift {:.3e} m (final {:.3e} m)\n  \
          max position error {:.3e} m (after 10 s {:.3e} m), max orientation error {:.3e}\n  \
@@ -155,6 +168,9 @@ fn rcm_scenario(
         } else {
             "off"
         },
+        config
+            .max_joint_speed
+            .map_or("none".to_string(), |v| format!("{v} rad/s")),
         s.max_rcm_velocity_error,
         s.max_drift,
         s.final_drift,

@@ -30,9 +30,9 @@ mod scenario;
 mod trace;
 
 pub use scenario::{
-    panda_reference, Method, Scenario, ScenarioConfig, SimulationError, A, EXP421_AMPLITUDE, OMEGA,
-    OMEGA_K_421, PANDA_CIRCLE_RADIUS, PANDA_DURATION, PANDA_Q0, PANDA_RAMP, PANDA_ROLL_AMPLITUDE,
-    PANDA_TIP_DEPTH, S4_RCM_AMPLITUDE, S4_RCM_AMPLITUDE_THESIS,
+    panda_reference, Method, Scenario, ScenarioConfig, SimulationError, A, EXP421_AMPLITUDE,
+    MAX_JOINT_SPEED, OMEGA, OMEGA_K_421, PANDA_CIRCLE_RADIUS, PANDA_DURATION, PANDA_Q0, PANDA_RAMP,
+    PANDA_ROLL_AMPLITUDE, PANDA_TIP_DEPTH, S4_RCM_AMPLITUDE, S4_RCM_AMPLITUDE_THESIS,
 };
 pub use trace::{Summary, Trace, TraceRow, CSV_HEADER};
 

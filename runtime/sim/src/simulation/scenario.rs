@@ -409,6 +409,13 @@ fn axis_angle(axis: Vector3<f64>, a: f64) -> Matrix3<f64> {
     Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(axis), a).into_inner()
 }
 
+/// The default joint speed limit of the simulated controller (rad/s): above the peak joint
+/// speed of every scenario away from singularities (scenario 3 with DLS peaks at 0.8 rad/s, the
+/// Panda at 0.26 rad/s) and below the Franka Panda's own limits (2.175–2.61 rad/s). Through a
+/// singularity the task slows down instead of the joints moving so far within one 2 ms step that
+/// the link leaves the trocar (see [`ControllerConfig::max_joint_speed`]).
+pub const MAX_JOINT_SPEED: f64 = 2.0;
+
 /// What to simulate and how.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ScenarioConfig {
@@ -420,6 +427,9 @@ pub struct ScenarioConfig {
     pub drift_correction: bool,
     /// Gain `K_r` (1/s) of the drift correction when on.
     pub kr: f64,
+    /// Joint speed limit (rad/s) of the controller ([`ControllerConfig::max_joint_speed`]):
+    /// [`MAX_JOINT_SPEED`] by default, `None` for the thesis's controller, which has none.
+    pub max_joint_speed: Option<f64>,
     /// Sample time (s).
     pub dt: f64,
     /// Duration (s).
@@ -462,6 +472,7 @@ impl ScenarioConfig {
             method: scenario.default_method(),
             drift_correction: false,
             kr: 20.0,
+            max_joint_speed: Some(MAX_JOINT_SPEED),
             dt: 0.002,
             duration: scenario.duration(),
             kp: if exp { 270.0 } else { 5.0 },
@@ -473,6 +484,12 @@ impl ScenarioConfig {
             null_space_gain: 10.0,
             s4_rcm_amplitude: S4_RCM_AMPLITUDE,
         }
+    }
+
+    /// The same with another joint speed limit (`None`: none, as in the thesis).
+    pub fn with_max_joint_speed(mut self, limit: Option<f64>) -> Self {
+        self.max_joint_speed = limit;
+        self
     }
 
     /// The same with another method.
@@ -528,6 +545,7 @@ impl ScenarioConfig {
             method,
             jb0i_damping,
             kr: if self.drift_correction { self.kr } else { 0.0 },
+            max_joint_speed: self.max_joint_speed,
         }
     }
 }
