@@ -31,7 +31,7 @@ mod robot;
 use clap::Parser;
 
 pub use args::{Cli, Command, Frame, Method, OnOff, RealArg, SpeedLimit, What};
-pub use commands::eval::{eval, eval_mechanism, eval_serial};
+pub use commands::eval::{eval, eval_mechanism, eval_serial, serial_singularity};
 pub use commands::generate::generate;
 pub use commands::jacobian::jacobian;
 pub use commands::preset::preset;

@@ -11,6 +11,7 @@ pub mod description;
 pub mod expr;
 mod load;
 pub mod numeric;
+pub mod singularity;
 pub mod validity;
 
 pub use load::Description;

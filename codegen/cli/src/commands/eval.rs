@@ -250,6 +250,18 @@ fn mechanism_generated(
             .outputs(f, q, values)
             .ok_or_else(|| CliError(format!("internal: no generated `{f}`")))
     };
+    // J_Cp, the passive columns of the emitted J_C: singular by the one rule of
+    // `trocar_model::singularity`, as the numeric runtime decides (not by `det J_Cp != 0`,
+    // which rounding decides at a singular configuration).
+    if matches!(what, What::Jr | What::Passive) {
+        let j_c = eval(Function::ConstraintJacobian)?;
+        let rows = d.j_c.rows();
+        let j_cp = trocar::nalgebra::DMatrix::from_fn(rows, np, |r, c| j_c[passive[c] * rows + r]);
+        let sv: Vec<f64> = j_cp.singular_values().iter().copied().collect();
+        if np > 0 && trocar_model::singularity::is_singular(&sv, rows.min(np)) {
+            return Err(singular());
+        }
+    }
     let out = match what {
         What::Jc => MatrixOut::column_major(&eval(Function::ConstraintJacobian)?, d.j_c.rows(), n),
         What::Det => MatrixOut::column_major(&eval(Function::ConstraintDeterminant)?, 1, 1),
@@ -310,5 +322,52 @@ pub(crate) fn run(
     numeric: bool,
 ) -> Result<i32, CliError> {
     eval(robot, q, params, what, numeric)?.print(json)?;
+    if let Description::Serial(desc) = Description::load(robot)? {
+        if let Some(note) = serial_singularity(&desc, q, params, what, numeric)? {
+            eprintln!("note: {note}");
+        }
+    }
     Ok(0)
+}
+
+/// Where the Jacobian behind `what` is singular at `q` by the one rule of
+/// [`trocar_model::singularity`] (the closed form's or the numeric runtime's, as `numeric`
+/// says), what `trocar eval` says about it: `J^r` for `jr`, the task Jacobian `S J^r` for `task`,
+/// whichever defines the manipulability for `manip`, `J^B_0i` for `jb0i`. `None` where it is
+/// regular, or for another `what`.
+pub fn serial_singularity(
+    desc: &RobotDescription,
+    q: &[f64],
+    params: &[(String, f64)],
+    what: What,
+    numeric: bool,
+) -> Result<Option<String>, CliError> {
+    let (jacobian, name) = match what {
+        What::Jr => (What::Jr, "J^r"),
+        What::Task => (What::Task, "the task Jacobian S J^r"),
+        What::Manip if desc.task.is_some() => (What::Task, "the task Jacobian S J^r"),
+        What::Manip => (What::Jr, "J^r"),
+        What::Jb0i => (What::Jb0i, "J^B_0i"),
+        _ => return Ok(None),
+    };
+    let m = eval_serial(desc, q, params, jacobian, numeric)?;
+    let j = trocar::nalgebra::DMatrix::from_fn(m.rows, m.cols, |r, c| m.data[r][c]);
+    let sv: Vec<f64> = j.singular_values().iter().copied().collect();
+    let full = m.rows.min(m.cols);
+    if !trocar_model::singularity::is_singular(&sv, full) {
+        return Ok(None);
+    }
+    let smallest = sv.iter().copied().fold(f64::INFINITY, f64::min);
+    let largest = sv.iter().copied().fold(0.0_f64, f64::max);
+    Ok(Some(format!(
+        "{name} is singular at this configuration: rank {} of {full}, smallest singular value \
+         {smallest:.3e} ≤ {:.0e} × max(largest {largest:.3e}, 1){}",
+        trocar_model::singularity::rank(&sv),
+        trocar_model::singularity::RELATIVE_TOLERANCE,
+        if what == What::Manip {
+            "; its manipulability is 0 to working precision"
+        } else {
+            ""
+        }
+    )))
 }

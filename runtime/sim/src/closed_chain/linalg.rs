@@ -10,8 +10,9 @@ use faer::linalg::solvers::DenseSolveCore;
 use faer::{Mat, MatRef};
 use nalgebra::DMatrix;
 
-/// Relative tolerance on singular values used for ranks: `σ_i` counts when `σ_i > tol · max(σ_1, 1)`.
-pub const RANK_TOLERANCE: f64 = 1e-9;
+/// Relative tolerance on singular values used for ranks: `σ_i` counts when
+/// `σ_i > tol · max(σ_1, 1)` (the one rule of [`trocar_model::singularity`]).
+pub use trocar_model::singularity::RELATIVE_TOLERANCE as RANK_TOLERANCE;
 
 /// `m` viewed as a faer matrix (no copy).
 fn view(m: &DMatrix<f64>) -> MatRef<'_, f64> {
@@ -107,9 +108,7 @@ pub fn svd_analysis(j: &DMatrix<f64>) -> SvdAnalysis {
 }
 
 fn rank_of_values(sv: &[f64]) -> usize {
-    let max = sv.iter().copied().fold(0.0_f64, f64::max);
-    let tol = RANK_TOLERANCE * max.max(1.0);
-    sv.iter().filter(|&&s| s > tol).count()
+    trocar_model::singularity::rank(sv)
 }
 
 /// Numerical rank (see [`RANK_TOLERANCE`]).
