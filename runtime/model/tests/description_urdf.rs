@@ -267,7 +267,7 @@ fn urdf_errors_name_the_problem() {
     let e = urdf_error(&small("planar", "0 0 1"), "c");
     assert!(e.contains("planar"), "{e}");
     let e = urdf_error("<robot name=", "c");
-    assert!(e.contains("not a valid URDF"), "{e}");
+    assert!(e.contains("not well-formed XML"), "{e}");
     let e = RobotDescription::from_urdf_file(data("no-such-file.urdf"), "c").unwrap_err();
     assert!(e.message.contains("cannot read"));
     // A joint that is not on the path is ignored, whatever its type.
@@ -282,6 +282,48 @@ fn urdf_errors_name_the_problem() {
             .len(),
         2
     );
+}
+
+/// URDF files that are not well-formed XML, or that the URDF reader refuses, are reported with a
+/// line and column (they used to carry none: "not a valid URDF: No elements found").
+#[test]
+fn urdf_document_errors_have_a_line() {
+    let good = small("revolute", "0 0 1");
+    let located = |text: &str| {
+        let e = RobotDescription::from_urdf_str(text, "c").unwrap_err();
+        assert_eq!(e.field, "(document)", "{e}");
+        (
+            e.line.expect("a line"),
+            e.column.expect("a column"),
+            e.message,
+        )
+    };
+    // Truncated inside an attribute value, and inside an element.
+    let (line, _, message) = located(&good[..good.find("<axis").unwrap() + 12]);
+    assert_eq!(line, 6, "{message}");
+    let cut = &good[..good.find("</joint>").unwrap()];
+    let (line, _, message) = located(cut);
+    assert_eq!(line, 8, "{message}");
+    assert!(
+        message.contains("ends inside <joint> (opened at line 3)"),
+        "{message}"
+    );
+    // A mismatched end tag.
+    let (line, _, message) = located(&good.replacen("</joint>", "</jont>", 1));
+    assert_eq!(line, 8, "{message}");
+    assert!(
+        message.contains("`</joint>`") && message.contains("`</jont>`"),
+        "{message}"
+    );
+    // An attribute without a value (the URDF reader's own position).
+    let (line, column, message) = located(&good.replacen(r#"type="revolute""#, "type kind", 1));
+    assert_eq!((line, column), (3, 25), "{message}");
+    // A vector with a word in it: the line of the value.
+    let (line, _, message) = located(&good.replace(r#"xyz="0 0 1""#, r#"xyz="0 0 abc""#));
+    assert_eq!(line, 5, "{message}");
+    // No element at all.
+    let (line, _, message) = located("   ");
+    assert_eq!(line, 1, "{message}");
 }
 
 #[test]

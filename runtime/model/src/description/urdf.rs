@@ -145,6 +145,70 @@ impl Pose {
 }
 
 /// The line of `<joint name="NAME" ...>` in the URDF text.
+/// Whether `text` is well-formed XML (every element closed, in order, and the file does not end
+/// inside one); otherwise where and what is wrong. The URDF reader behind
+/// [`urdf_rs::read_from_string`] reports no position, and accepted a mismatched end tag.
+fn check_xml(text: &str) -> Result<(), (Location, String)> {
+    use quick_xml::events::Event;
+    let mut reader = quick_xml::Reader::from_str(text);
+    let mut open: Vec<(String, usize)> = Vec::new();
+    loop {
+        let before = usize::try_from(reader.buffer_position()).unwrap_or(usize::MAX);
+        match reader.read_event() {
+            Ok(Event::Start(e)) => open.push((
+                String::from_utf8_lossy(e.name().as_ref()).into_owned(),
+                before,
+            )),
+            Ok(Event::End(_)) => {
+                open.pop();
+            }
+            Ok(Event::Eof) => {
+                return match open.last() {
+                    None => Ok(()),
+                    Some((name, at)) => Err((
+                        location_of(text, text.len()),
+                        format!(
+                            "the file ends inside <{name}> (opened at line {})",
+                            location_of(text, *at).line
+                        ),
+                    )),
+                };
+            }
+            Ok(_) => {}
+            Err(e) => {
+                let at = usize::try_from(reader.error_position()).unwrap_or(usize::MAX);
+                return Err((location_of(text, at), e.to_string()));
+            }
+        }
+    }
+}
+
+/// Where an error message of the URDF reader points: its own "Line: L, Column: C" when it gives
+/// one, else where the value it quotes (in `[…]`, `` `…` `` or `"…"`) first appears in `text`.
+fn locate_message(text: &str, message: &str) -> Option<Location> {
+    let number_after = |key: &str| -> Option<usize> {
+        let rest = &message[message.find(key)? + key.len()..];
+        let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
+        digits.parse().ok()
+    };
+    if let (Some(line), Some(column)) = (number_after("Line: "), number_after("Column: ")) {
+        // xml-rs prints both 1-based.
+        return Some(Location { line, column });
+    }
+    [('[', ']'), ('`', '`'), ('"', '"')]
+        .iter()
+        .filter_map(|&(open, close)| {
+            let start = message.find(open)? + open.len_utf8();
+            let len = message[start..].find(close)?;
+            let quoted = &message[start..start + len];
+            (!quoted.trim().is_empty())
+                .then(|| text.find(quoted))
+                .flatten()
+        })
+        .min()
+        .map(|offset| location_of(text, offset))
+}
+
 fn joint_location(text: &str, name: &str) -> Option<Location> {
     let mut from = 0;
     while let Some(k) = text[from..].find("<joint") {
@@ -255,8 +319,18 @@ pub(crate) fn import_chain(
         field: field.to_string(),
         message,
     };
-    let robot = urdf_rs::read_from_string(text)
-        .map_err(|e| err("(document)", None, format!("not a valid URDF: {e}")))?;
+    check_xml(text).map_err(|(at, message)| {
+        err(
+            "(document)",
+            Some(at),
+            format!("not well-formed XML: {message}"),
+        )
+    })?;
+    let robot = urdf_rs::read_from_string(text).map_err(|e| {
+        let message = e.to_string();
+        let at = locate_message(text, &message).or(Some(Location { line: 1, column: 1 }));
+        err("(document)", at, format!("not a valid URDF: {message}"))
+    })?;
     let link_names = || {
         let names: Vec<&str> = robot.links.iter().map(|l| l.name.as_str()).collect();
         if names.is_empty() {
