@@ -246,6 +246,15 @@ pub const EXPANSION_BUDGET: usize = 20_000;
 /// manipulability (the presets and dia10_like have well under 100).
 pub const MANIPULABILITY_BUDGET: usize = 400;
 
+/// Most maximal minors of a wide `t × m` Jacobian (`C(m, t)`) for which the manipulability is
+/// a sum of squared minors (in closed form, or from the Jacobian's values): `t + 1`, one spare
+/// column. Beyond it the count grows combinatorially (`C(10, 6) = 210` minors for a 12-joint
+/// chain, whose closed form took 2.9 s) and the manipulability comes from a factorisation of the
+/// emitted Jacobian instead ([`crate::emit::bridge::manipulability_from_jr`]).
+pub fn minors_apply(rows: usize, cols: usize) -> bool {
+    cols >= rows && cols - rows <= 1
+}
+
 fn max_len(m: &Matrix) -> usize {
     m.entries().iter().map(Poly::len).max().unwrap_or(0)
 }
@@ -678,7 +687,9 @@ fn derive_constraint(
     };
     // Manipulability of what the task commands: S J^r with a task, J^r without.
     let commanded = task.as_ref().map_or(&jr, |t| &t.jacobian);
-    let manipulability = if commanded.total_terms() > MANIPULABILITY_BUDGET {
+    let manipulability = if commanded.total_terms() > MANIPULABILITY_BUDGET
+        || !minors_apply(commanded.rows(), commanded.cols())
+    {
         None
     } else {
         Some(manipulability(commanded).map_err(|e| DerivationError::symbolic("constraint", e))?)

@@ -20,6 +20,7 @@ fn main() {
     }
     b.robot("robots/rotated_rcm.toml");
     b.robot("robots/chain9_prismatic.toml");
+    b.robot("robots/chain11_wide.toml");
     if let Err(e) = b.compile() {
         panic!("trocar-codegen: {e}");
     }

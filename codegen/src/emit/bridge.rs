@@ -395,15 +395,17 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
         let (w_doc, w2_doc) = if c.task.is_some() {
             (
                 "Manipulability `w = sqrt(det((S J^r)(S J^r)ᵀ))` of the task Jacobian \
-                 ([`constrained_task_jacobian`]; closed form: `|det S J^r|` when square, \
-                 Cauchy–Binet sum of squared maximal minors when wide)",
+                 ([`constrained_task_jacobian`]; `|det S J^r|` when square, the Cauchy–Binet \
+                 sum of squared maximal minors with one spare column, the product of the row \
+                 norms left by Gram–Schmidt when wider)",
                 "Squared manipulability `w² = det((S J^r)(S J^r)ᵀ)` of the task Jacobian (no \
                  square root, for thresholds such as (3.44))",
             )
         } else {
             (
-                "Manipulability `w = sqrt(det(J^r J^rᵀ))` of the constrained Jacobian (closed form: \
-                 `|det J^r|` when square, Cauchy–Binet sum of squared maximal minors when wide)",
+                "Manipulability `w = sqrt(det(J^r J^rᵀ))` of the constrained Jacobian (`|det J^r|` \
+                 when square, the Cauchy–Binet sum of squared maximal minors with one spare \
+                 column, the product of the row norms left by Gram–Schmidt when wider)",
                 "Squared manipulability `w² = det(J^r J^rᵀ)` (no square root, for thresholds such as \
                  (3.44))",
             )
@@ -517,12 +519,18 @@ fn manipulability_programs(d: &Derivation, form: &ManipulabilityForm) -> (Progra
     (w, w2)
 }
 
-/// Manipulability when the derivation has no closed form (beyond its size budget): from the
-/// program values of `J^r` (6 × m), `det(J Jᵀ) = Σ_S det(J[:, S])²` over the 6-column subsets `S`
-/// (Cauchy–Binet), each minor by Laplace expansion along the rows with the sub-minors of every
-/// column subset memoised, so they are shared between minors. Division-free and exact in
-/// exact arithmetic. Returns the programs of `w` and `w²`.
+/// Manipulability when the derivation has no closed form: from the program values of `J^r`
+/// (`t × m`, or the task Jacobian).
+///
+/// With at most one spare column ([`crate::derivation::minors_apply`]): `det(J Jᵀ) = Σ_S
+/// det(J[:, S])²` over the `t`-column subsets `S` (Cauchy–Binet), each minor by Laplace expansion
+/// along the rows with the sub-minors of every column subset memoised, so they are shared
+/// between minors; division-free. Wider: [`manipulability_by_gram_schmidt`]. Returns the
+/// programs of `w` and `w²`.
 pub fn manipulability_from_jr(d: &Derivation, jr: &Matrix) -> (Program, Program) {
+    if !crate::derivation::minors_apply(jr.rows(), jr.cols()) {
+        return manipulability_by_gram_schmidt(d, jr);
+    }
     let mut w2 = new_program(d);
     let vals = PolyBuilder::new(&mut w2).matrix(jr);
     let (rows, cols) = (jr.rows(), jr.cols());
@@ -540,6 +548,52 @@ pub fn manipulability_from_jr(d: &Derivation, jr: &Matrix) -> (Program, Program)
     let mut w = w2.clone();
     let r = w.sqrt(acc);
     w.set_outputs(vec![r]);
+    (w, w2)
+}
+
+/// Manipulability of a wide `t × m` Jacobian by modified Gram–Schmidt on its rows:
+/// `v_k = row_k − Σ_{j<k} (q_j · row_k) q_j` (each projection removed from the running `v_k`),
+/// `r_k = ‖v_k‖`, `q_k = v_k / r_k`; then `J = R Q` with `R` lower triangular and
+/// `w = sqrt(det(J Jᵀ)) = Π r_k` (3.36). About `t² m` products, `t` square roots and `t`
+/// divisions, against `C(m, t)` minors for Cauchy–Binet; `R` is as accurate as Householder's
+/// (modified Gram–Schmidt loses only `Q`'s orthogonality). At a singular configuration an
+/// `r_k` is 0 and the next `q_k` is not finite: the emitted manipulability then returns 0 (its
+/// rule for values that are not finite). Returns the programs of `w` and `w²`.
+pub fn manipulability_by_gram_schmidt(d: &Derivation, j: &Matrix) -> (Program, Program) {
+    let mut w = new_program(d);
+    let vals = PolyBuilder::new(&mut w).matrix(j);
+    let (rows, cols) = (j.rows(), j.cols());
+    let mut q: Vec<Vec<ValueId>> = Vec::with_capacity(rows);
+    let mut product = w.constant(1.0);
+    for k in 0..rows {
+        let mut v: Vec<ValueId> = (0..cols).map(|c| vals[c * rows + k]).collect();
+        for qj in &q {
+            let mut dot = w.constant(0.0);
+            for c in 0..cols {
+                let t = w.mul(qj[c], v[c]);
+                dot = w.add(dot, t);
+            }
+            for c in 0..cols {
+                let t = w.mul(dot, qj[c]);
+                v[c] = w.sub(v[c], t);
+            }
+        }
+        let mut norm2 = w.constant(0.0);
+        for &x in &v {
+            let t = w.mul(x, x);
+            norm2 = w.add(norm2, t);
+        }
+        let r = w.sqrt(norm2);
+        product = w.mul(product, r);
+        if k + 1 < rows {
+            let qk = v.iter().map(|&x| w.div(x, r)).collect();
+            q.push(qk);
+        }
+    }
+    let mut w2 = w.clone();
+    w.set_outputs(vec![product]);
+    let sq = w2.mul(product, product);
+    w2.set_outputs(vec![sq]);
     (w, w2)
 }
 

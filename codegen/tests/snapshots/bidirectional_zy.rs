@@ -927,7 +927,7 @@ pub mod bidirectional_zy {
             ],
         )
     }
-    /// Manipulability `w = sqrt(det(J^r J^rᵀ))` of the constrained Jacobian (closed form: `|det J^r|` when square, Cauchy–Binet sum of squared maximal minors when wide), thesis (3.36)–(3.39) (presets: (3.40)–(3.42)).
+    /// Manipulability `w = sqrt(det(J^r J^rᵀ))` of the constrained Jacobian (`|det J^r|` when square, the Cauchy–Binet sum of squared maximal minors with one spare column, the product of the row norms left by Gram–Schmidt when wider), thesis (3.36)–(3.39) (presets: (3.40)–(3.42)).
     ///
     /// Returns 0 where the closed form is not finite: at a parameter it divides by equal to 0 (`l_a`), or where a NaN or infinite input makes it so. 0 reads as singular to a controller that damps when the manipulability is small; `+∞` would read as far from singular.
     ///

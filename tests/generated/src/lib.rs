@@ -19,6 +19,7 @@ generated!(
     "dia10_like_zx.rs",
     "rotated_rcm.rs",
     "chain9_prismatic.rs",
+    "chain11_wide.rs",
     "bidirectional_zy_f32.rs",
     "rotated_rcm_f32.rs",
     "dia10_like_zx_f64.rs",

@@ -525,6 +525,13 @@ check_robot!(
     "robots/rotated_rcm.toml",
     [l_a, l_8]
 );
+// J^r 6 × 9: the manipulability by Gram–Schmidt on the emitted J^r.
+check_robot!(
+    chain11_wide,
+    chain11_wide,
+    "robots/chain11_wide.toml",
+    [l_a]
+);
 check_robot!(
     chain9_prismatic,
     chain9_prismatic,

@@ -851,7 +851,7 @@ pub mod panda_laparoscope {
             ],
         )
     }
-    /// Manipulability `w = sqrt(det((S J^r)(S J^r)ᵀ))` of the task Jacobian ([`constrained_task_jacobian`]; closed form: `|det S J^r|` when square, Cauchy–Binet sum of squared maximal minors when wide), thesis (3.36)–(3.39) (presets: (3.40)–(3.42)).
+    /// Manipulability `w = sqrt(det((S J^r)(S J^r)ᵀ))` of the task Jacobian ([`constrained_task_jacobian`]; `|det S J^r|` when square, the Cauchy–Binet sum of squared maximal minors with one spare column, the product of the row norms left by Gram–Schmidt when wider), thesis (3.36)–(3.39) (presets: (3.40)–(3.42)).
     ///
     /// Returns 0 where the closed form is not finite: where a NaN or infinite input makes it so. 0 reads as singular to a controller that damps when the manipulability is small; `+∞` would read as far from singular.
     ///
