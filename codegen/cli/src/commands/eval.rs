@@ -61,7 +61,11 @@ fn serial_generated(
     values: &[f64],
     what: What,
 ) -> Result<MatrixOut, CliError> {
-    let generated = Generated::new(desc).map_err(CliError::from_display)?;
+    let generated = crate::progress::with_spinner(
+        &format!("deriving the closed forms of `{}`", desc.name),
+        || Generated::new(desc),
+    )
+    .map_err(CliError::from_display)?;
     let function = match what {
         What::Jr => Function::ConstrainedJacobian,
         What::Manip => Function::Manipulability,

@@ -2,6 +2,7 @@
 
 use crate::args::RealArg;
 use crate::output::{write_stdout, CliError, OutputKind, Outputs};
+use crate::progress::with_spinner;
 use std::path::Path;
 use trocar_model::Description;
 
@@ -19,7 +20,10 @@ pub fn generate(robot: &str, real: RealArg) -> Result<String, CliError> {
     };
     match Description::load(robot)? {
         Description::Mechanism(m) => trocar_codegen::generate_mechanism_string(&m, &options),
-        Description::Serial(desc) => trocar_codegen::generate_module_string(&desc, &options),
+        Description::Serial(desc) => with_spinner(
+            &format!("deriving the closed forms of `{}`", desc.name),
+            || trocar_codegen::generate_module_string(&desc, &options),
+        ),
     }
     .map_err(CliError::from_display)
 }
