@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
 """Build the constrained Jacobians of trocar's presets and dia10_like in CasADi SX and in SymPy,
-from the same geometry (SPEC 3.1, 3.2), and emit C the way a user of those tools would:
+from the same geometry (docs/reference-robots.md), and emit C the way a user of those tools would:
 
 * CasADi: ``casadi.Function`` on SX, ``CodeGenerator`` (= ``Function.generate``), once with default
   options and once with the ``cse`` option;
 * SymPy: expressions built with ``sympy.Matrix``-style products, ``sympy.cse`` over all outputs, ``ccode``.
 
-Kinematics (SPEC 2): link frame k is joint k's frame, g_{k-1,k}(q_k) = Trans(o_k) Rot(a_k, q_k); the
+Kinematics (docs/reference-robots.md, conventions): link frame k is joint k's frame, g_{k-1,k}(q_k) = Trans(o_k) Rot(a_k, q_k); the
 joint's twist in its own frame is (0, a_k) (linear part first). Body Jacobian column k is
 Ad_{g_ke}^{-1} (0, a_k). J^r = [Ad_{g_ei} Lambda# | J^B_0e2] (3.15) with the thesis bases (3.23), (3.27).
 
@@ -173,7 +173,7 @@ def constrained_jacobian(after_tfs, after_axes, tip, kind, la):
 
 
 def preset(name, S, C, la, lb, l8):
-    """J^r of a preset (SPEC 3.1) from (sin, cos) of q7, q8. Returns columns."""
+    """J^r of a preset (docs/reference-robots.md) from (sin, cos) of q7, q8. Returns columns."""
     wrist = {"uni": "y", "bzy": "y", "bzx": "x"}[name]
     kind = "uni" if name == "uni" else "bi"
     tfs = [joint_tf([0, add(la, lb), 0], "z", S[0], C[0]), joint_tf([0, 0, 0], wrist, S[1], C[1])]
@@ -188,7 +188,7 @@ DIA_ORIGINS = [
 
 
 def dia10(wrist, S, C, la):
-    """dia10_like (SPEC 3.2): FK g_0e, J^B_0i (6x6, i = 6), J^r (6x6, bidirectional)."""
+    """dia10_like (docs/reference-robots.md): FK g_0e, J^B_0i (6x6, i = 6), J^r (6x6, bidirectional)."""
     axes = ["z", "x", "x", "y", "x", "y", "z", wrist]
     tfs = [joint_tf(DIA_ORIGINS[k], axes[k], S[k], C[k]) for k in range(8)]
     tip = (IDENT, [0, 0.21, 0])

@@ -1,6 +1,6 @@
 //! The thesis's printed constrained Jacobians (3.24), (3.28), (3.29) and manipulabilities
 //! (3.40)–(3.42) against the derivation, **symbolically**: every printed matrix is transcribed by
-//! hand below (from SPEC §3.1 and the thesis text) and parsed into the canonical normal form;
+//! hand below (from `docs/reference-robots.md` and the thesis text) and parsed into the canonical normal form;
 //! equality is `==` of normal forms, i.e. identity modulo `s² + c² = 1`.
 //! The findings are those of `codegen/ERRATA.md`.
 
@@ -41,7 +41,7 @@ fn differing(a: &Matrix, b: &Matrix) -> Vec<(usize, usize)> {
 const A1: &str = "-c8*(l8 + lb*c7)/la";
 const A2: &str = "-s8*(l8 + lb*c7)/la";
 
-/// (3.24) as printed (SPEC §3.1).
+/// (3.24) as printed (presets' geometry: `docs/reference-robots.md`).
 fn printed_3_24() -> Matrix {
     matrix(&[
         &[
@@ -99,7 +99,7 @@ fn printed_3_29() -> Matrix {
     ])
 }
 
-/// The derived (3.29) for the zx geometry of SPEC §3.1 (published in `codegen/ERRATA.md`).
+/// The derived (3.29) for the zx geometry of `docs/reference-robots.md` (published in `codegen/ERRATA.md`).
 fn derived_3_29() -> Matrix {
     matrix(&[
         &[

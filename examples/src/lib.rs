@@ -8,11 +8,11 @@
 
 use trocar_derive::constrained_robot;
 
-/// The reference arm `dia10_like` with the zy wrist (SPEC 3.2), generic over the scalar.
+/// The reference arm `dia10_like` with the zy wrist (docs/reference-robots.md), generic over the scalar.
 #[constrained_robot(file = "robots/dia10_like_zy.toml")]
 pub struct Dia10;
 
-/// The thesis's start configuration `q0` (SPEC 3.2).
+/// The thesis's start configuration `q0` (docs/reference-robots.md).
 pub const Q0: [f64; 8] = [0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
 
 /// Prints a 6 × C column-major matrix row by row.

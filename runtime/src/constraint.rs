@@ -216,7 +216,7 @@ pub fn null_space_of_rows<T: RealField + Copy>(
 }
 
 /// The thesis's null-space bases, written into `out` as columns: (3.23) for `r = 1`
-/// (`out.len() == 5`) and (3.27) for `r = 2` (`out.len() == 4`). Column order as SPEC §3:
+/// (`out.len() == 5`) and (3.27) for `r = 2` (`out.len() == 4`). Column order as the thesis's:
 /// (3.23) `v0i = (v_x, v_y, v_z, ω_x, ω_y)`; (3.27) `v0i = (v_x, v_y, v_z, ω_y)`.
 ///
 /// # Panics

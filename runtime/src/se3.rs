@@ -1,6 +1,6 @@
 //! Rigid motions SE(3), twists, hat/vee, the exponential of twists and the Adjoint (thesis chapter 2).
 //!
-//! Conventions (SPEC §2): twists are `ξ = (v, ω)` with the **linear part first**;
+//! Conventions (thesis chapter 2; `docs/reference-robots.md`): twists are `ξ = (v, ω)` with the **linear part first**;
 //! `Ad_g = [[R, p̂R], [0, R]]` (2.43).
 //!
 //! Everything here is allocation-free and works in `#![no_std]` builds.

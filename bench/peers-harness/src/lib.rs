@@ -3,9 +3,9 @@
 //! finite differences in `tests/check.rs`).
 //!
 //! Cases (inputs `q`, parameters `p`, outputs column-major):
-//! - `uni`, `bzy`, `bzx`: J^r of the presets (SPEC 3.1); `q = (θ7, θ8)`, `p = (l_a, l_b, l_8)`;
+//! - `uni`, `bzy`, `bzx`: J^r of the presets (docs/reference-robots.md); `q = (θ7, θ8)`, `p = (l_a, l_b, l_8)`;
 //!   6×7, 6×6, 6×6.
-//! - `dia_zy`: dia10_like (SPEC 3.2) with the zy wrist; `q = θ1..θ8`, `p = (l_a)`; outputs FK
+//! - `dia_zy`: dia10_like (docs/reference-robots.md) with the zy wrist; `q = θ1..θ8`, `p = (l_a)`; outputs FK
 //!   (R column-major then p, 12), J^B_0i (6×6), J^r (6×6).
 //! - `panda`: the Franka Panda (trocar's shipped `urdf/panda.urdf`), pose and body Jacobian
 //!   (6×7) of the flange `panda_link8`, what a Panda user asks Pinocchio for

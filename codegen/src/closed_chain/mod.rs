@@ -1,4 +1,4 @@
-//! Closed planar mechanisms (second source, SPEC §4): the reduced Jacobian in closed form.
+//! Closed planar mechanisms (second source: Freitas, Leite & Lizarralde, CBA 2010): the reduced Jacobian in closed form.
 //!
 //! Equation numbers refer to G. M. Freitas, A. C. Leite, F. Lizarralde, *Controle de sistemas
 //! robóticos com restrições cinemáticas*, CBA 2010. A mechanism is the symbolic model

@@ -1,5 +1,5 @@
 //! Shared helpers of the `derivation_*` tests: the preset descriptions built programmatically
-//! (geometry of `runtime/model/robots/*.toml` and SPEC §3.1, §3.2) and an independent, plain-`f64`
+//! (geometry of `runtime/model/robots/*.toml` and `docs/reference-robots.md`) and an independent, plain-`f64`
 //! numeric implementation of the kinematics (4×4 products and adjoints), written without the
 //! symbolic engine.
 #![allow(dead_code)]
@@ -44,7 +44,7 @@ const X: [f64; 3] = [1.0, 0.0, 0.0];
 const Y: [f64; 3] = [0.0, 1.0, 0.0];
 const Z: [f64; 3] = [0.0, 0.0, 1.0];
 
-/// Joints 1–6 of dia10_like (SPEC §3.2), as in `runtime/model/robots/*.toml`.
+/// Joints 1–6 of dia10_like (`docs/reference-robots.md`), as in `runtime/model/robots/*.toml`.
 pub fn dia10_first_six() -> Vec<JointDesc> {
     vec![
         revolute("torso", [num(0.0), num(0.0), num(0.0)], Z),
@@ -124,7 +124,7 @@ pub fn preset(name: &str) -> RobotDescription {
     }
 }
 
-/// dia10_like with a zy or zx wrist (SPEC §3.2): only `l_a` is a parameter.
+/// dia10_like with a zy or zx wrist (`docs/reference-robots.md`): only `l_a` is a parameter.
 pub fn dia10_like(zx: bool) -> RobotDescription {
     let (name, axis, wrist) = if zx {
         ("dia10_like_zx", X, Wrist::Zx)

@@ -135,7 +135,7 @@ pub fn dls<const C: usize>(j: &[[f32; 6]; C], b: &[f32; 6], kappa: f32) -> Optio
     Some(x)
 }
 
-/// `l_a = (p_trocar − p_0i) · y_i` (trocar fixed in space, SPEC 3.2).
+/// `l_a = (p_trocar − p_0i) · y_i` (trocar fixed in space, `docs/reference-robots.md`).
 pub fn trocar_distance(t: &dia10::JointTrig, trocar: &[f32; 3]) -> f32 {
     let (r, p) = dia10::forward_kinematics_i_trig(t, &dia10::Params { l_a: 0.0 });
     let y = r[1];

@@ -164,7 +164,7 @@ fn constrained_jacobian_reproduces_the_body_velocity() {
     }
 }
 
-/// (3.24) as printed (SPEC §3.1), transcribed by hand.
+/// (3.24) as printed (presets' geometry: `docs/reference-robots.md`), transcribed by hand.
 fn printed_3_24(t7: f64, t8: f64, la: f64, lb: f64, l8: f64) -> SMatrix<f64, 6, 7> {
     let (s7, c7) = t7.sin_cos();
     let (s8, c8) = t8.sin_cos();
@@ -435,7 +435,7 @@ fn user_errors_are_results() {
     assert!((l * robot.lambda_null_space().unwrap()).norm_max() < 1e-14);
 }
 
-/// SPEC §3.2: both Jacobians (J^B_0i and J^r) are regular at the start configuration q0.
+/// `docs/reference-robots.md`: both Jacobians (J^B_0i and J^r) are regular at the start configuration q0.
 #[test]
 fn dia10_like_start_configuration_is_regular() {
     let q0 = [0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];

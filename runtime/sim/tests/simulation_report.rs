@@ -177,7 +177,7 @@ around them is written by hand from the same numbers.
 
 ## Setup
 
-- Arm `dia10_like_zy` (SPEC §3.2), start `q0 = (0, −0.3, 0.9, 0.2, −0.6, 0.1, 0.5, 0.3)` (both
+- Arm `dia10_like_zy` (`docs/reference-robots.md`), start `q0 = (0, −0.3, 0.9, 0.2, −0.6, 0.1, 0.5, 0.3)` (both
   Jacobians regular: `w_r = 0.69`, `w_i = 0.045`), trocar at `l_a = 0.15` m of link 6 in `q0`,
   fixed in space (moved by the commanded RCM velocity in scenario 4 and experiment 4.2.1);
   `l_a = (p_trocar − p_0i)·y_i` is recomputed at every step.

@@ -1,4 +1,4 @@
-//! The scenarios of SPEC §3.2 with the bounds issue 5 asks for. Every run is 2 ms explicit Euler.
+//! The scenarios of the thesis (`docs/reference-robots.md`) with the bounds the controller must meet. Every run is 2 ms explicit Euler.
 
 use trocar_sim::simulation::{
     run, Method, Scenario, ScenarioConfig, Summary, MAX_JOINT_SPEED, S4_RCM_AMPLITUDE,

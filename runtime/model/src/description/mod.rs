@@ -1,6 +1,6 @@
 //! Robot descriptions, shared by the generator and the runtime.
 //!
-//! A description is link by link, URDF-style (SPEC §2): each joint has a fixed origin from its
+//! A description is link by link, URDF-style (`docs/reference-robots.md`, conventions): each joint has a fixed origin from its
 //! parent frame, an axis in its own frame and a type, or a raw twist `(v, ω)`. Link frame `k` is
 //! joint `k`'s frame. Lengths may be numbers or **named parameters** (linear combinations such as
 //! `"l_a + l_b"`), which stay symbolic in generated code and become runtime inputs.

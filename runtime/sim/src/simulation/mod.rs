@@ -1,4 +1,4 @@
-//! Kinematic simulations of the thesis's scenarios (chapter 4, SPEC §3.2) on the reference arm
+//! Kinematic simulations of the thesis's scenarios (chapter 4; `docs/reference-robots.md`) on the reference arm
 //! `dia10_like`, with the controller of [`trocar::control`].
 //!
 //! # Model
@@ -74,10 +74,10 @@ pub fn run(config: &ScenarioConfig, progress: impl FnMut(f64)) -> Result<Trace, 
     }
 }
 
-/// The start configuration of every scenario (SPEC §3.2).
+/// The start configuration of every scenario (`docs/reference-robots.md`).
 pub const Q0: [f64; 8] = [0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
 
-/// `l_a` at `q0` (SPEC §3.2).
+/// `l_a` at `q0` (`docs/reference-robots.md`).
 pub const L_A0: f64 = 0.15;
 
 /// What is measured of the RCM at one step, from forward kinematics only.

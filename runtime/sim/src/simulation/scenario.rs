@@ -1,4 +1,4 @@
-//! The scenarios of SPEC §3.2 / thesis §4.1–4.2.1 and their configuration.
+//! The scenarios of the thesis's sections 4.1–4.2.1 (`docs/reference-robots.md`) and their configuration.
 
 use core::f64::consts::PI;
 use nalgebra::{Matrix3, Rotation3, Vector3};
