@@ -196,17 +196,31 @@ pub fn parse(text: &str) -> Result<Expr, ExprError> {
     Expr::parse(text)
 }
 
+/// `text` for an error message: whole when short, else its first 40 characters, `…` and the
+/// length (an expression thousands of characters long is not repeated in full).
+pub fn quoted(text: &str) -> String {
+    const SHOWN: usize = 40;
+    let n = text.chars().count();
+    if n <= 2 * SHOWN {
+        text.to_string()
+    } else {
+        let head: String = text.chars().take(SHOWN).collect();
+        format!("{head}… ({n} characters)")
+    }
+}
+
 impl Expr {
     /// Parses a length expression (see the [module](self) grammar).
     pub fn parse(text: &str) -> Result<Expr, ExprError> {
         let mut p = Parser {
             s: text.as_bytes(),
             i: 0,
+            parens: 0,
         };
         if p.peek().is_none() {
             return Err(ExprError::new(p.i, "empty expression"));
         }
-        let e = p.sum()?;
+        let (e, _) = p.sum()?;
         if p.peek().is_some() {
             return Err(p.unexpected());
         }
@@ -422,7 +436,18 @@ impl fmt::Display for Expr {
 struct Parser<'a> {
     s: &'a [u8],
     i: usize,
+    /// Open parentheses around the current position (the parser's own recursion).
+    parens: usize,
 }
+
+/// The deepest expression tree the parser builds: parentheses, signs and chains of operators
+/// each add a level. Every walk over the tree (evaluation, printing, dropping it) recurses once
+/// per level, so an unbounded depth would exhaust the stack; a length in a description needs a
+/// handful.
+pub const MAX_DEPTH: usize = 200;
+
+/// A parsed subexpression and the depth of its tree.
+type Parsed = (Expr, usize);
 
 impl Parser<'_> {
     fn peek(&mut self) -> Option<u8> {
@@ -446,17 +471,30 @@ impl Parser<'_> {
         }
     }
 
-    fn sum(&mut self) -> Result<Expr, ExprError> {
-        let mut acc = self.product()?;
+    /// `depth`, or the error of a tree deeper than [`MAX_DEPTH`] at byte `at`.
+    fn within_depth(&self, depth: usize, at: usize) -> Result<usize, ExprError> {
+        if depth > MAX_DEPTH {
+            Err(ExprError::new(
+                at,
+                format!("the expression is nested more than {MAX_DEPTH} levels deep"),
+            ))
+        } else {
+            Ok(depth)
+        }
+    }
+
+    fn sum(&mut self) -> Result<Parsed, ExprError> {
+        let (mut acc, mut depth) = self.product()?;
         loop {
             let op = match self.peek() {
                 Some(b'+') => BinOp::Add,
                 Some(b'-') => BinOp::Sub,
-                _ => return Ok(acc),
+                _ => return Ok((acc, depth)),
             };
             let at = self.i;
             self.i += 1;
-            let rhs = self.product()?;
+            let (rhs, d) = self.product()?;
+            depth = self.within_depth(depth.max(d) + 1, at)?;
             acc = Expr::Binary {
                 op,
                 lhs: Box::new(acc),
@@ -466,17 +504,18 @@ impl Parser<'_> {
         }
     }
 
-    fn product(&mut self) -> Result<Expr, ExprError> {
-        let mut acc = self.unary()?;
+    fn product(&mut self) -> Result<Parsed, ExprError> {
+        let (mut acc, mut depth) = self.unary()?;
         loop {
             let op = match self.peek() {
                 Some(b'*') => BinOp::Mul,
                 Some(b'/') => BinOp::Div,
-                _ => return Ok(acc),
+                _ => return Ok((acc, depth)),
             };
             let at = self.i;
             self.i += 1;
-            let rhs = self.unary()?;
+            let (rhs, d) = self.unary()?;
+            depth = self.within_depth(depth.max(d) + 1, at)?;
             acc = Expr::Binary {
                 op,
                 lhs: Box::new(acc),
@@ -486,28 +525,40 @@ impl Parser<'_> {
         }
     }
 
-    fn unary(&mut self) -> Result<Expr, ExprError> {
-        match self.peek() {
-            Some(b'-') => {
-                let at = self.i;
-                self.i += 1;
-                Ok(Expr::Neg {
-                    operand: Box::new(self.unary()?),
-                    at,
-                })
+    fn unary(&mut self) -> Result<Parsed, ExprError> {
+        // Leading signs are counted before recursing, so that a long run of them stops at the
+        // depth limit instead of on the stack.
+        let start = self.i;
+        let mut signs = Vec::new();
+        loop {
+            match self.peek() {
+                Some(b'-') => {
+                    signs.push(Some(self.i));
+                    self.i += 1;
+                }
+                Some(b'+') => {
+                    signs.push(None);
+                    self.i += 1;
+                }
+                _ => break,
             }
-            Some(b'+') => {
-                self.i += 1;
-                self.unary()
-            }
-            _ => self.power(),
+            self.within_depth(signs.len(), start)?;
         }
+        let (mut e, mut depth) = self.power()?;
+        for at in signs.into_iter().rev().flatten() {
+            depth = self.within_depth(depth + 1, at)?;
+            e = Expr::Neg {
+                operand: Box::new(e),
+                at,
+            };
+        }
+        Ok((e, depth))
     }
 
-    fn power(&mut self) -> Result<Expr, ExprError> {
-        let base = self.primary()?;
+    fn power(&mut self) -> Result<Parsed, ExprError> {
+        let (base, depth) = self.primary()?;
         if self.peek() != Some(b'^') {
-            return Ok(base);
+            return Ok((base, depth));
         }
         let at = self.i;
         self.i += 1;
@@ -524,19 +575,30 @@ impl Parser<'_> {
             .ok()
             .and_then(|t| t.parse().ok())
             .ok_or_else(|| ExprError::new(start, "expected an integer exponent"))?;
-        Ok(Expr::Pow {
-            base: Box::new(base),
-            exponent: if neg { -n } else { n },
-            at,
-        })
+        Ok((
+            Expr::Pow {
+                base: Box::new(base),
+                exponent: if neg { -n } else { n },
+                at,
+            },
+            self.within_depth(depth + 1, at)?,
+        ))
     }
 
-    fn primary(&mut self) -> Result<Expr, ExprError> {
+    fn primary(&mut self) -> Result<Parsed, ExprError> {
         match self.peek() {
             Some(b'(') => {
                 let open = self.i;
                 self.i += 1;
-                let e = self.sum()?;
+                self.parens += 1;
+                if self.parens > MAX_DEPTH {
+                    return Err(ExprError::new(
+                        open,
+                        format!("the expression is nested more than {MAX_DEPTH} levels deep"),
+                    ));
+                }
+                let (e, depth) = self.sum()?;
+                self.parens -= 1;
                 if self.peek() != Some(b')') {
                     return Err(ExprError::new(
                         self.i,
@@ -544,7 +606,7 @@ impl Parser<'_> {
                     ));
                 }
                 self.i += 1;
-                Ok(e)
+                Ok((e, depth))
             }
             Some(c) if c.is_ascii_digit() || c == b'.' => {
                 let start = self.i;
@@ -570,7 +632,7 @@ impl Parser<'_> {
                 let value: f64 = t
                     .parse()
                     .map_err(|_| ExprError::new(start, format!("cannot read the number `{t}`")))?;
-                Ok(Expr::Number { value, at: start })
+                Ok((Expr::Number { value, at: start }, 1))
             }
             Some(c) if c.is_ascii_alphabetic() || c == b'_' => {
                 let start = self.i;
@@ -580,14 +642,15 @@ impl Parser<'_> {
                     self.i += 1;
                 }
                 let name = std::str::from_utf8(&self.s[start..self.i]).unwrap_or("");
-                Ok(if name == "pi" {
+                let e = if name == "pi" {
                     Expr::Pi { at: start }
                 } else {
                     Expr::Symbol {
                         name: name.to_string(),
                         at: start,
                     }
-                })
+                };
+                Ok((e, 1))
             }
             _ => Err(self.unexpected()),
         }
@@ -657,6 +720,34 @@ mod tests {
         let e = Expr::parse("a * (2 - l9) + l8").unwrap();
         assert_eq!(e.check_symbols(|n| n.len() == 1), Err(err_at(9, "l9")));
         assert_eq!(e.check_symbols(|_| true), Ok(()));
+    }
+
+    /// Nesting deeper than [`MAX_DEPTH`] is an error at the byte where it goes too deep (12,000
+    /// parentheses used to overflow the stack and abort), whether by parentheses, signs or a
+    /// long chain of operators; nesting within the limit still parses and evaluates.
+    #[test]
+    fn deep_nesting_is_an_error_not_a_stack_overflow() {
+        let nested = |k: usize| format!("{}l_8{}", "(".repeat(k), ")".repeat(k));
+        let e = Expr::parse(&nested(12_000)).unwrap_err();
+        assert!(e.message.contains("nested more than 200 levels"), "{e}");
+        assert_eq!(e.at, MAX_DEPTH);
+        let ok = Expr::parse(&nested(150)).unwrap();
+        assert_eq!(ok.eval(|_| Some(0.21)).unwrap(), 0.21);
+        let signs = format!("{}1", "-".repeat(100_000));
+        assert!(Expr::parse(&signs).unwrap_err().message.contains("nested"));
+        assert_eq!(
+            Expr::parse(&format!("{}1", "-".repeat(10)))
+                .unwrap()
+                .eval(|_| None)
+                .unwrap(),
+            1.0
+        );
+        let chain = vec!["1"; 100_000].join("+");
+        assert!(Expr::parse(&chain).unwrap_err().message.contains("nested"));
+        let short = vec!["1"; 100].join("+");
+        assert_eq!(Expr::parse(&short).unwrap().eval(|_| None).unwrap(), 100.0);
+        let powers = format!("{}2{}", "(".repeat(300), ")^2".repeat(300));
+        assert!(Expr::parse(&powers).is_err());
     }
 
     #[test]

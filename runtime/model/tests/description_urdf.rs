@@ -324,6 +324,20 @@ fn urdf_document_errors_have_a_line() {
     // No element at all.
     let (line, _, message) = located("   ");
     assert_eq!(line, 1, "{message}");
+    // Elements nested 14,000 deep (the URDF reader overflowed the stack and aborted): refused
+    // at the 65th level (the 64th `<x>` inside `<robot>`).
+    let deep = good.replacen(
+        "<link name=\"a\"/>",
+        &format!(
+            "{}<link name=\"a\"/>{}",
+            "<x>\n".repeat(14_000),
+            "</x>".repeat(14_000)
+        ),
+        1,
+    );
+    let (line, _, message) = located(&deep);
+    assert_eq!(line, 1 + 64, "{message}");
+    assert!(message.contains("nested more than 64 levels"), "{message}");
 }
 
 #[test]

@@ -463,7 +463,12 @@ impl Reader {
             Value::Integer(i) => number(*i as f64),
             Value::String(s) => Expr::parse(s)
                 .and_then(|e| e.check_symbols(|n| self.value(n).is_some()).map(|()| e))
-                .map_err(|e| err(field, format!("cannot read `{s}`: {e}")))?,
+                .map_err(|e| {
+                    err(
+                        field,
+                        format!("cannot read `{}`: {e}", crate::expr::quoted(s)),
+                    )
+                })?,
             _ => {
                 return Err(err(
                     field,

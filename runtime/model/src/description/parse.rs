@@ -174,7 +174,7 @@ impl Scalar {
     pub fn parse(text: &str) -> Result<Self, String> {
         let linear = crate::expr::Expr::parse(text)
             .and_then(|e| e.linear())
-            .map_err(|e| format!("cannot read `{text}`: {e}"))?;
+            .map_err(|e| format!("cannot read `{}`: {e}", crate::expr::quoted(text)))?;
         Ok(Scalar {
             constant: linear.constant,
             terms: linear.terms,

@@ -145,6 +145,10 @@ impl Pose {
 }
 
 /// The line of `<joint name="NAME" ...>` in the URDF text.
+/// The deepest element nesting a URDF may have (`<robot>`, `<joint>`, `<origin>` is 3 levels;
+/// `<link>`, `<visual>`, `<geometry>`, `<mesh>` is 4).
+const MAX_XML_DEPTH: usize = 64;
+
 /// Whether `text` is well-formed XML (every element closed, in order, and the file does not end
 /// inside one); otherwise where and what is wrong. The URDF reader behind
 /// [`urdf_rs::read_from_string`] reports no position, and accepted a mismatched end tag.
@@ -155,10 +159,22 @@ fn check_xml(text: &str) -> Result<(), (Location, String)> {
     loop {
         let before = usize::try_from(reader.buffer_position()).unwrap_or(usize::MAX);
         match reader.read_event() {
-            Ok(Event::Start(e)) => open.push((
-                String::from_utf8_lossy(e.name().as_ref()).into_owned(),
-                before,
-            )),
+            Ok(Event::Start(e)) => {
+                open.push((
+                    String::from_utf8_lossy(e.name().as_ref()).into_owned(),
+                    before,
+                ));
+                // The URDF reader recurses once per level (unknown elements included): refuse
+                // a nesting no URDF needs before it exhausts the stack.
+                if open.len() > MAX_XML_DEPTH {
+                    return Err((
+                        location_of(text, before),
+                        format!(
+                            "elements nested more than {MAX_XML_DEPTH} levels deep (a URDF needs 4)"
+                        ),
+                    ));
+                }
+            }
             Ok(Event::End(_)) => {
                 open.pop();
             }
