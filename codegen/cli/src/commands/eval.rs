@@ -48,9 +48,24 @@ pub fn eval_serial(
         )));
     }
     if numeric {
-        serial_numeric(desc, q, &values, what)
+        finite_numeric(serial_numeric(desc, q, &values, what)?, what)
     } else {
         serial_generated(desc, q, &values, what)
+    }
+}
+
+/// The numeric runtime's answer, or an error where it is not finite (never a `NaN` or `inf`
+/// printed with exit code 0): a parameter at an extreme value (`l_a = 1e-200` overflows `w`), or
+/// a mechanism at a configuration where the answer is undefined.
+fn finite_numeric(out: MatrixOut, what: What) -> Result<MatrixOut, CliError> {
+    if out.is_finite() {
+        Ok(out)
+    } else {
+        Err(CliError(format!(
+            "--what {} --numeric: the result is not finite at this configuration and these \
+             parameter values (an extreme parameter value, or a singular configuration)",
+            what_name(what)
+        )))
     }
 }
 
@@ -197,7 +212,7 @@ pub fn eval_mechanism(
     let declared = m.parameter_names().into_iter().zip(m.nominal_values());
     let values = params::resolve(declared, params, "mechanism")?;
     if numeric {
-        mechanism_numeric(m, q, &values, what)
+        finite_numeric(mechanism_numeric(m, q, &values, what)?, what)
     } else {
         mechanism_generated(m, q, &values, what)
     }
