@@ -383,6 +383,18 @@ pub struct Controller<
     fi_started: bool,
 }
 
+/// `A = Λ J^B_0i`, the constrained directions of the link's twist as functions of `θ̇_{1..i}`,
+/// with `Λ = (Λ†ᵀ Λ†)⁻¹ Λ†ᵀ` recovered from `Λ†` (its left inverse). `None` if `Λ†` has not
+/// full column rank.
+fn constrained_rows<T: RealField + Copy, const I: usize, const R: usize>(
+    j: &SMatrix<T, 6, I>,
+    lambda_pinv: &SMatrix<T, 6, R>,
+) -> Option<SMatrix<T, R, I>> {
+    let lambda: SMatrix<T, R, 6> =
+        GramCholesky::new(&lambda_pinv.tr_mul(lambda_pinv))?.solve(&lambda_pinv.transpose());
+    Some(lambda * j)
+}
+
 /// `θ̇_c + α (θ̇ − θ̇_c)` for [`ControllerConfig::max_joint_speed`]: `θ̇_c = A† dv_0r` on the
 /// joints up to the constrained link (zero after it), `A = Λ J^B_0i`, and the largest
 /// `α ∈ [0, 1]` that keeps every entry within `±limit` (`α = 0`, `θ̇ = θ̇_c`, if `θ̇_c` alone
@@ -394,9 +406,7 @@ fn within_speed_limit<T: RealField + Copy, const N: usize, const I: usize, const
     dv_0r: &SVector<T, R>,
     limit: T,
 ) -> Option<SVector<T, N>> {
-    let lambda: SMatrix<T, R, 6> =
-        GramCholesky::new(&lambda_pinv.tr_mul(lambda_pinv))?.solve(&lambda_pinv.transpose());
-    let a: SMatrix<T, R, I> = lambda * j;
+    let a = constrained_rows(j, lambda_pinv)?;
     let c_i: SVector<T, I> = a.tr_mul(&GramCholesky::new(&(a * a.transpose()))?.solve(dv_0r));
     let c = SVector::<T, N>::from_fn(|k, _| if k < I { c_i[k] } else { T::zero() });
     let r = qd - c;
@@ -424,9 +434,7 @@ fn constraint_first<T: RealField + Copy, const I: usize, const R: usize>(
     dv_0r: &SVector<T, R>,
     u0: Option<&SVector<T, I>>,
 ) -> Option<SVector<T, I>> {
-    let lambda: SMatrix<T, R, 6> =
-        GramCholesky::new(&lambda_pinv.tr_mul(lambda_pinv))?.solve(&lambda_pinv.transpose());
-    let a: SMatrix<T, R, I> = lambda * j;
+    let a = constrained_rows(j, lambda_pinv)?;
     let aat = a * a.transpose();
     // Where `J` cannot move the link in a constrained direction (`A A^T` singular), that
     // stage is damped too: the constraint then holds as well as the arm allows.

@@ -340,10 +340,16 @@ pub(crate) fn run(
     json: bool,
     numeric: bool,
 ) -> Result<i32, CliError> {
-    eval(robot, q, params, what, numeric)?.print(json)?;
-    if let Description::Serial(desc) = Description::load(robot)? {
-        if let Some(note) = serial_singularity(&desc, q, params, what, numeric)? {
-            eprintln!("note: {note}");
+    match Description::load(robot)? {
+        Description::Mechanism(m) => eval_mechanism(&m, q, params, what, numeric)?.print(json)?,
+        Description::Serial(desc) => {
+            let out = eval_serial(&desc, q, params, what, numeric)?;
+            out.print(json)?;
+            // The answer is the Jacobian to test, unless it is the manipulability.
+            let shown = (what != What::Manip).then_some(&out);
+            if let Some(note) = serial_singularity(&desc, q, params, what, numeric, shown)? {
+                eprintln!("note: {note}");
+            }
         }
     }
     Ok(0)
@@ -353,13 +359,15 @@ pub(crate) fn run(
 /// [`trocar_model::singularity`] (the closed form's or the numeric runtime's, as `numeric`
 /// says), what `trocar eval` says about it: `J^r` for `jr`, the task Jacobian `S J^r` for `task`,
 /// whichever defines the manipulability for `manip`, `J^B_0i` for `jb0i`. `None` where it is
-/// regular, or for another `what`.
+/// regular, or for another `what`. `evaluated` is that Jacobian when the caller has it already
+/// (`trocar eval --what jr` prints it), so it is not evaluated twice.
 pub fn serial_singularity(
     desc: &RobotDescription,
     q: &[f64],
     params: &[(String, f64)],
     what: What,
     numeric: bool,
+    evaluated: Option<&MatrixOut>,
 ) -> Result<Option<String>, CliError> {
     let (jacobian, name) = match what {
         What::Jr => (What::Jr, "J^r"),
@@ -369,7 +377,14 @@ pub fn serial_singularity(
         What::Jb0i => (What::Jb0i, "J^B_0i"),
         _ => return Ok(None),
     };
-    let m = eval_serial(desc, q, params, jacobian, numeric)?;
+    let computed;
+    let m = match evaluated {
+        Some(m) => m,
+        None => {
+            computed = eval_serial(desc, q, params, jacobian, numeric)?;
+            &computed
+        }
+    };
     let j = trocar::nalgebra::DMatrix::from_fn(m.rows, m.cols, |r, c| m.data[r][c]);
     let sv: Vec<f64> = j.singular_values().iter().copied().collect();
     let full = m.rows.min(m.cols);
