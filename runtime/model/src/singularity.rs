@@ -17,9 +17,14 @@ pub const RELATIVE_TOLERANCE: f64 = 1e-9;
 /// The numerical rank of a matrix from its singular values (in any order):
 /// `#{σ_i > RELATIVE_TOLERANCE · max(σ_max, 1)}`. A NaN singular value does not count.
 pub fn rank(singular_values: &[f64]) -> usize {
-    let max = singular_values.iter().copied().fold(0.0_f64, f64::max);
-    let tol = RELATIVE_TOLERANCE * max.max(1.0);
+    let tol = threshold(singular_values);
     singular_values.iter().filter(|&&s| s > tol).count()
+}
+
+/// The bound a singular value must exceed to count: `RELATIVE_TOLERANCE · max(σ_max, 1)`.
+pub fn threshold(singular_values: &[f64]) -> f64 {
+    let max = singular_values.iter().copied().fold(0.0_f64, f64::max);
+    RELATIVE_TOLERANCE * max.max(1.0)
 }
 
 /// Whether a matrix whose `full` = min(rows, cols) singular values are `singular_values` is

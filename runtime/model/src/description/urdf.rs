@@ -253,20 +253,6 @@ fn joint_locations(text: &str) -> std::collections::HashMap<&str, Location> {
     out
 }
 
-fn joint_location(text: &str, name: &str) -> Option<Location> {
-    let mut from = 0;
-    while let Some(k) = text[from..].find("<joint") {
-        let start = from + k;
-        let end = text[start..].find('>').map_or(text.len(), |e| start + e);
-        let tag = &text[start..end];
-        if tag.contains(&format!("name=\"{name}\"")) || tag.contains(&format!("name='{name}'")) {
-            return Some(location_of(text, start));
-        }
-        from = start + "<joint".len();
-    }
-    None
-}
-
 fn origin_of(o: &urdf_rs::Pose) -> Origin {
     Origin {
         xyz: o.xyz.0.map(Scalar::constant),
@@ -384,6 +370,7 @@ pub(crate) fn import_chain(
         }
     };
     let declared = |name: &str| robot.links.iter().any(|l| l.name == name);
+    let locations = joint_locations(text);
     for (what, name) in [("tip", Some(tip_link)), ("base", base)] {
         if let Some(name) = name {
             if !declared(name) {
@@ -400,7 +387,7 @@ pub(crate) fn import_chain(
             if !declared(name) {
                 return Err(err(
                     &format!("joint[{}].{end}", j.name),
-                    joint_location(text, &j.name),
+                    locations.get(j.name.as_str()).copied(),
                     format!("the {end} link `{name}` is not declared with <link name=\"{name}\">"),
                 ));
             }
@@ -414,7 +401,7 @@ pub(crate) fn import_chain(
         if let Some(other) = parent_joint.insert(j.child.link.as_str(), j) {
             return Err(err(
                 &format!("joint[{}]", j.name),
-                joint_location(text, &j.name),
+                locations.get(j.name.as_str()).copied(),
                 format!(
                     "link `{}` is the child of two joints (`{}` and `{}`): a URDF must be a tree",
                     j.child.link, other.name, j.name
@@ -438,7 +425,7 @@ pub(crate) fn import_chain(
         if chain.len() > robot.joints.len() {
             return Err(err(
                 &format!("joint[{}]", j.name),
-                joint_location(text, &j.name),
+                locations.get(j.name.as_str()).copied(),
                 "the joints form a cycle: a URDF must be a tree".into(),
             ));
         }
@@ -449,7 +436,6 @@ pub(crate) fn import_chain(
     let mut joints = Vec::new();
     let mut pending = Pose::identity();
     let mut links = vec![(current.to_string(), 0, Pose::identity())];
-    let locations = joint_locations(text);
     for j in chain {
         let field = format!("joint[{}]", j.name);
         let line = locations.get(j.name.as_str()).copied();

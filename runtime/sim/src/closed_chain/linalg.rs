@@ -134,8 +134,8 @@ pub fn pseudo_inverse(m: &DMatrix<f64>) -> DMatrix<f64> {
         return DMatrix::zeros(c, r);
     };
     let s = svd.S().column_vector();
-    let max = s.iter().copied().fold(0.0_f64, f64::max);
-    let tol = RANK_TOLERANCE * max.max(1.0);
+    let values: Vec<f64> = s.iter().copied().collect();
+    let tol = trocar_model::singularity::threshold(&values);
     // M† = V Σ⁺ Uᵀ over the singular values above the tolerance.
     let (u, v) = (svd.U(), svd.V());
     let mut out = DMatrix::zeros(c, r);
