@@ -57,10 +57,28 @@ pub(crate) enum OutputKind {
 /// atomically after it has succeeded: each is first written under a temporary name in its own
 /// directory, then renamed over the requested name once every output has been written, so a
 /// failure (or a closed terminal) leaves no half-written or stale-looking file behind.
+///
+/// Only regular files are replaced that way. A path that already exists as something else — a
+/// device such as `/dev/null`, a FIFO, a socket — is written in place (renaming over it would
+/// replace the device node with a plain file), and a symbolic link is followed: its target is
+/// replaced and the link kept.
 #[derive(Debug, Default)]
 pub(crate) struct Outputs {
-    /// `(option, requested path, temporary path)` of each output.
-    files: Vec<(&'static str, std::path::PathBuf, std::path::PathBuf)>,
+    files: Vec<OutputFile>,
+}
+
+/// One output of a command.
+#[derive(Debug)]
+struct OutputFile {
+    /// The option that named it (`--csv`, `-o` …), for errors.
+    option: &'static str,
+    /// The path as the user gave it.
+    requested: std::path::PathBuf,
+    /// The regular file that [`Outputs::commit`] replaces (the requested path with any symbolic
+    /// link resolved).
+    target: std::path::PathBuf,
+    /// Where the output is written until the commit; `None` when it is written in place.
+    temp: Option<std::path::PathBuf>,
 }
 
 impl Outputs {
@@ -74,9 +92,9 @@ impl Outputs {
         for &(option, path, kind) in requested {
             let Some(path) = path else { continue };
             let shown = path.display();
-            let Some(name) = path.file_name() else {
+            if path.file_name().is_none() {
                 return Err(CliError(format!("{option} {shown}: not a file name")));
-            };
+            }
             if kind == OutputKind::Figure {
                 let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
                 if !ext.eq_ignore_ascii_case("svg") && !ext.eq_ignore_ascii_case("png") {
@@ -95,6 +113,18 @@ impl Outputs {
             if path.is_dir() {
                 return Err(CliError(format!("{option} {shown}: is a directory")));
             }
+            // What exists at the path, symbolic links followed: a regular file (or nothing) is
+            // replaced through a temporary; anything else is written in place.
+            let (target, in_place) = match std::fs::metadata(path) {
+                Ok(m) if !m.is_file() => (path.to_path_buf(), true),
+                Ok(_) => (
+                    path.canonicalize().unwrap_or_else(|_| path.to_path_buf()),
+                    false,
+                ),
+                // A dangling symbolic link: written through, like any write to it would.
+                Err(_) if path.is_symlink() => (path.to_path_buf(), true),
+                Err(_) => (path.to_path_buf(), false),
+            };
             // The same file under two names: the directories resolved and the names.
             let same = |p: &std::path::Path| {
                 let d = directory(p);
@@ -103,21 +133,31 @@ impl Outputs {
                     p.file_name().map(|n| n.to_owned()),
                 )
             };
-            if let Some((other, p, _)) = out.files.iter().find(|(_, p, _)| same(p) == same(path)) {
+            if let Some(other) = out.files.iter().find(|f| same(&f.target) == same(&target)) {
                 return Err(CliError(format!(
-                    "{option} {shown} and {other} {}: the same file for two outputs",
-                    p.display()
+                    "{option} {shown} and {} {}: the same file for two outputs",
+                    other.option,
+                    other.requested.display()
                 )));
             }
-            // The temporary keeps the extension: the figure's format follows it.
-            let mut temp = std::ffi::OsString::from(".");
-            temp.push(name);
-            temp.push(format!(".partial-{}", std::process::id()));
-            if let Some(ext) = path.extension() {
-                temp.push(".");
-                temp.push(ext);
-            }
-            out.files.push((option, path.to_path_buf(), dir.join(temp)));
+            let temp = (!in_place).then(|| {
+                // The temporary keeps the extension: the figure's format follows it.
+                let name = target.file_name().unwrap_or(path.as_os_str());
+                let mut temp = std::ffi::OsString::from(".");
+                temp.push(name);
+                temp.push(format!(".partial-{}", std::process::id()));
+                if let Some(ext) = target.extension() {
+                    temp.push(".");
+                    temp.push(ext);
+                }
+                directory(&target).join(temp)
+            });
+            out.files.push(OutputFile {
+                option,
+                requested: path.to_path_buf(),
+                target,
+                temp,
+            });
         }
         Ok(out)
     }
@@ -126,25 +166,30 @@ impl Outputs {
     pub(crate) fn temporary<'a>(&'a self, path: &'a std::path::Path) -> &'a std::path::Path {
         self.files
             .iter()
-            .find(|(_, p, _)| p == path)
-            .map_or(path, |(_, _, t)| t.as_path())
+            .find(|f| f.requested == path)
+            .map_or(path, |f| f.temp.as_deref().unwrap_or(&f.target))
     }
 
     /// `e` with every temporary file name replaced by the name the user gave.
     pub(crate) fn explain(&self, e: CliError) -> CliError {
         let mut text = e.0;
-        for (_, path, temp) in &self.files {
-            text = text.replace(&temp.display().to_string(), &path.display().to_string());
+        for f in &self.files {
+            let written = f.temp.as_deref().unwrap_or(&f.target);
+            text = text.replace(
+                &written.display().to_string(),
+                &f.requested.display().to_string(),
+            );
         }
         CliError(text)
     }
 
     /// Renames every temporary file over its requested name.
     pub(crate) fn commit(mut self) -> Result<(), CliError> {
-        for (option, path, temp) in std::mem::take(&mut self.files) {
-            std::fs::rename(&temp, &path).map_err(|e| {
-                let _ = std::fs::remove_file(&temp);
-                CliError(format!("{option} {}: {e}", path.display()))
+        for f in std::mem::take(&mut self.files) {
+            let Some(temp) = &f.temp else { continue };
+            std::fs::rename(temp, &f.target).map_err(|e| {
+                let _ = std::fs::remove_file(temp);
+                CliError(format!("{} {}: {e}", f.option, f.requested.display()))
             })?;
         }
         Ok(())
@@ -162,7 +207,7 @@ fn directory(path: &std::path::Path) -> std::path::PathBuf {
 impl Drop for Outputs {
     /// Removes the temporary files of a command that failed.
     fn drop(&mut self) {
-        for (_, _, temp) in &self.files {
+        for temp in self.files.iter().filter_map(|f| f.temp.as_ref()) {
             let _ = std::fs::remove_file(temp);
         }
     }

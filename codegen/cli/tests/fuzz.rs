@@ -2046,6 +2046,14 @@ fn check(case: &Case, out: &Outcome, dir: &Path) -> Result<(), Problem> {
     if stderr.contains("panicked") {
         return Err(problem("panic", tail(&stderr)));
     }
+    // Nothing outside the working directory is touched: `/dev/null` given as an output path was
+    // once renamed over, leaving a regular file in its place.
+    if !dev_null_is_a_device() {
+        return Err(problem(
+            "stray file",
+            "/dev/null is no longer a character device".to_string(),
+        ));
+    }
     let code = out.code.unwrap_or(-1);
     if !(0..=2).contains(&code) {
         return Err(problem(
@@ -2108,6 +2116,12 @@ fn check(case: &Case, out: &Outcome, dir: &Path) -> Result<(), Problem> {
         }
     }
     Ok(())
+}
+
+/// Whether `/dev/null` is still the null device.
+fn dev_null_is_a_device() -> bool {
+    use std::os::unix::fs::FileTypeExt;
+    fs::symlink_metadata("/dev/null").is_ok_and(|m| m.file_type().is_char_device())
 }
 
 /// The last lines of a long text.

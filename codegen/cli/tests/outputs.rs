@@ -153,3 +153,61 @@ fn a_failed_command_leaves_nothing() {
     assert!(err.contains("unknown scenario"), "{err}");
     assert!(entries(&dir).is_empty(), "{:?}", entries(&dir));
 }
+
+/// An output path that exists as something other than a regular file (a FIFO here; `/dev/null`
+/// in practice) is written in place. Writing it through a temporary and renaming that over the
+/// path replaced the node with a plain file: `generate -o /dev/null` run as root turned the
+/// machine's `/dev/null` into a regular file that later readers of `/dev/null` then read from.
+#[cfg(unix)]
+#[test]
+fn a_device_or_fifo_is_written_in_place() {
+    use std::os::unix::fs::FileTypeExt;
+    let dir = scratch("fifo");
+    let fifo = dir.join("pipe.rs");
+    let made = Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .expect("mkfifo runs");
+    assert!(made.success());
+    // The reader, a child process so that it can be stopped if the FIFO is never written (it
+    // blocks opening the FIFO until a writer opens it).
+    let copy = dir.join("../outputs-fifo-read.rs");
+    let mut reader = Command::new("cat")
+        .arg(&fifo)
+        .stdout(std::fs::File::create(&copy).unwrap())
+        .spawn()
+        .expect("cat runs");
+    let out = trocar(&["generate", "unidirectional", "-o", "pipe.rs"], &dir);
+    let waited = std::time::Instant::now();
+    while reader.try_wait().unwrap().is_none() && waited.elapsed().as_secs() < 10 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let _ = reader.kill();
+    let _ = reader.wait();
+    assert!(out.status.success(), "{out:?}");
+    let code = std::fs::read_to_string(&copy).unwrap();
+    assert!(
+        code.contains("pub fn constrained_jacobian"),
+        "nothing came through the FIFO: {code}"
+    );
+    let kind = std::fs::symlink_metadata(&fifo).unwrap().file_type();
+    assert!(kind.is_fifo(), "the FIFO was replaced: {kind:?}");
+    assert_eq!(entries(&dir), ["pipe.rs"]);
+}
+
+/// An output path that is a symbolic link to a file: the file is replaced, the link is kept.
+#[cfg(unix)]
+#[test]
+fn a_symbolic_link_is_followed() {
+    let dir = scratch("symlink");
+    std::fs::create_dir(dir.join("real")).unwrap();
+    std::fs::write(dir.join("real/arm.rs"), "old").unwrap();
+    std::os::unix::fs::symlink("real/arm.rs", dir.join("arm.rs")).unwrap();
+    let out = trocar(&["generate", "unidirectional", "-o", "arm.rs"], &dir);
+    assert!(out.status.success(), "{out:?}");
+    assert!(dir.join("arm.rs").is_symlink(), "the link was replaced");
+    let code = std::fs::read_to_string(dir.join("real/arm.rs")).unwrap();
+    assert!(code.contains("pub fn constrained_jacobian"), "{code}");
+    assert_eq!(entries(&dir), ["arm.rs", "real"]);
+    assert_eq!(entries(&dir.join("real")), ["arm.rs"]);
+}
