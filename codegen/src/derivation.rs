@@ -20,10 +20,16 @@
 //!    `|det|` when square, otherwise `sqrt(Σ maximal minors²)` (Cauchy–Binet); the squared value
 //!    is a polynomial.
 //!
-//! Every matrix is a [`Matrix`] of canonical [`Poly`]s: entries are fully expanded sums of
-//! monomials in `s_k, c_k, q_k`, parameters (also negative powers) and `Inv` atoms, with exact
-//! rational coefficients. The per-joint transforms are kept as well ([`Derivation::joint_transforms`])
-//! so an emitter may evaluate forward kinematics as a product instead of the expanded form.
+//! Every matrix is a [`Matrix`] of [`Poly`]s: sums of monomials in `s_k, c_k, q_k`, parameters
+//! (also negative powers), `Inv` atoms and `Node` atoms, with rational coefficients. Products
+//! along the chain are expanded into canonical form while their entries stay short
+//! ([`SHARE_TERMS`]); a longer entry becomes a shared subexpression (a `Node`, see
+//! [`Poly::shared`]), so a long or generic chain is derived as an expression graph whose size
+//! grows linearly with the joints. Coefficients are exact while short and floating beyond
+//! (rule "float stays float" of [`crate::symbolic::number`]): the thesis's robots are derived
+//! exactly and canonically, a calibrated robot's float geometry in `f64` precision. The
+//! per-joint transforms are kept as well ([`Derivation::joint_transforms`]) so an emitter may
+//! evaluate forward kinematics as a product instead of the expanded form.
 //!
 //! # For an emitter
 //! Walk [`Matrix::entries`] (row-major) and [`Poly::terms`]: each term is a [`Rational`]
@@ -32,15 +38,16 @@
 //! `(Atom, exponent)`: `Sin(k)`/`Cos(k)` → one `sin_cos(q[k])` per joint, `Joint(k)` → `q[k]`,
 //! `Param(p)` with a possibly negative exponent → `params.<name>` (hoist `1/param`),
 //! `Inv(id)` → `1 / P` with `P` = [`crate::symbolic::inverse_denominator`]`(id)` (hoist it;
-//! it never depends on an `Inv` itself). Which joints/parameters a result needs:
+//! it never depends on an `Inv` itself), `Node(id)` → one value for the polynomial
+//! [`crate::symbolic::node_definition`]`(id)` (hoist it; it refers only to earlier nodes). Which joints/parameters a result needs:
 //! [`Poly::joints`], [`Matrix::joints`], [`Derivation::dependencies`].
 //!
 //! # Size budgets
-//! Generic chains grow like `3^n` terms when fully expanded. The matrices of the thesis are
-//! always expanded (`g_0i`, `g_ie`, `J^B_0i`, `J^B_0e2`, `J^r`, `J_c`, `Λ`, `Λ#`, `Λ†`);
-//! the full-chain `g_0e`, `J^B_0e` only within [`EXPANSION_BUDGET`] (else `None`: use the
-//! factorisation `g_0e = g_0i g_ie`, `J^B_0e = [Ad_{g_ei} J^B_0i | J^B_0e2]`), and the closed-form
-//! manipulability only within [`MANIPULABILITY_BUDGET`].
+//! Generic chains grow like `3^n` terms when fully expanded; with shared subexpressions
+//! ([`SHARE_TERMS`]) no product is expanded beyond a few terms per entry. The full-chain `g_0e`,
+//! `J^B_0e` are formed only within [`EXPANSION_BUDGET`] (else `None`: use the factorisation
+//! `g_0e = g_0i g_ie`, `J^B_0e = [Ad_{g_ei} J^B_0i | J^B_0e2]`), and the closed-form
+//! manipulability only from a canonical expansion within [`MANIPULABILITY_BUDGET`] terms.
 
 use crate::symbolic::{rational_null_space, Matrix, Poly, Rational, SymbolicError, Transform};
 use std::collections::BTreeSet;
@@ -255,6 +262,47 @@ pub fn minors_apply(rows: usize, cols: usize) -> bool {
     cols >= rows && cols - rows <= 1
 }
 
+/// Most terms an entry of a chain product keeps in expanded canonical form. A longer entry
+/// becomes a shared subexpression ([`Poly::shared`]): the next product multiplies that one node
+/// by the few terms of a joint transform instead of expanding a product of sums, so the size of
+/// the derivation grows linearly with the chain rather than like `3^n`. The choice is made per
+/// entry, by this bound: the thesis's robots (at most a few dozen terms per entry) stay fully
+/// expanded and canonical, which is what proves their closed forms and errata symbolically;
+/// generic and long chains become an expression graph.
+pub const SHARE_TERMS: usize = 8;
+
+/// `m` with every entry longer than [`SHARE_TERMS`] made a shared subexpression.
+fn shared(m: Matrix) -> Matrix {
+    if m.entries().iter().all(|e| e.len() <= SHARE_TERMS) {
+        return m;
+    }
+    Matrix::from_fn(m.rows(), m.cols(), |i, j| m.get(i, j).shared(SHARE_TERMS))
+}
+
+/// `g` with its entries shared as in [`shared`].
+fn shared_transform(g: Transform) -> Transform {
+    Transform {
+        rot: shared(g.rot),
+        pos: shared(g.pos),
+    }
+}
+
+/// `m` with its shared subexpressions written out ([`Poly::expanded`]), or `None` when that
+/// takes more than `budget` terms in all.
+pub fn expanded_within(m: &Matrix, budget: usize) -> Option<Matrix> {
+    let mut total = 0usize;
+    let mut entries = Vec::with_capacity(m.rows() * m.cols());
+    for e in m.entries() {
+        let x = e.expanded(budget.checked_sub(total)?)?;
+        total += x.len();
+        entries.push(x);
+    }
+    let cols = m.cols();
+    Some(Matrix::from_fn(m.rows(), cols, |i, j| {
+        entries[i * cols + j].clone()
+    }))
+}
+
 fn max_len(m: &Matrix) -> usize {
     m.entries().iter().map(Poly::len).max().unwrap_or(0)
 }
@@ -266,7 +314,7 @@ fn compose_within_budget(a: &Transform, b: &Transform) -> Option<Transform> {
     if la.saturating_mul(lb).saturating_mul(4) > EXPANSION_BUDGET {
         None
     } else {
-        Some(a.compose(b))
+        Some(shared_transform(a.compose(b)))
     }
 }
 
@@ -460,12 +508,12 @@ fn body_jacobian(
     let mut g = tail.clone();
     let mut cols: Vec<Matrix> = vec![Matrix::zeros(6, 1); upto - from];
     for k in (from..upto).rev() {
-        cols[k - from] = g.adjoint_inverse_apply(&twists[k]);
+        cols[k - from] = shared(g.adjoint_inverse_apply(&twists[k]));
         if k > from {
             g = if budget {
                 compose_within_budget(&transforms[k], &g)?
             } else {
-                transforms[k].compose(&g)
+                shared_transform(transforms[k].compose(&g))
             };
         }
     }
@@ -528,11 +576,7 @@ pub fn derive(desc: &RobotDescription) -> Result<Derivation, DerivationError> {
             let jb = if size.saturating_mul(6) > EXPANSION_BUDGET {
                 None
             } else {
-                Some(
-                    c.ad_g_ei
-                        .mul(&c.body_jacobian_i)
-                        .hstack(&c.body_jacobian_e2),
-                )
+                Some(shared(c.ad_g_ei.mul(&c.body_jacobian_i)).hstack(&c.body_jacobian_e2))
             };
             (fk, jb)
         }
@@ -659,13 +703,13 @@ fn derive_constraint(
     // g_0i = T_1 ⋯ T_i and g_ie = T_j ⋯ T_n g_ne (2.21)
     let mut fk_i = Transform::identity();
     for t in &transforms[..i] {
-        fk_i = fk_i.compose(t);
+        fk_i = shared_transform(fk_i.compose(t));
     }
     let mut g_ie = end_effector.clone();
     for t in transforms[i..].iter().rev() {
-        g_ie = t.compose(&g_ie);
+        g_ie = shared_transform(t.compose(&g_ie));
     }
-    let ad_g_ei = g_ie.adjoint_inverse();
+    let ad_g_ei = shared(g_ie.adjoint_inverse());
     let ident = Transform::identity();
     // Without a budget `body_jacobian` always returns `Some`.
     let body_jacobian_i = body_jacobian(twists, transforms, 0, i, &ident, false)
@@ -674,8 +718,8 @@ fn derive_constraint(
         .unwrap_or_else(|| Matrix::zeros(6, n - i));
     // With i = n there is no joint after the constraint: J^B_0e2 has no column and
     // J^r_0e = Ad_{g_ei} Λ#.
-    let jr = ad_g_ei.mul(&lambda_sharp).hstack(&body_jacobian_e2);
-    let jc = ad_g_ei.mul(&lambda_pinv);
+    let jr = shared(ad_g_ei.mul(&lambda_sharp)).hstack(&body_jacobian_e2);
+    let jc = shared(ad_g_ei.mul(&lambda_pinv));
     // The task: S selects rows of the end-effector twist, S J^r is the task Jacobian.
     let task = match task {
         None => None,
@@ -685,14 +729,15 @@ fn derive_constraint(
             Some(TaskDerivation { s, jacobian: sj })
         }
     };
-    // Manipulability of what the task commands: S J^r with a task, J^r without.
+    // Manipulability of what the task commands: S J^r with a task, J^r without. In closed form
+    // only from the canonical (expanded) matrix, and only while that stays small; a Jacobian in
+    // graph form whose expansion would swell gets a factorisation of its values instead.
     let commanded = task.as_ref().map_or(&jr, |t| &t.jacobian);
-    let manipulability = if commanded.total_terms() > MANIPULABILITY_BUDGET
-        || !minors_apply(commanded.rows(), commanded.cols())
-    {
-        None
-    } else {
-        Some(manipulability(commanded).map_err(|e| DerivationError::symbolic("constraint", e))?)
+    let manipulability = match expanded_within(commanded, MANIPULABILITY_BUDGET) {
+        Some(j) if minors_apply(j.rows(), j.cols()) => {
+            Some(manipulability(&j).map_err(|e| DerivationError::symbolic("constraint", e))?)
+        }
+        _ => None,
     };
     Ok(ConstrainedDerivation {
         link: i,

@@ -16,14 +16,16 @@
 use super::program::{Atom, Program, Term, ValueId};
 use super::rust::{ConstItem, Function, ModuleSpec};
 use crate::derivation::{Derivation, ManipulabilityForm};
-use crate::symbolic::{self, inverse_denominator, Matrix, Poly, Transform};
+use crate::symbolic::{self, inverse_denominator, node_definition, Matrix, Poly, Transform};
 use std::collections::HashMap;
 use trocar_model::catalogue::{Function as F, Size};
 
-/// Builds polynomials into one program, sharing `1/P` for each `Inv` atom.
+/// Builds polynomials into one program, sharing `1/P` for each `Inv` atom and one value for each
+/// shared subexpression (`Node` atom).
 pub struct PolyBuilder<'a> {
     prog: &'a mut Program,
     inverses: HashMap<u32, ValueId>,
+    nodes: HashMap<u32, ValueId>,
 }
 
 impl<'a> PolyBuilder<'a> {
@@ -32,6 +34,7 @@ impl<'a> PolyBuilder<'a> {
         PolyBuilder {
             prog,
             inverses: HashMap::new(),
+            nodes: HashMap::new(),
         }
     }
 
@@ -55,6 +58,14 @@ impl<'a> PolyBuilder<'a> {
                 let one = self.prog.constant(1.0);
                 let v = self.prog.div(one, d);
                 self.inverses.insert(id, v);
+                Atom::Value(v)
+            }
+            symbolic::Atom::Node(id) => {
+                if let Some(&v) = self.nodes.get(&id) {
+                    return Atom::Value(v);
+                }
+                let v = self.poly(&node_definition(id));
+                self.nodes.insert(id, v);
                 Atom::Value(v)
             }
         }
@@ -263,6 +274,45 @@ fn body_jacobian_product_program(d: &Derivation, upto: usize, tail: Option<&Tran
     prog
 }
 
+/// Most terms in all of a matrix in graph form that [`graph_or_expanded`] writes out to compare
+/// with the graph.
+const REEXPANSION_BUDGET: usize = 1_000;
+
+/// The program of `m`, a matrix that may hold shared subexpressions (the graph form of a long or
+/// generic chain, [`crate::derivation::SHARE_TERMS`]): when its canonical expansion is small, the
+/// program of that expansion is built as well and the one with fewer operations kept (a chain
+/// of moderate length often factors better expanded; a long one only as a graph).
+fn graph_or_expanded(d: &Derivation, m: &Matrix) -> Program {
+    let graph = matrix_program(d, m);
+    if !m.entries().iter().any(Poly::has_nodes) {
+        return graph;
+    }
+    match crate::derivation::expanded_within(m, REEXPANSION_BUDGET) {
+        Some(e) => cheaper(graph, matrix_program(d, &e)),
+        None => graph,
+    }
+}
+
+/// [`manipulability_from_jr`] of `j` and, as in [`graph_or_expanded`], of its small canonical
+/// expansion; the pair with fewer operations is kept.
+fn manipulability_graph_or_expanded(d: &Derivation, j: &Matrix) -> (Program, Program) {
+    let graph = manipulability_from_jr(d, j);
+    if !j.entries().iter().any(Poly::has_nodes) {
+        return graph;
+    }
+    match crate::derivation::expanded_within(j, REEXPANSION_BUDGET) {
+        Some(e) => {
+            let expanded = manipulability_from_jr(d, &e);
+            if expanded.0.live_len() < graph.0.live_len() {
+                expanded
+            } else {
+                graph
+            }
+        }
+        None => graph,
+    }
+}
+
 fn cheaper(a: Program, b: Program) -> Program {
     if b.live_len() < a.live_len() {
         b
@@ -307,7 +357,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
     ));
     let jb_product = body_jacobian_product_program(d, n, Some(&d.end_effector));
     let jb = match &d.body_jacobian_e {
-        Some(m) => cheaper(matrix_program(d, m), jb_product),
+        Some(m) => cheaper(graph_or_expanded(d, m), jb_product),
         None => jb_product,
     };
     functions.push(Function::catalogued(
@@ -354,18 +404,18 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
             F::ConstrainedJacobian,
             "Constrained Jacobian `J^r_0e = [Ad_{g_ei} Λ# | J^B_0e2]`, 6 × M",
             &basis,
-            matrix_program(d, &c.jr),
+            graph_or_expanded(d, &c.jr),
             size,
         ));
         functions.push(Function::catalogued(
             F::ConstraintJacobianC,
             "Jacobian of the moving constraint `J_c = Ad_{g_ei} Λ†`, 6 × R",
             "",
-            matrix_program(d, &c.jc),
+            graph_or_expanded(d, &c.jc),
             size,
         ));
         let jbi = cheaper(
-            matrix_program(d, &c.body_jacobian_i),
+            graph_or_expanded(d, &c.body_jacobian_i),
             body_jacobian_product_program(d, c.link, None),
         );
         functions.push(Function::catalogued(
@@ -389,8 +439,8 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
         // Of what the task commands: S J^r with a task, J^r without.
         let (w, w2) = match (&c.manipulability, &c.task) {
             (Some(m), _) => manipulability_programs(d, &m.form),
-            (None, Some(t)) => manipulability_from_jr(d, &t.jacobian),
-            (None, None) => manipulability_from_jr(d, &c.jr),
+            (None, Some(t)) => manipulability_graph_or_expanded(d, &t.jacobian),
+            (None, None) => manipulability_graph_or_expanded(d, &c.jr),
         };
         let (w_doc, w2_doc) = if c.task.is_some() {
             (
@@ -465,7 +515,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
                 "Task Jacobian `S J^r_0e`, T × M: the commanded rows of the end-effector twist per \
                  unit of `(v0i, θ̇_j..θ̇_n)`",
                 "",
-                matrix_program(d, &t.jacobian),
+                graph_or_expanded(d, &t.jacobian),
                 size,
             ));
         }

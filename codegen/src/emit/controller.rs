@@ -17,7 +17,7 @@
 
 use super::Real;
 use crate::derivation::Derivation;
-use crate::symbolic::{inverse_denominator, Atom, Transform};
+use crate::symbolic::{inverse_denominator, node_definition, Atom, Transform};
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 
@@ -79,6 +79,7 @@ fn slides_along_line(g: &Transform, k: usize) -> bool {
             let mentions = m.factors().iter().any(|&(a, _)| match a {
                 Atom::Param(p) => p as usize == k,
                 Atom::Inv(id) => inverse_denominator(id).params().contains(&k),
+                Atom::Node(id) => node_definition(id).params().contains(&k),
                 _ => false,
             });
             if mentions {

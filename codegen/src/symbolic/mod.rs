@@ -25,4 +25,4 @@ pub mod poly;
 
 pub use matrix::{rational_null_space, Matrix, Transform};
 pub use number::{NotFinite, Rational};
-pub use poly::{inverse_denominator, Atom, Env, Monomial, Poly, SymbolicError};
+pub use poly::{inverse_denominator, node_definition, Atom, Env, Monomial, Poly, SymbolicError};

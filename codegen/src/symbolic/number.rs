@@ -13,6 +13,14 @@
 //! (≈1e-15 relative), well inside the 1e-12 contract, but identities such as `R Rᵀ = I` hold only
 //! to that accuracy, not symbolically.
 //!
+//! **Bounded exactness (rule [`Rational::bounded`], "float stays float").** A result of
+//! arithmetic whose numerator and denominator together need more than [`EXACT_BITS`] bits is
+//! rounded to the nearest `f64` (kept as the exact dyadic rational of that `f64`). Small
+//! rationals — the thesis's robots, decimals such as `0.194`, `1/2`, `l_a⁻¹` — are never that
+//! long and stay exact, so their symbolic identities still hold exactly; a calibrated robot's
+//! float geometry (17-digit axes and offsets) stays floating instead of growing into fractions
+//! of hundreds of digits along the chain.
+//!
 //! **Snapping (rule [`Rational::from_f64_snapped`], "snap unit").** Rotation entries within
 //! `1e-15` of `0`, `1` or `−1` are taken as exactly that value, so that `rpy = (0, 0, π/2)` gives
 //! an exact permutation matrix.
@@ -22,6 +30,10 @@ use num_rational::BigRational;
 use num_traits::{One, Signed, ToPrimitive, Zero};
 use std::fmt;
 use std::ops::{Add, Mul, Neg, Sub};
+
+/// Longest exact coefficient, in bits of numerator plus denominator (rule "float stays float",
+/// [`Rational::bounded`]). A 17-digit decimal needs about 114.
+pub const EXACT_BITS: u64 = 128;
 
 /// Tolerance of the "snap unit" rule.
 pub const SNAP_TOLERANCE: f64 = 1e-15;
@@ -149,6 +161,29 @@ impl Rational {
         }
     }
 
+    /// Rule "float stays float": `self` when its numerator and denominator together fit in
+    /// [`EXACT_BITS`] bits, otherwise the nearest `f64` as an exact rational (unless that is
+    /// not finite: then `self`).
+    pub fn bounded(self) -> Self {
+        if self.0.numer().bits() + self.0.denom().bits() <= EXACT_BITS {
+            return self;
+        }
+        match self.0.to_f64().and_then(BigRational::from_float) {
+            Some(r)
+                if r.numer().bits() + r.denom().bits()
+                    < self.0.numer().bits() + self.0.denom().bits() =>
+            {
+                Rational(r)
+            }
+            _ => self,
+        }
+    }
+
+    /// Bits of the numerator plus bits of the denominator: how long the coefficient is.
+    pub fn bits(&self) -> u64 {
+        self.0.numer().bits() + self.0.denom().bits()
+    }
+
     /// The nearest `f64` (correctly rounded by `num-rational`; `±inf` beyond range).
     pub fn to_f64(&self) -> f64 {
         self.0.to_f64().unwrap_or(f64::NAN)
@@ -179,21 +214,21 @@ impl fmt::Display for Rational {
 impl Add for &Rational {
     type Output = Rational;
     fn add(self, rhs: &Rational) -> Rational {
-        Rational(&self.0 + &rhs.0)
+        Rational(&self.0 + &rhs.0).bounded()
     }
 }
 
 impl Sub for &Rational {
     type Output = Rational;
     fn sub(self, rhs: &Rational) -> Rational {
-        Rational(&self.0 - &rhs.0)
+        Rational(&self.0 - &rhs.0).bounded()
     }
 }
 
 impl Mul for &Rational {
     type Output = Rational;
     fn mul(self, rhs: &Rational) -> Rational {
-        Rational(&self.0 * &rhs.0)
+        Rational(&self.0 * &rhs.0).bounded()
     }
 }
 
@@ -233,6 +268,32 @@ mod tests {
         assert_eq!(Rational::from_f64_decimal(x).unwrap().to_f64(), x);
         let tiny = 1e-300;
         assert_eq!(Rational::from_f64_decimal(tiny).unwrap().to_f64(), tiny);
+    }
+
+    #[test]
+    fn rule_float_stays_float() {
+        // Small rationals stay exact through arithmetic.
+        let a = Rational::new(97, 500).unwrap();
+        let b = Rational::new(1, 3).unwrap();
+        assert_eq!(&(&a * &b) * &Rational::integer(3), a);
+        // A product of long decimals is rounded to the nearest f64, not kept as a long fraction.
+        let x = Rational::from_f64_decimal(0.3f64.sin()).unwrap();
+        let y = Rational::from_f64_decimal(0.7f64.cos()).unwrap();
+        let p = &x * &y;
+        let (n, d) = (p.as_big().numer().bits(), p.as_big().denom().bits());
+        assert!(n + d <= 2 * 64, "{n} + {d} bits");
+        let exact = BigRational::from_float(0.3f64.sin()).unwrap()
+            * BigRational::from_float(0.7f64.cos()).unwrap();
+        let err = ((p.as_big() - &exact) / &exact).to_f64().unwrap().abs();
+        assert!(err < 2e-16, "{err}");
+        // Far beyond f64's range it stays exact rather than becoming infinite.
+        let big = Rational(BigRational::from_integer(num_traits::pow(
+            BigInt::from(3u32),
+            700,
+        )));
+        assert!((&big * &Rational::new(1, 7).unwrap())
+            .to_f64()
+            .is_infinite());
     }
 
     #[test]

@@ -44,6 +44,9 @@ pub enum Atom {
     Param(u16),
     /// `1 / P` for the interned polynomial `P` = [`inverse_denominator`]`(id)`; exponent ≥ 1.
     Inv(u32),
+    /// A shared subexpression: the polynomial [`node_definition`]`(id)`, kept unexpanded (a node
+    /// of the expression graph, see [`Poly::shared`]); exponent ≥ 1.
+    Node(u32),
 }
 
 impl Atom {
@@ -171,8 +174,53 @@ impl Env<'_> {
             Atom::Joint(k) => q(k),
             Atom::Param(p) => self.params.get(p as usize).copied().unwrap_or(f64::NAN),
             Atom::Inv(id) => 1.0 / inverse_denominator(id).eval(self),
+            Atom::Node(id) => node_value(id, self),
         }
     }
+}
+
+/// The values of the shared subexpressions at the last `Env` they were evaluated at, so that a
+/// node used many times (the graph form of a long chain) is evaluated once per point.
+#[derive(Default)]
+struct NodeValues {
+    /// The bits of `q` and the parameters the values belong to.
+    key: Vec<u64>,
+    values: HashMap<u32, f64>,
+}
+
+thread_local! {
+    static NODE_VALUES: std::cell::RefCell<NodeValues> = std::cell::RefCell::new(NodeValues::default());
+}
+
+/// The value of the node `id` at `env` (memoised per point, see [`NodeValues`]).
+fn node_value(id: u32, env: &Env<'_>) -> f64 {
+    let same_point = |k: &[u64]| {
+        k.len() == env.q.len() + env.params.len() + 1
+            && k[0] == env.q.len() as u64
+            && env
+                .q
+                .iter()
+                .chain(env.params)
+                .zip(&k[1..])
+                .all(|(x, b)| x.to_bits() == *b)
+    };
+    let cached = NODE_VALUES.with(|c| {
+        let mut c = c.borrow_mut();
+        if !same_point(&c.key) {
+            c.key = std::iter::once(env.q.len() as u64)
+                .chain(env.q.iter().chain(env.params).map(|x| x.to_bits()))
+                .collect();
+            c.values.clear();
+        }
+        c.values.get(&id).copied()
+    });
+    if let Some(v) = cached {
+        return v;
+    }
+    // Evaluated outside the borrow: the definition refers to earlier nodes.
+    let v = node_definition(id).eval(env);
+    NODE_VALUES.with(|c| c.borrow_mut().values.insert(id, v));
+    v
 }
 
 /// Errors of symbolic operations.
@@ -226,6 +274,77 @@ pub fn inverse_denominator(id: u32) -> Arc<Poly> {
         .get(id as usize)
         .cloned()
         .unwrap_or_else(|| Arc::new(Poly::zero()))
+}
+
+/// A shared subexpression and what it depends on (computed once, when it is created).
+struct Node {
+    definition: Arc<Poly>,
+    joints: BTreeSet<usize>,
+    params: BTreeSet<usize>,
+}
+
+#[derive(Default)]
+struct NodeTable {
+    nodes: Vec<Node>,
+    ids: HashMap<Poly, u32>,
+}
+
+fn node_table() -> &'static Mutex<NodeTable> {
+    static NODES: OnceLock<Mutex<NodeTable>> = OnceLock::new();
+    NODES.get_or_init(|| Mutex::new(NodeTable::default()))
+}
+
+/// The polynomial the atom `Node(id)` stands for (hash-consed: one id per distinct normalised
+/// polynomial). It may itself contain earlier nodes, never later ones.
+///
+/// # Panics
+/// Never for ids produced by this module; an unknown id gives the zero polynomial.
+pub fn node_definition(id: u32) -> Arc<Poly> {
+    let guard = node_table().lock().unwrap_or_else(|e| e.into_inner());
+    guard
+        .nodes
+        .get(id as usize)
+        .map_or_else(|| Arc::new(Poly::zero()), |n| n.definition.clone())
+}
+
+/// Joints or parameters of the node `id`.
+fn node_dependencies(id: u32, params: bool) -> BTreeSet<usize> {
+    let guard = node_table().lock().unwrap_or_else(|e| e.into_inner());
+    guard
+        .nodes
+        .get(id as usize)
+        .map_or_else(BTreeSet::new, |n| {
+            if params {
+                n.params.clone()
+            } else {
+                n.joints.clone()
+            }
+        })
+}
+
+fn intern_node(p: Poly) -> u32 {
+    if let Some(&id) = node_table()
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .ids
+        .get(&p)
+    {
+        return id;
+    }
+    // Dependencies first, outside the lock (they read the table).
+    let (joints, params) = (p.joints(), p.params());
+    let mut guard = node_table().lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(&id) = guard.ids.get(&p) {
+        return id;
+    }
+    let id = guard.nodes.len() as u32;
+    guard.nodes.push(Node {
+        definition: Arc::new(p.clone()),
+        joints,
+        params,
+    });
+    guard.ids.insert(p, id);
+    id
 }
 
 fn intern(p: Poly) -> u32 {
@@ -422,6 +541,85 @@ impl Poly {
         }
     }
 
+    /// `self`, or a shared subexpression standing for it when it has more than `max_terms`
+    /// terms: `c · Node(P)` with `P = self / c` normalised to a leading coefficient 1 (so `P` and
+    /// `−2 P` share one node). The node is not expanded again by later products, which is what
+    /// keeps a long or generic chain linear in size: `g_0k = g_0(k−1) T_k` multiplies nodes by
+    /// the few terms of `T_k` instead of expanding the product of all sums before it.
+    ///
+    /// A polynomial with nodes is still exact, but no longer canonical: two equal functions
+    /// may have different forms, so [`Poly::is_zero`] may miss a zero hidden inside nodes.
+    pub fn shared(&self, max_terms: usize) -> Poly {
+        if self.terms.len() <= max_terms {
+            return self.clone();
+        }
+        let lead = self.terms[self.terms.len() - 1].1.clone();
+        let normal = match lead.checked_recip() {
+            Some(inv) => self.scale(&inv),
+            None => return self.clone(),
+        };
+        let id = intern_node(normal);
+        Poly {
+            terms: vec![(Monomial::atom(Atom::Node(id), 1), lead)],
+        }
+    }
+
+    /// `self` with every shared subexpression written out, back in canonical form, or `None`
+    /// when that takes more than `budget` terms at any step (a long chain's nodes expand
+    /// exponentially; a short chain's back into the small canonical polynomials that prove its
+    /// closed forms).
+    pub fn expanded(&self, budget: usize) -> Option<Poly> {
+        self.expanded_with(budget, &mut HashMap::new())
+    }
+
+    /// [`Poly::expanded`] with the expansions of nodes already met (`None`: over budget).
+    fn expanded_with(&self, budget: usize, memo: &mut HashMap<u32, Option<Poly>>) -> Option<Poly> {
+        if !self.has_nodes() {
+            return (self.len() <= budget).then(|| self.clone());
+        }
+        let mut out = Poly::zero();
+        for (m, c) in &self.terms {
+            let mut term = Poly::constant(c.clone());
+            for &(a, e) in m.factors() {
+                if e < 0 {
+                    return None;
+                }
+                let factor = match a {
+                    Atom::Node(id) => {
+                        if !memo.contains_key(&id) {
+                            let x = node_definition(id).expanded_with(budget, memo);
+                            memo.insert(id, x);
+                        }
+                        memo.get(&id).cloned().flatten()?
+                    }
+                    _ => Poly::atom(a),
+                };
+                for _ in 0..e {
+                    // The product's size is at most the product of the sizes: refuse early.
+                    if term.len().saturating_mul(factor.len()) > budget.saturating_mul(4) {
+                        return None;
+                    }
+                    term = term.mul(&factor);
+                    if term.len() > budget {
+                        return None;
+                    }
+                }
+            }
+            out = out.add(&term);
+            if out.len() > budget {
+                return None;
+            }
+        }
+        Some(out)
+    }
+
+    /// Whether any term contains a shared subexpression ([`Atom::Node`]).
+    pub fn has_nodes(&self) -> bool {
+        self.terms
+            .iter()
+            .any(|(m, _)| m.factors().iter().any(|(a, _)| matches!(a, Atom::Node(_))))
+    }
+
     /// `self / other`.
     pub fn div(&self, other: &Poly) -> Result<Poly, SymbolicError> {
         Ok(self.mul(&other.inv()?))
@@ -444,6 +642,8 @@ impl Poly {
                     s.insert(k);
                 } else if let Atom::Inv(id) = a {
                     s.extend(inverse_denominator(*id).joints());
+                } else if let Atom::Node(id) = a {
+                    s.extend(node_dependencies(*id, false));
                 }
             }
         }
@@ -459,6 +659,8 @@ impl Poly {
                     s.insert(*p as usize);
                 } else if let Atom::Inv(id) = a {
                     s.extend(inverse_denominator(*id).params());
+                } else if let Atom::Node(id) = a {
+                    s.extend(node_dependencies(*id, true));
                 }
             }
         }
@@ -567,27 +769,52 @@ fn pythagorean(m: Monomial, c: Rational, out: &mut Vec<(Monomial, Rational)>) {
 }
 
 /// Rule `collect_like_terms`: sort by monomial, add coefficients of equal monomials, drop zeros.
+///
+/// With floating coefficients (rule "float stays float" of [`super::number`]: a summand longer
+/// than [`FLOATING_BITS`]) a sum that cancels to within [`CANCELLATION`] of its largest summand is
+/// rounding noise and is dropped as zero, as the exact sum would have been: otherwise identities
+/// such as `s² + c² = 1` or a vanishing determinant minor would leave terms of size `1e-17`.
+/// Short (exact) coefficients are never affected.
 fn collect_like_terms(mut v: Vec<(Monomial, Rational)>) -> Vec<(Monomial, Rational)> {
     v.sort_by(|a, b| a.0.cmp(&b.0));
     let mut out: Vec<(Monomial, Rational)> = Vec::with_capacity(v.len());
+    // Of the group being summed (the last of `out`): the largest |summand| and whether any
+    // summand is floating.
+    let mut largest = 0.0f64;
+    let mut floating = false;
+    let close = |out: &mut Vec<(Monomial, Rational)>, largest: f64, floating: bool| {
+        if let Some((_, lc)) = out.last() {
+            if lc.is_zero() || (floating && lc.to_f64().abs() <= CANCELLATION * largest) {
+                out.pop();
+            }
+        }
+    };
     for (m, c) in v {
         match out.last_mut() {
-            Some((lm, lc)) if *lm == m => *lc = &*lc + &c,
+            Some((lm, lc)) if *lm == m => {
+                largest = largest.max(c.to_f64().abs());
+                floating |= c.bits() > FLOATING_BITS;
+                *lc = &*lc + &c;
+            }
             _ => {
-                if let Some((_, lc)) = out.last() {
-                    if lc.is_zero() {
-                        out.pop();
-                    }
-                }
+                close(&mut out, largest, floating);
+                largest = c.to_f64().abs();
+                floating = c.bits() > FLOATING_BITS;
                 out.push((m, c));
             }
         }
     }
-    if out.last().is_some_and(|(_, c)| c.is_zero()) {
-        out.pop();
-    }
+    close(&mut out, largest, floating);
     out
 }
+
+/// A coefficient longer than this (bits of numerator plus denominator) is taken as floating by
+/// [`collect_like_terms`]: a 17-digit decimal or a rounded `f64`, never a short exact rational.
+const FLOATING_BITS: u64 = 64;
+
+/// Relative size under which a sum of floating coefficients is rounding noise (`2⁻⁴²`, about
+/// `2.3e-13`, a few hundred times the rounding of one `f64` operation).
+const CANCELLATION: f64 = 2.273_736_754_432_320_6e-13;
 
 /// Rule `inverse_cancel`: a product `Inv(P)^a · (P · R)` where the polynomial factor is exactly
 /// `P` times the atom is recognised when the whole sum divided by the atom equals `P · k`.
@@ -642,6 +869,8 @@ fn atom_name(a: Atom, names: &[String]) -> String {
             .cloned()
             .unwrap_or_else(|| format!("p{p}")),
         Atom::Inv(id) => format!("1/({})", inverse_denominator(id).display(names)),
+        // A node is shown by its number: written out, a chain's nodes are exponentially long.
+        Atom::Node(id) => format!("n{id}"),
     }
 }
 
@@ -694,6 +923,60 @@ mod tests {
         assert_eq!(p("la*la"), p("la^2"));
         assert_eq!(p("la*(1/la)"), Poly::one());
         assert_eq!(p("c3^2*c3"), p("c3^3"));
+    }
+
+    #[test]
+    fn rule_shared_subexpression() {
+        let long = p("c1*c2 + s1*s2 + c1*s2 + s1*c2 + la*c1 + la*s1 + 2*c2");
+        assert_eq!(long.len(), 7);
+        // Short enough: unchanged.
+        assert_eq!(long.shared(7), long);
+        // Longer than the bound: one node times the leading coefficient, shared by multiples.
+        let a = long.shared(4);
+        let b = long.scale(&Rational::integer(-2)).shared(4);
+        assert_eq!(a.len(), 1);
+        assert!(a.has_nodes() && !long.has_nodes());
+        assert_eq!(a.terms()[0].0, b.terms()[0].0, "one node for P and −2P");
+        // Same values, joints and parameters.
+        let env = Env {
+            q: &[0.3, -0.7],
+            params: &[0.11, 0.2],
+        };
+        assert!((a.eval(&env) - long.eval(&env)).abs() < 1e-15);
+        assert!((b.eval(&env) + 2.0 * long.eval(&env)).abs() < 1e-14);
+        assert_eq!(a.joints(), long.joints());
+        assert_eq!(a.params(), long.params());
+        // A node of nodes, written out again: the canonical form, or None over the budget.
+        let sq = a.mul(&a).add(&p("lb")).shared(0);
+        assert_eq!(sq.expanded(1000).unwrap(), long.mul(&long).add(&p("lb")));
+        assert!(sq.expanded(5).is_none());
+        // Evaluation is memoised per point: a new point gives new values.
+        let env2 = Env {
+            q: &[1.1, 0.4],
+            params: &[0.11, 0.2],
+        };
+        let want = long.eval(&env2) * long.eval(&env2) + 0.2;
+        assert!((sq.eval(&env2) - want).abs() < 1e-14);
+    }
+
+    #[test]
+    fn rule_floating_cancellation() {
+        // One product of floating coefficients, rounded along two paths: the two differ in the
+        // last bit, as the coefficients of s² and c² of a float geometry do.
+        let f = |v: f64| Rational::from_f64_decimal(v).unwrap();
+        let (x, y, z) = (f(0.1f64.sin()), f(0.37f64.cos()), f(1.53f64.sin()));
+        let k1 = &(&x * &y) * &z;
+        let k2 = &x * &(&y * &z);
+        assert_ne!(k1, k2, "the two roundings differ");
+        // k1 s² + k2 c² = k1 + (k2 − k1) c²: the c² term is rounding noise and is dropped.
+        let s2 = Poly::sin(0).mul(&Poly::sin(0)).scale(&k1);
+        let c2 = Poly::cos(0).mul(&Poly::cos(0)).scale(&k2);
+        assert_eq!(s2.add(&c2), Poly::constant(k1.clone()));
+        // A true difference, even small, is kept.
+        let d = Poly::constant(k1.clone()).sub(&Poly::constant(
+            &k1 - &Rational::new(1, 1_000_000_000).unwrap(),
+        ));
+        assert!(!d.is_zero());
     }
 
     #[test]
