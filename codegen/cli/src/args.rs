@@ -116,6 +116,8 @@ pub enum Command {
         /// Name of the preset.
         name: String,
     },
+    /// List the shipped robots, mechanisms and simulation scenarios.
+    List,
 }
 
 /// Scalar type of generated code.

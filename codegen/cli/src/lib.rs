@@ -7,6 +7,7 @@
 //! trocar jacobian --urdf FILE.urdf --tip LINK --q ... [--frame body|spatial] [--json]
 //! trocar simulate SCENARIO [--method pinv|dls|fi] [--drift-correction on|off] [--csv OUT.csv] [--plot OUT.svg]
 //! trocar preset unidirectional|bidirectional-zy|bidirectional-zx
+//! trocar list
 //! ```
 //!
 //! `ROBOT.toml` may also be the name of a shipped description (`bidirectional-zy`, `dia10_like_zy`, ...),
@@ -34,8 +35,9 @@ pub use args::{Cli, Command, Frame, Method, OnOff, RealArg, SpeedLimit, What};
 pub use commands::eval::{eval, eval_mechanism, eval_serial, serial_singularity};
 pub use commands::generate::generate;
 pub use commands::jacobian::jacobian;
+pub use commands::list::{robot_info, shipped, RobotInfo, Shipped};
 pub use commands::preset::preset;
-pub use commands::simulate::{simulate, RcmOptions};
+pub use commands::simulate::{run_simulation, simulate, RcmOptions, SimulationRun};
 pub use commands::verify::{verify, GeneratedCandidate};
 pub use output::{CliError, MatrixOut};
 
@@ -97,5 +99,6 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             plot.as_deref(),
         ),
         Command::Preset { name } => commands::preset::run(&name),
+        Command::List => commands::list::run(),
     }
 }

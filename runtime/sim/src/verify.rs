@@ -85,15 +85,23 @@ impl Report {
 impl fmt::Display for Report {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(f, "{}: {} random samples", self.robot, self.samples)?;
+        // The first column as wide as the longest check name, so the numbers align.
+        let width = self
+            .checks
+            .iter()
+            .map(|c| c.name.chars().count())
+            .max()
+            .unwrap_or(0)
+            .max("check".len());
         writeln!(
             f,
-            "{:<44} {:>12} {:>10}  result",
+            "{:<width$} {:>12} {:>10}  result",
             "check", "max error", "tolerance"
         )?;
         for c in &self.checks {
             writeln!(
                 f,
-                "{:<44} {:>12.3e} {:>10.0e}  {}",
+                "{:<width$} {:>12.3e} {:>10.0e}  {}",
                 c.name,
                 c.max_error,
                 c.tolerance,
@@ -364,6 +372,32 @@ pub fn verify(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_table_aligns_with_any_check_name() {
+        let check = |name: &str| Check {
+            name: name.into(),
+            max_error: 1.5e-16,
+            tolerance: 1e-12,
+            worst_q: vec![],
+            count: 1,
+        };
+        let report = Report {
+            robot: "arm".into(),
+            samples: 3,
+            checks: vec![
+                check("fk: generated vs numeric"),
+                check("jb0i: generated vs finite differences of fk0i, a long name"),
+            ],
+        };
+        let text = report.to_string();
+        let lines: Vec<&str> = text.lines().skip(1).collect();
+        let column = |l: &str, word: &str| l.find(word).map(|i| i + word.len());
+        let end = column(lines[0], "max error").unwrap();
+        for l in &lines[1..] {
+            assert_eq!(column(l, "1.500e-16"), Some(end), "{text}");
+        }
+    }
 
     /// A candidate that is the numeric runtime itself, optionally with one entry perturbed.
     struct Numeric {

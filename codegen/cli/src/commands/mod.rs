@@ -4,6 +4,7 @@
 pub(crate) mod eval;
 pub(crate) mod generate;
 pub(crate) mod jacobian;
+pub(crate) mod list;
 pub(crate) mod preset;
 pub(crate) mod simulate;
 pub(crate) mod verify;

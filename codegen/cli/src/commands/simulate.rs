@@ -44,16 +44,80 @@ pub fn simulate(
         ("--csv", csv, OutputKind::Data),
         ("--plot", plot, OutputKind::Figure),
     ])?;
-    let csv = csv.map(|p| outputs.temporary(p).to_path_buf());
-    let plot = plot.map(|p| outputs.temporary(p).to_path_buf());
-    let summary = if closed_chain::scenario_names().contains(&scenario) {
-        closed_chain_scenario(scenario, options, csv.as_deref(), plot.as_deref())
-    } else {
-        rcm_scenario(scenario, options, csv.as_deref(), plot.as_deref())
+    let run = run_simulation(scenario, options)?;
+    if let Some(path) = csv {
+        run.write_csv(outputs.temporary(path))
+            .map_err(|e| outputs.explain(CliError(format!("--csv {}: {e}", path.display()))))?;
     }
-    .map_err(|e| outputs.explain(e))?;
+    if let Some(path) = plot {
+        run.write_plot(outputs.temporary(path))
+            .map_err(|e| outputs.explain(CliError(format!("--plot {}: {e}", path.display()))))?;
+    }
     outputs.commit()?;
-    Ok(summary)
+    Ok(run.summary)
+}
+
+/// A finished simulation: what `trocar simulate` prints, and the trace it writes with `--csv`.
+#[derive(Clone, Debug)]
+pub struct SimulationRun {
+    /// The summary `trocar simulate` prints to stderr.
+    pub summary: String,
+    trace: AnyTrace,
+}
+
+#[derive(Clone, Debug)]
+enum AnyTrace {
+    Rcm(Box<simulation::Trace>),
+    ClosedChain(closed_chain::Trace),
+}
+
+impl SimulationRun {
+    /// The trace as named columns (`t` first), as the CSV has them.
+    pub fn columns(&self) -> Vec<(String, Vec<f64>)> {
+        match &self.trace {
+            AnyTrace::Rcm(t) => t.columns(),
+            AnyTrace::ClosedChain(t) => t
+                .columns
+                .iter()
+                .enumerate()
+                .map(|(k, name)| (name.clone(), t.rows.iter().map(|r| r[k]).collect()))
+                .collect(),
+        }
+    }
+
+    fn write_csv(&self, path: &Path) -> Result<(), String> {
+        match &self.trace {
+            AnyTrace::Rcm(t) => t.write_csv(path).map_err(|e| e.to_string()),
+            AnyTrace::ClosedChain(t) => t.write_csv(path).map_err(|e| e.to_string()),
+        }
+    }
+
+    fn write_plot(&self, path: &Path) -> Result<(), String> {
+        match &self.trace {
+            AnyTrace::Rcm(t) => trocar_sim::plot::write_figure(t, path).map_err(|e| e.to_string()),
+            AnyTrace::ClosedChain(t) => {
+                let png = path
+                    .extension()
+                    .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+                let written = if png {
+                    t.plot_png(path)
+                } else {
+                    t.plot_svg(path)
+                };
+                written.map_err(|e| e.to_string())
+            }
+        }
+    }
+}
+
+/// Runs the simulation `scenario` (as [`simulate`], without writing files) and returns its
+/// summary and trace.
+pub fn run_simulation(scenario: &str, options: &RcmOptions) -> Result<SimulationRun, CliError> {
+    if closed_chain::scenario_names().contains(&scenario) {
+        closed_chain_scenario(scenario, options)
+    } else {
+        rcm_scenario(scenario, options)
+    }
 }
 
 /// Runs `trocar simulate`: the summary goes to stderr.
@@ -67,12 +131,7 @@ pub(crate) fn run(
     Ok(0)
 }
 
-fn closed_chain_scenario(
-    scenario: &str,
-    options: &RcmOptions,
-    csv: Option<&Path>,
-    plot: Option<&Path>,
-) -> Result<String, CliError> {
+fn closed_chain_scenario(scenario: &str, options: &RcmOptions) -> Result<SimulationRun, CliError> {
     if *options != RcmOptions::default() {
         return Err(CliError(format!(
             "`{scenario}` is a closed-chain scenario: --method, --drift-correction and --max-joint-speed apply to the RCM scenarios only"
@@ -86,31 +145,13 @@ fn closed_chain_scenario(
         )
     })
     .map_err(CliError::from_display)?;
-    if let Some(path) = csv {
-        trace
-            .write_csv(path)
-            .map_err(|e| CliError(format!("--csv {}: {e}", path.display())))?;
-    }
-    if let Some(path) = plot {
-        let png = path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("png"));
-        let written = if png {
-            trace.plot_png(path)
-        } else {
-            trace.plot_svg(path)
-        };
-        written.map_err(|e| CliError(format!("--plot {}: {e}", path.display())))?;
-    }
-    Ok(trace_summary(&trace.columns, &trace.rows))
+    Ok(SimulationRun {
+        summary: trace_summary(&trace.columns, &trace.rows),
+        trace: AnyTrace::ClosedChain(trace),
+    })
 }
 
-fn rcm_scenario(
-    scenario: &str,
-    options: &RcmOptions,
-    csv: Option<&Path>,
-    plot: Option<&Path>,
-) -> Result<String, CliError> {
+fn rcm_scenario(scenario: &str, options: &RcmOptions) -> Result<SimulationRun, CliError> {
     let RcmOptions {
         method,
         drift_correction,
@@ -140,15 +181,6 @@ fn rcm_scenario(
         simulation::run(&config, progress)
     })
     .map_err(CliError::from_display)?;
-    if let Some(path) = csv {
-        trace
-            .write_csv(path)
-            .map_err(|e| CliError(format!("--csv {}: {e}", path.display())))?;
-    }
-    if let Some(path) = plot {
-        trocar_sim::plot::write_figure(&trace, path)
-            .map_err(|e| CliError(format!("--plot {}: {e}", path.display())))?;
-    }
     let s = trace.summary();
     let mut out = String::new();
     if let Some(note) = which.deviation() {
@@ -188,7 +220,10 @@ fn rcm_scenario(
             if m < 0.0 { " (BEYOND A LIMIT)" } else { "" }
         )),
     );
-    Ok(out)
+    Ok(SimulationRun {
+        summary: out,
+        trace: AnyTrace::Rcm(Box::new(trace)),
+    })
 }
 
 /// One line a column: the final value and the largest magnitude.

@@ -115,18 +115,46 @@ impl Trace {
         h
     }
 
+    /// The values of one row in the order of [`Trace::csv_header`].
+    fn row_values(&self, r: &TraceRow) -> Vec<f64> {
+        let n = self.joints;
+        let mut v = vec![
+            r.t,
+            r.ep_norm,
+            r.eo_norm,
+            r.vr[0],
+            r.vr[1],
+            r.rcm_drift,
+            r.w_r,
+            r.w_i,
+            r.l_a,
+        ];
+        v.extend_from_slice(&r.q[..n]);
+        v.extend_from_slice(&r.qd[..n]);
+        v
+    }
+
+    /// The trace as named columns, in the order of [`Trace::csv_header`].
+    pub fn columns(&self) -> Vec<(String, Vec<f64>)> {
+        let names: Vec<String> = self.csv_header().split(',').map(str::to_owned).collect();
+        let mut cols: Vec<Vec<f64>> = vec![Vec::with_capacity(self.rows.len()); names.len()];
+        for r in &self.rows {
+            for (c, v) in cols.iter_mut().zip(self.row_values(r)) {
+                c.push(v);
+            }
+        }
+        names.into_iter().zip(cols).collect()
+    }
+
     /// Writes the CSV (columns [`Trace::csv_header`]) to a writer.
     pub fn to_csv(&self, mut w: impl Write) -> std::io::Result<()> {
         writeln!(w, "{}", self.csv_header())?;
-        let n = self.joints;
         for r in &self.rows {
-            write!(
-                w,
-                "{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
-                r.t, r.ep_norm, r.eo_norm, r.vr[0], r.vr[1], r.rcm_drift, r.w_r, r.w_i, r.l_a
-            )?;
-            for v in r.q[..n].iter().chain(r.qd[..n].iter()) {
-                write!(w, ",{v:e}")?;
+            let v = self.row_values(r);
+            // `t` as written (it is a multiple of dt); the rest in scientific notation.
+            write!(w, "{}", v[0])?;
+            for x in &v[1..] {
+                write!(w, ",{x:e}")?;
             }
             writeln!(w)?;
         }

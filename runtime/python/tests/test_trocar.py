@@ -1,0 +1,188 @@
+"""Tests of the Python package against the command line, numpy finite differences and numpy's
+own linear algebra (never against itself)."""
+
+import json
+import os
+import pathlib
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+import trocar
+
+ROOT = pathlib.Path(__file__).resolve().parents[3]
+Q8 = [0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3]
+
+
+def trocar_binary():
+    """The `trocar` command line: $TROCAR_BIN, or the workspace's build."""
+    for candidate in (os.environ.get("TROCAR_BIN"), ROOT / "target" / "debug" / "trocar",
+                      ROOT / "target" / "release" / "trocar", shutil.which("trocar")):
+        if candidate and pathlib.Path(candidate).is_file():
+            return str(candidate)
+    return None
+
+
+def cli(*args):
+    binary = trocar_binary()
+    if binary is None:
+        pytest.skip("the trocar command line is not built (cargo build -p trocar-cli)")
+    return subprocess.run([binary, *args], capture_output=True, text=True)
+
+
+def q_arg(q):
+    return "--q=" + ",".join(repr(float(x)) for x in q)
+
+
+@pytest.mark.parametrize("what", ["jr", "manip", "jc", "jb0i", "jb0e", "fk"])
+def test_eval_is_the_command_lines_answer(what):
+    robot = trocar.Robot.load("bidirectional-zy")
+    out = cli("eval", "bidirectional-zy", q_arg(Q8), "--what", what, "--json")
+    assert out.returncode == 0, out.stderr
+    expected = np.array(json.loads(out.stdout)["data"])
+    got = robot.eval(Q8, what=what)
+    assert isinstance(got, np.ndarray) and got.dtype == np.float64
+    assert got.shape == expected.shape
+    np.testing.assert_array_equal(got, expected)
+
+
+def test_numeric_and_parameters_as_the_command_line():
+    robot = trocar.Robot.load("bidirectional-zy")
+    out = cli("eval", "bidirectional-zy", q_arg(Q8), "--what", "jr", "--numeric",
+              "--param", "l_a=0.2", "--json")
+    assert out.returncode == 0, out.stderr
+    got = robot.eval(np.array(Q8), what="jr", params={"l_a": 0.2}, numeric=True)
+    np.testing.assert_array_equal(got, np.array(json.loads(out.stdout)["data"]))
+    # The parameter matters, and the generated closed form agrees with the numeric runtime.
+    assert not np.allclose(got, robot.eval(Q8, what="jr", numeric=True))
+    np.testing.assert_allclose(robot.eval(Q8, what="jr", params={"l_a": 0.2}), got, atol=1e-12)
+
+
+def twist_of(g, dg):
+    """(v, ω) of the body velocity g⁻¹ ġ (a 4 × 4 matrix [ω̂ v; 0 0])."""
+    xi = np.linalg.solve(g, dg)
+    return np.array([xi[0, 3], xi[1, 3], xi[2, 3], xi[2, 1], xi[0, 2], xi[1, 0]])
+
+
+@pytest.mark.parametrize("name", ["bidirectional-zy", "dia10_like_zx", "panda-laparoscope"])
+def test_body_jacobian_matches_numpy_finite_differences_of_fk(name):
+    robot = trocar.Robot.load(name)
+    rng = np.random.default_rng(7)
+    h = 1e-6
+    for _ in range(5):
+        q = rng.uniform(-1.5, 1.5, robot.joints)
+        g = robot.eval(q, what="fk")
+        jb = robot.eval(q, what="jb0e")
+        assert jb.shape == (6, robot.joints)
+        for k in range(robot.joints):
+            dq = np.zeros(robot.joints)
+            dq[k] = h
+            dg = (robot.eval(q + dq, what="fk") - robot.eval(q - dq, what="fk")) / (2 * h)
+            np.testing.assert_allclose(jb[:, k], twist_of(g, dg), atol=1e-7)
+
+
+def test_manipulability_is_numpys_determinant():
+    robot = trocar.Robot.load("bidirectional-zy")
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        q = rng.uniform(-2, 2, 8)
+        jr = robot.eval(q, what="jr")
+        w = robot.eval(q, what="manip")
+        assert w.shape == (1, 1)
+        assert w[0, 0] == pytest.approx(abs(np.linalg.det(jr)), rel=1e-10, abs=1e-12)
+
+
+def test_a_task_robot_manipulability_is_that_of_the_task_jacobian():
+    robot = trocar.Robot.load("panda-laparoscope")
+    q = [0.1, -0.4, 0.2, -2.0, 0.1, 1.8, 0.7]
+    task = robot.eval(q, what="task")
+    w = robot.eval(q, what="manip")[0, 0]
+    assert w == pytest.approx(np.sqrt(np.linalg.det(task @ task.T)), rel=1e-9)
+
+
+def test_errors_are_value_errors_with_the_command_lines_message():
+    robot = trocar.Robot.load("bidirectional-zy")
+    out = cli("eval", "bidirectional-zy", "--q=0,1", "--what", "jr")
+    with pytest.raises(ValueError) as e:
+        robot.eval([0, 1], what="jr")
+    assert out.returncode == 1
+    assert out.stderr.strip() == f"error: {e.value}"
+    with pytest.raises(ValueError, match="unknown parameter `l_x`"):
+        robot.eval(Q8, params={"l_x": 1.0})
+    with pytest.raises(ValueError, match="expected one of jr, manip"):
+        robot.eval(Q8, what="jacobian")
+    with pytest.raises(ValueError, match="cannot read the file"):
+        trocar.Robot.load("no-such-robot")
+
+
+def test_a_description_file_error_names_the_line(tmp_path):
+    text = trocar.Robot.load("unidirectional").generate  # a method: the robot loads
+    assert callable(text)
+    out = cli("preset", "unidirectional")
+    assert out.returncode == 0
+    bad = out.stdout.replace('type = "revolute"', 'type = "revolut"', 1)
+    path = tmp_path / "bad.toml"
+    path.write_text(bad)
+    line = 1 + bad[: bad.index('"revolut"')].count("\n")
+    with pytest.raises(ValueError) as e:
+        trocar.Robot.load(path)
+    assert f"bad.toml:{line}" in str(e.value)
+
+
+def test_a_file_robot_loads_after_a_chdir(tmp_path, monkeypatch):
+    out = cli("preset", "bidirectional-zx")
+    path = tmp_path / "arm.toml"
+    path.write_text(out.stdout)
+    monkeypatch.chdir(tmp_path)
+    robot = trocar.Robot.load("arm.toml")
+    monkeypatch.chdir(ROOT)
+    np.testing.assert_array_equal(
+        robot.eval(Q8), trocar.Robot.load("bidirectional-zx").eval(Q8))
+
+
+def test_verify_returns_the_table():
+    report = trocar.Robot.load("dia10_like_zy").verify(samples=50, seed=3)
+    assert report["passed"] is True and report["samples"] == 50
+    jr = report["checks"]["jr: generated vs numeric"]
+    assert jr["passed"] and jr["max_error"] < jr["tolerance"] == 1e-12
+    assert jr["worst_q"].shape == (8,)
+    assert any("finite differences" in name for name in report["checks"])
+
+
+def test_generate_is_the_command_lines_module():
+    out = cli("generate", "unidirectional", "--real", "f32")
+    assert out.returncode == 0
+    assert trocar.Robot.load("unidirectional").generate(real="f32") == out.stdout
+    with pytest.raises(ValueError, match="expected"):
+        trocar.Robot.load("unidirectional").generate(real="f16")
+
+
+def test_simulate_returns_columns():
+    trace = trocar.simulate("four-bar")
+    assert list(trace)[0] == "t"
+    t = trace["t"]
+    assert t.ndim == 1 and len(t) > 100 and np.all(np.diff(t) > 0)
+    assert all(len(v) == len(t) for v in trace.values())
+
+
+def test_an_rcm_scenario_keeps_the_trocar():
+    trace = trocar.simulate("4", method="dls")
+    assert {"t", "rcm_drift", "w_r", "q8", "qd8"} <= set(trace)
+    assert np.max(trace["rcm_drift"]) < 1e-4
+    assert trace["t"][-1] == pytest.approx(200.0, abs=0.01)
+    with pytest.raises(ValueError, match="method"):
+        trocar.simulate("4", method="newton")
+    with pytest.raises(ValueError, match="unknown scenario"):
+        trocar.simulate("5")
+
+
+def test_shipped_names_load():
+    s = trocar.shipped()
+    assert "bidirectional-zy" in s["robots"] and "four-bar" in s["mechanisms"]
+    for name in s["robots"] + s["mechanisms"]:
+        robot = trocar.Robot.load(name)
+        assert robot.joints > 0
+    assert trocar.Robot.load("four-bar").is_mechanism
+    assert set(trocar.quantities()) >= {"jr", "manip", "fk", "passive"}
