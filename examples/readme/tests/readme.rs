@@ -1,0 +1,65 @@
+//! The README's Rust snippets are this crate's code: every line of every ```rust block of the
+//! README, in order, is a line of `build.rs` followed by `src/lib.rs` (leading whitespace aside).
+//! The crate itself compiles (it is a workspace member), so the README's snippets do.
+
+use std::path::Path;
+
+/// The ```rust blocks of a Markdown text, as lists of lines.
+fn rust_blocks(markdown: &str) -> Vec<Vec<String>> {
+    let mut blocks = Vec::new();
+    let mut current: Option<Vec<String>> = None;
+    for line in markdown.lines() {
+        match (&mut current, line.trim_start()) {
+            (None, l) if l.starts_with("```rust") => current = Some(Vec::new()),
+            (Some(_), l) if l.starts_with("```") => blocks.extend(current.take()),
+            (Some(b), _) => b.push(line.to_owned()),
+            (None, _) => {}
+        }
+    }
+    blocks
+}
+
+/// The position after the lines of `block` found in order in `code`, from `from`.
+fn find_in_order(code: &[&str], from: usize, block: &[String]) -> Result<usize, String> {
+    let mut at = from;
+    for line in block.iter().map(|l| l.trim()).filter(|l| !l.is_empty()) {
+        match code[at..].iter().position(|c| c.trim() == line) {
+            Some(k) => at += k + 1,
+            None => return Err(line.to_owned()),
+        }
+    }
+    Ok(at)
+}
+
+#[test]
+fn the_readme_shows_this_crates_code() {
+    let here = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let readme = std::fs::read_to_string(here.join("../../README.md")).unwrap();
+    let code = std::fs::read_to_string(here.join("build.rs")).unwrap()
+        + &std::fs::read_to_string(here.join("src/lib.rs")).unwrap();
+    let lines: Vec<&str> = code.lines().collect();
+    let blocks = rust_blocks(&readme);
+    assert!(
+        blocks.len() >= 3,
+        "the README's Rust snippets were not found"
+    );
+    let mut at = 0;
+    for block in &blocks {
+        at = find_in_order(&lines, at, block).unwrap_or_else(|line| {
+            panic!("README line `{line}` is not in examples/readme (build.rs, src/lib.rs)")
+        });
+    }
+}
+
+#[test]
+fn a_changed_snippet_is_found() {
+    let code = ["fn main() {", "    a();", "}"];
+    let block = |s: &str| s.lines().map(str::to_owned).collect::<Vec<_>>();
+    assert!(find_in_order(&code, 0, &block("fn main() {\n  a();\n}")).is_ok());
+    assert_eq!(
+        find_in_order(&code, 0, &block("fn main() {\n  b();\n}")),
+        Err("b();".to_owned())
+    );
+    let md = "x\n```rust,ignore\nlet a = 1;\n```\n```sh\nls\n```\n";
+    assert_eq!(rust_blocks(md), vec![vec!["let a = 1;".to_owned()]]);
+}
