@@ -48,7 +48,9 @@ pub enum Command {
         /// What to evaluate.
         #[arg(long, value_enum, default_value_t = What::Jr)]
         what: What,
-        /// Print JSON.
+        /// Print JSON `{"rows", "cols", "data": [[row], ...]}`: row by row (generated functions
+        /// return their arrays column by column, `a[col][row]`). Without it, text with row and
+        /// column labels.
         #[arg(long)]
         json: bool,
         /// Use the numeric runtime instead of the derived closed form.
@@ -85,7 +87,9 @@ pub enum Command {
         /// Frame of the Jacobian.
         #[arg(long, value_enum, default_value_t = Frame::Body)]
         frame: Frame,
-        /// Print JSON.
+        /// Print JSON `{"rows", "cols", "data": [[row], ...]}`: row by row (generated functions
+        /// return their arrays column by column, `a[col][row]`). Without it, text with row and
+        /// column labels.
         #[arg(long)]
         json: bool,
     },

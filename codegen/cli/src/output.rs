@@ -319,9 +319,61 @@ impl MatrixOut {
             .join("\n")
     }
 
-    /// Prints the matrix to stdout, as JSON or aligned text ([`write_stdout`]).
-    pub(crate) fn print(&self, json: bool) -> Result<(), CliError> {
-        let text = if json { self.to_json() } else { self.to_text() };
+    /// Aligned text with a header of column labels and each row's label in front (labels
+    /// of the wrong count are ignored: the plain [`MatrixOut::to_text`] is returned). Whitespace
+    /// inside a label becomes `_`, so each line is still one label and numbers.
+    pub fn to_labelled_text(&self, row_labels: &[String], col_labels: &[String]) -> String {
+        if row_labels.len() != self.rows || col_labels.len() != self.cols || self.cols == 0 {
+            return self.to_text();
+        }
+        let clean = |l: &String| l.split_whitespace().collect::<Vec<_>>().join("_");
+        let rows: Vec<String> = row_labels.iter().map(clean).collect();
+        let cols: Vec<String> = col_labels.iter().map(clean).collect();
+        let cells: Vec<Vec<String>> = self
+            .data
+            .iter()
+            .map(|r| r.iter().map(|v| format!("{v:.9}")).collect())
+            .collect();
+        let width = cells
+            .iter()
+            .flatten()
+            .chain(&cols)
+            .map(|c| c.chars().count())
+            .max()
+            .unwrap_or(0);
+        let first = rows.iter().map(|r| r.chars().count()).max().unwrap_or(0);
+        let mut lines = vec![format!(
+            "{:first$}  {}",
+            "",
+            cols.iter()
+                .map(|c| format!("{c:>width$}"))
+                .collect::<Vec<_>>()
+                .join("  ")
+        )];
+        for (label, r) in rows.iter().zip(&cells) {
+            lines.push(format!(
+                "{label:<first$}  {}",
+                r.iter()
+                    .map(|c| format!("{c:>width$}"))
+                    .collect::<Vec<_>>()
+                    .join("  ")
+            ));
+        }
+        lines.join("\n")
+    }
+
+    /// Prints the matrix to stdout, as JSON or aligned text ([`write_stdout`]); the text has
+    /// row and column labels when `labels` are given.
+    pub(crate) fn print(
+        &self,
+        json: bool,
+        labels: Option<(Vec<String>, Vec<String>)>,
+    ) -> Result<(), CliError> {
+        let text = match (json, labels) {
+            (true, _) => self.to_json(),
+            (false, Some((rows, cols))) => self.to_labelled_text(&rows, &cols),
+            (false, None) => self.to_text(),
+        };
         write_stdout(&format!("{text}\n"))
     }
 }

@@ -1895,12 +1895,20 @@ fn check_matrix(text: &str) -> Result<(), Problem> {
     if text.trim().is_empty() {
         return Err(problem("invalid output", "exit code 0 with no matrix"));
     }
-    for w in text.split_whitespace() {
-        if !w.parse::<f64>().is_ok_and(f64::is_finite) {
-            return Err(problem(
-                "non-finite",
-                format!("matrix entry `{w}` is not a finite number"),
-            ));
+    // Labelled text: a header of column labels, then each row's label before its numbers.
+    let labelled = text
+        .split_whitespace()
+        .next()
+        .is_some_and(|w| w.parse::<f64>().is_err());
+    let lines = text.lines().filter(|l| !l.trim().is_empty());
+    for line in lines.skip(usize::from(labelled)) {
+        for w in line.split_whitespace().skip(usize::from(labelled)) {
+            if !w.parse::<f64>().is_ok_and(f64::is_finite) {
+                return Err(problem(
+                    "non-finite",
+                    format!("matrix entry `{w}` is not a finite number"),
+                ));
+            }
         }
     }
     Ok(())

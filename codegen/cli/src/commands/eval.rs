@@ -331,6 +331,86 @@ fn what_name(what: What) -> String {
         .unwrap_or_default()
 }
 
+/// The components of a twist `(v, ω)`, the rows of every Jacobian `eval` prints.
+pub(crate) const TWIST: [&str; 6] = ["v_x", "v_y", "v_z", "w_x", "w_y", "w_z"];
+
+/// Row and column labels of `what` for a serial robot, for text output: the twist components
+/// of the frame a Jacobian maps to, and what its columns multiply (`v0i[k]`, the free
+/// coordinates of the constrained link's twist in the basis `Λ#`; `dq_<joint>`; `dv0r[k]`, the
+/// commanded velocity in the constrained directions). `None` for `fk`, `manip` (no labels).
+pub fn serial_labels(desc: &RobotDescription, what: What) -> Option<(Vec<String>, Vec<String>)> {
+    let twist: Vec<String> = TWIST.iter().map(|s| s.to_string()).collect();
+    let joints = |range: std::ops::Range<usize>| -> Vec<String> {
+        desc.joints[range]
+            .iter()
+            .map(|j| format!("dq_{}", j.name))
+            .collect()
+    };
+    let n = desc.joints.len();
+    let constraint = desc.constraint.as_ref();
+    let jr_cols = || {
+        let c = constraint?;
+        let mut cols: Vec<String> = (1..=6 - c.h.len()).map(|k| format!("v0i[{k}]")).collect();
+        cols.extend(joints(c.link..n));
+        Some(cols)
+    };
+    match what {
+        What::Jr => Some((twist, jr_cols()?)),
+        What::Task => {
+            let task = desc.task.as_ref()?;
+            // A row of S that selects one component is named after it.
+            let rows = task
+                .select
+                .iter()
+                .enumerate()
+                .map(|(r, row)| {
+                    let ones: Vec<usize> = (0..6).filter(|&c| row[c] != 0.0).collect();
+                    match ones.as_slice() {
+                        [c] if row[*c] == 1.0 => TWIST[*c].to_string(),
+                        _ => format!("s[{}]", r + 1),
+                    }
+                })
+                .collect();
+            Some((rows, jr_cols()?))
+        }
+        What::Jc => Some((
+            twist,
+            (1..=constraint?.h.len())
+                .map(|k| format!("dv0r[{k}]"))
+                .collect(),
+        )),
+        What::Jb0i => Some((twist, joints(0..constraint?.link))),
+        What::Jb0e => Some((twist, joints(0..n))),
+        _ => None,
+    }
+}
+
+/// Row and column labels of `what` for a closed mechanism (`jr`: the task components by the
+/// active joints; `passive`: passive joints by active joints; `jc`: the structural equations by
+/// all joints).
+pub fn mechanism_labels(m: &MechanismModel, what: What) -> Option<(Vec<String>, Vec<String>)> {
+    let names = m.joint_names();
+    let (active, passive) = m.partition();
+    let rates = |idx: &[usize]| -> Vec<String> {
+        idx.iter().map(|&k| format!("dq_{}", names[k])).collect()
+    };
+    match what {
+        What::Jr => Some((
+            m.outputs
+                .iter()
+                .map(|o| format!("{o:?}").to_lowercase())
+                .collect(),
+            rates(&active),
+        )),
+        What::Passive => Some((rates(&passive), rates(&active))),
+        What::Jc => Some((
+            (1..=m.n_constraints()).map(|k| format!("c[{k}]")).collect(),
+            rates(&(0..names.len()).collect::<Vec<_>>()),
+        )),
+        _ => None,
+    }
+}
+
 /// Runs `trocar eval`: prints the matrix as JSON or aligned text.
 pub(crate) fn run(
     robot: &str,
@@ -341,10 +421,12 @@ pub(crate) fn run(
     numeric: bool,
 ) -> Result<i32, CliError> {
     match Description::load(robot)? {
-        Description::Mechanism(m) => eval_mechanism(&m, q, params, what, numeric)?.print(json)?,
+        Description::Mechanism(m) => {
+            eval_mechanism(&m, q, params, what, numeric)?.print(json, mechanism_labels(&m, what))?
+        }
         Description::Serial(desc) => {
             let out = eval_serial(&desc, q, params, what, numeric)?;
-            out.print(json)?;
+            out.print(json, serial_labels(&desc, what))?;
             // The answer is the Jacobian to test, unless it is the manipulability.
             let shown = (what != What::Manip).then_some(&out);
             if let Some(note) = serial_singularity(&desc, q, params, what, numeric, shown)? {

@@ -29,6 +29,10 @@ pub(crate) fn run(
     frame: Frame,
     json: bool,
 ) -> Result<i32, CliError> {
-    jacobian(urdf, tip, q, frame)?.print(json)?;
+    let m = jacobian(urdf, tip, q, frame)?;
+    // Rows: the twist components; columns: the joints of the chain in order, from the base.
+    let rows = crate::commands::eval::TWIST.map(String::from).to_vec();
+    let cols = (1..=m.cols).map(|k| format!("dq[{k}]")).collect();
+    m.print(json, Some((rows, cols)))?;
     Ok(0)
 }

@@ -1,0 +1,113 @@
+//! `trocar eval` as text names its rows and columns: the twist components a Jacobian maps to,
+//! and what its columns multiply; the numbers are those of the JSON output.
+
+use std::process::Command;
+
+fn trocar(args: &[&str]) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_trocar"))
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// `(column labels, [(row label, numbers)])` of labelled text.
+fn parse(text: &str) -> (Vec<String>, Vec<(String, Vec<f64>)>) {
+    let mut lines = text.lines();
+    let header = lines
+        .next()
+        .unwrap()
+        .split_whitespace()
+        .map(String::from)
+        .collect();
+    let rows = lines
+        .map(|l| {
+            let mut w = l.split_whitespace();
+            let label = w.next().unwrap().to_owned();
+            (label, w.map(|x| x.parse().unwrap()).collect())
+        })
+        .collect();
+    (header, rows)
+}
+
+fn json_data(text: &str) -> Vec<Vec<f64>> {
+    let v: serde_json::Value = serde_json::from_str(text).unwrap();
+    serde_json::from_value(v["data"].clone()).unwrap()
+}
+
+const Q8: &str = "--q=0,-0.3,0.9,0.2,-0.6,0.1,0.5,0.3";
+const TWIST: [&str; 6] = ["v_x", "v_y", "v_z", "w_x", "w_y", "w_z"];
+
+#[test]
+fn constrained_jacobian_columns_are_v0i_and_the_joints_after_the_link() {
+    let (cols, rows) = parse(&trocar(&["eval", "bidirectional-zy", Q8, "--what", "jr"]));
+    // (3.15): J^r = [Ad_gei Λ# | J^B_0e2], 6 − r = 4 columns of v0i, then joints 7 and 8.
+    assert_eq!(
+        cols,
+        [
+            "v0i[1]",
+            "v0i[2]",
+            "v0i[3]",
+            "v0i[4]",
+            "dq_shaft_7",
+            "dq_shaft_8"
+        ]
+    );
+    assert_eq!(rows.iter().map(|r| r.0.as_str()).collect::<Vec<_>>(), TWIST);
+    let json = json_data(&trocar(&[
+        "eval",
+        "bidirectional-zy",
+        Q8,
+        "--what",
+        "jr",
+        "--json",
+    ]));
+    for ((_, printed), exact) in rows.iter().zip(&json) {
+        for (a, b) in printed.iter().zip(exact) {
+            assert!((a - b).abs() <= 5e-10, "{a} vs {b}");
+        }
+    }
+}
+
+#[test]
+fn the_task_rows_are_the_selected_components() {
+    let q = "--q=0.1,-0.4,0.2,-2.0,0.1,1.8,0.7";
+    let (cols, rows) = parse(&trocar(&["eval", "panda-laparoscope", q, "--what", "task"]));
+    assert_eq!(cols.len(), 4);
+    // [task] select = x y z rz: v_x v_y v_z w_z of the tip's body twist.
+    let labels: Vec<&str> = rows.iter().map(|r| r.0.as_str()).collect();
+    assert_eq!(labels, ["v_x", "v_y", "v_z", "w_z"]);
+    let (cols, _) = parse(&trocar(&["eval", "panda-laparoscope", q, "--what", "jb0i"]));
+    assert_eq!(cols[0], "dq_panda_joint1");
+    assert_eq!(cols.len(), 7);
+}
+
+#[test]
+fn constraint_jacobian_and_mechanism_labels() {
+    let (cols, _) = parse(&trocar(&["eval", "bidirectional-zy", Q8, "--what", "jc"]));
+    assert_eq!(cols, ["dv0r[1]", "dv0r[2]"]);
+    let q = "--q=0.3,1.2,2.0,0";
+    let (cols, rows) = parse(&trocar(&["eval", "four-bar", q, "--what", "passive"]));
+    assert_eq!(cols, ["dq_theta1"]);
+    assert_eq!(rows.len(), 3);
+    assert!(rows
+        .iter()
+        .all(|r| r.0.starts_with("dq_theta") && r.0 != "dq_theta1"));
+}
+
+#[test]
+fn scalars_and_poses_stay_plain() {
+    let w = trocar(&["eval", "bidirectional-zy", Q8, "--what", "manip"]);
+    assert!(w.trim().parse::<f64>().is_ok(), "{w}");
+    let fk = trocar(&["eval", "bidirectional-zy", Q8, "--what", "fk"]);
+    assert_eq!(fk.lines().count(), 4);
+    assert!(
+        fk.split_whitespace().all(|x| x.parse::<f64>().is_ok()),
+        "{fk}"
+    );
+}
