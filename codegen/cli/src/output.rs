@@ -213,6 +213,16 @@ impl Drop for Outputs {
     }
 }
 
+/// One entry of a text matrix: nine decimals, or scientific notation from `1e9` on (a value such
+/// as `1.5e298` would otherwise print as 300 digits).
+fn cell(v: f64) -> String {
+    if v.abs() >= 1e9 {
+        format!("{v:.9e}")
+    } else {
+        format!("{v:.9}")
+    }
+}
+
 /// Prints an error to stderr and returns the exit code of a failed command.
 pub(crate) fn print_error(e: &CliError) -> i32 {
     eprintln!("error: {e}");
@@ -304,7 +314,7 @@ impl MatrixOut {
         let cells: Vec<Vec<String>> = self
             .data
             .iter()
-            .map(|r| r.iter().map(|v| format!("{v:.9}")).collect())
+            .map(|r| r.iter().map(|v| cell(*v)).collect())
             .collect();
         let width = cells.iter().flatten().map(String::len).max().unwrap_or(0);
         cells
@@ -332,7 +342,7 @@ impl MatrixOut {
         let cells: Vec<Vec<String>> = self
             .data
             .iter()
-            .map(|r| r.iter().map(|v| format!("{v:.9}")).collect())
+            .map(|r| r.iter().map(|v| cell(*v)).collect())
             .collect();
         let width = cells
             .iter()

@@ -37,7 +37,8 @@ fn the_reference_arm_at_q7_zero_and_pi_is_reported_singular_by_both_paths() {
             assert!(w.abs() < 1e-12, "{args:?}: w = {w}");
             assert!(
                 stderr.contains("note: J^r is singular at this configuration: rank 5 of 6")
-                    && stderr.contains("manipulability is 0 to working precision"),
+                    && stderr
+                        .contains("manipulability is below 1e-9 × largest^6: zero at this scale"),
                 "{args:?}: {stderr}"
             );
             args[4] = "jr";
@@ -84,4 +85,37 @@ fn the_four_bar_parallel_singularity_is_refused_by_both_paths() {
             );
         }
     }
+}
+
+/// With `l_a = 1e-150` the manipulability is huge (1.55e298) yet `J^r` is singular relative to
+/// its largest singular value: the note says so without claiming the printed value is zero, and
+/// the value prints in scientific notation, not as 300 digits.
+#[test]
+fn a_huge_manipulability_of_a_relatively_singular_jr_is_stated_consistently() {
+    let q = q_with_q7("0.5");
+    let (code, out, err) = trocar(&[
+        "eval",
+        "bidirectional-zy",
+        q.as_str(),
+        "--what",
+        "manip",
+        "--param",
+        "l_a=1e-150",
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    let w: f64 = out.trim().parse().unwrap();
+    assert!(w > 1e290 && out.trim().len() < 20, "{out}");
+    assert!(err.contains("below 1e-9 × largest^6"), "{err}");
+    assert!(!err.contains("is 0"), "{err}");
+}
+
+/// A mechanism whose `J_Cp` is not square has no `det J_Cp`: the error says why, instead of
+/// refusing `det` while suggesting it.
+#[test]
+fn det_of_a_non_square_j_cp_is_refused_with_the_reason() {
+    let q = "--q=0.3,0.3,0.3,0.3,0.3,0.3,0.3,0.3";
+    let (code, _, err) = trocar(&["eval", "cooperative-arms", q, "--what", "det", "--numeric"]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("3 × 2, not square"), "{err}");
+    assert!(!err.contains("or det)"), "{err}");
 }

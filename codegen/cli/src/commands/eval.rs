@@ -234,6 +234,17 @@ fn mechanism_numeric(
         What::Det if d.j_cp.is_square() => {
             MatrixOut::scalar(trocar_sim::closed_chain::linalg::determinant(&d.j_cp))
         }
+        What::Det => {
+            return Err(CliError(format!(
+                "--what det: `{}` has {} structural equations and {} passive joints, so J_Cp \
+                 is {} × {}, not square, and has no determinant (use jr, jc or passive)",
+                m.name,
+                d.j_cp.nrows(),
+                d.j_cp.ncols(),
+                d.j_cp.nrows(),
+                d.j_cp.ncols()
+            )))
+        }
         What::Jr | What::Passive => {
             let r = mech.reduced(&theta).map_err(CliError::from_display)?;
             if what == What::Jr {
@@ -481,9 +492,14 @@ pub fn serial_singularity(
         trocar_model::singularity::rank(&sv),
         trocar_model::singularity::RELATIVE_TOLERANCE,
         if what == What::Manip {
-            "; its manipulability is 0 to working precision"
+            // w = Π σ ≤ σ_min σ_max^(full − 1): at most the tolerance times σ_max^full.
+            format!(
+                "; its manipulability is below {:.0e} × largest^{full}: zero at this scale, \
+                 whatever value is printed",
+                trocar_model::singularity::RELATIVE_TOLERANCE
+            )
         } else {
-            ""
+            String::new()
         }
     )))
 }
