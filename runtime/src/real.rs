@@ -49,6 +49,14 @@ pub trait Real:
         }
         (s, c)
     }
+    /// `self · a + b`, fused into one instruction (one rounding) where the target has FMA and
+    /// the `std` feature is on (`x86-64` with `-C target-feature=+fma` or a `target-cpu` that has
+    /// it, `aarch64`); two operations (two roundings) otherwise. Generated code writes every
+    /// product that is added once this way.
+    #[inline(always)]
+    fn mul_add(self, a: Self, b: Self) -> Self {
+        self * a + b
+    }
     /// Square root.
     fn sqrt(self) -> Self;
     /// Absolute value.
@@ -82,6 +90,25 @@ macro_rules! impl_real {
                     fast::$array(x)
                 }
             )?
+            #[inline(always)]
+            fn mul_add(self, a: Self, b: Self) -> Self {
+                // The hardware instruction where there is one; std's `mul_add` elsewhere would
+                // be a slow software routine, so two operations then.
+                #[cfg(all(
+                    feature = "std",
+                    any(target_feature = "fma", target_arch = "aarch64")
+                ))]
+                {
+                    <$t>::mul_add(self, a, b)
+                }
+                #[cfg(not(all(
+                    feature = "std",
+                    any(target_feature = "fma", target_arch = "aarch64")
+                )))]
+                {
+                    self * a + b
+                }
+            }
             #[inline(always)]
             fn sqrt(self) -> Self {
                 #[cfg(feature = "std")]

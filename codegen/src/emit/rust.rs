@@ -384,8 +384,25 @@ impl BodyWriter<'_> {
                     }
                 }
             }
-            Op::Add(a, b) => self.binary(a, b, quote!(+), PREC_SUM),
-            Op::Sub(a, b) => self.binary(a, b, quote!(-), PREC_SUM),
+            Op::Add(a, b) => match (self.product(a), self.product(b)) {
+                (Some((x, y)), _) => self.mul_add(x, y, self.expr(b).0),
+                (None, Some((x, y))) => self.mul_add(x, y, self.expr(a).0),
+                (None, None) => self.binary(a, b, quote!(+), PREC_SUM),
+            },
+            Op::Sub(a, b) => match (self.product(a), self.product(b)) {
+                // x y − b = fma(x, y, −b); a − x y = fma(−x, y, a).
+                (Some((x, y)), _) => {
+                    let nb = self.operand(b, PREC_NEG);
+                    self.mul_add(x, y, quote!(-#nb))
+                }
+                (None, Some((x, y))) => {
+                    let nx = self.operand(x, PREC_NEG);
+                    let y = self.expr(y).0;
+                    let a = self.expr(a).0;
+                    (quote!(#r::mul_add(-#nx, #y, #a)), PREC_ATOM)
+                }
+                (None, None) => self.binary(a, b, quote!(-), PREC_SUM),
+            },
             Op::Mul(a, b) => self.binary(a, b, quote!(*), PREC_PROD),
             Op::Div(a, b) => self.binary(a, b, quote!(/), PREC_PROD),
             Op::Neg(a) => {
@@ -401,6 +418,26 @@ impl BodyWriter<'_> {
                 (quote!(#r::abs(#x)), PREC_ATOM)
             }
         }
+    }
+
+    /// The factors of `v` when it is a product written in place (not a `let`-bound value): an
+    /// addition of it is then one fused multiply-add (`Real::mul_add`).
+    fn product(&self, v: ValueId) -> Option<(ValueId, ValueId)> {
+        if self.bound[v.index()].is_some() {
+            return None;
+        }
+        match *self.prog.op(v) {
+            Op::Mul(x, y) => Some((x, y)),
+            _ => None,
+        }
+    }
+
+    /// `x · y + c` as `Real::mul_add(x, y, c)`.
+    fn mul_add(&self, x: ValueId, y: ValueId, c: TokenStream) -> (TokenStream, u8) {
+        let r = self.ty.real_path();
+        let (x, _) = self.expr(x);
+        let (y, _) = self.expr(y);
+        (quote!(#r::mul_add(#x, #y, #c)), PREC_ATOM)
     }
 
     /// `v` as an operand that needs precedence at least `min`.

@@ -104,14 +104,30 @@ pub mod four_bar {
         let x2 = x1 + p.l1;
         let x3 = x0 * c1 * s2;
         let x4 = s1 * (x0 * s2);
-        let x5 = p.l4 * c4 + p.l2;
+        let x5 = <T as ::trocar::Real>::mul_add(p.l4, c4, p.l2);
         let x6 = s4 * c3;
         let x7 = s3 * s4;
         [
-            [-(x2 * s1 + x3), x2 * c1 - x4, <T as ::trocar::Real>::ONE],
-            [-(x3 + x1 * s1), x1 * c1 - x4, <T as ::trocar::Real>::ONE],
-            [x5 * s3 + p.l4 * x6, p.l4 * x7 - x5 * c3, -<T as ::trocar::Real>::ONE],
-            [p.l4 * (x6 + c4 * s3), p.l4 * (x7 - c4 * c3), -<T as ::trocar::Real>::ONE],
+            [
+                -<T as ::trocar::Real>::mul_add(x2, s1, x3),
+                <T as ::trocar::Real>::mul_add(x2, c1, -x4),
+                <T as ::trocar::Real>::ONE,
+            ],
+            [
+                -<T as ::trocar::Real>::mul_add(x1, s1, x3),
+                <T as ::trocar::Real>::mul_add(x1, c1, -x4),
+                <T as ::trocar::Real>::ONE,
+            ],
+            [
+                <T as ::trocar::Real>::mul_add(x5, s3, p.l4 * x6),
+                <T as ::trocar::Real>::mul_add(p.l4, x7, -(x5 * c3)),
+                -<T as ::trocar::Real>::ONE,
+            ],
+            [
+                p.l4 * <T as ::trocar::Real>::mul_add(c4, s3, x6),
+                p.l4 * <T as ::trocar::Real>::mul_add(-c4, c3, x7),
+                -<T as ::trocar::Real>::ONE,
+            ],
         ]
     }
     /// [`constraint_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]), thesis (3), (19), (31) of Freitas, Leite & Lizarralde (2010).
@@ -130,20 +146,28 @@ pub mod four_bar {
         let x2 = x1 + p.l1;
         let x3 = x0 * t.cos[0] * t.sin[1];
         let x4 = t.sin[0] * (x0 * t.sin[1]);
-        let x5 = p.l4 * t.cos[3] + p.l2;
+        let x5 = <T as ::trocar::Real>::mul_add(p.l4, t.cos[3], p.l2);
         let x6 = t.sin[3] * t.cos[2];
         let x7 = t.sin[2] * t.sin[3];
         [
-            [-(x2 * t.sin[0] + x3), x2 * t.cos[0] - x4, <T as ::trocar::Real>::ONE],
-            [-(x3 + x1 * t.sin[0]), x1 * t.cos[0] - x4, <T as ::trocar::Real>::ONE],
             [
-                x5 * t.sin[2] + p.l4 * x6,
-                p.l4 * x7 - x5 * t.cos[2],
+                -<T as ::trocar::Real>::mul_add(x2, t.sin[0], x3),
+                <T as ::trocar::Real>::mul_add(x2, t.cos[0], -x4),
+                <T as ::trocar::Real>::ONE,
+            ],
+            [
+                -<T as ::trocar::Real>::mul_add(x1, t.sin[0], x3),
+                <T as ::trocar::Real>::mul_add(x1, t.cos[0], -x4),
+                <T as ::trocar::Real>::ONE,
+            ],
+            [
+                <T as ::trocar::Real>::mul_add(x5, t.sin[2], p.l4 * x6),
+                <T as ::trocar::Real>::mul_add(p.l4, x7, -(x5 * t.cos[2])),
                 -<T as ::trocar::Real>::ONE,
             ],
             [
-                p.l4 * (x6 + t.cos[3] * t.sin[2]),
-                p.l4 * (x7 - t.cos[3] * t.cos[2]),
+                p.l4 * <T as ::trocar::Real>::mul_add(t.cos[3], t.sin[2], x6),
+                p.l4 * <T as ::trocar::Real>::mul_add(-t.cos[3], t.cos[2], x7),
                 -<T as ::trocar::Real>::ONE,
             ],
         ]
@@ -193,9 +217,9 @@ pub mod four_bar {
         let ([s1, s2, s3, s4], [c1, c2, c3, _]) = <T as ::trocar::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3]],
         );
-        let x0 = (s2 * s3 + c2 * c3) * s1;
-        let x1 = (s3 * c2 - s2 * c3) * c1;
-        ((x1 + s4 - x0) * p.l4 + (x1 - x0) * p.l3) * p.l2
+        let x0 = <T as ::trocar::Real>::mul_add(s2, s3, c2 * c3) * s1;
+        let x1 = <T as ::trocar::Real>::mul_add(s3, c2, -(s2 * c3)) * c1;
+        <T as ::trocar::Real>::mul_add(x1 + s4 - x0, p.l4, (x1 - x0) * p.l3) * p.l2
     }
     /// [`constraint_determinant`] from precomputed joint sines and cosines ([`JointTrig`]), thesis (7), §4.5 of Freitas, Leite & Lizarralde (2010).
     ///
@@ -206,9 +230,14 @@ pub mod four_bar {
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> T {
-        let x0 = (t.sin[1] * t.sin[2] + t.cos[1] * t.cos[2]) * t.sin[0];
-        let x1 = (t.sin[2] * t.cos[1] - t.sin[1] * t.cos[2]) * t.cos[0];
-        ((x1 + t.sin[3] - x0) * p.l4 + (x1 - x0) * p.l3) * p.l2
+        let x0 = <T as ::trocar::Real>::mul_add(t.sin[1], t.sin[2], t.cos[1] * t.cos[2])
+            * t.sin[0];
+        let x1 = <T as ::trocar::Real>::mul_add(
+            t.sin[2],
+            t.cos[1],
+            -(t.sin[1] * t.cos[2]),
+        ) * t.cos[0];
+        <T as ::trocar::Real>::mul_add(x1 + t.sin[3] - x0, p.l4, (x1 - x0) * p.l3) * p.l2
     }
     /// `det J_Cp` and the numerator `det(J_Cp) · J = det(J_Cp) J_Aa − J_Ap adj(J_Cp) J_Ca` of the reduced Jacobian, thesis (8) of Freitas, Leite & Lizarralde (2010).
     ///
@@ -226,12 +255,13 @@ pub mod four_bar {
         let ([s1, s2, s3, s4], [c1, c2, c3, _]) = <T as ::trocar::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3]],
         );
-        let x0 = (s2 * s3 + c2 * c3) * s1;
-        let x1 = (s3 * c2 - s2 * c3) * c1;
+        let x0 = <T as ::trocar::Real>::mul_add(s2, s3, c2 * c3) * s1;
+        let x1 = <T as ::trocar::Real>::mul_add(s3, c2, -(s2 * c3)) * c1;
         [
             [
-                ((x1 + s4 - x0) * p.l4 + (x1 - x0) * p.l3) * p.l2,
-                p.l2 * (c3 * s1 - s3 * c1) * p.l1,
+                <T as ::trocar::Real>::mul_add(x1 + s4 - x0, p.l4, (x1 - x0) * p.l3)
+                    * p.l2,
+                p.l2 * <T as ::trocar::Real>::mul_add(c3, s1, -(s3 * c1)) * p.l1,
             ],
         ]
     }
@@ -246,12 +276,26 @@ pub mod four_bar {
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> [[T; 1 + N_OUTPUTS]; N_ACTIVE] {
-        let x0 = (t.sin[1] * t.sin[2] + t.cos[1] * t.cos[2]) * t.sin[0];
-        let x1 = (t.sin[2] * t.cos[1] - t.sin[1] * t.cos[2]) * t.cos[0];
+        let x0 = <T as ::trocar::Real>::mul_add(t.sin[1], t.sin[2], t.cos[1] * t.cos[2])
+            * t.sin[0];
+        let x1 = <T as ::trocar::Real>::mul_add(
+            t.sin[2],
+            t.cos[1],
+            -(t.sin[1] * t.cos[2]),
+        ) * t.cos[0];
         [
             [
-                ((x1 + t.sin[3] - x0) * p.l4 + (x1 - x0) * p.l3) * p.l2,
-                p.l2 * (t.cos[2] * t.sin[0] - t.sin[2] * t.cos[0]) * p.l1,
+                <T as ::trocar::Real>::mul_add(
+                    x1 + t.sin[3] - x0,
+                    p.l4,
+                    (x1 - x0) * p.l3,
+                ) * p.l2,
+                p.l2
+                    * <T as ::trocar::Real>::mul_add(
+                        t.cos[2],
+                        t.sin[0],
+                        -(t.sin[2] * t.cos[0]),
+                    ) * p.l1,
             ],
         ]
     }
@@ -271,24 +315,44 @@ pub mod four_bar {
         let ([s1, s2, s3, s4], [c1, c2, c3, c4]) = <T as ::trocar::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3]],
         );
-        let x0 = (s2 * s3 + c2 * c3) * s1;
-        let x1 = (s3 * c2 - s2 * c3) * c1;
+        let x0 = <T as ::trocar::Real>::mul_add(s2, s3, c2 * c3) * s1;
+        let x1 = <T as ::trocar::Real>::mul_add(s3, c2, -(s2 * c3)) * c1;
         let x2 = p.l4 + p.l3;
-        let x3 = c2 * x2 + p.l1;
+        let x3 = <T as ::trocar::Real>::mul_add(c2, x2, p.l1);
         let x4 = s3 * s4;
         let x5 = c3 * c4;
-        let x6 = c1 * (s3 * c4 + c3 * s4);
+        let x6 = c1 * <T as ::trocar::Real>::mul_add(s3, c4, c3 * s4);
         let x7 = s2 * p.l3;
         [
             [
-                ((x1 + s4 - x0) * p.l4 + (x1 - x0) * p.l3) * p.l2,
+                <T as ::trocar::Real>::mul_add(x1 + s4 - x0, p.l4, (x1 - x0) * p.l3)
+                    * p.l2,
                 p.l2
-                    * (s1 * (c3 * x3 + s2 * (s3 * x2))
-                        + (c1 * (s2 * (c3 * x2) - s3 * x3) - s4 * p.l4)),
-                p.l1 * (p.l4 * (s1 * (x4 - x5) + (x6 - s2)) - x7),
+                    * <T as ::trocar::Real>::mul_add(
+                        s1,
+                        <T as ::trocar::Real>::mul_add(c3, x3, s2 * (s3 * x2)),
+                        <T as ::trocar::Real>::mul_add(
+                            c1,
+                            <T as ::trocar::Real>::mul_add(s2, c3 * x2, -(s3 * x3)),
+                            -(s4 * p.l4),
+                        ),
+                    ),
                 p.l1
-                    * (p.l4 * (s1 * (x5 - x4) + (s2 - x6))
-                        + (x7 + p.l2 * (c3 * s1 - s3 * c1))),
+                    * <T as ::trocar::Real>::mul_add(
+                        p.l4,
+                        <T as ::trocar::Real>::mul_add(s1, x4 - x5, x6 - s2),
+                        -x7,
+                    ),
+                p.l1
+                    * <T as ::trocar::Real>::mul_add(
+                        p.l4,
+                        <T as ::trocar::Real>::mul_add(s1, x5 - x4, s2 - x6),
+                        <T as ::trocar::Real>::mul_add(
+                            p.l2,
+                            <T as ::trocar::Real>::mul_add(c3, s1, -(s3 * c1)),
+                            x7,
+                        ),
+                    ),
             ],
         ]
     }
@@ -303,25 +367,65 @@ pub mod four_bar {
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> [[T; 1 + N_PASSIVE]; N_ACTIVE] {
-        let x0 = (t.sin[1] * t.sin[2] + t.cos[1] * t.cos[2]) * t.sin[0];
-        let x1 = (t.sin[2] * t.cos[1] - t.sin[1] * t.cos[2]) * t.cos[0];
+        let x0 = <T as ::trocar::Real>::mul_add(t.sin[1], t.sin[2], t.cos[1] * t.cos[2])
+            * t.sin[0];
+        let x1 = <T as ::trocar::Real>::mul_add(
+            t.sin[2],
+            t.cos[1],
+            -(t.sin[1] * t.cos[2]),
+        ) * t.cos[0];
         let x2 = p.l4 + p.l3;
-        let x3 = t.cos[1] * x2 + p.l1;
+        let x3 = <T as ::trocar::Real>::mul_add(t.cos[1], x2, p.l1);
         let x4 = t.sin[2] * t.sin[3];
         let x5 = t.cos[2] * t.cos[3];
-        let x6 = t.cos[0] * (t.sin[2] * t.cos[3] + t.cos[2] * t.sin[3]);
+        let x6 = t.cos[0]
+            * <T as ::trocar::Real>::mul_add(t.sin[2], t.cos[3], t.cos[2] * t.sin[3]);
         let x7 = t.sin[1] * p.l3;
         [
             [
-                ((x1 + t.sin[3] - x0) * p.l4 + (x1 - x0) * p.l3) * p.l2,
+                <T as ::trocar::Real>::mul_add(
+                    x1 + t.sin[3] - x0,
+                    p.l4,
+                    (x1 - x0) * p.l3,
+                ) * p.l2,
                 p.l2
-                    * (t.sin[0] * (t.cos[2] * x3 + t.sin[1] * (t.sin[2] * x2))
-                        + (t.cos[0] * (t.sin[1] * (t.cos[2] * x2) - t.sin[2] * x3)
-                            - t.sin[3] * p.l4)),
-                p.l1 * (p.l4 * (t.sin[0] * (x4 - x5) + (x6 - t.sin[1])) - x7),
+                    * <T as ::trocar::Real>::mul_add(
+                        t.sin[0],
+                        <T as ::trocar::Real>::mul_add(
+                            t.cos[2],
+                            x3,
+                            t.sin[1] * (t.sin[2] * x2),
+                        ),
+                        <T as ::trocar::Real>::mul_add(
+                            t.cos[0],
+                            <T as ::trocar::Real>::mul_add(
+                                t.sin[1],
+                                t.cos[2] * x2,
+                                -(t.sin[2] * x3),
+                            ),
+                            -(t.sin[3] * p.l4),
+                        ),
+                    ),
                 p.l1
-                    * (p.l4 * (t.sin[0] * (x5 - x4) + (t.sin[1] - x6))
-                        + (x7 + p.l2 * (t.cos[2] * t.sin[0] - t.sin[2] * t.cos[0]))),
+                    * <T as ::trocar::Real>::mul_add(
+                        p.l4,
+                        <T as ::trocar::Real>::mul_add(t.sin[0], x4 - x5, x6 - t.sin[1]),
+                        -x7,
+                    ),
+                p.l1
+                    * <T as ::trocar::Real>::mul_add(
+                        p.l4,
+                        <T as ::trocar::Real>::mul_add(t.sin[0], x5 - x4, t.sin[1] - x6),
+                        <T as ::trocar::Real>::mul_add(
+                            p.l2,
+                            <T as ::trocar::Real>::mul_add(
+                                t.cos[2],
+                                t.sin[0],
+                                -(t.sin[2] * t.cos[0]),
+                            ),
+                            x7,
+                        ),
+                    ),
             ],
         ]
     }

@@ -131,89 +131,204 @@ pub mod chain11_wide {
         let x1 = c1 * s2;
         let x2 = s1 * c2;
         let x3 = s1 * s2;
-        let x4 = s1 * s3 - c3 * x1;
-        let x5 = s3 * x1 + s1 * c3;
+        let x4 = <f32 as ::trocar::Real>::mul_add(s1, s3, -(c3 * x1));
+        let x5 = <f32 as ::trocar::Real>::mul_add(s3, x1, s1 * c3);
         let x6 = c2 * c3;
         let x7 = c2 * s3;
-        let x8 = c3 * x3 + c1 * s3;
-        let x9 = c1 * c3 - s3 * x3;
-        let x10 = c4 * x0 - s4 * x5;
-        let x11 = s4 * x0 + c4 * x5;
-        let x12 = s2 * c4 + s4 * x7;
-        let x13 = s2 * s4 - c4 * x7;
-        let x14 = c4 * x2 + s4 * x9;
-        let x15 = c4 * x9 - s4 * x2;
-        let x16 = c5 * x10 + s5 * x4;
-        let x17 = c5 * x4 - s5 * x10;
-        let x18 = c5 * x12 + s5 * x6;
-        let x19 = c5 * x6 - s5 * x12;
-        let x20 = s5 * x8 - c5 * x14;
-        let x21 = s5 * x14 + c5 * x8;
-        let x22 = c6 * x17 + s6 * x11;
-        let x23 = c6 * x11 - s6 * x17;
-        let x24 = c6 * x19 + s6 * x13;
-        let x25 = c6 * x13 - s6 * x19;
-        let x26 = c6 * x21 + s6 * x15;
-        let x27 = c6 * x15 - s6 * x21;
-        let x28 = c7 * x16 - s7 * x23;
-        let x29 = s7 * x16 + c7 * x23;
-        let x30 = c7 * x18 - s7 * x25;
-        let x31 = s7 * x18 + c7 * x25;
-        let x32 = c7 * x20 - s7 * x27;
-        let x33 = s7 * x20 + c7 * x27;
-        let x34 = c8 * x28 + s8 * x22;
-        let x35 = c8 * x22 - s8 * x28;
-        let x36 = c8 * x30 + s8 * x24;
-        let x37 = c8 * x24 - s8 * x30;
-        let x38 = c8 * x32 + s8 * x26;
-        let x39 = c8 * x26 - s8 * x32;
-        let x40 = c9 * x35 + s9 * x29;
-        let x41 = c9 * x29 - s9 * x35;
-        let x42 = c9 * x37 + s9 * x31;
-        let x43 = c9 * x31 - s9 * x37;
-        let x44 = c9 * x39 + s9 * x33;
-        let x45 = c9 * x33 - s9 * x39;
-        let x46 = c10 * x34 - s10 * x41;
-        let x47 = s10 * x34 + c10 * x41;
-        let x48 = c10 * x36 - s10 * x43;
-        let x49 = s10 * x36 + c10 * x43;
-        let x50 = c10 * x38 - s10 * x45;
-        let x51 = s10 * x38 + c10 * x45;
-        let x52 = c11 * x40 - s11 * x46;
-        let x53 = c11 * x42 - s11 * x48;
-        let x54 = c11 * x44 - s11 * x50;
+        let x8 = <f32 as ::trocar::Real>::mul_add(c3, x3, c1 * s3);
+        let x9 = <f32 as ::trocar::Real>::mul_add(c1, c3, -(s3 * x3));
+        let x10 = <f32 as ::trocar::Real>::mul_add(c4, x0, -(s4 * x5));
+        let x11 = <f32 as ::trocar::Real>::mul_add(s4, x0, c4 * x5);
+        let x12 = <f32 as ::trocar::Real>::mul_add(s2, c4, s4 * x7);
+        let x13 = <f32 as ::trocar::Real>::mul_add(s2, s4, -(c4 * x7));
+        let x14 = <f32 as ::trocar::Real>::mul_add(c4, x2, s4 * x9);
+        let x15 = <f32 as ::trocar::Real>::mul_add(c4, x9, -(s4 * x2));
+        let x16 = <f32 as ::trocar::Real>::mul_add(c5, x10, s5 * x4);
+        let x17 = <f32 as ::trocar::Real>::mul_add(c5, x4, -(s5 * x10));
+        let x18 = <f32 as ::trocar::Real>::mul_add(c5, x12, s5 * x6);
+        let x19 = <f32 as ::trocar::Real>::mul_add(c5, x6, -(s5 * x12));
+        let x20 = <f32 as ::trocar::Real>::mul_add(s5, x8, -(c5 * x14));
+        let x21 = <f32 as ::trocar::Real>::mul_add(s5, x14, c5 * x8);
+        let x22 = <f32 as ::trocar::Real>::mul_add(c6, x17, s6 * x11);
+        let x23 = <f32 as ::trocar::Real>::mul_add(c6, x11, -(s6 * x17));
+        let x24 = <f32 as ::trocar::Real>::mul_add(c6, x19, s6 * x13);
+        let x25 = <f32 as ::trocar::Real>::mul_add(c6, x13, -(s6 * x19));
+        let x26 = <f32 as ::trocar::Real>::mul_add(c6, x21, s6 * x15);
+        let x27 = <f32 as ::trocar::Real>::mul_add(c6, x15, -(s6 * x21));
+        let x28 = <f32 as ::trocar::Real>::mul_add(c7, x16, -(s7 * x23));
+        let x29 = <f32 as ::trocar::Real>::mul_add(s7, x16, c7 * x23);
+        let x30 = <f32 as ::trocar::Real>::mul_add(c7, x18, -(s7 * x25));
+        let x31 = <f32 as ::trocar::Real>::mul_add(s7, x18, c7 * x25);
+        let x32 = <f32 as ::trocar::Real>::mul_add(c7, x20, -(s7 * x27));
+        let x33 = <f32 as ::trocar::Real>::mul_add(s7, x20, c7 * x27);
+        let x34 = <f32 as ::trocar::Real>::mul_add(c8, x28, s8 * x22);
+        let x35 = <f32 as ::trocar::Real>::mul_add(c8, x22, -(s8 * x28));
+        let x36 = <f32 as ::trocar::Real>::mul_add(c8, x30, s8 * x24);
+        let x37 = <f32 as ::trocar::Real>::mul_add(c8, x24, -(s8 * x30));
+        let x38 = <f32 as ::trocar::Real>::mul_add(c8, x32, s8 * x26);
+        let x39 = <f32 as ::trocar::Real>::mul_add(c8, x26, -(s8 * x32));
+        let x40 = <f32 as ::trocar::Real>::mul_add(c9, x35, s9 * x29);
+        let x41 = <f32 as ::trocar::Real>::mul_add(c9, x29, -(s9 * x35));
+        let x42 = <f32 as ::trocar::Real>::mul_add(c9, x37, s9 * x31);
+        let x43 = <f32 as ::trocar::Real>::mul_add(c9, x31, -(s9 * x37));
+        let x44 = <f32 as ::trocar::Real>::mul_add(c9, x39, s9 * x33);
+        let x45 = <f32 as ::trocar::Real>::mul_add(c9, x33, -(s9 * x39));
+        let x46 = <f32 as ::trocar::Real>::mul_add(c10, x34, -(s10 * x41));
+        let x47 = <f32 as ::trocar::Real>::mul_add(s10, x34, c10 * x41);
+        let x48 = <f32 as ::trocar::Real>::mul_add(c10, x36, -(s10 * x43));
+        let x49 = <f32 as ::trocar::Real>::mul_add(s10, x36, c10 * x43);
+        let x50 = <f32 as ::trocar::Real>::mul_add(c10, x38, -(s10 * x45));
+        let x51 = <f32 as ::trocar::Real>::mul_add(s10, x38, c10 * x45);
+        let x52 = <f32 as ::trocar::Real>::mul_add(c11, x40, -(s11 * x46));
+        let x53 = <f32 as ::trocar::Real>::mul_add(c11, x42, -(s11 * x48));
+        let x54 = <f32 as ::trocar::Real>::mul_add(c11, x44, -(s11 * x50));
         (
             [
-                [c11 * x46 + s11 * x40, c11 * x48 + s11 * x42, c11 * x50 + s11 * x44],
+                [
+                    <f32 as ::trocar::Real>::mul_add(c11, x46, s11 * x40),
+                    <f32 as ::trocar::Real>::mul_add(c11, x48, s11 * x42),
+                    <f32 as ::trocar::Real>::mul_add(c11, x50, s11 * x44),
+                ],
                 [x52, x53, x54],
                 [x47, x49, x51],
             ],
             [
-                0.02_f32 + 0.01_f32 * s1
-                    + (0.02_f32 * s1 - (0.01_f32 * x0 + 0.1_f32 * x1))
-                    + (0.015_f32 * x0 + 0.13_f32 * x4) + (0.09_f32 * x4 - 0.02_f32 * x11)
-                    + (0.01_f32 * x16 + 0.12_f32 * x17 + 0.01_f32 * x11)
-                    + (0.02_f32 * x16 + 0.12_f32 * x22)
-                    + (0.11_f32 * x22 + 0.01_f32 * x29)
-                    + (0.1_f32 * x35 - 0.01_f32 * x34 + 0.02_f32 * x29)
-                    + (0.015_f32 * x34 + 0.13_f32 * x40)
-                    + (0.09_f32 * x40 - 0.02_f32 * x47) + 0.09_f32 * x52,
-                0.22999999999999998_f32 + (0.1_f32 * c2 - 0.01_f32 * s2)
-                    + (0.015_f32 * s2 + 0.13_f32 * x6) + (0.09_f32 * x6 - 0.02_f32 * x13)
-                    + (0.01_f32 * x18 + 0.12_f32 * x19 + 0.01_f32 * x13)
-                    + (0.02_f32 * x18 + 0.12_f32 * x24)
-                    + (0.11_f32 * x24 + 0.01_f32 * x31)
-                    + (0.1_f32 * x37 - 0.01_f32 * x36 + 0.02_f32 * x31)
-                    + (0.015_f32 * x36 + 0.13_f32 * x42)
-                    + (0.09_f32 * x42 - 0.02_f32 * x49) + 0.09_f32 * x53,
-                0.01_f32 * c1 + (0.01_f32 * x2 + 0.1_f32 * x3 + 0.02_f32 * c1)
-                    + (0.13_f32 * x8 - 0.015_f32 * x2) + (0.09_f32 * x8 - 0.02_f32 * x15)
-                    + (0.01_f32 * x20 + 0.12_f32 * x21 + 0.01_f32 * x15)
-                    + (0.02_f32 * x20 + 0.12_f32 * x26)
-                    + (0.11_f32 * x26 + 0.01_f32 * x33)
-                    + (0.1_f32 * x39 - 0.01_f32 * x38 + 0.02_f32 * x33)
-                    + (0.015_f32 * x38 + 0.13_f32 * x44)
-                    + (0.09_f32 * x44 - 0.02_f32 * x51) + 0.09_f32 * x54,
+                <f32 as ::trocar::Real>::mul_add(
+                    0.09_f32,
+                    x52,
+                    <f32 as ::trocar::Real>::mul_add(0.01_f32, s1, 0.02_f32)
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.02_f32,
+                            s1,
+                            -<f32 as ::trocar::Real>::mul_add(0.01_f32, x0, 0.1_f32 * x1),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(0.015_f32, x0, 0.13_f32 * x4)
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.09_f32,
+                            x4,
+                            -(0.02_f32 * x11),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.01_f32,
+                            x11,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.01_f32,
+                                x16,
+                                0.12_f32 * x17,
+                            ),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(0.02_f32, x16, 0.12_f32 * x22)
+                        + <f32 as ::trocar::Real>::mul_add(0.11_f32, x22, 0.01_f32 * x29)
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.02_f32,
+                            x29,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.1_f32,
+                                x35,
+                                -(0.01_f32 * x34),
+                            ),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.015_f32,
+                            x34,
+                            0.13_f32 * x40,
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.09_f32,
+                            x40,
+                            -(0.02_f32 * x47),
+                        ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.09_f32,
+                    x53,
+                    0.22999999999999998_f32
+                        + <f32 as ::trocar::Real>::mul_add(0.1_f32, c2, -(0.01_f32 * s2))
+                        + <f32 as ::trocar::Real>::mul_add(0.015_f32, s2, 0.13_f32 * x6)
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.09_f32,
+                            x6,
+                            -(0.02_f32 * x13),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.01_f32,
+                            x13,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.01_f32,
+                                x18,
+                                0.12_f32 * x19,
+                            ),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(0.02_f32, x18, 0.12_f32 * x24)
+                        + <f32 as ::trocar::Real>::mul_add(0.11_f32, x24, 0.01_f32 * x31)
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.02_f32,
+                            x31,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.1_f32,
+                                x37,
+                                -(0.01_f32 * x36),
+                            ),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.015_f32,
+                            x36,
+                            0.13_f32 * x42,
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.09_f32,
+                            x42,
+                            -(0.02_f32 * x49),
+                        ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.09_f32,
+                    x54,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.01_f32,
+                        c1,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.02_f32,
+                            c1,
+                            <f32 as ::trocar::Real>::mul_add(0.01_f32, x2, 0.1_f32 * x3),
+                        ),
+                    ) + <f32 as ::trocar::Real>::mul_add(0.13_f32, x8, -(0.015_f32 * x2))
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.09_f32,
+                            x8,
+                            -(0.02_f32 * x15),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.01_f32,
+                            x15,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.01_f32,
+                                x20,
+                                0.12_f32 * x21,
+                            ),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(0.02_f32, x20, 0.12_f32 * x26)
+                        + <f32 as ::trocar::Real>::mul_add(0.11_f32, x26, 0.01_f32 * x33)
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.02_f32,
+                            x33,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.1_f32,
+                                x39,
+                                -(0.01_f32 * x38),
+                            ),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.015_f32,
+                            x38,
+                            0.13_f32 * x44,
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.09_f32,
+                            x44,
+                            -(0.02_f32 * x51),
+                        ),
+                ),
             ],
         )
     }
@@ -232,95 +347,212 @@ pub mod chain11_wide {
         let x1 = t.cos[0] * t.sin[1];
         let x2 = t.sin[0] * t.cos[1];
         let x3 = t.sin[0] * t.sin[1];
-        let x4 = t.sin[0] * t.sin[2] - t.cos[2] * x1;
-        let x5 = t.sin[2] * x1 + t.sin[0] * t.cos[2];
+        let x4 = <f32 as ::trocar::Real>::mul_add(t.sin[0], t.sin[2], -(t.cos[2] * x1));
+        let x5 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x1, t.sin[0] * t.cos[2]);
         let x6 = t.cos[1] * t.cos[2];
         let x7 = t.cos[1] * t.sin[2];
-        let x8 = t.cos[2] * x3 + t.cos[0] * t.sin[2];
-        let x9 = t.cos[0] * t.cos[2] - t.sin[2] * x3;
-        let x10 = t.cos[3] * x0 - t.sin[3] * x5;
-        let x11 = t.sin[3] * x0 + t.cos[3] * x5;
-        let x12 = t.sin[1] * t.cos[3] + t.sin[3] * x7;
-        let x13 = t.sin[1] * t.sin[3] - t.cos[3] * x7;
-        let x14 = t.cos[3] * x2 + t.sin[3] * x9;
-        let x15 = t.cos[3] * x9 - t.sin[3] * x2;
-        let x16 = t.cos[4] * x10 + t.sin[4] * x4;
-        let x17 = t.cos[4] * x4 - t.sin[4] * x10;
-        let x18 = t.cos[4] * x12 + t.sin[4] * x6;
-        let x19 = t.cos[4] * x6 - t.sin[4] * x12;
-        let x20 = t.sin[4] * x8 - t.cos[4] * x14;
-        let x21 = t.sin[4] * x14 + t.cos[4] * x8;
-        let x22 = t.cos[5] * x17 + t.sin[5] * x11;
-        let x23 = t.cos[5] * x11 - t.sin[5] * x17;
-        let x24 = t.cos[5] * x19 + t.sin[5] * x13;
-        let x25 = t.cos[5] * x13 - t.sin[5] * x19;
-        let x26 = t.cos[5] * x21 + t.sin[5] * x15;
-        let x27 = t.cos[5] * x15 - t.sin[5] * x21;
-        let x28 = t.cos[6] * x16 - t.sin[6] * x23;
-        let x29 = t.sin[6] * x16 + t.cos[6] * x23;
-        let x30 = t.cos[6] * x18 - t.sin[6] * x25;
-        let x31 = t.sin[6] * x18 + t.cos[6] * x25;
-        let x32 = t.cos[6] * x20 - t.sin[6] * x27;
-        let x33 = t.sin[6] * x20 + t.cos[6] * x27;
-        let x34 = t.cos[7] * x28 + t.sin[7] * x22;
-        let x35 = t.cos[7] * x22 - t.sin[7] * x28;
-        let x36 = t.cos[7] * x30 + t.sin[7] * x24;
-        let x37 = t.cos[7] * x24 - t.sin[7] * x30;
-        let x38 = t.cos[7] * x32 + t.sin[7] * x26;
-        let x39 = t.cos[7] * x26 - t.sin[7] * x32;
-        let x40 = t.cos[8] * x35 + t.sin[8] * x29;
-        let x41 = t.cos[8] * x29 - t.sin[8] * x35;
-        let x42 = t.cos[8] * x37 + t.sin[8] * x31;
-        let x43 = t.cos[8] * x31 - t.sin[8] * x37;
-        let x44 = t.cos[8] * x39 + t.sin[8] * x33;
-        let x45 = t.cos[8] * x33 - t.sin[8] * x39;
-        let x46 = t.cos[9] * x34 - t.sin[9] * x41;
-        let x47 = t.sin[9] * x34 + t.cos[9] * x41;
-        let x48 = t.cos[9] * x36 - t.sin[9] * x43;
-        let x49 = t.sin[9] * x36 + t.cos[9] * x43;
-        let x50 = t.cos[9] * x38 - t.sin[9] * x45;
-        let x51 = t.sin[9] * x38 + t.cos[9] * x45;
-        let x52 = t.cos[10] * x40 - t.sin[10] * x46;
-        let x53 = t.cos[10] * x42 - t.sin[10] * x48;
-        let x54 = t.cos[10] * x44 - t.sin[10] * x50;
+        let x8 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x3, t.cos[0] * t.sin[2]);
+        let x9 = <f32 as ::trocar::Real>::mul_add(t.cos[0], t.cos[2], -(t.sin[2] * x3));
+        let x10 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x0, -(t.sin[3] * x5));
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x0, t.cos[3] * x5);
+        let x12 = <f32 as ::trocar::Real>::mul_add(t.sin[1], t.cos[3], t.sin[3] * x7);
+        let x13 = <f32 as ::trocar::Real>::mul_add(t.sin[1], t.sin[3], -(t.cos[3] * x7));
+        let x14 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x2, t.sin[3] * x9);
+        let x15 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x9, -(t.sin[3] * x2));
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x10, t.sin[4] * x4);
+        let x17 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x4, -(t.sin[4] * x10));
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x12, t.sin[4] * x6);
+        let x19 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x6, -(t.sin[4] * x12));
+        let x20 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x8, -(t.cos[4] * x14));
+        let x21 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x14, t.cos[4] * x8);
+        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x17, t.sin[5] * x11);
+        let x23 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x11, -(t.sin[5] * x17));
+        let x24 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x19, t.sin[5] * x13);
+        let x25 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x13, -(t.sin[5] * x19));
+        let x26 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x21, t.sin[5] * x15);
+        let x27 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x15, -(t.sin[5] * x21));
+        let x28 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x16, -(t.sin[6] * x23));
+        let x29 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x16, t.cos[6] * x23);
+        let x30 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x18, -(t.sin[6] * x25));
+        let x31 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x18, t.cos[6] * x25);
+        let x32 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x20, -(t.sin[6] * x27));
+        let x33 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x20, t.cos[6] * x27);
+        let x34 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x28, t.sin[7] * x22);
+        let x35 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x22, -(t.sin[7] * x28));
+        let x36 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x30, t.sin[7] * x24);
+        let x37 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x24, -(t.sin[7] * x30));
+        let x38 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x32, t.sin[7] * x26);
+        let x39 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x26, -(t.sin[7] * x32));
+        let x40 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x35, t.sin[8] * x29);
+        let x41 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x29, -(t.sin[8] * x35));
+        let x42 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x37, t.sin[8] * x31);
+        let x43 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x31, -(t.sin[8] * x37));
+        let x44 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x39, t.sin[8] * x33);
+        let x45 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x33, -(t.sin[8] * x39));
+        let x46 = <f32 as ::trocar::Real>::mul_add(t.cos[9], x34, -(t.sin[9] * x41));
+        let x47 = <f32 as ::trocar::Real>::mul_add(t.sin[9], x34, t.cos[9] * x41);
+        let x48 = <f32 as ::trocar::Real>::mul_add(t.cos[9], x36, -(t.sin[9] * x43));
+        let x49 = <f32 as ::trocar::Real>::mul_add(t.sin[9], x36, t.cos[9] * x43);
+        let x50 = <f32 as ::trocar::Real>::mul_add(t.cos[9], x38, -(t.sin[9] * x45));
+        let x51 = <f32 as ::trocar::Real>::mul_add(t.sin[9], x38, t.cos[9] * x45);
+        let x52 = <f32 as ::trocar::Real>::mul_add(t.cos[10], x40, -(t.sin[10] * x46));
+        let x53 = <f32 as ::trocar::Real>::mul_add(t.cos[10], x42, -(t.sin[10] * x48));
+        let x54 = <f32 as ::trocar::Real>::mul_add(t.cos[10], x44, -(t.sin[10] * x50));
         (
             [
                 [
-                    t.cos[10] * x46 + t.sin[10] * x40,
-                    t.cos[10] * x48 + t.sin[10] * x42,
-                    t.cos[10] * x50 + t.sin[10] * x44,
+                    <f32 as ::trocar::Real>::mul_add(t.cos[10], x46, t.sin[10] * x40),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[10], x48, t.sin[10] * x42),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[10], x50, t.sin[10] * x44),
                 ],
                 [x52, x53, x54],
                 [x47, x49, x51],
             ],
             [
-                0.02_f32 + 0.01_f32 * t.sin[0]
-                    + (0.02_f32 * t.sin[0] - (0.01_f32 * x0 + 0.1_f32 * x1))
-                    + (0.015_f32 * x0 + 0.13_f32 * x4) + (0.09_f32 * x4 - 0.02_f32 * x11)
-                    + (0.01_f32 * x16 + 0.12_f32 * x17 + 0.01_f32 * x11)
-                    + (0.02_f32 * x16 + 0.12_f32 * x22)
-                    + (0.11_f32 * x22 + 0.01_f32 * x29)
-                    + (0.1_f32 * x35 - 0.01_f32 * x34 + 0.02_f32 * x29)
-                    + (0.015_f32 * x34 + 0.13_f32 * x40)
-                    + (0.09_f32 * x40 - 0.02_f32 * x47) + 0.09_f32 * x52,
-                0.22999999999999998_f32 + (0.1_f32 * t.cos[1] - 0.01_f32 * t.sin[1])
-                    + (0.015_f32 * t.sin[1] + 0.13_f32 * x6)
-                    + (0.09_f32 * x6 - 0.02_f32 * x13)
-                    + (0.01_f32 * x18 + 0.12_f32 * x19 + 0.01_f32 * x13)
-                    + (0.02_f32 * x18 + 0.12_f32 * x24)
-                    + (0.11_f32 * x24 + 0.01_f32 * x31)
-                    + (0.1_f32 * x37 - 0.01_f32 * x36 + 0.02_f32 * x31)
-                    + (0.015_f32 * x36 + 0.13_f32 * x42)
-                    + (0.09_f32 * x42 - 0.02_f32 * x49) + 0.09_f32 * x53,
-                0.01_f32 * t.cos[0]
-                    + (0.01_f32 * x2 + 0.1_f32 * x3 + 0.02_f32 * t.cos[0])
-                    + (0.13_f32 * x8 - 0.015_f32 * x2) + (0.09_f32 * x8 - 0.02_f32 * x15)
-                    + (0.01_f32 * x20 + 0.12_f32 * x21 + 0.01_f32 * x15)
-                    + (0.02_f32 * x20 + 0.12_f32 * x26)
-                    + (0.11_f32 * x26 + 0.01_f32 * x33)
-                    + (0.1_f32 * x39 - 0.01_f32 * x38 + 0.02_f32 * x33)
-                    + (0.015_f32 * x38 + 0.13_f32 * x44)
-                    + (0.09_f32 * x44 - 0.02_f32 * x51) + 0.09_f32 * x54,
+                <f32 as ::trocar::Real>::mul_add(
+                    0.09_f32,
+                    x52,
+                    <f32 as ::trocar::Real>::mul_add(0.01_f32, t.sin[0], 0.02_f32)
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.02_f32,
+                            t.sin[0],
+                            -<f32 as ::trocar::Real>::mul_add(0.01_f32, x0, 0.1_f32 * x1),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(0.015_f32, x0, 0.13_f32 * x4)
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.09_f32,
+                            x4,
+                            -(0.02_f32 * x11),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.01_f32,
+                            x11,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.01_f32,
+                                x16,
+                                0.12_f32 * x17,
+                            ),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(0.02_f32, x16, 0.12_f32 * x22)
+                        + <f32 as ::trocar::Real>::mul_add(0.11_f32, x22, 0.01_f32 * x29)
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.02_f32,
+                            x29,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.1_f32,
+                                x35,
+                                -(0.01_f32 * x34),
+                            ),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.015_f32,
+                            x34,
+                            0.13_f32 * x40,
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.09_f32,
+                            x40,
+                            -(0.02_f32 * x47),
+                        ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.09_f32,
+                    x53,
+                    0.22999999999999998_f32
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.1_f32,
+                            t.cos[1],
+                            -(0.01_f32 * t.sin[1]),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.015_f32,
+                            t.sin[1],
+                            0.13_f32 * x6,
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.09_f32,
+                            x6,
+                            -(0.02_f32 * x13),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.01_f32,
+                            x13,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.01_f32,
+                                x18,
+                                0.12_f32 * x19,
+                            ),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(0.02_f32, x18, 0.12_f32 * x24)
+                        + <f32 as ::trocar::Real>::mul_add(0.11_f32, x24, 0.01_f32 * x31)
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.02_f32,
+                            x31,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.1_f32,
+                                x37,
+                                -(0.01_f32 * x36),
+                            ),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.015_f32,
+                            x36,
+                            0.13_f32 * x42,
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.09_f32,
+                            x42,
+                            -(0.02_f32 * x49),
+                        ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.09_f32,
+                    x54,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.01_f32,
+                        t.cos[0],
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.02_f32,
+                            t.cos[0],
+                            <f32 as ::trocar::Real>::mul_add(0.01_f32, x2, 0.1_f32 * x3),
+                        ),
+                    ) + <f32 as ::trocar::Real>::mul_add(0.13_f32, x8, -(0.015_f32 * x2))
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.09_f32,
+                            x8,
+                            -(0.02_f32 * x15),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.01_f32,
+                            x15,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.01_f32,
+                                x20,
+                                0.12_f32 * x21,
+                            ),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(0.02_f32, x20, 0.12_f32 * x26)
+                        + <f32 as ::trocar::Real>::mul_add(0.11_f32, x26, 0.01_f32 * x33)
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.02_f32,
+                            x33,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.1_f32,
+                                x39,
+                                -(0.01_f32 * x38),
+                            ),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.015_f32,
+                            x38,
+                            0.13_f32 * x44,
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.09_f32,
+                            x44,
+                            -(0.02_f32 * x51),
+                        ),
+                ),
             ],
         )
     }
@@ -361,134 +593,161 @@ pub mod chain11_wide {
         let x0 = 0.09_f32 * s11;
         let x1 = c10 * c11;
         let x2 = c10 * s11;
-        let x3 = 0.13_f32 + (0.09_f32 + 0.09_f32 * c11);
+        let x3 = 0.13_f32 + <f32 as ::trocar::Real>::mul_add(0.09_f32, c11, 0.09_f32);
         let x4 = s10 * c11;
         let x5 = s10 * s11;
-        let x6 = s10 * x0 - 0.02_f32 * c10;
-        let x7 = 0.015_f32 - (c10 * x0 + 0.02_f32 * s10) - 0.01_f32;
-        let x8 = c9 * s11 + s9 * x4;
-        let x9 = c9 * c11 - s9 * x5;
+        let x6 = <f32 as ::trocar::Real>::mul_add(s10, x0, -(0.02_f32 * c10));
+        let x7 = 0.015_f32 - <f32 as ::trocar::Real>::mul_add(c10, x0, 0.02_f32 * s10)
+            - 0.01_f32;
+        let x8 = <f32 as ::trocar::Real>::mul_add(c9, s11, s9 * x4);
+        let x9 = <f32 as ::trocar::Real>::mul_add(c9, c11, -(s9 * x5));
         let x10 = s9 * c10;
-        let x11 = 0.1_f32 + (c9 * x3 - s9 * x6);
-        let x12 = s9 * s11 - c9 * x4;
-        let x13 = s9 * c11 + c9 * x5;
+        let x11 = 0.1_f32 + <f32 as ::trocar::Real>::mul_add(c9, x3, -(s9 * x6));
+        let x12 = <f32 as ::trocar::Real>::mul_add(s9, s11, -(c9 * x4));
+        let x13 = <f32 as ::trocar::Real>::mul_add(s9, c11, c9 * x5);
         let x14 = c9 * c10;
-        let x15 = c8 * x1 - s8 * x8;
-        let x16 = c8 * x2 + s8 * x9;
-        let x17 = c8 * s10 + s8 * x10;
-        let x18 = c8 * x7 - s8 * x11;
-        let x19 = s8 * x1 + c8 * x8;
-        let x20 = c8 * x9 - s8 * x2;
-        let x21 = s8 * s10 - c8 * x10;
-        let x22 = 0.01_f32 + (0.02_f32 + (s9 * x3 + c9 * x6));
-        let x23 = c7 * x15 + s7 * x12;
-        let x24 = s7 * x13 - c7 * x16;
-        let x25 = c7 * x17 + s7 * x14;
-        let x26 = 0.12_f32 + (0.11_f32 + (s8 * x7 + c8 * x11));
-        let x27 = c7 * x12 - s7 * x15;
-        let x28 = s7 * x16 + c7 * x13;
-        let x29 = c7 * x14 - s7 * x17;
-        let x30 = c7 * x22 - s7 * x18;
-        let x31 = 0.01_f32 + (0.02_f32 + (c7 * x18 + s7 * x22));
-        let x32 = c6 * x19 - s6 * x27;
-        let x33 = c6 * x20 - s6 * x28;
-        let x34 = c6 * x21 - s6 * x29;
-        let x35 = 0.12_f32 + (c6 * x26 - s6 * x30);
-        let x36 = s6 * x19 + c6 * x27;
-        let x37 = s6 * x20 + c6 * x28;
-        let x38 = s6 * x21 + c6 * x29;
-        let x39 = c5 * x23 - s5 * x32;
-        let x40 = c5 * x24 - s5 * x33;
-        let x41 = c5 * x25 - s5 * x34;
-        let x42 = c5 * x31 - s5 * x35;
-        let x43 = s5 * x23 + c5 * x32;
-        let x44 = s5 * x24 + c5 * x33;
-        let x45 = s5 * x25 + c5 * x34;
-        let x46 = 0.01_f32 + (s6 * x26 + c6 * x30) - 0.02_f32;
-        let x47 = c4 * x39 + s4 * x36;
-        let x48 = c4 * x40 + s4 * x37;
-        let x49 = c4 * x41 + s4 * x38;
-        let x50 = 0.13_f32 + (0.09_f32 + (s5 * x31 + c5 * x35));
-        let x51 = c4 * x36 - s4 * x39;
-        let x52 = c4 * x37 - s4 * x40;
-        let x53 = c4 * x38 - s4 * x41;
-        let x54 = c4 * x46 - s4 * x42;
-        let x55 = 0.015_f32 + (c4 * x42 + s4 * x46) - 0.01_f32;
-        let x56 = c3 * x43 - s3 * x51;
-        let x57 = c3 * x44 - s3 * x52;
-        let x58 = c3 * x45 - s3 * x53;
-        let x59 = 0.1_f32 + (c3 * x50 - s3 * x54);
-        let x60 = s3 * x43 + c3 * x51;
-        let x61 = s3 * x44 + c3 * x52;
-        let x62 = s3 * x45 + c3 * x53;
-        let x63 = c2 * x55 - s2 * x59;
-        let x64 = 0.01_f32 + (0.02_f32 + (s3 * x50 + c3 * x54));
+        let x15 = <f32 as ::trocar::Real>::mul_add(c8, x1, -(s8 * x8));
+        let x16 = <f32 as ::trocar::Real>::mul_add(c8, x2, s8 * x9);
+        let x17 = <f32 as ::trocar::Real>::mul_add(c8, s10, s8 * x10);
+        let x18 = <f32 as ::trocar::Real>::mul_add(c8, x7, -(s8 * x11));
+        let x19 = <f32 as ::trocar::Real>::mul_add(s8, x1, c8 * x8);
+        let x20 = <f32 as ::trocar::Real>::mul_add(c8, x9, -(s8 * x2));
+        let x21 = <f32 as ::trocar::Real>::mul_add(s8, s10, -(c8 * x10));
+        let x22 = 0.01_f32
+            + (0.02_f32 + <f32 as ::trocar::Real>::mul_add(s9, x3, c9 * x6));
+        let x23 = <f32 as ::trocar::Real>::mul_add(c7, x15, s7 * x12);
+        let x24 = <f32 as ::trocar::Real>::mul_add(s7, x13, -(c7 * x16));
+        let x25 = <f32 as ::trocar::Real>::mul_add(c7, x17, s7 * x14);
+        let x26 = 0.12_f32
+            + (0.11_f32 + <f32 as ::trocar::Real>::mul_add(s8, x7, c8 * x11));
+        let x27 = <f32 as ::trocar::Real>::mul_add(c7, x12, -(s7 * x15));
+        let x28 = <f32 as ::trocar::Real>::mul_add(s7, x16, c7 * x13);
+        let x29 = <f32 as ::trocar::Real>::mul_add(c7, x14, -(s7 * x17));
+        let x30 = <f32 as ::trocar::Real>::mul_add(c7, x22, -(s7 * x18));
+        let x31 = 0.01_f32
+            + (0.02_f32 + <f32 as ::trocar::Real>::mul_add(c7, x18, s7 * x22));
+        let x32 = <f32 as ::trocar::Real>::mul_add(c6, x19, -(s6 * x27));
+        let x33 = <f32 as ::trocar::Real>::mul_add(c6, x20, -(s6 * x28));
+        let x34 = <f32 as ::trocar::Real>::mul_add(c6, x21, -(s6 * x29));
+        let x35 = 0.12_f32 + <f32 as ::trocar::Real>::mul_add(c6, x26, -(s6 * x30));
+        let x36 = <f32 as ::trocar::Real>::mul_add(s6, x19, c6 * x27);
+        let x37 = <f32 as ::trocar::Real>::mul_add(s6, x20, c6 * x28);
+        let x38 = <f32 as ::trocar::Real>::mul_add(s6, x21, c6 * x29);
+        let x39 = <f32 as ::trocar::Real>::mul_add(c5, x23, -(s5 * x32));
+        let x40 = <f32 as ::trocar::Real>::mul_add(c5, x24, -(s5 * x33));
+        let x41 = <f32 as ::trocar::Real>::mul_add(c5, x25, -(s5 * x34));
+        let x42 = <f32 as ::trocar::Real>::mul_add(c5, x31, -(s5 * x35));
+        let x43 = <f32 as ::trocar::Real>::mul_add(s5, x23, c5 * x32);
+        let x44 = <f32 as ::trocar::Real>::mul_add(s5, x24, c5 * x33);
+        let x45 = <f32 as ::trocar::Real>::mul_add(s5, x25, c5 * x34);
+        let x46 = 0.01_f32 + <f32 as ::trocar::Real>::mul_add(s6, x26, c6 * x30)
+            - 0.02_f32;
+        let x47 = <f32 as ::trocar::Real>::mul_add(c4, x39, s4 * x36);
+        let x48 = <f32 as ::trocar::Real>::mul_add(c4, x40, s4 * x37);
+        let x49 = <f32 as ::trocar::Real>::mul_add(c4, x41, s4 * x38);
+        let x50 = 0.13_f32
+            + (0.09_f32 + <f32 as ::trocar::Real>::mul_add(s5, x31, c5 * x35));
+        let x51 = <f32 as ::trocar::Real>::mul_add(c4, x36, -(s4 * x39));
+        let x52 = <f32 as ::trocar::Real>::mul_add(c4, x37, -(s4 * x40));
+        let x53 = <f32 as ::trocar::Real>::mul_add(c4, x38, -(s4 * x41));
+        let x54 = <f32 as ::trocar::Real>::mul_add(c4, x46, -(s4 * x42));
+        let x55 = 0.015_f32 + <f32 as ::trocar::Real>::mul_add(c4, x42, s4 * x46)
+            - 0.01_f32;
+        let x56 = <f32 as ::trocar::Real>::mul_add(c3, x43, -(s3 * x51));
+        let x57 = <f32 as ::trocar::Real>::mul_add(c3, x44, -(s3 * x52));
+        let x58 = <f32 as ::trocar::Real>::mul_add(c3, x45, -(s3 * x53));
+        let x59 = 0.1_f32 + <f32 as ::trocar::Real>::mul_add(c3, x50, -(s3 * x54));
+        let x60 = <f32 as ::trocar::Real>::mul_add(s3, x43, c3 * x51);
+        let x61 = <f32 as ::trocar::Real>::mul_add(s3, x44, c3 * x52);
+        let x62 = <f32 as ::trocar::Real>::mul_add(s3, x45, c3 * x53);
+        let x63 = <f32 as ::trocar::Real>::mul_add(c2, x55, -(s2 * x59));
+        let x64 = 0.01_f32
+            + (0.02_f32 + <f32 as ::trocar::Real>::mul_add(s3, x50, c3 * x54));
         [
             [
-                (c2 * x47 - s2 * x56) * x64 - x60 * x63,
-                (c2 * x48 - s2 * x57) * x64 - x61 * x63,
-                (c2 * x49 - s2 * x58) * x64 - x62 * x63,
-                s2 * x47 + c2 * x56,
-                s2 * x48 + c2 * x57,
-                s2 * x49 + c2 * x58,
+                <f32 as ::trocar::Real>::mul_add(
+                    <f32 as ::trocar::Real>::mul_add(c2, x47, -(s2 * x56)),
+                    x64,
+                    -(x60 * x63),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    <f32 as ::trocar::Real>::mul_add(c2, x48, -(s2 * x57)),
+                    x64,
+                    -(x61 * x63),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    <f32 as ::trocar::Real>::mul_add(c2, x49, -(s2 * x58)),
+                    x64,
+                    -(x62 * x63),
+                ),
+                <f32 as ::trocar::Real>::mul_add(s2, x47, c2 * x56),
+                <f32 as ::trocar::Real>::mul_add(s2, x48, c2 * x57),
+                <f32 as ::trocar::Real>::mul_add(s2, x49, c2 * x58),
             ],
             [
-                x55 * x56 - x47 * x59,
-                x55 * x57 - x48 * x59,
-                x55 * x58 - x49 * x59,
+                <f32 as ::trocar::Real>::mul_add(x55, x56, -(x47 * x59)),
+                <f32 as ::trocar::Real>::mul_add(x55, x57, -(x48 * x59)),
+                <f32 as ::trocar::Real>::mul_add(x55, x58, -(x49 * x59)),
                 x60,
                 x61,
                 x62,
             ],
             [
-                x50 * x51 - x43 * x54,
-                x50 * x52 - x44 * x54,
-                x50 * x53 - x45 * x54,
+                <f32 as ::trocar::Real>::mul_add(x50, x51, -(x43 * x54)),
+                <f32 as ::trocar::Real>::mul_add(x50, x52, -(x44 * x54)),
+                <f32 as ::trocar::Real>::mul_add(x50, x53, -(x45 * x54)),
                 x47,
                 x48,
                 x49,
             ],
             [
-                x39 * x46 - x36 * x42,
-                x40 * x46 - x37 * x42,
-                x41 * x46 - x38 * x42,
+                <f32 as ::trocar::Real>::mul_add(x39, x46, -(x36 * x42)),
+                <f32 as ::trocar::Real>::mul_add(x40, x46, -(x37 * x42)),
+                <f32 as ::trocar::Real>::mul_add(x41, x46, -(x38 * x42)),
                 x43,
                 x44,
                 x45,
             ],
             [
-                x31 * x32 - x23 * x35,
-                x31 * x33 - x24 * x35,
-                x31 * x34 - x25 * x35,
+                <f32 as ::trocar::Real>::mul_add(x31, x32, -(x23 * x35)),
+                <f32 as ::trocar::Real>::mul_add(x31, x33, -(x24 * x35)),
+                <f32 as ::trocar::Real>::mul_add(x31, x34, -(x25 * x35)),
                 x36,
                 x37,
                 x38,
             ],
             [
-                x26 * x27 - x19 * x30,
-                x26 * x28 - x20 * x30,
-                x26 * x29 - x21 * x30,
+                <f32 as ::trocar::Real>::mul_add(x26, x27, -(x19 * x30)),
+                <f32 as ::trocar::Real>::mul_add(x26, x28, -(x20 * x30)),
+                <f32 as ::trocar::Real>::mul_add(x26, x29, -(x21 * x30)),
                 x23,
                 x24,
                 x25,
             ],
             [
-                x15 * x22 - x12 * x18,
-                -(x16 * x22 + x13 * x18),
-                x17 * x22 - x14 * x18,
+                <f32 as ::trocar::Real>::mul_add(x15, x22, -(x12 * x18)),
+                -<f32 as ::trocar::Real>::mul_add(x16, x22, x13 * x18),
+                <f32 as ::trocar::Real>::mul_add(x17, x22, -(x14 * x18)),
                 x19,
                 x20,
                 x21,
             ],
             [
-                x7 * x8 - x1 * x11,
-                x2 * x11 + x7 * x9,
-                -(s10 * x11 + x7 * x10),
+                <f32 as ::trocar::Real>::mul_add(x7, x8, -(x1 * x11)),
+                <f32 as ::trocar::Real>::mul_add(x2, x11, x7 * x9),
+                -<f32 as ::trocar::Real>::mul_add(s10, x11, x7 * x10),
                 x12,
                 x13,
                 x14,
             ],
-            [-(s11 * x6 + x3 * x4), x3 * x5 - c11 * x6, c10 * x3, x1, -x2, s10],
+            [
+                -<f32 as ::trocar::Real>::mul_add(s11, x6, x3 * x4),
+                <f32 as ::trocar::Real>::mul_add(x3, x5, -(c11 * x6)),
+                c10 * x3,
+                x1,
+                -x2,
+                s10,
+            ],
             [
                 -(0.02_f32 * c11),
                 0.02_f32 * s11,
@@ -518,136 +777,173 @@ pub mod chain11_wide {
         let x0 = 0.09_f32 * t.sin[10];
         let x1 = t.cos[9] * t.cos[10];
         let x2 = t.cos[9] * t.sin[10];
-        let x3 = 0.13_f32 + (0.09_f32 + 0.09_f32 * t.cos[10]);
+        let x3 = 0.13_f32
+            + <f32 as ::trocar::Real>::mul_add(0.09_f32, t.cos[10], 0.09_f32);
         let x4 = t.sin[9] * t.cos[10];
         let x5 = t.sin[9] * t.sin[10];
-        let x6 = t.sin[9] * x0 - 0.02_f32 * t.cos[9];
-        let x7 = 0.015_f32 - (t.cos[9] * x0 + 0.02_f32 * t.sin[9]) - 0.01_f32;
-        let x8 = t.cos[8] * t.sin[10] + t.sin[8] * x4;
-        let x9 = t.cos[8] * t.cos[10] - t.sin[8] * x5;
+        let x6 = <f32 as ::trocar::Real>::mul_add(t.sin[9], x0, -(0.02_f32 * t.cos[9]));
+        let x7 = 0.015_f32
+            - <f32 as ::trocar::Real>::mul_add(t.cos[9], x0, 0.02_f32 * t.sin[9])
+            - 0.01_f32;
+        let x8 = <f32 as ::trocar::Real>::mul_add(t.cos[8], t.sin[10], t.sin[8] * x4);
+        let x9 = <f32 as ::trocar::Real>::mul_add(t.cos[8], t.cos[10], -(t.sin[8] * x5));
         let x10 = t.sin[8] * t.cos[9];
-        let x11 = 0.1_f32 + (t.cos[8] * x3 - t.sin[8] * x6);
-        let x12 = t.sin[8] * t.sin[10] - t.cos[8] * x4;
-        let x13 = t.sin[8] * t.cos[10] + t.cos[8] * x5;
+        let x11 = 0.1_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[8], x3, -(t.sin[8] * x6));
+        let x12 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            t.sin[10],
+            -(t.cos[8] * x4),
+        );
+        let x13 = <f32 as ::trocar::Real>::mul_add(t.sin[8], t.cos[10], t.cos[8] * x5);
         let x14 = t.cos[8] * t.cos[9];
-        let x15 = t.cos[7] * x1 - t.sin[7] * x8;
-        let x16 = t.cos[7] * x2 + t.sin[7] * x9;
-        let x17 = t.cos[7] * t.sin[9] + t.sin[7] * x10;
-        let x18 = t.cos[7] * x7 - t.sin[7] * x11;
-        let x19 = t.sin[7] * x1 + t.cos[7] * x8;
-        let x20 = t.cos[7] * x9 - t.sin[7] * x2;
-        let x21 = t.sin[7] * t.sin[9] - t.cos[7] * x10;
-        let x22 = 0.01_f32 + (0.02_f32 + (t.sin[8] * x3 + t.cos[8] * x6));
-        let x23 = t.cos[6] * x15 + t.sin[6] * x12;
-        let x24 = t.sin[6] * x13 - t.cos[6] * x16;
-        let x25 = t.cos[6] * x17 + t.sin[6] * x14;
-        let x26 = 0.12_f32 + (0.11_f32 + (t.sin[7] * x7 + t.cos[7] * x11));
-        let x27 = t.cos[6] * x12 - t.sin[6] * x15;
-        let x28 = t.sin[6] * x16 + t.cos[6] * x13;
-        let x29 = t.cos[6] * x14 - t.sin[6] * x17;
-        let x30 = t.cos[6] * x22 - t.sin[6] * x18;
-        let x31 = 0.01_f32 + (0.02_f32 + (t.cos[6] * x18 + t.sin[6] * x22));
-        let x32 = t.cos[5] * x19 - t.sin[5] * x27;
-        let x33 = t.cos[5] * x20 - t.sin[5] * x28;
-        let x34 = t.cos[5] * x21 - t.sin[5] * x29;
-        let x35 = 0.12_f32 + (t.cos[5] * x26 - t.sin[5] * x30);
-        let x36 = t.sin[5] * x19 + t.cos[5] * x27;
-        let x37 = t.sin[5] * x20 + t.cos[5] * x28;
-        let x38 = t.sin[5] * x21 + t.cos[5] * x29;
-        let x39 = t.cos[4] * x23 - t.sin[4] * x32;
-        let x40 = t.cos[4] * x24 - t.sin[4] * x33;
-        let x41 = t.cos[4] * x25 - t.sin[4] * x34;
-        let x42 = t.cos[4] * x31 - t.sin[4] * x35;
-        let x43 = t.sin[4] * x23 + t.cos[4] * x32;
-        let x44 = t.sin[4] * x24 + t.cos[4] * x33;
-        let x45 = t.sin[4] * x25 + t.cos[4] * x34;
-        let x46 = 0.01_f32 + (t.sin[5] * x26 + t.cos[5] * x30) - 0.02_f32;
-        let x47 = t.cos[3] * x39 + t.sin[3] * x36;
-        let x48 = t.cos[3] * x40 + t.sin[3] * x37;
-        let x49 = t.cos[3] * x41 + t.sin[3] * x38;
-        let x50 = 0.13_f32 + (0.09_f32 + (t.sin[4] * x31 + t.cos[4] * x35));
-        let x51 = t.cos[3] * x36 - t.sin[3] * x39;
-        let x52 = t.cos[3] * x37 - t.sin[3] * x40;
-        let x53 = t.cos[3] * x38 - t.sin[3] * x41;
-        let x54 = t.cos[3] * x46 - t.sin[3] * x42;
-        let x55 = 0.015_f32 + (t.cos[3] * x42 + t.sin[3] * x46) - 0.01_f32;
-        let x56 = t.cos[2] * x43 - t.sin[2] * x51;
-        let x57 = t.cos[2] * x44 - t.sin[2] * x52;
-        let x58 = t.cos[2] * x45 - t.sin[2] * x53;
-        let x59 = 0.1_f32 + (t.cos[2] * x50 - t.sin[2] * x54);
-        let x60 = t.sin[2] * x43 + t.cos[2] * x51;
-        let x61 = t.sin[2] * x44 + t.cos[2] * x52;
-        let x62 = t.sin[2] * x45 + t.cos[2] * x53;
-        let x63 = t.cos[1] * x55 - t.sin[1] * x59;
-        let x64 = 0.01_f32 + (0.02_f32 + (t.sin[2] * x50 + t.cos[2] * x54));
+        let x15 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x1, -(t.sin[7] * x8));
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x2, t.sin[7] * x9);
+        let x17 = <f32 as ::trocar::Real>::mul_add(t.cos[7], t.sin[9], t.sin[7] * x10);
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x7, -(t.sin[7] * x11));
+        let x19 = <f32 as ::trocar::Real>::mul_add(t.sin[7], x1, t.cos[7] * x8);
+        let x20 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x9, -(t.sin[7] * x2));
+        let x21 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            t.sin[9],
+            -(t.cos[7] * x10),
+        );
+        let x22 = 0.01_f32
+            + (0.02_f32 + <f32 as ::trocar::Real>::mul_add(t.sin[8], x3, t.cos[8] * x6));
+        let x23 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x15, t.sin[6] * x12);
+        let x24 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x13, -(t.cos[6] * x16));
+        let x25 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x17, t.sin[6] * x14);
+        let x26 = 0.12_f32
+            + (0.11_f32
+                + <f32 as ::trocar::Real>::mul_add(t.sin[7], x7, t.cos[7] * x11));
+        let x27 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x12, -(t.sin[6] * x15));
+        let x28 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x16, t.cos[6] * x13);
+        let x29 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x14, -(t.sin[6] * x17));
+        let x30 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x22, -(t.sin[6] * x18));
+        let x31 = 0.01_f32
+            + (0.02_f32
+                + <f32 as ::trocar::Real>::mul_add(t.cos[6], x18, t.sin[6] * x22));
+        let x32 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x19, -(t.sin[5] * x27));
+        let x33 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x20, -(t.sin[5] * x28));
+        let x34 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x21, -(t.sin[5] * x29));
+        let x35 = 0.12_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[5], x26, -(t.sin[5] * x30));
+        let x36 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x19, t.cos[5] * x27);
+        let x37 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x20, t.cos[5] * x28);
+        let x38 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x21, t.cos[5] * x29);
+        let x39 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x23, -(t.sin[4] * x32));
+        let x40 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x24, -(t.sin[4] * x33));
+        let x41 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x25, -(t.sin[4] * x34));
+        let x42 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x31, -(t.sin[4] * x35));
+        let x43 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x23, t.cos[4] * x32);
+        let x44 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x24, t.cos[4] * x33);
+        let x45 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x25, t.cos[4] * x34);
+        let x46 = 0.01_f32
+            + <f32 as ::trocar::Real>::mul_add(t.sin[5], x26, t.cos[5] * x30) - 0.02_f32;
+        let x47 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x39, t.sin[3] * x36);
+        let x48 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x40, t.sin[3] * x37);
+        let x49 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x41, t.sin[3] * x38);
+        let x50 = 0.13_f32
+            + (0.09_f32
+                + <f32 as ::trocar::Real>::mul_add(t.sin[4], x31, t.cos[4] * x35));
+        let x51 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x36, -(t.sin[3] * x39));
+        let x52 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x37, -(t.sin[3] * x40));
+        let x53 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x38, -(t.sin[3] * x41));
+        let x54 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x46, -(t.sin[3] * x42));
+        let x55 = 0.015_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[3], x42, t.sin[3] * x46) - 0.01_f32;
+        let x56 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x43, -(t.sin[2] * x51));
+        let x57 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x44, -(t.sin[2] * x52));
+        let x58 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x45, -(t.sin[2] * x53));
+        let x59 = 0.1_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[2], x50, -(t.sin[2] * x54));
+        let x60 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x43, t.cos[2] * x51);
+        let x61 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x44, t.cos[2] * x52);
+        let x62 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x45, t.cos[2] * x53);
+        let x63 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x55, -(t.sin[1] * x59));
+        let x64 = 0.01_f32
+            + (0.02_f32
+                + <f32 as ::trocar::Real>::mul_add(t.sin[2], x50, t.cos[2] * x54));
         [
             [
-                (t.cos[1] * x47 - t.sin[1] * x56) * x64 - x60 * x63,
-                (t.cos[1] * x48 - t.sin[1] * x57) * x64 - x61 * x63,
-                (t.cos[1] * x49 - t.sin[1] * x58) * x64 - x62 * x63,
-                t.sin[1] * x47 + t.cos[1] * x56,
-                t.sin[1] * x48 + t.cos[1] * x57,
-                t.sin[1] * x49 + t.cos[1] * x58,
+                <f32 as ::trocar::Real>::mul_add(
+                    <f32 as ::trocar::Real>::mul_add(t.cos[1], x47, -(t.sin[1] * x56)),
+                    x64,
+                    -(x60 * x63),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    <f32 as ::trocar::Real>::mul_add(t.cos[1], x48, -(t.sin[1] * x57)),
+                    x64,
+                    -(x61 * x63),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    <f32 as ::trocar::Real>::mul_add(t.cos[1], x49, -(t.sin[1] * x58)),
+                    x64,
+                    -(x62 * x63),
+                ),
+                <f32 as ::trocar::Real>::mul_add(t.sin[1], x47, t.cos[1] * x56),
+                <f32 as ::trocar::Real>::mul_add(t.sin[1], x48, t.cos[1] * x57),
+                <f32 as ::trocar::Real>::mul_add(t.sin[1], x49, t.cos[1] * x58),
             ],
             [
-                x55 * x56 - x47 * x59,
-                x55 * x57 - x48 * x59,
-                x55 * x58 - x49 * x59,
+                <f32 as ::trocar::Real>::mul_add(x55, x56, -(x47 * x59)),
+                <f32 as ::trocar::Real>::mul_add(x55, x57, -(x48 * x59)),
+                <f32 as ::trocar::Real>::mul_add(x55, x58, -(x49 * x59)),
                 x60,
                 x61,
                 x62,
             ],
             [
-                x50 * x51 - x43 * x54,
-                x50 * x52 - x44 * x54,
-                x50 * x53 - x45 * x54,
+                <f32 as ::trocar::Real>::mul_add(x50, x51, -(x43 * x54)),
+                <f32 as ::trocar::Real>::mul_add(x50, x52, -(x44 * x54)),
+                <f32 as ::trocar::Real>::mul_add(x50, x53, -(x45 * x54)),
                 x47,
                 x48,
                 x49,
             ],
             [
-                x39 * x46 - x36 * x42,
-                x40 * x46 - x37 * x42,
-                x41 * x46 - x38 * x42,
+                <f32 as ::trocar::Real>::mul_add(x39, x46, -(x36 * x42)),
+                <f32 as ::trocar::Real>::mul_add(x40, x46, -(x37 * x42)),
+                <f32 as ::trocar::Real>::mul_add(x41, x46, -(x38 * x42)),
                 x43,
                 x44,
                 x45,
             ],
             [
-                x31 * x32 - x23 * x35,
-                x31 * x33 - x24 * x35,
-                x31 * x34 - x25 * x35,
+                <f32 as ::trocar::Real>::mul_add(x31, x32, -(x23 * x35)),
+                <f32 as ::trocar::Real>::mul_add(x31, x33, -(x24 * x35)),
+                <f32 as ::trocar::Real>::mul_add(x31, x34, -(x25 * x35)),
                 x36,
                 x37,
                 x38,
             ],
             [
-                x26 * x27 - x19 * x30,
-                x26 * x28 - x20 * x30,
-                x26 * x29 - x21 * x30,
+                <f32 as ::trocar::Real>::mul_add(x26, x27, -(x19 * x30)),
+                <f32 as ::trocar::Real>::mul_add(x26, x28, -(x20 * x30)),
+                <f32 as ::trocar::Real>::mul_add(x26, x29, -(x21 * x30)),
                 x23,
                 x24,
                 x25,
             ],
             [
-                x15 * x22 - x12 * x18,
-                -(x16 * x22 + x13 * x18),
-                x17 * x22 - x14 * x18,
+                <f32 as ::trocar::Real>::mul_add(x15, x22, -(x12 * x18)),
+                -<f32 as ::trocar::Real>::mul_add(x16, x22, x13 * x18),
+                <f32 as ::trocar::Real>::mul_add(x17, x22, -(x14 * x18)),
                 x19,
                 x20,
                 x21,
             ],
             [
-                x7 * x8 - x1 * x11,
-                x2 * x11 + x7 * x9,
-                -(t.sin[9] * x11 + x7 * x10),
+                <f32 as ::trocar::Real>::mul_add(x7, x8, -(x1 * x11)),
+                <f32 as ::trocar::Real>::mul_add(x2, x11, x7 * x9),
+                -<f32 as ::trocar::Real>::mul_add(t.sin[9], x11, x7 * x10),
                 x12,
                 x13,
                 x14,
             ],
             [
-                -(t.sin[10] * x6 + x3 * x4),
-                x3 * x5 - t.cos[10] * x6,
+                -<f32 as ::trocar::Real>::mul_add(t.sin[10], x6, x3 * x4),
+                <f32 as ::trocar::Real>::mul_add(x3, x5, -(t.cos[10] * x6)),
                 t.cos[9] * x3,
                 x1,
                 -x2,
@@ -686,11 +982,15 @@ pub mod chain11_wide {
         );
         let x0 = s9 * s10;
         let x1 = s11 * c9;
-        let x2 = x0 * c11 + x1;
+        let x2 = <f32 as ::trocar::Real>::mul_add(x0, c11, x1);
         let x3 = s8 * c10;
-        let x4 = x2 * c8 + c11 * x3;
+        let x4 = <f32 as ::trocar::Real>::mul_add(x2, c8, c11 * x3);
         let x5 = c9 * c8;
-        let x6 = c11 * x5 - s11 * (x3 + x0 * c8);
+        let x6 = <f32 as ::trocar::Real>::mul_add(
+            c11,
+            x5,
+            -(s11 * <f32 as ::trocar::Real>::mul_add(x0, c8, x3)),
+        );
         let x7 = s10 * s8;
         let x8 = c10 * (s9 * c8);
         let x9 = x7 - x8;
@@ -698,32 +998,36 @@ pub mod chain11_wide {
         let x11 = 0.005_f32 * s8;
         let x12 = x10 - x11;
         let x13 = 0.1_f32 * c8;
-        let x14 = 0.22_f32 + 0.03_f32 * s9;
+        let x14 = <f32 as ::trocar::Real>::mul_add(0.03_f32, s9, 0.22_f32);
         let x15 = c8 * x14;
-        let x16 = c9 * (x12 - x13) - x15;
+        let x16 = <f32 as ::trocar::Real>::mul_add(c9, x12 - x13, -x15);
         let x17 = 0.22_f32 * s9;
         let x18 = 0.03_f32 + x17;
         let x19 = 0.02_f32 * c9;
-        let x20 = x19 - c10 * x18;
+        let x20 = <f32 as ::trocar::Real>::mul_add(-c10, x18, x19);
         let x21 = 0.02_f32 * s10;
         let x22 = 0.005_f32 - x21;
         let x23 = 0.02_f32 * c10;
         let x24 = 0.03_f32 * c9;
-        let x25 = s9 * (s8 * x22 + (0.23_f32 + x13 - p.l_a)) + c8 * (x23 - x24);
+        let x25 = <f32 as ::trocar::Real>::mul_add(
+            s9,
+            <f32 as ::trocar::Real>::mul_add(s8, x22, 0.23_f32 + x13 - p.l_a),
+            c8 * (x23 - x24),
+        );
         let x26 = s9 * s8;
-        let x27 = c10 * x26 + s10 * c8;
+        let x27 = <f32 as ::trocar::Real>::mul_add(c10, x26, s10 * c8);
         let x28 = 0.23_f32 - p.l_a;
         let x29 = s8 * x28;
         let x30 = 0.005_f32 + x29;
         let x31 = c8 * x10;
-        let x32 = 0.1_f32 + 0.22_f32 * c9;
+        let x32 = <f32 as ::trocar::Real>::mul_add(0.22_f32, c9, 0.1_f32);
         let x33 = x31 - x32;
         let x34 = x22 + x29;
         let x35 = 0.23_f32 + x11;
-        let x36 = x15 + c9 * (x13 + x35 - p.l_a);
-        let x37 = s8 * x10 - 0.005_f32;
-        let x38 = x32 + c8 * x28;
-        let x39 = s9 * s7 - c9 * (s8 * c7);
+        let x36 = <f32 as ::trocar::Real>::mul_add(c9, x13 + x35 - p.l_a, x15);
+        let x37 = <f32 as ::trocar::Real>::mul_add(s8, x10, -0.005_f32);
+        let x38 = <f32 as ::trocar::Real>::mul_add(c8, x28, x32);
+        let x39 = <f32 as ::trocar::Real>::mul_add(s9, s7, -(c9 * (s8 * c7)));
         let x40 = 0.1_f32 * c9;
         let x41 = x14 + x40;
         let x42 = 0.09_f32 * c11;
@@ -734,39 +1038,54 @@ pub mod chain11_wide {
         let x47 = s10 * (0.03_f32 + x46);
         let x48 = 0.09_f32 * x1;
         let x49 = s8 * (x47 + x48);
-        let x50 = 0.1_f32 + c9 * x45;
+        let x50 = <f32 as ::trocar::Real>::mul_add(c9, x45, 0.1_f32);
         let x51 = 0.09_f32 * s11;
-        let x52 = s10 * (x31 - x50) + s9 * (c10 * x37 + x51);
+        let x52 = <f32 as ::trocar::Real>::mul_add(
+            s10,
+            x31 - x50,
+            s9 * <f32 as ::trocar::Real>::mul_add(c10, x37, x51),
+        );
         let x53 = x2 * s8;
         let x54 = c11 * (c8 * c10);
-        let x55 = s9 * s11 - c11 * (s10 * c9);
+        let x55 = <f32 as ::trocar::Real>::mul_add(s9, s11, -(c11 * (s10 * c9)));
         let x56 = c9 * s7;
-        let x57 = 0.03_f32 + 0.02_f32 * s7;
+        let x57 = <f32 as ::trocar::Real>::mul_add(0.02_f32, s7, 0.03_f32);
         let x58 = s9 * x57;
         let x59 = 0.22_f32 + x40;
         let x60 = s8 * (x58 + x59);
         let x61 = 0.02_f32 * c7;
-        let x62 = c9 * (x61 + 0.005_f32 * c8);
+        let x62 = c9 * <f32 as ::trocar::Real>::mul_add(0.005_f32, c8, x61);
         let x63 = c10 * (x17 + x57);
-        let x64 = x23 + 0.1_f32 * s9;
+        let x64 = <f32 as ::trocar::Real>::mul_add(0.1_f32, s9, x23);
         let x65 = x21 - 0.005_f32;
         let x66 = c8 * x65;
-        let x67 = s8 * (x64 - c9 * x57) + s9 * (x66 - x61);
+        let x67 = <f32 as ::trocar::Real>::mul_add(
+            s8,
+            <f32 as ::trocar::Real>::mul_add(-c9, x57, x64),
+            s9 * (x66 - x61),
+        );
         let x68 = 0.02_f32 * c8;
-        let x69 = s8 * (0.02_f32 + x18 * s7);
-        let x70 = 0.02_f32 * (c9 * (s8 * s7) + s9 * c7);
-        let x71 = s7 * (s9 * (s8 * x65 + (x10 - x13)) + c8 * (x24 - x23))
-            + c9 * (x68 + c7 * x34);
+        let x69 = s8 * <f32 as ::trocar::Real>::mul_add(x18, s7, 0.02_f32);
+        let x70 = 0.02_f32 * <f32 as ::trocar::Real>::mul_add(c9, s8 * s7, s9 * c7);
+        let x71 = <f32 as ::trocar::Real>::mul_add(
+            s7,
+            <f32 as ::trocar::Real>::mul_add(
+                s9,
+                <f32 as ::trocar::Real>::mul_add(s8, x65, x10 - x13),
+                c8 * (x24 - x23),
+            ),
+            c9 * <f32 as ::trocar::Real>::mul_add(c7, x34, x68),
+        );
         let x72 = x27 * s7;
         let x73 = c10 * (c9 * c7);
         let x74 = s10 * s11;
-        let x75 = s9 * c11 + c9 * x74;
+        let x75 = <f32 as ::trocar::Real>::mul_add(s9, c11, c9 * x74);
         let x76 = x64 - x24;
-        let x77 = 0.09_f32 + 0.22_f32 * c11;
+        let x77 = <f32 as ::trocar::Real>::mul_add(0.22_f32, c11, 0.09_f32);
         let x78 = c10 * x77;
         let x79 = 0.005_f32 * s10;
         let x80 = x79 - 0.02_f32;
-        let x81 = x51 - 0.005_f32 * c10;
+        let x81 = <f32 as ::trocar::Real>::mul_add(-0.005_f32, c10, x51);
         let x82 = s11 * c10;
         let x83 = c11 * c10;
         [
@@ -779,61 +1098,191 @@ pub mod chain11_wide {
                 <f32 as ::trocar::Real>::ZERO,
             ],
             [
-                (c11 * (s10 * x16 + s8 * x20) + (s11 * x25 - 0.09_f32 * x27)) * c7
-                    + (c11 * (s9 * (s10 * x30 - 0.02_f32) + c10 * x33)
-                        + c9 * (s11 * x34 - 0.09_f32 * c10)) * s7,
-                s11
-                    * (s10 * (c7 * x36 + s7 * (s9 * x37))
-                        + (c10 * (s7 * x38 + s8 * (x18 * c7)) + 0.02_f32 * x39))
-                    + c11 * (x25 * c7 + s7 * (c9 * x34)),
-                c7 * (c10 * (x44 + c9 * (x35 - p.l_a)) - x49) + s7 * x52,
-                c7 * (x54 - x53) + s7 * x55,
-                s11 * (s10 * (x56 + x26 * c7) - c10 * (c8 * c7)) + c11 * x39,
-                x27 * c7 + c10 * x56,
+                <f32 as ::trocar::Real>::mul_add(
+                    <f32 as ::trocar::Real>::mul_add(
+                        c11,
+                        <f32 as ::trocar::Real>::mul_add(s10, x16, s8 * x20),
+                        <f32 as ::trocar::Real>::mul_add(s11, x25, -(0.09_f32 * x27)),
+                    ),
+                    c7,
+                    <f32 as ::trocar::Real>::mul_add(
+                        c11,
+                        <f32 as ::trocar::Real>::mul_add(
+                            s9,
+                            <f32 as ::trocar::Real>::mul_add(s10, x30, -0.02_f32),
+                            c10 * x33,
+                        ),
+                        c9
+                            * <f32 as ::trocar::Real>::mul_add(
+                                s11,
+                                x34,
+                                -(0.09_f32 * c10),
+                            ),
+                    ) * s7,
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    s11,
+                    <f32 as ::trocar::Real>::mul_add(
+                        s10,
+                        <f32 as ::trocar::Real>::mul_add(c7, x36, s7 * (s9 * x37)),
+                        <f32 as ::trocar::Real>::mul_add(
+                            c10,
+                            <f32 as ::trocar::Real>::mul_add(s7, x38, s8 * (x18 * c7)),
+                            0.02_f32 * x39,
+                        ),
+                    ),
+                    c11 * <f32 as ::trocar::Real>::mul_add(x25, c7, s7 * (c9 * x34)),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    c7,
+                    <f32 as ::trocar::Real>::mul_add(
+                        c10,
+                        <f32 as ::trocar::Real>::mul_add(c9, x35 - p.l_a, x44),
+                        -x49,
+                    ),
+                    s7 * x52,
+                ),
+                <f32 as ::trocar::Real>::mul_add(c7, x54 - x53, s7 * x55),
+                <f32 as ::trocar::Real>::mul_add(
+                    s11,
+                    <f32 as ::trocar::Real>::mul_add(
+                        s10,
+                        <f32 as ::trocar::Real>::mul_add(x26, c7, x56),
+                        -(c10 * (c8 * c7)),
+                    ),
+                    c11 * x39,
+                ),
+                <f32 as ::trocar::Real>::mul_add(x27, c7, c10 * x56),
             ],
             [
-                c11 * (s10 * (x62 - x60) + c8 * (x63 - x19))
-                    + (s11 * x67 + 0.09_f32 * (x8 - x7)),
-                s11 * (s10 * (x60 - x62) + c8 * (x19 - x63)) + c11 * x67,
-                c10 * (s8 * (x58 + (x42 + x59)) - x62) + c8 * (x48 + s10 * (x46 + x57)),
+                <f32 as ::trocar::Real>::mul_add(
+                    c11,
+                    <f32 as ::trocar::Real>::mul_add(s10, x62 - x60, c8 * (x63 - x19)),
+                    <f32 as ::trocar::Real>::mul_add(s11, x67, 0.09_f32 * (x8 - x7)),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    s11,
+                    <f32 as ::trocar::Real>::mul_add(s10, x60 - x62, c8 * (x19 - x63)),
+                    c11 * x67,
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    c10,
+                    <f32 as ::trocar::Real>::mul_add(s8, x58 + (x42 + x59), -x62),
+                    c8 * <f32 as ::trocar::Real>::mul_add(s10, x46 + x57, x48),
+                ),
                 x4,
                 x6,
                 x9,
             ],
             [
-                c11
-                    * (s10 * (s7 * x36 + s9 * (c7 * x30 + x68))
-                        + (c10 * (c7 * x33 + x69) - x70))
-                    + (s11 * x71 + 0.09_f32 * (x72 - x73)),
-                s11
-                    * (s10 * (x16 * s7 + s9 * (c7 * x37 - x68))
-                        + (x70 + c10 * (c7 * x38 - x69))) + c11 * x71,
-                s7 * (x49 + c10 * (c9 * x12 - x44)) + (c7 * x52 + 0.02_f32 * x9),
-                s7 * (x53 - x54) + c7 * x55,
-                s7 * (s8 * (c11 * c9 - x0 * s11) + c10 * (s11 * c8)) + c7 * x75,
+                <f32 as ::trocar::Real>::mul_add(
+                    c11,
+                    <f32 as ::trocar::Real>::mul_add(
+                        s10,
+                        <f32 as ::trocar::Real>::mul_add(
+                            s7,
+                            x36,
+                            s9 * <f32 as ::trocar::Real>::mul_add(c7, x30, x68),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            c10,
+                            <f32 as ::trocar::Real>::mul_add(c7, x33, x69),
+                            -x70,
+                        ),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(s11, x71, 0.09_f32 * (x72 - x73)),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    s11,
+                    <f32 as ::trocar::Real>::mul_add(
+                        s10,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x16,
+                            s7,
+                            s9 * <f32 as ::trocar::Real>::mul_add(c7, x37, -x68),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            c10,
+                            <f32 as ::trocar::Real>::mul_add(c7, x38, -x69),
+                            x70,
+                        ),
+                    ),
+                    c11 * x71,
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    s7,
+                    <f32 as ::trocar::Real>::mul_add(
+                        c10,
+                        <f32 as ::trocar::Real>::mul_add(c9, x12, -x44),
+                        x49,
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(c7, x52, 0.02_f32 * x9),
+                ),
+                <f32 as ::trocar::Real>::mul_add(s7, x53 - x54, c7 * x55),
+                <f32 as ::trocar::Real>::mul_add(
+                    s7,
+                    <f32 as ::trocar::Real>::mul_add(
+                        s8,
+                        <f32 as ::trocar::Real>::mul_add(c11, c9, -(x0 * s11)),
+                        c10 * (s11 * c8),
+                    ),
+                    c7 * x75,
+                ),
                 x73 - x72,
             ],
             [
-                s8 * (s11 * x76 - s10 * (0.09_f32 + c11 * x41))
-                    + c8 * (s9 * (s11 * x65 + x78) + c11 * (c9 * x80 + 0.03_f32 * c10)),
-                s11 * (s10 * (s8 * x41 - 0.005_f32 * x5) + c8 * x20)
-                    + c11 * (s8 * x76 + s9 * x66),
-                c8 * (x47 + c9 * x81) + s8 * (c10 * x43),
+                <f32 as ::trocar::Real>::mul_add(
+                    s8,
+                    <f32 as ::trocar::Real>::mul_add(
+                        s11,
+                        x76,
+                        -(s10 * <f32 as ::trocar::Real>::mul_add(c11, x41, 0.09_f32)),
+                    ),
+                    c8
+                        * <f32 as ::trocar::Real>::mul_add(
+                            s9,
+                            <f32 as ::trocar::Real>::mul_add(s11, x65, x78),
+                            c11
+                                * <f32 as ::trocar::Real>::mul_add(c9, x80, 0.03_f32 * c10),
+                        ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    s11,
+                    <f32 as ::trocar::Real>::mul_add(
+                        s10,
+                        <f32 as ::trocar::Real>::mul_add(s8, x41, -(0.005_f32 * x5)),
+                        c8 * x20,
+                    ),
+                    c11 * <f32 as ::trocar::Real>::mul_add(s8, x76, s9 * x66),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    c8,
+                    <f32 as ::trocar::Real>::mul_add(c9, x81, x47),
+                    s8 * (c10 * x43),
+                ),
                 x4,
                 x6,
                 x9,
             ],
             [
-                c9 * (s11 * x22 - x78) + c11 * (s9 * x80 - 0.1_f32 * c10),
-                s11 * (s9 * (0.02_f32 - x79) + c10 * x32) + c9 * (c11 * x22),
-                s9 * x81 - s10 * x50,
+                <f32 as ::trocar::Real>::mul_add(
+                    c9,
+                    <f32 as ::trocar::Real>::mul_add(s11, x22, -x78),
+                    c11 * <f32 as ::trocar::Real>::mul_add(s9, x80, -(0.1_f32 * c10)),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    s11,
+                    <f32 as ::trocar::Real>::mul_add(s9, 0.02_f32 - x79, c10 * x32),
+                    c9 * (c11 * x22),
+                ),
+                <f32 as ::trocar::Real>::mul_add(s9, x81, -(s10 * x50)),
                 x55,
                 x75,
                 c9 * c10,
             ],
             [
-                0.02_f32 * x82 - s10 * x77,
-                0.22_f32 * x74 + 0.02_f32 * x83,
+                <f32 as ::trocar::Real>::mul_add(0.02_f32, x82, -(s10 * x77)),
+                <f32 as ::trocar::Real>::mul_add(0.22_f32, x74, 0.02_f32 * x83),
                 c10 * x45,
                 x83,
                 -x82,
@@ -867,11 +1316,15 @@ pub mod chain11_wide {
     pub fn constrained_jacobian_trig(t: &JointTrig, p: &Params) -> [[f32; 6]; M] {
         let x0 = t.sin[8] * t.sin[9];
         let x1 = t.sin[10] * t.cos[8];
-        let x2 = x0 * t.cos[10] + x1;
+        let x2 = <f32 as ::trocar::Real>::mul_add(x0, t.cos[10], x1);
         let x3 = t.sin[7] * t.cos[9];
-        let x4 = x2 * t.cos[7] + t.cos[10] * x3;
+        let x4 = <f32 as ::trocar::Real>::mul_add(x2, t.cos[7], t.cos[10] * x3);
         let x5 = t.cos[8] * t.cos[7];
-        let x6 = t.cos[10] * x5 - t.sin[10] * (x3 + x0 * t.cos[7]);
+        let x6 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[10],
+            x5,
+            -(t.sin[10] * <f32 as ::trocar::Real>::mul_add(x0, t.cos[7], x3)),
+        );
         let x7 = t.sin[9] * t.sin[7];
         let x8 = t.cos[9] * (t.sin[8] * t.cos[7]);
         let x9 = x7 - x8;
@@ -879,33 +1332,40 @@ pub mod chain11_wide {
         let x11 = 0.005_f32 * t.sin[7];
         let x12 = x10 - x11;
         let x13 = 0.1_f32 * t.cos[7];
-        let x14 = 0.22_f32 + 0.03_f32 * t.sin[8];
+        let x14 = <f32 as ::trocar::Real>::mul_add(0.03_f32, t.sin[8], 0.22_f32);
         let x15 = t.cos[7] * x14;
-        let x16 = t.cos[8] * (x12 - x13) - x15;
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x12 - x13, -x15);
         let x17 = 0.22_f32 * t.sin[8];
         let x18 = 0.03_f32 + x17;
         let x19 = 0.02_f32 * t.cos[8];
-        let x20 = x19 - t.cos[9] * x18;
+        let x20 = <f32 as ::trocar::Real>::mul_add(-t.cos[9], x18, x19);
         let x21 = 0.02_f32 * t.sin[9];
         let x22 = 0.005_f32 - x21;
         let x23 = 0.02_f32 * t.cos[9];
         let x24 = 0.03_f32 * t.cos[8];
-        let x25 = t.sin[8] * (t.sin[7] * x22 + (0.23_f32 + x13 - p.l_a))
-            + t.cos[7] * (x23 - x24);
+        let x25 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            <f32 as ::trocar::Real>::mul_add(t.sin[7], x22, 0.23_f32 + x13 - p.l_a),
+            t.cos[7] * (x23 - x24),
+        );
         let x26 = t.sin[8] * t.sin[7];
-        let x27 = t.cos[9] * x26 + t.sin[9] * t.cos[7];
+        let x27 = <f32 as ::trocar::Real>::mul_add(t.cos[9], x26, t.sin[9] * t.cos[7]);
         let x28 = 0.23_f32 - p.l_a;
         let x29 = t.sin[7] * x28;
         let x30 = 0.005_f32 + x29;
         let x31 = t.cos[7] * x10;
-        let x32 = 0.1_f32 + 0.22_f32 * t.cos[8];
+        let x32 = <f32 as ::trocar::Real>::mul_add(0.22_f32, t.cos[8], 0.1_f32);
         let x33 = x31 - x32;
         let x34 = x22 + x29;
         let x35 = 0.23_f32 + x11;
-        let x36 = x15 + t.cos[8] * (x13 + x35 - p.l_a);
-        let x37 = t.sin[7] * x10 - 0.005_f32;
-        let x38 = x32 + t.cos[7] * x28;
-        let x39 = t.sin[8] * t.sin[6] - t.cos[8] * (t.sin[7] * t.cos[6]);
+        let x36 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x13 + x35 - p.l_a, x15);
+        let x37 = <f32 as ::trocar::Real>::mul_add(t.sin[7], x10, -0.005_f32);
+        let x38 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x28, x32);
+        let x39 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            t.sin[6],
+            -(t.cos[8] * (t.sin[7] * t.cos[6])),
+        );
         let x40 = 0.1_f32 * t.cos[8];
         let x41 = x14 + x40;
         let x42 = 0.09_f32 * t.cos[10];
@@ -916,40 +1376,63 @@ pub mod chain11_wide {
         let x47 = t.sin[9] * (0.03_f32 + x46);
         let x48 = 0.09_f32 * x1;
         let x49 = t.sin[7] * (x47 + x48);
-        let x50 = 0.1_f32 + t.cos[8] * x45;
+        let x50 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x45, 0.1_f32);
         let x51 = 0.09_f32 * t.sin[10];
-        let x52 = t.sin[9] * (x31 - x50) + t.sin[8] * (t.cos[9] * x37 + x51);
+        let x52 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[9],
+            x31 - x50,
+            t.sin[8] * <f32 as ::trocar::Real>::mul_add(t.cos[9], x37, x51),
+        );
         let x53 = x2 * t.sin[7];
         let x54 = t.cos[10] * (t.cos[7] * t.cos[9]);
-        let x55 = t.sin[8] * t.sin[10] - t.cos[10] * (t.sin[9] * t.cos[8]);
+        let x55 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            t.sin[10],
+            -(t.cos[10] * (t.sin[9] * t.cos[8])),
+        );
         let x56 = t.cos[8] * t.sin[6];
-        let x57 = 0.03_f32 + 0.02_f32 * t.sin[6];
+        let x57 = <f32 as ::trocar::Real>::mul_add(0.02_f32, t.sin[6], 0.03_f32);
         let x58 = t.sin[8] * x57;
         let x59 = 0.22_f32 + x40;
         let x60 = t.sin[7] * (x58 + x59);
         let x61 = 0.02_f32 * t.cos[6];
-        let x62 = t.cos[8] * (x61 + 0.005_f32 * t.cos[7]);
+        let x62 = t.cos[8] * <f32 as ::trocar::Real>::mul_add(0.005_f32, t.cos[7], x61);
         let x63 = t.cos[9] * (x17 + x57);
-        let x64 = x23 + 0.1_f32 * t.sin[8];
+        let x64 = <f32 as ::trocar::Real>::mul_add(0.1_f32, t.sin[8], x23);
         let x65 = x21 - 0.005_f32;
         let x66 = t.cos[7] * x65;
-        let x67 = t.sin[7] * (x64 - t.cos[8] * x57) + t.sin[8] * (x66 - x61);
+        let x67 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            <f32 as ::trocar::Real>::mul_add(-t.cos[8], x57, x64),
+            t.sin[8] * (x66 - x61),
+        );
         let x68 = 0.02_f32 * t.cos[7];
-        let x69 = t.sin[7] * (0.02_f32 + x18 * t.sin[6]);
-        let x70 = 0.02_f32 * (t.cos[8] * (t.sin[7] * t.sin[6]) + t.sin[8] * t.cos[6]);
-        let x71 = t.sin[6]
-            * (t.sin[8] * (t.sin[7] * x65 + (x10 - x13)) + t.cos[7] * (x24 - x23))
-            + t.cos[8] * (x68 + t.cos[6] * x34);
+        let x69 = t.sin[7] * <f32 as ::trocar::Real>::mul_add(x18, t.sin[6], 0.02_f32);
+        let x70 = 0.02_f32
+            * <f32 as ::trocar::Real>::mul_add(
+                t.cos[8],
+                t.sin[7] * t.sin[6],
+                t.sin[8] * t.cos[6],
+            );
+        let x71 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[6],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[8],
+                <f32 as ::trocar::Real>::mul_add(t.sin[7], x65, x10 - x13),
+                t.cos[7] * (x24 - x23),
+            ),
+            t.cos[8] * <f32 as ::trocar::Real>::mul_add(t.cos[6], x34, x68),
+        );
         let x72 = x27 * t.sin[6];
         let x73 = t.cos[9] * (t.cos[8] * t.cos[6]);
         let x74 = t.sin[9] * t.sin[10];
-        let x75 = t.sin[8] * t.cos[10] + t.cos[8] * x74;
+        let x75 = <f32 as ::trocar::Real>::mul_add(t.sin[8], t.cos[10], t.cos[8] * x74);
         let x76 = x64 - x24;
-        let x77 = 0.09_f32 + 0.22_f32 * t.cos[10];
+        let x77 = <f32 as ::trocar::Real>::mul_add(0.22_f32, t.cos[10], 0.09_f32);
         let x78 = t.cos[9] * x77;
         let x79 = 0.005_f32 * t.sin[9];
         let x80 = x79 - 0.02_f32;
-        let x81 = x51 - 0.005_f32 * t.cos[9];
+        let x81 = <f32 as ::trocar::Real>::mul_add(-0.005_f32, t.cos[9], x51);
         let x82 = t.sin[10] * t.cos[9];
         let x83 = t.cos[10] * t.cos[9];
         [
@@ -962,77 +1445,249 @@ pub mod chain11_wide {
                 <f32 as ::trocar::Real>::ZERO,
             ],
             [
-                (t.cos[10] * (t.sin[9] * x16 + t.sin[7] * x20)
-                    + (t.sin[10] * x25 - 0.09_f32 * x27)) * t.cos[6]
-                    + (t.cos[10]
-                        * (t.sin[8] * (t.sin[9] * x30 - 0.02_f32) + t.cos[9] * x33)
-                        + t.cos[8] * (t.sin[10] * x34 - 0.09_f32 * t.cos[9])) * t.sin[6],
-                t.sin[10]
-                    * (t.sin[9] * (t.cos[6] * x36 + t.sin[6] * (t.sin[8] * x37))
-                        + (t.cos[9] * (t.sin[6] * x38 + t.sin[7] * (x18 * t.cos[6]))
-                            + 0.02_f32 * x39))
-                    + t.cos[10] * (x25 * t.cos[6] + t.sin[6] * (t.cos[8] * x34)),
-                t.cos[6] * (t.cos[9] * (x44 + t.cos[8] * (x35 - p.l_a)) - x49)
-                    + t.sin[6] * x52,
-                t.cos[6] * (x54 - x53) + t.sin[6] * x55,
-                t.sin[10]
-                    * (t.sin[9] * (x56 + x26 * t.cos[6])
-                        - t.cos[9] * (t.cos[7] * t.cos[6])) + t.cos[10] * x39,
-                x27 * t.cos[6] + t.cos[9] * x56,
+                <f32 as ::trocar::Real>::mul_add(
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.cos[10],
+                        <f32 as ::trocar::Real>::mul_add(t.sin[9], x16, t.sin[7] * x20),
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[10],
+                            x25,
+                            -(0.09_f32 * x27),
+                        ),
+                    ),
+                    t.cos[6],
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.cos[10],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[8],
+                            <f32 as ::trocar::Real>::mul_add(t.sin[9], x30, -0.02_f32),
+                            t.cos[9] * x33,
+                        ),
+                        t.cos[8]
+                            * <f32 as ::trocar::Real>::mul_add(
+                                t.sin[10],
+                                x34,
+                                -(0.09_f32 * t.cos[9]),
+                            ),
+                    ) * t.sin[6],
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    t.sin[10],
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[9],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.cos[6],
+                            x36,
+                            t.sin[6] * (t.sin[8] * x37),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.cos[9],
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[6],
+                                x38,
+                                t.sin[7] * (x18 * t.cos[6]),
+                            ),
+                            0.02_f32 * x39,
+                        ),
+                    ),
+                    t.cos[10]
+                        * <f32 as ::trocar::Real>::mul_add(
+                            x25,
+                            t.cos[6],
+                            t.sin[6] * (t.cos[8] * x34),
+                        ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    t.cos[6],
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.cos[9],
+                        <f32 as ::trocar::Real>::mul_add(t.cos[8], x35 - p.l_a, x44),
+                        -x49,
+                    ),
+                    t.sin[6] * x52,
+                ),
+                <f32 as ::trocar::Real>::mul_add(t.cos[6], x54 - x53, t.sin[6] * x55),
+                <f32 as ::trocar::Real>::mul_add(
+                    t.sin[10],
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[9],
+                        <f32 as ::trocar::Real>::mul_add(x26, t.cos[6], x56),
+                        -(t.cos[9] * (t.cos[7] * t.cos[6])),
+                    ),
+                    t.cos[10] * x39,
+                ),
+                <f32 as ::trocar::Real>::mul_add(x27, t.cos[6], t.cos[9] * x56),
             ],
             [
-                t.cos[10] * (t.sin[9] * (x62 - x60) + t.cos[7] * (x63 - x19))
-                    + (t.sin[10] * x67 + 0.09_f32 * (x8 - x7)),
-                t.sin[10] * (t.sin[9] * (x60 - x62) + t.cos[7] * (x19 - x63))
-                    + t.cos[10] * x67,
-                t.cos[9] * (t.sin[7] * (x58 + (x42 + x59)) - x62)
-                    + t.cos[7] * (x48 + t.sin[9] * (x46 + x57)),
+                <f32 as ::trocar::Real>::mul_add(
+                    t.cos[10],
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[9],
+                        x62 - x60,
+                        t.cos[7] * (x63 - x19),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[10],
+                        x67,
+                        0.09_f32 * (x8 - x7),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    t.sin[10],
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[9],
+                        x60 - x62,
+                        t.cos[7] * (x19 - x63),
+                    ),
+                    t.cos[10] * x67,
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    t.cos[9],
+                    <f32 as ::trocar::Real>::mul_add(t.sin[7], x58 + (x42 + x59), -x62),
+                    t.cos[7] * <f32 as ::trocar::Real>::mul_add(t.sin[9], x46 + x57, x48),
+                ),
                 x4,
                 x6,
                 x9,
             ],
             [
-                t.cos[10]
-                    * (t.sin[9] * (t.sin[6] * x36 + t.sin[8] * (t.cos[6] * x30 + x68))
-                        + (t.cos[9] * (t.cos[6] * x33 + x69) - x70))
-                    + (t.sin[10] * x71 + 0.09_f32 * (x72 - x73)),
-                t.sin[10]
-                    * (t.sin[9] * (x16 * t.sin[6] + t.sin[8] * (t.cos[6] * x37 - x68))
-                        + (x70 + t.cos[9] * (t.cos[6] * x38 - x69))) + t.cos[10] * x71,
-                t.sin[6] * (x49 + t.cos[9] * (t.cos[8] * x12 - x44))
-                    + (t.cos[6] * x52 + 0.02_f32 * x9),
-                t.sin[6] * (x53 - x54) + t.cos[6] * x55,
-                t.sin[6]
-                    * (t.sin[7] * (t.cos[10] * t.cos[8] - x0 * t.sin[10])
-                        + t.cos[9] * (t.sin[10] * t.cos[7])) + t.cos[6] * x75,
+                <f32 as ::trocar::Real>::mul_add(
+                    t.cos[10],
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[9],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[6],
+                            x36,
+                            t.sin[8]
+                                * <f32 as ::trocar::Real>::mul_add(t.cos[6], x30, x68),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.cos[9],
+                            <f32 as ::trocar::Real>::mul_add(t.cos[6], x33, x69),
+                            -x70,
+                        ),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[10],
+                        x71,
+                        0.09_f32 * (x72 - x73),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    t.sin[10],
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[9],
+                        <f32 as ::trocar::Real>::mul_add(
+                            x16,
+                            t.sin[6],
+                            t.sin[8]
+                                * <f32 as ::trocar::Real>::mul_add(t.cos[6], x37, -x68),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.cos[9],
+                            <f32 as ::trocar::Real>::mul_add(t.cos[6], x38, -x69),
+                            x70,
+                        ),
+                    ),
+                    t.cos[10] * x71,
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    t.sin[6],
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.cos[9],
+                        <f32 as ::trocar::Real>::mul_add(t.cos[8], x12, -x44),
+                        x49,
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[6], x52, 0.02_f32 * x9),
+                ),
+                <f32 as ::trocar::Real>::mul_add(t.sin[6], x53 - x54, t.cos[6] * x55),
+                <f32 as ::trocar::Real>::mul_add(
+                    t.sin[6],
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[7],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.cos[10],
+                            t.cos[8],
+                            -(x0 * t.sin[10]),
+                        ),
+                        t.cos[9] * (t.sin[10] * t.cos[7]),
+                    ),
+                    t.cos[6] * x75,
+                ),
                 x73 - x72,
             ],
             [
-                t.sin[7] * (t.sin[10] * x76 - t.sin[9] * (0.09_f32 + t.cos[10] * x41))
-                    + t.cos[7]
-                        * (t.sin[8] * (t.sin[10] * x65 + x78)
-                            + t.cos[10] * (t.cos[8] * x80 + 0.03_f32 * t.cos[9])),
-                t.sin[10]
-                    * (t.sin[9] * (t.sin[7] * x41 - 0.005_f32 * x5) + t.cos[7] * x20)
-                    + t.cos[10] * (t.sin[7] * x76 + t.sin[8] * x66),
-                t.cos[7] * (x47 + t.cos[8] * x81) + t.sin[7] * (t.cos[9] * x43),
+                <f32 as ::trocar::Real>::mul_add(
+                    t.sin[7],
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[10],
+                        x76,
+                        -(t.sin[9]
+                            * <f32 as ::trocar::Real>::mul_add(t.cos[10], x41, 0.09_f32)),
+                    ),
+                    t.cos[7]
+                        * <f32 as ::trocar::Real>::mul_add(
+                            t.sin[8],
+                            <f32 as ::trocar::Real>::mul_add(t.sin[10], x65, x78),
+                            t.cos[10]
+                                * <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[8],
+                                    x80,
+                                    0.03_f32 * t.cos[9],
+                                ),
+                        ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    t.sin[10],
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[9],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[7],
+                            x41,
+                            -(0.005_f32 * x5),
+                        ),
+                        t.cos[7] * x20,
+                    ),
+                    t.cos[10]
+                        * <f32 as ::trocar::Real>::mul_add(t.sin[7], x76, t.sin[8] * x66),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    t.cos[7],
+                    <f32 as ::trocar::Real>::mul_add(t.cos[8], x81, x47),
+                    t.sin[7] * (t.cos[9] * x43),
+                ),
                 x4,
                 x6,
                 x9,
             ],
             [
-                t.cos[8] * (t.sin[10] * x22 - x78)
-                    + t.cos[10] * (t.sin[8] * x80 - 0.1_f32 * t.cos[9]),
-                t.sin[10] * (t.sin[8] * (0.02_f32 - x79) + t.cos[9] * x32)
-                    + t.cos[8] * (t.cos[10] * x22),
-                t.sin[8] * x81 - t.sin[9] * x50,
+                <f32 as ::trocar::Real>::mul_add(
+                    t.cos[8],
+                    <f32 as ::trocar::Real>::mul_add(t.sin[10], x22, -x78),
+                    t.cos[10]
+                        * <f32 as ::trocar::Real>::mul_add(
+                            t.sin[8],
+                            x80,
+                            -(0.1_f32 * t.cos[9]),
+                        ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    t.sin[10],
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[8],
+                        0.02_f32 - x79,
+                        t.cos[9] * x32,
+                    ),
+                    t.cos[8] * (t.cos[10] * x22),
+                ),
+                <f32 as ::trocar::Real>::mul_add(t.sin[8], x81, -(t.sin[9] * x50)),
                 x55,
                 x75,
                 t.cos[8] * t.cos[9],
             ],
             [
-                0.02_f32 * x82 - t.sin[9] * x77,
-                0.22_f32 * x74 + 0.02_f32 * x83,
+                <f32 as ::trocar::Real>::mul_add(0.02_f32, x82, -(t.sin[9] * x77)),
+                <f32 as ::trocar::Real>::mul_add(0.22_f32, x74, 0.02_f32 * x83),
                 t.cos[9] * x45,
                 x83,
                 -x82,
@@ -1070,29 +1725,48 @@ pub mod chain11_wide {
             &[q[6], q[7], q[8], q[9], q[10]],
         );
         let x0 = <f32 as ::trocar::Real>::ONE
-            / (<f32 as ::trocar::Real>::ONE + p.l_a * p.l_a);
-        let x1 = 0.22_f32 + 0.03_f32 * s9 + 0.1_f32 * c9;
-        let x2 = c9 * (0.23_f32 + 0.005_f32 * s8);
-        let x3 = (x1 * c8 + x2) * s10;
-        let x4 = (0.03_f32 + 0.22_f32 * s9) * c10;
+            / <f32 as ::trocar::Real>::mul_add(
+                p.l_a,
+                p.l_a,
+                <f32 as ::trocar::Real>::ONE,
+            );
+        let x1 = <f32 as ::trocar::Real>::mul_add(
+            0.1_f32,
+            c9,
+            <f32 as ::trocar::Real>::mul_add(0.03_f32, s9, 0.22_f32),
+        );
+        let x2 = c9 * <f32 as ::trocar::Real>::mul_add(0.005_f32, s8, 0.23_f32);
+        let x3 = <f32 as ::trocar::Real>::mul_add(x1, c8, x2) * s10;
+        let x4 = <f32 as ::trocar::Real>::mul_add(0.22_f32, s9, 0.03_f32) * c10;
         let x5 = 0.02_f32 * c9;
         let x6 = 0.02_f32 * s10;
-        let x7 = s9 * (s8 * (0.005_f32 - x6) + (0.23_f32 + 0.1_f32 * c8))
-            + c8 * (0.02_f32 * c10 - 0.03_f32 * c9);
+        let x7 = <f32 as ::trocar::Real>::mul_add(
+            s9,
+            <f32 as ::trocar::Real>::mul_add(
+                s8,
+                0.005_f32 - x6,
+                <f32 as ::trocar::Real>::mul_add(0.1_f32, c8, 0.23_f32),
+            ),
+            c8 * <f32 as ::trocar::Real>::mul_add(0.02_f32, c10, -(0.03_f32 * c9)),
+        );
         let x8 = s9 * s8;
-        let x9 = c10 * x8 + c8 * s10;
-        let x10 = (s8 * (x5 - x4) - x3) * c11 + (x7 * s11 - 0.09_f32 * x9);
+        let x9 = <f32 as ::trocar::Real>::mul_add(c10, x8, c8 * s10);
+        let x10 = <f32 as ::trocar::Real>::mul_add(
+            <f32 as ::trocar::Real>::mul_add(s8, x5 - x4, -x3),
+            c11,
+            <f32 as ::trocar::Real>::mul_add(x7, s11, -(0.09_f32 * x9)),
+        );
         let x11 = 0.23_f32 * s8;
         let x12 = 0.005_f32 + x11;
         let x13 = s10 * x12;
-        let x14 = 0.1_f32 + 0.23_f32 * c8;
-        let x15 = c10 * (x14 + 0.22_f32 * c9);
-        let x16 = s9 * (0.02_f32 - x13) + x15;
+        let x14 = <f32 as ::trocar::Real>::mul_add(0.23_f32, c8, 0.1_f32);
+        let x15 = c10 * <f32 as ::trocar::Real>::mul_add(0.22_f32, c9, x14);
+        let x16 = <f32 as ::trocar::Real>::mul_add(s9, 0.02_f32 - x13, x15);
         let x17 = x6 - 0.005_f32 - x11;
         let x18 = 0.09_f32 * c10;
         let x19 = s9 * s10;
         let x20 = c9 * s11;
-        let x21 = c11 * x19 + x20;
+        let x21 = <f32 as ::trocar::Real>::mul_add(c11, x19, x20);
         let x22 = s8 * c10;
         let x23 = s8 * x21;
         let x24 = c11 * (c8 * c10);
@@ -1100,57 +1774,162 @@ pub mod chain11_wide {
         let x26 = s9 * s11;
         let x27 = c11 * (c9 * s10);
         let x28 = x26 - x27;
-        let x29 = c7 * x25 + s7 * x28;
-        let x30 = x3 + s8 * (x4 - x5);
-        let x31 = s9 * (x13 - 0.02_f32) - x15;
+        let x29 = <f32 as ::trocar::Real>::mul_add(c7, x25, s7 * x28);
+        let x30 = <f32 as ::trocar::Real>::mul_add(s8, x4 - x5, x3);
+        let x31 = <f32 as ::trocar::Real>::mul_add(s9, x13 - 0.02_f32, -x15);
         let x32 = c9 * s7;
-        let x33 = s11 * (s10 * (x32 + x8 * c7) - c10 * (c8 * c7))
-            + c11 * (s9 * s7 - c9 * (s8 * c7));
+        let x33 = <f32 as ::trocar::Real>::mul_add(
+            s11,
+            <f32 as ::trocar::Real>::mul_add(
+                s10,
+                <f32 as ::trocar::Real>::mul_add(x8, c7, x32),
+                -(c10 * (c8 * c7)),
+            ),
+            c11 * <f32 as ::trocar::Real>::mul_add(s9, s7, -(c9 * (s8 * c7))),
+        );
         let x34 = 0.09_f32 * c11;
         let x35 = 0.22_f32 + x34;
-        let x36 = c10 * (x2 + c8 * (x1 + x34))
-            - s8 * (s10 * (0.03_f32 + s9 * x35) + 0.09_f32 * x20);
-        let x37 = s10 * (x14 + c9 * x35);
+        let x36 = <f32 as ::trocar::Real>::mul_add(
+            c10,
+            <f32 as ::trocar::Real>::mul_add(c8, x1 + x34, x2),
+            -(s8
+                * <f32 as ::trocar::Real>::mul_add(
+                    s10,
+                    <f32 as ::trocar::Real>::mul_add(s9, x35, 0.03_f32),
+                    0.09_f32 * x20,
+                )),
+        );
+        let x37 = s10 * <f32 as ::trocar::Real>::mul_add(c9, x35, x14);
         let x38 = c10 * x12;
         let x39 = 0.09_f32 * s11;
-        let x40 = x9 * c7 + c10 * x32;
+        let x40 = <f32 as ::trocar::Real>::mul_add(x9, c7, c10 * x32);
         let x41 = s11 * x19;
         let x42 = c9 * c11;
         let x43 = c10 * (c8 * s11);
-        let x44 = c7 * (s9 * c11 + c9 * (s10 * s11));
+        let x44 = c7 * <f32 as ::trocar::Real>::mul_add(s9, c11, c9 * (s10 * s11));
         let x45 = x9 * s7;
         let x46 = c10 * (c9 * c7);
         let x47 = x12 - x6;
         [
             [
                 x0
-                    * (p.l_a
-                        * (x10 * s7
-                            + ((c11 * x16 + c9 * (s11 * x17 + x18)) * c7
-                                - 0.02_f32 * (c8 * x21 + c11 * x22))) + x29),
+                    * <f32 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x10,
+                            s7,
+                            <f32 as ::trocar::Real>::mul_add(
+                                <f32 as ::trocar::Real>::mul_add(
+                                    c11,
+                                    x16,
+                                    c9 * <f32 as ::trocar::Real>::mul_add(s11, x17, x18),
+                                ),
+                                c7,
+                                -(0.02_f32
+                                    * <f32 as ::trocar::Real>::mul_add(c8, x21, c11 * x22)),
+                            ),
+                        ),
+                        x29,
+                    ),
                 x0
-                    * (p.l_a
-                        * (s11 * (s7 * x30 + (c7 * x31 + 0.02_f32 * (x22 + c8 * x19)))
-                            + c11 * (x7 * s7 + c9 * (x17 * c7 - 0.02_f32 * c8))) + x33),
+                    * <f32 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f32 as ::trocar::Real>::mul_add(
+                            s11,
+                            <f32 as ::trocar::Real>::mul_add(
+                                s7,
+                                x30,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    c7,
+                                    x31,
+                                    0.02_f32 * <f32 as ::trocar::Real>::mul_add(c8, x19, x22),
+                                ),
+                            ),
+                            c11
+                                * <f32 as ::trocar::Real>::mul_add(
+                                    x7,
+                                    s7,
+                                    c9
+                                        * <f32 as ::trocar::Real>::mul_add(
+                                            x17,
+                                            c7,
+                                            -(0.02_f32 * c8),
+                                        ),
+                                ),
+                        ),
+                        x33,
+                    ),
                 x0
-                    * (p.l_a
-                        * (s7 * x36
-                            + (c7 * (x37 + s9 * (x38 - x39))
-                                + 0.02_f32 * (c10 * (s9 * c8) - s8 * s10))) + x40),
-                p.l_a * (x0 * (s7 * x25 + c7 * (x27 - x26))),
-                p.l_a * (x0 * (s7 * (s8 * (x41 - x42) - x43) - x44)),
+                    * <f32 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f32 as ::trocar::Real>::mul_add(
+                            s7,
+                            x36,
+                            <f32 as ::trocar::Real>::mul_add(
+                                c7,
+                                <f32 as ::trocar::Real>::mul_add(s9, x38 - x39, x37),
+                                0.02_f32
+                                    * <f32 as ::trocar::Real>::mul_add(
+                                        c10,
+                                        s9 * c8,
+                                        -(s8 * s10),
+                                    ),
+                            ),
+                        ),
+                        x40,
+                    ),
+                p.l_a
+                    * (x0 * <f32 as ::trocar::Real>::mul_add(s7, x25, c7 * (x27 - x26))),
+                p.l_a
+                    * (x0
+                        * <f32 as ::trocar::Real>::mul_add(
+                            s7,
+                            <f32 as ::trocar::Real>::mul_add(s8, x41 - x42, -x43),
+                            -x44,
+                        )),
                 p.l_a * (x0 * (x45 - x46)),
             ],
             [
                 x0
-                    * (p.l_a * (x10 * c7 + s7 * (c11 * x31 + c9 * (s11 * x47 - x18)))
-                        + (s7 * (x23 - x24) + c7 * x28)),
+                    * <f32 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x10,
+                            c7,
+                            s7
+                                * <f32 as ::trocar::Real>::mul_add(
+                                    c11,
+                                    x31,
+                                    c9 * <f32 as ::trocar::Real>::mul_add(s11, x47, -x18),
+                                ),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(s7, x23 - x24, c7 * x28),
+                    ),
                 x0
-                    * (p.l_a
-                        * (s11 * (c7 * x30 + s7 * x16)
-                            + c11 * (x7 * c7 + s7 * (c9 * x47)))
-                        + (x44 + s7 * (x43 + s8 * (x42 - x41)))),
-                x0 * (p.l_a * (c7 * x36 + s7 * (s9 * (x39 - x38) - x37)) + (x46 - x45)),
+                    * <f32 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f32 as ::trocar::Real>::mul_add(
+                            s11,
+                            <f32 as ::trocar::Real>::mul_add(c7, x30, s7 * x16),
+                            c11
+                                * <f32 as ::trocar::Real>::mul_add(x7, c7, s7 * (c9 * x47)),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            s7,
+                            <f32 as ::trocar::Real>::mul_add(s8, x42 - x41, x43),
+                            x44,
+                        ),
+                    ),
+                x0
+                    * <f32 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f32 as ::trocar::Real>::mul_add(
+                            c7,
+                            x36,
+                            s7 * <f32 as ::trocar::Real>::mul_add(s9, x39 - x38, -x37),
+                        ),
+                        x46 - x45,
+                    ),
                 p.l_a * (x0 * x29),
                 p.l_a * (x0 * x33),
                 p.l_a * (x0 * x40),
@@ -1166,31 +1945,55 @@ pub mod chain11_wide {
     #[must_use]
     pub fn constraint_jacobian_c_trig(t: &JointTrig, p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / (<f32 as ::trocar::Real>::ONE + p.l_a * p.l_a);
-        let x1 = 0.22_f32 + 0.03_f32 * t.sin[8] + 0.1_f32 * t.cos[8];
-        let x2 = t.cos[8] * (0.23_f32 + 0.005_f32 * t.sin[7]);
-        let x3 = (x1 * t.cos[7] + x2) * t.sin[9];
-        let x4 = (0.03_f32 + 0.22_f32 * t.sin[8]) * t.cos[9];
+            / <f32 as ::trocar::Real>::mul_add(
+                p.l_a,
+                p.l_a,
+                <f32 as ::trocar::Real>::ONE,
+            );
+        let x1 = <f32 as ::trocar::Real>::mul_add(
+            0.1_f32,
+            t.cos[8],
+            <f32 as ::trocar::Real>::mul_add(0.03_f32, t.sin[8], 0.22_f32),
+        );
+        let x2 = t.cos[8]
+            * <f32 as ::trocar::Real>::mul_add(0.005_f32, t.sin[7], 0.23_f32);
+        let x3 = <f32 as ::trocar::Real>::mul_add(x1, t.cos[7], x2) * t.sin[9];
+        let x4 = <f32 as ::trocar::Real>::mul_add(0.22_f32, t.sin[8], 0.03_f32)
+            * t.cos[9];
         let x5 = 0.02_f32 * t.cos[8];
         let x6 = 0.02_f32 * t.sin[9];
-        let x7 = t.sin[8]
-            * (t.sin[7] * (0.005_f32 - x6) + (0.23_f32 + 0.1_f32 * t.cos[7]))
-            + t.cos[7] * (0.02_f32 * t.cos[9] - 0.03_f32 * t.cos[8]);
+        let x7 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[7],
+                0.005_f32 - x6,
+                <f32 as ::trocar::Real>::mul_add(0.1_f32, t.cos[7], 0.23_f32),
+            ),
+            t.cos[7]
+                * <f32 as ::trocar::Real>::mul_add(
+                    0.02_f32,
+                    t.cos[9],
+                    -(0.03_f32 * t.cos[8]),
+                ),
+        );
         let x8 = t.sin[8] * t.sin[7];
-        let x9 = t.cos[9] * x8 + t.cos[7] * t.sin[9];
-        let x10 = (t.sin[7] * (x5 - x4) - x3) * t.cos[10]
-            + (x7 * t.sin[10] - 0.09_f32 * x9);
+        let x9 = <f32 as ::trocar::Real>::mul_add(t.cos[9], x8, t.cos[7] * t.sin[9]);
+        let x10 = <f32 as ::trocar::Real>::mul_add(
+            <f32 as ::trocar::Real>::mul_add(t.sin[7], x5 - x4, -x3),
+            t.cos[10],
+            <f32 as ::trocar::Real>::mul_add(x7, t.sin[10], -(0.09_f32 * x9)),
+        );
         let x11 = 0.23_f32 * t.sin[7];
         let x12 = 0.005_f32 + x11;
         let x13 = t.sin[9] * x12;
-        let x14 = 0.1_f32 + 0.23_f32 * t.cos[7];
-        let x15 = t.cos[9] * (x14 + 0.22_f32 * t.cos[8]);
-        let x16 = t.sin[8] * (0.02_f32 - x13) + x15;
+        let x14 = <f32 as ::trocar::Real>::mul_add(0.23_f32, t.cos[7], 0.1_f32);
+        let x15 = t.cos[9] * <f32 as ::trocar::Real>::mul_add(0.22_f32, t.cos[8], x14);
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.sin[8], 0.02_f32 - x13, x15);
         let x17 = x6 - 0.005_f32 - x11;
         let x18 = 0.09_f32 * t.cos[9];
         let x19 = t.sin[8] * t.sin[9];
         let x20 = t.cos[8] * t.sin[10];
-        let x21 = t.cos[10] * x19 + x20;
+        let x21 = <f32 as ::trocar::Real>::mul_add(t.cos[10], x19, x20);
         let x22 = t.sin[7] * t.cos[9];
         let x23 = t.sin[7] * x21;
         let x24 = t.cos[10] * (t.cos[7] * t.cos[9]);
@@ -1198,72 +2001,201 @@ pub mod chain11_wide {
         let x26 = t.sin[8] * t.sin[10];
         let x27 = t.cos[10] * (t.cos[8] * t.sin[9]);
         let x28 = x26 - x27;
-        let x29 = t.cos[6] * x25 + t.sin[6] * x28;
-        let x30 = x3 + t.sin[7] * (x4 - x5);
-        let x31 = t.sin[8] * (x13 - 0.02_f32) - x15;
+        let x29 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x25, t.sin[6] * x28);
+        let x30 = <f32 as ::trocar::Real>::mul_add(t.sin[7], x4 - x5, x3);
+        let x31 = <f32 as ::trocar::Real>::mul_add(t.sin[8], x13 - 0.02_f32, -x15);
         let x32 = t.cos[8] * t.sin[6];
-        let x33 = t.sin[10]
-            * (t.sin[9] * (x32 + x8 * t.cos[6]) - t.cos[9] * (t.cos[7] * t.cos[6]))
-            + t.cos[10] * (t.sin[8] * t.sin[6] - t.cos[8] * (t.sin[7] * t.cos[6]));
+        let x33 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[10],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[9],
+                <f32 as ::trocar::Real>::mul_add(x8, t.cos[6], x32),
+                -(t.cos[9] * (t.cos[7] * t.cos[6])),
+            ),
+            t.cos[10]
+                * <f32 as ::trocar::Real>::mul_add(
+                    t.sin[8],
+                    t.sin[6],
+                    -(t.cos[8] * (t.sin[7] * t.cos[6])),
+                ),
+        );
         let x34 = 0.09_f32 * t.cos[10];
         let x35 = 0.22_f32 + x34;
-        let x36 = t.cos[9] * (x2 + t.cos[7] * (x1 + x34))
-            - t.sin[7] * (t.sin[9] * (0.03_f32 + t.sin[8] * x35) + 0.09_f32 * x20);
-        let x37 = t.sin[9] * (x14 + t.cos[8] * x35);
+        let x36 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[9],
+            <f32 as ::trocar::Real>::mul_add(t.cos[7], x1 + x34, x2),
+            -(t.sin[7]
+                * <f32 as ::trocar::Real>::mul_add(
+                    t.sin[9],
+                    <f32 as ::trocar::Real>::mul_add(t.sin[8], x35, 0.03_f32),
+                    0.09_f32 * x20,
+                )),
+        );
+        let x37 = t.sin[9] * <f32 as ::trocar::Real>::mul_add(t.cos[8], x35, x14);
         let x38 = t.cos[9] * x12;
         let x39 = 0.09_f32 * t.sin[10];
-        let x40 = x9 * t.cos[6] + t.cos[9] * x32;
+        let x40 = <f32 as ::trocar::Real>::mul_add(x9, t.cos[6], t.cos[9] * x32);
         let x41 = t.sin[10] * x19;
         let x42 = t.cos[8] * t.cos[10];
         let x43 = t.cos[9] * (t.cos[7] * t.sin[10]);
-        let x44 = t.cos[6] * (t.sin[8] * t.cos[10] + t.cos[8] * (t.sin[9] * t.sin[10]));
+        let x44 = t.cos[6]
+            * <f32 as ::trocar::Real>::mul_add(
+                t.sin[8],
+                t.cos[10],
+                t.cos[8] * (t.sin[9] * t.sin[10]),
+            );
         let x45 = x9 * t.sin[6];
         let x46 = t.cos[9] * (t.cos[8] * t.cos[6]);
         let x47 = x12 - x6;
         [
             [
                 x0
-                    * (p.l_a
-                        * (x10 * t.sin[6]
-                            + ((t.cos[10] * x16 + t.cos[8] * (t.sin[10] * x17 + x18))
-                                * t.cos[6] - 0.02_f32 * (t.cos[7] * x21 + t.cos[10] * x22)))
-                        + x29),
+                    * <f32 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x10,
+                            t.sin[6],
+                            <f32 as ::trocar::Real>::mul_add(
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[10],
+                                    x16,
+                                    t.cos[8]
+                                        * <f32 as ::trocar::Real>::mul_add(t.sin[10], x17, x18),
+                                ),
+                                t.cos[6],
+                                -(0.02_f32
+                                    * <f32 as ::trocar::Real>::mul_add(
+                                        t.cos[7],
+                                        x21,
+                                        t.cos[10] * x22,
+                                    )),
+                            ),
+                        ),
+                        x29,
+                    ),
                 x0
-                    * (p.l_a
-                        * (t.sin[10]
-                            * (t.sin[6] * x30
-                                + (t.cos[6] * x31 + 0.02_f32 * (x22 + t.cos[7] * x19)))
-                            + t.cos[10]
-                                * (x7 * t.sin[6]
-                                    + t.cos[8] * (x17 * t.cos[6] - 0.02_f32 * t.cos[7])))
-                        + x33),
+                    * <f32 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[10],
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[6],
+                                x30,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[6],
+                                    x31,
+                                    0.02_f32
+                                        * <f32 as ::trocar::Real>::mul_add(t.cos[7], x19, x22),
+                                ),
+                            ),
+                            t.cos[10]
+                                * <f32 as ::trocar::Real>::mul_add(
+                                    x7,
+                                    t.sin[6],
+                                    t.cos[8]
+                                        * <f32 as ::trocar::Real>::mul_add(
+                                            x17,
+                                            t.cos[6],
+                                            -(0.02_f32 * t.cos[7]),
+                                        ),
+                                ),
+                        ),
+                        x33,
+                    ),
                 x0
-                    * (p.l_a
-                        * (t.sin[6] * x36
-                            + (t.cos[6] * (x37 + t.sin[8] * (x38 - x39))
-                                + 0.02_f32
-                                    * (t.cos[9] * (t.sin[8] * t.cos[7]) - t.sin[7] * t.sin[9])))
-                        + x40),
-                p.l_a * (x0 * (t.sin[6] * x25 + t.cos[6] * (x27 - x26))),
-                p.l_a * (x0 * (t.sin[6] * (t.sin[7] * (x41 - x42) - x43) - x44)),
+                    * <f32 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[6],
+                            x36,
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[6],
+                                <f32 as ::trocar::Real>::mul_add(t.sin[8], x38 - x39, x37),
+                                0.02_f32
+                                    * <f32 as ::trocar::Real>::mul_add(
+                                        t.cos[9],
+                                        t.sin[8] * t.cos[7],
+                                        -(t.sin[7] * t.sin[9]),
+                                    ),
+                            ),
+                        ),
+                        x40,
+                    ),
+                p.l_a
+                    * (x0
+                        * <f32 as ::trocar::Real>::mul_add(
+                            t.sin[6],
+                            x25,
+                            t.cos[6] * (x27 - x26),
+                        )),
+                p.l_a
+                    * (x0
+                        * <f32 as ::trocar::Real>::mul_add(
+                            t.sin[6],
+                            <f32 as ::trocar::Real>::mul_add(t.sin[7], x41 - x42, -x43),
+                            -x44,
+                        )),
                 p.l_a * (x0 * (x45 - x46)),
             ],
             [
                 x0
-                    * (p.l_a
-                        * (x10 * t.cos[6]
-                            + t.sin[6]
-                                * (t.cos[10] * x31 + t.cos[8] * (t.sin[10] * x47 - x18)))
-                        + (t.sin[6] * (x23 - x24) + t.cos[6] * x28)),
+                    * <f32 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x10,
+                            t.cos[6],
+                            t.sin[6]
+                                * <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[10],
+                                    x31,
+                                    t.cos[8]
+                                        * <f32 as ::trocar::Real>::mul_add(t.sin[10], x47, -x18),
+                                ),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[6],
+                            x23 - x24,
+                            t.cos[6] * x28,
+                        ),
+                    ),
                 x0
-                    * (p.l_a
-                        * (t.sin[10] * (t.cos[6] * x30 + t.sin[6] * x16)
-                            + t.cos[10] * (x7 * t.cos[6] + t.sin[6] * (t.cos[8] * x47)))
-                        + (x44 + t.sin[6] * (x43 + t.sin[7] * (x42 - x41)))),
+                    * <f32 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[10],
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[6],
+                                x30,
+                                t.sin[6] * x16,
+                            ),
+                            t.cos[10]
+                                * <f32 as ::trocar::Real>::mul_add(
+                                    x7,
+                                    t.cos[6],
+                                    t.sin[6] * (t.cos[8] * x47),
+                                ),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[6],
+                            <f32 as ::trocar::Real>::mul_add(t.sin[7], x42 - x41, x43),
+                            x44,
+                        ),
+                    ),
                 x0
-                    * (p.l_a
-                        * (t.cos[6] * x36 + t.sin[6] * (t.sin[8] * (x39 - x38) - x37))
-                        + (x46 - x45)),
+                    * <f32 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.cos[6],
+                            x36,
+                            t.sin[6]
+                                * <f32 as ::trocar::Real>::mul_add(
+                                    t.sin[8],
+                                    x39 - x38,
+                                    -x37,
+                                ),
+                        ),
+                        x46 - x45,
+                    ),
                 p.l_a * (x0 * x29),
                 p.l_a * (x0 * x33),
                 p.l_a * (x0 * x40),
@@ -1284,46 +2216,75 @@ pub mod chain11_wide {
         let x0 = s5 * c6;
         let x1 = s5 * s6;
         let x2 = 0.01_f32 * c5;
-        let x3 = x2 - 0.12_f32 * s5;
+        let x3 = <f32 as ::trocar::Real>::mul_add(-0.12_f32, s5, x2);
         let x4 = c5 * c6;
         let x5 = c5 * s6;
         let x6 = c4 * c5;
-        let x7 = s4 * s6 - c4 * x0;
-        let x8 = c4 * x1 + s4 * c6;
-        let x9 = 0.13_f32 + (0.09_f32 + (0.01_f32 * s5 + 0.12_f32 * c5));
+        let x7 = <f32 as ::trocar::Real>::mul_add(s4, s6, -(c4 * x0));
+        let x8 = <f32 as ::trocar::Real>::mul_add(c4, x1, s4 * c6);
+        let x9 = 0.13_f32
+            + (0.09_f32 + <f32 as ::trocar::Real>::mul_add(0.01_f32, s5, 0.12_f32 * c5));
         let x10 = s4 * c5;
-        let x11 = s4 * x0 + c4 * s6;
-        let x12 = c4 * c6 - s4 * x1;
-        let x13 = s4 * x3 + 0.01_f32 * c4;
-        let x14 = 0.015_f32 + (c4 * x3 - 0.01_f32 * s4) - 0.01_f32;
-        let x15 = c3 * s5 + s3 * x10;
-        let x16 = c3 * x4 - s3 * x11;
-        let x17 = c3 * x5 + s3 * x12;
-        let x18 = 0.1_f32 + (c3 * x9 + s3 * x13);
-        let x19 = s3 * s5 - c3 * x10;
-        let x20 = s3 * x4 + c3 * x11;
-        let x21 = c3 * x12 - s3 * x5;
-        let x22 = c2 * x14 - s2 * x18;
-        let x23 = 0.01_f32 + (0.02_f32 + (s3 * x9 - c3 * x13));
+        let x11 = <f32 as ::trocar::Real>::mul_add(s4, x0, c4 * s6);
+        let x12 = <f32 as ::trocar::Real>::mul_add(c4, c6, -(s4 * x1));
+        let x13 = <f32 as ::trocar::Real>::mul_add(s4, x3, 0.01_f32 * c4);
+        let x14 = 0.015_f32 + <f32 as ::trocar::Real>::mul_add(c4, x3, -(0.01_f32 * s4))
+            - 0.01_f32;
+        let x15 = <f32 as ::trocar::Real>::mul_add(c3, s5, s3 * x10);
+        let x16 = <f32 as ::trocar::Real>::mul_add(c3, x4, -(s3 * x11));
+        let x17 = <f32 as ::trocar::Real>::mul_add(c3, x5, s3 * x12);
+        let x18 = 0.1_f32 + <f32 as ::trocar::Real>::mul_add(c3, x9, s3 * x13);
+        let x19 = <f32 as ::trocar::Real>::mul_add(s3, s5, -(c3 * x10));
+        let x20 = <f32 as ::trocar::Real>::mul_add(s3, x4, c3 * x11);
+        let x21 = <f32 as ::trocar::Real>::mul_add(c3, x12, -(s3 * x5));
+        let x22 = <f32 as ::trocar::Real>::mul_add(c2, x14, -(s2 * x18));
+        let x23 = 0.01_f32
+            + (0.02_f32 + <f32 as ::trocar::Real>::mul_add(s3, x9, -(c3 * x13)));
         [
             [
-                (c2 * x6 - s2 * x15) * x23 - x19 * x22,
-                (c2 * x7 - s2 * x16) * x23 - x20 * x22,
-                (c2 * x8 + s2 * x17) * x23 - x21 * x22,
-                s2 * x6 + c2 * x15,
-                s2 * x7 + c2 * x16,
-                s2 * x8 - c2 * x17,
+                <f32 as ::trocar::Real>::mul_add(
+                    <f32 as ::trocar::Real>::mul_add(c2, x6, -(s2 * x15)),
+                    x23,
+                    -(x19 * x22),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    <f32 as ::trocar::Real>::mul_add(c2, x7, -(s2 * x16)),
+                    x23,
+                    -(x20 * x22),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    <f32 as ::trocar::Real>::mul_add(c2, x8, s2 * x17),
+                    x23,
+                    -(x21 * x22),
+                ),
+                <f32 as ::trocar::Real>::mul_add(s2, x6, c2 * x15),
+                <f32 as ::trocar::Real>::mul_add(s2, x7, c2 * x16),
+                <f32 as ::trocar::Real>::mul_add(s2, x8, -(c2 * x17)),
             ],
             [
-                x14 * x15 - x6 * x18,
-                x14 * x16 - x7 * x18,
-                -(x8 * x18 + x14 * x17),
+                <f32 as ::trocar::Real>::mul_add(x14, x15, -(x6 * x18)),
+                <f32 as ::trocar::Real>::mul_add(x14, x16, -(x7 * x18)),
+                -<f32 as ::trocar::Real>::mul_add(x8, x18, x14 * x17),
                 x19,
                 x20,
                 x21,
             ],
-            [s5 * x13 - x9 * x10, x4 * x13 + x9 * x11, x9 * x12 - x5 * x13, x6, x7, x8],
-            [-x2, 0.01_f32 * x0 - s6 * x3, -(0.01_f32 * x1 + c6 * x3), s5, x4, -x5],
+            [
+                <f32 as ::trocar::Real>::mul_add(s5, x13, -(x9 * x10)),
+                <f32 as ::trocar::Real>::mul_add(x4, x13, x9 * x11),
+                <f32 as ::trocar::Real>::mul_add(x9, x12, -(x5 * x13)),
+                x6,
+                x7,
+                x8,
+            ],
+            [
+                -x2,
+                <f32 as ::trocar::Real>::mul_add(0.01_f32, x0, -(s6 * x3)),
+                -<f32 as ::trocar::Real>::mul_add(0.01_f32, x1, c6 * x3),
+                s5,
+                x4,
+                -x5,
+            ],
             [
                 -0.12_f32,
                 0.01_f32 * c6,
@@ -1353,56 +2314,83 @@ pub mod chain11_wide {
         let x0 = t.sin[4] * t.cos[5];
         let x1 = t.sin[4] * t.sin[5];
         let x2 = 0.01_f32 * t.cos[4];
-        let x3 = x2 - 0.12_f32 * t.sin[4];
+        let x3 = <f32 as ::trocar::Real>::mul_add(-0.12_f32, t.sin[4], x2);
         let x4 = t.cos[4] * t.cos[5];
         let x5 = t.cos[4] * t.sin[5];
         let x6 = t.cos[3] * t.cos[4];
-        let x7 = t.sin[3] * t.sin[5] - t.cos[3] * x0;
-        let x8 = t.cos[3] * x1 + t.sin[3] * t.cos[5];
-        let x9 = 0.13_f32 + (0.09_f32 + (0.01_f32 * t.sin[4] + 0.12_f32 * t.cos[4]));
+        let x7 = <f32 as ::trocar::Real>::mul_add(t.sin[3], t.sin[5], -(t.cos[3] * x0));
+        let x8 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x1, t.sin[3] * t.cos[5]);
+        let x9 = 0.13_f32
+            + (0.09_f32
+                + <f32 as ::trocar::Real>::mul_add(
+                    0.01_f32,
+                    t.sin[4],
+                    0.12_f32 * t.cos[4],
+                ));
         let x10 = t.sin[3] * t.cos[4];
-        let x11 = t.sin[3] * x0 + t.cos[3] * t.sin[5];
-        let x12 = t.cos[3] * t.cos[5] - t.sin[3] * x1;
-        let x13 = t.sin[3] * x3 + 0.01_f32 * t.cos[3];
-        let x14 = 0.015_f32 + (t.cos[3] * x3 - 0.01_f32 * t.sin[3]) - 0.01_f32;
-        let x15 = t.cos[2] * t.sin[4] + t.sin[2] * x10;
-        let x16 = t.cos[2] * x4 - t.sin[2] * x11;
-        let x17 = t.cos[2] * x5 + t.sin[2] * x12;
-        let x18 = 0.1_f32 + (t.cos[2] * x9 + t.sin[2] * x13);
-        let x19 = t.sin[2] * t.sin[4] - t.cos[2] * x10;
-        let x20 = t.sin[2] * x4 + t.cos[2] * x11;
-        let x21 = t.cos[2] * x12 - t.sin[2] * x5;
-        let x22 = t.cos[1] * x14 - t.sin[1] * x18;
-        let x23 = 0.01_f32 + (0.02_f32 + (t.sin[2] * x9 - t.cos[2] * x13));
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x0, t.cos[3] * t.sin[5]);
+        let x12 = <f32 as ::trocar::Real>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x1));
+        let x13 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x3, 0.01_f32 * t.cos[3]);
+        let x14 = 0.015_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[3], x3, -(0.01_f32 * t.sin[3]))
+            - 0.01_f32;
+        let x15 = <f32 as ::trocar::Real>::mul_add(t.cos[2], t.sin[4], t.sin[2] * x10);
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x4, -(t.sin[2] * x11));
+        let x17 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x5, t.sin[2] * x12);
+        let x18 = 0.1_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[2], x9, t.sin[2] * x13);
+        let x19 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[2],
+            t.sin[4],
+            -(t.cos[2] * x10),
+        );
+        let x20 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x4, t.cos[2] * x11);
+        let x21 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x12, -(t.sin[2] * x5));
+        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x14, -(t.sin[1] * x18));
+        let x23 = 0.01_f32
+            + (0.02_f32
+                + <f32 as ::trocar::Real>::mul_add(t.sin[2], x9, -(t.cos[2] * x13)));
         [
             [
-                (t.cos[1] * x6 - t.sin[1] * x15) * x23 - x19 * x22,
-                (t.cos[1] * x7 - t.sin[1] * x16) * x23 - x20 * x22,
-                (t.cos[1] * x8 + t.sin[1] * x17) * x23 - x21 * x22,
-                t.sin[1] * x6 + t.cos[1] * x15,
-                t.sin[1] * x7 + t.cos[1] * x16,
-                t.sin[1] * x8 - t.cos[1] * x17,
+                <f32 as ::trocar::Real>::mul_add(
+                    <f32 as ::trocar::Real>::mul_add(t.cos[1], x6, -(t.sin[1] * x15)),
+                    x23,
+                    -(x19 * x22),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    <f32 as ::trocar::Real>::mul_add(t.cos[1], x7, -(t.sin[1] * x16)),
+                    x23,
+                    -(x20 * x22),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    <f32 as ::trocar::Real>::mul_add(t.cos[1], x8, t.sin[1] * x17),
+                    x23,
+                    -(x21 * x22),
+                ),
+                <f32 as ::trocar::Real>::mul_add(t.sin[1], x6, t.cos[1] * x15),
+                <f32 as ::trocar::Real>::mul_add(t.sin[1], x7, t.cos[1] * x16),
+                <f32 as ::trocar::Real>::mul_add(t.sin[1], x8, -(t.cos[1] * x17)),
             ],
             [
-                x14 * x15 - x6 * x18,
-                x14 * x16 - x7 * x18,
-                -(x8 * x18 + x14 * x17),
+                <f32 as ::trocar::Real>::mul_add(x14, x15, -(x6 * x18)),
+                <f32 as ::trocar::Real>::mul_add(x14, x16, -(x7 * x18)),
+                -<f32 as ::trocar::Real>::mul_add(x8, x18, x14 * x17),
                 x19,
                 x20,
                 x21,
             ],
             [
-                t.sin[4] * x13 - x9 * x10,
-                x4 * x13 + x9 * x11,
-                x9 * x12 - x5 * x13,
+                <f32 as ::trocar::Real>::mul_add(t.sin[4], x13, -(x9 * x10)),
+                <f32 as ::trocar::Real>::mul_add(x4, x13, x9 * x11),
+                <f32 as ::trocar::Real>::mul_add(x9, x12, -(x5 * x13)),
                 x6,
                 x7,
                 x8,
             ],
             [
                 -x2,
-                0.01_f32 * x0 - t.sin[5] * x3,
-                -(0.01_f32 * x1 + t.cos[5] * x3),
+                <f32 as ::trocar::Real>::mul_add(0.01_f32, x0, -(t.sin[5] * x3)),
+                -<f32 as ::trocar::Real>::mul_add(0.01_f32, x1, t.cos[5] * x3),
                 t.sin[4],
                 x4,
                 -x5,
@@ -1440,41 +2428,75 @@ pub mod chain11_wide {
         let x1 = c1 * s2;
         let x2 = s1 * c2;
         let x3 = s1 * s2;
-        let x4 = s1 * s3 - c3 * x1;
-        let x5 = s3 * x1 + s1 * c3;
+        let x4 = <f32 as ::trocar::Real>::mul_add(s1, s3, -(c3 * x1));
+        let x5 = <f32 as ::trocar::Real>::mul_add(s3, x1, s1 * c3);
         let x6 = c2 * c3;
         let x7 = c2 * s3;
-        let x8 = c3 * x3 + c1 * s3;
-        let x9 = c1 * c3 - s3 * x3;
-        let x10 = c4 * x0 - s4 * x5;
-        let x11 = s4 * x0 + c4 * x5;
-        let x12 = s2 * c4 + s4 * x7;
-        let x13 = s2 * s4 - c4 * x7;
-        let x14 = c4 * x2 + s4 * x9;
-        let x15 = c4 * x9 - s4 * x2;
-        let x16 = c5 * x10 + s5 * x4;
-        let x17 = c5 * x4 - s5 * x10;
-        let x18 = c5 * x12 + s5 * x6;
-        let x19 = c5 * x6 - s5 * x12;
-        let x20 = s5 * x8 - c5 * x14;
-        let x21 = s5 * x14 + c5 * x8;
+        let x8 = <f32 as ::trocar::Real>::mul_add(c3, x3, c1 * s3);
+        let x9 = <f32 as ::trocar::Real>::mul_add(c1, c3, -(s3 * x3));
+        let x10 = <f32 as ::trocar::Real>::mul_add(c4, x0, -(s4 * x5));
+        let x11 = <f32 as ::trocar::Real>::mul_add(s4, x0, c4 * x5);
+        let x12 = <f32 as ::trocar::Real>::mul_add(s2, c4, s4 * x7);
+        let x13 = <f32 as ::trocar::Real>::mul_add(s2, s4, -(c4 * x7));
+        let x14 = <f32 as ::trocar::Real>::mul_add(c4, x2, s4 * x9);
+        let x15 = <f32 as ::trocar::Real>::mul_add(c4, x9, -(s4 * x2));
+        let x16 = <f32 as ::trocar::Real>::mul_add(c5, x10, s5 * x4);
+        let x17 = <f32 as ::trocar::Real>::mul_add(c5, x4, -(s5 * x10));
+        let x18 = <f32 as ::trocar::Real>::mul_add(c5, x12, s5 * x6);
+        let x19 = <f32 as ::trocar::Real>::mul_add(c5, x6, -(s5 * x12));
+        let x20 = <f32 as ::trocar::Real>::mul_add(s5, x8, -(c5 * x14));
+        let x21 = <f32 as ::trocar::Real>::mul_add(s5, x14, c5 * x8);
         (
             [
                 [x16, x18, x20],
-                [c6 * x17 + s6 * x11, c6 * x19 + s6 * x13, c6 * x21 + s6 * x15],
-                [c6 * x11 - s6 * x17, c6 * x13 - s6 * x19, c6 * x15 - s6 * x21],
+                [
+                    <f32 as ::trocar::Real>::mul_add(c6, x17, s6 * x11),
+                    <f32 as ::trocar::Real>::mul_add(c6, x19, s6 * x13),
+                    <f32 as ::trocar::Real>::mul_add(c6, x21, s6 * x15),
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(c6, x11, -(s6 * x17)),
+                    <f32 as ::trocar::Real>::mul_add(c6, x13, -(s6 * x19)),
+                    <f32 as ::trocar::Real>::mul_add(c6, x15, -(s6 * x21)),
+                ],
             ],
             [
-                0.02_f32 + 0.01_f32 * s1
-                    + (0.02_f32 * s1 - (0.01_f32 * x0 + 0.1_f32 * x1))
-                    + (0.015_f32 * x0 + 0.13_f32 * x4) + (0.09_f32 * x4 - 0.02_f32 * x11)
-                    + (0.01_f32 * x16 + 0.12_f32 * x17 + 0.01_f32 * x11),
-                0.22999999999999998_f32 + (0.1_f32 * c2 - 0.01_f32 * s2)
-                    + (0.015_f32 * s2 + 0.13_f32 * x6) + (0.09_f32 * x6 - 0.02_f32 * x13)
-                    + (0.01_f32 * x18 + 0.12_f32 * x19 + 0.01_f32 * x13),
-                0.01_f32 * c1 + (0.01_f32 * x2 + 0.1_f32 * x3 + 0.02_f32 * c1)
-                    + (0.13_f32 * x8 - 0.015_f32 * x2) + (0.09_f32 * x8 - 0.02_f32 * x15)
-                    + (0.01_f32 * x20 + 0.12_f32 * x21 + 0.01_f32 * x15),
+                <f32 as ::trocar::Real>::mul_add(0.01_f32, s1, 0.02_f32)
+                    + <f32 as ::trocar::Real>::mul_add(
+                        0.02_f32,
+                        s1,
+                        -<f32 as ::trocar::Real>::mul_add(0.01_f32, x0, 0.1_f32 * x1),
+                    ) + <f32 as ::trocar::Real>::mul_add(0.015_f32, x0, 0.13_f32 * x4)
+                    + <f32 as ::trocar::Real>::mul_add(0.09_f32, x4, -(0.02_f32 * x11))
+                    + <f32 as ::trocar::Real>::mul_add(
+                        0.01_f32,
+                        x11,
+                        <f32 as ::trocar::Real>::mul_add(0.01_f32, x16, 0.12_f32 * x17),
+                    ),
+                0.22999999999999998_f32
+                    + <f32 as ::trocar::Real>::mul_add(0.1_f32, c2, -(0.01_f32 * s2))
+                    + <f32 as ::trocar::Real>::mul_add(0.015_f32, s2, 0.13_f32 * x6)
+                    + <f32 as ::trocar::Real>::mul_add(0.09_f32, x6, -(0.02_f32 * x13))
+                    + <f32 as ::trocar::Real>::mul_add(
+                        0.01_f32,
+                        x13,
+                        <f32 as ::trocar::Real>::mul_add(0.01_f32, x18, 0.12_f32 * x19),
+                    ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.01_f32,
+                    c1,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.02_f32,
+                        c1,
+                        <f32 as ::trocar::Real>::mul_add(0.01_f32, x2, 0.1_f32 * x3),
+                    ),
+                ) + <f32 as ::trocar::Real>::mul_add(0.13_f32, x8, -(0.015_f32 * x2))
+                    + <f32 as ::trocar::Real>::mul_add(0.09_f32, x8, -(0.02_f32 * x15))
+                    + <f32 as ::trocar::Real>::mul_add(
+                        0.01_f32,
+                        x15,
+                        <f32 as ::trocar::Real>::mul_add(0.01_f32, x20, 0.12_f32 * x21),
+                    ),
             ],
         )
     }
@@ -1493,51 +2515,82 @@ pub mod chain11_wide {
         let x1 = t.cos[0] * t.sin[1];
         let x2 = t.sin[0] * t.cos[1];
         let x3 = t.sin[0] * t.sin[1];
-        let x4 = t.sin[0] * t.sin[2] - t.cos[2] * x1;
-        let x5 = t.sin[2] * x1 + t.sin[0] * t.cos[2];
+        let x4 = <f32 as ::trocar::Real>::mul_add(t.sin[0], t.sin[2], -(t.cos[2] * x1));
+        let x5 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x1, t.sin[0] * t.cos[2]);
         let x6 = t.cos[1] * t.cos[2];
         let x7 = t.cos[1] * t.sin[2];
-        let x8 = t.cos[2] * x3 + t.cos[0] * t.sin[2];
-        let x9 = t.cos[0] * t.cos[2] - t.sin[2] * x3;
-        let x10 = t.cos[3] * x0 - t.sin[3] * x5;
-        let x11 = t.sin[3] * x0 + t.cos[3] * x5;
-        let x12 = t.sin[1] * t.cos[3] + t.sin[3] * x7;
-        let x13 = t.sin[1] * t.sin[3] - t.cos[3] * x7;
-        let x14 = t.cos[3] * x2 + t.sin[3] * x9;
-        let x15 = t.cos[3] * x9 - t.sin[3] * x2;
-        let x16 = t.cos[4] * x10 + t.sin[4] * x4;
-        let x17 = t.cos[4] * x4 - t.sin[4] * x10;
-        let x18 = t.cos[4] * x12 + t.sin[4] * x6;
-        let x19 = t.cos[4] * x6 - t.sin[4] * x12;
-        let x20 = t.sin[4] * x8 - t.cos[4] * x14;
-        let x21 = t.sin[4] * x14 + t.cos[4] * x8;
+        let x8 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x3, t.cos[0] * t.sin[2]);
+        let x9 = <f32 as ::trocar::Real>::mul_add(t.cos[0], t.cos[2], -(t.sin[2] * x3));
+        let x10 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x0, -(t.sin[3] * x5));
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x0, t.cos[3] * x5);
+        let x12 = <f32 as ::trocar::Real>::mul_add(t.sin[1], t.cos[3], t.sin[3] * x7);
+        let x13 = <f32 as ::trocar::Real>::mul_add(t.sin[1], t.sin[3], -(t.cos[3] * x7));
+        let x14 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x2, t.sin[3] * x9);
+        let x15 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x9, -(t.sin[3] * x2));
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x10, t.sin[4] * x4);
+        let x17 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x4, -(t.sin[4] * x10));
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x12, t.sin[4] * x6);
+        let x19 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x6, -(t.sin[4] * x12));
+        let x20 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x8, -(t.cos[4] * x14));
+        let x21 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x14, t.cos[4] * x8);
         (
             [
                 [x16, x18, x20],
                 [
-                    t.cos[5] * x17 + t.sin[5] * x11,
-                    t.cos[5] * x19 + t.sin[5] * x13,
-                    t.cos[5] * x21 + t.sin[5] * x15,
+                    <f32 as ::trocar::Real>::mul_add(t.cos[5], x17, t.sin[5] * x11),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[5], x19, t.sin[5] * x13),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[5], x21, t.sin[5] * x15),
                 ],
                 [
-                    t.cos[5] * x11 - t.sin[5] * x17,
-                    t.cos[5] * x13 - t.sin[5] * x19,
-                    t.cos[5] * x15 - t.sin[5] * x21,
+                    <f32 as ::trocar::Real>::mul_add(t.cos[5], x11, -(t.sin[5] * x17)),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[5], x13, -(t.sin[5] * x19)),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[5], x15, -(t.sin[5] * x21)),
                 ],
             ],
             [
-                0.02_f32 + 0.01_f32 * t.sin[0]
-                    + (0.02_f32 * t.sin[0] - (0.01_f32 * x0 + 0.1_f32 * x1))
-                    + (0.015_f32 * x0 + 0.13_f32 * x4) + (0.09_f32 * x4 - 0.02_f32 * x11)
-                    + (0.01_f32 * x16 + 0.12_f32 * x17 + 0.01_f32 * x11),
-                0.22999999999999998_f32 + (0.1_f32 * t.cos[1] - 0.01_f32 * t.sin[1])
-                    + (0.015_f32 * t.sin[1] + 0.13_f32 * x6)
-                    + (0.09_f32 * x6 - 0.02_f32 * x13)
-                    + (0.01_f32 * x18 + 0.12_f32 * x19 + 0.01_f32 * x13),
-                0.01_f32 * t.cos[0]
-                    + (0.01_f32 * x2 + 0.1_f32 * x3 + 0.02_f32 * t.cos[0])
-                    + (0.13_f32 * x8 - 0.015_f32 * x2) + (0.09_f32 * x8 - 0.02_f32 * x15)
-                    + (0.01_f32 * x20 + 0.12_f32 * x21 + 0.01_f32 * x15),
+                <f32 as ::trocar::Real>::mul_add(0.01_f32, t.sin[0], 0.02_f32)
+                    + <f32 as ::trocar::Real>::mul_add(
+                        0.02_f32,
+                        t.sin[0],
+                        -<f32 as ::trocar::Real>::mul_add(0.01_f32, x0, 0.1_f32 * x1),
+                    ) + <f32 as ::trocar::Real>::mul_add(0.015_f32, x0, 0.13_f32 * x4)
+                    + <f32 as ::trocar::Real>::mul_add(0.09_f32, x4, -(0.02_f32 * x11))
+                    + <f32 as ::trocar::Real>::mul_add(
+                        0.01_f32,
+                        x11,
+                        <f32 as ::trocar::Real>::mul_add(0.01_f32, x16, 0.12_f32 * x17),
+                    ),
+                0.22999999999999998_f32
+                    + <f32 as ::trocar::Real>::mul_add(
+                        0.1_f32,
+                        t.cos[1],
+                        -(0.01_f32 * t.sin[1]),
+                    )
+                    + <f32 as ::trocar::Real>::mul_add(
+                        0.015_f32,
+                        t.sin[1],
+                        0.13_f32 * x6,
+                    ) + <f32 as ::trocar::Real>::mul_add(0.09_f32, x6, -(0.02_f32 * x13))
+                    + <f32 as ::trocar::Real>::mul_add(
+                        0.01_f32,
+                        x13,
+                        <f32 as ::trocar::Real>::mul_add(0.01_f32, x18, 0.12_f32 * x19),
+                    ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.01_f32,
+                    t.cos[0],
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.02_f32,
+                        t.cos[0],
+                        <f32 as ::trocar::Real>::mul_add(0.01_f32, x2, 0.1_f32 * x3),
+                    ),
+                ) + <f32 as ::trocar::Real>::mul_add(0.13_f32, x8, -(0.015_f32 * x2))
+                    + <f32 as ::trocar::Real>::mul_add(0.09_f32, x8, -(0.02_f32 * x15))
+                    + <f32 as ::trocar::Real>::mul_add(
+                        0.01_f32,
+                        x15,
+                        <f32 as ::trocar::Real>::mul_add(0.01_f32, x20, 0.12_f32 * x21),
+                    ),
             ],
         )
     }
@@ -1554,11 +2607,15 @@ pub mod chain11_wide {
         );
         let x0 = s9 * s10;
         let x1 = s11 * c9;
-        let x2 = x0 * c11 + x1;
+        let x2 = <f32 as ::trocar::Real>::mul_add(x0, c11, x1);
         let x3 = s8 * c10;
-        let x4 = x2 * c8 + c11 * x3;
+        let x4 = <f32 as ::trocar::Real>::mul_add(x2, c8, c11 * x3);
         let x5 = c9 * c8;
-        let x6 = c11 * x5 - s11 * (x3 + x0 * c8);
+        let x6 = <f32 as ::trocar::Real>::mul_add(
+            c11,
+            x5,
+            -(s11 * <f32 as ::trocar::Real>::mul_add(x0, c8, x3)),
+        );
         let x7 = s10 * s8;
         let x8 = c10 * (s9 * c8);
         let x9 = x7 - x8;
@@ -1566,39 +2623,66 @@ pub mod chain11_wide {
         let x11 = 0.005_f32 * s8;
         let x12 = x10 - x11;
         let x13 = 0.1_f32 * c8;
-        let x14 = 0.22_f32 + 0.03_f32 * s9;
+        let x14 = <f32 as ::trocar::Real>::mul_add(0.03_f32, s9, 0.22_f32);
         let x15 = c8 * x14;
-        let x16 = c9 * (x12 - x13) - x15;
+        let x16 = <f32 as ::trocar::Real>::mul_add(c9, x12 - x13, -x15);
         let x17 = 0.22_f32 * s9;
         let x18 = 0.03_f32 + x17;
         let x19 = 0.02_f32 * c9;
-        let x20 = x19 - c10 * x18;
+        let x20 = <f32 as ::trocar::Real>::mul_add(-c10, x18, x19);
         let x21 = 0.02_f32 * s10;
         let x22 = 0.005_f32 - x21;
         let x23 = 0.02_f32 * c10;
         let x24 = 0.03_f32 * c9;
-        let x25 = s9 * (s8 * x22 + (0.23_f32 + x13 - p.l_a)) + c8 * (x23 - x24);
+        let x25 = <f32 as ::trocar::Real>::mul_add(
+            s9,
+            <f32 as ::trocar::Real>::mul_add(s8, x22, 0.23_f32 + x13 - p.l_a),
+            c8 * (x23 - x24),
+        );
         let x26 = s9 * s8;
-        let x27 = c10 * x26 + s10 * c8;
+        let x27 = <f32 as ::trocar::Real>::mul_add(c10, x26, s10 * c8);
         let x28 = 0.23_f32 - p.l_a;
         let x29 = s8 * x28;
         let x30 = 0.005_f32 + x29;
         let x31 = c8 * x10;
-        let x32 = 0.1_f32 + 0.22_f32 * c9;
+        let x32 = <f32 as ::trocar::Real>::mul_add(0.22_f32, c9, 0.1_f32);
         let x33 = x31 - x32;
         let x34 = x22 + x29;
-        let x35 = (c11 * (s10 * x16 + s8 * x20) + (s11 * x25 - 0.09_f32 * x27)) * c7
-            + (c11 * (s9 * (s10 * x30 - 0.02_f32) + c10 * x33)
-                + c9 * (s11 * x34 - 0.09_f32 * c10)) * s7;
+        let x35 = <f32 as ::trocar::Real>::mul_add(
+            <f32 as ::trocar::Real>::mul_add(
+                c11,
+                <f32 as ::trocar::Real>::mul_add(s10, x16, s8 * x20),
+                <f32 as ::trocar::Real>::mul_add(s11, x25, -(0.09_f32 * x27)),
+            ),
+            c7,
+            <f32 as ::trocar::Real>::mul_add(
+                c11,
+                <f32 as ::trocar::Real>::mul_add(
+                    s9,
+                    <f32 as ::trocar::Real>::mul_add(s10, x30, -0.02_f32),
+                    c10 * x33,
+                ),
+                c9 * <f32 as ::trocar::Real>::mul_add(s11, x34, -(0.09_f32 * c10)),
+            ) * s7,
+        );
         let x36 = 0.23_f32 + x11;
-        let x37 = x15 + c9 * (x13 + x36 - p.l_a);
-        let x38 = s8 * x10 - 0.005_f32;
-        let x39 = x32 + c8 * x28;
-        let x40 = s9 * s7 - c9 * (s8 * c7);
-        let x41 = s11
-            * (s10 * (c7 * x37 + s7 * (s9 * x38))
-                + (c10 * (s7 * x39 + s8 * (x18 * c7)) + 0.02_f32 * x40))
-            + c11 * (x25 * c7 + s7 * (c9 * x34));
+        let x37 = <f32 as ::trocar::Real>::mul_add(c9, x13 + x36 - p.l_a, x15);
+        let x38 = <f32 as ::trocar::Real>::mul_add(s8, x10, -0.005_f32);
+        let x39 = <f32 as ::trocar::Real>::mul_add(c8, x28, x32);
+        let x40 = <f32 as ::trocar::Real>::mul_add(s9, s7, -(c9 * (s8 * c7)));
+        let x41 = <f32 as ::trocar::Real>::mul_add(
+            s11,
+            <f32 as ::trocar::Real>::mul_add(
+                s10,
+                <f32 as ::trocar::Real>::mul_add(c7, x37, s7 * (s9 * x38)),
+                <f32 as ::trocar::Real>::mul_add(
+                    c10,
+                    <f32 as ::trocar::Real>::mul_add(s7, x39, s8 * (x18 * c7)),
+                    0.02_f32 * x40,
+                ),
+            ),
+            c11 * <f32 as ::trocar::Real>::mul_add(x25, c7, s7 * (c9 * x34)),
+        );
         let x42 = 0.1_f32 * c9;
         let x43 = x14 + x42;
         let x44 = 0.09_f32 * c11;
@@ -1609,77 +2693,216 @@ pub mod chain11_wide {
         let x49 = s10 * (0.03_f32 + x48);
         let x50 = 0.09_f32 * x1;
         let x51 = s8 * (x49 + x50);
-        let x52 = 0.1_f32 + c9 * x47;
+        let x52 = <f32 as ::trocar::Real>::mul_add(c9, x47, 0.1_f32);
         let x53 = 0.09_f32 * s11;
-        let x54 = s10 * (x31 - x52) + s9 * (c10 * x38 + x53);
-        let x55 = c7 * (c10 * (x46 + c9 * (x36 - p.l_a)) - x51) + s7 * x54;
+        let x54 = <f32 as ::trocar::Real>::mul_add(
+            s10,
+            x31 - x52,
+            s9 * <f32 as ::trocar::Real>::mul_add(c10, x38, x53),
+        );
+        let x55 = <f32 as ::trocar::Real>::mul_add(
+            c7,
+            <f32 as ::trocar::Real>::mul_add(
+                c10,
+                <f32 as ::trocar::Real>::mul_add(c9, x36 - p.l_a, x46),
+                -x51,
+            ),
+            s7 * x54,
+        );
         let x56 = x2 * s8;
         let x57 = c11 * (c8 * c10);
-        let x58 = s9 * s11 - c11 * (s10 * c9);
-        let x59 = c7 * (x57 - x56) + s7 * x58;
+        let x58 = <f32 as ::trocar::Real>::mul_add(s9, s11, -(c11 * (s10 * c9)));
+        let x59 = <f32 as ::trocar::Real>::mul_add(c7, x57 - x56, s7 * x58);
         let x60 = c9 * s7;
-        let x61 = s11 * (s10 * (x60 + x26 * c7) - c10 * (c8 * c7)) + c11 * x40;
-        let x62 = x27 * c7 + c10 * x60;
-        let x63 = 0.03_f32 + 0.02_f32 * s7;
+        let x61 = <f32 as ::trocar::Real>::mul_add(
+            s11,
+            <f32 as ::trocar::Real>::mul_add(
+                s10,
+                <f32 as ::trocar::Real>::mul_add(x26, c7, x60),
+                -(c10 * (c8 * c7)),
+            ),
+            c11 * x40,
+        );
+        let x62 = <f32 as ::trocar::Real>::mul_add(x27, c7, c10 * x60);
+        let x63 = <f32 as ::trocar::Real>::mul_add(0.02_f32, s7, 0.03_f32);
         let x64 = s9 * x63;
         let x65 = 0.22_f32 + x42;
         let x66 = s8 * (x64 + x65);
         let x67 = 0.02_f32 * c7;
-        let x68 = c9 * (x67 + 0.005_f32 * c8);
+        let x68 = c9 * <f32 as ::trocar::Real>::mul_add(0.005_f32, c8, x67);
         let x69 = c10 * (x17 + x63);
-        let x70 = x23 + 0.1_f32 * s9;
+        let x70 = <f32 as ::trocar::Real>::mul_add(0.1_f32, s9, x23);
         let x71 = x21 - 0.005_f32;
         let x72 = c8 * x71;
-        let x73 = s8 * (x70 - c9 * x63) + s9 * (x72 - x67);
-        let x74 = c11 * (s10 * (x68 - x66) + c8 * (x69 - x19))
-            + (s11 * x73 + 0.09_f32 * (x8 - x7));
-        let x75 = s11 * (s10 * (x66 - x68) + c8 * (x19 - x69)) + c11 * x73;
-        let x76 = c10 * (s8 * (x64 + (x44 + x65)) - x68)
-            + c8 * (x50 + s10 * (x48 + x63));
+        let x73 = <f32 as ::trocar::Real>::mul_add(
+            s8,
+            <f32 as ::trocar::Real>::mul_add(-c9, x63, x70),
+            s9 * (x72 - x67),
+        );
+        let x74 = <f32 as ::trocar::Real>::mul_add(
+            c11,
+            <f32 as ::trocar::Real>::mul_add(s10, x68 - x66, c8 * (x69 - x19)),
+            <f32 as ::trocar::Real>::mul_add(s11, x73, 0.09_f32 * (x8 - x7)),
+        );
+        let x75 = <f32 as ::trocar::Real>::mul_add(
+            s11,
+            <f32 as ::trocar::Real>::mul_add(s10, x66 - x68, c8 * (x19 - x69)),
+            c11 * x73,
+        );
+        let x76 = <f32 as ::trocar::Real>::mul_add(
+            c10,
+            <f32 as ::trocar::Real>::mul_add(s8, x64 + (x44 + x65), -x68),
+            c8 * <f32 as ::trocar::Real>::mul_add(s10, x48 + x63, x50),
+        );
         let x77 = 0.02_f32 * c8;
-        let x78 = s8 * (0.02_f32 + x18 * s7);
-        let x79 = 0.02_f32 * (c9 * (s8 * s7) + s9 * c7);
-        let x80 = s7 * (s9 * (s8 * x71 + (x10 - x13)) + c8 * (x24 - x23))
-            + c9 * (x77 + c7 * x34);
+        let x78 = s8 * <f32 as ::trocar::Real>::mul_add(x18, s7, 0.02_f32);
+        let x79 = 0.02_f32 * <f32 as ::trocar::Real>::mul_add(c9, s8 * s7, s9 * c7);
+        let x80 = <f32 as ::trocar::Real>::mul_add(
+            s7,
+            <f32 as ::trocar::Real>::mul_add(
+                s9,
+                <f32 as ::trocar::Real>::mul_add(s8, x71, x10 - x13),
+                c8 * (x24 - x23),
+            ),
+            c9 * <f32 as ::trocar::Real>::mul_add(c7, x34, x77),
+        );
         let x81 = x27 * s7;
         let x82 = c10 * (c9 * c7);
-        let x83 = c11
-            * (s10 * (s7 * x37 + s9 * (c7 * x30 + x77)) + (c10 * (c7 * x33 + x78) - x79))
-            + (s11 * x80 + 0.09_f32 * (x81 - x82));
-        let x84 = s11
-            * (s10 * (x16 * s7 + s9 * (c7 * x38 - x77)) + (x79 + c10 * (c7 * x39 - x78)))
-            + c11 * x80;
-        let x85 = s7 * (x51 + c10 * (c9 * x12 - x46)) + (c7 * x54 + 0.02_f32 * x9);
-        let x86 = s7 * (x56 - x57) + c7 * x58;
+        let x83 = <f32 as ::trocar::Real>::mul_add(
+            c11,
+            <f32 as ::trocar::Real>::mul_add(
+                s10,
+                <f32 as ::trocar::Real>::mul_add(
+                    s7,
+                    x37,
+                    s9 * <f32 as ::trocar::Real>::mul_add(c7, x30, x77),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    c10,
+                    <f32 as ::trocar::Real>::mul_add(c7, x33, x78),
+                    -x79,
+                ),
+            ),
+            <f32 as ::trocar::Real>::mul_add(s11, x80, 0.09_f32 * (x81 - x82)),
+        );
+        let x84 = <f32 as ::trocar::Real>::mul_add(
+            s11,
+            <f32 as ::trocar::Real>::mul_add(
+                s10,
+                <f32 as ::trocar::Real>::mul_add(
+                    x16,
+                    s7,
+                    s9 * <f32 as ::trocar::Real>::mul_add(c7, x38, -x77),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    c10,
+                    <f32 as ::trocar::Real>::mul_add(c7, x39, -x78),
+                    x79,
+                ),
+            ),
+            c11 * x80,
+        );
+        let x85 = <f32 as ::trocar::Real>::mul_add(
+            s7,
+            <f32 as ::trocar::Real>::mul_add(
+                c10,
+                <f32 as ::trocar::Real>::mul_add(c9, x12, -x46),
+                x51,
+            ),
+            <f32 as ::trocar::Real>::mul_add(c7, x54, 0.02_f32 * x9),
+        );
+        let x86 = <f32 as ::trocar::Real>::mul_add(s7, x56 - x57, c7 * x58);
         let x87 = s10 * s11;
-        let x88 = s9 * c11 + c9 * x87;
-        let x89 = s7 * (s8 * (c11 * c9 - x0 * s11) + c10 * (s11 * c8)) + c7 * x88;
+        let x88 = <f32 as ::trocar::Real>::mul_add(s9, c11, c9 * x87);
+        let x89 = <f32 as ::trocar::Real>::mul_add(
+            s7,
+            <f32 as ::trocar::Real>::mul_add(
+                s8,
+                <f32 as ::trocar::Real>::mul_add(c11, c9, -(x0 * s11)),
+                c10 * (s11 * c8),
+            ),
+            c7 * x88,
+        );
         let x90 = x82 - x81;
         let x91 = x70 - x24;
-        let x92 = 0.09_f32 + 0.22_f32 * c11;
+        let x92 = <f32 as ::trocar::Real>::mul_add(0.22_f32, c11, 0.09_f32);
         let x93 = c10 * x92;
         let x94 = 0.005_f32 * s10;
         let x95 = x94 - 0.02_f32;
-        let x96 = s8 * (s11 * x91 - s10 * (0.09_f32 + c11 * x43))
-            + c8 * (s9 * (s11 * x71 + x93) + c11 * (c9 * x95 + 0.03_f32 * c10));
-        let x97 = s11 * (s10 * (s8 * x43 - 0.005_f32 * x5) + c8 * x20)
-            + c11 * (s8 * x91 + s9 * x72);
-        let x98 = x53 - 0.005_f32 * c10;
-        let x99 = c8 * (x49 + c9 * x98) + s8 * (c10 * x45);
-        let x100 = c9 * (s11 * x22 - x93) + c11 * (s9 * x95 - 0.1_f32 * c10);
-        let x101 = s11 * (s9 * (0.02_f32 - x94) + c10 * x32) + c9 * (c11 * x22);
-        let x102 = s9 * x98 - s10 * x52;
+        let x96 = <f32 as ::trocar::Real>::mul_add(
+            s8,
+            <f32 as ::trocar::Real>::mul_add(
+                s11,
+                x91,
+                -(s10 * <f32 as ::trocar::Real>::mul_add(c11, x43, 0.09_f32)),
+            ),
+            c8
+                * <f32 as ::trocar::Real>::mul_add(
+                    s9,
+                    <f32 as ::trocar::Real>::mul_add(s11, x71, x93),
+                    c11 * <f32 as ::trocar::Real>::mul_add(c9, x95, 0.03_f32 * c10),
+                ),
+        );
+        let x97 = <f32 as ::trocar::Real>::mul_add(
+            s11,
+            <f32 as ::trocar::Real>::mul_add(
+                s10,
+                <f32 as ::trocar::Real>::mul_add(s8, x43, -(0.005_f32 * x5)),
+                c8 * x20,
+            ),
+            c11 * <f32 as ::trocar::Real>::mul_add(s8, x91, s9 * x72),
+        );
+        let x98 = <f32 as ::trocar::Real>::mul_add(-0.005_f32, c10, x53);
+        let x99 = <f32 as ::trocar::Real>::mul_add(
+            c8,
+            <f32 as ::trocar::Real>::mul_add(c9, x98, x49),
+            s8 * (c10 * x45),
+        );
+        let x100 = <f32 as ::trocar::Real>::mul_add(
+            c9,
+            <f32 as ::trocar::Real>::mul_add(s11, x22, -x93),
+            c11 * <f32 as ::trocar::Real>::mul_add(s9, x95, -(0.1_f32 * c10)),
+        );
+        let x101 = <f32 as ::trocar::Real>::mul_add(
+            s11,
+            <f32 as ::trocar::Real>::mul_add(s9, 0.02_f32 - x94, c10 * x32),
+            c9 * (c11 * x22),
+        );
+        let x102 = <f32 as ::trocar::Real>::mul_add(s9, x98, -(s10 * x52));
         let x103 = c9 * c10;
         let x104 = s11 * c10;
-        let x105 = 0.02_f32 * x104 - s10 * x92;
+        let x105 = <f32 as ::trocar::Real>::mul_add(0.02_f32, x104, -(s10 * x92));
         let x106 = c11 * c10;
-        let x107 = 0.22_f32 * x87 + 0.02_f32 * x106;
+        let x107 = <f32 as ::trocar::Real>::mul_add(0.22_f32, x87, 0.02_f32 * x106);
         let x108 = c10 * x47;
         let x109 = 0.02_f32 * c11;
         let x110 = 0.02_f32 * s11;
         let x111 = <f32 as ::trocar::Real>::sqrt(
-            x4 * x4 + x35 * x35 + x74 * x74 + x83 * x83 + x96 * x96 + x100 * x100
-                + x105 * x105 + x109 * x109 + 0.0081_f32,
+            <f32 as ::trocar::Real>::mul_add(
+                x109,
+                x109,
+                <f32 as ::trocar::Real>::mul_add(
+                    x105,
+                    x105,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x100,
+                        x100,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x96,
+                            x96,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x83,
+                                x83,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x74,
+                                    x74,
+                                    <f32 as ::trocar::Real>::mul_add(x4, x4, x35 * x35),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ) + 0.0081_f32,
         );
         let x112 = x4 / x111;
         let x113 = x35 / x111;
@@ -1690,20 +2913,70 @@ pub mod chain11_wide {
         let x118 = x105 / x111;
         let x119 = x109 / x111;
         let x120 = -0.09_f32 / x111;
-        let x121 = x6 * x112 + x41 * x113 + x75 * x114 + x84 * x115 + x97 * x116
-            + x101 * x117 + x107 * x118 - x110 * x119;
-        let x122 = x6 - x112 * x121;
-        let x123 = x41 - x113 * x121;
-        let x124 = x75 - x114 * x121;
-        let x125 = x84 - x115 * x121;
-        let x126 = x97 - x116 * x121;
-        let x127 = x101 - x117 * x121;
-        let x128 = x107 - x118 * x121;
-        let x129 = x110 + x119 * x121;
+        let x121 = <f32 as ::trocar::Real>::mul_add(
+            -x110,
+            x119,
+            <f32 as ::trocar::Real>::mul_add(
+                x107,
+                x118,
+                <f32 as ::trocar::Real>::mul_add(
+                    x101,
+                    x117,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x97,
+                        x116,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x84,
+                            x115,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x75,
+                                x114,
+                                <f32 as ::trocar::Real>::mul_add(x6, x112, x41 * x113),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x122 = <f32 as ::trocar::Real>::mul_add(-x112, x121, x6);
+        let x123 = <f32 as ::trocar::Real>::mul_add(-x113, x121, x41);
+        let x124 = <f32 as ::trocar::Real>::mul_add(-x114, x121, x75);
+        let x125 = <f32 as ::trocar::Real>::mul_add(-x115, x121, x84);
+        let x126 = <f32 as ::trocar::Real>::mul_add(-x116, x121, x97);
+        let x127 = <f32 as ::trocar::Real>::mul_add(-x117, x121, x101);
+        let x128 = <f32 as ::trocar::Real>::mul_add(-x118, x121, x107);
+        let x129 = <f32 as ::trocar::Real>::mul_add(x119, x121, x110);
         let x130 = x120 * x121;
         let x131 = <f32 as ::trocar::Real>::sqrt(
-            x122 * x122 + x123 * x123 + x124 * x124 + x125 * x125 + x126 * x126
-                + x127 * x127 + x128 * x128 + x129 * x129 + x130 * x130,
+            <f32 as ::trocar::Real>::mul_add(
+                x130,
+                x130,
+                <f32 as ::trocar::Real>::mul_add(
+                    x129,
+                    x129,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x128,
+                        x128,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x127,
+                            x127,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x126,
+                                x126,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x125,
+                                    x125,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        x124,
+                                        x124,
+                                        <f32 as ::trocar::Real>::mul_add(x122, x122, x123 * x123),
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
         );
         let x132 = x122 / x131;
         let x133 = x123 / x131;
@@ -1714,31 +2987,108 @@ pub mod chain11_wide {
         let x138 = x128 / x131;
         let x139 = x129 / x131;
         let x140 = x130 / x131;
-        let x141 = x9 * x112 + x55 * x113 + x76 * x114 + x85 * x115 + x99 * x116
-            + x102 * x117 + x108 * x118 - x53 * x119;
-        let x142 = x9 - x112 * x141;
-        let x143 = x55 - x113 * x141;
-        let x144 = x76 - x114 * x141;
-        let x145 = x85 - x115 * x141;
-        let x146 = x99 - x116 * x141;
-        let x147 = x102 - x117 * x141;
-        let x148 = x108 - x118 * x141;
-        let x149 = x53 + x119 * x141;
+        let x141 = <f32 as ::trocar::Real>::mul_add(
+            -x53,
+            x119,
+            <f32 as ::trocar::Real>::mul_add(
+                x108,
+                x118,
+                <f32 as ::trocar::Real>::mul_add(
+                    x102,
+                    x117,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x99,
+                        x116,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x85,
+                            x115,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x76,
+                                x114,
+                                <f32 as ::trocar::Real>::mul_add(x9, x112, x55 * x113),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x142 = <f32 as ::trocar::Real>::mul_add(-x112, x141, x9);
+        let x143 = <f32 as ::trocar::Real>::mul_add(-x113, x141, x55);
+        let x144 = <f32 as ::trocar::Real>::mul_add(-x114, x141, x76);
+        let x145 = <f32 as ::trocar::Real>::mul_add(-x115, x141, x85);
+        let x146 = <f32 as ::trocar::Real>::mul_add(-x116, x141, x99);
+        let x147 = <f32 as ::trocar::Real>::mul_add(-x117, x141, x102);
+        let x148 = <f32 as ::trocar::Real>::mul_add(-x118, x141, x108);
+        let x149 = <f32 as ::trocar::Real>::mul_add(x119, x141, x53);
         let x150 = x120 * x141;
-        let x151 = x132 * x142 + x133 * x143 + x134 * x144 + x135 * x145 + x136 * x146
-            + x137 * x147 + x138 * x148 + x139 * x149 + x140 * x150;
-        let x152 = x142 - x132 * x151;
-        let x153 = x143 - x133 * x151;
-        let x154 = x144 - x134 * x151;
-        let x155 = x145 - x135 * x151;
-        let x156 = x146 - x136 * x151;
-        let x157 = x147 - x137 * x151;
-        let x158 = x148 - x138 * x151;
-        let x159 = x149 - x139 * x151;
-        let x160 = x140 * x151 - x150;
+        let x151 = <f32 as ::trocar::Real>::mul_add(
+            x140,
+            x150,
+            <f32 as ::trocar::Real>::mul_add(
+                x139,
+                x149,
+                <f32 as ::trocar::Real>::mul_add(
+                    x138,
+                    x148,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x137,
+                        x147,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x136,
+                            x146,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x135,
+                                x145,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x134,
+                                    x144,
+                                    <f32 as ::trocar::Real>::mul_add(x132, x142, x133 * x143),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x152 = <f32 as ::trocar::Real>::mul_add(-x132, x151, x142);
+        let x153 = <f32 as ::trocar::Real>::mul_add(-x133, x151, x143);
+        let x154 = <f32 as ::trocar::Real>::mul_add(-x134, x151, x144);
+        let x155 = <f32 as ::trocar::Real>::mul_add(-x135, x151, x145);
+        let x156 = <f32 as ::trocar::Real>::mul_add(-x136, x151, x146);
+        let x157 = <f32 as ::trocar::Real>::mul_add(-x137, x151, x147);
+        let x158 = <f32 as ::trocar::Real>::mul_add(-x138, x151, x148);
+        let x159 = <f32 as ::trocar::Real>::mul_add(-x139, x151, x149);
+        let x160 = <f32 as ::trocar::Real>::mul_add(x140, x151, -x150);
         let x161 = <f32 as ::trocar::Real>::sqrt(
-            x152 * x152 + x153 * x153 + x154 * x154 + x155 * x155 + x156 * x156
-                + x157 * x157 + x158 * x158 + x159 * x159 + x160 * x160,
+            <f32 as ::trocar::Real>::mul_add(
+                x160,
+                x160,
+                <f32 as ::trocar::Real>::mul_add(
+                    x159,
+                    x159,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x158,
+                        x158,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x157,
+                            x157,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x156,
+                                x156,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x155,
+                                    x155,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        x154,
+                                        x154,
+                                        <f32 as ::trocar::Real>::mul_add(x152, x152, x153 * x153),
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
         );
         let x162 = x152 / x161;
         let x163 = x153 / x161;
@@ -1749,42 +3099,142 @@ pub mod chain11_wide {
         let x168 = x158 / x161;
         let x169 = x159 / x161;
         let x170 = x160 / x161;
-        let x171 = x59 * x113 + x4 * x114 + x86 * x115 + x4 * x116 + x58 * x117
-            + x106 * x118 - s11 * x119;
+        let x171 = <f32 as ::trocar::Real>::mul_add(
+            -s11,
+            x119,
+            <f32 as ::trocar::Real>::mul_add(
+                x106,
+                x118,
+                <f32 as ::trocar::Real>::mul_add(
+                    x58,
+                    x117,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x4,
+                        x116,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x86,
+                            x115,
+                            <f32 as ::trocar::Real>::mul_add(x59, x113, x4 * x114),
+                        ),
+                    ),
+                ),
+            ),
+        );
         let x172 = x112 * x171;
-        let x173 = x59 - x113 * x171;
-        let x174 = x4 - x114 * x171;
-        let x175 = x86 - x115 * x171;
-        let x176 = x4 - x116 * x171;
-        let x177 = x58 - x117 * x171;
-        let x178 = x106 - x118 * x171;
-        let x179 = s11 + x119 * x171;
+        let x173 = <f32 as ::trocar::Real>::mul_add(-x113, x171, x59);
+        let x174 = <f32 as ::trocar::Real>::mul_add(-x114, x171, x4);
+        let x175 = <f32 as ::trocar::Real>::mul_add(-x115, x171, x86);
+        let x176 = <f32 as ::trocar::Real>::mul_add(-x116, x171, x4);
+        let x177 = <f32 as ::trocar::Real>::mul_add(-x117, x171, x58);
+        let x178 = <f32 as ::trocar::Real>::mul_add(-x118, x171, x106);
+        let x179 = <f32 as ::trocar::Real>::mul_add(x119, x171, s11);
         let x180 = x120 * x171;
-        let x181 = x133 * x173 - x132 * x172 + x134 * x174 + x135 * x175 + x136 * x176
-            + x137 * x177 + x138 * x178 + x139 * x179 + x140 * x180;
-        let x182 = x172 + x132 * x181;
-        let x183 = x173 - x133 * x181;
-        let x184 = x174 - x134 * x181;
-        let x185 = x175 - x135 * x181;
-        let x186 = x176 - x136 * x181;
-        let x187 = x177 - x137 * x181;
-        let x188 = x178 - x138 * x181;
-        let x189 = x179 - x139 * x181;
-        let x190 = x140 * x181 - x180;
-        let x191 = x163 * x183 - x162 * x182 + x164 * x184 + x165 * x185 + x166 * x186
-            + x167 * x187 + x168 * x188 + x169 * x189 + x170 * x190;
-        let x192 = x182 + x162 * x191;
-        let x193 = x183 - x163 * x191;
-        let x194 = x184 - x164 * x191;
-        let x195 = x185 - x165 * x191;
-        let x196 = x186 - x166 * x191;
-        let x197 = x187 - x167 * x191;
-        let x198 = x188 - x168 * x191;
-        let x199 = x189 - x169 * x191;
-        let x200 = x190 - x170 * x191;
+        let x181 = <f32 as ::trocar::Real>::mul_add(
+            x140,
+            x180,
+            <f32 as ::trocar::Real>::mul_add(
+                x139,
+                x179,
+                <f32 as ::trocar::Real>::mul_add(
+                    x138,
+                    x178,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x137,
+                        x177,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x136,
+                            x176,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x135,
+                                x175,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x134,
+                                    x174,
+                                    <f32 as ::trocar::Real>::mul_add(x133, x173, -(x132 * x172)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x182 = <f32 as ::trocar::Real>::mul_add(x132, x181, x172);
+        let x183 = <f32 as ::trocar::Real>::mul_add(-x133, x181, x173);
+        let x184 = <f32 as ::trocar::Real>::mul_add(-x134, x181, x174);
+        let x185 = <f32 as ::trocar::Real>::mul_add(-x135, x181, x175);
+        let x186 = <f32 as ::trocar::Real>::mul_add(-x136, x181, x176);
+        let x187 = <f32 as ::trocar::Real>::mul_add(-x137, x181, x177);
+        let x188 = <f32 as ::trocar::Real>::mul_add(-x138, x181, x178);
+        let x189 = <f32 as ::trocar::Real>::mul_add(-x139, x181, x179);
+        let x190 = <f32 as ::trocar::Real>::mul_add(x140, x181, -x180);
+        let x191 = <f32 as ::trocar::Real>::mul_add(
+            x170,
+            x190,
+            <f32 as ::trocar::Real>::mul_add(
+                x169,
+                x189,
+                <f32 as ::trocar::Real>::mul_add(
+                    x168,
+                    x188,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x167,
+                        x187,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x166,
+                            x186,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x165,
+                                x185,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x164,
+                                    x184,
+                                    <f32 as ::trocar::Real>::mul_add(x163, x183, -(x162 * x182)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x192 = <f32 as ::trocar::Real>::mul_add(x162, x191, x182);
+        let x193 = <f32 as ::trocar::Real>::mul_add(-x163, x191, x183);
+        let x194 = <f32 as ::trocar::Real>::mul_add(-x164, x191, x184);
+        let x195 = <f32 as ::trocar::Real>::mul_add(-x165, x191, x185);
+        let x196 = <f32 as ::trocar::Real>::mul_add(-x166, x191, x186);
+        let x197 = <f32 as ::trocar::Real>::mul_add(-x167, x191, x187);
+        let x198 = <f32 as ::trocar::Real>::mul_add(-x168, x191, x188);
+        let x199 = <f32 as ::trocar::Real>::mul_add(-x169, x191, x189);
+        let x200 = <f32 as ::trocar::Real>::mul_add(-x170, x191, x190);
         let x201 = <f32 as ::trocar::Real>::sqrt(
-            x192 * x192 + x193 * x193 + x194 * x194 + x195 * x195 + x196 * x196
-                + x197 * x197 + x198 * x198 + x199 * x199 + x200 * x200,
+            <f32 as ::trocar::Real>::mul_add(
+                x200,
+                x200,
+                <f32 as ::trocar::Real>::mul_add(
+                    x199,
+                    x199,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x198,
+                        x198,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x197,
+                            x197,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x196,
+                                x196,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x195,
+                                    x195,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        x194,
+                                        x194,
+                                        <f32 as ::trocar::Real>::mul_add(x192, x192, x193 * x193),
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
         );
         let x202 = x192 / x201;
         let x203 = x193 / x201;
@@ -1795,53 +3245,180 @@ pub mod chain11_wide {
         let x208 = x198 / x201;
         let x209 = x199 / x201;
         let x210 = x200 / x201;
-        let x211 = x61 * x113 + x6 * x114 + x89 * x115 + x6 * x116 + x88 * x117
-            - x104 * x118 - c11 * x119;
+        let x211 = <f32 as ::trocar::Real>::mul_add(
+            -c11,
+            x119,
+            <f32 as ::trocar::Real>::mul_add(
+                -x104,
+                x118,
+                <f32 as ::trocar::Real>::mul_add(
+                    x88,
+                    x117,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x6,
+                        x116,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x89,
+                            x115,
+                            <f32 as ::trocar::Real>::mul_add(x61, x113, x6 * x114),
+                        ),
+                    ),
+                ),
+            ),
+        );
         let x212 = x112 * x211;
-        let x213 = x61 - x113 * x211;
-        let x214 = x6 - x114 * x211;
-        let x215 = x89 - x115 * x211;
-        let x216 = x6 - x116 * x211;
-        let x217 = x88 - x117 * x211;
-        let x218 = x104 + x118 * x211;
-        let x219 = c11 + x119 * x211;
+        let x213 = <f32 as ::trocar::Real>::mul_add(-x113, x211, x61);
+        let x214 = <f32 as ::trocar::Real>::mul_add(-x114, x211, x6);
+        let x215 = <f32 as ::trocar::Real>::mul_add(-x115, x211, x89);
+        let x216 = <f32 as ::trocar::Real>::mul_add(-x116, x211, x6);
+        let x217 = <f32 as ::trocar::Real>::mul_add(-x117, x211, x88);
+        let x218 = <f32 as ::trocar::Real>::mul_add(x118, x211, x104);
+        let x219 = <f32 as ::trocar::Real>::mul_add(x119, x211, c11);
         let x220 = x120 * x211;
-        let x221 = x133 * x213 - x132 * x212 + x134 * x214 + x135 * x215 + x136 * x216
-            + x137 * x217 - x138 * x218 + x139 * x219 + x140 * x220;
-        let x222 = x212 + x132 * x221;
-        let x223 = x213 - x133 * x221;
-        let x224 = x214 - x134 * x221;
-        let x225 = x215 - x135 * x221;
-        let x226 = x216 - x136 * x221;
-        let x227 = x217 - x137 * x221;
-        let x228 = x218 + x138 * x221;
-        let x229 = x219 - x139 * x221;
-        let x230 = x140 * x221 - x220;
-        let x231 = x163 * x223 - x162 * x222 + x164 * x224 + x165 * x225 + x166 * x226
-            + x167 * x227 - x168 * x228 + x169 * x229 + x170 * x230;
-        let x232 = x222 + x162 * x231;
-        let x233 = x223 - x163 * x231;
-        let x234 = x224 - x164 * x231;
-        let x235 = x225 - x165 * x231;
-        let x236 = x226 - x166 * x231;
-        let x237 = x227 - x167 * x231;
-        let x238 = x228 + x168 * x231;
-        let x239 = x229 - x169 * x231;
-        let x240 = x230 - x170 * x231;
-        let x241 = x202 * x232 + x203 * x233 + x204 * x234 + x205 * x235 + x206 * x236
-            + x207 * x237 - x208 * x238 + x209 * x239 + x210 * x240;
-        let x242 = x202 * x241 - x232;
-        let x243 = x233 - x203 * x241;
-        let x244 = x234 - x204 * x241;
-        let x245 = x235 - x205 * x241;
-        let x246 = x236 - x206 * x241;
-        let x247 = x237 - x207 * x241;
-        let x248 = x238 + x208 * x241;
-        let x249 = x239 - x209 * x241;
-        let x250 = x240 - x210 * x241;
+        let x221 = <f32 as ::trocar::Real>::mul_add(
+            x140,
+            x220,
+            <f32 as ::trocar::Real>::mul_add(
+                x139,
+                x219,
+                <f32 as ::trocar::Real>::mul_add(
+                    -x138,
+                    x218,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x137,
+                        x217,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x136,
+                            x216,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x135,
+                                x215,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x134,
+                                    x214,
+                                    <f32 as ::trocar::Real>::mul_add(x133, x213, -(x132 * x212)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x222 = <f32 as ::trocar::Real>::mul_add(x132, x221, x212);
+        let x223 = <f32 as ::trocar::Real>::mul_add(-x133, x221, x213);
+        let x224 = <f32 as ::trocar::Real>::mul_add(-x134, x221, x214);
+        let x225 = <f32 as ::trocar::Real>::mul_add(-x135, x221, x215);
+        let x226 = <f32 as ::trocar::Real>::mul_add(-x136, x221, x216);
+        let x227 = <f32 as ::trocar::Real>::mul_add(-x137, x221, x217);
+        let x228 = <f32 as ::trocar::Real>::mul_add(x138, x221, x218);
+        let x229 = <f32 as ::trocar::Real>::mul_add(-x139, x221, x219);
+        let x230 = <f32 as ::trocar::Real>::mul_add(x140, x221, -x220);
+        let x231 = <f32 as ::trocar::Real>::mul_add(
+            x170,
+            x230,
+            <f32 as ::trocar::Real>::mul_add(
+                x169,
+                x229,
+                <f32 as ::trocar::Real>::mul_add(
+                    -x168,
+                    x228,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x167,
+                        x227,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x166,
+                            x226,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x165,
+                                x225,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x164,
+                                    x224,
+                                    <f32 as ::trocar::Real>::mul_add(x163, x223, -(x162 * x222)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x232 = <f32 as ::trocar::Real>::mul_add(x162, x231, x222);
+        let x233 = <f32 as ::trocar::Real>::mul_add(-x163, x231, x223);
+        let x234 = <f32 as ::trocar::Real>::mul_add(-x164, x231, x224);
+        let x235 = <f32 as ::trocar::Real>::mul_add(-x165, x231, x225);
+        let x236 = <f32 as ::trocar::Real>::mul_add(-x166, x231, x226);
+        let x237 = <f32 as ::trocar::Real>::mul_add(-x167, x231, x227);
+        let x238 = <f32 as ::trocar::Real>::mul_add(x168, x231, x228);
+        let x239 = <f32 as ::trocar::Real>::mul_add(-x169, x231, x229);
+        let x240 = <f32 as ::trocar::Real>::mul_add(-x170, x231, x230);
+        let x241 = <f32 as ::trocar::Real>::mul_add(
+            x210,
+            x240,
+            <f32 as ::trocar::Real>::mul_add(
+                x209,
+                x239,
+                <f32 as ::trocar::Real>::mul_add(
+                    -x208,
+                    x238,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x207,
+                        x237,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x206,
+                            x236,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x205,
+                                x235,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x204,
+                                    x234,
+                                    <f32 as ::trocar::Real>::mul_add(x202, x232, x203 * x233),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x242 = <f32 as ::trocar::Real>::mul_add(x202, x241, -x232);
+        let x243 = <f32 as ::trocar::Real>::mul_add(-x203, x241, x233);
+        let x244 = <f32 as ::trocar::Real>::mul_add(-x204, x241, x234);
+        let x245 = <f32 as ::trocar::Real>::mul_add(-x205, x241, x235);
+        let x246 = <f32 as ::trocar::Real>::mul_add(-x206, x241, x236);
+        let x247 = <f32 as ::trocar::Real>::mul_add(-x207, x241, x237);
+        let x248 = <f32 as ::trocar::Real>::mul_add(x208, x241, x238);
+        let x249 = <f32 as ::trocar::Real>::mul_add(-x209, x241, x239);
+        let x250 = <f32 as ::trocar::Real>::mul_add(-x210, x241, x240);
         let x251 = <f32 as ::trocar::Real>::sqrt(
-            x242 * x242 + x243 * x243 + x244 * x244 + x245 * x245 + x246 * x246
-                + x247 * x247 + x248 * x248 + x249 * x249 + x250 * x250,
+            <f32 as ::trocar::Real>::mul_add(
+                x250,
+                x250,
+                <f32 as ::trocar::Real>::mul_add(
+                    x249,
+                    x249,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x248,
+                        x248,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x247,
+                            x247,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x246,
+                                x246,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x245,
+                                    x245,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        x244,
+                                        x244,
+                                        <f32 as ::trocar::Real>::mul_add(x242, x242, x243 * x243),
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
         );
         let x252 = x242 / x251;
         let x253 = x243 / x251;
@@ -1853,66 +3430,220 @@ pub mod chain11_wide {
         let x259 = x249 / x251;
         let x260 = x250 / x251;
         let x261 = x120
-            + (x62 * x113 + x9 * x114 + x90 * x115 + x9 * x116 + x103 * x117
-                + s10 * x118);
+            + <f32 as ::trocar::Real>::mul_add(
+                s10,
+                x118,
+                <f32 as ::trocar::Real>::mul_add(
+                    x103,
+                    x117,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x9,
+                        x116,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x90,
+                            x115,
+                            <f32 as ::trocar::Real>::mul_add(x62, x113, x9 * x114),
+                        ),
+                    ),
+                ),
+            );
         let x262 = x112 * x261;
-        let x263 = x62 - x113 * x261;
-        let x264 = x9 - x114 * x261;
-        let x265 = x90 - x115 * x261;
-        let x266 = x9 - x116 * x261;
-        let x267 = x103 - x117 * x261;
-        let x268 = s10 - x118 * x261;
+        let x263 = <f32 as ::trocar::Real>::mul_add(-x113, x261, x62);
+        let x264 = <f32 as ::trocar::Real>::mul_add(-x114, x261, x9);
+        let x265 = <f32 as ::trocar::Real>::mul_add(-x115, x261, x90);
+        let x266 = <f32 as ::trocar::Real>::mul_add(-x116, x261, x9);
+        let x267 = <f32 as ::trocar::Real>::mul_add(-x117, x261, x103);
+        let x268 = <f32 as ::trocar::Real>::mul_add(-x118, x261, s10);
         let x269 = x119 * x261;
-        let x270 = <f32 as ::trocar::Real>::ONE - x120 * x261;
-        let x271 = x133 * x263 - x132 * x262 + x134 * x264 + x135 * x265 + x136 * x266
-            + x137 * x267 + x138 * x268 + x139 * x269 - x140 * x270;
-        let x272 = x262 + x132 * x271;
-        let x273 = x263 - x133 * x271;
-        let x274 = x264 - x134 * x271;
-        let x275 = x265 - x135 * x271;
-        let x276 = x266 - x136 * x271;
-        let x277 = x267 - x137 * x271;
-        let x278 = x268 - x138 * x271;
-        let x279 = x269 - x139 * x271;
-        let x280 = x270 + x140 * x271;
-        let x281 = x163 * x273 - x162 * x272 + x164 * x274 + x165 * x275 + x166 * x276
-            + x167 * x277 + x168 * x278 + x169 * x279 + x170 * x280;
-        let x282 = x272 + x162 * x281;
-        let x283 = x273 - x163 * x281;
-        let x284 = x274 - x164 * x281;
-        let x285 = x275 - x165 * x281;
-        let x286 = x276 - x166 * x281;
-        let x287 = x277 - x167 * x281;
-        let x288 = x278 - x168 * x281;
-        let x289 = x279 - x169 * x281;
-        let x290 = x280 - x170 * x281;
-        let x291 = x202 * x282 + x203 * x283 + x204 * x284 + x205 * x285 + x206 * x286
-            + x207 * x287 + x208 * x288 + x209 * x289 + x210 * x290;
-        let x292 = x202 * x291 - x282;
-        let x293 = x283 - x203 * x291;
-        let x294 = x284 - x204 * x291;
-        let x295 = x285 - x205 * x291;
-        let x296 = x286 - x206 * x291;
-        let x297 = x287 - x207 * x291;
-        let x298 = x288 - x208 * x291;
-        let x299 = x289 - x209 * x291;
-        let x300 = x290 - x210 * x291;
-        let x301 = x252 * x292 + x253 * x293 + x254 * x294 + x255 * x295 + x256 * x296
-            + x257 * x297 - x258 * x298 + x259 * x299 + x260 * x300;
-        let x302 = x292 - x252 * x301;
-        let x303 = x293 - x253 * x301;
-        let x304 = x294 - x254 * x301;
-        let x305 = x295 - x255 * x301;
-        let x306 = x296 - x256 * x301;
-        let x307 = x297 - x257 * x301;
-        let x308 = x298 + x258 * x301;
-        let x309 = x299 - x259 * x301;
-        let x310 = x300 - x260 * x301;
+        let x270 = <f32 as ::trocar::Real>::mul_add(
+            -x120,
+            x261,
+            <f32 as ::trocar::Real>::ONE,
+        );
+        let x271 = <f32 as ::trocar::Real>::mul_add(
+            -x140,
+            x270,
+            <f32 as ::trocar::Real>::mul_add(
+                x139,
+                x269,
+                <f32 as ::trocar::Real>::mul_add(
+                    x138,
+                    x268,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x137,
+                        x267,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x136,
+                            x266,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x135,
+                                x265,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x134,
+                                    x264,
+                                    <f32 as ::trocar::Real>::mul_add(x133, x263, -(x132 * x262)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x272 = <f32 as ::trocar::Real>::mul_add(x132, x271, x262);
+        let x273 = <f32 as ::trocar::Real>::mul_add(-x133, x271, x263);
+        let x274 = <f32 as ::trocar::Real>::mul_add(-x134, x271, x264);
+        let x275 = <f32 as ::trocar::Real>::mul_add(-x135, x271, x265);
+        let x276 = <f32 as ::trocar::Real>::mul_add(-x136, x271, x266);
+        let x277 = <f32 as ::trocar::Real>::mul_add(-x137, x271, x267);
+        let x278 = <f32 as ::trocar::Real>::mul_add(-x138, x271, x268);
+        let x279 = <f32 as ::trocar::Real>::mul_add(-x139, x271, x269);
+        let x280 = <f32 as ::trocar::Real>::mul_add(x140, x271, x270);
+        let x281 = <f32 as ::trocar::Real>::mul_add(
+            x170,
+            x280,
+            <f32 as ::trocar::Real>::mul_add(
+                x169,
+                x279,
+                <f32 as ::trocar::Real>::mul_add(
+                    x168,
+                    x278,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x167,
+                        x277,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x166,
+                            x276,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x165,
+                                x275,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x164,
+                                    x274,
+                                    <f32 as ::trocar::Real>::mul_add(x163, x273, -(x162 * x272)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x282 = <f32 as ::trocar::Real>::mul_add(x162, x281, x272);
+        let x283 = <f32 as ::trocar::Real>::mul_add(-x163, x281, x273);
+        let x284 = <f32 as ::trocar::Real>::mul_add(-x164, x281, x274);
+        let x285 = <f32 as ::trocar::Real>::mul_add(-x165, x281, x275);
+        let x286 = <f32 as ::trocar::Real>::mul_add(-x166, x281, x276);
+        let x287 = <f32 as ::trocar::Real>::mul_add(-x167, x281, x277);
+        let x288 = <f32 as ::trocar::Real>::mul_add(-x168, x281, x278);
+        let x289 = <f32 as ::trocar::Real>::mul_add(-x169, x281, x279);
+        let x290 = <f32 as ::trocar::Real>::mul_add(-x170, x281, x280);
+        let x291 = <f32 as ::trocar::Real>::mul_add(
+            x210,
+            x290,
+            <f32 as ::trocar::Real>::mul_add(
+                x209,
+                x289,
+                <f32 as ::trocar::Real>::mul_add(
+                    x208,
+                    x288,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x207,
+                        x287,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x206,
+                            x286,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x205,
+                                x285,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x204,
+                                    x284,
+                                    <f32 as ::trocar::Real>::mul_add(x202, x282, x203 * x283),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x292 = <f32 as ::trocar::Real>::mul_add(x202, x291, -x282);
+        let x293 = <f32 as ::trocar::Real>::mul_add(-x203, x291, x283);
+        let x294 = <f32 as ::trocar::Real>::mul_add(-x204, x291, x284);
+        let x295 = <f32 as ::trocar::Real>::mul_add(-x205, x291, x285);
+        let x296 = <f32 as ::trocar::Real>::mul_add(-x206, x291, x286);
+        let x297 = <f32 as ::trocar::Real>::mul_add(-x207, x291, x287);
+        let x298 = <f32 as ::trocar::Real>::mul_add(-x208, x291, x288);
+        let x299 = <f32 as ::trocar::Real>::mul_add(-x209, x291, x289);
+        let x300 = <f32 as ::trocar::Real>::mul_add(-x210, x291, x290);
+        let x301 = <f32 as ::trocar::Real>::mul_add(
+            x260,
+            x300,
+            <f32 as ::trocar::Real>::mul_add(
+                x259,
+                x299,
+                <f32 as ::trocar::Real>::mul_add(
+                    -x258,
+                    x298,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x257,
+                        x297,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x256,
+                            x296,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x255,
+                                x295,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x254,
+                                    x294,
+                                    <f32 as ::trocar::Real>::mul_add(x252, x292, x253 * x293),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x302 = <f32 as ::trocar::Real>::mul_add(-x252, x301, x292);
+        let x303 = <f32 as ::trocar::Real>::mul_add(-x253, x301, x293);
+        let x304 = <f32 as ::trocar::Real>::mul_add(-x254, x301, x294);
+        let x305 = <f32 as ::trocar::Real>::mul_add(-x255, x301, x295);
+        let x306 = <f32 as ::trocar::Real>::mul_add(-x256, x301, x296);
+        let x307 = <f32 as ::trocar::Real>::mul_add(-x257, x301, x297);
+        let x308 = <f32 as ::trocar::Real>::mul_add(x258, x301, x298);
+        let x309 = <f32 as ::trocar::Real>::mul_add(-x259, x301, x299);
+        let x310 = <f32 as ::trocar::Real>::mul_add(-x260, x301, x300);
         {
             let w = x111 * x131 * x161 * x201 * x251
                 * <f32 as ::trocar::Real>::sqrt(
-                    x302 * x302 + x303 * x303 + x304 * x304 + x305 * x305 + x306 * x306
-                        + x307 * x307 + x308 * x308 + x309 * x309 + x310 * x310,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x310,
+                        x310,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x309,
+                            x309,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x308,
+                                x308,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x307,
+                                    x307,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        x306,
+                                        x306,
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            x305,
+                                            x305,
+                                            <f32 as ::trocar::Real>::mul_add(
+                                                x304,
+                                                x304,
+                                                <f32 as ::trocar::Real>::mul_add(x302, x302, x303 * x303),
+                                            ),
+                                        ),
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
                 );
             if <f32 as ::trocar::Real>::is_finite(w) {
                 w
@@ -1931,11 +3662,15 @@ pub mod chain11_wide {
     pub fn manipulability_trig(t: &JointTrig, p: &Params) -> f32 {
         let x0 = t.sin[8] * t.sin[9];
         let x1 = t.sin[10] * t.cos[8];
-        let x2 = x0 * t.cos[10] + x1;
+        let x2 = <f32 as ::trocar::Real>::mul_add(x0, t.cos[10], x1);
         let x3 = t.sin[7] * t.cos[9];
-        let x4 = x2 * t.cos[7] + t.cos[10] * x3;
+        let x4 = <f32 as ::trocar::Real>::mul_add(x2, t.cos[7], t.cos[10] * x3);
         let x5 = t.cos[8] * t.cos[7];
-        let x6 = t.cos[10] * x5 - t.sin[10] * (x3 + x0 * t.cos[7]);
+        let x6 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[10],
+            x5,
+            -(t.sin[10] * <f32 as ::trocar::Real>::mul_add(x0, t.cos[7], x3)),
+        );
         let x7 = t.sin[9] * t.sin[7];
         let x8 = t.cos[9] * (t.sin[8] * t.cos[7]);
         let x9 = x7 - x8;
@@ -1943,42 +3678,88 @@ pub mod chain11_wide {
         let x11 = 0.005_f32 * t.sin[7];
         let x12 = x10 - x11;
         let x13 = 0.1_f32 * t.cos[7];
-        let x14 = 0.22_f32 + 0.03_f32 * t.sin[8];
+        let x14 = <f32 as ::trocar::Real>::mul_add(0.03_f32, t.sin[8], 0.22_f32);
         let x15 = t.cos[7] * x14;
-        let x16 = t.cos[8] * (x12 - x13) - x15;
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x12 - x13, -x15);
         let x17 = 0.22_f32 * t.sin[8];
         let x18 = 0.03_f32 + x17;
         let x19 = 0.02_f32 * t.cos[8];
-        let x20 = x19 - t.cos[9] * x18;
+        let x20 = <f32 as ::trocar::Real>::mul_add(-t.cos[9], x18, x19);
         let x21 = 0.02_f32 * t.sin[9];
         let x22 = 0.005_f32 - x21;
         let x23 = 0.02_f32 * t.cos[9];
         let x24 = 0.03_f32 * t.cos[8];
-        let x25 = t.sin[8] * (t.sin[7] * x22 + (0.23_f32 + x13 - p.l_a))
-            + t.cos[7] * (x23 - x24);
+        let x25 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            <f32 as ::trocar::Real>::mul_add(t.sin[7], x22, 0.23_f32 + x13 - p.l_a),
+            t.cos[7] * (x23 - x24),
+        );
         let x26 = t.sin[8] * t.sin[7];
-        let x27 = t.cos[9] * x26 + t.sin[9] * t.cos[7];
+        let x27 = <f32 as ::trocar::Real>::mul_add(t.cos[9], x26, t.sin[9] * t.cos[7]);
         let x28 = 0.23_f32 - p.l_a;
         let x29 = t.sin[7] * x28;
         let x30 = 0.005_f32 + x29;
         let x31 = t.cos[7] * x10;
-        let x32 = 0.1_f32 + 0.22_f32 * t.cos[8];
+        let x32 = <f32 as ::trocar::Real>::mul_add(0.22_f32, t.cos[8], 0.1_f32);
         let x33 = x31 - x32;
         let x34 = x22 + x29;
-        let x35 = (t.cos[10] * (t.sin[9] * x16 + t.sin[7] * x20)
-            + (t.sin[10] * x25 - 0.09_f32 * x27)) * t.cos[6]
-            + (t.cos[10] * (t.sin[8] * (t.sin[9] * x30 - 0.02_f32) + t.cos[9] * x33)
-                + t.cos[8] * (t.sin[10] * x34 - 0.09_f32 * t.cos[9])) * t.sin[6];
+        let x35 = <f32 as ::trocar::Real>::mul_add(
+            <f32 as ::trocar::Real>::mul_add(
+                t.cos[10],
+                <f32 as ::trocar::Real>::mul_add(t.sin[9], x16, t.sin[7] * x20),
+                <f32 as ::trocar::Real>::mul_add(t.sin[10], x25, -(0.09_f32 * x27)),
+            ),
+            t.cos[6],
+            <f32 as ::trocar::Real>::mul_add(
+                t.cos[10],
+                <f32 as ::trocar::Real>::mul_add(
+                    t.sin[8],
+                    <f32 as ::trocar::Real>::mul_add(t.sin[9], x30, -0.02_f32),
+                    t.cos[9] * x33,
+                ),
+                t.cos[8]
+                    * <f32 as ::trocar::Real>::mul_add(
+                        t.sin[10],
+                        x34,
+                        -(0.09_f32 * t.cos[9]),
+                    ),
+            ) * t.sin[6],
+        );
         let x36 = 0.23_f32 + x11;
-        let x37 = x15 + t.cos[8] * (x13 + x36 - p.l_a);
-        let x38 = t.sin[7] * x10 - 0.005_f32;
-        let x39 = x32 + t.cos[7] * x28;
-        let x40 = t.sin[8] * t.sin[6] - t.cos[8] * (t.sin[7] * t.cos[6]);
-        let x41 = t.sin[10]
-            * (t.sin[9] * (t.cos[6] * x37 + t.sin[6] * (t.sin[8] * x38))
-                + (t.cos[9] * (t.sin[6] * x39 + t.sin[7] * (x18 * t.cos[6]))
-                    + 0.02_f32 * x40))
-            + t.cos[10] * (x25 * t.cos[6] + t.sin[6] * (t.cos[8] * x34));
+        let x37 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x13 + x36 - p.l_a, x15);
+        let x38 = <f32 as ::trocar::Real>::mul_add(t.sin[7], x10, -0.005_f32);
+        let x39 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x28, x32);
+        let x40 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            t.sin[6],
+            -(t.cos[8] * (t.sin[7] * t.cos[6])),
+        );
+        let x41 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[10],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[9],
+                <f32 as ::trocar::Real>::mul_add(
+                    t.cos[6],
+                    x37,
+                    t.sin[6] * (t.sin[8] * x38),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    t.cos[9],
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[6],
+                        x39,
+                        t.sin[7] * (x18 * t.cos[6]),
+                    ),
+                    0.02_f32 * x40,
+                ),
+            ),
+            t.cos[10]
+                * <f32 as ::trocar::Real>::mul_add(
+                    x25,
+                    t.cos[6],
+                    t.sin[6] * (t.cos[8] * x34),
+                ),
+        );
         let x42 = 0.1_f32 * t.cos[8];
         let x43 = x14 + x42;
         let x44 = 0.09_f32 * t.cos[10];
@@ -1989,91 +3770,239 @@ pub mod chain11_wide {
         let x49 = t.sin[9] * (0.03_f32 + x48);
         let x50 = 0.09_f32 * x1;
         let x51 = t.sin[7] * (x49 + x50);
-        let x52 = 0.1_f32 + t.cos[8] * x47;
+        let x52 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x47, 0.1_f32);
         let x53 = 0.09_f32 * t.sin[10];
-        let x54 = t.sin[9] * (x31 - x52) + t.sin[8] * (t.cos[9] * x38 + x53);
-        let x55 = t.cos[6] * (t.cos[9] * (x46 + t.cos[8] * (x36 - p.l_a)) - x51)
-            + t.sin[6] * x54;
+        let x54 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[9],
+            x31 - x52,
+            t.sin[8] * <f32 as ::trocar::Real>::mul_add(t.cos[9], x38, x53),
+        );
+        let x55 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[6],
+            <f32 as ::trocar::Real>::mul_add(
+                t.cos[9],
+                <f32 as ::trocar::Real>::mul_add(t.cos[8], x36 - p.l_a, x46),
+                -x51,
+            ),
+            t.sin[6] * x54,
+        );
         let x56 = x2 * t.sin[7];
         let x57 = t.cos[10] * (t.cos[7] * t.cos[9]);
-        let x58 = t.sin[8] * t.sin[10] - t.cos[10] * (t.sin[9] * t.cos[8]);
-        let x59 = t.cos[6] * (x57 - x56) + t.sin[6] * x58;
+        let x58 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            t.sin[10],
+            -(t.cos[10] * (t.sin[9] * t.cos[8])),
+        );
+        let x59 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x57 - x56, t.sin[6] * x58);
         let x60 = t.cos[8] * t.sin[6];
-        let x61 = t.sin[10]
-            * (t.sin[9] * (x60 + x26 * t.cos[6]) - t.cos[9] * (t.cos[7] * t.cos[6]))
-            + t.cos[10] * x40;
-        let x62 = x27 * t.cos[6] + t.cos[9] * x60;
-        let x63 = 0.03_f32 + 0.02_f32 * t.sin[6];
+        let x61 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[10],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[9],
+                <f32 as ::trocar::Real>::mul_add(x26, t.cos[6], x60),
+                -(t.cos[9] * (t.cos[7] * t.cos[6])),
+            ),
+            t.cos[10] * x40,
+        );
+        let x62 = <f32 as ::trocar::Real>::mul_add(x27, t.cos[6], t.cos[9] * x60);
+        let x63 = <f32 as ::trocar::Real>::mul_add(0.02_f32, t.sin[6], 0.03_f32);
         let x64 = t.sin[8] * x63;
         let x65 = 0.22_f32 + x42;
         let x66 = t.sin[7] * (x64 + x65);
         let x67 = 0.02_f32 * t.cos[6];
-        let x68 = t.cos[8] * (x67 + 0.005_f32 * t.cos[7]);
+        let x68 = t.cos[8] * <f32 as ::trocar::Real>::mul_add(0.005_f32, t.cos[7], x67);
         let x69 = t.cos[9] * (x17 + x63);
-        let x70 = x23 + 0.1_f32 * t.sin[8];
+        let x70 = <f32 as ::trocar::Real>::mul_add(0.1_f32, t.sin[8], x23);
         let x71 = x21 - 0.005_f32;
         let x72 = t.cos[7] * x71;
-        let x73 = t.sin[7] * (x70 - t.cos[8] * x63) + t.sin[8] * (x72 - x67);
-        let x74 = t.cos[10] * (t.sin[9] * (x68 - x66) + t.cos[7] * (x69 - x19))
-            + (t.sin[10] * x73 + 0.09_f32 * (x8 - x7));
-        let x75 = t.sin[10] * (t.sin[9] * (x66 - x68) + t.cos[7] * (x19 - x69))
-            + t.cos[10] * x73;
-        let x76 = t.cos[9] * (t.sin[7] * (x64 + (x44 + x65)) - x68)
-            + t.cos[7] * (x50 + t.sin[9] * (x48 + x63));
+        let x73 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            <f32 as ::trocar::Real>::mul_add(-t.cos[8], x63, x70),
+            t.sin[8] * (x72 - x67),
+        );
+        let x74 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[10],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[9],
+                x68 - x66,
+                t.cos[7] * (x69 - x19),
+            ),
+            <f32 as ::trocar::Real>::mul_add(t.sin[10], x73, 0.09_f32 * (x8 - x7)),
+        );
+        let x75 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[10],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[9],
+                x66 - x68,
+                t.cos[7] * (x19 - x69),
+            ),
+            t.cos[10] * x73,
+        );
+        let x76 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[9],
+            <f32 as ::trocar::Real>::mul_add(t.sin[7], x64 + (x44 + x65), -x68),
+            t.cos[7] * <f32 as ::trocar::Real>::mul_add(t.sin[9], x48 + x63, x50),
+        );
         let x77 = 0.02_f32 * t.cos[7];
-        let x78 = t.sin[7] * (0.02_f32 + x18 * t.sin[6]);
-        let x79 = 0.02_f32 * (t.cos[8] * (t.sin[7] * t.sin[6]) + t.sin[8] * t.cos[6]);
-        let x80 = t.sin[6]
-            * (t.sin[8] * (t.sin[7] * x71 + (x10 - x13)) + t.cos[7] * (x24 - x23))
-            + t.cos[8] * (x77 + t.cos[6] * x34);
+        let x78 = t.sin[7] * <f32 as ::trocar::Real>::mul_add(x18, t.sin[6], 0.02_f32);
+        let x79 = 0.02_f32
+            * <f32 as ::trocar::Real>::mul_add(
+                t.cos[8],
+                t.sin[7] * t.sin[6],
+                t.sin[8] * t.cos[6],
+            );
+        let x80 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[6],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[8],
+                <f32 as ::trocar::Real>::mul_add(t.sin[7], x71, x10 - x13),
+                t.cos[7] * (x24 - x23),
+            ),
+            t.cos[8] * <f32 as ::trocar::Real>::mul_add(t.cos[6], x34, x77),
+        );
         let x81 = x27 * t.sin[6];
         let x82 = t.cos[9] * (t.cos[8] * t.cos[6]);
-        let x83 = t.cos[10]
-            * (t.sin[9] * (t.sin[6] * x37 + t.sin[8] * (t.cos[6] * x30 + x77))
-                + (t.cos[9] * (t.cos[6] * x33 + x78) - x79))
-            + (t.sin[10] * x80 + 0.09_f32 * (x81 - x82));
-        let x84 = t.sin[10]
-            * (t.sin[9] * (x16 * t.sin[6] + t.sin[8] * (t.cos[6] * x38 - x77))
-                + (x79 + t.cos[9] * (t.cos[6] * x39 - x78))) + t.cos[10] * x80;
-        let x85 = t.sin[6] * (x51 + t.cos[9] * (t.cos[8] * x12 - x46))
-            + (t.cos[6] * x54 + 0.02_f32 * x9);
-        let x86 = t.sin[6] * (x56 - x57) + t.cos[6] * x58;
+        let x83 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[10],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[9],
+                <f32 as ::trocar::Real>::mul_add(
+                    t.sin[6],
+                    x37,
+                    t.sin[8] * <f32 as ::trocar::Real>::mul_add(t.cos[6], x30, x77),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    t.cos[9],
+                    <f32 as ::trocar::Real>::mul_add(t.cos[6], x33, x78),
+                    -x79,
+                ),
+            ),
+            <f32 as ::trocar::Real>::mul_add(t.sin[10], x80, 0.09_f32 * (x81 - x82)),
+        );
+        let x84 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[10],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[9],
+                <f32 as ::trocar::Real>::mul_add(
+                    x16,
+                    t.sin[6],
+                    t.sin[8] * <f32 as ::trocar::Real>::mul_add(t.cos[6], x38, -x77),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    t.cos[9],
+                    <f32 as ::trocar::Real>::mul_add(t.cos[6], x39, -x78),
+                    x79,
+                ),
+            ),
+            t.cos[10] * x80,
+        );
+        let x85 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[6],
+            <f32 as ::trocar::Real>::mul_add(
+                t.cos[9],
+                <f32 as ::trocar::Real>::mul_add(t.cos[8], x12, -x46),
+                x51,
+            ),
+            <f32 as ::trocar::Real>::mul_add(t.cos[6], x54, 0.02_f32 * x9),
+        );
+        let x86 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x56 - x57, t.cos[6] * x58);
         let x87 = t.sin[9] * t.sin[10];
-        let x88 = t.sin[8] * t.cos[10] + t.cos[8] * x87;
-        let x89 = t.sin[6]
-            * (t.sin[7] * (t.cos[10] * t.cos[8] - x0 * t.sin[10])
-                + t.cos[9] * (t.sin[10] * t.cos[7])) + t.cos[6] * x88;
+        let x88 = <f32 as ::trocar::Real>::mul_add(t.sin[8], t.cos[10], t.cos[8] * x87);
+        let x89 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[6],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[7],
+                <f32 as ::trocar::Real>::mul_add(t.cos[10], t.cos[8], -(x0 * t.sin[10])),
+                t.cos[9] * (t.sin[10] * t.cos[7]),
+            ),
+            t.cos[6] * x88,
+        );
         let x90 = x82 - x81;
         let x91 = x70 - x24;
-        let x92 = 0.09_f32 + 0.22_f32 * t.cos[10];
+        let x92 = <f32 as ::trocar::Real>::mul_add(0.22_f32, t.cos[10], 0.09_f32);
         let x93 = t.cos[9] * x92;
         let x94 = 0.005_f32 * t.sin[9];
         let x95 = x94 - 0.02_f32;
-        let x96 = t.sin[7] * (t.sin[10] * x91 - t.sin[9] * (0.09_f32 + t.cos[10] * x43))
-            + t.cos[7]
-                * (t.sin[8] * (t.sin[10] * x71 + x93)
-                    + t.cos[10] * (t.cos[8] * x95 + 0.03_f32 * t.cos[9]));
-        let x97 = t.sin[10]
-            * (t.sin[9] * (t.sin[7] * x43 - 0.005_f32 * x5) + t.cos[7] * x20)
-            + t.cos[10] * (t.sin[7] * x91 + t.sin[8] * x72);
-        let x98 = x53 - 0.005_f32 * t.cos[9];
-        let x99 = t.cos[7] * (x49 + t.cos[8] * x98) + t.sin[7] * (t.cos[9] * x45);
-        let x100 = t.cos[8] * (t.sin[10] * x22 - x93)
-            + t.cos[10] * (t.sin[8] * x95 - 0.1_f32 * t.cos[9]);
-        let x101 = t.sin[10] * (t.sin[8] * (0.02_f32 - x94) + t.cos[9] * x32)
-            + t.cos[8] * (t.cos[10] * x22);
-        let x102 = t.sin[8] * x98 - t.sin[9] * x52;
+        let x96 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[10],
+                x91,
+                -(t.sin[9] * <f32 as ::trocar::Real>::mul_add(t.cos[10], x43, 0.09_f32)),
+            ),
+            t.cos[7]
+                * <f32 as ::trocar::Real>::mul_add(
+                    t.sin[8],
+                    <f32 as ::trocar::Real>::mul_add(t.sin[10], x71, x93),
+                    t.cos[10]
+                        * <f32 as ::trocar::Real>::mul_add(
+                            t.cos[8],
+                            x95,
+                            0.03_f32 * t.cos[9],
+                        ),
+                ),
+        );
+        let x97 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[10],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[9],
+                <f32 as ::trocar::Real>::mul_add(t.sin[7], x43, -(0.005_f32 * x5)),
+                t.cos[7] * x20,
+            ),
+            t.cos[10] * <f32 as ::trocar::Real>::mul_add(t.sin[7], x91, t.sin[8] * x72),
+        );
+        let x98 = <f32 as ::trocar::Real>::mul_add(-0.005_f32, t.cos[9], x53);
+        let x99 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[7],
+            <f32 as ::trocar::Real>::mul_add(t.cos[8], x98, x49),
+            t.sin[7] * (t.cos[9] * x45),
+        );
+        let x100 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[8],
+            <f32 as ::trocar::Real>::mul_add(t.sin[10], x22, -x93),
+            t.cos[10]
+                * <f32 as ::trocar::Real>::mul_add(t.sin[8], x95, -(0.1_f32 * t.cos[9])),
+        );
+        let x101 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[10],
+            <f32 as ::trocar::Real>::mul_add(t.sin[8], 0.02_f32 - x94, t.cos[9] * x32),
+            t.cos[8] * (t.cos[10] * x22),
+        );
+        let x102 = <f32 as ::trocar::Real>::mul_add(t.sin[8], x98, -(t.sin[9] * x52));
         let x103 = t.cos[8] * t.cos[9];
         let x104 = t.sin[10] * t.cos[9];
-        let x105 = 0.02_f32 * x104 - t.sin[9] * x92;
+        let x105 = <f32 as ::trocar::Real>::mul_add(0.02_f32, x104, -(t.sin[9] * x92));
         let x106 = t.cos[10] * t.cos[9];
-        let x107 = 0.22_f32 * x87 + 0.02_f32 * x106;
+        let x107 = <f32 as ::trocar::Real>::mul_add(0.22_f32, x87, 0.02_f32 * x106);
         let x108 = t.cos[9] * x47;
         let x109 = 0.02_f32 * t.cos[10];
         let x110 = 0.02_f32 * t.sin[10];
         let x111 = <f32 as ::trocar::Real>::sqrt(
-            x4 * x4 + x35 * x35 + x74 * x74 + x83 * x83 + x96 * x96 + x100 * x100
-                + x105 * x105 + x109 * x109 + 0.0081_f32,
+            <f32 as ::trocar::Real>::mul_add(
+                x109,
+                x109,
+                <f32 as ::trocar::Real>::mul_add(
+                    x105,
+                    x105,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x100,
+                        x100,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x96,
+                            x96,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x83,
+                                x83,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x74,
+                                    x74,
+                                    <f32 as ::trocar::Real>::mul_add(x4, x4, x35 * x35),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ) + 0.0081_f32,
         );
         let x112 = x4 / x111;
         let x113 = x35 / x111;
@@ -2084,20 +4013,70 @@ pub mod chain11_wide {
         let x118 = x105 / x111;
         let x119 = x109 / x111;
         let x120 = -0.09_f32 / x111;
-        let x121 = x6 * x112 + x41 * x113 + x75 * x114 + x84 * x115 + x97 * x116
-            + x101 * x117 + x107 * x118 - x110 * x119;
-        let x122 = x6 - x112 * x121;
-        let x123 = x41 - x113 * x121;
-        let x124 = x75 - x114 * x121;
-        let x125 = x84 - x115 * x121;
-        let x126 = x97 - x116 * x121;
-        let x127 = x101 - x117 * x121;
-        let x128 = x107 - x118 * x121;
-        let x129 = x110 + x119 * x121;
+        let x121 = <f32 as ::trocar::Real>::mul_add(
+            -x110,
+            x119,
+            <f32 as ::trocar::Real>::mul_add(
+                x107,
+                x118,
+                <f32 as ::trocar::Real>::mul_add(
+                    x101,
+                    x117,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x97,
+                        x116,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x84,
+                            x115,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x75,
+                                x114,
+                                <f32 as ::trocar::Real>::mul_add(x6, x112, x41 * x113),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x122 = <f32 as ::trocar::Real>::mul_add(-x112, x121, x6);
+        let x123 = <f32 as ::trocar::Real>::mul_add(-x113, x121, x41);
+        let x124 = <f32 as ::trocar::Real>::mul_add(-x114, x121, x75);
+        let x125 = <f32 as ::trocar::Real>::mul_add(-x115, x121, x84);
+        let x126 = <f32 as ::trocar::Real>::mul_add(-x116, x121, x97);
+        let x127 = <f32 as ::trocar::Real>::mul_add(-x117, x121, x101);
+        let x128 = <f32 as ::trocar::Real>::mul_add(-x118, x121, x107);
+        let x129 = <f32 as ::trocar::Real>::mul_add(x119, x121, x110);
         let x130 = x120 * x121;
         let x131 = <f32 as ::trocar::Real>::sqrt(
-            x122 * x122 + x123 * x123 + x124 * x124 + x125 * x125 + x126 * x126
-                + x127 * x127 + x128 * x128 + x129 * x129 + x130 * x130,
+            <f32 as ::trocar::Real>::mul_add(
+                x130,
+                x130,
+                <f32 as ::trocar::Real>::mul_add(
+                    x129,
+                    x129,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x128,
+                        x128,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x127,
+                            x127,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x126,
+                                x126,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x125,
+                                    x125,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        x124,
+                                        x124,
+                                        <f32 as ::trocar::Real>::mul_add(x122, x122, x123 * x123),
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
         );
         let x132 = x122 / x131;
         let x133 = x123 / x131;
@@ -2108,31 +4087,108 @@ pub mod chain11_wide {
         let x138 = x128 / x131;
         let x139 = x129 / x131;
         let x140 = x130 / x131;
-        let x141 = x9 * x112 + x55 * x113 + x76 * x114 + x85 * x115 + x99 * x116
-            + x102 * x117 + x108 * x118 - x53 * x119;
-        let x142 = x9 - x112 * x141;
-        let x143 = x55 - x113 * x141;
-        let x144 = x76 - x114 * x141;
-        let x145 = x85 - x115 * x141;
-        let x146 = x99 - x116 * x141;
-        let x147 = x102 - x117 * x141;
-        let x148 = x108 - x118 * x141;
-        let x149 = x53 + x119 * x141;
+        let x141 = <f32 as ::trocar::Real>::mul_add(
+            -x53,
+            x119,
+            <f32 as ::trocar::Real>::mul_add(
+                x108,
+                x118,
+                <f32 as ::trocar::Real>::mul_add(
+                    x102,
+                    x117,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x99,
+                        x116,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x85,
+                            x115,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x76,
+                                x114,
+                                <f32 as ::trocar::Real>::mul_add(x9, x112, x55 * x113),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x142 = <f32 as ::trocar::Real>::mul_add(-x112, x141, x9);
+        let x143 = <f32 as ::trocar::Real>::mul_add(-x113, x141, x55);
+        let x144 = <f32 as ::trocar::Real>::mul_add(-x114, x141, x76);
+        let x145 = <f32 as ::trocar::Real>::mul_add(-x115, x141, x85);
+        let x146 = <f32 as ::trocar::Real>::mul_add(-x116, x141, x99);
+        let x147 = <f32 as ::trocar::Real>::mul_add(-x117, x141, x102);
+        let x148 = <f32 as ::trocar::Real>::mul_add(-x118, x141, x108);
+        let x149 = <f32 as ::trocar::Real>::mul_add(x119, x141, x53);
         let x150 = x120 * x141;
-        let x151 = x132 * x142 + x133 * x143 + x134 * x144 + x135 * x145 + x136 * x146
-            + x137 * x147 + x138 * x148 + x139 * x149 + x140 * x150;
-        let x152 = x142 - x132 * x151;
-        let x153 = x143 - x133 * x151;
-        let x154 = x144 - x134 * x151;
-        let x155 = x145 - x135 * x151;
-        let x156 = x146 - x136 * x151;
-        let x157 = x147 - x137 * x151;
-        let x158 = x148 - x138 * x151;
-        let x159 = x149 - x139 * x151;
-        let x160 = x140 * x151 - x150;
+        let x151 = <f32 as ::trocar::Real>::mul_add(
+            x140,
+            x150,
+            <f32 as ::trocar::Real>::mul_add(
+                x139,
+                x149,
+                <f32 as ::trocar::Real>::mul_add(
+                    x138,
+                    x148,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x137,
+                        x147,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x136,
+                            x146,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x135,
+                                x145,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x134,
+                                    x144,
+                                    <f32 as ::trocar::Real>::mul_add(x132, x142, x133 * x143),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x152 = <f32 as ::trocar::Real>::mul_add(-x132, x151, x142);
+        let x153 = <f32 as ::trocar::Real>::mul_add(-x133, x151, x143);
+        let x154 = <f32 as ::trocar::Real>::mul_add(-x134, x151, x144);
+        let x155 = <f32 as ::trocar::Real>::mul_add(-x135, x151, x145);
+        let x156 = <f32 as ::trocar::Real>::mul_add(-x136, x151, x146);
+        let x157 = <f32 as ::trocar::Real>::mul_add(-x137, x151, x147);
+        let x158 = <f32 as ::trocar::Real>::mul_add(-x138, x151, x148);
+        let x159 = <f32 as ::trocar::Real>::mul_add(-x139, x151, x149);
+        let x160 = <f32 as ::trocar::Real>::mul_add(x140, x151, -x150);
         let x161 = <f32 as ::trocar::Real>::sqrt(
-            x152 * x152 + x153 * x153 + x154 * x154 + x155 * x155 + x156 * x156
-                + x157 * x157 + x158 * x158 + x159 * x159 + x160 * x160,
+            <f32 as ::trocar::Real>::mul_add(
+                x160,
+                x160,
+                <f32 as ::trocar::Real>::mul_add(
+                    x159,
+                    x159,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x158,
+                        x158,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x157,
+                            x157,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x156,
+                                x156,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x155,
+                                    x155,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        x154,
+                                        x154,
+                                        <f32 as ::trocar::Real>::mul_add(x152, x152, x153 * x153),
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
         );
         let x162 = x152 / x161;
         let x163 = x153 / x161;
@@ -2143,42 +4199,142 @@ pub mod chain11_wide {
         let x168 = x158 / x161;
         let x169 = x159 / x161;
         let x170 = x160 / x161;
-        let x171 = x59 * x113 + x4 * x114 + x86 * x115 + x4 * x116 + x58 * x117
-            + x106 * x118 - t.sin[10] * x119;
+        let x171 = <f32 as ::trocar::Real>::mul_add(
+            -t.sin[10],
+            x119,
+            <f32 as ::trocar::Real>::mul_add(
+                x106,
+                x118,
+                <f32 as ::trocar::Real>::mul_add(
+                    x58,
+                    x117,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x4,
+                        x116,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x86,
+                            x115,
+                            <f32 as ::trocar::Real>::mul_add(x59, x113, x4 * x114),
+                        ),
+                    ),
+                ),
+            ),
+        );
         let x172 = x112 * x171;
-        let x173 = x59 - x113 * x171;
-        let x174 = x4 - x114 * x171;
-        let x175 = x86 - x115 * x171;
-        let x176 = x4 - x116 * x171;
-        let x177 = x58 - x117 * x171;
-        let x178 = x106 - x118 * x171;
-        let x179 = t.sin[10] + x119 * x171;
+        let x173 = <f32 as ::trocar::Real>::mul_add(-x113, x171, x59);
+        let x174 = <f32 as ::trocar::Real>::mul_add(-x114, x171, x4);
+        let x175 = <f32 as ::trocar::Real>::mul_add(-x115, x171, x86);
+        let x176 = <f32 as ::trocar::Real>::mul_add(-x116, x171, x4);
+        let x177 = <f32 as ::trocar::Real>::mul_add(-x117, x171, x58);
+        let x178 = <f32 as ::trocar::Real>::mul_add(-x118, x171, x106);
+        let x179 = <f32 as ::trocar::Real>::mul_add(x119, x171, t.sin[10]);
         let x180 = x120 * x171;
-        let x181 = x133 * x173 - x132 * x172 + x134 * x174 + x135 * x175 + x136 * x176
-            + x137 * x177 + x138 * x178 + x139 * x179 + x140 * x180;
-        let x182 = x172 + x132 * x181;
-        let x183 = x173 - x133 * x181;
-        let x184 = x174 - x134 * x181;
-        let x185 = x175 - x135 * x181;
-        let x186 = x176 - x136 * x181;
-        let x187 = x177 - x137 * x181;
-        let x188 = x178 - x138 * x181;
-        let x189 = x179 - x139 * x181;
-        let x190 = x140 * x181 - x180;
-        let x191 = x163 * x183 - x162 * x182 + x164 * x184 + x165 * x185 + x166 * x186
-            + x167 * x187 + x168 * x188 + x169 * x189 + x170 * x190;
-        let x192 = x182 + x162 * x191;
-        let x193 = x183 - x163 * x191;
-        let x194 = x184 - x164 * x191;
-        let x195 = x185 - x165 * x191;
-        let x196 = x186 - x166 * x191;
-        let x197 = x187 - x167 * x191;
-        let x198 = x188 - x168 * x191;
-        let x199 = x189 - x169 * x191;
-        let x200 = x190 - x170 * x191;
+        let x181 = <f32 as ::trocar::Real>::mul_add(
+            x140,
+            x180,
+            <f32 as ::trocar::Real>::mul_add(
+                x139,
+                x179,
+                <f32 as ::trocar::Real>::mul_add(
+                    x138,
+                    x178,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x137,
+                        x177,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x136,
+                            x176,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x135,
+                                x175,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x134,
+                                    x174,
+                                    <f32 as ::trocar::Real>::mul_add(x133, x173, -(x132 * x172)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x182 = <f32 as ::trocar::Real>::mul_add(x132, x181, x172);
+        let x183 = <f32 as ::trocar::Real>::mul_add(-x133, x181, x173);
+        let x184 = <f32 as ::trocar::Real>::mul_add(-x134, x181, x174);
+        let x185 = <f32 as ::trocar::Real>::mul_add(-x135, x181, x175);
+        let x186 = <f32 as ::trocar::Real>::mul_add(-x136, x181, x176);
+        let x187 = <f32 as ::trocar::Real>::mul_add(-x137, x181, x177);
+        let x188 = <f32 as ::trocar::Real>::mul_add(-x138, x181, x178);
+        let x189 = <f32 as ::trocar::Real>::mul_add(-x139, x181, x179);
+        let x190 = <f32 as ::trocar::Real>::mul_add(x140, x181, -x180);
+        let x191 = <f32 as ::trocar::Real>::mul_add(
+            x170,
+            x190,
+            <f32 as ::trocar::Real>::mul_add(
+                x169,
+                x189,
+                <f32 as ::trocar::Real>::mul_add(
+                    x168,
+                    x188,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x167,
+                        x187,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x166,
+                            x186,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x165,
+                                x185,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x164,
+                                    x184,
+                                    <f32 as ::trocar::Real>::mul_add(x163, x183, -(x162 * x182)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x192 = <f32 as ::trocar::Real>::mul_add(x162, x191, x182);
+        let x193 = <f32 as ::trocar::Real>::mul_add(-x163, x191, x183);
+        let x194 = <f32 as ::trocar::Real>::mul_add(-x164, x191, x184);
+        let x195 = <f32 as ::trocar::Real>::mul_add(-x165, x191, x185);
+        let x196 = <f32 as ::trocar::Real>::mul_add(-x166, x191, x186);
+        let x197 = <f32 as ::trocar::Real>::mul_add(-x167, x191, x187);
+        let x198 = <f32 as ::trocar::Real>::mul_add(-x168, x191, x188);
+        let x199 = <f32 as ::trocar::Real>::mul_add(-x169, x191, x189);
+        let x200 = <f32 as ::trocar::Real>::mul_add(-x170, x191, x190);
         let x201 = <f32 as ::trocar::Real>::sqrt(
-            x192 * x192 + x193 * x193 + x194 * x194 + x195 * x195 + x196 * x196
-                + x197 * x197 + x198 * x198 + x199 * x199 + x200 * x200,
+            <f32 as ::trocar::Real>::mul_add(
+                x200,
+                x200,
+                <f32 as ::trocar::Real>::mul_add(
+                    x199,
+                    x199,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x198,
+                        x198,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x197,
+                            x197,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x196,
+                                x196,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x195,
+                                    x195,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        x194,
+                                        x194,
+                                        <f32 as ::trocar::Real>::mul_add(x192, x192, x193 * x193),
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
         );
         let x202 = x192 / x201;
         let x203 = x193 / x201;
@@ -2189,53 +4345,180 @@ pub mod chain11_wide {
         let x208 = x198 / x201;
         let x209 = x199 / x201;
         let x210 = x200 / x201;
-        let x211 = x61 * x113 + x6 * x114 + x89 * x115 + x6 * x116 + x88 * x117
-            - x104 * x118 - t.cos[10] * x119;
+        let x211 = <f32 as ::trocar::Real>::mul_add(
+            -t.cos[10],
+            x119,
+            <f32 as ::trocar::Real>::mul_add(
+                -x104,
+                x118,
+                <f32 as ::trocar::Real>::mul_add(
+                    x88,
+                    x117,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x6,
+                        x116,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x89,
+                            x115,
+                            <f32 as ::trocar::Real>::mul_add(x61, x113, x6 * x114),
+                        ),
+                    ),
+                ),
+            ),
+        );
         let x212 = x112 * x211;
-        let x213 = x61 - x113 * x211;
-        let x214 = x6 - x114 * x211;
-        let x215 = x89 - x115 * x211;
-        let x216 = x6 - x116 * x211;
-        let x217 = x88 - x117 * x211;
-        let x218 = x104 + x118 * x211;
-        let x219 = t.cos[10] + x119 * x211;
+        let x213 = <f32 as ::trocar::Real>::mul_add(-x113, x211, x61);
+        let x214 = <f32 as ::trocar::Real>::mul_add(-x114, x211, x6);
+        let x215 = <f32 as ::trocar::Real>::mul_add(-x115, x211, x89);
+        let x216 = <f32 as ::trocar::Real>::mul_add(-x116, x211, x6);
+        let x217 = <f32 as ::trocar::Real>::mul_add(-x117, x211, x88);
+        let x218 = <f32 as ::trocar::Real>::mul_add(x118, x211, x104);
+        let x219 = <f32 as ::trocar::Real>::mul_add(x119, x211, t.cos[10]);
         let x220 = x120 * x211;
-        let x221 = x133 * x213 - x132 * x212 + x134 * x214 + x135 * x215 + x136 * x216
-            + x137 * x217 - x138 * x218 + x139 * x219 + x140 * x220;
-        let x222 = x212 + x132 * x221;
-        let x223 = x213 - x133 * x221;
-        let x224 = x214 - x134 * x221;
-        let x225 = x215 - x135 * x221;
-        let x226 = x216 - x136 * x221;
-        let x227 = x217 - x137 * x221;
-        let x228 = x218 + x138 * x221;
-        let x229 = x219 - x139 * x221;
-        let x230 = x140 * x221 - x220;
-        let x231 = x163 * x223 - x162 * x222 + x164 * x224 + x165 * x225 + x166 * x226
-            + x167 * x227 - x168 * x228 + x169 * x229 + x170 * x230;
-        let x232 = x222 + x162 * x231;
-        let x233 = x223 - x163 * x231;
-        let x234 = x224 - x164 * x231;
-        let x235 = x225 - x165 * x231;
-        let x236 = x226 - x166 * x231;
-        let x237 = x227 - x167 * x231;
-        let x238 = x228 + x168 * x231;
-        let x239 = x229 - x169 * x231;
-        let x240 = x230 - x170 * x231;
-        let x241 = x202 * x232 + x203 * x233 + x204 * x234 + x205 * x235 + x206 * x236
-            + x207 * x237 - x208 * x238 + x209 * x239 + x210 * x240;
-        let x242 = x202 * x241 - x232;
-        let x243 = x233 - x203 * x241;
-        let x244 = x234 - x204 * x241;
-        let x245 = x235 - x205 * x241;
-        let x246 = x236 - x206 * x241;
-        let x247 = x237 - x207 * x241;
-        let x248 = x238 + x208 * x241;
-        let x249 = x239 - x209 * x241;
-        let x250 = x240 - x210 * x241;
+        let x221 = <f32 as ::trocar::Real>::mul_add(
+            x140,
+            x220,
+            <f32 as ::trocar::Real>::mul_add(
+                x139,
+                x219,
+                <f32 as ::trocar::Real>::mul_add(
+                    -x138,
+                    x218,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x137,
+                        x217,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x136,
+                            x216,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x135,
+                                x215,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x134,
+                                    x214,
+                                    <f32 as ::trocar::Real>::mul_add(x133, x213, -(x132 * x212)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x222 = <f32 as ::trocar::Real>::mul_add(x132, x221, x212);
+        let x223 = <f32 as ::trocar::Real>::mul_add(-x133, x221, x213);
+        let x224 = <f32 as ::trocar::Real>::mul_add(-x134, x221, x214);
+        let x225 = <f32 as ::trocar::Real>::mul_add(-x135, x221, x215);
+        let x226 = <f32 as ::trocar::Real>::mul_add(-x136, x221, x216);
+        let x227 = <f32 as ::trocar::Real>::mul_add(-x137, x221, x217);
+        let x228 = <f32 as ::trocar::Real>::mul_add(x138, x221, x218);
+        let x229 = <f32 as ::trocar::Real>::mul_add(-x139, x221, x219);
+        let x230 = <f32 as ::trocar::Real>::mul_add(x140, x221, -x220);
+        let x231 = <f32 as ::trocar::Real>::mul_add(
+            x170,
+            x230,
+            <f32 as ::trocar::Real>::mul_add(
+                x169,
+                x229,
+                <f32 as ::trocar::Real>::mul_add(
+                    -x168,
+                    x228,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x167,
+                        x227,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x166,
+                            x226,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x165,
+                                x225,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x164,
+                                    x224,
+                                    <f32 as ::trocar::Real>::mul_add(x163, x223, -(x162 * x222)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x232 = <f32 as ::trocar::Real>::mul_add(x162, x231, x222);
+        let x233 = <f32 as ::trocar::Real>::mul_add(-x163, x231, x223);
+        let x234 = <f32 as ::trocar::Real>::mul_add(-x164, x231, x224);
+        let x235 = <f32 as ::trocar::Real>::mul_add(-x165, x231, x225);
+        let x236 = <f32 as ::trocar::Real>::mul_add(-x166, x231, x226);
+        let x237 = <f32 as ::trocar::Real>::mul_add(-x167, x231, x227);
+        let x238 = <f32 as ::trocar::Real>::mul_add(x168, x231, x228);
+        let x239 = <f32 as ::trocar::Real>::mul_add(-x169, x231, x229);
+        let x240 = <f32 as ::trocar::Real>::mul_add(-x170, x231, x230);
+        let x241 = <f32 as ::trocar::Real>::mul_add(
+            x210,
+            x240,
+            <f32 as ::trocar::Real>::mul_add(
+                x209,
+                x239,
+                <f32 as ::trocar::Real>::mul_add(
+                    -x208,
+                    x238,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x207,
+                        x237,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x206,
+                            x236,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x205,
+                                x235,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x204,
+                                    x234,
+                                    <f32 as ::trocar::Real>::mul_add(x202, x232, x203 * x233),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x242 = <f32 as ::trocar::Real>::mul_add(x202, x241, -x232);
+        let x243 = <f32 as ::trocar::Real>::mul_add(-x203, x241, x233);
+        let x244 = <f32 as ::trocar::Real>::mul_add(-x204, x241, x234);
+        let x245 = <f32 as ::trocar::Real>::mul_add(-x205, x241, x235);
+        let x246 = <f32 as ::trocar::Real>::mul_add(-x206, x241, x236);
+        let x247 = <f32 as ::trocar::Real>::mul_add(-x207, x241, x237);
+        let x248 = <f32 as ::trocar::Real>::mul_add(x208, x241, x238);
+        let x249 = <f32 as ::trocar::Real>::mul_add(-x209, x241, x239);
+        let x250 = <f32 as ::trocar::Real>::mul_add(-x210, x241, x240);
         let x251 = <f32 as ::trocar::Real>::sqrt(
-            x242 * x242 + x243 * x243 + x244 * x244 + x245 * x245 + x246 * x246
-                + x247 * x247 + x248 * x248 + x249 * x249 + x250 * x250,
+            <f32 as ::trocar::Real>::mul_add(
+                x250,
+                x250,
+                <f32 as ::trocar::Real>::mul_add(
+                    x249,
+                    x249,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x248,
+                        x248,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x247,
+                            x247,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x246,
+                                x246,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x245,
+                                    x245,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        x244,
+                                        x244,
+                                        <f32 as ::trocar::Real>::mul_add(x242, x242, x243 * x243),
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
         );
         let x252 = x242 / x251;
         let x253 = x243 / x251;
@@ -2247,66 +4530,220 @@ pub mod chain11_wide {
         let x259 = x249 / x251;
         let x260 = x250 / x251;
         let x261 = x120
-            + (x62 * x113 + x9 * x114 + x90 * x115 + x9 * x116 + x103 * x117
-                + t.sin[9] * x118);
+            + <f32 as ::trocar::Real>::mul_add(
+                t.sin[9],
+                x118,
+                <f32 as ::trocar::Real>::mul_add(
+                    x103,
+                    x117,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x9,
+                        x116,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x90,
+                            x115,
+                            <f32 as ::trocar::Real>::mul_add(x62, x113, x9 * x114),
+                        ),
+                    ),
+                ),
+            );
         let x262 = x112 * x261;
-        let x263 = x62 - x113 * x261;
-        let x264 = x9 - x114 * x261;
-        let x265 = x90 - x115 * x261;
-        let x266 = x9 - x116 * x261;
-        let x267 = x103 - x117 * x261;
-        let x268 = t.sin[9] - x118 * x261;
+        let x263 = <f32 as ::trocar::Real>::mul_add(-x113, x261, x62);
+        let x264 = <f32 as ::trocar::Real>::mul_add(-x114, x261, x9);
+        let x265 = <f32 as ::trocar::Real>::mul_add(-x115, x261, x90);
+        let x266 = <f32 as ::trocar::Real>::mul_add(-x116, x261, x9);
+        let x267 = <f32 as ::trocar::Real>::mul_add(-x117, x261, x103);
+        let x268 = <f32 as ::trocar::Real>::mul_add(-x118, x261, t.sin[9]);
         let x269 = x119 * x261;
-        let x270 = <f32 as ::trocar::Real>::ONE - x120 * x261;
-        let x271 = x133 * x263 - x132 * x262 + x134 * x264 + x135 * x265 + x136 * x266
-            + x137 * x267 + x138 * x268 + x139 * x269 - x140 * x270;
-        let x272 = x262 + x132 * x271;
-        let x273 = x263 - x133 * x271;
-        let x274 = x264 - x134 * x271;
-        let x275 = x265 - x135 * x271;
-        let x276 = x266 - x136 * x271;
-        let x277 = x267 - x137 * x271;
-        let x278 = x268 - x138 * x271;
-        let x279 = x269 - x139 * x271;
-        let x280 = x270 + x140 * x271;
-        let x281 = x163 * x273 - x162 * x272 + x164 * x274 + x165 * x275 + x166 * x276
-            + x167 * x277 + x168 * x278 + x169 * x279 + x170 * x280;
-        let x282 = x272 + x162 * x281;
-        let x283 = x273 - x163 * x281;
-        let x284 = x274 - x164 * x281;
-        let x285 = x275 - x165 * x281;
-        let x286 = x276 - x166 * x281;
-        let x287 = x277 - x167 * x281;
-        let x288 = x278 - x168 * x281;
-        let x289 = x279 - x169 * x281;
-        let x290 = x280 - x170 * x281;
-        let x291 = x202 * x282 + x203 * x283 + x204 * x284 + x205 * x285 + x206 * x286
-            + x207 * x287 + x208 * x288 + x209 * x289 + x210 * x290;
-        let x292 = x202 * x291 - x282;
-        let x293 = x283 - x203 * x291;
-        let x294 = x284 - x204 * x291;
-        let x295 = x285 - x205 * x291;
-        let x296 = x286 - x206 * x291;
-        let x297 = x287 - x207 * x291;
-        let x298 = x288 - x208 * x291;
-        let x299 = x289 - x209 * x291;
-        let x300 = x290 - x210 * x291;
-        let x301 = x252 * x292 + x253 * x293 + x254 * x294 + x255 * x295 + x256 * x296
-            + x257 * x297 - x258 * x298 + x259 * x299 + x260 * x300;
-        let x302 = x292 - x252 * x301;
-        let x303 = x293 - x253 * x301;
-        let x304 = x294 - x254 * x301;
-        let x305 = x295 - x255 * x301;
-        let x306 = x296 - x256 * x301;
-        let x307 = x297 - x257 * x301;
-        let x308 = x298 + x258 * x301;
-        let x309 = x299 - x259 * x301;
-        let x310 = x300 - x260 * x301;
+        let x270 = <f32 as ::trocar::Real>::mul_add(
+            -x120,
+            x261,
+            <f32 as ::trocar::Real>::ONE,
+        );
+        let x271 = <f32 as ::trocar::Real>::mul_add(
+            -x140,
+            x270,
+            <f32 as ::trocar::Real>::mul_add(
+                x139,
+                x269,
+                <f32 as ::trocar::Real>::mul_add(
+                    x138,
+                    x268,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x137,
+                        x267,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x136,
+                            x266,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x135,
+                                x265,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x134,
+                                    x264,
+                                    <f32 as ::trocar::Real>::mul_add(x133, x263, -(x132 * x262)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x272 = <f32 as ::trocar::Real>::mul_add(x132, x271, x262);
+        let x273 = <f32 as ::trocar::Real>::mul_add(-x133, x271, x263);
+        let x274 = <f32 as ::trocar::Real>::mul_add(-x134, x271, x264);
+        let x275 = <f32 as ::trocar::Real>::mul_add(-x135, x271, x265);
+        let x276 = <f32 as ::trocar::Real>::mul_add(-x136, x271, x266);
+        let x277 = <f32 as ::trocar::Real>::mul_add(-x137, x271, x267);
+        let x278 = <f32 as ::trocar::Real>::mul_add(-x138, x271, x268);
+        let x279 = <f32 as ::trocar::Real>::mul_add(-x139, x271, x269);
+        let x280 = <f32 as ::trocar::Real>::mul_add(x140, x271, x270);
+        let x281 = <f32 as ::trocar::Real>::mul_add(
+            x170,
+            x280,
+            <f32 as ::trocar::Real>::mul_add(
+                x169,
+                x279,
+                <f32 as ::trocar::Real>::mul_add(
+                    x168,
+                    x278,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x167,
+                        x277,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x166,
+                            x276,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x165,
+                                x275,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x164,
+                                    x274,
+                                    <f32 as ::trocar::Real>::mul_add(x163, x273, -(x162 * x272)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x282 = <f32 as ::trocar::Real>::mul_add(x162, x281, x272);
+        let x283 = <f32 as ::trocar::Real>::mul_add(-x163, x281, x273);
+        let x284 = <f32 as ::trocar::Real>::mul_add(-x164, x281, x274);
+        let x285 = <f32 as ::trocar::Real>::mul_add(-x165, x281, x275);
+        let x286 = <f32 as ::trocar::Real>::mul_add(-x166, x281, x276);
+        let x287 = <f32 as ::trocar::Real>::mul_add(-x167, x281, x277);
+        let x288 = <f32 as ::trocar::Real>::mul_add(-x168, x281, x278);
+        let x289 = <f32 as ::trocar::Real>::mul_add(-x169, x281, x279);
+        let x290 = <f32 as ::trocar::Real>::mul_add(-x170, x281, x280);
+        let x291 = <f32 as ::trocar::Real>::mul_add(
+            x210,
+            x290,
+            <f32 as ::trocar::Real>::mul_add(
+                x209,
+                x289,
+                <f32 as ::trocar::Real>::mul_add(
+                    x208,
+                    x288,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x207,
+                        x287,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x206,
+                            x286,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x205,
+                                x285,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x204,
+                                    x284,
+                                    <f32 as ::trocar::Real>::mul_add(x202, x282, x203 * x283),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x292 = <f32 as ::trocar::Real>::mul_add(x202, x291, -x282);
+        let x293 = <f32 as ::trocar::Real>::mul_add(-x203, x291, x283);
+        let x294 = <f32 as ::trocar::Real>::mul_add(-x204, x291, x284);
+        let x295 = <f32 as ::trocar::Real>::mul_add(-x205, x291, x285);
+        let x296 = <f32 as ::trocar::Real>::mul_add(-x206, x291, x286);
+        let x297 = <f32 as ::trocar::Real>::mul_add(-x207, x291, x287);
+        let x298 = <f32 as ::trocar::Real>::mul_add(-x208, x291, x288);
+        let x299 = <f32 as ::trocar::Real>::mul_add(-x209, x291, x289);
+        let x300 = <f32 as ::trocar::Real>::mul_add(-x210, x291, x290);
+        let x301 = <f32 as ::trocar::Real>::mul_add(
+            x260,
+            x300,
+            <f32 as ::trocar::Real>::mul_add(
+                x259,
+                x299,
+                <f32 as ::trocar::Real>::mul_add(
+                    -x258,
+                    x298,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x257,
+                        x297,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x256,
+                            x296,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x255,
+                                x295,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x254,
+                                    x294,
+                                    <f32 as ::trocar::Real>::mul_add(x252, x292, x253 * x293),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x302 = <f32 as ::trocar::Real>::mul_add(-x252, x301, x292);
+        let x303 = <f32 as ::trocar::Real>::mul_add(-x253, x301, x293);
+        let x304 = <f32 as ::trocar::Real>::mul_add(-x254, x301, x294);
+        let x305 = <f32 as ::trocar::Real>::mul_add(-x255, x301, x295);
+        let x306 = <f32 as ::trocar::Real>::mul_add(-x256, x301, x296);
+        let x307 = <f32 as ::trocar::Real>::mul_add(-x257, x301, x297);
+        let x308 = <f32 as ::trocar::Real>::mul_add(x258, x301, x298);
+        let x309 = <f32 as ::trocar::Real>::mul_add(-x259, x301, x299);
+        let x310 = <f32 as ::trocar::Real>::mul_add(-x260, x301, x300);
         {
             let w = x111 * x131 * x161 * x201 * x251
                 * <f32 as ::trocar::Real>::sqrt(
-                    x302 * x302 + x303 * x303 + x304 * x304 + x305 * x305 + x306 * x306
-                        + x307 * x307 + x308 * x308 + x309 * x309 + x310 * x310,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x310,
+                        x310,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x309,
+                            x309,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x308,
+                                x308,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x307,
+                                    x307,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        x306,
+                                        x306,
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            x305,
+                                            x305,
+                                            <f32 as ::trocar::Real>::mul_add(
+                                                x304,
+                                                x304,
+                                                <f32 as ::trocar::Real>::mul_add(x302, x302, x303 * x303),
+                                            ),
+                                        ),
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
                 );
             if <f32 as ::trocar::Real>::is_finite(w) {
                 w
@@ -2328,11 +4765,15 @@ pub mod chain11_wide {
         );
         let x0 = s9 * s10;
         let x1 = s11 * c9;
-        let x2 = x0 * c11 + x1;
+        let x2 = <f32 as ::trocar::Real>::mul_add(x0, c11, x1);
         let x3 = s8 * c10;
-        let x4 = x2 * c8 + c11 * x3;
+        let x4 = <f32 as ::trocar::Real>::mul_add(x2, c8, c11 * x3);
         let x5 = c9 * c8;
-        let x6 = c11 * x5 - s11 * (x3 + x0 * c8);
+        let x6 = <f32 as ::trocar::Real>::mul_add(
+            c11,
+            x5,
+            -(s11 * <f32 as ::trocar::Real>::mul_add(x0, c8, x3)),
+        );
         let x7 = s10 * s8;
         let x8 = c10 * (s9 * c8);
         let x9 = x7 - x8;
@@ -2340,39 +4781,66 @@ pub mod chain11_wide {
         let x11 = 0.005_f32 * s8;
         let x12 = x10 - x11;
         let x13 = 0.1_f32 * c8;
-        let x14 = 0.22_f32 + 0.03_f32 * s9;
+        let x14 = <f32 as ::trocar::Real>::mul_add(0.03_f32, s9, 0.22_f32);
         let x15 = c8 * x14;
-        let x16 = c9 * (x12 - x13) - x15;
+        let x16 = <f32 as ::trocar::Real>::mul_add(c9, x12 - x13, -x15);
         let x17 = 0.22_f32 * s9;
         let x18 = 0.03_f32 + x17;
         let x19 = 0.02_f32 * c9;
-        let x20 = x19 - c10 * x18;
+        let x20 = <f32 as ::trocar::Real>::mul_add(-c10, x18, x19);
         let x21 = 0.02_f32 * s10;
         let x22 = 0.005_f32 - x21;
         let x23 = 0.02_f32 * c10;
         let x24 = 0.03_f32 * c9;
-        let x25 = s9 * (s8 * x22 + (0.23_f32 + x13 - p.l_a)) + c8 * (x23 - x24);
+        let x25 = <f32 as ::trocar::Real>::mul_add(
+            s9,
+            <f32 as ::trocar::Real>::mul_add(s8, x22, 0.23_f32 + x13 - p.l_a),
+            c8 * (x23 - x24),
+        );
         let x26 = s9 * s8;
-        let x27 = c10 * x26 + s10 * c8;
+        let x27 = <f32 as ::trocar::Real>::mul_add(c10, x26, s10 * c8);
         let x28 = 0.23_f32 - p.l_a;
         let x29 = s8 * x28;
         let x30 = 0.005_f32 + x29;
         let x31 = c8 * x10;
-        let x32 = 0.1_f32 + 0.22_f32 * c9;
+        let x32 = <f32 as ::trocar::Real>::mul_add(0.22_f32, c9, 0.1_f32);
         let x33 = x31 - x32;
         let x34 = x22 + x29;
-        let x35 = (c11 * (s10 * x16 + s8 * x20) + (s11 * x25 - 0.09_f32 * x27)) * c7
-            + (c11 * (s9 * (s10 * x30 - 0.02_f32) + c10 * x33)
-                + c9 * (s11 * x34 - 0.09_f32 * c10)) * s7;
+        let x35 = <f32 as ::trocar::Real>::mul_add(
+            <f32 as ::trocar::Real>::mul_add(
+                c11,
+                <f32 as ::trocar::Real>::mul_add(s10, x16, s8 * x20),
+                <f32 as ::trocar::Real>::mul_add(s11, x25, -(0.09_f32 * x27)),
+            ),
+            c7,
+            <f32 as ::trocar::Real>::mul_add(
+                c11,
+                <f32 as ::trocar::Real>::mul_add(
+                    s9,
+                    <f32 as ::trocar::Real>::mul_add(s10, x30, -0.02_f32),
+                    c10 * x33,
+                ),
+                c9 * <f32 as ::trocar::Real>::mul_add(s11, x34, -(0.09_f32 * c10)),
+            ) * s7,
+        );
         let x36 = 0.23_f32 + x11;
-        let x37 = x15 + c9 * (x13 + x36 - p.l_a);
-        let x38 = s8 * x10 - 0.005_f32;
-        let x39 = x32 + c8 * x28;
-        let x40 = s9 * s7 - c9 * (s8 * c7);
-        let x41 = s11
-            * (s10 * (c7 * x37 + s7 * (s9 * x38))
-                + (c10 * (s7 * x39 + s8 * (x18 * c7)) + 0.02_f32 * x40))
-            + c11 * (x25 * c7 + s7 * (c9 * x34));
+        let x37 = <f32 as ::trocar::Real>::mul_add(c9, x13 + x36 - p.l_a, x15);
+        let x38 = <f32 as ::trocar::Real>::mul_add(s8, x10, -0.005_f32);
+        let x39 = <f32 as ::trocar::Real>::mul_add(c8, x28, x32);
+        let x40 = <f32 as ::trocar::Real>::mul_add(s9, s7, -(c9 * (s8 * c7)));
+        let x41 = <f32 as ::trocar::Real>::mul_add(
+            s11,
+            <f32 as ::trocar::Real>::mul_add(
+                s10,
+                <f32 as ::trocar::Real>::mul_add(c7, x37, s7 * (s9 * x38)),
+                <f32 as ::trocar::Real>::mul_add(
+                    c10,
+                    <f32 as ::trocar::Real>::mul_add(s7, x39, s8 * (x18 * c7)),
+                    0.02_f32 * x40,
+                ),
+            ),
+            c11 * <f32 as ::trocar::Real>::mul_add(x25, c7, s7 * (c9 * x34)),
+        );
         let x42 = 0.1_f32 * c9;
         let x43 = x14 + x42;
         let x44 = 0.09_f32 * c11;
@@ -2383,77 +4851,216 @@ pub mod chain11_wide {
         let x49 = s10 * (0.03_f32 + x48);
         let x50 = 0.09_f32 * x1;
         let x51 = s8 * (x49 + x50);
-        let x52 = 0.1_f32 + c9 * x47;
+        let x52 = <f32 as ::trocar::Real>::mul_add(c9, x47, 0.1_f32);
         let x53 = 0.09_f32 * s11;
-        let x54 = s10 * (x31 - x52) + s9 * (c10 * x38 + x53);
-        let x55 = c7 * (c10 * (x46 + c9 * (x36 - p.l_a)) - x51) + s7 * x54;
+        let x54 = <f32 as ::trocar::Real>::mul_add(
+            s10,
+            x31 - x52,
+            s9 * <f32 as ::trocar::Real>::mul_add(c10, x38, x53),
+        );
+        let x55 = <f32 as ::trocar::Real>::mul_add(
+            c7,
+            <f32 as ::trocar::Real>::mul_add(
+                c10,
+                <f32 as ::trocar::Real>::mul_add(c9, x36 - p.l_a, x46),
+                -x51,
+            ),
+            s7 * x54,
+        );
         let x56 = x2 * s8;
         let x57 = c11 * (c8 * c10);
-        let x58 = s9 * s11 - c11 * (s10 * c9);
-        let x59 = c7 * (x57 - x56) + s7 * x58;
+        let x58 = <f32 as ::trocar::Real>::mul_add(s9, s11, -(c11 * (s10 * c9)));
+        let x59 = <f32 as ::trocar::Real>::mul_add(c7, x57 - x56, s7 * x58);
         let x60 = c9 * s7;
-        let x61 = s11 * (s10 * (x60 + x26 * c7) - c10 * (c8 * c7)) + c11 * x40;
-        let x62 = x27 * c7 + c10 * x60;
-        let x63 = 0.03_f32 + 0.02_f32 * s7;
+        let x61 = <f32 as ::trocar::Real>::mul_add(
+            s11,
+            <f32 as ::trocar::Real>::mul_add(
+                s10,
+                <f32 as ::trocar::Real>::mul_add(x26, c7, x60),
+                -(c10 * (c8 * c7)),
+            ),
+            c11 * x40,
+        );
+        let x62 = <f32 as ::trocar::Real>::mul_add(x27, c7, c10 * x60);
+        let x63 = <f32 as ::trocar::Real>::mul_add(0.02_f32, s7, 0.03_f32);
         let x64 = s9 * x63;
         let x65 = 0.22_f32 + x42;
         let x66 = s8 * (x64 + x65);
         let x67 = 0.02_f32 * c7;
-        let x68 = c9 * (x67 + 0.005_f32 * c8);
+        let x68 = c9 * <f32 as ::trocar::Real>::mul_add(0.005_f32, c8, x67);
         let x69 = c10 * (x17 + x63);
-        let x70 = x23 + 0.1_f32 * s9;
+        let x70 = <f32 as ::trocar::Real>::mul_add(0.1_f32, s9, x23);
         let x71 = x21 - 0.005_f32;
         let x72 = c8 * x71;
-        let x73 = s8 * (x70 - c9 * x63) + s9 * (x72 - x67);
-        let x74 = c11 * (s10 * (x68 - x66) + c8 * (x69 - x19))
-            + (s11 * x73 + 0.09_f32 * (x8 - x7));
-        let x75 = s11 * (s10 * (x66 - x68) + c8 * (x19 - x69)) + c11 * x73;
-        let x76 = c10 * (s8 * (x64 + (x44 + x65)) - x68)
-            + c8 * (x50 + s10 * (x48 + x63));
+        let x73 = <f32 as ::trocar::Real>::mul_add(
+            s8,
+            <f32 as ::trocar::Real>::mul_add(-c9, x63, x70),
+            s9 * (x72 - x67),
+        );
+        let x74 = <f32 as ::trocar::Real>::mul_add(
+            c11,
+            <f32 as ::trocar::Real>::mul_add(s10, x68 - x66, c8 * (x69 - x19)),
+            <f32 as ::trocar::Real>::mul_add(s11, x73, 0.09_f32 * (x8 - x7)),
+        );
+        let x75 = <f32 as ::trocar::Real>::mul_add(
+            s11,
+            <f32 as ::trocar::Real>::mul_add(s10, x66 - x68, c8 * (x19 - x69)),
+            c11 * x73,
+        );
+        let x76 = <f32 as ::trocar::Real>::mul_add(
+            c10,
+            <f32 as ::trocar::Real>::mul_add(s8, x64 + (x44 + x65), -x68),
+            c8 * <f32 as ::trocar::Real>::mul_add(s10, x48 + x63, x50),
+        );
         let x77 = 0.02_f32 * c8;
-        let x78 = s8 * (0.02_f32 + x18 * s7);
-        let x79 = 0.02_f32 * (c9 * (s8 * s7) + s9 * c7);
-        let x80 = s7 * (s9 * (s8 * x71 + (x10 - x13)) + c8 * (x24 - x23))
-            + c9 * (x77 + c7 * x34);
+        let x78 = s8 * <f32 as ::trocar::Real>::mul_add(x18, s7, 0.02_f32);
+        let x79 = 0.02_f32 * <f32 as ::trocar::Real>::mul_add(c9, s8 * s7, s9 * c7);
+        let x80 = <f32 as ::trocar::Real>::mul_add(
+            s7,
+            <f32 as ::trocar::Real>::mul_add(
+                s9,
+                <f32 as ::trocar::Real>::mul_add(s8, x71, x10 - x13),
+                c8 * (x24 - x23),
+            ),
+            c9 * <f32 as ::trocar::Real>::mul_add(c7, x34, x77),
+        );
         let x81 = x27 * s7;
         let x82 = c10 * (c9 * c7);
-        let x83 = c11
-            * (s10 * (s7 * x37 + s9 * (c7 * x30 + x77)) + (c10 * (c7 * x33 + x78) - x79))
-            + (s11 * x80 + 0.09_f32 * (x81 - x82));
-        let x84 = s11
-            * (s10 * (x16 * s7 + s9 * (c7 * x38 - x77)) + (x79 + c10 * (c7 * x39 - x78)))
-            + c11 * x80;
-        let x85 = s7 * (x51 + c10 * (c9 * x12 - x46)) + (c7 * x54 + 0.02_f32 * x9);
-        let x86 = s7 * (x56 - x57) + c7 * x58;
+        let x83 = <f32 as ::trocar::Real>::mul_add(
+            c11,
+            <f32 as ::trocar::Real>::mul_add(
+                s10,
+                <f32 as ::trocar::Real>::mul_add(
+                    s7,
+                    x37,
+                    s9 * <f32 as ::trocar::Real>::mul_add(c7, x30, x77),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    c10,
+                    <f32 as ::trocar::Real>::mul_add(c7, x33, x78),
+                    -x79,
+                ),
+            ),
+            <f32 as ::trocar::Real>::mul_add(s11, x80, 0.09_f32 * (x81 - x82)),
+        );
+        let x84 = <f32 as ::trocar::Real>::mul_add(
+            s11,
+            <f32 as ::trocar::Real>::mul_add(
+                s10,
+                <f32 as ::trocar::Real>::mul_add(
+                    x16,
+                    s7,
+                    s9 * <f32 as ::trocar::Real>::mul_add(c7, x38, -x77),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    c10,
+                    <f32 as ::trocar::Real>::mul_add(c7, x39, -x78),
+                    x79,
+                ),
+            ),
+            c11 * x80,
+        );
+        let x85 = <f32 as ::trocar::Real>::mul_add(
+            s7,
+            <f32 as ::trocar::Real>::mul_add(
+                c10,
+                <f32 as ::trocar::Real>::mul_add(c9, x12, -x46),
+                x51,
+            ),
+            <f32 as ::trocar::Real>::mul_add(c7, x54, 0.02_f32 * x9),
+        );
+        let x86 = <f32 as ::trocar::Real>::mul_add(s7, x56 - x57, c7 * x58);
         let x87 = s10 * s11;
-        let x88 = s9 * c11 + c9 * x87;
-        let x89 = s7 * (s8 * (c11 * c9 - x0 * s11) + c10 * (s11 * c8)) + c7 * x88;
+        let x88 = <f32 as ::trocar::Real>::mul_add(s9, c11, c9 * x87);
+        let x89 = <f32 as ::trocar::Real>::mul_add(
+            s7,
+            <f32 as ::trocar::Real>::mul_add(
+                s8,
+                <f32 as ::trocar::Real>::mul_add(c11, c9, -(x0 * s11)),
+                c10 * (s11 * c8),
+            ),
+            c7 * x88,
+        );
         let x90 = x82 - x81;
         let x91 = x70 - x24;
-        let x92 = 0.09_f32 + 0.22_f32 * c11;
+        let x92 = <f32 as ::trocar::Real>::mul_add(0.22_f32, c11, 0.09_f32);
         let x93 = c10 * x92;
         let x94 = 0.005_f32 * s10;
         let x95 = x94 - 0.02_f32;
-        let x96 = s8 * (s11 * x91 - s10 * (0.09_f32 + c11 * x43))
-            + c8 * (s9 * (s11 * x71 + x93) + c11 * (c9 * x95 + 0.03_f32 * c10));
-        let x97 = s11 * (s10 * (s8 * x43 - 0.005_f32 * x5) + c8 * x20)
-            + c11 * (s8 * x91 + s9 * x72);
-        let x98 = x53 - 0.005_f32 * c10;
-        let x99 = c8 * (x49 + c9 * x98) + s8 * (c10 * x45);
-        let x100 = c9 * (s11 * x22 - x93) + c11 * (s9 * x95 - 0.1_f32 * c10);
-        let x101 = s11 * (s9 * (0.02_f32 - x94) + c10 * x32) + c9 * (c11 * x22);
-        let x102 = s9 * x98 - s10 * x52;
+        let x96 = <f32 as ::trocar::Real>::mul_add(
+            s8,
+            <f32 as ::trocar::Real>::mul_add(
+                s11,
+                x91,
+                -(s10 * <f32 as ::trocar::Real>::mul_add(c11, x43, 0.09_f32)),
+            ),
+            c8
+                * <f32 as ::trocar::Real>::mul_add(
+                    s9,
+                    <f32 as ::trocar::Real>::mul_add(s11, x71, x93),
+                    c11 * <f32 as ::trocar::Real>::mul_add(c9, x95, 0.03_f32 * c10),
+                ),
+        );
+        let x97 = <f32 as ::trocar::Real>::mul_add(
+            s11,
+            <f32 as ::trocar::Real>::mul_add(
+                s10,
+                <f32 as ::trocar::Real>::mul_add(s8, x43, -(0.005_f32 * x5)),
+                c8 * x20,
+            ),
+            c11 * <f32 as ::trocar::Real>::mul_add(s8, x91, s9 * x72),
+        );
+        let x98 = <f32 as ::trocar::Real>::mul_add(-0.005_f32, c10, x53);
+        let x99 = <f32 as ::trocar::Real>::mul_add(
+            c8,
+            <f32 as ::trocar::Real>::mul_add(c9, x98, x49),
+            s8 * (c10 * x45),
+        );
+        let x100 = <f32 as ::trocar::Real>::mul_add(
+            c9,
+            <f32 as ::trocar::Real>::mul_add(s11, x22, -x93),
+            c11 * <f32 as ::trocar::Real>::mul_add(s9, x95, -(0.1_f32 * c10)),
+        );
+        let x101 = <f32 as ::trocar::Real>::mul_add(
+            s11,
+            <f32 as ::trocar::Real>::mul_add(s9, 0.02_f32 - x94, c10 * x32),
+            c9 * (c11 * x22),
+        );
+        let x102 = <f32 as ::trocar::Real>::mul_add(s9, x98, -(s10 * x52));
         let x103 = c9 * c10;
         let x104 = s11 * c10;
-        let x105 = 0.02_f32 * x104 - s10 * x92;
+        let x105 = <f32 as ::trocar::Real>::mul_add(0.02_f32, x104, -(s10 * x92));
         let x106 = c11 * c10;
-        let x107 = 0.22_f32 * x87 + 0.02_f32 * x106;
+        let x107 = <f32 as ::trocar::Real>::mul_add(0.22_f32, x87, 0.02_f32 * x106);
         let x108 = c10 * x47;
         let x109 = 0.02_f32 * c11;
         let x110 = 0.02_f32 * s11;
         let x111 = <f32 as ::trocar::Real>::sqrt(
-            x4 * x4 + x35 * x35 + x74 * x74 + x83 * x83 + x96 * x96 + x100 * x100
-                + x105 * x105 + x109 * x109 + 0.0081_f32,
+            <f32 as ::trocar::Real>::mul_add(
+                x109,
+                x109,
+                <f32 as ::trocar::Real>::mul_add(
+                    x105,
+                    x105,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x100,
+                        x100,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x96,
+                            x96,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x83,
+                                x83,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x74,
+                                    x74,
+                                    <f32 as ::trocar::Real>::mul_add(x4, x4, x35 * x35),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ) + 0.0081_f32,
         );
         let x112 = x4 / x111;
         let x113 = x35 / x111;
@@ -2464,20 +5071,70 @@ pub mod chain11_wide {
         let x118 = x105 / x111;
         let x119 = x109 / x111;
         let x120 = -0.09_f32 / x111;
-        let x121 = x6 * x112 + x41 * x113 + x75 * x114 + x84 * x115 + x97 * x116
-            + x101 * x117 + x107 * x118 - x110 * x119;
-        let x122 = x6 - x112 * x121;
-        let x123 = x41 - x113 * x121;
-        let x124 = x75 - x114 * x121;
-        let x125 = x84 - x115 * x121;
-        let x126 = x97 - x116 * x121;
-        let x127 = x101 - x117 * x121;
-        let x128 = x107 - x118 * x121;
-        let x129 = x110 + x119 * x121;
+        let x121 = <f32 as ::trocar::Real>::mul_add(
+            -x110,
+            x119,
+            <f32 as ::trocar::Real>::mul_add(
+                x107,
+                x118,
+                <f32 as ::trocar::Real>::mul_add(
+                    x101,
+                    x117,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x97,
+                        x116,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x84,
+                            x115,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x75,
+                                x114,
+                                <f32 as ::trocar::Real>::mul_add(x6, x112, x41 * x113),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x122 = <f32 as ::trocar::Real>::mul_add(-x112, x121, x6);
+        let x123 = <f32 as ::trocar::Real>::mul_add(-x113, x121, x41);
+        let x124 = <f32 as ::trocar::Real>::mul_add(-x114, x121, x75);
+        let x125 = <f32 as ::trocar::Real>::mul_add(-x115, x121, x84);
+        let x126 = <f32 as ::trocar::Real>::mul_add(-x116, x121, x97);
+        let x127 = <f32 as ::trocar::Real>::mul_add(-x117, x121, x101);
+        let x128 = <f32 as ::trocar::Real>::mul_add(-x118, x121, x107);
+        let x129 = <f32 as ::trocar::Real>::mul_add(x119, x121, x110);
         let x130 = x120 * x121;
         let x131 = <f32 as ::trocar::Real>::sqrt(
-            x122 * x122 + x123 * x123 + x124 * x124 + x125 * x125 + x126 * x126
-                + x127 * x127 + x128 * x128 + x129 * x129 + x130 * x130,
+            <f32 as ::trocar::Real>::mul_add(
+                x130,
+                x130,
+                <f32 as ::trocar::Real>::mul_add(
+                    x129,
+                    x129,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x128,
+                        x128,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x127,
+                            x127,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x126,
+                                x126,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x125,
+                                    x125,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        x124,
+                                        x124,
+                                        <f32 as ::trocar::Real>::mul_add(x122, x122, x123 * x123),
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
         );
         let x132 = x122 / x131;
         let x133 = x123 / x131;
@@ -2488,31 +5145,108 @@ pub mod chain11_wide {
         let x138 = x128 / x131;
         let x139 = x129 / x131;
         let x140 = x130 / x131;
-        let x141 = x9 * x112 + x55 * x113 + x76 * x114 + x85 * x115 + x99 * x116
-            + x102 * x117 + x108 * x118 - x53 * x119;
-        let x142 = x9 - x112 * x141;
-        let x143 = x55 - x113 * x141;
-        let x144 = x76 - x114 * x141;
-        let x145 = x85 - x115 * x141;
-        let x146 = x99 - x116 * x141;
-        let x147 = x102 - x117 * x141;
-        let x148 = x108 - x118 * x141;
-        let x149 = x53 + x119 * x141;
+        let x141 = <f32 as ::trocar::Real>::mul_add(
+            -x53,
+            x119,
+            <f32 as ::trocar::Real>::mul_add(
+                x108,
+                x118,
+                <f32 as ::trocar::Real>::mul_add(
+                    x102,
+                    x117,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x99,
+                        x116,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x85,
+                            x115,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x76,
+                                x114,
+                                <f32 as ::trocar::Real>::mul_add(x9, x112, x55 * x113),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x142 = <f32 as ::trocar::Real>::mul_add(-x112, x141, x9);
+        let x143 = <f32 as ::trocar::Real>::mul_add(-x113, x141, x55);
+        let x144 = <f32 as ::trocar::Real>::mul_add(-x114, x141, x76);
+        let x145 = <f32 as ::trocar::Real>::mul_add(-x115, x141, x85);
+        let x146 = <f32 as ::trocar::Real>::mul_add(-x116, x141, x99);
+        let x147 = <f32 as ::trocar::Real>::mul_add(-x117, x141, x102);
+        let x148 = <f32 as ::trocar::Real>::mul_add(-x118, x141, x108);
+        let x149 = <f32 as ::trocar::Real>::mul_add(x119, x141, x53);
         let x150 = x120 * x141;
-        let x151 = x132 * x142 + x133 * x143 + x134 * x144 + x135 * x145 + x136 * x146
-            + x137 * x147 + x138 * x148 + x139 * x149 + x140 * x150;
-        let x152 = x142 - x132 * x151;
-        let x153 = x143 - x133 * x151;
-        let x154 = x144 - x134 * x151;
-        let x155 = x145 - x135 * x151;
-        let x156 = x146 - x136 * x151;
-        let x157 = x147 - x137 * x151;
-        let x158 = x148 - x138 * x151;
-        let x159 = x149 - x139 * x151;
-        let x160 = x140 * x151 - x150;
+        let x151 = <f32 as ::trocar::Real>::mul_add(
+            x140,
+            x150,
+            <f32 as ::trocar::Real>::mul_add(
+                x139,
+                x149,
+                <f32 as ::trocar::Real>::mul_add(
+                    x138,
+                    x148,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x137,
+                        x147,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x136,
+                            x146,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x135,
+                                x145,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x134,
+                                    x144,
+                                    <f32 as ::trocar::Real>::mul_add(x132, x142, x133 * x143),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x152 = <f32 as ::trocar::Real>::mul_add(-x132, x151, x142);
+        let x153 = <f32 as ::trocar::Real>::mul_add(-x133, x151, x143);
+        let x154 = <f32 as ::trocar::Real>::mul_add(-x134, x151, x144);
+        let x155 = <f32 as ::trocar::Real>::mul_add(-x135, x151, x145);
+        let x156 = <f32 as ::trocar::Real>::mul_add(-x136, x151, x146);
+        let x157 = <f32 as ::trocar::Real>::mul_add(-x137, x151, x147);
+        let x158 = <f32 as ::trocar::Real>::mul_add(-x138, x151, x148);
+        let x159 = <f32 as ::trocar::Real>::mul_add(-x139, x151, x149);
+        let x160 = <f32 as ::trocar::Real>::mul_add(x140, x151, -x150);
         let x161 = <f32 as ::trocar::Real>::sqrt(
-            x152 * x152 + x153 * x153 + x154 * x154 + x155 * x155 + x156 * x156
-                + x157 * x157 + x158 * x158 + x159 * x159 + x160 * x160,
+            <f32 as ::trocar::Real>::mul_add(
+                x160,
+                x160,
+                <f32 as ::trocar::Real>::mul_add(
+                    x159,
+                    x159,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x158,
+                        x158,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x157,
+                            x157,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x156,
+                                x156,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x155,
+                                    x155,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        x154,
+                                        x154,
+                                        <f32 as ::trocar::Real>::mul_add(x152, x152, x153 * x153),
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
         );
         let x162 = x152 / x161;
         let x163 = x153 / x161;
@@ -2523,42 +5257,142 @@ pub mod chain11_wide {
         let x168 = x158 / x161;
         let x169 = x159 / x161;
         let x170 = x160 / x161;
-        let x171 = x59 * x113 + x4 * x114 + x86 * x115 + x4 * x116 + x58 * x117
-            + x106 * x118 - s11 * x119;
+        let x171 = <f32 as ::trocar::Real>::mul_add(
+            -s11,
+            x119,
+            <f32 as ::trocar::Real>::mul_add(
+                x106,
+                x118,
+                <f32 as ::trocar::Real>::mul_add(
+                    x58,
+                    x117,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x4,
+                        x116,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x86,
+                            x115,
+                            <f32 as ::trocar::Real>::mul_add(x59, x113, x4 * x114),
+                        ),
+                    ),
+                ),
+            ),
+        );
         let x172 = x112 * x171;
-        let x173 = x59 - x113 * x171;
-        let x174 = x4 - x114 * x171;
-        let x175 = x86 - x115 * x171;
-        let x176 = x4 - x116 * x171;
-        let x177 = x58 - x117 * x171;
-        let x178 = x106 - x118 * x171;
-        let x179 = s11 + x119 * x171;
+        let x173 = <f32 as ::trocar::Real>::mul_add(-x113, x171, x59);
+        let x174 = <f32 as ::trocar::Real>::mul_add(-x114, x171, x4);
+        let x175 = <f32 as ::trocar::Real>::mul_add(-x115, x171, x86);
+        let x176 = <f32 as ::trocar::Real>::mul_add(-x116, x171, x4);
+        let x177 = <f32 as ::trocar::Real>::mul_add(-x117, x171, x58);
+        let x178 = <f32 as ::trocar::Real>::mul_add(-x118, x171, x106);
+        let x179 = <f32 as ::trocar::Real>::mul_add(x119, x171, s11);
         let x180 = x120 * x171;
-        let x181 = x133 * x173 - x132 * x172 + x134 * x174 + x135 * x175 + x136 * x176
-            + x137 * x177 + x138 * x178 + x139 * x179 + x140 * x180;
-        let x182 = x172 + x132 * x181;
-        let x183 = x173 - x133 * x181;
-        let x184 = x174 - x134 * x181;
-        let x185 = x175 - x135 * x181;
-        let x186 = x176 - x136 * x181;
-        let x187 = x177 - x137 * x181;
-        let x188 = x178 - x138 * x181;
-        let x189 = x179 - x139 * x181;
-        let x190 = x140 * x181 - x180;
-        let x191 = x163 * x183 - x162 * x182 + x164 * x184 + x165 * x185 + x166 * x186
-            + x167 * x187 + x168 * x188 + x169 * x189 + x170 * x190;
-        let x192 = x182 + x162 * x191;
-        let x193 = x183 - x163 * x191;
-        let x194 = x184 - x164 * x191;
-        let x195 = x185 - x165 * x191;
-        let x196 = x186 - x166 * x191;
-        let x197 = x187 - x167 * x191;
-        let x198 = x188 - x168 * x191;
-        let x199 = x189 - x169 * x191;
-        let x200 = x190 - x170 * x191;
+        let x181 = <f32 as ::trocar::Real>::mul_add(
+            x140,
+            x180,
+            <f32 as ::trocar::Real>::mul_add(
+                x139,
+                x179,
+                <f32 as ::trocar::Real>::mul_add(
+                    x138,
+                    x178,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x137,
+                        x177,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x136,
+                            x176,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x135,
+                                x175,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x134,
+                                    x174,
+                                    <f32 as ::trocar::Real>::mul_add(x133, x173, -(x132 * x172)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x182 = <f32 as ::trocar::Real>::mul_add(x132, x181, x172);
+        let x183 = <f32 as ::trocar::Real>::mul_add(-x133, x181, x173);
+        let x184 = <f32 as ::trocar::Real>::mul_add(-x134, x181, x174);
+        let x185 = <f32 as ::trocar::Real>::mul_add(-x135, x181, x175);
+        let x186 = <f32 as ::trocar::Real>::mul_add(-x136, x181, x176);
+        let x187 = <f32 as ::trocar::Real>::mul_add(-x137, x181, x177);
+        let x188 = <f32 as ::trocar::Real>::mul_add(-x138, x181, x178);
+        let x189 = <f32 as ::trocar::Real>::mul_add(-x139, x181, x179);
+        let x190 = <f32 as ::trocar::Real>::mul_add(x140, x181, -x180);
+        let x191 = <f32 as ::trocar::Real>::mul_add(
+            x170,
+            x190,
+            <f32 as ::trocar::Real>::mul_add(
+                x169,
+                x189,
+                <f32 as ::trocar::Real>::mul_add(
+                    x168,
+                    x188,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x167,
+                        x187,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x166,
+                            x186,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x165,
+                                x185,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x164,
+                                    x184,
+                                    <f32 as ::trocar::Real>::mul_add(x163, x183, -(x162 * x182)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x192 = <f32 as ::trocar::Real>::mul_add(x162, x191, x182);
+        let x193 = <f32 as ::trocar::Real>::mul_add(-x163, x191, x183);
+        let x194 = <f32 as ::trocar::Real>::mul_add(-x164, x191, x184);
+        let x195 = <f32 as ::trocar::Real>::mul_add(-x165, x191, x185);
+        let x196 = <f32 as ::trocar::Real>::mul_add(-x166, x191, x186);
+        let x197 = <f32 as ::trocar::Real>::mul_add(-x167, x191, x187);
+        let x198 = <f32 as ::trocar::Real>::mul_add(-x168, x191, x188);
+        let x199 = <f32 as ::trocar::Real>::mul_add(-x169, x191, x189);
+        let x200 = <f32 as ::trocar::Real>::mul_add(-x170, x191, x190);
         let x201 = <f32 as ::trocar::Real>::sqrt(
-            x192 * x192 + x193 * x193 + x194 * x194 + x195 * x195 + x196 * x196
-                + x197 * x197 + x198 * x198 + x199 * x199 + x200 * x200,
+            <f32 as ::trocar::Real>::mul_add(
+                x200,
+                x200,
+                <f32 as ::trocar::Real>::mul_add(
+                    x199,
+                    x199,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x198,
+                        x198,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x197,
+                            x197,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x196,
+                                x196,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x195,
+                                    x195,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        x194,
+                                        x194,
+                                        <f32 as ::trocar::Real>::mul_add(x192, x192, x193 * x193),
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
         );
         let x202 = x192 / x201;
         let x203 = x193 / x201;
@@ -2569,53 +5403,180 @@ pub mod chain11_wide {
         let x208 = x198 / x201;
         let x209 = x199 / x201;
         let x210 = x200 / x201;
-        let x211 = x61 * x113 + x6 * x114 + x89 * x115 + x6 * x116 + x88 * x117
-            - x104 * x118 - c11 * x119;
+        let x211 = <f32 as ::trocar::Real>::mul_add(
+            -c11,
+            x119,
+            <f32 as ::trocar::Real>::mul_add(
+                -x104,
+                x118,
+                <f32 as ::trocar::Real>::mul_add(
+                    x88,
+                    x117,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x6,
+                        x116,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x89,
+                            x115,
+                            <f32 as ::trocar::Real>::mul_add(x61, x113, x6 * x114),
+                        ),
+                    ),
+                ),
+            ),
+        );
         let x212 = x112 * x211;
-        let x213 = x61 - x113 * x211;
-        let x214 = x6 - x114 * x211;
-        let x215 = x89 - x115 * x211;
-        let x216 = x6 - x116 * x211;
-        let x217 = x88 - x117 * x211;
-        let x218 = x104 + x118 * x211;
-        let x219 = c11 + x119 * x211;
+        let x213 = <f32 as ::trocar::Real>::mul_add(-x113, x211, x61);
+        let x214 = <f32 as ::trocar::Real>::mul_add(-x114, x211, x6);
+        let x215 = <f32 as ::trocar::Real>::mul_add(-x115, x211, x89);
+        let x216 = <f32 as ::trocar::Real>::mul_add(-x116, x211, x6);
+        let x217 = <f32 as ::trocar::Real>::mul_add(-x117, x211, x88);
+        let x218 = <f32 as ::trocar::Real>::mul_add(x118, x211, x104);
+        let x219 = <f32 as ::trocar::Real>::mul_add(x119, x211, c11);
         let x220 = x120 * x211;
-        let x221 = x133 * x213 - x132 * x212 + x134 * x214 + x135 * x215 + x136 * x216
-            + x137 * x217 - x138 * x218 + x139 * x219 + x140 * x220;
-        let x222 = x212 + x132 * x221;
-        let x223 = x213 - x133 * x221;
-        let x224 = x214 - x134 * x221;
-        let x225 = x215 - x135 * x221;
-        let x226 = x216 - x136 * x221;
-        let x227 = x217 - x137 * x221;
-        let x228 = x218 + x138 * x221;
-        let x229 = x219 - x139 * x221;
-        let x230 = x140 * x221 - x220;
-        let x231 = x163 * x223 - x162 * x222 + x164 * x224 + x165 * x225 + x166 * x226
-            + x167 * x227 - x168 * x228 + x169 * x229 + x170 * x230;
-        let x232 = x222 + x162 * x231;
-        let x233 = x223 - x163 * x231;
-        let x234 = x224 - x164 * x231;
-        let x235 = x225 - x165 * x231;
-        let x236 = x226 - x166 * x231;
-        let x237 = x227 - x167 * x231;
-        let x238 = x228 + x168 * x231;
-        let x239 = x229 - x169 * x231;
-        let x240 = x230 - x170 * x231;
-        let x241 = x202 * x232 + x203 * x233 + x204 * x234 + x205 * x235 + x206 * x236
-            + x207 * x237 - x208 * x238 + x209 * x239 + x210 * x240;
-        let x242 = x202 * x241 - x232;
-        let x243 = x233 - x203 * x241;
-        let x244 = x234 - x204 * x241;
-        let x245 = x235 - x205 * x241;
-        let x246 = x236 - x206 * x241;
-        let x247 = x237 - x207 * x241;
-        let x248 = x238 + x208 * x241;
-        let x249 = x239 - x209 * x241;
-        let x250 = x240 - x210 * x241;
+        let x221 = <f32 as ::trocar::Real>::mul_add(
+            x140,
+            x220,
+            <f32 as ::trocar::Real>::mul_add(
+                x139,
+                x219,
+                <f32 as ::trocar::Real>::mul_add(
+                    -x138,
+                    x218,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x137,
+                        x217,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x136,
+                            x216,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x135,
+                                x215,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x134,
+                                    x214,
+                                    <f32 as ::trocar::Real>::mul_add(x133, x213, -(x132 * x212)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x222 = <f32 as ::trocar::Real>::mul_add(x132, x221, x212);
+        let x223 = <f32 as ::trocar::Real>::mul_add(-x133, x221, x213);
+        let x224 = <f32 as ::trocar::Real>::mul_add(-x134, x221, x214);
+        let x225 = <f32 as ::trocar::Real>::mul_add(-x135, x221, x215);
+        let x226 = <f32 as ::trocar::Real>::mul_add(-x136, x221, x216);
+        let x227 = <f32 as ::trocar::Real>::mul_add(-x137, x221, x217);
+        let x228 = <f32 as ::trocar::Real>::mul_add(x138, x221, x218);
+        let x229 = <f32 as ::trocar::Real>::mul_add(-x139, x221, x219);
+        let x230 = <f32 as ::trocar::Real>::mul_add(x140, x221, -x220);
+        let x231 = <f32 as ::trocar::Real>::mul_add(
+            x170,
+            x230,
+            <f32 as ::trocar::Real>::mul_add(
+                x169,
+                x229,
+                <f32 as ::trocar::Real>::mul_add(
+                    -x168,
+                    x228,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x167,
+                        x227,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x166,
+                            x226,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x165,
+                                x225,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x164,
+                                    x224,
+                                    <f32 as ::trocar::Real>::mul_add(x163, x223, -(x162 * x222)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x232 = <f32 as ::trocar::Real>::mul_add(x162, x231, x222);
+        let x233 = <f32 as ::trocar::Real>::mul_add(-x163, x231, x223);
+        let x234 = <f32 as ::trocar::Real>::mul_add(-x164, x231, x224);
+        let x235 = <f32 as ::trocar::Real>::mul_add(-x165, x231, x225);
+        let x236 = <f32 as ::trocar::Real>::mul_add(-x166, x231, x226);
+        let x237 = <f32 as ::trocar::Real>::mul_add(-x167, x231, x227);
+        let x238 = <f32 as ::trocar::Real>::mul_add(x168, x231, x228);
+        let x239 = <f32 as ::trocar::Real>::mul_add(-x169, x231, x229);
+        let x240 = <f32 as ::trocar::Real>::mul_add(-x170, x231, x230);
+        let x241 = <f32 as ::trocar::Real>::mul_add(
+            x210,
+            x240,
+            <f32 as ::trocar::Real>::mul_add(
+                x209,
+                x239,
+                <f32 as ::trocar::Real>::mul_add(
+                    -x208,
+                    x238,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x207,
+                        x237,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x206,
+                            x236,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x205,
+                                x235,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x204,
+                                    x234,
+                                    <f32 as ::trocar::Real>::mul_add(x202, x232, x203 * x233),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x242 = <f32 as ::trocar::Real>::mul_add(x202, x241, -x232);
+        let x243 = <f32 as ::trocar::Real>::mul_add(-x203, x241, x233);
+        let x244 = <f32 as ::trocar::Real>::mul_add(-x204, x241, x234);
+        let x245 = <f32 as ::trocar::Real>::mul_add(-x205, x241, x235);
+        let x246 = <f32 as ::trocar::Real>::mul_add(-x206, x241, x236);
+        let x247 = <f32 as ::trocar::Real>::mul_add(-x207, x241, x237);
+        let x248 = <f32 as ::trocar::Real>::mul_add(x208, x241, x238);
+        let x249 = <f32 as ::trocar::Real>::mul_add(-x209, x241, x239);
+        let x250 = <f32 as ::trocar::Real>::mul_add(-x210, x241, x240);
         let x251 = <f32 as ::trocar::Real>::sqrt(
-            x242 * x242 + x243 * x243 + x244 * x244 + x245 * x245 + x246 * x246
-                + x247 * x247 + x248 * x248 + x249 * x249 + x250 * x250,
+            <f32 as ::trocar::Real>::mul_add(
+                x250,
+                x250,
+                <f32 as ::trocar::Real>::mul_add(
+                    x249,
+                    x249,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x248,
+                        x248,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x247,
+                            x247,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x246,
+                                x246,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x245,
+                                    x245,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        x244,
+                                        x244,
+                                        <f32 as ::trocar::Real>::mul_add(x242, x242, x243 * x243),
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
         );
         let x252 = x242 / x251;
         let x253 = x243 / x251;
@@ -2627,65 +5588,219 @@ pub mod chain11_wide {
         let x259 = x249 / x251;
         let x260 = x250 / x251;
         let x261 = x120
-            + (x62 * x113 + x9 * x114 + x90 * x115 + x9 * x116 + x103 * x117
-                + s10 * x118);
+            + <f32 as ::trocar::Real>::mul_add(
+                s10,
+                x118,
+                <f32 as ::trocar::Real>::mul_add(
+                    x103,
+                    x117,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x9,
+                        x116,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x90,
+                            x115,
+                            <f32 as ::trocar::Real>::mul_add(x62, x113, x9 * x114),
+                        ),
+                    ),
+                ),
+            );
         let x262 = x112 * x261;
-        let x263 = x62 - x113 * x261;
-        let x264 = x9 - x114 * x261;
-        let x265 = x90 - x115 * x261;
-        let x266 = x9 - x116 * x261;
-        let x267 = x103 - x117 * x261;
-        let x268 = s10 - x118 * x261;
+        let x263 = <f32 as ::trocar::Real>::mul_add(-x113, x261, x62);
+        let x264 = <f32 as ::trocar::Real>::mul_add(-x114, x261, x9);
+        let x265 = <f32 as ::trocar::Real>::mul_add(-x115, x261, x90);
+        let x266 = <f32 as ::trocar::Real>::mul_add(-x116, x261, x9);
+        let x267 = <f32 as ::trocar::Real>::mul_add(-x117, x261, x103);
+        let x268 = <f32 as ::trocar::Real>::mul_add(-x118, x261, s10);
         let x269 = x119 * x261;
-        let x270 = <f32 as ::trocar::Real>::ONE - x120 * x261;
-        let x271 = x133 * x263 - x132 * x262 + x134 * x264 + x135 * x265 + x136 * x266
-            + x137 * x267 + x138 * x268 + x139 * x269 - x140 * x270;
-        let x272 = x262 + x132 * x271;
-        let x273 = x263 - x133 * x271;
-        let x274 = x264 - x134 * x271;
-        let x275 = x265 - x135 * x271;
-        let x276 = x266 - x136 * x271;
-        let x277 = x267 - x137 * x271;
-        let x278 = x268 - x138 * x271;
-        let x279 = x269 - x139 * x271;
-        let x280 = x270 + x140 * x271;
-        let x281 = x163 * x273 - x162 * x272 + x164 * x274 + x165 * x275 + x166 * x276
-            + x167 * x277 + x168 * x278 + x169 * x279 + x170 * x280;
-        let x282 = x272 + x162 * x281;
-        let x283 = x273 - x163 * x281;
-        let x284 = x274 - x164 * x281;
-        let x285 = x275 - x165 * x281;
-        let x286 = x276 - x166 * x281;
-        let x287 = x277 - x167 * x281;
-        let x288 = x278 - x168 * x281;
-        let x289 = x279 - x169 * x281;
-        let x290 = x280 - x170 * x281;
-        let x291 = x202 * x282 + x203 * x283 + x204 * x284 + x205 * x285 + x206 * x286
-            + x207 * x287 + x208 * x288 + x209 * x289 + x210 * x290;
-        let x292 = x202 * x291 - x282;
-        let x293 = x283 - x203 * x291;
-        let x294 = x284 - x204 * x291;
-        let x295 = x285 - x205 * x291;
-        let x296 = x286 - x206 * x291;
-        let x297 = x287 - x207 * x291;
-        let x298 = x288 - x208 * x291;
-        let x299 = x289 - x209 * x291;
-        let x300 = x290 - x210 * x291;
-        let x301 = x252 * x292 + x253 * x293 + x254 * x294 + x255 * x295 + x256 * x296
-            + x257 * x297 - x258 * x298 + x259 * x299 + x260 * x300;
-        let x302 = x292 - x252 * x301;
-        let x303 = x293 - x253 * x301;
-        let x304 = x294 - x254 * x301;
-        let x305 = x295 - x255 * x301;
-        let x306 = x296 - x256 * x301;
-        let x307 = x297 - x257 * x301;
-        let x308 = x298 + x258 * x301;
-        let x309 = x299 - x259 * x301;
-        let x310 = x300 - x260 * x301;
+        let x270 = <f32 as ::trocar::Real>::mul_add(
+            -x120,
+            x261,
+            <f32 as ::trocar::Real>::ONE,
+        );
+        let x271 = <f32 as ::trocar::Real>::mul_add(
+            -x140,
+            x270,
+            <f32 as ::trocar::Real>::mul_add(
+                x139,
+                x269,
+                <f32 as ::trocar::Real>::mul_add(
+                    x138,
+                    x268,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x137,
+                        x267,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x136,
+                            x266,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x135,
+                                x265,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x134,
+                                    x264,
+                                    <f32 as ::trocar::Real>::mul_add(x133, x263, -(x132 * x262)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x272 = <f32 as ::trocar::Real>::mul_add(x132, x271, x262);
+        let x273 = <f32 as ::trocar::Real>::mul_add(-x133, x271, x263);
+        let x274 = <f32 as ::trocar::Real>::mul_add(-x134, x271, x264);
+        let x275 = <f32 as ::trocar::Real>::mul_add(-x135, x271, x265);
+        let x276 = <f32 as ::trocar::Real>::mul_add(-x136, x271, x266);
+        let x277 = <f32 as ::trocar::Real>::mul_add(-x137, x271, x267);
+        let x278 = <f32 as ::trocar::Real>::mul_add(-x138, x271, x268);
+        let x279 = <f32 as ::trocar::Real>::mul_add(-x139, x271, x269);
+        let x280 = <f32 as ::trocar::Real>::mul_add(x140, x271, x270);
+        let x281 = <f32 as ::trocar::Real>::mul_add(
+            x170,
+            x280,
+            <f32 as ::trocar::Real>::mul_add(
+                x169,
+                x279,
+                <f32 as ::trocar::Real>::mul_add(
+                    x168,
+                    x278,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x167,
+                        x277,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x166,
+                            x276,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x165,
+                                x275,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x164,
+                                    x274,
+                                    <f32 as ::trocar::Real>::mul_add(x163, x273, -(x162 * x272)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x282 = <f32 as ::trocar::Real>::mul_add(x162, x281, x272);
+        let x283 = <f32 as ::trocar::Real>::mul_add(-x163, x281, x273);
+        let x284 = <f32 as ::trocar::Real>::mul_add(-x164, x281, x274);
+        let x285 = <f32 as ::trocar::Real>::mul_add(-x165, x281, x275);
+        let x286 = <f32 as ::trocar::Real>::mul_add(-x166, x281, x276);
+        let x287 = <f32 as ::trocar::Real>::mul_add(-x167, x281, x277);
+        let x288 = <f32 as ::trocar::Real>::mul_add(-x168, x281, x278);
+        let x289 = <f32 as ::trocar::Real>::mul_add(-x169, x281, x279);
+        let x290 = <f32 as ::trocar::Real>::mul_add(-x170, x281, x280);
+        let x291 = <f32 as ::trocar::Real>::mul_add(
+            x210,
+            x290,
+            <f32 as ::trocar::Real>::mul_add(
+                x209,
+                x289,
+                <f32 as ::trocar::Real>::mul_add(
+                    x208,
+                    x288,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x207,
+                        x287,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x206,
+                            x286,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x205,
+                                x285,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x204,
+                                    x284,
+                                    <f32 as ::trocar::Real>::mul_add(x202, x282, x203 * x283),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x292 = <f32 as ::trocar::Real>::mul_add(x202, x291, -x282);
+        let x293 = <f32 as ::trocar::Real>::mul_add(-x203, x291, x283);
+        let x294 = <f32 as ::trocar::Real>::mul_add(-x204, x291, x284);
+        let x295 = <f32 as ::trocar::Real>::mul_add(-x205, x291, x285);
+        let x296 = <f32 as ::trocar::Real>::mul_add(-x206, x291, x286);
+        let x297 = <f32 as ::trocar::Real>::mul_add(-x207, x291, x287);
+        let x298 = <f32 as ::trocar::Real>::mul_add(-x208, x291, x288);
+        let x299 = <f32 as ::trocar::Real>::mul_add(-x209, x291, x289);
+        let x300 = <f32 as ::trocar::Real>::mul_add(-x210, x291, x290);
+        let x301 = <f32 as ::trocar::Real>::mul_add(
+            x260,
+            x300,
+            <f32 as ::trocar::Real>::mul_add(
+                x259,
+                x299,
+                <f32 as ::trocar::Real>::mul_add(
+                    -x258,
+                    x298,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x257,
+                        x297,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x256,
+                            x296,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x255,
+                                x295,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x254,
+                                    x294,
+                                    <f32 as ::trocar::Real>::mul_add(x252, x292, x253 * x293),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x302 = <f32 as ::trocar::Real>::mul_add(-x252, x301, x292);
+        let x303 = <f32 as ::trocar::Real>::mul_add(-x253, x301, x293);
+        let x304 = <f32 as ::trocar::Real>::mul_add(-x254, x301, x294);
+        let x305 = <f32 as ::trocar::Real>::mul_add(-x255, x301, x295);
+        let x306 = <f32 as ::trocar::Real>::mul_add(-x256, x301, x296);
+        let x307 = <f32 as ::trocar::Real>::mul_add(-x257, x301, x297);
+        let x308 = <f32 as ::trocar::Real>::mul_add(x258, x301, x298);
+        let x309 = <f32 as ::trocar::Real>::mul_add(-x259, x301, x299);
+        let x310 = <f32 as ::trocar::Real>::mul_add(-x260, x301, x300);
         let x311 = x111 * x131 * x161 * x201 * x251
             * <f32 as ::trocar::Real>::sqrt(
-                x302 * x302 + x303 * x303 + x304 * x304 + x305 * x305 + x306 * x306
-                    + x307 * x307 + x308 * x308 + x309 * x309 + x310 * x310,
+                <f32 as ::trocar::Real>::mul_add(
+                    x310,
+                    x310,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x309,
+                        x309,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x308,
+                            x308,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x307,
+                                x307,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x306,
+                                    x306,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        x305,
+                                        x305,
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            x304,
+                                            x304,
+                                            <f32 as ::trocar::Real>::mul_add(x302, x302, x303 * x303),
+                                        ),
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
             );
         {
             let w = x311 * x311;
@@ -2706,11 +5821,15 @@ pub mod chain11_wide {
     pub fn manipulability_squared_trig(t: &JointTrig, p: &Params) -> f32 {
         let x0 = t.sin[8] * t.sin[9];
         let x1 = t.sin[10] * t.cos[8];
-        let x2 = x0 * t.cos[10] + x1;
+        let x2 = <f32 as ::trocar::Real>::mul_add(x0, t.cos[10], x1);
         let x3 = t.sin[7] * t.cos[9];
-        let x4 = x2 * t.cos[7] + t.cos[10] * x3;
+        let x4 = <f32 as ::trocar::Real>::mul_add(x2, t.cos[7], t.cos[10] * x3);
         let x5 = t.cos[8] * t.cos[7];
-        let x6 = t.cos[10] * x5 - t.sin[10] * (x3 + x0 * t.cos[7]);
+        let x6 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[10],
+            x5,
+            -(t.sin[10] * <f32 as ::trocar::Real>::mul_add(x0, t.cos[7], x3)),
+        );
         let x7 = t.sin[9] * t.sin[7];
         let x8 = t.cos[9] * (t.sin[8] * t.cos[7]);
         let x9 = x7 - x8;
@@ -2718,42 +5837,88 @@ pub mod chain11_wide {
         let x11 = 0.005_f32 * t.sin[7];
         let x12 = x10 - x11;
         let x13 = 0.1_f32 * t.cos[7];
-        let x14 = 0.22_f32 + 0.03_f32 * t.sin[8];
+        let x14 = <f32 as ::trocar::Real>::mul_add(0.03_f32, t.sin[8], 0.22_f32);
         let x15 = t.cos[7] * x14;
-        let x16 = t.cos[8] * (x12 - x13) - x15;
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x12 - x13, -x15);
         let x17 = 0.22_f32 * t.sin[8];
         let x18 = 0.03_f32 + x17;
         let x19 = 0.02_f32 * t.cos[8];
-        let x20 = x19 - t.cos[9] * x18;
+        let x20 = <f32 as ::trocar::Real>::mul_add(-t.cos[9], x18, x19);
         let x21 = 0.02_f32 * t.sin[9];
         let x22 = 0.005_f32 - x21;
         let x23 = 0.02_f32 * t.cos[9];
         let x24 = 0.03_f32 * t.cos[8];
-        let x25 = t.sin[8] * (t.sin[7] * x22 + (0.23_f32 + x13 - p.l_a))
-            + t.cos[7] * (x23 - x24);
+        let x25 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            <f32 as ::trocar::Real>::mul_add(t.sin[7], x22, 0.23_f32 + x13 - p.l_a),
+            t.cos[7] * (x23 - x24),
+        );
         let x26 = t.sin[8] * t.sin[7];
-        let x27 = t.cos[9] * x26 + t.sin[9] * t.cos[7];
+        let x27 = <f32 as ::trocar::Real>::mul_add(t.cos[9], x26, t.sin[9] * t.cos[7]);
         let x28 = 0.23_f32 - p.l_a;
         let x29 = t.sin[7] * x28;
         let x30 = 0.005_f32 + x29;
         let x31 = t.cos[7] * x10;
-        let x32 = 0.1_f32 + 0.22_f32 * t.cos[8];
+        let x32 = <f32 as ::trocar::Real>::mul_add(0.22_f32, t.cos[8], 0.1_f32);
         let x33 = x31 - x32;
         let x34 = x22 + x29;
-        let x35 = (t.cos[10] * (t.sin[9] * x16 + t.sin[7] * x20)
-            + (t.sin[10] * x25 - 0.09_f32 * x27)) * t.cos[6]
-            + (t.cos[10] * (t.sin[8] * (t.sin[9] * x30 - 0.02_f32) + t.cos[9] * x33)
-                + t.cos[8] * (t.sin[10] * x34 - 0.09_f32 * t.cos[9])) * t.sin[6];
+        let x35 = <f32 as ::trocar::Real>::mul_add(
+            <f32 as ::trocar::Real>::mul_add(
+                t.cos[10],
+                <f32 as ::trocar::Real>::mul_add(t.sin[9], x16, t.sin[7] * x20),
+                <f32 as ::trocar::Real>::mul_add(t.sin[10], x25, -(0.09_f32 * x27)),
+            ),
+            t.cos[6],
+            <f32 as ::trocar::Real>::mul_add(
+                t.cos[10],
+                <f32 as ::trocar::Real>::mul_add(
+                    t.sin[8],
+                    <f32 as ::trocar::Real>::mul_add(t.sin[9], x30, -0.02_f32),
+                    t.cos[9] * x33,
+                ),
+                t.cos[8]
+                    * <f32 as ::trocar::Real>::mul_add(
+                        t.sin[10],
+                        x34,
+                        -(0.09_f32 * t.cos[9]),
+                    ),
+            ) * t.sin[6],
+        );
         let x36 = 0.23_f32 + x11;
-        let x37 = x15 + t.cos[8] * (x13 + x36 - p.l_a);
-        let x38 = t.sin[7] * x10 - 0.005_f32;
-        let x39 = x32 + t.cos[7] * x28;
-        let x40 = t.sin[8] * t.sin[6] - t.cos[8] * (t.sin[7] * t.cos[6]);
-        let x41 = t.sin[10]
-            * (t.sin[9] * (t.cos[6] * x37 + t.sin[6] * (t.sin[8] * x38))
-                + (t.cos[9] * (t.sin[6] * x39 + t.sin[7] * (x18 * t.cos[6]))
-                    + 0.02_f32 * x40))
-            + t.cos[10] * (x25 * t.cos[6] + t.sin[6] * (t.cos[8] * x34));
+        let x37 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x13 + x36 - p.l_a, x15);
+        let x38 = <f32 as ::trocar::Real>::mul_add(t.sin[7], x10, -0.005_f32);
+        let x39 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x28, x32);
+        let x40 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            t.sin[6],
+            -(t.cos[8] * (t.sin[7] * t.cos[6])),
+        );
+        let x41 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[10],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[9],
+                <f32 as ::trocar::Real>::mul_add(
+                    t.cos[6],
+                    x37,
+                    t.sin[6] * (t.sin[8] * x38),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    t.cos[9],
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[6],
+                        x39,
+                        t.sin[7] * (x18 * t.cos[6]),
+                    ),
+                    0.02_f32 * x40,
+                ),
+            ),
+            t.cos[10]
+                * <f32 as ::trocar::Real>::mul_add(
+                    x25,
+                    t.cos[6],
+                    t.sin[6] * (t.cos[8] * x34),
+                ),
+        );
         let x42 = 0.1_f32 * t.cos[8];
         let x43 = x14 + x42;
         let x44 = 0.09_f32 * t.cos[10];
@@ -2764,91 +5929,239 @@ pub mod chain11_wide {
         let x49 = t.sin[9] * (0.03_f32 + x48);
         let x50 = 0.09_f32 * x1;
         let x51 = t.sin[7] * (x49 + x50);
-        let x52 = 0.1_f32 + t.cos[8] * x47;
+        let x52 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x47, 0.1_f32);
         let x53 = 0.09_f32 * t.sin[10];
-        let x54 = t.sin[9] * (x31 - x52) + t.sin[8] * (t.cos[9] * x38 + x53);
-        let x55 = t.cos[6] * (t.cos[9] * (x46 + t.cos[8] * (x36 - p.l_a)) - x51)
-            + t.sin[6] * x54;
+        let x54 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[9],
+            x31 - x52,
+            t.sin[8] * <f32 as ::trocar::Real>::mul_add(t.cos[9], x38, x53),
+        );
+        let x55 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[6],
+            <f32 as ::trocar::Real>::mul_add(
+                t.cos[9],
+                <f32 as ::trocar::Real>::mul_add(t.cos[8], x36 - p.l_a, x46),
+                -x51,
+            ),
+            t.sin[6] * x54,
+        );
         let x56 = x2 * t.sin[7];
         let x57 = t.cos[10] * (t.cos[7] * t.cos[9]);
-        let x58 = t.sin[8] * t.sin[10] - t.cos[10] * (t.sin[9] * t.cos[8]);
-        let x59 = t.cos[6] * (x57 - x56) + t.sin[6] * x58;
+        let x58 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            t.sin[10],
+            -(t.cos[10] * (t.sin[9] * t.cos[8])),
+        );
+        let x59 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x57 - x56, t.sin[6] * x58);
         let x60 = t.cos[8] * t.sin[6];
-        let x61 = t.sin[10]
-            * (t.sin[9] * (x60 + x26 * t.cos[6]) - t.cos[9] * (t.cos[7] * t.cos[6]))
-            + t.cos[10] * x40;
-        let x62 = x27 * t.cos[6] + t.cos[9] * x60;
-        let x63 = 0.03_f32 + 0.02_f32 * t.sin[6];
+        let x61 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[10],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[9],
+                <f32 as ::trocar::Real>::mul_add(x26, t.cos[6], x60),
+                -(t.cos[9] * (t.cos[7] * t.cos[6])),
+            ),
+            t.cos[10] * x40,
+        );
+        let x62 = <f32 as ::trocar::Real>::mul_add(x27, t.cos[6], t.cos[9] * x60);
+        let x63 = <f32 as ::trocar::Real>::mul_add(0.02_f32, t.sin[6], 0.03_f32);
         let x64 = t.sin[8] * x63;
         let x65 = 0.22_f32 + x42;
         let x66 = t.sin[7] * (x64 + x65);
         let x67 = 0.02_f32 * t.cos[6];
-        let x68 = t.cos[8] * (x67 + 0.005_f32 * t.cos[7]);
+        let x68 = t.cos[8] * <f32 as ::trocar::Real>::mul_add(0.005_f32, t.cos[7], x67);
         let x69 = t.cos[9] * (x17 + x63);
-        let x70 = x23 + 0.1_f32 * t.sin[8];
+        let x70 = <f32 as ::trocar::Real>::mul_add(0.1_f32, t.sin[8], x23);
         let x71 = x21 - 0.005_f32;
         let x72 = t.cos[7] * x71;
-        let x73 = t.sin[7] * (x70 - t.cos[8] * x63) + t.sin[8] * (x72 - x67);
-        let x74 = t.cos[10] * (t.sin[9] * (x68 - x66) + t.cos[7] * (x69 - x19))
-            + (t.sin[10] * x73 + 0.09_f32 * (x8 - x7));
-        let x75 = t.sin[10] * (t.sin[9] * (x66 - x68) + t.cos[7] * (x19 - x69))
-            + t.cos[10] * x73;
-        let x76 = t.cos[9] * (t.sin[7] * (x64 + (x44 + x65)) - x68)
-            + t.cos[7] * (x50 + t.sin[9] * (x48 + x63));
+        let x73 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            <f32 as ::trocar::Real>::mul_add(-t.cos[8], x63, x70),
+            t.sin[8] * (x72 - x67),
+        );
+        let x74 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[10],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[9],
+                x68 - x66,
+                t.cos[7] * (x69 - x19),
+            ),
+            <f32 as ::trocar::Real>::mul_add(t.sin[10], x73, 0.09_f32 * (x8 - x7)),
+        );
+        let x75 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[10],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[9],
+                x66 - x68,
+                t.cos[7] * (x19 - x69),
+            ),
+            t.cos[10] * x73,
+        );
+        let x76 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[9],
+            <f32 as ::trocar::Real>::mul_add(t.sin[7], x64 + (x44 + x65), -x68),
+            t.cos[7] * <f32 as ::trocar::Real>::mul_add(t.sin[9], x48 + x63, x50),
+        );
         let x77 = 0.02_f32 * t.cos[7];
-        let x78 = t.sin[7] * (0.02_f32 + x18 * t.sin[6]);
-        let x79 = 0.02_f32 * (t.cos[8] * (t.sin[7] * t.sin[6]) + t.sin[8] * t.cos[6]);
-        let x80 = t.sin[6]
-            * (t.sin[8] * (t.sin[7] * x71 + (x10 - x13)) + t.cos[7] * (x24 - x23))
-            + t.cos[8] * (x77 + t.cos[6] * x34);
+        let x78 = t.sin[7] * <f32 as ::trocar::Real>::mul_add(x18, t.sin[6], 0.02_f32);
+        let x79 = 0.02_f32
+            * <f32 as ::trocar::Real>::mul_add(
+                t.cos[8],
+                t.sin[7] * t.sin[6],
+                t.sin[8] * t.cos[6],
+            );
+        let x80 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[6],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[8],
+                <f32 as ::trocar::Real>::mul_add(t.sin[7], x71, x10 - x13),
+                t.cos[7] * (x24 - x23),
+            ),
+            t.cos[8] * <f32 as ::trocar::Real>::mul_add(t.cos[6], x34, x77),
+        );
         let x81 = x27 * t.sin[6];
         let x82 = t.cos[9] * (t.cos[8] * t.cos[6]);
-        let x83 = t.cos[10]
-            * (t.sin[9] * (t.sin[6] * x37 + t.sin[8] * (t.cos[6] * x30 + x77))
-                + (t.cos[9] * (t.cos[6] * x33 + x78) - x79))
-            + (t.sin[10] * x80 + 0.09_f32 * (x81 - x82));
-        let x84 = t.sin[10]
-            * (t.sin[9] * (x16 * t.sin[6] + t.sin[8] * (t.cos[6] * x38 - x77))
-                + (x79 + t.cos[9] * (t.cos[6] * x39 - x78))) + t.cos[10] * x80;
-        let x85 = t.sin[6] * (x51 + t.cos[9] * (t.cos[8] * x12 - x46))
-            + (t.cos[6] * x54 + 0.02_f32 * x9);
-        let x86 = t.sin[6] * (x56 - x57) + t.cos[6] * x58;
+        let x83 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[10],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[9],
+                <f32 as ::trocar::Real>::mul_add(
+                    t.sin[6],
+                    x37,
+                    t.sin[8] * <f32 as ::trocar::Real>::mul_add(t.cos[6], x30, x77),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    t.cos[9],
+                    <f32 as ::trocar::Real>::mul_add(t.cos[6], x33, x78),
+                    -x79,
+                ),
+            ),
+            <f32 as ::trocar::Real>::mul_add(t.sin[10], x80, 0.09_f32 * (x81 - x82)),
+        );
+        let x84 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[10],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[9],
+                <f32 as ::trocar::Real>::mul_add(
+                    x16,
+                    t.sin[6],
+                    t.sin[8] * <f32 as ::trocar::Real>::mul_add(t.cos[6], x38, -x77),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    t.cos[9],
+                    <f32 as ::trocar::Real>::mul_add(t.cos[6], x39, -x78),
+                    x79,
+                ),
+            ),
+            t.cos[10] * x80,
+        );
+        let x85 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[6],
+            <f32 as ::trocar::Real>::mul_add(
+                t.cos[9],
+                <f32 as ::trocar::Real>::mul_add(t.cos[8], x12, -x46),
+                x51,
+            ),
+            <f32 as ::trocar::Real>::mul_add(t.cos[6], x54, 0.02_f32 * x9),
+        );
+        let x86 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x56 - x57, t.cos[6] * x58);
         let x87 = t.sin[9] * t.sin[10];
-        let x88 = t.sin[8] * t.cos[10] + t.cos[8] * x87;
-        let x89 = t.sin[6]
-            * (t.sin[7] * (t.cos[10] * t.cos[8] - x0 * t.sin[10])
-                + t.cos[9] * (t.sin[10] * t.cos[7])) + t.cos[6] * x88;
+        let x88 = <f32 as ::trocar::Real>::mul_add(t.sin[8], t.cos[10], t.cos[8] * x87);
+        let x89 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[6],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[7],
+                <f32 as ::trocar::Real>::mul_add(t.cos[10], t.cos[8], -(x0 * t.sin[10])),
+                t.cos[9] * (t.sin[10] * t.cos[7]),
+            ),
+            t.cos[6] * x88,
+        );
         let x90 = x82 - x81;
         let x91 = x70 - x24;
-        let x92 = 0.09_f32 + 0.22_f32 * t.cos[10];
+        let x92 = <f32 as ::trocar::Real>::mul_add(0.22_f32, t.cos[10], 0.09_f32);
         let x93 = t.cos[9] * x92;
         let x94 = 0.005_f32 * t.sin[9];
         let x95 = x94 - 0.02_f32;
-        let x96 = t.sin[7] * (t.sin[10] * x91 - t.sin[9] * (0.09_f32 + t.cos[10] * x43))
-            + t.cos[7]
-                * (t.sin[8] * (t.sin[10] * x71 + x93)
-                    + t.cos[10] * (t.cos[8] * x95 + 0.03_f32 * t.cos[9]));
-        let x97 = t.sin[10]
-            * (t.sin[9] * (t.sin[7] * x43 - 0.005_f32 * x5) + t.cos[7] * x20)
-            + t.cos[10] * (t.sin[7] * x91 + t.sin[8] * x72);
-        let x98 = x53 - 0.005_f32 * t.cos[9];
-        let x99 = t.cos[7] * (x49 + t.cos[8] * x98) + t.sin[7] * (t.cos[9] * x45);
-        let x100 = t.cos[8] * (t.sin[10] * x22 - x93)
-            + t.cos[10] * (t.sin[8] * x95 - 0.1_f32 * t.cos[9]);
-        let x101 = t.sin[10] * (t.sin[8] * (0.02_f32 - x94) + t.cos[9] * x32)
-            + t.cos[8] * (t.cos[10] * x22);
-        let x102 = t.sin[8] * x98 - t.sin[9] * x52;
+        let x96 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[10],
+                x91,
+                -(t.sin[9] * <f32 as ::trocar::Real>::mul_add(t.cos[10], x43, 0.09_f32)),
+            ),
+            t.cos[7]
+                * <f32 as ::trocar::Real>::mul_add(
+                    t.sin[8],
+                    <f32 as ::trocar::Real>::mul_add(t.sin[10], x71, x93),
+                    t.cos[10]
+                        * <f32 as ::trocar::Real>::mul_add(
+                            t.cos[8],
+                            x95,
+                            0.03_f32 * t.cos[9],
+                        ),
+                ),
+        );
+        let x97 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[10],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[9],
+                <f32 as ::trocar::Real>::mul_add(t.sin[7], x43, -(0.005_f32 * x5)),
+                t.cos[7] * x20,
+            ),
+            t.cos[10] * <f32 as ::trocar::Real>::mul_add(t.sin[7], x91, t.sin[8] * x72),
+        );
+        let x98 = <f32 as ::trocar::Real>::mul_add(-0.005_f32, t.cos[9], x53);
+        let x99 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[7],
+            <f32 as ::trocar::Real>::mul_add(t.cos[8], x98, x49),
+            t.sin[7] * (t.cos[9] * x45),
+        );
+        let x100 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[8],
+            <f32 as ::trocar::Real>::mul_add(t.sin[10], x22, -x93),
+            t.cos[10]
+                * <f32 as ::trocar::Real>::mul_add(t.sin[8], x95, -(0.1_f32 * t.cos[9])),
+        );
+        let x101 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[10],
+            <f32 as ::trocar::Real>::mul_add(t.sin[8], 0.02_f32 - x94, t.cos[9] * x32),
+            t.cos[8] * (t.cos[10] * x22),
+        );
+        let x102 = <f32 as ::trocar::Real>::mul_add(t.sin[8], x98, -(t.sin[9] * x52));
         let x103 = t.cos[8] * t.cos[9];
         let x104 = t.sin[10] * t.cos[9];
-        let x105 = 0.02_f32 * x104 - t.sin[9] * x92;
+        let x105 = <f32 as ::trocar::Real>::mul_add(0.02_f32, x104, -(t.sin[9] * x92));
         let x106 = t.cos[10] * t.cos[9];
-        let x107 = 0.22_f32 * x87 + 0.02_f32 * x106;
+        let x107 = <f32 as ::trocar::Real>::mul_add(0.22_f32, x87, 0.02_f32 * x106);
         let x108 = t.cos[9] * x47;
         let x109 = 0.02_f32 * t.cos[10];
         let x110 = 0.02_f32 * t.sin[10];
         let x111 = <f32 as ::trocar::Real>::sqrt(
-            x4 * x4 + x35 * x35 + x74 * x74 + x83 * x83 + x96 * x96 + x100 * x100
-                + x105 * x105 + x109 * x109 + 0.0081_f32,
+            <f32 as ::trocar::Real>::mul_add(
+                x109,
+                x109,
+                <f32 as ::trocar::Real>::mul_add(
+                    x105,
+                    x105,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x100,
+                        x100,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x96,
+                            x96,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x83,
+                                x83,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x74,
+                                    x74,
+                                    <f32 as ::trocar::Real>::mul_add(x4, x4, x35 * x35),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ) + 0.0081_f32,
         );
         let x112 = x4 / x111;
         let x113 = x35 / x111;
@@ -2859,20 +6172,70 @@ pub mod chain11_wide {
         let x118 = x105 / x111;
         let x119 = x109 / x111;
         let x120 = -0.09_f32 / x111;
-        let x121 = x6 * x112 + x41 * x113 + x75 * x114 + x84 * x115 + x97 * x116
-            + x101 * x117 + x107 * x118 - x110 * x119;
-        let x122 = x6 - x112 * x121;
-        let x123 = x41 - x113 * x121;
-        let x124 = x75 - x114 * x121;
-        let x125 = x84 - x115 * x121;
-        let x126 = x97 - x116 * x121;
-        let x127 = x101 - x117 * x121;
-        let x128 = x107 - x118 * x121;
-        let x129 = x110 + x119 * x121;
+        let x121 = <f32 as ::trocar::Real>::mul_add(
+            -x110,
+            x119,
+            <f32 as ::trocar::Real>::mul_add(
+                x107,
+                x118,
+                <f32 as ::trocar::Real>::mul_add(
+                    x101,
+                    x117,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x97,
+                        x116,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x84,
+                            x115,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x75,
+                                x114,
+                                <f32 as ::trocar::Real>::mul_add(x6, x112, x41 * x113),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x122 = <f32 as ::trocar::Real>::mul_add(-x112, x121, x6);
+        let x123 = <f32 as ::trocar::Real>::mul_add(-x113, x121, x41);
+        let x124 = <f32 as ::trocar::Real>::mul_add(-x114, x121, x75);
+        let x125 = <f32 as ::trocar::Real>::mul_add(-x115, x121, x84);
+        let x126 = <f32 as ::trocar::Real>::mul_add(-x116, x121, x97);
+        let x127 = <f32 as ::trocar::Real>::mul_add(-x117, x121, x101);
+        let x128 = <f32 as ::trocar::Real>::mul_add(-x118, x121, x107);
+        let x129 = <f32 as ::trocar::Real>::mul_add(x119, x121, x110);
         let x130 = x120 * x121;
         let x131 = <f32 as ::trocar::Real>::sqrt(
-            x122 * x122 + x123 * x123 + x124 * x124 + x125 * x125 + x126 * x126
-                + x127 * x127 + x128 * x128 + x129 * x129 + x130 * x130,
+            <f32 as ::trocar::Real>::mul_add(
+                x130,
+                x130,
+                <f32 as ::trocar::Real>::mul_add(
+                    x129,
+                    x129,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x128,
+                        x128,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x127,
+                            x127,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x126,
+                                x126,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x125,
+                                    x125,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        x124,
+                                        x124,
+                                        <f32 as ::trocar::Real>::mul_add(x122, x122, x123 * x123),
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
         );
         let x132 = x122 / x131;
         let x133 = x123 / x131;
@@ -2883,31 +6246,108 @@ pub mod chain11_wide {
         let x138 = x128 / x131;
         let x139 = x129 / x131;
         let x140 = x130 / x131;
-        let x141 = x9 * x112 + x55 * x113 + x76 * x114 + x85 * x115 + x99 * x116
-            + x102 * x117 + x108 * x118 - x53 * x119;
-        let x142 = x9 - x112 * x141;
-        let x143 = x55 - x113 * x141;
-        let x144 = x76 - x114 * x141;
-        let x145 = x85 - x115 * x141;
-        let x146 = x99 - x116 * x141;
-        let x147 = x102 - x117 * x141;
-        let x148 = x108 - x118 * x141;
-        let x149 = x53 + x119 * x141;
+        let x141 = <f32 as ::trocar::Real>::mul_add(
+            -x53,
+            x119,
+            <f32 as ::trocar::Real>::mul_add(
+                x108,
+                x118,
+                <f32 as ::trocar::Real>::mul_add(
+                    x102,
+                    x117,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x99,
+                        x116,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x85,
+                            x115,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x76,
+                                x114,
+                                <f32 as ::trocar::Real>::mul_add(x9, x112, x55 * x113),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x142 = <f32 as ::trocar::Real>::mul_add(-x112, x141, x9);
+        let x143 = <f32 as ::trocar::Real>::mul_add(-x113, x141, x55);
+        let x144 = <f32 as ::trocar::Real>::mul_add(-x114, x141, x76);
+        let x145 = <f32 as ::trocar::Real>::mul_add(-x115, x141, x85);
+        let x146 = <f32 as ::trocar::Real>::mul_add(-x116, x141, x99);
+        let x147 = <f32 as ::trocar::Real>::mul_add(-x117, x141, x102);
+        let x148 = <f32 as ::trocar::Real>::mul_add(-x118, x141, x108);
+        let x149 = <f32 as ::trocar::Real>::mul_add(x119, x141, x53);
         let x150 = x120 * x141;
-        let x151 = x132 * x142 + x133 * x143 + x134 * x144 + x135 * x145 + x136 * x146
-            + x137 * x147 + x138 * x148 + x139 * x149 + x140 * x150;
-        let x152 = x142 - x132 * x151;
-        let x153 = x143 - x133 * x151;
-        let x154 = x144 - x134 * x151;
-        let x155 = x145 - x135 * x151;
-        let x156 = x146 - x136 * x151;
-        let x157 = x147 - x137 * x151;
-        let x158 = x148 - x138 * x151;
-        let x159 = x149 - x139 * x151;
-        let x160 = x140 * x151 - x150;
+        let x151 = <f32 as ::trocar::Real>::mul_add(
+            x140,
+            x150,
+            <f32 as ::trocar::Real>::mul_add(
+                x139,
+                x149,
+                <f32 as ::trocar::Real>::mul_add(
+                    x138,
+                    x148,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x137,
+                        x147,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x136,
+                            x146,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x135,
+                                x145,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x134,
+                                    x144,
+                                    <f32 as ::trocar::Real>::mul_add(x132, x142, x133 * x143),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x152 = <f32 as ::trocar::Real>::mul_add(-x132, x151, x142);
+        let x153 = <f32 as ::trocar::Real>::mul_add(-x133, x151, x143);
+        let x154 = <f32 as ::trocar::Real>::mul_add(-x134, x151, x144);
+        let x155 = <f32 as ::trocar::Real>::mul_add(-x135, x151, x145);
+        let x156 = <f32 as ::trocar::Real>::mul_add(-x136, x151, x146);
+        let x157 = <f32 as ::trocar::Real>::mul_add(-x137, x151, x147);
+        let x158 = <f32 as ::trocar::Real>::mul_add(-x138, x151, x148);
+        let x159 = <f32 as ::trocar::Real>::mul_add(-x139, x151, x149);
+        let x160 = <f32 as ::trocar::Real>::mul_add(x140, x151, -x150);
         let x161 = <f32 as ::trocar::Real>::sqrt(
-            x152 * x152 + x153 * x153 + x154 * x154 + x155 * x155 + x156 * x156
-                + x157 * x157 + x158 * x158 + x159 * x159 + x160 * x160,
+            <f32 as ::trocar::Real>::mul_add(
+                x160,
+                x160,
+                <f32 as ::trocar::Real>::mul_add(
+                    x159,
+                    x159,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x158,
+                        x158,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x157,
+                            x157,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x156,
+                                x156,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x155,
+                                    x155,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        x154,
+                                        x154,
+                                        <f32 as ::trocar::Real>::mul_add(x152, x152, x153 * x153),
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
         );
         let x162 = x152 / x161;
         let x163 = x153 / x161;
@@ -2918,42 +6358,142 @@ pub mod chain11_wide {
         let x168 = x158 / x161;
         let x169 = x159 / x161;
         let x170 = x160 / x161;
-        let x171 = x59 * x113 + x4 * x114 + x86 * x115 + x4 * x116 + x58 * x117
-            + x106 * x118 - t.sin[10] * x119;
+        let x171 = <f32 as ::trocar::Real>::mul_add(
+            -t.sin[10],
+            x119,
+            <f32 as ::trocar::Real>::mul_add(
+                x106,
+                x118,
+                <f32 as ::trocar::Real>::mul_add(
+                    x58,
+                    x117,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x4,
+                        x116,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x86,
+                            x115,
+                            <f32 as ::trocar::Real>::mul_add(x59, x113, x4 * x114),
+                        ),
+                    ),
+                ),
+            ),
+        );
         let x172 = x112 * x171;
-        let x173 = x59 - x113 * x171;
-        let x174 = x4 - x114 * x171;
-        let x175 = x86 - x115 * x171;
-        let x176 = x4 - x116 * x171;
-        let x177 = x58 - x117 * x171;
-        let x178 = x106 - x118 * x171;
-        let x179 = t.sin[10] + x119 * x171;
+        let x173 = <f32 as ::trocar::Real>::mul_add(-x113, x171, x59);
+        let x174 = <f32 as ::trocar::Real>::mul_add(-x114, x171, x4);
+        let x175 = <f32 as ::trocar::Real>::mul_add(-x115, x171, x86);
+        let x176 = <f32 as ::trocar::Real>::mul_add(-x116, x171, x4);
+        let x177 = <f32 as ::trocar::Real>::mul_add(-x117, x171, x58);
+        let x178 = <f32 as ::trocar::Real>::mul_add(-x118, x171, x106);
+        let x179 = <f32 as ::trocar::Real>::mul_add(x119, x171, t.sin[10]);
         let x180 = x120 * x171;
-        let x181 = x133 * x173 - x132 * x172 + x134 * x174 + x135 * x175 + x136 * x176
-            + x137 * x177 + x138 * x178 + x139 * x179 + x140 * x180;
-        let x182 = x172 + x132 * x181;
-        let x183 = x173 - x133 * x181;
-        let x184 = x174 - x134 * x181;
-        let x185 = x175 - x135 * x181;
-        let x186 = x176 - x136 * x181;
-        let x187 = x177 - x137 * x181;
-        let x188 = x178 - x138 * x181;
-        let x189 = x179 - x139 * x181;
-        let x190 = x140 * x181 - x180;
-        let x191 = x163 * x183 - x162 * x182 + x164 * x184 + x165 * x185 + x166 * x186
-            + x167 * x187 + x168 * x188 + x169 * x189 + x170 * x190;
-        let x192 = x182 + x162 * x191;
-        let x193 = x183 - x163 * x191;
-        let x194 = x184 - x164 * x191;
-        let x195 = x185 - x165 * x191;
-        let x196 = x186 - x166 * x191;
-        let x197 = x187 - x167 * x191;
-        let x198 = x188 - x168 * x191;
-        let x199 = x189 - x169 * x191;
-        let x200 = x190 - x170 * x191;
+        let x181 = <f32 as ::trocar::Real>::mul_add(
+            x140,
+            x180,
+            <f32 as ::trocar::Real>::mul_add(
+                x139,
+                x179,
+                <f32 as ::trocar::Real>::mul_add(
+                    x138,
+                    x178,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x137,
+                        x177,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x136,
+                            x176,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x135,
+                                x175,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x134,
+                                    x174,
+                                    <f32 as ::trocar::Real>::mul_add(x133, x173, -(x132 * x172)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x182 = <f32 as ::trocar::Real>::mul_add(x132, x181, x172);
+        let x183 = <f32 as ::trocar::Real>::mul_add(-x133, x181, x173);
+        let x184 = <f32 as ::trocar::Real>::mul_add(-x134, x181, x174);
+        let x185 = <f32 as ::trocar::Real>::mul_add(-x135, x181, x175);
+        let x186 = <f32 as ::trocar::Real>::mul_add(-x136, x181, x176);
+        let x187 = <f32 as ::trocar::Real>::mul_add(-x137, x181, x177);
+        let x188 = <f32 as ::trocar::Real>::mul_add(-x138, x181, x178);
+        let x189 = <f32 as ::trocar::Real>::mul_add(-x139, x181, x179);
+        let x190 = <f32 as ::trocar::Real>::mul_add(x140, x181, -x180);
+        let x191 = <f32 as ::trocar::Real>::mul_add(
+            x170,
+            x190,
+            <f32 as ::trocar::Real>::mul_add(
+                x169,
+                x189,
+                <f32 as ::trocar::Real>::mul_add(
+                    x168,
+                    x188,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x167,
+                        x187,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x166,
+                            x186,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x165,
+                                x185,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x164,
+                                    x184,
+                                    <f32 as ::trocar::Real>::mul_add(x163, x183, -(x162 * x182)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x192 = <f32 as ::trocar::Real>::mul_add(x162, x191, x182);
+        let x193 = <f32 as ::trocar::Real>::mul_add(-x163, x191, x183);
+        let x194 = <f32 as ::trocar::Real>::mul_add(-x164, x191, x184);
+        let x195 = <f32 as ::trocar::Real>::mul_add(-x165, x191, x185);
+        let x196 = <f32 as ::trocar::Real>::mul_add(-x166, x191, x186);
+        let x197 = <f32 as ::trocar::Real>::mul_add(-x167, x191, x187);
+        let x198 = <f32 as ::trocar::Real>::mul_add(-x168, x191, x188);
+        let x199 = <f32 as ::trocar::Real>::mul_add(-x169, x191, x189);
+        let x200 = <f32 as ::trocar::Real>::mul_add(-x170, x191, x190);
         let x201 = <f32 as ::trocar::Real>::sqrt(
-            x192 * x192 + x193 * x193 + x194 * x194 + x195 * x195 + x196 * x196
-                + x197 * x197 + x198 * x198 + x199 * x199 + x200 * x200,
+            <f32 as ::trocar::Real>::mul_add(
+                x200,
+                x200,
+                <f32 as ::trocar::Real>::mul_add(
+                    x199,
+                    x199,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x198,
+                        x198,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x197,
+                            x197,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x196,
+                                x196,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x195,
+                                    x195,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        x194,
+                                        x194,
+                                        <f32 as ::trocar::Real>::mul_add(x192, x192, x193 * x193),
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
         );
         let x202 = x192 / x201;
         let x203 = x193 / x201;
@@ -2964,53 +6504,180 @@ pub mod chain11_wide {
         let x208 = x198 / x201;
         let x209 = x199 / x201;
         let x210 = x200 / x201;
-        let x211 = x61 * x113 + x6 * x114 + x89 * x115 + x6 * x116 + x88 * x117
-            - x104 * x118 - t.cos[10] * x119;
+        let x211 = <f32 as ::trocar::Real>::mul_add(
+            -t.cos[10],
+            x119,
+            <f32 as ::trocar::Real>::mul_add(
+                -x104,
+                x118,
+                <f32 as ::trocar::Real>::mul_add(
+                    x88,
+                    x117,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x6,
+                        x116,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x89,
+                            x115,
+                            <f32 as ::trocar::Real>::mul_add(x61, x113, x6 * x114),
+                        ),
+                    ),
+                ),
+            ),
+        );
         let x212 = x112 * x211;
-        let x213 = x61 - x113 * x211;
-        let x214 = x6 - x114 * x211;
-        let x215 = x89 - x115 * x211;
-        let x216 = x6 - x116 * x211;
-        let x217 = x88 - x117 * x211;
-        let x218 = x104 + x118 * x211;
-        let x219 = t.cos[10] + x119 * x211;
+        let x213 = <f32 as ::trocar::Real>::mul_add(-x113, x211, x61);
+        let x214 = <f32 as ::trocar::Real>::mul_add(-x114, x211, x6);
+        let x215 = <f32 as ::trocar::Real>::mul_add(-x115, x211, x89);
+        let x216 = <f32 as ::trocar::Real>::mul_add(-x116, x211, x6);
+        let x217 = <f32 as ::trocar::Real>::mul_add(-x117, x211, x88);
+        let x218 = <f32 as ::trocar::Real>::mul_add(x118, x211, x104);
+        let x219 = <f32 as ::trocar::Real>::mul_add(x119, x211, t.cos[10]);
         let x220 = x120 * x211;
-        let x221 = x133 * x213 - x132 * x212 + x134 * x214 + x135 * x215 + x136 * x216
-            + x137 * x217 - x138 * x218 + x139 * x219 + x140 * x220;
-        let x222 = x212 + x132 * x221;
-        let x223 = x213 - x133 * x221;
-        let x224 = x214 - x134 * x221;
-        let x225 = x215 - x135 * x221;
-        let x226 = x216 - x136 * x221;
-        let x227 = x217 - x137 * x221;
-        let x228 = x218 + x138 * x221;
-        let x229 = x219 - x139 * x221;
-        let x230 = x140 * x221 - x220;
-        let x231 = x163 * x223 - x162 * x222 + x164 * x224 + x165 * x225 + x166 * x226
-            + x167 * x227 - x168 * x228 + x169 * x229 + x170 * x230;
-        let x232 = x222 + x162 * x231;
-        let x233 = x223 - x163 * x231;
-        let x234 = x224 - x164 * x231;
-        let x235 = x225 - x165 * x231;
-        let x236 = x226 - x166 * x231;
-        let x237 = x227 - x167 * x231;
-        let x238 = x228 + x168 * x231;
-        let x239 = x229 - x169 * x231;
-        let x240 = x230 - x170 * x231;
-        let x241 = x202 * x232 + x203 * x233 + x204 * x234 + x205 * x235 + x206 * x236
-            + x207 * x237 - x208 * x238 + x209 * x239 + x210 * x240;
-        let x242 = x202 * x241 - x232;
-        let x243 = x233 - x203 * x241;
-        let x244 = x234 - x204 * x241;
-        let x245 = x235 - x205 * x241;
-        let x246 = x236 - x206 * x241;
-        let x247 = x237 - x207 * x241;
-        let x248 = x238 + x208 * x241;
-        let x249 = x239 - x209 * x241;
-        let x250 = x240 - x210 * x241;
+        let x221 = <f32 as ::trocar::Real>::mul_add(
+            x140,
+            x220,
+            <f32 as ::trocar::Real>::mul_add(
+                x139,
+                x219,
+                <f32 as ::trocar::Real>::mul_add(
+                    -x138,
+                    x218,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x137,
+                        x217,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x136,
+                            x216,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x135,
+                                x215,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x134,
+                                    x214,
+                                    <f32 as ::trocar::Real>::mul_add(x133, x213, -(x132 * x212)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x222 = <f32 as ::trocar::Real>::mul_add(x132, x221, x212);
+        let x223 = <f32 as ::trocar::Real>::mul_add(-x133, x221, x213);
+        let x224 = <f32 as ::trocar::Real>::mul_add(-x134, x221, x214);
+        let x225 = <f32 as ::trocar::Real>::mul_add(-x135, x221, x215);
+        let x226 = <f32 as ::trocar::Real>::mul_add(-x136, x221, x216);
+        let x227 = <f32 as ::trocar::Real>::mul_add(-x137, x221, x217);
+        let x228 = <f32 as ::trocar::Real>::mul_add(x138, x221, x218);
+        let x229 = <f32 as ::trocar::Real>::mul_add(-x139, x221, x219);
+        let x230 = <f32 as ::trocar::Real>::mul_add(x140, x221, -x220);
+        let x231 = <f32 as ::trocar::Real>::mul_add(
+            x170,
+            x230,
+            <f32 as ::trocar::Real>::mul_add(
+                x169,
+                x229,
+                <f32 as ::trocar::Real>::mul_add(
+                    -x168,
+                    x228,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x167,
+                        x227,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x166,
+                            x226,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x165,
+                                x225,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x164,
+                                    x224,
+                                    <f32 as ::trocar::Real>::mul_add(x163, x223, -(x162 * x222)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x232 = <f32 as ::trocar::Real>::mul_add(x162, x231, x222);
+        let x233 = <f32 as ::trocar::Real>::mul_add(-x163, x231, x223);
+        let x234 = <f32 as ::trocar::Real>::mul_add(-x164, x231, x224);
+        let x235 = <f32 as ::trocar::Real>::mul_add(-x165, x231, x225);
+        let x236 = <f32 as ::trocar::Real>::mul_add(-x166, x231, x226);
+        let x237 = <f32 as ::trocar::Real>::mul_add(-x167, x231, x227);
+        let x238 = <f32 as ::trocar::Real>::mul_add(x168, x231, x228);
+        let x239 = <f32 as ::trocar::Real>::mul_add(-x169, x231, x229);
+        let x240 = <f32 as ::trocar::Real>::mul_add(-x170, x231, x230);
+        let x241 = <f32 as ::trocar::Real>::mul_add(
+            x210,
+            x240,
+            <f32 as ::trocar::Real>::mul_add(
+                x209,
+                x239,
+                <f32 as ::trocar::Real>::mul_add(
+                    -x208,
+                    x238,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x207,
+                        x237,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x206,
+                            x236,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x205,
+                                x235,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x204,
+                                    x234,
+                                    <f32 as ::trocar::Real>::mul_add(x202, x232, x203 * x233),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x242 = <f32 as ::trocar::Real>::mul_add(x202, x241, -x232);
+        let x243 = <f32 as ::trocar::Real>::mul_add(-x203, x241, x233);
+        let x244 = <f32 as ::trocar::Real>::mul_add(-x204, x241, x234);
+        let x245 = <f32 as ::trocar::Real>::mul_add(-x205, x241, x235);
+        let x246 = <f32 as ::trocar::Real>::mul_add(-x206, x241, x236);
+        let x247 = <f32 as ::trocar::Real>::mul_add(-x207, x241, x237);
+        let x248 = <f32 as ::trocar::Real>::mul_add(x208, x241, x238);
+        let x249 = <f32 as ::trocar::Real>::mul_add(-x209, x241, x239);
+        let x250 = <f32 as ::trocar::Real>::mul_add(-x210, x241, x240);
         let x251 = <f32 as ::trocar::Real>::sqrt(
-            x242 * x242 + x243 * x243 + x244 * x244 + x245 * x245 + x246 * x246
-                + x247 * x247 + x248 * x248 + x249 * x249 + x250 * x250,
+            <f32 as ::trocar::Real>::mul_add(
+                x250,
+                x250,
+                <f32 as ::trocar::Real>::mul_add(
+                    x249,
+                    x249,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x248,
+                        x248,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x247,
+                            x247,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x246,
+                                x246,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x245,
+                                    x245,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        x244,
+                                        x244,
+                                        <f32 as ::trocar::Real>::mul_add(x242, x242, x243 * x243),
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
         );
         let x252 = x242 / x251;
         let x253 = x243 / x251;
@@ -3022,65 +6689,219 @@ pub mod chain11_wide {
         let x259 = x249 / x251;
         let x260 = x250 / x251;
         let x261 = x120
-            + (x62 * x113 + x9 * x114 + x90 * x115 + x9 * x116 + x103 * x117
-                + t.sin[9] * x118);
+            + <f32 as ::trocar::Real>::mul_add(
+                t.sin[9],
+                x118,
+                <f32 as ::trocar::Real>::mul_add(
+                    x103,
+                    x117,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x9,
+                        x116,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x90,
+                            x115,
+                            <f32 as ::trocar::Real>::mul_add(x62, x113, x9 * x114),
+                        ),
+                    ),
+                ),
+            );
         let x262 = x112 * x261;
-        let x263 = x62 - x113 * x261;
-        let x264 = x9 - x114 * x261;
-        let x265 = x90 - x115 * x261;
-        let x266 = x9 - x116 * x261;
-        let x267 = x103 - x117 * x261;
-        let x268 = t.sin[9] - x118 * x261;
+        let x263 = <f32 as ::trocar::Real>::mul_add(-x113, x261, x62);
+        let x264 = <f32 as ::trocar::Real>::mul_add(-x114, x261, x9);
+        let x265 = <f32 as ::trocar::Real>::mul_add(-x115, x261, x90);
+        let x266 = <f32 as ::trocar::Real>::mul_add(-x116, x261, x9);
+        let x267 = <f32 as ::trocar::Real>::mul_add(-x117, x261, x103);
+        let x268 = <f32 as ::trocar::Real>::mul_add(-x118, x261, t.sin[9]);
         let x269 = x119 * x261;
-        let x270 = <f32 as ::trocar::Real>::ONE - x120 * x261;
-        let x271 = x133 * x263 - x132 * x262 + x134 * x264 + x135 * x265 + x136 * x266
-            + x137 * x267 + x138 * x268 + x139 * x269 - x140 * x270;
-        let x272 = x262 + x132 * x271;
-        let x273 = x263 - x133 * x271;
-        let x274 = x264 - x134 * x271;
-        let x275 = x265 - x135 * x271;
-        let x276 = x266 - x136 * x271;
-        let x277 = x267 - x137 * x271;
-        let x278 = x268 - x138 * x271;
-        let x279 = x269 - x139 * x271;
-        let x280 = x270 + x140 * x271;
-        let x281 = x163 * x273 - x162 * x272 + x164 * x274 + x165 * x275 + x166 * x276
-            + x167 * x277 + x168 * x278 + x169 * x279 + x170 * x280;
-        let x282 = x272 + x162 * x281;
-        let x283 = x273 - x163 * x281;
-        let x284 = x274 - x164 * x281;
-        let x285 = x275 - x165 * x281;
-        let x286 = x276 - x166 * x281;
-        let x287 = x277 - x167 * x281;
-        let x288 = x278 - x168 * x281;
-        let x289 = x279 - x169 * x281;
-        let x290 = x280 - x170 * x281;
-        let x291 = x202 * x282 + x203 * x283 + x204 * x284 + x205 * x285 + x206 * x286
-            + x207 * x287 + x208 * x288 + x209 * x289 + x210 * x290;
-        let x292 = x202 * x291 - x282;
-        let x293 = x283 - x203 * x291;
-        let x294 = x284 - x204 * x291;
-        let x295 = x285 - x205 * x291;
-        let x296 = x286 - x206 * x291;
-        let x297 = x287 - x207 * x291;
-        let x298 = x288 - x208 * x291;
-        let x299 = x289 - x209 * x291;
-        let x300 = x290 - x210 * x291;
-        let x301 = x252 * x292 + x253 * x293 + x254 * x294 + x255 * x295 + x256 * x296
-            + x257 * x297 - x258 * x298 + x259 * x299 + x260 * x300;
-        let x302 = x292 - x252 * x301;
-        let x303 = x293 - x253 * x301;
-        let x304 = x294 - x254 * x301;
-        let x305 = x295 - x255 * x301;
-        let x306 = x296 - x256 * x301;
-        let x307 = x297 - x257 * x301;
-        let x308 = x298 + x258 * x301;
-        let x309 = x299 - x259 * x301;
-        let x310 = x300 - x260 * x301;
+        let x270 = <f32 as ::trocar::Real>::mul_add(
+            -x120,
+            x261,
+            <f32 as ::trocar::Real>::ONE,
+        );
+        let x271 = <f32 as ::trocar::Real>::mul_add(
+            -x140,
+            x270,
+            <f32 as ::trocar::Real>::mul_add(
+                x139,
+                x269,
+                <f32 as ::trocar::Real>::mul_add(
+                    x138,
+                    x268,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x137,
+                        x267,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x136,
+                            x266,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x135,
+                                x265,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x134,
+                                    x264,
+                                    <f32 as ::trocar::Real>::mul_add(x133, x263, -(x132 * x262)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x272 = <f32 as ::trocar::Real>::mul_add(x132, x271, x262);
+        let x273 = <f32 as ::trocar::Real>::mul_add(-x133, x271, x263);
+        let x274 = <f32 as ::trocar::Real>::mul_add(-x134, x271, x264);
+        let x275 = <f32 as ::trocar::Real>::mul_add(-x135, x271, x265);
+        let x276 = <f32 as ::trocar::Real>::mul_add(-x136, x271, x266);
+        let x277 = <f32 as ::trocar::Real>::mul_add(-x137, x271, x267);
+        let x278 = <f32 as ::trocar::Real>::mul_add(-x138, x271, x268);
+        let x279 = <f32 as ::trocar::Real>::mul_add(-x139, x271, x269);
+        let x280 = <f32 as ::trocar::Real>::mul_add(x140, x271, x270);
+        let x281 = <f32 as ::trocar::Real>::mul_add(
+            x170,
+            x280,
+            <f32 as ::trocar::Real>::mul_add(
+                x169,
+                x279,
+                <f32 as ::trocar::Real>::mul_add(
+                    x168,
+                    x278,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x167,
+                        x277,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x166,
+                            x276,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x165,
+                                x275,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x164,
+                                    x274,
+                                    <f32 as ::trocar::Real>::mul_add(x163, x273, -(x162 * x272)),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x282 = <f32 as ::trocar::Real>::mul_add(x162, x281, x272);
+        let x283 = <f32 as ::trocar::Real>::mul_add(-x163, x281, x273);
+        let x284 = <f32 as ::trocar::Real>::mul_add(-x164, x281, x274);
+        let x285 = <f32 as ::trocar::Real>::mul_add(-x165, x281, x275);
+        let x286 = <f32 as ::trocar::Real>::mul_add(-x166, x281, x276);
+        let x287 = <f32 as ::trocar::Real>::mul_add(-x167, x281, x277);
+        let x288 = <f32 as ::trocar::Real>::mul_add(-x168, x281, x278);
+        let x289 = <f32 as ::trocar::Real>::mul_add(-x169, x281, x279);
+        let x290 = <f32 as ::trocar::Real>::mul_add(-x170, x281, x280);
+        let x291 = <f32 as ::trocar::Real>::mul_add(
+            x210,
+            x290,
+            <f32 as ::trocar::Real>::mul_add(
+                x209,
+                x289,
+                <f32 as ::trocar::Real>::mul_add(
+                    x208,
+                    x288,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x207,
+                        x287,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x206,
+                            x286,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x205,
+                                x285,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x204,
+                                    x284,
+                                    <f32 as ::trocar::Real>::mul_add(x202, x282, x203 * x283),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x292 = <f32 as ::trocar::Real>::mul_add(x202, x291, -x282);
+        let x293 = <f32 as ::trocar::Real>::mul_add(-x203, x291, x283);
+        let x294 = <f32 as ::trocar::Real>::mul_add(-x204, x291, x284);
+        let x295 = <f32 as ::trocar::Real>::mul_add(-x205, x291, x285);
+        let x296 = <f32 as ::trocar::Real>::mul_add(-x206, x291, x286);
+        let x297 = <f32 as ::trocar::Real>::mul_add(-x207, x291, x287);
+        let x298 = <f32 as ::trocar::Real>::mul_add(-x208, x291, x288);
+        let x299 = <f32 as ::trocar::Real>::mul_add(-x209, x291, x289);
+        let x300 = <f32 as ::trocar::Real>::mul_add(-x210, x291, x290);
+        let x301 = <f32 as ::trocar::Real>::mul_add(
+            x260,
+            x300,
+            <f32 as ::trocar::Real>::mul_add(
+                x259,
+                x299,
+                <f32 as ::trocar::Real>::mul_add(
+                    -x258,
+                    x298,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x257,
+                        x297,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x256,
+                            x296,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x255,
+                                x295,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x254,
+                                    x294,
+                                    <f32 as ::trocar::Real>::mul_add(x252, x292, x253 * x293),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x302 = <f32 as ::trocar::Real>::mul_add(-x252, x301, x292);
+        let x303 = <f32 as ::trocar::Real>::mul_add(-x253, x301, x293);
+        let x304 = <f32 as ::trocar::Real>::mul_add(-x254, x301, x294);
+        let x305 = <f32 as ::trocar::Real>::mul_add(-x255, x301, x295);
+        let x306 = <f32 as ::trocar::Real>::mul_add(-x256, x301, x296);
+        let x307 = <f32 as ::trocar::Real>::mul_add(-x257, x301, x297);
+        let x308 = <f32 as ::trocar::Real>::mul_add(x258, x301, x298);
+        let x309 = <f32 as ::trocar::Real>::mul_add(-x259, x301, x299);
+        let x310 = <f32 as ::trocar::Real>::mul_add(-x260, x301, x300);
         let x311 = x111 * x131 * x161 * x201 * x251
             * <f32 as ::trocar::Real>::sqrt(
-                x302 * x302 + x303 * x303 + x304 * x304 + x305 * x305 + x306 * x306
-                    + x307 * x307 + x308 * x308 + x309 * x309 + x310 * x310,
+                <f32 as ::trocar::Real>::mul_add(
+                    x310,
+                    x310,
+                    <f32 as ::trocar::Real>::mul_add(
+                        x309,
+                        x309,
+                        <f32 as ::trocar::Real>::mul_add(
+                            x308,
+                            x308,
+                            <f32 as ::trocar::Real>::mul_add(
+                                x307,
+                                x307,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x306,
+                                    x306,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        x305,
+                                        x305,
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            x304,
+                                            x304,
+                                            <f32 as ::trocar::Real>::mul_add(x302, x302, x303 * x303),
+                                        ),
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
             );
         {
             let w = x311 * x311;
@@ -3162,7 +6983,11 @@ pub mod chain11_wide {
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / (<f32 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+            / <f32 as ::trocar::Real>::mul_add(
+                p.l_a,
+                p.l_a,
+                <f32 as ::trocar::Real>::ONE,
+            );
         let x1 = p.l_a * x0;
         [
             [

@@ -82,117 +82,388 @@ pub mod chain9_prismatic {
         let ([s1, s2, s3, s5, s6, s7, s8, s9], [c1, c2, c3, c5, c6, c7, c8, c9]) = <f64 as ::trocar::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[4], q[5], q[6], q[7], q[8]],
         );
-        let x0 = 0.955336489125606_f64 * c2 - 0.29552020666133955_f64 * s2;
-        let x1 = 0.955336489125606_f64 * s2 + 0.29552020666133955_f64 * c2;
+        let x0 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            c2,
+            -(0.29552020666133955_f64 * s2),
+        );
+        let x1 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            s2,
+            0.29552020666133955_f64 * c2,
+        );
         let x2 = 0.8_f64 * s3;
         let x3 = 0.6_f64 * s3;
-        let x4 = 0.36_f64 + 0.64_f64 * c3;
+        let x4 = <f64 as ::trocar::Real>::mul_add(0.64_f64, c3, 0.36_f64);
         let x5 = 0.48_f64 * (<f64 as ::trocar::Real>::ONE - c3);
-        let x6 = 0.64_f64 + 0.36_f64 * c3;
+        let x6 = <f64 as ::trocar::Real>::mul_add(0.36_f64, c3, 0.64_f64);
         let x7 = 0.1_f64 + q[3];
-        let x8 = 0.3816559020950483_f64 * s5 + 0.19866933079506122_f64 * c5;
-        let x9 = 0.19866933079506122_f64 * s5 - 0.3816559020950483_f64 * c5;
-        let x10 = 0.9800665778412416_f64 * c5 - 0.07736548146578168_f64 * s5;
-        let x11 = 0.9800665778412416_f64 * s5 + 0.07736548146578168_f64 * c5;
+        let x8 = <f64 as ::trocar::Real>::mul_add(
+            0.3816559020950483_f64,
+            s5,
+            0.19866933079506122_f64 * c5,
+        );
+        let x9 = <f64 as ::trocar::Real>::mul_add(
+            0.19866933079506122_f64,
+            s5,
+            -(0.3816559020950483_f64 * c5),
+        );
+        let x10 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            c5,
+            -(0.07736548146578168_f64 * s5),
+        );
+        let x11 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            s5,
+            0.07736548146578168_f64 * c5,
+        );
         let x12 = 0.9210609940028851_f64 * s5;
         let x13 = 0.9210609940028851_f64 * c5;
-        let x14 = 0.64_f64 + 0.36_f64 * c8;
+        let x14 = <f64 as ::trocar::Real>::mul_add(0.36_f64, c8, 0.64_f64);
         let x15 = 0.6_f64 * s8;
         let x16 = 0.48_f64 * (<f64 as ::trocar::Real>::ONE - c8);
         let x17 = 0.8_f64 * s8;
-        let x18 = 0.36_f64 + 0.64_f64 * c8;
+        let x18 = <f64 as ::trocar::Real>::mul_add(0.64_f64, c8, 0.36_f64);
         let x19 = s1 * x0;
         let x20 = s1 * x1;
         let x21 = c1 * x0;
         let x22 = c1 * x1;
-        let x23 = c1 * c3 - x2 * x19 - x3 * x20;
-        let x24 = x5 * x20 - (c1 * x2 + x4 * x19);
-        let x25 = c1 * x3 - x5 * x19 + x6 * x20;
-        let x26 = s1 * c3 + x2 * x21 + x3 * x22;
-        let x27 = x4 * x21 - s1 * x2 - x5 * x22;
-        let x28 = s1 * x3 + x5 * x21 - x6 * x22;
-        let x29 = x1 * x2 - x0 * x3;
-        let x30 = x1 * x4 + x0 * x5;
-        let x31 = x1 * x5 + x0 * x6;
-        let x32 = 0.90270109637546_f64 * x23 + 0.18298657129998708_f64 * x24
-            + 0.3894183423086505_f64 * x25;
-        let x33 = x10 * x24 - x8 * x23 + x12 * x25;
-        let x34 = x9 * x23 - x11 * x24 + x13 * x25;
-        let x35 = 0.90270109637546_f64 * x26 + 0.18298657129998708_f64 * x27
-            + 0.3894183423086505_f64 * x28;
-        let x36 = x10 * x27 - x8 * x26 + x12 * x28;
-        let x37 = x9 * x26 - x11 * x27 + x13 * x28;
-        let x38 = 0.90270109637546_f64 * x29 + 0.18298657129998708_f64 * x30
-            + 0.3894183423086505_f64 * x31;
-        let x39 = x10 * x30 - x8 * x29 + x12 * x31;
-        let x40 = x9 * x29 - x11 * x30 + x13 * x31;
-        let x41 = c6 * x32 - s6 * x34;
-        let x42 = s6 * x32 + c6 * x34;
-        let x43 = c6 * x35 - s6 * x37;
-        let x44 = s6 * x35 + c6 * x37;
-        let x45 = c6 * x38 - s6 * x40;
-        let x46 = s6 * x38 + c6 * x40;
-        let x47 = c7 * x41 + s7 * x33;
-        let x48 = c7 * x33 - s7 * x41;
-        let x49 = c7 * x43 + s7 * x36;
-        let x50 = c7 * x36 - s7 * x43;
-        let x51 = c7 * x45 + s7 * x39;
-        let x52 = c7 * x39 - s7 * x45;
-        let x53 = x14 * x47 + x15 * x48 + x16 * x42;
-        let x54 = c8 * x48 - x15 * x47 + x17 * x42;
-        let x55 = x16 * x47 - x17 * x48 + x18 * x42;
-        let x56 = x14 * x49 + x15 * x50 + x16 * x44;
-        let x57 = c8 * x50 - x15 * x49 + x17 * x44;
-        let x58 = x16 * x49 - x17 * x50 + x18 * x44;
-        let x59 = x14 * x51 + x15 * x52 + x16 * x46;
-        let x60 = c8 * x52 - x15 * x51 + x17 * x46;
-        let x61 = x16 * x51 - x17 * x52 + x18 * x46;
-        let x62 = c9 * x53 - s9 * x55;
-        let x63 = s9 * x53 + c9 * x55;
-        let x64 = c9 * x56 - s9 * x58;
-        let x65 = s9 * x56 + c9 * x58;
-        let x66 = c9 * x59 - s9 * x61;
-        let x67 = s9 * x59 + c9 * x61;
+        let x23 = <f64 as ::trocar::Real>::mul_add(
+            -x3,
+            x20,
+            <f64 as ::trocar::Real>::mul_add(c1, c3, -(x2 * x19)),
+        );
+        let x24 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x20,
+            -<f64 as ::trocar::Real>::mul_add(c1, x2, x4 * x19),
+        );
+        let x25 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x20,
+            <f64 as ::trocar::Real>::mul_add(c1, x3, -(x5 * x19)),
+        );
+        let x26 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x22,
+            <f64 as ::trocar::Real>::mul_add(s1, c3, x2 * x21),
+        );
+        let x27 = <f64 as ::trocar::Real>::mul_add(
+            -x5,
+            x22,
+            <f64 as ::trocar::Real>::mul_add(x4, x21, -(s1 * x2)),
+        );
+        let x28 = <f64 as ::trocar::Real>::mul_add(
+            -x6,
+            x22,
+            <f64 as ::trocar::Real>::mul_add(s1, x3, x5 * x21),
+        );
+        let x29 = <f64 as ::trocar::Real>::mul_add(x1, x2, -(x0 * x3));
+        let x30 = <f64 as ::trocar::Real>::mul_add(x1, x4, x0 * x5);
+        let x31 = <f64 as ::trocar::Real>::mul_add(x1, x5, x0 * x6);
+        let x32 = <f64 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f64,
+            x25,
+            <f64 as ::trocar::Real>::mul_add(
+                0.90270109637546_f64,
+                x23,
+                0.18298657129998708_f64 * x24,
+            ),
+        );
+        let x33 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x25,
+            <f64 as ::trocar::Real>::mul_add(x10, x24, -(x8 * x23)),
+        );
+        let x34 = <f64 as ::trocar::Real>::mul_add(
+            x13,
+            x25,
+            <f64 as ::trocar::Real>::mul_add(x9, x23, -(x11 * x24)),
+        );
+        let x35 = <f64 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f64,
+            x28,
+            <f64 as ::trocar::Real>::mul_add(
+                0.90270109637546_f64,
+                x26,
+                0.18298657129998708_f64 * x27,
+            ),
+        );
+        let x36 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x28,
+            <f64 as ::trocar::Real>::mul_add(x10, x27, -(x8 * x26)),
+        );
+        let x37 = <f64 as ::trocar::Real>::mul_add(
+            x13,
+            x28,
+            <f64 as ::trocar::Real>::mul_add(x9, x26, -(x11 * x27)),
+        );
+        let x38 = <f64 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f64,
+            x31,
+            <f64 as ::trocar::Real>::mul_add(
+                0.90270109637546_f64,
+                x29,
+                0.18298657129998708_f64 * x30,
+            ),
+        );
+        let x39 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x31,
+            <f64 as ::trocar::Real>::mul_add(x10, x30, -(x8 * x29)),
+        );
+        let x40 = <f64 as ::trocar::Real>::mul_add(
+            x13,
+            x31,
+            <f64 as ::trocar::Real>::mul_add(x9, x29, -(x11 * x30)),
+        );
+        let x41 = <f64 as ::trocar::Real>::mul_add(c6, x32, -(s6 * x34));
+        let x42 = <f64 as ::trocar::Real>::mul_add(s6, x32, c6 * x34);
+        let x43 = <f64 as ::trocar::Real>::mul_add(c6, x35, -(s6 * x37));
+        let x44 = <f64 as ::trocar::Real>::mul_add(s6, x35, c6 * x37);
+        let x45 = <f64 as ::trocar::Real>::mul_add(c6, x38, -(s6 * x40));
+        let x46 = <f64 as ::trocar::Real>::mul_add(s6, x38, c6 * x40);
+        let x47 = <f64 as ::trocar::Real>::mul_add(c7, x41, s7 * x33);
+        let x48 = <f64 as ::trocar::Real>::mul_add(c7, x33, -(s7 * x41));
+        let x49 = <f64 as ::trocar::Real>::mul_add(c7, x43, s7 * x36);
+        let x50 = <f64 as ::trocar::Real>::mul_add(c7, x36, -(s7 * x43));
+        let x51 = <f64 as ::trocar::Real>::mul_add(c7, x45, s7 * x39);
+        let x52 = <f64 as ::trocar::Real>::mul_add(c7, x39, -(s7 * x45));
+        let x53 = <f64 as ::trocar::Real>::mul_add(
+            x16,
+            x42,
+            <f64 as ::trocar::Real>::mul_add(x14, x47, x15 * x48),
+        );
+        let x54 = <f64 as ::trocar::Real>::mul_add(
+            x17,
+            x42,
+            <f64 as ::trocar::Real>::mul_add(c8, x48, -(x15 * x47)),
+        );
+        let x55 = <f64 as ::trocar::Real>::mul_add(
+            x18,
+            x42,
+            <f64 as ::trocar::Real>::mul_add(x16, x47, -(x17 * x48)),
+        );
+        let x56 = <f64 as ::trocar::Real>::mul_add(
+            x16,
+            x44,
+            <f64 as ::trocar::Real>::mul_add(x14, x49, x15 * x50),
+        );
+        let x57 = <f64 as ::trocar::Real>::mul_add(
+            x17,
+            x44,
+            <f64 as ::trocar::Real>::mul_add(c8, x50, -(x15 * x49)),
+        );
+        let x58 = <f64 as ::trocar::Real>::mul_add(
+            x18,
+            x44,
+            <f64 as ::trocar::Real>::mul_add(x16, x49, -(x17 * x50)),
+        );
+        let x59 = <f64 as ::trocar::Real>::mul_add(
+            x16,
+            x46,
+            <f64 as ::trocar::Real>::mul_add(x14, x51, x15 * x52),
+        );
+        let x60 = <f64 as ::trocar::Real>::mul_add(
+            x17,
+            x46,
+            <f64 as ::trocar::Real>::mul_add(c8, x52, -(x15 * x51)),
+        );
+        let x61 = <f64 as ::trocar::Real>::mul_add(
+            x18,
+            x46,
+            <f64 as ::trocar::Real>::mul_add(x16, x51, -(x17 * x52)),
+        );
+        let x62 = <f64 as ::trocar::Real>::mul_add(c9, x53, -(s9 * x55));
+        let x63 = <f64 as ::trocar::Real>::mul_add(s9, x53, c9 * x55);
+        let x64 = <f64 as ::trocar::Real>::mul_add(c9, x56, -(s9 * x58));
+        let x65 = <f64 as ::trocar::Real>::mul_add(s9, x56, c9 * x58);
+        let x66 = <f64 as ::trocar::Real>::mul_add(c9, x59, -(s9 * x61));
+        let x67 = <f64 as ::trocar::Real>::mul_add(s9, x59, c9 * x61);
         (
             [
                 [
-                    0.9362933635841992_f64 * x62 + 0.28962947762551555_f64 * x54
-                        - 0.19866933079506122_f64 * x63,
-                    0.9362933635841992_f64 * x64 + 0.28962947762551555_f64 * x57
-                        - 0.19866933079506122_f64 * x65,
-                    0.9362933635841992_f64 * x66 + 0.28962947762551555_f64 * x60
-                        - 0.19866933079506122_f64 * x67,
+                    <f64 as ::trocar::Real>::mul_add(
+                        -0.19866933079506122_f64,
+                        x63,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.9362933635841992_f64,
+                            x62,
+                            0.28962947762551555_f64 * x54,
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        -0.19866933079506122_f64,
+                        x65,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.9362933635841992_f64,
+                            x64,
+                            0.28962947762551555_f64 * x57,
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        -0.19866933079506122_f64,
+                        x67,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.9362933635841992_f64,
+                            x66,
+                            0.28962947762551555_f64 * x60,
+                        ),
+                    ),
                 ],
                 [
-                    0.9564250858492325_f64 * x54 - 0.2750958473182437_f64 * x62
-                        + 0.09784339500725571_f64 * x63,
-                    0.9564250858492325_f64 * x57 - 0.2750958473182437_f64 * x64
-                        + 0.09784339500725571_f64 * x65,
-                    0.9564250858492325_f64 * x60 - 0.2750958473182437_f64 * x66
-                        + 0.09784339500725571_f64 * x67,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.09784339500725571_f64,
+                        x63,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.9564250858492325_f64,
+                            x54,
+                            -(0.2750958473182437_f64 * x62),
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.09784339500725571_f64,
+                        x65,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.9564250858492325_f64,
+                            x57,
+                            -(0.2750958473182437_f64 * x64),
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.09784339500725571_f64,
+                        x67,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.9564250858492325_f64,
+                            x60,
+                            -(0.2750958473182437_f64 * x66),
+                        ),
+                    ),
                 ],
                 [
-                    0.21835066314633444_f64 * x62 - 0.03695701352462508_f64 * x54
-                        + 0.975170327201816_f64 * x63,
-                    0.21835066314633444_f64 * x64 - 0.03695701352462508_f64 * x57
-                        + 0.975170327201816_f64 * x65,
-                    0.21835066314633444_f64 * x66 - 0.03695701352462508_f64 * x60
-                        + 0.975170327201816_f64 * x67,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.975170327201816_f64,
+                        x63,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.21835066314633444_f64,
+                            x62,
+                            -(0.03695701352462508_f64 * x54),
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.975170327201816_f64,
+                        x65,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.21835066314633444_f64,
+                            x64,
+                            -(0.03695701352462508_f64 * x57),
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.975170327201816_f64,
+                        x67,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.21835066314633444_f64,
+                            x66,
+                            -(0.03695701352462508_f64 * x60),
+                        ),
+                    ),
                 ],
             ],
             [
-                0.05_f64 * c1 - 0.02_f64 * s1 - (0.4_f64 * x19 + 0.03_f64 * x20)
-                    + (0.01_f64 * x23 + x7 * x24) + (0.25_f64 * x24 + 0.02_f64 * x25)
-                    + 0.05_f64 * x33 + (0.02_f64 * x41 + 0.3_f64 * x33) + 0.04_f64 * x48
-                    + (0.1_f64 * x54 + 0.01_f64 * x55) + 0.15_f64 * x54,
-                0.05_f64 * s1 + 0.02_f64 * c1 + (0.4_f64 * x21 + 0.03_f64 * x22)
-                    + (0.01_f64 * x26 + x7 * x27) + (0.25_f64 * x27 + 0.02_f64 * x28)
-                    + 0.05_f64 * x36 + (0.02_f64 * x43 + 0.3_f64 * x36) + 0.04_f64 * x50
-                    + (0.1_f64 * x57 + 0.01_f64 * x58) + 0.15_f64 * x57,
-                p.d_1 + 0.1_f64 + (0.4_f64 * x1 - 0.03_f64 * x0)
-                    + (0.01_f64 * x29 + x7 * x30) + (0.25_f64 * x30 + 0.02_f64 * x31)
-                    + 0.05_f64 * x39 + (0.02_f64 * x45 + 0.3_f64 * x39) + 0.04_f64 * x52
-                    + (0.1_f64 * x60 + 0.01_f64 * x61) + 0.15_f64 * x60,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.15_f64,
+                    x54,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.04_f64,
+                        x48,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.05_f64,
+                            x33,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.05_f64,
+                                c1,
+                                -(0.02_f64 * s1),
+                            )
+                                - <f64 as ::trocar::Real>::mul_add(
+                                    0.4_f64,
+                                    x19,
+                                    0.03_f64 * x20,
+                                )
+                                + <f64 as ::trocar::Real>::mul_add(0.01_f64, x23, x7 * x24)
+                                + <f64 as ::trocar::Real>::mul_add(
+                                    0.25_f64,
+                                    x24,
+                                    0.02_f64 * x25,
+                                ),
+                        )
+                            + <f64 as ::trocar::Real>::mul_add(
+                                0.02_f64,
+                                x41,
+                                0.3_f64 * x33,
+                            ),
+                    ) + <f64 as ::trocar::Real>::mul_add(0.1_f64, x54, 0.01_f64 * x55),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.15_f64,
+                    x57,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.04_f64,
+                        x50,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.05_f64,
+                            x36,
+                            <f64 as ::trocar::Real>::mul_add(0.05_f64, s1, 0.02_f64 * c1)
+                                + <f64 as ::trocar::Real>::mul_add(
+                                    0.4_f64,
+                                    x21,
+                                    0.03_f64 * x22,
+                                )
+                                + <f64 as ::trocar::Real>::mul_add(0.01_f64, x26, x7 * x27)
+                                + <f64 as ::trocar::Real>::mul_add(
+                                    0.25_f64,
+                                    x27,
+                                    0.02_f64 * x28,
+                                ),
+                        )
+                            + <f64 as ::trocar::Real>::mul_add(
+                                0.02_f64,
+                                x43,
+                                0.3_f64 * x36,
+                            ),
+                    ) + <f64 as ::trocar::Real>::mul_add(0.1_f64, x57, 0.01_f64 * x58),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.15_f64,
+                    x60,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.04_f64,
+                        x52,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.05_f64,
+                            x39,
+                            p.d_1 + 0.1_f64
+                                + <f64 as ::trocar::Real>::mul_add(
+                                    0.4_f64,
+                                    x1,
+                                    -(0.03_f64 * x0),
+                                )
+                                + <f64 as ::trocar::Real>::mul_add(0.01_f64, x29, x7 * x30)
+                                + <f64 as ::trocar::Real>::mul_add(
+                                    0.25_f64,
+                                    x30,
+                                    0.02_f64 * x31,
+                                ),
+                        )
+                            + <f64 as ::trocar::Real>::mul_add(
+                                0.02_f64,
+                                x45,
+                                0.3_f64 * x39,
+                            ),
+                    ) + <f64 as ::trocar::Real>::mul_add(0.1_f64, x60, 0.01_f64 * x61),
+                ),
             ],
         )
     }
@@ -207,119 +478,392 @@ pub mod chain9_prismatic {
         t: &JointTrig,
         p: &Params,
     ) -> ([[f64; 3]; 3], [f64; 3]) {
-        let x0 = 0.955336489125606_f64 * t.cos[1] - 0.29552020666133955_f64 * t.sin[1];
-        let x1 = 0.955336489125606_f64 * t.sin[1] + 0.29552020666133955_f64 * t.cos[1];
+        let x0 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            t.cos[1],
+            -(0.29552020666133955_f64 * t.sin[1]),
+        );
+        let x1 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            t.sin[1],
+            0.29552020666133955_f64 * t.cos[1],
+        );
         let x2 = 0.8_f64 * t.sin[2];
         let x3 = 0.6_f64 * t.sin[2];
-        let x4 = 0.36_f64 + 0.64_f64 * t.cos[2];
+        let x4 = <f64 as ::trocar::Real>::mul_add(0.64_f64, t.cos[2], 0.36_f64);
         let x5 = 0.48_f64 * (<f64 as ::trocar::Real>::ONE - t.cos[2]);
-        let x6 = 0.64_f64 + 0.36_f64 * t.cos[2];
+        let x6 = <f64 as ::trocar::Real>::mul_add(0.36_f64, t.cos[2], 0.64_f64);
         let x7 = 0.1_f64 + t.q[3];
-        let x8 = 0.3816559020950483_f64 * t.sin[4] + 0.19866933079506122_f64 * t.cos[4];
-        let x9 = 0.19866933079506122_f64 * t.sin[4] - 0.3816559020950483_f64 * t.cos[4];
-        let x10 = 0.9800665778412416_f64 * t.cos[4] - 0.07736548146578168_f64 * t.sin[4];
-        let x11 = 0.9800665778412416_f64 * t.sin[4] + 0.07736548146578168_f64 * t.cos[4];
+        let x8 = <f64 as ::trocar::Real>::mul_add(
+            0.3816559020950483_f64,
+            t.sin[4],
+            0.19866933079506122_f64 * t.cos[4],
+        );
+        let x9 = <f64 as ::trocar::Real>::mul_add(
+            0.19866933079506122_f64,
+            t.sin[4],
+            -(0.3816559020950483_f64 * t.cos[4]),
+        );
+        let x10 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            t.cos[4],
+            -(0.07736548146578168_f64 * t.sin[4]),
+        );
+        let x11 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            t.sin[4],
+            0.07736548146578168_f64 * t.cos[4],
+        );
         let x12 = 0.9210609940028851_f64 * t.sin[4];
         let x13 = 0.9210609940028851_f64 * t.cos[4];
-        let x14 = 0.64_f64 + 0.36_f64 * t.cos[7];
+        let x14 = <f64 as ::trocar::Real>::mul_add(0.36_f64, t.cos[7], 0.64_f64);
         let x15 = 0.6_f64 * t.sin[7];
         let x16 = 0.48_f64 * (<f64 as ::trocar::Real>::ONE - t.cos[7]);
         let x17 = 0.8_f64 * t.sin[7];
-        let x18 = 0.36_f64 + 0.64_f64 * t.cos[7];
+        let x18 = <f64 as ::trocar::Real>::mul_add(0.64_f64, t.cos[7], 0.36_f64);
         let x19 = t.sin[0] * x0;
         let x20 = t.sin[0] * x1;
         let x21 = t.cos[0] * x0;
         let x22 = t.cos[0] * x1;
-        let x23 = t.cos[0] * t.cos[2] - x2 * x19 - x3 * x20;
-        let x24 = x5 * x20 - (t.cos[0] * x2 + x4 * x19);
-        let x25 = t.cos[0] * x3 - x5 * x19 + x6 * x20;
-        let x26 = t.sin[0] * t.cos[2] + x2 * x21 + x3 * x22;
-        let x27 = x4 * x21 - t.sin[0] * x2 - x5 * x22;
-        let x28 = t.sin[0] * x3 + x5 * x21 - x6 * x22;
-        let x29 = x1 * x2 - x0 * x3;
-        let x30 = x1 * x4 + x0 * x5;
-        let x31 = x1 * x5 + x0 * x6;
-        let x32 = 0.90270109637546_f64 * x23 + 0.18298657129998708_f64 * x24
-            + 0.3894183423086505_f64 * x25;
-        let x33 = x10 * x24 - x8 * x23 + x12 * x25;
-        let x34 = x9 * x23 - x11 * x24 + x13 * x25;
-        let x35 = 0.90270109637546_f64 * x26 + 0.18298657129998708_f64 * x27
-            + 0.3894183423086505_f64 * x28;
-        let x36 = x10 * x27 - x8 * x26 + x12 * x28;
-        let x37 = x9 * x26 - x11 * x27 + x13 * x28;
-        let x38 = 0.90270109637546_f64 * x29 + 0.18298657129998708_f64 * x30
-            + 0.3894183423086505_f64 * x31;
-        let x39 = x10 * x30 - x8 * x29 + x12 * x31;
-        let x40 = x9 * x29 - x11 * x30 + x13 * x31;
-        let x41 = t.cos[5] * x32 - t.sin[5] * x34;
-        let x42 = t.sin[5] * x32 + t.cos[5] * x34;
-        let x43 = t.cos[5] * x35 - t.sin[5] * x37;
-        let x44 = t.sin[5] * x35 + t.cos[5] * x37;
-        let x45 = t.cos[5] * x38 - t.sin[5] * x40;
-        let x46 = t.sin[5] * x38 + t.cos[5] * x40;
-        let x47 = t.cos[6] * x41 + t.sin[6] * x33;
-        let x48 = t.cos[6] * x33 - t.sin[6] * x41;
-        let x49 = t.cos[6] * x43 + t.sin[6] * x36;
-        let x50 = t.cos[6] * x36 - t.sin[6] * x43;
-        let x51 = t.cos[6] * x45 + t.sin[6] * x39;
-        let x52 = t.cos[6] * x39 - t.sin[6] * x45;
-        let x53 = x14 * x47 + x15 * x48 + x16 * x42;
-        let x54 = t.cos[7] * x48 - x15 * x47 + x17 * x42;
-        let x55 = x16 * x47 - x17 * x48 + x18 * x42;
-        let x56 = x14 * x49 + x15 * x50 + x16 * x44;
-        let x57 = t.cos[7] * x50 - x15 * x49 + x17 * x44;
-        let x58 = x16 * x49 - x17 * x50 + x18 * x44;
-        let x59 = x14 * x51 + x15 * x52 + x16 * x46;
-        let x60 = t.cos[7] * x52 - x15 * x51 + x17 * x46;
-        let x61 = x16 * x51 - x17 * x52 + x18 * x46;
-        let x62 = t.cos[8] * x53 - t.sin[8] * x55;
-        let x63 = t.sin[8] * x53 + t.cos[8] * x55;
-        let x64 = t.cos[8] * x56 - t.sin[8] * x58;
-        let x65 = t.sin[8] * x56 + t.cos[8] * x58;
-        let x66 = t.cos[8] * x59 - t.sin[8] * x61;
-        let x67 = t.sin[8] * x59 + t.cos[8] * x61;
+        let x23 = <f64 as ::trocar::Real>::mul_add(
+            -x3,
+            x20,
+            <f64 as ::trocar::Real>::mul_add(t.cos[0], t.cos[2], -(x2 * x19)),
+        );
+        let x24 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x20,
+            -<f64 as ::trocar::Real>::mul_add(t.cos[0], x2, x4 * x19),
+        );
+        let x25 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x20,
+            <f64 as ::trocar::Real>::mul_add(t.cos[0], x3, -(x5 * x19)),
+        );
+        let x26 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x22,
+            <f64 as ::trocar::Real>::mul_add(t.sin[0], t.cos[2], x2 * x21),
+        );
+        let x27 = <f64 as ::trocar::Real>::mul_add(
+            -x5,
+            x22,
+            <f64 as ::trocar::Real>::mul_add(x4, x21, -(t.sin[0] * x2)),
+        );
+        let x28 = <f64 as ::trocar::Real>::mul_add(
+            -x6,
+            x22,
+            <f64 as ::trocar::Real>::mul_add(t.sin[0], x3, x5 * x21),
+        );
+        let x29 = <f64 as ::trocar::Real>::mul_add(x1, x2, -(x0 * x3));
+        let x30 = <f64 as ::trocar::Real>::mul_add(x1, x4, x0 * x5);
+        let x31 = <f64 as ::trocar::Real>::mul_add(x1, x5, x0 * x6);
+        let x32 = <f64 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f64,
+            x25,
+            <f64 as ::trocar::Real>::mul_add(
+                0.90270109637546_f64,
+                x23,
+                0.18298657129998708_f64 * x24,
+            ),
+        );
+        let x33 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x25,
+            <f64 as ::trocar::Real>::mul_add(x10, x24, -(x8 * x23)),
+        );
+        let x34 = <f64 as ::trocar::Real>::mul_add(
+            x13,
+            x25,
+            <f64 as ::trocar::Real>::mul_add(x9, x23, -(x11 * x24)),
+        );
+        let x35 = <f64 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f64,
+            x28,
+            <f64 as ::trocar::Real>::mul_add(
+                0.90270109637546_f64,
+                x26,
+                0.18298657129998708_f64 * x27,
+            ),
+        );
+        let x36 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x28,
+            <f64 as ::trocar::Real>::mul_add(x10, x27, -(x8 * x26)),
+        );
+        let x37 = <f64 as ::trocar::Real>::mul_add(
+            x13,
+            x28,
+            <f64 as ::trocar::Real>::mul_add(x9, x26, -(x11 * x27)),
+        );
+        let x38 = <f64 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f64,
+            x31,
+            <f64 as ::trocar::Real>::mul_add(
+                0.90270109637546_f64,
+                x29,
+                0.18298657129998708_f64 * x30,
+            ),
+        );
+        let x39 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x31,
+            <f64 as ::trocar::Real>::mul_add(x10, x30, -(x8 * x29)),
+        );
+        let x40 = <f64 as ::trocar::Real>::mul_add(
+            x13,
+            x31,
+            <f64 as ::trocar::Real>::mul_add(x9, x29, -(x11 * x30)),
+        );
+        let x41 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x32, -(t.sin[5] * x34));
+        let x42 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x32, t.cos[5] * x34);
+        let x43 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x35, -(t.sin[5] * x37));
+        let x44 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x35, t.cos[5] * x37);
+        let x45 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x38, -(t.sin[5] * x40));
+        let x46 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x38, t.cos[5] * x40);
+        let x47 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x41, t.sin[6] * x33);
+        let x48 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x33, -(t.sin[6] * x41));
+        let x49 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x43, t.sin[6] * x36);
+        let x50 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x36, -(t.sin[6] * x43));
+        let x51 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x45, t.sin[6] * x39);
+        let x52 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x39, -(t.sin[6] * x45));
+        let x53 = <f64 as ::trocar::Real>::mul_add(
+            x16,
+            x42,
+            <f64 as ::trocar::Real>::mul_add(x14, x47, x15 * x48),
+        );
+        let x54 = <f64 as ::trocar::Real>::mul_add(
+            x17,
+            x42,
+            <f64 as ::trocar::Real>::mul_add(t.cos[7], x48, -(x15 * x47)),
+        );
+        let x55 = <f64 as ::trocar::Real>::mul_add(
+            x18,
+            x42,
+            <f64 as ::trocar::Real>::mul_add(x16, x47, -(x17 * x48)),
+        );
+        let x56 = <f64 as ::trocar::Real>::mul_add(
+            x16,
+            x44,
+            <f64 as ::trocar::Real>::mul_add(x14, x49, x15 * x50),
+        );
+        let x57 = <f64 as ::trocar::Real>::mul_add(
+            x17,
+            x44,
+            <f64 as ::trocar::Real>::mul_add(t.cos[7], x50, -(x15 * x49)),
+        );
+        let x58 = <f64 as ::trocar::Real>::mul_add(
+            x18,
+            x44,
+            <f64 as ::trocar::Real>::mul_add(x16, x49, -(x17 * x50)),
+        );
+        let x59 = <f64 as ::trocar::Real>::mul_add(
+            x16,
+            x46,
+            <f64 as ::trocar::Real>::mul_add(x14, x51, x15 * x52),
+        );
+        let x60 = <f64 as ::trocar::Real>::mul_add(
+            x17,
+            x46,
+            <f64 as ::trocar::Real>::mul_add(t.cos[7], x52, -(x15 * x51)),
+        );
+        let x61 = <f64 as ::trocar::Real>::mul_add(
+            x18,
+            x46,
+            <f64 as ::trocar::Real>::mul_add(x16, x51, -(x17 * x52)),
+        );
+        let x62 = <f64 as ::trocar::Real>::mul_add(t.cos[8], x53, -(t.sin[8] * x55));
+        let x63 = <f64 as ::trocar::Real>::mul_add(t.sin[8], x53, t.cos[8] * x55);
+        let x64 = <f64 as ::trocar::Real>::mul_add(t.cos[8], x56, -(t.sin[8] * x58));
+        let x65 = <f64 as ::trocar::Real>::mul_add(t.sin[8], x56, t.cos[8] * x58);
+        let x66 = <f64 as ::trocar::Real>::mul_add(t.cos[8], x59, -(t.sin[8] * x61));
+        let x67 = <f64 as ::trocar::Real>::mul_add(t.sin[8], x59, t.cos[8] * x61);
         (
             [
                 [
-                    0.9362933635841992_f64 * x62 + 0.28962947762551555_f64 * x54
-                        - 0.19866933079506122_f64 * x63,
-                    0.9362933635841992_f64 * x64 + 0.28962947762551555_f64 * x57
-                        - 0.19866933079506122_f64 * x65,
-                    0.9362933635841992_f64 * x66 + 0.28962947762551555_f64 * x60
-                        - 0.19866933079506122_f64 * x67,
+                    <f64 as ::trocar::Real>::mul_add(
+                        -0.19866933079506122_f64,
+                        x63,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.9362933635841992_f64,
+                            x62,
+                            0.28962947762551555_f64 * x54,
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        -0.19866933079506122_f64,
+                        x65,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.9362933635841992_f64,
+                            x64,
+                            0.28962947762551555_f64 * x57,
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        -0.19866933079506122_f64,
+                        x67,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.9362933635841992_f64,
+                            x66,
+                            0.28962947762551555_f64 * x60,
+                        ),
+                    ),
                 ],
                 [
-                    0.9564250858492325_f64 * x54 - 0.2750958473182437_f64 * x62
-                        + 0.09784339500725571_f64 * x63,
-                    0.9564250858492325_f64 * x57 - 0.2750958473182437_f64 * x64
-                        + 0.09784339500725571_f64 * x65,
-                    0.9564250858492325_f64 * x60 - 0.2750958473182437_f64 * x66
-                        + 0.09784339500725571_f64 * x67,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.09784339500725571_f64,
+                        x63,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.9564250858492325_f64,
+                            x54,
+                            -(0.2750958473182437_f64 * x62),
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.09784339500725571_f64,
+                        x65,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.9564250858492325_f64,
+                            x57,
+                            -(0.2750958473182437_f64 * x64),
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.09784339500725571_f64,
+                        x67,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.9564250858492325_f64,
+                            x60,
+                            -(0.2750958473182437_f64 * x66),
+                        ),
+                    ),
                 ],
                 [
-                    0.21835066314633444_f64 * x62 - 0.03695701352462508_f64 * x54
-                        + 0.975170327201816_f64 * x63,
-                    0.21835066314633444_f64 * x64 - 0.03695701352462508_f64 * x57
-                        + 0.975170327201816_f64 * x65,
-                    0.21835066314633444_f64 * x66 - 0.03695701352462508_f64 * x60
-                        + 0.975170327201816_f64 * x67,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.975170327201816_f64,
+                        x63,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.21835066314633444_f64,
+                            x62,
+                            -(0.03695701352462508_f64 * x54),
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.975170327201816_f64,
+                        x65,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.21835066314633444_f64,
+                            x64,
+                            -(0.03695701352462508_f64 * x57),
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.975170327201816_f64,
+                        x67,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.21835066314633444_f64,
+                            x66,
+                            -(0.03695701352462508_f64 * x60),
+                        ),
+                    ),
                 ],
             ],
             [
-                0.05_f64 * t.cos[0] - 0.02_f64 * t.sin[0]
-                    - (0.4_f64 * x19 + 0.03_f64 * x20) + (0.01_f64 * x23 + x7 * x24)
-                    + (0.25_f64 * x24 + 0.02_f64 * x25) + 0.05_f64 * x33
-                    + (0.02_f64 * x41 + 0.3_f64 * x33) + 0.04_f64 * x48
-                    + (0.1_f64 * x54 + 0.01_f64 * x55) + 0.15_f64 * x54,
-                0.05_f64 * t.sin[0] + 0.02_f64 * t.cos[0]
-                    + (0.4_f64 * x21 + 0.03_f64 * x22) + (0.01_f64 * x26 + x7 * x27)
-                    + (0.25_f64 * x27 + 0.02_f64 * x28) + 0.05_f64 * x36
-                    + (0.02_f64 * x43 + 0.3_f64 * x36) + 0.04_f64 * x50
-                    + (0.1_f64 * x57 + 0.01_f64 * x58) + 0.15_f64 * x57,
-                p.d_1 + 0.1_f64 + (0.4_f64 * x1 - 0.03_f64 * x0)
-                    + (0.01_f64 * x29 + x7 * x30) + (0.25_f64 * x30 + 0.02_f64 * x31)
-                    + 0.05_f64 * x39 + (0.02_f64 * x45 + 0.3_f64 * x39) + 0.04_f64 * x52
-                    + (0.1_f64 * x60 + 0.01_f64 * x61) + 0.15_f64 * x60,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.15_f64,
+                    x54,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.04_f64,
+                        x48,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.05_f64,
+                            x33,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.05_f64,
+                                t.cos[0],
+                                -(0.02_f64 * t.sin[0]),
+                            )
+                                - <f64 as ::trocar::Real>::mul_add(
+                                    0.4_f64,
+                                    x19,
+                                    0.03_f64 * x20,
+                                )
+                                + <f64 as ::trocar::Real>::mul_add(0.01_f64, x23, x7 * x24)
+                                + <f64 as ::trocar::Real>::mul_add(
+                                    0.25_f64,
+                                    x24,
+                                    0.02_f64 * x25,
+                                ),
+                        )
+                            + <f64 as ::trocar::Real>::mul_add(
+                                0.02_f64,
+                                x41,
+                                0.3_f64 * x33,
+                            ),
+                    ) + <f64 as ::trocar::Real>::mul_add(0.1_f64, x54, 0.01_f64 * x55),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.15_f64,
+                    x57,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.04_f64,
+                        x50,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.05_f64,
+                            x36,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.05_f64,
+                                t.sin[0],
+                                0.02_f64 * t.cos[0],
+                            )
+                                + <f64 as ::trocar::Real>::mul_add(
+                                    0.4_f64,
+                                    x21,
+                                    0.03_f64 * x22,
+                                )
+                                + <f64 as ::trocar::Real>::mul_add(0.01_f64, x26, x7 * x27)
+                                + <f64 as ::trocar::Real>::mul_add(
+                                    0.25_f64,
+                                    x27,
+                                    0.02_f64 * x28,
+                                ),
+                        )
+                            + <f64 as ::trocar::Real>::mul_add(
+                                0.02_f64,
+                                x43,
+                                0.3_f64 * x36,
+                            ),
+                    ) + <f64 as ::trocar::Real>::mul_add(0.1_f64, x57, 0.01_f64 * x58),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.15_f64,
+                    x60,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.04_f64,
+                        x52,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.05_f64,
+                            x39,
+                            p.d_1 + 0.1_f64
+                                + <f64 as ::trocar::Real>::mul_add(
+                                    0.4_f64,
+                                    x1,
+                                    -(0.03_f64 * x0),
+                                )
+                                + <f64 as ::trocar::Real>::mul_add(0.01_f64, x29, x7 * x30)
+                                + <f64 as ::trocar::Real>::mul_add(
+                                    0.25_f64,
+                                    x30,
+                                    0.02_f64 * x31,
+                                ),
+                        )
+                            + <f64 as ::trocar::Real>::mul_add(
+                                0.02_f64,
+                                x45,
+                                0.3_f64 * x39,
+                            ),
+                    ) + <f64 as ::trocar::Real>::mul_add(0.1_f64, x60, 0.01_f64 * x61),
+                ),
             ],
         )
     }
@@ -334,112 +878,327 @@ pub mod chain9_prismatic {
         let ([s2, s3, s5, s6, s7, s8, s9], [c2, c3, c5, c6, c7, c8, c9]) = <f64 as ::trocar::Real>::sin_cos_array(
             &[q[1], q[2], q[4], q[5], q[6], q[7], q[8]],
         );
-        let x0 = 0.955336489125606_f64 * c2 - 0.29552020666133955_f64 * s2;
-        let x1 = 0.955336489125606_f64 * s2 + 0.29552020666133955_f64 * c2;
+        let x0 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            c2,
+            -(0.29552020666133955_f64 * s2),
+        );
+        let x1 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            s2,
+            0.29552020666133955_f64 * c2,
+        );
         let x2 = 0.8_f64 * s3;
         let x3 = 0.6_f64 * s3;
-        let x4 = 0.36_f64 + 0.64_f64 * c3;
+        let x4 = <f64 as ::trocar::Real>::mul_add(0.64_f64, c3, 0.36_f64);
         let x5 = 0.48_f64 * (<f64 as ::trocar::Real>::ONE - c3);
-        let x6 = 0.64_f64 + 0.36_f64 * c3;
-        let x7 = 0.3816559020950483_f64 * s5 + 0.19866933079506122_f64 * c5;
-        let x8 = 0.19866933079506122_f64 * s5 - 0.3816559020950483_f64 * c5;
-        let x9 = 0.9800665778412416_f64 * c5 - 0.07736548146578168_f64 * s5;
-        let x10 = 0.9800665778412416_f64 * s5 + 0.07736548146578168_f64 * c5;
+        let x6 = <f64 as ::trocar::Real>::mul_add(0.36_f64, c3, 0.64_f64);
+        let x7 = <f64 as ::trocar::Real>::mul_add(
+            0.3816559020950483_f64,
+            s5,
+            0.19866933079506122_f64 * c5,
+        );
+        let x8 = <f64 as ::trocar::Real>::mul_add(
+            0.19866933079506122_f64,
+            s5,
+            -(0.3816559020950483_f64 * c5),
+        );
+        let x9 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            c5,
+            -(0.07736548146578168_f64 * s5),
+        );
+        let x10 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            s5,
+            0.07736548146578168_f64 * c5,
+        );
         let x11 = 0.9210609940028851_f64 * s5;
         let x12 = 0.9210609940028851_f64 * c5;
-        let x13 = 0.64_f64 + 0.36_f64 * c8;
+        let x13 = <f64 as ::trocar::Real>::mul_add(0.36_f64, c8, 0.64_f64);
         let x14 = 0.6_f64 * s8;
         let x15 = <f64 as ::trocar::Real>::ONE - c8;
         let x16 = 0.48_f64 * x15;
         let x17 = 0.8_f64 * s8;
-        let x18 = 0.36_f64 + 0.64_f64 * c8;
-        let x19 = 0.9362933635841992_f64 * c9 - 0.19866933079506122_f64 * s9;
-        let x20 = 0.09784339500725571_f64 * s9 - 0.2750958473182437_f64 * c9;
-        let x21 = 0.21835066314633444_f64 * c9 + 0.975170327201816_f64 * s9;
-        let x22 = 0.9362933635841992_f64 * s9 + 0.19866933079506122_f64 * c9;
-        let x23 = 0.2750958473182437_f64 * s9 + 0.09784339500725571_f64 * c9;
-        let x24 = 0.975170327201816_f64 * c9 - 0.21835066314633444_f64 * s9;
-        let x25 = x13 * x19 - 0.17377768657530931_f64 * s8 - x16 * x22;
-        let x26 = x13 * x20 - 0.5738550515095394_f64 * s8 + x16 * x23;
-        let x27 = x13 * x21 + 0.022174208114775048_f64 * s8 + x16 * x24;
-        let x28 = 0.0048_f64 * x15 - 0.15_f64 * s8;
-        let x29 = x14 * x19 + 0.28962947762551555_f64 * c8 + x17 * x22;
-        let x30 = x14 * x20 + 0.9564250858492325_f64 * c8 - x17 * x23;
-        let x31 = x14 * x21 - 0.03695701352462508_f64 * c8 - x17 * x24;
-        let x32 = 0.04_f64 + (0.25_f64 * c8 - 0.008_f64 * s8);
-        let x33 = x16 * x19 + 0.23170358210041245_f64 * s8 - x18 * x22;
-        let x34 = x16 * x20 + 0.765140068679386_f64 * s8 + x18 * x23;
-        let x35 = x16 * x21 - 0.029565610819700067_f64 * s8 + x18 * x24;
-        let x36 = 0.2_f64 * s8 + 0.01_f64 * x18;
-        let x37 = c7 * x25 - s7 * x29;
-        let x38 = c7 * x26 - s7 * x30;
-        let x39 = c7 * x27 - s7 * x31;
-        let x40 = 0.02_f64 + (c7 * x28 - s7 * x32);
-        let x41 = s7 * x25 + c7 * x29;
-        let x42 = s7 * x26 + c7 * x30;
-        let x43 = s7 * x27 + c7 * x31;
-        let x44 = c6 * x37 + s6 * x33;
-        let x45 = c6 * x38 + s6 * x34;
-        let x46 = c6 * x39 + s6 * x35;
-        let x47 = c6 * x40 + s6 * x36;
-        let x48 = 0.05_f64 + (0.3_f64 + (s7 * x28 + c7 * x32));
-        let x49 = c6 * x33 - s6 * x37;
-        let x50 = c6 * x34 - s6 * x38;
-        let x51 = c6 * x35 - s6 * x39;
-        let x52 = c6 * x36 - s6 * x40;
-        let x53 = 0.90270109637546_f64 * x44 - x7 * x41 + x8 * x49;
-        let x54 = 0.90270109637546_f64 * x45 - x7 * x42 + x8 * x50;
-        let x55 = 0.90270109637546_f64 * x46 - x7 * x43 + x8 * x51;
-        let x56 = 0.18298657129998708_f64 * x44 + x9 * x41 - x10 * x49;
-        let x57 = 0.18298657129998708_f64 * x45 + x9 * x42 - x10 * x50;
-        let x58 = 0.18298657129998708_f64 * x46 + x9 * x43 - x10 * x51;
-        let x59 = 0.3894183423086505_f64 * x44 + x11 * x41 + x12 * x49;
-        let x60 = 0.3894183423086505_f64 * x45 + x11 * x42 + x12 * x50;
-        let x61 = 0.3894183423086505_f64 * x46 + x11 * x43 + x12 * x51;
-        let x62 = 0.02_f64 + (0.3894183423086505_f64 * x47 + x11 * x48 + x12 * x52);
-        let x63 = 0.01_f64 + (0.90270109637546_f64 * x47 - x7 * x48 + x8 * x52);
+        let x18 = <f64 as ::trocar::Real>::mul_add(0.64_f64, c8, 0.36_f64);
+        let x19 = <f64 as ::trocar::Real>::mul_add(
+            0.9362933635841992_f64,
+            c9,
+            -(0.19866933079506122_f64 * s9),
+        );
+        let x20 = <f64 as ::trocar::Real>::mul_add(
+            0.09784339500725571_f64,
+            s9,
+            -(0.2750958473182437_f64 * c9),
+        );
+        let x21 = <f64 as ::trocar::Real>::mul_add(
+            0.21835066314633444_f64,
+            c9,
+            0.975170327201816_f64 * s9,
+        );
+        let x22 = <f64 as ::trocar::Real>::mul_add(
+            0.9362933635841992_f64,
+            s9,
+            0.19866933079506122_f64 * c9,
+        );
+        let x23 = <f64 as ::trocar::Real>::mul_add(
+            0.2750958473182437_f64,
+            s9,
+            0.09784339500725571_f64 * c9,
+        );
+        let x24 = <f64 as ::trocar::Real>::mul_add(
+            0.975170327201816_f64,
+            c9,
+            -(0.21835066314633444_f64 * s9),
+        );
+        let x25 = <f64 as ::trocar::Real>::mul_add(
+            -x16,
+            x22,
+            <f64 as ::trocar::Real>::mul_add(x13, x19, -(0.17377768657530931_f64 * s8)),
+        );
+        let x26 = <f64 as ::trocar::Real>::mul_add(
+            x16,
+            x23,
+            <f64 as ::trocar::Real>::mul_add(x13, x20, -(0.5738550515095394_f64 * s8)),
+        );
+        let x27 = <f64 as ::trocar::Real>::mul_add(
+            x16,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(x13, x21, 0.022174208114775048_f64 * s8),
+        );
+        let x28 = <f64 as ::trocar::Real>::mul_add(0.0048_f64, x15, -(0.15_f64 * s8));
+        let x29 = <f64 as ::trocar::Real>::mul_add(
+            x17,
+            x22,
+            <f64 as ::trocar::Real>::mul_add(x14, x19, 0.28962947762551555_f64 * c8),
+        );
+        let x30 = <f64 as ::trocar::Real>::mul_add(
+            -x17,
+            x23,
+            <f64 as ::trocar::Real>::mul_add(x14, x20, 0.9564250858492325_f64 * c8),
+        );
+        let x31 = <f64 as ::trocar::Real>::mul_add(
+            -x17,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(x14, x21, -(0.03695701352462508_f64 * c8)),
+        );
+        let x32 = 0.04_f64
+            + <f64 as ::trocar::Real>::mul_add(0.25_f64, c8, -(0.008_f64 * s8));
+        let x33 = <f64 as ::trocar::Real>::mul_add(
+            -x18,
+            x22,
+            <f64 as ::trocar::Real>::mul_add(x16, x19, 0.23170358210041245_f64 * s8),
+        );
+        let x34 = <f64 as ::trocar::Real>::mul_add(
+            x18,
+            x23,
+            <f64 as ::trocar::Real>::mul_add(x16, x20, 0.765140068679386_f64 * s8),
+        );
+        let x35 = <f64 as ::trocar::Real>::mul_add(
+            x18,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(x16, x21, -(0.029565610819700067_f64 * s8)),
+        );
+        let x36 = <f64 as ::trocar::Real>::mul_add(0.2_f64, s8, 0.01_f64 * x18);
+        let x37 = <f64 as ::trocar::Real>::mul_add(c7, x25, -(s7 * x29));
+        let x38 = <f64 as ::trocar::Real>::mul_add(c7, x26, -(s7 * x30));
+        let x39 = <f64 as ::trocar::Real>::mul_add(c7, x27, -(s7 * x31));
+        let x40 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(c7, x28, -(s7 * x32));
+        let x41 = <f64 as ::trocar::Real>::mul_add(s7, x25, c7 * x29);
+        let x42 = <f64 as ::trocar::Real>::mul_add(s7, x26, c7 * x30);
+        let x43 = <f64 as ::trocar::Real>::mul_add(s7, x27, c7 * x31);
+        let x44 = <f64 as ::trocar::Real>::mul_add(c6, x37, s6 * x33);
+        let x45 = <f64 as ::trocar::Real>::mul_add(c6, x38, s6 * x34);
+        let x46 = <f64 as ::trocar::Real>::mul_add(c6, x39, s6 * x35);
+        let x47 = <f64 as ::trocar::Real>::mul_add(c6, x40, s6 * x36);
+        let x48 = 0.05_f64
+            + (0.3_f64 + <f64 as ::trocar::Real>::mul_add(s7, x28, c7 * x32));
+        let x49 = <f64 as ::trocar::Real>::mul_add(c6, x33, -(s6 * x37));
+        let x50 = <f64 as ::trocar::Real>::mul_add(c6, x34, -(s6 * x38));
+        let x51 = <f64 as ::trocar::Real>::mul_add(c6, x35, -(s6 * x39));
+        let x52 = <f64 as ::trocar::Real>::mul_add(c6, x36, -(s6 * x40));
+        let x53 = <f64 as ::trocar::Real>::mul_add(
+            x8,
+            x49,
+            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x44, -(x7 * x41)),
+        );
+        let x54 = <f64 as ::trocar::Real>::mul_add(
+            x8,
+            x50,
+            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x45, -(x7 * x42)),
+        );
+        let x55 = <f64 as ::trocar::Real>::mul_add(
+            x8,
+            x51,
+            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x46, -(x7 * x43)),
+        );
+        let x56 = <f64 as ::trocar::Real>::mul_add(
+            -x10,
+            x49,
+            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x44, x9 * x41),
+        );
+        let x57 = <f64 as ::trocar::Real>::mul_add(
+            -x10,
+            x50,
+            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x45, x9 * x42),
+        );
+        let x58 = <f64 as ::trocar::Real>::mul_add(
+            -x10,
+            x51,
+            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x46, x9 * x43),
+        );
+        let x59 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x49,
+            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x44, x11 * x41),
+        );
+        let x60 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x50,
+            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x45, x11 * x42),
+        );
+        let x61 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x51,
+            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x46, x11 * x43),
+        );
+        let x62 = 0.02_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x12,
+                x52,
+                <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x47, x11 * x48),
+            );
+        let x63 = 0.01_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x8,
+                x52,
+                <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x47, -(x7 * x48)),
+            );
         let x64 = 0.1_f64 + q[3]
-            + (0.25_f64 + (0.18298657129998708_f64 * x47 + x9 * x48 - x10 * x52));
-        let x65 = 0.6_f64 * x62 - 0.8_f64 * x64;
+            + (0.25_f64
+                + <f64 as ::trocar::Real>::mul_add(
+                    -x10,
+                    x52,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.18298657129998708_f64,
+                        x47,
+                        x9 * x48,
+                    ),
+                ));
+        let x65 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x62, -(0.8_f64 * x64));
         let x66 = 0.8_f64 * x63;
         let x67 = 0.6_f64 * x63;
-        let x68 = c3 * x53 - x2 * x56 + x3 * x59;
-        let x69 = c3 * x54 - x2 * x57 + x3 * x60;
-        let x70 = c3 * x55 - x2 * x58 + x3 * x61;
-        let x71 = x2 * x53 + x4 * x56 + x5 * x59;
-        let x72 = x2 * x54 + x4 * x57 + x5 * x60;
-        let x73 = x2 * x55 + x4 * x58 + x5 * x61;
-        let x74 = 0.4_f64 + (x2 * x63 + x4 * x64 + x5 * x62);
-        let x75 = x5 * x56 - x3 * x53 + x6 * x59;
-        let x76 = x5 * x57 - x3 * x54 + x6 * x60;
-        let x77 = x5 * x58 - x3 * x55 + x6 * x61;
-        let x78 = x5 * x64 - x3 * x63 + x6 * x62 - 0.03_f64;
-        let x79 = 0.05_f64 + (c3 * x63 - x2 * x64 + x3 * x62);
-        let x80 = 0.02_f64 + (x0 * x74 - x1 * x78);
+        let x68 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x59,
+            <f64 as ::trocar::Real>::mul_add(c3, x53, -(x2 * x56)),
+        );
+        let x69 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x60,
+            <f64 as ::trocar::Real>::mul_add(c3, x54, -(x2 * x57)),
+        );
+        let x70 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x61,
+            <f64 as ::trocar::Real>::mul_add(c3, x55, -(x2 * x58)),
+        );
+        let x71 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x59,
+            <f64 as ::trocar::Real>::mul_add(x2, x53, x4 * x56),
+        );
+        let x72 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x60,
+            <f64 as ::trocar::Real>::mul_add(x2, x54, x4 * x57),
+        );
+        let x73 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x61,
+            <f64 as ::trocar::Real>::mul_add(x2, x55, x4 * x58),
+        );
+        let x74 = 0.4_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x5,
+                x62,
+                <f64 as ::trocar::Real>::mul_add(x2, x63, x4 * x64),
+            );
+        let x75 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x59,
+            <f64 as ::trocar::Real>::mul_add(x5, x56, -(x3 * x53)),
+        );
+        let x76 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x60,
+            <f64 as ::trocar::Real>::mul_add(x5, x57, -(x3 * x54)),
+        );
+        let x77 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x61,
+            <f64 as ::trocar::Real>::mul_add(x5, x58, -(x3 * x55)),
+        );
+        let x78 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x62,
+            <f64 as ::trocar::Real>::mul_add(x5, x64, -(x3 * x63)),
+        ) - 0.03_f64;
+        let x79 = 0.05_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x3,
+                x62,
+                <f64 as ::trocar::Real>::mul_add(c3, x63, -(x2 * x64)),
+            );
+        let x80 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x74, -(x1 * x78));
         [
             [
-                x79 * (x0 * x71 - x1 * x75) - x68 * x80,
-                x79 * (x0 * x72 - x1 * x76) - x69 * x80,
-                x79 * (x0 * x73 - x1 * x77) - x70 * x80,
-                x1 * x71 + x0 * x75,
-                x1 * x72 + x0 * x76,
-                x1 * x73 + x0 * x77,
+                <f64 as ::trocar::Real>::mul_add(
+                    x79,
+                    <f64 as ::trocar::Real>::mul_add(x0, x71, -(x1 * x75)),
+                    -(x68 * x80),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    x79,
+                    <f64 as ::trocar::Real>::mul_add(x0, x72, -(x1 * x76)),
+                    -(x69 * x80),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    x79,
+                    <f64 as ::trocar::Real>::mul_add(x0, x73, -(x1 * x77)),
+                    -(x70 * x80),
+                ),
+                <f64 as ::trocar::Real>::mul_add(x1, x71, x0 * x75),
+                <f64 as ::trocar::Real>::mul_add(x1, x72, x0 * x76),
+                <f64 as ::trocar::Real>::mul_add(x1, x73, x0 * x77),
             ],
             [
-                x74 * x75 - x71 * x78,
-                x74 * x76 - x72 * x78,
-                x74 * x77 - x73 * x78,
+                <f64 as ::trocar::Real>::mul_add(x74, x75, -(x71 * x78)),
+                <f64 as ::trocar::Real>::mul_add(x74, x76, -(x72 * x78)),
+                <f64 as ::trocar::Real>::mul_add(x74, x77, -(x73 * x78)),
                 x68,
                 x69,
                 x70,
             ],
             [
-                x53 * x65 + x56 * x66 - x59 * x67,
-                x54 * x65 + x57 * x66 - x60 * x67,
-                x55 * x65 + x58 * x66 - x61 * x67,
-                0.6_f64 * x56 + 0.8_f64 * x59,
-                0.6_f64 * x57 + 0.8_f64 * x60,
-                0.6_f64 * x58 + 0.8_f64 * x61,
+                <f64 as ::trocar::Real>::mul_add(
+                    -x59,
+                    x67,
+                    <f64 as ::trocar::Real>::mul_add(x53, x65, x56 * x66),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    -x60,
+                    x67,
+                    <f64 as ::trocar::Real>::mul_add(x54, x65, x57 * x66),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    -x61,
+                    x67,
+                    <f64 as ::trocar::Real>::mul_add(x55, x65, x58 * x66),
+                ),
+                <f64 as ::trocar::Real>::mul_add(0.6_f64, x56, 0.8_f64 * x59),
+                <f64 as ::trocar::Real>::mul_add(0.6_f64, x57, 0.8_f64 * x60),
+                <f64 as ::trocar::Real>::mul_add(0.6_f64, x58, 0.8_f64 * x61),
             ],
             [
                 x56,
@@ -450,36 +1209,60 @@ pub mod chain9_prismatic {
                 <f64 as ::trocar::Real>::ZERO,
             ],
             [
-                x48 * x49 - x41 * x52,
-                x48 * x50 - x42 * x52,
-                x48 * x51 - x43 * x52,
+                <f64 as ::trocar::Real>::mul_add(x48, x49, -(x41 * x52)),
+                <f64 as ::trocar::Real>::mul_add(x48, x50, -(x42 * x52)),
+                <f64 as ::trocar::Real>::mul_add(x48, x51, -(x43 * x52)),
                 x44,
                 x45,
                 x46,
             ],
             [
-                x36 * x37 - x33 * x40,
-                x36 * x38 - x34 * x40,
-                x36 * x39 - x35 * x40,
+                <f64 as ::trocar::Real>::mul_add(x36, x37, -(x33 * x40)),
+                <f64 as ::trocar::Real>::mul_add(x36, x38, -(x34 * x40)),
+                <f64 as ::trocar::Real>::mul_add(x36, x39, -(x35 * x40)),
                 x41,
                 x42,
                 x43,
             ],
             [
-                x28 * x29 - x25 * x32,
-                x28 * x30 - x26 * x32,
-                x28 * x31 - x27 * x32,
+                <f64 as ::trocar::Real>::mul_add(x28, x29, -(x25 * x32)),
+                <f64 as ::trocar::Real>::mul_add(x28, x30, -(x26 * x32)),
+                <f64 as ::trocar::Real>::mul_add(x28, x31, -(x27 * x32)),
                 x33,
                 x34,
                 x35,
             ],
             [
-                -(0.15_f64 * x19 + 0.0023170358210041243_f64 + 0.2_f64 * x22),
-                0.2_f64 * x23 - (0.15_f64 * x20 + 0.00765140068679386_f64),
-                0.00029565610819700066_f64 - 0.15_f64 * x21 + 0.2_f64 * x24,
-                0.8_f64 * x19 - 0.6_f64 * x22,
-                0.8_f64 * x20 + 0.6_f64 * x23,
-                0.8_f64 * x21 + 0.6_f64 * x24,
+                -<f64 as ::trocar::Real>::mul_add(
+                    0.2_f64,
+                    x22,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.15_f64,
+                        x19,
+                        0.0023170358210041243_f64,
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.2_f64,
+                    x23,
+                    -<f64 as ::trocar::Real>::mul_add(
+                        0.15_f64,
+                        x20,
+                        0.00765140068679386_f64,
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.2_f64,
+                    x24,
+                    <f64 as ::trocar::Real>::mul_add(
+                        -0.15_f64,
+                        x21,
+                        0.00029565610819700066_f64,
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(0.8_f64, x19, -(0.6_f64 * x22)),
+                <f64 as ::trocar::Real>::mul_add(0.8_f64, x20, 0.6_f64 * x23),
+                <f64 as ::trocar::Real>::mul_add(0.8_f64, x21, 0.6_f64 * x24),
             ],
             [
                 <f64 as ::trocar::Real>::ZERO,
@@ -499,112 +1282,365 @@ pub mod chain9_prismatic {
     #[inline]
     #[must_use]
     pub fn body_jacobian_trig(t: &JointTrig, _p: &Params) -> [[f64; 6]; N] {
-        let x0 = 0.955336489125606_f64 * t.cos[1] - 0.29552020666133955_f64 * t.sin[1];
-        let x1 = 0.955336489125606_f64 * t.sin[1] + 0.29552020666133955_f64 * t.cos[1];
+        let x0 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            t.cos[1],
+            -(0.29552020666133955_f64 * t.sin[1]),
+        );
+        let x1 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            t.sin[1],
+            0.29552020666133955_f64 * t.cos[1],
+        );
         let x2 = 0.8_f64 * t.sin[2];
         let x3 = 0.6_f64 * t.sin[2];
-        let x4 = 0.36_f64 + 0.64_f64 * t.cos[2];
+        let x4 = <f64 as ::trocar::Real>::mul_add(0.64_f64, t.cos[2], 0.36_f64);
         let x5 = 0.48_f64 * (<f64 as ::trocar::Real>::ONE - t.cos[2]);
-        let x6 = 0.64_f64 + 0.36_f64 * t.cos[2];
-        let x7 = 0.3816559020950483_f64 * t.sin[4] + 0.19866933079506122_f64 * t.cos[4];
-        let x8 = 0.19866933079506122_f64 * t.sin[4] - 0.3816559020950483_f64 * t.cos[4];
-        let x9 = 0.9800665778412416_f64 * t.cos[4] - 0.07736548146578168_f64 * t.sin[4];
-        let x10 = 0.9800665778412416_f64 * t.sin[4] + 0.07736548146578168_f64 * t.cos[4];
+        let x6 = <f64 as ::trocar::Real>::mul_add(0.36_f64, t.cos[2], 0.64_f64);
+        let x7 = <f64 as ::trocar::Real>::mul_add(
+            0.3816559020950483_f64,
+            t.sin[4],
+            0.19866933079506122_f64 * t.cos[4],
+        );
+        let x8 = <f64 as ::trocar::Real>::mul_add(
+            0.19866933079506122_f64,
+            t.sin[4],
+            -(0.3816559020950483_f64 * t.cos[4]),
+        );
+        let x9 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            t.cos[4],
+            -(0.07736548146578168_f64 * t.sin[4]),
+        );
+        let x10 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            t.sin[4],
+            0.07736548146578168_f64 * t.cos[4],
+        );
         let x11 = 0.9210609940028851_f64 * t.sin[4];
         let x12 = 0.9210609940028851_f64 * t.cos[4];
-        let x13 = 0.64_f64 + 0.36_f64 * t.cos[7];
+        let x13 = <f64 as ::trocar::Real>::mul_add(0.36_f64, t.cos[7], 0.64_f64);
         let x14 = 0.6_f64 * t.sin[7];
         let x15 = <f64 as ::trocar::Real>::ONE - t.cos[7];
         let x16 = 0.48_f64 * x15;
         let x17 = 0.8_f64 * t.sin[7];
-        let x18 = 0.36_f64 + 0.64_f64 * t.cos[7];
-        let x19 = 0.9362933635841992_f64 * t.cos[8] - 0.19866933079506122_f64 * t.sin[8];
-        let x20 = 0.09784339500725571_f64 * t.sin[8] - 0.2750958473182437_f64 * t.cos[8];
-        let x21 = 0.21835066314633444_f64 * t.cos[8] + 0.975170327201816_f64 * t.sin[8];
-        let x22 = 0.9362933635841992_f64 * t.sin[8] + 0.19866933079506122_f64 * t.cos[8];
-        let x23 = 0.2750958473182437_f64 * t.sin[8] + 0.09784339500725571_f64 * t.cos[8];
-        let x24 = 0.975170327201816_f64 * t.cos[8] - 0.21835066314633444_f64 * t.sin[8];
-        let x25 = x13 * x19 - 0.17377768657530931_f64 * t.sin[7] - x16 * x22;
-        let x26 = x13 * x20 - 0.5738550515095394_f64 * t.sin[7] + x16 * x23;
-        let x27 = x13 * x21 + 0.022174208114775048_f64 * t.sin[7] + x16 * x24;
-        let x28 = 0.0048_f64 * x15 - 0.15_f64 * t.sin[7];
-        let x29 = x14 * x19 + 0.28962947762551555_f64 * t.cos[7] + x17 * x22;
-        let x30 = x14 * x20 + 0.9564250858492325_f64 * t.cos[7] - x17 * x23;
-        let x31 = x14 * x21 - 0.03695701352462508_f64 * t.cos[7] - x17 * x24;
-        let x32 = 0.04_f64 + (0.25_f64 * t.cos[7] - 0.008_f64 * t.sin[7]);
-        let x33 = x16 * x19 + 0.23170358210041245_f64 * t.sin[7] - x18 * x22;
-        let x34 = x16 * x20 + 0.765140068679386_f64 * t.sin[7] + x18 * x23;
-        let x35 = x16 * x21 - 0.029565610819700067_f64 * t.sin[7] + x18 * x24;
-        let x36 = 0.2_f64 * t.sin[7] + 0.01_f64 * x18;
-        let x37 = t.cos[6] * x25 - t.sin[6] * x29;
-        let x38 = t.cos[6] * x26 - t.sin[6] * x30;
-        let x39 = t.cos[6] * x27 - t.sin[6] * x31;
-        let x40 = 0.02_f64 + (t.cos[6] * x28 - t.sin[6] * x32);
-        let x41 = t.sin[6] * x25 + t.cos[6] * x29;
-        let x42 = t.sin[6] * x26 + t.cos[6] * x30;
-        let x43 = t.sin[6] * x27 + t.cos[6] * x31;
-        let x44 = t.cos[5] * x37 + t.sin[5] * x33;
-        let x45 = t.cos[5] * x38 + t.sin[5] * x34;
-        let x46 = t.cos[5] * x39 + t.sin[5] * x35;
-        let x47 = t.cos[5] * x40 + t.sin[5] * x36;
-        let x48 = 0.05_f64 + (0.3_f64 + (t.sin[6] * x28 + t.cos[6] * x32));
-        let x49 = t.cos[5] * x33 - t.sin[5] * x37;
-        let x50 = t.cos[5] * x34 - t.sin[5] * x38;
-        let x51 = t.cos[5] * x35 - t.sin[5] * x39;
-        let x52 = t.cos[5] * x36 - t.sin[5] * x40;
-        let x53 = 0.90270109637546_f64 * x44 - x7 * x41 + x8 * x49;
-        let x54 = 0.90270109637546_f64 * x45 - x7 * x42 + x8 * x50;
-        let x55 = 0.90270109637546_f64 * x46 - x7 * x43 + x8 * x51;
-        let x56 = 0.18298657129998708_f64 * x44 + x9 * x41 - x10 * x49;
-        let x57 = 0.18298657129998708_f64 * x45 + x9 * x42 - x10 * x50;
-        let x58 = 0.18298657129998708_f64 * x46 + x9 * x43 - x10 * x51;
-        let x59 = 0.3894183423086505_f64 * x44 + x11 * x41 + x12 * x49;
-        let x60 = 0.3894183423086505_f64 * x45 + x11 * x42 + x12 * x50;
-        let x61 = 0.3894183423086505_f64 * x46 + x11 * x43 + x12 * x51;
-        let x62 = 0.02_f64 + (0.3894183423086505_f64 * x47 + x11 * x48 + x12 * x52);
-        let x63 = 0.01_f64 + (0.90270109637546_f64 * x47 - x7 * x48 + x8 * x52);
+        let x18 = <f64 as ::trocar::Real>::mul_add(0.64_f64, t.cos[7], 0.36_f64);
+        let x19 = <f64 as ::trocar::Real>::mul_add(
+            0.9362933635841992_f64,
+            t.cos[8],
+            -(0.19866933079506122_f64 * t.sin[8]),
+        );
+        let x20 = <f64 as ::trocar::Real>::mul_add(
+            0.09784339500725571_f64,
+            t.sin[8],
+            -(0.2750958473182437_f64 * t.cos[8]),
+        );
+        let x21 = <f64 as ::trocar::Real>::mul_add(
+            0.21835066314633444_f64,
+            t.cos[8],
+            0.975170327201816_f64 * t.sin[8],
+        );
+        let x22 = <f64 as ::trocar::Real>::mul_add(
+            0.9362933635841992_f64,
+            t.sin[8],
+            0.19866933079506122_f64 * t.cos[8],
+        );
+        let x23 = <f64 as ::trocar::Real>::mul_add(
+            0.2750958473182437_f64,
+            t.sin[8],
+            0.09784339500725571_f64 * t.cos[8],
+        );
+        let x24 = <f64 as ::trocar::Real>::mul_add(
+            0.975170327201816_f64,
+            t.cos[8],
+            -(0.21835066314633444_f64 * t.sin[8]),
+        );
+        let x25 = <f64 as ::trocar::Real>::mul_add(
+            -x16,
+            x22,
+            <f64 as ::trocar::Real>::mul_add(
+                x13,
+                x19,
+                -(0.17377768657530931_f64 * t.sin[7]),
+            ),
+        );
+        let x26 = <f64 as ::trocar::Real>::mul_add(
+            x16,
+            x23,
+            <f64 as ::trocar::Real>::mul_add(
+                x13,
+                x20,
+                -(0.5738550515095394_f64 * t.sin[7]),
+            ),
+        );
+        let x27 = <f64 as ::trocar::Real>::mul_add(
+            x16,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(
+                x13,
+                x21,
+                0.022174208114775048_f64 * t.sin[7],
+            ),
+        );
+        let x28 = <f64 as ::trocar::Real>::mul_add(
+            0.0048_f64,
+            x15,
+            -(0.15_f64 * t.sin[7]),
+        );
+        let x29 = <f64 as ::trocar::Real>::mul_add(
+            x17,
+            x22,
+            <f64 as ::trocar::Real>::mul_add(
+                x14,
+                x19,
+                0.28962947762551555_f64 * t.cos[7],
+            ),
+        );
+        let x30 = <f64 as ::trocar::Real>::mul_add(
+            -x17,
+            x23,
+            <f64 as ::trocar::Real>::mul_add(x14, x20, 0.9564250858492325_f64 * t.cos[7]),
+        );
+        let x31 = <f64 as ::trocar::Real>::mul_add(
+            -x17,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(
+                x14,
+                x21,
+                -(0.03695701352462508_f64 * t.cos[7]),
+            ),
+        );
+        let x32 = 0.04_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                0.25_f64,
+                t.cos[7],
+                -(0.008_f64 * t.sin[7]),
+            );
+        let x33 = <f64 as ::trocar::Real>::mul_add(
+            -x18,
+            x22,
+            <f64 as ::trocar::Real>::mul_add(
+                x16,
+                x19,
+                0.23170358210041245_f64 * t.sin[7],
+            ),
+        );
+        let x34 = <f64 as ::trocar::Real>::mul_add(
+            x18,
+            x23,
+            <f64 as ::trocar::Real>::mul_add(x16, x20, 0.765140068679386_f64 * t.sin[7]),
+        );
+        let x35 = <f64 as ::trocar::Real>::mul_add(
+            x18,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(
+                x16,
+                x21,
+                -(0.029565610819700067_f64 * t.sin[7]),
+            ),
+        );
+        let x36 = <f64 as ::trocar::Real>::mul_add(0.2_f64, t.sin[7], 0.01_f64 * x18);
+        let x37 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x25, -(t.sin[6] * x29));
+        let x38 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x26, -(t.sin[6] * x30));
+        let x39 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x27, -(t.sin[6] * x31));
+        let x40 = 0.02_f64
+            + <f64 as ::trocar::Real>::mul_add(t.cos[6], x28, -(t.sin[6] * x32));
+        let x41 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x25, t.cos[6] * x29);
+        let x42 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x26, t.cos[6] * x30);
+        let x43 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x27, t.cos[6] * x31);
+        let x44 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x37, t.sin[5] * x33);
+        let x45 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x38, t.sin[5] * x34);
+        let x46 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x39, t.sin[5] * x35);
+        let x47 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x40, t.sin[5] * x36);
+        let x48 = 0.05_f64
+            + (0.3_f64
+                + <f64 as ::trocar::Real>::mul_add(t.sin[6], x28, t.cos[6] * x32));
+        let x49 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x33, -(t.sin[5] * x37));
+        let x50 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x34, -(t.sin[5] * x38));
+        let x51 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x35, -(t.sin[5] * x39));
+        let x52 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x36, -(t.sin[5] * x40));
+        let x53 = <f64 as ::trocar::Real>::mul_add(
+            x8,
+            x49,
+            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x44, -(x7 * x41)),
+        );
+        let x54 = <f64 as ::trocar::Real>::mul_add(
+            x8,
+            x50,
+            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x45, -(x7 * x42)),
+        );
+        let x55 = <f64 as ::trocar::Real>::mul_add(
+            x8,
+            x51,
+            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x46, -(x7 * x43)),
+        );
+        let x56 = <f64 as ::trocar::Real>::mul_add(
+            -x10,
+            x49,
+            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x44, x9 * x41),
+        );
+        let x57 = <f64 as ::trocar::Real>::mul_add(
+            -x10,
+            x50,
+            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x45, x9 * x42),
+        );
+        let x58 = <f64 as ::trocar::Real>::mul_add(
+            -x10,
+            x51,
+            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x46, x9 * x43),
+        );
+        let x59 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x49,
+            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x44, x11 * x41),
+        );
+        let x60 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x50,
+            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x45, x11 * x42),
+        );
+        let x61 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x51,
+            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x46, x11 * x43),
+        );
+        let x62 = 0.02_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x12,
+                x52,
+                <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x47, x11 * x48),
+            );
+        let x63 = 0.01_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x8,
+                x52,
+                <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x47, -(x7 * x48)),
+            );
         let x64 = 0.1_f64 + t.q[3]
-            + (0.25_f64 + (0.18298657129998708_f64 * x47 + x9 * x48 - x10 * x52));
-        let x65 = 0.6_f64 * x62 - 0.8_f64 * x64;
+            + (0.25_f64
+                + <f64 as ::trocar::Real>::mul_add(
+                    -x10,
+                    x52,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.18298657129998708_f64,
+                        x47,
+                        x9 * x48,
+                    ),
+                ));
+        let x65 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x62, -(0.8_f64 * x64));
         let x66 = 0.8_f64 * x63;
         let x67 = 0.6_f64 * x63;
-        let x68 = t.cos[2] * x53 - x2 * x56 + x3 * x59;
-        let x69 = t.cos[2] * x54 - x2 * x57 + x3 * x60;
-        let x70 = t.cos[2] * x55 - x2 * x58 + x3 * x61;
-        let x71 = x2 * x53 + x4 * x56 + x5 * x59;
-        let x72 = x2 * x54 + x4 * x57 + x5 * x60;
-        let x73 = x2 * x55 + x4 * x58 + x5 * x61;
-        let x74 = 0.4_f64 + (x2 * x63 + x4 * x64 + x5 * x62);
-        let x75 = x5 * x56 - x3 * x53 + x6 * x59;
-        let x76 = x5 * x57 - x3 * x54 + x6 * x60;
-        let x77 = x5 * x58 - x3 * x55 + x6 * x61;
-        let x78 = x5 * x64 - x3 * x63 + x6 * x62 - 0.03_f64;
-        let x79 = 0.05_f64 + (t.cos[2] * x63 - x2 * x64 + x3 * x62);
-        let x80 = 0.02_f64 + (x0 * x74 - x1 * x78);
+        let x68 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x59,
+            <f64 as ::trocar::Real>::mul_add(t.cos[2], x53, -(x2 * x56)),
+        );
+        let x69 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x60,
+            <f64 as ::trocar::Real>::mul_add(t.cos[2], x54, -(x2 * x57)),
+        );
+        let x70 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x61,
+            <f64 as ::trocar::Real>::mul_add(t.cos[2], x55, -(x2 * x58)),
+        );
+        let x71 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x59,
+            <f64 as ::trocar::Real>::mul_add(x2, x53, x4 * x56),
+        );
+        let x72 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x60,
+            <f64 as ::trocar::Real>::mul_add(x2, x54, x4 * x57),
+        );
+        let x73 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x61,
+            <f64 as ::trocar::Real>::mul_add(x2, x55, x4 * x58),
+        );
+        let x74 = 0.4_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x5,
+                x62,
+                <f64 as ::trocar::Real>::mul_add(x2, x63, x4 * x64),
+            );
+        let x75 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x59,
+            <f64 as ::trocar::Real>::mul_add(x5, x56, -(x3 * x53)),
+        );
+        let x76 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x60,
+            <f64 as ::trocar::Real>::mul_add(x5, x57, -(x3 * x54)),
+        );
+        let x77 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x61,
+            <f64 as ::trocar::Real>::mul_add(x5, x58, -(x3 * x55)),
+        );
+        let x78 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x62,
+            <f64 as ::trocar::Real>::mul_add(x5, x64, -(x3 * x63)),
+        ) - 0.03_f64;
+        let x79 = 0.05_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x3,
+                x62,
+                <f64 as ::trocar::Real>::mul_add(t.cos[2], x63, -(x2 * x64)),
+            );
+        let x80 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x74, -(x1 * x78));
         [
             [
-                x79 * (x0 * x71 - x1 * x75) - x68 * x80,
-                x79 * (x0 * x72 - x1 * x76) - x69 * x80,
-                x79 * (x0 * x73 - x1 * x77) - x70 * x80,
-                x1 * x71 + x0 * x75,
-                x1 * x72 + x0 * x76,
-                x1 * x73 + x0 * x77,
+                <f64 as ::trocar::Real>::mul_add(
+                    x79,
+                    <f64 as ::trocar::Real>::mul_add(x0, x71, -(x1 * x75)),
+                    -(x68 * x80),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    x79,
+                    <f64 as ::trocar::Real>::mul_add(x0, x72, -(x1 * x76)),
+                    -(x69 * x80),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    x79,
+                    <f64 as ::trocar::Real>::mul_add(x0, x73, -(x1 * x77)),
+                    -(x70 * x80),
+                ),
+                <f64 as ::trocar::Real>::mul_add(x1, x71, x0 * x75),
+                <f64 as ::trocar::Real>::mul_add(x1, x72, x0 * x76),
+                <f64 as ::trocar::Real>::mul_add(x1, x73, x0 * x77),
             ],
             [
-                x74 * x75 - x71 * x78,
-                x74 * x76 - x72 * x78,
-                x74 * x77 - x73 * x78,
+                <f64 as ::trocar::Real>::mul_add(x74, x75, -(x71 * x78)),
+                <f64 as ::trocar::Real>::mul_add(x74, x76, -(x72 * x78)),
+                <f64 as ::trocar::Real>::mul_add(x74, x77, -(x73 * x78)),
                 x68,
                 x69,
                 x70,
             ],
             [
-                x53 * x65 + x56 * x66 - x59 * x67,
-                x54 * x65 + x57 * x66 - x60 * x67,
-                x55 * x65 + x58 * x66 - x61 * x67,
-                0.6_f64 * x56 + 0.8_f64 * x59,
-                0.6_f64 * x57 + 0.8_f64 * x60,
-                0.6_f64 * x58 + 0.8_f64 * x61,
+                <f64 as ::trocar::Real>::mul_add(
+                    -x59,
+                    x67,
+                    <f64 as ::trocar::Real>::mul_add(x53, x65, x56 * x66),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    -x60,
+                    x67,
+                    <f64 as ::trocar::Real>::mul_add(x54, x65, x57 * x66),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    -x61,
+                    x67,
+                    <f64 as ::trocar::Real>::mul_add(x55, x65, x58 * x66),
+                ),
+                <f64 as ::trocar::Real>::mul_add(0.6_f64, x56, 0.8_f64 * x59),
+                <f64 as ::trocar::Real>::mul_add(0.6_f64, x57, 0.8_f64 * x60),
+                <f64 as ::trocar::Real>::mul_add(0.6_f64, x58, 0.8_f64 * x61),
             ],
             [
                 x56,
@@ -615,36 +1651,60 @@ pub mod chain9_prismatic {
                 <f64 as ::trocar::Real>::ZERO,
             ],
             [
-                x48 * x49 - x41 * x52,
-                x48 * x50 - x42 * x52,
-                x48 * x51 - x43 * x52,
+                <f64 as ::trocar::Real>::mul_add(x48, x49, -(x41 * x52)),
+                <f64 as ::trocar::Real>::mul_add(x48, x50, -(x42 * x52)),
+                <f64 as ::trocar::Real>::mul_add(x48, x51, -(x43 * x52)),
                 x44,
                 x45,
                 x46,
             ],
             [
-                x36 * x37 - x33 * x40,
-                x36 * x38 - x34 * x40,
-                x36 * x39 - x35 * x40,
+                <f64 as ::trocar::Real>::mul_add(x36, x37, -(x33 * x40)),
+                <f64 as ::trocar::Real>::mul_add(x36, x38, -(x34 * x40)),
+                <f64 as ::trocar::Real>::mul_add(x36, x39, -(x35 * x40)),
                 x41,
                 x42,
                 x43,
             ],
             [
-                x28 * x29 - x25 * x32,
-                x28 * x30 - x26 * x32,
-                x28 * x31 - x27 * x32,
+                <f64 as ::trocar::Real>::mul_add(x28, x29, -(x25 * x32)),
+                <f64 as ::trocar::Real>::mul_add(x28, x30, -(x26 * x32)),
+                <f64 as ::trocar::Real>::mul_add(x28, x31, -(x27 * x32)),
                 x33,
                 x34,
                 x35,
             ],
             [
-                -(0.15_f64 * x19 + 0.0023170358210041243_f64 + 0.2_f64 * x22),
-                0.2_f64 * x23 - (0.15_f64 * x20 + 0.00765140068679386_f64),
-                0.00029565610819700066_f64 - 0.15_f64 * x21 + 0.2_f64 * x24,
-                0.8_f64 * x19 - 0.6_f64 * x22,
-                0.8_f64 * x20 + 0.6_f64 * x23,
-                0.8_f64 * x21 + 0.6_f64 * x24,
+                -<f64 as ::trocar::Real>::mul_add(
+                    0.2_f64,
+                    x22,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.15_f64,
+                        x19,
+                        0.0023170358210041243_f64,
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.2_f64,
+                    x23,
+                    -<f64 as ::trocar::Real>::mul_add(
+                        0.15_f64,
+                        x20,
+                        0.00765140068679386_f64,
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.2_f64,
+                    x24,
+                    <f64 as ::trocar::Real>::mul_add(
+                        -0.15_f64,
+                        x21,
+                        0.00029565610819700066_f64,
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(0.8_f64, x19, -(0.6_f64 * x22)),
+                <f64 as ::trocar::Real>::mul_add(0.8_f64, x20, 0.6_f64 * x23),
+                <f64 as ::trocar::Real>::mul_add(0.8_f64, x21, 0.6_f64 * x24),
             ],
             [
                 <f64 as ::trocar::Real>::ZERO,
@@ -669,24 +1729,82 @@ pub mod chain9_prismatic {
         let ([s7, s8, s9], [c7, c8, c9]) = <f64 as ::trocar::Real>::sin_cos_array(
             &[q[6], q[7], q[8]],
         );
-        let x0 = (0.3778998554341936_f64 * c8 - 0.5765691862292548_f64) * s9
-            + ((0.5038664739122581_f64 + 0.4324268896719411_f64 * c8) * c9
-                - 0.17377768657530934_f64 * s8);
-        let x1 = s8 * (0.6298330923903226_f64 * s9 + 0.7207114827865685_f64 * c9)
-            + 0.28962947762551555_f64 * c8;
-        let x2 = s9 * (0.19466577951740063_f64 - 0.09682238451014492_f64 * c8)
-            - (c9 * (0.12909651268019323_f64 + 0.14599933463805048_f64 * c8)
-                + 0.5738550515095395_f64 * s8);
-        let x3 = s8 * (0.16137064085024153_f64 * s9 + 0.24333222439675078_f64 * c9);
+        let x0 = <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::Real>::mul_add(
+                0.3778998554341936_f64,
+                c8,
+                -0.5765691862292548_f64,
+            ),
+            s9,
+            <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::Real>::mul_add(
+                    0.4324268896719411_f64,
+                    c8,
+                    0.5038664739122581_f64,
+                ),
+                c9,
+                -(0.17377768657530934_f64 * s8),
+            ),
+        );
+        let x1 = <f64 as ::trocar::Real>::mul_add(
+            s8,
+            <f64 as ::trocar::Real>::mul_add(
+                0.6298330923903226_f64,
+                s9,
+                0.7207114827865685_f64 * c9,
+            ),
+            0.28962947762551555_f64 * c8,
+        );
+        let x2 = <f64 as ::trocar::Real>::mul_add(
+            s9,
+            <f64 as ::trocar::Real>::mul_add(
+                -0.09682238451014492_f64,
+                c8,
+                0.19466577951740063_f64,
+            ),
+            -<f64 as ::trocar::Real>::mul_add(
+                c9,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.14599933463805048_f64,
+                    c8,
+                    0.12909651268019323_f64,
+                ),
+                0.5738550515095395_f64 * s8,
+            ),
+        );
+        let x3 = s8
+            * <f64 as ::trocar::Real>::mul_add(
+                0.16137064085024153_f64,
+                s9,
+                0.24333222439675078_f64 * c9,
+            );
         let x4 = 0.9564250858492325_f64 * c8;
-        let x5 = s9 * (0.5193006910989217_f64 + 0.45586963610289427_f64 * c8)
-            + (c9 * (0.6078261814705257_f64 - 0.3894755183241913_f64 * c8)
-                + 0.022174208114775048_f64 * s8);
+        let x5 = <f64 as ::trocar::Real>::mul_add(
+            s9,
+            <f64 as ::trocar::Real>::mul_add(
+                0.45586963610289427_f64,
+                c8,
+                0.5193006910989217_f64,
+            ),
+            <f64 as ::trocar::Real>::mul_add(
+                c9,
+                <f64 as ::trocar::Real>::mul_add(
+                    -0.3894755183241913_f64,
+                    c8,
+                    0.6078261814705257_f64,
+                ),
+                0.022174208114775048_f64 * s8,
+            ),
+        );
         let x6 = 0.7597827268381572_f64 * s9;
         let x7 = 0.6491258638736521_f64 * c9;
         let x8 = 0.03695701352462508_f64 * c8;
         let x9 = 0.5038664739122581_f64 * p.l_a;
-        let x10 = 0.4324268896719411_f64 * p.l_a - 0.12972806690158234_f64;
+        let x10 = <f64 as ::trocar::Real>::mul_add(
+            0.4324268896719411_f64,
+            p.l_a,
+            -0.12972806690158234_f64,
+        );
         let x11 = 0.5765691862292548_f64 * p.l_a;
         let x12 = 0.3778998554341936_f64 * p.l_a;
         let x13 = 0.12909651268019323_f64 * p.l_a;
@@ -695,222 +1813,700 @@ pub mod chain9_prismatic {
         let x16 = 0.3894755183241913_f64 * p.l_a;
         let x17 = 0.5193006910989217_f64 * p.l_a;
         let x18 = 0.45586963610289427_f64 * p.l_a;
-        let x19 = s8
-            * (0.006951107463012373_f64 + 0.007490346908673594_f64 * c9
-                - 0.0015893546463604897_f64 * s9)
-            + (c8
-                * (0.0013902214926024747_f64 + 0.12902630233994597_f64 * s9
-                    - 0.14326369406494216_f64 * c9)
-                - (0.0013902214926024747_f64 + 0.07141219640937821_f64 * s9
-                    + 0.1282613813744756_f64 * c9));
-        let x20 = s8
-            * (0.022954202060381578_f64 + 0.0007827471600580457_f64 * s9
-                - 0.0022007667785459493_f64 * c9)
-            + (c8
-                * (0.004590840412076316_f64 + 0.03811410155557032_f64 * c9
-                    - 0.04479354949894437_f64 * s9)
-                + (0.016418964946840205_f64 * s9 + 0.04166369416672035_f64 * c9
-                    - 0.004590840412076316_f64));
-        let x21 = s8
-            * (0.007801362617614528_f64 * s9 + 0.0017468053051706756_f64 * c9
-                - 0.0008869683245910019_f64)
-            + (0.0001773936649182004_f64 + 0.07305583232222679_f64 * c9
-                - 0.13473943666968044_f64 * s9
-                - c8
-                    * (0.0001773936649182004_f64 + 0.1480599582188462_f64 * s9
-                        + 0.13637752463466377_f64 * c9));
-        let x22 = c9 * (0.3778998554341936_f64 - 0.5765691862292548_f64 * c8)
-            + 0.23170358210041245_f64 * s8
-            - s9 * (0.4324268896719411_f64 + 0.5038664739122581_f64 * c8);
-        let x23 = s9 * (0.14599933463805048_f64 + 0.12909651268019323_f64 * c8)
-            + (c9 * (0.19466577951740063_f64 * c8 - 0.09682238451014492_f64)
-                + 0.765140068679386_f64 * s8);
-        let x24 = s9 * (0.3894755183241913_f64 - 0.6078261814705257_f64 * c8)
-            + (c9 * (0.45586963610289427_f64 + 0.5193006910989217_f64 * c8)
-                - 0.029565610819700064_f64 * s8);
+        let x19 = <f64 as ::trocar::Real>::mul_add(
+            s8,
+            <f64 as ::trocar::Real>::mul_add(
+                -0.0015893546463604897_f64,
+                s9,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.007490346908673594_f64,
+                    c9,
+                    0.006951107463012373_f64,
+                ),
+            ),
+            <f64 as ::trocar::Real>::mul_add(
+                c8,
+                <f64 as ::trocar::Real>::mul_add(
+                    -0.14326369406494216_f64,
+                    c9,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.12902630233994597_f64,
+                        s9,
+                        0.0013902214926024747_f64,
+                    ),
+                ),
+                -<f64 as ::trocar::Real>::mul_add(
+                    0.1282613813744756_f64,
+                    c9,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.07141219640937821_f64,
+                        s9,
+                        0.0013902214926024747_f64,
+                    ),
+                ),
+            ),
+        );
+        let x20 = <f64 as ::trocar::Real>::mul_add(
+            s8,
+            <f64 as ::trocar::Real>::mul_add(
+                -0.0022007667785459493_f64,
+                c9,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.0007827471600580457_f64,
+                    s9,
+                    0.022954202060381578_f64,
+                ),
+            ),
+            <f64 as ::trocar::Real>::mul_add(
+                c8,
+                <f64 as ::trocar::Real>::mul_add(
+                    -0.04479354949894437_f64,
+                    s9,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.03811410155557032_f64,
+                        c9,
+                        0.004590840412076316_f64,
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.016418964946840205_f64,
+                    s9,
+                    0.04166369416672035_f64 * c9,
+                ) - 0.004590840412076316_f64,
+            ),
+        );
+        let x21 = <f64 as ::trocar::Real>::mul_add(
+            s8,
+            <f64 as ::trocar::Real>::mul_add(
+                0.007801362617614528_f64,
+                s9,
+                0.0017468053051706756_f64 * c9,
+            ) - 0.0008869683245910019_f64,
+            <f64 as ::trocar::Real>::mul_add(
+                -c8,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.13637752463466377_f64,
+                    c9,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.1480599582188462_f64,
+                        s9,
+                        0.0001773936649182004_f64,
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    -0.13473943666968044_f64,
+                    s9,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.07305583232222679_f64,
+                        c9,
+                        0.0001773936649182004_f64,
+                    ),
+                ),
+            ),
+        );
+        let x22 = <f64 as ::trocar::Real>::mul_add(
+            -s9,
+            <f64 as ::trocar::Real>::mul_add(
+                0.5038664739122581_f64,
+                c8,
+                0.4324268896719411_f64,
+            ),
+            <f64 as ::trocar::Real>::mul_add(
+                c9,
+                <f64 as ::trocar::Real>::mul_add(
+                    -0.5765691862292548_f64,
+                    c8,
+                    0.3778998554341936_f64,
+                ),
+                0.23170358210041245_f64 * s8,
+            ),
+        );
+        let x23 = <f64 as ::trocar::Real>::mul_add(
+            s9,
+            <f64 as ::trocar::Real>::mul_add(
+                0.12909651268019323_f64,
+                c8,
+                0.14599933463805048_f64,
+            ),
+            <f64 as ::trocar::Real>::mul_add(
+                c9,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.19466577951740063_f64,
+                    c8,
+                    -0.09682238451014492_f64,
+                ),
+                0.765140068679386_f64 * s8,
+            ),
+        );
+        let x24 = <f64 as ::trocar::Real>::mul_add(
+            s9,
+            <f64 as ::trocar::Real>::mul_add(
+                -0.6078261814705257_f64,
+                c8,
+                0.3894755183241913_f64,
+            ),
+            <f64 as ::trocar::Real>::mul_add(
+                c9,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.5193006910989217_f64,
+                    c8,
+                    0.45586963610289427_f64,
+                ),
+                -(0.029565610819700064_f64 * s8),
+            ),
+        );
         [
             [
-                x0 * s7 + x1 * c7,
-                s7 * x2 + c7 * (x4 - x3),
-                s7 * x5 + c7 * (s8 * (x6 - x7) - x8),
+                <f64 as ::trocar::Real>::mul_add(x0, s7, x1 * c7),
+                <f64 as ::trocar::Real>::mul_add(s7, x2, c7 * (x4 - x3)),
+                <f64 as ::trocar::Real>::mul_add(
+                    s7,
+                    x5,
+                    c7 * <f64 as ::trocar::Real>::mul_add(s8, x6 - x7, -x8),
+                ),
                 <f64 as ::trocar::Real>::ZERO,
                 <f64 as ::trocar::Real>::ZERO,
                 <f64 as ::trocar::Real>::ZERO,
             ],
             [
-                s9
-                    * (c8
-                        * (0.0019866933079506124_f64 * s7 + x9 - 0.15115994217367743_f64
-                            - 0.1282613813744756_f64 * c7)
-                        + (s8
-                            * (0.18017787069664212_f64 * s7
-                                + 0.0011920159847703673_f64 * c7)
-                            + (x10 - 0.14326369406494216_f64 * c7)))
-                    + (c9
-                        * (c8
-                            * (0.07141219640937821_f64 * c7 + x11
-                                - 0.17297075586877644_f64 - 0.009362933635841992_f64 * s7)
-                            + (0.11336995663025808_f64 - 0.12902630233994597_f64 * c7
-                                - x12
-                                - s8
-                                    * (0.15745827309758065_f64 * s7
-                                        + 0.005617760181505195_f64 * c7)))
-                        + (s8
-                            * (0.06951107463012374_f64 + 0.0017377768657530933_f64 * s7
-                                + 0.009268143284016497_f64 * c7
-                                - 0.23170358210041245_f64 * p.l_a)
-                            - c7
-                                * (0.0018536286568032994_f64
-                                    + 0.001042666119451856_f64 * c8))),
-                s9
-                    * (c8
-                        * (0.03872895380405797_f64 + 0.04166369416672035_f64 * c7
-                            - 0.0009784339500725572_f64 * s7 - x13)
-                        + (0.04379980039141514_f64 + 0.03811410155557032_f64 * c7 - x14
-                            - s8
-                                * (0.060833056099187696_f64 * s7
-                                    + 0.0005870603700435343_f64 * c7)))
-                    + (c9
-                        * (c8
-                            * (0.05839973385522019_f64 + 0.002750958473182437_f64 * s7
-                                - 0.016418964946840205_f64 * c7
-                                - 0.19466577951740063_f64 * p.l_a)
-                            + (s8
-                                * (0.04034266021256038_f64 * s7
-                                    + 0.0016505750839094623_f64 * c7)
-                                + (0.04479354949894436_f64 * c7
-                                    + 0.09682238451014492_f64 * p.l_a
-                                    - 0.029046715353043477_f64)))
-                        + (s8
-                            * (0.2295420206038158_f64 + 0.005738550515095395_f64 * s7
-                                + 0.03060560274717544_f64 * c7
-                                - 0.765140068679386_f64 * p.l_a)
-                            - c7
-                                * (0.006121120549435088_f64
-                                    + 0.003443130309057237_f64 * c8))),
-                s9
-                    * (c8
-                        * (0.07305583232222679_f64 * c7 + x15 - 0.18234785444115773_f64
-                            - 0.00975170327201816_f64 * s7)
-                        + (0.11684265549725738_f64 - 0.13637752463466377_f64 * c7 - x16
-                            - s8
-                                * (0.16228146596841303_f64 * s7
-                                    + 0.005851021963210896_f64 * c7)))
-                    + (c9
-                        * (c8
-                            * (0.15579020732967652_f64 + 0.13473943666968044_f64 * c7
-                                - 0.0021835066314633443_f64 * s7 - x17)
-                            + (0.1367608908308683_f64 + 0.1480599582188462_f64 * c7 - x18
-                                - s8
-                                    * (0.1899456817095393_f64 * s7
-                                        + 0.0013101039788780064_f64 * c7)))
-                        + (s8
-                            * (0.029565610819700064_f64 * p.l_a - 0.00886968324591002_f64
-                                - 0.00022174208114775047_f64 * s7
-                                - 0.0011826244327880027_f64 * c7)
-                            + c7
-                                * (0.0002365248865576005_f64
-                                    + 0.00013304524868865028_f64 * c8))),
-                x0 * c7 - s7 * x1,
-                c7 * x2 + s7 * (x3 - x4),
-                c7 * x5 + s7 * (x8 + s8 * (x7 - x6)),
+                <f64 as ::trocar::Real>::mul_add(
+                    s9,
+                    <f64 as ::trocar::Real>::mul_add(
+                        c8,
+                        <f64 as ::trocar::Real>::mul_add(
+                            -0.1282613813744756_f64,
+                            c7,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.0019866933079506124_f64,
+                                s7,
+                                x9,
+                            ) - 0.15115994217367743_f64,
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            s8,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.18017787069664212_f64,
+                                s7,
+                                0.0011920159847703673_f64 * c7,
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                -0.14326369406494216_f64,
+                                c7,
+                                x10,
+                            ),
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        c9,
+                        <f64 as ::trocar::Real>::mul_add(
+                            c8,
+                            <f64 as ::trocar::Real>::mul_add(
+                                -0.009362933635841992_f64,
+                                s7,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.07141219640937821_f64,
+                                    c7,
+                                    x11,
+                                ) - 0.17297075586877644_f64,
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                -s8,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.15745827309758065_f64,
+                                    s7,
+                                    0.005617760181505195_f64 * c7,
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.12902630233994597_f64,
+                                    c7,
+                                    0.11336995663025808_f64,
+                                ) - x12,
+                            ),
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            s8,
+                            <f64 as ::trocar::Real>::mul_add(
+                                -0.23170358210041245_f64,
+                                p.l_a,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.009268143284016497_f64,
+                                    c7,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.0017377768657530933_f64,
+                                        s7,
+                                        0.06951107463012374_f64,
+                                    ),
+                                ),
+                            ),
+                            -(c7
+                                * <f64 as ::trocar::Real>::mul_add(
+                                    0.001042666119451856_f64,
+                                    c8,
+                                    0.0018536286568032994_f64,
+                                )),
+                        ),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    s9,
+                    <f64 as ::trocar::Real>::mul_add(
+                        c8,
+                        <f64 as ::trocar::Real>::mul_add(
+                            -0.0009784339500725572_f64,
+                            s7,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.04166369416672035_f64,
+                                c7,
+                                0.03872895380405797_f64,
+                            ),
+                        ) - x13,
+                        <f64 as ::trocar::Real>::mul_add(
+                            -s8,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.060833056099187696_f64,
+                                s7,
+                                0.0005870603700435343_f64 * c7,
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.03811410155557032_f64,
+                                c7,
+                                0.04379980039141514_f64,
+                            ) - x14,
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        c9,
+                        <f64 as ::trocar::Real>::mul_add(
+                            c8,
+                            <f64 as ::trocar::Real>::mul_add(
+                                -0.19466577951740063_f64,
+                                p.l_a,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.016418964946840205_f64,
+                                    c7,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.002750958473182437_f64,
+                                        s7,
+                                        0.05839973385522019_f64,
+                                    ),
+                                ),
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                s8,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.04034266021256038_f64,
+                                    s7,
+                                    0.0016505750839094623_f64 * c7,
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.04479354949894436_f64,
+                                    c7,
+                                    0.09682238451014492_f64 * p.l_a,
+                                ) - 0.029046715353043477_f64,
+                            ),
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            s8,
+                            <f64 as ::trocar::Real>::mul_add(
+                                -0.765140068679386_f64,
+                                p.l_a,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.03060560274717544_f64,
+                                    c7,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.005738550515095395_f64,
+                                        s7,
+                                        0.2295420206038158_f64,
+                                    ),
+                                ),
+                            ),
+                            -(c7
+                                * <f64 as ::trocar::Real>::mul_add(
+                                    0.003443130309057237_f64,
+                                    c8,
+                                    0.006121120549435088_f64,
+                                )),
+                        ),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    s9,
+                    <f64 as ::trocar::Real>::mul_add(
+                        c8,
+                        <f64 as ::trocar::Real>::mul_add(
+                            -0.00975170327201816_f64,
+                            s7,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.07305583232222679_f64,
+                                c7,
+                                x15,
+                            ) - 0.18234785444115773_f64,
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            -s8,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.16228146596841303_f64,
+                                s7,
+                                0.005851021963210896_f64 * c7,
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                -0.13637752463466377_f64,
+                                c7,
+                                0.11684265549725738_f64,
+                            ) - x16,
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        c9,
+                        <f64 as ::trocar::Real>::mul_add(
+                            c8,
+                            <f64 as ::trocar::Real>::mul_add(
+                                -0.0021835066314633443_f64,
+                                s7,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.13473943666968044_f64,
+                                    c7,
+                                    0.15579020732967652_f64,
+                                ),
+                            ) - x17,
+                            <f64 as ::trocar::Real>::mul_add(
+                                -s8,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.1899456817095393_f64,
+                                    s7,
+                                    0.0013101039788780064_f64 * c7,
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.1480599582188462_f64,
+                                    c7,
+                                    0.1367608908308683_f64,
+                                ) - x18,
+                            ),
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            s8,
+                            <f64 as ::trocar::Real>::mul_add(
+                                -0.0011826244327880027_f64,
+                                c7,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.00022174208114775047_f64,
+                                    s7,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.029565610819700064_f64,
+                                        p.l_a,
+                                        -0.00886968324591002_f64,
+                                    ),
+                                ),
+                            ),
+                            c7
+                                * <f64 as ::trocar::Real>::mul_add(
+                                    0.00013304524868865028_f64,
+                                    c8,
+                                    0.0002365248865576005_f64,
+                                ),
+                        ),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(x0, c7, -(s7 * x1)),
+                <f64 as ::trocar::Real>::mul_add(c7, x2, s7 * (x3 - x4)),
+                <f64 as ::trocar::Real>::mul_add(
+                    c7,
+                    x5,
+                    s7 * <f64 as ::trocar::Real>::mul_add(s8, x7 - x6, x8),
+                ),
             ],
             [
-                c7
-                    * (s9
-                        * (c8 * (x12 - 0.11336995663025808_f64)
-                            + (0.17297075586877644_f64 + 0.012596661847806452_f64 * s8
-                                - x11))
-                        + (c9
-                            * (c8 * x10
-                                + (x9 + 0.01441422965573137_f64 * s8
-                                    - 0.15115994217367743_f64))
-                            + (s8
-                                * (0.052133305972592796_f64
-                                    - 0.17377768657530934_f64 * p.l_a)
-                                + 0.005792589552510311_f64 * c8)))
-                    + (s7
-                        * (s8
-                            * (s9
-                                * (0.1889499277170968_f64 - 0.6298330923903226_f64 * p.l_a)
-                                + (c9
-                                    * (0.21621344483597055_f64 - 0.7207114827865685_f64 * p.l_a)
-                                    - 0.0034755537315061865_f64))
-                            + (c8
-                                * (0.08688884328765467_f64 + 0.007557997108683871_f64 * s9
-                                    + 0.008648537793438821_f64 * c9
-                                    - 0.28962947762551555_f64 * p.l_a)
-                                + (0.010077329478245162_f64 * c9
-                                    - 0.011531383724585096_f64 * s9))) + x19),
-                c7
-                    * (s9
-                        * (c8
-                            * (0.029046715353043477_f64
-                                - 0.09682238451014491_f64 * p.l_a)
-                            + (0.1946657795174006_f64 * p.l_a - 0.05839973385522019_f64
-                                - 0.0032274128170048304_f64 * s8))
-                        + (c9
-                            * (c8 * (0.04379980039141514_f64 - x14)
-                                + (0.03872895380405797_f64 - 0.004866644487935016_f64 * s8
-                                    - x13))
-                            + (s8
-                                * (0.17215651545286184_f64 - 0.5738550515095395_f64 * p.l_a)
-                                + 0.01912850171698465_f64 * c8)))
-                    + (s7
-                        * (s8
-                            * (s9
-                                * (0.16137064085024153_f64 * p.l_a
-                                    - 0.048411192255072455_f64)
-                                + (c9
-                                    * (0.2433322243967508_f64 * p.l_a - 0.07299966731902524_f64)
-                                    - 0.011477101030190789_f64))
-                            + (c8
-                                * (0.28692752575476976_f64 - 0.0019364476902028983_f64 * s9
-                                    - 0.00291998669276101_f64 * c9
-                                    - 0.9564250858492326_f64 * p.l_a)
-                                + (0.0038933155903480123_f64 * s9
-                                    - 0.0025819302536038645_f64 * c9))) + x20),
-                c7
-                    * (s9
-                        * (c8 * (x18 - 0.1367608908308683_f64)
-                            + (x17 + 0.015195654536763144_f64 * s8
-                                - 0.15579020732967652_f64))
-                        + (c9
-                            * (c8 * (0.11684265549725738_f64 - x16)
-                                + (x15 - 0.18234785444115773_f64
-                                    - 0.012982517277473044_f64 * s8))
-                            + (s8
-                                * (0.022174208114775048_f64 * p.l_a
-                                    - 0.006652262434432514_f64)
-                                - 0.0007391402704925016_f64 * c8)))
-                    + (s7
-                        * (s8
-                            * (s9
-                                * (0.22793481805144714_f64 - 0.7597827268381572_f64 * p.l_a)
-                                + (c9
-                                    * (0.6491258638736521_f64 * p.l_a - 0.19473775916209565_f64)
-                                    + 0.00044348416229550094_f64))
-                            + (c8
-                                * (0.009117392722057886_f64 * s9
-                                    + 0.03695701352462508_f64 * p.l_a - 0.011087104057387524_f64
-                                    - 0.007789510366483825_f64 * c9)
-                                + (0.010386013821978434_f64 * s9
-                                    + 0.012156523629410514_f64 * c9))) + x21),
+                <f64 as ::trocar::Real>::mul_add(
+                    c7,
+                    <f64 as ::trocar::Real>::mul_add(
+                        s9,
+                        <f64 as ::trocar::Real>::mul_add(
+                            c8,
+                            x12 - 0.11336995663025808_f64,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.012596661847806452_f64,
+                                s8,
+                                0.17297075586877644_f64,
+                            ) - x11,
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            c9,
+                            <f64 as ::trocar::Real>::mul_add(
+                                c8,
+                                x10,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.01441422965573137_f64,
+                                    s8,
+                                    x9,
+                                ) - 0.15115994217367743_f64,
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                s8,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.17377768657530934_f64,
+                                    p.l_a,
+                                    0.052133305972592796_f64,
+                                ),
+                                0.005792589552510311_f64 * c8,
+                            ),
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        s7,
+                        <f64 as ::trocar::Real>::mul_add(
+                            s8,
+                            <f64 as ::trocar::Real>::mul_add(
+                                s9,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.6298330923903226_f64,
+                                    p.l_a,
+                                    0.1889499277170968_f64,
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    c9,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.7207114827865685_f64,
+                                        p.l_a,
+                                        0.21621344483597055_f64,
+                                    ),
+                                    -0.0034755537315061865_f64,
+                                ),
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                c8,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.28962947762551555_f64,
+                                    p.l_a,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.008648537793438821_f64,
+                                        c9,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.007557997108683871_f64,
+                                            s9,
+                                            0.08688884328765467_f64,
+                                        ),
+                                    ),
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.010077329478245162_f64,
+                                    c9,
+                                    -(0.011531383724585096_f64 * s9),
+                                ),
+                            ),
+                        ),
+                        x19,
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    c7,
+                    <f64 as ::trocar::Real>::mul_add(
+                        s9,
+                        <f64 as ::trocar::Real>::mul_add(
+                            c8,
+                            <f64 as ::trocar::Real>::mul_add(
+                                -0.09682238451014491_f64,
+                                p.l_a,
+                                0.029046715353043477_f64,
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                -0.0032274128170048304_f64,
+                                s8,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.1946657795174006_f64,
+                                    p.l_a,
+                                    -0.05839973385522019_f64,
+                                ),
+                            ),
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            c9,
+                            <f64 as ::trocar::Real>::mul_add(
+                                c8,
+                                0.04379980039141514_f64 - x14,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.004866644487935016_f64,
+                                    s8,
+                                    0.03872895380405797_f64,
+                                ) - x13,
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                s8,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.5738550515095395_f64,
+                                    p.l_a,
+                                    0.17215651545286184_f64,
+                                ),
+                                0.01912850171698465_f64 * c8,
+                            ),
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        s7,
+                        <f64 as ::trocar::Real>::mul_add(
+                            s8,
+                            <f64 as ::trocar::Real>::mul_add(
+                                s9,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.16137064085024153_f64,
+                                    p.l_a,
+                                    -0.048411192255072455_f64,
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    c9,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.2433322243967508_f64,
+                                        p.l_a,
+                                        -0.07299966731902524_f64,
+                                    ),
+                                    -0.011477101030190789_f64,
+                                ),
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                c8,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.9564250858492326_f64,
+                                    p.l_a,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.00291998669276101_f64,
+                                        c9,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            -0.0019364476902028983_f64,
+                                            s9,
+                                            0.28692752575476976_f64,
+                                        ),
+                                    ),
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.0038933155903480123_f64,
+                                    s9,
+                                    -(0.0025819302536038645_f64 * c9),
+                                ),
+                            ),
+                        ),
+                        x20,
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    c7,
+                    <f64 as ::trocar::Real>::mul_add(
+                        s9,
+                        <f64 as ::trocar::Real>::mul_add(
+                            c8,
+                            x18 - 0.1367608908308683_f64,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.015195654536763144_f64,
+                                s8,
+                                x17,
+                            ) - 0.15579020732967652_f64,
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            c9,
+                            <f64 as ::trocar::Real>::mul_add(
+                                c8,
+                                0.11684265549725738_f64 - x16,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.012982517277473044_f64,
+                                    s8,
+                                    x15 - 0.18234785444115773_f64,
+                                ),
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                s8,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.022174208114775048_f64,
+                                    p.l_a,
+                                    -0.006652262434432514_f64,
+                                ),
+                                -(0.0007391402704925016_f64 * c8),
+                            ),
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        s7,
+                        <f64 as ::trocar::Real>::mul_add(
+                            s8,
+                            <f64 as ::trocar::Real>::mul_add(
+                                s9,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.7597827268381572_f64,
+                                    p.l_a,
+                                    0.22793481805144714_f64,
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    c9,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.6491258638736521_f64,
+                                        p.l_a,
+                                        -0.19473775916209565_f64,
+                                    ),
+                                    0.00044348416229550094_f64,
+                                ),
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                c8,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.007789510366483825_f64,
+                                    c9,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.009117392722057886_f64,
+                                        s9,
+                                        0.03695701352462508_f64 * p.l_a,
+                                    ) - 0.011087104057387524_f64,
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.010386013821978434_f64,
+                                    s9,
+                                    0.012156523629410514_f64 * c9,
+                                ),
+                            ),
+                        ),
+                        x21,
+                    ),
+                ),
                 x22,
                 x23,
                 x24,
             ],
             [x19, x20, x21, x22, x23, x24],
             [
-                -(0.0023170358210041243_f64 + 0.15745827309758065_f64 * s9
-                    + 0.18017787069664212_f64 * c9),
-                0.04034266021256038_f64 * s9 + 0.060833056099187696_f64 * c9
-                    - 0.00765140068679386_f64,
-                0.00029565610819700066_f64 + 0.16228146596841303_f64 * c9
-                    - 0.1899456817095393_f64 * s9,
-                0.6298330923903226_f64 * c9 - 0.7207114827865685_f64 * s9,
-                0.24333222439675078_f64 * s9 - 0.16137064085024153_f64 * c9,
-                0.6491258638736521_f64 * s9 + 0.7597827268381572_f64 * c9,
+                -<f64 as ::trocar::Real>::mul_add(
+                    0.18017787069664212_f64,
+                    c9,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.15745827309758065_f64,
+                        s9,
+                        0.0023170358210041243_f64,
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.04034266021256038_f64,
+                    s9,
+                    0.060833056099187696_f64 * c9,
+                ) - 0.00765140068679386_f64,
+                <f64 as ::trocar::Real>::mul_add(
+                    -0.1899456817095393_f64,
+                    s9,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.16228146596841303_f64,
+                        c9,
+                        0.00029565610819700066_f64,
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.6298330923903226_f64,
+                    c9,
+                    -(0.7207114827865685_f64 * s9),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.24333222439675078_f64,
+                    s9,
+                    -(0.16137064085024153_f64 * c9),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.6491258638736521_f64,
+                    s9,
+                    0.7597827268381572_f64 * c9,
+                ),
             ],
             [
                 <f64 as ::trocar::Real>::ZERO,
@@ -930,27 +2526,82 @@ pub mod chain9_prismatic {
     #[inline]
     #[must_use]
     pub fn constrained_jacobian_trig(t: &JointTrig, p: &Params) -> [[f64; 6]; M] {
-        let x0 = (0.3778998554341936_f64 * t.cos[7] - 0.5765691862292548_f64) * t.sin[8]
-            + ((0.5038664739122581_f64 + 0.4324268896719411_f64 * t.cos[7]) * t.cos[8]
-                - 0.17377768657530934_f64 * t.sin[7]);
-        let x1 = t.sin[7]
-            * (0.6298330923903226_f64 * t.sin[8] + 0.7207114827865685_f64 * t.cos[8])
-            + 0.28962947762551555_f64 * t.cos[7];
-        let x2 = t.sin[8]
-            * (0.19466577951740063_f64 - 0.09682238451014492_f64 * t.cos[7])
-            - (t.cos[8] * (0.12909651268019323_f64 + 0.14599933463805048_f64 * t.cos[7])
-                + 0.5738550515095395_f64 * t.sin[7]);
+        let x0 = <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::Real>::mul_add(
+                0.3778998554341936_f64,
+                t.cos[7],
+                -0.5765691862292548_f64,
+            ),
+            t.sin[8],
+            <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::Real>::mul_add(
+                    0.4324268896719411_f64,
+                    t.cos[7],
+                    0.5038664739122581_f64,
+                ),
+                t.cos[8],
+                -(0.17377768657530934_f64 * t.sin[7]),
+            ),
+        );
+        let x1 = <f64 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            <f64 as ::trocar::Real>::mul_add(
+                0.6298330923903226_f64,
+                t.sin[8],
+                0.7207114827865685_f64 * t.cos[8],
+            ),
+            0.28962947762551555_f64 * t.cos[7],
+        );
+        let x2 = <f64 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            <f64 as ::trocar::Real>::mul_add(
+                -0.09682238451014492_f64,
+                t.cos[7],
+                0.19466577951740063_f64,
+            ),
+            -<f64 as ::trocar::Real>::mul_add(
+                t.cos[8],
+                <f64 as ::trocar::Real>::mul_add(
+                    0.14599933463805048_f64,
+                    t.cos[7],
+                    0.12909651268019323_f64,
+                ),
+                0.5738550515095395_f64 * t.sin[7],
+            ),
+        );
         let x3 = t.sin[7]
-            * (0.16137064085024153_f64 * t.sin[8] + 0.24333222439675078_f64 * t.cos[8]);
+            * <f64 as ::trocar::Real>::mul_add(
+                0.16137064085024153_f64,
+                t.sin[8],
+                0.24333222439675078_f64 * t.cos[8],
+            );
         let x4 = 0.9564250858492325_f64 * t.cos[7];
-        let x5 = t.sin[8] * (0.5193006910989217_f64 + 0.45586963610289427_f64 * t.cos[7])
-            + (t.cos[8] * (0.6078261814705257_f64 - 0.3894755183241913_f64 * t.cos[7])
-                + 0.022174208114775048_f64 * t.sin[7]);
+        let x5 = <f64 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            <f64 as ::trocar::Real>::mul_add(
+                0.45586963610289427_f64,
+                t.cos[7],
+                0.5193006910989217_f64,
+            ),
+            <f64 as ::trocar::Real>::mul_add(
+                t.cos[8],
+                <f64 as ::trocar::Real>::mul_add(
+                    -0.3894755183241913_f64,
+                    t.cos[7],
+                    0.6078261814705257_f64,
+                ),
+                0.022174208114775048_f64 * t.sin[7],
+            ),
+        );
         let x6 = 0.7597827268381572_f64 * t.sin[8];
         let x7 = 0.6491258638736521_f64 * t.cos[8];
         let x8 = 0.03695701352462508_f64 * t.cos[7];
         let x9 = 0.5038664739122581_f64 * p.l_a;
-        let x10 = 0.4324268896719411_f64 * p.l_a - 0.12972806690158234_f64;
+        let x10 = <f64 as ::trocar::Real>::mul_add(
+            0.4324268896719411_f64,
+            p.l_a,
+            -0.12972806690158234_f64,
+        );
         let x11 = 0.5765691862292548_f64 * p.l_a;
         let x12 = 0.3778998554341936_f64 * p.l_a;
         let x13 = 0.12909651268019323_f64 * p.l_a;
@@ -959,235 +2610,700 @@ pub mod chain9_prismatic {
         let x16 = 0.3894755183241913_f64 * p.l_a;
         let x17 = 0.5193006910989217_f64 * p.l_a;
         let x18 = 0.45586963610289427_f64 * p.l_a;
-        let x19 = t.sin[7]
-            * (0.006951107463012373_f64 + 0.007490346908673594_f64 * t.cos[8]
-                - 0.0015893546463604897_f64 * t.sin[8])
-            + (t.cos[7]
-                * (0.0013902214926024747_f64 + 0.12902630233994597_f64 * t.sin[8]
-                    - 0.14326369406494216_f64 * t.cos[8])
-                - (0.0013902214926024747_f64 + 0.07141219640937821_f64 * t.sin[8]
-                    + 0.1282613813744756_f64 * t.cos[8]));
-        let x20 = t.sin[7]
-            * (0.022954202060381578_f64 + 0.0007827471600580457_f64 * t.sin[8]
-                - 0.0022007667785459493_f64 * t.cos[8])
-            + (t.cos[7]
-                * (0.004590840412076316_f64 + 0.03811410155557032_f64 * t.cos[8]
-                    - 0.04479354949894437_f64 * t.sin[8])
-                + (0.016418964946840205_f64 * t.sin[8]
-                    + 0.04166369416672035_f64 * t.cos[8] - 0.004590840412076316_f64));
-        let x21 = t.sin[7]
-            * (0.007801362617614528_f64 * t.sin[8] + 0.0017468053051706756_f64 * t.cos[8]
-                - 0.0008869683245910019_f64)
-            + (0.0001773936649182004_f64 + 0.07305583232222679_f64 * t.cos[8]
-                - 0.13473943666968044_f64 * t.sin[8]
-                - t.cos[7]
-                    * (0.0001773936649182004_f64 + 0.1480599582188462_f64 * t.sin[8]
-                        + 0.13637752463466377_f64 * t.cos[8]));
-        let x22 = t.cos[8] * (0.3778998554341936_f64 - 0.5765691862292548_f64 * t.cos[7])
-            + 0.23170358210041245_f64 * t.sin[7]
-            - t.sin[8] * (0.4324268896719411_f64 + 0.5038664739122581_f64 * t.cos[7]);
-        let x23 = t.sin[8]
-            * (0.14599933463805048_f64 + 0.12909651268019323_f64 * t.cos[7])
-            + (t.cos[8] * (0.19466577951740063_f64 * t.cos[7] - 0.09682238451014492_f64)
-                + 0.765140068679386_f64 * t.sin[7]);
-        let x24 = t.sin[8] * (0.3894755183241913_f64 - 0.6078261814705257_f64 * t.cos[7])
-            + (t.cos[8] * (0.45586963610289427_f64 + 0.5193006910989217_f64 * t.cos[7])
-                - 0.029565610819700064_f64 * t.sin[7]);
+        let x19 = <f64 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            <f64 as ::trocar::Real>::mul_add(
+                -0.0015893546463604897_f64,
+                t.sin[8],
+                <f64 as ::trocar::Real>::mul_add(
+                    0.007490346908673594_f64,
+                    t.cos[8],
+                    0.006951107463012373_f64,
+                ),
+            ),
+            <f64 as ::trocar::Real>::mul_add(
+                t.cos[7],
+                <f64 as ::trocar::Real>::mul_add(
+                    -0.14326369406494216_f64,
+                    t.cos[8],
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.12902630233994597_f64,
+                        t.sin[8],
+                        0.0013902214926024747_f64,
+                    ),
+                ),
+                -<f64 as ::trocar::Real>::mul_add(
+                    0.1282613813744756_f64,
+                    t.cos[8],
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.07141219640937821_f64,
+                        t.sin[8],
+                        0.0013902214926024747_f64,
+                    ),
+                ),
+            ),
+        );
+        let x20 = <f64 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            <f64 as ::trocar::Real>::mul_add(
+                -0.0022007667785459493_f64,
+                t.cos[8],
+                <f64 as ::trocar::Real>::mul_add(
+                    0.0007827471600580457_f64,
+                    t.sin[8],
+                    0.022954202060381578_f64,
+                ),
+            ),
+            <f64 as ::trocar::Real>::mul_add(
+                t.cos[7],
+                <f64 as ::trocar::Real>::mul_add(
+                    -0.04479354949894437_f64,
+                    t.sin[8],
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.03811410155557032_f64,
+                        t.cos[8],
+                        0.004590840412076316_f64,
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.016418964946840205_f64,
+                    t.sin[8],
+                    0.04166369416672035_f64 * t.cos[8],
+                ) - 0.004590840412076316_f64,
+            ),
+        );
+        let x21 = <f64 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            <f64 as ::trocar::Real>::mul_add(
+                0.007801362617614528_f64,
+                t.sin[8],
+                0.0017468053051706756_f64 * t.cos[8],
+            ) - 0.0008869683245910019_f64,
+            <f64 as ::trocar::Real>::mul_add(
+                -t.cos[7],
+                <f64 as ::trocar::Real>::mul_add(
+                    0.13637752463466377_f64,
+                    t.cos[8],
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.1480599582188462_f64,
+                        t.sin[8],
+                        0.0001773936649182004_f64,
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    -0.13473943666968044_f64,
+                    t.sin[8],
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.07305583232222679_f64,
+                        t.cos[8],
+                        0.0001773936649182004_f64,
+                    ),
+                ),
+            ),
+        );
+        let x22 = <f64 as ::trocar::Real>::mul_add(
+            -t.sin[8],
+            <f64 as ::trocar::Real>::mul_add(
+                0.5038664739122581_f64,
+                t.cos[7],
+                0.4324268896719411_f64,
+            ),
+            <f64 as ::trocar::Real>::mul_add(
+                t.cos[8],
+                <f64 as ::trocar::Real>::mul_add(
+                    -0.5765691862292548_f64,
+                    t.cos[7],
+                    0.3778998554341936_f64,
+                ),
+                0.23170358210041245_f64 * t.sin[7],
+            ),
+        );
+        let x23 = <f64 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            <f64 as ::trocar::Real>::mul_add(
+                0.12909651268019323_f64,
+                t.cos[7],
+                0.14599933463805048_f64,
+            ),
+            <f64 as ::trocar::Real>::mul_add(
+                t.cos[8],
+                <f64 as ::trocar::Real>::mul_add(
+                    0.19466577951740063_f64,
+                    t.cos[7],
+                    -0.09682238451014492_f64,
+                ),
+                0.765140068679386_f64 * t.sin[7],
+            ),
+        );
+        let x24 = <f64 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            <f64 as ::trocar::Real>::mul_add(
+                -0.6078261814705257_f64,
+                t.cos[7],
+                0.3894755183241913_f64,
+            ),
+            <f64 as ::trocar::Real>::mul_add(
+                t.cos[8],
+                <f64 as ::trocar::Real>::mul_add(
+                    0.5193006910989217_f64,
+                    t.cos[7],
+                    0.45586963610289427_f64,
+                ),
+                -(0.029565610819700064_f64 * t.sin[7]),
+            ),
+        );
         [
             [
-                x0 * t.sin[6] + x1 * t.cos[6],
-                t.sin[6] * x2 + t.cos[6] * (x4 - x3),
-                t.sin[6] * x5 + t.cos[6] * (t.sin[7] * (x6 - x7) - x8),
+                <f64 as ::trocar::Real>::mul_add(x0, t.sin[6], x1 * t.cos[6]),
+                <f64 as ::trocar::Real>::mul_add(t.sin[6], x2, t.cos[6] * (x4 - x3)),
+                <f64 as ::trocar::Real>::mul_add(
+                    t.sin[6],
+                    x5,
+                    t.cos[6] * <f64 as ::trocar::Real>::mul_add(t.sin[7], x6 - x7, -x8),
+                ),
                 <f64 as ::trocar::Real>::ZERO,
                 <f64 as ::trocar::Real>::ZERO,
                 <f64 as ::trocar::Real>::ZERO,
             ],
             [
-                t.sin[8]
-                    * (t.cos[7]
-                        * (0.0019866933079506124_f64 * t.sin[6] + x9
-                            - 0.15115994217367743_f64
-                            - 0.1282613813744756_f64 * t.cos[6])
-                        + (t.sin[7]
-                            * (0.18017787069664212_f64 * t.sin[6]
-                                + 0.0011920159847703673_f64 * t.cos[6])
-                            + (x10 - 0.14326369406494216_f64 * t.cos[6])))
-                    + (t.cos[8]
-                        * (t.cos[7]
-                            * (0.07141219640937821_f64 * t.cos[6] + x11
-                                - 0.17297075586877644_f64
-                                - 0.009362933635841992_f64 * t.sin[6])
-                            + (0.11336995663025808_f64
-                                - 0.12902630233994597_f64 * t.cos[6] - x12
-                                - t.sin[7]
-                                    * (0.15745827309758065_f64 * t.sin[6]
-                                        + 0.005617760181505195_f64 * t.cos[6])))
-                        + (t.sin[7]
-                            * (0.06951107463012374_f64
-                                + 0.0017377768657530933_f64 * t.sin[6]
-                                + 0.009268143284016497_f64 * t.cos[6]
-                                - 0.23170358210041245_f64 * p.l_a)
-                            - t.cos[6]
-                                * (0.0018536286568032994_f64
-                                    + 0.001042666119451856_f64 * t.cos[7]))),
-                t.sin[8]
-                    * (t.cos[7]
-                        * (0.03872895380405797_f64 + 0.04166369416672035_f64 * t.cos[6]
-                            - 0.0009784339500725572_f64 * t.sin[6] - x13)
-                        + (0.04379980039141514_f64 + 0.03811410155557032_f64 * t.cos[6]
-                            - x14
-                            - t.sin[7]
-                                * (0.060833056099187696_f64 * t.sin[6]
-                                    + 0.0005870603700435343_f64 * t.cos[6])))
-                    + (t.cos[8]
-                        * (t.cos[7]
-                            * (0.05839973385522019_f64
-                                + 0.002750958473182437_f64 * t.sin[6]
-                                - 0.016418964946840205_f64 * t.cos[6]
-                                - 0.19466577951740063_f64 * p.l_a)
-                            + (t.sin[7]
-                                * (0.04034266021256038_f64 * t.sin[6]
-                                    + 0.0016505750839094623_f64 * t.cos[6])
-                                + (0.04479354949894436_f64 * t.cos[6]
-                                    + 0.09682238451014492_f64 * p.l_a
-                                    - 0.029046715353043477_f64)))
-                        + (t.sin[7]
-                            * (0.2295420206038158_f64
-                                + 0.005738550515095395_f64 * t.sin[6]
-                                + 0.03060560274717544_f64 * t.cos[6]
-                                - 0.765140068679386_f64 * p.l_a)
-                            - t.cos[6]
-                                * (0.006121120549435088_f64
-                                    + 0.003443130309057237_f64 * t.cos[7]))),
-                t.sin[8]
-                    * (t.cos[7]
-                        * (0.07305583232222679_f64 * t.cos[6] + x15
-                            - 0.18234785444115773_f64
-                            - 0.00975170327201816_f64 * t.sin[6])
-                        + (0.11684265549725738_f64 - 0.13637752463466377_f64 * t.cos[6]
-                            - x16
-                            - t.sin[7]
-                                * (0.16228146596841303_f64 * t.sin[6]
-                                    + 0.005851021963210896_f64 * t.cos[6])))
-                    + (t.cos[8]
-                        * (t.cos[7]
-                            * (0.15579020732967652_f64
-                                + 0.13473943666968044_f64 * t.cos[6]
-                                - 0.0021835066314633443_f64 * t.sin[6] - x17)
-                            + (0.1367608908308683_f64 + 0.1480599582188462_f64 * t.cos[6]
-                                - x18
-                                - t.sin[7]
-                                    * (0.1899456817095393_f64 * t.sin[6]
-                                        + 0.0013101039788780064_f64 * t.cos[6])))
-                        + (t.sin[7]
-                            * (0.029565610819700064_f64 * p.l_a - 0.00886968324591002_f64
-                                - 0.00022174208114775047_f64 * t.sin[6]
-                                - 0.0011826244327880027_f64 * t.cos[6])
-                            + t.cos[6]
-                                * (0.0002365248865576005_f64
-                                    + 0.00013304524868865028_f64 * t.cos[7]))),
-                x0 * t.cos[6] - t.sin[6] * x1,
-                t.cos[6] * x2 + t.sin[6] * (x3 - x4),
-                t.cos[6] * x5 + t.sin[6] * (x8 + t.sin[7] * (x7 - x6)),
+                <f64 as ::trocar::Real>::mul_add(
+                    t.sin[8],
+                    <f64 as ::trocar::Real>::mul_add(
+                        t.cos[7],
+                        <f64 as ::trocar::Real>::mul_add(
+                            -0.1282613813744756_f64,
+                            t.cos[6],
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.0019866933079506124_f64,
+                                t.sin[6],
+                                x9,
+                            ) - 0.15115994217367743_f64,
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.sin[7],
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.18017787069664212_f64,
+                                t.sin[6],
+                                0.0011920159847703673_f64 * t.cos[6],
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                -0.14326369406494216_f64,
+                                t.cos[6],
+                                x10,
+                            ),
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        t.cos[8],
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.cos[7],
+                            <f64 as ::trocar::Real>::mul_add(
+                                -0.009362933635841992_f64,
+                                t.sin[6],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.07141219640937821_f64,
+                                    t.cos[6],
+                                    x11,
+                                ) - 0.17297075586877644_f64,
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                -t.sin[7],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.15745827309758065_f64,
+                                    t.sin[6],
+                                    0.005617760181505195_f64 * t.cos[6],
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.12902630233994597_f64,
+                                    t.cos[6],
+                                    0.11336995663025808_f64,
+                                ) - x12,
+                            ),
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.sin[7],
+                            <f64 as ::trocar::Real>::mul_add(
+                                -0.23170358210041245_f64,
+                                p.l_a,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.009268143284016497_f64,
+                                    t.cos[6],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.0017377768657530933_f64,
+                                        t.sin[6],
+                                        0.06951107463012374_f64,
+                                    ),
+                                ),
+                            ),
+                            -(t.cos[6]
+                                * <f64 as ::trocar::Real>::mul_add(
+                                    0.001042666119451856_f64,
+                                    t.cos[7],
+                                    0.0018536286568032994_f64,
+                                )),
+                        ),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    t.sin[8],
+                    <f64 as ::trocar::Real>::mul_add(
+                        t.cos[7],
+                        <f64 as ::trocar::Real>::mul_add(
+                            -0.0009784339500725572_f64,
+                            t.sin[6],
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.04166369416672035_f64,
+                                t.cos[6],
+                                0.03872895380405797_f64,
+                            ),
+                        ) - x13,
+                        <f64 as ::trocar::Real>::mul_add(
+                            -t.sin[7],
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.060833056099187696_f64,
+                                t.sin[6],
+                                0.0005870603700435343_f64 * t.cos[6],
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.03811410155557032_f64,
+                                t.cos[6],
+                                0.04379980039141514_f64,
+                            ) - x14,
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        t.cos[8],
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.cos[7],
+                            <f64 as ::trocar::Real>::mul_add(
+                                -0.19466577951740063_f64,
+                                p.l_a,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.016418964946840205_f64,
+                                    t.cos[6],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.002750958473182437_f64,
+                                        t.sin[6],
+                                        0.05839973385522019_f64,
+                                    ),
+                                ),
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                t.sin[7],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.04034266021256038_f64,
+                                    t.sin[6],
+                                    0.0016505750839094623_f64 * t.cos[6],
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.04479354949894436_f64,
+                                    t.cos[6],
+                                    0.09682238451014492_f64 * p.l_a,
+                                ) - 0.029046715353043477_f64,
+                            ),
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.sin[7],
+                            <f64 as ::trocar::Real>::mul_add(
+                                -0.765140068679386_f64,
+                                p.l_a,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.03060560274717544_f64,
+                                    t.cos[6],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.005738550515095395_f64,
+                                        t.sin[6],
+                                        0.2295420206038158_f64,
+                                    ),
+                                ),
+                            ),
+                            -(t.cos[6]
+                                * <f64 as ::trocar::Real>::mul_add(
+                                    0.003443130309057237_f64,
+                                    t.cos[7],
+                                    0.006121120549435088_f64,
+                                )),
+                        ),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    t.sin[8],
+                    <f64 as ::trocar::Real>::mul_add(
+                        t.cos[7],
+                        <f64 as ::trocar::Real>::mul_add(
+                            -0.00975170327201816_f64,
+                            t.sin[6],
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.07305583232222679_f64,
+                                t.cos[6],
+                                x15,
+                            ) - 0.18234785444115773_f64,
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            -t.sin[7],
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.16228146596841303_f64,
+                                t.sin[6],
+                                0.005851021963210896_f64 * t.cos[6],
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                -0.13637752463466377_f64,
+                                t.cos[6],
+                                0.11684265549725738_f64,
+                            ) - x16,
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        t.cos[8],
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.cos[7],
+                            <f64 as ::trocar::Real>::mul_add(
+                                -0.0021835066314633443_f64,
+                                t.sin[6],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.13473943666968044_f64,
+                                    t.cos[6],
+                                    0.15579020732967652_f64,
+                                ),
+                            ) - x17,
+                            <f64 as ::trocar::Real>::mul_add(
+                                -t.sin[7],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.1899456817095393_f64,
+                                    t.sin[6],
+                                    0.0013101039788780064_f64 * t.cos[6],
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.1480599582188462_f64,
+                                    t.cos[6],
+                                    0.1367608908308683_f64,
+                                ) - x18,
+                            ),
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.sin[7],
+                            <f64 as ::trocar::Real>::mul_add(
+                                -0.0011826244327880027_f64,
+                                t.cos[6],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.00022174208114775047_f64,
+                                    t.sin[6],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.029565610819700064_f64,
+                                        p.l_a,
+                                        -0.00886968324591002_f64,
+                                    ),
+                                ),
+                            ),
+                            t.cos[6]
+                                * <f64 as ::trocar::Real>::mul_add(
+                                    0.00013304524868865028_f64,
+                                    t.cos[7],
+                                    0.0002365248865576005_f64,
+                                ),
+                        ),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(x0, t.cos[6], -(t.sin[6] * x1)),
+                <f64 as ::trocar::Real>::mul_add(t.cos[6], x2, t.sin[6] * (x3 - x4)),
+                <f64 as ::trocar::Real>::mul_add(
+                    t.cos[6],
+                    x5,
+                    t.sin[6] * <f64 as ::trocar::Real>::mul_add(t.sin[7], x7 - x6, x8),
+                ),
             ],
             [
-                t.cos[6]
-                    * (t.sin[8]
-                        * (t.cos[7] * (x12 - 0.11336995663025808_f64)
-                            + (0.17297075586877644_f64
-                                + 0.012596661847806452_f64 * t.sin[7] - x11))
-                        + (t.cos[8]
-                            * (t.cos[7] * x10
-                                + (x9 + 0.01441422965573137_f64 * t.sin[7]
-                                    - 0.15115994217367743_f64))
-                            + (t.sin[7]
-                                * (0.052133305972592796_f64
-                                    - 0.17377768657530934_f64 * p.l_a)
-                                + 0.005792589552510311_f64 * t.cos[7])))
-                    + (t.sin[6]
-                        * (t.sin[7]
-                            * (t.sin[8]
-                                * (0.1889499277170968_f64 - 0.6298330923903226_f64 * p.l_a)
-                                + (t.cos[8]
-                                    * (0.21621344483597055_f64 - 0.7207114827865685_f64 * p.l_a)
-                                    - 0.0034755537315061865_f64))
-                            + (t.cos[7]
-                                * (0.08688884328765467_f64
-                                    + 0.007557997108683871_f64 * t.sin[8]
-                                    + 0.008648537793438821_f64 * t.cos[8]
-                                    - 0.28962947762551555_f64 * p.l_a)
-                                + (0.010077329478245162_f64 * t.cos[8]
-                                    - 0.011531383724585096_f64 * t.sin[8]))) + x19),
-                t.cos[6]
-                    * (t.sin[8]
-                        * (t.cos[7]
-                            * (0.029046715353043477_f64
-                                - 0.09682238451014491_f64 * p.l_a)
-                            + (0.1946657795174006_f64 * p.l_a - 0.05839973385522019_f64
-                                - 0.0032274128170048304_f64 * t.sin[7]))
-                        + (t.cos[8]
-                            * (t.cos[7] * (0.04379980039141514_f64 - x14)
-                                + (0.03872895380405797_f64
-                                    - 0.004866644487935016_f64 * t.sin[7] - x13))
-                            + (t.sin[7]
-                                * (0.17215651545286184_f64 - 0.5738550515095395_f64 * p.l_a)
-                                + 0.01912850171698465_f64 * t.cos[7])))
-                    + (t.sin[6]
-                        * (t.sin[7]
-                            * (t.sin[8]
-                                * (0.16137064085024153_f64 * p.l_a
-                                    - 0.048411192255072455_f64)
-                                + (t.cos[8]
-                                    * (0.2433322243967508_f64 * p.l_a - 0.07299966731902524_f64)
-                                    - 0.011477101030190789_f64))
-                            + (t.cos[7]
-                                * (0.28692752575476976_f64
-                                    - 0.0019364476902028983_f64 * t.sin[8]
-                                    - 0.00291998669276101_f64 * t.cos[8]
-                                    - 0.9564250858492326_f64 * p.l_a)
-                                + (0.0038933155903480123_f64 * t.sin[8]
-                                    - 0.0025819302536038645_f64 * t.cos[8]))) + x20),
-                t.cos[6]
-                    * (t.sin[8]
-                        * (t.cos[7] * (x18 - 0.1367608908308683_f64)
-                            + (x17 + 0.015195654536763144_f64 * t.sin[7]
-                                - 0.15579020732967652_f64))
-                        + (t.cos[8]
-                            * (t.cos[7] * (0.11684265549725738_f64 - x16)
-                                + (x15 - 0.18234785444115773_f64
-                                    - 0.012982517277473044_f64 * t.sin[7]))
-                            + (t.sin[7]
-                                * (0.022174208114775048_f64 * p.l_a
-                                    - 0.006652262434432514_f64)
-                                - 0.0007391402704925016_f64 * t.cos[7])))
-                    + (t.sin[6]
-                        * (t.sin[7]
-                            * (t.sin[8]
-                                * (0.22793481805144714_f64 - 0.7597827268381572_f64 * p.l_a)
-                                + (t.cos[8]
-                                    * (0.6491258638736521_f64 * p.l_a - 0.19473775916209565_f64)
-                                    + 0.00044348416229550094_f64))
-                            + (t.cos[7]
-                                * (0.009117392722057886_f64 * t.sin[8]
-                                    + 0.03695701352462508_f64 * p.l_a - 0.011087104057387524_f64
-                                    - 0.007789510366483825_f64 * t.cos[8])
-                                + (0.010386013821978434_f64 * t.sin[8]
-                                    + 0.012156523629410514_f64 * t.cos[8]))) + x21),
+                <f64 as ::trocar::Real>::mul_add(
+                    t.cos[6],
+                    <f64 as ::trocar::Real>::mul_add(
+                        t.sin[8],
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.cos[7],
+                            x12 - 0.11336995663025808_f64,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.012596661847806452_f64,
+                                t.sin[7],
+                                0.17297075586877644_f64,
+                            ) - x11,
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.cos[8],
+                            <f64 as ::trocar::Real>::mul_add(
+                                t.cos[7],
+                                x10,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.01441422965573137_f64,
+                                    t.sin[7],
+                                    x9,
+                                ) - 0.15115994217367743_f64,
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                t.sin[7],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.17377768657530934_f64,
+                                    p.l_a,
+                                    0.052133305972592796_f64,
+                                ),
+                                0.005792589552510311_f64 * t.cos[7],
+                            ),
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        t.sin[6],
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.sin[7],
+                            <f64 as ::trocar::Real>::mul_add(
+                                t.sin[8],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.6298330923903226_f64,
+                                    p.l_a,
+                                    0.1889499277170968_f64,
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    t.cos[8],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.7207114827865685_f64,
+                                        p.l_a,
+                                        0.21621344483597055_f64,
+                                    ),
+                                    -0.0034755537315061865_f64,
+                                ),
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                t.cos[7],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.28962947762551555_f64,
+                                    p.l_a,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.008648537793438821_f64,
+                                        t.cos[8],
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.007557997108683871_f64,
+                                            t.sin[8],
+                                            0.08688884328765467_f64,
+                                        ),
+                                    ),
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.010077329478245162_f64,
+                                    t.cos[8],
+                                    -(0.011531383724585096_f64 * t.sin[8]),
+                                ),
+                            ),
+                        ),
+                        x19,
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    t.cos[6],
+                    <f64 as ::trocar::Real>::mul_add(
+                        t.sin[8],
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.cos[7],
+                            <f64 as ::trocar::Real>::mul_add(
+                                -0.09682238451014491_f64,
+                                p.l_a,
+                                0.029046715353043477_f64,
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                -0.0032274128170048304_f64,
+                                t.sin[7],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.1946657795174006_f64,
+                                    p.l_a,
+                                    -0.05839973385522019_f64,
+                                ),
+                            ),
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.cos[8],
+                            <f64 as ::trocar::Real>::mul_add(
+                                t.cos[7],
+                                0.04379980039141514_f64 - x14,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.004866644487935016_f64,
+                                    t.sin[7],
+                                    0.03872895380405797_f64,
+                                ) - x13,
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                t.sin[7],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.5738550515095395_f64,
+                                    p.l_a,
+                                    0.17215651545286184_f64,
+                                ),
+                                0.01912850171698465_f64 * t.cos[7],
+                            ),
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        t.sin[6],
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.sin[7],
+                            <f64 as ::trocar::Real>::mul_add(
+                                t.sin[8],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.16137064085024153_f64,
+                                    p.l_a,
+                                    -0.048411192255072455_f64,
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    t.cos[8],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.2433322243967508_f64,
+                                        p.l_a,
+                                        -0.07299966731902524_f64,
+                                    ),
+                                    -0.011477101030190789_f64,
+                                ),
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                t.cos[7],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.9564250858492326_f64,
+                                    p.l_a,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.00291998669276101_f64,
+                                        t.cos[8],
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            -0.0019364476902028983_f64,
+                                            t.sin[8],
+                                            0.28692752575476976_f64,
+                                        ),
+                                    ),
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.0038933155903480123_f64,
+                                    t.sin[8],
+                                    -(0.0025819302536038645_f64 * t.cos[8]),
+                                ),
+                            ),
+                        ),
+                        x20,
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    t.cos[6],
+                    <f64 as ::trocar::Real>::mul_add(
+                        t.sin[8],
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.cos[7],
+                            x18 - 0.1367608908308683_f64,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.015195654536763144_f64,
+                                t.sin[7],
+                                x17,
+                            ) - 0.15579020732967652_f64,
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.cos[8],
+                            <f64 as ::trocar::Real>::mul_add(
+                                t.cos[7],
+                                0.11684265549725738_f64 - x16,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.012982517277473044_f64,
+                                    t.sin[7],
+                                    x15 - 0.18234785444115773_f64,
+                                ),
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                t.sin[7],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.022174208114775048_f64,
+                                    p.l_a,
+                                    -0.006652262434432514_f64,
+                                ),
+                                -(0.0007391402704925016_f64 * t.cos[7]),
+                            ),
+                        ),
+                    ),
+                    <f64 as ::trocar::Real>::mul_add(
+                        t.sin[6],
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.sin[7],
+                            <f64 as ::trocar::Real>::mul_add(
+                                t.sin[8],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.7597827268381572_f64,
+                                    p.l_a,
+                                    0.22793481805144714_f64,
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    t.cos[8],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.6491258638736521_f64,
+                                        p.l_a,
+                                        -0.19473775916209565_f64,
+                                    ),
+                                    0.00044348416229550094_f64,
+                                ),
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                t.cos[7],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.007789510366483825_f64,
+                                    t.cos[8],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.009117392722057886_f64,
+                                        t.sin[8],
+                                        0.03695701352462508_f64 * p.l_a,
+                                    ) - 0.011087104057387524_f64,
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.010386013821978434_f64,
+                                    t.sin[8],
+                                    0.012156523629410514_f64 * t.cos[8],
+                                ),
+                            ),
+                        ),
+                        x21,
+                    ),
+                ),
                 x22,
                 x23,
                 x24,
             ],
             [x19, x20, x21, x22, x23, x24],
             [
-                -(0.0023170358210041243_f64 + 0.15745827309758065_f64 * t.sin[8]
-                    + 0.18017787069664212_f64 * t.cos[8]),
-                0.04034266021256038_f64 * t.sin[8] + 0.060833056099187696_f64 * t.cos[8]
-                    - 0.00765140068679386_f64,
-                0.00029565610819700066_f64 + 0.16228146596841303_f64 * t.cos[8]
-                    - 0.1899456817095393_f64 * t.sin[8],
-                0.6298330923903226_f64 * t.cos[8] - 0.7207114827865685_f64 * t.sin[8],
-                0.24333222439675078_f64 * t.sin[8] - 0.16137064085024153_f64 * t.cos[8],
-                0.6491258638736521_f64 * t.sin[8] + 0.7597827268381572_f64 * t.cos[8],
+                -<f64 as ::trocar::Real>::mul_add(
+                    0.18017787069664212_f64,
+                    t.cos[8],
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.15745827309758065_f64,
+                        t.sin[8],
+                        0.0023170358210041243_f64,
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.04034266021256038_f64,
+                    t.sin[8],
+                    0.060833056099187696_f64 * t.cos[8],
+                ) - 0.00765140068679386_f64,
+                <f64 as ::trocar::Real>::mul_add(
+                    -0.1899456817095393_f64,
+                    t.sin[8],
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.16228146596841303_f64,
+                        t.cos[8],
+                        0.00029565610819700066_f64,
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.6298330923903226_f64,
+                    t.cos[8],
+                    -(0.7207114827865685_f64 * t.sin[8]),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.24333222439675078_f64,
+                    t.sin[8],
+                    -(0.16137064085024153_f64 * t.cos[8]),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.6491258638736521_f64,
+                    t.sin[8],
+                    0.7597827268381572_f64 * t.cos[8],
+                ),
             ],
             [
                 <f64 as ::trocar::Real>::ZERO,
@@ -1213,231 +3329,787 @@ pub mod chain9_prismatic {
             &[q[6], q[7], q[8]],
         );
         let x0 = <f64 as ::trocar::Real>::ONE
-            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
-        let x1 = s9 * (0.3778998554341936_f64 * c8 - 0.5765691862292548_f64)
-            + (c9 * (0.5038664739122581_f64 + 0.4324268896719411_f64 * c8)
-                - 0.17377768657530934_f64 * s8);
-        let x2 = s8 * (0.6298330923903226_f64 * s9 + 0.7207114827865685_f64 * c9)
-            + 0.28962947762551555_f64 * c8;
-        let x3 = c7 * x1 - s7 * x2;
-        let x4 = c9 * (0.12909651268019323_f64 + 0.14599933463805048_f64 * c8)
-            + 0.5738550515095395_f64 * s8;
+            / <f64 as ::trocar::Real>::mul_add(
+                p.l_a,
+                p.l_a,
+                <f64 as ::trocar::Real>::ONE,
+            );
+        let x1 = <f64 as ::trocar::Real>::mul_add(
+            s9,
+            <f64 as ::trocar::Real>::mul_add(
+                0.3778998554341936_f64,
+                c8,
+                -0.5765691862292548_f64,
+            ),
+            <f64 as ::trocar::Real>::mul_add(
+                c9,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.4324268896719411_f64,
+                    c8,
+                    0.5038664739122581_f64,
+                ),
+                -(0.17377768657530934_f64 * s8),
+            ),
+        );
+        let x2 = <f64 as ::trocar::Real>::mul_add(
+            s8,
+            <f64 as ::trocar::Real>::mul_add(
+                0.6298330923903226_f64,
+                s9,
+                0.7207114827865685_f64 * c9,
+            ),
+            0.28962947762551555_f64 * c8,
+        );
+        let x3 = <f64 as ::trocar::Real>::mul_add(c7, x1, -(s7 * x2));
+        let x4 = <f64 as ::trocar::Real>::mul_add(
+            c9,
+            <f64 as ::trocar::Real>::mul_add(
+                0.14599933463805048_f64,
+                c8,
+                0.12909651268019323_f64,
+            ),
+            0.5738550515095395_f64 * s8,
+        );
         let x5 = 0.16137064085024153_f64 * s9;
-        let x6 = s9 * (0.5193006910989217_f64 + 0.45586963610289427_f64 * c8)
-            + (c9 * (0.6078261814705257_f64 - 0.3894755183241913_f64 * c8)
-                + 0.022174208114775048_f64 * s8);
+        let x6 = <f64 as ::trocar::Real>::mul_add(
+            s9,
+            <f64 as ::trocar::Real>::mul_add(
+                0.45586963610289427_f64,
+                c8,
+                0.5193006910989217_f64,
+            ),
+            <f64 as ::trocar::Real>::mul_add(
+                c9,
+                <f64 as ::trocar::Real>::mul_add(
+                    -0.3894755183241913_f64,
+                    c8,
+                    0.6078261814705257_f64,
+                ),
+                0.022174208114775048_f64 * s8,
+            ),
+        );
         let x7 = 0.6491258638736521_f64 * c9;
         let x8 = 0.7597827268381572_f64 * s9;
         let x9 = 0.03695701352462508_f64 * c8;
-        let x10 = c7 * x6 + s7 * (s8 * (x7 - x8) + x9);
-        let x11 = s9 * (0.4324268896719411_f64 + 0.5038664739122581_f64 * c8);
+        let x10 = <f64 as ::trocar::Real>::mul_add(
+            c7,
+            x6,
+            s7 * <f64 as ::trocar::Real>::mul_add(s8, x7 - x8, x9),
+        );
+        let x11 = s9
+            * <f64 as ::trocar::Real>::mul_add(
+                0.5038664739122581_f64,
+                c8,
+                0.4324268896719411_f64,
+            );
         let x12 = 0.5765691862292548_f64 * c8;
         let x13 = 0.23170358210041245_f64 * s8;
-        let x14 = s9 * (0.14599933463805048_f64 + 0.12909651268019323_f64 * c8);
+        let x14 = s9
+            * <f64 as ::trocar::Real>::mul_add(
+                0.12909651268019323_f64,
+                c8,
+                0.14599933463805048_f64,
+            );
         let x15 = 0.19466577951740063_f64 * c8;
         let x16 = 0.765140068679386_f64 * s8;
         let x17 = 0.6078261814705257_f64 * c8;
-        let x18 = c9 * (0.45586963610289427_f64 + 0.5193006910989217_f64 * c8);
+        let x18 = c9
+            * <f64 as ::trocar::Real>::mul_add(
+                0.5193006910989217_f64,
+                c8,
+                0.45586963610289427_f64,
+            );
         let x19 = 0.029565610819700064_f64 * s8;
-        let x20 = s8
-            * (0.009268143284016497_f64 + 0.0011920159847703673_f64 * s9
-                - 0.005617760181505195_f64 * c9)
-            + (c8
-                * (0.07141219640937821_f64 * c9 - 0.001042666119451856_f64
-                    - 0.1282613813744756_f64 * s9)
-                - (0.0018536286568032994_f64 + 0.14326369406494216_f64 * s9
-                    + 0.12902630233994597_f64 * c9));
+        let x20 = <f64 as ::trocar::Real>::mul_add(
+            s8,
+            <f64 as ::trocar::Real>::mul_add(
+                -0.005617760181505195_f64,
+                c9,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.0011920159847703673_f64,
+                    s9,
+                    0.009268143284016497_f64,
+                ),
+            ),
+            <f64 as ::trocar::Real>::mul_add(
+                c8,
+                <f64 as ::trocar::Real>::mul_add(
+                    -0.1282613813744756_f64,
+                    s9,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.07141219640937821_f64,
+                        c9,
+                        -0.001042666119451856_f64,
+                    ),
+                ),
+                -<f64 as ::trocar::Real>::mul_add(
+                    0.12902630233994597_f64,
+                    c9,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.14326369406494216_f64,
+                        s9,
+                        0.0018536286568032994_f64,
+                    ),
+                ),
+            ),
+        );
         let x21 = 0.18017787069664212_f64 * s9;
         let x22 = 0.15745827309758065_f64 * c9;
         let x23 = 0.0019866933079506124_f64 * s9;
         let x24 = 0.009362933635841992_f64 * c9;
-        let x25 = s8
-            * (0.03060560274717544_f64 + 0.0016505750839094623_f64 * c9
-                - 0.0005870603700435343_f64 * s9)
-            + (c8
-                * (0.04166369416672035_f64 * s9 - 0.003443130309057237_f64
-                    - 0.016418964946840205_f64 * c9)
-                + (0.03811410155557032_f64 * s9 + 0.04479354949894436_f64 * c9
-                    - 0.006121120549435088_f64));
+        let x25 = <f64 as ::trocar::Real>::mul_add(
+            s8,
+            <f64 as ::trocar::Real>::mul_add(
+                -0.0005870603700435343_f64,
+                s9,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.0016505750839094623_f64,
+                    c9,
+                    0.03060560274717544_f64,
+                ),
+            ),
+            <f64 as ::trocar::Real>::mul_add(
+                c8,
+                <f64 as ::trocar::Real>::mul_add(
+                    -0.016418964946840205_f64,
+                    c9,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.04166369416672035_f64,
+                        s9,
+                        -0.003443130309057237_f64,
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.03811410155557032_f64,
+                    s9,
+                    0.04479354949894436_f64 * c9,
+                ) - 0.006121120549435088_f64,
+            ),
+        );
         let x26 = 0.04034266021256038_f64 * c9;
         let x27 = 0.060833056099187696_f64 * s9;
         let x28 = 0.0009784339500725572_f64 * s9;
-        let x29 = c8
-            * (0.00013304524868865028_f64 + 0.07305583232222679_f64 * s9
-                + 0.13473943666968044_f64 * c9)
-            + (0.0002365248865576005_f64 + 0.1480599582188462_f64 * c9
-                - 0.13637752463466377_f64 * s9)
-            - s8
-                * (0.0011826244327880027_f64 + 0.005851021963210896_f64 * s9
-                    + 0.0013101039788780064_f64 * c9);
-        let x30 = s8
-            * (0.00022174208114775047_f64 + 0.16228146596841303_f64 * s9
-                + 0.1899456817095393_f64 * c9)
-            + c8 * (0.00975170327201816_f64 * s9 + 0.0021835066314633443_f64 * c9);
-        let x31 = s9 * (0.19466577951740063_f64 - 0.09682238451014492_f64 * c8) - x4;
-        let x32 = s8 * (x5 + 0.24333222439675078_f64 * c9);
+        let x29 = <f64 as ::trocar::Real>::mul_add(
+            -s8,
+            <f64 as ::trocar::Real>::mul_add(
+                0.0013101039788780064_f64,
+                c9,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.005851021963210896_f64,
+                    s9,
+                    0.0011826244327880027_f64,
+                ),
+            ),
+            <f64 as ::trocar::Real>::mul_add(
+                c8,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.13473943666968044_f64,
+                    c9,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.07305583232222679_f64,
+                        s9,
+                        0.00013304524868865028_f64,
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    -0.13637752463466377_f64,
+                    s9,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.1480599582188462_f64,
+                        c9,
+                        0.0002365248865576005_f64,
+                    ),
+                ),
+            ),
+        );
+        let x30 = <f64 as ::trocar::Real>::mul_add(
+            s8,
+            <f64 as ::trocar::Real>::mul_add(
+                0.1899456817095393_f64,
+                c9,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.16228146596841303_f64,
+                    s9,
+                    0.00022174208114775047_f64,
+                ),
+            ),
+            c8
+                * <f64 as ::trocar::Real>::mul_add(
+                    0.00975170327201816_f64,
+                    s9,
+                    0.0021835066314633443_f64 * c9,
+                ),
+        );
+        let x31 = <f64 as ::trocar::Real>::mul_add(
+            s9,
+            <f64 as ::trocar::Real>::mul_add(
+                -0.09682238451014492_f64,
+                c8,
+                0.19466577951740063_f64,
+            ),
+            -x4,
+        );
+        let x32 = s8 * <f64 as ::trocar::Real>::mul_add(0.24333222439675078_f64, c9, x5);
         let x33 = 0.9564250858492325_f64 * c8;
         [
             [
                 x0
-                    * (p.l_a
-                        * (((0.0034755537315061865_f64 - 0.1889499277170968_f64 * s9
-                            - 0.21621344483597055_f64 * c9) * s7
-                            + (0.0015893546463604897_f64 * s9 - 0.006951107463012373_f64
-                                - 0.007490346908673594_f64 * c9
-                                - (0.052133305972592796_f64 + 0.012596661847806452_f64 * s9
-                                    + 0.01441422965573137_f64 * c9) * c7)) * s8
-                            + ((c7
-                                * (0.11336995663025808_f64 * s9
-                                    + 0.12972806690158234_f64 * c9 - 0.005792589552510311_f64)
-                                + (0.14326369406494216_f64 * c9 - 0.0013902214926024747_f64
-                                    - 0.12902630233994597_f64 * s9)
-                                - s7
-                                    * (0.08688884328765467_f64 + 0.007557997108683871_f64 * s9
-                                        + 0.008648537793438821_f64 * c9)) * c8
-                                + (s9
-                                    * (0.07141219640937821_f64 + 0.011531383724585096_f64 * s7
-                                        - 0.17297075586877644_f64 * c7)
-                                    + (0.0013902214926024747_f64
-                                        + c9
-                                            * (0.1282613813744756_f64 + 0.15115994217367743_f64 * c7
-                                                - 0.010077329478245162_f64 * s7))))) + x3),
+                    * <f64 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.21621344483597055_f64,
+                                    c9,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.1889499277170968_f64,
+                                        s9,
+                                        0.0034755537315061865_f64,
+                                    ),
+                                ),
+                                s7,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -<f64 as ::trocar::Real>::mul_add(
+                                        0.01441422965573137_f64,
+                                        c9,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.012596661847806452_f64,
+                                            s9,
+                                            0.052133305972592796_f64,
+                                        ),
+                                    ),
+                                    c7,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.007490346908673594_f64,
+                                        c9,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.0015893546463604897_f64,
+                                            s9,
+                                            -0.006951107463012373_f64,
+                                        ),
+                                    ),
+                                ),
+                            ),
+                            s8,
+                            <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -s7,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.008648537793438821_f64,
+                                        c9,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.007557997108683871_f64,
+                                            s9,
+                                            0.08688884328765467_f64,
+                                        ),
+                                    ),
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        c7,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.11336995663025808_f64,
+                                            s9,
+                                            0.12972806690158234_f64 * c9,
+                                        ) - 0.005792589552510311_f64,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            -0.12902630233994597_f64,
+                                            s9,
+                                            <f64 as ::trocar::Real>::mul_add(
+                                                0.14326369406494216_f64,
+                                                c9,
+                                                -0.0013902214926024747_f64,
+                                            ),
+                                        ),
+                                    ),
+                                ),
+                                c8,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    s9,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.17297075586877644_f64,
+                                        c7,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.011531383724585096_f64,
+                                            s7,
+                                            0.07141219640937821_f64,
+                                        ),
+                                    ),
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        c9,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            -0.010077329478245162_f64,
+                                            s7,
+                                            <f64 as ::trocar::Real>::mul_add(
+                                                0.15115994217367743_f64,
+                                                c7,
+                                                0.1282613813744756_f64,
+                                            ),
+                                        ),
+                                        0.0013902214926024747_f64,
+                                    ),
+                                ),
+                            ),
+                        ),
+                        x3,
+                    ),
                 x0
-                    * (p.l_a
-                        * (s8
-                            * (s7
-                                * (0.011477101030190789_f64 + 0.048411192255072455_f64 * s9
-                                    + 0.07299966731902524_f64 * c9)
-                                + (c7
-                                    * (0.0032274128170048304_f64 * s9
-                                        + 0.004866644487935016_f64 * c9 - 0.17215651545286184_f64)
-                                    + (0.0022007667785459493_f64 * c9 - 0.022954202060381578_f64
-                                        - 0.0007827471600580457_f64 * s9)))
-                            + (c8
-                                * (s7
-                                    * (0.0019364476902028983_f64 * s9
-                                        + 0.00291998669276101_f64 * c9 - 0.28692752575476976_f64)
-                                    + (0.04479354949894437_f64 * s9 - 0.004590840412076316_f64
-                                        - 0.03811410155557032_f64 * c9
-                                        - c7
-                                            * (0.01912850171698465_f64 + 0.029046715353043477_f64 * s9
-                                                + 0.04379980039141514_f64 * c9)))
-                                + (s9
-                                    * (0.05839973385522019_f64 * c7 - 0.016418964946840205_f64
-                                        - 0.0038933155903480123_f64 * s7)
-                                    + (0.004590840412076316_f64
-                                        + c9
-                                            * (0.0025819302536038645_f64 * s7 - 0.04166369416672035_f64
-                                                - 0.03872895380405797_f64 * c7)))))
-                        + (c7
-                            * (s9
-                                * (0.1946657795174006_f64 - 0.09682238451014491_f64 * c8)
-                                - x4)
-                            + s7
-                                * (s8 * (x5 + 0.2433322243967508_f64 * c9)
-                                    - 0.9564250858492326_f64 * c8))),
+                    * <f64 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f64 as ::trocar::Real>::mul_add(
+                            s8,
+                            <f64 as ::trocar::Real>::mul_add(
+                                s7,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.07299966731902524_f64,
+                                    c9,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.048411192255072455_f64,
+                                        s9,
+                                        0.011477101030190789_f64,
+                                    ),
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    c7,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.0032274128170048304_f64,
+                                        s9,
+                                        0.004866644487935016_f64 * c9,
+                                    ) - 0.17215651545286184_f64,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.0007827471600580457_f64,
+                                        s9,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.0022007667785459493_f64,
+                                            c9,
+                                            -0.022954202060381578_f64,
+                                        ),
+                                    ),
+                                ),
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                c8,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    s7,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.0019364476902028983_f64,
+                                        s9,
+                                        0.00291998669276101_f64 * c9,
+                                    ) - 0.28692752575476976_f64,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -c7,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.04379980039141514_f64,
+                                            c9,
+                                            <f64 as ::trocar::Real>::mul_add(
+                                                0.029046715353043477_f64,
+                                                s9,
+                                                0.01912850171698465_f64,
+                                            ),
+                                        ),
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            -0.03811410155557032_f64,
+                                            c9,
+                                            <f64 as ::trocar::Real>::mul_add(
+                                                0.04479354949894437_f64,
+                                                s9,
+                                                -0.004590840412076316_f64,
+                                            ),
+                                        ),
+                                    ),
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    s9,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.0038933155903480123_f64,
+                                        s7,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.05839973385522019_f64,
+                                            c7,
+                                            -0.016418964946840205_f64,
+                                        ),
+                                    ),
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        c9,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            -0.03872895380405797_f64,
+                                            c7,
+                                            <f64 as ::trocar::Real>::mul_add(
+                                                0.0025819302536038645_f64,
+                                                s7,
+                                                -0.04166369416672035_f64,
+                                            ),
+                                        ),
+                                        0.004590840412076316_f64,
+                                    ),
+                                ),
+                            ),
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            c7,
+                            <f64 as ::trocar::Real>::mul_add(
+                                s9,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.09682238451014491_f64,
+                                    c8,
+                                    0.1946657795174006_f64,
+                                ),
+                                -x4,
+                            ),
+                            s7
+                                * <f64 as ::trocar::Real>::mul_add(
+                                    s8,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.2433322243967508_f64,
+                                        c9,
+                                        x5,
+                                    ),
+                                    -(0.9564250858492326_f64 * c8),
+                                ),
+                        ),
+                    ),
                 x0
-                    * (p.l_a
-                        * (s8
-                            * (s7
-                                * (0.19473775916209565_f64 * c9 - 0.00044348416229550094_f64
-                                    - 0.22793481805144714_f64 * s9)
-                                + (c7
-                                    * (0.006652262434432514_f64 + 0.012982517277473044_f64 * c9
-                                        - 0.015195654536763144_f64 * s9)
-                                    + (0.0008869683245910019_f64 - 0.007801362617614528_f64 * s9
-                                        - 0.0017468053051706756_f64 * c9)))
-                            + (c8
-                                * (s7
-                                    * (0.011087104057387524_f64 + 0.007789510366483825_f64 * c9
-                                        - 0.009117392722057886_f64 * s9)
-                                    + (c7
-                                        * (0.0007391402704925016_f64 + 0.1367608908308683_f64 * s9
-                                            - 0.11684265549725738_f64 * c9)
-                                        + (0.0001773936649182004_f64 + 0.1480599582188462_f64 * s9
-                                            + 0.13637752463466377_f64 * c9)))
-                                + (s9
-                                    * (0.13473943666968044_f64 + 0.15579020732967652_f64 * c7
-                                        - 0.010386013821978434_f64 * s7)
-                                    + (c9
-                                        * (0.18234785444115773_f64 * c7 - 0.07305583232222679_f64
-                                            - 0.012156523629410514_f64 * s7)
-                                        - 0.0001773936649182004_f64)))) + x10),
-                p.l_a * (x0 * (x11 + (c9 * (x12 - 0.3778998554341936_f64) - x13))),
-                p.l_a * (x0 * (c9 * (0.09682238451014492_f64 - x15) - x16 - x14)),
-                p.l_a * (x0 * (s9 * (x17 - 0.3894755183241913_f64) + (x19 - x18))),
+                    * <f64 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f64 as ::trocar::Real>::mul_add(
+                            s8,
+                            <f64 as ::trocar::Real>::mul_add(
+                                s7,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.22793481805144714_f64,
+                                    s9,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.19473775916209565_f64,
+                                        c9,
+                                        -0.00044348416229550094_f64,
+                                    ),
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    c7,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.015195654536763144_f64,
+                                        s9,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.012982517277473044_f64,
+                                            c9,
+                                            0.006652262434432514_f64,
+                                        ),
+                                    ),
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.0017468053051706756_f64,
+                                        c9,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            -0.007801362617614528_f64,
+                                            s9,
+                                            0.0008869683245910019_f64,
+                                        ),
+                                    ),
+                                ),
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                c8,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    s7,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.009117392722057886_f64,
+                                        s9,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.007789510366483825_f64,
+                                            c9,
+                                            0.011087104057387524_f64,
+                                        ),
+                                    ),
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        c7,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            -0.11684265549725738_f64,
+                                            c9,
+                                            <f64 as ::trocar::Real>::mul_add(
+                                                0.1367608908308683_f64,
+                                                s9,
+                                                0.0007391402704925016_f64,
+                                            ),
+                                        ),
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.13637752463466377_f64,
+                                            c9,
+                                            <f64 as ::trocar::Real>::mul_add(
+                                                0.1480599582188462_f64,
+                                                s9,
+                                                0.0001773936649182004_f64,
+                                            ),
+                                        ),
+                                    ),
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    s9,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.010386013821978434_f64,
+                                        s7,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.15579020732967652_f64,
+                                            c7,
+                                            0.13473943666968044_f64,
+                                        ),
+                                    ),
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        c9,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            -0.012156523629410514_f64,
+                                            s7,
+                                            <f64 as ::trocar::Real>::mul_add(
+                                                0.18234785444115773_f64,
+                                                c7,
+                                                -0.07305583232222679_f64,
+                                            ),
+                                        ),
+                                        -0.0001773936649182004_f64,
+                                    ),
+                                ),
+                            ),
+                        ),
+                        x10,
+                    ),
+                p.l_a
+                    * (x0
+                        * (x11
+                            + <f64 as ::trocar::Real>::mul_add(
+                                c9,
+                                x12 - 0.3778998554341936_f64,
+                                -x13,
+                            ))),
+                p.l_a
+                    * (x0
+                        * (<f64 as ::trocar::Real>::mul_add(
+                            c9,
+                            0.09682238451014492_f64 - x15,
+                            -x16,
+                        ) - x14)),
+                p.l_a
+                    * (x0
+                        * <f64 as ::trocar::Real>::mul_add(
+                            s9,
+                            x17 - 0.3894755183241913_f64,
+                            x19 - x18,
+                        )),
             ],
             [
                 x0
-                    * (p.l_a
-                        * (c7 * x20
-                            + (s7
-                                * (s8 * (0.0017377768657530933_f64 + x21 - x22)
-                                    + c8 * (x23 - x24))
-                                + (c9
-                                    * (0.11336995663025808_f64 - 0.17297075586877644_f64 * c8)
-                                    + 0.06951107463012374_f64 * s8
-                                    - s9
-                                        * (0.12972806690158234_f64
-                                            + 0.15115994217367743_f64 * c8))))
-                        + (x13 + c9 * (0.3778998554341936_f64 - x12) - x11)),
+                    * <f64 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f64 as ::trocar::Real>::mul_add(
+                            c7,
+                            x20,
+                            <f64 as ::trocar::Real>::mul_add(
+                                s7,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    s8,
+                                    0.0017377768657530933_f64 + x21 - x22,
+                                    c8 * (x23 - x24),
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -s9,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.15115994217367743_f64,
+                                        c8,
+                                        0.12972806690158234_f64,
+                                    ),
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        c9,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            -0.17297075586877644_f64,
+                                            c8,
+                                            0.11336995663025808_f64,
+                                        ),
+                                        0.06951107463012374_f64 * s8,
+                                    ),
+                                ),
+                            ),
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            c9,
+                            0.3778998554341936_f64 - x12,
+                            x13,
+                        ) - x11,
+                    ),
                 x0
-                    * (p.l_a
-                        * (c7 * x25
-                            + (s7
-                                * (s8 * (0.005738550515095395_f64 + x26 - x27)
-                                    + c8 * (0.002750958473182437_f64 * c9 - x28))
-                                + (s9
-                                    * (0.04379980039141514_f64 + 0.03872895380405797_f64 * c8)
-                                    + (c9
-                                        * (0.05839973385522019_f64 * c8 - 0.029046715353043477_f64)
-                                        + 0.2295420206038158_f64 * s8))))
-                        + (x14 + (x16 + c9 * (x15 - 0.09682238451014492_f64)))),
+                    * <f64 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f64 as ::trocar::Real>::mul_add(
+                            c7,
+                            x25,
+                            <f64 as ::trocar::Real>::mul_add(
+                                s7,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    s8,
+                                    0.005738550515095395_f64 + x26 - x27,
+                                    c8
+                                        * <f64 as ::trocar::Real>::mul_add(
+                                            0.002750958473182437_f64,
+                                            c9,
+                                            -x28,
+                                        ),
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    s9,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.03872895380405797_f64,
+                                        c8,
+                                        0.04379980039141514_f64,
+                                    ),
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        c9,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.05839973385522019_f64,
+                                            c8,
+                                            -0.029046715353043477_f64,
+                                        ),
+                                        0.2295420206038158_f64 * s8,
+                                    ),
+                                ),
+                            ),
+                        ),
+                        x14
+                            + <f64 as ::trocar::Real>::mul_add(
+                                c9,
+                                x15 - 0.09682238451014492_f64,
+                                x16,
+                            ),
+                    ),
                 x0
-                    * (p.l_a
-                        * (c7 * x29
-                            + (s9
-                                * (0.11684265549725738_f64 - 0.18234785444115773_f64 * c8)
-                                + (c9
-                                    * (0.1367608908308683_f64 + 0.15579020732967652_f64 * c8)
-                                    - 0.00886968324591002_f64 * s8) - s7 * x30))
-                        + (s9 * (0.3894755183241913_f64 - x17) + (x18 - x19))),
+                    * <f64 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f64 as ::trocar::Real>::mul_add(
+                            c7,
+                            x29,
+                            <f64 as ::trocar::Real>::mul_add(
+                                -s7,
+                                x30,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    s9,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.18234785444115773_f64,
+                                        c8,
+                                        0.11684265549725738_f64,
+                                    ),
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        c9,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.15579020732967652_f64,
+                                            c8,
+                                            0.1367608908308683_f64,
+                                        ),
+                                        -(0.00886968324591002_f64 * s8),
+                                    ),
+                                ),
+                            ),
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            s9,
+                            0.3894755183241913_f64 - x17,
+                            x18 - x19,
+                        ),
+                    ),
                 p.l_a * (x0 * x3),
-                p.l_a * (x0 * (c7 * x31 + s7 * (x32 - x33))),
+                p.l_a
+                    * (x0 * <f64 as ::trocar::Real>::mul_add(c7, x31, s7 * (x32 - x33))),
                 p.l_a * (x0 * x10),
             ],
             [
-                s7 * x20
-                    + (c7
-                        * (s8 * (x22 - 0.0017377768657530933_f64 - x21)
-                            + c8 * (x24 - x23))
-                        + (s9
-                            * (0.008648537793438821_f64 + 0.010077329478245162_f64 * c8)
-                            + (c9
-                                * (0.011531383724585096_f64 * c8 - 0.007557997108683871_f64)
-                                - 0.004634071642008249_f64 * s8))),
-                s7 * x25
-                    + (c7
-                        * (s8 * (x27 - 0.005738550515095395_f64 - x26)
-                            + c8 * (x28 - 0.0027509584731824368_f64 * c9))
-                        + (c9
-                            * (0.0019364476902028983_f64
-                                - 0.0038933155903480127_f64 * c8)
-                            - 0.01530280137358772_f64 * s8
-                            - s9
-                                * (0.0029199866927610094_f64
-                                    + 0.0025819302536038645_f64 * c8))),
-                s7 * x29
-                    + (c7 * x30
-                        + (s9
-                            * (0.012156523629410514_f64 * c8 - 0.007789510366483825_f64)
-                            + (0.0005913122163940013_f64 * s8
-                                - c9
-                                    * (0.009117392722057886_f64
-                                        + 0.010386013821978434_f64 * c8)))),
-                s7 * x1 + c7 * x2,
-                s7 * x31 + c7 * (x33 - x32),
-                s7 * x6 + c7 * (s8 * (x8 - x7) - x9),
+                <f64 as ::trocar::Real>::mul_add(
+                    s7,
+                    x20,
+                    <f64 as ::trocar::Real>::mul_add(
+                        c7,
+                        <f64 as ::trocar::Real>::mul_add(
+                            s8,
+                            x22 - 0.0017377768657530933_f64 - x21,
+                            c8 * (x24 - x23),
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            s9,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.010077329478245162_f64,
+                                c8,
+                                0.008648537793438821_f64,
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                c9,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.011531383724585096_f64,
+                                    c8,
+                                    -0.007557997108683871_f64,
+                                ),
+                                -(0.004634071642008249_f64 * s8),
+                            ),
+                        ),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    s7,
+                    x25,
+                    <f64 as ::trocar::Real>::mul_add(
+                        c7,
+                        <f64 as ::trocar::Real>::mul_add(
+                            s8,
+                            x27 - 0.005738550515095395_f64 - x26,
+                            c8
+                                * <f64 as ::trocar::Real>::mul_add(
+                                    -0.0027509584731824368_f64,
+                                    c9,
+                                    x28,
+                                ),
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            -s9,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.0025819302536038645_f64,
+                                c8,
+                                0.0029199866927610094_f64,
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                c9,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.0038933155903480127_f64,
+                                    c8,
+                                    0.0019364476902028983_f64,
+                                ),
+                                -(0.01530280137358772_f64 * s8),
+                            ),
+                        ),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    s7,
+                    x29,
+                    <f64 as ::trocar::Real>::mul_add(
+                        c7,
+                        x30,
+                        <f64 as ::trocar::Real>::mul_add(
+                            s9,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.012156523629410514_f64,
+                                c8,
+                                -0.007789510366483825_f64,
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.0005913122163940013_f64,
+                                s8,
+                                -(c9
+                                    * <f64 as ::trocar::Real>::mul_add(
+                                        0.010386013821978434_f64,
+                                        c8,
+                                        0.009117392722057886_f64,
+                                    )),
+                            ),
+                        ),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(s7, x1, c7 * x2),
+                <f64 as ::trocar::Real>::mul_add(s7, x31, c7 * (x33 - x32)),
+                <f64 as ::trocar::Real>::mul_add(
+                    s7,
+                    x6,
+                    c7 * <f64 as ::trocar::Real>::mul_add(s8, x8 - x7, -x9),
+                ),
             ],
         ]
     }
@@ -1450,272 +4122,793 @@ pub mod chain9_prismatic {
     #[must_use]
     pub fn constraint_jacobian_c_trig(t: &JointTrig, p: &Params) -> [[f64; 6]; R] {
         let x0 = <f64 as ::trocar::Real>::ONE
-            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
-        let x1 = t.sin[8] * (0.3778998554341936_f64 * t.cos[7] - 0.5765691862292548_f64)
-            + (t.cos[8] * (0.5038664739122581_f64 + 0.4324268896719411_f64 * t.cos[7])
-                - 0.17377768657530934_f64 * t.sin[7]);
-        let x2 = t.sin[7]
-            * (0.6298330923903226_f64 * t.sin[8] + 0.7207114827865685_f64 * t.cos[8])
-            + 0.28962947762551555_f64 * t.cos[7];
-        let x3 = t.cos[6] * x1 - t.sin[6] * x2;
-        let x4 = t.cos[8]
-            * (0.12909651268019323_f64 + 0.14599933463805048_f64 * t.cos[7])
-            + 0.5738550515095395_f64 * t.sin[7];
+            / <f64 as ::trocar::Real>::mul_add(
+                p.l_a,
+                p.l_a,
+                <f64 as ::trocar::Real>::ONE,
+            );
+        let x1 = <f64 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            <f64 as ::trocar::Real>::mul_add(
+                0.3778998554341936_f64,
+                t.cos[7],
+                -0.5765691862292548_f64,
+            ),
+            <f64 as ::trocar::Real>::mul_add(
+                t.cos[8],
+                <f64 as ::trocar::Real>::mul_add(
+                    0.4324268896719411_f64,
+                    t.cos[7],
+                    0.5038664739122581_f64,
+                ),
+                -(0.17377768657530934_f64 * t.sin[7]),
+            ),
+        );
+        let x2 = <f64 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            <f64 as ::trocar::Real>::mul_add(
+                0.6298330923903226_f64,
+                t.sin[8],
+                0.7207114827865685_f64 * t.cos[8],
+            ),
+            0.28962947762551555_f64 * t.cos[7],
+        );
+        let x3 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x1, -(t.sin[6] * x2));
+        let x4 = <f64 as ::trocar::Real>::mul_add(
+            t.cos[8],
+            <f64 as ::trocar::Real>::mul_add(
+                0.14599933463805048_f64,
+                t.cos[7],
+                0.12909651268019323_f64,
+            ),
+            0.5738550515095395_f64 * t.sin[7],
+        );
         let x5 = 0.16137064085024153_f64 * t.sin[8];
-        let x6 = t.sin[8] * (0.5193006910989217_f64 + 0.45586963610289427_f64 * t.cos[7])
-            + (t.cos[8] * (0.6078261814705257_f64 - 0.3894755183241913_f64 * t.cos[7])
-                + 0.022174208114775048_f64 * t.sin[7]);
+        let x6 = <f64 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            <f64 as ::trocar::Real>::mul_add(
+                0.45586963610289427_f64,
+                t.cos[7],
+                0.5193006910989217_f64,
+            ),
+            <f64 as ::trocar::Real>::mul_add(
+                t.cos[8],
+                <f64 as ::trocar::Real>::mul_add(
+                    -0.3894755183241913_f64,
+                    t.cos[7],
+                    0.6078261814705257_f64,
+                ),
+                0.022174208114775048_f64 * t.sin[7],
+            ),
+        );
         let x7 = 0.6491258638736521_f64 * t.cos[8];
         let x8 = 0.7597827268381572_f64 * t.sin[8];
         let x9 = 0.03695701352462508_f64 * t.cos[7];
-        let x10 = t.cos[6] * x6 + t.sin[6] * (t.sin[7] * (x7 - x8) + x9);
+        let x10 = <f64 as ::trocar::Real>::mul_add(
+            t.cos[6],
+            x6,
+            t.sin[6] * <f64 as ::trocar::Real>::mul_add(t.sin[7], x7 - x8, x9),
+        );
         let x11 = t.sin[8]
-            * (0.4324268896719411_f64 + 0.5038664739122581_f64 * t.cos[7]);
+            * <f64 as ::trocar::Real>::mul_add(
+                0.5038664739122581_f64,
+                t.cos[7],
+                0.4324268896719411_f64,
+            );
         let x12 = 0.5765691862292548_f64 * t.cos[7];
         let x13 = 0.23170358210041245_f64 * t.sin[7];
         let x14 = t.sin[8]
-            * (0.14599933463805048_f64 + 0.12909651268019323_f64 * t.cos[7]);
+            * <f64 as ::trocar::Real>::mul_add(
+                0.12909651268019323_f64,
+                t.cos[7],
+                0.14599933463805048_f64,
+            );
         let x15 = 0.19466577951740063_f64 * t.cos[7];
         let x16 = 0.765140068679386_f64 * t.sin[7];
         let x17 = 0.6078261814705257_f64 * t.cos[7];
         let x18 = t.cos[8]
-            * (0.45586963610289427_f64 + 0.5193006910989217_f64 * t.cos[7]);
+            * <f64 as ::trocar::Real>::mul_add(
+                0.5193006910989217_f64,
+                t.cos[7],
+                0.45586963610289427_f64,
+            );
         let x19 = 0.029565610819700064_f64 * t.sin[7];
-        let x20 = t.sin[7]
-            * (0.009268143284016497_f64 + 0.0011920159847703673_f64 * t.sin[8]
-                - 0.005617760181505195_f64 * t.cos[8])
-            + (t.cos[7]
-                * (0.07141219640937821_f64 * t.cos[8] - 0.001042666119451856_f64
-                    - 0.1282613813744756_f64 * t.sin[8])
-                - (0.0018536286568032994_f64 + 0.14326369406494216_f64 * t.sin[8]
-                    + 0.12902630233994597_f64 * t.cos[8]));
+        let x20 = <f64 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            <f64 as ::trocar::Real>::mul_add(
+                -0.005617760181505195_f64,
+                t.cos[8],
+                <f64 as ::trocar::Real>::mul_add(
+                    0.0011920159847703673_f64,
+                    t.sin[8],
+                    0.009268143284016497_f64,
+                ),
+            ),
+            <f64 as ::trocar::Real>::mul_add(
+                t.cos[7],
+                <f64 as ::trocar::Real>::mul_add(
+                    -0.1282613813744756_f64,
+                    t.sin[8],
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.07141219640937821_f64,
+                        t.cos[8],
+                        -0.001042666119451856_f64,
+                    ),
+                ),
+                -<f64 as ::trocar::Real>::mul_add(
+                    0.12902630233994597_f64,
+                    t.cos[8],
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.14326369406494216_f64,
+                        t.sin[8],
+                        0.0018536286568032994_f64,
+                    ),
+                ),
+            ),
+        );
         let x21 = 0.18017787069664212_f64 * t.sin[8];
         let x22 = 0.15745827309758065_f64 * t.cos[8];
         let x23 = 0.0019866933079506124_f64 * t.sin[8];
         let x24 = 0.009362933635841992_f64 * t.cos[8];
-        let x25 = t.sin[7]
-            * (0.03060560274717544_f64 + 0.0016505750839094623_f64 * t.cos[8]
-                - 0.0005870603700435343_f64 * t.sin[8])
-            + (t.cos[7]
-                * (0.04166369416672035_f64 * t.sin[8] - 0.003443130309057237_f64
-                    - 0.016418964946840205_f64 * t.cos[8])
-                + (0.03811410155557032_f64 * t.sin[8]
-                    + 0.04479354949894436_f64 * t.cos[8] - 0.006121120549435088_f64));
+        let x25 = <f64 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            <f64 as ::trocar::Real>::mul_add(
+                -0.0005870603700435343_f64,
+                t.sin[8],
+                <f64 as ::trocar::Real>::mul_add(
+                    0.0016505750839094623_f64,
+                    t.cos[8],
+                    0.03060560274717544_f64,
+                ),
+            ),
+            <f64 as ::trocar::Real>::mul_add(
+                t.cos[7],
+                <f64 as ::trocar::Real>::mul_add(
+                    -0.016418964946840205_f64,
+                    t.cos[8],
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.04166369416672035_f64,
+                        t.sin[8],
+                        -0.003443130309057237_f64,
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.03811410155557032_f64,
+                    t.sin[8],
+                    0.04479354949894436_f64 * t.cos[8],
+                ) - 0.006121120549435088_f64,
+            ),
+        );
         let x26 = 0.04034266021256038_f64 * t.cos[8];
         let x27 = 0.060833056099187696_f64 * t.sin[8];
         let x28 = 0.0009784339500725572_f64 * t.sin[8];
-        let x29 = t.cos[7]
-            * (0.00013304524868865028_f64 + 0.07305583232222679_f64 * t.sin[8]
-                + 0.13473943666968044_f64 * t.cos[8])
-            + (0.0002365248865576005_f64 + 0.1480599582188462_f64 * t.cos[8]
-                - 0.13637752463466377_f64 * t.sin[8])
-            - t.sin[7]
-                * (0.0011826244327880027_f64 + 0.005851021963210896_f64 * t.sin[8]
-                    + 0.0013101039788780064_f64 * t.cos[8]);
-        let x30 = t.sin[7]
-            * (0.00022174208114775047_f64 + 0.16228146596841303_f64 * t.sin[8]
-                + 0.1899456817095393_f64 * t.cos[8])
-            + t.cos[7]
-                * (0.00975170327201816_f64 * t.sin[8]
-                    + 0.0021835066314633443_f64 * t.cos[8]);
-        let x31 = t.sin[8]
-            * (0.19466577951740063_f64 - 0.09682238451014492_f64 * t.cos[7]) - x4;
-        let x32 = t.sin[7] * (x5 + 0.24333222439675078_f64 * t.cos[8]);
+        let x29 = <f64 as ::trocar::Real>::mul_add(
+            -t.sin[7],
+            <f64 as ::trocar::Real>::mul_add(
+                0.0013101039788780064_f64,
+                t.cos[8],
+                <f64 as ::trocar::Real>::mul_add(
+                    0.005851021963210896_f64,
+                    t.sin[8],
+                    0.0011826244327880027_f64,
+                ),
+            ),
+            <f64 as ::trocar::Real>::mul_add(
+                t.cos[7],
+                <f64 as ::trocar::Real>::mul_add(
+                    0.13473943666968044_f64,
+                    t.cos[8],
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.07305583232222679_f64,
+                        t.sin[8],
+                        0.00013304524868865028_f64,
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    -0.13637752463466377_f64,
+                    t.sin[8],
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.1480599582188462_f64,
+                        t.cos[8],
+                        0.0002365248865576005_f64,
+                    ),
+                ),
+            ),
+        );
+        let x30 = <f64 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            <f64 as ::trocar::Real>::mul_add(
+                0.1899456817095393_f64,
+                t.cos[8],
+                <f64 as ::trocar::Real>::mul_add(
+                    0.16228146596841303_f64,
+                    t.sin[8],
+                    0.00022174208114775047_f64,
+                ),
+            ),
+            t.cos[7]
+                * <f64 as ::trocar::Real>::mul_add(
+                    0.00975170327201816_f64,
+                    t.sin[8],
+                    0.0021835066314633443_f64 * t.cos[8],
+                ),
+        );
+        let x31 = <f64 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            <f64 as ::trocar::Real>::mul_add(
+                -0.09682238451014492_f64,
+                t.cos[7],
+                0.19466577951740063_f64,
+            ),
+            -x4,
+        );
+        let x32 = t.sin[7]
+            * <f64 as ::trocar::Real>::mul_add(0.24333222439675078_f64, t.cos[8], x5);
         let x33 = 0.9564250858492325_f64 * t.cos[7];
         [
             [
                 x0
-                    * (p.l_a
-                        * (((0.0034755537315061865_f64
-                            - 0.1889499277170968_f64 * t.sin[8]
-                            - 0.21621344483597055_f64 * t.cos[8]) * t.sin[6]
-                            + (0.0015893546463604897_f64 * t.sin[8]
-                                - 0.006951107463012373_f64
-                                - 0.007490346908673594_f64 * t.cos[8]
-                                - (0.052133305972592796_f64
-                                    + 0.012596661847806452_f64 * t.sin[8]
-                                    + 0.01441422965573137_f64 * t.cos[8]) * t.cos[6]))
-                            * t.sin[7]
-                            + ((t.cos[6]
-                                * (0.11336995663025808_f64 * t.sin[8]
-                                    + 0.12972806690158234_f64 * t.cos[8]
-                                    - 0.005792589552510311_f64)
-                                + (0.14326369406494216_f64 * t.cos[8]
-                                    - 0.0013902214926024747_f64
-                                    - 0.12902630233994597_f64 * t.sin[8])
-                                - t.sin[6]
-                                    * (0.08688884328765467_f64
-                                        + 0.007557997108683871_f64 * t.sin[8]
-                                        + 0.008648537793438821_f64 * t.cos[8])) * t.cos[7]
-                                + (t.sin[8]
-                                    * (0.07141219640937821_f64
-                                        + 0.011531383724585096_f64 * t.sin[6]
-                                        - 0.17297075586877644_f64 * t.cos[6])
-                                    + (0.0013902214926024747_f64
-                                        + t.cos[8]
-                                            * (0.1282613813744756_f64
-                                                + 0.15115994217367743_f64 * t.cos[6]
-                                                - 0.010077329478245162_f64 * t.sin[6]))))) + x3),
+                    * <f64 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.21621344483597055_f64,
+                                    t.cos[8],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.1889499277170968_f64,
+                                        t.sin[8],
+                                        0.0034755537315061865_f64,
+                                    ),
+                                ),
+                                t.sin[6],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -<f64 as ::trocar::Real>::mul_add(
+                                        0.01441422965573137_f64,
+                                        t.cos[8],
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.012596661847806452_f64,
+                                            t.sin[8],
+                                            0.052133305972592796_f64,
+                                        ),
+                                    ),
+                                    t.cos[6],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.007490346908673594_f64,
+                                        t.cos[8],
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.0015893546463604897_f64,
+                                            t.sin[8],
+                                            -0.006951107463012373_f64,
+                                        ),
+                                    ),
+                                ),
+                            ),
+                            t.sin[7],
+                            <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -t.sin[6],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.008648537793438821_f64,
+                                        t.cos[8],
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.007557997108683871_f64,
+                                            t.sin[8],
+                                            0.08688884328765467_f64,
+                                        ),
+                                    ),
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        t.cos[6],
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.11336995663025808_f64,
+                                            t.sin[8],
+                                            0.12972806690158234_f64 * t.cos[8],
+                                        ) - 0.005792589552510311_f64,
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            -0.12902630233994597_f64,
+                                            t.sin[8],
+                                            <f64 as ::trocar::Real>::mul_add(
+                                                0.14326369406494216_f64,
+                                                t.cos[8],
+                                                -0.0013902214926024747_f64,
+                                            ),
+                                        ),
+                                    ),
+                                ),
+                                t.cos[7],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    t.sin[8],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.17297075586877644_f64,
+                                        t.cos[6],
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.011531383724585096_f64,
+                                            t.sin[6],
+                                            0.07141219640937821_f64,
+                                        ),
+                                    ),
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        t.cos[8],
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            -0.010077329478245162_f64,
+                                            t.sin[6],
+                                            <f64 as ::trocar::Real>::mul_add(
+                                                0.15115994217367743_f64,
+                                                t.cos[6],
+                                                0.1282613813744756_f64,
+                                            ),
+                                        ),
+                                        0.0013902214926024747_f64,
+                                    ),
+                                ),
+                            ),
+                        ),
+                        x3,
+                    ),
                 x0
-                    * (p.l_a
-                        * (t.sin[7]
-                            * (t.sin[6]
-                                * (0.011477101030190789_f64
-                                    + 0.048411192255072455_f64 * t.sin[8]
-                                    + 0.07299966731902524_f64 * t.cos[8])
-                                + (t.cos[6]
-                                    * (0.0032274128170048304_f64 * t.sin[8]
-                                        + 0.004866644487935016_f64 * t.cos[8]
-                                        - 0.17215651545286184_f64)
-                                    + (0.0022007667785459493_f64 * t.cos[8]
-                                        - 0.022954202060381578_f64
-                                        - 0.0007827471600580457_f64 * t.sin[8])))
-                            + (t.cos[7]
-                                * (t.sin[6]
-                                    * (0.0019364476902028983_f64 * t.sin[8]
-                                        + 0.00291998669276101_f64 * t.cos[8]
-                                        - 0.28692752575476976_f64)
-                                    + (0.04479354949894437_f64 * t.sin[8]
-                                        - 0.004590840412076316_f64
-                                        - 0.03811410155557032_f64 * t.cos[8]
-                                        - t.cos[6]
-                                            * (0.01912850171698465_f64
-                                                + 0.029046715353043477_f64 * t.sin[8]
-                                                + 0.04379980039141514_f64 * t.cos[8])))
-                                + (t.sin[8]
-                                    * (0.05839973385522019_f64 * t.cos[6]
-                                        - 0.016418964946840205_f64
-                                        - 0.0038933155903480123_f64 * t.sin[6])
-                                    + (0.004590840412076316_f64
-                                        + t.cos[8]
-                                            * (0.0025819302536038645_f64 * t.sin[6]
-                                                - 0.04166369416672035_f64
-                                                - 0.03872895380405797_f64 * t.cos[6])))))
-                        + (t.cos[6]
-                            * (t.sin[8]
-                                * (0.1946657795174006_f64
-                                    - 0.09682238451014491_f64 * t.cos[7]) - x4)
-                            + t.sin[6]
-                                * (t.sin[7] * (x5 + 0.2433322243967508_f64 * t.cos[8])
-                                    - 0.9564250858492326_f64 * t.cos[7]))),
+                    * <f64 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.sin[7],
+                            <f64 as ::trocar::Real>::mul_add(
+                                t.sin[6],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.07299966731902524_f64,
+                                    t.cos[8],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.048411192255072455_f64,
+                                        t.sin[8],
+                                        0.011477101030190789_f64,
+                                    ),
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    t.cos[6],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.0032274128170048304_f64,
+                                        t.sin[8],
+                                        0.004866644487935016_f64 * t.cos[8],
+                                    ) - 0.17215651545286184_f64,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.0007827471600580457_f64,
+                                        t.sin[8],
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.0022007667785459493_f64,
+                                            t.cos[8],
+                                            -0.022954202060381578_f64,
+                                        ),
+                                    ),
+                                ),
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                t.cos[7],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    t.sin[6],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.0019364476902028983_f64,
+                                        t.sin[8],
+                                        0.00291998669276101_f64 * t.cos[8],
+                                    ) - 0.28692752575476976_f64,
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -t.cos[6],
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.04379980039141514_f64,
+                                            t.cos[8],
+                                            <f64 as ::trocar::Real>::mul_add(
+                                                0.029046715353043477_f64,
+                                                t.sin[8],
+                                                0.01912850171698465_f64,
+                                            ),
+                                        ),
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            -0.03811410155557032_f64,
+                                            t.cos[8],
+                                            <f64 as ::trocar::Real>::mul_add(
+                                                0.04479354949894437_f64,
+                                                t.sin[8],
+                                                -0.004590840412076316_f64,
+                                            ),
+                                        ),
+                                    ),
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    t.sin[8],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.0038933155903480123_f64,
+                                        t.sin[6],
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.05839973385522019_f64,
+                                            t.cos[6],
+                                            -0.016418964946840205_f64,
+                                        ),
+                                    ),
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        t.cos[8],
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            -0.03872895380405797_f64,
+                                            t.cos[6],
+                                            <f64 as ::trocar::Real>::mul_add(
+                                                0.0025819302536038645_f64,
+                                                t.sin[6],
+                                                -0.04166369416672035_f64,
+                                            ),
+                                        ),
+                                        0.004590840412076316_f64,
+                                    ),
+                                ),
+                            ),
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.cos[6],
+                            <f64 as ::trocar::Real>::mul_add(
+                                t.sin[8],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.09682238451014491_f64,
+                                    t.cos[7],
+                                    0.1946657795174006_f64,
+                                ),
+                                -x4,
+                            ),
+                            t.sin[6]
+                                * <f64 as ::trocar::Real>::mul_add(
+                                    t.sin[7],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.2433322243967508_f64,
+                                        t.cos[8],
+                                        x5,
+                                    ),
+                                    -(0.9564250858492326_f64 * t.cos[7]),
+                                ),
+                        ),
+                    ),
                 x0
-                    * (p.l_a
-                        * (t.sin[7]
-                            * (t.sin[6]
-                                * (0.19473775916209565_f64 * t.cos[8]
-                                    - 0.00044348416229550094_f64
-                                    - 0.22793481805144714_f64 * t.sin[8])
-                                + (t.cos[6]
-                                    * (0.006652262434432514_f64
-                                        + 0.012982517277473044_f64 * t.cos[8]
-                                        - 0.015195654536763144_f64 * t.sin[8])
-                                    + (0.0008869683245910019_f64
-                                        - 0.007801362617614528_f64 * t.sin[8]
-                                        - 0.0017468053051706756_f64 * t.cos[8])))
-                            + (t.cos[7]
-                                * (t.sin[6]
-                                    * (0.011087104057387524_f64
-                                        + 0.007789510366483825_f64 * t.cos[8]
-                                        - 0.009117392722057886_f64 * t.sin[8])
-                                    + (t.cos[6]
-                                        * (0.0007391402704925016_f64
-                                            + 0.1367608908308683_f64 * t.sin[8]
-                                            - 0.11684265549725738_f64 * t.cos[8])
-                                        + (0.0001773936649182004_f64
-                                            + 0.1480599582188462_f64 * t.sin[8]
-                                            + 0.13637752463466377_f64 * t.cos[8])))
-                                + (t.sin[8]
-                                    * (0.13473943666968044_f64
-                                        + 0.15579020732967652_f64 * t.cos[6]
-                                        - 0.010386013821978434_f64 * t.sin[6])
-                                    + (t.cos[8]
-                                        * (0.18234785444115773_f64 * t.cos[6]
-                                            - 0.07305583232222679_f64
-                                            - 0.012156523629410514_f64 * t.sin[6])
-                                        - 0.0001773936649182004_f64)))) + x10),
-                p.l_a * (x0 * (x11 + (t.cos[8] * (x12 - 0.3778998554341936_f64) - x13))),
-                p.l_a * (x0 * (t.cos[8] * (0.09682238451014492_f64 - x15) - x16 - x14)),
-                p.l_a * (x0 * (t.sin[8] * (x17 - 0.3894755183241913_f64) + (x19 - x18))),
+                    * <f64 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.sin[7],
+                            <f64 as ::trocar::Real>::mul_add(
+                                t.sin[6],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.22793481805144714_f64,
+                                    t.sin[8],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.19473775916209565_f64,
+                                        t.cos[8],
+                                        -0.00044348416229550094_f64,
+                                    ),
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    t.cos[6],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.015195654536763144_f64,
+                                        t.sin[8],
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.012982517277473044_f64,
+                                            t.cos[8],
+                                            0.006652262434432514_f64,
+                                        ),
+                                    ),
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.0017468053051706756_f64,
+                                        t.cos[8],
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            -0.007801362617614528_f64,
+                                            t.sin[8],
+                                            0.0008869683245910019_f64,
+                                        ),
+                                    ),
+                                ),
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                t.cos[7],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    t.sin[6],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.009117392722057886_f64,
+                                        t.sin[8],
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.007789510366483825_f64,
+                                            t.cos[8],
+                                            0.011087104057387524_f64,
+                                        ),
+                                    ),
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        t.cos[6],
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            -0.11684265549725738_f64,
+                                            t.cos[8],
+                                            <f64 as ::trocar::Real>::mul_add(
+                                                0.1367608908308683_f64,
+                                                t.sin[8],
+                                                0.0007391402704925016_f64,
+                                            ),
+                                        ),
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.13637752463466377_f64,
+                                            t.cos[8],
+                                            <f64 as ::trocar::Real>::mul_add(
+                                                0.1480599582188462_f64,
+                                                t.sin[8],
+                                                0.0001773936649182004_f64,
+                                            ),
+                                        ),
+                                    ),
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    t.sin[8],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.010386013821978434_f64,
+                                        t.sin[6],
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.15579020732967652_f64,
+                                            t.cos[6],
+                                            0.13473943666968044_f64,
+                                        ),
+                                    ),
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        t.cos[8],
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            -0.012156523629410514_f64,
+                                            t.sin[6],
+                                            <f64 as ::trocar::Real>::mul_add(
+                                                0.18234785444115773_f64,
+                                                t.cos[6],
+                                                -0.07305583232222679_f64,
+                                            ),
+                                        ),
+                                        -0.0001773936649182004_f64,
+                                    ),
+                                ),
+                            ),
+                        ),
+                        x10,
+                    ),
+                p.l_a
+                    * (x0
+                        * (x11
+                            + <f64 as ::trocar::Real>::mul_add(
+                                t.cos[8],
+                                x12 - 0.3778998554341936_f64,
+                                -x13,
+                            ))),
+                p.l_a
+                    * (x0
+                        * (<f64 as ::trocar::Real>::mul_add(
+                            t.cos[8],
+                            0.09682238451014492_f64 - x15,
+                            -x16,
+                        ) - x14)),
+                p.l_a
+                    * (x0
+                        * <f64 as ::trocar::Real>::mul_add(
+                            t.sin[8],
+                            x17 - 0.3894755183241913_f64,
+                            x19 - x18,
+                        )),
             ],
             [
                 x0
-                    * (p.l_a
-                        * (t.cos[6] * x20
-                            + (t.sin[6]
-                                * (t.sin[7] * (0.0017377768657530933_f64 + x21 - x22)
-                                    + t.cos[7] * (x23 - x24))
-                                + (t.cos[8]
-                                    * (0.11336995663025808_f64
-                                        - 0.17297075586877644_f64 * t.cos[7])
-                                    + 0.06951107463012374_f64 * t.sin[7]
-                                    - t.sin[8]
-                                        * (0.12972806690158234_f64
-                                            + 0.15115994217367743_f64 * t.cos[7]))))
-                        + (x13 + t.cos[8] * (0.3778998554341936_f64 - x12) - x11)),
+                    * <f64 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.cos[6],
+                            x20,
+                            <f64 as ::trocar::Real>::mul_add(
+                                t.sin[6],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    t.sin[7],
+                                    0.0017377768657530933_f64 + x21 - x22,
+                                    t.cos[7] * (x23 - x24),
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -t.sin[8],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.15115994217367743_f64,
+                                        t.cos[7],
+                                        0.12972806690158234_f64,
+                                    ),
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        t.cos[8],
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            -0.17297075586877644_f64,
+                                            t.cos[7],
+                                            0.11336995663025808_f64,
+                                        ),
+                                        0.06951107463012374_f64 * t.sin[7],
+                                    ),
+                                ),
+                            ),
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.cos[8],
+                            0.3778998554341936_f64 - x12,
+                            x13,
+                        ) - x11,
+                    ),
                 x0
-                    * (p.l_a
-                        * (t.cos[6] * x25
-                            + (t.sin[6]
-                                * (t.sin[7] * (0.005738550515095395_f64 + x26 - x27)
-                                    + t.cos[7] * (0.002750958473182437_f64 * t.cos[8] - x28))
-                                + (t.sin[8]
-                                    * (0.04379980039141514_f64
-                                        + 0.03872895380405797_f64 * t.cos[7])
-                                    + (t.cos[8]
-                                        * (0.05839973385522019_f64 * t.cos[7]
-                                            - 0.029046715353043477_f64)
-                                        + 0.2295420206038158_f64 * t.sin[7]))))
-                        + (x14 + (x16 + t.cos[8] * (x15 - 0.09682238451014492_f64)))),
+                    * <f64 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.cos[6],
+                            x25,
+                            <f64 as ::trocar::Real>::mul_add(
+                                t.sin[6],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    t.sin[7],
+                                    0.005738550515095395_f64 + x26 - x27,
+                                    t.cos[7]
+                                        * <f64 as ::trocar::Real>::mul_add(
+                                            0.002750958473182437_f64,
+                                            t.cos[8],
+                                            -x28,
+                                        ),
+                                ),
+                                <f64 as ::trocar::Real>::mul_add(
+                                    t.sin[8],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.03872895380405797_f64,
+                                        t.cos[7],
+                                        0.04379980039141514_f64,
+                                    ),
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        t.cos[8],
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.05839973385522019_f64,
+                                            t.cos[7],
+                                            -0.029046715353043477_f64,
+                                        ),
+                                        0.2295420206038158_f64 * t.sin[7],
+                                    ),
+                                ),
+                            ),
+                        ),
+                        x14
+                            + <f64 as ::trocar::Real>::mul_add(
+                                t.cos[8],
+                                x15 - 0.09682238451014492_f64,
+                                x16,
+                            ),
+                    ),
                 x0
-                    * (p.l_a
-                        * (t.cos[6] * x29
-                            + (t.sin[8]
-                                * (0.11684265549725738_f64
-                                    - 0.18234785444115773_f64 * t.cos[7])
-                                + (t.cos[8]
-                                    * (0.1367608908308683_f64
-                                        + 0.15579020732967652_f64 * t.cos[7])
-                                    - 0.00886968324591002_f64 * t.sin[7]) - t.sin[6] * x30))
-                        + (t.sin[8] * (0.3894755183241913_f64 - x17) + (x18 - x19))),
+                    * <f64 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.cos[6],
+                            x29,
+                            <f64 as ::trocar::Real>::mul_add(
+                                -t.sin[6],
+                                x30,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    t.sin[8],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        -0.18234785444115773_f64,
+                                        t.cos[7],
+                                        0.11684265549725738_f64,
+                                    ),
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        t.cos[8],
+                                        <f64 as ::trocar::Real>::mul_add(
+                                            0.15579020732967652_f64,
+                                            t.cos[7],
+                                            0.1367608908308683_f64,
+                                        ),
+                                        -(0.00886968324591002_f64 * t.sin[7]),
+                                    ),
+                                ),
+                            ),
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.sin[8],
+                            0.3894755183241913_f64 - x17,
+                            x18 - x19,
+                        ),
+                    ),
                 p.l_a * (x0 * x3),
-                p.l_a * (x0 * (t.cos[6] * x31 + t.sin[6] * (x32 - x33))),
+                p.l_a
+                    * (x0
+                        * <f64 as ::trocar::Real>::mul_add(
+                            t.cos[6],
+                            x31,
+                            t.sin[6] * (x32 - x33),
+                        )),
                 p.l_a * (x0 * x10),
             ],
             [
-                t.sin[6] * x20
-                    + (t.cos[6]
-                        * (t.sin[7] * (x22 - 0.0017377768657530933_f64 - x21)
-                            + t.cos[7] * (x24 - x23))
-                        + (t.sin[8]
-                            * (0.008648537793438821_f64
-                                + 0.010077329478245162_f64 * t.cos[7])
-                            + (t.cos[8]
-                                * (0.011531383724585096_f64 * t.cos[7]
-                                    - 0.007557997108683871_f64)
-                                - 0.004634071642008249_f64 * t.sin[7]))),
-                t.sin[6] * x25
-                    + (t.cos[6]
-                        * (t.sin[7] * (x27 - 0.005738550515095395_f64 - x26)
-                            + t.cos[7] * (x28 - 0.0027509584731824368_f64 * t.cos[8]))
-                        + (t.cos[8]
-                            * (0.0019364476902028983_f64
-                                - 0.0038933155903480127_f64 * t.cos[7])
-                            - 0.01530280137358772_f64 * t.sin[7]
-                            - t.sin[8]
-                                * (0.0029199866927610094_f64
-                                    + 0.0025819302536038645_f64 * t.cos[7]))),
-                t.sin[6] * x29
-                    + (t.cos[6] * x30
-                        + (t.sin[8]
-                            * (0.012156523629410514_f64 * t.cos[7]
-                                - 0.007789510366483825_f64)
-                            + (0.0005913122163940013_f64 * t.sin[7]
-                                - t.cos[8]
-                                    * (0.009117392722057886_f64
-                                        + 0.010386013821978434_f64 * t.cos[7])))),
-                t.sin[6] * x1 + t.cos[6] * x2,
-                t.sin[6] * x31 + t.cos[6] * (x33 - x32),
-                t.sin[6] * x6 + t.cos[6] * (t.sin[7] * (x8 - x7) - x9),
+                <f64 as ::trocar::Real>::mul_add(
+                    t.sin[6],
+                    x20,
+                    <f64 as ::trocar::Real>::mul_add(
+                        t.cos[6],
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.sin[7],
+                            x22 - 0.0017377768657530933_f64 - x21,
+                            t.cos[7] * (x24 - x23),
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.sin[8],
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.010077329478245162_f64,
+                                t.cos[7],
+                                0.008648537793438821_f64,
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                t.cos[8],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.011531383724585096_f64,
+                                    t.cos[7],
+                                    -0.007557997108683871_f64,
+                                ),
+                                -(0.004634071642008249_f64 * t.sin[7]),
+                            ),
+                        ),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    t.sin[6],
+                    x25,
+                    <f64 as ::trocar::Real>::mul_add(
+                        t.cos[6],
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.sin[7],
+                            x27 - 0.005738550515095395_f64 - x26,
+                            t.cos[7]
+                                * <f64 as ::trocar::Real>::mul_add(
+                                    -0.0027509584731824368_f64,
+                                    t.cos[8],
+                                    x28,
+                                ),
+                        ),
+                        <f64 as ::trocar::Real>::mul_add(
+                            -t.sin[8],
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.0025819302536038645_f64,
+                                t.cos[7],
+                                0.0029199866927610094_f64,
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                t.cos[8],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    -0.0038933155903480127_f64,
+                                    t.cos[7],
+                                    0.0019364476902028983_f64,
+                                ),
+                                -(0.01530280137358772_f64 * t.sin[7]),
+                            ),
+                        ),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    t.sin[6],
+                    x29,
+                    <f64 as ::trocar::Real>::mul_add(
+                        t.cos[6],
+                        x30,
+                        <f64 as ::trocar::Real>::mul_add(
+                            t.sin[8],
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.012156523629410514_f64,
+                                t.cos[7],
+                                -0.007789510366483825_f64,
+                            ),
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.0005913122163940013_f64,
+                                t.sin[7],
+                                -(t.cos[8]
+                                    * <f64 as ::trocar::Real>::mul_add(
+                                        0.010386013821978434_f64,
+                                        t.cos[7],
+                                        0.009117392722057886_f64,
+                                    )),
+                            ),
+                        ),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(t.sin[6], x1, t.cos[6] * x2),
+                <f64 as ::trocar::Real>::mul_add(t.sin[6], x31, t.cos[6] * (x33 - x32)),
+                <f64 as ::trocar::Real>::mul_add(
+                    t.sin[6],
+                    x6,
+                    t.cos[6] * <f64 as ::trocar::Real>::mul_add(t.sin[7], x8 - x7, -x9),
+                ),
             ],
         ]
     }
@@ -1730,68 +4923,187 @@ pub mod chain9_prismatic {
         let ([s2, s3, s5, s6], [c2, c3, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
             &[q[1], q[2], q[4], q[5]],
         );
-        let x0 = 0.955336489125606_f64 * c2 - 0.29552020666133955_f64 * s2;
-        let x1 = 0.955336489125606_f64 * s2 + 0.29552020666133955_f64 * c2;
+        let x0 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            c2,
+            -(0.29552020666133955_f64 * s2),
+        );
+        let x1 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            s2,
+            0.29552020666133955_f64 * c2,
+        );
         let x2 = 0.8_f64 * s3;
         let x3 = 0.6_f64 * s3;
-        let x4 = 0.36_f64 + 0.64_f64 * c3;
+        let x4 = <f64 as ::trocar::Real>::mul_add(0.64_f64, c3, 0.36_f64);
         let x5 = 0.48_f64 * (<f64 as ::trocar::Real>::ONE - c3);
-        let x6 = 0.64_f64 + 0.36_f64 * c3;
-        let x7 = 0.3816559020950483_f64 * s5 + 0.19866933079506122_f64 * c5;
-        let x8 = 0.19866933079506122_f64 * s5 - 0.3816559020950483_f64 * c5;
-        let x9 = 0.9800665778412416_f64 * c5 - 0.07736548146578168_f64 * s5;
-        let x10 = 0.9800665778412416_f64 * s5 + 0.07736548146578168_f64 * c5;
+        let x6 = <f64 as ::trocar::Real>::mul_add(0.36_f64, c3, 0.64_f64);
+        let x7 = <f64 as ::trocar::Real>::mul_add(
+            0.3816559020950483_f64,
+            s5,
+            0.19866933079506122_f64 * c5,
+        );
+        let x8 = <f64 as ::trocar::Real>::mul_add(
+            0.19866933079506122_f64,
+            s5,
+            -(0.3816559020950483_f64 * c5),
+        );
+        let x9 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            c5,
+            -(0.07736548146578168_f64 * s5),
+        );
+        let x10 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            s5,
+            0.07736548146578168_f64 * c5,
+        );
         let x11 = 0.9210609940028851_f64 * s5;
         let x12 = 0.9210609940028851_f64 * c5;
-        let x13 = 0.90270109637546_f64 * c6 - x8 * s6;
-        let x14 = 0.90270109637546_f64 * s6 + x8 * c6;
-        let x15 = 0.18298657129998708_f64 * c6 + x10 * s6;
-        let x16 = 0.18298657129998708_f64 * s6 - x10 * c6;
-        let x17 = 0.3894183423086505_f64 * c6 - x12 * s6;
-        let x18 = 0.3894183423086505_f64 * s6 + x12 * c6;
-        let x19 = 0.02_f64 + 0.04605304970014426_f64 * s5;
-        let x20 = 0.01_f64 - 0.05_f64 * x7;
-        let x21 = 0.1_f64 + q[3] + (0.25_f64 + 0.05_f64 * x9);
-        let x22 = 0.6_f64 * x19 - 0.8_f64 * x21;
+        let x13 = <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, c6, -(x8 * s6));
+        let x14 = <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, s6, x8 * c6);
+        let x15 = <f64 as ::trocar::Real>::mul_add(
+            0.18298657129998708_f64,
+            c6,
+            x10 * s6,
+        );
+        let x16 = <f64 as ::trocar::Real>::mul_add(
+            0.18298657129998708_f64,
+            s6,
+            -(x10 * c6),
+        );
+        let x17 = <f64 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f64,
+            c6,
+            -(x12 * s6),
+        );
+        let x18 = <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, s6, x12 * c6);
+        let x19 = <f64 as ::trocar::Real>::mul_add(
+            0.04605304970014426_f64,
+            s5,
+            0.02_f64,
+        );
+        let x20 = <f64 as ::trocar::Real>::mul_add(-0.05_f64, x7, 0.01_f64);
+        let x21 = 0.1_f64 + q[3]
+            + <f64 as ::trocar::Real>::mul_add(0.05_f64, x9, 0.25_f64);
+        let x22 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x19, -(0.8_f64 * x21));
         let x23 = 0.8_f64 * x20;
         let x24 = 0.6_f64 * x20;
-        let x25 = c3 * x13 - x2 * x15 + x3 * x17;
-        let x26 = x3 * x11 - (c3 * x7 + x2 * x9);
-        let x27 = c3 * x14 - x2 * x16 + x3 * x18;
-        let x28 = x2 * x13 + x4 * x15 + x5 * x17;
-        let x29 = x4 * x9 - x2 * x7 + x5 * x11;
-        let x30 = x2 * x14 + x4 * x16 + x5 * x18;
-        let x31 = 0.4_f64 + (x2 * x20 + x4 * x21 + x5 * x19);
-        let x32 = x5 * x15 - x3 * x13 + x6 * x17;
-        let x33 = x3 * x7 + x5 * x9 + x6 * x11;
-        let x34 = x5 * x16 - x3 * x14 + x6 * x18;
-        let x35 = x5 * x21 - x3 * x20 + x6 * x19 - 0.03_f64;
-        let x36 = 0.05_f64 + (c3 * x20 - x2 * x21 + x3 * x19);
-        let x37 = 0.02_f64 + (x0 * x31 - x1 * x35);
+        let x25 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x17,
+            <f64 as ::trocar::Real>::mul_add(c3, x13, -(x2 * x15)),
+        );
+        let x26 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x11,
+            -<f64 as ::trocar::Real>::mul_add(c3, x7, x2 * x9),
+        );
+        let x27 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x18,
+            <f64 as ::trocar::Real>::mul_add(c3, x14, -(x2 * x16)),
+        );
+        let x28 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x17,
+            <f64 as ::trocar::Real>::mul_add(x2, x13, x4 * x15),
+        );
+        let x29 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x11,
+            <f64 as ::trocar::Real>::mul_add(x4, x9, -(x2 * x7)),
+        );
+        let x30 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x18,
+            <f64 as ::trocar::Real>::mul_add(x2, x14, x4 * x16),
+        );
+        let x31 = 0.4_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x5,
+                x19,
+                <f64 as ::trocar::Real>::mul_add(x2, x20, x4 * x21),
+            );
+        let x32 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x17,
+            <f64 as ::trocar::Real>::mul_add(x5, x15, -(x3 * x13)),
+        );
+        let x33 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x11,
+            <f64 as ::trocar::Real>::mul_add(x3, x7, x5 * x9),
+        );
+        let x34 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x18,
+            <f64 as ::trocar::Real>::mul_add(x5, x16, -(x3 * x14)),
+        );
+        let x35 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x19,
+            <f64 as ::trocar::Real>::mul_add(x5, x21, -(x3 * x20)),
+        ) - 0.03_f64;
+        let x36 = 0.05_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x3,
+                x19,
+                <f64 as ::trocar::Real>::mul_add(c3, x20, -(x2 * x21)),
+            );
+        let x37 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35));
         [
             [
-                x36 * (x0 * x28 - x1 * x32) - x25 * x37,
-                x36 * (x0 * x29 - x1 * x33) - x26 * x37,
-                x36 * (x0 * x30 - x1 * x34) - x27 * x37,
-                x1 * x28 + x0 * x32,
-                x1 * x29 + x0 * x33,
-                x1 * x30 + x0 * x34,
+                <f64 as ::trocar::Real>::mul_add(
+                    x36,
+                    <f64 as ::trocar::Real>::mul_add(x0, x28, -(x1 * x32)),
+                    -(x25 * x37),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    x36,
+                    <f64 as ::trocar::Real>::mul_add(x0, x29, -(x1 * x33)),
+                    -(x26 * x37),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    x36,
+                    <f64 as ::trocar::Real>::mul_add(x0, x30, -(x1 * x34)),
+                    -(x27 * x37),
+                ),
+                <f64 as ::trocar::Real>::mul_add(x1, x28, x0 * x32),
+                <f64 as ::trocar::Real>::mul_add(x1, x29, x0 * x33),
+                <f64 as ::trocar::Real>::mul_add(x1, x30, x0 * x34),
             ],
             [
-                x31 * x32 - x28 * x35,
-                x31 * x33 - x29 * x35,
-                x31 * x34 - x30 * x35,
+                <f64 as ::trocar::Real>::mul_add(x31, x32, -(x28 * x35)),
+                <f64 as ::trocar::Real>::mul_add(x31, x33, -(x29 * x35)),
+                <f64 as ::trocar::Real>::mul_add(x31, x34, -(x30 * x35)),
                 x25,
                 x26,
                 x27,
             ],
             [
-                x13 * x22 + x15 * x23 - x17 * x24,
-                x9 * x23 - x7 * x22 - x11 * x24,
-                x14 * x22 + x16 * x23 - x18 * x24,
-                0.6_f64 * x15 + 0.8_f64 * x17,
-                0.6_f64 * x9 + 0.7368487952023082_f64 * s5,
-                0.6_f64 * x16 + 0.8_f64 * x18,
+                <f64 as ::trocar::Real>::mul_add(
+                    -x17,
+                    x24,
+                    <f64 as ::trocar::Real>::mul_add(x13, x22, x15 * x23),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    -x11,
+                    x24,
+                    <f64 as ::trocar::Real>::mul_add(x9, x23, -(x7 * x22)),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    -x18,
+                    x24,
+                    <f64 as ::trocar::Real>::mul_add(x14, x22, x16 * x23),
+                ),
+                <f64 as ::trocar::Real>::mul_add(0.6_f64, x15, 0.8_f64 * x17),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.6_f64,
+                    x9,
+                    0.7368487952023082_f64 * s5,
+                ),
+                <f64 as ::trocar::Real>::mul_add(0.6_f64, x16, 0.8_f64 * x18),
             ],
             [
                 x15,
@@ -1827,68 +5139,199 @@ pub mod chain9_prismatic {
     #[inline]
     #[must_use]
     pub fn partial_body_jacobian_trig(t: &JointTrig, _p: &Params) -> [[f64; 6]; I] {
-        let x0 = 0.955336489125606_f64 * t.cos[1] - 0.29552020666133955_f64 * t.sin[1];
-        let x1 = 0.955336489125606_f64 * t.sin[1] + 0.29552020666133955_f64 * t.cos[1];
+        let x0 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            t.cos[1],
+            -(0.29552020666133955_f64 * t.sin[1]),
+        );
+        let x1 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            t.sin[1],
+            0.29552020666133955_f64 * t.cos[1],
+        );
         let x2 = 0.8_f64 * t.sin[2];
         let x3 = 0.6_f64 * t.sin[2];
-        let x4 = 0.36_f64 + 0.64_f64 * t.cos[2];
+        let x4 = <f64 as ::trocar::Real>::mul_add(0.64_f64, t.cos[2], 0.36_f64);
         let x5 = 0.48_f64 * (<f64 as ::trocar::Real>::ONE - t.cos[2]);
-        let x6 = 0.64_f64 + 0.36_f64 * t.cos[2];
-        let x7 = 0.3816559020950483_f64 * t.sin[4] + 0.19866933079506122_f64 * t.cos[4];
-        let x8 = 0.19866933079506122_f64 * t.sin[4] - 0.3816559020950483_f64 * t.cos[4];
-        let x9 = 0.9800665778412416_f64 * t.cos[4] - 0.07736548146578168_f64 * t.sin[4];
-        let x10 = 0.9800665778412416_f64 * t.sin[4] + 0.07736548146578168_f64 * t.cos[4];
+        let x6 = <f64 as ::trocar::Real>::mul_add(0.36_f64, t.cos[2], 0.64_f64);
+        let x7 = <f64 as ::trocar::Real>::mul_add(
+            0.3816559020950483_f64,
+            t.sin[4],
+            0.19866933079506122_f64 * t.cos[4],
+        );
+        let x8 = <f64 as ::trocar::Real>::mul_add(
+            0.19866933079506122_f64,
+            t.sin[4],
+            -(0.3816559020950483_f64 * t.cos[4]),
+        );
+        let x9 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            t.cos[4],
+            -(0.07736548146578168_f64 * t.sin[4]),
+        );
+        let x10 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            t.sin[4],
+            0.07736548146578168_f64 * t.cos[4],
+        );
         let x11 = 0.9210609940028851_f64 * t.sin[4];
         let x12 = 0.9210609940028851_f64 * t.cos[4];
-        let x13 = 0.90270109637546_f64 * t.cos[5] - x8 * t.sin[5];
-        let x14 = 0.90270109637546_f64 * t.sin[5] + x8 * t.cos[5];
-        let x15 = 0.18298657129998708_f64 * t.cos[5] + x10 * t.sin[5];
-        let x16 = 0.18298657129998708_f64 * t.sin[5] - x10 * t.cos[5];
-        let x17 = 0.3894183423086505_f64 * t.cos[5] - x12 * t.sin[5];
-        let x18 = 0.3894183423086505_f64 * t.sin[5] + x12 * t.cos[5];
-        let x19 = 0.02_f64 + 0.04605304970014426_f64 * t.sin[4];
-        let x20 = 0.01_f64 - 0.05_f64 * x7;
-        let x21 = 0.1_f64 + t.q[3] + (0.25_f64 + 0.05_f64 * x9);
-        let x22 = 0.6_f64 * x19 - 0.8_f64 * x21;
+        let x13 = <f64 as ::trocar::Real>::mul_add(
+            0.90270109637546_f64,
+            t.cos[5],
+            -(x8 * t.sin[5]),
+        );
+        let x14 = <f64 as ::trocar::Real>::mul_add(
+            0.90270109637546_f64,
+            t.sin[5],
+            x8 * t.cos[5],
+        );
+        let x15 = <f64 as ::trocar::Real>::mul_add(
+            0.18298657129998708_f64,
+            t.cos[5],
+            x10 * t.sin[5],
+        );
+        let x16 = <f64 as ::trocar::Real>::mul_add(
+            0.18298657129998708_f64,
+            t.sin[5],
+            -(x10 * t.cos[5]),
+        );
+        let x17 = <f64 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f64,
+            t.cos[5],
+            -(x12 * t.sin[5]),
+        );
+        let x18 = <f64 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f64,
+            t.sin[5],
+            x12 * t.cos[5],
+        );
+        let x19 = <f64 as ::trocar::Real>::mul_add(
+            0.04605304970014426_f64,
+            t.sin[4],
+            0.02_f64,
+        );
+        let x20 = <f64 as ::trocar::Real>::mul_add(-0.05_f64, x7, 0.01_f64);
+        let x21 = 0.1_f64 + t.q[3]
+            + <f64 as ::trocar::Real>::mul_add(0.05_f64, x9, 0.25_f64);
+        let x22 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x19, -(0.8_f64 * x21));
         let x23 = 0.8_f64 * x20;
         let x24 = 0.6_f64 * x20;
-        let x25 = t.cos[2] * x13 - x2 * x15 + x3 * x17;
-        let x26 = x3 * x11 - (t.cos[2] * x7 + x2 * x9);
-        let x27 = t.cos[2] * x14 - x2 * x16 + x3 * x18;
-        let x28 = x2 * x13 + x4 * x15 + x5 * x17;
-        let x29 = x4 * x9 - x2 * x7 + x5 * x11;
-        let x30 = x2 * x14 + x4 * x16 + x5 * x18;
-        let x31 = 0.4_f64 + (x2 * x20 + x4 * x21 + x5 * x19);
-        let x32 = x5 * x15 - x3 * x13 + x6 * x17;
-        let x33 = x3 * x7 + x5 * x9 + x6 * x11;
-        let x34 = x5 * x16 - x3 * x14 + x6 * x18;
-        let x35 = x5 * x21 - x3 * x20 + x6 * x19 - 0.03_f64;
-        let x36 = 0.05_f64 + (t.cos[2] * x20 - x2 * x21 + x3 * x19);
-        let x37 = 0.02_f64 + (x0 * x31 - x1 * x35);
+        let x25 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x17,
+            <f64 as ::trocar::Real>::mul_add(t.cos[2], x13, -(x2 * x15)),
+        );
+        let x26 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x11,
+            -<f64 as ::trocar::Real>::mul_add(t.cos[2], x7, x2 * x9),
+        );
+        let x27 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x18,
+            <f64 as ::trocar::Real>::mul_add(t.cos[2], x14, -(x2 * x16)),
+        );
+        let x28 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x17,
+            <f64 as ::trocar::Real>::mul_add(x2, x13, x4 * x15),
+        );
+        let x29 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x11,
+            <f64 as ::trocar::Real>::mul_add(x4, x9, -(x2 * x7)),
+        );
+        let x30 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x18,
+            <f64 as ::trocar::Real>::mul_add(x2, x14, x4 * x16),
+        );
+        let x31 = 0.4_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x5,
+                x19,
+                <f64 as ::trocar::Real>::mul_add(x2, x20, x4 * x21),
+            );
+        let x32 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x17,
+            <f64 as ::trocar::Real>::mul_add(x5, x15, -(x3 * x13)),
+        );
+        let x33 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x11,
+            <f64 as ::trocar::Real>::mul_add(x3, x7, x5 * x9),
+        );
+        let x34 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x18,
+            <f64 as ::trocar::Real>::mul_add(x5, x16, -(x3 * x14)),
+        );
+        let x35 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x19,
+            <f64 as ::trocar::Real>::mul_add(x5, x21, -(x3 * x20)),
+        ) - 0.03_f64;
+        let x36 = 0.05_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x3,
+                x19,
+                <f64 as ::trocar::Real>::mul_add(t.cos[2], x20, -(x2 * x21)),
+            );
+        let x37 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35));
         [
             [
-                x36 * (x0 * x28 - x1 * x32) - x25 * x37,
-                x36 * (x0 * x29 - x1 * x33) - x26 * x37,
-                x36 * (x0 * x30 - x1 * x34) - x27 * x37,
-                x1 * x28 + x0 * x32,
-                x1 * x29 + x0 * x33,
-                x1 * x30 + x0 * x34,
+                <f64 as ::trocar::Real>::mul_add(
+                    x36,
+                    <f64 as ::trocar::Real>::mul_add(x0, x28, -(x1 * x32)),
+                    -(x25 * x37),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    x36,
+                    <f64 as ::trocar::Real>::mul_add(x0, x29, -(x1 * x33)),
+                    -(x26 * x37),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    x36,
+                    <f64 as ::trocar::Real>::mul_add(x0, x30, -(x1 * x34)),
+                    -(x27 * x37),
+                ),
+                <f64 as ::trocar::Real>::mul_add(x1, x28, x0 * x32),
+                <f64 as ::trocar::Real>::mul_add(x1, x29, x0 * x33),
+                <f64 as ::trocar::Real>::mul_add(x1, x30, x0 * x34),
             ],
             [
-                x31 * x32 - x28 * x35,
-                x31 * x33 - x29 * x35,
-                x31 * x34 - x30 * x35,
+                <f64 as ::trocar::Real>::mul_add(x31, x32, -(x28 * x35)),
+                <f64 as ::trocar::Real>::mul_add(x31, x33, -(x29 * x35)),
+                <f64 as ::trocar::Real>::mul_add(x31, x34, -(x30 * x35)),
                 x25,
                 x26,
                 x27,
             ],
             [
-                x13 * x22 + x15 * x23 - x17 * x24,
-                x9 * x23 - x7 * x22 - x11 * x24,
-                x14 * x22 + x16 * x23 - x18 * x24,
-                0.6_f64 * x15 + 0.8_f64 * x17,
-                0.6_f64 * x9 + 0.7368487952023082_f64 * t.sin[4],
-                0.6_f64 * x16 + 0.8_f64 * x18,
+                <f64 as ::trocar::Real>::mul_add(
+                    -x17,
+                    x24,
+                    <f64 as ::trocar::Real>::mul_add(x13, x22, x15 * x23),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    -x11,
+                    x24,
+                    <f64 as ::trocar::Real>::mul_add(x9, x23, -(x7 * x22)),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    -x18,
+                    x24,
+                    <f64 as ::trocar::Real>::mul_add(x14, x22, x16 * x23),
+                ),
+                <f64 as ::trocar::Real>::mul_add(0.6_f64, x15, 0.8_f64 * x17),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.6_f64,
+                    x9,
+                    0.7368487952023082_f64 * t.sin[4],
+                ),
+                <f64 as ::trocar::Real>::mul_add(0.6_f64, x16, 0.8_f64 * x18),
             ],
             [
                 x15,
@@ -1927,61 +5370,177 @@ pub mod chain9_prismatic {
         let ([s1, s2, s3, s5, s6], [c1, c2, c3, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[4], q[5]],
         );
-        let x0 = 0.955336489125606_f64 * c2 - 0.29552020666133955_f64 * s2;
-        let x1 = 0.955336489125606_f64 * s2 + 0.29552020666133955_f64 * c2;
+        let x0 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            c2,
+            -(0.29552020666133955_f64 * s2),
+        );
+        let x1 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            s2,
+            0.29552020666133955_f64 * c2,
+        );
         let x2 = 0.8_f64 * s3;
         let x3 = 0.6_f64 * s3;
-        let x4 = 0.36_f64 + 0.64_f64 * c3;
+        let x4 = <f64 as ::trocar::Real>::mul_add(0.64_f64, c3, 0.36_f64);
         let x5 = 0.48_f64 * (<f64 as ::trocar::Real>::ONE - c3);
-        let x6 = 0.64_f64 + 0.36_f64 * c3;
+        let x6 = <f64 as ::trocar::Real>::mul_add(0.36_f64, c3, 0.64_f64);
         let x7 = 0.1_f64 + q[3];
-        let x8 = 0.3816559020950483_f64 * s5 + 0.19866933079506122_f64 * c5;
-        let x9 = 0.19866933079506122_f64 * s5 - 0.3816559020950483_f64 * c5;
-        let x10 = 0.9800665778412416_f64 * c5 - 0.07736548146578168_f64 * s5;
-        let x11 = 0.9800665778412416_f64 * s5 + 0.07736548146578168_f64 * c5;
+        let x8 = <f64 as ::trocar::Real>::mul_add(
+            0.3816559020950483_f64,
+            s5,
+            0.19866933079506122_f64 * c5,
+        );
+        let x9 = <f64 as ::trocar::Real>::mul_add(
+            0.19866933079506122_f64,
+            s5,
+            -(0.3816559020950483_f64 * c5),
+        );
+        let x10 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            c5,
+            -(0.07736548146578168_f64 * s5),
+        );
+        let x11 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            s5,
+            0.07736548146578168_f64 * c5,
+        );
         let x12 = 0.9210609940028851_f64 * s5;
         let x13 = 0.9210609940028851_f64 * c5;
         let x14 = s1 * x0;
         let x15 = s1 * x1;
         let x16 = c1 * x0;
         let x17 = c1 * x1;
-        let x18 = c1 * c3 - x2 * x14 - x3 * x15;
-        let x19 = x5 * x15 - (c1 * x2 + x4 * x14);
-        let x20 = c1 * x3 - x5 * x14 + x6 * x15;
-        let x21 = s1 * c3 + x2 * x16 + x3 * x17;
-        let x22 = x4 * x16 - s1 * x2 - x5 * x17;
-        let x23 = s1 * x3 + x5 * x16 - x6 * x17;
-        let x24 = x1 * x2 - x0 * x3;
-        let x25 = x1 * x4 + x0 * x5;
-        let x26 = x1 * x5 + x0 * x6;
-        let x27 = 0.90270109637546_f64 * x18 + 0.18298657129998708_f64 * x19
-            + 0.3894183423086505_f64 * x20;
-        let x28 = x10 * x19 - x8 * x18 + x12 * x20;
-        let x29 = x9 * x18 - x11 * x19 + x13 * x20;
-        let x30 = 0.90270109637546_f64 * x21 + 0.18298657129998708_f64 * x22
-            + 0.3894183423086505_f64 * x23;
-        let x31 = x10 * x22 - x8 * x21 + x12 * x23;
-        let x32 = x9 * x21 - x11 * x22 + x13 * x23;
-        let x33 = 0.90270109637546_f64 * x24 + 0.18298657129998708_f64 * x25
-            + 0.3894183423086505_f64 * x26;
-        let x34 = x10 * x25 - x8 * x24 + x12 * x26;
-        let x35 = x9 * x24 - x11 * x25 + x13 * x26;
+        let x18 = <f64 as ::trocar::Real>::mul_add(
+            -x3,
+            x15,
+            <f64 as ::trocar::Real>::mul_add(c1, c3, -(x2 * x14)),
+        );
+        let x19 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x15,
+            -<f64 as ::trocar::Real>::mul_add(c1, x2, x4 * x14),
+        );
+        let x20 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x15,
+            <f64 as ::trocar::Real>::mul_add(c1, x3, -(x5 * x14)),
+        );
+        let x21 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x17,
+            <f64 as ::trocar::Real>::mul_add(s1, c3, x2 * x16),
+        );
+        let x22 = <f64 as ::trocar::Real>::mul_add(
+            -x5,
+            x17,
+            <f64 as ::trocar::Real>::mul_add(x4, x16, -(s1 * x2)),
+        );
+        let x23 = <f64 as ::trocar::Real>::mul_add(
+            -x6,
+            x17,
+            <f64 as ::trocar::Real>::mul_add(s1, x3, x5 * x16),
+        );
+        let x24 = <f64 as ::trocar::Real>::mul_add(x1, x2, -(x0 * x3));
+        let x25 = <f64 as ::trocar::Real>::mul_add(x1, x4, x0 * x5);
+        let x26 = <f64 as ::trocar::Real>::mul_add(x1, x5, x0 * x6);
+        let x27 = <f64 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f64,
+            x20,
+            <f64 as ::trocar::Real>::mul_add(
+                0.90270109637546_f64,
+                x18,
+                0.18298657129998708_f64 * x19,
+            ),
+        );
+        let x28 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x20,
+            <f64 as ::trocar::Real>::mul_add(x10, x19, -(x8 * x18)),
+        );
+        let x29 = <f64 as ::trocar::Real>::mul_add(
+            x13,
+            x20,
+            <f64 as ::trocar::Real>::mul_add(x9, x18, -(x11 * x19)),
+        );
+        let x30 = <f64 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f64,
+            x23,
+            <f64 as ::trocar::Real>::mul_add(
+                0.90270109637546_f64,
+                x21,
+                0.18298657129998708_f64 * x22,
+            ),
+        );
+        let x31 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x23,
+            <f64 as ::trocar::Real>::mul_add(x10, x22, -(x8 * x21)),
+        );
+        let x32 = <f64 as ::trocar::Real>::mul_add(
+            x13,
+            x23,
+            <f64 as ::trocar::Real>::mul_add(x9, x21, -(x11 * x22)),
+        );
+        let x33 = <f64 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f64,
+            x26,
+            <f64 as ::trocar::Real>::mul_add(
+                0.90270109637546_f64,
+                x24,
+                0.18298657129998708_f64 * x25,
+            ),
+        );
+        let x34 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x26,
+            <f64 as ::trocar::Real>::mul_add(x10, x25, -(x8 * x24)),
+        );
+        let x35 = <f64 as ::trocar::Real>::mul_add(
+            x13,
+            x26,
+            <f64 as ::trocar::Real>::mul_add(x9, x24, -(x11 * x25)),
+        );
         (
             [
-                [c6 * x27 - s6 * x29, c6 * x30 - s6 * x32, c6 * x33 - s6 * x35],
+                [
+                    <f64 as ::trocar::Real>::mul_add(c6, x27, -(s6 * x29)),
+                    <f64 as ::trocar::Real>::mul_add(c6, x30, -(s6 * x32)),
+                    <f64 as ::trocar::Real>::mul_add(c6, x33, -(s6 * x35)),
+                ],
                 [x28, x31, x34],
-                [s6 * x27 + c6 * x29, s6 * x30 + c6 * x32, s6 * x33 + c6 * x35],
+                [
+                    <f64 as ::trocar::Real>::mul_add(s6, x27, c6 * x29),
+                    <f64 as ::trocar::Real>::mul_add(s6, x30, c6 * x32),
+                    <f64 as ::trocar::Real>::mul_add(s6, x33, c6 * x35),
+                ],
             ],
             [
-                0.05_f64 * c1 - 0.02_f64 * s1 - (0.4_f64 * x14 + 0.03_f64 * x15)
-                    + (0.01_f64 * x18 + x7 * x19) + (0.25_f64 * x19 + 0.02_f64 * x20)
-                    + 0.05_f64 * x28,
-                0.05_f64 * s1 + 0.02_f64 * c1 + (0.4_f64 * x16 + 0.03_f64 * x17)
-                    + (0.01_f64 * x21 + x7 * x22) + (0.25_f64 * x22 + 0.02_f64 * x23)
-                    + 0.05_f64 * x31,
-                p.d_1 + 0.1_f64 + (0.4_f64 * x1 - 0.03_f64 * x0)
-                    + (0.01_f64 * x24 + x7 * x25) + (0.25_f64 * x25 + 0.02_f64 * x26)
-                    + 0.05_f64 * x34,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.05_f64,
+                    x28,
+                    <f64 as ::trocar::Real>::mul_add(0.05_f64, c1, -(0.02_f64 * s1))
+                        - <f64 as ::trocar::Real>::mul_add(0.4_f64, x14, 0.03_f64 * x15)
+                        + <f64 as ::trocar::Real>::mul_add(0.01_f64, x18, x7 * x19)
+                        + <f64 as ::trocar::Real>::mul_add(0.25_f64, x19, 0.02_f64 * x20),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.05_f64,
+                    x31,
+                    <f64 as ::trocar::Real>::mul_add(0.05_f64, s1, 0.02_f64 * c1)
+                        + <f64 as ::trocar::Real>::mul_add(0.4_f64, x16, 0.03_f64 * x17)
+                        + <f64 as ::trocar::Real>::mul_add(0.01_f64, x21, x7 * x22)
+                        + <f64 as ::trocar::Real>::mul_add(0.25_f64, x22, 0.02_f64 * x23),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.05_f64,
+                    x34,
+                    p.d_1 + 0.1_f64
+                        + <f64 as ::trocar::Real>::mul_add(0.4_f64, x1, -(0.03_f64 * x0))
+                        + <f64 as ::trocar::Real>::mul_add(0.01_f64, x24, x7 * x25)
+                        + <f64 as ::trocar::Real>::mul_add(0.25_f64, x25, 0.02_f64 * x26),
+                ),
             ],
         )
     }
@@ -1996,69 +5555,183 @@ pub mod chain9_prismatic {
         t: &JointTrig,
         p: &Params,
     ) -> ([[f64; 3]; 3], [f64; 3]) {
-        let x0 = 0.955336489125606_f64 * t.cos[1] - 0.29552020666133955_f64 * t.sin[1];
-        let x1 = 0.955336489125606_f64 * t.sin[1] + 0.29552020666133955_f64 * t.cos[1];
+        let x0 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            t.cos[1],
+            -(0.29552020666133955_f64 * t.sin[1]),
+        );
+        let x1 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            t.sin[1],
+            0.29552020666133955_f64 * t.cos[1],
+        );
         let x2 = 0.8_f64 * t.sin[2];
         let x3 = 0.6_f64 * t.sin[2];
-        let x4 = 0.36_f64 + 0.64_f64 * t.cos[2];
+        let x4 = <f64 as ::trocar::Real>::mul_add(0.64_f64, t.cos[2], 0.36_f64);
         let x5 = 0.48_f64 * (<f64 as ::trocar::Real>::ONE - t.cos[2]);
-        let x6 = 0.64_f64 + 0.36_f64 * t.cos[2];
+        let x6 = <f64 as ::trocar::Real>::mul_add(0.36_f64, t.cos[2], 0.64_f64);
         let x7 = 0.1_f64 + t.q[3];
-        let x8 = 0.3816559020950483_f64 * t.sin[4] + 0.19866933079506122_f64 * t.cos[4];
-        let x9 = 0.19866933079506122_f64 * t.sin[4] - 0.3816559020950483_f64 * t.cos[4];
-        let x10 = 0.9800665778412416_f64 * t.cos[4] - 0.07736548146578168_f64 * t.sin[4];
-        let x11 = 0.9800665778412416_f64 * t.sin[4] + 0.07736548146578168_f64 * t.cos[4];
+        let x8 = <f64 as ::trocar::Real>::mul_add(
+            0.3816559020950483_f64,
+            t.sin[4],
+            0.19866933079506122_f64 * t.cos[4],
+        );
+        let x9 = <f64 as ::trocar::Real>::mul_add(
+            0.19866933079506122_f64,
+            t.sin[4],
+            -(0.3816559020950483_f64 * t.cos[4]),
+        );
+        let x10 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            t.cos[4],
+            -(0.07736548146578168_f64 * t.sin[4]),
+        );
+        let x11 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            t.sin[4],
+            0.07736548146578168_f64 * t.cos[4],
+        );
         let x12 = 0.9210609940028851_f64 * t.sin[4];
         let x13 = 0.9210609940028851_f64 * t.cos[4];
         let x14 = t.sin[0] * x0;
         let x15 = t.sin[0] * x1;
         let x16 = t.cos[0] * x0;
         let x17 = t.cos[0] * x1;
-        let x18 = t.cos[0] * t.cos[2] - x2 * x14 - x3 * x15;
-        let x19 = x5 * x15 - (t.cos[0] * x2 + x4 * x14);
-        let x20 = t.cos[0] * x3 - x5 * x14 + x6 * x15;
-        let x21 = t.sin[0] * t.cos[2] + x2 * x16 + x3 * x17;
-        let x22 = x4 * x16 - t.sin[0] * x2 - x5 * x17;
-        let x23 = t.sin[0] * x3 + x5 * x16 - x6 * x17;
-        let x24 = x1 * x2 - x0 * x3;
-        let x25 = x1 * x4 + x0 * x5;
-        let x26 = x1 * x5 + x0 * x6;
-        let x27 = 0.90270109637546_f64 * x18 + 0.18298657129998708_f64 * x19
-            + 0.3894183423086505_f64 * x20;
-        let x28 = x10 * x19 - x8 * x18 + x12 * x20;
-        let x29 = x9 * x18 - x11 * x19 + x13 * x20;
-        let x30 = 0.90270109637546_f64 * x21 + 0.18298657129998708_f64 * x22
-            + 0.3894183423086505_f64 * x23;
-        let x31 = x10 * x22 - x8 * x21 + x12 * x23;
-        let x32 = x9 * x21 - x11 * x22 + x13 * x23;
-        let x33 = 0.90270109637546_f64 * x24 + 0.18298657129998708_f64 * x25
-            + 0.3894183423086505_f64 * x26;
-        let x34 = x10 * x25 - x8 * x24 + x12 * x26;
-        let x35 = x9 * x24 - x11 * x25 + x13 * x26;
+        let x18 = <f64 as ::trocar::Real>::mul_add(
+            -x3,
+            x15,
+            <f64 as ::trocar::Real>::mul_add(t.cos[0], t.cos[2], -(x2 * x14)),
+        );
+        let x19 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x15,
+            -<f64 as ::trocar::Real>::mul_add(t.cos[0], x2, x4 * x14),
+        );
+        let x20 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x15,
+            <f64 as ::trocar::Real>::mul_add(t.cos[0], x3, -(x5 * x14)),
+        );
+        let x21 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x17,
+            <f64 as ::trocar::Real>::mul_add(t.sin[0], t.cos[2], x2 * x16),
+        );
+        let x22 = <f64 as ::trocar::Real>::mul_add(
+            -x5,
+            x17,
+            <f64 as ::trocar::Real>::mul_add(x4, x16, -(t.sin[0] * x2)),
+        );
+        let x23 = <f64 as ::trocar::Real>::mul_add(
+            -x6,
+            x17,
+            <f64 as ::trocar::Real>::mul_add(t.sin[0], x3, x5 * x16),
+        );
+        let x24 = <f64 as ::trocar::Real>::mul_add(x1, x2, -(x0 * x3));
+        let x25 = <f64 as ::trocar::Real>::mul_add(x1, x4, x0 * x5);
+        let x26 = <f64 as ::trocar::Real>::mul_add(x1, x5, x0 * x6);
+        let x27 = <f64 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f64,
+            x20,
+            <f64 as ::trocar::Real>::mul_add(
+                0.90270109637546_f64,
+                x18,
+                0.18298657129998708_f64 * x19,
+            ),
+        );
+        let x28 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x20,
+            <f64 as ::trocar::Real>::mul_add(x10, x19, -(x8 * x18)),
+        );
+        let x29 = <f64 as ::trocar::Real>::mul_add(
+            x13,
+            x20,
+            <f64 as ::trocar::Real>::mul_add(x9, x18, -(x11 * x19)),
+        );
+        let x30 = <f64 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f64,
+            x23,
+            <f64 as ::trocar::Real>::mul_add(
+                0.90270109637546_f64,
+                x21,
+                0.18298657129998708_f64 * x22,
+            ),
+        );
+        let x31 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x23,
+            <f64 as ::trocar::Real>::mul_add(x10, x22, -(x8 * x21)),
+        );
+        let x32 = <f64 as ::trocar::Real>::mul_add(
+            x13,
+            x23,
+            <f64 as ::trocar::Real>::mul_add(x9, x21, -(x11 * x22)),
+        );
+        let x33 = <f64 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f64,
+            x26,
+            <f64 as ::trocar::Real>::mul_add(
+                0.90270109637546_f64,
+                x24,
+                0.18298657129998708_f64 * x25,
+            ),
+        );
+        let x34 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x26,
+            <f64 as ::trocar::Real>::mul_add(x10, x25, -(x8 * x24)),
+        );
+        let x35 = <f64 as ::trocar::Real>::mul_add(
+            x13,
+            x26,
+            <f64 as ::trocar::Real>::mul_add(x9, x24, -(x11 * x25)),
+        );
         (
             [
                 [
-                    t.cos[5] * x27 - t.sin[5] * x29,
-                    t.cos[5] * x30 - t.sin[5] * x32,
-                    t.cos[5] * x33 - t.sin[5] * x35,
+                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x27, -(t.sin[5] * x29)),
+                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x30, -(t.sin[5] * x32)),
+                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x33, -(t.sin[5] * x35)),
                 ],
                 [x28, x31, x34],
                 [
-                    t.sin[5] * x27 + t.cos[5] * x29,
-                    t.sin[5] * x30 + t.cos[5] * x32,
-                    t.sin[5] * x33 + t.cos[5] * x35,
+                    <f64 as ::trocar::Real>::mul_add(t.sin[5], x27, t.cos[5] * x29),
+                    <f64 as ::trocar::Real>::mul_add(t.sin[5], x30, t.cos[5] * x32),
+                    <f64 as ::trocar::Real>::mul_add(t.sin[5], x33, t.cos[5] * x35),
                 ],
             ],
             [
-                0.05_f64 * t.cos[0] - 0.02_f64 * t.sin[0]
-                    - (0.4_f64 * x14 + 0.03_f64 * x15) + (0.01_f64 * x18 + x7 * x19)
-                    + (0.25_f64 * x19 + 0.02_f64 * x20) + 0.05_f64 * x28,
-                0.05_f64 * t.sin[0] + 0.02_f64 * t.cos[0]
-                    + (0.4_f64 * x16 + 0.03_f64 * x17) + (0.01_f64 * x21 + x7 * x22)
-                    + (0.25_f64 * x22 + 0.02_f64 * x23) + 0.05_f64 * x31,
-                p.d_1 + 0.1_f64 + (0.4_f64 * x1 - 0.03_f64 * x0)
-                    + (0.01_f64 * x24 + x7 * x25) + (0.25_f64 * x25 + 0.02_f64 * x26)
-                    + 0.05_f64 * x34,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.05_f64,
+                    x28,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.05_f64,
+                        t.cos[0],
+                        -(0.02_f64 * t.sin[0]),
+                    ) - <f64 as ::trocar::Real>::mul_add(0.4_f64, x14, 0.03_f64 * x15)
+                        + <f64 as ::trocar::Real>::mul_add(0.01_f64, x18, x7 * x19)
+                        + <f64 as ::trocar::Real>::mul_add(0.25_f64, x19, 0.02_f64 * x20),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.05_f64,
+                    x31,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.05_f64,
+                        t.sin[0],
+                        0.02_f64 * t.cos[0],
+                    ) + <f64 as ::trocar::Real>::mul_add(0.4_f64, x16, 0.03_f64 * x17)
+                        + <f64 as ::trocar::Real>::mul_add(0.01_f64, x21, x7 * x22)
+                        + <f64 as ::trocar::Real>::mul_add(0.25_f64, x22, 0.02_f64 * x23),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.05_f64,
+                    x34,
+                    p.d_1 + 0.1_f64
+                        + <f64 as ::trocar::Real>::mul_add(0.4_f64, x1, -(0.03_f64 * x0))
+                        + <f64 as ::trocar::Real>::mul_add(0.01_f64, x24, x7 * x25)
+                        + <f64 as ::trocar::Real>::mul_add(0.25_f64, x25, 0.02_f64 * x26),
+                ),
             ],
         )
     }
@@ -2073,12 +5746,36 @@ pub mod chain9_prismatic {
         let ([s7, _], [c7, c8]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
         {
             let w = <f64 as ::trocar::Real>::abs(
-                (p.l_a
-                    * (0.4800000000000001_f64 + 0.003840000000000001_f64 * s7
-                        + 0.03199999999999999_f64 * c7 - 0.8_f64 * p.l_a)
-                    - (0.072_f64 + 0.001152_f64 * s7 + 0.009600000000000008_f64 * c7))
-                    * c8
-                    + s7 * (0.0011520000000000002_f64 - 0.003840000000000002_f64 * p.l_a),
+                <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f64 as ::trocar::Real>::mul_add(
+                            -0.8_f64,
+                            p.l_a,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.03199999999999999_f64,
+                                c7,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.003840000000000001_f64,
+                                    s7,
+                                    0.4800000000000001_f64,
+                                ),
+                            ),
+                        ),
+                        -<f64 as ::trocar::Real>::mul_add(
+                            0.009600000000000008_f64,
+                            c7,
+                            <f64 as ::trocar::Real>::mul_add(0.001152_f64, s7, 0.072_f64),
+                        ),
+                    ),
+                    c8,
+                    s7
+                        * <f64 as ::trocar::Real>::mul_add(
+                            -0.003840000000000002_f64,
+                            p.l_a,
+                            0.0011520000000000002_f64,
+                        ),
+                ),
             );
             if <f64 as ::trocar::Real>::is_finite(w) {
                 w
@@ -2097,13 +5794,40 @@ pub mod chain9_prismatic {
     pub fn manipulability_trig(t: &JointTrig, p: &Params) -> f64 {
         {
             let w = <f64 as ::trocar::Real>::abs(
-                (p.l_a
-                    * (0.4800000000000001_f64 + 0.003840000000000001_f64 * t.sin[6]
-                        + 0.03199999999999999_f64 * t.cos[6] - 0.8_f64 * p.l_a)
-                    - (0.072_f64 + 0.001152_f64 * t.sin[6]
-                        + 0.009600000000000008_f64 * t.cos[6])) * t.cos[7]
-                    + t.sin[6]
-                        * (0.0011520000000000002_f64 - 0.003840000000000002_f64 * p.l_a),
+                <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::Real>::mul_add(
+                        p.l_a,
+                        <f64 as ::trocar::Real>::mul_add(
+                            -0.8_f64,
+                            p.l_a,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.03199999999999999_f64,
+                                t.cos[6],
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.003840000000000001_f64,
+                                    t.sin[6],
+                                    0.4800000000000001_f64,
+                                ),
+                            ),
+                        ),
+                        -<f64 as ::trocar::Real>::mul_add(
+                            0.009600000000000008_f64,
+                            t.cos[6],
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.001152_f64,
+                                t.sin[6],
+                                0.072_f64,
+                            ),
+                        ),
+                    ),
+                    t.cos[7],
+                    t.sin[6]
+                        * <f64 as ::trocar::Real>::mul_add(
+                            -0.003840000000000002_f64,
+                            p.l_a,
+                            0.0011520000000000002_f64,
+                        ),
+                ),
             );
             if <f64 as ::trocar::Real>::is_finite(w) {
                 w
@@ -2121,11 +5845,36 @@ pub mod chain9_prismatic {
     #[must_use]
     pub fn manipulability_squared(q: &[f64; N], p: &Params) -> f64 {
         let ([s7, _], [c7, c8]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
-        let x0 = (p.l_a
-            * (0.4800000000000001_f64 + 0.003840000000000001_f64 * s7
-                + 0.03199999999999999_f64 * c7 - 0.8_f64 * p.l_a)
-            - (0.072_f64 + 0.001152_f64 * s7 + 0.009600000000000008_f64 * c7)) * c8
-            + s7 * (0.0011520000000000002_f64 - 0.003840000000000002_f64 * p.l_a);
+        let x0 = <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::Real>::mul_add(
+                p.l_a,
+                <f64 as ::trocar::Real>::mul_add(
+                    -0.8_f64,
+                    p.l_a,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.03199999999999999_f64,
+                        c7,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.003840000000000001_f64,
+                            s7,
+                            0.4800000000000001_f64,
+                        ),
+                    ),
+                ),
+                -<f64 as ::trocar::Real>::mul_add(
+                    0.009600000000000008_f64,
+                    c7,
+                    <f64 as ::trocar::Real>::mul_add(0.001152_f64, s7, 0.072_f64),
+                ),
+            ),
+            c8,
+            s7
+                * <f64 as ::trocar::Real>::mul_add(
+                    -0.003840000000000002_f64,
+                    p.l_a,
+                    0.0011520000000000002_f64,
+                ),
+        );
         {
             let w = x0 * x0;
             if <f64 as ::trocar::Real>::is_finite(w) {
@@ -2143,12 +5892,36 @@ pub mod chain9_prismatic {
     #[inline]
     #[must_use]
     pub fn manipulability_squared_trig(t: &JointTrig, p: &Params) -> f64 {
-        let x0 = (p.l_a
-            * (0.4800000000000001_f64 + 0.003840000000000001_f64 * t.sin[6]
-                + 0.03199999999999999_f64 * t.cos[6] - 0.8_f64 * p.l_a)
-            - (0.072_f64 + 0.001152_f64 * t.sin[6]
-                + 0.009600000000000008_f64 * t.cos[6])) * t.cos[7]
-            + t.sin[6] * (0.0011520000000000002_f64 - 0.003840000000000002_f64 * p.l_a);
+        let x0 = <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::Real>::mul_add(
+                p.l_a,
+                <f64 as ::trocar::Real>::mul_add(
+                    -0.8_f64,
+                    p.l_a,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.03199999999999999_f64,
+                        t.cos[6],
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.003840000000000001_f64,
+                            t.sin[6],
+                            0.4800000000000001_f64,
+                        ),
+                    ),
+                ),
+                -<f64 as ::trocar::Real>::mul_add(
+                    0.009600000000000008_f64,
+                    t.cos[6],
+                    <f64 as ::trocar::Real>::mul_add(0.001152_f64, t.sin[6], 0.072_f64),
+                ),
+            ),
+            t.cos[7],
+            t.sin[6]
+                * <f64 as ::trocar::Real>::mul_add(
+                    -0.003840000000000002_f64,
+                    p.l_a,
+                    0.0011520000000000002_f64,
+                ),
+        );
         {
             let w = x0 * x0;
             if <f64 as ::trocar::Real>::is_finite(w) {
@@ -2245,7 +6018,11 @@ pub mod chain9_prismatic {
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f64; 6]; R] {
         let x0 = <f64 as ::trocar::Real>::ONE
-            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+            / <f64 as ::trocar::Real>::mul_add(
+                p.l_a,
+                p.l_a,
+                <f64 as ::trocar::Real>::ONE,
+            );
         let x1 = p.l_a * x0;
         [
             [

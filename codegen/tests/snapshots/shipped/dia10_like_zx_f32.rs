@@ -81,49 +81,98 @@ pub mod dia10_like_zx {
         let x1 = s1 * s2;
         let x2 = c1 * c2;
         let x3 = c1 * s2;
-        let x4 = s3 * x1 - c3 * x0;
-        let x5 = s3 * x0 + c3 * x1;
-        let x6 = c3 * x2 - s3 * x3;
-        let x7 = s3 * x2 + c3 * x3;
-        let x8 = s2 * c3 + c2 * s3;
-        let x9 = c2 * c3 - s2 * s3;
-        let x10 = c1 * c4 - s4 * x5;
-        let x11 = c1 * s4 + c4 * x5;
-        let x12 = s1 * c4 + s4 * x7;
-        let x13 = s1 * s4 - c4 * x7;
+        let x4 = <f32 as ::trocar::Real>::mul_add(s3, x1, -(c3 * x0));
+        let x5 = <f32 as ::trocar::Real>::mul_add(s3, x0, c3 * x1);
+        let x6 = <f32 as ::trocar::Real>::mul_add(c3, x2, -(s3 * x3));
+        let x7 = <f32 as ::trocar::Real>::mul_add(s3, x2, c3 * x3);
+        let x8 = <f32 as ::trocar::Real>::mul_add(s2, c3, c2 * s3);
+        let x9 = <f32 as ::trocar::Real>::mul_add(c2, c3, -(s2 * s3));
+        let x10 = <f32 as ::trocar::Real>::mul_add(c1, c4, -(s4 * x5));
+        let x11 = <f32 as ::trocar::Real>::mul_add(c1, s4, c4 * x5);
+        let x12 = <f32 as ::trocar::Real>::mul_add(s1, c4, s4 * x7);
+        let x13 = <f32 as ::trocar::Real>::mul_add(s1, s4, -(c4 * x7));
         let x14 = s4 * x9;
         let x15 = c4 * x9;
-        let x16 = c5 * x4 + s5 * x11;
-        let x17 = c5 * x11 - s5 * x4;
-        let x18 = c5 * x6 + s5 * x13;
-        let x19 = c5 * x13 - s5 * x6;
-        let x20 = c5 * x8 + s5 * x15;
-        let x21 = c5 * x15 - s5 * x8;
-        let x22 = c6 * x10 - s6 * x17;
-        let x23 = s6 * x10 + c6 * x17;
-        let x24 = c6 * x12 - s6 * x19;
-        let x25 = s6 * x12 + c6 * x19;
-        let x26 = c6 * x14 + s6 * x21;
-        let x27 = c6 * x21 - s6 * x14;
-        let x28 = c7 * x16 - s7 * x22;
-        let x29 = c7 * x18 - s7 * x24;
-        let x30 = s7 * x26 + c7 * x20;
-        let x31 = c8 * x28 + s8 * x23;
-        let x32 = c8 * x29 + s8 * x25;
-        let x33 = c8 * x30 + s8 * x27;
+        let x16 = <f32 as ::trocar::Real>::mul_add(c5, x4, s5 * x11);
+        let x17 = <f32 as ::trocar::Real>::mul_add(c5, x11, -(s5 * x4));
+        let x18 = <f32 as ::trocar::Real>::mul_add(c5, x6, s5 * x13);
+        let x19 = <f32 as ::trocar::Real>::mul_add(c5, x13, -(s5 * x6));
+        let x20 = <f32 as ::trocar::Real>::mul_add(c5, x8, s5 * x15);
+        let x21 = <f32 as ::trocar::Real>::mul_add(c5, x15, -(s5 * x8));
+        let x22 = <f32 as ::trocar::Real>::mul_add(c6, x10, -(s6 * x17));
+        let x23 = <f32 as ::trocar::Real>::mul_add(s6, x10, c6 * x17);
+        let x24 = <f32 as ::trocar::Real>::mul_add(c6, x12, -(s6 * x19));
+        let x25 = <f32 as ::trocar::Real>::mul_add(s6, x12, c6 * x19);
+        let x26 = <f32 as ::trocar::Real>::mul_add(c6, x14, s6 * x21);
+        let x27 = <f32 as ::trocar::Real>::mul_add(c6, x21, -(s6 * x14));
+        let x28 = <f32 as ::trocar::Real>::mul_add(c7, x16, -(s7 * x22));
+        let x29 = <f32 as ::trocar::Real>::mul_add(c7, x18, -(s7 * x24));
+        let x30 = <f32 as ::trocar::Real>::mul_add(s7, x26, c7 * x20);
+        let x31 = <f32 as ::trocar::Real>::mul_add(c8, x28, s8 * x23);
+        let x32 = <f32 as ::trocar::Real>::mul_add(c8, x29, s8 * x25);
+        let x33 = <f32 as ::trocar::Real>::mul_add(c8, x30, s8 * x27);
         (
             [
-                [c7 * x22 + s7 * x16, c7 * x24 + s7 * x18, s7 * x20 - c7 * x26],
+                [
+                    <f32 as ::trocar::Real>::mul_add(c7, x22, s7 * x16),
+                    <f32 as ::trocar::Real>::mul_add(c7, x24, s7 * x18),
+                    <f32 as ::trocar::Real>::mul_add(s7, x20, -(c7 * x26)),
+                ],
                 [x31, x32, x33],
-                [c8 * x23 - s8 * x28, c8 * x25 - s8 * x29, c8 * x27 - s8 * x30],
+                [
+                    <f32 as ::trocar::Real>::mul_add(c8, x23, -(s8 * x28)),
+                    <f32 as ::trocar::Real>::mul_add(c8, x25, -(s8 * x29)),
+                    <f32 as ::trocar::Real>::mul_add(c8, x27, -(s8 * x30)),
+                ],
             ],
             [
-                0.194_f32 * c1 - 0.38_f32 * x0 + 0.39_f32 * x4 + 0.33_f32 * x16
-                    + 0.21_f32 * x31,
-                0.194_f32 * s1 + 0.38_f32 * x2 + 0.39_f32 * x6 + 0.33_f32 * x18
-                    + 0.21_f32 * x32,
-                1.037_f32 + 0.38_f32 * s2 + 0.39_f32 * x8 + 0.33_f32 * x20
-                    + 0.21_f32 * x33,
+                <f32 as ::trocar::Real>::mul_add(
+                    0.21_f32,
+                    x31,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.33_f32,
+                        x16,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.39_f32,
+                            x4,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.194_f32,
+                                c1,
+                                -(0.38_f32 * x0),
+                            ),
+                        ),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.21_f32,
+                    x32,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.33_f32,
+                        x18,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.39_f32,
+                            x6,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.194_f32,
+                                s1,
+                                0.38_f32 * x2,
+                            ),
+                        ),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.21_f32,
+                    x33,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.33_f32,
+                        x20,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.39_f32,
+                            x8,
+                            <f32 as ::trocar::Real>::mul_add(0.38_f32, s2, 1.037_f32),
+                        ),
+                    ),
+                ),
             ],
         )
     }
@@ -142,57 +191,110 @@ pub mod dia10_like_zx {
         let x1 = t.sin[0] * t.sin[1];
         let x2 = t.cos[0] * t.cos[1];
         let x3 = t.cos[0] * t.sin[1];
-        let x4 = t.sin[2] * x1 - t.cos[2] * x0;
-        let x5 = t.sin[2] * x0 + t.cos[2] * x1;
-        let x6 = t.cos[2] * x2 - t.sin[2] * x3;
-        let x7 = t.sin[2] * x2 + t.cos[2] * x3;
-        let x8 = t.sin[1] * t.cos[2] + t.cos[1] * t.sin[2];
-        let x9 = t.cos[1] * t.cos[2] - t.sin[1] * t.sin[2];
-        let x10 = t.cos[0] * t.cos[3] - t.sin[3] * x5;
-        let x11 = t.cos[0] * t.sin[3] + t.cos[3] * x5;
-        let x12 = t.sin[0] * t.cos[3] + t.sin[3] * x7;
-        let x13 = t.sin[0] * t.sin[3] - t.cos[3] * x7;
+        let x4 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x1, -(t.cos[2] * x0));
+        let x5 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x0, t.cos[2] * x1);
+        let x6 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x2, -(t.sin[2] * x3));
+        let x7 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x2, t.cos[2] * x3);
+        let x8 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[1],
+            t.cos[2],
+            t.cos[1] * t.sin[2],
+        );
+        let x9 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[1],
+            t.cos[2],
+            -(t.sin[1] * t.sin[2]),
+        );
+        let x10 = <f32 as ::trocar::Real>::mul_add(t.cos[0], t.cos[3], -(t.sin[3] * x5));
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.cos[0], t.sin[3], t.cos[3] * x5);
+        let x12 = <f32 as ::trocar::Real>::mul_add(t.sin[0], t.cos[3], t.sin[3] * x7);
+        let x13 = <f32 as ::trocar::Real>::mul_add(t.sin[0], t.sin[3], -(t.cos[3] * x7));
         let x14 = t.sin[3] * x9;
         let x15 = t.cos[3] * x9;
-        let x16 = t.cos[4] * x4 + t.sin[4] * x11;
-        let x17 = t.cos[4] * x11 - t.sin[4] * x4;
-        let x18 = t.cos[4] * x6 + t.sin[4] * x13;
-        let x19 = t.cos[4] * x13 - t.sin[4] * x6;
-        let x20 = t.cos[4] * x8 + t.sin[4] * x15;
-        let x21 = t.cos[4] * x15 - t.sin[4] * x8;
-        let x22 = t.cos[5] * x10 - t.sin[5] * x17;
-        let x23 = t.sin[5] * x10 + t.cos[5] * x17;
-        let x24 = t.cos[5] * x12 - t.sin[5] * x19;
-        let x25 = t.sin[5] * x12 + t.cos[5] * x19;
-        let x26 = t.cos[5] * x14 + t.sin[5] * x21;
-        let x27 = t.cos[5] * x21 - t.sin[5] * x14;
-        let x28 = t.cos[6] * x16 - t.sin[6] * x22;
-        let x29 = t.cos[6] * x18 - t.sin[6] * x24;
-        let x30 = t.sin[6] * x26 + t.cos[6] * x20;
-        let x31 = t.cos[7] * x28 + t.sin[7] * x23;
-        let x32 = t.cos[7] * x29 + t.sin[7] * x25;
-        let x33 = t.cos[7] * x30 + t.sin[7] * x27;
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x4, t.sin[4] * x11);
+        let x17 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x11, -(t.sin[4] * x4));
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x6, t.sin[4] * x13);
+        let x19 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x13, -(t.sin[4] * x6));
+        let x20 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x8, t.sin[4] * x15);
+        let x21 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x15, -(t.sin[4] * x8));
+        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x10, -(t.sin[5] * x17));
+        let x23 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x10, t.cos[5] * x17);
+        let x24 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x12, -(t.sin[5] * x19));
+        let x25 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x12, t.cos[5] * x19);
+        let x26 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x14, t.sin[5] * x21);
+        let x27 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x21, -(t.sin[5] * x14));
+        let x28 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x16, -(t.sin[6] * x22));
+        let x29 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x18, -(t.sin[6] * x24));
+        let x30 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x26, t.cos[6] * x20);
+        let x31 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x28, t.sin[7] * x23);
+        let x32 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x29, t.sin[7] * x25);
+        let x33 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x30, t.sin[7] * x27);
         (
             [
                 [
-                    t.cos[6] * x22 + t.sin[6] * x16,
-                    t.cos[6] * x24 + t.sin[6] * x18,
-                    t.sin[6] * x20 - t.cos[6] * x26,
+                    <f32 as ::trocar::Real>::mul_add(t.cos[6], x22, t.sin[6] * x16),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[6], x24, t.sin[6] * x18),
+                    <f32 as ::trocar::Real>::mul_add(t.sin[6], x20, -(t.cos[6] * x26)),
                 ],
                 [x31, x32, x33],
                 [
-                    t.cos[7] * x23 - t.sin[7] * x28,
-                    t.cos[7] * x25 - t.sin[7] * x29,
-                    t.cos[7] * x27 - t.sin[7] * x30,
+                    <f32 as ::trocar::Real>::mul_add(t.cos[7], x23, -(t.sin[7] * x28)),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[7], x25, -(t.sin[7] * x29)),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[7], x27, -(t.sin[7] * x30)),
                 ],
             ],
             [
-                0.194_f32 * t.cos[0] - 0.38_f32 * x0 + 0.39_f32 * x4 + 0.33_f32 * x16
-                    + 0.21_f32 * x31,
-                0.194_f32 * t.sin[0] + 0.38_f32 * x2 + 0.39_f32 * x6 + 0.33_f32 * x18
-                    + 0.21_f32 * x32,
-                1.037_f32 + 0.38_f32 * t.sin[1] + 0.39_f32 * x8 + 0.33_f32 * x20
-                    + 0.21_f32 * x33,
+                <f32 as ::trocar::Real>::mul_add(
+                    0.21_f32,
+                    x31,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.33_f32,
+                        x16,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.39_f32,
+                            x4,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.194_f32,
+                                t.cos[0],
+                                -(0.38_f32 * x0),
+                            ),
+                        ),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.21_f32,
+                    x32,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.33_f32,
+                        x18,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.39_f32,
+                            x6,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.194_f32,
+                                t.sin[0],
+                                0.38_f32 * x2,
+                            ),
+                        ),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.21_f32,
+                    x33,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.33_f32,
+                        x20,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.39_f32,
+                            x8,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.38_f32,
+                                t.sin[1],
+                                1.037_f32,
+                            ),
+                        ),
+                    ),
+                ),
             ],
         )
     }
@@ -214,82 +316,101 @@ pub mod dia10_like_zx {
         let x4 = s7 * x0;
         let x5 = c7 * c8;
         let x6 = c7 * s8;
-        let x7 = 0.33_f32 + c7 * x0;
+        let x7 = <f32 as ::trocar::Real>::mul_add(c7, x0, 0.33_f32);
         let x8 = c6 * c7;
-        let x9 = s6 * s8 - c6 * x2;
-        let x10 = c6 * x3 + s6 * c8;
-        let x11 = s6 * x1 - c6 * x4;
+        let x9 = <f32 as ::trocar::Real>::mul_add(s6, s8, -(c6 * x2));
+        let x10 = <f32 as ::trocar::Real>::mul_add(c6, x3, s6 * c8);
+        let x11 = <f32 as ::trocar::Real>::mul_add(s6, x1, -(c6 * x4));
         let x12 = s6 * c7;
-        let x13 = s6 * x2 + c6 * s8;
-        let x14 = c6 * c8 - s6 * x3;
-        let x15 = s6 * x4 + c6 * x1;
-        let x16 = c5 * s7 + s5 * x12;
-        let x17 = c5 * x5 - s5 * x13;
-        let x18 = c5 * x6 + s5 * x14;
-        let x19 = 0.39_f32 + (c5 * x7 - s5 * x15);
-        let x20 = s5 * s7 - c5 * x12;
-        let x21 = s5 * x5 + c5 * x13;
-        let x22 = c5 * x14 - s5 * x6;
-        let x23 = s5 * x7 + c5 * x15;
-        let x24 = c4 * x8 + s4 * x20;
-        let x25 = c4 * x9 + s4 * x21;
-        let x26 = c4 * x10 + s4 * x22;
-        let x27 = c4 * x20 - s4 * x8;
-        let x28 = c4 * x21 - s4 * x9;
-        let x29 = c4 * x22 - s4 * x10;
-        let x30 = c4 * x23 - s4 * x11;
-        let x31 = c3 * x16 - s3 * x27;
-        let x32 = c3 * x17 - s3 * x28;
-        let x33 = c3 * x18 + s3 * x29;
-        let x34 = 0.38_f32 + (c3 * x19 - s3 * x30);
-        let x35 = s3 * x16 + c3 * x27;
-        let x36 = s3 * x17 + c3 * x28;
-        let x37 = c3 * x29 - s3 * x18;
-        let x38 = s3 * x19 + c3 * x30;
-        let x39 = 0.194_f32 + (c4 * x11 + s4 * x23);
-        let x40 = c2 * x34 - s2 * x38;
+        let x13 = <f32 as ::trocar::Real>::mul_add(s6, x2, c6 * s8);
+        let x14 = <f32 as ::trocar::Real>::mul_add(c6, c8, -(s6 * x3));
+        let x15 = <f32 as ::trocar::Real>::mul_add(s6, x4, c6 * x1);
+        let x16 = <f32 as ::trocar::Real>::mul_add(c5, s7, s5 * x12);
+        let x17 = <f32 as ::trocar::Real>::mul_add(c5, x5, -(s5 * x13));
+        let x18 = <f32 as ::trocar::Real>::mul_add(c5, x6, s5 * x14);
+        let x19 = 0.39_f32 + <f32 as ::trocar::Real>::mul_add(c5, x7, -(s5 * x15));
+        let x20 = <f32 as ::trocar::Real>::mul_add(s5, s7, -(c5 * x12));
+        let x21 = <f32 as ::trocar::Real>::mul_add(s5, x5, c5 * x13);
+        let x22 = <f32 as ::trocar::Real>::mul_add(c5, x14, -(s5 * x6));
+        let x23 = <f32 as ::trocar::Real>::mul_add(s5, x7, c5 * x15);
+        let x24 = <f32 as ::trocar::Real>::mul_add(c4, x8, s4 * x20);
+        let x25 = <f32 as ::trocar::Real>::mul_add(c4, x9, s4 * x21);
+        let x26 = <f32 as ::trocar::Real>::mul_add(c4, x10, s4 * x22);
+        let x27 = <f32 as ::trocar::Real>::mul_add(c4, x20, -(s4 * x8));
+        let x28 = <f32 as ::trocar::Real>::mul_add(c4, x21, -(s4 * x9));
+        let x29 = <f32 as ::trocar::Real>::mul_add(c4, x22, -(s4 * x10));
+        let x30 = <f32 as ::trocar::Real>::mul_add(c4, x23, -(s4 * x11));
+        let x31 = <f32 as ::trocar::Real>::mul_add(c3, x16, -(s3 * x27));
+        let x32 = <f32 as ::trocar::Real>::mul_add(c3, x17, -(s3 * x28));
+        let x33 = <f32 as ::trocar::Real>::mul_add(c3, x18, s3 * x29);
+        let x34 = 0.38_f32 + <f32 as ::trocar::Real>::mul_add(c3, x19, -(s3 * x30));
+        let x35 = <f32 as ::trocar::Real>::mul_add(s3, x16, c3 * x27);
+        let x36 = <f32 as ::trocar::Real>::mul_add(s3, x17, c3 * x28);
+        let x37 = <f32 as ::trocar::Real>::mul_add(c3, x29, -(s3 * x18));
+        let x38 = <f32 as ::trocar::Real>::mul_add(s3, x19, c3 * x30);
+        let x39 = 0.194_f32 + <f32 as ::trocar::Real>::mul_add(c4, x11, s4 * x23);
+        let x40 = <f32 as ::trocar::Real>::mul_add(c2, x34, -(s2 * x38));
         [
             [
-                x39 * (c2 * x31 - s2 * x35) - x24 * x40,
-                x39 * (c2 * x32 - s2 * x36) - x25 * x40,
-                -(x26 * x40 + x39 * (c2 * x33 + s2 * x37)),
-                s2 * x31 + c2 * x35,
-                s2 * x32 + c2 * x36,
-                c2 * x37 - s2 * x33,
+                <f32 as ::trocar::Real>::mul_add(
+                    x39,
+                    <f32 as ::trocar::Real>::mul_add(c2, x31, -(s2 * x35)),
+                    -(x24 * x40),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    x39,
+                    <f32 as ::trocar::Real>::mul_add(c2, x32, -(s2 * x36)),
+                    -(x25 * x40),
+                ),
+                -<f32 as ::trocar::Real>::mul_add(
+                    x26,
+                    x40,
+                    x39 * <f32 as ::trocar::Real>::mul_add(c2, x33, s2 * x37),
+                ),
+                <f32 as ::trocar::Real>::mul_add(s2, x31, c2 * x35),
+                <f32 as ::trocar::Real>::mul_add(s2, x32, c2 * x36),
+                <f32 as ::trocar::Real>::mul_add(c2, x37, -(s2 * x33)),
             ],
             [
-                x34 * x35 - x31 * x38,
-                x34 * x36 - x32 * x38,
-                x33 * x38 + x34 * x37,
+                <f32 as ::trocar::Real>::mul_add(x34, x35, -(x31 * x38)),
+                <f32 as ::trocar::Real>::mul_add(x34, x36, -(x32 * x38)),
+                <f32 as ::trocar::Real>::mul_add(x33, x38, x34 * x37),
                 x24,
                 x25,
                 x26,
             ],
             [
-                x19 * x27 - x16 * x30,
-                x19 * x28 - x17 * x30,
-                x18 * x30 + x19 * x29,
+                <f32 as ::trocar::Real>::mul_add(x19, x27, -(x16 * x30)),
+                <f32 as ::trocar::Real>::mul_add(x19, x28, -(x17 * x30)),
+                <f32 as ::trocar::Real>::mul_add(x18, x30, x19 * x29),
                 x24,
                 x25,
                 x26,
             ],
             [
-                x8 * x23 - x11 * x20,
-                x9 * x23 - x11 * x21,
-                x10 * x23 - x11 * x22,
+                <f32 as ::trocar::Real>::mul_add(x8, x23, -(x11 * x20)),
+                <f32 as ::trocar::Real>::mul_add(x9, x23, -(x11 * x21)),
+                <f32 as ::trocar::Real>::mul_add(x10, x23, -(x11 * x22)),
                 x16,
                 x17,
                 -x18,
             ],
             [
-                -(s7 * x15 + x7 * x12),
-                x7 * x13 - x5 * x15,
-                x6 * x15 + x7 * x14,
+                -<f32 as ::trocar::Real>::mul_add(s7, x15, x7 * x12),
+                <f32 as ::trocar::Real>::mul_add(x7, x13, -(x5 * x15)),
+                <f32 as ::trocar::Real>::mul_add(x6, x15, x7 * x14),
                 x8,
                 x9,
                 x10,
             ],
-            [c7 * x1, s8 * x4 - x1 * x2, x1 * x3 + c8 * x4, s7, x5, -x6],
+            [
+                c7 * x1,
+                <f32 as ::trocar::Real>::mul_add(s8, x4, -(x1 * x2)),
+                <f32 as ::trocar::Real>::mul_add(x1, x3, c8 * x4),
+                s7,
+                x5,
+                -x6,
+            ],
             [
                 -x0,
                 <f32 as ::trocar::Real>::ZERO,
@@ -323,85 +444,104 @@ pub mod dia10_like_zx {
         let x4 = t.sin[6] * x0;
         let x5 = t.cos[6] * t.cos[7];
         let x6 = t.cos[6] * t.sin[7];
-        let x7 = 0.33_f32 + t.cos[6] * x0;
+        let x7 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x0, 0.33_f32);
         let x8 = t.cos[5] * t.cos[6];
-        let x9 = t.sin[5] * t.sin[7] - t.cos[5] * x2;
-        let x10 = t.cos[5] * x3 + t.sin[5] * t.cos[7];
-        let x11 = t.sin[5] * x1 - t.cos[5] * x4;
+        let x9 = <f32 as ::trocar::Real>::mul_add(t.sin[5], t.sin[7], -(t.cos[5] * x2));
+        let x10 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x3, t.sin[5] * t.cos[7]);
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x1, -(t.cos[5] * x4));
         let x12 = t.sin[5] * t.cos[6];
-        let x13 = t.sin[5] * x2 + t.cos[5] * t.sin[7];
-        let x14 = t.cos[5] * t.cos[7] - t.sin[5] * x3;
-        let x15 = t.sin[5] * x4 + t.cos[5] * x1;
-        let x16 = t.cos[4] * t.sin[6] + t.sin[4] * x12;
-        let x17 = t.cos[4] * x5 - t.sin[4] * x13;
-        let x18 = t.cos[4] * x6 + t.sin[4] * x14;
-        let x19 = 0.39_f32 + (t.cos[4] * x7 - t.sin[4] * x15);
-        let x20 = t.sin[4] * t.sin[6] - t.cos[4] * x12;
-        let x21 = t.sin[4] * x5 + t.cos[4] * x13;
-        let x22 = t.cos[4] * x14 - t.sin[4] * x6;
-        let x23 = t.sin[4] * x7 + t.cos[4] * x15;
-        let x24 = t.cos[3] * x8 + t.sin[3] * x20;
-        let x25 = t.cos[3] * x9 + t.sin[3] * x21;
-        let x26 = t.cos[3] * x10 + t.sin[3] * x22;
-        let x27 = t.cos[3] * x20 - t.sin[3] * x8;
-        let x28 = t.cos[3] * x21 - t.sin[3] * x9;
-        let x29 = t.cos[3] * x22 - t.sin[3] * x10;
-        let x30 = t.cos[3] * x23 - t.sin[3] * x11;
-        let x31 = t.cos[2] * x16 - t.sin[2] * x27;
-        let x32 = t.cos[2] * x17 - t.sin[2] * x28;
-        let x33 = t.cos[2] * x18 + t.sin[2] * x29;
-        let x34 = 0.38_f32 + (t.cos[2] * x19 - t.sin[2] * x30);
-        let x35 = t.sin[2] * x16 + t.cos[2] * x27;
-        let x36 = t.sin[2] * x17 + t.cos[2] * x28;
-        let x37 = t.cos[2] * x29 - t.sin[2] * x18;
-        let x38 = t.sin[2] * x19 + t.cos[2] * x30;
-        let x39 = 0.194_f32 + (t.cos[3] * x11 + t.sin[3] * x23);
-        let x40 = t.cos[1] * x34 - t.sin[1] * x38;
+        let x13 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x2, t.cos[5] * t.sin[7]);
+        let x14 = <f32 as ::trocar::Real>::mul_add(t.cos[5], t.cos[7], -(t.sin[5] * x3));
+        let x15 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x4, t.cos[5] * x1);
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[4], t.sin[6], t.sin[4] * x12);
+        let x17 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x5, -(t.sin[4] * x13));
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x6, t.sin[4] * x14);
+        let x19 = 0.39_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[4], x7, -(t.sin[4] * x15));
+        let x20 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[4],
+            t.sin[6],
+            -(t.cos[4] * x12),
+        );
+        let x21 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x5, t.cos[4] * x13);
+        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x14, -(t.sin[4] * x6));
+        let x23 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x7, t.cos[4] * x15);
+        let x24 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x8, t.sin[3] * x20);
+        let x25 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x9, t.sin[3] * x21);
+        let x26 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x10, t.sin[3] * x22);
+        let x27 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x20, -(t.sin[3] * x8));
+        let x28 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x21, -(t.sin[3] * x9));
+        let x29 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x22, -(t.sin[3] * x10));
+        let x30 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x23, -(t.sin[3] * x11));
+        let x31 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x16, -(t.sin[2] * x27));
+        let x32 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x17, -(t.sin[2] * x28));
+        let x33 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x18, t.sin[2] * x29);
+        let x34 = 0.38_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[2], x19, -(t.sin[2] * x30));
+        let x35 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x27);
+        let x36 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x28);
+        let x37 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x29, -(t.sin[2] * x18));
+        let x38 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x19, t.cos[2] * x30);
+        let x39 = 0.194_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[3], x11, t.sin[3] * x23);
+        let x40 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x34, -(t.sin[1] * x38));
         [
             [
-                x39 * (t.cos[1] * x31 - t.sin[1] * x35) - x24 * x40,
-                x39 * (t.cos[1] * x32 - t.sin[1] * x36) - x25 * x40,
-                -(x26 * x40 + x39 * (t.cos[1] * x33 + t.sin[1] * x37)),
-                t.sin[1] * x31 + t.cos[1] * x35,
-                t.sin[1] * x32 + t.cos[1] * x36,
-                t.cos[1] * x37 - t.sin[1] * x33,
+                <f32 as ::trocar::Real>::mul_add(
+                    x39,
+                    <f32 as ::trocar::Real>::mul_add(t.cos[1], x31, -(t.sin[1] * x35)),
+                    -(x24 * x40),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    x39,
+                    <f32 as ::trocar::Real>::mul_add(t.cos[1], x32, -(t.sin[1] * x36)),
+                    -(x25 * x40),
+                ),
+                -<f32 as ::trocar::Real>::mul_add(
+                    x26,
+                    x40,
+                    x39 * <f32 as ::trocar::Real>::mul_add(t.cos[1], x33, t.sin[1] * x37),
+                ),
+                <f32 as ::trocar::Real>::mul_add(t.sin[1], x31, t.cos[1] * x35),
+                <f32 as ::trocar::Real>::mul_add(t.sin[1], x32, t.cos[1] * x36),
+                <f32 as ::trocar::Real>::mul_add(t.cos[1], x37, -(t.sin[1] * x33)),
             ],
             [
-                x34 * x35 - x31 * x38,
-                x34 * x36 - x32 * x38,
-                x33 * x38 + x34 * x37,
+                <f32 as ::trocar::Real>::mul_add(x34, x35, -(x31 * x38)),
+                <f32 as ::trocar::Real>::mul_add(x34, x36, -(x32 * x38)),
+                <f32 as ::trocar::Real>::mul_add(x33, x38, x34 * x37),
                 x24,
                 x25,
                 x26,
             ],
             [
-                x19 * x27 - x16 * x30,
-                x19 * x28 - x17 * x30,
-                x18 * x30 + x19 * x29,
+                <f32 as ::trocar::Real>::mul_add(x19, x27, -(x16 * x30)),
+                <f32 as ::trocar::Real>::mul_add(x19, x28, -(x17 * x30)),
+                <f32 as ::trocar::Real>::mul_add(x18, x30, x19 * x29),
                 x24,
                 x25,
                 x26,
             ],
             [
-                x8 * x23 - x11 * x20,
-                x9 * x23 - x11 * x21,
-                x10 * x23 - x11 * x22,
+                <f32 as ::trocar::Real>::mul_add(x8, x23, -(x11 * x20)),
+                <f32 as ::trocar::Real>::mul_add(x9, x23, -(x11 * x21)),
+                <f32 as ::trocar::Real>::mul_add(x10, x23, -(x11 * x22)),
                 x16,
                 x17,
                 -x18,
             ],
             [
-                -(t.sin[6] * x15 + x7 * x12),
-                x7 * x13 - x5 * x15,
-                x6 * x15 + x7 * x14,
+                -<f32 as ::trocar::Real>::mul_add(t.sin[6], x15, x7 * x12),
+                <f32 as ::trocar::Real>::mul_add(x7, x13, -(x5 * x15)),
+                <f32 as ::trocar::Real>::mul_add(x6, x15, x7 * x14),
                 x8,
                 x9,
                 x10,
             ],
             [
                 t.cos[6] * x1,
-                t.sin[7] * x4 - x1 * x2,
-                x1 * x3 + t.cos[7] * x4,
+                <f32 as ::trocar::Real>::mul_add(t.sin[7], x4, -(x1 * x2)),
+                <f32 as ::trocar::Real>::mul_add(x1, x3, t.cos[7] * x4),
                 t.sin[6],
                 x5,
                 -x6,
@@ -449,7 +589,7 @@ pub mod dia10_like_zx {
         let x9 = x0 * c7;
         [
             [
-                x2 * c7 - 0.21_f32 * x3,
+                <f32 as ::trocar::Real>::mul_add(x2, c7, -(0.21_f32 * x3)),
                 c8 * (x1 - <f32 as ::trocar::Real>::ONE) * s7,
                 s7 * x4,
                 <f32 as ::trocar::Real>::ZERO,
@@ -464,7 +604,14 @@ pub mod dia10_like_zx {
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
             ],
-            [0.21_f32 * x8, x4, x2 * c8 - 0.21_f32 * x9, -x9, x0 * (c8 * s7), -x8],
+            [
+                0.21_f32 * x8,
+                x4,
+                <f32 as ::trocar::Real>::mul_add(x2, c8, -(0.21_f32 * x9)),
+                -x9,
+                x0 * (c8 * s7),
+                -x8,
+            ],
             [0.21_f32 * x6, <f32 as ::trocar::Real>::ZERO, 0.21_f32 * s7, s7, x5, x7],
             [
                 -(0.21_f32 * c8),
@@ -504,7 +651,7 @@ pub mod dia10_like_zx {
         let x9 = x0 * t.cos[6];
         [
             [
-                x2 * t.cos[6] - 0.21_f32 * x3,
+                <f32 as ::trocar::Real>::mul_add(x2, t.cos[6], -(0.21_f32 * x3)),
                 t.cos[7] * (x1 - <f32 as ::trocar::Real>::ONE) * t.sin[6],
                 t.sin[6] * x4,
                 <f32 as ::trocar::Real>::ZERO,
@@ -522,7 +669,7 @@ pub mod dia10_like_zx {
             [
                 0.21_f32 * x8,
                 x4,
-                x2 * t.cos[7] - 0.21_f32 * x9,
+                <f32 as ::trocar::Real>::mul_add(x2, t.cos[7], -(0.21_f32 * x9)),
                 -x9,
                 x0 * (t.cos[7] * t.sin[6]),
                 -x8,
@@ -565,8 +712,16 @@ pub mod dia10_like_zx {
     pub fn constraint_jacobian_c(q: &[f32; N], p: &Params) -> [[f32; 6]; R] {
         let ([s7, s8], [c7, c8]) = <f32 as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
         let x0 = <f32 as ::trocar::Real>::ONE
-            / (<f32 as ::trocar::Real>::ONE + p.l_a * p.l_a);
-        let x1 = <f32 as ::trocar::Real>::ONE + 0.33_f32 * p.l_a;
+            / <f32 as ::trocar::Real>::mul_add(
+                p.l_a,
+                p.l_a,
+                <f32 as ::trocar::Real>::ONE,
+            );
+        let x1 = <f32 as ::trocar::Real>::mul_add(
+            0.33_f32,
+            p.l_a,
+            <f32 as ::trocar::Real>::ONE,
+        );
         let x2 = p.l_a * c8;
         let x3 = x0 * x1;
         let x4 = x3 * s8;
@@ -574,7 +729,7 @@ pub mod dia10_like_zx {
         let x6 = p.l_a * c7;
         [
             [
-                x0 * (x1 * c7 + 0.21_f32 * x2),
+                x0 * <f32 as ::trocar::Real>::mul_add(x1, c7, 0.21_f32 * x2),
                 -(c8 * x3 * s7),
                 s7 * x4,
                 <f32 as ::trocar::Real>::ZERO,
@@ -584,7 +739,7 @@ pub mod dia10_like_zx {
             [
                 -(0.21_f32 * x5),
                 x4,
-                x0 * (x1 * c8 + 0.21_f32 * x6),
+                x0 * <f32 as ::trocar::Real>::mul_add(x1, c8, 0.21_f32 * x6),
                 x0 * x6,
                 -(x0 * (p.l_a * (c8 * s7))),
                 x5,
@@ -600,8 +755,16 @@ pub mod dia10_like_zx {
     #[must_use]
     pub fn constraint_jacobian_c_trig(t: &JointTrig, p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / (<f32 as ::trocar::Real>::ONE + p.l_a * p.l_a);
-        let x1 = <f32 as ::trocar::Real>::ONE + 0.33_f32 * p.l_a;
+            / <f32 as ::trocar::Real>::mul_add(
+                p.l_a,
+                p.l_a,
+                <f32 as ::trocar::Real>::ONE,
+            );
+        let x1 = <f32 as ::trocar::Real>::mul_add(
+            0.33_f32,
+            p.l_a,
+            <f32 as ::trocar::Real>::ONE,
+        );
         let x2 = p.l_a * t.cos[7];
         let x3 = x0 * x1;
         let x4 = x3 * t.sin[7];
@@ -609,7 +772,7 @@ pub mod dia10_like_zx {
         let x6 = p.l_a * t.cos[6];
         [
             [
-                x0 * (x1 * t.cos[6] + 0.21_f32 * x2),
+                x0 * <f32 as ::trocar::Real>::mul_add(x1, t.cos[6], 0.21_f32 * x2),
                 -(t.cos[7] * x3 * t.sin[6]),
                 t.sin[6] * x4,
                 <f32 as ::trocar::Real>::ZERO,
@@ -619,7 +782,7 @@ pub mod dia10_like_zx {
             [
                 -(0.21_f32 * x5),
                 x4,
-                x0 * (x1 * t.cos[7] + 0.21_f32 * x6),
+                x0 * <f32 as ::trocar::Real>::mul_add(x1, t.cos[7], 0.21_f32 * x6),
                 x0 * x6,
                 -(x0 * (p.l_a * (t.cos[7] * t.sin[6]))),
                 x5,
@@ -641,34 +804,46 @@ pub mod dia10_like_zx {
         let x1 = s5 * c6;
         let x2 = c5 * s6;
         let x3 = c5 * c6;
-        let x4 = c4 * c6 - s4 * x2;
+        let x4 = <f32 as ::trocar::Real>::mul_add(c4, c6, -(s4 * x2));
         let x5 = s4 * s5;
-        let x6 = c4 * s6 + s4 * x3;
-        let x7 = s4 * c6 + c4 * x2;
+        let x6 = <f32 as ::trocar::Real>::mul_add(c4, s6, s4 * x3);
+        let x7 = <f32 as ::trocar::Real>::mul_add(s4, c6, c4 * x2);
         let x8 = c4 * s5;
-        let x9 = c4 * x3 - s4 * s6;
-        let x10 = c3 * x0 + s3 * x7;
-        let x11 = c3 * c5 - s3 * x8;
-        let x12 = c3 * x1 + s3 * x9;
-        let x13 = 0.38_f32 + 0.39_f32 * c3;
-        let x14 = s3 * x0 - c3 * x7;
-        let x15 = s3 * c5 + c3 * x8;
-        let x16 = c3 * x9 - s3 * x1;
+        let x9 = <f32 as ::trocar::Real>::mul_add(c4, x3, -(s4 * s6));
+        let x10 = <f32 as ::trocar::Real>::mul_add(c3, x0, s3 * x7);
+        let x11 = <f32 as ::trocar::Real>::mul_add(c3, c5, -(s3 * x8));
+        let x12 = <f32 as ::trocar::Real>::mul_add(c3, x1, s3 * x9);
+        let x13 = <f32 as ::trocar::Real>::mul_add(0.39_f32, c3, 0.38_f32);
+        let x14 = <f32 as ::trocar::Real>::mul_add(s3, x0, -(c3 * x7));
+        let x15 = <f32 as ::trocar::Real>::mul_add(s3, c5, c3 * x8);
+        let x16 = <f32 as ::trocar::Real>::mul_add(c3, x9, -(s3 * x1));
         let x17 = 0.39_f32 * s3;
-        let x18 = c2 * x13 - s2 * x17;
+        let x18 = <f32 as ::trocar::Real>::mul_add(c2, x13, -(s2 * x17));
         [
             [
-                0.194_f32 * (c2 * x10 - s2 * x14) - x4 * x18,
-                0.194_f32 * (c2 * x11 - s2 * x15) - x5 * x18,
-                -(x6 * x18 + 0.194_f32 * (c2 * x12 + s2 * x16)),
-                s2 * x10 + c2 * x14,
-                s2 * x11 + c2 * x15,
-                c2 * x16 - s2 * x12,
+                <f32 as ::trocar::Real>::mul_add(
+                    0.194_f32,
+                    <f32 as ::trocar::Real>::mul_add(c2, x10, -(s2 * x14)),
+                    -(x4 * x18),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.194_f32,
+                    <f32 as ::trocar::Real>::mul_add(c2, x11, -(s2 * x15)),
+                    -(x5 * x18),
+                ),
+                -<f32 as ::trocar::Real>::mul_add(
+                    x6,
+                    x18,
+                    0.194_f32 * <f32 as ::trocar::Real>::mul_add(c2, x12, s2 * x16),
+                ),
+                <f32 as ::trocar::Real>::mul_add(s2, x10, c2 * x14),
+                <f32 as ::trocar::Real>::mul_add(s2, x11, c2 * x15),
+                <f32 as ::trocar::Real>::mul_add(c2, x16, -(s2 * x12)),
             ],
             [
-                x13 * x14 - x10 * x17,
-                x13 * x15 - x11 * x17,
-                x12 * x17 + x13 * x16,
+                <f32 as ::trocar::Real>::mul_add(x13, x14, -(x10 * x17)),
+                <f32 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
+                <f32 as ::trocar::Real>::mul_add(x12, x17, x13 * x16),
                 x4,
                 x5,
                 x6,
@@ -712,34 +887,47 @@ pub mod dia10_like_zx {
         let x1 = t.sin[4] * t.cos[5];
         let x2 = t.cos[4] * t.sin[5];
         let x3 = t.cos[4] * t.cos[5];
-        let x4 = t.cos[3] * t.cos[5] - t.sin[3] * x2;
+        let x4 = <f32 as ::trocar::Real>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x2));
         let x5 = t.sin[3] * t.sin[4];
-        let x6 = t.cos[3] * t.sin[5] + t.sin[3] * x3;
-        let x7 = t.sin[3] * t.cos[5] + t.cos[3] * x2;
+        let x6 = <f32 as ::trocar::Real>::mul_add(t.cos[3], t.sin[5], t.sin[3] * x3);
+        let x7 = <f32 as ::trocar::Real>::mul_add(t.sin[3], t.cos[5], t.cos[3] * x2);
         let x8 = t.cos[3] * t.sin[4];
-        let x9 = t.cos[3] * x3 - t.sin[3] * t.sin[5];
-        let x10 = t.cos[2] * x0 + t.sin[2] * x7;
-        let x11 = t.cos[2] * t.cos[4] - t.sin[2] * x8;
-        let x12 = t.cos[2] * x1 + t.sin[2] * x9;
-        let x13 = 0.38_f32 + 0.39_f32 * t.cos[2];
-        let x14 = t.sin[2] * x0 - t.cos[2] * x7;
-        let x15 = t.sin[2] * t.cos[4] + t.cos[2] * x8;
-        let x16 = t.cos[2] * x9 - t.sin[2] * x1;
+        let x9 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * t.sin[5]));
+        let x10 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x0, t.sin[2] * x7);
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x8));
+        let x12 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x1, t.sin[2] * x9);
+        let x13 = <f32 as ::trocar::Real>::mul_add(0.39_f32, t.cos[2], 0.38_f32);
+        let x14 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x0, -(t.cos[2] * x7));
+        let x15 = <f32 as ::trocar::Real>::mul_add(t.sin[2], t.cos[4], t.cos[2] * x8);
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x9, -(t.sin[2] * x1));
         let x17 = 0.39_f32 * t.sin[2];
-        let x18 = t.cos[1] * x13 - t.sin[1] * x17;
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x13, -(t.sin[1] * x17));
         [
             [
-                0.194_f32 * (t.cos[1] * x10 - t.sin[1] * x14) - x4 * x18,
-                0.194_f32 * (t.cos[1] * x11 - t.sin[1] * x15) - x5 * x18,
-                -(x6 * x18 + 0.194_f32 * (t.cos[1] * x12 + t.sin[1] * x16)),
-                t.sin[1] * x10 + t.cos[1] * x14,
-                t.sin[1] * x11 + t.cos[1] * x15,
-                t.cos[1] * x16 - t.sin[1] * x12,
+                <f32 as ::trocar::Real>::mul_add(
+                    0.194_f32,
+                    <f32 as ::trocar::Real>::mul_add(t.cos[1], x10, -(t.sin[1] * x14)),
+                    -(x4 * x18),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.194_f32,
+                    <f32 as ::trocar::Real>::mul_add(t.cos[1], x11, -(t.sin[1] * x15)),
+                    -(x5 * x18),
+                ),
+                -<f32 as ::trocar::Real>::mul_add(
+                    x6,
+                    x18,
+                    0.194_f32
+                        * <f32 as ::trocar::Real>::mul_add(t.cos[1], x12, t.sin[1] * x16),
+                ),
+                <f32 as ::trocar::Real>::mul_add(t.sin[1], x10, t.cos[1] * x14),
+                <f32 as ::trocar::Real>::mul_add(t.sin[1], x11, t.cos[1] * x15),
+                <f32 as ::trocar::Real>::mul_add(t.cos[1], x16, -(t.sin[1] * x12)),
             ],
             [
-                x13 * x14 - x10 * x17,
-                x13 * x15 - x11 * x17,
-                x12 * x17 + x13 * x16,
+                <f32 as ::trocar::Real>::mul_add(x13, x14, -(x10 * x17)),
+                <f32 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
+                <f32 as ::trocar::Real>::mul_add(x12, x17, x13 * x16),
                 x4,
                 x5,
                 x6,
@@ -786,31 +974,55 @@ pub mod dia10_like_zx {
         let x1 = s1 * s2;
         let x2 = c1 * c2;
         let x3 = c1 * s2;
-        let x4 = s3 * x1 - c3 * x0;
-        let x5 = s3 * x0 + c3 * x1;
-        let x6 = c3 * x2 - s3 * x3;
-        let x7 = s3 * x2 + c3 * x3;
-        let x8 = s2 * c3 + c2 * s3;
-        let x9 = c2 * c3 - s2 * s3;
-        let x10 = c1 * c4 - s4 * x5;
-        let x11 = c1 * s4 + c4 * x5;
-        let x12 = s1 * c4 + s4 * x7;
-        let x13 = s1 * s4 - c4 * x7;
+        let x4 = <f32 as ::trocar::Real>::mul_add(s3, x1, -(c3 * x0));
+        let x5 = <f32 as ::trocar::Real>::mul_add(s3, x0, c3 * x1);
+        let x6 = <f32 as ::trocar::Real>::mul_add(c3, x2, -(s3 * x3));
+        let x7 = <f32 as ::trocar::Real>::mul_add(s3, x2, c3 * x3);
+        let x8 = <f32 as ::trocar::Real>::mul_add(s2, c3, c2 * s3);
+        let x9 = <f32 as ::trocar::Real>::mul_add(c2, c3, -(s2 * s3));
+        let x10 = <f32 as ::trocar::Real>::mul_add(c1, c4, -(s4 * x5));
+        let x11 = <f32 as ::trocar::Real>::mul_add(c1, s4, c4 * x5);
+        let x12 = <f32 as ::trocar::Real>::mul_add(s1, c4, s4 * x7);
+        let x13 = <f32 as ::trocar::Real>::mul_add(s1, s4, -(c4 * x7));
         let x14 = s4 * x9;
         let x15 = c4 * x9;
-        let x16 = c5 * x11 - s5 * x4;
-        let x17 = c5 * x13 - s5 * x6;
-        let x18 = c5 * x15 - s5 * x8;
+        let x16 = <f32 as ::trocar::Real>::mul_add(c5, x11, -(s5 * x4));
+        let x17 = <f32 as ::trocar::Real>::mul_add(c5, x13, -(s5 * x6));
+        let x18 = <f32 as ::trocar::Real>::mul_add(c5, x15, -(s5 * x8));
         (
             [
-                [c6 * x10 - s6 * x16, c6 * x12 - s6 * x17, -(c6 * x14 + s6 * x18)],
-                [c5 * x4 + s5 * x11, c5 * x6 + s5 * x13, c5 * x8 + s5 * x15],
-                [s6 * x10 + c6 * x16, s6 * x12 + c6 * x17, c6 * x18 - s6 * x14],
+                [
+                    <f32 as ::trocar::Real>::mul_add(c6, x10, -(s6 * x16)),
+                    <f32 as ::trocar::Real>::mul_add(c6, x12, -(s6 * x17)),
+                    -<f32 as ::trocar::Real>::mul_add(c6, x14, s6 * x18),
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(c5, x4, s5 * x11),
+                    <f32 as ::trocar::Real>::mul_add(c5, x6, s5 * x13),
+                    <f32 as ::trocar::Real>::mul_add(c5, x8, s5 * x15),
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(s6, x10, c6 * x16),
+                    <f32 as ::trocar::Real>::mul_add(s6, x12, c6 * x17),
+                    <f32 as ::trocar::Real>::mul_add(c6, x18, -(s6 * x14)),
+                ],
             ],
             [
-                0.194_f32 * c1 - 0.38_f32 * x0 + 0.39_f32 * x4,
-                0.194_f32 * s1 + 0.38_f32 * x2 + 0.39_f32 * x6,
-                1.037_f32 + 0.38_f32 * s2 + 0.39_f32 * x8,
+                <f32 as ::trocar::Real>::mul_add(
+                    0.39_f32,
+                    x4,
+                    <f32 as ::trocar::Real>::mul_add(0.194_f32, c1, -(0.38_f32 * x0)),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.39_f32,
+                    x6,
+                    <f32 as ::trocar::Real>::mul_add(0.194_f32, s1, 0.38_f32 * x2),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.39_f32,
+                    x8,
+                    <f32 as ::trocar::Real>::mul_add(0.38_f32, s2, 1.037_f32),
+                ),
             ],
         )
     }
@@ -829,43 +1041,67 @@ pub mod dia10_like_zx {
         let x1 = t.sin[0] * t.sin[1];
         let x2 = t.cos[0] * t.cos[1];
         let x3 = t.cos[0] * t.sin[1];
-        let x4 = t.sin[2] * x1 - t.cos[2] * x0;
-        let x5 = t.sin[2] * x0 + t.cos[2] * x1;
-        let x6 = t.cos[2] * x2 - t.sin[2] * x3;
-        let x7 = t.sin[2] * x2 + t.cos[2] * x3;
-        let x8 = t.sin[1] * t.cos[2] + t.cos[1] * t.sin[2];
-        let x9 = t.cos[1] * t.cos[2] - t.sin[1] * t.sin[2];
-        let x10 = t.cos[0] * t.cos[3] - t.sin[3] * x5;
-        let x11 = t.cos[0] * t.sin[3] + t.cos[3] * x5;
-        let x12 = t.sin[0] * t.cos[3] + t.sin[3] * x7;
-        let x13 = t.sin[0] * t.sin[3] - t.cos[3] * x7;
+        let x4 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x1, -(t.cos[2] * x0));
+        let x5 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x0, t.cos[2] * x1);
+        let x6 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x2, -(t.sin[2] * x3));
+        let x7 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x2, t.cos[2] * x3);
+        let x8 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[1],
+            t.cos[2],
+            t.cos[1] * t.sin[2],
+        );
+        let x9 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[1],
+            t.cos[2],
+            -(t.sin[1] * t.sin[2]),
+        );
+        let x10 = <f32 as ::trocar::Real>::mul_add(t.cos[0], t.cos[3], -(t.sin[3] * x5));
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.cos[0], t.sin[3], t.cos[3] * x5);
+        let x12 = <f32 as ::trocar::Real>::mul_add(t.sin[0], t.cos[3], t.sin[3] * x7);
+        let x13 = <f32 as ::trocar::Real>::mul_add(t.sin[0], t.sin[3], -(t.cos[3] * x7));
         let x14 = t.sin[3] * x9;
         let x15 = t.cos[3] * x9;
-        let x16 = t.cos[4] * x11 - t.sin[4] * x4;
-        let x17 = t.cos[4] * x13 - t.sin[4] * x6;
-        let x18 = t.cos[4] * x15 - t.sin[4] * x8;
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x11, -(t.sin[4] * x4));
+        let x17 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x13, -(t.sin[4] * x6));
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x15, -(t.sin[4] * x8));
         (
             [
                 [
-                    t.cos[5] * x10 - t.sin[5] * x16,
-                    t.cos[5] * x12 - t.sin[5] * x17,
-                    -(t.cos[5] * x14 + t.sin[5] * x18),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[5], x10, -(t.sin[5] * x16)),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[5], x12, -(t.sin[5] * x17)),
+                    -<f32 as ::trocar::Real>::mul_add(t.cos[5], x14, t.sin[5] * x18),
                 ],
                 [
-                    t.cos[4] * x4 + t.sin[4] * x11,
-                    t.cos[4] * x6 + t.sin[4] * x13,
-                    t.cos[4] * x8 + t.sin[4] * x15,
+                    <f32 as ::trocar::Real>::mul_add(t.cos[4], x4, t.sin[4] * x11),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[4], x6, t.sin[4] * x13),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[4], x8, t.sin[4] * x15),
                 ],
                 [
-                    t.sin[5] * x10 + t.cos[5] * x16,
-                    t.sin[5] * x12 + t.cos[5] * x17,
-                    t.cos[5] * x18 - t.sin[5] * x14,
+                    <f32 as ::trocar::Real>::mul_add(t.sin[5], x10, t.cos[5] * x16),
+                    <f32 as ::trocar::Real>::mul_add(t.sin[5], x12, t.cos[5] * x17),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[5], x18, -(t.sin[5] * x14)),
                 ],
             ],
             [
-                0.194_f32 * t.cos[0] - 0.38_f32 * x0 + 0.39_f32 * x4,
-                0.194_f32 * t.sin[0] + 0.38_f32 * x2 + 0.39_f32 * x6,
-                1.037_f32 + 0.38_f32 * t.sin[1] + 0.39_f32 * x8,
+                <f32 as ::trocar::Real>::mul_add(
+                    0.39_f32,
+                    x4,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.194_f32,
+                        t.cos[0],
+                        -(0.38_f32 * x0),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.39_f32,
+                    x6,
+                    <f32 as ::trocar::Real>::mul_add(0.194_f32, t.sin[0], 0.38_f32 * x2),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.39_f32,
+                    x8,
+                    <f32 as ::trocar::Real>::mul_add(0.38_f32, t.sin[1], 1.037_f32),
+                ),
             ],
         )
     }
@@ -881,7 +1117,11 @@ pub mod dia10_like_zx {
         let x0 = <f32 as ::trocar::Real>::ONE / p.l_a;
         {
             let w = <f32 as ::trocar::Real>::abs(
-                (<f32 as ::trocar::Real>::ONE + x0 * (0.1089_f32 * x0 - 0.66_f32)) * c7,
+                <f32 as ::trocar::Real>::mul_add(
+                    x0,
+                    <f32 as ::trocar::Real>::mul_add(0.1089_f32, x0, -0.66_f32),
+                    <f32 as ::trocar::Real>::ONE,
+                ) * c7,
             );
             if <f32 as ::trocar::Real>::is_finite(w) {
                 w
@@ -901,8 +1141,11 @@ pub mod dia10_like_zx {
         let x0 = <f32 as ::trocar::Real>::ONE / p.l_a;
         {
             let w = <f32 as ::trocar::Real>::abs(
-                (<f32 as ::trocar::Real>::ONE + x0 * (0.1089_f32 * x0 - 0.66_f32))
-                    * t.cos[6],
+                <f32 as ::trocar::Real>::mul_add(
+                    x0,
+                    <f32 as ::trocar::Real>::mul_add(0.1089_f32, x0, -0.66_f32),
+                    <f32 as ::trocar::Real>::ONE,
+                ) * t.cos[6],
             );
             if <f32 as ::trocar::Real>::is_finite(w) {
                 w
@@ -921,7 +1164,11 @@ pub mod dia10_like_zx {
     pub fn manipulability_squared(q: &[f32; N], p: &Params) -> f32 {
         let ([_], [c7]) = <f32 as ::trocar::Real>::sin_cos_array(&[q[6]]);
         let x0 = <f32 as ::trocar::Real>::ONE / p.l_a;
-        let x1 = (<f32 as ::trocar::Real>::ONE + x0 * (0.1089_f32 * x0 - 0.66_f32)) * c7;
+        let x1 = <f32 as ::trocar::Real>::mul_add(
+            x0,
+            <f32 as ::trocar::Real>::mul_add(0.1089_f32, x0, -0.66_f32),
+            <f32 as ::trocar::Real>::ONE,
+        ) * c7;
         {
             let w = x1 * x1;
             if <f32 as ::trocar::Real>::is_finite(w) {
@@ -940,8 +1187,11 @@ pub mod dia10_like_zx {
     #[must_use]
     pub fn manipulability_squared_trig(t: &JointTrig, p: &Params) -> f32 {
         let x0 = <f32 as ::trocar::Real>::ONE / p.l_a;
-        let x1 = (<f32 as ::trocar::Real>::ONE + x0 * (0.1089_f32 * x0 - 0.66_f32))
-            * t.cos[6];
+        let x1 = <f32 as ::trocar::Real>::mul_add(
+            x0,
+            <f32 as ::trocar::Real>::mul_add(0.1089_f32, x0, -0.66_f32),
+            <f32 as ::trocar::Real>::ONE,
+        ) * t.cos[6];
         {
             let w = x1 * x1;
             if <f32 as ::trocar::Real>::is_finite(w) {
@@ -1025,7 +1275,11 @@ pub mod dia10_like_zx {
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / (<f32 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+            / <f32 as ::trocar::Real>::mul_add(
+                p.l_a,
+                p.l_a,
+                <f32 as ::trocar::Real>::ONE,
+            );
         let x1 = p.l_a * x0;
         [
             [

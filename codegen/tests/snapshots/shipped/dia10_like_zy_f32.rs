@@ -81,49 +81,98 @@ pub mod dia10_like_zy {
         let x1 = s1 * s2;
         let x2 = c1 * c2;
         let x3 = c1 * s2;
-        let x4 = s3 * x1 - c3 * x0;
-        let x5 = s3 * x0 + c3 * x1;
-        let x6 = c3 * x2 - s3 * x3;
-        let x7 = s3 * x2 + c3 * x3;
-        let x8 = s2 * c3 + c2 * s3;
-        let x9 = c2 * c3 - s2 * s3;
-        let x10 = c1 * c4 - s4 * x5;
-        let x11 = c1 * s4 + c4 * x5;
-        let x12 = s1 * c4 + s4 * x7;
-        let x13 = s1 * s4 - c4 * x7;
+        let x4 = <f32 as ::trocar::Real>::mul_add(s3, x1, -(c3 * x0));
+        let x5 = <f32 as ::trocar::Real>::mul_add(s3, x0, c3 * x1);
+        let x6 = <f32 as ::trocar::Real>::mul_add(c3, x2, -(s3 * x3));
+        let x7 = <f32 as ::trocar::Real>::mul_add(s3, x2, c3 * x3);
+        let x8 = <f32 as ::trocar::Real>::mul_add(s2, c3, c2 * s3);
+        let x9 = <f32 as ::trocar::Real>::mul_add(c2, c3, -(s2 * s3));
+        let x10 = <f32 as ::trocar::Real>::mul_add(c1, c4, -(s4 * x5));
+        let x11 = <f32 as ::trocar::Real>::mul_add(c1, s4, c4 * x5);
+        let x12 = <f32 as ::trocar::Real>::mul_add(s1, c4, s4 * x7);
+        let x13 = <f32 as ::trocar::Real>::mul_add(s1, s4, -(c4 * x7));
         let x14 = s4 * x9;
         let x15 = c4 * x9;
-        let x16 = c5 * x4 + s5 * x11;
-        let x17 = c5 * x11 - s5 * x4;
-        let x18 = c5 * x6 + s5 * x13;
-        let x19 = c5 * x13 - s5 * x6;
-        let x20 = c5 * x8 + s5 * x15;
-        let x21 = c5 * x15 - s5 * x8;
-        let x22 = c6 * x10 - s6 * x17;
-        let x23 = s6 * x10 + c6 * x17;
-        let x24 = c6 * x12 - s6 * x19;
-        let x25 = s6 * x12 + c6 * x19;
-        let x26 = c6 * x14 + s6 * x21;
-        let x27 = c6 * x21 - s6 * x14;
-        let x28 = c7 * x22 + s7 * x16;
-        let x29 = c7 * x16 - s7 * x22;
-        let x30 = c7 * x24 + s7 * x18;
-        let x31 = c7 * x18 - s7 * x24;
-        let x32 = s7 * x20 - c7 * x26;
-        let x33 = s7 * x26 + c7 * x20;
+        let x16 = <f32 as ::trocar::Real>::mul_add(c5, x4, s5 * x11);
+        let x17 = <f32 as ::trocar::Real>::mul_add(c5, x11, -(s5 * x4));
+        let x18 = <f32 as ::trocar::Real>::mul_add(c5, x6, s5 * x13);
+        let x19 = <f32 as ::trocar::Real>::mul_add(c5, x13, -(s5 * x6));
+        let x20 = <f32 as ::trocar::Real>::mul_add(c5, x8, s5 * x15);
+        let x21 = <f32 as ::trocar::Real>::mul_add(c5, x15, -(s5 * x8));
+        let x22 = <f32 as ::trocar::Real>::mul_add(c6, x10, -(s6 * x17));
+        let x23 = <f32 as ::trocar::Real>::mul_add(s6, x10, c6 * x17);
+        let x24 = <f32 as ::trocar::Real>::mul_add(c6, x12, -(s6 * x19));
+        let x25 = <f32 as ::trocar::Real>::mul_add(s6, x12, c6 * x19);
+        let x26 = <f32 as ::trocar::Real>::mul_add(c6, x14, s6 * x21);
+        let x27 = <f32 as ::trocar::Real>::mul_add(c6, x21, -(s6 * x14));
+        let x28 = <f32 as ::trocar::Real>::mul_add(c7, x22, s7 * x16);
+        let x29 = <f32 as ::trocar::Real>::mul_add(c7, x16, -(s7 * x22));
+        let x30 = <f32 as ::trocar::Real>::mul_add(c7, x24, s7 * x18);
+        let x31 = <f32 as ::trocar::Real>::mul_add(c7, x18, -(s7 * x24));
+        let x32 = <f32 as ::trocar::Real>::mul_add(s7, x20, -(c7 * x26));
+        let x33 = <f32 as ::trocar::Real>::mul_add(s7, x26, c7 * x20);
         (
             [
-                [c8 * x28 - s8 * x23, c8 * x30 - s8 * x25, c8 * x32 - s8 * x27],
+                [
+                    <f32 as ::trocar::Real>::mul_add(c8, x28, -(s8 * x23)),
+                    <f32 as ::trocar::Real>::mul_add(c8, x30, -(s8 * x25)),
+                    <f32 as ::trocar::Real>::mul_add(c8, x32, -(s8 * x27)),
+                ],
                 [x29, x31, x33],
-                [s8 * x28 + c8 * x23, s8 * x30 + c8 * x25, s8 * x32 + c8 * x27],
+                [
+                    <f32 as ::trocar::Real>::mul_add(s8, x28, c8 * x23),
+                    <f32 as ::trocar::Real>::mul_add(s8, x30, c8 * x25),
+                    <f32 as ::trocar::Real>::mul_add(s8, x32, c8 * x27),
+                ],
             ],
             [
-                0.194_f32 * c1 - 0.38_f32 * x0 + 0.39_f32 * x4 + 0.33_f32 * x16
-                    + 0.21_f32 * x29,
-                0.194_f32 * s1 + 0.38_f32 * x2 + 0.39_f32 * x6 + 0.33_f32 * x18
-                    + 0.21_f32 * x31,
-                1.037_f32 + 0.38_f32 * s2 + 0.39_f32 * x8 + 0.33_f32 * x20
-                    + 0.21_f32 * x33,
+                <f32 as ::trocar::Real>::mul_add(
+                    0.21_f32,
+                    x29,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.33_f32,
+                        x16,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.39_f32,
+                            x4,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.194_f32,
+                                c1,
+                                -(0.38_f32 * x0),
+                            ),
+                        ),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.21_f32,
+                    x31,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.33_f32,
+                        x18,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.39_f32,
+                            x6,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.194_f32,
+                                s1,
+                                0.38_f32 * x2,
+                            ),
+                        ),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.21_f32,
+                    x33,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.33_f32,
+                        x20,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.39_f32,
+                            x8,
+                            <f32 as ::trocar::Real>::mul_add(0.38_f32, s2, 1.037_f32),
+                        ),
+                    ),
+                ),
             ],
         )
     }
@@ -142,57 +191,110 @@ pub mod dia10_like_zy {
         let x1 = t.sin[0] * t.sin[1];
         let x2 = t.cos[0] * t.cos[1];
         let x3 = t.cos[0] * t.sin[1];
-        let x4 = t.sin[2] * x1 - t.cos[2] * x0;
-        let x5 = t.sin[2] * x0 + t.cos[2] * x1;
-        let x6 = t.cos[2] * x2 - t.sin[2] * x3;
-        let x7 = t.sin[2] * x2 + t.cos[2] * x3;
-        let x8 = t.sin[1] * t.cos[2] + t.cos[1] * t.sin[2];
-        let x9 = t.cos[1] * t.cos[2] - t.sin[1] * t.sin[2];
-        let x10 = t.cos[0] * t.cos[3] - t.sin[3] * x5;
-        let x11 = t.cos[0] * t.sin[3] + t.cos[3] * x5;
-        let x12 = t.sin[0] * t.cos[3] + t.sin[3] * x7;
-        let x13 = t.sin[0] * t.sin[3] - t.cos[3] * x7;
+        let x4 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x1, -(t.cos[2] * x0));
+        let x5 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x0, t.cos[2] * x1);
+        let x6 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x2, -(t.sin[2] * x3));
+        let x7 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x2, t.cos[2] * x3);
+        let x8 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[1],
+            t.cos[2],
+            t.cos[1] * t.sin[2],
+        );
+        let x9 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[1],
+            t.cos[2],
+            -(t.sin[1] * t.sin[2]),
+        );
+        let x10 = <f32 as ::trocar::Real>::mul_add(t.cos[0], t.cos[3], -(t.sin[3] * x5));
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.cos[0], t.sin[3], t.cos[3] * x5);
+        let x12 = <f32 as ::trocar::Real>::mul_add(t.sin[0], t.cos[3], t.sin[3] * x7);
+        let x13 = <f32 as ::trocar::Real>::mul_add(t.sin[0], t.sin[3], -(t.cos[3] * x7));
         let x14 = t.sin[3] * x9;
         let x15 = t.cos[3] * x9;
-        let x16 = t.cos[4] * x4 + t.sin[4] * x11;
-        let x17 = t.cos[4] * x11 - t.sin[4] * x4;
-        let x18 = t.cos[4] * x6 + t.sin[4] * x13;
-        let x19 = t.cos[4] * x13 - t.sin[4] * x6;
-        let x20 = t.cos[4] * x8 + t.sin[4] * x15;
-        let x21 = t.cos[4] * x15 - t.sin[4] * x8;
-        let x22 = t.cos[5] * x10 - t.sin[5] * x17;
-        let x23 = t.sin[5] * x10 + t.cos[5] * x17;
-        let x24 = t.cos[5] * x12 - t.sin[5] * x19;
-        let x25 = t.sin[5] * x12 + t.cos[5] * x19;
-        let x26 = t.cos[5] * x14 + t.sin[5] * x21;
-        let x27 = t.cos[5] * x21 - t.sin[5] * x14;
-        let x28 = t.cos[6] * x22 + t.sin[6] * x16;
-        let x29 = t.cos[6] * x16 - t.sin[6] * x22;
-        let x30 = t.cos[6] * x24 + t.sin[6] * x18;
-        let x31 = t.cos[6] * x18 - t.sin[6] * x24;
-        let x32 = t.sin[6] * x20 - t.cos[6] * x26;
-        let x33 = t.sin[6] * x26 + t.cos[6] * x20;
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x4, t.sin[4] * x11);
+        let x17 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x11, -(t.sin[4] * x4));
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x6, t.sin[4] * x13);
+        let x19 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x13, -(t.sin[4] * x6));
+        let x20 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x8, t.sin[4] * x15);
+        let x21 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x15, -(t.sin[4] * x8));
+        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x10, -(t.sin[5] * x17));
+        let x23 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x10, t.cos[5] * x17);
+        let x24 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x12, -(t.sin[5] * x19));
+        let x25 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x12, t.cos[5] * x19);
+        let x26 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x14, t.sin[5] * x21);
+        let x27 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x21, -(t.sin[5] * x14));
+        let x28 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x22, t.sin[6] * x16);
+        let x29 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x16, -(t.sin[6] * x22));
+        let x30 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x24, t.sin[6] * x18);
+        let x31 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x18, -(t.sin[6] * x24));
+        let x32 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x20, -(t.cos[6] * x26));
+        let x33 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x26, t.cos[6] * x20);
         (
             [
                 [
-                    t.cos[7] * x28 - t.sin[7] * x23,
-                    t.cos[7] * x30 - t.sin[7] * x25,
-                    t.cos[7] * x32 - t.sin[7] * x27,
+                    <f32 as ::trocar::Real>::mul_add(t.cos[7], x28, -(t.sin[7] * x23)),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[7], x30, -(t.sin[7] * x25)),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[7], x32, -(t.sin[7] * x27)),
                 ],
                 [x29, x31, x33],
                 [
-                    t.sin[7] * x28 + t.cos[7] * x23,
-                    t.sin[7] * x30 + t.cos[7] * x25,
-                    t.sin[7] * x32 + t.cos[7] * x27,
+                    <f32 as ::trocar::Real>::mul_add(t.sin[7], x28, t.cos[7] * x23),
+                    <f32 as ::trocar::Real>::mul_add(t.sin[7], x30, t.cos[7] * x25),
+                    <f32 as ::trocar::Real>::mul_add(t.sin[7], x32, t.cos[7] * x27),
                 ],
             ],
             [
-                0.194_f32 * t.cos[0] - 0.38_f32 * x0 + 0.39_f32 * x4 + 0.33_f32 * x16
-                    + 0.21_f32 * x29,
-                0.194_f32 * t.sin[0] + 0.38_f32 * x2 + 0.39_f32 * x6 + 0.33_f32 * x18
-                    + 0.21_f32 * x31,
-                1.037_f32 + 0.38_f32 * t.sin[1] + 0.39_f32 * x8 + 0.33_f32 * x20
-                    + 0.21_f32 * x33,
+                <f32 as ::trocar::Real>::mul_add(
+                    0.21_f32,
+                    x29,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.33_f32,
+                        x16,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.39_f32,
+                            x4,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.194_f32,
+                                t.cos[0],
+                                -(0.38_f32 * x0),
+                            ),
+                        ),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.21_f32,
+                    x31,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.33_f32,
+                        x18,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.39_f32,
+                            x6,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.194_f32,
+                                t.sin[0],
+                                0.38_f32 * x2,
+                            ),
+                        ),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.21_f32,
+                    x33,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.33_f32,
+                        x20,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.39_f32,
+                            x8,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.38_f32,
+                                t.sin[1],
+                                1.037_f32,
+                            ),
+                        ),
+                    ),
+                ),
             ],
         )
     }
@@ -212,77 +314,89 @@ pub mod dia10_like_zy {
         let x2 = 0.21_f32 * s7;
         let x3 = s7 * c8;
         let x4 = s7 * s8;
-        let x5 = 0.33_f32 + 0.21_f32 * c7;
-        let x6 = c6 * x0 - s6 * s8;
+        let x5 = <f32 as ::trocar::Real>::mul_add(0.21_f32, c7, 0.33_f32);
+        let x6 = <f32 as ::trocar::Real>::mul_add(c6, x0, -(s6 * s8));
         let x7 = c6 * s7;
-        let x8 = c6 * x1 + s6 * c8;
+        let x8 = <f32 as ::trocar::Real>::mul_add(c6, x1, s6 * c8);
         let x9 = c6 * x2;
-        let x10 = s6 * x0 + c6 * s8;
+        let x10 = <f32 as ::trocar::Real>::mul_add(s6, x0, c6 * s8);
         let x11 = s6 * s7;
-        let x12 = c6 * c8 - s6 * x1;
+        let x12 = <f32 as ::trocar::Real>::mul_add(c6, c8, -(s6 * x1));
         let x13 = s6 * x2;
-        let x14 = c5 * x3 + s5 * x10;
-        let x15 = c5 * c7 - s5 * x11;
-        let x16 = c5 * x4 - s5 * x12;
-        let x17 = 0.39_f32 + (c5 * x5 - s5 * x13);
-        let x18 = s5 * x3 - c5 * x10;
-        let x19 = s5 * c7 + c5 * x11;
-        let x20 = s5 * x4 + c5 * x12;
-        let x21 = s5 * x5 + c5 * x13;
-        let x22 = c4 * x6 + s4 * x18;
-        let x23 = s4 * x19 - c4 * x7;
-        let x24 = c4 * x8 + s4 * x20;
-        let x25 = c4 * x18 - s4 * x6;
-        let x26 = s4 * x7 + c4 * x19;
-        let x27 = c4 * x20 - s4 * x8;
-        let x28 = s4 * x9 + c4 * x21;
-        let x29 = c3 * x14 - s3 * x25;
-        let x30 = c3 * x15 - s3 * x26;
-        let x31 = c3 * x16 - s3 * x27;
-        let x32 = 0.38_f32 + (c3 * x17 - s3 * x28);
-        let x33 = s3 * x14 + c3 * x25;
-        let x34 = s3 * x15 + c3 * x26;
-        let x35 = s3 * x16 + c3 * x27;
-        let x36 = s3 * x17 + c3 * x28;
-        let x37 = 0.194_f32 + (s4 * x21 - c4 * x9);
-        let x38 = c2 * x32 - s2 * x36;
+        let x14 = <f32 as ::trocar::Real>::mul_add(c5, x3, s5 * x10);
+        let x15 = <f32 as ::trocar::Real>::mul_add(c5, c7, -(s5 * x11));
+        let x16 = <f32 as ::trocar::Real>::mul_add(c5, x4, -(s5 * x12));
+        let x17 = 0.39_f32 + <f32 as ::trocar::Real>::mul_add(c5, x5, -(s5 * x13));
+        let x18 = <f32 as ::trocar::Real>::mul_add(s5, x3, -(c5 * x10));
+        let x19 = <f32 as ::trocar::Real>::mul_add(s5, c7, c5 * x11);
+        let x20 = <f32 as ::trocar::Real>::mul_add(s5, x4, c5 * x12);
+        let x21 = <f32 as ::trocar::Real>::mul_add(s5, x5, c5 * x13);
+        let x22 = <f32 as ::trocar::Real>::mul_add(c4, x6, s4 * x18);
+        let x23 = <f32 as ::trocar::Real>::mul_add(s4, x19, -(c4 * x7));
+        let x24 = <f32 as ::trocar::Real>::mul_add(c4, x8, s4 * x20);
+        let x25 = <f32 as ::trocar::Real>::mul_add(c4, x18, -(s4 * x6));
+        let x26 = <f32 as ::trocar::Real>::mul_add(s4, x7, c4 * x19);
+        let x27 = <f32 as ::trocar::Real>::mul_add(c4, x20, -(s4 * x8));
+        let x28 = <f32 as ::trocar::Real>::mul_add(s4, x9, c4 * x21);
+        let x29 = <f32 as ::trocar::Real>::mul_add(c3, x14, -(s3 * x25));
+        let x30 = <f32 as ::trocar::Real>::mul_add(c3, x15, -(s3 * x26));
+        let x31 = <f32 as ::trocar::Real>::mul_add(c3, x16, -(s3 * x27));
+        let x32 = 0.38_f32 + <f32 as ::trocar::Real>::mul_add(c3, x17, -(s3 * x28));
+        let x33 = <f32 as ::trocar::Real>::mul_add(s3, x14, c3 * x25);
+        let x34 = <f32 as ::trocar::Real>::mul_add(s3, x15, c3 * x26);
+        let x35 = <f32 as ::trocar::Real>::mul_add(s3, x16, c3 * x27);
+        let x36 = <f32 as ::trocar::Real>::mul_add(s3, x17, c3 * x28);
+        let x37 = 0.194_f32 + <f32 as ::trocar::Real>::mul_add(s4, x21, -(c4 * x9));
+        let x38 = <f32 as ::trocar::Real>::mul_add(c2, x32, -(s2 * x36));
         [
             [
-                x37 * (c2 * x29 - s2 * x33) - x22 * x38,
-                x37 * (c2 * x30 - s2 * x34) - x23 * x38,
-                x37 * (c2 * x31 - s2 * x35) - x24 * x38,
-                s2 * x29 + c2 * x33,
-                s2 * x30 + c2 * x34,
-                s2 * x31 + c2 * x35,
+                <f32 as ::trocar::Real>::mul_add(
+                    x37,
+                    <f32 as ::trocar::Real>::mul_add(c2, x29, -(s2 * x33)),
+                    -(x22 * x38),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    x37,
+                    <f32 as ::trocar::Real>::mul_add(c2, x30, -(s2 * x34)),
+                    -(x23 * x38),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    x37,
+                    <f32 as ::trocar::Real>::mul_add(c2, x31, -(s2 * x35)),
+                    -(x24 * x38),
+                ),
+                <f32 as ::trocar::Real>::mul_add(s2, x29, c2 * x33),
+                <f32 as ::trocar::Real>::mul_add(s2, x30, c2 * x34),
+                <f32 as ::trocar::Real>::mul_add(s2, x31, c2 * x35),
             ],
             [
-                x32 * x33 - x29 * x36,
-                x32 * x34 - x30 * x36,
-                x32 * x35 - x31 * x36,
+                <f32 as ::trocar::Real>::mul_add(x32, x33, -(x29 * x36)),
+                <f32 as ::trocar::Real>::mul_add(x32, x34, -(x30 * x36)),
+                <f32 as ::trocar::Real>::mul_add(x32, x35, -(x31 * x36)),
                 x22,
                 x23,
                 x24,
             ],
             [
-                x17 * x25 - x14 * x28,
-                x17 * x26 - x15 * x28,
-                x17 * x27 - x16 * x28,
+                <f32 as ::trocar::Real>::mul_add(x17, x25, -(x14 * x28)),
+                <f32 as ::trocar::Real>::mul_add(x17, x26, -(x15 * x28)),
+                <f32 as ::trocar::Real>::mul_add(x17, x27, -(x16 * x28)),
                 x22,
                 x23,
                 x24,
             ],
             [
-                x6 * x21 + x9 * x18,
-                x9 * x19 - x7 * x21,
-                x8 * x21 + x9 * x20,
+                <f32 as ::trocar::Real>::mul_add(x6, x21, x9 * x18),
+                <f32 as ::trocar::Real>::mul_add(x9, x19, -(x7 * x21)),
+                <f32 as ::trocar::Real>::mul_add(x8, x21, x9 * x20),
                 x14,
                 x15,
                 x16,
             ],
             [
-                -(x3 * x13 + x5 * x10),
-                x5 * x11 - c7 * x13,
-                x5 * x12 - x4 * x13,
+                -<f32 as ::trocar::Real>::mul_add(x3, x13, x5 * x10),
+                <f32 as ::trocar::Real>::mul_add(x5, x11, -(c7 * x13)),
+                <f32 as ::trocar::Real>::mul_add(x5, x12, -(x4 * x13)),
                 x6,
                 -x7,
                 x8,
@@ -319,77 +433,96 @@ pub mod dia10_like_zy {
         let x2 = 0.21_f32 * t.sin[6];
         let x3 = t.sin[6] * t.cos[7];
         let x4 = t.sin[6] * t.sin[7];
-        let x5 = 0.33_f32 + 0.21_f32 * t.cos[6];
-        let x6 = t.cos[5] * x0 - t.sin[5] * t.sin[7];
+        let x5 = <f32 as ::trocar::Real>::mul_add(0.21_f32, t.cos[6], 0.33_f32);
+        let x6 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x0, -(t.sin[5] * t.sin[7]));
         let x7 = t.cos[5] * t.sin[6];
-        let x8 = t.cos[5] * x1 + t.sin[5] * t.cos[7];
+        let x8 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x1, t.sin[5] * t.cos[7]);
         let x9 = t.cos[5] * x2;
-        let x10 = t.sin[5] * x0 + t.cos[5] * t.sin[7];
+        let x10 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x0, t.cos[5] * t.sin[7]);
         let x11 = t.sin[5] * t.sin[6];
-        let x12 = t.cos[5] * t.cos[7] - t.sin[5] * x1;
+        let x12 = <f32 as ::trocar::Real>::mul_add(t.cos[5], t.cos[7], -(t.sin[5] * x1));
         let x13 = t.sin[5] * x2;
-        let x14 = t.cos[4] * x3 + t.sin[4] * x10;
-        let x15 = t.cos[4] * t.cos[6] - t.sin[4] * x11;
-        let x16 = t.cos[4] * x4 - t.sin[4] * x12;
-        let x17 = 0.39_f32 + (t.cos[4] * x5 - t.sin[4] * x13);
-        let x18 = t.sin[4] * x3 - t.cos[4] * x10;
-        let x19 = t.sin[4] * t.cos[6] + t.cos[4] * x11;
-        let x20 = t.sin[4] * x4 + t.cos[4] * x12;
-        let x21 = t.sin[4] * x5 + t.cos[4] * x13;
-        let x22 = t.cos[3] * x6 + t.sin[3] * x18;
-        let x23 = t.sin[3] * x19 - t.cos[3] * x7;
-        let x24 = t.cos[3] * x8 + t.sin[3] * x20;
-        let x25 = t.cos[3] * x18 - t.sin[3] * x6;
-        let x26 = t.sin[3] * x7 + t.cos[3] * x19;
-        let x27 = t.cos[3] * x20 - t.sin[3] * x8;
-        let x28 = t.sin[3] * x9 + t.cos[3] * x21;
-        let x29 = t.cos[2] * x14 - t.sin[2] * x25;
-        let x30 = t.cos[2] * x15 - t.sin[2] * x26;
-        let x31 = t.cos[2] * x16 - t.sin[2] * x27;
-        let x32 = 0.38_f32 + (t.cos[2] * x17 - t.sin[2] * x28);
-        let x33 = t.sin[2] * x14 + t.cos[2] * x25;
-        let x34 = t.sin[2] * x15 + t.cos[2] * x26;
-        let x35 = t.sin[2] * x16 + t.cos[2] * x27;
-        let x36 = t.sin[2] * x17 + t.cos[2] * x28;
-        let x37 = 0.194_f32 + (t.sin[3] * x21 - t.cos[3] * x9);
-        let x38 = t.cos[1] * x32 - t.sin[1] * x36;
+        let x14 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x3, t.sin[4] * x10);
+        let x15 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[4],
+            t.cos[6],
+            -(t.sin[4] * x11),
+        );
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x4, -(t.sin[4] * x12));
+        let x17 = 0.39_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[4], x5, -(t.sin[4] * x13));
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x3, -(t.cos[4] * x10));
+        let x19 = <f32 as ::trocar::Real>::mul_add(t.sin[4], t.cos[6], t.cos[4] * x11);
+        let x20 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x4, t.cos[4] * x12);
+        let x21 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x5, t.cos[4] * x13);
+        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x18);
+        let x23 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x19, -(t.cos[3] * x7));
+        let x24 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x8, t.sin[3] * x20);
+        let x25 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x18, -(t.sin[3] * x6));
+        let x26 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x7, t.cos[3] * x19);
+        let x27 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x20, -(t.sin[3] * x8));
+        let x28 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x9, t.cos[3] * x21);
+        let x29 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x14, -(t.sin[2] * x25));
+        let x30 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x15, -(t.sin[2] * x26));
+        let x31 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x16, -(t.sin[2] * x27));
+        let x32 = 0.38_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[2], x17, -(t.sin[2] * x28));
+        let x33 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x14, t.cos[2] * x25);
+        let x34 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x15, t.cos[2] * x26);
+        let x35 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x27);
+        let x36 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x28);
+        let x37 = 0.194_f32
+            + <f32 as ::trocar::Real>::mul_add(t.sin[3], x21, -(t.cos[3] * x9));
+        let x38 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x32, -(t.sin[1] * x36));
         [
             [
-                x37 * (t.cos[1] * x29 - t.sin[1] * x33) - x22 * x38,
-                x37 * (t.cos[1] * x30 - t.sin[1] * x34) - x23 * x38,
-                x37 * (t.cos[1] * x31 - t.sin[1] * x35) - x24 * x38,
-                t.sin[1] * x29 + t.cos[1] * x33,
-                t.sin[1] * x30 + t.cos[1] * x34,
-                t.sin[1] * x31 + t.cos[1] * x35,
+                <f32 as ::trocar::Real>::mul_add(
+                    x37,
+                    <f32 as ::trocar::Real>::mul_add(t.cos[1], x29, -(t.sin[1] * x33)),
+                    -(x22 * x38),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    x37,
+                    <f32 as ::trocar::Real>::mul_add(t.cos[1], x30, -(t.sin[1] * x34)),
+                    -(x23 * x38),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    x37,
+                    <f32 as ::trocar::Real>::mul_add(t.cos[1], x31, -(t.sin[1] * x35)),
+                    -(x24 * x38),
+                ),
+                <f32 as ::trocar::Real>::mul_add(t.sin[1], x29, t.cos[1] * x33),
+                <f32 as ::trocar::Real>::mul_add(t.sin[1], x30, t.cos[1] * x34),
+                <f32 as ::trocar::Real>::mul_add(t.sin[1], x31, t.cos[1] * x35),
             ],
             [
-                x32 * x33 - x29 * x36,
-                x32 * x34 - x30 * x36,
-                x32 * x35 - x31 * x36,
+                <f32 as ::trocar::Real>::mul_add(x32, x33, -(x29 * x36)),
+                <f32 as ::trocar::Real>::mul_add(x32, x34, -(x30 * x36)),
+                <f32 as ::trocar::Real>::mul_add(x32, x35, -(x31 * x36)),
                 x22,
                 x23,
                 x24,
             ],
             [
-                x17 * x25 - x14 * x28,
-                x17 * x26 - x15 * x28,
-                x17 * x27 - x16 * x28,
+                <f32 as ::trocar::Real>::mul_add(x17, x25, -(x14 * x28)),
+                <f32 as ::trocar::Real>::mul_add(x17, x26, -(x15 * x28)),
+                <f32 as ::trocar::Real>::mul_add(x17, x27, -(x16 * x28)),
                 x22,
                 x23,
                 x24,
             ],
             [
-                x6 * x21 + x9 * x18,
-                x9 * x19 - x7 * x21,
-                x8 * x21 + x9 * x20,
+                <f32 as ::trocar::Real>::mul_add(x6, x21, x9 * x18),
+                <f32 as ::trocar::Real>::mul_add(x9, x19, -(x7 * x21)),
+                <f32 as ::trocar::Real>::mul_add(x8, x21, x9 * x20),
                 x14,
                 x15,
                 x16,
             ],
             [
-                -(x3 * x13 + x5 * x10),
-                x5 * x11 - t.cos[6] * x13,
-                x5 * x12 - x4 * x13,
+                -<f32 as ::trocar::Real>::mul_add(x3, x13, x5 * x10),
+                <f32 as ::trocar::Real>::mul_add(x5, x11, -(t.cos[6] * x13)),
+                <f32 as ::trocar::Real>::mul_add(x5, x12, -(x4 * x13)),
                 x6,
                 -x7,
                 x8,
@@ -435,10 +568,14 @@ pub mod dia10_like_zy {
         let ([s7, s8], [c7, c8]) = <f32 as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
         let x0 = <f32 as ::trocar::Real>::ONE / p.l_a;
         let x1 = 0.33_f32 * x0;
-        let x2 = (<f32 as ::trocar::Real>::ONE - x1) * c7 - 0.21_f32 * x0;
+        let x2 = <f32 as ::trocar::Real>::mul_add(
+            <f32 as ::trocar::Real>::ONE - x1,
+            c7,
+            -(0.21_f32 * x0),
+        );
         let x3 = c8 * s7;
         let x4 = s7 * s8;
-        let x5 = x0 * (0.33_f32 + 0.21_f32 * c7);
+        let x5 = x0 * <f32 as ::trocar::Real>::mul_add(0.21_f32, c7, 0.33_f32);
         [
             [
                 x2 * c8,
@@ -493,10 +630,14 @@ pub mod dia10_like_zy {
     pub fn constrained_jacobian_trig(t: &JointTrig, p: &Params) -> [[f32; 6]; M] {
         let x0 = <f32 as ::trocar::Real>::ONE / p.l_a;
         let x1 = 0.33_f32 * x0;
-        let x2 = (<f32 as ::trocar::Real>::ONE - x1) * t.cos[6] - 0.21_f32 * x0;
+        let x2 = <f32 as ::trocar::Real>::mul_add(
+            <f32 as ::trocar::Real>::ONE - x1,
+            t.cos[6],
+            -(0.21_f32 * x0),
+        );
         let x3 = t.cos[7] * t.sin[6];
         let x4 = t.sin[6] * t.sin[7];
-        let x5 = x0 * (0.33_f32 + 0.21_f32 * t.cos[6]);
+        let x5 = x0 * <f32 as ::trocar::Real>::mul_add(0.21_f32, t.cos[6], 0.33_f32);
         [
             [
                 x2 * t.cos[7],
@@ -560,11 +701,23 @@ pub mod dia10_like_zy {
     pub fn constraint_jacobian_c(q: &[f32; N], p: &Params) -> [[f32; 6]; R] {
         let ([s7, s8], [c7, c8]) = <f32 as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
         let x0 = <f32 as ::trocar::Real>::ONE
-            / (<f32 as ::trocar::Real>::ONE + p.l_a * p.l_a);
-        let x1 = <f32 as ::trocar::Real>::ONE + 0.33_f32 * p.l_a;
-        let x2 = x0 * (x1 * c7 + 0.21_f32 * p.l_a);
+            / <f32 as ::trocar::Real>::mul_add(
+                p.l_a,
+                p.l_a,
+                <f32 as ::trocar::Real>::ONE,
+            );
+        let x1 = <f32 as ::trocar::Real>::mul_add(
+            0.33_f32,
+            p.l_a,
+            <f32 as ::trocar::Real>::ONE,
+        );
+        let x2 = x0 * <f32 as ::trocar::Real>::mul_add(x1, c7, 0.21_f32 * p.l_a);
         let x3 = x0
-            * (<f32 as ::trocar::Real>::ONE + p.l_a * (0.33_f32 + 0.21_f32 * c7));
+            * <f32 as ::trocar::Real>::mul_add(
+                p.l_a,
+                <f32 as ::trocar::Real>::mul_add(0.21_f32, c7, 0.33_f32),
+                <f32 as ::trocar::Real>::ONE,
+            );
         [
             [
                 x2 * c8,
@@ -593,11 +746,23 @@ pub mod dia10_like_zy {
     #[must_use]
     pub fn constraint_jacobian_c_trig(t: &JointTrig, p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / (<f32 as ::trocar::Real>::ONE + p.l_a * p.l_a);
-        let x1 = <f32 as ::trocar::Real>::ONE + 0.33_f32 * p.l_a;
-        let x2 = x0 * (x1 * t.cos[6] + 0.21_f32 * p.l_a);
+            / <f32 as ::trocar::Real>::mul_add(
+                p.l_a,
+                p.l_a,
+                <f32 as ::trocar::Real>::ONE,
+            );
+        let x1 = <f32 as ::trocar::Real>::mul_add(
+            0.33_f32,
+            p.l_a,
+            <f32 as ::trocar::Real>::ONE,
+        );
+        let x2 = x0 * <f32 as ::trocar::Real>::mul_add(x1, t.cos[6], 0.21_f32 * p.l_a);
         let x3 = x0
-            * (<f32 as ::trocar::Real>::ONE + p.l_a * (0.33_f32 + 0.21_f32 * t.cos[6]));
+            * <f32 as ::trocar::Real>::mul_add(
+                p.l_a,
+                <f32 as ::trocar::Real>::mul_add(0.21_f32, t.cos[6], 0.33_f32),
+                <f32 as ::trocar::Real>::ONE,
+            );
         [
             [
                 x2 * t.cos[7],
@@ -632,34 +797,46 @@ pub mod dia10_like_zy {
         let x1 = s5 * c6;
         let x2 = c5 * s6;
         let x3 = c5 * c6;
-        let x4 = c4 * c6 - s4 * x2;
+        let x4 = <f32 as ::trocar::Real>::mul_add(c4, c6, -(s4 * x2));
         let x5 = s4 * s5;
-        let x6 = c4 * s6 + s4 * x3;
-        let x7 = s4 * c6 + c4 * x2;
+        let x6 = <f32 as ::trocar::Real>::mul_add(c4, s6, s4 * x3);
+        let x7 = <f32 as ::trocar::Real>::mul_add(s4, c6, c4 * x2);
         let x8 = c4 * s5;
-        let x9 = c4 * x3 - s4 * s6;
-        let x10 = c3 * x0 + s3 * x7;
-        let x11 = c3 * c5 - s3 * x8;
-        let x12 = c3 * x1 + s3 * x9;
-        let x13 = 0.38_f32 + 0.39_f32 * c3;
-        let x14 = s3 * x0 - c3 * x7;
-        let x15 = s3 * c5 + c3 * x8;
-        let x16 = c3 * x9 - s3 * x1;
+        let x9 = <f32 as ::trocar::Real>::mul_add(c4, x3, -(s4 * s6));
+        let x10 = <f32 as ::trocar::Real>::mul_add(c3, x0, s3 * x7);
+        let x11 = <f32 as ::trocar::Real>::mul_add(c3, c5, -(s3 * x8));
+        let x12 = <f32 as ::trocar::Real>::mul_add(c3, x1, s3 * x9);
+        let x13 = <f32 as ::trocar::Real>::mul_add(0.39_f32, c3, 0.38_f32);
+        let x14 = <f32 as ::trocar::Real>::mul_add(s3, x0, -(c3 * x7));
+        let x15 = <f32 as ::trocar::Real>::mul_add(s3, c5, c3 * x8);
+        let x16 = <f32 as ::trocar::Real>::mul_add(c3, x9, -(s3 * x1));
         let x17 = 0.39_f32 * s3;
-        let x18 = c2 * x13 - s2 * x17;
+        let x18 = <f32 as ::trocar::Real>::mul_add(c2, x13, -(s2 * x17));
         [
             [
-                0.194_f32 * (c2 * x10 - s2 * x14) - x4 * x18,
-                0.194_f32 * (c2 * x11 - s2 * x15) - x5 * x18,
-                -(x6 * x18 + 0.194_f32 * (c2 * x12 + s2 * x16)),
-                s2 * x10 + c2 * x14,
-                s2 * x11 + c2 * x15,
-                c2 * x16 - s2 * x12,
+                <f32 as ::trocar::Real>::mul_add(
+                    0.194_f32,
+                    <f32 as ::trocar::Real>::mul_add(c2, x10, -(s2 * x14)),
+                    -(x4 * x18),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.194_f32,
+                    <f32 as ::trocar::Real>::mul_add(c2, x11, -(s2 * x15)),
+                    -(x5 * x18),
+                ),
+                -<f32 as ::trocar::Real>::mul_add(
+                    x6,
+                    x18,
+                    0.194_f32 * <f32 as ::trocar::Real>::mul_add(c2, x12, s2 * x16),
+                ),
+                <f32 as ::trocar::Real>::mul_add(s2, x10, c2 * x14),
+                <f32 as ::trocar::Real>::mul_add(s2, x11, c2 * x15),
+                <f32 as ::trocar::Real>::mul_add(c2, x16, -(s2 * x12)),
             ],
             [
-                x13 * x14 - x10 * x17,
-                x13 * x15 - x11 * x17,
-                x12 * x17 + x13 * x16,
+                <f32 as ::trocar::Real>::mul_add(x13, x14, -(x10 * x17)),
+                <f32 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
+                <f32 as ::trocar::Real>::mul_add(x12, x17, x13 * x16),
                 x4,
                 x5,
                 x6,
@@ -703,34 +880,47 @@ pub mod dia10_like_zy {
         let x1 = t.sin[4] * t.cos[5];
         let x2 = t.cos[4] * t.sin[5];
         let x3 = t.cos[4] * t.cos[5];
-        let x4 = t.cos[3] * t.cos[5] - t.sin[3] * x2;
+        let x4 = <f32 as ::trocar::Real>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x2));
         let x5 = t.sin[3] * t.sin[4];
-        let x6 = t.cos[3] * t.sin[5] + t.sin[3] * x3;
-        let x7 = t.sin[3] * t.cos[5] + t.cos[3] * x2;
+        let x6 = <f32 as ::trocar::Real>::mul_add(t.cos[3], t.sin[5], t.sin[3] * x3);
+        let x7 = <f32 as ::trocar::Real>::mul_add(t.sin[3], t.cos[5], t.cos[3] * x2);
         let x8 = t.cos[3] * t.sin[4];
-        let x9 = t.cos[3] * x3 - t.sin[3] * t.sin[5];
-        let x10 = t.cos[2] * x0 + t.sin[2] * x7;
-        let x11 = t.cos[2] * t.cos[4] - t.sin[2] * x8;
-        let x12 = t.cos[2] * x1 + t.sin[2] * x9;
-        let x13 = 0.38_f32 + 0.39_f32 * t.cos[2];
-        let x14 = t.sin[2] * x0 - t.cos[2] * x7;
-        let x15 = t.sin[2] * t.cos[4] + t.cos[2] * x8;
-        let x16 = t.cos[2] * x9 - t.sin[2] * x1;
+        let x9 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * t.sin[5]));
+        let x10 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x0, t.sin[2] * x7);
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x8));
+        let x12 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x1, t.sin[2] * x9);
+        let x13 = <f32 as ::trocar::Real>::mul_add(0.39_f32, t.cos[2], 0.38_f32);
+        let x14 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x0, -(t.cos[2] * x7));
+        let x15 = <f32 as ::trocar::Real>::mul_add(t.sin[2], t.cos[4], t.cos[2] * x8);
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x9, -(t.sin[2] * x1));
         let x17 = 0.39_f32 * t.sin[2];
-        let x18 = t.cos[1] * x13 - t.sin[1] * x17;
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x13, -(t.sin[1] * x17));
         [
             [
-                0.194_f32 * (t.cos[1] * x10 - t.sin[1] * x14) - x4 * x18,
-                0.194_f32 * (t.cos[1] * x11 - t.sin[1] * x15) - x5 * x18,
-                -(x6 * x18 + 0.194_f32 * (t.cos[1] * x12 + t.sin[1] * x16)),
-                t.sin[1] * x10 + t.cos[1] * x14,
-                t.sin[1] * x11 + t.cos[1] * x15,
-                t.cos[1] * x16 - t.sin[1] * x12,
+                <f32 as ::trocar::Real>::mul_add(
+                    0.194_f32,
+                    <f32 as ::trocar::Real>::mul_add(t.cos[1], x10, -(t.sin[1] * x14)),
+                    -(x4 * x18),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.194_f32,
+                    <f32 as ::trocar::Real>::mul_add(t.cos[1], x11, -(t.sin[1] * x15)),
+                    -(x5 * x18),
+                ),
+                -<f32 as ::trocar::Real>::mul_add(
+                    x6,
+                    x18,
+                    0.194_f32
+                        * <f32 as ::trocar::Real>::mul_add(t.cos[1], x12, t.sin[1] * x16),
+                ),
+                <f32 as ::trocar::Real>::mul_add(t.sin[1], x10, t.cos[1] * x14),
+                <f32 as ::trocar::Real>::mul_add(t.sin[1], x11, t.cos[1] * x15),
+                <f32 as ::trocar::Real>::mul_add(t.cos[1], x16, -(t.sin[1] * x12)),
             ],
             [
-                x13 * x14 - x10 * x17,
-                x13 * x15 - x11 * x17,
-                x12 * x17 + x13 * x16,
+                <f32 as ::trocar::Real>::mul_add(x13, x14, -(x10 * x17)),
+                <f32 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
+                <f32 as ::trocar::Real>::mul_add(x12, x17, x13 * x16),
                 x4,
                 x5,
                 x6,
@@ -777,31 +967,55 @@ pub mod dia10_like_zy {
         let x1 = s1 * s2;
         let x2 = c1 * c2;
         let x3 = c1 * s2;
-        let x4 = s3 * x1 - c3 * x0;
-        let x5 = s3 * x0 + c3 * x1;
-        let x6 = c3 * x2 - s3 * x3;
-        let x7 = s3 * x2 + c3 * x3;
-        let x8 = s2 * c3 + c2 * s3;
-        let x9 = c2 * c3 - s2 * s3;
-        let x10 = c1 * c4 - s4 * x5;
-        let x11 = c1 * s4 + c4 * x5;
-        let x12 = s1 * c4 + s4 * x7;
-        let x13 = s1 * s4 - c4 * x7;
+        let x4 = <f32 as ::trocar::Real>::mul_add(s3, x1, -(c3 * x0));
+        let x5 = <f32 as ::trocar::Real>::mul_add(s3, x0, c3 * x1);
+        let x6 = <f32 as ::trocar::Real>::mul_add(c3, x2, -(s3 * x3));
+        let x7 = <f32 as ::trocar::Real>::mul_add(s3, x2, c3 * x3);
+        let x8 = <f32 as ::trocar::Real>::mul_add(s2, c3, c2 * s3);
+        let x9 = <f32 as ::trocar::Real>::mul_add(c2, c3, -(s2 * s3));
+        let x10 = <f32 as ::trocar::Real>::mul_add(c1, c4, -(s4 * x5));
+        let x11 = <f32 as ::trocar::Real>::mul_add(c1, s4, c4 * x5);
+        let x12 = <f32 as ::trocar::Real>::mul_add(s1, c4, s4 * x7);
+        let x13 = <f32 as ::trocar::Real>::mul_add(s1, s4, -(c4 * x7));
         let x14 = s4 * x9;
         let x15 = c4 * x9;
-        let x16 = c5 * x11 - s5 * x4;
-        let x17 = c5 * x13 - s5 * x6;
-        let x18 = c5 * x15 - s5 * x8;
+        let x16 = <f32 as ::trocar::Real>::mul_add(c5, x11, -(s5 * x4));
+        let x17 = <f32 as ::trocar::Real>::mul_add(c5, x13, -(s5 * x6));
+        let x18 = <f32 as ::trocar::Real>::mul_add(c5, x15, -(s5 * x8));
         (
             [
-                [c6 * x10 - s6 * x16, c6 * x12 - s6 * x17, -(c6 * x14 + s6 * x18)],
-                [c5 * x4 + s5 * x11, c5 * x6 + s5 * x13, c5 * x8 + s5 * x15],
-                [s6 * x10 + c6 * x16, s6 * x12 + c6 * x17, c6 * x18 - s6 * x14],
+                [
+                    <f32 as ::trocar::Real>::mul_add(c6, x10, -(s6 * x16)),
+                    <f32 as ::trocar::Real>::mul_add(c6, x12, -(s6 * x17)),
+                    -<f32 as ::trocar::Real>::mul_add(c6, x14, s6 * x18),
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(c5, x4, s5 * x11),
+                    <f32 as ::trocar::Real>::mul_add(c5, x6, s5 * x13),
+                    <f32 as ::trocar::Real>::mul_add(c5, x8, s5 * x15),
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(s6, x10, c6 * x16),
+                    <f32 as ::trocar::Real>::mul_add(s6, x12, c6 * x17),
+                    <f32 as ::trocar::Real>::mul_add(c6, x18, -(s6 * x14)),
+                ],
             ],
             [
-                0.194_f32 * c1 - 0.38_f32 * x0 + 0.39_f32 * x4,
-                0.194_f32 * s1 + 0.38_f32 * x2 + 0.39_f32 * x6,
-                1.037_f32 + 0.38_f32 * s2 + 0.39_f32 * x8,
+                <f32 as ::trocar::Real>::mul_add(
+                    0.39_f32,
+                    x4,
+                    <f32 as ::trocar::Real>::mul_add(0.194_f32, c1, -(0.38_f32 * x0)),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.39_f32,
+                    x6,
+                    <f32 as ::trocar::Real>::mul_add(0.194_f32, s1, 0.38_f32 * x2),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.39_f32,
+                    x8,
+                    <f32 as ::trocar::Real>::mul_add(0.38_f32, s2, 1.037_f32),
+                ),
             ],
         )
     }
@@ -820,43 +1034,67 @@ pub mod dia10_like_zy {
         let x1 = t.sin[0] * t.sin[1];
         let x2 = t.cos[0] * t.cos[1];
         let x3 = t.cos[0] * t.sin[1];
-        let x4 = t.sin[2] * x1 - t.cos[2] * x0;
-        let x5 = t.sin[2] * x0 + t.cos[2] * x1;
-        let x6 = t.cos[2] * x2 - t.sin[2] * x3;
-        let x7 = t.sin[2] * x2 + t.cos[2] * x3;
-        let x8 = t.sin[1] * t.cos[2] + t.cos[1] * t.sin[2];
-        let x9 = t.cos[1] * t.cos[2] - t.sin[1] * t.sin[2];
-        let x10 = t.cos[0] * t.cos[3] - t.sin[3] * x5;
-        let x11 = t.cos[0] * t.sin[3] + t.cos[3] * x5;
-        let x12 = t.sin[0] * t.cos[3] + t.sin[3] * x7;
-        let x13 = t.sin[0] * t.sin[3] - t.cos[3] * x7;
+        let x4 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x1, -(t.cos[2] * x0));
+        let x5 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x0, t.cos[2] * x1);
+        let x6 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x2, -(t.sin[2] * x3));
+        let x7 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x2, t.cos[2] * x3);
+        let x8 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[1],
+            t.cos[2],
+            t.cos[1] * t.sin[2],
+        );
+        let x9 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[1],
+            t.cos[2],
+            -(t.sin[1] * t.sin[2]),
+        );
+        let x10 = <f32 as ::trocar::Real>::mul_add(t.cos[0], t.cos[3], -(t.sin[3] * x5));
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.cos[0], t.sin[3], t.cos[3] * x5);
+        let x12 = <f32 as ::trocar::Real>::mul_add(t.sin[0], t.cos[3], t.sin[3] * x7);
+        let x13 = <f32 as ::trocar::Real>::mul_add(t.sin[0], t.sin[3], -(t.cos[3] * x7));
         let x14 = t.sin[3] * x9;
         let x15 = t.cos[3] * x9;
-        let x16 = t.cos[4] * x11 - t.sin[4] * x4;
-        let x17 = t.cos[4] * x13 - t.sin[4] * x6;
-        let x18 = t.cos[4] * x15 - t.sin[4] * x8;
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x11, -(t.sin[4] * x4));
+        let x17 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x13, -(t.sin[4] * x6));
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x15, -(t.sin[4] * x8));
         (
             [
                 [
-                    t.cos[5] * x10 - t.sin[5] * x16,
-                    t.cos[5] * x12 - t.sin[5] * x17,
-                    -(t.cos[5] * x14 + t.sin[5] * x18),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[5], x10, -(t.sin[5] * x16)),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[5], x12, -(t.sin[5] * x17)),
+                    -<f32 as ::trocar::Real>::mul_add(t.cos[5], x14, t.sin[5] * x18),
                 ],
                 [
-                    t.cos[4] * x4 + t.sin[4] * x11,
-                    t.cos[4] * x6 + t.sin[4] * x13,
-                    t.cos[4] * x8 + t.sin[4] * x15,
+                    <f32 as ::trocar::Real>::mul_add(t.cos[4], x4, t.sin[4] * x11),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[4], x6, t.sin[4] * x13),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[4], x8, t.sin[4] * x15),
                 ],
                 [
-                    t.sin[5] * x10 + t.cos[5] * x16,
-                    t.sin[5] * x12 + t.cos[5] * x17,
-                    t.cos[5] * x18 - t.sin[5] * x14,
+                    <f32 as ::trocar::Real>::mul_add(t.sin[5], x10, t.cos[5] * x16),
+                    <f32 as ::trocar::Real>::mul_add(t.sin[5], x12, t.cos[5] * x17),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[5], x18, -(t.sin[5] * x14)),
                 ],
             ],
             [
-                0.194_f32 * t.cos[0] - 0.38_f32 * x0 + 0.39_f32 * x4,
-                0.194_f32 * t.sin[0] + 0.38_f32 * x2 + 0.39_f32 * x6,
-                1.037_f32 + 0.38_f32 * t.sin[1] + 0.39_f32 * x8,
+                <f32 as ::trocar::Real>::mul_add(
+                    0.39_f32,
+                    x4,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.194_f32,
+                        t.cos[0],
+                        -(0.38_f32 * x0),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.39_f32,
+                    x6,
+                    <f32 as ::trocar::Real>::mul_add(0.194_f32, t.sin[0], 0.38_f32 * x2),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.39_f32,
+                    x8,
+                    <f32 as ::trocar::Real>::mul_add(0.38_f32, t.sin[1], 1.037_f32),
+                ),
             ],
         )
     }
@@ -872,7 +1110,11 @@ pub mod dia10_like_zy {
         let x0 = <f32 as ::trocar::Real>::ONE / p.l_a;
         {
             let w = <f32 as ::trocar::Real>::abs(
-                (x0 * (0.66_f32 - 0.1089_f32 * x0) - <f32 as ::trocar::Real>::ONE) * s7,
+                <f32 as ::trocar::Real>::mul_add(
+                    x0,
+                    <f32 as ::trocar::Real>::mul_add(-0.1089_f32, x0, 0.66_f32),
+                    -<f32 as ::trocar::Real>::ONE,
+                ) * s7,
             );
             if <f32 as ::trocar::Real>::is_finite(w) {
                 w
@@ -892,8 +1134,11 @@ pub mod dia10_like_zy {
         let x0 = <f32 as ::trocar::Real>::ONE / p.l_a;
         {
             let w = <f32 as ::trocar::Real>::abs(
-                (x0 * (0.66_f32 - 0.1089_f32 * x0) - <f32 as ::trocar::Real>::ONE)
-                    * t.sin[6],
+                <f32 as ::trocar::Real>::mul_add(
+                    x0,
+                    <f32 as ::trocar::Real>::mul_add(-0.1089_f32, x0, 0.66_f32),
+                    -<f32 as ::trocar::Real>::ONE,
+                ) * t.sin[6],
             );
             if <f32 as ::trocar::Real>::is_finite(w) {
                 w
@@ -912,7 +1157,11 @@ pub mod dia10_like_zy {
     pub fn manipulability_squared(q: &[f32; N], p: &Params) -> f32 {
         let ([s7], [_]) = <f32 as ::trocar::Real>::sin_cos_array(&[q[6]]);
         let x0 = <f32 as ::trocar::Real>::ONE / p.l_a;
-        let x1 = (x0 * (0.66_f32 - 0.1089_f32 * x0) - <f32 as ::trocar::Real>::ONE) * s7;
+        let x1 = <f32 as ::trocar::Real>::mul_add(
+            x0,
+            <f32 as ::trocar::Real>::mul_add(-0.1089_f32, x0, 0.66_f32),
+            -<f32 as ::trocar::Real>::ONE,
+        ) * s7;
         {
             let w = x1 * x1;
             if <f32 as ::trocar::Real>::is_finite(w) {
@@ -931,8 +1180,11 @@ pub mod dia10_like_zy {
     #[must_use]
     pub fn manipulability_squared_trig(t: &JointTrig, p: &Params) -> f32 {
         let x0 = <f32 as ::trocar::Real>::ONE / p.l_a;
-        let x1 = (x0 * (0.66_f32 - 0.1089_f32 * x0) - <f32 as ::trocar::Real>::ONE)
-            * t.sin[6];
+        let x1 = <f32 as ::trocar::Real>::mul_add(
+            x0,
+            <f32 as ::trocar::Real>::mul_add(-0.1089_f32, x0, 0.66_f32),
+            -<f32 as ::trocar::Real>::ONE,
+        ) * t.sin[6];
         {
             let w = x1 * x1;
             if <f32 as ::trocar::Real>::is_finite(w) {
@@ -1016,7 +1268,11 @@ pub mod dia10_like_zy {
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / (<f32 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+            / <f32 as ::trocar::Real>::mul_add(
+                p.l_a,
+                p.l_a,
+                <f32 as ::trocar::Real>::ONE,
+            );
         let x1 = p.l_a * x0;
         [
             [

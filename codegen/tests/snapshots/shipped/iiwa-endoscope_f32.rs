@@ -94,43 +94,108 @@ pub mod iiwa_endoscope {
         let x1 = c1 * s2;
         let x2 = s1 * c2;
         let x3 = s1 * s2;
-        let x4 = c3 * x0 - s1 * s3;
-        let x5 = s3 * x0 + s1 * c3;
-        let x6 = c3 * x2 + c1 * s3;
-        let x7 = c1 * c3 - s3 * x2;
+        let x4 = <f32 as ::trocar::Real>::mul_add(c3, x0, -(s1 * s3));
+        let x5 = <f32 as ::trocar::Real>::mul_add(s3, x0, s1 * c3);
+        let x6 = <f32 as ::trocar::Real>::mul_add(c3, x2, c1 * s3);
+        let x7 = <f32 as ::trocar::Real>::mul_add(c1, c3, -(s3 * x2));
         let x8 = s2 * c3;
         let x9 = s2 * s3;
-        let x10 = c4 * x4 + s4 * x1;
-        let x11 = c4 * x1 - s4 * x4;
-        let x12 = c4 * x6 + s4 * x3;
-        let x13 = c4 * x3 - s4 * x6;
-        let x14 = c2 * s4 - c4 * x8;
-        let x15 = s4 * x8 + c2 * c4;
-        let x16 = s5 * x5 - c5 * x10;
-        let x17 = s5 * x10 + c5 * x5;
-        let x18 = c5 * x12 + s5 * x7;
-        let x19 = s5 * x12 - c5 * x7;
-        let x20 = c5 * x14 + s5 * x9;
-        let x21 = s5 * x14 - c5 * x9;
-        let x22 = c6 * x16 + s6 * x11;
-        let x23 = c6 * x11 - s6 * x16;
-        let x24 = s6 * x13 - c6 * x18;
-        let x25 = s6 * x18 + c6 * x13;
-        let x26 = s6 * x15 - c6 * x20;
-        let x27 = s6 * x20 + c6 * x15;
+        let x10 = <f32 as ::trocar::Real>::mul_add(c4, x4, s4 * x1);
+        let x11 = <f32 as ::trocar::Real>::mul_add(c4, x1, -(s4 * x4));
+        let x12 = <f32 as ::trocar::Real>::mul_add(c4, x6, s4 * x3);
+        let x13 = <f32 as ::trocar::Real>::mul_add(c4, x3, -(s4 * x6));
+        let x14 = <f32 as ::trocar::Real>::mul_add(c2, s4, -(c4 * x8));
+        let x15 = <f32 as ::trocar::Real>::mul_add(s4, x8, c2 * c4);
+        let x16 = <f32 as ::trocar::Real>::mul_add(s5, x5, -(c5 * x10));
+        let x17 = <f32 as ::trocar::Real>::mul_add(s5, x10, c5 * x5);
+        let x18 = <f32 as ::trocar::Real>::mul_add(c5, x12, s5 * x7);
+        let x19 = <f32 as ::trocar::Real>::mul_add(s5, x12, -(c5 * x7));
+        let x20 = <f32 as ::trocar::Real>::mul_add(c5, x14, s5 * x9);
+        let x21 = <f32 as ::trocar::Real>::mul_add(s5, x14, -(c5 * x9));
+        let x22 = <f32 as ::trocar::Real>::mul_add(c6, x16, s6 * x11);
+        let x23 = <f32 as ::trocar::Real>::mul_add(c6, x11, -(s6 * x16));
+        let x24 = <f32 as ::trocar::Real>::mul_add(s6, x13, -(c6 * x18));
+        let x25 = <f32 as ::trocar::Real>::mul_add(s6, x18, c6 * x13);
+        let x26 = <f32 as ::trocar::Real>::mul_add(s6, x15, -(c6 * x20));
+        let x27 = <f32 as ::trocar::Real>::mul_add(s6, x20, c6 * x15);
         (
             [
-                [-(c7 * x22 + s7 * x17), -(c7 * x24 + s7 * x19), -(c7 * x26 + s7 * x21)],
-                [s7 * x22 - c7 * x17, s7 * x24 - c7 * x19, s7 * x26 - c7 * x21],
+                [
+                    -<f32 as ::trocar::Real>::mul_add(c7, x22, s7 * x17),
+                    -<f32 as ::trocar::Real>::mul_add(c7, x24, s7 * x19),
+                    -<f32 as ::trocar::Real>::mul_add(c7, x26, s7 * x21),
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(s7, x22, -(c7 * x17)),
+                    <f32 as ::trocar::Real>::mul_add(s7, x24, -(c7 * x19)),
+                    <f32 as ::trocar::Real>::mul_add(s7, x26, -(c7 * x21)),
+                ],
                 [x23, x25, x27],
             ],
             [
-                0.2045_f32 * x1 + 0.2155_f32 * x1 + 0.1845_f32 * x11 + 0.2155_f32 * x11
-                    + 0.081_f32 * x23 + 0.345_f32 * x23,
-                0.2045_f32 * x3 + 0.2155_f32 * x3 + 0.1845_f32 * x13 + 0.2155_f32 * x13
-                    + 0.081_f32 * x25 + 0.345_f32 * x25,
-                0.36_f32 + 0.2045_f32 * c2 + 0.2155_f32 * c2 + 0.1845_f32 * x15
-                    + 0.2155_f32 * x15 + 0.081_f32 * x27 + 0.345_f32 * x27,
+                <f32 as ::trocar::Real>::mul_add(
+                    0.345_f32,
+                    x23,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.081_f32,
+                        x23,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.2155_f32,
+                            x11,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.1845_f32,
+                                x11,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    0.2045_f32,
+                                    x1,
+                                    0.2155_f32 * x1,
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.345_f32,
+                    x25,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.081_f32,
+                        x25,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.2155_f32,
+                            x13,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.1845_f32,
+                                x13,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    0.2045_f32,
+                                    x3,
+                                    0.2155_f32 * x3,
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.345_f32,
+                    x27,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.081_f32,
+                        x27,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.2155_f32,
+                            x15,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.1845_f32,
+                                x15,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    0.2155_f32,
+                                    c2,
+                                    <f32 as ::trocar::Real>::mul_add(0.2045_f32, c2, 0.36_f32),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
             ],
         )
     }
@@ -149,52 +214,112 @@ pub mod iiwa_endoscope {
         let x1 = t.cos[0] * t.sin[1];
         let x2 = t.sin[0] * t.cos[1];
         let x3 = t.sin[0] * t.sin[1];
-        let x4 = t.cos[2] * x0 - t.sin[0] * t.sin[2];
-        let x5 = t.sin[2] * x0 + t.sin[0] * t.cos[2];
-        let x6 = t.cos[2] * x2 + t.cos[0] * t.sin[2];
-        let x7 = t.cos[0] * t.cos[2] - t.sin[2] * x2;
+        let x4 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x0, -(t.sin[0] * t.sin[2]));
+        let x5 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x0, t.sin[0] * t.cos[2]);
+        let x6 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x2, t.cos[0] * t.sin[2]);
+        let x7 = <f32 as ::trocar::Real>::mul_add(t.cos[0], t.cos[2], -(t.sin[2] * x2));
         let x8 = t.sin[1] * t.cos[2];
         let x9 = t.sin[1] * t.sin[2];
-        let x10 = t.cos[3] * x4 + t.sin[3] * x1;
-        let x11 = t.cos[3] * x1 - t.sin[3] * x4;
-        let x12 = t.cos[3] * x6 + t.sin[3] * x3;
-        let x13 = t.cos[3] * x3 - t.sin[3] * x6;
-        let x14 = t.cos[1] * t.sin[3] - t.cos[3] * x8;
-        let x15 = t.sin[3] * x8 + t.cos[1] * t.cos[3];
-        let x16 = t.sin[4] * x5 - t.cos[4] * x10;
-        let x17 = t.sin[4] * x10 + t.cos[4] * x5;
-        let x18 = t.cos[4] * x12 + t.sin[4] * x7;
-        let x19 = t.sin[4] * x12 - t.cos[4] * x7;
-        let x20 = t.cos[4] * x14 + t.sin[4] * x9;
-        let x21 = t.sin[4] * x14 - t.cos[4] * x9;
-        let x22 = t.cos[5] * x16 + t.sin[5] * x11;
-        let x23 = t.cos[5] * x11 - t.sin[5] * x16;
-        let x24 = t.sin[5] * x13 - t.cos[5] * x18;
-        let x25 = t.sin[5] * x18 + t.cos[5] * x13;
-        let x26 = t.sin[5] * x15 - t.cos[5] * x20;
-        let x27 = t.sin[5] * x20 + t.cos[5] * x15;
+        let x10 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x4, t.sin[3] * x1);
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x1, -(t.sin[3] * x4));
+        let x12 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x3);
+        let x13 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * x6));
+        let x14 = <f32 as ::trocar::Real>::mul_add(t.cos[1], t.sin[3], -(t.cos[3] * x8));
+        let x15 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[1] * t.cos[3]);
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x5, -(t.cos[4] * x10));
+        let x17 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x10, t.cos[4] * x5);
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x12, t.sin[4] * x7);
+        let x19 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x12, -(t.cos[4] * x7));
+        let x20 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x14, t.sin[4] * x9);
+        let x21 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x14, -(t.cos[4] * x9));
+        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x16, t.sin[5] * x11);
+        let x23 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x11, -(t.sin[5] * x16));
+        let x24 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x13, -(t.cos[5] * x18));
+        let x25 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x18, t.cos[5] * x13);
+        let x26 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x15, -(t.cos[5] * x20));
+        let x27 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x20, t.cos[5] * x15);
         (
             [
                 [
-                    -(t.cos[6] * x22 + t.sin[6] * x17),
-                    -(t.cos[6] * x24 + t.sin[6] * x19),
-                    -(t.cos[6] * x26 + t.sin[6] * x21),
+                    -<f32 as ::trocar::Real>::mul_add(t.cos[6], x22, t.sin[6] * x17),
+                    -<f32 as ::trocar::Real>::mul_add(t.cos[6], x24, t.sin[6] * x19),
+                    -<f32 as ::trocar::Real>::mul_add(t.cos[6], x26, t.sin[6] * x21),
                 ],
                 [
-                    t.sin[6] * x22 - t.cos[6] * x17,
-                    t.sin[6] * x24 - t.cos[6] * x19,
-                    t.sin[6] * x26 - t.cos[6] * x21,
+                    <f32 as ::trocar::Real>::mul_add(t.sin[6], x22, -(t.cos[6] * x17)),
+                    <f32 as ::trocar::Real>::mul_add(t.sin[6], x24, -(t.cos[6] * x19)),
+                    <f32 as ::trocar::Real>::mul_add(t.sin[6], x26, -(t.cos[6] * x21)),
                 ],
                 [x23, x25, x27],
             ],
             [
-                0.2045_f32 * x1 + 0.2155_f32 * x1 + 0.1845_f32 * x11 + 0.2155_f32 * x11
-                    + 0.081_f32 * x23 + 0.345_f32 * x23,
-                0.2045_f32 * x3 + 0.2155_f32 * x3 + 0.1845_f32 * x13 + 0.2155_f32 * x13
-                    + 0.081_f32 * x25 + 0.345_f32 * x25,
-                0.36_f32 + 0.2045_f32 * t.cos[1] + 0.2155_f32 * t.cos[1]
-                    + 0.1845_f32 * x15 + 0.2155_f32 * x15 + 0.081_f32 * x27
-                    + 0.345_f32 * x27,
+                <f32 as ::trocar::Real>::mul_add(
+                    0.345_f32,
+                    x23,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.081_f32,
+                        x23,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.2155_f32,
+                            x11,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.1845_f32,
+                                x11,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    0.2045_f32,
+                                    x1,
+                                    0.2155_f32 * x1,
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.345_f32,
+                    x25,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.081_f32,
+                        x25,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.2155_f32,
+                            x13,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.1845_f32,
+                                x13,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    0.2045_f32,
+                                    x3,
+                                    0.2155_f32 * x3,
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.345_f32,
+                    x27,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.081_f32,
+                        x27,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.2155_f32,
+                            x15,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.1845_f32,
+                                x15,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    0.2155_f32,
+                                    t.cos[1],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        0.2045_f32,
+                                        t.cos[1],
+                                        0.36_f32,
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
             ],
         )
     }
@@ -214,61 +339,75 @@ pub mod iiwa_endoscope {
         let x2 = 0.426_f32 * s6;
         let x3 = s6 * c7;
         let x4 = s6 * s7;
-        let x5 = c5 * x0 - s5 * s7;
-        let x6 = c5 * x1 + s5 * c7;
+        let x5 = <f32 as ::trocar::Real>::mul_add(c5, x0, -(s5 * s7));
+        let x6 = <f32 as ::trocar::Real>::mul_add(c5, x1, s5 * c7);
         let x7 = c5 * s6;
         let x8 = c5 * x2;
-        let x9 = 0.1845_f32 + (0.2155_f32 + 0.426_f32 * c6);
-        let x10 = s5 * x0 + c5 * s7;
-        let x11 = s5 * x1 - c5 * c7;
+        let x9 = 0.1845_f32
+            + <f32 as ::trocar::Real>::mul_add(0.426_f32, c6, 0.2155_f32);
+        let x10 = <f32 as ::trocar::Real>::mul_add(s5, x0, c5 * s7);
+        let x11 = <f32 as ::trocar::Real>::mul_add(s5, x1, -(c5 * c7));
         let x12 = s5 * s6;
         let x13 = s5 * x2;
-        let x14 = c4 * x5 + s4 * x3;
-        let x15 = c4 * x6 + s4 * x4;
-        let x16 = c4 * x7 - s4 * c6;
-        let x17 = c4 * x8 - s4 * x9;
-        let x18 = s4 * x5 - c4 * x3;
-        let x19 = c4 * x4 - s4 * x6;
-        let x20 = s4 * x7 + c4 * c6;
-        let x21 = s3 * x10 - c3 * x14;
-        let x22 = c3 * x15 - s3 * x11;
-        let x23 = s3 * x12 - c3 * x16;
-        let x24 = s3 * x13 - c3 * x17;
-        let x25 = 0.2045_f32 + (0.2155_f32 + (s4 * x8 + c4 * x9));
-        let x26 = s3 * x14 + c3 * x10;
-        let x27 = s3 * x15 + c3 * x11;
-        let x28 = s3 * x16 + c3 * x12;
-        let x29 = s3 * x17 + c3 * x13;
-        let x30 = s2 * x25 - c2 * x24;
+        let x14 = <f32 as ::trocar::Real>::mul_add(c4, x5, s4 * x3);
+        let x15 = <f32 as ::trocar::Real>::mul_add(c4, x6, s4 * x4);
+        let x16 = <f32 as ::trocar::Real>::mul_add(c4, x7, -(s4 * c6));
+        let x17 = <f32 as ::trocar::Real>::mul_add(c4, x8, -(s4 * x9));
+        let x18 = <f32 as ::trocar::Real>::mul_add(s4, x5, -(c4 * x3));
+        let x19 = <f32 as ::trocar::Real>::mul_add(c4, x4, -(s4 * x6));
+        let x20 = <f32 as ::trocar::Real>::mul_add(s4, x7, c4 * c6);
+        let x21 = <f32 as ::trocar::Real>::mul_add(s3, x10, -(c3 * x14));
+        let x22 = <f32 as ::trocar::Real>::mul_add(c3, x15, -(s3 * x11));
+        let x23 = <f32 as ::trocar::Real>::mul_add(s3, x12, -(c3 * x16));
+        let x24 = <f32 as ::trocar::Real>::mul_add(s3, x13, -(c3 * x17));
+        let x25 = 0.2045_f32
+            + (0.2155_f32 + <f32 as ::trocar::Real>::mul_add(s4, x8, c4 * x9));
+        let x26 = <f32 as ::trocar::Real>::mul_add(s3, x14, c3 * x10);
+        let x27 = <f32 as ::trocar::Real>::mul_add(s3, x15, c3 * x11);
+        let x28 = <f32 as ::trocar::Real>::mul_add(s3, x16, c3 * x12);
+        let x29 = <f32 as ::trocar::Real>::mul_add(s3, x17, c3 * x13);
+        let x30 = <f32 as ::trocar::Real>::mul_add(s2, x25, -(c2 * x24));
         [
             [
-                x26 * x30 - x29 * (s2 * x18 - c2 * x21),
-                -(x29 * (s2 * x19 - c2 * x22) + x27 * x30),
-                x28 * x30 - x29 * (s2 * x20 - c2 * x23),
-                s2 * x21 + c2 * x18,
-                s2 * x22 + c2 * x19,
-                s2 * x23 + c2 * x20,
+                <f32 as ::trocar::Real>::mul_add(
+                    x26,
+                    x30,
+                    -(x29 * <f32 as ::trocar::Real>::mul_add(s2, x18, -(c2 * x21))),
+                ),
+                -<f32 as ::trocar::Real>::mul_add(
+                    x29,
+                    <f32 as ::trocar::Real>::mul_add(s2, x19, -(c2 * x22)),
+                    x27 * x30,
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    x28,
+                    x30,
+                    -(x29 * <f32 as ::trocar::Real>::mul_add(s2, x20, -(c2 * x23))),
+                ),
+                <f32 as ::trocar::Real>::mul_add(s2, x21, c2 * x18),
+                <f32 as ::trocar::Real>::mul_add(s2, x22, c2 * x19),
+                <f32 as ::trocar::Real>::mul_add(s2, x23, c2 * x20),
             ],
             [
-                x18 * x24 - x21 * x25,
-                x19 * x24 - x22 * x25,
-                x20 * x24 - x23 * x25,
+                <f32 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25)),
+                <f32 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25)),
+                <f32 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25)),
                 x26,
                 -x27,
                 x28,
             ],
             [
-                x10 * x17 - x13 * x14,
-                x13 * x15 - x11 * x17,
-                x12 * x17 - x13 * x16,
+                <f32 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14)),
+                <f32 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
+                <f32 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16)),
                 x18,
                 x19,
                 x20,
             ],
             [
-                -(x5 * x9 + x3 * x8),
-                x6 * x9 + x4 * x8,
-                c6 * x8 - x7 * x9,
+                -<f32 as ::trocar::Real>::mul_add(x5, x9, x3 * x8),
+                <f32 as ::trocar::Real>::mul_add(x6, x9, x4 * x8),
+                <f32 as ::trocar::Real>::mul_add(c6, x8, -(x7 * x9)),
                 -x10,
                 x11,
                 -x12,
@@ -305,61 +444,86 @@ pub mod iiwa_endoscope {
         let x2 = 0.426_f32 * t.sin[5];
         let x3 = t.sin[5] * t.cos[6];
         let x4 = t.sin[5] * t.sin[6];
-        let x5 = t.cos[4] * x0 - t.sin[4] * t.sin[6];
-        let x6 = t.cos[4] * x1 + t.sin[4] * t.cos[6];
+        let x5 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x0, -(t.sin[4] * t.sin[6]));
+        let x6 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x1, t.sin[4] * t.cos[6]);
         let x7 = t.cos[4] * t.sin[5];
         let x8 = t.cos[4] * x2;
-        let x9 = 0.1845_f32 + (0.2155_f32 + 0.426_f32 * t.cos[5]);
-        let x10 = t.sin[4] * x0 + t.cos[4] * t.sin[6];
-        let x11 = t.sin[4] * x1 - t.cos[4] * t.cos[6];
+        let x9 = 0.1845_f32
+            + <f32 as ::trocar::Real>::mul_add(0.426_f32, t.cos[5], 0.2155_f32);
+        let x10 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x0, t.cos[4] * t.sin[6]);
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x1, -(t.cos[4] * t.cos[6]));
         let x12 = t.sin[4] * t.sin[5];
         let x13 = t.sin[4] * x2;
-        let x14 = t.cos[3] * x5 + t.sin[3] * x3;
-        let x15 = t.cos[3] * x6 + t.sin[3] * x4;
-        let x16 = t.cos[3] * x7 - t.sin[3] * t.cos[5];
-        let x17 = t.cos[3] * x8 - t.sin[3] * x9;
-        let x18 = t.sin[3] * x5 - t.cos[3] * x3;
-        let x19 = t.cos[3] * x4 - t.sin[3] * x6;
-        let x20 = t.sin[3] * x7 + t.cos[3] * t.cos[5];
-        let x21 = t.sin[2] * x10 - t.cos[2] * x14;
-        let x22 = t.cos[2] * x15 - t.sin[2] * x11;
-        let x23 = t.sin[2] * x12 - t.cos[2] * x16;
-        let x24 = t.sin[2] * x13 - t.cos[2] * x17;
-        let x25 = 0.2045_f32 + (0.2155_f32 + (t.sin[3] * x8 + t.cos[3] * x9));
-        let x26 = t.sin[2] * x14 + t.cos[2] * x10;
-        let x27 = t.sin[2] * x15 + t.cos[2] * x11;
-        let x28 = t.sin[2] * x16 + t.cos[2] * x12;
-        let x29 = t.sin[2] * x17 + t.cos[2] * x13;
-        let x30 = t.sin[1] * x25 - t.cos[1] * x24;
+        let x14 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x5, t.sin[3] * x3);
+        let x15 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x7, -(t.sin[3] * t.cos[5]));
+        let x17 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x5, -(t.cos[3] * x3));
+        let x19 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x4, -(t.sin[3] * x6));
+        let x20 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x7, t.cos[3] * t.cos[5]);
+        let x21 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x10, -(t.cos[2] * x14));
+        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x15, -(t.sin[2] * x11));
+        let x23 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x12, -(t.cos[2] * x16));
+        let x24 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x13, -(t.cos[2] * x17));
+        let x25 = 0.2045_f32
+            + (0.2155_f32
+                + <f32 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9));
+        let x26 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x14, t.cos[2] * x10);
+        let x27 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x15, t.cos[2] * x11);
+        let x28 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x12);
+        let x29 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x13);
+        let x30 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x25, -(t.cos[1] * x24));
         [
             [
-                x26 * x30 - x29 * (t.sin[1] * x18 - t.cos[1] * x21),
-                -(x29 * (t.sin[1] * x19 - t.cos[1] * x22) + x27 * x30),
-                x28 * x30 - x29 * (t.sin[1] * x20 - t.cos[1] * x23),
-                t.sin[1] * x21 + t.cos[1] * x18,
-                t.sin[1] * x22 + t.cos[1] * x19,
-                t.sin[1] * x23 + t.cos[1] * x20,
+                <f32 as ::trocar::Real>::mul_add(
+                    x26,
+                    x30,
+                    -(x29
+                        * <f32 as ::trocar::Real>::mul_add(
+                            t.sin[1],
+                            x18,
+                            -(t.cos[1] * x21),
+                        )),
+                ),
+                -<f32 as ::trocar::Real>::mul_add(
+                    x29,
+                    <f32 as ::trocar::Real>::mul_add(t.sin[1], x19, -(t.cos[1] * x22)),
+                    x27 * x30,
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    x28,
+                    x30,
+                    -(x29
+                        * <f32 as ::trocar::Real>::mul_add(
+                            t.sin[1],
+                            x20,
+                            -(t.cos[1] * x23),
+                        )),
+                ),
+                <f32 as ::trocar::Real>::mul_add(t.sin[1], x21, t.cos[1] * x18),
+                <f32 as ::trocar::Real>::mul_add(t.sin[1], x22, t.cos[1] * x19),
+                <f32 as ::trocar::Real>::mul_add(t.sin[1], x23, t.cos[1] * x20),
             ],
             [
-                x18 * x24 - x21 * x25,
-                x19 * x24 - x22 * x25,
-                x20 * x24 - x23 * x25,
+                <f32 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25)),
+                <f32 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25)),
+                <f32 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25)),
                 x26,
                 -x27,
                 x28,
             ],
             [
-                x10 * x17 - x13 * x14,
-                x13 * x15 - x11 * x17,
-                x12 * x17 - x13 * x16,
+                <f32 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14)),
+                <f32 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
+                <f32 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16)),
                 x18,
                 x19,
                 x20,
             ],
             [
-                -(x5 * x9 + x3 * x8),
-                x6 * x9 + x4 * x8,
-                t.cos[5] * x8 - x7 * x9,
+                -<f32 as ::trocar::Real>::mul_add(x5, x9, x3 * x8),
+                <f32 as ::trocar::Real>::mul_add(x6, x9, x4 * x8),
+                <f32 as ::trocar::Real>::mul_add(t.cos[5], x8, -(x7 * x9)),
                 -x10,
                 x11,
                 -x12,
@@ -489,8 +653,8 @@ pub mod iiwa_endoscope {
     #[must_use]
     pub fn constraint_jacobian_c(_q: &[f32; N], p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / (p.l_a * (0.09_f32 + p.l_a) + 1.002025_f32);
-        let x1 = x0 * (1.015525_f32 + 0.345_f32 * p.l_a);
+            / <f32 as ::trocar::Real>::mul_add(p.l_a, 0.09_f32 + p.l_a, 1.002025_f32);
+        let x1 = x0 * <f32 as ::trocar::Real>::mul_add(0.345_f32, p.l_a, 1.015525_f32);
         let x2 = x0 * (p.l_a + 0.045_f32);
         [
             [
@@ -520,8 +684,8 @@ pub mod iiwa_endoscope {
     #[must_use]
     pub fn constraint_jacobian_c_trig(_t: &JointTrig, p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / (p.l_a * (0.09_f32 + p.l_a) + 1.002025_f32);
-        let x1 = x0 * (1.015525_f32 + 0.345_f32 * p.l_a);
+            / <f32 as ::trocar::Real>::mul_add(p.l_a, 0.09_f32 + p.l_a, 1.002025_f32);
+        let x1 = x0 * <f32 as ::trocar::Real>::mul_add(0.345_f32, p.l_a, 1.015525_f32);
         let x2 = x0 * (p.l_a + 0.045_f32);
         [
             [
@@ -558,61 +722,75 @@ pub mod iiwa_endoscope {
         let x2 = 0.081_f32 * s6;
         let x3 = s6 * c7;
         let x4 = s6 * s7;
-        let x5 = c5 * x0 - s5 * s7;
-        let x6 = c5 * x1 + s5 * c7;
+        let x5 = <f32 as ::trocar::Real>::mul_add(c5, x0, -(s5 * s7));
+        let x6 = <f32 as ::trocar::Real>::mul_add(c5, x1, s5 * c7);
         let x7 = c5 * s6;
         let x8 = c5 * x2;
-        let x9 = 0.1845_f32 + (0.2155_f32 + 0.081_f32 * c6);
-        let x10 = s5 * x0 + c5 * s7;
-        let x11 = s5 * x1 - c5 * c7;
+        let x9 = 0.1845_f32
+            + <f32 as ::trocar::Real>::mul_add(0.081_f32, c6, 0.2155_f32);
+        let x10 = <f32 as ::trocar::Real>::mul_add(s5, x0, c5 * s7);
+        let x11 = <f32 as ::trocar::Real>::mul_add(s5, x1, -(c5 * c7));
         let x12 = s5 * s6;
         let x13 = s5 * x2;
-        let x14 = c4 * x5 + s4 * x3;
-        let x15 = c4 * x6 + s4 * x4;
-        let x16 = c4 * x7 - s4 * c6;
-        let x17 = c4 * x8 - s4 * x9;
-        let x18 = s4 * x5 - c4 * x3;
-        let x19 = c4 * x4 - s4 * x6;
-        let x20 = s4 * x7 + c4 * c6;
-        let x21 = s3 * x10 - c3 * x14;
-        let x22 = c3 * x15 - s3 * x11;
-        let x23 = s3 * x12 - c3 * x16;
-        let x24 = s3 * x13 - c3 * x17;
-        let x25 = 0.2045_f32 + (0.2155_f32 + (s4 * x8 + c4 * x9));
-        let x26 = s3 * x14 + c3 * x10;
-        let x27 = s3 * x15 + c3 * x11;
-        let x28 = s3 * x16 + c3 * x12;
-        let x29 = s3 * x17 + c3 * x13;
-        let x30 = s2 * x25 - c2 * x24;
+        let x14 = <f32 as ::trocar::Real>::mul_add(c4, x5, s4 * x3);
+        let x15 = <f32 as ::trocar::Real>::mul_add(c4, x6, s4 * x4);
+        let x16 = <f32 as ::trocar::Real>::mul_add(c4, x7, -(s4 * c6));
+        let x17 = <f32 as ::trocar::Real>::mul_add(c4, x8, -(s4 * x9));
+        let x18 = <f32 as ::trocar::Real>::mul_add(s4, x5, -(c4 * x3));
+        let x19 = <f32 as ::trocar::Real>::mul_add(c4, x4, -(s4 * x6));
+        let x20 = <f32 as ::trocar::Real>::mul_add(s4, x7, c4 * c6);
+        let x21 = <f32 as ::trocar::Real>::mul_add(s3, x10, -(c3 * x14));
+        let x22 = <f32 as ::trocar::Real>::mul_add(c3, x15, -(s3 * x11));
+        let x23 = <f32 as ::trocar::Real>::mul_add(s3, x12, -(c3 * x16));
+        let x24 = <f32 as ::trocar::Real>::mul_add(s3, x13, -(c3 * x17));
+        let x25 = 0.2045_f32
+            + (0.2155_f32 + <f32 as ::trocar::Real>::mul_add(s4, x8, c4 * x9));
+        let x26 = <f32 as ::trocar::Real>::mul_add(s3, x14, c3 * x10);
+        let x27 = <f32 as ::trocar::Real>::mul_add(s3, x15, c3 * x11);
+        let x28 = <f32 as ::trocar::Real>::mul_add(s3, x16, c3 * x12);
+        let x29 = <f32 as ::trocar::Real>::mul_add(s3, x17, c3 * x13);
+        let x30 = <f32 as ::trocar::Real>::mul_add(s2, x25, -(c2 * x24));
         [
             [
-                x26 * x30 - x29 * (s2 * x18 - c2 * x21),
-                -(x29 * (s2 * x19 - c2 * x22) + x27 * x30),
-                x28 * x30 - x29 * (s2 * x20 - c2 * x23),
-                s2 * x21 + c2 * x18,
-                s2 * x22 + c2 * x19,
-                s2 * x23 + c2 * x20,
+                <f32 as ::trocar::Real>::mul_add(
+                    x26,
+                    x30,
+                    -(x29 * <f32 as ::trocar::Real>::mul_add(s2, x18, -(c2 * x21))),
+                ),
+                -<f32 as ::trocar::Real>::mul_add(
+                    x29,
+                    <f32 as ::trocar::Real>::mul_add(s2, x19, -(c2 * x22)),
+                    x27 * x30,
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    x28,
+                    x30,
+                    -(x29 * <f32 as ::trocar::Real>::mul_add(s2, x20, -(c2 * x23))),
+                ),
+                <f32 as ::trocar::Real>::mul_add(s2, x21, c2 * x18),
+                <f32 as ::trocar::Real>::mul_add(s2, x22, c2 * x19),
+                <f32 as ::trocar::Real>::mul_add(s2, x23, c2 * x20),
             ],
             [
-                x18 * x24 - x21 * x25,
-                x19 * x24 - x22 * x25,
-                x20 * x24 - x23 * x25,
+                <f32 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25)),
+                <f32 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25)),
+                <f32 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25)),
                 x26,
                 -x27,
                 x28,
             ],
             [
-                x10 * x17 - x13 * x14,
-                x13 * x15 - x11 * x17,
-                x12 * x17 - x13 * x16,
+                <f32 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14)),
+                <f32 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
+                <f32 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16)),
                 x18,
                 x19,
                 x20,
             ],
             [
-                -(x5 * x9 + x3 * x8),
-                x6 * x9 + x4 * x8,
-                c6 * x8 - x7 * x9,
+                -<f32 as ::trocar::Real>::mul_add(x5, x9, x3 * x8),
+                <f32 as ::trocar::Real>::mul_add(x6, x9, x4 * x8),
+                <f32 as ::trocar::Real>::mul_add(c6, x8, -(x7 * x9)),
                 -x10,
                 x11,
                 -x12,
@@ -649,61 +827,86 @@ pub mod iiwa_endoscope {
         let x2 = 0.081_f32 * t.sin[5];
         let x3 = t.sin[5] * t.cos[6];
         let x4 = t.sin[5] * t.sin[6];
-        let x5 = t.cos[4] * x0 - t.sin[4] * t.sin[6];
-        let x6 = t.cos[4] * x1 + t.sin[4] * t.cos[6];
+        let x5 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x0, -(t.sin[4] * t.sin[6]));
+        let x6 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x1, t.sin[4] * t.cos[6]);
         let x7 = t.cos[4] * t.sin[5];
         let x8 = t.cos[4] * x2;
-        let x9 = 0.1845_f32 + (0.2155_f32 + 0.081_f32 * t.cos[5]);
-        let x10 = t.sin[4] * x0 + t.cos[4] * t.sin[6];
-        let x11 = t.sin[4] * x1 - t.cos[4] * t.cos[6];
+        let x9 = 0.1845_f32
+            + <f32 as ::trocar::Real>::mul_add(0.081_f32, t.cos[5], 0.2155_f32);
+        let x10 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x0, t.cos[4] * t.sin[6]);
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x1, -(t.cos[4] * t.cos[6]));
         let x12 = t.sin[4] * t.sin[5];
         let x13 = t.sin[4] * x2;
-        let x14 = t.cos[3] * x5 + t.sin[3] * x3;
-        let x15 = t.cos[3] * x6 + t.sin[3] * x4;
-        let x16 = t.cos[3] * x7 - t.sin[3] * t.cos[5];
-        let x17 = t.cos[3] * x8 - t.sin[3] * x9;
-        let x18 = t.sin[3] * x5 - t.cos[3] * x3;
-        let x19 = t.cos[3] * x4 - t.sin[3] * x6;
-        let x20 = t.sin[3] * x7 + t.cos[3] * t.cos[5];
-        let x21 = t.sin[2] * x10 - t.cos[2] * x14;
-        let x22 = t.cos[2] * x15 - t.sin[2] * x11;
-        let x23 = t.sin[2] * x12 - t.cos[2] * x16;
-        let x24 = t.sin[2] * x13 - t.cos[2] * x17;
-        let x25 = 0.2045_f32 + (0.2155_f32 + (t.sin[3] * x8 + t.cos[3] * x9));
-        let x26 = t.sin[2] * x14 + t.cos[2] * x10;
-        let x27 = t.sin[2] * x15 + t.cos[2] * x11;
-        let x28 = t.sin[2] * x16 + t.cos[2] * x12;
-        let x29 = t.sin[2] * x17 + t.cos[2] * x13;
-        let x30 = t.sin[1] * x25 - t.cos[1] * x24;
+        let x14 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x5, t.sin[3] * x3);
+        let x15 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x7, -(t.sin[3] * t.cos[5]));
+        let x17 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x5, -(t.cos[3] * x3));
+        let x19 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x4, -(t.sin[3] * x6));
+        let x20 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x7, t.cos[3] * t.cos[5]);
+        let x21 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x10, -(t.cos[2] * x14));
+        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x15, -(t.sin[2] * x11));
+        let x23 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x12, -(t.cos[2] * x16));
+        let x24 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x13, -(t.cos[2] * x17));
+        let x25 = 0.2045_f32
+            + (0.2155_f32
+                + <f32 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9));
+        let x26 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x14, t.cos[2] * x10);
+        let x27 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x15, t.cos[2] * x11);
+        let x28 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x12);
+        let x29 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x13);
+        let x30 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x25, -(t.cos[1] * x24));
         [
             [
-                x26 * x30 - x29 * (t.sin[1] * x18 - t.cos[1] * x21),
-                -(x29 * (t.sin[1] * x19 - t.cos[1] * x22) + x27 * x30),
-                x28 * x30 - x29 * (t.sin[1] * x20 - t.cos[1] * x23),
-                t.sin[1] * x21 + t.cos[1] * x18,
-                t.sin[1] * x22 + t.cos[1] * x19,
-                t.sin[1] * x23 + t.cos[1] * x20,
+                <f32 as ::trocar::Real>::mul_add(
+                    x26,
+                    x30,
+                    -(x29
+                        * <f32 as ::trocar::Real>::mul_add(
+                            t.sin[1],
+                            x18,
+                            -(t.cos[1] * x21),
+                        )),
+                ),
+                -<f32 as ::trocar::Real>::mul_add(
+                    x29,
+                    <f32 as ::trocar::Real>::mul_add(t.sin[1], x19, -(t.cos[1] * x22)),
+                    x27 * x30,
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    x28,
+                    x30,
+                    -(x29
+                        * <f32 as ::trocar::Real>::mul_add(
+                            t.sin[1],
+                            x20,
+                            -(t.cos[1] * x23),
+                        )),
+                ),
+                <f32 as ::trocar::Real>::mul_add(t.sin[1], x21, t.cos[1] * x18),
+                <f32 as ::trocar::Real>::mul_add(t.sin[1], x22, t.cos[1] * x19),
+                <f32 as ::trocar::Real>::mul_add(t.sin[1], x23, t.cos[1] * x20),
             ],
             [
-                x18 * x24 - x21 * x25,
-                x19 * x24 - x22 * x25,
-                x20 * x24 - x23 * x25,
+                <f32 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25)),
+                <f32 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25)),
+                <f32 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25)),
                 x26,
                 -x27,
                 x28,
             ],
             [
-                x10 * x17 - x13 * x14,
-                x13 * x15 - x11 * x17,
-                x12 * x17 - x13 * x16,
+                <f32 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14)),
+                <f32 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
+                <f32 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16)),
                 x18,
                 x19,
                 x20,
             ],
             [
-                -(x5 * x9 + x3 * x8),
-                x6 * x9 + x4 * x8,
-                t.cos[5] * x8 - x7 * x9,
+                -<f32 as ::trocar::Real>::mul_add(x5, x9, x3 * x8),
+                <f32 as ::trocar::Real>::mul_add(x6, x9, x4 * x8),
+                <f32 as ::trocar::Real>::mul_add(t.cos[5], x8, -(x7 * x9)),
                 -x10,
                 x11,
                 -x12,
@@ -749,43 +952,96 @@ pub mod iiwa_endoscope {
         let x1 = c1 * s2;
         let x2 = s1 * c2;
         let x3 = s1 * s2;
-        let x4 = c3 * x0 - s1 * s3;
-        let x5 = s3 * x0 + s1 * c3;
-        let x6 = c3 * x2 + c1 * s3;
-        let x7 = c1 * c3 - s3 * x2;
+        let x4 = <f32 as ::trocar::Real>::mul_add(c3, x0, -(s1 * s3));
+        let x5 = <f32 as ::trocar::Real>::mul_add(s3, x0, s1 * c3);
+        let x6 = <f32 as ::trocar::Real>::mul_add(c3, x2, c1 * s3);
+        let x7 = <f32 as ::trocar::Real>::mul_add(c1, c3, -(s3 * x2));
         let x8 = s2 * c3;
         let x9 = s2 * s3;
-        let x10 = c4 * x4 + s4 * x1;
-        let x11 = c4 * x1 - s4 * x4;
-        let x12 = c4 * x6 + s4 * x3;
-        let x13 = c4 * x3 - s4 * x6;
-        let x14 = c2 * s4 - c4 * x8;
-        let x15 = s4 * x8 + c2 * c4;
-        let x16 = s5 * x5 - c5 * x10;
-        let x17 = s5 * x10 + c5 * x5;
-        let x18 = c5 * x12 + s5 * x7;
-        let x19 = s5 * x12 - c5 * x7;
-        let x20 = c5 * x14 + s5 * x9;
-        let x21 = s5 * x14 - c5 * x9;
-        let x22 = c6 * x16 + s6 * x11;
-        let x23 = c6 * x11 - s6 * x16;
-        let x24 = s6 * x13 - c6 * x18;
-        let x25 = s6 * x18 + c6 * x13;
-        let x26 = s6 * x15 - c6 * x20;
-        let x27 = s6 * x20 + c6 * x15;
+        let x10 = <f32 as ::trocar::Real>::mul_add(c4, x4, s4 * x1);
+        let x11 = <f32 as ::trocar::Real>::mul_add(c4, x1, -(s4 * x4));
+        let x12 = <f32 as ::trocar::Real>::mul_add(c4, x6, s4 * x3);
+        let x13 = <f32 as ::trocar::Real>::mul_add(c4, x3, -(s4 * x6));
+        let x14 = <f32 as ::trocar::Real>::mul_add(c2, s4, -(c4 * x8));
+        let x15 = <f32 as ::trocar::Real>::mul_add(s4, x8, c2 * c4);
+        let x16 = <f32 as ::trocar::Real>::mul_add(s5, x5, -(c5 * x10));
+        let x17 = <f32 as ::trocar::Real>::mul_add(s5, x10, c5 * x5);
+        let x18 = <f32 as ::trocar::Real>::mul_add(c5, x12, s5 * x7);
+        let x19 = <f32 as ::trocar::Real>::mul_add(s5, x12, -(c5 * x7));
+        let x20 = <f32 as ::trocar::Real>::mul_add(c5, x14, s5 * x9);
+        let x21 = <f32 as ::trocar::Real>::mul_add(s5, x14, -(c5 * x9));
+        let x22 = <f32 as ::trocar::Real>::mul_add(c6, x16, s6 * x11);
+        let x23 = <f32 as ::trocar::Real>::mul_add(c6, x11, -(s6 * x16));
+        let x24 = <f32 as ::trocar::Real>::mul_add(s6, x13, -(c6 * x18));
+        let x25 = <f32 as ::trocar::Real>::mul_add(s6, x18, c6 * x13);
+        let x26 = <f32 as ::trocar::Real>::mul_add(s6, x15, -(c6 * x20));
+        let x27 = <f32 as ::trocar::Real>::mul_add(s6, x20, c6 * x15);
         (
             [
-                [-(c7 * x22 + s7 * x17), -(c7 * x24 + s7 * x19), -(c7 * x26 + s7 * x21)],
-                [s7 * x22 - c7 * x17, s7 * x24 - c7 * x19, s7 * x26 - c7 * x21],
+                [
+                    -<f32 as ::trocar::Real>::mul_add(c7, x22, s7 * x17),
+                    -<f32 as ::trocar::Real>::mul_add(c7, x24, s7 * x19),
+                    -<f32 as ::trocar::Real>::mul_add(c7, x26, s7 * x21),
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(s7, x22, -(c7 * x17)),
+                    <f32 as ::trocar::Real>::mul_add(s7, x24, -(c7 * x19)),
+                    <f32 as ::trocar::Real>::mul_add(s7, x26, -(c7 * x21)),
+                ],
                 [x23, x25, x27],
             ],
             [
-                0.2045_f32 * x1 + 0.2155_f32 * x1 + 0.1845_f32 * x11 + 0.2155_f32 * x11
-                    + 0.081_f32 * x23,
-                0.2045_f32 * x3 + 0.2155_f32 * x3 + 0.1845_f32 * x13 + 0.2155_f32 * x13
-                    + 0.081_f32 * x25,
-                0.36_f32 + 0.2045_f32 * c2 + 0.2155_f32 * c2 + 0.1845_f32 * x15
-                    + 0.2155_f32 * x15 + 0.081_f32 * x27,
+                <f32 as ::trocar::Real>::mul_add(
+                    0.081_f32,
+                    x23,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.2155_f32,
+                        x11,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.1845_f32,
+                            x11,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.2045_f32,
+                                x1,
+                                0.2155_f32 * x1,
+                            ),
+                        ),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.081_f32,
+                    x25,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.2155_f32,
+                        x13,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.1845_f32,
+                            x13,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.2045_f32,
+                                x3,
+                                0.2155_f32 * x3,
+                            ),
+                        ),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.081_f32,
+                    x27,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.2155_f32,
+                        x15,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.1845_f32,
+                            x15,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.2155_f32,
+                                c2,
+                                <f32 as ::trocar::Real>::mul_add(0.2045_f32, c2, 0.36_f32),
+                            ),
+                        ),
+                    ),
+                ),
             ],
         )
     }
@@ -804,51 +1060,100 @@ pub mod iiwa_endoscope {
         let x1 = t.cos[0] * t.sin[1];
         let x2 = t.sin[0] * t.cos[1];
         let x3 = t.sin[0] * t.sin[1];
-        let x4 = t.cos[2] * x0 - t.sin[0] * t.sin[2];
-        let x5 = t.sin[2] * x0 + t.sin[0] * t.cos[2];
-        let x6 = t.cos[2] * x2 + t.cos[0] * t.sin[2];
-        let x7 = t.cos[0] * t.cos[2] - t.sin[2] * x2;
+        let x4 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x0, -(t.sin[0] * t.sin[2]));
+        let x5 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x0, t.sin[0] * t.cos[2]);
+        let x6 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x2, t.cos[0] * t.sin[2]);
+        let x7 = <f32 as ::trocar::Real>::mul_add(t.cos[0], t.cos[2], -(t.sin[2] * x2));
         let x8 = t.sin[1] * t.cos[2];
         let x9 = t.sin[1] * t.sin[2];
-        let x10 = t.cos[3] * x4 + t.sin[3] * x1;
-        let x11 = t.cos[3] * x1 - t.sin[3] * x4;
-        let x12 = t.cos[3] * x6 + t.sin[3] * x3;
-        let x13 = t.cos[3] * x3 - t.sin[3] * x6;
-        let x14 = t.cos[1] * t.sin[3] - t.cos[3] * x8;
-        let x15 = t.sin[3] * x8 + t.cos[1] * t.cos[3];
-        let x16 = t.sin[4] * x5 - t.cos[4] * x10;
-        let x17 = t.sin[4] * x10 + t.cos[4] * x5;
-        let x18 = t.cos[4] * x12 + t.sin[4] * x7;
-        let x19 = t.sin[4] * x12 - t.cos[4] * x7;
-        let x20 = t.cos[4] * x14 + t.sin[4] * x9;
-        let x21 = t.sin[4] * x14 - t.cos[4] * x9;
-        let x22 = t.cos[5] * x16 + t.sin[5] * x11;
-        let x23 = t.cos[5] * x11 - t.sin[5] * x16;
-        let x24 = t.sin[5] * x13 - t.cos[5] * x18;
-        let x25 = t.sin[5] * x18 + t.cos[5] * x13;
-        let x26 = t.sin[5] * x15 - t.cos[5] * x20;
-        let x27 = t.sin[5] * x20 + t.cos[5] * x15;
+        let x10 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x4, t.sin[3] * x1);
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x1, -(t.sin[3] * x4));
+        let x12 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x3);
+        let x13 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * x6));
+        let x14 = <f32 as ::trocar::Real>::mul_add(t.cos[1], t.sin[3], -(t.cos[3] * x8));
+        let x15 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[1] * t.cos[3]);
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x5, -(t.cos[4] * x10));
+        let x17 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x10, t.cos[4] * x5);
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x12, t.sin[4] * x7);
+        let x19 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x12, -(t.cos[4] * x7));
+        let x20 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x14, t.sin[4] * x9);
+        let x21 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x14, -(t.cos[4] * x9));
+        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x16, t.sin[5] * x11);
+        let x23 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x11, -(t.sin[5] * x16));
+        let x24 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x13, -(t.cos[5] * x18));
+        let x25 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x18, t.cos[5] * x13);
+        let x26 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x15, -(t.cos[5] * x20));
+        let x27 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x20, t.cos[5] * x15);
         (
             [
                 [
-                    -(t.cos[6] * x22 + t.sin[6] * x17),
-                    -(t.cos[6] * x24 + t.sin[6] * x19),
-                    -(t.cos[6] * x26 + t.sin[6] * x21),
+                    -<f32 as ::trocar::Real>::mul_add(t.cos[6], x22, t.sin[6] * x17),
+                    -<f32 as ::trocar::Real>::mul_add(t.cos[6], x24, t.sin[6] * x19),
+                    -<f32 as ::trocar::Real>::mul_add(t.cos[6], x26, t.sin[6] * x21),
                 ],
                 [
-                    t.sin[6] * x22 - t.cos[6] * x17,
-                    t.sin[6] * x24 - t.cos[6] * x19,
-                    t.sin[6] * x26 - t.cos[6] * x21,
+                    <f32 as ::trocar::Real>::mul_add(t.sin[6], x22, -(t.cos[6] * x17)),
+                    <f32 as ::trocar::Real>::mul_add(t.sin[6], x24, -(t.cos[6] * x19)),
+                    <f32 as ::trocar::Real>::mul_add(t.sin[6], x26, -(t.cos[6] * x21)),
                 ],
                 [x23, x25, x27],
             ],
             [
-                0.2045_f32 * x1 + 0.2155_f32 * x1 + 0.1845_f32 * x11 + 0.2155_f32 * x11
-                    + 0.081_f32 * x23,
-                0.2045_f32 * x3 + 0.2155_f32 * x3 + 0.1845_f32 * x13 + 0.2155_f32 * x13
-                    + 0.081_f32 * x25,
-                0.36_f32 + 0.2045_f32 * t.cos[1] + 0.2155_f32 * t.cos[1]
-                    + 0.1845_f32 * x15 + 0.2155_f32 * x15 + 0.081_f32 * x27,
+                <f32 as ::trocar::Real>::mul_add(
+                    0.081_f32,
+                    x23,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.2155_f32,
+                        x11,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.1845_f32,
+                            x11,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.2045_f32,
+                                x1,
+                                0.2155_f32 * x1,
+                            ),
+                        ),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.081_f32,
+                    x25,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.2155_f32,
+                        x13,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.1845_f32,
+                            x13,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.2045_f32,
+                                x3,
+                                0.2155_f32 * x3,
+                            ),
+                        ),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.081_f32,
+                    x27,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.2155_f32,
+                        x15,
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.1845_f32,
+                            x15,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.2155_f32,
+                                t.cos[1],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    0.2045_f32,
+                                    t.cos[1],
+                                    0.36_f32,
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
             ],
         )
     }
@@ -861,7 +1166,9 @@ pub mod iiwa_endoscope {
     #[must_use]
     pub fn manipulability(_q: &[f32; N], p: &Params) -> f32 {
         {
-            let w = <f32 as ::trocar::Real>::abs(p.l_a * (p.l_a - 0.6_f32) + 0.09_f32);
+            let w = <f32 as ::trocar::Real>::abs(
+                <f32 as ::trocar::Real>::mul_add(p.l_a, p.l_a - 0.6_f32, 0.09_f32),
+            );
             if <f32 as ::trocar::Real>::is_finite(w) {
                 w
             } else {
@@ -878,7 +1185,9 @@ pub mod iiwa_endoscope {
     #[must_use]
     pub fn manipulability_trig(_t: &JointTrig, p: &Params) -> f32 {
         {
-            let w = <f32 as ::trocar::Real>::abs(p.l_a * (p.l_a - 0.6_f32) + 0.09_f32);
+            let w = <f32 as ::trocar::Real>::abs(
+                <f32 as ::trocar::Real>::mul_add(p.l_a, p.l_a - 0.6_f32, 0.09_f32),
+            );
             if <f32 as ::trocar::Real>::is_finite(w) {
                 w
             } else {
@@ -894,7 +1203,7 @@ pub mod iiwa_endoscope {
     #[inline]
     #[must_use]
     pub fn manipulability_squared(_q: &[f32; N], p: &Params) -> f32 {
-        let x0 = p.l_a * (p.l_a - 0.6_f32) + 0.09_f32;
+        let x0 = <f32 as ::trocar::Real>::mul_add(p.l_a, p.l_a - 0.6_f32, 0.09_f32);
         {
             let w = x0 * x0;
             if <f32 as ::trocar::Real>::is_finite(w) {
@@ -912,7 +1221,7 @@ pub mod iiwa_endoscope {
     #[inline]
     #[must_use]
     pub fn manipulability_squared_trig(_t: &JointTrig, p: &Params) -> f32 {
-        let x0 = p.l_a * (p.l_a - 0.6_f32) + 0.09_f32;
+        let x0 = <f32 as ::trocar::Real>::mul_add(p.l_a, p.l_a - 0.6_f32, 0.09_f32);
         {
             let w = x0 * x0;
             if <f32 as ::trocar::Real>::is_finite(w) {
@@ -994,7 +1303,7 @@ pub mod iiwa_endoscope {
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / (p.l_a * (0.09_f32 + p.l_a) + 1.002025_f32);
+            / <f32 as ::trocar::Real>::mul_add(p.l_a, 0.09_f32 + p.l_a, 1.002025_f32);
         let x1 = x0 * (p.l_a + 0.045_f32);
         [
             [

@@ -92,43 +92,108 @@ pub mod iiwa_link6 {
         let x1 = c1 * s2;
         let x2 = s1 * c2;
         let x3 = s1 * s2;
-        let x4 = c3 * x0 - s1 * s3;
-        let x5 = s3 * x0 + s1 * c3;
-        let x6 = c3 * x2 + c1 * s3;
-        let x7 = c1 * c3 - s3 * x2;
+        let x4 = <f64 as ::trocar::Real>::mul_add(c3, x0, -(s1 * s3));
+        let x5 = <f64 as ::trocar::Real>::mul_add(s3, x0, s1 * c3);
+        let x6 = <f64 as ::trocar::Real>::mul_add(c3, x2, c1 * s3);
+        let x7 = <f64 as ::trocar::Real>::mul_add(c1, c3, -(s3 * x2));
         let x8 = s2 * c3;
         let x9 = s2 * s3;
-        let x10 = c4 * x4 + s4 * x1;
-        let x11 = c4 * x1 - s4 * x4;
-        let x12 = c4 * x6 + s4 * x3;
-        let x13 = c4 * x3 - s4 * x6;
-        let x14 = c2 * s4 - c4 * x8;
-        let x15 = s4 * x8 + c2 * c4;
-        let x16 = s5 * x5 - c5 * x10;
-        let x17 = s5 * x10 + c5 * x5;
-        let x18 = c5 * x12 + s5 * x7;
-        let x19 = s5 * x12 - c5 * x7;
-        let x20 = c5 * x14 + s5 * x9;
-        let x21 = s5 * x14 - c5 * x9;
-        let x22 = c6 * x16 + s6 * x11;
-        let x23 = c6 * x11 - s6 * x16;
-        let x24 = s6 * x13 - c6 * x18;
-        let x25 = s6 * x18 + c6 * x13;
-        let x26 = s6 * x15 - c6 * x20;
-        let x27 = s6 * x20 + c6 * x15;
+        let x10 = <f64 as ::trocar::Real>::mul_add(c4, x4, s4 * x1);
+        let x11 = <f64 as ::trocar::Real>::mul_add(c4, x1, -(s4 * x4));
+        let x12 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x3);
+        let x13 = <f64 as ::trocar::Real>::mul_add(c4, x3, -(s4 * x6));
+        let x14 = <f64 as ::trocar::Real>::mul_add(c2, s4, -(c4 * x8));
+        let x15 = <f64 as ::trocar::Real>::mul_add(s4, x8, c2 * c4);
+        let x16 = <f64 as ::trocar::Real>::mul_add(s5, x5, -(c5 * x10));
+        let x17 = <f64 as ::trocar::Real>::mul_add(s5, x10, c5 * x5);
+        let x18 = <f64 as ::trocar::Real>::mul_add(c5, x12, s5 * x7);
+        let x19 = <f64 as ::trocar::Real>::mul_add(s5, x12, -(c5 * x7));
+        let x20 = <f64 as ::trocar::Real>::mul_add(c5, x14, s5 * x9);
+        let x21 = <f64 as ::trocar::Real>::mul_add(s5, x14, -(c5 * x9));
+        let x22 = <f64 as ::trocar::Real>::mul_add(c6, x16, s6 * x11);
+        let x23 = <f64 as ::trocar::Real>::mul_add(c6, x11, -(s6 * x16));
+        let x24 = <f64 as ::trocar::Real>::mul_add(s6, x13, -(c6 * x18));
+        let x25 = <f64 as ::trocar::Real>::mul_add(s6, x18, c6 * x13);
+        let x26 = <f64 as ::trocar::Real>::mul_add(s6, x15, -(c6 * x20));
+        let x27 = <f64 as ::trocar::Real>::mul_add(s6, x20, c6 * x15);
         (
             [
-                [-(c7 * x22 + s7 * x17), -(c7 * x24 + s7 * x19), -(c7 * x26 + s7 * x21)],
-                [s7 * x22 - c7 * x17, s7 * x24 - c7 * x19, s7 * x26 - c7 * x21],
+                [
+                    -<f64 as ::trocar::Real>::mul_add(c7, x22, s7 * x17),
+                    -<f64 as ::trocar::Real>::mul_add(c7, x24, s7 * x19),
+                    -<f64 as ::trocar::Real>::mul_add(c7, x26, s7 * x21),
+                ],
+                [
+                    <f64 as ::trocar::Real>::mul_add(s7, x22, -(c7 * x17)),
+                    <f64 as ::trocar::Real>::mul_add(s7, x24, -(c7 * x19)),
+                    <f64 as ::trocar::Real>::mul_add(s7, x26, -(c7 * x21)),
+                ],
                 [x23, x25, x27],
             ],
             [
-                0.2045_f64 * x1 + 0.2155_f64 * x1 + 0.1845_f64 * x11 + 0.2155_f64 * x11
-                    + 0.081_f64 * x23 + 0.045_f64 * x23,
-                0.2045_f64 * x3 + 0.2155_f64 * x3 + 0.1845_f64 * x13 + 0.2155_f64 * x13
-                    + 0.081_f64 * x25 + 0.045_f64 * x25,
-                0.36_f64 + 0.2045_f64 * c2 + 0.2155_f64 * c2 + 0.1845_f64 * x15
-                    + 0.2155_f64 * x15 + 0.081_f64 * x27 + 0.045_f64 * x27,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.045_f64,
+                    x23,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.081_f64,
+                        x23,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.2155_f64,
+                            x11,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.1845_f64,
+                                x11,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.2045_f64,
+                                    x1,
+                                    0.2155_f64 * x1,
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.045_f64,
+                    x25,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.081_f64,
+                        x25,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.2155_f64,
+                            x13,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.1845_f64,
+                                x13,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.2045_f64,
+                                    x3,
+                                    0.2155_f64 * x3,
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.045_f64,
+                    x27,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.081_f64,
+                        x27,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.2155_f64,
+                            x15,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.1845_f64,
+                                x15,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.2155_f64,
+                                    c2,
+                                    <f64 as ::trocar::Real>::mul_add(0.2045_f64, c2, 0.36_f64),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
             ],
         )
     }
@@ -147,52 +212,112 @@ pub mod iiwa_link6 {
         let x1 = t.cos[0] * t.sin[1];
         let x2 = t.sin[0] * t.cos[1];
         let x3 = t.sin[0] * t.sin[1];
-        let x4 = t.cos[2] * x0 - t.sin[0] * t.sin[2];
-        let x5 = t.sin[2] * x0 + t.sin[0] * t.cos[2];
-        let x6 = t.cos[2] * x2 + t.cos[0] * t.sin[2];
-        let x7 = t.cos[0] * t.cos[2] - t.sin[2] * x2;
+        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x0, -(t.sin[0] * t.sin[2]));
+        let x5 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x0, t.sin[0] * t.cos[2]);
+        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x2, t.cos[0] * t.sin[2]);
+        let x7 = <f64 as ::trocar::Real>::mul_add(t.cos[0], t.cos[2], -(t.sin[2] * x2));
         let x8 = t.sin[1] * t.cos[2];
         let x9 = t.sin[1] * t.sin[2];
-        let x10 = t.cos[3] * x4 + t.sin[3] * x1;
-        let x11 = t.cos[3] * x1 - t.sin[3] * x4;
-        let x12 = t.cos[3] * x6 + t.sin[3] * x3;
-        let x13 = t.cos[3] * x3 - t.sin[3] * x6;
-        let x14 = t.cos[1] * t.sin[3] - t.cos[3] * x8;
-        let x15 = t.sin[3] * x8 + t.cos[1] * t.cos[3];
-        let x16 = t.sin[4] * x5 - t.cos[4] * x10;
-        let x17 = t.sin[4] * x10 + t.cos[4] * x5;
-        let x18 = t.cos[4] * x12 + t.sin[4] * x7;
-        let x19 = t.sin[4] * x12 - t.cos[4] * x7;
-        let x20 = t.cos[4] * x14 + t.sin[4] * x9;
-        let x21 = t.sin[4] * x14 - t.cos[4] * x9;
-        let x22 = t.cos[5] * x16 + t.sin[5] * x11;
-        let x23 = t.cos[5] * x11 - t.sin[5] * x16;
-        let x24 = t.sin[5] * x13 - t.cos[5] * x18;
-        let x25 = t.sin[5] * x18 + t.cos[5] * x13;
-        let x26 = t.sin[5] * x15 - t.cos[5] * x20;
-        let x27 = t.sin[5] * x20 + t.cos[5] * x15;
+        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x4, t.sin[3] * x1);
+        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x1, -(t.sin[3] * x4));
+        let x12 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x3);
+        let x13 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * x6));
+        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[1], t.sin[3], -(t.cos[3] * x8));
+        let x15 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[1] * t.cos[3]);
+        let x16 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x5, -(t.cos[4] * x10));
+        let x17 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x10, t.cos[4] * x5);
+        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x12, t.sin[4] * x7);
+        let x19 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x12, -(t.cos[4] * x7));
+        let x20 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x14, t.sin[4] * x9);
+        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x14, -(t.cos[4] * x9));
+        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x16, t.sin[5] * x11);
+        let x23 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x11, -(t.sin[5] * x16));
+        let x24 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x13, -(t.cos[5] * x18));
+        let x25 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x18, t.cos[5] * x13);
+        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x15, -(t.cos[5] * x20));
+        let x27 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x20, t.cos[5] * x15);
         (
             [
                 [
-                    -(t.cos[6] * x22 + t.sin[6] * x17),
-                    -(t.cos[6] * x24 + t.sin[6] * x19),
-                    -(t.cos[6] * x26 + t.sin[6] * x21),
+                    -<f64 as ::trocar::Real>::mul_add(t.cos[6], x22, t.sin[6] * x17),
+                    -<f64 as ::trocar::Real>::mul_add(t.cos[6], x24, t.sin[6] * x19),
+                    -<f64 as ::trocar::Real>::mul_add(t.cos[6], x26, t.sin[6] * x21),
                 ],
                 [
-                    t.sin[6] * x22 - t.cos[6] * x17,
-                    t.sin[6] * x24 - t.cos[6] * x19,
-                    t.sin[6] * x26 - t.cos[6] * x21,
+                    <f64 as ::trocar::Real>::mul_add(t.sin[6], x22, -(t.cos[6] * x17)),
+                    <f64 as ::trocar::Real>::mul_add(t.sin[6], x24, -(t.cos[6] * x19)),
+                    <f64 as ::trocar::Real>::mul_add(t.sin[6], x26, -(t.cos[6] * x21)),
                 ],
                 [x23, x25, x27],
             ],
             [
-                0.2045_f64 * x1 + 0.2155_f64 * x1 + 0.1845_f64 * x11 + 0.2155_f64 * x11
-                    + 0.081_f64 * x23 + 0.045_f64 * x23,
-                0.2045_f64 * x3 + 0.2155_f64 * x3 + 0.1845_f64 * x13 + 0.2155_f64 * x13
-                    + 0.081_f64 * x25 + 0.045_f64 * x25,
-                0.36_f64 + 0.2045_f64 * t.cos[1] + 0.2155_f64 * t.cos[1]
-                    + 0.1845_f64 * x15 + 0.2155_f64 * x15 + 0.081_f64 * x27
-                    + 0.045_f64 * x27,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.045_f64,
+                    x23,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.081_f64,
+                        x23,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.2155_f64,
+                            x11,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.1845_f64,
+                                x11,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.2045_f64,
+                                    x1,
+                                    0.2155_f64 * x1,
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.045_f64,
+                    x25,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.081_f64,
+                        x25,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.2155_f64,
+                            x13,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.1845_f64,
+                                x13,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.2045_f64,
+                                    x3,
+                                    0.2155_f64 * x3,
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.045_f64,
+                    x27,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.081_f64,
+                        x27,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.2155_f64,
+                            x15,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.1845_f64,
+                                x15,
+                                <f64 as ::trocar::Real>::mul_add(
+                                    0.2155_f64,
+                                    t.cos[1],
+                                    <f64 as ::trocar::Real>::mul_add(
+                                        0.2045_f64,
+                                        t.cos[1],
+                                        0.36_f64,
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
             ],
         )
     }
@@ -212,61 +337,75 @@ pub mod iiwa_link6 {
         let x2 = 0.126_f64 * s6;
         let x3 = s6 * c7;
         let x4 = s6 * s7;
-        let x5 = c5 * x0 - s5 * s7;
-        let x6 = c5 * x1 + s5 * c7;
+        let x5 = <f64 as ::trocar::Real>::mul_add(c5, x0, -(s5 * s7));
+        let x6 = <f64 as ::trocar::Real>::mul_add(c5, x1, s5 * c7);
         let x7 = c5 * s6;
         let x8 = c5 * x2;
-        let x9 = 0.1845_f64 + (0.2155_f64 + 0.126_f64 * c6);
-        let x10 = s5 * x0 + c5 * s7;
-        let x11 = s5 * x1 - c5 * c7;
+        let x9 = 0.1845_f64
+            + <f64 as ::trocar::Real>::mul_add(0.126_f64, c6, 0.2155_f64);
+        let x10 = <f64 as ::trocar::Real>::mul_add(s5, x0, c5 * s7);
+        let x11 = <f64 as ::trocar::Real>::mul_add(s5, x1, -(c5 * c7));
         let x12 = s5 * s6;
         let x13 = s5 * x2;
-        let x14 = c4 * x5 + s4 * x3;
-        let x15 = c4 * x6 + s4 * x4;
-        let x16 = c4 * x7 - s4 * c6;
-        let x17 = c4 * x8 - s4 * x9;
-        let x18 = s4 * x5 - c4 * x3;
-        let x19 = c4 * x4 - s4 * x6;
-        let x20 = s4 * x7 + c4 * c6;
-        let x21 = s3 * x10 - c3 * x14;
-        let x22 = c3 * x15 - s3 * x11;
-        let x23 = s3 * x12 - c3 * x16;
-        let x24 = s3 * x13 - c3 * x17;
-        let x25 = 0.2045_f64 + (0.2155_f64 + (s4 * x8 + c4 * x9));
-        let x26 = s3 * x14 + c3 * x10;
-        let x27 = s3 * x15 + c3 * x11;
-        let x28 = s3 * x16 + c3 * x12;
-        let x29 = s3 * x17 + c3 * x13;
-        let x30 = s2 * x25 - c2 * x24;
+        let x14 = <f64 as ::trocar::Real>::mul_add(c4, x5, s4 * x3);
+        let x15 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x4);
+        let x16 = <f64 as ::trocar::Real>::mul_add(c4, x7, -(s4 * c6));
+        let x17 = <f64 as ::trocar::Real>::mul_add(c4, x8, -(s4 * x9));
+        let x18 = <f64 as ::trocar::Real>::mul_add(s4, x5, -(c4 * x3));
+        let x19 = <f64 as ::trocar::Real>::mul_add(c4, x4, -(s4 * x6));
+        let x20 = <f64 as ::trocar::Real>::mul_add(s4, x7, c4 * c6);
+        let x21 = <f64 as ::trocar::Real>::mul_add(s3, x10, -(c3 * x14));
+        let x22 = <f64 as ::trocar::Real>::mul_add(c3, x15, -(s3 * x11));
+        let x23 = <f64 as ::trocar::Real>::mul_add(s3, x12, -(c3 * x16));
+        let x24 = <f64 as ::trocar::Real>::mul_add(s3, x13, -(c3 * x17));
+        let x25 = 0.2045_f64
+            + (0.2155_f64 + <f64 as ::trocar::Real>::mul_add(s4, x8, c4 * x9));
+        let x26 = <f64 as ::trocar::Real>::mul_add(s3, x14, c3 * x10);
+        let x27 = <f64 as ::trocar::Real>::mul_add(s3, x15, c3 * x11);
+        let x28 = <f64 as ::trocar::Real>::mul_add(s3, x16, c3 * x12);
+        let x29 = <f64 as ::trocar::Real>::mul_add(s3, x17, c3 * x13);
+        let x30 = <f64 as ::trocar::Real>::mul_add(s2, x25, -(c2 * x24));
         [
             [
-                x26 * x30 - x29 * (s2 * x18 - c2 * x21),
-                -(x29 * (s2 * x19 - c2 * x22) + x27 * x30),
-                x28 * x30 - x29 * (s2 * x20 - c2 * x23),
-                s2 * x21 + c2 * x18,
-                s2 * x22 + c2 * x19,
-                s2 * x23 + c2 * x20,
+                <f64 as ::trocar::Real>::mul_add(
+                    x26,
+                    x30,
+                    -(x29 * <f64 as ::trocar::Real>::mul_add(s2, x18, -(c2 * x21))),
+                ),
+                -<f64 as ::trocar::Real>::mul_add(
+                    x29,
+                    <f64 as ::trocar::Real>::mul_add(s2, x19, -(c2 * x22)),
+                    x27 * x30,
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    x28,
+                    x30,
+                    -(x29 * <f64 as ::trocar::Real>::mul_add(s2, x20, -(c2 * x23))),
+                ),
+                <f64 as ::trocar::Real>::mul_add(s2, x21, c2 * x18),
+                <f64 as ::trocar::Real>::mul_add(s2, x22, c2 * x19),
+                <f64 as ::trocar::Real>::mul_add(s2, x23, c2 * x20),
             ],
             [
-                x18 * x24 - x21 * x25,
-                x19 * x24 - x22 * x25,
-                x20 * x24 - x23 * x25,
+                <f64 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25)),
+                <f64 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25)),
+                <f64 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25)),
                 x26,
                 -x27,
                 x28,
             ],
             [
-                x10 * x17 - x13 * x14,
-                x13 * x15 - x11 * x17,
-                x12 * x17 - x13 * x16,
+                <f64 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14)),
+                <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
+                <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16)),
                 x18,
                 x19,
                 x20,
             ],
             [
-                -(x5 * x9 + x3 * x8),
-                x6 * x9 + x4 * x8,
-                c6 * x8 - x7 * x9,
+                -<f64 as ::trocar::Real>::mul_add(x5, x9, x3 * x8),
+                <f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8),
+                <f64 as ::trocar::Real>::mul_add(c6, x8, -(x7 * x9)),
                 -x10,
                 x11,
                 -x12,
@@ -303,61 +442,86 @@ pub mod iiwa_link6 {
         let x2 = 0.126_f64 * t.sin[5];
         let x3 = t.sin[5] * t.cos[6];
         let x4 = t.sin[5] * t.sin[6];
-        let x5 = t.cos[4] * x0 - t.sin[4] * t.sin[6];
-        let x6 = t.cos[4] * x1 + t.sin[4] * t.cos[6];
+        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x0, -(t.sin[4] * t.sin[6]));
+        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x1, t.sin[4] * t.cos[6]);
         let x7 = t.cos[4] * t.sin[5];
         let x8 = t.cos[4] * x2;
-        let x9 = 0.1845_f64 + (0.2155_f64 + 0.126_f64 * t.cos[5]);
-        let x10 = t.sin[4] * x0 + t.cos[4] * t.sin[6];
-        let x11 = t.sin[4] * x1 - t.cos[4] * t.cos[6];
+        let x9 = 0.1845_f64
+            + <f64 as ::trocar::Real>::mul_add(0.126_f64, t.cos[5], 0.2155_f64);
+        let x10 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x0, t.cos[4] * t.sin[6]);
+        let x11 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x1, -(t.cos[4] * t.cos[6]));
         let x12 = t.sin[4] * t.sin[5];
         let x13 = t.sin[4] * x2;
-        let x14 = t.cos[3] * x5 + t.sin[3] * x3;
-        let x15 = t.cos[3] * x6 + t.sin[3] * x4;
-        let x16 = t.cos[3] * x7 - t.sin[3] * t.cos[5];
-        let x17 = t.cos[3] * x8 - t.sin[3] * x9;
-        let x18 = t.sin[3] * x5 - t.cos[3] * x3;
-        let x19 = t.cos[3] * x4 - t.sin[3] * x6;
-        let x20 = t.sin[3] * x7 + t.cos[3] * t.cos[5];
-        let x21 = t.sin[2] * x10 - t.cos[2] * x14;
-        let x22 = t.cos[2] * x15 - t.sin[2] * x11;
-        let x23 = t.sin[2] * x12 - t.cos[2] * x16;
-        let x24 = t.sin[2] * x13 - t.cos[2] * x17;
-        let x25 = 0.2045_f64 + (0.2155_f64 + (t.sin[3] * x8 + t.cos[3] * x9));
-        let x26 = t.sin[2] * x14 + t.cos[2] * x10;
-        let x27 = t.sin[2] * x15 + t.cos[2] * x11;
-        let x28 = t.sin[2] * x16 + t.cos[2] * x12;
-        let x29 = t.sin[2] * x17 + t.cos[2] * x13;
-        let x30 = t.sin[1] * x25 - t.cos[1] * x24;
+        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x5, t.sin[3] * x3);
+        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
+        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x7, -(t.sin[3] * t.cos[5]));
+        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
+        let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x5, -(t.cos[3] * x3));
+        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x4, -(t.sin[3] * x6));
+        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x7, t.cos[3] * t.cos[5]);
+        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x10, -(t.cos[2] * x14));
+        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x15, -(t.sin[2] * x11));
+        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x12, -(t.cos[2] * x16));
+        let x24 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x13, -(t.cos[2] * x17));
+        let x25 = 0.2045_f64
+            + (0.2155_f64
+                + <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9));
+        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x14, t.cos[2] * x10);
+        let x27 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x15, t.cos[2] * x11);
+        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x12);
+        let x29 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x13);
+        let x30 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x25, -(t.cos[1] * x24));
         [
             [
-                x26 * x30 - x29 * (t.sin[1] * x18 - t.cos[1] * x21),
-                -(x29 * (t.sin[1] * x19 - t.cos[1] * x22) + x27 * x30),
-                x28 * x30 - x29 * (t.sin[1] * x20 - t.cos[1] * x23),
-                t.sin[1] * x21 + t.cos[1] * x18,
-                t.sin[1] * x22 + t.cos[1] * x19,
-                t.sin[1] * x23 + t.cos[1] * x20,
+                <f64 as ::trocar::Real>::mul_add(
+                    x26,
+                    x30,
+                    -(x29
+                        * <f64 as ::trocar::Real>::mul_add(
+                            t.sin[1],
+                            x18,
+                            -(t.cos[1] * x21),
+                        )),
+                ),
+                -<f64 as ::trocar::Real>::mul_add(
+                    x29,
+                    <f64 as ::trocar::Real>::mul_add(t.sin[1], x19, -(t.cos[1] * x22)),
+                    x27 * x30,
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    x28,
+                    x30,
+                    -(x29
+                        * <f64 as ::trocar::Real>::mul_add(
+                            t.sin[1],
+                            x20,
+                            -(t.cos[1] * x23),
+                        )),
+                ),
+                <f64 as ::trocar::Real>::mul_add(t.sin[1], x21, t.cos[1] * x18),
+                <f64 as ::trocar::Real>::mul_add(t.sin[1], x22, t.cos[1] * x19),
+                <f64 as ::trocar::Real>::mul_add(t.sin[1], x23, t.cos[1] * x20),
             ],
             [
-                x18 * x24 - x21 * x25,
-                x19 * x24 - x22 * x25,
-                x20 * x24 - x23 * x25,
+                <f64 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25)),
+                <f64 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25)),
+                <f64 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25)),
                 x26,
                 -x27,
                 x28,
             ],
             [
-                x10 * x17 - x13 * x14,
-                x13 * x15 - x11 * x17,
-                x12 * x17 - x13 * x16,
+                <f64 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14)),
+                <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
+                <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16)),
                 x18,
                 x19,
                 x20,
             ],
             [
-                -(x5 * x9 + x3 * x8),
-                x6 * x9 + x4 * x8,
-                t.cos[5] * x8 - x7 * x9,
+                -<f64 as ::trocar::Real>::mul_add(x5, x9, x3 * x8),
+                <f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8),
+                <f64 as ::trocar::Real>::mul_add(t.cos[5], x8, -(x7 * x9)),
                 -x10,
                 x11,
                 -x12,
@@ -511,7 +675,11 @@ pub mod iiwa_link6 {
     pub fn constraint_jacobian_c(q: &[f64; N], p: &Params) -> [[f64; 6]; R] {
         let ([s7], [c7]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6]]);
         let x0 = <f64 as ::trocar::Real>::ONE
-            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+            / <f64 as ::trocar::Real>::mul_add(
+                p.l_a,
+                p.l_a,
+                <f64 as ::trocar::Real>::ONE,
+            );
         [
             [
                 -(x0 * c7),
@@ -532,7 +700,11 @@ pub mod iiwa_link6 {
     #[must_use]
     pub fn constraint_jacobian_c_trig(t: &JointTrig, p: &Params) -> [[f64; 6]; R] {
         let x0 = <f64 as ::trocar::Real>::ONE
-            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+            / <f64 as ::trocar::Real>::mul_add(
+                p.l_a,
+                p.l_a,
+                <f64 as ::trocar::Real>::ONE,
+            );
         [
             [
                 -(x0 * t.cos[6]),
@@ -559,36 +731,48 @@ pub mod iiwa_link6 {
         let x1 = c5 * s6;
         let x2 = s5 * c6;
         let x3 = s5 * s6;
-        let x4 = c4 * x0 + s4 * s6;
-        let x5 = c4 * x1 - s4 * c6;
+        let x4 = <f64 as ::trocar::Real>::mul_add(c4, x0, s4 * s6);
+        let x5 = <f64 as ::trocar::Real>::mul_add(c4, x1, -(s4 * c6));
         let x6 = c4 * s5;
         let x7 = 0.4_f64 * s4;
-        let x8 = c4 * s6 - s4 * x0;
-        let x9 = s4 * x1 + c4 * c6;
+        let x8 = <f64 as ::trocar::Real>::mul_add(c4, s6, -(s4 * x0));
+        let x9 = <f64 as ::trocar::Real>::mul_add(s4, x1, c4 * c6);
         let x10 = s4 * s5;
-        let x11 = c3 * x4 - s3 * x2;
-        let x12 = s3 * x3 - c3 * x5;
-        let x13 = c3 * x6 + s3 * c5;
+        let x11 = <f64 as ::trocar::Real>::mul_add(c3, x4, -(s3 * x2));
+        let x12 = <f64 as ::trocar::Real>::mul_add(s3, x3, -(c3 * x5));
+        let x13 = <f64 as ::trocar::Real>::mul_add(c3, x6, s3 * c5);
         let x14 = c3 * x7;
-        let x15 = 0.2045_f64 + (0.2155_f64 + 0.4_f64 * c4);
-        let x16 = s3 * x4 + c3 * x2;
-        let x17 = s3 * x5 + c3 * x3;
-        let x18 = c3 * c5 - s3 * x6;
+        let x15 = 0.2045_f64 + <f64 as ::trocar::Real>::mul_add(0.4_f64, c4, 0.2155_f64);
+        let x16 = <f64 as ::trocar::Real>::mul_add(s3, x4, c3 * x2);
+        let x17 = <f64 as ::trocar::Real>::mul_add(s3, x5, c3 * x3);
+        let x18 = <f64 as ::trocar::Real>::mul_add(c3, c5, -(s3 * x6));
         let x19 = s3 * x7;
-        let x20 = s2 * x15 - c2 * x14;
+        let x20 = <f64 as ::trocar::Real>::mul_add(s2, x15, -(c2 * x14));
         [
             [
-                x19 * (s2 * x8 - c2 * x11) - x16 * x20,
-                x19 * (s2 * x9 - c2 * x12) + x17 * x20,
-                x18 * x20 - x19 * (c2 * x13 + s2 * x10),
-                s2 * x11 + c2 * x8,
-                s2 * x12 + c2 * x9,
-                s2 * x13 - c2 * x10,
+                <f64 as ::trocar::Real>::mul_add(
+                    x19,
+                    <f64 as ::trocar::Real>::mul_add(s2, x8, -(c2 * x11)),
+                    -(x16 * x20),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    x19,
+                    <f64 as ::trocar::Real>::mul_add(s2, x9, -(c2 * x12)),
+                    x17 * x20,
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    x18,
+                    x20,
+                    -(x19 * <f64 as ::trocar::Real>::mul_add(c2, x13, s2 * x10)),
+                ),
+                <f64 as ::trocar::Real>::mul_add(s2, x11, c2 * x8),
+                <f64 as ::trocar::Real>::mul_add(s2, x12, c2 * x9),
+                <f64 as ::trocar::Real>::mul_add(s2, x13, -(c2 * x10)),
             ],
             [
-                x8 * x14 - x11 * x15,
-                x9 * x14 - x12 * x15,
-                -(x13 * x15 + x10 * x14),
+                <f64 as ::trocar::Real>::mul_add(x8, x14, -(x11 * x15)),
+                <f64 as ::trocar::Real>::mul_add(x9, x14, -(x12 * x15)),
+                -<f64 as ::trocar::Real>::mul_add(x13, x15, x10 * x14),
                 -x16,
                 x17,
                 x18,
@@ -625,36 +809,54 @@ pub mod iiwa_link6 {
         let x1 = t.cos[4] * t.sin[5];
         let x2 = t.sin[4] * t.cos[5];
         let x3 = t.sin[4] * t.sin[5];
-        let x4 = t.cos[3] * x0 + t.sin[3] * t.sin[5];
-        let x5 = t.cos[3] * x1 - t.sin[3] * t.cos[5];
+        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x0, t.sin[3] * t.sin[5]);
+        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x1, -(t.sin[3] * t.cos[5]));
         let x6 = t.cos[3] * t.sin[4];
         let x7 = 0.4_f64 * t.sin[3];
-        let x8 = t.cos[3] * t.sin[5] - t.sin[3] * x0;
-        let x9 = t.sin[3] * x1 + t.cos[3] * t.cos[5];
+        let x8 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.sin[5], -(t.sin[3] * x0));
+        let x9 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x1, t.cos[3] * t.cos[5]);
         let x10 = t.sin[3] * t.sin[4];
-        let x11 = t.cos[2] * x4 - t.sin[2] * x2;
-        let x12 = t.sin[2] * x3 - t.cos[2] * x5;
-        let x13 = t.cos[2] * x6 + t.sin[2] * t.cos[4];
+        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x4, -(t.sin[2] * x2));
+        let x12 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x3, -(t.cos[2] * x5));
+        let x13 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x6, t.sin[2] * t.cos[4]);
         let x14 = t.cos[2] * x7;
-        let x15 = 0.2045_f64 + (0.2155_f64 + 0.4_f64 * t.cos[3]);
-        let x16 = t.sin[2] * x4 + t.cos[2] * x2;
-        let x17 = t.sin[2] * x5 + t.cos[2] * x3;
-        let x18 = t.cos[2] * t.cos[4] - t.sin[2] * x6;
+        let x15 = 0.2045_f64
+            + <f64 as ::trocar::Real>::mul_add(0.4_f64, t.cos[3], 0.2155_f64);
+        let x16 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x4, t.cos[2] * x2);
+        let x17 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x5, t.cos[2] * x3);
+        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x6));
         let x19 = t.sin[2] * x7;
-        let x20 = t.sin[1] * x15 - t.cos[1] * x14;
+        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x15, -(t.cos[1] * x14));
         [
             [
-                x19 * (t.sin[1] * x8 - t.cos[1] * x11) - x16 * x20,
-                x19 * (t.sin[1] * x9 - t.cos[1] * x12) + x17 * x20,
-                x18 * x20 - x19 * (t.cos[1] * x13 + t.sin[1] * x10),
-                t.sin[1] * x11 + t.cos[1] * x8,
-                t.sin[1] * x12 + t.cos[1] * x9,
-                t.sin[1] * x13 - t.cos[1] * x10,
+                <f64 as ::trocar::Real>::mul_add(
+                    x19,
+                    <f64 as ::trocar::Real>::mul_add(t.sin[1], x8, -(t.cos[1] * x11)),
+                    -(x16 * x20),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    x19,
+                    <f64 as ::trocar::Real>::mul_add(t.sin[1], x9, -(t.cos[1] * x12)),
+                    x17 * x20,
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    x18,
+                    x20,
+                    -(x19
+                        * <f64 as ::trocar::Real>::mul_add(
+                            t.cos[1],
+                            x13,
+                            t.sin[1] * x10,
+                        )),
+                ),
+                <f64 as ::trocar::Real>::mul_add(t.sin[1], x11, t.cos[1] * x8),
+                <f64 as ::trocar::Real>::mul_add(t.sin[1], x12, t.cos[1] * x9),
+                <f64 as ::trocar::Real>::mul_add(t.sin[1], x13, -(t.cos[1] * x10)),
             ],
             [
-                x8 * x14 - x11 * x15,
-                x9 * x14 - x12 * x15,
-                -(x13 * x15 + x10 * x14),
+                <f64 as ::trocar::Real>::mul_add(x8, x14, -(x11 * x15)),
+                <f64 as ::trocar::Real>::mul_add(x9, x14, -(x12 * x15)),
+                -<f64 as ::trocar::Real>::mul_add(x13, x15, x10 * x14),
                 -x16,
                 x17,
                 x18,
@@ -694,32 +896,71 @@ pub mod iiwa_link6 {
         let x1 = c1 * s2;
         let x2 = s1 * c2;
         let x3 = s1 * s2;
-        let x4 = c3 * x0 - s1 * s3;
-        let x5 = s3 * x0 + s1 * c3;
-        let x6 = c3 * x2 + c1 * s3;
-        let x7 = c1 * c3 - s3 * x2;
+        let x4 = <f64 as ::trocar::Real>::mul_add(c3, x0, -(s1 * s3));
+        let x5 = <f64 as ::trocar::Real>::mul_add(s3, x0, s1 * c3);
+        let x6 = <f64 as ::trocar::Real>::mul_add(c3, x2, c1 * s3);
+        let x7 = <f64 as ::trocar::Real>::mul_add(c1, c3, -(s3 * x2));
         let x8 = s2 * c3;
         let x9 = s2 * s3;
-        let x10 = c4 * x4 + s4 * x1;
-        let x11 = c4 * x1 - s4 * x4;
-        let x12 = c4 * x6 + s4 * x3;
-        let x13 = c4 * x3 - s4 * x6;
-        let x14 = c2 * s4 - c4 * x8;
-        let x15 = s4 * x8 + c2 * c4;
-        let x16 = s5 * x5 - c5 * x10;
-        let x17 = c5 * x12 + s5 * x7;
-        let x18 = c5 * x14 + s5 * x9;
+        let x10 = <f64 as ::trocar::Real>::mul_add(c4, x4, s4 * x1);
+        let x11 = <f64 as ::trocar::Real>::mul_add(c4, x1, -(s4 * x4));
+        let x12 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x3);
+        let x13 = <f64 as ::trocar::Real>::mul_add(c4, x3, -(s4 * x6));
+        let x14 = <f64 as ::trocar::Real>::mul_add(c2, s4, -(c4 * x8));
+        let x15 = <f64 as ::trocar::Real>::mul_add(s4, x8, c2 * c4);
+        let x16 = <f64 as ::trocar::Real>::mul_add(s5, x5, -(c5 * x10));
+        let x17 = <f64 as ::trocar::Real>::mul_add(c5, x12, s5 * x7);
+        let x18 = <f64 as ::trocar::Real>::mul_add(c5, x14, s5 * x9);
         (
             [
-                [c6 * x16 + s6 * x11, s6 * x13 - c6 * x17, s6 * x15 - c6 * x18],
-                [c6 * x11 - s6 * x16, s6 * x17 + c6 * x13, s6 * x18 + c6 * x15],
-                [-(s5 * x10 + c5 * x5), -(s5 * x12 - c5 * x7), -(s5 * x14 - c5 * x9)],
+                [
+                    <f64 as ::trocar::Real>::mul_add(c6, x16, s6 * x11),
+                    <f64 as ::trocar::Real>::mul_add(s6, x13, -(c6 * x17)),
+                    <f64 as ::trocar::Real>::mul_add(s6, x15, -(c6 * x18)),
+                ],
+                [
+                    <f64 as ::trocar::Real>::mul_add(c6, x11, -(s6 * x16)),
+                    <f64 as ::trocar::Real>::mul_add(s6, x17, c6 * x13),
+                    <f64 as ::trocar::Real>::mul_add(s6, x18, c6 * x15),
+                ],
+                [
+                    -<f64 as ::trocar::Real>::mul_add(s5, x10, c5 * x5),
+                    -<f64 as ::trocar::Real>::mul_add(s5, x12, -(c5 * x7)),
+                    -<f64 as ::trocar::Real>::mul_add(s5, x14, -(c5 * x9)),
+                ],
             ],
             [
-                0.2045_f64 * x1 + 0.2155_f64 * x1 + 0.1845_f64 * x11 + 0.2155_f64 * x11,
-                0.2045_f64 * x3 + 0.2155_f64 * x3 + 0.1845_f64 * x13 + 0.2155_f64 * x13,
-                0.36_f64 + 0.2045_f64 * c2 + 0.2155_f64 * c2 + 0.1845_f64 * x15
-                    + 0.2155_f64 * x15,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.2155_f64,
+                    x11,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.1845_f64,
+                        x11,
+                        <f64 as ::trocar::Real>::mul_add(0.2045_f64, x1, 0.2155_f64 * x1),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.2155_f64,
+                    x13,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.1845_f64,
+                        x13,
+                        <f64 as ::trocar::Real>::mul_add(0.2045_f64, x3, 0.2155_f64 * x3),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.2155_f64,
+                    x15,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.1845_f64,
+                        x15,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.2155_f64,
+                            c2,
+                            <f64 as ::trocar::Real>::mul_add(0.2045_f64, c2, 0.36_f64),
+                        ),
+                    ),
+                ),
             ],
         )
     }
@@ -738,44 +979,75 @@ pub mod iiwa_link6 {
         let x1 = t.cos[0] * t.sin[1];
         let x2 = t.sin[0] * t.cos[1];
         let x3 = t.sin[0] * t.sin[1];
-        let x4 = t.cos[2] * x0 - t.sin[0] * t.sin[2];
-        let x5 = t.sin[2] * x0 + t.sin[0] * t.cos[2];
-        let x6 = t.cos[2] * x2 + t.cos[0] * t.sin[2];
-        let x7 = t.cos[0] * t.cos[2] - t.sin[2] * x2;
+        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x0, -(t.sin[0] * t.sin[2]));
+        let x5 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x0, t.sin[0] * t.cos[2]);
+        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x2, t.cos[0] * t.sin[2]);
+        let x7 = <f64 as ::trocar::Real>::mul_add(t.cos[0], t.cos[2], -(t.sin[2] * x2));
         let x8 = t.sin[1] * t.cos[2];
         let x9 = t.sin[1] * t.sin[2];
-        let x10 = t.cos[3] * x4 + t.sin[3] * x1;
-        let x11 = t.cos[3] * x1 - t.sin[3] * x4;
-        let x12 = t.cos[3] * x6 + t.sin[3] * x3;
-        let x13 = t.cos[3] * x3 - t.sin[3] * x6;
-        let x14 = t.cos[1] * t.sin[3] - t.cos[3] * x8;
-        let x15 = t.sin[3] * x8 + t.cos[1] * t.cos[3];
-        let x16 = t.sin[4] * x5 - t.cos[4] * x10;
-        let x17 = t.cos[4] * x12 + t.sin[4] * x7;
-        let x18 = t.cos[4] * x14 + t.sin[4] * x9;
+        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x4, t.sin[3] * x1);
+        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x1, -(t.sin[3] * x4));
+        let x12 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x3);
+        let x13 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * x6));
+        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[1], t.sin[3], -(t.cos[3] * x8));
+        let x15 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[1] * t.cos[3]);
+        let x16 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x5, -(t.cos[4] * x10));
+        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x12, t.sin[4] * x7);
+        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x14, t.sin[4] * x9);
         (
             [
                 [
-                    t.cos[5] * x16 + t.sin[5] * x11,
-                    t.sin[5] * x13 - t.cos[5] * x17,
-                    t.sin[5] * x15 - t.cos[5] * x18,
+                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x16, t.sin[5] * x11),
+                    <f64 as ::trocar::Real>::mul_add(t.sin[5], x13, -(t.cos[5] * x17)),
+                    <f64 as ::trocar::Real>::mul_add(t.sin[5], x15, -(t.cos[5] * x18)),
                 ],
                 [
-                    t.cos[5] * x11 - t.sin[5] * x16,
-                    t.sin[5] * x17 + t.cos[5] * x13,
-                    t.sin[5] * x18 + t.cos[5] * x15,
+                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x11, -(t.sin[5] * x16)),
+                    <f64 as ::trocar::Real>::mul_add(t.sin[5], x17, t.cos[5] * x13),
+                    <f64 as ::trocar::Real>::mul_add(t.sin[5], x18, t.cos[5] * x15),
                 ],
                 [
-                    -(t.sin[4] * x10 + t.cos[4] * x5),
-                    -(t.sin[4] * x12 - t.cos[4] * x7),
-                    -(t.sin[4] * x14 - t.cos[4] * x9),
+                    -<f64 as ::trocar::Real>::mul_add(t.sin[4], x10, t.cos[4] * x5),
+                    -<f64 as ::trocar::Real>::mul_add(t.sin[4], x12, -(t.cos[4] * x7)),
+                    -<f64 as ::trocar::Real>::mul_add(t.sin[4], x14, -(t.cos[4] * x9)),
                 ],
             ],
             [
-                0.2045_f64 * x1 + 0.2155_f64 * x1 + 0.1845_f64 * x11 + 0.2155_f64 * x11,
-                0.2045_f64 * x3 + 0.2155_f64 * x3 + 0.1845_f64 * x13 + 0.2155_f64 * x13,
-                0.36_f64 + 0.2045_f64 * t.cos[1] + 0.2155_f64 * t.cos[1]
-                    + 0.1845_f64 * x15 + 0.2155_f64 * x15,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.2155_f64,
+                    x11,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.1845_f64,
+                        x11,
+                        <f64 as ::trocar::Real>::mul_add(0.2045_f64, x1, 0.2155_f64 * x1),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.2155_f64,
+                    x13,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.1845_f64,
+                        x13,
+                        <f64 as ::trocar::Real>::mul_add(0.2045_f64, x3, 0.2155_f64 * x3),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.2155_f64,
+                    x15,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.1845_f64,
+                        x15,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.2155_f64,
+                            t.cos[1],
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.2045_f64,
+                                t.cos[1],
+                                0.36_f64,
+                            ),
+                        ),
+                    ),
+                ),
             ],
         )
     }
@@ -926,7 +1198,11 @@ pub mod iiwa_link6 {
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f64; 6]; R] {
         let x0 = <f64 as ::trocar::Real>::ONE
-            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+            / <f64 as ::trocar::Real>::mul_add(
+                p.l_a,
+                p.l_a,
+                <f64 as ::trocar::Real>::ONE,
+            );
         [
             [
                 x0,

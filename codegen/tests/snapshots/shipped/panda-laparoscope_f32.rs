@@ -94,44 +94,91 @@ pub mod panda_laparoscope {
         let x1 = c1 * s2;
         let x2 = s1 * c2;
         let x3 = s1 * s2;
-        let x4 = c3 * x0 - s1 * s3;
-        let x5 = s3 * x0 + s1 * c3;
-        let x6 = c3 * x2 + c1 * s3;
-        let x7 = c1 * c3 - s3 * x2;
+        let x4 = <f32 as ::trocar::Real>::mul_add(c3, x0, -(s1 * s3));
+        let x5 = <f32 as ::trocar::Real>::mul_add(s3, x0, s1 * c3);
+        let x6 = <f32 as ::trocar::Real>::mul_add(c3, x2, c1 * s3);
+        let x7 = <f32 as ::trocar::Real>::mul_add(c1, c3, -(s3 * x2));
         let x8 = s2 * c3;
         let x9 = s2 * s3;
-        let x10 = c4 * x4 + s4 * x1;
-        let x11 = c4 * x1 - s4 * x4;
-        let x12 = c4 * x6 + s4 * x3;
-        let x13 = c4 * x3 - s4 * x6;
-        let x14 = c2 * s4 - c4 * x8;
-        let x15 = s4 * x8 + c2 * c4;
-        let x16 = c5 * x10 - s5 * x5;
-        let x17 = s5 * x10 + c5 * x5;
-        let x18 = c5 * x12 + s5 * x7;
-        let x19 = c5 * x7 - s5 * x12;
-        let x20 = c5 * x14 + s5 * x9;
-        let x21 = c5 * x9 - s5 * x14;
-        let x22 = c6 * x16 + s6 * x11;
-        let x23 = c6 * x11 - s6 * x16;
-        let x24 = c6 * x18 + s6 * x13;
-        let x25 = c6 * x13 - s6 * x18;
-        let x26 = c6 * x20 + s6 * x15;
-        let x27 = c6 * x15 - s6 * x20;
+        let x10 = <f32 as ::trocar::Real>::mul_add(c4, x4, s4 * x1);
+        let x11 = <f32 as ::trocar::Real>::mul_add(c4, x1, -(s4 * x4));
+        let x12 = <f32 as ::trocar::Real>::mul_add(c4, x6, s4 * x3);
+        let x13 = <f32 as ::trocar::Real>::mul_add(c4, x3, -(s4 * x6));
+        let x14 = <f32 as ::trocar::Real>::mul_add(c2, s4, -(c4 * x8));
+        let x15 = <f32 as ::trocar::Real>::mul_add(s4, x8, c2 * c4);
+        let x16 = <f32 as ::trocar::Real>::mul_add(c5, x10, -(s5 * x5));
+        let x17 = <f32 as ::trocar::Real>::mul_add(s5, x10, c5 * x5);
+        let x18 = <f32 as ::trocar::Real>::mul_add(c5, x12, s5 * x7);
+        let x19 = <f32 as ::trocar::Real>::mul_add(c5, x7, -(s5 * x12));
+        let x20 = <f32 as ::trocar::Real>::mul_add(c5, x14, s5 * x9);
+        let x21 = <f32 as ::trocar::Real>::mul_add(c5, x9, -(s5 * x14));
+        let x22 = <f32 as ::trocar::Real>::mul_add(c6, x16, s6 * x11);
+        let x23 = <f32 as ::trocar::Real>::mul_add(c6, x11, -(s6 * x16));
+        let x24 = <f32 as ::trocar::Real>::mul_add(c6, x18, s6 * x13);
+        let x25 = <f32 as ::trocar::Real>::mul_add(c6, x13, -(s6 * x18));
+        let x26 = <f32 as ::trocar::Real>::mul_add(c6, x20, s6 * x15);
+        let x27 = <f32 as ::trocar::Real>::mul_add(c6, x15, -(s6 * x20));
         (
             [
-                [c7 * x22 + s7 * x17, c7 * x24 - s7 * x19, c7 * x26 - s7 * x21],
-                [c7 * x17 - s7 * x22, -(s7 * x24 + c7 * x19), -(s7 * x26 + c7 * x21)],
+                [
+                    <f32 as ::trocar::Real>::mul_add(c7, x22, s7 * x17),
+                    <f32 as ::trocar::Real>::mul_add(c7, x24, -(s7 * x19)),
+                    <f32 as ::trocar::Real>::mul_add(c7, x26, -(s7 * x21)),
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(c7, x17, -(s7 * x22)),
+                    -<f32 as ::trocar::Real>::mul_add(s7, x24, c7 * x19),
+                    -<f32 as ::trocar::Real>::mul_add(s7, x26, c7 * x21),
+                ],
                 [-x23, -x25, -x27],
             ],
             [
-                0.316_f32 * x1 + 0.0825_f32 * x4 + (0.384_f32 * x11 - 0.0825_f32 * x10)
-                    + 0.088_f32 * x22 - 0.507_f32 * x23,
-                0.316_f32 * x3 + 0.0825_f32 * x6 + (0.384_f32 * x13 - 0.0825_f32 * x12)
-                    + 0.088_f32 * x24 - 0.507_f32 * x25,
-                0.333_f32 + 0.316_f32 * c2 - 0.0825_f32 * x8
-                    + (0.384_f32 * x15 - 0.0825_f32 * x14) + 0.088_f32 * x26
-                    - 0.507_f32 * x27,
+                <f32 as ::trocar::Real>::mul_add(
+                    -0.507_f32,
+                    x23,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.088_f32,
+                        x22,
+                        <f32 as ::trocar::Real>::mul_add(0.316_f32, x1, 0.0825_f32 * x4)
+                            + <f32 as ::trocar::Real>::mul_add(
+                                0.384_f32,
+                                x11,
+                                -(0.0825_f32 * x10),
+                            ),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    -0.507_f32,
+                    x25,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.088_f32,
+                        x24,
+                        <f32 as ::trocar::Real>::mul_add(0.316_f32, x3, 0.0825_f32 * x6)
+                            + <f32 as ::trocar::Real>::mul_add(
+                                0.384_f32,
+                                x13,
+                                -(0.0825_f32 * x12),
+                            ),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    -0.507_f32,
+                    x27,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.088_f32,
+                        x26,
+                        <f32 as ::trocar::Real>::mul_add(
+                            -0.0825_f32,
+                            x8,
+                            <f32 as ::trocar::Real>::mul_add(0.316_f32, c2, 0.333_f32),
+                        )
+                            + <f32 as ::trocar::Real>::mul_add(
+                                0.384_f32,
+                                x15,
+                                -(0.0825_f32 * x14),
+                            ),
+                    ),
+                ),
             ],
         )
     }
@@ -150,52 +197,95 @@ pub mod panda_laparoscope {
         let x1 = t.cos[0] * t.sin[1];
         let x2 = t.sin[0] * t.cos[1];
         let x3 = t.sin[0] * t.sin[1];
-        let x4 = t.cos[2] * x0 - t.sin[0] * t.sin[2];
-        let x5 = t.sin[2] * x0 + t.sin[0] * t.cos[2];
-        let x6 = t.cos[2] * x2 + t.cos[0] * t.sin[2];
-        let x7 = t.cos[0] * t.cos[2] - t.sin[2] * x2;
+        let x4 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x0, -(t.sin[0] * t.sin[2]));
+        let x5 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x0, t.sin[0] * t.cos[2]);
+        let x6 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x2, t.cos[0] * t.sin[2]);
+        let x7 = <f32 as ::trocar::Real>::mul_add(t.cos[0], t.cos[2], -(t.sin[2] * x2));
         let x8 = t.sin[1] * t.cos[2];
         let x9 = t.sin[1] * t.sin[2];
-        let x10 = t.cos[3] * x4 + t.sin[3] * x1;
-        let x11 = t.cos[3] * x1 - t.sin[3] * x4;
-        let x12 = t.cos[3] * x6 + t.sin[3] * x3;
-        let x13 = t.cos[3] * x3 - t.sin[3] * x6;
-        let x14 = t.cos[1] * t.sin[3] - t.cos[3] * x8;
-        let x15 = t.sin[3] * x8 + t.cos[1] * t.cos[3];
-        let x16 = t.cos[4] * x10 - t.sin[4] * x5;
-        let x17 = t.sin[4] * x10 + t.cos[4] * x5;
-        let x18 = t.cos[4] * x12 + t.sin[4] * x7;
-        let x19 = t.cos[4] * x7 - t.sin[4] * x12;
-        let x20 = t.cos[4] * x14 + t.sin[4] * x9;
-        let x21 = t.cos[4] * x9 - t.sin[4] * x14;
-        let x22 = t.cos[5] * x16 + t.sin[5] * x11;
-        let x23 = t.cos[5] * x11 - t.sin[5] * x16;
-        let x24 = t.cos[5] * x18 + t.sin[5] * x13;
-        let x25 = t.cos[5] * x13 - t.sin[5] * x18;
-        let x26 = t.cos[5] * x20 + t.sin[5] * x15;
-        let x27 = t.cos[5] * x15 - t.sin[5] * x20;
+        let x10 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x4, t.sin[3] * x1);
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x1, -(t.sin[3] * x4));
+        let x12 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x3);
+        let x13 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * x6));
+        let x14 = <f32 as ::trocar::Real>::mul_add(t.cos[1], t.sin[3], -(t.cos[3] * x8));
+        let x15 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[1] * t.cos[3]);
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x10, -(t.sin[4] * x5));
+        let x17 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x10, t.cos[4] * x5);
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x12, t.sin[4] * x7);
+        let x19 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x7, -(t.sin[4] * x12));
+        let x20 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x14, t.sin[4] * x9);
+        let x21 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x9, -(t.sin[4] * x14));
+        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x16, t.sin[5] * x11);
+        let x23 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x11, -(t.sin[5] * x16));
+        let x24 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x18, t.sin[5] * x13);
+        let x25 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x13, -(t.sin[5] * x18));
+        let x26 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x20, t.sin[5] * x15);
+        let x27 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x15, -(t.sin[5] * x20));
         (
             [
                 [
-                    t.cos[6] * x22 + t.sin[6] * x17,
-                    t.cos[6] * x24 - t.sin[6] * x19,
-                    t.cos[6] * x26 - t.sin[6] * x21,
+                    <f32 as ::trocar::Real>::mul_add(t.cos[6], x22, t.sin[6] * x17),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[6], x24, -(t.sin[6] * x19)),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[6], x26, -(t.sin[6] * x21)),
                 ],
                 [
-                    t.cos[6] * x17 - t.sin[6] * x22,
-                    -(t.sin[6] * x24 + t.cos[6] * x19),
-                    -(t.sin[6] * x26 + t.cos[6] * x21),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[6], x17, -(t.sin[6] * x22)),
+                    -<f32 as ::trocar::Real>::mul_add(t.sin[6], x24, t.cos[6] * x19),
+                    -<f32 as ::trocar::Real>::mul_add(t.sin[6], x26, t.cos[6] * x21),
                 ],
                 [-x23, -x25, -x27],
             ],
             [
-                0.316_f32 * x1 + 0.0825_f32 * x4 + (0.384_f32 * x11 - 0.0825_f32 * x10)
-                    + 0.088_f32 * x22 - 0.507_f32 * x23,
-                0.316_f32 * x3 + 0.0825_f32 * x6 + (0.384_f32 * x13 - 0.0825_f32 * x12)
-                    + 0.088_f32 * x24 - 0.507_f32 * x25,
-                0.333_f32 + 0.316_f32 * t.cos[1] - 0.0825_f32 * x8
-                    + (0.384_f32 * x15 - 0.0825_f32 * x14) + 0.088_f32 * x26
-                    - 0.507_f32 * x27,
+                <f32 as ::trocar::Real>::mul_add(
+                    -0.507_f32,
+                    x23,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.088_f32,
+                        x22,
+                        <f32 as ::trocar::Real>::mul_add(0.316_f32, x1, 0.0825_f32 * x4)
+                            + <f32 as ::trocar::Real>::mul_add(
+                                0.384_f32,
+                                x11,
+                                -(0.0825_f32 * x10),
+                            ),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    -0.507_f32,
+                    x25,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.088_f32,
+                        x24,
+                        <f32 as ::trocar::Real>::mul_add(0.316_f32, x3, 0.0825_f32 * x6)
+                            + <f32 as ::trocar::Real>::mul_add(
+                                0.384_f32,
+                                x13,
+                                -(0.0825_f32 * x12),
+                            ),
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    -0.507_f32,
+                    x27,
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.088_f32,
+                        x26,
+                        <f32 as ::trocar::Real>::mul_add(
+                            -0.0825_f32,
+                            x8,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.316_f32,
+                                t.cos[1],
+                                0.333_f32,
+                            ),
+                        )
+                            + <f32 as ::trocar::Real>::mul_add(
+                                0.384_f32,
+                                x15,
+                                -(0.0825_f32 * x14),
+                            ),
+                    ),
+                ),
             ],
         )
     }
@@ -212,64 +302,77 @@ pub mod panda_laparoscope {
         );
         let x0 = c6 * c7;
         let x1 = c6 * s7;
-        let x2 = 0.088_f32 * c6 + 0.507_f32 * s6;
+        let x2 = <f32 as ::trocar::Real>::mul_add(0.088_f32, c6, 0.507_f32 * s6);
         let x3 = s6 * c7;
         let x4 = s6 * s7;
-        let x5 = c5 * x0 + s5 * s7;
-        let x6 = s5 * c7 - c5 * x1;
+        let x5 = <f32 as ::trocar::Real>::mul_add(c5, x0, s5 * s7);
+        let x6 = <f32 as ::trocar::Real>::mul_add(s5, c7, -(c5 * x1));
         let x7 = c5 * s6;
-        let x8 = c5 * x2 - 0.0825_f32;
-        let x9 = 0.384_f32 + (0.088_f32 * s6 - 0.507_f32 * c6);
-        let x10 = c5 * s7 - s5 * x0;
-        let x11 = s5 * x1 + c5 * c7;
+        let x8 = <f32 as ::trocar::Real>::mul_add(c5, x2, -0.0825_f32);
+        let x9 = 0.384_f32
+            + <f32 as ::trocar::Real>::mul_add(0.088_f32, s6, -(0.507_f32 * c6));
+        let x10 = <f32 as ::trocar::Real>::mul_add(c5, s7, -(s5 * x0));
+        let x11 = <f32 as ::trocar::Real>::mul_add(s5, x1, c5 * c7);
         let x12 = s5 * s6;
         let x13 = s5 * x2;
-        let x14 = c4 * x5 - s4 * x3;
-        let x15 = c4 * x6 + s4 * x4;
-        let x16 = c4 * x7 + s4 * c6;
-        let x17 = 0.0825_f32 + (c4 * x8 - s4 * x9);
-        let x18 = s4 * x5 + c4 * x3;
-        let x19 = s4 * x6 - c4 * x4;
-        let x20 = s4 * x7 - c4 * c6;
-        let x21 = c3 * x14 + s3 * x10;
-        let x22 = c3 * x15 + s3 * x11;
-        let x23 = c3 * x16 - s3 * x12;
-        let x24 = c3 * x17 - s3 * x13;
-        let x25 = s4 * x8 + c4 * x9 + 0.316_f32;
-        let x26 = s3 * x14 - c3 * x10;
-        let x27 = s3 * x15 - c3 * x11;
-        let x28 = s3 * x16 + c3 * x12;
-        let x29 = s3 * x17 + c3 * x13;
-        let x30 = c2 * x24 + s2 * x25;
+        let x14 = <f32 as ::trocar::Real>::mul_add(c4, x5, -(s4 * x3));
+        let x15 = <f32 as ::trocar::Real>::mul_add(c4, x6, s4 * x4);
+        let x16 = <f32 as ::trocar::Real>::mul_add(c4, x7, s4 * c6);
+        let x17 = 0.0825_f32 + <f32 as ::trocar::Real>::mul_add(c4, x8, -(s4 * x9));
+        let x18 = <f32 as ::trocar::Real>::mul_add(s4, x5, c4 * x3);
+        let x19 = <f32 as ::trocar::Real>::mul_add(s4, x6, -(c4 * x4));
+        let x20 = <f32 as ::trocar::Real>::mul_add(s4, x7, -(c4 * c6));
+        let x21 = <f32 as ::trocar::Real>::mul_add(c3, x14, s3 * x10);
+        let x22 = <f32 as ::trocar::Real>::mul_add(c3, x15, s3 * x11);
+        let x23 = <f32 as ::trocar::Real>::mul_add(c3, x16, -(s3 * x12));
+        let x24 = <f32 as ::trocar::Real>::mul_add(c3, x17, -(s3 * x13));
+        let x25 = <f32 as ::trocar::Real>::mul_add(s4, x8, c4 * x9) + 0.316_f32;
+        let x26 = <f32 as ::trocar::Real>::mul_add(s3, x14, -(c3 * x10));
+        let x27 = <f32 as ::trocar::Real>::mul_add(s3, x15, -(c3 * x11));
+        let x28 = <f32 as ::trocar::Real>::mul_add(s3, x16, c3 * x12);
+        let x29 = <f32 as ::trocar::Real>::mul_add(s3, x17, c3 * x13);
+        let x30 = <f32 as ::trocar::Real>::mul_add(c2, x24, s2 * x25);
         [
             [
-                x26 * x30 - x29 * (c2 * x21 + s2 * x18),
-                x27 * x30 - x29 * (c2 * x22 + s2 * x19),
-                x28 * x30 - x29 * (c2 * x23 + s2 * x20),
-                c2 * x18 - s2 * x21,
-                c2 * x19 - s2 * x22,
-                c2 * x20 - s2 * x23,
+                <f32 as ::trocar::Real>::mul_add(
+                    x26,
+                    x30,
+                    -(x29 * <f32 as ::trocar::Real>::mul_add(c2, x21, s2 * x18)),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    x27,
+                    x30,
+                    -(x29 * <f32 as ::trocar::Real>::mul_add(c2, x22, s2 * x19)),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    x28,
+                    x30,
+                    -(x29 * <f32 as ::trocar::Real>::mul_add(c2, x23, s2 * x20)),
+                ),
+                <f32 as ::trocar::Real>::mul_add(c2, x18, -(s2 * x21)),
+                <f32 as ::trocar::Real>::mul_add(c2, x19, -(s2 * x22)),
+                <f32 as ::trocar::Real>::mul_add(c2, x20, -(s2 * x23)),
             ],
             [
-                x21 * x25 - x18 * x24,
-                x22 * x25 - x19 * x24,
-                x23 * x25 - x20 * x24,
+                <f32 as ::trocar::Real>::mul_add(x21, x25, -(x18 * x24)),
+                <f32 as ::trocar::Real>::mul_add(x22, x25, -(x19 * x24)),
+                <f32 as ::trocar::Real>::mul_add(x23, x25, -(x20 * x24)),
                 x26,
                 x27,
                 x28,
             ],
             [
-                -(x13 * x14 + x10 * x17),
-                -(x13 * x15 + x11 * x17),
-                x12 * x17 - x13 * x16,
+                -<f32 as ::trocar::Real>::mul_add(x13, x14, x10 * x17),
+                -<f32 as ::trocar::Real>::mul_add(x13, x15, x11 * x17),
+                <f32 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16)),
                 x18,
                 x19,
                 x20,
             ],
             [
-                x3 * x8 - x5 * x9,
-                -(x6 * x9 + x4 * x8),
-                -(x7 * x9 + c6 * x8),
+                <f32 as ::trocar::Real>::mul_add(x3, x8, -(x5 * x9)),
+                -<f32 as ::trocar::Real>::mul_add(x6, x9, x4 * x8),
+                -<f32 as ::trocar::Real>::mul_add(x7, x9, c6 * x8),
                 x10,
                 x11,
                 -x12,
@@ -303,64 +406,102 @@ pub mod panda_laparoscope {
     pub fn body_jacobian_trig(t: &JointTrig, _p: &Params) -> [[f32; 6]; N] {
         let x0 = t.cos[5] * t.cos[6];
         let x1 = t.cos[5] * t.sin[6];
-        let x2 = 0.088_f32 * t.cos[5] + 0.507_f32 * t.sin[5];
+        let x2 = <f32 as ::trocar::Real>::mul_add(
+            0.088_f32,
+            t.cos[5],
+            0.507_f32 * t.sin[5],
+        );
         let x3 = t.sin[5] * t.cos[6];
         let x4 = t.sin[5] * t.sin[6];
-        let x5 = t.cos[4] * x0 + t.sin[4] * t.sin[6];
-        let x6 = t.sin[4] * t.cos[6] - t.cos[4] * x1;
+        let x5 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x0, t.sin[4] * t.sin[6]);
+        let x6 = <f32 as ::trocar::Real>::mul_add(t.sin[4], t.cos[6], -(t.cos[4] * x1));
         let x7 = t.cos[4] * t.sin[5];
-        let x8 = t.cos[4] * x2 - 0.0825_f32;
-        let x9 = 0.384_f32 + (0.088_f32 * t.sin[5] - 0.507_f32 * t.cos[5]);
-        let x10 = t.cos[4] * t.sin[6] - t.sin[4] * x0;
-        let x11 = t.sin[4] * x1 + t.cos[4] * t.cos[6];
+        let x8 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x2, -0.0825_f32);
+        let x9 = 0.384_f32
+            + <f32 as ::trocar::Real>::mul_add(
+                0.088_f32,
+                t.sin[5],
+                -(0.507_f32 * t.cos[5]),
+            );
+        let x10 = <f32 as ::trocar::Real>::mul_add(t.cos[4], t.sin[6], -(t.sin[4] * x0));
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x1, t.cos[4] * t.cos[6]);
         let x12 = t.sin[4] * t.sin[5];
         let x13 = t.sin[4] * x2;
-        let x14 = t.cos[3] * x5 - t.sin[3] * x3;
-        let x15 = t.cos[3] * x6 + t.sin[3] * x4;
-        let x16 = t.cos[3] * x7 + t.sin[3] * t.cos[5];
-        let x17 = 0.0825_f32 + (t.cos[3] * x8 - t.sin[3] * x9);
-        let x18 = t.sin[3] * x5 + t.cos[3] * x3;
-        let x19 = t.sin[3] * x6 - t.cos[3] * x4;
-        let x20 = t.sin[3] * x7 - t.cos[3] * t.cos[5];
-        let x21 = t.cos[2] * x14 + t.sin[2] * x10;
-        let x22 = t.cos[2] * x15 + t.sin[2] * x11;
-        let x23 = t.cos[2] * x16 - t.sin[2] * x12;
-        let x24 = t.cos[2] * x17 - t.sin[2] * x13;
-        let x25 = t.sin[3] * x8 + t.cos[3] * x9 + 0.316_f32;
-        let x26 = t.sin[2] * x14 - t.cos[2] * x10;
-        let x27 = t.sin[2] * x15 - t.cos[2] * x11;
-        let x28 = t.sin[2] * x16 + t.cos[2] * x12;
-        let x29 = t.sin[2] * x17 + t.cos[2] * x13;
-        let x30 = t.cos[1] * x24 + t.sin[1] * x25;
+        let x14 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x5, -(t.sin[3] * x3));
+        let x15 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x7, t.sin[3] * t.cos[5]);
+        let x17 = 0.0825_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x5, t.cos[3] * x3);
+        let x19 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x6, -(t.cos[3] * x4));
+        let x20 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x7, -(t.cos[3] * t.cos[5]));
+        let x21 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x14, t.sin[2] * x10);
+        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x15, t.sin[2] * x11);
+        let x23 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x16, -(t.sin[2] * x12));
+        let x24 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x17, -(t.sin[2] * x13));
+        let x25 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9)
+            + 0.316_f32;
+        let x26 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x14, -(t.cos[2] * x10));
+        let x27 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x15, -(t.cos[2] * x11));
+        let x28 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x12);
+        let x29 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x13);
+        let x30 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x24, t.sin[1] * x25);
         [
             [
-                x26 * x30 - x29 * (t.cos[1] * x21 + t.sin[1] * x18),
-                x27 * x30 - x29 * (t.cos[1] * x22 + t.sin[1] * x19),
-                x28 * x30 - x29 * (t.cos[1] * x23 + t.sin[1] * x20),
-                t.cos[1] * x18 - t.sin[1] * x21,
-                t.cos[1] * x19 - t.sin[1] * x22,
-                t.cos[1] * x20 - t.sin[1] * x23,
+                <f32 as ::trocar::Real>::mul_add(
+                    x26,
+                    x30,
+                    -(x29
+                        * <f32 as ::trocar::Real>::mul_add(
+                            t.cos[1],
+                            x21,
+                            t.sin[1] * x18,
+                        )),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    x27,
+                    x30,
+                    -(x29
+                        * <f32 as ::trocar::Real>::mul_add(
+                            t.cos[1],
+                            x22,
+                            t.sin[1] * x19,
+                        )),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    x28,
+                    x30,
+                    -(x29
+                        * <f32 as ::trocar::Real>::mul_add(
+                            t.cos[1],
+                            x23,
+                            t.sin[1] * x20,
+                        )),
+                ),
+                <f32 as ::trocar::Real>::mul_add(t.cos[1], x18, -(t.sin[1] * x21)),
+                <f32 as ::trocar::Real>::mul_add(t.cos[1], x19, -(t.sin[1] * x22)),
+                <f32 as ::trocar::Real>::mul_add(t.cos[1], x20, -(t.sin[1] * x23)),
             ],
             [
-                x21 * x25 - x18 * x24,
-                x22 * x25 - x19 * x24,
-                x23 * x25 - x20 * x24,
+                <f32 as ::trocar::Real>::mul_add(x21, x25, -(x18 * x24)),
+                <f32 as ::trocar::Real>::mul_add(x22, x25, -(x19 * x24)),
+                <f32 as ::trocar::Real>::mul_add(x23, x25, -(x20 * x24)),
                 x26,
                 x27,
                 x28,
             ],
             [
-                -(x13 * x14 + x10 * x17),
-                -(x13 * x15 + x11 * x17),
-                x12 * x17 - x13 * x16,
+                -<f32 as ::trocar::Real>::mul_add(x13, x14, x10 * x17),
+                -<f32 as ::trocar::Real>::mul_add(x13, x15, x11 * x17),
+                <f32 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16)),
                 x18,
                 x19,
                 x20,
             ],
             [
-                x3 * x8 - x5 * x9,
-                -(x6 * x9 + x4 * x8),
-                -(x7 * x9 + t.cos[5] * x8),
+                <f32 as ::trocar::Real>::mul_add(x3, x8, -(x5 * x9)),
+                -<f32 as ::trocar::Real>::mul_add(x6, x9, x4 * x8),
+                -<f32 as ::trocar::Real>::mul_add(x7, x9, t.cos[5] * x8),
                 x10,
                 x11,
                 -x12,
@@ -490,8 +631,8 @@ pub mod panda_laparoscope {
     #[must_use]
     pub fn constraint_jacobian_c(_q: &[f32; N], p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / (p.l_a * (0.214_f32 + p.l_a) + 1.011449_f32);
-        let x1 = x0 * (1.054249_f32 + 0.507_f32 * p.l_a);
+            / <f32 as ::trocar::Real>::mul_add(p.l_a, 0.214_f32 + p.l_a, 1.011449_f32);
+        let x1 = x0 * <f32 as ::trocar::Real>::mul_add(0.507_f32, p.l_a, 1.054249_f32);
         let x2 = x0 * (p.l_a + 0.107_f32);
         [
             [
@@ -521,8 +662,8 @@ pub mod panda_laparoscope {
     #[must_use]
     pub fn constraint_jacobian_c_trig(_t: &JointTrig, p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / (p.l_a * (0.214_f32 + p.l_a) + 1.011449_f32);
-        let x1 = x0 * (1.054249_f32 + 0.507_f32 * p.l_a);
+            / <f32 as ::trocar::Real>::mul_add(p.l_a, 0.214_f32 + p.l_a, 1.011449_f32);
+        let x1 = x0 * <f32 as ::trocar::Real>::mul_add(0.507_f32, p.l_a, 1.054249_f32);
         let x2 = x0 * (p.l_a + 0.107_f32);
         [
             [
@@ -559,61 +700,73 @@ pub mod panda_laparoscope {
         let x2 = 0.088_f32 * c6;
         let x3 = s6 * c7;
         let x4 = s6 * s7;
-        let x5 = c5 * x0 + s5 * s7;
-        let x6 = s5 * c7 - c5 * x1;
+        let x5 = <f32 as ::trocar::Real>::mul_add(c5, x0, s5 * s7);
+        let x6 = <f32 as ::trocar::Real>::mul_add(s5, c7, -(c5 * x1));
         let x7 = c5 * s6;
-        let x8 = c5 * x2 - 0.0825_f32;
-        let x9 = 0.384_f32 + 0.088_f32 * s6;
-        let x10 = c5 * s7 - s5 * x0;
-        let x11 = s5 * x1 + c5 * c7;
+        let x8 = <f32 as ::trocar::Real>::mul_add(c5, x2, -0.0825_f32);
+        let x9 = <f32 as ::trocar::Real>::mul_add(0.088_f32, s6, 0.384_f32);
+        let x10 = <f32 as ::trocar::Real>::mul_add(c5, s7, -(s5 * x0));
+        let x11 = <f32 as ::trocar::Real>::mul_add(s5, x1, c5 * c7);
         let x12 = s5 * s6;
         let x13 = s5 * x2;
-        let x14 = c4 * x5 - s4 * x3;
-        let x15 = c4 * x6 + s4 * x4;
-        let x16 = c4 * x7 + s4 * c6;
-        let x17 = 0.0825_f32 + (c4 * x8 - s4 * x9);
-        let x18 = s4 * x5 + c4 * x3;
-        let x19 = s4 * x6 - c4 * x4;
-        let x20 = s4 * x7 - c4 * c6;
-        let x21 = c3 * x14 + s3 * x10;
-        let x22 = c3 * x15 + s3 * x11;
-        let x23 = c3 * x16 - s3 * x12;
-        let x24 = c3 * x17 - s3 * x13;
-        let x25 = s4 * x8 + c4 * x9 + 0.316_f32;
-        let x26 = s3 * x14 - c3 * x10;
-        let x27 = s3 * x15 - c3 * x11;
-        let x28 = s3 * x16 + c3 * x12;
-        let x29 = s3 * x17 + c3 * x13;
-        let x30 = c2 * x24 + s2 * x25;
+        let x14 = <f32 as ::trocar::Real>::mul_add(c4, x5, -(s4 * x3));
+        let x15 = <f32 as ::trocar::Real>::mul_add(c4, x6, s4 * x4);
+        let x16 = <f32 as ::trocar::Real>::mul_add(c4, x7, s4 * c6);
+        let x17 = 0.0825_f32 + <f32 as ::trocar::Real>::mul_add(c4, x8, -(s4 * x9));
+        let x18 = <f32 as ::trocar::Real>::mul_add(s4, x5, c4 * x3);
+        let x19 = <f32 as ::trocar::Real>::mul_add(s4, x6, -(c4 * x4));
+        let x20 = <f32 as ::trocar::Real>::mul_add(s4, x7, -(c4 * c6));
+        let x21 = <f32 as ::trocar::Real>::mul_add(c3, x14, s3 * x10);
+        let x22 = <f32 as ::trocar::Real>::mul_add(c3, x15, s3 * x11);
+        let x23 = <f32 as ::trocar::Real>::mul_add(c3, x16, -(s3 * x12));
+        let x24 = <f32 as ::trocar::Real>::mul_add(c3, x17, -(s3 * x13));
+        let x25 = <f32 as ::trocar::Real>::mul_add(s4, x8, c4 * x9) + 0.316_f32;
+        let x26 = <f32 as ::trocar::Real>::mul_add(s3, x14, -(c3 * x10));
+        let x27 = <f32 as ::trocar::Real>::mul_add(s3, x15, -(c3 * x11));
+        let x28 = <f32 as ::trocar::Real>::mul_add(s3, x16, c3 * x12);
+        let x29 = <f32 as ::trocar::Real>::mul_add(s3, x17, c3 * x13);
+        let x30 = <f32 as ::trocar::Real>::mul_add(c2, x24, s2 * x25);
         [
             [
-                x26 * x30 - x29 * (c2 * x21 + s2 * x18),
-                x27 * x30 - x29 * (c2 * x22 + s2 * x19),
-                x28 * x30 - x29 * (c2 * x23 + s2 * x20),
-                c2 * x18 - s2 * x21,
-                c2 * x19 - s2 * x22,
-                c2 * x20 - s2 * x23,
+                <f32 as ::trocar::Real>::mul_add(
+                    x26,
+                    x30,
+                    -(x29 * <f32 as ::trocar::Real>::mul_add(c2, x21, s2 * x18)),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    x27,
+                    x30,
+                    -(x29 * <f32 as ::trocar::Real>::mul_add(c2, x22, s2 * x19)),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    x28,
+                    x30,
+                    -(x29 * <f32 as ::trocar::Real>::mul_add(c2, x23, s2 * x20)),
+                ),
+                <f32 as ::trocar::Real>::mul_add(c2, x18, -(s2 * x21)),
+                <f32 as ::trocar::Real>::mul_add(c2, x19, -(s2 * x22)),
+                <f32 as ::trocar::Real>::mul_add(c2, x20, -(s2 * x23)),
             ],
             [
-                x21 * x25 - x18 * x24,
-                x22 * x25 - x19 * x24,
-                x23 * x25 - x20 * x24,
+                <f32 as ::trocar::Real>::mul_add(x21, x25, -(x18 * x24)),
+                <f32 as ::trocar::Real>::mul_add(x22, x25, -(x19 * x24)),
+                <f32 as ::trocar::Real>::mul_add(x23, x25, -(x20 * x24)),
                 x26,
                 x27,
                 x28,
             ],
             [
-                -(x13 * x14 + x10 * x17),
-                -(x13 * x15 + x11 * x17),
-                x12 * x17 - x13 * x16,
+                -<f32 as ::trocar::Real>::mul_add(x13, x14, x10 * x17),
+                -<f32 as ::trocar::Real>::mul_add(x13, x15, x11 * x17),
+                <f32 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16)),
                 x18,
                 x19,
                 x20,
             ],
             [
-                x3 * x8 - x5 * x9,
-                -(x6 * x9 + x4 * x8),
-                -(x7 * x9 + c6 * x8),
+                <f32 as ::trocar::Real>::mul_add(x3, x8, -(x5 * x9)),
+                -<f32 as ::trocar::Real>::mul_add(x6, x9, x4 * x8),
+                -<f32 as ::trocar::Real>::mul_add(x7, x9, c6 * x8),
                 x10,
                 x11,
                 -x12,
@@ -650,61 +803,90 @@ pub mod panda_laparoscope {
         let x2 = 0.088_f32 * t.cos[5];
         let x3 = t.sin[5] * t.cos[6];
         let x4 = t.sin[5] * t.sin[6];
-        let x5 = t.cos[4] * x0 + t.sin[4] * t.sin[6];
-        let x6 = t.sin[4] * t.cos[6] - t.cos[4] * x1;
+        let x5 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x0, t.sin[4] * t.sin[6]);
+        let x6 = <f32 as ::trocar::Real>::mul_add(t.sin[4], t.cos[6], -(t.cos[4] * x1));
         let x7 = t.cos[4] * t.sin[5];
-        let x8 = t.cos[4] * x2 - 0.0825_f32;
-        let x9 = 0.384_f32 + 0.088_f32 * t.sin[5];
-        let x10 = t.cos[4] * t.sin[6] - t.sin[4] * x0;
-        let x11 = t.sin[4] * x1 + t.cos[4] * t.cos[6];
+        let x8 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x2, -0.0825_f32);
+        let x9 = <f32 as ::trocar::Real>::mul_add(0.088_f32, t.sin[5], 0.384_f32);
+        let x10 = <f32 as ::trocar::Real>::mul_add(t.cos[4], t.sin[6], -(t.sin[4] * x0));
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x1, t.cos[4] * t.cos[6]);
         let x12 = t.sin[4] * t.sin[5];
         let x13 = t.sin[4] * x2;
-        let x14 = t.cos[3] * x5 - t.sin[3] * x3;
-        let x15 = t.cos[3] * x6 + t.sin[3] * x4;
-        let x16 = t.cos[3] * x7 + t.sin[3] * t.cos[5];
-        let x17 = 0.0825_f32 + (t.cos[3] * x8 - t.sin[3] * x9);
-        let x18 = t.sin[3] * x5 + t.cos[3] * x3;
-        let x19 = t.sin[3] * x6 - t.cos[3] * x4;
-        let x20 = t.sin[3] * x7 - t.cos[3] * t.cos[5];
-        let x21 = t.cos[2] * x14 + t.sin[2] * x10;
-        let x22 = t.cos[2] * x15 + t.sin[2] * x11;
-        let x23 = t.cos[2] * x16 - t.sin[2] * x12;
-        let x24 = t.cos[2] * x17 - t.sin[2] * x13;
-        let x25 = t.sin[3] * x8 + t.cos[3] * x9 + 0.316_f32;
-        let x26 = t.sin[2] * x14 - t.cos[2] * x10;
-        let x27 = t.sin[2] * x15 - t.cos[2] * x11;
-        let x28 = t.sin[2] * x16 + t.cos[2] * x12;
-        let x29 = t.sin[2] * x17 + t.cos[2] * x13;
-        let x30 = t.cos[1] * x24 + t.sin[1] * x25;
+        let x14 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x5, -(t.sin[3] * x3));
+        let x15 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x7, t.sin[3] * t.cos[5]);
+        let x17 = 0.0825_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x5, t.cos[3] * x3);
+        let x19 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x6, -(t.cos[3] * x4));
+        let x20 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x7, -(t.cos[3] * t.cos[5]));
+        let x21 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x14, t.sin[2] * x10);
+        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x15, t.sin[2] * x11);
+        let x23 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x16, -(t.sin[2] * x12));
+        let x24 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x17, -(t.sin[2] * x13));
+        let x25 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9)
+            + 0.316_f32;
+        let x26 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x14, -(t.cos[2] * x10));
+        let x27 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x15, -(t.cos[2] * x11));
+        let x28 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x12);
+        let x29 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x13);
+        let x30 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x24, t.sin[1] * x25);
         [
             [
-                x26 * x30 - x29 * (t.cos[1] * x21 + t.sin[1] * x18),
-                x27 * x30 - x29 * (t.cos[1] * x22 + t.sin[1] * x19),
-                x28 * x30 - x29 * (t.cos[1] * x23 + t.sin[1] * x20),
-                t.cos[1] * x18 - t.sin[1] * x21,
-                t.cos[1] * x19 - t.sin[1] * x22,
-                t.cos[1] * x20 - t.sin[1] * x23,
+                <f32 as ::trocar::Real>::mul_add(
+                    x26,
+                    x30,
+                    -(x29
+                        * <f32 as ::trocar::Real>::mul_add(
+                            t.cos[1],
+                            x21,
+                            t.sin[1] * x18,
+                        )),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    x27,
+                    x30,
+                    -(x29
+                        * <f32 as ::trocar::Real>::mul_add(
+                            t.cos[1],
+                            x22,
+                            t.sin[1] * x19,
+                        )),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    x28,
+                    x30,
+                    -(x29
+                        * <f32 as ::trocar::Real>::mul_add(
+                            t.cos[1],
+                            x23,
+                            t.sin[1] * x20,
+                        )),
+                ),
+                <f32 as ::trocar::Real>::mul_add(t.cos[1], x18, -(t.sin[1] * x21)),
+                <f32 as ::trocar::Real>::mul_add(t.cos[1], x19, -(t.sin[1] * x22)),
+                <f32 as ::trocar::Real>::mul_add(t.cos[1], x20, -(t.sin[1] * x23)),
             ],
             [
-                x21 * x25 - x18 * x24,
-                x22 * x25 - x19 * x24,
-                x23 * x25 - x20 * x24,
+                <f32 as ::trocar::Real>::mul_add(x21, x25, -(x18 * x24)),
+                <f32 as ::trocar::Real>::mul_add(x22, x25, -(x19 * x24)),
+                <f32 as ::trocar::Real>::mul_add(x23, x25, -(x20 * x24)),
                 x26,
                 x27,
                 x28,
             ],
             [
-                -(x13 * x14 + x10 * x17),
-                -(x13 * x15 + x11 * x17),
-                x12 * x17 - x13 * x16,
+                -<f32 as ::trocar::Real>::mul_add(x13, x14, x10 * x17),
+                -<f32 as ::trocar::Real>::mul_add(x13, x15, x11 * x17),
+                <f32 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16)),
                 x18,
                 x19,
                 x20,
             ],
             [
-                x3 * x8 - x5 * x9,
-                -(x6 * x9 + x4 * x8),
-                -(x7 * x9 + t.cos[5] * x8),
+                <f32 as ::trocar::Real>::mul_add(x3, x8, -(x5 * x9)),
+                -<f32 as ::trocar::Real>::mul_add(x6, x9, x4 * x8),
+                -<f32 as ::trocar::Real>::mul_add(x7, x9, t.cos[5] * x8),
                 x10,
                 x11,
                 -x12,
@@ -750,40 +932,80 @@ pub mod panda_laparoscope {
         let x1 = c1 * s2;
         let x2 = s1 * c2;
         let x3 = s1 * s2;
-        let x4 = c3 * x0 - s1 * s3;
-        let x5 = s3 * x0 + s1 * c3;
-        let x6 = c3 * x2 + c1 * s3;
-        let x7 = c1 * c3 - s3 * x2;
+        let x4 = <f32 as ::trocar::Real>::mul_add(c3, x0, -(s1 * s3));
+        let x5 = <f32 as ::trocar::Real>::mul_add(s3, x0, s1 * c3);
+        let x6 = <f32 as ::trocar::Real>::mul_add(c3, x2, c1 * s3);
+        let x7 = <f32 as ::trocar::Real>::mul_add(c1, c3, -(s3 * x2));
         let x8 = s2 * c3;
         let x9 = s2 * s3;
-        let x10 = c4 * x4 + s4 * x1;
-        let x11 = c4 * x1 - s4 * x4;
-        let x12 = c4 * x6 + s4 * x3;
-        let x13 = c4 * x3 - s4 * x6;
-        let x14 = c2 * s4 - c4 * x8;
-        let x15 = s4 * x8 + c2 * c4;
-        let x16 = c5 * x10 - s5 * x5;
-        let x17 = s5 * x10 + c5 * x5;
-        let x18 = c5 * x12 + s5 * x7;
-        let x19 = c5 * x7 - s5 * x12;
-        let x20 = c5 * x14 + s5 * x9;
-        let x21 = c5 * x9 - s5 * x14;
-        let x22 = c6 * x16 + s6 * x11;
-        let x23 = c6 * x18 + s6 * x13;
-        let x24 = c6 * x20 + s6 * x15;
+        let x10 = <f32 as ::trocar::Real>::mul_add(c4, x4, s4 * x1);
+        let x11 = <f32 as ::trocar::Real>::mul_add(c4, x1, -(s4 * x4));
+        let x12 = <f32 as ::trocar::Real>::mul_add(c4, x6, s4 * x3);
+        let x13 = <f32 as ::trocar::Real>::mul_add(c4, x3, -(s4 * x6));
+        let x14 = <f32 as ::trocar::Real>::mul_add(c2, s4, -(c4 * x8));
+        let x15 = <f32 as ::trocar::Real>::mul_add(s4, x8, c2 * c4);
+        let x16 = <f32 as ::trocar::Real>::mul_add(c5, x10, -(s5 * x5));
+        let x17 = <f32 as ::trocar::Real>::mul_add(s5, x10, c5 * x5);
+        let x18 = <f32 as ::trocar::Real>::mul_add(c5, x12, s5 * x7);
+        let x19 = <f32 as ::trocar::Real>::mul_add(c5, x7, -(s5 * x12));
+        let x20 = <f32 as ::trocar::Real>::mul_add(c5, x14, s5 * x9);
+        let x21 = <f32 as ::trocar::Real>::mul_add(c5, x9, -(s5 * x14));
+        let x22 = <f32 as ::trocar::Real>::mul_add(c6, x16, s6 * x11);
+        let x23 = <f32 as ::trocar::Real>::mul_add(c6, x18, s6 * x13);
+        let x24 = <f32 as ::trocar::Real>::mul_add(c6, x20, s6 * x15);
         (
             [
-                [c7 * x22 + s7 * x17, c7 * x23 - s7 * x19, c7 * x24 - s7 * x21],
-                [c7 * x17 - s7 * x22, -(s7 * x23 + c7 * x19), -(s7 * x24 + c7 * x21)],
-                [-(c6 * x11 - s6 * x16), -(c6 * x13 - s6 * x18), -(c6 * x15 - s6 * x20)],
+                [
+                    <f32 as ::trocar::Real>::mul_add(c7, x22, s7 * x17),
+                    <f32 as ::trocar::Real>::mul_add(c7, x23, -(s7 * x19)),
+                    <f32 as ::trocar::Real>::mul_add(c7, x24, -(s7 * x21)),
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(c7, x17, -(s7 * x22)),
+                    -<f32 as ::trocar::Real>::mul_add(s7, x23, c7 * x19),
+                    -<f32 as ::trocar::Real>::mul_add(s7, x24, c7 * x21),
+                ],
+                [
+                    -<f32 as ::trocar::Real>::mul_add(c6, x11, -(s6 * x16)),
+                    -<f32 as ::trocar::Real>::mul_add(c6, x13, -(s6 * x18)),
+                    -<f32 as ::trocar::Real>::mul_add(c6, x15, -(s6 * x20)),
+                ],
             ],
             [
-                0.316_f32 * x1 + 0.0825_f32 * x4 + (0.384_f32 * x11 - 0.0825_f32 * x10)
-                    + 0.088_f32 * x22,
-                0.316_f32 * x3 + 0.0825_f32 * x6 + (0.384_f32 * x13 - 0.0825_f32 * x12)
-                    + 0.088_f32 * x23,
-                0.333_f32 + 0.316_f32 * c2 - 0.0825_f32 * x8
-                    + (0.384_f32 * x15 - 0.0825_f32 * x14) + 0.088_f32 * x24,
+                <f32 as ::trocar::Real>::mul_add(
+                    0.088_f32,
+                    x22,
+                    <f32 as ::trocar::Real>::mul_add(0.316_f32, x1, 0.0825_f32 * x4)
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.384_f32,
+                            x11,
+                            -(0.0825_f32 * x10),
+                        ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.088_f32,
+                    x23,
+                    <f32 as ::trocar::Real>::mul_add(0.316_f32, x3, 0.0825_f32 * x6)
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.384_f32,
+                            x13,
+                            -(0.0825_f32 * x12),
+                        ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.088_f32,
+                    x24,
+                    <f32 as ::trocar::Real>::mul_add(
+                        -0.0825_f32,
+                        x8,
+                        <f32 as ::trocar::Real>::mul_add(0.316_f32, c2, 0.333_f32),
+                    )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.384_f32,
+                            x15,
+                            -(0.0825_f32 * x14),
+                        ),
+                ),
             ],
         )
     }
@@ -802,52 +1024,80 @@ pub mod panda_laparoscope {
         let x1 = t.cos[0] * t.sin[1];
         let x2 = t.sin[0] * t.cos[1];
         let x3 = t.sin[0] * t.sin[1];
-        let x4 = t.cos[2] * x0 - t.sin[0] * t.sin[2];
-        let x5 = t.sin[2] * x0 + t.sin[0] * t.cos[2];
-        let x6 = t.cos[2] * x2 + t.cos[0] * t.sin[2];
-        let x7 = t.cos[0] * t.cos[2] - t.sin[2] * x2;
+        let x4 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x0, -(t.sin[0] * t.sin[2]));
+        let x5 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x0, t.sin[0] * t.cos[2]);
+        let x6 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x2, t.cos[0] * t.sin[2]);
+        let x7 = <f32 as ::trocar::Real>::mul_add(t.cos[0], t.cos[2], -(t.sin[2] * x2));
         let x8 = t.sin[1] * t.cos[2];
         let x9 = t.sin[1] * t.sin[2];
-        let x10 = t.cos[3] * x4 + t.sin[3] * x1;
-        let x11 = t.cos[3] * x1 - t.sin[3] * x4;
-        let x12 = t.cos[3] * x6 + t.sin[3] * x3;
-        let x13 = t.cos[3] * x3 - t.sin[3] * x6;
-        let x14 = t.cos[1] * t.sin[3] - t.cos[3] * x8;
-        let x15 = t.sin[3] * x8 + t.cos[1] * t.cos[3];
-        let x16 = t.cos[4] * x10 - t.sin[4] * x5;
-        let x17 = t.sin[4] * x10 + t.cos[4] * x5;
-        let x18 = t.cos[4] * x12 + t.sin[4] * x7;
-        let x19 = t.cos[4] * x7 - t.sin[4] * x12;
-        let x20 = t.cos[4] * x14 + t.sin[4] * x9;
-        let x21 = t.cos[4] * x9 - t.sin[4] * x14;
-        let x22 = t.cos[5] * x16 + t.sin[5] * x11;
-        let x23 = t.cos[5] * x18 + t.sin[5] * x13;
-        let x24 = t.cos[5] * x20 + t.sin[5] * x15;
+        let x10 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x4, t.sin[3] * x1);
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x1, -(t.sin[3] * x4));
+        let x12 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x3);
+        let x13 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * x6));
+        let x14 = <f32 as ::trocar::Real>::mul_add(t.cos[1], t.sin[3], -(t.cos[3] * x8));
+        let x15 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[1] * t.cos[3]);
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x10, -(t.sin[4] * x5));
+        let x17 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x10, t.cos[4] * x5);
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x12, t.sin[4] * x7);
+        let x19 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x7, -(t.sin[4] * x12));
+        let x20 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x14, t.sin[4] * x9);
+        let x21 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x9, -(t.sin[4] * x14));
+        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x16, t.sin[5] * x11);
+        let x23 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x18, t.sin[5] * x13);
+        let x24 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x20, t.sin[5] * x15);
         (
             [
                 [
-                    t.cos[6] * x22 + t.sin[6] * x17,
-                    t.cos[6] * x23 - t.sin[6] * x19,
-                    t.cos[6] * x24 - t.sin[6] * x21,
+                    <f32 as ::trocar::Real>::mul_add(t.cos[6], x22, t.sin[6] * x17),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[6], x23, -(t.sin[6] * x19)),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[6], x24, -(t.sin[6] * x21)),
                 ],
                 [
-                    t.cos[6] * x17 - t.sin[6] * x22,
-                    -(t.sin[6] * x23 + t.cos[6] * x19),
-                    -(t.sin[6] * x24 + t.cos[6] * x21),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[6], x17, -(t.sin[6] * x22)),
+                    -<f32 as ::trocar::Real>::mul_add(t.sin[6], x23, t.cos[6] * x19),
+                    -<f32 as ::trocar::Real>::mul_add(t.sin[6], x24, t.cos[6] * x21),
                 ],
                 [
-                    -(t.cos[5] * x11 - t.sin[5] * x16),
-                    -(t.cos[5] * x13 - t.sin[5] * x18),
-                    -(t.cos[5] * x15 - t.sin[5] * x20),
+                    -<f32 as ::trocar::Real>::mul_add(t.cos[5], x11, -(t.sin[5] * x16)),
+                    -<f32 as ::trocar::Real>::mul_add(t.cos[5], x13, -(t.sin[5] * x18)),
+                    -<f32 as ::trocar::Real>::mul_add(t.cos[5], x15, -(t.sin[5] * x20)),
                 ],
             ],
             [
-                0.316_f32 * x1 + 0.0825_f32 * x4 + (0.384_f32 * x11 - 0.0825_f32 * x10)
-                    + 0.088_f32 * x22,
-                0.316_f32 * x3 + 0.0825_f32 * x6 + (0.384_f32 * x13 - 0.0825_f32 * x12)
-                    + 0.088_f32 * x23,
-                0.333_f32 + 0.316_f32 * t.cos[1] - 0.0825_f32 * x8
-                    + (0.384_f32 * x15 - 0.0825_f32 * x14) + 0.088_f32 * x24,
+                <f32 as ::trocar::Real>::mul_add(
+                    0.088_f32,
+                    x22,
+                    <f32 as ::trocar::Real>::mul_add(0.316_f32, x1, 0.0825_f32 * x4)
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.384_f32,
+                            x11,
+                            -(0.0825_f32 * x10),
+                        ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.088_f32,
+                    x23,
+                    <f32 as ::trocar::Real>::mul_add(0.316_f32, x3, 0.0825_f32 * x6)
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.384_f32,
+                            x13,
+                            -(0.0825_f32 * x12),
+                        ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.088_f32,
+                    x24,
+                    <f32 as ::trocar::Real>::mul_add(
+                        -0.0825_f32,
+                        x8,
+                        <f32 as ::trocar::Real>::mul_add(0.316_f32, t.cos[1], 0.333_f32),
+                    )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.384_f32,
+                            x15,
+                            -(0.0825_f32 * x14),
+                        ),
+                ),
             ],
         )
     }
@@ -860,7 +1110,9 @@ pub mod panda_laparoscope {
     #[must_use]
     pub fn manipulability(_q: &[f32; N], p: &Params) -> f32 {
         {
-            let w = <f32 as ::trocar::Real>::abs(p.l_a * (p.l_a - 0.8_f32) + 0.16_f32);
+            let w = <f32 as ::trocar::Real>::abs(
+                <f32 as ::trocar::Real>::mul_add(p.l_a, p.l_a - 0.8_f32, 0.16_f32),
+            );
             if <f32 as ::trocar::Real>::is_finite(w) {
                 w
             } else {
@@ -877,7 +1129,9 @@ pub mod panda_laparoscope {
     #[must_use]
     pub fn manipulability_trig(_t: &JointTrig, p: &Params) -> f32 {
         {
-            let w = <f32 as ::trocar::Real>::abs(p.l_a * (p.l_a - 0.8_f32) + 0.16_f32);
+            let w = <f32 as ::trocar::Real>::abs(
+                <f32 as ::trocar::Real>::mul_add(p.l_a, p.l_a - 0.8_f32, 0.16_f32),
+            );
             if <f32 as ::trocar::Real>::is_finite(w) {
                 w
             } else {
@@ -893,7 +1147,7 @@ pub mod panda_laparoscope {
     #[inline]
     #[must_use]
     pub fn manipulability_squared(_q: &[f32; N], p: &Params) -> f32 {
-        let x0 = p.l_a * (p.l_a - 0.8_f32) + 0.16_f32;
+        let x0 = <f32 as ::trocar::Real>::mul_add(p.l_a, p.l_a - 0.8_f32, 0.16_f32);
         {
             let w = x0 * x0;
             if <f32 as ::trocar::Real>::is_finite(w) {
@@ -911,7 +1165,7 @@ pub mod panda_laparoscope {
     #[inline]
     #[must_use]
     pub fn manipulability_squared_trig(_t: &JointTrig, p: &Params) -> f32 {
-        let x0 = p.l_a * (p.l_a - 0.8_f32) + 0.16_f32;
+        let x0 = <f32 as ::trocar::Real>::mul_add(p.l_a, p.l_a - 0.8_f32, 0.16_f32);
         {
             let w = x0 * x0;
             if <f32 as ::trocar::Real>::is_finite(w) {
@@ -993,7 +1247,7 @@ pub mod panda_laparoscope {
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / (p.l_a * (0.214_f32 + p.l_a) + 1.011449_f32);
+            / <f32 as ::trocar::Real>::mul_add(p.l_a, 0.214_f32 + p.l_a, 1.011449_f32);
         let x1 = x0 * (p.l_a + 0.107_f32);
         [
             [

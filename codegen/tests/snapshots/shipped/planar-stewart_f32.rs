@@ -113,17 +113,17 @@ pub mod planar_stewart {
         let ([s1, s3, s4, s6, s7, s9], [c1, c3, c4, c6, c7, c9]) = <f32 as ::trocar::Real>::sin_cos_array(
             &[q[0], q[2], q[3], q[5], q[6], q[8]],
         );
-        let x0 = c3 * p.l + q[1];
+        let x0 = <f32 as ::trocar::Real>::mul_add(c3, p.l, q[1]);
         let x1 = s3 * c1;
-        let x2 = -(x0 * s1 + p.l * x1);
+        let x2 = -<f32 as ::trocar::Real>::mul_add(x0, s1, p.l * x1);
         let x3 = s1 * s3;
-        let x4 = x0 * c1 - p.l * x3;
-        let x5 = -(p.l * (x1 + c3 * s1));
-        let x6 = p.l * (c3 * c1 - x3);
-        let x7 = p.l * c6 + q[4];
+        let x4 = <f32 as ::trocar::Real>::mul_add(x0, c1, -(p.l * x3));
+        let x5 = -(p.l * <f32 as ::trocar::Real>::mul_add(c3, s1, x1));
+        let x6 = p.l * <f32 as ::trocar::Real>::mul_add(c3, c1, -x3);
+        let x7 = <f32 as ::trocar::Real>::mul_add(p.l, c6, q[4]);
         let x8 = s6 * c4;
         let x9 = s4 * s6;
-        let x10 = p.l * c9 + q[7];
+        let x10 = <f32 as ::trocar::Real>::mul_add(p.l, c9, q[7]);
         let x11 = s9 * c7;
         let x12 = s7 * s9;
         [
@@ -138,8 +138,8 @@ pub mod planar_stewart {
             ],
             [x5, x6, <f32 as ::trocar::Real>::ONE, x5, x6, <f32 as ::trocar::Real>::ONE],
             [
-                x7 * s4 + p.l * x8,
-                p.l * x9 - x7 * c4,
+                <f32 as ::trocar::Real>::mul_add(x7, s4, p.l * x8),
+                <f32 as ::trocar::Real>::mul_add(p.l, x9, -(x7 * c4)),
                 -<f32 as ::trocar::Real>::ONE,
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
@@ -154,8 +154,8 @@ pub mod planar_stewart {
                 <f32 as ::trocar::Real>::ZERO,
             ],
             [
-                p.l * (x8 + c6 * s4),
-                p.l * (x9 - c6 * c4),
+                p.l * <f32 as ::trocar::Real>::mul_add(c6, s4, x8),
+                p.l * <f32 as ::trocar::Real>::mul_add(-c6, c4, x9),
                 -<f32 as ::trocar::Real>::ONE,
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
@@ -165,8 +165,8 @@ pub mod planar_stewart {
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
-                x10 * s7 + p.l * x11,
-                p.l * x12 - x10 * c7,
+                <f32 as ::trocar::Real>::mul_add(x10, s7, p.l * x11),
+                <f32 as ::trocar::Real>::mul_add(p.l, x12, -(x10 * c7)),
                 -<f32 as ::trocar::Real>::ONE,
             ],
             [
@@ -181,8 +181,8 @@ pub mod planar_stewart {
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
-                p.l * (x11 + c9 * s7),
-                p.l * (x12 - c9 * c7),
+                p.l * <f32 as ::trocar::Real>::mul_add(c9, s7, x11),
+                p.l * <f32 as ::trocar::Real>::mul_add(-c9, c7, x12),
                 -<f32 as ::trocar::Real>::ONE,
             ],
         ]
@@ -195,17 +195,17 @@ pub mod planar_stewart {
     #[inline]
     #[must_use]
     pub fn constraint_jacobian_trig(t: &JointTrig, p: &Params) -> [[f32; R]; N] {
-        let x0 = t.cos[2] * p.l + t.q[1];
+        let x0 = <f32 as ::trocar::Real>::mul_add(t.cos[2], p.l, t.q[1]);
         let x1 = t.sin[2] * t.cos[0];
-        let x2 = -(x0 * t.sin[0] + p.l * x1);
+        let x2 = -<f32 as ::trocar::Real>::mul_add(x0, t.sin[0], p.l * x1);
         let x3 = t.sin[0] * t.sin[2];
-        let x4 = x0 * t.cos[0] - p.l * x3;
-        let x5 = -(p.l * (x1 + t.cos[2] * t.sin[0]));
-        let x6 = p.l * (t.cos[2] * t.cos[0] - x3);
-        let x7 = p.l * t.cos[5] + t.q[4];
+        let x4 = <f32 as ::trocar::Real>::mul_add(x0, t.cos[0], -(p.l * x3));
+        let x5 = -(p.l * <f32 as ::trocar::Real>::mul_add(t.cos[2], t.sin[0], x1));
+        let x6 = p.l * <f32 as ::trocar::Real>::mul_add(t.cos[2], t.cos[0], -x3);
+        let x7 = <f32 as ::trocar::Real>::mul_add(p.l, t.cos[5], t.q[4]);
         let x8 = t.sin[5] * t.cos[3];
         let x9 = t.sin[3] * t.sin[5];
-        let x10 = p.l * t.cos[8] + t.q[7];
+        let x10 = <f32 as ::trocar::Real>::mul_add(p.l, t.cos[8], t.q[7]);
         let x11 = t.sin[8] * t.cos[6];
         let x12 = t.sin[6] * t.sin[8];
         [
@@ -220,8 +220,8 @@ pub mod planar_stewart {
             ],
             [x5, x6, <f32 as ::trocar::Real>::ONE, x5, x6, <f32 as ::trocar::Real>::ONE],
             [
-                x7 * t.sin[3] + p.l * x8,
-                p.l * x9 - x7 * t.cos[3],
+                <f32 as ::trocar::Real>::mul_add(x7, t.sin[3], p.l * x8),
+                <f32 as ::trocar::Real>::mul_add(p.l, x9, -(x7 * t.cos[3])),
                 -<f32 as ::trocar::Real>::ONE,
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
@@ -236,8 +236,8 @@ pub mod planar_stewart {
                 <f32 as ::trocar::Real>::ZERO,
             ],
             [
-                p.l * (x8 + t.cos[5] * t.sin[3]),
-                p.l * (x9 - t.cos[5] * t.cos[3]),
+                p.l * <f32 as ::trocar::Real>::mul_add(t.cos[5], t.sin[3], x8),
+                p.l * <f32 as ::trocar::Real>::mul_add(-t.cos[5], t.cos[3], x9),
                 -<f32 as ::trocar::Real>::ONE,
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
@@ -247,8 +247,8 @@ pub mod planar_stewart {
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
-                x10 * t.sin[6] + p.l * x11,
-                p.l * x12 - x10 * t.cos[6],
+                <f32 as ::trocar::Real>::mul_add(x10, t.sin[6], p.l * x11),
+                <f32 as ::trocar::Real>::mul_add(p.l, x12, -(x10 * t.cos[6])),
                 -<f32 as ::trocar::Real>::ONE,
             ],
             [
@@ -263,8 +263,8 @@ pub mod planar_stewart {
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
-                p.l * (x11 + t.cos[8] * t.sin[6]),
-                p.l * (x12 - t.cos[8] * t.cos[6]),
+                p.l * <f32 as ::trocar::Real>::mul_add(t.cos[8], t.sin[6], x11),
+                p.l * <f32 as ::trocar::Real>::mul_add(-t.cos[8], t.cos[6], x12),
                 -<f32 as ::trocar::Real>::ONE,
             ],
         ]
@@ -280,19 +280,21 @@ pub mod planar_stewart {
         let ([s1, s3, s4, s6, s7, s9], [c1, c3, c4, c6, c7, c9]) = <f32 as ::trocar::Real>::sin_cos_array(
             &[q[0], q[2], q[3], q[5], q[6], q[8]],
         );
-        let x0 = c3 * p.l + q[1];
+        let x0 = <f32 as ::trocar::Real>::mul_add(c3, p.l, q[1]);
         let x1 = s3 * c1;
         let x2 = s1 * s3;
-        let x3 = p.l * c6 + q[4];
+        let x3 = <f32 as ::trocar::Real>::mul_add(p.l, c6, q[4]);
         let x4 = s6 * c4;
         let x5 = s4 * s6;
-        let x6 = p.l * c9 + q[7];
+        let x6 = <f32 as ::trocar::Real>::mul_add(p.l, c9, q[7]);
         let x7 = s9 * c7;
         let x8 = s7 * s9;
         [
             [
-                -(0.3333333333333333_f32 * (x0 * s1 + p.l * x1)),
-                0.3333333333333333_f32 * (x0 * c1 - p.l * x2),
+                -(0.3333333333333333_f32
+                    * <f32 as ::trocar::Real>::mul_add(x0, s1, p.l * x1)),
+                0.3333333333333333_f32
+                    * <f32 as ::trocar::Real>::mul_add(x0, c1, -(p.l * x2)),
                 0.3333333333333333_f32,
             ],
             [
@@ -301,13 +303,17 @@ pub mod planar_stewart {
                 <f32 as ::trocar::Real>::ZERO,
             ],
             [
-                -(0.3333333333333333_f32 * (p.l * (x1 + c3 * s1))),
-                0.3333333333333333_f32 * (p.l * (c3 * c1 - x2)),
+                -(0.3333333333333333_f32
+                    * (p.l * <f32 as ::trocar::Real>::mul_add(c3, s1, x1))),
+                0.3333333333333333_f32
+                    * (p.l * <f32 as ::trocar::Real>::mul_add(c3, c1, -x2)),
                 0.3333333333333333_f32,
             ],
             [
-                -(0.3333333333333333_f32 * (x3 * s4 + p.l * x4)),
-                0.3333333333333333_f32 * (x3 * c4 - p.l * x5),
+                -(0.3333333333333333_f32
+                    * <f32 as ::trocar::Real>::mul_add(x3, s4, p.l * x4)),
+                0.3333333333333333_f32
+                    * <f32 as ::trocar::Real>::mul_add(x3, c4, -(p.l * x5)),
                 0.3333333333333333_f32,
             ],
             [
@@ -316,13 +322,17 @@ pub mod planar_stewart {
                 <f32 as ::trocar::Real>::ZERO,
             ],
             [
-                -(0.3333333333333333_f32 * (p.l * (x4 + c6 * s4))),
-                0.3333333333333333_f32 * (p.l * (c6 * c4 - x5)),
+                -(0.3333333333333333_f32
+                    * (p.l * <f32 as ::trocar::Real>::mul_add(c6, s4, x4))),
+                0.3333333333333333_f32
+                    * (p.l * <f32 as ::trocar::Real>::mul_add(c6, c4, -x5)),
                 0.3333333333333333_f32,
             ],
             [
-                -(0.3333333333333333_f32 * (x6 * s7 + p.l * x7)),
-                0.3333333333333333_f32 * (x6 * c7 - p.l * x8),
+                -(0.3333333333333333_f32
+                    * <f32 as ::trocar::Real>::mul_add(x6, s7, p.l * x7)),
+                0.3333333333333333_f32
+                    * <f32 as ::trocar::Real>::mul_add(x6, c7, -(p.l * x8)),
                 0.3333333333333333_f32,
             ],
             [
@@ -331,8 +341,10 @@ pub mod planar_stewart {
                 <f32 as ::trocar::Real>::ZERO,
             ],
             [
-                -(0.3333333333333333_f32 * (p.l * (x7 + c9 * s7))),
-                0.3333333333333333_f32 * (p.l * (c9 * c7 - x8)),
+                -(0.3333333333333333_f32
+                    * (p.l * <f32 as ::trocar::Real>::mul_add(c9, s7, x7))),
+                0.3333333333333333_f32
+                    * (p.l * <f32 as ::trocar::Real>::mul_add(c9, c7, -x8)),
                 0.3333333333333333_f32,
             ],
         ]
@@ -345,19 +357,21 @@ pub mod planar_stewart {
     #[inline]
     #[must_use]
     pub fn task_jacobian_trig(t: &JointTrig, p: &Params) -> [[f32; N_OUTPUTS]; N] {
-        let x0 = t.cos[2] * p.l + t.q[1];
+        let x0 = <f32 as ::trocar::Real>::mul_add(t.cos[2], p.l, t.q[1]);
         let x1 = t.sin[2] * t.cos[0];
         let x2 = t.sin[0] * t.sin[2];
-        let x3 = p.l * t.cos[5] + t.q[4];
+        let x3 = <f32 as ::trocar::Real>::mul_add(p.l, t.cos[5], t.q[4]);
         let x4 = t.sin[5] * t.cos[3];
         let x5 = t.sin[3] * t.sin[5];
-        let x6 = p.l * t.cos[8] + t.q[7];
+        let x6 = <f32 as ::trocar::Real>::mul_add(p.l, t.cos[8], t.q[7]);
         let x7 = t.sin[8] * t.cos[6];
         let x8 = t.sin[6] * t.sin[8];
         [
             [
-                -(0.3333333333333333_f32 * (x0 * t.sin[0] + p.l * x1)),
-                0.3333333333333333_f32 * (x0 * t.cos[0] - p.l * x2),
+                -(0.3333333333333333_f32
+                    * <f32 as ::trocar::Real>::mul_add(x0, t.sin[0], p.l * x1)),
+                0.3333333333333333_f32
+                    * <f32 as ::trocar::Real>::mul_add(x0, t.cos[0], -(p.l * x2)),
                 0.3333333333333333_f32,
             ],
             [
@@ -366,13 +380,17 @@ pub mod planar_stewart {
                 <f32 as ::trocar::Real>::ZERO,
             ],
             [
-                -(0.3333333333333333_f32 * (p.l * (x1 + t.cos[2] * t.sin[0]))),
-                0.3333333333333333_f32 * (p.l * (t.cos[2] * t.cos[0] - x2)),
+                -(0.3333333333333333_f32
+                    * (p.l * <f32 as ::trocar::Real>::mul_add(t.cos[2], t.sin[0], x1))),
+                0.3333333333333333_f32
+                    * (p.l * <f32 as ::trocar::Real>::mul_add(t.cos[2], t.cos[0], -x2)),
                 0.3333333333333333_f32,
             ],
             [
-                -(0.3333333333333333_f32 * (x3 * t.sin[3] + p.l * x4)),
-                0.3333333333333333_f32 * (x3 * t.cos[3] - p.l * x5),
+                -(0.3333333333333333_f32
+                    * <f32 as ::trocar::Real>::mul_add(x3, t.sin[3], p.l * x4)),
+                0.3333333333333333_f32
+                    * <f32 as ::trocar::Real>::mul_add(x3, t.cos[3], -(p.l * x5)),
                 0.3333333333333333_f32,
             ],
             [
@@ -381,13 +399,17 @@ pub mod planar_stewart {
                 <f32 as ::trocar::Real>::ZERO,
             ],
             [
-                -(0.3333333333333333_f32 * (p.l * (x4 + t.cos[5] * t.sin[3]))),
-                0.3333333333333333_f32 * (p.l * (t.cos[5] * t.cos[3] - x5)),
+                -(0.3333333333333333_f32
+                    * (p.l * <f32 as ::trocar::Real>::mul_add(t.cos[5], t.sin[3], x4))),
+                0.3333333333333333_f32
+                    * (p.l * <f32 as ::trocar::Real>::mul_add(t.cos[5], t.cos[3], -x5)),
                 0.3333333333333333_f32,
             ],
             [
-                -(0.3333333333333333_f32 * (x6 * t.sin[6] + p.l * x7)),
-                0.3333333333333333_f32 * (x6 * t.cos[6] - p.l * x8),
+                -(0.3333333333333333_f32
+                    * <f32 as ::trocar::Real>::mul_add(x6, t.sin[6], p.l * x7)),
+                0.3333333333333333_f32
+                    * <f32 as ::trocar::Real>::mul_add(x6, t.cos[6], -(p.l * x8)),
                 0.3333333333333333_f32,
             ],
             [
@@ -396,8 +418,10 @@ pub mod planar_stewart {
                 <f32 as ::trocar::Real>::ZERO,
             ],
             [
-                -(0.3333333333333333_f32 * (p.l * (x7 + t.cos[8] * t.sin[6]))),
-                0.3333333333333333_f32 * (p.l * (t.cos[8] * t.cos[6] - x8)),
+                -(0.3333333333333333_f32
+                    * (p.l * <f32 as ::trocar::Real>::mul_add(t.cos[8], t.sin[6], x7))),
+                0.3333333333333333_f32
+                    * (p.l * <f32 as ::trocar::Real>::mul_add(t.cos[8], t.cos[6], -x8)),
                 0.3333333333333333_f32,
             ],
         ]
@@ -411,9 +435,15 @@ pub mod planar_stewart {
         let ([s1, s3, s4, s6, s7, s9], [c1, _, c4, _, c7, _]) = <f32 as ::trocar::Real>::sin_cos_array(
             &[q[0], q[2], q[3], q[5], q[6], q[8]],
         );
-        ((s6 * c7 - s9 * c4) * s1
-            + ((c4 * s7 - c7 * s4) * s3 + (s9 * s4 - s6 * s7) * c1)) * p.l * q[7] * q[4]
-            * q[1]
+        <f32 as ::trocar::Real>::mul_add(
+            <f32 as ::trocar::Real>::mul_add(s6, c7, -(s9 * c4)),
+            s1,
+            <f32 as ::trocar::Real>::mul_add(
+                <f32 as ::trocar::Real>::mul_add(c4, s7, -(c7 * s4)),
+                s3,
+                <f32 as ::trocar::Real>::mul_add(s9, s4, -(s6 * s7)) * c1,
+            ),
+        ) * p.l * q[7] * q[4] * q[1]
     }
     /// [`constraint_determinant`] from precomputed joint sines and cosines ([`JointTrig`]), thesis (7), §4.5 of Freitas, Leite & Lizarralde (2010).
     ///
@@ -421,10 +451,23 @@ pub mod planar_stewart {
     #[inline]
     #[must_use]
     pub fn constraint_determinant_trig(t: &JointTrig, p: &Params) -> f32 {
-        ((t.sin[5] * t.cos[6] - t.sin[8] * t.cos[3]) * t.sin[0]
-            + ((t.cos[3] * t.sin[6] - t.cos[6] * t.sin[3]) * t.sin[2]
-                + (t.sin[8] * t.sin[3] - t.sin[5] * t.sin[6]) * t.cos[0])) * p.l * t.q[7]
-            * t.q[4] * t.q[1]
+        <f32 as ::trocar::Real>::mul_add(
+            <f32 as ::trocar::Real>::mul_add(t.sin[5], t.cos[6], -(t.sin[8] * t.cos[3])),
+            t.sin[0],
+            <f32 as ::trocar::Real>::mul_add(
+                <f32 as ::trocar::Real>::mul_add(
+                    t.cos[3],
+                    t.sin[6],
+                    -(t.cos[6] * t.sin[3]),
+                ),
+                t.sin[2],
+                <f32 as ::trocar::Real>::mul_add(
+                    t.sin[8],
+                    t.sin[3],
+                    -(t.sin[5] * t.sin[6]),
+                ) * t.cos[0],
+            ),
+        ) * p.l * t.q[7] * t.q[4] * t.q[1]
     }
     /// `det J_Cp` and the numerator `det(J_Cp) · J = det(J_Cp) J_Aa − J_Ap adj(J_Cp) J_Ca` of the reduced Jacobian, thesis (8) of Freitas, Leite & Lizarralde (2010).
     ///
@@ -442,10 +485,14 @@ pub mod planar_stewart {
         let ([s1, s3, s4, s6, s7, s9], [c1, _, c4, _, c7, _]) = <f32 as ::trocar::Real>::sin_cos_array(
             &[q[0], q[2], q[3], q[5], q[6], q[8]],
         );
-        let x0 = s6 * c7 - s9 * c4;
-        let x1 = c4 * s7 - c7 * s4;
-        let x2 = s9 * s4 - s6 * s7;
-        let x3 = (x0 * s1 + (x1 * s3 + x2 * c1)) * p.l * q[7] * q[4] * q[1];
+        let x0 = <f32 as ::trocar::Real>::mul_add(s6, c7, -(s9 * c4));
+        let x1 = <f32 as ::trocar::Real>::mul_add(c4, s7, -(c7 * s4));
+        let x2 = <f32 as ::trocar::Real>::mul_add(s9, s4, -(s6 * s7));
+        let x3 = <f32 as ::trocar::Real>::mul_add(
+            x0,
+            s1,
+            <f32 as ::trocar::Real>::mul_add(x1, s3, x2 * c1),
+        ) * p.l * q[7] * q[4] * q[1];
         [
             [
                 x3,
@@ -455,15 +502,35 @@ pub mod planar_stewart {
             ],
             [
                 x3,
-                q[1] * (q[4] * (q[7] * (p.l * (s7 * s3 - s9 * s1)))),
-                q[1] * (q[4] * (q[7] * (p.l * (s9 * c1 - c7 * s3)))),
-                q[1] * (q[4] * (q[7] * (c7 * s1 - s7 * c1))),
+                q[1]
+                    * (q[4]
+                        * (q[7]
+                            * (p.l
+                                * <f32 as ::trocar::Real>::mul_add(s7, s3, -(s9 * s1))))),
+                q[1]
+                    * (q[4]
+                        * (q[7]
+                            * (p.l
+                                * <f32 as ::trocar::Real>::mul_add(s9, c1, -(c7 * s3))))),
+                q[1]
+                    * (q[4]
+                        * (q[7] * <f32 as ::trocar::Real>::mul_add(c7, s1, -(s7 * c1)))),
             ],
             [
                 x3,
-                q[1] * (q[4] * (q[7] * (p.l * (s6 * s1 - s4 * s3)))),
-                q[1] * (q[4] * (q[7] * (p.l * (c4 * s3 - s6 * c1)))),
-                q[1] * (q[4] * (q[7] * (s4 * c1 - c4 * s1))),
+                q[1]
+                    * (q[4]
+                        * (q[7]
+                            * (p.l
+                                * <f32 as ::trocar::Real>::mul_add(s6, s1, -(s4 * s3))))),
+                q[1]
+                    * (q[4]
+                        * (q[7]
+                            * (p.l
+                                * <f32 as ::trocar::Real>::mul_add(c4, s3, -(s6 * c1))))),
+                q[1]
+                    * (q[4]
+                        * (q[7] * <f32 as ::trocar::Real>::mul_add(s4, c1, -(c4 * s1)))),
             ],
         ]
     }
@@ -478,11 +545,26 @@ pub mod planar_stewart {
         t: &JointTrig,
         p: &Params,
     ) -> [[f32; 1 + N_OUTPUTS]; N_ACTIVE] {
-        let x0 = t.sin[5] * t.cos[6] - t.sin[8] * t.cos[3];
-        let x1 = t.cos[3] * t.sin[6] - t.cos[6] * t.sin[3];
-        let x2 = t.sin[8] * t.sin[3] - t.sin[5] * t.sin[6];
-        let x3 = (x0 * t.sin[0] + (x1 * t.sin[2] + x2 * t.cos[0])) * p.l * t.q[7]
-            * t.q[4] * t.q[1];
+        let x0 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[5],
+            t.cos[6],
+            -(t.sin[8] * t.cos[3]),
+        );
+        let x1 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[3],
+            t.sin[6],
+            -(t.cos[6] * t.sin[3]),
+        );
+        let x2 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            t.sin[3],
+            -(t.sin[5] * t.sin[6]),
+        );
+        let x3 = <f32 as ::trocar::Real>::mul_add(
+            x0,
+            t.sin[0],
+            <f32 as ::trocar::Real>::mul_add(x1, t.sin[2], x2 * t.cos[0]),
+        ) * p.l * t.q[7] * t.q[4] * t.q[1];
         [
             [
                 x3,
@@ -495,26 +577,58 @@ pub mod planar_stewart {
                 t.q[1]
                     * (t.q[4]
                         * (t.q[7]
-                            * (p.l * (t.sin[6] * t.sin[2] - t.sin[8] * t.sin[0])))),
+                            * (p.l
+                                * <f32 as ::trocar::Real>::mul_add(
+                                    t.sin[6],
+                                    t.sin[2],
+                                    -(t.sin[8] * t.sin[0]),
+                                )))),
                 t.q[1]
                     * (t.q[4]
                         * (t.q[7]
-                            * (p.l * (t.sin[8] * t.cos[0] - t.cos[6] * t.sin[2])))),
+                            * (p.l
+                                * <f32 as ::trocar::Real>::mul_add(
+                                    t.sin[8],
+                                    t.cos[0],
+                                    -(t.cos[6] * t.sin[2]),
+                                )))),
                 t.q[1]
-                    * (t.q[4] * (t.q[7] * (t.cos[6] * t.sin[0] - t.sin[6] * t.cos[0]))),
+                    * (t.q[4]
+                        * (t.q[7]
+                            * <f32 as ::trocar::Real>::mul_add(
+                                t.cos[6],
+                                t.sin[0],
+                                -(t.sin[6] * t.cos[0]),
+                            ))),
             ],
             [
                 x3,
                 t.q[1]
                     * (t.q[4]
                         * (t.q[7]
-                            * (p.l * (t.sin[5] * t.sin[0] - t.sin[3] * t.sin[2])))),
+                            * (p.l
+                                * <f32 as ::trocar::Real>::mul_add(
+                                    t.sin[5],
+                                    t.sin[0],
+                                    -(t.sin[3] * t.sin[2]),
+                                )))),
                 t.q[1]
                     * (t.q[4]
                         * (t.q[7]
-                            * (p.l * (t.cos[3] * t.sin[2] - t.sin[5] * t.cos[0])))),
+                            * (p.l
+                                * <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[3],
+                                    t.sin[2],
+                                    -(t.sin[5] * t.cos[0]),
+                                )))),
                 t.q[1]
-                    * (t.q[4] * (t.q[7] * (t.sin[3] * t.cos[0] - t.cos[3] * t.sin[0]))),
+                    * (t.q[4]
+                        * (t.q[7]
+                            * <f32 as ::trocar::Real>::mul_add(
+                                t.sin[3],
+                                t.cos[0],
+                                -(t.cos[3] * t.sin[0]),
+                            ))),
             ],
         ]
     }
@@ -543,61 +657,165 @@ pub mod planar_stewart {
         let x6 = s9 * s4;
         let x7 = s6 * s7;
         let x8 = x6 - x7;
-        let x9 = (x2 * s1 + (x5 * s3 + x8 * c1)) * p.l * q[7] * q[4] * q[1];
+        let x9 = <f32 as ::trocar::Real>::mul_add(
+            x2,
+            s1,
+            <f32 as ::trocar::Real>::mul_add(x5, s3, x8 * c1),
+        ) * p.l * q[7] * q[4] * q[1];
         let x10 = c7 * c6;
         let x11 = s4 * (x7 + x10);
         let x12 = s7 * c6;
         let x13 = c7 * c9;
         let x14 = s9 * s7;
         let x15 = x13 - x14;
-        let x16 = s7 * c9 + c7 * s9;
+        let x16 = <f32 as ::trocar::Real>::mul_add(s7, c9, c7 * s9);
         let x17 = c4 * x16;
         let x18 = x14 - x13;
-        let x19 = s1 * (s7 * s3 + c7 * c3);
+        let x19 = s1 * <f32 as ::trocar::Real>::mul_add(s7, s3, c7 * c3);
         let x20 = s7 * c3;
         let x21 = c7 * s3;
-        let x22 = c7 * s1 - s7 * c1;
-        let x23 = s3 * (s7 * s4 + c7 * c4);
+        let x22 = <f32 as ::trocar::Real>::mul_add(c7, s1, -(s7 * c1));
+        let x23 = s3 * <f32 as ::trocar::Real>::mul_add(s7, s4, c7 * c4);
         let x24 = c1 * (x1 + x12);
         let x25 = c1 * x16;
-        let x26 = s1 * (s4 * s3 + c4 * c3);
+        let x26 = s1 * <f32 as ::trocar::Real>::mul_add(s4, s3, c4 * c3);
         let x27 = c4 * s3;
         let x28 = s4 * c3;
-        let x29 = s4 * c1 - c4 * s1;
+        let x29 = <f32 as ::trocar::Real>::mul_add(s4, c1, -(c4 * s1));
         let x30 = c4 * c6;
         let x31 = s6 * s4;
-        let x32 = c1 * (s4 * c6 + s6 * c4);
+        let x32 = c1 * <f32 as ::trocar::Real>::mul_add(s4, c6, s6 * c4);
         let x33 = c4 * c9;
-        let x34 = c1 * (x0 + s4 * c9);
+        let x34 = c1 * <f32 as ::trocar::Real>::mul_add(s4, c9, x0);
         [
             [
                 x9,
-                q[4] * (q[7] * (p.l * (s1 * (x7 - x6) + (x2 * c1 + (x4 - x3) * c3)))),
                 q[4]
                     * (q[7]
-                        * (p.l * (s1 * x8 + (c1 * (x1 - x0) + x5 * c3)) + x5 * q[1])),
-                q[1] * (q[7] * (p.l * (x11 + (c4 * (x0 - x12) - s9)))),
-                q[1] * (q[7] * (p.l * (s9 + c4 * (x12 - x0) - x11) + x5 * q[4])),
-                q[1] * (q[4] * (p.l * (s4 * x15 + (s6 - x17)))),
-                q[1] * (q[4] * (p.l * (s4 * x18 + (x17 - s6)) + x5 * q[7])),
+                        * (p.l
+                            * <f32 as ::trocar::Real>::mul_add(
+                                s1,
+                                x7 - x6,
+                                <f32 as ::trocar::Real>::mul_add(x2, c1, (x4 - x3) * c3),
+                            ))),
+                q[4]
+                    * (q[7]
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l,
+                            <f32 as ::trocar::Real>::mul_add(
+                                s1,
+                                x8,
+                                <f32 as ::trocar::Real>::mul_add(c1, x1 - x0, x5 * c3),
+                            ),
+                            x5 * q[1],
+                        )),
+                q[1]
+                    * (q[7]
+                        * (p.l
+                            * (x11
+                                + <f32 as ::trocar::Real>::mul_add(c4, x0 - x12, -s9)))),
+                q[1]
+                    * (q[7]
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l,
+                            <f32 as ::trocar::Real>::mul_add(c4, x12 - x0, s9) - x11,
+                            x5 * q[4],
+                        )),
+                q[1]
+                    * (q[4]
+                        * (p.l * <f32 as ::trocar::Real>::mul_add(s4, x15, s6 - x17))),
+                q[1]
+                    * (q[4]
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l,
+                            <f32 as ::trocar::Real>::mul_add(s4, x18, x17 - s6),
+                            x5 * q[7],
+                        )),
             ],
             [
                 x9,
-                q[4] * (q[7] * (p.l * (s9 + c1 * (x20 - x21) - x19))),
-                q[4] * (q[7] * (p.l * (x19 + (c1 * (x21 - x20) - s9)) + q[1] * x22)),
-                q[1] * (q[7] * (p.l * (s1 * (x6 - x10) + (x24 - x23)))),
-                q[1] * (q[7] * (p.l * (s1 * (x10 - x6) + (x23 - x24)) + q[4] * x22)),
-                q[1] * (q[4] * (p.l * (s1 * x18 + (x25 - s3)))),
-                q[1] * (q[4] * (p.l * (s1 * x15 + (s3 - x25)) + q[7] * x22)),
+                q[4]
+                    * (q[7]
+                        * (p.l
+                            * (<f32 as ::trocar::Real>::mul_add(c1, x20 - x21, s9)
+                                - x19))),
+                q[4]
+                    * (q[7]
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l,
+                            x19 + <f32 as ::trocar::Real>::mul_add(c1, x21 - x20, -s9),
+                            q[1] * x22,
+                        )),
+                q[1]
+                    * (q[7]
+                        * (p.l
+                            * <f32 as ::trocar::Real>::mul_add(
+                                s1,
+                                x6 - x10,
+                                x24 - x23,
+                            ))),
+                q[1]
+                    * (q[7]
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l,
+                            <f32 as ::trocar::Real>::mul_add(s1, x10 - x6, x23 - x24),
+                            q[4] * x22,
+                        )),
+                q[1]
+                    * (q[4]
+                        * (p.l * <f32 as ::trocar::Real>::mul_add(s1, x18, x25 - s3))),
+                q[1]
+                    * (q[4]
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l,
+                            <f32 as ::trocar::Real>::mul_add(s1, x15, s3 - x25),
+                            q[7] * x22,
+                        )),
             ],
             [
                 x9,
-                q[4] * (q[7] * (p.l * (x26 + (c1 * (x27 - x28) - s6)))),
-                q[4] * (q[7] * (p.l * (s6 + c1 * (x28 - x27) - x26) + q[1] * x29)),
-                q[1] * (q[7] * (p.l * (s1 * (x30 - x31) + (s3 - x32)))),
-                q[1] * (q[7] * (p.l * (s1 * (x31 - x30) + (x32 - s3)) + q[4] * x29)),
-                q[1] * (q[4] * (p.l * (s1 * (x33 - x7) + (x23 - x34)))),
-                q[1] * (q[4] * (p.l * (s1 * (x7 - x33) + (x34 - x23)) + q[7] * x29)),
+                q[4]
+                    * (q[7]
+                        * (p.l
+                            * (x26
+                                + <f32 as ::trocar::Real>::mul_add(c1, x27 - x28, -s6)))),
+                q[4]
+                    * (q[7]
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l,
+                            <f32 as ::trocar::Real>::mul_add(c1, x28 - x27, s6) - x26,
+                            q[1] * x29,
+                        )),
+                q[1]
+                    * (q[7]
+                        * (p.l
+                            * <f32 as ::trocar::Real>::mul_add(
+                                s1,
+                                x30 - x31,
+                                s3 - x32,
+                            ))),
+                q[1]
+                    * (q[7]
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l,
+                            <f32 as ::trocar::Real>::mul_add(s1, x31 - x30, x32 - s3),
+                            q[4] * x29,
+                        )),
+                q[1]
+                    * (q[4]
+                        * (p.l
+                            * <f32 as ::trocar::Real>::mul_add(
+                                s1,
+                                x33 - x7,
+                                x23 - x34,
+                            ))),
+                q[1]
+                    * (q[4]
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l,
+                            <f32 as ::trocar::Real>::mul_add(s1, x7 - x33, x34 - x23),
+                            q[7] * x29,
+                        )),
             ],
         ]
     }
@@ -621,87 +839,243 @@ pub mod planar_stewart {
         let x6 = t.sin[8] * t.sin[3];
         let x7 = t.sin[5] * t.sin[6];
         let x8 = x6 - x7;
-        let x9 = (x2 * t.sin[0] + (x5 * t.sin[2] + x8 * t.cos[0])) * p.l * t.q[7]
-            * t.q[4] * t.q[1];
+        let x9 = <f32 as ::trocar::Real>::mul_add(
+            x2,
+            t.sin[0],
+            <f32 as ::trocar::Real>::mul_add(x5, t.sin[2], x8 * t.cos[0]),
+        ) * p.l * t.q[7] * t.q[4] * t.q[1];
         let x10 = t.cos[6] * t.cos[5];
         let x11 = t.sin[3] * (x7 + x10);
         let x12 = t.sin[6] * t.cos[5];
         let x13 = t.cos[6] * t.cos[8];
         let x14 = t.sin[8] * t.sin[6];
         let x15 = x13 - x14;
-        let x16 = t.sin[6] * t.cos[8] + t.cos[6] * t.sin[8];
+        let x16 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[6],
+            t.cos[8],
+            t.cos[6] * t.sin[8],
+        );
         let x17 = t.cos[3] * x16;
         let x18 = x14 - x13;
-        let x19 = t.sin[0] * (t.sin[6] * t.sin[2] + t.cos[6] * t.cos[2]);
+        let x19 = t.sin[0]
+            * <f32 as ::trocar::Real>::mul_add(t.sin[6], t.sin[2], t.cos[6] * t.cos[2]);
         let x20 = t.sin[6] * t.cos[2];
         let x21 = t.cos[6] * t.sin[2];
-        let x22 = t.cos[6] * t.sin[0] - t.sin[6] * t.cos[0];
-        let x23 = t.sin[2] * (t.sin[6] * t.sin[3] + t.cos[6] * t.cos[3]);
+        let x22 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[6],
+            t.sin[0],
+            -(t.sin[6] * t.cos[0]),
+        );
+        let x23 = t.sin[2]
+            * <f32 as ::trocar::Real>::mul_add(t.sin[6], t.sin[3], t.cos[6] * t.cos[3]);
         let x24 = t.cos[0] * (x1 + x12);
         let x25 = t.cos[0] * x16;
-        let x26 = t.sin[0] * (t.sin[3] * t.sin[2] + t.cos[3] * t.cos[2]);
+        let x26 = t.sin[0]
+            * <f32 as ::trocar::Real>::mul_add(t.sin[3], t.sin[2], t.cos[3] * t.cos[2]);
         let x27 = t.cos[3] * t.sin[2];
         let x28 = t.sin[3] * t.cos[2];
-        let x29 = t.sin[3] * t.cos[0] - t.cos[3] * t.sin[0];
+        let x29 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[3],
+            t.cos[0],
+            -(t.cos[3] * t.sin[0]),
+        );
         let x30 = t.cos[3] * t.cos[5];
         let x31 = t.sin[5] * t.sin[3];
-        let x32 = t.cos[0] * (t.sin[3] * t.cos[5] + t.sin[5] * t.cos[3]);
+        let x32 = t.cos[0]
+            * <f32 as ::trocar::Real>::mul_add(t.sin[3], t.cos[5], t.sin[5] * t.cos[3]);
         let x33 = t.cos[3] * t.cos[8];
-        let x34 = t.cos[0] * (x0 + t.sin[3] * t.cos[8]);
+        let x34 = t.cos[0] * <f32 as ::trocar::Real>::mul_add(t.sin[3], t.cos[8], x0);
         [
             [
                 x9,
                 t.q[4]
                     * (t.q[7]
                         * (p.l
-                            * (t.sin[0] * (x7 - x6)
-                                + (x2 * t.cos[0] + (x4 - x3) * t.cos[2])))),
+                            * <f32 as ::trocar::Real>::mul_add(
+                                t.sin[0],
+                                x7 - x6,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    x2,
+                                    t.cos[0],
+                                    (x4 - x3) * t.cos[2],
+                                ),
+                            ))),
                 t.q[4]
                     * (t.q[7]
-                        * (p.l * (t.sin[0] * x8 + (t.cos[0] * (x1 - x0) + x5 * t.cos[2]))
-                            + x5 * t.q[1])),
-                t.q[1] * (t.q[7] * (p.l * (x11 + (t.cos[3] * (x0 - x12) - t.sin[8])))),
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l,
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[0],
+                                x8,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[0],
+                                    x1 - x0,
+                                    x5 * t.cos[2],
+                                ),
+                            ),
+                            x5 * t.q[1],
+                        )),
                 t.q[1]
                     * (t.q[7]
-                        * (p.l * (t.sin[8] + t.cos[3] * (x12 - x0) - x11)
-                            + x5 * t.q[4])),
-                t.q[1] * (t.q[4] * (p.l * (t.sin[3] * x15 + (t.sin[5] - x17)))),
+                        * (p.l
+                            * (x11
+                                + <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[3],
+                                    x0 - x12,
+                                    -t.sin[8],
+                                )))),
+                t.q[1]
+                    * (t.q[7]
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l,
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[3],
+                                x12 - x0,
+                                t.sin[8],
+                            ) - x11,
+                            x5 * t.q[4],
+                        )),
                 t.q[1]
                     * (t.q[4]
-                        * (p.l * (t.sin[3] * x18 + (x17 - t.sin[5])) + x5 * t.q[7])),
+                        * (p.l
+                            * <f32 as ::trocar::Real>::mul_add(
+                                t.sin[3],
+                                x15,
+                                t.sin[5] - x17,
+                            ))),
+                t.q[1]
+                    * (t.q[4]
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l,
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[3],
+                                x18,
+                                x17 - t.sin[5],
+                            ),
+                            x5 * t.q[7],
+                        )),
             ],
             [
                 x9,
-                t.q[4] * (t.q[7] * (p.l * (t.sin[8] + t.cos[0] * (x20 - x21) - x19))),
                 t.q[4]
                     * (t.q[7]
-                        * (p.l * (x19 + (t.cos[0] * (x21 - x20) - t.sin[8]))
-                            + t.q[1] * x22)),
-                t.q[1] * (t.q[7] * (p.l * (t.sin[0] * (x6 - x10) + (x24 - x23)))),
+                        * (p.l
+                            * (<f32 as ::trocar::Real>::mul_add(
+                                t.cos[0],
+                                x20 - x21,
+                                t.sin[8],
+                            ) - x19))),
+                t.q[4]
+                    * (t.q[7]
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l,
+                            x19
+                                + <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[0],
+                                    x21 - x20,
+                                    -t.sin[8],
+                                ),
+                            t.q[1] * x22,
+                        )),
                 t.q[1]
                     * (t.q[7]
-                        * (p.l * (t.sin[0] * (x10 - x6) + (x23 - x24)) + t.q[4] * x22)),
-                t.q[1] * (t.q[4] * (p.l * (t.sin[0] * x18 + (x25 - t.sin[2])))),
+                        * (p.l
+                            * <f32 as ::trocar::Real>::mul_add(
+                                t.sin[0],
+                                x6 - x10,
+                                x24 - x23,
+                            ))),
+                t.q[1]
+                    * (t.q[7]
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l,
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[0],
+                                x10 - x6,
+                                x23 - x24,
+                            ),
+                            t.q[4] * x22,
+                        )),
                 t.q[1]
                     * (t.q[4]
-                        * (p.l * (t.sin[0] * x15 + (t.sin[2] - x25)) + t.q[7] * x22)),
+                        * (p.l
+                            * <f32 as ::trocar::Real>::mul_add(
+                                t.sin[0],
+                                x18,
+                                x25 - t.sin[2],
+                            ))),
+                t.q[1]
+                    * (t.q[4]
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l,
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[0],
+                                x15,
+                                t.sin[2] - x25,
+                            ),
+                            t.q[7] * x22,
+                        )),
             ],
             [
                 x9,
-                t.q[4] * (t.q[7] * (p.l * (x26 + (t.cos[0] * (x27 - x28) - t.sin[5])))),
                 t.q[4]
                     * (t.q[7]
-                        * (p.l * (t.sin[5] + t.cos[0] * (x28 - x27) - x26)
-                            + t.q[1] * x29)),
-                t.q[1] * (t.q[7] * (p.l * (t.sin[0] * (x30 - x31) + (t.sin[2] - x32)))),
+                        * (p.l
+                            * (x26
+                                + <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[0],
+                                    x27 - x28,
+                                    -t.sin[5],
+                                )))),
+                t.q[4]
+                    * (t.q[7]
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l,
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[0],
+                                x28 - x27,
+                                t.sin[5],
+                            ) - x26,
+                            t.q[1] * x29,
+                        )),
                 t.q[1]
                     * (t.q[7]
-                        * (p.l * (t.sin[0] * (x31 - x30) + (x32 - t.sin[2]))
-                            + t.q[4] * x29)),
-                t.q[1] * (t.q[4] * (p.l * (t.sin[0] * (x33 - x7) + (x23 - x34)))),
+                        * (p.l
+                            * <f32 as ::trocar::Real>::mul_add(
+                                t.sin[0],
+                                x30 - x31,
+                                t.sin[2] - x32,
+                            ))),
+                t.q[1]
+                    * (t.q[7]
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l,
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[0],
+                                x31 - x30,
+                                x32 - t.sin[2],
+                            ),
+                            t.q[4] * x29,
+                        )),
                 t.q[1]
                     * (t.q[4]
-                        * (p.l * (t.sin[0] * (x7 - x33) + (x34 - x23)) + t.q[7] * x29)),
+                        * (p.l
+                            * <f32 as ::trocar::Real>::mul_add(
+                                t.sin[0],
+                                x33 - x7,
+                                x23 - x34,
+                            ))),
+                t.q[1]
+                    * (t.q[4]
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l,
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[0],
+                                x7 - x33,
+                                x34 - x23,
+                            ),
+                            t.q[7] * x29,
+                        )),
             ],
         ]
     }

@@ -90,46 +90,98 @@ pub mod unidirectional {
         let x2 = s1 * s2;
         let x3 = c1 * c2;
         let x4 = c1 * s2;
-        let x5 = s3 * x2 - c3 * x1;
-        let x6 = s3 * x1 + c3 * x2;
-        let x7 = c3 * x3 - s3 * x4;
-        let x8 = s3 * x3 + c3 * x4;
-        let x9 = s2 * c3 + c2 * s3;
-        let x10 = c2 * c3 - s2 * s3;
-        let x11 = c1 * c4 - s4 * x6;
-        let x12 = c1 * s4 + c4 * x6;
-        let x13 = s1 * c4 + s4 * x8;
-        let x14 = s1 * s4 - c4 * x8;
+        let x5 = <f64 as ::trocar::Real>::mul_add(s3, x2, -(c3 * x1));
+        let x6 = <f64 as ::trocar::Real>::mul_add(s3, x1, c3 * x2);
+        let x7 = <f64 as ::trocar::Real>::mul_add(c3, x3, -(s3 * x4));
+        let x8 = <f64 as ::trocar::Real>::mul_add(s3, x3, c3 * x4);
+        let x9 = <f64 as ::trocar::Real>::mul_add(s2, c3, c2 * s3);
+        let x10 = <f64 as ::trocar::Real>::mul_add(c2, c3, -(s2 * s3));
+        let x11 = <f64 as ::trocar::Real>::mul_add(c1, c4, -(s4 * x6));
+        let x12 = <f64 as ::trocar::Real>::mul_add(c1, s4, c4 * x6);
+        let x13 = <f64 as ::trocar::Real>::mul_add(s1, c4, s4 * x8);
+        let x14 = <f64 as ::trocar::Real>::mul_add(s1, s4, -(c4 * x8));
         let x15 = s4 * x10;
         let x16 = c4 * x10;
-        let x17 = c5 * x5 + s5 * x12;
-        let x18 = c5 * x12 - s5 * x5;
-        let x19 = c5 * x7 + s5 * x14;
-        let x20 = c5 * x14 - s5 * x7;
-        let x21 = c5 * x9 + s5 * x16;
-        let x22 = c5 * x16 - s5 * x9;
-        let x23 = c6 * x11 - s6 * x18;
-        let x24 = s6 * x11 + c6 * x18;
-        let x25 = c6 * x13 - s6 * x20;
-        let x26 = s6 * x13 + c6 * x20;
-        let x27 = c6 * x15 + s6 * x22;
-        let x28 = c6 * x22 - s6 * x15;
-        let x29 = c7 * x23 + s7 * x17;
-        let x30 = c7 * x17 - s7 * x23;
-        let x31 = c7 * x25 + s7 * x19;
-        let x32 = c7 * x19 - s7 * x25;
-        let x33 = s7 * x21 - c7 * x27;
-        let x34 = s7 * x27 + c7 * x21;
+        let x17 = <f64 as ::trocar::Real>::mul_add(c5, x5, s5 * x12);
+        let x18 = <f64 as ::trocar::Real>::mul_add(c5, x12, -(s5 * x5));
+        let x19 = <f64 as ::trocar::Real>::mul_add(c5, x7, s5 * x14);
+        let x20 = <f64 as ::trocar::Real>::mul_add(c5, x14, -(s5 * x7));
+        let x21 = <f64 as ::trocar::Real>::mul_add(c5, x9, s5 * x16);
+        let x22 = <f64 as ::trocar::Real>::mul_add(c5, x16, -(s5 * x9));
+        let x23 = <f64 as ::trocar::Real>::mul_add(c6, x11, -(s6 * x18));
+        let x24 = <f64 as ::trocar::Real>::mul_add(s6, x11, c6 * x18);
+        let x25 = <f64 as ::trocar::Real>::mul_add(c6, x13, -(s6 * x20));
+        let x26 = <f64 as ::trocar::Real>::mul_add(s6, x13, c6 * x20);
+        let x27 = <f64 as ::trocar::Real>::mul_add(c6, x15, s6 * x22);
+        let x28 = <f64 as ::trocar::Real>::mul_add(c6, x22, -(s6 * x15));
+        let x29 = <f64 as ::trocar::Real>::mul_add(c7, x23, s7 * x17);
+        let x30 = <f64 as ::trocar::Real>::mul_add(c7, x17, -(s7 * x23));
+        let x31 = <f64 as ::trocar::Real>::mul_add(c7, x25, s7 * x19);
+        let x32 = <f64 as ::trocar::Real>::mul_add(c7, x19, -(s7 * x25));
+        let x33 = <f64 as ::trocar::Real>::mul_add(s7, x21, -(c7 * x27));
+        let x34 = <f64 as ::trocar::Real>::mul_add(s7, x27, c7 * x21);
         (
             [
-                [c8 * x29 - s8 * x24, c8 * x31 - s8 * x26, c8 * x33 - s8 * x28],
+                [
+                    <f64 as ::trocar::Real>::mul_add(c8, x29, -(s8 * x24)),
+                    <f64 as ::trocar::Real>::mul_add(c8, x31, -(s8 * x26)),
+                    <f64 as ::trocar::Real>::mul_add(c8, x33, -(s8 * x28)),
+                ],
                 [x30, x32, x34],
-                [s8 * x29 + c8 * x24, s8 * x31 + c8 * x26, s8 * x33 + c8 * x28],
+                [
+                    <f64 as ::trocar::Real>::mul_add(s8, x29, c8 * x24),
+                    <f64 as ::trocar::Real>::mul_add(s8, x31, c8 * x26),
+                    <f64 as ::trocar::Real>::mul_add(s8, x33, c8 * x28),
+                ],
             ],
             [
-                0.194_f64 * c1 - 0.38_f64 * x1 + 0.39_f64 * x5 + x0 * x17 + p.l_8 * x30,
-                0.194_f64 * s1 + 0.38_f64 * x3 + 0.39_f64 * x7 + x0 * x19 + p.l_8 * x32,
-                1.037_f64 + 0.38_f64 * s2 + 0.39_f64 * x9 + x0 * x21 + p.l_8 * x34,
+                <f64 as ::trocar::Real>::mul_add(
+                    p.l_8,
+                    x30,
+                    <f64 as ::trocar::Real>::mul_add(
+                        x0,
+                        x17,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.39_f64,
+                            x5,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.194_f64,
+                                c1,
+                                -(0.38_f64 * x1),
+                            ),
+                        ),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    p.l_8,
+                    x32,
+                    <f64 as ::trocar::Real>::mul_add(
+                        x0,
+                        x19,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.39_f64,
+                            x7,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.194_f64,
+                                s1,
+                                0.38_f64 * x3,
+                            ),
+                        ),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    p.l_8,
+                    x34,
+                    <f64 as ::trocar::Real>::mul_add(
+                        x0,
+                        x21,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.39_f64,
+                            x9,
+                            <f64 as ::trocar::Real>::mul_add(0.38_f64, s2, 1.037_f64),
+                        ),
+                    ),
+                ),
             ],
         )
     }
@@ -149,56 +201,110 @@ pub mod unidirectional {
         let x2 = t.sin[0] * t.sin[1];
         let x3 = t.cos[0] * t.cos[1];
         let x4 = t.cos[0] * t.sin[1];
-        let x5 = t.sin[2] * x2 - t.cos[2] * x1;
-        let x6 = t.sin[2] * x1 + t.cos[2] * x2;
-        let x7 = t.cos[2] * x3 - t.sin[2] * x4;
-        let x8 = t.sin[2] * x3 + t.cos[2] * x4;
-        let x9 = t.sin[1] * t.cos[2] + t.cos[1] * t.sin[2];
-        let x10 = t.cos[1] * t.cos[2] - t.sin[1] * t.sin[2];
-        let x11 = t.cos[0] * t.cos[3] - t.sin[3] * x6;
-        let x12 = t.cos[0] * t.sin[3] + t.cos[3] * x6;
-        let x13 = t.sin[0] * t.cos[3] + t.sin[3] * x8;
-        let x14 = t.sin[0] * t.sin[3] - t.cos[3] * x8;
+        let x5 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x2, -(t.cos[2] * x1));
+        let x6 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x1, t.cos[2] * x2);
+        let x7 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x3, -(t.sin[2] * x4));
+        let x8 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x3, t.cos[2] * x4);
+        let x9 = <f64 as ::trocar::Real>::mul_add(
+            t.sin[1],
+            t.cos[2],
+            t.cos[1] * t.sin[2],
+        );
+        let x10 = <f64 as ::trocar::Real>::mul_add(
+            t.cos[1],
+            t.cos[2],
+            -(t.sin[1] * t.sin[2]),
+        );
+        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[0], t.cos[3], -(t.sin[3] * x6));
+        let x12 = <f64 as ::trocar::Real>::mul_add(t.cos[0], t.sin[3], t.cos[3] * x6);
+        let x13 = <f64 as ::trocar::Real>::mul_add(t.sin[0], t.cos[3], t.sin[3] * x8);
+        let x14 = <f64 as ::trocar::Real>::mul_add(t.sin[0], t.sin[3], -(t.cos[3] * x8));
         let x15 = t.sin[3] * x10;
         let x16 = t.cos[3] * x10;
-        let x17 = t.cos[4] * x5 + t.sin[4] * x12;
-        let x18 = t.cos[4] * x12 - t.sin[4] * x5;
-        let x19 = t.cos[4] * x7 + t.sin[4] * x14;
-        let x20 = t.cos[4] * x14 - t.sin[4] * x7;
-        let x21 = t.cos[4] * x9 + t.sin[4] * x16;
-        let x22 = t.cos[4] * x16 - t.sin[4] * x9;
-        let x23 = t.cos[5] * x11 - t.sin[5] * x18;
-        let x24 = t.sin[5] * x11 + t.cos[5] * x18;
-        let x25 = t.cos[5] * x13 - t.sin[5] * x20;
-        let x26 = t.sin[5] * x13 + t.cos[5] * x20;
-        let x27 = t.cos[5] * x15 + t.sin[5] * x22;
-        let x28 = t.cos[5] * x22 - t.sin[5] * x15;
-        let x29 = t.cos[6] * x23 + t.sin[6] * x17;
-        let x30 = t.cos[6] * x17 - t.sin[6] * x23;
-        let x31 = t.cos[6] * x25 + t.sin[6] * x19;
-        let x32 = t.cos[6] * x19 - t.sin[6] * x25;
-        let x33 = t.sin[6] * x21 - t.cos[6] * x27;
-        let x34 = t.sin[6] * x27 + t.cos[6] * x21;
+        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x5, t.sin[4] * x12);
+        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x12, -(t.sin[4] * x5));
+        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x7, t.sin[4] * x14);
+        let x20 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x14, -(t.sin[4] * x7));
+        let x21 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x9, t.sin[4] * x16);
+        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x16, -(t.sin[4] * x9));
+        let x23 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x11, -(t.sin[5] * x18));
+        let x24 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x11, t.cos[5] * x18);
+        let x25 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x13, -(t.sin[5] * x20));
+        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x13, t.cos[5] * x20);
+        let x27 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x15, t.sin[5] * x22);
+        let x28 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x22, -(t.sin[5] * x15));
+        let x29 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x23, t.sin[6] * x17);
+        let x30 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x17, -(t.sin[6] * x23));
+        let x31 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x25, t.sin[6] * x19);
+        let x32 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x19, -(t.sin[6] * x25));
+        let x33 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x21, -(t.cos[6] * x27));
+        let x34 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x27, t.cos[6] * x21);
         (
             [
                 [
-                    t.cos[7] * x29 - t.sin[7] * x24,
-                    t.cos[7] * x31 - t.sin[7] * x26,
-                    t.cos[7] * x33 - t.sin[7] * x28,
+                    <f64 as ::trocar::Real>::mul_add(t.cos[7], x29, -(t.sin[7] * x24)),
+                    <f64 as ::trocar::Real>::mul_add(t.cos[7], x31, -(t.sin[7] * x26)),
+                    <f64 as ::trocar::Real>::mul_add(t.cos[7], x33, -(t.sin[7] * x28)),
                 ],
                 [x30, x32, x34],
                 [
-                    t.sin[7] * x29 + t.cos[7] * x24,
-                    t.sin[7] * x31 + t.cos[7] * x26,
-                    t.sin[7] * x33 + t.cos[7] * x28,
+                    <f64 as ::trocar::Real>::mul_add(t.sin[7], x29, t.cos[7] * x24),
+                    <f64 as ::trocar::Real>::mul_add(t.sin[7], x31, t.cos[7] * x26),
+                    <f64 as ::trocar::Real>::mul_add(t.sin[7], x33, t.cos[7] * x28),
                 ],
             ],
             [
-                0.194_f64 * t.cos[0] - 0.38_f64 * x1 + 0.39_f64 * x5 + x0 * x17
-                    + p.l_8 * x30,
-                0.194_f64 * t.sin[0] + 0.38_f64 * x3 + 0.39_f64 * x7 + x0 * x19
-                    + p.l_8 * x32,
-                1.037_f64 + 0.38_f64 * t.sin[1] + 0.39_f64 * x9 + x0 * x21 + p.l_8 * x34,
+                <f64 as ::trocar::Real>::mul_add(
+                    p.l_8,
+                    x30,
+                    <f64 as ::trocar::Real>::mul_add(
+                        x0,
+                        x17,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.39_f64,
+                            x5,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.194_f64,
+                                t.cos[0],
+                                -(0.38_f64 * x1),
+                            ),
+                        ),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    p.l_8,
+                    x32,
+                    <f64 as ::trocar::Real>::mul_add(
+                        x0,
+                        x19,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.39_f64,
+                            x7,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.194_f64,
+                                t.sin[0],
+                                0.38_f64 * x3,
+                            ),
+                        ),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    p.l_8,
+                    x34,
+                    <f64 as ::trocar::Real>::mul_add(
+                        x0,
+                        x21,
+                        <f64 as ::trocar::Real>::mul_add(
+                            0.39_f64,
+                            x9,
+                            <f64 as ::trocar::Real>::mul_add(
+                                0.38_f64,
+                                t.sin[1],
+                                1.037_f64,
+                            ),
+                        ),
+                    ),
+                ),
             ],
         )
     }
@@ -218,77 +324,89 @@ pub mod unidirectional {
         let x2 = s7 * p.l_8;
         let x3 = s7 * c8;
         let x4 = s7 * s8;
-        let x5 = p.l_a + p.l_b + c7 * p.l_8;
-        let x6 = c6 * x0 - s6 * s8;
+        let x5 = <f64 as ::trocar::Real>::mul_add(c7, p.l_8, p.l_a + p.l_b);
+        let x6 = <f64 as ::trocar::Real>::mul_add(c6, x0, -(s6 * s8));
         let x7 = c6 * s7;
-        let x8 = c6 * x1 + s6 * c8;
+        let x8 = <f64 as ::trocar::Real>::mul_add(c6, x1, s6 * c8);
         let x9 = c6 * x2;
-        let x10 = s6 * x0 + c6 * s8;
+        let x10 = <f64 as ::trocar::Real>::mul_add(s6, x0, c6 * s8);
         let x11 = s6 * s7;
-        let x12 = c6 * c8 - s6 * x1;
+        let x12 = <f64 as ::trocar::Real>::mul_add(c6, c8, -(s6 * x1));
         let x13 = s6 * x2;
-        let x14 = c5 * x3 + s5 * x10;
-        let x15 = c5 * c7 - s5 * x11;
-        let x16 = c5 * x4 - s5 * x12;
-        let x17 = 0.39_f64 + (c5 * x5 - s5 * x13);
-        let x18 = s5 * x3 - c5 * x10;
-        let x19 = s5 * c7 + c5 * x11;
-        let x20 = s5 * x4 + c5 * x12;
-        let x21 = s5 * x5 + c5 * x13;
-        let x22 = c4 * x6 + s4 * x18;
-        let x23 = s4 * x19 - c4 * x7;
-        let x24 = c4 * x8 + s4 * x20;
-        let x25 = c4 * x18 - s4 * x6;
-        let x26 = s4 * x7 + c4 * x19;
-        let x27 = c4 * x20 - s4 * x8;
-        let x28 = s4 * x9 + c4 * x21;
-        let x29 = c3 * x14 - s3 * x25;
-        let x30 = c3 * x15 - s3 * x26;
-        let x31 = c3 * x16 - s3 * x27;
-        let x32 = 0.38_f64 + (c3 * x17 - s3 * x28);
-        let x33 = s3 * x14 + c3 * x25;
-        let x34 = s3 * x15 + c3 * x26;
-        let x35 = s3 * x16 + c3 * x27;
-        let x36 = s3 * x17 + c3 * x28;
-        let x37 = 0.194_f64 + (s4 * x21 - c4 * x9);
-        let x38 = c2 * x32 - s2 * x36;
+        let x14 = <f64 as ::trocar::Real>::mul_add(c5, x3, s5 * x10);
+        let x15 = <f64 as ::trocar::Real>::mul_add(c5, c7, -(s5 * x11));
+        let x16 = <f64 as ::trocar::Real>::mul_add(c5, x4, -(s5 * x12));
+        let x17 = 0.39_f64 + <f64 as ::trocar::Real>::mul_add(c5, x5, -(s5 * x13));
+        let x18 = <f64 as ::trocar::Real>::mul_add(s5, x3, -(c5 * x10));
+        let x19 = <f64 as ::trocar::Real>::mul_add(s5, c7, c5 * x11);
+        let x20 = <f64 as ::trocar::Real>::mul_add(s5, x4, c5 * x12);
+        let x21 = <f64 as ::trocar::Real>::mul_add(s5, x5, c5 * x13);
+        let x22 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x18);
+        let x23 = <f64 as ::trocar::Real>::mul_add(s4, x19, -(c4 * x7));
+        let x24 = <f64 as ::trocar::Real>::mul_add(c4, x8, s4 * x20);
+        let x25 = <f64 as ::trocar::Real>::mul_add(c4, x18, -(s4 * x6));
+        let x26 = <f64 as ::trocar::Real>::mul_add(s4, x7, c4 * x19);
+        let x27 = <f64 as ::trocar::Real>::mul_add(c4, x20, -(s4 * x8));
+        let x28 = <f64 as ::trocar::Real>::mul_add(s4, x9, c4 * x21);
+        let x29 = <f64 as ::trocar::Real>::mul_add(c3, x14, -(s3 * x25));
+        let x30 = <f64 as ::trocar::Real>::mul_add(c3, x15, -(s3 * x26));
+        let x31 = <f64 as ::trocar::Real>::mul_add(c3, x16, -(s3 * x27));
+        let x32 = 0.38_f64 + <f64 as ::trocar::Real>::mul_add(c3, x17, -(s3 * x28));
+        let x33 = <f64 as ::trocar::Real>::mul_add(s3, x14, c3 * x25);
+        let x34 = <f64 as ::trocar::Real>::mul_add(s3, x15, c3 * x26);
+        let x35 = <f64 as ::trocar::Real>::mul_add(s3, x16, c3 * x27);
+        let x36 = <f64 as ::trocar::Real>::mul_add(s3, x17, c3 * x28);
+        let x37 = 0.194_f64 + <f64 as ::trocar::Real>::mul_add(s4, x21, -(c4 * x9));
+        let x38 = <f64 as ::trocar::Real>::mul_add(c2, x32, -(s2 * x36));
         [
             [
-                x37 * (c2 * x29 - s2 * x33) - x22 * x38,
-                x37 * (c2 * x30 - s2 * x34) - x23 * x38,
-                x37 * (c2 * x31 - s2 * x35) - x24 * x38,
-                s2 * x29 + c2 * x33,
-                s2 * x30 + c2 * x34,
-                s2 * x31 + c2 * x35,
+                <f64 as ::trocar::Real>::mul_add(
+                    x37,
+                    <f64 as ::trocar::Real>::mul_add(c2, x29, -(s2 * x33)),
+                    -(x22 * x38),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    x37,
+                    <f64 as ::trocar::Real>::mul_add(c2, x30, -(s2 * x34)),
+                    -(x23 * x38),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    x37,
+                    <f64 as ::trocar::Real>::mul_add(c2, x31, -(s2 * x35)),
+                    -(x24 * x38),
+                ),
+                <f64 as ::trocar::Real>::mul_add(s2, x29, c2 * x33),
+                <f64 as ::trocar::Real>::mul_add(s2, x30, c2 * x34),
+                <f64 as ::trocar::Real>::mul_add(s2, x31, c2 * x35),
             ],
             [
-                x32 * x33 - x29 * x36,
-                x32 * x34 - x30 * x36,
-                x32 * x35 - x31 * x36,
+                <f64 as ::trocar::Real>::mul_add(x32, x33, -(x29 * x36)),
+                <f64 as ::trocar::Real>::mul_add(x32, x34, -(x30 * x36)),
+                <f64 as ::trocar::Real>::mul_add(x32, x35, -(x31 * x36)),
                 x22,
                 x23,
                 x24,
             ],
             [
-                x17 * x25 - x14 * x28,
-                x17 * x26 - x15 * x28,
-                x17 * x27 - x16 * x28,
+                <f64 as ::trocar::Real>::mul_add(x17, x25, -(x14 * x28)),
+                <f64 as ::trocar::Real>::mul_add(x17, x26, -(x15 * x28)),
+                <f64 as ::trocar::Real>::mul_add(x17, x27, -(x16 * x28)),
                 x22,
                 x23,
                 x24,
             ],
             [
-                x6 * x21 + x9 * x18,
-                x9 * x19 - x7 * x21,
-                x8 * x21 + x9 * x20,
+                <f64 as ::trocar::Real>::mul_add(x6, x21, x9 * x18),
+                <f64 as ::trocar::Real>::mul_add(x9, x19, -(x7 * x21)),
+                <f64 as ::trocar::Real>::mul_add(x8, x21, x9 * x20),
                 x14,
                 x15,
                 x16,
             ],
             [
-                -(x3 * x13 + x5 * x10),
-                x5 * x11 - c7 * x13,
-                x5 * x12 - x4 * x13,
+                -<f64 as ::trocar::Real>::mul_add(x3, x13, x5 * x10),
+                <f64 as ::trocar::Real>::mul_add(x5, x11, -(c7 * x13)),
+                <f64 as ::trocar::Real>::mul_add(x5, x12, -(x4 * x13)),
                 x6,
                 -x7,
                 x8,
@@ -325,77 +443,96 @@ pub mod unidirectional {
         let x2 = t.sin[6] * p.l_8;
         let x3 = t.sin[6] * t.cos[7];
         let x4 = t.sin[6] * t.sin[7];
-        let x5 = p.l_a + p.l_b + t.cos[6] * p.l_8;
-        let x6 = t.cos[5] * x0 - t.sin[5] * t.sin[7];
+        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[6], p.l_8, p.l_a + p.l_b);
+        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x0, -(t.sin[5] * t.sin[7]));
         let x7 = t.cos[5] * t.sin[6];
-        let x8 = t.cos[5] * x1 + t.sin[5] * t.cos[7];
+        let x8 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x1, t.sin[5] * t.cos[7]);
         let x9 = t.cos[5] * x2;
-        let x10 = t.sin[5] * x0 + t.cos[5] * t.sin[7];
+        let x10 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x0, t.cos[5] * t.sin[7]);
         let x11 = t.sin[5] * t.sin[6];
-        let x12 = t.cos[5] * t.cos[7] - t.sin[5] * x1;
+        let x12 = <f64 as ::trocar::Real>::mul_add(t.cos[5], t.cos[7], -(t.sin[5] * x1));
         let x13 = t.sin[5] * x2;
-        let x14 = t.cos[4] * x3 + t.sin[4] * x10;
-        let x15 = t.cos[4] * t.cos[6] - t.sin[4] * x11;
-        let x16 = t.cos[4] * x4 - t.sin[4] * x12;
-        let x17 = 0.39_f64 + (t.cos[4] * x5 - t.sin[4] * x13);
-        let x18 = t.sin[4] * x3 - t.cos[4] * x10;
-        let x19 = t.sin[4] * t.cos[6] + t.cos[4] * x11;
-        let x20 = t.sin[4] * x4 + t.cos[4] * x12;
-        let x21 = t.sin[4] * x5 + t.cos[4] * x13;
-        let x22 = t.cos[3] * x6 + t.sin[3] * x18;
-        let x23 = t.sin[3] * x19 - t.cos[3] * x7;
-        let x24 = t.cos[3] * x8 + t.sin[3] * x20;
-        let x25 = t.cos[3] * x18 - t.sin[3] * x6;
-        let x26 = t.sin[3] * x7 + t.cos[3] * x19;
-        let x27 = t.cos[3] * x20 - t.sin[3] * x8;
-        let x28 = t.sin[3] * x9 + t.cos[3] * x21;
-        let x29 = t.cos[2] * x14 - t.sin[2] * x25;
-        let x30 = t.cos[2] * x15 - t.sin[2] * x26;
-        let x31 = t.cos[2] * x16 - t.sin[2] * x27;
-        let x32 = 0.38_f64 + (t.cos[2] * x17 - t.sin[2] * x28);
-        let x33 = t.sin[2] * x14 + t.cos[2] * x25;
-        let x34 = t.sin[2] * x15 + t.cos[2] * x26;
-        let x35 = t.sin[2] * x16 + t.cos[2] * x27;
-        let x36 = t.sin[2] * x17 + t.cos[2] * x28;
-        let x37 = 0.194_f64 + (t.sin[3] * x21 - t.cos[3] * x9);
-        let x38 = t.cos[1] * x32 - t.sin[1] * x36;
+        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x3, t.sin[4] * x10);
+        let x15 = <f64 as ::trocar::Real>::mul_add(
+            t.cos[4],
+            t.cos[6],
+            -(t.sin[4] * x11),
+        );
+        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x4, -(t.sin[4] * x12));
+        let x17 = 0.39_f64
+            + <f64 as ::trocar::Real>::mul_add(t.cos[4], x5, -(t.sin[4] * x13));
+        let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x3, -(t.cos[4] * x10));
+        let x19 = <f64 as ::trocar::Real>::mul_add(t.sin[4], t.cos[6], t.cos[4] * x11);
+        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x4, t.cos[4] * x12);
+        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x5, t.cos[4] * x13);
+        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x18);
+        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x19, -(t.cos[3] * x7));
+        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x8, t.sin[3] * x20);
+        let x25 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x18, -(t.sin[3] * x6));
+        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x7, t.cos[3] * x19);
+        let x27 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x20, -(t.sin[3] * x8));
+        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x9, t.cos[3] * x21);
+        let x29 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x14, -(t.sin[2] * x25));
+        let x30 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x15, -(t.sin[2] * x26));
+        let x31 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x16, -(t.sin[2] * x27));
+        let x32 = 0.38_f64
+            + <f64 as ::trocar::Real>::mul_add(t.cos[2], x17, -(t.sin[2] * x28));
+        let x33 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x14, t.cos[2] * x25);
+        let x34 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x15, t.cos[2] * x26);
+        let x35 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x27);
+        let x36 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x28);
+        let x37 = 0.194_f64
+            + <f64 as ::trocar::Real>::mul_add(t.sin[3], x21, -(t.cos[3] * x9));
+        let x38 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x32, -(t.sin[1] * x36));
         [
             [
-                x37 * (t.cos[1] * x29 - t.sin[1] * x33) - x22 * x38,
-                x37 * (t.cos[1] * x30 - t.sin[1] * x34) - x23 * x38,
-                x37 * (t.cos[1] * x31 - t.sin[1] * x35) - x24 * x38,
-                t.sin[1] * x29 + t.cos[1] * x33,
-                t.sin[1] * x30 + t.cos[1] * x34,
-                t.sin[1] * x31 + t.cos[1] * x35,
+                <f64 as ::trocar::Real>::mul_add(
+                    x37,
+                    <f64 as ::trocar::Real>::mul_add(t.cos[1], x29, -(t.sin[1] * x33)),
+                    -(x22 * x38),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    x37,
+                    <f64 as ::trocar::Real>::mul_add(t.cos[1], x30, -(t.sin[1] * x34)),
+                    -(x23 * x38),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    x37,
+                    <f64 as ::trocar::Real>::mul_add(t.cos[1], x31, -(t.sin[1] * x35)),
+                    -(x24 * x38),
+                ),
+                <f64 as ::trocar::Real>::mul_add(t.sin[1], x29, t.cos[1] * x33),
+                <f64 as ::trocar::Real>::mul_add(t.sin[1], x30, t.cos[1] * x34),
+                <f64 as ::trocar::Real>::mul_add(t.sin[1], x31, t.cos[1] * x35),
             ],
             [
-                x32 * x33 - x29 * x36,
-                x32 * x34 - x30 * x36,
-                x32 * x35 - x31 * x36,
+                <f64 as ::trocar::Real>::mul_add(x32, x33, -(x29 * x36)),
+                <f64 as ::trocar::Real>::mul_add(x32, x34, -(x30 * x36)),
+                <f64 as ::trocar::Real>::mul_add(x32, x35, -(x31 * x36)),
                 x22,
                 x23,
                 x24,
             ],
             [
-                x17 * x25 - x14 * x28,
-                x17 * x26 - x15 * x28,
-                x17 * x27 - x16 * x28,
+                <f64 as ::trocar::Real>::mul_add(x17, x25, -(x14 * x28)),
+                <f64 as ::trocar::Real>::mul_add(x17, x26, -(x15 * x28)),
+                <f64 as ::trocar::Real>::mul_add(x17, x27, -(x16 * x28)),
                 x22,
                 x23,
                 x24,
             ],
             [
-                x6 * x21 + x9 * x18,
-                x9 * x19 - x7 * x21,
-                x8 * x21 + x9 * x20,
+                <f64 as ::trocar::Real>::mul_add(x6, x21, x9 * x18),
+                <f64 as ::trocar::Real>::mul_add(x9, x19, -(x7 * x21)),
+                <f64 as ::trocar::Real>::mul_add(x8, x21, x9 * x20),
                 x14,
                 x15,
                 x16,
             ],
             [
-                -(x3 * x13 + x5 * x10),
-                x5 * x11 - t.cos[6] * x13,
-                x5 * x12 - x4 * x13,
+                -<f64 as ::trocar::Real>::mul_add(x3, x13, x5 * x10),
+                <f64 as ::trocar::Real>::mul_add(x5, x11, -(t.cos[6] * x13)),
+                <f64 as ::trocar::Real>::mul_add(x5, x12, -(x4 * x13)),
                 x6,
                 -x7,
                 x8,
@@ -440,11 +577,11 @@ pub mod unidirectional {
     pub fn constrained_jacobian(q: &[f64; N], p: &Params) -> [[f64; 6]; M] {
         let ([s7, s8], [c7, c8]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
         let x0 = <f64 as ::trocar::Real>::ONE / p.l_a;
-        let x1 = (c7 * p.l_b + p.l_8) * x0;
+        let x1 = <f64 as ::trocar::Real>::mul_add(c7, p.l_b, p.l_8) * x0;
         let x2 = c8 * s7;
         let x3 = s7 * s8;
         let x4 = -s8;
-        let x5 = p.l_b + (p.l_a + c7 * p.l_8);
+        let x5 = p.l_b + <f64 as ::trocar::Real>::mul_add(c7, p.l_8, p.l_a);
         [
             [
                 -(x1 * c8),
@@ -499,11 +636,11 @@ pub mod unidirectional {
     #[must_use]
     pub fn constrained_jacobian_trig(t: &JointTrig, p: &Params) -> [[f64; 6]; M] {
         let x0 = <f64 as ::trocar::Real>::ONE / p.l_a;
-        let x1 = (t.cos[6] * p.l_b + p.l_8) * x0;
+        let x1 = <f64 as ::trocar::Real>::mul_add(t.cos[6], p.l_b, p.l_8) * x0;
         let x2 = t.cos[7] * t.sin[6];
         let x3 = t.sin[6] * t.sin[7];
         let x4 = -t.sin[7];
-        let x5 = p.l_b + (p.l_a + t.cos[6] * p.l_8);
+        let x5 = p.l_b + <f64 as ::trocar::Real>::mul_add(t.cos[6], p.l_8, p.l_a);
         [
             [
                 -(x1 * t.cos[7]),
@@ -568,9 +705,17 @@ pub mod unidirectional {
     pub fn constraint_jacobian_c(q: &[f64; N], p: &Params) -> [[f64; 6]; R] {
         let ([s7, s8], [c7, c8]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
         let x0 = <f64 as ::trocar::Real>::ONE
-            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
-        let x1 = <f64 as ::trocar::Real>::ONE + p.l_a * (p.l_a + p.l_b);
-        let x2 = x0 * (x1 * c7 + p.l_a * p.l_8);
+            / <f64 as ::trocar::Real>::mul_add(
+                p.l_a,
+                p.l_a,
+                <f64 as ::trocar::Real>::ONE,
+            );
+        let x1 = <f64 as ::trocar::Real>::mul_add(
+            p.l_a,
+            p.l_a + p.l_b,
+            <f64 as ::trocar::Real>::ONE,
+        );
+        let x2 = x0 * <f64 as ::trocar::Real>::mul_add(x1, c7, p.l_a * p.l_8);
         [
             [
                 x2 * c8,
@@ -591,9 +736,17 @@ pub mod unidirectional {
     #[must_use]
     pub fn constraint_jacobian_c_trig(t: &JointTrig, p: &Params) -> [[f64; 6]; R] {
         let x0 = <f64 as ::trocar::Real>::ONE
-            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
-        let x1 = <f64 as ::trocar::Real>::ONE + p.l_a * (p.l_a + p.l_b);
-        let x2 = x0 * (x1 * t.cos[6] + p.l_a * p.l_8);
+            / <f64 as ::trocar::Real>::mul_add(
+                p.l_a,
+                p.l_a,
+                <f64 as ::trocar::Real>::ONE,
+            );
+        let x1 = <f64 as ::trocar::Real>::mul_add(
+            p.l_a,
+            p.l_a + p.l_b,
+            <f64 as ::trocar::Real>::ONE,
+        );
+        let x2 = x0 * <f64 as ::trocar::Real>::mul_add(x1, t.cos[6], p.l_a * p.l_8);
         [
             [
                 x2 * t.cos[7],
@@ -620,34 +773,46 @@ pub mod unidirectional {
         let x1 = s5 * c6;
         let x2 = c5 * s6;
         let x3 = c5 * c6;
-        let x4 = c4 * c6 - s4 * x2;
+        let x4 = <f64 as ::trocar::Real>::mul_add(c4, c6, -(s4 * x2));
         let x5 = s4 * s5;
-        let x6 = c4 * s6 + s4 * x3;
-        let x7 = s4 * c6 + c4 * x2;
+        let x6 = <f64 as ::trocar::Real>::mul_add(c4, s6, s4 * x3);
+        let x7 = <f64 as ::trocar::Real>::mul_add(s4, c6, c4 * x2);
         let x8 = c4 * s5;
-        let x9 = c4 * x3 - s4 * s6;
-        let x10 = c3 * x0 + s3 * x7;
-        let x11 = c3 * c5 - s3 * x8;
-        let x12 = c3 * x1 + s3 * x9;
-        let x13 = 0.38_f64 + 0.39_f64 * c3;
-        let x14 = s3 * x0 - c3 * x7;
-        let x15 = s3 * c5 + c3 * x8;
-        let x16 = c3 * x9 - s3 * x1;
+        let x9 = <f64 as ::trocar::Real>::mul_add(c4, x3, -(s4 * s6));
+        let x10 = <f64 as ::trocar::Real>::mul_add(c3, x0, s3 * x7);
+        let x11 = <f64 as ::trocar::Real>::mul_add(c3, c5, -(s3 * x8));
+        let x12 = <f64 as ::trocar::Real>::mul_add(c3, x1, s3 * x9);
+        let x13 = <f64 as ::trocar::Real>::mul_add(0.39_f64, c3, 0.38_f64);
+        let x14 = <f64 as ::trocar::Real>::mul_add(s3, x0, -(c3 * x7));
+        let x15 = <f64 as ::trocar::Real>::mul_add(s3, c5, c3 * x8);
+        let x16 = <f64 as ::trocar::Real>::mul_add(c3, x9, -(s3 * x1));
         let x17 = 0.39_f64 * s3;
-        let x18 = c2 * x13 - s2 * x17;
+        let x18 = <f64 as ::trocar::Real>::mul_add(c2, x13, -(s2 * x17));
         [
             [
-                0.194_f64 * (c2 * x10 - s2 * x14) - x4 * x18,
-                0.194_f64 * (c2 * x11 - s2 * x15) - x5 * x18,
-                -(x6 * x18 + 0.194_f64 * (c2 * x12 + s2 * x16)),
-                s2 * x10 + c2 * x14,
-                s2 * x11 + c2 * x15,
-                c2 * x16 - s2 * x12,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.194_f64,
+                    <f64 as ::trocar::Real>::mul_add(c2, x10, -(s2 * x14)),
+                    -(x4 * x18),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.194_f64,
+                    <f64 as ::trocar::Real>::mul_add(c2, x11, -(s2 * x15)),
+                    -(x5 * x18),
+                ),
+                -<f64 as ::trocar::Real>::mul_add(
+                    x6,
+                    x18,
+                    0.194_f64 * <f64 as ::trocar::Real>::mul_add(c2, x12, s2 * x16),
+                ),
+                <f64 as ::trocar::Real>::mul_add(s2, x10, c2 * x14),
+                <f64 as ::trocar::Real>::mul_add(s2, x11, c2 * x15),
+                <f64 as ::trocar::Real>::mul_add(c2, x16, -(s2 * x12)),
             ],
             [
-                x13 * x14 - x10 * x17,
-                x13 * x15 - x11 * x17,
-                x12 * x17 + x13 * x16,
+                <f64 as ::trocar::Real>::mul_add(x13, x14, -(x10 * x17)),
+                <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
+                <f64 as ::trocar::Real>::mul_add(x12, x17, x13 * x16),
                 x4,
                 x5,
                 x6,
@@ -691,34 +856,47 @@ pub mod unidirectional {
         let x1 = t.sin[4] * t.cos[5];
         let x2 = t.cos[4] * t.sin[5];
         let x3 = t.cos[4] * t.cos[5];
-        let x4 = t.cos[3] * t.cos[5] - t.sin[3] * x2;
+        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x2));
         let x5 = t.sin[3] * t.sin[4];
-        let x6 = t.cos[3] * t.sin[5] + t.sin[3] * x3;
-        let x7 = t.sin[3] * t.cos[5] + t.cos[3] * x2;
+        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.sin[5], t.sin[3] * x3);
+        let x7 = <f64 as ::trocar::Real>::mul_add(t.sin[3], t.cos[5], t.cos[3] * x2);
         let x8 = t.cos[3] * t.sin[4];
-        let x9 = t.cos[3] * x3 - t.sin[3] * t.sin[5];
-        let x10 = t.cos[2] * x0 + t.sin[2] * x7;
-        let x11 = t.cos[2] * t.cos[4] - t.sin[2] * x8;
-        let x12 = t.cos[2] * x1 + t.sin[2] * x9;
-        let x13 = 0.38_f64 + 0.39_f64 * t.cos[2];
-        let x14 = t.sin[2] * x0 - t.cos[2] * x7;
-        let x15 = t.sin[2] * t.cos[4] + t.cos[2] * x8;
-        let x16 = t.cos[2] * x9 - t.sin[2] * x1;
+        let x9 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * t.sin[5]));
+        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x0, t.sin[2] * x7);
+        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x8));
+        let x12 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x1, t.sin[2] * x9);
+        let x13 = <f64 as ::trocar::Real>::mul_add(0.39_f64, t.cos[2], 0.38_f64);
+        let x14 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x0, -(t.cos[2] * x7));
+        let x15 = <f64 as ::trocar::Real>::mul_add(t.sin[2], t.cos[4], t.cos[2] * x8);
+        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x9, -(t.sin[2] * x1));
         let x17 = 0.39_f64 * t.sin[2];
-        let x18 = t.cos[1] * x13 - t.sin[1] * x17;
+        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x13, -(t.sin[1] * x17));
         [
             [
-                0.194_f64 * (t.cos[1] * x10 - t.sin[1] * x14) - x4 * x18,
-                0.194_f64 * (t.cos[1] * x11 - t.sin[1] * x15) - x5 * x18,
-                -(x6 * x18 + 0.194_f64 * (t.cos[1] * x12 + t.sin[1] * x16)),
-                t.sin[1] * x10 + t.cos[1] * x14,
-                t.sin[1] * x11 + t.cos[1] * x15,
-                t.cos[1] * x16 - t.sin[1] * x12,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.194_f64,
+                    <f64 as ::trocar::Real>::mul_add(t.cos[1], x10, -(t.sin[1] * x14)),
+                    -(x4 * x18),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.194_f64,
+                    <f64 as ::trocar::Real>::mul_add(t.cos[1], x11, -(t.sin[1] * x15)),
+                    -(x5 * x18),
+                ),
+                -<f64 as ::trocar::Real>::mul_add(
+                    x6,
+                    x18,
+                    0.194_f64
+                        * <f64 as ::trocar::Real>::mul_add(t.cos[1], x12, t.sin[1] * x16),
+                ),
+                <f64 as ::trocar::Real>::mul_add(t.sin[1], x10, t.cos[1] * x14),
+                <f64 as ::trocar::Real>::mul_add(t.sin[1], x11, t.cos[1] * x15),
+                <f64 as ::trocar::Real>::mul_add(t.cos[1], x16, -(t.sin[1] * x12)),
             ],
             [
-                x13 * x14 - x10 * x17,
-                x13 * x15 - x11 * x17,
-                x12 * x17 + x13 * x16,
+                <f64 as ::trocar::Real>::mul_add(x13, x14, -(x10 * x17)),
+                <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
+                <f64 as ::trocar::Real>::mul_add(x12, x17, x13 * x16),
                 x4,
                 x5,
                 x6,
@@ -765,31 +943,55 @@ pub mod unidirectional {
         let x1 = s1 * s2;
         let x2 = c1 * c2;
         let x3 = c1 * s2;
-        let x4 = s3 * x1 - c3 * x0;
-        let x5 = s3 * x0 + c3 * x1;
-        let x6 = c3 * x2 - s3 * x3;
-        let x7 = s3 * x2 + c3 * x3;
-        let x8 = s2 * c3 + c2 * s3;
-        let x9 = c2 * c3 - s2 * s3;
-        let x10 = c1 * c4 - s4 * x5;
-        let x11 = c1 * s4 + c4 * x5;
-        let x12 = s1 * c4 + s4 * x7;
-        let x13 = s1 * s4 - c4 * x7;
+        let x4 = <f64 as ::trocar::Real>::mul_add(s3, x1, -(c3 * x0));
+        let x5 = <f64 as ::trocar::Real>::mul_add(s3, x0, c3 * x1);
+        let x6 = <f64 as ::trocar::Real>::mul_add(c3, x2, -(s3 * x3));
+        let x7 = <f64 as ::trocar::Real>::mul_add(s3, x2, c3 * x3);
+        let x8 = <f64 as ::trocar::Real>::mul_add(s2, c3, c2 * s3);
+        let x9 = <f64 as ::trocar::Real>::mul_add(c2, c3, -(s2 * s3));
+        let x10 = <f64 as ::trocar::Real>::mul_add(c1, c4, -(s4 * x5));
+        let x11 = <f64 as ::trocar::Real>::mul_add(c1, s4, c4 * x5);
+        let x12 = <f64 as ::trocar::Real>::mul_add(s1, c4, s4 * x7);
+        let x13 = <f64 as ::trocar::Real>::mul_add(s1, s4, -(c4 * x7));
         let x14 = s4 * x9;
         let x15 = c4 * x9;
-        let x16 = c5 * x11 - s5 * x4;
-        let x17 = c5 * x13 - s5 * x6;
-        let x18 = c5 * x15 - s5 * x8;
+        let x16 = <f64 as ::trocar::Real>::mul_add(c5, x11, -(s5 * x4));
+        let x17 = <f64 as ::trocar::Real>::mul_add(c5, x13, -(s5 * x6));
+        let x18 = <f64 as ::trocar::Real>::mul_add(c5, x15, -(s5 * x8));
         (
             [
-                [c6 * x10 - s6 * x16, c6 * x12 - s6 * x17, -(c6 * x14 + s6 * x18)],
-                [c5 * x4 + s5 * x11, c5 * x6 + s5 * x13, c5 * x8 + s5 * x15],
-                [s6 * x10 + c6 * x16, s6 * x12 + c6 * x17, c6 * x18 - s6 * x14],
+                [
+                    <f64 as ::trocar::Real>::mul_add(c6, x10, -(s6 * x16)),
+                    <f64 as ::trocar::Real>::mul_add(c6, x12, -(s6 * x17)),
+                    -<f64 as ::trocar::Real>::mul_add(c6, x14, s6 * x18),
+                ],
+                [
+                    <f64 as ::trocar::Real>::mul_add(c5, x4, s5 * x11),
+                    <f64 as ::trocar::Real>::mul_add(c5, x6, s5 * x13),
+                    <f64 as ::trocar::Real>::mul_add(c5, x8, s5 * x15),
+                ],
+                [
+                    <f64 as ::trocar::Real>::mul_add(s6, x10, c6 * x16),
+                    <f64 as ::trocar::Real>::mul_add(s6, x12, c6 * x17),
+                    <f64 as ::trocar::Real>::mul_add(c6, x18, -(s6 * x14)),
+                ],
             ],
             [
-                0.194_f64 * c1 - 0.38_f64 * x0 + 0.39_f64 * x4,
-                0.194_f64 * s1 + 0.38_f64 * x2 + 0.39_f64 * x6,
-                1.037_f64 + 0.38_f64 * s2 + 0.39_f64 * x8,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.39_f64,
+                    x4,
+                    <f64 as ::trocar::Real>::mul_add(0.194_f64, c1, -(0.38_f64 * x0)),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.39_f64,
+                    x6,
+                    <f64 as ::trocar::Real>::mul_add(0.194_f64, s1, 0.38_f64 * x2),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.39_f64,
+                    x8,
+                    <f64 as ::trocar::Real>::mul_add(0.38_f64, s2, 1.037_f64),
+                ),
             ],
         )
     }
@@ -808,43 +1010,67 @@ pub mod unidirectional {
         let x1 = t.sin[0] * t.sin[1];
         let x2 = t.cos[0] * t.cos[1];
         let x3 = t.cos[0] * t.sin[1];
-        let x4 = t.sin[2] * x1 - t.cos[2] * x0;
-        let x5 = t.sin[2] * x0 + t.cos[2] * x1;
-        let x6 = t.cos[2] * x2 - t.sin[2] * x3;
-        let x7 = t.sin[2] * x2 + t.cos[2] * x3;
-        let x8 = t.sin[1] * t.cos[2] + t.cos[1] * t.sin[2];
-        let x9 = t.cos[1] * t.cos[2] - t.sin[1] * t.sin[2];
-        let x10 = t.cos[0] * t.cos[3] - t.sin[3] * x5;
-        let x11 = t.cos[0] * t.sin[3] + t.cos[3] * x5;
-        let x12 = t.sin[0] * t.cos[3] + t.sin[3] * x7;
-        let x13 = t.sin[0] * t.sin[3] - t.cos[3] * x7;
+        let x4 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x1, -(t.cos[2] * x0));
+        let x5 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x0, t.cos[2] * x1);
+        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x2, -(t.sin[2] * x3));
+        let x7 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x2, t.cos[2] * x3);
+        let x8 = <f64 as ::trocar::Real>::mul_add(
+            t.sin[1],
+            t.cos[2],
+            t.cos[1] * t.sin[2],
+        );
+        let x9 = <f64 as ::trocar::Real>::mul_add(
+            t.cos[1],
+            t.cos[2],
+            -(t.sin[1] * t.sin[2]),
+        );
+        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[0], t.cos[3], -(t.sin[3] * x5));
+        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[0], t.sin[3], t.cos[3] * x5);
+        let x12 = <f64 as ::trocar::Real>::mul_add(t.sin[0], t.cos[3], t.sin[3] * x7);
+        let x13 = <f64 as ::trocar::Real>::mul_add(t.sin[0], t.sin[3], -(t.cos[3] * x7));
         let x14 = t.sin[3] * x9;
         let x15 = t.cos[3] * x9;
-        let x16 = t.cos[4] * x11 - t.sin[4] * x4;
-        let x17 = t.cos[4] * x13 - t.sin[4] * x6;
-        let x18 = t.cos[4] * x15 - t.sin[4] * x8;
+        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x11, -(t.sin[4] * x4));
+        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x13, -(t.sin[4] * x6));
+        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x15, -(t.sin[4] * x8));
         (
             [
                 [
-                    t.cos[5] * x10 - t.sin[5] * x16,
-                    t.cos[5] * x12 - t.sin[5] * x17,
-                    -(t.cos[5] * x14 + t.sin[5] * x18),
+                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x10, -(t.sin[5] * x16)),
+                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x12, -(t.sin[5] * x17)),
+                    -<f64 as ::trocar::Real>::mul_add(t.cos[5], x14, t.sin[5] * x18),
                 ],
                 [
-                    t.cos[4] * x4 + t.sin[4] * x11,
-                    t.cos[4] * x6 + t.sin[4] * x13,
-                    t.cos[4] * x8 + t.sin[4] * x15,
+                    <f64 as ::trocar::Real>::mul_add(t.cos[4], x4, t.sin[4] * x11),
+                    <f64 as ::trocar::Real>::mul_add(t.cos[4], x6, t.sin[4] * x13),
+                    <f64 as ::trocar::Real>::mul_add(t.cos[4], x8, t.sin[4] * x15),
                 ],
                 [
-                    t.sin[5] * x10 + t.cos[5] * x16,
-                    t.sin[5] * x12 + t.cos[5] * x17,
-                    t.cos[5] * x18 - t.sin[5] * x14,
+                    <f64 as ::trocar::Real>::mul_add(t.sin[5], x10, t.cos[5] * x16),
+                    <f64 as ::trocar::Real>::mul_add(t.sin[5], x12, t.cos[5] * x17),
+                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x18, -(t.sin[5] * x14)),
                 ],
             ],
             [
-                0.194_f64 * t.cos[0] - 0.38_f64 * x0 + 0.39_f64 * x4,
-                0.194_f64 * t.sin[0] + 0.38_f64 * x2 + 0.39_f64 * x6,
-                1.037_f64 + 0.38_f64 * t.sin[1] + 0.39_f64 * x8,
+                <f64 as ::trocar::Real>::mul_add(
+                    0.39_f64,
+                    x4,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.194_f64,
+                        t.cos[0],
+                        -(0.38_f64 * x0),
+                    ),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.39_f64,
+                    x6,
+                    <f64 as ::trocar::Real>::mul_add(0.194_f64, t.sin[0], 0.38_f64 * x2),
+                ),
+                <f64 as ::trocar::Real>::mul_add(
+                    0.39_f64,
+                    x8,
+                    <f64 as ::trocar::Real>::mul_add(0.38_f64, t.sin[1], 1.037_f64),
+                ),
             ],
         )
     }
@@ -863,7 +1089,17 @@ pub mod unidirectional {
         let x3 = p.l_b * (x0 * s7);
         let x4 = s7 * (p.l_b * (<f64 as ::trocar::Real>::ONE + x1));
         {
-            let w = <f64 as ::trocar::Real>::sqrt(x1 * x1 + x2 * x2 + x3 * x3 + x4 * x4);
+            let w = <f64 as ::trocar::Real>::sqrt(
+                <f64 as ::trocar::Real>::mul_add(
+                    x4,
+                    x4,
+                    <f64 as ::trocar::Real>::mul_add(
+                        x3,
+                        x3,
+                        <f64 as ::trocar::Real>::mul_add(x1, x1, x2 * x2),
+                    ),
+                ),
+            );
             if <f64 as ::trocar::Real>::is_finite(w) {
                 w
             } else {
@@ -885,7 +1121,17 @@ pub mod unidirectional {
         let x3 = p.l_b * (x0 * t.sin[6]);
         let x4 = t.sin[6] * (p.l_b * (<f64 as ::trocar::Real>::ONE + x1));
         {
-            let w = <f64 as ::trocar::Real>::sqrt(x1 * x1 + x2 * x2 + x3 * x3 + x4 * x4);
+            let w = <f64 as ::trocar::Real>::sqrt(
+                <f64 as ::trocar::Real>::mul_add(
+                    x4,
+                    x4,
+                    <f64 as ::trocar::Real>::mul_add(
+                        x3,
+                        x3,
+                        <f64 as ::trocar::Real>::mul_add(x1, x1, x2 * x2),
+                    ),
+                ),
+            );
             if <f64 as ::trocar::Real>::is_finite(w) {
                 w
             } else {
@@ -908,7 +1154,15 @@ pub mod unidirectional {
         let x3 = p.l_b * (x0 * s7);
         let x4 = s7 * (p.l_b * (<f64 as ::trocar::Real>::ONE + x1));
         {
-            let w = x1 * x1 + x2 * x2 + x3 * x3 + x4 * x4;
+            let w = <f64 as ::trocar::Real>::mul_add(
+                x4,
+                x4,
+                <f64 as ::trocar::Real>::mul_add(
+                    x3,
+                    x3,
+                    <f64 as ::trocar::Real>::mul_add(x1, x1, x2 * x2),
+                ),
+            );
             if <f64 as ::trocar::Real>::is_finite(w) {
                 w
             } else {
@@ -930,7 +1184,15 @@ pub mod unidirectional {
         let x3 = p.l_b * (x0 * t.sin[6]);
         let x4 = t.sin[6] * (p.l_b * (<f64 as ::trocar::Real>::ONE + x1));
         {
-            let w = x1 * x1 + x2 * x2 + x3 * x3 + x4 * x4;
+            let w = <f64 as ::trocar::Real>::mul_add(
+                x4,
+                x4,
+                <f64 as ::trocar::Real>::mul_add(
+                    x3,
+                    x3,
+                    <f64 as ::trocar::Real>::mul_add(x1, x1, x2 * x2),
+                ),
+            );
             if <f64 as ::trocar::Real>::is_finite(w) {
                 w
             } else {
@@ -1019,7 +1281,11 @@ pub mod unidirectional {
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f64; 6]; R] {
         let x0 = <f64 as ::trocar::Real>::ONE
-            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+            / <f64 as ::trocar::Real>::mul_add(
+                p.l_a,
+                p.l_a,
+                <f64 as ::trocar::Real>::ONE,
+            );
         [
             [
                 x0,
