@@ -2,8 +2,8 @@
 //! (the Panda's task Jacobian) against nalgebra's LU with partial pivoting: random matrices,
 //! matrices that need a row exchange at every column (a permuted diagonal, zero diagonals), and
 //! singular ones (`det` exactly 0 or at rounding level, which the controller's `regular` rule
-//! then refuses). The Panda's `min_norm_solve_6` (its 6 × 7 J^B_0i) against nalgebra's SVD:
-//! the pseudo-inverse's solution and the product of the singular values.
+//! then refuses). The Panda's `min_norm_solve_6` (its 6 × 7 J^B_0i) against the minimum-norm
+//! solution `Jᵀ (J Jᵀ)⁻¹ b` (refined once) and nalgebra's SVD (the product of the singular values).
 
 use proptest::prelude::*;
 use trocar::nalgebra::{DMatrix, DVector, SMatrix, SVector};
@@ -118,7 +118,11 @@ fn min_norm(m: &SMatrix<f64, 6, 7>, b: &SVector<f64, 6>, tol: f64) -> bool {
         (w - want_w).abs() <= tol * want_w,
         "w {w} vs {want_w} for {m}"
     );
-    let want = svd.pseudo_inverse(0.0).unwrap() * b;
+    // x = J⁺ b = Jᵀ (J Jᵀ)⁻¹ b with one step of refinement: nalgebra's SVD pseudo-inverse was
+    // off by 1e-11 (residual 4.5e-11) on a matrix with cond(J) = 7.4, where this is at 1e-16.
+    let gram = (m * m.transpose()).lu();
+    let mut want = m.transpose() * gram.solve(b).unwrap();
+    want += m.transpose() * gram.solve(&(b - m * want)).unwrap();
     let x = SVector::<f64, 7>::from(x);
     assert!(
         (x - want).norm() <= tol * want.norm().max(1e-300),
@@ -134,6 +138,66 @@ fn min_norm_solve_matches_the_svd() {
         ((r * 7 + c) as f64 * 0.731).sin() + if r == c { 2.0 } else { 0.0 }
     });
     assert!(min_norm(&sample, &b, 1e-13));
+    // A random matrix (cond 7.4) on which the SVD's pseudo-inverse, the former reference, was
+    // off by 1e-11 while the emitted solve is exact to rounding.
+    let rows = [
+        [
+            1.9194337441970795,
+            0.08302311580955378,
+            -0.7686359481811144,
+            -0.8339539975143508,
+            0.3217227577449274,
+            1.7554173337345949,
+            -0.36780042844093463,
+        ],
+        [
+            -1.1453699576091667,
+            0.6261161489373743,
+            0.7533484049950456,
+            0.0483533621160796,
+            -0.7855943193385866,
+            -1.4344592606444364,
+            0.2111499039321957,
+        ],
+        [
+            1.3385099217406777,
+            0.2668731663598934,
+            -0.505537093249758,
+            -1.4695769826326897,
+            0.6716977853227022,
+            0.37034045284109035,
+            -0.2557396616339471,
+        ],
+        [
+            0.3081977643309647,
+            -0.9968898471288976,
+            1.3540332840948408,
+            -1.2660081434277768,
+            -1.362324900415087,
+            0.967992039962159,
+            -1.9173270965943205,
+        ],
+        [
+            -1.124325947216616,
+            -0.29769034350051266,
+            -1.7916948020875119,
+            1.2264654596214837,
+            1.3489117877995174,
+            1.2737305974955067,
+            -1.9183076035534816,
+        ],
+        [
+            -1.6919294305135577,
+            -1.5493061966669972,
+            0.24855145430818584,
+            -0.5703741116103651,
+            -1.6790970585293485,
+            0.6615455759406473,
+            -1.1424092899081186,
+        ],
+    ];
+    let random = SMatrix::<f64, 6, 7>::from_fn(|r, c| rows[r][c]);
+    assert!(min_norm(&random, &b, 1e-13));
     // A row exchange at every column of the leading block.
     let mut cyclic = sample;
     for r in 0..6 {
