@@ -1,19 +1,13 @@
 //! `trocar eval` as text names its rows and columns: the twist components a Jacobian maps to,
 //! and what its columns multiply; the numbers are those of the JSON output.
 
-use std::process::Command;
+mod common;
 
+/// `trocar ARGS`, which must succeed: its stdout.
 fn trocar(args: &[&str]) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_trocar"))
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).unwrap()
+    let (code, out, err) = common::trocar(args);
+    assert_eq!(code, 0, "{err}");
+    out
 }
 
 /// `(column labels, [(row label, numbers)])` of labelled text.
@@ -35,11 +29,6 @@ fn parse(text: &str) -> (Vec<String>, Vec<(String, Vec<f64>)>) {
     (header, rows)
 }
 
-fn json_data(text: &str) -> Vec<Vec<f64>> {
-    let v: serde_json::Value = serde_json::from_str(text).unwrap();
-    serde_json::from_value(v["data"].clone()).unwrap()
-}
-
 const Q8: &str = "--q=0,-0.3,0.9,0.2,-0.6,0.1,0.5,0.3";
 const TWIST: [&str; 6] = ["v_x", "v_y", "v_z", "w_x", "w_y", "w_z"];
 
@@ -59,7 +48,7 @@ fn constrained_jacobian_columns_are_v0i_and_the_joints_after_the_link() {
         ]
     );
     assert_eq!(rows.iter().map(|r| r.0.as_str()).collect::<Vec<_>>(), TWIST);
-    let json = json_data(&trocar(&[
+    let (_, _, json) = common::json_matrix(&trocar(&[
         "eval",
         "bidirectional-zy",
         Q8,

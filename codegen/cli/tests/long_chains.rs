@@ -5,7 +5,8 @@
 //! expressions against the numeric runtime and finite differences at 200 configurations.
 
 use std::path::PathBuf;
-use std::process::Command;
+
+mod common;
 
 /// A chain of `n` revolute joints with the constraint (`H` as given) at `link`.
 fn chain(
@@ -58,16 +59,8 @@ fn write(name: &str, text: &str) -> PathBuf {
 }
 
 fn verify(path: &std::path::Path) {
-    let out = Command::new(env!("CARGO_BIN_EXE_trocar"))
-        .args(["verify", path.to_str().unwrap(), "--samples", "200"])
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{text}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (code, text, err) = common::trocar(&["verify", path.to_str().unwrap(), "--samples", "200"]);
+    assert_eq!(code, 0, "{text}\n{err}");
     assert!(text.contains("all checks passed"), "{text}");
     for check in [
         "fk:",
@@ -98,16 +91,8 @@ fn a_thirty_joint_chain_constrained_at_link_15_verifies() {
 fn a_twenty_four_joint_oblique_chain_generates_a_whole_module() {
     let h = "[[1.0, 0.0, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0, 0.0, 0.0]]";
     let path = write("oblique24", &chain("oblique24", 24, 12, h, oblique));
-    let out = Command::new(env!("CARGO_BIN_EXE_trocar"))
-        .args(["generate", path.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let code = String::from_utf8(out.stdout).unwrap();
+    let (status, code, err) = common::trocar(&["generate", path.to_str().unwrap()]);
+    assert_eq!(status, 0, "{err}");
     for f in [
         "pub fn constrained_jacobian",
         "pub fn manipulability",
