@@ -2,6 +2,8 @@
 //! one six-panel figure — position/orientation error, RCM velocities, manipulability of `J^r_0e`
 //! and `J^B_0i`, `l_a` and `q7`, joint velocities, and the distance of the trocar from the link.
 
+pub mod view3d;
+
 use crate::simulation::Trace;
 use plotters::coord::Shift;
 use plotters::prelude::*;
