@@ -10,6 +10,12 @@
   `max(6, N/2)` with `H` given as two explicit numeric rows.
 
 The geometry is pseudo-random with a fixed seed, so the files are the same on every machine.
+
+    python3 bench/chains.py --peers FILE
+
+writes the generic 7-DOF chain of bench/peers.sh (`oblique7`, its own seed): 7 revolute joints with
+oblique unit axes and offsets as 17-digit floats, the constraint on link 6 (the rule i ≥ 6) with `H` as two explicit
+numeric rows, and a `[task]` of 5 rows (the admission rule n − r ≥ t: 7 − 2 = 5).
 """
 import math
 import random
@@ -24,7 +30,7 @@ def fmt(x):
     return repr(float(x))
 
 
-def chain(name, n, link, axes, offsets, h):
+def chain(name, n, link, axes, offsets, h, task=None):
     lines = [
         f"# A generated benchmark chain (bench/chains.py): {n} revolute joints, constraint at link {link}.",
         "",
@@ -57,10 +63,32 @@ def chain(name, n, link, axes, offsets, h):
         f"h = {h}",
         "",
     ]
+    if task is not None:
+        lines += ["[task]", f"select = {task}", ""]
     return "\n".join(lines)
 
 
+def oblique_geometry(rng, n):
+    axes, offsets = [], []
+    for _ in range(n):
+        v = [rng.gauss(0, 1) for _ in range(3)]
+        norm = math.sqrt(sum(c * c for c in v))
+        axes.append([c / norm for c in v])
+        offsets.append([rng.uniform(-0.03, 0.03), rng.uniform(0.08, 0.14), rng.uniform(-0.03, 0.03)])
+    return axes, offsets
+
+
+def peers_oblique7(path):
+    axes, offsets = oblique_geometry(random.Random(7), 7)
+    h = "[[1.0, 0.0, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0, 0.0, 0.0]]"
+    task = '["x", "y", "z", "rx", "rz"]'
+    Path(path).write_text(chain("oblique7", 7, 6, axes, offsets, h, task))
+
+
 def main():
+    if len(sys.argv) == 3 and sys.argv[1] == "--peers":
+        peers_oblique7(sys.argv[2])
+        return
     out = Path(sys.argv[1] if len(sys.argv) > 1 else "bench/out/chains")
     out.mkdir(parents=True, exist_ok=True)
     rng = random.Random(14)
@@ -71,12 +99,7 @@ def main():
         (out / f"a{n}.toml").write_text(chain(f"a{n}", n, link, axes, offsets, '["x", "z"]'))
     for n in (8, 9, 12, 16, 20, 24, 28, 30, 32):
         link = 15 if n == 30 else max(6, n // 2)
-        axes, offsets = [], []
-        for _ in range(n):
-            v = [rng.gauss(0, 1) for _ in range(3)]
-            norm = math.sqrt(sum(c * c for c in v))
-            axes.append([c / norm for c in v])
-            offsets.append([rng.uniform(-0.03, 0.03), rng.uniform(0.08, 0.14), rng.uniform(-0.03, 0.03)])
+        axes, offsets = oblique_geometry(rng, n)
         h = "[[1.0, 0.0, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0, 0.0, 0.0]]"
         (out / f"oblique{n}.toml").write_text(chain(f"oblique{n}", n, link, axes, offsets, h))
 

@@ -9,7 +9,10 @@
 #    wheels pin (brings libpinocchio), cmeel-eigen and cmeel-urdfdom-headers (all pinned below);
 # 2. bench/peers_gen.py writes the peers' C for J^r of the three presets, dia10_like's
 #    FK + J^B_0i + J^r, and the Franka Panda's pose + body Jacobian of panda_link8 / panda_link7
-#    (from trocar's shipped URDF) into bench/out/;
+#    (from trocar's shipped URDF), and g_0e + J^B_0i + J^r of two generic robots with an RCM
+#    (bench/peers-harness/oblique7.toml: 7 oblique float axes, 2 explicit H rows, written by
+#    `bench/chains.py --peers`; panda-link6-rcm.toml: the Panda constrained on panda_link6)
+#    into bench/out/;
 # 3. the harness bench/peers-harness (its own workspace, not a member of trocar's) compiles that C
 #    with gcc -O3 -march=native (cc crate), and, when the venv has Pinocchio (feature
 #    `pinocchio`), c/pinocchio_panda.cpp with g++ -O3 at the DEFAULT x86-64 ISA (no
@@ -81,6 +84,7 @@ impls_for() {
   case "$1" in
     panda) echo "noop trig_c_glibc casadi casadi_cse sympy rust_reference $ours_impls ${ours_impls:+ours_trig} $pin_impls" ;;
     panda_i) echo "noop trig_c_glibc casadi casadi_cse sympy numeric rust_reference $ours_impls ${ours_impls:+ours_trig} $pin_impls" ;;
+    oblique7|panda_rcm) echo "casadi casadi_cse sympy numeric $ours_impls" ;;
     *) echo "casadi casadi_cse sympy numeric rust_reference $ours_impls" ;;
   esac
 }
@@ -110,7 +114,7 @@ cpurun() { # impl case
 for impl in noop trig_c_glibc trig_std_f64 trig_fast_f64 trig_libm_f64 trig_std_f32 trig_fast_f32 trig_libm_f32; do
   cpurun "$impl" -
 done
-for case in uni bzy bzx dia_zy panda panda_i; do
+for case in uni bzy bzx dia_zy panda panda_i oblique7 panda_rcm; do
   for impl in $(impls_for $case); do
     cpurun "$impl" "$case"
   done
@@ -163,7 +167,7 @@ run() { # impl case
 for impl in noop trig_c_glibc trig_std_f64 trig_fast_f64 trig_libm_f64 trig_std_f32 trig_fast_f32 trig_libm_f32; do
   run "$impl" -
 done
-for case in uni bzy bzx dia_zy panda panda_i; do
+for case in uni bzy bzx dia_zy panda panda_i oblique7 panda_rcm; do
   for impl in $(impls_for $case); do
     run "$impl" "$case"
   done

@@ -20,6 +20,18 @@ the fixed joint panda_joint8 folded into the tip. The fixed rotations Rot_rpy (r
 written 1.5707963267948966) are snapped to exact 0 and +-1 where they are within 1e-12 of them, as
 trocar's generator does; without that, both tools would carry products with cos(pi/2) = 6.1e-17.
 
+Two generic robots with a remote centre of motion whose H is not a thesis preset (Lambda# is the
+computed basis: Ad_{g_ir} N, N the unit vectors of the free columns of H's reduced row echelon form,
+as trocar's derivation and numeric runtime take it; g_ir = (I, (0, l_a, 0))), outputs g_0e,
+J^B_0i (6 x 6) and J^r = [Ad_{g_ei} Lambda# | J^B_0e2] (6 x 5), as for dia10_like:
+
+* ``oblique7``: bench/peers-harness/oblique7.toml (written by ``bench/chains.py --peers``), seven
+  revolute joints with oblique unit axes and offsets as 17-digit floats, g_{k-1,k} = Trans(o_k)
+  Rot(a_k, q_k) with Rodrigues' Rot(a, q) = c I + s [a]x + (1 - c) a a^T, the constraint on link 6
+  with H as two explicit rows;
+* ``panda_rcm``: bench/peers-harness/panda-link6-rcm.toml, the Panda of the URDF with the
+  constraint on panda_link6 (H = x, z) and the end effector at panda_link8.
+
 Usage: peers_gen.py OUTDIR
 Writes OUTDIR/casadi_peers.c, OUTDIR/sympy_peers.c, OUTDIR/peers.h, OUTDIR/opcounts.json.
 """
@@ -107,6 +119,8 @@ AXES = {"x": [1, 0, 0], "y": [0, 1, 0], "z": [0, 0, 1]}
 
 
 def rot(axis, s, c):
+    if not isinstance(axis, str):
+        return rodrigues(axis, s, c)
     if axis == "x":
         return [[1, 0, 0], [0, c, neg(s)], [0, s, c]]
     if axis == "y":
@@ -114,6 +128,29 @@ def rot(axis, s, c):
     if axis == "z":
         return [[c, neg(s), 0], [s, c, 0], [0, 0, 1]]
     raise ValueError(axis)
+
+
+def rodrigues(a, s, c):
+    """Rot(a, q) = c I + s [a]x + (1 - c) a a^T for a float unit axis a (written as a user would:
+    t = 1 - c once, then each entry t a_i a_j + c delta_ij + s [a]x_ij)."""
+    t = sub(1, c)
+    K = [[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]]
+    out = []
+    for i in range(3):
+        row = []
+        for j in range(3):
+            e = mul(t, a[i] * a[j])
+            if i == j:
+                e = add(e, c)
+            if K[i][j] != 0:
+                e = add(e, mul(s, K[i][j]))
+            row.append(e)
+        out.append(row)
+    return out
+
+
+def axis_vec(a):
+    return AXES[a] if isinstance(a, str) else list(a)
 
 
 def compose(g, h):
@@ -139,7 +176,7 @@ def body_jacobian_cols(tfs, axes, tip):
     cols = [None] * len(tfs)
     g_ke = tip
     for k in range(len(tfs) - 1, -1, -1):
-        cols[k] = ad_inv_apply(g_ke, [0, 0, 0] + AXES[axes[k]])
+        cols[k] = ad_inv_apply(g_ke, [0, 0, 0] + axis_vec(axes[k]))
         g_ke = compose(tfs[k], g_ke)
     return cols
 
@@ -266,6 +303,83 @@ def panda(S, C, tip_link):
     return g, body_jacobian_cols(tfs, [a for _, _, a in joints], tip)
 
 
+# ---------------------------------------------------------------------------------------------
+# Generic robots with a computed Lambda# (bench/peers-harness/oblique7.toml, panda-link6-rcm.toml)
+
+HARNESS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "peers-harness")
+
+
+def null_free_columns(h):
+    """The free columns of H's reduced row echelon form: trocar's null-space basis of H with unit
+    rows is the unit vectors of those columns (H here has unit rows: no fill-in)."""
+    pivots = []
+    for row in h:
+        nz = [k for k, x in enumerate(row) if x != 0]
+        if len(nz) != 1 or row[nz[0]] != 1:
+            raise ValueError(f"H row {row}: only unit rows are handled here")
+        pivots.append(nz[0])
+    return [k for k in range(6) if k not in pivots]
+
+
+def ad_apply_translation(p, xi):
+    """Ad_{(I, p)} (v, w) = (v + p x w, w)."""
+    v, w = xi[:3], xi[3:]
+    return [add(a, b) for a, b in zip(v, cross(p, w))] + list(w)
+
+
+def rcm_outputs(tfs, axes, tip, link, h, la):
+    """g_0e, J^B_0i (i = link) and J^r (computed Lambda#, g_ir = (I, (0, l_a, 0)))."""
+    g = tip
+    for t in reversed(tfs):
+        g = compose(t, g)
+    jb0i = body_jacobian_cols(tfs[:link], axes[:link], (IDENT, [0, 0, 0]))
+    g_ie = tip
+    for t in reversed(tfs[link:]):
+        g_ie = compose(t, g_ie)
+    p_ir = [0, la, 0]
+    cols = []
+    for k in null_free_columns(h):
+        e = [1 if j == k else 0 for j in range(6)]
+        cols.append(ad_inv_apply(g_ie, ad_apply_translation(p_ir, e)))
+    jr = cols + body_jacobian_cols(tfs[link:], axes[link:], tip)
+    return g, jb0i, jr
+
+
+H_NAMED = {"x": 0, "y": 1, "z": 2, "rx": 3, "ry": 4, "rz": 5}
+
+
+def h_rows(h):
+    return [[1 if j == H_NAMED[r] else 0 for j in range(6)] if isinstance(r, str) else [snap(x) for x in r]
+            for r in h]
+
+
+def read_toml(name):
+    import tomllib
+    with open(os.path.join(HARNESS, name), "rb") as f:
+        return tomllib.load(f)
+
+
+def oblique7(S, C, la):
+    d = read_toml("oblique7.toml")
+    joints = d["joints"]
+    axes = [[float(x) for x in j["axis"]] for j in joints]
+    tfs = [(rodrigues(axes[k], S[k], C[k]), [float(x) for x in joints[k]["xyz"]]) for k in range(len(joints))]
+    tip = (IDENT, [float(x) for x in d["end_effector"]["xyz"]])
+    c = d["constraint"]
+    assert c["xyz"] == [0, "l_a", 0], c["xyz"]
+    return rcm_outputs(tfs, axes, tip, c["link"], h_rows(c["h"]), la)
+
+
+def panda_rcm(S, C, la):
+    d = read_toml("panda-link6-rcm.toml")
+    c = d["constraint"]
+    assert c["xyz"] == [0, "l_a", 0], c["xyz"]
+    link = int(c["link"].removeprefix("panda_link"))
+    joints, tip = panda_chain(tip=d["robot"]["tip"])
+    tfs = [(matmul3(R0, rot(a, S[k], C[k])), list(xyz)) for k, (R0, xyz, a) in enumerate(joints)]
+    return rcm_outputs(tfs, [a for _, _, a in joints], tip, link, h_rows(c["h"]), la)
+
+
 def flatten_cols(cols):
     return [x for col in cols for x in col]  # column-major
 
@@ -287,6 +401,9 @@ CASES = {
     # l_a is not used by these outputs; it is an input like trocar's Params.
     "panda": dict(nq=7, params=["l_a"], outs=[("fk", 12), ("jb", 42)]),
     "panda_i": dict(nq=7, params=["l_a"], outs=[("fk", 12), ("jb", 42)]),
+    # Generic robots with a computed Lambda#: g_0e, J^B_0i (6x6), J^r (6x5).
+    "oblique7": dict(nq=7, params=["l_a"], outs=[("fk", 12), ("jb0i", 36), ("jr", 30)]),
+    "panda_rcm": dict(nq=7, params=["l_a"], outs=[("fk", 12), ("jb0i", 36), ("jr", 30)]),
 }
 
 
@@ -295,6 +412,9 @@ def build(case, sin, cos, qs, ps):
     C = [cos(q) for q in qs]
     if case == "dia_zy":
         g, jb, jr = dia10("y", S, C, ps[0])
+        return [fk_flat(g), flatten_cols(jb), flatten_cols(jr)]
+    if case in ("oblique7", "panda_rcm"):
+        g, jb, jr = (oblique7 if case == "oblique7" else panda_rcm)(S, C, ps[0])
         return [fk_flat(g), flatten_cols(jb), flatten_cols(jr)]
     if case in ("panda", "panda_i"):
         g, jb = panda(S, C, "panda_link8" if case == "panda" else "panda_link7")

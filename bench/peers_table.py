@@ -9,7 +9,8 @@ Inputs (all optional, missing cells print as "-"):
   OUT/asm_counts.json                             FP instructions in the compiled functions
   DEFAULT_ISA_CRITERION_DIR, OUT/cputime_default_isa.json   the Panda's default-ISA run
 Usage: peers_table.py OUT CRITERION_DIR [DEFAULT_ISA_CRITERION_DIR]
-Writes OUT/table.md (every case) and OUT/panda.md (the Panda: trocar vs Pinocchio).
+Writes OUT/table.md (every case), OUT/ratios.md (trocar's generated f64 over each peer: criterion,
+CPU time, callgrind) and OUT/panda.md (the Panda: trocar vs Pinocchio).
 """
 
 import json
@@ -19,7 +20,11 @@ import sys
 CASES = [("uni", "J^r unidirectional 6x7"), ("bzy", "J^r bidirectional-zy 6x6"),
          ("bzx", "J^r bidirectional-zx 6x6"), ("dia_zy", "dia10_like zy: FK + J^B_0i + J^r"),
          ("panda", "Panda panda_link8: pose + J^B 6x7"),
-         ("panda_i", "Panda F_i = panda_link7: g_0i + J^B_0i 6x7")]
+         ("panda_i", "Panda F_i = panda_link7: g_0i + J^B_0i 6x7"),
+         ("oblique7", "oblique7 (7 oblique float axes, RCM on link 6, 2 explicit H rows): FK + J^B_0i + J^r"),
+         ("panda_rcm", "Panda, RCM on panda_link6 (H = x, z): FK + J^B_0i + J^r")]
+# Cases of the ratio table (ours / each peer); the Panda's pose + Jacobian cases are in panda.md.
+RATIO_CASES = ["uni", "bzy", "bzx", "dia_zy", "oblique7", "panda_rcm"]
 PANDA = [c for c in CASES if c[0].startswith("panda")]
 IMPLS = [("casadi", "CasADi C (SX, defaults)"), ("casadi_cse", "CasADi C (SX, cse=True)"),
          ("sympy", "SymPy C (cse + ccode)"), ("numeric", "trocar numeric runtime (Chain + Constraint, f64)"),
@@ -118,6 +123,10 @@ def main():
     if noop is not None:
         lines.append("")
         lines.append(f"Instruction counts are net of the driver loop ({noop:.0f} instructions per iteration, measured with `cg_driver noop`).")
+    ratios = ratio_table(crit, cg, cpu, net)
+    with open(os.path.join(out, "ratios.md"), "w") as f:
+        f.write(ratios)
+    lines += ["", ratios]
     panda = panda_table(out, crit, sys.argv[3] if len(sys.argv) > 3 else None, cg, cpu, net)
     text = "\n".join(lines) + "\n"
     if panda:
@@ -127,6 +136,26 @@ def main():
     with open(os.path.join(out, "table.md"), "w") as f:
         f.write(text)
     print(text)
+
+
+def ratio_table(crit, cg, cpu, net):
+    """ours_f64 over casadi, casadi_cse and sympy: criterion median, thread CPU time, callgrind."""
+    lines = ["| case | vs | criterion ours / peer (ns) | CPU time ours / peer (ns) | instructions ours / peer |",
+             "|---|---|---:|---:|---:|"]
+
+    def r(a, b, nd=1):
+        if a is None or b is None or b == 0:
+            return "-"
+        return f"{a:.{nd}f} / {b:.{nd}f} = **{a / b:.2f}×**"
+    for case in RATIO_CASES:
+        t_o = median(crit, case, "ours_f64")
+        c_o = cpu.get(f"ours_f64/{case}")
+        i_o = net(cg.get(f"ours_f64/{case}"), case)
+        for peer in ("casadi", "casadi_cse", "sympy"):
+            lines.append(f"| {case} | {peer} | {r(t_o, median(crit, case, peer))} | "
+                         f"{r(c_o, cpu.get(f'{peer}/{case}'))} | "
+                         f"{r(i_o, net(cg.get(f'{peer}/{case}'), case), 0)} |")
+    return "\n".join(lines) + "\n"
 
 
 PANDA_IMPLS = [

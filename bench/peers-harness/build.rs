@@ -22,6 +22,9 @@ fn main() {
         println!("cargo:rerun-if-changed={}", p.display());
     }
     println!("cargo:rerun-if-changed=c/floor.c");
+    for f in ["oblique7.toml", "panda-link6-rcm.toml", "panda-link8.toml"] {
+        println!("cargo:rerun-if-changed={f}");
+    }
     println!("cargo:rerun-if-env-changed=TROCAR_PEERS_OUT");
     // valgrind 3.19 cannot decode AVX-512 (EVEX): the callgrind build turns it off for both languages.
     println!("cargo:rerun-if-env-changed=TROCAR_PEERS_NO_AVX512");
@@ -33,7 +36,11 @@ fn main() {
     let mut b = cc::Build::new();
     b.compiler("gcc")
         .opt_level(3)
-        .flag(if default_isa { "-march=x86-64" } else { "-march=native" })
+        .flag(if default_isa {
+            "-march=x86-64"
+        } else {
+            "-march=native"
+        })
         .warnings(false)
         .file(manifest.join("c/floor.c"));
     if no_avx512 {
@@ -61,6 +68,11 @@ fn main() {
             // Bench-only: the same chain up to panda_link8, no constraint (module `panda_link8`:
             // forward_kinematics and body_jacobian of the flange itself).
             .robot(manifest.join("panda-link8.toml"))
+            // Bench-only generic robots with a computed Λ#: a 7-DOF chain with oblique float
+            // axes and 2 explicit H rows (module `oblique7`, written by `bench/chains.py
+            // --peers`), and the Panda with the RCM on panda_link6 (`panda_link6_rcm`).
+            .robot(manifest.join("oblique7.toml"))
+            .robot(manifest.join("panda-link6-rcm.toml"))
             .compile()
             .expect("trocar code generation");
     }

@@ -5,11 +5,23 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use trocar_peers_harness::{eval, floor_eight, floor_two, Case, Peer};
 
 fn peers(c: &mut Criterion) {
-    for case in [Case::Uni, Case::Bzy, Case::Bzx, Case::DiaZy] {
+    // The generic robots (oblique7, panda_rcm) at fixed inputs like dia10_like; their f64
+    // reference is the numeric runtime built from the description (not timed as rust_reference).
+    for case in [
+        Case::Uni,
+        Case::Bzy,
+        Case::Bzx,
+        Case::DiaZy,
+        Case::Oblique7,
+        Case::PandaRcm,
+    ] {
         let mut g = c.benchmark_group(case.name());
         let (q, p) = case.inputs();
         let mut out = vec![0.0; case.out_len()];
         for peer in Peer::ALL {
+            if case.is_generic() && peer == Peer::RustReference {
+                continue;
+            }
             g.bench_function(peer.name(), |b| {
                 b.iter(|| {
                     eval(peer, case, black_box(&q), black_box(&p), &mut out);
@@ -40,8 +52,10 @@ fn peers(c: &mut Criterion) {
                     black_box(&mut out);
                 })
             });
-            let (q32, p32): (Vec<f32>, Vec<f32>) =
-                (q.iter().map(|&x| x as f32).collect(), p.iter().map(|&x| x as f32).collect());
+            let (q32, p32): (Vec<f32>, Vec<f32>) = (
+                q.iter().map(|&x| x as f32).collect(),
+                p.iter().map(|&x| x as f32).collect(),
+            );
             let mut out32 = vec![0.0f32; case.out_len()];
             g.bench_function("ours_f32", |b| {
                 b.iter(|| {
@@ -136,7 +150,10 @@ fn panda(c: &mut Criterion) {
                     black_box(&mut out);
                 })
             });
-            let qs32: Vec<Vec<f32>> = qs.iter().map(|q| q.iter().map(|&x| x as f32).collect()).collect();
+            let qs32: Vec<Vec<f32>> = qs
+                .iter()
+                .map(|q| q.iter().map(|&x| x as f32).collect())
+                .collect();
             let p32: Vec<f32> = p.iter().map(|&x| x as f32).collect();
             let mut out32 = vec![0.0f32; case.out_len()];
             let mut k = 0usize;
@@ -179,26 +196,38 @@ fn trig(c: &mut Criterion) {
     g.bench_function("trocar_real_two_sin_cos_f64", |b| {
         b.iter(|| {
             let q = black_box(q2);
-            black_box([<f64 as trocar::Real>::sin_cos(q[0]), <f64 as trocar::Real>::sin_cos(q[1])])
+            black_box([
+                <f64 as trocar::Real>::sin_cos(q[0]),
+                <f64 as trocar::Real>::sin_cos(q[1]),
+            ])
         })
     });
     g.bench_function("libm_two_sin_cos_f64", |b| {
         b.iter(|| {
             let q = black_box(q2);
-            black_box([(libm::sin(q[0]), libm::cos(q[0])), (libm::sin(q[1]), libm::cos(q[1]))])
+            black_box([
+                (libm::sin(q[0]), libm::cos(q[0])),
+                (libm::sin(q[1]), libm::cos(q[1])),
+            ])
         })
     });
     g.bench_function("fast_two_sin_cos_f64", |b| {
         b.iter(|| {
             let q = black_box(q2);
-            black_box([trocar::real::fast::sin_cos_f64(q[0]), trocar::real::fast::sin_cos_f64(q[1])])
+            black_box([
+                trocar::real::fast::sin_cos_f64(q[0]),
+                trocar::real::fast::sin_cos_f64(q[1]),
+            ])
         })
     });
     let q2f = [0.5f32, 0.3];
     g.bench_function("fast_two_sin_cos_f32", |b| {
         b.iter(|| {
             let q = black_box(q2f);
-            black_box([trocar::real::fast::sin_cos_f32(q[0]), trocar::real::fast::sin_cos_f32(q[1])])
+            black_box([
+                trocar::real::fast::sin_cos_f32(q[0]),
+                trocar::real::fast::sin_cos_f32(q[1]),
+            ])
         })
     });
     g.bench_function("rust_std_two_sin_cos_f32", |b| {
@@ -210,13 +239,19 @@ fn trig(c: &mut Criterion) {
     g.bench_function("trocar_real_two_sin_cos_f32", |b| {
         b.iter(|| {
             let q = black_box(q2f);
-            black_box([<f32 as trocar::Real>::sin_cos(q[0]), <f32 as trocar::Real>::sin_cos(q[1])])
+            black_box([
+                <f32 as trocar::Real>::sin_cos(q[0]),
+                <f32 as trocar::Real>::sin_cos(q[1]),
+            ])
         })
     });
     g.bench_function("libm_two_sin_cos_f32", |b| {
         b.iter(|| {
             let q = black_box(q2f);
-            black_box([(libm::sinf(q[0]), libm::cosf(q[0])), (libm::sinf(q[1]), libm::cosf(q[1]))])
+            black_box([
+                (libm::sinf(q[0]), libm::cosf(q[0])),
+                (libm::sinf(q[1]), libm::cosf(q[1])),
+            ])
         })
     });
     g.finish();

@@ -14,6 +14,15 @@
 //! - `panda_i`: the same of `panda_link7`, the constrained link frame F_i of the shipped
 //!   `panda-laparoscope` (panda_joint8's fixed 0.107 m is folded into its g_ir): trocar's
 //!   `forward_kinematics_i` + `partial_body_jacobian` (J^B_0i).
+//! - `oblique7`: a generic 7-DOF chain (`oblique7.toml`, from `bench/chains.py --peers`): oblique
+//!   float axes and offsets, the constraint on link 6 with H as two explicit rows; `q = θ1..θ7`,
+//!   `p = (l_a)`; outputs FK g_0e (12), J^B_0i (6×6), J^r (6×5), as for dia10_like.
+//! - `panda_rcm`: the Panda with the constraint on the middle link panda_link6
+//!   (`panda-link6-rcm.toml`, H = x, z), the end effector at panda_link8; the same outputs.
+//!
+//! The two generic robots' Λ# is the computed basis (no thesis preset), and their reference is
+//! trocar's numeric runtime ([`numeric`]), which `trocar verify` checks against finite
+//! differences; the peers and our generated code are checked against it.
 //!
 //! The Panda cases are timed over [`Case::configs`] (16 configurations within the joint limits,
 //! cycled), the others at the fixed [`Case::inputs`].
@@ -38,10 +47,29 @@ pub enum Case {
     Panda,
     /// Panda: pose + body Jacobian of `panda_link7`, panda-laparoscope's F_i (g_0i + J^B_0i).
     PandaI,
+    /// Generic 7-DOF chain, oblique float axes, RCM on link 6 with 2 explicit H rows:
+    /// FK + J^B_0i + J^r.
+    Oblique7,
+    /// The Panda with the RCM on panda_link6 (H = x, z): FK + J^B_0i + J^r.
+    PandaRcm,
 }
 
 /// Every case.
-pub const CASES: [Case; 6] = [Case::Uni, Case::Bzy, Case::Bzx, Case::DiaZy, Case::Panda, Case::PandaI];
+pub const CASES: [Case; 8] = [
+    Case::Uni,
+    Case::Bzy,
+    Case::Bzx,
+    Case::DiaZy,
+    Case::Panda,
+    Case::PandaI,
+    Case::Oblique7,
+    Case::PandaRcm,
+];
+
+/// The generic 7-DOF chain's description (`bench/chains.py --peers`).
+pub const OBLIQUE7_TOML: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/oblique7.toml");
+/// The Panda with the RCM on panda_link6.
+pub const PANDA_RCM_TOML: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/panda-link6-rcm.toml");
 
 /// The Panda's joint limits (`urdf/panda.urdf`, `<limit lower upper>`).
 pub const PANDA_LIMITS: [(f64, f64); 7] = [
@@ -55,7 +83,10 @@ pub const PANDA_LIMITS: [(f64, f64); 7] = [
 ];
 
 /// The shipped Panda URDF (`runtime/model/robots/urdf/panda.urdf`).
-pub const PANDA_URDF: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../runtime/model/robots/urdf/panda.urdf");
+pub const PANDA_URDF: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../runtime/model/robots/urdf/panda.urdf"
+);
 
 impl Case {
     /// Short name used in file and bench names.
@@ -67,6 +98,8 @@ impl Case {
             Case::DiaZy => "dia_zy",
             Case::Panda => "panda",
             Case::PandaI => "panda_i",
+            Case::Oblique7 => "oblique7",
+            Case::PandaRcm => "panda_rcm",
         }
     }
     /// Parses [`Case::name`].
@@ -77,18 +110,23 @@ impl Case {
     pub fn is_panda(self) -> bool {
         matches!(self, Case::Panda | Case::PandaI)
     }
+    /// Whether this is one of the generic robots with a computed Λ# ([`Case::Oblique7`],
+    /// [`Case::PandaRcm`]).
+    pub fn is_generic(self) -> bool {
+        matches!(self, Case::Oblique7 | Case::PandaRcm)
+    }
     /// Number of joint inputs.
     pub fn nq(self) -> usize {
         match self {
             Case::DiaZy => 8,
-            Case::Panda | Case::PandaI => 7,
+            Case::Panda | Case::PandaI | Case::Oblique7 | Case::PandaRcm => 7,
             _ => 2,
         }
     }
     /// Number of parameters.
     pub fn np(self) -> usize {
         match self {
-            Case::DiaZy | Case::Panda | Case::PandaI => 1,
+            Case::DiaZy | Case::Panda | Case::PandaI | Case::Oblique7 | Case::PandaRcm => 1,
             _ => 3,
         }
     }
@@ -100,11 +138,18 @@ impl Case {
         if self.is_panda() {
             let mut seed = 0x5eed_u64;
             let mut next = || {
-                seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                seed = seed
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
                 ((seed >> 11) as f64) / ((1u64 << 53) as f64)
             };
             while qs.len() < 16 {
-                qs.push(PANDA_LIMITS.iter().map(|&(lo, hi)| lo + (hi - lo) * next()).collect());
+                qs.push(
+                    PANDA_LIMITS
+                        .iter()
+                        .map(|&(lo, hi)| lo + (hi - lo) * next())
+                        .collect(),
+                );
             }
         }
         qs
@@ -116,6 +161,7 @@ impl Case {
             Case::Bzy | Case::Bzx => &[36],
             Case::DiaZy => &[12, 36, 36],
             Case::Panda | Case::PandaI => &[12, 42],
+            Case::Oblique7 | Case::PandaRcm => &[12, 36, 30],
         }
     }
     /// Total output length.
@@ -128,6 +174,8 @@ impl Case {
             Case::DiaZy => (vec![0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3], vec![0.15]),
             // The configuration of the README's `trocar eval panda-laparoscope` examples.
             Case::Panda | Case::PandaI => (vec![0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8], vec![0.25]),
+            Case::Oblique7 => (vec![0.4, -0.7, 1.1, 0.3, -0.5, 0.9, -0.2], vec![0.11]),
+            Case::PandaRcm => (vec![0.1, -0.3, 0.2, -2.2, 0.3, 2.0, 0.8], vec![0.2]),
             _ => (vec![0.5, 0.3], vec![0.15, 0.18, 0.21]),
         }
     }
@@ -142,18 +190,118 @@ type CasadiFn = unsafe extern "C" fn(
 ) -> c_int;
 
 extern "C" {
-    fn casadi_uni(a: *const *const f64, r: *const *mut f64, iw: *mut i64, w: *mut f64, m: c_int) -> c_int;
-    fn casadi_bzy(a: *const *const f64, r: *const *mut f64, iw: *mut i64, w: *mut f64, m: c_int) -> c_int;
-    fn casadi_bzx(a: *const *const f64, r: *const *mut f64, iw: *mut i64, w: *mut f64, m: c_int) -> c_int;
-    fn casadi_dia_zy(a: *const *const f64, r: *const *mut f64, iw: *mut i64, w: *mut f64, m: c_int) -> c_int;
-    fn casadi_cse_uni(a: *const *const f64, r: *const *mut f64, iw: *mut i64, w: *mut f64, m: c_int) -> c_int;
-    fn casadi_cse_bzy(a: *const *const f64, r: *const *mut f64, iw: *mut i64, w: *mut f64, m: c_int) -> c_int;
-    fn casadi_cse_bzx(a: *const *const f64, r: *const *mut f64, iw: *mut i64, w: *mut f64, m: c_int) -> c_int;
-    fn casadi_cse_dia_zy(a: *const *const f64, r: *const *mut f64, iw: *mut i64, w: *mut f64, m: c_int) -> c_int;
-    fn casadi_panda(a: *const *const f64, r: *const *mut f64, iw: *mut i64, w: *mut f64, m: c_int) -> c_int;
-    fn casadi_panda_i(a: *const *const f64, r: *const *mut f64, iw: *mut i64, w: *mut f64, m: c_int) -> c_int;
-    fn casadi_cse_panda(a: *const *const f64, r: *const *mut f64, iw: *mut i64, w: *mut f64, m: c_int) -> c_int;
-    fn casadi_cse_panda_i(a: *const *const f64, r: *const *mut f64, iw: *mut i64, w: *mut f64, m: c_int) -> c_int;
+    fn casadi_uni(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut i64,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn casadi_bzy(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut i64,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn casadi_bzx(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut i64,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn casadi_dia_zy(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut i64,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn casadi_cse_uni(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut i64,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn casadi_cse_bzy(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut i64,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn casadi_cse_bzx(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut i64,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn casadi_cse_dia_zy(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut i64,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn casadi_panda(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut i64,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn casadi_panda_i(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut i64,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn casadi_cse_panda(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut i64,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn casadi_cse_panda_i(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut i64,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn casadi_oblique7(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut i64,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn casadi_panda_rcm(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut i64,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn casadi_cse_oblique7(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut i64,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
+    fn casadi_cse_panda_rcm(
+        a: *const *const f64,
+        r: *const *mut f64,
+        iw: *mut i64,
+        w: *mut f64,
+        m: c_int,
+    ) -> c_int;
 
     fn sympy_uni(q: *const f64, p: *const f64, jr: *mut f64);
     fn sympy_bzy(q: *const f64, p: *const f64, jr: *mut f64);
@@ -161,6 +309,8 @@ extern "C" {
     fn sympy_dia_zy(q: *const f64, p: *const f64, fk: *mut f64, jb0i: *mut f64, jr: *mut f64);
     fn sympy_panda(q: *const f64, p: *const f64, fk: *mut f64, jb: *mut f64);
     fn sympy_panda_i(q: *const f64, p: *const f64, fk: *mut f64, jb: *mut f64);
+    fn sympy_oblique7(q: *const f64, p: *const f64, fk: *mut f64, jb0i: *mut f64, jr: *mut f64);
+    fn sympy_panda_rcm(q: *const f64, p: *const f64, fk: *mut f64, jb0i: *mut f64, jr: *mut f64);
 
     fn casadi_uni_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
     fn casadi_bzy_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
@@ -174,6 +324,10 @@ extern "C" {
     fn casadi_panda_i_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
     fn casadi_cse_panda_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
     fn casadi_cse_panda_i_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
+    fn casadi_oblique7_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
+    fn casadi_panda_rcm_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
+    fn casadi_cse_oblique7_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
+    fn casadi_cse_panda_rcm_work(a: *mut i64, r: *mut i64, iw: *mut i64, w: *mut i64) -> c_int;
 
     fn floor_two_sincos(q: *const f64, out: *mut f64);
     fn floor_eight_sincos(q: *const f64, out: *mut f64);
@@ -195,7 +349,12 @@ pub enum Peer {
 
 impl Peer {
     /// Every implementation.
-    pub const ALL: [Peer; 4] = [Peer::Casadi, Peer::CasadiCse, Peer::Sympy, Peer::RustReference];
+    pub const ALL: [Peer; 4] = [
+        Peer::Casadi,
+        Peer::CasadiCse,
+        Peer::Sympy,
+        Peer::RustReference,
+    ];
     /// Short name.
     pub fn name(self) -> &'static str {
         match self {
@@ -228,6 +387,10 @@ fn casadi_fn(peer: Peer, case: Case) -> (CasadiFn, CasadiWorkFn) {
         (Peer::Casadi, Case::PandaI) => (casadi_panda_i, casadi_panda_i_work),
         (Peer::CasadiCse, Case::Panda) => (casadi_cse_panda, casadi_cse_panda_work),
         (Peer::CasadiCse, Case::PandaI) => (casadi_cse_panda_i, casadi_cse_panda_i_work),
+        (Peer::Casadi, Case::Oblique7) => (casadi_oblique7, casadi_oblique7_work),
+        (Peer::Casadi, Case::PandaRcm) => (casadi_panda_rcm, casadi_panda_rcm_work),
+        (Peer::CasadiCse, Case::Oblique7) => (casadi_cse_oblique7, casadi_cse_oblique7_work),
+        (Peer::CasadiCse, Case::PandaRcm) => (casadi_cse_panda_rcm, casadi_cse_panda_rcm_work),
         _ => panic!("{peer:?} is not a CasADi peer"),
     }
 }
@@ -243,8 +406,8 @@ pub fn casadi_work_sizes(peer: Peer, case: Case) -> [i64; 4] {
     sz
 }
 
-/// Doubles of CasADi work space `eval` hands to the Panda functions (the only ones with
-/// `sz_w > 0`; checked in tests against `casadi_work_sizes`).
+/// Doubles of CasADi work space `eval` hands to the Panda and generic functions (the only ones
+/// that may have `sz_w > 0`; checked in tests against `casadi_work_sizes`).
 pub const CASADI_W: usize = 64;
 
 /// Evaluates `case` with implementation `peer` into `out` (length [`Case::out_len`]).
@@ -260,18 +423,34 @@ pub fn eval(peer: Peer, case: Case, q: &[f64], p: &[f64], out: &mut [f64]) {
             let arg = [q.as_ptr(), p.as_ptr()];
             // Output blocks; only the first `outs().len()` are used by the callee.
             let res: [*mut f64; 3] = [o, o.wrapping_add(12), o.wrapping_add(48)];
-            if case.is_panda() {
-                // The Panda functions use sz_w ≤ CASADI_W doubles of scratch, which they write
+            if case.is_panda() || case.is_generic() {
+                // The Panda (and generic) functions use sz_w ≤ CASADI_W doubles of scratch, which they write
                 // before reading: uninitialised stack space, no per-call zeroing.
                 let mut w = core::mem::MaybeUninit::<[f64; CASADI_W]>::uninit();
                 // SAFETY: reads arg[0..2], writes res[0..2], uses w[0..sz_w] (sz_w ≤ CASADI_W,
                 // sz_iw = 0: tests).
-                unsafe { f(arg.as_ptr(), res.as_ptr(), core::ptr::null_mut(), w.as_mut_ptr().cast(), 0) };
+                unsafe {
+                    f(
+                        arg.as_ptr(),
+                        res.as_ptr(),
+                        core::ptr::null_mut(),
+                        w.as_mut_ptr().cast(),
+                        0,
+                    )
+                };
             } else {
                 // SAFETY: SX-generated code reads arg[0..2] and writes res[0..n_out]. Its work sizes
                 // sz_iw and sz_w are 0 (checked in tests: `casadi_work_sizes`), so it never touches
                 // iw or w, and null is a valid work pointer (no per-call scratch to zero).
-                unsafe { f(arg.as_ptr(), res.as_ptr(), core::ptr::null_mut(), core::ptr::null_mut(), 0) };
+                unsafe {
+                    f(
+                        arg.as_ptr(),
+                        res.as_ptr(),
+                        core::ptr::null_mut(),
+                        core::ptr::null_mut(),
+                        0,
+                    )
+                };
             }
         }
         // SAFETY: the SymPy functions read q[0..nq], p[0..np] and write the output blocks.
@@ -283,6 +462,8 @@ pub fn eval(peer: Peer, case: Case, q: &[f64], p: &[f64], out: &mut [f64]) {
                 Case::DiaZy => sympy_dia_zy(q.as_ptr(), p.as_ptr(), o, o.add(12), o.add(48)),
                 Case::Panda => sympy_panda(q.as_ptr(), p.as_ptr(), o, o.add(12)),
                 Case::PandaI => sympy_panda_i(q.as_ptr(), p.as_ptr(), o, o.add(12)),
+                Case::Oblique7 => sympy_oblique7(q.as_ptr(), p.as_ptr(), o, o.add(12), o.add(48)),
+                Case::PandaRcm => sympy_panda_rcm(q.as_ptr(), p.as_ptr(), o, o.add(12), o.add(48)),
             }
         },
         Peer::RustReference => reference::eval(case, q, p, out),
@@ -360,7 +541,11 @@ pub mod reference {
     pub fn ad_inv(g: &Tf, xi: [f64; 6]) -> [f64; 6] {
         let (v, w) = ([xi[0], xi[1], xi[2]], [xi[3], xi[4], xi[5]]);
         let p = g.p;
-        let pxw = [p[1] * w[2] - p[2] * w[1], p[2] * w[0] - p[0] * w[2], p[0] * w[1] - p[1] * w[0]];
+        let pxw = [
+            p[1] * w[2] - p[2] * w[1],
+            p[2] * w[0] - p[0] * w[2],
+            p[0] * w[1] - p[1] * w[0],
+        ];
         let mut out = [0.0; 6];
         for i in 0..3 {
             for k in 0..3 {
@@ -405,8 +590,10 @@ pub mod reference {
         for t in after.iter().rev() {
             g_ie = mul(t, &g_ie);
         }
-        let mut cols: Vec<[f64; 6]> =
-            lambda_sharp(bidirectional, la).into_iter().map(|c| ad_inv(&g_ie, c)).collect();
+        let mut cols: Vec<[f64; 6]> = lambda_sharp(bidirectional, la)
+            .into_iter()
+            .map(|c| ad_inv(&g_ie, c))
+            .collect();
         cols.extend(body_jacobian(after, axes, tip));
         cols
     }
@@ -427,7 +614,10 @@ pub mod reference {
 
     /// dia10_like FK g_0e.
     pub fn dia_fk(q: &[f64]) -> Tf {
-        let mut g = Tf { r: I3, p: [0.0, 0.21, 0.0] };
+        let mut g = Tf {
+            r: I3,
+            p: [0.0, 0.21, 0.0],
+        };
         for k in (0..8).rev() {
             g = mul(&joint(DIA_ORIGINS[k], DIA_AXES_ZY[k], q[k]), &g);
         }
@@ -464,13 +654,22 @@ pub mod reference {
     /// Joint k of the Panda: Trans(xyz) Rot_rpy Rot(z, q).
     pub fn panda_joint(k: usize, q: f64) -> Tf {
         let (xyz, [r, p, y]) = PANDA_JOINTS[k];
-        mul(&Tf { r: rpy(r, p, y), p: xyz }, &joint([0.0; 3], b'z', q))
+        mul(
+            &Tf {
+                r: rpy(r, p, y),
+                p: xyz,
+            },
+            &joint([0.0; 3], b'z', q),
+        )
     }
 
     /// Pose and body Jacobian (7 columns) of `panda_link8` (`flange`) or `panda_link7`.
     pub fn panda(q: &[f64], flange: bool) -> (Tf, Vec<[f64; 6]>) {
         let tfs: Vec<Tf> = (0..7).map(|k| panda_joint(k, q[k])).collect();
-        let tip = Tf { r: I3, p: if flange { PANDA_FLANGE } else { [0.0; 3] } };
+        let tip = Tf {
+            r: I3,
+            p: if flange { PANDA_FLANGE } else { [0.0; 3] },
+        };
         let mut g = tip;
         for t in tfs.iter().rev() {
             g = mul(t, &g);
@@ -478,8 +677,12 @@ pub mod reference {
         (g, body_jacobian(&tfs, b"zzzzzzz", &tip))
     }
 
-    /// Evaluates a case, column-major outputs (see the crate docs).
+    /// Evaluates a case, column-major outputs (see the crate docs). The generic robots
+    /// ([`Case::is_generic`]) through trocar's numeric runtime.
     pub fn eval(case: Case, q: &[f64], p: &[f64], out: &mut [f64]) {
+        if case.is_generic() {
+            return super::numeric::Numeric::new(case, p).eval(q, p, out);
+        }
         let mut put = |off: usize, cols: &[[f64; 6]]| {
             for (j, c) in cols.iter().enumerate() {
                 out[off + 6 * j..off + 6 * j + 6].copy_from_slice(c);
@@ -497,8 +700,13 @@ pub mod reference {
                 out[9..12].copy_from_slice(&g.p);
             }
             Case::DiaZy => {
-                let tfs: Vec<Tf> = (0..8).map(|k| joint(DIA_ORIGINS[k], DIA_AXES_ZY[k], q[k])).collect();
-                let tip = Tf { r: I3, p: [0.0, 0.21, 0.0] };
+                let tfs: Vec<Tf> = (0..8)
+                    .map(|k| joint(DIA_ORIGINS[k], DIA_AXES_ZY[k], q[k]))
+                    .collect();
+                let tip = Tf {
+                    r: I3,
+                    p: [0.0, 0.21, 0.0],
+                };
                 let g = dia_fk(q);
                 let jb = body_jacobian(&tfs[..6], &DIA_AXES_ZY[..6], &Tf { r: I3, p: [0.0; 3] });
                 let jr = jr(&tfs[6..], &DIA_AXES_ZY[6..], &tip, true, p[0]);
@@ -514,8 +722,14 @@ pub mod reference {
             _ => {
                 let (la, lb, l8) = (p[0], p[1], p[2]);
                 let wrist = if case == Case::Bzx { b'x' } else { b'y' };
-                let after = [joint([0.0, la + lb, 0.0], b'z', q[0]), joint([0.0; 3], wrist, q[1])];
-                let tip = Tf { r: I3, p: [0.0, l8, 0.0] };
+                let after = [
+                    joint([0.0, la + lb, 0.0], b'z', q[0]),
+                    joint([0.0; 3], wrist, q[1]),
+                ];
+                let tip = Tf {
+                    r: I3,
+                    p: [0.0, l8, 0.0],
+                };
                 put(0, &jr(&after, &[b'z', wrist], &tip, case != Case::Uni, la));
             }
         }
@@ -527,9 +741,9 @@ pub mod reference {
 pub mod numeric {
     use super::Case;
     use trocar::constraint::Constraint;
-    use trocar_model::description::RobotDescription;
     use trocar::kinematics::Chain;
     use trocar::nalgebra::{SMatrix, SVector};
+    use trocar_model::description::RobotDescription;
     use trocar_model::numeric::NumericModel as Robot;
 
     /// A prepared case: the typed chain and constraint, as a control loop would hold them.
@@ -542,6 +756,8 @@ pub mod numeric {
         Dia(Chain<f64, 8>, Constraint<f64, 2>),
         /// Panda, F_i of panda-laparoscope: `link_frame(7)` + `partial_body_jacobian::<7>`.
         PandaI(Chain<f64, 7>),
+        /// A generic robot (oblique7, panda_rcm): 7 joints, constraint on link 6 with r = 2.
+        Generic(Chain<f64, 7>, Constraint<f64, 2>),
     }
 
     impl Numeric {
@@ -551,9 +767,24 @@ pub mod numeric {
         /// For [`Case::Panda`] (panda_link8 is not a frame of the description's chain: the numeric
         /// runtime is measured on [`Case::PandaI`]).
         pub fn new(case: Case, p: &[f64]) -> Numeric {
+            if case.is_generic() {
+                let file = if case == Case::Oblique7 {
+                    super::OBLIQUE7_TOML
+                } else {
+                    super::PANDA_RCM_TOML
+                };
+                let d = RobotDescription::from_toml_file(file).expect("description");
+                let robot =
+                    Robot::<f64>::from_description(&d, &[("l_a".into(), p[0])]).expect("robot");
+                return Numeric::Generic(
+                    robot.to_chain::<7>().expect("chain"),
+                    robot.to_constraint().expect("constraint"),
+                );
+            }
             if case == Case::PandaI {
                 let d = RobotDescription::preset("panda-laparoscope").expect("preset");
-                let robot = Robot::<f64>::from_description(&d, &[("l_a".into(), p[0])]).expect("robot");
+                let robot =
+                    Robot::<f64>::from_description(&d, &[("l_a".into(), p[0])]).expect("robot");
                 return Numeric::PandaI(robot.to_chain::<7>().expect("chain"));
             }
             let (name, params): (&str, &[&str]) = match case {
@@ -561,18 +792,25 @@ pub mod numeric {
                 Case::Bzy => ("bidirectional-zy", &["l_a", "l_b", "l_8"]),
                 Case::Bzx => ("bidirectional-zx", &["l_a", "l_b", "l_8"]),
                 Case::DiaZy => ("dia10_like_zy", &["l_a"]),
-                Case::Panda | Case::PandaI => panic!("no numeric runtime for {case:?}"),
+                Case::Panda | Case::PandaI | Case::Oblique7 | Case::PandaRcm => {
+                    panic!("no numeric runtime for {case:?}")
+                }
             };
             let d = RobotDescription::preset(name).expect("preset");
-            let overrides: Vec<(String, f64)> =
-                params.iter().zip(p).map(|(n, v)| (n.to_string(), *v)).collect();
+            let overrides: Vec<(String, f64)> = params
+                .iter()
+                .zip(p)
+                .map(|(n, v)| (n.to_string(), *v))
+                .collect();
             let robot = Robot::<f64>::from_description(&d, &overrides).expect("robot");
             let chain = robot.to_chain::<8>().expect("chain");
             match case {
                 Case::Uni => Numeric::Uni(chain, robot.to_constraint().expect("constraint")),
-                Case::Bzy | Case::Bzx => Numeric::Bi(chain, robot.to_constraint().expect("constraint")),
+                Case::Bzy | Case::Bzx => {
+                    Numeric::Bi(chain, robot.to_constraint().expect("constraint"))
+                }
                 Case::DiaZy => Numeric::Dia(chain, robot.to_constraint().expect("constraint")),
-                Case::Panda | Case::PandaI => unreachable!(),
+                Case::Panda | Case::PandaI | Case::Oblique7 | Case::PandaRcm => unreachable!(),
             }
         }
 
@@ -604,6 +842,17 @@ pub mod numeric {
                     out[12..48].copy_from_slice(jb.as_slice());
                     out[48..84].copy_from_slice(jr.as_slice());
                 }
+                Numeric::Generic(chain, c) => {
+                    let q7 = SVector::<f64, 7>::from_column_slice(&q[..7]);
+                    c.set_offset(p[0]).expect("l_a");
+                    let g = chain.forward_kinematics(&q7);
+                    let jb: SMatrix<f64, 6, 6> = chain.partial_body_jacobian::<6>(&q7);
+                    let jr: SMatrix<f64, 6, 5> = c.constrained_jacobian(chain, &q7);
+                    out[..9].copy_from_slice(g.rotation.as_slice());
+                    out[9..12].copy_from_slice(g.translation.as_slice());
+                    out[12..48].copy_from_slice(jb.as_slice());
+                    out[48..78].copy_from_slice(jr.as_slice());
+                }
                 Numeric::PandaI(chain) => {
                     let q7 = SVector::<f64, 7>::from_column_slice(&q[..7]);
                     let g = chain.link_frame(7, &q7);
@@ -631,6 +880,19 @@ pub mod ours {
     include!(concat!(env!("OUT_DIR"), "/dia10_like_zy.rs"));
     include!(concat!(env!("OUT_DIR"), "/panda_laparoscope.rs"));
     include!(concat!(env!("OUT_DIR"), "/panda_link8.rs"));
+    include!(concat!(env!("OUT_DIR"), "/oblique7.rs"));
+    include!(concat!(env!("OUT_DIR"), "/panda_link6_rcm.rs"));
+
+    /// g_0e, J^B_0i and J^r of a generic robot's module from one `JointTrig` (7 sin_cos), as
+    /// dia10_like's.
+    macro_rules! generic_outputs {
+        ($m:ident, $t:expr, $p:expr, $out:expr) => {{
+            let pp = $m::Params { l_a: $p[0] };
+            put_pose($out, $m::forward_kinematics_trig($t, &pp));
+            *cols(&mut $out[12..]) = $m::partial_body_jacobian_trig($t, &pp);
+            *cols(&mut $out[48..]) = $m::constrained_jacobian_trig($t, &pp);
+        }};
+    }
 
     /// The first `C` columns of 6 of `out`, as the generated functions return them, so a result
     /// is written straight into `out` (as the peers' C writes through its pointer).
@@ -674,15 +936,27 @@ pub mod ours {
     pub fn eval<T: Real>(case: Case, q: &[T], p: &[T], out: &mut [T]) {
         match case {
             Case::Uni => {
-                let pp = unidirectional::Params { l_a: p[0], l_b: p[1], l_8: p[2] };
+                let pp = unidirectional::Params {
+                    l_a: p[0],
+                    l_b: p[1],
+                    l_8: p[2],
+                };
                 *cols(out) = unidirectional::constrained_jacobian(&q8(q), &pp);
             }
             Case::Bzy => {
-                let pp = bidirectional_zy::Params { l_a: p[0], l_b: p[1], l_8: p[2] };
+                let pp = bidirectional_zy::Params {
+                    l_a: p[0],
+                    l_b: p[1],
+                    l_8: p[2],
+                };
                 *cols(out) = bidirectional_zy::constrained_jacobian(&q8(q), &pp);
             }
             Case::Bzx => {
-                let pp = bidirectional_zx::Params { l_a: p[0], l_b: p[1], l_8: p[2] };
+                let pp = bidirectional_zx::Params {
+                    l_a: p[0],
+                    l_b: p[1],
+                    l_8: p[2],
+                };
                 *cols(out) = bidirectional_zx::constrained_jacobian(&q8(q), &pp);
             }
             Case::DiaZy => {
@@ -713,6 +987,14 @@ pub mod ours {
                 put_pose(out, panda_laparoscope::forward_kinematics_i_trig(&t, &pp));
                 *cols(&mut out[12..]) = panda_laparoscope::partial_body_jacobian_trig(&t, &pp);
             }
+            Case::Oblique7 => {
+                let t = oblique7::JointTrig::new(joints7(q));
+                generic_outputs!(oblique7, &t, p, out);
+            }
+            Case::PandaRcm => {
+                let t = panda_link6_rcm::JointTrig::new(joints7(q));
+                generic_outputs!(panda_link6_rcm, &t, p, out);
+            }
         }
     }
 
@@ -731,6 +1013,10 @@ pub mod ours {
         pub pi: panda_laparoscope::JointTrig<T>,
         /// `JointTrig` of the bench's panda_link8.
         pub p8: panda_link8::JointTrig<T>,
+        /// `JointTrig` of oblique7.
+        pub o7: oblique7::JointTrig<T>,
+        /// `JointTrig` of panda_link6_rcm.
+        pub p6: panda_link6_rcm::JointTrig<T>,
     }
 
     impl<T: Real> Trig<T> {
@@ -745,6 +1031,8 @@ pub mod ours {
                 d: dia10_like_zy::JointTrig::new(&first(q)),
                 pi: panda_laparoscope::JointTrig::new(&q7),
                 p8: panda_link8::JointTrig::new(&q7),
+                o7: oblique7::JointTrig::new(&q7),
+                p6: panda_link6_rcm::JointTrig::new(&q7),
             }
         }
     }
@@ -761,15 +1049,27 @@ pub mod ours {
     pub fn eval_trig<T: Real>(case: Case, t: &Trig<T>, p: &[T], out: &mut [T]) {
         match case {
             Case::Uni => {
-                let pp = unidirectional::Params { l_a: p[0], l_b: p[1], l_8: p[2] };
+                let pp = unidirectional::Params {
+                    l_a: p[0],
+                    l_b: p[1],
+                    l_8: p[2],
+                };
                 *cols(out) = unidirectional::constrained_jacobian_trig(&t.t, &pp);
             }
             Case::Bzy => {
-                let pp = bidirectional_zy::Params { l_a: p[0], l_b: p[1], l_8: p[2] };
+                let pp = bidirectional_zy::Params {
+                    l_a: p[0],
+                    l_b: p[1],
+                    l_8: p[2],
+                };
                 *cols(out) = bidirectional_zy::constrained_jacobian_trig(&t.zy, &pp);
             }
             Case::Bzx => {
-                let pp = bidirectional_zx::Params { l_a: p[0], l_b: p[1], l_8: p[2] };
+                let pp = bidirectional_zx::Params {
+                    l_a: p[0],
+                    l_b: p[1],
+                    l_8: p[2],
+                };
                 *cols(out) = bidirectional_zx::constrained_jacobian_trig(&t.zx, &pp);
             }
             Case::DiaZy => {
@@ -788,9 +1088,14 @@ pub mod ours {
             }
             Case::PandaI => {
                 let pp = panda_laparoscope::Params { l_a: p[0] };
-                put_pose(out, panda_laparoscope::forward_kinematics_i_trig(&t.pi, &pp));
+                put_pose(
+                    out,
+                    panda_laparoscope::forward_kinematics_i_trig(&t.pi, &pp),
+                );
                 *cols(&mut out[12..]) = panda_laparoscope::partial_body_jacobian_trig(&t.pi, &pp);
             }
+            Case::Oblique7 => generic_outputs!(oblique7, &t.o7, p, out),
+            Case::PandaRcm => generic_outputs!(panda_link6_rcm, &t.p6, p, out),
         }
     }
 }
@@ -891,7 +1196,11 @@ pub mod pinocchio {
         /// (42, column-major).
         pub fn read(&self, variant: Variant, out: &mut [f64]) {
             assert!(out.len() >= 54);
-            let which = if variant == Variant::FrameJacobian { 0 } else { 1 };
+            let which = if variant == Variant::FrameJacobian {
+                0
+            } else {
+                1
+            };
             // SAFETY: ptr is live; writes 12 and 42 doubles.
             unsafe {
                 pin_panda_placement(self.ptr, which, out.as_mut_ptr());
