@@ -8,6 +8,7 @@ use super::linalg;
 use super::mechanism::{Mechanism, Pose2};
 use super::redundancy::{resolve, Objective};
 use super::stewart;
+use crate::simulation::CsvRows;
 use nalgebra::DVector;
 use std::f64::consts::PI;
 use std::path::Path;
@@ -70,8 +71,11 @@ pub struct Panel {
     pub x_label: String,
     /// y-axis label.
     pub y_label: String,
-    /// Lines to draw.
+    /// Lines to draw: `(x column, y column, legend)`.
     pub lines: Vec<(String, String, String)>,
+    /// The y axis starts at 0, or is logarithmic where the values span decades (norms,
+    /// singular values).
+    pub non_negative: bool,
 }
 
 /// A time series: named columns, one row per recorded sample, and suggested plot panels.
@@ -102,9 +106,15 @@ impl Trace {
 
     /// The trace as CSV text (header line, then one line per sample).
     pub fn to_csv(&self) -> String {
+        self.to_csv_rows(CsvRows::All)
+    }
+
+    /// The CSV text of the rows `rows` selects (the first and the last always).
+    pub fn to_csv_rows(&self, rows: CsvRows) -> String {
         let mut s = self.columns.join(",");
         s.push('\n');
-        for r in &self.rows {
+        let t: Vec<f64> = self.rows.iter().map(|r| r[0]).collect();
+        for r in rows.select(&t).into_iter().map(|i| &self.rows[i]) {
             let line: Vec<String> = r.iter().map(|x| format!("{x:.12e}")).collect();
             s.push_str(&line.join(","));
             s.push('\n');
@@ -114,8 +124,21 @@ impl Trace {
 
     /// Writes the CSV to `path`.
     pub fn write_csv(&self, path: impl AsRef<Path>) -> Result<(), ClosedChainError> {
+        self.write_csv_rows(path, CsvRows::All)
+    }
+
+    /// Writes the CSV of the rows `rows` selects to `path`.
+    pub fn write_csv_rows(
+        &self,
+        path: impl AsRef<Path>,
+        rows: CsvRows,
+    ) -> Result<(), ClosedChainError> {
         let path = path.as_ref();
-        std::fs::write(path, self.to_csv()).map_err(|e| ClosedChainError::Io {
+        rows.check().map_err(|message| ClosedChainError::Option {
+            field: "csv rows".into(),
+            message,
+        })?;
+        std::fs::write(path, self.to_csv_rows(rows)).map_err(|e| ClosedChainError::Io {
             path: path.display().to_string(),
             message: e.to_string(),
         })
@@ -143,7 +166,7 @@ impl Trace {
         path: &'p Path,
         backend: impl FnOnce(&'p Path, (u32, u32)) -> DB,
     ) -> Result<(), ClosedChainError> {
-        let size = (900, 300 * self.panels.len().max(1) as u32);
+        let size = (1000, 380 * self.panels.len().max(1) as u32);
         let io = |e: String| ClosedChainError::Io {
             path: path.display().to_string(),
             message: e,
@@ -157,80 +180,37 @@ impl Trace {
         &self,
         root: plotters::drawing::DrawingArea<DB, plotters::coord::Shift>,
     ) -> Result<(), String> {
+        use crate::plot::{draw_panel, Fonts, Line, Panel2d};
         use plotters::prelude::*;
         root.fill(&WHITE).map_err(|e| e.to_string())?;
         let areas = root.split_evenly((self.panels.len().max(1), 1));
-        let palette = [BLUE, RED, GREEN, MAGENTA, CYAN, BLACK];
         for (panel, area) in self.panels.iter().zip(areas.iter()) {
-            let mut series = Vec::new();
+            let mut lines = Vec::new();
             for (xc, yc, label) in &panel.lines {
                 let (Some(x), Some(y)) = (self.column(xc), self.column(yc)) else {
                     return Err(format!("no column `{xc}` or `{yc}`"));
                 };
-                series.push((x, y, label.clone()));
+                lines.push(Line {
+                    label: label.clone(),
+                    x,
+                    y,
+                });
             }
-            let (mut x0, mut x1, mut y0, mut y1) =
-                (f64::INFINITY, -f64::INFINITY, f64::INFINITY, -f64::INFINITY);
-            for (x, y, _) in &series {
-                for (&a, &b) in x.iter().zip(y) {
-                    if a.is_finite() && b.is_finite() {
-                        x0 = x0.min(a);
-                        x1 = x1.max(a);
-                        y0 = y0.min(b);
-                        y1 = y1.max(b);
-                    }
-                }
-            }
-            if !(x0.is_finite() && y0.is_finite()) {
-                continue;
-            }
-            if x1 - x0 < 1e-12 {
-                x1 = x0 + 1.0;
-            }
-            let pad = ((y1 - y0) * 0.08).max(1e-9);
-            let (y0, y1) = (y0 - pad, y1 + pad);
-            let mut chart = ChartBuilder::on(area)
-                .caption(&panel.title, ("sans-serif", 18))
-                .margin(10)
-                .x_label_area_size(40)
-                .y_label_area_size(80)
-                .build_cartesian_2d(x0..x1, y0..y1)
-                .map_err(|e| e.to_string())?;
-            let scale = y0.abs().max(y1.abs());
-            let span = y1 - y0;
-            let y_fmt = move |v: &f64| {
-                if !(1e-2..1e4).contains(&scale) || span < 1e-3 {
-                    format!("{v:.2e}")
-                } else {
-                    format!("{v:.3}")
-                }
-            };
-            chart
-                .configure_mesh()
-                .x_desc(panel.x_label.as_str())
-                .y_desc(panel.y_label.as_str())
-                .y_label_formatter(&y_fmt)
-                .draw()
-                .map_err(|e| e.to_string())?;
-            for (k, (x, y, label)) in series.into_iter().enumerate() {
-                let color = palette[k % palette.len()];
-                chart
-                    .draw_series(LineSeries::new(
-                        x.into_iter()
-                            .zip(y)
-                            .filter(|(a, b)| a.is_finite() && b.is_finite()),
-                        color.stroke_width(2),
-                    ))
-                    .map_err(|e| e.to_string())?
-                    .label(label)
-                    .legend(move |(a, b)| PathElement::new(vec![(a, b), (a + 20, b)], color));
-            }
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .draw()
-                .map_err(|e| e.to_string())?;
+            draw_panel(
+                area,
+                &Panel2d {
+                    title: &panel.title,
+                    x_label: &panel.x_label,
+                    y_label: &panel.y_label,
+                    lines,
+                    non_negative: panel.non_negative,
+                },
+                Fonts {
+                    title: 20,
+                    text: 16,
+                },
+            )
+            .map_err(|e| e.to_string())?;
         }
         root.present().map_err(|e| e.to_string())?;
         Ok(())
@@ -294,7 +274,11 @@ pub fn simulate(
                     &[("phi_d", "φ_d"), ("phi", "φ")],
                 ),
                 panel("(b) orientation error", "e_phi (rad)", &[("e_phi", "e_φ")]),
-                panel("active joint velocity", "u (rad/s)", &[("u_theta1", "θ̇1")]),
+                panel(
+                    "(c) active joint velocity",
+                    "u (rad/s)",
+                    &[("u_theta1", "u = dθ1/dt")],
+                ),
             ];
             Ok(tr)
         }
@@ -326,9 +310,10 @@ pub fn simulate(
                     x_label: "X (m)".into(),
                     y_label: "Y (m)".into(),
                     lines: vec![
-                        ("x_d".into(), "y_d".into(), "p_d".into()),
+                        ("x_d".into(), "y_d".into(), "p_d (reference)".into()),
                         ("x".into(), "y".into(), "p".into()),
                     ],
+                    non_negative: false,
                 },
                 panel(
                     "(b) position error",
@@ -336,7 +321,11 @@ pub fn simulate(
                     &[("e_x", "e_px"), ("e_y", "e_py")],
                 ),
                 panel("(c) orientation error", "e_phi (rad)", &[("e_phi", "e_φ")]),
-                panel("legs and J_Cp", "", &[("sigma_min_jcp", "σ_min(J_Cp)")]),
+                norm_panel(
+                    "(d) smallest singular value of J_Cp",
+                    "sigma_min (-)",
+                    &[("sigma_min_jcp", "σ_min(J_Cp)")],
+                ),
             ];
             Ok(tr)
         }
@@ -371,21 +360,25 @@ pub fn simulate(
             tr.name = name.to_string();
             tr.panels = vec![
                 panel(
-                    "object position",
-                    "(m)",
+                    "(a) object position",
+                    "x, y (m)",
                     &[("x_d", "x_d"), ("x", "x"), ("y_d", "y_d"), ("y", "y")],
                 ),
                 panel(
-                    "object pose error",
-                    "e",
+                    "(b) object pose error",
+                    "e_x, e_y (m), e_phi (rad)",
                     &[("e_x", "e_x"), ("e_y", "e_y"), ("e_phi", "e_φ")],
                 ),
-                panel("constraint residual", "|c(θ)|", &[("constraint", "‖c‖")]),
+                norm_panel(
+                    "(c) constraint residual",
+                    "|c(theta)| (m)",
+                    &[("constraint", "‖c(θ)‖")],
+                ),
             ];
             if tr.columns.iter().any(|c| c == "objective") {
                 tr.panels.push(panel(
-                    "null-space objective (46)",
-                    "f",
+                    "(d) null-space objective (46)",
+                    "f (-)",
                     &[(
                         "objective",
                         opts.objective.as_ref().map_or("f", |o| o.name()),
@@ -410,6 +403,15 @@ fn panel(title: &str, y: &str, cols: &[(&str, &str)]) -> Panel {
             .iter()
             .map(|(c, l)| ("t".to_string(), c.to_string(), l.to_string()))
             .collect(),
+        non_negative: false,
+    }
+}
+
+/// A panel of norms over time (`t` in seconds): a non-negative y axis.
+fn norm_panel(title: &str, y: &str, cols: &[(&str, &str)]) -> Panel {
+    Panel {
+        non_negative: true,
+        ..panel(title, y, cols)
     }
 }
 

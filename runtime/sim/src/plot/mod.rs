@@ -2,11 +2,15 @@
 //! one six-panel figure — position/orientation error, RCM velocities, manipulability of `J^r_0e`
 //! and `J^B_0i`, `l_a` and `q7`, joint velocities, and the distance of the trocar from the link.
 
+pub mod axis;
 pub mod view3d;
 
 use crate::simulation::Trace;
+use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint};
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
 
 /// The font the figures use (DejaVu Sans, free licence: `DejaVuSans-LICENSE.txt` next to this
@@ -83,70 +87,232 @@ const COLORS: [RGBColor; 8] = [
     RGBColor(23, 190, 207),
 ];
 
-/// One panel: named series over time, with a y label.
-fn panel<DB: DrawingBackend>(
+/// One line of a panel: its legend, x and y values.
+pub(crate) struct Line {
+    /// Legend text.
+    pub label: String,
+    /// x values.
+    pub x: Vec<f64>,
+    /// y values (as many as `x`).
+    pub y: Vec<f64>,
+}
+
+/// A panel of a 2-D figure.
+pub(crate) struct Panel2d<'a> {
+    /// Title, above the legend.
+    pub title: &'a str,
+    /// x-axis label, with its unit.
+    pub x_label: &'a str,
+    /// y-axis label, with its unit.
+    pub y_label: &'a str,
+    /// The lines.
+    pub lines: Vec<Line>,
+    /// The y axis starts at 0 (or is logarithmic where the values span decades): norms,
+    /// distances, manipulabilities.
+    pub non_negative: bool,
+}
+
+/// Font sizes (pixels) of a figure's panels.
+#[derive(Clone, Copy)]
+pub(crate) struct Fonts {
+    /// Panel title.
+    pub title: u32,
+    /// Legend, tick labels and axis labels.
+    pub text: u32,
+}
+
+/// At most this many points of a line are drawn (evenly spaced rows), which keeps SVGs small.
+const MAX_POINTS: usize = 4000;
+
+/// Draws one panel: the title on top, the legend under it (outside the data, wrapped onto as
+/// many rows as it needs), then the chart with round ticks and plain labels ([`axis::Axis`])
+/// and margins that keep the last tick label inside the panel.
+pub(crate) fn draw_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
-    title: &str,
-    ylabel: &str,
-    t: &[f64],
-    series: &[(&str, Vec<f64>)],
+    panel: &Panel2d<'_>,
+    fonts: Fonts,
 ) -> Result<(), PlotError> {
-    let t_end = t.last().copied().unwrap_or(1.0).max(1e-9);
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for (_, ys) in series {
-        for &y in ys.iter().filter(|y| y.is_finite()) {
-            lo = lo.min(y);
-            hi = hi.max(y);
+    let (w, _) = area.dim_in_pixel();
+    let text = ("sans-serif", fonts.text).into_font();
+    // Legend layout: entries left to right, wrapped.
+    let sample = 28i32;
+    let row_h = fonts.text as i32 + 8;
+    let mut placed = Vec::new();
+    let (mut x, mut row) = (16i32, 0i32);
+    for (k, line) in panel.lines.iter().enumerate() {
+        let tw = area
+            .estimate_text_size(&line.label, &TextStyle::from(text.clone()))
+            .map_err(err)?
+            .0 as i32;
+        let width = sample + 6 + tw + 22;
+        if x > 16 && x + width > w as i32 - 16 {
+            (x, row) = (16, row + 1);
+        }
+        placed.push((k, x, row));
+        x += width;
+    }
+    let rows = if panel.lines.is_empty() { 0 } else { row + 1 };
+    let title_h = fonts.title as i32 + 16;
+    let top_h = title_h + rows * row_h + 4;
+    let (top, body) = area.split_vertically(top_h);
+    top.draw(&Text::new(
+        panel.title.to_string(),
+        (w as i32 / 2, 8),
+        ("sans-serif", fonts.title)
+            .into_font()
+            .color(&BLACK)
+            .pos(Pos::new(HPos::Center, VPos::Top)),
+    ))
+    .map_err(err)?;
+    for (k, x, row) in placed {
+        let color = COLORS[k % COLORS.len()];
+        let y = title_h + row * row_h + row_h / 2;
+        top.draw(&PathElement::new(
+            vec![(x, y), (x + sample, y)],
+            color.stroke_width(3),
+        ))
+        .map_err(err)?;
+        top.draw(&Text::new(
+            panel.lines[k].label.clone(),
+            (x + sample + 6, y),
+            text.color(&BLACK).pos(Pos::new(HPos::Left, VPos::Center)),
+        ))
+        .map_err(err)?;
+    }
+
+    let finite = |l: &Line| {
+        l.x.iter()
+            .zip(&l.y)
+            .filter(|(a, b)| a.is_finite() && b.is_finite())
+            .map(|(&a, &b)| (a, b))
+            .collect::<Vec<_>>()
+    };
+    let points: Vec<Vec<(f64, f64)>> = panel.lines.iter().map(finite).collect();
+    let bounds = |f: fn(&(f64, f64)) -> f64| {
+        points
+            .iter()
+            .flatten()
+            .map(f)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            })
+    };
+    let (x0, x1) = bounds(|p| p.0);
+    let (y0, y1) = bounds(|p| p.1);
+    let x_axis = axis::Axis::linear(x0, x1, 8);
+    let y_axis = if panel.non_negative {
+        axis::Axis::non_negative(points.iter().flatten().map(|p| p.1), 6)
+    } else {
+        axis::Axis::linear(y0, y1, 6)
+    };
+    let mut builder = ChartBuilder::on(&body);
+    builder
+        .margin_left(8)
+        .margin_top(8)
+        .margin_bottom(4)
+        // The last x label is centred on the right edge of the plot: room for half of it.
+        .margin_right(48)
+        .x_label_area_size(fonts.text * 3)
+        .y_label_area_size(fonts.text * 6);
+    let x_range = Ticked::new(RangedCoordf64::from(x_axis.lo..x_axis.hi), &x_axis);
+    if y_axis.log {
+        let y_range = Ticked::new(
+            LogCoord::<f64>::from((y_axis.lo..y_axis.hi).log_scale()),
+            &y_axis,
+        );
+        let chart = builder.build_cartesian_2d(x_range, y_range).map_err(err)?;
+        // A logarithmic axis shows the positive values.
+        let points = points
+            .into_iter()
+            .map(|p| p.into_iter().filter(|q| q.1 > 0.0).collect())
+            .collect();
+        draw_chart(chart, panel, fonts, &x_axis, &y_axis, points)
+    } else {
+        let y_range = Ticked::new(RangedCoordf64::from(y_axis.lo..y_axis.hi), &y_axis);
+        let chart = builder.build_cartesian_2d(x_range, y_range).map_err(err)?;
+        draw_chart(chart, panel, fonts, &x_axis, &y_axis, points)
+    }
+}
+
+/// A coordinate whose ticks are those of an [`axis::Axis`] (plotters' own choice of ticks on
+/// `f64` ranges gives labels such as `2.168e-19`).
+pub(crate) struct Ticked<R: Ranged<ValueType = f64>> {
+    inner: R,
+    ticks: Vec<f64>,
+}
+
+impl<R: Ranged<ValueType = f64>> Ticked<R> {
+    fn new(inner: R, axis: &axis::Axis) -> Self {
+        Ticked {
+            inner,
+            ticks: axis.ticks.clone(),
         }
     }
-    if !lo.is_finite() {
-        (lo, hi) = (0.0, 1.0);
+}
+
+impl<R: Ranged<ValueType = f64>> Ranged for Ticked<R> {
+    type ValueType = f64;
+    type FormatOption = DefaultFormatting;
+
+    fn range(&self) -> std::ops::Range<f64> {
+        self.inner.range()
     }
-    let pad = ((hi - lo) * 0.05)
-        .max(hi.abs().max(lo.abs()) * 1e-3)
-        .max(1e-12);
-    let mut chart = ChartBuilder::on(area)
-        .caption(title, ("sans-serif", 22))
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(90)
-        .build_cartesian_2d(0.0..t_end, (lo - pad)..(hi + pad))
-        .map_err(err)?;
+
+    fn map(&self, value: &f64, limit: (i32, i32)) -> i32 {
+        self.inner.map(value, limit)
+    }
+
+    fn key_points<H: KeyPointHint>(&self, hint: H) -> Vec<f64> {
+        if hint.weight().allow_light_points() {
+            Vec::new()
+        } else {
+            self.ticks.clone()
+        }
+    }
+
+    fn axis_pixel_range(&self, limit: (i32, i32)) -> std::ops::Range<i32> {
+        self.inner.axis_pixel_range(limit)
+    }
+}
+
+/// The mesh, the axis labels and the lines of a panel on its chart.
+fn draw_chart<DB: DrawingBackend, Y>(
+    mut chart: ChartContext<'_, DB, Cartesian2d<Ticked<RangedCoordf64>, Ticked<Y>>>,
+    panel: &Panel2d<'_>,
+    fonts: Fonts,
+    x_axis: &axis::Axis,
+    y_axis: &axis::Axis,
+    points: Vec<Vec<(f64, f64)>>,
+) -> Result<(), PlotError>
+where
+    Y: Ranged<ValueType = f64>,
+{
+    let x_fmt = |v: &f64| x_axis.label(*v);
+    let y_fmt = |v: &f64| y_axis.label(*v);
     chart
         .configure_mesh()
-        .x_desc("t (s)")
-        .y_desc(ylabel)
-        .label_style(("sans-serif", 16))
-        .y_label_formatter(&|v| format!("{v:.3e}"))
+        .x_desc(panel.x_label)
+        .y_desc(panel.y_label)
+        .label_style(("sans-serif", fonts.text))
+        .axis_desc_style(("sans-serif", fonts.text))
+        .x_label_formatter(&x_fmt)
+        .y_label_formatter(&y_fmt)
+        .bold_line_style(RGBColor(225, 225, 225))
         .draw()
         .map_err(err)?;
-    // At most ~4000 points per series keep the SVG small.
-    let stride = (t.len() / 4000).max(1);
-    for (k, (name, ys)) in series.iter().enumerate() {
+    for (k, pts) in points.into_iter().enumerate() {
         let color = COLORS[k % COLORS.len()];
+        let stride = (pts.len() / MAX_POINTS).max(1);
+        let last = pts.last().copied();
+        let pts = pts
+            .iter()
+            .copied()
+            .step_by(stride)
+            .chain(last.filter(|_| stride > 1));
         chart
-            .draw_series(LineSeries::new(
-                t.iter()
-                    .zip(ys.iter())
-                    .step_by(stride)
-                    .filter(|(_, y)| y.is_finite())
-                    .map(|(&x, &y)| (x, y)),
-                color.stroke_width(2),
-            ))
-            .map_err(err)?
-            .label(*name)
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(3))
-            });
+            .draw_series(LineSeries::new(pts, color.stroke_width(2)))
+            .map_err(err)?;
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 16))
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()
-        .map_err(err)?;
     Ok(())
 }
 
@@ -169,11 +335,40 @@ pub fn draw<DB: DrawingBackend>(
     let t: Vec<f64> = rows.iter().map(|r| r.t).collect();
     let col =
         |f: &dyn Fn(&crate::simulation::TraceRow) -> f64| rows.iter().map(f).collect::<Vec<_>>();
+    let fonts = Fonts {
+        title: 22,
+        text: 17,
+    };
+    let panel = |area: &DrawingArea<DB, Shift>,
+                 title: &str,
+                 y_label: &str,
+                 non_negative: bool,
+                 series: &[(&str, Vec<f64>)]| {
+        let lines = series
+            .iter()
+            .map(|(label, y)| Line {
+                label: label.to_string(),
+                x: t.clone(),
+                y: y.clone(),
+            })
+            .collect();
+        draw_panel(
+            area,
+            &Panel2d {
+                title,
+                x_label: "t (s)",
+                y_label,
+                lines,
+                non_negative,
+            },
+            fonts,
+        )
+    };
     panel(
         &panels[0],
         "(a) end-effector errors",
-        "|e_p| (m), |eps|",
-        &t,
+        "|e_p| (m), |eps| (-)",
+        true,
         &[
             ("|dp - p| (m)", col(&|r| r.ep_norm)),
             ("|eps| (quaternion)", col(&|r| r.eo_norm)),
@@ -185,8 +380,8 @@ pub fn draw<DB: DrawingBackend>(
     panel(
         &panels[1],
         "(b) lateral velocity of the link at the trocar (F_r)",
-        "m/s",
-        &t,
+        "v (m/s)",
+        false,
         &[
             (va.as_str(), col(&|r| r.vr[0])),
             (vb.as_str(), col(&|r| r.vr[1])),
@@ -197,8 +392,8 @@ pub fn draw<DB: DrawingBackend>(
     panel(
         &panels[2],
         "(c) manipulability",
-        "w",
-        &t,
+        "w (-)",
+        true,
         &[
             ("w_r (S J^r_0e, the task)", col(&|r| r.w_r)),
             ("w_i (J^B_0i)", col(&|r| r.w_i)),
@@ -207,20 +402,26 @@ pub fn draw<DB: DrawingBackend>(
     panel(
         &panels[3],
         "(d) l_a and q7",
-        "m, rad",
-        &t,
+        "l_a (m), q7 (rad)",
+        false,
         &[("l_a (m)", col(&|r| r.l_a)), ("q7 (rad)", col(&|r| r.q[6]))],
     )?;
     let qd: Vec<(String, Vec<f64>)> = (0..trace.joints)
         .map(|k| (format!("qd{}", k + 1), col(&|r| r.qd[k])))
         .collect();
     let qd_ref: Vec<(&str, Vec<f64>)> = qd.iter().map(|(n, v)| (n.as_str(), v.clone())).collect();
-    panel(&panels[4], "(e) joint velocities", "rad/s", &t, &qd_ref)?;
+    panel(
+        &panels[4],
+        "(e) joint velocities",
+        "qd (rad/s)",
+        false,
+        &qd_ref,
+    )?;
     panel(
         &panels[5],
         "(f) distance trocar - link axis (rcm_drift)",
-        "m",
-        &t,
+        "distance (m)",
+        true,
         &[("rcm_drift", col(&|r| r.rcm_drift))],
     )?;
     Ok(())

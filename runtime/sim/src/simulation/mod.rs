@@ -34,7 +34,7 @@ pub use scenario::{
     MAX_JOINT_SPEED, OMEGA, OMEGA_K_421, PANDA_CIRCLE_RADIUS, PANDA_DURATION, PANDA_Q0, PANDA_RAMP,
     PANDA_ROLL_AMPLITUDE, PANDA_TIP_DEPTH, S4_RCM_AMPLITUDE, S4_RCM_AMPLITUDE_THESIS,
 };
-pub use trace::{Summary, Trace, TraceRow, CSV_HEADER};
+pub use trace::{CsvRows, Summary, Trace, TraceRow, CSV_HEADER};
 
 use nalgebra::{Const, SVector, Vector3};
 use trocar::constraint::Constraint;

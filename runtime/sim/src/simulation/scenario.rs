@@ -188,7 +188,7 @@ impl Scenario {
             Scenario::S2 => "Simulation 2: bidirectional constraint, zy wrist, trajectory (4.2)",
             Scenario::S3 => "Simulation 3: bidirectional zy through singularities (4.3)-(4.4)",
             Scenario::S4 => "Simulation 4: moving RCM (4.5)-(4.6)",
-            Scenario::Exp421 => "Experiment 4.2.1 (kinematic simulation): pinv vs DLS vs FI",
+            Scenario::Exp421 => "Experiment 4.2.1 (kinematic simulation)",
             Scenario::Panda => {
                 "Panda laparoscope: 1 cm circle of the tip with a +-30 deg roll through a trocar"
             }

@@ -4,6 +4,57 @@ use super::{Method, Scenario};
 use std::io::Write;
 use std::path::Path;
 
+/// Which rows of a trace its CSV gets (`trocar simulate --every N` / `--dt SECONDS`). The first
+/// and the last row are always written.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum CsvRows {
+    /// Every row.
+    #[default]
+    All,
+    /// Every `n`-th row (`n ≥ 1`): rows `0, n, 2n, …`, and the last.
+    Every(usize),
+    /// The rows at the times `0, dt, 2dt, …` (s): for each, the first row within half a sample
+    /// time of it, and the last row. A `dt` at or below the trace's sample time keeps every row.
+    Period(f64),
+}
+
+impl CsvRows {
+    /// Checks the value: `n ≥ 1`; `dt` finite and positive. The message names the option
+    /// (`--every`, `--dt`).
+    pub fn check(&self) -> Result<(), String> {
+        match *self {
+            CsvRows::All => Ok(()),
+            CsvRows::Every(0) => Err("--every: must be an integer of at least 1".into()),
+            CsvRows::Every(_) => Ok(()),
+            CsvRows::Period(dt) if !(dt.is_finite() && dt > 0.0) => Err(format!(
+                "--dt: must be a positive number of seconds, not {dt}"
+            )),
+            CsvRows::Period(_) => Ok(()),
+        }
+    }
+
+    /// The indices of the rows kept, in order, among rows at the increasing times `t`.
+    pub fn select(&self, t: &[f64]) -> Vec<usize> {
+        let n = t.len();
+        let keep = |i: usize| -> bool {
+            if i == 0 || i + 1 == n {
+                return true;
+            }
+            match *self {
+                CsvRows::All => true,
+                CsvRows::Every(k) => i % k.max(1) == 0,
+                CsvRows::Period(dt) => {
+                    // Row i is the first at or past a multiple of dt, less half a sample time.
+                    let half = 0.5 * (t[1] - t[0]);
+                    let slot = |x: f64| ((x + half) / dt).floor();
+                    slot(t[i]) != slot(t[i - 1])
+                }
+            }
+        };
+        (0..n).filter(|&i| keep(i)).collect()
+    }
+}
+
 /// One control step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TraceRow {
@@ -147,10 +198,17 @@ impl Trace {
     }
 
     /// Writes the CSV (columns [`Trace::csv_header`]) to a writer.
-    pub fn to_csv(&self, mut w: impl Write) -> std::io::Result<()> {
+    pub fn to_csv(&self, w: impl Write) -> std::io::Result<()> {
+        self.to_csv_rows(w, CsvRows::All)
+    }
+
+    /// Writes the CSV of the rows `rows` selects to a writer.
+    pub fn to_csv_rows(&self, mut w: impl Write, rows: CsvRows) -> std::io::Result<()> {
+        rows.check().map_err(std::io::Error::other)?;
         writeln!(w, "{}", self.csv_header())?;
-        for r in &self.rows {
-            let v = self.row_values(r);
+        let t: Vec<f64> = self.rows.iter().map(|r| r.t).collect();
+        for i in rows.select(&t) {
+            let v = self.row_values(&self.rows[i]);
             // `t` as written (it is a multiple of dt); the rest in scientific notation.
             write!(w, "{}", v[0])?;
             for x in &v[1..] {
@@ -163,9 +221,14 @@ impl Trace {
 
     /// Writes the CSV to a file.
     pub fn write_csv(&self, path: impl AsRef<Path>) -> std::io::Result<()> {
+        self.write_csv_rows(path, CsvRows::All)
+    }
+
+    /// Writes the CSV of the rows `rows` selects to a file.
+    pub fn write_csv_rows(&self, path: impl AsRef<Path>, rows: CsvRows) -> std::io::Result<()> {
         let f = std::fs::File::create(path)?;
         let mut w = std::io::BufWriter::new(f);
-        self.to_csv(&mut w)?;
+        self.to_csv_rows(&mut w, rows)?;
         w.flush()
     }
 
@@ -217,5 +280,48 @@ impl Trace {
             }),
             l_a_range: (min(&|r| r.l_a), max(&|r| r.l_a)),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::CsvRows;
+
+    fn times(n: usize, h: f64) -> Vec<f64> {
+        (0..n).map(|k| k as f64 * h).collect()
+    }
+
+    #[test]
+    fn every_n_keeps_first_and_last() {
+        let t = times(11, 0.1);
+        assert_eq!(CsvRows::Every(3).select(&t), [0, 3, 6, 9, 10]);
+        assert_eq!(CsvRows::Every(5).select(&t), [0, 5, 10]);
+        assert_eq!(CsvRows::Every(1).select(&t), (0..11).collect::<Vec<_>>());
+        assert_eq!(CsvRows::Every(100).select(&t), [0, 10]);
+        assert_eq!(CsvRows::All.select(&t).len(), 11);
+    }
+
+    #[test]
+    fn period_picks_the_rows_at_its_multiples() {
+        // 2 ms samples, 10 ms period: rows 0, 5, 10, ...; 0.2 s is exactly 1.0000000000000002
+        // multiples away in floating point, which must not shift the pick.
+        let t = times(1001, 0.002);
+        let kept = CsvRows::Period(0.01).select(&t);
+        assert_eq!(kept.len(), 201);
+        assert!(kept.iter().all(|i| i % 5 == 0), "{kept:?}");
+        // A period that is not a multiple: the nearest following row, then the last.
+        let kept = CsvRows::Period(0.0062).select(&times(9, 0.002));
+        assert_eq!(kept, [0, 3, 6, 8]);
+        // Finer than the samples: every row.
+        assert_eq!(CsvRows::Period(1e-4).select(&times(5, 0.002)).len(), 5);
+    }
+
+    #[test]
+    fn bad_values_name_the_option() {
+        assert!(CsvRows::Every(0).check().unwrap_err().contains("--every"));
+        for dt in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            assert!(CsvRows::Period(dt).check().unwrap_err().contains("--dt"));
+        }
+        assert!(CsvRows::Every(2).check().is_ok() && CsvRows::Period(0.5).check().is_ok());
     }
 }
