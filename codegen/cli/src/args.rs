@@ -114,6 +114,21 @@ pub enum Command {
         /// Write the figures to a `.svg` or `.png` file (checked before the run).
         #[arg(long)]
         plot: Option<PathBuf>,
+        /// Write an animated `.gif` of the arm (stick figure, instrument shaft, trocar, tip
+        /// path; two viewpoints) over the run. Serial arms only.
+        #[arg(long, value_name = "GIF")]
+        animate: Option<PathBuf>,
+        /// Write a still `.png` or `.svg` of the arm at --snapshot-times. Serial arms only.
+        #[arg(long)]
+        snapshot: Option<PathBuf>,
+        /// Times (s) drawn by --snapshot, comma-separated (default: start, middle, end).
+        #[arg(
+            long,
+            value_name = "T1,T2,...",
+            value_delimiter = ',',
+            requires = "snapshot"
+        )]
+        snapshot_times: Option<Vec<f64>>,
     },
     /// Print a shipped description (TOML).
     Preset {

@@ -37,7 +37,7 @@ pub use commands::generate::generate;
 pub use commands::jacobian::jacobian;
 pub use commands::list::{robot_info, shipped, RobotInfo, Shipped};
 pub use commands::preset::preset;
-pub use commands::simulate::{run_simulation, simulate, RcmOptions, SimulationRun};
+pub use commands::simulate::{run_simulation, simulate, ArmViews, RcmOptions, SimulationRun};
 pub use commands::verify::{verify, GeneratedCandidate};
 pub use output::{CliError, MatrixOut};
 
@@ -88,6 +88,9 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             max_joint_speed,
             csv,
             plot,
+            animate,
+            snapshot,
+            snapshot_times,
         } => commands::simulate::run(
             &scenario,
             &commands::simulate::RcmOptions {
@@ -97,6 +100,11 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             },
             csv.as_deref(),
             plot.as_deref(),
+            &commands::simulate::ArmViews {
+                animate,
+                snapshot,
+                snapshot_times,
+            },
         ),
         Command::Preset { name } => commands::preset::run(&name),
         Command::List => commands::list::run(),

@@ -44,11 +44,14 @@ pub(crate) fn write_stdout(text: &str) -> Result<(), CliError> {
 }
 
 /// What an output file holds, for the checks made before any work: `trocar simulate --plot`
-/// must name a `.svg` or `.png` file; a CSV or a generated module may have any name.
+/// and `--snapshot` must name a `.svg` or `.png` file, `--animate` a `.gif`; a CSV or a
+/// generated module may have any name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum OutputKind {
-    /// A figure (`--plot`): SVG or PNG, by the extension.
+    /// A figure (`--plot`, `--snapshot`): SVG or PNG, by the extension.
     Figure,
+    /// An animation (`--animate`): GIF.
+    Animation,
     /// Anything else (`--csv`, `generate -o`).
     Data,
 }
@@ -83,7 +86,7 @@ struct OutputFile {
 
 impl Outputs {
     /// Checks the outputs up front: every path names a file in a directory that exists, figures
-    /// end in `.svg` or `.png`, and no two outputs are the same file. Errors name the option
+    /// end in `.svg` or `.png`, animations in `.gif`, and no two outputs are the same file. Errors name the option
     /// and the path.
     pub(crate) fn check(
         requested: &[(&'static str, Option<&std::path::Path>, OutputKind)],
@@ -95,13 +98,19 @@ impl Outputs {
             if path.file_name().is_none() {
                 return Err(CliError(format!("{option} {shown}: not a file name")));
             }
-            if kind == OutputKind::Figure {
-                let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-                if !ext.eq_ignore_ascii_case("svg") && !ext.eq_ignore_ascii_case("png") {
-                    return Err(CliError(format!(
-                        "{option} {shown}: a figure is written as SVG or PNG; name the file `….svg` or `….png`"
-                    )));
-                }
+            let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+            if kind == OutputKind::Figure
+                && !ext.eq_ignore_ascii_case("svg")
+                && !ext.eq_ignore_ascii_case("png")
+            {
+                return Err(CliError(format!(
+                    "{option} {shown}: a figure is written as SVG or PNG; name the file `….svg` or `….png`"
+                )));
+            }
+            if kind == OutputKind::Animation && !ext.eq_ignore_ascii_case("gif") {
+                return Err(CliError(format!(
+                    "{option} {shown}: an animation is written as GIF; name the file `….gif`"
+                )));
             }
             let dir = directory(path);
             if !dir.is_dir() {

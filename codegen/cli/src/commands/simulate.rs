@@ -3,7 +3,8 @@
 use crate::args::{Method, OnOff, SpeedLimit};
 use crate::output::{CliError, OutputKind, Outputs};
 use crate::progress::with_progress;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use trocar_sim::plot::view3d;
 use trocar_sim::{closed_chain, simulation};
 
 /// How an RCM scenario's controller runs (`trocar simulate`'s options).
@@ -28,22 +29,44 @@ impl Default for RcmOptions {
     }
 }
 
+/// The views of the arm `trocar simulate` draws (`--animate`, `--snapshot`, `--snapshot-times`;
+/// `trocar_sim::plot::view3d`): serial arms only.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ArmViews {
+    /// An animated GIF over the run.
+    pub animate: Option<PathBuf>,
+    /// A still image (`.png` or `.svg`).
+    pub snapshot: Option<PathBuf>,
+    /// The times (s) of the still image (default: start, middle, end).
+    pub snapshot_times: Option<Vec<f64>>,
+}
+
+impl ArmViews {
+    fn any(&self) -> bool {
+        self.animate.is_some() || self.snapshot.is_some()
+    }
+}
+
 /// Runs the simulation `scenario` (`1`, `2`, `3`, `4`, `exp421`, or a closed-chain scenario such
-/// as `four-bar`), writes the trace to `csv` and the figures to `plot` (`.svg` or `.png`) when
-/// given, and returns the summary `trocar simulate` prints to stderr. Both paths are checked
-/// before the simulation runs and the files are written whole, once it has succeeded
-/// (`output::Outputs`).
-/// `options` apply to the RCM scenarios only.
+/// as `four-bar`), writes the trace to `csv`, the figures to `plot` (`.svg` or `.png`) and the
+/// views of the arm `views` when given, and returns the summary `trocar simulate` prints to
+/// stderr. Every path is checked before the simulation runs and the files are written whole,
+/// once it has succeeded (`output::Outputs`).
+/// `options` and `views` apply to the RCM scenarios only.
 pub fn simulate(
     scenario: &str,
     options: &RcmOptions,
     csv: Option<&Path>,
     plot: Option<&Path>,
+    views: &ArmViews,
 ) -> Result<String, CliError> {
     let outputs = Outputs::check(&[
         ("--csv", csv, OutputKind::Data),
         ("--plot", plot, OutputKind::Figure),
+        ("--animate", views.animate.as_deref(), OutputKind::Animation),
+        ("--snapshot", views.snapshot.as_deref(), OutputKind::Figure),
     ])?;
+    check_views(scenario, views)?;
     let run = run_simulation(scenario, options)?;
     if let Some(path) = csv {
         run.write_csv(outputs.temporary(path))
@@ -53,8 +76,69 @@ pub fn simulate(
         run.write_plot(outputs.temporary(path))
             .map_err(|e| outputs.explain(CliError(format!("--plot {}: {e}", path.display()))))?;
     }
+    if let AnyTrace::Rcm(trace) = &run.trace {
+        write_views(trace, views, &outputs)?;
+    }
     outputs.commit()?;
     Ok(run.summary)
+}
+
+/// Refuses, before the run, views of a closed chain and snapshot times outside the scenario.
+fn check_views(scenario: &str, views: &ArmViews) -> Result<(), CliError> {
+    if !views.any() {
+        return Ok(());
+    }
+    if closed_chain::scenario_names().contains(&scenario) {
+        let option = if views.animate.is_some() {
+            "--animate"
+        } else {
+            "--snapshot"
+        };
+        return Err(CliError(format!(
+            "{option}: `{scenario}` is a closed-chain scenario; --animate and --snapshot draw the serial arms only (1, 2, 3, 4, exp421, panda-laparoscope)"
+        )));
+    }
+    if let (Ok(which), Some(times)) = (
+        simulation::Scenario::from_name(scenario),
+        &views.snapshot_times,
+    ) {
+        let end = which.duration();
+        if let Some(t) = times.iter().find(|t| !(0.0..=end).contains(*t)) {
+            return Err(CliError(format!(
+                "--snapshot-times {t}: scenario {scenario} runs from 0 to {end} s"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Writes the views of the arm of an RCM run into the outputs' temporary files.
+fn write_views(
+    trace: &simulation::Trace,
+    views: &ArmViews,
+    outputs: &Outputs,
+) -> Result<(), CliError> {
+    if let Some(path) = &views.snapshot {
+        let times = views
+            .snapshot_times
+            .clone()
+            .unwrap_or_else(|| view3d::default_snapshot_times(trace));
+        view3d::write_snapshot(trace, outputs.temporary(path), &times).map_err(|e| {
+            outputs.explain(CliError(format!("--snapshot {}: {e}", path.display())))
+        })?;
+    }
+    if let Some(path) = &views.animate {
+        with_progress("animation", |progress| {
+            view3d::write_animation(
+                trace,
+                outputs.temporary(path),
+                view3d::ANIMATION_FRAMES,
+                progress,
+            )
+        })
+        .map_err(|e| outputs.explain(CliError(format!("--animate {}: {e}", path.display()))))?;
+    }
+    Ok(())
 }
 
 /// A finished simulation: what `trocar simulate` prints, and the trace it writes with `--csv`.
@@ -126,8 +210,9 @@ pub(crate) fn run(
     options: &RcmOptions,
     csv: Option<&Path>,
     plot: Option<&Path>,
+    views: &ArmViews,
 ) -> Result<i32, CliError> {
-    eprintln!("{}", simulate(scenario, options, csv, plot)?);
+    eprintln!("{}", simulate(scenario, options, csv, plot, views)?);
     Ok(0)
 }
 

@@ -315,7 +315,7 @@ fn oblique<DB: DrawingBackend>(
     chart.with_projection(|mut p| {
         p.yaw = 0.75;
         p.pitch = 0.3;
-        p.scale = 0.78;
+        p.scale = 0.86;
         p.into_matrix()
     });
     let fmt = |v: &f64| format!("{v:.1}");
@@ -332,12 +332,14 @@ fn oblique<DB: DrawingBackend>(
         .light_grid_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(err)?;
-    // Axis names at the ends of the axes.
+    // Axis names beside the edges that carry the tick labels (with this projection: `x` along
+    // the far left edge, `y` along the right edge, `z` up the left edge).
     let name = ("sans-serif", 13).into_font().color(&BLACK);
+    let (span, mid) = (xr.1 - xr.0, |r: (f64, f64)| (r.0 + r.1) / 2.0);
     for (label, at) in [
-        ("x (m)", (xr.1, zr.0, yr.0)),
-        ("y (m)", (xr.0, zr.0, yr.1)),
-        ("z (m)", (xr.0, zr.1, yr.0)),
+        ("x (m)", (mid(xr), zr.0 - 0.1 * span, yr.1 + 0.2 * span)),
+        ("y (m)", (xr.1 + 0.2 * span, zr.0 - 0.1 * span, mid(yr))),
+        ("z (m)", (xr.0, zr.1 + 0.12 * span, yr.1)),
     ] {
         chart
             .draw_series(std::iter::once(Text::new(label, at, name.clone())))
@@ -414,22 +416,24 @@ fn top_view<DB: DrawingBackend>(
         .draw()
         .map_err(err)?;
     let c = |p: &Vector3<f64>| (p.x, p.y);
+    // Plotters pins points outside the chart to its border: lines are clipped here instead.
+    let clipped = |points: &[Vector3<f64>], style: ShapeStyle| {
+        points
+            .windows(2)
+            .filter_map(|w| clip((c(&w[0]), c(&w[1])), xr, yr))
+            .map(|(a, b)| PathElement::new(vec![a, b], style))
+            .collect::<Vec<_>>()
+    };
     chart
-        .draw_series(LineSeries::new(path.iter().map(c), PATH.stroke_width(2)))
+        .draw_series(clipped(path, PATH.stroke_width(2)))
         .map_err(err)?;
     let n = poses.len();
     for (k, pose) in poses.iter().enumerate() {
         chart
-            .draw_series(LineSeries::new(
-                pose.points.iter().map(c),
-                fade(ARM, k, n).stroke_width(3),
-            ))
+            .draw_series(clipped(&pose.points, fade(ARM, k, n).stroke_width(3)))
             .map_err(err)?;
         chart
-            .draw_series(LineSeries::new(
-                pose.shaft.iter().map(c),
-                fade(SHAFT, k, n).stroke_width(4),
-            ))
+            .draw_series(clipped(&pose.shaft, fade(SHAFT, k, n).stroke_width(4)))
             .map_err(err)?;
         chart
             .draw_series([
@@ -440,6 +444,36 @@ fn top_view<DB: DrawingBackend>(
             .map_err(err)?;
     }
     Ok(())
+}
+
+/// The part of the segment `(a, b)` inside the rectangle `x × y` (Liang–Barsky), if any.
+fn clip(
+    (a, b): ((f64, f64), (f64, f64)),
+    x: (f64, f64),
+    y: (f64, f64),
+) -> Option<((f64, f64), (f64, f64))> {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let (mut t0, mut t1) = (0.0_f64, 1.0_f64);
+    for (p, q) in [
+        (-dx, a.0 - x.0),
+        (dx, x.1 - a.0),
+        (-dy, a.1 - y.0),
+        (dy, y.1 - a.1),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return None;
+            }
+        } else if p < 0.0 {
+            t0 = t0.max(q / p);
+        } else {
+            t1 = t1.min(q / p);
+        }
+    }
+    (t0 <= t1).then(|| {
+        let at = |t: f64| (a.0 + t * dx, a.1 + t * dy);
+        (at(t0), at(t1))
+    })
 }
 
 /// The default times of a still image: the start, the middle and the end of the trace.
@@ -653,6 +687,22 @@ mod tests {
         assert_eq!(frames, 7);
         assert_eq!(reported.len(), 7);
         assert_eq!(reported.last(), Some(&1.0));
+    }
+
+    #[test]
+    fn clip_keeps_the_part_inside() {
+        let unit = (0.0, 1.0);
+        assert_eq!(
+            clip(((-1.0, 0.5), (2.0, 0.5)), unit, unit),
+            Some(((0.0, 0.5), (1.0, 0.5)))
+        );
+        assert_eq!(clip(((-1.0, 2.0), (2.0, 2.0)), unit, unit), None);
+        assert_eq!(
+            clip(((0.2, 0.3), (0.4, 0.5)), unit, unit),
+            Some(((0.2, 0.3), (0.4, 0.5)))
+        );
+        let ((x0, y0), (x1, y1)) = clip(((0.5, -1.0), (0.5, 0.5)), unit, unit).unwrap();
+        assert_eq!((x0, y0, x1, y1), (0.5, 0.0, 0.5, 0.5));
     }
 
     #[test]
