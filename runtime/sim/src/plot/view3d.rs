@@ -330,6 +330,8 @@ fn oblique<DB: DrawingBackend>(
         .z_labels(4)
         .max_light_lines(1)
         .light_grid_style(RGBColor(235, 235, 235))
+        // Opaque (plotters' default is translucent black, which some SVG renderers draw black).
+        .axis_panel_style(RGBColor(236, 236, 236))
         .draw()
         .map_err(err)?;
     // Axis names beside the edges that carry the tick labels (with this projection: `x` along
