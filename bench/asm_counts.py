@@ -73,7 +73,7 @@ def count(name, seen=None):
 
 
 res = {}
-for case in ("uni", "bzy", "bzx", "dia_zy", "panda", "panda_i"):
+for case in ("uni", "bzy", "bzx", "dia_zy", "panda", "panda_i", "oblique7", "panda_rcm"):
     for impl in ("casadi", "casadi_cse", "sympy"):
         c = count(f"{impl}:{impl}_{case}")
         calls = {}

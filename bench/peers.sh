@@ -127,9 +127,9 @@ if [ -n "$ours_impls$pin_impls" ]; then
   dflt=(env CARGO_TARGET_DIR="$harness/target/default-isa" RUSTFLAGS="-C target-cpu=x86-64")
   "${dflt[@]}" cargo test --release -q "${features[@]}"
   if [ -n "${QUICK:-}" ]; then
-    "${dflt[@]}" cargo bench --bench peers "${features[@]}" -- '^panda' --warm-up-time 1 --measurement-time 2
+    "${dflt[@]}" cargo bench --bench peers "${features[@]}" -- '^panda(_i)?/' --warm-up-time 1 --measurement-time 2
   else
-    "${dflt[@]}" cargo bench --bench peers "${features[@]}" -- '^panda' --warm-up-time 2 --measurement-time 5
+    "${dflt[@]}" cargo bench --bench peers "${features[@]}" -- '^panda(_i)?/' --warm-up-time 2 --measurement-time 5
   fi
   "${dflt[@]}" cargo build --release -q --bin cg_driver "${features[@]}"
   cjson="{"

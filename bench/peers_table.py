@@ -25,7 +25,7 @@ CASES = [("uni", "J^r unidirectional 6x7"), ("bzy", "J^r bidirectional-zy 6x6"),
          ("panda_rcm", "Panda, RCM on panda_link6 (H = x, z): FK + J^B_0i + J^r")]
 # Cases of the ratio table (ours / each peer); the Panda's pose + Jacobian cases are in panda.md.
 RATIO_CASES = ["uni", "bzy", "bzx", "dia_zy", "oblique7", "panda_rcm"]
-PANDA = [c for c in CASES if c[0].startswith("panda")]
+PANDA = [c for c in CASES if c[0] in ("panda", "panda_i")]
 IMPLS = [("casadi", "CasADi C (SX, defaults)"), ("casadi_cse", "CasADi C (SX, cse=True)"),
          ("sympy", "SymPy C (cse + ccode)"), ("numeric", "trocar numeric runtime (Chain + Constraint, f64)"),
          ("rust_reference", "harness f64 reference (Vec-based loops)"),
