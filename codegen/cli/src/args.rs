@@ -111,6 +111,15 @@ pub enum Command {
         /// Write the trace as CSV (checked before the run, written whole when it succeeds).
         #[arg(long)]
         csv: Option<PathBuf>,
+        /// Write every N-th row of the trace to --csv (the first and the last always).
+        #[arg(long, value_name = "N", requires = "csv", conflicts_with = "dt",
+              allow_hyphen_values = true, value_parser = clap::value_parser!(u64).range(1..))]
+        every: Option<u64>,
+        /// Write the rows of the trace at the times 0, DT, 2 DT, ... s to --csv (the first and the
+        /// last always; a DT below the sample time writes every row).
+        #[arg(long, value_name = "SECONDS", requires = "csv", allow_hyphen_values = true,
+              value_parser = parse_seconds)]
+        dt: Option<f64>,
         /// Write the figures to a `.svg` or `.png` file (checked before the run).
         #[arg(long)]
         plot: Option<PathBuf>,
@@ -204,6 +213,30 @@ pub enum SpeedLimit {
 
 /// Parses `--max-joint-speed`: `none`, or a positive number that passes the number rule
 /// (`trocar_model::validity`).
+/// A sample time for `--dt`: a positive, finite number of seconds.
+fn parse_seconds(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a number of seconds"))?;
+    if !(v.is_finite() && v > 0.0) {
+        return Err(format!(
+            "`{s}`: must be a positive, finite number of seconds"
+        ));
+    }
+    Ok(v)
+}
+
+/// The rows `trocar simulate` writes to its CSV, from `--every` and `--dt`.
+pub fn csv_rows(every: Option<u64>, dt: Option<f64>) -> trocar_sim::simulation::CsvRows {
+    use trocar_sim::simulation::CsvRows;
+    match (every, dt) {
+        (Some(n), _) => CsvRows::Every(usize::try_from(n).unwrap_or(usize::MAX)),
+        (None, Some(dt)) => CsvRows::Period(dt),
+        (None, None) => CsvRows::All,
+    }
+}
+
 fn parse_speed_limit(s: &str) -> Result<SpeedLimit, String> {
     if s.eq_ignore_ascii_case("none") {
         return Ok(SpeedLimit::None);

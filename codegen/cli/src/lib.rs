@@ -87,6 +87,8 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             drift_correction,
             max_joint_speed,
             csv,
+            every,
+            dt,
             plot,
             animate,
             snapshot,
@@ -99,6 +101,7 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
                 max_joint_speed,
             },
             csv.as_deref(),
+            args::csv_rows(every, dt),
             plot.as_deref(),
             &commands::simulate::ArmViews {
                 animate,

@@ -48,15 +48,16 @@ impl ArmViews {
 }
 
 /// Runs the simulation `scenario` (`1`, `2`, `3`, `4`, `exp421`, or a closed-chain scenario such
-/// as `four-bar`), writes the trace to `csv`, the figures to `plot` (`.svg` or `.png`) and the
-/// views of the arm `views` when given, and returns the summary `trocar simulate` prints to
-/// stderr. Every path is checked before the simulation runs and the files are written whole,
-/// once it has succeeded (`output::Outputs`).
+/// as `four-bar`), writes the trace to `csv` (the rows `csv_rows` selects), the figures to
+/// `plot` (`.svg` or `.png`) and the views of the arm `views` when given, and returns the
+/// summary `trocar simulate` prints to stderr. Every path is checked before the simulation runs
+/// and the files are written whole, once it has succeeded (`output::Outputs`).
 /// `options` and `views` apply to the RCM scenarios only.
 pub fn simulate(
     scenario: &str,
     options: &RcmOptions,
     csv: Option<&Path>,
+    csv_rows: simulation::CsvRows,
     plot: Option<&Path>,
     views: &ArmViews,
 ) -> Result<String, CliError> {
@@ -69,7 +70,7 @@ pub fn simulate(
     check_views(scenario, views)?;
     let run = run_simulation(scenario, options)?;
     if let Some(path) = csv {
-        run.write_csv(outputs.temporary(path))
+        run.write_csv(outputs.temporary(path), csv_rows)
             .map_err(|e| outputs.explain(CliError(format!("--csv {}: {e}", path.display()))))?;
     }
     if let Some(path) = plot {
@@ -169,10 +170,10 @@ impl SimulationRun {
         }
     }
 
-    fn write_csv(&self, path: &Path) -> Result<(), String> {
+    fn write_csv(&self, path: &Path, rows: simulation::CsvRows) -> Result<(), String> {
         match &self.trace {
-            AnyTrace::Rcm(t) => t.write_csv(path).map_err(|e| e.to_string()),
-            AnyTrace::ClosedChain(t) => t.write_csv(path).map_err(|e| e.to_string()),
+            AnyTrace::Rcm(t) => t.write_csv_rows(path, rows).map_err(|e| e.to_string()),
+            AnyTrace::ClosedChain(t) => t.write_csv_rows(path, rows).map_err(|e| e.to_string()),
         }
     }
 
@@ -209,10 +210,14 @@ pub(crate) fn run(
     scenario: &str,
     options: &RcmOptions,
     csv: Option<&Path>,
+    csv_rows: simulation::CsvRows,
     plot: Option<&Path>,
     views: &ArmViews,
 ) -> Result<i32, CliError> {
-    eprintln!("{}", simulate(scenario, options, csv, plot, views)?);
+    eprintln!(
+        "{}",
+        simulate(scenario, options, csv, csv_rows, plot, views)?
+    );
     Ok(0)
 }
 
