@@ -300,17 +300,46 @@ where
         .bold_line_style(RGBColor(225, 225, 225))
         .draw()
         .map_err(err)?;
+    let (sx, sy) = (
+        (x_axis.hi - x_axis.lo).max(f64::MIN_POSITIVE),
+        if y_axis.log {
+            1.0
+        } else {
+            (y_axis.hi - y_axis.lo).max(f64::MIN_POSITIVE)
+        },
+    );
+    let scaled = |p: (f64, f64)| (p.0 / sx, if y_axis.log { p.1.log10() } else { p.1 / sy });
     for (k, pts) in points.into_iter().enumerate() {
         let color = COLORS[k % COLORS.len()];
         let stride = (pts.len() / MAX_POINTS).max(1);
         let last = pts.last().copied();
-        let pts = pts
+        let pts: Vec<(f64, f64)> = pts
             .iter()
             .copied()
             .step_by(stride)
-            .chain(last.filter(|_| stride > 1));
+            .chain(last.filter(|_| stride > 1))
+            .collect();
+        // A thick polyline that turns back on itself is drawn with miter joins that shoot far
+        // out of the panel (chattering joint velocities): such a line is drawn as several
+        // paths, split where it turns by more than 90 degrees.
+        let mut paths: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
+        for (i, &p) in pts.iter().enumerate() {
+            if i >= 2 {
+                let (a, b, c) = (scaled(pts[i - 2]), scaled(pts[i - 1]), scaled(p));
+                if (b.0 - a.0) * (c.0 - b.0) + (b.1 - a.1) * (c.1 - b.1) < 0.0 {
+                    paths.push(vec![pts[i - 1]]);
+                }
+            }
+            if let Some(path) = paths.last_mut() {
+                path.push(p);
+            }
+        }
         chart
-            .draw_series(LineSeries::new(pts, color.stroke_width(2)))
+            .draw_series(
+                paths
+                    .into_iter()
+                    .map(|path| PathElement::new(path, color.stroke_width(2))),
+            )
             .map_err(err)?;
     }
     Ok(())
