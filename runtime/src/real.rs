@@ -312,7 +312,7 @@ pub mod fast {
 
     /// [`sin_cos_f64`] of every element, bit for bit. With [`F64_LANES`] > 1 the elements go
     /// through [`sin_cos_f64_lanes`] that many at a time, the last group padded (by repeating
-    /// its last element) when two or more are left (one left goes alone through
+    /// its last element) when three or more are left (one or two left go alone through
     /// [`sin_cos_f64`]). Measured on a 7-joint arm (AVX-512 machine): four lanes then three
     /// one by one 47–53 ns; one padded group of eight 16–17 ns.
     #[inline(always)]
@@ -336,7 +336,11 @@ pub mod fast {
         let mut s = [0.0; N];
         let mut c = [0.0; N];
         let mut k = 0;
-        while k + 2 <= N {
+        // A group of two or fewer goes one element at a time: padding two joints out to a
+        // group of eight (the presets' `J^r` needs `q7`, `q8` only) made the compiler build the
+        // vector through the stack, a failed store-to-load forwarding, and took the call out of
+        // line (the presets' `J^r` from `q` 53 ns instead of 26).
+        while k + 3 <= N {
             let m = W.min(N - k);
             // The spare lanes repeat the last element (zeros written into a copy made the
             // compiler build the vector through memory, a store-to-load forwarding stall: 7
@@ -352,8 +356,9 @@ pub mod fast {
             }
             k += m;
         }
-        if k < N {
+        while k < N {
             (s[k], c[k]) = sin_cos_f64(x[k]);
+            k += 1;
         }
         (s, c)
     }

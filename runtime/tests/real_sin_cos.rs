@@ -289,6 +289,9 @@ fn array_version_equals_the_scalar_one_bit_for_bit() {
         let (hi_s, hi_c) = sin_cos_f64_x4(&[x[4], x[5], x[6], x[7]]);
         let (s4, c4) = ([lo_s, hi_s].concat(), [lo_c, hi_c].concat());
         let (s5, c5) = sin_cos_f64_array(&[x[0], x[1], x[2], x[3], x[4]]);
+        // Two go one at a time, three as a padded group: both sides of the boundary.
+        let (s2e, c2e) = sin_cos_f64_array(&[x[0], x[1]]);
+        let (s3e, c3e) = sin_cos_f64_array(&[x[0], x[1], x[2]]);
         let (s7, c7) = sin_cos_f64_array(&[x[0], x[1], x[2], x[3], x[4], x[5], x[6]]);
         let (s8, c8) = sin_cos_f64_lanes(&x);
         for k in 0..8 {
@@ -304,6 +307,12 @@ fn array_version_equals_the_scalar_one_bit_for_bit() {
             );
             if k < 5 {
                 assert_eq!((s5[k].to_bits(), c5[k].to_bits()), want);
+            }
+            if k < 2 {
+                assert_eq!((s2e[k].to_bits(), c2e[k].to_bits()), want, "two");
+            }
+            if k < 3 {
+                assert_eq!((s3e[k].to_bits(), c3e[k].to_bits()), want, "three");
             }
             if k < 7 {
                 assert_eq!((s7[k].to_bits(), c7[k].to_bits()), want);
