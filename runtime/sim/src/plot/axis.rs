@@ -101,7 +101,8 @@ impl Axis {
     }
 
     /// An axis for a non-negative quantity (a norm, a distance, a manipulability): logarithmic
-    /// when its positive values span more than `decades` decades, otherwise linear from 0.
+    /// (down to ten decades below the largest value at most) when its positive values span more
+    /// than three decades, otherwise linear from 0.
     pub fn non_negative(values: impl IntoIterator<Item = f64>, intervals: usize) -> Axis {
         Self::non_negative_within(values, intervals, 3.0)
     }
@@ -119,7 +120,9 @@ impl Axis {
             }
         }
         if max > 0.0 && (max / min_pos).log10() > decades {
-            Axis::logarithmic(min_pos, max)
+            // At most ten decades below the largest value: a first sample at 1e-17 would
+            // otherwise squeeze the rest of the curve.
+            Axis::logarithmic(min_pos.max(max * 1e-10), max)
         } else {
             Axis::linear(0.0, if max > 0.0 { max } else { 1.0 }, intervals)
         }
@@ -260,6 +263,9 @@ mod tests {
         let a = Axis::non_negative([0.0, 0.0], 5);
         assert_eq!(a.lo, 0.0);
         assert!(a.hi > 0.0);
+        // A first sample at 1e-20 does not stretch the axis beyond ten decades.
+        let a = Axis::non_negative([1e-20, 1e-9, 1e-7], 5);
+        assert!(a.log && a.lo >= 1e-18 && a.hi == 1e-7, "{a:?}");
     }
 
     #[test]

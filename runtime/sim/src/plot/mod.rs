@@ -199,7 +199,7 @@ pub(crate) fn draw_panel<DB: DrawingBackend>(
     };
     let (x0, x1) = bounds(|p| p.0);
     let (y0, y1) = bounds(|p| p.1);
-    let x_axis = axis::Axis::linear(x0, x1, 8);
+    let x_axis = axis::Axis::linear(x0, x1, 6);
     let y_axis = if panel.non_negative {
         axis::Axis::non_negative(points.iter().flatten().map(|p| p.1), 6)
     } else {
@@ -224,7 +224,12 @@ pub(crate) fn draw_panel<DB: DrawingBackend>(
         // A logarithmic axis shows the positive values.
         let points = points
             .into_iter()
-            .map(|p| p.into_iter().filter(|q| q.1 > 0.0).collect())
+            .map(|p| {
+                p.into_iter()
+                    .filter(|q| q.1 > 0.0)
+                    .map(|(x, y)| (x, y.max(y_axis.lo)))
+                    .collect()
+            })
             .collect();
         draw_chart(chart, panel, fonts, &x_axis, &y_axis, points)
     } else {
