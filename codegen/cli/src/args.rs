@@ -98,7 +98,9 @@ pub enum Command {
     Simulate {
         /// Scenario name.
         scenario: String,
-        /// Inverse used for J^r.
+        /// Inverse used for J^r (default: the scenario's). `all` runs pinv, dls and fi and
+        /// draws one figure comparing them to --plot (serial scenarios; not with --csv,
+        /// --animate or --snapshot).
         #[arg(long, value_enum)]
         method: Option<Method>,
         /// Close the loop on the trocar position.
@@ -200,6 +202,38 @@ pub enum Method {
     Dls,
     /// Filtered inverse (3.47)–(3.50).
     Fi,
+    /// `trocar simulate` only: pinv, dls and fi, compared on one figure (`--plot`).
+    All,
+}
+
+/// The usage error of a parsed command line that clap's rules cannot express: `--method all`
+/// with `--csv`, `--animate` or `--snapshot` (one run's outputs).
+pub(crate) fn usage_error(cli: &Cli) -> Option<clap::Error> {
+    use clap::CommandFactory;
+    let Command::Simulate {
+        method: Some(Method::All),
+        csv,
+        animate,
+        snapshot,
+        ..
+    } = &cli.command
+    else {
+        return None;
+    };
+    let option = [
+        ("--csv", csv.is_some()),
+        ("--animate", animate.is_some()),
+        ("--snapshot", snapshot.is_some()),
+    ]
+    .into_iter()
+    .find(|(_, given)| *given)?
+    .0;
+    Some(Cli::command().error(
+        clap::error::ErrorKind::ArgumentConflict,
+        format!(
+            "{option} writes one run; --method all compares pinv, dls and fi on one figure (--plot only)"
+        ),
+    ))
 }
 
 /// A joint speed limit given on the command line: `none`, or a positive speed.

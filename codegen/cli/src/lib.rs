@@ -5,7 +5,7 @@
 //! trocar eval ROBOT.toml --q 0.1,0.2,... [--param l_a=0.15 ...] [--what jr|manip|jc|jb0i|jb0e|fk|passive|det] [--json] [--numeric]
 //! trocar verify ROBOT.toml [--samples N]
 //! trocar jacobian --urdf FILE.urdf --tip LINK --q ... [--frame body|spatial] [--json]
-//! trocar simulate SCENARIO [--method pinv|dls|fi] [--drift-correction on|off] [--csv OUT.csv] [--plot OUT.svg]
+//! trocar simulate SCENARIO [--method pinv|dls|fi|all] [--drift-correction on|off] [--csv OUT.csv] [--plot OUT.svg]
 //! trocar preset unidirectional|bidirectional-zy|bidirectional-zx
 //! trocar list
 //! ```
@@ -50,6 +50,10 @@ pub fn main() -> i32 {
             return if e.use_stderr() { 2 } else { 0 };
         }
     };
+    if let Some(e) = args::usage_error(&cli) {
+        let _ = e.print();
+        return 2;
+    }
     run(cli).unwrap_or_else(|e| output::print_error(&e))
 }
 

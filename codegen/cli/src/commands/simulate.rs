@@ -68,6 +68,9 @@ pub fn simulate(
         ("--snapshot", views.snapshot.as_deref(), OutputKind::Figure),
     ])?;
     check_views(scenario, views)?;
+    if options.method == Some(Method::All) {
+        return compare_methods(scenario, options, csv, plot, views, outputs);
+    }
     let run = run_simulation(scenario, options)?;
     if let Some(path) = csv {
         run.write_csv(outputs.temporary(path), csv_rows)
@@ -82,6 +85,57 @@ pub fn simulate(
     }
     outputs.commit()?;
     Ok(run.summary)
+}
+
+/// `--method all`: runs the serial scenario with pinv, dls and fi, writes the figure comparing
+/// them to `plot` (`trocar_sim::plot::write_comparison`) and returns the three summaries.
+fn compare_methods(
+    scenario: &str,
+    options: &RcmOptions,
+    csv: Option<&Path>,
+    plot: Option<&Path>,
+    views: &ArmViews,
+    outputs: Outputs,
+) -> Result<String, CliError> {
+    if let Some(option) = [
+        ("--csv", csv.is_some()),
+        ("--animate", views.animate.is_some()),
+        ("--snapshot", views.snapshot.is_some()),
+    ]
+    .into_iter()
+    .find_map(|(o, given)| given.then_some(o))
+    {
+        return Err(CliError(format!(
+            "{option} writes one run; --method all compares pinv, dls and fi on one figure (--plot only)"
+        )));
+    }
+    if closed_chain::scenario_names().contains(&scenario) {
+        return Err(CliError(format!(
+            "--method all: `{scenario}` is a closed-chain scenario; the methods are compared on the serial scenarios only (1, 2, 3, 4, exp421, panda-laparoscope)"
+        )));
+    }
+    let mut summaries = Vec::new();
+    let mut traces = Vec::new();
+    for method in [Method::Pinv, Method::Dls, Method::Fi] {
+        let run = rcm_scenario(
+            scenario,
+            &RcmOptions {
+                method: Some(method),
+                ..*options
+            },
+        )?;
+        summaries.push(run.summary);
+        if let AnyTrace::Rcm(trace) = run.trace {
+            traces.push(trace);
+        }
+    }
+    if let Some(path) = plot {
+        let refs: Vec<&simulation::Trace> = traces.iter().map(|t| &**t).collect();
+        trocar_sim::plot::write_comparison(&refs, outputs.temporary(path))
+            .map_err(|e| outputs.explain(CliError(format!("--plot {}: {e}", path.display()))))?;
+    }
+    outputs.commit()?;
+    Ok(summaries.join("\n"))
 }
 
 /// Refuses, before the run, views of a closed chain and snapshot times outside the scenario.
@@ -257,6 +311,11 @@ fn rcm_scenario(scenario: &str, options: &RcmOptions) -> Result<SimulationRun, C
         Some(Method::Pinv) => simulation::Method::Pinv,
         Some(Method::Dls) => simulation::Method::Dls,
         Some(Method::Fi) => simulation::Method::Fi,
+        Some(Method::All) => {
+            return Err(CliError(
+                "--method all runs three simulations: it compares them on one figure (`trocar simulate SCENARIO --method all --plot OUT.png`), not as one run".into(),
+            ))
+        }
         None => which.default_method(),
     };
     let mut config = simulation::ScenarioConfig::new(which)

@@ -76,6 +76,142 @@ pub fn write_png(trace: &Trace, path: impl AsRef<Path>) -> Result<(), PlotError>
     root.present().map_err(err)
 }
 
+/// Size in pixels of the figure of [`write_comparison`] (two rows of two panels).
+pub const COMPARISON_SIZE: (u32, u32) = (1600, 1100);
+
+/// Writes one figure comparing runs of one scenario with different methods (the thesis's
+/// Figure 4.28: pinv vs DLS vs FI): the title names the methods ("pinv vs DLS vs FI") and each
+/// panel overlays the runs in one colour each, with a legend above the data — the
+/// end-effector position error `|dp - p|`, the RCM drift, the manipulability `w_r` and the
+/// peak joint speed `max_k |qd_k|`. The format follows the extension (`.svg` or `.png`).
+///
+/// Refused when `traces` is empty or the runs are of different scenarios or drift corrections.
+pub fn write_comparison(traces: &[&Trace], path: impl AsRef<Path>) -> Result<(), PlotError> {
+    let path = path.as_ref();
+    check_comparison(traces)?;
+    match path.extension().and_then(|e| e.to_str()) {
+        Some("svg") => {
+            let root = SVGBackend::new(path, COMPARISON_SIZE).into_drawing_area();
+            draw_comparison(traces, &root)?;
+            root.present().map_err(err)
+        }
+        Some("png") => {
+            let root = BitMapBackend::new(path, COMPARISON_SIZE).into_drawing_area();
+            draw_comparison(traces, &root)?;
+            root.present().map_err(err)
+        }
+        _ => Err(PlotError(format!(
+            "{}: expected a .svg or .png file name",
+            path.display()
+        ))),
+    }
+}
+
+/// The runs of a comparison: at least one, all of one scenario and drift correction.
+fn check_comparison(traces: &[&Trace]) -> Result<(), PlotError> {
+    let Some(first) = traces.first() else {
+        return Err(PlotError("a comparison needs at least one run".into()));
+    };
+    if let Some(other) = traces.iter().find(|t| t.scenario != first.scenario) {
+        return Err(PlotError(format!(
+            "a comparison draws runs of one scenario (got {} and {})",
+            first.scenario.name(),
+            other.scenario.name()
+        )));
+    }
+    if traces
+        .iter()
+        .any(|t| t.drift_correction != first.drift_correction)
+    {
+        return Err(PlotError(
+            "a comparison draws runs with one drift correction (on or off)".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// The name of a method in a comparison's title and legends (the thesis's spelling).
+fn method_label(method: crate::simulation::Method) -> &'static str {
+    match method {
+        crate::simulation::Method::Pinv => "pinv",
+        crate::simulation::Method::Dls => "DLS",
+        crate::simulation::Method::Fi => "FI",
+    }
+}
+
+/// Draws the comparison figure of [`write_comparison`] on a drawing area.
+pub fn draw_comparison<DB: DrawingBackend>(
+    traces: &[&Trace],
+    root: &DrawingArea<DB, Shift>,
+) -> Result<(), PlotError> {
+    check_comparison(traces)?;
+    register_font()?;
+    root.fill(&WHITE).map_err(err)?;
+    let first = traces[0];
+    let methods: Vec<&str> = traces.iter().map(|t| method_label(t.method)).collect();
+    let title = format!(
+        "{} - {}, drift correction {}",
+        first.scenario.title(),
+        methods.join(" vs "),
+        if first.drift_correction { "on" } else { "off" }
+    );
+    let root = root.titled(&title, ("sans-serif", 28)).map_err(err)?;
+    let panels = root.split_evenly((2, 2));
+    let fonts = Fonts {
+        title: 22,
+        text: 17,
+    };
+    let panel = |area: &DrawingArea<DB, Shift>,
+                 title: &str,
+                 y_label: &str,
+                 f: &dyn Fn(&crate::simulation::TraceRow) -> f64| {
+        let lines = traces
+            .iter()
+            .map(|t| Line {
+                label: method_label(t.method).to_string(),
+                x: t.rows.iter().map(|r| r.t).collect(),
+                y: t.rows.iter().map(f).collect(),
+            })
+            .collect();
+        draw_panel(
+            area,
+            &Panel2d {
+                title,
+                x_label: "t (s)",
+                y_label,
+                lines,
+                non_negative: true,
+            },
+            fonts,
+        )
+    };
+    panel(
+        &panels[0],
+        "(a) end-effector position error |dp - p|",
+        "|e_p| (m)",
+        &|r| r.ep_norm,
+    )?;
+    panel(
+        &panels[1],
+        "(b) distance trocar - link axis (rcm_drift)",
+        "distance (m)",
+        &|r| r.rcm_drift,
+    )?;
+    panel(
+        &panels[2],
+        "(c) manipulability of the task w_r",
+        "w_r (-)",
+        &|r| r.w_r,
+    )?;
+    panel(
+        &panels[3],
+        "(d) peak joint speed max_k |qd_k|",
+        "max |qd_k| (rad/s)",
+        &|r| r.qd.iter().fold(0.0, |m: f64, v| m.max(v.abs())),
+    )?;
+    Ok(())
+}
+
 const COLORS: [RGBColor; 8] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
@@ -459,4 +595,51 @@ pub fn draw<DB: DrawingBackend>(
         &[("rcm_drift", col(&|r| r.rcm_drift))],
     )?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::simulation::{self, Method, Scenario, ScenarioConfig};
+
+    fn short_run(scenario: Scenario, method: Method) -> Trace {
+        let mut config = ScenarioConfig::new(scenario).with_method(method);
+        config.duration = 0.2;
+        simulation::run(&config, |_| {}).expect("the scenario runs")
+    }
+
+    #[test]
+    fn comparison_is_written_for_three_methods_and_refused_otherwise() {
+        let runs: Vec<Trace> = [Method::Pinv, Method::Dls, Method::Fi]
+            .into_iter()
+            .map(|m| short_run(Scenario::S1, m))
+            .collect();
+        let refs: Vec<&Trace> = runs.iter().collect();
+        let dir = std::env::temp_dir().join(format!("trocar-comparison-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("cmp.svg");
+        write_comparison(&refs, &path).expect("three runs of one scenario");
+        let svg = std::fs::read_to_string(&path).unwrap();
+        assert!(svg.contains("pinv vs DLS vs FI"), "title");
+        for name in ["pinv", "DLS", "FI"] {
+            let legend = format!(">\n{name}\n</text>");
+            assert_eq!(
+                svg.matches(&legend).count(),
+                4,
+                "legend {name} in each panel"
+            );
+        }
+
+        let none: Vec<&Trace> = Vec::new();
+        let e = write_comparison(&none, dir.join("none.svg")).unwrap_err();
+        assert!(e.0.contains("at least one run"), "{e}");
+        assert!(!dir.join("none.svg").exists());
+
+        let other = short_run(Scenario::S2, Method::Dls);
+        let mixed = [&runs[0], &other];
+        let e = write_comparison(&mixed, dir.join("mixed.svg")).unwrap_err();
+        assert!(e.0.contains("one scenario"), "{e}");
+        assert!(!dir.join("mixed.svg").exists());
+        std::fs::remove_dir_all(&dir).ok();
+    }
 }
