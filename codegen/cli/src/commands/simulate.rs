@@ -114,7 +114,7 @@ fn compare_methods(
             "--method all: `{scenario}` is a closed-chain scenario; the methods are compared on the serial scenarios only (1, 2, 3, 4, exp421, panda-laparoscope)"
         )));
     }
-    let mut summaries = Vec::new();
+    let mut summaries: Vec<String> = Vec::new();
     let mut traces = Vec::new();
     for method in [Method::Pinv, Method::Dls, Method::Fi] {
         let run = rcm_scenario(
@@ -124,7 +124,16 @@ fn compare_methods(
                 ..*options
             },
         )?;
-        summaries.push(run.summary);
+        // The scenario's note on the reference arm (a first line of its own) is printed once.
+        let summary = match (summaries.first(), run.summary.split_once('\n')) {
+            (Some(first), Some((note, rest)))
+                if note.contains(" on the reference arm: ") && first.starts_with(note) =>
+            {
+                rest.to_string()
+            }
+            _ => run.summary,
+        };
+        summaries.push(summary);
         if let AnyTrace::Rcm(trace) = run.trace {
             traces.push(trace);
         }
