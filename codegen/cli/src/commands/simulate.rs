@@ -109,11 +109,11 @@ fn compare_methods(
             "{option} writes one run; --method all compares pinv, dls and fi on one figure (--plot only)"
         )));
     }
-    if closed_chain::scenario_names().contains(&scenario) {
-        return Err(CliError(format!(
-            "--method all: `{scenario}` is a closed-chain scenario; the methods are compared on the serial scenarios only (1, 2, 3, 4, exp421, panda-laparoscope)"
-        )));
-    }
+    serial_only(
+        "--method all",
+        scenario,
+        "the methods are compared on the serial scenarios",
+    )?;
     let mut summaries: Vec<String> = Vec::new();
     let mut traces = Vec::new();
     for method in [Method::Pinv, Method::Dls, Method::Fi] {
@@ -147,21 +147,34 @@ fn compare_methods(
     Ok(summaries.join("\n"))
 }
 
+/// Refuses a closed-chain `scenario` for `option`, which `what` only on the serial scenarios
+/// (named from `simulation::Scenario::ALL`).
+fn serial_only(option: &str, scenario: &str, what: &str) -> Result<(), CliError> {
+    if !closed_chain::scenario_names().contains(&scenario) {
+        return Ok(());
+    }
+    let names: Vec<&str> = simulation::Scenario::ALL.iter().map(|s| s.name()).collect();
+    Err(CliError(format!(
+        "{option}: `{scenario}` is a closed-chain scenario; {what} only ({})",
+        names.join(", ")
+    )))
+}
+
 /// Refuses, before the run, views of a closed chain and snapshot times outside the scenario.
 fn check_views(scenario: &str, views: &ArmViews) -> Result<(), CliError> {
     if !views.any() {
         return Ok(());
     }
-    if closed_chain::scenario_names().contains(&scenario) {
-        let option = if views.animate.is_some() {
-            "--animate"
-        } else {
-            "--snapshot"
-        };
-        return Err(CliError(format!(
-            "{option}: `{scenario}` is a closed-chain scenario; --animate and --snapshot draw the serial arms only (1, 2, 3, 4, exp421, panda-laparoscope)"
-        )));
-    }
+    let option = if views.animate.is_some() {
+        "--animate"
+    } else {
+        "--snapshot"
+    };
+    serial_only(
+        option,
+        scenario,
+        "--animate and --snapshot draw the serial arms",
+    )?;
     if let (Ok(which), Some(times)) = (
         simulation::Scenario::from_name(scenario),
         &views.snapshot_times,
