@@ -12,7 +12,8 @@
 #    (from trocar's shipped URDF), and g_0e + J^B_0i + J^r of two generic robots with an RCM
 #    (bench/peers-harness/oblique7.toml: 7 oblique float axes, 2 explicit H rows, written by
 #    `bench/chains.py --peers`; panda-link6-rcm.toml: the Panda constrained on panda_link6)
-#    into bench/out/;
+#    into bench/out/ (the presets are also measured against a frozen baseline, their generated
+#    code and runtime surface of 2026-11-23 in bench/peers-harness/src/baseline, in the same runs);
 # 3. the harness bench/peers-harness (its own workspace, not a member of trocar's) compiles that C
 #    with gcc -O3 -march=native (cc crate), and, when the venv has Pinocchio (feature
 #    `pinocchio`), c/pinocchio_panda.cpp with g++ -O3 at the DEFAULT x86-64 ISA (no
@@ -85,6 +86,7 @@ impls_for() {
     panda) echo "noop trig_c_glibc casadi casadi_cse sympy rust_reference $ours_impls ${ours_impls:+ours_trig} $pin_impls" ;;
     panda_i) echo "noop trig_c_glibc casadi casadi_cse sympy numeric rust_reference $ours_impls ${ours_impls:+ours_trig} $pin_impls" ;;
     oblique7|panda_rcm) echo "casadi casadi_cse sympy numeric $ours_impls" ;;
+    uni|bzy|bzx) echo "casadi casadi_cse sympy numeric rust_reference baseline $ours_impls" ;;
     *) echo "casadi casadi_cse sympy numeric rust_reference $ours_impls" ;;
   esac
 }

@@ -29,6 +29,7 @@ PANDA = [c for c in CASES if c[0] in ("panda", "panda_i")]
 IMPLS = [("casadi", "CasADi C (SX, defaults)"), ("casadi_cse", "CasADi C (SX, cse=True)"),
          ("sympy", "SymPy C (cse + ccode)"), ("numeric", "trocar numeric runtime (Chain + Constraint, f64)"),
          ("rust_reference", "harness f64 reference (Vec-based loops)"),
+         ("baseline", "trocar generated f64 of 2026-11-23 (frozen baseline, presets)"),
          ("ours_f64", "trocar generated f64"), ("ours_f64_given_trig", "trocar generated f64, given JointTrig (no trig)"),
          ("ours_f32", "trocar generated f32"),
          ("pinocchio", "Pinocchio C++ computeFrameJacobian(LOCAL), pose from it (g++ -O3, default ISA)"),
@@ -139,7 +140,7 @@ def main():
 
 
 def ratio_table(crit, cg, cpu, net):
-    """ours_f64 over casadi, casadi_cse and sympy: criterion median, thread CPU time, callgrind."""
+    """ours_f64 over casadi, casadi_cse, sympy and (presets) the frozen baseline: criterion median, thread CPU time, callgrind."""
     lines = ["| case | vs | criterion ours / peer (ns) | CPU time ours / peer (ns) | instructions ours / peer |",
              "|---|---|---:|---:|---:|"]
 
@@ -151,7 +152,9 @@ def ratio_table(crit, cg, cpu, net):
         t_o = median(crit, case, "ours_f64")
         c_o = cpu.get(f"ours_f64/{case}")
         i_o = net(cg.get(f"ours_f64/{case}"), case)
-        for peer in ("casadi", "casadi_cse", "sympy"):
+        for peer in ("casadi", "casadi_cse", "sympy", "baseline"):
+            if median(crit, case, peer) is None and cg.get(f"{peer}/{case}") is None:
+                continue
             lines.append(f"| {case} | {peer} | {r(t_o, median(crit, case, peer))} | "
                          f"{r(c_o, cpu.get(f'{peer}/{case}'))} | "
                          f"{r(i_o, net(cg.get(f'{peer}/{case}'), case), 0)} |")

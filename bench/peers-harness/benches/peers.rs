@@ -29,6 +29,16 @@ fn peers(c: &mut Criterion) {
                 })
             });
         }
+        if trocar_peers_harness::PRESETS.contains(&case) {
+            // The presets' generated code of 2026-11-23, frozen (`src/baseline`).
+            let f = black_box(trocar_peers_harness::baseline_fn(case));
+            g.bench_function("baseline", |b| {
+                b.iter(|| {
+                    f(black_box(&q), black_box(&p), &mut out);
+                    black_box(&mut out);
+                })
+            });
+        }
         let mut num = trocar_peers_harness::numeric::Numeric::new(case, &p);
         g.bench_function("numeric", |b| {
             b.iter(|| {
@@ -39,9 +49,10 @@ fn peers(c: &mut Criterion) {
         #[cfg(feature = "ours")]
         {
             use trocar_peers_harness::ours;
+            let f = black_box(ours::eval_fn(case));
             g.bench_function("ours_f64", |b| {
                 b.iter(|| {
-                    ours::eval(case, black_box(&q), black_box(&p), &mut out);
+                    f(black_box(&q), black_box(&p), &mut out);
                     black_box(&mut out);
                 })
             });
@@ -127,10 +138,11 @@ fn panda(c: &mut Criterion) {
         {
             use trocar_peers_harness::ours;
             let mut k = 0usize;
+            let f = black_box(ours::eval_fn(case));
             g.bench_function("ours_f64", |b| {
                 b.iter(|| {
                     k = black_box(k + 1) & 15;
-                    ours::eval(case, &qs[k], black_box(&p), &mut out);
+                    f(&qs[k], black_box(&p), &mut out);
                     black_box(&mut out);
                 })
             });

@@ -866,12 +866,83 @@ pub mod numeric {
     }
 }
 
+/// The first `C` columns of 6 of `out`, as the generated functions return them, so a result
+/// is written straight into `out` (as the peers' C writes through its pointer).
+#[inline(always)]
+fn cols<T, const C: usize>(out: &mut [T]) -> &mut [[T; 6]; C] {
+    let (chunks, _) = out.as_chunks_mut::<6>();
+    (&mut chunks[..C]).try_into().expect("out holds C columns")
+}
+
+/// A preset's 8 joint values from its case input `(θ7, θ8)` (the others are not used by `J^r`).
+#[inline(always)]
+fn q8<T: Copy + Default>(q: &[T]) -> [T; 8] {
+    let z = T::default();
+    [z, z, z, z, z, z, q[0], q[1]]
+}
+
+pub mod baseline;
+
+/// One case of one implementation as a plain function of `(q, p, out)`, chosen once before a
+/// timed loop ([`baseline_fn`], [`ours::eval_fn`]): inside the loop it is an indirect call, as the
+/// peers' C functions are, with no dispatch on the case and the generated code inlined into it.
+pub type EvalFn = fn(&[f64], &[f64], &mut [f64]);
+
+/// `match case { Case::X => |q, p, out| f(Case::X, q, p, out), .. }`: `f` with the case fixed.
+macro_rules! per_case {
+    ($f:path, $case:expr; $($c:ident),*) => {
+        match $case {
+            $(Case::$c => |q: &[f64], p: &[f64], out: &mut [f64]| $f(Case::$c, q, p, out),)*
+            #[allow(unreachable_patterns)]
+            other => panic!("no function for case {}", other.name()),
+        }
+    };
+}
+
+/// [`baseline_eval`] with the case fixed ([`EvalFn`]).
+pub fn baseline_fn(case: Case) -> EvalFn {
+    per_case!(baseline_eval, case; Uni, Bzy, Bzx)
+}
+
+/// The frozen baseline ([`baseline`]: the presets' generated code and runtime of 2026-11-23) on a
+/// preset case, called as [`ours::eval`] calls today's generated code; same layout as [`eval`].
+#[inline(always)]
+pub fn baseline_eval(case: Case, q: &[f64], p: &[f64], out: &mut [f64]) {
+    match case {
+        Case::Uni => {
+            let pp = baseline::unidirectional::Params {
+                l_a: p[0],
+                l_b: p[1],
+                l_8: p[2],
+            };
+            *cols(out) = baseline::unidirectional::constrained_jacobian(&q8(q), &pp);
+        }
+        Case::Bzy => {
+            let pp = baseline::bidirectional_zy::Params {
+                l_a: p[0],
+                l_b: p[1],
+                l_8: p[2],
+            };
+            *cols(out) = baseline::bidirectional_zy::constrained_jacobian(&q8(q), &pp);
+        }
+        Case::Bzx => {
+            let pp = baseline::bidirectional_zx::Params {
+                l_a: p[0],
+                l_b: p[1],
+                l_8: p[2],
+            };
+            *cols(out) = baseline::bidirectional_zx::constrained_jacobian(&q8(q), &pp);
+        }
+        _ => panic!("the baseline holds the presets only, not {}", case.name()),
+    }
+}
+
 /// trocar's generated code (feature `ours`): the modules `Builder` writes for the shipped
 /// descriptions, generic over `trocar::Real` (so f64 and f32 from the same source).
 #[cfg(feature = "ours")]
 pub mod ours {
     #![allow(missing_docs, clippy::all)]
-    use super::Case;
+    use super::{cols, q8, Case};
     use trocar::Real;
 
     include!(concat!(env!("OUT_DIR"), "/unidirectional.rs"));
@@ -892,20 +963,6 @@ pub mod ours {
             *cols(&mut $out[12..]) = $m::partial_body_jacobian_trig($t, &pp);
             *cols(&mut $out[48..]) = $m::constrained_jacobian_trig($t, &pp);
         }};
-    }
-
-    /// The first `C` columns of 6 of `out`, as the generated functions return them, so a result
-    /// is written straight into `out` (as the peers' C writes through its pointer).
-    #[inline(always)]
-    fn cols<T: Real, const C: usize>(out: &mut [T]) -> &mut [[T; 6]; C] {
-        let (chunks, _) = out.as_chunks_mut::<6>();
-        (&mut chunks[..C]).try_into().expect("out holds C columns")
-    }
-
-    #[inline(always)]
-    fn q8<T: Real>(q: &[T]) -> [T; 8] {
-        let z = T::ZERO;
-        [z, z, z, z, z, z, q[0], q[1]]
     }
 
     /// The first `N` joint values (zeros past the end of `q`).
@@ -996,6 +1053,11 @@ pub mod ours {
                 generic_outputs!(panda_link6_rcm, &t, p, out);
             }
         }
+    }
+
+    /// [`eval`] in `f64` with the case fixed ([`super::EvalFn`]).
+    pub fn eval_fn(case: Case) -> super::EvalFn {
+        per_case!(eval, case; Uni, Bzy, Bzx, DiaZy, Panda, PandaI, Oblique7, PandaRcm)
     }
 
     /// Precomputed trig of the case's joints (presets: θ7, θ8; dia10_like: all 8), as each

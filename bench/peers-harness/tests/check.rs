@@ -7,7 +7,9 @@ use trocar_peers_harness::reference::{self, Tf};
 use trocar_peers_harness::{eval, Case, Peer, CASES, PRESETS};
 
 fn lcg(seed: &mut u64) -> f64 {
-    *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    *seed = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
     ((*seed >> 11) as f64) / ((1u64 << 53) as f64)
 }
 
@@ -68,7 +70,9 @@ fn det6(j: &[f64]) -> f64 {
     }
     let mut det = 1.0;
     for k in 0..6 {
-        let piv = (k..6).max_by(|&x, &y| a[x][k].abs().total_cmp(&a[y][k].abs())).unwrap();
+        let piv = (k..6)
+            .max_by(|&x, &y| a[x][k].abs().total_cmp(&a[y][k].abs()))
+            .unwrap();
         if piv != k {
             a.swap(piv, k);
             det = -det;
@@ -92,9 +96,16 @@ fn reference_bidirectional_manipulability_is_3_41_3_42() {
             let (q, p) = random_inputs(case, &mut seed);
             let mut j = vec![0.0; 36];
             reference::eval(case, &q, &p, &mut j);
-            let t = if case == Case::Bzy { q[0].sin() } else { q[0].cos() };
+            let t = if case == Case::Bzy {
+                q[0].sin()
+            } else {
+                q[0].cos()
+            };
             let want = p[1] * p[1] * t.abs() / (p[0] * p[0]);
-            assert!((det6(&j).abs() - want).abs() < 1e-10 * (1.0 + want), "{case:?}");
+            assert!(
+                (det6(&j).abs() - want).abs() < 1e-10 * (1.0 + want),
+                "{case:?}"
+            );
         }
     }
 }
@@ -116,11 +127,20 @@ fn reference_first_columns_satisfy_the_constraint() {
                     &reference::joint([0.0, p[0] + p[1], 0.0], b'z', q[0]),
                     &reference::joint([0.0; 3], wrist, q[1]),
                 ),
-                &Tf { r: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], p: [0.0, p[2], 0.0] },
+                &Tf {
+                    r: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+                    p: [0.0, p[2], 0.0],
+                },
             );
             let g_ei = inv(&g_ie);
-            let g_ir = Tf { r: g_ei.r.map(|_| [0.0; 3]), p: [0.0, p[0], 0.0] };
-            let g_ir = Tf { r: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], ..g_ir };
+            let g_ir = Tf {
+                r: g_ei.r.map(|_| [0.0; 3]),
+                p: [0.0, p[0], 0.0],
+            };
+            let g_ir = Tf {
+                r: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+                ..g_ir
+            };
             for c in 0..ncols {
                 let col: [f64; 6] = core::array::from_fn(|r| get(&j, r, c));
                 let v0i = reference::ad_inv(&g_ei, col);
@@ -157,7 +177,9 @@ fn fd_body(f: impl Fn(f64) -> Tf) -> [f64; 6] {
         }
     }
     for i in 0..3 {
-        out[i] = (0..3).map(|k| g.r[k][i] * (a.p[k] - b.p[k]) / (2.0 * h)).sum();
+        out[i] = (0..3)
+            .map(|k| g.r[k][i] * (a.p[k] - b.p[k]) / (2.0 * h))
+            .sum();
     }
     let w = |i: usize, j: usize| (0..3).map(|k| g.r[k][i] * rd[k][j]).sum::<f64>();
     out[3] = w(2, 1);
@@ -175,7 +197,10 @@ fn reference_dia_body_jacobians_match_finite_differences() {
         let mut out = vec![0.0; 84];
         reference::eval(Case::DiaZy, &q, &p, &mut out);
         let chain = |q: &[f64], n: usize| {
-            let mut g = Tf { r: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], p: [0.0; 3] };
+            let mut g = Tf {
+                r: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+                p: [0.0; 3],
+            };
             for k in 0..n {
                 g = reference::mul(&g, &joint(DIA_ORIGINS[k], DIA_AXES_ZY[k], q[k]));
             }
@@ -183,7 +208,13 @@ fn reference_dia_body_jacobians_match_finite_differences() {
         };
         // FK
         let g = reference::dia_fk(&q);
-        let g8 = reference::mul(&chain(&q, 8), &Tf { r: g.r.map(|_| [0.0; 3]), p: [0.0, 0.21, 0.0] });
+        let g8 = reference::mul(
+            &chain(&q, 8),
+            &Tf {
+                r: g.r.map(|_| [0.0; 3]),
+                p: [0.0, 0.21, 0.0],
+            },
+        );
         for i in 0..3 {
             assert!((g.p[i] - g8.p[i]).abs() < 1e-12 && (out[9 + i] - g.p[i]).abs() < 1e-12);
         }
@@ -195,7 +226,10 @@ fn reference_dia_body_jacobians_match_finite_differences() {
                 chain(&qq, 6)
             });
             for r in 0..6 {
-                assert!((out[12 + 6 * k + r] - col[r]).abs() < 1e-7, "jb0i ({r},{k})");
+                assert!(
+                    (out[12 + 6 * k + r] - col[r]).abs() < 1e-7,
+                    "jb0i ({r},{k})"
+                );
             }
         }
         // J^B_0e2 columns of J^r (joints 7, 8) against the FK to the end effector
@@ -225,8 +259,33 @@ fn peers_agree_with_the_reference() {
                 let mut got = vec![f64::NAN; case.out_len()];
                 eval(peer, case, &q, &p, &mut got);
                 for (i, (g, w)) in got.iter().zip(&want).enumerate() {
-                    assert!((g - w).abs() <= 1e-12 * scale, "{peer:?} {case:?} [{i}]: {g} vs {w}");
+                    assert!(
+                        (g - w).abs() <= 1e-12 * scale,
+                        "{peer:?} {case:?} [{i}]: {g} vs {w}"
+                    );
                 }
+            }
+        }
+    }
+}
+
+/// The frozen baseline (2026-11-23's generated presets) still computes the presets' J^r.
+#[test]
+fn baseline_agrees_with_the_reference() {
+    let mut seed = 8;
+    for case in PRESETS {
+        for _ in 0..200 {
+            let (q, p) = random_inputs(case, &mut seed);
+            let mut want = vec![0.0; case.out_len()];
+            reference::eval(case, &q, &p, &mut want);
+            let mut got = vec![f64::NAN; case.out_len()];
+            trocar_peers_harness::baseline_eval(case, &q, &p, &mut got);
+            let scale = want.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+            for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+                assert!(
+                    (g - w).abs() <= 1e-12 * scale,
+                    "baseline {case:?} [{i}]: {g} vs {w}"
+                );
             }
         }
     }
@@ -245,7 +304,10 @@ fn numeric_runtime_agrees_with_the_reference() {
             Numeric::new(case, &p).eval(&q, &p, &mut got);
             let scale = want.iter().fold(1.0f64, |m, x| m.max(x.abs()));
             for (i, (g, w)) in got.iter().zip(&want).enumerate() {
-                assert!((g - w).abs() <= 1e-12 * scale, "numeric {case:?} [{i}]: {g} vs {w}");
+                assert!(
+                    (g - w).abs() <= 1e-12 * scale,
+                    "numeric {case:?} [{i}]: {g} vs {w}"
+                );
             }
         }
     }
@@ -266,14 +328,25 @@ fn ours_agree_with_the_reference_f64_and_f32() {
             ours::eval(case, &q, &p, &mut got);
             let mut got_t = vec![f64::NAN; case.out_len()];
             ours::eval_trig(case, &ours::Trig::new(case, &q), &p, &mut got_t);
-            let (q32, p32): (Vec<f32>, Vec<f32>) =
-                (q.iter().map(|&x| x as f32).collect(), p.iter().map(|&x| x as f32).collect());
+            let (q32, p32): (Vec<f32>, Vec<f32>) = (
+                q.iter().map(|&x| x as f32).collect(),
+                p.iter().map(|&x| x as f32).collect(),
+            );
             let mut got32 = vec![f32::NAN; case.out_len()];
             ours::eval(case, &q32, &p32, &mut got32);
             for i in 0..want.len() {
-                assert!((got[i] - want[i]).abs() <= 1e-12 * scale, "ours f64 {case:?} [{i}]");
-                assert!((got_t[i] - want[i]).abs() <= 1e-12 * scale, "ours trig {case:?} [{i}]");
-                assert!((got32[i] as f64 - want[i]).abs() <= 2e-5 * scale, "ours f32 {case:?} [{i}]");
+                assert!(
+                    (got[i] - want[i]).abs() <= 1e-12 * scale,
+                    "ours f64 {case:?} [{i}]"
+                );
+                assert!(
+                    (got_t[i] - want[i]).abs() <= 1e-12 * scale,
+                    "ours trig {case:?} [{i}]"
+                );
+                assert!(
+                    (got32[i] as f64 - want[i]).abs() <= 2e-5 * scale,
+                    "ours f32 {case:?} [{i}]"
+                );
             }
         }
     }
@@ -288,7 +361,10 @@ fn casadi_functions_need_no_work_arrays() {
             let [n_arg, n_res, n_iw, n_w] = trocar_peers_harness::casadi_work_sizes(peer, case);
             if case.is_panda() {
                 assert_eq!(n_iw, 0, "{peer:?} {case:?}");
-                assert!(n_w as usize <= trocar_peers_harness::CASADI_W, "{peer:?} {case:?}: sz_w {n_w}");
+                assert!(
+                    n_w as usize <= trocar_peers_harness::CASADI_W,
+                    "{peer:?} {case:?}: sz_w {n_w}"
+                );
             } else {
                 assert_eq!((n_iw, n_w), (0, 0), "{peer:?} {case:?}");
             }
@@ -301,7 +377,8 @@ fn casadi_functions_need_no_work_arrays() {
 /// The Panda's configurations: random in ±3 rad, and the benchmark's 16 (within the limits).
 fn panda_inputs(case: Case, seed: &mut u64, n: usize) -> Vec<(Vec<f64>, Vec<f64>)> {
     let (_, p) = case.inputs();
-    let mut v: Vec<(Vec<f64>, Vec<f64>)> = case.configs().into_iter().map(|q| (q, p.clone())).collect();
+    let mut v: Vec<(Vec<f64>, Vec<f64>)> =
+        case.configs().into_iter().map(|q| (q, p.clone())).collect();
     v.extend((0..n).map(|_| random_inputs(case, seed)));
     v
 }
@@ -329,7 +406,10 @@ fn reference_panda_matches_finite_differences_and_the_urdf() {
                     reference::panda(&qq, flange).0
                 });
                 for r in 0..6 {
-                    assert!((out[12 + 6 * k + r] - col[r]).abs() < 1e-7, "{case:?} J ({r},{k})");
+                    assert!(
+                        (out[12 + 6 * k + r] - col[r]).abs() < 1e-7,
+                        "{case:?} J ({r},{k})"
+                    );
                 }
             }
             // panda_link8 = panda_link7 · (I, (0, 0, 0.107)).
@@ -362,7 +442,10 @@ fn pinocchio_agrees_with_the_reference() {
                 let mut got = vec![f64::NAN; case.out_len()];
                 pin.read(v, &mut got);
                 for (i, (g, w)) in got.iter().zip(&want).enumerate() {
-                    assert!((g - w).abs() <= 1e-12, "pinocchio {v:?} {case:?} [{i}]: {g} vs {w}");
+                    assert!(
+                        (g - w).abs() <= 1e-12,
+                        "pinocchio {v:?} {case:?} [{i}]: {g} vs {w}"
+                    );
                 }
             }
         }
@@ -389,7 +472,10 @@ fn ours_agree_with_pinocchio() {
             pin.eval(Variant::FrameJacobian, &q);
             pin.read(Variant::FrameJacobian, &mut theirs);
             for (i, (a, b)) in ours.iter().zip(&theirs).enumerate() {
-                assert!((a - b).abs() <= 1e-12, "ours vs pinocchio {case:?} [{i}]: {a} vs {b}");
+                assert!(
+                    (a - b).abs() <= 1e-12,
+                    "ours vs pinocchio {case:?} [{i}]: {a} vs {b}"
+                );
             }
             if case == Case::PandaI {
                 let mut flange = vec![f64::NAN; 54];
@@ -405,11 +491,18 @@ fn ours_agree_with_pinocchio() {
                 }
                 for k in 0..7 {
                     let c: [f64; 6] = core::array::from_fn(|r| ours[12 + 6 * k + r]);
-                    let g78 = Tf { r: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], p: [0.0, 0.0, d] };
+                    let g78 = Tf {
+                        r: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+                        p: [0.0, 0.0, d],
+                    };
                     let c8 = reference::ad_inv(&g78, c);
                     for r in 0..6 {
                         let b = flange[12 + 6 * k + r];
-                        assert!((c8[r] - b).abs() <= 1e-12, "F_i moved to panda_link8 ({r},{k}): {} vs {b}", c8[r]);
+                        assert!(
+                            (c8[r] - b).abs() <= 1e-12,
+                            "F_i moved to panda_link8 ({r},{k}): {} vs {b}",
+                            c8[r]
+                        );
                     }
                 }
             }

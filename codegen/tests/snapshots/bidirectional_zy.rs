@@ -585,11 +585,11 @@ pub mod bidirectional_zy {
     ) -> [[T; 6]; M] {
         let ([s7, s8], [c7, c8]) = <T as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
         let x0 = <T as ::trocar::Real>::ONE / p.l_a;
-        let x1 = <T as ::trocar::Real>::mul_add(c7, p.l_b, p.l_8) * x0;
+        let x1 = (c7 * p.l_b + p.l_8) * x0;
         let x2 = x0 * s7;
         let x3 = c8 * s7;
         let x4 = s7 * s8;
-        let x5 = x0 * <T as ::trocar::Real>::mul_add(c7, p.l_8, p.l_b);
+        let x5 = x0 * (p.l_b + c7 * p.l_8);
         [
             [
                 -(x1 * c8),
@@ -646,11 +646,11 @@ pub mod bidirectional_zy {
         p: &Params<T>,
     ) -> [[T; 6]; M] {
         let x0 = <T as ::trocar::Real>::ONE / p.l_a;
-        let x1 = <T as ::trocar::Real>::mul_add(t.cos[6], p.l_b, p.l_8) * x0;
+        let x1 = (t.cos[6] * p.l_b + p.l_8) * x0;
         let x2 = x0 * t.sin[6];
         let x3 = t.cos[7] * t.sin[6];
         let x4 = t.sin[6] * t.sin[7];
-        let x5 = x0 * <T as ::trocar::Real>::mul_add(t.cos[6], p.l_8, p.l_b);
+        let x5 = x0 * (p.l_b + t.cos[6] * p.l_8);
         [
             [
                 -(x1 * t.cos[7]),
@@ -1303,7 +1303,7 @@ pub mod bidirectional_zy {
     #[must_use]
     pub fn lambda_pinv<T: ::trocar::Real>(p: &Params<T>) -> [[T; 6]; R] {
         let x0 = <T as ::trocar::Real>::ONE
-            / <T as ::trocar::Real>::mul_add(p.l_a, p.l_a, <T as ::trocar::Real>::ONE);
+            / (<T as ::trocar::Real>::ONE + p.l_a * p.l_a);
         let x1 = p.l_a * x0;
         [
             [

@@ -90,7 +90,7 @@ pub mod small {
     pub fn two_columns<T: ::trocar::Real>(q: &[T; N], p: &Params<T>) -> [[T; 6]; 2] {
         let ([s7, s8], [c7, c8]) = <T as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
         let x0 = <T as ::trocar::Real>::ONE / p.l_a;
-        let x1 = <T as ::trocar::Real>::mul_add(c7, p.l_b, p.l_8) * x0;
+        let x1 = (c7 * p.l_b + p.l_8) * x0;
         [
             [
                 -(x1 * c8),
@@ -122,7 +122,7 @@ pub mod small {
         p: &Params<T>,
     ) -> [[T; 6]; 2] {
         let x0 = <T as ::trocar::Real>::ONE / p.l_a;
-        let x1 = <T as ::trocar::Real>::mul_add(t.cos[6], p.l_b, p.l_8) * x0;
+        let x1 = (t.cos[6] * p.l_b + p.l_8) * x0;
         [
             [
                 -(x1 * t.cos[7]),

@@ -3,7 +3,8 @@
 //! `cg_driver IMPL CASE N` evaluates one function N times inside `measured_loop`, so the collected
 //! instruction count divided by N is instructions per evaluation (the loop's own ~5 instructions
 //! per iteration included; `cg_driver noop - N` measures them).
-//! IMPL: casadi | casadi_cse | sympy | rust_reference | numeric | ours_f64 | ours_f64_given_trig |
+//! IMPL: casadi | casadi_cse | sympy | rust_reference | numeric | baseline (presets) | ours_f64 |
+//! ours_f64_given_trig |
 //! ours_f32 (feature `ours`) | pinocchio | pinocchio_fk (feature `pinocchio`, Panda cases) |
 //! ours_trig | trig_c_glibc (Panda cases: the 7 joints' trigonometry alone) | noop |
 //! trig_c_glibc | trig_std_f64 | trig_fast_f64 | trig_std_f32 | trig_fast_f32 | trig_libm_f64 |
@@ -86,11 +87,17 @@ fn main() {
         }),
         "trig_fast_f64" => measured_loop(n, &mut || {
             let q = black_box(q2);
-            black_box([trocar::real::fast::sin_cos_f64(q[0]), trocar::real::fast::sin_cos_f64(q[1])]);
+            black_box([
+                trocar::real::fast::sin_cos_f64(q[0]),
+                trocar::real::fast::sin_cos_f64(q[1]),
+            ]);
         }),
         "trig_libm_f64" => measured_loop(n, &mut || {
             let q = black_box(q2);
-            black_box([(libm::sin(q[0]), libm::cos(q[0])), (libm::sin(q[1]), libm::cos(q[1]))]);
+            black_box([
+                (libm::sin(q[0]), libm::cos(q[0])),
+                (libm::sin(q[1]), libm::cos(q[1])),
+            ]);
         }),
         "trig_std_f32" => measured_loop(n, &mut || {
             let q = black_box(q2f);
@@ -98,14 +105,21 @@ fn main() {
         }),
         "trig_fast_f32" => measured_loop(n, &mut || {
             let q = black_box(q2f);
-            black_box([trocar::real::fast::sin_cos_f32(q[0]), trocar::real::fast::sin_cos_f32(q[1])]);
+            black_box([
+                trocar::real::fast::sin_cos_f32(q[0]),
+                trocar::real::fast::sin_cos_f32(q[1]),
+            ]);
         }),
         "trig_libm_f32" => measured_loop(n, &mut || {
             let q = black_box(q2f);
-            black_box([(libm::sinf(q[0]), libm::cosf(q[0])), (libm::sinf(q[1]), libm::cosf(q[1]))]);
+            black_box([
+                (libm::sinf(q[0]), libm::cosf(q[0])),
+                (libm::sinf(q[1]), libm::cosf(q[1])),
+            ]);
         }),
         "numeric" => {
-            let case = Case::from_name(&args[2]).unwrap_or_else(|| panic!("unknown CASE {}", args[2]));
+            let case =
+                Case::from_name(&args[2]).unwrap_or_else(|| panic!("unknown CASE {}", args[2]));
             let (q, p) = case.inputs();
             let mut num = trocar_peers_harness::numeric::Numeric::new(case, &p);
             let mut out = vec![0.0; case.out_len()];
@@ -114,17 +128,32 @@ fn main() {
                 black_box(&mut out);
             });
         }
+        "baseline" => {
+            let case =
+                Case::from_name(&args[2]).unwrap_or_else(|| panic!("unknown CASE {}", args[2]));
+            let (q, p) = case.inputs();
+            let mut out = vec![0.0; case.out_len()];
+            let f = black_box(trocar_peers_harness::baseline_fn(case));
+            measured_loop(n, &mut || {
+                f(black_box(&q), black_box(&p), &mut out);
+                black_box(&mut out);
+            });
+        }
         #[cfg(feature = "ours")]
         "ours_f64" | "ours_f64_given_trig" | "ours_f32" => {
             use trocar_peers_harness::ours;
-            let case = Case::from_name(&args[2]).unwrap_or_else(|| panic!("unknown CASE {}", args[2]));
+            let case =
+                Case::from_name(&args[2]).unwrap_or_else(|| panic!("unknown CASE {}", args[2]));
             let (q, p) = case.inputs();
             let mut out = vec![0.0; case.out_len()];
             match args[1].as_str() {
-                "ours_f64" => measured_loop(n, &mut || {
-                    ours::eval(case, black_box(&q), black_box(&p), &mut out);
-                    black_box(&mut out);
-                }),
+                "ours_f64" => {
+                    let f = black_box(ours::eval_fn(case));
+                    measured_loop(n, &mut || {
+                        f(black_box(&q), black_box(&p), &mut out);
+                        black_box(&mut out);
+                    })
+                }
                 "ours_f64_given_trig" => {
                     let t = ours::Trig::new(case, &q);
                     measured_loop(n, &mut || {
@@ -133,8 +162,10 @@ fn main() {
                     })
                 }
                 _ => {
-                    let (q32, p32): (Vec<f32>, Vec<f32>) =
-                        (q.iter().map(|&x| x as f32).collect(), p.iter().map(|&x| x as f32).collect());
+                    let (q32, p32): (Vec<f32>, Vec<f32>) = (
+                        q.iter().map(|&x| x as f32).collect(),
+                        p.iter().map(|&x| x as f32).collect(),
+                    );
                     let mut out32 = vec![0.0f32; case.out_len()];
                     measured_loop(n, &mut || {
                         ours::eval(case, black_box(&q32), black_box(&p32), &mut out32);
@@ -145,7 +176,8 @@ fn main() {
         }
         name => {
             let peer = Peer::from_name(name).unwrap_or_else(|| panic!("unknown IMPL {name}"));
-            let case = Case::from_name(&args[2]).unwrap_or_else(|| panic!("unknown CASE {}", args[2]));
+            let case =
+                Case::from_name(&args[2]).unwrap_or_else(|| panic!("unknown CASE {}", args[2]));
             let (q, p) = case.inputs();
             let mut out = vec![0.0; case.out_len()];
             measured_loop(n, &mut || {
@@ -182,11 +214,14 @@ fn panda(name: &str, case: Case, n: usize) {
             });
         }
         #[cfg(feature = "ours")]
-        "ours_f64" => measured_loop(n, &mut || {
-            k = black_box(k + 1) & 15;
-            trocar_peers_harness::ours::eval(case, &qs[k], black_box(&p), &mut out);
-            black_box(&mut out);
-        }),
+        "ours_f64" => {
+            let f = black_box(trocar_peers_harness::ours::eval_fn(case));
+            measured_loop(n, &mut || {
+                k = black_box(k + 1) & 15;
+                f(&qs[k], black_box(&p), &mut out);
+                black_box(&mut out);
+            })
+        }
         #[cfg(feature = "ours")]
         "ours_f64_given_trig" => {
             use trocar_peers_harness::ours;
@@ -199,7 +234,10 @@ fn panda(name: &str, case: Case, n: usize) {
         }
         #[cfg(feature = "ours")]
         "ours_f32" => {
-            let qs32: Vec<Vec<f32>> = qs.iter().map(|q| q.iter().map(|&x| x as f32).collect()).collect();
+            let qs32: Vec<Vec<f32>> = qs
+                .iter()
+                .map(|q| q.iter().map(|&x| x as f32).collect())
+                .collect();
             let p32: Vec<f32> = p.iter().map(|&x| x as f32).collect();
             let mut out32 = vec![0.0f32; case.out_len()];
             measured_loop(n, &mut || {
@@ -226,7 +264,8 @@ fn panda(name: &str, case: Case, n: usize) {
             black_box(trocar_peers_harness::ours::panda_trig::<f64>(&qs[k]));
         }),
         name => {
-            let peer = Peer::from_name(name).unwrap_or_else(|| panic!("unknown IMPL {name} for {case:?}"));
+            let peer =
+                Peer::from_name(name).unwrap_or_else(|| panic!("unknown IMPL {name} for {case:?}"));
             measured_loop(n, &mut || {
                 k = black_box(k + 1) & 15;
                 eval(peer, case, &qs[k], black_box(&p), &mut out);

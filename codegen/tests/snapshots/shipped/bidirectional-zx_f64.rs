@@ -597,7 +597,7 @@ pub mod bidirectional_zx {
         let x7 = -x6;
         [
             [
-                -(<f64 as ::trocar::Real>::mul_add(c7, p.l_b, x0) * x1),
+                -((c7 * p.l_b + x0) * x1),
                 p.l_b * x2,
                 -(p.l_b * x3),
                 <f64 as ::trocar::Real>::ZERO,
@@ -615,7 +615,7 @@ pub mod bidirectional_zx {
             [
                 p.l_8 * x3,
                 -(p.l_b * x4),
-                -(x1 * <f64 as ::trocar::Real>::mul_add(c7, p.l_8, p.l_b * c8)),
+                -(x1 * (c7 * p.l_8 + p.l_b * c8)),
                 -(c7 * x1),
                 x2,
                 -x3,
@@ -657,7 +657,7 @@ pub mod bidirectional_zx {
         let x7 = -x6;
         [
             [
-                -(<f64 as ::trocar::Real>::mul_add(t.cos[6], p.l_b, x0) * x1),
+                -((t.cos[6] * p.l_b + x0) * x1),
                 p.l_b * x2,
                 -(p.l_b * x3),
                 <f64 as ::trocar::Real>::ZERO,
@@ -675,12 +675,7 @@ pub mod bidirectional_zx {
             [
                 p.l_8 * x3,
                 -(p.l_b * x4),
-                -(x1
-                    * <f64 as ::trocar::Real>::mul_add(
-                        t.cos[6],
-                        p.l_8,
-                        p.l_b * t.cos[7],
-                    )),
+                -(x1 * (t.cos[6] * p.l_8 + p.l_b * t.cos[7])),
                 -(t.cos[6] * x1),
                 x2,
                 -x3,
@@ -1266,11 +1261,7 @@ pub mod bidirectional_zx {
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f64; 6]; R] {
         let x0 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(
-                p.l_a,
-                p.l_a,
-                <f64 as ::trocar::Real>::ONE,
-            );
+            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
         let x1 = p.l_a * x0;
         [
             [

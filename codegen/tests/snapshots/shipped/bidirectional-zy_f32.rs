@@ -577,11 +577,11 @@ pub mod bidirectional_zy {
     pub fn constrained_jacobian(q: &[f32; N], p: &Params) -> [[f32; 6]; M] {
         let ([s7, s8], [c7, c8]) = <f32 as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
         let x0 = <f32 as ::trocar::Real>::ONE / p.l_a;
-        let x1 = <f32 as ::trocar::Real>::mul_add(c7, p.l_b, p.l_8) * x0;
+        let x1 = (c7 * p.l_b + p.l_8) * x0;
         let x2 = x0 * s7;
         let x3 = c8 * s7;
         let x4 = s7 * s8;
-        let x5 = x0 * <f32 as ::trocar::Real>::mul_add(c7, p.l_8, p.l_b);
+        let x5 = x0 * (p.l_b + c7 * p.l_8);
         [
             [
                 -(x1 * c8),
@@ -635,11 +635,11 @@ pub mod bidirectional_zy {
     #[must_use]
     pub fn constrained_jacobian_trig(t: &JointTrig, p: &Params) -> [[f32; 6]; M] {
         let x0 = <f32 as ::trocar::Real>::ONE / p.l_a;
-        let x1 = <f32 as ::trocar::Real>::mul_add(t.cos[6], p.l_b, p.l_8) * x0;
+        let x1 = (t.cos[6] * p.l_b + p.l_8) * x0;
         let x2 = x0 * t.sin[6];
         let x3 = t.cos[7] * t.sin[6];
         let x4 = t.sin[6] * t.sin[7];
-        let x5 = x0 * <f32 as ::trocar::Real>::mul_add(t.cos[6], p.l_8, p.l_b);
+        let x5 = x0 * (p.l_b + t.cos[6] * p.l_8);
         [
             [
                 -(x1 * t.cos[7]),
@@ -1243,11 +1243,7 @@ pub mod bidirectional_zy {
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / <f32 as ::trocar::Real>::mul_add(
-                p.l_a,
-                p.l_a,
-                <f32 as ::trocar::Real>::ONE,
-            );
+            / (<f32 as ::trocar::Real>::ONE + p.l_a * p.l_a);
         let x1 = p.l_a * x0;
         [
             [

@@ -6018,11 +6018,7 @@ pub mod chain9_prismatic {
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / <f32 as ::trocar::Real>::mul_add(
-                p.l_a,
-                p.l_a,
-                <f32 as ::trocar::Real>::ONE,
-            );
+            / (<f32 as ::trocar::Real>::ONE + p.l_a * p.l_a);
         let x1 = p.l_a * x0;
         [
             [

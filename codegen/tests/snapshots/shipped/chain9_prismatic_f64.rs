@@ -6018,11 +6018,7 @@ pub mod chain9_prismatic {
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f64; 6]; R] {
         let x0 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(
-                p.l_a,
-                p.l_a,
-                <f64 as ::trocar::Real>::ONE,
-            );
+            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
         let x1 = p.l_a * x0;
         [
             [

@@ -589,7 +589,7 @@ pub mod dia10_like_zx {
         let x9 = x0 * c7;
         [
             [
-                <f32 as ::trocar::Real>::mul_add(x2, c7, -(0.21_f32 * x3)),
+                x2 * c7 - 0.21_f32 * x3,
                 c8 * (x1 - <f32 as ::trocar::Real>::ONE) * s7,
                 s7 * x4,
                 <f32 as ::trocar::Real>::ZERO,
@@ -604,14 +604,7 @@ pub mod dia10_like_zx {
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
             ],
-            [
-                0.21_f32 * x8,
-                x4,
-                <f32 as ::trocar::Real>::mul_add(x2, c8, -(0.21_f32 * x9)),
-                -x9,
-                x0 * (c8 * s7),
-                -x8,
-            ],
+            [0.21_f32 * x8, x4, x2 * c8 - 0.21_f32 * x9, -x9, x0 * (c8 * s7), -x8],
             [0.21_f32 * x6, <f32 as ::trocar::Real>::ZERO, 0.21_f32 * s7, s7, x5, x7],
             [
                 -(0.21_f32 * c8),
@@ -651,7 +644,7 @@ pub mod dia10_like_zx {
         let x9 = x0 * t.cos[6];
         [
             [
-                <f32 as ::trocar::Real>::mul_add(x2, t.cos[6], -(0.21_f32 * x3)),
+                x2 * t.cos[6] - 0.21_f32 * x3,
                 t.cos[7] * (x1 - <f32 as ::trocar::Real>::ONE) * t.sin[6],
                 t.sin[6] * x4,
                 <f32 as ::trocar::Real>::ZERO,
@@ -669,7 +662,7 @@ pub mod dia10_like_zx {
             [
                 0.21_f32 * x8,
                 x4,
-                <f32 as ::trocar::Real>::mul_add(x2, t.cos[7], -(0.21_f32 * x9)),
+                x2 * t.cos[7] - 0.21_f32 * x9,
                 -x9,
                 x0 * (t.cos[7] * t.sin[6]),
                 -x8,
@@ -1117,11 +1110,7 @@ pub mod dia10_like_zx {
         let x0 = <f32 as ::trocar::Real>::ONE / p.l_a;
         {
             let w = <f32 as ::trocar::Real>::abs(
-                <f32 as ::trocar::Real>::mul_add(
-                    x0,
-                    <f32 as ::trocar::Real>::mul_add(0.1089_f32, x0, -0.66_f32),
-                    <f32 as ::trocar::Real>::ONE,
-                ) * c7,
+                (<f32 as ::trocar::Real>::ONE + x0 * (0.1089_f32 * x0 - 0.66_f32)) * c7,
             );
             if <f32 as ::trocar::Real>::is_finite(w) {
                 w
@@ -1141,11 +1130,8 @@ pub mod dia10_like_zx {
         let x0 = <f32 as ::trocar::Real>::ONE / p.l_a;
         {
             let w = <f32 as ::trocar::Real>::abs(
-                <f32 as ::trocar::Real>::mul_add(
-                    x0,
-                    <f32 as ::trocar::Real>::mul_add(0.1089_f32, x0, -0.66_f32),
-                    <f32 as ::trocar::Real>::ONE,
-                ) * t.cos[6],
+                (<f32 as ::trocar::Real>::ONE + x0 * (0.1089_f32 * x0 - 0.66_f32))
+                    * t.cos[6],
             );
             if <f32 as ::trocar::Real>::is_finite(w) {
                 w
@@ -1164,11 +1150,7 @@ pub mod dia10_like_zx {
     pub fn manipulability_squared(q: &[f32; N], p: &Params) -> f32 {
         let ([_], [c7]) = <f32 as ::trocar::Real>::sin_cos_array(&[q[6]]);
         let x0 = <f32 as ::trocar::Real>::ONE / p.l_a;
-        let x1 = <f32 as ::trocar::Real>::mul_add(
-            x0,
-            <f32 as ::trocar::Real>::mul_add(0.1089_f32, x0, -0.66_f32),
-            <f32 as ::trocar::Real>::ONE,
-        ) * c7;
+        let x1 = (<f32 as ::trocar::Real>::ONE + x0 * (0.1089_f32 * x0 - 0.66_f32)) * c7;
         {
             let w = x1 * x1;
             if <f32 as ::trocar::Real>::is_finite(w) {
@@ -1187,11 +1169,8 @@ pub mod dia10_like_zx {
     #[must_use]
     pub fn manipulability_squared_trig(t: &JointTrig, p: &Params) -> f32 {
         let x0 = <f32 as ::trocar::Real>::ONE / p.l_a;
-        let x1 = <f32 as ::trocar::Real>::mul_add(
-            x0,
-            <f32 as ::trocar::Real>::mul_add(0.1089_f32, x0, -0.66_f32),
-            <f32 as ::trocar::Real>::ONE,
-        ) * t.cos[6];
+        let x1 = (<f32 as ::trocar::Real>::ONE + x0 * (0.1089_f32 * x0 - 0.66_f32))
+            * t.cos[6];
         {
             let w = x1 * x1;
             if <f32 as ::trocar::Real>::is_finite(w) {
@@ -1275,11 +1254,7 @@ pub mod dia10_like_zx {
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / <f32 as ::trocar::Real>::mul_add(
-                p.l_a,
-                p.l_a,
-                <f32 as ::trocar::Real>::ONE,
-            );
+            / (<f32 as ::trocar::Real>::ONE + p.l_a * p.l_a);
         let x1 = p.l_a * x0;
         [
             [

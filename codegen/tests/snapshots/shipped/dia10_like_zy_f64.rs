@@ -568,14 +568,10 @@ pub mod dia10_like_zy {
         let ([s7, s8], [c7, c8]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
         let x0 = <f64 as ::trocar::Real>::ONE / p.l_a;
         let x1 = 0.33_f64 * x0;
-        let x2 = <f64 as ::trocar::Real>::mul_add(
-            <f64 as ::trocar::Real>::ONE - x1,
-            c7,
-            -(0.21_f64 * x0),
-        );
+        let x2 = (<f64 as ::trocar::Real>::ONE - x1) * c7 - 0.21_f64 * x0;
         let x3 = c8 * s7;
         let x4 = s7 * s8;
-        let x5 = x0 * <f64 as ::trocar::Real>::mul_add(0.21_f64, c7, 0.33_f64);
+        let x5 = x0 * (0.33_f64 + 0.21_f64 * c7);
         [
             [
                 x2 * c8,
@@ -630,14 +626,10 @@ pub mod dia10_like_zy {
     pub fn constrained_jacobian_trig(t: &JointTrig, p: &Params) -> [[f64; 6]; M] {
         let x0 = <f64 as ::trocar::Real>::ONE / p.l_a;
         let x1 = 0.33_f64 * x0;
-        let x2 = <f64 as ::trocar::Real>::mul_add(
-            <f64 as ::trocar::Real>::ONE - x1,
-            t.cos[6],
-            -(0.21_f64 * x0),
-        );
+        let x2 = (<f64 as ::trocar::Real>::ONE - x1) * t.cos[6] - 0.21_f64 * x0;
         let x3 = t.cos[7] * t.sin[6];
         let x4 = t.sin[6] * t.sin[7];
-        let x5 = x0 * <f64 as ::trocar::Real>::mul_add(0.21_f64, t.cos[6], 0.33_f64);
+        let x5 = x0 * (0.33_f64 + 0.21_f64 * t.cos[6]);
         [
             [
                 x2 * t.cos[7],
@@ -1110,11 +1102,7 @@ pub mod dia10_like_zy {
         let x0 = <f64 as ::trocar::Real>::ONE / p.l_a;
         {
             let w = <f64 as ::trocar::Real>::abs(
-                <f64 as ::trocar::Real>::mul_add(
-                    x0,
-                    <f64 as ::trocar::Real>::mul_add(-0.1089_f64, x0, 0.66_f64),
-                    -<f64 as ::trocar::Real>::ONE,
-                ) * s7,
+                (x0 * (0.66_f64 - 0.1089_f64 * x0) - <f64 as ::trocar::Real>::ONE) * s7,
             );
             if <f64 as ::trocar::Real>::is_finite(w) {
                 w
@@ -1134,11 +1122,8 @@ pub mod dia10_like_zy {
         let x0 = <f64 as ::trocar::Real>::ONE / p.l_a;
         {
             let w = <f64 as ::trocar::Real>::abs(
-                <f64 as ::trocar::Real>::mul_add(
-                    x0,
-                    <f64 as ::trocar::Real>::mul_add(-0.1089_f64, x0, 0.66_f64),
-                    -<f64 as ::trocar::Real>::ONE,
-                ) * t.sin[6],
+                (x0 * (0.66_f64 - 0.1089_f64 * x0) - <f64 as ::trocar::Real>::ONE)
+                    * t.sin[6],
             );
             if <f64 as ::trocar::Real>::is_finite(w) {
                 w
@@ -1157,11 +1142,7 @@ pub mod dia10_like_zy {
     pub fn manipulability_squared(q: &[f64; N], p: &Params) -> f64 {
         let ([s7], [_]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6]]);
         let x0 = <f64 as ::trocar::Real>::ONE / p.l_a;
-        let x1 = <f64 as ::trocar::Real>::mul_add(
-            x0,
-            <f64 as ::trocar::Real>::mul_add(-0.1089_f64, x0, 0.66_f64),
-            -<f64 as ::trocar::Real>::ONE,
-        ) * s7;
+        let x1 = (x0 * (0.66_f64 - 0.1089_f64 * x0) - <f64 as ::trocar::Real>::ONE) * s7;
         {
             let w = x1 * x1;
             if <f64 as ::trocar::Real>::is_finite(w) {
@@ -1180,11 +1161,8 @@ pub mod dia10_like_zy {
     #[must_use]
     pub fn manipulability_squared_trig(t: &JointTrig, p: &Params) -> f64 {
         let x0 = <f64 as ::trocar::Real>::ONE / p.l_a;
-        let x1 = <f64 as ::trocar::Real>::mul_add(
-            x0,
-            <f64 as ::trocar::Real>::mul_add(-0.1089_f64, x0, 0.66_f64),
-            -<f64 as ::trocar::Real>::ONE,
-        ) * t.sin[6];
+        let x1 = (x0 * (0.66_f64 - 0.1089_f64 * x0) - <f64 as ::trocar::Real>::ONE)
+            * t.sin[6];
         {
             let w = x1 * x1;
             if <f64 as ::trocar::Real>::is_finite(w) {
@@ -1268,11 +1246,7 @@ pub mod dia10_like_zy {
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f64; 6]; R] {
         let x0 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(
-                p.l_a,
-                p.l_a,
-                <f64 as ::trocar::Real>::ONE,
-            );
+            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
         let x1 = p.l_a * x0;
         [
             [

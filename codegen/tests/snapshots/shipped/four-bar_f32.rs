@@ -195,9 +195,9 @@ pub mod four_bar {
         let ([s1, s2, s3, s4], [c1, c2, c3, _]) = <f32 as ::trocar::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3]],
         );
-        let x0 = <f32 as ::trocar::Real>::mul_add(s2, s3, c2 * c3) * s1;
-        let x1 = <f32 as ::trocar::Real>::mul_add(s3, c2, -(s2 * c3)) * c1;
-        <f32 as ::trocar::Real>::mul_add(x1 + s4 - x0, p.l4, (x1 - x0) * p.l3) * p.l2
+        let x0 = (s2 * s3 + c2 * c3) * s1;
+        let x1 = (s3 * c2 - s2 * c3) * c1;
+        ((x1 + s4 - x0) * p.l4 + (x1 - x0) * p.l3) * p.l2
     }
     /// [`constraint_determinant`] from precomputed joint sines and cosines ([`JointTrig`]), thesis (7), §4.5 of Freitas, Leite & Lizarralde (2010).
     ///
@@ -205,18 +205,9 @@ pub mod four_bar {
     #[inline]
     #[must_use]
     pub fn constraint_determinant_trig(t: &JointTrig, p: &Params) -> f32 {
-        let x0 = <f32 as ::trocar::Real>::mul_add(
-            t.sin[1],
-            t.sin[2],
-            t.cos[1] * t.cos[2],
-        ) * t.sin[0];
-        let x1 = <f32 as ::trocar::Real>::mul_add(
-            t.sin[2],
-            t.cos[1],
-            -(t.sin[1] * t.cos[2]),
-        ) * t.cos[0];
-        <f32 as ::trocar::Real>::mul_add(x1 + t.sin[3] - x0, p.l4, (x1 - x0) * p.l3)
-            * p.l2
+        let x0 = (t.sin[1] * t.sin[2] + t.cos[1] * t.cos[2]) * t.sin[0];
+        let x1 = (t.sin[2] * t.cos[1] - t.sin[1] * t.cos[2]) * t.cos[0];
+        ((x1 + t.sin[3] - x0) * p.l4 + (x1 - x0) * p.l3) * p.l2
     }
     /// `det J_Cp` and the numerator `det(J_Cp) · J = det(J_Cp) J_Aa − J_Ap adj(J_Cp) J_Ca` of the reduced Jacobian, thesis (8) of Freitas, Leite & Lizarralde (2010).
     ///

@@ -653,8 +653,8 @@ pub mod iiwa_endoscope {
     #[must_use]
     pub fn constraint_jacobian_c(_q: &[f32; N], p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / <f32 as ::trocar::Real>::mul_add(p.l_a, 0.09_f32 + p.l_a, 1.002025_f32);
-        let x1 = x0 * <f32 as ::trocar::Real>::mul_add(0.345_f32, p.l_a, 1.015525_f32);
+            / (p.l_a * (0.09_f32 + p.l_a) + 1.002025_f32);
+        let x1 = x0 * (1.015525_f32 + 0.345_f32 * p.l_a);
         let x2 = x0 * (p.l_a + 0.045_f32);
         [
             [
@@ -684,8 +684,8 @@ pub mod iiwa_endoscope {
     #[must_use]
     pub fn constraint_jacobian_c_trig(_t: &JointTrig, p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / <f32 as ::trocar::Real>::mul_add(p.l_a, 0.09_f32 + p.l_a, 1.002025_f32);
-        let x1 = x0 * <f32 as ::trocar::Real>::mul_add(0.345_f32, p.l_a, 1.015525_f32);
+            / (p.l_a * (0.09_f32 + p.l_a) + 1.002025_f32);
+        let x1 = x0 * (1.015525_f32 + 0.345_f32 * p.l_a);
         let x2 = x0 * (p.l_a + 0.045_f32);
         [
             [
@@ -1166,9 +1166,7 @@ pub mod iiwa_endoscope {
     #[must_use]
     pub fn manipulability(_q: &[f32; N], p: &Params) -> f32 {
         {
-            let w = <f32 as ::trocar::Real>::abs(
-                <f32 as ::trocar::Real>::mul_add(p.l_a, p.l_a - 0.6_f32, 0.09_f32),
-            );
+            let w = <f32 as ::trocar::Real>::abs(p.l_a * (p.l_a - 0.6_f32) + 0.09_f32);
             if <f32 as ::trocar::Real>::is_finite(w) {
                 w
             } else {
@@ -1185,9 +1183,7 @@ pub mod iiwa_endoscope {
     #[must_use]
     pub fn manipulability_trig(_t: &JointTrig, p: &Params) -> f32 {
         {
-            let w = <f32 as ::trocar::Real>::abs(
-                <f32 as ::trocar::Real>::mul_add(p.l_a, p.l_a - 0.6_f32, 0.09_f32),
-            );
+            let w = <f32 as ::trocar::Real>::abs(p.l_a * (p.l_a - 0.6_f32) + 0.09_f32);
             if <f32 as ::trocar::Real>::is_finite(w) {
                 w
             } else {
@@ -1203,7 +1199,7 @@ pub mod iiwa_endoscope {
     #[inline]
     #[must_use]
     pub fn manipulability_squared(_q: &[f32; N], p: &Params) -> f32 {
-        let x0 = <f32 as ::trocar::Real>::mul_add(p.l_a, p.l_a - 0.6_f32, 0.09_f32);
+        let x0 = p.l_a * (p.l_a - 0.6_f32) + 0.09_f32;
         {
             let w = x0 * x0;
             if <f32 as ::trocar::Real>::is_finite(w) {
@@ -1221,7 +1217,7 @@ pub mod iiwa_endoscope {
     #[inline]
     #[must_use]
     pub fn manipulability_squared_trig(_t: &JointTrig, p: &Params) -> f32 {
-        let x0 = <f32 as ::trocar::Real>::mul_add(p.l_a, p.l_a - 0.6_f32, 0.09_f32);
+        let x0 = p.l_a * (p.l_a - 0.6_f32) + 0.09_f32;
         {
             let w = x0 * x0;
             if <f32 as ::trocar::Real>::is_finite(w) {
@@ -1303,7 +1299,7 @@ pub mod iiwa_endoscope {
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / <f32 as ::trocar::Real>::mul_add(p.l_a, 0.09_f32 + p.l_a, 1.002025_f32);
+            / (p.l_a * (0.09_f32 + p.l_a) + 1.002025_f32);
         let x1 = x0 * (p.l_a + 0.045_f32);
         [
             [

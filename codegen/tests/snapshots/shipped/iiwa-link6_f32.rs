@@ -675,11 +675,7 @@ pub mod iiwa_link6 {
     pub fn constraint_jacobian_c(q: &[f32; N], p: &Params) -> [[f32; 6]; R] {
         let ([s7], [c7]) = <f32 as ::trocar::Real>::sin_cos_array(&[q[6]]);
         let x0 = <f32 as ::trocar::Real>::ONE
-            / <f32 as ::trocar::Real>::mul_add(
-                p.l_a,
-                p.l_a,
-                <f32 as ::trocar::Real>::ONE,
-            );
+            / (<f32 as ::trocar::Real>::ONE + p.l_a * p.l_a);
         [
             [
                 -(x0 * c7),
@@ -700,11 +696,7 @@ pub mod iiwa_link6 {
     #[must_use]
     pub fn constraint_jacobian_c_trig(t: &JointTrig, p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / <f32 as ::trocar::Real>::mul_add(
-                p.l_a,
-                p.l_a,
-                <f32 as ::trocar::Real>::ONE,
-            );
+            / (<f32 as ::trocar::Real>::ONE + p.l_a * p.l_a);
         [
             [
                 -(x0 * t.cos[6]),
@@ -1198,11 +1190,7 @@ pub mod iiwa_link6 {
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / <f32 as ::trocar::Real>::mul_add(
-                p.l_a,
-                p.l_a,
-                <f32 as ::trocar::Real>::ONE,
-            );
+            / (<f32 as ::trocar::Real>::ONE + p.l_a * p.l_a);
         [
             [
                 x0,

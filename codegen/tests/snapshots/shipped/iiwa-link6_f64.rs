@@ -675,11 +675,7 @@ pub mod iiwa_link6 {
     pub fn constraint_jacobian_c(q: &[f64; N], p: &Params) -> [[f64; 6]; R] {
         let ([s7], [c7]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6]]);
         let x0 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(
-                p.l_a,
-                p.l_a,
-                <f64 as ::trocar::Real>::ONE,
-            );
+            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
         [
             [
                 -(x0 * c7),
@@ -700,11 +696,7 @@ pub mod iiwa_link6 {
     #[must_use]
     pub fn constraint_jacobian_c_trig(t: &JointTrig, p: &Params) -> [[f64; 6]; R] {
         let x0 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(
-                p.l_a,
-                p.l_a,
-                <f64 as ::trocar::Real>::ONE,
-            );
+            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
         [
             [
                 -(x0 * t.cos[6]),
@@ -1198,11 +1190,7 @@ pub mod iiwa_link6 {
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f64; 6]; R] {
         let x0 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(
-                p.l_a,
-                p.l_a,
-                <f64 as ::trocar::Real>::ONE,
-            );
+            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
         [
             [
                 x0,

@@ -631,8 +631,8 @@ pub mod panda_laparoscope {
     #[must_use]
     pub fn constraint_jacobian_c(_q: &[f64; N], p: &Params) -> [[f64; 6]; R] {
         let x0 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(p.l_a, 0.214_f64 + p.l_a, 1.011449_f64);
-        let x1 = x0 * <f64 as ::trocar::Real>::mul_add(0.507_f64, p.l_a, 1.054249_f64);
+            / (p.l_a * (0.214_f64 + p.l_a) + 1.011449_f64);
+        let x1 = x0 * (1.054249_f64 + 0.507_f64 * p.l_a);
         let x2 = x0 * (p.l_a + 0.107_f64);
         [
             [
@@ -662,8 +662,8 @@ pub mod panda_laparoscope {
     #[must_use]
     pub fn constraint_jacobian_c_trig(_t: &JointTrig, p: &Params) -> [[f64; 6]; R] {
         let x0 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(p.l_a, 0.214_f64 + p.l_a, 1.011449_f64);
-        let x1 = x0 * <f64 as ::trocar::Real>::mul_add(0.507_f64, p.l_a, 1.054249_f64);
+            / (p.l_a * (0.214_f64 + p.l_a) + 1.011449_f64);
+        let x1 = x0 * (1.054249_f64 + 0.507_f64 * p.l_a);
         let x2 = x0 * (p.l_a + 0.107_f64);
         [
             [
@@ -1110,9 +1110,7 @@ pub mod panda_laparoscope {
     #[must_use]
     pub fn manipulability(_q: &[f64; N], p: &Params) -> f64 {
         {
-            let w = <f64 as ::trocar::Real>::abs(
-                <f64 as ::trocar::Real>::mul_add(p.l_a, p.l_a - 0.8_f64, 0.16_f64),
-            );
+            let w = <f64 as ::trocar::Real>::abs(p.l_a * (p.l_a - 0.8_f64) + 0.16_f64);
             if <f64 as ::trocar::Real>::is_finite(w) {
                 w
             } else {
@@ -1129,9 +1127,7 @@ pub mod panda_laparoscope {
     #[must_use]
     pub fn manipulability_trig(_t: &JointTrig, p: &Params) -> f64 {
         {
-            let w = <f64 as ::trocar::Real>::abs(
-                <f64 as ::trocar::Real>::mul_add(p.l_a, p.l_a - 0.8_f64, 0.16_f64),
-            );
+            let w = <f64 as ::trocar::Real>::abs(p.l_a * (p.l_a - 0.8_f64) + 0.16_f64);
             if <f64 as ::trocar::Real>::is_finite(w) {
                 w
             } else {
@@ -1147,7 +1143,7 @@ pub mod panda_laparoscope {
     #[inline]
     #[must_use]
     pub fn manipulability_squared(_q: &[f64; N], p: &Params) -> f64 {
-        let x0 = <f64 as ::trocar::Real>::mul_add(p.l_a, p.l_a - 0.8_f64, 0.16_f64);
+        let x0 = p.l_a * (p.l_a - 0.8_f64) + 0.16_f64;
         {
             let w = x0 * x0;
             if <f64 as ::trocar::Real>::is_finite(w) {
@@ -1165,7 +1161,7 @@ pub mod panda_laparoscope {
     #[inline]
     #[must_use]
     pub fn manipulability_squared_trig(_t: &JointTrig, p: &Params) -> f64 {
-        let x0 = <f64 as ::trocar::Real>::mul_add(p.l_a, p.l_a - 0.8_f64, 0.16_f64);
+        let x0 = p.l_a * (p.l_a - 0.8_f64) + 0.16_f64;
         {
             let w = x0 * x0;
             if <f64 as ::trocar::Real>::is_finite(w) {
@@ -1247,7 +1243,7 @@ pub mod panda_laparoscope {
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f64; 6]; R] {
         let x0 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(p.l_a, 0.214_f64 + p.l_a, 1.011449_f64);
+            / (p.l_a * (0.214_f64 + p.l_a) + 1.011449_f64);
         let x1 = x0 * (p.l_a + 0.107_f64);
         [
             [

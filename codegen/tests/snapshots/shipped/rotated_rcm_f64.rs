@@ -1253,8 +1253,7 @@ pub mod rotated_rcm {
         let ([_], [c7]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6]]);
         {
             let w = <f64 as ::trocar::Real>::abs(
-                <f64 as ::trocar::Real>::mul_add(p.l_a, p.l_a - 0.66_f64, 0.1089_f64)
-                    * c7,
+                (p.l_a * (p.l_a - 0.66_f64) + 0.1089_f64) * c7,
             );
             if <f64 as ::trocar::Real>::is_finite(w) {
                 w
@@ -1273,8 +1272,7 @@ pub mod rotated_rcm {
     pub fn manipulability_trig(t: &JointTrig, p: &Params) -> f64 {
         {
             let w = <f64 as ::trocar::Real>::abs(
-                <f64 as ::trocar::Real>::mul_add(p.l_a, p.l_a - 0.66_f64, 0.1089_f64)
-                    * t.cos[6],
+                (p.l_a * (p.l_a - 0.66_f64) + 0.1089_f64) * t.cos[6],
             );
             if <f64 as ::trocar::Real>::is_finite(w) {
                 w
@@ -1292,8 +1290,7 @@ pub mod rotated_rcm {
     #[must_use]
     pub fn manipulability_squared(q: &[f64; N], p: &Params) -> f64 {
         let ([_], [c7]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6]]);
-        let x0 = <f64 as ::trocar::Real>::mul_add(p.l_a, p.l_a - 0.66_f64, 0.1089_f64)
-            * c7;
+        let x0 = (p.l_a * (p.l_a - 0.66_f64) + 0.1089_f64) * c7;
         {
             let w = x0 * x0;
             if <f64 as ::trocar::Real>::is_finite(w) {
@@ -1311,8 +1308,7 @@ pub mod rotated_rcm {
     #[inline]
     #[must_use]
     pub fn manipulability_squared_trig(t: &JointTrig, p: &Params) -> f64 {
-        let x0 = <f64 as ::trocar::Real>::mul_add(p.l_a, p.l_a - 0.66_f64, 0.1089_f64)
-            * t.cos[6];
+        let x0 = (p.l_a * (p.l_a - 0.66_f64) + 0.1089_f64) * t.cos[6];
         {
             let w = x0 * x0;
             if <f64 as ::trocar::Real>::is_finite(w) {
@@ -1395,11 +1391,7 @@ pub mod rotated_rcm {
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f64; 6]; R] {
         let x0 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(
-                p.l_a,
-                p.l_a,
-                <f64 as ::trocar::Real>::ONE,
-            );
+            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
         let x1 = 0.6_f64 * x0;
         let x2 = 0.8_f64 * x0;
         let x3 = p.l_a * x0;

@@ -577,11 +577,11 @@ pub mod unidirectional {
     pub fn constrained_jacobian(q: &[f32; N], p: &Params) -> [[f32; 6]; M] {
         let ([s7, s8], [c7, c8]) = <f32 as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
         let x0 = <f32 as ::trocar::Real>::ONE / p.l_a;
-        let x1 = <f32 as ::trocar::Real>::mul_add(c7, p.l_b, p.l_8) * x0;
+        let x1 = (c7 * p.l_b + p.l_8) * x0;
         let x2 = c8 * s7;
         let x3 = s7 * s8;
         let x4 = -s8;
-        let x5 = p.l_b + <f32 as ::trocar::Real>::mul_add(c7, p.l_8, p.l_a);
+        let x5 = p.l_b + (p.l_a + c7 * p.l_8);
         [
             [
                 -(x1 * c8),
@@ -636,11 +636,11 @@ pub mod unidirectional {
     #[must_use]
     pub fn constrained_jacobian_trig(t: &JointTrig, p: &Params) -> [[f32; 6]; M] {
         let x0 = <f32 as ::trocar::Real>::ONE / p.l_a;
-        let x1 = <f32 as ::trocar::Real>::mul_add(t.cos[6], p.l_b, p.l_8) * x0;
+        let x1 = (t.cos[6] * p.l_b + p.l_8) * x0;
         let x2 = t.cos[7] * t.sin[6];
         let x3 = t.sin[6] * t.sin[7];
         let x4 = -t.sin[7];
-        let x5 = p.l_b + <f32 as ::trocar::Real>::mul_add(t.cos[6], p.l_8, p.l_a);
+        let x5 = p.l_b + (p.l_a + t.cos[6] * p.l_8);
         [
             [
                 -(x1 * t.cos[7]),
@@ -705,17 +705,9 @@ pub mod unidirectional {
     pub fn constraint_jacobian_c(q: &[f32; N], p: &Params) -> [[f32; 6]; R] {
         let ([s7, s8], [c7, c8]) = <f32 as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
         let x0 = <f32 as ::trocar::Real>::ONE
-            / <f32 as ::trocar::Real>::mul_add(
-                p.l_a,
-                p.l_a,
-                <f32 as ::trocar::Real>::ONE,
-            );
-        let x1 = <f32 as ::trocar::Real>::mul_add(
-            p.l_a,
-            p.l_a + p.l_b,
-            <f32 as ::trocar::Real>::ONE,
-        );
-        let x2 = x0 * <f32 as ::trocar::Real>::mul_add(x1, c7, p.l_a * p.l_8);
+            / (<f32 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+        let x1 = <f32 as ::trocar::Real>::ONE + p.l_a * (p.l_a + p.l_b);
+        let x2 = x0 * (x1 * c7 + p.l_a * p.l_8);
         [
             [
                 x2 * c8,
@@ -736,17 +728,9 @@ pub mod unidirectional {
     #[must_use]
     pub fn constraint_jacobian_c_trig(t: &JointTrig, p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / <f32 as ::trocar::Real>::mul_add(
-                p.l_a,
-                p.l_a,
-                <f32 as ::trocar::Real>::ONE,
-            );
-        let x1 = <f32 as ::trocar::Real>::mul_add(
-            p.l_a,
-            p.l_a + p.l_b,
-            <f32 as ::trocar::Real>::ONE,
-        );
-        let x2 = x0 * <f32 as ::trocar::Real>::mul_add(x1, t.cos[6], p.l_a * p.l_8);
+            / (<f32 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+        let x1 = <f32 as ::trocar::Real>::ONE + p.l_a * (p.l_a + p.l_b);
+        let x2 = x0 * (x1 * t.cos[6] + p.l_a * p.l_8);
         [
             [
                 x2 * t.cos[7],
@@ -1089,17 +1073,7 @@ pub mod unidirectional {
         let x3 = p.l_b * (x0 * s7);
         let x4 = s7 * (p.l_b * (<f32 as ::trocar::Real>::ONE + x1));
         {
-            let w = <f32 as ::trocar::Real>::sqrt(
-                <f32 as ::trocar::Real>::mul_add(
-                    x4,
-                    x4,
-                    <f32 as ::trocar::Real>::mul_add(
-                        x3,
-                        x3,
-                        <f32 as ::trocar::Real>::mul_add(x1, x1, x2 * x2),
-                    ),
-                ),
-            );
+            let w = <f32 as ::trocar::Real>::sqrt(x1 * x1 + x2 * x2 + x3 * x3 + x4 * x4);
             if <f32 as ::trocar::Real>::is_finite(w) {
                 w
             } else {
@@ -1121,17 +1095,7 @@ pub mod unidirectional {
         let x3 = p.l_b * (x0 * t.sin[6]);
         let x4 = t.sin[6] * (p.l_b * (<f32 as ::trocar::Real>::ONE + x1));
         {
-            let w = <f32 as ::trocar::Real>::sqrt(
-                <f32 as ::trocar::Real>::mul_add(
-                    x4,
-                    x4,
-                    <f32 as ::trocar::Real>::mul_add(
-                        x3,
-                        x3,
-                        <f32 as ::trocar::Real>::mul_add(x1, x1, x2 * x2),
-                    ),
-                ),
-            );
+            let w = <f32 as ::trocar::Real>::sqrt(x1 * x1 + x2 * x2 + x3 * x3 + x4 * x4);
             if <f32 as ::trocar::Real>::is_finite(w) {
                 w
             } else {
@@ -1154,15 +1118,7 @@ pub mod unidirectional {
         let x3 = p.l_b * (x0 * s7);
         let x4 = s7 * (p.l_b * (<f32 as ::trocar::Real>::ONE + x1));
         {
-            let w = <f32 as ::trocar::Real>::mul_add(
-                x4,
-                x4,
-                <f32 as ::trocar::Real>::mul_add(
-                    x3,
-                    x3,
-                    <f32 as ::trocar::Real>::mul_add(x1, x1, x2 * x2),
-                ),
-            );
+            let w = x1 * x1 + x2 * x2 + x3 * x3 + x4 * x4;
             if <f32 as ::trocar::Real>::is_finite(w) {
                 w
             } else {
@@ -1184,15 +1140,7 @@ pub mod unidirectional {
         let x3 = p.l_b * (x0 * t.sin[6]);
         let x4 = t.sin[6] * (p.l_b * (<f32 as ::trocar::Real>::ONE + x1));
         {
-            let w = <f32 as ::trocar::Real>::mul_add(
-                x4,
-                x4,
-                <f32 as ::trocar::Real>::mul_add(
-                    x3,
-                    x3,
-                    <f32 as ::trocar::Real>::mul_add(x1, x1, x2 * x2),
-                ),
-            );
+            let w = x1 * x1 + x2 * x2 + x3 * x3 + x4 * x4;
             if <f32 as ::trocar::Real>::is_finite(w) {
                 w
             } else {
@@ -1281,11 +1229,7 @@ pub mod unidirectional {
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / <f32 as ::trocar::Real>::mul_add(
-                p.l_a,
-                p.l_a,
-                <f32 as ::trocar::Real>::ONE,
-            );
+            / (<f32 as ::trocar::Real>::ONE + p.l_a * p.l_a);
         [
             [
                 x0,
