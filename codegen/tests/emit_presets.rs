@@ -102,3 +102,45 @@ fn programs_agree_with_expanded_polynomials() {
         }
     }
 }
+
+/// Every constrained preset gets `pose_and_jacobians_trig` from one program (smaller than its
+/// four functions'); without that program the function calls the four, and the module still
+/// formats (its types are those of the four functions).
+#[test]
+fn pose_and_jacobians_is_one_program_or_the_four_functions() {
+    use trocar_codegen::emit::{format_file, module_tokens, Real};
+    for name in preset_names() {
+        let desc = RobotDescription::preset(name).unwrap();
+        let d = derive(&desc).unwrap();
+        let mut spec = module_spec(&d, "m");
+        let fused = spec.pose_and_jacobians.as_ref().expect("one program");
+        let separate: usize = [
+            Function::ForwardKinematics,
+            Function::PartialBodyJacobian,
+            Function::ConstrainedJacobian,
+            Function::ConstraintJacobianC,
+        ]
+        .iter()
+        .map(|&f| spec.function(f).unwrap().program.live_len())
+        .sum();
+        assert!(fused.live_len() < separate, "{name}");
+        let c = d.constraint.as_ref().unwrap();
+        assert_eq!(
+            fused.outputs().len(),
+            12 + 6 * (c.link + c.m + c.r),
+            "{name}"
+        );
+        spec.pose_and_jacobians = None;
+        let text = format_file(module_tokens(&spec, Real::Generic)).unwrap();
+        let body = &text[text.find("pub fn pose_and_jacobians_trig").unwrap()..];
+        let body = &body[..body.find("\n    }\n").unwrap()];
+        for f in [
+            "forward_kinematics_trig(t, p)",
+            "partial_body_jacobian_trig(t, p)",
+            "constrained_jacobian_trig(t, p)",
+            "constraint_jacobian_c_trig(t, p)",
+        ] {
+            assert!(body.contains(f), "{name}: {f} in\n{body}");
+        }
+    }
+}

@@ -115,6 +115,7 @@ fn small_module() -> ModuleSpec {
         ],
         controller: None,
         joint_limits: None,
+        pose_and_jacobians: None,
     }
 }
 

@@ -954,14 +954,15 @@ pub mod ours {
     include!(concat!(env!("OUT_DIR"), "/oblique7.rs"));
     include!(concat!(env!("OUT_DIR"), "/panda_link6_rcm.rs"));
 
-    /// g_0e, J^B_0i and J^r of a generic robot's module from one `JointTrig` (7 sin_cos), as
-    /// dia10_like's.
-    macro_rules! generic_outputs {
-        ($m:ident, $t:expr, $p:expr, $out:expr) => {{
-            let pp = $m::Params { l_a: $p[0] };
-            put_pose($out, $m::forward_kinematics_trig($t, &pp));
-            *cols(&mut $out[12..]) = $m::partial_body_jacobian_trig($t, &pp);
-            *cols(&mut $out[48..]) = $m::constrained_jacobian_trig($t, &pp);
+    /// g_0e, J^B_0i and J^r of a constrained module from one `JointTrig`, by its
+    /// `pose_and_jacobians_trig` (one program for the step's outputs, as CasADi's one function
+    /// with three outputs; its J_c is not stored, so the compiler drops it).
+    macro_rules! step_outputs {
+        ($m:ident, $t:expr, $pp:expr, $out:expr) => {{
+            let (g, jbi, jr, _jc) = $m::pose_and_jacobians_trig($t, &$pp);
+            put_pose($out, g);
+            *cols(&mut $out[12..]) = jbi;
+            *cols(&mut $out[48..]) = jr;
         }};
     }
 
@@ -971,12 +972,12 @@ pub mod ours {
         core::array::from_fn(|k| q.get(k).copied().unwrap_or(T::ZERO))
     }
 
-    /// The Panda's 7 joint values, borrowed in place (as a controller holds them): a copy made
+    /// The first `N` joint values, borrowed in place (as a controller holds them): a copy made
     /// element by element just before the call would be read back as vectors while its stores
     /// are in flight, a store-to-load forwarding stall the callers do not have.
     #[inline(always)]
-    fn joints7<T: Real>(q: &[T]) -> &[T; 7] {
-        q[..7].try_into().expect("the Panda has 7 joint values")
+    fn joints<T: Real, const N: usize>(q: &[T]) -> &[T; N] {
+        q[..N].try_into().expect("q holds the robot's joint values")
     }
 
     /// `(R, p)` into `out[..12]` (R column-major, then p).
@@ -1018,20 +1019,14 @@ pub mod ours {
             }
             Case::DiaZy => {
                 // One JointTrig per control step shared by FK, J^B_0i and J^r (8 sin_cos).
-                let qq: [T; 8] = core::array::from_fn(|k| q[k]);
                 let pp = dia10_like_zy::Params { l_a: p[0] };
-                let t = dia10_like_zy::JointTrig::new(&qq);
-                let (r, pos) = dia10_like_zy::forward_kinematics_trig(&t, &pp);
-                let (rows, _) = out[..12].as_chunks_mut::<3>();
-                rows[..3].copy_from_slice(&r);
-                rows[3] = pos;
-                *cols(&mut out[12..]) = dia10_like_zy::partial_body_jacobian_trig(&t, &pp);
-                *cols(&mut out[48..]) = dia10_like_zy::constrained_jacobian_trig(&t, &pp);
+                let t = dia10_like_zy::JointTrig::new(joints(q));
+                step_outputs!(dia10_like_zy, &t, pp, out);
             }
             Case::Panda => {
                 // panda_link8 (bench-local description, no constraint): one JointTrig (7 sin_cos)
                 // shared by forward_kinematics and body_jacobian.
-                let t = panda_link8::JointTrig::new(joints7(q));
+                let t = panda_link8::JointTrig::new(joints(q));
                 let pp = panda_link8::Params::nominal();
                 put_pose(out, panda_link8::forward_kinematics_trig(&t, &pp));
                 *cols(&mut out[12..]) = panda_link8::body_jacobian_trig(&t, &pp);
@@ -1039,18 +1034,19 @@ pub mod ours {
             Case::PandaI => {
                 // panda-laparoscope: one JointTrig (7 sin_cos) shared by forward_kinematics_i
                 // (g_0i) and partial_body_jacobian (J^B_0i).
-                let t = panda_laparoscope::JointTrig::new(joints7(q));
+                let t = panda_laparoscope::JointTrig::new(joints(q));
                 let pp = panda_laparoscope::Params { l_a: p[0] };
                 put_pose(out, panda_laparoscope::forward_kinematics_i_trig(&t, &pp));
                 *cols(&mut out[12..]) = panda_laparoscope::partial_body_jacobian_trig(&t, &pp);
             }
             Case::Oblique7 => {
-                let t = oblique7::JointTrig::new(joints7(q));
-                generic_outputs!(oblique7, &t, p, out);
+                let t = oblique7::JointTrig::new(joints(q));
+                step_outputs!(oblique7, &t, oblique7::Params { l_a: p[0] }, out);
             }
             Case::PandaRcm => {
-                let t = panda_link6_rcm::JointTrig::new(joints7(q));
-                generic_outputs!(panda_link6_rcm, &t, p, out);
+                let t = panda_link6_rcm::JointTrig::new(joints(q));
+                let pp = panda_link6_rcm::Params { l_a: p[0] };
+                step_outputs!(panda_link6_rcm, &t, pp, out);
             }
         }
     }
@@ -1103,7 +1099,7 @@ pub mod ours {
     /// `sin_cos_array` of the 7 joints), the part of [`eval`] that [`eval_trig`] leaves out.
     #[inline(always)]
     pub fn panda_trig<T: Real>(q: &[T]) -> panda_laparoscope::JointTrig<T> {
-        panda_laparoscope::JointTrig::new(joints7(q))
+        panda_laparoscope::JointTrig::new(joints(q))
     }
 
     /// The `_trig` functions given precomputed sines and cosines (no trigonometry inside).
@@ -1136,12 +1132,7 @@ pub mod ours {
             }
             Case::DiaZy => {
                 let pp = dia10_like_zy::Params { l_a: p[0] };
-                let (r, pos) = dia10_like_zy::forward_kinematics_trig(&t.d, &pp);
-                let (rows, _) = out[..12].as_chunks_mut::<3>();
-                rows[..3].copy_from_slice(&r);
-                rows[3] = pos;
-                *cols(&mut out[12..]) = dia10_like_zy::partial_body_jacobian_trig(&t.d, &pp);
-                *cols(&mut out[48..]) = dia10_like_zy::constrained_jacobian_trig(&t.d, &pp);
+                step_outputs!(dia10_like_zy, &t.d, pp, out);
             }
             Case::Panda => {
                 let pp = panda_link8::Params::nominal();
@@ -1156,8 +1147,15 @@ pub mod ours {
                 );
                 *cols(&mut out[12..]) = panda_laparoscope::partial_body_jacobian_trig(&t.pi, &pp);
             }
-            Case::Oblique7 => generic_outputs!(oblique7, &t.o7, p, out),
-            Case::PandaRcm => generic_outputs!(panda_link6_rcm, &t.p6, p, out),
+            Case::Oblique7 => step_outputs!(oblique7, &t.o7, oblique7::Params { l_a: p[0] }, out),
+            Case::PandaRcm => {
+                step_outputs!(
+                    panda_link6_rcm,
+                    &t.p6,
+                    panda_link6_rcm::Params { l_a: p[0] },
+                    out
+                )
+            }
         }
     }
 }

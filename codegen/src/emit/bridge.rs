@@ -231,7 +231,22 @@ fn fk_product_program(d: &Derivation, upto: usize, tail: Option<&Transform>) -> 
 /// `J^B_0i` with `upto = i` and no tail), product form.
 fn body_jacobian_product_program(d: &Derivation, upto: usize, tail: Option<&Transform>) -> Program {
     let mut prog = new_program(d);
-    let mut b = PolyBuilder::new(&mut prog);
+    let (cols, _) = body_jacobian_walk(d, &mut prog, upto, tail);
+    prog.set_outputs(cols.into_iter().flatten().collect());
+    prog
+}
+
+/// The columns `Ad⁻¹_{g_ke} ξ_k` (2.45) of the body Jacobian of `joints[..upto]` then `tail`, built
+/// into `prog` by walking the chain from its end: `g_ke` is the suffix product
+/// `T_{k+1} ⋯ T_upto · tail`, so the walk ends with the whole product `T_1 ⋯ T_upto · tail`, which
+/// is returned beside the columns (`g_0i` for `J^B_0i`).
+fn body_jacobian_walk(
+    d: &Derivation,
+    prog: &mut Program,
+    upto: usize,
+    tail: Option<&Transform>,
+) -> (Vec<[ValueId; 6]>, NumTransform) {
+    let mut b = PolyBuilder::new(prog);
     let joints: Vec<NumTransform> = d.joint_transforms[..upto]
         .iter()
         .map(|t| b.transform(t))
@@ -260,17 +275,52 @@ fn body_jacobian_product_program(d: &Derivation, upto: usize, tail: Option<&Tran
     for k in (0..upto).rev() {
         // g = g_ke: F_k → F_e.
         let (v, w) = &twists[k];
-        let wxp = cross(&mut prog, w, &g.pos);
+        let wxp = cross(prog, w, &g.pos);
         let mut lin_in = [ValueId(0); 3];
         for i in 0..3 {
             lin_in[i] = prog.add(v[i], wxp[i]);
         }
-        let lin = rot_t_apply(&mut prog, &g.rot, &lin_in);
-        let ang = rot_t_apply(&mut prog, &g.rot, w);
+        let lin = rot_t_apply(prog, &g.rot, &lin_in);
+        let ang = rot_t_apply(prog, &g.rot, w);
         cols[k] = [lin[0], lin[1], lin[2], ang[0], ang[1], ang[2]];
-        g = joints[k].compose(&g, &mut prog);
+        g = joints[k].compose(&g, prog);
     }
-    prog.set_outputs(cols.into_iter().flatten().collect());
+    (cols, g)
+}
+
+/// The product `T_{from+1} ⋯ T_n · g_ne` built into `prog` (`g_ie` with `from = i`).
+fn chain_tail(d: &Derivation, prog: &mut Program, from: usize) -> NumTransform {
+    let mut b = PolyBuilder::new(prog);
+    let mut factors: Vec<NumTransform> = d.joint_transforms[from..]
+        .iter()
+        .map(|t| b.transform(t))
+        .collect();
+    factors.push(b.transform(&d.end_effector));
+    let mut acc = factors[0];
+    for f in &factors[1..] {
+        acc = acc.compose(f, prog);
+    }
+    acc
+}
+
+/// `g_0e`, `J^B_0i`, `J^r_0e` and `J_c` of one control step as one program, outputs in that order
+/// (`g_0e` in the [`super::Shape::Transform`] layout, the matrices column-major): the walk that
+/// builds `J^B_0i` ends with `g_0i`, so `g_0e = g_0i · g_ie` (2.21) takes one product more
+/// instead of the whole chain again, and `J^r` and `J_c` (`jr`, `jc`: the forms their own
+/// functions use) share the program's sines, cosines and common values.
+fn pose_and_jacobians_program(d: &Derivation, link: usize, jr: &Matrix, jc: &Matrix) -> Program {
+    let mut prog = new_program(d);
+    let (cols, g_0i) = body_jacobian_walk(d, &mut prog, link, None);
+    let g_ie = chain_tail(d, &mut prog, link);
+    let g_0e = g_0i.compose(&g_ie, &mut prog);
+    let mut b = PolyBuilder::new(&mut prog);
+    let jr = b.matrix(jr);
+    let jc = b.matrix(jc);
+    let mut outs = g_0e.outputs();
+    outs.extend(cols.into_iter().flatten());
+    outs.extend(jr);
+    outs.extend(jc);
+    prog.set_outputs(outs);
     prog
 }
 
@@ -283,13 +333,25 @@ const REEXPANSION_BUDGET: usize = 1_000;
 /// program of that expansion is built as well and the one with fewer operations kept (a chain
 /// of moderate length often factors better expanded; a long one only as a graph).
 fn graph_or_expanded(d: &Derivation, m: &Matrix) -> Program {
+    graph_or_expanded_form(d, m).1
+}
+
+/// [`graph_or_expanded`] with the form it chose (`m` itself or its expansion).
+fn graph_or_expanded_form(d: &Derivation, m: &Matrix) -> (Matrix, Program) {
     let graph = matrix_program(d, m);
     if !m.entries().iter().any(Poly::has_nodes) {
-        return graph;
+        return (m.clone(), graph);
     }
     match crate::derivation::expanded_within(m, REEXPANSION_BUDGET) {
-        Some(e) => cheaper(graph, matrix_program(d, &e)),
-        None => graph,
+        Some(e) => {
+            let expanded = matrix_program(d, &e);
+            if expanded.live_len() < graph.live_len() {
+                (e, expanded)
+            } else {
+                (m.clone(), graph)
+            }
+        }
+        None => (m.clone(), graph),
     }
 }
 
@@ -348,6 +410,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
         Some(fk_e) => cheaper(transform_program(d, fk_e), fk_product),
         None => fk_product,
     };
+    let fk_len = fk.live_len();
     functions.push(Function::catalogued(
         F::ForwardKinematics,
         "Forward kinematics `g_0e(q) = (R_0e, p_0e)` of the end effector",
@@ -368,6 +431,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
         size,
     ));
 
+    let mut pose_and_jacobians = None;
     if let Some(c) = &d.constraint {
         consts.push(ConstItem {
             name: "I".into(),
@@ -400,24 +464,33 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
             c.link + 1,
             n
         );
+        let (jr_form, jr) = graph_or_expanded_form(d, &c.jr);
+        let (jc_form, jc) = graph_or_expanded_form(d, &c.jc);
+        let step_separately = [fk_len, jr.live_len(), jc.live_len()];
         functions.push(Function::catalogued(
             F::ConstrainedJacobian,
             "Constrained Jacobian `J^r_0e = [Ad_{g_ei} Λ# | J^B_0e2]`, 6 × M",
             &basis,
-            graph_or_expanded(d, &c.jr),
+            jr,
             size,
         ));
         functions.push(Function::catalogued(
             F::ConstraintJacobianC,
             "Jacobian of the moving constraint `J_c = Ad_{g_ei} Λ†`, 6 × R",
             "",
-            graph_or_expanded(d, &c.jc),
+            jc,
             size,
         ));
         let jbi = cheaper(
             graph_or_expanded(d, &c.body_jacobian_i),
             body_jacobian_product_program(d, c.link, None),
         );
+        // One program for the step's g_0e, J^B_0i, J^r and J_c where it is smaller than the
+        // four functions' together.
+        let fused = pose_and_jacobians_program(d, c.link, &jr_form, &jc_form);
+        pose_and_jacobians = (fused.live_len()
+            < step_separately.iter().sum::<usize>() + jbi.live_len())
+        .then_some(fused);
         functions.push(Function::catalogued(
             F::PartialBodyJacobian,
             "Partial body Jacobian `J^B_0i(q_1..q_i)` of the chain cut at the constrained link, 6 × I",
@@ -535,6 +608,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
         functions,
         controller: super::controller::ControllerSpec::of(d),
         joint_limits: d.joint_limits.clone(),
+        pose_and_jacobians,
     }
 }
 

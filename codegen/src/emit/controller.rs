@@ -144,10 +144,7 @@ pub(crate) fn tokens(rt: &TokenStream, real: Real, spec: &ControllerSpec) -> Tok
         /// Fills everything but `g_0i` (and the offset) at the parameters `p`.
         #[inline]
         fn fill_step #generics (t: &JointTrig #args, p: &Params #args, out: &mut StepKinematics #args) {
-            out.g_0e = forward_kinematics_trig(t, p);
-            out.jb0i = partial_body_jacobian_trig(t, p);
-            out.jr = constrained_jacobian_trig(t, p);
-            out.jc = constraint_jacobian_c_trig(t, p);
+            (out.g_0e, out.jb0i, out.jr, out.jc) = pose_and_jacobians_trig(t, p);
             out.lambda_sharp = lambda_null_space(p);
             out.lambda_pinv = lambda_pinv(p);
             #task_fill

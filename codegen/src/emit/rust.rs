@@ -177,6 +177,10 @@ pub struct ModuleSpec {
     pub controller: Option<super::controller::ControllerSpec>,
     /// Joint limits `[lower, upper]`, emitted as `JOINT_LIMITS` when every joint has them.
     pub joint_limits: Option<Vec<[f64; 2]>>,
+    /// A constrained robot's `g_0e`, `J^B_0i`, `J^r_0e` and `J_c` as one program (outputs in that
+    /// order), when it is smaller than their four functions: `pose_and_jacobians_trig` is then
+    /// written from it, otherwise it calls the four.
+    pub pose_and_jacobians: Option<Program>,
 }
 
 impl ModuleSpec {
@@ -694,19 +698,10 @@ fn function_tokens(f: &Function, ty: &Ty, n: usize) -> TokenStream {
     } else {
         (value_q, value_t)
     };
-    let live = f.program.live();
-    let uses_q = f
-        .program
-        .ops()
-        .iter()
-        .zip(&live)
-        .any(|(op, &l)| l && matches!(op, Op::Joint(_) | Op::Sin(_) | Op::Cos(_)));
-    let uses_p = f
-        .program
-        .ops()
-        .iter()
-        .zip(&live)
-        .any(|(op, &l)| l && matches!(op, Op::Param(_)));
+    let uses_q = uses(&f.program, |op| {
+        matches!(op, Op::Joint(_) | Op::Sin(_) | Op::Cos(_))
+    });
+    let uses_p = uses(&f.program, |op| matches!(op, Op::Param(_)));
     let q = if uses_q { quote!(q) } else { quote!(_q) };
     let tt = if uses_q { quote!(t) } else { quote!(_t) };
     let p = if uses_p { quote!(p) } else { quote!(_p) };
@@ -744,6 +739,88 @@ fn function_tokens(f: &Function, ty: &Ty, n: usize) -> TokenStream {
             #value_t
         }
     }
+}
+
+/// Whether a live operation of `prog` matches `f` (joint values, parameters ...).
+fn uses(prog: &Program, f: impl Fn(&Op) -> bool) -> bool {
+    prog.ops().iter().zip(prog.live()).any(|(op, l)| l && f(op))
+}
+
+/// `pose_and_jacobians_trig` of a constrained robot: `g_0e`, `J^B_0i`, `J^r_0e` and `J_c` from one
+/// [`JointTrig`], written from [`ModuleSpec::pose_and_jacobians`] when there is one (the chain
+/// walked once), from the four `_trig` functions otherwise.
+fn pose_and_jacobians_tokens(spec: &ModuleSpec, ty: &Ty) -> Option<TokenStream> {
+    spec.function(catalogue::Function::ConstrainedJacobian)?;
+    let size = |name: &str| spec.consts.iter().find(|c| c.name == name).map(|c| c.value);
+    let (i, m, r) = (size("I")?, size("M")?, size("R")?);
+    let t = ty.t();
+    let generics = ty.generics();
+    let args = ty.args();
+    let tuple = quote!((([[#t; 3]; 3], [#t; 3]), [[#t; 6]; I], [[#t; 6]; M], [[#t; 6]; R]));
+    let ret = quote!(PoseAndJacobians #args);
+    let mut doc = String::from(
+        "`(g_0e, J^B_0i, J^r_0e, J_c)` from one [`JointTrig`]: the values of \
+         [`forward_kinematics_trig`], [`partial_body_jacobian_trig`], \
+         [`constrained_jacobian_trig`] and [`constraint_jacobian_c_trig`], what a control step \
+         needs, thesis (2.21), (3.13), (3.15) and (3.33).\n\n",
+    );
+    let (p, value) = match &spec.pose_and_jacobians {
+        Some(prog) => {
+            let (stmts, outs) = body(prog, ty, Access::Trig);
+            let (_, g) = shape_tokens(Shape::Transform, ty, &outs[..12]);
+            let mat = |range: std::ops::Range<usize>, cols: usize| {
+                shape_tokens(Shape::Matrix { rows: 6, cols }, ty, &outs[range]).1
+            };
+            let jbi = mat(12..12 + 6 * i, i);
+            let jr = mat(12 + 6 * i..12 + 6 * (i + m), m);
+            let jc = mat(12 + 6 * (i + m)..12 + 6 * (i + m + r), r);
+            let _ = write!(
+                doc,
+                "One pass along the chain: the walk that builds `J^B_0i` ends with `g_0i`, so \
+                 `g_0e = g_0i g_ie` costs one product more, and the four share their common \
+                 values.\n\nOperations: {}.",
+                prog.op_counts()
+            );
+            let p = if uses(prog, |op| matches!(op, Op::Param(_))) {
+                quote!(p)
+            } else {
+                quote!(_p)
+            };
+            (p, quote! { #(#stmts)* (#g, #jbi, #jr, #jc) })
+        }
+        None => {
+            doc.push_str(
+                "The four functions called in turn (one program for all four is no smaller).",
+            );
+            (
+                quote!(p),
+                quote! {
+                    (
+                        forward_kinematics_trig(t, p),
+                        partial_body_jacobian_trig(t, p),
+                        constrained_jacobian_trig(t, p),
+                        constraint_jacobian_c_trig(t, p),
+                    )
+                },
+            )
+        }
+    };
+    let doc = doc_attrs(&doc);
+    // Always inlined: called once per step, its four results then go straight into the caller's
+    // storage instead of through a returned copy (measured: dia10_like 93 ns out of line, see
+    // BENCHMARKS.md).
+    Some(quote! {
+        /// `(g_0e, J^B_0i, J^r_0e, J_c)` as [`pose_and_jacobians_trig`] returns them: `(R, p)` with
+        /// `R` column-major, then the three matrices column-major.
+        pub type PoseAndJacobians #args = #tuple;
+
+        #doc
+        #[inline(always)]
+        #[must_use]
+        pub fn pose_and_jacobians_trig #generics (t: &JointTrig #args, #p: &Params #args) -> #ret {
+            #value
+        }
+    })
 }
 
 fn params_tokens(spec: &ModuleSpec, ty: &Ty) -> TokenStream {
@@ -871,7 +948,10 @@ fn trig_tokens(spec: &ModuleSpec, ty: &Ty) -> TokenStream {
 
         impl #generics JointTrig #args {
             /// The sines and cosines of the used joints, in one `sin_cos_array` call.
-            #[inline]
+            // Always inlined: out of line (merged with every identical `new` of the program)
+            // its sines and cosines went to the caller through memory (the Panda with an RCM:
+            // 65 ns a step instead of 56, BENCHMARKS.md).
+            #[inline(always)]
             #[must_use]
             pub fn new(#q: &[#t; N]) -> Self {
                 #stmts
@@ -939,6 +1019,7 @@ pub fn module_items_in(spec: &ModuleSpec, real: Real, runtime: &Runtime) -> Toke
         .functions
         .iter()
         .map(|f| function_tokens(f, &ty, spec.joints));
+    let step = pose_and_jacobians_tokens(spec, &ty);
     let controller = spec
         .controller
         .as_ref()
@@ -949,6 +1030,7 @@ pub fn module_items_in(spec: &ModuleSpec, real: Real, runtime: &Runtime) -> Toke
         #params
         #trig
         #(#fns)*
+        #step
         #controller
     }
 }

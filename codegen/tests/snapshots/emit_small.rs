@@ -47,7 +47,7 @@ pub mod small {
     }
     impl<T: ::trocar::Real> JointTrig<T> {
         /// The sines and cosines of the used joints, in one `sin_cos_array` call.
-        #[inline]
+        #[inline(always)]
         #[must_use]
         pub fn new(q: &[T; N]) -> Self {
             let ([s7, s8], [c7, c8]) = <T as ::trocar::Real>::sin_cos_array(

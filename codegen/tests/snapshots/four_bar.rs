@@ -72,7 +72,7 @@ pub mod four_bar {
     }
     impl<T: ::trocar::Real> JointTrig<T> {
         /// The sines and cosines of the used joints, in one `sin_cos_array` call.
-        #[inline]
+        #[inline(always)]
         #[must_use]
         pub fn new(q: &[T; N]) -> Self {
             let ([s1, s2, s3, s4], [c1, c2, c3, c4]) = <T as ::trocar::Real>::sin_cos_array(

@@ -396,6 +396,9 @@ macro_rules! check_robot {
             // user of the f32 module sees (input rounding included).
             let mut worst32_exact = [0.0f64; 8];
             let mut worst_fd = 0.0f64;
+            // pose_and_jacobians_trig: [g_0e, J^B_0i, J^r, J_c] in f64 and in f32.
+            let mut worst_step = [0.0f64; 4];
+            let mut worst_step32 = [0.0f64; 4];
             for s in 0..SAMPLES {
                 let mut q = [0.0f64; m::N];
                 for x in q.iter_mut() {
@@ -465,6 +468,26 @@ macro_rules! check_robot {
                 assert_eq!(m::partial_body_jacobian_trig(&t, &p), m::partial_body_jacobian(&q, &p));
                 assert_eq!(m::manipulability_trig(&t, &p), m::manipulability(&q, &p));
 
+                // The step's four outputs from one program (one pass along the chain).
+                let (g0e, jbi, jr, jc) = m::pose_and_jacobians_trig(&t, &p);
+                for (w, e) in worst_step.iter_mut().zip([
+                    rel_err(&transform_matrix(&g0e), &fk_ref),
+                    rel_err(&from_cols(&jbi), &jbi_ref),
+                    rel_err(&from_cols(&jr), &jr_ref),
+                    rel_err(&from_cols(&jc), &jc_ref),
+                ]) {
+                    *w = w.max(e);
+                }
+                let (g0e, jbi, jr, jc) = m::pose_and_jacobians_trig(&m::JointTrig::new(&q32), &p32);
+                for (w, e) in worst_step32.iter_mut().zip([
+                    rel_err(&transform_matrix(&g0e), &fk_ref32),
+                    rel_err(&from_cols(&jbi), &jbi_ref32),
+                    rel_err(&from_cols(&jr), &jr_ref32),
+                    rel_err(&from_cols(&jc), &jc_ref32),
+                ]) {
+                    *w = w.max(e);
+                }
+
                 // Finite differences of the emitted FK vs the emitted body Jacobians.
                 if s % 10 == 0 {
                     let fk = |x: &[f64]| {
@@ -495,6 +518,13 @@ macro_rules! check_robot {
                 assert!(*e <= F32_BOUND, "f32 output {k} against f64 at the unrounded inputs: error {e:e}");
             }
             assert!(worst_fd <= 1e-6, "finite differences: {worst_fd:e}");
+            println!("pose_and_jacobians_trig: f64 worst {worst_step:?}; f32 {worst_step32:?}");
+            for (k, e) in worst_step.iter().enumerate() {
+                assert!(*e <= 1e-12, "pose_and_jacobians_trig f64 output {k}: error {e:e}");
+            }
+            for (k, e) in worst_step32.iter().enumerate() {
+                assert!(*e <= F32_BOUND, "pose_and_jacobians_trig f32 output {k}: error {e:e}");
+            }
         }
     };
 }

@@ -53,7 +53,7 @@ pub mod chain11_wide {
     }
     impl JointTrig {
         /// The sines and cosines of the used joints, in one `sin_cos_array` call.
-        #[inline]
+        #[inline(always)]
         #[must_use]
         pub fn new(q: &[f32; N]) -> Self {
             let (
@@ -7033,6 +7033,843 @@ pub mod chain11_wide {
             [<f32 as ::trocar::Real>::ZERO, p.l_a, <f32 as ::trocar::Real>::ZERO],
         )
     }
+    /// `(g_0e, J^B_0i, J^r_0e, J_c)` as [`pose_and_jacobians_trig`] returns them: `(R, p)` with
+    /// `R` column-major, then the three matrices column-major.
+    pub type PoseAndJacobians = (
+        ([[f32; 3]; 3], [f32; 3]),
+        [[f32; 6]; I],
+        [[f32; 6]; M],
+        [[f32; 6]; R],
+    );
+    /// `(g_0e, J^B_0i, J^r_0e, J_c)` from one [`JointTrig`]: the values of [`forward_kinematics_trig`], [`partial_body_jacobian_trig`], [`constrained_jacobian_trig`] and [`constraint_jacobian_c_trig`], what a control step needs, thesis (2.21), (3.13), (3.15) and (3.33).
+    ///
+    /// One pass along the chain: the walk that builds `J^B_0i` ends with `g_0i`, so `g_0e = g_0i g_ie` costs one product more, and the four share their common values.
+    ///
+    /// Operations: 320 add, 473 mul, 1 div, 0 sqrt, 11 trig (sin_cos), 7 neg, 0 abs.
+    #[inline(always)]
+    #[must_use]
+    pub fn pose_and_jacobians_trig(t: &JointTrig, p: &Params) -> PoseAndJacobians {
+        let x0 = t.sin[4] * t.cos[5];
+        let x1 = t.sin[4] * t.sin[5];
+        let x2 = 0.01_f32 * t.cos[4];
+        let x3 = <f32 as ::trocar::Real>::mul_add(-0.12_f32, t.sin[4], x2);
+        let x4 = t.cos[4] * t.cos[5];
+        let x5 = t.cos[4] * t.sin[5];
+        let x6 = t.cos[3] * t.cos[4];
+        let x7 = <f32 as ::trocar::Real>::mul_add(t.sin[3], t.sin[5], -(t.cos[3] * x0));
+        let x8 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x1, t.sin[3] * t.cos[5]);
+        let x9 = 0.13_f32
+            + (0.09_f32
+                + <f32 as ::trocar::Real>::mul_add(
+                    0.01_f32,
+                    t.sin[4],
+                    0.12_f32 * t.cos[4],
+                ));
+        let x10 = t.sin[3] * t.cos[4];
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x0, t.cos[3] * t.sin[5]);
+        let x12 = <f32 as ::trocar::Real>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x1));
+        let x13 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x3, 0.01_f32 * t.cos[3]);
+        let x14 = 0.015_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[3], x3, -(0.01_f32 * t.sin[3]))
+            - 0.01_f32;
+        let x15 = <f32 as ::trocar::Real>::mul_add(t.cos[2], t.sin[4], t.sin[2] * x10);
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x4, -(t.sin[2] * x11));
+        let x17 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x5, t.sin[2] * x12);
+        let x18 = 0.1_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[2], x9, t.sin[2] * x13);
+        let x19 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[2],
+            t.sin[4],
+            -(t.cos[2] * x10),
+        );
+        let x20 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x4, t.cos[2] * x11);
+        let x21 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x12, -(t.sin[2] * x5));
+        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x6, -(t.sin[1] * x15));
+        let x23 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x7, -(t.sin[1] * x16));
+        let x24 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x8, t.sin[1] * x17);
+        let x25 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x14, -(t.sin[1] * x18));
+        let x26 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x6, t.cos[1] * x15);
+        let x27 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x7, t.cos[1] * x16);
+        let x28 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x8, -(t.cos[1] * x17));
+        let x29 = 0.01_f32
+            + (0.02_f32
+                + <f32 as ::trocar::Real>::mul_add(t.sin[2], x9, -(t.cos[2] * x13)));
+        let x30 = <f32 as ::trocar::Real>::mul_add(t.cos[0], x22, t.sin[0] * x19);
+        let x31 = <f32 as ::trocar::Real>::mul_add(t.cos[0], x23, t.sin[0] * x20);
+        let x32 = <f32 as ::trocar::Real>::mul_add(t.cos[0], x24, t.sin[0] * x21);
+        let x33 = <f32 as ::trocar::Real>::mul_add(t.cos[0], x19, -(t.sin[0] * x22));
+        let x34 = <f32 as ::trocar::Real>::mul_add(t.cos[0], x20, -(t.sin[0] * x23));
+        let x35 = <f32 as ::trocar::Real>::mul_add(t.cos[0], x21, -(t.sin[0] * x24));
+        let x36 = t.cos[6] * t.cos[7];
+        let x37 = t.cos[6] * t.sin[7];
+        let x38 = t.sin[6] * t.cos[7];
+        let x39 = t.sin[6] * t.sin[7];
+        let x40 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[6],
+            t.sin[8],
+            -(t.cos[8] * x37),
+        );
+        let x41 = t.sin[6] * t.cos[8];
+        let x42 = <f32 as ::trocar::Real>::mul_add(t.sin[8], x37, x41);
+        let x43 = 0.02_f32 * t.sin[6];
+        let x44 = t.cos[7] * t.cos[8];
+        let x45 = t.cos[7] * t.sin[8];
+        let x46 = 0.1_f32 * t.cos[7];
+        let x47 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x39, t.cos[6] * t.sin[8]);
+        let x48 = t.cos[6] * t.cos[8];
+        let x49 = <f32 as ::trocar::Real>::mul_add(-t.sin[8], x39, x48);
+        let x50 = 0.02_f32 * t.cos[6];
+        let x51 = t.cos[9] * x36;
+        let x52 = <f32 as ::trocar::Real>::mul_add(-t.sin[9], x42, x51);
+        let x53 = <f32 as ::trocar::Real>::mul_add(t.sin[9], x36, t.cos[9] * x42);
+        let x54 = t.sin[7] * t.cos[9];
+        let x55 = <f32 as ::trocar::Real>::mul_add(t.sin[9], x45, x54);
+        let x56 = t.sin[7] * t.sin[9];
+        let x57 = t.cos[9] * x45;
+        let x58 = x56 - x57;
+        let x59 = <f32 as ::trocar::Real>::mul_add(t.cos[9], x38, t.sin[9] * x49);
+        let x60 = <f32 as ::trocar::Real>::mul_add(t.cos[9], x49, -(t.sin[9] * x38));
+        let x61 = <f32 as ::trocar::Real>::mul_add(t.cos[10], x52, t.sin[10] * x40);
+        let x62 = t.cos[10] * x40;
+        let x63 = <f32 as ::trocar::Real>::mul_add(-t.sin[10], x52, x62);
+        let x64 = <f32 as ::trocar::Real>::mul_add(t.cos[10], x55, t.sin[10] * x44);
+        let x65 = t.cos[10] * x44;
+        let x66 = <f32 as ::trocar::Real>::mul_add(-t.sin[10], x55, x65);
+        let x67 = 0.02_f32 * x58;
+        let x68 = <f32 as ::trocar::Real>::mul_add(t.sin[10], x47, -(t.cos[10] * x59));
+        let x69 = <f32 as ::trocar::Real>::mul_add(t.sin[10], x59, t.cos[10] * x47);
+        let x70 = <f32 as ::trocar::Real>::mul_add(
+            0.09_f32,
+            x63,
+            <f32 as ::trocar::Real>::mul_add(0.01_f32, t.sin[6], 0.02_f32)
+                + (x43 - <f32 as ::trocar::Real>::mul_add(0.01_f32, x36, 0.1_f32 * x37))
+                + <f32 as ::trocar::Real>::mul_add(0.015_f32, x36, 0.13_f32 * x40)
+                + <f32 as ::trocar::Real>::mul_add(0.09_f32, x40, -(0.02_f32 * x53)),
+        );
+        let x71 = <f32 as ::trocar::Real>::mul_add(
+            0.09_f32,
+            x66,
+            0.22999999999999998_f32
+                + <f32 as ::trocar::Real>::mul_add(-0.01_f32, t.sin[7], x46)
+                + <f32 as ::trocar::Real>::mul_add(0.015_f32, t.sin[7], 0.13_f32 * x44)
+                + <f32 as ::trocar::Real>::mul_add(0.09_f32, x44, -x67),
+        );
+        let x72 = <f32 as ::trocar::Real>::mul_add(
+            0.09_f32,
+            x69,
+            <f32 as ::trocar::Real>::mul_add(
+                0.01_f32,
+                t.cos[6],
+                <f32 as ::trocar::Real>::mul_add(0.01_f32, x38, 0.1_f32 * x39) + x50,
+            ) + <f32 as ::trocar::Real>::mul_add(0.13_f32, x47, -(0.015_f32 * x38))
+                + <f32 as ::trocar::Real>::mul_add(0.09_f32, x47, -(0.02_f32 * x60)),
+        );
+        let x73 = t.sin[8] * t.sin[9];
+        let x74 = t.cos[8] * t.sin[10];
+        let x75 = <f32 as ::trocar::Real>::mul_add(t.cos[10], x73, x74);
+        let x76 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x75, t.cos[10] * x54);
+        let x77 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x73, x54);
+        let x78 = <f32 as ::trocar::Real>::mul_add(-t.sin[10], x77, x65);
+        let x79 = p.l_a - 0.23_f32;
+        let x80 = 0.005_f32 * t.sin[7];
+        let x81 = x79 - x80;
+        let x82 = <f32 as ::trocar::Real>::mul_add(0.03_f32, t.sin[8], 0.22_f32);
+        let x83 = t.cos[7] * x82;
+        let x84 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x81 - x46, -x83);
+        let x85 = 0.22_f32 * t.sin[8];
+        let x86 = 0.03_f32 + x85;
+        let x87 = t.cos[9] * x86;
+        let x88 = 0.02_f32 * t.cos[8];
+        let x89 = x88 - x87;
+        let x90 = t.sin[7] * x89;
+        let x91 = 0.02_f32 * t.sin[9];
+        let x92 = 0.005_f32 - x91;
+        let x93 = t.sin[7] * x92;
+        let x94 = x46 + 0.23_f32;
+        let x95 = 0.02_f32 * t.cos[9];
+        let x96 = 0.03_f32 * t.cos[8];
+        let x97 = t.cos[7] * (x95 - x96);
+        let x98 = <f32 as ::trocar::Real>::mul_add(t.sin[8], x93 + (x94 - p.l_a), x97);
+        let x99 = t.sin[7] * t.sin[8];
+        let x100 = <f32 as ::trocar::Real>::mul_add(t.cos[9], x99, t.cos[7] * t.sin[9]);
+        let x101 = 0.09_f32 * x100;
+        let x102 = 0.23_f32 - p.l_a;
+        let x103 = t.sin[7] * x102;
+        let x104 = 0.005_f32 + x103;
+        let x105 = t.cos[7] * x79;
+        let x106 = 0.22_f32 * t.cos[8];
+        let x107 = 0.1_f32 + x106;
+        let x108 = x105 - x107;
+        let x109 = x92 + x103;
+        let x110 = 0.09_f32 * t.cos[9];
+        let x111 = 0.23_f32 + x80;
+        let x112 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x46 + x111 - p.l_a, x83);
+        let x113 = <f32 as ::trocar::Real>::mul_add(t.sin[7], x79, -0.005_f32);
+        let x114 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x102, x107);
+        let x115 = 0.1_f32 * t.cos[8];
+        let x116 = x82 + x115;
+        let x117 = 0.09_f32 * t.cos[10];
+        let x118 = x116 + x117;
+        let x119 = t.cos[7] * x118;
+        let x120 = 0.22_f32 + x117;
+        let x121 = t.sin[8] * x120;
+        let x122 = t.sin[9] * (0.03_f32 + x121);
+        let x123 = 0.09_f32 * x74;
+        let x124 = t.sin[7] * (x122 + x123);
+        let x125 = t.cos[8] * x120;
+        let x126 = 0.1_f32 + x125;
+        let x127 = 0.09_f32 * t.sin[10];
+        let x128 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[9],
+            x105 - x126,
+            t.sin[8] * <f32 as ::trocar::Real>::mul_add(t.cos[9], x113, x127),
+        );
+        let x129 = t.sin[7] * x75;
+        let x130 = t.cos[10] * (t.cos[7] * t.cos[9]);
+        let x131 = x130 - x129;
+        let x132 = t.sin[8] * t.sin[10];
+        let x133 = t.cos[10] * (t.cos[8] * t.sin[9]);
+        let x134 = x132 - x133;
+        let x135 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x131, t.sin[6] * x134);
+        let x136 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[10],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[9],
+                <f32 as ::trocar::Real>::mul_add(t.cos[6], x99, x41),
+                -x51,
+            ),
+            x62,
+        );
+        let x137 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x100, t.cos[9] * x41);
+        let x138 = x43 + 0.03_f32;
+        let x139 = t.sin[8] * x138;
+        let x140 = 0.22_f32 + x115;
+        let x141 = t.sin[7] * (x139 + x140);
+        let x142 = t.cos[8] * <f32 as ::trocar::Real>::mul_add(0.005_f32, t.cos[7], x50);
+        let x143 = t.cos[9] * (x85 + x138);
+        let x144 = <f32 as ::trocar::Real>::mul_add(0.1_f32, t.sin[8], x95);
+        let x145 = x91 - 0.005_f32;
+        let x146 = t.cos[7] * x145;
+        let x147 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            <f32 as ::trocar::Real>::mul_add(-t.cos[8], x138, x144),
+            t.sin[8] * (x146 - x50),
+        );
+        let x148 = x57 - x56;
+        let x149 = 0.02_f32 * t.cos[7];
+        let x150 = t.sin[7] * <f32 as ::trocar::Real>::mul_add(t.sin[6], x86, 0.02_f32);
+        let x151 = 0.02_f32 * x47;
+        let x152 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[6],
+            <f32 as ::trocar::Real>::mul_add(
+                t.sin[8],
+                <f32 as ::trocar::Real>::mul_add(t.sin[7], x145, x79 - x46),
+                t.cos[7] * (x96 - x95),
+            ),
+            t.cos[8] * <f32 as ::trocar::Real>::mul_add(t.cos[6], x109, x149),
+        );
+        let x153 = t.sin[6] * x100;
+        let x154 = t.cos[9] * x48;
+        let x155 = x153 - x154;
+        let x156 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[6],
+            x129 - x130,
+            t.cos[6] * x134,
+        );
+        let x157 = t.cos[8] * t.cos[10];
+        let x158 = t.sin[10] * x73;
+        let x159 = t.cos[9] * (t.cos[7] * t.sin[10]);
+        let x160 = t.sin[9] * t.sin[10];
+        let x161 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            t.cos[10],
+            t.cos[8] * x160,
+        );
+        let x162 = t.cos[6] * x161;
+        let x163 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[6],
+            <f32 as ::trocar::Real>::mul_add(t.sin[7], x157 - x158, x159),
+            x162,
+        );
+        let x164 = x154 - x153;
+        let x165 = x144 - x96;
+        let x166 = <f32 as ::trocar::Real>::mul_add(0.22_f32, t.cos[10], 0.09_f32);
+        let x167 = t.cos[9] * x166;
+        let x168 = 0.005_f32 * t.sin[9];
+        let x169 = x168 - 0.02_f32;
+        let x170 = <f32 as ::trocar::Real>::mul_add(-0.005_f32, t.cos[9], x127);
+        let x171 = t.cos[9] * t.sin[10];
+        let x172 = t.cos[9] * t.cos[10];
+        let x173 = <f32 as ::trocar::Real>::ONE
+            / <f32 as ::trocar::Real>::mul_add(
+                p.l_a,
+                p.l_a,
+                <f32 as ::trocar::Real>::ONE,
+            );
+        let x174 = t.cos[8] * x111;
+        let x175 = t.sin[9] * <f32 as ::trocar::Real>::mul_add(t.cos[7], x116, x174);
+        let x176 = <f32 as ::trocar::Real>::mul_add(t.sin[8], x93 + x94, x97);
+        let x177 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[10],
+            x90 - x175,
+            <f32 as ::trocar::Real>::mul_add(t.sin[10], x176, -x101),
+        );
+        let x178 = 0.23_f32 * t.sin[7];
+        let x179 = 0.005_f32 + x178;
+        let x180 = t.sin[9] * x179;
+        let x181 = <f32 as ::trocar::Real>::mul_add(0.23_f32, t.cos[7], 0.1_f32);
+        let x182 = t.cos[9] * (x106 + x181);
+        let x183 = <f32 as ::trocar::Real>::mul_add(t.sin[8], 0.02_f32 - x180, x182);
+        let x184 = x145 - x178;
+        let x185 = <f32 as ::trocar::Real>::mul_add(t.sin[7], x87 - x88, x175);
+        let x186 = <f32 as ::trocar::Real>::mul_add(t.sin[8], x180 - 0.02_f32, -x182);
+        let x187 = <f32 as ::trocar::Real>::mul_add(t.cos[9], x119 + x174, -x124);
+        let x188 = t.sin[9] * (x125 + x181);
+        let x189 = t.cos[9] * x179;
+        let x190 = x179 - x91;
+        (
+            (
+                [
+                    [
+                        <f32 as ::trocar::Real>::mul_add(
+                            x32,
+                            x68,
+                            <f32 as ::trocar::Real>::mul_add(x30, x61, x31 * x64),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            x28,
+                            x68,
+                            <f32 as ::trocar::Real>::mul_add(x26, x61, x27 * x64),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            x35,
+                            x68,
+                            <f32 as ::trocar::Real>::mul_add(x33, x61, x34 * x64),
+                        ),
+                    ],
+                    [
+                        <f32 as ::trocar::Real>::mul_add(
+                            x32,
+                            x69,
+                            <f32 as ::trocar::Real>::mul_add(x30, x63, x31 * x66),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            x28,
+                            x69,
+                            <f32 as ::trocar::Real>::mul_add(x26, x63, x27 * x66),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            x35,
+                            x69,
+                            <f32 as ::trocar::Real>::mul_add(x33, x63, x34 * x66),
+                        ),
+                    ],
+                    [
+                        <f32 as ::trocar::Real>::mul_add(
+                            x32,
+                            x60,
+                            <f32 as ::trocar::Real>::mul_add(x30, x53, x31 * x58),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            x28,
+                            x60,
+                            <f32 as ::trocar::Real>::mul_add(x26, x53, x27 * x58),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            x35,
+                            x60,
+                            <f32 as ::trocar::Real>::mul_add(x33, x53, x34 * x58),
+                        ),
+                    ],
+                ],
+                [
+                    0.02_f32
+                        + <f32 as ::trocar::Real>::mul_add(t.cos[0], x25, t.sin[0] * x29)
+                        + <f32 as ::trocar::Real>::mul_add(
+                            x32,
+                            x72,
+                            <f32 as ::trocar::Real>::mul_add(x30, x70, x31 * x71),
+                        ),
+                    0.12_f32
+                        + (0.11_f32
+                            + <f32 as ::trocar::Real>::mul_add(
+                                t.sin[1],
+                                x14,
+                                t.cos[1] * x18,
+                            ))
+                        + <f32 as ::trocar::Real>::mul_add(
+                            x28,
+                            x72,
+                            <f32 as ::trocar::Real>::mul_add(x26, x70, x27 * x71),
+                        ),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[0], x29, -(t.sin[0] * x25))
+                        + <f32 as ::trocar::Real>::mul_add(
+                            x35,
+                            x72,
+                            <f32 as ::trocar::Real>::mul_add(x33, x70, x34 * x71),
+                        ),
+                ],
+            ),
+            [
+                [
+                    <f32 as ::trocar::Real>::mul_add(x22, x29, -(x19 * x25)),
+                    <f32 as ::trocar::Real>::mul_add(x23, x29, -(x20 * x25)),
+                    <f32 as ::trocar::Real>::mul_add(x24, x29, -(x21 * x25)),
+                    x26,
+                    x27,
+                    x28,
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(x14, x15, -(x6 * x18)),
+                    <f32 as ::trocar::Real>::mul_add(x14, x16, -(x7 * x18)),
+                    -<f32 as ::trocar::Real>::mul_add(x8, x18, x14 * x17),
+                    x19,
+                    x20,
+                    x21,
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(t.sin[4], x13, -(x9 * x10)),
+                    <f32 as ::trocar::Real>::mul_add(x4, x13, x9 * x11),
+                    <f32 as ::trocar::Real>::mul_add(x9, x12, -(x5 * x13)),
+                    x6,
+                    x7,
+                    x8,
+                ],
+                [
+                    -x2,
+                    <f32 as ::trocar::Real>::mul_add(0.01_f32, x0, -(t.sin[5] * x3)),
+                    -<f32 as ::trocar::Real>::mul_add(0.01_f32, x1, t.cos[5] * x3),
+                    t.sin[4],
+                    x4,
+                    -x5,
+                ],
+                [
+                    -0.12_f32,
+                    0.01_f32 * t.cos[5],
+                    -(0.01_f32 * t.sin[5]),
+                    <f32 as ::trocar::Real>::ZERO,
+                    t.sin[5],
+                    t.cos[5],
+                ],
+                [
+                    <f32 as ::trocar::Real>::ZERO,
+                    <f32 as ::trocar::Real>::ZERO,
+                    <f32 as ::trocar::Real>::ZERO,
+                    <f32 as ::trocar::Real>::ONE,
+                    <f32 as ::trocar::Real>::ZERO,
+                    <f32 as ::trocar::Real>::ZERO,
+                ],
+            ],
+            [
+                [
+                    x76,
+                    x78,
+                    x58,
+                    <f32 as ::trocar::Real>::ZERO,
+                    <f32 as ::trocar::Real>::ZERO,
+                    <f32 as ::trocar::Real>::ZERO,
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.cos[6],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.cos[10],
+                            <f32 as ::trocar::Real>::mul_add(t.sin[9], x84, x90),
+                            <f32 as ::trocar::Real>::mul_add(t.sin[10], x98, -x101),
+                        ),
+                        t.sin[6]
+                            * <f32 as ::trocar::Real>::mul_add(
+                                t.cos[10],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.sin[8],
+                                    <f32 as ::trocar::Real>::mul_add(t.sin[9], x104, -0.02_f32),
+                                    t.cos[9] * x108,
+                                ),
+                                t.cos[8]
+                                    * <f32 as ::trocar::Real>::mul_add(t.sin[10], x109, -x110),
+                            ),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[10],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[9],
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[6],
+                                x112,
+                                t.sin[6] * (t.sin[8] * x113),
+                            ),
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[9],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.sin[6],
+                                    x114,
+                                    t.sin[7] * (t.cos[6] * x86),
+                                ),
+                                0.02_f32 * x40,
+                            ),
+                        ),
+                        t.cos[10]
+                            * <f32 as ::trocar::Real>::mul_add(
+                                t.cos[6],
+                                x98,
+                                t.sin[6] * (t.cos[8] * x109),
+                            ),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.cos[6],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.cos[9],
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[8],
+                                x111 - p.l_a,
+                                x119,
+                            ),
+                            -x124,
+                        ),
+                        t.sin[6] * x128,
+                    ),
+                    x135,
+                    x136,
+                    x137,
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.cos[10],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[9],
+                            x142 - x141,
+                            t.cos[7] * (x143 - x88),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[10],
+                            x147,
+                            0.09_f32 * x148,
+                        ),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[10],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[9],
+                            x141 - x142,
+                            t.cos[7] * (x88 - x143),
+                        ),
+                        t.cos[10] * x147,
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.cos[9],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[7],
+                            x139 + (x117 + x140),
+                            -x142,
+                        ),
+                        t.cos[7]
+                            * <f32 as ::trocar::Real>::mul_add(
+                                t.sin[9],
+                                x121 + x138,
+                                x123,
+                            ),
+                    ),
+                    x76,
+                    x78,
+                    x58,
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.cos[10],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[9],
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[6],
+                                x112,
+                                t.sin[8]
+                                    * <f32 as ::trocar::Real>::mul_add(t.cos[6], x104, x149),
+                            ),
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[9],
+                                <f32 as ::trocar::Real>::mul_add(t.cos[6], x108, x150),
+                                -x151,
+                            ),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[10],
+                            x152,
+                            0.09_f32 * x155,
+                        ),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[10],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[9],
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[6],
+                                x84,
+                                t.sin[8]
+                                    * <f32 as ::trocar::Real>::mul_add(t.cos[6], x113, -x149),
+                            ),
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[9],
+                                <f32 as ::trocar::Real>::mul_add(t.cos[6], x114, -x150),
+                                x151,
+                            ),
+                        ),
+                        t.cos[10] * x152,
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[6],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.cos[9],
+                            <f32 as ::trocar::Real>::mul_add(t.cos[8], x81, -x119),
+                            x124,
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(t.cos[6], x128, x67),
+                    ),
+                    x156,
+                    x163,
+                    x164,
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[7],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[10],
+                            x165,
+                            -(t.sin[9]
+                                * <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[10],
+                                    x116,
+                                    0.09_f32,
+                                )),
+                        ),
+                        t.cos[7]
+                            * <f32 as ::trocar::Real>::mul_add(
+                                t.sin[8],
+                                <f32 as ::trocar::Real>::mul_add(t.sin[10], x145, x167),
+                                t.cos[10]
+                                    * <f32 as ::trocar::Real>::mul_add(
+                                        t.cos[8],
+                                        x169,
+                                        0.03_f32 * t.cos[9],
+                                    ),
+                            ),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[10],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[9],
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[7],
+                                x116,
+                                -(0.005_f32 * x44),
+                            ),
+                            t.cos[7] * x89,
+                        ),
+                        t.cos[10]
+                            * <f32 as ::trocar::Real>::mul_add(
+                                t.sin[7],
+                                x165,
+                                t.sin[8] * x146,
+                            ),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.cos[7],
+                        <f32 as ::trocar::Real>::mul_add(t.cos[8], x170, x122),
+                        t.sin[7] * (t.cos[9] * x118),
+                    ),
+                    x76,
+                    x78,
+                    x58,
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.cos[8],
+                        <f32 as ::trocar::Real>::mul_add(t.sin[10], x92, -x167),
+                        t.cos[10]
+                            * <f32 as ::trocar::Real>::mul_add(
+                                t.sin[8],
+                                x169,
+                                -(0.1_f32 * t.cos[9]),
+                            ),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[10],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[8],
+                            0.02_f32 - x168,
+                            t.cos[9] * x107,
+                        ),
+                        t.cos[8] * (t.cos[10] * x92),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(t.sin[8], x170, -(t.sin[9] * x126)),
+                    x134,
+                    x161,
+                    t.cos[8] * t.cos[9],
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(0.02_f32, x171, -(t.sin[9] * x166)),
+                    <f32 as ::trocar::Real>::mul_add(0.22_f32, x160, 0.02_f32 * x172),
+                    t.cos[9] * x120,
+                    x172,
+                    -x171,
+                    t.sin[9],
+                ],
+                [
+                    -(0.02_f32 * t.cos[10]),
+                    0.02_f32 * t.sin[10],
+                    x127,
+                    t.sin[10],
+                    t.cos[10],
+                    <f32 as ::trocar::Real>::ZERO,
+                ],
+                [
+                    -0.09_f32,
+                    <f32 as ::trocar::Real>::ZERO,
+                    <f32 as ::trocar::Real>::ZERO,
+                    <f32 as ::trocar::Real>::ZERO,
+                    <f32 as ::trocar::Real>::ZERO,
+                    <f32 as ::trocar::Real>::ONE,
+                ],
+            ],
+            [
+                [
+                    x173
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l_a,
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[6],
+                                x177,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[6],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        t.cos[10],
+                                        x183,
+                                        t.cos[8]
+                                            * <f32 as ::trocar::Real>::mul_add(t.sin[10], x184, x110),
+                                    ),
+                                    -(0.02_f32 * x76),
+                                ),
+                            ),
+                            x135,
+                        ),
+                    x173
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l_a,
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[10],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.sin[6],
+                                    x185,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        t.cos[6],
+                                        x186,
+                                        0.02_f32 * x77,
+                                    ),
+                                ),
+                                t.cos[10]
+                                    * <f32 as ::trocar::Real>::mul_add(
+                                        t.sin[6],
+                                        x176,
+                                        t.cos[8]
+                                            * <f32 as ::trocar::Real>::mul_add(t.cos[6], x184, -x149),
+                                    ),
+                            ),
+                            x136,
+                        ),
+                    x173
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l_a,
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[6],
+                                x187,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[6],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        t.sin[8],
+                                        x189 - x127,
+                                        x188,
+                                    ),
+                                    0.02_f32 * x148,
+                                ),
+                            ),
+                            x137,
+                        ),
+                    p.l_a
+                        * (x173
+                            * <f32 as ::trocar::Real>::mul_add(
+                                t.sin[6],
+                                x131,
+                                t.cos[6] * (x133 - x132),
+                            )),
+                    p.l_a
+                        * (x173
+                            * <f32 as ::trocar::Real>::mul_add(
+                                t.sin[6],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.sin[7],
+                                    x158 - x157,
+                                    -x159,
+                                ),
+                                -x162,
+                            )),
+                    p.l_a * (x155 * x173),
+                ],
+                [
+                    x173
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l_a,
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[6],
+                                x177,
+                                t.sin[6]
+                                    * <f32 as ::trocar::Real>::mul_add(
+                                        t.cos[10],
+                                        x186,
+                                        t.cos[8]
+                                            * <f32 as ::trocar::Real>::mul_add(t.sin[10], x190, -x110),
+                                    ),
+                            ),
+                            x156,
+                        ),
+                    x173
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l_a,
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[10],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[6],
+                                    x185,
+                                    t.sin[6] * x183,
+                                ),
+                                t.cos[10]
+                                    * <f32 as ::trocar::Real>::mul_add(
+                                        t.cos[6],
+                                        x176,
+                                        t.sin[6] * (t.cos[8] * x190),
+                                    ),
+                            ),
+                            x163,
+                        ),
+                    x173
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l_a,
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[6],
+                                x187,
+                                t.sin[6]
+                                    * <f32 as ::trocar::Real>::mul_add(
+                                        t.sin[8],
+                                        x127 - x189,
+                                        -x188,
+                                    ),
+                            ),
+                            x164,
+                        ),
+                    p.l_a * (x135 * x173),
+                    p.l_a * (x136 * x173),
+                    p.l_a * (x137 * x173),
+                ],
+            ],
+        )
+    }
     /// What one control step needs, in storage the caller owns (matrices column-major): filled by [`step_kinematics`].
     ///
     /// The constraint frame slides along the link with `params.l_a`: [`step_kinematics`] sets it to the trocar's offset first.
@@ -7076,10 +7913,7 @@ pub mod chain11_wide {
     /// Fills everything but `g_0i` (and the offset) at the parameters `p`.
     #[inline]
     fn fill_step(t: &JointTrig, p: &Params, out: &mut StepKinematics) {
-        out.g_0e = forward_kinematics_trig(t, p);
-        out.jb0i = partial_body_jacobian_trig(t, p);
-        out.jr = constrained_jacobian_trig(t, p);
-        out.jc = constraint_jacobian_c_trig(t, p);
+        (out.g_0e, out.jb0i, out.jr, out.jc) = pose_and_jacobians_trig(t, p);
         out.lambda_sharp = lambda_null_space(p);
         out.lambda_pinv = lambda_pinv(p);
     }

@@ -58,7 +58,7 @@ pub mod chain9_prismatic {
     }
     impl JointTrig {
         /// The sines and cosines of the used joints, in one `sin_cos_array` call.
-        #[inline]
+        #[inline(always)]
         #[must_use]
         pub fn new(q: &[f32; N]) -> Self {
             let ([s1, s2, s3, s5, s6, s7, s8, s9], [c1, c2, c3, c5, c6, c7, c8, c9]) = <f32 as ::trocar::Real>::sin_cos_array(
@@ -6076,6 +6076,1791 @@ pub mod chain9_prismatic {
             [<f32 as ::trocar::Real>::ZERO, p.l_a, <f32 as ::trocar::Real>::ZERO],
         )
     }
+    /// `(g_0e, J^B_0i, J^r_0e, J_c)` as [`pose_and_jacobians_trig`] returns them: `(R, p)` with
+    /// `R` column-major, then the three matrices column-major.
+    pub type PoseAndJacobians = (
+        ([[f32; 3]; 3], [f32; 3]),
+        [[f32; 6]; I],
+        [[f32; 6]; M],
+        [[f32; 6]; R],
+    );
+    /// `(g_0e, J^B_0i, J^r_0e, J_c)` from one [`JointTrig`]: the values of [`forward_kinematics_trig`], [`partial_body_jacobian_trig`], [`constrained_jacobian_trig`] and [`constraint_jacobian_c_trig`], what a control step needs, thesis (2.21), (3.13), (3.15) and (3.33).
+    ///
+    /// One pass along the chain: the walk that builds `J^B_0i` ends with `g_0i`, so `g_0e = g_0i g_ie` costs one product more, and the four share their common values.
+    ///
+    /// Operations: 533 add, 649 mul, 1 div, 0 sqrt, 8 trig (sin_cos), 2 neg, 0 abs.
+    #[inline(always)]
+    #[must_use]
+    pub fn pose_and_jacobians_trig(t: &JointTrig, p: &Params) -> PoseAndJacobians {
+        let x0 = <f32 as ::trocar::Real>::mul_add(
+            0.955336489125606_f32,
+            t.cos[1],
+            -(0.29552020666133955_f32 * t.sin[1]),
+        );
+        let x1 = <f32 as ::trocar::Real>::mul_add(
+            0.955336489125606_f32,
+            t.sin[1],
+            0.29552020666133955_f32 * t.cos[1],
+        );
+        let x2 = 0.8_f32 * t.sin[2];
+        let x3 = 0.6_f32 * t.sin[2];
+        let x4 = <f32 as ::trocar::Real>::mul_add(0.64_f32, t.cos[2], 0.36_f32);
+        let x5 = 0.48_f32 * (<f32 as ::trocar::Real>::ONE - t.cos[2]);
+        let x6 = <f32 as ::trocar::Real>::mul_add(0.36_f32, t.cos[2], 0.64_f32);
+        let x7 = <f32 as ::trocar::Real>::mul_add(
+            0.3816559020950483_f32,
+            t.sin[4],
+            0.19866933079506122_f32 * t.cos[4],
+        );
+        let x8 = <f32 as ::trocar::Real>::mul_add(
+            0.19866933079506122_f32,
+            t.sin[4],
+            -(0.3816559020950483_f32 * t.cos[4]),
+        );
+        let x9 = <f32 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f32,
+            t.cos[4],
+            -(0.07736548146578168_f32 * t.sin[4]),
+        );
+        let x10 = <f32 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f32,
+            t.sin[4],
+            0.07736548146578168_f32 * t.cos[4],
+        );
+        let x11 = 0.9210609940028851_f32 * t.sin[4];
+        let x12 = 0.9210609940028851_f32 * t.cos[4];
+        let x13 = <f32 as ::trocar::Real>::mul_add(
+            0.90270109637546_f32,
+            t.cos[5],
+            -(x8 * t.sin[5]),
+        );
+        let x14 = <f32 as ::trocar::Real>::mul_add(
+            0.90270109637546_f32,
+            t.sin[5],
+            x8 * t.cos[5],
+        );
+        let x15 = <f32 as ::trocar::Real>::mul_add(
+            0.18298657129998708_f32,
+            t.cos[5],
+            x10 * t.sin[5],
+        );
+        let x16 = <f32 as ::trocar::Real>::mul_add(
+            0.18298657129998708_f32,
+            t.sin[5],
+            -(x10 * t.cos[5]),
+        );
+        let x17 = <f32 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f32,
+            t.cos[5],
+            -(x12 * t.sin[5]),
+        );
+        let x18 = <f32 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f32,
+            t.sin[5],
+            x12 * t.cos[5],
+        );
+        let x19 = <f32 as ::trocar::Real>::mul_add(
+            0.04605304970014426_f32,
+            t.sin[4],
+            0.02_f32,
+        );
+        let x20 = <f32 as ::trocar::Real>::mul_add(-0.05_f32, x7, 0.01_f32);
+        let x21 = 0.1_f32 + t.q[3]
+            + <f32 as ::trocar::Real>::mul_add(0.05_f32, x9, 0.25_f32);
+        let x22 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x19, -(0.8_f32 * x21));
+        let x23 = 0.8_f32 * x20;
+        let x24 = 0.6_f32 * x20;
+        let x25 = <f32 as ::trocar::Real>::mul_add(
+            x3,
+            x17,
+            <f32 as ::trocar::Real>::mul_add(t.cos[2], x13, -(x2 * x15)),
+        );
+        let x26 = <f32 as ::trocar::Real>::mul_add(
+            x3,
+            x11,
+            -<f32 as ::trocar::Real>::mul_add(t.cos[2], x7, x2 * x9),
+        );
+        let x27 = <f32 as ::trocar::Real>::mul_add(
+            x3,
+            x18,
+            <f32 as ::trocar::Real>::mul_add(t.cos[2], x14, -(x2 * x16)),
+        );
+        let x28 = <f32 as ::trocar::Real>::mul_add(
+            x5,
+            x17,
+            <f32 as ::trocar::Real>::mul_add(x2, x13, x4 * x15),
+        );
+        let x29 = <f32 as ::trocar::Real>::mul_add(
+            x5,
+            x11,
+            <f32 as ::trocar::Real>::mul_add(x4, x9, -(x2 * x7)),
+        );
+        let x30 = <f32 as ::trocar::Real>::mul_add(
+            x5,
+            x18,
+            <f32 as ::trocar::Real>::mul_add(x2, x14, x4 * x16),
+        );
+        let x31 = 0.4_f32
+            + <f32 as ::trocar::Real>::mul_add(
+                x5,
+                x19,
+                <f32 as ::trocar::Real>::mul_add(x2, x20, x4 * x21),
+            );
+        let x32 = <f32 as ::trocar::Real>::mul_add(
+            x6,
+            x17,
+            <f32 as ::trocar::Real>::mul_add(x5, x15, -(x3 * x13)),
+        );
+        let x33 = <f32 as ::trocar::Real>::mul_add(
+            x6,
+            x11,
+            <f32 as ::trocar::Real>::mul_add(x3, x7, x5 * x9),
+        );
+        let x34 = <f32 as ::trocar::Real>::mul_add(
+            x6,
+            x18,
+            <f32 as ::trocar::Real>::mul_add(x5, x16, -(x3 * x14)),
+        );
+        let x35 = <f32 as ::trocar::Real>::mul_add(
+            x6,
+            x19,
+            <f32 as ::trocar::Real>::mul_add(x5, x21, -(x3 * x20)),
+        ) - 0.03_f32;
+        let x36 = 0.05_f32
+            + <f32 as ::trocar::Real>::mul_add(
+                x3,
+                x19,
+                <f32 as ::trocar::Real>::mul_add(t.cos[2], x20, -(x2 * x21)),
+            );
+        let x37 = <f32 as ::trocar::Real>::mul_add(x0, x28, -(x1 * x32));
+        let x38 = <f32 as ::trocar::Real>::mul_add(x0, x29, -(x1 * x33));
+        let x39 = <f32 as ::trocar::Real>::mul_add(x0, x30, -(x1 * x34));
+        let x40 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35));
+        let x41 = <f32 as ::trocar::Real>::mul_add(x1, x28, x0 * x32);
+        let x42 = <f32 as ::trocar::Real>::mul_add(x1, x29, x0 * x33);
+        let x43 = <f32 as ::trocar::Real>::mul_add(x1, x30, x0 * x34);
+        let x44 = <f32 as ::trocar::Real>::mul_add(t.cos[0], x25, -(t.sin[0] * x37));
+        let x45 = <f32 as ::trocar::Real>::mul_add(t.cos[0], x26, -(t.sin[0] * x38));
+        let x46 = <f32 as ::trocar::Real>::mul_add(t.cos[0], x27, -(t.sin[0] * x39));
+        let x47 = <f32 as ::trocar::Real>::mul_add(t.sin[0], x25, t.cos[0] * x37);
+        let x48 = <f32 as ::trocar::Real>::mul_add(t.sin[0], x26, t.cos[0] * x38);
+        let x49 = <f32 as ::trocar::Real>::mul_add(t.sin[0], x27, t.cos[0] * x39);
+        let x50 = <f32 as ::trocar::Real>::mul_add(0.36_f32, t.cos[7], 0.64_f32);
+        let x51 = 0.6_f32 * t.sin[7];
+        let x52 = 0.48_f32 * (<f32 as ::trocar::Real>::ONE - t.cos[7]);
+        let x53 = 0.8_f32 * t.sin[7];
+        let x54 = <f32 as ::trocar::Real>::mul_add(0.64_f32, t.cos[7], 0.36_f32);
+        let x55 = t.sin[6] * x51;
+        let x56 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x50, -x55);
+        let x57 = t.cos[6] * x51;
+        let x58 = <f32 as ::trocar::Real>::mul_add(t.sin[6], t.cos[7], x57);
+        let x59 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x52, t.sin[6] * x53);
+        let x60 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x50, x57);
+        let x61 = <f32 as ::trocar::Real>::mul_add(t.cos[6], t.cos[7], -x55);
+        let x62 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x52, -(t.cos[6] * x53));
+        let x63 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x56, -(t.sin[8] * x59));
+        let x64 = <f32 as ::trocar::Real>::mul_add(t.sin[8], x56, t.cos[8] * x59);
+        let x65 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x60, -(t.sin[8] * x62));
+        let x66 = <f32 as ::trocar::Real>::mul_add(t.sin[8], x60, t.cos[8] * x62);
+        let x67 = <f32 as ::trocar::Real>::mul_add(x52, t.cos[8], -(x54 * t.sin[8]));
+        let x68 = <f32 as ::trocar::Real>::mul_add(x52, t.sin[8], x54 * t.cos[8]);
+        let x69 = <f32 as ::trocar::Real>::mul_add(
+            -0.19866933079506122_f32,
+            x64,
+            <f32 as ::trocar::Real>::mul_add(
+                0.9362933635841992_f32,
+                x63,
+                -(0.28962947762551555_f32 * x58),
+            ),
+        );
+        let x70 = <f32 as ::trocar::Real>::mul_add(
+            0.09784339500725571_f32,
+            x64,
+            -<f32 as ::trocar::Real>::mul_add(
+                0.2750958473182437_f32,
+                x63,
+                0.9564250858492325_f32 * x58,
+            ),
+        );
+        let x71 = <f32 as ::trocar::Real>::mul_add(
+            0.975170327201816_f32,
+            x64,
+            <f32 as ::trocar::Real>::mul_add(
+                0.21835066314633444_f32,
+                x63,
+                0.03695701352462508_f32 * x58,
+            ),
+        );
+        let x72 = <f32 as ::trocar::Real>::mul_add(
+            -0.15_f32,
+            x58,
+            <f32 as ::trocar::Real>::mul_add(-0.04_f32, t.sin[6], 0.02_f32)
+                + <f32 as ::trocar::Real>::mul_add(0.01_f32, x59, -(0.1_f32 * x58)),
+        );
+        let x73 = <f32 as ::trocar::Real>::mul_add(
+            -0.19866933079506122_f32,
+            x66,
+            <f32 as ::trocar::Real>::mul_add(
+                0.9362933635841992_f32,
+                x65,
+                0.28962947762551555_f32 * x61,
+            ),
+        );
+        let x74 = <f32 as ::trocar::Real>::mul_add(
+            0.09784339500725571_f32,
+            x66,
+            <f32 as ::trocar::Real>::mul_add(
+                0.9564250858492325_f32,
+                x61,
+                -(0.2750958473182437_f32 * x65),
+            ),
+        );
+        let x75 = <f32 as ::trocar::Real>::mul_add(
+            0.975170327201816_f32,
+            x66,
+            <f32 as ::trocar::Real>::mul_add(
+                0.21835066314633444_f32,
+                x65,
+                -(0.03695701352462508_f32 * x61),
+            ),
+        );
+        let x76 = <f32 as ::trocar::Real>::mul_add(
+            0.15_f32,
+            x61,
+            <f32 as ::trocar::Real>::mul_add(0.04_f32, t.cos[6], 0.3_f32)
+                + <f32 as ::trocar::Real>::mul_add(0.1_f32, x61, 0.01_f32 * x62),
+        );
+        let x77 = 0.23170358210041245_f32 * t.sin[7];
+        let x78 = <f32 as ::trocar::Real>::mul_add(
+            -0.19866933079506122_f32,
+            x68,
+            <f32 as ::trocar::Real>::mul_add(0.9362933635841992_f32, x67, x77),
+        );
+        let x79 = 0.765140068679386_f32 * t.sin[7];
+        let x80 = <f32 as ::trocar::Real>::mul_add(
+            0.09784339500725571_f32,
+            x68,
+            <f32 as ::trocar::Real>::mul_add(-0.2750958473182437_f32, x67, x79),
+        );
+        let x81 = <f32 as ::trocar::Real>::mul_add(
+            0.975170327201816_f32,
+            x68,
+            <f32 as ::trocar::Real>::mul_add(
+                0.21835066314633444_f32,
+                x67,
+                -(0.029565610819700067_f32 * t.sin[7]),
+            ),
+        );
+        let x82 = <f32 as ::trocar::Real>::mul_add(
+            0.12_f32,
+            t.sin[7],
+            <f32 as ::trocar::Real>::mul_add(
+                0.08000000000000002_f32,
+                t.sin[7],
+                0.01_f32 * x54,
+            ),
+        );
+        let x83 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            <f32 as ::trocar::Real>::mul_add(
+                0.3778998554341936_f32,
+                t.cos[7],
+                -0.5765691862292548_f32,
+            ),
+            <f32 as ::trocar::Real>::mul_add(
+                t.cos[8],
+                <f32 as ::trocar::Real>::mul_add(
+                    0.4324268896719411_f32,
+                    t.cos[7],
+                    0.5038664739122581_f32,
+                ),
+                -(0.17377768657530934_f32 * t.sin[7]),
+            ),
+        );
+        let x84 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            <f32 as ::trocar::Real>::mul_add(
+                0.6298330923903226_f32,
+                t.sin[8],
+                0.7207114827865685_f32 * t.cos[8],
+            ),
+            0.28962947762551555_f32 * t.cos[7],
+        );
+        let x85 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x83, t.cos[6] * x84);
+        let x86 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[8],
+            <f32 as ::trocar::Real>::mul_add(
+                0.14599933463805048_f32,
+                t.cos[7],
+                0.12909651268019323_f32,
+            ),
+            0.5738550515095395_f32 * t.sin[7],
+        );
+        let x87 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            <f32 as ::trocar::Real>::mul_add(
+                -0.09682238451014492_f32,
+                t.cos[7],
+                0.19466577951740063_f32,
+            ),
+            -x86,
+        );
+        let x88 = 0.16137064085024153_f32 * t.sin[8];
+        let x89 = t.sin[7]
+            * <f32 as ::trocar::Real>::mul_add(0.24333222439675078_f32, t.cos[8], x88);
+        let x90 = 0.9564250858492325_f32 * t.cos[7];
+        let x91 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[6],
+            x87,
+            t.cos[6] * (x90 - x89),
+        );
+        let x92 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            <f32 as ::trocar::Real>::mul_add(
+                0.45586963610289427_f32,
+                t.cos[7],
+                0.5193006910989217_f32,
+            ),
+            <f32 as ::trocar::Real>::mul_add(
+                t.cos[8],
+                <f32 as ::trocar::Real>::mul_add(
+                    -0.3894755183241913_f32,
+                    t.cos[7],
+                    0.6078261814705257_f32,
+                ),
+                0.022174208114775048_f32 * t.sin[7],
+            ),
+        );
+        let x93 = 0.7597827268381572_f32 * t.sin[8];
+        let x94 = 0.6491258638736521_f32 * t.cos[8];
+        let x95 = 0.03695701352462508_f32 * t.cos[7];
+        let x96 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[6],
+            x92,
+            t.cos[6] * <f32 as ::trocar::Real>::mul_add(t.sin[7], x93 - x94, -x95),
+        );
+        let x97 = 0.5038664739122581_f32 * p.l_a;
+        let x98 = <f32 as ::trocar::Real>::mul_add(
+            0.4324268896719411_f32,
+            p.l_a,
+            -0.12972806690158234_f32,
+        );
+        let x99 = 0.5765691862292548_f32 * p.l_a;
+        let x100 = 0.3778998554341936_f32 * p.l_a;
+        let x101 = 0.12909651268019323_f32 * p.l_a;
+        let x102 = 0.14599933463805048_f32 * p.l_a;
+        let x103 = 0.6078261814705257_f32 * p.l_a;
+        let x104 = 0.3894755183241913_f32 * p.l_a;
+        let x105 = 0.5193006910989217_f32 * p.l_a;
+        let x106 = 0.45586963610289427_f32 * p.l_a;
+        let x107 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x83, -(t.sin[6] * x84));
+        let x108 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[6],
+            x87,
+            t.sin[6] * (x89 - x90),
+        );
+        let x109 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[6],
+            x92,
+            t.sin[6] * <f32 as ::trocar::Real>::mul_add(t.sin[7], x94 - x93, x95),
+        );
+        let x110 = <f32 as ::trocar::Real>::mul_add(
+            0.008648537793438821_f32,
+            t.cos[8],
+            <f32 as ::trocar::Real>::mul_add(
+                0.007557997108683871_f32,
+                t.sin[8],
+                0.08688884328765467_f32,
+            ),
+        );
+        let x111 = 0.007490346908673594_f32 * t.cos[8];
+        let x112 = 0.0015893546463604897_f32 * t.sin[8];
+        let x113 = 0.12902630233994597_f32 * t.sin[8];
+        let x114 = 0.14326369406494216_f32 * t.cos[8];
+        let x115 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            0.006951107463012373_f32 + x111 - x112,
+            <f32 as ::trocar::Real>::mul_add(
+                t.cos[7],
+                0.0013902214926024747_f32 + x113 - x114,
+                -<f32 as ::trocar::Real>::mul_add(
+                    0.1282613813744756_f32,
+                    t.cos[8],
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.07141219640937821_f32,
+                        t.sin[8],
+                        0.0013902214926024747_f32,
+                    ),
+                ),
+            ),
+        );
+        let x116 = 0.0019364476902028983_f32 * t.sin[8];
+        let x117 = 0.00291998669276101_f32 * t.cos[8];
+        let x118 = 0.0007827471600580457_f32 * t.sin[8];
+        let x119 = 0.0022007667785459493_f32 * t.cos[8];
+        let x120 = 0.03811410155557032_f32 * t.cos[8];
+        let x121 = 0.04479354949894437_f32 * t.sin[8];
+        let x122 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            0.022954202060381578_f32 + x118 - x119,
+            <f32 as ::trocar::Real>::mul_add(
+                t.cos[7],
+                0.004590840412076316_f32 + x120 - x121,
+                <f32 as ::trocar::Real>::mul_add(
+                    0.016418964946840205_f32,
+                    t.sin[8],
+                    0.04166369416672035_f32 * t.cos[8],
+                ) - 0.004590840412076316_f32,
+            ),
+        );
+        let x123 = 0.009117392722057886_f32 * t.sin[8];
+        let x124 = 0.007789510366483825_f32 * t.cos[8];
+        let x125 = 0.007801362617614528_f32 * t.sin[8];
+        let x126 = 0.0017468053051706756_f32 * t.cos[8];
+        let x127 = <f32 as ::trocar::Real>::mul_add(
+            0.13637752463466377_f32,
+            t.cos[8],
+            <f32 as ::trocar::Real>::mul_add(
+                0.1480599582188462_f32,
+                t.sin[8],
+                0.0001773936649182004_f32,
+            ),
+        );
+        let x128 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            x125 + x126 - 0.0008869683245910019_f32,
+            <f32 as ::trocar::Real>::mul_add(
+                -t.cos[7],
+                x127,
+                <f32 as ::trocar::Real>::mul_add(
+                    -0.13473943666968044_f32,
+                    t.sin[8],
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.07305583232222679_f32,
+                        t.cos[8],
+                        0.0001773936649182004_f32,
+                    ),
+                ),
+            ),
+        );
+        let x129 = t.sin[8]
+            * <f32 as ::trocar::Real>::mul_add(
+                0.5038664739122581_f32,
+                t.cos[7],
+                0.4324268896719411_f32,
+            );
+        let x130 = 0.5765691862292548_f32 * t.cos[7];
+        let x131 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[8],
+            0.3778998554341936_f32 - x130,
+            x77,
+        ) - x129;
+        let x132 = t.sin[8]
+            * <f32 as ::trocar::Real>::mul_add(
+                0.12909651268019323_f32,
+                t.cos[7],
+                0.14599933463805048_f32,
+            );
+        let x133 = 0.19466577951740063_f32 * t.cos[7];
+        let x134 = x132
+            + <f32 as ::trocar::Real>::mul_add(
+                t.cos[8],
+                x133 - 0.09682238451014492_f32,
+                x79,
+            );
+        let x135 = 0.6078261814705257_f32 * t.cos[7];
+        let x136 = t.cos[8]
+            * <f32 as ::trocar::Real>::mul_add(
+                0.5193006910989217_f32,
+                t.cos[7],
+                0.45586963610289427_f32,
+            );
+        let x137 = 0.029565610819700064_f32 * t.sin[7];
+        let x138 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            0.3894755183241913_f32 - x135,
+            x136 - x137,
+        );
+        let x139 = <f32 as ::trocar::Real>::ONE
+            / <f32 as ::trocar::Real>::mul_add(
+                p.l_a,
+                p.l_a,
+                <f32 as ::trocar::Real>::ONE,
+            );
+        let x140 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            <f32 as ::trocar::Real>::mul_add(
+                -0.005617760181505195_f32,
+                t.cos[8],
+                <f32 as ::trocar::Real>::mul_add(
+                    0.0011920159847703673_f32,
+                    t.sin[8],
+                    0.009268143284016497_f32,
+                ),
+            ),
+            <f32 as ::trocar::Real>::mul_add(
+                t.cos[7],
+                <f32 as ::trocar::Real>::mul_add(
+                    -0.1282613813744756_f32,
+                    t.sin[8],
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.07141219640937821_f32,
+                        t.cos[8],
+                        -0.001042666119451856_f32,
+                    ),
+                ),
+                -<f32 as ::trocar::Real>::mul_add(
+                    0.12902630233994597_f32,
+                    t.cos[8],
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.14326369406494216_f32,
+                        t.sin[8],
+                        0.0018536286568032994_f32,
+                    ),
+                ),
+            ),
+        );
+        let x141 = 0.18017787069664212_f32 * t.sin[8];
+        let x142 = 0.15745827309758065_f32 * t.cos[8];
+        let x143 = 0.0019866933079506124_f32 * t.sin[8];
+        let x144 = 0.009362933635841992_f32 * t.cos[8];
+        let x145 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            <f32 as ::trocar::Real>::mul_add(
+                -0.0005870603700435343_f32,
+                t.sin[8],
+                <f32 as ::trocar::Real>::mul_add(
+                    0.0016505750839094623_f32,
+                    t.cos[8],
+                    0.03060560274717544_f32,
+                ),
+            ),
+            <f32 as ::trocar::Real>::mul_add(
+                t.cos[7],
+                <f32 as ::trocar::Real>::mul_add(
+                    -0.016418964946840205_f32,
+                    t.cos[8],
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.04166369416672035_f32,
+                        t.sin[8],
+                        -0.003443130309057237_f32,
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    0.03811410155557032_f32,
+                    t.sin[8],
+                    0.04479354949894436_f32 * t.cos[8],
+                ) - 0.006121120549435088_f32,
+            ),
+        );
+        let x146 = 0.04034266021256038_f32 * t.cos[8];
+        let x147 = 0.060833056099187696_f32 * t.sin[8];
+        let x148 = 0.0009784339500725572_f32 * t.sin[8];
+        let x149 = <f32 as ::trocar::Real>::mul_add(
+            -t.sin[7],
+            <f32 as ::trocar::Real>::mul_add(
+                0.0013101039788780064_f32,
+                t.cos[8],
+                <f32 as ::trocar::Real>::mul_add(
+                    0.005851021963210896_f32,
+                    t.sin[8],
+                    0.0011826244327880027_f32,
+                ),
+            ),
+            <f32 as ::trocar::Real>::mul_add(
+                t.cos[7],
+                <f32 as ::trocar::Real>::mul_add(
+                    0.13473943666968044_f32,
+                    t.cos[8],
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.07305583232222679_f32,
+                        t.sin[8],
+                        0.00013304524868865028_f32,
+                    ),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    -0.13637752463466377_f32,
+                    t.sin[8],
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.1480599582188462_f32,
+                        t.cos[8],
+                        0.0002365248865576005_f32,
+                    ),
+                ),
+            ),
+        );
+        let x150 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            <f32 as ::trocar::Real>::mul_add(
+                0.1899456817095393_f32,
+                t.cos[8],
+                <f32 as ::trocar::Real>::mul_add(
+                    0.16228146596841303_f32,
+                    t.sin[8],
+                    0.00022174208114775047_f32,
+                ),
+            ),
+            t.cos[7]
+                * <f32 as ::trocar::Real>::mul_add(
+                    0.00975170327201816_f32,
+                    t.sin[8],
+                    0.0021835066314633443_f32 * t.cos[8],
+                ),
+        );
+        (
+            (
+                [
+                    [
+                        <f32 as ::trocar::Real>::mul_add(
+                            x46,
+                            x78,
+                            <f32 as ::trocar::Real>::mul_add(x44, x69, x45 * x73),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            x49,
+                            x78,
+                            <f32 as ::trocar::Real>::mul_add(x47, x69, x48 * x73),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            x43,
+                            x78,
+                            <f32 as ::trocar::Real>::mul_add(x41, x69, x42 * x73),
+                        ),
+                    ],
+                    [
+                        <f32 as ::trocar::Real>::mul_add(
+                            x46,
+                            x80,
+                            <f32 as ::trocar::Real>::mul_add(x44, x70, x45 * x74),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            x49,
+                            x80,
+                            <f32 as ::trocar::Real>::mul_add(x47, x70, x48 * x74),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            x43,
+                            x80,
+                            <f32 as ::trocar::Real>::mul_add(x41, x70, x42 * x74),
+                        ),
+                    ],
+                    [
+                        <f32 as ::trocar::Real>::mul_add(
+                            x46,
+                            x81,
+                            <f32 as ::trocar::Real>::mul_add(x44, x71, x45 * x75),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            x49,
+                            x81,
+                            <f32 as ::trocar::Real>::mul_add(x47, x71, x48 * x75),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            x43,
+                            x81,
+                            <f32 as ::trocar::Real>::mul_add(x41, x71, x42 * x75),
+                        ),
+                    ],
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(t.cos[0], x36, -(t.sin[0] * x40))
+                        + <f32 as ::trocar::Real>::mul_add(
+                            x46,
+                            x82,
+                            <f32 as ::trocar::Real>::mul_add(x44, x72, x45 * x76),
+                        ),
+                    <f32 as ::trocar::Real>::mul_add(t.sin[0], x36, t.cos[0] * x40)
+                        + <f32 as ::trocar::Real>::mul_add(
+                            x49,
+                            x82,
+                            <f32 as ::trocar::Real>::mul_add(x47, x72, x48 * x76),
+                        ),
+                    p.d_1
+                        + (0.1_f32 + <f32 as ::trocar::Real>::mul_add(x1, x31, x0 * x35))
+                        + <f32 as ::trocar::Real>::mul_add(
+                            x43,
+                            x82,
+                            <f32 as ::trocar::Real>::mul_add(x41, x72, x42 * x76),
+                        ),
+                ],
+            ),
+            [
+                [
+                    <f32 as ::trocar::Real>::mul_add(x36, x37, -(x25 * x40)),
+                    <f32 as ::trocar::Real>::mul_add(x36, x38, -(x26 * x40)),
+                    <f32 as ::trocar::Real>::mul_add(x36, x39, -(x27 * x40)),
+                    x41,
+                    x42,
+                    x43,
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(x31, x32, -(x28 * x35)),
+                    <f32 as ::trocar::Real>::mul_add(x31, x33, -(x29 * x35)),
+                    <f32 as ::trocar::Real>::mul_add(x31, x34, -(x30 * x35)),
+                    x25,
+                    x26,
+                    x27,
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(
+                        -x17,
+                        x24,
+                        <f32 as ::trocar::Real>::mul_add(x13, x22, x15 * x23),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        -x11,
+                        x24,
+                        <f32 as ::trocar::Real>::mul_add(x9, x23, -(x7 * x22)),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        -x18,
+                        x24,
+                        <f32 as ::trocar::Real>::mul_add(x14, x22, x16 * x23),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(0.6_f32, x15, 0.8_f32 * x17),
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.6_f32,
+                        x9,
+                        0.7368487952023082_f32 * t.sin[4],
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(0.6_f32, x16, 0.8_f32 * x18),
+                ],
+                [
+                    x15,
+                    x9,
+                    x16,
+                    <f32 as ::trocar::Real>::ZERO,
+                    <f32 as ::trocar::Real>::ZERO,
+                    <f32 as ::trocar::Real>::ZERO,
+                ],
+                [
+                    -(0.05_f32 * t.sin[5]),
+                    <f32 as ::trocar::Real>::ZERO,
+                    0.05_f32 * t.cos[5],
+                    t.cos[5],
+                    <f32 as ::trocar::Real>::ZERO,
+                    t.sin[5],
+                ],
+                [
+                    <f32 as ::trocar::Real>::ZERO,
+                    <f32 as ::trocar::Real>::ZERO,
+                    <f32 as ::trocar::Real>::ZERO,
+                    <f32 as ::trocar::Real>::ZERO,
+                    <f32 as ::trocar::Real>::ONE,
+                    <f32 as ::trocar::Real>::ZERO,
+                ],
+            ],
+            [
+                [
+                    x85,
+                    x91,
+                    x96,
+                    <f32 as ::trocar::Real>::ZERO,
+                    <f32 as ::trocar::Real>::ZERO,
+                    <f32 as ::trocar::Real>::ZERO,
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[8],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.cos[7],
+                            <f32 as ::trocar::Real>::mul_add(
+                                -0.1282613813744756_f32,
+                                t.cos[6],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    0.0019866933079506124_f32,
+                                    t.sin[6],
+                                    x97,
+                                ) - 0.15115994217367743_f32,
+                            ),
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[7],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    0.18017787069664212_f32,
+                                    t.sin[6],
+                                    0.0011920159847703673_f32 * t.cos[6],
+                                ),
+                                <f32 as ::trocar::Real>::mul_add(
+                                    -0.14326369406494216_f32,
+                                    t.cos[6],
+                                    x98,
+                                ),
+                            ),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.cos[8],
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[7],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    -0.009362933635841992_f32,
+                                    t.sin[6],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        0.07141219640937821_f32,
+                                        t.cos[6],
+                                        x99,
+                                    ) - 0.17297075586877644_f32,
+                                ),
+                                <f32 as ::trocar::Real>::mul_add(
+                                    -t.sin[7],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        0.15745827309758065_f32,
+                                        t.sin[6],
+                                        0.005617760181505195_f32 * t.cos[6],
+                                    ),
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        -0.12902630233994597_f32,
+                                        t.cos[6],
+                                        0.11336995663025808_f32,
+                                    ) - x100,
+                                ),
+                            ),
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[7],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    -0.23170358210041245_f32,
+                                    p.l_a,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        0.009268143284016497_f32,
+                                        t.cos[6],
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            0.0017377768657530933_f32,
+                                            t.sin[6],
+                                            0.06951107463012374_f32,
+                                        ),
+                                    ),
+                                ),
+                                -(t.cos[6]
+                                    * <f32 as ::trocar::Real>::mul_add(
+                                        0.001042666119451856_f32,
+                                        t.cos[7],
+                                        0.0018536286568032994_f32,
+                                    )),
+                            ),
+                        ),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[8],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.cos[7],
+                            <f32 as ::trocar::Real>::mul_add(
+                                -0.0009784339500725572_f32,
+                                t.sin[6],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    0.04166369416672035_f32,
+                                    t.cos[6],
+                                    0.03872895380405797_f32,
+                                ),
+                            ) - x101,
+                            <f32 as ::trocar::Real>::mul_add(
+                                -t.sin[7],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    0.060833056099187696_f32,
+                                    t.sin[6],
+                                    0.0005870603700435343_f32 * t.cos[6],
+                                ),
+                                <f32 as ::trocar::Real>::mul_add(
+                                    0.03811410155557032_f32,
+                                    t.cos[6],
+                                    0.04379980039141514_f32,
+                                ) - x102,
+                            ),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.cos[8],
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[7],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    -0.19466577951740063_f32,
+                                    p.l_a,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        -0.016418964946840205_f32,
+                                        t.cos[6],
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            0.002750958473182437_f32,
+                                            t.sin[6],
+                                            0.05839973385522019_f32,
+                                        ),
+                                    ),
+                                ),
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.sin[7],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        0.04034266021256038_f32,
+                                        t.sin[6],
+                                        0.0016505750839094623_f32 * t.cos[6],
+                                    ),
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        0.04479354949894436_f32,
+                                        t.cos[6],
+                                        0.09682238451014492_f32 * p.l_a,
+                                    ) - 0.029046715353043477_f32,
+                                ),
+                            ),
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[7],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    -0.765140068679386_f32,
+                                    p.l_a,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        0.03060560274717544_f32,
+                                        t.cos[6],
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            0.005738550515095395_f32,
+                                            t.sin[6],
+                                            0.2295420206038158_f32,
+                                        ),
+                                    ),
+                                ),
+                                -(t.cos[6]
+                                    * <f32 as ::trocar::Real>::mul_add(
+                                        0.003443130309057237_f32,
+                                        t.cos[7],
+                                        0.006121120549435088_f32,
+                                    )),
+                            ),
+                        ),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[8],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.cos[7],
+                            <f32 as ::trocar::Real>::mul_add(
+                                -0.00975170327201816_f32,
+                                t.sin[6],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    0.07305583232222679_f32,
+                                    t.cos[6],
+                                    x103,
+                                ) - 0.18234785444115773_f32,
+                            ),
+                            <f32 as ::trocar::Real>::mul_add(
+                                -t.sin[7],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    0.16228146596841303_f32,
+                                    t.sin[6],
+                                    0.005851021963210896_f32 * t.cos[6],
+                                ),
+                                <f32 as ::trocar::Real>::mul_add(
+                                    -0.13637752463466377_f32,
+                                    t.cos[6],
+                                    0.11684265549725738_f32,
+                                ) - x104,
+                            ),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.cos[8],
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[7],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    -0.0021835066314633443_f32,
+                                    t.sin[6],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        0.13473943666968044_f32,
+                                        t.cos[6],
+                                        0.15579020732967652_f32,
+                                    ),
+                                ) - x105,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    -t.sin[7],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        0.1899456817095393_f32,
+                                        t.sin[6],
+                                        0.0013101039788780064_f32 * t.cos[6],
+                                    ),
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        0.1480599582188462_f32,
+                                        t.cos[6],
+                                        0.1367608908308683_f32,
+                                    ) - x106,
+                                ),
+                            ),
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[7],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    -0.0011826244327880027_f32,
+                                    t.cos[6],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        -0.00022174208114775047_f32,
+                                        t.sin[6],
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            0.029565610819700064_f32,
+                                            p.l_a,
+                                            -0.00886968324591002_f32,
+                                        ),
+                                    ),
+                                ),
+                                t.cos[6]
+                                    * <f32 as ::trocar::Real>::mul_add(
+                                        0.00013304524868865028_f32,
+                                        t.cos[7],
+                                        0.0002365248865576005_f32,
+                                    ),
+                            ),
+                        ),
+                    ),
+                    x107,
+                    x108,
+                    x109,
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.cos[6],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[8],
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[7],
+                                x100 - 0.11336995663025808_f32,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    0.012596661847806452_f32,
+                                    t.sin[7],
+                                    0.17297075586877644_f32,
+                                ) - x99,
+                            ),
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[8],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[7],
+                                    x98,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        0.01441422965573137_f32,
+                                        t.sin[7],
+                                        x97,
+                                    ) - 0.15115994217367743_f32,
+                                ),
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.sin[7],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        -0.17377768657530934_f32,
+                                        p.l_a,
+                                        0.052133305972592796_f32,
+                                    ),
+                                    0.005792589552510311_f32 * t.cos[7],
+                                ),
+                            ),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[6],
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[7],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.sin[8],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        -0.6298330923903226_f32,
+                                        p.l_a,
+                                        0.1889499277170968_f32,
+                                    ),
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        t.cos[8],
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            -0.7207114827865685_f32,
+                                            p.l_a,
+                                            0.21621344483597055_f32,
+                                        ),
+                                        -0.0034755537315061865_f32,
+                                    ),
+                                ),
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[7],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        -0.28962947762551555_f32,
+                                        p.l_a,
+                                        x110,
+                                    ),
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        0.010077329478245162_f32,
+                                        t.cos[8],
+                                        -(0.011531383724585096_f32 * t.sin[8]),
+                                    ),
+                                ),
+                            ),
+                            x115,
+                        ),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.cos[6],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[8],
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[7],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    -0.09682238451014491_f32,
+                                    p.l_a,
+                                    0.029046715353043477_f32,
+                                ),
+                                <f32 as ::trocar::Real>::mul_add(
+                                    -0.0032274128170048304_f32,
+                                    t.sin[7],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        0.1946657795174006_f32,
+                                        p.l_a,
+                                        -0.05839973385522019_f32,
+                                    ),
+                                ),
+                            ),
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[8],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[7],
+                                    0.04379980039141514_f32 - x102,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        -0.004866644487935016_f32,
+                                        t.sin[7],
+                                        0.03872895380405797_f32,
+                                    ) - x101,
+                                ),
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.sin[7],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        -0.5738550515095395_f32,
+                                        p.l_a,
+                                        0.17215651545286184_f32,
+                                    ),
+                                    0.01912850171698465_f32 * t.cos[7],
+                                ),
+                            ),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[6],
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[7],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.sin[8],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        0.16137064085024153_f32,
+                                        p.l_a,
+                                        -0.048411192255072455_f32,
+                                    ),
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        t.cos[8],
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            0.2433322243967508_f32,
+                                            p.l_a,
+                                            -0.07299966731902524_f32,
+                                        ),
+                                        -0.011477101030190789_f32,
+                                    ),
+                                ),
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[7],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        -0.9564250858492326_f32,
+                                        p.l_a,
+                                        0.28692752575476976_f32 - x116 - x117,
+                                    ),
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        0.0038933155903480123_f32,
+                                        t.sin[8],
+                                        -(0.0025819302536038645_f32 * t.cos[8]),
+                                    ),
+                                ),
+                            ),
+                            x122,
+                        ),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.cos[6],
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[8],
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[7],
+                                x106 - 0.1367608908308683_f32,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    0.015195654536763144_f32,
+                                    t.sin[7],
+                                    x105,
+                                ) - 0.15579020732967652_f32,
+                            ),
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[8],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[7],
+                                    0.11684265549725738_f32 - x104,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        -0.012982517277473044_f32,
+                                        t.sin[7],
+                                        x103 - 0.18234785444115773_f32,
+                                    ),
+                                ),
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.sin[7],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        0.022174208114775048_f32,
+                                        p.l_a,
+                                        -0.006652262434432514_f32,
+                                    ),
+                                    -(0.0007391402704925016_f32 * t.cos[7]),
+                                ),
+                            ),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.sin[6],
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[7],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.sin[8],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        -0.7597827268381572_f32,
+                                        p.l_a,
+                                        0.22793481805144714_f32,
+                                    ),
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        t.cos[8],
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            0.6491258638736521_f32,
+                                            p.l_a,
+                                            -0.19473775916209565_f32,
+                                        ),
+                                        0.00044348416229550094_f32,
+                                    ),
+                                ),
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[7],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        0.03695701352462508_f32,
+                                        p.l_a,
+                                        x123,
+                                    ) - 0.011087104057387524_f32 - x124,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        0.010386013821978434_f32,
+                                        t.sin[8],
+                                        0.012156523629410514_f32 * t.cos[8],
+                                    ),
+                                ),
+                            ),
+                            x128,
+                        ),
+                    ),
+                    x131,
+                    x134,
+                    x138,
+                ],
+                [x115, x122, x128, x131, x134, x138],
+                [
+                    -<f32 as ::trocar::Real>::mul_add(
+                        0.18017787069664212_f32,
+                        t.cos[8],
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.15745827309758065_f32,
+                            t.sin[8],
+                            0.0023170358210041243_f32,
+                        ),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.04034266021256038_f32,
+                        t.sin[8],
+                        0.060833056099187696_f32 * t.cos[8],
+                    ) - 0.00765140068679386_f32,
+                    <f32 as ::trocar::Real>::mul_add(
+                        -0.1899456817095393_f32,
+                        t.sin[8],
+                        <f32 as ::trocar::Real>::mul_add(
+                            0.16228146596841303_f32,
+                            t.cos[8],
+                            0.00029565610819700066_f32,
+                        ),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.6298330923903226_f32,
+                        t.cos[8],
+                        -(0.7207114827865685_f32 * t.sin[8]),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.24333222439675078_f32,
+                        t.sin[8],
+                        -(0.16137064085024153_f32 * t.cos[8]),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        0.6491258638736521_f32,
+                        t.sin[8],
+                        0.7597827268381572_f32 * t.cos[8],
+                    ),
+                ],
+                [
+                    <f32 as ::trocar::Real>::ZERO,
+                    <f32 as ::trocar::Real>::ZERO,
+                    <f32 as ::trocar::Real>::ZERO,
+                    0.28962947762551555_f32,
+                    0.9564250858492325_f32,
+                    -0.03695701352462508_f32,
+                ],
+            ],
+            [
+                [
+                    x139
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l_a,
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[7],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.sin[6],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        -0.21621344483597055_f32,
+                                        t.cos[8],
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            -0.1889499277170968_f32,
+                                            t.sin[8],
+                                            0.0034755537315061865_f32,
+                                        ),
+                                    ),
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        -t.cos[6],
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            0.01441422965573137_f32,
+                                            t.cos[8],
+                                            <f32 as ::trocar::Real>::mul_add(
+                                                0.012596661847806452_f32,
+                                                t.sin[8],
+                                                0.052133305972592796_f32,
+                                            ),
+                                        ),
+                                        x112 - 0.006951107463012373_f32 - x111,
+                                    ),
+                                ),
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[7],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        -t.sin[6],
+                                        x110,
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            t.cos[6],
+                                            <f32 as ::trocar::Real>::mul_add(
+                                                0.11336995663025808_f32,
+                                                t.sin[8],
+                                                0.12972806690158234_f32 * t.cos[8],
+                                            ) - 0.005792589552510311_f32,
+                                            x114 - 0.0013902214926024747_f32 - x113,
+                                        ),
+                                    ),
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        t.sin[8],
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            -0.17297075586877644_f32,
+                                            t.cos[6],
+                                            <f32 as ::trocar::Real>::mul_add(
+                                                0.011531383724585096_f32,
+                                                t.sin[6],
+                                                0.07141219640937821_f32,
+                                            ),
+                                        ),
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            t.cos[8],
+                                            <f32 as ::trocar::Real>::mul_add(
+                                                -0.010077329478245162_f32,
+                                                t.sin[6],
+                                                <f32 as ::trocar::Real>::mul_add(
+                                                    0.15115994217367743_f32,
+                                                    t.cos[6],
+                                                    0.1282613813744756_f32,
+                                                ),
+                                            ),
+                                            0.0013902214926024747_f32,
+                                        ),
+                                    ),
+                                ),
+                            ),
+                            x107,
+                        ),
+                    x139
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l_a,
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[7],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.sin[6],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        0.07299966731902524_f32,
+                                        t.cos[8],
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            0.048411192255072455_f32,
+                                            t.sin[8],
+                                            0.011477101030190789_f32,
+                                        ),
+                                    ),
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        t.cos[6],
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            0.0032274128170048304_f32,
+                                            t.sin[8],
+                                            0.004866644487935016_f32 * t.cos[8],
+                                        ) - 0.17215651545286184_f32,
+                                        x119 - 0.022954202060381578_f32 - x118,
+                                    ),
+                                ),
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[7],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        t.sin[6],
+                                        x116 + x117 - 0.28692752575476976_f32,
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            -t.cos[6],
+                                            <f32 as ::trocar::Real>::mul_add(
+                                                0.04379980039141514_f32,
+                                                t.cos[8],
+                                                <f32 as ::trocar::Real>::mul_add(
+                                                    0.029046715353043477_f32,
+                                                    t.sin[8],
+                                                    0.01912850171698465_f32,
+                                                ),
+                                            ),
+                                            x121 - 0.004590840412076316_f32 - x120,
+                                        ),
+                                    ),
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        t.sin[8],
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            -0.0038933155903480123_f32,
+                                            t.sin[6],
+                                            <f32 as ::trocar::Real>::mul_add(
+                                                0.05839973385522019_f32,
+                                                t.cos[6],
+                                                -0.016418964946840205_f32,
+                                            ),
+                                        ),
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            t.cos[8],
+                                            <f32 as ::trocar::Real>::mul_add(
+                                                -0.03872895380405797_f32,
+                                                t.cos[6],
+                                                <f32 as ::trocar::Real>::mul_add(
+                                                    0.0025819302536038645_f32,
+                                                    t.sin[6],
+                                                    -0.04166369416672035_f32,
+                                                ),
+                                            ),
+                                            0.004590840412076316_f32,
+                                        ),
+                                    ),
+                                ),
+                            ),
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[6],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.sin[8],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        -0.09682238451014491_f32,
+                                        t.cos[7],
+                                        0.1946657795174006_f32,
+                                    ),
+                                    -x86,
+                                ),
+                                t.sin[6]
+                                    * <f32 as ::trocar::Real>::mul_add(
+                                        t.sin[7],
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            0.2433322243967508_f32,
+                                            t.cos[8],
+                                            x88,
+                                        ),
+                                        -(0.9564250858492326_f32 * t.cos[7]),
+                                    ),
+                            ),
+                        ),
+                    x139
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l_a,
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[7],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.sin[6],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        -0.22793481805144714_f32,
+                                        t.sin[8],
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            0.19473775916209565_f32,
+                                            t.cos[8],
+                                            -0.00044348416229550094_f32,
+                                        ),
+                                    ),
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        t.cos[6],
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            -0.015195654536763144_f32,
+                                            t.sin[8],
+                                            <f32 as ::trocar::Real>::mul_add(
+                                                0.012982517277473044_f32,
+                                                t.cos[8],
+                                                0.006652262434432514_f32,
+                                            ),
+                                        ),
+                                        0.0008869683245910019_f32 - x125 - x126,
+                                    ),
+                                ),
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[7],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        t.sin[6],
+                                        0.011087104057387524_f32 + x124 - x123,
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            t.cos[6],
+                                            <f32 as ::trocar::Real>::mul_add(
+                                                -0.11684265549725738_f32,
+                                                t.cos[8],
+                                                <f32 as ::trocar::Real>::mul_add(
+                                                    0.1367608908308683_f32,
+                                                    t.sin[8],
+                                                    0.0007391402704925016_f32,
+                                                ),
+                                            ),
+                                            x127,
+                                        ),
+                                    ),
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        t.sin[8],
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            -0.010386013821978434_f32,
+                                            t.sin[6],
+                                            <f32 as ::trocar::Real>::mul_add(
+                                                0.15579020732967652_f32,
+                                                t.cos[6],
+                                                0.13473943666968044_f32,
+                                            ),
+                                        ),
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            t.cos[8],
+                                            <f32 as ::trocar::Real>::mul_add(
+                                                -0.012156523629410514_f32,
+                                                t.sin[6],
+                                                <f32 as ::trocar::Real>::mul_add(
+                                                    0.18234785444115773_f32,
+                                                    t.cos[6],
+                                                    -0.07305583232222679_f32,
+                                                ),
+                                            ),
+                                            -0.0001773936649182004_f32,
+                                        ),
+                                    ),
+                                ),
+                            ),
+                            x109,
+                        ),
+                    p.l_a
+                        * (x139
+                            * (x129
+                                + <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[8],
+                                    x130 - 0.3778998554341936_f32,
+                                    -x77,
+                                ))),
+                    p.l_a
+                        * (x139
+                            * (<f32 as ::trocar::Real>::mul_add(
+                                t.cos[8],
+                                0.09682238451014492_f32 - x133,
+                                -x79,
+                            ) - x132)),
+                    p.l_a
+                        * (x139
+                            * <f32 as ::trocar::Real>::mul_add(
+                                t.sin[8],
+                                x135 - 0.3894755183241913_f32,
+                                x137 - x136,
+                            )),
+                ],
+                [
+                    x139
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l_a,
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[6],
+                                x140,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.sin[6],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        t.sin[7],
+                                        0.0017377768657530933_f32 + x141 - x142,
+                                        t.cos[7] * (x143 - x144),
+                                    ),
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        -t.sin[8],
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            0.15115994217367743_f32,
+                                            t.cos[7],
+                                            0.12972806690158234_f32,
+                                        ),
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            t.cos[8],
+                                            <f32 as ::trocar::Real>::mul_add(
+                                                -0.17297075586877644_f32,
+                                                t.cos[7],
+                                                0.11336995663025808_f32,
+                                            ),
+                                            0.06951107463012374_f32 * t.sin[7],
+                                        ),
+                                    ),
+                                ),
+                            ),
+                            x131,
+                        ),
+                    x139
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l_a,
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[6],
+                                x145,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.sin[6],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        t.sin[7],
+                                        0.005738550515095395_f32 + x146 - x147,
+                                        t.cos[7]
+                                            * <f32 as ::trocar::Real>::mul_add(
+                                                0.002750958473182437_f32,
+                                                t.cos[8],
+                                                -x148,
+                                            ),
+                                    ),
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        t.sin[8],
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            0.03872895380405797_f32,
+                                            t.cos[7],
+                                            0.04379980039141514_f32,
+                                        ),
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            t.cos[8],
+                                            <f32 as ::trocar::Real>::mul_add(
+                                                0.05839973385522019_f32,
+                                                t.cos[7],
+                                                -0.029046715353043477_f32,
+                                            ),
+                                            0.2295420206038158_f32 * t.sin[7],
+                                        ),
+                                    ),
+                                ),
+                            ),
+                            x134,
+                        ),
+                    x139
+                        * <f32 as ::trocar::Real>::mul_add(
+                            p.l_a,
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.cos[6],
+                                x149,
+                                <f32 as ::trocar::Real>::mul_add(
+                                    -t.sin[6],
+                                    x150,
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        t.sin[8],
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            -0.18234785444115773_f32,
+                                            t.cos[7],
+                                            0.11684265549725738_f32,
+                                        ),
+                                        <f32 as ::trocar::Real>::mul_add(
+                                            t.cos[8],
+                                            <f32 as ::trocar::Real>::mul_add(
+                                                0.15579020732967652_f32,
+                                                t.cos[7],
+                                                0.1367608908308683_f32,
+                                            ),
+                                            -(0.00886968324591002_f32 * t.sin[7]),
+                                        ),
+                                    ),
+                                ),
+                            ),
+                            x138,
+                        ),
+                    p.l_a * (x107 * x139),
+                    p.l_a * (x108 * x139),
+                    p.l_a * (x109 * x139),
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[6],
+                        x140,
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.cos[6],
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[7],
+                                x142 - 0.0017377768657530933_f32 - x141,
+                                t.cos[7] * (x144 - x143),
+                            ),
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[8],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    0.010077329478245162_f32,
+                                    t.cos[7],
+                                    0.008648537793438821_f32,
+                                ),
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[8],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        0.011531383724585096_f32,
+                                        t.cos[7],
+                                        -0.007557997108683871_f32,
+                                    ),
+                                    -(0.004634071642008249_f32 * t.sin[7]),
+                                ),
+                            ),
+                        ),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[6],
+                        x145,
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.cos[6],
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[7],
+                                x147 - 0.005738550515095395_f32 - x146,
+                                t.cos[7]
+                                    * <f32 as ::trocar::Real>::mul_add(
+                                        -0.0027509584731824368_f32,
+                                        t.cos[8],
+                                        x148,
+                                    ),
+                            ),
+                            <f32 as ::trocar::Real>::mul_add(
+                                -t.sin[8],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    0.0025819302536038645_f32,
+                                    t.cos[7],
+                                    0.0029199866927610094_f32,
+                                ),
+                                <f32 as ::trocar::Real>::mul_add(
+                                    t.cos[8],
+                                    <f32 as ::trocar::Real>::mul_add(
+                                        -0.0038933155903480127_f32,
+                                        t.cos[7],
+                                        0.0019364476902028983_f32,
+                                    ),
+                                    -(0.01530280137358772_f32 * t.sin[7]),
+                                ),
+                            ),
+                        ),
+                    ),
+                    <f32 as ::trocar::Real>::mul_add(
+                        t.sin[6],
+                        x149,
+                        <f32 as ::trocar::Real>::mul_add(
+                            t.cos[6],
+                            x150,
+                            <f32 as ::trocar::Real>::mul_add(
+                                t.sin[8],
+                                <f32 as ::trocar::Real>::mul_add(
+                                    0.012156523629410514_f32,
+                                    t.cos[7],
+                                    -0.007789510366483825_f32,
+                                ),
+                                <f32 as ::trocar::Real>::mul_add(
+                                    0.0005913122163940013_f32,
+                                    t.sin[7],
+                                    -(t.cos[8]
+                                        * <f32 as ::trocar::Real>::mul_add(
+                                            0.010386013821978434_f32,
+                                            t.cos[7],
+                                            0.009117392722057886_f32,
+                                        )),
+                                ),
+                            ),
+                        ),
+                    ),
+                    x85,
+                    x91,
+                    x96,
+                ],
+            ],
+        )
+    }
     /// What one control step needs, in storage the caller owns (matrices column-major): filled by [`step_kinematics`].
     ///
     /// The constraint frame slides along the link with `params.l_a`: [`step_kinematics`] sets it to the trocar's offset first.
@@ -6119,10 +7904,7 @@ pub mod chain9_prismatic {
     /// Fills everything but `g_0i` (and the offset) at the parameters `p`.
     #[inline]
     fn fill_step(t: &JointTrig, p: &Params, out: &mut StepKinematics) {
-        out.g_0e = forward_kinematics_trig(t, p);
-        out.jb0i = partial_body_jacobian_trig(t, p);
-        out.jr = constrained_jacobian_trig(t, p);
-        out.jc = constraint_jacobian_c_trig(t, p);
+        (out.g_0e, out.jb0i, out.jr, out.jc) = pose_and_jacobians_trig(t, p);
         out.lambda_sharp = lambda_null_space(p);
         out.lambda_pinv = lambda_pinv(p);
     }

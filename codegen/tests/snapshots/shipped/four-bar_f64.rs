@@ -72,7 +72,7 @@ pub mod four_bar {
     }
     impl JointTrig {
         /// The sines and cosines of the used joints, in one `sin_cos_array` call.
-        #[inline]
+        #[inline(always)]
         #[must_use]
         pub fn new(q: &[f64; N]) -> Self {
             let ([s1, s2, s3, s4], [c1, c2, c3, c4]) = <f64 as ::trocar::Real>::sin_cos_array(

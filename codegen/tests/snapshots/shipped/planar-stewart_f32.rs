@@ -69,7 +69,7 @@ pub mod planar_stewart {
     }
     impl JointTrig {
         /// The sines and cosines of the used joints, in one `sin_cos_array` call.
-        #[inline]
+        #[inline(always)]
         #[must_use]
         pub fn new(q: &[f32; N]) -> Self {
             let ([s1, s3, s4, s6, s7, s9], [c1, c3, c4, c6, c7, c9]) = <f32 as ::trocar::Real>::sin_cos_array(

@@ -69,7 +69,7 @@ pub mod planar_stewart {
     }
     impl JointTrig {
         /// The sines and cosines of the used joints, in one `sin_cos_array` call.
-        #[inline]
+        #[inline(always)]
         #[must_use]
         pub fn new(q: &[f64; N]) -> Self {
             let ([s1, s3, s4, s6, s7, s9], [c1, c3, c4, c6, c7, c9]) = <f64 as ::trocar::Real>::sin_cos_array(
