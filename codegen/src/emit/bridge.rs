@@ -204,27 +204,35 @@ pub fn transform_program(d: &Derivation, t: &Transform) -> Program {
 /// Forward kinematics of the first `upto` joints (then `tail`, if given), product form.
 fn fk_product_program(d: &Derivation, upto: usize, tail: Option<&Transform>) -> Program {
     let mut prog = new_program(d);
-    let mut b = PolyBuilder::new(&mut prog);
-    let mut acc: Option<NumTransform> = None;
-    let mut factors: Vec<NumTransform> = d.joint_transforms[..upto]
+    let acc = chain_product(d, &mut prog, 0..upto, tail);
+    prog.set_outputs(acc.outputs());
+    prog
+}
+
+/// The product `T_a ⋯ T_b` of the joints `range` (0-based), then `tail` if given, built into
+/// `prog` left to right (2.21); the identity when both are empty.
+fn chain_product(
+    d: &Derivation,
+    prog: &mut Program,
+    range: std::ops::Range<usize>,
+    tail: Option<&Transform>,
+) -> NumTransform {
+    let mut b = PolyBuilder::new(prog);
+    let mut factors: Vec<NumTransform> = d.joint_transforms[range]
         .iter()
         .map(|t| b.transform(t))
         .collect();
     if let Some(t) = tail {
         factors.push(b.transform(t));
     }
-    for f in factors {
-        acc = Some(match acc {
-            None => f,
-            Some(a) => a.compose(&f, &mut prog),
-        });
+    let mut acc = match factors.first() {
+        Some(&f) => f,
+        None => b.transform(&Transform::identity()),
+    };
+    for f in factors.iter().skip(1) {
+        acc = acc.compose(f, prog);
     }
-    let acc = acc.unwrap_or_else(|| {
-        let mut b = PolyBuilder::new(&mut prog);
-        b.transform(&Transform::identity())
-    });
-    prog.set_outputs(acc.outputs());
-    prog
+    acc
 }
 
 /// Body Jacobian of the chain `joints[..upto]` then `tail` (`J^B_0e` with `tail = g_ne`,
@@ -288,21 +296,6 @@ fn body_jacobian_walk(
     (cols, g)
 }
 
-/// The product `T_{from+1} ⋯ T_n · g_ne` built into `prog` (`g_ie` with `from = i`).
-fn chain_tail(d: &Derivation, prog: &mut Program, from: usize) -> NumTransform {
-    let mut b = PolyBuilder::new(prog);
-    let mut factors: Vec<NumTransform> = d.joint_transforms[from..]
-        .iter()
-        .map(|t| b.transform(t))
-        .collect();
-    factors.push(b.transform(&d.end_effector));
-    let mut acc = factors[0];
-    for f in &factors[1..] {
-        acc = acc.compose(f, prog);
-    }
-    acc
-}
-
 /// `g_0e`, `J^B_0i`, `J^r_0e` and `J_c` of one control step as one program, outputs in that order
 /// (`g_0e` in the [`super::Shape::Transform`] layout, the matrices column-major): the walk that
 /// builds `J^B_0i` ends with `g_0i`, so `g_0e = g_0i · g_ie` (2.21) takes one product more
@@ -311,7 +304,7 @@ fn chain_tail(d: &Derivation, prog: &mut Program, from: usize) -> NumTransform {
 fn pose_and_jacobians_program(d: &Derivation, link: usize, jr: &Matrix, jc: &Matrix) -> Program {
     let mut prog = new_program(d);
     let (cols, g_0i) = body_jacobian_walk(d, &mut prog, link, None);
-    let g_ie = chain_tail(d, &mut prog, link);
+    let g_ie = chain_product(d, &mut prog, link..d.n, Some(&d.end_effector));
     let g_0e = g_0i.compose(&g_ie, &mut prog);
     let mut b = PolyBuilder::new(&mut prog);
     let jr = b.matrix(jr);

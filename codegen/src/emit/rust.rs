@@ -347,10 +347,11 @@ struct BodyWriter<'a> {
 
 /// Rule `fuse_when_it_pays`: a function writes its products added once as `Real::mul_add` (one
 /// FMA instruction where the target has it) only when it has at least this many. Measured
-/// (BENCHMARKS.md, "Fused multiply-add in generated code" and "Peers on generic chains"):
-/// dia10_like's FK + J^B_0i + J^r, dozens of fusions, takes 0.84× the time fused; the presets'
-/// `J^r`, two fusions each, take the same time either way, and fused they count up to 4 more
-/// instructions (the copies the destructive FMA forms need where all three operands stay live).
+/// (BENCHMARKS.md, "Fused multiply-add in generated code" and "Peers with one pass along the chain
+/// and a frozen baseline"): dia10_like's FK + J^B_0i + J^r, dozens of fusions, takes 0.84× the
+/// time fused; the presets' `J^r`, two fusions each, take the same time either way, and fused
+/// they count +4, +3 and −4 instructions (register copies for the destructive FMA forms where all
+/// three operands stay live): nothing to gain.
 const MIN_FUSED_PRODUCTS: usize = 4;
 
 impl BodyWriter<'_> {
@@ -615,6 +616,23 @@ fn doc_attrs(text: &str) -> TokenStream {
     quote!(#(#lines)*)
 }
 
+/// The parameters `prog` divides by, as "`a`, `b`" (empty when none).
+fn divisors(prog: &Program) -> String {
+    prog.divisor_params()
+        .iter()
+        .map(|p| format!("`{p}`"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The documentation's note on the parameters a function divides by ([`divisors`]).
+fn divides_by(divisors: &str) -> String {
+    format!(
+        "Divides by {divisors}: the result is not finite where that is 0 (nor, in general, with a \
+         NaN or infinite input); test it with `is_finite` where that can happen."
+    )
+}
+
 fn function_tokens(f: &Function, ty: &Ty, n: usize) -> TokenStream {
     let t = ty.t();
     let generics = ty.generics();
@@ -632,13 +650,7 @@ fn function_tokens(f: &Function, ty: &Ty, n: usize) -> TokenStream {
         let _ = writeln!(doc, "\n{layout}");
     }
     let guard = f.zero_when_not_finite && f.shape == Shape::Scalar;
-    let divisors = f
-        .program
-        .divisor_params()
-        .iter()
-        .map(|p| format!("`{p}`"))
-        .collect::<Vec<_>>()
-        .join(", ");
+    let divisors = divisors(&f.program);
     let not_finite = if guard {
         let by = if divisors.is_empty() {
             String::new()
@@ -656,11 +668,7 @@ fn function_tokens(f: &Function, ty: &Ty, n: usize) -> TokenStream {
     if guard {
         let _ = writeln!(doc, "\n{not_finite}");
     } else if !divisors.is_empty() {
-        let _ = writeln!(
-            doc,
-            "\nDivides by {divisors}: the result is not finite where that is 0 (nor, in general, with a NaN or \
-             infinite input); test it with `is_finite` where that can happen."
-        );
+        let _ = writeln!(doc, "\n{}", divides_by(&divisors));
     }
     let _ = writeln!(doc, "\nOperations: {counts}.");
     let doc_q = doc_attrs(&doc);
@@ -751,8 +759,14 @@ fn uses(prog: &Program, f: impl Fn(&Op) -> bool) -> bool {
 /// walked once), from the four `_trig` functions otherwise.
 fn pose_and_jacobians_tokens(spec: &ModuleSpec, ty: &Ty) -> Option<TokenStream> {
     spec.function(catalogue::Function::ConstrainedJacobian)?;
-    let size = |name: &str| spec.consts.iter().find(|c| c.name == name).map(|c| c.value);
-    let (i, m, r) = (size("I")?, size("M")?, size("R")?);
+    let size = |name: &str| {
+        spec.consts
+            .iter()
+            .find(|c| c.name == name)
+            .map(|c| c.value)
+            .unwrap_or_else(|| panic!("a constrained module has the constant {name}"))
+    };
+    let (i, m, r) = (size("I"), size("M"), size("R"));
     let t = ty.t();
     let generics = ty.generics();
     let args = ty.args();
@@ -774,12 +788,23 @@ fn pose_and_jacobians_tokens(spec: &ModuleSpec, ty: &Ty) -> Option<TokenStream> 
             let jbi = mat(12..12 + 6 * i, i);
             let jr = mat(12 + 6 * i..12 + 6 * (i + m), m);
             let jc = mat(12 + 6 * (i + m)..12 + 6 * (i + m + r), r);
-            let _ = write!(
+            let _ = writeln!(
                 doc,
                 "One pass along the chain: the walk that builds `J^B_0i` ends with `g_0i`, so \
                  `g_0e = g_0i g_ie` costs one product more, and the four share their common \
-                 values.\n\nOperations: {}.",
-                prog.op_counts()
+                 values.\n"
+            );
+            let divisors = divisors(prog);
+            if !divisors.is_empty() {
+                let _ = writeln!(doc, "{}\n", divides_by(&divisors));
+            }
+            let _ = write!(
+                doc,
+                "Operations: {} (the `sin_cos` calls are done once in [`JointTrig::new`]).",
+                super::program::OpCounts {
+                    trig: 0,
+                    ..prog.op_counts()
+                }
             );
             let p = if uses(prog, |op| matches!(op, Op::Param(_))) {
                 quote!(p)

@@ -60,6 +60,13 @@ macro_rules! generated_vs_numeric {
                 prop_assert!(max_diff(ti, fki.translation.iter().copied()) < 1e-12);
                 prop_assert!(against(&g::partial_body_jacobian(&q, &p), &robot.partial_body_jacobian(&q).unwrap()) < 1e-12);
                 prop_assert!(against(&g::constrained_jacobian(&q, &p), &robot.constrained_jacobian(&q).unwrap()) < 1e-12);
+                // The step's outputs from one pass along the chain.
+                let (g0e, jbi, jr, jc) = g::pose_and_jacobians_trig(&g::JointTrig::new(&q), &p);
+                prop_assert!(max_diff(g0e.0.iter().flatten().copied(), fk.rotation.iter().copied()) < 1e-12);
+                prop_assert!(max_diff(g0e.1, fk.translation.iter().copied()) < 1e-12);
+                prop_assert!(against(&jbi, &robot.partial_body_jacobian(&q).unwrap()) < 1e-12);
+                prop_assert!(against(&jr, &robot.constrained_jacobian(&q).unwrap()) < 1e-12);
+                prop_assert!(against(&jc, &robot.moving_rcm_jacobian(&q).unwrap()) < 1e-12);
                 generated_vs_numeric!(@task $task, g, q, p, robot);
                 let w = g::manipulability(&q, &p);
                 let wn = robot.manipulability(&q).unwrap();

@@ -1308,7 +1308,9 @@ pub mod dia10_like_zy {
     ///
     /// One pass along the chain: the walk that builds `J^B_0i` ends with `g_0i`, so `g_0e = g_0i g_ie` costs one product more, and the four share their common values.
     ///
-    /// Operations: 65 add, 152 mul, 2 div, 0 sqrt, 8 trig (sin_cos), 14 neg, 0 abs.
+    /// Divides by `l_a`: the result is not finite where that is 0 (nor, in general, with a NaN or infinite input); test it with `is_finite` where that can happen.
+    ///
+    /// Operations: 65 add, 152 mul, 2 div, 0 sqrt, 0 trig (sin_cos), 14 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline(always)]
     #[must_use]
     pub fn pose_and_jacobians_trig(t: &JointTrig, p: &Params) -> PoseAndJacobians {

@@ -1426,7 +1426,9 @@ pub mod panda_laparoscope {
     ///
     /// One pass along the chain: the walk that builds `J^B_0i` ends with `g_0i`, so `g_0e = g_0i g_ie` costs one product more, and the four share their common values.
     ///
-    /// Operations: 62 add, 115 mul, 1 div, 0 sqrt, 7 trig (sin_cos), 10 neg, 0 abs.
+    /// Divides by `l_a`: the result is not finite where that is 0 (nor, in general, with a NaN or infinite input); test it with `is_finite` where that can happen.
+    ///
+    /// Operations: 62 add, 115 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 10 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline(always)]
     #[must_use]
     pub fn pose_and_jacobians_trig(t: &JointTrig, p: &Params) -> PoseAndJacobians {
