@@ -385,14 +385,9 @@ pub mod fast {
         for k in 0..W {
             let sign = x[k].to_bits() & !ABS;
             let ax = f64::from_bits(x[k].to_bits() & ABS);
-            // |x| ≤ π/4 goes to the kernels unreduced, as in sin_cos_f64, by a select.
+            // |x| ≤ π/4 needs no select: the reduction then gives n = 0 and exactly (|x|, 0), the
+            // arguments sin_cos_f64 hands to the kernels unreduced.
             let (y0, y1, quadrant) = one_step64(ax);
-            let small = ax <= core::f64::consts::FRAC_PI_4;
-            let (y0, y1, quadrant) = if small {
-                (ax, 0.0, 0)
-            } else {
-                (y0, y1, quadrant)
-            };
             slow |= !(ax <= F64_FAST_LIMIT) | (f64::from_bits(y0.to_bits() & ABS) < ax * TWO_M16);
             (s[k], c[k]) = finish64(y0, y1, quadrant, sign);
         }

@@ -334,3 +334,52 @@ fn array_version_equals_the_scalar_one_bit_for_bit() {
         assert_eq!((s[k], c[k]), sin_cos_f32(xf[k]));
     }
 }
+
+/// Arguments with `|x| ≤ π/4`, which `sin_cos_f64` hands to its kernels unreduced, take the
+/// lanes' reduction unchanged (`n = 0`, `(|x|, 0)`): bit for bit the same, at every magnitude
+/// from subnormal to π/4 and at π/4's neighbours.
+#[test]
+fn small_arguments_need_no_reduction_in_lanes() {
+    use trocar::real::fast::{sin_cos_f64, sin_cos_f64_lanes};
+    let mut seed = 11u64;
+    let mut next = || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        seed
+    };
+    let quarter = core::f64::consts::FRAC_PI_4;
+    for _ in 0..50_000 {
+        let x: [f64; 8] = core::array::from_fn(|_| {
+            let r = next();
+            // A uniform fraction of π/4 scaled by 2^-e, e in 0..1100 (down to subnormals), signed.
+            let frac = (r >> 11) as f64 / (1u64 << 53) as f64;
+            let e = (r % 1100) as i32;
+            let v = quarter * frac * 2f64.powi(-e);
+            if r & 1 == 0 {
+                v
+            } else {
+                -v
+            }
+        });
+        let (s, c) = sin_cos_f64_lanes::<8>(&x);
+        for k in 0..8 {
+            let (ws, wc) = sin_cos_f64(x[k]);
+            assert_eq!(s[k].to_bits(), ws.to_bits(), "sin {:e}", x[k]);
+            assert_eq!(c[k].to_bits(), wc.to_bits(), "cos {:e}", x[k]);
+        }
+    }
+    let mut q = quarter;
+    for _ in 0..1000 {
+        let (s, c) = sin_cos_f64_lanes::<2>(&[q, -q]);
+        assert_eq!((s[0].to_bits(), c[0].to_bits()), {
+            let (a, b) = sin_cos_f64(q);
+            (a.to_bits(), b.to_bits())
+        });
+        assert_eq!((s[1].to_bits(), c[1].to_bits()), {
+            let (a, b) = sin_cos_f64(-q);
+            (a.to_bits(), b.to_bits())
+        });
+        q = f64::from_bits(q.to_bits() - 1);
+    }
+}
