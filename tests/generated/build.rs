@@ -55,6 +55,23 @@ fn main() {
     if let Err(e) = mb32.compile() {
         panic!("trocar-codegen: {e}");
     }
+    // `pose_and_jacobians_trig` as the four functions called in turn, the form written where one
+    // program for all four would not be smaller (no shipped robot takes it): dia10_like with
+    // that form forced, so that it compiles here and the agree tests check it.
+    let desc = trocar_model::description::RobotDescription::preset("dia10_like_zy")
+        .unwrap_or_else(|e| panic!("dia10_like_zy: {e}"));
+    let d = trocar_codegen::derivation::derive(&desc).unwrap_or_else(|e| panic!("{e}"));
+    let mut spec = trocar_codegen::emit::bridge::module_spec(&d, "dia10_like_zy_four_calls");
+    spec.pose_and_jacobians = None;
+    let text = trocar_codegen::emit::format_file(trocar_codegen::emit::module_tokens(
+        &spec,
+        Real::Generic,
+    ))
+    .unwrap_or_else(|e| panic!("{e}"));
+    let out = std::path::PathBuf::from(std::env::var("OUT_DIR").expect("OUT_DIR"));
+    std::fs::write(out.join("dia10_like_zy_four_calls.rs"), text)
+        .unwrap_or_else(|e| panic!("writing dia10_like_zy_four_calls.rs: {e}"));
+
     // Generated code naming the runtime through a re-export (`Builder::runtime_path`).
     let mut reexport = Builder::new();
     reexport

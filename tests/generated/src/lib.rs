@@ -26,6 +26,8 @@ generated!(
     "panda_laparoscope.rs",
     "iiwa_endoscope.rs",
     "iiwa_link6.rs",
+    // dia10_like with `pose_and_jacobians_trig` calling the four functions (build.rs).
+    "dia10_like_zy_four_calls.rs",
 );
 
 // Closed mechanisms (four-bar linkage, planar Gough–Stewart platform).

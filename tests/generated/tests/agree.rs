@@ -549,6 +549,13 @@ check_robot!(
 );
 check_robot!(dia10_like_zy, dia10_like_zy, "dia10_like_zy.toml", [l_a]);
 check_robot!(dia10_like_zx, dia10_like_zx, "dia10_like_zx.toml", [l_a]);
+// pose_and_jacobians_trig written as the four functions called in turn.
+check_robot!(
+    dia10_like_zy_four_calls,
+    dia10_like_zy_four_calls,
+    "dia10_like_zy.toml",
+    [l_a]
+);
 check_robot!(
     rotated_rcm,
     rotated_rcm,
