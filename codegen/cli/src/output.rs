@@ -99,10 +99,7 @@ impl Outputs {
                 return Err(CliError(format!("{option} {shown}: not a file name")));
             }
             let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-            if kind == OutputKind::Figure
-                && !ext.eq_ignore_ascii_case("svg")
-                && !ext.eq_ignore_ascii_case("png")
-            {
+            if kind == OutputKind::Figure && trocar_sim::plot::ImageFormat::of(path).is_none() {
                 return Err(CliError(format!(
                     "{option} {shown}: a figure is written as SVG or PNG; name the file `….svg` or `….png`"
                 )));

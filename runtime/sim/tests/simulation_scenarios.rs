@@ -179,6 +179,10 @@ fn progress_reaches_one_and_figures_are_written() {
     let svg = std::fs::read_to_string(dir.join("s1.svg")).unwrap();
     assert!(svg.contains("<svg") && svg.contains("joint velocities"));
     assert!(trocar_sim::plot::write_figure(&tr, dir.join("s1.txt")).is_err());
+    // The extension in either case, as `trocar simulate --plot` accepts it.
+    trocar_sim::plot::write_figure(&tr, dir.join("S1.PNG")).unwrap();
+    let png = std::fs::read(dir.join("S1.PNG")).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
     std::fs::remove_dir_all(&dir).ok();
 }
 

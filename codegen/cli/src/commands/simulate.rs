@@ -257,13 +257,9 @@ impl SimulationRun {
         match &self.trace {
             AnyTrace::Rcm(t) => trocar_sim::plot::write_figure(t, path).map_err(|e| e.to_string()),
             AnyTrace::ClosedChain(t) => {
-                let png = path
-                    .extension()
-                    .is_some_and(|e| e.eq_ignore_ascii_case("png"));
-                let written = if png {
-                    t.plot_png(path)
-                } else {
-                    t.plot_svg(path)
+                let written = match trocar_sim::plot::ImageFormat::of(path) {
+                    Some(trocar_sim::plot::ImageFormat::Png) => t.plot_png(path),
+                    _ => t.plot_svg(path),
                 };
                 written.map_err(|e| e.to_string())
             }

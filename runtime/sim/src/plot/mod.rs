@@ -49,17 +49,73 @@ fn err(e: impl core::fmt::Display) -> PlotError {
 /// Size of the figure in pixels.
 pub const SIZE: (u32, u32) = (1600, 1500);
 
-/// Writes the figure of a trace; the format follows the extension (`.svg` or `.png`).
-pub fn write_figure(trace: &Trace, path: impl AsRef<Path>) -> Result<(), PlotError> {
-    let path = path.as_ref();
-    match path.extension().and_then(|e| e.to_str()) {
-        Some("svg") => write_svg(trace, path),
-        Some("png") => write_png(trace, path),
-        _ => Err(PlotError(format!(
+/// The image formats figures are written in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageFormat {
+    /// SVG (vector).
+    Svg,
+    /// PNG (bitmap).
+    Png,
+}
+
+impl ImageFormat {
+    /// The format a file name asks for by its extension, `.svg` or `.png` in either case.
+    pub fn of(path: &Path) -> Option<Self> {
+        let ext = path.extension()?.to_str()?;
+        if ext.eq_ignore_ascii_case("svg") {
+            Some(ImageFormat::Svg)
+        } else if ext.eq_ignore_ascii_case("png") {
+            Some(ImageFormat::Png)
+        } else {
+            None
+        }
+    }
+}
+
+/// A picture drawn on any plotters backend, which [`write_image`] writes as SVG or PNG.
+pub(crate) trait Figure {
+    /// Draws the picture on `root`.
+    fn draw_on<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError>;
+}
+
+/// Writes `figure` at `size` pixels to `path`, in the format its extension names
+/// ([`ImageFormat::of`]).
+pub(crate) fn write_image(
+    path: &Path,
+    size: (u32, u32),
+    figure: &impl Figure,
+) -> Result<(), PlotError> {
+    match ImageFormat::of(path) {
+        Some(ImageFormat::Svg) => {
+            let root = SVGBackend::new(path, size).into_drawing_area();
+            figure.draw_on(&root)?;
+            root.present().map_err(err)
+        }
+        Some(ImageFormat::Png) => {
+            let root = BitMapBackend::new(path, size).into_drawing_area();
+            figure.draw_on(&root)?;
+            root.present().map_err(err)
+        }
+        None => Err(PlotError(format!(
             "{}: expected a .svg or .png file name",
             path.display()
         ))),
     }
+}
+
+/// The six-panel figure of one trace ([`draw`]).
+struct TraceFigure<'a>(&'a Trace);
+
+impl Figure for TraceFigure<'_> {
+    fn draw_on<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
+        draw(self.0, root)
+    }
+}
+
+/// Writes the figure of a trace; the format follows the extension (`.svg` or `.png`, either
+/// case).
+pub fn write_figure(trace: &Trace, path: impl AsRef<Path>) -> Result<(), PlotError> {
+    write_image(path.as_ref(), SIZE, &TraceFigure(trace))
 }
 
 /// Writes the figure as SVG.
@@ -87,23 +143,16 @@ pub const COMPARISON_SIZE: (u32, u32) = (1600, 1100);
 ///
 /// Refused when `traces` is empty or the runs are of different scenarios or drift corrections.
 pub fn write_comparison(traces: &[&Trace], path: impl AsRef<Path>) -> Result<(), PlotError> {
-    let path = path.as_ref();
     check_comparison(traces)?;
-    match path.extension().and_then(|e| e.to_str()) {
-        Some("svg") => {
-            let root = SVGBackend::new(path, COMPARISON_SIZE).into_drawing_area();
-            draw_comparison(traces, &root)?;
-            root.present().map_err(err)
-        }
-        Some("png") => {
-            let root = BitMapBackend::new(path, COMPARISON_SIZE).into_drawing_area();
-            draw_comparison(traces, &root)?;
-            root.present().map_err(err)
-        }
-        _ => Err(PlotError(format!(
-            "{}: expected a .svg or .png file name",
-            path.display()
-        ))),
+    write_image(path.as_ref(), COMPARISON_SIZE, &Comparison(traces))
+}
+
+/// The comparison figure of several runs ([`draw_comparison`]).
+struct Comparison<'a>(&'a [&'a Trace]);
+
+impl Figure for Comparison<'_> {
+    fn draw_on<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
+        draw_comparison(self.0, root)
     }
 }
 

@@ -10,7 +10,7 @@
 //! the trace's `l_a`, the point of the link nearest the tracked trocar (they are `rcm_drift`
 //! apart, the trace's measured drift).
 
-use super::{err, register_font, PlotError};
+use super::{err, register_font, write_image, Figure, PlotError};
 use crate::simulation::{Trace, TraceRow};
 use nalgebra::Vector3;
 use plotters::coord::Shift;
@@ -512,21 +512,27 @@ pub fn write_snapshot(
     }
     rows.sort_unstable();
     rows.dedup();
-    match path.extension().and_then(|e| e.to_str()) {
-        Some(e) if e.eq_ignore_ascii_case("svg") => {
-            let root = SVGBackend::new(path, VIEW_SIZE).into_drawing_area();
-            draw(&scene, trace, &rows, &root)?;
-            root.present().map_err(err)
-        }
-        Some(e) if e.eq_ignore_ascii_case("png") => {
-            let root = BitMapBackend::new(path, VIEW_SIZE).into_drawing_area();
-            draw(&scene, trace, &rows, &root)?;
-            root.present().map_err(err)
-        }
-        _ => Err(PlotError(format!(
-            "{}: expected a .svg or .png file name",
-            path.display()
-        ))),
+    write_image(
+        path,
+        VIEW_SIZE,
+        &Snapshot {
+            scene: &scene,
+            trace,
+            rows: &rows,
+        },
+    )
+}
+
+/// A still of the arm at some rows of a trace ([`draw`]).
+struct Snapshot<'a> {
+    scene: &'a Scene,
+    trace: &'a Trace,
+    rows: &'a [usize],
+}
+
+impl Figure for Snapshot<'_> {
+    fn draw_on<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
+        draw(self.scene, self.trace, self.rows, root)
     }
 }
 
