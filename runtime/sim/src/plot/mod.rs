@@ -179,6 +179,43 @@ fn check_comparison(traces: &[&Trace]) -> Result<(), PlotError> {
     Ok(())
 }
 
+/// The font sizes of the trace figures ([`draw`], [`draw_comparison`]).
+const TRACE_FONTS: Fonts = Fonts {
+    title: 22,
+    text: 17,
+};
+
+/// The title of a trace figure: the scenario, the method(s) and the drift correction.
+fn figure_title(trace: &Trace, methods: &str) -> String {
+    format!(
+        "{} - {}, drift correction {}",
+        trace.scenario.title(),
+        methods,
+        if trace.drift_correction { "on" } else { "off" }
+    )
+}
+
+/// A panel of a trace figure: lines over the time `t (s)`.
+fn time_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+    y_label: &str,
+    non_negative: bool,
+    lines: Vec<Line>,
+) -> Result<(), PlotError> {
+    draw_panel(
+        area,
+        &Panel2d {
+            title,
+            x_label: "t (s)",
+            y_label,
+            lines,
+            non_negative,
+        },
+        TRACE_FONTS,
+    )
+}
+
 /// The name of a method in a comparison's title and legends (the thesis's spelling).
 fn method_label(method: crate::simulation::Method) -> &'static str {
     match method {
@@ -196,20 +233,14 @@ pub fn draw_comparison<DB: DrawingBackend>(
     check_comparison(traces)?;
     register_font()?;
     root.fill(&WHITE).map_err(err)?;
-    let first = traces[0];
     let methods: Vec<&str> = traces.iter().map(|t| method_label(t.method)).collect();
-    let title = format!(
-        "{} - {}, drift correction {}",
-        first.scenario.title(),
-        methods.join(" vs "),
-        if first.drift_correction { "on" } else { "off" }
-    );
-    let root = root.titled(&title, ("sans-serif", 28)).map_err(err)?;
+    let root = root
+        .titled(
+            &figure_title(traces[0], &methods.join(" vs ")),
+            ("sans-serif", 28),
+        )
+        .map_err(err)?;
     let panels = root.split_evenly((2, 2));
-    let fonts = Fonts {
-        title: 22,
-        text: 17,
-    };
     let panel = |area: &DrawingArea<DB, Shift>,
                  title: &str,
                  y_label: &str,
@@ -222,17 +253,7 @@ pub fn draw_comparison<DB: DrawingBackend>(
                 y: t.rows.iter().map(f).collect(),
             })
             .collect();
-        draw_panel(
-            area,
-            &Panel2d {
-                title,
-                x_label: "t (s)",
-                y_label,
-                lines,
-                non_negative: true,
-            },
-            fonts,
-        )
+        time_panel(area, title, y_label, true, lines)
     };
     panel(
         &panels[0],
@@ -542,70 +563,53 @@ pub fn draw<DB: DrawingBackend>(
 ) -> Result<(), PlotError> {
     register_font()?;
     root.fill(&WHITE).map_err(err)?;
-    let title = format!(
-        "{} - {}, drift correction {}",
-        trace.scenario.title(),
-        trace.method.name(),
-        if trace.drift_correction { "on" } else { "off" }
-    );
-    let root = root.titled(&title, ("sans-serif", 28)).map_err(err)?;
+    let root = root
+        .titled(
+            &figure_title(trace, trace.method.name()),
+            ("sans-serif", 28),
+        )
+        .map_err(err)?;
     let panels = root.split_evenly((3, 2));
     let rows = &trace.rows;
     let t: Vec<f64> = rows.iter().map(|r| r.t).collect();
     let col =
         |f: &dyn Fn(&crate::simulation::TraceRow) -> f64| rows.iter().map(f).collect::<Vec<_>>();
-    let fonts = Fonts {
-        title: 22,
-        text: 17,
-    };
     let panel = |area: &DrawingArea<DB, Shift>,
                  title: &str,
                  y_label: &str,
                  non_negative: bool,
-                 series: &[(&str, Vec<f64>)]| {
+                 series: Vec<(String, Vec<f64>)>| {
         let lines = series
-            .iter()
+            .into_iter()
             .map(|(label, y)| Line {
-                label: label.to_string(),
+                label,
                 x: t.clone(),
-                y: y.clone(),
+                y,
             })
             .collect();
-        draw_panel(
-            area,
-            &Panel2d {
-                title,
-                x_label: "t (s)",
-                y_label,
-                lines,
-                non_negative,
-            },
-            fonts,
-        )
+        time_panel(area, title, y_label, non_negative, lines)
     };
     panel(
         &panels[0],
         "(a) end-effector errors",
         "|e_p| (m), |eps| (-)",
         true,
-        &[
-            ("|dp - p| (m)", col(&|r| r.ep_norm)),
-            ("|eps| (quaternion)", col(&|r| r.eo_norm)),
+        vec![
+            ("|dp - p| (m)".into(), col(&|r| r.ep_norm)),
+            ("|eps| (quaternion)".into(), col(&|r| r.eo_norm)),
         ],
     )?;
     let [a, b] = trace.lateral_axes;
-    let (va, vb) = (format!("v along {a}"), format!("v along {b}"));
-    let (ca, cb) = (format!("commanded {a}"), format!("commanded {b}"));
     panel(
         &panels[1],
         "(b) lateral velocity of the link at the trocar (F_r)",
         "v (m/s)",
         false,
-        &[
-            (va.as_str(), col(&|r| r.vr[0])),
-            (vb.as_str(), col(&|r| r.vr[1])),
-            (ca.as_str(), col(&|r| r.dv_cmd[0])),
-            (cb.as_str(), col(&|r| r.dv_cmd[1])),
+        vec![
+            (format!("v along {a}"), col(&|r| r.vr[0])),
+            (format!("v along {b}"), col(&|r| r.vr[1])),
+            (format!("commanded {a}"), col(&|r| r.dv_cmd[0])),
+            (format!("commanded {b}"), col(&|r| r.dv_cmd[1])),
         ],
     )?;
     panel(
@@ -613,9 +617,9 @@ pub fn draw<DB: DrawingBackend>(
         "(c) manipulability",
         "w (-)",
         true,
-        &[
-            ("w_r (S J^r_0e, the task)", col(&|r| r.w_r)),
-            ("w_i (J^B_0i)", col(&|r| r.w_i)),
+        vec![
+            ("w_r (S J^r_0e, the task)".into(), col(&|r| r.w_r)),
+            ("w_i (J^B_0i)".into(), col(&|r| r.w_i)),
         ],
     )?;
     panel(
@@ -623,25 +627,21 @@ pub fn draw<DB: DrawingBackend>(
         "(d) l_a and q7",
         "l_a (m), q7 (rad)",
         false,
-        &[("l_a (m)", col(&|r| r.l_a)), ("q7 (rad)", col(&|r| r.q[6]))],
+        vec![
+            ("l_a (m)".into(), col(&|r| r.l_a)),
+            ("q7 (rad)".into(), col(&|r| r.q[6])),
+        ],
     )?;
     let qd: Vec<(String, Vec<f64>)> = (0..trace.joints)
         .map(|k| (format!("qd{}", k + 1), col(&|r| r.qd[k])))
         .collect();
-    let qd_ref: Vec<(&str, Vec<f64>)> = qd.iter().map(|(n, v)| (n.as_str(), v.clone())).collect();
-    panel(
-        &panels[4],
-        "(e) joint velocities",
-        "qd (rad/s)",
-        false,
-        &qd_ref,
-    )?;
+    panel(&panels[4], "(e) joint velocities", "qd (rad/s)", false, qd)?;
     panel(
         &panels[5],
         "(f) distance trocar - link axis (rcm_drift)",
         "distance (m)",
         true,
-        &[("rcm_drift", col(&|r| r.rcm_drift))],
+        vec![("rcm_drift".into(), col(&|r| r.rcm_drift))],
     )?;
     Ok(())
 }
