@@ -220,20 +220,13 @@ pub(crate) fn usage_error(cli: &Cli) -> Option<clap::Error> {
     else {
         return None;
     };
-    let option = [
-        ("--csv", csv.is_some()),
-        ("--animate", animate.is_some()),
-        ("--snapshot", snapshot.is_some()),
-    ]
-    .into_iter()
-    .find(|(_, given)| *given)?
-    .0;
-    Some(Cli::command().error(
-        clap::error::ErrorKind::ArgumentConflict,
-        format!(
-            "{option} writes one run; --method all compares pinv, dls and fi on one figure (--plot only)"
-        ),
-    ))
+    let views = crate::commands::simulate::ArmViews {
+        animate: animate.clone(),
+        snapshot: snapshot.clone(),
+        snapshot_times: None,
+    };
+    let message = crate::commands::simulate::method_all_conflict(csv.is_some(), &views)?;
+    Some(Cli::command().error(clap::error::ErrorKind::ArgumentConflict, message))
 }
 
 /// A joint speed limit given on the command line: `none`, or a positive speed.
@@ -253,11 +246,10 @@ fn parse_seconds(s: &str) -> Result<f64, String> {
         .trim()
         .parse()
         .map_err(|_| format!("`{s}` is not a number of seconds"))?;
-    if !(v.is_finite() && v > 0.0) {
-        return Err(format!(
-            "`{s}`: must be a positive, finite number of seconds"
-        ));
-    }
+    // The rule of the library's `CsvRows::check`, with the value as the user wrote it.
+    trocar_sim::simulation::CsvRows::Period(v)
+        .check()
+        .map_err(|_| format!("`{s}`: must be a positive, finite number of seconds"))?;
     Ok(v)
 }
 

@@ -97,17 +97,8 @@ fn compare_methods(
     views: &ArmViews,
     outputs: Outputs,
 ) -> Result<String, CliError> {
-    if let Some(option) = [
-        ("--csv", csv.is_some()),
-        ("--animate", views.animate.is_some()),
-        ("--snapshot", views.snapshot.is_some()),
-    ]
-    .into_iter()
-    .find_map(|(o, given)| given.then_some(o))
-    {
-        return Err(CliError(format!(
-            "{option} writes one run; --method all compares pinv, dls and fi on one figure (--plot only)"
-        )));
+    if let Some(message) = method_all_conflict(csv.is_some(), views) {
+        return Err(CliError(message));
     }
     serial_only(
         "--method all",
@@ -145,6 +136,21 @@ fn compare_methods(
     }
     outputs.commit()?;
     Ok(summaries.join("\n"))
+}
+
+/// Why `--method all` cannot be asked for with these outputs, if it cannot: `--csv`,
+/// `--animate` and `--snapshot` each write one run.
+pub(crate) fn method_all_conflict(csv: bool, views: &ArmViews) -> Option<String> {
+    let option = [
+        ("--csv", csv),
+        ("--animate", views.animate.is_some()),
+        ("--snapshot", views.snapshot.is_some()),
+    ]
+    .into_iter()
+    .find_map(|(o, given)| given.then_some(o))?;
+    Some(format!(
+        "{option} writes one run; --method all compares pinv, dls and fi on one figure (--plot only)"
+    ))
 }
 
 /// Refuses a closed-chain `scenario` for `option`, which `what` only on the serial scenarios
