@@ -2,9 +2,15 @@
 //! `trocar verify` checks.
 //!
 //! The programs evaluated here are exactly those the emitter turns into Rust (after CSE, constant
-//! folding and factoring), interpreted in `f64`; the compiled form is checked separately by the
-//! generated-code test crate. Functions are named by the catalogue
-//! ([`trocar_model::catalogue::Function`]), as the emitter names them.
+//! folding and factoring), compiled once ([`Compiled`]) and evaluated in `f64` operation for
+//! operation as the generated `f64` code evaluates them (the same `sin_cos`, the same fused
+//! multiply-adds), so the answers are bit for bit the generated code's; the generated-code test
+//! crate checks that. Functions are named by the catalogue ([`trocar_model::catalogue::Function`]),
+//! as the emitter names them.
+
+mod compiled;
+
+pub use compiled::{Compiled, LANES};
 
 use crate::closed_chain::{emit as mechanism_emit, MechanismDerivation};
 use crate::derivation;
@@ -18,6 +24,8 @@ use trocar_model::description::RobotDescription;
 #[derive(Clone, Debug)]
 pub struct Generated {
     spec: ModuleSpec,
+    /// Every function's program, compiled, in the order of `spec.functions`.
+    compiled: Vec<Compiled>,
 }
 
 impl Generated {
@@ -25,18 +33,54 @@ impl Generated {
     pub fn new(description: &RobotDescription) -> Result<Self, Error> {
         let d = derivation::derive(description)
             .map_err(|e| Error::Description(e.into_description_error(description)))?;
-        Ok(Generated {
-            spec: bridge::module_spec(&d, &module_name(&description.name)),
-        })
+        Ok(Generated::from_spec(bridge::module_spec(
+            &d,
+            &module_name(&description.name),
+        )))
     }
 
     /// The polynomial functions of a closed mechanism's module ([`Function::is_program`]:
     /// `constraint_jacobian`, `task_jacobian`, `constraint_determinant` and the numerators);
     /// `q` holds all joints, active and passive.
     pub fn mechanism(derivation: &MechanismDerivation) -> Self {
-        Generated {
-            spec: mechanism_emit::module_spec(derivation, &module_name(&derivation.name)),
-        }
+        Generated::from_spec(mechanism_emit::module_spec(
+            derivation,
+            &module_name(&derivation.name),
+        ))
+    }
+
+    fn from_spec(spec: ModuleSpec) -> Self {
+        let compiled = spec
+            .functions
+            .iter()
+            .map(|f| Compiled::new(&f.program, spec.joints))
+            .collect();
+        Generated { spec, compiled }
+    }
+
+    /// The compiled program of `function`, if the module has it.
+    pub fn compiled(&self, function: Function) -> Option<&Compiled> {
+        let k = self
+            .spec
+            .functions
+            .iter()
+            .position(|x| x.name == function.name())?;
+        Some(&self.compiled[k])
+    }
+
+    /// The layout of `function`'s outputs, if the module has it.
+    pub fn shape(&self, function: Function) -> Option<Shape> {
+        self.spec.function(function).map(|f| f.shape)
+    }
+
+    /// Number of joint values the functions take.
+    pub fn joints(&self) -> usize {
+        self.spec.joints
+    }
+
+    /// The parameters' names, in declaration order.
+    pub fn param_names(&self) -> Vec<&str> {
+        self.spec.params.iter().map(|(n, _)| n.as_str()).collect()
     }
 
     /// Whether the module has the function `function`.
@@ -62,11 +106,11 @@ impl Generated {
     /// emitted layout (matrices column-major; a transform as `R` column-major then `p`). `None`
     /// when the module has no such function or the argument lengths are wrong.
     pub fn outputs(&self, function: Function, q: &[f64], params: &[f64]) -> Option<Vec<f64>> {
-        let f = self.spec.function(function)?;
+        let c = self.compiled(function)?;
         if q.len() != self.spec.joints || params.len() != self.spec.params.len() {
             return None;
         }
-        Some(f.program.eval(q, params))
+        Some(c.eval(q, params))
     }
 
     /// Evaluates `function` at `q` with parameter values in declaration order; a transform comes

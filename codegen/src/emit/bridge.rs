@@ -338,11 +338,7 @@ fn graph_or_expanded_form(d: &Derivation, m: &Matrix) -> (Matrix, Program) {
     match crate::derivation::expanded_within(m, REEXPANSION_BUDGET) {
         Some(e) => {
             let expanded = matrix_program(d, &e);
-            if expanded.live_len() < graph.live_len() {
-                (e, expanded)
-            } else {
-                (m.clone(), graph)
-            }
+            cheaper_by((m.clone(), graph), (e, expanded), |form| &form.1)
         }
         None => (m.clone(), graph),
     }
@@ -356,20 +352,19 @@ fn manipulability_graph_or_expanded(d: &Derivation, j: &Matrix) -> (Program, Pro
         return graph;
     }
     match crate::derivation::expanded_within(j, REEXPANSION_BUDGET) {
-        Some(e) => {
-            let expanded = manipulability_from_jr(d, &e);
-            if expanded.0.live_len() < graph.0.live_len() {
-                expanded
-            } else {
-                graph
-            }
-        }
+        Some(e) => cheaper_by(graph, manipulability_from_jr(d, &e), |w| &w.0),
         None => graph,
     }
 }
 
 fn cheaper(a: Program, b: Program) -> Program {
-    if b.live_len() < a.live_len() {
+    cheaper_by(a, b, |p| p)
+}
+
+/// Of two forms, the one whose program (`program(form)`) has fewer live operations; `a` on a
+/// tie.
+fn cheaper_by<T>(a: T, b: T, program: impl Fn(&T) -> &Program) -> T {
+    if program(&b).live_len() < program(&a).live_len() {
         b
     } else {
         a

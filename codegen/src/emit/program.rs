@@ -31,6 +31,7 @@
 //! | `one_inverse` | `x⁻ᵏ` is built as `(1/x)ᵏ`, with `1/x` a single shared division | [`Program::power`] |
 //! | `one_trig` | `sin q_k` and `cos q_k` come from one `sin_cos` per joint, all of a function's joints in one `sin_cos_array` call | [`Program::op_counts`], emission |
 //! | `dead_code` | only values reachable from the outputs are emitted and counted | [`Program::live`] |
+//! | `fuse_when_it_pays` | a product used once and added to something is one fused multiply-add, in programs with at least [`MIN_FUSED_PRODUCTS`] such products | [`Program::fused_products`] |
 
 use std::collections::{BTreeMap, HashMap};
 use std::fmt;
@@ -45,6 +46,15 @@ impl ValueId {
         self.0 as usize
     }
 }
+
+/// Rule `fuse_when_it_pays`: a function writes its products added once as `Real::mul_add` (one
+/// FMA instruction where the target has it) only when it has at least this many
+/// ([`Program::fused_products`]). Measured (BENCHMARKS.md, "Fused multiply-add in generated code"
+/// and "Peers with one pass along the chain and a frozen baseline"): dia10_like's FK + J^B_0i +
+/// J^r, dozens of fusions, takes 0.84× the time fused; the presets' `J^r`, two fusions each, take
+/// the same time either way, and fused they count +4, +3 and −4 instructions (register copies for
+/// the destructive FMA forms where all three operands stay live): nothing to gain.
+pub const MIN_FUSED_PRODUCTS: usize = 4;
 
 /// An `f64` constant hashed and compared by its bits (`-0.0` is normalised to `0.0`).
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
@@ -670,33 +680,70 @@ impl Program {
         c
     }
 
+    /// How many live operations use each value (an output counts as a use).
+    pub fn use_counts(&self) -> Vec<usize> {
+        let live = self.live();
+        let mut uses = vec![0usize; self.ops.len()];
+        for (op, _) in self.ops.iter().zip(&live).filter(|(_, &l)| l) {
+            for a in op.operands() {
+                uses[a.index()] += 1;
+            }
+        }
+        for o in &self.outputs {
+            uses[o.index()] += 1;
+        }
+        uses
+    }
+
+    /// Rule `fuse_when_it_pays`: `fused[v]` is `true` when the product `v` is written into the
+    /// one addition or subtraction that uses it as a fused multiply-add (`Real::mul_add`: one
+    /// FMA instruction where the target has it). A product is fusable when it is used once and
+    /// added to something; a program fuses its fusable products only when it has at least
+    /// [`MIN_FUSED_PRODUCTS`] of them, and none otherwise. In `a + b` (or `a − b`) with both
+    /// operands fusable, `a` is the one fused and `b` is an ordinary product. The emitter and the evaluator both follow this plan, so
+    /// the evaluator rounds exactly as the compiled code.
+    pub fn fused_products(&self) -> Vec<bool> {
+        let live = self.live();
+        let uses = self.use_counts();
+        let in_place = |v: ValueId| uses[v.index()] <= 1 && matches!(self.op(v), Op::Mul(..));
+        let fusable = self
+            .ops
+            .iter()
+            .zip(&live)
+            .filter(|(_, &l)| l)
+            .filter(|(op, _)| match **op {
+                Op::Add(a, b) | Op::Sub(a, b) => in_place(a) || in_place(b),
+                _ => false,
+            })
+            .count();
+        let mut fused = vec![false; self.ops.len()];
+        if fusable < MIN_FUSED_PRODUCTS {
+            return fused;
+        }
+        for (op, _) in self.ops.iter().zip(&live).filter(|(_, &l)| l) {
+            if let Op::Add(a, b) | Op::Sub(a, b) = *op {
+                if in_place(a) {
+                    fused[a.index()] = true;
+                } else if in_place(b) {
+                    fused[b.index()] = true;
+                }
+            }
+        }
+        fused
+    }
+
     /// Number of live nodes.
     pub fn live_len(&self) -> usize {
         self.live().iter().filter(|&&l| l).count()
     }
 
-    /// Evaluates the outputs at joint values `q` and parameter values `params` (an interpreter,
-    /// for tests and for `trocar eval`).
+    /// Evaluates the outputs at joint values `q` and parameter values `params` exactly as the
+    /// emitted code does ([`crate::evaluate::Compiled`]; compile once to evaluate often).
+    ///
+    /// # Panics
+    /// If `params` has not one value per parameter.
     pub fn eval(&self, q: &[f64], params: &[f64]) -> Vec<f64> {
-        let mut v = vec![0.0; self.ops.len()];
-        let get = |xs: &[f64], k: usize| xs.get(k).copied().unwrap_or(f64::NAN);
-        for (i, op) in self.ops.iter().enumerate() {
-            v[i] = match *op {
-                Op::Const(c) => c.value(),
-                Op::Param(p) => get(params, p),
-                Op::Joint(k) => get(q, k),
-                Op::Sin(k) => get(q, k).sin(),
-                Op::Cos(k) => get(q, k).cos(),
-                Op::Add(a, b) => v[a.index()] + v[b.index()],
-                Op::Sub(a, b) => v[a.index()] - v[b.index()],
-                Op::Mul(a, b) => v[a.index()] * v[b.index()],
-                Op::Div(a, b) => v[a.index()] / v[b.index()],
-                Op::Neg(a) => -v[a.index()],
-                Op::Sqrt(a) => v[a.index()].sqrt(),
-                Op::Abs(a) => v[a.index()].abs(),
-            };
-        }
-        self.outputs.iter().map(|o| v[o.index()]).collect()
+        crate::evaluate::Compiled::new(self, q.len()).eval(q, params)
     }
 }
 

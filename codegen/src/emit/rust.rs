@@ -341,18 +341,10 @@ struct BodyWriter<'a> {
     /// Name of a let-bound value.
     bound: Vec<Option<Ident>>,
     inline: Vec<bool>,
-    /// Whether products added once are written as `Real::mul_add` ([`MIN_FUSED_PRODUCTS`]).
-    fuse: bool,
+    /// The products written into their one addition as `Real::mul_add`
+    /// ([`Program::fused_products`]).
+    fused: Vec<bool>,
 }
-
-/// Rule `fuse_when_it_pays`: a function writes its products added once as `Real::mul_add` (one
-/// FMA instruction where the target has it) only when it has at least this many. Measured
-/// (BENCHMARKS.md, "Fused multiply-add in generated code" and "Peers with one pass along the chain
-/// and a frozen baseline"): dia10_like's FK + J^B_0i + J^r, dozens of fusions, takes 0.84× the
-/// time fused; the presets' `J^r`, two fusions each, take the same time either way, and fused
-/// they count +4, +3 and −4 instructions (register copies for the destructive FMA forms where all
-/// three operands stay live): nothing to gain.
-const MIN_FUSED_PRODUCTS: usize = 4;
 
 impl BodyWriter<'_> {
     fn expr(&self, v: ValueId) -> (TokenStream, u8) {
@@ -438,7 +430,7 @@ impl BodyWriter<'_> {
     /// The factors of `v` when it is a product written in place (not a `let`-bound value): an
     /// addition of it is then one fused multiply-add (`Real::mul_add`).
     fn product(&self, v: ValueId) -> Option<(ValueId, ValueId)> {
-        if !self.fuse || self.bound[v.index()].is_some() {
+        if !self.fused[v.index()] {
             return None;
         }
         match *self.prog.op(v) {
@@ -477,33 +469,14 @@ impl BodyWriter<'_> {
 fn body(prog: &Program, ty: &Ty, access: Access) -> (Vec<TokenStream>, Vec<TokenStream>) {
     let live = prog.live();
     let n = prog.ops().len();
-    let mut uses = vec![0usize; n];
-    for (i, op) in prog.ops().iter().enumerate() {
-        if live[i] {
-            for a in op.operands() {
-                uses[a.index()] += 1;
-            }
-        }
-    }
-    for o in prog.outputs() {
-        uses[o.index()] += 1;
-    }
-    // The products a `mul_add` would absorb: written in place (used once), added to something.
-    let in_place_product = |v: ValueId| uses[v.index()] <= 1 && matches!(prog.op(v), Op::Mul(..));
-    let fusable = (0..n)
-        .filter(|&i| live[i])
-        .filter(|&i| match *prog.op(ValueId(i as u32)) {
-            Op::Add(a, b) | Op::Sub(a, b) => in_place_product(a) || in_place_product(b),
-            _ => false,
-        })
-        .count();
+    let uses = prog.use_counts();
     let mut w = BodyWriter {
         prog,
         ty,
         access,
         bound: vec![None; n],
         inline: vec![false; n],
-        fuse: fusable >= MIN_FUSED_PRODUCTS,
+        fused: prog.fused_products(),
     };
     let mut stmts = Vec::new();
     if access == Access::Q {

@@ -1,0 +1,476 @@
+//! A straight-line program compiled for fast evaluation in `f64`: what `trocar eval`, the
+//! library's `Robot::eval` and Python's `Robot.eval` / `eval_many` run.
+//!
+//! The program is the one the emitter writes as Rust, and it is evaluated operation for
+//! operation as the compiled module evaluates it: the sines and cosines come from
+//! [`trocar::Real::sin_cos`] (as `sin_cos_array` in generated code, which is exactly `sin_cos` of
+//! each element), and the products the emitter writes as `Real::mul_add` (rule
+//! `fuse_when_it_pays`, [`Program::fused_products`]) are evaluated by `Real::mul_add` too, so the
+//! results are bit for bit those of the generated `f64` code built for the same target.
+//!
+//! Compilation numbers the live operations in order and gives each a register; a register is
+//! reused once its value has no use left (linear scan over the straight line), so the register
+//! file stays small (the Panda's largest program needs about a hundred) and sits in the first
+//! level of cache. Literals, parameters, joint values, sines and cosines have registers of their
+//! own, filled before the operations run.
+//!
+//! [`Compiled::eval_batch`] evaluates many configurations at once, [`LANES`] side by side: every
+//! register then holds one value per configuration and every operation is a loop over the lanes,
+//! which the compiler vectorises; the sines and cosines of the lanes come from one
+//! `sin_cos_array` call per joint. Each lane's results are those of [`Compiled::eval`] bit for bit.
+
+use crate::emit::program::{Op, Program, ValueId};
+use trocar::Real;
+
+/// Configurations evaluated side by side by [`Compiled::eval_batch`].
+pub const LANES: usize = 8;
+
+/// One arithmetic operation on registers (`d` the destination).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Instr {
+    Add(u32, u32, u32),
+    Sub(u32, u32, u32),
+    Mul(u32, u32, u32),
+    Div(u32, u32, u32),
+    Neg(u32, u32),
+    Sqrt(u32, u32),
+    Abs(u32, u32),
+    /// `d = x · y + c`, one `Real::mul_add`.
+    MulAdd(u32, u32, u32, u32),
+    /// `d = x · y − b` as `Real::mul_add(x, y, −b)`.
+    MulSub(u32, u32, u32, u32),
+    /// `d = a − x · y` as `Real::mul_add(−x, y, a)`.
+    SubMul(u32, u32, u32, u32),
+}
+
+/// Input registers, filled before the operations run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Input {
+    /// A parameter's value.
+    Param(u32, usize),
+    /// `q[k]`.
+    Joint(u32, usize),
+    /// `sin q[k]` and `cos q[k]` from one `sin_cos`, into the registers that use them.
+    Trig {
+        joint: usize,
+        sin: Option<u32>,
+        cos: Option<u32>,
+    },
+}
+
+/// A program ready to evaluate: see the [module documentation](self).
+#[derive(Clone, Debug)]
+pub struct Compiled {
+    /// Register file with the literals in place; the other input registers and the operation
+    /// registers are overwritten on every evaluation.
+    template: Vec<f64>,
+    /// The other inputs.
+    inputs: Vec<Input>,
+    instrs: Vec<Instr>,
+    outputs: Vec<u32>,
+    joints: usize,
+    params: usize,
+}
+
+impl Compiled {
+    /// Compiles the live part of `program`, a function of `joints` joint values and
+    /// `program.params().len()` parameters.
+    pub fn new(program: &Program, joints: usize) -> Self {
+        let ops = program.ops();
+        let live = program.live();
+        let fused = program.fused_products();
+        let outputs = program.outputs();
+        // Last position (in op order, outputs after every op) where each value is read.
+        let end = ops.len();
+        let mut last_use = vec![0usize; ops.len()];
+        for (i, op) in ops.iter().enumerate() {
+            if !live[i] || fused[i] {
+                continue;
+            }
+            for a in operands_as_evaluated(program, &fused, op) {
+                last_use[a.index()] = last_use[a.index()].max(i);
+            }
+        }
+        for o in outputs {
+            last_use[o.index()] = end;
+        }
+
+        let mut reg = vec![u32::MAX; ops.len()];
+        let mut template = Vec::new();
+        let mut inputs: Vec<Input> = Vec::new();
+        // Inputs first: literals (kept in the template), then parameters, joints and trig.
+        for (i, op) in ops.iter().enumerate() {
+            if !live[i] {
+                continue;
+            }
+            let r = template.len() as u32;
+            match *op {
+                Op::Const(c) => template.push(c.value()),
+                Op::Param(p) => {
+                    inputs.push(Input::Param(r, p));
+                    template.push(0.0);
+                }
+                Op::Joint(k) => {
+                    inputs.push(Input::Joint(r, k));
+                    template.push(0.0);
+                }
+                Op::Sin(k) | Op::Cos(k) => {
+                    let at = inputs
+                        .iter()
+                        .position(|x| matches!(x, Input::Trig { joint, .. } if *joint == k))
+                        .unwrap_or_else(|| {
+                            inputs.push(Input::Trig {
+                                joint: k,
+                                sin: None,
+                                cos: None,
+                            });
+                            inputs.len() - 1
+                        });
+                    if let Input::Trig { sin, cos, .. } = &mut inputs[at] {
+                        if matches!(op, Op::Sin(_)) {
+                            *sin = Some(r);
+                        } else {
+                            *cos = Some(r);
+                        }
+                    }
+                    template.push(0.0);
+                }
+                _ => continue,
+            }
+            reg[i] = r;
+        }
+        let first_free = template.len();
+
+        // Operations: a register freed after its value's last use is reused.
+        let mut free: Vec<u32> = Vec::new();
+        let mut registers = first_free;
+        let mut instrs = Vec::new();
+        // Values whose last use is at op `i`, to free after it.
+        let mut dies_at: Vec<Vec<usize>> = vec![Vec::new(); ops.len() + 1];
+        for (v, &l) in last_use.iter().enumerate() {
+            if live[v] && !fused[v] && l < end && reg[v] == u32::MAX {
+                dies_at[l].push(v);
+            }
+        }
+        for (i, op) in ops.iter().enumerate() {
+            if !live[i] || fused[i] || reg[i] != u32::MAX {
+                continue;
+            }
+            let r = |v: ValueId| reg[v.index()];
+            let product = |v: ValueId| match *program.op(v) {
+                Op::Mul(x, y) if fused[v.index()] => Some((x, y)),
+                _ => None,
+            };
+            // Operands are read before the destination is chosen, so the destination may
+            // reuse an operand's register that dies here.
+            let make = |d: u32| match *op {
+                Op::Add(a, b) => match (product(a), product(b)) {
+                    (Some((x, y)), _) => Instr::MulAdd(d, r(x), r(y), r(b)),
+                    (None, Some((x, y))) => Instr::MulAdd(d, r(x), r(y), r(a)),
+                    (None, None) => Instr::Add(d, r(a), r(b)),
+                },
+                Op::Sub(a, b) => match (product(a), product(b)) {
+                    (Some((x, y)), _) => Instr::MulSub(d, r(x), r(y), r(b)),
+                    (None, Some((x, y))) => Instr::SubMul(d, r(x), r(y), r(a)),
+                    (None, None) => Instr::Sub(d, r(a), r(b)),
+                },
+                Op::Mul(a, b) => Instr::Mul(d, r(a), r(b)),
+                Op::Div(a, b) => Instr::Div(d, r(a), r(b)),
+                Op::Neg(a) => Instr::Neg(d, r(a)),
+                Op::Sqrt(a) => Instr::Sqrt(d, r(a)),
+                Op::Abs(a) => Instr::Abs(d, r(a)),
+                _ => unreachable!("inputs have registers already"),
+            };
+            for &v in &dies_at[i] {
+                free.push(reg[v]);
+            }
+            let d = free.pop().unwrap_or_else(|| {
+                registers += 1;
+                (registers - 1) as u32
+            });
+            instrs.push(make(d));
+            reg[i] = d;
+        }
+        template.resize(registers, 0.0);
+        Compiled {
+            template,
+            inputs,
+            instrs,
+            outputs: outputs.iter().map(|o| reg[o.index()]).collect(),
+            joints,
+            params: program.params().len(),
+        }
+    }
+
+    /// Number of outputs.
+    pub fn outputs(&self) -> usize {
+        self.outputs.len()
+    }
+
+    /// Number of registers (the size of the scratch space of one evaluation).
+    pub fn registers(&self) -> usize {
+        self.template.len()
+    }
+
+    /// Number of arithmetic operations evaluated per configuration.
+    pub fn operations(&self) -> usize {
+        self.instrs.len()
+    }
+
+    /// Evaluates at joint values `q` (`joints` of them) and parameter values `params` into `out`
+    /// (one entry per output, in the program's order), with `scratch` as register file (resized
+    /// as needed: a caller that evaluates often keeps it and nothing is allocated).
+    ///
+    /// # Panics
+    /// If `q`, `params` or `out` has the wrong length.
+    pub fn eval_into(&self, q: &[f64], params: &[f64], scratch: &mut Vec<f64>, out: &mut [f64]) {
+        assert_eq!(q.len(), self.joints, "one value per joint");
+        assert_eq!(params.len(), self.params, "one value per parameter");
+        assert_eq!(out.len(), self.outputs.len(), "one entry per output");
+        scratch.clear();
+        scratch.extend_from_slice(&self.template);
+        let regs = scratch.as_mut_slice();
+        for &input in &self.inputs {
+            match input {
+                Input::Param(r, p) => regs[r as usize] = params[p],
+                Input::Joint(r, k) => regs[r as usize] = q[k],
+                Input::Trig { joint, sin, cos } => {
+                    let (s, c) = Real::sin_cos(q[joint]);
+                    if let Some(r) = sin {
+                        regs[r as usize] = s;
+                    }
+                    if let Some(r) = cos {
+                        regs[r as usize] = c;
+                    }
+                }
+            }
+        }
+        run(&self.instrs, regs);
+        for (o, &r) in out.iter_mut().zip(&self.outputs) {
+            *o = regs[r as usize];
+        }
+    }
+
+    /// [`Compiled::eval_into`] returning a new vector.
+    pub fn eval(&self, q: &[f64], params: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; self.outputs.len()];
+        self.eval_into(q, params, &mut Vec::new(), &mut out);
+        out
+    }
+
+    /// Evaluates at `q.len() / joints` configurations, `q` holding them one after the other
+    /// (row-major `count × joints`), with the same parameter values; `out` receives the outputs of
+    /// each configuration one after the other (`count × outputs`). [`LANES`] configurations are
+    /// evaluated side by side; each one's outputs equal [`Compiled::eval`]'s bit for bit.
+    ///
+    /// # Panics
+    /// If the lengths do not match.
+    pub fn eval_batch(&self, q: &[f64], params: &[f64], out: &mut [f64]) {
+        let n = self.joints;
+        let m = self.outputs.len();
+        let count = match (n, m) {
+            (0, 0) => 0,
+            (0, _) => out.len() / m,
+            _ => q.len() / n,
+        };
+        assert_eq!(q.len(), count * n, "whole configurations");
+        assert_eq!(
+            out.len(),
+            count * m,
+            "one block of outputs per configuration"
+        );
+        assert_eq!(params.len(), self.params, "one value per parameter");
+        let mut regs: Vec<[f64; LANES]> = self.template.iter().map(|&c| [c; LANES]).collect();
+        for &input in &self.inputs {
+            if let Input::Param(r, p) = input {
+                regs[r as usize] = [params[p]; LANES];
+            }
+        }
+        let mut first = 0;
+        while first < count {
+            let lanes = LANES.min(count - first);
+            // Joint values of the lanes; an incomplete last block repeats its last configuration.
+            let joint = |k: usize| -> [f64; LANES] {
+                core::array::from_fn(|l| q[(first + l.min(lanes - 1)) * n + k])
+            };
+            for &input in &self.inputs {
+                match input {
+                    Input::Param(..) => {}
+                    Input::Joint(r, k) => regs[r as usize] = joint(k),
+                    Input::Trig { joint: k, sin, cos } => {
+                        let (s, c) = f64::sin_cos_array(&joint(k));
+                        if let Some(r) = sin {
+                            regs[r as usize] = s;
+                        }
+                        if let Some(r) = cos {
+                            regs[r as usize] = c;
+                        }
+                    }
+                }
+            }
+            run_lanes(&self.instrs, &mut regs);
+            for l in 0..lanes {
+                let row = &mut out[(first + l) * m..(first + l + 1) * m];
+                for (o, &r) in row.iter_mut().zip(&self.outputs) {
+                    *o = regs[r as usize][l];
+                }
+            }
+            first += lanes;
+        }
+    }
+}
+
+/// The values `op` reads when evaluated as compiled: a fused product's factors in place of the
+/// product.
+fn operands_as_evaluated(program: &Program, fused: &[bool], op: &Op) -> Vec<ValueId> {
+    let mut out = Vec::with_capacity(4);
+    for a in op.operands() {
+        match *program.op(a) {
+            Op::Mul(x, y) if fused[a.index()] => {
+                out.push(x);
+                out.push(y);
+            }
+            _ => out.push(a),
+        }
+    }
+    out
+}
+
+/// Runs the operations on one register file.
+#[inline(never)]
+fn run(instrs: &[Instr], v: &mut [f64]) {
+    for &i in instrs {
+        match i {
+            Instr::Add(d, a, b) => v[d as usize] = v[a as usize] + v[b as usize],
+            Instr::Sub(d, a, b) => v[d as usize] = v[a as usize] - v[b as usize],
+            Instr::Mul(d, a, b) => v[d as usize] = v[a as usize] * v[b as usize],
+            Instr::Div(d, a, b) => v[d as usize] = v[a as usize] / v[b as usize],
+            Instr::Neg(d, a) => v[d as usize] = -v[a as usize],
+            Instr::Sqrt(d, a) => v[d as usize] = Real::sqrt(v[a as usize]),
+            Instr::Abs(d, a) => v[d as usize] = Real::abs(v[a as usize]),
+            Instr::MulAdd(d, x, y, c) => {
+                v[d as usize] = Real::mul_add(v[x as usize], v[y as usize], v[c as usize])
+            }
+            Instr::MulSub(d, x, y, b) => {
+                v[d as usize] = Real::mul_add(v[x as usize], v[y as usize], -v[b as usize])
+            }
+            Instr::SubMul(d, x, y, a) => {
+                v[d as usize] = Real::mul_add(-v[x as usize], v[y as usize], v[a as usize])
+            }
+        }
+    }
+}
+
+/// Runs the operations on [`LANES`] register files side by side.
+#[inline(never)]
+fn run_lanes(instrs: &[Instr], v: &mut [[f64; LANES]]) {
+    #[inline(always)]
+    fn map2(a: [f64; LANES], b: [f64; LANES], f: impl Fn(f64, f64) -> f64) -> [f64; LANES] {
+        core::array::from_fn(|l| f(a[l], b[l]))
+    }
+    #[inline(always)]
+    fn map3(
+        a: [f64; LANES],
+        b: [f64; LANES],
+        c: [f64; LANES],
+        f: impl Fn(f64, f64, f64) -> f64,
+    ) -> [f64; LANES] {
+        core::array::from_fn(|l| f(a[l], b[l], c[l]))
+    }
+    for &i in instrs {
+        match i {
+            Instr::Add(d, a, b) => v[d as usize] = map2(v[a as usize], v[b as usize], |a, b| a + b),
+            Instr::Sub(d, a, b) => v[d as usize] = map2(v[a as usize], v[b as usize], |a, b| a - b),
+            Instr::Mul(d, a, b) => v[d as usize] = map2(v[a as usize], v[b as usize], |a, b| a * b),
+            Instr::Div(d, a, b) => v[d as usize] = map2(v[a as usize], v[b as usize], |a, b| a / b),
+            Instr::Neg(d, a) => v[d as usize] = v[a as usize].map(|a| -a),
+            Instr::Sqrt(d, a) => v[d as usize] = v[a as usize].map(Real::sqrt),
+            Instr::Abs(d, a) => v[d as usize] = v[a as usize].map(Real::abs),
+            Instr::MulAdd(d, x, y, c) => {
+                v[d as usize] = map3(v[x as usize], v[y as usize], v[c as usize], |x, y, c| {
+                    Real::mul_add(x, y, c)
+                })
+            }
+            Instr::MulSub(d, x, y, b) => {
+                v[d as usize] = map3(v[x as usize], v[y as usize], v[b as usize], |x, y, b| {
+                    Real::mul_add(x, y, -b)
+                })
+            }
+            Instr::SubMul(d, x, y, a) => {
+                v[d as usize] = map3(v[x as usize], v[y as usize], v[a as usize], |x, y, a| {
+                    Real::mul_add(-x, y, a)
+                })
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `(s0 c1 + q0 p0)·(s0 c1 + q0 p0) − 3 / q1` with a shared subexpression, a literal and a
+    /// parameter: compiled and batch results against the same expression written in Rust.
+    #[test]
+    fn compiled_matches_written_out() {
+        let mut p = Program::new(vec!["p0".into()]);
+        let s0 = p.sin(0);
+        let c1 = p.cos(1);
+        let q0 = p.joint(0);
+        let q1 = p.joint(1);
+        let p0 = p.param(0);
+        let a = p.mul(s0, c1);
+        let b = p.mul(q0, p0);
+        let x = p.add(a, b);
+        let sq = p.mul(x, x);
+        let three = p.constant(3.0);
+        let d = p.div(three, q1);
+        let y = p.sub(sq, d);
+        let r = p.sqrt(sq);
+        p.set_outputs(vec![y, r, x]);
+        let c = Compiled::new(&p, 2);
+        let expect = |q: [f64; 2], k: f64| {
+            let (s0, _) = Real::sin_cos(q[0]);
+            let (_, c1) = Real::sin_cos(q[1]);
+            let x: f64 = s0 * c1 + q[0] * k;
+            [x * x - 3.0 / q[1], (x * x).sqrt(), x]
+        };
+        let qs: Vec<[f64; 2]> = (0..19)
+            .map(|i| [0.3 * i as f64 - 2.0, 0.7 + 0.11 * i as f64])
+            .collect();
+        for q in &qs {
+            let got = c.eval(q, &[0.25]);
+            assert_eq!(got, expect(*q, 0.25).to_vec());
+        }
+        let flat: Vec<f64> = qs.iter().flatten().copied().collect();
+        let mut out = vec![0.0; qs.len() * 3];
+        c.eval_batch(&flat, &[0.25], &mut out);
+        for (k, q) in qs.iter().enumerate() {
+            let want = expect(*q, 0.25);
+            for j in 0..3 {
+                assert_eq!(out[k * 3 + j].to_bits(), want[j].to_bits());
+            }
+        }
+    }
+
+    /// Registers are reused: a long chain of sums needs a handful, not one per operation.
+    #[test]
+    fn registers_are_reused() {
+        let mut p = Program::new(vec![]);
+        let mut acc = p.joint(0);
+        for k in 0..200 {
+            let c = p.constant(1.0 + k as f64);
+            let m = p.mul(acc, c);
+            acc = p.add(m, acc);
+        }
+        p.set_outputs(vec![acc]);
+        let c = Compiled::new(&p, 1);
+        assert!(c.registers() < 210 + 8, "{} registers", c.registers());
+        assert!(c.operations() >= 200);
+        let mut x = 0.5_f64;
+        for k in 0..200 {
+            x = Real::mul_add(x, 1.0 + k as f64, x);
+        }
+        assert_eq!(c.eval(&[0.5], &[]), vec![x]);
+    }
+}
