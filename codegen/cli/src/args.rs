@@ -2,6 +2,7 @@
 
 use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
+use trocar_api::SpeedLimit;
 
 /// Command-line arguments of `trocar`.
 #[derive(Debug, Parser)]
@@ -43,11 +44,17 @@ pub enum Command {
         )]
         q: Vec<f64>,
         /// Parameter values `name=value` (nominal values otherwise).
-        #[arg(long = "param", value_parser = crate::params::parse)]
+        #[arg(long = "param", value_parser = parse_param)]
         params: Vec<(String, f64)>,
-        /// What to evaluate.
-        #[arg(long, value_enum, default_value_t = What::Jr)]
-        what: What,
+        /// What to evaluate: a function of the generated module by its name or short name —
+        /// serial robots: constrained_jacobian (jr), manipulability (manip),
+        /// constrained_task_jacobian (task), constraint_jacobian_c (jc), partial_body_jacobian
+        /// (jb0i), body_jacobian (jb0e), forward_kinematics (fk), forward_kinematics_i (fk0i),
+        /// lambda_null_space, lambda_pinv, constraint_frame, ...; closed mechanisms:
+        /// reduced_jacobian (jr), constraint_jacobian (jc), passive_map (passive),
+        /// constraint_determinant (det), task_jacobian (ja).
+        #[arg(long, default_value = "jr")]
+        what: String,
         /// Print JSON `{"rows", "cols", "data": [[row], ...]}`: row by row (generated functions
         /// return their arrays column by column, `a[col][row]`). Without it, text with row and
         /// column labels.
@@ -102,7 +109,7 @@ pub enum Command {
         /// draws one figure comparing them to --plot (serial scenarios; not with --csv,
         /// --animate or --snapshot).
         #[arg(long, value_enum)]
-        method: Option<Method>,
+        method: Option<MethodArg>,
         /// Close the loop on the trocar position.
         #[arg(long, value_enum, default_value_t = OnOff::On)]
         drift_correction: OnOff,
@@ -150,7 +157,7 @@ pub enum Command {
     List,
 }
 
-/// Scalar type of generated code.
+/// `--real`: the scalar type of generated code ([`trocar_codegen::Real`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum RealArg {
     /// Generic over `T: trocar::Real`.
@@ -159,29 +166,6 @@ pub enum RealArg {
     F32,
     /// `f64`.
     F64,
-}
-
-/// What `trocar eval` computes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum What {
-    /// Constrained Jacobian J^r_0e (3.15).
-    Jr,
-    /// Manipulability (3.36) of what the task commands: of S J^r with a [task], of J^r without.
-    Manip,
-    /// Task Jacobian S J^r_0e (rows of the end-effector body twist selected by [task]).
-    Task,
-    /// J_c = Ad_gei Λ† (3.33).
-    Jc,
-    /// Partial body Jacobian J^B_0i (3.13).
-    Jb0i,
-    /// Body Jacobian J^B_0e (2.55).
-    Jb0e,
-    /// Forward kinematics g_0e as a 4×4 homogeneous matrix.
-    Fk,
-    /// Closed mechanisms: the passive map `−J_Cp⁻¹ J_Ca` of (7) (second source).
-    Passive,
-    /// Closed mechanisms: `det J_Cp` (zero at parallel singularities).
-    Det,
 }
 
 /// Frame of `trocar jacobian`.
@@ -193,9 +177,9 @@ pub enum Frame {
     Spatial,
 }
 
-/// Inverse used by the controller.
+/// `--method`: the inverse used by the controller, or all of them compared.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum Method {
+pub enum MethodArg {
     /// Moore–Penrose pseudo-inverse.
     Pinv,
     /// Damped least squares with variable damping (3.44)–(3.46).
@@ -211,7 +195,7 @@ pub enum Method {
 pub(crate) fn usage_error(cli: &Cli) -> Option<clap::Error> {
     use clap::CommandFactory;
     let Command::Simulate {
-        method: Some(Method::All),
+        method: Some(MethodArg::All),
         csv,
         animate,
         snapshot,
@@ -220,26 +204,14 @@ pub(crate) fn usage_error(cli: &Cli) -> Option<clap::Error> {
     else {
         return None;
     };
-    let views = crate::commands::simulate::ArmViews {
-        animate: animate.clone(),
-        snapshot: snapshot.clone(),
-        snapshot_times: None,
-    };
-    let message = crate::commands::simulate::method_all_conflict(csv.is_some(), &views)?;
+    let message = crate::commands::simulate::method_all_conflict(
+        csv.is_some(),
+        animate.is_some(),
+        snapshot.is_some(),
+    )?;
     Some(Cli::command().error(clap::error::ErrorKind::ArgumentConflict, message))
 }
 
-/// A joint speed limit given on the command line: `none`, or a positive speed.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum SpeedLimit {
-    /// No limit.
-    None,
-    /// At most this speed (rad/s).
-    At(f64),
-}
-
-/// Parses `--max-joint-speed`: `none`, or a positive number that passes the number rule
-/// (`trocar_model::validity`).
 /// A sample time for `--dt`: a positive, finite number of seconds.
 fn parse_seconds(s: &str) -> Result<f64, String> {
     let v: f64 = s
@@ -263,9 +235,11 @@ pub fn csv_rows(every: Option<u64>, dt: Option<f64>) -> trocar_sim::simulation::
     }
 }
 
+/// Parses `--max-joint-speed`: `none`, or a positive number that passes the number rule
+/// (`trocar_model::validity`).
 fn parse_speed_limit(s: &str) -> Result<SpeedLimit, String> {
     if s.eq_ignore_ascii_case("none") {
-        return Ok(SpeedLimit::None);
+        return Ok(SpeedLimit::Unlimited);
     }
     let v: f64 = s
         .trim()
@@ -285,4 +259,41 @@ pub enum OnOff {
     On,
     /// Off.
     Off,
+}
+
+impl From<RealArg> for trocar_codegen::Real {
+    fn from(r: RealArg) -> Self {
+        match r {
+            RealArg::Generic => trocar_codegen::Real::Generic,
+            RealArg::F32 => trocar_codegen::Real::F32,
+            RealArg::F64 => trocar_codegen::Real::F64,
+        }
+    }
+}
+
+impl MethodArg {
+    /// The simulation's method, `None` for `all`.
+    pub fn method(self) -> Option<trocar_api::Method> {
+        match self {
+            MethodArg::Pinv => Some(trocar_api::Method::Pinv),
+            MethodArg::Dls => Some(trocar_api::Method::Dls),
+            MethodArg::Fi => Some(trocar_api::Method::Fi),
+            MethodArg::All => None,
+        }
+    }
+}
+
+/// Parses one `--param name=value` (the value obeying [`trocar_model::validity`]).
+fn parse_param(s: &str) -> Result<(String, f64), String> {
+    let (name, value) = s
+        .split_once('=')
+        .ok_or_else(|| format!("`{s}`: expected name=value"))?;
+    let value: f64 = value
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}`: `{value}` is not a number"))?;
+    if let Err(problem) = trocar_model::validity::check(value) {
+        return Err(format!("`{s}`: {value:e} {problem}"));
+    }
+    Ok((name.trim().to_string(), value))
 }

@@ -2,10 +2,10 @@
 //!
 //! ```text
 //! trocar generate ROBOT.toml [-o OUT.rs] [--real f32|f64]
-//! trocar eval ROBOT.toml --q 0.1,0.2,... [--param l_a=0.15 ...] [--what jr|manip|jc|jb0i|jb0e|fk|passive|det] [--json] [--numeric]
+//! trocar eval ROBOT.toml --q 0.1,0.2,... [--param l_a=0.15 ...] [--what constrained_jacobian|jr|manip|task|jc|jb0i|jb0e|fk|...|passive|det] [--json] [--numeric]
 //! trocar verify ROBOT.toml [--samples N]
 //! trocar jacobian --urdf FILE.urdf --tip LINK --q ... [--frame body|spatial] [--json]
-//! trocar simulate SCENARIO [--method pinv|dls|fi|all] [--drift-correction on|off] [--csv OUT.csv] [--plot OUT.svg]
+//! trocar simulate SCENARIO [--method pinv|dls|fi|all] [--drift-correction on|off] [--csv OUT.csv] [--plot OUT.svg] [--animate OUT.gif] [--snapshot OUT.png]
 //! trocar preset unidirectional|bidirectional-zy|bidirectional-zx
 //! trocar list
 //! ```
@@ -17,29 +17,20 @@
 //! Matrices print as JSON `{"rows": R, "cols": C, "data": [[row], ...]}` with `--json`, as aligned
 //! text otherwise. Errors go to stderr with a non-zero exit code and say what is wrong and where.
 //!
-//! Each subcommand is also a function returning its answer ([`generate`], [`eval`], [`verify`],
-//! [`jacobian`], [`simulate`], [`preset`]); [`run`] executes a parsed [`Cli`] and prints as the
-//! binary does.
+//! The commands are argument parsing and printing over the library [`trocar_api`], which
+//! computes every answer (and is what the Python package uses too); [`run`] executes a parsed
+//! [`Cli`] and prints as the binary does.
 #![warn(missing_docs)]
 
 mod args;
 mod commands;
 mod output;
-mod params;
 mod progress;
-mod robot;
 
 use clap::Parser;
 
-pub use args::{Cli, Command, Frame, Method, OnOff, RealArg, SpeedLimit, What};
-pub use commands::eval::{eval, eval_mechanism, eval_serial, serial_singularity};
-pub use commands::generate::generate;
-pub use commands::jacobian::jacobian;
-pub use commands::list::{robot_info, shipped, RobotInfo, Shipped};
-pub use commands::preset::preset;
-pub use commands::simulate::{run_simulation, simulate, ArmViews, RcmOptions, SimulationRun};
-pub use commands::verify::{verify, GeneratedCandidate};
-pub use output::{CliError, MatrixOut};
+pub use args::{Cli, Command, Frame, MethodArg, OnOff, RealArg};
+pub use trocar_api::Error as CliError;
 
 /// Runs the command line with the process arguments and returns the exit code.
 pub fn main() -> i32 {
@@ -72,7 +63,7 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             what,
             json,
             numeric,
-        } => commands::eval::run(&robot, &q, &params, what, json, numeric),
+        } => commands::eval::run(&robot, &q, &params, &what, json, numeric),
         Command::Verify {
             robot,
             samples,
@@ -99,9 +90,10 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             snapshot_times,
         } => commands::simulate::run(
             &scenario,
-            &commands::simulate::RcmOptions {
-                method,
-                drift_correction,
+            method,
+            &trocar_api::RcmOptions {
+                method: method.and_then(MethodArg::method),
+                drift_correction: drift_correction == OnOff::On,
                 max_joint_speed,
             },
             csv.as_deref(),

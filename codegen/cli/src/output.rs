@@ -1,33 +1,9 @@
 //! Everything `trocar` prints: matrices as aligned text or JSON, and errors.
 
-use std::fmt;
-use trocar_codegen::evaluate::Evaluated;
-use trocar_model::description::DescriptionError;
+use trocar_api::{Error, Matrix};
 
 /// An error of the command line: printed to stderr as `error: …`, exit code 1.
-#[derive(Debug)]
-pub struct CliError(pub String);
-
-impl CliError {
-    /// An error from anything that displays.
-    pub(crate) fn from_display(e: impl fmt::Display) -> Self {
-        CliError(e.to_string())
-    }
-}
-
-impl fmt::Display for CliError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for CliError {}
-
-impl From<DescriptionError> for CliError {
-    fn from(e: DescriptionError) -> Self {
-        CliError(e.to_string())
-    }
-}
+pub(crate) type CliError = Error;
 
 /// Writes `text` to stdout. A reader that has gone away (`trocar generate … | head`) is not an
 /// error: the rest of the output is unwanted, and the command ends normally instead of panicking
@@ -37,7 +13,7 @@ pub(crate) fn write_stdout(text: &str) -> Result<(), CliError> {
     let mut out = std::io::stdout().lock();
     match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
-            Err(CliError(format!("cannot write to stdout: {e}")))
+            Err(Error::Output(format!("cannot write to stdout: {e}")))
         }
         _ => Ok(()),
     }
@@ -96,28 +72,28 @@ impl Outputs {
             let Some(path) = path else { continue };
             let shown = path.display();
             if path.file_name().is_none() {
-                return Err(CliError(format!("{option} {shown}: not a file name")));
+                return Err(Error::Input(format!("{option} {shown}: not a file name")));
             }
             let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
             if kind == OutputKind::Figure && trocar_sim::plot::ImageFormat::of(path).is_none() {
-                return Err(CliError(format!(
+                return Err(Error::Input(format!(
                     "{option} {shown}: a figure is written as SVG or PNG; name the file `….svg` or `….png`"
                 )));
             }
             if kind == OutputKind::Animation && !ext.eq_ignore_ascii_case("gif") {
-                return Err(CliError(format!(
+                return Err(Error::Input(format!(
                     "{option} {shown}: an animation is written as GIF; name the file `….gif`"
                 )));
             }
             let dir = directory(path);
             if !dir.is_dir() {
-                return Err(CliError(format!(
+                return Err(Error::Input(format!(
                     "{option} {shown}: the directory {} does not exist",
                     dir.display()
                 )));
             }
             if path.is_dir() {
-                return Err(CliError(format!("{option} {shown}: is a directory")));
+                return Err(Error::Input(format!("{option} {shown}: is a directory")));
             }
             // What exists at the path, symbolic links followed: a regular file (or nothing) is
             // replaced through a temporary; anything else is written in place.
@@ -140,7 +116,7 @@ impl Outputs {
                 )
             };
             if let Some(other) = out.files.iter().find(|f| same(&f.target) == same(&target)) {
-                return Err(CliError(format!(
+                return Err(Error::Input(format!(
                     "{option} {shown} and {} {}: the same file for two outputs",
                     other.option,
                     other.requested.display()
@@ -177,8 +153,8 @@ impl Outputs {
     }
 
     /// `e` with every temporary file name replaced by the name the user gave.
-    pub(crate) fn explain(&self, e: CliError) -> CliError {
-        let mut text = e.0;
+    pub(crate) fn explain(&self, e: String) -> CliError {
+        let mut text = e;
         for f in &self.files {
             let written = f.temp.as_deref().unwrap_or(&f.target);
             text = text.replace(
@@ -186,7 +162,7 @@ impl Outputs {
                 &f.requested.display().to_string(),
             );
         }
-        CliError(text)
+        Error::Output(text)
     }
 
     /// Renames every temporary file over its requested name.
@@ -195,7 +171,7 @@ impl Outputs {
             let Some(temp) = &f.temp else { continue };
             std::fs::rename(temp, &f.target).map_err(|e| {
                 let _ = std::fs::remove_file(temp);
-                CliError(format!("{} {}: {e}", f.option, f.requested.display()))
+                Error::Input(format!("{} {}: {e}", f.option, f.requested.display()))
             })?;
         }
         Ok(())
@@ -235,161 +211,90 @@ pub(crate) fn print_error(e: &CliError) -> i32 {
     1
 }
 
-/// A matrix in row-major order, as printed by the command line.
-#[derive(Clone, Debug, PartialEq)]
-pub struct MatrixOut {
-    /// Row count.
-    pub rows: usize,
-    /// Column count.
-    pub cols: usize,
-    /// Entries, row by row.
-    pub data: Vec<Vec<f64>>,
+/// The JSON form `{"rows": R, "cols": C, "data": [[row], ...]}` (keys in this order).
+pub(crate) fn to_json(m: &Matrix) -> String {
+    let data =
+        serde_json::to_string(&m.to_rows()).expect("finite or null numbers always serialise");
+    format!(
+        r#"{{"rows": {}, "cols": {}, "data": {data}}}"#,
+        m.rows, m.cols
+    )
 }
 
-impl MatrixOut {
-    /// A 1×1 matrix.
-    pub fn scalar(value: f64) -> Self {
-        MatrixOut {
-            rows: 1,
-            cols: 1,
-            data: vec![vec![value]],
-        }
-    }
-
-    /// From entries stored column by column (the emitted layout of generated functions).
-    pub fn column_major(v: &[f64], rows: usize, cols: usize) -> Self {
-        MatrixOut {
-            rows,
-            cols,
-            data: (0..rows)
-                .map(|r| (0..cols).map(|c| v[c * rows + r]).collect())
-                .collect(),
-        }
-    }
-
-    /// From a nalgebra matrix.
-    pub fn from_nalgebra<R: trocar::nalgebra::Dim, C: trocar::nalgebra::Dim, S>(
-        m: &trocar::nalgebra::Matrix<f64, R, C, S>,
-    ) -> Self
-    where
-        S: trocar::nalgebra::RawStorage<f64, R, C>,
-    {
-        let (rows, cols) = m.shape();
-        MatrixOut {
-            rows,
-            cols,
-            data: (0..rows)
-                .map(|r| (0..cols).map(|c| m[(r, c)]).collect())
-                .collect(),
-        }
-    }
-
-    /// From a faer matrix (the numeric runtime's answers).
-    pub fn from_faer(m: &faer::Mat<f64>) -> Self {
-        MatrixOut {
-            rows: m.nrows(),
-            cols: m.ncols(),
-            data: (0..m.nrows())
-                .map(|r| (0..m.ncols()).map(|c| m[(r, c)]).collect())
-                .collect(),
-        }
-    }
-
-    /// From a generated function's value (column-major).
-    pub fn from_evaluated(m: &Evaluated) -> Self {
-        Self::column_major(&m.values, m.rows, m.cols)
-    }
-
-    /// Whether every entry is finite.
-    pub fn is_finite(&self) -> bool {
-        self.data.iter().flatten().all(|v| v.is_finite())
-    }
-
-    /// The JSON form `{"rows": R, "cols": C, "data": [[row], ...]}` (keys in this order).
-    pub fn to_json(&self) -> String {
-        let data =
-            serde_json::to_string(&self.data).expect("finite or null numbers always serialise");
-        format!(
-            r#"{{"rows": {}, "cols": {}, "data": {data}}}"#,
-            self.rows, self.cols
-        )
-    }
-
-    /// Aligned text, one row a line.
-    pub fn to_text(&self) -> String {
-        let cells: Vec<Vec<String>> = self
-            .data
-            .iter()
-            .map(|r| r.iter().map(|v| cell(*v)).collect())
-            .collect();
-        let width = cells.iter().flatten().map(String::len).max().unwrap_or(0);
-        cells
-            .iter()
-            .map(|r| {
-                r.iter()
-                    .map(|c| format!("{c:>width$}"))
-                    .collect::<Vec<_>>()
-                    .join("  ")
-            })
-            .collect::<Vec<_>>()
-            .join("\n")
-    }
-
-    /// Aligned text with a header of column labels and each row's label in front (labels
-    /// of the wrong count are ignored: the plain [`MatrixOut::to_text`] is returned). Whitespace
-    /// inside a label becomes `_`, so each line is still one label and numbers.
-    pub fn to_labelled_text(&self, row_labels: &[String], col_labels: &[String]) -> String {
-        if row_labels.len() != self.rows || col_labels.len() != self.cols || self.cols == 0 {
-            return self.to_text();
-        }
-        let clean = |l: &String| l.split_whitespace().collect::<Vec<_>>().join("_");
-        let rows: Vec<String> = row_labels.iter().map(clean).collect();
-        let cols: Vec<String> = col_labels.iter().map(clean).collect();
-        let cells: Vec<Vec<String>> = self
-            .data
-            .iter()
-            .map(|r| r.iter().map(|v| cell(*v)).collect())
-            .collect();
-        let width = cells
-            .iter()
-            .flatten()
-            .chain(&cols)
-            .map(|c| c.chars().count())
-            .max()
-            .unwrap_or(0);
-        let first = rows.iter().map(|r| r.chars().count()).max().unwrap_or(0);
-        let mut lines = vec![format!(
-            "{:first$}  {}",
-            "",
-            cols.iter()
+/// Aligned text, one row a line.
+pub(crate) fn to_text(m: &Matrix) -> String {
+    let cells: Vec<Vec<String>> = m
+        .to_rows()
+        .iter()
+        .map(|r| r.iter().map(|v| cell(*v)).collect())
+        .collect();
+    let width = cells.iter().flatten().map(String::len).max().unwrap_or(0);
+    cells
+        .iter()
+        .map(|r| {
+            r.iter()
                 .map(|c| format!("{c:>width$}"))
                 .collect::<Vec<_>>()
                 .join("  ")
-        )];
-        for (label, r) in rows.iter().zip(&cells) {
-            lines.push(format!(
-                "{label:<first$}  {}",
-                r.iter()
-                    .map(|c| format!("{c:>width$}"))
-                    .collect::<Vec<_>>()
-                    .join("  ")
-            ));
-        }
-        lines.join("\n")
-    }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
 
-    /// Prints the matrix to stdout, as JSON or aligned text ([`write_stdout`]); the text has
-    /// row and column labels when `labels` are given.
-    pub(crate) fn print(
-        &self,
-        json: bool,
-        labels: Option<(Vec<String>, Vec<String>)>,
-    ) -> Result<(), CliError> {
-        let text = match (json, labels) {
-            (true, _) => self.to_json(),
-            (false, Some((rows, cols))) => self.to_labelled_text(&rows, &cols),
-            (false, None) => self.to_text(),
-        };
-        write_stdout(&format!("{text}\n"))
+/// Aligned text with a header of column labels and each row's label in front (labels of the
+/// wrong count are ignored: the plain [`to_text`] is returned). Whitespace inside a label becomes
+/// `_`, so each line is still one label and numbers.
+pub(crate) fn to_labelled_text(m: &Matrix, row_labels: &[String], col_labels: &[String]) -> String {
+    if row_labels.len() != m.rows || col_labels.len() != m.cols || m.cols == 0 {
+        return to_text(m);
     }
+    let clean = |l: &String| l.split_whitespace().collect::<Vec<_>>().join("_");
+    let rows: Vec<String> = row_labels.iter().map(clean).collect();
+    let cols: Vec<String> = col_labels.iter().map(clean).collect();
+    let cells: Vec<Vec<String>> = m
+        .to_rows()
+        .iter()
+        .map(|r| r.iter().map(|v| cell(*v)).collect())
+        .collect();
+    let width = cells
+        .iter()
+        .flatten()
+        .chain(&cols)
+        .map(|c| c.chars().count())
+        .max()
+        .unwrap_or(0);
+    let first = rows.iter().map(|r| r.chars().count()).max().unwrap_or(0);
+    let mut lines = vec![format!(
+        "{:first$}  {}",
+        "",
+        cols.iter()
+            .map(|c| format!("{c:>width$}"))
+            .collect::<Vec<_>>()
+            .join("  ")
+    )];
+    for (label, r) in rows.iter().zip(&cells) {
+        lines.push(format!(
+            "{label:<first$}  {}",
+            r.iter()
+                .map(|c| format!("{c:>width$}"))
+                .collect::<Vec<_>>()
+                .join("  ")
+        ));
+    }
+    lines.join("\n")
+}
+
+/// Prints the matrix to stdout, as JSON or aligned text ([`write_stdout`]); the text has row and
+/// column labels when `labels` are given.
+pub(crate) fn print_matrix(
+    m: &Matrix,
+    json: bool,
+    labels: Option<(Vec<String>, Vec<String>)>,
+) -> Result<(), CliError> {
+    let text = match (json, labels) {
+        (true, _) => to_json(m),
+        (false, Some((rows, cols))) => to_labelled_text(m, &rows, &cols),
+        (false, None) => to_text(m),
+    };
+    write_stdout(&format!("{text}\n"))
 }

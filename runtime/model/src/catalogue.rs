@@ -265,6 +265,22 @@ impl Function {
             .find(|f| f.name() == name)
     }
 
+    /// The function of a serial robot (`mechanism` false) or of a closed mechanism that `name`
+    /// names: its Rust name (`constrained_jacobian`) or its short name (`jr`,
+    /// [`Function::short_name`]), the names `trocar eval --what` and Python's `what=` take. The
+    /// short names `jr` and `jc` name `J^r_0e` and `J_c` of a serial robot, the reduced Jacobian
+    /// and `J_C` of a mechanism.
+    pub fn resolve(name: &str, mechanism: bool) -> Option<Function> {
+        let list: &[Function] = if mechanism {
+            &Function::MECHANISM
+        } else {
+            &Function::SERIAL
+        };
+        list.iter()
+            .copied()
+            .find(|f| f.name() == name || f.short_name() == name)
+    }
+
     /// The short name of the quantity (`trocar eval --what`, the lines of a verification report):
     /// `jr`, `jc`, `jb0i`, `jb0e`, `fk`, `fk0i`, `manip`, `manip2`, `h`, `lambda_sharp`,
     /// `lambda_pinv`, `gir`, `s`, `task`; for mechanisms `jc`, `ja`,
@@ -505,6 +521,28 @@ mod tests {
         assert!(all
             .iter()
             .all(|f| f.is_mechanism() == Function::MECHANISM.contains(f)));
+    }
+
+    #[test]
+    fn names_resolve_by_kind() {
+        for f in Function::SERIAL {
+            assert_eq!(Function::resolve(f.name(), false), Some(f));
+            assert_eq!(Function::resolve(f.short_name(), false), Some(f));
+        }
+        for f in Function::MECHANISM {
+            assert_eq!(Function::resolve(f.name(), true), Some(f));
+            assert_eq!(Function::resolve(f.short_name(), true), Some(f));
+        }
+        assert_eq!(
+            Function::resolve("jr", true),
+            Some(Function::ReducedJacobian)
+        );
+        assert_eq!(
+            Function::resolve("jr", false),
+            Some(Function::ConstrainedJacobian)
+        );
+        assert_eq!(Function::resolve("reduced_jacobian", false), None);
+        assert_eq!(Function::resolve("nonsense", false), None);
     }
 
     #[test]

@@ -1,129 +1,227 @@
 //! The Python module `trocar._trocar`, re-exported by the package `trocar` (`python/trocar`).
 //!
-//! Every function is the command line's own (the library `trocar_cli`): the same descriptions,
-//! the same answers and the same error messages, raised as `ValueError`. Matrices are returned as
-//! 2-D `numpy.ndarray`s of `float64`, row-major as the command line prints them.
+//! A shell over the library `trocar_api`, as the command line is: the same descriptions, the same
+//! answers and the same error messages, raised as `ValueError`. A `Robot` is loaded and derived
+//! once and keeps its compiled programs; matrices are returned as `numpy.ndarray`s of `float64`,
+//! row-major as the command line prints them.
 
-use numpy::{PyArray1, PyArray2};
+use numpy::ndarray::{Array1, Array2, Array3};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::collections::BTreeMap;
 use std::path::PathBuf;
-use trocar_cli::{CliError, MatrixOut, Method, OnOff, RcmOptions, RealArg, SpeedLimit, What};
+use trocar_api::{ControllerOptions, Function, Method, RcmOptions, SpeedLimit, Target};
 
-fn value_error(e: CliError) -> PyErr {
-    PyValueError::new_err(e.0)
+fn value_error(e: trocar_api::Error) -> PyErr {
+    PyValueError::new_err(e.to_string())
 }
 
-/// The name of a `--what` value, as the command line spells it.
-fn what_names() -> Vec<String> {
-    use clap::ValueEnum;
-    What::value_variants()
-        .iter()
-        .filter_map(|w| w.to_possible_value())
-        .map(|v| v.get_name().to_owned())
-        .collect()
+/// Joint values: a 1-D numpy array of `float64` (read in place) or any sequence of numbers.
+fn joints(q: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
+    if let Ok(a) = q.extract::<PyReadonlyArray1<'_, f64>>() {
+        return Ok(a.as_array().to_vec());
+    }
+    q.extract::<Vec<f64>>()
 }
 
-fn parse_what(what: &str) -> PyResult<What> {
-    use clap::ValueEnum;
-    What::from_str(what, false).map_err(|_| {
-        PyValueError::new_err(format!(
-            "what={what:?}: expected one of {}",
-            what_names().join(", ")
-        ))
-    })
+fn method(name: &str) -> PyResult<Method> {
+    match name {
+        "pinv" => Ok(Method::Pinv),
+        "dls" => Ok(Method::Dls),
+        "fi" => Ok(Method::Fi),
+        other => Err(PyValueError::new_err(format!(
+            "method={other:?}: expected \"pinv\", \"dls\" or \"fi\""
+        ))),
+    }
 }
 
-fn matrix<'py>(py: Python<'py>, m: &MatrixOut) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    PyArray2::from_vec2(py, &m.data).map_err(|e| PyValueError::new_err(e.to_string()))
-}
-
-/// A robot description: a shipped name (`bidirectional-zy`, `panda-laparoscope`, `four-bar`, …)
-/// or a TOML file (its chain may come from a URDF).
+/// A robot or closed mechanism: a shipped name (`bidirectional-zy`, `panda-laparoscope`,
+/// `four-bar`, …) or a TOML file (its chain may come from a URDF). Loaded, derived and compiled
+/// once; every evaluation after that runs the compiled closed forms.
 #[pyclass(module = "trocar", frozen)]
 struct Robot {
-    /// What the command line is given: the shipped name, or the file's absolute path.
-    source: String,
-    name: String,
-    mechanism: bool,
-    joints: usize,
-    params: Vec<(String, f64)>,
+    inner: trocar_api::Robot,
+    nominal: Vec<f64>,
+}
+
+impl Robot {
+    fn values(&self, params: Option<BTreeMap<String, f64>>) -> PyResult<Vec<f64>> {
+        match params {
+            None => Ok(self.nominal.clone()),
+            Some(p) => {
+                let p: Vec<(String, f64)> = p.into_iter().collect();
+                self.inner.param_values(&p).map_err(value_error)
+            }
+        }
+    }
+
+    fn function(&self, what: &str) -> PyResult<Function> {
+        self.inner.function(what).map_err(value_error)
+    }
 }
 
 #[pymethods]
 impl Robot {
-    /// Loads a robot: a shipped description's name or the path of a TOML description.
-    /// Raises `ValueError` with the command line's message (file, line and field) when the
-    /// description is invalid.
+    /// Loads a robot (a shipped description's name or the path of a TOML description) and
+    /// derives and compiles its closed forms once. Raises `ValueError` with the message of the command line (file,
+    /// line and field) when the description is invalid.
     #[staticmethod]
-    fn load(name_or_path: PathBuf) -> PyResult<Self> {
-        let given = name_or_path.to_string_lossy().into_owned();
-        // A file is kept by its absolute path, so that the robot still loads after a chdir.
-        let source = if name_or_path.is_file() {
-            name_or_path
-                .canonicalize()
-                .map_or(given.clone(), |p| p.to_string_lossy().into_owned())
-        } else {
-            given
-        };
-        let description = trocar_cli::robot_info(&source).map_err(value_error)?;
-        Ok(Robot {
-            source,
-            name: description.name,
-            mechanism: description.mechanism,
-            joints: description.joints,
-            params: description.params,
-        })
+    fn load(py: Python<'_>, name_or_path: PathBuf) -> PyResult<Self> {
+        let inner = py
+            .detach(move || {
+                let r = trocar_api::Robot::load(&name_or_path)?;
+                // Derived now, once; a description whose closed forms cannot be derived (a
+                // mechanism with a non-square J_Cp) still loads, and the calls that need them
+                // say why they cannot.
+                let _ = r.derive();
+                Ok::<_, trocar_api::Error>(r)
+            })
+            .map_err(value_error)?;
+        let nominal = inner.params().into_iter().map(|(_, v)| v).collect();
+        Ok(Robot { inner, nominal })
     }
 
     /// The robot's name (`[robot] name`).
     #[getter]
     fn name(&self) -> &str {
-        &self.name
+        self.inner.name()
     }
 
     /// Number of joint values `eval` takes (all joints of a closed mechanism).
     #[getter]
     fn joints(&self) -> usize {
-        self.joints
+        self.inner.dof()
+    }
+
+    /// The joints' names, base first.
+    #[getter]
+    fn joint_names(&self) -> Vec<String> {
+        self.inner.joint_names()
+    }
+
+    /// Each joint's `(lower, upper)` position limits (rad or m); `(-inf, inf)` where the
+    /// description has none.
+    #[getter]
+    fn joint_limits(&self) -> Vec<(f64, f64)> {
+        self.inner
+            .joint_limits()
+            .into_iter()
+            .map(|l| l.map_or((f64::NEG_INFINITY, f64::INFINITY), |[a, b]| (a, b)))
+            .collect()
     }
 
     /// Whether this is a closed mechanism (`eval` then takes `what` in jr, jc, passive, det).
     #[getter]
     fn is_mechanism(&self) -> bool {
-        self.mechanism
+        self.inner.is_mechanism()
     }
 
     /// The parameters and their nominal values.
     #[getter]
     fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
-        for (k, v) in &self.params {
+        for (k, v) in self.inner.params() {
             d.set_item(k, v)?;
         }
         Ok(d)
     }
 
-    /// `trocar eval`: the quantity `what` at the joint values `q`, as a 2-D array (a scalar such
-    /// as the manipulability is 1 × 1). `params` overrides parameter values by name; `numeric`
-    /// uses the numeric runtime instead of the generated closed forms.
+    /// The quantities `eval` takes for this robot, by their catalogue names.
+    fn quantities(&self) -> Vec<&'static str> {
+        self.inner
+            .quantities()
+            .into_iter()
+            .map(Function::name)
+            .collect()
+    }
+
+    /// The quantity `what` (a catalogue name such as `"constrained_jacobian"` or a short name
+    /// such as `"jr"`) at the joint values `q`, as a 2-D array, row-major (a scalar such as the
+    /// manipulability is 1 × 1, a pose 4 × 4). `params` overrides parameter values by name;
+    /// `numeric` uses the numeric runtime instead of the generated closed forms.
     #[pyo3(signature = (q, what = "jr", params = None, numeric = false))]
     fn eval<'py>(
         &self,
         py: Python<'py>,
-        q: Vec<f64>,
+        q: &Bound<'py, PyAny>,
         what: &str,
-        params: Option<std::collections::BTreeMap<String, f64>>,
+        params: Option<BTreeMap<String, f64>>,
         numeric: bool,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let what = parse_what(what)?;
-        let params: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
-        let source = self.source.clone();
-        let m = py
-            .detach(move || trocar_cli::eval(&source, &q, &params, what, numeric))
+        let q = joints(q)?;
+        let function = self.function(what)?;
+        let m = if numeric || self.inner.is_mechanism() {
+            let p: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
+            if numeric {
+                self.inner.eval_numeric(function, &q, &p)
+            } else {
+                self.inner.eval(function, &q, &p)
+            }
+            .map_err(value_error)?
+        } else {
+            self.inner.check_q(&q).map_err(value_error)?;
+            let values = self.values(params)?;
+            let e = self.inner.evaluator(function).map_err(value_error)?;
+            let mut data = vec![0.0; e.len()];
+            e.eval_into(&q, &values, &mut data).map_err(value_error)?;
+            trocar_api::Matrix {
+                rows: e.rows(),
+                cols: e.cols(),
+                data,
+            }
+        };
+        let a = Array2::from_shape_vec((m.rows, m.cols), m.data)
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        Ok(a.into_pyarray(py))
+    }
+
+    /// `what` at every row of `Q` (an `(N, joints)` array), as an `(N, rows, cols)` array equal
+    /// to N calls of `eval`; the configurations are evaluated side by side on every core,
+    /// without the GIL.
+    #[pyo3(signature = (q, what = "jr", params = None))]
+    fn eval_many<'py>(
+        &self,
+        py: Python<'py>,
+        q: PyReadonlyArray2<'py, f64>,
+        what: &str,
+        params: Option<BTreeMap<String, f64>>,
+    ) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        let function = self.function(what)?;
+        let values = self.values(params)?;
+        let e = self.inner.evaluator(function).map_err(value_error)?;
+        let (count, n) = q.as_array().dim();
+        if n != self.inner.dof() {
+            return Err(PyValueError::new_err(format!(
+                "Q has {n} columns but `{}` has {} joints (one row per configuration)",
+                self.inner.name(),
+                self.inner.dof()
+            )));
+        }
+        // Row-major (C-ordered) arrays are read in place; any other layout is copied row by row.
+        let view = q.as_array();
+        let owned;
+        let flat: &[f64] = match view.as_slice() {
+            Some(s) => s,
+            None => {
+                owned = view.iter().copied().collect::<Vec<f64>>();
+                &owned
+            }
+        };
+        let (rows, cols) = (e.rows(), e.cols());
+        let mut out = vec![0.0; count * rows * cols];
+        py.detach(|| e.eval_many(flat, &values, &mut out))
             .map_err(value_error)?;
-        matrix(py, &m)
+        let a = Array3::from_shape_vec((count, rows, cols), out)
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        Ok(a.into_pyarray(py))
+    }
+
+    /// Row and column labels of `what`'s matrix (`(rows, cols)`, e.g. `v_x … w_z` by `dq_joint1
+    /// …`), or `None` for a pose or a scalar.
+    fn labels(&self, what: &str) -> PyResult<Option<(Vec<String>, Vec<String>)>> {
+        Ok(self.inner.labels(self.function(what)?))
     }
 
     /// `trocar verify`: the generated closed forms against the numeric runtime and finite
@@ -136,9 +234,8 @@ impl Robot {
         samples: usize,
         seed: u64,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let source = self.source.clone();
         let report = py
-            .detach(move || trocar_cli::verify(&source, samples, seed, |_| {}))
+            .detach(|| self.inner.verify(samples, seed, |_| {}))
             .map_err(value_error)?;
         let out = PyDict::new(py);
         out.set_item("robot", &report.robot)?;
@@ -162,23 +259,158 @@ impl Robot {
     /// (`real="generic"`) or for `"f64"` / `"f32"`.
     #[pyo3(signature = (real = "f64"))]
     fn generate(&self, py: Python<'_>, real: &str) -> PyResult<String> {
-        let real = match real {
-            "f64" => RealArg::F64,
-            "f32" => RealArg::F32,
-            "generic" => RealArg::Generic,
-            other => {
-                return Err(PyValueError::new_err(format!(
-                    "real={other:?}: expected \"f64\", \"f32\" or \"generic\""
-                )))
-            }
+        let real: trocar_codegen::Real = real.parse().map_err(PyValueError::new_err)?;
+        let options = trocar_codegen::ModuleOptions {
+            real,
+            ..Default::default()
         };
-        let source = self.source.clone();
-        py.detach(move || trocar_cli::generate(&source, real))
+        py.detach(|| self.inner.generate(&options))
             .map_err(value_error)
     }
 
     fn __repr__(&self) -> String {
-        format!("trocar.Robot.load({:?})", self.source)
+        format!("trocar.Robot.load({:?})", self.inner.source())
+    }
+}
+
+/// The constrained kinematic controller on a robot (the Rust runtime's `Controller`: task
+/// selection, drift correction on the trocar, the null-space objective keeping the joints from
+/// their limits). Defaults are the Panda laparoscope scenario's gains.
+#[pyclass(module = "trocar")]
+struct Controller {
+    inner: trocar_api::Controller,
+}
+
+#[pymethods]
+impl Controller {
+    /// A controller for `robot` (a serial robot with a `[constraint]`). `method` is `"dls"`,
+    /// `"pinv"` or `"fi"`; `kp`, `ko` (1/s) the position and orientation gains, `kr` (1/s) the
+    /// drift correction on the trocar (0: none), `max_joint_speed` (rad/s, `None`: none),
+    /// `null_space_gain` (1/s) the joint-limit objective's gain on a redundant arm.
+    #[new]
+    #[pyo3(signature = (robot, method = "dls", kp = None, ko = None, kr = None, max_joint_speed = MaybeLimit::Default, null_space_gain = None, dls_alpha0 = None, fi_gamma = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        robot: &Robot,
+        method: &str,
+        kp: Option<f64>,
+        ko: Option<f64>,
+        kr: Option<f64>,
+        max_joint_speed: MaybeLimit,
+        null_space_gain: Option<f64>,
+        dls_alpha0: Option<f64>,
+        fi_gamma: Option<f64>,
+    ) -> PyResult<Self> {
+        let d = ControllerOptions::default();
+        let options = ControllerOptions {
+            method: self::method(method)?,
+            kp: kp.unwrap_or(d.kp),
+            ko: ko.unwrap_or(d.ko),
+            kr: kr.unwrap_or(d.kr),
+            max_joint_speed: match max_joint_speed {
+                MaybeLimit::Default => d.max_joint_speed,
+                MaybeLimit::Unlimited => None,
+                MaybeLimit::At(v) => Some(v),
+            },
+            null_space_gain: null_space_gain.unwrap_or(d.null_space_gain),
+            dls_alpha0: dls_alpha0.unwrap_or(d.dls_alpha0),
+            fi_gamma: fi_gamma.unwrap_or(d.fi_gamma),
+            ..d
+        };
+        let inner = trocar_api::Controller::new(&robot.inner, options).map_err(value_error)?;
+        Ok(Controller { inner })
+    }
+
+    /// One control step at joints `q` toward `reference` — the desired tip position (3 numbers)
+    /// or a dict with `"position"` and optionally `"rotation"` (3 × 3, base frame), `"velocity"`
+    /// and `"angular_velocity"` (feed-forward, base frame) — with the trocar at `trocar` (base
+    /// frame, m), moving laterally at `dv` (default: fixed). Returns a dict: `qd` (joint rates),
+    /// `l_a`, `position_error`, `orientation_error`, `lateral_error`, `dv_0r`, `w_r`, `w_i`,
+    /// `kappa_r`, `kappa_i`.
+    #[pyo3(signature = (q, reference, trocar, dt, dv = None))]
+    fn step<'py>(
+        &mut self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        reference: &Bound<'py, PyAny>,
+        trocar: [f64; 3],
+        dt: f64,
+        dv: Option<Vec<f64>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let q = joints(q)?;
+        let target = if let Ok(d) = reference.cast::<PyDict>() {
+            let get3 = |k: &str| -> PyResult<[f64; 3]> {
+                match d.get_item(k)? {
+                    Some(v) => v.extract::<[f64; 3]>(),
+                    None => Ok([0.0; 3]),
+                }
+            };
+            let position = match d.get_item("position")? {
+                Some(v) => v.extract::<[f64; 3]>()?,
+                None => {
+                    return Err(PyValueError::new_err(
+                        "reference: a dict with \"position\" (and optionally \"rotation\", \"velocity\", \"angular_velocity\")",
+                    ))
+                }
+            };
+            let rotation = match d.get_item("rotation")? {
+                Some(v) if !v.is_none() => {
+                    if let Ok(a) = v.extract::<PyReadonlyArray2<'_, f64>>() {
+                        let a = a.as_array();
+                        if a.shape() != [3, 3] {
+                            return Err(PyValueError::new_err(
+                                "reference[\"rotation\"]: a 3 × 3 matrix",
+                            ));
+                        }
+                        Some(std::array::from_fn(|i| std::array::from_fn(|j| a[(i, j)])))
+                    } else {
+                        Some(v.extract::<[[f64; 3]; 3]>()?)
+                    }
+                }
+                _ => None,
+            };
+            Target {
+                position,
+                rotation,
+                velocity: get3("velocity")?,
+                angular_velocity: get3("angular_velocity")?,
+            }
+        } else {
+            Target {
+                position: reference.extract::<[f64; 3]>()?,
+                rotation: None,
+                velocity: [0.0; 3],
+                angular_velocity: [0.0; 3],
+            }
+        };
+        let dv = dv.unwrap_or_else(|| vec![0.0; self.inner.constrained_directions()]);
+        let s = self
+            .inner
+            .step(&q, &target, &trocar, &dv, dt)
+            .map_err(value_error)?;
+        let out = PyDict::new(py);
+        out.set_item("qd", Array1::from(s.qd).into_pyarray(py))?;
+        out.set_item("l_a", s.l_a)?;
+        out.set_item(
+            "position_error",
+            PyArray1::from_slice(py, &s.position_error),
+        )?;
+        out.set_item(
+            "orientation_error",
+            PyArray1::from_slice(py, &s.orientation_error),
+        )?;
+        out.set_item("lateral_error", PyArray1::from_vec(py, s.lateral_error))?;
+        out.set_item("dv_0r", PyArray1::from_vec(py, s.dv_0r))?;
+        out.set_item("w_r", s.w_r)?;
+        out.set_item("w_i", s.w_i)?;
+        out.set_item("kappa_r", s.kappa_r)?;
+        out.set_item("kappa_i", s.kappa_i)?;
+        Ok(out)
+    }
+
+    /// Restarts the filtered inverse.
+    fn reset(&mut self) {
+        self.inner.reset();
     }
 }
 
@@ -188,41 +420,25 @@ impl Robot {
 /// the scenario's), `drift_correction` and `max_joint_speed` (rad/s; `None` for no limit; default:
 /// the simulations' limit) apply to the RCM scenarios.
 #[pyfunction]
-#[pyo3(signature = (scenario, method = None, drift_correction = true, max_joint_speed = MaxJointSpeed::Default))]
+#[pyo3(signature = (scenario, method = None, drift_correction = true, max_joint_speed = MaybeLimit::Default))]
 fn simulate<'py>(
     py: Python<'py>,
     scenario: &str,
     method: Option<&str>,
     drift_correction: bool,
-    max_joint_speed: MaxJointSpeed,
+    max_joint_speed: MaybeLimit,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let method = match method {
-        None => None,
-        Some("pinv") => Some(Method::Pinv),
-        Some("dls") => Some(Method::Dls),
-        Some("fi") => Some(Method::Fi),
-        Some(other) => {
-            return Err(PyValueError::new_err(format!(
-                "method={other:?}: expected \"pinv\", \"dls\" or \"fi\""
-            )))
-        }
-    };
     let options = RcmOptions {
-        method,
-        drift_correction: if drift_correction {
-            OnOff::On
-        } else {
-            OnOff::Off
-        },
+        method: method.map(self::method).transpose()?,
+        drift_correction,
         max_joint_speed: match max_joint_speed {
-            MaxJointSpeed::Default => None,
-            MaxJointSpeed::Unlimited => Some(SpeedLimit::None),
-            MaxJointSpeed::At(v) => Some(SpeedLimit::At(v)),
+            MaybeLimit::Default => None,
+            MaybeLimit::Unlimited => Some(SpeedLimit::Unlimited),
+            MaybeLimit::At(v) => Some(SpeedLimit::At(v)),
         },
     };
-    let scenario = scenario.to_owned();
     let run = py
-        .detach(move || trocar_cli::run_simulation(&scenario, &options))
+        .detach(|| trocar_api::simulate(scenario, &options, &mut |_| {}))
         .map_err(value_error)?;
     let out = PyDict::new(py);
     for (name, values) in run.columns() {
@@ -231,22 +447,43 @@ fn simulate<'py>(
     Ok(out)
 }
 
-/// `max_joint_speed` of [`simulate`]: omitted, `None` or a number.
+/// The reference the `panda-laparoscope` scenario tracks at time `t` (s), as the dict
+/// `Controller.step` takes: `position`, `rotation` (3 × 3), `velocity`, `angular_velocity`
+/// (base frame).
+#[pyfunction]
+fn panda_reference<'py>(py: Python<'py>, t: f64) -> PyResult<Bound<'py, PyDict>> {
+    let r = trocar_api::simulate::panda_target(t).map_err(value_error)?;
+    let out = PyDict::new(py);
+    out.set_item("position", PyArray1::from_slice(py, &r.position))?;
+    let rot = r
+        .rotation
+        .unwrap_or([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
+    let rot = Array2::from_shape_fn((3, 3), |(i, j)| rot[i][j]);
+    out.set_item("rotation", rot.into_pyarray(py))?;
+    out.set_item("velocity", PyArray1::from_slice(py, &r.velocity))?;
+    out.set_item(
+        "angular_velocity",
+        PyArray1::from_slice(py, &r.angular_velocity),
+    )?;
+    Ok(out)
+}
+
+/// A speed limit argument: omitted, `None` or a number.
 #[derive(Clone, Copy, Debug)]
-enum MaxJointSpeed {
+enum MaybeLimit {
     Default,
     Unlimited,
     At(f64),
 }
 
-impl<'a, 'py> FromPyObject<'a, 'py> for MaxJointSpeed {
+impl<'a, 'py> FromPyObject<'a, 'py> for MaybeLimit {
     type Error = PyErr;
 
     fn extract(ob: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
         if ob.is_none() {
-            Ok(MaxJointSpeed::Unlimited)
+            Ok(MaybeLimit::Unlimited)
         } else {
-            Ok(MaxJointSpeed::At(ob.extract::<f64>()?))
+            Ok(MaybeLimit::At(ob.extract::<f64>()?))
         }
     }
 }
@@ -255,7 +492,7 @@ impl<'a, 'py> FromPyObject<'a, 'py> for MaxJointSpeed {
 /// prints them: `{"robots": [...], "mechanisms": [...], "scenarios": [...]}`.
 #[pyfunction]
 fn shipped<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-    let s = trocar_cli::shipped();
+    let s = trocar_api::shipped();
     let out = PyDict::new(py);
     out.set_item("robots", s.robots)?;
     out.set_item("mechanisms", s.mechanisms)?;
@@ -263,19 +500,26 @@ fn shipped<'py>(py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
     Ok(out)
 }
 
-/// The quantities `Robot.eval` takes as `what`.
+/// The quantities `Robot.eval` takes as `what`: `(name, short name)` of every function of a
+/// serial robot's module, then of a closed mechanism's.
 #[pyfunction]
-fn quantities() -> Vec<String> {
-    what_names()
+fn quantities() -> Vec<(&'static str, &'static str)> {
+    Function::SERIAL
+        .into_iter()
+        .chain(Function::MECHANISM)
+        .map(|f| (f.name(), f.short_name()))
+        .collect()
 }
 
 /// trocar: constrained kinematics of robots with a remote centre of motion.
 #[pymodule]
 fn _trocar(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Robot>()?;
+    m.add_class::<Controller>()?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(shipped, m)?)?;
     m.add_function(wrap_pyfunction!(quantities, m)?)?;
+    m.add_function(wrap_pyfunction!(panda_reference, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -111,7 +111,7 @@ def test_errors_are_value_errors_with_the_command_lines_message():
     assert out.stderr.strip() == f"error: {e.value}"
     with pytest.raises(ValueError, match="unknown parameter `l_x`"):
         robot.eval(Q8, params={"l_x": 1.0})
-    with pytest.raises(ValueError, match="expected one of jr, manip"):
+    with pytest.raises(ValueError, match="not a quantity of the robot .* jr \\(constrained_jacobian\\)"):
         robot.eval(Q8, what="jacobian")
     with pytest.raises(ValueError, match="cannot read the file"):
         trocar.Robot.load("no-such-robot")
@@ -185,4 +185,103 @@ def test_shipped_names_load():
         robot = trocar.Robot.load(name)
         assert robot.joints > 0
     assert trocar.Robot.load("four-bar").is_mechanism
-    assert set(trocar.quantities()) >= {"jr", "manip", "fk", "passive"}
+    names = dict(trocar.quantities())
+    assert names["constrained_jacobian"] == "jr" and names["passive_map"] == "passive"
+
+
+PANDA_Q = np.array([0.1, -0.4, 0.2, -2.0, 0.1, 1.8, 0.7])
+
+
+@pytest.mark.parametrize("short,name", [("jr", "constrained_jacobian"),
+                                        ("jb0i", "partial_body_jacobian"),
+                                        ("fk", "forward_kinematics"),
+                                        ("jc", "constraint_jacobian_c"),
+                                        ("task", "constrained_task_jacobian")])
+def test_catalogue_names_and_short_names_are_one_quantity(short, name):
+    robot = trocar.Robot.load("panda-laparoscope")
+    np.testing.assert_array_equal(robot.eval(PANDA_Q, what=short), robot.eval(PANDA_Q, what=name))
+    assert name in robot.quantities()
+
+
+@pytest.mark.parametrize("what", ["fk", "jb0i", "jr", "task", "jc", "manip", "fk0i",
+                                  "lambda_null_space"])
+def test_eval_many_is_eval_at_every_row(what):
+    robot = trocar.Robot.load("panda-laparoscope")
+    rng = np.random.default_rng(11)
+    lo, hi = np.array(robot.joint_limits).T
+    # 1031 configurations: several lane groups on each core, and a partial last group.
+    qs = rng.uniform(lo, hi, size=(1031, robot.joints))
+    many = robot.eval_many(qs, what=what)
+    assert many.shape[0] == len(qs)
+    for k in [0, 1, 7, 8, 500, 1029, 1030]:
+        np.testing.assert_array_equal(many[k], robot.eval(qs[k], what=what))
+    # A non-contiguous array and other parameter values.
+    strided = np.asfortranarray(qs[:20])
+    np.testing.assert_array_equal(robot.eval_many(strided, what=what, params={"l_a": 0.2}),
+                                  np.stack([robot.eval(q, what=what, params={"l_a": 0.2})
+                                            for q in qs[:20]]))
+    with pytest.raises(ValueError, match="columns"):
+        robot.eval_many(qs[:, :3], what=what)
+    bad = qs[:10].copy()
+    bad[3, 2] = np.nan
+    with pytest.raises(ValueError, match="configuration 3"):
+        robot.eval_many(bad, what=what)
+
+
+def test_shapes_names_labels_and_limits():
+    robot = trocar.Robot.load("panda-laparoscope")
+    assert robot.joint_names == [f"panda_joint{k}" for k in range(1, 8)]
+    limits = np.array(robot.joint_limits)
+    assert limits.shape == (7, 2) and np.all(limits[:, 0] < limits[:, 1])
+    assert limits[3, 1] == pytest.approx(-0.0698)
+    rows, cols = robot.labels("jb0i")
+    assert rows == ["v_x", "v_y", "v_z", "w_x", "w_y", "w_z"]
+    assert cols == [f"dq_panda_joint{k}" for k in range(1, 8)]
+    assert robot.eval(PANDA_Q, what="jb0i").shape == (len(rows), len(cols))
+    rows, cols = robot.labels("task")
+    assert rows == ["v_x", "v_y", "v_z", "w_z"]
+    assert robot.labels("fk") is None
+
+
+def test_controller_step_is_the_rust_controllers_step():
+    """Controller.step, replayed at the states of the Rust simulation of the Panda laparoscope
+    scenario (DLS, drift correction, joint-limit objective), gives the joint rates the Rust
+    controller gave there."""
+    robot = trocar.Robot.load("panda-laparoscope")
+    trace = trocar.simulate("panda-laparoscope", method="dls")
+    q0 = np.array([trace[f"q{k}"][0] for k in range(1, 8)])
+    # The trocar: the constraint frame's origin at q0, g_0i(q0) g_ir, from the closed forms.
+    g0i = robot.eval(q0, what="fk0i")
+    gir = robot.eval(q0, what="constraint_frame")
+    trocar_point = (g0i @ gir)[:3, 3]
+    ctrl = trocar.Controller(robot, method="dls")
+    for k in [0, 1, 250, 2500, 7000, len(trace["t"]) - 1]:
+        q = np.array([trace[f"q{j}"][k] for j in range(1, 8)])
+        want = np.array([trace[f"qd{j}"][k] for j in range(1, 8)])
+        out = ctrl.step(q, trocar.panda_reference(trace["t"][k]), trocar_point, 0.002)
+        np.testing.assert_allclose(out["qd"], want, rtol=1e-9, atol=1e-12)
+        assert out["l_a"] == pytest.approx(trace["l_a"][k], abs=1e-12)
+        assert out["w_r"] == pytest.approx(trace["w_r"][k], rel=1e-9)
+    with pytest.raises(ValueError, match="method"):
+        trocar.Controller(robot, method="newton")
+    with pytest.raises(ValueError, match="7 joints"):
+        ctrl.step(q0[:3], [0.0, 0.0, 0.0], trocar_point, 0.002)
+    with pytest.raises(ValueError, match="closed mechanism"):
+        trocar.Controller(trocar.Robot.load("four-bar"))
+
+
+def test_a_python_control_loop_keeps_the_trocar():
+    """The README's loop: the tip moves 2 cm sideways while the shaft stays in the trocar."""
+    robot = trocar.Robot.load("panda-laparoscope")
+    q = np.array([0.0, -np.pi / 4, 0.0, -3 * np.pi / 4, 0.0, np.pi / 2, np.pi / 4])
+    g0i = robot.eval(q, what="fk0i")
+    trocar_point = (g0i @ robot.eval(q, what="constraint_frame"))[:3, 3]
+    start = robot.eval(q, what="fk")[:3, 3]
+    goal = start + np.array([0.02, 0.0, 0.0])
+    ctrl = trocar.Controller(robot, method="dls")
+    dt = 0.002
+    for _ in range(1500):
+        out = ctrl.step(q, {"position": goal}, trocar_point, dt)
+        q = q + dt * out["qd"]
+    assert np.linalg.norm(robot.eval(q, what="fk")[:3, 3] - goal) < 1e-4
+    assert np.max(np.abs(out["lateral_error"])) < 1e-6

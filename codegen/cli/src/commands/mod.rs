@@ -1,5 +1,5 @@
-//! One module a subcommand. Each has a function that computes the command's answer (for use
-//! from Rust or a binding) and a `run` that prints it as the binary does.
+//! One module a subcommand: each `run` parses nothing and computes nothing of its own; it calls
+//! the library ([`trocar_api`]) and prints the answer as the binary does.
 
 pub(crate) mod eval;
 pub(crate) mod generate;

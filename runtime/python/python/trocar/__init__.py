@@ -2,10 +2,27 @@
 
 The same library as the ``trocar`` command line: :class:`Robot` loads a shipped description or a
 TOML file and evaluates, verifies and generates its closed-form constrained kinematics;
-:func:`simulate` runs the constrained controller's scenarios. Errors raise :class:`ValueError`
+:class:`Controller` runs the constrained controller on a robot, step by step;
+:func:`simulate` runs the shipped scenarios. Errors raise :class:`ValueError`
 with the command line's message.
 """
 
-from ._trocar import Robot, __version__, quantities, shipped, simulate
+from ._trocar import (
+    Controller,
+    Robot,
+    __version__,
+    panda_reference,
+    quantities,
+    shipped,
+    simulate,
+)
 
-__all__ = ["Robot", "simulate", "shipped", "quantities", "__version__"]
+__all__ = [
+    "Robot",
+    "Controller",
+    "simulate",
+    "panda_reference",
+    "shipped",
+    "quantities",
+    "__version__",
+]

@@ -1,7 +1,7 @@
 //! The generated programs of every shipped and fixture description agree with the numeric
 //! runtime and with finite differences (`trocar verify` as a library).
 
-use trocar_cli::GeneratedCandidate;
+use trocar_api::GeneratedCandidate;
 use trocar_codegen::evaluate::Generated;
 use trocar_model::description::{preset_names, RobotDescription};
 use trocar_sim::verify::{verify, Tolerances};

@@ -1,0 +1,450 @@
+//! The constrained kinematic controller ([`trocar::control::Controller`]) on a robot loaded at
+//! run time: the same step the Rust crate runs on fixed sizes (task selection `S`, drift
+//! correction on the trocar, the null-space objective (44)–(46) keeping the joints from their
+//! limits), chosen for the robot's sizes when it is built.
+//!
+//! The kinematics are the numeric runtime's ([`trocar::control::ChainKinematics`]). The sizes
+//! the controller is instantiated for are listed in [`SUPPORTED`]: `n` joints 6–8, the
+//! constraint on link `i ≥ 6`, `r` = 1–3 constrained directions, 3–6 task rows. Another robot
+//! uses `trocar::control::Controller` with its generated module.
+
+use crate::error::{Error, Result};
+use crate::robot::Robot;
+use nalgebra::{Const, Matrix3, SVector, Vector3};
+use trocar::control::{
+    self, ChainKinematics, Controller as Typed, NullSpaceObjective, Rcm, Reference,
+};
+use trocar::manipulability::SquareDim;
+use trocar_model::numeric::NumericModel;
+use trocar_sim::simulation::{Method, Scenario, ScenarioConfig};
+
+/// Gains and methods of a [`Controller`]; [`ControllerOptions::default`] is the Panda
+/// laparoscope scenario's (Table 4.2's `K_p = 5`, `K_o = 10`, DLS `α0 = 0.05`, drift correction
+/// `K_r = 20 /s`, joint speed limit 2 rad/s, null-space gain 10 /s).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ControllerOptions {
+    /// Inverse of the task Jacobian `S J^r_0e` (Table 4.1).
+    pub method: Method,
+    /// Position gain `K_p` (1/s).
+    pub kp: f64,
+    /// Orientation gain `K_o` (1/s).
+    pub ko: f64,
+    /// Gain `K_r` (1/s) of the drift correction on the trocar; 0 for the thesis's controller.
+    pub kr: f64,
+    /// DLS: largest damping `α0` (3.44).
+    pub dls_alpha0: f64,
+    /// DLS: manipulability threshold `w0` of the task Jacobian.
+    pub dls_w0_task: f64,
+    /// DLS: manipulability threshold `w0` of `J^B_0i`.
+    pub dls_w0_jb0i: f64,
+    /// Filtered inverse gains `Γ_r = Γ_l` (3.47)–(3.50).
+    pub fi_gamma: f64,
+    /// Joint speed limit (rad/s), `None` for none.
+    pub max_joint_speed: Option<f64>,
+    /// Gain `K` (1/s) of the joint-limit objective (46) on the spare freedom of `J^B_0i` when
+    /// the robot has joint limits and `i > 6`; 0 for none.
+    pub null_space_gain: f64,
+}
+
+impl Default for ControllerOptions {
+    fn default() -> Self {
+        let s = ScenarioConfig::new(Scenario::Panda);
+        ControllerOptions {
+            method: s.method,
+            kp: s.kp,
+            ko: s.ko,
+            kr: s.kr,
+            dls_alpha0: s.dls_alpha0,
+            dls_w0_task: s.dls_w0_r,
+            dls_w0_jb0i: s.dls_w0_i,
+            fi_gamma: s.fi_gamma,
+            max_joint_speed: s.max_joint_speed,
+            null_space_gain: s.null_space_gain,
+        }
+    }
+}
+
+impl ControllerOptions {
+    /// The core's configuration, through the simulations' one mapping
+    /// ([`ScenarioConfig::controller_config`]).
+    fn config(&self) -> control::ControllerConfig<f64> {
+        let mut s = ScenarioConfig::new(Scenario::Panda).with_method(self.method);
+        s.kp = self.kp;
+        s.ko = self.ko;
+        s.kr = self.kr;
+        s.drift_correction = self.kr != 0.0;
+        s.dls_alpha0 = self.dls_alpha0;
+        s.dls_w0_r = self.dls_w0_task;
+        s.dls_w0_i = self.dls_w0_jb0i;
+        s.fi_gamma = self.fi_gamma;
+        s.max_joint_speed = self.max_joint_speed;
+        s.controller_config()
+    }
+
+    fn check(&self) -> Result<()> {
+        let named = [
+            ("kp", self.kp),
+            ("ko", self.ko),
+            ("kr", self.kr),
+            ("dls_alpha0", self.dls_alpha0),
+            ("dls_w0_task", self.dls_w0_task),
+            ("dls_w0_jb0i", self.dls_w0_jb0i),
+            ("fi_gamma", self.fi_gamma),
+            ("null_space_gain", self.null_space_gain),
+        ];
+        for (name, v) in named {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(Error::Input(format!(
+                    "{name} = {v}: must be a finite number ≥ 0"
+                )));
+            }
+        }
+        if let Some(v) = self.max_joint_speed {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(Error::Input(format!(
+                    "max_joint_speed = {v}: must be a positive number (or none)"
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The desired end-effector motion at one instant, in base coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Target {
+    /// Desired position `dp_0e` (m).
+    pub position: [f64; 3],
+    /// Desired orientation `dR_0e`, row by row; `None` keeps the current orientation (no
+    /// orientation error).
+    pub rotation: Option<[[f64; 3]; 3]>,
+    /// Feed-forward linear velocity (m/s).
+    pub velocity: [f64; 3],
+    /// Feed-forward angular velocity (rad/s, base coordinates).
+    pub angular_velocity: [f64; 3],
+}
+
+/// What one step computed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Step {
+    /// Joint rates `θ̇` (rad/s or m/s), one per joint.
+    pub qd: Vec<f64>,
+    /// The trocar's offset `l_a` along the shaft at this step.
+    pub l_a: f64,
+    /// Position error `e_p = R_0eᵀ(dp − p)` (end-effector frame, m).
+    pub position_error: [f64; 3],
+    /// Vector part `ε̃` of the orientation error quaternion.
+    pub orientation_error: [f64; 3],
+    /// Lateral offset of the trocar from the link in the constrained directions of `F_r` (m).
+    pub lateral_error: Vec<f64>,
+    /// The RCM velocity used, `dv_0r = dv_cmd + K_r e_r`.
+    pub dv_0r: Vec<f64>,
+    /// Manipulability of the task Jacobian `S J^r_0e`.
+    pub w_r: f64,
+    /// Manipulability of `J^B_0i`.
+    pub w_i: f64,
+    /// Damping applied to the task Jacobian (0 unless DLS).
+    pub kappa_r: f64,
+    /// Damping applied to `J^B_0i`.
+    pub kappa_i: f64,
+}
+
+/// One instantiation of the typed controller, behind the sizes known at run time.
+trait Stepper: Send + Sync + std::fmt::Debug {
+    fn step(
+        &mut self,
+        q: &[f64],
+        target: &Target,
+        trocar: &[f64; 3],
+        dv: &[f64],
+        dt: f64,
+    ) -> std::result::Result<Step, control::ControlError>;
+    fn reset(&mut self);
+}
+
+#[derive(Debug)]
+struct Sized<
+    const N: usize,
+    const I: usize,
+    const R: usize,
+    const K: usize,
+    const M: usize,
+    const P: usize,
+> {
+    kin: ChainKinematics<f64, N, R, P>,
+    ctrl: Typed<f64, N, I, R, K, M, P>,
+}
+
+impl<
+        const N: usize,
+        const I: usize,
+        const R: usize,
+        const K: usize,
+        const M: usize,
+        const P: usize,
+    > Stepper for Sized<N, I, R, K, M, P>
+where
+    Const<R>: SquareDim,
+    Const<I>: SquareDim,
+    Const<M>: SquareDim,
+    Const<P>: SquareDim,
+{
+    fn step(
+        &mut self,
+        q: &[f64],
+        target: &Target,
+        trocar: &[f64; 3],
+        dv: &[f64],
+        dt: f64,
+    ) -> std::result::Result<Step, control::ControlError> {
+        let q = SVector::<f64, N>::from_column_slice(q);
+        let rotation = match target.rotation {
+            Some(r) => Matrix3::from_fn(|i, j| r[i][j]),
+            None => self.kin.chain.forward_kinematics(&q).rotation,
+        };
+        let reference = Reference {
+            position: Vector3::from(target.position),
+            rotation,
+            velocity: Vector3::from(target.velocity),
+            angular_velocity: Vector3::from(target.angular_velocity),
+        };
+        let rcm = Rcm {
+            trocar: Vector3::from(*trocar),
+            dv: SVector::<f64, R>::from_column_slice(dv),
+        };
+        let out = self.ctrl.step(&self.kin, &q, &reference, &rcm, dt)?;
+        Ok(Step {
+            qd: out.qd.as_slice().to_vec(),
+            l_a: out.l_a,
+            position_error: out.ep.into(),
+            orientation_error: out.eq.eps.into(),
+            lateral_error: out.lateral_error.as_slice().to_vec(),
+            dv_0r: out.dv_0r.as_slice().to_vec(),
+            w_r: out.w_r,
+            w_i: out.w_i,
+            kappa_r: out.kappa_r,
+            kappa_i: out.kappa_i,
+        })
+    }
+
+    fn reset(&mut self) {
+        self.ctrl.reset();
+    }
+}
+
+/// Builds the typed controller for `(N, I, R, P)` from the list of supported sizes.
+macro_rules! dispatch {
+    ($model:expr, $config:expr, $objective:expr, $sizes:expr; $(($n:literal, $i:literal, $r:literal, $p:literal)),* $(,)?) => {{
+        let model: &NumericModel<f64> = $model;
+        let sizes: (usize, usize, usize, usize) = $sizes;
+        let boxed: Option<std::result::Result<Box<dyn Stepper>, String>> = match sizes {
+            $(
+                ($n, $i, $r, $p) => Some((|| {
+                    let kin = model
+                        .to_kinematics::<$n, $r, $p>()
+                        .map_err(|e| e.to_string())?;
+                    let objective: Option<(f64, Vec<[f64; 2]>)> = $objective;
+                    let mut ctrl = Typed::<f64, $n, $i, $r, { 6 - $r }, { 6 - $r + $n - $i }, $p>::new($config);
+                    if let Some((gain, limits)) = objective {
+                        ctrl = ctrl.with_objective(NullSpaceObjective::JointLimits {
+                            gain,
+                            lower: SVector::from_fn(|k, _| limits[k][0]),
+                            upper: SVector::from_fn(|k, _| limits[k][1]),
+                        });
+                    }
+                    Ok(Box::new(Sized { kin, ctrl }) as Box<dyn Stepper>)
+                })()),
+            )*
+            _ => None,
+        };
+        boxed
+    }};
+}
+
+/// The sizes `(n, i, r, task rows)` the controller is instantiated for.
+pub const SUPPORTED: &[(usize, usize, usize, usize)] = &[
+    (6, 6, 1, 3),
+    (6, 6, 1, 4),
+    (6, 6, 1, 5),
+    (6, 6, 2, 3),
+    (6, 6, 2, 4),
+    (6, 6, 3, 3),
+    (7, 6, 1, 3),
+    (7, 6, 1, 4),
+    (7, 6, 1, 5),
+    (7, 6, 1, 6),
+    (7, 6, 2, 3),
+    (7, 6, 2, 4),
+    (7, 6, 2, 5),
+    (7, 6, 3, 3),
+    (7, 6, 3, 4),
+    (7, 7, 1, 3),
+    (7, 7, 1, 4),
+    (7, 7, 1, 5),
+    (7, 7, 2, 3),
+    (7, 7, 2, 4),
+    (7, 7, 3, 3),
+    (8, 6, 1, 4),
+    (8, 6, 1, 6),
+    (8, 6, 2, 4),
+    (8, 6, 2, 6),
+    (8, 6, 3, 4),
+    (8, 6, 3, 5),
+    (8, 7, 1, 4),
+    (8, 7, 1, 6),
+    (8, 7, 2, 4),
+    (8, 7, 2, 5),
+    (8, 7, 3, 4),
+    (8, 8, 1, 4),
+    (8, 8, 1, 5),
+    (8, 8, 2, 4),
+    (8, 8, 3, 3),
+];
+
+/// The constrained kinematic controller on a [`Robot`], with the sizes of its description.
+///
+/// ```no_run
+/// use trocar_api::{Controller, ControllerOptions, Robot, Target};
+/// let robot = Robot::load("panda-laparoscope")?;
+/// let mut ctrl = Controller::new(&robot, ControllerOptions::default())?;
+/// let q = [0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785];
+/// let target = Target { position: [0.3, 0.0, 0.2], rotation: None, velocity: [0.0; 3], angular_velocity: [0.0; 3] };
+/// let step = ctrl.step(&q, &target, &[0.3, 0.0, 0.45], &[0.0, 0.0], 0.002)?;
+/// assert_eq!(step.qd.len(), 7);
+/// # Ok::<(), trocar_api::Error>(())
+/// ```
+#[derive(Debug)]
+pub struct Controller {
+    inner: Box<dyn Stepper>,
+    dof: usize,
+    rows: usize,
+}
+
+impl Controller {
+    /// A controller for `robot` (a serial robot with a `[constraint]`) with `options`.
+    pub fn new(robot: &Robot, options: ControllerOptions) -> Result<Self> {
+        options.check()?;
+        let desc = robot.description().ok_or_else(|| {
+            Error::Unsupported(format!(
+                "`{}` is a closed mechanism: the constrained controller runs serial robots",
+                robot.name()
+            ))
+        })?;
+        let constraint = desc.constraint.as_ref().ok_or_else(|| {
+            Error::Unsupported(format!(
+                "`{}` has no [constraint]: the constrained controller needs one",
+                desc.name
+            ))
+        })?;
+        let n = desc.joints.len();
+        let (i, r) = (constraint.link, constraint.h.len());
+        let p = desc.task.as_ref().map_or(6, |t| t.select.len());
+        let model = robot.numeric()?.model();
+        let limits: Option<Vec<[f64; 2]>> = desc.joints.iter().map(|j| j.limits).collect();
+        let objective = match limits {
+            Some(l) if i > 6 && options.null_space_gain > 0.0 => Some((options.null_space_gain, l)),
+            _ => None,
+        };
+        let config = options.config();
+        let built = dispatch!(model, config, objective.clone(), (n, i, r, p);
+            (6, 6, 1, 3), (6, 6, 1, 4), (6, 6, 1, 5),
+            (6, 6, 2, 3), (6, 6, 2, 4),
+            (6, 6, 3, 3),
+            (7, 6, 1, 3), (7, 6, 1, 4), (7, 6, 1, 5), (7, 6, 1, 6),
+            (7, 6, 2, 3), (7, 6, 2, 4), (7, 6, 2, 5),
+            (7, 6, 3, 3), (7, 6, 3, 4),
+            (7, 7, 1, 3), (7, 7, 1, 4), (7, 7, 1, 5),
+            (7, 7, 2, 3), (7, 7, 2, 4),
+            (7, 7, 3, 3),
+            (8, 6, 1, 4), (8, 6, 1, 6), (8, 6, 2, 4), (8, 6, 2, 6), (8, 6, 3, 4), (8, 6, 3, 5),
+            (8, 7, 1, 4), (8, 7, 1, 6), (8, 7, 2, 4), (8, 7, 2, 5), (8, 7, 3, 4),
+            (8, 8, 1, 4), (8, 8, 1, 5), (8, 8, 2, 4), (8, 8, 3, 3),
+        );
+        match built {
+            Some(Ok(inner)) => Ok(Controller {
+                inner,
+                dof: n,
+                rows: r,
+            }),
+            Some(Err(e)) => Err(Error::Robot {
+                file: desc.source.clone(),
+                message: e,
+            }),
+            None => Err(Error::Unsupported(format!(
+                "`{}`: n = {n} joints, constraint on link i = {i}, r = {r} constrained \
+                 directions and {p} task rows: the run-time controller is built for (n, i, r, \
+                 task rows) in {}; use trocar::control::Controller with the generated module",
+                desc.name,
+                SUPPORTED
+                    .iter()
+                    .map(|(n, i, r, p)| format!("({n}, {i}, {r}, {p})"))
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            ))),
+        }
+    }
+
+    /// One control step at joints `q` toward `target`, with the trocar at `trocar` (base
+    /// coordinates) commanded to move laterally at `dv` (one value per constrained direction;
+    /// zeros for a fixed trocar); `dt` is the sample time (the filtered inverse uses it).
+    pub fn step(
+        &mut self,
+        q: &[f64],
+        target: &Target,
+        trocar: &[f64; 3],
+        dv: &[f64],
+        dt: f64,
+    ) -> Result<Step> {
+        if q.len() != self.dof {
+            return Err(Error::Input(format!(
+                "q has {} values, the robot has {} joints",
+                q.len(),
+                self.dof
+            )));
+        }
+        if dv.len() != self.rows {
+            return Err(Error::Input(format!(
+                "dv has {} values, the constraint has {} constrained directions",
+                dv.len(),
+                self.rows
+            )));
+        }
+        let finite = q
+            .iter()
+            .chain(&target.position)
+            .chain(&target.velocity)
+            .chain(&target.angular_velocity)
+            .chain(trocar)
+            .chain(dv)
+            .chain(target.rotation.iter().flatten().flatten())
+            .all(|v| v.is_finite());
+        if !finite {
+            return Err(Error::Input(
+                "q, the target, the trocar and dv must be finite".into(),
+            ));
+        }
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(Error::Input(format!(
+                "dt = {dt}: must be a positive time (s)"
+            )));
+        }
+        self.inner
+            .step(q, target, trocar, dv, dt)
+            .map_err(|e| Error::NotFinite(format!("control step: {e}")))
+    }
+
+    /// Restarts the filtered inverse (it re-initialises on the next step).
+    pub fn reset(&mut self) {
+        self.inner.reset();
+    }
+
+    /// Number of joints.
+    pub fn dof(&self) -> usize {
+        self.dof
+    }
+
+    /// Number of constrained directions (`dv`'s length).
+    pub fn constrained_directions(&self) -> usize {
+        self.rows
+    }
+}

@@ -1,0 +1,85 @@
+//! # trocar-api — trocar as a library
+//!
+//! Everything the `trocar` command line and the Python package do, as typed functions: load a
+//! description once ([`Robot::load`]), derive its closed forms once and evaluate them compiled
+//! ([`Robot::eval`], [`Robot::evaluator`] for one configuration or many), check them
+//! ([`Robot::verify`]), emit them ([`Robot::generate`]), run the constrained controller on the
+//! robot ([`Controller`]) and the shipped simulations ([`simulate()`]). Nothing here parses
+//! command lines or prints; long work reports progress through a callback, and every failure is
+//! an [`Error`] whose message says what is wrong and where (file, line, field).
+//!
+//! The quantities are the catalogue's [`Function`]s (`constrained_jacobian`, …, with short names
+//! such as `jr` resolved by [`Robot::function`]); the scalar type of generated code is
+//! [`trocar_codegen::Real`]; the inverse a simulation uses is [`Method`].
+//!
+//! ```no_run
+//! use trocar_api::{Function, Robot};
+//! let robot = Robot::load("panda-laparoscope")?;
+//! let q = [0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8];
+//! let pose = robot.eval(Function::ForwardKinematics, &q, &[])?; // 4 × 4
+//! let jb0i = robot.evaluator(Function::PartialBodyJacobian)?;    // compiled, reusable
+//! let mut out = vec![0.0; jb0i.len()];
+//! jb0i.eval_into(&q, &[0.25], &mut out)?;
+//! # Ok::<(), trocar_api::Error>(())
+//! ```
+#![warn(missing_docs)]
+
+mod controller;
+mod error;
+mod matrix;
+mod robot;
+pub mod simulate;
+
+pub use controller::{Controller, ControllerOptions, Step, Target, SUPPORTED};
+pub use error::{Error, Result};
+pub use matrix::Matrix;
+pub use robot::{urdf_jacobian, Evaluator, GeneratedCandidate, Robot, TWIST};
+pub use simulate::{simulate, RcmOptions, SimulationRun, SpeedLimit};
+pub use trocar_codegen::catalogue::Function;
+pub use trocar_sim::simulation::{CsvRows, Method};
+
+/// The names of everything shipped, as the library and the command line accept them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Shipped {
+    /// Serial robot descriptions.
+    pub robots: Vec<&'static str>,
+    /// Closed mechanisms.
+    pub mechanisms: Vec<&'static str>,
+    /// Simulation scenarios: the RCM scenarios, then the closed-chain ones.
+    pub scenarios: Vec<&'static str>,
+}
+
+/// Everything shipped with trocar.
+pub fn shipped() -> Shipped {
+    Shipped {
+        robots: trocar_model::description::preset_names().collect(),
+        mechanisms: trocar_model::closed_chain::SHIPPED.to_vec(),
+        scenarios: simulate::scenario_names(),
+    }
+}
+
+/// The TOML text of the shipped description `name` (a serial robot or a closed mechanism).
+pub fn preset(name: &str) -> Result<&'static str> {
+    trocar_model::description::preset(name)
+        .or_else(|| trocar_model::closed_chain::shipped_text(name))
+        .ok_or_else(|| {
+            let s = shipped();
+            Error::Input(format!(
+                "unknown preset `{name}` (expected one of: {})",
+                s.robots
+                    .iter()
+                    .chain(&s.mechanisms)
+                    .copied()
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ))
+        })
+}
+
+/// The generated Rust module of `robot` (a shipped name or a file) for the scalar type `real`.
+pub fn generate(robot: &str, real: trocar_codegen::Real) -> Result<String> {
+    Robot::load(robot)?.generate(&trocar_codegen::ModuleOptions {
+        real,
+        ..Default::default()
+    })
+}
