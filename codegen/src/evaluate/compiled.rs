@@ -20,6 +20,7 @@
 //! `sin_cos_array` call per joint. Each lane's results are those of [`Compiled::eval`] bit for bit.
 
 use crate::emit::program::{Op, Program, ValueId};
+use trocar::real::fast;
 use trocar::Real;
 
 /// Configurations evaluated side by side by [`Compiled::eval_batch`].
@@ -230,20 +231,44 @@ impl Compiled {
         scratch.clear();
         scratch.extend_from_slice(&self.template);
         let regs = scratch.as_mut_slice();
+        // The sines and cosines, LANES joints side by side (each bit for bit `sin_cos`).
+        let mut group = [0.0; LANES];
+        let mut targets = [(None, None); LANES];
+        let mut filled = 0;
+        let flush = |group: &[f64; LANES],
+                     targets: &[(Option<u32>, Option<u32>); LANES],
+                     filled: usize,
+                     regs: &mut [f64]| {
+            let (s, c) = fast::sin_cos_f64_lanes(group);
+            for (k, &(rs, rc)) in targets.iter().enumerate().take(filled) {
+                if let Some(r) = rs {
+                    regs[r as usize] = s[k];
+                }
+                if let Some(r) = rc {
+                    regs[r as usize] = c[k];
+                }
+            }
+        };
         for &input in &self.inputs {
             match input {
                 Input::Param(r, p) => regs[r as usize] = params[p],
                 Input::Joint(r, k) => regs[r as usize] = q[k],
                 Input::Trig { joint, sin, cos } => {
-                    let (s, c) = Real::sin_cos(q[joint]);
-                    if let Some(r) = sin {
-                        regs[r as usize] = s;
-                    }
-                    if let Some(r) = cos {
-                        regs[r as usize] = c;
+                    group[filled] = q[joint];
+                    targets[filled] = (sin, cos);
+                    filled += 1;
+                    if filled == LANES {
+                        flush(&group, &targets, filled, regs);
+                        filled = 0;
                     }
                 }
             }
+        }
+        if filled > 0 {
+            // Padding repeats the last joint (any finite value would do).
+            let last = group[filled - 1];
+            group[filled..].fill(last);
+            flush(&group, &targets, filled, regs);
         }
         run(&self.instrs, regs);
         for (o, &r) in out.iter_mut().zip(&self.outputs) {
@@ -298,7 +323,7 @@ impl Compiled {
                     Input::Param(..) => {}
                     Input::Joint(r, k) => regs[r as usize] = joint(k),
                     Input::Trig { joint: k, sin, cos } => {
-                        let (s, c) = f64::sin_cos_array(&joint(k));
+                        let (s, c) = fast::sin_cos_f64_lanes(&joint(k));
                         if let Some(r) = sin {
                             regs[r as usize] = s;
                         }

@@ -6,7 +6,9 @@
 //! row-major as the command line prints them.
 
 use numpy::ndarray::{Array1, Array2, Array3};
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
+};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -20,6 +22,12 @@ fn value_error(e: trocar_api::Error) -> PyErr {
 
 /// Joint values: a 1-D numpy array of `float64` (read in place) or any sequence of numbers.
 fn joints(q: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
+    if let Ok(a) = q.cast::<PyArray1<f64>>() {
+        // A contiguous array is copied at once; a strided one goes through the sequence path.
+        if let Ok(v) = a.to_vec() {
+            return Ok(v);
+        }
+    }
     if let Ok(a) = q.extract::<PyReadonlyArray1<'_, f64>>() {
         return Ok(a.as_array().to_vec());
     }
@@ -152,29 +160,34 @@ impl Robot {
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let q = joints(q)?;
         let function = self.function(what)?;
-        let m = if numeric || self.inner.is_mechanism() {
+        if numeric || self.inner.is_mechanism() {
             let p: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
-            if numeric {
+            let m = if numeric {
                 self.inner.eval_numeric(function, &q, &p)
             } else {
                 self.inner.eval(function, &q, &p)
             }
-            .map_err(value_error)?
-        } else {
-            self.inner.check_q(&q).map_err(value_error)?;
-            let values = self.values(params)?;
-            let e = self.inner.evaluator(function).map_err(value_error)?;
-            let mut data = vec![0.0; e.len()];
-            e.eval_into(&q, &values, &mut data).map_err(value_error)?;
-            trocar_api::Matrix {
-                rows: e.rows(),
-                cols: e.cols(),
-                data,
+            .map_err(value_error)?;
+            let a = Array2::from_shape_vec((m.rows, m.cols), m.data)
+                .map_err(|e| PyValueError::new_err(e.to_string()))?;
+            return Ok(a.into_pyarray(py));
+        }
+        self.inner.check_q(&q).map_err(value_error)?;
+        let e = self.inner.evaluator(function).map_err(value_error)?;
+        let out = PyArray2::<f64>::zeros(py, [e.rows(), e.cols()], false);
+        let written = {
+            // SAFETY: `out` was created just above as a new, C-contiguous array of
+            // `rows × cols` values and has not been handed to Python or borrowed yet, so this
+            // is the only reference to its data while the slice lives (it ends with this block).
+            let data =
+                unsafe { out.as_slice_mut() }.map_err(|e| PyValueError::new_err(e.to_string()))?;
+            match &params {
+                None => e.eval_into(&q, &self.nominal, data),
+                Some(_) => e.eval_into(&q, &self.values(params)?, data),
             }
         };
-        let a = Array2::from_shape_vec((m.rows, m.cols), m.data)
-            .map_err(|e| PyValueError::new_err(e.to_string()))?;
-        Ok(a.into_pyarray(py))
+        written.map_err(value_error)?;
+        Ok(out)
     }
 
     /// `what` at every row of `Q` (an `(N, joints)` array), as an `(N, rows, cols)` array equal

@@ -1,0 +1,47 @@
+//! Times the compiled evaluator on the Panda, one configuration and many (no Python):
+//! `cargo run --release -p trocar-api --example eval_timing`.
+
+use std::time::Instant;
+use trocar_api::{Function, Robot};
+
+fn main() -> Result<(), trocar_api::Error> {
+    let robot = Robot::load("panda-laparoscope")?;
+    let q = [0.1, -0.4, 0.2, -2.0, 0.1, 1.8, 0.7];
+    let values: Vec<f64> = robot.params().iter().map(|p| p.1).collect();
+    for f in [
+        Function::PartialBodyJacobian,
+        Function::ForwardKinematics,
+        Function::ConstrainedJacobian,
+    ] {
+        let e = robot.evaluator(f)?;
+        let c = robot.derive()?.compiled(f).expect("compiled");
+        let mut out = vec![0.0; e.len()];
+        let n = 200_000;
+        let mut best = f64::INFINITY;
+        for _ in 0..5 {
+            let t = Instant::now();
+            for _ in 0..n {
+                e.eval_into(std::hint::black_box(&q), &values, &mut out)?;
+            }
+            best = best.min(t.elapsed().as_secs_f64() / n as f64);
+        }
+        let qs: Vec<f64> = (0..10_000)
+            .flat_map(|k| q.map(|x| x + 1e-4 * k as f64))
+            .collect();
+        let mut many = vec![0.0; 10_000 * e.len()];
+        let mut best_many = f64::INFINITY;
+        for _ in 0..5 {
+            let t = Instant::now();
+            e.eval_many(&qs, &values, &mut many)?;
+            best_many = best_many.min(t.elapsed().as_secs_f64() / 10_000.0);
+        }
+        println!(
+            "{f}: {} operations, {} registers; eval_into {:.1} ns, eval_many {:.1} ns per configuration",
+            c.operations(),
+            c.registers(),
+            best * 1e9,
+            best_many * 1e9
+        );
+    }
+    Ok(())
+}
