@@ -17,6 +17,7 @@ pub mod control;
 pub mod finite_diff;
 pub mod kinematics;
 pub mod manipulability;
+pub mod qp;
 pub mod real;
 pub mod se3;
 
