@@ -274,24 +274,6 @@ fn check_against<const N: usize, const E: usize, const E2: usize, const C: usize
     Ok(s)
 }
 
-fn perturb<const N: usize, const E: usize, const C: usize>(
-    p: &Problem<f64, N, E, C>,
-    seed: u64,
-    size: f64,
-) -> Problem<f64, N, E, C> {
-    let mut q = *p;
-    if size == 0.0 {
-        return q;
-    }
-    let mut r = rng(seed ^ 0x9e37_79b9_7f4a_7c15);
-    let dh = SMatrix::<f64, N, N>::from_fn(|_, _| uniform(&mut r, -size, size));
-    q.h += dh * dh.transpose();
-    q.f += SVector::<f64, N>::from_fn(|_, _| uniform(&mut r, -size, size));
-    q.a_eq += SMatrix::<f64, E, N>::from_fn(|_, _| uniform(&mut r, -size, size));
-    q.b_eq += SVector::<f64, E>::from_fn(|_, _| uniform(&mut r, -size, size));
-    q
-}
-
 fn controller_case(seed: u64, kind: u8) -> Result<(), TestCaseError> {
     let mut r = rng(seed);
     let kappa = if kind % 3 == 0 {
@@ -546,4 +528,110 @@ fn other_sizes() {
         }
     });
     assert!(checked(&c) >= 800);
+}
+
+/// Any finite data — an indefinite `H`, magnitudes from 1e-300 to 1e300, inverted bounds,
+/// zero rows — and the occasional NaN or infinity: no panic, and `x` is finite (zero for
+/// NonFinite and InvalidBounds).
+#[test]
+fn wild_input_never_panics_nor_gives_nan() {
+    let values = prop_oneof![
+        4 => -10.0f64..10.0,
+        1 => Just(0.0),
+        1 => (-300i32..300, -1.0f64..1.0).prop_map(|(e, m)| m * 10f64.powi(e)),
+        1 => prop_oneof![Just(f64::NAN), Just(f64::INFINITY), Just(-f64::INFINITY), Just(1e308), Just(-1e308)],
+    ];
+    let c = run(
+        3000,
+        7,
+        (
+            proptest::collection::vec(values, 7 * 7 + 7 + 14 + 2 + 14 + 4 + 14),
+            any::<ActiveSetSeed>(),
+        ),
+        |(v, warm)| {
+            let mut it = v.into_iter();
+            let mut next = || it.next().unwrap_or(0.0);
+            let p: Problem<f64, 7, 2, 2> = Problem {
+                h: SMatrix::from_fn(|_, _| next()),
+                f: SVector::from_fn(|_, _| next()),
+                a_eq: SMatrix::from_fn(|_, _| next()),
+                b_eq: SVector::from_fn(|_, _| next()),
+                g: SMatrix::from_fn(|_, _| next()),
+                lo: SVector::from_fn(|_, _| next()),
+                hi: SVector::from_fn(|_, _| next()),
+                lb: SVector::from_fn(|_, _| next()),
+                ub: SVector::from_fn(|_, _| next()),
+            };
+            let s = solve(&p, &warm.0, &Settings::default());
+            count(|c| {
+                c.checked.fetch_add(1, Ordering::Relaxed);
+            });
+            prop_assert!(s.x.iter().all(|v| v.is_finite()), "{:?}", s);
+            prop_assert!(s.objective.is_finite());
+            if matches!(s.status, Status::NonFinite | Status::InvalidBounds) {
+                prop_assert_eq!(s.x, SVector::<f64, 7>::zeros());
+            }
+            Ok(())
+        },
+    );
+    assert!(checked(&c) >= 3000);
+}
+
+/// A random warm start.
+#[derive(Clone, Debug)]
+struct ActiveSetSeed(ActiveSet<7, 2>);
+
+impl Arbitrary for ActiveSetSeed {
+    type Parameters = ();
+    type Strategy = BoxedStrategy<Self>;
+    fn arbitrary_with(_: ()) -> Self::Strategy {
+        let side = prop_oneof![Just(Side::Inactive), Just(Side::Lower), Just(Side::Upper)];
+        (proptest::collection::vec(side, 9))
+            .prop_map(|v| {
+                ActiveSetSeed(ActiveSet {
+                    general: [v[0], v[1]],
+                    bounds: core::array::from_fn(|j| v[2 + j]),
+                })
+            })
+            .boxed()
+    }
+}
+
+/// The controller's problems in `f32`: the same status and `x` within 1e-3 of the `f64`
+/// solution where `H` is definite.
+#[test]
+fn f32_agrees_with_f64() {
+    let c = run(1000, 8, any::<u64>(), |seed| {
+        let mut r = rng(seed);
+        let shape = Shape {
+            kappa: uniform(&mut r, 0.1, 0.5),
+            j_rows: 6,
+            task: uniform(&mut r, 0.1, 4.0),
+            feasible_eq: true,
+            b_scale: 0.0,
+        };
+        let p: Problem<f64, 7, 2, 2> = random_problem(&mut r, &shape);
+        let s = solve(&p, &ActiveSet::EMPTY, &Settings::default());
+        let p32: Problem<f32, 7, 2, 2> = Problem {
+            h: p.h.cast(),
+            f: p.f.cast(),
+            a_eq: p.a_eq.cast(),
+            b_eq: p.b_eq.cast(),
+            g: p.g.cast(),
+            lo: p.lo.cast(),
+            hi: p.hi.cast(),
+            lb: p.lb.cast(),
+            ub: p.ub.cast(),
+        };
+        let s32 = solve(&p32, &ActiveSet::EMPTY, &Settings::default());
+        count(|c| {
+            c.checked.fetch_add(1, Ordering::Relaxed);
+        });
+        prop_assert_eq!(s.status, Status::Optimal);
+        prop_assert_eq!(s32.status, Status::Optimal);
+        let dx = (s32.x.cast::<f64>() - s.x).amax();
+        prop_assert!(dx < 1e-3, "f32 x differs by {:e}", dx);
+        Ok(())
+    });
+    assert!(checked(&c) >= 1000);
 }

@@ -423,3 +423,23 @@ pub fn projected_rhs<const N: usize, const E: usize, const C: usize>(
     }
     out
 }
+
+/// The next control step's problem: `p` with `H`, `f`, `A`, `b` moved by up to `size`
+/// (`H` by `D Dᵀ`, so it stays positive semidefinite).
+pub fn perturb<const N: usize, const E: usize, const C: usize>(
+    p: &Problem<f64, N, E, C>,
+    seed: u64,
+    size: f64,
+) -> Problem<f64, N, E, C> {
+    let mut q = *p;
+    if size == 0.0 {
+        return q;
+    }
+    let mut r = rng(seed ^ 0x9e37_79b9_7f4a_7c15);
+    let dh = SMatrix::<f64, N, N>::from_fn(|_, _| uniform(&mut r, -size, size));
+    q.h += dh * dh.transpose();
+    q.f += SVector::<f64, N>::from_fn(|_, _| uniform(&mut r, -size, size));
+    q.a_eq += SMatrix::<f64, E, N>::from_fn(|_, _| uniform(&mut r, -size, size));
+    q.b_eq += SVector::<f64, E>::from_fn(|_, _| uniform(&mut r, -size, size));
+    q
+}
