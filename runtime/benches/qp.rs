@@ -57,12 +57,19 @@ fn bench_shape<const C: usize>(c: &mut Criterion, name: &str) {
         .iter()
         .map(|(p, w)| solve(p, w, &settings).iterations)
         .collect();
+    let cold: Vec<usize> = steps
+        .iter()
+        .map(|(p, _)| solve(p, &ActiveSet::EMPTY, &settings).iterations)
+        .collect();
     let active: usize = steps.iter().map(|(_, w)| w.len()).sum();
     eprintln!(
-        "{name}: {STEPS} steps, mean active rows {:.2}, warm iterations: mean {:.3}, max {}",
+        "{name}: {STEPS} steps, mean active rows {:.2}, iterations warm: mean {:.3}, max {}; \
+         cold: mean {:.2}, max {}",
         active as f64 / STEPS as f64,
         iters.iter().sum::<usize>() as f64 / STEPS as f64,
-        iters.iter().max().unwrap_or(&0)
+        iters.iter().max().unwrap_or(&0),
+        cold.iter().sum::<usize>() as f64 / STEPS as f64,
+        cold.iter().max().unwrap_or(&0)
     );
     let data: Vec<ClarabelData> = steps.iter().map(|(p, _)| clarabel_data(p)).collect();
     let mut g = c.benchmark_group(name);

@@ -33,6 +33,8 @@ struct Counts {
     checked: AtomicUsize,
     infeasible: AtomicUsize,
     inconsistent: AtomicUsize,
+    /// The most working-set changes one solve took.
+    max_iterations: AtomicUsize,
 }
 
 thread_local! {
@@ -67,10 +69,11 @@ fn run<S: Strategy>(
     }
     let c = &counts;
     eprintln!(
-        "{} QPs checked, {} infeasible, {} with inconsistent equalities",
+        "{} QPs checked, {} infeasible, {} with inconsistent equalities, at most {} iterations",
         c.checked.load(Ordering::Relaxed),
         c.infeasible.load(Ordering::Relaxed),
-        c.inconsistent.load(Ordering::Relaxed)
+        c.inconsistent.load(Ordering::Relaxed),
+        c.max_iterations.load(Ordering::Relaxed)
     );
     counts
 }
@@ -159,6 +162,7 @@ fn check_against<const N: usize, const E: usize, const E2: usize, const C: usize
     let s = solve(p, warm, &settings);
     count(|c| {
         c.checked.fetch_add(1, Ordering::Relaxed);
+        c.max_iterations.fetch_max(s.iterations, Ordering::Relaxed);
         if s.status == Status::EqualitiesInconsistent {
             c.inconsistent.fetch_add(1, Ordering::Relaxed);
         }
