@@ -2,8 +2,9 @@
 //!
 //! The numeric runtime of trocar: rigid motions and twists ([`se3`]), serial-chain kinematics
 //! ([`kinematics`]), the constrained Jacobian of a remote centre of motion ([`constraint`]),
-//! manipulability ([`manipulability`]), finite-difference references ([`finite_diff`]) and the
-//! constrained kinematic controller ([`control`]).
+//! manipulability ([`manipulability`]), finite-difference references ([`finite_diff`]), the
+//! constrained kinematic controller ([`control`]) and the dense QP solver for its hard limits
+//! ([`qp`]).
 //!
 //! Everything a control loop calls is allocation-free, works on `nalgebra` fixed-size types and
 //! builds with `#![no_std]` (`default-features = false`; `libm` supplies the math functions).
@@ -17,6 +18,7 @@ pub mod control;
 pub mod finite_diff;
 pub mod kinematics;
 pub mod manipulability;
+pub mod qp;
 pub mod real;
 pub mod se3;
 
