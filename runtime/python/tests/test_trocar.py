@@ -285,3 +285,15 @@ def test_a_python_control_loop_keeps_the_trocar():
         q = q + dt * out["qd"]
     assert np.linalg.norm(robot.eval(q, what="fk")[:3, 3] - goal) < 1e-4
     assert np.max(np.abs(out["lateral_error"])) < 1e-6
+
+
+def test_the_readmes_python_example_runs():
+    """The README's Python example, as written there."""
+    text = (ROOT / "README.md").read_text()
+    block = text.split("```python\n", 1)[1].split("```", 1)[0]
+    scope = {}
+    exec(compile(block, "README.md", "exec"), scope)
+    robot, q, goal = scope["robot"], scope["q"], scope["goal"]
+    assert np.linalg.norm(robot.eval(q, what="fk")[:3, 3] - goal) < 1e-4
+    assert np.max(np.abs(scope["out"]["lateral_error"])) < 1e-6
+    assert scope["poses"].shape == (10_000, 4, 4)

@@ -1,7 +1,7 @@
 """Type stubs of the native module ``trocar._trocar`` (re-exported by ``trocar``)."""
 
 import os
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -29,6 +29,24 @@ class Robot:
     @property
     def params(self) -> Dict[str, float]:
         """The parameters and their nominal values."""
+    @property
+    def joint_names(self) -> List[str]:
+        """The joints' names, base first."""
+    @property
+    def joint_limits(self) -> List[Tuple[float, float]]:
+        """Each joint's (lower, upper) limits; (-inf, inf) where the description has none."""
+    def quantities(self) -> List[str]:
+        """The quantities ``eval`` takes for this robot, by their catalogue names."""
+    def eval_many(
+        self,
+        q: npt.NDArray[np.float64],
+        what: str = "jr",
+        params: Optional[Mapping[str, float]] = None,
+    ) -> npt.NDArray[np.float64]:
+        """``what`` at every row of the ``(N, joints)`` array ``q``: an ``(N, rows, cols)`` array
+        equal to N calls of ``eval``, evaluated on every core without the GIL."""
+    def labels(self, what: str) -> Optional[Tuple[List[str], List[str]]]:
+        """Row and column labels of ``what``'s matrix, or ``None`` for a pose or a scalar."""
     def eval(
         self,
         q: Union[Sequence[float], npt.NDArray[np.float64]],
@@ -38,7 +56,8 @@ class Robot:
     ) -> npt.NDArray[np.float64]:
         """``trocar eval``: the quantity ``what`` at joint values ``q`` as a row-major 2-D array.
 
-        ``what``: ``jr`` (J^r_0e, thesis (3.15)), ``manip`` ((3.36), 1 × 1), ``task`` (S J^r),
+        ``what``: a catalogue name (``constrained_jacobian``, ``partial_body_jacobian``, ...) or
+        a short name: ``jr`` (J^r_0e, thesis (3.15)), ``manip`` ((3.36), 1 × 1), ``task`` (S J^r),
         ``jc`` ((3.33)), ``jb0i`` ((3.13)), ``jb0e`` ((2.55)), ``fk`` (4 × 4); for closed
         mechanisms ``jr``, ``jc``, ``passive``, ``det``. ``params`` overrides parameter values by
         name; ``numeric`` evaluates with the numeric runtime instead of the generated closed forms.
@@ -61,8 +80,41 @@ def simulate(
     ``max_joint_speed`` in rad/s, ``None`` for no limit (default: the simulations' limit).
     """
 
+class Controller:
+    """The constrained kinematic controller on a robot (task selection, drift correction, the
+    joint-limit objective); defaults are the Panda laparoscope scenario's gains."""
+
+    def __init__(
+        self,
+        robot: Robot,
+        method: str = "dls",
+        kp: Optional[float] = None,
+        ko: Optional[float] = None,
+        kr: Optional[float] = None,
+        max_joint_speed: Optional[float] = ...,
+        null_space_gain: Optional[float] = None,
+        dls_alpha0: Optional[float] = None,
+        fi_gamma: Optional[float] = None,
+    ) -> None: ...
+    def step(
+        self,
+        q: Union[Sequence[float], npt.NDArray[np.float64]],
+        reference: Union[Sequence[float], Mapping[str, Any]],
+        trocar: Sequence[float],
+        dt: float,
+        dv: Optional[Sequence[float]] = None,
+    ) -> Dict[str, Any]:
+        """One step: ``{"qd", "l_a", "position_error", "orientation_error", "lateral_error",
+        "dv_0r", "w_r", "w_i", "kappa_r", "kappa_i"}``."""
+    def reset(self) -> None:
+        """Restarts the filtered inverse."""
+
+def panda_reference(t: float) -> Dict[str, npt.NDArray[np.float64]]:
+    """The reference of the ``panda-laparoscope`` scenario at time ``t``, as ``Controller.step``
+    takes it."""
+
 def shipped() -> Dict[str, List[str]]:
     """The shipped ``robots``, ``mechanisms`` and ``scenarios``, as ``trocar list`` prints them."""
 
-def quantities() -> List[str]:
-    """The values ``Robot.eval`` accepts as ``what``."""
+def quantities() -> List[Tuple[str, str]]:
+    """``(name, short name)`` of every quantity ``Robot.eval`` accepts as ``what``."""
