@@ -1,12 +1,13 @@
 //! `#[constrained_robot(preset = ...)]` on each thesis preset: prints `J^r_0e` and its
-//! manipulability at `q0`, and compares them with the numeric runtime (`trocar_sim::robot::Robot`).
+//! manipulability at `q0`, and compares them with the numeric runtime
+//! (`trocar_sim::robot::NumericRobot`).
 //!
 //! Run: `cargo run --example derive_presets` (from the workspace root).
 
 use trocar_derive::constrained_robot;
 use trocar_examples::{max_difference, print_matrix, Dia10, Q0};
 use trocar_model::description::RobotDescription;
-use trocar_sim::robot::Robot;
+use trocar_sim::robot::NumericRobot;
 
 #[constrained_robot(preset = "unidirectional")]
 struct Unidirectional;
@@ -19,7 +20,7 @@ struct BidirectionalZx;
 
 fn compare<const C: usize>(preset: &str, jr: &[[f64; 6]; C], w: f64) {
     let d = RobotDescription::preset(preset).expect("shipped preset");
-    let robot = Robot::<f64>::from_description(&d, &[]).expect("valid preset");
+    let robot = NumericRobot::<f64>::from_description(&d, &[]).expect("valid preset");
     let numeric = robot.constrained_jacobian(&Q0).expect("constrained");
     let wn = robot.manipulability(&Q0).expect("constrained");
     println!(

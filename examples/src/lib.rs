@@ -40,7 +40,7 @@ pub fn max_difference<const C: usize>(a: &[[f64; 6]; C], b: &faer::Mat<f64>) -> 
 mod tests {
     use super::*;
     use trocar_model::description::RobotDescription;
-    use trocar_sim::robot::Robot;
+    use trocar_sim::robot::NumericRobot;
 
     #[test]
     fn file_form_matches_the_numeric_runtime() {
@@ -50,7 +50,7 @@ mod tests {
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/dia10_like_zy.toml"),
         )
         .unwrap();
-        let robot = Robot::<f64>::from_description(&d, &[]).unwrap();
+        let robot = NumericRobot::<f64>::from_description(&d, &[]).unwrap();
         let numeric = robot.constrained_jacobian(&Q0).unwrap();
         assert!(max_difference(&jr, &numeric) < 1e-12);
         let w = Dia10::manipulability(&Q0, &p);

@@ -519,7 +519,7 @@ impl<T: RealField + Copy, const R: usize> Constraint<T, R> {
     ///
     /// # Panics
     /// If `i > N`.
-    pub fn moving_rcm_jacobian<const N: usize>(
+    pub fn constraint_jacobian_c<const N: usize>(
         &self,
         chain: &Chain<T, N>,
         q: &SVector<T, N>,

@@ -5,7 +5,7 @@
 //! - **slice kernels** ([`forward_kinematics`], [`body_jacobian_columns`],
 //!   [`spatial_jacobian_columns`], ...) over `&[Joint<T>]` and `&[T]`, writing Jacobian columns
 //!   into `&mut [Twist<T>]`; they serve both the typed API and the dynamic front end
-//!   (`trocar_sim::robot::Robot`, for sizes known at run time);
+//!   (`trocar_sim::robot::NumericRobot`, for sizes known at run time);
 //! - the typed, const-generic [`Chain<T, N>`] returning `SMatrix<T, 6, N>`.
 //!
 //! Nothing here allocates. Joint `k` is 1-based in the thesis and 0-based in slices.

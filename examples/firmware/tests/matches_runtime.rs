@@ -1,12 +1,12 @@
-//! The f32 control step agrees with the f64 numeric runtime (`trocar_sim::robot::Robot`, faer
-//! solves) on the same law: `[v0i; θ̇_78] = J^rᵀ(J^r J^rᵀ + κ²I)⁻¹ u`,
+//! The f32 control step agrees with the f64 numeric runtime (`trocar_sim::robot::NumericRobot`,
+//! faer solves) on the same law: `[v0i; θ̇_78] = J^rᵀ(J^r J^rᵀ + κ²I)⁻¹ u`,
 //! `θ̇_1..6 = J^B_0iᵀ(J^B_0i J^B_0iᵀ + κ_b²I)⁻¹ Λ# v0i`.
 
 use faer::linalg::solvers::Solve;
 use faer::{Col, Mat};
 use trocar_firmware::{control_step, dia10, Tuning};
 use trocar_model::description::RobotDescription;
-use trocar_sim::robot::Robot;
+use trocar_sim::robot::NumericRobot;
 
 /// `Jᵀ (J Jᵀ + κ² I)⁻¹ b`, the solve by faer's LU.
 fn dls(j: &Mat<f64>, b: &Col<f64>, kappa: f64) -> Col<f64> {
@@ -33,7 +33,7 @@ fn check(q: [f64; 8], l_a: f64, u: [f64; 6], tuning: Tuning) {
     );
 
     let d = RobotDescription::preset("dia10_like_zy").unwrap();
-    let robot = Robot::<f64>::from_description(&d, &[("l_a".into(), l_a)]).unwrap();
+    let robot = NumericRobot::<f64>::from_description(&d, &[("l_a".into(), l_a)]).unwrap();
     let jr = robot.constrained_jacobian(&q).unwrap();
     let w = robot.manipulability(&q).unwrap();
     assert!((w - step.manipulability as f64).abs() < 1e-4 * w.max(1.0));

@@ -25,7 +25,7 @@
 include!(concat!(env!("OUT_DIR"), "/panda.rs"));
 
 use trocar::control::{
-    ControlError, Controller, ControllerConfig, Damping, Method, NullSpaceObjective, Rcm,
+    ControlError, Controller, ControllerConfig, Damping, Inverse, NullSpaceObjective, Rcm,
     Reference, StepOutput,
 };
 use trocar::nalgebra::{SVector, Vector3};
@@ -62,7 +62,7 @@ pub fn controller() -> PandaController {
     PandaController::new(ControllerConfig {
         kp: 5.0,
         ko: 10.0,
-        method: Method::Dls(Damping::Variable {
+        inverse: Inverse::Dls(Damping::Variable {
             alpha0: 0.05,
             w0: 1e-3,
         }),

@@ -4,8 +4,8 @@
 //! [`NumericModel`] evaluates a [`RobotDescription`] with its nominal `[parameters]` (or
 //! overrides); every error on user input is a [`RobotError`], never a panic.
 //! [`NumericModel::to_chain`] and [`NumericModel::to_constraint`] hand the description to the typed
-//! API for control loops; the dynamic-size numeric reference (`trocar_sim::robot::Robot`) is built
-//! on it.
+//! API for control loops; the dynamic-size numeric reference (`trocar_sim::robot::NumericRobot`)
+//! is built on it.
 
 use crate::description::{
     admit, AdmissionError, JointKind, Origin, RobotDescription, Rotation, Scalar,
@@ -224,7 +224,7 @@ impl<T: RealField + Copy> AnyConstraint<T> {
     }
 
     /// `J_c = Ad_{g_ei} Λ†` (3.33), 6×r, column-major, from `g_ie`.
-    pub fn moving_rcm_jacobian_column_major(&self, g_ie: &Se3<T>) -> Vec<T> {
+    pub fn constraint_jacobian_c_column_major(&self, g_ie: &Se3<T>) -> Vec<T> {
         dispatch!(self, c => {
             (trocar::se3::Adjoint(*g_ie).inverse_matrix() * c.lambda_pinv())
                 .as_slice()

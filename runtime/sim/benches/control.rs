@@ -4,7 +4,7 @@
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use trocar::constraint::Constraint;
 use trocar::control::{
-    ChainKinematics, ConstrainedKinematics, Controller, ControllerConfig, Damping, Method, Rcm,
+    ChainKinematics, ConstrainedKinematics, Controller, ControllerConfig, Damping, Inverse, Rcm,
     Reference,
 };
 use trocar::kinematics::Chain;
@@ -42,18 +42,18 @@ fn bench_path(
         trocar,
         dv: Vector2::zeros(),
     };
-    for (name, method) in [
-        ("pinv", Method::Pinv),
+    for (name, inverse) in [
+        ("pinv", Inverse::Pinv),
         (
             "dls",
-            Method::Dls(Damping::Variable {
+            Inverse::Dls(Damping::Variable {
                 alpha0: 0.05,
                 w0: 0.1,
             }),
         ),
         (
             "fi",
-            Method::Fi {
+            Inverse::Fi {
                 gamma_r: 5.0,
                 gamma_l: 5.0,
             },
@@ -62,7 +62,7 @@ fn bench_path(
         let mut ctrl = Controller::<f64, 8, 6, 2, 4, 6>::new(ControllerConfig {
             kp: 5.0,
             ko: 10.0,
-            method,
+            inverse,
             jb0i_damping: Some(Damping::Variable {
                 alpha0: 0.05,
                 w0: 0.01,

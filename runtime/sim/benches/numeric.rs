@@ -1,6 +1,6 @@
 //! Numeric reference timings: the constrained Jacobian J^r (3.15) of each preset and the body
 //! Jacobian J^B_0e of `dia10_like`, on the allocation-free typed API (and, for comparison, the
-//! dynamic `Robot` front end used by the CLI and verification).
+//! dynamic `NumericRobot` front end used by the CLI and verification).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use trocar::constraint::Constraint;
@@ -8,12 +8,12 @@ use trocar::kinematics::Chain;
 use trocar::manipulability::SquareDim;
 use trocar::nalgebra::{Const, SMatrix, SVector};
 use trocar_model::description::RobotDescription;
-use trocar_sim::robot::Robot;
+use trocar_sim::robot::NumericRobot;
 
 const Q0: [f64; 8] = [0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
 
-fn robot(name: &str) -> Robot<f64> {
-    Robot::from_description(&RobotDescription::preset(name).unwrap(), &[]).unwrap()
+fn robot(name: &str) -> NumericRobot<f64> {
+    NumericRobot::from_description(&RobotDescription::preset(name).unwrap(), &[]).unwrap()
 }
 
 fn bench_jr<const R: usize, const M: usize>(c: &mut Criterion, name: &str)
@@ -36,7 +36,7 @@ where
         })
     });
     let chain32 = Chain::<f32, 8>::from_f64(&chain);
-    let robot32 = Robot::<f32>::from_description(robot.description(), &[]).unwrap();
+    let robot32 = NumericRobot::<f32>::from_description(robot.description(), &[]).unwrap();
     let constraint32: Constraint<f32, R> = robot32.to_constraint().unwrap();
     let q32 = q.map(|x| x as f32);
     c.bench_function(&format!("jr/{name}/f32"), |b| {

@@ -1,13 +1,16 @@
-//! A numeric robot built from a description with parameter values: the dynamic-size numeric
-//! reference, for the CLI (`trocar eval --numeric`, `trocar jacobian`), [`crate::verify`] and the
-//! tests of generated code.
+//! [`NumericRobot`]: a robot description evaluated numerically with parameter values, the
+//! dynamic-size numeric reference for the CLI (`trocar eval --numeric`, `trocar jacobian`),
+//! [`crate::verify`] and the tests of generated code.
 //!
-//! [`Robot`] evaluates a [`RobotDescription`] with its nominal `[parameters]` (or overrides) and
-//! answers with [`faer::Mat`] outputs; every error on user input is a [`RobotError`], never a
-//! panic. The kernels it calls are those of the allocation-free typed API
-//! ([`trocar::kinematics`], [`trocar::constraint`]) on the [`NumericModel`] of `trocar-model`;
-//! [`Robot::to_chain`] and [`Robot::to_constraint`] hand the description to that API for control
-//! loops. Pseudo-inverses and determinants of dynamic matrices are faer's dense decompositions.
+//! [`NumericRobot`] evaluates a [`RobotDescription`] with its nominal `[parameters]` (or
+//! overrides) and answers with [`faer::Mat`] outputs; every error on user input is a
+//! [`RobotError`], never a panic. Its methods carry the names of the generated functions
+//! ([`trocar_model::catalogue`]): `constrained_jacobian`, `constraint_jacobian_c`,
+//! `partial_body_jacobian`, `constrained_task_jacobian`, ... The kernels it calls are those of the
+//! allocation-free typed API ([`trocar::kinematics`], [`trocar::constraint`]) on the
+//! [`NumericModel`] of `trocar-model`; [`NumericRobot::to_chain`] and
+//! [`NumericRobot::to_constraint`] hand the description to that API for control loops.
+//! Pseudo-inverses and determinants of dynamic matrices are faer's dense decompositions.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::{Col, Mat};
@@ -28,25 +31,25 @@ impl<T: nalgebra::RealField + Copy + faer::traits::RealField> RobotScalar for T 
 /// A numeric robot: a [`RobotDescription`] evaluated with parameter values, answering with
 /// dynamic-size [`faer::Mat`] matrices. Joint values `q` are all `n` joints, base first.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Robot<T: RobotScalar = f64> {
+pub struct NumericRobot<T: RobotScalar = f64> {
     model: NumericModel<T>,
 }
 
-impl<T: RobotScalar> Robot<T> {
+impl<T: RobotScalar> NumericRobot<T> {
     /// Builds the robot from a description: `[parameters]` at their nominal values, except those
     /// in `overrides` (`(name, value)`; an unknown name is an error).
     pub fn from_description(
         description: &RobotDescription,
         overrides: &[(String, f64)],
     ) -> Result<Self, RobotError> {
-        Ok(Robot {
+        Ok(NumericRobot {
             model: NumericModel::from_description(description, overrides)?,
         })
     }
 
     /// The robot of an evaluated description.
     pub fn from_model(model: NumericModel<T>) -> Self {
-        Robot { model }
+        NumericRobot { model }
     }
 
     /// The evaluated description (joints, tool, constraint) the robot computes with.
@@ -231,13 +234,13 @@ impl<T: RobotScalar> Robot<T> {
     }
 
     /// `J_c = Ad_{g_ei} Λ†`, 6×r (3.33).
-    pub fn moving_rcm_jacobian(&self, q: &[T]) -> Result<Mat<T>, RobotError> {
+    pub fn constraint_jacobian_c(&self, q: &[T]) -> Result<Mat<T>, RobotError> {
         self.check_q(q)?;
         let c = self.constraint()?;
         let i = c.link();
         let g_ie = kinematics::forward_kinematics(&self.joints()[i..], &q[i..], self.tool());
         Ok(column_major(
-            &c.moving_rcm_jacobian_column_major(&g_ie),
+            &c.constraint_jacobian_c_column_major(&g_ie),
             6,
             c.rows(),
         ))
@@ -253,7 +256,7 @@ impl<T: RobotScalar> Robot<T> {
     }
 
     /// The task Jacobian `S J^r_0e`, t×m. Errors without a `[task]`.
-    pub fn task_jacobian(&self, q: &[T]) -> Result<Mat<T>, RobotError> {
+    pub fn constrained_task_jacobian(&self, q: &[T]) -> Result<Mat<T>, RobotError> {
         let s = self.task_selection().ok_or(RobotError::NoTask)?;
         Ok(s * self.constrained_jacobian(q)?)
     }

@@ -4,7 +4,8 @@
 //! closed forms, evaluated as emitted. [`verify`] draws random configurations and parameter values,
 //! and compares, for every quantity the candidate offers:
 //!
-//! - candidate vs the numeric runtime ([`crate::robot::Robot`]), relative to the matrix norm;
+//! - candidate vs the numeric runtime ([`crate::robot::NumericRobot`]), relative to the matrix
+//!   norm;
 //! - the candidate's `J^B_0i` vs central differences of the candidate's own `g_0i`, and the
 //!   numeric body Jacobian vs central differences of the candidate's `g_0e` — so an error common
 //!   to the candidate and the runtime would still be caught by the finite differences.
@@ -12,7 +13,7 @@
 //! The result is a [`Report`] with the largest error of each check and the configuration where it
 //! happened.
 
-use crate::robot::{Robot, RobotError};
+use crate::robot::{NumericRobot, RobotError};
 use faer::Mat;
 use nalgebra::{Matrix3, Vector3};
 use std::fmt;
@@ -269,15 +270,15 @@ pub fn verify(
             .map(|p| (p.name.clone(), p.value * rng.uniform(0.8, 1.2)))
             .collect();
         let values: Vec<f64> = params.iter().map(|(_, v)| *v).collect();
-        let robot = Robot::<f64>::from_description(description, &params)?;
+        let robot = NumericRobot::<f64>::from_description(description, &params)?;
         for quantity in CHECKED {
             let Some(got) = candidate.evaluate(quantity, &q, &values) else {
                 continue;
             };
             let reference = match quantity {
                 Function::ConstrainedJacobian => robot.constrained_jacobian(&q)?,
-                Function::ConstraintJacobianC => robot.moving_rcm_jacobian(&q)?,
-                Function::ConstrainedTaskJacobian => robot.task_jacobian(&q)?,
+                Function::ConstraintJacobianC => robot.constraint_jacobian_c(&q)?,
+                Function::ConstrainedTaskJacobian => robot.constrained_task_jacobian(&q)?,
                 Function::PartialBodyJacobian => robot.partial_body_jacobian(&q)?,
                 Function::ForwardKinematics => robot.forward_kinematics_matrix(&q)?,
                 Function::ConstrainedLinkKinematics => {
@@ -311,7 +312,7 @@ pub fn verify(
                 // their norm; J is S J^r with a task, J^r without.
                 Function::Manipulability | Function::ManipulabilitySquared => {
                     let jr = match robot.task_selection() {
-                        Some(_) => robot.task_jacobian(&q)?,
+                        Some(_) => robot.constrained_task_jacobian(&q)?,
                         None => robot.constrained_jacobian(&q)?,
                     };
                     let mut bound: f64 = jr.row_iter().map(|r| r.norm_l2()).product();
@@ -414,7 +415,8 @@ mod tests {
                 .zip(params)
                 .map(|(p, v)| (p.name.clone(), *v))
                 .collect();
-            let robot = Robot::<f64>::from_description(&self.description, &overrides).ok()?;
+            let robot =
+                NumericRobot::<f64>::from_description(&self.description, &overrides).ok()?;
             let mut m = match quantity {
                 Function::ConstrainedJacobian => robot.constrained_jacobian(q).ok()?,
                 Function::ForwardKinematics => robot.forward_kinematics_matrix(q).ok()?,

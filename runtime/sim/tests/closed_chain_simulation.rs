@@ -2,9 +2,9 @@
 //! converge; traces are written as CSV and SVG.
 
 use trocar_sim::closed_chain::ClosedChainError;
-use trocar_sim::closed_chain::{simulate, SimOptions, Trace};
+use trocar_sim::closed_chain::{simulate, MechanismTrace, SimOptions};
 
-fn max_abs_between(tr: &Trace, col: &str, t0: f64, t1: f64) -> f64 {
+fn max_abs_between(tr: &MechanismTrace, col: &str, t0: f64, t1: f64) -> f64 {
     let t = tr.column("t").unwrap();
     let c = tr.column(col).unwrap();
     t.iter()
@@ -14,7 +14,7 @@ fn max_abs_between(tr: &Trace, col: &str, t0: f64, t1: f64) -> f64 {
         .fold(0.0, f64::max)
 }
 
-fn run(name: &str) -> Trace {
+fn run(name: &str) -> MechanismTrace {
     let mut fractions = Vec::new();
     let mut cb = |f: f64| fractions.push(f);
     let tr = simulate(name, &SimOptions::default(), Some(&mut cb)).unwrap();

@@ -5,7 +5,7 @@ use std::cell::Cell;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use trocar::constraint::Constraint;
 use trocar::control::{
-    ChainKinematics, ConstrainedKinematics, Controller, ControllerConfig, Damping, Method, Rcm,
+    ChainKinematics, ConstrainedKinematics, Controller, ControllerConfig, Damping, Inverse, Rcm,
     Reference,
 };
 use trocar::kinematics::Chain;
@@ -72,13 +72,13 @@ fn run(kin: &impl ConstrainedKinematics<f64, 8, 6, 2, 4, 6>, chain: &Chain<f64, 
     let q0 = SVector::<f64, 8>::from(Q0);
     let (frames, g0) = (chain.link_frames(&q0), chain.forward_kinematics(&q0));
     let trocar = frames[5].translation + frames[5].rotation.column(1) * 0.15;
-    let methods = [
-        Method::Pinv,
-        Method::Dls(Damping::Variable {
+    let inverses = [
+        Inverse::Pinv,
+        Inverse::Dls(Damping::Variable {
             alpha0: 0.05,
             w0: 0.1,
         }),
-        Method::Fi {
+        Inverse::Fi {
             gamma_r: 5.0,
             gamma_l: 5.0,
         },
@@ -86,11 +86,11 @@ fn run(kin: &impl ConstrainedKinematics<f64, 8, 6, 2, 4, 6>, chain: &Chain<f64, 
     let mut steps = 0;
     ARMED.with(|a| a.set(true));
     let before = ALLOCATIONS.load(Ordering::SeqCst);
-    for method in methods {
+    for inverse in inverses {
         let mut ctrl = Controller::<f64, 8, 6, 2, 4, 6>::new(ControllerConfig {
             kp: 5.0,
             ko: 10.0,
-            method,
+            inverse,
             jb0i_damping: Some(Damping::Variable {
                 alpha0: 0.05,
                 w0: 0.01,

@@ -1,14 +1,14 @@
 //! Both kinematics paths behind `ConstrainedKinematics` agree: the typed runtime
 //! (`ChainKinematics`: kinematics + `Constraint::thesis`) and the dynamic-size numeric robot built
-//! from the description (`trocar_sim::robot::Robot`, on faer, its `l_a` parameter moved to each
-//! `l_a`), and what the simulations measure with the typed chain.
+//! from the description (`trocar_sim::robot::NumericRobot`, on faer, its `l_a` parameter moved to
+//! each `l_a`), and what the simulations measure with the typed chain.
 
 use faer::Mat;
 use rand::{rngs::StdRng, Rng, SeedableRng};
 use trocar::constraint::Constraint;
 use trocar::control::{
     ChainKinematics, ConstrainedKinematics, ConstrainedState, ControlError, Controller,
-    ControllerConfig, Damping, Method, Rcm, Reference, Shaft,
+    ControllerConfig, Damping, Inverse, Rcm, Reference, Shaft,
 };
 use trocar::kinematics::Chain;
 use trocar::manipulability::SquareDim;
@@ -16,12 +16,12 @@ use trocar::nalgebra::{Const, SMatrix, SVector, Vector3};
 use trocar::se3::Se3;
 use trocar_model::description::RobotDescription;
 use trocar_model::numeric::NumericModel;
-use trocar_sim::robot::Robot;
+use trocar_sim::robot::NumericRobot;
 
 /// The description-built dynamic robot behind `ConstrainedKinematics`: every quantity from the
-/// faer [`Robot`] with `l_a` set, copied into the fixed sizes.
+/// faer [`NumericRobot`] with `l_a` set, copied into the fixed sizes.
 struct Described<const R: usize> {
-    robot: Robot<f64>,
+    robot: NumericRobot<f64>,
 }
 
 impl<const R: usize> Described<R> {
@@ -35,7 +35,7 @@ impl<const R: usize> Described<R> {
             c.wrist = Some(trocar_model::description::Wrist::Unidirectional);
         }
         Described {
-            robot: Robot::from_description(&d, &[]).unwrap(),
+            robot: NumericRobot::from_description(&d, &[]).unwrap(),
         }
     }
 
@@ -92,7 +92,7 @@ impl<const R: usize, const K: usize, const M: usize> ConstrainedKinematics<f64, 
             g_0i: robot.link_frame(6, q).unwrap(),
             jr: fixed(&robot.constrained_jacobian(q).unwrap()),
             jb0i: fixed(&robot.partial_body_jacobian(q).unwrap()),
-            jc: fixed(&robot.moving_rcm_jacobian(q).unwrap()),
+            jc: fixed(&robot.constraint_jacobian_c(q).unwrap()),
             lambda_sharp: fixed(&robot.lambda_null_space().unwrap()),
             lambda_pinv: fixed(&robot.lambda_pinv().unwrap()),
         })
@@ -152,7 +152,7 @@ where
         let config = ControllerConfig {
             kp: 5.0,
             ko: 10.0,
-            method: Method::Dls(Damping::Variable {
+            inverse: Inverse::Dls(Damping::Variable {
                 alpha0: 0.05,
                 w0: 0.1,
             }),
@@ -198,7 +198,7 @@ fn step_realises_the_cartesian_command_and_the_rcm_velocity() {
     let mut c = Controller::<f64, 8, 6, 2, 4, 6>::new(ControllerConfig {
         kp: 5.0,
         ko: 10.0,
-        method: Method::Pinv,
+        inverse: Inverse::Pinv,
         jb0i_damping: None,
         kr: 0.0,
         max_joint_speed: None,
@@ -275,7 +275,7 @@ fn f32_controller_tracks_like_f64() {
     let cfg64 = ControllerConfig {
         kp: 5.0,
         ko: 10.0,
-        method: Method::Dls(Damping::Variable {
+        inverse: Inverse::Dls(Damping::Variable {
             alpha0: 0.05,
             w0: 0.1,
         }),
@@ -286,7 +286,7 @@ fn f32_controller_tracks_like_f64() {
     let cfg32 = ControllerConfig {
         kp: 5.0f32,
         ko: 10.0,
-        method: Method::Dls(Damping::Variable {
+        inverse: Inverse::Dls(Damping::Variable {
             alpha0: 0.05,
             w0: 0.1,
         }),

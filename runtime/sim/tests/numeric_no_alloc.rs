@@ -6,7 +6,7 @@ use trocar::constraint::Constraint;
 use trocar::kinematics::Chain;
 use trocar::nalgebra::{SMatrix, SVector};
 use trocar_model::description::RobotDescription;
-use trocar_sim::robot::Robot;
+use trocar_sim::robot::NumericRobot;
 
 struct Counting;
 
@@ -41,7 +41,7 @@ fn allocations(f: impl FnOnce()) -> usize {
 #[test]
 fn control_loop_calls_do_not_allocate() {
     let d = RobotDescription::preset("dia10_like_zy").unwrap();
-    let robot = Robot::<f64>::from_description(&d, &[]).unwrap();
+    let robot = NumericRobot::<f64>::from_description(&d, &[]).unwrap();
     let chain: Chain<f64, 8> = robot.to_chain().unwrap();
     let mut c: Constraint<f64, 2> = robot.to_constraint().unwrap();
     let q = SVector::<f64, 8>::from([0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3]);

@@ -9,7 +9,7 @@ use trocar::manipulability::SquareDim;
 use trocar::nalgebra::{Const, SMatrix, SVector, Vector3};
 use trocar::se3::{rotation_from_rpy, Adjoint, Se3};
 use trocar_model::description::{AdmissionError, RobotDescription, Scalar};
-use trocar_sim::robot::{Robot, RobotError};
+use trocar_sim::robot::{NumericRobot, RobotError};
 
 const ALL: [&str; 5] = [
     "unidirectional",
@@ -20,22 +20,22 @@ const ALL: [&str; 5] = [
 ];
 
 /// A robot with random lengths: l_a in [0.05, 0.3] (and l_b, l_8 for the presets).
-fn random_robot(name: &str, rng: &mut StdRng) -> Robot<f64> {
+fn random_robot(name: &str, rng: &mut StdRng) -> NumericRobot<f64> {
     let d = RobotDescription::preset(name).unwrap();
     let overrides: Vec<(String, f64)> = d
         .parameters
         .iter()
         .map(|p| (p.name.clone(), rng.gen_range(0.05..0.3)))
         .collect();
-    Robot::from_description(&d, &overrides).unwrap()
+    NumericRobot::from_description(&d, &overrides).unwrap()
 }
 
 fn random_q(rng: &mut StdRng, n: usize) -> Vec<f64> {
     (0..n).map(|_| rng.gen_range(-3.1..3.1)).collect()
 }
 
-/// `H Ad_{g_ri}` straight from the description (not from `Robot::lambda`).
-fn h_ad_gri(robot: &Robot<f64>) -> Mat<f64> {
+/// `H Ad_{g_ri}` straight from the description (not from `NumericRobot::lambda`).
+fn h_ad_gri(robot: &NumericRobot<f64>) -> Mat<f64> {
     let c = robot.description().constraint.clone().unwrap();
     let look = |n: &str| {
         robot
@@ -228,7 +228,7 @@ fn unidirectional_preset_is_the_printed_3_24() {
             rng.gen_range(0.02..0.5),
             rng.gen_range(0.02..0.5),
         );
-        let robot = Robot::<f64>::from_description(
+        let robot = NumericRobot::<f64>::from_description(
             &d,
             &[("l_a".into(), la), ("l_b".into(), lb), ("l_8".into(), l8)],
         )
@@ -268,7 +268,7 @@ fn bidirectional_manipulability_claims() {
 #[test]
 fn typed_api_matches_dynamic() {
     let mut rng = StdRng::seed_from_u64(5);
-    fn check<const R: usize, const K: usize, const M: usize>(robot: &Robot<f64>, q: &[f64])
+    fn check<const R: usize, const K: usize, const M: usize>(robot: &NumericRobot<f64>, q: &[f64])
     where
         Const<R>: SquareDim,
         Const<M>: SquareDim,
@@ -283,7 +283,7 @@ fn typed_api_matches_dynamic() {
             robot.constrained_jacobian(q).unwrap()
         );
         assert!(
-            (d(jc.as_slice(), 6, R) - robot.moving_rcm_jacobian(q).unwrap()).norm_max() < 1e-15
+            (d(jc.as_slice(), 6, R) - robot.constraint_jacobian_c(q).unwrap()).norm_max() < 1e-15
         );
         assert_eq!(
             d(chain.body_jacobian(&qv).as_slice(), 6, 8),
@@ -328,7 +328,8 @@ fn f32_agrees_with_f64() {
     let mut rng = StdRng::seed_from_u64(6);
     for name in ALL {
         let r64 = random_robot(name, &mut rng);
-        let r32 = Robot::<f32>::from_description(r64.description(), r64.parameters()).unwrap();
+        let r32 =
+            NumericRobot::<f32>::from_description(r64.description(), r64.parameters()).unwrap();
         let q: Vec<f64> = random_q(&mut rng, 8);
         let q32: Vec<f32> = q.iter().map(|&x| x as f32).collect();
         let a = r64.constrained_jacobian(&q).unwrap();
@@ -364,9 +365,9 @@ fn f32_agrees_with_f64() {
 #[test]
 fn user_errors_are_results() {
     let d = RobotDescription::preset("bidirectional-zy").unwrap();
-    let r = Robot::<f64>::from_description(&d, &[("l_q".into(), 1.0)]);
+    let r = NumericRobot::<f64>::from_description(&d, &[("l_q".into(), 1.0)]);
     assert_eq!(r.unwrap_err(), RobotError::UnknownOverride("l_q".into()));
-    let robot = Robot::<f64>::from_description(&d, &[]).unwrap();
+    let robot = NumericRobot::<f64>::from_description(&d, &[]).unwrap();
     assert_eq!(
         robot.constrained_jacobian(&[0.0; 7]).unwrap_err(),
         RobotError::WrongJointCount {
@@ -382,7 +383,7 @@ fn user_errors_are_results() {
 
     let mut bad = d.clone();
     bad.joints.pop();
-    let e = Robot::<f64>::from_description(&bad, &[]).unwrap_err();
+    let e = NumericRobot::<f64>::from_description(&bad, &[]).unwrap_err();
     assert_eq!(
         e,
         RobotError::NotAdmitted(AdmissionError::TooFewJoints { n: 7, r: 2, t: 6 })
@@ -392,33 +393,33 @@ fn user_errors_are_results() {
     let mut bad = d.clone();
     bad.constraint.as_mut().unwrap().link = 9;
     assert_eq!(
-        Robot::<f64>::from_description(&bad, &[]).unwrap_err(),
+        NumericRobot::<f64>::from_description(&bad, &[]).unwrap_err(),
         RobotError::LinkOutOfRange { link: 9, joints: 8 }
     );
 
     let mut bad = d.clone();
     bad.joints[2].origin.xyz[1] = Scalar::param("l_z");
-    let e = Robot::<f64>::from_description(&bad, &[]).unwrap_err();
+    let e = NumericRobot::<f64>::from_description(&bad, &[]).unwrap_err();
     assert!(e.to_string().contains("joints[2].xyz[1]") && e.to_string().contains("l_z"));
 
     let mut bad = d.clone();
     bad.joints[3].kind = trocar_model::description::JointKind::Revolute { axis: [0.0; 3] };
     assert!(matches!(
-        Robot::<f64>::from_description(&bad, &[]).unwrap_err(),
+        NumericRobot::<f64>::from_description(&bad, &[]).unwrap_err(),
         RobotError::BadAxis { field } if field == "joints[3].axis"
     ));
 
     let mut bad = d.clone();
     bad.constraint.as_mut().unwrap().h[1] = [2.0, 0.0, 0.0, 0.0, 0.0, 0.0];
     assert!(matches!(
-        Robot::<f64>::from_description(&bad, &[]).unwrap_err(),
+        NumericRobot::<f64>::from_description(&bad, &[]).unwrap_err(),
         RobotError::Constraint(_)
     ));
 
     // No constraint: kinematics work, constrained quantities are errors.
     let mut free = d.clone();
     free.constraint = None;
-    let robot = Robot::<f64>::from_description(&free, &[]).unwrap();
+    let robot = NumericRobot::<f64>::from_description(&free, &[]).unwrap();
     assert!(robot.body_jacobian(&[0.1; 8]).is_ok());
     assert_eq!(
         robot.constrained_jacobian(&[0.1; 8]).unwrap_err(),
@@ -430,7 +431,7 @@ fn user_errors_are_results() {
     let c = general.constraint.as_mut().unwrap();
     c.wrist = None;
     c.h = vec![[0.2, 1.0, 0.0, 0.3, 0.0, 0.0]];
-    let robot = Robot::<f64>::from_description(&general, &[]).unwrap();
+    let robot = NumericRobot::<f64>::from_description(&general, &[]).unwrap();
     let l = robot.lambda().unwrap();
     assert!((l * robot.lambda_null_space().unwrap()).norm_max() < 1e-14);
 }
@@ -441,7 +442,8 @@ fn dia10_like_start_configuration_is_regular() {
     let q0 = [0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
     for name in ["dia10_like_zy", "dia10_like_zx"] {
         let robot =
-            Robot::<f64>::from_description(&RobotDescription::preset(name).unwrap(), &[]).unwrap();
+            NumericRobot::<f64>::from_description(&RobotDescription::preset(name).unwrap(), &[])
+                .unwrap();
         let s0i = singular_values(&robot.partial_body_jacobian(&q0).unwrap());
         let sr = singular_values(&robot.constrained_jacobian(&q0).unwrap());
         println!(

@@ -242,7 +242,7 @@ where
 
 /// How the task Jacobian `S J^r_0e` (`J^r_0e` for a 6-D task) is inverted (Table 4.1).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Method<T> {
+pub enum Inverse<T> {
     /// The pseudo-inverse `(J^r)† = J^rᵀ (J^r J^rᵀ)⁻¹` (the inverse when square).
     Pinv,
     /// Damped least squares (3.46) on `J^r`.
@@ -256,7 +256,7 @@ pub enum Method<T> {
     },
 }
 
-/// Gains and methods of the controller.
+/// Gains and inverses of the controller.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ControllerConfig<T> {
     /// Position gain `K_p` (1/s).
@@ -264,7 +264,7 @@ pub struct ControllerConfig<T> {
     /// Orientation gain `K_o` (1/s).
     pub ko: T,
     /// Inverse of the task Jacobian `S J^r_0e`.
-    pub method: Method<T>,
+    pub inverse: Inverse<T>,
     /// Damping of the inverse of `J^B_0i`; `None` for the pseudo-inverse.
     pub jb0i_damping: Option<Damping<T>>,
     /// Gain `K_r` (1/s) of the RCM drift correction; `0` reproduces the thesis.
@@ -361,7 +361,7 @@ impl std::error::Error for ControlError {}
 
 /// The constrained kinematic controller (Table 4.1 with the moving RCM and drift correction).
 ///
-/// Holds the filtered-inverse state `Θ` (unused by the other methods) and the objective of the
+/// Holds the filtered-inverse state `Θ` (unused by the other inverses) and the objective of the
 /// spare freedom of `J^B_0i`. Generic over the sizes of [`ConstrainedKinematics`];
 /// `K = 6 − R`, `M = K + N − I` and `P ≤ M` are checked at compile time.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -374,7 +374,7 @@ pub struct Controller<
     const M: usize,
     const P: usize = 6,
 > {
-    /// Gains and methods.
+    /// Gains and inverses.
     pub config: ControllerConfig<T>,
     /// What the spare freedom of the joints before the constraint does when `J^B_0i` is wide
     /// (`I > 6`); [`NullSpaceObjective::None`] by default.
@@ -481,7 +481,7 @@ impl<
     const SIZES_OK: () =
         assert!(K + R == 6 && M == K + N - I && I <= N && R >= 1 && P >= 1 && P <= M);
 
-    /// A controller; with [`Method::Fi`], `Θ` starts at `(S J^r_0e)†` on the first step.
+    /// A controller; with [`Inverse::Fi`], `Θ` starts at `(S J^r_0e)†` on the first step.
     pub fn new(config: ControllerConfig<T>) -> Self {
         #[allow(clippy::let_unit_value)]
         let () = Self::SIZES_OK;
@@ -560,8 +560,8 @@ impl<
             (sel * s.jr, sel * rhs)
         };
         // The robot's own square solves when it has them.
-        let direct_r = match c.method {
-            Method::Fi { .. } => None,
+        let direct_r = match c.inverse {
+            Inverse::Fi { .. } => None,
             _ => regular(kin.solve_task(&task_jr, &dv_e)),
         };
         let jr = match direct_r {
@@ -580,13 +580,13 @@ impl<
                 _ => damped_solve(&task_jr, kappa, &dv_e),
             }
         };
-        let x: SVector<T, M> = match c.method {
-            Method::Pinv => solve_r(T::zero()).ok_or(ControlError::SingularJr)?,
-            Method::Dls(d) => {
+        let x: SVector<T, M> = match c.inverse {
+            Inverse::Pinv => solve_r(T::zero()).ok_or(ControlError::SingularJr)?,
+            Inverse::Dls(d) => {
                 kappa_r = d.kappa(w_r);
                 solve_r(kappa_r).ok_or(ControlError::SingularJr)?
             }
-            Method::Fi { gamma_r, gamma_l } => {
+            Inverse::Fi { gamma_r, gamma_l } => {
                 if !self.fi_started {
                     self.fi = FilteredInverse::new(pinv(&task_jr).ok_or(ControlError::SingularJr)?);
                     self.fi_started = true;

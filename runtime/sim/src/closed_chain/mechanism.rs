@@ -1,8 +1,8 @@
 //! Planar mechanisms made of open chains joined by structural equations (source §3–§4).
 //!
-//! A [`Mechanism`] is a list of open [`Chain`]s that all end at the same frame (the end effector
-//! `E_e`, the platform `E_s` or the object `E_c`). The structural equations (9)–(10), (23)–(24),
-//! (32)–(33) say that every chain reaches the same pose; with the joint vector
+//! A [`Mechanism`] is a list of open [`PlanarChain`]s that all end at the same frame (the end
+//! effector `E_e`, the platform `E_s` or the object `E_c`). The structural equations (9)–(10),
+//! (23)–(24), (32)–(33) say that every chain reaches the same pose; with the joint vector
 //! `θ = (θ_chain1, θ_chain2, …)` they read `c(θ) = 0` (2), `c_k = pose_1(θ) − pose_k(θ)` for
 //! `k = 2, …, m` (angles wrapped to `(−π, π]`).
 //!
@@ -123,7 +123,7 @@ pub struct PlanarJoint {
 
 /// An open planar chain from the ground to the common frame.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Chain {
+pub struct PlanarChain {
     /// Name (for messages).
     pub name: String,
     /// Pose of the chain's base in the world frame `E_0`.
@@ -143,7 +143,7 @@ pub struct Mechanism {
     /// Name.
     pub name: String,
     /// The open chains; all end at the common frame.
-    pub chains: Vec<Chain>,
+    pub chains: Vec<PlanarChain>,
     /// The task components `x ⊂ (x, y, φ)`, in order.
     pub outputs: Vec<Output>,
     /// Named parameters the mechanism was built from (kept for the example modules).
@@ -289,7 +289,7 @@ impl Mechanism {
                     object
                 };
             }
-            chains.push(Chain {
+            chains.push(PlanarChain {
                 name: ch.name.clone(),
                 base: pose(&ch.base, &format!("{path}.base"))?,
                 joints,

@@ -13,7 +13,7 @@
 //!   contact models by selection `H` (35)–(42)).
 //! - [`redundancy`]: `u = J†(ẋ_d + K e) + (I − J†J) u_0`, `u_0 = K ∂f/∂θ_a` (44)–(46).
 //! - [`simulate()`]: the simulations of the source's §6 and of the cooperating arms, as a
-//!   [`Trace`] with CSV and plots.
+//!   [`MechanismTrace`] with CSV and plots.
 //!
 //! ```
 //! use trocar_sim::closed_chain::{description, four_bar::FourBar};
@@ -36,7 +36,9 @@ pub mod stewart;
 
 pub use error::{ClosedChainError, SingularityKind};
 pub use mechanism::{
-    Chain, Differential, JointType, Mechanism, Output, PlanarJoint, Pose2, Reduced,
+    Differential, JointType, Mechanism, Output, PlanarChain, PlanarJoint, Pose2, Reduced,
     SingularityReport,
 };
-pub use simulate::{scenario_names, simulate, simulate_mechanism, Panel, SimOptions, Trace};
+pub use simulate::{
+    scenario_names, simulate, simulate_mechanism, MechanismTrace, Panel, SimOptions,
+};

@@ -78,20 +78,21 @@ pub struct Panel {
     pub non_negative: bool,
 }
 
-/// A time series: named columns, one row per recorded sample, and suggested plot panels.
+/// A closed-mechanism simulation's time series: named columns, one row per recorded sample, and
+/// suggested plot panels.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Trace {
+pub struct MechanismTrace {
     /// Scenario name.
     pub name: String,
     /// Column names (`t` first).
     pub columns: Vec<String>,
     /// Samples (each as long as `columns`).
     pub rows: Vec<Vec<f64>>,
-    /// Panels drawn by [`Trace::plot_svg`].
+    /// Panels drawn by [`MechanismTrace::plot_svg`].
     pub panels: Vec<Panel>,
 }
 
-impl Trace {
+impl MechanismTrace {
     /// A column by name.
     pub fn column(&self, name: &str) -> Option<Vec<f64>> {
         let i = self.columns.iter().position(|c| c == name)?;
@@ -153,7 +154,7 @@ impl Trace {
         })
     }
 
-    /// Draws the panels as a PNG file (same layout and font as [`Trace::plot_svg`]).
+    /// Draws the panels as a PNG file (same layout and font as [`MechanismTrace::plot_svg`]).
     pub fn plot_png(&self, path: impl AsRef<Path>) -> Result<(), ClosedChainError> {
         self.plot_to(path.as_ref(), |p, size| {
             plotters::prelude::BitMapBackend::new(p, size)
@@ -238,7 +239,7 @@ pub fn simulate(
     name: &str,
     opts: &SimOptions,
     progress: Option<&mut dyn FnMut(f64)>,
-) -> Result<Trace, ClosedChainError> {
+) -> Result<MechanismTrace, ClosedChainError> {
     match name {
         "four-bar" | "four-bar-pulse" | "four-bar-sine" => {
             let mech = description::shipped("four-bar")?;
@@ -456,7 +457,7 @@ pub fn simulate_mechanism(
     default_duration: f64,
     opts: &SimOptions,
     mut progress: Option<&mut dyn FnMut(f64)>,
-) -> Result<Trace, ClosedChainError> {
+) -> Result<MechanismTrace, ClosedChainError> {
     mech.check_theta(theta0)?;
     let duration = opts.duration.unwrap_or(default_duration);
     if !(duration.is_finite() && duration > 0.0) {
@@ -562,7 +563,7 @@ pub fn simulate_mechanism(
         let k4 = f(&(&theta + dt * &k3), t + dt)?;
         theta += (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
     }
-    Ok(Trace {
+    Ok(MechanismTrace {
         name: mech.name.clone(),
         columns,
         rows,

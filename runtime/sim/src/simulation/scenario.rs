@@ -2,9 +2,7 @@
 
 use core::f64::consts::PI;
 use nalgebra::{Matrix3, Rotation3, Vector3};
-use trocar::control::{
-    ControlError, ControllerConfig, Damping, Method as ControlMethod, Reference,
-};
+use trocar::control::{ControlError, ControllerConfig, Damping, Inverse, Reference};
 use trocar::se3::Se3;
 
 /// A simulation scenario.
@@ -528,11 +526,11 @@ impl ScenarioConfig {
             alpha0: self.dls_alpha0,
             w0: self.dls_w0_i,
         };
-        let (method, jb0i_damping) = match self.method {
-            Method::Pinv => (ControlMethod::Pinv, None),
-            Method::Dls => (ControlMethod::Dls(dls_r), Some(dls_i)),
+        let (inverse, jb0i_damping) = match self.method {
+            Method::Pinv => (Inverse::Pinv, None),
+            Method::Dls => (Inverse::Dls(dls_r), Some(dls_i)),
             Method::Fi => (
-                ControlMethod::Fi {
+                Inverse::Fi {
                     gamma_r: self.fi_gamma,
                     gamma_l: self.fi_gamma,
                 },
@@ -542,7 +540,7 @@ impl ScenarioConfig {
         ControllerConfig {
             kp: self.kp,
             ko: self.ko,
-            method,
+            inverse,
             jb0i_damping,
             kr: if self.drift_correction { self.kr } else { 0.0 },
             max_joint_speed: self.max_joint_speed,
