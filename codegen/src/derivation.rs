@@ -54,7 +54,7 @@ use std::collections::BTreeSet;
 use std::fmt;
 pub use trocar::constraint::NullSpaceBasis;
 use trocar_model::description::{
-    admit, AdmissionError, DescriptionError, JointKind, Origin, RobotDescription, Rotation, Scalar,
+    admit, AdmissionError, DescriptionError, JointKind, Linear, Origin, RobotDescription, Rotation,
 };
 
 /// What kind of problem a [`DerivationError`] reports.
@@ -328,7 +328,7 @@ impl Ctx<'_> {
             .map_err(|e| DerivationError::new(DerivationErrorKind::Invalid, field, e.to_string()))
     }
 
-    fn scalar(&self, s: &Scalar, field: &str) -> Result<Poly, DerivationError> {
+    fn scalar(&self, s: &Linear, field: &str) -> Result<Poly, DerivationError> {
         let mut p = Poly::constant(self.number(s.constant, field)?);
         for (c, name) in &s.terms {
             let idx = self

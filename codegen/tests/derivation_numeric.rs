@@ -272,7 +272,7 @@ fn derived_basis_on_a_preset_geometry() {
     assert_eq!(der.constraint.unwrap().basis, NullSpaceBasis::Computed);
 }
 
-fn rand_scalar(rng: &mut StdRng, lo: f64, hi: f64) -> trocar_model::description::Scalar {
+fn rand_scalar(rng: &mut StdRng, lo: f64, hi: f64) -> trocar_model::description::Linear {
     num((rng.gen_range(lo..hi) * 1000.0_f64).round() / 1000.0)
 }
 

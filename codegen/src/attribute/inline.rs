@@ -11,8 +11,8 @@ use syn::punctuated::Punctuated;
 use syn::spanned::Spanned;
 use syn::{Expr, Ident, Meta, MetaList, Token};
 use trocar_model::description::{
-    ConstraintDesc, DescriptionError, EndEffector, JointDesc, JointKind, Origin, Parameter,
-    RobotDescription, Rotation, Scalar, Wrist,
+    ConstraintDesc, DescriptionError, EndEffector, JointDesc, JointKind, Linear, Origin, Parameter,
+    RobotDescription, Rotation, Wrist,
 };
 
 /// Field path (as in the description's errors: `joints[3].axis`) → span.
@@ -87,13 +87,13 @@ fn text(e: &Expr) -> String {
 }
 
 /// The one parser of lengths written in the attribute: the text of an expression (tokens printed
-/// with spaces, e.g. `l_a + l_b`, `- 0.5 * l_8`) → a [`Scalar`].
-fn parse_length(text: &str) -> Result<Scalar, String> {
-    Scalar::parse(text)
+/// with spaces, e.g. `l_a + l_b`, `- 0.5 * l_8`) → a [`Linear`].
+fn parse_length(text: &str) -> Result<Linear, String> {
+    Linear::parse(text)
 }
 
 /// A length: a number, a parameter name or a linear combination (`l_a + l_b`, `-0.5 * l_8`).
-fn scalar(e: &Expr) -> syn::Result<Scalar> {
+fn scalar(e: &Expr) -> syn::Result<Linear> {
     parse_length(&text(e)).map_err(|m| {
         syn::Error::new(
             e.span(),
@@ -230,7 +230,7 @@ fn joint(k: usize, item: &JointItem, spans: &mut Spans, errors: &mut Errors) -> 
     spans.add(format!("{field}.type"), item.kind.span());
     let mut origin = identity();
     let mut ax: Option<[f64; 3]> = None;
-    let mut v: Option<[Scalar; 3]> = None;
+    let mut v: Option<[Linear; 3]> = None;
     let mut w: Option<[f64; 3]> = None;
     let kind = item.kind.to_string();
     let twist = kind == "twist";

@@ -5,32 +5,32 @@
 #![allow(dead_code)]
 
 use trocar_model::description::{
-    ConstraintDesc, EndEffector, JointDesc, JointKind, Origin, Parameter, RobotDescription,
-    Rotation, Scalar, Wrist,
+    ConstraintDesc, EndEffector, JointDesc, JointKind, Linear, Origin, Parameter, RobotDescription,
+    Rotation, Wrist,
 };
 
-pub fn num(x: f64) -> Scalar {
-    Scalar {
+pub fn num(x: f64) -> Linear {
+    Linear {
         constant: x,
         terms: vec![],
     }
 }
 
-pub fn par(terms: &[(f64, &str)]) -> Scalar {
-    Scalar {
+pub fn par(terms: &[(f64, &str)]) -> Linear {
+    Linear {
         constant: 0.0,
         terms: terms.iter().map(|(c, n)| (*c, n.to_string())).collect(),
     }
 }
 
-pub fn origin(xyz: [Scalar; 3]) -> Origin {
+pub fn origin(xyz: [Linear; 3]) -> Origin {
     Origin {
         xyz,
         rotation: Rotation::Rpy([0.0; 3]),
     }
 }
 
-pub fn revolute(name: &str, xyz: [Scalar; 3], axis: [f64; 3]) -> JointDesc {
+pub fn revolute(name: &str, xyz: [Linear; 3], axis: [f64; 3]) -> JointDesc {
     JointDesc {
         name: name.into(),
         origin: origin(xyz),
@@ -59,9 +59,9 @@ pub fn dia10_first_six() -> Vec<JointDesc> {
 fn robot(
     name: &str,
     params: &[(&str, f64)],
-    shaft: Scalar,
+    shaft: Linear,
     last_axis: [f64; 3],
-    l8: Scalar,
+    l8: Linear,
     h: Vec<[f64; 6]>,
     wrist: Option<Wrist>,
 ) -> RobotDescription {
@@ -181,7 +181,7 @@ pub fn m4_inv(g: &M4) -> M4 {
     r
 }
 
-pub fn scalar_value(s: &Scalar, params: &[(&str, f64)]) -> f64 {
+pub fn scalar_value(s: &Linear, params: &[(&str, f64)]) -> f64 {
     s.constant
         + s.terms
             .iter()

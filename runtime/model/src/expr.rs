@@ -1,10 +1,10 @@
 //! Length expressions: the one parser of the arithmetic written in descriptions.
 //!
 //! Every length a description may write as text — a serial robot's `xyz` and twist `v`
-//! ([`Scalar`](crate::description::Scalar)), a closed mechanism's lengths and angles, the
+//! ([`Linear`]), a closed mechanism's lengths and angles, the
 //! generator's symbolic polynomials — is read here into an [`Expr`] that keeps its symbols.
 //! Callers then evaluate it ([`Expr::eval`]), require it to be linear in the parameters
-//! ([`Expr::linear`], the serial `Scalar`: `constant + Σ coefficient · parameter`), or walk the
+//! ([`Expr::linear`], a [`Linear`]: `constant + Σ coefficient · parameter`), or walk the
 //! tree themselves (the generator turns it into an exact polynomial).
 //!
 //! The grammar (whitespace separates tokens and is otherwise ignored):
@@ -138,8 +138,11 @@ impl fmt::Display for ExprError {
 
 impl std::error::Error for ExprError {}
 
-/// An expression linear in its parameters: `constant + Σ coefficient · parameter`
-/// (what the serial description's [`Scalar`](crate::description::Scalar) holds).
+/// An expression linear in its parameters: `constant + Σ coefficient · parameter`, e.g. a length
+/// of a serial description (`xyz`, a twist's `v`; [`crate::description::Origin`]).
+///
+/// Written in TOML as a number (`0.33`), a parameter name (`"l_a"`) or a linear combination
+/// (`"l_a + l_b"`, `"-0.5*l_8 + 0.1"`).
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct Linear {
     /// The constant part.
@@ -149,7 +152,8 @@ pub struct Linear {
 }
 
 impl Linear {
-    fn constant(value: f64) -> Self {
+    /// A constant.
+    pub fn constant(value: f64) -> Self {
         Linear {
             constant: value,
             terms: Vec::new(),

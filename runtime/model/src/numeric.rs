@@ -8,7 +8,7 @@
 //! is built on it.
 
 use crate::description::{
-    admit, AdmissionError, JointKind, Origin, RobotDescription, Rotation, Scalar,
+    admit, AdmissionError, JointKind, Linear, Origin, RobotDescription, Rotation,
 };
 use nalgebra::{convert, Const, Matrix3, RealField, SMatrix, Vector3};
 use std::fmt;
@@ -272,7 +272,7 @@ pub struct NumericModel<T: RealField + Copy = f64> {
     constraint: Option<AnyConstraint<T>>,
 }
 
-fn eval_scalar(s: &Scalar, params: &[(String, f64)], field: &str) -> Result<f64, RobotError> {
+fn eval_scalar(s: &Linear, params: &[(String, f64)], field: &str) -> Result<f64, RobotError> {
     s.eval(|n| params.iter().find(|(p, _)| p == n).map(|(_, v)| *v))
         .map_err(|name| RobotError::UnknownParameter {
             name,

@@ -2,8 +2,8 @@
 
 use proptest::prelude::*;
 use trocar_model::description::{
-    preset_names, ConstraintDesc, EndEffector, JointDesc, JointKind, Origin, Parameter,
-    RobotDescription, Rotation, Scalar, Wrist,
+    preset_names, ConstraintDesc, EndEffector, JointDesc, JointKind, Linear, Origin, Parameter,
+    RobotDescription, Rotation, Wrist,
 };
 
 /// The description without what depends on where it was read from.
@@ -80,15 +80,15 @@ fn scalars_write_as_expressions_that_read_back() {
         "0.1 - l_a",
         "3",
     ] {
-        let s = Scalar::parse(text).unwrap();
-        assert_eq!(Scalar::parse(&s.to_expression()).unwrap(), s, "{text}");
+        let s = Linear::parse(text).unwrap();
+        assert_eq!(Linear::parse(&s.to_expression()).unwrap(), s, "{text}");
     }
     // A name ending in `e` followed by a term is not an exponent.
-    let s = Scalar::parse("l_e-0.1").unwrap();
+    let s = Linear::parse("l_e-0.1").unwrap();
     assert_eq!(s.terms, vec![(1.0, "l_e".to_string())]);
     assert!((s.constant + 0.1).abs() < 1e-15);
     // `inf` and `nan` are not numbers in expressions.
-    assert_eq!(Scalar::parse("inf").unwrap(), Scalar::param("inf"));
+    assert_eq!(Linear::parse("inf").unwrap(), Linear::param("inf"));
 }
 
 fn finite() -> impl Strategy<Value = f64> {
@@ -102,13 +102,13 @@ fn finite() -> impl Strategy<Value = f64> {
     ]
 }
 
-fn scalar(params: &'static [&'static str]) -> impl Strategy<Value = Scalar> {
+fn scalar(params: &'static [&'static str]) -> impl Strategy<Value = Linear> {
     (
         finite(),
         proptest::collection::vec((finite(), 0..params.len()), 0..3),
     )
         .prop_map(move |(constant, terms)| {
-            let mut s = Scalar::constant(constant);
+            let mut s = Linear::constant(constant);
             for (c, k) in terms {
                 let name = params[k].to_string();
                 if c != 0.0 && !s.terms.iter().any(|(_, n)| *n == name) {

@@ -342,15 +342,15 @@ fn urdf_document_errors_have_a_line() {
 
 #[test]
 fn a_constraint_can_be_added_to_an_import() {
-    use trocar_model::description::{ConstraintDesc, Scalar};
+    use trocar_model::description::{ConstraintDesc, Linear};
     let d = RobotDescription::from_urdf_file(data("arm7.urdf"), "tool").unwrap();
     let c = ConstraintDesc {
         link: 6,
         origin: Origin {
             xyz: [
-                Scalar::constant(0.0),
-                Scalar::constant(0.0),
-                Scalar::constant(0.1),
+                Linear::constant(0.0),
+                Linear::constant(0.0),
+                Linear::constant(0.1),
             ],
             rotation: Rotation::Rpy([0.0; 3]),
         },

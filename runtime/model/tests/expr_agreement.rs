@@ -1,10 +1,10 @@
 //! The length-expression parser ([`trocar_model::expr`]) gives, on every string of every shipped
 //! description (serial robots, mechanisms, examples and test fixtures), exactly the values the
-//! parsers it replaced gave: the serial `Scalar` reader and the closed-chain evaluator, kept here
+//! parsers it replaced gave: the serial `Linear` reader and the closed-chain evaluator, kept here
 //! verbatim as references.
 
 use std::path::{Path, PathBuf};
-use trocar_model::description::Scalar;
+use trocar_model::description::Linear;
 use trocar_model::expr::Expr;
 
 fn root() -> PathBuf {
@@ -56,7 +56,7 @@ fn serial_scalars_agree_with_the_old_reader() {
             let Ok(old) = old_scalar_parse(&s) else {
                 continue;
             };
-            let new = Scalar::parse(&s).unwrap_or_else(|e| panic!("{path}: `{s}`: {e}"));
+            let new = Linear::parse(&s).unwrap_or_else(|e| panic!("{path}: `{s}`: {e}"));
             assert_eq!(
                 new.constant.to_bits(),
                 old.constant.to_bits(),
@@ -120,7 +120,7 @@ fn old_forms_still_read_the_same() {
         "2*3*l_a + l_b*4 - l_a",
     ] {
         let old = old_scalar_parse(s).unwrap();
-        let new = Scalar::parse(s).unwrap();
+        let new = Linear::parse(s).unwrap();
         assert_eq!(new, old, "{s}");
     }
     for s in [
@@ -142,31 +142,31 @@ fn old_forms_still_read_the_same() {
 
 #[test]
 fn scalar_errors_name_the_offset() {
-    let e = Scalar::parse("l_a * l_b").unwrap_err();
+    let e = Linear::parse("l_a * l_b").unwrap_err();
     assert!(e.contains("not linear") && e.contains("at byte 4"), "{e}");
-    let e = Scalar::parse("l_a + $").unwrap_err();
+    let e = Linear::parse("l_a + $").unwrap_err();
     assert!(e.contains("at byte 6"), "{e}");
-    let e = Scalar::parse("").unwrap_err();
+    let e = Linear::parse("").unwrap_err();
     assert!(e.contains("empty"), "{e}");
     // Forms the old reader refused and the one grammar reads.
     assert_eq!(
-        Scalar::parse("(l_a + l_b)/2").unwrap(),
-        Scalar {
+        Linear::parse("(l_a + l_b)/2").unwrap(),
+        Linear {
             constant: 0.0,
             terms: vec![(0.5, "l_a".into()), (0.5, "l_b".into())]
         }
     );
     assert_eq!(
-        Scalar::parse("pi/2").unwrap(),
-        Scalar::constant(std::f64::consts::FRAC_PI_2)
+        Linear::parse("pi/2").unwrap(),
+        Linear::constant(std::f64::consts::FRAC_PI_2)
     );
 }
 
 // ---- The replaced parsers, verbatim (references only) ----
 
 /// The serial reader before `trocar_model::expr`.
-fn old_scalar_parse(text: &str) -> Result<Scalar, String> {
-    let mut out = Scalar::default();
+fn old_scalar_parse(text: &str) -> Result<Linear, String> {
+    let mut out = Linear::default();
     let compact: String = text.chars().filter(|c| !c.is_whitespace()).collect();
     if compact.is_empty() {
         return Err("empty expression".into());

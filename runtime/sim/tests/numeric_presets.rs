@@ -8,7 +8,7 @@ use trocar::constraint::Constraint;
 use trocar::manipulability::SquareDim;
 use trocar::nalgebra::{Const, SMatrix, SVector, Vector3};
 use trocar::se3::{rotation_from_rpy, Adjoint, Se3};
-use trocar_model::description::{AdmissionError, RobotDescription, Scalar};
+use trocar_model::description::{AdmissionError, Linear, RobotDescription};
 use trocar_sim::robot::{NumericRobot, RobotError};
 
 const ALL: [&str; 5] = [
@@ -44,7 +44,7 @@ fn h_ad_gri(robot: &NumericRobot<f64>) -> Mat<f64> {
             .find(|(p, _)| p == n)
             .map(|(_, v)| *v)
     };
-    let ev = |s: &Scalar| s.eval(look).unwrap();
+    let ev = |s: &Linear| s.eval(look).unwrap();
     let p = Vector3::new(
         ev(&c.origin.xyz[0]),
         ev(&c.origin.xyz[1]),
@@ -398,7 +398,7 @@ fn user_errors_are_results() {
     );
 
     let mut bad = d.clone();
-    bad.joints[2].origin.xyz[1] = Scalar::param("l_z");
+    bad.joints[2].origin.xyz[1] = Linear::param("l_z");
     let e = NumericRobot::<f64>::from_description(&bad, &[]).unwrap_err();
     assert!(e.to_string().contains("joints[2].xyz[1]") && e.to_string().contains("l_z"));
 

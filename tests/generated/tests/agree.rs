@@ -139,7 +139,7 @@ fn rotation(r: &Rotation) -> Matrix3<f64> {
 impl Reference {
     fn new(desc: &RobotDescription, params: &[(String, f64)]) -> Self {
         let lookup = |n: &str| params.iter().find(|(m, _)| m == n).map(|(_, v)| *v);
-        let scalar = |s: &trocar_model::description::Scalar| s.eval(lookup).unwrap();
+        let scalar = |s: &trocar_model::description::Linear| s.eval(lookup).unwrap();
         let origin = |o: &Origin| Se3 {
             r: rotation(&o.rotation),
             p: Vector3::new(scalar(&o.xyz[0]), scalar(&o.xyz[1]), scalar(&o.xyz[2])),

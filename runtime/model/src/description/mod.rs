@@ -36,6 +36,7 @@ mod serialize;
 mod urdf;
 mod validate;
 
+pub use crate::expr::Linear;
 pub use error::DescriptionError;
 pub use presets::{preset, preset_names, PRESETS};
 pub use trocar::constraint::NullSpaceBasis;
@@ -46,18 +47,6 @@ impl RobotDescription {
     pub fn task_rows(&self) -> usize {
         self.task.as_ref().map_or(6, |t| t.select.len())
     }
-}
-
-/// A length (or any linear quantity): `constant + Σ coefficient · parameter`.
-///
-/// Written in TOML as a number (`0.33`), a parameter name (`"l_a"`) or a linear combination
-/// (`"l_a + l_b"`, `"-0.5*l_8 + 0.1"`).
-#[derive(Clone, Debug, PartialEq, Default)]
-pub struct Scalar {
-    /// The constant part.
-    pub constant: f64,
-    /// `(coefficient, parameter name)` pairs, each name at most once.
-    pub terms: Vec<(f64, String)>,
 }
 
 /// Orientation of a frame relative to its parent.
@@ -73,7 +62,7 @@ pub enum Rotation {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Origin {
     /// Translation; components may be parameters.
-    pub xyz: [Scalar; 3],
+    pub xyz: [Linear; 3],
     /// Rotation.
     pub rotation: Rotation,
 }
@@ -94,7 +83,7 @@ pub enum JointKind {
     /// A raw twist `ξ = (v, ω)` in the joint frame: `‖ω‖ = 1`, or `ω = 0` and `‖v‖ = 1`.
     Twist {
         /// Linear part; components may be parameters (e.g. `v = −ω × q` with `q` a parameter).
-        v: [Scalar; 3],
+        v: [Linear; 3],
         /// Angular part.
         w: [f64; 3],
     },

@@ -35,8 +35,8 @@
 use super::locate::{location_of, Locator};
 use super::urdf::{import_chain, UrdfChain};
 use super::{
-    ConstraintDesc, DescriptionError, EndEffector, JointDesc, JointKind, Origin, Parameter,
-    RobotDescription, Rotation, Scalar, TaskDesc, Wrist,
+    ConstraintDesc, DescriptionError, EndEffector, JointDesc, JointKind, Linear, Origin, Parameter,
+    RobotDescription, Rotation, TaskDesc, Wrist,
 };
 use serde::Deserialize;
 use std::path::Path;
@@ -146,18 +146,10 @@ impl Ctx<'_> {
     }
 }
 
-impl Scalar {
-    /// A constant.
-    pub fn constant(value: f64) -> Self {
-        Scalar {
-            constant: value,
-            terms: Vec::new(),
-        }
-    }
-
+impl Linear {
     /// A single parameter.
     pub fn param(name: &str) -> Self {
-        Scalar {
+        Linear {
             constant: 0.0,
             terms: vec![(1.0, name.to_string())],
         }
@@ -172,13 +164,9 @@ impl Scalar {
     /// [length expression](crate::expr) linear in its parameters. The error names the byte
     /// offset of the offending token.
     pub fn parse(text: &str) -> Result<Self, String> {
-        let linear = crate::expr::Expr::parse(text)
+        crate::expr::Expr::parse(text)
             .and_then(|e| e.linear())
-            .map_err(|e| format!("cannot read `{}`: {e}", crate::expr::quoted(text)))?;
-        Ok(Scalar {
-            constant: linear.constant,
-            terms: linear.terms,
-        })
+            .map_err(|e| format!("cannot read `{}`: {e}", crate::expr::quoted(text)))
     }
 
     /// Value with the given parameter lookup; `Err(name)` for an unknown parameter.
@@ -191,14 +179,14 @@ impl Scalar {
     }
 }
 
-fn scalar(ctx: &Ctx, field: &str, raw: &RawScalar) -> Result<Scalar, DescriptionError> {
+fn scalar(ctx: &Ctx, field: &str, raw: &RawScalar) -> Result<Linear, DescriptionError> {
     match raw {
-        RawScalar::Number(v) => Ok(Scalar::constant(*v)),
-        RawScalar::Text(t) => Scalar::parse(t).map_err(|m| ctx.err(field, m)),
+        RawScalar::Number(v) => Ok(Linear::constant(*v)),
+        RawScalar::Text(t) => Linear::parse(t).map_err(|m| ctx.err(field, m)),
     }
 }
 
-fn scalars(ctx: &Ctx, field: &str, raw: &[RawScalar; 3]) -> Result<[Scalar; 3], DescriptionError> {
+fn scalars(ctx: &Ctx, field: &str, raw: &[RawScalar; 3]) -> Result<[Linear; 3], DescriptionError> {
     Ok([
         scalar(ctx, &format!("{field}[0]"), &raw[0])?,
         scalar(ctx, &format!("{field}[1]"), &raw[1])?,
@@ -701,16 +689,16 @@ mod tests {
 
     #[test]
     fn scalars_parse_linear_combinations() {
-        let s = Scalar::parse("l_a + l_b").unwrap();
+        let s = Linear::parse("l_a + l_b").unwrap();
         assert_eq!(s.terms, vec![(1.0, "l_a".into()), (1.0, "l_b".into())]);
-        let s = Scalar::parse("-0.5*l_8 + 0.1 - 2e-1").unwrap();
+        let s = Linear::parse("-0.5*l_8 + 0.1 - 2e-1").unwrap();
         assert_eq!(s.terms, vec![(-0.5, "l_8".into())]);
         assert!((s.constant - (-0.1)).abs() < 1e-15);
-        assert!(Scalar::parse("l_a*l_b").is_err());
-        assert!(Scalar::parse("l_a + $").is_err());
-        assert_eq!(Scalar::parse("2*l_a").unwrap().eval(|_| Some(0.5)), Ok(1.0));
+        assert!(Linear::parse("l_a*l_b").is_err());
+        assert!(Linear::parse("l_a + $").is_err());
+        assert_eq!(Linear::parse("2*l_a").unwrap().eval(|_| Some(0.5)), Ok(1.0));
         assert_eq!(
-            Scalar::parse("l_q").unwrap().eval(|_| None),
+            Linear::parse("l_q").unwrap().eval(|_| None),
             Err("l_q".into())
         );
     }

@@ -4,7 +4,7 @@
 //! the same description bit for bit (apart from `source` and joint locations).
 
 use super::parse::AXIS_LETTERS;
-use super::{JointKind, Origin, RobotDescription, Rotation, Scalar, Wrist};
+use super::{JointKind, Linear, Origin, RobotDescription, Rotation, Wrist};
 use std::fmt::Write;
 
 /// A TOML float or integer literal that reads back as exactly `v`.
@@ -55,8 +55,8 @@ fn key(s: &str) -> String {
     }
 }
 
-impl Scalar {
-    /// The expression [`Scalar::parse`] reads back: `"l_a + l_b"`, `"-0.5*l_8 + 0.1"`.
+impl Linear {
+    /// The expression [`Linear::parse`] reads back: `"l_a + l_b"`, `"-0.5*l_8 + 0.1"`.
     pub fn to_expression(&self) -> String {
         let mut out = String::new();
         for (c, name) in &self.terms {
@@ -86,7 +86,7 @@ impl Scalar {
     }
 }
 
-fn scalar(s: &Scalar) -> String {
+fn scalar(s: &Linear) -> String {
     if s.is_constant() {
         number(s.constant)
     } else {

@@ -27,8 +27,8 @@
 
 use super::locate::location_of;
 use super::{
-    ConstraintDesc, DescriptionError, EndEffector, JointDesc, JointKind, Location, Origin,
-    RobotDescription, Rotation, Scalar,
+    ConstraintDesc, DescriptionError, EndEffector, JointDesc, JointKind, Linear, Location, Origin,
+    RobotDescription, Rotation,
 };
 use std::path::Path;
 use urdf_rs::JointType;
@@ -105,7 +105,7 @@ impl Pose {
         }
         let snap = |x: f64| if x.abs() < 1e-15 { 0.0 } else { x };
         let xyz = [0, 1, 2].map(|c| {
-            let mut out = Scalar::constant(self.p[c]);
+            let mut out = Linear::constant(self.p[c]);
             for (k, s) in o.xyz.iter().enumerate() {
                 let a = self.r[c][k];
                 out.constant += a * s.constant;
@@ -138,7 +138,7 @@ impl Pose {
     pub(crate) fn to_origin(self) -> Origin {
         let snap = |x: f64| if x.abs() < 1e-15 { 0.0 } else { x };
         Origin {
-            xyz: self.p.map(|x| Scalar::constant(snap(x))),
+            xyz: self.p.map(|x| Linear::constant(snap(x))),
             rotation: Rotation::Matrix(self.r.map(|row| row.map(snap))),
         }
     }
@@ -255,7 +255,7 @@ fn joint_locations(text: &str) -> std::collections::HashMap<&str, Location> {
 
 fn origin_of(o: &urdf_rs::Pose) -> Origin {
     Origin {
-        xyz: o.xyz.0.map(Scalar::constant),
+        xyz: o.xyz.0.map(Linear::constant),
         rotation: Rotation::Rpy(o.rpy.0),
     }
 }

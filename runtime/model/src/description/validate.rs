@@ -37,8 +37,8 @@
 //! robot call it too.
 
 use super::{
-    DescriptionError, JointKind, Location, NullSpaceBasis, Origin, RobotDescription, Rotation,
-    Scalar, Wrist,
+    DescriptionError, JointKind, Linear, Location, NullSpaceBasis, Origin, RobotDescription,
+    Rotation, Wrist,
 };
 use crate::expr::is_name as is_identifier;
 
@@ -251,7 +251,7 @@ impl Checker<'_> {
         }
     }
 
-    fn scalar(&mut self, field: &str, s: &Scalar) {
+    fn scalar(&mut self, field: &str, s: &Linear) {
         let numbers: Vec<f64> = std::iter::once(s.constant)
             .chain(s.terms.iter().map(|(c, _)| *c))
             .collect();
@@ -452,7 +452,7 @@ impl Checker<'_> {
                             );
                         } else if nw == 0.0 {
                             let vf = format!("{prefix}.v");
-                            if v.iter().all(Scalar::is_constant) {
+                            if v.iter().all(Linear::is_constant) {
                                 let vc = [v[0].constant, v[1].constant, v[2].constant];
                                 let nv = norm(&vc);
                                 if nv.is_finite() && (nv - 1.0).abs() > TOLERANCE {
