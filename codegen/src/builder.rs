@@ -5,7 +5,7 @@
 //! fn main() -> Result<(), trocar_codegen::Error> {
 //!     trocar_codegen::Builder::new()
 //!         .robot("robots/arm.toml")
-//!         .real(trocar_codegen::Real::F64)
+//!         .real(trocar_codegen::Scalar::F64)
 //!         .compile()?;
 //!     Ok(())
 //! }
@@ -23,7 +23,7 @@
 
 use crate::closed_chain;
 use crate::derivation;
-use crate::emit::{self, bridge, Real, Runtime};
+use crate::emit::{self, bridge, Runtime, Scalar};
 use crate::error::Error;
 use crate::naming::checked_module_name;
 use proc_macro2::TokenStream;
@@ -36,7 +36,7 @@ use trocar_model::description::RobotDescription;
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct ModuleOptions {
     /// Scalar type of the generated code.
-    pub real: Real,
+    pub real: Scalar,
     /// Module name; default: the robot's name, snake-cased ([`crate::module_name`]).
     pub module_name: Option<String>,
     /// The path through which the generated code names the runtime crate `trocar`; default
@@ -107,7 +107,7 @@ enum Source {
 pub struct Builder {
     robots: Vec<(Source, Option<String>)>,
     mechanisms: Vec<(PathBuf, Option<String>)>,
-    real: Real,
+    real: Scalar,
     runtime_path: Option<String>,
     out_dir: Option<PathBuf>,
     emit_rerun: bool,
@@ -160,8 +160,8 @@ impl Builder {
         self
     }
 
-    /// Scalar type of the generated code (default [`Real::Generic`]).
-    pub fn real(&mut self, real: Real) -> &mut Self {
+    /// Scalar type of the generated code (default [`Scalar::Generic`]).
+    pub fn real(&mut self, real: Scalar) -> &mut Self {
         self.real = real;
         self
     }

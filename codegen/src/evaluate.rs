@@ -14,7 +14,7 @@ pub use compiled::{Compiled, LANES};
 
 use crate::closed_chain::{emit as mechanism_emit, MechanismDerivation};
 use crate::derivation;
-use crate::emit::{bridge, ModuleSpec, Shape};
+use crate::emit::{bridge, Layout, ModuleSpec};
 use crate::error::Error;
 use crate::naming::module_name;
 use trocar_model::catalogue::Function;
@@ -69,8 +69,8 @@ impl Generated {
     }
 
     /// The layout of `function`'s outputs, if the module has it.
-    pub fn shape(&self, function: Function) -> Option<Shape> {
-        self.spec.function(function).map(|f| f.shape)
+    pub fn shape(&self, function: Function) -> Option<Layout> {
+        self.spec.function(function).map(|f| f.layout)
     }
 
     /// Number of joint values the functions take.
@@ -118,19 +118,19 @@ impl Generated {
     /// argument lengths are wrong.
     pub fn evaluate(&self, function: Function, q: &[f64], params: &[f64]) -> Option<Evaluated> {
         let out = self.outputs(function, q, params)?;
-        let shape = self.spec.function(function)?.shape;
+        let shape = self.spec.function(function)?.layout;
         Some(match shape {
-            Shape::Scalar => Evaluated {
+            Layout::Scalar => Evaluated {
                 rows: 1,
                 cols: 1,
                 values: vec![out[0]],
             },
-            Shape::Matrix { rows, cols } => Evaluated {
+            Layout::Matrix { rows, cols } => Evaluated {
                 rows,
                 cols,
                 values: out[..rows * cols].to_vec(),
             },
-            Shape::Transform => {
+            Layout::Transform => {
                 let mut values = vec![0.0; 16];
                 for c in 0..3 {
                     for r in 0..3 {

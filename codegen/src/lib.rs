@@ -18,7 +18,7 @@
 //! fn main() -> Result<(), trocar_codegen::Error> {
 //!     trocar_codegen::Builder::new()
 //!         .robot("robots/arm.toml")
-//!         .real(trocar_codegen::Real::F64)
+//!         .real(trocar_codegen::Scalar::F64)
 //!         .compile()?;
 //!     Ok(())
 //! }
@@ -53,7 +53,7 @@ pub mod symbolic;
 pub use builder::{
     generate_mechanism_string, generate_module, generate_module_string, Builder, ModuleOptions,
 };
-pub use emit::Real;
+pub use emit::Scalar;
 pub use error::Error;
 pub use naming::module_name;
 pub use trocar_model::catalogue;

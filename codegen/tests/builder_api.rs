@@ -2,7 +2,7 @@
 //! file, line and field, and the golden snapshot of one generated module.
 
 use std::path::PathBuf;
-use trocar_codegen::Real;
+use trocar_codegen::Scalar;
 use trocar_codegen::{
     generate_module, generate_module_string, module_name, Builder, Error, ModuleOptions,
 };
@@ -24,7 +24,7 @@ fn generate_returns_code_without_writing() {
     let files = Builder::new()
         .robot(robots().join("bidirectional-zy.toml"))
         .robot(robots().join("unidirectional.toml"))
-        .real(Real::F64)
+        .real(Scalar::F64)
         .generate()
         .unwrap();
     let names: Vec<&str> = files.keys().map(String::as_str).collect();
@@ -114,7 +114,7 @@ fn module_names_are_identifiers() {
 fn generate_module_tokens_and_string_agree() {
     let desc = RobotDescription::preset("unidirectional").unwrap();
     let options = ModuleOptions {
-        real: Real::Generic,
+        real: Scalar::Generic,
         module_name: Some("uni".into()),
         ..ModuleOptions::default()
     };

@@ -108,7 +108,7 @@ fn programs_agree_with_expanded_polynomials() {
 /// formats (its types are those of the four functions).
 #[test]
 fn pose_and_jacobians_is_one_program_or_the_four_functions() {
-    use trocar_codegen::emit::{format_file, module_tokens, Real};
+    use trocar_codegen::emit::{format_file, module_tokens, Scalar};
     for name in preset_names() {
         let desc = RobotDescription::preset(name).unwrap();
         let d = derive(&desc).unwrap();
@@ -131,7 +131,7 @@ fn pose_and_jacobians_is_one_program_or_the_four_functions() {
             "{name}"
         );
         spec.pose_and_jacobians = None;
-        let text = format_file(module_tokens(&spec, Real::Generic)).unwrap();
+        let text = format_file(module_tokens(&spec, Scalar::Generic)).unwrap();
         let body = &text[text.find("pub fn pose_and_jacobians_trig").unwrap()..];
         let body = &body[..body.find("\n    }\n").unwrap()];
         for f in [

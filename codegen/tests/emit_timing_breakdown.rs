@@ -3,7 +3,7 @@
 
 use std::time::Instant;
 use trocar_codegen::derivation::derive;
-use trocar_codegen::emit::{bridge::module_spec, format_file, module_tokens, Real};
+use trocar_codegen::emit::{bridge::module_spec, format_file, module_tokens, Scalar};
 use trocar_model::description::RobotDescription;
 
 #[test]
@@ -14,7 +14,7 @@ fn dia10_like_breakdown() {
     let t1 = Instant::now();
     let spec = module_spec(&d, "dia10_like_zy");
     let t2 = Instant::now();
-    let tokens = module_tokens(&spec, Real::Generic);
+    let tokens = module_tokens(&spec, Scalar::Generic);
     let t3 = Instant::now();
     let text = format_file(tokens).unwrap();
     let t4 = Instant::now();

@@ -3,7 +3,7 @@
 //! diff: the test rewrites the file and fails, so re-running after review blesses it.
 
 use std::path::{Path, PathBuf};
-use trocar_codegen::{Builder, Real};
+use trocar_codegen::{Builder, Scalar};
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
@@ -43,7 +43,7 @@ fn sources() -> Vec<(String, PathBuf, bool)> {
 fn every_shipped_module_matches_its_golden_file() {
     let mut changed = Vec::new();
     for (stem, path, mechanism) in sources() {
-        for (real, tag) in [(Real::F32, "f32"), (Real::F64, "f64")] {
+        for (real, tag) in [(Scalar::F32, "f32"), (Scalar::F64, "f64")] {
             let mut b = Builder::new();
             if mechanism {
                 b.mechanism(&path);

@@ -2,7 +2,7 @@
 fn main() {
     trocar_codegen::Builder::new()
         .robot("robots/arm.toml")
-        .real(trocar_codegen::Real::F32)
+        .real(trocar_codegen::Scalar::F32)
         .compile()
         .unwrap();
 }

@@ -1,7 +1,7 @@
 //! Runs the builder for the shipped robots and the fixtures, as a user's build script would.
 
 use trocar_codegen::Builder;
-use trocar_codegen::Real;
+use trocar_codegen::Scalar;
 
 fn main() {
     let robots = "../../runtime/model/robots";
@@ -31,13 +31,13 @@ fn main() {
         "bidirectional_zy_f32",
     )
     .robot_as("robots/rotated_rcm.toml", "rotated_rcm_f32")
-    .real(Real::F32);
+    .real(Scalar::F32);
     if let Err(e) = f32b.compile() {
         panic!("trocar-codegen: {e}");
     }
     let mut f64b = Builder::new();
     f64b.robot_as(format!("{robots}/dia10_like_zx.toml"), "dia10_like_zx_f64")
-        .real(Real::F64);
+        .real(Scalar::F64);
     if let Err(e) = f64b.compile() {
         panic!("trocar-codegen: {e}");
     }
@@ -51,7 +51,7 @@ fn main() {
     }
     let mut mb32 = Builder::new();
     mb32.mechanism_as(format!("{mechanisms}/four-bar.toml"), "four_bar_f32")
-        .real(Real::F32);
+        .real(Scalar::F32);
     if let Err(e) = mb32.compile() {
         panic!("trocar-codegen: {e}");
     }
@@ -65,7 +65,7 @@ fn main() {
     spec.pose_and_jacobians = None;
     let text = trocar_codegen::emit::format_file(trocar_codegen::emit::module_tokens(
         &spec,
-        Real::Generic,
+        Scalar::Generic,
     ))
     .unwrap_or_else(|e| panic!("{e}"));
     let out = std::path::PathBuf::from(std::env::var("OUT_DIR").expect("OUT_DIR"));

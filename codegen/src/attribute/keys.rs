@@ -1,7 +1,7 @@
 //! The attribute's top-level keys.
 
 use super::errors::Errors;
-use crate::emit::Real;
+use crate::emit::Scalar;
 use proc_macro2::{Span, TokenStream};
 use syn::parse::Parser;
 use syn::punctuated::Punctuated;
@@ -36,7 +36,7 @@ pub(crate) struct InlineLists {
 /// The parsed attribute.
 pub(crate) struct Attr {
     pub source: Source,
-    pub real: Real,
+    pub real: Scalar,
     pub module: Option<syn::Ident>,
 }
 
@@ -88,7 +88,7 @@ pub(crate) fn parse(tokens: TokenStream) -> syn::Result<Attr> {
     let mut errors = Errors::default();
     let mut source: Option<(String, Span, Source)> = None;
     let mut inline = InlineLists::default();
-    let mut real = Real::Generic;
+    let mut real = Scalar::Generic;
     let mut module = None;
 
     fn set_source(
@@ -140,9 +140,9 @@ pub(crate) fn parse(tokens: TokenStream) -> syn::Result<Attr> {
             "real" => {
                 if let Some(s) = string(meta, &mut errors) {
                     match s.value().as_str() {
-                        "f32" => real = Real::F32,
-                        "f64" => real = Real::F64,
-                        "generic" => real = Real::Generic,
+                        "f32" => real = Scalar::F32,
+                        "f64" => real = Scalar::F64,
+                        "generic" => real = Scalar::Generic,
                         other => errors.at(
                             s.span(),
                             format_args!(

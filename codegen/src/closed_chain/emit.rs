@@ -9,7 +9,7 @@
 use super::derive::{derive, MechanismDerivation, MechanismError};
 use crate::emit::bridge::PolyBuilder;
 use crate::emit::rust::Ty;
-use crate::emit::{self, ConstItem, Function, ModuleSpec, Program, Real, Runtime};
+use crate::emit::{self, ConstItem, EmittedFunction, ModuleSpec, Program, Runtime, Scalar};
 use crate::error::Error;
 use crate::naming::checked_module_name;
 use proc_macro2::{Ident, TokenStream};
@@ -69,7 +69,7 @@ pub fn module_spec(d: &MechanismDerivation, module_name: &str) -> ModuleSpec {
             unreachable!("a mechanism module has no size {s:?}")
         }
     };
-    functions.push(Function::catalogued(
+    functions.push(EmittedFunction::catalogued(
         F::ConstraintJacobian,
         "Constraint Jacobian `J_C = Ã J = ∂c/∂θ` (rows: `pose_1 − pose_k`, `(x, y, φ)` per chain \
          k = 2..m), R × N",
@@ -77,7 +77,7 @@ pub fn module_spec(d: &MechanismDerivation, module_name: &str) -> ModuleSpec {
         matrix_program(d, &d.j_c),
         size,
     ));
-    functions.push(Function::catalogued(
+    functions.push(EmittedFunction::catalogued(
         F::TaskJacobian,
         "Analytic Jacobian of the task `J_A = S_x A† J` (chain Jacobians averaged), N_OUTPUTS × N",
         "",
@@ -87,7 +87,7 @@ pub fn module_spec(d: &MechanismDerivation, module_name: &str) -> ModuleSpec {
     let mut det = program(d);
     let v = PolyBuilder::new(&mut det).poly(&d.det_j_cp);
     det.set_outputs(vec![v]);
-    functions.push(Function::catalogued(
+    functions.push(EmittedFunction::catalogued(
         F::ConstraintDeterminant,
         "`det J_Cp`, the determinant of the passive columns of `J_C`: zero exactly at the \
          parallel (actuator) singularities, where the passive joints can move with the active \
@@ -112,7 +112,7 @@ pub fn module_spec(d: &MechanismDerivation, module_name: &str) -> ModuleSpec {
         prog.set_outputs(outs);
         prog
     };
-    functions.push(Function::catalogued(
+    functions.push(EmittedFunction::catalogued(
         F::ReducedJacobianNumerator,
         "`det J_Cp` and the numerator `det(J_Cp) · J = det(J_Cp) J_Aa − J_Ap adj(J_Cp) J_Ca` of \
          the reduced Jacobian",
@@ -124,7 +124,7 @@ pub fn module_spec(d: &MechanismDerivation, module_name: &str) -> ModuleSpec {
         numerator(&d.reduced_numerator),
         size,
     ));
-    functions.push(Function::catalogued(
+    functions.push(EmittedFunction::catalogued(
         F::PassiveMapNumerator,
         "`det J_Cp` and the numerator `−adj(J_Cp) J_Ca` of the passive map \
          `θ̇_p = −J_Cp⁻¹ J_Ca θ̇_a`",
@@ -233,7 +233,7 @@ fn wrapper_tokens(d: &MechanismDerivation, ty: &Ty) -> TokenStream {
         })
         .collect();
     let quotient_generics = match ty.real {
-        Real::Generic => quote!(<T: #rt::Real, const IN: usize, const OUT: usize>),
+        Scalar::Generic => quote!(<T: #rt::Real, const IN: usize, const OUT: usize>),
         _ => quote!(<const IN: usize, const OUT: usize>),
     };
     let reduced = format_ident!("{}", F::ReducedJacobian.name());
@@ -352,7 +352,7 @@ fn wrapper_tokens(d: &MechanismDerivation, ty: &Ty) -> TokenStream {
 pub fn module_items(
     d: &MechanismDerivation,
     spec: &ModuleSpec,
-    real: Real,
+    real: Scalar,
     runtime: &Runtime,
 ) -> TokenStream {
     let items = emit::module_items_in(spec, real, runtime);
@@ -368,7 +368,7 @@ pub fn module_items(
 pub fn module_tokens(
     d: &MechanismDerivation,
     module_name: &str,
-    real: Real,
+    real: Scalar,
     runtime: &Runtime,
 ) -> TokenStream {
     let spec = module_spec(d, module_name);
@@ -384,7 +384,7 @@ pub fn module_tokens(
 pub fn generate_mechanism_string(
     model: &MechanismModel,
     module: Option<&str>,
-    real: Real,
+    real: Scalar,
     runtime: &Runtime,
 ) -> Result<String, Error> {
     let d = derive(model).map_err(Error::Description)?;

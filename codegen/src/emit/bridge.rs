@@ -14,7 +14,7 @@
 //! functions (the expanded form is what the derivation's symbolic tests check).
 
 use super::program::{Atom, Program, Term, ValueId};
-use super::rust::{ConstItem, Function, ModuleSpec};
+use super::rust::{ConstItem, EmittedFunction, ModuleSpec};
 use crate::derivation::{Derivation, ManipulabilityForm};
 use crate::symbolic::{self, inverse_denominator, node_definition, Matrix, Poly, Transform};
 use std::collections::HashMap;
@@ -138,7 +138,7 @@ impl NumTransform {
         NumTransform { rot, pos }
     }
 
-    /// Outputs in the [`super::Shape::Transform`] layout: `R` column-major, then `p`.
+    /// Outputs in the [`super::Layout::Transform`] layout: `R` column-major, then `p`.
     pub fn outputs(&self) -> Vec<ValueId> {
         let mut v = Vec::with_capacity(12);
         for j in 0..3 {
@@ -192,7 +192,7 @@ pub fn matrix_program(d: &Derivation, m: &Matrix) -> Program {
     prog
 }
 
-/// A rigid transform's expanded entries as a program, outputs in the [`super::Shape::Transform`]
+/// A rigid transform's expanded entries as a program, outputs in the [`super::Layout::Transform`]
 /// layout.
 pub fn transform_program(d: &Derivation, t: &Transform) -> Program {
     let mut prog = new_program(d);
@@ -297,7 +297,7 @@ fn body_jacobian_walk(
 }
 
 /// `g_0e`, `J^B_0i`, `J^r_0e` and `J_c` of one control step as one program, outputs in that order
-/// (`g_0e` in the [`super::Shape::Transform`] layout, the matrices column-major): the walk that
+/// (`g_0e` in the [`super::Layout::Transform`] layout, the matrices column-major): the walk that
 /// builds `J^B_0i` ends with `g_0i`, so `g_0e = g_0i · g_ie` (2.21) takes one product more
 /// instead of the whole chain again, and `J^r` and `J_c` (`jr`, `jc`: the forms their own
 /// functions use) share the program's sines, cosines and common values.
@@ -399,7 +399,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
         None => fk_product,
     };
     let fk_len = fk.live_len();
-    functions.push(Function::catalogued(
+    functions.push(EmittedFunction::catalogued(
         F::ForwardKinematics,
         "Forward kinematics `g_0e(q) = (R_0e, p_0e)` of the end effector",
         "",
@@ -411,7 +411,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
         Some(m) => cheaper(graph_or_expanded(d, m), jb_product),
         None => jb_product,
     };
-    functions.push(Function::catalogued(
+    functions.push(EmittedFunction::catalogued(
         F::BodyJacobian,
         "Body Jacobian `J^B_0e(q)` of the whole chain, 6 × N (twist order `(v, ω)`)",
         "",
@@ -455,14 +455,14 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
         let (jr_form, jr) = graph_or_expanded_form(d, &c.jr);
         let (jc_form, jc) = graph_or_expanded_form(d, &c.jc);
         let step_separately = [fk_len, jr.live_len(), jc.live_len()];
-        functions.push(Function::catalogued(
+        functions.push(EmittedFunction::catalogued(
             F::ConstrainedJacobian,
             "Constrained Jacobian `J^r_0e = [Ad_{g_ei} Λ# | J^B_0e2]`, 6 × M",
             &basis,
             jr,
             size,
         ));
-        functions.push(Function::catalogued(
+        functions.push(EmittedFunction::catalogued(
             F::ConstraintJacobianC,
             "Jacobian of the moving constraint `J_c = Ad_{g_ei} Λ†`, 6 × R",
             "",
@@ -479,7 +479,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
         pose_and_jacobians = (fused.live_len()
             < step_separately.iter().sum::<usize>() + jbi.live_len())
         .then_some(fused);
-        functions.push(Function::catalogued(
+        functions.push(EmittedFunction::catalogued(
             F::PartialBodyJacobian,
             "Partial body Jacobian `J^B_0i(q_1..q_i)` of the chain cut at the constrained link, 6 × I",
             "",
@@ -490,7 +490,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
             transform_program(d, &c.fk_i),
             fk_product_program(d, c.link, None),
         );
-        functions.push(Function::catalogued(
+        functions.push(EmittedFunction::catalogued(
             F::ConstrainedLinkKinematics,
             "Forward kinematics `g_0i(q_1..q_i) = (R_0i, p_0i)` of the constrained link's frame",
             "",
@@ -521,36 +521,42 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
                  (3.44))",
             )
         };
-        functions.push(Function::catalogued(F::Manipulability, w_doc, "", w, size));
-        functions.push(Function::catalogued(
+        functions.push(EmittedFunction::catalogued(
+            F::Manipulability,
+            w_doc,
+            "",
+            w,
+            size,
+        ));
+        functions.push(EmittedFunction::catalogued(
             F::ManipulabilitySquared,
             w2_doc,
             "",
             w2,
             size,
         ));
-        functions.push(Function::catalogued(
+        functions.push(EmittedFunction::catalogued(
             F::ConstraintSelection,
             "The constrained directions `H`, R × 6: the constraint is `H V^B_0r = 0`",
             "",
             matrix_program(d, &c.h),
             size,
         ));
-        functions.push(Function::catalogued(
+        functions.push(EmittedFunction::catalogued(
             F::LambdaNullSpace,
             "Null-space basis `Λ#` of `Λ = H Ad_{g_ri}` (3.3), 6 × K: `V^B_0i = Λ# v0i`",
             "",
             matrix_program(d, &c.lambda_sharp),
             size,
         ));
-        functions.push(Function::catalogued(
+        functions.push(EmittedFunction::catalogued(
             F::LambdaPinv,
             "`Λ† = Λᵀ (Λ Λᵀ)⁻¹`, 6 × R",
             "",
             matrix_program(d, &c.lambda_pinv),
             size,
         ));
-        functions.push(Function::catalogued(
+        functions.push(EmittedFunction::catalogued(
             F::ConstraintFrame,
             "The constraint frame `g_ir = (R_ir, p_ir)`: `F_r` in the constrained link's frame `F_i`",
             "",
@@ -563,7 +569,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
                 value: t.s.rows(),
                 doc: "Number of task rows `t` (rows of `S`, the `[task]` selection).".into(),
             });
-            functions.push(Function::catalogued(
+            functions.push(EmittedFunction::catalogued(
                 F::TaskSelection,
                 "The task selection `S`, T × 6: the rows of the end-effector body twist \
                  `V^B_0e = (v, ω)` (components in the end-effector frame) that the task commands",
@@ -571,7 +577,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
                 matrix_program(d, &t.s),
                 size,
             ));
-            functions.push(Function::catalogued(
+            functions.push(EmittedFunction::catalogued(
                 F::ConstrainedTaskJacobian,
                 "Task Jacobian `S J^r_0e`, T × M: the commanded rows of the end-effector twist per \
                  unit of `(v0i, θ̇_j..θ̇_n)`",

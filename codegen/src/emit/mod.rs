@@ -19,5 +19,5 @@ pub mod rust;
 pub use program::{Atom, Const, Op, OpCounts, Program, Term, ValueId};
 pub use rust::{
     format_file, module_items, module_items_in, module_tokens, module_tokens_in, wrap_module,
-    ConstItem, Function, ModuleSpec, Real, Runtime, Shape, DEFAULT_RUNTIME_PATH,
+    ConstItem, EmittedFunction, Layout, ModuleSpec, Runtime, Scalar, DEFAULT_RUNTIME_PATH,
 };

@@ -1,5 +1,5 @@
 //! Rust tokens for a robot module: `Params`, `JointTrig`, constants and one function (plus its
-//! `_trig` variant) per [`Function`].
+//! `_trig` variant) per [`EmittedFunction`].
 
 use super::program::{Op, Program, ValueId};
 use proc_macro2::{Ident, Literal, Span, TokenStream};
@@ -9,7 +9,7 @@ use trocar_model::catalogue;
 
 /// The scalar type of generated code.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Default, Hash)]
-pub enum Real {
+pub enum Scalar {
     /// Generic over `T: ::trocar::Real` (works for `f32` and `f64`).
     #[default]
     Generic,
@@ -19,13 +19,13 @@ pub enum Real {
     F64,
 }
 
-impl std::str::FromStr for Real {
+impl std::str::FromStr for Scalar {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
         match s {
-            "generic" | "T" => Ok(Real::Generic),
-            "f32" => Ok(Real::F32),
-            "f64" => Ok(Real::F64),
+            "generic" | "T" => Ok(Scalar::Generic),
+            "f32" => Ok(Scalar::F32),
+            "f64" => Ok(Scalar::F64),
             other => Err(format!(
                 "unknown real type `{other}` (expected f32, f64 or generic)"
             )),
@@ -35,7 +35,7 @@ impl std::str::FromStr for Real {
 
 /// What a function returns; outputs of its program are in this layout.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub enum Shape {
+pub enum Layout {
     /// One scalar.
     Scalar,
     /// A `rows × cols` matrix returned **column-major** as `[[T; rows]; cols]`; the program's
@@ -51,13 +51,13 @@ pub enum Shape {
     Transform,
 }
 
-impl Shape {
+impl Layout {
     /// Number of outputs.
     pub fn len(&self) -> usize {
         match *self {
-            Shape::Scalar => 1,
-            Shape::Matrix { rows, cols } => rows * cols,
-            Shape::Transform => 12,
+            Layout::Scalar => 1,
+            Layout::Matrix { rows, cols } => rows * cols,
+            Layout::Transform => 12,
         }
     }
 
@@ -69,7 +69,7 @@ impl Shape {
 
 /// One function to emit.
 #[derive(Clone, Debug)]
-pub struct Function {
+pub struct EmittedFunction {
     /// Rust name (the `_trig` variant gets the suffix `_trig`).
     pub name: String,
     /// First line of the doc comment, e.g. "The constrained Jacobian `J^r_0e`".
@@ -79,8 +79,8 @@ pub struct Function {
     /// More documentation (markdown paragraphs), may be empty.
     pub details: String,
     /// Output layout.
-    pub shape: Shape,
-    /// The program; its outputs match `shape`.
+    pub layout: Layout,
+    /// The program; its outputs match `layout`.
     pub program: Program,
     /// Names of the dimensions for the signature, e.g. `("6", "M")`; `None` uses numbers.
     pub dims: Option<(String, String)>,
@@ -92,7 +92,7 @@ pub struct Function {
     pub zero_when_not_finite: bool,
 }
 
-impl Function {
+impl EmittedFunction {
     /// The function `entry` of the catalogue ([`trocar_model::catalogue`]): its name, equation
     /// (with the source's citation when it is not the thesis) and shape, the sizes of the module
     /// given by `size`; matrices name their dimensions in the signature (`[[T; 6]; M]`).
@@ -102,19 +102,19 @@ impl Function {
         details: &str,
         program: Program,
         size: impl Fn(catalogue::Size) -> usize,
-    ) -> Function {
-        let (shape, dims) = match entry.shape() {
-            catalogue::Shape::Scalar => (Shape::Scalar, None),
-            catalogue::Shape::Transform => (Shape::Transform, None),
+    ) -> EmittedFunction {
+        let (layout, dims) = match entry.shape() {
+            catalogue::Shape::Scalar => (Layout::Scalar, None),
+            catalogue::Shape::Transform => (Layout::Transform, None),
             catalogue::Shape::Matrix { rows, cols } => (
-                Shape::Matrix {
+                Layout::Matrix {
                     rows: rows.value(&size),
                     cols: cols.value(&size),
                 },
                 Some((rows.to_string(), cols.to_string())),
             ),
             catalogue::Shape::Vector(len) => (
-                Shape::Matrix {
+                Layout::Matrix {
                     rows: len.value(&size),
                     cols: 1,
                 },
@@ -127,12 +127,12 @@ impl Function {
         } else {
             format!("{} {citation}", entry.equation())
         };
-        Function {
+        EmittedFunction {
             name: entry.name().into(),
             summary: summary.into(),
             equation,
             details: details.into(),
-            shape,
+            layout,
             program,
             dims,
             takes_joints: entry.takes_joints(),
@@ -170,7 +170,7 @@ pub struct ModuleSpec {
     /// `usize` constants (`N` must be among them; it types `q`).
     pub consts: Vec<ConstItem>,
     /// Functions.
-    pub functions: Vec<Function>,
+    pub functions: Vec<EmittedFunction>,
     /// The control-step items of a constrained robot (`StepKinematics`, `step_kinematics` and,
     /// when the constraint frame slides along the link, `Kinematics`; see
     /// [`super::controller`]).
@@ -185,7 +185,7 @@ pub struct ModuleSpec {
 
 impl ModuleSpec {
     /// The emitted function `f` of the catalogue, if the module has it.
-    pub fn function(&self, f: catalogue::Function) -> Option<&Function> {
+    pub fn function(&self, f: catalogue::Function) -> Option<&EmittedFunction> {
         self.functions.iter().find(|x| x.name == f.name())
     }
 }
@@ -241,12 +241,12 @@ impl Default for Runtime {
 /// The scalar type and the runtime path of emitted code, with the token fragments built from
 /// them.
 pub(crate) struct Ty {
-    pub(crate) real: Real,
+    pub(crate) real: Scalar,
     runtime: TokenStream,
 }
 
 impl Ty {
-    pub(crate) fn new(real: Real, runtime: &Runtime) -> Self {
+    pub(crate) fn new(real: Scalar, runtime: &Runtime) -> Self {
         Ty {
             real,
             runtime: runtime.tokens.clone(),
@@ -260,21 +260,21 @@ impl Ty {
 
     pub(crate) fn t(&self) -> TokenStream {
         match self.real {
-            Real::Generic => quote!(T),
-            Real::F32 => quote!(f32),
-            Real::F64 => quote!(f64),
+            Scalar::Generic => quote!(T),
+            Scalar::F32 => quote!(f32),
+            Scalar::F64 => quote!(f64),
         }
     }
     pub(crate) fn generics(&self) -> TokenStream {
         let rt = &self.runtime;
         match self.real {
-            Real::Generic => quote!(<T: #rt::Real>),
+            Scalar::Generic => quote!(<T: #rt::Real>),
             _ => quote!(),
         }
     }
     pub(crate) fn args(&self) -> TokenStream {
         match self.real {
-            Real::Generic => quote!(<T>),
+            Scalar::Generic => quote!(<T>),
             _ => quote!(),
         }
     }
@@ -292,18 +292,18 @@ impl Ty {
             return quote!(#r::ONE);
         }
         match self.real {
-            Real::Generic => {
+            Scalar::Generic => {
                 let l = Literal::f64_unsuffixed(x);
                 quote!(#r::lit(#l))
             }
-            Real::F32 | Real::F64 => {
+            Scalar::F32 | Scalar::F64 => {
                 // The f64's shortest round-trip decimal with the target suffix: rustc rounds the
                 // decimal directly to the target type (correct rounding for f32).
                 let mut s = format!("{x:?}");
                 if !s.contains('.') && !s.contains('e') {
                     s.push_str(".0");
                 }
-                s.push_str(if self.real == Real::F32 {
+                s.push_str(if self.real == Scalar::F32 {
                     "_f32"
                 } else {
                     "_f64"
@@ -526,17 +526,17 @@ fn body(prog: &Program, ty: &Ty, access: Access) -> (Vec<TokenStream>, Vec<Token
     (stmts, outs)
 }
 
-fn shape_tokens(shape: Shape, ty: &Ty, outs: &[TokenStream]) -> (TokenStream, TokenStream) {
+fn layout_tokens(layout: Layout, ty: &Ty, outs: &[TokenStream]) -> (TokenStream, TokenStream) {
     let t = ty.t();
-    match shape {
-        Shape::Scalar => (quote!(#t), outs[0].clone()),
-        Shape::Matrix { rows, cols } => {
+    match layout {
+        Layout::Scalar => (quote!(#t), outs[0].clone()),
+        Layout::Matrix { rows, cols } => {
             let r = Literal::usize_unsuffixed(rows);
             let c = Literal::usize_unsuffixed(cols);
             let columns = outs.chunks(rows.max(1)).map(|col| quote!([#(#col),*]));
             (quote!([[#t; #r]; #c]), quote!([#(#columns),*]))
         }
-        Shape::Transform => {
+        Layout::Transform => {
             let columns = outs[..9].chunks(3).map(|col| quote!([#(#col),*]));
             let p = &outs[9..12];
             (
@@ -547,21 +547,21 @@ fn shape_tokens(shape: Shape, ty: &Ty, outs: &[TokenStream]) -> (TokenStream, To
     }
 }
 
-fn dims_tokens(f: &Function, ty: &Ty) -> Option<TokenStream> {
+fn dims_tokens(f: &EmittedFunction, ty: &Ty) -> Option<TokenStream> {
     let (r, c) = f.dims.as_ref()?;
     let t = ty.t();
     let r: TokenStream = r.parse().ok()?;
     let c: TokenStream = c.parse().ok()?;
-    Some(match f.shape {
-        Shape::Matrix { .. } => quote!([[#t; #r]; #c]),
+    Some(match f.layout {
+        Layout::Matrix { .. } => quote!([[#t; #r]; #c]),
         _ => return None,
     })
 }
 
-fn layout_doc(shape: Shape, dims: Option<&(String, String)>, t: &str) -> String {
-    match shape {
-        Shape::Scalar => String::new(),
-        Shape::Matrix { rows, cols } => {
+fn layout_doc(layout: Layout, dims: Option<&(String, String)>, t: &str) -> String {
+    match layout {
+        Layout::Scalar => String::new(),
+        Layout::Matrix { rows, cols } => {
             let (r, c) = dims
                 .cloned()
                 .unwrap_or_else(|| (rows.to_string(), cols.to_string()));
@@ -571,7 +571,7 @@ fn layout_doc(shape: Shape, dims: Option<&(String, String)>, t: &str) -> String 
                  `SMatrix::<{t}, {rows}, {cols}>::from_data(ArrayStorage(a))`."
             )
         }
-        Shape::Transform => "Returns `(R, p)`: the rotation **column-major** (`r[col][row]`, \
+        Layout::Transform => "Returns `(R, p)`: the rotation **column-major** (`r[col][row]`, \
              nalgebra: `Matrix3::from_data(ArrayStorage(r))`) and the position."
             .to_string(),
     }
@@ -606,7 +606,7 @@ fn divides_by(divisors: &str) -> String {
     )
 }
 
-fn function_tokens(f: &Function, ty: &Ty, n: usize) -> TokenStream {
+fn function_tokens(f: &EmittedFunction, ty: &Ty, n: usize) -> TokenStream {
     let t = ty.t();
     let generics = ty.generics();
     let args = ty.args();
@@ -618,11 +618,11 @@ fn function_tokens(f: &Function, ty: &Ty, n: usize) -> TokenStream {
     if !f.details.is_empty() {
         let _ = writeln!(doc, "\n{}", f.details);
     }
-    let layout = layout_doc(f.shape, f.dims.as_ref(), &t.to_string());
+    let layout = layout_doc(f.layout, f.dims.as_ref(), &t.to_string());
     if !layout.is_empty() {
         let _ = writeln!(doc, "\n{layout}");
     }
-    let guard = f.zero_when_not_finite && f.shape == Shape::Scalar;
+    let guard = f.zero_when_not_finite && f.layout == Layout::Scalar;
     let divisors = divisors(&f.program);
     let not_finite = if guard {
         let by = if divisors.is_empty() {
@@ -664,9 +664,9 @@ fn function_tokens(f: &Function, ty: &Ty, n: usize) -> TokenStream {
     ));
     let (stmts_q, outs_q) = body(&f.program, ty, Access::Q);
     let (stmts_t, outs_t) = body(&f.program, ty, Access::Trig);
-    let (ret, value_q) = shape_tokens(f.shape, ty, &outs_q);
+    let (ret, value_q) = layout_tokens(f.layout, ty, &outs_q);
     let ret = dims_tokens(f, ty).unwrap_or(ret);
-    let (_, value_t) = shape_tokens(f.shape, ty, &outs_t);
+    let (_, value_t) = layout_tokens(f.layout, ty, &outs_t);
     let (value_q, value_t) = if guard {
         let r = ty.real_path();
         let wrap = |v: TokenStream| {
@@ -754,9 +754,9 @@ fn pose_and_jacobians_tokens(spec: &ModuleSpec, ty: &Ty) -> Option<TokenStream> 
     let (p, value) = match &spec.pose_and_jacobians {
         Some(prog) => {
             let (stmts, outs) = body(prog, ty, Access::Trig);
-            let (_, g) = shape_tokens(Shape::Transform, ty, &outs[..12]);
+            let (_, g) = layout_tokens(Layout::Transform, ty, &outs[..12]);
             let mat = |range: std::ops::Range<usize>, cols: usize| {
-                shape_tokens(Shape::Matrix { rows: 6, cols }, ty, &outs[range]).1
+                layout_tokens(Layout::Matrix { rows: 6, cols }, ty, &outs[range]).1
             };
             let jbi = mat(12..12 + 6 * i, i);
             let jr = mat(12 + 6 * i..12 + 6 * (i + m), m);
@@ -832,7 +832,7 @@ fn params_tokens(spec: &ModuleSpec, ty: &Ty) -> TokenStream {
     let rt = ty.runtime();
     if spec.params.is_empty() {
         return match ty.real {
-            Real::Generic => quote! {
+            Scalar::Generic => quote! {
                 #doc_struct
                 #[derive(Clone, Copy, Debug, Default, PartialEq)]
                 pub struct Params<T>(::core::marker::PhantomData<T>);
@@ -990,12 +990,12 @@ fn trig_statement(
 }
 
 /// The items of a robot module (without the `mod` wrapper), naming the runtime `::trocar`.
-pub fn module_items(spec: &ModuleSpec, real: Real) -> TokenStream {
+pub fn module_items(spec: &ModuleSpec, real: Scalar) -> TokenStream {
     module_items_in(spec, real, &Runtime::default())
 }
 
 /// The items of a robot module (without the `mod` wrapper), naming the runtime by `runtime`.
-pub fn module_items_in(spec: &ModuleSpec, real: Real, runtime: &Runtime) -> TokenStream {
+pub fn module_items_in(spec: &ModuleSpec, real: Scalar, runtime: &Runtime) -> TokenStream {
     let ty = Ty::new(real, runtime);
     let consts = spec.consts.iter().map(|c| {
         let id = format_ident!("{}", c.name);
@@ -1035,12 +1035,12 @@ pub fn module_items_in(spec: &ModuleSpec, real: Real, runtime: &Runtime) -> Toke
 
 /// The whole module `pub mod <name> { ... }`, with its documentation and lint attributes, naming
 /// the runtime `::trocar`.
-pub fn module_tokens(spec: &ModuleSpec, real: Real) -> TokenStream {
+pub fn module_tokens(spec: &ModuleSpec, real: Scalar) -> TokenStream {
     module_tokens_in(spec, real, &Runtime::default())
 }
 
 /// The whole module `pub mod <name> { ... }`, naming the runtime by `runtime`.
-pub fn module_tokens_in(spec: &ModuleSpec, real: Real, runtime: &Runtime) -> TokenStream {
+pub fn module_tokens_in(spec: &ModuleSpec, real: Scalar, runtime: &Runtime) -> TokenStream {
     wrap_module(&spec.name, &spec.doc, module_items_in(spec, real, runtime))
 }
 
