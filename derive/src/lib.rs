@@ -63,7 +63,9 @@
 //! `constrained_jacobian`, `manipulability`, ... each with its `_trig` variant), type aliases
 //! `ArmParams` and `ArmJointTrig`, and `impl Arm` with the module's constants and a delegating
 //! associated function per generated function. The generated code names `::trocar::Real`, so the
-//! calling crate depends on `trocar` (with or without its `std` feature).
+//! calling crate depends on `trocar` (with or without its `std` feature). The associated functions
+//! take the module's types and sizes as the module's functions do (`&[T; N]`, `&Params<T>`), so
+//! the struct cannot be named like one of them (`struct Params;`, `struct JointTrig;` are errors).
 //!
 //! # Errors
 //!

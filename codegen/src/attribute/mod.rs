@@ -21,9 +21,7 @@ use crate::builder::{generate_module, ModuleOptions};
 use crate::naming::module_name;
 use proc_macro2::{Span, TokenStream};
 use quote::{format_ident, quote};
-use std::collections::BTreeSet;
 use std::path::PathBuf;
-use syn::visit_mut::VisitMut;
 use syn::{Fields, Ident, Item, ItemStruct, LitStr};
 use trocar_model::description::{preset_names, RobotDescription};
 
@@ -94,7 +92,7 @@ fn try_expand(attr: TokenStream, item: TokenStream) -> syn::Result<TokenStream> 
         .push(syn::parse_quote!(#[allow(clippy::possible_missing_comma)]));
     module_item.ident = module.clone();
 
-    let impl_and_aliases = delegates(&strukt, &module_item);
+    let impl_and_aliases = delegates(&strukt, &module_item)?;
     // The description file and the URDF its chain may come from.
     let tracked: Vec<TokenStream> = tracked
         .map(RobotDescription::files_read)
@@ -178,46 +176,6 @@ fn load(
     }
 }
 
-/// Prefixes the module's own item names (`N`, `Params`, `JointTrig`, ...) with `module::`:
-/// type names where a type is expected, constant and function names in expressions (array
-/// lengths), so that a generic parameter `T` and a module constant `T` (task rows) stay apart.
-struct Qualify<'a> {
-    module: &'a Ident,
-    /// The module's types (structs, aliases).
-    types: &'a BTreeSet<String>,
-    /// The module's constants and functions.
-    values: &'a BTreeSet<String>,
-}
-
-impl Qualify<'_> {
-    fn qualify(&self, path: &mut syn::Path, names: &BTreeSet<String>) {
-        if path.leading_colon.is_none()
-            && path.segments.len() == 1
-            && names.contains(&path.segments[0].ident.to_string())
-        {
-            let m = self.module;
-            let seg = path.segments[0].clone();
-            *path = syn::parse_quote!(#m::#seg);
-        }
-    }
-}
-
-impl VisitMut for Qualify<'_> {
-    fn visit_type_path_mut(&mut self, tp: &mut syn::TypePath) {
-        if tp.qself.is_none() {
-            self.qualify(&mut tp.path, self.types);
-        }
-        syn::visit_mut::visit_type_path_mut(self, tp);
-    }
-
-    fn visit_expr_path_mut(&mut self, ep: &mut syn::ExprPath) {
-        if ep.qself.is_none() {
-            self.qualify(&mut ep.path, self.values);
-        }
-        syn::visit_mut::visit_expr_path_mut(self, ep);
-    }
-}
-
 /// First paragraph of the doc comments, intra-doc links turned into plain code.
 fn summary(attrs: &[syn::Attribute]) -> String {
     let mut out = String::new();
@@ -246,39 +204,36 @@ fn summary(attrs: &[syn::Attribute]) -> String {
     out.replace("[`", "`").replace("`]", "`").trim().to_string()
 }
 
-fn delegates(strukt: &ItemStruct, module: &syn::ItemMod) -> TokenStream {
+/// The type aliases (`ArmParams`, ...) and the `impl` of the struct delegating to the module.
+///
+/// The associated functions keep the module functions' signatures as written there (`&[T; N]`,
+/// `&Params<T>`), so the `impl` is written in an anonymous constant that imports the module's
+/// types and constants. The struct cannot be named like one of those items when a signature
+/// uses it (`struct Params;`): the import would shadow it.
+fn delegates(strukt: &ItemStruct, module: &syn::ItemMod) -> syn::Result<TokenStream> {
     let ident = &strukt.ident;
     let vis = &strukt.vis;
     let m = &module.ident;
     let items: &[Item] = module.content.as_ref().map_or(&[], |(_, i)| i);
-    let types: BTreeSet<String> = items
+    // The names the signatures and constant types take from the module. A module item named
+    // like the struct is left out, so that `impl #ident` still names the struct.
+    let (named_like_struct, imported): (Vec<&Ident>, Vec<&Ident>) = items
         .iter()
         .filter_map(|i| match i {
-            Item::Struct(s) => Some(s.ident.to_string()),
-            Item::Type(t) => Some(t.ident.to_string()),
+            Item::Struct(s) => Some(&s.ident),
+            Item::Type(t) => Some(&t.ident),
+            Item::Const(c) => Some(&c.ident),
             _ => None,
         })
-        .collect();
-    let values: BTreeSet<String> = items
-        .iter()
-        .filter_map(|i| match i {
-            Item::Const(c) => Some(c.ident.to_string()),
-            Item::Fn(f) => Some(f.sig.ident.to_string()),
-            _ => None,
-        })
-        .collect();
-    let mut qualify = Qualify {
-        module: m,
-        types: &types,
-        values: &values,
-    };
+        .partition(|name| *name == ident);
     let mut assoc = Vec::new();
     let mut aliases = Vec::new();
+    let mut signatures = Vec::new();
     for item in items {
         match item {
             Item::Const(c) => {
-                let mut ty = (*c.ty).clone();
-                qualify.visit_type_mut(&mut ty);
+                let ty = &c.ty;
+                signatures.push(quote!(#ty));
                 let name = &c.ident;
                 let doc = format!("{} (`{m}::{name}`)", summary(&c.attrs));
                 assoc.push(quote! { #[doc = #doc] pub const #name: #ty = #m::#name; });
@@ -299,8 +254,8 @@ fn delegates(strukt: &ItemStruct, module: &syn::ItemMod) -> TokenStream {
                 });
             }
             Item::Fn(f) if matches!(f.vis, syn::Visibility::Public(_)) => {
-                let mut sig = f.sig.clone();
-                qualify.visit_signature_mut(&mut sig);
+                let sig = &f.sig;
+                signatures.push(quote!(#sig));
                 let name = &sig.ident;
                 let args = sig.inputs.iter().filter_map(|a| match a {
                     syn::FnArg::Typed(t) => Some(&t.pat),
@@ -317,43 +272,60 @@ fn delegates(strukt: &ItemStruct, module: &syn::ItemMod) -> TokenStream {
             _ => {}
         }
     }
-    let params_alias = format_ident!("{}Params", ident);
-    let nominal = if types.contains("Params") {
-        let params_ty: Option<&syn::ItemStruct> = items.iter().find_map(|i| match i {
-            Item::Struct(s) if s.ident == "Params" => Some(s),
-            _ => None,
-        });
-        let generic = params_ty.is_some_and(|s| s.generics.type_params().next().is_some());
-        if generic {
-            quote! {
-                /// The description's nominal parameter values (`Params::nominal()`).
-                #[inline]
-                #[must_use]
-                pub fn nominal_params<T: ::trocar::Real>() -> #params_alias<T> {
-                    #m::Params::nominal()
-                }
-            }
-        } else {
-            quote! {
-                /// The description's nominal parameter values (`Params::nominal()`).
-                #[inline]
-                #[must_use]
-                pub fn nominal_params() -> #params_alias {
-                    #m::Params::nominal()
-                }
-            }
-        }
-    } else {
-        quote!()
-    };
-    quote! {
-        #(#aliases)*
-        #[allow(dead_code)]
-        impl #ident {
-            #(#assoc)*
-            #nominal
-        }
+    if !named_like_struct.is_empty() && signatures.into_iter().any(|t| mentions(t, ident)) {
+        return Err(syn::Error::new(
+            ident.span(),
+            format_args!(
+                "the generated module `{m}` has an item named `{ident}` that the associated \
+                 functions use; rename the struct"
+            ),
+        ));
     }
+    let params_alias = format_ident!("{}Params", ident);
+    let params_ty: Option<&syn::ItemStruct> = items.iter().find_map(|i| match i {
+        Item::Struct(s) if s.ident == "Params" => Some(s),
+        _ => None,
+    });
+    let nominal = match params_ty {
+        Some(s) if s.generics.type_params().next().is_some() => quote! {
+            /// The description's nominal parameter values (`Params::nominal()`).
+            #[inline]
+            #[must_use]
+            pub fn nominal_params<T: ::trocar::Real>() -> #params_alias<T> {
+                #m::Params::nominal()
+            }
+        },
+        Some(_) => quote! {
+            /// The description's nominal parameter values (`Params::nominal()`).
+            #[inline]
+            #[must_use]
+            pub fn nominal_params() -> #params_alias {
+                #m::Params::nominal()
+            }
+        },
+        None => quote!(),
+    };
+    Ok(quote! {
+        #(#aliases)*
+        const _: () = {
+            #[allow(unused_imports)]
+            use #m::{#(#imported),*};
+            #[allow(dead_code)]
+            impl #ident {
+                #(#assoc)*
+                #nominal
+            }
+        };
+    })
+}
+
+/// Whether `tokens` contain the identifier `name`.
+fn mentions(tokens: TokenStream, name: &Ident) -> bool {
+    tokens.into_iter().any(|t| match t {
+        proc_macro2::TokenTree::Ident(i) => i == *name,
+        proc_macro2::TokenTree::Group(g) => mentions(g.stream(), name),
+        _ => false,
+    })
 }
 
 #[cfg(test)]

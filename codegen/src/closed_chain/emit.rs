@@ -65,7 +65,7 @@ pub fn module_spec(d: &MechanismDerivation, module_name: &str) -> ModuleSpec {
         Size::NPassive => np,
         Size::NOutputs => no,
         Size::R => r,
-        Size::I | Size::M | Size::K | Size::T => {
+        Size::I | Size::M | Size::K | Size::TaskRows => {
             unreachable!("a mechanism module has no size {s:?}")
         }
     };

@@ -389,7 +389,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
         (Size::R, Some(c)) => c.r,
         (Size::M, Some(c)) => c.m,
         (Size::K, Some(c)) => 6 - c.r,
-        (Size::T, Some(c)) => c.task.as_ref().map_or(6, |t| t.s.rows()),
+        (Size::TaskRows, Some(c)) => c.task.as_ref().map_or(6, |t| t.s.rows()),
         _ => unreachable!("a serial module has no size {s:?}"),
     };
 
@@ -565,13 +565,13 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
         ));
         if let Some(t) = &c.task {
             consts.push(ConstItem {
-                name: "T".into(),
+                name: "TASK_ROWS".into(),
                 value: t.s.rows(),
                 doc: "Number of task rows `t` (rows of `S`, the `[task]` selection).".into(),
             });
             functions.push(EmittedFunction::catalogued(
                 F::TaskSelection,
-                "The task selection `S`, T × 6: the rows of the end-effector body twist \
+                "The task selection `S`, TASK_ROWS × 6: the rows of the end-effector body twist \
                  `V^B_0e = (v, ω)` (components in the end-effector frame) that the task commands",
                 "",
                 matrix_program(d, &t.s),
@@ -579,8 +579,8 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
             ));
             functions.push(EmittedFunction::catalogued(
                 F::ConstrainedTaskJacobian,
-                "Task Jacobian `S J^r_0e`, T × M: the commanded rows of the end-effector twist per \
-                 unit of `(v0i, θ̇_j..θ̇_n)`",
+                "Task Jacobian `S J^r_0e`, TASK_ROWS × M: the commanded rows of the end-effector \
+                 twist per unit of `(v0i, θ̇_j..θ̇_n)`",
                 "",
                 graph_or_expanded(d, &t.jacobian),
                 size,

@@ -105,10 +105,10 @@ pub(crate) fn tokens(rt: &TokenStream, real: Scalar, spec: &ControllerSpec) -> T
     let (task_field, task_zero, task_fill, task_check) = if spec.task {
         (
             quote! {
-                /// `S J^r_0e`, T × M (`constrained_task_jacobian`).
-                pub task_jacobian: [[#t; T]; M],
+                /// `S J^r_0e`, TASK_ROWS × M (`constrained_task_jacobian`).
+                pub task_jacobian: [[#t; TASK_ROWS]; M],
             },
-            quote!(task_jacobian: [[z; T]; M],),
+            quote!(task_jacobian: [[z; TASK_ROWS]; M],),
             quote!(out.task_jacobian = constrained_task_jacobian_trig(t, p);),
             quote!(&&finite(out.task_jacobian.as_flattened())),
         )
@@ -337,7 +337,7 @@ fn glue_tokens(rt: &TokenStream, real: Scalar, offset: &str, spec: &ControllerSp
     let real = quote!(<#t as #rt::Real>);
     let (p_const, selection) = if task {
         (
-            quote!({ T }),
+            quote!(TASK_ROWS),
             quote! {
                 #rt::nalgebra::SMatrix::from_data(#rt::nalgebra::ArrayStorage(
                     task_selection(&self.params),
@@ -358,7 +358,7 @@ fn glue_tokens(rt: &TokenStream, real: Scalar, offset: &str, spec: &ControllerSp
          offset, at offset 0) reach the joint rates, which the controller rejects \
          (`ControlError::NonFinite`).",
         rt = rt.to_string().replace(' ', ""),
-        p = if task { "T" } else { "6" },
+        p = if task { "TASK_ROWS" } else { "6" },
         offset = offset,
     );
     let struct_doc = doc_lines(&struct_doc);

@@ -10,6 +10,10 @@ struct Zx;
 #[constrained_robot(preset = "unidirectional", real = "f64", module = "uni_kin")]
 struct Uni;
 
+// Named like an item of its module (`kinematics::Kinematics`) that no delegated signature uses.
+#[constrained_robot(preset = "unidirectional", real = "f64")]
+struct Kinematics;
+
 fn main() {
     let q = [0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
     let p: ZyParams<f64> = Zy::nominal_params();
@@ -33,4 +37,8 @@ fn main() {
     let ju: [[f64; 6]; 7] = Uni::constrained_jacobian(&q, &pu);
     assert!(Uni::manipulability(&q, &pu) > 0.0);
     assert_eq!(ju.len(), 7);
+
+    let jk: [[f64; 6]; 7] = Kinematics::constrained_jacobian(&q, &Kinematics::nominal_params());
+    assert_eq!(jk, ju);
+    let _glue: kinematics::Kinematics = kinematics::Kinematics::nominal();
 }

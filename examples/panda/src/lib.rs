@@ -39,7 +39,7 @@ pub type PandaController = Controller<
     { panda::R },
     { panda::K },
     { panda::M },
-    { panda::T },
+    { panda::TASK_ROWS },
 >;
 
 /// The start configuration `(0, −π/4, 0, −3π/4, 0, π/2, π/4)` (rad).

@@ -30,8 +30,8 @@ pub enum Size {
     M,
     /// `K`: columns of `Λ#`, `6 − r` (3.6).
     K,
-    /// `T`: rows of the task selection `S` (a `[task]` section).
-    T,
+    /// `TASK_ROWS`: rows of the task selection `S` (a `[task]` section).
+    TaskRows,
     /// `N_ACTIVE`: active joints `n_a` of a mechanism.
     NActive,
     /// `N_PASSIVE`: passive joints `n_p` of a mechanism.
@@ -49,7 +49,7 @@ impl Size {
             Size::R => "R",
             Size::M => "M",
             Size::K => "K",
-            Size::T => "T",
+            Size::TaskRows => "TASK_ROWS",
             Size::NActive => "N_ACTIVE",
             Size::NPassive => "N_PASSIVE",
             Size::NOutputs => "N_OUTPUTS",
@@ -159,10 +159,10 @@ pub enum Function {
     /// `constraint_frame`: `g_ir`, the constraint frame `F_r` in the constrained link's frame
     /// (3.3); depends only on the parameters.
     ConstraintFrame,
-    /// `task_selection`: the task's selection `S`, T × 6, rows of the end-effector body twist
-    /// (components in `F_e`); only with a `[task]`; depends on no joint.
+    /// `task_selection`: the task's selection `S`, TASK_ROWS × 6, rows of the end-effector body
+    /// twist (components in `F_e`); only with a `[task]`; depends on no joint.
     TaskSelection,
-    /// `constrained_task_jacobian`: `S J^r_0e`, T × M, what the task commands; only with a
+    /// `constrained_task_jacobian`: `S J^r_0e`, TASK_ROWS × M, what the task commands; only with a
     /// `[task]`.
     ConstrainedTaskJacobian,
     /// `constraint_jacobian` (mechanisms): `J_C = ∂c/∂θ`, R × N (3), (19), (31).
@@ -189,7 +189,7 @@ pub enum Function {
 }
 
 use Dim::{Fixed, OnePlus};
-use Size::{NActive, NOutputs, NPassive, I, K, M, N, R, T};
+use Size::{NActive, NOutputs, NPassive, TaskRows, I, K, M, N, R};
 
 impl Function {
     /// The functions of a serial robot's module, in emission order (all but the first two only
@@ -427,11 +427,11 @@ impl Function {
                 cols: Dim::Size(R),
             },
             Function::TaskSelection => Matrix {
-                rows: Dim::Size(T),
+                rows: Dim::Size(TaskRows),
                 cols: Fixed(6),
             },
             Function::ConstrainedTaskJacobian => Matrix {
-                rows: Dim::Size(T),
+                rows: Dim::Size(TaskRows),
                 cols: Dim::Size(M),
             },
             Function::Manipulability

@@ -26,7 +26,7 @@ pub mod panda_laparoscope {
     /// Number of columns of `Λ#`: `k = 6 − r`, the free directions of the constrained link's twist.
     pub const K: usize = 4;
     /// Number of task rows `t` (rows of `S`, the `[task]` selection).
-    pub const T: usize = 4;
+    pub const TASK_ROWS: usize = 4;
     /// Joint limits `[lower, upper]` (rad for revolute joints, m for prismatic ones),
     /// base first, from the description (its URDF's `<limit>` or `limits = [lo, hi]`).
     pub const JOINT_LIMITS: [[f64; 2]; N] = [
@@ -1297,14 +1297,14 @@ pub mod panda_laparoscope {
             ],
         )
     }
-    /// The task selection `S`, T × 6: the rows of the end-effector body twist `V^B_0e = (v, ω)` (components in the end-effector frame) that the task commands, thesis (3.15).
+    /// The task selection `S`, TASK_ROWS × 6: the rows of the end-effector body twist `V^B_0e = (v, ω)` (components in the end-effector frame) that the task commands, thesis (3.15).
     ///
-    /// Returns the 4 × 6 matrix **column-major**: `[[f64; T]; 6]` holds 6 columns of T entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f64, 4, 6>::from_data(ArrayStorage(a))`.
+    /// Returns the 4 × 6 matrix **column-major**: `[[f64; TASK_ROWS]; 6]` holds 6 columns of TASK_ROWS entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f64, 4, 6>::from_data(ArrayStorage(a))`.
     ///
     /// Operations: 0 add, 0 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn task_selection(_p: &Params) -> [[f64; T]; 6] {
+    pub fn task_selection(_p: &Params) -> [[f64; TASK_ROWS]; 6] {
         [
             [
                 <f64 as ::trocar::Real>::ONE,
@@ -1344,14 +1344,17 @@ pub mod panda_laparoscope {
             ],
         ]
     }
-    /// Task Jacobian `S J^r_0e`, T × M: the commanded rows of the end-effector twist per unit of `(v0i, θ̇_j..θ̇_n)`, thesis (3.15).
+    /// Task Jacobian `S J^r_0e`, TASK_ROWS × M: the commanded rows of the end-effector twist per unit of `(v0i, θ̇_j..θ̇_n)`, thesis (3.15).
     ///
-    /// Returns the 4 × 4 matrix **column-major**: `[[f64; T]; M]` holds M columns of T entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f64, 4, 4>::from_data(ArrayStorage(a))`.
+    /// Returns the 4 × 4 matrix **column-major**: `[[f64; TASK_ROWS]; M]` holds M columns of TASK_ROWS entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f64, 4, 4>::from_data(ArrayStorage(a))`.
     ///
     /// Operations: 2 add, 0 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn constrained_task_jacobian(_q: &[f64; N], p: &Params) -> [[f64; T]; M] {
+    pub fn constrained_task_jacobian(
+        _q: &[f64; N],
+        p: &Params,
+    ) -> [[f64; TASK_ROWS]; M] {
         [
             [
                 <f64 as ::trocar::Real>::ZERO,
@@ -1381,12 +1384,15 @@ pub mod panda_laparoscope {
     }
     /// [`constrained_task_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]), thesis (3.15).
     ///
-    /// Returns the 4 × 4 matrix **column-major**: `[[f64; T]; M]` holds M columns of T entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f64, 4, 4>::from_data(ArrayStorage(a))`.
+    /// Returns the 4 × 4 matrix **column-major**: `[[f64; TASK_ROWS]; M]` holds M columns of TASK_ROWS entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f64, 4, 4>::from_data(ArrayStorage(a))`.
     ///
     /// Operations: 2 add, 0 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn constrained_task_jacobian_trig(_t: &JointTrig, p: &Params) -> [[f64; T]; M] {
+    pub fn constrained_task_jacobian_trig(
+        _t: &JointTrig,
+        p: &Params,
+    ) -> [[f64; TASK_ROWS]; M] {
         [
             [
                 <f64 as ::trocar::Real>::ZERO,
@@ -1660,8 +1666,8 @@ pub mod panda_laparoscope {
         pub lambda_sharp: [[f64; 6]; K],
         /// `Λ†`, 6 × R.
         pub lambda_pinv: [[f64; 6]; R],
-        /// `S J^r_0e`, T × M (`constrained_task_jacobian`).
-        pub task_jacobian: [[f64; T]; M],
+        /// `S J^r_0e`, TASK_ROWS × M (`constrained_task_jacobian`).
+        pub task_jacobian: [[f64; TASK_ROWS]; M],
     }
     impl StepKinematics {
         /// All zeros (storage to be filled by [`step_kinematics`]).
@@ -1678,7 +1684,7 @@ pub mod panda_laparoscope {
                 jc: [[z; 6]; R],
                 lambda_sharp: [[z; 6]; K],
                 lambda_pinv: [[z; 6]; R],
-                task_jacobian: [[z; T]; M],
+                task_jacobian: [[z; TASK_ROWS]; M],
             }
         }
     }
@@ -2228,7 +2234,7 @@ pub mod panda_laparoscope {
             w,
         )
     }
-    /// The runtime controller's kinematics on this module's closed forms: `::trocar::control::ConstrainedKinematics<_, N, I, R, K, M, T>`, so that `::trocar::control::Controller` runs on generated code.
+    /// The runtime controller's kinematics on this module's closed forms: `::trocar::control::ConstrainedKinematics<_, N, I, R, K, M, TASK_ROWS>`, so that `::trocar::control::Controller` runs on generated code.
     ///
     /// The constraint frame slides along the link with `params.l_a` (`g_ir = (R_ir, o + l_a d)`, [`constraint_frame`]); a step computes everything from one [`JointTrig`] as [`step_kinematics`] does. A non-finite offset is `ControlError::Kinematics`; other non-finite outputs (e.g. a basis that divides by the offset, at offset 0) reach the joint rates, which the controller rejects (`ControlError::NonFinite`).
     #[derive(Clone, Copy, Debug, PartialEq)]
@@ -2285,7 +2291,7 @@ pub mod panda_laparoscope {
             }
         }
     }
-    impl ::trocar::control::ConstrainedKinematics<f64, N, I, R, K, M, { T }>
+    impl ::trocar::control::ConstrainedKinematics<f64, N, I, R, K, M, TASK_ROWS>
     for Kinematics {
         #[inline]
         fn g_0i(
@@ -2310,7 +2316,7 @@ pub mod panda_laparoscope {
             ::trocar::control::Shaft::from_frames(&at_zero, &at_one)
         }
         #[inline]
-        fn task_selection(&self) -> ::trocar::nalgebra::SMatrix<f64, { T }, 6> {
+        fn task_selection(&self) -> ::trocar::nalgebra::SMatrix<f64, TASK_ROWS, 6> {
             ::trocar::nalgebra::SMatrix::from_data(
                 ::trocar::nalgebra::ArrayStorage(task_selection(&self.params)),
             )
@@ -2343,8 +2349,8 @@ pub mod panda_laparoscope {
         #[inline]
         fn solve_task(
             &self,
-            j: &::trocar::nalgebra::SMatrix<f64, { T }, M>,
-            b: &::trocar::nalgebra::SVector<f64, { T }>,
+            j: &::trocar::nalgebra::SMatrix<f64, TASK_ROWS, M>,
+            b: &::trocar::nalgebra::SVector<f64, TASK_ROWS>,
         ) -> ::core::option::Option<(::trocar::nalgebra::SVector<f64, M>, f64)> {
             let (x, det) = lu_solve_4(&j.data.0, &b.data.0[0]);
             ::core::option::Option::Some((::trocar::nalgebra::SVector::from(x), det))
