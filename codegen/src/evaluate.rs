@@ -26,6 +26,8 @@ pub struct Generated {
     spec: ModuleSpec,
     /// Every function's program, compiled, in the order of `spec.functions`.
     compiled: Vec<Compiled>,
+    /// The catalogue entry of each of `spec.functions` (`None` for a function it does not name).
+    entries: Vec<Option<Function>>,
 }
 
 impl Generated {
@@ -55,22 +57,35 @@ impl Generated {
             .iter()
             .map(|f| Compiled::new(&f.program, spec.joints))
             .collect();
-        Generated { spec, compiled }
+        let entries = spec
+            .functions
+            .iter()
+            .map(|f| Function::from_name(&f.name))
+            .collect();
+        Generated {
+            spec,
+            compiled,
+            entries,
+        }
+    }
+
+    fn position(&self, function: Function) -> Option<usize> {
+        self.entries.iter().position(|e| *e == Some(function))
+    }
+
+    /// Number of parameters.
+    pub fn param_count(&self) -> usize {
+        self.spec.params.len()
     }
 
     /// The compiled program of `function`, if the module has it.
     pub fn compiled(&self, function: Function) -> Option<&Compiled> {
-        let k = self
-            .spec
-            .functions
-            .iter()
-            .position(|x| x.name == function.name())?;
-        Some(&self.compiled[k])
+        Some(&self.compiled[self.position(function)?])
     }
 
     /// The layout of `function`'s outputs, if the module has it.
     pub fn shape(&self, function: Function) -> Option<Layout> {
-        self.spec.function(function).map(|f| f.layout)
+        Some(self.spec.functions[self.position(function)?].layout)
     }
 
     /// Number of joint values the functions take.

@@ -157,7 +157,7 @@ pub enum Command {
     List,
 }
 
-/// `--real`: the scalar type of generated code ([`trocar_codegen::Real`]).
+/// `--real`: the scalar type of generated code ([`trocar_codegen::Scalar`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum RealArg {
     /// Generic over `T: trocar::Real`.
@@ -261,12 +261,12 @@ pub enum OnOff {
     Off,
 }
 
-impl From<RealArg> for trocar_codegen::Real {
+impl From<RealArg> for trocar_codegen::Scalar {
     fn from(r: RealArg) -> Self {
         match r {
-            RealArg::Generic => trocar_codegen::Real::Generic,
-            RealArg::F32 => trocar_codegen::Real::F32,
-            RealArg::F64 => trocar_codegen::Real::F64,
+            RealArg::Generic => trocar_codegen::Scalar::Generic,
+            RealArg::F32 => trocar_codegen::Scalar::F32,
+            RealArg::F64 => trocar_codegen::Scalar::F64,
         }
     }
 }

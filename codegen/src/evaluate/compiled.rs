@@ -26,22 +26,72 @@ use trocar::Real;
 /// Configurations evaluated side by side by [`Compiled::eval_batch`].
 pub const LANES: usize = 8;
 
+/// Register files of at most this many registers are indexed by `u8` into a fixed-size array,
+/// so that every access is in bounds by its type and the evaluation loop has no bounds checks
+/// (the Panda's programs use 6–51 registers); larger programs index a slice.
+pub const SMALL_REGISTERS: usize = 256;
+
+/// A register index: `u8` into `[_; SMALL_REGISTERS]`, `u32` into a slice.
+trait Reg: Copy + std::fmt::Debug + PartialEq {
+    fn at(self) -> usize;
+}
+
+impl Reg for u8 {
+    #[inline(always)]
+    fn at(self) -> usize {
+        self as usize
+    }
+}
+
+impl Reg for u32 {
+    #[inline(always)]
+    fn at(self) -> usize {
+        self as usize
+    }
+}
+
 /// One arithmetic operation on registers (`d` the destination).
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Instr {
-    Add(u32, u32, u32),
-    Sub(u32, u32, u32),
-    Mul(u32, u32, u32),
-    Div(u32, u32, u32),
-    Neg(u32, u32),
-    Sqrt(u32, u32),
-    Abs(u32, u32),
+enum Instr<R> {
+    Add(R, R, R),
+    Sub(R, R, R),
+    Mul(R, R, R),
+    Div(R, R, R),
+    Neg(R, R),
+    Sqrt(R, R),
+    Abs(R, R),
     /// `d = x · y + c`, one `Real::mul_add`.
-    MulAdd(u32, u32, u32, u32),
+    MulAdd(R, R, R, R),
     /// `d = x · y − b` as `Real::mul_add(x, y, −b)`.
-    MulSub(u32, u32, u32, u32),
+    MulSub(R, R, R, R),
     /// `d = a − x · y` as `Real::mul_add(−x, y, a)`.
-    SubMul(u32, u32, u32, u32),
+    SubMul(R, R, R, R),
+}
+
+impl Instr<u32> {
+    /// The same operation with `u8` registers (all indices below [`SMALL_REGISTERS`]).
+    fn narrow(self) -> Instr<u8> {
+        let n = |r: u32| r as u8;
+        match self {
+            Instr::Add(d, a, b) => Instr::Add(n(d), n(a), n(b)),
+            Instr::Sub(d, a, b) => Instr::Sub(n(d), n(a), n(b)),
+            Instr::Mul(d, a, b) => Instr::Mul(n(d), n(a), n(b)),
+            Instr::Div(d, a, b) => Instr::Div(n(d), n(a), n(b)),
+            Instr::Neg(d, a) => Instr::Neg(n(d), n(a)),
+            Instr::Sqrt(d, a) => Instr::Sqrt(n(d), n(a)),
+            Instr::Abs(d, a) => Instr::Abs(n(d), n(a)),
+            Instr::MulAdd(d, x, y, c) => Instr::MulAdd(n(d), n(x), n(y), n(c)),
+            Instr::MulSub(d, x, y, c) => Instr::MulSub(n(d), n(x), n(y), n(c)),
+            Instr::SubMul(d, x, y, c) => Instr::SubMul(n(d), n(x), n(y), n(c)),
+        }
+    }
+}
+
+/// The operations, with the narrowest registers that hold the program.
+#[derive(Clone, Debug)]
+enum Code {
+    Small(Vec<Instr<u8>>),
+    Large(Vec<Instr<u32>>),
 }
 
 /// Input registers, filled before the operations run.
@@ -67,7 +117,9 @@ pub struct Compiled {
     template: Vec<f64>,
     /// The other inputs.
     inputs: Vec<Input>,
-    instrs: Vec<Instr>,
+    code: Code,
+    /// Number of operations.
+    operations: usize,
     outputs: Vec<u32>,
     joints: usize,
     params: usize,
@@ -193,10 +245,17 @@ impl Compiled {
             reg[i] = d;
         }
         template.resize(registers, 0.0);
+        let operations = instrs.len();
+        let code = if registers <= SMALL_REGISTERS {
+            Code::Small(instrs.into_iter().map(Instr::narrow).collect())
+        } else {
+            Code::Large(instrs)
+        };
         Compiled {
             template,
             inputs,
-            instrs,
+            code,
+            operations,
             outputs: outputs.iter().map(|o| reg[o.index()]).collect(),
             joints,
             params: program.params().len(),
@@ -215,7 +274,7 @@ impl Compiled {
 
     /// Number of arithmetic operations evaluated per configuration.
     pub fn operations(&self) -> usize {
-        self.instrs.len()
+        self.operations
     }
 
     /// Evaluates at joint values `q` (`joints` of them) and parameter values `params` into `out`
@@ -225,11 +284,37 @@ impl Compiled {
     /// # Panics
     /// If `q`, `params` or `out` has the wrong length.
     pub fn eval_into(&self, q: &[f64], params: &[f64], scratch: &mut Vec<f64>, out: &mut [f64]) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                // SAFETY: the one requirement of calling a function compiled with
+                // `target_feature(enable = "avx512f")` is that the CPU has AVX-512F, detected
+                // just above.
+                return unsafe { self.single_avx512(q, params, scratch, out) };
+            }
+        }
+        self.single(q, params, scratch, out);
+    }
+
+    /// [`Compiled::single`] compiled for AVX-512F: the joints' sines and cosines in one vector
+    /// register ([`Compiled::batch_avx512`] says why the results do not change).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    fn single_avx512(&self, q: &[f64], params: &[f64], scratch: &mut Vec<f64>, out: &mut [f64]) {
+        self.single(q, params, scratch, out);
+    }
+
+    /// The body of [`Compiled::eval_into`], inlined into each instruction-set variant.
+    #[inline(always)]
+    fn single(&self, q: &[f64], params: &[f64], scratch: &mut Vec<f64>, out: &mut [f64]) {
         assert_eq!(q.len(), self.joints, "one value per joint");
         assert_eq!(params.len(), self.params, "one value per parameter");
         assert_eq!(out.len(), self.outputs.len(), "one entry per output");
         scratch.clear();
         scratch.extend_from_slice(&self.template);
+        if let Code::Small(_) = self.code {
+            scratch.resize(SMALL_REGISTERS, 0.0);
+        }
         let regs = scratch.as_mut_slice();
         // The sines and cosines, LANES joints side by side (each bit for bit `sin_cos`).
         let mut group = [0.0; LANES];
@@ -270,7 +355,15 @@ impl Compiled {
             group[filled..].fill(last);
             flush(&group, &targets, filled, regs);
         }
-        run(&self.instrs, regs);
+        match &self.code {
+            Code::Small(code) => {
+                let regs: &mut [f64; SMALL_REGISTERS] = (&mut regs[..SMALL_REGISTERS])
+                    .try_into()
+                    .expect("resized to SMALL_REGISTERS above");
+                run(code, regs);
+            }
+            Code::Large(code) => run(code, regs),
+        }
         for (o, &r) in out.iter_mut().zip(&self.outputs) {
             *o = regs[r as usize];
         }
@@ -291,8 +384,93 @@ impl Compiled {
     /// # Panics
     /// If the lengths do not match.
     pub fn eval_batch(&self, q: &[f64], params: &[f64], out: &mut [f64]) {
+        let order: Vec<usize> = (0..self.outputs.len()).collect();
+        self.eval_batch_ordered(q, params, out, self.outputs.len(), &order);
+    }
+
+    /// [`Compiled::eval_batch`] into blocks of `stride` entries per configuration, output `j`
+    /// written at position `order[j]` of its configuration's block (a caller's layout, such as a
+    /// row-major matrix or a homogeneous transform, without a second copy; positions no output
+    /// goes to are left as they are). Returns whether every output is finite.
+    ///
+    /// # Panics
+    /// If the lengths do not match, or two outputs share a position, or one is beyond `stride`.
+    pub fn eval_batch_ordered(
+        &self,
+        q: &[f64],
+        params: &[f64],
+        out: &mut [f64],
+        stride: usize,
+        order: &[usize],
+    ) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                // SAFETY: the one requirement of calling a function compiled with
+                // `target_feature(enable = "avx512f")` is that the CPU has AVX-512F, detected
+                // just above.
+                return unsafe { self.batch_avx512(q, params, out, stride, order) };
+            }
+            if std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: as above, for AVX2, detected just above.
+                return unsafe { self.batch_avx2(q, params, out, stride, order) };
+            }
+        }
+        self.batch(q, params, out, stride, order)
+    }
+
+    /// [`Compiled::batch`] compiled for AVX-512F: the lanes in one vector register. No fused
+    /// multiply-add is formed (Rust does not contract `x * y + z`), so every lane rounds as
+    /// [`Compiled::eval`] does.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    fn batch_avx512(
+        &self,
+        q: &[f64],
+        params: &[f64],
+        out: &mut [f64],
+        stride: usize,
+        order: &[usize],
+    ) -> bool {
+        self.batch(q, params, out, stride, order)
+    }
+
+    /// [`Compiled::batch`] compiled for AVX2 (two vector registers a lane group).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn batch_avx2(
+        &self,
+        q: &[f64],
+        params: &[f64],
+        out: &mut [f64],
+        stride: usize,
+        order: &[usize],
+    ) -> bool {
+        self.batch(q, params, out, stride, order)
+    }
+
+    /// The body of [`Compiled::eval_batch_ordered`], inlined into each instruction-set variant.
+    #[inline(always)]
+    fn batch(
+        &self,
+        q: &[f64],
+        params: &[f64],
+        out: &mut [f64],
+        stride: usize,
+        order: &[usize],
+    ) -> bool {
+        assert_eq!(order.len(), self.outputs.len(), "one position per output");
+        // Registers read for each position of a block (`None`: left as it is).
+        let mut source: Vec<Option<u32>> = vec![None; stride];
+        for (j, &o) in order.iter().enumerate() {
+            assert!(
+                source[o].replace(self.outputs[j]).is_none(),
+                "one output a position"
+            );
+        }
+        let mut finite = true;
         let n = self.joints;
-        let m = self.outputs.len();
+        let m = stride;
         let count = match (n, m) {
             (0, 0) => 0,
             (0, _) => out.len() / m,
@@ -306,6 +484,9 @@ impl Compiled {
         );
         assert_eq!(params.len(), self.params, "one value per parameter");
         let mut regs: Vec<[f64; LANES]> = self.template.iter().map(|&c| [c; LANES]).collect();
+        if let Code::Small(_) = self.code {
+            regs.resize(SMALL_REGISTERS, [0.0; LANES]);
+        }
         for &input in &self.inputs {
             if let Input::Param(r, p) = input {
                 regs[r as usize] = [params[p]; LANES];
@@ -333,15 +514,29 @@ impl Compiled {
                     }
                 }
             }
-            run_lanes(&self.instrs, &mut regs);
-            for l in 0..lanes {
-                let row = &mut out[(first + l) * m..(first + l + 1) * m];
-                for (o, &r) in row.iter_mut().zip(&self.outputs) {
-                    *o = regs[r as usize][l];
+            match &self.code {
+                Code::Small(code) => {
+                    let small: &mut [[f64; LANES]; SMALL_REGISTERS] = (&mut regs
+                        [..SMALL_REGISTERS])
+                        .try_into()
+                        .expect("resized to SMALL_REGISTERS above");
+                    run_lanes(code, small);
+                }
+                Code::Large(code) => run_lanes(code, &mut regs),
+            }
+            let block = &mut out[first * m..(first + lanes) * m];
+            for (l, row) in block.chunks_exact_mut(m.max(1)).enumerate() {
+                for (o, r) in row.iter_mut().zip(&source) {
+                    if let Some(r) = r {
+                        let v = regs[*r as usize][l];
+                        finite &= v.is_finite();
+                        *o = v;
+                    }
                 }
             }
             first += lanes;
         }
+        finite
     }
 }
 
@@ -361,34 +556,40 @@ fn operands_as_evaluated(program: &Program, fused: &[bool], op: &Op) -> Vec<Valu
     out
 }
 
-/// Runs the operations on one register file.
-#[inline(never)]
-fn run(instrs: &[Instr], v: &mut [f64]) {
+/// Runs the operations on one register file (`V` a fixed-size array for `u8` registers, where
+/// no access needs a bounds check, or a slice).
+#[inline(always)]
+fn run<R: Reg, V: std::ops::IndexMut<usize, Output = f64> + ?Sized>(
+    instrs: &[Instr<R>],
+    v: &mut V,
+) {
     for &i in instrs {
         match i {
-            Instr::Add(d, a, b) => v[d as usize] = v[a as usize] + v[b as usize],
-            Instr::Sub(d, a, b) => v[d as usize] = v[a as usize] - v[b as usize],
-            Instr::Mul(d, a, b) => v[d as usize] = v[a as usize] * v[b as usize],
-            Instr::Div(d, a, b) => v[d as usize] = v[a as usize] / v[b as usize],
-            Instr::Neg(d, a) => v[d as usize] = -v[a as usize],
-            Instr::Sqrt(d, a) => v[d as usize] = Real::sqrt(v[a as usize]),
-            Instr::Abs(d, a) => v[d as usize] = Real::abs(v[a as usize]),
-            Instr::MulAdd(d, x, y, c) => {
-                v[d as usize] = Real::mul_add(v[x as usize], v[y as usize], v[c as usize])
-            }
+            Instr::Add(d, a, b) => v[d.at()] = v[a.at()] + v[b.at()],
+            Instr::Sub(d, a, b) => v[d.at()] = v[a.at()] - v[b.at()],
+            Instr::Mul(d, a, b) => v[d.at()] = v[a.at()] * v[b.at()],
+            Instr::Div(d, a, b) => v[d.at()] = v[a.at()] / v[b.at()],
+            Instr::Neg(d, a) => v[d.at()] = -v[a.at()],
+            Instr::Sqrt(d, a) => v[d.at()] = Real::sqrt(v[a.at()]),
+            Instr::Abs(d, a) => v[d.at()] = Real::abs(v[a.at()]),
+            Instr::MulAdd(d, x, y, c) => v[d.at()] = Real::mul_add(v[x.at()], v[y.at()], v[c.at()]),
             Instr::MulSub(d, x, y, b) => {
-                v[d as usize] = Real::mul_add(v[x as usize], v[y as usize], -v[b as usize])
+                v[d.at()] = Real::mul_add(v[x.at()], v[y.at()], -v[b.at()])
             }
             Instr::SubMul(d, x, y, a) => {
-                v[d as usize] = Real::mul_add(-v[x as usize], v[y as usize], v[a as usize])
+                v[d.at()] = Real::mul_add(-v[x.at()], v[y.at()], v[a.at()])
             }
         }
     }
 }
 
-/// Runs the operations on [`LANES`] register files side by side.
-#[inline(never)]
-fn run_lanes(instrs: &[Instr], v: &mut [[f64; LANES]]) {
+/// Runs the operations on [`LANES`] register files side by side (inlined into each
+/// instruction-set variant of the batch evaluation).
+#[inline(always)]
+fn run_lanes<R: Reg, V: std::ops::IndexMut<usize, Output = [f64; LANES]> + ?Sized>(
+    instrs: &[Instr<R>],
+    v: &mut V,
+) {
     #[inline(always)]
     fn map2(a: [f64; LANES], b: [f64; LANES], f: impl Fn(f64, f64) -> f64) -> [f64; LANES] {
         core::array::from_fn(|l| f(a[l], b[l]))
@@ -404,25 +605,25 @@ fn run_lanes(instrs: &[Instr], v: &mut [[f64; LANES]]) {
     }
     for &i in instrs {
         match i {
-            Instr::Add(d, a, b) => v[d as usize] = map2(v[a as usize], v[b as usize], |a, b| a + b),
-            Instr::Sub(d, a, b) => v[d as usize] = map2(v[a as usize], v[b as usize], |a, b| a - b),
-            Instr::Mul(d, a, b) => v[d as usize] = map2(v[a as usize], v[b as usize], |a, b| a * b),
-            Instr::Div(d, a, b) => v[d as usize] = map2(v[a as usize], v[b as usize], |a, b| a / b),
-            Instr::Neg(d, a) => v[d as usize] = v[a as usize].map(|a| -a),
-            Instr::Sqrt(d, a) => v[d as usize] = v[a as usize].map(Real::sqrt),
-            Instr::Abs(d, a) => v[d as usize] = v[a as usize].map(Real::abs),
+            Instr::Add(d, a, b) => v[d.at()] = map2(v[a.at()], v[b.at()], |a, b| a + b),
+            Instr::Sub(d, a, b) => v[d.at()] = map2(v[a.at()], v[b.at()], |a, b| a - b),
+            Instr::Mul(d, a, b) => v[d.at()] = map2(v[a.at()], v[b.at()], |a, b| a * b),
+            Instr::Div(d, a, b) => v[d.at()] = map2(v[a.at()], v[b.at()], |a, b| a / b),
+            Instr::Neg(d, a) => v[d.at()] = v[a.at()].map(|a| -a),
+            Instr::Sqrt(d, a) => v[d.at()] = v[a.at()].map(Real::sqrt),
+            Instr::Abs(d, a) => v[d.at()] = v[a.at()].map(Real::abs),
             Instr::MulAdd(d, x, y, c) => {
-                v[d as usize] = map3(v[x as usize], v[y as usize], v[c as usize], |x, y, c| {
+                v[d.at()] = map3(v[x.at()], v[y.at()], v[c.at()], |x, y, c| {
                     Real::mul_add(x, y, c)
                 })
             }
             Instr::MulSub(d, x, y, b) => {
-                v[d as usize] = map3(v[x as usize], v[y as usize], v[b as usize], |x, y, b| {
+                v[d.at()] = map3(v[x.at()], v[y.at()], v[b.at()], |x, y, b| {
                     Real::mul_add(x, y, -b)
                 })
             }
             Instr::SubMul(d, x, y, a) => {
-                v[d as usize] = map3(v[x as usize], v[y as usize], v[a as usize], |x, y, a| {
+                v[d.at()] = map3(v[x.at()], v[y.at()], v[a.at()], |x, y, a| {
                     Real::mul_add(-x, y, a)
                 })
             }

@@ -16,7 +16,10 @@ fn main() -> Result<(), trocar_api::Error> {
         let e = robot.evaluator(f)?;
         let c = robot.derive()?.compiled(f).expect("compiled");
         let mut out = vec![0.0; e.len()];
-        let n = 200_000;
+        let n: usize = std::env::var("EVAL_TIMING_CALLS")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(200_000);
         let mut best = f64::INFINITY;
         for _ in 0..5 {
             let t = Instant::now();
@@ -25,6 +28,17 @@ fn main() -> Result<(), trocar_api::Error> {
             }
             best = best.min(t.elapsed().as_secs_f64() / n as f64);
         }
+        let mut scratch = Vec::new();
+        let mut raw = vec![0.0; c.outputs()];
+        let mut best_raw = f64::INFINITY;
+        for _ in 0..5 {
+            let t = Instant::now();
+            for _ in 0..n {
+                c.eval_into(std::hint::black_box(&q), &values, &mut scratch, &mut raw);
+            }
+            best_raw = best_raw.min(t.elapsed().as_secs_f64() / n as f64);
+        }
+        println!("  compiled eval_into alone {:.1} ns", best_raw * 1e9);
         let qs: Vec<f64> = (0..10_000)
             .flat_map(|k| q.map(|x| x + 1e-4 * k as f64))
             .collect();

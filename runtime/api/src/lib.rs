@@ -10,7 +10,7 @@
 //!
 //! The quantities are the catalogue's [`Function`]s (`constrained_jacobian`, …, with short names
 //! such as `jr` resolved by [`Robot::function`]); the scalar type of generated code is
-//! [`trocar_codegen::Real`]; the inverse a simulation uses is [`Method`].
+//! [`trocar_codegen::Scalar`]; the inverse a simulation uses is [`Method`].
 //!
 //! ```no_run
 //! use trocar_api::{Function, Robot};
@@ -77,7 +77,7 @@ pub fn preset(name: &str) -> Result<&'static str> {
 }
 
 /// The generated Rust module of `robot` (a shipped name or a file) for the scalar type `real`.
-pub fn generate(robot: &str, real: trocar_codegen::Real) -> Result<String> {
+pub fn generate(robot: &str, real: trocar_codegen::Scalar) -> Result<String> {
     Robot::load(robot)?.generate(&trocar_codegen::ModuleOptions {
         real,
         ..Default::default()

@@ -6,12 +6,12 @@ use crate::matrix::Matrix;
 use std::path::Path;
 use std::sync::OnceLock;
 use trocar_codegen::catalogue::Function;
-use trocar_codegen::emit::Shape as Layout;
+use trocar_codegen::emit::Layout;
 use trocar_codegen::evaluate::{Compiled, Generated};
 use trocar_model::closed_chain::MechanismModel;
 use trocar_model::description::RobotDescription;
 use trocar_model::Description;
-use trocar_sim::robot::Robot as NumericRobot;
+use trocar_sim::robot::NumericRobot;
 
 /// A robot or closed mechanism, loaded once.
 ///
@@ -64,6 +64,26 @@ struct Shape {
 }
 
 impl Shape {
+    /// Where each emitted output goes in the row-major result ([`Shape::to_row_major`] as
+    /// positions; a transform's constant last row is no output's).
+    fn row_major_order(self) -> Vec<usize> {
+        match self.layout {
+            Layout::Scalar => vec![0],
+            Layout::Matrix { rows, cols } => (0..rows * cols)
+                .map(|k| (k % rows) * cols + k / rows)
+                .collect(),
+            Layout::Transform => (0..12)
+                .map(|k| {
+                    if k < 9 {
+                        (k % 3) * 4 + k / 3
+                    } else {
+                        (k - 9) * 4 + 3
+                    }
+                })
+                .collect(),
+        }
+    }
+
     fn dims(self) -> (usize, usize) {
         match self.layout {
             Layout::Scalar => (1, 1),
@@ -523,10 +543,10 @@ impl Robot {
                         s.desc.name
                     )));
                 }
-                Matrix::from_faer(&robot.task_jacobian(q).map_err(err)?)
+                Matrix::from_faer(&robot.constrained_task_jacobian(q).map_err(err)?)
             }
             Function::ConstraintJacobianC => {
-                Matrix::from_faer(&robot.moving_rcm_jacobian(q).map_err(err)?)
+                Matrix::from_faer(&robot.constraint_jacobian_c(q).map_err(err)?)
             }
             Function::PartialBodyJacobian => {
                 Matrix::from_faer(&robot.partial_body_jacobian(q).map_err(err)?)
@@ -848,32 +868,37 @@ impl Evaluator<'_> {
             )));
         }
         let len = self.len();
-        let m = self.compiled.outputs();
+        let order = self.shape.row_major_order();
         let threads = if count >= PARALLEL_FROM {
             std::thread::available_parallelism().map_or(1, |p| p.get())
         } else {
             1
         };
         let per = count.div_ceil(threads.max(1)).max(1);
-        let work = |qs: &[f64], outs: &mut [f64]| {
-            let c = qs.len() / n.max(1);
-            let mut raw = vec![0.0; c * m];
-            self.compiled.eval_batch(qs, values, &mut raw);
-            for k in 0..c {
-                self.shape
-                    .to_row_major(&raw[k * m..(k + 1) * m], &mut outs[k * len..(k + 1) * len]);
+        if let Layout::Transform = self.shape.layout {
+            // The constant last row of a homogeneous transform, which no output writes.
+            for block in out.chunks_exact_mut(16) {
+                block[12..].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
             }
+        }
+        let work = |qs: &[f64], outs: &mut [f64]| {
+            self.compiled
+                .eval_batch_ordered(qs, values, outs, len, &order)
         };
-        if threads <= 1 {
-            work(q, out);
+        let finite = if threads <= 1 {
+            work(q, out)
         } else {
             std::thread::scope(|scope| {
-                for (qs, outs) in q.chunks(per * n).zip(out.chunks_mut(per * len)) {
-                    scope.spawn(move || work(qs, outs));
-                }
-            });
-        }
-        if let Some(k) = out.iter().position(|v| !v.is_finite()) {
+                let handles: Vec<_> = q
+                    .chunks(per * n)
+                    .zip(out.chunks_mut(per * len))
+                    .map(|(qs, outs)| scope.spawn(move || work(qs, outs)))
+                    .collect();
+                handles.into_iter().all(|h| h.join().unwrap_or(false))
+            })
+        };
+        if !finite {
+            let k = out.iter().position(|v| !v.is_finite()).unwrap_or(0);
             return Err(self.not_finite(values, Some(k / len.max(1))));
         }
         Ok(())
@@ -881,7 +906,7 @@ impl Evaluator<'_> {
 
     fn check_lengths(&self, q: usize, values: usize, out: usize, count: usize) -> Result<()> {
         let n = self.generated.joints();
-        let p = self.generated.param_names().len();
+        let p = self.generated.param_count();
         if q != n {
             return Err(Error::Input(format!(
                 "--q has {q} values but `{}` has {n} joints (give all joint values, base first)",

@@ -61,7 +61,7 @@ pub struct SimulationRun {
 #[derive(Clone, Debug)]
 enum AnyTrace {
     Rcm(Box<simulation::Trace>),
-    ClosedChain(closed_chain::Trace),
+    ClosedChain(closed_chain::MechanismTrace),
 }
 
 impl SimulationRun {

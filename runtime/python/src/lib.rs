@@ -52,6 +52,8 @@ fn method(name: &str) -> PyResult<Method> {
 struct Robot {
     inner: trocar_api::Robot,
     nominal: Vec<f64>,
+    /// Every name `what` may take for this robot (catalogue and short names), resolved once.
+    names: std::collections::HashMap<String, Function>,
 }
 
 impl Robot {
@@ -66,7 +68,10 @@ impl Robot {
     }
 
     fn function(&self, what: &str) -> PyResult<Function> {
-        self.inner.function(what).map_err(value_error)
+        match self.names.get(what) {
+            Some(f) => Ok(*f),
+            None => self.inner.function(what).map_err(value_error),
+        }
     }
 }
 
@@ -88,7 +93,16 @@ impl Robot {
             })
             .map_err(value_error)?;
         let nominal = inner.params().into_iter().map(|(_, v)| v).collect();
-        Ok(Robot { inner, nominal })
+        let names = inner
+            .quantities()
+            .into_iter()
+            .flat_map(|f| [(f.name().to_string(), f), (f.short_name().to_string(), f)])
+            .collect();
+        Ok(Robot {
+            inner,
+            nominal,
+            names,
+        })
     }
 
     /// The robot's name (`[robot] name`).
@@ -272,7 +286,7 @@ impl Robot {
     /// (`real="generic"`) or for `"f64"` / `"f32"`.
     #[pyo3(signature = (real = "f64"))]
     fn generate(&self, py: Python<'_>, real: &str) -> PyResult<String> {
-        let real: trocar_codegen::Real = real.parse().map_err(PyValueError::new_err)?;
+        let real: trocar_codegen::Scalar = real.parse().map_err(PyValueError::new_err)?;
         let options = trocar_codegen::ModuleOptions {
             real,
             ..Default::default()
