@@ -1,7 +1,7 @@
 //! Rules of the program optimiser, one test each (named after the rule), op counts and the
 //! interpreter against direct `f64` computation.
 
-use trocar_codegen::emit::{Atom, Op, Program, Term};
+use trocar_codegen::emit::{Factor, Op, Program, Term};
 
 fn prog() -> Program {
     Program::new(vec!["l_a".into(), "l_b".into(), "l_8".into()])
@@ -180,8 +180,8 @@ fn const_assoc() {
 #[test]
 fn one_inverse() {
     let mut p = prog();
-    let a = p.power(Atom::Param(0), -1);
-    let b = p.power(Atom::Param(0), -2);
+    let a = p.power(Factor::Param(0), -1);
+    let b = p.power(Factor::Param(0), -2);
     let Op::Mul(x, y) = *p.op(b) else {
         panic!("expected a product")
     };
@@ -196,11 +196,19 @@ fn monomial_prefix() {
     let mut p = prog();
     let t1 = Term::new(
         1.0,
-        [(Atom::Sin(6), 1), (Atom::Cos(7), 1), (Atom::Param(2), 1)],
+        [
+            (Factor::Sin(6), 1),
+            (Factor::Cos(7), 1),
+            (Factor::Param(2), 1),
+        ],
     );
     let t2 = Term::new(
         2.0,
-        [(Atom::Param(2), 1), (Atom::Sin(6), 1), (Atom::Cos(7), 1)],
+        [
+            (Factor::Param(2), 1),
+            (Factor::Sin(6), 1),
+            (Factor::Cos(7), 1),
+        ],
     );
     let a = p.monomial(&t1);
     let b = p.monomial(&t2);
@@ -218,15 +226,19 @@ fn horner() {
     let terms = [
         Term::new(
             -1.0,
-            [(Atom::Cos(7), 1), (Atom::Param(2), 1), (Atom::Param(0), -1)],
+            [
+                (Factor::Cos(7), 1),
+                (Factor::Param(2), 1),
+                (Factor::Param(0), -1),
+            ],
         ),
         Term::new(
             -1.0,
             [
-                (Atom::Cos(6), 1),
-                (Atom::Cos(7), 1),
-                (Atom::Param(1), 1),
-                (Atom::Param(0), -1),
+                (Factor::Cos(6), 1),
+                (Factor::Cos(7), 1),
+                (Factor::Param(1), 1),
+                (Factor::Param(0), -1),
             ],
         ),
     ];
@@ -244,8 +256,8 @@ fn horner() {
 fn sign_normalise() {
     let mut p = prog();
     let terms = [
-        Term::new(-2.0, [(Atom::Sin(0), 1)]),
-        Term::new(-2.0, [(Atom::Cos(1), 1)]),
+        Term::new(-2.0, [(Factor::Sin(0), 1)]),
+        Term::new(-2.0, [(Factor::Cos(1), 1)]),
     ];
     let v = p.sum_of_monomials(&terms);
     // −(2 · (s1 + c2)): one mul, one add, one neg.
@@ -286,16 +298,20 @@ fn dead_code() {
 fn interpreter_matches_direct_f64() {
     let mut p = prog();
     let alpha3 = [
-        Term::new(-1.0, [(Atom::Sin(7), 1), (Atom::Param(0), 1)]),
-        Term::new(-1.0, [(Atom::Sin(7), 1), (Atom::Param(1), 1)]),
+        Term::new(-1.0, [(Factor::Sin(7), 1), (Factor::Param(0), 1)]),
+        Term::new(-1.0, [(Factor::Sin(7), 1), (Factor::Param(1), 1)]),
         Term::new(
             -1.0,
-            [(Atom::Sin(7), 1), (Atom::Param(2), 1), (Atom::Cos(6), 1)],
+            [
+                (Factor::Sin(7), 1),
+                (Factor::Param(2), 1),
+                (Factor::Cos(6), 1),
+            ],
         ),
     ];
     let entry = [
-        Term::new(0.5, [(Atom::Sin(6), 1), (Atom::Cos(7), 2)]),
-        Term::new(-3.0, [(Atom::Joint(2), 1)]),
+        Term::new(0.5, [(Factor::Sin(6), 1), (Factor::Cos(7), 2)]),
+        Term::new(-3.0, [(Factor::Joint(2), 1)]),
         Term::new(0.25, []),
     ];
     let a = p.sum_of_monomials(&alpha3);

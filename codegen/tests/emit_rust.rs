@@ -1,7 +1,7 @@
 //! Emission of a small hand-built module: token/string snapshot and operation counts in docs.
 
 use trocar_codegen::emit::{
-    format_file, module_tokens, Atom, ConstItem, EmittedFunction, Layout, ModuleSpec, Program,
+    format_file, module_tokens, ConstItem, EmittedFunction, Factor, Layout, ModuleSpec, Program,
     Scalar, Term,
 };
 
@@ -17,46 +17,64 @@ fn small_module() -> ModuleSpec {
         vec![
             Term::new(
                 -1.0,
-                [(Atom::Cos(7), 1), (Atom::Param(2), 1), (Atom::Param(0), -1)],
+                [
+                    (Factor::Cos(7), 1),
+                    (Factor::Param(2), 1),
+                    (Factor::Param(0), -1),
+                ],
             ),
             Term::new(
                 -1.0,
                 [
-                    (Atom::Cos(6), 1),
-                    (Atom::Cos(7), 1),
-                    (Atom::Param(1), 1),
-                    (Atom::Param(0), -1),
+                    (Factor::Cos(6), 1),
+                    (Factor::Cos(7), 1),
+                    (Factor::Param(1), 1),
+                    (Factor::Param(0), -1),
                 ],
             ),
         ],
         vec![Term::new(
             1.0,
-            [(Atom::Param(1), 1), (Atom::Sin(6), 1), (Atom::Param(0), -1)],
+            [
+                (Factor::Param(1), 1),
+                (Factor::Sin(6), 1),
+                (Factor::Param(0), -1),
+            ],
         )],
         vec![
             Term::new(
                 -1.0,
-                [(Atom::Sin(7), 1), (Atom::Param(2), 1), (Atom::Param(0), -1)],
+                [
+                    (Factor::Sin(7), 1),
+                    (Factor::Param(2), 1),
+                    (Factor::Param(0), -1),
+                ],
             ),
             Term::new(
                 -1.0,
                 [
-                    (Atom::Cos(6), 1),
-                    (Atom::Sin(7), 1),
-                    (Atom::Param(1), 1),
-                    (Atom::Param(0), -1),
+                    (Factor::Cos(6), 1),
+                    (Factor::Sin(7), 1),
+                    (Factor::Param(1), 1),
+                    (Factor::Param(0), -1),
                 ],
             ),
         ],
-        vec![Term::new(-1.0, [(Atom::Sin(7), 1), (Atom::Param(0), -1)])],
+        vec![Term::new(
+            -1.0,
+            [(Factor::Sin(7), 1), (Factor::Param(0), -1)],
+        )],
         vec![],
-        vec![Term::new(1.0, [(Atom::Cos(7), 1), (Atom::Param(0), -1)])],
+        vec![Term::new(
+            1.0,
+            [(Factor::Cos(7), 1), (Factor::Param(0), -1)],
+        )],
     ];
     // Column 2: c8 s7, c7, s7 s8, 0, 0, 0.
     let col2 = [
-        vec![Term::new(1.0, [(Atom::Cos(7), 1), (Atom::Sin(6), 1)])],
-        vec![Term::new(1.0, [(Atom::Cos(6), 1)])],
-        vec![Term::new(1.0, [(Atom::Sin(6), 1), (Atom::Sin(7), 1)])],
+        vec![Term::new(1.0, [(Factor::Cos(7), 1), (Factor::Sin(6), 1)])],
+        vec![Term::new(1.0, [(Factor::Cos(6), 1)])],
+        vec![Term::new(1.0, [(Factor::Sin(6), 1), (Factor::Sin(7), 1)])],
         vec![],
         vec![],
         vec![],
@@ -71,7 +89,11 @@ fn small_module() -> ModuleSpec {
     // (3.42): w = lb² |s7| / la².
     let t = Term::new(
         1.0,
-        [(Atom::Param(1), 2), (Atom::Sin(6), 1), (Atom::Param(0), -2)],
+        [
+            (Factor::Param(1), 2),
+            (Factor::Sin(6), 1),
+            (Factor::Param(0), -2),
+        ],
     );
     let v = w.sum_of_monomials(&[t]);
     let a = w.abs(v);

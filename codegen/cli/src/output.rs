@@ -1,6 +1,6 @@
 //! Everything `trocar` prints: matrices as aligned text or JSON, and errors.
 
-use trocar_api::{Error, Matrix};
+use trocar_api::{Error, Evaluation};
 
 /// An error of the command line: printed to stderr as `error: …`, exit code 1.
 pub(crate) type CliError = Error;
@@ -212,7 +212,7 @@ pub(crate) fn print_error(e: &CliError) -> i32 {
 }
 
 /// The JSON form `{"rows": R, "cols": C, "data": [[row], ...]}` (keys in this order).
-pub(crate) fn to_json(m: &Matrix) -> String {
+pub(crate) fn to_json(m: &Evaluation) -> String {
     let data =
         serde_json::to_string(&m.to_rows()).expect("finite or null numbers always serialise");
     format!(
@@ -222,7 +222,7 @@ pub(crate) fn to_json(m: &Matrix) -> String {
 }
 
 /// Aligned text, one row a line.
-pub(crate) fn to_text(m: &Matrix) -> String {
+pub(crate) fn to_text(m: &Evaluation) -> String {
     let cells: Vec<Vec<String>> = m
         .to_rows()
         .iter()
@@ -244,7 +244,11 @@ pub(crate) fn to_text(m: &Matrix) -> String {
 /// Aligned text with a header of column labels and each row's label in front (labels of the
 /// wrong count are ignored: the plain [`to_text`] is returned). Whitespace inside a label becomes
 /// `_`, so each line is still one label and numbers.
-pub(crate) fn to_labelled_text(m: &Matrix, row_labels: &[String], col_labels: &[String]) -> String {
+pub(crate) fn to_labelled_text(
+    m: &Evaluation,
+    row_labels: &[String],
+    col_labels: &[String],
+) -> String {
     if row_labels.len() != m.rows || col_labels.len() != m.cols || m.cols == 0 {
         return to_text(m);
     }
@@ -287,7 +291,7 @@ pub(crate) fn to_labelled_text(m: &Matrix, row_labels: &[String], col_labels: &[
 /// Prints the matrix to stdout, as JSON or aligned text ([`write_stdout`]); the text has row and
 /// column labels when `labels` are given.
 pub(crate) fn print_matrix(
-    m: &Matrix,
+    m: &Evaluation,
     json: bool,
     labels: Option<(Vec<String>, Vec<String>)>,
 ) -> Result<(), CliError> {

@@ -13,7 +13,7 @@
 //! (both are built and the one with fewer live operations is kept); the two are equal as
 //! functions (the expanded form is what the derivation's symbolic tests check).
 
-use super::program::{Atom, Program, Term, ValueId};
+use super::program::{Factor, Program, Term, ValueId};
 use super::rust::{ConstItem, EmittedFunction, ModuleSpec};
 use crate::derivation::{Derivation, ManipulabilityForm};
 use crate::symbolic::{self, inverse_denominator, node_definition, Matrix, Poly, Transform};
@@ -43,30 +43,30 @@ impl<'a> PolyBuilder<'a> {
         self.prog
     }
 
-    fn atom(&mut self, a: symbolic::Atom) -> Atom {
+    fn atom(&mut self, a: symbolic::Atom) -> Factor {
         match a {
-            symbolic::Atom::Sin(k) => Atom::Sin(k as usize),
-            symbolic::Atom::Cos(k) => Atom::Cos(k as usize),
-            symbolic::Atom::Joint(k) => Atom::Joint(k as usize),
-            symbolic::Atom::Param(p) => Atom::Param(p as usize),
+            symbolic::Atom::Sin(k) => Factor::Sin(k as usize),
+            symbolic::Atom::Cos(k) => Factor::Cos(k as usize),
+            symbolic::Atom::Joint(k) => Factor::Joint(k as usize),
+            symbolic::Atom::Param(p) => Factor::Param(p as usize),
             symbolic::Atom::Inv(id) => {
                 if let Some(&v) = self.inverses.get(&id) {
-                    return Atom::Value(v);
+                    return Factor::Value(v);
                 }
                 let den = inverse_denominator(id);
                 let d = self.poly(&den);
                 let one = self.prog.constant(1.0);
                 let v = self.prog.div(one, d);
                 self.inverses.insert(id, v);
-                Atom::Value(v)
+                Factor::Value(v)
             }
             symbolic::Atom::Node(id) => {
                 if let Some(&v) = self.nodes.get(&id) {
-                    return Atom::Value(v);
+                    return Factor::Value(v);
                 }
                 let v = self.poly(&node_definition(id));
                 self.nodes.insert(id, v);
-                Atom::Value(v)
+                Factor::Value(v)
             }
         }
     }
@@ -77,7 +77,7 @@ impl<'a> PolyBuilder<'a> {
             .terms()
             .iter()
             .map(|(m, c)| {
-                let factors: Vec<(Atom, i32)> = m
+                let factors: Vec<(Factor, i32)> = m
                     .factors()
                     .iter()
                     .map(|&(a, e)| (self.atom(a), e))

@@ -119,7 +119,7 @@ impl Op {
 
 /// An indeterminate of a monomial, for [`Program::sum_of_monomials`].
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Debug)]
-pub enum Atom {
+pub enum Factor {
     /// `sin q[k]`.
     Sin(usize),
     /// `cos q[k]`.
@@ -138,13 +138,13 @@ pub struct Term {
     /// The coefficient.
     pub coef: f64,
     /// `(atom, exponent)` pairs, each atom at most once.
-    pub factors: Vec<(Atom, i32)>,
+    pub factors: Vec<(Factor, i32)>,
 }
 
 impl Term {
     /// A term from a coefficient and factors (zero exponents are dropped, repeated atoms merged).
-    pub fn new(coef: f64, factors: impl IntoIterator<Item = (Atom, i32)>) -> Self {
-        let mut map: BTreeMap<Atom, i32> = BTreeMap::new();
+    pub fn new(coef: f64, factors: impl IntoIterator<Item = (Factor, i32)>) -> Self {
+        let mut map: BTreeMap<Factor, i32> = BTreeMap::new();
         for (a, e) in factors {
             *map.entry(a).or_insert(0) += e;
         }
@@ -454,18 +454,18 @@ impl Program {
     }
 
     /// The value of an atom (`1/x` for rule `one_inverse` is built by [`Program::power`]).
-    pub fn atom(&mut self, atom: Atom) -> ValueId {
+    pub fn atom(&mut self, atom: Factor) -> ValueId {
         match atom {
-            Atom::Sin(k) => self.sin(k),
-            Atom::Cos(k) => self.cos(k),
-            Atom::Joint(k) => self.joint(k),
-            Atom::Param(p) => self.param(p),
-            Atom::Value(v) => v,
+            Factor::Sin(k) => self.sin(k),
+            Factor::Cos(k) => self.cos(k),
+            Factor::Joint(k) => self.joint(k),
+            Factor::Param(p) => self.param(p),
+            Factor::Value(v) => v,
         }
     }
 
     /// `atomᵉ`, rule `one_inverse`: a negative power is a power of the single shared `1/atom`.
-    pub fn power(&mut self, atom: Atom, e: i32) -> ValueId {
+    pub fn power(&mut self, atom: Factor, e: i32) -> ValueId {
         let mut base = self.atom(atom);
         if e < 0 {
             let one = self.constant(1.0);
@@ -538,7 +538,7 @@ impl Program {
             return self.mul(k, s);
         }
         // horner: the most frequent (atom, sign of exponent).
-        let mut counts: BTreeMap<(Atom, bool), usize> = BTreeMap::new();
+        let mut counts: BTreeMap<(Factor, bool), usize> = BTreeMap::new();
         for t in &terms {
             for &(a, e) in &t.factors {
                 *counts.entry((a, e > 0)).or_insert(0) += 1;

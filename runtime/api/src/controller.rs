@@ -18,7 +18,7 @@ use trocar::manipulability::SquareDim;
 use trocar_model::numeric::NumericModel;
 use trocar_sim::simulation::{Method, Scenario, ScenarioConfig};
 
-/// Gains and methods of a [`Controller`]; [`ControllerOptions::default`] is the Panda
+/// Gains and methods of a [`RobotController`]; [`ControllerOptions::default`] is the Panda
 /// laparoscope scenario's (Table 4.2's `K_p = 5`, `K_o = 10`, DLS `α0 = 0.05`, drift correction
 /// `K_r = 20 /s`, joint speed limit 2 rad/s, null-space gain 10 /s).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -304,9 +304,9 @@ pub const SUPPORTED: &[(usize, usize, usize, usize)] = &[
 /// The constrained kinematic controller on a [`Robot`], with the sizes of its description.
 ///
 /// ```no_run
-/// use trocar_api::{Controller, ControllerOptions, Robot, Target};
+/// use trocar_api::{RobotController, ControllerOptions, Robot, Target};
 /// let robot = Robot::load("panda-laparoscope")?;
-/// let mut ctrl = Controller::new(&robot, ControllerOptions::default())?;
+/// let mut ctrl = RobotController::new(&robot, ControllerOptions::default())?;
 /// let q = [0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785];
 /// let target = Target { position: [0.3, 0.0, 0.2], rotation: None, velocity: [0.0; 3], angular_velocity: [0.0; 3] };
 /// let step = ctrl.step(&q, &target, &[0.3, 0.0, 0.45], &[0.0, 0.0], 0.002)?;
@@ -314,13 +314,13 @@ pub const SUPPORTED: &[(usize, usize, usize, usize)] = &[
 /// # Ok::<(), trocar_api::Error>(())
 /// ```
 #[derive(Debug)]
-pub struct Controller {
+pub struct RobotController {
     inner: Box<dyn Stepper>,
     dof: usize,
     rows: usize,
 }
 
-impl Controller {
+impl RobotController {
     /// A controller for `robot` (a serial robot with a `[constraint]`) with `options`.
     pub fn new(robot: &Robot, options: ControllerOptions) -> Result<Self> {
         options.check()?;
@@ -361,7 +361,7 @@ impl Controller {
             (8, 8, 1, 4), (8, 8, 1, 5), (8, 8, 2, 4), (8, 8, 3, 3),
         );
         match built {
-            Some(Ok(inner)) => Ok(Controller {
+            Some(Ok(inner)) => Ok(RobotController {
                 inner,
                 dof: n,
                 rows: r,

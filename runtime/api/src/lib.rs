@@ -4,7 +4,7 @@
 //! description once ([`Robot::load`]), derive its closed forms once and evaluate them compiled
 //! ([`Robot::eval`], [`Robot::evaluator`] for one configuration or many), check them
 //! ([`Robot::verify`]), emit them ([`Robot::generate`]), run the constrained controller on the
-//! robot ([`Controller`]) and the shipped simulations ([`simulate()`]). Nothing here parses
+//! robot ([`RobotController`]) and the shipped simulations ([`simulate()`]). Nothing here parses
 //! command lines or prints; long work reports progress through a callback, and every failure is
 //! an [`Error`] whose message says what is wrong and where (file, line, field).
 //!
@@ -26,13 +26,13 @@
 
 mod controller;
 mod error;
-mod matrix;
+mod evaluation;
 mod robot;
 pub mod simulate;
 
-pub use controller::{Controller, ControllerOptions, Step, Target, SUPPORTED};
+pub use controller::{ControllerOptions, RobotController, Step, Target, SUPPORTED};
 pub use error::{Error, Result};
-pub use matrix::Matrix;
+pub use evaluation::Evaluation;
 pub use robot::{urdf_jacobian, Evaluator, GeneratedCandidate, Robot, TWIST};
 pub use simulate::{simulate, RcmOptions, SimulationRun, SpeedLimit};
 pub use trocar_codegen::catalogue::Function;

@@ -2,7 +2,7 @@
 //! use, its numeric runtime built once, and every quantity of the catalogue evaluated from them.
 
 use crate::error::{Error, Result};
-use crate::matrix::Matrix;
+use crate::evaluation::Evaluation;
 use std::path::Path;
 use std::sync::OnceLock;
 use trocar_codegen::catalogue::Function;
@@ -57,7 +57,7 @@ struct Mechanism {
     generated: OnceLock<(Generated, usize)>,
 }
 
-/// How a function's outputs become a [`Matrix`].
+/// How a function's outputs become an [`Evaluation`].
 #[derive(Clone, Copy, Debug)]
 struct Shape {
     layout: Layout,
@@ -389,18 +389,23 @@ impl Robot {
     /// `params`, from the generated closed forms, evaluated as emitted: a matrix row by row (a
     /// pose as the 4 × 4 homogeneous matrix, a scalar 1 × 1). A result that is not finite is an
     /// error that says what it divides by.
-    pub fn eval(&self, function: Function, q: &[f64], params: &[(String, f64)]) -> Result<Matrix> {
+    pub fn eval(
+        &self,
+        function: Function,
+        q: &[f64],
+        params: &[(String, f64)],
+    ) -> Result<Evaluation> {
         self.check_q(q)?;
         let values = self.param_values(params)?;
         self.eval_with(function, q, &values)
     }
 
     /// [`Robot::eval`] with the parameter values given in declaration order (no checks of `q`).
-    pub fn eval_with(&self, function: Function, q: &[f64], values: &[f64]) -> Result<Matrix> {
+    pub fn eval_with(&self, function: Function, q: &[f64], values: &[f64]) -> Result<Evaluation> {
         match &self.kind {
             Kind::Serial(_) => {
                 let e = self.evaluator(function)?;
-                let mut m = Matrix {
+                let mut m = Evaluation {
                     rows: e.rows(),
                     cols: e.cols(),
                     data: vec![0.0; e.len()],
@@ -453,7 +458,7 @@ impl Robot {
         function: Function,
         q: &[f64],
         params: &[(String, f64)],
-    ) -> Result<Matrix> {
+    ) -> Result<Evaluation> {
         self.check_q(q)?;
         let values = self.param_values(params)?;
         let out = match &self.kind {
@@ -500,7 +505,7 @@ impl Robot {
         q: &[f64],
         values: &[f64],
         nominal: bool,
-    ) -> Result<Matrix> {
+    ) -> Result<Evaluation> {
         let built;
         let robot = if nominal {
             self.numeric()?
@@ -533,9 +538,9 @@ impl Robot {
         }
         Ok(match function {
             Function::ConstrainedJacobian => {
-                Matrix::from_faer(&robot.constrained_jacobian(q).map_err(err)?)
+                Evaluation::from_faer(&robot.constrained_jacobian(q).map_err(err)?)
             }
-            Function::Manipulability => Matrix::scalar(robot.manipulability(q).map_err(err)?),
+            Function::Manipulability => Evaluation::scalar(robot.manipulability(q).map_err(err)?),
             Function::ConstrainedTaskJacobian => {
                 if s.desc.task.is_none() {
                     return Err(Error::Unsupported(format!(
@@ -543,17 +548,17 @@ impl Robot {
                         s.desc.name
                     )));
                 }
-                Matrix::from_faer(&robot.constrained_task_jacobian(q).map_err(err)?)
+                Evaluation::from_faer(&robot.constrained_task_jacobian(q).map_err(err)?)
             }
             Function::ConstraintJacobianC => {
-                Matrix::from_faer(&robot.constraint_jacobian_c(q).map_err(err)?)
+                Evaluation::from_faer(&robot.constraint_jacobian_c(q).map_err(err)?)
             }
             Function::PartialBodyJacobian => {
-                Matrix::from_faer(&robot.partial_body_jacobian(q).map_err(err)?)
+                Evaluation::from_faer(&robot.partial_body_jacobian(q).map_err(err)?)
             }
-            Function::BodyJacobian => Matrix::from_faer(&robot.body_jacobian(q).map_err(err)?),
+            Function::BodyJacobian => Evaluation::from_faer(&robot.body_jacobian(q).map_err(err)?),
             Function::ForwardKinematics => {
-                Matrix::from_faer(&robot.forward_kinematics_matrix(q).map_err(err)?)
+                Evaluation::from_faer(&robot.forward_kinematics_matrix(q).map_err(err)?)
             }
             other => {
                 return Err(Error::Unsupported(format!(
@@ -567,7 +572,12 @@ impl Robot {
 
     /// A closed mechanism's generated functions; the reduced Jacobian and the passive map from
     /// their numerators over `det J_Cp`.
-    fn mechanism_generated(&self, function: Function, q: &[f64], values: &[f64]) -> Result<Matrix> {
+    fn mechanism_generated(
+        &self,
+        function: Function,
+        q: &[f64],
+        values: &[f64],
+    ) -> Result<Evaluation> {
         let Kind::Mechanism(mech) = &self.kind else {
             unreachable!("only mechanisms come here")
         };
@@ -601,13 +611,13 @@ impl Robot {
         }
         let out = match function {
             Function::ConstraintJacobian => {
-                Matrix::from_column_major(&eval(Function::ConstraintJacobian)?, *rows, n)
+                Evaluation::from_column_major(&eval(Function::ConstraintJacobian)?, *rows, n)
             }
             Function::ConstraintDeterminant => {
-                Matrix::from_column_major(&eval(Function::ConstraintDeterminant)?, 1, 1)
+                Evaluation::from_column_major(&eval(Function::ConstraintDeterminant)?, 1, 1)
             }
             Function::TaskJacobian => {
-                Matrix::from_column_major(&eval(Function::TaskJacobian)?, no, n)
+                Evaluation::from_column_major(&eval(Function::TaskJacobian)?, no, n)
             }
             Function::ReducedJacobian | Function::PassiveMap => {
                 let (numerator, count) = if function == Function::ReducedJacobian {
@@ -628,7 +638,7 @@ impl Robot {
                         data[r * na + a] = num[a * stride + 1 + r] / det;
                     }
                 }
-                Matrix {
+                Evaluation {
                     rows: count,
                     cols: na,
                     data,
@@ -671,7 +681,7 @@ impl Robot {
         q: &[f64],
         params: &[(String, f64)],
         numeric: bool,
-        evaluated: Option<&Matrix>,
+        evaluated: Option<&Evaluation>,
     ) -> Result<Option<String>> {
         let Some(desc) = self.description() else {
             return Ok(None);
@@ -975,15 +985,15 @@ fn mechanism_numeric(
     function: Function,
     q: &[f64],
     values: &[f64],
-) -> Result<Matrix> {
+) -> Result<Evaluation> {
     let sim = |e: &dyn std::fmt::Display| Error::NotFinite(e.to_string());
     let mech = trocar_sim::closed_chain::Mechanism::from_model(m, values).map_err(|e| sim(&e))?;
     let theta = nalgebra::DVector::from_row_slice(q);
     let d = mech.differential(&theta).map_err(|e| sim(&e))?;
     Ok(match function {
-        Function::ConstraintJacobian => Matrix::from_nalgebra(&d.j_c),
+        Function::ConstraintJacobian => Evaluation::from_nalgebra(&d.j_c),
         Function::ConstraintDeterminant if d.j_cp.is_square() => {
-            Matrix::scalar(trocar_sim::closed_chain::linalg::determinant(&d.j_cp))
+            Evaluation::scalar(trocar_sim::closed_chain::linalg::determinant(&d.j_cp))
         }
         Function::ConstraintDeterminant => {
             return Err(Error::Unsupported(format!(
@@ -999,9 +1009,9 @@ fn mechanism_numeric(
         Function::ReducedJacobian | Function::PassiveMap => {
             let r = mech.reduced(&theta).map_err(|e| sim(&e))?;
             if function == Function::ReducedJacobian {
-                Matrix::from_nalgebra(&r.jacobian)
+                Evaluation::from_nalgebra(&r.jacobian)
             } else {
-                Matrix::from_nalgebra(&r.passive_map)
+                Evaluation::from_nalgebra(&r.passive_map)
             }
         }
         other => {
@@ -1091,7 +1101,7 @@ fn mechanism_labels(m: &MechanismModel, function: Function) -> Option<(Vec<Strin
 
 /// The body ((2.55)) or spatial ((2.53)) Jacobian of the chain of `urdf` from its root to
 /// `tip`, at all joint values `q` (root first).
-pub fn urdf_jacobian(urdf: &Path, tip: &str, q: &[f64], spatial: bool) -> Result<Matrix> {
+pub fn urdf_jacobian(urdf: &Path, tip: &str, q: &[f64], spatial: bool) -> Result<Evaluation> {
     let desc = RobotDescription::from_urdf_file(urdf, tip)?;
     let robot = Robot::from_description(desc);
     robot.check_q(q)?;
@@ -1102,5 +1112,5 @@ pub fn urdf_jacobian(urdf: &Path, tip: &str, q: &[f64], spatial: bool) -> Result
         numeric.body_jacobian(q)
     }
     .map_err(robot.robot_error())?;
-    Ok(Matrix::from_faer(&j))
+    Ok(Evaluation::from_faer(&j))
 }

@@ -305,7 +305,7 @@ impl Robot {
 /// their limits). Defaults are the Panda laparoscope scenario's gains.
 #[pyclass(module = "trocar")]
 struct Controller {
-    inner: trocar_api::Controller,
+    inner: trocar_api::RobotController,
 }
 
 #[pymethods]
@@ -344,7 +344,7 @@ impl Controller {
             fi_gamma: fi_gamma.unwrap_or(d.fi_gamma),
             ..d
         };
-        let inner = trocar_api::Controller::new(&robot.inner, options).map_err(value_error)?;
+        let inner = trocar_api::RobotController::new(&robot.inner, options).map_err(value_error)?;
         Ok(Controller { inner })
     }
 

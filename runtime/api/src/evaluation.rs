@@ -1,8 +1,8 @@
-//! A matrix as the library returns it: row-major, with its shape.
+//! What an evaluation returns: a matrix, row-major, with its shape.
 
 /// A `rows × cols` matrix, entries row by row (a scalar is 1 × 1, a pose 4 × 4 homogeneous).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Matrix {
+pub struct Evaluation {
     /// Row count.
     pub rows: usize,
     /// Column count.
@@ -11,10 +11,10 @@ pub struct Matrix {
     pub data: Vec<f64>,
 }
 
-impl Matrix {
+impl Evaluation {
     /// A 1 × 1 matrix.
     pub fn scalar(value: f64) -> Self {
-        Matrix {
+        Evaluation {
             rows: 1,
             cols: 1,
             data: vec![value],
@@ -29,7 +29,7 @@ impl Matrix {
                 data[r * cols + c] = v[c * rows + r];
             }
         }
-        Matrix { rows, cols, data }
+        Evaluation { rows, cols, data }
     }
 
     /// From a nalgebra matrix.
@@ -40,7 +40,7 @@ impl Matrix {
         S: nalgebra::RawStorage<f64, R, C>,
     {
         let (rows, cols) = m.shape();
-        Matrix {
+        Evaluation {
             rows,
             cols,
             data: (0..rows)
@@ -53,7 +53,7 @@ impl Matrix {
     /// From a faer matrix (the numeric runtime's answers).
     pub fn from_faer(m: &faer::Mat<f64>) -> Self {
         let (rows, cols) = (m.nrows(), m.ncols());
-        Matrix {
+        Evaluation {
             rows,
             cols,
             data: (0..rows)
