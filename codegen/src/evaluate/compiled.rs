@@ -310,11 +310,16 @@ impl Compiled {
         assert_eq!(q.len(), self.joints, "one value per joint");
         assert_eq!(params.len(), self.params, "one value per parameter");
         assert_eq!(out.len(), self.outputs.len(), "one entry per output");
-        scratch.clear();
-        scratch.extend_from_slice(&self.template);
-        if let Code::Small(_) = self.code {
-            scratch.resize(SMALL_REGISTERS, 0.0);
+        // Every register an operation writes is written before it is read (the program is in
+        // order), so only the literals are copied in; the rest of the file is reused as it is.
+        let size = match self.code {
+            Code::Small(_) => SMALL_REGISTERS,
+            Code::Large(_) => self.template.len(),
+        };
+        if scratch.len() < size {
+            scratch.resize(size, 0.0);
         }
+        scratch[..self.template.len()].copy_from_slice(&self.template);
         let regs = scratch.as_mut_slice();
         // The sines and cosines, LANES joints side by side (each bit for bit `sin_cos`).
         let mut group = [0.0; LANES];
