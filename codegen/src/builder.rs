@@ -42,6 +42,9 @@ pub struct ModuleOptions {
     /// The path through which the generated code names the runtime crate `trocar`; default
     /// `::trocar` (see [`Builder::runtime_path`]).
     pub runtime_path: Option<String>,
+    /// Also emit the module's C ABI (`extern "C"` functions named `<module>_<function>`,
+    /// [`crate::emit::c_api`]); see [`Builder::c_api`].
+    pub c_api: bool,
 }
 
 impl ModuleOptions {
@@ -67,7 +70,23 @@ pub fn generate_module(
 ) -> Result<TokenStream, Error> {
     let runtime = options.runtime()?;
     let spec = spec_for(desc, options)?;
-    Ok(emit::module_tokens_in(&spec, options.real, &runtime))
+    if !options.c_api {
+        return Ok(emit::module_tokens_in(&spec, options.real, &runtime));
+    }
+    let mut items = emit::module_items_in(&spec, options.real, &runtime);
+    items.extend(emit::c_api::items(&spec, options.real, runtime.tokens()));
+    Ok(emit::wrap_module(&spec.name, &spec.doc, items))
+}
+
+/// The C header of a description's module's C ABI ([`ModuleOptions::c_api`],
+/// [`crate::emit::c_api`]): its sizes and parameter indices as `#define`s and one prototype per
+/// function; matrices column-major.
+pub fn generate_c_header(
+    desc: &RobotDescription,
+    options: &ModuleOptions,
+) -> Result<String, Error> {
+    let spec = spec_for(desc, options)?;
+    Ok(emit::c_api::header(&spec, options.real))
 }
 
 /// The module as a formatted file (prettyplease), headed
@@ -111,6 +130,7 @@ pub struct Builder {
     runtime_path: Option<String>,
     out_dir: Option<PathBuf>,
     emit_rerun: bool,
+    c_api: bool,
 }
 
 impl Builder {
@@ -175,6 +195,15 @@ impl Builder {
         self
     }
 
+    /// Also emit each serial robot's C ABI: `extern "C"` functions `<module>_<function>(q,
+    /// params, out)` (and `<module>_controller_step` where the module has `Kinematics`) inside
+    /// the module, and the matching C header `<module>.h` beside `<module>.rs`
+    /// ([`crate::emit::c_api`]). A crate built as a `staticlib` or `cdylib` then exports them.
+    pub fn c_api(&mut self, on: bool) -> &mut Self {
+        self.c_api = on;
+        self
+    }
+
     /// Output directory for [`Builder::compile`] (default: the `OUT_DIR` variable).
     pub fn out_dir(&mut self, dir: impl AsRef<Path>) -> &mut Self {
         self.out_dir = Some(dir.as_ref().to_path_buf());
@@ -209,11 +238,15 @@ impl Builder {
                 real: self.real,
                 module_name: Some(module.clone()),
                 runtime_path: self.runtime_path.clone(),
+                c_api: self.c_api,
             };
             let code = generate_module_string(&desc, &options)?;
             let file = format!("{module}.rs");
             if out.insert(file, code).is_some() {
                 return Err(Error::DuplicateModule(module));
+            }
+            if self.c_api {
+                out.insert(format!("{module}.h"), generate_c_header(&desc, &options)?);
             }
         }
         for (path, name) in &self.mechanisms {
@@ -223,6 +256,7 @@ impl Builder {
                 real: self.real,
                 module_name: Some(module.clone()),
                 runtime_path: self.runtime_path.clone(),
+                c_api: false,
             };
             let code = generate_mechanism_string(&src, &options)?;
             let file = format!("{module}.rs");

@@ -51,7 +51,8 @@ mod naming;
 pub mod symbolic;
 
 pub use builder::{
-    generate_mechanism_string, generate_module, generate_module_string, Builder, ModuleOptions,
+    generate_c_header, generate_mechanism_string, generate_module, generate_module_string, Builder,
+    ModuleOptions,
 };
 pub use emit::Scalar;
 pub use error::Error;

@@ -84,4 +84,20 @@ fn main() {
     if let Err(e) = reexport.compile() {
         panic!("trocar-codegen: {e}");
     }
+
+    // The C ABI (`Builder::c_api`): in f32, and generic (its C functions in f64), with the
+    // controller step where the module has `Kinematics`.
+    let mut c32 = Builder::new();
+    c32.robot_as(format!("{robots}/panda-laparoscope.toml"), "panda_capi_f32")
+        .real(Scalar::F32)
+        .c_api(true);
+    if let Err(e) = c32.compile() {
+        panic!("trocar-codegen: {e}");
+    }
+    let mut cg = Builder::new();
+    cg.robot_as(format!("{robots}/dia10_like_zy.toml"), "dia10_capi")
+        .c_api(true);
+    if let Err(e) = cg.compile() {
+        panic!("trocar-codegen: {e}");
+    }
 }

@@ -30,6 +30,14 @@ pub enum Command {
         /// Scalar type of the generated code.
         #[arg(long, value_enum, default_value_t = RealArg::Generic)]
         real: RealArg,
+        /// Also emit the C ABI: `extern "C"` functions `<module>_<function>(q, params, out)`
+        /// (matrices column-major) and `<module>_controller_step` (serial robots).
+        #[arg(long)]
+        c_api: bool,
+        /// Write the C header of the C ABI to this file (`#define`d sizes, one prototype per
+        /// function); alone, only the header is written.
+        #[arg(long, value_name = "OUT.h")]
+        c_header: Option<PathBuf>,
     },
     /// Evaluate the constrained Jacobian and friends at a configuration.
     Eval {

@@ -12,6 +12,7 @@
 //! `SMatrix::<T, rows, cols>::from_data(ArrayStorage(a))` is free.
 
 pub mod bridge;
+pub mod c_api;
 pub mod controller;
 pub mod program;
 pub mod rust;

@@ -739,10 +739,28 @@ impl Robot {
     /// The generated Rust module: a serial robot's closed forms, or a mechanism's reduced
     /// kinematics, with `options` (the scalar type, the runtime path).
     pub fn generate(&self, options: &trocar_codegen::ModuleOptions) -> Result<String> {
+        if options.c_api && self.is_mechanism() {
+            return Err(Error::Unsupported(format!(
+                "`{}` is a closed mechanism: the C ABI is emitted for serial robots",
+                self.name()
+            )));
+        }
         Ok(match &self.kind {
             Kind::Serial(s) => trocar_codegen::generate_module_string(&s.desc, options)?,
             Kind::Mechanism(m) => trocar_codegen::generate_mechanism_string(&m.model, options)?,
         })
+    }
+
+    /// The C header of a serial robot's C ABI (`ModuleOptions::c_api`): sizes and parameter
+    /// indices as `#define`s, one prototype per function (matrices column-major).
+    pub fn c_header(&self, options: &trocar_codegen::ModuleOptions) -> Result<String> {
+        match &self.kind {
+            Kind::Serial(s) => Ok(trocar_codegen::generate_c_header(&s.desc, options)?),
+            Kind::Mechanism(m) => Err(Error::Unsupported(format!(
+                "`{}` is a closed mechanism: the C ABI is emitted for serial robots",
+                m.model.name
+            ))),
+        }
     }
 
     /// Checks the generated closed forms of a serial robot against the numeric runtime and

@@ -1,0 +1,406 @@
+//! The C ABI of a generated module ([`crate::Builder::c_api`], `trocar generate --c-api`) and its
+//! C header (`trocar generate --c-header`).
+//!
+//! Every function `f` of the module gets, inside the module,
+//!
+//! ```c
+//! int <module>_<f>(const double *q, const double *params, double *out);
+//! ```
+//!
+//! (`float` for an `f32` module; a generic module's C ABI is `double`): `q` the `N` joint values,
+//! `params` the parameters in declaration order, `out` room for the result in the layout of the
+//! Rust function — matrices **column-major** (`out[c · rows + r]` is entry `(r, c)`), a pose as
+//! `R` column-major then `p` (12 values). The return code is `0` when every value written is
+//! finite, [`C_NOT_FINITE`] when one is not (the values are written all the same), and
+//! [`C_NULL_ARGUMENT`] when a pointer is null (nothing is written). Nothing allocates; the
+//! functions are straight-line arithmetic and cannot panic.
+//!
+//! A constrained module whose constraint frame slides along its link (it has `Kinematics`) also
+//! gets `<module>_controller_step`: one step of the runtime's constrained controller
+//! (`trocar::control::Controller`, damped least squares, drift correction, the joint-limit
+//! objective where the module has `JOINT_LIMITS`) on the generated kinematics.
+
+use super::rust::{EmittedFunction, Layout, ModuleSpec, Scalar};
+use proc_macro2::{Literal, TokenStream};
+use quote::{format_ident, quote};
+use std::fmt::Write as _;
+
+/// Return code of a C function: a value written is not finite.
+pub const C_NOT_FINITE: i32 = 1;
+/// Return code of a C function: a required pointer is null; nothing is written.
+pub const C_NULL_ARGUMENT: i32 = 2;
+/// Return code of `<module>_controller_step`: the controller could not compute a step (a
+/// singular Jacobian without damping, a non-finite value, the trocar at the link's frame).
+pub const C_CONTROL_ERROR: i32 = 3;
+
+/// Number of values a function's result holds.
+fn len(f: &EmittedFunction) -> usize {
+    match f.layout {
+        Layout::Scalar => 1,
+        Layout::Matrix { rows, cols } => rows * cols,
+        Layout::Transform => 12,
+    }
+}
+
+/// The C prefix of a module's symbols: its name.
+fn prefix(spec: &ModuleSpec) -> String {
+    spec.name.clone()
+}
+
+/// Whether the module has `Kinematics` (a constraint frame that slides along its link), and so
+/// `<module>_controller_step`.
+fn has_controller(spec: &ModuleSpec) -> bool {
+    spec.controller.as_ref().is_some_and(|c| c.offset.is_some())
+}
+
+/// The `extern "C"` items inside the module, for the scalar type `real`.
+pub fn items(spec: &ModuleSpec, real: Scalar, rt: &TokenStream) -> TokenStream {
+    let t = match real {
+        Scalar::F32 => quote!(f32),
+        Scalar::F64 | Scalar::Generic => quote!(f64),
+    };
+    let p_count = spec.params.len();
+    let params_init = if spec.params.is_empty() {
+        quote!(Params::nominal())
+    } else {
+        let fields = spec.params.iter().enumerate().map(|(k, (name, _))| {
+            let id = format_ident!("{}", name);
+            let k = Literal::usize_unsuffixed(k);
+            quote!(#id: p[#k],)
+        });
+        quote!(Params { #(#fields)* })
+    };
+    let p_len = Literal::usize_unsuffixed(p_count);
+    let params_ty = match real {
+        Scalar::Generic => quote!(Params<f64>),
+        _ => quote!(Params),
+    };
+    let read_params = quote! {
+        /// The parameters from a C array (`PARAMS` values, declaration order); `None` for a null
+        /// pointer where there are parameters.
+        ///
+        /// # Safety
+        /// `params` points to `PARAMS` readable values (it may be null when there are none).
+        #[inline]
+        unsafe fn c_params(params: *const #t) -> Option<#params_ty> {
+            if #p_len > 0 && params.is_null() {
+                return None;
+            }
+            // SAFETY: non-null when there are parameters (checked above) and, by the caller's
+            // contract, pointing to `PARAMS` values; not read when there are none.
+            let p: &[#t] = if #p_len == 0 {
+                &[]
+            } else {
+                unsafe { ::core::slice::from_raw_parts(params, #p_len) }
+            };
+            let _ = p;
+            Some(#params_init)
+        }
+    };
+    let fns = spec.functions.iter().map(|f| {
+        let name = format_ident!("{}", f.name);
+        let c_name = format_ident!("{}_{}", prefix(spec), f.name);
+        let n = Literal::usize_unsuffixed(len(f));
+        let call = if f.takes_joints {
+            quote!(#name(q, &p))
+        } else {
+            quote!(#name(&p))
+        };
+        let flatten = match f.layout {
+            Layout::Scalar => quote!(out[0] = value;),
+            Layout::Matrix { rows, .. } => {
+                let rows = Literal::usize_unsuffixed(rows);
+                quote! {
+                    for (c, column) in value.iter().enumerate() {
+                        out[c * #rows..(c + 1) * #rows].copy_from_slice(column);
+                    }
+                }
+            }
+            Layout::Transform => quote! {
+                let (r, t) = value;
+                for (c, column) in r.iter().enumerate() {
+                    out[3 * c..3 * c + 3].copy_from_slice(column);
+                }
+                out[9..12].copy_from_slice(&t);
+            },
+        };
+        let doc =
+            format!(
+            " C ABI of [`{name}`]: `int {c_name}(const {ct} *q, const {ct} *params, {ct} *out)`; \
+             `out` receives {n} values (column-major). Returns 0, `C_NOT_FINITE` (1) or \
+             `C_NULL_ARGUMENT` (2); see the C header (`trocar generate --c-header`).",
+            name = f.name,
+            ct = if matches!(real, Scalar::F32) { "float" } else { "double" },
+            n = len(f),
+        );
+        let q_check = if f.takes_joints {
+            quote!(q.is_null() ||)
+        } else {
+            quote!()
+        };
+        let q_read = if f.takes_joints {
+            quote! {
+                // SAFETY: non-null (checked above) and, by the caller's contract, pointing to
+                // `N` readable values.
+                let q: &[#t; N] = unsafe { &*q.cast::<[#t; N]>() };
+            }
+        } else {
+            quote!(let _ = q;)
+        };
+        quote! {
+            #[doc = #doc]
+            ///
+            /// # Safety
+            /// `q` points to `N` readable values (it may be null for a function of the
+            /// parameters alone), `params` to the parameters (`PARAMS` values, declaration
+            /// order; null when there are none), `out` to room for the result, and `out`
+            /// overlaps neither.
+            #[no_mangle]
+            pub unsafe extern "C" fn #c_name(q: *const #t, params: *const #t, out: *mut #t) -> i32 {
+                if #q_check out.is_null() {
+                    return C_NULL_ARGUMENT;
+                }
+                // SAFETY: the caller's contract for `params`.
+                let Some(p) = (unsafe { c_params(params) }) else {
+                    return C_NULL_ARGUMENT;
+                };
+                #q_read
+                let value = #call;
+                // SAFETY: non-null (checked above) and, by the caller's contract, room for the
+                // result's values, not overlapping the inputs.
+                let out: &mut [#t; #n] = unsafe { &mut *out.cast::<[#t; #n]>() };
+                #flatten
+                if out.iter().all(|v| v.is_finite()) { 0 } else { C_NOT_FINITE }
+            }
+        }
+    });
+    let controller = has_controller(spec).then(|| controller_step(spec, &t, rt));
+    let p_const = Literal::usize_unsuffixed(p_count);
+    quote! {
+        /// Number of parameters the C functions read from `params`.
+        pub const PARAMS: usize = #p_const;
+        /// C return code: a value written is not finite.
+        pub const C_NOT_FINITE: i32 = 1;
+        /// C return code: a required pointer is null; nothing is written.
+        pub const C_NULL_ARGUMENT: i32 = 2;
+        /// C return code of the controller step: no step could be computed.
+        pub const C_CONTROL_ERROR: i32 = 3;
+        #read_params
+        #(#fns)*
+        #controller
+    }
+}
+
+/// `<module>_controller_step`: one step of the runtime controller on `Kinematics`.
+fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> TokenStream {
+    let c_name = format_ident!("{}_controller_step", prefix(spec));
+    let rows = if spec.controller.as_ref().is_some_and(|c| c.task) {
+        quote!(TASK_ROWS)
+    } else {
+        quote!(6)
+    };
+    let limits = spec.joint_limits.is_some();
+    // `JOINT_LIMITS` is `f64`: cast for an `f32` module only.
+    let cast = if t.to_string() == "f32" {
+        quote!(as f32)
+    } else {
+        quote!()
+    };
+    let objective = if limits {
+        quote! {
+            let ctrl = if gains[7] > 0.0 {
+                ctrl.with_objective(#rt::control::NullSpaceObjective::JointLimits {
+                    gain: gains[7],
+                    lower: #rt::nalgebra::SVector::from_fn(|k, _| JOINT_LIMITS[k][0] #cast),
+                    upper: #rt::nalgebra::SVector::from_fn(|k, _| JOINT_LIMITS[k][1] #cast),
+                })
+            } else {
+                ctrl
+            };
+        }
+    } else {
+        quote!()
+    };
+    let doc = format!(
+        " C ABI of one step of the runtime's constrained controller (`trocar::control::Controller`, \
+         damped least squares) on this module's `Kinematics`: `int {c_name}(const T *q, const T \
+         *params, const T *target, const T *trocar, T dt, const T *gains, T *qd, T *report)`. \
+         `target` holds 18 values: the tip's desired position (3), orientation `R` column-major \
+         (9), linear and angular feed-forward velocities (3 + 3), all in the base frame; `trocar` \
+         the trocar point (3); `gains` 8 values: `K_p`, `K_o`, `K_r` (drift correction), DLS `α0`, \
+         `w0` of the task Jacobian and of `J^B_0i`, the joint speed limit (≤ 0: none), the \
+         joint-limit objective's gain (≤ 0: none; used where the module has `JOINT_LIMITS`). \
+         `qd` receives the `N` joint rates; `report` (may be null) 8 values: `l_a`, `|e_p|`, \
+         `|ε̃|`, the lateral offset of the trocar from the link `|e_r|`, `w_r`, `w_i`, `κ_r`, \
+         `κ_i`. Returns 0, `C_NULL_ARGUMENT` (2) or `C_CONTROL_ERROR` (3)."
+    );
+    quote! {
+        #[doc = #doc]
+        ///
+        /// # Safety
+        /// `q` points to `N` values, `params` to `PARAMS` values (null when there are none),
+        /// `target` to 18, `trocar` to 3, `gains` to 8, `qd` to room for `N` values and
+        /// `report` to room for 8 or is null; the outputs overlap no input.
+        #[no_mangle]
+        #[allow(clippy::too_many_arguments)]
+        pub unsafe extern "C" fn #c_name(
+            q: *const #t,
+            params: *const #t,
+            target: *const #t,
+            trocar: *const #t,
+            dt: #t,
+            gains: *const #t,
+            qd: *mut #t,
+            report: *mut #t,
+        ) -> i32 {
+            use #rt::control::{Controller, ControllerConfig, Damping, Inverse, Rcm, Reference};
+            use #rt::nalgebra::{Matrix3, SVector, Vector3};
+            if q.is_null() || target.is_null() || trocar.is_null() || gains.is_null() || qd.is_null() {
+                return C_NULL_ARGUMENT;
+            }
+            // SAFETY: the caller's contract for `params`.
+            let Some(p) = (unsafe { c_params(params) }) else {
+                return C_NULL_ARGUMENT;
+            };
+            // SAFETY: each pointer is non-null (checked above) and, by the caller's contract,
+            // points to as many readable values as read here.
+            let (q, target, trocar, gains) = unsafe {
+                (
+                    &*q.cast::<[#t; N]>(),
+                    &*target.cast::<[#t; 18]>(),
+                    &*trocar.cast::<[#t; 3]>(),
+                    &*gains.cast::<[#t; 8]>(),
+                )
+            };
+            let config = ControllerConfig {
+                kp: gains[0],
+                ko: gains[1],
+                inverse: Inverse::Dls(Damping::Variable { alpha0: gains[3], w0: gains[4] }),
+                jb0i_damping: Some(Damping::Variable { alpha0: gains[3], w0: gains[5] }),
+                kr: gains[2],
+                max_joint_speed: if gains[6] > 0.0 { Some(gains[6]) } else { None },
+            };
+            let ctrl = Controller::<#t, N, I, R, K, M, #rows>::new(config);
+            #objective
+            let mut ctrl = ctrl;
+            let reference = Reference {
+                position: Vector3::new(target[0], target[1], target[2]),
+                rotation: Matrix3::from_column_slice(&target[3..12]),
+                velocity: Vector3::new(target[12], target[13], target[14]),
+                angular_velocity: Vector3::new(target[15], target[16], target[17]),
+            };
+            let rcm = Rcm {
+                trocar: Vector3::new(trocar[0], trocar[1], trocar[2]),
+                dv: SVector::<#t, R>::zeros(),
+            };
+            let kin = Kinematics { params: p };
+            let out = match ctrl.step(&kin, &SVector::from(*q), &reference, &rcm, dt) {
+                Ok(out) => out,
+                Err(_) => return C_CONTROL_ERROR,
+            };
+            // SAFETY: non-null (checked above), room for `N` values by the caller's contract.
+            let qd: &mut [#t; N] = unsafe { &mut *qd.cast::<[#t; N]>() };
+            qd.copy_from_slice(out.qd.as_slice());
+            if !report.is_null() {
+                // SAFETY: non-null, room for 8 values by the caller's contract.
+                let report: &mut [#t; 8] = unsafe { &mut *report.cast::<[#t; 8]>() };
+                *report = [
+                    out.l_a,
+                    out.ep.norm(),
+                    out.eq.eps.norm(),
+                    out.lateral_error.norm(),
+                    out.w_r,
+                    out.w_i,
+                    out.kappa_r,
+                    out.kappa_i,
+                ];
+            }
+            0
+        }
+    }
+}
+
+/// The C header of a module's C ABI ([`items`]), with its sizes as `#define`s.
+pub fn header(spec: &ModuleSpec, real: Scalar) -> String {
+    let ct = if matches!(real, Scalar::F32) {
+        "float"
+    } else {
+        "double"
+    };
+    let m = prefix(spec);
+    let upper = m.to_uppercase();
+    let mut h = String::new();
+    let _ = writeln!(
+        h,
+        "/* C ABI of the trocar-generated module `{m}` (trocar generate --c-header).\n\
+         \n\
+         Every function: int {m}_<name>(const {ct} *q, const {ct} *params, {ct} *out).\n\
+         q: the {n} joint values, base first; params: the {p} parameters in declaration order\n\
+         (see {upper}_PARAM_<NAME>; may be NULL when there are none); out: room for the result.\n\
+         Matrices are written COLUMN-MAJOR (out[c * rows + r] is entry (r, c)), as the Rust\n\
+         functions return them; a pose is R column-major (9) then p (3).\n\
+         Returns 0, {upper}_NOT_FINITE when a value written is not finite, {upper}_NULL_ARGUMENT\n\
+         when a pointer is NULL (nothing written). No function allocates or fails otherwise. */",
+        n = spec.joints,
+        p = spec.params.len(),
+    );
+    let guard = format!("TROCAR_{upper}_H");
+    let _ = writeln!(h, "#ifndef {guard}\n#define {guard}\n");
+    for c in &spec.consts {
+        let _ = writeln!(h, "#define {upper}_{} {}", c.name, c.value);
+    }
+    let _ = writeln!(h, "#define {upper}_PARAMS {}", spec.params.len());
+    for (k, (name, value)) in spec.params.iter().enumerate() {
+        let _ = writeln!(
+            h,
+            "#define {upper}_PARAM_{} {k} /* nominal {value:?} */",
+            name.to_uppercase()
+        );
+    }
+    let _ = writeln!(
+        h,
+        "#define {upper}_NOT_FINITE {C_NOT_FINITE}\n#define {upper}_NULL_ARGUMENT {C_NULL_ARGUMENT}\n#define {upper}_CONTROL_ERROR {C_CONTROL_ERROR}"
+    );
+    if let Some(limits) = &spec.joint_limits {
+        let _ = writeln!(h, "/* Joint limits {{lower, upper}}, base first. */");
+        let _ = write!(h, "#define {upper}_JOINT_LIMITS {{");
+        for (k, [lo, hi]) in limits.iter().enumerate() {
+            let _ = write!(h, "{}{{{lo:?}, {hi:?}}}", if k > 0 { ", " } else { "" });
+        }
+        let _ = writeln!(h, "}}");
+    }
+    let _ = writeln!(h, "\n#ifdef __cplusplus\nextern \"C\" {{\n#endif\n");
+    for f in &spec.functions {
+        let shape = match f.layout {
+            Layout::Scalar => "a scalar".to_string(),
+            Layout::Matrix { rows, cols } => format!("{rows} x {cols}, column-major"),
+            Layout::Transform => "a pose: R column-major, then p".to_string(),
+        };
+        let _ = writeln!(
+            h,
+            "/* {} {} ({shape}). */\n#define {upper}_{}_LEN {}\nint {m}_{}(const {ct} *q, const {ct} *params, {ct} *out);\n",
+            f.summary,
+            f.equation,
+            f.name.to_uppercase(),
+            len(f),
+            f.name
+        );
+    }
+    if has_controller(spec) {
+        let _ = writeln!(
+            h,
+            "/* One step of trocar's constrained controller (damped least squares, drift correction,\n\
+             the joint-limit objective) on this module's kinematics.\n\
+             target[18]: tip position (3), orientation R column-major (9), velocity (3), angular\n\
+             velocity (3), base frame. trocar[3]: the trocar point. gains[8]: K_p, K_o, K_r, DLS\n\
+             alpha0, w0 of the task Jacobian, w0 of J^B_0i, joint speed limit (<= 0: none),\n\
+             joint-limit objective gain (<= 0: none). qd[{n}]: the joint rates. report[8] (or NULL):\n\
+             l_a, |e_p|, |eps|, |e_r| (trocar's lateral offset from the link), w_r, w_i, kappa_r,\n\
+             kappa_i. Returns 0, {upper}_NULL_ARGUMENT or {upper}_CONTROL_ERROR. */\n\
+             int {m}_controller_step(const {ct} *q, const {ct} *params, const {ct} *target,\n    const {ct} *trocar, {ct} dt, const {ct} *gains, {ct} *qd, {ct} *report);\n",
+            n = spec.joints
+        );
+    }
+    let _ = writeln!(h, "#ifdef __cplusplus\n}}\n#endif\n\n#endif /* {guard} */");
+    h
+}
