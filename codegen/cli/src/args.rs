@@ -147,6 +147,29 @@ pub enum Command {
         /// Write a still `.png` or `.svg` of the arm at --snapshot-times. Serial arms only.
         #[arg(long)]
         snapshot: Option<PathBuf>,
+        /// Drive the robot SCENARIO names (a shipped robot or a TOML description) along this
+        /// tip path instead of running a shipped scenario: a CSV with a header, `t` (s,
+        /// increasing), `x,y,z` (m, base frame) and, for a task that commands orientation,
+        /// `roll` (rad about the tip's z, relative to q0) or `qw,qx,qy,qz`.
+        #[arg(long, value_name = "PATH.csv")]
+        trajectory: Option<PathBuf>,
+        /// With --trajectory: the start configuration, all joints, base first.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            allow_hyphen_values = true,
+            requires = "trajectory"
+        )]
+        q0: Option<Vec<f64>>,
+        /// With --trajectory: the trocar point x,y,z (m, base frame); default: the constraint
+        /// frame's origin at q0.
+        #[arg(
+            long,
+            value_delimiter = ',',
+            allow_hyphen_values = true,
+            requires = "trajectory"
+        )]
+        trocar: Option<Vec<f64>>,
         /// Times (s) drawn by --snapshot, comma-separated (default: start, middle, end).
         #[arg(
             long,

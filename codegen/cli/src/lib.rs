@@ -90,23 +90,45 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             animate,
             snapshot,
             snapshot_times,
-        } => commands::simulate::run(
-            &scenario,
-            method,
-            &trocar_api::RcmOptions {
+            trajectory,
+            q0,
+            trocar,
+        } => {
+            let options = trocar_api::RcmOptions {
                 method: method.and_then(MethodArg::method),
                 drift_correction: drift_correction == OnOff::On,
                 max_joint_speed,
-            },
-            csv.as_deref(),
-            args::csv_rows(every, dt),
-            plot.as_deref(),
-            &commands::simulate::ArmViews {
-                animate,
-                snapshot,
-                snapshot_times,
-            },
-        ),
+            };
+            match trajectory {
+                Some(path) => commands::simulate::run_trajectory(
+                    &scenario,
+                    &path,
+                    &commands::simulate::UserRun {
+                        method,
+                        options,
+                        q0,
+                        trocar,
+                        csv,
+                        plot,
+                        animate,
+                        snapshot,
+                    },
+                ),
+                None => commands::simulate::run(
+                    &scenario,
+                    method,
+                    &options,
+                    csv.as_deref(),
+                    args::csv_rows(every, dt),
+                    plot.as_deref(),
+                    &commands::simulate::ArmViews {
+                        animate,
+                        snapshot,
+                        snapshot_times,
+                    },
+                ),
+            }
+        }
         Command::Preset { name } => commands::preset::run(&name),
         Command::List => commands::list::run(),
     }

@@ -29,12 +29,17 @@ mod error;
 mod evaluation;
 mod robot;
 pub mod simulate;
+mod trajectory;
 
 pub use controller::{ControllerOptions, RobotController, Step, Target, SUPPORTED};
 pub use error::{Error, Result};
 pub use evaluation::Evaluation;
 pub use robot::{urdf_jacobian, Evaluator, GeneratedCandidate, Robot, TWIST};
 pub use simulate::{simulate, RcmOptions, SimulationRun, SpeedLimit};
+pub use trajectory::{
+    simulate_trajectory, Orientation, Trajectory, TrajectoryOptions, TrajectoryRun,
+    MAX_TRAJECTORY_BYTES, START_TOLERANCE,
+};
 pub use trocar_codegen::catalogue::Function;
 pub use trocar_sim::simulation::{CsvRows, Method};
 

@@ -445,30 +445,85 @@ impl Controller {
 /// closed-chain scenario such as `"four-bar"`) and returns its trace as named columns (`t`
 /// first), the columns of the command line's CSV. `method` (`"pinv"`, `"dls"`, `"fi"`; default:
 /// the scenario's), `drift_correction` and `max_joint_speed` (rad/s; `None` for no limit; default:
-/// the simulations' limit) apply to the RCM scenarios.
+/// the simulations' limit) apply to the RCM scenarios. With `trajectory` (a CSV: `t,x,y,z` and
+/// `roll` or `qw,qx,qy,qz`), the first argument is a robot (a `Robot`, a shipped name or a
+/// file) driven along that tip path from `q0`, the trocar at `trocar` (default: the constraint
+/// frame's origin at `q0`).
 #[pyfunction]
-#[pyo3(signature = (scenario, method = None, drift_correction = true, max_joint_speed = MaybeLimit::Default))]
+#[pyo3(signature = (scenario, method = None, drift_correction = true, max_joint_speed = MaybeLimit::Default, trajectory = None, q0 = None, trocar = None))]
+#[allow(clippy::too_many_arguments)]
 fn simulate<'py>(
     py: Python<'py>,
-    scenario: &str,
+    scenario: &Bound<'py, PyAny>,
     method: Option<&str>,
     drift_correction: bool,
     max_joint_speed: MaybeLimit,
+    trajectory: Option<PathBuf>,
+    q0: Option<Vec<f64>>,
+    trocar: Option<[f64; 3]>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let options = RcmOptions {
-        method: method.map(self::method).transpose()?,
-        drift_correction,
-        max_joint_speed: match max_joint_speed {
-            MaybeLimit::Default => None,
-            MaybeLimit::Unlimited => Some(SpeedLimit::Unlimited),
-            MaybeLimit::At(v) => Some(SpeedLimit::At(v)),
-        },
+    let columns = match trajectory {
+        None => {
+            let scenario: String = scenario.extract()?;
+            let options = RcmOptions {
+                method: method.map(self::method).transpose()?,
+                drift_correction,
+                max_joint_speed: match max_joint_speed {
+                    MaybeLimit::Default => None,
+                    MaybeLimit::Unlimited => Some(SpeedLimit::Unlimited),
+                    MaybeLimit::At(v) => Some(SpeedLimit::At(v)),
+                },
+            };
+            py.detach(|| trocar_api::simulate(&scenario, &options, &mut |_| {}))
+                .map_err(value_error)?
+                .columns()
+        }
+        Some(path) => {
+            // A robot: a loaded `Robot`, a shipped name or a description file.
+            let loaded;
+            let robot: &trocar_api::Robot = match scenario.cast::<Robot>() {
+                Ok(r) => &r.get().inner,
+                Err(_) => {
+                    let name: PathBuf = scenario.extract()?;
+                    loaded = trocar_api::Robot::load(&name).map_err(value_error)?;
+                    &loaded
+                }
+            };
+            let q0 = q0.ok_or_else(|| {
+                PyValueError::new_err(format!(
+                    "trajectory: give the start configuration q0 (all {} joints of `{}`, base first)",
+                    robot.dof(),
+                    robot.name()
+                ))
+            })?;
+            let mut controller = ControllerOptions::default();
+            if let Some(m) = method {
+                controller.method = self::method(m)?;
+            }
+            if !drift_correction {
+                controller.kr = 0.0;
+            }
+            match max_joint_speed {
+                MaybeLimit::Default => {}
+                MaybeLimit::Unlimited => controller.max_joint_speed = None,
+                MaybeLimit::At(v) => controller.max_joint_speed = Some(v),
+            }
+            let options = trocar_api::TrajectoryOptions {
+                q0,
+                trocar,
+                controller,
+                dt: 0.002,
+            };
+            py.detach(|| {
+                let t = trocar_api::Trajectory::from_csv(&path)?;
+                trocar_api::simulate_trajectory(robot, &t, &options, &mut |_| {})
+            })
+            .map_err(value_error)?
+            .columns
+        }
     };
-    let run = py
-        .detach(|| trocar_api::simulate(scenario, &options, &mut |_| {}))
-        .map_err(value_error)?;
     let out = PyDict::new(py);
-    for (name, values) in run.columns() {
+    for (name, values) in columns {
         out.set_item(name, PyArray1::from_vec(py, values))?;
     }
     Ok(out)

@@ -297,3 +297,35 @@ def test_the_readmes_python_example_runs():
     assert np.linalg.norm(robot.eval(q, what="fk")[:3, 3] - goal) < 1e-4
     assert np.max(np.abs(scope["out"]["lateral_error"])) < 1e-6
     assert scope["poses"].shape == (10_000, 4, 4)
+
+
+def test_simulate_a_users_trajectory_as_the_command_line(tmp_path):
+    """trocar.simulate(robot, trajectory=...) returns the command line's columns for the same
+    robot, path and start."""
+    robot = trocar.Robot.load("panda-laparoscope")
+    q0 = np.array([0.0, -np.pi / 4, 0.0, -3 * np.pi / 4, 0.0, np.pi / 2, np.pi / 4])
+    tip = robot.eval(q0, what="fk")[:3, 3]
+    t = np.linspace(0.0, 2.0, 41)
+    a = 2 * np.pi * t / 2.0
+    path = tmp_path / "circle.csv"
+    rows = ["t,x,y,z,roll"] + [
+        f"{float(ti)!r},{float(tip[0] + 0.005 * (np.cos(ai) - 1))!r},"
+        f"{float(tip[1] + 0.005 * np.sin(ai))!r},{float(tip[2])!r},0"
+        for ti, ai in zip(t, a)]
+    path.write_text("\n".join(rows) + "\n")
+    trace = trocar.simulate(robot, trajectory=path, q0=q0)
+    assert list(trace)[:6] == ["t", "ep_norm", "eo_norm", "vr_x", "vr_y", "rcm_drift"]
+    assert np.max(trace["rcm_drift"]) < 1e-4
+    out = tmp_path / "cli.csv"
+    res = cli("simulate", "panda-laparoscope", "--trajectory", str(path),
+              "--q0=" + ",".join(repr(float(x)) for x in q0), "--csv", str(out))
+    assert res.returncode == 0, res.stderr
+    data = np.genfromtxt(out, delimiter=",", names=True)
+    np.testing.assert_allclose(data["rcm_drift"], trace["rcm_drift"], rtol=1e-12, atol=1e-18)
+    np.testing.assert_allclose(data["q7"], trace["q7"], rtol=1e-12, atol=1e-15)
+    with pytest.raises(ValueError, match="q0"):
+        trocar.simulate(robot, trajectory=path)
+    bad = tmp_path / "bad.csv"
+    bad.write_text("t,x,y,z,roll\n0,0,0,0,0\n")
+    with pytest.raises(ValueError, match="bad.csv: 1 rows"):
+        trocar.simulate("panda-laparoscope", trajectory=bad, q0=q0)

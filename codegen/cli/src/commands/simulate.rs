@@ -150,3 +150,101 @@ pub(crate) fn run(
     eprintln!("{summary}");
     Ok(0)
 }
+
+/// What `trocar simulate ROBOT --trajectory PATH.csv` is given besides the robot and the path.
+#[derive(Clone, Debug)]
+pub(crate) struct UserRun {
+    /// `--method`.
+    pub method: Option<MethodArg>,
+    /// The controller's options (`--drift-correction`, `--max-joint-speed`).
+    pub options: RcmOptions,
+    /// `--q0`.
+    pub q0: Option<Vec<f64>>,
+    /// `--trocar`.
+    pub trocar: Option<Vec<f64>>,
+    /// `--csv`.
+    pub csv: Option<PathBuf>,
+    /// `--plot`, `--animate`, `--snapshot`: not drawn for a user's trajectory yet.
+    pub plot: Option<PathBuf>,
+    /// See `plot`.
+    pub animate: Option<PathBuf>,
+    /// See `plot`.
+    pub snapshot: Option<PathBuf>,
+}
+
+/// Runs `trocar simulate ROBOT --trajectory PATH.csv`: the robot's constrained controller along
+/// the user's tip path ([`trocar_api::simulate_trajectory`]); the CSV is written whole once the
+/// run has succeeded, the summary goes to stderr.
+pub(crate) fn run_trajectory(robot: &str, path: &Path, user: &UserRun) -> Result<i32, CliError> {
+    for (option, given) in [
+        ("--plot", user.plot.is_some()),
+        ("--animate", user.animate.is_some()),
+        ("--snapshot", user.snapshot.is_some()),
+    ] {
+        if given {
+            return Err(Error::Input(format!(
+                "{option}: the figures and views of the arm are drawn for the shipped scenarios;                  with --trajectory, write --csv and plot its columns"
+            )));
+        }
+    }
+    let outputs = Outputs::check(&[("--csv", user.csv.as_deref(), OutputKind::Data)])?;
+    let robot = trocar_api::Robot::load(robot)?;
+    let trajectory = trocar_api::Trajectory::from_csv(path)?;
+    let q0 = user.q0.clone().ok_or_else(|| {
+        Error::Input(format!(
+            "--trajectory: give the start configuration with --q0 q1,...,q{} (all joints of `{}`, base first)",
+            robot.dof(),
+            robot.name()
+        ))
+    })?;
+    let trocar = match &user.trocar {
+        None => None,
+        Some(v) => {
+            let [x, y, z] = v.as_slice() else {
+                return Err(Error::Input(format!(
+                    "--trocar: three values x,y,z (m, base frame), got {}",
+                    v.len()
+                )));
+            };
+            if let Err((k, problem)) = trocar_model::validity::check_all(v) {
+                return Err(Error::Input(format!("--trocar: value {} {problem}", k + 1)));
+            }
+            Some([*x, *y, *z])
+        }
+    };
+    let mut controller = trocar_api::ControllerOptions::default();
+    match user.method {
+        Some(MethodArg::All) => {
+            return Err(Error::Input(
+                "--method all compares the shipped scenarios; with --trajectory give one method"
+                    .into(),
+            ))
+        }
+        Some(m) => controller.method = m.method().unwrap_or(controller.method),
+        None => {}
+    }
+    if !user.options.drift_correction {
+        controller.kr = 0.0;
+    }
+    match user.options.max_joint_speed {
+        Some(trocar_api::SpeedLimit::Unlimited) => controller.max_joint_speed = None,
+        Some(trocar_api::SpeedLimit::At(v)) => controller.max_joint_speed = Some(v),
+        None => {}
+    }
+    let options = trocar_api::TrajectoryOptions {
+        q0,
+        trocar,
+        controller,
+        dt: 0.002,
+    };
+    let run = with_progress("trajectory", |progress| {
+        trocar_api::simulate_trajectory(&robot, &trajectory, &options, progress)
+    })?;
+    if let Some(csv) = &user.csv {
+        run.write_csv(outputs.temporary(csv))
+            .map_err(|e| outputs.explain(format!("--csv {}: {e}", csv.display())))?;
+    }
+    outputs.commit()?;
+    eprintln!("{}", run.summary);
+    Ok(0)
+}

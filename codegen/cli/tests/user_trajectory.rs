@@ -1,0 +1,205 @@
+//! `trocar simulate ROBOT --trajectory PATH.csv`: a user's robot along a user's tip path, and the
+//! trajectories refused (each error names the file, the row and the column, and writes nothing).
+
+mod common;
+use common::{json_matrix, trocar};
+
+const Q0: &str =
+    "0,-0.7853981633974483,0,-2.356194490192345,0,1.5707963267948966,0.7853981633974483";
+
+fn dir(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!(
+        "trocar-user-trajectory-{}-{name}",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The Panda's tip at q0, from `trocar eval`.
+fn start_tip() -> [f64; 3] {
+    let (code, out, err) = trocar(&[
+        "eval",
+        "panda-laparoscope",
+        "--q",
+        Q0,
+        "--what",
+        "fk",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (_, _, m) = json_matrix(&out);
+    [m[0][3], m[1][3], m[2][3]]
+}
+
+/// A 10 s circle of radius 1 cm through the start tip, in the plane normal to the shaft (the
+/// base's x-y plane at q0), with the roll held at 0.
+fn circle_csv() -> String {
+    let c = start_tip();
+    let mut s = String::from("t,x,y,z,roll\n");
+    for k in 0..=200 {
+        let t = k as f64 * 0.05;
+        let a = 2.0 * std::f64::consts::PI * t / 10.0;
+        s += &format!(
+            "{t},{},{},{},0\n",
+            c[0] + 0.01 * (a.cos() - 1.0),
+            c[1] + 0.01 * a.sin(),
+            c[2]
+        );
+    }
+    s
+}
+
+fn column(csv: &str, name: &str) -> Vec<f64> {
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let k = header
+        .iter()
+        .position(|h| *h == name)
+        .unwrap_or_else(|| panic!("no column {name}"));
+    lines
+        .map(|l| l.split(',').nth(k).unwrap().parse().unwrap())
+        .collect()
+}
+
+#[test]
+fn panda_follows_a_circle_through_the_trocar() {
+    let d = dir("circle");
+    let path = d.join("circle.csv");
+    std::fs::write(&path, circle_csv()).unwrap();
+    let out = d.join("out.csv");
+    let (code, _, err) = trocar(&[
+        "simulate",
+        "panda-laparoscope",
+        "--trajectory",
+        path.to_str().unwrap(),
+        "--q0",
+        Q0,
+        "--csv",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("max drift"), "{err}");
+    let csv = std::fs::read_to_string(&out).unwrap();
+    let header = csv.lines().next().unwrap();
+    assert!(
+        header.starts_with("t,ep_norm,eo_norm,vr_x,vr_y,rcm_drift,w_r,w_i,l_a,q1,"),
+        "{header}"
+    );
+    let t = column(&csv, "t");
+    assert!((t[t.len() - 1] - 10.0).abs() < 1e-9);
+    let drift = column(&csv, "rcm_drift");
+    assert!(
+        drift.iter().all(|d| *d <= 1e-4),
+        "drift {}",
+        drift.iter().cloned().fold(0.0, f64::max)
+    );
+    let ep = column(&csv, "ep_norm");
+    let after = t
+        .iter()
+        .zip(&ep)
+        .filter(|(t, _)| **t >= 2.0)
+        .map(|(_, e)| *e)
+        .fold(0.0, f64::max);
+    assert!(after <= 1e-3, "tip error after 2 s {after}");
+    // No joint beyond its URDF limits (from the description, via `trocar preset`'s URDF).
+    let limits = [
+        [-2.8973, 2.8973],
+        [-1.7628, 1.7628],
+        [-2.8973, 2.8973],
+        [-3.0718, -0.0698],
+        [-2.8973, 2.8973],
+        [-0.0175, 3.7525],
+        [-2.8973, 2.8973],
+    ];
+    for (k, [lo, hi]) in limits.iter().enumerate() {
+        let q = column(&csv, &format!("q{}", k + 1));
+        assert!(
+            q.iter().all(|v| v >= lo && v <= hi),
+            "joint {} left its limits",
+            k + 1
+        );
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn bad_trajectories_name_the_file_row_and_column_and_write_nothing() {
+    let d = dir("bad");
+    let good = circle_csv();
+    let rows: Vec<&str> = good.lines().collect();
+    let swapped = {
+        let mut r = rows.clone();
+        r.swap(3, 4);
+        r.join("\n")
+    };
+    let nan = good.replacen(
+        &rows[5][..rows[5].find(',').unwrap() + 1],
+        &format!("{}NaN_", &rows[5][..rows[5].find(',').unwrap() + 1]),
+        1,
+    );
+    let cases: Vec<(&str, String, &str)> = vec![
+        ("unsorted", swapped, ":5: column `t`"),
+        ("nan", nan, ":6: column `x`"),
+        (
+            "missing",
+            good.replace("t,x,y,z,roll", "t,x,q,z,roll"),
+            ":1: no column `y`",
+        ),
+        (
+            "one-row",
+            format!("{}\n{}\n", rows[0], rows[1]),
+            "1 rows; a trajectory needs at least two",
+        ),
+        (
+            "no-roll",
+            rows.iter()
+                .map(|r| r.rsplit_once(',').unwrap().0)
+                .collect::<Vec<_>>()
+                .join("\n"),
+            "commands a rotation",
+        ),
+        (
+            "far",
+            format!("{}\n{}\n1,5,5,5,0\n", rows[0], rows[1]),
+            ":3: columns x, y, z: the point is",
+        ),
+    ];
+    for (name, text, want) in cases {
+        let path = d.join(format!("{name}.csv"));
+        std::fs::write(&path, &text).unwrap();
+        let out = d.join(format!("{name}-out.csv"));
+        let (code, _, err) = trocar(&[
+            "simulate",
+            "panda-laparoscope",
+            "--trajectory",
+            path.to_str().unwrap(),
+            "--q0",
+            Q0,
+            "--csv",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 1, "{name}: {err}");
+        assert!(err.contains(want), "{name}: {err}");
+        if want.starts_with(':') {
+            assert!(
+                err.contains(&format!("{name}.csv{want}")),
+                "{name}: the file and row: {err}"
+            );
+        }
+        assert!(!out.exists(), "{name}: an output was written");
+    }
+    // Without --q0: the error says how to give it.
+    let path = d.join("circle.csv");
+    std::fs::write(&path, &good).unwrap();
+    let (code, _, err) = trocar(&[
+        "simulate",
+        "panda-laparoscope",
+        "--trajectory",
+        path.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1);
+    assert!(err.contains("--q0 q1,...,q7"), "{err}");
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -1,0 +1,528 @@
+//! A user's reference path for the tip, read from CSV, and the simulation of any serial robot
+//! along it with the constrained controller ([`simulate_trajectory`]).
+//!
+//! The CSV has a header; column `t` (s, increasing) and the tip's reference in the base frame:
+//! `x, y, z` (m) and, for a task that commands orientation, either `roll` (rad, about the tip's
+//! `z` axis, relative to its orientation at `q0`) or a unit quaternion `qw, qx, qy, qz`. Rows are
+//! interpolated linearly (orientation by slerp); the reference velocity is the interpolant's
+//! derivative; before the first row the reference holds the first row, after the last the last.
+
+use crate::controller::{ControllerOptions, RobotController, Target};
+use crate::error::{Error, Result};
+use crate::robot::Robot;
+use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
+use std::path::{Path, PathBuf};
+
+/// The largest trajectory file read (bytes): a path of 10⁵ rows fits many times over.
+pub const MAX_TRAJECTORY_BYTES: u64 = 64 << 20;
+
+/// How a trajectory gives the tip's orientation.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Orientation {
+    /// None: the task commands position only.
+    None,
+    /// A roll about the tip's `z` axis (rad), relative to its orientation at `q0`.
+    Roll(Vec<f64>),
+    /// Unit quaternions `(w, x, y, z)`, base frame.
+    Quaternion(Vec<[f64; 4]>),
+}
+
+/// A tip reference path: times, positions and (optionally) orientations.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Trajectory {
+    /// The file it was read from, for messages.
+    pub source: Option<PathBuf>,
+    /// Times (s), increasing.
+    pub t: Vec<f64>,
+    /// Tip positions (m, base frame).
+    pub position: Vec<[f64; 3]>,
+    /// Tip orientations.
+    pub orientation: Orientation,
+}
+
+impl Trajectory {
+    /// Reads a trajectory CSV. Errors name the file, the row (1-based, the header is row 1) and
+    /// the column: missing columns, a value that is not a finite number, times that do not
+    /// increase, fewer than two rows, a quaternion that is not of unit length.
+    pub fn from_csv(path: &Path) -> Result<Self> {
+        let shown = path.display();
+        let meta = std::fs::metadata(path)
+            .map_err(|e| Error::Input(format!("{shown}: cannot read the trajectory: {e}")))?;
+        if meta.len() > MAX_TRAJECTORY_BYTES {
+            return Err(Error::Input(format!(
+                "{shown}: the trajectory has {} bytes, more than the {} read",
+                meta.len(),
+                MAX_TRAJECTORY_BYTES
+            )));
+        }
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| Error::Input(format!("{shown}: cannot read the trajectory: {e}")))?;
+        let mut t = Self::parse(&text, &shown.to_string())?;
+        t.source = Some(path.to_path_buf());
+        Ok(t)
+    }
+
+    /// Parses CSV text (`name` for messages).
+    pub fn parse(text: &str, name: &str) -> Result<Self> {
+        let mut lines = text
+            .lines()
+            .enumerate()
+            .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
+        let Some((_, header)) = lines.next() else {
+            return Err(Error::Input(format!(
+                "{name}: empty trajectory (a header `t,x,y,z` and at least two rows)"
+            )));
+        };
+        let columns: Vec<String> = header.split(',').map(|c| c.trim().to_string()).collect();
+        let find = |c: &str| columns.iter().position(|x| x == c);
+        for (k, c) in columns.iter().enumerate() {
+            if columns[..k].contains(c) {
+                return Err(Error::Input(format!(
+                    "{name}:1: column `{c}` appears twice"
+                )));
+            }
+        }
+        let mut index = [0usize; 4];
+        for (k, c) in ["t", "x", "y", "z"].iter().enumerate() {
+            index[k] = find(c).ok_or_else(|| {
+                Error::Input(format!(
+                    "{name}:1: no column `{c}` (the header names t, x, y, z and optionally roll or qw, qx, qy, qz; it has: {})",
+                    columns.join(", ")
+                ))
+            })?;
+        }
+        let roll = find("roll");
+        let quat: Vec<Option<usize>> = ["qw", "qx", "qy", "qz"].iter().map(|c| find(c)).collect();
+        let quat = match (quat.iter().filter(|q| q.is_some()).count(), roll) {
+            (0, _) => None,
+            (4, None) => Some([
+                quat[0].unwrap_or(0),
+                quat[1].unwrap_or(0),
+                quat[2].unwrap_or(0),
+                quat[3].unwrap_or(0),
+            ]),
+            (4, Some(_)) => {
+                return Err(Error::Input(format!(
+                    "{name}:1: give the orientation as `roll` or as `qw, qx, qy, qz`, not both"
+                )))
+            }
+            _ => {
+                return Err(Error::Input(format!(
+                    "{name}:1: a quaternion needs all four columns qw, qx, qy, qz"
+                )))
+            }
+        };
+        let mut out = Trajectory {
+            source: None,
+            t: Vec::new(),
+            position: Vec::new(),
+            orientation: match (roll, quat) {
+                (Some(_), _) => Orientation::Roll(Vec::new()),
+                (None, Some(_)) => Orientation::Quaternion(Vec::new()),
+                (None, None) => Orientation::None,
+            },
+        };
+        for (line, row) in lines {
+            let row_no = line + 1;
+            let cells: Vec<&str> = row.split(',').map(str::trim).collect();
+            let value = |k: usize| -> Result<f64> {
+                let c = &columns[k];
+                let cell = cells.get(k).copied().unwrap_or("");
+                let v: f64 = cell.parse().map_err(|_| {
+                    Error::Input(format!(
+                        "{name}:{row_no}: column `{c}`: `{cell}` is not a number"
+                    ))
+                })?;
+                if let Err(problem) = trocar_model::validity::check(v) {
+                    return Err(Error::Input(format!(
+                        "{name}:{row_no}: column `{c}`: {v:e} {problem}"
+                    )));
+                }
+                Ok(v)
+            };
+            if cells.len() != columns.len() {
+                return Err(Error::Input(format!(
+                    "{name}:{row_no}: {} values, the header names {} columns",
+                    cells.len(),
+                    columns.len()
+                )));
+            }
+            let t = value(index[0])?;
+            if let Some(&last) = out.t.last() {
+                if t <= last {
+                    return Err(Error::Input(format!(
+                        "{name}:{row_no}: column `t`: {t} does not increase (the row before has {last})"
+                    )));
+                }
+            }
+            out.t.push(t);
+            out.position
+                .push([value(index[1])?, value(index[2])?, value(index[3])?]);
+            match &mut out.orientation {
+                Orientation::None => {}
+                Orientation::Roll(r) => r.push(value(roll.unwrap_or(0))?),
+                Orientation::Quaternion(qs) => {
+                    let k = quat.unwrap_or([0; 4]);
+                    let q = [value(k[0])?, value(k[1])?, value(k[2])?, value(k[3])?];
+                    let norm = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+                    if (norm - 1.0).abs() > 1e-6 {
+                        return Err(Error::Input(format!(
+                            "{name}:{row_no}: columns qw, qx, qy, qz: the quaternion has length {norm}, not 1"
+                        )));
+                    }
+                    qs.push(q);
+                }
+            }
+        }
+        if out.t.len() < 2 {
+            return Err(Error::Input(format!(
+                "{name}: {} rows; a trajectory needs at least two",
+                out.t.len()
+            )));
+        }
+        Ok(out)
+    }
+
+    /// Whether the trajectory gives an orientation.
+    pub fn has_orientation(&self) -> bool {
+        !matches!(self.orientation, Orientation::None)
+    }
+
+    /// The segment `[k, k + 1]` holding `t` and the fraction along it (clamped to the ends).
+    fn segment(&self, t: f64) -> (usize, f64) {
+        let n = self.t.len();
+        if t <= self.t[0] {
+            return (0, 0.0);
+        }
+        if t >= self.t[n - 1] {
+            return (n - 2, 1.0);
+        }
+        let k = self
+            .t
+            .partition_point(|&x| x <= t)
+            .saturating_sub(1)
+            .min(n - 2);
+        (k, (t - self.t[k]) / (self.t[k + 1] - self.t[k]))
+    }
+
+    /// The reference at time `t`: position, orientation (from the start orientation `r0` for a
+    /// roll), velocity and angular velocity (zero outside the path's time span).
+    pub fn at(&self, t: f64, r0: &Matrix3<f64>) -> Target {
+        let (k, s) = self.segment(t);
+        let inside = t > self.t[0] && t < self.t[self.t.len() - 1];
+        let span = self.t[k + 1] - self.t[k];
+        let (a, b) = (self.position[k], self.position[k + 1]);
+        let position = std::array::from_fn(|i| a[i] + s * (b[i] - a[i]));
+        let velocity = std::array::from_fn(|i| if inside { (b[i] - a[i]) / span } else { 0.0 });
+        let (rotation, angular_velocity) = match &self.orientation {
+            Orientation::None => (None, [0.0; 3]),
+            Orientation::Roll(r) => {
+                let roll = r[k] + s * (r[k + 1] - r[k]);
+                let rate = if inside {
+                    (r[k + 1] - r[k]) / span
+                } else {
+                    0.0
+                };
+                let rot = r0 * Rotation3::from_axis_angle(&Vector3::z_axis(), roll).into_inner();
+                let w = rot.column(2) * rate;
+                (Some(rot), [w[0], w[1], w[2]])
+            }
+            Orientation::Quaternion(qs) => {
+                let qa = unit(qs[k]);
+                let qb = unit(qs[k + 1]);
+                let q = qa.slerp(&qb, s);
+                // ω = axis · angle / span, in the base frame.
+                let w = if inside {
+                    (qb * qa.inverse()).scaled_axis() / span
+                } else {
+                    Vector3::zeros()
+                };
+                (
+                    Some(q.to_rotation_matrix().into_inner()),
+                    [w[0], w[1], w[2]],
+                )
+            }
+        };
+        Target {
+            position,
+            rotation: rotation.map(|r| std::array::from_fn(|i| std::array::from_fn(|j| r[(i, j)]))),
+            velocity,
+            angular_velocity,
+        }
+    }
+}
+
+fn unit(q: [f64; 4]) -> UnitQuaternion<f64> {
+    UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]))
+}
+
+/// How a user's simulation runs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TrajectoryOptions {
+    /// The start configuration (one value per joint).
+    pub q0: Vec<f64>,
+    /// The trocar point (base frame, m); default: the constraint frame's origin at `q0`.
+    pub trocar: Option<[f64; 3]>,
+    /// The controller's gains and method.
+    pub controller: ControllerOptions,
+    /// Sample time (s).
+    pub dt: f64,
+}
+
+/// The result of a user's simulation: columns and a summary.
+#[derive(Clone, Debug)]
+pub struct TrajectoryRun {
+    /// Named columns (`t` first), the columns of the shipped serial scenarios' CSV.
+    pub columns: Vec<(String, Vec<f64>)>,
+    /// Largest errors, drift, lateral velocity and the closest approach to a joint limit.
+    pub summary: String,
+}
+
+impl TrajectoryRun {
+    /// Writes the columns as CSV to `path`.
+    pub fn write_csv(&self, path: &Path) -> std::io::Result<()> {
+        use std::io::Write;
+        let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
+        let names: Vec<&str> = self.columns.iter().map(|(n, _)| n.as_str()).collect();
+        writeln!(w, "{}", names.join(","))?;
+        let rows = self.columns.first().map_or(0, |c| c.1.len());
+        for r in 0..rows {
+            let cells: Vec<String> = self
+                .columns
+                .iter()
+                .map(|(_, c)| format!("{:e}", c[r]))
+                .collect();
+            writeln!(w, "{}", cells.join(","))?;
+        }
+        w.flush()
+    }
+}
+
+/// The distance (m) from the tip at `q0` to the trajectory's first point above which a path that
+/// starts at `t = 0` is refused (the controller would be asked for a jump).
+pub const START_TOLERANCE: f64 = 1e-3;
+
+/// Runs `robot`'s constrained controller along `trajectory` from `options.q0` for the
+/// trajectory's duration, measuring everything from the numeric forward kinematics (not the
+/// controller's Jacobians): the columns `t, ep_norm, eo_norm, vr_<a>, vr_<b>, rcm_drift, w_r,
+/// w_i, l_a, q1..qn, qd1..qdn`, where `vr_<a>`, `vr_<b>` are the lateral velocity components of
+/// the link's point at the trocar along the constraint frame's two axes normal to the shaft.
+pub fn simulate_trajectory(
+    robot: &Robot,
+    trajectory: &Trajectory,
+    options: &TrajectoryOptions,
+    progress: &mut dyn FnMut(f64),
+) -> Result<TrajectoryRun> {
+    let desc = robot.description().ok_or_else(|| {
+        Error::Unsupported(format!(
+            "`{}` is a closed mechanism: a trajectory drives a serial robot's tip",
+            robot.name()
+        ))
+    })?;
+    let source = trajectory
+        .source
+        .as_ref()
+        .map_or_else(|| "the trajectory".to_string(), |p| p.display().to_string());
+    let n = desc.joints.len();
+    robot
+        .check_q(&options.q0)
+        .map_err(|e| Error::Input(e.to_string().replace("--q", "--q0")))?;
+    if !(options.dt.is_finite() && options.dt > 0.0 && options.dt <= 0.1) {
+        return Err(Error::Input(format!(
+            "dt = {}: must be in (0, 0.1] s",
+            options.dt
+        )));
+    }
+    // Task rows the CSV must provide: an orientation row needs an orientation column.
+    if let Some(task) = &desc.task {
+        let rotational = task
+            .select
+            .iter()
+            .any(|row| row[3..].iter().any(|v| *v != 0.0));
+        if rotational && !trajectory.has_orientation() {
+            return Err(Error::Input(format!(
+                "{source}: the task of `{}` commands a rotation; give a `roll` column (rad about the tip's z) or `qw, qx, qy, qz`",
+                desc.name
+            )));
+        }
+    } else if !trajectory.has_orientation() {
+        return Err(Error::Input(format!(
+            "{source}: `{}` has no [task]: the whole tip pose is commanded; give a `roll` column or `qw, qx, qy, qz`",
+            desc.name
+        )));
+    }
+    let numeric = robot.numeric()?;
+    let model = numeric.model();
+    let constraint = desc.constraint.as_ref().ok_or_else(|| {
+        Error::Unsupported(format!(
+            "`{}` has no [constraint]: nothing holds a trocar",
+            desc.name
+        ))
+    })?;
+    let link = constraint.link;
+    let shaft = model.shaft().map_err(|e| Error::Robot {
+        file: desc.source.clone(),
+        message: e.to_string(),
+    })?;
+    let err = |e: trocar_sim::robot::RobotError| Error::Robot {
+        file: desc.source.clone(),
+        message: e.to_string(),
+    };
+    let q0 = &options.q0;
+    let g0e = numeric.forward_kinematics(q0).map_err(err)?;
+    let g0i = numeric.link_frame(link, q0).map_err(err)?;
+    // The constraint frame's origin at q0 with the nominal parameters, g_0i(q0) g_ir.
+    let g_ir = model
+        .constraint()
+        .map(|c| c.frame())
+        .ok_or_else(|| Error::Unsupported(format!("`{}` has no [constraint]", desc.name)))?;
+    let trocar = options
+        .trocar
+        .map_or_else(|| g0i.transform_point(&g_ir.translation), Vector3::from);
+    // A path that starts at t = 0 must start at the tip.
+    let start = Vector3::from(trajectory.position[0]);
+    let distance = (start - g0e.translation).norm();
+    if trajectory.t[0] <= 0.0 && distance > START_TOLERANCE {
+        return Err(Error::Input(format!(
+            "{source}: the first point is {distance:.4} m from the tip at q0 ({:.4}, {:.4}, {:.4}); start the path at the tip, or at t > 0 to let the controller converge from q0",
+            g0e.translation.x, g0e.translation.y, g0e.translation.z
+        )));
+    }
+    // The tip cannot be farther from the trocar than the instrument is long: the distance from
+    // the shaft's origin on the link (l_a = 0) to the tip.
+    let reach = (g0e.translation - shaft.constraint_pose(&g0i, 0.0).translation).norm();
+    for (k, p) in trajectory.position.iter().enumerate() {
+        let d = (Vector3::from(*p) - trocar).norm();
+        if d > reach {
+            return Err(Error::Input(format!(
+                "{source}:{}: columns x, y, z: the point is {d:.4} m from the trocar, farther than the instrument reaches ({reach:.4} m from the trocar at most)",
+                k + 2
+            )));
+        }
+    }
+    let mut ctrl = RobotController::new(robot, options.controller)?;
+    let axes = lateral_axes(&shaft);
+    const NAMES: [&str; 3] = ["x_r", "y_r", "z_r"];
+    let t_end = trajectory.t[trajectory.t.len() - 1];
+    let steps = (t_end / options.dt).ceil() as usize;
+    if steps > 10_000_000 {
+        return Err(Error::Input(format!(
+            "{source}: {steps} control steps of {} s; at most 10⁷",
+            options.dt
+        )));
+    }
+    let limits = robot.joint_limits();
+    let mut cols: Vec<Vec<f64>> = vec![Vec::with_capacity(steps + 1); 9 + 2 * n];
+    let mut q = q0.clone();
+    let dv = vec![0.0; constraint.h.len()];
+    let report = (steps / 100).max(1);
+    for k in 0..=steps {
+        let t = k as f64 * options.dt;
+        let target = trajectory.at(t, &g0e.rotation);
+        let step = ctrl
+            .step(
+                &q,
+                &target,
+                &[trocar.x, trocar.y, trocar.z],
+                &dv,
+                options.dt,
+            )
+            .map_err(|e| Error::Simulation(format!("t = {t:.3} s: {e}")))?;
+        let q_next: Vec<f64> = q
+            .iter()
+            .zip(&step.qd)
+            .map(|(a, b)| a + b * options.dt)
+            .collect();
+        let g_e = numeric.forward_kinematics(&q).map_err(err)?;
+        let g_i = numeric.link_frame(link, &q).map_err(err)?;
+        let g_next = numeric.link_frame(link, &q_next).map_err(err)?;
+        let l_a = shaft.offset(&g_i, &trocar);
+        let g_r = shaft.constraint_pose(&g_i, l_a);
+        let m_next = shaft.constraint_pose(&g_next, l_a);
+        let v = g_r.rotation.transpose() * (m_next.translation - g_r.translation) / options.dt;
+        let drift = shaft.trocar_in_frame(&g_i, l_a, &trocar).norm();
+        let ep = (Vector3::from(target.position) - g_e.translation).norm();
+        let eo = match target.rotation {
+            Some(r) => {
+                trocar::control::orientation_error(&Matrix3::from_fn(|i, j| r[i][j]), &g_e.rotation)
+                    .eps
+                    .norm()
+            }
+            None => 0.0,
+        };
+        let row = [
+            t, ep, eo, v[axes[0]], v[axes[1]], drift, step.w_r, step.w_i, l_a,
+        ];
+        for (c, x) in cols.iter_mut().zip(row.iter().chain(&q).chain(&step.qd)) {
+            c.push(*x);
+        }
+        q = q_next;
+        if q.iter().any(|v| !v.is_finite()) {
+            return Err(Error::Simulation(format!(
+                "t = {t:.3} s: the joints left the finite numbers"
+            )));
+        }
+        if k % report == 0 {
+            progress(k as f64 / steps.max(1) as f64);
+        }
+    }
+    progress(1.0);
+    let mut names: Vec<String> = ["t", "ep_norm", "eo_norm"].map(String::from).to_vec();
+    names.push(format!("vr_{}", &NAMES[axes[0]][..1]));
+    names.push(format!("vr_{}", &NAMES[axes[1]][..1]));
+    names.extend(["rcm_drift", "w_r", "w_i", "l_a"].map(String::from));
+    names.extend((1..=n).map(|k| format!("q{k}")));
+    names.extend((1..=n).map(|k| format!("qd{k}")));
+    let col = |name: &str| &cols[names.iter().position(|x| x == name).unwrap_or(0)];
+    let after_1s = col("t")
+        .iter()
+        .zip(col("ep_norm"))
+        .filter(|(t, _)| **t >= 1.0)
+        .map(|(_, e)| *e)
+        .fold(0.0, f64::max);
+    let max = |name: &str| col(name).iter().map(|v| v.abs()).fold(0.0, f64::max);
+    let lateral = max(&names[3]).max(max(&names[4]));
+    let margin = limits
+        .iter()
+        .enumerate()
+        .filter_map(|(k, l)| {
+            let [lo, hi] = (*l)?;
+            let qk = &cols[9 + k];
+            Some(
+                qk.iter()
+                    .map(|v| (v - lo).min(hi - v))
+                    .fold(f64::INFINITY, f64::min),
+            )
+        })
+        .fold(f64::INFINITY, f64::min);
+    let summary = format!(
+        "`{}` along {source} ({:?}, {} steps of {} s): max tip error after the first second {after_1s:.3e} m, max drift {:.3e} m, max lateral velocity {lateral:.3e} m/s{}",
+        desc.name,
+        options.controller.method,
+        steps,
+        options.dt,
+        max("rcm_drift"),
+        if margin.is_finite() {
+            format!(
+                ", closest approach to a joint limit {margin:.4} rad{}",
+                if margin < 0.0 { " (BEYOND A LIMIT)" } else { "" }
+            )
+        } else {
+            String::new()
+        }
+    );
+    Ok(TrajectoryRun {
+        columns: names.into_iter().zip(cols).collect(),
+        summary,
+    })
+}
+
+/// The two axes of `F_r` normal to the shaft, in order.
+fn lateral_axes(shaft: &trocar::control::Shaft<f64>) -> [usize; 2] {
+    let along = (shaft.rotation.transpose() * shaft.direction).abs().imax();
+    match along {
+        0 => [1, 2],
+        1 => [0, 2],
+        _ => [0, 1],
+    }
+}
