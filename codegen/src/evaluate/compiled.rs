@@ -109,7 +109,8 @@ enum Input {
     },
 }
 
-/// A program ready to evaluate: see the [module documentation](self).
+/// A program ready to evaluate: its live operations on reused registers, evaluated as the
+/// generated `f64` code evaluates them (see `trocar_codegen::evaluate`).
 #[derive(Clone, Debug)]
 pub struct Compiled {
     /// Register file with the literals in place; the other input registers and the operation
