@@ -32,15 +32,42 @@ pub(crate) enum OutputKind {
     Data,
 }
 
+/// Writes `text` to stderr: notes, summaries and errors. A failure to write stderr (its reader
+/// gone away, as in `trocar simulate four-bar 2>&1 | head -1`; a full device) has nowhere to be
+/// reported, so it is ignored and the command ends quietly with its normal status, where
+/// `eprintln!` panicked (exit code 101).
+pub(crate) fn write_stderr(text: &str) {
+    use std::io::Write;
+    let mut err = std::io::stderr().lock();
+    let _ = err.write_all(text.as_bytes()).and_then(|()| err.flush());
+}
+
+/// The longest file name, in bytes, that an output may have (`NAME_MAX` of Linux and most file
+/// systems). Longer names are refused before any work.
+pub(crate) const MAX_FILE_NAME: usize = 255;
+
+/// How many symbolic links are followed to find the file an output replaces (Linux's limit).
+const MAX_LINKS: usize = 40;
+
 /// The output files of one command, checked before the command does any work and written
-/// atomically after it has succeeded: each is first written under a temporary name in its own
-/// directory, then renamed over the requested name once every output has been written, so a
-/// failure (or a closed terminal) leaves no half-written or stale-looking file behind.
+/// atomically after it has succeeded: all or none.
 ///
-/// Only regular files are replaced that way. A path that already exists as something else — a
+/// [`Outputs::check`] checks every path (a file name of at most [`MAX_FILE_NAME`] bytes in a
+/// directory that exists, the extension of figures and animations, no two outputs the same file,
+/// no output that is a file the command reads) and then creates, in the directory of each file
+/// to be replaced, a temporary file: exclusively (never through an existing file or link), under
+/// an unpredictable name that keeps the requested extension (`.fig.Xa9Tq2.svg`; a figure's format
+/// follows it), with the permission mode of the file it replaces, if any. Creating it is also the
+/// check that the directory is writable. The command writes each output into its temporary; once
+/// all are written, [`Outputs::commit`] renames them over the requested files, and if one of the
+/// renames fails, puts back the files already replaced. Temporaries are removed on every error
+/// path (when the `Outputs` is dropped) and on SIGINT, SIGTERM and SIGHUP, after which the process
+/// exits with 128 + the signal's number.
+///
+/// A symbolic link is followed, also when it dangles: the file it points to is replaced (or
+/// created) and the link kept. A path that exists as something other than a regular file — a
 /// device such as `/dev/null`, a FIFO, a socket — is written in place (renaming over it would
-/// replace the device node with a plain file), and a symbolic link is followed: its target is
-/// replaced and the link kept.
+/// replace the device node with a plain file).
 #[derive(Debug, Default)]
 pub(crate) struct Outputs {
     files: Vec<OutputFile>,
@@ -52,88 +79,208 @@ struct OutputFile {
     /// The option that named it (`--csv`, `-o` …), for errors.
     option: &'static str,
     /// The path as the user gave it.
-    requested: std::path::PathBuf,
-    /// The regular file that [`Outputs::commit`] replaces (the requested path with any symbolic
-    /// link resolved).
-    target: std::path::PathBuf,
+    requested: PathBuf,
+    /// The file that [`Outputs::commit`] replaces or creates: the requested path with its
+    /// symbolic links followed.
+    target: PathBuf,
     /// Where the output is written until the commit; `None` when it is written in place.
-    temp: Option<std::path::PathBuf>,
+    temp: Option<PathBuf>,
+}
+
+use std::path::{Path, PathBuf};
+
+/// The temporary files of this process, removed by the signal handler ([`cleanup`]).
+mod cleanup {
+    use std::path::PathBuf;
+    use std::sync::{Mutex, MutexGuard, Once};
+
+    static TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+    static HANDLER: Once = Once::new();
+
+    /// The registered temporaries, locked: the signal handler waits while a command creates,
+    /// renames or removes them.
+    pub(super) fn lock() -> MutexGuard<'static, Vec<PathBuf>> {
+        TEMPORARIES.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Installs, once, the handler of SIGINT, SIGTERM and SIGHUP: a thread that removes the
+    /// registered temporaries and exits with 128 + the signal's number. Without it the default
+    /// action of those signals would end the process and leave its temporaries behind.
+    pub(super) fn install() {
+        HANDLER.call_once(|| {
+            use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+            let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP])
+            else {
+                return;
+            };
+            std::thread::spawn(move || {
+                if let Some(signal) = signals.forever().next() {
+                    let mut temps = lock();
+                    for temp in temps.drain(..) {
+                        let _ = std::fs::remove_file(temp);
+                    }
+                    std::process::exit(128 + signal);
+                }
+            });
+        });
+    }
+}
+
+/// Whether `a` and `b` are the same existing file (the same device and inode, links followed).
+fn same_file(a: &Path, b: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        match (std::fs::metadata(a), std::fs::metadata(b)) {
+            (Ok(x), Ok(y)) => x.dev() == y.dev() && x.ino() == y.ino(),
+            _ => false,
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        matches!((a.canonicalize(), b.canonicalize()), (Ok(x), Ok(y)) if x == y)
+    }
+}
+
+/// `path` with its symbolic links followed (also a dangling one: the path it points to), or an
+/// error when there are more than [`MAX_LINKS`] of them (a loop).
+fn resolve(path: &Path) -> Result<PathBuf, String> {
+    let mut p = path.to_path_buf();
+    for _ in 0..MAX_LINKS {
+        match std::fs::symlink_metadata(&p) {
+            Ok(m) if m.file_type().is_symlink() => {
+                let link = std::fs::read_link(&p).map_err(|e| e.to_string())?;
+                p = if link.is_absolute() {
+                    link
+                } else {
+                    directory(&p).join(link)
+                };
+            }
+            _ => return Ok(p),
+        }
+    }
+    Err("too many levels of symbolic links".into())
+}
+
+/// The byte length of a file name.
+fn name_len(name: &std::ffi::OsStr) -> usize {
+    name.as_encoded_bytes().len()
 }
 
 impl Outputs {
-    /// Checks the outputs up front: every path names a file in a directory that exists, figures
-    /// end in `.svg` or `.png`, animations in `.gif`, and no two outputs are the same file. Errors name the option
-    /// and the path.
+    /// Checks the outputs up front and creates their temporaries (see [`Outputs`]): every path
+    /// names a file of at most [`MAX_FILE_NAME`] bytes in a writable directory that exists,
+    /// figures end in `.svg` or `.png`, animations in `.gif`, no two outputs are the same file,
+    /// and no output is one of `reads`, the files the command reads. Errors name the option and
+    /// the path.
     pub(crate) fn check(
-        requested: &[(&'static str, Option<&std::path::Path>, OutputKind)],
+        requested: &[(&'static str, Option<&Path>, OutputKind)],
+        reads: &[PathBuf],
     ) -> Result<Outputs, CliError> {
-        let mut out = Outputs::default();
+        // What each output is, checked before anything is created: (option, path, target, kind,
+        // replaced file's permissions or None for a new file, written in place).
+        let mut planned = Vec::new();
+        let mut seen: Vec<(&'static str, &Path, (PathBuf, std::ffi::OsString))> = Vec::new();
         for &(option, path, kind) in requested {
             let Some(path) = path else { continue };
             let shown = path.display();
-            if path.file_name().is_none() {
-                return Err(Error::Input(format!("{option} {shown}: not a file name")));
+            let err = |m: String| Error::Input(format!("{option} {shown}: {m}"));
+            let Some(name) = path.file_name() else {
+                return Err(err("not a file name".into()));
+            };
+            if name_len(name) > MAX_FILE_NAME {
+                return Err(err(format!(
+                    "the file name is {} bytes long; at most {MAX_FILE_NAME} are allowed",
+                    name_len(name)
+                )));
             }
             let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
             if kind == OutputKind::Figure && trocar_sim::plot::ImageFormat::of(path).is_none() {
-                return Err(Error::Input(format!(
-                    "{option} {shown}: a figure is written as SVG or PNG; name the file `….svg` or `….png`"
-                )));
+                return Err(err(
+                    "a figure is written as SVG or PNG; name the file `….svg` or `….png`".into(),
+                ));
             }
             if kind == OutputKind::Animation && !ext.eq_ignore_ascii_case("gif") {
-                return Err(Error::Input(format!(
-                    "{option} {shown}: an animation is written as GIF; name the file `….gif`"
-                )));
+                return Err(err(
+                    "an animation is written as GIF; name the file `….gif`".into()
+                ));
             }
             let dir = directory(path);
             if !dir.is_dir() {
-                return Err(Error::Input(format!(
-                    "{option} {shown}: the directory {} does not exist",
+                return Err(err(format!(
+                    "the directory {} does not exist",
                     dir.display()
                 )));
             }
             if path.is_dir() {
-                return Err(Error::Input(format!("{option} {shown}: is a directory")));
+                return Err(err("is a directory".into()));
             }
-            // What exists at the path, symbolic links followed: a regular file (or nothing) is
-            // replaced through a temporary; anything else is written in place.
-            let (target, in_place) = match std::fs::metadata(path) {
-                Ok(m) if !m.is_file() => (path.to_path_buf(), true),
-                Ok(_) => (
-                    path.canonicalize().unwrap_or_else(|_| path.to_path_buf()),
-                    false,
-                ),
-                // A dangling symbolic link: written through, like any write to it would.
-                Err(_) if path.is_symlink() => (path.to_path_buf(), true),
-                Err(_) => (path.to_path_buf(), false),
+            let target = resolve(path).map_err(err)?;
+            let target_dir = directory(&target);
+            if target != path {
+                if !target_dir.is_dir() {
+                    return Err(err(format!(
+                        "a symbolic link to {}, in a directory that does not exist",
+                        target.display()
+                    )));
+                }
+                if target
+                    .file_name()
+                    .is_none_or(|n| name_len(n) > MAX_FILE_NAME)
+                {
+                    return Err(err(format!(
+                        "a symbolic link to {}, which is not a file name this output can have",
+                        target.display()
+                    )));
+                }
+            }
+            let (mode, in_place) = match std::fs::metadata(&target) {
+                Ok(m) if m.is_dir() => return Err(err("is a directory".into())),
+                Ok(m) if !m.is_file() => (None, true),
+                Ok(m) => (Some(m.permissions()), false),
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => (None, false),
+                Err(e) => return Err(err(e.to_string())),
             };
-            // The same file under two names: the directories resolved and the names.
-            let same = |p: &std::path::Path| {
-                let d = directory(p);
-                (
-                    d.canonicalize().unwrap_or(d),
-                    p.file_name().map(|n| n.to_owned()),
-                )
-            };
-            if let Some(other) = out.files.iter().find(|f| same(&f.target) == same(&target)) {
-                return Err(Error::Input(format!(
-                    "{option} {shown} and {} {}: the same file for two outputs",
-                    other.option,
-                    other.requested.display()
+            if let Some(read) = reads.iter().find(|r| same_file(&target, r)) {
+                return Err(err(format!(
+                    "is {}, which this command reads; write the output to another file",
+                    read.display()
                 )));
             }
-            let temp = (!in_place).then(|| {
-                // The temporary keeps the extension: the figure's format follows it.
-                let name = target.file_name().unwrap_or(path.as_os_str());
-                let mut temp = std::ffi::OsString::from(".");
-                temp.push(name);
-                temp.push(format!(".partial-{}", std::process::id()));
-                if let Some(ext) = target.extension() {
-                    temp.push(".");
-                    temp.push(ext);
-                }
-                directory(&target).join(temp)
-            });
+            // The same file under two names: the directories resolved and the names.
+            let key = (
+                target_dir.canonicalize().unwrap_or(target_dir),
+                target.file_name().unwrap_or(name).to_owned(),
+            );
+            if let Some((other, other_path, _)) = seen.iter().find(|(_, _, k)| *k == key) {
+                return Err(err(format!(
+                    "{other} {} is the same file; two outputs cannot be one file",
+                    other_path.display()
+                )));
+            }
+            seen.push((option, path, key));
+            planned.push((option, path, target, mode, in_place));
+        }
+        let mut out = Outputs::default();
+        if planned.iter().any(|p| !p.4) {
+            cleanup::install();
+        }
+        for (option, path, target, mode, in_place) in planned {
+            let temp = if in_place {
+                None
+            } else {
+                let temp = create_temporary(path, &target, mode).map_err(|e| {
+                    // The OS's error alone: tempfile's also names the random temporary.
+                    let e = e.to_string();
+                    let e = e.split(" at path ").next().unwrap_or_default();
+                    Error::Input(format!(
+                        "{option} {}: cannot write in the directory {}: {e}",
+                        path.display(),
+                        directory(&target).display()
+                    ))
+                })?;
+                Some(temp)
+            };
             out.files.push(OutputFile {
                 option,
                 requested: path.to_path_buf(),
@@ -145,7 +292,7 @@ impl Outputs {
     }
 
     /// Where to write the output requested as `path` until [`Outputs::commit`].
-    pub(crate) fn temporary<'a>(&'a self, path: &'a std::path::Path) -> &'a std::path::Path {
+    pub(crate) fn temporary<'a>(&'a self, path: &'a Path) -> &'a Path {
         self.files
             .iter()
             .find(|f| f.requested == path)
@@ -165,32 +312,136 @@ impl Outputs {
         Error::Output(text)
     }
 
-    /// Renames every temporary file over its requested name.
+    /// Renames every temporary file over its requested file, all or none: when a rename fails,
+    /// the files already replaced are put back (the replaced ones from a hard link kept until
+    /// the end, the new ones removed), and the error says whether that succeeded.
     pub(crate) fn commit(mut self) -> Result<(), CliError> {
-        for f in std::mem::take(&mut self.files) {
+        let mut registered = cleanup::lock();
+        let files = std::mem::take(&mut self.files);
+        // The outputs renamed so far, with the second name of the file each replaced.
+        let mut done: Vec<(&OutputFile, Option<PathBuf>)> = Vec::new();
+        let mut failure = None;
+        for f in &files {
             let Some(temp) = &f.temp else { continue };
-            std::fs::rename(temp, &f.target).map_err(|e| {
-                let _ = std::fs::remove_file(temp);
-                Error::Input(format!("{} {}: {e}", f.option, f.requested.display()))
-            })?;
+            let backup = std::fs::symlink_metadata(&f.target)
+                .is_ok_and(|m| m.is_file())
+                .then(|| {
+                    let mut b = temp.clone().into_os_string();
+                    b.push(".old");
+                    PathBuf::from(b)
+                })
+                .filter(|b| std::fs::hard_link(&f.target, b).is_ok());
+            match std::fs::rename(temp, &f.target) {
+                Ok(()) => done.push((f, backup)),
+                Err(e) => {
+                    if let Some(b) = backup {
+                        let _ = std::fs::remove_file(b);
+                    }
+                    failure = Some((f, e));
+                    break;
+                }
+            }
         }
-        Ok(())
+        let result = match failure {
+            None => Ok(()),
+            Some((f, e)) => {
+                let mut lost = Vec::new();
+                for (g, backup) in done.iter().rev() {
+                    let restored = match backup {
+                        Some(b) => std::fs::rename(b, &g.target),
+                        None => std::fs::remove_file(&g.target),
+                    };
+                    if restored.is_err() {
+                        lost.push(format!("{} {}", g.option, g.requested.display()));
+                    }
+                }
+                done.clear();
+                let state = if lost.is_empty() {
+                    "no output was written".to_string()
+                } else {
+                    format!(
+                        "the outputs already written could not all be put back: {} replaced",
+                        lost.join(", ")
+                    )
+                };
+                Err(Error::Output(format!(
+                    "{} {}: cannot replace the file: {e}; {state}",
+                    f.option,
+                    f.requested.display()
+                )))
+            }
+        };
+        for (_, backup) in done {
+            if let Some(b) = backup {
+                let _ = std::fs::remove_file(b);
+            }
+        }
+        for temp in files.iter().filter_map(|f| f.temp.as_ref()) {
+            let _ = std::fs::remove_file(temp);
+            registered.retain(|r| r != temp);
+        }
+        result
     }
 }
 
+/// Creates the temporary of the output `requested` that replaces `target`, in `target`'s
+/// directory: exclusively, under an unpredictable name `.<stem>.<random>.<extension>` (the stem
+/// shortened to keep the name within [`MAX_FILE_NAME`] bytes; the extension of the requested
+/// name, which a figure's format follows), with `mode`, the permissions of the file it
+/// replaces, or those of a new file. Registers it for removal on a signal.
+fn create_temporary(
+    requested: &Path,
+    target: &Path,
+    mode: Option<std::fs::Permissions>,
+) -> std::io::Result<PathBuf> {
+    let suffix = requested
+        .extension()
+        .map(|e| format!(".{}", e.to_string_lossy()))
+        .filter(|s| s.len() <= 16)
+        .unwrap_or_default();
+    let mut stem: String = target
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    // `.` + stem + `.` + 6 random characters + suffix.
+    let budget = MAX_FILE_NAME - 8 - suffix.len();
+    while stem.len() > budget {
+        stem.pop();
+    }
+    let prefix = format!(".{stem}.");
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(&prefix).suffix(&suffix);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let mut registered = cleanup::lock();
+    let file = builder.tempfile_in(directory(target))?;
+    let path = file.into_temp_path();
+    if let Some(mode) = mode {
+        std::fs::set_permissions(&path, mode)?;
+    }
+    let path = path.keep().map_err(|e| e.error)?;
+    registered.push(path.clone());
+    Ok(path)
+}
+
 /// The directory a file `path` goes into (`.` for a bare file name).
-fn directory(path: &std::path::Path) -> std::path::PathBuf {
+fn directory(path: &Path) -> PathBuf {
     match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => std::path::PathBuf::from("."),
+        _ => PathBuf::from("."),
     }
 }
 
 impl Drop for Outputs {
     /// Removes the temporary files of a command that failed.
     fn drop(&mut self) {
+        let mut registered = cleanup::lock();
         for temp in self.files.iter().filter_map(|f| f.temp.as_ref()) {
             let _ = std::fs::remove_file(temp);
+            registered.retain(|r| r != temp);
         }
     }
 }
@@ -207,7 +458,7 @@ fn cell(v: f64) -> String {
 
 /// Prints an error to stderr and returns the exit code of a failed command.
 pub(crate) fn print_error(e: &CliError) -> i32 {
-    eprintln!("error: {e}");
+    write_stderr(&format!("error: {e}\n"));
     1
 }
 

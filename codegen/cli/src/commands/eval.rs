@@ -1,7 +1,7 @@
 //! `trocar eval`: a quantity of a serial robot or a closed mechanism at one configuration, from
 //! the generated closed forms or (`--numeric`) the numeric runtime ([`trocar_api::Robot`]).
 
-use crate::output::{print_matrix, CliError};
+use crate::output::{print_matrix, write_stderr, CliError};
 use crate::progress::with_spinner;
 use trocar_api::Robot;
 
@@ -32,7 +32,7 @@ pub(crate) fn run(
     // The answer is the Jacobian to test, unless it is the manipulability.
     let shown = (function != trocar_api::Function::Manipulability).then_some(&out);
     if let Some(note) = robot.singularity(function, q, params, numeric, shown)? {
-        eprintln!("note: {note}");
+        write_stderr(&format!("note: {note}\n"));
     }
     Ok(0)
 }

@@ -16,10 +16,19 @@ pub(crate) fn run(
     c_api: bool,
     c_header: Option<&Path>,
 ) -> Result<i32, CliError> {
-    let outputs = Outputs::check(&[
-        ("-o", output, OutputKind::Data),
-        ("--c-header", c_header, OutputKind::Data),
-    ])?;
+    // The files the command reads (the description and its URDF), which no output may replace.
+    let reads = if Path::new(robot).exists() {
+        trocar_model::description::RobotDescription::files_read(robot)
+    } else {
+        Vec::new()
+    };
+    let outputs = Outputs::check(
+        &[
+            ("-o", output, OutputKind::Data),
+            ("--c-header", c_header, OutputKind::Data),
+        ],
+        &reads,
+    )?;
     let robot = Robot::load(robot)?;
     let options = trocar_codegen::ModuleOptions {
         real: real.into(),

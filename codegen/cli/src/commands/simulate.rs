@@ -2,7 +2,7 @@
 //! ([`trocar_api::simulate`]), their CSV, figures and views of the arm written atomically.
 
 use crate::args::MethodArg;
-use crate::output::{CliError, OutputKind, Outputs};
+use crate::output::{write_stderr, CliError, OutputKind, Outputs};
 use crate::progress::with_progress;
 use std::path::{Path, PathBuf};
 use trocar_api::simulate::{self as sim, RcmOptions, SimulationRun};
@@ -81,12 +81,15 @@ pub(crate) fn run(
     plot: Option<&Path>,
     views: &ArmViews,
 ) -> Result<i32, CliError> {
-    let outputs = Outputs::check(&[
-        ("--csv", csv, OutputKind::Data),
-        ("--plot", plot, OutputKind::Figure),
-        ("--animate", views.animate.as_deref(), OutputKind::Animation),
-        ("--snapshot", views.snapshot.as_deref(), OutputKind::Figure),
-    ])?;
+    let outputs = Outputs::check(
+        &[
+            ("--csv", csv, OutputKind::Data),
+            ("--plot", plot, OutputKind::Figure),
+            ("--animate", views.animate.as_deref(), OutputKind::Animation),
+            ("--snapshot", views.snapshot.as_deref(), OutputKind::Figure),
+        ],
+        &[],
+    )?;
     check_views(scenario, views)?;
     let summary = if method == Some(MethodArg::All) {
         if let Some(message) = method_all_conflict(
@@ -147,7 +150,7 @@ pub(crate) fn run(
         run.summary
     };
     outputs.commit()?;
-    eprintln!("{summary}");
+    write_stderr(&format!("{summary}\n"));
     Ok(0)
 }
 

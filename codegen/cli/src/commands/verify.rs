@@ -1,7 +1,7 @@
 //! `trocar verify`: the generated closed forms of a serial robot against the numeric runtime
 //! and finite differences ([`trocar_api::Robot::verify`]).
 
-use crate::output::{write_stdout, CliError};
+use crate::output::{write_stderr, write_stdout, CliError};
 use crate::progress::{with_progress, with_spinner};
 use trocar_api::Robot;
 
@@ -21,7 +21,10 @@ pub(crate) fn run(robot: &str, samples: usize, seed: u64) -> Result<i32, CliErro
         Ok(0)
     } else {
         for c in report.checks.iter().filter(|c| !c.passed()) {
-            eprintln!("mismatch in `{}` at q = {:?}", c.name, c.worst_q);
+            write_stderr(&format!(
+                "mismatch in `{}` at q = {:?}\n",
+                c.name, c.worst_q
+            ));
         }
         Ok(1)
     }
