@@ -48,7 +48,8 @@ pub enum Command {
             long,
             value_delimiter = ',',
             allow_hyphen_values = true,
-            required = true
+            required = true,
+            action = clap::ArgAction::Set
         )]
         q: Vec<f64>,
         /// Parameter values `name=value` (nominal values otherwise).
@@ -96,7 +97,8 @@ pub enum Command {
             long,
             value_delimiter = ',',
             allow_hyphen_values = true,
-            required = true
+            required = true,
+            action = clap::ArgAction::Set
         )]
         q: Vec<f64>,
         /// Frame of the Jacobian.

@@ -131,8 +131,19 @@ fn pose(
 ) -> Result<(Poly, Poly, Poly, Poly), MechanismError> {
     let names = m.parameter_names();
     let len = |e: &Expr, k: &str| {
-        length_poly(e, &names)
-            .map_err(|err| MechanismError::new(format!("{path}.{k}"), err.to_string()))
+        let poly = length_poly(e, &names)
+            .map_err(|err| MechanismError::new(format!("{path}.{k}"), err.to_string()))?;
+        if poly.len() > MAX_LENGTH_TERMS {
+            return Err(MechanismError::new(
+                format!("{path}.{k}"),
+                format!(
+                    "`{e}` expands to {} terms; a length of the generator has at most \
+                     {MAX_LENGTH_TERMS} (every product of the derivation multiplies them)",
+                    poly.len()
+                ),
+            ));
+        }
+        Ok(poly)
     };
     // (the first parameter in declaration order, as named before)
     let first = p
@@ -195,10 +206,20 @@ fn select_columns(m: &Matrix, cols: &[usize]) -> Matrix {
     Matrix::from_fn(m.rows(), cols.len(), |r, c| m.get(r, cols[c]).clone())
 }
 
+/// The most passive joints (the size of the square `J_Cp`) whose closed forms are derived: the
+/// determinant and adjugate grow steeply with it (a six-legged planar platform, 15, takes a few
+/// seconds; seven legs ran for minutes and eight overflowed the polynomial exponents).
+pub const MAX_PASSIVE: usize = 15;
+
+/// The most terms a length of a mechanism may expand to (`(l1 + l2 + l3 + l4)^30` has 5456):
+/// the derivation multiplies lengths together, so large ones made it run for minutes.
+pub const MAX_LENGTH_TERMS: usize = 64;
+
 /// Derives the closed-form reduced kinematics (7)–(8) of a mechanism (see the module docs).
 ///
 /// Errors: `J_Cp` not square (`chains`), contact models (`chains[k].contact`), angles depending
-/// on parameters, lengths the polynomials cannot hold.
+/// on parameters, lengths the polynomials cannot hold or of more than
+/// [`MAX_LENGTH_TERMS`] terms, more than [`MAX_PASSIVE`] passive joints.
 pub fn derive_mechanism(m: &MechanismModel) -> Result<MechanismDerivation, MechanismError> {
     let (active, passive) = m.partition();
     let n = active.len() + passive.len();
@@ -212,6 +233,16 @@ pub fn derive_mechanism(m: &MechanismModel) -> Result<MechanismDerivation, Mecha
                  closed-form reduced Jacobian (8) needs a square J_Cp (as many passive joints as \
                  structural equations); use the runtime's numeric `Mechanism::reduced`, which \
                  handles r > n_p with a left inverse"
+            ),
+        ));
+    }
+    if n_p > MAX_PASSIVE {
+        return Err(MechanismError::new(
+            "chains",
+            format!(
+                "J_Cp is {n_p} × {n_p}: the closed forms are derived for at most {MAX_PASSIVE} \
+                 passive joints (their cost grows steeply with the size of J_Cp; a planar \
+                 platform of six legs has 15); use the runtime's numeric `Mechanism::reduced`"
             ),
         ));
     }

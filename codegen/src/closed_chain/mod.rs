@@ -41,4 +41,7 @@
 mod derive;
 pub mod emit;
 
-pub use derive::{derive, derive_mechanism, length_poly, MechanismDerivation, MechanismError};
+pub use derive::{
+    derive, derive_mechanism, length_poly, MechanismDerivation, MechanismError, MAX_LENGTH_TERMS,
+    MAX_PASSIVE,
+};

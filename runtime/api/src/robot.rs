@@ -117,6 +117,9 @@ impl Shape {
     }
 }
 
+/// The most configurations [`Robot::verify`] checks (`trocar verify --samples`): 10⁷.
+pub const MAX_SAMPLES: usize = 10_000_000;
+
 impl Robot {
     /// Loads a shipped description by name (`panda-laparoscope`, `four-bar`, ...) or a TOML file
     /// (a serial robot, its chain possibly from a URDF, or a closed mechanism with
@@ -763,6 +766,19 @@ impl Robot {
         }
     }
 
+    /// Checks a sample count of [`Robot::verify`]: at least 1 and at most [`MAX_SAMPLES`].
+    pub fn check_samples(samples: usize) -> Result<()> {
+        if samples == 0 {
+            return Err(Error::Input("--samples must be at least 1".into()));
+        }
+        if samples > MAX_SAMPLES {
+            return Err(Error::Input(format!(
+                "--samples {samples}: at most {MAX_SAMPLES} samples are checked"
+            )));
+        }
+        Ok(())
+    }
+
     /// Checks the generated closed forms of a serial robot against the numeric runtime and
     /// finite differences at `samples` random configurations drawn from `seed`; `progress`
     /// receives the fraction done.
@@ -780,9 +796,7 @@ impl Robot {
                  with and without `--numeric`"
             )));
         };
-        if samples == 0 {
-            return Err(Error::Input("--samples must be at least 1".into()));
-        }
+        Self::check_samples(samples)?;
         let generated = self.derive()?;
         trocar_sim::verify::verify(
             desc,

@@ -19,6 +19,8 @@
 //! name    = (letter | "_") { letter | digit | "_" }
 //! ```
 //!
+//! Exponents are integers of magnitude at most [`MAX_EXPONENT`] (64).
+//!
 //! `pi` is the constant π; every other name is a symbol. Errors carry the byte offset of the
 //! offending token ([`ExprError::at`]).
 //!
@@ -450,6 +452,11 @@ struct Parser<'a> {
 /// handful.
 pub const MAX_DEPTH: usize = 200;
 
+/// The largest exponent magnitude of `base ^ exponent`. Descriptions need small powers; a large
+/// one (`l3^30000`, `pi^-2000`) is refused where it is written, instead of overflowing, or
+/// expanding into an enormous polynomial in the generator.
+pub const MAX_EXPONENT: i32 = 64;
+
 /// A parsed subexpression and the depth of its tree.
 type Parsed = (Expr, usize);
 
@@ -575,10 +582,24 @@ impl Parser<'_> {
         while self.i < self.s.len() && self.s[self.i].is_ascii_digit() {
             self.i += 1;
         }
-        let n: i32 = std::str::from_utf8(&self.s[start..self.i])
+        let digits = std::str::from_utf8(&self.s[start..self.i]).unwrap_or_default();
+        if digits.is_empty() {
+            return Err(ExprError::new(start, "expected an integer exponent"));
+        }
+        // Digits only: a parse error is an overflow.
+        let n = digits
+            .parse::<u64>()
             .ok()
-            .and_then(|t| t.parse().ok())
-            .ok_or_else(|| ExprError::new(start, "expected an integer exponent"))?;
+            .and_then(|n| i32::try_from(n).ok())
+            .filter(|n| *n <= MAX_EXPONENT)
+            .ok_or_else(|| {
+                ExprError::new(
+                    start,
+                    format!(
+                        "the exponent {digits} is too large (at most {MAX_EXPONENT} in magnitude)"
+                    ),
+                )
+            })?;
         Ok((
             Expr::Pow {
                 base: Box::new(base),

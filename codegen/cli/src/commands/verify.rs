@@ -7,8 +7,9 @@ use trocar_api::Robot;
 
 /// Runs `trocar verify`: prints the report; exit code 1 when a check fails.
 pub(crate) fn run(robot: &str, samples: usize, seed: u64) -> Result<i32, CliError> {
+    Robot::check_samples(samples)?;
     let robot = Robot::load(robot)?;
-    if robot.description().is_some() && samples > 0 {
+    if robot.description().is_some() {
         with_spinner(
             &format!("deriving the closed forms of `{}`", robot.name()),
             || robot.derive(),

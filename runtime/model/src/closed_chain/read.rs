@@ -289,6 +289,16 @@ impl Reader {
             let mut joints = Vec::new();
             for (ji, jv) in joints_v.iter().enumerate() {
                 let jp = format!("{path}.joints[{ji}]");
+                let before: usize = chains.iter().map(|c: &ChainModel| c.joints.len()).sum();
+                if before + joints.len() >= crate::description::MAX_JOINTS {
+                    return Err(err(
+                        jp,
+                        format!(
+                            "too many joints: a mechanism has at most {} (all chains together)",
+                            crate::description::MAX_JOINTS
+                        ),
+                    ));
+                }
                 joints.push(self.joint(jv, &jp)?);
             }
             let contact = match ct.get("contact") {

@@ -38,10 +38,14 @@ impl fmt::Display for DescriptionError {
 
 impl std::error::Error for DescriptionError {}
 
+/// The largest description file (TOML or URDF) that is read: 4 MiB. A larger one, or an endless
+/// input such as `/dev/zero`, is an error once that many bytes have been read.
+pub const MAX_FILE_BYTES: u64 = 4 << 20;
+
 impl DescriptionError {
-    /// Reads a description file as text; an unreadable file (missing, not UTF-8, ...) is an error
-    /// naming the file, and for text that is not UTF-8 the line, column and byte offset of the
-    /// first invalid byte.
+    /// Reads a description file as text, at most [`MAX_FILE_BYTES`] of it; an unreadable file
+    /// (missing, too large, not UTF-8, ...) is an error naming the file, and for text that is not
+    /// UTF-8 the line, column and byte offset of the first invalid byte.
     pub fn read_file(path: &std::path::Path) -> Result<String, DescriptionError> {
         let error = |line, column, message| DescriptionError {
             file: Some(PathBuf::from(path)),
@@ -50,8 +54,23 @@ impl DescriptionError {
             field: "(file)".into(),
             message,
         };
-        let bytes = std::fs::read(path)
-            .map_err(|e| error(None, None, format!("cannot read the file: {e}")))?;
+        let mut bytes = Vec::new();
+        {
+            use std::io::Read;
+            std::fs::File::open(path)
+                .and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes))
+                .map_err(|e| error(None, None, format!("cannot read the file: {e}")))?;
+        }
+        if bytes.len() as u64 > MAX_FILE_BYTES {
+            return Err(error(
+                None,
+                None,
+                format!(
+                    "the file is larger than {} MiB, the most a description may be",
+                    MAX_FILE_BYTES >> 20
+                ),
+            ));
+        }
         String::from_utf8(bytes).map_err(|e| {
             let at = e.utf8_error().valid_up_to();
             let before = &e.as_bytes()[..at];

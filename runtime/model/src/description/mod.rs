@@ -37,7 +37,11 @@ mod urdf;
 mod validate;
 
 pub use crate::expr::Linear;
-pub use error::DescriptionError;
+
+/// The most joints a robot (a serial description, its URDF chain included) or a closed
+/// mechanism (all chains together) may have: 64. A larger one is refused where it is written.
+pub const MAX_JOINTS: usize = 64;
+pub use error::{DescriptionError, MAX_FILE_BYTES};
 pub use presets::{preset, preset_names, PRESETS};
 pub use trocar::constraint::NullSpaceBasis;
 pub use validate::{admission_problems, admit, AdmissionError};

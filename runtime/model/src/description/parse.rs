@@ -433,6 +433,14 @@ impl RobotDescription {
         let raw: RawRobot = toml::from_str(text).map_err(|e| toml_error(&ctx, text, &e))?;
         let mut parameters = Vec::new();
         for (name, value) in &raw.parameters {
+            if name == "pi" {
+                return Err(ctx.err(
+                    &format!("parameters.{name}"),
+                    "`pi` is the constant π in expressions, which a parameter of that name \
+                     would silently lose to; give the parameter another name"
+                        .to_string(),
+                ));
+            }
             let value = match value {
                 toml::Value::Float(v) => *v,
                 toml::Value::Integer(v) => *v as f64,
@@ -472,6 +480,21 @@ impl RobotDescription {
             ));
         }
         let mut joints = urdf.as_ref().map_or_else(Vec::new, |u| u.joints.clone());
+        if joints.len() + raw.joints.len() > super::MAX_JOINTS {
+            let field = if joints.is_empty() {
+                format!("joints[{}]", super::MAX_JOINTS)
+            } else {
+                "robot.urdf".to_string()
+            };
+            return Err(ctx.err(
+                &field,
+                format!(
+                    "{} joints: a robot has at most {}",
+                    joints.len() + raw.joints.len(),
+                    super::MAX_JOINTS
+                ),
+            ));
+        }
         for (k, spanned) in raw.joints.iter().enumerate() {
             let loc = Some(location_of(text, spanned.span().start));
             let j = spanned.get_ref();
