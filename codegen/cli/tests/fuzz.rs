@@ -2638,3 +2638,247 @@ fn the_checks_find_non_finite_numbers() {
     apply(&mut t, &Edit::SwapKeys(0, usize::MAX));
     assert_eq!(t, b"[parameters]\nname = 1e308\nl_a = \"panda_link8\"\n");
 }
+
+// ---------------------------------------------------------------------------------------------
+// The output layer
+// ---------------------------------------------------------------------------------------------
+
+/// What is at an output's path before the command runs.
+#[derive(Clone, Copy, Debug)]
+enum Slot {
+    /// Nothing.
+    Absent,
+    /// A regular file, mode 0600.
+    Existing,
+    /// A symbolic link to an existing file (`old.txt`).
+    LinkToFile,
+    /// A dangling symbolic link to `t.out` (the same name for both outputs).
+    Dangling,
+    /// A dangling symbolic link into a missing directory.
+    DanglingIntoNowhere,
+    /// A symbolic link to a directory.
+    LinkToDir,
+    /// A directory.
+    Directory,
+    /// A symbolic link to itself.
+    Loop,
+    /// A name in a directory that does not exist.
+    MissingDir,
+    /// A name in `/proc`, where no file can be created.
+    Proc,
+    /// A symbolic link to the description the command reads.
+    LinkToInput,
+    /// The description itself.
+    Input,
+    /// A name of about 250 bytes (some too long).
+    Long(usize),
+}
+
+fn slot() -> BoxedStrategy<Slot> {
+    prop_oneof![
+        3 => Just(Slot::Absent),
+        2 => Just(Slot::Existing),
+        2 => Just(Slot::LinkToFile),
+        2 => Just(Slot::Dangling),
+        1 => Just(Slot::DanglingIntoNowhere),
+        1 => Just(Slot::LinkToDir),
+        1 => Just(Slot::Directory),
+        1 => Just(Slot::Loop),
+        1 => Just(Slot::MissingDir),
+        1 => Just(Slot::Proc),
+        1 => Just(Slot::LinkToInput),
+        1 => Just(Slot::Input),
+        1 => (240usize..262).prop_map(Slot::Long),
+    ]
+    .boxed()
+}
+
+/// Lays out `slot` for an output named `name` (with its extension) in `dir`; returns the path
+/// to give the command.
+fn lay_out(dir: &Path, slot: Slot, name: &str) -> String {
+    use std::os::unix::fs::{symlink, PermissionsExt};
+    let p = dir.join(name);
+    match slot {
+        Slot::Absent => name.into(),
+        Slot::Existing => {
+            fs::write(&p, "existing").unwrap();
+            fs::set_permissions(&p, fs::Permissions::from_mode(0o600)).unwrap();
+            name.into()
+        }
+        Slot::LinkToFile => {
+            symlink("old.txt", &p).unwrap();
+            name.into()
+        }
+        Slot::Dangling => {
+            symlink("t.out", &p).unwrap();
+            name.into()
+        }
+        Slot::DanglingIntoNowhere => {
+            symlink("nowhere/t.out", &p).unwrap();
+            name.into()
+        }
+        Slot::LinkToDir => {
+            symlink("sub", &p).unwrap();
+            name.into()
+        }
+        Slot::Directory => {
+            fs::create_dir(&p).unwrap();
+            name.into()
+        }
+        Slot::Loop => {
+            symlink(name, &p).unwrap();
+            name.into()
+        }
+        Slot::MissingDir => format!("nowhere/{name}"),
+        Slot::Proc => format!("/proc/{name}"),
+        Slot::LinkToInput => {
+            symlink("in.toml", &p).unwrap();
+            name.into()
+        }
+        Slot::Input => "in.toml".into(),
+        Slot::Long(n) => {
+            let ext = Path::new(name).extension().unwrap().to_str().unwrap();
+            format!("{}.{ext}", "x".repeat(n.saturating_sub(ext.len() + 1)))
+        }
+    }
+}
+
+/// Every entry under `dir`: its path, and its kind with the link target or the content and
+/// mode.
+fn tree(dir: &Path) -> BTreeMap<PathBuf, String> {
+    use std::os::unix::fs::PermissionsExt;
+    let mut out = BTreeMap::new();
+    let mut todo = vec![dir.to_path_buf()];
+    while let Some(d) = todo.pop() {
+        for e in fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            let m = fs::symlink_metadata(&p).unwrap();
+            let what = if m.file_type().is_symlink() {
+                format!("link {:?}", fs::read_link(&p).unwrap())
+            } else if m.is_dir() {
+                todo.push(p.clone());
+                "dir".into()
+            } else {
+                let bytes = fs::read(&p).unwrap();
+                format!(
+                    "file {:o} {} {:x}",
+                    m.permissions().mode() & 0o7777,
+                    bytes.len(),
+                    bytes.iter().fold(0u64, |h, b| h
+                        .wrapping_mul(1_099_511_628_211)
+                        .wrapping_add(u64::from(*b)))
+                )
+            };
+            out.insert(p.strip_prefix(dir).unwrap().to_path_buf(), what);
+        }
+    }
+    out
+}
+
+/// The output layer: outputs that exist, are links (to files, dangling, to a directory, to the
+/// input, in a loop), directories, in missing or unwritable directories, too long, or the input
+/// itself, for `generate -o` and for `simulate --csv --plot`. Each case must end with exit code
+/// 0, 1 or 2 and no panic; after a failure the directory is exactly as before (no output, no
+/// temporary, the input untouched); after success only the outputs' files changed, each a
+/// regular file with content, a replaced one with its mode, and no temporary is left.
+#[test]
+fn fuzz_output_layer() {
+    let cases = env_number("TROCAR_FUZZ_OUTPUT_CASES", 60) as u32;
+    let seed = env_number("TROCAR_FUZZ_SEED", 1);
+    let root = scratch("outputs", 0);
+    let unidirectional = fs::read(robots_dir().join("unidirectional.toml")).unwrap();
+    let counter = AtomicUsize::new(0);
+    let strategy = (
+        any::<bool>(),
+        slot(),
+        slot(),
+        select(vec!["svg", "png", "txt"]),
+    );
+    let mut runner = TestRunner::new_with_rng(config(cases), rng(seed, 7));
+    let result = runner.run(&strategy, |(generate, a, b, ext)| {
+        let dir = root.join(format!("case{}", counter.fetch_add(1, Ordering::Relaxed)));
+        fs::create_dir_all(dir.join("sub")).unwrap();
+        fs::write(dir.join("in.toml"), &unidirectional).unwrap();
+        fs::write(dir.join("old.txt"), "old").unwrap();
+        let a_path = lay_out(&dir, a, if generate { "m.rs" } else { "t.csv" });
+        let plot_name = format!("f.{ext}");
+        let b_path = lay_out(&dir, b, &plot_name);
+        let args: Vec<&str> = if generate {
+            vec!["generate", "in.toml", "-o", &a_path]
+        } else {
+            vec!["simulate", "four-bar", "--csv", &a_path, "--plot", &b_path]
+        };
+        let before = tree(&dir);
+        let out = Command::new(env!("CARGO_BIN_EXE_trocar"))
+            .args(&args)
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        let after = tree(&dir);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        let code = out.status.code();
+        prop_assert!(
+            matches!(code, Some(0..=2)) && !stderr.contains("panicked"),
+            "{args:?}: {:?} {stderr}",
+            out.status
+        );
+        // `generate` reads the description: it is never replaced (`simulate` reads no file).
+        prop_assert!(
+            !generate || fs::read(dir.join("in.toml")).unwrap() == unidirectional,
+            "{:?}: the input changed",
+            args
+        );
+        if code == Some(0) {
+            let outputs: Vec<&str> = if generate {
+                vec![&a_path]
+            } else {
+                vec![&a_path, &b_path]
+            };
+            let mut targets = BTreeSet::new();
+            for o in &outputs {
+                let target = fs::canonicalize(dir.join(o)).unwrap();
+                let m = fs::metadata(&target).unwrap();
+                prop_assert!(m.is_file() && m.len() > 0, "{args:?}: {o} is not written");
+                if let Ok(rel) = target.strip_prefix(fs::canonicalize(&dir).unwrap()) {
+                    targets.insert(rel.to_path_buf());
+                }
+            }
+            for (p, what) in &after {
+                if targets.contains(p) {
+                    if let Some(old) = before.get(p) {
+                        // A replaced file keeps its mode.
+                        prop_assert_eq!(
+                            old.split(' ').nth(1),
+                            what.split(' ').nth(1),
+                            "{:?}: the mode of {:?} changed",
+                            &args,
+                            p
+                        );
+                    }
+                    continue;
+                }
+                prop_assert_eq!(
+                    before.get(p),
+                    Some(what),
+                    "{:?}: {:?} appeared or changed",
+                    &args,
+                    p
+                );
+            }
+        } else {
+            prop_assert_eq!(
+                &before,
+                &after,
+                "{:?} failed ({}) and changed the directory",
+                &args,
+                stderr
+            );
+        }
+        let _ = fs::remove_dir_all(&dir);
+        Ok(())
+    });
+    let _ = fs::remove_dir_all(&root);
+    if let Err(e) = result {
+        panic!("output layer: {e}");
+    }
+}

@@ -444,8 +444,15 @@ fn a_figure_through_a_link_has_the_format_of_its_name() {
     let out = trocar(&["simulate", "four-bar", "--plot", "fig.png"], &dir);
     assert!(out.status.success(), "{out:?}");
     let png = std::fs::read(dir.join("data.bin")).unwrap();
-    assert!(png.starts_with(b"\x89PNG"), "{:?}", &png[..png.len().min(8)]);
-    assert_eq!(entries(&dir), ["data.bin", "data.txt", "fig.png", "fig.svg"]);
+    assert!(
+        png.starts_with(b"\x89PNG"),
+        "{:?}",
+        &png[..png.len().min(8)]
+    );
+    assert_eq!(
+        entries(&dir),
+        ["data.bin", "data.txt", "fig.png", "fig.svg"]
+    );
 }
 
 /// Issue 27, item 4: `trocar simulate four-bar 2>&1 | head -1` exited with 101 (`eprintln!`
