@@ -142,25 +142,25 @@ fn large_mechanisms_are_refused_quickly() {
     }
 }
 
-/// A description is read up to 4 MiB: `/dev/zero` used to be read without end.
+/// A description is read up to 16 MiB: `/dev/zero` used to be read without end.
 #[cfg(unix)]
 #[test]
-fn input_files_are_read_up_to_4_mib() {
+fn input_files_are_read_up_to_16_mib() {
     let dir = scratch("size");
     refused(
         &["eval", "/dev/zero", "--q", "0"],
         &dir,
         10,
-        &["/dev/zero", "larger than 4 MiB"],
+        &["/dev/zero", "larger than 16 MiB"],
     );
     let mut big = std::fs::read_to_string(robots().join("unidirectional.toml")).unwrap();
-    big += &"#".repeat(5 << 20);
+    big += &"#".repeat(17 << 20);
     std::fs::write(dir.join("big.toml"), big).unwrap();
     refused(
         &["generate", "big.toml"],
         &dir,
         10,
-        &["big.toml", "larger than 4 MiB"],
+        &["big.toml", "larger than 16 MiB"],
     );
 }
 

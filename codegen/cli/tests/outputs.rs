@@ -329,6 +329,25 @@ fn an_output_cannot_be_an_input() {
             "{err}"
         );
     }
+    // `simulate --trajectory` reads the trajectory.
+    std::fs::write(dir.join("path.csv"), "t,x,y,z\n0,0,0,0\n").unwrap();
+    let err = failure(&trocar(
+        &[
+            "simulate",
+            "panda-laparoscope.toml",
+            "--trajectory",
+            "path.csv",
+            "--csv",
+            "path.csv",
+        ],
+        &dir,
+    ));
+    assert!(
+        err.contains("--csv path.csv") && err.contains("reads"),
+        "{err}"
+    );
+    assert_eq!(before("path.csv"), b"t,x,y,z\n0,0,0,0\n");
+    std::fs::remove_file(dir.join("path.csv")).unwrap();
     assert_eq!(before("panda-laparoscope.toml"), toml);
     assert_eq!(before("urdf/panda.urdf"), urdf);
     assert_eq!(before("unidirectional.toml"), uni);

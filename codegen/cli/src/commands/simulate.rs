@@ -190,7 +190,14 @@ pub(crate) fn run_trajectory(robot: &str, path: &Path, user: &UserRun) -> Result
             )));
         }
     }
-    let outputs = Outputs::check(&[("--csv", user.csv.as_deref(), OutputKind::Data)])?;
+    // The files the command reads: the trajectory, the description and its URDF.
+    let mut reads = vec![path.to_path_buf()];
+    if Path::new(robot).exists() {
+        reads.extend(trocar_model::description::RobotDescription::files_read(
+            robot,
+        ));
+    }
+    let outputs = Outputs::check(&[("--csv", user.csv.as_deref(), OutputKind::Data)], &reads)?;
     let robot = trocar_api::Robot::load(robot)?;
     let trajectory = trocar_api::Trajectory::from_csv(path)?;
     let q0 = user.q0.clone().ok_or_else(|| {
@@ -248,6 +255,6 @@ pub(crate) fn run_trajectory(robot: &str, path: &Path, user: &UserRun) -> Result
             .map_err(|e| outputs.explain(format!("--csv {}: {e}", csv.display())))?;
     }
     outputs.commit()?;
-    eprintln!("{}", run.summary);
+    write_stderr(&format!("{}\n", run.summary));
     Ok(0)
 }
