@@ -3,7 +3,7 @@
 use crate::symbolic::{Matrix, Poly, Rational, SymbolicError};
 use std::fmt;
 use std::path::Path;
-use trocar_model::closed_chain::{JointKind, MechanismModel, Output, PoseExpr};
+use trocar_model::closed_chain::{MechanismModel, Output, PlanarJointKind, PoseExpr};
 use trocar_model::description::DescriptionError;
 use trocar_model::expr::Expr;
 
@@ -363,7 +363,7 @@ pub fn derive_mechanism(m: &MechanismModel) -> Result<MechanismDerivation, Mecha
             .chains
             .iter()
             .flat_map(|c| &c.joints)
-            .map(|j| matches!(j.kind, JointKind::Prismatic { .. }))
+            .map(|j| matches!(j.kind, PlanarJointKind::Prismatic { .. }))
             .collect(),
         active,
         passive,

@@ -29,8 +29,8 @@ mod model;
 mod read;
 
 pub use model::{
-    contact_joint, eval, joint_limits, number, ChainModel, ContactJoint, ContactSpec, JointKind,
-    JointModel, Lookup, MechanismModel, Output, Parameter, PoseExpr,
+    contact_joint, eval, joint_limits, number, ChainModel, ContactJoint, ContactSpec, JointModel,
+    Lookup, MechanismModel, MechanismParameter, Output, PlanarJointKind, PoseExpr,
 };
 pub use read::{shipped_text, COOPERATIVE_TOML, FOUR_BAR_TOML, SHIPPED, STEWART_TOML};
 

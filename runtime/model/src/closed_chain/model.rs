@@ -49,7 +49,7 @@ impl Output {
 
 /// A named parameter with its nominal value.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Parameter {
+pub struct MechanismParameter {
     /// Name (an identifier, not `pi`).
     pub name: String,
     /// The value as written (an expression of the parameters declared before it).
@@ -90,17 +90,17 @@ impl PoseExpr {
 
 /// What a planar joint does.
 #[derive(Clone, Debug, PartialEq)]
-pub enum JointKind {
+pub enum PlanarJointKind {
     /// Rotation about z through the joint frame's origin.
     Revolute,
-    /// Translation along `axis` (normalised when evaluated, [`JointKind::unit_axis`]).
+    /// Translation along `axis` (normalised when evaluated, [`PlanarJointKind::unit_axis`]).
     Prismatic {
         /// Direction in the joint frame, as written.
         axis: [Expr; 2],
     },
 }
 
-impl JointKind {
+impl PlanarJointKind {
     /// The prismatic joint's unit axis with the parameter values `values` (`None` for a
     /// revolute joint). Errors (field `field`) for a zero or non-finite axis.
     pub fn unit_axis(
@@ -108,7 +108,7 @@ impl JointKind {
         values: &Lookup,
         field: &str,
     ) -> Result<Option<[f64; 2]>, DescriptionError> {
-        let JointKind::Prismatic { axis } = self else {
+        let PlanarJointKind::Prismatic { axis } = self else {
             return Ok(None);
         };
         let a = [
@@ -133,7 +133,7 @@ pub struct JointModel {
     /// Unique name in the mechanism.
     pub name: String,
     /// Revolute or prismatic.
-    pub kind: JointKind,
+    pub kind: PlanarJointKind,
     /// Transform from the previous frame (chain base or previous joint) to the joint frame.
     pub origin: PoseExpr,
     /// Active (actuated, `θ_a`) or passive (`θ_p`).
@@ -245,7 +245,7 @@ pub struct MechanismModel {
     /// Name.
     pub name: String,
     /// Named parameters in declaration order.
-    pub parameters: Vec<Parameter>,
+    pub parameters: Vec<MechanismParameter>,
     /// The task components `x ⊂ (x, y, φ)`, in order.
     pub outputs: Vec<Output>,
     /// The open chains; all end at the common frame.

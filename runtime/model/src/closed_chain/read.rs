@@ -1,8 +1,8 @@
 //! The TOML reader of mechanism descriptions (format: see the parent module).
 
 use super::model::{
-    invalid, number, ChainModel, ContactSpec, JointKind, JointModel, MechanismModel, Output,
-    Parameter, PoseExpr,
+    invalid, number, ChainModel, ContactSpec, JointModel, MechanismModel, MechanismParameter,
+    Output, PlanarJointKind, PoseExpr,
 };
 use crate::description::DescriptionError;
 use crate::expr::{is_name, Expr};
@@ -233,7 +233,7 @@ impl Reader {
                 let expr = self.expr(v, &field)?;
                 let nominal = super::model::eval(&expr, &|n| self.value(n), &field)?;
                 self.params.push((k.clone(), nominal));
-                parameters.push(Parameter {
+                parameters.push(MechanismParameter {
                     name: k.clone(),
                     expr,
                     nominal,
@@ -351,7 +351,7 @@ impl Reader {
                         "a planar revolute joint turns about z: no axis",
                     ));
                 }
-                JointKind::Revolute
+                PlanarJointKind::Revolute
             }
             Some("prismatic") => {
                 let axis = match jt.get("axis") {
@@ -362,7 +362,7 @@ impl Reader {
                     ],
                     Some(_) => return Err(err(format!("{jp}.axis"), "must be [ax, ay]")),
                 };
-                JointKind::Prismatic { axis }
+                PlanarJointKind::Prismatic { axis }
             }
             Some(other) => {
                 return Err(err(
