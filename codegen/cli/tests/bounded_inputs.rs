@@ -89,7 +89,8 @@ fn large_exponents_are_refused_where_written() {
 #[test]
 fn lengths_of_many_terms_are_refused() {
     let dir = scratch("terms");
-    let m = four_bar_tip(&dir, "(l3+l4+l1+l2)^30");
+    // Of value 1 with the nominal parameters: only its expansion is large.
+    let m = four_bar_tip(&dir, "((l3+l4+l1+l2)/4.6)^30");
     refused(
         &["generate", m],
         &dir,
@@ -249,4 +250,45 @@ fn ambiguous_names_and_options_are_refused() {
         10,
         &["l_a", "given twice"],
     );
+}
+
+/// Item 7 (mechanisms): the number rule for a mechanism's parameters, initial values, limits
+/// and expression constants. `x = "l3*1e40"` with `--real f32` emitted `1e40_f32`, which does not
+/// compile; a parameter of 1e40 or an initial value of 1e300 was accepted.
+#[test]
+fn mechanism_numbers_follow_the_number_rule() {
+    let dir = scratch("number-rule");
+    let text = std::fs::read_to_string(robots().join("mechanisms/four-bar.toml")).unwrap();
+    for (from, to, field) in [
+        (
+            r#"tip = { x = "l3 + l4" }"#,
+            r#"tip = { x = "l3*1e40" }"#,
+            "chains[0].tip.x",
+        ),
+        ("l3 = 0.6", "l3 = 1e40", "parameters.l3"),
+        (
+            "initial = 1.2",
+            "initial = 1e300",
+            "chains[0].joints[0].initial",
+        ),
+        (
+            "limits = [0.7227, 2.2784]",
+            "limits = [0.7227, 1e-320]",
+            "chains[0].joints[0].limits[1]",
+        ),
+        (
+            r#"tip = { x = "l3 + l4" }"#,
+            r#"tip = { x = "l3*1e5*1e5" }"#,
+            "chains[0].tip.x",
+        ),
+    ] {
+        assert!(text.contains(from), "{from}");
+        std::fs::write(dir.join("m.toml"), text.replacen(from, to, 1)).unwrap();
+        refused(
+            &["generate", "m.toml", "--real", "f32"],
+            &dir,
+            10,
+            &["m.toml:", field],
+        );
+    }
 }

@@ -245,6 +245,25 @@ impl Expr {
         }
     }
 
+    /// The numbers written in the expression, in order, with the byte offset of each.
+    pub fn numbers(&self) -> Vec<(f64, usize)> {
+        fn walk(e: &Expr, out: &mut Vec<(f64, usize)>) {
+            match e {
+                Expr::Number { value, at } => out.push((*value, *at)),
+                Expr::Pi { .. } | Expr::Symbol { .. } => {}
+                Expr::Neg { operand, .. } => walk(operand, out),
+                Expr::Binary { lhs, rhs, .. } => {
+                    walk(lhs, out);
+                    walk(rhs, out);
+                }
+                Expr::Pow { base, .. } => walk(base, out),
+            }
+        }
+        let mut out = Vec::new();
+        walk(self, &mut out);
+        out
+    }
+
     /// The symbols (parameter names) used, each once, in order of first appearance.
     pub fn symbols(&self) -> Vec<&str> {
         fn walk<'a>(e: &'a Expr, out: &mut Vec<&'a str>) {

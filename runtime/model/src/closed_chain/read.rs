@@ -486,10 +486,20 @@ impl Reader {
                 ))
             }
         };
-        if let Expr::Number { value, .. } = e {
-            if !value.is_finite() {
-                return Err(err(field, "not finite"));
+        // The number rule (crate::validity) for every number written and for the value with
+        // the parameters' nominal values: `l3*1e40` used to reach the generated code as an
+        // `f32` literal that does not compile.
+        for (value, at) in e.numbers() {
+            if let Err(problem) = crate::validity::check(value) {
+                return Err(err(
+                    field,
+                    format!("the number {value:e} (at byte {at}) {problem}"),
+                ));
             }
+        }
+        let value = super::model::eval(&e, &|n| self.value(n), field)?;
+        if let Err(problem) = crate::validity::check(value) {
+            return Err(err(field, format!("its value {value:e} {problem}")));
         }
         Ok(e)
     }
