@@ -446,10 +446,12 @@ impl Drop for Outputs {
     }
 }
 
-/// One entry of a text matrix: nine decimals, or scientific notation from `1e9` on (a value such
-/// as `1.5e298` would otherwise print as 300 digits).
+/// One entry of a text matrix: nine decimals, or scientific notation with ten significant digits
+/// from `1e9` on (a value such as `1.5e298` would otherwise print as 300 digits) and for a
+/// nonzero value below `1e-4` (which nine decimals would print as `0.000000000` or with few
+/// digits).
 fn cell(v: f64) -> String {
-    if v.abs() >= 1e9 {
+    if v.abs() >= 1e9 || (v != 0.0 && v.abs() < 1e-4) {
         format!("{v:.9e}")
     } else {
         format!("{v:.9}")
@@ -552,4 +554,19 @@ pub(crate) fn print_matrix(
         (false, None) => to_text(m),
     };
     write_stdout(&format!("{text}\n"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::cell;
+
+    /// Issue 27, item 12: small values printed as `0.000000000`.
+    #[test]
+    fn small_values_keep_their_digits() {
+        assert_eq!(cell(1.234e-12), "1.234000000e-12");
+        assert_eq!(cell(-5e-5), "-5.000000000e-5");
+        assert_eq!(cell(0.0), "0.000000000");
+        assert_eq!(cell(0.25), "0.250000000");
+        assert_eq!(cell(1.5e298), "1.500000000e298");
+    }
 }
