@@ -292,3 +292,32 @@ fn mechanism_numbers_follow_the_number_rule() {
         );
     }
 }
+
+/// Item 7 (URDF limits): a NaN or reversed `<limit>` was dropped silently (and with it the
+/// robot's joint limits); it is an error naming the joint's limit and the URDF line.
+#[test]
+fn a_bad_urdf_limit_is_an_error() {
+    let dir = scratch("urdf-limit");
+    std::fs::create_dir(dir.join("urdf")).unwrap();
+    std::fs::copy(
+        robots().join("panda-laparoscope.toml"),
+        dir.join("panda-laparoscope.toml"),
+    )
+    .unwrap();
+    let urdf = std::fs::read_to_string(robots().join("urdf/panda.urdf")).unwrap();
+    let at = urdf.find("lower=\"").expect("a limit") + "lower=\"".len();
+    let end = at + urdf[at..].find('"').unwrap();
+    for bad in ["nan", "1e300", "5"] {
+        let text = format!("{}{bad}{}", &urdf[..at], &urdf[end..]);
+        std::fs::write(dir.join("urdf/panda.urdf"), text).unwrap();
+        refused(
+            &["generate", "panda-laparoscope.toml"],
+            &dir,
+            20,
+            &["panda.urdf", "limit"],
+        );
+    }
+    std::fs::write(dir.join("urdf/panda.urdf"), urdf).unwrap();
+    let (out, _) = trocar(&["generate", "panda-laparoscope.toml"], &dir);
+    assert!(out.status.success(), "{out:?}");
+}

@@ -11,7 +11,9 @@
 //! - `floating`, `planar` and `spherical` joints on the path are errors, and so are `<mimic>`
 //!   joints (their value would silently become an independent entry of `q`);
 //! - a joint's `<limit lower upper>` becomes its [`limits`](super::JointDesc::limits) (none for
-//!   `continuous` joints);
+//!   `continuous` joints, and none for equal bounds, as for a joint without `<limit>`); a bound
+//!   that breaks the number rule ([`crate::validity`]) or a lower bound above the upper one is an
+//!   error;
 //! - every link a joint names must be declared with `<link>`;
 //! - the end effector is the tip link's frame, named after it.
 //!
@@ -500,14 +502,30 @@ pub(crate) fn import_chain(
             pending.then(&here).to_origin()
         };
         pending = Pose::identity();
+        let (lower, upper) = (j.limit.lower, j.limit.upper);
+        if j.joint_type != JointType::Continuous {
+            // A bad limit is an error: dropping it silently dropped the robot's joint limits.
+            for (side, v) in [("lower", lower), ("upper", upper)] {
+                if let Err(problem) = crate::validity::check(v) {
+                    return Err(err(
+                        &format!("{field}.limit.{side}"),
+                        line,
+                        format!("the limit {v:e} {problem}"),
+                    ));
+                }
+            }
+            if lower > upper {
+                return Err(err(
+                    &format!("{field}.limit"),
+                    line,
+                    format!("lower {lower} is above upper {upper}"),
+                ));
+            }
+        }
         let limits = match j.joint_type {
             JointType::Continuous => None,
-            _ if j.limit.lower < j.limit.upper
-                && j.limit.lower.is_finite()
-                && j.limit.upper.is_finite() =>
-            {
-                Some([j.limit.lower, j.limit.upper])
-            }
+            // Equal bounds (also a joint without `<limit>`, read as 0 and 0): no limits.
+            _ if lower < upper => Some([lower, upper]),
             _ => None,
         };
         joints.push(JointDesc {
