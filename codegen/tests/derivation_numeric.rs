@@ -328,6 +328,7 @@ fn random_chain(seed: u64) -> RobotDescription {
             origin: Origin { xyz, rotation },
             kind,
             limits: None,
+            speed_limit: None,
             location: None,
         });
     }

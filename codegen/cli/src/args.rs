@@ -115,7 +115,7 @@ pub enum Command {
     Simulate {
         /// Scenario name.
         scenario: String,
-        /// Inverse used for J^r (default: the scenario's). `all` runs pinv, dls and fi and
+        /// Inverse used for J^r (default: the scenario's). `all` runs pinv, dls, fi and qp and
         /// draws one figure comparing them to --plot (serial scenarios; not with --csv,
         /// --animate or --snapshot).
         #[arg(long, value_enum)]
@@ -219,7 +219,10 @@ pub enum MethodArg {
     Dls,
     /// Filtered inverse (3.47)–(3.50).
     Fi,
-    /// `trocar simulate` only: pinv, dls and fi, compared on one figure (`--plot`).
+    /// One quadratic program per step: the trocar, the joint limits, the joint speed limits
+    /// and the insertion depth held as hard constraints.
+    Qp,
+    /// `trocar simulate` only: pinv, dls, fi and qp, compared on one figure (`--plot`).
     All,
 }
 
@@ -311,6 +314,7 @@ impl MethodArg {
             MethodArg::Pinv => Some(trocar_api::Method::Pinv),
             MethodArg::Dls => Some(trocar_api::Method::Dls),
             MethodArg::Fi => Some(trocar_api::Method::Fi),
+            MethodArg::Qp => Some(trocar_api::Method::Qp),
             MethodArg::All => None,
         }
     }

@@ -320,6 +320,7 @@ fn joint(k: usize, item: &JointItem, spans: &mut Spans, errors: &mut Errors) -> 
         origin,
         kind,
         limits: None,
+        speed_limit: None,
         location: None,
     }
 }

@@ -36,6 +36,7 @@ pub fn revolute(name: &str, xyz: [Linear; 3], axis: [f64; 3]) -> JointDesc {
         origin: origin(xyz),
         kind: JointKind::Revolute { axis },
         limits: None,
+        speed_limit: None,
         location: None,
     }
 }

@@ -160,7 +160,7 @@ pub fn simulate(
     }
 }
 
-/// Runs the serial scenario `scenario` with pinv, DLS and FI in turn (for the figure comparing
+/// Runs the serial scenario `scenario` with pinv, DLS, FI and the QP in turn (for the figure comparing
 /// them, [`plot::write_comparison`]); the scenario's note on the reference arm is given once.
 pub fn compare_methods(
     scenario: &str,
@@ -173,11 +173,8 @@ pub fn compare_methods(
         "the methods are compared on the serial scenarios",
     )?;
     let mut runs: Vec<SimulationRun> = Vec::new();
-    for (k, method) in [Method::Pinv, Method::Dls, Method::Fi]
-        .into_iter()
-        .enumerate()
-    {
-        let mut part = |f: f64| progress((k as f64 + f) / 3.0);
+    for (k, method) in Method::ALL.into_iter().enumerate() {
+        let mut part = |f: f64| progress((k as f64 + f) / Method::ALL.len() as f64);
         let mut run = rcm_scenario(
             scenario,
             &RcmOptions {

@@ -166,6 +166,7 @@ prop_compose! {
                     _ => JointKind::Twist { v, w: axis },
                 },
                 limits: None,
+                speed_limit: None,
                 location: None,
             }).collect(),
             end_effector: EndEffector { name: "tool".into(), origin: ee },

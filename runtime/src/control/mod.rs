@@ -37,17 +37,25 @@
 //!    ([`NullSpaceObjective`], (44)–(46) of Freitas, Leite & Lizarralde 2010):
 //!    `θ̇_{1..i} = u0 + J^B_0i^{inv} (V^B_0i − J^B_0i u0)`.
 //!
+//! With [`Inverse::Qp`] steps 4–5 are one quadratic program instead ([`hard_limits`]): the
+//! task `S u` tracked in least squares, the trocar `Λ J^B_0i θ̇ = dv_0r` as equality rows, the
+//! joint position limits (velocity dampers), the joint speed limits and the insertion depth
+//! ([`HardLimits`], [`Controller::with_limits`]) as hard inequalities, solved by [`crate::qp`]
+//! from the previous step's active set.
+//!
 //! With the constraint on the last link (`i = n`) there are no joints after it: `J^r_0e =
 //! Ad_{g_ei} Λ#` does not depend on `q`, so the arm's closeness to a singularity is that of
 //! `J^B_0i` (`w_i` of [`StepOutput`]), and the damping of [`ControllerConfig::jb0i_damping`] is
 //! the one that matters.
 
+pub mod hard_limits;
 mod inverse;
 mod quaternion;
 mod redundancy;
 mod shaft;
 
 pub use crate::manipulability::{determinant, manipulability};
+pub use hard_limits::{Damper, HardLimits, QpReport, QpWeights};
 pub use inverse::{
     damped_pinv, damped_solve, pinv, Damping, FilteredInverse, GramCholesky, PreparedJacobian,
 };
@@ -254,6 +262,12 @@ pub enum Inverse<T> {
         /// Gain of the left-inverse error `S_l`.
         gamma_l: T,
     },
+    /// No inverse: the step is the quadratic program (Q1)–(Q6) of [`hard_limits`] — the task
+    /// `S u` in least squares with weights `κ`, `γ`, the trocar as equality rows, the
+    /// [`HardLimits`] of [`Controller::with_limits`] (and
+    /// [`ControllerConfig::max_joint_speed`]) as hard inequalities. `J^B_0i` is not inverted:
+    /// [`ControllerConfig::jb0i_damping`] is unused.
+    Qp(QpWeights<T>),
 }
 
 /// Gains and inverses of the controller.
@@ -328,6 +342,8 @@ pub struct StepOutput<T: RealField + Copy, const N: usize, const R: usize> {
     pub kappa_r: T,
     /// Damping applied to `J^B_0i`.
     pub kappa_i: T,
+    /// The QP's outcome with [`Inverse::Qp`] (`None` for the other inverses).
+    pub qp: Option<QpReport>,
 }
 
 /// Why a step failed.
@@ -379,8 +395,12 @@ pub struct Controller<
     /// What the spare freedom of the joints before the constraint does when `J^B_0i` is wide
     /// (`I > 6`); [`NullSpaceObjective::None`] by default.
     pub objective: NullSpaceObjective<T, N>,
+    /// The hard limits of [`Inverse::Qp`] ([`HardLimits::none`] by default); unused by the
+    /// other inverses.
+    pub limits: HardLimits<T, N>,
     fi: FilteredInverse<T, P, M>,
     fi_started: bool,
+    qp_active: crate::qp::ActiveSet<N, 1>,
 }
 
 /// `A = Λ J^B_0i`, the constrained directions of the link's twist as functions of `θ̇_{1..i}`,
@@ -488,9 +508,23 @@ impl<
         Controller {
             config,
             objective: NullSpaceObjective::None,
+            limits: HardLimits::none(),
             fi: FilteredInverse::new(SMatrix::zeros()),
             fi_started: false,
+            qp_active: crate::qp::ActiveSet::EMPTY,
         }
+    }
+
+    /// The same controller with the hard limits of [`Inverse::Qp`].
+    #[must_use]
+    pub fn with_limits(mut self, limits: HardLimits<T, N>) -> Self {
+        self.limits = limits;
+        self
+    }
+
+    /// The QP's active set of the last step: the next step's warm start ([`Inverse::Qp`]).
+    pub fn qp_active_set(&self) -> &crate::qp::ActiveSet<N, 1> {
+        &self.qp_active
     }
 
     /// The same controller with the objective of the spare freedom of `J^B_0i`.
@@ -505,9 +539,11 @@ impl<
         &self.fi.theta
     }
 
-    /// Restarts the filtered inverse (it re-initialises on the next step).
+    /// Restarts the filtered inverse (it re-initialises on the next step) and the QP's warm
+    /// start (the next solve starts from the empty active set).
     pub fn reset(&mut self) {
         self.fi_started = false;
+        self.qp_active = crate::qp::ActiveSet::EMPTY;
     }
 
     /// One control step at joints `q`; `dt` is the sample time (used by the filtered inverse).
@@ -551,6 +587,23 @@ impl<
         let whole = P == 6
             && (0..P)
                 .all(|r| (0..6).all(|c| sel[(r, c)] == if r == c { T::one() } else { T::zero() }));
+        if let Inverse::Qp(weights) = c.inverse {
+            return self.qp_step(
+                kin,
+                q,
+                rcm,
+                &s,
+                l_a,
+                &sel,
+                whole,
+                &u,
+                lateral_error,
+                dv_0r,
+                ep,
+                eq,
+                &weights,
+            );
+        }
         let (task_jr, dv_e): (SMatrix<T, P, M>, SVector<T, P>) = if whole {
             (
                 SMatrix::from_fn(|r, c| s.jr[(r, c)]),
@@ -581,7 +634,8 @@ impl<
             }
         };
         let x: SVector<T, M> = match c.inverse {
-            Inverse::Pinv => solve_r(T::zero()).ok_or(ControlError::SingularJr)?,
+            // `Inverse::Qp` returned above.
+            Inverse::Pinv | Inverse::Qp(_) => solve_r(T::zero()).ok_or(ControlError::SingularJr)?,
             Inverse::Dls(d) => {
                 kappa_r = d.kappa(w_r);
                 solve_r(kappa_r).ok_or(ControlError::SingularJr)?
@@ -665,6 +719,85 @@ impl<
             w_i,
             kappa_r,
             kappa_i,
+            qp: None,
+        })
+    }
+
+    /// Steps 4–5 as the QP (Q1)–(Q6) of [`hard_limits`].
+    #[allow(clippy::too_many_arguments)]
+    fn qp_step<Kin: ConstrainedKinematics<T, N, I, R, K, M, P>>(
+        &mut self,
+        kin: &Kin,
+        q: &SVector<T, N>,
+        rcm: &Rcm<T, R>,
+        s: &ConstrainedState<T, I, R, K, M>,
+        l_a: T,
+        sel: &SMatrix<T, P, 6>,
+        whole: bool,
+        u: &Vector6<T>,
+        lateral_error: SVector<T, R>,
+        dv_0r: SVector<T, R>,
+        ep: Vector3<T>,
+        eq: Quaternion<T>,
+        weights: &QpWeights<T>,
+    ) -> Result<StepOutput<T, N, R>, ControlError>
+    where
+        Const<R>: SquareDim,
+        Const<I>: SquareDim,
+        Const<M>: SquareDim,
+        Const<P>: SquareDim,
+    {
+        let task = hard_limits::task_body_jacobian::<T, N, I, K, M, P>(
+            sel, whole, &s.g_0e, &s.g_0i, &s.jb0i, &s.jr,
+        );
+        let v_t: SVector<T, P> = if whole {
+            SVector::from_fn(|r, _| u[r])
+        } else {
+            sel * u
+        };
+        let a = constrained_rows(&s.jb0i, &s.lambda_pinv).ok_or(ControlError::SingularJb0i)?;
+        let shaft = kin.shaft();
+        let inputs = hard_limits::QpInputs {
+            q,
+            g_0i: &s.g_0i,
+            jb0i: &s.jb0i,
+            a: &a,
+            dv_0r: &dv_0r,
+            shaft_direction: shaft.direction,
+            trocar: &rcm.trocar,
+            l_a,
+            max_joint_speed: self.config.max_joint_speed,
+        };
+        let (qd, report) = hard_limits::solve_step(
+            &inputs,
+            &task,
+            &v_t,
+            weights,
+            &self.objective,
+            &self.limits,
+            &mut self.qp_active,
+        )?;
+        if !qd.iter().all(|v| v.is_finite()) {
+            return Err(ControlError::NonFinite);
+        }
+        let task_jr: SMatrix<T, P, M> = if whole {
+            SMatrix::from_fn(|r, c| s.jr[(r, c)])
+        } else {
+            sel * s.jr
+        };
+        Ok(StepOutput {
+            qd,
+            l_a,
+            ep,
+            eq,
+            u: *u,
+            lateral_error,
+            dv_0r,
+            w_r: PreparedJacobian::new(&task_jr).manipulability(),
+            w_i: PreparedJacobian::new(&s.jb0i).manipulability(),
+            kappa_r: weights.kappa,
+            kappa_i: T::zero(),
+            qp: Some(report),
         })
     }
 }

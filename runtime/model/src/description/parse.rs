@@ -554,6 +554,7 @@ impl RobotDescription {
                 origin: origin(&ctx, &field, &j.xyz, &j.rpy, &j.rotation)?,
                 kind,
                 limits: j.limits,
+                speed_limit: None,
                 location: loc,
             });
         }

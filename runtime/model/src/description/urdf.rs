@@ -537,6 +537,8 @@ pub(crate) fn import_chain(
                 JointKind::Prismatic { axis }
             },
             limits,
+            speed_limit: (j.limit.velocity > 0.0 && j.limit.velocity.is_finite())
+                .then_some(j.limit.velocity),
             location: line,
         });
         links.push((j.child.link.clone(), joints.len(), Pose::identity()));

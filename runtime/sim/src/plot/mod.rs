@@ -222,6 +222,7 @@ fn method_label(method: crate::simulation::Method) -> &'static str {
         crate::simulation::Method::Pinv => "pinv",
         crate::simulation::Method::Dls => "DLS",
         crate::simulation::Method::Fi => "FI",
+        crate::simulation::Method::Qp => "QP",
     }
 }
 

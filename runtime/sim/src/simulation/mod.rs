@@ -30,6 +30,10 @@ mod scenario;
 mod trace;
 
 pub use scenario::{
+    panda_limits_reference, PANDA_DEPTH_LIMITS, PANDA_LIMITS_DURATION, PANDA_LIMITS_ROLL,
+    PANDA_LIMITS_WITHDRAWAL,
+};
+pub use scenario::{
     panda_reference, Method, Scenario, ScenarioConfig, SimulationError, A, EXP421_AMPLITUDE,
     MAX_JOINT_SPEED, OMEGA, OMEGA_K_421, PANDA_CIRCLE_RADIUS, PANDA_DURATION, PANDA_Q0, PANDA_RAMP,
     PANDA_ROLL_AMPLITUDE, PANDA_TIP_DEPTH, S4_RCM_AMPLITUDE, S4_RCM_AMPLITUDE_THESIS,
@@ -39,7 +43,7 @@ pub use trace::{CsvRows, Summary, Trace, TraceRow, CSV_HEADER};
 use nalgebra::{Const, SVector, Vector3};
 use trocar::constraint::Constraint;
 use trocar::control::{
-    self, ChainKinematics, Controller, ControllerConfig, NullSpaceObjective, Rcm, Shaft,
+    self, ChainKinematics, Controller, ControllerConfig, HardLimits, NullSpaceObjective, Rcm, Shaft,
 };
 use trocar::kinematics::Chain;
 use trocar::manipulability::SquareDim;
@@ -55,7 +59,7 @@ pub fn run(config: &ScenarioConfig, progress: impl FnMut(f64)) -> Result<Trace, 
         .map_err(|e| SimulationError::Description(e.to_string()))?;
     let desc = |e: &dyn std::fmt::Display| SimulationError::Description(e.to_string());
     let robot = NumericModel::<f64>::from_description(&d, &[]).map_err(|e| desc(&e))?;
-    if config.scenario == Scenario::Panda {
+    if config.scenario.is_panda() {
         return run_panda(config, &robot, progress);
     }
     let chain = robot.to_chain::<8>().map_err(|e| desc(&e))?;
@@ -251,8 +255,24 @@ fn run_panda(
         .constraint_pose(&chain.link_frame(7, &q), l_a0)
         .translation;
     let axes = lateral_axes(&kin.shaft);
+    let speeds: Vec<f64> = robot
+        .description()
+        .joints
+        .iter()
+        .map(|j| j.speed_limit.unwrap_or(f64::INFINITY))
+        .collect();
+    let mut hard = HardLimits::none()
+        .with_joint_limits(
+            SVector::from_fn(|k, _| limits[k][0]),
+            SVector::from_fn(|k, _| limits[k][1]),
+        )
+        .with_speed_limits(SVector::from_fn(|k, _| speeds[k]));
+    if config.scenario == Scenario::PandaLimits {
+        hard = hard.with_depth(PANDA_DEPTH_LIMITS[0], PANDA_DEPTH_LIMITS[1]);
+    }
     let mut ctrl = Controller::<f64, 7, 7, 2, 4, 4, 4>::new(config.controller_config())
-        .with_objective(objective);
+        .with_objective(objective)
+        .with_limits(hard);
     let mut rows = Vec::with_capacity(steps + 1);
     let report_every = (steps / 100).max(1);
     let none = Vector3::zeros();

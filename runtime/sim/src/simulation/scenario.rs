@@ -2,7 +2,7 @@
 
 use core::f64::consts::PI;
 use nalgebra::{Matrix3, Rotation3, Vector3};
-use trocar::control::{ControlError, ControllerConfig, Damping, Inverse, Reference};
+use trocar::control::{ControlError, ControllerConfig, Damping, Inverse, QpWeights, Reference};
 use trocar::se3::Se3;
 
 /// A simulation scenario.
@@ -27,7 +27,26 @@ pub enum Scenario {
     /// `(π/6) sin(2πt/20)`, both reached from rest in [`PANDA_RAMP`]; joint limits from the URDF, with the spare freedom of the arm kept
     /// away from them ((44)–(46) of Freitas, Leite & Lizarralde 2010).
     Panda,
+    /// The Panda laparoscope against its hard limits (`panda-laparoscope-limits`): over
+    /// [`PANDA_LIMITS_DURATION`] the tip is asked to withdraw along the shaft past the
+    /// insertion limit ([`PANDA_DEPTH_LIMITS`]), then to roll the shaft by
+    /// [`PANDA_LIMITS_ROLL`] — past joint 7's URDF limit, faster than its URDF speed limit —
+    /// and back; see [`panda_limits_reference`]. No joint speed limit of the controller's own
+    /// (the URDF's bind with [`Method::Qp`]).
+    PandaLimits,
 }
+
+/// Duration of the `panda-laparoscope-limits` scenario (s).
+pub const PANDA_LIMITS_DURATION: f64 = 12.0;
+/// The roll about the shaft that `panda-laparoscope-limits` asks for (rad): from `q7 = π/4`
+/// it would take joint 7 to 3.39 rad, past its URDF limit 2.8973.
+pub const PANDA_LIMITS_ROLL: f64 = 2.6;
+/// How far `panda-laparoscope-limits` asks the tip to withdraw along the shaft (m): from a depth
+/// of 0.15 m to 0.07 m below the trocar, `l_a` from 0.25 m to 0.33 m, past `l_max`.
+pub const PANDA_LIMITS_WITHDRAWAL: f64 = 0.08;
+/// The insertion limits `[l_min, l_max]` of `l_a` in `panda-laparoscope-limits` (m): the tip
+/// stays between 0.10 m and 0.35 m below the trocar (the tool is 0.40 m long).
+pub const PANDA_DEPTH_LIMITS: [f64; 2] = [0.05, 0.30];
 
 /// Radius of the Panda scenario's circle (m).
 pub const PANDA_CIRCLE_RADIUS: f64 = 0.01;
@@ -55,6 +74,9 @@ pub const PANDA_Q0: [f64; 7] = [
 /// How `J^r_0e` (and `J^B_0i`) are inverted.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Method {
+    /// No inverse: one quadratic program per step with the trocar, the joint limits, the joint
+    /// speed limits and the insertion depth as hard constraints ([`Inverse::Qp`]).
+    Qp,
     /// Pseudo-inverses of `J^r_0e` and `J^B_0i`.
     Pinv,
     /// Damped least squares with variable damping (3.44) on `J^r_0e` and `J^B_0i`.
@@ -64,18 +86,23 @@ pub enum Method {
 }
 
 impl Method {
-    /// `"pinv"`, `"dls"` or `"fi"`.
+    /// Every method, in the order of the comparison figure.
+    pub const ALL: [Method; 4] = [Method::Pinv, Method::Dls, Method::Fi, Method::Qp];
+
+    /// `"pinv"`, `"dls"`, `"fi"` or `"qp"`.
     pub fn name(self) -> &'static str {
         match self {
+            Method::Qp => "qp",
             Method::Pinv => "pinv",
             Method::Dls => "dls",
             Method::Fi => "fi",
         }
     }
 
-    /// Parses `"pinv"`, `"dls"` or `"fi"`.
+    /// Parses `"pinv"`, `"dls"`, `"fi"` or `"qp"`.
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
+            "qp" => Some(Method::Qp),
             "pinv" => Some(Method::Pinv),
             "dls" => Some(Method::Dls),
             "fi" => Some(Method::Fi),
@@ -105,7 +132,7 @@ impl core::fmt::Display for SimulationError {
         match self {
             SimulationError::UnknownScenario(s) => write!(
                 f,
-                "unknown scenario `{s}` (expected one of: 1, 2, 3, 4, exp421, panda-laparoscope)"
+                "unknown scenario `{s}` (expected one of: 1, 2, 3, 4, exp421, panda-laparoscope, panda-laparoscope-limits)"
             ),
             SimulationError::Description(s) => write!(f, "robot description: {s}"),
             SimulationError::Control { t, error } => write!(f, "at t = {t:.3} s: {error}"),
@@ -145,16 +172,23 @@ pub const S4_RCM_AMPLITUDE: f64 = -0.001;
 
 impl Scenario {
     /// All scenarios, in order.
-    pub const ALL: [Scenario; 6] = [
+    pub const ALL: [Scenario; 7] = [
         Scenario::S1,
         Scenario::S2,
         Scenario::S3,
         Scenario::S4,
         Scenario::Exp421,
         Scenario::Panda,
+        Scenario::PandaLimits,
     ];
 
-    /// Parses `"1"`, `"2"`, `"3"`, `"4"`, `"exp421"` or `"panda-laparoscope"`.
+    /// `true` for the scenarios on the Panda.
+    pub fn is_panda(self) -> bool {
+        matches!(self, Scenario::Panda | Scenario::PandaLimits)
+    }
+
+    /// Parses `"1"`, `"2"`, `"3"`, `"4"`, `"exp421"`, `"panda-laparoscope"` or
+    /// `"panda-laparoscope-limits"`.
     pub fn from_name(name: &str) -> Result<Self, SimulationError> {
         match name {
             "1" => Ok(Scenario::S1),
@@ -163,6 +197,7 @@ impl Scenario {
             "4" => Ok(Scenario::S4),
             "exp421" => Ok(Scenario::Exp421),
             "panda-laparoscope" => Ok(Scenario::Panda),
+            "panda-laparoscope-limits" => Ok(Scenario::PandaLimits),
             other => Err(SimulationError::UnknownScenario(other.to_string())),
         }
     }
@@ -176,6 +211,7 @@ impl Scenario {
             Scenario::S4 => "4",
             Scenario::Exp421 => "exp421",
             Scenario::Panda => "panda-laparoscope",
+            Scenario::PandaLimits => "panda-laparoscope-limits",
         }
     }
 
@@ -190,13 +226,16 @@ impl Scenario {
             Scenario::Panda => {
                 "Panda laparoscope: 1 cm circle of the tip with a +-30 deg roll through a trocar"
             }
+            Scenario::PandaLimits => {
+                "Panda laparoscope against its limits: withdrawal past l_max, roll past q7's range"
+            }
         }
     }
 
     /// The shipped robot description used.
     pub fn robot(self) -> &'static str {
         match self {
-            Scenario::Panda => "panda-laparoscope",
+            Scenario::Panda | Scenario::PandaLimits => "panda-laparoscope",
             _ => "dia10_like_zy",
         }
     }
@@ -212,9 +251,10 @@ impl Scenario {
     }
 
     /// The thesis's method for the scenario: DLS for simulation 3 and the Panda, the filtered
-    /// inverse for the experiment, the pseudo-inverse otherwise.
+    /// inverse for the experiment, the pseudo-inverse otherwise; the QP for the Panda's limits.
     pub fn default_method(self) -> Method {
         match self {
+            Scenario::PandaLimits => Method::Qp,
             Scenario::S3 | Scenario::Panda => Method::Dls,
             Scenario::Exp421 => Method::Fi,
             _ => Method::Pinv,
@@ -227,6 +267,7 @@ impl Scenario {
         match self {
             Scenario::Exp421 => 10.0,
             Scenario::Panda => PANDA_DURATION,
+            Scenario::PandaLimits => PANDA_LIMITS_DURATION,
             _ => 200.0,
         }
     }
@@ -242,6 +283,9 @@ impl Scenario {
     pub fn reference(self, t: f64, dt: f64, g0: &Se3<f64>, axis7: &Vector3<f64>) -> Reference<f64> {
         if self == Scenario::Panda {
             return panda_reference(t, g0);
+        }
+        if self == Scenario::PandaLimits {
+            return panda_limits_reference(t, g0);
         }
         let axis7 = *axis7;
         let w = OMEGA;
@@ -299,7 +343,7 @@ impl Scenario {
                     axis7 * rod,
                 )
             }
-            Scenario::Panda => unreachable!("returned above"),
+            Scenario::Panda | Scenario::PandaLimits => unreachable!("returned above"),
         };
         Reference {
             position: g0.translation + offset,
@@ -326,7 +370,7 @@ impl Scenario {
                 "rotation (7pi/72)(cos wk - 1) about the joint-7 axis at q0 \
                  (the thesis's (pi/18)(cos wk - 1) about x_e leaves q7 >= 0.5)",
             ),
-            Scenario::S1 | Scenario::S2 | Scenario::Panda => None,
+            Scenario::S1 | Scenario::S2 | Scenario::Panda | Scenario::PandaLimits => None,
         }
     }
 }
@@ -389,6 +433,51 @@ pub fn panda_reference(t: f64, g0: &Se3<f64>) -> Reference<f64> {
     }
 }
 
+/// The `panda-laparoscope-limits` reference from the start pose `g0` of the tip frame (shaft
+/// along its `z`, trocar [`PANDA_TIP_DEPTH`] behind the tip): the shaft keeps its direction
+/// `z0`, the tip moves along it and the shaft rolls about it,
+///
+/// - depth below the trocar `δ(t) = 0.15 − w (σ(t; 1, 3) − σ(t; 8, 10))` m, `w` =
+///   [`PANDA_LIMITS_WITHDRAWAL`]: withdrawn to 0.07 m between 1 s and 3 s (past `l_max`, which
+///   stops it at 0.10 m) and pushed back in between 8 s and 10 s;
+/// - roll `φ(t) = Φ (σ(t; 4, 5) − σ(t; 6, 8))`, `Φ` = [`PANDA_LIMITS_ROLL`]: up in 1 s (peak
+///   rate `1.875 Φ` = 4.9 rad/s, above joint 7's 2.61 rad/s) and back in 2 s;
+///
+/// with `σ(t; a, b)` the quintic smooth step from 0 at `a` to 1 at `b`. Position
+/// `p_t + δ z0`, rotation `Rz(φ)` after `g0`'s, velocities exact (`δ̇ z0`, `φ̇ z0`).
+pub fn panda_limits_reference(t: f64, g0: &Se3<f64>) -> Reference<f64> {
+    let z0 = g0.rotation.column(2).into_owned();
+    let trocar = g0.translation - z0 * PANDA_TIP_DEPTH;
+    let sigma = |a: f64, b: f64| smooth_step_between(t, a, b);
+    let (w1, dw1) = sigma(1.0, 3.0);
+    let (w2, dw2) = sigma(8.0, 10.0);
+    let (r1, dr1) = sigma(4.0, 5.0);
+    let (r2, dr2) = sigma(6.0, 8.0);
+    let depth = PANDA_TIP_DEPTH - PANDA_LIMITS_WITHDRAWAL * (w1 - w2);
+    let ddepth = -PANDA_LIMITS_WITHDRAWAL * (dw1 - dw2);
+    let roll = PANDA_LIMITS_ROLL * (r1 - r2);
+    let droll = PANDA_LIMITS_ROLL * (dr1 - dr2);
+    Reference {
+        position: trocar + z0 * depth,
+        rotation: g0.rotation * Rotation3::from_axis_angle(&Vector3::z_axis(), roll).into_inner(),
+        velocity: z0 * ddepth,
+        angular_velocity: z0 * droll,
+    }
+}
+
+/// The quintic smooth step from 0 at `a` to 1 at `b` (`a < b`) and its derivative at `t`.
+fn smooth_step_between(t: f64, a: f64, b: f64) -> (f64, f64) {
+    let span = b - a;
+    let tau = ((t - a) / span).clamp(0.0, 1.0);
+    let s = tau * tau * tau * (10.0 + tau * (-15.0 + 6.0 * tau));
+    let ds = if t > a && t < b {
+        30.0 * tau * tau * (1.0 - tau) * (1.0 - tau) / span
+    } else {
+        0.0
+    };
+    (s, ds)
+}
+
 /// The Panda scenario's start ramp `s(t)` and its derivative: the quintic smooth step
 /// `10τ³ − 15τ⁴ + 6τ⁵` in `τ = t /` [`PANDA_RAMP`], 0 before the start and 1 after the ramp;
 /// `s`, `ṡ` and `s̈` are continuous, zero at the start.
@@ -447,6 +536,8 @@ pub struct ScenarioConfig {
     /// Gain `K` (1/s) of the null-space objective (46) (joint-limit distance) on a redundant
     /// arm (the Panda); unused on the reference arm, which has none.
     pub null_space_gain: f64,
+    /// `κ` of the QP step ([`Method::Qp`], (Q1) of `trocar::control::hard_limits`); `γ = κ²`.
+    pub qp_kappa: f64,
     /// Amplitude `a` (m/s) of scenario 4's RCM velocity `dv_0r = a (sin 3ωt, −sin 3ωt)`:
     /// [`S4_RCM_AMPLITUDE`] by default, [`S4_RCM_AMPLITUDE_THESIS`] for (4.6) as printed.
     /// Unused by the other scenarios.
@@ -464,13 +555,17 @@ impl ScenarioConfig {
     /// `J^B_0i`; null-space gain 10 /s.
     pub fn new(scenario: Scenario) -> Self {
         let exp = scenario == Scenario::Exp421;
-        let panda = scenario == Scenario::Panda;
+        let panda = scenario.is_panda();
         ScenarioConfig {
             scenario,
             method: scenario.default_method(),
             drift_correction: false,
             kr: 20.0,
-            max_joint_speed: Some(MAX_JOINT_SPEED),
+            max_joint_speed: if scenario == Scenario::PandaLimits {
+                None
+            } else {
+                Some(MAX_JOINT_SPEED)
+            },
             dt: 0.002,
             duration: scenario.duration(),
             kp: if exp { 270.0 } else { 5.0 },
@@ -480,6 +575,7 @@ impl ScenarioConfig {
             dls_w0_i: 0.01,
             fi_gamma: 5.0,
             null_space_gain: 10.0,
+            qp_kappa: 0.01,
             s4_rcm_amplitude: S4_RCM_AMPLITUDE,
         }
     }
@@ -528,6 +624,7 @@ impl ScenarioConfig {
         };
         let (inverse, jb0i_damping) = match self.method {
             Method::Pinv => (Inverse::Pinv, None),
+            Method::Qp => (Inverse::Qp(QpWeights::with_kappa(self.qp_kappa)), None),
             Method::Dls => (Inverse::Dls(dls_r), Some(dls_i)),
             Method::Fi => (
                 Inverse::Fi {

@@ -1,0 +1,374 @@
+//! The control step as a quadratic program with hard limits ([`super::Inverse::Qp`]): the trocar,
+//! the joint position limits, the joint speed limits and the insertion depth held at once, by
+//! the dense solver of [`crate::qp`] (no allocation, bounded time, warm-started from the previous
+//! step's active set).
+//!
+//! # The problem of one step (`runtime/sim/CONTROL.md`, section "Hard limits: the QP step")
+//!
+//! In the joint rates `θ̇ ∈ Rⁿ`, with `J = S J^B_0e` the task rows of the end effector's body
+//! Jacobian, `v_t = S u` the task command of the other inverses (`u` of (2.66), reference
+//! velocity plus feedback, in the end-effector frame), `A = Λ J^B_0i [I 0]` the constrained
+//! directions of the link's twist (3.30) and `l_a` the trocar's offset along the shaft:
+//!
+//! ```text
+//! minimise    ½ ‖J θ̇ − v_t‖² + ½ κ² ‖θ̇‖² − γ u0ᵀ θ̇                          (Q1)
+//! subject to  A θ̇ = dv_0r = dv_cmd + K_r e_r              the trocar, hard     (Q2)
+//!             lb_k ≤ θ̇_k ≤ ub_k                           joints, hard         (Q3)
+//!             l̇_lo ≤ g_lᵀ θ̇ ≤ l̇_hi                         insertion depth      (Q4)
+//! ```
+//!
+//! - `u0 = K ∂f/∂θ` is the null-space objective's gradient ((44)–(46) of Freitas, Leite &
+//!   Lizarralde 2010, [`super::NullSpaceObjective`]); with `γ = κ²` the motion (Q1) gives the
+//!   spare freedom where nothing else acts is `u0`, as in the projected-gradient law (45).
+//! - (Q3): `lb_k = max(−θ̇max_k, d⁻_k)`, `ub_k = min(θ̇max_k, d⁺_k)` with the velocity dampers
+//!   of the joint position limits (influence distance `ρ_i`, safety distance `ρ_s`, gain `ξ`):
+//!
+//!   ```text
+//!   d⁻_k = −ξ (θ_k − θ_min,k − ρ_s)/(ρ_i − ρ_s)   when θ_k − θ_min,k < ρ_i, else −∞     (Q5)
+//!   d⁺_k =  ξ (θ_max,k − θ_k − ρ_s)/(ρ_i − ρ_s)   when θ_max,k − θ_k < ρ_i, else +∞
+//!   ```
+//!
+//!   clipped so that `θ̇ = 0` satisfies them: `d⁻_k ≤ 0 ≤ d⁺_k`. Integrated by explicit Euler
+//!   over `dt`, `θ_k − θ_min,k − ρ_s` shrinks by at most the factor `1 − ξ dt/(ρ_i − ρ_s)` a
+//!   step, so a joint that starts at least `ρ_s` inside its range stays there when
+//!   `ξ dt ≤ ρ_i − ρ_s`.
+//! - (Q4): with the shaft `o + l d` in `F_i` and `r = R_0iᵀ (p_t − p_0i)` the trocar in `F_i`,
+//!   `l_a = (r − o)·d / |d|²` (fixed trocar), `ṙ = −v_i − ω_i × r` for the body twist
+//!   `(v_i, ω_i) = J^B_0i θ̇_{1..i}` of the link, so
+//!
+//!   ```text
+//!   l̇_a = g_lᵀ θ̇,   g_lᵀ = −[dᵀ, (r × d)ᵀ] J^B_0i [I 0] / |d|²                    (Q6)
+//!   ```
+//!
+//!   and `l̇_lo`, `l̇_hi` are the dampers (Q5) of `l_min ≤ l_a ≤ l_max`, clipped the same way.
+//!   (The insertion depth of an instrument of length `L` past the flange is `L − l_a`.)
+//!
+//! # On conflict
+//!
+//! The solver meets (Q2) first ([`crate::qp`]'s phase 0). If the trocar rows have no common
+//! solution (`A` rank-deficient at a singularity of `J^B_0i`), they are met in least squares
+//! ([`Status::EqualitiesInconsistent`]). If no rates keep the trocar within every limit (the
+//! drift correction asks for motion a joint at its safety distance would need), the limits are
+//! exceeded by the least total amount and the trocar kept ([`Status::InequalitiesRelaxed`]). The
+//! status is in [`super::StepOutput::qp`]; the rates are always finite.
+
+// `!(a < b)` is meant: a NaN takes the branch of a missing bound.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use super::{ControlError, NullSpaceObjective};
+use crate::qp::{self, ActiveSet, Problem, Settings, Status};
+use crate::se3::Se3;
+use nalgebra::{RealField, SMatrix, SVector, Vector3};
+
+/// The weights of the QP step (Q1) ([`super::Inverse::Qp`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct QpWeights<T> {
+    /// `κ` of (Q1): the weight of the joint rates' norm (m/rad for a 6-D task's linear rows).
+    /// It keeps the Hessian positive definite; `κ = 0` is allowed (the solver handles a
+    /// singular Hessian exactly).
+    pub kappa: T,
+    /// `γ` of (Q1): the weight of the null-space objective's gradient `u0`; `γ = κ²` moves the
+    /// spare freedom at `u0` where no limit acts, as (45) does.
+    pub gamma: T,
+    /// The most working-set changes of one solve ([`Settings::max_iterations`]): it bounds the
+    /// time of a step.
+    pub max_iterations: usize,
+}
+
+impl<T: RealField + Copy> QpWeights<T> {
+    /// `κ`, `γ = κ²` and the solver's default iteration limit (100).
+    pub fn with_kappa(kappa: T) -> Self {
+        QpWeights {
+            kappa,
+            gamma: kappa * kappa,
+            max_iterations: Settings::DEFAULT.max_iterations,
+        }
+    }
+}
+
+/// A velocity damper (Q5) on a quantity with a range: influence distance `ρ_i`, safety
+/// distance `ρ_s < ρ_i`, gain `ξ` (units of the quantity per second).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Damper<T> {
+    /// `ρ_i`: the damper acts within this distance of a limit.
+    pub influence: T,
+    /// `ρ_s`: the distance from a limit that the quantity never crosses towards it.
+    pub safety: T,
+    /// `ξ`: the largest rate towards the limit at the influence distance.
+    pub gain: T,
+}
+
+impl<T: RealField + Copy> Damper<T> {
+    /// The rate bounds `(d⁻, d⁺)` of (Q5) for the value `x` in `[min, max]`, clipped so that
+    /// `d⁻ ≤ 0 ≤ d⁺`; `±big` where the damper does not act. A damper with `ρ_i ≤ ρ_s` or a
+    /// non-finite parameter bounds the rate away from a limit only where the quantity is at or
+    /// beyond its safety distance (rate 0 towards it).
+    pub fn rate_bounds(&self, x: T, min: T, max: T, big: T) -> (T, T) {
+        let span = self.influence - self.safety;
+        let bound = |distance: T| -> T {
+            if !(distance < self.influence) {
+                big
+            } else if span > T::zero() && span.is_finite() && self.gain.is_finite() {
+                (self.gain * (distance - self.safety) / span).max(T::zero())
+            } else if distance > self.safety {
+                big
+            } else {
+                T::zero()
+            }
+        };
+        let lower = if min.is_finite() {
+            -bound(x - min)
+        } else {
+            -big
+        };
+        let upper = if max.is_finite() { bound(max - x) } else { big };
+        (
+            lower.min(T::zero()).max(-big),
+            upper.max(T::zero()).min(big),
+        )
+    }
+}
+
+/// The hard limits of the QP step: joint ranges, joint speeds, and the trocar's offset `l_a`
+/// along the shaft (the insertion depth), with their dampers (Q3)–(Q5).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HardLimits<T: RealField + Copy, const N: usize> {
+    /// `θ_min` (rad, m for a prismatic joint); `−∞` for none.
+    pub lower: SVector<T, N>,
+    /// `θ_max`; `+∞` for none.
+    pub upper: SVector<T, N>,
+    /// `θ̇max_k > 0`; `+∞` for none ([`super::ControllerConfig::max_joint_speed`] applies as
+    /// well, the smaller of the two).
+    pub speed: SVector<T, N>,
+    /// The damper (Q5) of the joint position limits.
+    pub joint_damper: Damper<T>,
+    /// `[l_min, l_max]` of `l_a` (m); infinite entries for none.
+    pub depth: [T; 2],
+    /// The damper of the insertion depth.
+    pub depth_damper: Damper<T>,
+}
+
+impl<T: RealField + Copy, const N: usize> HardLimits<T, N> {
+    /// No limit at all (every bound infinite); the dampers `ρ_i = 0.1`, `ρ_s = 0.02`, `ξ = 1`
+    /// (rad, rad/s) on the joints and `ρ_i = 0.01`, `ρ_s = 0.002` m, `ξ = 0.05` m/s on the
+    /// depth, for when bounds are set.
+    pub fn none() -> Self {
+        let c = |v: f64| nalgebra::convert::<f64, T>(v);
+        HardLimits {
+            lower: SVector::repeat(c(f64::NEG_INFINITY)),
+            upper: SVector::repeat(c(f64::INFINITY)),
+            speed: SVector::repeat(c(f64::INFINITY)),
+            joint_damper: Damper {
+                influence: c(0.1),
+                safety: c(0.02),
+                gain: c(1.0),
+            },
+            depth: [c(f64::NEG_INFINITY), c(f64::INFINITY)],
+            depth_damper: Damper {
+                influence: c(0.01),
+                safety: c(0.002),
+                gain: c(0.05),
+            },
+        }
+    }
+
+    /// The same with joint ranges `[lower_k, upper_k]`.
+    #[must_use]
+    pub fn with_joint_limits(mut self, lower: SVector<T, N>, upper: SVector<T, N>) -> Self {
+        self.lower = lower;
+        self.upper = upper;
+        self
+    }
+
+    /// The same with joint speed limits.
+    #[must_use]
+    pub fn with_speed_limits(mut self, speed: SVector<T, N>) -> Self {
+        self.speed = speed;
+        self
+    }
+
+    /// The same with `l_min ≤ l_a ≤ l_max`.
+    #[must_use]
+    pub fn with_depth(mut self, l_min: T, l_max: T) -> Self {
+        self.depth = [l_min, l_max];
+        self
+    }
+}
+
+impl<T: RealField + Copy, const N: usize> Default for HardLimits<T, N> {
+    fn default() -> Self {
+        Self::none()
+    }
+}
+
+/// What the QP step reports ([`super::StepOutput::qp`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct QpReport {
+    /// How the solve ended.
+    pub status: Status,
+    /// Working-set changes (0 when the warm start was right).
+    pub iterations: usize,
+    /// Inequality rows active at the solution (limits reached).
+    pub active: usize,
+}
+
+/// The data of (Q1)–(Q6) the controller has at a step.
+pub(super) struct QpInputs<'a, T: RealField + Copy, const N: usize, const I: usize, const R: usize>
+{
+    pub q: &'a SVector<T, N>,
+    pub g_0i: &'a Se3<T>,
+    pub jb0i: &'a SMatrix<T, 6, I>,
+    /// `A = Λ J^B_0i` (R × I).
+    pub a: &'a SMatrix<T, R, I>,
+    pub dv_0r: &'a SVector<T, R>,
+    /// The shaft's direction `d` in `F_i` and the trocar point (base).
+    pub shaft_direction: Vector3<T>,
+    pub trocar: &'a Vector3<T>,
+    pub l_a: T,
+    pub max_joint_speed: Option<T>,
+}
+
+/// The largest finite bound the step gives the solver (rates, per second): a missing bound.
+pub(super) fn big<T: RealField + Copy>() -> T {
+    nalgebra::convert::<f64, T>(1e6)
+}
+
+/// Builds (Q1)–(Q6) and solves it from `warm`. `task` is `J = S J^B_0e` (`P × N`), `v_t = S u`.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn solve_step<
+    T: RealField + Copy,
+    const N: usize,
+    const I: usize,
+    const R: usize,
+    const P: usize,
+>(
+    inputs: &QpInputs<'_, T, N, I, R>,
+    task: &SMatrix<T, P, N>,
+    v_t: &SVector<T, P>,
+    weights: &QpWeights<T>,
+    objective: &NullSpaceObjective<T, N>,
+    limits: &HardLimits<T, N>,
+    warm: &mut ActiveSet<N, 1>,
+) -> Result<(SVector<T, N>, QpReport), ControlError> {
+    let big = big::<T>();
+    // (Q1): H = Jᵀ J + κ² I, f = −Jᵀ v_t − γ u0.
+    let mut h = task.tr_mul(task);
+    let k2 = weights.kappa * weights.kappa;
+    for k in 0..N {
+        h[(k, k)] += k2;
+    }
+    let mut f = -task.tr_mul(v_t);
+    if I > 6 && *objective != NullSpaceObjective::None {
+        let u0 = objective.gradient::<I>(inputs.q, inputs.jb0i);
+        for k in 0..I {
+            f[k] -= weights.gamma * u0[k];
+        }
+    }
+    // (Q2): A [I 0] θ̇ = dv_0r.
+    let a_eq = SMatrix::<T, R, N>::from_fn(|r, c| if c < I { inputs.a[(r, c)] } else { T::zero() });
+    // (Q3), (Q5).
+    let mut lb = SVector::<T, N>::zeros();
+    let mut ub = SVector::<T, N>::zeros();
+    for k in 0..N {
+        let (lo, hi) =
+            limits
+                .joint_damper
+                .rate_bounds(inputs.q[k], limits.lower[k], limits.upper[k], big);
+        let mut speed = limits.speed[k].abs();
+        if let Some(s) = inputs.max_joint_speed {
+            speed = speed.min(s.abs());
+        }
+        if !(speed < big) {
+            speed = big;
+        }
+        lb[k] = lo.max(-speed);
+        ub[k] = hi.min(speed);
+    }
+    // (Q4), (Q6): l̇_a = g_lᵀ θ̇.
+    let d = inputs.shaft_direction;
+    let r_i = inputs.g_0i.rotation.transpose() * (inputs.trocar - inputs.g_0i.translation);
+    let dd = d.norm_squared();
+    let rd = r_i.cross(&d);
+    let mut g = SMatrix::<T, 1, N>::zeros();
+    if dd > T::zero() {
+        for c in 0..I {
+            let col = inputs.jb0i.column(c);
+            let mut s = T::zero();
+            for k in 0..3 {
+                s += d[k] * col[k] + rd[k] * col[3 + k];
+            }
+            g[c] = -s / dd;
+        }
+    }
+    let (lo, hi) =
+        limits
+            .depth_damper
+            .rate_bounds(inputs.l_a, limits.depth[0], limits.depth[1], big);
+    let problem = Problem::<T, N, R, 1> {
+        h,
+        f,
+        a_eq,
+        b_eq: *inputs.dv_0r,
+        g,
+        lo: SVector::from_element(lo),
+        hi: SVector::from_element(hi),
+        lb,
+        ub,
+    };
+    let settings = Settings {
+        max_iterations: weights.max_iterations,
+    };
+    let solution = qp::solve(&problem, warm, &settings);
+    match solution.status {
+        Status::NonFinite | Status::InvalidBounds => {
+            *warm = ActiveSet::EMPTY;
+            Err(ControlError::NonFinite)
+        }
+        status => {
+            *warm = solution.active;
+            Ok((
+                solution.x,
+                QpReport {
+                    status,
+                    iterations: solution.iterations,
+                    active: solution.active.len(),
+                },
+            ))
+        }
+    }
+}
+
+/// `S J^B_0e` from the controller's kinematics: `J^B_0e = [Ad_{g_ei} J^B_0i | J^B_0e2]`, the
+/// columns after the constrained link being those of `J^r_0e` after its `K` columns of
+/// `Ad_{g_ei} Λ#` (3.15).
+pub(super) fn task_body_jacobian<
+    T: RealField + Copy,
+    const N: usize,
+    const I: usize,
+    const K: usize,
+    const M: usize,
+    const P: usize,
+>(
+    sel: &SMatrix<T, P, 6>,
+    whole: bool,
+    g_0e: &Se3<T>,
+    g_0i: &Se3<T>,
+    jb0i: &SMatrix<T, 6, I>,
+    jr: &SMatrix<T, 6, M>,
+) -> SMatrix<T, P, N> {
+    let g_ei = g_0e.inverse_compose(g_0i);
+    let ad = g_ei.adjoint();
+    let mut je = SMatrix::<T, 6, N>::zeros();
+    for c in 0..I {
+        let col = ad.apply(&jb0i.column(c).into_owned());
+        je.set_column(c, &col);
+    }
+    for c in I..N {
+        je.set_column(c, &jr.column(K + c - I));
+    }
+    if whole {
+        SMatrix::from_fn(|r, c| je[(r, c)])
+    } else {
+        sel * je
+    }
+}
