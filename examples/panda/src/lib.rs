@@ -16,6 +16,12 @@
 //!    joint-limit objective (44)–(46) of Freitas, Leite & Lizarralde (2010), from the URDF limits
 //!    ([`panda::JOINT_LIMITS`]).
 //!
+//! [`qp_controller`] is the same controller with the control step as a quadratic program
+//! ([`trocar::control::Inverse::Qp`], (Q1)–(Q7) of `trocar::control::hard_limits`): the trocar
+//! as equality rows, the URDF's joint ranges ([`panda::JOINT_LIMITS`]) and speeds
+//! ([`SPEED_LIMITS`]) and the insertion bounds ([`DEPTH_LIMITS`]) as hard inequalities, solved
+//! in `f32` by the runtime's fixed-size QP solver.
+//!
 //! **No allocation, no `alloc`:** the crate is `#![no_std]`; `trocar` is built with
 //! `default-features = false`. CI links it as a freestanding `staticlib` without a global
 //! allocator (feature `image`); `tests/no_alloc.rs` counts allocations during steps.
@@ -25,8 +31,8 @@
 include!(concat!(env!("OUT_DIR"), "/panda.rs"));
 
 use trocar::control::{
-    ControlError, Controller, ControllerConfig, Damping, Inverse, NullSpaceObjective, Rcm,
-    Reference, StepOutput,
+    ControlError, Controller, ControllerConfig, Damping, HardLimits, Inverse, NullSpaceObjective,
+    QpWeights, Rcm, Reference, StepOutput,
 };
 use trocar::nalgebra::{SVector, Vector3};
 
@@ -78,6 +84,32 @@ pub fn controller() -> PandaController {
         lower: SVector::from_fn(|k, _| limits[k][0] as f32),
         upper: SVector::from_fn(|k, _| limits[k][1] as f32),
     })
+}
+
+/// The Panda's joint speed limits (rad/s): the `velocity` of the `<limit>` of each joint in
+/// Franka's URDF (`runtime/model/robots/urdf/panda.urdf`).
+pub const SPEED_LIMITS: [f32; panda::N] = [2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61];
+
+/// The insertion bounds `[l_min, l_max]` of the trocar's offset `l_a` along the shaft (m): the
+/// tip between 0.10 m and 0.35 m below the trocar (those of the scenario
+/// `panda-laparoscope-limits`).
+pub const DEPTH_LIMITS: [f32; 2] = [0.05, 0.30];
+
+/// [`controller`] with the QP step: `κ = 0.01`, `γ = κ²`, the second-order trocar rows (Q7),
+/// the URDF's joint ranges and speeds and [`DEPTH_LIMITS`] as hard limits (with the default
+/// dampers of [`HardLimits::none`]).
+pub fn qp_controller() -> PandaController {
+    let limits = panda::JOINT_LIMITS;
+    let lower = SVector::from_fn(|k, _| limits[k][0] as f32);
+    let upper = SVector::from_fn(|k, _| limits[k][1] as f32);
+    let mut ctrl = controller();
+    ctrl.config.inverse = Inverse::Qp(QpWeights::with_kappa(0.01));
+    ctrl.with_limits(
+        HardLimits::none()
+            .with_joint_limits(lower, upper)
+            .with_speed_limits(SVector::from(SPEED_LIMITS))
+            .with_depth(DEPTH_LIMITS[0], DEPTH_LIMITS[1]),
+    )
 }
 
 /// One control step at joints `q` toward `reference`, with the trocar fixed at `trocar` (base

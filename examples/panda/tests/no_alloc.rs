@@ -75,4 +75,26 @@ fn control_step_does_not_allocate() {
     });
     assert_eq!(steps, 500);
     assert_eq!(n, 0, "the control step allocated");
+
+    // The QP step, from the same start, the tip pulled toward the trocar past l_max so that
+    // limits become active and the warm start changes.
+    let mut ctrl = trocar_panda::qp_controller();
+    let z = Vector3::new(r[2][0], r[2][1], r[2][2]);
+    let pulled = Reference {
+        position: Vector3::from(p) - z * 0.08,
+        ..reference
+    };
+    let mut q = Q0;
+    let mut active = 0;
+    let n = allocations_during(|| {
+        for _ in 0..500 {
+            let out = control_step(&mut ctrl, &q, &pulled, &trocar, 0.002).unwrap();
+            active = active.max(out.qp.map_or(0, |r| r.active));
+            for (qk, v) in q.iter_mut().zip(out.qd.iter()) {
+                *qk += 0.002 * v;
+            }
+        }
+    });
+    assert!(active >= 1, "no limit became active");
+    assert_eq!(n, 0, "the QP step allocated");
 }

@@ -3,6 +3,10 @@
 //! correction on the trocar, the null-space objective (44)–(46) keeping the joints from their
 //! limits), chosen for the robot's sizes when it is built.
 //!
+//! With [`Method::Qp`] the step is the quadratic program of `trocar::control::hard_limits`:
+//! the trocar as equality rows, the description's joint ranges and speed limits (the URDF's
+//! `<limit lower upper velocity>`) and [`ControllerOptions::depth_limits`] as hard limits.
+//!
 //! The kinematics are the numeric runtime's ([`trocar::control::ChainKinematics`]). The sizes
 //! the controller is instantiated for are listed in [`SUPPORTED`]: `n` joints 6–8, the
 //! constraint on link `i ≥ 6`, `r` = 1–3 constrained directions, 3–6 task rows. Another robot
@@ -12,7 +16,8 @@ use crate::error::{Error, Result};
 use crate::robot::Robot;
 use nalgebra::{Const, Matrix3, SVector, Vector3};
 use trocar::control::{
-    self, ChainKinematics, Controller as Typed, NullSpaceObjective, Rcm, Reference,
+    self, ChainKinematics, Controller as Typed, HardLimits, NullSpaceObjective, QpReport, Rcm,
+    Reference,
 };
 use trocar::manipulability::SquareDim;
 use trocar_model::numeric::NumericModel;
@@ -44,6 +49,12 @@ pub struct ControllerOptions {
     /// Gain `K` (1/s) of the joint-limit objective (46) on the spare freedom of `J^B_0i` when
     /// the robot has joint limits and `i > 6`; 0 for none.
     pub null_space_gain: f64,
+    /// QP ([`Method::Qp`]): the weight `κ` of the joint rates' norm (`γ = κ²` for the
+    /// objective).
+    pub qp_kappa: f64,
+    /// QP: bounds `[l_min, l_max]` (m) of the trocar's offset `l_a` along the shaft (the
+    /// insertion depth), `None` for none.
+    pub depth_limits: Option<[f64; 2]>,
 }
 
 impl Default for ControllerOptions {
@@ -60,6 +71,8 @@ impl Default for ControllerOptions {
             fi_gamma: s.fi_gamma,
             max_joint_speed: s.max_joint_speed,
             null_space_gain: s.null_space_gain,
+            qp_kappa: s.qp_kappa,
+            depth_limits: None,
         }
     }
 }
@@ -78,6 +91,7 @@ impl ControllerOptions {
         s.dls_w0_i = self.dls_w0_jb0i;
         s.fi_gamma = self.fi_gamma;
         s.max_joint_speed = self.max_joint_speed;
+        s.qp_kappa = self.qp_kappa;
         s.controller_config()
     }
 
@@ -91,6 +105,7 @@ impl ControllerOptions {
             ("dls_w0_jb0i", self.dls_w0_jb0i),
             ("fi_gamma", self.fi_gamma),
             ("null_space_gain", self.null_space_gain),
+            ("qp_kappa", self.qp_kappa),
         ];
         for (name, v) in named {
             if !(v.is_finite() && v >= 0.0) {
@@ -103,6 +118,13 @@ impl ControllerOptions {
             if !(v.is_finite() && v > 0.0) {
                 return Err(Error::Input(format!(
                     "max_joint_speed = {v}: must be a positive number (or none)"
+                )));
+            }
+        }
+        if let Some([lo, hi]) = self.depth_limits {
+            if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                return Err(Error::Input(format!(
+                    "depth_limits = [{lo}, {hi}]: need finite l_min < l_max (m)"
                 )));
             }
         }
@@ -147,6 +169,10 @@ pub struct Step {
     pub kappa_r: f64,
     /// Damping applied to `J^B_0i`.
     pub kappa_i: f64,
+    /// The QP's outcome with [`Method::Qp`]: its status (`"Optimal"`, `"InequalitiesRelaxed"`:
+    /// the limits could not all be kept with the trocar, ...), working-set changes and active
+    /// limits; `None` for the other methods.
+    pub qp: Option<QpReport>,
 }
 
 /// One instantiation of the typed controller, behind the sizes known at run time.
@@ -224,6 +250,7 @@ where
             w_i: out.w_i,
             kappa_r: out.kappa_r,
             kappa_i: out.kappa_i,
+            qp: out.qp,
         })
     }
 
@@ -234,7 +261,7 @@ where
 
 /// Builds the typed controller for `(N, I, R, P)` from the list of supported sizes.
 macro_rules! dispatch {
-    ($model:expr, $config:expr, $objective:expr, $sizes:expr; $(($n:literal, $i:literal, $r:literal, $p:literal)),* $(,)?) => {{
+    ($model:expr, $config:expr, $objective:expr, $hard:expr, $sizes:expr; $(($n:literal, $i:literal, $r:literal, $p:literal)),* $(,)?) => {{
         let model: &NumericModel<f64> = $model;
         let sizes: (usize, usize, usize, usize) = $sizes;
         let boxed: Option<std::result::Result<Box<dyn Stepper>, String>> = match sizes {
@@ -245,6 +272,8 @@ macro_rules! dispatch {
                         .map_err(|e| e.to_string())?;
                     let objective: Option<(f64, Vec<[f64; 2]>)> = $objective;
                     let mut ctrl = Typed::<f64, $n, $i, $r, { 6 - $r }, { 6 - $r + $n - $i }, $p>::new($config);
+                    let hard: &Hard = $hard;
+                    ctrl = ctrl.with_limits(hard.limits::<$n>());
                     if let Some((gain, limits)) = objective {
                         ctrl = ctrl.with_objective(NullSpaceObjective::JointLimits {
                             gain,
@@ -259,6 +288,29 @@ macro_rules! dispatch {
         };
         boxed
     }};
+}
+
+/// The hard limits of the QP step, sized at run time: each joint's range and speed limit
+/// (infinite where the description has none) and the depth bounds.
+struct Hard {
+    ranges: Vec<[f64; 2]>,
+    speeds: Vec<f64>,
+    depth: Option<[f64; 2]>,
+}
+
+impl Hard {
+    fn limits<const N: usize>(&self) -> HardLimits<f64, N> {
+        let mut h = HardLimits::none()
+            .with_joint_limits(
+                SVector::from_fn(|k, _| self.ranges[k][0]),
+                SVector::from_fn(|k, _| self.ranges[k][1]),
+            )
+            .with_speed_limits(SVector::from_fn(|k, _| self.speeds[k]));
+        if let Some([lo, hi]) = self.depth {
+            h = h.with_depth(lo, hi);
+        }
+        h
+    }
 }
 
 /// The sizes `(n, i, r, task rows)` the controller is instantiated for.
@@ -346,7 +398,20 @@ impl RobotController {
             _ => None,
         };
         let config = options.config();
-        let built = dispatch!(model, config, objective.clone(), (n, i, r, p);
+        let hard = Hard {
+            ranges: desc
+                .joints
+                .iter()
+                .map(|j| j.limits.unwrap_or([f64::NEG_INFINITY, f64::INFINITY]))
+                .collect(),
+            speeds: desc
+                .joints
+                .iter()
+                .map(|j| j.speed_limit.unwrap_or(f64::INFINITY))
+                .collect(),
+            depth: options.depth_limits,
+        };
+        let built = dispatch!(model, config, objective.clone(), &hard, (n, i, r, p);
             (6, 6, 1, 3), (6, 6, 1, 4), (6, 6, 1, 5),
             (6, 6, 2, 3), (6, 6, 2, 4),
             (6, 6, 3, 3),
@@ -433,7 +498,8 @@ impl RobotController {
             .map_err(|e| Error::NotFinite(format!("control step: {e}")))
     }
 
-    /// Restarts the filtered inverse (it re-initialises on the next step).
+    /// Restarts the filtered inverse (it re-initialises on the next step) and the QP's warm
+    /// start.
     pub fn reset(&mut self) {
         self.inner.reset();
     }

@@ -39,8 +39,9 @@ fn method(name: &str) -> PyResult<Method> {
         "pinv" => Ok(Method::Pinv),
         "dls" => Ok(Method::Dls),
         "fi" => Ok(Method::Fi),
+        "qp" => Ok(Method::Qp),
         other => Err(PyValueError::new_err(format!(
-            "method={other:?}: expected \"pinv\", \"dls\" or \"fi\""
+            "method={other:?}: expected \"pinv\", \"dls\", \"fi\" or \"qp\""
         ))),
     }
 }
@@ -311,11 +312,14 @@ struct Controller {
 #[pymethods]
 impl Controller {
     /// A controller for `robot` (a serial robot with a `[constraint]`). `method` is `"dls"`,
-    /// `"pinv"` or `"fi"`; `kp`, `ko` (1/s) the position and orientation gains, `kr` (1/s) the
-    /// drift correction on the trocar (0: none), `max_joint_speed` (rad/s, `None`: none),
-    /// `null_space_gain` (1/s) the joint-limit objective's gain on a redundant arm.
+    /// `"pinv"`, `"fi"` or `"qp"` (one quadratic program per step: the trocar, the robot's joint
+    /// ranges and speed limits and `depth_limits` held as hard limits); `kp`, `ko` (1/s) the
+    /// position and orientation gains, `kr` (1/s) the drift correction on the trocar (0: none),
+    /// `max_joint_speed` (rad/s, `None`: none), `null_space_gain` (1/s) the joint-limit
+    /// objective's gain on a redundant arm, `qp_kappa` the QP's weight on the joint rates,
+    /// `depth_limits` `(l_min, l_max)` (m) of the trocar's offset along the shaft (QP only).
     #[new]
-    #[pyo3(signature = (robot, method = "dls", kp = None, ko = None, kr = None, max_joint_speed = MaybeLimit::Default, null_space_gain = None, dls_alpha0 = None, fi_gamma = None))]
+    #[pyo3(signature = (robot, method = "dls", kp = None, ko = None, kr = None, max_joint_speed = MaybeLimit::Default, null_space_gain = None, dls_alpha0 = None, fi_gamma = None, qp_kappa = None, depth_limits = None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         robot: &Robot,
@@ -327,6 +331,8 @@ impl Controller {
         null_space_gain: Option<f64>,
         dls_alpha0: Option<f64>,
         fi_gamma: Option<f64>,
+        qp_kappa: Option<f64>,
+        depth_limits: Option<[f64; 2]>,
     ) -> PyResult<Self> {
         let d = ControllerOptions::default();
         let options = ControllerOptions {
@@ -342,6 +348,8 @@ impl Controller {
             null_space_gain: null_space_gain.unwrap_or(d.null_space_gain),
             dls_alpha0: dls_alpha0.unwrap_or(d.dls_alpha0),
             fi_gamma: fi_gamma.unwrap_or(d.fi_gamma),
+            qp_kappa: qp_kappa.unwrap_or(d.qp_kappa),
+            depth_limits,
             ..d
         };
         let inner = trocar_api::RobotController::new(&robot.inner, options).map_err(value_error)?;
@@ -353,7 +361,9 @@ impl Controller {
     /// and `"angular_velocity"` (feed-forward, base frame) — with the trocar at `trocar` (base
     /// frame, m), moving laterally at `dv` (default: fixed). Returns a dict: `qd` (joint rates),
     /// `l_a`, `position_error`, `orientation_error`, `lateral_error`, `dv_0r`, `w_r`, `w_i`,
-    /// `kappa_r`, `kappa_i`.
+    /// `kappa_r`, `kappa_i`, and with `method="qp"` `qp_status` (`"Optimal"`,
+    /// `"InequalitiesRelaxed"` when the limits could not all be kept with the trocar, ...),
+    /// `qp_iterations` and `qp_active` (the number of limits reached); `None` otherwise.
     #[pyo3(signature = (q, reference, trocar, dt, dv = None))]
     fn step<'py>(
         &mut self,
@@ -432,18 +442,22 @@ impl Controller {
         out.set_item("w_i", s.w_i)?;
         out.set_item("kappa_r", s.kappa_r)?;
         out.set_item("kappa_i", s.kappa_i)?;
+        out.set_item("qp_status", s.qp.map(|r| format!("{:?}", r.status)))?;
+        out.set_item("qp_iterations", s.qp.map(|r| r.iterations))?;
+        out.set_item("qp_active", s.qp.map(|r| r.active))?;
         Ok(out)
     }
 
-    /// Restarts the filtered inverse.
+    /// Restarts the filtered inverse and the QP's warm start.
     fn reset(&mut self) {
         self.inner.reset();
     }
 }
 
-/// `trocar simulate`: runs a scenario (`"1"`–`"4"`, `"exp421"`, `"panda-laparoscope"`, or a
-/// closed-chain scenario such as `"four-bar"`) and returns its trace as named columns (`t`
-/// first), the columns of the command line's CSV. `method` (`"pinv"`, `"dls"`, `"fi"`; default:
+/// `trocar simulate`: runs a scenario (`"1"`–`"4"`, `"exp421"`, `"panda-laparoscope"`,
+/// `"panda-laparoscope-limits"`, or a closed-chain scenario such as `"four-bar"`) and returns its
+/// trace as named columns (`t` first), the columns of the command line's CSV. `method`
+/// (`"pinv"`, `"dls"`, `"fi"`, `"qp"`; default:
 /// the scenario's), `drift_correction` and `max_joint_speed` (rad/s; `None` for no limit; default:
 /// the simulations' limit) apply to the RCM scenarios. With `trajectory` (a CSV: `t,x,y,z` and
 /// `roll` or `qw,qx,qy,qz`), the first argument is a robot (a `Robot`, a shipped name or a

@@ -329,3 +329,49 @@ def test_simulate_a_users_trajectory_as_the_command_line(tmp_path):
     bad.write_text("t,x,y,z,roll\n0,0,0,0,0\n")
     with pytest.raises(ValueError, match="bad.csv: 1 rows"):
         trocar.simulate("panda-laparoscope", trajectory=bad, q0=q0)
+
+
+def test_the_qp_controller_stops_at_the_depth_limit():
+    """method="qp": asked to pull the tip 5 cm back along the shaft (l_a from 0.25 m to 0.30 m),
+    the QP stops l_a at its bound l_max = 0.28 m while the DLS controller, which has no such
+    bound, goes past it; the trocar is held by both. l_a is computed here from the closed-form
+    poses (the trocar's offset along the shaft from the flange), not taken from the step."""
+    robot = trocar.Robot.load("panda-laparoscope")
+    q0 = np.array([0.0, -np.pi / 4, 0.0, -3 * np.pi / 4, 0.0, np.pi / 2, np.pi / 4])
+    g0i = robot.eval(q0, what="fk0i")
+    trocar_point = (g0i @ robot.eval(q0, what="constraint_frame"))[:3, 3]
+    fk = robot.eval(q0, what="fk")
+    goal = {"position": fk[:3, 3] - 0.05 * fk[:3, 2], "rotation": fk[:3, :3]}
+    shaft_origin = (g0i @ robot.eval(q0, what="constraint_frame"))[:3, 3] - 0.25 * g0i[:3, 2]
+    offset = float(np.dot(shaft_origin - g0i[:3, 3], g0i[:3, 2]))  # the flange along z_i
+    reached = {}
+    for method in ["dls", "qp"]:
+        ctrl = trocar.Controller(robot, method=method, depth_limits=(0.05, 0.28))
+        q, top, lateral = q0.copy(), 0.0, 0.0
+        for _ in range(1500):
+            out = ctrl.step(q, goal, trocar_point, 0.002)
+            q = q + 0.002 * out["qd"]
+            g = robot.eval(q, what="fk0i")
+            top = max(top, float(np.dot(trocar_point - g[:3, 3], g[:3, 2])) - offset)
+            lateral = max(lateral, float(np.max(np.abs(out["lateral_error"]))))
+        reached[method] = top
+        assert lateral < 1e-6, (method, lateral)
+        if method == "qp":
+            assert out["qp_status"] == "Optimal"
+            assert out["qp_active"] >= 1
+        else:
+            assert out["qp_status"] is None
+    assert reached["dls"] > 0.29
+    assert reached["qp"] <= 0.28
+
+
+def test_simulate_the_limits_scenario_with_the_qp():
+    """simulate("panda-laparoscope-limits"): the QP keeps l_a within [0.05, 0.30] m and every
+    joint within the limits Robot.joint_limits reports; DLS goes past l_max."""
+    limits = trocar.Robot.load("panda-laparoscope").joint_limits()
+    qp = trocar.simulate("panda-laparoscope-limits", method="qp")
+    dls = trocar.simulate("panda-laparoscope-limits", method="dls")
+    assert qp["l_a"].max() <= 0.30 and qp["l_a"].min() >= 0.05
+    assert dls["l_a"].max() > 0.30
+    for k, (lo, hi) in enumerate(limits, start=1):
+        assert lo <= qp[f"q{k}"].min() and qp[f"q{k}"].max() <= hi

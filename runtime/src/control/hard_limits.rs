@@ -43,6 +43,26 @@
 //!   and `l̇_lo`, `l̇_hi` are the dampers (Q5) of `l_min ≤ l_a ≤ l_max`, clipped the same way.
 //!   (The insertion depth of an instrument of length `L` past the flange is `L − l_a`.)
 //!
+//! # Over a sample time (Q7)
+//!
+//! (Q2) holds for the rates at the start of a step; integrated over `dt` with the rates held,
+//! the link's material point at the trocar, `m(q) = p_0i + R_0i s` (`s = o + l_a d` in `F_i`),
+//! moves along a chord, and its lateral displacement is
+//! `dt A θ̇ + ½ dt² H_v R_0rᵀ m̈ + O(dt³)`. At joint rates of radians per second that
+//! second-order term is a lateral velocity of 1e-4–1e-3 m/s (the link leaves the trocar by
+//! `½ l (|θ̇| dt)²` a step). With [`QpWeights::chord_correction`] the step estimates `m̈` from
+//! the previous step's rates `θ̇⁻` at the previous and the current configuration,
+//! `dt m̈ ≈ ṁ(q, θ̇⁻) − ṁ(q⁻, θ̇⁻)`, `ṁ(q, θ̇) = R_0i (v + ω × s)` for `(v, ω) = J^B_0i θ̇`,
+//! and asks (Q2) for
+//!
+//! ```text
+//! A θ̇ = dv_0r − ½ H_v R_0rᵀ (ṁ(q, θ̇⁻) − ṁ(q⁻, θ̇⁻))                          (Q7)
+//! ```
+//!
+//! so that the displacement over the step is `dt dv_0r` to second order (the first step, and the
+//! first after [`super::Controller::reset`], use (Q2) as it is). `H_v` is the linear part of
+//! `H`; angular constrained directions are not corrected.
+//!
 //! # On conflict
 //!
 //! The solver meets (Q2) first ([`crate::qp`]'s phase 0). If the trocar rows have no common
@@ -73,6 +93,9 @@ pub struct QpWeights<T> {
     /// The most working-set changes of one solve ([`Settings::max_iterations`]): it bounds the
     /// time of a step.
     pub max_iterations: usize,
+    /// The second-order term (Q7) of the trocar rows: with it the link's point at the trocar
+    /// keeps to the trocar over a sample time, not only at its start.
+    pub chord_correction: bool,
 }
 
 impl<T: RealField + Copy> QpWeights<T> {
@@ -82,6 +105,7 @@ impl<T: RealField + Copy> QpWeights<T> {
             kappa,
             gamma: kappa * kappa,
             max_iterations: Settings::DEFAULT.max_iterations,
+            chord_correction: true,
         }
     }
 }
@@ -149,9 +173,12 @@ pub struct HardLimits<T: RealField + Copy, const N: usize> {
 }
 
 impl<T: RealField + Copy, const N: usize> HardLimits<T, N> {
-    /// No limit at all (every bound infinite); the dampers `ρ_i = 0.1`, `ρ_s = 0.02`, `ξ = 1`
-    /// (rad, rad/s) on the joints and `ρ_i = 0.01`, `ρ_s = 0.002` m, `ξ = 0.05` m/s on the
-    /// depth, for when bounds are set.
+    /// No limit at all (every bound infinite); the dampers `ρ_i = 0.2`, `ρ_s = 0.02`, `ξ = 3`
+    /// (rad, rad/s) on the joints and `ρ_i = 0.02`, `ρ_s = 0.002` m, `ξ = 0.1` m/s on the
+    /// depth, for when bounds are set: `ξ` above the speeds a joint (a Panda's: 2.175–2.61
+    /// rad/s) or the shaft reaches, so that a damper takes over from the speed limit without a
+    /// jump of the rates, and `ξ dt ≤ ρ_i − ρ_s` for sample times up to 60 ms (joints) and
+    /// 180 ms (depth).
     pub fn none() -> Self {
         let c = |v: f64| nalgebra::convert::<f64, T>(v);
         HardLimits {
@@ -159,15 +186,15 @@ impl<T: RealField + Copy, const N: usize> HardLimits<T, N> {
             upper: SVector::repeat(c(f64::INFINITY)),
             speed: SVector::repeat(c(f64::INFINITY)),
             joint_damper: Damper {
-                influence: c(0.1),
+                influence: c(0.2),
                 safety: c(0.02),
-                gain: c(1.0),
+                gain: c(3.0),
             },
             depth: [c(f64::NEG_INFINITY), c(f64::INFINITY)],
             depth_damper: Damper {
-                influence: c(0.01),
+                influence: c(0.02),
                 safety: c(0.002),
-                gain: c(0.05),
+                gain: c(0.1),
             },
         }
     }
@@ -220,12 +247,36 @@ pub(super) struct QpInputs<'a, T: RealField + Copy, const N: usize, const I: usi
     pub jb0i: &'a SMatrix<T, 6, I>,
     /// `A = Λ J^B_0i` (R × I).
     pub a: &'a SMatrix<T, R, I>,
+    /// The right-hand side of the trocar rows: `dv_0r`, with (Q7) when on.
     pub dv_0r: &'a SVector<T, R>,
     /// The shaft's direction `d` in `F_i` and the trocar point (base).
     pub shaft_direction: Vector3<T>,
     pub trocar: &'a Vector3<T>,
     pub l_a: T,
     pub max_joint_speed: Option<T>,
+}
+
+/// What (Q7) keeps of the previous step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Previous<T: RealField + Copy, const N: usize> {
+    /// `θ̇⁻`.
+    pub qd: SVector<T, N>,
+    /// `R_0i(q⁻)`.
+    pub rotation: nalgebra::Matrix3<T>,
+    /// `J^B_0i(q⁻) θ̇⁻`.
+    pub twist: nalgebra::Vector6<T>,
+}
+
+/// `ṁ = R (v + ω × s)`: the base-frame velocity of the body point `s` of a link at rotation `R`
+/// moving with the body twist `(v, ω)`.
+pub(super) fn point_velocity<T: RealField + Copy>(
+    rotation: &nalgebra::Matrix3<T>,
+    twist: &nalgebra::Vector6<T>,
+    s: &Vector3<T>,
+) -> Vector3<T> {
+    let v = Vector3::new(twist[0], twist[1], twist[2]);
+    let w = Vector3::new(twist[3], twist[4], twist[5]);
+    rotation * (v + w.cross(s))
 }
 
 /// The largest finite bound the step gives the solver (rates, per second): a missing bound.

@@ -401,6 +401,7 @@ pub struct Controller<
     fi: FilteredInverse<T, P, M>,
     fi_started: bool,
     qp_active: crate::qp::ActiveSet<N, 1>,
+    qp_previous: Option<hard_limits::Previous<T, N>>,
 }
 
 /// `A = Λ J^B_0i`, the constrained directions of the link's twist as functions of `θ̇_{1..i}`,
@@ -512,6 +513,7 @@ impl<
             fi: FilteredInverse::new(SMatrix::zeros()),
             fi_started: false,
             qp_active: crate::qp::ActiveSet::EMPTY,
+            qp_previous: None,
         }
     }
 
@@ -544,6 +546,7 @@ impl<
     pub fn reset(&mut self) {
         self.fi_started = false;
         self.qp_active = crate::qp::ActiveSet::EMPTY;
+        self.qp_previous = None;
     }
 
     /// One control step at joints `q`; `dt` is the sample time (used by the filtered inverse).
@@ -757,12 +760,23 @@ impl<
         };
         let a = constrained_rows(&s.jb0i, &s.lambda_pinv).ok_or(ControlError::SingularJb0i)?;
         let shaft = kin.shaft();
+        // (Q7): the trocar rows to second order over the sample time.
+        let mut b = dv_0r;
+        if let (true, Some(prev)) = (weights.chord_correction, &self.qp_previous) {
+            let point = shaft.origin + shaft.direction * l_a;
+            let qd_i = SVector::<T, I>::from_fn(|k, _| prev.qd[k]);
+            let now = hard_limits::point_velocity(&s.g_0i.rotation, &(s.jb0i * qd_i), &point);
+            let before = hard_limits::point_velocity(&prev.rotation, &prev.twist, &point);
+            let r_0r = s.g_0i.rotation * shaft.rotation;
+            let half = nalgebra::convert::<f64, T>(0.5);
+            b -= h_linear(&kin.h(), &(r_0r.tr_mul(&(now - before)))) * half;
+        }
         let inputs = hard_limits::QpInputs {
             q,
             g_0i: &s.g_0i,
             jb0i: &s.jb0i,
             a: &a,
-            dv_0r: &dv_0r,
+            dv_0r: &b,
             shaft_direction: shaft.direction,
             trocar: &rcm.trocar,
             l_a,
@@ -780,6 +794,11 @@ impl<
         if !qd.iter().all(|v| v.is_finite()) {
             return Err(ControlError::NonFinite);
         }
+        self.qp_previous = Some(hard_limits::Previous {
+            qd,
+            rotation: s.g_0i.rotation,
+            twist: s.jb0i * SVector::<T, I>::from_fn(|k, _| qd[k]),
+        });
         let task_jr: SMatrix<T, P, M> = if whole {
             SMatrix::from_fn(|r, c| s.jr[(r, c)])
         } else {

@@ -76,7 +76,7 @@ def simulate(
 ) -> Dict[str, npt.NDArray[np.float64]]:
     """``trocar simulate``: the trace of a scenario as named columns (``t`` first).
 
-    ``method`` is ``"pinv"``, ``"dls"`` or ``"fi"`` (default: the scenario's);
+    ``method`` is ``"pinv"``, ``"dls"``, ``"fi"`` or ``"qp"`` (default: the scenario's);
     ``max_joint_speed`` in rad/s, ``None`` for no limit (default: the simulations' limit).
     """
 
@@ -95,6 +95,8 @@ class Controller:
         null_space_gain: Optional[float] = None,
         dls_alpha0: Optional[float] = None,
         fi_gamma: Optional[float] = None,
+        qp_kappa: Optional[float] = None,
+        depth_limits: Optional[Tuple[float, float]] = None,
     ) -> None: ...
     def step(
         self,
@@ -105,9 +107,10 @@ class Controller:
         dv: Optional[Sequence[float]] = None,
     ) -> Dict[str, Any]:
         """One step: ``{"qd", "l_a", "position_error", "orientation_error", "lateral_error",
-        "dv_0r", "w_r", "w_i", "kappa_r", "kappa_i"}``."""
+        "dv_0r", "w_r", "w_i", "kappa_r", "kappa_i", "qp_status", "qp_iterations",
+        "qp_active"}`` (the last three ``None`` unless ``method="qp"``)."""
     def reset(self) -> None:
-        """Restarts the filtered inverse."""
+        """Restarts the filtered inverse and the QP's warm start."""
 
 def panda_reference(t: float) -> Dict[str, npt.NDArray[np.float64]]:
     """The reference of the ``panda-laparoscope`` scenario at time ``t``, as ``Controller.step``

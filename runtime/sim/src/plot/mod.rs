@@ -623,19 +623,42 @@ pub fn draw<DB: DrawingBackend>(
             ("w_i (J^B_0i)".into(), col(&|r| r.w_i)),
         ],
     )?;
+    // The limits the QP step keeps, as constant lines: l_a's bounds and q7's range with l_a
+    // and q7, the joint speed limits with the joint velocities.
+    let flat = |v: f64| vec![v; t.len()];
+    let mut la_q7 = vec![
+        ("l_a (m)".into(), col(&|r| r.l_a)),
+        ("q7 (rad)".into(), col(&|r| r.q[6])),
+    ];
+    if let Some([lo, hi]) = trace.depth_limits {
+        la_q7.push((format!("l_max = {hi} m"), flat(hi)));
+        la_q7.push((format!("l_min = {lo} m"), flat(lo)));
+    }
+    if trace.depth_limits.is_some() {
+        if let Some([lo, hi]) = trace.joint_limits.as_ref().and_then(|l| l.get(6).copied()) {
+            la_q7.push((format!("q7 max = {hi} rad"), flat(hi)));
+            la_q7.push((format!("q7 min = {lo} rad"), flat(lo)));
+        }
+    }
     panel(
         &panels[3],
         "(d) l_a and q7",
         "l_a (m), q7 (rad)",
         false,
-        vec![
-            ("l_a (m)".into(), col(&|r| r.l_a)),
-            ("q7 (rad)".into(), col(&|r| r.q[6])),
-        ],
+        la_q7,
     )?;
-    let qd: Vec<(String, Vec<f64>)> = (0..trace.joints)
+    let mut qd: Vec<(String, Vec<f64>)> = (0..trace.joints)
         .map(|k| (format!("qd{}", k + 1), col(&|r| r.qd[k])))
         .collect();
+    if let Some(speeds) = &trace.speed_limits {
+        let mut distinct: Vec<f64> = speeds.clone();
+        distinct.sort_by(f64::total_cmp);
+        distinct.dedup();
+        for v in distinct {
+            qd.push((format!("+{v} rad/s (limit)"), flat(v)));
+            qd.push((format!("-{v} rad/s (limit)"), flat(-v)));
+        }
+    }
     panel(&panels[4], "(e) joint velocities", "qd (rad/s)", false, qd)?;
     panel(
         &panels[5],

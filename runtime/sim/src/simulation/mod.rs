@@ -215,6 +215,8 @@ where
         joints: 8,
         lateral_axes: ["x_r", "z_r"],
         joint_limits: None,
+        speed_limits: None,
+        depth_limits: None,
         rows,
     })
 }
@@ -326,6 +328,8 @@ fn run_panda(
         joints: 7,
         lateral_axes: [AXIS_NAMES[axes[0]], AXIS_NAMES[axes[1]]],
         joint_limits: Some(limits),
+        speed_limits: speeds.iter().all(|v| v.is_finite()).then(|| speeds.clone()),
+        depth_limits: (config.scenario == Scenario::PandaLimits).then_some(PANDA_DEPTH_LIMITS),
         rows,
     })
 }

@@ -112,6 +112,12 @@ pub struct Trace {
     pub lateral_axes: [&'static str; 2],
     /// Joint limits `[lower, upper]` (rad) of the `n` joints, when the robot has them.
     pub joint_limits: Option<Vec<[f64; 2]>>,
+    /// Joint speed limits (rad/s) of the `n` joints that the QP step keeps, when the robot has
+    /// them (the URDF's `velocity`); drawn on the figure with the joint velocities.
+    pub speed_limits: Option<Vec<f64>>,
+    /// The bounds `[l_min, l_max]` of `l_a` (m) that the QP step keeps, when the scenario has
+    /// them; drawn on the figure with `l_a`.
+    pub depth_limits: Option<[f64; 2]>,
     /// One row per step.
     pub rows: Vec<TraceRow>,
 }
