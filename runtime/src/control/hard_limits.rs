@@ -279,9 +279,14 @@ pub(super) fn point_velocity<T: RealField + Copy>(
     rotation * (v + w.cross(s))
 }
 
-/// The largest finite bound the step gives the solver (rates, per second): a missing bound.
+/// The bound the step gives the solver where there is none (rates, per second):
+/// `min(1e6, 1e-6/ε)` — 1e6 in `f64`, 8.4 in `f32`. The solver's feasibility tolerance of a row
+/// is relative to its bounds (`64 n ε (1 + max(|l|, |u|) + …)`, [`crate::qp`]), so a one-sided
+/// row whose missing side is 1e6 would be met only to 53 units/s in `f32`; with 8.4 the insertion
+/// depth's row is met to 5e-4 m/s. A joint without a speed limit is so bounded in `f32`.
 pub(super) fn big<T: RealField + Copy>() -> T {
-    nalgebra::convert::<f64, T>(1e6)
+    let c = |v: f64| nalgebra::convert::<f64, T>(v);
+    (c(1e-6) / T::default_epsilon()).min(c(1e6))
 }
 
 /// Builds (Q1)–(Q6) and solves it from `warm`. `task` is `J = S J^B_0e` (`P × N`), `v_t = S u`.
