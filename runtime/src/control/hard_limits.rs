@@ -341,21 +341,13 @@ pub(super) fn solve_step<
         ub[k] = hi.min(speed);
     }
     // (Q4), (Q6): l̇_a = g_lᵀ θ̇.
-    let d = inputs.shaft_direction;
-    let r_i = inputs.g_0i.rotation.transpose() * (inputs.trocar - inputs.g_0i.translation);
-    let dd = d.norm_squared();
-    let rd = r_i.cross(&d);
-    let mut g = SMatrix::<T, 1, N>::zeros();
-    if dd > T::zero() {
-        for c in 0..I {
-            let col = inputs.jb0i.column(c);
-            let mut s = T::zero();
-            for k in 0..3 {
-                s += d[k] * col[k] + rd[k] * col[3 + k];
-            }
-            g[c] = -s / dd;
-        }
-    }
+    let g_i = depth_rate_row(
+        inputs.jb0i,
+        inputs.g_0i,
+        &inputs.shaft_direction,
+        inputs.trocar,
+    );
+    let g = SMatrix::<T, 1, N>::from_fn(|_, c| if c < I { g_i[c] } else { T::zero() });
     let (lo, hi) =
         limits
             .depth_damper
@@ -392,6 +384,33 @@ pub(super) fn solve_step<
             ))
         }
     }
+}
+
+/// `g_l` of (Q6): `l̇_a = g_lᵀ θ̇_{1..i}` for a fixed trocar, `g_lᵀ = −[dᵀ, (r × d)ᵀ] J^B_0i / |d|²`
+/// with `d` the shaft's direction in `F_i` and `r = R_0iᵀ (p_t − p_0i)` the trocar in `F_i`.
+/// Zero when `d = 0`.
+pub fn depth_rate_row<T: RealField + Copy, const I: usize>(
+    jb0i: &SMatrix<T, 6, I>,
+    g_0i: &Se3<T>,
+    direction: &Vector3<T>,
+    trocar: &Vector3<T>,
+) -> SVector<T, I> {
+    let d = direction;
+    let r_i = g_0i.rotation.transpose() * (trocar - g_0i.translation);
+    let dd = d.norm_squared();
+    let rd = r_i.cross(d);
+    let mut g = SVector::<T, I>::zeros();
+    if dd > T::zero() {
+        for c in 0..I {
+            let col = jb0i.column(c);
+            let mut s = T::zero();
+            for k in 0..3 {
+                s += d[k] * col[k] + rd[k] * col[3 + k];
+            }
+            g[c] = -s / dd;
+        }
+    }
+    g
 }
 
 /// `S J^B_0e` from the controller's kinematics: `J^B_0e = [Ad_{g_ei} J^B_0i | J^B_0e2]`, the

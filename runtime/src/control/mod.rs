@@ -262,7 +262,7 @@ pub enum Inverse<T> {
         /// Gain of the left-inverse error `S_l`.
         gamma_l: T,
     },
-    /// No inverse: the step is the quadratic program (Q1)–(Q6) of [`hard_limits`] — the task
+    /// No inverse: the step is the quadratic program (Q1)–(Q7) of [`hard_limits`] — the task
     /// `S u` in least squares with weights `κ`, `γ`, the trocar as equality rows, the
     /// [`HardLimits`] of [`Controller::with_limits`] (and
     /// [`ControllerConfig::max_joint_speed`]) as hard inequalities. `J^B_0i` is not inverted:
@@ -726,7 +726,7 @@ impl<
         })
     }
 
-    /// Steps 4–5 as the QP (Q1)–(Q6) of [`hard_limits`].
+    /// Steps 4–5 as the QP (Q1)–(Q7) of [`hard_limits`].
     #[allow(clippy::too_many_arguments)]
     fn qp_step<Kin: ConstrainedKinematics<T, N, I, R, K, M, P>>(
         &mut self,
