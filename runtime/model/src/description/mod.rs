@@ -114,8 +114,8 @@ pub struct JointDesc {
     /// Lower and upper limit of `q` (rad or m), when known (`limits = [lo, hi]` in TOML, the
     /// `<limit>` of a URDF joint); the simulation keeps the joints inside them.
     pub limits: Option<[f64; 2]>,
-    /// The joint's speed limit `|q̇| ≤ v` (rad/s or m/s), when known: the `velocity` of a URDF
-    /// joint's `<limit>` (TOML descriptions have none); the QP control step keeps it.
+    /// The joint's speed limit `|q̇| ≤ v` (rad/s or m/s), when known: `speed_limit = v` in TOML,
+    /// the `velocity` of a URDF joint's `<limit>`; the QP control step keeps it.
     pub speed_limit: Option<f64>,
     /// Where the joint was written (its `[[joints]]` header, or its `<joint>` element in a URDF),
     /// when read from text; [`RobotDescription::validate`] uses it for joint errors.

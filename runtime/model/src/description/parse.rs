@@ -96,6 +96,7 @@ struct RawJoint {
     v: Option<[RawScalar; 3]>,
     w: Option<[f64; 3]>,
     limits: Option<[f64; 2]>,
+    speed_limit: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -554,7 +555,7 @@ impl RobotDescription {
                 origin: origin(&ctx, &field, &j.xyz, &j.rpy, &j.rotation)?,
                 kind,
                 limits: j.limits,
-                speed_limit: None,
+                speed_limit: j.speed_limit,
                 location: loc,
             });
         }

@@ -150,6 +150,9 @@ impl RobotDescription {
             if let Some([lo, hi]) = j.limits {
                 let _ = writeln!(out, "limits = [{}, {}]", number(lo), number(hi));
             }
+            if let Some(v) = j.speed_limit {
+                let _ = writeln!(out, "speed_limit = {}", number(v));
+            }
             match &j.kind {
                 JointKind::Revolute { axis } | JointKind::Prismatic { axis } => {
                     let _ = writeln!(out, "axis = {}", array3(axis));

@@ -12,6 +12,7 @@
 //! | joint names are non-empty and unique | `joints[k].name` |
 //! | revolute/prismatic axis finite, non-zero, unit (±1e-9) | `joints[k].axis` |
 //! | joint limits finite with lower < upper | `joints[k].limits` |
+//! | joint speed limit finite and positive | `joints[k].speed_limit` |
 //! | twist: `‖ω‖ = 1`, or `ω = 0` and `‖v‖ = 1` (checked when `v` is numeric; a parametric `v` must not be zero) | `joints[k].w`, `joints[k].v` |
 //! | numbers finite (xyz, rpy, rotation, axis, v, w, H, parameter values) | the number's field |
 //! | every parameter named in a length is declared in `[parameters]` | `….xyz[c]`, `joints[k].v[c]` |
@@ -431,6 +432,14 @@ impl Checker<'_> {
                     self.err(
                         &format!("{prefix}.limits"),
                         format!("limits = [lower, upper] need finite numbers with lower < upper, not [{lo}, {hi}]"),
+                    );
+                }
+            }
+            if let Some(v) = j.speed_limit {
+                if !(v.is_finite() && v > 0.0) {
+                    self.err(
+                        &format!("{prefix}.speed_limit"),
+                        format!("speed_limit needs a finite positive number, not {v}"),
                     );
                 }
             }
