@@ -334,7 +334,7 @@ def test_simulate_a_users_trajectory_as_the_command_line(tmp_path):
 def test_the_qp_controller_stops_at_the_depth_limit():
     """method="qp": asked to pull the tip 5 cm back along the shaft (l_a from 0.25 m to 0.30 m),
     the QP stops l_a at its bound l_max = 0.28 m while the DLS controller, which has no such
-    bound, goes past it; the trocar is held by both. l_a is computed here from the closed-form
+    bound, goes past it; both keep the trocar within 10 µm. l_a is computed here from the closed-form
     poses (the trocar's offset along the shaft from the flange), not taken from the step."""
     robot = trocar.Robot.load("panda-laparoscope")
     q0 = np.array([0.0, -np.pi / 4, 0.0, -3 * np.pi / 4, 0.0, np.pi / 2, np.pi / 4])
@@ -355,7 +355,7 @@ def test_the_qp_controller_stops_at_the_depth_limit():
             top = max(top, float(np.dot(trocar_point - g[:3, 3], g[:3, 2])) - offset)
             lateral = max(lateral, float(np.max(np.abs(out["lateral_error"]))))
         reached[method] = top
-        assert lateral < 1e-6, (method, lateral)
+        assert lateral < 1e-5, (method, lateral)
         if method == "qp":
             assert out["qp_status"] == "Optimal"
             assert out["qp_active"] >= 1
@@ -368,7 +368,7 @@ def test_the_qp_controller_stops_at_the_depth_limit():
 def test_simulate_the_limits_scenario_with_the_qp():
     """simulate("panda-laparoscope-limits"): the QP keeps l_a within [0.05, 0.30] m and every
     joint within the limits Robot.joint_limits reports; DLS goes past l_max."""
-    limits = trocar.Robot.load("panda-laparoscope").joint_limits()
+    limits = trocar.Robot.load("panda-laparoscope").joint_limits
     qp = trocar.simulate("panda-laparoscope-limits", method="qp")
     dls = trocar.simulate("panda-laparoscope-limits", method="dls")
     assert qp["l_a"].max() <= 0.30 and qp["l_a"].min() >= 0.05
