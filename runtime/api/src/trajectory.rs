@@ -401,7 +401,7 @@ pub fn simulate_trajectory(
         }
     }
     let mut ctrl = RobotController::new(robot, options.controller)?;
-    let axes = lateral_axes(&shaft);
+    let axes = trocar_sim::simulation::lateral_axes(&shaft);
     const NAMES: [&str; 3] = ["x_r", "y_r", "z_r"];
     let t_end = trajectory.t[trajectory.t.len() - 1];
     let steps = (t_end / options.dt).ceil() as usize;
@@ -515,14 +515,4 @@ pub fn simulate_trajectory(
         columns: names.into_iter().zip(cols).collect(),
         summary,
     })
-}
-
-/// The two axes of `F_r` normal to the shaft, in order.
-fn lateral_axes(shaft: &trocar::control::Shaft<f64>) -> [usize; 2] {
-    let along = (shaft.rotation.transpose() * shaft.direction).abs().imax();
-    match along {
-        0 => [1, 2],
-        1 => [0, 2],
-        _ => [0, 1],
-    }
 }

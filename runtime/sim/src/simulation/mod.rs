@@ -121,8 +121,9 @@ fn measure_rcm<const N: usize>(
 /// Names of the axes of `F_r`.
 const AXIS_NAMES: [&str; 3] = ["x_r", "y_r", "z_r"];
 
-/// The two axes of `F_r` normal to the shaft, in order (`[0, 2]` for a shaft along `y_r`).
-fn lateral_axes(shaft: &Shaft<f64>) -> [usize; 2] {
+/// The two axes of `F_r` normal to the shaft, in order (`[0, 2]` for a shaft along `y_r`): the
+/// lateral velocity columns of a trace (`vr_x`, `vr_z` on the reference arm).
+pub fn lateral_axes(shaft: &Shaft<f64>) -> [usize; 2] {
     let along = (shaft.rotation.transpose() * shaft.direction).abs().imax();
     match along {
         0 => [1, 2],
