@@ -313,45 +313,34 @@ impl Hard {
     }
 }
 
+/// Calls `$callback!($($args)*; (n, i, r, task rows), ...)` with the sizes the controller is
+/// instantiated for: one list for [`SUPPORTED`] and for the dispatch in
+/// [`RobotController::new`].
+macro_rules! with_supported_sizes {
+    ($callback:ident!($($args:tt)*)) => {
+        $callback!($($args)*;
+            (6, 6, 1, 3), (6, 6, 1, 4), (6, 6, 1, 5), (6, 6, 2, 3),
+            (6, 6, 2, 4), (6, 6, 3, 3), (7, 6, 1, 3), (7, 6, 1, 4),
+            (7, 6, 1, 5), (7, 6, 1, 6), (7, 6, 2, 3), (7, 6, 2, 4),
+            (7, 6, 2, 5), (7, 6, 3, 3), (7, 6, 3, 4), (7, 7, 1, 3),
+            (7, 7, 1, 4), (7, 7, 1, 5), (7, 7, 2, 3), (7, 7, 2, 4),
+            (7, 7, 3, 3), (8, 6, 1, 4), (8, 6, 1, 6), (8, 6, 2, 4),
+            (8, 6, 2, 6), (8, 6, 3, 4), (8, 6, 3, 5), (8, 7, 1, 4),
+            (8, 7, 1, 6), (8, 7, 2, 4), (8, 7, 2, 5), (8, 7, 3, 4),
+            (8, 8, 1, 4), (8, 8, 1, 5), (8, 8, 2, 4), (8, 8, 3, 3),
+        )
+    };
+}
+
+/// The list of sizes as a slice.
+macro_rules! size_list {
+    (; $(($n:literal, $i:literal, $r:literal, $p:literal)),* $(,)?) => {
+        &[$(($n, $i, $r, $p)),*]
+    };
+}
+
 /// The sizes `(n, i, r, task rows)` the controller is instantiated for.
-pub const SUPPORTED: &[(usize, usize, usize, usize)] = &[
-    (6, 6, 1, 3),
-    (6, 6, 1, 4),
-    (6, 6, 1, 5),
-    (6, 6, 2, 3),
-    (6, 6, 2, 4),
-    (6, 6, 3, 3),
-    (7, 6, 1, 3),
-    (7, 6, 1, 4),
-    (7, 6, 1, 5),
-    (7, 6, 1, 6),
-    (7, 6, 2, 3),
-    (7, 6, 2, 4),
-    (7, 6, 2, 5),
-    (7, 6, 3, 3),
-    (7, 6, 3, 4),
-    (7, 7, 1, 3),
-    (7, 7, 1, 4),
-    (7, 7, 1, 5),
-    (7, 7, 2, 3),
-    (7, 7, 2, 4),
-    (7, 7, 3, 3),
-    (8, 6, 1, 4),
-    (8, 6, 1, 6),
-    (8, 6, 2, 4),
-    (8, 6, 2, 6),
-    (8, 6, 3, 4),
-    (8, 6, 3, 5),
-    (8, 7, 1, 4),
-    (8, 7, 1, 6),
-    (8, 7, 2, 4),
-    (8, 7, 2, 5),
-    (8, 7, 3, 4),
-    (8, 8, 1, 4),
-    (8, 8, 1, 5),
-    (8, 8, 2, 4),
-    (8, 8, 3, 3),
-];
+pub const SUPPORTED: &[(usize, usize, usize, usize)] = with_supported_sizes!(size_list!());
 
 /// The constrained kinematic controller on a [`Robot`], with the sizes of its description.
 ///
@@ -411,20 +400,13 @@ impl RobotController {
                 .collect(),
             depth: options.depth_limits,
         };
-        let built = dispatch!(model, config, objective.clone(), &hard, (n, i, r, p);
-            (6, 6, 1, 3), (6, 6, 1, 4), (6, 6, 1, 5),
-            (6, 6, 2, 3), (6, 6, 2, 4),
-            (6, 6, 3, 3),
-            (7, 6, 1, 3), (7, 6, 1, 4), (7, 6, 1, 5), (7, 6, 1, 6),
-            (7, 6, 2, 3), (7, 6, 2, 4), (7, 6, 2, 5),
-            (7, 6, 3, 3), (7, 6, 3, 4),
-            (7, 7, 1, 3), (7, 7, 1, 4), (7, 7, 1, 5),
-            (7, 7, 2, 3), (7, 7, 2, 4),
-            (7, 7, 3, 3),
-            (8, 6, 1, 4), (8, 6, 1, 6), (8, 6, 2, 4), (8, 6, 2, 6), (8, 6, 3, 4), (8, 6, 3, 5),
-            (8, 7, 1, 4), (8, 7, 1, 6), (8, 7, 2, 4), (8, 7, 2, 5), (8, 7, 3, 4),
-            (8, 8, 1, 4), (8, 8, 1, 5), (8, 8, 2, 4), (8, 8, 3, 3),
-        );
+        let built = with_supported_sizes!(dispatch!(
+            model,
+            config,
+            objective.clone(),
+            &hard,
+            (n, i, r, p)
+        ));
         match built {
             Some(Ok(inner)) => Ok(RobotController {
                 inner,
