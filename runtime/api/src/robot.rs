@@ -428,10 +428,7 @@ impl Robot {
             let desc = self.description();
             Error::Unsupported(match desc {
                 Some(d) if function == Function::ConstrainedTaskJacobian && d.task.is_none() => {
-                    format!(
-                        "`{}` has no [task]: --what task needs one (select = [\"x\", \"y\", \"z\", \"rz\"], ...)",
-                        d.name
-                    )
+                    return no_task(d);
                 }
                 Some(d) => format!(
                     "`{}` has no generated `{function}` (a robot without [constraint] has only fk and jb0e)",
@@ -546,10 +543,7 @@ impl Robot {
             Function::Manipulability => Evaluation::scalar(robot.manipulability(q).map_err(err)?),
             Function::ConstrainedTaskJacobian => {
                 if s.desc.task.is_none() {
-                    return Err(Error::Unsupported(format!(
-                        "`{}` has no [task]: --what task needs one (select = [\"x\", \"y\", \"z\", \"rz\"], ...)",
-                        s.desc.name
-                    )));
+                    return Err(no_task(&s.desc));
                 }
                 Evaluation::from_faer(&robot.constrained_task_jacobian(q).map_err(err)?)
             }
@@ -1009,6 +1003,14 @@ impl Evaluator<'_> {
             )
         })
     }
+}
+
+/// The error for a task Jacobian asked of a robot without a `[task]`.
+fn no_task(desc: &RobotDescription) -> Error {
+    Error::Unsupported(format!(
+        "`{}` has no [task]: --what task needs one (select = [\"x\", \"y\", \"z\", \"rz\"], ...)",
+        desc.name
+    ))
 }
 
 /// The numeric runtime's differential kinematics of a closed mechanism.
