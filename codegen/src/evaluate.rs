@@ -28,6 +28,8 @@ pub struct Generated {
     compiled: Vec<Compiled>,
     /// The catalogue entry of each of `spec.functions` (`None` for a function it does not name).
     entries: Vec<Option<Function>>,
+    /// Each function's [`Layout::row_major_positions`].
+    row_major: Vec<Vec<usize>>,
 }
 
 impl Generated {
@@ -62,10 +64,16 @@ impl Generated {
             .iter()
             .map(|f| Function::from_name(&f.name))
             .collect();
+        let row_major = spec
+            .functions
+            .iter()
+            .map(|f| f.layout.row_major_positions())
+            .collect();
         Generated {
             spec,
             compiled,
             entries,
+            row_major,
         }
     }
 
@@ -81,6 +89,12 @@ impl Generated {
     /// The compiled program of `function`, if the module has it.
     pub fn compiled(&self, function: Function) -> Option<&Compiled> {
         Some(&self.compiled[self.position(function)?])
+    }
+
+    /// Where each output of `function` goes in its result written row by row
+    /// ([`Layout::row_major_positions`]), if the module has it.
+    pub fn row_major_positions(&self, function: Function) -> Option<&[usize]> {
+        Some(&self.row_major[self.position(function)?])
     }
 
     /// The layout of `function`'s outputs, if the module has it.

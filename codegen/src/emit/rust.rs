@@ -52,6 +52,27 @@ pub enum Layout {
 }
 
 impl Layout {
+    /// Where each output goes in the result written row by row: an `rows × cols` matrix's
+    /// entry `(r, c)` at `r · cols + c`, a transform as its 4 × 4 homogeneous matrix (whose
+    /// constant last row no output fills).
+    pub fn row_major_positions(&self) -> Vec<usize> {
+        match *self {
+            Layout::Scalar => vec![0],
+            Layout::Matrix { rows, cols } => (0..rows * cols)
+                .map(|k| (k % rows) * cols + k / rows)
+                .collect(),
+            Layout::Transform => (0..12)
+                .map(|k| {
+                    if k < 9 {
+                        (k % 3) * 4 + k / 3
+                    } else {
+                        (k - 9) * 4 + 3
+                    }
+                })
+                .collect(),
+        }
+    }
+
     /// Number of outputs.
     pub fn len(&self) -> usize {
         match *self {

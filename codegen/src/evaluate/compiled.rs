@@ -68,21 +68,69 @@ enum Instr<R> {
     SubMul(R, R, R, R),
 }
 
+/// How a [`Step`] computes: `kind` below [`DIV`] is `(±x)·y + (±c)` with the signs
+/// [`NEG_X`] and [`NEG_C`]; otherwise one of [`DIV`] (`x / y`), [`SQRT`] and [`ABS`] of `x`.
+const NEG_X: u8 = 1;
+/// See [`NEG_X`].
+const NEG_C: u8 = 2;
+/// See [`NEG_X`].
+const DIV: u8 = 4;
+/// See [`NEG_X`].
+const SQRT: u8 = 8;
+/// See [`NEG_X`].
+const ABS: u8 = 16;
+
+/// One operation in the evaluator's single form: `d = Real::mul_add(±x, y, ±c)` for every
+/// addition, subtraction, product, negation and fused product (with a register holding 1 or
+/// −0 where the operation has no such operand), a division, square root or absolute value
+/// otherwise. Every operation of the program then runs the same few machine instructions, so
+/// the evaluation has no jump that depends on the operation (in a `match` over ten kinds
+/// most of the time went into mispredicted jumps); the results are bit for bit the
+/// operations' own:
+///
+/// - `a + b` is `a · 1 + b` (`a · 1` is exact, one rounding of the sum), `a − b` is
+///   `a · 1 + (−b)` (IEEE 754 defines subtraction so);
+/// - `a · b` is `a · b + (−0)` (adding −0 leaves every value, +0 and −0 included, as it is);
+/// - `−a` is `(−a) · 1 + (−0)`;
+/// - the fused products are `Real::mul_add` already, with the sign flips exact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Step<R> {
+    d: R,
+    x: R,
+    y: R,
+    c: R,
+    kind: u8,
+}
+
 impl Instr<u32> {
-    /// The same operation with `u8` registers (all indices below [`SMALL_REGISTERS`]).
-    fn narrow(self) -> Instr<u8> {
-        let n = |r: u32| r as u8;
+    /// The operation as a [`Step`], `one` and `neg_zero` the registers holding 1 and −0.
+    fn step(self, one: u32, neg_zero: u32) -> Step<u32> {
+        let s = |d, x, y, c, kind| Step { d, x, y, c, kind };
         match self {
-            Instr::Add(d, a, b) => Instr::Add(n(d), n(a), n(b)),
-            Instr::Sub(d, a, b) => Instr::Sub(n(d), n(a), n(b)),
-            Instr::Mul(d, a, b) => Instr::Mul(n(d), n(a), n(b)),
-            Instr::Div(d, a, b) => Instr::Div(n(d), n(a), n(b)),
-            Instr::Neg(d, a) => Instr::Neg(n(d), n(a)),
-            Instr::Sqrt(d, a) => Instr::Sqrt(n(d), n(a)),
-            Instr::Abs(d, a) => Instr::Abs(n(d), n(a)),
-            Instr::MulAdd(d, x, y, c) => Instr::MulAdd(n(d), n(x), n(y), n(c)),
-            Instr::MulSub(d, x, y, c) => Instr::MulSub(n(d), n(x), n(y), n(c)),
-            Instr::SubMul(d, x, y, c) => Instr::SubMul(n(d), n(x), n(y), n(c)),
+            Instr::Add(d, a, b) => s(d, a, one, b, 0),
+            Instr::Sub(d, a, b) => s(d, a, one, b, NEG_C),
+            Instr::Mul(d, a, b) => s(d, a, b, neg_zero, 0),
+            Instr::Neg(d, a) => s(d, a, one, neg_zero, NEG_X),
+            Instr::MulAdd(d, x, y, c) => s(d, x, y, c, 0),
+            Instr::MulSub(d, x, y, b) => s(d, x, y, b, NEG_C),
+            Instr::SubMul(d, x, y, a) => s(d, x, y, a, NEG_X),
+            Instr::Div(d, a, b) => s(d, a, b, a, DIV),
+            Instr::Sqrt(d, a) => s(d, a, a, a, SQRT),
+            Instr::Abs(d, a) => s(d, a, a, a, ABS),
+        }
+    }
+}
+
+impl Step<u32> {
+    /// The same step with `u8` registers (all indices below [`SMALL_REGISTERS`]).
+    fn narrow(self) -> Step<u8> {
+        let n = |r: u32| r as u8;
+        Step {
+            d: n(self.d),
+            x: n(self.x),
+            y: n(self.y),
+            c: n(self.c),
+            kind: self.kind,
         }
     }
 }
@@ -90,8 +138,8 @@ impl Instr<u32> {
 /// The operations, with the narrowest registers that hold the program.
 #[derive(Clone, Debug)]
 enum Code {
-    Small(Vec<Instr<u8>>),
-    Large(Vec<Instr<u32>>),
+    Small(Vec<Step<u8>>),
+    Large(Vec<Step<u32>>),
 }
 
 /// Input registers, filled before the operations run.
@@ -118,6 +166,8 @@ pub struct Compiled {
     template: Vec<f64>,
     /// The other inputs.
     inputs: Vec<Input>,
+    /// Registers below this hold inputs and literals; the operations' registers follow.
+    inputs_end: usize,
     code: Code,
     /// Number of operations.
     operations: usize,
@@ -134,15 +184,28 @@ impl Compiled {
         let live = program.live();
         let fused = program.fused_products();
         let outputs = program.outputs();
-        // Last position (in op order, outputs after every op) where each value is read.
+        // The operations in order of their depth (the longest chain of operations from the
+        // inputs to them), program order within a depth: the operations next to each other are
+        // then independent, and the processor overlaps them instead of waiting for one result
+        // after another. Each result is the same whichever order they run in.
+        let mut depth = vec![0usize; ops.len()];
+        for (i, op) in ops.iter().enumerate() {
+            if live[i] {
+                let below = op.operands().map(|a| depth[a.index()]).max();
+                depth[i] = below.map_or(0, |d| d + usize::from(!fused[i]));
+            }
+        }
+        let mut order: Vec<usize> = (0..ops.len()).collect();
+        order.sort_by_key(|&i| depth[i]);
+        // Last position (in that order, outputs after every op) where each value is read.
         let end = ops.len();
         let mut last_use = vec![0usize; ops.len()];
-        for (i, op) in ops.iter().enumerate() {
+        for (at, &i) in order.iter().enumerate() {
             if !live[i] || fused[i] {
                 continue;
             }
-            for a in operands_as_evaluated(program, &fused, op) {
-                last_use[a.index()] = last_use[a.index()].max(i);
+            for a in operands_as_evaluated(program, &fused, &ops[i]) {
+                last_use[a.index()] = last_use[a.index()].max(at);
             }
         }
         for o in outputs {
@@ -193,20 +256,27 @@ impl Compiled {
             }
             reg[i] = r;
         }
+        // The 1 and −0 that additions, subtractions, products and negations are written with
+        // (see `Step`).
+        let one = template.len() as u32;
+        template.push(1.0);
+        let neg_zero = template.len() as u32;
+        template.push(-0.0);
         let first_free = template.len();
 
         // Operations: a register freed after its value's last use is reused.
         let mut free: Vec<u32> = Vec::new();
         let mut registers = first_free;
         let mut instrs = Vec::new();
-        // Values whose last use is at op `i`, to free after it.
+        // Values whose last use is at position `at` of the order, to free after it.
         let mut dies_at: Vec<Vec<usize>> = vec![Vec::new(); ops.len() + 1];
         for (v, &l) in last_use.iter().enumerate() {
             if live[v] && !fused[v] && l < end && reg[v] == u32::MAX {
                 dies_at[l].push(v);
             }
         }
-        for (i, op) in ops.iter().enumerate() {
+        for (at, &i) in order.iter().enumerate() {
+            let op = &ops[i];
             if !live[i] || fused[i] || reg[i] != u32::MAX {
                 continue;
             }
@@ -235,7 +305,7 @@ impl Compiled {
                 Op::Abs(a) => Instr::Abs(d, r(a)),
                 _ => unreachable!("inputs have registers already"),
             };
-            for &v in &dies_at[i] {
+            for &v in &dies_at[at] {
                 free.push(reg[v]);
             }
             let d = free.pop().unwrap_or_else(|| {
@@ -247,14 +317,16 @@ impl Compiled {
         }
         template.resize(registers, 0.0);
         let operations = instrs.len();
+        let steps = instrs.into_iter().map(|i| i.step(one, neg_zero));
         let code = if registers <= SMALL_REGISTERS {
-            Code::Small(instrs.into_iter().map(Instr::narrow).collect())
+            Code::Small(steps.map(Step::narrow).collect())
         } else {
-            Code::Large(instrs)
+            Code::Large(steps.collect())
         };
         Compiled {
             template,
             inputs,
+            inputs_end: first_free,
             code,
             operations,
             outputs: outputs.iter().map(|o| reg[o.index()]).collect(),
@@ -285,34 +357,67 @@ impl Compiled {
     /// # Panics
     /// If `q`, `params` or `out` has the wrong length.
     pub fn eval_into(&self, q: &[f64], params: &[f64], scratch: &mut Vec<f64>, out: &mut [f64]) {
+        assert_eq!(out.len(), self.outputs.len(), "one entry per output");
+        self.eval_into_at(q, params, scratch, out, None);
+    }
+
+    /// [`Compiled::eval_into`] with output `j` written at `out[at[j]]` (a caller's layout, such
+    /// as a row-major matrix, without a second copy; entries no output goes to are left as
+    /// they are), or in order when `at` is `None`. Returns whether every output is finite.
+    ///
+    /// # Panics
+    /// If `q` or `params` has the wrong length, `at` does not have one entry per output, or an
+    /// entry is beyond `out`.
+    pub fn eval_into_at(
+        &self,
+        q: &[f64],
+        params: &[f64],
+        scratch: &mut Vec<f64>,
+        out: &mut [f64],
+        at: Option<&[usize]>,
+    ) -> bool {
         #[cfg(target_arch = "x86_64")]
         {
             if std::arch::is_x86_feature_detected!("avx512f") {
                 // SAFETY: the one requirement of calling a function compiled with
                 // `target_feature(enable = "avx512f")` is that the CPU has AVX-512F, detected
                 // just above.
-                return unsafe { self.single_avx512(q, params, scratch, out) };
+                return unsafe { self.single_avx512(q, params, scratch, out, at) };
             }
         }
-        self.single(q, params, scratch, out);
+        self.single(q, params, scratch, out, at)
     }
 
     /// [`Compiled::single`] compiled for AVX-512F: the joints' sines and cosines in one vector
     /// register ([`Compiled::batch_avx512`] says why the results do not change).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f")]
-    fn single_avx512(&self, q: &[f64], params: &[f64], scratch: &mut Vec<f64>, out: &mut [f64]) {
-        self.single(q, params, scratch, out);
+    fn single_avx512(
+        &self,
+        q: &[f64],
+        params: &[f64],
+        scratch: &mut Vec<f64>,
+        out: &mut [f64],
+        at: Option<&[usize]>,
+    ) -> bool {
+        self.single(q, params, scratch, out, at)
     }
 
-    /// The body of [`Compiled::eval_into`], inlined into each instruction-set variant.
+    /// The body of [`Compiled::eval_into_at`], inlined into each instruction-set variant.
     #[inline(always)]
-    fn single(&self, q: &[f64], params: &[f64], scratch: &mut Vec<f64>, out: &mut [f64]) {
+    fn single(
+        &self,
+        q: &[f64],
+        params: &[f64],
+        scratch: &mut Vec<f64>,
+        out: &mut [f64],
+        at: Option<&[usize]>,
+    ) -> bool {
         assert_eq!(q.len(), self.joints, "one value per joint");
         assert_eq!(params.len(), self.params, "one value per parameter");
-        assert_eq!(out.len(), self.outputs.len(), "one entry per output");
         // Every register an operation writes is written before it is read (the program is in
-        // order), so only the literals are copied in; the rest of the file is reused as it is.
+        // order), so only the inputs' part with its literals is copied in; the rest of the file
+        // is reused as it is.
         let size = match self.code {
             Code::Small(_) => SMALL_REGISTERS,
             Code::Large(_) => self.template.len(),
@@ -320,16 +425,20 @@ impl Compiled {
         if scratch.len() < size {
             scratch.resize(size, 0.0);
         }
-        scratch[..self.template.len()].copy_from_slice(&self.template);
+        scratch[..self.inputs_end].copy_from_slice(&self.template[..self.inputs_end]);
         let regs = scratch.as_mut_slice();
         // The sines and cosines, LANES joints side by side (each bit for bit `sin_cos`).
         let mut group = [0.0; LANES];
         let mut targets = [(None, None); LANES];
         let mut filled = 0;
-        let flush = |group: &[f64; LANES],
-                     targets: &[(Option<u32>, Option<u32>); LANES],
-                     filled: usize,
-                     regs: &mut [f64]| {
+        // Inlined, so that the lanes run on the variant's vector registers.
+        #[inline(always)]
+        fn flush(
+            group: &[f64; LANES],
+            targets: &[(Option<u32>, Option<u32>); LANES],
+            filled: usize,
+            regs: &mut [f64],
+        ) {
             let (s, c) = fast::sin_cos_f64_lanes(group);
             for (k, &(rs, rc)) in targets.iter().enumerate().take(filled) {
                 if let Some(r) = rs {
@@ -339,7 +448,7 @@ impl Compiled {
                     regs[r as usize] = c[k];
                 }
             }
-        };
+        }
         for &input in &self.inputs {
             match input {
                 Input::Param(r, p) => regs[r as usize] = params[p],
@@ -370,9 +479,23 @@ impl Compiled {
             }
             Code::Large(code) => run(code, regs),
         }
-        for (o, &r) in out.iter_mut().zip(&self.outputs) {
-            *o = regs[r as usize];
+        let mut finite = true;
+        match at {
+            None => {
+                for (o, &r) in out.iter_mut().zip(&self.outputs) {
+                    *o = regs[r as usize];
+                    finite &= o.is_finite();
+                }
+            }
+            Some(at) => {
+                assert_eq!(at.len(), self.outputs.len(), "one position per output");
+                for (&k, &r) in at.iter().zip(&self.outputs) {
+                    out[k] = regs[r as usize];
+                    finite &= out[k].is_finite();
+                }
+            }
         }
+        finite
     }
 
     /// [`Compiled::eval_into`] returning a new vector.
@@ -474,6 +597,12 @@ impl Compiled {
                 "one output a position"
             );
         }
+        // (position in the block, register), by position.
+        let placed: Vec<(usize, u32)> = source
+            .iter()
+            .enumerate()
+            .filter_map(|(at, r)| Some((at, (*r)?)))
+            .collect();
         let mut finite = true;
         let n = self.joints;
         let m = stride;
@@ -530,14 +659,14 @@ impl Compiled {
                 }
                 Code::Large(code) => run_lanes(code, &mut regs),
             }
+            // Output by output, all lanes at once (the lanes beyond `lanes` repeat the last
+            // configuration, so they are finite when it is).
             let block = &mut out[first * m..(first + lanes) * m];
-            for (l, row) in block.chunks_exact_mut(m.max(1)).enumerate() {
-                for (o, r) in row.iter_mut().zip(&source) {
-                    if let Some(r) = r {
-                        let v = regs[*r as usize][l];
-                        finite &= v.is_finite();
-                        *o = v;
-                    }
+            for &(at, r) in &placed {
+                let v = &regs[r as usize];
+                finite &= v.iter().fold(true, |all, x| all & x.is_finite());
+                for (l, x) in v.iter().enumerate().take(lanes) {
+                    block[l * m + at] = *x;
                 }
             }
             first += lanes;
@@ -562,78 +691,61 @@ fn operands_as_evaluated(program: &Program, fused: &[bool], op: &Op) -> Vec<Valu
     out
 }
 
+/// The sign bit of an `f64` when `flag` (one bit) is set in `kind`.
+#[inline(always)]
+fn sign(kind: u8, flag: u8) -> u64 {
+    ((kind & flag) as u64) << (63 - flag.trailing_zeros())
+}
+
+/// One [`Step`] on its operands' values.
+#[inline(always)]
+fn apply(kind: u8, x: f64, y: f64, c: f64) -> f64 {
+    if kind < DIV {
+        Real::mul_add(
+            f64::from_bits(x.to_bits() ^ sign(kind, NEG_X)),
+            y,
+            f64::from_bits(c.to_bits() ^ sign(kind, NEG_C)),
+        )
+    } else if kind == DIV {
+        x / y
+    } else if kind == SQRT {
+        Real::sqrt(x)
+    } else {
+        Real::abs(x)
+    }
+}
+
 /// Runs the operations on one register file (`V` a fixed-size array for `u8` registers, where
 /// no access needs a bounds check, or a slice).
 #[inline(always)]
-fn run<R: Reg, V: std::ops::IndexMut<usize, Output = f64> + ?Sized>(
-    instrs: &[Instr<R>],
-    v: &mut V,
-) {
-    for &i in instrs {
-        match i {
-            Instr::Add(d, a, b) => v[d.at()] = v[a.at()] + v[b.at()],
-            Instr::Sub(d, a, b) => v[d.at()] = v[a.at()] - v[b.at()],
-            Instr::Mul(d, a, b) => v[d.at()] = v[a.at()] * v[b.at()],
-            Instr::Div(d, a, b) => v[d.at()] = v[a.at()] / v[b.at()],
-            Instr::Neg(d, a) => v[d.at()] = -v[a.at()],
-            Instr::Sqrt(d, a) => v[d.at()] = Real::sqrt(v[a.at()]),
-            Instr::Abs(d, a) => v[d.at()] = Real::abs(v[a.at()]),
-            Instr::MulAdd(d, x, y, c) => v[d.at()] = Real::mul_add(v[x.at()], v[y.at()], v[c.at()]),
-            Instr::MulSub(d, x, y, b) => {
-                v[d.at()] = Real::mul_add(v[x.at()], v[y.at()], -v[b.at()])
-            }
-            Instr::SubMul(d, x, y, a) => {
-                v[d.at()] = Real::mul_add(-v[x.at()], v[y.at()], v[a.at()])
-            }
-        }
+fn run<R: Reg, V: std::ops::IndexMut<usize, Output = f64> + ?Sized>(steps: &[Step<R>], v: &mut V) {
+    for s in steps {
+        v[s.d.at()] = apply(s.kind, v[s.x.at()], v[s.y.at()], v[s.c.at()]);
     }
 }
 
 /// Runs the operations on [`LANES`] register files side by side (inlined into each
-/// instruction-set variant of the batch evaluation).
+/// instruction-set variant of the batch evaluation); the lanes of a step are one vector
+/// operation, the same in every lane.
 #[inline(always)]
 fn run_lanes<R: Reg, V: std::ops::IndexMut<usize, Output = [f64; LANES]> + ?Sized>(
-    instrs: &[Instr<R>],
+    steps: &[Step<R>],
     v: &mut V,
 ) {
-    #[inline(always)]
-    fn map2(a: [f64; LANES], b: [f64; LANES], f: impl Fn(f64, f64) -> f64) -> [f64; LANES] {
-        core::array::from_fn(|l| f(a[l], b[l]))
-    }
-    #[inline(always)]
-    fn map3(
-        a: [f64; LANES],
-        b: [f64; LANES],
-        c: [f64; LANES],
-        f: impl Fn(f64, f64, f64) -> f64,
-    ) -> [f64; LANES] {
-        core::array::from_fn(|l| f(a[l], b[l], c[l]))
-    }
-    for &i in instrs {
-        match i {
-            Instr::Add(d, a, b) => v[d.at()] = map2(v[a.at()], v[b.at()], |a, b| a + b),
-            Instr::Sub(d, a, b) => v[d.at()] = map2(v[a.at()], v[b.at()], |a, b| a - b),
-            Instr::Mul(d, a, b) => v[d.at()] = map2(v[a.at()], v[b.at()], |a, b| a * b),
-            Instr::Div(d, a, b) => v[d.at()] = map2(v[a.at()], v[b.at()], |a, b| a / b),
-            Instr::Neg(d, a) => v[d.at()] = v[a.at()].map(|a| -a),
-            Instr::Sqrt(d, a) => v[d.at()] = v[a.at()].map(Real::sqrt),
-            Instr::Abs(d, a) => v[d.at()] = v[a.at()].map(Real::abs),
-            Instr::MulAdd(d, x, y, c) => {
-                v[d.at()] = map3(v[x.at()], v[y.at()], v[c.at()], |x, y, c| {
-                    Real::mul_add(x, y, c)
-                })
-            }
-            Instr::MulSub(d, x, y, b) => {
-                v[d.at()] = map3(v[x.at()], v[y.at()], v[b.at()], |x, y, b| {
-                    Real::mul_add(x, y, -b)
-                })
-            }
-            Instr::SubMul(d, x, y, a) => {
-                v[d.at()] = map3(v[x.at()], v[y.at()], v[a.at()], |x, y, a| {
-                    Real::mul_add(-x, y, a)
-                })
-            }
-        }
+    for s in steps {
+        let (x, y, c) = (v[s.x.at()], v[s.y.at()], v[s.c.at()]);
+        v[s.d.at()] = if s.kind < DIV {
+            let (sx, sc) = (sign(s.kind, NEG_X), sign(s.kind, NEG_C));
+            core::array::from_fn(|l| {
+                Real::mul_add(
+                    f64::from_bits(x[l].to_bits() ^ sx),
+                    y[l],
+                    f64::from_bits(c[l].to_bits() ^ sc),
+                )
+            })
+        } else {
+            core::array::from_fn(|l| apply(s.kind, x[l], y[l], c[l]))
+        };
     }
 }
 
@@ -681,6 +793,86 @@ mod tests {
             let want = expect(*q, 0.25);
             for j in 0..3 {
                 assert_eq!(out[k * 3 + j].to_bits(), want[j].to_bits());
+            }
+        }
+    }
+
+    /// Every operation, written as one `Real::mul_add` with 1 or −0 (see `Step`), gives the
+    /// bits of the operation itself, signed zeros, infinities and subnormals included, one
+    /// configuration at a time and in lanes.
+    #[test]
+    fn single_form_keeps_every_bit() {
+        let mut p = Program::new(vec![]);
+        let (a, b, c) = (p.joint(0), p.joint(1), p.joint(2));
+        let outs = vec![
+            p.add(a, b),
+            p.sub(a, b),
+            p.mul(a, b),
+            p.neg(a),
+            p.div(a, b),
+            p.abs(a),
+        ];
+        let ab = p.mul(a, b);
+        let fused = [p.add(ab, c), p.sub(ab, c)];
+        let ab2 = p.mul(a, b);
+        let sub_mul = p.sub(c, ab2);
+        let mut all = outs.clone();
+        all.extend(fused);
+        all.push(sub_mul);
+        p.set_outputs(all);
+        let compiled = Compiled::new(&p, 3);
+        let specials = [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            f64::MIN_POSITIVE / 8.0,
+            -f64::MIN_POSITIVE / 8.0,
+            f64::MAX,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            0.3,
+        ];
+        let mut qs = Vec::new();
+        for &x in &specials {
+            for &y in &specials {
+                for &z in &[0.0, -0.0, 2.5] {
+                    qs.push([x, y, z]);
+                }
+            }
+        }
+        let flat: Vec<f64> = qs.iter().flatten().copied().collect();
+        let m = compiled.outputs();
+        let mut batch = vec![0.0; qs.len() * m];
+        compiled.eval_batch(&flat, &[], &mut batch);
+        for (k, &[x, y, z]) in qs.iter().enumerate() {
+            let want = [
+                x + y,
+                x - y,
+                x * y,
+                -x,
+                x / y,
+                x.abs(),
+                Real::mul_add(x, y, z),
+                Real::mul_add(x, y, -z),
+                Real::mul_add(-x, y, z),
+            ];
+            let got = compiled.eval(&[x, y, z], &[]);
+            for j in 0..m {
+                let same =
+                    |v: f64| v.to_bits() == want[j].to_bits() || (v.is_nan() && want[j].is_nan());
+                assert!(
+                    same(got[j]),
+                    "output {j} at {:?}: {} != {}",
+                    [x, y, z],
+                    got[j],
+                    want[j]
+                );
+                assert!(
+                    same(batch[k * m + j]),
+                    "lanes, output {j} at {:?}",
+                    [x, y, z]
+                );
             }
         }
     }

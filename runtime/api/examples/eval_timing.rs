@@ -44,7 +44,11 @@ fn main() -> Result<(), trocar_api::Error> {
             .collect();
         let mut many = vec![0.0; 10_000 * e.len()];
         let mut best_many = f64::INFINITY;
-        for _ in 0..5 {
+        let repeats: usize = std::env::var("EVAL_TIMING_BATCHES")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(5);
+        for _ in 0..repeats {
             let t = Instant::now();
             e.eval_many(&qs, &values, &mut many)?;
             best_many = best_many.min(t.elapsed().as_secs_f64() / 10_000.0);

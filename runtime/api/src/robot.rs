@@ -64,24 +64,10 @@ struct Shape {
 }
 
 impl Shape {
-    /// Where each emitted output goes in the row-major result ([`Shape::to_row_major`] as
-    /// positions; a transform's constant last row is no output's).
+    /// Where each emitted output goes in the row-major result (a transform's constant last row
+    /// is no output's).
     fn row_major_order(self) -> Vec<usize> {
-        match self.layout {
-            Layout::Scalar => vec![0],
-            Layout::Matrix { rows, cols } => (0..rows * cols)
-                .map(|k| (k % rows) * cols + k / rows)
-                .collect(),
-            Layout::Transform => (0..12)
-                .map(|k| {
-                    if k < 9 {
-                        (k % 3) * 4 + k / 3
-                    } else {
-                        (k - 9) * 4 + 3
-                    }
-                })
-                .collect(),
-        }
+        self.layout.row_major_positions()
     }
 
     fn dims(self) -> (usize, usize) {
@@ -89,30 +75,6 @@ impl Shape {
             Layout::Scalar => (1, 1),
             Layout::Matrix { rows, cols } => (rows, cols),
             Layout::Transform => (4, 4),
-        }
-    }
-
-    /// Writes the emitted outputs `raw` (column-major; a transform as `R` then `p`) row by row
-    /// into `out` (`rows · cols` entries).
-    fn to_row_major(self, raw: &[f64], out: &mut [f64]) {
-        match self.layout {
-            Layout::Scalar => out[0] = raw[0],
-            Layout::Matrix { rows, cols } => {
-                for c in 0..cols {
-                    for r in 0..rows {
-                        out[r * cols + c] = raw[c * rows + r];
-                    }
-                }
-            }
-            Layout::Transform => {
-                for c in 0..3 {
-                    for r in 0..3 {
-                        out[r * 4 + c] = raw[c * 3 + r];
-                    }
-                    out[c * 4 + 3] = raw[9 + c];
-                }
-                out[12..16].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
-            }
         }
     }
 }
@@ -828,9 +790,8 @@ pub struct Evaluator<'a> {
 }
 
 thread_local! {
-    /// Register file and raw outputs of [`Evaluator::eval_into`], kept per thread.
-    static SCRATCH: std::cell::RefCell<(Vec<f64>, Vec<f64>)> =
-        const { std::cell::RefCell::new((Vec::new(), Vec::new())) };
+    /// Register file of [`Evaluator::eval_into`], kept per thread.
+    static SCRATCH: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
 /// Configurations from which [`Evaluator::eval_many`] uses every core.
@@ -868,13 +829,16 @@ impl Evaluator<'_> {
     /// finite (what it divides by is named); lengths are the caller's to get right (checked).
     pub fn eval_into(&self, q: &[f64], values: &[f64], out: &mut [f64]) -> Result<()> {
         self.check_lengths(q.len(), values.len(), out.len(), 1)?;
-        SCRATCH.with(|s| {
-            let (regs, raw) = &mut *s.borrow_mut();
-            raw.resize(self.compiled.outputs(), 0.0);
-            self.compiled.eval_into(q, values, regs, raw);
-            self.shape.to_row_major(raw, out);
+        let at = self.generated.row_major_positions(self.function);
+        if let Layout::Transform = self.shape.layout {
+            // The constant last row of a homogeneous transform, which no output writes.
+            out[12..16].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
+        }
+        let finite = SCRATCH.with(|s| {
+            self.compiled
+                .eval_into_at(q, values, &mut s.borrow_mut(), out, at)
         });
-        if out.iter().all(|v| v.is_finite()) {
+        if finite {
             Ok(())
         } else {
             Err(self.not_finite(values, None))
@@ -925,12 +889,16 @@ impl Evaluator<'_> {
             work(q, out)
         } else {
             std::thread::scope(|scope| {
-                let handles: Vec<_> = q
-                    .chunks(per * n)
-                    .zip(out.chunks_mut(per * len))
+                // The first chunk on this thread, the others on threads of their own.
+                let mut chunks = q.chunks(per * n).zip(out.chunks_mut(per * len));
+                let here = chunks.next();
+                let handles: Vec<_> = chunks
                     .map(|(qs, outs)| scope.spawn(move || work(qs, outs)))
                     .collect();
-                handles.into_iter().all(|h| h.join().unwrap_or(false))
+                let first = here.is_none_or(|(qs, outs)| work(qs, outs));
+                handles
+                    .into_iter()
+                    .fold(first, |all, h| h.join().unwrap_or(false) && all)
             })
         };
         if !finite {

@@ -5,7 +5,7 @@
 //! once and keeps its compiled programs; matrices are returned as `numpy.ndarray`s of `float64`,
 //! row-major as the command line prints them.
 
-use numpy::ndarray::{Array1, Array2, Array3};
+use numpy::ndarray::{Array1, Array2};
 use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
 };
@@ -18,6 +18,30 @@ use trocar_api::{ControllerOptions, Function, Method, RcmOptions, SpeedLimit, Ta
 
 fn value_error(e: trocar_api::Error) -> PyErr {
     PyValueError::new_err(e.to_string())
+}
+
+/// Most joint values [`with_joints`] holds on the stack (more are copied to the heap).
+const STACK_JOINTS: usize = 64;
+
+/// Calls `f` with the joint values `q`; a contiguous 1-D `float64` array of at most
+/// [`STACK_JOINTS`] values is copied to the stack at once, anything else goes through
+/// [`joints`].
+fn with_joints<R>(q: &Bound<'_, PyAny>, f: impl FnOnce(&[f64]) -> PyResult<R>) -> PyResult<R> {
+    if let Ok(a) = q.cast::<PyArray1<f64>>() {
+        // SAFETY: `as_slice` requires that nothing writes the array's data while the slice
+        // lives. The slice lives for the one copy below, during which this thread holds the GIL
+        // (through `q`) and runs no Python code, so no Python code can write the array; nothing
+        // in this module writes an array it did not create. (It returns an error instead of a
+        // slice for a non-contiguous array, which then goes through `joints`.)
+        if let Ok(s) = unsafe { a.as_slice() } {
+            if s.len() <= STACK_JOINTS {
+                let mut buf = [0.0; STACK_JOINTS];
+                buf[..s.len()].copy_from_slice(s);
+                return f(&buf[..s.len()]);
+            }
+        }
+    }
+    f(&joints(q)?)
 }
 
 /// Joint values: a 1-D numpy array of `float64` (read in place) or any sequence of numbers.
@@ -53,8 +77,9 @@ fn method(name: &str) -> PyResult<Method> {
 struct Robot {
     inner: trocar_api::Robot,
     nominal: Vec<f64>,
-    /// Every name `what` may take for this robot (catalogue and short names), resolved once.
-    names: std::collections::HashMap<String, Function>,
+    /// Every name `what` may take for this robot (catalogue and short names), resolved once,
+    /// sorted by name.
+    names: Vec<(String, Function)>,
 }
 
 impl Robot {
@@ -69,9 +94,9 @@ impl Robot {
     }
 
     fn function(&self, what: &str) -> PyResult<Function> {
-        match self.names.get(what) {
-            Some(f) => Ok(*f),
-            None => self.inner.function(what).map_err(value_error),
+        match self.names.binary_search_by(|(n, _)| n.as_str().cmp(what)) {
+            Ok(k) => Ok(self.names[k].1),
+            Err(_) => self.inner.function(what).map_err(value_error),
         }
     }
 }
@@ -94,11 +119,13 @@ impl Robot {
             })
             .map_err(value_error)?;
         let nominal = inner.params().into_iter().map(|(_, v)| v).collect();
-        let names = inner
+        let mut names: Vec<(String, Function)> = inner
             .quantities()
             .into_iter()
             .flat_map(|f| [(f.name().to_string(), f), (f.short_name().to_string(), f)])
             .collect();
+        names.sort();
+        names.dedup();
         Ok(Robot {
             inner,
             nominal,
@@ -173,36 +200,42 @@ impl Robot {
         params: Option<BTreeMap<String, f64>>,
         numeric: bool,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let q = joints(q)?;
         let function = self.function(what)?;
-        if numeric || self.inner.is_mechanism() {
-            let p: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
-            let m = if numeric {
-                self.inner.eval_numeric(function, &q, &p)
-            } else {
-                self.inner.eval(function, &q, &p)
+        with_joints(q, |q| {
+            if numeric || self.inner.is_mechanism() {
+                let p: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
+                let m = if numeric {
+                    self.inner.eval_numeric(function, q, &p)
+                } else {
+                    self.inner.eval(function, q, &p)
+                }
+                .map_err(value_error)?;
+                let a = Array2::from_shape_vec((m.rows, m.cols), m.data)
+                    .map_err(|e| PyValueError::new_err(e.to_string()))?;
+                return Ok(a.into_pyarray(py));
             }
-            .map_err(value_error)?;
-            let a = Array2::from_shape_vec((m.rows, m.cols), m.data)
-                .map_err(|e| PyValueError::new_err(e.to_string()))?;
-            return Ok(a.into_pyarray(py));
-        }
-        self.inner.check_q(&q).map_err(value_error)?;
-        let e = self.inner.evaluator(function).map_err(value_error)?;
-        let out = PyArray2::<f64>::zeros(py, [e.rows(), e.cols()], false);
-        let written = {
-            // SAFETY: `out` was created just above as a new, C-contiguous array of
-            // `rows × cols` values and has not been handed to Python or borrowed yet, so this
-            // is the only reference to its data while the slice lives (it ends with this block).
-            let data =
-                unsafe { out.as_slice_mut() }.map_err(|e| PyValueError::new_err(e.to_string()))?;
-            match &params {
-                None => e.eval_into(&q, &self.nominal, data),
-                Some(_) => e.eval_into(&q, &self.values(params)?, data),
-            }
-        };
-        written.map_err(value_error)?;
-        Ok(out)
+            self.inner.check_q(q).map_err(value_error)?;
+            let e = self.inner.evaluator(function).map_err(value_error)?;
+            // SAFETY: `new` leaves the data uninitialised; the array is handed to Python only
+            // after `eval_into` has written every entry (each output at its own row-major
+            // position, they cover the matrix, and a transform's constant last row), and is
+            // dropped unread otherwise.
+            let out = unsafe { PyArray2::<f64>::new(py, [e.rows(), e.cols()], false) };
+            let written = {
+                // SAFETY: `out` was created just above as a new, C-contiguous array of
+                // `rows × cols` values and has not been handed to Python or borrowed yet, so
+                // this is the only reference to its data while the slice lives (it ends with
+                // this block).
+                let data = unsafe { out.as_slice_mut() }
+                    .map_err(|e| PyValueError::new_err(e.to_string()))?;
+                match &params {
+                    None => e.eval_into(q, &self.nominal, data),
+                    Some(_) => e.eval_into(q, &self.values(params.clone())?, data),
+                }
+            };
+            written.map_err(value_error)?;
+            Ok(out)
+        })
     }
 
     /// `what` at every row of `Q` (an `(N, joints)` array), as an `(N, rows, cols)` array equal
@@ -238,12 +271,22 @@ impl Robot {
             }
         };
         let (rows, cols) = (e.rows(), e.cols());
-        let mut out = vec![0.0; count * rows * cols];
-        py.detach(|| e.eval_many(flat, &values, &mut out))
-            .map_err(value_error)?;
-        let a = Array3::from_shape_vec((count, rows, cols), out)
-            .map_err(|e| PyValueError::new_err(e.to_string()))?;
-        Ok(a.into_pyarray(py))
+        // SAFETY: `new` leaves the data uninitialised; the array is handed to Python only after
+        // `eval_many` has written every entry of every configuration (each output at its own
+        // row-major position, they cover the matrix, and a transform's constant last row), and
+        // is dropped unread otherwise.
+        let out = unsafe { PyArray3::<f64>::new(py, [count, rows, cols], false) };
+        {
+            // SAFETY: `out` was created just above as a new, C-contiguous array and has not
+            // been handed to Python or borrowed yet, so this is the only reference to its data
+            // while the slice lives (it ends with this block). Python code that runs while the
+            // GIL is released below cannot reach `out`, which no Python object refers to yet.
+            let data =
+                unsafe { out.as_slice_mut() }.map_err(|e| PyValueError::new_err(e.to_string()))?;
+            py.detach(|| e.eval_many(flat, &values, data))
+                .map_err(value_error)?;
+        }
+        Ok(out)
     }
 
     /// Row and column labels of `what`'s matrix (`(rows, cols)`, e.g. `v_x … w_z` by `dq_joint1
