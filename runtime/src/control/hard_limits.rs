@@ -50,17 +50,21 @@
 //! moves along a chord, and its lateral displacement is
 //! `dt A θ̇ + ½ dt² H_v R_0rᵀ m̈ + O(dt³)`. At joint rates of radians per second that
 //! second-order term is a lateral velocity of 1e-4–1e-3 m/s (the link leaves the trocar by
-//! `½ l (|θ̇| dt)²` a step). With [`QpWeights::chord_correction`] the step estimates `m̈` from
-//! the previous step's rates `θ̇⁻` at the previous and the current configuration,
-//! `dt m̈ ≈ ṁ(q, θ̇⁻) − ṁ(q⁻, θ̇⁻)`, `ṁ(q, θ̇) = R_0i (v + ω × s)` for `(v, ω) = J^B_0i θ̇`,
-//! and asks (Q2) for
+//! `½ l (|θ̇| dt)²` a step). The displacement is that of the point's velocity `ṁ = W(q) θ̇`,
+//! `W = R_0i [I | −ŝ] J^B_0i [I 0]`, over the step, `dt (W θ̇ + ½ dt ∂W[θ̇] θ̇) + O(dt³)`. Since
+//! `W = ∂m/∂q` and second derivatives are symmetric, `∂W[θ̇] θ̇ = ∂W[θ̇⁻] (2θ̇ − θ̇⁻)` to first
+//! order in the change of rates `θ̇ − θ̇⁻` from the previous step, which stays linear in `θ̇`;
+//! and `dt ∂W[θ̇⁻] ≈ E = W(q) − W(q⁻)` (the configuration moved by `dt θ̇⁻`). With
+//! [`QpWeights::chord_correction`] the step asks, in place of (Q2),
 //!
 //! ```text
-//! A θ̇ = dv_0r − ½ H_v R_0rᵀ (ṁ(q, θ̇⁻) − ṁ(q⁻, θ̇⁻))                          (Q7)
+//! (A + H_v R_0rᵀ E) θ̇ = dv_0r + ½ H_v R_0rᵀ E θ̇⁻                                 (Q7)
 //! ```
 //!
-//! so that the displacement over the step is `dt dv_0r` to second order (the first step, and the
-//! first after [`super::Controller::reset`], use (Q2) as it is). `H_v` is the linear part of
+//! so that the mean lateral velocity over the step is `dv_0r` to second order in `dt`, also
+//! while the rates change fast, as when a joint meets its speed
+//! limit and the others take over. The first step, and the first after
+//! [`super::Controller::reset`], use (Q2) as it is. `H_v` is the linear part of
 //! `H`; angular constrained directions are not corrected.
 //!
 //! # On conflict
@@ -258,25 +262,27 @@ pub(super) struct QpInputs<'a, T: RealField + Copy, const N: usize, const I: usi
 
 /// What (Q7) keeps of the previous step.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct Previous<T: RealField + Copy, const N: usize> {
+pub(super) struct Previous<T: RealField + Copy, const N: usize, const I: usize> {
     /// `θ̇⁻`.
     pub qd: SVector<T, N>,
     /// `R_0i(q⁻)`.
     pub rotation: nalgebra::Matrix3<T>,
-    /// `J^B_0i(q⁻) θ̇⁻`.
-    pub twist: nalgebra::Vector6<T>,
+    /// `J^B_0i(q⁻)`.
+    pub jb0i: SMatrix<T, 6, I>,
 }
 
-/// `ṁ = R (v + ω × s)`: the base-frame velocity of the body point `s` of a link at rotation `R`
-/// moving with the body twist `(v, ω)`.
-pub(super) fn point_velocity<T: RealField + Copy>(
+/// `W = R [I | −ŝ] J^B_0i`: the Jacobian of the base-frame velocity `ṁ = R (v + ω × s)` of the
+/// body point `s` of a link at rotation `R` whose body twist is `(v, ω) = J^B_0i θ̇`.
+pub(super) fn point_velocity_jacobian<T: RealField + Copy, const I: usize>(
     rotation: &nalgebra::Matrix3<T>,
-    twist: &nalgebra::Vector6<T>,
+    jb0i: &SMatrix<T, 6, I>,
     s: &Vector3<T>,
-) -> Vector3<T> {
-    let v = Vector3::new(twist[0], twist[1], twist[2]);
-    let w = Vector3::new(twist[3], twist[4], twist[5]);
-    rotation * (v + w.cross(s))
+) -> SMatrix<T, 3, I> {
+    let body = SMatrix::<T, 3, I>::from_fn(|r, c| {
+        let w = Vector3::new(jb0i[(3, c)], jb0i[(4, c)], jb0i[(5, c)]);
+        jb0i[(r, c)] + w.cross(s)[r]
+    });
+    rotation * body
 }
 
 /// The bound the step gives the solver where there is none (rates, per second):

@@ -401,7 +401,7 @@ pub struct Controller<
     fi: FilteredInverse<T, P, M>,
     fi_started: bool,
     qp_active: crate::qp::ActiveSet<N, 1>,
-    qp_previous: Option<hard_limits::Previous<T, N>>,
+    qp_previous: Option<hard_limits::Previous<T, N, I>>,
 }
 
 /// `A = Λ J^B_0i`, the constrained directions of the link's twist as functions of `θ̇_{1..i}`,
@@ -758,18 +758,22 @@ impl<
         } else {
             sel * u
         };
-        let a = constrained_rows(&s.jb0i, &s.lambda_pinv).ok_or(ControlError::SingularJb0i)?;
+        let mut a = constrained_rows(&s.jb0i, &s.lambda_pinv).ok_or(ControlError::SingularJb0i)?;
         let shaft = kin.shaft();
-        // (Q7): the trocar rows to second order over the sample time.
+        // (Q7): the trocar rows over the whole sample time, to second order.
         let mut b = dv_0r;
         if let (true, Some(prev)) = (weights.chord_correction, &self.qp_previous) {
             let point = shaft.origin + shaft.direction * l_a;
-            let qd_i = SVector::<T, I>::from_fn(|k, _| prev.qd[k]);
-            let now = hard_limits::point_velocity(&s.g_0i.rotation, &(s.jb0i * qd_i), &point);
-            let before = hard_limits::point_velocity(&prev.rotation, &prev.twist, &point);
             let r_0r = s.g_0i.rotation * shaft.rotation;
+            // (Q7) with W the point velocity Jacobian: E = W(q) − W(q⁻).
+            let e = hard_limits::point_velocity_jacobian(&s.g_0i.rotation, &s.jb0i, &point)
+                - hard_limits::point_velocity_jacobian(&prev.rotation, &prev.jb0i, &point);
+            // H_v R_0rᵀ E.
+            let e = kin.h().fixed_columns::<3>(0).into_owned() * r_0r.transpose() * e;
+            let qd_prev = SVector::<T, I>::from_fn(|k, _| prev.qd[k]);
             let half = nalgebra::convert::<f64, T>(0.5);
-            b -= h_linear(&kin.h(), &(r_0r.tr_mul(&(now - before)))) * half;
+            a += e;
+            b += e * qd_prev * half;
         }
         let inputs = hard_limits::QpInputs {
             q,
@@ -797,7 +801,7 @@ impl<
         self.qp_previous = Some(hard_limits::Previous {
             qd,
             rotation: s.g_0i.rotation,
-            twist: s.jb0i * SVector::<T, I>::from_fn(|k, _| qd[k]),
+            jb0i: s.jb0i,
         });
         let task_jr: SMatrix<T, P, M> = if whole {
             SMatrix::from_fn(|r, c| s.jr[(r, c)])
