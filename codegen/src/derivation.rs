@@ -629,7 +629,7 @@ fn derive_constraint(
             }
             _ => DerivationErrorKind::Invalid,
         };
-        DerivationError::new(kind, e.field(), e.to_string())
+        DerivationError::new(kind, e.field_for(task.is_some()), e.to_string())
     })?;
     let h_rat = rational_rows(&c.h, "constraint.h")?;
     let (rank, null_h) = rational_null_space(&h_rat, 6);

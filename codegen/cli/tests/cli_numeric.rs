@@ -252,3 +252,261 @@ fn a_closed_stdout_is_not_a_panic() {
         assert_eq!(out.status.code(), Some(0), "{args:?}: {err}");
     }
 }
+
+/// `J^B_0i` and `g_0i` of `frame` of `runtime/model/tests/data/ur_tool0.urdf` at
+/// q = (0.3, −0.7, 1.1, −0.4, 0.9, 0.2), from Pinocchio 4.1 (`getFrameJacobian(.., LOCAL)`,
+/// `oMf`), row by row.
+const PINOCCHIO_TOOL0: ([[f64; 6]; 6], [[f64; 4]; 3]) = (
+    [
+        [
+            -0.67407071359069,
+            0.16524252502450737,
+            -0.0661361625518131,
+            -0.04485481761576371,
+            0.08065947935633423,
+            -2.2056726290752362e-17,
+        ],
+        [
+            0.1366408973360805,
+            0.7325862382405579,
+            0.4478197875196991,
+            0.07487152709581983,
+            -0.016350485924433583,
+            -1.0880924808771152e-16,
+        ],
+        [
+            0.34113820757233326,
+            0.020674481854030573,
+            -0.19379456364975337,
+            -0.0741418917008352,
+            -3.1889822694516144e-10,
+            1.9607043738927593e-25,
+        ],
+        [
+            -0.19866932860809072,
+            -0.7677125214181126,
+            -0.7677125214181126,
+            -0.7677125214181126,
+            0.19866933079506136,
+            3.5897927727820247e-09,
+        ],
+        [
+            -0.9800665782845629,
+            0.15562303181373036,
+            0.15562303181373036,
+            0.15562303181373036,
+            0.980066577841242,
+            -1.7948966255767213e-09,
+        ],
+        [
+            1.7660454975294265e-09,
+            0.6216099713059209,
+            0.6216099713059209,
+            0.6216099713059209,
+            1.0459359410535927e-09,
+            1.0000000000000004,
+        ],
+    ],
+    [
+        [
+            0.8088838543833036,
+            -0.16396887194781204,
+            0.5646424701970029,
+            0.6699036122392841,
+        ],
+        [
+            -0.5533872134305435,
+            0.11217714188617797,
+            0.8253356170975705,
+            0.3750286505320545,
+        ],
+        [
+            -0.19866932860809072,
+            -0.9800665782845629,
+            1.7660454975294265e-09,
+            0.11555217376879325,
+        ],
+    ],
+);
+
+/// As [`PINOCCHIO_TOOL0`], of `tool_off` (off the last joint's axis, rotated).
+const PINOCCHIO_TOOL_OFF: ([[f64; 6]; 6], [[f64; 4]; 3]) = (
+    [
+        [
+            -0.45496119497052756,
+            0.5425345065238362,
+            0.16711683017831303,
+            0.03395519793238394,
+            0.06886894762954769,
+            0.057100535229166374,
+        ],
+        [
+            0.577578671610245,
+            0.5352540169648806,
+            0.3603043594215087,
+            0.0819383879242519,
+            -0.07894642917370613,
+            -0.0011696388305826588,
+        ],
+        [
+            0.3242324578544087,
+            -0.2225999882199844,
+            -0.31788474887343254,
+            -0.07572689104100847,
+            -0.032204007913294586,
+            -0.011754182815116367,
+        ],
+        [
+            -0.631376222092297,
+            -0.46368408738393957,
+            -0.46368408738393957,
+            -0.46368408738393957,
+            0.6313762243236389,
+            0.19866933303923767,
+        ],
+        [
+            -0.6928591140144829,
+            0.6973058372217187,
+            0.6973058372217187,
+            0.6973058372217187,
+            0.6928591133553788,
+            0.2896294743420906,
+        ],
+        [
+            0.3482963024545694,
+            0.5465909224305158,
+            0.5465909224305158,
+            0.5465909224305158,
+            -0.3482962997208341,
+            0.936293364123697,
+        ],
+    ],
+    [
+        [
+            0.7308456394991738,
+            -0.38147257708667726,
+            0.5659888021470861,
+            0.7136614208721139,
+        ],
+        [
+            -0.25928501191064324,
+            0.6119027055487791,
+            0.7472257768175445,
+            0.3693248893767807,
+        ],
+        [
+            -0.631376222092297,
+            -0.6928591140144829,
+            0.3482963024545694,
+            0.1585954228600996,
+        ],
+    ],
+);
+
+/// A constraint on a link that fixed joints attach to the last moving joint's child (a UR arm's
+/// `tool0`, and a frame off the joint's axis): `F_i` is the named link's frame, so `J^B_0i` and
+/// `g_0i` are Pinocchio's of that frame, from the closed form and from the numeric runtime, and
+/// `verify` agrees; the constraint offset is written relative to it (`g_ir` as written).
+#[test]
+fn a_named_link_is_the_frame_of_jb0i_and_fk_i() {
+    let urdf = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../runtime/model/tests/data/ur_tool0.urdf")
+        .canonicalize()
+        .unwrap();
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("named-frame");
+    std::fs::create_dir_all(&dir).unwrap();
+    let q = "0.3,-0.7,1.1,-0.4,0.9,0.2";
+    for (link, (jb0i, g0i)) in [("tool0", PINOCCHIO_TOOL0), ("tool_off", PINOCCHIO_TOOL_OFF)] {
+        let toml = dir.join(format!("{link}.toml"));
+        std::fs::write(
+            &toml,
+            format!(
+                "[robot]\nname = \"ur_{link}\"\nurdf = \"{}\"\ntip = \"tool_off\"\n\n\
+                 [parameters]\nl_a = 0.2\n\n[constraint]\nlink = \"{link}\"\n\
+                 xyz = [0.01, -0.02, \"l_a\"]\nh = [\"x\", \"y\"]\n\n\
+                 [task]\nselect = [\"x\", \"y\", \"z\", \"rz\"]\n",
+                urdf.display()
+            ),
+        )
+        .unwrap();
+        let toml = toml.to_str().unwrap();
+        for numeric in [false, true] {
+            let run = |what: &str| {
+                let mut args = vec!["eval", toml, "--q", q, "--what", what, "--json"];
+                if numeric {
+                    args.push("--numeric");
+                }
+                let (code, out, err) = trocar(&args);
+                assert_eq!(code, 0, "{link} {what} numeric={numeric}: {err}");
+                json_matrix(&out)
+            };
+            let (rows, cols, data) = run("jb0i");
+            assert_eq!((rows, cols), (6, 6));
+            for (r, row) in jb0i.iter().enumerate() {
+                for (c, x) in row.iter().enumerate() {
+                    assert!(
+                        (data[r][c] - x).abs() < 1e-9,
+                        "{link} numeric={numeric}: J^B_0i[{r}][{c}] = {} vs Pinocchio {x}",
+                        data[r][c]
+                    );
+                }
+            }
+            if numeric {
+                // The numeric runtime evaluates J^B_0i, not g_0i or g_ir.
+                continue;
+            }
+            let (_, _, data) = run("fk0i");
+            for (r, row) in g0i.iter().enumerate() {
+                for (c, x) in row.iter().enumerate() {
+                    assert!(
+                        (data[r][c] - x).abs() < 1e-9,
+                        "{link} numeric={numeric}: g_0i[{r}][{c}] = {} vs Pinocchio {x}",
+                        data[r][c]
+                    );
+                }
+            }
+            // g_ir is the offset as written, relative to the named link.
+            let (_, _, data) = run("constraint_frame");
+            let p: Vec<f64> = data[..3].iter().map(|row| row[3]).collect();
+            assert!(
+                (p[0] - 0.01).abs() < 1e-15
+                    && (p[1] + 0.02).abs() < 1e-15
+                    && (p[2] - 0.2).abs() < 1e-15,
+                "{link}: g_ir translation {p:?}"
+            );
+        }
+        let (code, out, err) = trocar(&["verify", toml, "--samples", "20"]);
+        assert_eq!(code, 0, "{link}: {out}{err}");
+    }
+}
+
+/// At a configuration where `J^r` (6 × 7) has exact rank 5, the LU of `J Jᵀ` meets a zero pivot:
+/// the numeric manipulability is 0, as the closed form's, not an error about a result that is not
+/// finite.
+#[test]
+fn the_numeric_manipulability_is_zero_at_an_exact_singularity() {
+    let q = "1.5707963267948966,0.5,0,0,0,0,0,1.5707963267948966,0";
+    for numeric in [true, false] {
+        let mut args = vec![
+            "eval",
+            "runtime/model/tests/data/chain9_rank5.toml",
+            "--q",
+            q,
+            "--what",
+            "manip",
+            "--json",
+        ];
+        if numeric {
+            args.push("--numeric");
+        }
+        let (code, out, err) = trocar(&args);
+        assert_eq!(code, 0, "numeric={numeric}: {err}");
+        let (_, _, data) = json_matrix(&out);
+        assert!(
+            data[0][0].abs() < 1e-12,
+            "numeric={numeric}: {}",
+            data[0][0]
+        );
+        assert!(err.contains("rank 5 of 6"), "{err}");
+    }
+}

@@ -131,7 +131,8 @@ impl From<AdmissionError> for RobotError {
             AdmissionError::TooManyRows { r } => ConstraintError::BadRowCount(r).into(),
             e @ (AdmissionError::TooFewJoints { .. }
             | AdmissionError::TooFewColumns { .. }
-            | AdmissionError::TooFewJointsBefore { .. }) => Self::NotAdmitted(e),
+            | AdmissionError::TooFewJointsBefore { .. }
+            | AdmissionError::SingularEverywhere { .. }) => Self::NotAdmitted(e),
         }
     }
 }

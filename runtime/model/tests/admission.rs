@@ -130,3 +130,72 @@ fn six_joints_before_the_constraint() {
     assert_eq!(admit(9, 6, 2, 6), Ok(()));
     assert_eq!(admit(7, 7, 2, 4), Ok(()));
 }
+
+/// The panda-laparoscope description with `from` replaced by `to`, read as the shipped one is.
+fn panda_with(
+    from: &str,
+    to: &str,
+) -> Result<RobotDescription, trocar_model::description::DescriptionError> {
+    let text = trocar_model::description::preset("panda-laparoscope").unwrap();
+    assert!(text.contains(from), "{from}");
+    RobotDescription::from_toml_str(
+        &text.replace(from, to),
+        Some(std::path::Path::new("<preset panda-laparoscope>")),
+    )
+}
+
+/// Tasks that are singular at every configuration are refused on the task's line, with the rank:
+/// through a trocar that fixes x and y of the shaft, a task that asks for `x` and the rotation
+/// about `y` at the tip (x_e moves only with the pivot about y), the four rows x, y, rx, ry, or,
+/// with `H = z` (no motion along the shaft at the trocar), the tip's motion along the shaft.
+#[test]
+fn tasks_singular_everywhere_are_refused() {
+    const SELECT: &str = "select = [\"x\", \"y\", \"z\", \"rz\"]";
+    for (select, rank, t) in [
+        ("select = [\"x\", \"ry\"]", 1, 2),
+        ("select = [\"x\", \"y\", \"rx\", \"ry\"]", 2, 4),
+    ] {
+        let e = panda_with(SELECT, select).unwrap_err();
+        assert_eq!(e.field, "task.select", "{select}: {e}");
+        assert!(e.line.is_some(), "{e}");
+        assert!(
+            e.message.contains("singular at every configuration")
+                && e.message.contains(&format!("rank {rank} < t = {t}")),
+            "{select}: {e}"
+        );
+    }
+    let text = trocar_model::description::preset("panda-laparoscope").unwrap();
+    let e = RobotDescription::from_toml_str(
+        &text
+            .replace("h = [\"x\", \"y\"]", "h = [\"z\"]")
+            .replace(SELECT, "select = [\"z\"]"),
+        Some(std::path::Path::new("<preset panda-laparoscope>")),
+    )
+    .unwrap_err();
+    assert_eq!(e.field, "task.select", "{e}");
+    assert!(e.message.contains("rank 0 < t = 1"), "{e}");
+    // A task the trocar allows is admitted, and so is the shipped one.
+    assert!(panda_with(SELECT, "select = [\"x\", \"z\"]").is_ok());
+    assert!(RobotDescription::preset("panda-laparoscope").is_ok());
+}
+
+/// With a `[task]` of six rows the counting rules blame the task, not `H`; the `i ≥ 6` rule is
+/// reported on the constrained link's line.
+#[test]
+fn admission_errors_name_the_field_written() {
+    let e = panda_with(
+        "select = [\"x\", \"y\", \"z\", \"rz\"]",
+        "select = [\"x\", \"y\", \"z\", \"rx\", \"ry\", \"rz\"]",
+    )
+    .unwrap_err();
+    assert_eq!(e.field, "task.select", "{e}");
+    assert!(e.message.contains("t = 6"), "{e}");
+    assert!(e.line.is_some());
+    let e = panda_with("link = \"panda_link7\"", "link = \"panda_link4\"").unwrap_err();
+    assert_eq!(e.field, "constraint.link", "{e}");
+    assert!(
+        e.message.contains("i ≥ 6") && e.message.contains("i = 4"),
+        "{e}"
+    );
+    assert!(e.line.is_some(), "{e}");
+}

@@ -129,7 +129,7 @@ fn urdf_errors_name_file_and_field() {
     assert!(e.message.contains("nope.urdf"), "{}", e.message);
     assert_eq!(e.line, Some(13));
 
-    let unknown = PANDA.replace("link = \"panda_link8\"", "link = \"panda_hand\"");
+    let unknown = PANDA.replace("link = \"panda_link7\"", "link = \"panda_hand\"");
     let e = RobotDescription::from_toml_file(write("unknown_link", &unknown)).unwrap_err();
     assert_eq!(e.field, "constraint.link");
     assert!(
@@ -153,7 +153,7 @@ fn urdf_errors_name_file_and_field() {
     assert_eq!(e.field, "robot.tip");
     assert!(e.message.contains("not below the base"), "{}", e.message);
 
-    let base_link = PANDA.replace("link = \"panda_link8\"", "link = \"panda_link0\"");
+    let base_link = PANDA.replace("link = \"panda_link7\"", "link = \"panda_link0\"");
     let e = RobotDescription::from_toml_file(write("base_link", &base_link)).unwrap_err();
     assert_eq!(e.field, "constraint.link");
     assert!(e.message.contains("fixed to the base"), "{}", e.message);

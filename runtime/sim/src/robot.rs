@@ -345,13 +345,64 @@ impl<T: RobotScalar> NumericRobot<T> {
 }
 
 /// `sqrt(|det(J Jᵀ)|)` of a dynamic matrix (3.36), by faer's LU (`|det J|` directly when `J` is
-/// square: squaring first would double the condition number).
+/// square: squaring first would double the condition number). At an exactly singular matrix
+/// (a zero pivot, where the LU's divisions give `NaN`) the answer is 0, as the closed form's;
+/// a determinant that overflows stays infinite.
 pub fn manipulability_dynamic<T: RobotScalar>(j: &Mat<T>) -> T {
-    if j.nrows() == j.ncols() {
-        return nalgebra::ComplexField::abs(j.determinant());
+    let (m, det) = if j.nrows() == j.ncols() {
+        (j.to_owned(), j.determinant())
+    } else {
+        let jjt = j * j.transpose();
+        let det = jjt.determinant();
+        (jjt, det)
+    };
+    if !nalgebra::ComplexField::is_finite(&det) && has_zero_pivot(&m) {
+        return T::zero();
     }
-    let jjt = j * j.transpose();
-    nalgebra::ComplexField::sqrt(nalgebra::ComplexField::abs(jjt.determinant()))
+    let det = nalgebra::ComplexField::abs(det);
+    if j.nrows() == j.ncols() {
+        det
+    } else {
+        nalgebra::ComplexField::sqrt(det)
+    }
+}
+
+/// Whether Gaussian elimination with partial pivoting on the square matrix `m` (finite entries)
+/// meets a column whose candidates are all exactly 0: `m` is then exactly singular.
+fn has_zero_pivot<T: RobotScalar>(m: &Mat<T>) -> bool {
+    let n = m.nrows();
+    let mut a: Vec<Vec<T>> = (0..n)
+        .map(|r| (0..n).map(|c| m[(r, c)]).collect())
+        .collect();
+    if a.iter()
+        .flatten()
+        .any(|x| !nalgebra::ComplexField::is_finite(x))
+    {
+        return false;
+    }
+    for k in 0..n {
+        let abs = |x: T| nalgebra::ComplexField::abs(x);
+        let Some(p) = (k..n).max_by(|&x, &y| {
+            abs(a[x][k])
+                .partial_cmp(&abs(a[y][k]))
+                .unwrap_or(std::cmp::Ordering::Equal)
+        }) else {
+            return false;
+        };
+        if a[p][k] == T::zero() {
+            return true;
+        }
+        a.swap(k, p);
+        let (top, below) = a.split_at_mut(k + 1);
+        let pivot = &top[k];
+        for row in below {
+            let f = row[k] / pivot[k];
+            for (x, &v) in row[k..].iter_mut().zip(&pivot[k..]) {
+                *x -= f * v;
+            }
+        }
+    }
+    false
 }
 
 /// The Moore–Penrose pseudo-inverse from faer's SVD, with singular values at or below `tolerance`

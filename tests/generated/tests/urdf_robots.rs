@@ -194,7 +194,8 @@ urdf_independent!(
     iiwa_endoscope_agrees_with_its_urdf,
     iiwa_endoscope,
     "urdf/iiwa14.urdf",
-    "iiwa_link_7",
+    // The constraint names iiwa_link_ee (fixed 0.045 m beyond iiwa_link_7): F_i is its frame.
+    "iiwa_link_ee",
     "iiwa_link_ee",
     0.30
 );

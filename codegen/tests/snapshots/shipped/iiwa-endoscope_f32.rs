@@ -134,10 +134,10 @@ pub mod iiwa_endoscope {
             ],
             [
                 <f32 as ::trocar::Real>::mul_add(
-                    0.345_f32,
+                    0.3_f32,
                     x23,
                     <f32 as ::trocar::Real>::mul_add(
-                        0.081_f32,
+                        0.126_f32,
                         x23,
                         <f32 as ::trocar::Real>::mul_add(
                             0.2155_f32,
@@ -155,10 +155,10 @@ pub mod iiwa_endoscope {
                     ),
                 ),
                 <f32 as ::trocar::Real>::mul_add(
-                    0.345_f32,
+                    0.3_f32,
                     x25,
                     <f32 as ::trocar::Real>::mul_add(
-                        0.081_f32,
+                        0.126_f32,
                         x25,
                         <f32 as ::trocar::Real>::mul_add(
                             0.2155_f32,
@@ -176,10 +176,10 @@ pub mod iiwa_endoscope {
                     ),
                 ),
                 <f32 as ::trocar::Real>::mul_add(
-                    0.345_f32,
+                    0.3_f32,
                     x27,
                     <f32 as ::trocar::Real>::mul_add(
-                        0.081_f32,
+                        0.126_f32,
                         x27,
                         <f32 as ::trocar::Real>::mul_add(
                             0.2155_f32,
@@ -254,10 +254,10 @@ pub mod iiwa_endoscope {
             ],
             [
                 <f32 as ::trocar::Real>::mul_add(
-                    0.345_f32,
+                    0.3_f32,
                     x23,
                     <f32 as ::trocar::Real>::mul_add(
-                        0.081_f32,
+                        0.126_f32,
                         x23,
                         <f32 as ::trocar::Real>::mul_add(
                             0.2155_f32,
@@ -275,10 +275,10 @@ pub mod iiwa_endoscope {
                     ),
                 ),
                 <f32 as ::trocar::Real>::mul_add(
-                    0.345_f32,
+                    0.3_f32,
                     x25,
                     <f32 as ::trocar::Real>::mul_add(
-                        0.081_f32,
+                        0.126_f32,
                         x25,
                         <f32 as ::trocar::Real>::mul_add(
                             0.2155_f32,
@@ -296,10 +296,10 @@ pub mod iiwa_endoscope {
                     ),
                 ),
                 <f32 as ::trocar::Real>::mul_add(
-                    0.345_f32,
+                    0.3_f32,
                     x27,
                     <f32 as ::trocar::Real>::mul_add(
-                        0.081_f32,
+                        0.126_f32,
                         x27,
                         <f32 as ::trocar::Real>::mul_add(
                             0.2155_f32,
@@ -648,14 +648,14 @@ pub mod iiwa_endoscope {
     ///
     /// Divides by `l_a`: the result is not finite where that is 0 (nor, in general, with a NaN or infinite input); test it with `is_finite` where that can happen.
     ///
-    /// Operations: 4 add, 4 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs.
+    /// Operations: 2 add, 4 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs.
     #[inline]
     #[must_use]
     pub fn constraint_jacobian_c(_q: &[f32; N], p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / (p.l_a * (0.09_f32 + p.l_a) + 1.002025_f32);
-        let x1 = x0 * (1.015525_f32 + 0.345_f32 * p.l_a);
-        let x2 = x0 * (p.l_a + 0.045_f32);
+            / (<f32 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+        let x1 = x0 * (<f32 as ::trocar::Real>::ONE + 0.3_f32 * p.l_a);
+        let x2 = p.l_a * x0;
         [
             [
                 x1,
@@ -679,14 +679,14 @@ pub mod iiwa_endoscope {
     ///
     /// Returns the 6 × 2 matrix **column-major**: `[[f32; 6]; R]` holds R columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f32, 6, 2>::from_data(ArrayStorage(a))`.
     ///
-    /// Operations: 4 add, 4 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
+    /// Operations: 2 add, 4 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
     pub fn constraint_jacobian_c_trig(_t: &JointTrig, p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / (p.l_a * (0.09_f32 + p.l_a) + 1.002025_f32);
-        let x1 = x0 * (1.015525_f32 + 0.345_f32 * p.l_a);
-        let x2 = x0 * (p.l_a + 0.045_f32);
+            / (<f32 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+        let x1 = x0 * (<f32 as ::trocar::Real>::ONE + 0.3_f32 * p.l_a);
+        let x2 = p.l_a * x0;
         [
             [
                 x1,
@@ -719,7 +719,7 @@ pub mod iiwa_endoscope {
         );
         let x0 = c6 * c7;
         let x1 = c6 * s7;
-        let x2 = 0.081_f32 * s6;
+        let x2 = 0.126_f32 * s6;
         let x3 = s6 * c7;
         let x4 = s6 * s7;
         let x5 = <f32 as ::trocar::Real>::mul_add(c5, x0, -(s5 * s7));
@@ -727,7 +727,7 @@ pub mod iiwa_endoscope {
         let x7 = c5 * s6;
         let x8 = c5 * x2;
         let x9 = 0.1845_f32
-            + <f32 as ::trocar::Real>::mul_add(0.081_f32, c6, 0.2155_f32);
+            + <f32 as ::trocar::Real>::mul_add(0.126_f32, c6, 0.2155_f32);
         let x10 = <f32 as ::trocar::Real>::mul_add(s5, x0, c5 * s7);
         let x11 = <f32 as ::trocar::Real>::mul_add(s5, x1, -(c5 * c7));
         let x12 = s5 * s6;
@@ -797,8 +797,8 @@ pub mod iiwa_endoscope {
             ],
             [s7 * x2, c7 * x2, <f32 as ::trocar::Real>::ZERO, -x3, x4, c6],
             [
-                0.081_f32 * c7,
-                -(0.081_f32 * s7),
+                0.126_f32 * c7,
+                -(0.126_f32 * s7),
                 <f32 as ::trocar::Real>::ZERO,
                 s7,
                 c7,
@@ -824,7 +824,7 @@ pub mod iiwa_endoscope {
     pub fn partial_body_jacobian_trig(t: &JointTrig, _p: &Params) -> [[f32; 6]; I] {
         let x0 = t.cos[5] * t.cos[6];
         let x1 = t.cos[5] * t.sin[6];
-        let x2 = 0.081_f32 * t.sin[5];
+        let x2 = 0.126_f32 * t.sin[5];
         let x3 = t.sin[5] * t.cos[6];
         let x4 = t.sin[5] * t.sin[6];
         let x5 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x0, -(t.sin[4] * t.sin[6]));
@@ -832,7 +832,7 @@ pub mod iiwa_endoscope {
         let x7 = t.cos[4] * t.sin[5];
         let x8 = t.cos[4] * x2;
         let x9 = 0.1845_f32
-            + <f32 as ::trocar::Real>::mul_add(0.081_f32, t.cos[5], 0.2155_f32);
+            + <f32 as ::trocar::Real>::mul_add(0.126_f32, t.cos[5], 0.2155_f32);
         let x10 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x0, t.cos[4] * t.sin[6]);
         let x11 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x1, -(t.cos[4] * t.cos[6]));
         let x12 = t.sin[4] * t.sin[5];
@@ -920,8 +920,8 @@ pub mod iiwa_endoscope {
                 t.cos[5],
             ],
             [
-                0.081_f32 * t.cos[6],
-                -(0.081_f32 * t.sin[6]),
+                0.126_f32 * t.cos[6],
+                -(0.126_f32 * t.sin[6]),
                 <f32 as ::trocar::Real>::ZERO,
                 t.sin[6],
                 t.cos[6],
@@ -992,7 +992,7 @@ pub mod iiwa_endoscope {
             ],
             [
                 <f32 as ::trocar::Real>::mul_add(
-                    0.081_f32,
+                    0.126_f32,
                     x23,
                     <f32 as ::trocar::Real>::mul_add(
                         0.2155_f32,
@@ -1009,7 +1009,7 @@ pub mod iiwa_endoscope {
                     ),
                 ),
                 <f32 as ::trocar::Real>::mul_add(
-                    0.081_f32,
+                    0.126_f32,
                     x25,
                     <f32 as ::trocar::Real>::mul_add(
                         0.2155_f32,
@@ -1026,7 +1026,7 @@ pub mod iiwa_endoscope {
                     ),
                 ),
                 <f32 as ::trocar::Real>::mul_add(
-                    0.081_f32,
+                    0.126_f32,
                     x27,
                     <f32 as ::trocar::Real>::mul_add(
                         0.2155_f32,
@@ -1100,7 +1100,7 @@ pub mod iiwa_endoscope {
             ],
             [
                 <f32 as ::trocar::Real>::mul_add(
-                    0.081_f32,
+                    0.126_f32,
                     x23,
                     <f32 as ::trocar::Real>::mul_add(
                         0.2155_f32,
@@ -1117,7 +1117,7 @@ pub mod iiwa_endoscope {
                     ),
                 ),
                 <f32 as ::trocar::Real>::mul_add(
-                    0.081_f32,
+                    0.126_f32,
                     x25,
                     <f32 as ::trocar::Real>::mul_add(
                         0.2155_f32,
@@ -1134,7 +1134,7 @@ pub mod iiwa_endoscope {
                     ),
                 ),
                 <f32 as ::trocar::Real>::mul_add(
-                    0.081_f32,
+                    0.126_f32,
                     x27,
                     <f32 as ::trocar::Real>::mul_add(
                         0.2155_f32,
@@ -1248,11 +1248,10 @@ pub mod iiwa_endoscope {
     ///
     /// Returns the 6 × 4 matrix **column-major**: `[[f32; 6]; K]` holds K columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f32, 6, 4>::from_data(ArrayStorage(a))`.
     ///
-    /// Operations: 1 add, 0 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs.
+    /// Operations: 0 add, 0 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs.
     #[inline]
     #[must_use]
     pub fn lambda_null_space(p: &Params) -> [[f32; 6]; K] {
-        let x0 = 0.045_f32 + p.l_a;
         [
             [
                 <f32 as ::trocar::Real>::ZERO,
@@ -1264,14 +1263,14 @@ pub mod iiwa_endoscope {
             ],
             [
                 <f32 as ::trocar::Real>::ZERO,
-                x0,
+                p.l_a,
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ONE,
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
             ],
             [
-                -x0,
+                -p.l_a,
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
@@ -1294,13 +1293,13 @@ pub mod iiwa_endoscope {
     ///
     /// Divides by `l_a`: the result is not finite where that is 0 (nor, in general, with a NaN or infinite input); test it with `is_finite` where that can happen.
     ///
-    /// Operations: 3 add, 2 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs.
+    /// Operations: 1 add, 2 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs.
     #[inline]
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f32; 6]; R] {
         let x0 = <f32 as ::trocar::Real>::ONE
-            / (p.l_a * (0.09_f32 + p.l_a) + 1.002025_f32);
-        let x1 = x0 * (p.l_a + 0.045_f32);
+            / (<f32 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+        let x1 = p.l_a * x0;
         [
             [
                 x0,
@@ -1324,7 +1323,7 @@ pub mod iiwa_endoscope {
     ///
     /// Returns `(R, p)`: the rotation **column-major** (`r[col][row]`, nalgebra: `Matrix3::from_data(ArrayStorage(r))`) and the position.
     ///
-    /// Operations: 1 add, 0 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs.
+    /// Operations: 0 add, 0 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
     #[must_use]
     pub fn constraint_frame(p: &Params) -> ([[f32; 3]; 3], [f32; 3]) {
@@ -1346,11 +1345,7 @@ pub mod iiwa_endoscope {
                     <f32 as ::trocar::Real>::ONE,
                 ],
             ],
-            [
-                <f32 as ::trocar::Real>::ZERO,
-                <f32 as ::trocar::Real>::ZERO,
-                0.045_f32 + p.l_a,
-            ],
+            [<f32 as ::trocar::Real>::ZERO, <f32 as ::trocar::Real>::ZERO, p.l_a],
         )
     }
     /// The task selection `S`, TASK_ROWS × 6: the rows of the end-effector body twist `V^B_0e = (v, ω)` (components in the end-effector frame) that the task commands, thesis (3.15).
@@ -1490,13 +1485,13 @@ pub mod iiwa_endoscope {
     ///
     /// Divides by `l_a`: the result is not finite where that is 0 (nor, in general, with a NaN or infinite input); test it with `is_finite` where that can happen.
     ///
-    /// Operations: 63 add, 117 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 8 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
+    /// Operations: 61 add, 117 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 8 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline(always)]
     #[must_use]
     pub fn pose_and_jacobians_trig(t: &JointTrig, p: &Params) -> PoseAndJacobians {
         let x0 = t.cos[5] * t.cos[6];
         let x1 = t.cos[5] * t.sin[6];
-        let x2 = 0.081_f32 * t.sin[5];
+        let x2 = 0.126_f32 * t.sin[5];
         let x3 = t.sin[5] * t.cos[6];
         let x4 = t.sin[5] * t.sin[6];
         let x5 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x0, -(t.sin[4] * t.sin[6]));
@@ -1504,7 +1499,7 @@ pub mod iiwa_endoscope {
         let x7 = t.cos[4] * t.sin[5];
         let x8 = t.cos[4] * x2;
         let x9 = 0.1845_f32
-            + <f32 as ::trocar::Real>::mul_add(0.081_f32, t.cos[5], 0.2155_f32);
+            + <f32 as ::trocar::Real>::mul_add(0.126_f32, t.cos[5], 0.2155_f32);
         let x10 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x0, t.cos[4] * t.sin[6]);
         let x11 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x1, -(t.cos[4] * t.cos[6]));
         let x12 = t.sin[4] * t.sin[5];
@@ -1537,9 +1532,18 @@ pub mod iiwa_endoscope {
         let x37 = <f32 as ::trocar::Real>::mul_add(t.cos[0], x32, -(t.sin[0] * x28));
         let x38 = <f32 as ::trocar::Real>::mul_add(t.sin[0], x32, t.cos[0] * x28);
         let x39 = <f32 as ::trocar::Real>::ONE
-            / <f32 as ::trocar::Real>::mul_add(p.l_a, p.l_a + 0.09_f32, 1.002025_f32);
-        let x40 = x39 * <f32 as ::trocar::Real>::mul_add(0.345_f32, p.l_a, 1.015525_f32);
-        let x41 = x39 * (p.l_a + 0.045_f32);
+            / <f32 as ::trocar::Real>::mul_add(
+                p.l_a,
+                p.l_a,
+                <f32 as ::trocar::Real>::ONE,
+            );
+        let x40 = x39
+            * <f32 as ::trocar::Real>::mul_add(
+                0.3_f32,
+                p.l_a,
+                <f32 as ::trocar::Real>::ONE,
+            );
+        let x41 = p.l_a * x39;
         (
             (
                 [
@@ -1565,7 +1569,7 @@ pub mod iiwa_endoscope {
                 ],
                 [
                     <f32 as ::trocar::Real>::mul_add(
-                        0.345_f32,
+                        0.3_f32,
                         x37,
                         <f32 as ::trocar::Real>::mul_add(
                             t.cos[0],
@@ -1574,12 +1578,12 @@ pub mod iiwa_endoscope {
                         ),
                     ),
                     <f32 as ::trocar::Real>::mul_add(
-                        0.345_f32,
+                        0.3_f32,
                         x38,
                         <f32 as ::trocar::Real>::mul_add(t.sin[0], x33, t.cos[0] * x29),
                     ),
                     <f32 as ::trocar::Real>::mul_add(
-                        0.345_f32,
+                        0.3_f32,
                         x36,
                         0.1575_f32
                             + (0.2025_f32
@@ -1633,8 +1637,8 @@ pub mod iiwa_endoscope {
                     t.cos[5],
                 ],
                 [
-                    0.081_f32 * t.cos[6],
-                    -(0.081_f32 * t.sin[6]),
+                    0.126_f32 * t.cos[6],
+                    -(0.126_f32 * t.sin[6]),
                     <f32 as ::trocar::Real>::ZERO,
                     t.sin[6],
                     t.cos[6],

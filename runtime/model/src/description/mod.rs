@@ -44,7 +44,9 @@ pub const MAX_JOINTS: usize = 64;
 pub use error::{DescriptionError, MAX_FILE_BYTES};
 pub use presets::{preset, preset_names, PRESETS};
 pub use trocar::constraint::NullSpaceBasis;
-pub use validate::{admission_problems, admit, AdmissionError};
+pub use validate::{
+    admission_problems, admission_rank_problem, admit, AdmissionError, RANK_CONFIGURATIONS,
+};
 
 impl RobotDescription {
     /// The number `t` of task rows: those of the `[task]` selection, or 6 (the whole twist).

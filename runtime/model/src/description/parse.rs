@@ -33,7 +33,7 @@
 //! returned.
 
 use super::locate::{location_of, Locator};
-use super::urdf::{import_chain, UrdfChain};
+use super::urdf::{import_chain, move_joint_frame, UrdfChain};
 use super::{
     ConstraintDesc, DescriptionError, EndEffector, JointDesc, JointKind, Linear, Origin, Parameter,
     RobotDescription, Rotation, TaskDesc, Wrist,
@@ -625,12 +625,19 @@ impl RobotDescription {
                     }
                 };
                 let origin = origin(&ctx, "constraint", &c.xyz, &c.rpy, &c.rotation)?;
+                // A named link that fixed joints attach to joint i's child is F_i itself: joint
+                // i's frame moves there (`move_joint_frame`), so `fk_i`, `J^B_0i` and `g_ir` are
+                // all in the frame the user named.
+                let moved = offset.is_some_and(|pose| {
+                    pose.is_identity()
+                        || move_joint_frame(&mut joints, &mut end_effector, link, &pose)
+                });
                 Some(ConstraintDesc {
                     link,
-                    // Written relative to the named link's frame, which sits at `offset` in F_i.
+                    // Otherwise written relative to the named link's frame, at `offset` in F_i.
                     origin: match offset {
-                        Some(pose) => pose.compose(&origin),
-                        None => origin,
+                        Some(pose) if !moved => pose.compose(&origin),
+                        _ => origin,
                     },
                     h,
                     wrist,

@@ -19,7 +19,11 @@
 //!
 //! A TOML description takes its chain from a URDF with `[robot] urdf = "panda.urdf"` (relative to
 //! the TOML file), `base` and `tip` link names; its `[constraint] link` may then name a URDF link
-//! (see [`super::parse`]).
+//! (see [`super::parse`]). The named link's frame is `F_i`, exactly: when fixed joints attach it
+//! to the child of moving joint `i` (`panda_link8`, a UR arm's `tool0`), joint `i`'s frame is
+//! moved to it (its origin and axis, or twist, rewritten, and the next origin with them), so that
+//! `fk_i`, `J^B_0i` and the constraint offset `g_ir` are all in the frame the user named, as the
+//! end effector is the `tip` link's frame.
 //!
 //! Errors name the URDF joint (`joint[elbow].axis`, with the line of its `<joint>` element) or
 //! `tip_link`; the imported joints keep the line of their `<joint>` element as their location.
@@ -135,6 +139,30 @@ impl Pose {
         Origin { xyz, rotation }
     }
 
+    /// The inverse transform `(Rᵀ, −Rᵀ p)`.
+    pub(crate) fn inverse(&self) -> Pose {
+        let rt = [0, 1, 2].map(|r| [0, 1, 2].map(|c| self.r[c][r]));
+        let q = mat_vec(&rt, &self.p);
+        Pose {
+            r: rt,
+            p: q.map(|x| -x),
+        }
+    }
+
+    /// An origin without parameters as a pose; `None` when a length names a parameter.
+    fn of_constant(o: &Origin) -> Option<Pose> {
+        if !o.xyz.iter().all(Linear::is_constant) {
+            return None;
+        }
+        Some(Pose {
+            r: match &o.rotation {
+                Rotation::Rpy(rpy) => rpy_matrix(*rpy),
+                Rotation::Matrix(m) => *m,
+            },
+            p: o.xyz.clone().map(|x| x.constant),
+        })
+    }
+
     /// As an origin with a rotation matrix; entries below 1e-15 in magnitude (the rounding noise of
     /// `cos(π/2)` in composed rpy rotations) are written as 0.
     pub(crate) fn to_origin(self) -> Origin {
@@ -144,6 +172,73 @@ impl Pose {
             rotation: Rotation::Matrix(self.r.map(|row| row.map(snap))),
         }
     }
+}
+
+/// Moves the frame of joint `k` (1-based) to the frame `to` written in it, so that link frame `k`
+/// becomes that frame: joint `k`'s origin becomes `origin · to` and its twist `Ad_{to⁻¹} ξ`
+/// (a revolute joint whose axis does not pass through the new origin becomes a twist joint), and
+/// the next joint's origin (or, for `k = n`, the end effector's) becomes `to⁻¹ · origin`. The
+/// kinematics are unchanged; only the frame carried by joint `k` moves. This is how a constraint
+/// naming a URDF link that fixed joints attach to joint `k`'s child (`panda_link8`, `tool0`) gets
+/// that link's frame as `F_i`. Joint `k`'s origin has no parameters (it comes from a URDF);
+/// `false` (nothing changed) otherwise.
+pub(crate) fn move_joint_frame(
+    joints: &mut [JointDesc],
+    end_effector: &mut EndEffector,
+    k: usize,
+    to: &Pose,
+) -> bool {
+    let Some(joint) = k.checked_sub(1).and_then(|j| joints.get(j)) else {
+        return false;
+    };
+    let Some(origin) = Pose::of_constant(&joint.origin) else {
+        return false;
+    };
+    let snap = |x: f64| if x.abs() < 1e-15 { 0.0 } else { x };
+    let back = to.inverse();
+    // Ad_{to⁻¹} (v, ω) = (Rᵀ (v + ω × p), Rᵀ ω).
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let kind = match &joint.kind {
+        JointKind::Revolute { axis } => {
+            let w = mat_vec(&back.r, axis).map(snap);
+            let v = mat_vec(&back.r, &cross(*axis, to.p)).map(snap);
+            if v == [0.0; 3] {
+                JointKind::Revolute { axis: w }
+            } else {
+                JointKind::Twist {
+                    v: v.map(Linear::constant),
+                    w,
+                }
+            }
+        }
+        JointKind::Prismatic { axis } => JointKind::Prismatic {
+            axis: mat_vec(&back.r, axis).map(snap),
+        },
+        JointKind::Twist { v, w } => {
+            if !v.iter().all(Linear::is_constant) {
+                return false;
+            }
+            let v = [0, 1, 2].map(|c| v[c].constant + cross(*w, to.p)[c]);
+            JointKind::Twist {
+                v: mat_vec(&back.r, &v).map(|x| Linear::constant(snap(x))),
+                w: mat_vec(&back.r, w).map(snap),
+            }
+        }
+    };
+    let joint = &mut joints[k - 1];
+    joint.origin = origin.then(to).to_origin();
+    joint.kind = kind;
+    match joints.get_mut(k) {
+        Some(next) => next.origin = back.compose(&next.origin),
+        None => end_effector.origin = back.compose(&end_effector.origin),
+    }
+    true
 }
 
 /// The line of `<joint name="NAME" ...>` in the URDF text.

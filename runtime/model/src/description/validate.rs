@@ -21,6 +21,8 @@
 //! | H has 1 to 5 rows, none zero, linearly independent | `constraint.h`, `constraint.h[k]` |
 //! | the method needs `n − r ≥ t` (`t` task rows, 6 without `[task]`) | `constraint.h` (`task.select` with a task) |
 //! | `J^r` needs `m = (6 − r) + (n − i) ≥ t` columns (3.15) | `constraint.link` (`task.select` with a task) |
+//! | `i ≥ 6` joints before the constrained link (`J^B_0i` of rank 6) | `constraint.link` |
+//! | `S J^r_0e` (`J^r_0e` without a task) of rank `t` at some configuration ([`admission_rank_problem`]) | `task.select` (`constraint.h` without a task) |
 //! | task rows: 1 to 6, none zero, linearly independent | `task.select`, `task.select[k]` |
 //! | wrist `unidirectional` needs `H = x_r`; `zy`/`zx` need `H = (x_r, z_r)` | `constraint.wrist` |
 //! | wrist `zy`: joint `i+1` revolute about z, joint `i+2` about y (`zx`: about x) | `joints[i].axis`, `joints[i+1].axis` |
@@ -98,18 +100,53 @@ pub enum AdmissionError {
         /// Task rows `t`.
         t: usize,
     },
+    /// What the task commands, `S J^r_0e` (`J^r_0e` without a `[task]`), has rank below its `t`
+    /// rows at every configuration tried (see [`admission_rank_problem`]): the task asks for a
+    /// motion the constraint forbids or the joints cannot give, and the manipulability is 0
+    /// everywhere.
+    SingularEverywhere {
+        /// The largest rank met.
+        rank: usize,
+        /// Task rows `t`.
+        t: usize,
+        /// Configurations tried.
+        tried: usize,
+    },
 }
 
 impl AdmissionError {
     /// The description field the rule is about (`task.select` when a `[task]` selects fewer than
-    /// six rows and the count is what fails).
+    /// six rows and the count is what fails). A description with a `[task]` of six rows has its
+    /// field from [`AdmissionError::field_for`].
     pub fn field(&self) -> &'static str {
+        let task = match self {
+            Self::TooFewJoints { t, .. }
+            | Self::TooFewColumns { t, .. }
+            | Self::SingularEverywhere { t, .. } => *t < 6,
+            _ => false,
+        };
+        self.field_for(task)
+    }
+
+    /// The description field the rule is about, for a description with (`task = true`) or without
+    /// a `[task]`: the counts and the rank are about the task's rows when there is one
+    /// (`task.select`), otherwise about `H` (`constraint.h`) or the constrained link.
+    pub fn field_for(&self, task: bool) -> &'static str {
         match self {
-            Self::TooFewJoints { t, .. } | Self::TooFewColumns { t, .. } if *t < 6 => "task.select",
+            Self::TooFewJoints { .. }
+            | Self::TooFewColumns { .. }
+            | Self::SingularEverywhere { .. }
+                if task =>
+            {
+                "task.select"
+            }
             Self::LinkOutOfRange { .. }
             | Self::TooFewColumns { .. }
             | Self::TooFewJointsBefore { .. } => "constraint.link",
-            Self::NoRows | Self::TooManyRows { .. } | Self::TooFewJoints { .. } => "constraint.h",
+            Self::NoRows
+            | Self::TooManyRows { .. }
+            | Self::TooFewJoints { .. }
+            | Self::SingularEverywhere { .. } => "constraint.h",
         }
     }
 }
@@ -157,11 +194,102 @@ impl std::fmt::Display for AdmissionError {
                 }
                 Ok(())
             }
+            Self::SingularEverywhere { rank, t, tried } => {
+                let what = if t == 6 { "J^r_0e" } else { "S J^r_0e" };
+                write!(
+                    f,
+                    "the task is singular at every configuration: {what} has rank {rank} < t = {t} at each of {tried} random configurations (nominal parameters), so the manipulability is 0 everywhere; "
+                )?;
+                if t == 6 {
+                    write!(f, "the constraint H (or a joint parallel to a constrained direction) leaves fewer than 6 independent end-effector motions: select the rows the robot can follow with [task] select = [...]")
+                } else {
+                    write!(f, "the selected rows ask for motions the constraint H forbids or the joints cannot give (e.g. a rotation about an axis the trocar fixes, or a row that H also constrains): select rows the robot can follow")
+                }
+            }
         }
     }
 }
 
 impl std::error::Error for AdmissionError {}
+
+/// Configurations at which [`admission_rank_problem`] evaluates the task's Jacobian.
+pub const RANK_CONFIGURATIONS: usize = 4;
+
+/// The rank rule of admission: what the task commands, `S J^r_0e` (t × m; `J^r_0e` without a
+/// `[task]`), must have rank `t` somewhere, or the task is singular at every configuration and its
+/// manipulability identically 0 (`select = ["x", "ry"]` through a trocar that fixes `x`, `h = ["z"]`
+/// with a `z` task, a prismatic joint parallel to a constrained translation). Checked at
+/// [`RANK_CONFIGURATIONS`] pseudo-random configurations (each joint uniform in its limits, or in
+/// `[−π, π]`; a fixed seed, so the answer is reproducible) with the nominal parameters; the rank
+/// counts singular values above `1e-9 σ_max`. `None` when the rule holds, or when the robot
+/// cannot be evaluated (the other rules report why).
+pub fn admission_rank_problem(d: &RobotDescription) -> Option<AdmissionError> {
+    let model = crate::numeric::NumericModel::<f64>::from_description(d, &[]).ok()?;
+    let c = model.constraint()?;
+    let i = c.link();
+    let n = model.dof();
+    let sharp = c.lambda_null_space_columns();
+    let select: Vec<[f64; 6]> = match &d.task {
+        Some(t) => t.select.clone(),
+        None => (0..6)
+            .map(|k| {
+                let mut row = [0.0; 6];
+                row[k] = 1.0;
+                row
+            })
+            .collect(),
+    };
+    let t = select.len();
+    let m = sharp.len() + n - i;
+    // xorshift64*, fixed seed.
+    let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mut uniform = move || {
+        state ^= state >> 12;
+        state ^= state << 25;
+        state ^= state >> 27;
+        (state.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut best = 0;
+    for _ in 0..RANK_CONFIGURATIONS {
+        let q: Vec<f64> = d
+            .joints
+            .iter()
+            .map(|j| {
+                let u = uniform();
+                match j.limits {
+                    Some([lo, hi]) if lo.is_finite() && hi.is_finite() => lo + u * (hi - lo),
+                    _ => (2.0 * u - 1.0) * std::f64::consts::PI,
+                }
+            })
+            .collect();
+        let mut cols = vec![trocar::se3::Twist::<f64>::zeros(); m];
+        trocar::kinematics::constrained_jacobian_columns(
+            &model.joints()[i..],
+            &q[i..],
+            model.tool(),
+            sharp,
+            &mut cols,
+        );
+        let st = nalgebra::DMatrix::from_fn(t, m, |r, k| {
+            (0..6).map(|e| select[r][e] * cols[k][e]).sum::<f64>()
+        });
+        if !st.iter().all(|x| x.is_finite()) {
+            return None;
+        }
+        let sv = st.singular_values();
+        let top = sv.iter().copied().fold(0.0, f64::max);
+        let rank = sv.iter().filter(|&&x| x > 1e-9 * top).count();
+        if rank >= t {
+            return None;
+        }
+        best = best.max(rank);
+    }
+    Some(AdmissionError::SingularEverywhere {
+        rank: best,
+        t,
+        tried: RANK_CONFIGURATIONS,
+    })
+}
 
 /// Every admission rule a constraint at link `link` with `r` rows of `H` on `n` joints and a task
 /// of `t` rows (`6` without a `[task]`) breaks, in a fixed order: the link (`1 ≤ i ≤ n`), the rows
@@ -503,9 +631,10 @@ impl Checker<'_> {
             .iter()
             .any(|e| matches!(e, AdmissionError::LinkOutOfRange { .. }));
         // Reported in the order of the fields (the link, the frame, then H), and `m ≥ 6` last.
+        let task = self.d.task.is_some();
         let report = |this: &mut Self, which: &dyn Fn(&AdmissionError) -> bool| {
             for e in admission.iter().filter(|e| which(e)) {
-                this.err(e.field(), e.to_string());
+                this.err(e.field_for(task), e.to_string());
             }
         };
         report(self, &|e| {
@@ -523,7 +652,18 @@ impl Checker<'_> {
         if let Some(w) = c.wrist {
             self.wrist(c, w, link_ok);
         }
-        report(self, &|e| matches!(e, AdmissionError::TooFewColumns { .. }));
+        report(self, &|e| {
+            matches!(
+                e,
+                AdmissionError::TooFewColumns { .. } | AdmissionError::TooFewJointsBefore { .. }
+            )
+        });
+        // The rank rule last: it evaluates the robot, which needs every other rule to hold.
+        if self.out.is_empty() {
+            if let Some(e) = admission_rank_problem(self.d) {
+                self.err(e.field_for(self.d.task.is_some()), e.to_string());
+            }
+        }
     }
 
     fn wrist(&mut self, c: &super::ConstraintDesc, w: Wrist, link_ok: bool) {
