@@ -196,3 +196,20 @@ impl Evaluated {
         self.values[c * self.rows + r]
     }
 }
+
+/// The generated functions as [`trocar_check::verify`] checks them against the numeric runtime
+/// (`trocar verify`, the evidence of [`crate::Builder::evidence`]): evaluated as the generated
+/// `f64` code evaluates them.
+impl trocar_check::Candidate for Generated {
+    fn evaluate(
+        &self,
+        function: Function,
+        q: &[f64],
+        params: &[f64],
+    ) -> Option<trocar_check::DMatrix<f64>> {
+        let m = Generated::evaluate(self, function, q, params)?;
+        Some(trocar_check::DMatrix::from_column_slice(
+            m.rows, m.cols, &m.values,
+        ))
+    }
+}

@@ -743,7 +743,7 @@ impl Robot {
         samples: usize,
         seed: u64,
         progress: impl FnMut(f64),
-    ) -> Result<trocar_sim::verify::Report> {
+    ) -> Result<trocar_check::Report> {
         let Some(desc) = self.description() else {
             let name = &self.source;
             return Err(Error::Unsupported(format!(
@@ -754,12 +754,12 @@ impl Robot {
         };
         Self::check_samples(samples)?;
         let generated = self.derive()?;
-        trocar_sim::verify::verify(
+        trocar_check::verify::verify(
             desc,
             &GeneratedCandidate(generated),
             samples,
             seed,
-            trocar_sim::verify::Tolerances::default(),
+            trocar_check::Tolerances::F64,
             progress,
         )
         .map_err(self.robot_error())
@@ -767,14 +767,19 @@ impl Robot {
 }
 
 /// The generated closed forms, evaluated exactly as emitted, as the candidate that
-/// [`trocar_sim::verify`] checks against the numeric runtime.
+/// [`trocar_check::verify`] checks against the numeric runtime (the candidate of
+/// [`Generated`] itself).
 #[derive(Clone, Copy, Debug)]
 pub struct GeneratedCandidate<'a>(pub &'a Generated);
 
-impl trocar_sim::verify::Candidate for GeneratedCandidate<'_> {
-    fn evaluate(&self, function: Function, q: &[f64], params: &[f64]) -> Option<faer::Mat<f64>> {
-        let m = self.0.evaluate(function, q, params)?;
-        Some(faer::Mat::from_fn(m.rows, m.cols, |r, c| m.get(r, c)))
+impl trocar_check::Candidate for GeneratedCandidate<'_> {
+    fn evaluate(
+        &self,
+        function: Function,
+        q: &[f64],
+        params: &[f64],
+    ) -> Option<trocar_check::DMatrix<f64>> {
+        trocar_check::Candidate::evaluate(self.0, function, q, params)
     }
 }
 

@@ -2,9 +2,9 @@
 //! runtime and with finite differences (`trocar verify` as a library).
 
 use trocar_api::GeneratedCandidate;
+use trocar_check::verify::{verify, Tolerances};
 use trocar_codegen::evaluate::Generated;
 use trocar_model::description::{preset_names, RobotDescription};
-use trocar_sim::verify::{verify, Tolerances};
 
 fn check(description: &RobotDescription, samples: usize) {
     let generated = Generated::new(description).expect("derivable");
@@ -18,12 +18,13 @@ fn check(description: &RobotDescription, samples: usize) {
     )
     .expect("numeric runtime accepts the description");
     assert!(report.passed(), "{report}");
-    // Without a constraint: the two finite-difference checks; with one, seven closed forms
-    // against the numeric runtime besides; with a task, S J^r as well.
+    // Without a constraint: g_0e and J^B_0e against the numeric runtime and the two
+    // finite-difference checks of g_0e; with one, the twelve functions of a constrained module
+    // and the differences of g_0i besides; with a task, S and S J^r as well.
     let expected = match (&description.constraint, &description.task) {
-        (None, _) => 2,
-        (Some(_), None) => 9,
-        (Some(_), Some(_)) => 10,
+        (None, _) => 4,
+        (Some(_), None) => 15,
+        (Some(_), Some(_)) => 17,
     };
     assert_eq!(report.checks.len(), expected, "{report}");
 }

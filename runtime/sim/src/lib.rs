@@ -2,12 +2,11 @@
 //!
 //! The thesis's scenarios on the reference arm ([`simulation`]), the second source's closed-chain
 //! simulations ([`closed_chain`]), CSV traces and plots ([`plot`]), and the dynamic-size numeric
-//! reference on faer ([`robot::NumericRobot`]) against which generated code is checked
-//! ([`verify`]).
+//! robot on faer ([`robot::NumericRobot`]). Generated code is checked against the numeric runtime
+//! by `trocar-check` (`trocar_check::verify`), which needs none of this crate.
 #![warn(missing_docs)]
 
 pub mod closed_chain;
 pub mod plot;
 pub mod robot;
 pub mod simulation;
-pub mod verify;

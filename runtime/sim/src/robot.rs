@@ -1,6 +1,6 @@
 //! [`NumericRobot`]: a robot description evaluated numerically with parameter values, the
 //! dynamic-size numeric reference for the CLI (`trocar eval --numeric`, `trocar jacobian`),
-//! [`crate::verify`] and the tests of generated code.
+//! the simulations and the tests of generated code.
 //!
 //! [`NumericRobot`] evaluates a [`RobotDescription`] with its nominal `[parameters]` (or
 //! overrides) and answers with [`faer::Mat`] outputs; every error on user input is a
