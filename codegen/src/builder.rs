@@ -23,6 +23,7 @@
 
 use crate::closed_chain;
 use crate::derivation;
+use crate::emit::checks::{self, ChecksGate};
 use crate::emit::{self, bridge, Runtime, Scalar};
 use crate::error::Error;
 use crate::naming::checked_module_name;
@@ -45,6 +46,17 @@ pub struct ModuleOptions {
     /// Also emit the module's C ABI (`extern "C"` functions named `<module>_<function>`,
     /// [`crate::emit::c_api`]); see [`Builder::c_api`].
     pub c_api: bool,
+    /// Also emit `Checks`, the module's implementation of `trocar_check::GeneratedModule`, behind
+    /// this gate ([`crate::emit::checks`]); see [`Builder::checks`].
+    pub checks: Option<ChecksGate>,
+    /// Check the module at generation time at this many random configurations and write the
+    /// largest errors into its documentation, with `DESCRIPTION_HASH` and its build-time
+    /// assertion; see [`Builder::evidence`].
+    pub evidence: Option<usize>,
+    /// The files the description was read from (the TOML file, then the URDF it reads), relative
+    /// to the package's root or absolute: their hash is the module's `DESCRIPTION_HASH`. Empty
+    /// for a description given in memory.
+    pub description_files: Vec<PathBuf>,
 }
 
 impl ModuleOptions {
@@ -70,12 +82,44 @@ pub fn generate_module(
 ) -> Result<TokenStream, Error> {
     let runtime = options.runtime()?;
     let spec = spec_for(desc, options)?;
-    if !options.c_api {
-        return Ok(emit::module_tokens_in(&spec, options.real, &runtime));
-    }
     let mut items = emit::module_items_in(&spec, options.real, &runtime);
-    items.extend(emit::c_api::items(&spec, options.real, runtime.tokens()));
-    Ok(emit::wrap_module(&spec.name, &spec.doc, items))
+    if options.c_api {
+        items.extend(emit::c_api::items(&spec, options.real, runtime.tokens()));
+    }
+    let files = &options.description_files;
+    let hash = checks::description_hash(files).map_err(|source| Error::Io {
+        path: files.first().cloned().unwrap_or_default(),
+        source,
+    })?;
+    if let Some(gate) = &options.checks {
+        items.extend(checks::items(&spec, options.real, gate, &desc.name, hash));
+    }
+    let mut doc = spec.doc.clone();
+    if let Some(samples) = options.evidence {
+        let generated = crate::evaluate::Generated::from_spec(spec.clone());
+        let report = trocar_check::verify::verify(
+            desc,
+            &generated,
+            samples,
+            trocar_check::SEED,
+            trocar_check::Tolerances::F64,
+            |_| {},
+        )
+        .map_err(|e| Error::Evidence(e.to_string()))?;
+        if !report.passed() {
+            return Err(Error::Evidence(format!("{report}{}", report.failures())));
+        }
+        doc += &checks::evidence_doc(
+            &report,
+            options.real,
+            files.first().map(PathBuf::as_path),
+            hash,
+        );
+        if let Some(h) = hash {
+            items.extend(checks::staleness_guard(files, h));
+        }
+    }
+    Ok(emit::wrap_module(&spec.name, &doc, items))
 }
 
 /// The C header of a description's module's C ABI ([`ModuleOptions::c_api`],
@@ -131,6 +175,8 @@ pub struct Builder {
     out_dir: Option<PathBuf>,
     emit_rerun: bool,
     c_api: bool,
+    checks: Option<ChecksGate>,
+    evidence: Option<usize>,
 }
 
 impl Builder {
@@ -204,6 +250,36 @@ impl Builder {
         self
     }
 
+    /// Also emit, in each serial robot's module and behind `#[cfg(test)]`, `Checks`: the module's
+    /// implementation of `trocar_check::GeneratedModule` (every function of the catalogue it has,
+    /// evaluated as compiled, in its `f32` or `f64`), so that a unit test of the crate reads
+    /// `trocar_check::assert_matches_numeric::<arm::Checks>("robots/arm.toml", 2_000)`. The crate
+    /// then needs `trocar-check` among its dev-dependencies. `false` removes them again.
+    pub fn checks(&mut self, on: bool) -> &mut Self {
+        self.checks = on.then_some(ChecksGate::Test);
+        self
+    }
+
+    /// As [`Builder::checks`], behind `#[cfg(feature = "<feature>")]` instead of `#[cfg(test)]`:
+    /// for integration tests (`tests/*.rs` see the library built without `cfg(test)`); the
+    /// feature enables an optional dependency on `trocar-check`.
+    pub fn checks_feature(&mut self, feature: &str) -> &mut Self {
+        self.checks = Some(ChecksGate::Feature(feature.into()));
+        self
+    }
+
+    /// Checks each serial robot's module when it is generated, at `samples` random
+    /// configurations and parameter values (seed `trocar_check::SEED`), every function evaluated
+    /// as the generated `f64` code against the numeric runtime and the Jacobians against finite
+    /// differences; generation fails on a mismatch. The module's documentation then opens with
+    /// the evidence (generator, description hash, seed, samples, the largest error of each
+    /// check), and a module generated from a file holds `DESCRIPTION_HASH` and a constant
+    /// assertion that fails its build once the description file (or its URDF) has changed.
+    pub fn evidence(&mut self, samples: usize) -> &mut Self {
+        self.evidence = Some(samples);
+        self
+    }
+
     /// Output directory for [`Builder::compile`] (default: the `OUT_DIR` variable).
     pub fn out_dir(&mut self, dir: impl AsRef<Path>) -> &mut Self {
         self.out_dir = Some(dir.as_ref().to_path_buf());
@@ -216,15 +292,20 @@ impl Builder {
         self
     }
 
-    fn load(&self) -> Result<Vec<(RobotDescription, Option<String>)>, Error> {
+    /// Each robot's description, module name and the files it was read from.
+    #[allow(clippy::type_complexity)]
+    fn load(&self) -> Result<Vec<(RobotDescription, Option<String>, Vec<PathBuf>)>, Error> {
         self.robots
             .iter()
             .map(|(src, name)| {
-                let d = match src {
-                    Source::File(p) => RobotDescription::from_toml_file(p)?,
-                    Source::Description(d) => (**d).clone(),
+                let (d, files) = match src {
+                    Source::File(p) => (
+                        RobotDescription::from_toml_file(p)?,
+                        RobotDescription::files_read(p),
+                    ),
+                    Source::Description(d) => ((**d).clone(), Vec::new()),
                 };
-                Ok((d, name.clone()))
+                Ok((d, name.clone(), files))
             })
             .collect()
     }
@@ -232,13 +313,16 @@ impl Builder {
     /// Generates every module without writing: file name (`<module>.rs`) → formatted code.
     pub fn generate(&self) -> Result<BTreeMap<String, String>, Error> {
         let mut out = BTreeMap::new();
-        for (desc, name) in self.load()? {
+        for (desc, name, description_files) in self.load()? {
             let module = checked_module_name(&desc.name, name.as_deref())?;
             let options = ModuleOptions {
                 real: self.real,
                 module_name: Some(module.clone()),
                 runtime_path: self.runtime_path.clone(),
                 c_api: self.c_api,
+                checks: self.checks.clone(),
+                evidence: self.evidence,
+                description_files,
             };
             let code = generate_module_string(&desc, &options)?;
             let file = format!("{module}.rs");
@@ -256,7 +340,7 @@ impl Builder {
                 real: self.real,
                 module_name: Some(module.clone()),
                 runtime_path: self.runtime_path.clone(),
-                c_api: false,
+                ..ModuleOptions::default()
             };
             let code = generate_mechanism_string(&src, &options)?;
             let file = format!("{module}.rs");

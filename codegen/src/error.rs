@@ -26,6 +26,9 @@ pub enum Error {
     BadRuntimePath(String),
     /// The generated tokens did not parse as a file (a bug in the generator).
     Internal(String),
+    /// The generation-time check of [`crate::Builder::evidence`] failed: the report, with the
+    /// functions that do not match the numeric runtime.
+    Evidence(String),
 }
 
 impl fmt::Display for Error {
@@ -44,6 +47,10 @@ impl fmt::Display for Error {
                 "`{p}` is not a valid runtime path (expected a Rust path such as `::trocar`)"
             ),
             Error::Internal(m) => write!(f, "internal generator error: {m}"),
+            Error::Evidence(m) => write!(
+                f,
+                "the generated module does not match the numeric runtime (evidence):\n{m}"
+            ),
         }
     }
 }

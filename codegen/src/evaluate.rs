@@ -53,7 +53,7 @@ impl Generated {
         ))
     }
 
-    fn from_spec(spec: ModuleSpec) -> Self {
+    pub(crate) fn from_spec(spec: ModuleSpec) -> Self {
         let compiled = spec
             .functions
             .iter()

@@ -54,6 +54,7 @@ pub use builder::{
     generate_c_header, generate_mechanism_string, generate_module, generate_module_string, Builder,
     ModuleOptions,
 };
+pub use emit::checks::ChecksGate;
 pub use emit::Scalar;
 pub use error::Error;
 pub use naming::module_name;

@@ -8,8 +8,9 @@
 
 use trocar_derive::constrained_robot;
 
-/// The reference arm `dia10_like` with the zy wrist (docs/reference-robots.md), generic over the scalar.
-#[constrained_robot(file = "robots/dia10_like_zy.toml")]
+/// The reference arm `dia10_like` with the zy wrist (docs/reference-robots.md), generic over the
+/// scalar; `checks` adds `dia10::Checks` for the tests (`trocar_check`).
+#[constrained_robot(file = "robots/dia10_like_zy.toml", checks)]
 pub struct Dia10;
 
 /// The thesis's start configuration `q0` (docs/reference-robots.md).
@@ -55,5 +56,10 @@ mod tests {
         assert!(max_difference(&jr, &numeric) < 1e-12);
         let w = Dia10::manipulability(&Q0, &p);
         assert!((w - robot.manipulability(&Q0).unwrap()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_attributes_checks_match_the_numeric_runtime() {
+        trocar_check::assert_matches_numeric::<dia10::Checks>("robots/dia10_like_zy.toml", 300);
     }
 }

@@ -1,6 +1,7 @@
 //! The attribute's top-level keys.
 
 use super::errors::Errors;
+use crate::emit::checks::ChecksGate;
 use crate::emit::Scalar;
 use proc_macro2::{Span, TokenStream};
 use syn::parse::Parser;
@@ -10,7 +11,7 @@ use syn::{Expr, ExprLit, Lit, LitStr, Meta, MetaList, Token};
 
 /// Every key the attribute accepts (for "unknown key" messages).
 pub(crate) const KEYS: &str =
-    "preset, file, toml, real, module, name, params, joints, end_effector, constraint";
+    "preset, file, toml, real, module, checks, name, params, joints, end_effector, constraint";
 
 /// Where the description comes from.
 pub(crate) enum Source {
@@ -38,6 +39,8 @@ pub(crate) struct Attr {
     pub source: Source,
     pub real: Scalar,
     pub module: Option<syn::Ident>,
+    /// `checks` (behind `#[cfg(test)]`) or `checks = "feature"`.
+    pub checks: Option<ChecksGate>,
 }
 
 /// The key of `meta` (`file` in `file = "..."`), empty for a path that is not one identifier.
@@ -90,6 +93,7 @@ pub(crate) fn parse(tokens: TokenStream) -> syn::Result<Attr> {
     let mut inline = InlineLists::default();
     let mut real = Scalar::Generic;
     let mut module = None;
+    let mut checks = None;
 
     fn set_source(
         source: &mut Option<(String, Span, Source)>,
@@ -163,6 +167,14 @@ pub(crate) fn parse(tokens: TokenStream) -> syn::Result<Attr> {
                     }
                 }
             }
+            "checks" => match meta {
+                Meta::Path(_) => checks = Some(ChecksGate::Test),
+                _ => {
+                    if let Some(s) = string(meta, &mut errors) {
+                        checks = Some(ChecksGate::Feature(s.value()));
+                    }
+                }
+            },
             "name" | "params" | "joints" | "end_effector" | "constraint" => {
                 inline.first.get_or_insert(span);
                 match key.as_str() {
@@ -219,5 +231,6 @@ pub(crate) fn parse(tokens: TokenStream) -> syn::Result<Attr> {
         source: source.expect("checked above"),
         real,
         module,
+        checks,
     })
 }

@@ -74,6 +74,11 @@ fn try_expand(attr: TokenStream, item: TokenStream) -> syn::Result<TokenStream> 
     let options = ModuleOptions {
         real: attr.real,
         module_name: Some(module.to_string()),
+        checks: attr.checks.clone(),
+        description_files: tracked
+            .as_ref()
+            .map(RobotDescription::files_read)
+            .unwrap_or_default(),
         ..ModuleOptions::default()
     };
     let tokens = generate_module(&desc, &options)
@@ -210,6 +215,19 @@ fn summary(attrs: &[syn::Attribute]) -> String {
 /// `&Params<T>`), so the `impl` is written in an anonymous constant that imports the module's
 /// types and constants. The struct cannot be named like one of those items when a signature
 /// uses it (`struct Params;`): the import would shadow it.
+/// Whether a module item is compiled only under a `#[cfg(...)]` (the module's `Checks`): the
+/// struct gets no alias or delegate for it.
+fn is_gated(item: &Item) -> bool {
+    let attrs = match item {
+        Item::Struct(s) => &s.attrs,
+        Item::Const(c) => &c.attrs,
+        Item::Fn(f) => &f.attrs,
+        Item::Impl(i) => &i.attrs,
+        _ => return false,
+    };
+    attrs.iter().any(|a| a.path().is_ident("cfg"))
+}
+
 fn delegates(strukt: &ItemStruct, module: &syn::ItemMod) -> syn::Result<TokenStream> {
     let ident = &strukt.ident;
     let vis = &strukt.vis;
@@ -219,6 +237,7 @@ fn delegates(strukt: &ItemStruct, module: &syn::ItemMod) -> syn::Result<TokenStr
     // like the struct is left out, so that `impl #ident` still names the struct.
     let (named_like_struct, imported): (Vec<&Ident>, Vec<&Ident>) = items
         .iter()
+        .filter(|i| !is_gated(i))
         .filter_map(|i| match i {
             Item::Struct(s) => Some(&s.ident),
             Item::Type(t) => Some(&t.ident),
@@ -229,7 +248,7 @@ fn delegates(strukt: &ItemStruct, module: &syn::ItemMod) -> syn::Result<TokenStr
     let mut assoc = Vec::new();
     let mut aliases = Vec::new();
     let mut signatures = Vec::new();
-    for item in items {
+    for item in items.iter().filter(|i| !is_gated(i)) {
         match item {
             Item::Const(c) => {
                 let ty = &c.ty;

@@ -13,6 +13,7 @@
 
 pub mod bridge;
 pub mod c_api;
+pub mod checks;
 pub mod controller;
 pub mod program;
 pub mod rust;

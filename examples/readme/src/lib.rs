@@ -24,3 +24,33 @@ pub fn step(
     let out = controller.step(&kinematics, &q, &reference, &rcm, dt)?; // joint rates, errors, w
     Ok(out)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::arm;
+    use trocar::nalgebra::{Matrix3, SMatrix, Vector3, Vector6};
+    use trocar_check::proptest::prelude::*;
+
+    #[test]
+    fn generated_matches_numeric() {
+        trocar_check::assert_matches_numeric::<arm::Checks>("robots/arm.toml", 2_000);
+    }
+
+    proptest! {
+        // Every column of J^r moves the constrained link by Λ# (or only the joints after it):
+        // the trocar, the origin of g_ir, has no lateral velocity (H Ad_{g_ir}^-1 Λ# = 0).
+        #[test]
+        fn the_trocar_has_no_lateral_velocity(
+            c in trocar_check::configurations(&trocar_check::description("robots/arm.toml").unwrap())
+        ) {
+            let p = arm::Params { l_a: c.params[0] as f32, l_b: c.params[1] as f32, l_8: c.params[2] as f32 };
+            let (r, o) = arm::constraint_frame(&p);
+            let g_ir = trocar::se3::Se3::new(Matrix3::from_fn(|i, j| r[j][i]), Vector3::from(o));
+            let h = SMatrix::<f32, { arm::R }, 6>::from_fn(|i, j| arm::constraint_selection(&p)[j][i]);
+            for column in arm::lambda_null_space(&p) {
+                let lateral = h * trocar::se3::Adjoint(g_ir).inverse_matrix() * Vector6::from(column);
+                prop_assert!(lateral.norm() < 1e-5, "lateral velocity {lateral}");
+            }
+        }
+    }
+}

@@ -32,12 +32,15 @@ pub mod reference;
 pub mod verify;
 
 pub use nalgebra::DMatrix;
+#[cfg(feature = "proptest")]
+pub use proptest;
 pub use trocar_model::catalogue::Function;
+pub use trocar_model::description::RobotDescription;
 pub use verify::{Candidate, Check, Report, Tolerances};
 
 use std::fmt;
 use std::path::Path;
-use trocar_model::description::{JointKind, RobotDescription};
+use trocar_model::description::JointKind;
 use trocar_model::numeric::RobotError;
 use trocar_model::Description;
 
@@ -155,8 +158,9 @@ impl fmt::Display for CheckError {
 
 impl std::error::Error for CheckError {}
 
-/// Loads the serial description at `path` (a file, or a shipped description's name).
-fn load(path: &str) -> Result<RobotDescription, CheckError> {
+/// Loads the serial description at `path` (a file, or a shipped description's name), e.g. for
+/// [`configurations`].
+pub fn description(path: &str) -> Result<RobotDescription, CheckError> {
     match Description::load(path).map_err(|e| CheckError::Description(e.to_string()))? {
         Description::Serial(d) => Ok(d),
         Description::Mechanism(m) => Err(CheckError::Mechanism(m.name)),
@@ -174,7 +178,7 @@ pub fn check<M: GeneratedModule>(
     samples: usize,
     seed: u64,
 ) -> Result<Report, CheckError> {
-    let description = load(path)?;
+    let description = description(path)?;
     if let (Some(module), true) = (M::DESCRIPTION_HASH, Path::new(path).exists()) {
         let file = description_hash(path).map_err(|e| CheckError::Description(e.to_string()))?;
         if file != module {
