@@ -197,3 +197,57 @@ fn runtime_path_is_used_everywhere() {
         "{err}"
     );
 }
+
+#[test]
+fn checks_are_gated_by_test_or_the_named_feature() {
+    let code = |b: &mut Builder| {
+        b.robot(robots().join("bidirectional-zy.toml"))
+            .generate()
+            .unwrap()["bidirectional_zy.rs"]
+            .clone()
+    };
+    let plain = code(&mut Builder::new());
+    assert!(!plain.contains("Checks"));
+    let test = code(Builder::new().checks(true));
+    assert!(test.contains(
+        "#[cfg(test)]\n    #[derive(Clone, Copy, Debug, Default)]\n    pub struct Checks;"
+    ));
+    assert!(test.contains("impl ::trocar_check::Candidate for Checks"));
+    // The hash of the description file the module was generated from.
+    let hash = trocar_check::description_hash(robots().join("bidirectional-zy.toml")).unwrap();
+    assert!(test.contains(&format!("{hash:#018x}")), "{hash:#018x}");
+    let feature = code(Builder::new().checks_feature("verify-generated"));
+    assert!(feature.contains("#[cfg(feature = \"verify-generated\")]\n    #[derive(Clone, Copy, Debug, Default)]\n    pub struct Checks;"));
+    assert!(!feature.contains("#[cfg(test)]"));
+    assert_eq!(code(Builder::new().checks(true).checks(false)), plain);
+}
+
+#[test]
+fn evidence_opens_the_module_with_the_check_and_guards_the_description() {
+    let path = robots().join("bidirectional-zy.toml");
+    let code =
+        Builder::new().robot(&path).evidence(50).generate().unwrap()["bidirectional_zy.rs"].clone();
+    let hash = trocar_check::description_hash(&path).unwrap();
+    let evidence = code.find("//! # Evidence").expect("an evidence section");
+    assert!(evidence < code.find("pub const N").unwrap());
+    for expected in [
+        format!("trocar-codegen {}", env!("CARGO_PKG_VERSION")),
+        format!("description hash `{hash:#018x}`"),
+        "50 random configurations and parameter values (seed 1)".to_string(),
+        "| jr: generated vs numeric | `constrained_jacobian` |".to_string(),
+        "| jb0i: generated vs finite differences of fk0i | `partial_body_jacobian` |".to_string(),
+        format!("pub const DESCRIPTION_HASH: u64 = {hash:#018x};"),
+        "assert!(\n            state == DESCRIPTION_HASH,".to_string(),
+    ] {
+        assert!(code.contains(&expected), "`{expected}` not in the module");
+    }
+    // A description given in memory has no file to guard.
+    let preset = RobotDescription::preset("bidirectional-zy").unwrap();
+    let code = Builder::new()
+        .description(preset)
+        .evidence(20)
+        .generate()
+        .unwrap()["bidirectional_zy.rs"]
+        .clone();
+    assert!(code.contains("//! # Evidence") && !code.contains("DESCRIPTION_HASH"));
+}

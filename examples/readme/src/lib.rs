@@ -1,6 +1,8 @@
-//! The README's "Using generated code" snippets, compiled as they are shown: `build.rs`
-//! generates the module of `robots/arm.toml` in `f32`, included below, and [`step`] runs the
-//! runtime controller on it. `tests/readme.rs` checks that the README shows exactly this code.
+//! The README's "Using generated code" and "Testing your generated code" snippets, compiled as
+//! they are shown: `build.rs` generates the module of `robots/arm.toml` in `f32` with its checks
+//! and evidence, included below, [`step`] runs the runtime controller on it, and the unit tests
+//! check the compiled module with `trocar_check`. `tests/readme.rs` checks that the README shows
+//! exactly this code.
 #![no_std]
 #![warn(missing_docs)]
 
@@ -44,6 +46,8 @@ mod tests {
             c in trocar_check::configurations(&trocar_check::description("robots/arm.toml").unwrap())
         ) {
             let p = arm::Params { l_a: c.params[0] as f32, l_b: c.params[1] as f32, l_8: c.params[2] as f32 };
+            // ... your property of the generated functions at c.q and p
+            // (here one of g_ir, H and Λ#, which depend on p alone)
             let (r, o) = arm::constraint_frame(&p);
             let g_ir = trocar::se3::Se3::new(Matrix3::from_fn(|i, j| r[j][i]), Vector3::from(o));
             let h = SMatrix::<f32, { arm::R }, 6>::from_fn(|i, j| arm::constraint_selection(&p)[j][i]);
