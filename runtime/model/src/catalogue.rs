@@ -4,7 +4,7 @@
 //!
 //! The generator names the functions it emits from here, its evaluator finds them from here, the
 //! command line maps `trocar eval --what` onto them and the numeric verification
-//! (`trocar_sim::verify`) asks a `Candidate` for them by [`Function`]: renaming a
+//! (`trocar_check::verify`) asks a `Candidate` for them by [`Function`]: renaming a
 //! function is one edit here, and removing one is a compile error wherever it is used.
 //!
 //! Serial robots (thesis numbering) get [`Function::SERIAL`]; those without a constraint only
