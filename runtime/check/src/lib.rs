@@ -356,6 +356,24 @@ mod tests {
         );
     }
 
+    #[cfg(feature = "proptest")]
+    proptest::proptest! {
+        /// The strategy draws within the ranges of the shipped Panda (URDF limits, one parameter).
+        #[test]
+        fn configurations_stay_within_the_ranges(
+            c in configurations(&RobotDescription::preset("panda-laparoscope").unwrap())
+        ) {
+            let d = RobotDescription::preset("panda-laparoscope").unwrap();
+            proptest::prop_assert_eq!((c.q.len(), c.params.len()), (7, 1));
+            for (q, j) in c.q.iter().zip(&d.joints) {
+                let [lo, hi] = j.limits.unwrap();
+                proptest::prop_assert!((lo..=hi).contains(q));
+            }
+            let l_a = d.parameters[0].value;
+            proptest::prop_assert!((0.8 * l_a..=1.2 * l_a).contains(&c.params[0]));
+        }
+    }
+
     #[test]
     fn ranges_use_limits_where_given_and_order_negative_parameters() {
         let d = RobotDescription::from_toml_str(
