@@ -1,4 +1,5 @@
-//! The modules of the shipped `bidirectional-zy` in `f64` and `f32` with their checks, and a copy
+//! The modules of the shipped `bidirectional-zy` in `f64` and `f32` with their checks (and, generic,
+//! `arm_feature` with its checks behind the feature `checks`), and a copy
 //! of each with one sign flipped in `constrained_jacobian` (entry (0, 0) of `J^r_0e`, `-(x1 * c8)`
 //! written `(x1 * c8)`), which the checks must reject.
 
@@ -26,6 +27,14 @@ fn main() {
         std::fs::write(out.join(format!("corrupted_{suffix}.rs")), corrupted)
             .expect("writing the corrupted module");
     }
+    // The checks behind the crate's feature `checks`, for its integration tests.
+    Builder::new()
+        .robot_as(ROBOT, "arm_feature")
+        .checks_feature("checks")
+        .out_dir(&out)
+        .emit_rerun_if_changed(false)
+        .compile()
+        .unwrap_or_else(|e| panic!("trocar-codegen: {e}"));
     println!("cargo:rerun-if-changed={ROBOT}");
     println!("cargo:rerun-if-changed=build.rs");
 }

@@ -1,6 +1,7 @@
 //! The shipped `bidirectional-zy` generated with checks in `f64` and `f32` (`arm_f64`, `arm_f32`),
 //! and copies of both with one sign flipped in `constrained_jacobian` (`corrupted_f64`,
-//! `corrupted_f32`; see `build.rs`). The tests show the checks pass on the faithful modules, and
+//! `corrupted_f32`; see `build.rs`), and `arm_feature`, generic, whose checks are behind the
+//! feature `checks` (`tests/feature.rs`). The tests show the checks pass on the faithful modules, and
 //! name the corrupted function, its worst configuration and the entry that differs.
 #![no_std]
 #![warn(missing_docs)]
@@ -9,6 +10,7 @@ include!(concat!(env!("OUT_DIR"), "/arm_f64.rs"));
 include!(concat!(env!("OUT_DIR"), "/arm_f32.rs"));
 include!(concat!(env!("OUT_DIR"), "/corrupted_f64.rs"));
 include!(concat!(env!("OUT_DIR"), "/corrupted_f32.rs"));
+include!(concat!(env!("OUT_DIR"), "/arm_feature.rs"));
 
 #[cfg(test)]
 mod tests {
