@@ -433,8 +433,12 @@ pub fn verify(
                         bound *= bound;
                     }
                     let scale = bound.max(1.0);
-                    let diff = (got[(0, 0)] - expected[(0, 0)]).abs();
-                    if got.shape() != (1, 1) || diff.is_nan() {
+                    let diff = if got.shape() == (1, 1) {
+                        (got[(0, 0)] - expected[(0, 0)]).abs()
+                    } else {
+                        f64::NAN
+                    };
+                    if diff.is_nan() {
                         (f64::INFINITY, scale)
                     } else {
                         (diff / scale, scale)
