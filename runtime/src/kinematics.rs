@@ -11,7 +11,7 @@
 //! Nothing here allocates. Joint `k` is 1-based in the thesis and 0-based in slices.
 
 use crate::se3::{Adjoint, Se3, Twist};
-use nalgebra::{RealField, SMatrix, SVector, Vector3};
+use nalgebra::{convert, Matrix3, RealField, SMatrix, SVector, Vector3};
 
 /// One joint of a serial chain, URDF-style: link frame `k` is joint `k`'s frame.
 ///
@@ -48,9 +48,25 @@ impl<T: RealField + Copy> Joint<T> {
     }
 
     /// The transform from the parent frame to this joint's frame: `origin · exp(ξ̂ θ)`.
+    ///
+    /// A revolute joint about a unit axis through its frame's origin (`ξ = (0, ω)`, `‖ω‖ = 1`,
+    /// every URDF revolute joint) takes Rodrigues' formula (2.7) with `sin θ`, `cos θ` directly:
+    /// `R_o exp(ω̂ θ) = R_o + sin θ R_o ω̂ + (1 − cos θ) R_o ω̂²`, `ω̂² = ω ωᵀ − I`, and keeps the
+    /// origin's translation; other joints the exponential (2.25), (2.27).
     #[inline]
     pub fn transform(&self, theta: T) -> Se3<T> {
-        self.origin.compose(&Se3::exp(&self.twist, theta))
+        let v = crate::se3::linear(&self.twist);
+        let w = crate::se3::angular(&self.twist);
+        let unit = (w.norm_squared() - T::one()).abs() <= T::default_epsilon() * convert(4.0);
+        if unit && v == Vector3::zeros() {
+            let (s, c) = theta.sin_cos();
+            let r_o = &self.origin.rotation;
+            let rw = r_o * crate::se3::hat(&w);
+            let rw2 = r_o * (w * w.transpose() - Matrix3::identity());
+            Se3::new(r_o + rw * s + rw2 * (T::one() - c), self.origin.translation)
+        } else {
+            self.origin.compose(&Se3::exp(&self.twist, theta))
+        }
     }
 }
 
@@ -253,6 +269,25 @@ impl<T: RealField + Copy, const N: usize> Chain<T, N> {
         matrix_from_columns(&cols)
     }
 
+    /// The frame `g_0i` of link `I` and the partial body Jacobian `J^B_0i` (3.13) in one sweep
+    /// over the joints (what [`Self::link_frame`] and [`Self::partial_body_jacobian`] give, at
+    /// the cost of one). Checked at compile time: `I ≤ N`.
+    #[inline]
+    pub fn frame_and_partial_body_jacobian<const I: usize>(
+        &self,
+        q: &SVector<T, N>,
+    ) -> (Se3<T>, SMatrix<T, 6, I>) {
+        const { assert!(I <= N, "the constrained link must be one of the chain's") };
+        let mut cols = [Twist::zeros(); I];
+        let g_0i = body_jacobian_columns(
+            &self.joints[..I],
+            &q.as_slice()[..I],
+            &Se3::identity(),
+            &mut cols,
+        );
+        (g_0i, matrix_from_columns(&cols))
+    }
+
     /// The split (3.12) `J^B_0e = [J^B_0e1 | J^B_0e2]` at link `I`: `J^B_0e1 = Ad_{g_ei} J^B_0i`
     /// (6×I) and `J^B_0e2(θ_j..θ_n)` (6×J). Checked at compile time: `I + J = N`.
     #[inline]
@@ -283,5 +318,80 @@ impl<T: RealField + Copy, const N: usize> Chain<T, N> {
             }),
             tool: Se3::from_f64(&chain.tool),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Matrix3, Rotation3, Unit};
+
+    fn origin() -> Se3<f64> {
+        Se3::new(
+            *Rotation3::from_euler_angles(0.3, -1.1, 0.7).matrix(),
+            Vector3::new(0.1, -0.2, 0.333),
+        )
+    }
+
+    /// A revolute joint's transform (Rodrigues with `sin θ`, `cos θ`) is the origin times a
+    /// rotation by `θ` about the axis, for axes along z and oblique, and the general exponential
+    /// agrees with it.
+    #[test]
+    fn revolute_transform_is_a_rotation_about_the_axis() {
+        let axes = [
+            Vector3::z(),
+            Vector3::new(1.0, -2.0, 0.5).normalize(),
+            -Vector3::x(),
+        ];
+        for axis in axes {
+            let joint = Joint::revolute(origin(), axis);
+            for k in 0..40 {
+                let theta = -3.0 + 0.157 * k as f64;
+                let g = joint.transform(theta);
+                let r = Rotation3::from_axis_angle(&Unit::new_normalize(axis), theta);
+                let want = origin().rotation * r.matrix();
+                assert!(
+                    (g.rotation - want).amax() < 1e-15,
+                    "axis {axis:?}, θ = {theta}"
+                );
+                assert_eq!(g.translation, origin().translation);
+                let general = origin().compose(&Se3::exp(&joint.twist, theta));
+                assert!((g.rotation - general.rotation).amax() < 1e-15);
+                assert!((g.translation - general.translation).amax() < 1e-15);
+            }
+        }
+        // A twist with a moment (an axis off the frame's origin) takes the general path.
+        let off = Joint::from_twist(
+            origin(),
+            crate::se3::twist(&Vector3::new(0.0, 0.2, 0.0), &Vector3::z()),
+        );
+        let g = off.transform(0.4);
+        let general = origin().compose(&Se3::exp(&off.twist, 0.4));
+        assert_eq!(g.rotation, general.rotation);
+        assert_eq!(g.translation, general.translation);
+        assert!((g.rotation - Matrix3::identity()).amax() > 0.1);
+    }
+
+    /// One sweep gives the frame of [`Chain::link_frame`] and the Jacobian of
+    /// [`Chain::partial_body_jacobian`].
+    #[test]
+    fn frame_and_partial_body_jacobian_match_the_two_calls() {
+        let joints: [Joint<f64>; 4] = core::array::from_fn(|k| {
+            let axis = Vector3::new(k as f64 - 1.0, 0.5, 1.0).normalize();
+            Joint::revolute(
+                Se3::new(
+                    *Rotation3::from_euler_angles(0.2 * k as f64, 0.1, -0.3).matrix(),
+                    Vector3::new(0.0, 0.1, 0.3),
+                ),
+                axis,
+            )
+        });
+        let chain = Chain::new(joints, origin());
+        let q = SVector::<f64, 4>::new(0.3, -1.2, 2.0, 0.7);
+        let (g, j): (_, SMatrix<f64, 6, 3>) = chain.frame_and_partial_body_jacobian::<3>(&q);
+        let g2 = chain.link_frame(3, &q);
+        assert!((g.rotation - g2.rotation).amax() < 1e-15);
+        assert!((g.translation - g2.translation).amax() < 1e-15);
+        assert!((j - chain.partial_body_jacobian::<3>(&q)).amax() < 1e-15);
     }
 }

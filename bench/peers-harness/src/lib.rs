@@ -754,7 +754,7 @@ pub mod numeric {
         Bi(Chain<f64, 8>, Constraint<f64, 2>),
         /// dia10_like zy.
         Dia(Chain<f64, 8>, Constraint<f64, 2>),
-        /// Panda, F_i of panda-laparoscope: `link_frame(7)` + `partial_body_jacobian::<7>`.
+        /// Panda, F_i of panda-laparoscope: `frame_and_partial_body_jacobian::<7>` (g_0i, J^B_0i).
         PandaI(Chain<f64, 7>),
         /// A generic robot (oblique7, panda_rcm): 7 joints, constraint on link 6 with r = 2.
         Generic(Chain<f64, 7>, Constraint<f64, 2>),
@@ -855,8 +855,8 @@ pub mod numeric {
                 }
                 Numeric::PandaI(chain) => {
                     let q7 = SVector::<f64, 7>::from_column_slice(&q[..7]);
-                    let g = chain.link_frame(7, &q7);
-                    let jb: SMatrix<f64, 6, 7> = chain.partial_body_jacobian::<7>(&q7);
+                    let (g, jb): (_, SMatrix<f64, 6, 7>) =
+                        chain.frame_and_partial_body_jacobian::<7>(&q7);
                     out[..9].copy_from_slice(g.rotation.as_slice());
                     out[9..12].copy_from_slice(g.translation.as_slice());
                     out[12..54].copy_from_slice(jb.as_slice());

@@ -236,11 +236,12 @@ where
         c.set_frame(self.shaft.frame(l_a))
             .map_err(|_| ControlError::Kinematics)?;
         let (jr, jc) = c.constrained_jacobians::<N, M>(&self.chain, q);
+        let (g_0i, jb0i) = self.chain.frame_and_partial_body_jacobian::<I>(q);
         Ok(ConstrainedState {
             g_0e: self.chain.forward_kinematics(q),
-            g_0i: self.chain.link_frame(I, q),
+            g_0i,
             jr,
-            jb0i: self.chain.partial_body_jacobian::<I>(q),
+            jb0i,
             jc,
             lambda_sharp: c.lambda_null_space::<K>(),
             lambda_pinv: *c.lambda_pinv(),
