@@ -109,9 +109,13 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
                         q0,
                         trocar,
                         csv,
+                        csv_rows: args::csv_rows(every, dt),
                         plot,
-                        animate,
-                        snapshot,
+                        views: commands::simulate::ArmViews {
+                            animate,
+                            snapshot,
+                            snapshot_times,
+                        },
                     },
                 ),
                 None => commands::simulate::run(

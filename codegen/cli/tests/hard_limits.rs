@@ -128,8 +128,9 @@ fn dls_exceeds_a_limit_and_the_qp_keeps_every_one() {
         DEPTH[1]
     );
 
-    // The trocar is held over the whole run.
-    let (drift, vx, vz) = (qp.col("rcm_drift"), qp.col("vr_x"), qp.col("vr_z"));
+    // The trocar is held over the whole run (the lateral axes of the Panda's shaft, along z_r,
+    // are x_r and y_r).
+    let (drift, vx, vz) = (qp.col("rcm_drift"), qp.col("vr_x"), qp.col("vr_y"));
     let max_drift = qp.rows.iter().map(|r| r[drift]).fold(0.0, f64::max);
     let max_lateral = qp
         .rows

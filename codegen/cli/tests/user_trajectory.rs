@@ -203,3 +203,114 @@ fn bad_trajectories_name_the_file_row_and_column_and_write_nothing() {
     assert!(err.contains("--q0 q1,...,q7"), "{err}");
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// The UR5 example's start configuration `(0, −π/2, π/2, −π/2, −π/2, 0)`: the instrument
+/// points down.
+const UR5_Q0: &str =
+    "0,-1.5707963267948966,1.5707963267948966,-1.5707963267948966,-1.5707963267948966,0";
+
+/// The `<limit lower upper>` of every movable joint of a URDF, read from its text.
+fn urdf_limits(path: &str) -> Vec<[f64; 2]> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let attribute = |tag: &str, name: &str| -> f64 {
+        let at = tag.find(&format!("{name}=\"")).unwrap() + name.len() + 2;
+        tag[at..at + tag[at..].find('"').unwrap()].parse().unwrap()
+    };
+    text.split("<joint ")
+        .skip(1)
+        .filter(|j| !j.contains("type=\"fixed\""))
+        .map(|j| {
+            let limit = &j[j.find("<limit").unwrap()..];
+            let limit = &limit[..limit.find("/>").unwrap()];
+            [attribute(limit, "lower"), attribute(limit, "upper")]
+        })
+        .collect()
+}
+
+/// A user's UR5 description (chain from its URDF, a 0.35 m shaft through a trocar on the last
+/// link) along the shipped 10 s circle: the run holds the trocar, follows the path, keeps every
+/// joint inside its URDF range, and draws the same figure, still and animation as a scenario.
+#[test]
+fn ur5_follows_the_example_circle_and_is_drawn() {
+    let d = dir("ur5");
+    let [csv, plot, gif, still] = ["run.csv", "run.png", "run.gif", "still.svg"].map(|f| d.join(f));
+    let started = std::time::Instant::now();
+    let (code, _, err) = trocar(&[
+        "simulate",
+        "examples/robots/ur5_trocar.toml",
+        "--trajectory",
+        "examples/trajectories/ur5-circle.csv",
+        "--q0",
+        UR5_Q0,
+        "--csv",
+        csv.to_str().unwrap(),
+        "--plot",
+        plot.to_str().unwrap(),
+        "--animate",
+        gif.to_str().unwrap(),
+        "--snapshot",
+        still.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    eprintln!("ur5 run with its figures: {:?}", started.elapsed());
+    for word in [
+        "max tip error after the first second",
+        "max drift",
+        "max lateral velocity",
+        "closest approach to a joint limit",
+    ] {
+        assert!(err.contains(word), "summary: {err}");
+    }
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let header = text.lines().next().unwrap();
+    assert!(
+        header.starts_with("t,ep_norm,eo_norm,vr_x,vr_y,rcm_drift,w_r,w_i,l_a,q1,")
+            && header.ends_with(",qd6"),
+        "{header}"
+    );
+    let t = column(&text, "t");
+    assert!((t[t.len() - 1] - 10.0).abs() < 1e-9, "the run lasts 10 s");
+    let drift = column(&text, "rcm_drift").into_iter().fold(0.0, f64::max);
+    assert!(drift <= 1e-4, "drift {drift} m");
+    let ep = column(&text, "ep_norm");
+    let after = t
+        .iter()
+        .zip(&ep)
+        .filter(|(t, _)| **t >= 2.0)
+        .map(|(_, e)| *e)
+        .fold(0.0, f64::max);
+    assert!(after <= 1e-3, "tip error after 2 s {after} m");
+    let limits = urdf_limits(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/robots/urdf/ur5.urdf"
+    ));
+    assert_eq!(limits.len(), 6);
+    let mut margin = f64::INFINITY;
+    for (k, [lo, hi]) in limits.iter().enumerate() {
+        for v in column(&text, &format!("q{}", k + 1)) {
+            margin = margin.min((v - lo).min(hi - v));
+        }
+    }
+    assert!(
+        margin >= 0.0,
+        "a joint left its URDF range by {} rad",
+        -margin
+    );
+    eprintln!("ur5: drift {drift:.3e} m, tip error after 2 s {after:.3e} m, joint-limit margin {margin:.4} rad");
+    // The figure and the still are images; the animation has the default 50 frames.
+    assert_eq!(&std::fs::read(&plot).unwrap()[1..4], b"PNG");
+    assert!(std::fs::read_to_string(&still)
+        .unwrap()
+        .contains("ur5_trocar along ur5-circle.csv"));
+    let mut options = gif::DecodeOptions::new();
+    options.set_color_output(gif::ColorOutput::Indexed);
+    let mut decoder = options
+        .read_info(std::fs::File::open(&gif).unwrap())
+        .unwrap();
+    let mut frames = 0;
+    while decoder.read_next_frame().unwrap().is_some() {
+        frames += 1;
+    }
+    assert_eq!(frames, 50);
+    let _ = std::fs::remove_dir_all(&d);
+}

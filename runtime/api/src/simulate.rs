@@ -65,6 +65,15 @@ enum AnyTrace {
 }
 
 impl SimulationRun {
+    /// A run of a serial robot from its trace and summary (how [`crate::simulate_trajectory`]
+    /// returns a user's run).
+    pub fn from_trace(trace: simulation::Trace, summary: String) -> Self {
+        SimulationRun {
+            summary,
+            trace: AnyTrace::Rcm(Box::new(trace)),
+        }
+    }
+
     /// The trace as named columns (`t` first), as the CSV has them.
     pub fn columns(&self) -> Vec<(String, Vec<f64>)> {
         match &self.trace {

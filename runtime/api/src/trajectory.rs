@@ -10,8 +10,10 @@
 use crate::controller::{ControllerOptions, RobotController, Target};
 use crate::error::{Error, Result};
 use crate::robot::Robot;
+use crate::simulate::SimulationRun;
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 use std::path::{Path, PathBuf};
+use trocar_sim::simulation::{ArmModel, Method, StepRecord, Trace};
 
 /// The largest trajectory file read (bytes): a path of 10⁵ rows fits many times over.
 pub const MAX_TRAJECTORY_BYTES: u64 = 64 << 20;
@@ -38,6 +40,9 @@ pub struct Trajectory {
     pub position: Vec<[f64; 3]>,
     /// Tip orientations.
     pub orientation: Orientation,
+    /// The line of the file each row was read from (1-based, the header's is the first line
+    /// that is not blank or a `#` comment), for messages; empty when not read from text.
+    pub lines: Vec<usize>,
 }
 
 impl Trajectory {
@@ -116,6 +121,7 @@ impl Trajectory {
             source: None,
             t: Vec::new(),
             position: Vec::new(),
+            lines: Vec::new(),
             orientation: match (roll, quat) {
                 (Some(_), _) => Orientation::Roll(Vec::new()),
                 (None, Some(_)) => Orientation::Quaternion(Vec::new()),
@@ -156,6 +162,7 @@ impl Trajectory {
                 }
             }
             out.t.push(t);
+            out.lines.push(row_no);
             out.position
                 .push([value(index[1])?, value(index[2])?, value(index[3])?]);
             match &mut out.orientation {
@@ -269,34 +276,9 @@ pub struct TrajectoryOptions {
     pub dt: f64,
 }
 
-/// The result of a user's simulation: columns and a summary.
-#[derive(Clone, Debug)]
-pub struct TrajectoryRun {
-    /// Named columns (`t` first), the columns of the shipped serial scenarios' CSV.
-    pub columns: Vec<(String, Vec<f64>)>,
-    /// Largest errors, drift, lateral velocity and the closest approach to a joint limit.
-    pub summary: String,
-}
-
-impl TrajectoryRun {
-    /// Writes the columns as CSV to `path`.
-    pub fn write_csv(&self, path: &Path) -> std::io::Result<()> {
-        use std::io::Write;
-        let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
-        let names: Vec<&str> = self.columns.iter().map(|(n, _)| n.as_str()).collect();
-        writeln!(w, "{}", names.join(","))?;
-        let rows = self.columns.first().map_or(0, |c| c.1.len());
-        for r in 0..rows {
-            let cells: Vec<String> = self
-                .columns
-                .iter()
-                .map(|(_, c)| format!("{:e}", c[r]))
-                .collect();
-            writeln!(w, "{}", cells.join(","))?;
-        }
-        w.flush()
-    }
-}
+/// The result of a user's simulation: the same run, trace, CSV, figures and views of the arm as
+/// a shipped scenario's ([`SimulationRun`]).
+pub type TrajectoryRun = SimulationRun;
 
 /// The distance (m) from the tip at `q0` to the trajectory's first point above which a path that
 /// starts at `t = 0` is refused (the controller would be asked for a jump).
@@ -304,9 +286,12 @@ pub const START_TOLERANCE: f64 = 1e-3;
 
 /// Runs `robot`'s constrained controller along `trajectory` from `options.q0` for the
 /// trajectory's duration, measuring everything from the numeric forward kinematics (not the
-/// controller's Jacobians): the columns `t, ep_norm, eo_norm, vr_<a>, vr_<b>, rcm_drift, w_r,
-/// w_i, l_a, q1..qn, qd1..qdn`, where `vr_<a>`, `vr_<b>` are the lateral velocity components of
-/// the link's point at the trocar along the constraint frame's two axes normal to the shaft.
+/// controller's Jacobians, [`ArmModel::measure`], as the shipped scenarios): the columns `t,
+/// ep_norm, eo_norm, vr_<a>, vr_<b>, rcm_drift, w_r, w_i, l_a, q1..qn, qd1..qdn`, where
+/// `vr_<a>`, `vr_<b>` are the lateral velocity components of the link's point at the trocar
+/// along the constraint frame's two axes normal to the shaft. The run draws the same figures and
+/// views of the arm as a scenario's ([`SimulationRun::write_plot`],
+/// [`SimulationRun::write_animation`], [`SimulationRun::write_snapshot`]).
 pub fn simulate_trajectory(
     robot: &Robot,
     trajectory: &Trajectory,
@@ -341,13 +326,13 @@ pub fn simulate_trajectory(
             .any(|row| row[3..].iter().any(|v| *v != 0.0));
         if rotational && !trajectory.has_orientation() {
             return Err(Error::Input(format!(
-                "{source}: the task of `{}` commands a rotation; give a `roll` column (rad about the tip's z) or `qw, qx, qy, qz`",
+                "{source}:1: the task of `{}` commands a rotation and the header has no column `roll` (rad about the tip's z) or `qw, qx, qy, qz`",
                 desc.name
             )));
         }
     } else if !trajectory.has_orientation() {
         return Err(Error::Input(format!(
-            "{source}: `{}` has no [task]: the whole tip pose is commanded; give a `roll` column or `qw, qx, qy, qz`",
+            "{source}:1: `{}` has no [task]: the whole tip pose is commanded and the header has no column `roll` or `qw, qx, qy, qz`",
             desc.name
         )));
     }
@@ -359,18 +344,14 @@ pub fn simulate_trajectory(
             desc.name
         ))
     })?;
-    let link = constraint.link;
-    let shaft = model.shaft().map_err(|e| Error::Robot {
+    let arm = ArmModel::from_model(model).map_err(|message| Error::Robot {
         file: desc.source.clone(),
-        message: e.to_string(),
+        message,
     })?;
-    let err = |e: trocar_sim::robot::RobotError| Error::Robot {
-        file: desc.source.clone(),
-        message: e.to_string(),
-    };
+    let shaft = *arm.shaft();
     let q0 = &options.q0;
-    let g0e = numeric.forward_kinematics(q0).map_err(err)?;
-    let g0i = numeric.link_frame(link, q0).map_err(err)?;
+    let g0e = arm.tip(q0);
+    let g0i = arm.link_frame(q0);
     // The constraint frame's origin at q0 with the nominal parameters, g_0i(q0) g_ir.
     let g_ir = model
         .constraint()
@@ -396,12 +377,12 @@ pub fn simulate_trajectory(
         if d > reach {
             return Err(Error::Input(format!(
                 "{source}:{}: columns x, y, z: the point is {d:.4} m from the trocar, farther than the instrument reaches ({reach:.4} m from the trocar at most)",
-                k + 2
+                trajectory.lines.get(k).copied().unwrap_or(k + 2)
             )));
         }
     }
     let mut ctrl = RobotController::new(robot, options.controller)?;
-    let axes = trocar_sim::simulation::lateral_axes(&shaft);
+    let axes = arm.lateral_axes();
     const NAMES: [&str; 3] = ["x_r", "y_r", "z_r"];
     let t_end = trajectory.t[trajectory.t.len() - 1];
     let steps = (t_end / options.dt).ceil() as usize;
@@ -412,13 +393,16 @@ pub fn simulate_trajectory(
         )));
     }
     let limits = robot.joint_limits();
-    let mut cols: Vec<Vec<f64>> = vec![Vec::with_capacity(steps + 1); 9 + 2 * n];
+    let mut rows = Vec::with_capacity(steps + 1);
     let mut q = q0.clone();
     let dv = vec![0.0; constraint.h.len()];
     let report = (steps / 100).max(1);
     for k in 0..=steps {
         let t = k as f64 * options.dt;
-        let target = trajectory.at(t, &g0e.rotation);
+        let target = match trajectory.orientation {
+            Orientation::Roll(_) => rolled_through(trajectory, t, &g0e, &trocar),
+            _ => trajectory.at(t, &g0e.rotation),
+        };
         let step = ctrl
             .step(
                 &q,
@@ -428,35 +412,23 @@ pub fn simulate_trajectory(
                 options.dt,
             )
             .map_err(|e| Error::Simulation(format!("t = {t:.3} s: {e}")))?;
-        let q_next: Vec<f64> = q
-            .iter()
-            .zip(&step.qd)
-            .map(|(a, b)| a + b * options.dt)
-            .collect();
-        let g_e = numeric.forward_kinematics(&q).map_err(err)?;
-        let g_i = numeric.link_frame(link, &q).map_err(err)?;
-        let g_next = numeric.link_frame(link, &q_next).map_err(err)?;
-        let l_a = shaft.offset(&g_i, &trocar);
-        let g_r = shaft.constraint_pose(&g_i, l_a);
-        let m_next = shaft.constraint_pose(&g_next, l_a);
-        let v = g_r.rotation.transpose() * (m_next.translation - g_r.translation) / options.dt;
-        let drift = shaft.trocar_in_frame(&g_i, l_a, &trocar).norm();
-        let ep = (Vector3::from(target.position) - g_e.translation).norm();
-        let eo = match target.rotation {
-            Some(r) => {
-                trocar::control::orientation_error(&Matrix3::from_fn(|i, j| r[i][j]), &g_e.rotation)
-                    .eps
-                    .norm()
-            }
-            None => 0.0,
-        };
-        let row = [
-            t, ep, eo, v[axes[0]], v[axes[1]], drift, step.w_r, step.w_i, l_a,
-        ];
-        for (c, x) in cols.iter_mut().zip(row.iter().chain(&q).chain(&step.qd)) {
-            c.push(*x);
+        let rotation = target.rotation.map(|r| Matrix3::from_fn(|i, j| r[i][j]));
+        rows.push(arm.measure(&StepRecord {
+            t,
+            q: &q,
+            qd: &step.qd,
+            dt: options.dt,
+            trocar: &trocar,
+            position: &Vector3::from(target.position),
+            rotation: rotation.as_ref(),
+            w_r: step.w_r,
+            w_i: step.w_i,
+            kappa_r: step.kappa_r,
+            dv_cmd: [0.0, 0.0],
+        }));
+        for (a, b) in q.iter_mut().zip(&step.qd) {
+            *a += b * options.dt;
         }
-        q = q_next;
         if q.iter().any(|v| !v.is_finite()) {
             return Err(Error::Simulation(format!(
                 "t = {t:.3} s: the joints left the finite numbers"
@@ -467,41 +439,55 @@ pub fn simulate_trajectory(
         }
     }
     progress(1.0);
-    let mut names: Vec<String> = ["t", "ep_norm", "eo_norm"].map(String::from).to_vec();
-    names.push(format!("vr_{}", &NAMES[axes[0]][..1]));
-    names.push(format!("vr_{}", &NAMES[axes[1]][..1]));
-    names.extend(["rcm_drift", "w_r", "w_i", "l_a"].map(String::from));
-    names.extend((1..=n).map(|k| format!("q{k}")));
-    names.extend((1..=n).map(|k| format!("qd{k}")));
-    let col = |name: &str| &cols[names.iter().position(|x| x == name).unwrap_or(0)];
-    let after_1s = col("t")
-        .iter()
-        .zip(col("ep_norm"))
-        .filter(|(t, _)| **t >= 1.0)
-        .map(|(_, e)| *e)
-        .fold(0.0, f64::max);
-    let max = |name: &str| col(name).iter().map(|v| v.abs()).fold(0.0, f64::max);
-    let lateral = max(&names[3]).max(max(&names[4]));
+    let joint_limits: Option<Vec<[f64; 2]>> = limits.iter().copied().collect();
+    let speeds: Option<Vec<f64>> = desc.joints.iter().map(|j| j.speed_limit).collect();
+    let trace = Trace {
+        scenario: None,
+        title: format!("{} along {}", desc.name, file_name(&source)),
+        arm,
+        method: options.controller.method,
+        drift_correction: options.controller.kr != 0.0,
+        constrained_directions: constraint.h.len(),
+        dt: options.dt,
+        joints: n,
+        lateral_axes: [NAMES[axes[0]], NAMES[axes[1]]],
+        joint_limits,
+        speed_limits: speeds.filter(|_| options.controller.method == Method::Qp),
+        depth_limits: options
+            .controller
+            .depth_limits
+            .filter(|_| options.controller.method == Method::Qp),
+        rows,
+    };
+    let s = trace.summary();
+    // The closest approach over the joints that have limits (all or some of them).
     let margin = limits
         .iter()
         .enumerate()
         .filter_map(|(k, l)| {
             let [lo, hi] = (*l)?;
-            let qk = &cols[9 + k];
             Some(
-                qk.iter()
-                    .map(|v| (v - lo).min(hi - v))
+                trace
+                    .rows
+                    .iter()
+                    .map(|r| (r.q[k] - lo).min(hi - r.q[k]))
                     .fold(f64::INFINITY, f64::min),
             )
         })
         .fold(f64::INFINITY, f64::min);
     let summary = format!(
-        "`{}` along {source} ({:?}, {} steps of {} s): max tip error after the first second {after_1s:.3e} m, max drift {:.3e} m, max lateral velocity {lateral:.3e} m/s{}",
+        "`{}` along {source} ({:?}, {} steps of {} s): max tip error after the first second {:.3e} m, max drift {:.3e} m, max lateral velocity {:.3e} m/s{}",
         desc.name,
         options.controller.method,
         steps,
         options.dt,
-        max("rcm_drift"),
+        s.max_ep_after_1s,
+        s.max_drift,
+        trace
+            .rows
+            .iter()
+            .map(|r| r.vr[0].abs().max(r.vr[1].abs()))
+            .fold(0.0, f64::max),
         if margin.is_finite() {
             format!(
                 ", closest approach to a joint limit {margin:.4} rad{}",
@@ -511,8 +497,58 @@ pub fn simulate_trajectory(
             String::new()
         }
     );
-    Ok(TrajectoryRun {
-        columns: names.into_iter().zip(cols).collect(),
-        summary,
-    })
+    Ok(SimulationRun::from_trace(trace, summary))
+}
+
+/// The target at `t` of a trajectory that gives a roll: the orientation the trocar allows at the
+/// desired tip, rolled about the shaft — `R_0e(q0) Rz(roll)` turned by the smallest rotation
+/// that takes the direction from the trocar to the start tip onto the direction from the trocar
+/// to the desired tip (as the Panda scenario's reference, `trocar_sim::simulation::
+/// panda_reference`): the task commands the roll, and the tilt it does not command leaves no
+/// orientation error. The angular velocity is the central difference of that orientation
+/// (`h = 1e-6` s).
+fn rolled_through(
+    trajectory: &Trajectory,
+    t: f64,
+    g0: &trocar::se3::Se3<f64>,
+    trocar: &Vector3<f64>,
+) -> Target {
+    let rotation = |t: f64| -> Matrix3<f64> {
+        let target = trajectory.at(t, &g0.rotation);
+        let r = target
+            .rotation
+            .map_or(g0.rotation, |r| Matrix3::from_fn(|i, j| r[i][j]));
+        let (Some(a), Some(b)) = (
+            (g0.translation - trocar).try_normalize(1e-12),
+            (Vector3::from(target.position) - trocar).try_normalize(1e-12),
+        ) else {
+            return r;
+        };
+        let axis = a.cross(&b);
+        let sin = axis.norm();
+        if sin == 0.0 {
+            return r;
+        }
+        let align = Rotation3::from_axis_angle(
+            &nalgebra::Unit::new_unchecked(axis / sin),
+            sin.atan2(a.dot(&b)),
+        );
+        align.matrix() * r
+    };
+    let mut target = trajectory.at(t, &g0.rotation);
+    let r = rotation(t);
+    let h = 1e-6;
+    let omega = (rotation(t + h) - rotation(t - h)) / (2.0 * h) * r.transpose();
+    target.rotation = Some(std::array::from_fn(|i| std::array::from_fn(|j| r[(i, j)])));
+    target.angular_velocity = [
+        0.5 * (omega[(2, 1)] - omega[(1, 2)]),
+        0.5 * (omega[(0, 2)] - omega[(2, 0)]),
+        0.5 * (omega[(1, 0)] - omega[(0, 1)]),
+    ];
+    target
+}
+
+/// The last component of a path as written, for titles.
+fn file_name(path: &str) -> &str {
+    path.rsplit(['/', '\\']).next().unwrap_or(path)
 }

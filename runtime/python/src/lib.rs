@@ -576,7 +576,7 @@ fn simulate<'py>(
                 trocar_api::simulate_trajectory(robot, &t, &options, &mut |_| {})
             })
             .map_err(value_error)?
-            .columns
+            .columns()
         }
     };
     let out = PyDict::new(py);

@@ -236,7 +236,7 @@ fn panda_null_space_objective_keeps_joints_from_limits() {
     let objective = |cfg: &ScenarioConfig| {
         let trace = run(cfg, |_| {}).expect("simulation runs");
         let limits = trace.joint_limits.clone().expect("the URDF has limits");
-        let f = |q: &[f64; 8]| {
+        let f = |q: &[f64]| {
             -limits
                 .iter()
                 .zip(q)

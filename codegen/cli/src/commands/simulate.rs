@@ -121,37 +121,51 @@ pub(crate) fn run(
         let run = with_progress(&label, |progress| {
             sim::simulate(scenario, options, progress)
         })?;
-        let written = |option: &str, path: &Path, r: Result<(), String>| {
-            r.map_err(|e| outputs.explain(format!("{option} {}: {e}", path.display())))
-        };
-        if let Some(path) = csv {
-            written(
-                "--csv",
-                path,
-                run.write_csv(outputs.temporary(path), csv_rows),
-            )?;
-        }
-        if let Some(path) = plot {
-            written("--plot", path, run.write_plot(outputs.temporary(path)))?;
-        }
-        if let Some(path) = &views.snapshot {
-            written(
-                "--snapshot",
-                path,
-                run.write_snapshot(outputs.temporary(path), views.snapshot_times.as_deref()),
-            )?;
-        }
-        if let Some(path) = &views.animate {
-            let r = with_progress("animation", |progress| {
-                run.write_animation(outputs.temporary(path), progress)
-            });
-            written("--animate", path, r)?;
-        }
+        write_run(&outputs, &run, csv, csv_rows, plot, views)?;
         run.summary
     };
     outputs.commit()?;
     write_stderr(&format!("{summary}\n"));
     Ok(0)
+}
+
+/// Writes a finished run's outputs to the temporary files of `outputs` (committed by the
+/// caller): the CSV, the figures, the still and the animation of the arm.
+fn write_run(
+    outputs: &Outputs,
+    run: &SimulationRun,
+    csv: Option<&Path>,
+    csv_rows: CsvRows,
+    plot: Option<&Path>,
+    views: &ArmViews,
+) -> Result<(), CliError> {
+    let written = |option: &str, path: &Path, r: Result<(), String>| {
+        r.map_err(|e| outputs.explain(format!("{option} {}: {e}", path.display())))
+    };
+    if let Some(path) = csv {
+        written(
+            "--csv",
+            path,
+            run.write_csv(outputs.temporary(path), csv_rows),
+        )?;
+    }
+    if let Some(path) = plot {
+        written("--plot", path, run.write_plot(outputs.temporary(path)))?;
+    }
+    if let Some(path) = &views.snapshot {
+        written(
+            "--snapshot",
+            path,
+            run.write_snapshot(outputs.temporary(path), views.snapshot_times.as_deref()),
+        )?;
+    }
+    if let Some(path) = &views.animate {
+        let r = with_progress("animation", |progress| {
+            run.write_animation(outputs.temporary(path), progress)
+        });
+        written("--animate", path, r)?;
+    }
+    Ok(())
 }
 
 /// What `trocar simulate ROBOT --trajectory PATH.csv` is given besides the robot and the path.
@@ -167,29 +181,19 @@ pub(crate) struct UserRun {
     pub trocar: Option<Vec<f64>>,
     /// `--csv`.
     pub csv: Option<PathBuf>,
-    /// `--plot`, `--animate`, `--snapshot`: not drawn for a user's trajectory yet.
+    /// `--every`, `--dt`: the rows of `--csv`.
+    pub csv_rows: CsvRows,
+    /// `--plot`.
     pub plot: Option<PathBuf>,
-    /// See `plot`.
-    pub animate: Option<PathBuf>,
-    /// See `plot`.
-    pub snapshot: Option<PathBuf>,
+    /// `--animate`, `--snapshot`, `--snapshot-times`.
+    pub views: ArmViews,
 }
 
 /// Runs `trocar simulate ROBOT --trajectory PATH.csv`: the robot's constrained controller along
-/// the user's tip path ([`trocar_api::simulate_trajectory`]); the CSV is written whole once the
-/// run has succeeded, the summary goes to stderr.
+/// the user's tip path ([`trocar_api::simulate_trajectory`]); the CSV, the figures and the views
+/// of the arm are checked before the run and written whole once it has succeeded, the summary
+/// goes to stderr.
 pub(crate) fn run_trajectory(robot: &str, path: &Path, user: &UserRun) -> Result<i32, CliError> {
-    for (option, given) in [
-        ("--plot", user.plot.is_some()),
-        ("--animate", user.animate.is_some()),
-        ("--snapshot", user.snapshot.is_some()),
-    ] {
-        if given {
-            return Err(Error::Input(format!(
-                "{option}: the figures and views of the arm are drawn for the shipped scenarios;                  with --trajectory, write --csv and plot its columns"
-            )));
-        }
-    }
     // The files the command reads: the trajectory, the description and its URDF.
     let mut reads = vec![path.to_path_buf()];
     if Path::new(robot).exists() {
@@ -197,7 +201,23 @@ pub(crate) fn run_trajectory(robot: &str, path: &Path, user: &UserRun) -> Result
             robot,
         ));
     }
-    let outputs = Outputs::check(&[("--csv", user.csv.as_deref(), OutputKind::Data)], &reads)?;
+    let outputs = Outputs::check(
+        &[
+            ("--csv", user.csv.as_deref(), OutputKind::Data),
+            ("--plot", user.plot.as_deref(), OutputKind::Figure),
+            (
+                "--animate",
+                user.views.animate.as_deref(),
+                OutputKind::Animation,
+            ),
+            (
+                "--snapshot",
+                user.views.snapshot.as_deref(),
+                OutputKind::Figure,
+            ),
+        ],
+        &reads,
+    )?;
     let robot = trocar_api::Robot::load(robot)?;
     let trajectory = trocar_api::Trajectory::from_csv(path)?;
     let q0 = user.q0.clone().ok_or_else(|| {
@@ -247,13 +267,24 @@ pub(crate) fn run_trajectory(robot: &str, path: &Path, user: &UserRun) -> Result
         controller,
         dt: 0.002,
     };
+    if let (Some(times), Some(end)) = (&user.views.snapshot_times, trajectory.t.last()) {
+        if let Some(t) = times.iter().find(|t| !(0.0..=*end).contains(*t)) {
+            return Err(Error::Input(format!(
+                "--snapshot-times {t}: the trajectory runs from 0 to {end} s"
+            )));
+        }
+    }
     let run = with_progress("trajectory", |progress| {
         trocar_api::simulate_trajectory(&robot, &trajectory, &options, progress)
     })?;
-    if let Some(csv) = &user.csv {
-        run.write_csv(outputs.temporary(csv))
-            .map_err(|e| outputs.explain(format!("--csv {}: {e}", csv.display())))?;
-    }
+    write_run(
+        &outputs,
+        &run,
+        user.csv.as_deref(),
+        user.csv_rows,
+        user.plot.as_deref(),
+        &user.views,
+    )?;
     outputs.commit()?;
     write_stderr(&format!("{}\n", run.summary));
     Ok(0)

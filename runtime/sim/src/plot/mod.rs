@@ -161,11 +161,14 @@ fn check_comparison(traces: &[&Trace]) -> Result<(), PlotError> {
     let Some(first) = traces.first() else {
         return Err(PlotError("a comparison needs at least one run".into()));
     };
-    if let Some(other) = traces.iter().find(|t| t.scenario != first.scenario) {
+    if let Some(other) = traces
+        .iter()
+        .find(|t| t.scenario != first.scenario || t.title != first.title)
+    {
         return Err(PlotError(format!(
             "a comparison draws runs of one scenario (got {} and {})",
-            first.scenario.name(),
-            other.scenario.name()
+            first.scenario.map_or(first.title.as_str(), |s| s.name()),
+            other.scenario.map_or(other.title.as_str(), |s| s.name())
         )));
     }
     if traces
@@ -189,7 +192,7 @@ const TRACE_FONTS: Fonts = Fonts {
 fn figure_title(trace: &Trace, methods: &str) -> String {
     format!(
         "{} - {}, drift correction {}",
-        trace.scenario.title(),
+        trace.title,
         methods,
         if trace.drift_correction { "on" } else { "off" }
     )
@@ -557,6 +560,34 @@ where
     Ok(())
 }
 
+/// The most joints whose velocities get a line each in the figure of a trace; a robot with more
+/// gets the largest and the smallest joint velocity at each time.
+pub const MAX_JOINT_LINES: usize = 12;
+
+/// The joint drawn with `l_a` (0-based): q7 in a shipped scenario; in a user's run the joint
+/// that comes closest to its limit, or the last joint when the robot has no limits.
+fn drawn_joint(trace: &Trace) -> usize {
+    let n = trace.joints.max(1);
+    if trace.scenario.is_some() && n >= 7 {
+        return 6;
+    }
+    let Some(limits) = &trace.joint_limits else {
+        return n - 1;
+    };
+    (0..n.min(limits.len()))
+        .map(|k| {
+            let [lo, hi] = limits[k];
+            let margin = trace
+                .rows
+                .iter()
+                .map(|r| (r.q[k] - lo).min(hi - r.q[k]))
+                .fold(f64::INFINITY, f64::min);
+            (k, margin)
+        })
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map_or(n - 1, |(k, _)| k)
+}
+
 /// Draws the six panels of a trace on a drawing area.
 pub fn draw<DB: DrawingBackend>(
     trace: &Trace,
@@ -623,33 +654,56 @@ pub fn draw<DB: DrawingBackend>(
             ("w_i (J^B_0i)".into(), col(&|r| r.w_i)),
         ],
     )?;
-    // The limits the QP step keeps, as constant lines: l_a's bounds and q7's range with l_a
-    // and q7, the joint speed limits with the joint velocities.
+    // The limits the QP step keeps, as constant lines: l_a's bounds and the drawn joint's range
+    // with l_a and that joint, the joint speed limits with the joint velocities. The drawn
+    // joint is q7 in a shipped scenario (the reference arm's J^r is singular at q7 = 0);
+    // in a user's run, the joint that comes closest to its limit (the last joint when the
+    // robot has no limits), with its range.
     let flat = |v: f64| vec![v; t.len()];
-    let mut la_q7 = vec![
+    let joint = drawn_joint(trace);
+    let name = format!("q{}", joint + 1);
+    let mut la_q = vec![
         ("l_a (m)".into(), col(&|r| r.l_a)),
-        ("q7 (rad)".into(), col(&|r| r.q[6])),
+        (format!("{name} (rad)"), col(&|r| r.q[joint])),
     ];
     if let Some([lo, hi]) = trace.depth_limits {
-        la_q7.push((format!("l_max = {hi} m"), flat(hi)));
-        la_q7.push((format!("l_min = {lo} m"), flat(lo)));
+        la_q.push((format!("l_max = {hi} m"), flat(hi)));
+        la_q.push((format!("l_min = {lo} m"), flat(lo)));
     }
-    if trace.depth_limits.is_some() {
-        if let Some([lo, hi]) = trace.joint_limits.as_ref().and_then(|l| l.get(6).copied()) {
-            la_q7.push((format!("q7 max = {hi} rad"), flat(hi)));
-            la_q7.push((format!("q7 min = {lo} rad"), flat(lo)));
+    if trace.depth_limits.is_some() || trace.scenario.is_none() {
+        if let Some([lo, hi]) = trace
+            .joint_limits
+            .as_ref()
+            .and_then(|l| l.get(joint).copied())
+        {
+            la_q.push((format!("{name} max = {hi:.4} rad"), flat(hi)));
+            la_q.push((format!("{name} min = {lo:.4} rad"), flat(lo)));
         }
     }
     panel(
         &panels[3],
-        "(d) l_a and q7",
-        "l_a (m), q7 (rad)",
+        &format!("(d) l_a and {name}"),
+        &format!("l_a (m), {name} (rad)"),
         false,
-        la_q7,
+        la_q,
     )?;
-    let mut qd: Vec<(String, Vec<f64>)> = (0..trace.joints)
-        .map(|k| (format!("qd{}", k + 1), col(&|r| r.qd[k])))
-        .collect();
+    // One line a joint up to MAX_JOINT_LINES joints; beyond, the envelope over the joints.
+    let mut qd: Vec<(String, Vec<f64>)> = if trace.joints <= MAX_JOINT_LINES {
+        (0..trace.joints)
+            .map(|k| (format!("qd{}", k + 1), col(&|r| r.qd[k])))
+            .collect()
+    } else {
+        vec![
+            (
+                format!("max over the {} joints", trace.joints),
+                col(&|r| r.qd.iter().copied().fold(f64::NEG_INFINITY, f64::max)),
+            ),
+            (
+                format!("min over the {} joints", trace.joints),
+                col(&|r| r.qd.iter().copied().fold(f64::INFINITY, f64::min)),
+            ),
+        ]
+    };
     if let Some(speeds) = &trace.speed_limits {
         let mut distinct: Vec<f64> = speeds.clone();
         distinct.sort_by(f64::total_cmp);

@@ -5,22 +5,19 @@
 //! still image at chosen times ([`write_snapshot`], SVG or PNG) or as an animated GIF
 //! ([`write_animation`]).
 //!
-//! The robot is the scenario's own description (`Scenario::robot`), turned into the numeric
-//! model the simulation runs ([`NumericModel`]); the trocar marker is the point of the shaft at
+//! The robot is the one the trace ran ([`Trace::arm`]: a shipped scenario's robot or the
+//! description a user's trajectory drove, any number of joints); the reference tip path is drawn
+//! beside the tip's; the trocar marker is the point of the shaft at
 //! the trace's `l_a`, the point of the link nearest the tracked trocar (they are `rcm_drift`
 //! apart, the trace's measured drift).
 
 use super::{err, register_font, write_image, Figure, PlotError};
+pub use crate::simulation::ArmModel;
 use crate::simulation::{Trace, TraceRow};
 use nalgebra::Vector3;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
-use trocar::control::Shaft;
-use trocar::kinematics::{forward_kinematics, link_frames, Joint};
-use trocar::se3::Se3;
-use trocar_model::description::RobotDescription;
-use trocar_model::numeric::NumericModel;
 
 /// Size of a still image or an animation frame in pixels (two panels side by side).
 pub const VIEW_SIZE: (u32, u32) = (900, 470);
@@ -33,16 +30,6 @@ pub const FRAME_DELAY_MS: u32 = 120;
 
 /// Most points of the drawn tip path (the trace's rows are thinned evenly to at most this).
 const PATH_POINTS: usize = 1500;
-
-/// The geometry of a serial robot as drawn: joints, tool, the constrained link and its shaft.
-#[derive(Clone, Debug)]
-pub struct ArmModel {
-    joints: Vec<Joint<f64>>,
-    tool: Se3<f64>,
-    /// The constrained link `i` (1-based).
-    link: usize,
-    shaft: Shaft<f64>,
-}
 
 /// One drawn configuration of the arm, in base coordinates (m).
 #[derive(Clone, Debug, PartialEq)]
@@ -61,39 +48,6 @@ pub struct ArmPose {
 }
 
 impl ArmModel {
-    /// The robot of the scenario `trace` ran (its shipped description, nominal parameters).
-    pub fn for_trace(trace: &Trace) -> Result<Self, PlotError> {
-        let d = RobotDescription::preset(trace.scenario.robot()).map_err(err)?;
-        let model = NumericModel::<f64>::from_description(&d, &[]).map_err(err)?;
-        if model.dof() != trace.joints {
-            return Err(PlotError(format!(
-                "the robot {} has {} joints, the trace {}",
-                trace.scenario.robot(),
-                model.dof(),
-                trace.joints
-            )));
-        }
-        Self::from_model(&model)
-    }
-
-    /// From a numeric model with a constraint along a shaft.
-    pub fn from_model(model: &NumericModel<f64>) -> Result<Self, PlotError> {
-        let link = model
-            .constrained_link()
-            .ok_or_else(|| PlotError("the robot has no constrained link".into()))?;
-        Ok(ArmModel {
-            joints: model.joints().to_vec(),
-            tool: *model.tool(),
-            link,
-            shaft: model.shaft().map_err(err)?,
-        })
-    }
-
-    /// The number of joints.
-    pub fn dof(&self) -> usize {
-        self.joints.len()
-    }
-
     /// The arm at joint values `q` (the first [`ArmModel::dof`] entries are used) with the
     /// trocar at `l_a` along the shaft.
     ///
@@ -102,9 +56,8 @@ impl ArmModel {
     pub fn pose(&self, q: &[f64], l_a: f64) -> ArmPose {
         let n = self.joints.len();
         let q = &q[..n];
-        let mut frames = vec![Se3::identity(); n];
-        link_frames(&self.joints, q, &mut frames);
-        let tip = forward_kinematics(&self.joints, q, &self.tool).translation;
+        let frames = self.frames(q);
+        let tip = self.tip(q).translation;
         let mut points = Vec::with_capacity(n + 2);
         points.push(Vector3::zeros());
         points.extend(frames.iter().map(|g| g.translation));
@@ -132,24 +85,33 @@ impl ArmModel {
 }
 
 /// Everything drawn of a trace, computed once: the poses of the rows and the tip path.
-struct Scene {
+struct Scene<'a> {
     title: String,
-    model: ArmModel,
+    model: &'a ArmModel,
     /// Indices of the rows whose tips make the path, and the tips.
     path: Vec<(usize, Vector3<f64>)>,
+    /// The reference tip positions of the same rows.
+    reference: Vec<(usize, Vector3<f64>)>,
     /// Ranges of the oblique view (a cube: equal scales).
     cube: [(f64, f64); 3],
     /// Ranges of the top view near the trocar (`x`, `y`; equal scales on the panel).
     close: [(f64, f64); 2],
 }
 
-impl Scene {
-    fn new(trace: &Trace) -> Result<Self, PlotError> {
+impl<'a> Scene<'a> {
+    fn new(trace: &'a Trace) -> Result<Self, PlotError> {
         if trace.rows.is_empty() {
             return Err(PlotError("the trace has no rows".into()));
         }
         register_font()?;
-        let model = ArmModel::for_trace(trace)?;
+        let model = &trace.arm;
+        if model.dof() != trace.joints || trace.rows.iter().any(|r| r.q.len() != trace.joints) {
+            return Err(PlotError(format!(
+                "the robot has {} joints, the trace {}",
+                model.dof(),
+                trace.joints
+            )));
+        }
         let stride = trace.rows.len().div_ceil(PATH_POINTS).max(1);
         let mut path: Vec<(usize, Vector3<f64>)> = (0..trace.rows.len())
             .step_by(stride)
@@ -178,7 +140,11 @@ impl Scene {
                 grow(p, &mut clo, &mut chi);
             }
         }
-        for (_, p) in &path {
+        let reference: Vec<(usize, Vector3<f64>)> = path
+            .iter()
+            .map(|&(k, _)| (k, Vector3::from(trace.rows[k].reference)))
+            .collect();
+        for (_, p) in path.iter().chain(&reference) {
             grow(p, &mut lo, &mut hi);
             grow(p, &mut clo, &mut chi);
         }
@@ -189,13 +155,16 @@ impl Scene {
         let chalf = ((chi - clo).xy().amax() / 2.0 * 1.15).max(0.02);
         let close = [0, 1].map(|a| (ccentre[a] - chalf, ccentre[a] + chalf));
         Ok(Scene {
-            title: match trace.scenario.name() {
-                "panda-laparoscope" => "Panda laparoscope".to_string(),
-                "exp421" => "experiment 4.2.1, reference arm".to_string(),
-                s => format!("scenario {s}, reference arm"),
+            title: match trace.scenario.map(|s| s.name()) {
+                Some("panda-laparoscope") => "Panda laparoscope".to_string(),
+                Some("panda-laparoscope-limits") => "Panda laparoscope, limits".to_string(),
+                Some("exp421") => "experiment 4.2.1, reference arm".to_string(),
+                Some(s) => format!("scenario {s}, reference arm"),
+                None => trace.title.clone(),
             },
             model,
             path,
+            reference,
             cube,
             close,
         })
@@ -203,18 +172,30 @@ impl Scene {
 
     /// The tip path up to row `upto` (inclusive).
     fn path_until(&self, upto: usize) -> Vec<Vector3<f64>> {
-        self.path
-            .iter()
-            .take_while(|(k, _)| *k <= upto)
-            .map(|(_, p)| *p)
-            .collect()
+        until(&self.path, upto)
+    }
+
+    /// The reference path up to row `upto` (inclusive).
+    fn reference_until(&self, upto: usize) -> Vec<Vector3<f64>> {
+        until(&self.reference, upto)
     }
 }
+
+/// The points of `path` up to row `upto` (inclusive).
+fn until(path: &[(usize, Vector3<f64>)], upto: usize) -> Vec<Vector3<f64>> {
+    path.iter()
+        .take_while(|(k, _)| *k <= upto)
+        .map(|(_, p)| *p)
+        .collect()
+}
+
+impl Scene<'_> {}
 
 const ARM: RGBColor = RGBColor(60, 80, 120);
 const SHAFT: RGBColor = RGBColor(230, 120, 0);
 const TROCAR: RGBColor = RGBColor(200, 0, 0);
 const PATH: RGBColor = RGBColor(30, 150, 50);
+const REFERENCE: RGBColor = RGBColor(150, 60, 200);
 
 /// The row nearest to time `t`.
 fn row_at(trace: &Trace, t: f64) -> usize {
@@ -250,10 +231,13 @@ fn draw<DB: DrawingBackend>(
         .iter()
         .map(|&k| scene.model.pose_at(&trace.rows[k]))
         .collect();
-    let path = scene.path_until(last);
+    let paths = Paths {
+        tip: scene.path_until(last),
+        reference: scene.reference_until(last),
+    };
     let (left, right) = body.split_horizontally(w / 2);
-    oblique(scene, &poses, &path, &left)?;
-    top_view(scene, &poses, &path, &right)?;
+    oblique(scene, &poses, &paths, &left)?;
+    top_view(scene, &poses, &paths, &right)?;
     // The legend, in the colours of the drawing.
     let font = ("sans-serif", 14).into_font();
     let mut x = 12;
@@ -262,6 +246,7 @@ fn draw<DB: DrawingBackend>(
         ("instrument shaft", SHAFT),
         ("trocar", TROCAR),
         ("tip path", PATH),
+        ("reference", REFERENCE),
     ] {
         legend
             .draw(&PathElement::new(
@@ -272,7 +257,7 @@ fn draw<DB: DrawingBackend>(
         legend
             .draw(&Text::new(label, (x + 28, 4), font.clone()))
             .map_err(err)?;
-        x += 40 + 8 * label.len() as i32;
+        x += 36 + 8 * label.len() as i32;
     }
     if rows.len() > 1 {
         legend
@@ -297,12 +282,18 @@ fn fade(c: RGBColor, k: usize, n: usize) -> RGBColor {
     RGBColor(mix(c.0), mix(c.1), mix(c.2))
 }
 
+/// The tip's path and its reference, as far as drawn.
+struct Paths {
+    tip: Vec<Vector3<f64>>,
+    reference: Vec<Vector3<f64>>,
+}
+
 /// The oblique view of the whole arm. Plotters' 3-D charts have `y` up: the chart's
 /// `(x, y, z)` is the base's `(x, z, y)`, and the axes are named after the base's.
 fn oblique<DB: DrawingBackend>(
     scene: &Scene,
     poses: &[ArmPose],
-    path: &[Vector3<f64>],
+    paths: &Paths,
     area: &DrawingArea<DB, Shift>,
 ) -> Result<(), PlotError> {
     let [xr, yr, zr] = scene.cube;
@@ -348,7 +339,16 @@ fn oblique<DB: DrawingBackend>(
             .map_err(err)?;
     }
     chart
-        .draw_series(LineSeries::new(path.iter().map(c), PATH.stroke_width(2)))
+        .draw_series(LineSeries::new(
+            paths.reference.iter().map(c),
+            REFERENCE.stroke_width(1),
+        ))
+        .map_err(err)?;
+    chart
+        .draw_series(LineSeries::new(
+            paths.tip.iter().map(c),
+            PATH.stroke_width(2),
+        ))
         .map_err(err)?;
     let n = poses.len();
     for (k, pose) in poses.iter().enumerate() {
@@ -385,7 +385,7 @@ fn oblique<DB: DrawingBackend>(
 fn top_view<DB: DrawingBackend>(
     scene: &Scene,
     poses: &[ArmPose],
-    path: &[Vector3<f64>],
+    paths: &Paths,
     area: &DrawingArea<DB, Shift>,
 ) -> Result<(), PlotError> {
     let [xr, yr] = scene.close;
@@ -427,7 +427,10 @@ fn top_view<DB: DrawingBackend>(
             .collect::<Vec<_>>()
     };
     chart
-        .draw_series(clipped(path, PATH.stroke_width(2)))
+        .draw_series(clipped(&paths.reference, REFERENCE.stroke_width(1)))
+        .map_err(err)?;
+    chart
+        .draw_series(clipped(&paths.tip, PATH.stroke_width(2)))
         .map_err(err)?;
     let n = poses.len();
     for (k, pose) in poses.iter().enumerate() {
@@ -525,7 +528,7 @@ pub fn write_snapshot(
 
 /// A still of the arm at some rows of a trace ([`draw`]).
 struct Snapshot<'a> {
-    scene: &'a Scene,
+    scene: &'a Scene<'a>,
     trace: &'a Trace,
     rows: &'a [usize],
 }
@@ -575,6 +578,8 @@ mod tests {
     use super::*;
     use crate::simulation::{self, Scenario, ScenarioConfig, L_A0, Q0};
     use nalgebra::SVector;
+    use trocar_model::description::RobotDescription;
+    use trocar_model::numeric::NumericModel;
 
     fn short_run(scenario: Scenario, duration: f64) -> Trace {
         let mut config = ScenarioConfig::new(scenario);
@@ -590,6 +595,7 @@ mod tests {
         let d = RobotDescription::preset("dia10_like_zy").unwrap();
         let model =
             ArmModel::from_model(&NumericModel::from_description(&d, &[]).unwrap()).unwrap();
+        assert_eq!(model.dof(), 8);
         let q1 = 0.3_f64;
         let mut q = [0.0; 8];
         q[0] = q1;
@@ -632,7 +638,7 @@ mod tests {
     #[test]
     fn drawn_shaft_passes_through_the_fixed_trocar() {
         let trace = short_run(Scenario::S2, 2.0);
-        let model = ArmModel::for_trace(&trace).unwrap();
+        let model = &trace.arm;
         let d = RobotDescription::preset("dia10_like_zy").unwrap();
         let chain = NumericModel::<f64>::from_description(&d, &[])
             .unwrap()
@@ -649,7 +655,9 @@ mod tests {
             let pose = model.pose_at(row);
             assert!(to_segment(&trocar, &pose.shaft) < 1e-6, "t = {}", row.t);
             assert!((pose.trocar - trocar).norm() < 1e-6, "t = {}", row.t);
-            let tip = chain.forward_kinematics(&SVector::from(row.q)).translation;
+            let tip = chain
+                .forward_kinematics(&SVector::from_column_slice(&row.q))
+                .translation;
             assert!((pose.points.last().unwrap() - tip).norm() < 1e-12);
             assert_eq!(pose.tip, *pose.points.last().unwrap());
         }
@@ -659,7 +667,7 @@ mod tests {
     #[test]
     fn panda_shaft_reaches_the_tip_through_the_trocar() {
         let trace = short_run(Scenario::Panda, 0.5);
-        let model = ArmModel::for_trace(&trace).unwrap();
+        let model = &trace.arm;
         for row in trace.rows.iter().step_by(40) {
             let pose = model.pose_at(row);
             assert!((pose.shaft[1] - pose.tip).norm() < 1e-9);

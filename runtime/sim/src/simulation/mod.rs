@@ -26,9 +26,11 @@
 //! - `rcm_drift`: distance from the trocar point to the axis of link 6.
 //! - `ep_norm = ‖dp − p_0e‖`, `eo_norm = ‖ε̃‖` (vector part of `Q_d ⊗ Q⁻¹`).
 
+mod arm;
 mod scenario;
 mod trace;
 
+pub use arm::{ArmModel, StepRecord};
 pub use scenario::{
     panda_limits_reference, PANDA_DEPTH_LIMITS, PANDA_LIMITS_DURATION, PANDA_LIMITS_ROLL,
     PANDA_LIMITS_WITHDRAWAL,
@@ -42,10 +44,10 @@ pub use trace::{CsvRows, Summary, Trace, TraceRow, CSV_HEADER};
 
 use nalgebra::{Const, SVector, Vector3};
 use trocar::constraint::Constraint;
+use trocar::control::Reference;
 use trocar::control::{
-    self, ChainKinematics, Controller, ControllerConfig, HardLimits, NullSpaceObjective, Rcm, Shaft,
+    ChainKinematics, Controller, ControllerConfig, HardLimits, NullSpaceObjective, Rcm, Shaft,
 };
-use trocar::kinematics::Chain;
 use trocar::manipulability::SquareDim;
 use trocar_model::description::RobotDescription;
 use trocar_model::numeric::NumericModel;
@@ -59,8 +61,9 @@ pub fn run(config: &ScenarioConfig, progress: impl FnMut(f64)) -> Result<Trace, 
         .map_err(|e| SimulationError::Description(e.to_string()))?;
     let desc = |e: &dyn std::fmt::Display| SimulationError::Description(e.to_string());
     let robot = NumericModel::<f64>::from_description(&d, &[]).map_err(|e| desc(&e))?;
+    let arm = ArmModel::from_model(&robot).map_err(|e| desc(&e))?;
     if config.scenario.is_panda() {
-        return run_panda(config, &robot, progress);
+        return run_panda(config, &robot, arm, progress);
     }
     let chain = robot.to_chain::<8>().map_err(|e| desc(&e))?;
     if config.scenario.constrained_directions() == 1 {
@@ -68,13 +71,13 @@ pub fn run(config: &ScenarioConfig, progress: impl FnMut(f64)) -> Result<Trace, 
             chain,
             Constraint::<f64, 1>::thesis(6, L_A0).map_err(|e| desc(&e))?,
         );
-        run_arm::<1, 5, 7>(config, &kin, progress)
+        run_arm::<1, 5, 7>(config, &kin, arm, progress)
     } else {
         let kin = ChainKinematics::thesis(
             chain,
             Constraint::<f64, 2>::thesis(6, L_A0).map_err(|e| desc(&e))?,
         );
-        run_arm::<2, 4, 6>(config, &kin, progress)
+        run_arm::<2, 4, 6>(config, &kin, arm, progress)
     }
 }
 
@@ -83,40 +86,6 @@ pub const Q0: [f64; 8] = [0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
 
 /// `l_a` at `q0` (`docs/reference-robots.md`).
 pub const L_A0: f64 = 0.15;
-
-/// What is measured of the RCM at one step, from forward kinematics only.
-struct RcmMeasurement {
-    /// The trocar's offset along the shaft.
-    l_a: f64,
-    /// Distance from the trocar to the shaft's axis.
-    drift: f64,
-    /// Velocity over `[q, q_next]` of the link's material point at the trocar, in `F_r`.
-    velocity: Vector3<f64>,
-}
-
-/// Measures the RCM of link `link` moving along `shaft` over one step from `q` to `q_next`:
-/// the velocity of the material point at the trocar is its displacement over the step divided by
-/// `dt` (the net lateral motion of the tissue point; explicit Euler's chord error included, and
-/// the drift correction's velocity too).
-fn measure_rcm<const N: usize>(
-    chain: &Chain<f64, N>,
-    link: usize,
-    shaft: &Shaft<f64>,
-    q: &SVector<f64, N>,
-    q_next: &SVector<f64, N>,
-    trocar: &Vector3<f64>,
-    dt: f64,
-) -> RcmMeasurement {
-    let g = chain.link_frame(link, q);
-    let l_a = shaft.offset(&g, trocar);
-    let g_0r = shaft.constraint_pose(&g, l_a);
-    let g_next = shaft.constraint_pose(&chain.link_frame(link, q_next), l_a);
-    RcmMeasurement {
-        l_a,
-        drift: shaft.trocar_in_frame(&g, l_a, trocar).norm(),
-        velocity: g_0r.rotation.transpose() * (g_next.translation - g_0r.translation) / dt,
-    }
-}
 
 /// Names of the axes of `F_r`.
 const AXIS_NAMES: [&str; 3] = ["x_r", "y_r", "z_r"];
@@ -132,11 +101,40 @@ pub fn lateral_axes(shaft: &Shaft<f64>) -> [usize; 2] {
     }
 }
 
+/// The row of a scenario's step ([`ArmModel::measure`]); `controller` is `(w_r, w_i, κ_r)`.
+#[allow(clippy::too_many_arguments)]
+fn measured<const N: usize>(
+    arm: &ArmModel,
+    t: f64,
+    q: &SVector<f64, N>,
+    qd: &SVector<f64, N>,
+    dt: f64,
+    trocar: &Vector3<f64>,
+    reference: &Reference<f64>,
+    controller: (f64, f64, f64),
+    dv_cmd: [f64; 2],
+) -> TraceRow {
+    arm.measure(&StepRecord {
+        t,
+        q: q.as_slice(),
+        qd: qd.as_slice(),
+        dt,
+        trocar,
+        position: &reference.position,
+        rotation: Some(&reference.rotation),
+        w_r: controller.0,
+        w_i: controller.1,
+        kappa_r: controller.2,
+        dv_cmd,
+    })
+}
+
 /// Runs with the numeric runtime (`kin`) driving the controller, and forward kinematics of its
 /// chain measuring.
 fn run_arm<const R: usize, const K: usize, const M: usize>(
     config: &ScenarioConfig,
     kin: &ChainKinematics<f64, 8, R>,
+    arm: ArmModel,
     mut progress: impl FnMut(f64),
 ) -> Result<Trace, SimulationError>
 where
@@ -170,27 +168,18 @@ where
         let q_next = q + out.qd * dt;
 
         // Measurements from forward kinematics.
-        let g_0e = chain.forward_kinematics(&q);
         let g_0i = chain.link_frame(6, &q);
-        let m = measure_rcm(chain, 6, &kin.shaft, &q, &q_next, &trocar, dt);
-        let ep = reference.position - g_0e.translation;
-        let eq = control::orientation_error(&reference.rotation, &g_0e.rotation);
-        rows.push(TraceRow {
+        rows.push(measured(
+            &arm,
             t,
-            ep_norm: ep.norm(),
-            eo_norm: eq.eps.norm(),
-            vr: [m.velocity.x, m.velocity.z],
-            rcm_drift: m.drift,
-            w_r: out.w_r,
-            w_i: out.w_i,
-            l_a: m.l_a,
-            q: q.into(),
-            qd: out.qd.into(),
-            ep: (g_0e.rotation.transpose() * ep).into(),
-            eo: eq.eps.into(),
-            dv_cmd: [dv_all[0], if R == 2 { dv_all[1] } else { 0.0 }],
-            kappa_r: out.kappa_r,
-        });
+            &q,
+            &out.qd,
+            dt,
+            &trocar,
+            &reference,
+            (out.w_r, out.w_i, out.kappa_r),
+            [dv_all[0], if R == 2 { dv_all[1] } else { 0.0 }],
+        ));
 
         // Trocar motion: commanded lateral velocity in F_r(q_k); a slot along z_r when R = 1.
         let lateral = Vector3::new(dv_all[0], 0.0, if R == 2 { dv_all[1] } else { 0.0 });
@@ -208,7 +197,9 @@ where
     }
     progress(1.0);
     Ok(Trace {
-        scenario: config.scenario,
+        scenario: Some(config.scenario),
+        title: config.scenario.title().to_string(),
+        arm,
         method: config.method,
         drift_correction: config.drift_correction,
         constrained_directions: R,
@@ -228,6 +219,7 @@ where
 fn run_panda(
     config: &ScenarioConfig,
     robot: &NumericModel<f64>,
+    arm: ArmModel,
     mut progress: impl FnMut(f64),
 ) -> Result<Trace, SimulationError> {
     let desc = |e: &dyn std::fmt::Display| SimulationError::Description(e.to_string());
@@ -290,30 +282,17 @@ fn run_panda(
             .step(&kin, &q, &reference, &rcm, dt)
             .map_err(|e| SimulationError::Control { t, error: e })?;
         let q_next = q + out.qd * dt;
-        let g_0e = chain.forward_kinematics(&q);
-        let m = measure_rcm(chain, 7, &kin.shaft, &q, &q_next, &trocar, dt);
-        let ep = reference.position - g_0e.translation;
-        let eq = control::orientation_error(&reference.rotation, &g_0e.rotation);
-        let mut qa = [0.0; 8];
-        let mut qda = [0.0; 8];
-        qa[..7].copy_from_slice(q.as_slice());
-        qda[..7].copy_from_slice(out.qd.as_slice());
-        rows.push(TraceRow {
+        rows.push(measured(
+            &arm,
             t,
-            ep_norm: ep.norm(),
-            eo_norm: eq.eps.norm(),
-            vr: [m.velocity[axes[0]], m.velocity[axes[1]]],
-            rcm_drift: m.drift,
-            w_r: out.w_r,
-            w_i: out.w_i,
-            l_a: m.l_a,
-            q: qa,
-            qd: qda,
-            ep: (g_0e.rotation.transpose() * ep).into(),
-            eo: eq.eps.into(),
-            dv_cmd: [0.0, 0.0],
-            kappa_r: out.kappa_r,
-        });
+            &q,
+            &out.qd,
+            dt,
+            &trocar,
+            &reference,
+            (out.w_r, out.w_i, out.kappa_r),
+            [0.0, 0.0],
+        ));
         q = q_next;
         if k % report_every == 0 {
             progress(k as f64 / steps as f64);
@@ -321,7 +300,9 @@ fn run_panda(
     }
     progress(1.0);
     Ok(Trace {
-        scenario: config.scenario,
+        scenario: Some(config.scenario),
+        title: config.scenario.title().to_string(),
+        arm,
         method: config.method,
         drift_correction: config.drift_correction,
         constrained_directions: 2,

@@ -1,6 +1,6 @@
 //! The recorded simulation: one row per control step, CSV output and summary figures.
 
-use super::{Method, Scenario};
+use super::{ArmModel, Method, Scenario};
 use std::io::Write;
 use std::path::Path;
 
@@ -56,7 +56,7 @@ impl CsvRows {
 }
 
 /// One control step.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct TraceRow {
     /// Time (s).
     pub t: f64,
@@ -67,8 +67,8 @@ pub struct TraceRow {
     /// Lateral velocity of the link point at the trocar, in `F_r` (m/s), from finite
     /// differences of forward kinematics over `[t, t + dt]`: its components along the two axes
     /// of `F_r` normal to the shaft, in axis order (`(x_r, z_r)` on the reference arm, whose link
-    /// runs along `y`; `(x_r, y_r)` on the Panda's laparoscope, along `z`). The CSV names them
-    /// `vr_x`, `vr_z` for every robot.
+    /// runs along `y`; `(x_r, y_r)` on the Panda's laparoscope, along `z`), named in the CSV
+    /// after them ([`Trace::lateral_axes`]: `vr_x, vr_z`, `vr_x, vr_y`).
     pub vr: [f64; 2],
     /// Distance from the trocar point to the link axis (m).
     pub rcm_drift: f64,
@@ -78,10 +78,10 @@ pub struct TraceRow {
     pub w_i: f64,
     /// `l_a` (m).
     pub l_a: f64,
-    /// Joints (rad); the first [`Trace::joints`] entries are used.
-    pub q: [f64; 8],
-    /// Joint velocities (rad/s); the first [`Trace::joints`] entries are used.
-    pub qd: [f64; 8],
+    /// Joints (rad), [`Trace::joints`] values.
+    pub q: Vec<f64>,
+    /// Joint velocities (rad/s), [`Trace::joints`] values.
+    pub qd: Vec<f64>,
     /// Position error in the end-effector frame, `R_0eᵀ(dp − p)` (m).
     pub ep: [f64; 3],
     /// Orientation error `ε̃` (base coordinates).
@@ -90,13 +90,19 @@ pub struct TraceRow {
     pub dv_cmd: [f64; 2],
     /// Damping applied to `J^r_0e`.
     pub kappa_r: f64,
+    /// The tip's desired position `dp_0e` (base frame, m).
+    pub reference: [f64; 3],
 }
 
 /// A simulation run.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Trace {
-    /// The scenario.
-    pub scenario: Scenario,
+    /// The shipped scenario, `None` for a user's trajectory.
+    pub scenario: Option<Scenario>,
+    /// What ran, for the figures' titles: the scenario's title, or the robot and the path.
+    pub title: String,
+    /// The robot that ran (its geometry, for the views of the arm).
+    pub arm: ArmModel,
     /// The method.
     pub method: Method,
     /// Whether the drift correction was on.
@@ -105,7 +111,7 @@ pub struct Trace {
     pub constrained_directions: usize,
     /// Sample time (s).
     pub dt: f64,
-    /// Number of joints `n` (8 on the reference arm, 7 on the Panda).
+    /// Number of joints `n` (8 on the reference arm, 7 on the Panda; any other robot's).
     pub joints: usize,
     /// The axes of `F_r` of [`TraceRow::vr`]'s components: `["x_r", "z_r"]` on the reference
     /// arm, `["x_r", "y_r"]` on the Panda.
@@ -142,6 +148,8 @@ pub struct Summary {
     pub max_ep: f64,
     /// Largest `ep_norm` after 10 s (m).
     pub max_ep_after_10s: f64,
+    /// Largest `ep_norm` after the first second (m).
+    pub max_ep_after_1s: f64,
     /// Largest `eo_norm`.
     pub max_eo: f64,
     /// Largest `|θ̇_k|` over joints and time (rad/s).
@@ -150,7 +158,7 @@ pub struct Summary {
     pub min_w_r: f64,
     /// Smallest manipulability of `J^B_0i`.
     pub min_w_i: f64,
-    /// Smallest `|q7|` (rad).
+    /// Smallest `|q7|` (rad); infinite for a robot of fewer than seven joints.
     pub min_abs_q7: f64,
     /// Smallest distance of a joint to its nearest limit (rad; negative beyond a limit), when
     /// the robot has limits.
@@ -160,10 +168,13 @@ pub struct Summary {
 }
 
 impl Trace {
-    /// The CSV header: `t,ep_norm,eo_norm,vr_x,vr_z,rcm_drift,w_r,w_i,l_a`, then `q1..qn`,
-    /// `qd1..qdn` ([`CSV_HEADER`] on the reference arm).
+    /// The CSV header: `t,ep_norm,eo_norm`, the lateral velocities named after the axes of
+    /// `F_r` ([`Trace::lateral_axes`]: `vr_x,vr_z` on the reference arm, `vr_x,vr_y` on the
+    /// Panda), `rcm_drift,w_r,w_i,l_a`, then `q1..qn`, `qd1..qdn` ([`CSV_HEADER`] on the
+    /// reference arm).
     pub fn csv_header(&self) -> String {
-        let mut h = String::from("t,ep_norm,eo_norm,vr_x,vr_z,rcm_drift,w_r,w_i,l_a");
+        let [a, b] = self.lateral_axes.map(|axis| &axis[..1]);
+        let mut h = format!("t,ep_norm,eo_norm,vr_{a},vr_{b},rcm_drift,w_r,w_i,l_a");
         for prefix in ["q", "qd"] {
             for k in 1..=self.joints {
                 h += &format!(",{prefix}{k}");
@@ -186,8 +197,8 @@ impl Trace {
             r.w_i,
             r.l_a,
         ];
-        v.extend_from_slice(&r.q[..n]);
-        v.extend_from_slice(&r.qd[..n]);
+        v.extend_from_slice(&r.q[..n.min(r.q.len())]);
+        v.extend_from_slice(&r.qd[..n.min(r.qd.len())]);
         v
     }
 
@@ -270,11 +281,17 @@ impl Trace {
                 .filter(|r| r.t >= 10.0)
                 .map(|r| r.ep_norm)
                 .fold(0.0, f64::max),
+            max_ep_after_1s: self
+                .rows
+                .iter()
+                .filter(|r| r.t >= 1.0)
+                .map(|r| r.ep_norm)
+                .fold(0.0, f64::max),
             max_eo: max(&|r| r.eo_norm),
             peak_qd: max(&|r| r.qd.iter().fold(0.0, |a: f64, v| a.max(v.abs()))),
             min_w_r: min(&|r| r.w_r),
             min_w_i: min(&|r| r.w_i),
-            min_abs_q7: min(&|r| r.q[6].abs()),
+            min_abs_q7: min(&|r| r.q.get(6).map_or(f64::INFINITY, |q| q.abs())),
             min_limit_margin: self.joint_limits.as_ref().map(|limits| {
                 min(&|r| {
                     limits
