@@ -111,9 +111,10 @@ pub enum Command {
         json: bool,
     },
     /// Run one of the thesis's simulations (1, 2, 3, 4, exp421), the Panda laparoscope
-    /// (panda-laparoscope) or a closed-chain one.
+    /// (panda-laparoscope), a closed-chain one, or a robot along its own trajectory.
     Simulate {
-        /// Scenario name.
+        /// Scenario name, or a robot (shipped name or TOML description) with --trajectory or a
+        /// [simulation] section.
         scenario: String,
         /// Inverse used for J^r (default: the scenario's). `all` runs pinv, dls, fi and qp and
         /// draws one figure comparing them to --plot (serial scenarios; not with --csv,
@@ -150,27 +151,19 @@ pub enum Command {
         #[arg(long)]
         snapshot: Option<PathBuf>,
         /// Drive the robot SCENARIO names (a shipped robot or a TOML description) along this
-        /// tip path instead of running a shipped scenario: a CSV with a header, `t` (s,
+        /// tip path instead of running a shipped scenario (a description file whose
+        /// [simulation] section names a trajectory runs it without this flag): a CSV with a header, `t` (s,
         /// increasing), `x,y,z` (m, base frame) and, for a task that commands orientation,
         /// `roll` (rad about the tip's z, relative to q0) or `qw,qx,qy,qz`.
         #[arg(long, value_name = "PATH.csv")]
         trajectory: Option<PathBuf>,
-        /// With --trajectory: the start configuration, all joints, base first.
-        #[arg(
-            long,
-            value_delimiter = ',',
-            allow_hyphen_values = true,
-            requires = "trajectory"
-        )]
+        /// With a robot's own trajectory: the start configuration, all joints, base first
+        /// (default: the description's [simulation] q0).
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
         q0: Option<Vec<f64>>,
-        /// With --trajectory: the trocar point x,y,z (m, base frame); default: the constraint
-        /// frame's origin at q0.
-        #[arg(
-            long,
-            value_delimiter = ',',
-            allow_hyphen_values = true,
-            requires = "trajectory"
-        )]
+        /// With a robot's own trajectory: the trocar point x,y,z (m, base frame); default: the
+        /// description's [simulation] trocar, else the constraint frame's origin at q0.
+        #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
         trocar: Option<Vec<f64>>,
         /// Times (s) drawn by --snapshot, comma-separated (default: start, middle, end).
         #[arg(

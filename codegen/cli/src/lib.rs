@@ -6,6 +6,7 @@
 //! trocar verify ROBOT.toml [--samples N]
 //! trocar jacobian --urdf FILE.urdf --tip LINK --q ... [--frame body|spatial] [--json]
 //! trocar simulate SCENARIO [--method pinv|dls|fi|all] [--drift-correction on|off] [--csv OUT.csv] [--plot OUT.svg] [--animate OUT.gif] [--snapshot OUT.png]
+//! trocar simulate ROBOT.toml [--trajectory PATH.csv] [--q0 ...] [--trocar x,y,z] [--csv ...] [--plot ...] [--animate ...] [--snapshot ...]
 //! trocar preset unidirectional|bidirectional-zy|bidirectional-zx
 //! trocar list
 //! ```
@@ -99,10 +100,14 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
                 drift_correction: drift_correction == OnOff::On,
                 max_joint_speed,
             };
-            match trajectory {
-                Some(path) => commands::simulate::run_trajectory(
+            // A robot's own trajectory: given, or named by the description's [simulation].
+            let own = trajectory.is_some()
+                || (trocar_sim::simulation::Scenario::from_name(&scenario).is_err()
+                    && std::path::Path::new(&scenario).is_file());
+            if own {
+                commands::simulate::run_trajectory(
                     &scenario,
-                    &path,
+                    trajectory.as_deref(),
                     &commands::simulate::UserRun {
                         method,
                         options,
@@ -117,8 +122,14 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
                             snapshot_times,
                         },
                     },
-                ),
-                None => commands::simulate::run(
+                )
+            } else if q0.is_some() || trocar.is_some() {
+                Err(CliError::Input(format!(
+                    "{}: applies to a robot's own trajectory (--trajectory, or a description file with a [simulation] section); scenario `{scenario}` has its start and its trocar",
+                    if q0.is_some() { "--q0" } else { "--trocar" }
+                )))
+            } else {
+                commands::simulate::run(
                     &scenario,
                     method,
                     &options,
@@ -130,7 +141,7 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
                         snapshot,
                         snapshot_times,
                     },
-                ),
+                )
             }
         }
         Command::Preset { name } => commands::preset::run(&name),

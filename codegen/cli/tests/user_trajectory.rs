@@ -314,3 +314,123 @@ fn ur5_follows_the_example_circle_and_is_drawn() {
     assert_eq!(frames, 50);
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// The UR5 description with its `[simulation]` section replaced by `section`, written in `d`
+/// beside a copy of its URDF (the description names `urdf/ur5.urdf`).
+fn ur5_with_section(d: &std::path::Path, section: &str) -> std::path::PathBuf {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples");
+    let text = std::fs::read_to_string(format!("{root}/robots/ur5_trocar.toml")).unwrap();
+    let head = &text[..text.find("[simulation]").unwrap()];
+    std::fs::create_dir_all(d.join("urdf")).unwrap();
+    std::fs::copy(
+        format!("{root}/robots/urdf/ur5.urdf"),
+        d.join("urdf/ur5.urdf"),
+    )
+    .unwrap();
+    std::fs::copy(
+        format!("{root}/trajectories/ur5-circle.csv"),
+        d.join("circle.csv"),
+    )
+    .unwrap();
+    let path = d.join("arm.toml");
+    std::fs::write(&path, format!("{head}[simulation]\n{section}")).unwrap();
+    path
+}
+
+/// `trocar simulate my_arm.toml` runs the description's own `[simulation]`; the flags override
+/// it; a bad entry is refused with the file, the line and the field, and nothing is written.
+#[test]
+fn a_description_carries_its_own_scenario() {
+    let d = dir("section");
+    let q0 = format!("q0 = [{}]\n", UR5_Q0.replace(',', ", "));
+    let arm = ur5_with_section(
+        &d,
+        &format!("trajectory = \"circle.csv\"\n{q0}method = \"dls\"\n"),
+    );
+    let out = d.join("own.csv");
+    let (code, _, err) = trocar(&[
+        "simulate",
+        arm.to_str().unwrap(),
+        "--csv",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("circle.csv (Dls,"), "{err}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    let t = column(&text, "t");
+    assert!((t[t.len() - 1] - 10.0).abs() < 1e-9);
+    assert!(column(&text, "rcm_drift").iter().all(|v| *v <= 1e-4));
+
+    // A flag overrides the section: --method qp, and --q0 of the wrong length is refused as a
+    // flag (the section's q0 is not used).
+    let (code, _, err) = trocar(&[
+        "simulate",
+        arm.to_str().unwrap(),
+        "--method",
+        "qp",
+        "--csv",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("(Qp,"), "{err}");
+    let (code, _, err) = trocar(&["simulate", arm.to_str().unwrap(), "--q0", "0,0"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("--q0 has 2 values"), "{err}");
+
+    // Without a trajectory anywhere: how to give one.
+    let bare = ur5_with_section(&d.join("bare"), &q0);
+    let (code, _, err) = trocar(&["simulate", bare.to_str().unwrap()]);
+    assert_eq!(code, 1);
+    assert!(
+        err.contains("--trajectory PATH.csv") && err.contains("[simulation] section"),
+        "{err}"
+    );
+
+    // Bad entries: the file, the line (its first entry is on line 31) and the field.
+    let cases = [
+        (
+            "q0 = [0, 1]\n",
+            31,
+            "simulation.q0",
+            "2 values; the robot has 6 joints",
+        ),
+        (
+            "trajectory = \"circle.csv\"\nq0 = [0, nan, 0, 0, 0, 0]\n",
+            32,
+            "simulation.q0[1]",
+            "not finite",
+        ),
+        ("kp = -5\n", 31, "simulation.kp", "must be ≥ 0"),
+        (
+            "method = \"fast\"\n",
+            31,
+            "simulation.method",
+            "unknown method `fast`",
+        ),
+        (
+            "trocar = [0, 0, 2e6]\n",
+            31,
+            "simulation.trocar[2]",
+            "beyond",
+        ),
+        ("speed = 1\n", 31, "simulation.speed", "unknown key `speed`"),
+    ];
+    for (k, (section, line, field, words)) in cases.into_iter().enumerate() {
+        let arm = ur5_with_section(&d.join(format!("bad{k}")), section);
+        let out = d.join(format!("bad{k}.csv"));
+        let (code, _, err) = trocar(&[
+            "simulate",
+            arm.to_str().unwrap(),
+            "--csv",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 1, "{section}: {err}");
+        assert!(
+            err.contains(&format!("arm.toml:{line}:")) && err.contains(&format!("field `{field}`")),
+            "{section}: {err}"
+        );
+        assert!(err.contains(words), "{section}: {err}");
+        assert!(!out.exists(), "{section}: an output was written");
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -37,10 +37,11 @@ pub use evaluation::Evaluation;
 pub use robot::{urdf_jacobian, Evaluator, GeneratedCandidate, Robot, MAX_SAMPLES, TWIST};
 pub use simulate::{simulate, RcmOptions, SimulationRun, SpeedLimit};
 pub use trajectory::{
-    simulate_trajectory, Orientation, Trajectory, TrajectoryOptions, TrajectoryRun,
-    MAX_TRAJECTORY_BYTES, START_TOLERANCE,
+    run_options, simulate_robot, simulate_trajectory, simulation_section, Orientation, RunRequest,
+    Trajectory, TrajectoryOptions, TrajectoryRun, MAX_TRAJECTORY_BYTES, START_TOLERANCE,
 };
 pub use trocar_codegen::catalogue::Function;
+pub use trocar_model::description::SimulationDesc;
 pub use trocar_sim::simulation::{CsvRows, Method};
 
 /// The names of everything shipped, as the library and the command line accept them.

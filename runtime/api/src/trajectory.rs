@@ -13,6 +13,7 @@ use crate::robot::Robot;
 use crate::simulate::SimulationRun;
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 use std::path::{Path, PathBuf};
+use trocar_model::description::SimulationDesc;
 use trocar_sim::simulation::{ArmModel, Method, StepRecord, Trace};
 
 /// The largest trajectory file read (bytes): a path of 10⁵ rows fits many times over.
@@ -551,4 +552,146 @@ fn rolled_through(
 /// The last component of a path as written, for titles.
 fn file_name(path: &str) -> &str {
     path.rsplit(['/', '\\']).next().unwrap_or(path)
+}
+
+/// What the caller of [`simulate_robot`] gives (the command line's `--trajectory`, `--q0`,
+/// `--trocar`, `--method`, `--drift-correction off`, `--max-joint-speed`); each entry left
+/// `None` is taken from the description's `[simulation]` section
+/// ([`trocar_model::description::SimulationDesc`]), else from the defaults
+/// ([`ControllerOptions::default`], the trocar at the constraint frame's origin at `q0`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RunRequest {
+    /// The trajectory CSV.
+    pub trajectory: Option<PathBuf>,
+    /// The start configuration.
+    pub q0: Option<Vec<f64>>,
+    /// The trocar point (m, base frame).
+    pub trocar: Option<[f64; 3]>,
+    /// The inverse of the task Jacobian.
+    pub method: Option<Method>,
+    /// `Some(false)` turns the drift correction off (`K_r = 0`); `Some(true)` keeps it on (the
+    /// section's `kr`, else the default, when the section's is 0).
+    pub drift_correction: Option<bool>,
+    /// The joint speed limit.
+    pub max_joint_speed: Option<crate::SpeedLimit>,
+}
+
+/// The `[simulation]` section of `robot`'s description, when it has one: read from the file it
+/// was loaded from, or from the shipped text for a shipped name. Errors name the file, the line
+/// and the field.
+pub fn simulation_section(robot: &Robot) -> Result<Option<SimulationDesc>> {
+    let Some(desc) = robot.description() else {
+        return Ok(None);
+    };
+    let n = desc.joints.len();
+    let file = Path::new(robot.source());
+    if file.is_file() {
+        return Ok(SimulationDesc::from_toml_file(file, n)?);
+    }
+    match trocar_model::description::preset(robot.source()) {
+        Some(text) => Ok(SimulationDesc::from_toml_str(
+            text,
+            Some(Path::new(&format!("<preset {}>", robot.source()))),
+            n,
+        )?),
+        None => Ok(None),
+    }
+}
+
+/// Runs `robot` along a user's trajectory with what the caller gives, completed from the
+/// description's `[simulation]` section ([`RunRequest`]): `trocar simulate my_arm.toml` runs
+/// the description's own scenario, and every flag overrides its entry. Errors say how to give
+/// what is missing (a trajectory, `q0`).
+pub fn simulate_robot(
+    robot: &Robot,
+    request: &RunRequest,
+    progress: &mut dyn FnMut(f64),
+) -> Result<SimulationRun> {
+    let section = simulation_section(robot)?.unwrap_or_default();
+    let (trajectory, options) = run_options(robot, request, &section)?;
+    let trajectory = Trajectory::from_csv(&trajectory)?;
+    simulate_trajectory(robot, &trajectory, &options, progress)
+}
+
+/// The trajectory file and the options of a run: the caller's values, else the section's, else
+/// the defaults.
+pub fn run_options(
+    robot: &Robot,
+    request: &RunRequest,
+    section: &SimulationDesc,
+) -> Result<(PathBuf, TrajectoryOptions)> {
+    let where_ = |key: &str| {
+        format!(
+            "`{key} = ...` in the [simulation] section of {}",
+            robot
+                .description()
+                .and_then(|d| d.source.as_ref())
+                .map_or_else(
+                    || "the description".to_string(),
+                    |p| p.display().to_string()
+                )
+        )
+    };
+    let trajectory = request
+        .trajectory
+        .clone()
+        .or_else(|| section.trajectory.clone())
+        .ok_or_else(|| {
+            Error::Input(format!(
+                "`{}` runs along a trajectory: give it with --trajectory PATH.csv or as {}",
+                robot.name(),
+                where_("trajectory")
+            ))
+        })?;
+    let q0 = request
+        .q0
+        .clone()
+        .or_else(|| section.q0.clone())
+        .ok_or_else(|| {
+            Error::Input(format!(
+                "--trajectory: give the start configuration with --q0 q1,...,q{} (all joints of `{}`, base first) or as {}",
+                robot.dof(),
+                robot.name(),
+                where_("q0")
+            ))
+        })?;
+    let mut controller = ControllerOptions::default();
+    if let Some(m) = section.method.as_deref() {
+        controller.method = Method::from_name(m).unwrap_or(controller.method);
+    }
+    let set = |slot: &mut f64, v: Option<f64>| {
+        if let Some(v) = v {
+            *slot = v;
+        }
+    };
+    set(&mut controller.kp, section.kp);
+    set(&mut controller.ko, section.ko);
+    set(&mut controller.kr, section.kr);
+    set(&mut controller.dls_alpha0, section.dls_alpha0);
+    set(&mut controller.null_space_gain, section.null_space_gain);
+    if let Some(v) = section.max_joint_speed {
+        controller.max_joint_speed = Some(v);
+    }
+    if let Some(m) = request.method {
+        controller.method = m;
+    }
+    match request.drift_correction {
+        Some(false) => controller.kr = 0.0,
+        Some(true) if controller.kr == 0.0 => controller.kr = ControllerOptions::default().kr,
+        _ => {}
+    }
+    match request.max_joint_speed {
+        Some(crate::SpeedLimit::Unlimited) => controller.max_joint_speed = None,
+        Some(crate::SpeedLimit::At(v)) => controller.max_joint_speed = Some(v),
+        None => {}
+    }
+    Ok((
+        trajectory,
+        TrajectoryOptions {
+            q0,
+            trocar: request.trocar.or(section.trocar),
+            controller,
+            dt: 0.002,
+        },
+    ))
 }

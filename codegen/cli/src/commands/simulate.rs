@@ -189,16 +189,64 @@ pub(crate) struct UserRun {
     pub views: ArmViews,
 }
 
-/// Runs `trocar simulate ROBOT --trajectory PATH.csv`: the robot's constrained controller along
-/// the user's tip path ([`trocar_api::simulate_trajectory`]); the CSV, the figures and the views
+/// Runs `trocar simulate ROBOT --trajectory PATH.csv` (or `trocar simulate ROBOT.toml` when the
+/// description has a `[simulation]` section that names the path; the flags override the
+/// section): the robot's constrained controller along the user's tip path ([`trocar_api::simulate_trajectory`]); the CSV, the figures and the views
 /// of the arm are checked before the run and written whole once it has succeeded, the summary
 /// goes to stderr.
-pub(crate) fn run_trajectory(robot: &str, path: &Path, user: &UserRun) -> Result<i32, CliError> {
-    // The files the command reads: the trajectory, the description and its URDF.
-    let mut reads = vec![path.to_path_buf()];
-    if Path::new(robot).exists() {
+pub(crate) fn run_trajectory(
+    robot: &str,
+    path: Option<&Path>,
+    user: &UserRun,
+) -> Result<i32, CliError> {
+    let name = robot;
+    let robot = trocar_api::Robot::load(name)?;
+    if robot.description().is_none() {
+        return Err(Error::Unsupported(format!(
+            "`{name}` is a closed mechanism: a trajectory drives a serial robot's tip"
+        )));
+    }
+    let section = trocar_api::simulation_section(&robot)?.unwrap_or_default();
+    let trocar = match &user.trocar {
+        None => None,
+        Some(v) => {
+            let [x, y, z] = v.as_slice() else {
+                return Err(Error::Input(format!(
+                    "--trocar: three values x,y,z (m, base frame), got {}",
+                    v.len()
+                )));
+            };
+            if let Err((k, problem)) = trocar_model::validity::check_all(v) {
+                return Err(Error::Input(format!("--trocar: value {} {problem}", k + 1)));
+            }
+            Some([*x, *y, *z])
+        }
+    };
+    if user.method == Some(MethodArg::All) {
+        return Err(Error::Input(
+            "--method all compares the shipped scenarios; with --trajectory give one method".into(),
+        ));
+    }
+    let request = trocar_api::RunRequest {
+        trajectory: path.map(Path::to_path_buf),
+        q0: user.q0.clone(),
+        trocar,
+        method: user.method.and_then(MethodArg::method),
+        drift_correction: (!user.options.drift_correction).then_some(false),
+        max_joint_speed: user.options.max_joint_speed,
+    };
+    // The files the command reads: the trajectory, the description and its URDF; every output
+    // is checked against them before anything else is asked of the run.
+    let mut reads: Vec<PathBuf> = request
+        .trajectory
+        .iter()
+        .chain(&section.trajectory)
+        .take(1)
+        .cloned()
+        .collect();
+    if Path::new(name).exists() {
         reads.extend(trocar_model::description::RobotDescription::files_read(
-            robot,
+            name,
         ));
     }
     let outputs = Outputs::check(
@@ -218,55 +266,8 @@ pub(crate) fn run_trajectory(robot: &str, path: &Path, user: &UserRun) -> Result
         ],
         &reads,
     )?;
-    let robot = trocar_api::Robot::load(robot)?;
-    let trajectory = trocar_api::Trajectory::from_csv(path)?;
-    let q0 = user.q0.clone().ok_or_else(|| {
-        Error::Input(format!(
-            "--trajectory: give the start configuration with --q0 q1,...,q{} (all joints of `{}`, base first)",
-            robot.dof(),
-            robot.name()
-        ))
-    })?;
-    let trocar = match &user.trocar {
-        None => None,
-        Some(v) => {
-            let [x, y, z] = v.as_slice() else {
-                return Err(Error::Input(format!(
-                    "--trocar: three values x,y,z (m, base frame), got {}",
-                    v.len()
-                )));
-            };
-            if let Err((k, problem)) = trocar_model::validity::check_all(v) {
-                return Err(Error::Input(format!("--trocar: value {} {problem}", k + 1)));
-            }
-            Some([*x, *y, *z])
-        }
-    };
-    let mut controller = trocar_api::ControllerOptions::default();
-    match user.method {
-        Some(MethodArg::All) => {
-            return Err(Error::Input(
-                "--method all compares the shipped scenarios; with --trajectory give one method"
-                    .into(),
-            ))
-        }
-        Some(m) => controller.method = m.method().unwrap_or(controller.method),
-        None => {}
-    }
-    if !user.options.drift_correction {
-        controller.kr = 0.0;
-    }
-    match user.options.max_joint_speed {
-        Some(trocar_api::SpeedLimit::Unlimited) => controller.max_joint_speed = None,
-        Some(trocar_api::SpeedLimit::At(v)) => controller.max_joint_speed = Some(v),
-        None => {}
-    }
-    let options = trocar_api::TrajectoryOptions {
-        q0,
-        trocar,
-        controller,
-        dt: 0.002,
-    };
+    let (path, options) = trocar_api::run_options(&robot, &request, &section)?;
+    let trajectory = trocar_api::Trajectory::from_csv(&path)?;
     if let (Some(times), Some(end)) = (&user.views.snapshot_times, trajectory.t.last()) {
         if let Some(t) = times.iter().find(|t| !(0.0..=*end).contains(*t)) {
             return Err(Error::Input(format!(

@@ -33,6 +33,7 @@ mod locate;
 mod parse;
 mod presets;
 mod serialize;
+mod simulation;
 mod urdf;
 mod validate;
 
@@ -43,6 +44,7 @@ pub use crate::expr::Linear;
 pub const MAX_JOINTS: usize = 64;
 pub use error::{DescriptionError, MAX_FILE_BYTES};
 pub use presets::{preset, preset_names, PRESETS};
+pub use simulation::{SimulationDesc, SIMULATION_METHODS};
 pub use trocar::constraint::NullSpaceBasis;
 pub use validate::{
     admission_problems, admission_rank_problem, admit, AdmissionError, RANK_CONFIGURATIONS,

@@ -52,6 +52,9 @@ struct RawRobot {
     end_effector: Option<RawFrame>,
     constraint: Option<RawConstraint>,
     task: Option<RawTask>,
+    /// Read on its own ([`super::SimulationDesc`]); a table here.
+    #[allow(dead_code)]
+    simulation: Option<toml::Table>,
 }
 
 #[derive(Deserialize)]
@@ -129,13 +132,13 @@ struct RawConstraint {
 /// The axis letters of `H` rows, in twist order `(v, ω)`.
 pub(crate) const AXIS_LETTERS: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];
 
-struct Ctx<'a> {
-    file: Option<&'a Path>,
-    locator: &'a Locator<'a>,
+pub(crate) struct Ctx<'a> {
+    pub(crate) file: Option<&'a Path>,
+    pub(crate) locator: &'a Locator<'a>,
 }
 
 impl Ctx<'_> {
-    fn err(&self, field: &str, message: impl Into<String>) -> DescriptionError {
+    pub(crate) fn err(&self, field: &str, message: impl Into<String>) -> DescriptionError {
         let loc = self.locator.locate(field);
         DescriptionError {
             file: self.file.map(Path::to_path_buf),
@@ -313,6 +316,12 @@ fn table_phrase(table: &str) -> String {
     } else {
         format!("in table `{table}`")
     }
+}
+
+/// A serde/TOML error as a description error ([`toml_error`]), for the other readers of a
+/// description's text.
+pub(crate) fn toml_error_of(ctx: &Ctx, text: &str, e: &toml::de::Error) -> DescriptionError {
+    toml_error(ctx, text, e)
 }
 
 /// A serde/TOML error as a description error: the field found from the error's span, a message

@@ -338,16 +338,17 @@ fn oblique<DB: DrawingBackend>(
             .draw_series(std::iter::once(Text::new(label, at, name.clone())))
             .map_err(err)?;
     }
+    // The reference over the tip's path, thinner: where the tip follows it, a line within.
     chart
         .draw_series(LineSeries::new(
-            paths.reference.iter().map(c),
-            REFERENCE.stroke_width(1),
+            paths.tip.iter().map(c),
+            PATH.stroke_width(3),
         ))
         .map_err(err)?;
     chart
         .draw_series(LineSeries::new(
-            paths.tip.iter().map(c),
-            PATH.stroke_width(2),
+            paths.reference.iter().map(c),
+            REFERENCE.stroke_width(1),
         ))
         .map_err(err)?;
     let n = poses.len();
@@ -427,10 +428,10 @@ fn top_view<DB: DrawingBackend>(
             .collect::<Vec<_>>()
     };
     chart
-        .draw_series(clipped(&paths.reference, REFERENCE.stroke_width(1)))
+        .draw_series(clipped(&paths.tip, PATH.stroke_width(3)))
         .map_err(err)?;
     chart
-        .draw_series(clipped(&paths.tip, PATH.stroke_width(2)))
+        .draw_series(clipped(&paths.reference, REFERENCE.stroke_width(1)))
         .map_err(err)?;
     let n = poses.len();
     for (k, pose) in poses.iter().enumerate() {
