@@ -150,7 +150,12 @@ fn bad_trajectories_name_the_file_row_and_column_and_write_nothing() {
         (
             "one-row",
             format!("{}\n{}\n", rows[0], rows[1]),
-            "1 rows; a trajectory needs at least two",
+            ":2: column `t`: 1 row; a trajectory needs at least two",
+        ),
+        (
+            "no-row",
+            format!("{}\n", rows[0]),
+            ":1: column `t`: 0 rows; a trajectory needs at least two",
         ),
         (
             "no-roll",
@@ -158,12 +163,33 @@ fn bad_trajectories_name_the_file_row_and_column_and_write_nothing() {
                 .map(|r| r.rsplit_once(',').unwrap().0)
                 .collect::<Vec<_>>()
                 .join("\n"),
-            "commands a rotation",
+            ":1: the task of `panda_laparoscope` commands a rotation and the header has no column `roll`",
         ),
         (
             "far",
             format!("{}\n{}\n1,5,5,5,0\n", rows[0], rows[1]),
             ":3: columns x, y, z: the point is",
+        ),
+        (
+            // Comment lines count: the rows are named by their line in the file.
+            "far-after-comments",
+            format!("# a path\n\n{}\n{}\n1,5,5,5,0\n", rows[0], rows[1]),
+            ":5: columns x, y, z: the point is",
+        ),
+        (
+            "nan-literal",
+            good.replacen(&format!(",{},", start_tip()[2]), ",NaN,", 1),
+            ":2: column `z`: NaN is not finite",
+        ),
+        (
+            "huge",
+            good.replacen(&format!(",{},", start_tip()[2]), ",2e6,", 1),
+            ":2: column `z`: 2e6 is beyond",
+        ),
+        (
+            "short-row",
+            good.replacen(&format!("{}\n", rows[7]), &format!("{}\n", rows[7].rsplit_once(',').unwrap().0), 1),
+            ":8: 4 values, the header names 5 columns (no value for column `roll`)",
         ),
     ];
     for (name, text, want) in cases {
@@ -431,6 +457,51 @@ fn a_description_carries_its_own_scenario() {
         );
         assert!(err.contains(words), "{section}: {err}");
         assert!(!out.exists(), "{section}: an output was written");
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// The README's "Your own robot" commands, as written there (outputs redirected to a
+/// temporary directory): each exits with 0 and writes its files.
+#[test]
+fn the_readmes_own_robot_commands_run() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+    let readme = std::fs::read_to_string(format!("{root}/README.md")).unwrap();
+    let section = &readme[readme.find("## Your own robot").expect("the section")..];
+    let block = section
+        .split("```sh\n")
+        .nth(1)
+        .and_then(|b| b.split("```").next())
+        .expect("a sh block");
+    let commands: Vec<String> = block
+        .replace("\\\n", " ")
+        .lines()
+        .map(|l| l.split(" # ").next().unwrap().trim().to_string())
+        .filter(|l| !l.is_empty())
+        .collect();
+    assert_eq!(commands.len(), 4, "four commands: {commands:?}");
+    let d = dir("readme");
+    let mut written = Vec::new();
+    for command in &commands {
+        let args = command
+            .strip_prefix("cargo run --release --bin trocar -- ")
+            .unwrap_or_else(|| panic!("not a trocar command: {command}"));
+        let mut argv: Vec<String> = args.split_whitespace().map(String::from).collect();
+        for k in 1..argv.len() {
+            if ["-o", "--csv", "--plot", "--animate", "--snapshot"].contains(&argv[k - 1].as_str())
+            {
+                let out = d.join(&argv[k]);
+                written.push(out.clone());
+                argv[k] = out.to_str().unwrap().to_string();
+            }
+        }
+        let argv: Vec<&str> = argv.iter().map(String::as_str).collect();
+        let (code, _, err) = trocar(&argv);
+        assert_eq!(code, 0, "{command}: {err}");
+    }
+    assert_eq!(written.len(), 5, "{written:?}");
+    for f in &written {
+        assert!(std::fs::metadata(f).unwrap().len() > 0, "{}", f.display());
     }
     let _ = std::fs::remove_dir_all(&d);
 }

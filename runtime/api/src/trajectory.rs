@@ -44,6 +44,9 @@ pub struct Trajectory {
     /// The line of the file each row was read from (1-based, the header's is the first line
     /// that is not blank or a `#` comment), for messages; empty when not read from text.
     pub lines: Vec<usize>,
+    /// The line of the header (1-based; after any blank or `#` comment lines), for messages
+    /// about columns.
+    pub header_line: usize,
 }
 
 impl Trajectory {
@@ -74,17 +77,18 @@ impl Trajectory {
             .lines()
             .enumerate()
             .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
-        let Some((_, header)) = lines.next() else {
+        let Some((header_index, header)) = lines.next() else {
             return Err(Error::Input(format!(
                 "{name}: empty trajectory (a header `t,x,y,z` and at least two rows)"
             )));
         };
+        let header_line = header_index + 1;
         let columns: Vec<String> = header.split(',').map(|c| c.trim().to_string()).collect();
         let find = |c: &str| columns.iter().position(|x| x == c);
         for (k, c) in columns.iter().enumerate() {
             if columns[..k].contains(c) {
                 return Err(Error::Input(format!(
-                    "{name}:1: column `{c}` appears twice"
+                    "{name}:{header_line}: column `{c}` appears twice"
                 )));
             }
         }
@@ -92,7 +96,7 @@ impl Trajectory {
         for (k, c) in ["t", "x", "y", "z"].iter().enumerate() {
             index[k] = find(c).ok_or_else(|| {
                 Error::Input(format!(
-                    "{name}:1: no column `{c}` (the header names t, x, y, z and optionally roll or qw, qx, qy, qz; it has: {})",
+                    "{name}:{header_line}: no column `{c}` (the header names t, x, y, z and optionally roll or qw, qx, qy, qz; it has: {})",
                     columns.join(", ")
                 ))
             })?;
@@ -109,12 +113,12 @@ impl Trajectory {
             ]),
             (4, Some(_)) => {
                 return Err(Error::Input(format!(
-                    "{name}:1: give the orientation as `roll` or as `qw, qx, qy, qz`, not both"
+                    "{name}:{header_line}: give the orientation as `roll` or as `qw, qx, qy, qz`, not both"
                 )))
             }
             _ => {
                 return Err(Error::Input(format!(
-                    "{name}:1: a quaternion needs all four columns qw, qx, qy, qz"
+                    "{name}:{header_line}: a quaternion needs all four columns qw, qx, qy, qz"
                 )))
             }
         };
@@ -123,6 +127,7 @@ impl Trajectory {
             t: Vec::new(),
             position: Vec::new(),
             lines: Vec::new(),
+            header_line,
             orientation: match (roll, quat) {
                 (Some(_), _) => Orientation::Roll(Vec::new()),
                 (None, Some(_)) => Orientation::Quaternion(Vec::new()),
@@ -148,8 +153,12 @@ impl Trajectory {
                 Ok(v)
             };
             if cells.len() != columns.len() {
+                let which = match columns.get(cells.len()) {
+                    Some(c) => format!(" (no value for column `{c}`)"),
+                    None => " (more values than columns)".to_string(),
+                };
                 return Err(Error::Input(format!(
-                    "{name}:{row_no}: {} values, the header names {} columns",
+                    "{name}:{row_no}: {} values, the header names {} columns{which}",
                     cells.len(),
                     columns.len()
                 )));
@@ -183,9 +192,11 @@ impl Trajectory {
             }
         }
         if out.t.len() < 2 {
+            let line = out.lines.last().map_or(header_line, |l| *l);
             return Err(Error::Input(format!(
-                "{name}: {} rows; a trajectory needs at least two",
-                out.t.len()
+                "{name}:{line}: column `t`: {} row{}; a trajectory needs at least two (a time span)",
+                out.t.len(),
+                if out.t.len() == 1 { "" } else { "s" }
             )));
         }
         Ok(out)
@@ -327,13 +338,15 @@ pub fn simulate_trajectory(
             .any(|row| row[3..].iter().any(|v| *v != 0.0));
         if rotational && !trajectory.has_orientation() {
             return Err(Error::Input(format!(
-                "{source}:1: the task of `{}` commands a rotation and the header has no column `roll` (rad about the tip's z) or `qw, qx, qy, qz`",
+                "{source}:{}: the task of `{}` commands a rotation and the header has no column `roll` (rad about the tip's z) or `qw, qx, qy, qz`",
+                trajectory.header_line,
                 desc.name
             )));
         }
     } else if !trajectory.has_orientation() {
         return Err(Error::Input(format!(
-            "{source}:1: `{}` has no [task]: the whole tip pose is commanded and the header has no column `roll` or `qw, qx, qy, qz`",
+            "{source}:{}: `{}` has no [task]: the whole tip pose is commanded and the header has no column `roll` or `qw, qx, qy, qz`",
+            trajectory.header_line,
             desc.name
         )));
     }

@@ -503,9 +503,10 @@ impl Controller {
 /// (`"pinv"`, `"dls"`, `"fi"`, `"qp"`; default:
 /// the scenario's), `drift_correction` and `max_joint_speed` (rad/s; `None` for no limit; default:
 /// the simulations' limit) apply to the RCM scenarios. With `trajectory` (a CSV: `t,x,y,z` and
-/// `roll` or `qw,qx,qy,qz`), the first argument is a robot (a `Robot`, a shipped name or a
-/// file) driven along that tip path from `q0`, the trocar at `trocar` (default: the constraint
-/// frame's origin at `q0`).
+/// `roll` or `qw,qx,qy,qz`), or when the first argument is a `Robot` or a description file, the
+/// robot is driven along that tip path from `q0`, the trocar at `trocar` (default: the
+/// constraint frame's origin at `q0`); what is not given comes from the description's
+/// `[simulation]` section (`trocar_api::simulate_robot`).
 #[pyfunction]
 #[pyo3(signature = (scenario, method = None, drift_correction = true, max_joint_speed = MaybeLimit::Default, trajectory = None, q0 = None, trocar = None))]
 #[allow(clippy::too_many_arguments)]
@@ -519,65 +520,68 @@ fn simulate<'py>(
     q0: Option<Vec<f64>>,
     trocar: Option<[f64; 3]>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let columns = match trajectory {
-        None => {
-            let scenario: String = scenario.extract()?;
-            let options = RcmOptions {
-                method: method.map(self::method).transpose()?,
-                drift_correction,
-                max_joint_speed: match max_joint_speed {
-                    MaybeLimit::Default => None,
-                    MaybeLimit::Unlimited => Some(SpeedLimit::Unlimited),
-                    MaybeLimit::At(v) => Some(SpeedLimit::At(v)),
-                },
-            };
-            py.detach(|| trocar_api::simulate(&scenario, &options, &mut |_| {}))
-                .map_err(value_error)?
-                .columns()
+    // A robot's own trajectory: given, or named by its description's [simulation] section
+    // (a `Robot`, or a description file that is not a scenario's name).
+    let own = trajectory.is_some()
+        || scenario.cast::<Robot>().is_ok()
+        || scenario.extract::<String>().is_ok_and(|name| {
+            trocar_api::simulate::scenario_names()
+                .iter()
+                .all(|s| *s != name.as_str())
+                && std::path::Path::new(&name).is_file()
+        });
+    let columns = if !own {
+        if q0.is_some() || trocar.is_some() {
+            return Err(PyValueError::new_err(
+                "q0 and trocar apply to a robot's own trajectory (trajectory=, or a description with a [simulation] section)",
+            ));
         }
-        Some(path) => {
-            // A robot: a loaded `Robot`, a shipped name or a description file.
-            let loaded;
-            let robot: &trocar_api::Robot = match scenario.cast::<Robot>() {
-                Ok(r) => &r.get().inner,
-                Err(_) => {
-                    let name: PathBuf = scenario.extract()?;
-                    loaded = trocar_api::Robot::load(&name).map_err(value_error)?;
-                    &loaded
-                }
-            };
-            let q0 = q0.ok_or_else(|| {
-                PyValueError::new_err(format!(
-                    "trajectory: give the start configuration q0 (all {} joints of `{}`, base first)",
-                    robot.dof(),
-                    robot.name()
-                ))
-            })?;
-            let mut controller = ControllerOptions::default();
-            if let Some(m) = method {
-                controller.method = self::method(m)?;
-            }
-            if !drift_correction {
-                controller.kr = 0.0;
-            }
-            match max_joint_speed {
-                MaybeLimit::Default => {}
-                MaybeLimit::Unlimited => controller.max_joint_speed = None,
-                MaybeLimit::At(v) => controller.max_joint_speed = Some(v),
-            }
-            let options = trocar_api::TrajectoryOptions {
-                q0,
-                trocar,
-                controller,
-                dt: 0.002,
-            };
-            py.detach(|| {
-                let t = trocar_api::Trajectory::from_csv(&path)?;
-                trocar_api::simulate_trajectory(robot, &t, &options, &mut |_| {})
-            })
+        let scenario: String = scenario.extract()?;
+        let options = RcmOptions {
+            method: method.map(self::method).transpose()?,
+            drift_correction,
+            max_joint_speed: match max_joint_speed {
+                MaybeLimit::Default => None,
+                MaybeLimit::Unlimited => Some(SpeedLimit::Unlimited),
+                MaybeLimit::At(v) => Some(SpeedLimit::At(v)),
+            },
+        };
+        py.detach(|| trocar_api::simulate(&scenario, &options, &mut |_| {}))
             .map_err(value_error)?
             .columns()
-        }
+    } else {
+        // A robot: a loaded `Robot`, a shipped name or a description file.
+        let loaded;
+        let robot: &trocar_api::Robot = match scenario.cast::<Robot>() {
+            Ok(r) => &r.get().inner,
+            Err(_) => {
+                let name: PathBuf = scenario.extract()?;
+                loaded = trocar_api::Robot::load(&name).map_err(value_error)?;
+                &loaded
+            }
+        };
+        let request = trocar_api::RunRequest {
+            trajectory,
+            q0,
+            trocar,
+            method: method.map(self::method).transpose()?,
+            drift_correction: (!drift_correction).then_some(false),
+            max_joint_speed: match max_joint_speed {
+                MaybeLimit::Default => None,
+                MaybeLimit::Unlimited => Some(SpeedLimit::Unlimited),
+                MaybeLimit::At(v) => Some(SpeedLimit::At(v)),
+            },
+        };
+        py.detach(|| trocar_api::simulate_robot(robot, &request, &mut |_| {}))
+            .map_err(|e| {
+                // The command line's words for the Python keywords.
+                PyValueError::new_err(
+                    e.to_string()
+                        .replace("--q0 q1,...,q", "q0=[q1, ..., q")
+                        .replace("--trajectory PATH.csv", "trajectory=\"PATH.csv\""),
+                )
+            })?
+            .columns()
     };
     let out = PyDict::new(py);
     for (name, values) in columns {

@@ -327,8 +327,42 @@ def test_simulate_a_users_trajectory_as_the_command_line(tmp_path):
         trocar.simulate(robot, trajectory=path)
     bad = tmp_path / "bad.csv"
     bad.write_text("t,x,y,z,roll\n0,0,0,0,0\n")
-    with pytest.raises(ValueError, match="bad.csv: 1 rows"):
+    with pytest.raises(ValueError, match="bad.csv:2: column `t`: 1 row;"):
         trocar.simulate("panda-laparoscope", trajectory=bad, q0=q0)
+
+
+def test_the_ur5_example_follows_its_circle_as_the_command_line(tmp_path):
+    """The UR5 example (a user's description: chain from its URDF, a 0.35 m shaft through a
+    trocar on the last link) along its 10 s circle from Python: by its own [simulation] section
+    and by the keywords, the trocar held within 0.1 mm, the tip within 1 mm after 2 s, every
+    joint inside its URDF range (read here from the URDF), the same columns as the command line,
+    which also writes the animation."""
+    import xml.etree.ElementTree as ET
+
+    desc = ROOT / "examples" / "robots" / "ur5_trocar.toml"
+    circle = ROOT / "examples" / "trajectories" / "ur5-circle.csv"
+    q0 = [0.0, -np.pi / 2, np.pi / 2, -np.pi / 2, -np.pi / 2, 0.0]
+    own = trocar.simulate(str(desc))
+    trace = trocar.simulate(str(desc), trajectory=circle, q0=q0, method="dls")
+    np.testing.assert_allclose(trace["q4"], own["q4"], rtol=0, atol=1e-12)
+    assert trace["t"][-1] == pytest.approx(10.0, abs=1e-9)
+    assert np.max(trace["rcm_drift"]) <= 1e-4
+    assert np.max(trace["ep_norm"][trace["t"] >= 2.0]) <= 1e-3
+    urdf = ET.parse(ROOT / "examples" / "robots" / "urdf" / "ur5.urdf").getroot()
+    limits = [(float(j.find("limit").get("lower")), float(j.find("limit").get("upper")))
+              for j in urdf.iter("joint") if j.get("type") != "fixed"]
+    assert len(limits) == 6
+    for k, (lo, hi) in enumerate(limits, start=1):
+        assert np.all(trace[f"q{k}"] >= lo) and np.all(trace[f"q{k}"] <= hi), f"q{k}"
+    out, gif = tmp_path / "run.csv", tmp_path / "run.gif"
+    res = cli("simulate", str(desc), "--trajectory", str(circle),
+              "--q0=" + ",".join(repr(float(x)) for x in q0), "--csv", str(out),
+              "--animate", str(gif))
+    assert res.returncode == 0, res.stderr
+    data = np.genfromtxt(out, delimiter=",", names=True)
+    np.testing.assert_allclose(data["rcm_drift"], trace["rcm_drift"], rtol=1e-12, atol=1e-18)
+    np.testing.assert_allclose(data["q6"], trace["q6"], rtol=1e-12, atol=1e-15)
+    assert gif.read_bytes()[:6] == b"GIF89a"
 
 
 def test_the_qp_controller_stops_at_the_depth_limit():

@@ -69,15 +69,23 @@ class Robot:
         """``trocar generate``: the Rust module (``real`` is ``"f64"``, ``"f32"`` or ``"generic"``)."""
 
 def simulate(
-    scenario: str,
+    scenario: Union[str, "os.PathLike[str]", Robot],
     method: Optional[str] = None,
     drift_correction: bool = True,
     max_joint_speed: Optional[float] = ...,
+    trajectory: Optional[Union[str, "os.PathLike[str]"]] = None,
+    q0: Optional[Sequence[float]] = None,
+    trocar: Optional[Sequence[float]] = None,
 ) -> Dict[str, npt.NDArray[np.float64]]:
-    """``trocar simulate``: the trace of a scenario as named columns (``t`` first).
+    """``trocar simulate``: the trace of a scenario, or of a robot along its own trajectory, as
+    named columns (``t`` first), the command line's CSV.
 
     ``method`` is ``"pinv"``, ``"dls"``, ``"fi"`` or ``"qp"`` (default: the scenario's);
     ``max_joint_speed`` in rad/s, ``None`` for no limit (default: the simulations' limit).
+    With ``trajectory`` (a CSV: ``t,x,y,z`` and ``roll`` or ``qw,qx,qy,qz``), or when the first
+    argument is a ``Robot`` or a description file, the robot is driven along that tip path from
+    ``q0``, the trocar at ``trocar``; what is not given comes from the description's
+    ``[simulation]`` section (``trajectory``, ``q0``, ``trocar``, ``method``, gains).
     """
 
 class Controller:

@@ -735,6 +735,108 @@ mod tests {
         simulation::run(&config, |_| {}).expect("the scenario runs")
     }
 
+    /// A trace of a 64-joint chain (the most a description may have; axes x, y, z in turn,
+    /// 0.1 m apart along y, the constraint on the last link): its figure and its views of the
+    /// arm are drawn, the joint velocities as their envelope, the drawn joint the one that
+    /// comes closest to its limit.
+    #[test]
+    fn a_trace_of_64_joints_is_drawn() {
+        use crate::simulation::{ArmModel, StepRecord};
+        use nalgebra::Vector3;
+        use trocar_model::description::RobotDescription;
+        use trocar_model::numeric::NumericModel;
+        let n = trocar_model::description::MAX_JOINTS;
+        let axes = ["[0, 1, 0]", "[0, 0, 1]", "[1, 0, 0]"];
+        let mut text = String::from("[robot]\nname = \"long\"\n\n[parameters]\nl_a = 0.05\n\n");
+        for k in 0..n {
+            text += &format!(
+                "[[joints]]\nname = \"j{}\"\ntype = \"revolute\"\nxyz = [0, 0.1, 0]\naxis = {}\nlimits = [-1, 1]\n\n",
+                k + 1,
+                axes[k % 3]
+            );
+        }
+        text += "[end_effector]\nname = \"tool\"\nxyz = [0, 0.1, 0]\n\n[constraint]\nlink = 64\nxyz = [0, \"l_a\", 0]\nh = [\"x\", \"z\"]\n\n[task]\nselect = [\"x\", \"y\", \"z\", \"ry\"]\n";
+        let d = RobotDescription::from_toml_str(&text, None).unwrap();
+        let arm = ArmModel::from_model(&NumericModel::from_description(&d, &[]).unwrap()).unwrap();
+        assert_eq!(arm.dof(), n);
+        // Joint 40 swings to 0.9 rad (0.1 from its limit), the others to 0.02 k / 64.
+        let dt = 0.01;
+        let q_at = |t: f64| -> Vec<f64> {
+            (0..n)
+                .map(|k| {
+                    if k == 39 {
+                        0.9 * t
+                    } else {
+                        0.02 * t * k as f64 / n as f64
+                    }
+                })
+                .collect()
+        };
+        let qd: Vec<f64> = (0..n)
+            .map(|k| {
+                if k == 39 {
+                    0.9
+                } else {
+                    0.02 * k as f64 / n as f64
+                }
+            })
+            .collect();
+        let g0 = arm.link_frame(&q_at(0.0));
+        let trocar = g0.translation + g0.rotation.column(1) * 0.05;
+        let rows = (0..=100)
+            .map(|s| {
+                let t = s as f64 * dt;
+                let q = q_at(t);
+                arm.measure(&StepRecord {
+                    t,
+                    q: &q,
+                    qd: &qd,
+                    dt,
+                    trocar: &trocar,
+                    position: &Vector3::zeros(),
+                    rotation: None,
+                    w_r: 1.0,
+                    w_i: 1.0,
+                    kappa_r: 0.0,
+                    dv_cmd: [0.0; 2],
+                })
+            })
+            .collect();
+        let trace = Trace {
+            scenario: None,
+            title: "long along a path".into(),
+            arm,
+            method: crate::simulation::Method::Dls,
+            drift_correction: true,
+            constrained_directions: 2,
+            dt,
+            joints: n,
+            lateral_axes: ["x_r", "z_r"],
+            joint_limits: Some(vec![[-1.0, 1.0]; n]),
+            speed_limits: None,
+            depth_limits: None,
+            rows,
+        };
+        assert_eq!(drawn_joint(&trace), 39);
+        let dir = std::env::temp_dir().join(format!("trocar-long-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        write_figure(&trace, dir.join("long.svg")).unwrap();
+        let svg = std::fs::read_to_string(dir.join("long.svg")).unwrap();
+        for words in [
+            "(d) l_a and q40",
+            "max over the 64 joints",
+            "min over the 64 joints",
+            "q40 max = 1.0000 rad",
+        ] {
+            assert!(svg.contains(words), "{words}");
+        }
+        assert!(!svg.contains(">\nqd1\n<"), "one line a joint");
+        view3d::write_snapshot(&trace, dir.join("long-still.svg"), &[0.0, 1.0]).unwrap();
+        let still = std::fs::read_to_string(dir.join("long-still.svg")).unwrap();
+        assert!(still.contains("long along a path"));
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
     #[test]
     fn comparison_is_written_for_three_methods_and_refused_otherwise() {
         let runs: Vec<Trace> = [Method::Pinv, Method::Dls, Method::Fi]
