@@ -31,7 +31,7 @@ use proc_macro2::TokenStream;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use trocar_model::closed_chain::MechanismModel;
-use trocar_model::description::RobotDescription;
+use trocar_model::description::{DescriptionError, RobotDescription};
 
 /// Options of one generated module.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -119,7 +119,35 @@ pub fn generate_module(
             items.extend(checks::staleness_guard(files, h));
         }
     }
-    Ok(emit::wrap_module(&spec.name, &doc, items))
+    let tokens = emit::wrap_module(&spec.name, &doc, items);
+    if let Some(literal) = f32_overflow(tokens.clone()) {
+        return Err(Error::Description(DescriptionError {
+            file: desc.source.clone(),
+            line: None,
+            column: None,
+            field: "(closed forms)".into(),
+            message: format!(
+                "the closed forms need the constant {literal}, beyond the range of f32 (±3.4e38): the description's lengths are too large for an f32 module; generate it for f64"
+            ),
+        }));
+    }
+    Ok(tokens)
+}
+
+/// The first `f32` literal of `tokens` that overflows `f32` (it would not compile), if any.
+fn f32_overflow(tokens: TokenStream) -> Option<String> {
+    tokens.into_iter().find_map(|tree| match tree {
+        proc_macro2::TokenTree::Group(g) => f32_overflow(g.stream()),
+        proc_macro2::TokenTree::Literal(l) => {
+            let text = l.to_string();
+            let digits = text
+                .strip_suffix("_f32")
+                .or_else(|| text.strip_suffix("f32"))?;
+            let value: f32 = digits.replace('_', "").parse().ok()?;
+            value.is_infinite().then_some(text)
+        }
+        _ => None,
+    })
 }
 
 /// The C header of a description's module's C ABI ([`ModuleOptions::c_api`],
@@ -407,4 +435,24 @@ fn write_if_changed(path: &Path, content: &str) -> Result<bool, Error> {
         source,
     })?;
     Ok(true)
+}
+
+#[cfg(test)]
+mod f32_literals {
+    use super::f32_overflow;
+    use quote::quote;
+
+    /// A literal beyond `f32::MAX` does not compile (`1e40_f32`): it is found, in any group.
+    #[test]
+    fn overflowing_literals_are_found() {
+        assert_eq!(
+            f32_overflow(quote!(
+                fn f() -> f32 {
+                    g(3.0e38_f32, [1e40_f32])
+                }
+            )),
+            Some("1e40_f32".to_string())
+        );
+        assert_eq!(f32_overflow(quote!(let x = 3.4e38_f32 + 1e300_f64;)), None);
+    }
 }

@@ -241,6 +241,9 @@ pub struct Derivation {
     /// Joint limits `[lower, upper]` (rad or m), when every joint has them (from the URDF or
     /// `limits = [lo, hi]`).
     pub joint_limits: Option<Vec<[f64; 2]>>,
+    /// Each joint's limits `[lower, upper]`, base first; `None` for a joint without (a URDF
+    /// `continuous` joint, or none written): it turns without bound.
+    pub joint_ranges: Vec<Option<[f64; 2]>>,
 }
 
 /// Largest estimated number of terms of one entry of an expanded product (`len(a) · len(b) ·
@@ -607,6 +610,7 @@ pub fn derive(desc: &RobotDescription) -> Result<Derivation, DerivationError> {
         body_jacobian_e,
         constraint,
         joint_limits: desc.joints.iter().map(|j| j.limits).collect(),
+        joint_ranges: desc.joints.iter().map(|j| j.limits).collect(),
     })
 }
 

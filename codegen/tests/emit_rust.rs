@@ -138,6 +138,7 @@ fn small_module() -> ModuleSpec {
         ],
         controller: None,
         joint_limits: None,
+        joint_ranges: Vec::new(),
         pose_and_jacobians: None,
     }
 }

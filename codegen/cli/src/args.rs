@@ -170,7 +170,8 @@ pub enum Command {
             long,
             value_name = "T1,T2,...",
             value_delimiter = ',',
-            requires = "snapshot"
+            requires = "snapshot",
+            value_parser = parse_time
         )]
         snapshot_times: Option<Vec<f64>>,
     },
@@ -251,6 +252,21 @@ fn parse_seconds(s: &str) -> Result<f64, String> {
     trocar_sim::simulation::CsvRows::Period(v)
         .check()
         .map_err(|_| format!("`{s}`: must be a positive, finite number of seconds"))?;
+    Ok(v)
+}
+
+/// Parses one `--snapshot-times` value: a time in seconds under the number rule
+/// (`trocar_model::validity`: finite, not subnormal, at most 1e6) and not negative; whether it
+/// lies within the scenario is checked before the run.
+fn parse_time(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{s}` is not a number of seconds"))?;
+    trocar_model::validity::check(v).map_err(|p| format!("`{s}` {p}"))?;
+    if v < 0.0 {
+        return Err(format!("`{s}`: a time is not negative"));
+    }
     Ok(v)
 }
 

@@ -422,7 +422,8 @@ fn a_named_link_is_the_frame_of_jb0i_and_fk_i() {
             &toml,
             format!(
                 "[robot]\nname = \"ur_{link}\"\nurdf = \"{}\"\ntip = \"tool_off\"\n\n\
-                 [parameters]\nl_a = 0.2\n\n[constraint]\nlink = \"{link}\"\n\
+                 [parameters]\nl_a = 0.2\n\n[end_effector]\nxyz = [0, 0, 0.4]\n\n\
+                 [constraint]\nlink = \"{link}\"\n\
                  xyz = [0.01, -0.02, \"l_a\"]\nh = [\"x\", \"y\"]\n\n\
                  [task]\nselect = [\"x\", \"y\", \"z\", \"rz\"]\n",
                 urdf.display()

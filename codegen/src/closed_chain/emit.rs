@@ -150,6 +150,7 @@ pub fn module_spec(d: &MechanismDerivation, module_name: &str) -> ModuleSpec {
         functions,
         controller: None,
         joint_limits: None,
+        joint_ranges: Vec::new(),
         pose_and_jacobians: None,
     }
 }

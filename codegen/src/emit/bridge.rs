@@ -602,6 +602,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
         functions,
         controller: super::controller::ControllerSpec::of(d),
         joint_limits: d.joint_limits.clone(),
+        joint_ranges: d.joint_ranges.clone(),
         pose_and_jacobians,
     }
 }

@@ -198,6 +198,9 @@ pub struct ModuleSpec {
     pub controller: Option<super::controller::ControllerSpec>,
     /// Joint limits `[lower, upper]`, emitted as `JOINT_LIMITS` when every joint has them.
     pub joint_limits: Option<Vec<[f64; 2]>>,
+    /// Each joint's limits, `None` for a joint without (a `continuous` one): emitted as
+    /// `JOINT_RANGES` when some joint has limits and another has none.
+    pub joint_ranges: Vec<Option<[f64; 2]>>,
     /// A constrained robot's `g_0e`, `J^B_0i`, `J^r_0e` and `J_c` as one program (outputs in that
     /// order), when it is smaller than their four functions: `pose_and_jacobians_trig` is then
     /// written from it, otherwise it calls the four.
@@ -1033,6 +1036,23 @@ pub fn module_items_in(spec: &ModuleSpec, real: Scalar, runtime: &Runtime) -> To
             pub const JOINT_LIMITS: [[f64; 2]; N] = [#(#rows),*];
         }
     });
+    // A robot whose joints have limits except some (`continuous` ones): each joint's bounds,
+    // typed, instead of no constant at all.
+    let partial = spec.joint_ranges.iter().any(Option::is_some)
+        && spec.joint_ranges.iter().any(Option::is_none);
+    let ranges = partial.then(|| {
+        let rows = spec.joint_ranges.iter().map(|r| match r {
+            Some([lo, hi]) => quote!(Some([#lo, #hi])),
+            None => quote!(None),
+        });
+        quote! {
+            /// Each joint's limits `[lower, upper]` (rad for revolute joints, m for prismatic
+            /// ones), base first, from the description; `None` for a joint without (a URDF
+            /// `continuous` joint): its range is unbounded, `(−∞, ∞)`. Emitted when some
+            /// joints have limits and others do not; `JOINT_LIMITS` when all have them.
+            pub const JOINT_RANGES: [Option<[f64; 2]>; N] = [#(#rows),*];
+        }
+    });
     let trig = trig_tokens(spec, &ty);
     let fns = spec
         .functions
@@ -1046,6 +1066,7 @@ pub fn module_items_in(spec: &ModuleSpec, real: Scalar, runtime: &Runtime) -> To
     quote! {
         #(#consts)*
         #limits
+        #ranges
         #params
         #trig
         #(#fns)*

@@ -18,11 +18,14 @@ pub enum Description {
 impl Description {
     /// Loads `name_or_path`: an existing file is a closed mechanism when it is TOML with a
     /// top-level `chains` array (`[[chains]]`), a serial robot otherwise; a name that is not a
-    /// file is a shipped mechanism (`four-bar`, `planar-stewart`, `cooperative-arms`) or a serial
+    /// file (nothing of that name, or a directory) is a shipped mechanism (`four-bar`, `planar-stewart`, `cooperative-arms`) or a serial
     /// preset (`bidirectional-zy`, …). Errors name the file, line and field.
     pub fn load(name_or_path: &str) -> Result<Self, DescriptionError> {
         let path = Path::new(name_or_path);
-        if !path.exists() {
+        let shipped = closed_chain::shipped_text(name_or_path).is_some()
+            || preset_names().any(|n| n == name_or_path);
+        // A directory of a shipped name's name (a checkout's `four-bar/`) does not hide it.
+        if !path.exists() || (shipped && path.is_dir()) {
             if closed_chain::shipped_text(name_or_path).is_some() {
                 return MechanismModel::shipped(name_or_path).map(Description::Mechanism);
             }

@@ -199,3 +199,16 @@ fn admission_errors_name_the_field_written() {
     );
     assert!(e.line.is_some(), "{e}");
 }
+
+/// Issue 27, item 11: a trocar beyond the instrument's tip (`l_a` past the end effector along the
+/// shaft) was accepted silently; it is refused on the parameter, with the largest value allowed.
+#[test]
+fn the_trocar_lies_on_the_instrument() {
+    // The shaft runs 0.40 m beyond the flange, the trocar l_a beyond it.
+    let e = panda_with("l_a = 0.25 ", "l_a = 0.45 ").unwrap_err();
+    assert_eq!(e.field, "parameters.l_a", "{e}");
+    assert!(e.message.contains("outside the instrument"), "{e}");
+    assert!(e.message.contains("below 0.4"), "{e}");
+    assert!(e.line.is_some(), "{e}");
+    assert!(panda_with("l_a = 0.25 ", "l_a = 0.39 ").is_ok());
+}

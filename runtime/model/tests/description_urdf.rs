@@ -200,9 +200,11 @@ fn a_shorter_chain_ends_at_an_intermediate_link() {
     assert_eq!(d.end_effector.name, "elbow_cover");
     // The elbow mount became the end effector's origin.
     assert_eq!(d.end_effector.origin.xyz[0].constant, 0.0825);
-    // A branch reached through fixed joints only has no joint: an error naming `joints`.
+    // A branch reached through fixed joints only has no joint: an error on the tip, which is
+    // what to change.
     let camera = RobotDescription::from_urdf_file(data("arm7.urdf"), "camera").unwrap_err();
-    assert_eq!(camera.field, "joints");
+    assert_eq!(camera.field, "tip_link");
+    assert!(camera.message.contains("fixed joints only"), "{camera}");
 }
 
 #[test]
@@ -368,4 +370,58 @@ fn a_constraint_can_be_added_to_an_import() {
         e.message.contains("n − r ≥ t") && e.message.contains("t = 6"),
         "{e}"
     );
+}
+
+/// Issue 27, item 11: a root element other than `<robot>` was read as a robot without links; a
+/// cycle of joints away from the path to the tip was accepted; a tip that no moving joint carries
+/// was blamed on `[[joints]]`; an unknown tip listed every link of the file.
+#[test]
+fn urdf_structure_errors_are_located() {
+    let good = small("revolute", "0 0 1");
+    let e = RobotDescription::from_urdf_str(
+        &good
+            .replace("<robot name=\"small\">", "<model name=\"small\">")
+            .replace("</robot>", "</model>"),
+        "c",
+    )
+    .unwrap_err();
+    assert_eq!(e.field, "(document)", "{e}");
+    assert!(
+        e.message.contains("<model>") && e.message.contains("<robot>"),
+        "{e}"
+    );
+    assert_eq!(e.line, Some(1));
+
+    // A cycle x → y → x beside the chain.
+    let cycle = good.replace(
+        "</robot>",
+        "  <link name=\"x\"/><link name=\"y\"/>\n  <joint name=\"xy\" type=\"fixed\"><parent link=\"x\"/><child link=\"y\"/></joint>\n  <joint name=\"yx\" type=\"fixed\"><parent link=\"y\"/><child link=\"x\"/></joint>\n</robot>",
+    );
+    let e = RobotDescription::from_urdf_str(&cycle, "c").unwrap_err();
+    assert!(e.field == "joint[xy]" || e.field == "joint[yx]", "{e}");
+    assert!(e.message.contains("cycle"), "{e}");
+    assert!(e.line.is_some(), "{e}");
+
+    // The tip hangs from the root by a fixed joint only.
+    let fixed = good.replace(
+        "</robot>",
+        "  <link name=\"tool\"/>\n  <joint name=\"f\" type=\"fixed\"><parent link=\"a\"/><child link=\"tool\"/></joint>\n</robot>",
+    );
+    let e = RobotDescription::from_urdf_str(&fixed, "tool").unwrap_err();
+    assert_eq!(e.field, "tip_link", "{e}");
+    assert!(e.message.contains("fixed joints only"), "{e}");
+
+    // 5,000 links: the message names 20 and counts the rest.
+    let mut many = String::from("<robot name=\"many\">\n");
+    for k in 0..5000 {
+        many += &format!("<link name=\"l{k}\"/>\n");
+    }
+    many += "</robot>\n";
+    let e = RobotDescription::from_urdf_str(&many, "nowhere").unwrap_err();
+    assert!(
+        e.message.contains("… and 4980 more"),
+        "{}",
+        &e.message[..200.min(e.message.len())]
+    );
+    assert!(e.message.len() < 400, "{} bytes", e.message.len());
 }

@@ -8,7 +8,8 @@ use std::path::Path;
 use trocar_api::{Error, Robot};
 
 /// Runs `trocar generate`: writes the module to `output` (or stdout), and the C header to
-/// `c_header`; with `c_header` alone only the header is written.
+/// `c_header`; with `c_header` alone only the header is written. An output named `-` is stdout
+/// (one of them at most).
 pub(crate) fn run(
     robot: &str,
     output: Option<&Path>,
@@ -16,8 +17,19 @@ pub(crate) fn run(
     c_api: bool,
     c_header: Option<&Path>,
 ) -> Result<i32, CliError> {
+    let stdout = Path::new("-");
+    if output == Some(stdout) && c_header == Some(stdout) {
+        return Err(Error::Input(
+            "-o - and --c-header - both name stdout: write one of them to a file".into(),
+        ));
+    }
+    let header_to_stdout = c_header == Some(stdout);
+    let module_to_stdout = output == Some(stdout);
+    let c_api = c_api || c_header.is_some();
+    let output = output.filter(|p| *p != stdout);
+    let c_header = c_header.filter(|p| *p != stdout);
     // The files the command reads (the description and its URDF), which no output may replace.
-    let reads = if Path::new(robot).exists() {
+    let reads = if Path::new(robot).is_file() {
         trocar_model::description::RobotDescription::files_read(robot)
     } else {
         Vec::new()
@@ -32,34 +44,43 @@ pub(crate) fn run(
     let robot = Robot::load(robot)?;
     let options = trocar_codegen::ModuleOptions {
         real: real.into(),
-        c_api: c_api || c_header.is_some(),
+        c_api,
         ..Default::default()
     };
     let write = |option: &str, path: &Path, text: &str| {
         std::fs::write(outputs.temporary(path), text)
             .map_err(|e| Error::Output(format!("{option} {}: {e}", path.display())))
     };
-    if let Some(path) = c_header {
-        let header = with_spinner(
+    let header = if c_header.is_some() || header_to_stdout {
+        Some(with_spinner(
             &format!("deriving the closed forms of `{}`", robot.name()),
             || robot.c_header(&options),
-        )?;
-        write("--c-header", path, &header)?;
-        if output.is_none() {
-            outputs.commit()?;
-            return Ok(0);
+        )?)
+    } else {
+        None
+    };
+    // The module, unless the header is the only output (`--c-header F|-` without `-o`).
+    let code = if header.is_some() && output.is_none() && !module_to_stdout {
+        None
+    } else {
+        Some(with_spinner(
+            &format!("deriving the closed forms of `{}`", robot.name()),
+            || robot.generate(&options),
+        )?)
+    };
+    // Nothing is written before every text is ready.
+    if let Some(header) = &header {
+        match c_header {
+            Some(path) => write("--c-header", path, header)?,
+            None => write_stdout(header)?,
         }
     }
-    let code = with_spinner(
-        &format!("deriving the closed forms of `{}`", robot.name()),
-        || robot.generate(&options),
-    )?;
-    match output {
-        Some(path) => {
-            write("-o", path, &code)?;
-            outputs.commit()?;
+    if let Some(code) = &code {
+        match output {
+            Some(path) => write("-o", path, code)?,
+            None => write_stdout(code)?,
         }
-        None => write_stdout(&code)?,
     }
+    outputs.commit()?;
     Ok(0)
 }

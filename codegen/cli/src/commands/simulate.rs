@@ -244,7 +244,7 @@ pub(crate) fn run_trajectory(
         .take(1)
         .cloned()
         .collect();
-    if Path::new(name).exists() {
+    if Path::new(name).is_file() {
         reads.extend(trocar_model::description::RobotDescription::files_read(
             name,
         ));

@@ -608,7 +608,7 @@ impl RobotDescription {
                                 "constraint.link",
                                 format!(
                                     "link `{name}` is not on the chain from the base to the tip (links on it: {})",
-                                    on_path.join(", ")
+                                    super::urdf::capped_list(&on_path)
                                 ),
                             ));
                         };

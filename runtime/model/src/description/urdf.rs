@@ -241,6 +241,22 @@ pub(crate) fn move_joint_frame(
     true
 }
 
+/// The most names an error message lists.
+const LISTED: usize = 20;
+
+/// `names` joined with commas, the first [`LISTED`] of them and how many more.
+pub(crate) fn capped_list(names: &[&str]) -> String {
+    if names.len() <= LISTED {
+        names.join(", ")
+    } else {
+        format!(
+            "{}, … and {} more",
+            names[..LISTED].join(", "),
+            names.len() - LISTED
+        )
+    }
+}
+
 /// The line of `<joint name="NAME" ...>` in the URDF text.
 /// The deepest element nesting a URDF may have (`<robot>`, `<joint>`, `<origin>` is 3 levels;
 /// `<link>`, `<visual>`, `<geometry>`, `<mesh>` is 4).
@@ -253,9 +269,25 @@ fn check_xml(text: &str) -> Result<(), (Location, String)> {
     use quick_xml::events::Event;
     let mut reader = quick_xml::Reader::from_str(text);
     let mut open: Vec<(String, usize)> = Vec::new();
+    let mut root_seen = false;
     loop {
         let before = usize::try_from(reader.buffer_position()).unwrap_or(usize::MAX);
-        match reader.read_event() {
+        let event = reader.read_event();
+        // The document's root element must be <robot>: the URDF reader reads any other root as
+        // a robot without links or joints.
+        if let (true, Ok(Event::Start(e) | Event::Empty(e))) = (open.is_empty(), &event) {
+            if !root_seen {
+                root_seen = true;
+                let name = String::from_utf8_lossy(e.name().as_ref()).into_owned();
+                if name != "robot" {
+                    return Err((
+                        location_of(text, before),
+                        format!("the root element is <{name}>; a URDF's root element is <robot>"),
+                    ));
+                }
+            }
+        }
+        match event {
             Ok(Event::Start(e)) => {
                 open.push((
                     String::from_utf8_lossy(e.name().as_ref()).into_owned(),
@@ -277,6 +309,10 @@ fn check_xml(text: &str) -> Result<(), (Location, String)> {
             }
             Ok(Event::Eof) => {
                 return match open.last() {
+                    None if !root_seen => Err((
+                        location_of(text, text.len()),
+                        "no <robot> element: a URDF's root element is <robot>".to_string(),
+                    )),
                     None => Ok(()),
                     Some((name, at)) => Err((
                         location_of(text, text.len()),
@@ -463,7 +499,7 @@ pub(crate) fn import_chain(
         if names.is_empty() {
             "none".to_string()
         } else {
-            names.join(", ")
+            capped_list(&names)
         }
     };
     let declared = |name: &str| robot.links.iter().any(|l| l.name == name);
@@ -504,6 +540,36 @@ pub(crate) fn import_chain(
                     j.child.link, other.name, j.name
                 ),
             ));
+        }
+    }
+    // A cycle anywhere (not only on the path to the tip) makes the file no tree: follow every
+    // link's parents, each link visited once.
+    {
+        let mut state: std::collections::HashMap<&str, bool> = std::collections::HashMap::new();
+        for start in robot.links.iter().map(|l| l.name.as_str()) {
+            let mut path = Vec::new();
+            let mut current = start;
+            while !state.contains_key(current) {
+                state.insert(current, false);
+                path.push(current);
+                let Some(j) = parent_joint.get(current) else {
+                    break;
+                };
+                current = j.parent.link.as_str();
+                if state.get(current) == Some(&false) {
+                    return Err(err(
+                        &format!("joint[{}]", j.name),
+                        locations.get(j.name.as_str()).copied(),
+                        format!(
+                            "the joints form a cycle through link `{current}` (joint `{}` makes `{}` a child of its own descendant): a URDF must be a tree",
+                            j.name, j.parent.link
+                        ),
+                    ));
+                }
+            }
+            for link in path {
+                state.insert(link, true);
+            }
         }
     }
     let mut chain = Vec::new();
@@ -637,6 +703,17 @@ pub(crate) fn import_chain(
             location: line,
         });
         links.push((j.child.link.clone(), joints.len(), Pose::identity()));
+    }
+    if joints.is_empty() {
+        let path: Vec<&str> = links.iter().map(|(n, _, _)| n.as_str()).collect();
+        return Err(err(
+            &field_of("tip"),
+            None,
+            format!(
+                "no revolute, continuous or prismatic joint moves the tip link `{tip_link}`: the path from the base to it ({}) has fixed joints only; choose a tip below a moving joint",
+                capped_list(&path)
+            ),
+        ));
     }
     Ok(UrdfChain {
         name: robot.name.clone(),

@@ -11,7 +11,7 @@
 //! | at least one joint | `joints` |
 //! | joint names are non-empty and unique | `joints[k].name` |
 //! | revolute/prismatic axis finite, non-zero, unit (±1e-9) | `joints[k].axis` |
-//! | joint limits finite with lower < upper | `joints[k].limits` |
+//! | joint limits under the number rule ([`crate::validity`]) with lower < upper | `joints[k].limits` |
 //! | joint speed limit finite and positive | `joints[k].speed_limit` |
 //! | twist: `‖ω‖ = 1`, or `ω = 0` and `‖v‖ = 1` (checked when `v` is numeric; a parametric `v` must not be zero) | `joints[k].w`, `joints[k].v` |
 //! | numbers finite (xyz, rpy, rotation, axis, v, w, H, parameter values) | the number's field |
@@ -22,6 +22,7 @@
 //! | the method needs `n − r ≥ t` (`t` task rows, 6 without `[task]`) | `constraint.h` (`task.select` with a task) |
 //! | `J^r` needs `m = (6 − r) + (n − i) ≥ t` columns (3.15) | `constraint.link` (`task.select` with a task) |
 //! | `i ≥ 6` joints before the constrained link (`J^B_0i` of rank 6) | `constraint.link` |
+//! | on the last link, a constraint point sliding along the instrument (`o + l_a d`) not beyond the end effector along `d` at the nominal value | `parameters.NAME` |
 //! | `S J^r_0e` (`J^r_0e` without a task) of rank `t` at some configuration ([`admission_rank_problem`]) | `task.select` (`constraint.h` without a task) |
 //! | task rows: 1 to 6, none zero, linearly independent | `task.select`, `task.select[k]` |
 //! | wrist `unidirectional` needs `H = x_r`; `zy`/`zx` need `H = (x_r, z_r)` | `constraint.wrist` |
@@ -221,7 +222,8 @@ pub const RANK_CONFIGURATIONS: usize = 4;
 /// with a `z` task, a prismatic joint parallel to a constrained translation). Checked at
 /// [`RANK_CONFIGURATIONS`] pseudo-random configurations (each joint uniform in its limits, or in
 /// `[−π, π]`; a fixed seed, so the answer is reproducible) with the nominal parameters; the rank
-/// counts singular values above `1e-9 σ_max`. `None` when the rule holds, or when the robot
+/// counts singular values above `1e-9 σ_max` once the rows, then the columns, are scaled to unit
+/// norm. `None` when the rule holds, or when the robot
 /// cannot be evaluated (the other rules report why).
 pub fn admission_rank_problem(d: &RobotDescription) -> Option<AdmissionError> {
     let model = crate::numeric::NumericModel::<f64>::from_description(d, &[]).ok()?;
@@ -270,11 +272,26 @@ pub fn admission_rank_problem(d: &RobotDescription) -> Option<AdmissionError> {
             sharp,
             &mut cols,
         );
-        let st = nalgebra::DMatrix::from_fn(t, m, |r, k| {
+        let mut st = nalgebra::DMatrix::from_fn(t, m, |r, k| {
             (0..6).map(|e| select[r][e] * cols[k][e]).sum::<f64>()
         });
         if !st.iter().all(|x| x.is_finite()) {
             return None;
+        }
+        // Rows, then columns, scaled to unit norm (the rank is unchanged): linear rows in metres
+        // and angular ones in radians, or lengths of 1e6 beside 1e-3, do not read as a rank
+        // deficiency.
+        for mut row in st.row_iter_mut() {
+            let norm = row.norm();
+            if norm > 0.0 {
+                row /= norm;
+            }
+        }
+        for mut col in st.column_iter_mut() {
+            let norm = col.norm();
+            if norm > 0.0 {
+                col /= norm;
+            }
         }
         let sv = st.singular_values();
         let top = sv.iter().copied().fold(0.0, f64::max);
@@ -556,15 +573,16 @@ impl Checker<'_> {
             }
             self.origin(&prefix, &j.origin);
             if let Some([lo, hi]) = j.limits {
-                if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                let field = format!("{prefix}.limits");
+                if self.finite(&field, &[lo, hi]) && lo >= hi {
                     self.err(
-                        &format!("{prefix}.limits"),
-                        format!("limits = [lower, upper] need finite numbers with lower < upper, not [{lo}, {hi}]"),
+                        &field,
+                        format!("limits = [lower, upper] need lower < upper, not [{lo}, {hi}]"),
                     );
                 }
             }
             if let Some(v) = j.speed_limit {
-                if !(v.is_finite() && v > 0.0) {
+                if self.finite(&format!("{prefix}.speed_limit"), &[v]) && v <= 0.0 {
                     self.err(
                         &format!("{prefix}.speed_limit"),
                         format!("speed_limit needs a finite positive number, not {v}"),
@@ -658,11 +676,72 @@ impl Checker<'_> {
                 AdmissionError::TooFewColumns { .. } | AdmissionError::TooFewJointsBefore { .. }
             )
         });
+        if self.out.is_empty() {
+            self.trocar_inside_the_instrument(c);
+        }
         // The rank rule last: it evaluates the robot, which needs every other rule to hold.
         if self.out.is_empty() {
             if let Some(e) = admission_rank_problem(self.d) {
                 self.err(e.field_for(self.d.task.is_some()), e.to_string());
             }
+        }
+    }
+
+    /// On the last link (`i = n`) with a constraint point that slides along the instrument with
+    /// one parameter (`g_ir = (R, o + l_a d)`), the point must not lie beyond the instrument's tip
+    /// (the end effector, fixed in the same link) along `d` at the nominal value: the trocar
+    /// would be outside the instrument.
+    fn trocar_inside_the_instrument(&mut self, c: &super::ConstraintDesc) {
+        let d = self.d;
+        if c.link != d.joints.len() {
+            return;
+        }
+        let mut names = c
+            .origin
+            .xyz
+            .iter()
+            .flat_map(|s| s.terms.iter().map(|(_, n)| n));
+        let Some(name) = names.next() else {
+            return;
+        };
+        if names.any(|n| n != name) {
+            return;
+        }
+        let Some(value) = d.parameter(name) else {
+            return;
+        };
+        let lookup = |n: &str| d.parameter(n);
+        let coefficient = |s: &Linear| -> f64 {
+            s.terms
+                .iter()
+                .filter(|(_, n)| n == name)
+                .map(|(k, _)| k)
+                .sum()
+        };
+        let dir = [0, 1, 2].map(|k| coefficient(&c.origin.xyz[k]));
+        let origin = [0, 1, 2].map(|k| c.origin.xyz[k].constant);
+        let mut tip = [0.0; 3];
+        for (t, s) in tip.iter_mut().zip(&d.end_effector.origin.xyz) {
+            let Ok(v) = s.eval(lookup) else {
+                return;
+            };
+            *t = v;
+        }
+        let dd: f64 = dir.iter().map(|x| x * x).sum();
+        if dd <= 0.0 || !dd.is_finite() {
+            return;
+        }
+        // The value of the parameter that puts the point at the tip's projection on the shaft.
+        let at_tip = (0..3).map(|k| dir[k] * (tip[k] - origin[k])).sum::<f64>() / dd;
+        let beyond = (value - at_tip) * dd.sqrt();
+        if beyond > 1e-12 * (1.0 + at_tip.abs()) && beyond.is_finite() {
+            self.err(
+                &format!("parameters.{name}"),
+                format!(
+                    "the trocar is outside the instrument: at the nominal {name} = {value} the constraint point lies {beyond:.6} beyond the tip `{}` along the shaft (constraint.xyz); {name} must stay below {at_tip:.6}",
+                    d.end_effector.name
+                ),
+            );
         }
     }
 

@@ -166,7 +166,10 @@ impl MechanismTrace {
         &self,
         path: &'p Path,
         backend: impl FnOnce(&'p Path, (u32, u32)) -> DB,
-    ) -> Result<(), ClosedChainError> {
+    ) -> Result<(), ClosedChainError>
+    where
+        DB::ErrorType: 'static,
+    {
         let size = (1000, 380 * self.panels.len().max(1) as u32);
         let io = |e: String| ClosedChainError::Io {
             path: path.display().to_string(),
@@ -180,7 +183,10 @@ impl MechanismTrace {
     fn draw<DB: plotters::prelude::DrawingBackend>(
         &self,
         root: plotters::drawing::DrawingArea<DB, plotters::coord::Shift>,
-    ) -> Result<(), String> {
+    ) -> Result<(), String>
+    where
+        DB::ErrorType: 'static,
+    {
         use crate::plot::{draw_panel, Fonts, Line, Panel2d};
         use plotters::prelude::*;
         root.fill(&WHITE).map_err(|e| e.to_string())?;
@@ -213,7 +219,8 @@ impl MechanismTrace {
             )
             .map_err(|e| e.to_string())?;
         }
-        root.present().map_err(|e| e.to_string())?;
+        root.present()
+            .map_err(|e| crate::plot::backend_message(&e))?;
         Ok(())
     }
 }

@@ -46,6 +46,46 @@ fn err(e: impl core::fmt::Display) -> PlotError {
     PlotError(e.to_string())
 }
 
+/// The bitmap backend's error type (PNG and GIF files).
+type BitmapError = <BitMapBackend<'static> as DrawingBackend>::ErrorType;
+
+/// A bitmap backend's error in words: the I/O or encoder error's own message (the backend's
+/// `Display` is its debug form, `ImageError(IoError(Os { code: 28, … }))`).
+pub(crate) fn bitmap_message(e: &BitmapError) -> String {
+    match e {
+        BitmapError::IOError(io) => io.to_string(),
+        BitmapError::ImageError(i) => format!("the PNG encoder: {i}"),
+        BitmapError::GifEncodingError(g) => format!("the GIF encoder: {g}"),
+        BitmapError::InvalidBuffer => "the pixel buffer has the wrong size".to_string(),
+    }
+}
+
+/// A drawing error of any backend in words ([`bitmap_message`] for bitmaps).
+pub(crate) fn backend_message<E: std::error::Error + Send + Sync + 'static>(
+    e: &DrawingAreaErrorKind<E>,
+) -> String {
+    use plotters_backend::DrawingErrorKind;
+    match e {
+        DrawingAreaErrorKind::BackendError(DrawingErrorKind::DrawingError(b)) => {
+            match (b as &dyn std::any::Any).downcast_ref::<BitmapError>() {
+                Some(bitmap) => bitmap_message(bitmap),
+                None => b.to_string(),
+            }
+        }
+        DrawingAreaErrorKind::BackendError(DrawingErrorKind::FontError(f)) => {
+            format!("the font: {f}")
+        }
+        other => other.to_string(),
+    }
+}
+
+/// [`backend_message`] as a [`PlotError`].
+pub(crate) fn backend_err<E: std::error::Error + Send + Sync + 'static>(
+    e: DrawingAreaErrorKind<E>,
+) -> PlotError {
+    PlotError(backend_message(&e))
+}
+
 /// Size of the figure in pixels.
 pub const SIZE: (u32, u32) = (1600, 1500);
 
@@ -89,12 +129,12 @@ pub(crate) fn write_image(
         Some(ImageFormat::Svg) => {
             let root = SVGBackend::new(path, size).into_drawing_area();
             figure.draw_on(&root)?;
-            root.present().map_err(err)
+            root.present().map_err(backend_err)
         }
         Some(ImageFormat::Png) => {
             let root = BitMapBackend::new(path, size).into_drawing_area();
             figure.draw_on(&root)?;
-            root.present().map_err(err)
+            root.present().map_err(backend_err)
         }
         None => Err(PlotError(format!(
             "{}: expected a .svg or .png file name",
@@ -122,14 +162,14 @@ pub fn write_figure(trace: &Trace, path: impl AsRef<Path>) -> Result<(), PlotErr
 pub fn write_svg(trace: &Trace, path: impl AsRef<Path>) -> Result<(), PlotError> {
     let root = SVGBackend::new(path.as_ref(), SIZE).into_drawing_area();
     draw(trace, &root)?;
-    root.present().map_err(err)
+    root.present().map_err(backend_err)
 }
 
 /// Writes the figure as PNG.
 pub fn write_png(trace: &Trace, path: impl AsRef<Path>) -> Result<(), PlotError> {
     let root = BitMapBackend::new(path.as_ref(), SIZE).into_drawing_area();
     draw(trace, &root)?;
-    root.present().map_err(err)
+    root.present().map_err(backend_err)
 }
 
 /// Size in pixels of the figure of [`write_comparison`] (two rows of two panels).
@@ -870,5 +910,22 @@ mod tests {
         assert!(e.0.contains("one scenario"), "{e}");
         assert!(!dir.join("mixed.svg").exists());
         std::fs::remove_dir_all(&dir).ok();
+    }
+
+    /// An encoder's error is its message, not the debug form of the backend's error
+    /// (`ImageError(IoError(Os { code: 2, kind: NotFound, … }))`).
+    #[test]
+    fn image_errors_are_in_words() {
+        let run = short_run(Scenario::S1, Method::Dls);
+        let missing = std::env::temp_dir()
+            .join(format!("trocar-missing-{}", std::process::id()))
+            .join("fig.png");
+        let e = write_figure(&run, &missing).unwrap_err().to_string();
+        assert!(e.contains("No such file or directory"), "{e}");
+        assert!(!e.contains("Os {") && !e.contains("ImageError("), "{e}");
+        let e = view3d::write_animation(&run, missing.with_extension("gif"), 2, |_| {})
+            .unwrap_err()
+            .to_string();
+        assert!(!e.contains("Os {") && !e.contains("IOError("), "{e}");
     }
 }

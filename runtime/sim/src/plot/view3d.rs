@@ -564,11 +564,11 @@ pub fn write_animation(
     let scene = Scene::new(trace)?;
     let rows = animation_rows(trace, frames);
     let root = BitMapBackend::gif(path.as_ref(), VIEW_SIZE, FRAME_DELAY_MS)
-        .map_err(err)?
+        .map_err(|e| PlotError(super::bitmap_message(&e)))?
         .into_drawing_area();
     for (f, &k) in rows.iter().enumerate() {
         draw(&scene, trace, &[k], &root)?;
-        root.present().map_err(err)?;
+        root.present().map_err(super::backend_err)?;
         progress((f + 1) as f64 / rows.len() as f64);
     }
     Ok(())
