@@ -248,7 +248,9 @@ fn parse_seconds(s: &str) -> Result<f64, String> {
         .trim()
         .parse()
         .map_err(|_| format!("`{s}` is not a number of seconds"))?;
-    // The rule of the library's `CsvRows::check`, with the value as the user wrote it.
+    // The number rule (`trocar_model::validity`: not subnormal, at most 1e6), then the rule of
+    // the library's `CsvRows::check`, with the value as the user wrote it.
+    trocar_model::validity::check(v).map_err(|p| format!("`{s}` {p}"))?;
     trocar_sim::simulation::CsvRows::Period(v)
         .check()
         .map_err(|_| format!("`{s}`: must be a positive, finite number of seconds"))?;

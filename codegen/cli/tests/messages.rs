@@ -98,7 +98,8 @@ fn shipped_names_are_found() {
     assert_eq!(code, 0, "{err}");
 }
 
-/// `--snapshot-times` values follow the number rule (a subnormal or infinite time was taken).
+/// `--snapshot-times` and `--dt` values follow the number rule (a subnormal or infinite time was
+/// taken).
 #[test]
 fn snapshot_times_follow_the_number_rule() {
     let dir = scratch("snapshot-times");
@@ -123,6 +124,14 @@ fn snapshot_times_follow_the_number_rule() {
             err.contains("--snapshot-times") && err.contains(why),
             "{bad}: {err}"
         );
+    }
+    assert!(names_in(&dir).is_empty());
+    // And `--dt`: a subnormal or huge sample time was taken.
+    for (bad, why) in [("1e-320", "subnormal"), ("1e300", "beyond")] {
+        let (code, _, err) =
+            trocar_in(&dir, &["simulate", "exp421", "--csv", "t.csv", "--dt", bad]);
+        assert_eq!(code, 2, "{bad}: {err}");
+        assert!(err.contains("--dt") && err.contains(why), "{bad}: {err}");
     }
     assert!(names_in(&dir).is_empty());
 }
