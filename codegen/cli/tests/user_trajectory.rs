@@ -187,6 +187,11 @@ fn bad_trajectories_name_the_file_row_and_column_and_write_nothing() {
             ":2: column `z`: 2e6 is beyond",
         ),
         (
+            "off-start",
+            good.replacen(&format!(",{},", start_tip()[2]), &format!(",{},", start_tip()[2] + 0.01), 1),
+            ":2: columns x, y, z: the first point is 0.0100 m from the tip at q0",
+        ),
+        (
             "short-row",
             good.replacen(&format!("{}\n", rows[7]), &format!("{}\n", rows[7].rsplit_once(',').unwrap().0), 1),
             ":8: 4 values, the header names 5 columns (no value for column `roll`)",

@@ -202,6 +202,58 @@ impl Trajectory {
         Ok(out)
     }
 
+    /// Checks a trajectory built by hand as [`Trajectory::parse`] checks one it reads: at
+    /// least two rows, one position (and orientation, when given) per time, increasing times,
+    /// every value within the number rule, unit quaternions.
+    pub fn check(&self, name: &str) -> Result<()> {
+        let n = self.t.len();
+        let orientations = match &self.orientation {
+            Orientation::None => n,
+            Orientation::Roll(r) => r.len(),
+            Orientation::Quaternion(q) => q.len(),
+        };
+        if n < 2 || self.position.len() != n || orientations != n {
+            return Err(Error::Input(format!(
+                "{name}: {n} times, {} positions and {orientations} orientations; a trajectory needs at least two rows, each with all of them",
+                self.position.len()
+            )));
+        }
+        let mut values: Vec<f64> = self
+            .t
+            .iter()
+            .copied()
+            .chain(self.position.iter().flatten().copied())
+            .collect();
+        match &self.orientation {
+            Orientation::None => {}
+            Orientation::Roll(r) => values.extend(r),
+            Orientation::Quaternion(q) => {
+                values.extend(q.iter().flatten());
+                if let Some(k) = q
+                    .iter()
+                    .position(|q| (q.iter().map(|v| v * v).sum::<f64>().sqrt() - 1.0).abs() > 1e-6)
+                {
+                    return Err(Error::Input(format!(
+                        "{name}: row {}: the quaternion is not of unit length",
+                        k + 1
+                    )));
+                }
+            }
+        }
+        if let Err((k, problem)) = trocar_model::validity::check_all(&values) {
+            return Err(Error::Input(format!("{name}: value {} {problem}", k + 1)));
+        }
+        if let Some(k) = self.t.windows(2).position(|w| w[1] <= w[0]) {
+            return Err(Error::Input(format!(
+                "{name}: row {}: t = {} does not increase (the row before has {})",
+                k + 2,
+                self.t[k + 1],
+                self.t[k]
+            )));
+        }
+        Ok(())
+    }
+
     /// Whether the trajectory gives an orientation.
     pub fn has_orientation(&self) -> bool {
         !matches!(self.orientation, Orientation::None)
@@ -226,6 +278,9 @@ impl Trajectory {
 
     /// The reference at time `t`: position, orientation (from the start orientation `r0` for a
     /// roll), velocity and angular velocity (zero outside the path's time span).
+    ///
+    /// # Panics
+    /// With fewer than two rows, which [`Trajectory::parse`] and [`Trajectory::check`] refuse.
     pub fn at(&self, t: f64, r0: &Matrix3<f64>) -> Target {
         let (k, s) = self.segment(t);
         let inside = t > self.t[0] && t < self.t[self.t.len() - 1];
@@ -320,6 +375,7 @@ pub fn simulate_trajectory(
         .source
         .as_ref()
         .map_or_else(|| "the trajectory".to_string(), |p| p.display().to_string());
+    trajectory.check(&source)?;
     let n = desc.joints.len();
     robot
         .check_q(&options.q0)
@@ -379,8 +435,11 @@ pub fn simulate_trajectory(
     let distance = (start - g0e.translation).norm();
     if trajectory.t[0] <= 0.0 && distance > START_TOLERANCE {
         return Err(Error::Input(format!(
-            "{source}: the first point is {distance:.4} m from the tip at q0 ({:.4}, {:.4}, {:.4}); start the path at the tip, or at t > 0 to let the controller converge from q0",
-            g0e.translation.x, g0e.translation.y, g0e.translation.z
+            "{source}:{}: columns x, y, z: the first point is {distance:.4} m from the tip at q0 ({:.4}, {:.4}, {:.4}); start the path at the tip, or at t > 0 to let the controller converge from q0",
+            trajectory.lines.first().copied().unwrap_or(2),
+            g0e.translation.x,
+            g0e.translation.y,
+            g0e.translation.z
         )));
     }
     // The tip cannot be farther from the trocar than the instrument is long: the distance from
@@ -707,4 +766,64 @@ pub fn run_options(
             dt: 0.002,
         },
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn two_rows() -> Trajectory {
+        Trajectory {
+            source: None,
+            t: vec![0.0, 1.0],
+            position: vec![[0.0; 3], [0.1, 0.0, 0.0]],
+            orientation: Orientation::Roll(vec![0.0, 0.5]),
+            lines: Vec::new(),
+            header_line: 1,
+        }
+    }
+
+    /// A trajectory built by hand is checked as one read from a file.
+    #[test]
+    fn a_hand_built_trajectory_is_checked() {
+        assert!(two_rows().check("p").is_ok());
+        let mut short = two_rows();
+        short.position.pop();
+        assert!(short
+            .check("p")
+            .unwrap_err()
+            .to_string()
+            .contains("1 positions"));
+        let mut back = two_rows();
+        back.t[1] = 0.0;
+        assert!(back
+            .check("p")
+            .unwrap_err()
+            .to_string()
+            .contains("row 2: t = 0"));
+        let mut nan = two_rows();
+        nan.position[1][2] = f64::NAN;
+        assert!(nan
+            .check("p")
+            .unwrap_err()
+            .to_string()
+            .contains("not finite"));
+        let mut quat = two_rows();
+        quat.orientation =
+            Orientation::Quaternion(vec![[1.0, 0.0, 0.0, 0.0], [2.0, 0.0, 0.0, 0.0]]);
+        assert!(quat
+            .check("p")
+            .unwrap_err()
+            .to_string()
+            .contains("row 2: the quaternion"));
+        let robot = Robot::load("panda-laparoscope").unwrap();
+        let options = TrajectoryOptions {
+            q0: vec![0.0; 7],
+            trocar: None,
+            controller: ControllerOptions::default(),
+            dt: 0.002,
+        };
+        let e = simulate_trajectory(&robot, &short, &options, &mut |_| {}).unwrap_err();
+        assert!(e.to_string().contains("at least two rows"), "{e}");
+    }
 }

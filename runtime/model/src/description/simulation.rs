@@ -168,7 +168,7 @@ impl SimulationDesc {
                 ))
             }
             Some(t) => Some(match file.and_then(Path::parent) {
-                Some(dir) if Path::new(&t).is_relative() => dir.join(&t),
+                Some(dir) if Path::new(&t).is_relative() => lexically_joined(dir, &t),
                 _ => PathBuf::from(&t),
             }),
         };
@@ -193,6 +193,25 @@ impl SimulationDesc {
     }
 }
 
+/// `dir` joined with the relative path `rel`, each `..` taking off the directory before it
+/// where there is one (`robots/../paths/c.csv` is `paths/c.csv`): the path as messages show it.
+fn lexically_joined(dir: &Path, rel: &str) -> PathBuf {
+    use std::path::Component;
+    let mut out = PathBuf::new();
+    for c in dir.join(rel).components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir
+                if matches!(out.components().next_back(), Some(Component::Normal(_))) =>
+            {
+                out.pop();
+            }
+            other => out.push(other),
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -208,6 +227,10 @@ mod tests {
             .unwrap()
             .unwrap();
         assert_eq!(s.trajectory, Some(PathBuf::from("/robots/paths/c.csv")));
+        let up = read("trajectory = \"../paths/./c.csv\"\n")
+            .unwrap()
+            .unwrap();
+        assert_eq!(up.trajectory, Some(PathBuf::from("/paths/c.csv")));
         assert_eq!(s.q0, Some(vec![0.0, 0.5, -1.0]));
         assert_eq!(s.method.as_deref(), Some("qp"));
         assert_eq!(s.kp, Some(4.0));
