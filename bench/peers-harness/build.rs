@@ -21,6 +21,22 @@ fn main() {
         }
         println!("cargo:rerun-if-changed={}", p.display());
     }
+    // The Rust-emitting peers' code (bench/peers_rust_gen.py), included by src/rust_peers.rs.
+    for f in ["wrenfold_peers.rs", "symforce_peers.rs"] {
+        let p = out.join(f);
+        if !p.exists() {
+            panic!(
+                "{} is missing: run bench/peers.sh (or `python bench/peers_rust_gen.py bench/out`) first",
+                p.display()
+            );
+        }
+        println!("cargo:rerun-if-changed={}", p.display());
+    }
+    let rust_dir = out.canonicalize().expect("the peers' output directory");
+    println!(
+        "cargo:rustc-env=TROCAR_PEERS_RUST_DIR={}",
+        rust_dir.display()
+    );
     println!("cargo:rerun-if-changed=c/floor.c");
     for f in ["oblique7.toml", "panda-link6-rcm.toml", "panda-link8.toml"] {
         println!("cargo:rerun-if-changed={f}");

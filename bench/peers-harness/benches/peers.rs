@@ -1,7 +1,8 @@
-//! One criterion run: the peers' generated C, the harness's Rust f64 reference, Pinocchio on the
+//! One criterion run: the peers' generated C, wrenfold's and SymForce's generated Rust, the harness's Rust f64 reference, Pinocchio on the
 //! Panda (feature `pinocchio`), and trig floors.
 //! Bench ids: `<case>/<implementation>`; `bench/peers_table.py` turns the medians into the table.
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
+use trocar_peers_harness::rust_peers::{RustPeer, Trig};
 use trocar_peers_harness::{eval, floor_eight, floor_two, Case, Peer};
 
 fn peers(c: &mut Criterion) {
@@ -46,6 +47,24 @@ fn peers(c: &mut Criterion) {
                 black_box(&mut out);
             })
         });
+        // wrenfold's and SymForce's Rust, called as ours: a function pointer chosen here.
+        for peer in RustPeer::ALL {
+            let f = black_box(peer.eval_fn(case));
+            g.bench_function(peer.name(), |b| {
+                b.iter(|| {
+                    f(black_box(&q), black_box(&p), &mut out);
+                    black_box(&mut out);
+                })
+            });
+            let f = black_box(peer.eval_trig_fn(case));
+            let t = Trig::new(&q);
+            g.bench_function(format!("{}_given_trig", peer.name()), |b| {
+                b.iter(|| {
+                    f(black_box(&t), black_box(&p), &mut out);
+                    black_box(&mut out);
+                })
+            });
+        }
         #[cfg(feature = "ours")]
         {
             use trocar_peers_harness::ours;
@@ -105,6 +124,27 @@ fn panda(c: &mut Criterion) {
                 b.iter(|| {
                     k = black_box(k + 1) & 15;
                     num.eval(&qs[k], black_box(&p), &mut out);
+                    black_box(&mut out);
+                })
+            });
+        }
+        for peer in RustPeer::ALL {
+            let f = black_box(peer.eval_fn(case));
+            let mut k = 0usize;
+            g.bench_function(peer.name(), |b| {
+                b.iter(|| {
+                    k = black_box(k + 1) & 15;
+                    f(&qs[k], black_box(&p), &mut out);
+                    black_box(&mut out);
+                })
+            });
+            let f = black_box(peer.eval_trig_fn(case));
+            let trigs: Vec<Trig> = qs.iter().map(|q| Trig::new(q)).collect();
+            let mut k = 0usize;
+            g.bench_function(format!("{}_given_trig", peer.name()), |b| {
+                b.iter(|| {
+                    k = black_box(k + 1) & 15;
+                    f(&trigs[k], black_box(&p), &mut out);
                     black_box(&mut out);
                 })
             });

@@ -899,6 +899,8 @@ macro_rules! per_case {
     };
 }
 
+pub mod rust_peers;
+
 /// [`baseline_eval`] with the case fixed ([`EvalFn`]).
 pub fn baseline_fn(case: Case) -> EvalFn {
     per_case!(baseline_eval, case; Uni, Bzy, Bzx)

@@ -269,6 +269,49 @@ fn peers_agree_with_the_reference() {
     }
 }
 
+/// wrenfold's and SymForce's Rust, from the joint values and given the sines and cosines, against
+/// the reference (and, with the feature `ours`, against trocar's generated code).
+#[test]
+fn rust_peers_agree_with_the_reference_and_ours() {
+    use trocar_peers_harness::rust_peers::{RustPeer, Trig};
+    let mut seed = 7;
+    for case in CASES {
+        for _ in 0..200 {
+            let (q, p) = random_inputs(case, &mut seed);
+            let mut want = vec![0.0; case.out_len()];
+            reference::eval(case, &q, &p, &mut want);
+            let scale = want.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+            #[cfg(feature = "ours")]
+            let ours = {
+                let mut o = vec![f64::NAN; case.out_len()];
+                trocar_peers_harness::ours::eval(case, &q, &p, &mut o);
+                o
+            };
+            for peer in RustPeer::ALL {
+                let mut got = vec![f64::NAN; case.out_len()];
+                peer.eval_fn(case)(&q, &p, &mut got);
+                let mut got_t = vec![f64::NAN; case.out_len()];
+                peer.eval_trig_fn(case)(&Trig::new(&q), &p, &mut got_t);
+                for i in 0..want.len() {
+                    for (what, g) in [("q", got[i]), ("trig", got_t[i])] {
+                        assert!(
+                            (g - want[i]).abs() <= 1e-12 * scale,
+                            "{peer:?} {what} {case:?} [{i}]: {g} vs {}",
+                            want[i]
+                        );
+                        #[cfg(feature = "ours")]
+                        assert!(
+                            (g - ours[i]).abs() <= 1e-12 * scale,
+                            "{peer:?} {what} {case:?} [{i}]: {g} vs ours {}",
+                            ours[i]
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
 /// The frozen baseline (2026-11-23's generated presets) still computes the presets' J^r.
 #[test]
 fn baseline_agrees_with_the_reference() {

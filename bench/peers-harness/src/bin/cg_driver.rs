@@ -5,14 +5,23 @@
 //! per iteration included; `cg_driver noop - N` measures them).
 //! IMPL: casadi | casadi_cse | sympy | rust_reference | numeric | baseline (presets) | ours_f64 |
 //! ours_f64_given_trig |
-//! ours_f32 (feature `ours`) | pinocchio | pinocchio_fk (feature `pinocchio`, Panda cases) |
+//! ours_f32 (feature `ours`) | wrenfold | symforce | wrenfold_given_trig | symforce_given_trig | pinocchio | pinocchio_fk (feature `pinocchio`, Panda cases) |
 //! ours_trig | trig_c_glibc (Panda cases: the 7 joints' trigonometry alone) | noop |
 //! trig_c_glibc | trig_std_f64 | trig_fast_f64 | trig_std_f32 | trig_fast_f32 | trig_libm_f64 |
 //! trig_libm_f32. CASE: uni | bzy | bzx | dia_zy | panda | panda_i | -.
 //! The Panda cases cycle through `Case::configs` (16 configurations, the index through
 //! `black_box`), as the criterion bench does.
 use std::hint::black_box;
+use trocar_peers_harness::rust_peers::{RustPeer, Trig};
 use trocar_peers_harness::{eval, floor_two, Case, Peer};
+
+/// `wrenfold` | `symforce` (from q) | `wrenfold_given_trig` | `symforce_given_trig`.
+fn rust_peer(name: &str) -> Option<(RustPeer, bool)> {
+    match name.strip_suffix("_given_trig") {
+        Some(base) => RustPeer::from_name(base).map(|p| (p, true)),
+        None => RustPeer::from_name(name).map(|p| (p, false)),
+    }
+}
 
 #[repr(C)]
 struct Timespec {
@@ -174,6 +183,27 @@ fn main() {
                 }
             }
         }
+        name if rust_peer(name).is_some() => {
+            let (peer, given_trig) = rust_peer(name).unwrap();
+            let case =
+                Case::from_name(&args[2]).unwrap_or_else(|| panic!("unknown CASE {}", args[2]));
+            let (q, p) = case.inputs();
+            let mut out = vec![0.0; case.out_len()];
+            if given_trig {
+                let f = black_box(peer.eval_trig_fn(case));
+                let t = Trig::new(&q);
+                measured_loop(n, &mut || {
+                    f(black_box(&t), black_box(&p), &mut out);
+                    black_box(&mut out);
+                })
+            } else {
+                let f = black_box(peer.eval_fn(case));
+                measured_loop(n, &mut || {
+                    f(black_box(&q), black_box(&p), &mut out);
+                    black_box(&mut out);
+                })
+            }
+        }
         name => {
             let peer = Peer::from_name(name).unwrap_or_else(|| panic!("unknown IMPL {name}"));
             let case =
@@ -263,6 +293,25 @@ fn panda(name: &str, case: Case, n: usize) {
             k = black_box(k + 1) & 15;
             black_box(trocar_peers_harness::ours::panda_trig::<f64>(&qs[k]));
         }),
+        name if rust_peer(name).is_some() => {
+            let (peer, given_trig) = rust_peer(name).unwrap();
+            if given_trig {
+                let f = black_box(peer.eval_trig_fn(case));
+                let trigs: Vec<Trig> = qs.iter().map(|q| Trig::new(q)).collect();
+                measured_loop(n, &mut || {
+                    k = black_box(k + 1) & 15;
+                    f(&trigs[k], black_box(&p), &mut out);
+                    black_box(&mut out);
+                })
+            } else {
+                let f = black_box(peer.eval_fn(case));
+                measured_loop(n, &mut || {
+                    k = black_box(k + 1) & 15;
+                    f(&qs[k], black_box(&p), &mut out);
+                    black_box(&mut out);
+                })
+            }
+        }
         name => {
             let peer =
                 Peer::from_name(name).unwrap_or_else(|| panic!("unknown IMPL {name} for {case:?}"));
