@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# trocar vs CasADi- and SymPy-generated C and Pinocchio, in one command (not part of CI):
+# trocar vs CasADi- and SymPy-generated C, wrenfold- and SymForce-generated Rust and Pinocchio, in one
+# command (not part of CI):
 #
 #   bench/peers.sh            # everything: generate, check, criterion, callgrind, table
 #   QUICK=1 bench/peers.sh    # shorter criterion runs
 #   NO_PINOCCHIO=1 bench/peers.sh   # without Pinocchio (no pin wheels)
 #
-# 1. a virtual environment bench/.venv with casadi and sympy (PyPI), and Pinocchio's C++ from the
+# 1. a virtual environment bench/.venv with casadi, sympy, wrenfold and symforce (PyPI), and Pinocchio's C++ from the
 #    wheels pin (brings libpinocchio), cmeel-eigen and cmeel-urdfdom-headers (all pinned below);
 # 2. bench/peers_gen.py writes the peers' C for J^r of the three presets, dia10_like's
 #    FK + J^B_0i + J^r, and the Franka Panda's pose + body Jacobian of panda_link8 / panda_link7
@@ -14,6 +15,9 @@
 #    `bench/chains.py --peers`; panda-link6-rcm.toml: the Panda constrained on panda_link6)
 #    into bench/out/ (the presets are also measured against a frozen baseline, their generated
 #    code and runtime surface of 2026-11-23 in bench/peers-harness/src/baseline, in the same runs);
+#    bench/peers_rust_gen.py writes wrenfold's and SymForce's Rust for the same cases from the same
+#    chains (bench/out/wrenfold_peers.rs, symforce_peers.rs: from q, and `eval_trig` given the
+#    sines and cosines), which the harness compiles with its own flags (src/rust_peers.rs);
 # 3. the harness bench/peers-harness (its own workspace, not a member of trocar's) compiles that C
 #    with gcc -O3 -march=native (cc crate), and, when the venv has Pinocchio (feature
 #    `pinocchio`), c/pinocchio_panda.cpp with g++ -O3 at the DEFAULT x86-64 ISA (no
@@ -23,9 +27,10 @@
 #    everything in one criterion run;
 # 4. thread CPU time per evaluation (cg_driver CPUTIME=1);
 # 5. the Panda again with EVERYTHING at the default x86-64 ISA (Rust -C target-cpu=x86-64, C with
-#    -march=x86-64; TROCAR_PEERS_DEFAULT_ISA=1): criterion and CPU time, target/default-isa/;
-# 6. callgrind counts instructions per evaluation (a build without AVX-512, which valgrind 3.19
-#    cannot decode);
+#    -march=x86-64; TROCAR_PEERS_DEFAULT_ISA=1), with dia10_like and oblique7: criterion and CPU
+#    time, target/default-isa/;
+# 6. callgrind counts instructions per evaluation: the default-ISA build of stage 5, and a native
+#    build without AVX-512 (which valgrind 3.19 cannot decode);
 # 7. bench/peers_table.py writes bench/out/table.md (and bench/out/panda.md).
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -37,7 +42,7 @@ echo "== python environment" >&2
 if [ ! -x "$here/.venv/bin/python" ]; then
   python3 -m venv "$here/.venv"
 fi
-"$here/.venv/bin/pip" install -q "casadi==3.8.2" "sympy==1.14.0"
+"$here/.venv/bin/pip" install -q "casadi==3.8.2" "sympy==1.14.0" "wrenfold==0.5.0" "symforce==0.12.0" "symforce-sym==0.12.0"
 # Pinocchio 4.1.0's C++ library and headers (pin -> libpinocchio, coal, cmeel-boost, cmeel-urdfdom),
 # plus the headers its own headers include: Eigen 3.4.1 and urdfdom_headers 3.0.0 (the version its
 # CMake config was built with: PINOCCHIO_URDFDOM_HEADERS_MAJOR_VERSION=3). Optional.
@@ -56,11 +61,12 @@ fi
 
 echo "== generate the peers' C" >&2
 "$here/.venv/bin/python" "$here/peers_gen.py" "$out"
+"$here/.venv/bin/python" "$here/peers_rust_gen.py" "$out"
 python3 "$here/asm_counts.py" "$out" > /dev/null
 
 echo "== machine" >&2
 { lscpu | grep -E 'Model name|^CPU\(s\)|MHz' ; gcc --version | head -1; g++ --version | head -1; rustc --version
-  "$here/.venv/bin/pip" list 2>/dev/null | grep -iE '^(casadi|sympy|pin|libpinocchio|cmeel-eigen|cmeel-urdfdom-headers) ' || true
+  "$here/.venv/bin/pip" list 2>/dev/null | grep -iE '^(casadi|sympy|wrenfold|symforce|pin|libpinocchio|cmeel-eigen|cmeel-urdfdom-headers) ' || true
   uptime; } | tee "$out/machine.txt" >&2
 
 # Our generated code joins in when the generator's Builder is in this checkout (feature `ours`).
@@ -81,13 +87,14 @@ fi
 features=()
 [ -z "$feature_list" ] || features=(--features "$feature_list")
 # Implementations measured per case (the numeric runtime has no panda_link8 frame).
+rust_peers="wrenfold symforce wrenfold_given_trig symforce_given_trig"
 impls_for() {
   case "$1" in
-    panda) echo "noop trig_c_glibc casadi casadi_cse sympy rust_reference $ours_impls ${ours_impls:+ours_trig} $pin_impls" ;;
-    panda_i) echo "noop trig_c_glibc casadi casadi_cse sympy numeric rust_reference $ours_impls ${ours_impls:+ours_trig} $pin_impls" ;;
-    oblique7|panda_rcm) echo "casadi casadi_cse sympy numeric $ours_impls" ;;
-    uni|bzy|bzx) echo "casadi casadi_cse sympy numeric rust_reference baseline $ours_impls" ;;
-    *) echo "casadi casadi_cse sympy numeric rust_reference $ours_impls" ;;
+    panda) echo "noop trig_c_glibc casadi casadi_cse sympy rust_reference $ours_impls ${ours_impls:+ours_trig} $rust_peers $pin_impls" ;;
+    panda_i) echo "noop trig_c_glibc casadi casadi_cse sympy numeric rust_reference $ours_impls ${ours_impls:+ours_trig} $rust_peers $pin_impls" ;;
+    oblique7|panda_rcm) echo "casadi casadi_cse sympy numeric $ours_impls $rust_peers" ;;
+    uni|bzy|bzx) echo "casadi casadi_cse sympy numeric rust_reference baseline $ours_impls $rust_peers" ;;
+    *) echo "casadi casadi_cse sympy numeric rust_reference $ours_impls $rust_peers" ;;
   esac
 }
 
@@ -123,20 +130,21 @@ for case in uni bzy bzx dia_zy panda panda_i oblique7 panda_rcm; do
 done
 echo "$cjson}" > "$out/cputime.json"
 
-if [ -n "$ours_impls$pin_impls" ]; then
-  echo "== the Panda with everything at the default x86-64 ISA (Rust and C; Pinocchio always is)" >&2
+# The default-ISA stage always runs (wrenfold's and SymForce's Rust are always in the harness).
+if true; then
+  echo "== the Panda, dia10_like and oblique7 with everything at the default x86-64 ISA (Rust and C; Pinocchio always is)" >&2
   export TROCAR_PEERS_DEFAULT_ISA=1
   dflt=(env CARGO_TARGET_DIR="$harness/target/default-isa" RUSTFLAGS="-C target-cpu=x86-64")
   "${dflt[@]}" cargo test --release -q "${features[@]}"
   if [ -n "${QUICK:-}" ]; then
-    "${dflt[@]}" cargo bench --bench peers "${features[@]}" -- '^panda(_i)?/' --warm-up-time 1 --measurement-time 2
+    "${dflt[@]}" cargo bench --bench peers "${features[@]}" -- '^(panda|panda_i|dia_zy|oblique7)/' --warm-up-time 1 --measurement-time 2
   else
-    "${dflt[@]}" cargo bench --bench peers "${features[@]}" -- '^panda(_i)?/' --warm-up-time 2 --measurement-time 5
+    "${dflt[@]}" cargo bench --bench peers "${features[@]}" -- '^(panda|panda_i|dia_zy|oblique7)/' --warm-up-time 2 --measurement-time 5
   fi
   "${dflt[@]}" cargo build --release -q --bin cg_driver "${features[@]}"
   cjson="{"
   csep=""
-  for case in panda panda_i; do
+  for case in panda panda_i dia_zy oblique7; do
     for impl in $(impls_for $case); do
       ns=$(CPUTIME=1 "$harness/target/default-isa/release/cg_driver" "$impl" "$case" 200000)
       cjson="$cjson$csep\"$impl/$case\": $ns"
@@ -149,11 +157,30 @@ if [ -n "$ours_impls$pin_impls" ]; then
 fi
 
 echo "== callgrind" >&2
+n=10000
+cgcount() { # driver impl case file -> instructions per iteration
+  valgrind --tool=callgrind --toggle-collect='*measured_loop*' --callgrind-out-file="$4" \
+    "$1" "$2" "$3" "$n" 2> /dev/null
+  python3 -c "print($(grep -E '^(summary|totals):' "$4" | head -1 | awk '{print $2}') / $n)"
+}
+# At the default x86-64 ISA (the driver of the stage above; valgrind decodes all of it).
+json="{"
+sep=""
+for case in - uni bzy bzx dia_zy panda panda_i oblique7 panda_rcm; do
+  if [ "$case" = - ]; then impls=noop; else impls=$(impls_for $case); fi
+  for impl in $impls; do
+    c=$(cgcount "$harness/target/default-isa/release/cg_driver" "$impl" "$case" "$out/callgrind_default_isa.$impl.$case.out")
+    json="$json$sep\"$impl/$case\": $c"
+    sep=", "
+    echo "default ISA $impl/$case: $c instructions/iteration" >&2
+  done
+done
+echo "$json}" > "$out/callgrind_default_isa.json"
+# Native, less AVX-512 (which valgrind 3.19 cannot decode).
 export TROCAR_PEERS_NO_AVX512=1
 CARGO_TARGET_DIR="$harness/target/cg" RUSTFLAGS="-C target-cpu=native -C target-feature=-avx512f" \
   cargo build --release -q --bin cg_driver "${features[@]}"
 driver="$harness/target/cg/release/cg_driver"
-n=10000
 json="{"
 sep=""
 run() { # impl case

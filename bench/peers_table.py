@@ -9,7 +9,8 @@ Inputs (all optional, missing cells print as "-"):
   OUT/asm_counts.json                             FP instructions in the compiled functions
   DEFAULT_ISA_CRITERION_DIR, OUT/cputime_default_isa.json   the Panda's default-ISA run
 Usage: peers_table.py OUT CRITERION_DIR [DEFAULT_ISA_CRITERION_DIR]
-Writes OUT/table.md (every case), OUT/ratios.md (trocar's generated f64 over each peer: criterion,
+  OUT/callgrind_default_isa.json                  instructions at the default x86-64 ISA
+Writes OUT/table.md (every case), OUT/rust_peers.md (trocar vs wrenfold and SymForce), OUT/ratios.md (trocar's generated f64 over each peer: criterion,
 CPU time, callgrind) and OUT/panda.md (the Panda: trocar vs Pinocchio).
 """
 
@@ -32,6 +33,10 @@ IMPLS = [("casadi", "CasADi C (SX, defaults)"), ("casadi_cse", "CasADi C (SX, cs
          ("baseline", "trocar generated f64 of 2026-11-23 (frozen baseline, presets)"),
          ("ours_f64", "trocar generated f64"), ("ours_f64_given_trig", "trocar generated f64, given JointTrig (no trig)"),
          ("ours_f32", "trocar generated f32"),
+         ("wrenfold", "wrenfold 0.5 Rust (RustGenerator), from q"),
+         ("wrenfold_given_trig", "wrenfold 0.5 Rust, given the sines and cosines"),
+         ("symforce", "SymForce 0.12 Rust (RustConfig, nalgebra), from q"),
+         ("symforce_given_trig", "SymForce 0.12 Rust, given the sines and cosines"),
          ("pinocchio", "Pinocchio C++ computeFrameJacobian(LOCAL), pose from it (g++ -O3, default ISA)"),
          ("pinocchio_fk", "Pinocchio C++ forwardKinematics + updateFramePlacement + computeFrameJacobian (default ISA)"),
          ("ours_trig", "floor: trocar JointTrig::new alone (7 joints)"),
@@ -134,6 +139,11 @@ def main():
         text += "\n" + panda
         with open(os.path.join(out, "panda.md"), "w") as f:
             f.write(panda)
+    rust = rust_peers_table(out, crit, sys.argv[3] if len(sys.argv) > 3 else None, cg, cpu)
+    if rust:
+        text += "\n" + rust
+        with open(os.path.join(out, "rust_peers.md"), "w") as f:
+            f.write(rust)
     with open(os.path.join(out, "table.md"), "w") as f:
         f.write(text)
     print(text)
@@ -215,6 +225,59 @@ def panda_table(out, crit, crit_default, cg, cpu, net):
               "Every Panda implementation cycles through the same 16 configurations. Instruction counts "
               "(native build without AVX-512) are net of the Panda driver loop (`cg_driver noop panda`)."]
     return "\n".join(lines) + "\n"
+
+
+RUST_ROWS = [
+    ("ours_f64", "trocar (`JointTrig::new` + the `_trig` functions)"),
+    ("wrenfold", "wrenfold (one function)"),
+    ("symforce", "SymForce (one function)"),
+    ("ours_f64_given_trig", "trocar, given the sines and cosines"),
+    ("wrenfold_given_trig", "wrenfold, given the sines and cosines"),
+    ("symforce_given_trig", "SymForce, given the sines and cosines"),
+]
+
+
+def rust_peers_table(out, crit, crit_default, cg, cpu):
+    """trocar's generated f64 against wrenfold's and SymForce's Rust: instructions (default ISA,
+    native without AVX-512), thread CPU time and criterion medians (native, default ISA), then
+    trocar over the faster of the two, from q and given the sines and cosines."""
+    cgd = load(os.path.join(out, "callgrind_default_isa.json"))
+    cpu_d = load(os.path.join(out, "cputime_default_isa.json"))
+
+    def net(table, impl, case):
+        v = table.get(f"{impl}/{case}")
+        base = table.get(f"noop/{case}") if case.startswith("panda_") or case == "panda" else None
+        base = base if base is not None else table.get("noop/-")
+        return v - base if v is not None and base is not None else v
+
+    def metrics(impl, case):
+        return [net(cgd, impl, case), net(cg, impl, case), cpu_d.get(f"{impl}/{case}"), cpu.get(f"{impl}/{case}"),
+                median(crit_default, case, impl) if crit_default else None, median(crit, case, impl)]
+    heads = ["instr, default ISA", "instr, native (no AVX-512)", "ns CPU, default ISA", "ns CPU, native",
+             "ns criterion, default ISA", "ns criterion, native"]
+    lines = ["| case | implementation | " + " | ".join(heads) + " |", "|---|---|" + "---:|" * len(heads)]
+    ratio = ["| case | trocar / faster peer | " + " | ".join(heads) + " |", "|---|---|" + "---:|" * len(heads)]
+    any_row = False
+    for case, cdesc in CASES:
+        m = {impl: metrics(impl, case) for impl, _ in RUST_ROWS}
+        if all(v is None for vs in m.values() for v in vs):
+            continue
+        any_row = True
+        for impl, desc in RUST_ROWS:
+            nd = [0, 0, 1, 1, 1, 1]
+            lines.append(f"| {cdesc} | {desc} | " + " | ".join(fmt(v, d) for v, d in zip(m[impl], nd)) + " |")
+        for ours, peers, label in (("ours_f64", ("wrenfold", "symforce"), "from q"),
+                                   ("ours_f64_given_trig", ("wrenfold_given_trig", "symforce_given_trig"),
+                                    "given sin, cos")):
+            cells = []
+            for k in range(len(heads)):
+                o = m[ours][k]
+                ps = [m[p][k] for p in peers if m[p][k] is not None]
+                cells.append(f"{o / min(ps):.2f}×" if o is not None and ps and min(ps) > 0 else "-")
+            ratio.append(f"| {case} | {label} | " + " | ".join(cells) + " |")
+    if not any_row:
+        return ""
+    return "\n".join(lines + ["", "Instruction counts are net of the driver loop (`cg_driver noop`).", ""] + ratio) + "\n"
 
 
 if __name__ == "__main__":
