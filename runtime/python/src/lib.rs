@@ -578,6 +578,8 @@ fn simulate<'py>(
                 PyValueError::new_err(
                     e.to_string()
                         .replace("--q0 q1,...,q", "q0=[q1, ..., q")
+                        .replace("--q0", "q0")
+                        .replace("--trocar", "trocar")
                         .replace("--trajectory PATH.csv", "trajectory=\"PATH.csv\""),
                 )
             })?
