@@ -5,7 +5,8 @@
 //! per iteration included; `cg_driver noop - N` measures them).
 //! IMPL: casadi | casadi_cse | sympy | rust_reference | numeric | baseline (presets) | ours_f64 |
 //! ours_f64_given_trig |
-//! ours_f32 (feature `ours`) | wrenfold | symforce | wrenfold_given_trig | symforce_given_trig | pinocchio | pinocchio_fk (feature `pinocchio`, Panda cases) |
+//! ours_f32 (feature `ours`) | wrenfold | symforce | wrenfold_given_trig | symforce_given_trig |
+//! wrenfold_fed_trocar_sin_cos | symforce_fed_trocar_sin_cos (Panda cases, feature `ours`) | pinocchio | pinocchio_fk (feature `pinocchio`, Panda cases) |
 //! ours_trig | trig_c_glibc (Panda cases: the 7 joints' trigonometry alone) | noop |
 //! trig_c_glibc | trig_std_f64 | trig_fast_f64 | trig_std_f32 | trig_fast_f32 | trig_libm_f64 |
 //! trig_libm_f32. CASE: uni | bzy | bzx | dia_zy | panda | panda_i | -.
@@ -311,6 +312,32 @@ fn panda(name: &str, case: Case, n: usize) {
                     black_box(&mut out);
                 })
             }
+        }
+        // The Rust peers' `eval_trig` fed trocar's `JointTrig::new` (our `sin_cos_array`) inside
+        // the loop: the three kernels given the same sines and cosines.
+        #[cfg(feature = "ours")]
+        name if name
+            .strip_suffix("_fed_trocar_sin_cos")
+            .and_then(RustPeer::from_name)
+            .is_some() =>
+        {
+            let peer = name
+                .strip_suffix("_fed_trocar_sin_cos")
+                .and_then(RustPeer::from_name)
+                .unwrap();
+            let f = black_box(peer.eval_trig_fn(case));
+            measured_loop(n, &mut || {
+                k = black_box(k + 1) & 15;
+                let jt = trocar_peers_harness::ours::panda_trig::<f64>(&qs[k]);
+                let mut t = Trig {
+                    s: [0.0; 8],
+                    c: [0.0; 8],
+                };
+                t.s[..7].copy_from_slice(&jt.sin);
+                t.c[..7].copy_from_slice(&jt.cos);
+                f(&t, black_box(&p), &mut out);
+                black_box(&mut out);
+            })
         }
         name => {
             let peer =
