@@ -90,8 +90,8 @@ features=()
 rust_peers="wrenfold symforce wrenfold_given_trig symforce_given_trig"
 impls_for() {
   case "$1" in
-    panda) echo "noop trig_c_glibc casadi casadi_cse sympy rust_reference $ours_impls ${ours_impls:+ours_trig} $rust_peers $pin_impls" ;;
-    panda_i) echo "noop trig_c_glibc casadi casadi_cse sympy numeric rust_reference $ours_impls ${ours_impls:+ours_trig} $rust_peers $pin_impls" ;;
+    panda) echo "noop trig_c_glibc casadi casadi_cse sympy rust_reference $ours_impls ${ours_impls:+ours_trig} $rust_peers ${ours_impls:+wrenfold_fed_trocar_sin_cos symforce_fed_trocar_sin_cos} $pin_impls" ;;
+    panda_i) echo "noop trig_c_glibc casadi casadi_cse sympy numeric rust_reference $ours_impls ${ours_impls:+ours_trig} $rust_peers ${ours_impls:+wrenfold_fed_trocar_sin_cos symforce_fed_trocar_sin_cos} $pin_impls" ;;
     oblique7|panda_rcm) echo "casadi casadi_cse sympy numeric $ours_impls $rust_peers" ;;
     uni|bzy|bzx) echo "casadi casadi_cse sympy numeric rust_reference baseline $ours_impls $rust_peers" ;;
     *) echo "casadi casadi_cse sympy numeric rust_reference $ours_impls $rust_peers" ;;
