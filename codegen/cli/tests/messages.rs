@@ -202,3 +202,41 @@ fn toml_limits_follow_the_number_rule() {
         );
     }
 }
+
+/// A trocar beyond the instrument's tip is refused at the values `--param` gives, not only at
+/// the nominal ones.
+#[test]
+fn a_parameter_value_puts_the_trocar_outside_the_instrument() {
+    let dir = scratch("param-trocar");
+    let q = "0,-0.3,0,-2.2,0,2.0,0.8";
+    let (code, _, err) = trocar_in(
+        &dir,
+        &[
+            "eval",
+            "panda-laparoscope",
+            "--q",
+            q,
+            "--param",
+            "l_a=0.45",
+            "--numeric",
+        ],
+    );
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("--param l_a=0.45") && err.contains("outside the instrument"),
+        "{err}"
+    );
+    let (code, _, err) = trocar_in(
+        &dir,
+        &[
+            "eval",
+            "panda-laparoscope",
+            "--q",
+            q,
+            "--param",
+            "l_a=0.3",
+            "--numeric",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+}

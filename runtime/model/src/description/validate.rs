@@ -357,6 +357,60 @@ pub fn admit(n: usize, link: usize, r: usize, t: usize) -> Result<(), AdmissionE
     }
 }
 
+/// On the last link (`i = n`) with a constraint point that slides along the instrument with
+/// one parameter (`g_ir = (R, o + l_a d)`), the point must not lie beyond the instrument's tip
+/// (the end effector, fixed in the same link) along `d` at the parameters' values: the trocar
+/// would be outside the instrument. `Some((parameter, message))` when it does.
+pub fn trocar_beyond_tip(d: &RobotDescription) -> Option<(String, String)> {
+    let c = d.constraint.as_ref()?;
+    if c.link != d.joints.len() {
+        return None;
+    }
+    let mut names = c
+        .origin
+        .xyz
+        .iter()
+        .flat_map(|s| s.terms.iter().map(|(_, n)| n));
+    let name = names.next()?;
+    if names.any(|n| n != name) {
+        return None;
+    }
+    let value = d.parameter(name)?;
+    let lookup = |n: &str| d.parameter(n);
+    let coefficient = |s: &Linear| -> f64 {
+        s.terms
+            .iter()
+            .filter(|(_, n)| n == name)
+            .map(|(k, _)| k)
+            .sum()
+    };
+    let dir = [0, 1, 2].map(|k| coefficient(&c.origin.xyz[k]));
+    let origin = [0, 1, 2].map(|k| c.origin.xyz[k].constant);
+    let mut tip = [0.0; 3];
+    for (t, s) in tip.iter_mut().zip(&d.end_effector.origin.xyz) {
+        let Ok(v) = s.eval(lookup) else {
+            return None;
+        };
+        *t = v;
+    }
+    let dd: f64 = dir.iter().map(|x| x * x).sum();
+    if dd <= 0.0 || !dd.is_finite() {
+        return None;
+    }
+    // The value of the parameter that puts the point at the tip's projection on the shaft.
+    let at_tip = (0..3).map(|k| dir[k] * (tip[k] - origin[k])).sum::<f64>() / dd;
+    let beyond = (value - at_tip) * dd.sqrt();
+    (beyond > 1e-12 * (1.0 + at_tip.abs()) && beyond.is_finite()).then(|| {
+        (
+            name.clone(),
+            format!(
+                "the trocar is outside the instrument: at {name} = {value} the constraint point lies {beyond:.6} beyond the tip `{}` along the shaft (constraint.xyz); {name} must stay below {at_tip:.6}",
+                d.end_effector.name
+            ),
+        )
+    })
+}
+
 /// Tolerance on unit norms and orthonormality.
 pub const TOLERANCE: f64 = 1e-9;
 
@@ -687,61 +741,10 @@ impl Checker<'_> {
         }
     }
 
-    /// On the last link (`i = n`) with a constraint point that slides along the instrument with
-    /// one parameter (`g_ir = (R, o + l_a d)`), the point must not lie beyond the instrument's tip
-    /// (the end effector, fixed in the same link) along `d` at the nominal value: the trocar
-    /// would be outside the instrument.
-    fn trocar_inside_the_instrument(&mut self, c: &super::ConstraintDesc) {
-        let d = self.d;
-        if c.link != d.joints.len() {
-            return;
-        }
-        let mut names = c
-            .origin
-            .xyz
-            .iter()
-            .flat_map(|s| s.terms.iter().map(|(_, n)| n));
-        let Some(name) = names.next() else {
-            return;
-        };
-        if names.any(|n| n != name) {
-            return;
-        }
-        let Some(value) = d.parameter(name) else {
-            return;
-        };
-        let lookup = |n: &str| d.parameter(n);
-        let coefficient = |s: &Linear| -> f64 {
-            s.terms
-                .iter()
-                .filter(|(_, n)| n == name)
-                .map(|(k, _)| k)
-                .sum()
-        };
-        let dir = [0, 1, 2].map(|k| coefficient(&c.origin.xyz[k]));
-        let origin = [0, 1, 2].map(|k| c.origin.xyz[k].constant);
-        let mut tip = [0.0; 3];
-        for (t, s) in tip.iter_mut().zip(&d.end_effector.origin.xyz) {
-            let Ok(v) = s.eval(lookup) else {
-                return;
-            };
-            *t = v;
-        }
-        let dd: f64 = dir.iter().map(|x| x * x).sum();
-        if dd <= 0.0 || !dd.is_finite() {
-            return;
-        }
-        // The value of the parameter that puts the point at the tip's projection on the shaft.
-        let at_tip = (0..3).map(|k| dir[k] * (tip[k] - origin[k])).sum::<f64>() / dd;
-        let beyond = (value - at_tip) * dd.sqrt();
-        if beyond > 1e-12 * (1.0 + at_tip.abs()) && beyond.is_finite() {
-            self.err(
-                &format!("parameters.{name}"),
-                format!(
-                    "the trocar is outside the instrument: at the nominal {name} = {value} the constraint point lies {beyond:.6} beyond the tip `{}` along the shaft (constraint.xyz); {name} must stay below {at_tip:.6}",
-                    d.end_effector.name
-                ),
-            );
+    /// [`trocar_beyond_tip`], on the parameter.
+    fn trocar_inside_the_instrument(&mut self, _c: &super::ConstraintDesc) {
+        if let Some((name, message)) = trocar_beyond_tip(self.d) {
+            self.err(&format!("parameters.{name}"), message);
         }
     }
 
