@@ -50,24 +50,6 @@ impl Reg for u32 {
     }
 }
 
-/// One arithmetic operation on registers (`d` the destination).
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Instr<R> {
-    Add(R, R, R),
-    Sub(R, R, R),
-    Mul(R, R, R),
-    Div(R, R, R),
-    Neg(R, R),
-    Sqrt(R, R),
-    Abs(R, R),
-    /// `d = x · y + c`, one `Real::mul_add`.
-    MulAdd(R, R, R, R),
-    /// `d = x · y − b` as `Real::mul_add(x, y, −b)`.
-    MulSub(R, R, R, R),
-    /// `d = a − x · y` as `Real::mul_add(−x, y, a)`.
-    SubMul(R, R, R, R),
-}
-
 /// How a [`Step`] computes: `kind` below [`DIV`] is `(±x)·y + (±c)` with the signs
 /// [`NEG_X`] and [`NEG_C`]; otherwise one of [`DIV`] (`x / y`), [`SQRT`] and [`ABS`] of `x`.
 const NEG_X: u8 = 1;
@@ -100,25 +82,6 @@ struct Step<R> {
     y: R,
     c: R,
     kind: u8,
-}
-
-impl Instr<u32> {
-    /// The operation as a [`Step`], `one` and `neg_zero` the registers holding 1 and −0.
-    fn step(self, one: u32, neg_zero: u32) -> Step<u32> {
-        let s = |d, x, y, c, kind| Step { d, x, y, c, kind };
-        match self {
-            Instr::Add(d, a, b) => s(d, a, one, b, 0),
-            Instr::Sub(d, a, b) => s(d, a, one, b, NEG_C),
-            Instr::Mul(d, a, b) => s(d, a, b, neg_zero, 0),
-            Instr::Neg(d, a) => s(d, a, one, neg_zero, NEG_X),
-            Instr::MulAdd(d, x, y, c) => s(d, x, y, c, 0),
-            Instr::MulSub(d, x, y, b) => s(d, x, y, b, NEG_C),
-            Instr::SubMul(d, x, y, a) => s(d, x, y, a, NEG_X),
-            Instr::Div(d, a, b) => s(d, a, b, a, DIV),
-            Instr::Sqrt(d, a) => s(d, a, a, a, SQRT),
-            Instr::Abs(d, a) => s(d, a, a, a, ABS),
-        }
-    }
 }
 
 impl Step<u32> {
@@ -267,7 +230,7 @@ impl Compiled {
         // Operations: a register freed after its value's last use is reused.
         let mut free: Vec<u32> = Vec::new();
         let mut registers = first_free;
-        let mut instrs = Vec::new();
+        let mut steps = Vec::new();
         // Values whose last use is at position `at` of the order, to free after it.
         let mut dies_at: Vec<Vec<usize>> = vec![Vec::new(); ops.len() + 1];
         for (v, &l) in last_use.iter().enumerate() {
@@ -287,23 +250,28 @@ impl Compiled {
             };
             // Operands are read before the destination is chosen, so the destination may
             // reuse an operand's register that dies here.
-            let make = |d: u32| match *op {
-                Op::Add(a, b) => match (product(a), product(b)) {
-                    (Some((x, y)), _) => Instr::MulAdd(d, r(x), r(y), r(b)),
-                    (None, Some((x, y))) => Instr::MulAdd(d, r(x), r(y), r(a)),
-                    (None, None) => Instr::Add(d, r(a), r(b)),
-                },
-                Op::Sub(a, b) => match (product(a), product(b)) {
-                    (Some((x, y)), _) => Instr::MulSub(d, r(x), r(y), r(b)),
-                    (None, Some((x, y))) => Instr::SubMul(d, r(x), r(y), r(a)),
-                    (None, None) => Instr::Sub(d, r(a), r(b)),
-                },
-                Op::Mul(a, b) => Instr::Mul(d, r(a), r(b)),
-                Op::Div(a, b) => Instr::Div(d, r(a), r(b)),
-                Op::Neg(a) => Instr::Neg(d, r(a)),
-                Op::Sqrt(a) => Instr::Sqrt(d, r(a)),
-                Op::Abs(a) => Instr::Abs(d, r(a)),
-                _ => unreachable!("inputs have registers already"),
+            // As a `Step`: fused products `x · y ± c` (`c − x · y` with `−x`), sums and
+            // differences against 1, products and negations with −0 added.
+            let make = |d: u32| {
+                let s = |x: u32, y: u32, c: u32, kind: u8| Step { d, x, y, c, kind };
+                match *op {
+                    Op::Add(a, b) => match (product(a), product(b)) {
+                        (Some((x, y)), _) => s(r(x), r(y), r(b), 0),
+                        (None, Some((x, y))) => s(r(x), r(y), r(a), 0),
+                        (None, None) => s(r(a), one, r(b), 0),
+                    },
+                    Op::Sub(a, b) => match (product(a), product(b)) {
+                        (Some((x, y)), _) => s(r(x), r(y), r(b), NEG_C),
+                        (None, Some((x, y))) => s(r(x), r(y), r(a), NEG_X),
+                        (None, None) => s(r(a), one, r(b), NEG_C),
+                    },
+                    Op::Mul(a, b) => s(r(a), r(b), neg_zero, 0),
+                    Op::Neg(a) => s(r(a), one, neg_zero, NEG_X),
+                    Op::Div(a, b) => s(r(a), r(b), r(a), DIV),
+                    Op::Sqrt(a) => s(r(a), r(a), r(a), SQRT),
+                    Op::Abs(a) => s(r(a), r(a), r(a), ABS),
+                    _ => unreachable!("inputs have registers already"),
+                }
             };
             for &v in &dies_at[at] {
                 free.push(reg[v]);
@@ -312,16 +280,15 @@ impl Compiled {
                 registers += 1;
                 (registers - 1) as u32
             });
-            instrs.push(make(d));
+            steps.push(make(d));
             reg[i] = d;
         }
         template.resize(registers, 0.0);
-        let operations = instrs.len();
-        let steps = instrs.into_iter().map(|i| i.step(one, neg_zero));
+        let operations = steps.len();
         let code = if registers <= SMALL_REGISTERS {
-            Code::Small(steps.map(Step::narrow).collect())
+            Code::Small(steps.into_iter().map(Step::narrow).collect())
         } else {
-            Code::Large(steps.collect())
+            Code::Large(steps)
         };
         Compiled {
             template,

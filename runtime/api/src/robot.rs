@@ -64,12 +64,6 @@ struct Shape {
 }
 
 impl Shape {
-    /// Where each emitted output goes in the row-major result (a transform's constant last row
-    /// is no output's).
-    fn row_major_order(self) -> Vec<usize> {
-        self.layout.row_major_positions()
-    }
-
     fn dims(self) -> (usize, usize) {
         match self.layout {
             Layout::Scalar => (1, 1),
@@ -404,12 +398,16 @@ impl Robot {
         };
         let compiled = generated.compiled(function).ok_or_else(missing)?;
         let layout = generated.shape(function).ok_or_else(missing)?;
+        let row_major = generated
+            .row_major_positions(function)
+            .ok_or_else(missing)?;
         Ok(Evaluator {
             robot: self,
             generated,
             function,
             compiled,
             shape: Shape { layout },
+            row_major,
         })
     }
 
@@ -756,30 +754,13 @@ impl Robot {
         let generated = self.derive()?;
         trocar_check::verify::verify(
             desc,
-            &GeneratedCandidate(generated),
+            generated,
             samples,
             seed,
             trocar_check::Tolerances::F64,
             progress,
         )
         .map_err(self.robot_error())
-    }
-}
-
-/// The generated closed forms, evaluated exactly as emitted, as the candidate that
-/// [`trocar_check::verify`] checks against the numeric runtime (the candidate of
-/// [`Generated`] itself).
-#[derive(Clone, Copy, Debug)]
-pub struct GeneratedCandidate<'a>(pub &'a Generated);
-
-impl trocar_check::Candidate for GeneratedCandidate<'_> {
-    fn evaluate(
-        &self,
-        function: Function,
-        q: &[f64],
-        params: &[f64],
-    ) -> Option<trocar_check::DMatrix<f64>> {
-        trocar_check::Candidate::evaluate(self.0, function, q, params)
     }
 }
 
@@ -792,6 +773,8 @@ pub struct Evaluator<'a> {
     function: Function,
     compiled: &'a Compiled,
     shape: Shape,
+    /// Where each output goes in the row-major result ([`Layout::row_major_positions`]).
+    row_major: &'a [usize],
 }
 
 thread_local! {
@@ -834,14 +817,13 @@ impl Evaluator<'_> {
     /// finite (what it divides by is named); lengths are the caller's to get right (checked).
     pub fn eval_into(&self, q: &[f64], values: &[f64], out: &mut [f64]) -> Result<()> {
         self.check_lengths(q.len(), values.len(), out.len(), 1)?;
-        let at = self.generated.row_major_positions(self.function);
         if let Layout::Transform = self.shape.layout {
             // The constant last row of a homogeneous transform, which no output writes.
             out[12..16].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
         }
         let finite = SCRATCH.with(|s| {
             self.compiled
-                .eval_into_at(q, values, &mut s.borrow_mut(), out, at)
+                .eval_into_at(q, values, &mut s.borrow_mut(), out, Some(self.row_major))
         });
         if finite {
             Ok(())
@@ -873,7 +855,6 @@ impl Evaluator<'_> {
             )));
         }
         let len = self.len();
-        let order = self.shape.row_major_order();
         let threads = if count >= PARALLEL_FROM {
             std::thread::available_parallelism().map_or(1, |p| p.get())
         } else {
@@ -888,7 +869,7 @@ impl Evaluator<'_> {
         }
         let work = |qs: &[f64], outs: &mut [f64]| {
             self.compiled
-                .eval_batch_ordered(qs, values, outs, len, &order)
+                .eval_batch_ordered(qs, values, outs, len, self.row_major)
         };
         let finite = if threads <= 1 {
             work(q, out)

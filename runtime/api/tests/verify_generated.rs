@@ -1,7 +1,6 @@
 //! The generated programs of every shipped and fixture description agree with the numeric
 //! runtime and with finite differences (`trocar verify` as a library).
 
-use trocar_api::GeneratedCandidate;
 use trocar_check::verify::{verify, Tolerances};
 use trocar_codegen::evaluate::Generated;
 use trocar_model::description::{preset_names, RobotDescription};
@@ -10,7 +9,7 @@ fn check(description: &RobotDescription, samples: usize) {
     let generated = Generated::new(description).expect("derivable");
     let report = verify(
         description,
-        &GeneratedCandidate(&generated),
+        &generated,
         samples,
         11,
         Tolerances::default(),

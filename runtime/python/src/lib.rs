@@ -228,9 +228,9 @@ impl Robot {
                 // this block).
                 let data = unsafe { out.as_slice_mut() }
                     .map_err(|e| PyValueError::new_err(e.to_string()))?;
-                match &params {
+                match params {
                     None => e.eval_into(q, &self.nominal, data),
-                    Some(_) => e.eval_into(q, &self.values(params.clone())?, data),
+                    Some(p) => e.eval_into(q, &self.values(Some(p))?, data),
                 }
             };
             written.map_err(value_error)?;
