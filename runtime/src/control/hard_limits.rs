@@ -67,6 +67,23 @@
 //! [`super::Controller::reset`], use (Q2) as it is. `H_v` is the linear part of
 //! `H`; angular constrained directions are not corrected.
 //!
+//! What (Q7) leaves is the third-order term of the chord, `O(dt³)` a step: 1e-5 m/s of
+//! lateral velocity where the Panda rolls its flange at 2–2.6 rad/s a joint. It changes little
+//! from one step to the next, and the previous step's is known exactly once `q` is: the point
+//! `s⁻` of the link that was at the trocar moved from `m⁻(q⁻)` to `m⁻(q) = p_0i(q) + R_0i(q) s⁻`,
+//! a mean lateral velocity `c⁻ = H_v R_0r(q⁻)ᵀ (m⁻(q) − m⁻(q⁻)) / dt` where the step asked for
+//! `dv_0r⁻` (plus its own correction `f⁻`). With [`QpWeights::chord_feedback`] the step asks
+//! that residual back,
+//!
+//! ```text
+//! b = (Q7)'s right-hand side + f,    f = −(c⁻ − dv_0r⁻ − f⁻)                        (Q8)
+//! ```
+//!
+//! so that what is left is the change of the third-order term over one step, `O(dt⁴)`. It is
+//! taken only when the sample time is the previous step's and the residual is within the
+//! limit given (a larger one is not the chord's: the joints did not move by `dt θ̇⁻`, as after
+//! a reset of the robot's own, and is left to the drift correction `K_r e_r`).
+//!
 //! # On conflict
 //!
 //! The solver meets (Q2) first ([`crate::qp`]'s phase 0). If the trocar rows have no common
@@ -100,16 +117,22 @@ pub struct QpWeights<T> {
     /// The second-order term (Q7) of the trocar rows: with it the link's point at the trocar
     /// keeps to the trocar over a sample time, not only at its start.
     pub chord_correction: bool,
+    /// (Q8), with (Q7): the previous step's chord residual, measured from the joints reached,
+    /// asked back when its largest component is at most this (velocity units of `H`'s rows:
+    /// m/s for lengths in metres). `None`: not used.
+    pub chord_feedback: Option<T>,
 }
 
 impl<T: RealField + Copy> QpWeights<T> {
-    /// `κ`, `γ = κ²` and the solver's default iteration limit (100).
+    /// `κ`, `γ = κ²`, the solver's default iteration limit (100), (Q7) and (Q8) with a residual
+    /// of at most 1e-3.
     pub fn with_kappa(kappa: T) -> Self {
         QpWeights {
             kappa,
             gamma: kappa * kappa,
             max_iterations: Settings::DEFAULT.max_iterations,
             chord_correction: true,
+            chord_feedback: Some(nalgebra::convert(1e-3)),
         }
     }
 }
@@ -262,13 +285,25 @@ pub(super) struct QpInputs<'a, T: RealField + Copy, const N: usize, const I: usi
 
 /// What (Q7) keeps of the previous step.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct Previous<T: RealField + Copy, const N: usize, const I: usize> {
+pub(super) struct Previous<T: RealField + Copy, const N: usize, const I: usize, const R: usize> {
     /// `θ̇⁻`.
     pub qd: SVector<T, N>,
     /// `R_0i(q⁻)`.
     pub rotation: nalgebra::Matrix3<T>,
     /// `J^B_0i(q⁻)`.
     pub jb0i: SMatrix<T, 6, I>,
+    /// The link's point at the trocar, in `F_i`: `s⁻ = o + l_a⁻ d`.
+    pub point: Vector3<T>,
+    /// Where that point was: `m⁻(q⁻) = p_0i(q⁻) + R_0i(q⁻) s⁻`.
+    pub position: Vector3<T>,
+    /// `H_v R_0r(q⁻)ᵀ`: the constrained directions the step was asked to keep.
+    pub directions: SMatrix<T, R, 3>,
+    /// The mean lateral velocity the step asked for, `dv_0r⁻` of (Q2).
+    pub target: SVector<T, R>,
+    /// `f⁻`: the correction (Q8) the step added to its right-hand side.
+    pub feedback: SVector<T, R>,
+    /// The step's sample time.
+    pub dt: T,
 }
 
 /// `W = R [I | −ŝ] J^B_0i`: the Jacobian of the base-frame velocity `ṁ = R (v + ω × s)` of the

@@ -402,7 +402,7 @@ pub struct Controller<
     fi: FilteredInverse<T, P, M>,
     fi_started: bool,
     qp_active: crate::qp::ActiveSet<N, 1>,
-    qp_previous: Option<hard_limits::Previous<T, N, I>>,
+    qp_previous: Option<hard_limits::Previous<T, N, I, R>>,
 }
 
 /// `A = Λ J^B_0i`, the constrained directions of the link's twist as functions of `θ̇_{1..i}`,
@@ -606,6 +606,7 @@ impl<
                 ep,
                 eq,
                 &weights,
+                dt,
             );
         }
         let (task_jr, dv_e): (SMatrix<T, P, M>, SVector<T, P>) = if whole {
@@ -744,6 +745,7 @@ impl<
         ep: Vector3<T>,
         eq: Quaternion<T>,
         weights: &QpWeights<T>,
+        dt: T,
     ) -> Result<StepOutput<T, N, R>, ControlError>
     where
         Const<R>: SquareDim,
@@ -762,19 +764,32 @@ impl<
         let mut a = constrained_rows(&s.jb0i, &s.lambda_pinv).ok_or(ControlError::SingularJb0i)?;
         let shaft = kin.shaft();
         // (Q7): the trocar rows over the whole sample time, to second order.
+        let point = shaft.origin + shaft.direction * l_a;
+        let r_0r = s.g_0i.rotation * shaft.rotation;
+        let directions = kin.h().fixed_columns::<3>(0).into_owned() * r_0r.transpose();
         let mut b = dv_0r;
+        let mut feedback = SVector::<T, R>::zeros();
         if let (true, Some(prev)) = (weights.chord_correction, &self.qp_previous) {
-            let point = shaft.origin + shaft.direction * l_a;
-            let r_0r = s.g_0i.rotation * shaft.rotation;
             // (Q7) with W the point velocity Jacobian: E = W(q) − W(q⁻).
             let e = hard_limits::point_velocity_jacobian(&s.g_0i.rotation, &s.jb0i, &point)
                 - hard_limits::point_velocity_jacobian(&prev.rotation, &prev.jb0i, &point);
             // H_v R_0rᵀ E.
-            let e = kin.h().fixed_columns::<3>(0).into_owned() * r_0r.transpose() * e;
+            let e = directions * e;
             let qd_prev = SVector::<T, I>::from_fn(|k, _| prev.qd[k]);
             let half = nalgebra::convert::<f64, T>(0.5);
             a += e;
             b += e * qd_prev * half;
+            // (Q8): what the previous step's rows left over its sample time, asked back.
+            if let (Some(limit), true) =
+                (weights.chord_feedback, prev.dt > T::zero() && prev.dt == dt)
+            {
+                let moved = s.g_0i.translation + s.g_0i.rotation * prev.point - prev.position;
+                let residual = prev.directions * moved / prev.dt - prev.target - prev.feedback;
+                if residual.iter().all(|v| v.is_finite() && v.abs() <= limit) {
+                    feedback = -residual;
+                    b += feedback;
+                }
+            }
         }
         let inputs = hard_limits::QpInputs {
             q,
@@ -803,6 +818,12 @@ impl<
             qd,
             rotation: s.g_0i.rotation,
             jb0i: s.jb0i,
+            point,
+            position: s.g_0i.translation + s.g_0i.rotation * point,
+            directions,
+            target: dv_0r,
+            feedback,
+            dt,
         });
         let task_jr: SMatrix<T, P, M> = if whole {
             SMatrix::from_fn(|r, c| s.jr[(r, c)])
