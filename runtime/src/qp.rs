@@ -39,8 +39,9 @@
 //! sense (`‖A x − b‖₂` minimal) when they are not ([`Status::EqualitiesInconsistent`]).
 //!
 //! **The working set and its step.** `V = [A₁ᵀ | aᵢ, i ∈ W]` (`n × k`) is kept as `V = Q R`
-//! (`Q` orthogonal `n × n`, accumulated from Householder reflections; a row joins in `O(n²)`,
-//! the factors are rebuilt after a row leaves), and `Z = Q[:, k..n]` is an orthonormal basis of
+//! (`Q` orthogonal `n × n`, accumulated from Householder reflections; a row joins in `O(n²)`
+//! by one reflection and leaves in `O(n k)` by Givens rotations that restore the triangle of
+//! `R` (Gill, Golub, Murray & Saunders 1974; Golub & Van Loan §6.5.2)), and `Z = Q[:, k..n]` is an orthonormal basis of
 //! the directions that keep every row of `W` at its bound. At a point `x` with gradient
 //! `g = H x + f` the step is the minimiser over those directions,
 //!
@@ -99,8 +100,8 @@
 //! either sign; the tolerance is `ε^{2/3} (1 + ‖g‖∞)`); if there is none, `x` satisfies the
 //! Karush–Kuhn–Tucker conditions of (1)–(4) and is optimal. Each row that joins or leaves `W`
 //! is an *iteration*; [`Settings::max_iterations`] bounds them, and with them the time: each
-//! costs `O(n³)` operations (`n²` to add a row, `n³` to rebuild after a release, `n²(n − k)` for
-//! the reduced Hessian), so a solve costs at most `max_iterations × O(n³)`.
+//! costs `O(n³)` operations (`n²` to add a row, `n k` to release one, `n²(n − k)` for the
+//! reduced Hessian), so a solve costs at most `max_iterations × O(n³)`.
 //!
 //! # Why this method
 //!
@@ -454,15 +455,23 @@ impl<T: RealField + Copy, const N: usize> Basis<T, N> {
         // vᵀv = 2σ(σ + |w_k|) > 0.
         let vtv = (sigma + w[k].abs()) * sigma * (T::one() + T::one());
         let scale = (T::one() + T::one()) / vtv;
-        // Q ← Q (I − 2 v vᵀ / vᵀv) on columns k..n.
-        for t in 0..N {
-            let mut s = T::zero();
-            for i in k..N {
-                s += self.q[i][t] * v[i];
+        // Q ← Q (I − 2 v vᵀ / vᵀv) on columns k..n: `u = Q v` column by column (whole columns
+        // of `Q` at a time, contiguous), then `Q[:, i] −= (scale v_i) u`.
+        let mut u = [T::zero(); N];
+        for i in k..N {
+            let (qi, vi) = (&self.q[i], v[i]);
+            for t in 0..N {
+                u[t] += qi[t] * vi;
             }
-            let s = s * scale;
-            for i in k..N {
-                self.q[i][t] -= s * v[i];
+        }
+        for ut in u.iter_mut() {
+            *ut *= scale;
+        }
+        for i in k..N {
+            let vi = v[i];
+            let qi = &mut self.q[i];
+            for t in 0..N {
+                qi[t] -= u[t] * vi;
             }
         }
         let mut col = [T::zero(); N];
@@ -477,6 +486,46 @@ impl<T: RealField + Copy, const N: usize> Basis<T, N> {
         let w = self.coords(a);
         let anorm = dot(a, a).sqrt();
         self.push_coords(&w, anorm, tol)
+    }
+
+    /// Removes column `c` of `V` (`c < k`) in `O(n k)`: the columns after it shift left,
+    /// which leaves `R` upper Hessenberg from column `c` on; Givens rotations of rows `j, j + 1`
+    /// (`j = c..k − 1`) restore the triangle, and the same rotations of `Q`'s columns `j, j + 1`
+    /// keep `V = Q R`. The columns of `Q` before `c` (the equality rows' among them) do not
+    /// change.
+    fn remove_column(&mut self, c: usize) {
+        let k = self.k;
+        if c >= k {
+            return;
+        }
+        for j in c..k - 1 {
+            self.r[j] = self.r[j + 1];
+        }
+        self.r[k - 1] = [T::zero(); N];
+        for j in c..k - 1 {
+            let (a, b) = (self.r[j][j], self.r[j][j + 1]);
+            let rho = (a * a + b * b).sqrt();
+            if !(rho > T::zero()) {
+                continue;
+            }
+            let (cs, sn) = (a / rho, b / rho);
+            // Rows j and j + 1 of R, in the columns j..k − 1 that remain.
+            for col in self.r[j..k - 1].iter_mut() {
+                let (x, y) = (col[j], col[j + 1]);
+                col[j] = cs * x + sn * y;
+                col[j + 1] = cs * y - sn * x;
+            }
+            self.r[j][j + 1] = T::zero();
+            // Q ← Q Gᵀ on columns j and j + 1.
+            let (left, right) = self.q.split_at_mut(j + 1);
+            let (qj, qj1) = (&mut left[j], &mut right[0]);
+            for t in 0..N {
+                let (x, y) = (qj[t], qj1[t]);
+                qj[t] = cs * x + sn * y;
+                qj1[t] = cs * y - sn * x;
+            }
+        }
+        self.k = k - 1;
     }
 
     /// `y` with `Rᵀ y = b` (forward substitution), then `Q₁ y`: the least-norm `x` with
@@ -723,7 +772,8 @@ impl<T: RealField + Copy, const N: usize, const C: usize> Work<T, N, C> {
         true
     }
 
-    /// Removes the `t`-th inequality row of the working set and refactors.
+    /// Removes the `t`-th inequality row of the working set: its column leaves the basis by
+    /// Givens rotations ([`Basis::remove_column`]), `O(n²)`.
     fn remove(&mut self, t: usize) {
         let id = self.act[t];
         self.set_side(id, Side::Inactive);
@@ -731,21 +781,7 @@ impl<T: RealField + Copy, const N: usize, const C: usize> Work<T, N, C> {
             self.act[u] = self.act[u + 1];
         }
         self.nact -= 1;
-        self.refactor();
-    }
-
-    /// Rebuilds the basis from the equality rows and the working set (dropping any row that
-    /// has become dependent).
-    fn refactor(&mut self) {
-        self.basis = self.eq_basis;
-        let n = self.nact;
-        self.nact = 0;
-        for t in 0..n {
-            let id = self.act[t];
-            let s = self.side(id);
-            self.set_side(id, Side::Inactive);
-            self.add(id, s);
-        }
+        self.basis.remove_column(self.r + t);
     }
 
     /// The right-hand sides of the working set's rows.
@@ -909,10 +945,14 @@ impl<T: RealField + Copy, const N: usize, const C: usize> Work<T, N, C> {
         }
         let q = &self.basis.q;
         // M = Zᵀ H Z, gz = Zᵀ g.
+        // H Z column by column as sums of H's (contiguous) columns; H is exactly symmetric, so
+        // each entry is the same sum in the same order as the dot product of a row of H.
         let mut hz = [[T::zero(); N]; N];
-        for j in 0..m {
-            for i in 0..N {
-                hz[j][i] = dot(&self.h[i], &q[k + j]);
+        for (hzj, qj) in hz.iter_mut().zip(&q[k..]) {
+            for (hi, c) in self.h.iter().zip(qj) {
+                for (acc, v) in hzj.iter_mut().zip(hi) {
+                    *acc += *v * *c;
+                }
             }
         }
         let mut mm = [[T::zero(); N]; N];
