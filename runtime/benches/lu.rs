@@ -1,10 +1,10 @@
-//! One LU for the core: the core's `SquareLu` (nalgebra's fixed-size `LU`, its determinant kept,
+//! One LU for the core: the core's `trocar::linalg::Lu` (nalgebra's fixed-size `LU`, its determinant kept,
 //! solutions checked finite) against nalgebra's `LU` called directly, for the sizes a control step
 //! factors (4×4, 6×6; f64): determinant, and determinant plus one solve. The two should agree to
 //! within noise: the wrapper costs nothing.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use trocar::manipulability::SquareLu;
+use trocar::linalg::Lu;
 use trocar::nalgebra::{Const, DimMin, SMatrix, SVector};
 
 fn matrix<const D: usize>() -> SMatrix<f64, D, D> {
@@ -19,14 +19,14 @@ where
     let b = SVector::<f64, D>::from_fn(|r, _| r as f64 + 0.5);
     let mut g = c.benchmark_group(format!("lu{D}x{D}"));
     g.bench_function("core/det", |bch| {
-        bch.iter(|| SquareLu::new(&black_box(m)).determinant())
+        bch.iter(|| Lu::new(&black_box(m)).determinant())
     });
     g.bench_function("nalgebra/det", |bch| {
         bch.iter(|| black_box(m).lu().determinant())
     });
     g.bench_function("core/det+solve", |bch| {
         bch.iter(|| {
-            let lu = SquareLu::new(&black_box(m));
+            let lu = Lu::new(&black_box(m));
             (lu.determinant(), lu.solve(&black_box(b)))
         })
     });

@@ -52,7 +52,9 @@
 //! ```
 
 use crate::kinematics::{body_jacobian_columns, constrained_jacobian_columns, Chain};
-use crate::manipulability::{SquareDim, SquareLu};
+use crate::linalg::{
+    null_space_of_rows, pseudo_inverse, pseudo_inverse_apply, RowsError, SquareDim,
+};
 use crate::se3::{Adjoint, Se3, Twist};
 use core::fmt;
 use nalgebra::{convert, Const, RealField, SMatrix, SVector, Vector3};
@@ -68,9 +70,10 @@ pub enum NullSpaceBasis {
     /// `v0i = (v_x, v_y, v_z, ω_y)` with `ω_x = −v_z / l_a`, `ω_z = v_x / l_a`.
     Bidirectional,
     /// `Λ# = Ad_{g_ir} N_H` (since `null(H Ad_{g_ri}) = Ad_{g_ir} null(H)`), where the columns of
-    /// `N_H` are the null-space basis of `H` read off its reduced row echelon form: one column per
-    /// free (non-pivot) coordinate `f`, with `x_f = 1`, the other free coordinates 0. For a selection
-    /// `H` (rows of the identity) these are the unselected unit twists, in order.
+    /// `N_H` are the null-space basis of `H` read off its reduced row echelon form
+    /// ([`crate::linalg::null_space_of_rows`]): one column per free (non-pivot) coordinate `f`,
+    /// with `x_f = 1`, the other free coordinates 0. For a selection `H` (rows of the identity)
+    /// these are the unselected unit twists, in order.
     Computed,
 }
 
@@ -143,76 +146,14 @@ impl fmt::Display for ConstraintError {
 #[cfg(feature = "std")]
 impl std::error::Error for ConstraintError {}
 
-/// The basis of `null(H)` read off the reduced row echelon form of `H` (rows `h`), written into
-/// `out` (`6 − r` columns, see [`NullSpaceBasis::Computed`]).
-///
-/// # Panics
-/// If `out.len() != 6 − h.len()`.
-pub fn null_space_of_rows<T: RealField + Copy>(
-    h: &[Twist<T>],
-    out: &mut [Twist<T>],
-) -> Result<(), ConstraintError> {
-    let r = h.len();
-    if r == 0 || r > 5 {
-        return Err(ConstraintError::BadRowCount(r));
+impl From<RowsError> for ConstraintError {
+    fn from(e: RowsError) -> Self {
+        match e {
+            RowsError::BadRowCount(r) => Self::BadRowCount(r),
+            RowsError::DependentRows => Self::DependentRows,
+            RowsError::NotFinite => Self::NotFinite,
+        }
     }
-    assert_eq!(out.len(), 6 - r, "6 − r columns");
-    let mut a = [Twist::<T>::zeros(); 6];
-    a[..r].copy_from_slice(h);
-    let mut scale = T::zero();
-    for row in &a[..r] {
-        if !row.iter().all(|x| x.is_finite()) {
-            return Err(ConstraintError::NotFinite);
-        }
-        scale = scale.max(row.amax());
-    }
-    let tol = scale * T::default_epsilon() * convert(64.0);
-    let mut pivots = [0usize; 6];
-    let mut row = 0;
-    for col in 0..6 {
-        if row == r {
-            break;
-        }
-        // Partial pivoting on column `col`.
-        let mut best = row;
-        for k in row + 1..r {
-            if a[k][col].abs() > a[best][col].abs() {
-                best = k;
-            }
-        }
-        if a[best][col].abs() <= tol {
-            continue;
-        }
-        a.swap(row, best);
-        let p = a[row][col];
-        a[row] /= p;
-        for k in 0..r {
-            if k != row {
-                let f = a[k][col];
-                let pr = a[row];
-                a[k] -= pr * f;
-            }
-        }
-        pivots[row] = col;
-        row += 1;
-    }
-    if row < r {
-        return Err(ConstraintError::DependentRows);
-    }
-    let mut n = 0;
-    for free in 0..6 {
-        if pivots[..r].contains(&free) {
-            continue;
-        }
-        let mut x = Twist::zeros();
-        x[free] = T::one();
-        for (k, &p) in pivots[..r].iter().enumerate() {
-            x[p] = -a[k][free];
-        }
-        out[n] = x;
-        n += 1;
-    }
-    Ok(())
 }
 
 /// The thesis's null-space bases, written into `out` as columns: (3.23) for `r = 1`
@@ -243,47 +184,6 @@ pub fn thesis_null_space<T: RealField + Copy>(l_a: T, out: &mut [Twist<T>]) {
         }
         n => panic!("the thesis bases have 5 (r = 1) or 4 (r = 2) columns, not {n}"),
     }
-}
-
-/// `M† y` for a full-rank `M` (R×C): the exact solution when square, the minimum-norm solution
-/// `Mᵀ (M Mᵀ)⁻¹ y` when wide, the least-squares solution `(Mᵀ M)⁻¹ Mᵀ y` when tall, each through
-/// the one LU factorisation of the core ([`SquareLu`]). `None` if `M` is rank-deficient (use damped least squares there).
-pub fn pseudo_inverse_apply<T: RealField + Copy, const R: usize, const C: usize>(
-    m: &SMatrix<T, R, C>,
-    y: &SVector<T, R>,
-) -> Option<SVector<T, C>>
-where
-    Const<R>: SquareDim,
-    Const<C>: SquareDim,
-{
-    if R == C {
-        let square = SMatrix::<T, R, R>::from_fn(|r, c| m[(r, c)]);
-        let x = SquareLu::new(&square).solve(y)?;
-        Some(SVector::<T, C>::from_fn(|r, _| x[r]))
-    } else if R < C {
-        let b: SVector<T, R> = SquareLu::new(&(m * m.transpose())).solve(y)?;
-        Some(m.transpose() * b)
-    } else {
-        SquareLu::new(&(m.transpose() * m)).solve(&(m.transpose() * y))
-    }
-}
-
-/// The Moore–Penrose inverse of a full-rank `M` (R×C): `Mᵀ (M Mᵀ)⁻¹` if `R ≤ C`, else
-/// `(Mᵀ M)⁻¹ Mᵀ`. `None` if `M` is rank-deficient.
-pub fn pseudo_inverse<T: RealField + Copy, const R: usize, const C: usize>(
-    m: &SMatrix<T, R, C>,
-) -> Option<SMatrix<T, C, R>>
-where
-    Const<R>: SquareDim,
-    Const<C>: SquareDim,
-{
-    let mut out = SMatrix::<T, C, R>::zeros();
-    for k in 0..R {
-        let mut e = SVector::<T, R>::zeros();
-        e[k] = T::one();
-        out.set_column(k, &pseudo_inverse_apply(m, &e)?);
-    }
-    Some(out)
 }
 
 /// A point constraint `H V^B_0r = 0` (3.1) with `R` rows, at the frame `F_r` fixed in link `i`
@@ -448,7 +348,8 @@ impl<T: RealField + Copy, const R: usize> Constraint<T, R> {
         &self.lambda_sharp[..6 - R]
     }
 
-    /// `Λ† = Λᵀ (Λ Λᵀ)⁻¹` (Moore–Penrose), `6×R`, used by the moving RCM (3.31).
+    /// `Λ† = Λᵀ (Λ Λᵀ)⁻¹` (Moore–Penrose, [`crate::linalg::pseudo_inverse`]), `6×R`, used by the
+    /// moving RCM (3.31).
     pub fn lambda_pinv(&self) -> &SMatrix<T, 6, R> {
         &self.lambda_pinv
     }
@@ -553,10 +454,7 @@ impl<T: RealField + Copy, const R: usize> Constraint<T, R> {
         chain: &Chain<T, N>,
         q: &SVector<T, N>,
         v_0i: &Twist<T>,
-    ) -> Option<SVector<T, I>>
-    where
-        Const<I>: SquareDim,
-    {
+    ) -> Option<SVector<T, I>> {
         assert_eq!(I, self.link, "θ̇_{{1..i}} has i entries");
         let mut cols = [Twist::zeros(); I];
         body_jacobian_columns(
@@ -566,7 +464,7 @@ impl<T: RealField + Copy, const R: usize> Constraint<T, R> {
             &mut cols,
         );
         let j = crate::kinematics::matrix_from_columns(&cols);
-        pseudo_inverse_apply::<T, 6, I>(&j, v_0i)
+        pseudo_inverse_apply::<T, 6, I, 1>(&j, v_0i)
     }
 }
 
@@ -632,19 +530,5 @@ mod tests {
         assert_eq!(c.frame().translation.y, 0.1);
         c.set_offset(0.3).unwrap();
         assert_eq!(c.lambda()[(0, 5)], -0.3);
-    }
-
-    #[test]
-    fn solve_and_pinv() {
-        let m = SMatrix::<f64, 3, 3>::new(0.0, 2.0, 1.0, 1.0, 1.0, 0.0, 3.0, 0.0, 1.0);
-        let p = pseudo_inverse(&m).unwrap();
-        assert!((p * m - nalgebra::Matrix3::identity()).norm() < 1e-14);
-        let w = SMatrix::<f64, 2, 3>::new(1.0, 2.0, 3.0, -1.0, 0.0, 2.0);
-        let p = pseudo_inverse(&w).unwrap();
-        assert!((w * p - nalgebra::Matrix2::identity()).norm() < 1e-14);
-        let t = w.transpose();
-        let p = pseudo_inverse(&t).unwrap();
-        assert!((p * t - nalgebra::Matrix2::identity()).norm() < 1e-14);
-        assert!(pseudo_inverse(&SMatrix::<f64, 2, 2>::zeros()).is_none());
     }
 }

@@ -2,7 +2,7 @@
 //!
 //! The numeric runtime of trocar: rigid motions and twists ([`se3`]), serial-chain kinematics
 //! ([`kinematics`]), the constrained Jacobian of a remote centre of motion ([`constraint`]),
-//! manipulability ([`manipulability`]), finite-difference references ([`finite_diff`]), the
+//! fixed-size dense linear algebra ([`linalg`]), manipulability ([`manipulability`]), finite-difference references ([`finite_diff`]), the
 //! constrained kinematic controller ([`control`]) and the dense QP solver for its hard limits
 //! ([`qp`]).
 //!
@@ -17,6 +17,7 @@ pub mod constraint;
 pub mod control;
 pub mod finite_diff;
 pub mod kinematics;
+pub mod linalg;
 pub mod manipulability;
 pub mod qp;
 pub mod real;

@@ -20,6 +20,9 @@
 
 include!(concat!(env!("OUT_DIR"), "/dia10.rs"));
 
+use trocar::linalg::damped_solve;
+use trocar::nalgebra::{SMatrix, SVector};
+
 /// Number of joints.
 pub const N: usize = dia10::N;
 /// Columns of `J^r_0e`: `6 − r + n − i`.
@@ -83,56 +86,14 @@ pub fn damping(w: f32, w0: f32, alpha0: f32) -> f32 {
     }
 }
 
-/// Damped least squares `x = Jᵀ (J Jᵀ + κ² I)⁻¹ b` for a 6 × C matrix given column-major
-/// (`j[col][row]`, as generated), by Cholesky of the 6 × 6 `J Jᵀ + κ² I`. Allocation-free.
-// Index loops mirror the textbook Cholesky formulas.
-#[allow(clippy::needless_range_loop)]
+/// Damped least squares `x = Jᵀ (J Jᵀ + κ² I)⁻¹ b` (3.43) for a 6 × C matrix given column-major
+/// (`j[col][row]`, as generated): the core's [`trocar::linalg::damped_solve`] (root-free Cholesky
+/// of the 6 × 6 Gram matrix). `None` if `J Jᵀ + κ² I` is not positive definite to working
+/// precision or `x` is not finite. Allocation-free.
 pub fn dls<const C: usize>(j: &[[f32; 6]; C], b: &[f32; 6], kappa: f32) -> Option<[f32; C]> {
-    let mut a = [[0.0f32; 6]; 6];
-    for (r, row) in a.iter_mut().enumerate() {
-        for (s, x) in row.iter_mut().enumerate() {
-            *x = j.iter().map(|col| col[r] * col[s]).sum();
-        }
-        row[r] += kappa * kappa;
-    }
-    // Cholesky a = L Lᵀ, L stored in the lower triangle.
-    let mut l = [[0.0f32; 6]; 6];
-    for r in 0..6 {
-        for s in 0..=r {
-            let mut sum = a[r][s];
-            for k in 0..s {
-                sum -= l[r][k] * l[s][k];
-            }
-            if r == s {
-                let positive = sum > 0.0 && sum.is_finite();
-                if !positive {
-                    return None;
-                }
-                l[r][r] = <f32 as trocar::Real>::sqrt(sum);
-            } else {
-                l[r][s] = sum / l[s][s];
-            }
-        }
-    }
-    // L z = b, Lᵀ y = z.
-    let mut y = *b;
-    for r in 0..6 {
-        for k in 0..r {
-            y[r] -= l[r][k] * y[k];
-        }
-        y[r] /= l[r][r];
-    }
-    for r in (0..6).rev() {
-        for k in r + 1..6 {
-            y[r] -= l[k][r] * y[k];
-        }
-        y[r] /= l[r][r];
-    }
-    let mut x = [0.0f32; C];
-    for (xc, col) in x.iter_mut().zip(j) {
-        *xc = col.iter().zip(&y).map(|(a, b)| a * b).sum();
-    }
-    Some(x)
+    let j = SMatrix::<f32, 6, C>::from_fn(|r, c| j[c][r]);
+    let x = damped_solve(&j, kappa, &SVector::<f32, 6>::from(*b))?;
+    Some(x.into())
 }
 
 /// `l_a = (p_trocar − p_0i) · y_i` (trocar fixed in space, `docs/reference-robots.md`).

@@ -19,7 +19,7 @@ use trocar::control::{
     self, ChainKinematics, Controller as Typed, HardLimits, NullSpaceObjective, QpReport, Rcm,
     Reference,
 };
-use trocar::manipulability::SquareDim;
+use trocar::linalg::SquareDim;
 use trocar_model::numeric::NumericModel;
 use trocar_sim::simulation::{Method, Scenario, ScenarioConfig};
 

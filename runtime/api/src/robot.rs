@@ -976,12 +976,12 @@ fn mechanism_numeric(
 ) -> Result<Evaluation> {
     let sim = |e: &dyn std::fmt::Display| Error::NotFinite(e.to_string());
     let mech = trocar_sim::closed_chain::Mechanism::from_model(m, values).map_err(|e| sim(&e))?;
-    let theta = nalgebra::DVector::from_row_slice(q);
+    let theta = faer::ColRef::from_slice(q).to_owned();
     let d = mech.differential(&theta).map_err(|e| sim(&e))?;
     Ok(match function {
-        Function::ConstraintJacobian => Evaluation::from_nalgebra(&d.j_c),
-        Function::ConstraintDeterminant if d.j_cp.is_square() => {
-            Evaluation::scalar(trocar_sim::closed_chain::linalg::determinant(&d.j_cp))
+        Function::ConstraintJacobian => Evaluation::from_faer(&d.j_c),
+        Function::ConstraintDeterminant if d.j_cp.nrows() == d.j_cp.ncols() => {
+            Evaluation::scalar(trocar_sim::linalg::determinant(d.j_cp.as_ref()))
         }
         Function::ConstraintDeterminant => {
             return Err(Error::Unsupported(format!(
@@ -997,9 +997,9 @@ fn mechanism_numeric(
         Function::ReducedJacobian | Function::PassiveMap => {
             let r = mech.reduced(&theta).map_err(|e| sim(&e))?;
             if function == Function::ReducedJacobian {
-                Evaluation::from_nalgebra(&r.jacobian)
+                Evaluation::from_faer(&r.jacobian)
             } else {
-                Evaluation::from_nalgebra(&r.passive_map)
+                Evaluation::from_faer(&r.passive_map)
             }
         }
         other => {

@@ -15,7 +15,7 @@ use std::fmt;
 use trocar::constraint::{Constraint, ConstraintError, NullSpaceBasis};
 use trocar::control::{ChainKinematics, Shaft};
 use trocar::kinematics::{Chain, Joint};
-use trocar::manipulability::SquareDim;
+use trocar::linalg::SquareDim;
 use trocar::se3::{self, Se3, Twist};
 
 /// Why a robot cannot be built or evaluated.

@@ -5,7 +5,7 @@
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use trocar::constraint::Constraint;
 use trocar::kinematics::Chain;
-use trocar::manipulability::SquareDim;
+use trocar::linalg::SquareDim;
 use trocar::nalgebra::{Const, SMatrix, SVector};
 use trocar_model::description::RobotDescription;
 use trocar_sim::robot::NumericRobot;

@@ -10,14 +10,14 @@
 //! allocation-free typed API ([`trocar::kinematics`], [`trocar::constraint`]) on the
 //! [`NumericModel`] of `trocar-model`; [`NumericRobot::to_chain`] and
 //! [`NumericRobot::to_constraint`] hand the description to that API for control loops.
-//! Pseudo-inverses and determinants of dynamic matrices are faer's dense decompositions.
+//! Pseudo-inverses and determinants of dynamic matrices are faer's dense decompositions
+//! ([`crate::linalg`]).
 
-use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::{Col, Mat};
 use nalgebra::{convert, Const};
 use trocar::constraint::Constraint;
 use trocar::kinematics::{self, Chain, Joint};
-use trocar::manipulability::SquareDim;
+use trocar::linalg::SquareDim;
 use trocar::se3::{Se3, Twist};
 use trocar_model::description::RobotDescription;
 pub use trocar_model::numeric::{AnyConstraint, NumericModel, RobotError};
@@ -309,7 +309,7 @@ impl<T: RobotScalar> NumericRobot<T> {
             }
         }
         let j = self.partial_body_jacobian(q)?;
-        let pinv = pseudo_inverse(&j, convert(1e-12))
+        let pinv = crate::linalg::pseudo_inverse(j.as_ref())
             .ok_or_else(|| RobotError::BadParameterValue("(pseudo-inverse)".into()))?;
         let v = Col::from_fn(6, |r| v[r]);
         Ok(&pinv * &v)
@@ -403,30 +403,6 @@ fn has_zero_pivot<T: RobotScalar>(m: &Mat<T>) -> bool {
         }
     }
     false
-}
-
-/// The Moore–Penrose pseudo-inverse from faer's SVD, with singular values at or below `tolerance`
-/// (absolute) treated as zero. `None` when the SVD does not converge.
-pub fn pseudo_inverse<T: RobotScalar>(m: &Mat<T>, tolerance: T) -> Option<Mat<T>> {
-    let svd = m.thin_svd().ok()?;
-    let par = faer::Par::Seq;
-    let mut pinv = Mat::zeros(m.ncols(), m.nrows());
-    let mut buffer = MemBuffer::new(faer::linalg::svd::pseudoinverse_from_svd_scratch::<T>(
-        m.nrows(),
-        m.ncols(),
-        par,
-    ));
-    faer::linalg::svd::pseudoinverse_from_svd_with_tolerance(
-        pinv.as_mut(),
-        svd.S(),
-        svd.U(),
-        svd.V(),
-        tolerance,
-        T::zero(),
-        par,
-        MemStack::new(&mut buffer),
-    );
-    Some(pinv)
 }
 
 /// A 6×k matrix from twist columns.

@@ -2,31 +2,30 @@
 //! chain formulation with passive contact joints; redundancy resolution (44)–(46): null-space
 //! objectives improve their index without disturbing the task.
 
-use trocar::nalgebra::{DMatrix, DVector};
+use faer::{Col, ColRef, Mat, Scale};
 use trocar_sim::closed_chain::cooperative::{contact_jacobians, two_arms, ContactModel};
 use trocar_sim::closed_chain::mechanism::reduce_blocks;
 use trocar_sim::closed_chain::redundancy::{null_projector, resolve, Objective};
-use trocar_sim::closed_chain::{linalg, Mechanism};
+use trocar_sim::closed_chain::Mechanism;
 use trocar_sim::closed_chain::{simulate, SimOptions};
+use trocar_sim::linalg::{self, as_slice};
 
-fn assembled(model: &ContactModel) -> (Mechanism, DVector<f64>) {
+fn assembled(model: &ContactModel) -> (Mechanism, Col<f64>) {
     let m = two_arms(model).unwrap();
-    let guess = DVector::from_vec(m.initial.clone().unwrap());
-    let th = m
-        .assemble(&guess, Some(&DVector::from_vec(vec![1.05, 1.15, 0.1])))
-        .unwrap();
+    let guess = col(m.initial.as_deref().unwrap());
+    let th = m.assemble(&guess, Some(&col(&[1.05, 1.15, 0.1]))).unwrap();
     (m, th)
 }
 
 /// Arm i's planar Jacobian at its contact point, written out from the joint positions
 /// (column k = (−(p_c − p_k)_y, (p_c − p_k)_x, 1) for revolute joint k), plus the contact angle
 /// and r = p_c(object) − p_contact.
-fn arm_data(m: &Mechanism, th: &DVector<f64>, i: usize) -> (DMatrix<f64>, f64, [f64; 2]) {
+fn arm_data(m: &Mechanism, th: &Col<f64>, i: usize) -> (Mat<f64>, f64, [f64; 2]) {
     let r = m.chain_range(i);
-    let (frames, end) = m.chain_frames(i, &th.as_slice()[r]);
+    let (frames, end) = m.chain_frames(i, &as_slice(th)[r]);
     // frames[0..3]: arm joints; frames[3]: the contact joint's frame = the contact point.
     let pc = frames[3];
-    let mut j = DMatrix::zeros(3, 3);
+    let mut j = Mat::zeros(3, 3);
     for k in 0..3 {
         j[(0, k)] = -(pc.y - frames[k].y);
         j[(1, k)] = pc.x - frames[k].x;
@@ -52,17 +51,17 @@ fn contact_formulation_39_41_matches_the_chain_formulation() {
     let red_m = m.reduced(&th).unwrap();
     // Column order: the chain formulation has (arm1, w1, arm2, w2); the velocity one (arm1, arm2, w1, w2).
     assert!(
-        (&red_v.jacobian - &red_m.jacobian).norm() < 1e-12,
-        "{}\n{}",
+        (&red_v.jacobian - &red_m.jacobian).norm_l2() < 1e-12,
+        "{:?}\n{:?}",
         red_v.jacobian,
         red_m.jacobian
     );
-    assert!((&red_v.passive_map - &red_m.passive_map).norm() < 1e-12);
+    assert!((&red_v.passive_map - &red_m.passive_map).norm_l2() < 1e-12);
     // The admissible active velocities (one internal constraint: the grip distance) agree.
-    let pv = null_projector(&DMatrix::zeros(0, 6), &red_v.active_constraint);
-    let pm = null_projector(&DMatrix::zeros(0, 6), &red_m.active_constraint);
+    let pv = null_projector(&Mat::zeros(0, 6), &red_v.active_constraint);
+    let pm = null_projector(&Mat::zeros(0, 6), &red_m.active_constraint);
     assert_eq!(red_m.active_constraint.nrows(), 1);
-    assert!((pv - pm).norm() < 1e-12);
+    assert!((pv - pm).norm_l2() < 1e-12);
 }
 
 #[test]
@@ -75,14 +74,14 @@ fn gripped_contact_has_no_passive_joint_and_three_dof() {
     // H = 0: the velocity-level formulation with empty H rows agrees.
     let (j1, a1, r1) = {
         let r = m.chain_range(0);
-        let (frames, end) = m.chain_frames(0, &th.as_slice()[r]);
+        let (frames, end) = m.chain_frames(0, &as_slice(&th)[r]);
         // Gripped: the contact point is not a frame; use the tip of link 3 = end − object offset.
         let half = m.parameter("half").unwrap();
         let pc = [
             end.x - half * end.angle.cos(),
             end.y - half * end.angle.sin(),
         ];
-        let mut j = DMatrix::zeros(3, 3);
+        let mut j = Mat::zeros(3, 3);
         for k in 0..3 {
             j[(0, k)] = -(pc[1] - frames[k].y);
             j[(1, k)] = pc[0] - frames[k].x;
@@ -92,13 +91,13 @@ fn gripped_contact_has_no_passive_joint_and_three_dof() {
     };
     let (j2, a2, r2) = {
         let r = m.chain_range(1);
-        let (frames, end) = m.chain_frames(1, &th.as_slice()[r]);
+        let (frames, end) = m.chain_frames(1, &as_slice(&th)[r]);
         let half = m.parameter("half").unwrap();
         let pc = [
             end.x + half * end.angle.cos(),
             end.y + half * end.angle.sin(),
         ];
-        let mut j = DMatrix::zeros(3, 3);
+        let mut j = Mat::zeros(3, 3);
         for k in 0..3 {
             j[(0, k)] = -(pc[1] - frames[k].y);
             j[(1, k)] = pc[0] - frames[k].x;
@@ -109,31 +108,31 @@ fn gripped_contact_has_no_passive_joint_and_three_dof() {
     let cj = contact_jacobians(&[j1, j2], &[a1, a2], &[vec![], vec![]], &[r1, r2]).unwrap();
     let red_v = reduce_blocks(&cj.j_c, &cj.j_a, &cj.active, &cj.passive).unwrap();
     // Same admissible subspace, and the same object velocity on it.
-    let pv = null_projector(&DMatrix::zeros(0, 6), &red_v.active_constraint);
-    let pm = null_projector(&DMatrix::zeros(0, 6), &red.active_constraint);
-    assert!((&pv - &pm).norm() < 1e-12);
-    assert!((&red_v.jacobian * &pv - &red.jacobian * &pm).norm() < 1e-12);
+    let pv = null_projector(&Mat::zeros(0, 6), &red_v.active_constraint);
+    let pm = null_projector(&Mat::zeros(0, 6), &red.active_constraint);
+    assert!((&pv - &pm).norm_l2() < 1e-12);
+    assert!((&red_v.jacobian * &pv - &red.jacobian * &pm).norm_l2() < 1e-12);
 }
 
 #[test]
 fn reduced_jacobian_equals_finite_differences_along_admissible_motions() {
     let (m, th) = assembled(&ContactModel::PointWithFriction);
     let red = m.reduced(&th).unwrap();
-    let basis = linalg::null_space(&red.active_constraint); // 6 × 5 admissible active velocities
+    let basis = linalg::null_space(red.active_constraint.as_ref()); // 6 × 5 admissible active velocities
     assert_eq!(basis.ncols(), 5);
     for c in 0..basis.ncols() {
-        let u = basis.column(c).into_owned();
+        let u = basis.col(c).to_owned();
         let pd = &red.passive_map * &u;
         let thd = m.join(&u, &pd);
-        assert!((m.differential(&th).unwrap().j_c * &thd).norm() < 1e-12);
+        assert!((m.differential(&th).unwrap().j_c * &thd).norm_l2() < 1e-12);
         // Move along θ̇, project back onto c(θ) = 0 (minimum-norm Newton), difference the task.
         let h = 1e-4;
         let at = |s: f64| {
-            let t = m.assemble(&(&th + s * &thd), None).unwrap();
+            let t = m.assemble(&(&th + Scale(s) * &thd), None).unwrap();
             m.task(&t)
         };
-        let fd = (at(h) - at(-h)) / (2.0 * h);
-        let e = (&red.jacobian * &u - fd).norm();
+        let fd = Scale(1.0 / (2.0 * h)) * (at(h) - at(-h));
+        let e = (&red.jacobian * &u - fd).norm_l2();
         assert!(e < 1e-7, "direction {c}: {e}");
     }
 }
@@ -142,9 +141,9 @@ fn reduced_jacobian_equals_finite_differences_along_admissible_motions() {
 fn null_space_term_leaves_the_task_velocity_unchanged() {
     let (m, th) = assembled(&ContactModel::PointWithFriction);
     let red = m.reduced(&th).unwrap();
-    let v = DVector::from_vec(vec![0.1, -0.2, 0.05]);
+    let v = col(&[0.1, -0.2, 0.05]);
     let rows = &red.active_constraint;
-    let rhs = DVector::zeros(rows.nrows());
+    let rhs = Col::zeros(rows.nrows());
     let u_plain = resolve(&red.jacobian, &v, rows, &rhs, None).unwrap();
     for obj in [
         Objective::Manipulability,
@@ -152,12 +151,12 @@ fn null_space_term_leaves_the_task_velocity_unchanged() {
         Objective::ObstacleDistance { point: [-0.6, 0.7] },
     ] {
         let g = obj.gradient(&m, &th).unwrap();
-        let u = resolve(&red.jacobian, &v, rows, &rhs, Some(&(5.0 * &g))).unwrap();
-        assert!((&red.jacobian * &u - &v).norm() < 1e-12);
-        assert!((&red.jacobian * (&u - &u_plain)).norm() < 1e-12);
-        assert!((rows * &u).norm() < 1e-12);
+        let u = resolve(&red.jacobian, &v, rows, &rhs, Some(&(Scale(5.0) * &g))).unwrap();
+        assert!((&red.jacobian * &u - &v).norm_l2() < 1e-12);
+        assert!((&red.jacobian * (&u - &u_plain)).norm_l2() < 1e-12);
+        assert!((rows * &u).norm_l2() < 1e-12);
         // The objective rises at rate gᵀ(u − u_plain) = 5 ‖P g‖² ≥ 0.
-        let rate = g.dot(&(&u - &u_plain));
+        let rate: f64 = g.transpose() * (&u - &u_plain);
         assert!(rate > 0.0, "{}: {rate}", obj.name());
     }
 }
@@ -201,8 +200,7 @@ fn null_space_objectives_improve_without_disturbing_the_task() {
             obj.name()
         );
         // The index is higher at the end than along the plain run.
-        let th_plain =
-            DVector::from_iterator(names.len(), names.iter().map(|n| plain.last(n).unwrap()));
+        let th_plain = Col::from_fn(names.len(), |k| plain.last(names[k]).unwrap());
         let f_plain = obj.value(&m, &th_plain).unwrap();
         let f_with = tr.last("objective").unwrap();
         let f0 = tr.column("objective").unwrap()[0];
@@ -230,8 +228,8 @@ fn stretched_arm_with_gripped_object_is_a_serial_singularity() {
     let q2 = ((w[0] * w[0] + w[1] * w[1] - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)).acos();
     let q1 = w[1].atan2(w[0]) - (l2 * q2.sin()).atan2(l1 + l2 * q2.cos());
     let q3 = psi - q1 - q2;
-    let th = DVector::from_vec(vec![a, 0.0, 0.0, q1, q2, q3]);
-    assert!(m.structural(&th).norm() < 1e-12);
+    let th = col(&[a, 0.0, 0.0, q1, q2, q3]);
+    assert!(m.structural(&th).norm_l2() < 1e-12);
     let rep = m.classify(&th).unwrap();
     assert_eq!(rep.kind, Some(SingularityKind::Serial), "{rep:?}");
     assert_eq!(rep.task_rank, 2);
@@ -239,9 +237,9 @@ fn stretched_arm_with_gripped_object_is_a_serial_singularity() {
     let red = m.reduced(&th).unwrap();
     let r = resolve(
         &red.jacobian,
-        &DVector::from_vec(vec![0.1, 0.0, 0.0]),
+        &col(&[0.1, 0.0, 0.0]),
         &red.active_constraint,
-        &DVector::zeros(red.active_constraint.nrows()),
+        &Col::zeros(red.active_constraint.nrows()),
         None,
     );
     assert!(matches!(
@@ -254,4 +252,8 @@ fn stretched_arm_with_gripped_object_is_a_serial_singularity() {
     // Bending the elbow makes it regular again.
     let (_, th2) = assembled(&ContactModel::Gripped);
     assert_eq!(m.classify(&th2).unwrap().kind, None);
+}
+
+fn col(values: &[f64]) -> Col<f64> {
+    ColRef::from_slice(values).to_owned()
 }

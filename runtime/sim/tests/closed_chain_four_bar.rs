@@ -1,11 +1,10 @@
 //! Four-bar linkage (source §4.1–§4.3): passive velocities (7) and the reduced Jacobian (8)
 //! against finite differences of independent position-level solutions.
 
-use trocar::nalgebra::DVector;
+use faer::{Col, ColRef};
 use trocar_sim::closed_chain::ClosedChainError;
-use trocar_sim::closed_chain::{
-    description, four_bar::FourBar, linalg, Mechanism, SingularityKind,
-};
+use trocar_sim::closed_chain::{description, four_bar::FourBar, Mechanism, SingularityKind};
+use trocar_sim::linalg;
 
 fn setup() -> (Mechanism, FourBar) {
     let m = description::shipped("four-bar").unwrap();
@@ -25,7 +24,7 @@ fn closed_form_satisfies_the_structural_equations() {
     for i in 0..=20 {
         let t1 = 0.75 + 1.5 * i as f64 / 20.0;
         let th = fb.configuration(t1).unwrap();
-        assert!(m.structural(&th).norm() < 1e-12, "θ1 = {t1}");
+        assert!(m.structural(&th).norm_l2() < 1e-12, "θ1 = {t1}");
         // φ = θ1 + θ3 = θ2 + θ4 (10), not only modulo 2π.
         assert!((th[0] + th[1] - th[2] - th[3]).abs() < 1e-12);
         let p = fb.position(t1).unwrap();
@@ -50,7 +49,7 @@ fn passive_velocities_7_equal_finite_differences_of_the_closed_form() {
         let t1 = 0.8 + 1.4 * i as f64 / 12.0;
         let th = fb.configuration(t1).unwrap();
         let pd = m
-            .passive_velocities(&th, &DVector::from_element(1, 1.0))
+            .passive_velocities(&th, &Col::from_fn(1, |_| 1.0))
             .unwrap();
         // θ_p order in the mechanism: (θ3, θ2, θ4).
         let h = 1e-4;
@@ -73,8 +72,8 @@ fn reduced_jacobian_8_equals_finite_differences_through_the_constraint() {
         // End-effector map through the constraint: Newton on c(θ) = 0 (not the closed form).
         let (_, p0) = m.split(&th);
         let phi = |x: f64| {
-            let p = m.solve_passive(&DVector::from_element(1, x), &p0).unwrap();
-            m.task(&m.join(&DVector::from_element(1, x), &p))[0]
+            let p = m.solve_passive(&Col::from_fn(1, |_| x), &p0).unwrap();
+            m.task(&m.join(&Col::from_fn(1, |_| x), &p))[0]
         };
         let fd = d4(phi, t1, 1e-4);
         assert!((j - fd).abs() < 1e-8, "θ1 = {t1}: J = {j}, FD = {fd}");
@@ -91,7 +90,7 @@ fn any_annihilator_gives_the_same_reduced_jacobian() {
     let (j, a) = m.stacked(&th);
     let (jc, ja) = trocar_sim::closed_chain::mechanism::constraint_and_analytic(&j, &a).unwrap();
     // J_A here is the full pose; select φ.
-    let ja_phi = ja.rows(2, 1).into_owned();
+    let ja_phi = ja.subrows(2, 1).to_owned();
     let red = trocar_sim::closed_chain::mechanism::reduce_blocks(
         &jc,
         &ja_phi,
@@ -100,10 +99,10 @@ fn any_annihilator_gives_the_same_reduced_jacobian() {
     )
     .unwrap();
     let direct = m.reduced(&th).unwrap();
-    assert!((red.jacobian - direct.jacobian).norm() < 1e-12);
-    assert!((red.passive_map - direct.passive_map).norm() < 1e-12);
+    assert!((red.jacobian - direct.jacobian).norm_l2() < 1e-12);
+    assert!((red.passive_map - direct.passive_map).norm_l2() < 1e-12);
     assert_eq!(jc.shape(), (3, 4));
-    assert!((linalg::annihilator(&a) * &a).norm() < 1e-12);
+    assert!((linalg::annihilator(a.as_ref()) * &a).norm_l2() < 1e-12);
 }
 
 #[test]
@@ -115,13 +114,13 @@ fn singularities_at_the_workspace_ends_and_outside() {
     let p3 = [-0.5 + 1.2 * lo.cos(), 1.2 * lo.sin()];
     let u = [p3[0] - 0.5, p3[1]];
     let t2 = u[1].atan2(u[0]);
-    let th = DVector::from_vec(vec![
+    let th = col(&[
         lo,
         t2 - lo + 2.0 * std::f64::consts::PI,
         t2,
         2.0 * std::f64::consts::PI,
     ]);
-    assert!(m.structural(&th).norm() < 1e-9);
+    assert!(m.structural(&th).norm_l2() < 1e-9);
     let rep = m.classify(&th).unwrap();
     assert_eq!(rep.rank_j_cp, 2);
     assert!(matches!(
@@ -139,7 +138,7 @@ fn singularities_at_the_workspace_ends_and_outside() {
     // Outside the workspace: an error, never NaN.
     assert!(fb.passive(0.5).is_err());
     assert!(fb.passive(f64::NAN).is_err());
-    let r = m.solve_passive(&DVector::from_element(1, 0.3), &m.split(&th).1);
+    let r = m.solve_passive(&Col::from_fn(1, |_| 0.3), &m.split(&th).1);
     assert!(r.is_err(), "{r:?}");
 }
 
@@ -157,4 +156,8 @@ fn no_serial_singularity_inside_the_workspace() {
         assert_eq!(m.classify(&th).unwrap().kind, None, "θ1 = {t1}");
         assert!(m.reduced(&th).unwrap().jacobian[(0, 0)] < 0.0);
     }
+}
+
+fn col(values: &[f64]) -> Col<f64> {
+    ColRef::from_slice(values).to_owned()
 }

@@ -2,7 +2,7 @@
 //! structural equations, the reduced Jacobian (8) and passive velocities (7) against finite
 //! differences of that map, and parallel singularities detected by the rank of J_Cp.
 
-use trocar::nalgebra::DVector;
+use faer::{Col, ColRef, Scale};
 use trocar_sim::closed_chain::{
     description, stewart, ClosedChainError, Mechanism, Pose2, SingularityKind,
 };
@@ -40,19 +40,19 @@ fn newton_forward_kinematics_recovers_the_pose() {
     let m = mech();
     for &(x, y, phi) in &POSES {
         let th = stewart::inverse_kinematics(&m, Pose2::new(x, y, phi)).unwrap();
-        assert!(m.structural(&th).norm() < 1e-12);
+        assert!(m.structural(&th).norm_l2() < 1e-12);
         let (d, _) = m.split(&th);
         // Start Newton from a pose 0.5 m / 0.1 rad away.
         let (pose, th2) =
             stewart::forward_kinematics(&m, &d, Pose2::new(x + 0.5, y - 0.4, phi + 0.1)).unwrap();
         assert!((pose.x - x).abs() < 1e-10 && (pose.y - y).abs() < 1e-10);
         assert!((pose.angle - phi).abs() < 1e-10);
-        assert!(m.structural(&th2).norm() < 1e-12);
+        assert!(m.structural(&th2).norm_l2() < 1e-12);
     }
 }
 
-fn d4(f: impl Fn(f64) -> DVector<f64>, h: f64) -> DVector<f64> {
-    (-f(2.0 * h) + 8.0 * f(h) - 8.0 * f(-h) + f(-2.0 * h)) / (12.0 * h)
+fn d4(f: impl Fn(f64) -> Col<f64>, h: f64) -> Col<f64> {
+    Scale(1.0 / (12.0 * h)) * (-f(2.0 * h) + Scale(8.0) * f(h) - Scale(8.0) * f(-h) + f(-2.0 * h))
 }
 
 #[test]
@@ -69,7 +69,7 @@ fn reduced_jacobian_and_passive_velocities_equal_finite_differences() {
                 let p = m.solve_passive(&d, &p0).unwrap();
                 let th = m.join(&d, &p);
                 let x = m.task(&th);
-                DVector::from_iterator(9, x.iter().chain(p.iter()).copied())
+                Col::from_fn(9, |i| if i < 3 { x[i] } else { p[i - 3] })
             };
             let fd = d4(fk, 1e-3);
             for r in 0..3 {
@@ -116,7 +116,7 @@ fn concurrent_legs_are_a_parallel_singularity_and_an_error() {
     let beta = (b[0][1] - c[1]).atan2(b[0][0] - c[0]);
     let pose = Pose2::new(c[0], c[1], beta - std::f64::consts::PI);
     let th = stewart::inverse_kinematics(&m, pose).unwrap();
-    assert!(m.structural(&th).norm() < 1e-12);
+    assert!(m.structural(&th).norm_l2() < 1e-12);
     let rep = m.classify(&th).unwrap();
     assert!(rep.rank_j_cp < 6, "σ_min(J_Cp) = {}", rep.sigma_min_j_cp);
     assert!(matches!(
@@ -134,12 +134,12 @@ fn concurrent_legs_are_a_parallel_singularity_and_an_error() {
         other => panic!("expected a parallel singularity, got {other:?}"),
     }
     assert!(m
-        .passive_velocities(&th, &DVector::from_element(3, 1.0))
+        .passive_velocities(&th, &Col::from_fn(3, |_| 1.0))
         .is_err());
     // A regular pose nearby is fine and its Jacobian finite.
     let th = stewart::inverse_kinematics(&m, Pose2::new(c[0], c[1], beta - 2.5)).unwrap();
     let red = m.reduced(&th).unwrap();
-    assert!(red.jacobian.iter().all(|x| x.is_finite()));
+    assert!(trocar_sim::linalg::all_finite(red.jacobian.as_ref()));
 }
 
 #[test]
@@ -154,7 +154,7 @@ fn bad_inputs_are_errors_not_nan() {
         Err(ClosedChainError::NonFinite { .. })
     ));
     assert!(matches!(
-        m.reduced(&DVector::zeros(4)),
+        m.reduced(&Col::zeros(4)),
         Err(ClosedChainError::Dimension {
             expected: 9,
             got: 4,
@@ -163,6 +163,10 @@ fn bad_inputs_are_errors_not_nan() {
     ));
     // Leg lengths the platform cannot reach: Newton fails with an error.
     let (_, p0) = m.split(&th);
-    let r = m.solve_passive(&DVector::from_vec(vec![1.0, 1.0, 1.0]), &p0);
+    let r = m.solve_passive(&col(&[1.0, 1.0, 1.0]), &p0);
     assert!(r.is_err(), "{r:?}");
+}
+
+fn col(values: &[f64]) -> Col<f64> {
+    ColRef::from_slice(values).to_owned()
 }

@@ -11,7 +11,7 @@ use trocar::control::{
     ControllerConfig, Damping, Inverse, Rcm, Reference, Shaft,
 };
 use trocar::kinematics::Chain;
-use trocar::manipulability::SquareDim;
+use trocar::linalg::SquareDim;
 use trocar::nalgebra::{Const, SMatrix, SVector, Vector3};
 use trocar::se3::Se3;
 use trocar_model::description::RobotDescription;

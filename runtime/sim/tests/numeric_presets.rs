@@ -5,7 +5,7 @@
 use faer::{Col, Mat};
 use rand::{rngs::StdRng, Rng, SeedableRng};
 use trocar::constraint::Constraint;
-use trocar::manipulability::SquareDim;
+use trocar::linalg::SquareDim;
 use trocar::nalgebra::{Const, SMatrix, SVector, Vector3};
 use trocar::se3::{rotation_from_rpy, Adjoint, Se3};
 use trocar_model::description::{AdmissionError, Linear, RobotDescription};

@@ -54,11 +54,10 @@ mod quaternion;
 mod redundancy;
 mod shaft;
 
-pub use crate::manipulability::{determinant, manipulability};
+pub use crate::linalg::determinant;
+pub use crate::manipulability::manipulability;
 pub use hard_limits::{Damper, HardLimits, QpReport, QpWeights};
-pub use inverse::{
-    damped_pinv, damped_solve, pinv, Damping, FilteredInverse, GramCholesky, PreparedJacobian,
-};
+pub use inverse::{Damping, FilteredInverse, PreparedJacobian};
 pub use quaternion::{orientation_error, Quaternion};
 pub use redundancy::{
     lie_bracket, manipulability_gradient, resolve_with_null_space, NullSpaceObjective,
@@ -67,7 +66,7 @@ pub use shaft::Shaft;
 
 use crate::constraint::Constraint;
 use crate::kinematics::Chain;
-use crate::manipulability::SquareDim;
+use crate::linalg::{damped_solve, pseudo_inverse, Cholesky, SquareDim};
 use crate::se3::Se3;
 use nalgebra::{Const, Matrix3, RealField, SMatrix, SVector, Vector3, Vector6};
 
@@ -413,7 +412,7 @@ fn constrained_rows<T: RealField + Copy, const I: usize, const R: usize>(
     lambda_pinv: &SMatrix<T, 6, R>,
 ) -> Option<SMatrix<T, R, I>> {
     let lambda: SMatrix<T, R, 6> =
-        GramCholesky::new(&lambda_pinv.tr_mul(lambda_pinv))?.solve(&lambda_pinv.transpose());
+        Cholesky::new(&lambda_pinv.tr_mul(lambda_pinv))?.solve(&lambda_pinv.transpose());
     Some(lambda * j)
 }
 
@@ -429,7 +428,7 @@ fn within_speed_limit<T: RealField + Copy, const N: usize, const I: usize, const
     limit: T,
 ) -> Option<SVector<T, N>> {
     let a = constrained_rows(j, lambda_pinv)?;
-    let c_i: SVector<T, I> = a.tr_mul(&GramCholesky::new(&(a * a.transpose()))?.solve(dv_0r));
+    let c_i: SVector<T, I> = a.tr_mul(&Cholesky::new(&(a * a.transpose()))?.solve(dv_0r));
     let c = SVector::<T, N>::from_fn(|k, _| if k < I { c_i[k] } else { T::zero() });
     let r = qd - c;
     // |c_k + α r_k| ≤ limit for every k: α ≤ (limit − sign(r_k) c_k) / |r_k|.
@@ -460,8 +459,8 @@ fn constraint_first<T: RealField + Copy, const I: usize, const R: usize>(
     let aat = a * a.transpose();
     // Where `J` cannot move the link in a constrained direction (`A A^T` singular), that
     // stage is damped too: the constraint then holds as well as the arm allows.
-    let aat = GramCholesky::new(&aat)
-        .or_else(|| GramCholesky::new(&(aat + SMatrix::<T, R, R>::identity() * (kappa * kappa))))?;
+    let aat = Cholesky::new(&aat)
+        .or_else(|| Cholesky::new(&(aat + SMatrix::<T, R, R>::identity() * (kappa * kappa))))?;
     let first: SVector<T, I> = a.tr_mul(&aat.solve(dv_0r));
     // P = I − Aᵀ (A Aᵀ)⁻¹ A.
     let p = SMatrix::<T, I, I>::identity() - a.tr_mul(&aat.solve(&a));
@@ -647,7 +646,9 @@ impl<
             }
             Inverse::Fi { gamma_r, gamma_l } => {
                 if !self.fi_started {
-                    self.fi = FilteredInverse::new(pinv(&task_jr).ok_or(ControlError::SingularJr)?);
+                    self.fi = FilteredInverse::new(
+                        pseudo_inverse(&task_jr).ok_or(ControlError::SingularJr)?,
+                    );
                     self.fi_started = true;
                 }
                 let x = self.fi.inverse(&task_jr) * dv_e;

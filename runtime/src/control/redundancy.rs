@@ -13,7 +13,7 @@
 //! - manipulability `f = w = sqrt(det(J Jᵀ))` of `J^B_0i`, whose gradient comes from the
 //!   Jacobian itself ([`manipulability_gradient`]).
 
-use super::inverse::{damped_solve, GramCholesky};
+use crate::linalg::{damped_solve, Cholesky};
 use crate::se3::Twist;
 use nalgebra::{RealField, SMatrix, SVector, Vector3};
 
@@ -93,7 +93,7 @@ pub fn lie_bracket<T: RealField + Copy>(a: &Twist<T>, b: &Twist<T>) -> Twist<T> 
 pub fn manipulability_gradient<T: RealField + Copy, const C: usize>(
     j: &SMatrix<T, 6, C>,
 ) -> Option<SVector<T, C>> {
-    let chol = GramCholesky::new(&(j * j.transpose()))?;
+    let chol = Cholesky::new(&(j * j.transpose()))?;
     // A = (JJᵀ)⁻¹ J: row j of J† is column j of A.
     let a = chol.solve(j);
     let w = chol.sqrt_determinant();

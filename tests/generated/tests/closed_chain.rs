@@ -2,10 +2,10 @@
 //! reduced kinematics (7)–(8) (SVD-based, `trocar_sim::closed_chain`), finite differences of the
 //! closed-form passive solution of the four-bar linkage and of the closed-form inverse kinematics
 //! of the planar Gough–Stewart platform, and the runtime's singularity classification.
-// Entries are compared by (row, column) index against nalgebra matrices.
+// Entries are compared by (row, column) index against faer matrices.
 #![allow(clippy::needless_range_loop)]
 
-use trocar::nalgebra::{DMatrix, DVector};
+use faer::{Col, ColRef, Mat, Scale};
 use trocar_sim::closed_chain::four_bar::FourBar;
 use trocar_sim::closed_chain::{description, stewart, Mechanism, Pose2, SingularityKind};
 use trocar_tests_generated::{four_bar, four_bar_f32, planar_stewart};
@@ -24,7 +24,7 @@ fn theta1_grid(fb: &FourBar, n: usize, margin: f64) -> Vec<f64> {
         .collect()
 }
 
-fn q_of(theta: &DVector<f64>) -> [f64; 4] {
+fn q_of(theta: &Col<f64>) -> [f64; 4] {
     [theta[0], theta[1], theta[2], theta[3]]
 }
 
@@ -68,7 +68,7 @@ fn four_bar_matches_runtime_on_the_manifold() {
         assert_eq!(four_bar::passive_map_trig(&t, &p), Some(map));
         for qd in [1.0, -0.37, 2.5] {
             let num = m
-                .passive_velocities(&theta, &DVector::from_element(1, qd))
+                .passive_velocities(&theta, &Col::from_fn(1, |_| qd))
                 .unwrap();
             let gen = four_bar::passive_velocities(&q, &[qd], &p).unwrap();
             for k in 0..3 {
@@ -193,15 +193,16 @@ fn four_bar_determinant_vanishes_at_parallel_singularities() {
             let tau = 2.0 * std::f64::consts::PI;
             a + tau * ((like - a) / tau).round()
         };
-        let theta = DVector::from_row_slice(&[
+        let theta = ColRef::from_slice(&[
             end,
             unwrap(coupler - end, near[1]),
             unwrap(rocker, near[2]),
             unwrap(coupler - rocker, near[3]),
-        ]);
+        ])
+        .to_owned();
         assert!(
-            m.structural(&theta).norm() < 1e-12,
-            "θ1 = {end}: {}",
+            m.structural(&theta).norm_l2() < 1e-12,
+            "θ1 = {end}: {:?}",
             m.structural(&theta)
         );
         let q = q_of(&theta);
@@ -224,7 +225,7 @@ fn four_bar_determinant_vanishes_at_parallel_singularities() {
     assert_eq!(four_bar::constraint_determinant(&zero, &p), 0.0);
     assert_eq!(four_bar::reduced_jacobian(&zero, &p), None);
     assert_eq!(four_bar::passive_velocities(&zero, &[1.0], &p), None);
-    let report = m.classify(&DVector::from_row_slice(&zero)).unwrap();
+    let report = m.classify(&ColRef::from_slice(&zero).to_owned()).unwrap();
     assert!(matches!(
         report.kind,
         Some(SingularityKind::Parallel | SingularityKind::Structural)
@@ -279,10 +280,8 @@ fn stewart_poses() -> Vec<Pose2> {
     v
 }
 
-fn to_array<const N: usize>(v: &DVector<f64>) -> [f64; N] {
-    let mut a = [0.0; N];
-    a.copy_from_slice(v.as_slice());
-    a
+fn to_array<const N: usize>(v: &Col<f64>) -> [f64; N] {
+    core::array::from_fn(|k| v[k])
 }
 
 /// Planar Gough–Stewart platform: generated (8) and (7) equal the runtime's at configurations
@@ -302,8 +301,8 @@ fn planar_stewart_matches_runtime_and_inverse_kinematics() {
         let red = m.reduced(&theta).unwrap();
         let j = planar_stewart::reduced_jacobian(&q, &p).unwrap();
         let map = planar_stewart::passive_map(&q, &p).unwrap();
-        let scale_j = red.jacobian.abs().max().max(1.0);
-        let scale_p = red.passive_map.abs().max().max(1.0);
+        let scale_j = red.jacobian.norm_max().max(1.0);
+        let scale_p = red.passive_map.norm_max().max(1.0);
         for c in 0..3 {
             for r in 0..3 {
                 worst = worst.max((j[c][r] - red.jacobian[(r, c)]).abs() / scale_j);
@@ -313,11 +312,11 @@ fn planar_stewart_matches_runtime_and_inverse_kinematics() {
             }
         }
         // ∂d/∂pose by central differences of the inverse kinematics; J · ∂d/∂pose = I.
-        let active = |pose: Pose2| -> DVector<f64> {
+        let active = |pose: Pose2| -> Col<f64> {
             let t = stewart::inverse_kinematics(&m, pose).unwrap();
             m.split(&t).0
         };
-        let mut dd = DMatrix::zeros(3, 3);
+        let mut dd = Mat::<f64>::zeros(3, 3);
         for axis in 0..3 {
             let mut a = pose;
             let mut b = pose;
@@ -335,12 +334,12 @@ fn planar_stewart_matches_runtime_and_inverse_kinematics() {
                     b.angle -= h;
                 }
             }
-            let col = (active(a) - active(b)) / (2.0 * h);
-            dd.set_column(axis, &col);
+            let col = Scale(1.0 / (2.0 * h)) * (active(a) - active(b));
+            dd.col_mut(axis).copy_from(&col);
         }
-        let jm = DMatrix::from_fn(3, 3, |r, c| j[c][r]);
+        let jm = Mat::from_fn(3, 3, |r, c| j[c][r]);
         let prod = &jm * &dd;
-        worst_fd = worst_fd.max((prod - DMatrix::<f64>::identity(3, 3)).abs().max());
+        worst_fd = worst_fd.max((prod - Mat::<f64>::identity(3, 3)).norm_max());
     }
     assert!(worst <= 1e-12, "worst relative difference {worst:e}");
     assert!(worst_fd <= 1e-8, "worst |J ∂d/∂pose − I| {worst_fd:e}");
@@ -356,7 +355,7 @@ fn four_bar_matches_runtime_differential() {
     let q = [1.1, 5.3, 1.7, 4.9];
     let num = Mechanism::nominal(&model)
         .unwrap()
-        .differential(&DVector::from_row_slice(&q))
+        .differential(&ColRef::from_slice(&q).to_owned())
         .unwrap();
     let env = Env {
         q: &q,
@@ -373,5 +372,5 @@ fn four_bar_matches_runtime_differential() {
         assert!((x - num.j_a[(0, j)]).abs() < 1e-13);
     }
     let det = d.det_j_cp.eval(&env);
-    assert!((det - trocar_sim::closed_chain::linalg::determinant(&num.j_cp)).abs() < 1e-12);
+    assert!((det - trocar_sim::linalg::determinant(num.j_cp.as_ref())).abs() < 1e-12);
 }

@@ -13,9 +13,9 @@
 //! prismatic joint), so that the generic [`Mechanism`] machinery applies.
 
 use super::error::ClosedChainError;
-use super::linalg;
 use super::mechanism::Mechanism;
-use nalgebra::{DMatrix, Matrix3};
+use crate::linalg;
+use faer::Mat;
 use trocar_model::closed_chain::{number, MechanismModel};
 
 /// The contact models of §5.3.
@@ -42,17 +42,18 @@ impl ContactModel {
 
 /// `A_i = [[I, −P̂_eic], [0, I]]` of (35) in the plane: maps the object velocity `v_c = (ṗ_c, ω)`
 /// to the velocity of the object's point at the contact, `r = p_c − p_i` (world coordinates).
-pub fn contact_map(r: [f64; 2]) -> Matrix3<f64> {
-    Matrix3::new(1.0, 0.0, r[1], 0.0, 1.0, -r[0], 0.0, 0.0, 1.0)
+/// Row by row.
+pub fn contact_map(r: [f64; 2]) -> [[f64; 3]; 3] {
+    [[1.0, 0.0, r[1]], [0.0, 1.0, -r[0]], [0.0, 0.0, 1.0]]
 }
 
 /// The constraint and analytic Jacobians of cooperating arms (39)–(41).
 #[derive(Clone, Debug, PartialEq)]
 pub struct CooperativeJacobians {
     /// `J_C = Ã [J Hᵀ]` (40), columns: all arm joints, then all contact motions `w`.
-    pub j_c: DMatrix<f64>,
+    pub j_c: Mat<f64>,
     /// `J_A = A† [J Hᵀ]` (41).
-    pub j_a: DMatrix<f64>,
+    pub j_a: Mat<f64>,
     /// Indices of the active columns (the arm joints).
     pub active: Vec<usize>,
     /// Indices of the passive columns (the contact motions `w`).
@@ -63,7 +64,7 @@ pub struct CooperativeJacobians {
 /// contact frame orientations `ψ_i`, the selections `H_i` (rows in the contact frame) and the
 /// vectors `r_i = p_c − p_i` from contact to object frame.
 pub fn contact_jacobians(
-    arm_jacobians: &[DMatrix<f64>],
+    arm_jacobians: &[Mat<f64>],
     contact_angles: &[f64],
     h: &[Vec<[f64; 3]>],
     r: &[[f64; 2]],
@@ -91,11 +92,12 @@ pub fn contact_jacobians(
     }
     let n_a: usize = arm_jacobians.iter().map(|j| j.ncols()).sum();
     let n_w: usize = h.iter().map(|x| x.len()).sum();
-    let mut big = DMatrix::zeros(3 * m, n_a + n_w);
-    let mut a = DMatrix::zeros(3 * m, 3);
+    let mut big = Mat::zeros(3 * m, n_a + n_w);
+    let mut a = Mat::zeros(3 * m, 3);
     let (mut ca, mut cw) = (0, n_a);
     for i in 0..m {
-        big.view_mut((3 * i, ca), (3, arm_jacobians[i].ncols()))
+        big.as_mut()
+            .submatrix_mut(3 * i, ca, 3, arm_jacobians[i].ncols())
             .copy_from(&arm_jacobians[i]);
         ca += arm_jacobians[i].ncols();
         let (s, c) = contact_angles[i].sin_cos();
@@ -105,9 +107,13 @@ pub fn contact_jacobians(
             big[(3 * i + 2, cw)] = row[2];
             cw += 1;
         }
-        a.view_mut((3 * i, 0), (3, 3)).copy_from(&contact_map(r[i]));
+        for (k, row) in contact_map(r[i]).iter().enumerate() {
+            for (c, x) in row.iter().enumerate() {
+                a[(3 * i + k, c)] = *x;
+            }
+        }
     }
-    if !linalg::all_finite(&big) || !linalg::all_finite(&a) {
+    if !linalg::all_finite(big.as_ref()) || !linalg::all_finite(a.as_ref()) {
         return Err(ClosedChainError::NonFinite {
             what: "cooperative Jacobians".into(),
         });

@@ -17,7 +17,7 @@
 
 use super::error::ClosedChainError;
 use super::mechanism::Mechanism;
-use nalgebra::DVector;
+use faer::{Col, ColRef};
 use std::f64::consts::PI;
 
 /// Link lengths of the four-bar linkage (m).
@@ -155,9 +155,9 @@ impl FourBar {
     }
 
     /// The full joint vector in the mechanism's order `θ = (θ1, θ3, θ2, θ4)`.
-    pub fn configuration(&self, theta1: f64) -> Result<DVector<f64>, ClosedChainError> {
+    pub fn configuration(&self, theta1: f64) -> Result<Col<f64>, ClosedChainError> {
         let [t2, t3, t4] = self.passive(theta1)?;
-        Ok(DVector::from_vec(vec![theta1, t3, t2, t4]))
+        Ok(ColRef::from_slice(&[theta1, t3, t2, t4]).to_owned())
     }
 
     /// The active joint θ1 giving orientation `φ` (bisection on the monotone closed form).

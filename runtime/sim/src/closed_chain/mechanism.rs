@@ -22,8 +22,8 @@
 //! (`φ ∈ [5.88, 7.89]` rad for the four-bar linkage).
 
 use super::error::{ClosedChainError, SingularityKind};
-use super::linalg;
-use nalgebra::{DMatrix, DVector, Vector3};
+use crate::linalg::{self, as_slice, select_columns, stack_rows};
+use faer::{Col, Mat};
 use std::f64::consts::PI;
 pub use trocar_model::closed_chain::Output;
 use trocar_model::closed_chain::{ContactJoint, MechanismModel};
@@ -72,9 +72,9 @@ impl Pose2 {
         }
     }
 
-    /// `(x, y, angle)` as a vector.
-    pub fn to_vector(&self) -> Vector3<f64> {
-        Vector3::new(self.x, self.y, self.angle)
+    /// `(x, y, angle)` as an array.
+    pub fn to_vector(&self) -> [f64; 3] {
+        [self.x, self.y, self.angle]
     }
 
     /// `true` when every coordinate is finite.
@@ -159,37 +159,37 @@ pub struct Mechanism {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Differential {
     /// Stacked chain Jacobians `J = blockdiag(S J_1, …, S J_m)` (`3m × n`).
-    pub j: DMatrix<f64>,
+    pub j: Mat<f64>,
     /// `A = [I; …; I]` (`3m × 3`).
-    pub a: DMatrix<f64>,
+    pub a: Mat<f64>,
     /// Constraint Jacobian `J_C = Ã J` (`3(m−1) × n`), with `Ã` the difference annihilator
     /// (`Ã = [[I, −I, 0, …], [I, 0, −I, …], …]`), so `J_C = ∂c/∂θ` exactly.
-    pub j_c: DMatrix<f64>,
+    pub j_c: Mat<f64>,
     /// Analytic Jacobian of the task `J_A = S_x A† J` (`m_x × n`), `A† = (1/m)[I … I]`.
-    pub j_a: DMatrix<f64>,
+    pub j_a: Mat<f64>,
     /// Active columns of `J_C`.
-    pub j_ca: DMatrix<f64>,
+    pub j_ca: Mat<f64>,
     /// Passive columns of `J_C`.
-    pub j_cp: DMatrix<f64>,
+    pub j_cp: Mat<f64>,
     /// Active columns of `J_A`.
-    pub j_aa: DMatrix<f64>,
+    pub j_aa: Mat<f64>,
     /// Passive columns of `J_A`.
-    pub j_ap: DMatrix<f64>,
+    pub j_ap: Mat<f64>,
 }
 
 /// The reduced differential kinematics in the active joints ((7), (8)).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Reduced {
     /// `J = J_Aa − J_Ap J_Cp⁻¹ J_Ca` (8), `m_x × n_a`.
-    pub jacobian: DMatrix<f64>,
+    pub jacobian: Mat<f64>,
     /// `−J_Cp⁻¹ J_Ca` (7), `n_p × n_a`: `θ̇_p = passive_map · θ̇_a`.
-    pub passive_map: DMatrix<f64>,
+    pub passive_map: Mat<f64>,
     /// `J_Cp⁻¹` (or the left inverse `J_Cp†` when `r > n_p`), `n_p × r`.
-    pub j_cp_inverse: DMatrix<f64>,
+    pub j_cp_inverse: Mat<f64>,
     /// Orthonormal basis `C` of `R(J_Cp)^⊥` (`r × (r − n_p)`; empty for parallel mechanisms).
-    pub complement: DMatrix<f64>,
+    pub complement: Mat<f64>,
     /// `Cᵀ J_Ca` (`(r − n_p) × n_a`): admissible active velocities satisfy `Cᵀ J_Ca θ̇_a = 0`.
-    pub active_constraint: DMatrix<f64>,
+    pub active_constraint: Mat<f64>,
 }
 
 /// Result of the singularity classification of §4.3/§4.5 at a configuration.
@@ -383,16 +383,16 @@ impl Mechanism {
     }
 
     /// Splits `θ` into `(θ_a, θ_p)`.
-    pub fn split(&self, theta: &DVector<f64>) -> (DVector<f64>, DVector<f64>) {
+    pub fn split(&self, theta: &Col<f64>) -> (Col<f64>, Col<f64>) {
         (
-            DVector::from_iterator(self.active.len(), self.active.iter().map(|&i| theta[i])),
-            DVector::from_iterator(self.passive.len(), self.passive.iter().map(|&i| theta[i])),
+            Col::from_fn(self.active.len(), |k| theta[self.active[k]]),
+            Col::from_fn(self.passive.len(), |k| theta[self.passive[k]]),
         )
     }
 
     /// Joins `(θ_a, θ_p)` into `θ`.
-    pub fn join(&self, active: &DVector<f64>, passive: &DVector<f64>) -> DVector<f64> {
-        let mut t = DVector::zeros(self.n_joints());
+    pub fn join(&self, active: &Col<f64>, passive: &Col<f64>) -> Col<f64> {
+        let mut t = Col::zeros(self.n_joints());
         for (k, &i) in self.active.iter().enumerate() {
             t[i] = active[k];
         }
@@ -403,15 +403,15 @@ impl Mechanism {
     }
 
     /// Checks that `theta` holds one finite value per joint.
-    pub fn check_theta(&self, theta: &DVector<f64>) -> Result<(), ClosedChainError> {
-        if theta.len() != self.n_joints() {
+    pub fn check_theta(&self, theta: &Col<f64>) -> Result<(), ClosedChainError> {
+        if theta.nrows() != self.n_joints() {
             return Err(ClosedChainError::Dimension {
                 what: "joint vector θ".into(),
                 expected: self.n_joints(),
-                got: theta.len(),
+                got: theta.nrows(),
             });
         }
-        if let Some(i) = theta.iter().position(|x| !x.is_finite()) {
+        if let Some(i) = as_slice(theta).iter().position(|x| !x.is_finite()) {
             return Err(ClosedChainError::NonFinite {
                 what: format!("joint `{}`", self.joint_names()[i]),
             });
@@ -439,19 +439,19 @@ impl Mechanism {
 
     /// Pose of the common frame reached through chain `k` (forward kinematics of one open chain,
     /// (11), (12), (23)).
-    pub fn chain_pose(&self, k: usize, theta: &DVector<f64>) -> Pose2 {
+    pub fn chain_pose(&self, k: usize, theta: &Col<f64>) -> Pose2 {
         let r = self.chain_range(k);
-        self.chain_frames(k, &theta.as_slice()[r]).1
+        self.chain_frames(k, &as_slice(theta)[r]).1
     }
 
     /// `S J_k` of chain `k` (`3 × n_k`, rows `(v_x, v_y, ω_z)` in the world frame): the planar
     /// geometric Jacobians (15)–(16), (26)–(28), (38).
-    pub fn chain_jacobian(&self, k: usize, theta: &DVector<f64>) -> DMatrix<f64> {
+    pub fn chain_jacobian(&self, k: usize, theta: &Col<f64>) -> Mat<f64> {
         let r = self.chain_range(k);
-        let q = &theta.as_slice()[r];
+        let q = &as_slice(theta)[r];
         let (frames, end) = self.chain_frames(k, q);
         let ch = &self.chains[k];
-        let mut jk = DMatrix::zeros(3, q.len());
+        let mut jk = Mat::zeros(3, q.len());
         for (c, (j, f)) in ch.joints.iter().zip(&frames).enumerate() {
             match j.kind {
                 JointType::Revolute => {
@@ -470,10 +470,10 @@ impl Mechanism {
     }
 
     /// The structural equations `c(θ)` (2): `pose_1 − pose_k`, `k = 2..m`, angles wrapped.
-    pub fn structural(&self, theta: &DVector<f64>) -> DVector<f64> {
+    pub fn structural(&self, theta: &Col<f64>) -> Col<f64> {
         let m = self.chains.len();
         let p1 = self.chain_pose(0, theta);
-        let mut c = DVector::zeros(3 * (m - 1));
+        let mut c = Col::zeros(3 * (m - 1));
         for k in 1..m {
             let pk = self.chain_pose(k, theta);
             c[3 * (k - 1)] = p1.x - pk.x;
@@ -485,7 +485,7 @@ impl Mechanism {
 
     /// The pose of the common frame, `A† (pose_1, …, pose_m)` (chain angles unwrapped next to
     /// chain 1's), as `(x, y, φ)`.
-    pub fn common_pose(&self, theta: &DVector<f64>) -> Pose2 {
+    pub fn common_pose(&self, theta: &Col<f64>) -> Pose2 {
         let m = self.chains.len() as f64;
         let p1 = self.chain_pose(0, theta);
         let (mut x, mut y, mut a) = (0.0, 0.0, 0.0);
@@ -499,44 +499,45 @@ impl Mechanism {
     }
 
     /// The task vector `x = h(θ)` (1): the selected outputs of [`Mechanism::common_pose`].
-    pub fn task(&self, theta: &DVector<f64>) -> DVector<f64> {
+    pub fn task(&self, theta: &Col<f64>) -> Col<f64> {
         let p = self.common_pose(theta).to_vector();
-        DVector::from_iterator(
-            self.outputs.len(),
-            self.outputs.iter().map(|o| p[o.index()]),
-        )
+        Col::from_fn(self.outputs.len(), |k| p[self.outputs[k].index()])
     }
 
     /// Stacked Jacobian `J` and `A` of `J θ̇ = A v` ((17), (29), (39)).
-    pub fn stacked(&self, theta: &DVector<f64>) -> (DMatrix<f64>, DMatrix<f64>) {
+    pub fn stacked(&self, theta: &Col<f64>) -> (Mat<f64>, Mat<f64>) {
         let m = self.chains.len();
         let n = self.n_joints();
-        let mut j = DMatrix::zeros(3 * m, n);
-        let mut a = DMatrix::zeros(3 * m, 3);
+        let mut j = Mat::zeros(3 * m, n);
+        let a = Mat::from_fn(3 * m, 3, |r, c| if r % 3 == c { 1.0 } else { 0.0 });
         for k in 0..m {
             let r = self.chain_range(k);
             let jk = self.chain_jacobian(k, theta);
-            j.view_mut((3 * k, r.start), (3, r.len())).copy_from(&jk);
-            a.view_mut((3 * k, 0), (3, 3)).fill_with_identity();
+            j.as_mut()
+                .submatrix_mut(3 * k, r.start, 3, r.len())
+                .copy_from(&jk);
         }
         (j, a)
     }
 
     /// The difference annihilator `Ã = [[I, −I, 0, …], [I, 0, −I, …], …]` (`3(m−1) × 3m`), `Ã A = 0`.
-    pub fn difference_annihilator(&self) -> DMatrix<f64> {
+    pub fn difference_annihilator(&self) -> Mat<f64> {
         let m = self.chains.len();
-        let mut at = DMatrix::zeros(3 * (m - 1), 3 * m);
-        for k in 1..m {
-            at.view_mut((3 * (k - 1), 0), (3, 3)).fill_with_identity();
-            at.view_mut((3 * (k - 1), 3 * k), (3, 3))
-                .copy_from(&(-DMatrix::<f64>::identity(3, 3)));
-        }
-        at
+        Mat::from_fn(3 * (m - 1), 3 * m, |r, c| {
+            let k = r / 3 + 1;
+            if c == r % 3 {
+                1.0
+            } else if c == 3 * k + r % 3 {
+                -1.0
+            } else {
+                0.0
+            }
+        })
     }
 
     /// Task selection `S_x` (`m_x × 3`).
-    pub fn output_selection(&self) -> DMatrix<f64> {
-        let mut s = DMatrix::zeros(self.outputs.len(), 3);
+    pub fn output_selection(&self) -> Mat<f64> {
+        let mut s = Mat::zeros(self.outputs.len(), 3);
         for (i, o) in self.outputs.iter().enumerate() {
             s[(i, o.index())] = 1.0;
         }
@@ -544,18 +545,18 @@ impl Mechanism {
     }
 
     /// `J_C = Ã J`, `J_A = S_x A† J` and their active/passive blocks ((19), (31), (41), (5)–(6)).
-    pub fn differential(&self, theta: &DVector<f64>) -> Result<Differential, ClosedChainError> {
+    pub fn differential(&self, theta: &Col<f64>) -> Result<Differential, ClosedChainError> {
         self.check_theta(theta)?;
         let (j, a) = self.stacked(theta);
         let at = self.difference_annihilator();
         // `A` stacks one 3 × 3 identity per chain, so `Aᵀ A = m I` and `A† = Aᵀ / m` exactly.
-        let a_dag = a.transpose() / self.chains.len() as f64;
+        let a_dag = a.transpose() * faer::Scale(1.0 / self.chains.len() as f64);
         let j_c = &at * &j;
         let j_a = self.output_selection() * a_dag * &j;
-        let j_ca = j_c.select_columns(&self.active);
-        let j_cp = j_c.select_columns(&self.passive);
-        let j_aa = j_a.select_columns(&self.active);
-        let j_ap = j_a.select_columns(&self.passive);
+        let j_ca = select_columns(j_c.as_ref(), &self.active);
+        let j_cp = select_columns(j_c.as_ref(), &self.passive);
+        let j_aa = select_columns(j_a.as_ref(), &self.active);
+        let j_ap = select_columns(j_a.as_ref(), &self.passive);
         Ok(Differential {
             j,
             a,
@@ -572,7 +573,7 @@ impl Mechanism {
     ///
     /// Errors with [`ClosedChainError::Singular`] (kind [`SingularityKind::Parallel`]) when `J_Cp`
     /// loses rank: the passive joints can then move with the active joints locked.
-    pub fn reduced(&self, theta: &DVector<f64>) -> Result<Reduced, ClosedChainError> {
+    pub fn reduced(&self, theta: &Col<f64>) -> Result<Reduced, ClosedChainError> {
         let d = self.differential(theta)?;
         reduce(&d)
     }
@@ -580,14 +581,14 @@ impl Mechanism {
     /// Passive velocities `θ̇_p = −J_Cp⁻¹ J_Ca θ̇_a` (7).
     pub fn passive_velocities(
         &self,
-        theta: &DVector<f64>,
-        active_velocities: &DVector<f64>,
-    ) -> Result<DVector<f64>, ClosedChainError> {
-        if active_velocities.len() != self.active.len() {
+        theta: &Col<f64>,
+        active_velocities: &Col<f64>,
+    ) -> Result<Col<f64>, ClosedChainError> {
+        if active_velocities.nrows() != self.active.len() {
             return Err(ClosedChainError::Dimension {
                 what: "active velocities θ̇_a".into(),
                 expected: self.active.len(),
-                got: active_velocities.len(),
+                got: active_velocities.nrows(),
             });
         }
         Ok(self.reduced(theta)?.passive_map * active_velocities)
@@ -601,33 +602,33 @@ impl Mechanism {
     /// `r > n_p`, active joints inconsistent with the constraints.
     pub fn solve_passive(
         &self,
-        active: &DVector<f64>,
-        passive_guess: &DVector<f64>,
-    ) -> Result<DVector<f64>, ClosedChainError> {
-        if active.len() != self.active.len() {
+        active: &Col<f64>,
+        passive_guess: &Col<f64>,
+    ) -> Result<Col<f64>, ClosedChainError> {
+        if active.nrows() != self.active.len() {
             return Err(ClosedChainError::Dimension {
                 what: "active joints θ_a".into(),
                 expected: self.active.len(),
-                got: active.len(),
+                got: active.nrows(),
             });
         }
-        if passive_guess.len() != self.passive.len() {
+        if passive_guess.nrows() != self.passive.len() {
             return Err(ClosedChainError::Dimension {
                 what: "passive guess θ_p".into(),
                 expected: self.passive.len(),
-                got: passive_guess.len(),
+                got: passive_guess.nrows(),
             });
         }
         let mut theta = self.join(active, passive_guess);
         self.check_theta(&theta)?;
-        let mut res = self.structural(&theta).norm();
+        let mut res = self.structural(&theta).norm_l2();
         for _ in 0..100 {
             if res < 1e-13 {
                 return Ok(self.split(&theta).1);
             }
             let d = self.differential(&theta)?;
-            let smin = linalg::sigma_min(&d.j_cp);
-            if linalg::rank(&d.j_cp) < self.passive.len() {
+            let smin = linalg::sigma_min(d.j_cp.as_ref());
+            if linalg::rank(d.j_cp.as_ref()) < self.passive.len() {
                 return Err(ClosedChainError::Singular {
                     kind: SingularityKind::Parallel,
                     what: "J_Cp while solving the structural equations".into(),
@@ -635,7 +636,7 @@ impl Mechanism {
                 });
             }
             let c = self.structural(&theta);
-            let step = -(linalg::pseudo_inverse(&d.j_cp) * &c);
+            let step = -(not_finite(linalg::pseudo_inverse(d.j_cp.as_ref()), "J_Cp")? * &c);
             // Damped Newton: halve the step until the residual decreases.
             let mut t = 1.0;
             let mut accepted = false;
@@ -644,7 +645,7 @@ impl Mechanism {
                 for (k, &i) in self.passive.iter().enumerate() {
                     trial[i] += t * step[k];
                 }
-                let r = self.structural(&trial).norm();
+                let r = self.structural(&trial).norm_l2();
                 if r.is_finite() && r < res {
                     theta = trial;
                     res = r;
@@ -670,53 +671,55 @@ impl Mechanism {
     /// `c(θ) = 0` and, when given, `task(θ) = target`, starting from `guess`.
     pub fn assemble(
         &self,
-        guess: &DVector<f64>,
-        target: Option<&DVector<f64>>,
-    ) -> Result<DVector<f64>, ClosedChainError> {
+        guess: &Col<f64>,
+        target: Option<&Col<f64>>,
+    ) -> Result<Col<f64>, ClosedChainError> {
         self.check_theta(guess)?;
         if let Some(t) = target {
-            if t.len() != self.outputs.len() {
+            if t.nrows() != self.outputs.len() {
                 return Err(ClosedChainError::Dimension {
                     what: "task target".into(),
                     expected: self.outputs.len(),
-                    got: t.len(),
+                    got: t.nrows(),
                 });
             }
         }
-        let resid = |th: &DVector<f64>| -> DVector<f64> {
+        let resid = |th: &Col<f64>| -> Col<f64> {
             let c = self.structural(th);
             match target {
                 None => c,
                 Some(t) => {
                     let e = self.task(th) - t;
-                    DVector::from_iterator(c.len() + e.len(), c.iter().chain(e.iter()).copied())
+                    Col::from_fn(c.nrows() + e.nrows(), |k| {
+                        if k < c.nrows() {
+                            c[k]
+                        } else {
+                            e[k - c.nrows()]
+                        }
+                    })
                 }
             }
         };
         let mut theta = guess.clone();
         let mut r = resid(&theta);
         for _ in 0..200 {
-            let rn = r.norm();
+            let rn = r.norm_l2();
             if rn < 1e-13 {
                 return Ok(theta);
             }
             let d = self.differential(&theta)?;
             let jm = match target {
                 None => d.j_c.clone(),
-                Some(_) => {
-                    let mut m = DMatrix::zeros(d.j_c.nrows() + d.j_a.nrows(), d.j_c.ncols());
-                    m.rows_mut(0, d.j_c.nrows()).copy_from(&d.j_c);
-                    m.rows_mut(d.j_c.nrows(), d.j_a.nrows()).copy_from(&d.j_a);
-                    m
-                }
+                Some(_) => stack_rows(d.j_c.as_ref(), d.j_a.as_ref()),
             };
-            let step = -(linalg::pseudo_inverse(&jm) * &r);
+            let step =
+                -(not_finite(linalg::pseudo_inverse(jm.as_ref()), "the assembly Jacobian")? * &r);
             let mut t = 1.0;
             let mut accepted = false;
             for _ in 0..30 {
-                let trial = &theta + t * &step;
+                let trial = &theta + faer::Scale(t) * &step;
                 let rt = resid(&trial);
-                if rt.norm().is_finite() && rt.norm() < rn {
+                if rt.norm_l2().is_finite() && rt.norm_l2() < rn {
                     theta = trial;
                     r = rt;
                     accepted = true;
@@ -728,27 +731,23 @@ impl Mechanism {
                 break;
             }
         }
-        if r.norm() < 1e-10 {
+        if r.norm_l2() < 1e-10 {
             return Ok(theta);
         }
         Err(ClosedChainError::NoConvergence {
             what: "assembly of the mechanism (structural equations and task target)".into(),
-            residual: r.norm(),
+            residual: r.norm_l2(),
         })
     }
 
     /// Singularity classification (§4.5): parallel (actuator) when `rank(J_Cp) < n_p`, serial
     /// (end-effector) when the feasible task velocities lose dimension
     /// (`rank([J_C; J_A]) − rank(J_C) < m_x`, i.e. `rank J < m_x` for (8)), structural when both.
-    pub fn classify(&self, theta: &DVector<f64>) -> Result<SingularityReport, ClosedChainError> {
+    pub fn classify(&self, theta: &Col<f64>) -> Result<SingularityReport, ClosedChainError> {
         let d = self.differential(theta)?;
-        let rank_j_cp = linalg::rank(&d.j_cp);
-        let mut stacked = DMatrix::zeros(d.j_c.nrows() + d.j_a.nrows(), d.j_c.ncols());
-        stacked.rows_mut(0, d.j_c.nrows()).copy_from(&d.j_c);
-        stacked
-            .rows_mut(d.j_c.nrows(), d.j_a.nrows())
-            .copy_from(&d.j_a);
-        let task_rank = linalg::rank(&stacked).saturating_sub(linalg::rank(&d.j_c));
+        let rank_j_cp = linalg::rank(d.j_cp.as_ref());
+        let stacked = stack_rows(d.j_c.as_ref(), d.j_a.as_ref());
+        let task_rank = linalg::rank(stacked.as_ref()).saturating_sub(linalg::rank(d.j_c.as_ref()));
         let parallel = rank_j_cp < self.passive.len();
         let serial = task_rank < self.outputs.len();
         let kind = match (serial, parallel) {
@@ -760,7 +759,7 @@ impl Mechanism {
         Ok(SingularityReport {
             rank_j_cp,
             n_passive: self.passive.len(),
-            sigma_min_j_cp: linalg::sigma_min(&d.j_cp),
+            sigma_min_j_cp: linalg::sigma_min(d.j_cp.as_ref()),
             task_rank,
             task_dim: self.outputs.len(),
             kind,
@@ -768,20 +767,17 @@ impl Mechanism {
     }
 
     /// The SVD analysis of §5.4 applied to the reduced Jacobian `J` of (8) at `θ`.
-    pub fn svd_analysis(
-        &self,
-        theta: &DVector<f64>,
-    ) -> Result<linalg::SvdAnalysis, ClosedChainError> {
-        Ok(linalg::svd_analysis(&self.reduced(theta)?.jacobian))
+    pub fn svd_analysis(&self, theta: &Col<f64>) -> Result<linalg::SvdAnalysis, ClosedChainError> {
+        Ok(linalg::svd_analysis(self.reduced(theta)?.jacobian.as_ref()))
     }
 
     /// Points along the structure (joint frames and the common frame of every chain), as
     /// polylines, for obstacle distances and drawings.
-    pub fn polylines(&self, theta: &DVector<f64>) -> Vec<Vec<[f64; 2]>> {
+    pub fn polylines(&self, theta: &Col<f64>) -> Vec<Vec<[f64; 2]>> {
         (0..self.chains.len())
             .map(|k| {
                 let r = self.chain_range(k);
-                let (frames, end) = self.chain_frames(k, &theta.as_slice()[r]);
+                let (frames, end) = self.chain_frames(k, &as_slice(theta)[r]);
                 let mut pts = vec![[self.chains[k].base.x, self.chains[k].base.y]];
                 pts.extend(frames.iter().map(|f| [f.x, f.y]));
                 pts.push([end.x, end.y]);
@@ -795,38 +791,38 @@ impl Mechanism {
 pub fn reduce(d: &Differential) -> Result<Reduced, ClosedChainError> {
     let n_p = d.j_cp.ncols();
     let r = d.j_cp.nrows();
-    let rank_cp = linalg::rank(&d.j_cp);
+    let rank_cp = linalg::rank(d.j_cp.as_ref());
     if rank_cp < n_p {
         return Err(ClosedChainError::Singular {
             kind: SingularityKind::Parallel,
             what: "J_Cp (passive joints move with the active joints locked)".into(),
-            sigma_min: linalg::sigma_min(&d.j_cp),
+            sigma_min: linalg::sigma_min(d.j_cp.as_ref()),
         });
     }
     let j_cp_inverse = if n_p == r {
-        linalg::inverse(&d.j_cp).ok_or(ClosedChainError::Singular {
+        linalg::inverse(d.j_cp.as_ref()).ok_or(ClosedChainError::Singular {
             kind: SingularityKind::Parallel,
             what: "J_Cp".into(),
             sigma_min: 0.0,
         })?
     } else {
-        linalg::pseudo_inverse(&d.j_cp)
+        not_finite(linalg::pseudo_inverse(d.j_cp.as_ref()), "J_Cp")?
     };
     let passive_map = -(&j_cp_inverse * &d.j_ca);
     let jacobian = &d.j_aa + &d.j_ap * &passive_map;
     let complement = if n_p == r {
-        DMatrix::zeros(r, 0)
+        Mat::zeros(r, 0)
     } else if n_p == 0 {
-        DMatrix::identity(r, r)
+        Mat::identity(r, r)
     } else {
-        linalg::null_space(&d.j_cp.transpose())
+        linalg::null_space(d.j_cp.transpose())
     };
     let active_constraint = complement.transpose() * &d.j_ca;
     for (m, what) in [
         (&jacobian, "reduced Jacobian J"),
         (&passive_map, "passive map −J_Cp⁻¹J_Ca"),
     ] {
-        if !linalg::all_finite(m) {
+        if !linalg::all_finite(m.as_ref()) {
             return Err(ClosedChainError::NonFinite { what: what.into() });
         }
     }
@@ -842,9 +838,9 @@ pub fn reduce(d: &Differential) -> Result<Reduced, ClosedChainError> {
 /// `J_C = Ã J` and `J_A = A† J` for any stacked `J` and full-column-rank `A` ((19), (31), (41)),
 /// with `Ã` from [`linalg::annihilator`] (orthonormal rows). Returns `(J_C, J_A)`.
 pub fn constraint_and_analytic(
-    j: &DMatrix<f64>,
-    a: &DMatrix<f64>,
-) -> Result<(DMatrix<f64>, DMatrix<f64>), ClosedChainError> {
+    j: &Mat<f64>,
+    a: &Mat<f64>,
+) -> Result<(Mat<f64>, Mat<f64>), ClosedChainError> {
     if j.nrows() != a.nrows() {
         return Err(ClosedChainError::Dimension {
             what: "rows of A (must match the stacked Jacobian J)".into(),
@@ -852,28 +848,34 @@ pub fn constraint_and_analytic(
             got: a.nrows(),
         });
     }
-    let a_dag = linalg::left_pseudo_inverse(a)
+    let a_dag = linalg::left_pseudo_inverse(a.as_ref())
         .ok_or_else(|| ClosedChainError::invalid("A", "A must have full column rank (A† A = I)"))?;
-    let at = linalg::annihilator(a);
+    let at = linalg::annihilator(a.as_ref());
     Ok((at * j, a_dag * j))
 }
 
 /// Splits `(J_C, J_A)` by active/passive columns and reduces them ((5)–(8)).
 pub fn reduce_blocks(
-    j_c: &DMatrix<f64>,
-    j_a: &DMatrix<f64>,
+    j_c: &Mat<f64>,
+    j_a: &Mat<f64>,
     active: &[usize],
     passive: &[usize],
 ) -> Result<Reduced, ClosedChainError> {
     let d = Differential {
-        j: DMatrix::zeros(0, 0),
-        a: DMatrix::zeros(0, 0),
-        j_ca: j_c.select_columns(active),
-        j_cp: j_c.select_columns(passive),
-        j_aa: j_a.select_columns(active),
-        j_ap: j_a.select_columns(passive),
+        j: Mat::zeros(0, 0),
+        a: Mat::zeros(0, 0),
+        j_ca: select_columns(j_c.as_ref(), active),
+        j_cp: select_columns(j_c.as_ref(), passive),
+        j_aa: select_columns(j_a.as_ref(), active),
+        j_ap: select_columns(j_a.as_ref(), passive),
         j_c: j_c.clone(),
         j_a: j_a.clone(),
     };
     reduce(&d)
+}
+
+/// A pseudo-inverse, or the error that the matrix it was asked of is not finite (its SVD did not
+/// converge).
+fn not_finite(pinv: Option<Mat<f64>>, what: &str) -> Result<Mat<f64>, ClosedChainError> {
+    pinv.ok_or_else(|| ClosedChainError::NonFinite { what: what.into() })
 }

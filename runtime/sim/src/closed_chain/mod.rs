@@ -5,7 +5,7 @@
 //! - [`mechanism`]: the active/passive partition; `J_C = Ã J`, `J_A = A† J` (17)–(19),
 //!   (29)–(31); passive velocities (7); the reduced Jacobian `J = J_Aa − J_Ap J_Cp⁻¹ J_Ca` (8);
 //!   forward kinematics by Newton's method; singularity classification (§4.5).
-//! - [`linalg`]: ranks, pseudo-inverses, annihilators and the SVD analysis of §5.4 (faer).
+//! - [`crate::linalg`]: ranks, pseudo-inverses, annihilators and the SVD analysis of §5.4 (faer).
 //! - [`description`]: shipped and file descriptions read by trocar-model and evaluated at their
 //!   nominal parameters.
 //! - [`four_bar`], [`stewart`], [`cooperative`]: the source's three examples (closed-form passive
@@ -28,7 +28,6 @@ pub mod cooperative;
 pub mod description;
 mod error;
 pub mod four_bar;
-pub mod linalg;
 pub mod mechanism;
 pub mod redundancy;
 mod simulate;

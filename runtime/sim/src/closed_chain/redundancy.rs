@@ -15,9 +15,9 @@
 //! raises `f` at the rate `K_0 ‖(I − J†J) ∂f/∂θ_a‖² ≥ 0`.
 
 use super::error::{ClosedChainError, SingularityKind};
-use super::linalg;
 use super::mechanism::Mechanism;
-use nalgebra::{DMatrix, DVector};
+use crate::linalg::{self, as_slice, stack_rows};
+use faer::{Col, Mat};
 
 /// Objective functions `f(θ_a)` of (46), to be increased in the null space.
 #[derive(Clone, Debug, PartialEq)]
@@ -46,7 +46,7 @@ impl Objective {
     }
 
     /// `f(θ)` at a configuration.
-    pub fn value(&self, mech: &Mechanism, theta: &DVector<f64>) -> Result<f64, ClosedChainError> {
+    pub fn value(&self, mech: &Mechanism, theta: &Col<f64>) -> Result<f64, ClosedChainError> {
         mech.check_theta(theta)?;
         let v = match self {
             Objective::Manipulability => manipulability(&mech.reduced(theta)?.jacobian),
@@ -92,11 +92,11 @@ impl Objective {
     pub fn gradient(
         &self,
         mech: &Mechanism,
-        theta: &DVector<f64>,
-    ) -> Result<DVector<f64>, ClosedChainError> {
+        theta: &Col<f64>,
+    ) -> Result<Col<f64>, ClosedChainError> {
         let n = mech.n_joints();
         let h = 1e-6;
-        let mut g = DVector::zeros(n);
+        let mut g = Col::zeros(n);
         for i in 0..n {
             let mut tp = theta.clone();
             tp[i] += h;
@@ -111,14 +111,14 @@ impl Objective {
 }
 
 /// Manipulability `w = sqrt(det(J Jᵀ))` = product of the singular values (46).
-pub fn manipulability(j: &DMatrix<f64>) -> f64 {
+pub fn manipulability(j: &Mat<f64>) -> f64 {
     if j.nrows() == 0 {
         return 1.0;
     }
     if j.nrows() > j.ncols() {
         return 0.0;
     }
-    linalg::singular_values(j).iter().product()
+    linalg::singular_values(j.as_ref()).iter().product()
 }
 
 fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
@@ -140,21 +140,21 @@ fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
 /// the stacked rows lose rank (the task cannot be followed), and on wrong sizes or non-finite
 /// input.
 pub fn resolve(
-    j: &DMatrix<f64>,
-    task: &DVector<f64>,
-    constraint: &DMatrix<f64>,
-    constraint_rhs: &DVector<f64>,
-    u0: Option<&DVector<f64>>,
-) -> Result<DVector<f64>, ClosedChainError> {
+    j: &Mat<f64>,
+    task: &Col<f64>,
+    constraint: &Mat<f64>,
+    constraint_rhs: &Col<f64>,
+    u0: Option<&Col<f64>>,
+) -> Result<Col<f64>, ClosedChainError> {
     let n = j.ncols();
-    if task.len() != j.nrows() {
+    if task.nrows() != j.nrows() {
         return Err(ClosedChainError::Dimension {
             what: "task velocity ẋ_d + K e".into(),
             expected: j.nrows(),
-            got: task.len(),
+            got: task.nrows(),
         });
     }
-    if constraint.ncols() != n || constraint_rhs.len() != constraint.nrows() {
+    if constraint.ncols() != n || constraint_rhs.nrows() != constraint.nrows() {
         return Err(ClosedChainError::Dimension {
             what: "constraint rows".into(),
             expected: n,
@@ -162,61 +162,63 @@ pub fn resolve(
         });
     }
     if let Some(u0) = u0 {
-        if u0.len() != n {
+        if u0.nrows() != n {
             return Err(ClosedChainError::Dimension {
                 what: "null-space velocity u0".into(),
                 expected: n,
-                got: u0.len(),
+                got: u0.nrows(),
             });
         }
-        if u0.iter().any(|x| !x.is_finite()) {
+        if as_slice(u0).iter().any(|x| !x.is_finite()) {
             return Err(ClosedChainError::NonFinite {
                 what: "null-space velocity u0".into(),
             });
         }
     }
-    if task
+    if as_slice(task)
         .iter()
-        .chain(constraint_rhs.iter())
+        .chain(as_slice(constraint_rhs))
         .any(|x| !x.is_finite())
-        || !linalg::all_finite(j)
-        || !linalg::all_finite(constraint)
+        || !linalg::all_finite(j.as_ref())
+        || !linalg::all_finite(constraint.as_ref())
     {
         return Err(ClosedChainError::NonFinite {
             what: "task Jacobian or velocity".into(),
         });
     }
     let rows = j.nrows() + constraint.nrows();
-    let mut js = DMatrix::zeros(rows, n);
-    js.rows_mut(0, j.nrows()).copy_from(j);
-    js.rows_mut(j.nrows(), constraint.nrows())
-        .copy_from(constraint);
-    let mut w = DVector::zeros(rows);
-    w.rows_mut(0, j.nrows()).copy_from(task);
-    w.rows_mut(j.nrows(), constraint.nrows())
-        .copy_from(constraint_rhs);
-    if linalg::rank(&js) < rows {
+    let js = stack_rows(j.as_ref(), constraint.as_ref());
+    let w = Col::from_fn(rows, |k| {
+        if k < j.nrows() {
+            task[k]
+        } else {
+            constraint_rhs[k - j.nrows()]
+        }
+    });
+    if linalg::rank(js.as_ref()) < rows {
         return Err(ClosedChainError::Singular {
             kind: SingularityKind::Serial,
             what: "task Jacobian J (with the admissibility rows)".into(),
-            sigma_min: linalg::sigma_min(&js),
+            sigma_min: linalg::sigma_min(js.as_ref()),
         });
     }
-    let pinv = linalg::pseudo_inverse(&js);
+    let pinv = linalg::pseudo_inverse(js.as_ref()).ok_or_else(|| ClosedChainError::NonFinite {
+        what: "task Jacobian J (with the admissibility rows)".into(),
+    })?;
     let mut u = &pinv * w;
     if let Some(u0) = u0 {
-        let p = DMatrix::<f64>::identity(n, n) - &pinv * &js;
+        let p = Mat::<f64>::identity(n, n) - &pinv * &js;
         u += p * u0;
     }
     Ok(u)
 }
 
-/// The null-space projector `I − J_s† J_s` of (44) for the stacked rows `J_s = [J; C]`.
-pub fn null_projector(j: &DMatrix<f64>, constraint: &DMatrix<f64>) -> DMatrix<f64> {
+/// The null-space projector `I − J_s† J_s` of (44) for the stacked rows `J_s = [J; C]` (`NaN`
+/// entries when `J_s` is not finite).
+pub fn null_projector(j: &Mat<f64>, constraint: &Mat<f64>) -> Mat<f64> {
     let n = j.ncols();
-    let mut js = DMatrix::zeros(j.nrows() + constraint.nrows(), n);
-    js.rows_mut(0, j.nrows()).copy_from(j);
-    js.rows_mut(j.nrows(), constraint.nrows())
-        .copy_from(constraint);
-    DMatrix::<f64>::identity(n, n) - linalg::pseudo_inverse(&js) * js
+    let js = stack_rows(j.as_ref(), constraint.as_ref());
+    let pinv = linalg::pseudo_inverse(js.as_ref())
+        .unwrap_or_else(|| Mat::from_fn(n, js.nrows(), |_, _| f64::NAN));
+    Mat::<f64>::identity(n, n) - pinv * js
 }

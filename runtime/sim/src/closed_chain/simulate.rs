@@ -4,12 +4,12 @@ use super::cooperative::{two_arms, ContactModel};
 use super::description;
 use super::error::ClosedChainError;
 use super::four_bar::FourBar;
-use super::linalg;
 use super::mechanism::{Mechanism, Pose2};
 use super::redundancy::{resolve, Objective};
 use super::stewart;
+use crate::linalg::{self, as_slice};
 use crate::simulation::CsvRows;
-use nalgebra::DVector;
+use faer::{Col, ColRef, Scale};
 use std::f64::consts::PI;
 use std::path::Path;
 
@@ -231,7 +231,7 @@ fn ensure_font() -> Result<(), String> {
 }
 
 /// A reference `t ↦ (x_d(t), ẋ_d(t))`.
-pub type Reference<'a> = dyn Fn(f64) -> (DVector<f64>, DVector<f64>) + 'a;
+pub type Reference<'a> = dyn Fn(f64) -> (Col<f64>, Col<f64>) + 'a;
 
 /// Runs one of the source's simulations by name (see [`scenario_names`]):
 ///
@@ -253,12 +253,12 @@ pub fn simulate(
             let fb = FourBar::from_mechanism(&mech)?;
             let theta0 = fb.configuration(1.2)?;
             let sine = name == "four-bar-sine";
-            let reference = move |t: f64| -> (DVector<f64>, DVector<f64>) {
+            let reference = move |t: f64| -> (Col<f64>, Col<f64>) {
                 if sine {
                     let w = 2.0 * PI / 5.0;
                     (
-                        DVector::from_element(1, 6.95 + 0.35 * (w * t).sin()),
-                        DVector::from_element(1, 0.35 * w * (w * t).cos()),
+                        col(&[6.95 + 0.35 * (w * t).sin()]),
+                        col(&[0.35 * w * (w * t).cos()]),
                     )
                 } else {
                     // Pulse train: period 6 s, 7.3 rad on [2, 5) s, 6.6 rad otherwise; its
@@ -268,7 +268,7 @@ pub fn simulate(
                     } else {
                         6.6
                     };
-                    (DVector::from_element(1, level), DVector::zeros(1))
+                    (col(&[level]), Col::zeros(1))
                 }
             };
             let gains = opts.gains.clone().unwrap_or_else(|| vec![50.0]);
@@ -294,14 +294,14 @@ pub fn simulate(
             let mech = description::shipped("planar-stewart")?;
             let theta0 = stewart::inverse_kinematics(&mech, Pose2::new(13.0, 12.5, -0.5))?;
             let w = 2.0 * PI / 10.0;
-            let reference = move |t: f64| -> (DVector<f64>, DVector<f64>) {
+            let reference = move |t: f64| -> (Col<f64>, Col<f64>) {
                 (
-                    DVector::from_vec(vec![
+                    col(&[
                         14.0 + 3.0 * (w * t).sin(),
                         14.0 + 2.5 * (2.0 * w * t).sin(),
                         0.3 * (w * t).sin(),
                     ]),
-                    DVector::from_vec(vec![
+                    col(&[
                         3.0 * w * (w * t).cos(),
                         5.0 * w * (2.0 * w * t).cos(),
                         0.3 * w * (w * t).cos(),
@@ -344,18 +344,18 @@ pub fn simulate(
                 opts.contact.clone()
             };
             let mech = two_arms(&model)?;
-            let x0 = DVector::from_vec(vec![1.0, 1.2, 0.0]);
-            let guess = DVector::from_vec(mech.initial.clone().unwrap_or_default());
+            let x0 = col(&[1.0, 1.2, 0.0]);
+            let guess = col(mech.initial.as_deref().unwrap_or_default());
             let theta0 = mech.assemble(&guess, Some(&x0))?;
             let w = 2.0 * PI / 5.0;
-            let reference = move |t: f64| -> (DVector<f64>, DVector<f64>) {
+            let reference = move |t: f64| -> (Col<f64>, Col<f64>) {
                 (
-                    DVector::from_vec(vec![
+                    col(&[
                         1.05 + 0.15 * (w * t).sin(),
                         1.15 + 0.1 * (2.0 * w * t).sin(),
                         0.05 + 0.15 * (w * t).sin(),
                     ]),
-                    DVector::from_vec(vec![
+                    col(&[
                         0.15 * w * (w * t).cos(),
                         0.2 * w * (2.0 * w * t).cos(),
                         0.15 * w * (w * t).cos(),
@@ -426,27 +426,27 @@ fn norm_panel(title: &str, y: &str, cols: &[(&str, &str)]) -> Panel {
 /// The closed-loop joint velocities at `(t, θ)`: (45) with the admissibility rows, then (7).
 fn closed_loop(
     mech: &Mechanism,
-    theta: &DVector<f64>,
+    theta: &Col<f64>,
     t: f64,
     reference: &Reference<'_>,
     gains: &[f64],
     opts: &SimOptions,
-) -> Result<(DVector<f64>, DVector<f64>), ClosedChainError> {
+) -> Result<(Col<f64>, Col<f64>), ClosedChainError> {
     let red = mech.reduced(theta)?;
     let x = mech.task(theta);
     let (xd, xd_dot) = reference(t);
     let e = &xd - &x;
-    let v = DVector::from_iterator(e.len(), (0..e.len()).map(|i| xd_dot[i] + gains[i] * e[i]));
+    let v = Col::from_fn(e.nrows(), |i| xd_dot[i] + gains[i] * e[i]);
     let c = mech.structural(theta);
     let rows = &red.active_constraint;
-    let rhs = -opts.constraint_gain * (red.complement.transpose() * &c);
+    let rhs = Scale(-opts.constraint_gain) * (red.complement.transpose() * &c);
     let redundant = rows.nrows() + red.jacobian.nrows() < red.jacobian.ncols();
     let u0 = match (&opts.objective, redundant) {
-        (Some(obj), true) => Some(opts.null_gain * obj.gradient(mech, theta)?),
+        (Some(obj), true) => Some(Scale(opts.null_gain) * obj.gradient(mech, theta)?),
         _ => None,
     };
     let u = resolve(&red.jacobian, &v, rows, &rhs, u0.as_ref())?;
-    let pdot = &red.passive_map * &u - opts.constraint_gain * (&red.j_cp_inverse * &c);
+    let pdot = &red.passive_map * &u - Scale(opts.constraint_gain) * (&red.j_cp_inverse * &c);
     Ok((mech.join(&u, &pdot), u))
 }
 
@@ -458,7 +458,7 @@ fn closed_loop(
 #[allow(clippy::too_many_arguments)]
 pub fn simulate_mechanism(
     mech: &Mechanism,
-    theta0: &DVector<f64>,
+    theta0: &Col<f64>,
     reference: &Reference<'_>,
     gains: &[f64],
     default_duration: f64,
@@ -532,22 +532,22 @@ pub fn simulate_mechanism(
             let x = mech.task(&theta);
             let (xd, _) = reference(t);
             let mut row = vec![t];
-            for i in 0..x.len() {
+            for i in 0..x.nrows() {
                 row.push(xd[i]);
                 row.push(x[i]);
                 row.push(xd[i] - x[i]);
             }
-            row.extend(u.iter());
-            row.push(mech.structural(&theta).norm());
+            row.extend(as_slice(&u));
+            row.push(mech.structural(&theta).norm_l2());
             if has_passive {
-                row.push(linalg::sigma_min(&mech.differential(&theta)?.j_cp));
+                row.push(linalg::sigma_min(mech.differential(&theta)?.j_cp.as_ref()));
             }
             if with_objective {
                 if let Some(obj) = &opts.objective {
                     row.push(obj.value(mech, &theta)?);
                 }
             }
-            row.extend(theta.iter());
+            row.extend(as_slice(&theta));
             if row.iter().any(|x| !x.is_finite()) {
                 return Err(ClosedChainError::NonFinite {
                     what: format!("simulation state at t = {t}"),
@@ -561,14 +561,14 @@ pub fn simulate_mechanism(
         if k == steps {
             break;
         }
-        let f = |th: &DVector<f64>, tt: f64| -> Result<DVector<f64>, ClosedChainError> {
+        let f = |th: &Col<f64>, tt: f64| -> Result<Col<f64>, ClosedChainError> {
             Ok(closed_loop(mech, th, tt, reference, gains, opts)?.0)
         };
         let k1 = f(&theta, t)?;
-        let k2 = f(&(&theta + 0.5 * dt * &k1), t + 0.5 * dt)?;
-        let k3 = f(&(&theta + 0.5 * dt * &k2), t + 0.5 * dt)?;
-        let k4 = f(&(&theta + dt * &k3), t + dt)?;
-        theta += (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+        let k2 = f(&(&theta + Scale(0.5 * dt) * &k1), t + 0.5 * dt)?;
+        let k3 = f(&(&theta + Scale(0.5 * dt) * &k2), t + 0.5 * dt)?;
+        let k4 = f(&(&theta + Scale(dt) * &k3), t + dt)?;
+        theta += Scale(dt / 6.0) * (k1 + Scale(2.0) * k2 + Scale(2.0) * k3 + k4);
     }
     Ok(MechanismTrace {
         name: mech.name.clone(),
@@ -576,4 +576,9 @@ pub fn simulate_mechanism(
         rows,
         panels: Vec::new(),
     })
+}
+
+/// A column with the entries `values`.
+fn col(values: &[f64]) -> Col<f64> {
+    ColRef::from_slice(values).to_owned()
 }

@@ -9,7 +9,7 @@
 
 use super::error::ClosedChainError;
 use super::mechanism::{JointType, Mechanism, Pose2};
-use nalgebra::DVector;
+use faer::Col;
 
 fn check_layout(m: &Mechanism) -> Result<(), ClosedChainError> {
     for (ci, ch) in m.chains.iter().enumerate() {
@@ -32,14 +32,14 @@ fn check_layout(m: &Mechanism) -> Result<(), ClosedChainError> {
 /// All joints `θ` for a platform pose `(x, y, φ)` (closed form, leg by leg).
 ///
 /// Errors when a leg would have zero length (its base joint on the platform joint).
-pub fn inverse_kinematics(m: &Mechanism, pose: Pose2) -> Result<DVector<f64>, ClosedChainError> {
+pub fn inverse_kinematics(m: &Mechanism, pose: Pose2) -> Result<Col<f64>, ClosedChainError> {
     check_layout(m)?;
     if !pose.is_finite() {
         return Err(ClosedChainError::NonFinite {
             what: "platform pose".into(),
         });
     }
-    let mut theta = DVector::zeros(m.n_joints());
+    let mut theta = Col::zeros(m.n_joints());
     for (k, ch) in m.chains.iter().enumerate() {
         // Frame after the third joint, expressed in the first joint's frame.
         let root = ch.base.compose(&ch.joints[0].origin);
@@ -65,9 +65,9 @@ pub fn inverse_kinematics(m: &Mechanism, pose: Pose2) -> Result<DVector<f64>, Cl
 /// Newton's method on the structural equations from the configuration of `guess` (a nearby pose).
 pub fn forward_kinematics(
     m: &Mechanism,
-    lengths: &DVector<f64>,
+    lengths: &Col<f64>,
     guess: Pose2,
-) -> Result<(Pose2, DVector<f64>), ClosedChainError> {
+) -> Result<(Pose2, Col<f64>), ClosedChainError> {
     let start = inverse_kinematics(m, guess)?;
     let (_, passive_guess) = m.split(&start);
     let passive = m.solve_passive(lengths, &passive_guess)?;

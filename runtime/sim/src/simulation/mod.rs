@@ -48,7 +48,7 @@ use trocar::control::Reference;
 use trocar::control::{
     ChainKinematics, Controller, ControllerConfig, HardLimits, NullSpaceObjective, Rcm, Shaft,
 };
-use trocar::manipulability::SquareDim;
+use trocar::linalg::SquareDim;
 use trocar_model::description::RobotDescription;
 use trocar_model::numeric::NumericModel;
 
