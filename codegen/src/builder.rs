@@ -30,6 +30,7 @@ use crate::naming::checked_module_name;
 use proc_macro2::TokenStream;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use trocar_model::catalogue::{Function, Fused};
 use trocar_model::closed_chain::MechanismModel;
 use trocar_model::description::{DescriptionError, RobotDescription};
 
@@ -53,6 +54,9 @@ pub struct ModuleOptions {
     /// largest errors into its documentation, with `DESCRIPTION_HASH` and its build-time
     /// assertion; see [`Builder::evidence`].
     pub evidence: Option<usize>,
+    /// Fused functions besides the defaults ([`Builder::function`]): each one function computing
+    /// several catalogue outputs in one program.
+    pub functions: Vec<Fused>,
     /// The files the description was read from (the TOML file, then the URDF it reads), relative
     /// to the package's root or absolute: their hash is the module's `DESCRIPTION_HASH`. Empty
     /// for a description given in memory.
@@ -72,7 +76,7 @@ fn spec_for(desc: &RobotDescription, options: &ModuleOptions) -> Result<emit::Mo
     let name = checked_module_name(&desc.name, options.module_name.as_deref())?;
     let d =
         derivation::derive(desc).map_err(|e| Error::Description(e.into_description_error(desc)))?;
-    Ok(bridge::module_spec(&d, &name))
+    bridge::module_spec_with(&d, &name, &options.functions)
 }
 
 /// The module `pub mod <name> { ... }` for a description, as tokens (for the attribute).
@@ -205,6 +209,7 @@ pub struct Builder {
     c_api: bool,
     checks: Option<ChecksGate>,
     evidence: Option<usize>,
+    functions: Vec<Fused>,
 }
 
 impl Builder {
@@ -308,6 +313,27 @@ impl Builder {
         self
     }
 
+    /// Also emit, in each serial robot's module, the function `name` (and `name_trig`, taking
+    /// `JointTrig`) computing the catalogue functions `outputs` in one straight-line program
+    /// that shares every value they have in common: for `function("pose_and_jacobian",
+    /// [Function::ForwardKinematics, Function::BodyJacobian])`,
+    /// `pose_and_jacobian(&q, &p, &mut fk, &mut jb0e)`, each output written through a `&mut`
+    /// out-parameter named by its short name ([`Function::short_name`]) in the layout its own
+    /// function returns. Every module already has `pose_and_jacobian` (`g_0e`, `J^B_0e`) and,
+    /// with a constraint, `link_pose_and_jacobian` (`g_0i`, `J^B_0i`) ([`Fused::defaults`]); a
+    /// function named like one of them replaces it. May be called several times. Generation
+    /// fails with [`Error::Function`] when the name is taken or not a snake_case identifier, or an
+    /// output is repeated or not a function of the module (`constrained_jacobian` of a robot
+    /// without a constraint).
+    pub fn function(
+        &mut self,
+        name: &str,
+        outputs: impl IntoIterator<Item = Function>,
+    ) -> &mut Self {
+        self.functions.push(Fused::new(name, outputs));
+        self
+    }
+
     /// Output directory for [`Builder::compile`] (default: the `OUT_DIR` variable).
     pub fn out_dir(&mut self, dir: impl AsRef<Path>) -> &mut Self {
         self.out_dir = Some(dir.as_ref().to_path_buf());
@@ -350,6 +376,7 @@ impl Builder {
                 c_api: self.c_api,
                 checks: self.checks.clone(),
                 evidence: self.evidence,
+                functions: self.functions.clone(),
                 description_files,
             };
             let code = generate_module_string(&desc, &options)?;

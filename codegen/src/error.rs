@@ -26,6 +26,14 @@ pub enum Error {
     BadRuntimePath(String),
     /// The generated tokens did not parse as a file (a bug in the generator).
     Internal(String),
+    /// A fused function ([`crate::Builder::function`]) cannot be emitted: its name is taken or
+    /// not an identifier, or an output is unknown, repeated or not in the module.
+    Function {
+        /// The fused function's name.
+        name: String,
+        /// What is wrong.
+        message: String,
+    },
     /// The generation-time check of [`crate::Builder::evidence`] failed: the report, with the
     /// functions that do not match the numeric runtime.
     Evidence(String),
@@ -47,6 +55,7 @@ impl fmt::Display for Error {
                 "`{p}` is not a valid runtime path (expected a Rust path such as `::trocar`)"
             ),
             Error::Internal(m) => write!(f, "internal generator error: {m}"),
+            Error::Function { name, message } => write!(f, "function `{name}`: {message}"),
             Error::Evidence(m) => write!(
                 f,
                 "the generated module does not match the numeric runtime (evidence):\n{m}"

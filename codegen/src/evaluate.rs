@@ -17,7 +17,7 @@ use crate::derivation;
 use crate::emit::{bridge, Layout, ModuleSpec};
 use crate::error::Error;
 use crate::naming::module_name;
-use trocar_model::catalogue::Function;
+use trocar_model::catalogue::{Function, Fused};
 use trocar_model::description::RobotDescription;
 
 /// A robot's or a mechanism's generated functions, ready to evaluate.
@@ -30,6 +30,8 @@ pub struct Generated {
     entries: Vec<Option<Function>>,
     /// Each function's [`Layout::row_major_positions`].
     row_major: Vec<Vec<usize>>,
+    /// Every fused function's program, compiled, in the order of `spec.fused`.
+    fused: Vec<Compiled>,
 }
 
 impl Generated {
@@ -69,11 +71,17 @@ impl Generated {
             .iter()
             .map(|f| f.layout.row_major_positions())
             .collect();
+        let fused = spec
+            .fused
+            .iter()
+            .map(|f| Compiled::new(&f.program, spec.joints))
+            .collect();
         Generated {
             spec,
             compiled,
             entries,
             row_major,
+            fused,
         }
     }
 
@@ -142,39 +150,74 @@ impl Generated {
         Some(c.eval(q, params))
     }
 
+    /// The fused functions of the module ([`trocar_model::catalogue::Fused`]: the defaults and
+    /// those requested).
+    pub fn fused(&self) -> Vec<Fused> {
+        self.spec
+            .fused
+            .iter()
+            .map(|f| Fused::new(f.name.clone(), f.functions()))
+            .collect()
+    }
+
+    /// Evaluates the fused function `name` at `q` with parameter values in declaration order:
+    /// one value per output, in order, as [`Generated::evaluate`] gives it. `None` when the
+    /// module has no such function or the argument lengths are wrong.
+    pub fn evaluate_fused(&self, name: &str, q: &[f64], params: &[f64]) -> Option<Vec<Evaluated>> {
+        let k = self.spec.fused.iter().position(|f| f.name == name)?;
+        if q.len() != self.spec.joints || params.len() != self.spec.params.len() {
+            return None;
+        }
+        let out = self.fused[k].eval(q, params);
+        let f = &self.spec.fused[k];
+        Some(
+            f.outputs
+                .iter()
+                .enumerate()
+                .map(|(j, o)| shaped(o.layout, &out[f.range(j)]))
+                .collect(),
+        )
+    }
+
     /// Evaluates `function` at `q` with parameter values in declaration order; a transform comes
     /// back as a 4×4 homogeneous matrix. `None` when the module has no such function or the
     /// argument lengths are wrong.
     pub fn evaluate(&self, function: Function, q: &[f64], params: &[f64]) -> Option<Evaluated> {
         let out = self.outputs(function, q, params)?;
         let shape = self.spec.function(function)?.layout;
-        Some(match shape {
-            Layout::Scalar => Evaluated {
-                rows: 1,
-                cols: 1,
-                values: vec![out[0]],
-            },
-            Layout::Matrix { rows, cols } => Evaluated {
-                rows,
-                cols,
-                values: out[..rows * cols].to_vec(),
-            },
-            Layout::Transform => {
-                let mut values = vec![0.0; 16];
-                for c in 0..3 {
-                    for r in 0..3 {
-                        values[c * 4 + r] = out[c * 3 + r];
-                    }
-                    values[12 + c] = out[9 + c];
+        Some(shaped(shape, &out))
+    }
+}
+
+/// Outputs in `shape`'s layout as an [`Evaluated`] value (a transform as its 4 × 4 homogeneous
+/// matrix).
+fn shaped(shape: Layout, out: &[f64]) -> Evaluated {
+    match shape {
+        Layout::Scalar => Evaluated {
+            rows: 1,
+            cols: 1,
+            values: vec![out[0]],
+        },
+        Layout::Matrix { rows, cols } => Evaluated {
+            rows,
+            cols,
+            values: out[..rows * cols].to_vec(),
+        },
+        Layout::Transform => {
+            let mut values = vec![0.0; 16];
+            for c in 0..3 {
+                for r in 0..3 {
+                    values[c * 4 + r] = out[c * 3 + r];
                 }
-                values[15] = 1.0;
-                Evaluated {
-                    rows: 4,
-                    cols: 4,
-                    values,
-                }
+                values[12 + c] = out[9 + c];
             }
-        })
+            values[15] = 1.0;
+            Evaluated {
+                rows: 4,
+                cols: 4,
+                values,
+            }
+        }
     }
 }
 
@@ -211,5 +254,24 @@ impl trocar_check::Candidate for Generated {
         Some(trocar_check::DMatrix::from_column_slice(
             m.rows, m.cols, &m.values,
         ))
+    }
+
+    fn fused(&self) -> Vec<Fused> {
+        Generated::fused(self)
+    }
+
+    fn evaluate_fused(
+        &self,
+        name: &str,
+        q: &[f64],
+        params: &[f64],
+    ) -> Option<Vec<trocar_check::DMatrix<f64>>> {
+        let values = Generated::evaluate_fused(self, name, q, params)?;
+        Some(
+            values
+                .into_iter()
+                .map(|m| trocar_check::DMatrix::from_column_slice(m.rows, m.cols, &m.values))
+                .collect(),
+        )
     }
 }

@@ -251,3 +251,70 @@ fn evidence_opens_the_module_with_the_check_and_guards_the_description() {
         .clone();
     assert!(code.contains("//! # Evidence") && !code.contains("DESCRIPTION_HASH"));
 }
+
+/// `Builder::function`: one function of several outputs, with out-parameters, beside the default
+/// fused functions; bad requests are errors naming the function and the problem.
+#[test]
+fn fused_functions_on_request() {
+    use trocar_codegen::catalogue::Function as F;
+    let files = Builder::new()
+        .robot(robots().join("bidirectional-zy.toml"))
+        .real(Scalar::F64)
+        .function("step", [F::ConstrainedJacobian, F::ForwardKinematics])
+        .generate()
+        .unwrap();
+    let code = &files["bidirectional_zy.rs"];
+    for signature in [
+        "pub fn step(\n        q: &[f64; N],\n        p: &Params,\n        jr: &mut [[f64; 6]; M],\n        fk: &mut ([[f64; 3]; 3], [f64; 3]),\n    )",
+        "pub fn step_trig(",
+        "pub fn pose_and_jacobian(",
+        "pub fn link_pose_and_jacobian_trig(",
+    ] {
+        assert!(code.contains(signature), "no {signature:?}");
+    }
+
+    let unconstrained = {
+        let text = trocar_model::description::preset("unidirectional").unwrap();
+        let cut = text.find("[constraint]").unwrap();
+        RobotDescription::from_toml_str(&text[..cut], None).unwrap()
+    };
+    let options = |name: &str, outputs: &[F]| ModuleOptions {
+        functions: vec![trocar_codegen::catalogue::Fused::new(
+            name,
+            outputs.iter().copied(),
+        )],
+        ..ModuleOptions::default()
+    };
+    let code =
+        generate_module_string(&unconstrained, &options("pose", &[F::ForwardKinematics])).unwrap();
+    assert!(code.contains("pub fn pose_and_jacobian<T: ::trocar::Real>("));
+    assert!(!code.contains("link_pose_and_jacobian"));
+    for (name, outputs, message) in [
+        (
+            "step",
+            &[F::ForwardKinematics, F::ConstrainedJacobian][..],
+            "output `jr` (constrained_jacobian) is not a function of this module; its functions \
+             are: fk (forward_kinematics), jb0e (body_jacobian)",
+        ),
+        (
+            "step",
+            &[F::BodyJacobian, F::BodyJacobian],
+            "output `jb0e` given twice",
+        ),
+        ("step", &[], "no outputs"),
+        ("forward_kinematics", &[F::BodyJacobian], "already the name"),
+        ("Step", &[F::BodyJacobian], "not a function name"),
+    ] {
+        let err = generate_module_string(&unconstrained, &options(name, outputs)).unwrap_err();
+        let Error::Function {
+            name: n,
+            message: m,
+        } = &err
+        else {
+            panic!("{err}");
+        };
+        assert_eq!(n, name);
+        assert!(m.contains(message), "{m}");
+        assert!(err.to_string().starts_with(&format!("function `{name}`: ")));
+    }
+}

@@ -339,3 +339,37 @@ fn interpreter_matches_direct_f64() {
         }
     }
 }
+
+/// `Program::import`: another program's live values built into this one share what both compute
+/// (rule `hash_cons`) and evaluate to the same numbers; its dead values are not built.
+#[test]
+fn import_shares_common_values() {
+    let mut a = prog();
+    let s = a.sin(0);
+    let la = a.param(0);
+    let dead = a.cos(3);
+    let _ = a.mul(dead, la);
+    let x = a.mul(s, la);
+    let one = a.constant(1.0);
+    let y = a.add(x, one);
+    a.set_outputs(vec![y, x]);
+
+    let mut b = prog();
+    let c = b.cos(1);
+    let la = b.param(0);
+    let s = b.sin(0);
+    let shared = b.mul(la, s);
+    let before = b.ops().len();
+    let outs = b.import(&a);
+    assert_eq!(outs[1], shared);
+    // sin q0, l_a and their product exist already: only 1 and the sum are new.
+    assert_eq!(b.ops().len(), before + 2);
+    assert!(!b.ops().iter().any(|op| *op == Op::Cos(3)));
+    b.set_outputs(vec![outs[0], outs[1], c]);
+    let q = [0.3, -0.2, 0.0, 0.9];
+    let params = [0.15, 0.18, 0.21];
+    let got = b.eval(&q, &params);
+    let want = a.eval(&q, &params);
+    assert_eq!(&got[..2], &want[..]);
+    assert!((want[1] - 0.3f64.sin() * 0.15).abs() < 1e-16);
+}

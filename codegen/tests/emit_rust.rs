@@ -140,6 +140,7 @@ fn small_module() -> ModuleSpec {
         joint_limits: None,
         joint_ranges: Vec::new(),
         pose_and_jacobians: None,
+        fused: Vec::new(),
     }
 }
 

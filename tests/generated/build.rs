@@ -1,7 +1,17 @@
 //! Runs the builder for the shipped robots and the fixtures, as a user's build script would.
 
+use trocar_codegen::catalogue::Function;
 use trocar_codegen::Builder;
 use trocar_codegen::Scalar;
+
+/// The outputs of the fused function `step_outputs` of the constrained modules.
+const STEP_OUTPUTS: [Function; 5] = [
+    Function::ConstrainedJacobian,
+    Function::Manipulability,
+    Function::ForwardKinematics,
+    Function::PartialBodyJacobian,
+    Function::ConstraintJacobianC,
+];
 
 fn main() {
     let robots = "../../runtime/model/robots";
@@ -21,6 +31,9 @@ fn main() {
     b.robot("robots/rotated_rcm.toml");
     b.robot("robots/chain9_prismatic.toml");
     b.robot("robots/chain11_wide.toml");
+    // A fused function in every module, its outputs in an order of its own (the agree tests
+    // compare each with the reference).
+    b.function("step_outputs", STEP_OUTPUTS);
     if let Err(e) = b.compile() {
         panic!("trocar-codegen: {e}");
     }
@@ -31,6 +44,7 @@ fn main() {
         "bidirectional_zy_f32",
     )
     .robot_as("robots/rotated_rcm.toml", "rotated_rcm_f32")
+    .function("step_outputs", STEP_OUTPUTS)
     .real(Scalar::F32);
     if let Err(e) = f32b.compile() {
         panic!("trocar-codegen: {e}");
@@ -61,7 +75,15 @@ fn main() {
     let desc = trocar_model::description::RobotDescription::preset("dia10_like_zy")
         .unwrap_or_else(|e| panic!("dia10_like_zy: {e}"));
     let d = trocar_codegen::derivation::derive(&desc).unwrap_or_else(|e| panic!("{e}"));
-    let mut spec = trocar_codegen::emit::bridge::module_spec(&d, "dia10_like_zy_four_calls");
+    let mut spec = trocar_codegen::emit::bridge::module_spec_with(
+        &d,
+        "dia10_like_zy_four_calls",
+        &[trocar_codegen::catalogue::Fused::new(
+            "step_outputs",
+            STEP_OUTPUTS,
+        )],
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
     spec.pose_and_jacobians = None;
     let text = trocar_codegen::emit::format_file(trocar_codegen::emit::module_tokens(
         &spec,

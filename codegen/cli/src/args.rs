@@ -38,6 +38,12 @@ pub enum Command {
         /// function); alone, only the header is written.
         #[arg(long, value_name = "OUT.h")]
         c_header: Option<PathBuf>,
+        /// Also emit a function computing several outputs in one program, e.g.
+        /// `step=fk,jb0e,jr` (outputs by name or short name, as `eval --what` takes them);
+        /// repeatable. Every module already has `pose_and_jacobian=fk,jb0e` and, with a
+        /// constraint, `link_pose_and_jacobian=fk0i,jb0i`.
+        #[arg(long = "function", value_name = "NAME=OUTPUT,...", value_parser = trocar_model::catalogue::Fused::parse)]
+        functions: Vec<trocar_model::catalogue::Fused>,
     },
     /// Evaluate the constrained Jacobian and friends at a configuration.
     Eval {

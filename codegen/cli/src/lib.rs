@@ -1,7 +1,7 @@
 //! The `trocar` command line.
 //!
 //! ```text
-//! trocar generate ROBOT.toml [-o OUT.rs] [--real f32|f64] [--c-api] [--c-header OUT.h]
+//! trocar generate ROBOT.toml [-o OUT.rs] [--real f32|f64] [--c-api] [--c-header OUT.h] [--function NAME=OUTPUT,...]
 //! trocar eval ROBOT.toml --q 0.1,0.2,... [--param l_a=0.15 ...] [--what constrained_jacobian|jr|manip|task|jc|jb0i|jb0e|fk|...|passive|det] [--json] [--numeric]
 //! trocar verify ROBOT.toml [--samples N]
 //! trocar jacobian --urdf FILE.urdf --tip LINK --q ... [--frame body|spatial] [--json]
@@ -58,7 +58,15 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             real,
             c_api,
             c_header,
-        } => commands::generate::run(&robot, output.as_deref(), real, c_api, c_header.as_deref()),
+            functions,
+        } => commands::generate::run(
+            &robot,
+            output.as_deref(),
+            real,
+            c_api,
+            c_header.as_deref(),
+            functions,
+        ),
         Command::Eval {
             robot,
             q,

@@ -8,10 +8,11 @@ use syn::parse::Parser;
 use syn::punctuated::Punctuated;
 use syn::spanned::Spanned;
 use syn::{Expr, ExprLit, Lit, LitStr, Meta, MetaList, Token};
+use trocar_model::catalogue::{Function, Fused};
 
 /// Every key the attribute accepts (for "unknown key" messages).
-pub(crate) const KEYS: &str =
-    "preset, file, toml, real, module, checks, name, params, joints, end_effector, constraint";
+pub(crate) const KEYS: &str = "preset, file, toml, real, module, checks, function, name, params, \
+     joints, end_effector, constraint";
 
 /// Where the description comes from.
 pub(crate) enum Source {
@@ -41,6 +42,56 @@ pub(crate) struct Attr {
     pub module: Option<syn::Ident>,
     /// `checks` (behind `#[cfg(test)]`) or `checks = "feature"`.
     pub checks: Option<ChecksGate>,
+    /// `function(name(output, ...), ...)`: fused functions, each with the span of its name.
+    pub functions: Vec<(Fused, Span)>,
+}
+
+/// The fused functions of one `function(name(output, ...), ...)` key, each with the span of its
+/// name; errors are collected.
+fn functions(list: &MetaList, errors: &mut Errors) -> Vec<(Fused, Span)> {
+    let Some(items) =
+        errors.ok(list.parse_args_with(Punctuated::<Meta, Token![,]>::parse_terminated))
+    else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    for item in &items {
+        let (Meta::List(l), Some(name)) = (item, item.path().get_ident()) else {
+            errors.at(
+                item.span(),
+                "expected `name(output, ...)`, e.g. `function(pose_and_jacobian(fk, jb0e))`",
+            );
+            continue;
+        };
+        if let Err(e) = Fused::check_name(&name.to_string()) {
+            errors.at(name.span(), format_args!("function `{name}`: {e}"));
+            continue;
+        }
+        let Some(names) =
+            errors.ok(l.parse_args_with(Punctuated::<syn::Ident, Token![,]>::parse_terminated))
+        else {
+            continue;
+        };
+        let mut outputs = Vec::new();
+        for n in &names {
+            match Function::resolve(&n.to_string(), false) {
+                Some(f) => outputs.push(f),
+                None => errors.at(
+                    n.span(),
+                    format_args!(
+                        "function `{name}`: unknown output `{n}` (expected one of: {})",
+                        Function::SERIAL
+                            .iter()
+                            .map(|f| format!("{} ({})", f.name(), f.short_name()))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                ),
+            }
+        }
+        out.push((Fused::new(name.to_string(), outputs), name.span()));
+    }
+    out
 }
 
 /// The key of `meta` (`file` in `file = "..."`), empty for a path that is not one identifier.
@@ -94,6 +145,7 @@ pub(crate) fn parse(tokens: TokenStream) -> syn::Result<Attr> {
     let mut real = Scalar::Generic;
     let mut module = None;
     let mut checks = None;
+    let mut fused = Vec::new();
 
     fn set_source(
         source: &mut Option<(String, Span, Source)>,
@@ -175,6 +227,11 @@ pub(crate) fn parse(tokens: TokenStream) -> syn::Result<Attr> {
                     }
                 }
             },
+            "function" => {
+                if let Some(l) = list(meta, &mut errors) {
+                    fused.extend(functions(&l, &mut errors));
+                }
+            }
             "name" | "params" | "joints" | "end_effector" | "constraint" => {
                 inline.first.get_or_insert(span);
                 match key.as_str() {
@@ -232,5 +289,6 @@ pub(crate) fn parse(tokens: TokenStream) -> syn::Result<Attr> {
         real,
         module,
         checks,
+        functions: fused,
     })
 }

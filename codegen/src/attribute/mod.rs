@@ -75,14 +75,25 @@ fn try_expand(attr: TokenStream, item: TokenStream) -> syn::Result<TokenStream> 
         real: attr.real,
         module_name: Some(module.to_string()),
         checks: attr.checks.clone(),
+        functions: attr.functions.iter().map(|(f, _)| f.clone()).collect(),
         description_files: tracked
             .as_ref()
             .map(RobotDescription::files_read)
             .unwrap_or_default(),
         ..ModuleOptions::default()
     };
-    let tokens = generate_module(&desc, &options)
-        .map_err(|e| syn::Error::new(source_span, format_args!("trocar-codegen: {e}")))?;
+    let tokens = generate_module(&desc, &options).map_err(|e| {
+        // A fused function's problem at its name, anything else at the description.
+        let span = match &e {
+            crate::Error::Function { name, .. } => attr
+                .functions
+                .iter()
+                .find(|(f, _)| f.name == *name)
+                .map_or(source_span, |(_, s)| *s),
+            _ => source_span,
+        };
+        syn::Error::new(span, format_args!("trocar-codegen: {e}"))
+    })?;
     let mut module_item: syn::ItemMod = syn::parse2(tokens).map_err(|e| {
         syn::Error::new(
             source_span,

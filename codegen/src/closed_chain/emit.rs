@@ -152,6 +152,7 @@ pub fn module_spec(d: &MechanismDerivation, module_name: &str) -> ModuleSpec {
         joint_limits: None,
         joint_ranges: Vec::new(),
         pose_and_jacobians: None,
+        fused: Vec::new(),
     }
 }
 

@@ -14,11 +14,12 @@
 //! functions (the expanded form is what the derivation's symbolic tests check).
 
 use super::program::{Factor, Program, Term, ValueId};
-use super::rust::{ConstItem, EmittedFunction, ModuleSpec};
+use super::rust::{ConstItem, EmittedFunction, FusedFunction, ModuleSpec};
 use crate::derivation::{Derivation, ManipulabilityForm};
+use crate::error::Error;
 use crate::symbolic::{self, inverse_denominator, node_definition, Matrix, Poly, Transform};
 use std::collections::HashMap;
-use trocar_model::catalogue::{Function as F, Size};
+use trocar_model::catalogue::{Function as F, Fused, Size};
 
 /// Builds polynomials into one program, sharing `1/P` for each `Inv` atom and one value for each
 /// shared subexpression (`Node` atom).
@@ -296,25 +297,171 @@ fn body_jacobian_walk(
     (cols, g)
 }
 
-/// `g_0e`, `J^B_0i`, `J^r_0e` and `J_c` of one control step as one program, outputs in that order
-/// (`g_0e` in the [`super::Layout::Transform`] layout, the matrices column-major): the walk that
-/// builds `J^B_0i` ends with `g_0i`, so `g_0e = g_0i · g_ie` (2.21) takes one product more
-/// instead of the whole chain again, and `J^r` and `J_c` (`jr`, `jc`: the forms their own
-/// functions use) share the program's sines, cosines and common values.
-fn pose_and_jacobians_program(d: &Derivation, link: usize, jr: &Matrix, jc: &Matrix) -> Program {
+/// The forms of `J^r_0e` and `J_c` their own functions are built from (the graph or its
+/// expansion, [`graph_or_expanded_form`]), which a fused program builds again among its values.
+#[derive(Default)]
+struct Forms {
+    jr: Option<Matrix>,
+    jc: Option<Matrix>,
+}
+
+/// Several catalogue outputs (`outputs`, in that order, each in its function's layout) as one
+/// program, walking the chain once where the outputs allow: the walk that builds `J^B_0i` from
+/// the constrained link's end ends with `g_0i` (2.21), the walk that builds `J^B_0e` ends with
+/// `g_0e`, and `g_0e = g_0i · g_ie` takes one product more after the first; `J^r_0e` and `J_c`
+/// are built from `forms` into the same program, every other output from its function's own
+/// program (`functions`). Values the outputs share exist once (rule `hash_cons`).
+fn fused_walk_program(
+    d: &Derivation,
+    outputs: &[F],
+    forms: &Forms,
+    functions: &[EmittedFunction],
+) -> Program {
     let mut prog = new_program(d);
-    let (cols, g_0i) = body_jacobian_walk(d, &mut prog, link, None);
-    let g_ie = chain_product(d, &mut prog, link..d.n, Some(&d.end_effector));
-    let g_0e = g_0i.compose(&g_ie, &mut prog);
+    let want = |f: F| outputs.contains(&f);
+    let mut values: Vec<(F, Vec<ValueId>)> = Vec::new();
+    let mut g_0i = None;
+    if let Some(c) = &d.constraint {
+        if want(F::PartialBodyJacobian) || want(F::ConstrainedLinkKinematics) {
+            let (cols, g) = body_jacobian_walk(d, &mut prog, c.link, None);
+            values.push((F::PartialBodyJacobian, cols.into_iter().flatten().collect()));
+            values.push((F::ConstrainedLinkKinematics, g.outputs()));
+            g_0i = Some((c.link, g));
+        }
+    }
+    let mut g_0e = None;
+    if want(F::BodyJacobian) {
+        let (cols, g) = body_jacobian_walk(d, &mut prog, d.n, Some(&d.end_effector));
+        values.push((F::BodyJacobian, cols.into_iter().flatten().collect()));
+        g_0e = Some(g);
+    }
+    if want(F::ForwardKinematics) {
+        let g = match (g_0e, g_0i) {
+            (Some(g), _) => g,
+            (None, Some((link, g_0i))) => {
+                let g_ie = chain_product(d, &mut prog, link..d.n, Some(&d.end_effector));
+                g_0i.compose(&g_ie, &mut prog)
+            }
+            (None, None) => chain_product(d, &mut prog, 0..d.n, Some(&d.end_effector)),
+        };
+        values.push((F::ForwardKinematics, g.outputs()));
+    }
     let mut b = PolyBuilder::new(&mut prog);
-    let jr = b.matrix(jr);
-    let jc = b.matrix(jc);
-    let mut outs = g_0e.outputs();
-    outs.extend(cols.into_iter().flatten());
-    outs.extend(jr);
-    outs.extend(jc);
+    for (f, form) in [
+        (F::ConstrainedJacobian, &forms.jr),
+        (F::ConstraintJacobianC, &forms.jc),
+    ] {
+        if let (true, Some(m)) = (want(f), form) {
+            values.push((f, b.matrix(m)));
+        }
+    }
+    for &f in outputs {
+        if values.iter().all(|(g, _)| *g != f) {
+            let v = prog.import(&function_of(functions, f).program);
+            values.push((f, v));
+        }
+    }
+    let outs = outputs
+        .iter()
+        .flat_map(|f| {
+            let (_, v) = values.iter().find(|(g, _)| g == f).expect("built above");
+            v.iter().copied()
+        })
+        .collect();
     prog.set_outputs(outs);
     prog
+}
+
+/// The emitted function `f` among `functions`.
+fn function_of(functions: &[EmittedFunction], f: F) -> &EmittedFunction {
+    functions
+        .iter()
+        .find(|x| x.name == f.name())
+        .expect("a fused output is a function of the module")
+}
+
+/// The fused program of `outputs`: [`fused_walk_program`], or the outputs' own programs built
+/// into one when that is smaller.
+fn fused_program(
+    d: &Derivation,
+    outputs: &[F],
+    forms: &Forms,
+    functions: &[EmittedFunction],
+) -> Program {
+    let walked = fused_walk_program(d, outputs, forms, functions);
+    let mut merged = new_program(d);
+    let mut outs = Vec::new();
+    for &f in outputs {
+        outs.extend(merged.import(&function_of(functions, f).program));
+    }
+    merged.set_outputs(outs);
+    cheaper(walked, merged)
+}
+
+/// The fused functions of a module: `defaults` with `requests` (a request named like a default
+/// replaces it), each checked: its name free ([`Fused::check_name`]), its outputs functions of
+/// the module, none twice.
+fn fused_functions(
+    d: &Derivation,
+    requests: &[Fused],
+    forms: &Forms,
+    functions: &[EmittedFunction],
+) -> Result<Vec<FusedFunction>, Error> {
+    let mut list: Vec<Fused> = Fused::defaults(d.constraint.is_some())
+        .into_iter()
+        .filter(|f| requests.iter().all(|r| r.name != f.name))
+        .collect();
+    for (k, r) in requests.iter().enumerate() {
+        let error = |message: String| Error::Function {
+            name: r.name.clone(),
+            message,
+        };
+        Fused::check_name(&r.name).map_err(error)?;
+        if requests[..k].iter().any(|x| x.name == r.name) {
+            return Err(error("requested twice".into()));
+        }
+        if r.outputs.is_empty() {
+            return Err(error(
+                "no outputs: name at least one catalogue function".into(),
+            ));
+        }
+        for (j, f) in r.outputs.iter().enumerate() {
+            if r.outputs[..j].contains(f) {
+                return Err(error(format!("output `{}` given twice", f.short_name())));
+            }
+            if functions.iter().all(|x| x.name != f.name()) {
+                let have: Vec<String> = functions
+                    .iter()
+                    .map(|x| {
+                        let g = F::from_name(&x.name).expect("catalogued");
+                        format!("{} ({})", g.short_name(), g.name())
+                    })
+                    .collect();
+                return Err(error(format!(
+                    "output `{}` ({}) is not a function of this module; its functions are: {}",
+                    f.short_name(),
+                    f.name(),
+                    have.join(", ")
+                )));
+            }
+        }
+        list.push(r.clone());
+    }
+    Ok(list
+        .iter()
+        .map(|r| {
+            let outputs: Vec<&EmittedFunction> = r
+                .outputs
+                .iter()
+                .map(|&f| function_of(functions, f))
+                .collect();
+            FusedFunction::new(
+                &r.name,
+                &outputs,
+                fused_program(d, &r.outputs, forms, functions),
+            )
+        })
+        .collect())
 }
 
 /// Most terms in all of a matrix in graph form that [`graph_or_expanded`] writes out to compare
@@ -374,8 +521,19 @@ fn cheaper_by<T>(a: T, b: T, program: impl Fn(&T) -> &Program) -> T {
 /// The module for a derivation: constants, `Params`, `JointTrig` and the functions
 /// `forward_kinematics`, `body_jacobian` and, with a constraint, `constrained_jacobian`,
 /// `constraint_jacobian_c`, `partial_body_jacobian`, `forward_kinematics_i`, `manipulability`,
-/// `manipulability_squared`.
+/// `manipulability_squared`, with the default fused functions ([`Fused::defaults`]).
 pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
+    module_spec_with(d, module_name, &[]).expect("the default fused functions are valid")
+}
+
+/// [`module_spec`] with the fused functions `requests` besides the defaults (a request named like
+/// a default replaces it); [`Error::Function`] when a request's name is taken or its outputs are
+/// not functions of the module.
+pub fn module_spec_with(
+    d: &Derivation,
+    module_name: &str,
+    requests: &[Fused],
+) -> Result<ModuleSpec, Error> {
     let n = d.n;
     let mut consts = vec![ConstItem {
         name: "N".into(),
@@ -420,6 +578,7 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
     ));
 
     let mut pose_and_jacobians = None;
+    let mut forms = Forms::default();
     if let Some(c) = &d.constraint {
         consts.push(ConstItem {
             name: "I".into(),
@@ -475,7 +634,21 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
         );
         // One program for the step's g_0e, J^B_0i, J^r and J_c where it is smaller than the
         // four functions' together.
-        let fused = pose_and_jacobians_program(d, c.link, &jr_form, &jc_form);
+        forms = Forms {
+            jr: Some(jr_form),
+            jc: Some(jc_form),
+        };
+        let fused = fused_walk_program(
+            d,
+            &[
+                F::ForwardKinematics,
+                F::PartialBodyJacobian,
+                F::ConstrainedJacobian,
+                F::ConstraintJacobianC,
+            ],
+            &forms,
+            &functions,
+        );
         pose_and_jacobians = (fused.live_len()
             < step_separately.iter().sum::<usize>() + jbi.live_len())
         .then_some(fused);
@@ -588,7 +761,8 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
         }
     }
 
-    ModuleSpec {
+    let fused = fused_functions(d, requests, &forms, &functions)?;
+    Ok(ModuleSpec {
         name: module_name.into(),
         doc: module_doc(d),
         joints: n,
@@ -604,7 +778,8 @@ pub fn module_spec(d: &Derivation, module_name: &str) -> ModuleSpec {
         joint_limits: d.joint_limits.clone(),
         joint_ranges: d.joint_ranges.clone(),
         pose_and_jacobians,
-    }
+        fused,
+    })
 }
 
 fn manipulability_programs(d: &Derivation, form: &ManipulabilityForm) -> (Program, Program) {

@@ -108,6 +108,56 @@ pub fn items(
         };
         Some(quote!(::trocar_check::Function::#variant => #convert,))
     });
+    // The fused functions: each output into a zeroed out-parameter, then converted as above.
+    let float = if real == Scalar::F32 {
+        quote!(f32)
+    } else {
+        quote!(f64)
+    };
+    let fused_list = spec.fused.iter().map(|f| {
+        let name = &f.name;
+        let variants = f.outputs.iter().map(|o| {
+            let v = format_ident!("{}", format!("{:?}", o.function));
+            quote!(::trocar_check::Function::#v)
+        });
+        quote!(::trocar_check::Fused::new(#name, [#(#variants),*]))
+    });
+    let fused_arms = spec.fused.iter().map(|f| {
+        let name = &f.name;
+        let call = format_ident!("{}", f.name);
+        let outs: Vec<_> = f
+            .outputs
+            .iter()
+            .map(|o| format_ident!("{}", o.function.short_name()))
+            .collect();
+        let decls = f.outputs.iter().zip(&outs).map(|(o, id)| {
+            let (ty, zero) = match o.layout {
+                Layout::Scalar => (quote!(#float), quote!(0.0)),
+                Layout::Transform => (
+                    quote!(([[#float; 3]; 3], [#float; 3])),
+                    quote!(([[0.0; 3]; 3], [0.0; 3])),
+                ),
+                Layout::Matrix { rows, cols } => {
+                    let r = Literal::usize_unsuffixed(rows);
+                    let c = Literal::usize_unsuffixed(cols);
+                    (quote!([[#float; #r]; #c]), quote!([[0.0; #r]; #c]))
+                }
+            };
+            quote!(let mut #id: #ty = #zero;)
+        });
+        let converts = f.outputs.iter().zip(&outs).map(|(o, id)| match o.layout {
+            Layout::Scalar => quote!(::trocar_check::from_scalar(#id)),
+            Layout::Matrix { .. } => quote!(::trocar_check::from_columns(&#id)),
+            Layout::Transform => quote!(::trocar_check::from_transform(&#id)),
+        });
+        quote! {
+            #name => {
+                #(#decls)*
+                #call(&q, &p, #(&mut #outs),*);
+                ::core::iter::IntoIterator::into_iter([#(#converts),*]).collect()
+            }
+        }
+    });
     let hash = match hash {
         Some(h) => {
             let h = hex(h);
@@ -150,6 +200,27 @@ pub fn items(
                 let p = #params_init;
                 ::core::option::Option::Some(match function {
                     #(#arms)*
+                    _ => return ::core::option::Option::None,
+                })
+            }
+
+            fn fused(&self) -> ::trocar_check::FusedList {
+                ::core::iter::IntoIterator::into_iter([#(#fused_list),*]).collect()
+            }
+
+            fn evaluate_fused(
+                &self,
+                name: &str,
+                q: &[f64],
+                params: &[f64],
+            ) -> ::core::option::Option<::trocar_check::FusedValues> {
+                if q.len() != N || params.len() != #p_count {
+                    return ::core::option::Option::None;
+                }
+                #q_init
+                let p = #params_init;
+                ::core::option::Option::Some(match name {
+                    #(#fused_arms)*
                     _ => return ::core::option::Option::None,
                 })
             }

@@ -21,5 +21,6 @@ pub mod rust;
 pub use program::{Const, Factor, Op, OpCounts, Program, Term, ValueId};
 pub use rust::{
     format_file, module_items, module_items_in, module_tokens, module_tokens_in, wrap_module,
-    ConstItem, EmittedFunction, Layout, ModuleSpec, Runtime, Scalar, DEFAULT_RUNTIME_PATH,
+    ConstItem, EmittedFunction, FusedFunction, FusedOutput, Layout, ModuleSpec, Runtime, Scalar,
+    DEFAULT_RUNTIME_PATH,
 };

@@ -592,6 +592,60 @@ impl Program {
         acc.unwrap_or_else(|| self.constant(0.0))
     }
 
+    /// Builds the live values of `other` (a program over the same parameters) into this one
+    /// through the smart constructors, so that the values both compute are shared (rule
+    /// `hash_cons`); returns `other`'s outputs as values of this program.
+    pub fn import(&mut self, other: &Program) -> Vec<ValueId> {
+        debug_assert_eq!(self.params, other.params);
+        let live = other.live();
+        let mut map: Vec<ValueId> = Vec::with_capacity(other.ops.len());
+        for (op, &l) in other.ops.iter().zip(&live) {
+            if !l {
+                // Never read: only live values are operands of live values.
+                map.push(ValueId(0));
+                continue;
+            }
+            let m = |v: &ValueId| map[v.index()];
+            let v = match op {
+                Op::Const(c) => self.constant(c.value()),
+                Op::Param(k) => self.param(*k),
+                Op::Joint(k) => self.joint(*k),
+                Op::Sin(k) => self.sin(*k),
+                Op::Cos(k) => self.cos(*k),
+                Op::Add(a, b) => {
+                    let (a, b) = (m(a), m(b));
+                    self.add(a, b)
+                }
+                Op::Sub(a, b) => {
+                    let (a, b) = (m(a), m(b));
+                    self.sub(a, b)
+                }
+                Op::Mul(a, b) => {
+                    let (a, b) = (m(a), m(b));
+                    self.mul(a, b)
+                }
+                Op::Div(a, b) => {
+                    let (a, b) = (m(a), m(b));
+                    self.div(a, b)
+                }
+                Op::Neg(a) => {
+                    let a = m(a);
+                    self.neg(a)
+                }
+                Op::Sqrt(a) => {
+                    let a = m(a);
+                    self.sqrt(a)
+                }
+                Op::Abs(a) => {
+                    let a = m(a);
+                    self.abs(a)
+                }
+            };
+            map.push(v);
+        }
+        other.outputs.iter().map(|o| map[o.index()]).collect()
+    }
+
     /// The parameters that a live division's divisor depends on: where the program can divide
     /// by zero (a parameter at 0), in the order of [`Program::params`].
     pub fn divisor_params(&self) -> Vec<String> {

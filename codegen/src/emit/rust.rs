@@ -165,6 +165,70 @@ impl EmittedFunction {
     }
 }
 
+/// One output of a [`FusedFunction`]: a catalogue function's result, written into the
+/// out-parameter named by its short name.
+#[derive(Clone, Debug)]
+pub struct FusedOutput {
+    /// The catalogue function whose value this is.
+    pub function: catalogue::Function,
+    /// Its layout (that of the function's own result).
+    pub layout: Layout,
+    /// Names of the dimensions for the signature, as [`EmittedFunction::dims`].
+    pub dims: Option<(String, String)>,
+    /// The manipulability's rule: 0 where the closed form is not finite.
+    pub zero_when_not_finite: bool,
+}
+
+/// A function computing several catalogue outputs in one program ([`catalogue::Fused`]):
+/// `name(q, p, out...)` and `name_trig(t, p, out...)`, each output written through a `&mut`
+/// out-parameter.
+#[derive(Clone, Debug)]
+pub struct FusedFunction {
+    /// Rust name.
+    pub name: String,
+    /// The outputs, in the order of the out-parameters.
+    pub outputs: Vec<FusedOutput>,
+    /// One program; its outputs are those of `outputs`, each in its layout, one after the other.
+    pub program: Program,
+}
+
+impl FusedFunction {
+    /// The fused function `name` of `outputs` (each with the layout of its emitted function
+    /// `functions`), computed by `program`.
+    pub fn new(name: &str, outputs: &[&EmittedFunction], program: Program) -> FusedFunction {
+        let outputs: Vec<FusedOutput> = outputs
+            .iter()
+            .map(|f| FusedOutput {
+                function: catalogue::Function::from_name(&f.name)
+                    .expect("a fused output is a catalogue function"),
+                layout: f.layout,
+                dims: f.dims.clone(),
+                zero_when_not_finite: f.zero_when_not_finite,
+            })
+            .collect();
+        debug_assert_eq!(
+            program.outputs().len(),
+            outputs.iter().map(|o| o.layout.len()).sum::<usize>()
+        );
+        FusedFunction {
+            name: name.to_string(),
+            outputs,
+            program,
+        }
+    }
+
+    /// The range of the program's outputs that holds output `k`.
+    pub fn range(&self, k: usize) -> std::ops::Range<usize> {
+        let start: usize = self.outputs[..k].iter().map(|o| o.layout.len()).sum();
+        start..start + self.outputs[k].layout.len()
+    }
+
+    /// The catalogue functions computed, in order.
+    pub fn functions(&self) -> Vec<catalogue::Function> {
+        self.outputs.iter().map(|o| o.function).collect()
+    }
+}
+
 /// A named `usize` constant of the module.
 #[derive(Clone, Debug)]
 pub struct ConstItem {
@@ -205,6 +269,8 @@ pub struct ModuleSpec {
     /// order), when it is smaller than their four functions: `pose_and_jacobians_trig` is then
     /// written from it, otherwise it calls the four.
     pub pose_and_jacobians: Option<Program>,
+    /// Functions computing several catalogue outputs in one program ([`catalogue::Fused`]).
+    pub fused: Vec<FusedFunction>,
 }
 
 impl ModuleSpec {
@@ -751,6 +817,192 @@ fn uses(prog: &Program, f: impl Fn(&Op) -> bool) -> bool {
     prog.ops().iter().zip(prog.live()).any(|(op, l)| l && f(op))
 }
 
+/// The statements that write a program's output values `outs` (in `layout`) through the
+/// out-parameter `out`: entry by entry, so that each value is stored where the caller wants it
+/// (no temporary of the whole result and no copy).
+fn store_tokens(
+    layout: Layout,
+    out: &Ident,
+    outs: &[TokenStream],
+    guard: Option<&TokenStream>,
+) -> Vec<TokenStream> {
+    match layout {
+        Layout::Scalar => {
+            let v = &outs[0];
+            match guard {
+                Some(r) => vec![quote! {
+                    let w = #v;
+                    *#out = if #r::is_finite(w) { w } else { #r::ZERO };
+                }],
+                None => vec![quote!(*#out = #v;)],
+            }
+        }
+        Layout::Matrix { rows, .. } => outs
+            .iter()
+            .enumerate()
+            .map(|(k, v)| {
+                let c = Literal::usize_unsuffixed(k / rows);
+                let r = Literal::usize_unsuffixed(k % rows);
+                quote!(#out[#c][#r] = #v;)
+            })
+            .collect(),
+        Layout::Transform => outs
+            .iter()
+            .enumerate()
+            .map(|(k, v)| {
+                if k < 9 {
+                    let c = Literal::usize_unsuffixed(k / 3);
+                    let r = Literal::usize_unsuffixed(k % 3);
+                    quote!(#out.0[#c][#r] = #v;)
+                } else {
+                    let r = Literal::usize_unsuffixed(k - 9);
+                    quote!(#out.1[#r] = #v;)
+                }
+            })
+            .collect(),
+    }
+}
+
+/// The type of a fused output's out-parameter (without `&mut`).
+fn out_type(o: &FusedOutput, ty: &Ty) -> TokenStream {
+    let t = ty.t();
+    match o.layout {
+        Layout::Scalar => quote!(#t),
+        Layout::Transform => quote!(([[#t; 3]; 3], [#t; 3])),
+        Layout::Matrix { rows, cols } => match &o.dims {
+            Some((r, c)) => {
+                let r: TokenStream = r.parse().expect("a dimension");
+                let c: TokenStream = c.parse().expect("a dimension");
+                quote!([[#t; #r]; #c])
+            }
+            None => {
+                let r = Literal::usize_unsuffixed(rows);
+                let c = Literal::usize_unsuffixed(cols);
+                quote!([[#t; #r]; #c])
+            }
+        },
+    }
+}
+
+/// A fused function ([`FusedFunction`]) and its `_trig` variant, writing into out-parameters.
+fn fused_tokens(f: &FusedFunction, ty: &Ty, n: usize) -> TokenStream {
+    let generics = ty.generics();
+    let args = ty.args();
+    let t_str = ty.t().to_string();
+    let name = format_ident!("{}", f.name);
+    let name_trig = format_ident!("{}_trig", f.name);
+    let functions: Vec<catalogue::Function> = f.functions();
+    let links = functions
+        .iter()
+        .map(|g| format!("[`{}`]", g.name()))
+        .collect::<Vec<_>>();
+    let links = match links.len() {
+        1 => links[0].clone(),
+        k => format!("{} and {}", links[..k - 1].join(", "), links[k - 1]),
+    };
+    let quantities = functions
+        .iter()
+        .map(|g| format!("`{}`", g.quantity()))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let mut equations: Vec<&str> = functions.iter().map(|g| g.equation()).collect();
+    equations.dedup();
+    let mut doc = format!(
+        "{quantities} in one program: the values of {links}, thesis {}, computed together so \
+         that they share every common value.\n\n",
+        equations.join(", ")
+    );
+    for o in &f.outputs {
+        let what = match o.layout {
+            Layout::Scalar => String::new(),
+            Layout::Transform => " as `(R, p)`, `R` column-major (`r[col][row]`)".to_string(),
+            Layout::Matrix { rows, cols } => {
+                let (r, c) = o
+                    .dims
+                    .clone()
+                    .unwrap_or_else(|| (rows.to_string(), cols.to_string()));
+                format!(", {r} × {c}, column-major (`[[{t_str}; {r}]; {c}]`, `a[col][row]`)")
+            }
+        };
+        let zero = if o.zero_when_not_finite {
+            " (0 where the closed form is not finite)"
+        } else {
+            ""
+        };
+        let _ = writeln!(
+            doc,
+            "- `{}`: `{}`{what}{zero}",
+            o.function.short_name(),
+            o.function.quantity()
+        );
+    }
+    let divisors = divisors(&f.program);
+    if !divisors.is_empty() {
+        let _ = writeln!(doc, "\n{}", divides_by(&divisors));
+    }
+    let counts = f.program.op_counts();
+    let doc_q = doc_attrs(&format!("{doc}\nOperations: {counts}."));
+    let doc_t = doc_attrs(&format!(
+        "[`{}`] from precomputed joint sines and cosines ([`JointTrig`]).\n\nOperations: {} \
+         (the `sin_cos` calls are done once in [`JointTrig::new`]).",
+        f.name,
+        super::program::OpCounts { trig: 0, ..counts }
+    ));
+    let r = ty.real_path();
+    let outs: Vec<Ident> = f
+        .outputs
+        .iter()
+        .map(|o| format_ident!("{}", o.function.short_name()))
+        .collect();
+    let params: Vec<TokenStream> = f
+        .outputs
+        .iter()
+        .zip(&outs)
+        .map(|(o, id)| {
+            let ty = out_type(o, ty);
+            quote!(#id: &mut #ty)
+        })
+        .collect();
+    let stores = |values: &[TokenStream]| -> Vec<TokenStream> {
+        f.outputs
+            .iter()
+            .enumerate()
+            .flat_map(|(k, o)| {
+                let guard = (o.zero_when_not_finite && o.layout == Layout::Scalar).then_some(&r);
+                store_tokens(o.layout, &outs[k], &values[f.range(k)], guard)
+            })
+            .collect()
+    };
+    let (stmts_q, outs_q) = body(&f.program, ty, Access::Q);
+    let (stmts_t, outs_t) = body(&f.program, ty, Access::Trig);
+    let stores_q = stores(&outs_q);
+    let stores_t = stores(&outs_t);
+    let uses_q = uses(&f.program, |op| {
+        matches!(op, Op::Joint(_) | Op::Sin(_) | Op::Cos(_))
+    });
+    let uses_p = uses(&f.program, |op| matches!(op, Op::Param(_)));
+    let q = if uses_q { quote!(q) } else { quote!(_q) };
+    let tt = if uses_q { quote!(t) } else { quote!(_t) };
+    let p = if uses_p { quote!(p) } else { quote!(_p) };
+    let t = ty.t();
+    let n_ty = if n > 0 { quote!(N) } else { quote!(0) };
+    quote! {
+        #doc_q
+        #[inline]
+        pub fn #name #generics (#q: &[#t; #n_ty], #p: &Params #args, #(#params),*) {
+            #(#stmts_q)*
+            #(#stores_q)*
+        }
+
+        #doc_t
+        #[inline]
+        pub fn #name_trig #generics (#tt: &JointTrig #args, #p: &Params #args, #(#params),*) {
+            #(#stmts_t)*
+            #(#stores_t)*
+        }
+    }
+}
+
 /// `pose_and_jacobians_trig` of a constrained robot: `g_0e`, `J^B_0i`, `J^r_0e` and `J_c` from one
 /// [`JointTrig`], written from [`ModuleSpec::pose_and_jacobians`] when there is one (the chain
 /// walked once), from the four `_trig` functions otherwise.
@@ -1058,6 +1310,7 @@ pub fn module_items_in(spec: &ModuleSpec, real: Scalar, runtime: &Runtime) -> To
         .functions
         .iter()
         .map(|f| function_tokens(f, &ty, spec.joints));
+    let fused = spec.fused.iter().map(|f| fused_tokens(f, &ty, spec.joints));
     let step = pose_and_jacobians_tokens(spec, &ty);
     let controller = spec
         .controller
@@ -1070,6 +1323,7 @@ pub fn module_items_in(spec: &ModuleSpec, real: Scalar, runtime: &Runtime) -> To
         #params
         #trig
         #(#fns)*
+        #(#fused)*
         #step
         #controller
     }

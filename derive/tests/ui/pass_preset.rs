@@ -14,6 +14,15 @@ struct Uni;
 #[constrained_robot(preset = "unidirectional", real = "f64")]
 struct Kinematics;
 
+// A fused function: J^r, w and g_0e from one program, through out-parameters.
+#[constrained_robot(
+    preset = "bidirectional-zy",
+    real = "f64",
+    module = "zy_fused",
+    function(step(jr, manipulability, fk))
+)]
+struct ZyFused;
+
 fn main() {
     let q = [0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
     let p: ZyParams<f64> = Zy::nominal_params();
@@ -24,6 +33,17 @@ fn main() {
     assert!((w - expected).abs() < 1e-12, "{w} vs {expected}");
     assert_eq!(jr.len(), Zy::M);
     assert_eq!(zy::N, 8);
+
+    let (mut jr_s, mut w_s, mut g) = ([[0.0; 6]; 6], 0.0, ([[0.0; 3]; 3], [0.0; 3]));
+    ZyFused::step(&q, &zy_fused::Params::nominal(), &mut jr_s, &mut w_s, &mut g);
+    assert!((w_s - expected).abs() < 1e-12, "{w_s} vs {expected}");
+    // R_0e is a rotation: orthonormal columns.
+    for a in 0..3 {
+        for b in 0..3 {
+            let dot: f64 = (0..3).map(|k| g.0[a][k] * g.0[b][k]).sum();
+            assert!((dot - f64::from(u8::from(a == b))).abs() < 1e-12);
+        }
+    }
 
     let qf = q.map(|x| x as f32);
     let pf: ZxParams = Zx::nominal_params();

@@ -1,6 +1,7 @@
 //! The README's "Using generated code" and "Testing your generated code" snippets, compiled as
 //! they are shown: `build.rs` generates the module of `robots/arm.toml` in `f32` with its checks
-//! and evidence, included below, [`step`] runs the runtime controller on it, and the unit tests
+//! and evidence, included below, [`step`] runs the runtime controller on it,
+//! [`tip_and_jacobians`] calls a fused function, and the unit tests
 //! check the compiled module with `trocar_check`. `tests/readme.rs` checks that the README shows
 //! exactly this code.
 #![no_std]
@@ -25,6 +26,15 @@ pub fn step(
     let mut controller = trocar::control::Controller::new(config);
     let out = controller.step(&kinematics, &q, &reference, &rcm, dt)?; // joint rates, errors, w
     Ok(out)
+}
+
+/// The tip's pose `g_0e`, `J^B_0i` and `J^r_0e` at `q` from one program (the README's fused
+/// function snippet).
+pub fn tip_and_jacobians(q: &[f32; arm::N], p: &arm::Params) -> [f32; 3] {
+    let mut fk = ([[0.0; 3]; 3], [0.0; 3]);
+    let (mut jb0i, mut jr) = ([[0.0; 6]; arm::I], [[0.0; 6]; arm::M]);
+    arm::tip_and_jacobians(q, p, &mut fk, &mut jb0i, &mut jr); // written in place, no copies
+    fk.1
 }
 
 #[cfg(test)]

@@ -702,6 +702,13 @@ impl Robot {
                 self.name()
             )));
         }
+        if !options.functions.is_empty() && self.is_mechanism() {
+            return Err(Error::Unsupported(format!(
+                "`{}` is a closed mechanism: fused functions (--function) are emitted for serial \
+                 robots",
+                self.name()
+            )));
+        }
         Ok(match &self.kind {
             Kind::Serial(s) => trocar_codegen::generate_module_string(&s.desc, options)?,
             Kind::Mechanism(m) => trocar_codegen::generate_mechanism_string(&m.model, options)?,

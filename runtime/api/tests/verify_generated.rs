@@ -19,11 +19,13 @@ fn check(description: &RobotDescription, samples: usize) {
     assert!(report.passed(), "{report}");
     // Without a constraint: g_0e and J^B_0e against the numeric runtime and the two
     // finite-difference checks of g_0e; with one, the twelve functions of a constrained module
-    // and the differences of g_0i besides; with a task, S and S J^r as well.
+    // and the differences of g_0i besides; with a task, S and S J^r as well. Then the fused
+    // functions: `pose_and_jacobian`'s two outputs and its J^B_0e against differences of its
+    // g_0e, with a constraint `link_pose_and_jacobian`'s likewise.
     let expected = match (&description.constraint, &description.task) {
-        (None, _) => 4,
-        (Some(_), None) => 15,
-        (Some(_), Some(_)) => 17,
+        (None, _) => 4 + 3,
+        (Some(_), None) => 15 + 6,
+        (Some(_), Some(_)) => 17 + 6,
     };
     assert_eq!(report.checks.len(), expected, "{report}");
 }

@@ -34,9 +34,9 @@ pub mod verify;
 pub use nalgebra::DMatrix;
 #[cfg(feature = "proptest")]
 pub use proptest;
-pub use trocar_model::catalogue::Function;
+pub use trocar_model::catalogue::{Function, Fused};
 pub use trocar_model::description::RobotDescription;
-pub use verify::{Candidate, Check, Report, Tolerances};
+pub use verify::{Candidate, Check, FusedList, FusedValues, Report, Tolerances};
 
 use std::fmt;
 use std::path::Path;

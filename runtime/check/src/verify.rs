@@ -21,13 +21,19 @@ use crate::Ranges;
 use nalgebra::{DMatrix, Matrix3, Vector3};
 use std::fmt;
 use trocar::se3::Se3;
-use trocar_model::catalogue::Function;
+use trocar_model::catalogue::{Function, Fused};
 use trocar_model::description::RobotDescription;
 use trocar_model::numeric::{NumericModel, RobotError};
 
 /// The generated functions [`verify`] checks against the numeric runtime, in report order: every
 /// function of a serial robot's module ([`Function::SERIAL`]).
 pub const CHECKED: [Function; 14] = Function::SERIAL;
+
+/// The fused functions a candidate offers ([`Candidate::fused`]).
+pub type FusedList = Vec<Fused>;
+
+/// The values of a fused function's outputs, in order ([`Candidate::evaluate_fused`]).
+pub type FusedValues = Vec<DMatrix<f64>>;
 
 /// An implementation of a robot's kinematics to be checked.
 pub trait Candidate {
@@ -36,6 +42,20 @@ pub trait Candidate {
     /// declaration order); a transform as a 4 × 4 homogeneous matrix, a scalar as 1 × 1. `None`
     /// when the candidate does not provide this function.
     fn evaluate(&self, function: Function, q: &[f64], params: &[f64]) -> Option<DMatrix<f64>>;
+
+    /// The fused functions the candidate offers ([`Fused`]: one function computing several
+    /// catalogue outputs); none unless the candidate says otherwise.
+    fn fused(&self) -> FusedList {
+        Vec::new()
+    }
+
+    /// Evaluates the fused function `name` at `q` and `params`: one value per output of
+    /// [`Candidate::fused`]'s entry, in its order and in [`Candidate::evaluate`]'s layout. `None`
+    /// when the candidate has no such function.
+    fn evaluate_fused(&self, name: &str, q: &[f64], params: &[f64]) -> Option<FusedValues> {
+        let _ = (name, q, params);
+        None
+    }
 }
 
 /// One entry of a result where the candidate and the reference differ.
@@ -76,6 +96,11 @@ pub struct Check {
     /// Number of comparisons.
     pub count: usize,
 }
+
+/// The finite differences of a fused function's poses are taken at every this many samples (each
+/// costs `2 n` evaluations of the whole function); its outputs are compared with the numeric
+/// runtime at every sample.
+pub const FUSED_DIFFERENCES_EVERY: usize = 4;
 
 /// The most entries a [`Check`] lists in [`Check::differences`].
 pub const MAX_DIFFERENCES: usize = 8;
@@ -363,6 +388,160 @@ impl Tally {
     }
 }
 
+/// The error of a candidate's value `got` of `quantity` against the reference `expected`, and
+/// the scale it is relative to.
+fn compare(
+    model: &NumericModel<f64>,
+    quantity: Function,
+    q: &[f64],
+    got: &DMatrix<f64>,
+    expected: &DMatrix<f64>,
+) -> Result<(f64, f64), RobotError> {
+    Ok(match quantity {
+        // Manipulability is a product of singular values: its error is measured relative to
+        // Hadamard's bound Π‖row_k(J)‖ (squared for the squared value), the natural scale of a
+        // determinant, as matrices are measured relative to their norm; J is S J^r with a task,
+        // J^r without.
+        Function::Manipulability | Function::ManipulabilitySquared => {
+            let j = reference::manipulated_jacobian(model, q)?;
+            let mut bound: f64 = j.row_iter().map(|r| r.norm()).product();
+            if quantity == Function::ManipulabilitySquared {
+                bound *= bound;
+            }
+            let scale = bound.max(1.0);
+            let diff = if got.shape() == (1, 1) {
+                (got[(0, 0)] - expected[(0, 0)]).abs()
+            } else {
+                f64::NAN
+            };
+            if diff.is_nan() {
+                (f64::INFINITY, scale)
+            } else {
+                (diff / scale, scale)
+            }
+        }
+        _ => (relative_error(got, expected), expected.norm().max(1.0)),
+    })
+}
+
+/// The tallies of one fused function ([`Candidate::fused`]): each output against the numeric
+/// runtime, and its Jacobians against central differences of its own poses.
+struct FusedTallies {
+    fused: Fused,
+    outputs: Vec<Tally>,
+    /// `(Jacobian's position, pose's position, columns, tally)`: `J^B_0e` against differences of
+    /// `g_0e`, `J^B_0i` against those of `g_0i`, where the function computes both.
+    differences: Vec<(usize, usize, usize, Tally)>,
+}
+
+impl FusedTallies {
+    fn new(fused: Fused, n: usize, link: Option<usize>, tolerances: Tolerances) -> Self {
+        let outputs = fused
+            .outputs
+            .iter()
+            .map(|f| {
+                Tally::new(
+                    format!("{}.{}: generated vs numeric", fused.name, f.short_name()),
+                    Some(*f),
+                    tolerances.exact,
+                )
+            })
+            .collect();
+        let at = |f: Function| fused.outputs.iter().position(|g| *g == f);
+        let mut differences = Vec::new();
+        for (jacobian, pose, columns) in [
+            (Function::BodyJacobian, Function::ForwardKinematics, Some(n)),
+            (
+                Function::PartialBodyJacobian,
+                Function::ConstrainedLinkKinematics,
+                link,
+            ),
+        ] {
+            if let (Some(j), Some(g), Some(columns)) = (at(jacobian), at(pose), columns) {
+                differences.push((
+                    j,
+                    g,
+                    columns,
+                    Tally::new(
+                        format!(
+                            "{}.{}: generated vs finite differences of {}",
+                            fused.name,
+                            jacobian.short_name(),
+                            pose.short_name()
+                        ),
+                        Some(jacobian),
+                        tolerances.finite_difference,
+                    ),
+                ));
+            }
+        }
+        FusedTallies {
+            fused,
+            outputs,
+            differences,
+        }
+    }
+
+    /// Records the candidate's fused values at `q` against the reference, and with a step `h`
+    /// its Jacobians against central differences of its poses.
+    fn record(
+        &mut self,
+        candidate: &dyn Candidate,
+        model: &NumericModel<f64>,
+        q: &[f64],
+        values: &[f64],
+        h: Option<f64>,
+    ) -> Result<(), RobotError> {
+        let name = self.fused.name.clone();
+        let Some(got) = candidate.evaluate_fused(&name, q, values) else {
+            // A fused function the candidate lists but cannot evaluate here fails every check.
+            for t in &mut self.outputs {
+                let nan = DMatrix::from_element(1, 1, f64::NAN);
+                t.record(f64::INFINITY, q, values, &nan, &nan, 1.0);
+            }
+            return Ok(());
+        };
+        for (k, &f) in self.fused.outputs.iter().enumerate() {
+            let Some(expected) = reference::evaluate(model, f, q)? else {
+                continue;
+            };
+            let Some(value) = got.get(k) else {
+                let nan = DMatrix::from_element(1, 1, f64::NAN);
+                self.outputs[k].record(f64::INFINITY, q, values, &nan, &expected, 1.0);
+                continue;
+            };
+            let (error, scale) = compare(model, f, q, value, &expected)?;
+            self.outputs[k].record(error, q, values, value, &expected, scale);
+        }
+        let Some(h) = h else {
+            return Ok(());
+        };
+        for (j, g, columns, tally) in &mut self.differences {
+            let pose = |qq: &[f64]| {
+                candidate
+                    .evaluate_fused(&name, qq, values)
+                    .and_then(|v| v.get(*g).and_then(se3_from_matrix))
+            };
+            if let (Some(fd), Some(jac)) = (
+                finite_difference_jacobian(pose, q, *columns, h),
+                got.get(*j),
+            ) {
+                let scale = fd.norm().max(1.0);
+                tally.record(relative_error(jac, &fd), q, values, jac, &fd, scale);
+            }
+        }
+        Ok(())
+    }
+
+    fn checks(self) -> impl Iterator<Item = Check> {
+        self.outputs
+            .into_iter()
+            .chain(self.differences.into_iter().map(|(_, _, _, t)| t))
+            .map(|t| t.check)
+            .filter(|c| c.count > 0)
+    }
+}
+
 /// Compares `candidate` with the numeric runtime and with finite differences at `samples` random
 /// configurations drawn from `seed` over [`crate::ranges`] of the description (joints within
 /// their limits, else `[−π, π]` or `[−0.5, 0.5]` m; parameters within ±20 % of their nominal
@@ -391,6 +570,11 @@ pub fn verify(
         Some(Function::PartialBodyJacobian),
     );
     let h = tolerances.step;
+    let mut fused: Vec<FusedTallies> = candidate
+        .fused()
+        .into_iter()
+        .map(|f| FusedTallies::new(f, n, link, tolerances))
+        .collect();
     for s in 0..samples {
         let (q, values) = ranges.sample(&mut rng);
         let params: Vec<(String, f64)> = ranges
@@ -421,31 +605,7 @@ pub fn verify(
                     &mut tallies.last_mut().expect("just pushed").1
                 }
             };
-            let (error, scale) = match quantity {
-                // Manipulability is a product of singular values: its error is measured
-                // relative to Hadamard's bound Π‖row_k(J)‖ (squared for the squared value),
-                // the natural scale of a determinant, as matrices are measured relative to
-                // their norm; J is S J^r with a task, J^r without.
-                Function::Manipulability | Function::ManipulabilitySquared => {
-                    let j = reference::manipulated_jacobian(&model, &q)?;
-                    let mut bound: f64 = j.row_iter().map(|r| r.norm()).product();
-                    if quantity == Function::ManipulabilitySquared {
-                        bound *= bound;
-                    }
-                    let scale = bound.max(1.0);
-                    let diff = if got.shape() == (1, 1) {
-                        (got[(0, 0)] - expected[(0, 0)]).abs()
-                    } else {
-                        f64::NAN
-                    };
-                    if diff.is_nan() {
-                        (f64::INFINITY, scale)
-                    } else {
-                        (diff / scale, scale)
-                    }
-                }
-                _ => (relative_error(&got, &expected), expected.norm().max(1.0)),
-            };
+            let (error, scale) = compare(&model, quantity, &q, &got, &expected)?;
             tally.record(error, &q, &values, &got, &expected, scale);
         }
         // Finite differences of the candidate's forward kinematics.
@@ -477,6 +637,11 @@ pub fn verify(
                 fd_candidate.record(relative_error(&jb0i, &fd), &q, &values, &jb0i, &fd, scale);
             }
         }
+        // Every output of every fused function, and its Jacobians against its own poses.
+        for f in &mut fused {
+            let h = (s % FUSED_DIFFERENCES_EVERY == 0).then_some(h);
+            f.record(candidate, &model, &q, &values, h)?;
+        }
         progress((s + 1) as f64 / samples.max(1) as f64);
     }
     tallies.sort_by_key(|(k, _)| CHECKED.iter().position(|a| a == k));
@@ -485,6 +650,9 @@ pub fn verify(
         if t.check.count > 0 {
             checks.push(t.check);
         }
+    }
+    for f in fused {
+        checks.extend(f.checks());
     }
     Ok(Report {
         robot: description.name.clone(),
@@ -584,6 +752,65 @@ mod tests {
             "{text}"
         );
         assert!(text.contains("entry (0, 3)"), "{text}");
+    }
+
+    /// [`TwoJoints`] with a fused function `pose` of its forward kinematics, perturbed by
+    /// `perturb` in the fused value only.
+    struct FusedTwoJoints {
+        perturb: f64,
+    }
+
+    impl Candidate for FusedTwoJoints {
+        fn evaluate(&self, quantity: Function, q: &[f64], params: &[f64]) -> Option<DMatrix<f64>> {
+            TwoJoints { perturb: 0.0 }.evaluate(quantity, q, params)
+        }
+
+        fn fused(&self) -> FusedList {
+            vec![Fused::new("pose", [Function::ForwardKinematics])]
+        }
+
+        fn evaluate_fused(&self, name: &str, q: &[f64], params: &[f64]) -> Option<FusedValues> {
+            (name == "pose").then(|| {
+                vec![TwoJoints {
+                    perturb: self.perturb,
+                }
+                .evaluate(Function::ForwardKinematics, q, params)
+                .unwrap()]
+            })
+        }
+    }
+
+    #[test]
+    fn every_output_of_a_fused_function_is_checked() {
+        let description = RobotDescription::from_toml_str(TWO_JOINTS, None).unwrap();
+        let report = verify(
+            &description,
+            &FusedTwoJoints { perturb: 0.0 },
+            20,
+            7,
+            Tolerances::F64,
+            |_| {},
+        )
+        .unwrap();
+        assert!(report.passed(), "{report}");
+        assert_eq!(report.checks.len(), 3, "{report}");
+        let report = verify(
+            &description,
+            &FusedTwoJoints { perturb: 1e-9 },
+            5,
+            7,
+            Tolerances::F64,
+            |_| {},
+        )
+        .unwrap();
+        assert!(!report.passed());
+        let failed: Vec<&str> = report
+            .checks
+            .iter()
+            .filter(|c| !c.passed())
+            .map(|c| c.name.as_str())
+            .collect();
+        assert_eq!(failed, ["pose.fk: generated vs numeric"], "{report}");
     }
 
     #[test]

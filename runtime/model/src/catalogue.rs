@@ -494,6 +494,124 @@ impl Function {
     }
 }
 
+/// A fused function of a serial robot's module: one emitted function `name` (and `name_trig`)
+/// computing several catalogue outputs ([`Fused::outputs`]) in one straight-line program that
+/// shares every common value, writing each into an out-parameter named by its short name
+/// ([`Function::short_name`]).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct Fused {
+    /// The Rust name of the function (its variant taking `JointTrig` adds `_trig`).
+    pub name: String,
+    /// The outputs, in the order of the out-parameters.
+    pub outputs: Vec<Function>,
+}
+
+impl Fused {
+    /// The fused function `name` of `outputs`.
+    pub fn new(name: impl Into<String>, outputs: impl IntoIterator<Item = Function>) -> Self {
+        Fused {
+            name: name.into(),
+            outputs: outputs.into_iter().collect(),
+        }
+    }
+
+    /// The fused functions every serial module gets: `pose_and_jacobian` (`g_0e` and `J^B_0e`)
+    /// and, with a constraint, `link_pose_and_jacobian` (`g_0i` and `J^B_0i`, the constrained
+    /// link's pose and partial body Jacobian).
+    pub fn defaults(constrained: bool) -> Vec<Fused> {
+        let mut out = vec![Fused::new(
+            "pose_and_jacobian",
+            [Function::ForwardKinematics, Function::BodyJacobian],
+        )];
+        if constrained {
+            out.push(Fused::new(
+                "link_pose_and_jacobian",
+                [
+                    Function::ConstrainedLinkKinematics,
+                    Function::PartialBodyJacobian,
+                ],
+            ));
+        }
+        out
+    }
+
+    /// Parses `name=output,output,...` (the command line's `--function`): each output by its
+    /// Rust name or short name ([`Function::resolve`], serial functions). The error names the
+    /// part that is wrong.
+    pub fn parse(text: &str) -> Result<Fused, String> {
+        let (name, list) = text.split_once('=').ok_or_else(|| {
+            format!("`{text}`: expected NAME=OUTPUT,OUTPUT,... (e.g. pose_and_jacobian=fk,jb0e)")
+        })?;
+        let name = name.trim();
+        let mut outputs = Vec::new();
+        for part in list.split(',').map(str::trim) {
+            let f = Function::resolve(part, false).ok_or_else(|| {
+                format!(
+                    "function `{name}`: unknown output `{part}` (expected one of: {})",
+                    Function::SERIAL
+                        .iter()
+                        .map(|f| format!("{} ({})", f.name(), f.short_name()))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )
+            })?;
+            outputs.push(f);
+        }
+        Ok(Fused::new(name, outputs))
+    }
+
+    /// Whether `name` is free for a fused function: a snake_case identifier that is not a
+    /// keyword, does not end in `_trig`, and is not the name of a catalogue function or of
+    /// another item a serial module holds. `Err` says why not.
+    pub fn check_name(name: &str) -> Result<(), String> {
+        let identifier = name.chars().next().is_some_and(|c| c.is_ascii_lowercase())
+            && name
+                .chars()
+                .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
+        if !identifier || RUST_KEYWORDS.contains(&name) {
+            return Err(format!(
+                "`{name}` is not a function name (a snake_case identifier such as \
+                 `pose_and_jacobian`, not a keyword)"
+            ));
+        }
+        if name.ends_with("_trig") {
+            return Err(format!(
+                "`{name}` ends in `_trig`, the suffix of the variant taking `JointTrig`"
+            ));
+        }
+        let taken = Function::SERIAL
+            .iter()
+            .chain(&Function::MECHANISM)
+            .any(|f| f.name() == name)
+            || RESERVED_ITEMS.contains(&name)
+            || name.starts_with("lu_solve_")
+            || name.starts_with("min_norm_solve_");
+        if taken {
+            return Err(format!(
+                "`{name}` is already the name of a function of the generated module"
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Functions a serial module may hold besides the catalogue's.
+const RESERVED_ITEMS: [&str; 4] = [
+    "pose_and_jacobians",
+    "step_kinematics",
+    "trocar_offset",
+    "zeroed",
+];
+
+/// Rust's keywords (strict and reserved) that are snake_case words.
+const RUST_KEYWORDS: [&str; 50] = [
+    "as", "break", "const", "continue", "crate", "else", "enum", "extern", "false", "fn", "for",
+    "if", "impl", "in", "let", "loop", "match", "mod", "move", "mut", "pub", "ref", "return",
+    "self", "static", "struct", "super", "trait", "true", "type", "unsafe", "use", "where",
+    "while", "async", "await", "dyn", "abstract", "become", "box", "do", "final", "macro",
+    "override", "priv", "typeof", "unsized", "virtual", "yield", "try",
+];
+
 /// The Rust name.
 impl fmt::Display for Function {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -543,6 +661,34 @@ mod tests {
         );
         assert_eq!(Function::resolve("reduced_jacobian", false), None);
         assert_eq!(Function::resolve("nonsense", false), None);
+    }
+
+    #[test]
+    fn fused_functions_parse_and_names_are_checked() {
+        let f = Fused::parse("pose_and_jacobian=fk, body_jacobian").unwrap();
+        assert_eq!(f.name, "pose_and_jacobian");
+        assert_eq!(
+            f.outputs,
+            [Function::ForwardKinematics, Function::BodyJacobian]
+        );
+        let e = Fused::parse("step=fk,jb").unwrap_err();
+        assert!(e.contains("function `step`: unknown output `jb`"), "{e}");
+        assert!(Fused::parse("step").unwrap_err().contains("NAME=OUTPUT"));
+        assert!(Fused::check_name("pose_and_jacobian").is_ok());
+        for bad in [
+            "Pose",
+            "2x",
+            "fn",
+            "x_trig",
+            "body_jacobian",
+            "step_kinematics",
+            "",
+        ] {
+            assert!(Fused::check_name(bad).is_err(), "{bad}");
+        }
+        for f in Fused::defaults(true) {
+            assert!(Fused::check_name(&f.name).is_ok());
+        }
     }
 
     #[test]

@@ -399,6 +399,10 @@ macro_rules! check_robot {
             // pose_and_jacobians_trig: [g_0e, J^B_0i, J^r, J_c] in f64 and in f32.
             let mut worst_step = [0.0f64; 4];
             let mut worst_step32 = [0.0f64; 4];
+            // The fused functions, f64 and f32: pose_and_jacobian [g_0e, J^B_0e],
+            // link_pose_and_jacobian [g_0i, J^B_0i], step_outputs [J^r, w, g_0e, J^B_0i, J_c].
+            let mut worst_fused = [0.0f64; 9];
+            let mut worst_fused32 = [0.0f64; 9];
             for s in 0..SAMPLES {
                 let mut q = [0.0f64; m::N];
                 for x in q.iter_mut() {
@@ -488,6 +492,69 @@ macro_rules! check_robot {
                     *w = w.max(e);
                 }
 
+                // The fused functions, every output against the reference.
+                {
+                    let (mut fk, mut jb0e) = (([[0.0; 3]; 3], [0.0; 3]), [[0.0; 6]; m::N]);
+                    m::pose_and_jacobian(&q, &p, &mut fk, &mut jb0e);
+                    let (mut fk0i, mut jb0i) = (([[0.0; 3]; 3], [0.0; 3]), [[0.0; 6]; m::I]);
+                    m::link_pose_and_jacobian_trig(&t, &p, &mut fk0i, &mut jb0i);
+                    let (mut jr, mut manip, mut g0e, mut jbi, mut jc) = (
+                        [[0.0; 6]; m::M],
+                        0.0,
+                        ([[0.0; 3]; 3], [0.0; 3]),
+                        [[0.0; 6]; m::I],
+                        [[0.0; 6]; m::R],
+                    );
+                    m::step_outputs(&q, &p, &mut jr, &mut manip, &mut g0e, &mut jbi, &mut jc);
+                    for (w, e) in worst_fused.iter_mut().zip([
+                        rel_err(&transform_matrix(&fk), &fk_ref),
+                        rel_err(&from_cols(&jb0e), &jb_ref),
+                        rel_err(&transform_matrix(&fk0i), &fki_ref),
+                        rel_err(&from_cols(&jb0i), &jbi_ref),
+                        rel_err(&from_cols(&jr), &jr_ref),
+                        (manip - w_ref).abs() / scale,
+                        rel_err(&transform_matrix(&g0e), &fk_ref),
+                        rel_err(&from_cols(&jbi), &jbi_ref),
+                        rel_err(&from_cols(&jc), &jc_ref),
+                    ]) {
+                        *w = w.max(e);
+                    }
+                    let (mut fk, mut jb0e) = (([[0.0f32; 3]; 3], [0.0; 3]), [[0.0f32; 6]; m::N]);
+                    m::pose_and_jacobian_trig(&m::JointTrig::new(&q32), &p32, &mut fk, &mut jb0e);
+                    let (mut fk0i, mut jb0i) = (([[0.0f32; 3]; 3], [0.0; 3]), [[0.0f32; 6]; m::I]);
+                    m::link_pose_and_jacobian(&q32, &p32, &mut fk0i, &mut jb0i);
+                    let (mut jr, mut manip, mut g0e, mut jbi, mut jc) = (
+                        [[0.0f32; 6]; m::M],
+                        0.0f32,
+                        ([[0.0f32; 3]; 3], [0.0; 3]),
+                        [[0.0f32; 6]; m::I],
+                        [[0.0f32; 6]; m::R],
+                    );
+                    m::step_outputs_trig(
+                        &m::JointTrig::new(&q32),
+                        &p32,
+                        &mut jr,
+                        &mut manip,
+                        &mut g0e,
+                        &mut jbi,
+                        &mut jc,
+                    );
+                    let fki_ref32 = se3_matrix(&refm32.fk(&q32_64, i, None));
+                    for (w, e) in worst_fused32.iter_mut().zip([
+                        rel_err(&transform_matrix(&fk), &fk_ref32),
+                        rel_err(&from_cols(&jb0e), &jb_ref32),
+                        rel_err(&transform_matrix(&fk0i), &fki_ref32),
+                        rel_err(&from_cols(&jb0i), &jbi_ref32),
+                        rel_err(&from_cols(&jr), &jr_ref32),
+                        (f64::from(manip) - w_ref32).abs() / scale32,
+                        rel_err(&transform_matrix(&g0e), &fk_ref32),
+                        rel_err(&from_cols(&jbi), &jbi_ref32),
+                        rel_err(&from_cols(&jc), &jc_ref32),
+                    ]) {
+                        *w = w.max(e);
+                    }
+                }
+
                 // Finite differences of the emitted FK vs the emitted body Jacobians.
                 if s % 10 == 0 {
                     let fk = |x: &[f64]| {
@@ -524,6 +591,13 @@ macro_rules! check_robot {
             }
             for (k, e) in worst_step32.iter().enumerate() {
                 assert!(*e <= F32_BOUND, "pose_and_jacobians_trig f32 output {k}: error {e:e}");
+            }
+            println!("fused functions: f64 worst {worst_fused:?}; f32 {worst_fused32:?}");
+            for (k, e) in worst_fused.iter().enumerate() {
+                assert!(*e <= 1e-12, "fused f64 output {k}: error {e:e}");
+            }
+            for (k, e) in worst_fused32.iter().enumerate() {
+                assert!(*e <= F32_BOUND, "fused f32 output {k}: error {e:e}");
             }
         }
     };

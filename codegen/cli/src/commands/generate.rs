@@ -7,8 +7,8 @@ use crate::progress::with_spinner;
 use std::path::Path;
 use trocar_api::{Error, Robot};
 
-/// Runs `trocar generate`: writes the module to `output` (or stdout), and the C header to
-/// `c_header`; with `c_header` alone only the header is written. An output named `-` is stdout
+/// Runs `trocar generate`: writes the module to `output` (or stdout), with the fused
+/// `functions` besides the defaults, and the C header to `c_header`; with `c_header` alone only the header is written. An output named `-` is stdout
 /// (one of them at most).
 pub(crate) fn run(
     robot: &str,
@@ -16,6 +16,7 @@ pub(crate) fn run(
     real: RealArg,
     c_api: bool,
     c_header: Option<&Path>,
+    functions: Vec<trocar_model::catalogue::Fused>,
 ) -> Result<i32, CliError> {
     let stdout = Path::new("-");
     if output == Some(stdout) && c_header == Some(stdout) {
@@ -45,6 +46,7 @@ pub(crate) fn run(
     let options = trocar_codegen::ModuleOptions {
         real: real.into(),
         c_api,
+        functions,
         ..Default::default()
     };
     let write = |option: &str, path: &Path, text: &str| {

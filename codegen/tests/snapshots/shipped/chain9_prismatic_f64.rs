@@ -6076,6 +6076,1264 @@ pub mod chain9_prismatic {
             [<f64 as ::trocar::Real>::ZERO, p.l_a, <f64 as ::trocar::Real>::ZERO],
         )
     }
+    /// `g_0e`, `J^B_0e` in one program: the values of [`forward_kinematics`] and [`body_jacobian`], thesis (2.21), (2.53)–(2.55), computed together so that they share every common value.
+    ///
+    /// - `fk`: `g_0e` as `(R, p)`, `R` column-major (`r[col][row]`)
+    /// - `jb0e`: `J^B_0e`, 6 × N, column-major (`[[f64; 6]; N]`, `a[col][row]`)
+    ///
+    /// Operations: 168 add, 266 mul, 0 div, 0 sqrt, 8 trig (sin_cos), 1 neg, 0 abs.
+    #[inline]
+    pub fn pose_and_jacobian(
+        q: &[f64; N],
+        p: &Params,
+        fk: &mut ([[f64; 3]; 3], [f64; 3]),
+        jb0e: &mut [[f64; 6]; N],
+    ) {
+        let ([s1, s2, s3, s5, s6, s7, s8, s9], [c1, c2, c3, c5, c6, c7, c8, c9]) = <f64 as ::trocar::Real>::sin_cos_array(
+            &[q[0], q[1], q[2], q[4], q[5], q[6], q[7], q[8]],
+        );
+        let x0 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            c2,
+            -(0.29552020666133955_f64 * s2),
+        );
+        let x1 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            s2,
+            0.29552020666133955_f64 * c2,
+        );
+        let x2 = 0.8_f64 * s3;
+        let x3 = 0.6_f64 * s3;
+        let x4 = <f64 as ::trocar::Real>::mul_add(0.64_f64, c3, 0.36_f64);
+        let x5 = 0.48_f64 * (<f64 as ::trocar::Real>::ONE - c3);
+        let x6 = <f64 as ::trocar::Real>::mul_add(0.36_f64, c3, 0.64_f64);
+        let x7 = <f64 as ::trocar::Real>::mul_add(
+            0.3816559020950483_f64,
+            s5,
+            0.19866933079506122_f64 * c5,
+        );
+        let x8 = <f64 as ::trocar::Real>::mul_add(
+            0.19866933079506122_f64,
+            s5,
+            -(0.3816559020950483_f64 * c5),
+        );
+        let x9 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            c5,
+            -(0.07736548146578168_f64 * s5),
+        );
+        let x10 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            s5,
+            0.07736548146578168_f64 * c5,
+        );
+        let x11 = 0.9210609940028851_f64 * s5;
+        let x12 = 0.9210609940028851_f64 * c5;
+        let x13 = <f64 as ::trocar::Real>::mul_add(0.36_f64, c8, 0.64_f64);
+        let x14 = 0.6_f64 * s8;
+        let x15 = <f64 as ::trocar::Real>::ONE - c8;
+        let x16 = 0.48_f64 * x15;
+        let x17 = 0.8_f64 * s8;
+        let x18 = <f64 as ::trocar::Real>::mul_add(0.64_f64, c8, 0.36_f64);
+        let x19 = <f64 as ::trocar::Real>::mul_add(
+            0.9362933635841992_f64,
+            c9,
+            -(0.19866933079506122_f64 * s9),
+        );
+        let x20 = <f64 as ::trocar::Real>::mul_add(
+            0.09784339500725571_f64,
+            s9,
+            -(0.2750958473182437_f64 * c9),
+        );
+        let x21 = <f64 as ::trocar::Real>::mul_add(
+            0.21835066314633444_f64,
+            c9,
+            0.975170327201816_f64 * s9,
+        );
+        let x22 = <f64 as ::trocar::Real>::mul_add(
+            0.9362933635841992_f64,
+            s9,
+            0.19866933079506122_f64 * c9,
+        );
+        let x23 = <f64 as ::trocar::Real>::mul_add(
+            0.2750958473182437_f64,
+            s9,
+            0.09784339500725571_f64 * c9,
+        );
+        let x24 = <f64 as ::trocar::Real>::mul_add(
+            0.975170327201816_f64,
+            c9,
+            -(0.21835066314633444_f64 * s9),
+        );
+        let x25 = <f64 as ::trocar::Real>::mul_add(
+            -x16,
+            x22,
+            <f64 as ::trocar::Real>::mul_add(x13, x19, -(0.17377768657530931_f64 * s8)),
+        );
+        let x26 = <f64 as ::trocar::Real>::mul_add(
+            x16,
+            x23,
+            <f64 as ::trocar::Real>::mul_add(x13, x20, -(0.5738550515095394_f64 * s8)),
+        );
+        let x27 = <f64 as ::trocar::Real>::mul_add(
+            x16,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(x13, x21, 0.022174208114775048_f64 * s8),
+        );
+        let x28 = <f64 as ::trocar::Real>::mul_add(0.0048_f64, x15, -(0.15_f64 * s8));
+        let x29 = <f64 as ::trocar::Real>::mul_add(
+            x17,
+            x22,
+            <f64 as ::trocar::Real>::mul_add(x14, x19, 0.28962947762551555_f64 * c8),
+        );
+        let x30 = <f64 as ::trocar::Real>::mul_add(
+            -x17,
+            x23,
+            <f64 as ::trocar::Real>::mul_add(x14, x20, 0.9564250858492325_f64 * c8),
+        );
+        let x31 = <f64 as ::trocar::Real>::mul_add(
+            -x17,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(x14, x21, -(0.03695701352462508_f64 * c8)),
+        );
+        let x32 = 0.04_f64
+            + <f64 as ::trocar::Real>::mul_add(0.25_f64, c8, -(0.008_f64 * s8));
+        let x33 = <f64 as ::trocar::Real>::mul_add(
+            -x18,
+            x22,
+            <f64 as ::trocar::Real>::mul_add(x16, x19, 0.23170358210041245_f64 * s8),
+        );
+        let x34 = <f64 as ::trocar::Real>::mul_add(
+            x18,
+            x23,
+            <f64 as ::trocar::Real>::mul_add(x16, x20, 0.765140068679386_f64 * s8),
+        );
+        let x35 = <f64 as ::trocar::Real>::mul_add(
+            x18,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(x16, x21, -(0.029565610819700067_f64 * s8)),
+        );
+        let x36 = <f64 as ::trocar::Real>::mul_add(0.2_f64, s8, 0.01_f64 * x18);
+        let x37 = <f64 as ::trocar::Real>::mul_add(c7, x25, -(s7 * x29));
+        let x38 = <f64 as ::trocar::Real>::mul_add(c7, x26, -(s7 * x30));
+        let x39 = <f64 as ::trocar::Real>::mul_add(c7, x27, -(s7 * x31));
+        let x40 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(c7, x28, -(s7 * x32));
+        let x41 = <f64 as ::trocar::Real>::mul_add(s7, x25, c7 * x29);
+        let x42 = <f64 as ::trocar::Real>::mul_add(s7, x26, c7 * x30);
+        let x43 = <f64 as ::trocar::Real>::mul_add(s7, x27, c7 * x31);
+        let x44 = <f64 as ::trocar::Real>::mul_add(c6, x37, s6 * x33);
+        let x45 = <f64 as ::trocar::Real>::mul_add(c6, x38, s6 * x34);
+        let x46 = <f64 as ::trocar::Real>::mul_add(c6, x39, s6 * x35);
+        let x47 = <f64 as ::trocar::Real>::mul_add(c6, x40, s6 * x36);
+        let x48 = 0.05_f64
+            + (0.3_f64 + <f64 as ::trocar::Real>::mul_add(s7, x28, c7 * x32));
+        let x49 = <f64 as ::trocar::Real>::mul_add(c6, x33, -(s6 * x37));
+        let x50 = <f64 as ::trocar::Real>::mul_add(c6, x34, -(s6 * x38));
+        let x51 = <f64 as ::trocar::Real>::mul_add(c6, x35, -(s6 * x39));
+        let x52 = <f64 as ::trocar::Real>::mul_add(c6, x36, -(s6 * x40));
+        let x53 = <f64 as ::trocar::Real>::mul_add(
+            x8,
+            x49,
+            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x44, -(x7 * x41)),
+        );
+        let x54 = <f64 as ::trocar::Real>::mul_add(
+            x8,
+            x50,
+            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x45, -(x7 * x42)),
+        );
+        let x55 = <f64 as ::trocar::Real>::mul_add(
+            x8,
+            x51,
+            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x46, -(x7 * x43)),
+        );
+        let x56 = <f64 as ::trocar::Real>::mul_add(
+            -x10,
+            x49,
+            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x44, x9 * x41),
+        );
+        let x57 = <f64 as ::trocar::Real>::mul_add(
+            -x10,
+            x50,
+            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x45, x9 * x42),
+        );
+        let x58 = <f64 as ::trocar::Real>::mul_add(
+            -x10,
+            x51,
+            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x46, x9 * x43),
+        );
+        let x59 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x49,
+            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x44, x11 * x41),
+        );
+        let x60 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x50,
+            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x45, x11 * x42),
+        );
+        let x61 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x51,
+            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x46, x11 * x43),
+        );
+        let x62 = 0.02_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x12,
+                x52,
+                <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x47, x11 * x48),
+            );
+        let x63 = 0.01_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x8,
+                x52,
+                <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x47, -(x7 * x48)),
+            );
+        let x64 = 0.1_f64 + q[3]
+            + (0.25_f64
+                + <f64 as ::trocar::Real>::mul_add(
+                    -x10,
+                    x52,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.18298657129998708_f64,
+                        x47,
+                        x9 * x48,
+                    ),
+                ));
+        let x65 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x62, -(0.8_f64 * x64));
+        let x66 = 0.8_f64 * x63;
+        let x67 = 0.6_f64 * x63;
+        let x68 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x59,
+            <f64 as ::trocar::Real>::mul_add(c3, x53, -(x2 * x56)),
+        );
+        let x69 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x60,
+            <f64 as ::trocar::Real>::mul_add(c3, x54, -(x2 * x57)),
+        );
+        let x70 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x61,
+            <f64 as ::trocar::Real>::mul_add(c3, x55, -(x2 * x58)),
+        );
+        let x71 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x59,
+            <f64 as ::trocar::Real>::mul_add(x2, x53, x4 * x56),
+        );
+        let x72 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x60,
+            <f64 as ::trocar::Real>::mul_add(x2, x54, x4 * x57),
+        );
+        let x73 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x61,
+            <f64 as ::trocar::Real>::mul_add(x2, x55, x4 * x58),
+        );
+        let x74 = 0.4_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x5,
+                x62,
+                <f64 as ::trocar::Real>::mul_add(x2, x63, x4 * x64),
+            );
+        let x75 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x59,
+            <f64 as ::trocar::Real>::mul_add(x5, x56, -(x3 * x53)),
+        );
+        let x76 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x60,
+            <f64 as ::trocar::Real>::mul_add(x5, x57, -(x3 * x54)),
+        );
+        let x77 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x61,
+            <f64 as ::trocar::Real>::mul_add(x5, x58, -(x3 * x55)),
+        );
+        let x78 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x62,
+            <f64 as ::trocar::Real>::mul_add(x5, x64, -(x3 * x63)),
+        ) - 0.03_f64;
+        let x79 = 0.05_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x3,
+                x62,
+                <f64 as ::trocar::Real>::mul_add(c3, x63, -(x2 * x64)),
+            );
+        let x80 = <f64 as ::trocar::Real>::mul_add(x0, x71, -(x1 * x75));
+        let x81 = <f64 as ::trocar::Real>::mul_add(x0, x72, -(x1 * x76));
+        let x82 = <f64 as ::trocar::Real>::mul_add(x0, x73, -(x1 * x77));
+        let x83 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x74, -(x1 * x78));
+        let x84 = <f64 as ::trocar::Real>::mul_add(x1, x71, x0 * x75);
+        let x85 = <f64 as ::trocar::Real>::mul_add(x1, x72, x0 * x76);
+        let x86 = <f64 as ::trocar::Real>::mul_add(x1, x73, x0 * x77);
+        fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x68, -(s1 * x80));
+        fk.0[0][1] = <f64 as ::trocar::Real>::mul_add(s1, x68, c1 * x80);
+        fk.0[0][2] = x84;
+        fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x69, -(s1 * x81));
+        fk.0[1][1] = <f64 as ::trocar::Real>::mul_add(s1, x69, c1 * x81);
+        fk.0[1][2] = x85;
+        fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(c1, x70, -(s1 * x82));
+        fk.0[2][1] = <f64 as ::trocar::Real>::mul_add(s1, x70, c1 * x82);
+        fk.0[2][2] = x86;
+        fk.1[0] = <f64 as ::trocar::Real>::mul_add(c1, x79, -(s1 * x83));
+        fk.1[1] = <f64 as ::trocar::Real>::mul_add(s1, x79, c1 * x83);
+        fk.1[2] = p.d_1
+            + (0.1_f64 + <f64 as ::trocar::Real>::mul_add(x1, x74, x0 * x78));
+        jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x79, x80, -(x68 * x83));
+        jb0e[0][1] = <f64 as ::trocar::Real>::mul_add(x79, x81, -(x69 * x83));
+        jb0e[0][2] = <f64 as ::trocar::Real>::mul_add(x79, x82, -(x70 * x83));
+        jb0e[0][3] = x84;
+        jb0e[0][4] = x85;
+        jb0e[0][5] = x86;
+        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x74, x75, -(x71 * x78));
+        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x74, x76, -(x72 * x78));
+        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x74, x77, -(x73 * x78));
+        jb0e[1][3] = x68;
+        jb0e[1][4] = x69;
+        jb0e[1][5] = x70;
+        jb0e[2][0] = <f64 as ::trocar::Real>::mul_add(
+            -x59,
+            x67,
+            <f64 as ::trocar::Real>::mul_add(x53, x65, x56 * x66),
+        );
+        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(
+            -x60,
+            x67,
+            <f64 as ::trocar::Real>::mul_add(x54, x65, x57 * x66),
+        );
+        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(
+            -x61,
+            x67,
+            <f64 as ::trocar::Real>::mul_add(x55, x65, x58 * x66),
+        );
+        jb0e[2][3] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x56, 0.8_f64 * x59);
+        jb0e[2][4] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x57, 0.8_f64 * x60);
+        jb0e[2][5] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x58, 0.8_f64 * x61);
+        jb0e[3][0] = x56;
+        jb0e[3][1] = x57;
+        jb0e[3][2] = x58;
+        jb0e[3][3] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[3][4] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[3][5] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[4][0] = <f64 as ::trocar::Real>::mul_add(x48, x49, -(x41 * x52));
+        jb0e[4][1] = <f64 as ::trocar::Real>::mul_add(x48, x50, -(x42 * x52));
+        jb0e[4][2] = <f64 as ::trocar::Real>::mul_add(x48, x51, -(x43 * x52));
+        jb0e[4][3] = x44;
+        jb0e[4][4] = x45;
+        jb0e[4][5] = x46;
+        jb0e[5][0] = <f64 as ::trocar::Real>::mul_add(x36, x37, -(x33 * x40));
+        jb0e[5][1] = <f64 as ::trocar::Real>::mul_add(x36, x38, -(x34 * x40));
+        jb0e[5][2] = <f64 as ::trocar::Real>::mul_add(x36, x39, -(x35 * x40));
+        jb0e[5][3] = x41;
+        jb0e[5][4] = x42;
+        jb0e[5][5] = x43;
+        jb0e[6][0] = <f64 as ::trocar::Real>::mul_add(x28, x29, -(x25 * x32));
+        jb0e[6][1] = <f64 as ::trocar::Real>::mul_add(x28, x30, -(x26 * x32));
+        jb0e[6][2] = <f64 as ::trocar::Real>::mul_add(x28, x31, -(x27 * x32));
+        jb0e[6][3] = x33;
+        jb0e[6][4] = x34;
+        jb0e[6][5] = x35;
+        jb0e[7][0] = -<f64 as ::trocar::Real>::mul_add(
+            0.2_f64,
+            x22,
+            <f64 as ::trocar::Real>::mul_add(0.15_f64, x19, 0.0023170358210041243_f64),
+        );
+        jb0e[7][1] = <f64 as ::trocar::Real>::mul_add(
+            0.2_f64,
+            x23,
+            -<f64 as ::trocar::Real>::mul_add(0.15_f64, x20, 0.00765140068679386_f64),
+        );
+        jb0e[7][2] = <f64 as ::trocar::Real>::mul_add(
+            0.2_f64,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(-0.15_f64, x21, 0.00029565610819700066_f64),
+        );
+        jb0e[7][3] = <f64 as ::trocar::Real>::mul_add(0.8_f64, x19, -(0.6_f64 * x22));
+        jb0e[7][4] = <f64 as ::trocar::Real>::mul_add(0.8_f64, x20, 0.6_f64 * x23);
+        jb0e[7][5] = <f64 as ::trocar::Real>::mul_add(0.8_f64, x21, 0.6_f64 * x24);
+        jb0e[8][0] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[8][1] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[8][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[8][3] = 0.28962947762551555_f64;
+        jb0e[8][4] = 0.9564250858492325_f64;
+        jb0e[8][5] = -0.03695701352462508_f64;
+    }
+    /// [`pose_and_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]).
+    ///
+    /// Operations: 168 add, 266 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
+    #[inline]
+    pub fn pose_and_jacobian_trig(
+        t: &JointTrig,
+        p: &Params,
+        fk: &mut ([[f64; 3]; 3], [f64; 3]),
+        jb0e: &mut [[f64; 6]; N],
+    ) {
+        let x0 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            t.cos[1],
+            -(0.29552020666133955_f64 * t.sin[1]),
+        );
+        let x1 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            t.sin[1],
+            0.29552020666133955_f64 * t.cos[1],
+        );
+        let x2 = 0.8_f64 * t.sin[2];
+        let x3 = 0.6_f64 * t.sin[2];
+        let x4 = <f64 as ::trocar::Real>::mul_add(0.64_f64, t.cos[2], 0.36_f64);
+        let x5 = 0.48_f64 * (<f64 as ::trocar::Real>::ONE - t.cos[2]);
+        let x6 = <f64 as ::trocar::Real>::mul_add(0.36_f64, t.cos[2], 0.64_f64);
+        let x7 = <f64 as ::trocar::Real>::mul_add(
+            0.3816559020950483_f64,
+            t.sin[4],
+            0.19866933079506122_f64 * t.cos[4],
+        );
+        let x8 = <f64 as ::trocar::Real>::mul_add(
+            0.19866933079506122_f64,
+            t.sin[4],
+            -(0.3816559020950483_f64 * t.cos[4]),
+        );
+        let x9 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            t.cos[4],
+            -(0.07736548146578168_f64 * t.sin[4]),
+        );
+        let x10 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            t.sin[4],
+            0.07736548146578168_f64 * t.cos[4],
+        );
+        let x11 = 0.9210609940028851_f64 * t.sin[4];
+        let x12 = 0.9210609940028851_f64 * t.cos[4];
+        let x13 = <f64 as ::trocar::Real>::mul_add(0.36_f64, t.cos[7], 0.64_f64);
+        let x14 = 0.6_f64 * t.sin[7];
+        let x15 = <f64 as ::trocar::Real>::ONE - t.cos[7];
+        let x16 = 0.48_f64 * x15;
+        let x17 = 0.8_f64 * t.sin[7];
+        let x18 = <f64 as ::trocar::Real>::mul_add(0.64_f64, t.cos[7], 0.36_f64);
+        let x19 = <f64 as ::trocar::Real>::mul_add(
+            0.9362933635841992_f64,
+            t.cos[8],
+            -(0.19866933079506122_f64 * t.sin[8]),
+        );
+        let x20 = <f64 as ::trocar::Real>::mul_add(
+            0.09784339500725571_f64,
+            t.sin[8],
+            -(0.2750958473182437_f64 * t.cos[8]),
+        );
+        let x21 = <f64 as ::trocar::Real>::mul_add(
+            0.21835066314633444_f64,
+            t.cos[8],
+            0.975170327201816_f64 * t.sin[8],
+        );
+        let x22 = <f64 as ::trocar::Real>::mul_add(
+            0.9362933635841992_f64,
+            t.sin[8],
+            0.19866933079506122_f64 * t.cos[8],
+        );
+        let x23 = <f64 as ::trocar::Real>::mul_add(
+            0.2750958473182437_f64,
+            t.sin[8],
+            0.09784339500725571_f64 * t.cos[8],
+        );
+        let x24 = <f64 as ::trocar::Real>::mul_add(
+            0.975170327201816_f64,
+            t.cos[8],
+            -(0.21835066314633444_f64 * t.sin[8]),
+        );
+        let x25 = <f64 as ::trocar::Real>::mul_add(
+            -x16,
+            x22,
+            <f64 as ::trocar::Real>::mul_add(
+                x13,
+                x19,
+                -(0.17377768657530931_f64 * t.sin[7]),
+            ),
+        );
+        let x26 = <f64 as ::trocar::Real>::mul_add(
+            x16,
+            x23,
+            <f64 as ::trocar::Real>::mul_add(
+                x13,
+                x20,
+                -(0.5738550515095394_f64 * t.sin[7]),
+            ),
+        );
+        let x27 = <f64 as ::trocar::Real>::mul_add(
+            x16,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(
+                x13,
+                x21,
+                0.022174208114775048_f64 * t.sin[7],
+            ),
+        );
+        let x28 = <f64 as ::trocar::Real>::mul_add(
+            0.0048_f64,
+            x15,
+            -(0.15_f64 * t.sin[7]),
+        );
+        let x29 = <f64 as ::trocar::Real>::mul_add(
+            x17,
+            x22,
+            <f64 as ::trocar::Real>::mul_add(
+                x14,
+                x19,
+                0.28962947762551555_f64 * t.cos[7],
+            ),
+        );
+        let x30 = <f64 as ::trocar::Real>::mul_add(
+            -x17,
+            x23,
+            <f64 as ::trocar::Real>::mul_add(x14, x20, 0.9564250858492325_f64 * t.cos[7]),
+        );
+        let x31 = <f64 as ::trocar::Real>::mul_add(
+            -x17,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(
+                x14,
+                x21,
+                -(0.03695701352462508_f64 * t.cos[7]),
+            ),
+        );
+        let x32 = 0.04_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                0.25_f64,
+                t.cos[7],
+                -(0.008_f64 * t.sin[7]),
+            );
+        let x33 = <f64 as ::trocar::Real>::mul_add(
+            -x18,
+            x22,
+            <f64 as ::trocar::Real>::mul_add(
+                x16,
+                x19,
+                0.23170358210041245_f64 * t.sin[7],
+            ),
+        );
+        let x34 = <f64 as ::trocar::Real>::mul_add(
+            x18,
+            x23,
+            <f64 as ::trocar::Real>::mul_add(x16, x20, 0.765140068679386_f64 * t.sin[7]),
+        );
+        let x35 = <f64 as ::trocar::Real>::mul_add(
+            x18,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(
+                x16,
+                x21,
+                -(0.029565610819700067_f64 * t.sin[7]),
+            ),
+        );
+        let x36 = <f64 as ::trocar::Real>::mul_add(0.2_f64, t.sin[7], 0.01_f64 * x18);
+        let x37 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x25, -(t.sin[6] * x29));
+        let x38 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x26, -(t.sin[6] * x30));
+        let x39 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x27, -(t.sin[6] * x31));
+        let x40 = 0.02_f64
+            + <f64 as ::trocar::Real>::mul_add(t.cos[6], x28, -(t.sin[6] * x32));
+        let x41 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x25, t.cos[6] * x29);
+        let x42 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x26, t.cos[6] * x30);
+        let x43 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x27, t.cos[6] * x31);
+        let x44 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x37, t.sin[5] * x33);
+        let x45 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x38, t.sin[5] * x34);
+        let x46 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x39, t.sin[5] * x35);
+        let x47 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x40, t.sin[5] * x36);
+        let x48 = 0.05_f64
+            + (0.3_f64
+                + <f64 as ::trocar::Real>::mul_add(t.sin[6], x28, t.cos[6] * x32));
+        let x49 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x33, -(t.sin[5] * x37));
+        let x50 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x34, -(t.sin[5] * x38));
+        let x51 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x35, -(t.sin[5] * x39));
+        let x52 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x36, -(t.sin[5] * x40));
+        let x53 = <f64 as ::trocar::Real>::mul_add(
+            x8,
+            x49,
+            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x44, -(x7 * x41)),
+        );
+        let x54 = <f64 as ::trocar::Real>::mul_add(
+            x8,
+            x50,
+            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x45, -(x7 * x42)),
+        );
+        let x55 = <f64 as ::trocar::Real>::mul_add(
+            x8,
+            x51,
+            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x46, -(x7 * x43)),
+        );
+        let x56 = <f64 as ::trocar::Real>::mul_add(
+            -x10,
+            x49,
+            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x44, x9 * x41),
+        );
+        let x57 = <f64 as ::trocar::Real>::mul_add(
+            -x10,
+            x50,
+            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x45, x9 * x42),
+        );
+        let x58 = <f64 as ::trocar::Real>::mul_add(
+            -x10,
+            x51,
+            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x46, x9 * x43),
+        );
+        let x59 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x49,
+            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x44, x11 * x41),
+        );
+        let x60 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x50,
+            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x45, x11 * x42),
+        );
+        let x61 = <f64 as ::trocar::Real>::mul_add(
+            x12,
+            x51,
+            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x46, x11 * x43),
+        );
+        let x62 = 0.02_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x12,
+                x52,
+                <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x47, x11 * x48),
+            );
+        let x63 = 0.01_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x8,
+                x52,
+                <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x47, -(x7 * x48)),
+            );
+        let x64 = 0.1_f64 + t.q[3]
+            + (0.25_f64
+                + <f64 as ::trocar::Real>::mul_add(
+                    -x10,
+                    x52,
+                    <f64 as ::trocar::Real>::mul_add(
+                        0.18298657129998708_f64,
+                        x47,
+                        x9 * x48,
+                    ),
+                ));
+        let x65 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x62, -(0.8_f64 * x64));
+        let x66 = 0.8_f64 * x63;
+        let x67 = 0.6_f64 * x63;
+        let x68 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x59,
+            <f64 as ::trocar::Real>::mul_add(t.cos[2], x53, -(x2 * x56)),
+        );
+        let x69 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x60,
+            <f64 as ::trocar::Real>::mul_add(t.cos[2], x54, -(x2 * x57)),
+        );
+        let x70 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x61,
+            <f64 as ::trocar::Real>::mul_add(t.cos[2], x55, -(x2 * x58)),
+        );
+        let x71 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x59,
+            <f64 as ::trocar::Real>::mul_add(x2, x53, x4 * x56),
+        );
+        let x72 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x60,
+            <f64 as ::trocar::Real>::mul_add(x2, x54, x4 * x57),
+        );
+        let x73 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x61,
+            <f64 as ::trocar::Real>::mul_add(x2, x55, x4 * x58),
+        );
+        let x74 = 0.4_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x5,
+                x62,
+                <f64 as ::trocar::Real>::mul_add(x2, x63, x4 * x64),
+            );
+        let x75 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x59,
+            <f64 as ::trocar::Real>::mul_add(x5, x56, -(x3 * x53)),
+        );
+        let x76 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x60,
+            <f64 as ::trocar::Real>::mul_add(x5, x57, -(x3 * x54)),
+        );
+        let x77 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x61,
+            <f64 as ::trocar::Real>::mul_add(x5, x58, -(x3 * x55)),
+        );
+        let x78 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x62,
+            <f64 as ::trocar::Real>::mul_add(x5, x64, -(x3 * x63)),
+        ) - 0.03_f64;
+        let x79 = 0.05_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x3,
+                x62,
+                <f64 as ::trocar::Real>::mul_add(t.cos[2], x63, -(x2 * x64)),
+            );
+        let x80 = <f64 as ::trocar::Real>::mul_add(x0, x71, -(x1 * x75));
+        let x81 = <f64 as ::trocar::Real>::mul_add(x0, x72, -(x1 * x76));
+        let x82 = <f64 as ::trocar::Real>::mul_add(x0, x73, -(x1 * x77));
+        let x83 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x74, -(x1 * x78));
+        let x84 = <f64 as ::trocar::Real>::mul_add(x1, x71, x0 * x75);
+        let x85 = <f64 as ::trocar::Real>::mul_add(x1, x72, x0 * x76);
+        let x86 = <f64 as ::trocar::Real>::mul_add(x1, x73, x0 * x77);
+        fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x68, -(t.sin[0] * x80));
+        fk.0[0][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x68, t.cos[0] * x80);
+        fk.0[0][2] = x84;
+        fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x69, -(t.sin[0] * x81));
+        fk.0[1][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x69, t.cos[0] * x81);
+        fk.0[1][2] = x85;
+        fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x70, -(t.sin[0] * x82));
+        fk.0[2][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x70, t.cos[0] * x82);
+        fk.0[2][2] = x86;
+        fk.1[0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x79, -(t.sin[0] * x83));
+        fk.1[1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x79, t.cos[0] * x83);
+        fk.1[2] = p.d_1
+            + (0.1_f64 + <f64 as ::trocar::Real>::mul_add(x1, x74, x0 * x78));
+        jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x79, x80, -(x68 * x83));
+        jb0e[0][1] = <f64 as ::trocar::Real>::mul_add(x79, x81, -(x69 * x83));
+        jb0e[0][2] = <f64 as ::trocar::Real>::mul_add(x79, x82, -(x70 * x83));
+        jb0e[0][3] = x84;
+        jb0e[0][4] = x85;
+        jb0e[0][5] = x86;
+        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x74, x75, -(x71 * x78));
+        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x74, x76, -(x72 * x78));
+        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x74, x77, -(x73 * x78));
+        jb0e[1][3] = x68;
+        jb0e[1][4] = x69;
+        jb0e[1][5] = x70;
+        jb0e[2][0] = <f64 as ::trocar::Real>::mul_add(
+            -x59,
+            x67,
+            <f64 as ::trocar::Real>::mul_add(x53, x65, x56 * x66),
+        );
+        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(
+            -x60,
+            x67,
+            <f64 as ::trocar::Real>::mul_add(x54, x65, x57 * x66),
+        );
+        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(
+            -x61,
+            x67,
+            <f64 as ::trocar::Real>::mul_add(x55, x65, x58 * x66),
+        );
+        jb0e[2][3] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x56, 0.8_f64 * x59);
+        jb0e[2][4] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x57, 0.8_f64 * x60);
+        jb0e[2][5] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x58, 0.8_f64 * x61);
+        jb0e[3][0] = x56;
+        jb0e[3][1] = x57;
+        jb0e[3][2] = x58;
+        jb0e[3][3] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[3][4] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[3][5] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[4][0] = <f64 as ::trocar::Real>::mul_add(x48, x49, -(x41 * x52));
+        jb0e[4][1] = <f64 as ::trocar::Real>::mul_add(x48, x50, -(x42 * x52));
+        jb0e[4][2] = <f64 as ::trocar::Real>::mul_add(x48, x51, -(x43 * x52));
+        jb0e[4][3] = x44;
+        jb0e[4][4] = x45;
+        jb0e[4][5] = x46;
+        jb0e[5][0] = <f64 as ::trocar::Real>::mul_add(x36, x37, -(x33 * x40));
+        jb0e[5][1] = <f64 as ::trocar::Real>::mul_add(x36, x38, -(x34 * x40));
+        jb0e[5][2] = <f64 as ::trocar::Real>::mul_add(x36, x39, -(x35 * x40));
+        jb0e[5][3] = x41;
+        jb0e[5][4] = x42;
+        jb0e[5][5] = x43;
+        jb0e[6][0] = <f64 as ::trocar::Real>::mul_add(x28, x29, -(x25 * x32));
+        jb0e[6][1] = <f64 as ::trocar::Real>::mul_add(x28, x30, -(x26 * x32));
+        jb0e[6][2] = <f64 as ::trocar::Real>::mul_add(x28, x31, -(x27 * x32));
+        jb0e[6][3] = x33;
+        jb0e[6][4] = x34;
+        jb0e[6][5] = x35;
+        jb0e[7][0] = -<f64 as ::trocar::Real>::mul_add(
+            0.2_f64,
+            x22,
+            <f64 as ::trocar::Real>::mul_add(0.15_f64, x19, 0.0023170358210041243_f64),
+        );
+        jb0e[7][1] = <f64 as ::trocar::Real>::mul_add(
+            0.2_f64,
+            x23,
+            -<f64 as ::trocar::Real>::mul_add(0.15_f64, x20, 0.00765140068679386_f64),
+        );
+        jb0e[7][2] = <f64 as ::trocar::Real>::mul_add(
+            0.2_f64,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(-0.15_f64, x21, 0.00029565610819700066_f64),
+        );
+        jb0e[7][3] = <f64 as ::trocar::Real>::mul_add(0.8_f64, x19, -(0.6_f64 * x22));
+        jb0e[7][4] = <f64 as ::trocar::Real>::mul_add(0.8_f64, x20, 0.6_f64 * x23);
+        jb0e[7][5] = <f64 as ::trocar::Real>::mul_add(0.8_f64, x21, 0.6_f64 * x24);
+        jb0e[8][0] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[8][1] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[8][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[8][3] = 0.28962947762551555_f64;
+        jb0e[8][4] = 0.9564250858492325_f64;
+        jb0e[8][5] = -0.03695701352462508_f64;
+    }
+    /// `g_0i`, `J^B_0i` in one program: the values of [`forward_kinematics_i`] and [`partial_body_jacobian`], thesis (2.21), (3.13), computed together so that they share every common value.
+    ///
+    /// - `fk0i`: `g_0i` as `(R, p)`, `R` column-major (`r[col][row]`)
+    /// - `jb0i`: `J^B_0i`, 6 × I, column-major (`[[f64; 6]; I]`, `a[col][row]`)
+    ///
+    /// Operations: 82 add, 135 mul, 0 div, 0 sqrt, 5 trig (sin_cos), 1 neg, 0 abs.
+    #[inline]
+    pub fn link_pose_and_jacobian(
+        q: &[f64; N],
+        p: &Params,
+        fk0i: &mut ([[f64; 3]; 3], [f64; 3]),
+        jb0i: &mut [[f64; 6]; I],
+    ) {
+        let ([s1, s2, s3, s5, s6], [c1, c2, c3, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+            &[q[0], q[1], q[2], q[4], q[5]],
+        );
+        let x0 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            c2,
+            -(0.29552020666133955_f64 * s2),
+        );
+        let x1 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            s2,
+            0.29552020666133955_f64 * c2,
+        );
+        let x2 = 0.8_f64 * s3;
+        let x3 = 0.6_f64 * s3;
+        let x4 = <f64 as ::trocar::Real>::mul_add(0.64_f64, c3, 0.36_f64);
+        let x5 = 0.48_f64 * (<f64 as ::trocar::Real>::ONE - c3);
+        let x6 = <f64 as ::trocar::Real>::mul_add(0.36_f64, c3, 0.64_f64);
+        let x7 = <f64 as ::trocar::Real>::mul_add(
+            0.3816559020950483_f64,
+            s5,
+            0.19866933079506122_f64 * c5,
+        );
+        let x8 = <f64 as ::trocar::Real>::mul_add(
+            0.19866933079506122_f64,
+            s5,
+            -(0.3816559020950483_f64 * c5),
+        );
+        let x9 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            c5,
+            -(0.07736548146578168_f64 * s5),
+        );
+        let x10 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            s5,
+            0.07736548146578168_f64 * c5,
+        );
+        let x11 = 0.9210609940028851_f64 * s5;
+        let x12 = 0.9210609940028851_f64 * c5;
+        let x13 = <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, c6, -(x8 * s6));
+        let x14 = <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, s6, x8 * c6);
+        let x15 = <f64 as ::trocar::Real>::mul_add(
+            0.18298657129998708_f64,
+            c6,
+            x10 * s6,
+        );
+        let x16 = <f64 as ::trocar::Real>::mul_add(
+            0.18298657129998708_f64,
+            s6,
+            -(x10 * c6),
+        );
+        let x17 = <f64 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f64,
+            c6,
+            -(x12 * s6),
+        );
+        let x18 = <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, s6, x12 * c6);
+        let x19 = <f64 as ::trocar::Real>::mul_add(
+            0.04605304970014426_f64,
+            s5,
+            0.02_f64,
+        );
+        let x20 = <f64 as ::trocar::Real>::mul_add(-0.05_f64, x7, 0.01_f64);
+        let x21 = 0.1_f64 + q[3]
+            + <f64 as ::trocar::Real>::mul_add(0.05_f64, x9, 0.25_f64);
+        let x22 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x19, -(0.8_f64 * x21));
+        let x23 = 0.8_f64 * x20;
+        let x24 = 0.6_f64 * x20;
+        let x25 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x17,
+            <f64 as ::trocar::Real>::mul_add(c3, x13, -(x2 * x15)),
+        );
+        let x26 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x11,
+            -<f64 as ::trocar::Real>::mul_add(c3, x7, x2 * x9),
+        );
+        let x27 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x18,
+            <f64 as ::trocar::Real>::mul_add(c3, x14, -(x2 * x16)),
+        );
+        let x28 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x17,
+            <f64 as ::trocar::Real>::mul_add(x2, x13, x4 * x15),
+        );
+        let x29 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x11,
+            <f64 as ::trocar::Real>::mul_add(x4, x9, -(x2 * x7)),
+        );
+        let x30 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x18,
+            <f64 as ::trocar::Real>::mul_add(x2, x14, x4 * x16),
+        );
+        let x31 = 0.4_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x5,
+                x19,
+                <f64 as ::trocar::Real>::mul_add(x2, x20, x4 * x21),
+            );
+        let x32 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x17,
+            <f64 as ::trocar::Real>::mul_add(x5, x15, -(x3 * x13)),
+        );
+        let x33 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x11,
+            <f64 as ::trocar::Real>::mul_add(x3, x7, x5 * x9),
+        );
+        let x34 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x18,
+            <f64 as ::trocar::Real>::mul_add(x5, x16, -(x3 * x14)),
+        );
+        let x35 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x19,
+            <f64 as ::trocar::Real>::mul_add(x5, x21, -(x3 * x20)),
+        ) - 0.03_f64;
+        let x36 = 0.05_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x3,
+                x19,
+                <f64 as ::trocar::Real>::mul_add(c3, x20, -(x2 * x21)),
+            );
+        let x37 = <f64 as ::trocar::Real>::mul_add(x0, x28, -(x1 * x32));
+        let x38 = <f64 as ::trocar::Real>::mul_add(x0, x29, -(x1 * x33));
+        let x39 = <f64 as ::trocar::Real>::mul_add(x0, x30, -(x1 * x34));
+        let x40 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35));
+        let x41 = <f64 as ::trocar::Real>::mul_add(x1, x28, x0 * x32);
+        let x42 = <f64 as ::trocar::Real>::mul_add(x1, x29, x0 * x33);
+        let x43 = <f64 as ::trocar::Real>::mul_add(x1, x30, x0 * x34);
+        fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x25, -(s1 * x37));
+        fk0i.0[0][1] = <f64 as ::trocar::Real>::mul_add(s1, x25, c1 * x37);
+        fk0i.0[0][2] = x41;
+        fk0i.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x26, -(s1 * x38));
+        fk0i.0[1][1] = <f64 as ::trocar::Real>::mul_add(s1, x26, c1 * x38);
+        fk0i.0[1][2] = x42;
+        fk0i.0[2][0] = <f64 as ::trocar::Real>::mul_add(c1, x27, -(s1 * x39));
+        fk0i.0[2][1] = <f64 as ::trocar::Real>::mul_add(s1, x27, c1 * x39);
+        fk0i.0[2][2] = x43;
+        fk0i.1[0] = <f64 as ::trocar::Real>::mul_add(c1, x36, -(s1 * x40));
+        fk0i.1[1] = <f64 as ::trocar::Real>::mul_add(s1, x36, c1 * x40);
+        fk0i.1[2] = p.d_1
+            + (0.1_f64 + <f64 as ::trocar::Real>::mul_add(x1, x31, x0 * x35));
+        jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(x36, x37, -(x25 * x40));
+        jb0i[0][1] = <f64 as ::trocar::Real>::mul_add(x36, x38, -(x26 * x40));
+        jb0i[0][2] = <f64 as ::trocar::Real>::mul_add(x36, x39, -(x27 * x40));
+        jb0i[0][3] = x41;
+        jb0i[0][4] = x42;
+        jb0i[0][5] = x43;
+        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x31, x32, -(x28 * x35));
+        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x31, x33, -(x29 * x35));
+        jb0i[1][2] = <f64 as ::trocar::Real>::mul_add(x31, x34, -(x30 * x35));
+        jb0i[1][3] = x25;
+        jb0i[1][4] = x26;
+        jb0i[1][5] = x27;
+        jb0i[2][0] = <f64 as ::trocar::Real>::mul_add(
+            -x17,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(x13, x22, x15 * x23),
+        );
+        jb0i[2][1] = <f64 as ::trocar::Real>::mul_add(
+            -x11,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(x9, x23, -(x7 * x22)),
+        );
+        jb0i[2][2] = <f64 as ::trocar::Real>::mul_add(
+            -x18,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(x14, x22, x16 * x23),
+        );
+        jb0i[2][3] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x15, 0.8_f64 * x17);
+        jb0i[2][4] = <f64 as ::trocar::Real>::mul_add(
+            0.6_f64,
+            x9,
+            0.7368487952023082_f64 * s5,
+        );
+        jb0i[2][5] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x16, 0.8_f64 * x18);
+        jb0i[3][0] = x15;
+        jb0i[3][1] = x9;
+        jb0i[3][2] = x16;
+        jb0i[3][3] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[3][4] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[3][5] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[4][0] = -(0.05_f64 * s6);
+        jb0i[4][1] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[4][2] = 0.05_f64 * c6;
+        jb0i[4][3] = c6;
+        jb0i[4][4] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[4][5] = s6;
+        jb0i[5][0] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[5][1] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[5][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[5][3] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[5][4] = <f64 as ::trocar::Real>::ONE;
+        jb0i[5][5] = <f64 as ::trocar::Real>::ZERO;
+    }
+    /// [`link_pose_and_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]).
+    ///
+    /// Operations: 82 add, 135 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
+    #[inline]
+    pub fn link_pose_and_jacobian_trig(
+        t: &JointTrig,
+        p: &Params,
+        fk0i: &mut ([[f64; 3]; 3], [f64; 3]),
+        jb0i: &mut [[f64; 6]; I],
+    ) {
+        let x0 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            t.cos[1],
+            -(0.29552020666133955_f64 * t.sin[1]),
+        );
+        let x1 = <f64 as ::trocar::Real>::mul_add(
+            0.955336489125606_f64,
+            t.sin[1],
+            0.29552020666133955_f64 * t.cos[1],
+        );
+        let x2 = 0.8_f64 * t.sin[2];
+        let x3 = 0.6_f64 * t.sin[2];
+        let x4 = <f64 as ::trocar::Real>::mul_add(0.64_f64, t.cos[2], 0.36_f64);
+        let x5 = 0.48_f64 * (<f64 as ::trocar::Real>::ONE - t.cos[2]);
+        let x6 = <f64 as ::trocar::Real>::mul_add(0.36_f64, t.cos[2], 0.64_f64);
+        let x7 = <f64 as ::trocar::Real>::mul_add(
+            0.3816559020950483_f64,
+            t.sin[4],
+            0.19866933079506122_f64 * t.cos[4],
+        );
+        let x8 = <f64 as ::trocar::Real>::mul_add(
+            0.19866933079506122_f64,
+            t.sin[4],
+            -(0.3816559020950483_f64 * t.cos[4]),
+        );
+        let x9 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            t.cos[4],
+            -(0.07736548146578168_f64 * t.sin[4]),
+        );
+        let x10 = <f64 as ::trocar::Real>::mul_add(
+            0.9800665778412416_f64,
+            t.sin[4],
+            0.07736548146578168_f64 * t.cos[4],
+        );
+        let x11 = 0.9210609940028851_f64 * t.sin[4];
+        let x12 = 0.9210609940028851_f64 * t.cos[4];
+        let x13 = <f64 as ::trocar::Real>::mul_add(
+            0.90270109637546_f64,
+            t.cos[5],
+            -(x8 * t.sin[5]),
+        );
+        let x14 = <f64 as ::trocar::Real>::mul_add(
+            0.90270109637546_f64,
+            t.sin[5],
+            x8 * t.cos[5],
+        );
+        let x15 = <f64 as ::trocar::Real>::mul_add(
+            0.18298657129998708_f64,
+            t.cos[5],
+            x10 * t.sin[5],
+        );
+        let x16 = <f64 as ::trocar::Real>::mul_add(
+            0.18298657129998708_f64,
+            t.sin[5],
+            -(x10 * t.cos[5]),
+        );
+        let x17 = <f64 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f64,
+            t.cos[5],
+            -(x12 * t.sin[5]),
+        );
+        let x18 = <f64 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f64,
+            t.sin[5],
+            x12 * t.cos[5],
+        );
+        let x19 = <f64 as ::trocar::Real>::mul_add(
+            0.04605304970014426_f64,
+            t.sin[4],
+            0.02_f64,
+        );
+        let x20 = <f64 as ::trocar::Real>::mul_add(-0.05_f64, x7, 0.01_f64);
+        let x21 = 0.1_f64 + t.q[3]
+            + <f64 as ::trocar::Real>::mul_add(0.05_f64, x9, 0.25_f64);
+        let x22 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x19, -(0.8_f64 * x21));
+        let x23 = 0.8_f64 * x20;
+        let x24 = 0.6_f64 * x20;
+        let x25 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x17,
+            <f64 as ::trocar::Real>::mul_add(t.cos[2], x13, -(x2 * x15)),
+        );
+        let x26 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x11,
+            -<f64 as ::trocar::Real>::mul_add(t.cos[2], x7, x2 * x9),
+        );
+        let x27 = <f64 as ::trocar::Real>::mul_add(
+            x3,
+            x18,
+            <f64 as ::trocar::Real>::mul_add(t.cos[2], x14, -(x2 * x16)),
+        );
+        let x28 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x17,
+            <f64 as ::trocar::Real>::mul_add(x2, x13, x4 * x15),
+        );
+        let x29 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x11,
+            <f64 as ::trocar::Real>::mul_add(x4, x9, -(x2 * x7)),
+        );
+        let x30 = <f64 as ::trocar::Real>::mul_add(
+            x5,
+            x18,
+            <f64 as ::trocar::Real>::mul_add(x2, x14, x4 * x16),
+        );
+        let x31 = 0.4_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x5,
+                x19,
+                <f64 as ::trocar::Real>::mul_add(x2, x20, x4 * x21),
+            );
+        let x32 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x17,
+            <f64 as ::trocar::Real>::mul_add(x5, x15, -(x3 * x13)),
+        );
+        let x33 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x11,
+            <f64 as ::trocar::Real>::mul_add(x3, x7, x5 * x9),
+        );
+        let x34 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x18,
+            <f64 as ::trocar::Real>::mul_add(x5, x16, -(x3 * x14)),
+        );
+        let x35 = <f64 as ::trocar::Real>::mul_add(
+            x6,
+            x19,
+            <f64 as ::trocar::Real>::mul_add(x5, x21, -(x3 * x20)),
+        ) - 0.03_f64;
+        let x36 = 0.05_f64
+            + <f64 as ::trocar::Real>::mul_add(
+                x3,
+                x19,
+                <f64 as ::trocar::Real>::mul_add(t.cos[2], x20, -(x2 * x21)),
+            );
+        let x37 = <f64 as ::trocar::Real>::mul_add(x0, x28, -(x1 * x32));
+        let x38 = <f64 as ::trocar::Real>::mul_add(x0, x29, -(x1 * x33));
+        let x39 = <f64 as ::trocar::Real>::mul_add(x0, x30, -(x1 * x34));
+        let x40 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35));
+        let x41 = <f64 as ::trocar::Real>::mul_add(x1, x28, x0 * x32);
+        let x42 = <f64 as ::trocar::Real>::mul_add(x1, x29, x0 * x33);
+        let x43 = <f64 as ::trocar::Real>::mul_add(x1, x30, x0 * x34);
+        fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(
+            t.cos[0],
+            x25,
+            -(t.sin[0] * x37),
+        );
+        fk0i.0[0][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x25, t.cos[0] * x37);
+        fk0i.0[0][2] = x41;
+        fk0i.0[1][0] = <f64 as ::trocar::Real>::mul_add(
+            t.cos[0],
+            x26,
+            -(t.sin[0] * x38),
+        );
+        fk0i.0[1][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x26, t.cos[0] * x38);
+        fk0i.0[1][2] = x42;
+        fk0i.0[2][0] = <f64 as ::trocar::Real>::mul_add(
+            t.cos[0],
+            x27,
+            -(t.sin[0] * x39),
+        );
+        fk0i.0[2][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x27, t.cos[0] * x39);
+        fk0i.0[2][2] = x43;
+        fk0i.1[0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x36, -(t.sin[0] * x40));
+        fk0i.1[1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x36, t.cos[0] * x40);
+        fk0i.1[2] = p.d_1
+            + (0.1_f64 + <f64 as ::trocar::Real>::mul_add(x1, x31, x0 * x35));
+        jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(x36, x37, -(x25 * x40));
+        jb0i[0][1] = <f64 as ::trocar::Real>::mul_add(x36, x38, -(x26 * x40));
+        jb0i[0][2] = <f64 as ::trocar::Real>::mul_add(x36, x39, -(x27 * x40));
+        jb0i[0][3] = x41;
+        jb0i[0][4] = x42;
+        jb0i[0][5] = x43;
+        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x31, x32, -(x28 * x35));
+        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x31, x33, -(x29 * x35));
+        jb0i[1][2] = <f64 as ::trocar::Real>::mul_add(x31, x34, -(x30 * x35));
+        jb0i[1][3] = x25;
+        jb0i[1][4] = x26;
+        jb0i[1][5] = x27;
+        jb0i[2][0] = <f64 as ::trocar::Real>::mul_add(
+            -x17,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(x13, x22, x15 * x23),
+        );
+        jb0i[2][1] = <f64 as ::trocar::Real>::mul_add(
+            -x11,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(x9, x23, -(x7 * x22)),
+        );
+        jb0i[2][2] = <f64 as ::trocar::Real>::mul_add(
+            -x18,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(x14, x22, x16 * x23),
+        );
+        jb0i[2][3] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x15, 0.8_f64 * x17);
+        jb0i[2][4] = <f64 as ::trocar::Real>::mul_add(
+            0.6_f64,
+            x9,
+            0.7368487952023082_f64 * t.sin[4],
+        );
+        jb0i[2][5] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x16, 0.8_f64 * x18);
+        jb0i[3][0] = x15;
+        jb0i[3][1] = x9;
+        jb0i[3][2] = x16;
+        jb0i[3][3] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[3][4] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[3][5] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[4][0] = -(0.05_f64 * t.sin[5]);
+        jb0i[4][1] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[4][2] = 0.05_f64 * t.cos[5];
+        jb0i[4][3] = t.cos[5];
+        jb0i[4][4] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[4][5] = t.sin[5];
+        jb0i[5][0] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[5][1] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[5][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[5][3] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[5][4] = <f64 as ::trocar::Real>::ONE;
+        jb0i[5][5] = <f64 as ::trocar::Real>::ZERO;
+    }
     /// `(g_0e, J^B_0i, J^r_0e, J_c)` as [`pose_and_jacobians_trig`] returns them: `(R, p)` with
     /// `R` column-major, then the three matrices column-major.
     pub type PoseAndJacobians = (
