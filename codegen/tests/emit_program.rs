@@ -364,7 +364,7 @@ fn import_shares_common_values() {
     assert_eq!(outs[1], shared);
     // sin q0, l_a and their product exist already: only 1 and the sum are new.
     assert_eq!(b.ops().len(), before + 2);
-    assert!(!b.ops().iter().any(|op| *op == Op::Cos(3)));
+    assert!(!b.ops().contains(&Op::Cos(3)));
     b.set_outputs(vec![outs[0], outs[1], c]);
     let q = [0.3, -0.2, 0.0, 0.9];
     let params = [0.15, 0.18, 0.21];
