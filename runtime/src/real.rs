@@ -300,12 +300,15 @@ pub mod fast {
     }
 
     /// Lanes of the side-by-side kernel [`sin_cos_f64_lanes`] for [`sin_cos_f64_array`]: eight
-    /// where the target has AVX-512, four where it has AVX2, none (one element at a time)
-    /// otherwise, where the side-by-side kernel measured no faster.
+    /// where the target has AVX-512, four where it has AVX2, two on any other x86-64 (SSE2's
+    /// two `f64` lanes: 7 joints in 501 instructions instead of 725 at the default target,
+    /// BENCHMARKS.md), none (one element at a time) elsewhere.
     pub const F64_LANES: usize = if cfg!(target_feature = "avx512f") {
         8
     } else if cfg!(target_feature = "avx2") {
         4
+    } else if cfg!(target_arch = "x86_64") {
+        2
     } else {
         1
     };
@@ -313,7 +316,7 @@ pub mod fast {
     /// [`sin_cos_f64`] of every element, bit for bit. With [`F64_LANES`] > 1 the elements go
     /// through [`sin_cos_f64_lanes`] that many at a time, the last group padded (by repeating
     /// its last element) when three or more are left (one or two left go alone through
-    /// [`sin_cos_f64`]). Measured on a 7-joint arm (AVX-512 machine): four lanes then three
+    /// [`sin_cos_f64`]); with two lanes, two at a time and a last odd one alone. Measured on a 7-joint arm (AVX-512 machine): four lanes then three
     /// one by one 47–53 ns; one padded group of eight 16–17 ns.
     #[inline(always)]
     pub fn sin_cos_f64_array<const N: usize>(x: &[f64; N]) -> ([f64; N], [f64; N]) {
@@ -321,6 +324,8 @@ pub mod fast {
             lanes_array::<N, 8>(x)
         } else if F64_LANES == 4 {
             lanes_array::<N, 4>(x)
+        } else if F64_LANES == 2 {
+            lanes_array::<N, 2>(x)
         } else {
             let mut s = [0.0; N];
             let mut c = [0.0; N];
@@ -340,7 +345,8 @@ pub mod fast {
         // group of eight (the presets' `J^r` needs `q7`, `q8` only) made the compiler build the
         // vector through the stack, a failed store-to-load forwarding, and took the call out of
         // line (the presets' `J^r` from `q` 53 ns instead of 26).
-        while k + 3 <= N {
+        // (Pairs need no padding: two lanes take any two elements.)
+        while k + W.min(3) <= N {
             let m = W.min(N - k);
             // The spare lanes repeat the last element (zeros written into a copy made the
             // compiler build the vector through memory, a store-to-load forwarding stall: 7

@@ -225,7 +225,7 @@ fn f32_exhaustive_fast_path() {
     );
 }
 
-/// `sin_cos_f64_lanes` (eight and four lanes) and `sin_cos_f64_array` (what generated code calls through
+/// `sin_cos_f64_lanes` (eight, four and two lanes) and `sin_cos_f64_array` (what generated code calls through
 /// `Real::sin_cos_array`) are `sin_cos_f64` of each element, bit for bit: random arguments, the
 /// neighbours of π/4 and of multiples of π/2 (where the careful reduction takes over), huge
 /// arguments, NaN and ±∞, in arrays that mix them.
@@ -294,9 +294,16 @@ fn array_version_equals_the_scalar_one_bit_for_bit() {
         let (s3e, c3e) = sin_cos_f64_array(&[x[0], x[1], x[2]]);
         let (s7, c7) = sin_cos_f64_array(&[x[0], x[1], x[2], x[3], x[4], x[5], x[6]]);
         let (s8, c8) = sin_cos_f64_lanes(&x);
+        // Two lanes (SSE2, the default x86-64 target's `sin_cos_f64_array`), pair by pair.
+        let pairs: Vec<([f64; 2], [f64; 2])> = x
+            .chunks(2)
+            .map(|p| sin_cos_f64_lanes::<2>(&[p[0], p[1]]))
+            .collect();
         for k in 0..8 {
             let (ss, cc) = sin_cos_f64(x[k]);
             let want = (ss.to_bits(), cc.to_bits());
+            let (ps, pc) = pairs[k / 2];
+            assert_eq!((ps[k % 2].to_bits(), pc[k % 2].to_bits()), want, "pairs");
             assert_eq!((s[k].to_bits(), c[k].to_bits()), want, "x = {:e}", x[k]);
             assert_eq!((s2[k].to_bits(), c2[k].to_bits()), want);
             assert_eq!(
