@@ -1026,20 +1026,26 @@ pub mod ours {
                 step_outputs!(dia10_like_zy, &t, pp, out);
             }
             Case::Panda => {
-                // panda_link8 (bench-local description, no constraint): one JointTrig (7 sin_cos)
-                // shared by forward_kinematics and body_jacobian.
-                let t = panda_link8::JointTrig::new(joints(q));
+                // panda_link8 (bench-local description, no constraint): the fused
+                // pose_and_jacobian (g_0e and J^B_0e from one program, its own sin_cos_array),
+                // J^B_0e written in place.
                 let pp = panda_link8::Params::nominal();
-                put_pose(out, panda_link8::forward_kinematics_trig(&t, &pp));
-                *cols(&mut out[12..]) = panda_link8::body_jacobian_trig(&t, &pp);
+                let mut g = ([[T::ZERO; 3]; 3], [T::ZERO; 3]);
+                panda_link8::pose_and_jacobian(joints(q), &pp, &mut g, cols(&mut out[12..]));
+                put_pose(out, g);
             }
             Case::PandaI => {
-                // panda-laparoscope: one JointTrig (7 sin_cos) shared by forward_kinematics_i
-                // (g_0i) and partial_body_jacobian (J^B_0i).
-                let t = panda_laparoscope::JointTrig::new(joints(q));
+                // panda-laparoscope: the fused link_pose_and_jacobian (g_0i and J^B_0i of the
+                // constrained link from one program).
                 let pp = panda_laparoscope::Params { l_a: p[0] };
-                put_pose(out, panda_laparoscope::forward_kinematics_i_trig(&t, &pp));
-                *cols(&mut out[12..]) = panda_laparoscope::partial_body_jacobian_trig(&t, &pp);
+                let mut g = ([[T::ZERO; 3]; 3], [T::ZERO; 3]);
+                panda_laparoscope::link_pose_and_jacobian(
+                    joints(q),
+                    &pp,
+                    &mut g,
+                    cols(&mut out[12..]),
+                );
+                put_pose(out, g);
             }
             Case::Oblique7 => {
                 let t = oblique7::JointTrig::new(joints(q));
@@ -1138,16 +1144,20 @@ pub mod ours {
             }
             Case::Panda => {
                 let pp = panda_link8::Params::nominal();
-                put_pose(out, panda_link8::forward_kinematics_trig(&t.p8, &pp));
-                *cols(&mut out[12..]) = panda_link8::body_jacobian_trig(&t.p8, &pp);
+                let mut g = ([[T::ZERO; 3]; 3], [T::ZERO; 3]);
+                panda_link8::pose_and_jacobian_trig(&t.p8, &pp, &mut g, cols(&mut out[12..]));
+                put_pose(out, g);
             }
             Case::PandaI => {
                 let pp = panda_laparoscope::Params { l_a: p[0] };
-                put_pose(
-                    out,
-                    panda_laparoscope::forward_kinematics_i_trig(&t.pi, &pp),
+                let mut g = ([[T::ZERO; 3]; 3], [T::ZERO; 3]);
+                panda_laparoscope::link_pose_and_jacobian_trig(
+                    &t.pi,
+                    &pp,
+                    &mut g,
+                    cols(&mut out[12..]),
                 );
-                *cols(&mut out[12..]) = panda_laparoscope::partial_body_jacobian_trig(&t.pi, &pp);
+                put_pose(out, g);
             }
             Case::Oblique7 => step_outputs!(oblique7, &t.o7, oblique7::Params { l_a: p[0] }, out),
             Case::PandaRcm => {

@@ -1,0 +1,99 @@
+//! Interleaved minimum time: `interleave CASE ROUNDS N IMPL...` runs N evaluations of each IMPL in
+//! turn, ROUNDS times over, and prints for each IMPL the minimum over the rounds of the mean
+//! wall-clock time per evaluation (ns). On a shared machine a slow period then hits every IMPL
+//! alike instead of one contiguous block, and the minimum is the least disturbed round.
+//!
+//! CASE: panda | panda_i (the 16 configurations of `Case::configs`, cycled as `cg_driver` does).
+//! IMPL: ours_f64 | ours_f64_given_trig | wrenfold | symforce | wrenfold_given_trig |
+//! symforce_given_trig | ours_trig (our `JointTrig::new` alone). Needs the feature `ours`.
+use std::hint::black_box;
+use std::time::Instant;
+use trocar_peers_harness::ours;
+use trocar_peers_harness::rust_peers::{RustPeer, Trig};
+use trocar_peers_harness::Case;
+
+/// One implementation's evaluation of configuration `k` (0..16), writing into its own buffer.
+type Eval = Box<dyn FnMut(usize)>;
+
+fn implementation(name: &str, case: Case) -> Eval {
+    let qs = case.configs();
+    let (_, p) = case.inputs();
+    let mut out = vec![0.0; case.out_len()];
+    match name {
+        "ours_f64" => {
+            let f = black_box(ours::eval_fn(case));
+            Box::new(move |k| {
+                f(&qs[k], black_box(&p), &mut out);
+                black_box(&mut out);
+            })
+        }
+        "ours_f64_given_trig" => {
+            let trigs: Vec<ours::Trig<f64>> = qs.iter().map(|q| ours::Trig::new(case, q)).collect();
+            Box::new(move |k| {
+                ours::eval_trig(case, &trigs[k], black_box(&p), &mut out);
+                black_box(&mut out);
+            })
+        }
+        "ours_trig" => Box::new(move |k| {
+            black_box(ours::panda_trig::<f64>(&qs[k]));
+        }),
+        _ => {
+            let (peer, given_trig) = match name.strip_suffix("_given_trig") {
+                Some(base) => (RustPeer::from_name(base), true),
+                None => (RustPeer::from_name(name), false),
+            };
+            let peer = peer.unwrap_or_else(|| panic!("unknown IMPL {name}"));
+            if given_trig {
+                let f = black_box(peer.eval_trig_fn(case));
+                let trigs: Vec<Trig> = qs.iter().map(|q| Trig::new(q)).collect();
+                Box::new(move |k| {
+                    f(&trigs[k], black_box(&p), &mut out);
+                    black_box(&mut out);
+                })
+            } else {
+                let f = black_box(peer.eval_fn(case));
+                Box::new(move |k| {
+                    f(&qs[k], black_box(&p), &mut out);
+                    black_box(&mut out);
+                })
+            }
+        }
+    }
+}
+
+#[inline(never)]
+fn measured_loop(n: usize, f: &mut Eval) -> f64 {
+    let mut k = 0usize;
+    let t0 = Instant::now();
+    for _ in 0..n {
+        k = black_box(k + 1) & 15;
+        f(k);
+    }
+    t0.elapsed().as_nanos() as f64 / n as f64
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    if args.len() < 5 {
+        eprintln!("usage: interleave CASE ROUNDS N IMPL...");
+        std::process::exit(2);
+    }
+    let case = Case::from_name(&args[1]).unwrap_or_else(|| panic!("unknown CASE {}", args[1]));
+    let rounds: usize = args[2].parse().expect("ROUNDS");
+    let n: usize = args[3].parse().expect("N");
+    let names = &args[4..];
+    let mut impls: Vec<Eval> = names.iter().map(|s| implementation(s, case)).collect();
+    let mut best = vec![f64::INFINITY; impls.len()];
+    // One warm-up round, not counted.
+    for f in &mut impls {
+        measured_loop(n, f);
+    }
+    for _ in 0..rounds {
+        for (f, b) in impls.iter_mut().zip(&mut best) {
+            *b = b.min(measured_loop(n, f));
+        }
+    }
+    for (name, b) in names.iter().zip(&best) {
+        println!("{name} {b:.2}");
+    }
+}
