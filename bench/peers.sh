@@ -25,7 +25,8 @@
 #    (AVX-512) build of the calling code segfaults in Pinocchio's Model destructor on this machine);
 #    checks every implementation against its f64 reference and each other (cargo test), and times
 #    everything in one criterion run;
-# 4. thread CPU time per evaluation (cg_driver CPUTIME=1);
+# 4. thread CPU time per evaluation (cg_driver CPUTIME=1), and for the Panda cases the interleaved
+#    minimum wall time of ours and the Rust peers taking turns (bin `interleave`, native and default ISA);
 # 5. the Panda again with EVERYTHING at the default x86-64 ISA (Rust -C target-cpu=x86-64, C with
 #    -march=x86-64; TROCAR_PEERS_DEFAULT_ISA=1), with dia10_like and oblique7: criterion and CPU
 #    time, target/default-isa/;
@@ -153,7 +154,24 @@ if true; then
     done
   done
   echo "$cjson}" > "$out/cputime_default_isa.json"
+  # Interleaved minimum wall time of the Panda cases (ours beside the Rust peers, in turns).
+  if [[ "$feature_list" == *ours* ]]; then
+    "${dflt[@]}" cargo build --release -q --bin interleave "${features[@]}"
+    for case in panda panda_i; do
+      "$harness/target/default-isa/release/interleave" "$case" 60 20000 ours_f64 wrenfold symforce \
+        ours_f64_given_trig wrenfold_given_trig symforce_given_trig ours_trig | sed "s/^/$case /"
+    done | tee "$out/interleave_default_isa.txt" >&2
+  fi
   unset TROCAR_PEERS_DEFAULT_ISA
+fi
+
+if [[ "$feature_list" == *ours* ]]; then
+  echo "== interleaved minimum, native" >&2
+  cargo build --release -q --bin interleave "${features[@]}"
+  for case in panda panda_i; do
+    "$harness/target/release/interleave" "$case" 60 20000 ours_f64 wrenfold symforce \
+      ours_f64_given_trig wrenfold_given_trig symforce_given_trig ours_trig | sed "s/^/$case /"
+  done | tee "$out/interleave_native.txt" >&2
 fi
 
 echo "== callgrind" >&2
