@@ -151,7 +151,7 @@ fn unconstrained_robot() {
     let cut = text.find("[constraint]").unwrap();
     let desc = RobotDescription::from_toml_str(&text[..cut], None).unwrap();
     let code = generate_module_string(&desc, &ModuleOptions::default()).unwrap();
-    assert!(code.contains("pub fn forward_kinematics<T: ::trocar::Real>"));
+    assert!(code.contains("pub fn forward_kinematics<T: ::trocar::Arith>"));
     assert!(code.contains("-> [[T; 6]; N]"));
     assert!(!code.contains("constrained_jacobian"));
     assert!(!code.contains("pub const M"));
@@ -170,6 +170,7 @@ fn runtime_path_is_used_everywhere() {
         .unwrap();
     for (file, code) in &files {
         assert!(code.contains("T: ::my_reexport::trocar::Real"), "{file}");
+        assert!(code.contains("T: ::my_reexport::trocar::Arith"), "{file}");
         assert!(
             code.contains("<T as ::my_reexport::trocar::Real>"),
             "{file}"

@@ -17,13 +17,15 @@ pub mod constraint;
 pub mod control;
 pub mod finite_diff;
 pub mod kinematics;
+#[cfg(feature = "lanes")]
+pub mod lanes;
 pub mod linalg;
 pub mod manipulability;
 pub mod qp;
 pub mod real;
 pub mod se3;
 
-pub use real::Real;
+pub use real::{Arith, Real};
 
 /// Re-export of the linear-algebra crate the runtime's types come from.
 pub use nalgebra;

@@ -65,6 +65,78 @@ pub trait Real:
     fn is_finite(self) -> bool;
 }
 
+/// The part of [`Real`] that runs lane by lane: arithmetic, constants, `sin_cos`, `mul_add`,
+/// `sqrt` and `abs`, with no comparison, branch or conversion to a single number.
+///
+/// Generated functions whose body is one straight-line program (forward kinematics, the
+/// Jacobians, `pose_and_jacobians_trig`, the `Params` and `JointTrig` structs) are generic over `T: Arith`, so they run on `f32` and `f64` and on the lane types of
+/// [`lanes`](crate::lanes) (feature `lanes`: four `f64` or eight `f32` configurations side by
+/// side, each lane bit for bit the scalar code's result). Functions that branch on a value
+/// (`manipulability`'s finiteness guard, the pivoting solves, the controller) stay `T: Real`.
+///
+/// Every [`Real`] is an `Arith` (a blanket implementation that calls the [`Real`] functions of
+/// the same names), so `Arith` adds nothing to implement for a scalar type.
+pub trait Arith:
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + AddAssign
+    + SubAssign
+    + MulAssign
+    + Default
+    + core::fmt::Debug
+    + 'static
+{
+    /// Additive identity.
+    const ZERO: Self;
+    /// Multiplicative identity.
+    const ONE: Self;
+    /// Converts a literal (as [`Real::lit`]).
+    fn lit(x: f64) -> Self;
+    /// `(sin x, cos x)` (as [`Real::sin_cos`]).
+    fn sin_cos(self) -> (Self, Self);
+    /// `(sin x_k, cos x_k)` for every `k` (as [`Real::sin_cos_array`]).
+    fn sin_cos_array<const N: usize>(x: &[Self; N]) -> ([Self; N], [Self; N]);
+    /// `self · a + b`, fused exactly where [`Real::mul_add`] is.
+    fn mul_add(self, a: Self, b: Self) -> Self;
+    /// Square root (correctly rounded, as [`Real::sqrt`]).
+    fn sqrt(self) -> Self;
+    /// Absolute value (as [`Real::abs`]).
+    fn abs(self) -> Self;
+}
+
+impl<T: Real> Arith for T {
+    const ZERO: Self = <T as Real>::ZERO;
+    const ONE: Self = <T as Real>::ONE;
+    #[inline(always)]
+    fn lit(x: f64) -> Self {
+        <T as Real>::lit(x)
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        <T as Real>::sin_cos(self)
+    }
+    #[inline(always)]
+    fn sin_cos_array<const N: usize>(x: &[Self; N]) -> ([Self; N], [Self; N]) {
+        <T as Real>::sin_cos_array(x)
+    }
+    #[inline(always)]
+    fn mul_add(self, a: Self, b: Self) -> Self {
+        <T as Real>::mul_add(self, a, b)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        <T as Real>::sqrt(self)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        <T as Real>::abs(self)
+    }
+}
+
 macro_rules! impl_real {
     ($t:ty, $fast:ident, $sqrt:ident, $fabs:ident $(, $array:ident)?) => {
         impl Real for $t {
@@ -484,6 +556,43 @@ pub mod fast {
         }
         let y1 = (r - y0) - w;
         finish32(y0, y1, quadrant, sign)
+    }
+
+    /// [`sin_cos_f32`] of `W` elements, bit for bit, computed side by side: the main path of
+    /// [`sin_cos_f32`] (one-step reduction, both kernels, quadrant select) runs branch-free on
+    /// all of them, so the compiler can put them in vector registers. If any element needs more
+    /// (beyond [`F32_FAST_LIMIT`], NaN, ±∞, or a reduction that may have cancelled:
+    /// `|y0| < 2⁻⁸ |x|`, which holds whenever the exponent test of [`sin_cos_f32`] does), all
+    /// are recomputed by [`sin_cos_f32`]. For `|x| ≤ π/4` the reduction gives `n = 0` and exactly
+    /// `(|x|, +0)`, the arguments [`sin_cos_f32`] hands to the kernels unreduced.
+    #[inline(always)]
+    pub fn sin_cos_f32_lanes<const W: usize>(x: &[f32; W]) -> ([f32; W], [f32; W]) {
+        const P1: f32 = 1.570_800_8; // 0x1.922p0
+        const P1T: f32 = -4.454_455e-6; // pi/2 - P1, rounded
+        const TWO_M8: f32 = 1.0 / 256.0;
+        const ABS: u32 = !(1u32 << 31);
+        let mut s = [0.0; W];
+        let mut c = [0.0; W];
+        let mut slow = false;
+        for k in 0..W {
+            let sign = x[k].to_bits() & !ABS;
+            let ax = f32::from_bits(x[k].to_bits() & ABS);
+            let t = ax * FRAC_2_PI_32 + TOINT_32;
+            let quadrant = t.to_bits();
+            let fnum = t - TOINT_32;
+            let r = ax - fnum * P1; // exact
+            let w = fnum * P1T;
+            let y0 = r - w;
+            let y1 = (r - y0) - w;
+            slow |= !(ax <= F32_FAST_LIMIT) | (f32::from_bits(y0.to_bits() & ABS) < ax * TWO_M8);
+            (s[k], c[k]) = finish32(y0, y1, quadrant, sign);
+        }
+        if slow {
+            for k in 0..W {
+                (s[k], c[k]) = sin_cos_f32(x[k]);
+            }
+        }
+        (s, c)
     }
 }
 

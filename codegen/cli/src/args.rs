@@ -193,7 +193,8 @@ pub enum Command {
 /// `--real`: the scalar type of generated code ([`trocar_codegen::Scalar`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum RealArg {
-    /// Generic over `T: trocar::Real`.
+    /// Generic over `T: trocar::Arith` (straight-line functions, which also run on
+    /// `trocar::lanes`) and `T: trocar::Real` (the functions that test a value).
     Generic,
     /// `f32`.
     F32,

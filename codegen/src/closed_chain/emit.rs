@@ -215,8 +215,9 @@ fn module_doc(d: &MechanismDerivation) -> String {
 /// The hand-written wrappers that divide by `det J_Cp`.
 fn wrapper_tokens(d: &MechanismDerivation, ty: &Ty) -> TokenStream {
     let t = ty.t();
-    let (generics, args) = (ty.generics(), ty.args());
-    let rl = ty.real_path();
+    // These wrappers test their values (`is_finite`, `det != 0`): `Real`, not `Arith`.
+    let (generics, args) = (ty.real_generics(), ty.args());
+    let rl = ty.real_trait_path();
     let rt = ty.runtime();
     let active: Vec<TokenStream> = d
         .active

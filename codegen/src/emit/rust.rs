@@ -355,7 +355,18 @@ impl Ty {
             Scalar::F64 => quote!(f64),
         }
     }
+    /// The generic parameter of a straight-line function: `<T: Arith>` (the part of `Real` that
+    /// runs lane by lane, `trocar::lanes`).
     pub(crate) fn generics(&self) -> TokenStream {
+        let rt = &self.runtime;
+        match self.real {
+            Scalar::Generic => quote!(<T: #rt::Arith>),
+            _ => quote!(),
+        }
+    }
+    /// The generic parameter of a function that compares or tests a value (`is_finite`):
+    /// `<T: Real>`.
+    pub(crate) fn real_generics(&self) -> TokenStream {
         let rt = &self.runtime;
         match self.real {
             Scalar::Generic => quote!(<T: #rt::Real>),
@@ -368,7 +379,18 @@ impl Ty {
             _ => quote!(),
         }
     }
+    /// The path of the arithmetic functions: `<T as Arith>` in a generic module, `<f64 as Real>`
+    /// (or `f32`) in a monomorphic one.
     pub(crate) fn real_path(&self) -> TokenStream {
+        let t = self.t();
+        let rt = &self.runtime;
+        match self.real {
+            Scalar::Generic => quote!(<#t as #rt::Arith>),
+            Scalar::F32 | Scalar::F64 => quote!(<#t as #rt::Real>),
+        }
+    }
+    /// The path of `Real`'s own functions (`is_finite`, `to_f64`): `<T as Real>`.
+    pub(crate) fn real_trait_path(&self) -> TokenStream {
         let t = self.t();
         let rt = &self.runtime;
         quote!(<#t as #rt::Real>)
@@ -698,8 +720,6 @@ fn divides_by(divisors: &str) -> String {
 
 fn function_tokens(f: &EmittedFunction, ty: &Ty, n: usize) -> TokenStream {
     let t = ty.t();
-    let generics = ty.generics();
-    let args = ty.args();
     let counts = f.program.op_counts();
     let name = format_ident!("{}", f.name);
     let name_trig = format_ident!("{}_trig", f.name);
@@ -713,6 +733,13 @@ fn function_tokens(f: &EmittedFunction, ty: &Ty, n: usize) -> TokenStream {
         let _ = writeln!(doc, "\n{layout}");
     }
     let guard = f.zero_when_not_finite && f.layout == Layout::Scalar;
+    // A function that tests its value needs `Real`; a straight-line one runs on lanes (`Arith`).
+    let generics = if guard {
+        ty.real_generics()
+    } else {
+        ty.generics()
+    };
+    let args = ty.args();
     let divisors = divisors(&f.program);
     let not_finite = if guard {
         let by = if divisors.is_empty() {
@@ -758,7 +785,7 @@ fn function_tokens(f: &EmittedFunction, ty: &Ty, n: usize) -> TokenStream {
     let ret = dims_tokens(f, ty).unwrap_or(ret);
     let (_, value_t) = layout_tokens(f.layout, ty, &outs_t);
     let (value_q, value_t) = if guard {
-        let r = ty.real_path();
+        let r = ty.real_trait_path();
         let wrap = |v: TokenStream| {
             quote! {{
                 let w = #v;
@@ -1113,7 +1140,7 @@ fn params_tokens(spec: &ModuleSpec, ty: &Ty) -> TokenStream {
                 #[derive(Clone, Copy, Debug, Default, PartialEq)]
                 pub struct Params<T>(::core::marker::PhantomData<T>);
 
-                impl<T: #rt::Real> Params<T> {
+                impl<T: #rt::Arith> Params<T> {
                     /// The description's nominal values (this robot has no parameters).
                     #[inline]
                     #[must_use]

@@ -27,7 +27,7 @@ pub mod bidirectional_zy {
     pub const K: usize = 4;
     /// The named parameters of `bidirectional_zy`: runtime inputs of every function.
     #[derive(Clone, Copy, Debug, Default, PartialEq)]
-    pub struct Params<T: ::trocar::Real> {
+    pub struct Params<T: ::trocar::Arith> {
         /// `l_a` (nominal value 0.15).
         pub l_a: T,
         /// `l_b` (nominal value 0.18).
@@ -35,15 +35,15 @@ pub mod bidirectional_zy {
         /// `l_8` (nominal value 0.21).
         pub l_8: T,
     }
-    impl<T: ::trocar::Real> Params<T> {
+    impl<T: ::trocar::Arith> Params<T> {
         /// The description's nominal values.
         #[inline]
         #[must_use]
         pub fn nominal() -> Self {
             Params {
-                l_a: <T as ::trocar::Real>::lit(0.15),
-                l_b: <T as ::trocar::Real>::lit(0.18),
-                l_8: <T as ::trocar::Real>::lit(0.21),
+                l_a: <T as ::trocar::Arith>::lit(0.15),
+                l_b: <T as ::trocar::Arith>::lit(0.18),
+                l_8: <T as ::trocar::Arith>::lit(0.21),
             }
         }
     }
@@ -51,7 +51,7 @@ pub mod bidirectional_zy {
     ///
     /// Unused entries hold `sin = 0`, `cos = 1`.
     #[derive(Clone, Copy, Debug, PartialEq)]
-    pub struct JointTrig<T: ::trocar::Real> {
+    pub struct JointTrig<T: ::trocar::Arith> {
         /// The joint values `q`, base first.
         pub q: [T; N],
         /// `sin q[k]`.
@@ -59,12 +59,12 @@ pub mod bidirectional_zy {
         /// `cos q[k]`.
         pub cos: [T; N],
     }
-    impl<T: ::trocar::Real> JointTrig<T> {
+    impl<T: ::trocar::Arith> JointTrig<T> {
         /// The sines and cosines of the used joints, in one `sin_cos_array` call.
         #[inline(always)]
         #[must_use]
         pub fn new(q: &[T; N]) -> Self {
-            let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <T as ::trocar::Real>::sin_cos_array(
+            let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <T as ::trocar::Arith>::sin_cos_array(
                 &[q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7]],
             );
             JointTrig {
@@ -81,11 +81,11 @@ pub mod bidirectional_zy {
     /// Operations: 47 add, 88 mul, 0 div, 0 sqrt, 8 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn forward_kinematics<T: ::trocar::Real>(
+    pub fn forward_kinematics<T: ::trocar::Arith>(
         q: &[T; N],
         p: &Params<T>,
     ) -> ([[T; 3]; 3], [T; 3]) {
-        let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <T as ::trocar::Real>::sin_cos_array(
+        let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <T as ::trocar::Arith>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7]],
         );
         let x0 = p.l_a + p.l_b;
@@ -93,98 +93,98 @@ pub mod bidirectional_zy {
         let x2 = s1 * s2;
         let x3 = c1 * c2;
         let x4 = c1 * s2;
-        let x5 = <T as ::trocar::Real>::mul_add(s3, x2, -(c3 * x1));
-        let x6 = <T as ::trocar::Real>::mul_add(s3, x1, c3 * x2);
-        let x7 = <T as ::trocar::Real>::mul_add(c3, x3, -(s3 * x4));
-        let x8 = <T as ::trocar::Real>::mul_add(s3, x3, c3 * x4);
-        let x9 = <T as ::trocar::Real>::mul_add(s2, c3, c2 * s3);
-        let x10 = <T as ::trocar::Real>::mul_add(c2, c3, -(s2 * s3));
-        let x11 = <T as ::trocar::Real>::mul_add(c1, c4, -(s4 * x6));
-        let x12 = <T as ::trocar::Real>::mul_add(c1, s4, c4 * x6);
-        let x13 = <T as ::trocar::Real>::mul_add(s1, c4, s4 * x8);
-        let x14 = <T as ::trocar::Real>::mul_add(s1, s4, -(c4 * x8));
+        let x5 = <T as ::trocar::Arith>::mul_add(s3, x2, -(c3 * x1));
+        let x6 = <T as ::trocar::Arith>::mul_add(s3, x1, c3 * x2);
+        let x7 = <T as ::trocar::Arith>::mul_add(c3, x3, -(s3 * x4));
+        let x8 = <T as ::trocar::Arith>::mul_add(s3, x3, c3 * x4);
+        let x9 = <T as ::trocar::Arith>::mul_add(s2, c3, c2 * s3);
+        let x10 = <T as ::trocar::Arith>::mul_add(c2, c3, -(s2 * s3));
+        let x11 = <T as ::trocar::Arith>::mul_add(c1, c4, -(s4 * x6));
+        let x12 = <T as ::trocar::Arith>::mul_add(c1, s4, c4 * x6);
+        let x13 = <T as ::trocar::Arith>::mul_add(s1, c4, s4 * x8);
+        let x14 = <T as ::trocar::Arith>::mul_add(s1, s4, -(c4 * x8));
         let x15 = s4 * x10;
         let x16 = c4 * x10;
-        let x17 = <T as ::trocar::Real>::mul_add(c5, x5, s5 * x12);
-        let x18 = <T as ::trocar::Real>::mul_add(c5, x12, -(s5 * x5));
-        let x19 = <T as ::trocar::Real>::mul_add(c5, x7, s5 * x14);
-        let x20 = <T as ::trocar::Real>::mul_add(c5, x14, -(s5 * x7));
-        let x21 = <T as ::trocar::Real>::mul_add(c5, x9, s5 * x16);
-        let x22 = <T as ::trocar::Real>::mul_add(c5, x16, -(s5 * x9));
-        let x23 = <T as ::trocar::Real>::mul_add(c6, x11, -(s6 * x18));
-        let x24 = <T as ::trocar::Real>::mul_add(s6, x11, c6 * x18);
-        let x25 = <T as ::trocar::Real>::mul_add(c6, x13, -(s6 * x20));
-        let x26 = <T as ::trocar::Real>::mul_add(s6, x13, c6 * x20);
-        let x27 = <T as ::trocar::Real>::mul_add(c6, x15, s6 * x22);
-        let x28 = <T as ::trocar::Real>::mul_add(c6, x22, -(s6 * x15));
-        let x29 = <T as ::trocar::Real>::mul_add(c7, x23, s7 * x17);
-        let x30 = <T as ::trocar::Real>::mul_add(c7, x17, -(s7 * x23));
-        let x31 = <T as ::trocar::Real>::mul_add(c7, x25, s7 * x19);
-        let x32 = <T as ::trocar::Real>::mul_add(c7, x19, -(s7 * x25));
-        let x33 = <T as ::trocar::Real>::mul_add(s7, x21, -(c7 * x27));
-        let x34 = <T as ::trocar::Real>::mul_add(s7, x27, c7 * x21);
+        let x17 = <T as ::trocar::Arith>::mul_add(c5, x5, s5 * x12);
+        let x18 = <T as ::trocar::Arith>::mul_add(c5, x12, -(s5 * x5));
+        let x19 = <T as ::trocar::Arith>::mul_add(c5, x7, s5 * x14);
+        let x20 = <T as ::trocar::Arith>::mul_add(c5, x14, -(s5 * x7));
+        let x21 = <T as ::trocar::Arith>::mul_add(c5, x9, s5 * x16);
+        let x22 = <T as ::trocar::Arith>::mul_add(c5, x16, -(s5 * x9));
+        let x23 = <T as ::trocar::Arith>::mul_add(c6, x11, -(s6 * x18));
+        let x24 = <T as ::trocar::Arith>::mul_add(s6, x11, c6 * x18);
+        let x25 = <T as ::trocar::Arith>::mul_add(c6, x13, -(s6 * x20));
+        let x26 = <T as ::trocar::Arith>::mul_add(s6, x13, c6 * x20);
+        let x27 = <T as ::trocar::Arith>::mul_add(c6, x15, s6 * x22);
+        let x28 = <T as ::trocar::Arith>::mul_add(c6, x22, -(s6 * x15));
+        let x29 = <T as ::trocar::Arith>::mul_add(c7, x23, s7 * x17);
+        let x30 = <T as ::trocar::Arith>::mul_add(c7, x17, -(s7 * x23));
+        let x31 = <T as ::trocar::Arith>::mul_add(c7, x25, s7 * x19);
+        let x32 = <T as ::trocar::Arith>::mul_add(c7, x19, -(s7 * x25));
+        let x33 = <T as ::trocar::Arith>::mul_add(s7, x21, -(c7 * x27));
+        let x34 = <T as ::trocar::Arith>::mul_add(s7, x27, c7 * x21);
         (
             [
                 [
-                    <T as ::trocar::Real>::mul_add(c8, x29, -(s8 * x24)),
-                    <T as ::trocar::Real>::mul_add(c8, x31, -(s8 * x26)),
-                    <T as ::trocar::Real>::mul_add(c8, x33, -(s8 * x28)),
+                    <T as ::trocar::Arith>::mul_add(c8, x29, -(s8 * x24)),
+                    <T as ::trocar::Arith>::mul_add(c8, x31, -(s8 * x26)),
+                    <T as ::trocar::Arith>::mul_add(c8, x33, -(s8 * x28)),
                 ],
                 [x30, x32, x34],
                 [
-                    <T as ::trocar::Real>::mul_add(s8, x29, c8 * x24),
-                    <T as ::trocar::Real>::mul_add(s8, x31, c8 * x26),
-                    <T as ::trocar::Real>::mul_add(s8, x33, c8 * x28),
+                    <T as ::trocar::Arith>::mul_add(s8, x29, c8 * x24),
+                    <T as ::trocar::Arith>::mul_add(s8, x31, c8 * x26),
+                    <T as ::trocar::Arith>::mul_add(s8, x33, c8 * x28),
                 ],
             ],
             [
-                <T as ::trocar::Real>::mul_add(
+                <T as ::trocar::Arith>::mul_add(
                     p.l_8,
                     x30,
-                    <T as ::trocar::Real>::mul_add(
+                    <T as ::trocar::Arith>::mul_add(
                         x0,
                         x17,
-                        <T as ::trocar::Real>::mul_add(
-                            <T as ::trocar::Real>::lit(0.39),
+                        <T as ::trocar::Arith>::mul_add(
+                            <T as ::trocar::Arith>::lit(0.39),
                             x5,
-                            <T as ::trocar::Real>::mul_add(
-                                <T as ::trocar::Real>::lit(0.194),
+                            <T as ::trocar::Arith>::mul_add(
+                                <T as ::trocar::Arith>::lit(0.194),
                                 c1,
-                                -(<T as ::trocar::Real>::lit(0.38) * x1),
+                                -(<T as ::trocar::Arith>::lit(0.38) * x1),
                             ),
                         ),
                     ),
                 ),
-                <T as ::trocar::Real>::mul_add(
+                <T as ::trocar::Arith>::mul_add(
                     p.l_8,
                     x32,
-                    <T as ::trocar::Real>::mul_add(
+                    <T as ::trocar::Arith>::mul_add(
                         x0,
                         x19,
-                        <T as ::trocar::Real>::mul_add(
-                            <T as ::trocar::Real>::lit(0.39),
+                        <T as ::trocar::Arith>::mul_add(
+                            <T as ::trocar::Arith>::lit(0.39),
                             x7,
-                            <T as ::trocar::Real>::mul_add(
-                                <T as ::trocar::Real>::lit(0.194),
+                            <T as ::trocar::Arith>::mul_add(
+                                <T as ::trocar::Arith>::lit(0.194),
                                 s1,
-                                <T as ::trocar::Real>::lit(0.38) * x3,
+                                <T as ::trocar::Arith>::lit(0.38) * x3,
                             ),
                         ),
                     ),
                 ),
-                <T as ::trocar::Real>::mul_add(
+                <T as ::trocar::Arith>::mul_add(
                     p.l_8,
                     x34,
-                    <T as ::trocar::Real>::mul_add(
+                    <T as ::trocar::Arith>::mul_add(
                         x0,
                         x21,
-                        <T as ::trocar::Real>::mul_add(
-                            <T as ::trocar::Real>::lit(0.39),
+                        <T as ::trocar::Arith>::mul_add(
+                            <T as ::trocar::Arith>::lit(0.39),
                             x9,
-                            <T as ::trocar::Real>::mul_add(
-                                <T as ::trocar::Real>::lit(0.38),
+                            <T as ::trocar::Arith>::mul_add(
+                                <T as ::trocar::Arith>::lit(0.38),
                                 s2,
-                                <T as ::trocar::Real>::lit(1.037),
+                                <T as ::trocar::Arith>::lit(1.037),
                             ),
                         ),
                     ),
@@ -199,7 +199,7 @@ pub mod bidirectional_zy {
     /// Operations: 47 add, 88 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn forward_kinematics_trig<T: ::trocar::Real>(
+    pub fn forward_kinematics_trig<T: ::trocar::Arith>(
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> ([[T; 3]; 3], [T; 3]) {
@@ -208,102 +208,106 @@ pub mod bidirectional_zy {
         let x2 = t.sin[0] * t.sin[1];
         let x3 = t.cos[0] * t.cos[1];
         let x4 = t.cos[0] * t.sin[1];
-        let x5 = <T as ::trocar::Real>::mul_add(t.sin[2], x2, -(t.cos[2] * x1));
-        let x6 = <T as ::trocar::Real>::mul_add(t.sin[2], x1, t.cos[2] * x2);
-        let x7 = <T as ::trocar::Real>::mul_add(t.cos[2], x3, -(t.sin[2] * x4));
-        let x8 = <T as ::trocar::Real>::mul_add(t.sin[2], x3, t.cos[2] * x4);
-        let x9 = <T as ::trocar::Real>::mul_add(t.sin[1], t.cos[2], t.cos[1] * t.sin[2]);
-        let x10 = <T as ::trocar::Real>::mul_add(
+        let x5 = <T as ::trocar::Arith>::mul_add(t.sin[2], x2, -(t.cos[2] * x1));
+        let x6 = <T as ::trocar::Arith>::mul_add(t.sin[2], x1, t.cos[2] * x2);
+        let x7 = <T as ::trocar::Arith>::mul_add(t.cos[2], x3, -(t.sin[2] * x4));
+        let x8 = <T as ::trocar::Arith>::mul_add(t.sin[2], x3, t.cos[2] * x4);
+        let x9 = <T as ::trocar::Arith>::mul_add(
+            t.sin[1],
+            t.cos[2],
+            t.cos[1] * t.sin[2],
+        );
+        let x10 = <T as ::trocar::Arith>::mul_add(
             t.cos[1],
             t.cos[2],
             -(t.sin[1] * t.sin[2]),
         );
-        let x11 = <T as ::trocar::Real>::mul_add(t.cos[0], t.cos[3], -(t.sin[3] * x6));
-        let x12 = <T as ::trocar::Real>::mul_add(t.cos[0], t.sin[3], t.cos[3] * x6);
-        let x13 = <T as ::trocar::Real>::mul_add(t.sin[0], t.cos[3], t.sin[3] * x8);
-        let x14 = <T as ::trocar::Real>::mul_add(t.sin[0], t.sin[3], -(t.cos[3] * x8));
+        let x11 = <T as ::trocar::Arith>::mul_add(t.cos[0], t.cos[3], -(t.sin[3] * x6));
+        let x12 = <T as ::trocar::Arith>::mul_add(t.cos[0], t.sin[3], t.cos[3] * x6);
+        let x13 = <T as ::trocar::Arith>::mul_add(t.sin[0], t.cos[3], t.sin[3] * x8);
+        let x14 = <T as ::trocar::Arith>::mul_add(t.sin[0], t.sin[3], -(t.cos[3] * x8));
         let x15 = t.sin[3] * x10;
         let x16 = t.cos[3] * x10;
-        let x17 = <T as ::trocar::Real>::mul_add(t.cos[4], x5, t.sin[4] * x12);
-        let x18 = <T as ::trocar::Real>::mul_add(t.cos[4], x12, -(t.sin[4] * x5));
-        let x19 = <T as ::trocar::Real>::mul_add(t.cos[4], x7, t.sin[4] * x14);
-        let x20 = <T as ::trocar::Real>::mul_add(t.cos[4], x14, -(t.sin[4] * x7));
-        let x21 = <T as ::trocar::Real>::mul_add(t.cos[4], x9, t.sin[4] * x16);
-        let x22 = <T as ::trocar::Real>::mul_add(t.cos[4], x16, -(t.sin[4] * x9));
-        let x23 = <T as ::trocar::Real>::mul_add(t.cos[5], x11, -(t.sin[5] * x18));
-        let x24 = <T as ::trocar::Real>::mul_add(t.sin[5], x11, t.cos[5] * x18);
-        let x25 = <T as ::trocar::Real>::mul_add(t.cos[5], x13, -(t.sin[5] * x20));
-        let x26 = <T as ::trocar::Real>::mul_add(t.sin[5], x13, t.cos[5] * x20);
-        let x27 = <T as ::trocar::Real>::mul_add(t.cos[5], x15, t.sin[5] * x22);
-        let x28 = <T as ::trocar::Real>::mul_add(t.cos[5], x22, -(t.sin[5] * x15));
-        let x29 = <T as ::trocar::Real>::mul_add(t.cos[6], x23, t.sin[6] * x17);
-        let x30 = <T as ::trocar::Real>::mul_add(t.cos[6], x17, -(t.sin[6] * x23));
-        let x31 = <T as ::trocar::Real>::mul_add(t.cos[6], x25, t.sin[6] * x19);
-        let x32 = <T as ::trocar::Real>::mul_add(t.cos[6], x19, -(t.sin[6] * x25));
-        let x33 = <T as ::trocar::Real>::mul_add(t.sin[6], x21, -(t.cos[6] * x27));
-        let x34 = <T as ::trocar::Real>::mul_add(t.sin[6], x27, t.cos[6] * x21);
+        let x17 = <T as ::trocar::Arith>::mul_add(t.cos[4], x5, t.sin[4] * x12);
+        let x18 = <T as ::trocar::Arith>::mul_add(t.cos[4], x12, -(t.sin[4] * x5));
+        let x19 = <T as ::trocar::Arith>::mul_add(t.cos[4], x7, t.sin[4] * x14);
+        let x20 = <T as ::trocar::Arith>::mul_add(t.cos[4], x14, -(t.sin[4] * x7));
+        let x21 = <T as ::trocar::Arith>::mul_add(t.cos[4], x9, t.sin[4] * x16);
+        let x22 = <T as ::trocar::Arith>::mul_add(t.cos[4], x16, -(t.sin[4] * x9));
+        let x23 = <T as ::trocar::Arith>::mul_add(t.cos[5], x11, -(t.sin[5] * x18));
+        let x24 = <T as ::trocar::Arith>::mul_add(t.sin[5], x11, t.cos[5] * x18);
+        let x25 = <T as ::trocar::Arith>::mul_add(t.cos[5], x13, -(t.sin[5] * x20));
+        let x26 = <T as ::trocar::Arith>::mul_add(t.sin[5], x13, t.cos[5] * x20);
+        let x27 = <T as ::trocar::Arith>::mul_add(t.cos[5], x15, t.sin[5] * x22);
+        let x28 = <T as ::trocar::Arith>::mul_add(t.cos[5], x22, -(t.sin[5] * x15));
+        let x29 = <T as ::trocar::Arith>::mul_add(t.cos[6], x23, t.sin[6] * x17);
+        let x30 = <T as ::trocar::Arith>::mul_add(t.cos[6], x17, -(t.sin[6] * x23));
+        let x31 = <T as ::trocar::Arith>::mul_add(t.cos[6], x25, t.sin[6] * x19);
+        let x32 = <T as ::trocar::Arith>::mul_add(t.cos[6], x19, -(t.sin[6] * x25));
+        let x33 = <T as ::trocar::Arith>::mul_add(t.sin[6], x21, -(t.cos[6] * x27));
+        let x34 = <T as ::trocar::Arith>::mul_add(t.sin[6], x27, t.cos[6] * x21);
         (
             [
                 [
-                    <T as ::trocar::Real>::mul_add(t.cos[7], x29, -(t.sin[7] * x24)),
-                    <T as ::trocar::Real>::mul_add(t.cos[7], x31, -(t.sin[7] * x26)),
-                    <T as ::trocar::Real>::mul_add(t.cos[7], x33, -(t.sin[7] * x28)),
+                    <T as ::trocar::Arith>::mul_add(t.cos[7], x29, -(t.sin[7] * x24)),
+                    <T as ::trocar::Arith>::mul_add(t.cos[7], x31, -(t.sin[7] * x26)),
+                    <T as ::trocar::Arith>::mul_add(t.cos[7], x33, -(t.sin[7] * x28)),
                 ],
                 [x30, x32, x34],
                 [
-                    <T as ::trocar::Real>::mul_add(t.sin[7], x29, t.cos[7] * x24),
-                    <T as ::trocar::Real>::mul_add(t.sin[7], x31, t.cos[7] * x26),
-                    <T as ::trocar::Real>::mul_add(t.sin[7], x33, t.cos[7] * x28),
+                    <T as ::trocar::Arith>::mul_add(t.sin[7], x29, t.cos[7] * x24),
+                    <T as ::trocar::Arith>::mul_add(t.sin[7], x31, t.cos[7] * x26),
+                    <T as ::trocar::Arith>::mul_add(t.sin[7], x33, t.cos[7] * x28),
                 ],
             ],
             [
-                <T as ::trocar::Real>::mul_add(
+                <T as ::trocar::Arith>::mul_add(
                     p.l_8,
                     x30,
-                    <T as ::trocar::Real>::mul_add(
+                    <T as ::trocar::Arith>::mul_add(
                         x0,
                         x17,
-                        <T as ::trocar::Real>::mul_add(
-                            <T as ::trocar::Real>::lit(0.39),
+                        <T as ::trocar::Arith>::mul_add(
+                            <T as ::trocar::Arith>::lit(0.39),
                             x5,
-                            <T as ::trocar::Real>::mul_add(
-                                <T as ::trocar::Real>::lit(0.194),
+                            <T as ::trocar::Arith>::mul_add(
+                                <T as ::trocar::Arith>::lit(0.194),
                                 t.cos[0],
-                                -(<T as ::trocar::Real>::lit(0.38) * x1),
+                                -(<T as ::trocar::Arith>::lit(0.38) * x1),
                             ),
                         ),
                     ),
                 ),
-                <T as ::trocar::Real>::mul_add(
+                <T as ::trocar::Arith>::mul_add(
                     p.l_8,
                     x32,
-                    <T as ::trocar::Real>::mul_add(
+                    <T as ::trocar::Arith>::mul_add(
                         x0,
                         x19,
-                        <T as ::trocar::Real>::mul_add(
-                            <T as ::trocar::Real>::lit(0.39),
+                        <T as ::trocar::Arith>::mul_add(
+                            <T as ::trocar::Arith>::lit(0.39),
                             x7,
-                            <T as ::trocar::Real>::mul_add(
-                                <T as ::trocar::Real>::lit(0.194),
+                            <T as ::trocar::Arith>::mul_add(
+                                <T as ::trocar::Arith>::lit(0.194),
                                 t.sin[0],
-                                <T as ::trocar::Real>::lit(0.38) * x3,
+                                <T as ::trocar::Arith>::lit(0.38) * x3,
                             ),
                         ),
                     ),
                 ),
-                <T as ::trocar::Real>::mul_add(
+                <T as ::trocar::Arith>::mul_add(
                     p.l_8,
                     x34,
-                    <T as ::trocar::Real>::mul_add(
+                    <T as ::trocar::Arith>::mul_add(
                         x0,
                         x21,
-                        <T as ::trocar::Real>::mul_add(
-                            <T as ::trocar::Real>::lit(0.39),
+                        <T as ::trocar::Arith>::mul_add(
+                            <T as ::trocar::Arith>::lit(0.39),
                             x9,
-                            <T as ::trocar::Real>::mul_add(
-                                <T as ::trocar::Real>::lit(0.38),
+                            <T as ::trocar::Arith>::mul_add(
+                                <T as ::trocar::Arith>::lit(0.38),
                                 t.sin[1],
-                                <T as ::trocar::Real>::lit(1.037),
+                                <T as ::trocar::Arith>::lit(1.037),
                             ),
                         ),
                     ),
@@ -318,8 +322,8 @@ pub mod bidirectional_zy {
     /// Operations: 55 add, 114 mul, 0 div, 0 sqrt, 7 trig (sin_cos), 6 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn body_jacobian<T: ::trocar::Real>(q: &[T; N], p: &Params<T>) -> [[T; 6]; N] {
-        let ([s2, s3, s4, s5, s6, s7, s8], [c2, c3, c4, c5, c6, c7, c8]) = <T as ::trocar::Real>::sin_cos_array(
+    pub fn body_jacobian<T: ::trocar::Arith>(q: &[T; N], p: &Params<T>) -> [[T; 6]; N] {
+        let ([s2, s3, s4, s5, s6, s7, s8], [c2, c3, c4, c5, c6, c7, c8]) = <T as ::trocar::Arith>::sin_cos_array(
             &[q[1], q[2], q[3], q[4], q[5], q[6], q[7]],
         );
         let x0 = c7 * c8;
@@ -327,112 +331,112 @@ pub mod bidirectional_zy {
         let x2 = s7 * p.l_8;
         let x3 = s7 * c8;
         let x4 = s7 * s8;
-        let x5 = <T as ::trocar::Real>::mul_add(c7, p.l_8, p.l_a + p.l_b);
-        let x6 = <T as ::trocar::Real>::mul_add(c6, x0, -(s6 * s8));
+        let x5 = <T as ::trocar::Arith>::mul_add(c7, p.l_8, p.l_a + p.l_b);
+        let x6 = <T as ::trocar::Arith>::mul_add(c6, x0, -(s6 * s8));
         let x7 = c6 * s7;
-        let x8 = <T as ::trocar::Real>::mul_add(c6, x1, s6 * c8);
+        let x8 = <T as ::trocar::Arith>::mul_add(c6, x1, s6 * c8);
         let x9 = c6 * x2;
-        let x10 = <T as ::trocar::Real>::mul_add(s6, x0, c6 * s8);
+        let x10 = <T as ::trocar::Arith>::mul_add(s6, x0, c6 * s8);
         let x11 = s6 * s7;
-        let x12 = <T as ::trocar::Real>::mul_add(c6, c8, -(s6 * x1));
+        let x12 = <T as ::trocar::Arith>::mul_add(c6, c8, -(s6 * x1));
         let x13 = s6 * x2;
-        let x14 = <T as ::trocar::Real>::mul_add(c5, x3, s5 * x10);
-        let x15 = <T as ::trocar::Real>::mul_add(c5, c7, -(s5 * x11));
-        let x16 = <T as ::trocar::Real>::mul_add(c5, x4, -(s5 * x12));
-        let x17 = <T as ::trocar::Real>::lit(0.39)
-            + <T as ::trocar::Real>::mul_add(c5, x5, -(s5 * x13));
-        let x18 = <T as ::trocar::Real>::mul_add(s5, x3, -(c5 * x10));
-        let x19 = <T as ::trocar::Real>::mul_add(s5, c7, c5 * x11);
-        let x20 = <T as ::trocar::Real>::mul_add(s5, x4, c5 * x12);
-        let x21 = <T as ::trocar::Real>::mul_add(s5, x5, c5 * x13);
-        let x22 = <T as ::trocar::Real>::mul_add(c4, x6, s4 * x18);
-        let x23 = <T as ::trocar::Real>::mul_add(s4, x19, -(c4 * x7));
-        let x24 = <T as ::trocar::Real>::mul_add(c4, x8, s4 * x20);
-        let x25 = <T as ::trocar::Real>::mul_add(c4, x18, -(s4 * x6));
-        let x26 = <T as ::trocar::Real>::mul_add(s4, x7, c4 * x19);
-        let x27 = <T as ::trocar::Real>::mul_add(c4, x20, -(s4 * x8));
-        let x28 = <T as ::trocar::Real>::mul_add(s4, x9, c4 * x21);
-        let x29 = <T as ::trocar::Real>::mul_add(c3, x14, -(s3 * x25));
-        let x30 = <T as ::trocar::Real>::mul_add(c3, x15, -(s3 * x26));
-        let x31 = <T as ::trocar::Real>::mul_add(c3, x16, -(s3 * x27));
-        let x32 = <T as ::trocar::Real>::lit(0.38)
-            + <T as ::trocar::Real>::mul_add(c3, x17, -(s3 * x28));
-        let x33 = <T as ::trocar::Real>::mul_add(s3, x14, c3 * x25);
-        let x34 = <T as ::trocar::Real>::mul_add(s3, x15, c3 * x26);
-        let x35 = <T as ::trocar::Real>::mul_add(s3, x16, c3 * x27);
-        let x36 = <T as ::trocar::Real>::mul_add(s3, x17, c3 * x28);
-        let x37 = <T as ::trocar::Real>::lit(0.194)
-            + <T as ::trocar::Real>::mul_add(s4, x21, -(c4 * x9));
-        let x38 = <T as ::trocar::Real>::mul_add(c2, x32, -(s2 * x36));
+        let x14 = <T as ::trocar::Arith>::mul_add(c5, x3, s5 * x10);
+        let x15 = <T as ::trocar::Arith>::mul_add(c5, c7, -(s5 * x11));
+        let x16 = <T as ::trocar::Arith>::mul_add(c5, x4, -(s5 * x12));
+        let x17 = <T as ::trocar::Arith>::lit(0.39)
+            + <T as ::trocar::Arith>::mul_add(c5, x5, -(s5 * x13));
+        let x18 = <T as ::trocar::Arith>::mul_add(s5, x3, -(c5 * x10));
+        let x19 = <T as ::trocar::Arith>::mul_add(s5, c7, c5 * x11);
+        let x20 = <T as ::trocar::Arith>::mul_add(s5, x4, c5 * x12);
+        let x21 = <T as ::trocar::Arith>::mul_add(s5, x5, c5 * x13);
+        let x22 = <T as ::trocar::Arith>::mul_add(c4, x6, s4 * x18);
+        let x23 = <T as ::trocar::Arith>::mul_add(s4, x19, -(c4 * x7));
+        let x24 = <T as ::trocar::Arith>::mul_add(c4, x8, s4 * x20);
+        let x25 = <T as ::trocar::Arith>::mul_add(c4, x18, -(s4 * x6));
+        let x26 = <T as ::trocar::Arith>::mul_add(s4, x7, c4 * x19);
+        let x27 = <T as ::trocar::Arith>::mul_add(c4, x20, -(s4 * x8));
+        let x28 = <T as ::trocar::Arith>::mul_add(s4, x9, c4 * x21);
+        let x29 = <T as ::trocar::Arith>::mul_add(c3, x14, -(s3 * x25));
+        let x30 = <T as ::trocar::Arith>::mul_add(c3, x15, -(s3 * x26));
+        let x31 = <T as ::trocar::Arith>::mul_add(c3, x16, -(s3 * x27));
+        let x32 = <T as ::trocar::Arith>::lit(0.38)
+            + <T as ::trocar::Arith>::mul_add(c3, x17, -(s3 * x28));
+        let x33 = <T as ::trocar::Arith>::mul_add(s3, x14, c3 * x25);
+        let x34 = <T as ::trocar::Arith>::mul_add(s3, x15, c3 * x26);
+        let x35 = <T as ::trocar::Arith>::mul_add(s3, x16, c3 * x27);
+        let x36 = <T as ::trocar::Arith>::mul_add(s3, x17, c3 * x28);
+        let x37 = <T as ::trocar::Arith>::lit(0.194)
+            + <T as ::trocar::Arith>::mul_add(s4, x21, -(c4 * x9));
+        let x38 = <T as ::trocar::Arith>::mul_add(c2, x32, -(s2 * x36));
         [
             [
-                <T as ::trocar::Real>::mul_add(
+                <T as ::trocar::Arith>::mul_add(
                     x37,
-                    <T as ::trocar::Real>::mul_add(c2, x29, -(s2 * x33)),
+                    <T as ::trocar::Arith>::mul_add(c2, x29, -(s2 * x33)),
                     -(x22 * x38),
                 ),
-                <T as ::trocar::Real>::mul_add(
+                <T as ::trocar::Arith>::mul_add(
                     x37,
-                    <T as ::trocar::Real>::mul_add(c2, x30, -(s2 * x34)),
+                    <T as ::trocar::Arith>::mul_add(c2, x30, -(s2 * x34)),
                     -(x23 * x38),
                 ),
-                <T as ::trocar::Real>::mul_add(
+                <T as ::trocar::Arith>::mul_add(
                     x37,
-                    <T as ::trocar::Real>::mul_add(c2, x31, -(s2 * x35)),
+                    <T as ::trocar::Arith>::mul_add(c2, x31, -(s2 * x35)),
                     -(x24 * x38),
                 ),
-                <T as ::trocar::Real>::mul_add(s2, x29, c2 * x33),
-                <T as ::trocar::Real>::mul_add(s2, x30, c2 * x34),
-                <T as ::trocar::Real>::mul_add(s2, x31, c2 * x35),
+                <T as ::trocar::Arith>::mul_add(s2, x29, c2 * x33),
+                <T as ::trocar::Arith>::mul_add(s2, x30, c2 * x34),
+                <T as ::trocar::Arith>::mul_add(s2, x31, c2 * x35),
             ],
             [
-                <T as ::trocar::Real>::mul_add(x32, x33, -(x29 * x36)),
-                <T as ::trocar::Real>::mul_add(x32, x34, -(x30 * x36)),
-                <T as ::trocar::Real>::mul_add(x32, x35, -(x31 * x36)),
+                <T as ::trocar::Arith>::mul_add(x32, x33, -(x29 * x36)),
+                <T as ::trocar::Arith>::mul_add(x32, x34, -(x30 * x36)),
+                <T as ::trocar::Arith>::mul_add(x32, x35, -(x31 * x36)),
                 x22,
                 x23,
                 x24,
             ],
             [
-                <T as ::trocar::Real>::mul_add(x17, x25, -(x14 * x28)),
-                <T as ::trocar::Real>::mul_add(x17, x26, -(x15 * x28)),
-                <T as ::trocar::Real>::mul_add(x17, x27, -(x16 * x28)),
+                <T as ::trocar::Arith>::mul_add(x17, x25, -(x14 * x28)),
+                <T as ::trocar::Arith>::mul_add(x17, x26, -(x15 * x28)),
+                <T as ::trocar::Arith>::mul_add(x17, x27, -(x16 * x28)),
                 x22,
                 x23,
                 x24,
             ],
             [
-                <T as ::trocar::Real>::mul_add(x6, x21, x9 * x18),
-                <T as ::trocar::Real>::mul_add(x9, x19, -(x7 * x21)),
-                <T as ::trocar::Real>::mul_add(x8, x21, x9 * x20),
+                <T as ::trocar::Arith>::mul_add(x6, x21, x9 * x18),
+                <T as ::trocar::Arith>::mul_add(x9, x19, -(x7 * x21)),
+                <T as ::trocar::Arith>::mul_add(x8, x21, x9 * x20),
                 x14,
                 x15,
                 x16,
             ],
             [
-                -<T as ::trocar::Real>::mul_add(x3, x13, x5 * x10),
-                <T as ::trocar::Real>::mul_add(x5, x11, -(c7 * x13)),
-                <T as ::trocar::Real>::mul_add(x5, x12, -(x4 * x13)),
+                -<T as ::trocar::Arith>::mul_add(x3, x13, x5 * x10),
+                <T as ::trocar::Arith>::mul_add(x5, x11, -(c7 * x13)),
+                <T as ::trocar::Arith>::mul_add(x5, x12, -(x4 * x13)),
                 x6,
                 -x7,
                 x8,
             ],
-            [-(s8 * x2), <T as ::trocar::Real>::ZERO, c8 * x2, x3, c7, x4],
+            [-(s8 * x2), <T as ::trocar::Arith>::ZERO, c8 * x2, x3, c7, x4],
             [
                 -(c8 * p.l_8),
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 -(s8 * p.l_8),
                 -s8,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 c8,
             ],
             [
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ONE,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ONE,
+                <T as ::trocar::Arith>::ZERO,
             ],
         ]
     }
@@ -443,7 +447,7 @@ pub mod bidirectional_zy {
     /// Operations: 55 add, 114 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 6 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn body_jacobian_trig<T: ::trocar::Real>(
+    pub fn body_jacobian_trig<T: ::trocar::Arith>(
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> [[T; 6]; N] {
@@ -452,99 +456,99 @@ pub mod bidirectional_zy {
         let x2 = t.sin[6] * p.l_8;
         let x3 = t.sin[6] * t.cos[7];
         let x4 = t.sin[6] * t.sin[7];
-        let x5 = <T as ::trocar::Real>::mul_add(t.cos[6], p.l_8, p.l_a + p.l_b);
-        let x6 = <T as ::trocar::Real>::mul_add(t.cos[5], x0, -(t.sin[5] * t.sin[7]));
+        let x5 = <T as ::trocar::Arith>::mul_add(t.cos[6], p.l_8, p.l_a + p.l_b);
+        let x6 = <T as ::trocar::Arith>::mul_add(t.cos[5], x0, -(t.sin[5] * t.sin[7]));
         let x7 = t.cos[5] * t.sin[6];
-        let x8 = <T as ::trocar::Real>::mul_add(t.cos[5], x1, t.sin[5] * t.cos[7]);
+        let x8 = <T as ::trocar::Arith>::mul_add(t.cos[5], x1, t.sin[5] * t.cos[7]);
         let x9 = t.cos[5] * x2;
-        let x10 = <T as ::trocar::Real>::mul_add(t.sin[5], x0, t.cos[5] * t.sin[7]);
+        let x10 = <T as ::trocar::Arith>::mul_add(t.sin[5], x0, t.cos[5] * t.sin[7]);
         let x11 = t.sin[5] * t.sin[6];
-        let x12 = <T as ::trocar::Real>::mul_add(t.cos[5], t.cos[7], -(t.sin[5] * x1));
+        let x12 = <T as ::trocar::Arith>::mul_add(t.cos[5], t.cos[7], -(t.sin[5] * x1));
         let x13 = t.sin[5] * x2;
-        let x14 = <T as ::trocar::Real>::mul_add(t.cos[4], x3, t.sin[4] * x10);
-        let x15 = <T as ::trocar::Real>::mul_add(t.cos[4], t.cos[6], -(t.sin[4] * x11));
-        let x16 = <T as ::trocar::Real>::mul_add(t.cos[4], x4, -(t.sin[4] * x12));
-        let x17 = <T as ::trocar::Real>::lit(0.39)
-            + <T as ::trocar::Real>::mul_add(t.cos[4], x5, -(t.sin[4] * x13));
-        let x18 = <T as ::trocar::Real>::mul_add(t.sin[4], x3, -(t.cos[4] * x10));
-        let x19 = <T as ::trocar::Real>::mul_add(t.sin[4], t.cos[6], t.cos[4] * x11);
-        let x20 = <T as ::trocar::Real>::mul_add(t.sin[4], x4, t.cos[4] * x12);
-        let x21 = <T as ::trocar::Real>::mul_add(t.sin[4], x5, t.cos[4] * x13);
-        let x22 = <T as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x18);
-        let x23 = <T as ::trocar::Real>::mul_add(t.sin[3], x19, -(t.cos[3] * x7));
-        let x24 = <T as ::trocar::Real>::mul_add(t.cos[3], x8, t.sin[3] * x20);
-        let x25 = <T as ::trocar::Real>::mul_add(t.cos[3], x18, -(t.sin[3] * x6));
-        let x26 = <T as ::trocar::Real>::mul_add(t.sin[3], x7, t.cos[3] * x19);
-        let x27 = <T as ::trocar::Real>::mul_add(t.cos[3], x20, -(t.sin[3] * x8));
-        let x28 = <T as ::trocar::Real>::mul_add(t.sin[3], x9, t.cos[3] * x21);
-        let x29 = <T as ::trocar::Real>::mul_add(t.cos[2], x14, -(t.sin[2] * x25));
-        let x30 = <T as ::trocar::Real>::mul_add(t.cos[2], x15, -(t.sin[2] * x26));
-        let x31 = <T as ::trocar::Real>::mul_add(t.cos[2], x16, -(t.sin[2] * x27));
-        let x32 = <T as ::trocar::Real>::lit(0.38)
-            + <T as ::trocar::Real>::mul_add(t.cos[2], x17, -(t.sin[2] * x28));
-        let x33 = <T as ::trocar::Real>::mul_add(t.sin[2], x14, t.cos[2] * x25);
-        let x34 = <T as ::trocar::Real>::mul_add(t.sin[2], x15, t.cos[2] * x26);
-        let x35 = <T as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x27);
-        let x36 = <T as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x28);
-        let x37 = <T as ::trocar::Real>::lit(0.194)
-            + <T as ::trocar::Real>::mul_add(t.sin[3], x21, -(t.cos[3] * x9));
-        let x38 = <T as ::trocar::Real>::mul_add(t.cos[1], x32, -(t.sin[1] * x36));
+        let x14 = <T as ::trocar::Arith>::mul_add(t.cos[4], x3, t.sin[4] * x10);
+        let x15 = <T as ::trocar::Arith>::mul_add(t.cos[4], t.cos[6], -(t.sin[4] * x11));
+        let x16 = <T as ::trocar::Arith>::mul_add(t.cos[4], x4, -(t.sin[4] * x12));
+        let x17 = <T as ::trocar::Arith>::lit(0.39)
+            + <T as ::trocar::Arith>::mul_add(t.cos[4], x5, -(t.sin[4] * x13));
+        let x18 = <T as ::trocar::Arith>::mul_add(t.sin[4], x3, -(t.cos[4] * x10));
+        let x19 = <T as ::trocar::Arith>::mul_add(t.sin[4], t.cos[6], t.cos[4] * x11);
+        let x20 = <T as ::trocar::Arith>::mul_add(t.sin[4], x4, t.cos[4] * x12);
+        let x21 = <T as ::trocar::Arith>::mul_add(t.sin[4], x5, t.cos[4] * x13);
+        let x22 = <T as ::trocar::Arith>::mul_add(t.cos[3], x6, t.sin[3] * x18);
+        let x23 = <T as ::trocar::Arith>::mul_add(t.sin[3], x19, -(t.cos[3] * x7));
+        let x24 = <T as ::trocar::Arith>::mul_add(t.cos[3], x8, t.sin[3] * x20);
+        let x25 = <T as ::trocar::Arith>::mul_add(t.cos[3], x18, -(t.sin[3] * x6));
+        let x26 = <T as ::trocar::Arith>::mul_add(t.sin[3], x7, t.cos[3] * x19);
+        let x27 = <T as ::trocar::Arith>::mul_add(t.cos[3], x20, -(t.sin[3] * x8));
+        let x28 = <T as ::trocar::Arith>::mul_add(t.sin[3], x9, t.cos[3] * x21);
+        let x29 = <T as ::trocar::Arith>::mul_add(t.cos[2], x14, -(t.sin[2] * x25));
+        let x30 = <T as ::trocar::Arith>::mul_add(t.cos[2], x15, -(t.sin[2] * x26));
+        let x31 = <T as ::trocar::Arith>::mul_add(t.cos[2], x16, -(t.sin[2] * x27));
+        let x32 = <T as ::trocar::Arith>::lit(0.38)
+            + <T as ::trocar::Arith>::mul_add(t.cos[2], x17, -(t.sin[2] * x28));
+        let x33 = <T as ::trocar::Arith>::mul_add(t.sin[2], x14, t.cos[2] * x25);
+        let x34 = <T as ::trocar::Arith>::mul_add(t.sin[2], x15, t.cos[2] * x26);
+        let x35 = <T as ::trocar::Arith>::mul_add(t.sin[2], x16, t.cos[2] * x27);
+        let x36 = <T as ::trocar::Arith>::mul_add(t.sin[2], x17, t.cos[2] * x28);
+        let x37 = <T as ::trocar::Arith>::lit(0.194)
+            + <T as ::trocar::Arith>::mul_add(t.sin[3], x21, -(t.cos[3] * x9));
+        let x38 = <T as ::trocar::Arith>::mul_add(t.cos[1], x32, -(t.sin[1] * x36));
         [
             [
-                <T as ::trocar::Real>::mul_add(
+                <T as ::trocar::Arith>::mul_add(
                     x37,
-                    <T as ::trocar::Real>::mul_add(t.cos[1], x29, -(t.sin[1] * x33)),
+                    <T as ::trocar::Arith>::mul_add(t.cos[1], x29, -(t.sin[1] * x33)),
                     -(x22 * x38),
                 ),
-                <T as ::trocar::Real>::mul_add(
+                <T as ::trocar::Arith>::mul_add(
                     x37,
-                    <T as ::trocar::Real>::mul_add(t.cos[1], x30, -(t.sin[1] * x34)),
+                    <T as ::trocar::Arith>::mul_add(t.cos[1], x30, -(t.sin[1] * x34)),
                     -(x23 * x38),
                 ),
-                <T as ::trocar::Real>::mul_add(
+                <T as ::trocar::Arith>::mul_add(
                     x37,
-                    <T as ::trocar::Real>::mul_add(t.cos[1], x31, -(t.sin[1] * x35)),
+                    <T as ::trocar::Arith>::mul_add(t.cos[1], x31, -(t.sin[1] * x35)),
                     -(x24 * x38),
                 ),
-                <T as ::trocar::Real>::mul_add(t.sin[1], x29, t.cos[1] * x33),
-                <T as ::trocar::Real>::mul_add(t.sin[1], x30, t.cos[1] * x34),
-                <T as ::trocar::Real>::mul_add(t.sin[1], x31, t.cos[1] * x35),
+                <T as ::trocar::Arith>::mul_add(t.sin[1], x29, t.cos[1] * x33),
+                <T as ::trocar::Arith>::mul_add(t.sin[1], x30, t.cos[1] * x34),
+                <T as ::trocar::Arith>::mul_add(t.sin[1], x31, t.cos[1] * x35),
             ],
             [
-                <T as ::trocar::Real>::mul_add(x32, x33, -(x29 * x36)),
-                <T as ::trocar::Real>::mul_add(x32, x34, -(x30 * x36)),
-                <T as ::trocar::Real>::mul_add(x32, x35, -(x31 * x36)),
+                <T as ::trocar::Arith>::mul_add(x32, x33, -(x29 * x36)),
+                <T as ::trocar::Arith>::mul_add(x32, x34, -(x30 * x36)),
+                <T as ::trocar::Arith>::mul_add(x32, x35, -(x31 * x36)),
                 x22,
                 x23,
                 x24,
             ],
             [
-                <T as ::trocar::Real>::mul_add(x17, x25, -(x14 * x28)),
-                <T as ::trocar::Real>::mul_add(x17, x26, -(x15 * x28)),
-                <T as ::trocar::Real>::mul_add(x17, x27, -(x16 * x28)),
+                <T as ::trocar::Arith>::mul_add(x17, x25, -(x14 * x28)),
+                <T as ::trocar::Arith>::mul_add(x17, x26, -(x15 * x28)),
+                <T as ::trocar::Arith>::mul_add(x17, x27, -(x16 * x28)),
                 x22,
                 x23,
                 x24,
             ],
             [
-                <T as ::trocar::Real>::mul_add(x6, x21, x9 * x18),
-                <T as ::trocar::Real>::mul_add(x9, x19, -(x7 * x21)),
-                <T as ::trocar::Real>::mul_add(x8, x21, x9 * x20),
+                <T as ::trocar::Arith>::mul_add(x6, x21, x9 * x18),
+                <T as ::trocar::Arith>::mul_add(x9, x19, -(x7 * x21)),
+                <T as ::trocar::Arith>::mul_add(x8, x21, x9 * x20),
                 x14,
                 x15,
                 x16,
             ],
             [
-                -<T as ::trocar::Real>::mul_add(x3, x13, x5 * x10),
-                <T as ::trocar::Real>::mul_add(x5, x11, -(t.cos[6] * x13)),
-                <T as ::trocar::Real>::mul_add(x5, x12, -(x4 * x13)),
+                -<T as ::trocar::Arith>::mul_add(x3, x13, x5 * x10),
+                <T as ::trocar::Arith>::mul_add(x5, x11, -(t.cos[6] * x13)),
+                <T as ::trocar::Arith>::mul_add(x5, x12, -(x4 * x13)),
                 x6,
                 -x7,
                 x8,
             ],
             [
                 -(t.sin[7] * x2),
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 t.cos[7] * x2,
                 x3,
                 t.cos[6],
@@ -552,19 +556,19 @@ pub mod bidirectional_zy {
             ],
             [
                 -(t.cos[7] * p.l_8),
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 -(t.sin[7] * p.l_8),
                 -t.sin[7],
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 t.cos[7],
             ],
             [
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ONE,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ONE,
+                <T as ::trocar::Arith>::ZERO,
             ],
         ]
     }
@@ -579,12 +583,12 @@ pub mod bidirectional_zy {
     /// Operations: 2 add, 22 mul, 1 div, 0 sqrt, 2 trig (sin_cos), 10 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn constrained_jacobian<T: ::trocar::Real>(
+    pub fn constrained_jacobian<T: ::trocar::Arith>(
         q: &[T; N],
         p: &Params<T>,
     ) -> [[T; 6]; M] {
-        let ([s7, s8], [c7, c8]) = <T as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
-        let x0 = <T as ::trocar::Real>::ONE / p.l_a;
+        let ([s7, s8], [c7, c8]) = <T as ::trocar::Arith>::sin_cos_array(&[q[6], q[7]]);
+        let x0 = <T as ::trocar::Arith>::ONE / p.l_a;
         let x1 = (c7 * p.l_b + p.l_8) * x0;
         let x2 = x0 * s7;
         let x3 = c8 * s7;
@@ -596,41 +600,41 @@ pub mod bidirectional_zy {
                 p.l_b * x2,
                 -(x1 * s8),
                 -(x0 * s8),
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 x0 * c8,
             ],
             [
                 x3,
                 c7,
                 x4,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
             ],
             [
                 s8 * x5,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 -(c8 * x5),
                 -(x0 * (c7 * c8)),
                 x2,
                 -(x0 * (c7 * s8)),
             ],
-            [-(p.l_8 * x4), <T as ::trocar::Real>::ZERO, p.l_8 * x3, x3, c7, x4],
+            [-(p.l_8 * x4), <T as ::trocar::Arith>::ZERO, p.l_8 * x3, x3, c7, x4],
             [
                 -(p.l_8 * c8),
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 -(p.l_8 * s8),
                 -s8,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 c8,
             ],
             [
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ONE,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ONE,
+                <T as ::trocar::Arith>::ZERO,
             ],
         ]
     }
@@ -641,11 +645,11 @@ pub mod bidirectional_zy {
     /// Operations: 2 add, 22 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 10 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn constrained_jacobian_trig<T: ::trocar::Real>(
+    pub fn constrained_jacobian_trig<T: ::trocar::Arith>(
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> [[T; 6]; M] {
-        let x0 = <T as ::trocar::Real>::ONE / p.l_a;
+        let x0 = <T as ::trocar::Arith>::ONE / p.l_a;
         let x1 = (t.cos[6] * p.l_b + p.l_8) * x0;
         let x2 = x0 * t.sin[6];
         let x3 = t.cos[7] * t.sin[6];
@@ -657,41 +661,41 @@ pub mod bidirectional_zy {
                 p.l_b * x2,
                 -(x1 * t.sin[7]),
                 -(x0 * t.sin[7]),
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 x0 * t.cos[7],
             ],
             [
                 x3,
                 t.cos[6],
                 x4,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
             ],
             [
                 t.sin[7] * x5,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 -(t.cos[7] * x5),
                 -(x0 * (t.cos[6] * t.cos[7])),
                 x2,
                 -(x0 * (t.cos[6] * t.sin[7])),
             ],
-            [-(p.l_8 * x4), <T as ::trocar::Real>::ZERO, p.l_8 * x3, x3, t.cos[6], x4],
+            [-(p.l_8 * x4), <T as ::trocar::Arith>::ZERO, p.l_8 * x3, x3, t.cos[6], x4],
             [
                 -(p.l_8 * t.cos[7]),
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 -(p.l_8 * t.sin[7]),
                 -t.sin[7],
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 t.cos[7],
             ],
             [
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ONE,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ONE,
+                <T as ::trocar::Arith>::ZERO,
             ],
         ]
     }
@@ -704,24 +708,24 @@ pub mod bidirectional_zy {
     /// Operations: 7 add, 26 mul, 1 div, 0 sqrt, 2 trig (sin_cos), 4 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn constraint_jacobian_c<T: ::trocar::Real>(
+    pub fn constraint_jacobian_c<T: ::trocar::Arith>(
         q: &[T; N],
         p: &Params<T>,
     ) -> [[T; 6]; R] {
-        let ([s7, s8], [c7, c8]) = <T as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
-        let x0 = <T as ::trocar::Real>::ONE
-            / <T as ::trocar::Real>::mul_add(p.l_a, p.l_a, <T as ::trocar::Real>::ONE);
-        let x1 = <T as ::trocar::Real>::mul_add(
+        let ([s7, s8], [c7, c8]) = <T as ::trocar::Arith>::sin_cos_array(&[q[6], q[7]]);
+        let x0 = <T as ::trocar::Arith>::ONE
+            / <T as ::trocar::Arith>::mul_add(p.l_a, p.l_a, <T as ::trocar::Arith>::ONE);
+        let x1 = <T as ::trocar::Arith>::mul_add(
             p.l_a,
             p.l_a + p.l_b,
-            <T as ::trocar::Real>::ONE,
+            <T as ::trocar::Arith>::ONE,
         );
-        let x2 = x0 * <T as ::trocar::Real>::mul_add(x1, c7, p.l_a * p.l_8);
+        let x2 = x0 * <T as ::trocar::Arith>::mul_add(x1, c7, p.l_a * p.l_8);
         let x3 = x0
-            * <T as ::trocar::Real>::mul_add(
+            * <T as ::trocar::Arith>::mul_add(
                 p.l_a,
-                p.l_b + <T as ::trocar::Real>::mul_add(c7, p.l_8, p.l_a),
-                <T as ::trocar::Real>::ONE,
+                p.l_b + <T as ::trocar::Arith>::mul_add(c7, p.l_8, p.l_a),
+                <T as ::trocar::Arith>::ONE,
             );
         [
             [
@@ -729,12 +733,12 @@ pub mod bidirectional_zy {
                 -(x0 * x1 * s7),
                 x2 * s8,
                 x0 * (p.l_a * s8),
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 -(x0 * (p.l_a * c8)),
             ],
             [
                 -(s8 * x3),
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 c8 * x3,
                 x0 * (p.l_a * (c7 * c8)),
                 -(x0 * (p.l_a * s7)),
@@ -749,23 +753,23 @@ pub mod bidirectional_zy {
     /// Operations: 7 add, 26 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 4 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn constraint_jacobian_c_trig<T: ::trocar::Real>(
+    pub fn constraint_jacobian_c_trig<T: ::trocar::Arith>(
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> [[T; 6]; R] {
-        let x0 = <T as ::trocar::Real>::ONE
-            / <T as ::trocar::Real>::mul_add(p.l_a, p.l_a, <T as ::trocar::Real>::ONE);
-        let x1 = <T as ::trocar::Real>::mul_add(
+        let x0 = <T as ::trocar::Arith>::ONE
+            / <T as ::trocar::Arith>::mul_add(p.l_a, p.l_a, <T as ::trocar::Arith>::ONE);
+        let x1 = <T as ::trocar::Arith>::mul_add(
             p.l_a,
             p.l_a + p.l_b,
-            <T as ::trocar::Real>::ONE,
+            <T as ::trocar::Arith>::ONE,
         );
-        let x2 = x0 * <T as ::trocar::Real>::mul_add(x1, t.cos[6], p.l_a * p.l_8);
+        let x2 = x0 * <T as ::trocar::Arith>::mul_add(x1, t.cos[6], p.l_a * p.l_8);
         let x3 = x0
-            * <T as ::trocar::Real>::mul_add(
+            * <T as ::trocar::Arith>::mul_add(
                 p.l_a,
-                p.l_b + <T as ::trocar::Real>::mul_add(t.cos[6], p.l_8, p.l_a),
-                <T as ::trocar::Real>::ONE,
+                p.l_b + <T as ::trocar::Arith>::mul_add(t.cos[6], p.l_8, p.l_a),
+                <T as ::trocar::Arith>::ONE,
             );
         [
             [
@@ -773,12 +777,12 @@ pub mod bidirectional_zy {
                 -(x0 * x1 * t.sin[6]),
                 x2 * t.sin[7],
                 x0 * (p.l_a * t.sin[7]),
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 -(x0 * (p.l_a * t.cos[7])),
             ],
             [
                 -(t.sin[7] * x3),
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 t.cos[7] * x3,
                 x0 * (p.l_a * (t.cos[6] * t.cos[7])),
                 -(x0 * (p.l_a * t.sin[6])),
@@ -793,97 +797,97 @@ pub mod bidirectional_zy {
     /// Operations: 24 add, 57 mul, 0 div, 0 sqrt, 5 trig (sin_cos), 3 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn partial_body_jacobian<T: ::trocar::Real>(
+    pub fn partial_body_jacobian<T: ::trocar::Arith>(
         q: &[T; N],
         _p: &Params<T>,
     ) -> [[T; 6]; I] {
-        let ([s2, s3, s4, s5, s6], [c2, c3, c4, c5, c6]) = <T as ::trocar::Real>::sin_cos_array(
+        let ([s2, s3, s4, s5, s6], [c2, c3, c4, c5, c6]) = <T as ::trocar::Arith>::sin_cos_array(
             &[q[1], q[2], q[3], q[4], q[5]],
         );
         let x0 = s5 * s6;
         let x1 = s5 * c6;
         let x2 = c5 * s6;
         let x3 = c5 * c6;
-        let x4 = <T as ::trocar::Real>::mul_add(c4, c6, -(s4 * x2));
+        let x4 = <T as ::trocar::Arith>::mul_add(c4, c6, -(s4 * x2));
         let x5 = s4 * s5;
-        let x6 = <T as ::trocar::Real>::mul_add(c4, s6, s4 * x3);
-        let x7 = <T as ::trocar::Real>::mul_add(s4, c6, c4 * x2);
+        let x6 = <T as ::trocar::Arith>::mul_add(c4, s6, s4 * x3);
+        let x7 = <T as ::trocar::Arith>::mul_add(s4, c6, c4 * x2);
         let x8 = c4 * s5;
-        let x9 = <T as ::trocar::Real>::mul_add(c4, x3, -(s4 * s6));
-        let x10 = <T as ::trocar::Real>::mul_add(c3, x0, s3 * x7);
-        let x11 = <T as ::trocar::Real>::mul_add(c3, c5, -(s3 * x8));
-        let x12 = <T as ::trocar::Real>::mul_add(c3, x1, s3 * x9);
-        let x13 = <T as ::trocar::Real>::mul_add(
-            <T as ::trocar::Real>::lit(0.39),
+        let x9 = <T as ::trocar::Arith>::mul_add(c4, x3, -(s4 * s6));
+        let x10 = <T as ::trocar::Arith>::mul_add(c3, x0, s3 * x7);
+        let x11 = <T as ::trocar::Arith>::mul_add(c3, c5, -(s3 * x8));
+        let x12 = <T as ::trocar::Arith>::mul_add(c3, x1, s3 * x9);
+        let x13 = <T as ::trocar::Arith>::mul_add(
+            <T as ::trocar::Arith>::lit(0.39),
             c3,
-            <T as ::trocar::Real>::lit(0.38),
+            <T as ::trocar::Arith>::lit(0.38),
         );
-        let x14 = <T as ::trocar::Real>::mul_add(s3, x0, -(c3 * x7));
-        let x15 = <T as ::trocar::Real>::mul_add(s3, c5, c3 * x8);
-        let x16 = <T as ::trocar::Real>::mul_add(c3, x9, -(s3 * x1));
-        let x17 = <T as ::trocar::Real>::lit(0.39) * s3;
-        let x18 = <T as ::trocar::Real>::mul_add(c2, x13, -(s2 * x17));
+        let x14 = <T as ::trocar::Arith>::mul_add(s3, x0, -(c3 * x7));
+        let x15 = <T as ::trocar::Arith>::mul_add(s3, c5, c3 * x8);
+        let x16 = <T as ::trocar::Arith>::mul_add(c3, x9, -(s3 * x1));
+        let x17 = <T as ::trocar::Arith>::lit(0.39) * s3;
+        let x18 = <T as ::trocar::Arith>::mul_add(c2, x13, -(s2 * x17));
         [
             [
-                <T as ::trocar::Real>::mul_add(
-                    <T as ::trocar::Real>::lit(0.194),
-                    <T as ::trocar::Real>::mul_add(c2, x10, -(s2 * x14)),
+                <T as ::trocar::Arith>::mul_add(
+                    <T as ::trocar::Arith>::lit(0.194),
+                    <T as ::trocar::Arith>::mul_add(c2, x10, -(s2 * x14)),
                     -(x4 * x18),
                 ),
-                <T as ::trocar::Real>::mul_add(
-                    <T as ::trocar::Real>::lit(0.194),
-                    <T as ::trocar::Real>::mul_add(c2, x11, -(s2 * x15)),
+                <T as ::trocar::Arith>::mul_add(
+                    <T as ::trocar::Arith>::lit(0.194),
+                    <T as ::trocar::Arith>::mul_add(c2, x11, -(s2 * x15)),
                     -(x5 * x18),
                 ),
-                -<T as ::trocar::Real>::mul_add(
+                -<T as ::trocar::Arith>::mul_add(
                     x6,
                     x18,
-                    <T as ::trocar::Real>::lit(0.194)
-                        * <T as ::trocar::Real>::mul_add(c2, x12, s2 * x16),
+                    <T as ::trocar::Arith>::lit(0.194)
+                        * <T as ::trocar::Arith>::mul_add(c2, x12, s2 * x16),
                 ),
-                <T as ::trocar::Real>::mul_add(s2, x10, c2 * x14),
-                <T as ::trocar::Real>::mul_add(s2, x11, c2 * x15),
-                <T as ::trocar::Real>::mul_add(c2, x16, -(s2 * x12)),
+                <T as ::trocar::Arith>::mul_add(s2, x10, c2 * x14),
+                <T as ::trocar::Arith>::mul_add(s2, x11, c2 * x15),
+                <T as ::trocar::Arith>::mul_add(c2, x16, -(s2 * x12)),
             ],
             [
-                <T as ::trocar::Real>::mul_add(x13, x14, -(x10 * x17)),
-                <T as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
-                <T as ::trocar::Real>::mul_add(x12, x17, x13 * x16),
+                <T as ::trocar::Arith>::mul_add(x13, x14, -(x10 * x17)),
+                <T as ::trocar::Arith>::mul_add(x13, x15, -(x11 * x17)),
+                <T as ::trocar::Arith>::mul_add(x12, x17, x13 * x16),
                 x4,
                 x5,
                 x6,
             ],
             [
-                -(<T as ::trocar::Real>::lit(0.39) * x7),
-                <T as ::trocar::Real>::lit(0.39) * x8,
-                <T as ::trocar::Real>::lit(0.39) * x9,
+                -(<T as ::trocar::Arith>::lit(0.39) * x7),
+                <T as ::trocar::Arith>::lit(0.39) * x8,
+                <T as ::trocar::Arith>::lit(0.39) * x9,
                 x4,
                 x5,
                 x6,
             ],
             [
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 x0,
                 c5,
                 -x1,
             ],
             [
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 c6,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 s6,
             ],
             [
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ONE,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ONE,
+                <T as ::trocar::Arith>::ZERO,
             ],
         ]
     }
@@ -894,7 +898,7 @@ pub mod bidirectional_zy {
     /// Operations: 24 add, 57 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 3 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn partial_body_jacobian_trig<T: ::trocar::Real>(
+    pub fn partial_body_jacobian_trig<T: ::trocar::Arith>(
         t: &JointTrig<T>,
         _p: &Params<T>,
     ) -> [[T; 6]; I] {
@@ -902,86 +906,86 @@ pub mod bidirectional_zy {
         let x1 = t.sin[4] * t.cos[5];
         let x2 = t.cos[4] * t.sin[5];
         let x3 = t.cos[4] * t.cos[5];
-        let x4 = <T as ::trocar::Real>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x2));
+        let x4 = <T as ::trocar::Arith>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x2));
         let x5 = t.sin[3] * t.sin[4];
-        let x6 = <T as ::trocar::Real>::mul_add(t.cos[3], t.sin[5], t.sin[3] * x3);
-        let x7 = <T as ::trocar::Real>::mul_add(t.sin[3], t.cos[5], t.cos[3] * x2);
+        let x6 = <T as ::trocar::Arith>::mul_add(t.cos[3], t.sin[5], t.sin[3] * x3);
+        let x7 = <T as ::trocar::Arith>::mul_add(t.sin[3], t.cos[5], t.cos[3] * x2);
         let x8 = t.cos[3] * t.sin[4];
-        let x9 = <T as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * t.sin[5]));
-        let x10 = <T as ::trocar::Real>::mul_add(t.cos[2], x0, t.sin[2] * x7);
-        let x11 = <T as ::trocar::Real>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x8));
-        let x12 = <T as ::trocar::Real>::mul_add(t.cos[2], x1, t.sin[2] * x9);
-        let x13 = <T as ::trocar::Real>::mul_add(
-            <T as ::trocar::Real>::lit(0.39),
+        let x9 = <T as ::trocar::Arith>::mul_add(t.cos[3], x3, -(t.sin[3] * t.sin[5]));
+        let x10 = <T as ::trocar::Arith>::mul_add(t.cos[2], x0, t.sin[2] * x7);
+        let x11 = <T as ::trocar::Arith>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x8));
+        let x12 = <T as ::trocar::Arith>::mul_add(t.cos[2], x1, t.sin[2] * x9);
+        let x13 = <T as ::trocar::Arith>::mul_add(
+            <T as ::trocar::Arith>::lit(0.39),
             t.cos[2],
-            <T as ::trocar::Real>::lit(0.38),
+            <T as ::trocar::Arith>::lit(0.38),
         );
-        let x14 = <T as ::trocar::Real>::mul_add(t.sin[2], x0, -(t.cos[2] * x7));
-        let x15 = <T as ::trocar::Real>::mul_add(t.sin[2], t.cos[4], t.cos[2] * x8);
-        let x16 = <T as ::trocar::Real>::mul_add(t.cos[2], x9, -(t.sin[2] * x1));
-        let x17 = <T as ::trocar::Real>::lit(0.39) * t.sin[2];
-        let x18 = <T as ::trocar::Real>::mul_add(t.cos[1], x13, -(t.sin[1] * x17));
+        let x14 = <T as ::trocar::Arith>::mul_add(t.sin[2], x0, -(t.cos[2] * x7));
+        let x15 = <T as ::trocar::Arith>::mul_add(t.sin[2], t.cos[4], t.cos[2] * x8);
+        let x16 = <T as ::trocar::Arith>::mul_add(t.cos[2], x9, -(t.sin[2] * x1));
+        let x17 = <T as ::trocar::Arith>::lit(0.39) * t.sin[2];
+        let x18 = <T as ::trocar::Arith>::mul_add(t.cos[1], x13, -(t.sin[1] * x17));
         [
             [
-                <T as ::trocar::Real>::mul_add(
-                    <T as ::trocar::Real>::lit(0.194),
-                    <T as ::trocar::Real>::mul_add(t.cos[1], x10, -(t.sin[1] * x14)),
+                <T as ::trocar::Arith>::mul_add(
+                    <T as ::trocar::Arith>::lit(0.194),
+                    <T as ::trocar::Arith>::mul_add(t.cos[1], x10, -(t.sin[1] * x14)),
                     -(x4 * x18),
                 ),
-                <T as ::trocar::Real>::mul_add(
-                    <T as ::trocar::Real>::lit(0.194),
-                    <T as ::trocar::Real>::mul_add(t.cos[1], x11, -(t.sin[1] * x15)),
+                <T as ::trocar::Arith>::mul_add(
+                    <T as ::trocar::Arith>::lit(0.194),
+                    <T as ::trocar::Arith>::mul_add(t.cos[1], x11, -(t.sin[1] * x15)),
                     -(x5 * x18),
                 ),
-                -<T as ::trocar::Real>::mul_add(
+                -<T as ::trocar::Arith>::mul_add(
                     x6,
                     x18,
-                    <T as ::trocar::Real>::lit(0.194)
-                        * <T as ::trocar::Real>::mul_add(t.cos[1], x12, t.sin[1] * x16),
+                    <T as ::trocar::Arith>::lit(0.194)
+                        * <T as ::trocar::Arith>::mul_add(t.cos[1], x12, t.sin[1] * x16),
                 ),
-                <T as ::trocar::Real>::mul_add(t.sin[1], x10, t.cos[1] * x14),
-                <T as ::trocar::Real>::mul_add(t.sin[1], x11, t.cos[1] * x15),
-                <T as ::trocar::Real>::mul_add(t.cos[1], x16, -(t.sin[1] * x12)),
+                <T as ::trocar::Arith>::mul_add(t.sin[1], x10, t.cos[1] * x14),
+                <T as ::trocar::Arith>::mul_add(t.sin[1], x11, t.cos[1] * x15),
+                <T as ::trocar::Arith>::mul_add(t.cos[1], x16, -(t.sin[1] * x12)),
             ],
             [
-                <T as ::trocar::Real>::mul_add(x13, x14, -(x10 * x17)),
-                <T as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
-                <T as ::trocar::Real>::mul_add(x12, x17, x13 * x16),
+                <T as ::trocar::Arith>::mul_add(x13, x14, -(x10 * x17)),
+                <T as ::trocar::Arith>::mul_add(x13, x15, -(x11 * x17)),
+                <T as ::trocar::Arith>::mul_add(x12, x17, x13 * x16),
                 x4,
                 x5,
                 x6,
             ],
             [
-                -(<T as ::trocar::Real>::lit(0.39) * x7),
-                <T as ::trocar::Real>::lit(0.39) * x8,
-                <T as ::trocar::Real>::lit(0.39) * x9,
+                -(<T as ::trocar::Arith>::lit(0.39) * x7),
+                <T as ::trocar::Arith>::lit(0.39) * x8,
+                <T as ::trocar::Arith>::lit(0.39) * x9,
                 x4,
                 x5,
                 x6,
             ],
             [
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 x0,
                 t.cos[4],
                 -x1,
             ],
             [
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 t.cos[5],
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 t.sin[5],
             ],
             [
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ONE,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ONE,
+                <T as ::trocar::Arith>::ZERO,
             ],
         ]
     }
@@ -992,76 +996,76 @@ pub mod bidirectional_zy {
     /// Operations: 28 add, 58 mul, 0 div, 0 sqrt, 6 trig (sin_cos), 1 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn forward_kinematics_i<T: ::trocar::Real>(
+    pub fn forward_kinematics_i<T: ::trocar::Arith>(
         q: &[T; N],
         _p: &Params<T>,
     ) -> ([[T; 3]; 3], [T; 3]) {
-        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <T as ::trocar::Real>::sin_cos_array(
+        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <T as ::trocar::Arith>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5]],
         );
         let x0 = s1 * c2;
         let x1 = s1 * s2;
         let x2 = c1 * c2;
         let x3 = c1 * s2;
-        let x4 = <T as ::trocar::Real>::mul_add(s3, x1, -(c3 * x0));
-        let x5 = <T as ::trocar::Real>::mul_add(s3, x0, c3 * x1);
-        let x6 = <T as ::trocar::Real>::mul_add(c3, x2, -(s3 * x3));
-        let x7 = <T as ::trocar::Real>::mul_add(s3, x2, c3 * x3);
-        let x8 = <T as ::trocar::Real>::mul_add(s2, c3, c2 * s3);
-        let x9 = <T as ::trocar::Real>::mul_add(c2, c3, -(s2 * s3));
-        let x10 = <T as ::trocar::Real>::mul_add(c1, c4, -(s4 * x5));
-        let x11 = <T as ::trocar::Real>::mul_add(c1, s4, c4 * x5);
-        let x12 = <T as ::trocar::Real>::mul_add(s1, c4, s4 * x7);
-        let x13 = <T as ::trocar::Real>::mul_add(s1, s4, -(c4 * x7));
+        let x4 = <T as ::trocar::Arith>::mul_add(s3, x1, -(c3 * x0));
+        let x5 = <T as ::trocar::Arith>::mul_add(s3, x0, c3 * x1);
+        let x6 = <T as ::trocar::Arith>::mul_add(c3, x2, -(s3 * x3));
+        let x7 = <T as ::trocar::Arith>::mul_add(s3, x2, c3 * x3);
+        let x8 = <T as ::trocar::Arith>::mul_add(s2, c3, c2 * s3);
+        let x9 = <T as ::trocar::Arith>::mul_add(c2, c3, -(s2 * s3));
+        let x10 = <T as ::trocar::Arith>::mul_add(c1, c4, -(s4 * x5));
+        let x11 = <T as ::trocar::Arith>::mul_add(c1, s4, c4 * x5);
+        let x12 = <T as ::trocar::Arith>::mul_add(s1, c4, s4 * x7);
+        let x13 = <T as ::trocar::Arith>::mul_add(s1, s4, -(c4 * x7));
         let x14 = s4 * x9;
         let x15 = c4 * x9;
-        let x16 = <T as ::trocar::Real>::mul_add(c5, x11, -(s5 * x4));
-        let x17 = <T as ::trocar::Real>::mul_add(c5, x13, -(s5 * x6));
-        let x18 = <T as ::trocar::Real>::mul_add(c5, x15, -(s5 * x8));
+        let x16 = <T as ::trocar::Arith>::mul_add(c5, x11, -(s5 * x4));
+        let x17 = <T as ::trocar::Arith>::mul_add(c5, x13, -(s5 * x6));
+        let x18 = <T as ::trocar::Arith>::mul_add(c5, x15, -(s5 * x8));
         (
             [
                 [
-                    <T as ::trocar::Real>::mul_add(c6, x10, -(s6 * x16)),
-                    <T as ::trocar::Real>::mul_add(c6, x12, -(s6 * x17)),
-                    -<T as ::trocar::Real>::mul_add(c6, x14, s6 * x18),
+                    <T as ::trocar::Arith>::mul_add(c6, x10, -(s6 * x16)),
+                    <T as ::trocar::Arith>::mul_add(c6, x12, -(s6 * x17)),
+                    -<T as ::trocar::Arith>::mul_add(c6, x14, s6 * x18),
                 ],
                 [
-                    <T as ::trocar::Real>::mul_add(c5, x4, s5 * x11),
-                    <T as ::trocar::Real>::mul_add(c5, x6, s5 * x13),
-                    <T as ::trocar::Real>::mul_add(c5, x8, s5 * x15),
+                    <T as ::trocar::Arith>::mul_add(c5, x4, s5 * x11),
+                    <T as ::trocar::Arith>::mul_add(c5, x6, s5 * x13),
+                    <T as ::trocar::Arith>::mul_add(c5, x8, s5 * x15),
                 ],
                 [
-                    <T as ::trocar::Real>::mul_add(s6, x10, c6 * x16),
-                    <T as ::trocar::Real>::mul_add(s6, x12, c6 * x17),
-                    <T as ::trocar::Real>::mul_add(c6, x18, -(s6 * x14)),
+                    <T as ::trocar::Arith>::mul_add(s6, x10, c6 * x16),
+                    <T as ::trocar::Arith>::mul_add(s6, x12, c6 * x17),
+                    <T as ::trocar::Arith>::mul_add(c6, x18, -(s6 * x14)),
                 ],
             ],
             [
-                <T as ::trocar::Real>::mul_add(
-                    <T as ::trocar::Real>::lit(0.39),
+                <T as ::trocar::Arith>::mul_add(
+                    <T as ::trocar::Arith>::lit(0.39),
                     x4,
-                    <T as ::trocar::Real>::mul_add(
-                        <T as ::trocar::Real>::lit(0.194),
+                    <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::Arith>::lit(0.194),
                         c1,
-                        -(<T as ::trocar::Real>::lit(0.38) * x0),
+                        -(<T as ::trocar::Arith>::lit(0.38) * x0),
                     ),
                 ),
-                <T as ::trocar::Real>::mul_add(
-                    <T as ::trocar::Real>::lit(0.39),
+                <T as ::trocar::Arith>::mul_add(
+                    <T as ::trocar::Arith>::lit(0.39),
                     x6,
-                    <T as ::trocar::Real>::mul_add(
-                        <T as ::trocar::Real>::lit(0.194),
+                    <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::Arith>::lit(0.194),
                         s1,
-                        <T as ::trocar::Real>::lit(0.38) * x2,
+                        <T as ::trocar::Arith>::lit(0.38) * x2,
                     ),
                 ),
-                <T as ::trocar::Real>::mul_add(
-                    <T as ::trocar::Real>::lit(0.39),
+                <T as ::trocar::Arith>::mul_add(
+                    <T as ::trocar::Arith>::lit(0.39),
                     x8,
-                    <T as ::trocar::Real>::mul_add(
-                        <T as ::trocar::Real>::lit(0.38),
+                    <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::Arith>::lit(0.38),
                         s2,
-                        <T as ::trocar::Real>::lit(1.037),
+                        <T as ::trocar::Arith>::lit(1.037),
                     ),
                 ),
             ],
@@ -1074,7 +1078,7 @@ pub mod bidirectional_zy {
     /// Operations: 28 add, 58 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn forward_kinematics_i_trig<T: ::trocar::Real>(
+    pub fn forward_kinematics_i_trig<T: ::trocar::Arith>(
         t: &JointTrig<T>,
         _p: &Params<T>,
     ) -> ([[T; 3]; 3], [T; 3]) {
@@ -1082,69 +1086,73 @@ pub mod bidirectional_zy {
         let x1 = t.sin[0] * t.sin[1];
         let x2 = t.cos[0] * t.cos[1];
         let x3 = t.cos[0] * t.sin[1];
-        let x4 = <T as ::trocar::Real>::mul_add(t.sin[2], x1, -(t.cos[2] * x0));
-        let x5 = <T as ::trocar::Real>::mul_add(t.sin[2], x0, t.cos[2] * x1);
-        let x6 = <T as ::trocar::Real>::mul_add(t.cos[2], x2, -(t.sin[2] * x3));
-        let x7 = <T as ::trocar::Real>::mul_add(t.sin[2], x2, t.cos[2] * x3);
-        let x8 = <T as ::trocar::Real>::mul_add(t.sin[1], t.cos[2], t.cos[1] * t.sin[2]);
-        let x9 = <T as ::trocar::Real>::mul_add(
+        let x4 = <T as ::trocar::Arith>::mul_add(t.sin[2], x1, -(t.cos[2] * x0));
+        let x5 = <T as ::trocar::Arith>::mul_add(t.sin[2], x0, t.cos[2] * x1);
+        let x6 = <T as ::trocar::Arith>::mul_add(t.cos[2], x2, -(t.sin[2] * x3));
+        let x7 = <T as ::trocar::Arith>::mul_add(t.sin[2], x2, t.cos[2] * x3);
+        let x8 = <T as ::trocar::Arith>::mul_add(
+            t.sin[1],
+            t.cos[2],
+            t.cos[1] * t.sin[2],
+        );
+        let x9 = <T as ::trocar::Arith>::mul_add(
             t.cos[1],
             t.cos[2],
             -(t.sin[1] * t.sin[2]),
         );
-        let x10 = <T as ::trocar::Real>::mul_add(t.cos[0], t.cos[3], -(t.sin[3] * x5));
-        let x11 = <T as ::trocar::Real>::mul_add(t.cos[0], t.sin[3], t.cos[3] * x5);
-        let x12 = <T as ::trocar::Real>::mul_add(t.sin[0], t.cos[3], t.sin[3] * x7);
-        let x13 = <T as ::trocar::Real>::mul_add(t.sin[0], t.sin[3], -(t.cos[3] * x7));
+        let x10 = <T as ::trocar::Arith>::mul_add(t.cos[0], t.cos[3], -(t.sin[3] * x5));
+        let x11 = <T as ::trocar::Arith>::mul_add(t.cos[0], t.sin[3], t.cos[3] * x5);
+        let x12 = <T as ::trocar::Arith>::mul_add(t.sin[0], t.cos[3], t.sin[3] * x7);
+        let x13 = <T as ::trocar::Arith>::mul_add(t.sin[0], t.sin[3], -(t.cos[3] * x7));
         let x14 = t.sin[3] * x9;
         let x15 = t.cos[3] * x9;
-        let x16 = <T as ::trocar::Real>::mul_add(t.cos[4], x11, -(t.sin[4] * x4));
-        let x17 = <T as ::trocar::Real>::mul_add(t.cos[4], x13, -(t.sin[4] * x6));
-        let x18 = <T as ::trocar::Real>::mul_add(t.cos[4], x15, -(t.sin[4] * x8));
+        let x16 = <T as ::trocar::Arith>::mul_add(t.cos[4], x11, -(t.sin[4] * x4));
+        let x17 = <T as ::trocar::Arith>::mul_add(t.cos[4], x13, -(t.sin[4] * x6));
+        let x18 = <T as ::trocar::Arith>::mul_add(t.cos[4], x15, -(t.sin[4] * x8));
         (
             [
                 [
-                    <T as ::trocar::Real>::mul_add(t.cos[5], x10, -(t.sin[5] * x16)),
-                    <T as ::trocar::Real>::mul_add(t.cos[5], x12, -(t.sin[5] * x17)),
-                    -<T as ::trocar::Real>::mul_add(t.cos[5], x14, t.sin[5] * x18),
+                    <T as ::trocar::Arith>::mul_add(t.cos[5], x10, -(t.sin[5] * x16)),
+                    <T as ::trocar::Arith>::mul_add(t.cos[5], x12, -(t.sin[5] * x17)),
+                    -<T as ::trocar::Arith>::mul_add(t.cos[5], x14, t.sin[5] * x18),
                 ],
                 [
-                    <T as ::trocar::Real>::mul_add(t.cos[4], x4, t.sin[4] * x11),
-                    <T as ::trocar::Real>::mul_add(t.cos[4], x6, t.sin[4] * x13),
-                    <T as ::trocar::Real>::mul_add(t.cos[4], x8, t.sin[4] * x15),
+                    <T as ::trocar::Arith>::mul_add(t.cos[4], x4, t.sin[4] * x11),
+                    <T as ::trocar::Arith>::mul_add(t.cos[4], x6, t.sin[4] * x13),
+                    <T as ::trocar::Arith>::mul_add(t.cos[4], x8, t.sin[4] * x15),
                 ],
                 [
-                    <T as ::trocar::Real>::mul_add(t.sin[5], x10, t.cos[5] * x16),
-                    <T as ::trocar::Real>::mul_add(t.sin[5], x12, t.cos[5] * x17),
-                    <T as ::trocar::Real>::mul_add(t.cos[5], x18, -(t.sin[5] * x14)),
+                    <T as ::trocar::Arith>::mul_add(t.sin[5], x10, t.cos[5] * x16),
+                    <T as ::trocar::Arith>::mul_add(t.sin[5], x12, t.cos[5] * x17),
+                    <T as ::trocar::Arith>::mul_add(t.cos[5], x18, -(t.sin[5] * x14)),
                 ],
             ],
             [
-                <T as ::trocar::Real>::mul_add(
-                    <T as ::trocar::Real>::lit(0.39),
+                <T as ::trocar::Arith>::mul_add(
+                    <T as ::trocar::Arith>::lit(0.39),
                     x4,
-                    <T as ::trocar::Real>::mul_add(
-                        <T as ::trocar::Real>::lit(0.194),
+                    <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::Arith>::lit(0.194),
                         t.cos[0],
-                        -(<T as ::trocar::Real>::lit(0.38) * x0),
+                        -(<T as ::trocar::Arith>::lit(0.38) * x0),
                     ),
                 ),
-                <T as ::trocar::Real>::mul_add(
-                    <T as ::trocar::Real>::lit(0.39),
+                <T as ::trocar::Arith>::mul_add(
+                    <T as ::trocar::Arith>::lit(0.39),
                     x6,
-                    <T as ::trocar::Real>::mul_add(
-                        <T as ::trocar::Real>::lit(0.194),
+                    <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::Arith>::lit(0.194),
                         t.sin[0],
-                        <T as ::trocar::Real>::lit(0.38) * x2,
+                        <T as ::trocar::Arith>::lit(0.38) * x2,
                     ),
                 ),
-                <T as ::trocar::Real>::mul_add(
-                    <T as ::trocar::Real>::lit(0.39),
+                <T as ::trocar::Arith>::mul_add(
+                    <T as ::trocar::Arith>::lit(0.39),
                     x8,
-                    <T as ::trocar::Real>::mul_add(
-                        <T as ::trocar::Real>::lit(0.38),
+                    <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::Arith>::lit(0.38),
                         t.sin[1],
-                        <T as ::trocar::Real>::lit(1.037),
+                        <T as ::trocar::Arith>::lit(1.037),
                     ),
                 ),
             ],
@@ -1158,10 +1166,10 @@ pub mod bidirectional_zy {
     #[inline]
     #[must_use]
     pub fn manipulability<T: ::trocar::Real>(q: &[T; N], p: &Params<T>) -> T {
-        let ([s7], [_]) = <T as ::trocar::Real>::sin_cos_array(&[q[6]]);
-        let x0 = <T as ::trocar::Real>::ONE / p.l_a;
+        let ([s7], [_]) = <T as ::trocar::Arith>::sin_cos_array(&[q[6]]);
+        let x0 = <T as ::trocar::Arith>::ONE / p.l_a;
         {
-            let w = <T as ::trocar::Real>::abs(s7 * (x0 * x0) * (p.l_b * p.l_b));
+            let w = <T as ::trocar::Arith>::abs(s7 * (x0 * x0) * (p.l_b * p.l_b));
             if <T as ::trocar::Real>::is_finite(w) {
                 w
             } else {
@@ -1177,9 +1185,9 @@ pub mod bidirectional_zy {
     #[inline]
     #[must_use]
     pub fn manipulability_trig<T: ::trocar::Real>(t: &JointTrig<T>, p: &Params<T>) -> T {
-        let x0 = <T as ::trocar::Real>::ONE / p.l_a;
+        let x0 = <T as ::trocar::Arith>::ONE / p.l_a;
         {
-            let w = <T as ::trocar::Real>::abs(t.sin[6] * (x0 * x0) * (p.l_b * p.l_b));
+            let w = <T as ::trocar::Arith>::abs(t.sin[6] * (x0 * x0) * (p.l_b * p.l_b));
             if <T as ::trocar::Real>::is_finite(w) {
                 w
             } else {
@@ -1195,8 +1203,8 @@ pub mod bidirectional_zy {
     #[inline]
     #[must_use]
     pub fn manipulability_squared<T: ::trocar::Real>(q: &[T; N], p: &Params<T>) -> T {
-        let ([s7], [_]) = <T as ::trocar::Real>::sin_cos_array(&[q[6]]);
-        let x0 = <T as ::trocar::Real>::ONE / p.l_a;
+        let ([s7], [_]) = <T as ::trocar::Arith>::sin_cos_array(&[q[6]]);
+        let x0 = <T as ::trocar::Arith>::ONE / p.l_a;
         let x1 = s7 * (x0 * x0) * (p.l_b * p.l_b);
         {
             let w = x1 * x1;
@@ -1218,7 +1226,7 @@ pub mod bidirectional_zy {
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> T {
-        let x0 = <T as ::trocar::Real>::ONE / p.l_a;
+        let x0 = <T as ::trocar::Arith>::ONE / p.l_a;
         let x1 = t.sin[6] * (x0 * x0) * (p.l_b * p.l_b);
         {
             let w = x1 * x1;
@@ -1236,14 +1244,14 @@ pub mod bidirectional_zy {
     /// Operations: 0 add, 0 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn constraint_selection<T: ::trocar::Real>(_p: &Params<T>) -> [[T; R]; 6] {
+    pub fn constraint_selection<T: ::trocar::Arith>(_p: &Params<T>) -> [[T; R]; 6] {
         [
-            [<T as ::trocar::Real>::ONE, <T as ::trocar::Real>::ZERO],
-            [<T as ::trocar::Real>::ZERO, <T as ::trocar::Real>::ZERO],
-            [<T as ::trocar::Real>::ZERO, <T as ::trocar::Real>::ONE],
-            [<T as ::trocar::Real>::ZERO, <T as ::trocar::Real>::ZERO],
-            [<T as ::trocar::Real>::ZERO, <T as ::trocar::Real>::ZERO],
-            [<T as ::trocar::Real>::ZERO, <T as ::trocar::Real>::ZERO],
+            [<T as ::trocar::Arith>::ONE, <T as ::trocar::Arith>::ZERO],
+            [<T as ::trocar::Arith>::ZERO, <T as ::trocar::Arith>::ZERO],
+            [<T as ::trocar::Arith>::ZERO, <T as ::trocar::Arith>::ONE],
+            [<T as ::trocar::Arith>::ZERO, <T as ::trocar::Arith>::ZERO],
+            [<T as ::trocar::Arith>::ZERO, <T as ::trocar::Arith>::ZERO],
+            [<T as ::trocar::Arith>::ZERO, <T as ::trocar::Arith>::ZERO],
         ]
     }
     /// Null-space basis `Λ#` of `Λ = H Ad_{g_ri}` (3.3), 6 × K: `V^B_0i = Λ# v0i`, thesis (3.6) (presets: (3.23), (3.27)).
@@ -1255,40 +1263,40 @@ pub mod bidirectional_zy {
     /// Operations: 0 add, 0 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn lambda_null_space<T: ::trocar::Real>(p: &Params<T>) -> [[T; 6]; K] {
-        let x0 = <T as ::trocar::Real>::ONE / p.l_a;
+    pub fn lambda_null_space<T: ::trocar::Arith>(p: &Params<T>) -> [[T; 6]; K] {
+        let x0 = <T as ::trocar::Arith>::ONE / p.l_a;
         [
             [
-                <T as ::trocar::Real>::ONE,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ONE,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 x0,
             ],
             [
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ONE,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ONE,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
             ],
             [
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ONE,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ONE,
                 -x0,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
             ],
             [
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ONE,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ONE,
+                <T as ::trocar::Arith>::ZERO,
             ],
         ]
     }
@@ -1301,26 +1309,26 @@ pub mod bidirectional_zy {
     /// Operations: 1 add, 2 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn lambda_pinv<T: ::trocar::Real>(p: &Params<T>) -> [[T; 6]; R] {
-        let x0 = <T as ::trocar::Real>::ONE
-            / (<T as ::trocar::Real>::ONE + p.l_a * p.l_a);
+    pub fn lambda_pinv<T: ::trocar::Arith>(p: &Params<T>) -> [[T; 6]; R] {
+        let x0 = <T as ::trocar::Arith>::ONE
+            / (<T as ::trocar::Arith>::ONE + p.l_a * p.l_a);
         let x1 = p.l_a * x0;
         [
             [
                 x0,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 -x1,
             ],
             [
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
                 x0,
                 x1,
-                <T as ::trocar::Real>::ZERO,
-                <T as ::trocar::Real>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::Arith>::ZERO,
             ],
         ]
     }
@@ -1331,26 +1339,26 @@ pub mod bidirectional_zy {
     /// Operations: 0 add, 0 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn constraint_frame<T: ::trocar::Real>(p: &Params<T>) -> ([[T; 3]; 3], [T; 3]) {
+    pub fn constraint_frame<T: ::trocar::Arith>(p: &Params<T>) -> ([[T; 3]; 3], [T; 3]) {
         (
             [
                 [
-                    <T as ::trocar::Real>::ONE,
-                    <T as ::trocar::Real>::ZERO,
-                    <T as ::trocar::Real>::ZERO,
+                    <T as ::trocar::Arith>::ONE,
+                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
                 ],
                 [
-                    <T as ::trocar::Real>::ZERO,
-                    <T as ::trocar::Real>::ONE,
-                    <T as ::trocar::Real>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::Arith>::ONE,
+                    <T as ::trocar::Arith>::ZERO,
                 ],
                 [
-                    <T as ::trocar::Real>::ZERO,
-                    <T as ::trocar::Real>::ZERO,
-                    <T as ::trocar::Real>::ONE,
+                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::Arith>::ONE,
                 ],
             ],
-            [<T as ::trocar::Real>::ZERO, p.l_a, <T as ::trocar::Real>::ZERO],
+            [<T as ::trocar::Arith>::ZERO, p.l_a, <T as ::trocar::Arith>::ZERO],
         )
     }
     /// `g_0e`, `J^B_0e` in one program: the values of [`forward_kinematics`] and [`body_jacobian`], thesis (2.21), (2.53)–(2.55), computed together so that they share every common value.
@@ -1840,7 +1848,7 @@ pub mod bidirectional_zy {
     /// Operations: 65 add, 151 mul, 2 div, 0 sqrt, 0 trig (sin_cos), 17 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline(always)]
     #[must_use]
-    pub fn pose_and_jacobians_trig<T: ::trocar::Real>(
+    pub fn pose_and_jacobians_trig<T: ::trocar::Arith>(
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> PoseAndJacobians<T> {
@@ -1848,37 +1856,37 @@ pub mod bidirectional_zy {
         let x1 = t.sin[4] * t.cos[5];
         let x2 = t.cos[4] * t.sin[5];
         let x3 = t.cos[4] * t.cos[5];
-        let x4 = <T as ::trocar::Real>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x2));
+        let x4 = <T as ::trocar::Arith>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x2));
         let x5 = t.sin[3] * t.sin[4];
-        let x6 = <T as ::trocar::Real>::mul_add(t.cos[3], t.sin[5], t.sin[3] * x3);
-        let x7 = <T as ::trocar::Real>::mul_add(t.sin[3], t.cos[5], t.cos[3] * x2);
+        let x6 = <T as ::trocar::Arith>::mul_add(t.cos[3], t.sin[5], t.sin[3] * x3);
+        let x7 = <T as ::trocar::Arith>::mul_add(t.sin[3], t.cos[5], t.cos[3] * x2);
         let x8 = t.cos[3] * t.sin[4];
-        let x9 = <T as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * t.sin[5]));
-        let x10 = <T as ::trocar::Real>::mul_add(t.cos[2], x0, t.sin[2] * x7);
-        let x11 = <T as ::trocar::Real>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x8));
-        let x12 = <T as ::trocar::Real>::mul_add(t.cos[2], x1, t.sin[2] * x9);
-        let x13 = <T as ::trocar::Real>::mul_add(
-            <T as ::trocar::Real>::lit(0.39),
+        let x9 = <T as ::trocar::Arith>::mul_add(t.cos[3], x3, -(t.sin[3] * t.sin[5]));
+        let x10 = <T as ::trocar::Arith>::mul_add(t.cos[2], x0, t.sin[2] * x7);
+        let x11 = <T as ::trocar::Arith>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x8));
+        let x12 = <T as ::trocar::Arith>::mul_add(t.cos[2], x1, t.sin[2] * x9);
+        let x13 = <T as ::trocar::Arith>::mul_add(
+            <T as ::trocar::Arith>::lit(0.39),
             t.cos[2],
-            <T as ::trocar::Real>::lit(0.38),
+            <T as ::trocar::Arith>::lit(0.38),
         );
-        let x14 = <T as ::trocar::Real>::mul_add(t.sin[2], x0, -(t.cos[2] * x7));
-        let x15 = <T as ::trocar::Real>::mul_add(t.sin[2], t.cos[4], t.cos[2] * x8);
-        let x16 = <T as ::trocar::Real>::mul_add(t.cos[2], x9, -(t.sin[2] * x1));
-        let x17 = <T as ::trocar::Real>::lit(0.39) * t.sin[2];
-        let x18 = <T as ::trocar::Real>::mul_add(t.cos[1], x10, -(t.sin[1] * x14));
-        let x19 = <T as ::trocar::Real>::mul_add(t.cos[1], x11, -(t.sin[1] * x15));
-        let x20 = <T as ::trocar::Real>::mul_add(t.cos[1], x12, t.sin[1] * x16);
-        let x21 = <T as ::trocar::Real>::mul_add(t.cos[1], x13, -(t.sin[1] * x17));
-        let x22 = <T as ::trocar::Real>::mul_add(t.sin[1], x10, t.cos[1] * x14);
-        let x23 = <T as ::trocar::Real>::mul_add(t.sin[1], x11, t.cos[1] * x15);
-        let x24 = <T as ::trocar::Real>::mul_add(t.cos[1], x16, -(t.sin[1] * x12));
-        let x25 = <T as ::trocar::Real>::mul_add(t.cos[0], x4, -(t.sin[0] * x18));
-        let x26 = <T as ::trocar::Real>::mul_add(t.cos[0], x5, -(t.sin[0] * x19));
-        let x27 = <T as ::trocar::Real>::mul_add(t.cos[0], x6, t.sin[0] * x20);
-        let x28 = <T as ::trocar::Real>::mul_add(t.sin[0], x4, t.cos[0] * x18);
-        let x29 = <T as ::trocar::Real>::mul_add(t.sin[0], x5, t.cos[0] * x19);
-        let x30 = <T as ::trocar::Real>::mul_add(t.sin[0], x6, -(t.cos[0] * x20));
+        let x14 = <T as ::trocar::Arith>::mul_add(t.sin[2], x0, -(t.cos[2] * x7));
+        let x15 = <T as ::trocar::Arith>::mul_add(t.sin[2], t.cos[4], t.cos[2] * x8);
+        let x16 = <T as ::trocar::Arith>::mul_add(t.cos[2], x9, -(t.sin[2] * x1));
+        let x17 = <T as ::trocar::Arith>::lit(0.39) * t.sin[2];
+        let x18 = <T as ::trocar::Arith>::mul_add(t.cos[1], x10, -(t.sin[1] * x14));
+        let x19 = <T as ::trocar::Arith>::mul_add(t.cos[1], x11, -(t.sin[1] * x15));
+        let x20 = <T as ::trocar::Arith>::mul_add(t.cos[1], x12, t.sin[1] * x16);
+        let x21 = <T as ::trocar::Arith>::mul_add(t.cos[1], x13, -(t.sin[1] * x17));
+        let x22 = <T as ::trocar::Arith>::mul_add(t.sin[1], x10, t.cos[1] * x14);
+        let x23 = <T as ::trocar::Arith>::mul_add(t.sin[1], x11, t.cos[1] * x15);
+        let x24 = <T as ::trocar::Arith>::mul_add(t.cos[1], x16, -(t.sin[1] * x12));
+        let x25 = <T as ::trocar::Arith>::mul_add(t.cos[0], x4, -(t.sin[0] * x18));
+        let x26 = <T as ::trocar::Arith>::mul_add(t.cos[0], x5, -(t.sin[0] * x19));
+        let x27 = <T as ::trocar::Arith>::mul_add(t.cos[0], x6, t.sin[0] * x20);
+        let x28 = <T as ::trocar::Arith>::mul_add(t.sin[0], x4, t.cos[0] * x18);
+        let x29 = <T as ::trocar::Arith>::mul_add(t.sin[0], x5, t.cos[0] * x19);
+        let x30 = <T as ::trocar::Arith>::mul_add(t.sin[0], x6, -(t.cos[0] * x20));
         let x31 = p.l_a + p.l_b;
         let x32 = t.cos[6] * t.cos[7];
         let x33 = t.cos[6] * t.sin[7];
@@ -1887,139 +1895,151 @@ pub mod bidirectional_zy {
         let x36 = t.sin[6] * p.l_8;
         let x37 = t.cos[6] * p.l_8;
         let x38 = x31 + x37;
-        let x39 = <T as ::trocar::Real>::ONE / p.l_a;
-        let x40 = <T as ::trocar::Real>::mul_add(t.cos[6], p.l_b, p.l_8) * x39;
+        let x39 = <T as ::trocar::Arith>::ONE / p.l_a;
+        let x40 = <T as ::trocar::Arith>::mul_add(t.cos[6], p.l_b, p.l_8) * x39;
         let x41 = t.sin[6] * x39;
         let x42 = x39 * (p.l_b + x37);
-        let x43 = <T as ::trocar::Real>::ONE
-            / <T as ::trocar::Real>::mul_add(p.l_a, p.l_a, <T as ::trocar::Real>::ONE);
-        let x44 = <T as ::trocar::Real>::mul_add(p.l_a, x31, <T as ::trocar::Real>::ONE);
-        let x45 = x43 * <T as ::trocar::Real>::mul_add(t.cos[6], x44, p.l_a * p.l_8);
+        let x43 = <T as ::trocar::Arith>::ONE
+            / <T as ::trocar::Arith>::mul_add(p.l_a, p.l_a, <T as ::trocar::Arith>::ONE);
+        let x44 = <T as ::trocar::Arith>::mul_add(
+            p.l_a,
+            x31,
+            <T as ::trocar::Arith>::ONE,
+        );
+        let x45 = x43 * <T as ::trocar::Arith>::mul_add(t.cos[6], x44, p.l_a * p.l_8);
         let x46 = x43
-            * <T as ::trocar::Real>::mul_add(
+            * <T as ::trocar::Arith>::mul_add(
                 p.l_a,
                 p.l_b + (p.l_a + x37),
-                <T as ::trocar::Real>::ONE,
+                <T as ::trocar::Arith>::ONE,
             );
         (
             (
                 [
                     [
-                        <T as ::trocar::Real>::mul_add(
+                        <T as ::trocar::Arith>::mul_add(
                             -x27,
                             t.sin[7],
-                            <T as ::trocar::Real>::mul_add(x25, x32, x26 * x34),
+                            <T as ::trocar::Arith>::mul_add(x25, x32, x26 * x34),
                         ),
-                        <T as ::trocar::Real>::mul_add(
+                        <T as ::trocar::Arith>::mul_add(
                             -x30,
                             t.sin[7],
-                            <T as ::trocar::Real>::mul_add(x28, x32, x29 * x34),
+                            <T as ::trocar::Arith>::mul_add(x28, x32, x29 * x34),
                         ),
-                        <T as ::trocar::Real>::mul_add(
+                        <T as ::trocar::Arith>::mul_add(
                             -x24,
                             t.sin[7],
-                            <T as ::trocar::Real>::mul_add(x22, x32, x23 * x34),
+                            <T as ::trocar::Arith>::mul_add(x22, x32, x23 * x34),
                         ),
                     ],
                     [
-                        <T as ::trocar::Real>::mul_add(x26, t.cos[6], -(x25 * t.sin[6])),
-                        <T as ::trocar::Real>::mul_add(x29, t.cos[6], -(x28 * t.sin[6])),
-                        <T as ::trocar::Real>::mul_add(x23, t.cos[6], -(x22 * t.sin[6])),
+                        <T as ::trocar::Arith>::mul_add(
+                            x26,
+                            t.cos[6],
+                            -(x25 * t.sin[6]),
+                        ),
+                        <T as ::trocar::Arith>::mul_add(
+                            x29,
+                            t.cos[6],
+                            -(x28 * t.sin[6]),
+                        ),
+                        <T as ::trocar::Arith>::mul_add(x23, t.cos[6], -(x22 * t.sin[6])),
                     ],
                     [
-                        <T as ::trocar::Real>::mul_add(
+                        <T as ::trocar::Arith>::mul_add(
                             x27,
                             t.cos[7],
-                            <T as ::trocar::Real>::mul_add(x25, x33, x26 * x35),
+                            <T as ::trocar::Arith>::mul_add(x25, x33, x26 * x35),
                         ),
-                        <T as ::trocar::Real>::mul_add(
+                        <T as ::trocar::Arith>::mul_add(
                             x30,
                             t.cos[7],
-                            <T as ::trocar::Real>::mul_add(x28, x33, x29 * x35),
+                            <T as ::trocar::Arith>::mul_add(x28, x33, x29 * x35),
                         ),
-                        <T as ::trocar::Real>::mul_add(
+                        <T as ::trocar::Arith>::mul_add(
                             x24,
                             t.cos[7],
-                            <T as ::trocar::Real>::mul_add(x22, x33, x23 * x35),
+                            <T as ::trocar::Arith>::mul_add(x22, x33, x23 * x35),
                         ),
                     ],
                 ],
                 [
-                    <T as ::trocar::Real>::mul_add(
-                        <T as ::trocar::Real>::lit(0.194),
+                    <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::Arith>::lit(0.194),
                         t.cos[0],
                         -(t.sin[0] * x21),
-                    ) + <T as ::trocar::Real>::mul_add(x26, x38, -(x25 * x36)),
-                    <T as ::trocar::Real>::mul_add(
-                        <T as ::trocar::Real>::lit(0.194),
+                    ) + <T as ::trocar::Arith>::mul_add(x26, x38, -(x25 * x36)),
+                    <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::Arith>::lit(0.194),
                         t.sin[0],
                         t.cos[0] * x21,
-                    ) + <T as ::trocar::Real>::mul_add(x29, x38, -(x28 * x36)),
-                    <T as ::trocar::Real>::lit(1.037)
-                        + <T as ::trocar::Real>::mul_add(t.sin[1], x13, t.cos[1] * x17)
-                        + <T as ::trocar::Real>::mul_add(x23, x38, -(x22 * x36)),
+                    ) + <T as ::trocar::Arith>::mul_add(x29, x38, -(x28 * x36)),
+                    <T as ::trocar::Arith>::lit(1.037)
+                        + <T as ::trocar::Arith>::mul_add(t.sin[1], x13, t.cos[1] * x17)
+                        + <T as ::trocar::Arith>::mul_add(x23, x38, -(x22 * x36)),
                 ],
             ),
             [
                 [
-                    <T as ::trocar::Real>::mul_add(
-                        <T as ::trocar::Real>::lit(0.194),
+                    <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::Arith>::lit(0.194),
                         x18,
                         -(x4 * x21),
                     ),
-                    <T as ::trocar::Real>::mul_add(
-                        <T as ::trocar::Real>::lit(0.194),
+                    <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::Arith>::lit(0.194),
                         x19,
                         -(x5 * x21),
                     ),
-                    -<T as ::trocar::Real>::mul_add(
+                    -<T as ::trocar::Arith>::mul_add(
                         x6,
                         x21,
-                        <T as ::trocar::Real>::lit(0.194) * x20,
+                        <T as ::trocar::Arith>::lit(0.194) * x20,
                     ),
                     x22,
                     x23,
                     x24,
                 ],
                 [
-                    <T as ::trocar::Real>::mul_add(x13, x14, -(x10 * x17)),
-                    <T as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
-                    <T as ::trocar::Real>::mul_add(x12, x17, x13 * x16),
+                    <T as ::trocar::Arith>::mul_add(x13, x14, -(x10 * x17)),
+                    <T as ::trocar::Arith>::mul_add(x13, x15, -(x11 * x17)),
+                    <T as ::trocar::Arith>::mul_add(x12, x17, x13 * x16),
                     x4,
                     x5,
                     x6,
                 ],
                 [
-                    -(<T as ::trocar::Real>::lit(0.39) * x7),
-                    <T as ::trocar::Real>::lit(0.39) * x8,
-                    <T as ::trocar::Real>::lit(0.39) * x9,
+                    -(<T as ::trocar::Arith>::lit(0.39) * x7),
+                    <T as ::trocar::Arith>::lit(0.39) * x8,
+                    <T as ::trocar::Arith>::lit(0.39) * x9,
                     x4,
                     x5,
                     x6,
                 ],
                 [
-                    <T as ::trocar::Real>::ZERO,
-                    <T as ::trocar::Real>::ZERO,
-                    <T as ::trocar::Real>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
                     x0,
                     t.cos[4],
                     -x1,
                 ],
                 [
-                    <T as ::trocar::Real>::ZERO,
-                    <T as ::trocar::Real>::ZERO,
-                    <T as ::trocar::Real>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
                     t.cos[5],
-                    <T as ::trocar::Real>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
                     t.sin[5],
                 ],
                 [
-                    <T as ::trocar::Real>::ZERO,
-                    <T as ::trocar::Real>::ZERO,
-                    <T as ::trocar::Real>::ZERO,
-                    <T as ::trocar::Real>::ZERO,
-                    <T as ::trocar::Real>::ONE,
-                    <T as ::trocar::Real>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::Arith>::ONE,
+                    <T as ::trocar::Arith>::ZERO,
                 ],
             ],
             [
@@ -2028,20 +2048,20 @@ pub mod bidirectional_zy {
                     p.l_b * x41,
                     -(t.sin[7] * x40),
                     -(t.sin[7] * x39),
-                    <T as ::trocar::Real>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
                     t.cos[7] * x39,
                 ],
                 [
                     x34,
                     t.cos[6],
                     x35,
-                    <T as ::trocar::Real>::ZERO,
-                    <T as ::trocar::Real>::ZERO,
-                    <T as ::trocar::Real>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
                 ],
                 [
                     t.sin[7] * x42,
-                    <T as ::trocar::Real>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
                     -(t.cos[7] * x42),
                     -(x32 * x39),
                     x41,
@@ -2049,7 +2069,7 @@ pub mod bidirectional_zy {
                 ],
                 [
                     -(p.l_8 * x35),
-                    <T as ::trocar::Real>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
                     p.l_8 * x34,
                     x34,
                     t.cos[6],
@@ -2057,19 +2077,19 @@ pub mod bidirectional_zy {
                 ],
                 [
                     -(t.cos[7] * p.l_8),
-                    <T as ::trocar::Real>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
                     -(t.sin[7] * p.l_8),
                     -t.sin[7],
-                    <T as ::trocar::Real>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
                     t.cos[7],
                 ],
                 [
-                    <T as ::trocar::Real>::ZERO,
-                    <T as ::trocar::Real>::ZERO,
-                    <T as ::trocar::Real>::ZERO,
-                    <T as ::trocar::Real>::ZERO,
-                    <T as ::trocar::Real>::ONE,
-                    <T as ::trocar::Real>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::Arith>::ONE,
+                    <T as ::trocar::Arith>::ZERO,
                 ],
             ],
             [
@@ -2078,12 +2098,12 @@ pub mod bidirectional_zy {
                     -(t.sin[6] * (x43 * x44)),
                     t.sin[7] * x45,
                     x43 * (p.l_a * t.sin[7]),
-                    <T as ::trocar::Real>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
                     -(x43 * (p.l_a * t.cos[7])),
                 ],
                 [
                     -(t.sin[7] * x46),
-                    <T as ::trocar::Real>::ZERO,
+                    <T as ::trocar::Arith>::ZERO,
                     t.cos[7] * x46,
                     x43 * (p.l_a * x32),
                     -(x43 * (t.sin[6] * p.l_a)),

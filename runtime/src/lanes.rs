@@ -1,0 +1,569 @@
+//! Lane types: four `f64` ([`F64x4`]) or eight `f32` ([`F32x8`]) configurations evaluated side
+//! by side by generated code.
+//!
+//! The straight-line functions of a generated module are generic over [`Arith`], which these
+//! types implement, so one call evaluates four or eight configurations with vector instructions
+//! (the [`wide`](https://docs.rs/wide) crate's `f64x4` and `f32x8`: AVX where the target has it,
+//! two SSE2 or NEON halves otherwise). **Each lane is bit for bit the scalar code's result** for
+//! that lane's inputs:
+//!
+//! - `+ − × ÷`, `sqrt` are IEEE-754 operations, correctly rounded lane by lane as they are on one
+//!   number; `abs` clears and `−x` flips the sign bit (so `−(+0) = −0`, as for `f64`: `wide`'s own
+//!   negation computes `0 − x`, which gives `+0`, and is not used);
+//! - `mul_add` is fused exactly where [`Real::mul_add`](crate::Real::mul_add) is (the `std`
+//!   feature and a target with FMA) and two operations elsewhere;
+//! - `sin_cos` runs the main path of [`fast::sin_cos_f64`] / [`fast::sin_cos_f32`] on all lanes at
+//!   once ([`fast::sin_cos_f64_lanes`], [`fast::sin_cos_f32_lanes`]), and recomputes every lane
+//!   with the scalar function when one needs the careful reduction.
+//!
+//! ```
+//! use trocar::lanes::{F64x4, Lanes};
+//! use trocar::Arith;
+//!
+//! // Any function generic over `Arith`, as generated code is.
+//! fn f<T: Arith>(q: &[T; 2]) -> [T; 2] {
+//!     let ([s0, s1], [c0, c1]) = T::sin_cos_array(q);
+//!     [T::mul_add(s0, c1, c0 * s1), c0 * c1 - s0 * s1]
+//! }
+//!
+//! let configs = [[0.1, 0.2], [0.3, -0.4], [1.5, 2.5], [-3.0, 0.0]];
+//! let q: [F64x4; 2] = F64x4::gather(&configs);
+//! let out = f(&q);
+//! for (k, c) in configs.iter().enumerate() {
+//!     assert_eq!(out.lane(k), f(c)); // bit for bit
+//! }
+//! ```
+//!
+//! [`for_each_f64x4`] and [`for_each_f32x8`] run such a function over a slice of any length (the
+//! last group padded).
+
+use crate::real::{fast, Arith, Real};
+use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
+
+macro_rules! lane_type {
+    (
+        $(#[$doc:meta])*
+        $name:ident, $wide:ident, $scalar:ty, $w:literal, $bits:ty, $kernel:path
+    ) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, Default, PartialEq)]
+        #[repr(transparent)]
+        pub struct $name(wide::$wide);
+
+        impl $name {
+            /// Number of lanes.
+            pub const LANES: usize = $w;
+
+            /// Every lane `x`.
+            #[inline(always)]
+            #[must_use]
+            pub fn splat(x: $scalar) -> Self {
+                Self(wide::$wide::new([x; $w]))
+            }
+
+            /// The lanes from an array (lane `k` is `a[k]`).
+            #[inline(always)]
+            #[must_use]
+            pub fn from_array(a: [$scalar; $w]) -> Self {
+                Self(wide::$wide::new(a))
+            }
+
+            /// The lanes as an array.
+            #[inline(always)]
+            #[must_use]
+            pub fn to_array(self) -> [$scalar; $w] {
+                self.0.to_array()
+            }
+
+            /// Lane `k` (`k < LANES`).
+            #[inline(always)]
+            #[must_use]
+            pub fn get(self, k: usize) -> $scalar {
+                self.0.as_array_ref()[k]
+            }
+
+            /// Configurations to lanes: `configs[k][j]` becomes lane `k` of element `j`.
+            #[inline(always)]
+            #[must_use]
+            pub fn gather<const N: usize>(configs: &[[$scalar; N]; $w]) -> [Self; N] {
+                core::array::from_fn(|j| Self::from_array(core::array::from_fn(|k| configs[k][j])))
+            }
+
+            /// Each lane by itself: `f` of the lanes' elements.
+            #[cfg(not(all(
+                target_feature = "sse2",
+                any(target_arch = "x86", target_arch = "x86_64")
+            )))]
+            #[inline(always)]
+            fn map(self, f: impl Fn($scalar) -> $scalar) -> Self {
+                let a = self.to_array();
+                Self::from_array(core::array::from_fn(|k| f(a[k])))
+            }
+        }
+
+        impl From<[$scalar; $w]> for $name {
+            #[inline(always)]
+            fn from(a: [$scalar; $w]) -> Self {
+                Self::from_array(a)
+            }
+        }
+
+        impl From<$name> for [$scalar; $w] {
+            #[inline(always)]
+            fn from(x: $name) -> Self {
+                x.to_array()
+            }
+        }
+
+        impl core::fmt::Debug for $name {
+            fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+                write!(f, "{}({:?})", stringify!($name), self.to_array())
+            }
+        }
+
+        impl Add for $name {
+            type Output = Self;
+            #[inline(always)]
+            fn add(self, b: Self) -> Self {
+                Self(self.0 + b.0)
+            }
+        }
+        impl Sub for $name {
+            type Output = Self;
+            #[inline(always)]
+            fn sub(self, b: Self) -> Self {
+                Self(self.0 - b.0)
+            }
+        }
+        impl Mul for $name {
+            type Output = Self;
+            #[inline(always)]
+            fn mul(self, b: Self) -> Self {
+                Self(self.0 * b.0)
+            }
+        }
+        impl Div for $name {
+            type Output = Self;
+            #[inline(always)]
+            fn div(self, b: Self) -> Self {
+                Self(self.0 / b.0)
+            }
+        }
+        impl Neg for $name {
+            type Output = Self;
+            /// The sign bit flipped, as `-x` on one number (`-(+0) = -0`).
+            #[inline(always)]
+            fn neg(self) -> Self {
+                Self(self.0 ^ wide::$wide::new([-0.0; $w]))
+            }
+        }
+        impl AddAssign for $name {
+            #[inline(always)]
+            fn add_assign(&mut self, b: Self) {
+                *self = *self + b;
+            }
+        }
+        impl SubAssign for $name {
+            #[inline(always)]
+            fn sub_assign(&mut self, b: Self) {
+                *self = *self - b;
+            }
+        }
+        impl MulAssign for $name {
+            #[inline(always)]
+            fn mul_assign(&mut self, b: Self) {
+                *self = *self * b;
+            }
+        }
+
+        impl Arith for $name {
+            const ZERO: Self = Self(wide::$wide::new([0.0; $w]));
+            const ONE: Self = Self(wide::$wide::new([1.0; $w]));
+            #[inline(always)]
+            fn lit(x: f64) -> Self {
+                Self::splat(<$scalar as Real>::lit(x))
+            }
+            #[inline(always)]
+            fn sin_cos(self) -> (Self, Self) {
+                let (s, c) = $kernel(&self.to_array());
+                (Self::from_array(s), Self::from_array(c))
+            }
+            #[inline(always)]
+            fn sin_cos_array<const N: usize>(x: &[Self; N]) -> ([Self; N], [Self; N]) {
+                let mut s = [Self::ZERO; N];
+                let mut c = [Self::ONE; N];
+                for k in 0..N {
+                    (s[k], c[k]) = x[k].sin_cos();
+                }
+                (s, c)
+            }
+            #[inline(always)]
+            fn mul_add(self, a: Self, b: Self) -> Self {
+                // Fused exactly where `Real::mul_add` of one number is: with `std` on a target
+                // with FMA. `wide`'s `mul_add` is then the fused instruction on x86 (it is fused
+                // there iff the target has `fma`); elsewhere (aarch64) each lane goes through
+                // the scalar fused operation.
+                #[cfg(all(
+                    feature = "std",
+                    target_feature = "fma",
+                    any(target_arch = "x86", target_arch = "x86_64")
+                ))]
+                {
+                    Self(self.0.mul_add(a.0, b.0))
+                }
+                #[cfg(all(
+                    feature = "std",
+                    any(target_feature = "fma", target_arch = "aarch64"),
+                    not(any(target_arch = "x86", target_arch = "x86_64"))
+                ))]
+                {
+                    let (x, a, b) = (self.to_array(), a.to_array(), b.to_array());
+                    Self::from_array(core::array::from_fn(|k| {
+                        <$scalar as Real>::mul_add(x[k], a[k], b[k])
+                    }))
+                }
+                #[cfg(not(all(
+                    feature = "std",
+                    any(target_feature = "fma", target_arch = "aarch64")
+                )))]
+                {
+                    self * a + b
+                }
+            }
+            #[inline(always)]
+            fn sqrt(self) -> Self {
+                // The SSE2/AVX square root is IEEE-754's, correctly rounded like the scalar one;
+                // elsewhere lane by lane through the scalar function.
+                #[cfg(all(
+                    target_feature = "sse2",
+                    any(target_arch = "x86", target_arch = "x86_64")
+                ))]
+                {
+                    Self(self.0.sqrt())
+                }
+                #[cfg(not(all(
+                    target_feature = "sse2",
+                    any(target_arch = "x86", target_arch = "x86_64")
+                )))]
+                {
+                    self.map(<$scalar as Real>::sqrt)
+                }
+            }
+            #[inline(always)]
+            fn abs(self) -> Self {
+                Self(self.0 & wide::$wide::new([<$scalar>::from_bits(<$bits>::MAX >> 1); $w]))
+            }
+        }
+
+        impl Lanes for $name {
+            type Lane = $scalar;
+            const LANES: usize = $w;
+            #[inline(always)]
+            fn lane(&self, k: usize) -> $scalar {
+                self.get(k)
+            }
+        }
+    };
+}
+
+lane_type!(
+    /// Four `f64` lanes (`wide::f64x4`: one AVX register, or two SSE2/NEON ones).
+    F64x4, f64x4, f64, 4, u64, fast::sin_cos_f64_lanes::<4>
+);
+lane_type!(
+    /// Eight `f32` lanes (`wide::f32x8`: one AVX register, or two SSE2/NEON ones).
+    F32x8, f32x8, f32, 8, u32, fast::sin_cos_f32_lanes::<8>
+);
+
+/// A value made of lane types (a lane type, arrays and tuples of them: what generated functions
+/// return) and the same value for one lane.
+pub trait Lanes {
+    /// The value of one lane (`f64` for [`F64x4`], `[f64; 3]` for `[F64x4; 3]`, ...).
+    type Lane;
+    /// Number of lanes.
+    const LANES: usize;
+    /// The value of lane `k` (`k < LANES`).
+    fn lane(&self, k: usize) -> Self::Lane;
+}
+
+impl<L: Lanes, const N: usize> Lanes for [L; N] {
+    type Lane = [L::Lane; N];
+    const LANES: usize = L::LANES;
+    #[inline(always)]
+    fn lane(&self, k: usize) -> Self::Lane {
+        core::array::from_fn(|j| self[j].lane(k))
+    }
+}
+
+impl<A: Lanes, B: Lanes> Lanes for (A, B) {
+    type Lane = (A::Lane, B::Lane);
+    const LANES: usize = A::LANES;
+    #[inline(always)]
+    fn lane(&self, k: usize) -> Self::Lane {
+        (self.0.lane(k), self.1.lane(k))
+    }
+}
+
+impl<A: Lanes, B: Lanes, C: Lanes> Lanes for (A, B, C) {
+    type Lane = (A::Lane, B::Lane, C::Lane);
+    const LANES: usize = A::LANES;
+    #[inline(always)]
+    fn lane(&self, k: usize) -> Self::Lane {
+        (self.0.lane(k), self.1.lane(k), self.2.lane(k))
+    }
+}
+
+impl<A: Lanes, B: Lanes, C: Lanes, D: Lanes> Lanes for (A, B, C, D) {
+    type Lane = (A::Lane, B::Lane, C::Lane, D::Lane);
+    const LANES: usize = A::LANES;
+    #[inline(always)]
+    fn lane(&self, k: usize) -> Self::Lane {
+        (
+            self.0.lane(k),
+            self.1.lane(k),
+            self.2.lane(k),
+            self.3.lane(k),
+        )
+    }
+}
+
+macro_rules! for_each {
+    ($(#[$doc:meta])* $fn:ident, $lanes:ident, $scalar:ty, $w:literal) => {
+        $(#[$doc])*
+        pub fn $fn<const N: usize, R: Lanes>(
+            configs: &[[$scalar; N]],
+            mut f: impl FnMut(&[$lanes; N]) -> R,
+            mut out: impl FnMut(usize, R::Lane),
+        ) {
+            let mut start = 0;
+            while start < configs.len() {
+                let m = (configs.len() - start).min($w);
+                // The spare lanes of the last group repeat its last configuration.
+                let group: [[$scalar; N]; $w] =
+                    core::array::from_fn(|k| configs[start + k.min(m - 1)]);
+                let r = f(&$lanes::gather(&group));
+                for k in 0..m {
+                    out(start + k, r.lane(k));
+                }
+                start += m;
+            }
+        }
+    };
+}
+
+for_each!(
+    /// `f` of every configuration, four at a time on [`F64x4`] lanes: `out(i, value)` receives the
+    /// value for `configs[i]`, in order, bit for bit what `f` of that configuration alone on
+    /// `f64` gives when `f` is a generated function (generic over [`Arith`]).
+    ///
+    /// ```
+    /// use trocar::lanes::for_each_f64x4;
+    /// use trocar::Arith;
+    ///
+    /// fn norm2<T: Arith>(q: &[T; 3]) -> T {
+    ///     T::mul_add(q[0], q[0], T::mul_add(q[1], q[1], q[2] * q[2]))
+    /// }
+    /// let configs = vec![[1.0, 2.0, 2.0]; 5];
+    /// let mut out = vec![0.0; 5];
+    /// for_each_f64x4(&configs, norm2, |i, v| out[i] = v);
+    /// assert_eq!(out, vec![9.0; 5]);
+    /// ```
+    for_each_f64x4, F64x4, f64, 4
+);
+for_each!(
+    /// `f` of every configuration, eight at a time on [`F32x8`] lanes (see [`for_each_f64x4`]).
+    for_each_f32x8, F32x8, f32, 8
+);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::real::fast::{sin_cos_f32, sin_cos_f64};
+
+    /// splitmix64: reproducible pseudo-random bits.
+    struct Bits(u64);
+    impl Bits {
+        fn next(&mut self) -> u64 {
+            self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            z ^ (z >> 31)
+        }
+    }
+
+    /// Arguments of every kind: edges, then uniform in ±8, in ±2¹⁰, any bit pattern (all
+    /// exponents, NaN, ±∞, subnormals), and neighbours of multiples of π/2 (where the reduction
+    /// cancels).
+    fn f64_samples(n: usize) -> Vec<f64> {
+        let mut r = Bits(7);
+        let mut v = vec![
+            0.0,
+            -0.0,
+            f64::MIN_POSITIVE,
+            -f64::MIN_POSITIVE,
+            5e-324,
+            -5e-324,
+            core::f64::consts::FRAC_PI_4,
+            -core::f64::consts::FRAC_PI_4,
+            fast::F64_FAST_LIMIT,
+            -fast::F64_FAST_LIMIT,
+            1e300,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ];
+        // In blocks of one kind, so that most groups of lanes take the side-by-side path (one
+        // argument that needs the careful reduction sends its whole group to the scalar one).
+        for i in 0..n {
+            let u = (r.next() >> 11) as f64 / (1u64 << 53) as f64;
+            v.push(match 4 * i / n {
+                0 => 16.0 * u - 8.0,
+                1 => 2048.0 * u - 1024.0,
+                2 => f64::from_bits(r.next()),
+                _ => {
+                    let k = (r.next() % 2000) as f64 - 1000.0;
+                    let x = k * core::f64::consts::FRAC_PI_2;
+                    f64::from_bits(x.to_bits().wrapping_add(r.next() % 9).wrapping_sub(4))
+                }
+            });
+        }
+        v
+    }
+
+    fn same64(a: f64, b: f64) -> bool {
+        a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
+    }
+
+    fn same32(a: f32, b: f32) -> bool {
+        a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
+    }
+
+    #[test]
+    fn f64_lanes_sin_cos_is_the_scalar_one_bit_for_bit() {
+        let v = f64_samples(40_000);
+        for (i, w) in v.chunks_exact(4).enumerate() {
+            let x = F64x4::from_array([w[0], w[1], w[2], w[3]]);
+            let (s, c) = x.sin_cos();
+            for k in 0..4 {
+                let (s1, c1) = sin_cos_f64(w[k]);
+                assert!(
+                    same64(s.get(k), s1) && same64(c.get(k), c1),
+                    "group {i}, x = {:e}",
+                    w[k]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn f32_lanes_sin_cos_is_the_scalar_one_bit_for_bit() {
+        let mut v: Vec<f32> = f64_samples(40_000).iter().map(|&x| x as f32).collect();
+        let mut r = Bits(11);
+        v.extend((0..40_000).map(|_| f32::from_bits(r.next() as u32)));
+        // Every f32 around π/4 (the kernels' own range ends there) and around the fast limit.
+        for base in [core::f32::consts::FRAC_PI_4, fast::F32_FAST_LIMIT] {
+            for d in -64i32..64 {
+                v.push(f32::from_bits((base.to_bits() as i32 + d) as u32));
+                v.push(-f32::from_bits((base.to_bits() as i32 + d) as u32));
+            }
+        }
+        v.truncate(v.len() / 8 * 8);
+        for (i, w) in v.chunks_exact(8).enumerate() {
+            let x = F32x8::from_array(core::array::from_fn(|k| w[k]));
+            let (s, c) = x.sin_cos();
+            for k in 0..8 {
+                let (s1, c1) = sin_cos_f32(w[k]);
+                assert!(
+                    same32(s.get(k), s1) && same32(c.get(k), c1),
+                    "group {i}, x = {:e}",
+                    w[k]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn lane_arithmetic_is_the_scalar_arithmetic_bit_for_bit() {
+        let v = f64_samples(8_000);
+        let at = |i: usize| v[i % v.len()];
+        for i in 0..v.len() {
+            let a: [f64; 4] = core::array::from_fn(|k| at(i + k));
+            let b: [f64; 4] = core::array::from_fn(|k| at(3 * i + 5 * k + 1));
+            let c: [f64; 4] = core::array::from_fn(|k| at(7 * i + k + 2));
+            let (x, y, z) = (F64x4::from(a), F64x4::from(b), F64x4::from(c));
+            let ops: [(F64x4, fn(f64, f64, f64) -> f64); 8] = [
+                (x + y, |a, b, _| a + b),
+                (x - y, |a, b, _| a - b),
+                (x * y, |a, b, _| a * b),
+                (x / y, |a, b, _| a / b),
+                (-x, |a, _, _| -a),
+                (Arith::abs(x), |a, _, _| <f64 as Real>::abs(a)),
+                (Arith::sqrt(x), |a, _, _| <f64 as Real>::sqrt(a)),
+                (Arith::mul_add(x, y, z), <f64 as Real>::mul_add),
+            ];
+            for (j, (lanes, f)) in ops.iter().enumerate() {
+                for k in 0..4 {
+                    assert!(same64(lanes.get(k), f(a[k], b[k], c[k])), "op {j}");
+                }
+            }
+            let (a32, b32, c32) = (
+                a.map(|x| x as f32),
+                b.map(|x| x as f32),
+                c.map(|x| x as f32),
+            );
+            let w = |p: [f32; 4], q: [f32; 4]| {
+                F32x8::from_array(core::array::from_fn(
+                    |k| if k < 4 { p[k] } else { q[k - 4] },
+                ))
+            };
+            let (x, y, z) = (w(a32, c32), w(b32, a32), w(c32, b32));
+            let s = |l: F32x8| l.to_array();
+            let pairs: [([f32; 8], fn(f32, f32, f32) -> f32); 8] = [
+                (s(x + y), |a, b, _| a + b),
+                (s(x - y), |a, b, _| a - b),
+                (s(x * y), |a, b, _| a * b),
+                (s(x / y), |a, b, _| a / b),
+                (s(-x), |a, _, _| -a),
+                (s(Arith::abs(x)), |a, _, _| <f32 as Real>::abs(a)),
+                (s(Arith::sqrt(x)), |a, _, _| <f32 as Real>::sqrt(a)),
+                (s(Arith::mul_add(x, y, z)), <f32 as Real>::mul_add),
+            ];
+            let (xa, ya, za) = (x.to_array(), y.to_array(), z.to_array());
+            for (j, (lanes, f)) in pairs.iter().enumerate() {
+                for k in 0..8 {
+                    assert!(same32(lanes[k], f(xa[k], ya[k], za[k])), "f32 op {j}");
+                }
+            }
+        }
+        assert_eq!(<F64x4 as Arith>::lit(0.1).to_array(), [0.1; 4]);
+        assert_eq!(<F32x8 as Arith>::lit(0.1).to_array(), [0.1f32; 8]);
+        assert_eq!((-F64x4::ZERO).get(2).to_bits(), (-0.0f64).to_bits());
+    }
+
+    #[test]
+    fn lanes_of_nested_values_and_the_slice_driver() {
+        let configs: Vec<[f64; 2]> = (0..11).map(|i| [i as f64 * 0.3, 1.0 - i as f64]).collect();
+        fn f<T: Arith>(q: &[T; 2]) -> ([T; 2], T) {
+            let (s, c) = T::sin_cos_array(q);
+            ([s[0] * c[1], c[0]], T::mul_add(s[1], s[1], c[1] * c[1]))
+        }
+        let mut seen = vec![false; configs.len()];
+        for_each_f64x4(&configs, f, |i, v| {
+            assert!(!seen[i]);
+            seen[i] = true;
+            let w = f(&configs[i]);
+            assert!(same64(v.0[0], w.0[0]) && same64(v.0[1], w.0[1]) && same64(v.1, w.1));
+        });
+        assert!(seen.iter().all(|&s| s));
+        let c32: Vec<[f32; 2]> = configs.iter().map(|c| c.map(|x| x as f32)).collect();
+        let mut count = 0;
+        for_each_f32x8(&c32, f, |i, v| {
+            assert_eq!(i, count);
+            count += 1;
+            let w = f(&c32[i]);
+            assert!(same32(v.0[0], w.0[0]) && same32(v.0[1], w.0[1]) && same32(v.1, w.1));
+        });
+        assert_eq!(count, c32.len());
+    }
+}
