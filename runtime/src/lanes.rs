@@ -435,6 +435,11 @@ mod tests {
         a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
     }
 
+    /// A scalar operation of up to three operands.
+    type Op64 = fn(f64, f64, f64) -> f64;
+    /// A scalar operation of up to three operands.
+    type Op32 = fn(f32, f32, f32) -> f32;
+
     fn same32(a: f32, b: f32) -> bool {
         a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
     }
@@ -445,12 +450,11 @@ mod tests {
         for (i, w) in v.chunks_exact(4).enumerate() {
             let x = F64x4::from_array([w[0], w[1], w[2], w[3]]);
             let (s, c) = x.sin_cos();
-            for k in 0..4 {
-                let (s1, c1) = sin_cos_f64(w[k]);
+            for (k, &xk) in w.iter().enumerate() {
+                let (s1, c1) = sin_cos_f64(xk);
                 assert!(
                     same64(s.get(k), s1) && same64(c.get(k), c1),
-                    "group {i}, x = {:e}",
-                    w[k]
+                    "group {i}, x = {xk:e}"
                 );
             }
         }
@@ -472,12 +476,11 @@ mod tests {
         for (i, w) in v.chunks_exact(8).enumerate() {
             let x = F32x8::from_array(core::array::from_fn(|k| w[k]));
             let (s, c) = x.sin_cos();
-            for k in 0..8 {
-                let (s1, c1) = sin_cos_f32(w[k]);
+            for (k, &xk) in w.iter().enumerate() {
+                let (s1, c1) = sin_cos_f32(xk);
                 assert!(
                     same32(s.get(k), s1) && same32(c.get(k), c1),
-                    "group {i}, x = {:e}",
-                    w[k]
+                    "group {i}, x = {xk:e}"
                 );
             }
         }
@@ -492,7 +495,7 @@ mod tests {
             let b: [f64; 4] = core::array::from_fn(|k| at(3 * i + 5 * k + 1));
             let c: [f64; 4] = core::array::from_fn(|k| at(7 * i + k + 2));
             let (x, y, z) = (F64x4::from(a), F64x4::from(b), F64x4::from(c));
-            let ops: [(F64x4, fn(f64, f64, f64) -> f64); 8] = [
+            let ops: [(F64x4, Op64); 8] = [
                 (x + y, |a, b, _| a + b),
                 (x - y, |a, b, _| a - b),
                 (x * y, |a, b, _| a * b),
@@ -519,7 +522,7 @@ mod tests {
             };
             let (x, y, z) = (w(a32, c32), w(b32, a32), w(c32, b32));
             let s = |l: F32x8| l.to_array();
-            let pairs: [([f32; 8], fn(f32, f32, f32) -> f32); 8] = [
+            let pairs: [([f32; 8], Op32); 8] = [
                 (s(x + y), |a, b, _| a + b),
                 (s(x - y), |a, b, _| a - b),
                 (s(x * y), |a, b, _| a * b),
