@@ -288,7 +288,7 @@ fn fused_functions_on_request() {
     };
     let code =
         generate_module_string(&unconstrained, &options("pose", &[F::ForwardKinematics])).unwrap();
-    assert!(code.contains("pub fn pose_and_jacobian<T: ::trocar::Real>("));
+    assert!(code.contains("pub fn pose_and_jacobian<T: ::trocar::Arith>("));
     assert!(!code.contains("link_pose_and_jacobian"));
     for (name, outputs, message) in [
         (

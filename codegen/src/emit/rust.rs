@@ -913,7 +913,13 @@ fn out_type(o: &FusedOutput, ty: &Ty) -> TokenStream {
 
 /// A fused function ([`FusedFunction`]) and its `_trig` variant, writing into out-parameters.
 fn fused_tokens(f: &FusedFunction, ty: &Ty, n: usize) -> TokenStream {
-    let generics = ty.generics();
+    let guarded = |o: &FusedOutput| o.zero_when_not_finite && o.layout == Layout::Scalar;
+    // An output that is tested (`is_finite`) needs `Real`; otherwise the program runs on lanes.
+    let generics = if f.outputs.iter().any(guarded) {
+        ty.real_generics()
+    } else {
+        ty.generics()
+    };
     let args = ty.args();
     let t_str = ty.t().to_string();
     let name = format_ident!("{}", f.name);
@@ -975,7 +981,7 @@ fn fused_tokens(f: &FusedFunction, ty: &Ty, n: usize) -> TokenStream {
         f.name,
         super::program::OpCounts { trig: 0, ..counts }
     ));
-    let r = ty.real_path();
+    let r = ty.real_trait_path();
     let outs: Vec<Ident> = f
         .outputs
         .iter()
@@ -995,7 +1001,7 @@ fn fused_tokens(f: &FusedFunction, ty: &Ty, n: usize) -> TokenStream {
             .iter()
             .enumerate()
             .flat_map(|(k, o)| {
-                let guard = (o.zero_when_not_finite && o.layout == Layout::Scalar).then_some(&r);
+                let guard = guarded(o).then_some(&r);
                 store_tokens(o.layout, &outs[k], &values[f.range(k)], guard)
             })
             .collect()
