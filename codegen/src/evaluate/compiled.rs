@@ -467,8 +467,16 @@ impl Compiled {
 
     /// [`Compiled::eval_into`] returning a new vector.
     pub fn eval(&self, q: &[f64], params: &[f64]) -> Vec<f64> {
+        thread_local! {
+            /// The registers of the last evaluation on this thread, reused (every register is
+            /// written before it is read).
+            static SCRATCH: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+        }
         let mut out = vec![0.0; self.outputs.len()];
-        self.eval_into(q, params, &mut Vec::new(), &mut out);
+        SCRATCH.with(|scratch| match scratch.try_borrow_mut() {
+            Ok(mut scratch) => self.eval_into(q, params, &mut scratch, &mut out),
+            Err(_) => self.eval_into(q, params, &mut Vec::new(), &mut out),
+        });
         out
     }
 

@@ -505,20 +505,24 @@ impl FusedTallies {
             return Ok(());
         };
         for (k, &f) in self.fused.outputs.iter().enumerate() {
+            let computed;
             let expected = match references.iter().find(|(g, _)| *g == f) {
-                Some((_, m)) => m.clone(),
+                Some((_, m)) => m,
                 None => match reference::evaluate(model, f, q)? {
-                    Some(m) => m,
+                    Some(m) => {
+                        computed = m;
+                        &computed
+                    }
                     None => continue,
                 },
             };
             let Some(value) = got.get(k) else {
                 let nan = DMatrix::from_element(1, 1, f64::NAN);
-                self.outputs[k].record(f64::INFINITY, q, values, &nan, &expected, 1.0);
+                self.outputs[k].record(f64::INFINITY, q, values, &nan, expected, 1.0);
                 continue;
             };
-            let (error, scale) = compare(model, f, q, value, &expected)?;
-            self.outputs[k].record(error, q, values, value, &expected, scale);
+            let (error, scale) = compare(model, f, q, value, expected)?;
+            self.outputs[k].record(error, q, values, value, expected, scale);
         }
         let Some(h) = h else {
             return Ok(());
@@ -593,6 +597,8 @@ pub fn verify(
         let model = NumericModel::<f64>::from_description(description, &params)?;
         // The reference values of this sample, for the fused functions' outputs too.
         let mut references: Vec<(Function, DMatrix<f64>)> = Vec::new();
+        // The candidate's values of this sample, for the finite differences.
+        let mut generated: Vec<(Function, DMatrix<f64>)> = Vec::new();
         for quantity in CHECKED {
             let Some(got) = candidate.evaluate(quantity, &q, &values) else {
                 continue;
@@ -600,7 +606,6 @@ pub fn verify(
             let Some(expected) = reference::evaluate(&model, quantity, &q)? else {
                 continue;
             };
-            references.push((quantity, expected.clone()));
             let tally = match tallies.iter_mut().position(|(k, _)| *k == quantity) {
                 Some(k) => &mut tallies[k].1,
                 None => {
@@ -617,6 +622,8 @@ pub fn verify(
             };
             let (error, scale) = compare(&model, quantity, &q, &got, &expected)?;
             tally.record(error, &q, &values, &got, &expected, scale);
+            references.push((quantity, expected));
+            generated.push((quantity, got));
         }
         // Finite differences of the candidate's forward kinematics.
         let at = &values;
@@ -628,20 +635,31 @@ pub fn verify(
             }
         };
         let fk = pose(Function::ForwardKinematics);
-        if fk(&q).is_some() {
-            if let Some(fd) = finite_difference_jacobian(fk, &q, n, h) {
-                let jb0e = reference::body_jacobian(&model, &q);
-                let scale = jb0e.norm().max(1.0);
-                fd_numeric.record(relative_error(&fd, &jb0e), &q, &values, &fd, &jb0e, scale);
-                if let Some(got) = candidate.evaluate(Function::BodyJacobian, &q, &values) {
-                    let scale = fd.norm().max(1.0);
-                    fd_jb0e.record(relative_error(&got, &fd), &q, &values, &got, &fd, scale);
+        if let Some(fd) = finite_difference_jacobian(fk, &q, n, h) {
+            let computed;
+            let jb0e = match references
+                .iter()
+                .find(|(g, _)| *g == Function::BodyJacobian)
+            {
+                Some((_, m)) => m,
+                None => {
+                    computed = reference::body_jacobian(&model, &q);
+                    &computed
                 }
+            };
+            let scale = jb0e.norm().max(1.0);
+            fd_numeric.record(relative_error(&fd, jb0e), &q, &values, &fd, jb0e, scale);
+            if let Some((_, got)) = generated.iter().find(|(g, _)| *g == Function::BodyJacobian) {
+                let scale = fd.norm().max(1.0);
+                fd_jb0e.record(relative_error(got, &fd), &q, &values, got, &fd, scale);
             }
         }
         if let Some(i) = link {
             let fk0i = pose(Function::ConstrainedLinkKinematics);
-            let jb0i = candidate.evaluate(Function::PartialBodyJacobian, &q, &values);
+            let jb0i = generated
+                .iter()
+                .find(|(g, _)| *g == Function::PartialBodyJacobian)
+                .map(|(_, m)| m);
             if let (Some(jb0i), Some(fd)) = (jb0i, finite_difference_jacobian(fk0i, &q, i, h)) {
                 let scale = fd.norm().max(1.0);
                 fd_candidate.record(relative_error(&jb0i, &fd), &q, &values, &jb0i, &fd, scale);

@@ -273,28 +273,33 @@ pub struct NumericModel<T: RealField + Copy = f64> {
     constraint: Option<AnyConstraint<T>>,
 }
 
-fn eval_scalar(s: &Linear, params: &[(String, f64)], field: &str) -> Result<f64, RobotError> {
+/// `field` names the value in an error; it is formatted only then.
+fn eval_scalar(
+    s: &Linear,
+    params: &[(String, f64)],
+    field: impl FnOnce() -> String,
+) -> Result<f64, RobotError> {
     s.eval(|n| params.iter().find(|(p, _)| p == n).map(|(_, v)| *v))
         .map_err(|name| RobotError::UnknownParameter {
             name,
-            field: field.to_string(),
+            field: field(),
         })
 }
 
 fn eval_origin<T: RealField + Copy>(
     o: &Origin,
     params: &[(String, f64)],
-    field: &str,
+    field: &dyn Fn() -> String,
 ) -> Result<Se3<T>, RobotError> {
     let mut p = [0.0; 3];
     for (k, s) in o.xyz.iter().enumerate() {
-        p[k] = eval_scalar(s, params, &format!("{field}.xyz[{k}]"))?;
+        p[k] = eval_scalar(s, params, || format!("{}.xyz[{k}]", field()))?;
     }
     let r: Matrix3<f64> = match &o.rotation {
         Rotation::Rpy([r, p, y]) => {
             if ![r, p, y].iter().all(|x| x.is_finite()) {
                 return Err(RobotError::BadRotation {
-                    field: format!("{field}.rpy"),
+                    field: format!("{}.rpy", field()),
                 });
             }
             se3::rotation_from_rpy(*r, *p, *y)
@@ -306,7 +311,7 @@ fn eval_origin<T: RealField + Copy>(
                 && m.determinant() > 0.0;
             if !ok {
                 return Err(RobotError::BadRotation {
-                    field: format!("{field}.rotation"),
+                    field: format!("{}.rotation", field()),
                 });
             }
             m
@@ -318,10 +323,10 @@ fn eval_origin<T: RealField + Copy>(
     ))
 }
 
-fn unit(axis: &[f64; 3], field: String) -> Result<Vector3<f64>, RobotError> {
+fn unit(axis: &[f64; 3], field: impl FnOnce() -> String) -> Result<Vector3<f64>, RobotError> {
     let a = Vector3::new(axis[0], axis[1], axis[2]);
     if !a.iter().all(|x| x.is_finite()) || (a.norm() - 1.0).abs() > 1e-9 {
-        return Err(RobotError::BadAxis { field });
+        return Err(RobotError::BadAxis { field: field() });
     }
     Ok(a)
 }
@@ -349,20 +354,20 @@ impl<T: RealField + Copy> NumericModel<T> {
         }
         let mut joints = Vec::with_capacity(description.joints.len());
         for (k, j) in description.joints.iter().enumerate() {
-            let field = format!("joints[{k}]");
+            let field = || format!("joints[{k}]");
             let origin = eval_origin(&j.origin, &parameters, &field)?;
             let xi: Twist<f64> = match &j.kind {
                 JointKind::Revolute { axis } => {
-                    let a = unit(axis, format!("{field}.axis"))?;
+                    let a = unit(axis, || format!("{}.axis", field()))?;
                     se3::twist(&Vector3::zeros(), &a)
                 }
                 JointKind::Prismatic { axis } => {
-                    se3::prismatic_twist(&unit(axis, format!("{field}.axis"))?)
+                    se3::prismatic_twist(&unit(axis, || format!("{}.axis", field()))?)
                 }
                 JointKind::Twist { v, w } => {
                     let mut vv = [0.0; 3];
                     for (c, s) in v.iter().enumerate() {
-                        vv[c] = eval_scalar(s, &parameters, &format!("{field}.v[{c}]"))?;
+                        vv[c] = eval_scalar(s, &parameters, || format!("{}.v[{c}]", field()))?;
                     }
                     let v = Vector3::from(vv);
                     let w = Vector3::new(w[0], w[1], w[2]);
@@ -374,7 +379,7 @@ impl<T: RealField + Copy> NumericModel<T> {
                         };
                     if !ok {
                         return Err(RobotError::BadAxis {
-                            field: format!("{field}.w"),
+                            field: format!("{}.w", field()),
                         });
                     }
                     se3::twist(&v, &w)
@@ -382,17 +387,15 @@ impl<T: RealField + Copy> NumericModel<T> {
             };
             joints.push(Joint::from_twist(origin, xi.map(convert)));
         }
-        let tool = eval_origin(
-            &description.end_effector.origin,
-            &parameters,
-            "end_effector",
-        )?;
+        let tool = eval_origin(&description.end_effector.origin, &parameters, &|| {
+            "end_effector".to_string()
+        })?;
         let n = joints.len();
         let constraint = match &description.constraint {
             None => None,
             Some(c) => {
                 admit(n, c.link, c.h.len(), description.task_rows())?;
-                let g_ir = eval_origin(&c.origin, &parameters, "constraint")?;
+                let g_ir = eval_origin(&c.origin, &parameters, &|| "constraint".to_string())?;
                 Some(AnyConstraint::new(c.link, g_ir, &c.h, c.basis())?)
             }
         };
