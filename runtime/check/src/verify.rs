@@ -662,7 +662,7 @@ pub fn verify(
                 .map(|(_, m)| m);
             if let (Some(jb0i), Some(fd)) = (jb0i, finite_difference_jacobian(fk0i, &q, i, h)) {
                 let scale = fd.norm().max(1.0);
-                fd_candidate.record(relative_error(&jb0i, &fd), &q, &values, &jb0i, &fd, scale);
+                fd_candidate.record(relative_error(jb0i, &fd), &q, &values, jb0i, &fd, scale);
             }
         }
         // Every output of every fused function, and its Jacobians against its own poses.
