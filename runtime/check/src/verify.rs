@@ -424,6 +424,11 @@ fn compare(
     })
 }
 
+/// The value of `f` among a sample's values by function.
+fn value_of(values: &[(Function, DMatrix<f64>)], f: Function) -> Option<&DMatrix<f64>> {
+    values.iter().find(|(g, _)| *g == f).map(|(_, m)| m)
+}
+
 /// The tallies of one fused function ([`Candidate::fused`]): each output against the numeric
 /// runtime, and its Jacobians against central differences of its own poses.
 struct FusedTallies {
@@ -506,8 +511,8 @@ impl FusedTallies {
         };
         for (k, &f) in self.fused.outputs.iter().enumerate() {
             let computed;
-            let expected = match references.iter().find(|(g, _)| *g == f) {
-                Some((_, m)) => m,
+            let expected = match value_of(references, f) {
+                Some(m) => m,
                 None => match reference::evaluate(model, f, q)? {
                     Some(m) => {
                         computed = m;
@@ -637,11 +642,8 @@ pub fn verify(
         let fk = pose(Function::ForwardKinematics);
         if let Some(fd) = finite_difference_jacobian(fk, &q, n, h) {
             let computed;
-            let jb0e = match references
-                .iter()
-                .find(|(g, _)| *g == Function::BodyJacobian)
-            {
-                Some((_, m)) => m,
+            let jb0e = match value_of(&references, Function::BodyJacobian) {
+                Some(m) => m,
                 None => {
                     computed = reference::body_jacobian(&model, &q);
                     &computed
@@ -649,17 +651,14 @@ pub fn verify(
             };
             let scale = jb0e.norm().max(1.0);
             fd_numeric.record(relative_error(&fd, jb0e), &q, &values, &fd, jb0e, scale);
-            if let Some((_, got)) = generated.iter().find(|(g, _)| *g == Function::BodyJacobian) {
+            if let Some(got) = value_of(&generated, Function::BodyJacobian) {
                 let scale = fd.norm().max(1.0);
                 fd_jb0e.record(relative_error(got, &fd), &q, &values, got, &fd, scale);
             }
         }
         if let Some(i) = link {
             let fk0i = pose(Function::ConstrainedLinkKinematics);
-            let jb0i = generated
-                .iter()
-                .find(|(g, _)| *g == Function::PartialBodyJacobian)
-                .map(|(_, m)| m);
+            let jb0i = value_of(&generated, Function::PartialBodyJacobian);
             if let (Some(jb0i), Some(fd)) = (jb0i, finite_difference_jacobian(fk0i, &q, i, h)) {
                 let scale = fd.norm().max(1.0);
                 fd_candidate.record(relative_error(jb0i, &fd), &q, &values, jb0i, &fd, scale);
