@@ -784,7 +784,7 @@ impl<
             if let (Some(limit), true) =
                 (weights.chord_feedback, prev.dt > T::zero() && prev.dt == dt)
             {
-                let moved = s.g_0i.translation + s.g_0i.rotation * prev.point - prev.position;
+                let moved = s.g_0i.transform_point(&prev.point) - prev.position;
                 let residual = prev.directions * moved / prev.dt - prev.target - prev.feedback;
                 if residual.iter().all(|v| v.is_finite() && v.abs() <= limit) {
                     feedback = -residual;
@@ -820,7 +820,7 @@ impl<
             rotation: s.g_0i.rotation,
             jb0i: s.jb0i,
             point,
-            position: s.g_0i.translation + s.g_0i.rotation * point,
+            position: s.g_0i.transform_point(&point),
             directions,
             target: dv_0r,
             feedback,
