@@ -355,8 +355,9 @@ pub const START_TOLERANCE: f64 = 1e-3;
 /// trajectory's duration, measuring everything from the numeric forward kinematics (not the
 /// controller's Jacobians, [`ArmModel::measure`], as the shipped scenarios): the columns `t,
 /// ep_norm, eo_norm, vr_<a>, vr_<b>, rcm_drift, w_r, w_i, l_a, q1..qn, qd1..qdn`, where
-/// `vr_<a>`, `vr_<b>` are the lateral velocity components of the link's point at the trocar
-/// along the constraint frame's two axes normal to the shaft. The run draws the same figures and
+/// `vr_<a>`, `vr_<b>` are the lateral velocity components of the shaft at the trocar (its line's
+/// motion across the trocar's place, [`trocar::control::Shaft::moved_across`]) along the
+/// constraint frame's two axes normal to the shaft. The run draws the same figures and
 /// views of the arm as a scenario's ([`SimulationRun::write_plot`],
 /// [`SimulationRun::write_animation`], [`SimulationRun::write_snapshot`]).
 pub fn simulate_trajectory(

@@ -1,9 +1,8 @@
 //! The trocar's largest lateral velocity and drift in `panda-laparoscope-limits` with the QP step
 //! at sample times of 2, 1 and 0.5 ms, with the drift correction `K_r e_r` on (the scenario's
-//! setting) and off. The second-order trocar rows (Q7) and the chord residual asked back (Q8)
-//! leave the change of the chord's third-order term over a step; with the drift correction on,
-//! the measured lateral velocity also carries the correction's own command `K_r e_r`, which
-//! pulls the link back to the trocar as the shaft slides through it while turning.
+//! setting) and off. The second-order trocar rows (Q7) and the residual of the shaft's motion
+//! across the trocar asked back (Q8) leave the change of the chord's third-order term over a
+//! step, largest where the working set changes and the rates with it.
 //!
 //! `cargo run --release -p trocar-sim --example qp_sample_time`
 

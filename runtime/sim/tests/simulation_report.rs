@@ -201,9 +201,10 @@ around them is written by hand from the same numbers.
   controller: neither.
 - Measures (from forward kinematics of the chain, `trocar::kinematics::Chain`, not from the
   controller's Jacobians):
-  `vr` = lateral velocity in `F_r` of the material point of link 6 at the trocar, by finite
-  differences of FK between steps; `|vr − dv|` = its error against the commanded RCM velocity,
-  in the constrained directions, after the first step; drift = distance trocar–link axis;
+  `vr` = lateral velocity in `F_r` of the shaft at the trocar: the chord between steps of link
+  6's point at the trocar (FK), less its part along the shaft reached, over `dt`; `|vr − dv|` =
+  its error against the commanded RCM velocity, in the constrained directions, after the first
+  step; drift = distance trocar–link axis;
   `‖dp − p‖`, `‖ε̃‖` = position and quaternion-vector errors.
 
 ## Deviations from the thesis forced by the reference arm
@@ -256,10 +257,10 @@ const TAIL: &str = r#"
   constraint is met (section "RCM drift in every scenario"), with or without the correction:
   scenario 3's drift is 1e-5 m without it, 4.8e-7 m with it.
 - **Drift.** With 2 ms explicit Euler the velocity constraint holds to first order only: the
-  measured lateral velocity of the link at the trocar is up to 2.4e-7 m/s (scenarios 1, 2) and
-  5.5e-7 m/s (scenario 4), and over 200 s the link drifts from the trocar by 9.5 µm
+  measured lateral velocity of the shaft at the trocar is up to 3.4e-7 m/s (scenarios 1, 2) and
+  6.7e-7 m/s (scenario 4), and over 200 s the link drifts from the trocar by 9.5 µm
   (scenario 1), 17 µm (scenario 2) and 28 µm (scenario 4). With the correction the drift stays
-  ≤ 34 nm and `|vr − dv|` ≤ 3.5e-7 m/s: the loop cancels the integration error that the
+  ≤ 34 nm and `|vr − dv|` ≤ 9.3e-9 m/s: the loop cancels the integration error that the
   finite-difference measure sees, instead of only bounding it.
 - **Scenario 4 by method** (this arm's command): nothing is singular (`w_r ≥ 0.033`,
   `w_i ≥ 0.038`). The pseudo-inverse tracks to 2.8e-7 m; DLS, which damps `J^r_0e` wherever
@@ -375,17 +376,17 @@ freedom, 2 ms explicit Euler. Measured (drift correction on):
 | tip position error, whole run (after 2 s) | ≤ 2.7e-6 m (1.7e-6 m) | ≤ 1e-4 m after 2 s |
 | orientation error (`‖ε̃‖`), whole run (after 2 s) | ≤ 3.3e-5 (2.0e-5) | — |
 | distance trocar – shaft axis, whole run | ≤ 4.9e-8 m | ≤ 1e-4 m |
-| net lateral velocity of the shaft at the trocar, whole run | ≤ 1.1e-7 m/s | ≤ 1e-6 m/s |
+| net lateral velocity of the shaft at the trocar, whole run | ≤ 1.5e-7 m/s | ≤ 1e-6 m/s |
 | peak joint rate | 0.26 rad/s (q̇7, at 1.3 s) | — |
 | closest approach to a URDF joint limit | 0.65 rad | > 0 |
 | `w_i` (manipulability of `J^B_0i`) | 0.077–0.083 | — |
 
-The lateral velocity is measured as on the reference arm: the displacement of the shaft's point
-at the trocar over one step, divided by `dt`. The constraint holds for the rates at the start of
+The lateral velocity is measured as on the reference arm: the displacement across the trocar of
+the shaft's line over one step, divided by `dt`. The constraint holds for the rates at the start of
 each step; with the rates held over the 2 ms step that point follows a chord whose lateral
 component is `O(dt |θ̇|²)`. It matters at the start: a reference that begins on the circle, 1 cm
 from the tip, makes the arm close the gap at 0.27 rad/s and the chord then reaches 2.6e-5 m/s
-(measured); from rest, as here, it stays at 1.1e-7 m/s. The drift the chord leaves (≤ 49 nm) is
+(measured); from rest, as here, it stays at 1.5e-7 m/s. The drift the chord leaves (≤ 49 nm) is
 what the correction removes.
 
 "#;
@@ -398,7 +399,7 @@ warm-started from the previous step's active set):
 
 ```text
 minimise    ½ ‖S J^B_0e θ̇ − S u‖² + ½ κ² ‖θ̇‖² − γ u0ᵀ θ̇                     (Q1)
-subject to  Λ J^B_0i [I 0] θ̇ = dv_0r − ½ H_v R_0rᵀ (ṁ(q, θ̇⁻) − ṁ(q⁻, θ̇⁻))   (Q2), (Q7)
+subject to  (A + H_v R_0rᵀ E) θ̇ = dv_0r + ½ H_v R_0rᵀ E θ̇⁻                  (Q2), (Q7)
             max(−θ̇max_k, d⁻_k) ≤ θ̇_k ≤ min(θ̇max_k, d⁺_k)                   (Q3), (Q5)
             l̇_lo ≤ g_lᵀ θ̇ ≤ l̇_hi                                           (Q4), (Q6)
 ```
@@ -410,13 +411,17 @@ subject to  Λ J^B_0i [I 0] θ̇ = dv_0r − ½ H_v R_0rᵀ (ṁ(q, θ̇⁻) −
 - `u0 = K ∂f/∂θ` is the null-space objective (44)–(46) (joint-limit distance, `K = 10 /s` on the
   Panda), weighted by `γ = κ²`: where nothing else acts, the spare freedom moves at `u0` as in (45).
 - (Q2): the trocar, `dv_0r = dv_cmd + K_r e_r` (`K_r = 20 /s`), **hard and first**: the solver
-  meets the equality rows before any inequality (its phase 0). (Q7) is their second-order term
-  over the sample time: the link's point at the trocar, `m(q) = p_0i + R_0i s`, follows a chord
-  over a 2 ms step; `ṁ(q, θ̇) = R_0i (v + ω × s)`, `(v, ω) = J^B_0i θ̇`, evaluated with the
-  previous step's rates `θ̇⁻` at the previous and current configurations estimates `dt m̈`, and
-  the rows ask for a displacement of `dt dv_0r` to second order. Without (Q7) the lateral
-  velocity of `panda-laparoscope-limits` reached 5.8e-4 m/s and the drift 8.7e-5 m; with it
-  3.3e-5 m/s and 1.1e-6 m.
+  meets the equality rows before any inequality (its phase 0). `A = Λ J^B_0i [I 0]`; (Q7) is
+  their second-order term over the sample time: the link's point at the trocar,
+  `m(q) = p_0i + R_0i s`, follows a chord over a 2 ms step with the rates held; its velocity is
+  `ṁ = W(q) θ̇`, `W = R_0i [I | −ŝ] J^B_0i [I 0]`, and `E = W(q) − W(q⁻)` (previous and current
+  configuration) estimates `dt ∂W[θ̇⁻]`; by the symmetry of second derivatives the step's mean
+  lateral velocity is then `(A + H_v R_0rᵀ E) θ̇ − ½ H_v R_0rᵀ E θ̇⁻` to second order in `dt` and
+  first order in the change of rates (`runtime/src/control/hard_limits.rs` derives it). Without
+  (Q7) the lateral velocity of `panda-laparoscope-limits` reaches 5.8e-4 m/s and the drift
+  8.7e-5 m; with it 7.8e-6 m/s and 7.1e-7 m (an earlier form that applied the previous rates'
+  curvature to the right-hand side only, `−½ H_v R_0rᵀ E θ̇⁻`, gave 3.3e-5 m/s and 1.1e-6 m: it
+  missed the change of rates when joint 7 meets its speed limit and the arm takes over).
 - (Q3): joint speed limits `θ̇max_k` — the URDF `velocity` where the description has it (the
   Panda: 2.175 rad/s for joints 1–4, 2.61 rad/s for 5–7), else `ControllerConfig::max_joint_speed`
   (the smaller of the two when both are set) — and the velocity dampers (Q5) of the joint
@@ -449,7 +454,7 @@ panda-laparoscope-limits --method M --csv` (joint limits and speeds from the URD
 | method | closest approach to a URDF joint limit | largest \|q̇_k\| − q̇max_k | `l_a` range (m) | max drift (m) | max lateral velocity (m/s) | tip error where no limit holds (m) |
 |---|---:|---:|---|---:|---:|---:|
 | dls | −0.067 rad (q7 beyond its limit) | +1.52 rad/s (q̇7 = 4.13) | [0.250, 0.330] (beyond `l_max`) | 1.0e-5 | 4.1e-5 | 1.0e-6 |
-| qp | 0.245 rad | 0 (q̇7 = 2.61 at its limit) | [0.250, 0.298] | 1.1e-6 | 3.3e-5 (5.1e-7 outside 4–5 s) | 2.7e-5 |
+| qp | 0.244 rad | 0 (q̇7 = 2.61 at its limit) | [0.250, 0.298] | 9.8e-9 | 1.3e-6 at one step (t = 4.730 s), ≤ 6.5e-7 at every other | 2.7e-5 |
 
 With DLS every limit is exceeded (DLS with the default 2 rad/s limit of the controller would keep
 the speeds, not the range or the depth). With the QP none is: `l_a` stops at 0.298 m
@@ -457,9 +462,41 @@ the speeds, not the range or the depth). With the QP none is: `l_a` stops at 0.2
 its 2.61 rad/s and the rest of the arm rolls the flange for the remainder, the roll and the tip
 lagging (tip error up to 4.5 cm, `‖ε̃‖` up to 0.19 while the limits hold), and q7 peaks at
 2.65 rad. Where no limit holds (before 1 s and after 10.5 s) the tip is within 2.7e-5 m of the
-reference (the bias of `κ` and of the objective's pull). The trocar holds to 1.1 µm; the
-lateral velocity exceeds 1e-6 m/s only in single steps between 4 and 5 s where the rates jump as
-the roll hands over from joint 7 to the arm, and (Q7)'s estimate from the previous step's
-rates is off by that jump: **the 1e-6 m/s target is met outside that second, not over the whole
-run.**
+reference (the bias of `κ` and of the objective's pull). The trocar holds to 9.8 nm.
+
+What (Q7) leaves is the third-order term of the chord over a sample time, up to 1.7e-5 m/s
+between 4.3 and 4.9 s, where the whole arm rolls the flange at up to 2.2–2.6 rad/s a joint. It
+changes little from one step to the next, and the previous step's is measured exactly from the
+joints reached: the link's point that was at the trocar moved along a chord (forward
+kinematics), and that chord less its part along the shaft's axis reached is how far the shaft's
+line moved across the trocar's place (`Shaft::moved_across`). (Q8) asks that residual back in
+the trocar rows' right-hand side (`QpWeights::chord_feedback`, residuals up to 1e-3 m/s; derived
+in `runtime/src/control/hard_limits.rs`). What remains is its change over one step, largest
+where the working set changes and the rates with it.
+
+The lateral velocity of the trace is measured the same way, from forward kinematics only: the
+shaft's motion across the trocar's place over a step, over `dt`. The chord of the material point
+alone also carries that point's slide along a shaft that turns: a shaft sliding at `v` while it
+pivots at `ω` about the trocar moves the point that was there by `v ω dt²` across its first axis
+though the line never leaves the trocar, up to 7 nm a step here while the instrument is pulled
+back as the flange rolls. Measured that way, and with (Q8) asking back the material point's
+chord, the trocar drifted to 0.18 µm and the correction `K_r e_r` then commanded up to 3.2e-6
+m/s to come back; asking back the line's motion instead, the drift stays at 9.8 nm
+(`cargo run --release -p trocar-sim --example qp_sample_time`):
+
+| sample time | drift correction on: max lateral velocity (m/s), max drift (m) | off |
+|---:|---:|---:|
+| 2 ms (the scenario's) | 1.3e-6, 9.8e-9 | 1.3e-6, 4.6e-8 |
+| 1 ms | 1.2e-7, 1.2e-9 | 1.2e-7, 5.8e-9 |
+| 0.5 ms | 1.4e-8, 1.5e-10 | 1.4e-8, 7.2e-10 |
+
+**At the scenario's 2 ms the 1e-6 m/s target holds at every step but one**: at t = 4.730 s, where
+joint 1 leaves its speed limit while joint 5 brakes by 0.27 rad/s a step, the rates change
+fastest, and the residual of the step before does not foresee the next one's, 1.3e-6 m/s (the
+next largest step, 6.5e-7 m/s). It falls with `dt^3.5`: 1.2e-7 m/s at the Panda's own 1 kHz.
+Estimates of the third-order term from the steps before did worse: `W(q) − 2W(q⁻) + W(q⁻⁻)`
+(1.8e-5 m/s, since while the rates change by several per cent a step that difference measures the
+change of rates, not the curvature), and the residual extrapolated linearly from the two steps
+before (1.7e-6 m/s: it overshoots after the jump). `codegen/cli/tests/hard_limits.rs` checks
+these figures on the CLI's CSV.
 "#;

@@ -71,7 +71,11 @@
 //! lateral velocity where the Panda rolls its flange at 2–2.6 rad/s a joint. It changes little
 //! from one step to the next, and the previous step's is known exactly once `q` is: the point
 //! `s⁻` of the link that was at the trocar moved from `m⁻(q⁻)` to `m⁻(q) = p_0i(q) + R_0i(q) s⁻`,
-//! a mean lateral velocity `c⁻ = H_v R_0r(q⁻)ᵀ (m⁻(q) − m⁻(q⁻)) / dt` where the step asked for
+//! and that chord less its part along the shaft's axis at `q` is how far the shaft's line moved
+//! across the trocar's place ([`super::Shaft::moved_across`]). (The chord alone would also carry
+//! the point's slide along a shaft that turns, `v ω dt²` for a shaft sliding at `v` while it
+//! pivots at `ω`: asked back, that holds the point but walks the line off the trocar.) Its mean
+//! lateral velocity `c⁻ = H_v R_0r(q⁻)ᵀ (moved across) / dt` is what the step made of
 //! `dv_0r⁻` (plus its own correction `f⁻`). With [`QpWeights::chord_feedback`] the step asks
 //! that residual back,
 //!
@@ -79,7 +83,8 @@
 //! b = (Q7)'s right-hand side + f,    f = −(c⁻ − dv_0r⁻ − f⁻)                        (Q8)
 //! ```
 //!
-//! so that what is left is the change of the third-order term over one step, `O(dt⁴)`. It is
+//! so that what is left is the change of the third-order term over one step, `O(dt⁴)`; it is
+//! largest where the working set changes and the rates with it. It is
 //! taken only when the sample time is the previous step's and the residual is within the
 //! limit given (a larger one is not the chord's: the joints did not move by `dt θ̇⁻`, as after
 //! a reset of the robot's own, and is left to the drift correction `K_r e_r`).
@@ -117,9 +122,9 @@ pub struct QpWeights<T> {
     /// The second-order term (Q7) of the trocar rows: with it the link's point at the trocar
     /// keeps to the trocar over a sample time, not only at its start.
     pub chord_correction: bool,
-    /// (Q8), with (Q7): the previous step's chord residual, measured from the joints reached,
-    /// asked back when its largest component is at most this (velocity units of `H`'s rows:
-    /// m/s for lengths in metres). `None`: not used (the default in `f32`).
+    /// (Q8), with (Q7): the previous step's residual of the shaft's motion across the trocar,
+    /// measured from the joints reached, asked back when its largest component is at most
+    /// this (velocity units of `H`'s rows: m/s for lengths in metres). `None`: not used (the default in `f32`).
     pub chord_feedback: Option<T>,
 }
 

@@ -784,8 +784,8 @@ impl<
             if let (Some(limit), true) =
                 (weights.chord_feedback, prev.dt > T::zero() && prev.dt == dt)
             {
-                let moved = s.g_0i.transform_point(&prev.point) - prev.position;
-                let residual = prev.directions * moved / prev.dt - prev.target - prev.feedback;
+                let across = shaft.moved_across(&s.g_0i, &prev.point, &prev.position);
+                let residual = prev.directions * across / prev.dt - prev.target - prev.feedback;
                 if residual.iter().all(|v| v.is_finite() && v.abs() <= limit) {
                     feedback = -residual;
                     b += feedback;

@@ -71,6 +71,22 @@ impl<T: RealField + Copy> Shaft<T> {
         self.rotation
             .tr_mul(&(in_link - self.origin - self.direction * l_a))
     }
+
+    /// How far the shaft's line moved across a place of the base frame: the link's point
+    /// `point` (in `F_i`) was at `from`; with the link now at `g_0i` it is at `g_0i point`, and
+    /// that chord less its part along the shaft's axis at `g_0i` is the vector from `from` to
+    /// the nearest point of the line (base coordinates).
+    ///
+    /// With `from` at the trocar, it is the lateral motion of the shaft at the trocar over a
+    /// step. The chord alone also carries the point's slide along a shaft that turns (a
+    /// shaft sliding at `v` while pivoting at `ω` about the trocar moves the point that was
+    /// there by `v ω dt²` across its first axis, though the line never leaves the trocar);
+    /// this does not.
+    pub fn moved_across(&self, g_0i: &Se3<T>, point: &Vector3<T>, from: &Vector3<T>) -> Vector3<T> {
+        let chord = g_0i.transform_point(point) - from;
+        let axis = (g_0i.rotation * self.direction).normalize();
+        chord - axis * chord.dot(&axis)
+    }
 }
 
 #[cfg(test)]
@@ -102,6 +118,49 @@ mod tests {
         let along = shaft.rotation.transpose() * shaft.direction;
         assert!(e.dot(&along).abs() < 1e-14);
         assert!((e.norm() - 0.005).abs() < 1e-14);
+    }
+
+    #[test]
+    fn a_shaft_sliding_while_it_pivots_about_a_place_does_not_move_across_it() {
+        let shaft = Shaft::<f64> {
+            rotation: Matrix3::identity(),
+            origin: Vector3::new(0.0, 0.0, 0.107),
+            direction: Vector3::z(),
+        };
+        let g_0i = Se3::new(
+            rotation_from_rpy(0.4, 1.1, -0.7),
+            Vector3::new(0.3, -0.1, 0.5),
+        );
+        let l_a = 0.25;
+        let point = shaft.origin + shaft.direction * l_a;
+        let trocar = g_0i.transform_point(&point);
+        // Over dt = 2 ms: turn by ω dt = 2e-3 rad about an axis through the trocar, normal to
+        // the shaft, and slide by v dt = 1e-4 m along the new axis.
+        let normal = g_0i.rotation * Vector3::x();
+        let turn =
+            nalgebra::Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(normal), 2e-3)
+                .into_inner();
+        let turned = Se3::new(
+            turn * g_0i.rotation,
+            trocar + turn * (g_0i.translation - trocar),
+        );
+        let slide = turned.rotation * shaft.direction * 1e-4;
+        let next = Se3::new(turned.rotation, turned.translation + slide);
+        // The point that was at the trocar moved across the first axis by v ω dt² = 2e-7 m...
+        let chord = next.transform_point(&point) - trocar;
+        let first_axis = g_0i.rotation * shaft.direction;
+        let across_first = chord - first_axis * chord.dot(&first_axis);
+        assert!(
+            (across_first.norm() - 2e-7).abs() < 1e-12,
+            "{}",
+            across_first.norm()
+        );
+        // ...but the line still passes through the trocar.
+        assert!(shaft.moved_across(&next, &point, &trocar).norm() < 1e-16);
+        // A lateral shift of the link is seen whole.
+        let shift = g_0i.rotation * Vector3::new(3e-7, -4e-7, 0.0);
+        let shifted = Se3::new(g_0i.rotation, g_0i.translation + shift);
+        assert!((shaft.moved_across(&shifted, &point, &trocar) - shift).norm() < 1e-16);
     }
 
     #[test]

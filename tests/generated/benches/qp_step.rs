@@ -11,9 +11,11 @@
 //!   reference and the Euler update outside the timed region). Each step runs five times from
 //!   the same state (a copy of the controller before it): `single` is the first run's time, as a
 //!   control loop on this machine sees it, the operating system's interruptions included; `own`
-//!   the least of the five, the step's own cost. Prints the median, the 99th and 99.9th
-//!   percentiles and the maximum of each, and how many steps changed the working set. The
-//!   timer's own cost (two `Instant::now`, ~40 ns here) is included.
+//!   the least of the five, the step's own cost. Between two steps of the scenario one more
+//!   step is timed, always the same (the fixed state above, from a copy): `fixed` is what the
+//!   machine does to identical work, the floor of `single`'s spread. Prints the median, the
+//!   99th and 99.9th percentiles and the maximum of each, and how many steps changed the
+//!   working set. The timer's own cost (two `Instant::now`, ~40 ns here) is included.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use std::time::Instant;
@@ -72,6 +74,7 @@ fn qp_step(c: &mut Criterion) {
     // One step at a fixed state (t = 1.5 s of the reference, joints a little off q0).
     let q = q0 + SVector::<f64, 7>::from_element(0.01);
     let reference = panda_limits_reference(1.5, &g0);
+    let (q_fixed, reference_fixed) = (q, reference);
     let out = ctrl.step(&kin, &q, &reference, &rcm, config.dt).unwrap();
     assert!(out.qp.is_some());
     c.bench_function("qp_step/panda_generated", |b| {
@@ -87,6 +90,9 @@ fn qp_step(c: &mut Criterion) {
         })
     });
 
+    // The state of the fixed step, for `fixed` below.
+    let fixed_state = ctrl;
+
     // 10⁵ steps of the scenario, each timed: once as it runs (`single`, what a control loop on
     // this machine sees, interruptions of the operating system included), and as the least of
     // `REPEAT` runs of the same step from the same state (`own`: the controller is `Copy`, so
@@ -96,6 +102,7 @@ fn qp_step(c: &mut Criterion) {
     let steps = (config.duration / config.dt).round() as usize + 1;
     let mut single = Vec::with_capacity(total);
     let mut own = Vec::with_capacity(total);
+    let mut fixed = Vec::with_capacity(total);
     let mut by_iterations = [0usize; 4];
     let mut most_iterations = 0usize;
     let mut worst_own: (u64, usize, usize) = (0, 0, 0);
@@ -125,6 +132,20 @@ fn qp_step(c: &mut Criterion) {
                 out = Some(o);
             }
             own.push(least);
+            // The same work every time: the machine's own spread.
+            let mut c = fixed_state;
+            let start = Instant::now();
+            black_box(
+                c.step(
+                    black_box(&kin),
+                    black_box(&q_fixed),
+                    &reference_fixed,
+                    &rcm,
+                    config.dt,
+                )
+                .unwrap(),
+            );
+            fixed.push(start.elapsed().as_nanos() as u64);
             let out = out.unwrap();
             let report = out.qp.unwrap();
             by_iterations[report.iterations.min(3)] += 1;
@@ -135,7 +156,11 @@ fn qp_step(c: &mut Criterion) {
             q += out.qd * config.dt;
         }
     }
-    for (name, times) in [("single", &mut single), ("own", &mut own)] {
+    for (name, times) in [
+        ("single", &mut single),
+        ("own", &mut own),
+        ("fixed", &mut fixed),
+    ] {
         times.sort_unstable();
         println!(
             "qp_step/scenario/{name}: {} steps of panda-laparoscope-limits: median {} ns, p99 {} ns, \

@@ -674,7 +674,7 @@ pub fn draw<DB: DrawingBackend>(
     let [a, b] = trace.lateral_axes;
     panel(
         &panels[1],
-        "(b) lateral velocity of the link at the trocar (F_r)",
+        "(b) lateral velocity of the shaft at the trocar (F_r)",
         "v (m/s)",
         false,
         vec![

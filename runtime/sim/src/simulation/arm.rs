@@ -103,10 +103,11 @@ impl ArmModel {
     /// Jacobians):
     /// - `l_a = (p_t − p_0i) · shaft`, `rcm_drift` the distance from the trocar to the shaft's
     ///   axis;
-    /// - `vr`: the velocity over the step of the link's material point at the trocar,
-    ///   `R_0r(q)ᵀ (m(q + dt qd) − m(q)) / dt` with `m(q)` the point of the shaft at `l_a`
-    ///   (explicit Euler's chord error and the drift correction's velocity included), on the
-    ///   two axes of `F_r` normal to the shaft;
+    /// - `vr`: the lateral velocity over the step of the shaft at the trocar: the chord
+    ///   `m(q + dt qd) − m(q)` of the shaft's point `m` at `l_a`, less its part along the shaft
+    ///   at `q + dt qd` ([`trocar::control::Shaft::moved_across`]), over `dt` (explicit Euler's
+    ///   chord error and the drift correction's velocity included), on the two axes of `F_r`
+    ///   normal to the shaft;
     /// - the tip errors against the desired pose.
     ///
     /// `q` and `qd` have [`ArmModel::dof`] values.
@@ -115,8 +116,11 @@ impl ArmModel {
         let g_i = self.link_frame(s.q);
         let l_a = self.shaft.offset(&g_i, s.trocar);
         let g_r = self.shaft.constraint_pose(&g_i, l_a);
-        let m_next = self.shaft.constraint_pose(&self.link_frame(&q_next), l_a);
-        let v = g_r.rotation.transpose() * (m_next.translation - g_r.translation) / s.dt;
+        let point = self.shaft.frame(l_a).translation;
+        let across = self
+            .shaft
+            .moved_across(&self.link_frame(&q_next), &point, &g_r.translation);
+        let v = g_r.rotation.transpose() * across / s.dt;
         let axes = self.lateral_axes();
         let g_e = self.tip(s.q);
         let ep = s.position - g_e.translation;

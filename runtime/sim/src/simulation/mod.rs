@@ -19,10 +19,13 @@
 //! Jacobians.
 //!
 //! # Measurements (independent of the controller; from forward kinematics only)
-//! - `vr = (vr_x, vr_z)`: lateral velocity, in `F_r`, of the material point of the constrained
-//!   link that is at the trocar at step `k`, over the step:
-//!   `R_0r(q_k)ᵀ (m(q_{k+1}) − m(q_k)) / dt`, `m(q) = p of g_0i(q) g_ir(l_a(k))`, along the axes
-//!   of `F_r` normal to the shaft (`x_r`, `z_r` on the reference arm; `x_r`, `y_r` on the Panda).
+//! - `vr = (vr_x, vr_z)`: lateral velocity, in `F_r`, of the shaft at the trocar over step `k`:
+//!   how far the shaft's line moved across the place of its point at the trocar,
+//!   `R_0r(q_k)ᵀ P(q_{k+1}) (m(q_{k+1}) − m(q_k)) / dt`, `m(q) = p of g_0i(q) g_ir(l_a(k))` and
+//!   `P(q)` the projection normal to the shaft at `q` ([`trocar::control::Shaft::moved_across`]),
+//!   along the axes of `F_r` normal to the shaft (`x_r`, `z_r` on the reference arm; `x_r`,
+//!   `y_r` on the Panda). Without `P` the point's slide along a turning shaft (`v ω dt`) would
+//!   count as lateral motion though the line keeps to the trocar.
 //! - `rcm_drift`: distance from the trocar point to the axis of link 6.
 //! - `ep_norm = ‖dp − p_0e‖`, `eo_norm = ‖ε̃‖` (vector part of `Q_d ⊗ Q⁻¹`).
 
