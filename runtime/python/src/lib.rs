@@ -406,7 +406,8 @@ impl Controller {
     /// `l_a`, `position_error`, `orientation_error`, `lateral_error`, `dv_0r`, `w_r`, `w_i`,
     /// `kappa_r`, `kappa_i`, and with `method="qp"` `qp_status` (`"Optimal"`,
     /// `"InequalitiesRelaxed"` when the limits could not all be kept with the trocar, ...),
-    /// `qp_iterations` and `qp_active` (the number of limits reached); `None` otherwise.
+    /// `qp_iterations`, `qp_active` (the number of limits reached) and `qp_resolved` (the step
+    /// measured its own chord over `dt` and solved again); `None` otherwise.
     #[pyo3(signature = (q, reference, trocar, dt, dv = None))]
     fn step<'py>(
         &mut self,
@@ -488,6 +489,7 @@ impl Controller {
         out.set_item("qp_status", s.qp.map(|r| format!("{:?}", r.status)))?;
         out.set_item("qp_iterations", s.qp.map(|r| r.iterations))?;
         out.set_item("qp_active", s.qp.map(|r| r.active))?;
+        out.set_item("qp_resolved", s.qp.map(|r| r.resolved))?;
         Ok(out)
     }
 

@@ -89,6 +89,26 @@
 //! limit given (a larger one is not the chord's: the joints did not move by `dt θ̇⁻`, as after
 //! a reset of the robot's own, and is left to the drift correction `K_r e_r`).
 //!
+//! Where the working set changes, the rates change regime, and the residual of the step before
+//! does not foresee the step's own. With [`QpWeights::chord_check`] ([`ChordCheck`]) the step then
+//! measures its own chord: with the rates `θ̇⁰` of the solve, the link's pose at `q + dt θ̇⁰`
+//! (forward kinematics, [`super::ConstrainedKinematics::g_0i`]) gives the mean lateral velocity
+//! `c⁰` over the step exactly ([`super::Shaft::moved_across`]), and the step solves once more
+//! with
+//!
+//! ```text
+//! (A + H_v R_0rᵀ E) θ̇ = (A + H_v R_0rᵀ E) θ̇⁰ + dv_0r − c⁰                           (Q9)
+//! ```
+//!
+//! the chord linearised about `θ̇⁰`: what is left is the change of its nonlinear part between `θ̇⁰`
+//! and `θ̇`, second order in `θ̇ − θ̇⁰`. The next step's (Q8) takes the first solve's residual
+//! `c⁰ − dv_0r − f`. The change is small, and the second solve keeps the first's working set
+//! (the KKT system of the change alone, [`same_working_set`]) unless that would cross a limit or
+//! the depth row is active; then it is solved in full from the first's working set.
+//! [`ChordCheck::AfterChange`] does so at the step after a working-set change (the default in
+//! `f64`), [`ChordCheck::Always`] at every step (one more forward kinematics of the link and one
+//! more solve). A step costs at most two solves.
+//!
 //! # On conflict
 //!
 //! The solver meets (Q2) first ([`crate::qp`]'s phase 0). If the trocar rows have no common
@@ -102,6 +122,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::{ControlError, NullSpaceObjective};
+use crate::linalg::Cholesky;
 use crate::qp::{self, ActiveSet, Problem, Settings, Status};
 use crate::se3::Se3;
 use nalgebra::{RealField, SMatrix, SVector, Vector3};
@@ -124,14 +145,32 @@ pub struct QpWeights<T> {
     pub chord_correction: bool,
     /// (Q8), with (Q7): the previous step's residual of the shaft's motion across the trocar,
     /// measured from the joints reached, asked back when its largest component is at most
-    /// this (velocity units of `H`'s rows: m/s for lengths in metres). `None`: not used (the default in `f32`).
+    /// this (velocity units of `H`'s rows: m/s for lengths in metres). `None`: not used (the
+    /// default in `f32`).
     pub chord_feedback: Option<T>,
+    /// (Q9): when the step measures its own chord at the rates found and solves again.
+    pub chord_check: ChordCheck,
+}
+
+/// When the QP step measures its own chord over the sample time and solves once more (Q9).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ChordCheck {
+    /// Never: the trocar rows are (Q7) with (Q8) (the default in `f32`, whose rounding of
+    /// positions over a sample time is larger than what (Q9) corrects).
+    Never,
+    /// At the step after one whose working set changed, where the residual (Q8) of the step
+    /// before does not foresee the step's own (the default in `f64`: one step in about 1,500 of
+    /// `panda-laparoscope-limits`).
+    AfterChange,
+    /// At every step: one more forward kinematics of the link and one more solve a step, for a
+    /// lateral velocity at the trocar of the order of the rounding.
+    Always,
 }
 
 impl<T: RealField + Copy> QpWeights<T> {
-    /// `κ`, `γ = κ²`, the solver's default iteration limit (100), (Q7), and (Q8) with a residual
-    /// of at most 1e-3 in `f64` (not in `f32`, whose rounding of positions over a sample time
-    /// is as large as the residual).
+    /// `κ`, `γ = κ²`, the solver's default iteration limit (100), (Q7), and in `f64` (Q8) with a
+    /// residual of at most 1e-3 and (Q9) after a working-set change (neither in `f32`, whose
+    /// rounding of positions over a sample time is as large as the residual).
     pub fn with_kappa(kappa: T) -> Self {
         QpWeights {
             kappa,
@@ -142,6 +181,11 @@ impl<T: RealField + Copy> QpWeights<T> {
             // for |p| = 0.5 m at 2 ms) is as large as the residual (Q8) would ask back.
             chord_feedback: (T::default_epsilon() < nalgebra::convert(1e-10))
                 .then(|| nalgebra::convert(1e-3)),
+            chord_check: if T::default_epsilon() < nalgebra::convert(1e-10) {
+                ChordCheck::AfterChange
+            } else {
+                ChordCheck::Never
+            },
         }
     }
 }
@@ -273,6 +317,9 @@ pub struct QpReport {
     pub iterations: usize,
     /// Inequality rows active at the solution (limits reached).
     pub active: usize,
+    /// The step measured its own chord and solved again (Q9) ([`ChordCheck`]);
+    /// `iterations` then counts the changes of both solves.
+    pub resolved: bool,
 }
 
 /// The data of (Q1)–(Q6) the controller has at a step.
@@ -313,6 +360,11 @@ pub(super) struct Previous<T: RealField + Copy, const N: usize, const I: usize, 
     pub feedback: SVector<T, R>,
     /// The step's sample time.
     pub dt: T,
+    /// (Q9): the residual `c⁰ − dv_0r − f` of the step's first solve, from its own chord; the
+    /// next step's (Q8) takes it in place of the one measured from the joints reached.
+    pub residual: Option<SVector<T, R>>,
+    /// The step's solves changed the working set.
+    pub changed: bool,
 }
 
 /// `W = R [I | −ŝ] J^B_0i`: the Jacobian of the base-frame velocity `ṁ = R (v + ω × s)` of the
@@ -339,9 +391,8 @@ pub(super) fn big<T: RealField + Copy>() -> T {
     (c(1e-6) / T::default_epsilon()).min(c(1e6))
 }
 
-/// Builds (Q1)–(Q6) and solves it from `warm`. `task` is `J = S J^B_0e` (`P × N`), `v_t = S u`.
-#[allow(clippy::too_many_arguments)]
-pub(super) fn solve_step<
+/// Builds (Q1)–(Q6). `task` is `J = S J^B_0e` (`P × N`), `v_t = S u`.
+pub(super) fn step_problem<
     T: RealField + Copy,
     const N: usize,
     const I: usize,
@@ -354,8 +405,7 @@ pub(super) fn solve_step<
     weights: &QpWeights<T>,
     objective: &NullSpaceObjective<T, N>,
     limits: &HardLimits<T, N>,
-    warm: &mut ActiveSet<N, 1>,
-) -> Result<(SVector<T, N>, QpReport), ControlError> {
+) -> Problem<T, N, R, 1> {
     let big = big::<T>();
     // (Q1): H = Jᵀ J + κ² I, f = −Jᵀ v_t − γ u0.
     let mut h = task.tr_mul(task);
@@ -402,7 +452,7 @@ pub(super) fn solve_step<
         limits
             .depth_damper
             .rate_bounds(inputs.l_a, limits.depth[0], limits.depth[1], big);
-    let problem = Problem::<T, N, R, 1> {
+    Problem {
         h,
         f,
         a_eq,
@@ -412,11 +462,20 @@ pub(super) fn solve_step<
         hi: SVector::from_element(hi),
         lb,
         ub,
-    };
+    }
+}
+
+/// Solves a problem of [`step_problem`] from `warm` (the working set of the solve before),
+/// leaving the solution's working set there.
+pub(super) fn solve_problem<T: RealField + Copy, const N: usize, const R: usize>(
+    problem: &Problem<T, N, R, 1>,
+    weights: &QpWeights<T>,
+    warm: &mut ActiveSet<N, 1>,
+) -> Result<(SVector<T, N>, QpReport), ControlError> {
     let settings = Settings {
         max_iterations: weights.max_iterations,
     };
-    let solution = qp::solve(&problem, warm, &settings);
+    let solution = qp::solve(problem, warm, &settings);
     match solution.status {
         Status::NonFinite | Status::InvalidBounds => {
             *warm = ActiveSet::EMPTY;
@@ -430,10 +489,62 @@ pub(super) fn solve_step<
                     status,
                     iterations: solution.iterations,
                     active: solution.active.len(),
+                    resolved: false,
                 },
             ))
         }
     }
+}
+
+/// (Q9)'s second solve while the first's working set holds: the solution of (Q1)–(Q6) with the
+/// right-hand side of (Q2) changed by `Δb` and every active limit kept where it is. The linear
+/// term cancels against the first solution's stationarity, so
+///
+/// ```text
+/// Δx = argmin ½ Δxᵀ H Δx   subject to   A Δx = Δb,   Δx_k = 0 at an active bound
+///    = H'⁻¹ A'ᵀ (A' H'⁻¹ A'ᵀ)⁻¹ Δb
+/// ```
+///
+/// with `H'` = `H` whose rows and columns of the bound variables are the identity's and `A'` = `A`
+/// without their columns. `None` (the caller then solves in full) when the depth row is active,
+/// `H'` or `A' H'⁻¹ A'ᵀ` is not positive definite, or `x + Δx` leaves a limit that was inactive.
+pub(super) fn same_working_set<T: RealField + Copy, const N: usize, const R: usize>(
+    problem: &Problem<T, N, R, 1>,
+    active: &ActiveSet<N, 1>,
+    x: &SVector<T, N>,
+    db: &SVector<T, R>,
+) -> Option<SVector<T, N>> {
+    if active.general[0] != qp::Side::Inactive {
+        return None;
+    }
+    let bound = |k: usize| active.bounds[k] != qp::Side::Inactive;
+    let mut h = problem.h;
+    let mut a = problem.a_eq;
+    for k in (0..N).filter(|&k| bound(k)) {
+        for j in 0..N {
+            h[(k, j)] = T::zero();
+            h[(j, k)] = T::zero();
+        }
+        h[(k, k)] = T::one();
+        for r in 0..R {
+            a[(r, k)] = T::zero();
+        }
+    }
+    let u = Cholesky::new(&h)?.solve(&a.transpose());
+    let schur = a * u;
+    let dx = u * Cholesky::new(&schur)?.solve(db);
+    let next = x + dx;
+    let g = (problem.g * next)[0];
+    // The same tolerance as the solver's feasibility test, relative to the bound's size.
+    let eps = T::default_epsilon() * nalgebra::convert(1e3);
+    let within = |v: T, lo: T, hi: T| {
+        v >= lo - eps * (T::one() + lo.abs()) && v <= hi + eps * (T::one() + hi.abs())
+    };
+    let free_within = (0..N)
+        .filter(|&k| !bound(k))
+        .all(|k| within(next[k], problem.lb[k], problem.ub[k]));
+    (next.iter().all(|v| v.is_finite()) && free_within && within(g, problem.lo[0], problem.hi[0]))
+        .then_some(next)
 }
 
 /// `g_l` of (Q6): `l̇_a = g_lᵀ θ̇_{1..i}` for a fixed trocar, `g_lᵀ = −[dᵀ, (r × d)ᵀ] J^B_0i / |d|²`
@@ -495,5 +606,70 @@ pub(super) fn task_body_jacobian<
         SMatrix::from_fn(|r, c| je[(r, c)])
     } else {
         sel * je
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{SMatrix, SVector};
+
+    /// A problem of the step's shape (7 rates, 2 trocar rows, the depth row) whose optimum
+    /// holds some bounds: `H = JᵀJ + κ²I` from a fixed 4 × 7 `J`, and a linear term that pulls
+    /// the first rates past their bounds.
+    fn problem(depth: (f64, f64)) -> Problem<f64, 7, 2, 1> {
+        let j = SMatrix::<f64, 4, 7>::from_fn(|r, c| ((r * 7 + c * 3) % 11) as f64 / 11.0 - 0.4);
+        let mut h = j.tr_mul(&j);
+        for k in 0..7 {
+            h[(k, k)] += 1e-4;
+        }
+        Problem {
+            h,
+            f: SVector::from_fn(|k, _| if k < 2 { -3.0 } else { 0.1 * k as f64 }),
+            a_eq: SMatrix::from_fn(|r, c| ((r * 5 + c * 2) % 7) as f64 / 7.0 - 0.5),
+            b_eq: SVector::from_element(0.01),
+            g: SMatrix::from_fn(|_, c| 0.1 * c as f64 - 0.2),
+            lo: SVector::from_element(depth.0),
+            hi: SVector::from_element(depth.1),
+            lb: SVector::from_element(-1.0),
+            ub: SVector::from_element(1.0),
+        }
+    }
+
+    #[test]
+    fn the_same_working_set_update_is_the_full_solve_of_the_changed_right_hand_side() {
+        let p = problem((-10.0, 10.0));
+        let first = qp::solve(&p, &ActiveSet::EMPTY, &Settings::DEFAULT);
+        assert_eq!(first.status, Status::Optimal);
+        assert!(
+            !first.active.is_empty(),
+            "no bound active: the test would not test them"
+        );
+        let db = SVector::<f64, 2>::new(3e-6, -2e-6);
+        let kept = same_working_set(&p, &first.active, &first.x, &db).unwrap();
+        let mut changed = p;
+        changed.b_eq += db;
+        let full = qp::solve(&changed, &first.active, &Settings::DEFAULT);
+        assert_eq!(full.active, first.active);
+        assert!((kept - full.x).amax() < 1e-12, "{}", (kept - full.x).amax());
+        assert!((kept - first.x).amax() > 1e-7, "the change moved nothing");
+    }
+
+    #[test]
+    fn the_same_working_set_update_declines_what_it_cannot_keep() {
+        let p = problem((-10.0, 10.0));
+        let first = qp::solve(&p, &ActiveSet::EMPTY, &Settings::DEFAULT);
+        // A change large enough to push a free rate past its bound: the full solve must decide.
+        let db = SVector::<f64, 2>::new(5.0, -5.0);
+        assert!(same_working_set(&p, &first.active, &first.x, &db).is_none());
+        // The depth row active: not handled here.
+        let x = first.x;
+        let gx = (p.g * x)[0];
+        let held = problem((gx - 1.0, gx - 0.05));
+        let at_depth = qp::solve(&held, &first.active, &Settings::DEFAULT);
+        assert_eq!(at_depth.status, Status::Optimal);
+        assert_eq!(at_depth.active.general[0], qp::Side::Upper);
+        let db = SVector::<f64, 2>::new(1e-6, 0.0);
+        assert!(same_working_set(&held, &at_depth.active, &at_depth.x, &db).is_none());
     }
 }

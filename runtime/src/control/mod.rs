@@ -56,7 +56,7 @@ mod shaft;
 
 pub use crate::linalg::determinant;
 pub use crate::manipulability::manipulability;
-pub use hard_limits::{Damper, HardLimits, QpReport, QpWeights};
+pub use hard_limits::{ChordCheck, Damper, HardLimits, QpReport, QpWeights};
 pub use inverse::{Damping, FilteredInverse, PreparedJacobian};
 pub use quaternion::{orientation_error, Quaternion};
 pub use redundancy::{
@@ -784,8 +784,10 @@ impl<
             if let (Some(limit), true) =
                 (weights.chord_feedback, prev.dt > T::zero() && prev.dt == dt)
             {
-                let across = shaft.moved_across(&s.g_0i, &prev.point, &prev.position);
-                let residual = prev.directions * across / prev.dt - prev.target - prev.feedback;
+                let residual = prev.residual.unwrap_or_else(|| {
+                    let across = shaft.moved_across(&s.g_0i, &prev.point, &prev.position);
+                    prev.directions * across / prev.dt - prev.target - prev.feedback
+                });
                 if residual.iter().all(|v| v.is_finite() && v.abs() <= limit) {
                     feedback = -residual;
                     b += feedback;
@@ -803,17 +805,54 @@ impl<
             l_a,
             max_joint_speed: self.config.max_joint_speed,
         };
-        let (qd, report) = hard_limits::solve_step(
-            &inputs,
-            &task,
-            &v_t,
-            weights,
-            &self.objective,
-            &self.limits,
-            &mut self.qp_active,
-        )?;
+        let mut problem =
+            hard_limits::step_problem(&inputs, &task, &v_t, weights, &self.objective, &self.limits);
+        let (mut qd, mut report) =
+            hard_limits::solve_problem(&problem, weights, &mut self.qp_active)?;
         if !qd.iter().all(|v| v.is_finite()) {
             return Err(ControlError::NonFinite);
+        }
+        // (Q9): the step's own chord at the rates found, and one more solve.
+        let check = match weights.chord_check {
+            ChordCheck::Never => false,
+            ChordCheck::AfterChange => self.qp_previous.as_ref().is_some_and(|p| p.changed),
+            ChordCheck::Always => true,
+        };
+        let mut first_residual = None;
+        if check {
+            let reached = kin.g_0i(&(q + qd * dt));
+            let from = s.g_0i.transform_point(&point);
+            let chord = directions * shaft.moved_across(&reached, &point, &from) / dt;
+            let qd_i = SVector::<T, I>::from_fn(|k, _| qd[k]);
+            let asked = a * qd_i;
+            if chord.iter().all(|v| v.is_finite()) {
+                let db = asked + dv_0r - chord - problem.b_eq;
+                let kept = (report.status == crate::qp::Status::Optimal)
+                    .then(|| hard_limits::same_working_set(&problem, &self.qp_active, &qd, &db))
+                    .flatten();
+                if let Some(again) = kept {
+                    qd = again;
+                    report.resolved = true;
+                    first_residual = Some(chord - dv_0r - feedback);
+                } else {
+                    problem.b_eq += db;
+                    let mut active = self.qp_active;
+                    if let Ok((again, second)) =
+                        hard_limits::solve_problem(&problem, weights, &mut active)
+                    {
+                        if again.iter().all(|v| v.is_finite()) {
+                            qd = again;
+                            self.qp_active = active;
+                            report = QpReport {
+                                iterations: report.iterations + second.iterations,
+                                resolved: true,
+                                ..second
+                            };
+                            first_residual = Some(chord - dv_0r - feedback);
+                        }
+                    }
+                }
+            }
         }
         self.qp_previous = Some(hard_limits::Previous {
             qd,
@@ -825,6 +864,8 @@ impl<
             target: dv_0r,
             feedback,
             dt,
+            residual: first_residual,
+            changed: report.iterations > 0,
         });
         let task_jr: SMatrix<T, P, M> = if whole {
             SMatrix::from_fn(|r, c| s.jr[(r, c)])

@@ -116,7 +116,7 @@ class Controller:
     ) -> Dict[str, Any]:
         """One step: ``{"qd", "l_a", "position_error", "orientation_error", "lateral_error",
         "dv_0r", "w_r", "w_i", "kappa_r", "kappa_i", "qp_status", "qp_iterations",
-        "qp_active"}`` (the last three ``None`` unless ``method="qp"``)."""
+        "qp_active", "qp_resolved"}`` (the last four ``None`` unless ``method="qp"``)."""
     def reset(self) -> None:
         """Restarts the filtered inverse and the QP's warm start."""
 

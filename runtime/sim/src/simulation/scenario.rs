@@ -2,7 +2,9 @@
 
 use core::f64::consts::PI;
 use nalgebra::{Matrix3, Rotation3, Vector3};
-use trocar::control::{ControlError, ControllerConfig, Damping, Inverse, QpWeights, Reference};
+use trocar::control::{
+    ChordCheck, ControlError, ControllerConfig, Damping, Inverse, QpWeights, Reference,
+};
 use trocar::se3::Se3;
 
 /// A simulation scenario.
@@ -538,6 +540,9 @@ pub struct ScenarioConfig {
     pub null_space_gain: f64,
     /// `κ` of the QP step ([`Method::Qp`], (Q1) of `trocar::control::hard_limits`); `γ = κ²`.
     pub qp_kappa: f64,
+    /// When the QP step measures its own chord and solves again ((Q9) of
+    /// `trocar::control::hard_limits`): after a working-set change by default.
+    pub qp_chord_check: ChordCheck,
     /// Amplitude `a` (m/s) of scenario 4's RCM velocity `dv_0r = a (sin 3ωt, −sin 3ωt)`:
     /// [`S4_RCM_AMPLITUDE`] by default, [`S4_RCM_AMPLITUDE_THESIS`] for (4.6) as printed.
     /// Unused by the other scenarios.
@@ -576,6 +581,7 @@ impl ScenarioConfig {
             fi_gamma: 5.0,
             null_space_gain: 10.0,
             qp_kappa: 0.01,
+            qp_chord_check: ChordCheck::AfterChange,
             s4_rcm_amplitude: S4_RCM_AMPLITUDE,
         }
     }
@@ -624,7 +630,13 @@ impl ScenarioConfig {
         };
         let (inverse, jb0i_damping) = match self.method {
             Method::Pinv => (Inverse::Pinv, None),
-            Method::Qp => (Inverse::Qp(QpWeights::with_kappa(self.qp_kappa)), None),
+            Method::Qp => (
+                Inverse::Qp(QpWeights {
+                    chord_check: self.qp_chord_check,
+                    ..QpWeights::with_kappa(self.qp_kappa)
+                }),
+                None,
+            ),
             Method::Dls => (Inverse::Dls(dls_r), Some(dls_i)),
             Method::Fi => (
                 Inverse::Fi {
