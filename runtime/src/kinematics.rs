@@ -17,9 +17,9 @@
 //! then the joint's rotation (2.7) to the running frame, a coordinate axis mixing two of its
 //! columns; the body Jacobian's backward sweep reads column `k`, `Ad⁻¹_{g_ke} ξ_k` (2.45), off the
 //! running frame's rows and translation and then applies the joint's rotation to two of its rows
-//! and `origin_k` (one 3×3 product). Sines and cosines of `f64` and `f32` joint values come from
-//! the crate's own kernel ([`crate::real::fast`], as in generated code), those of a typed
-//! [`Chain`]'s `f64` joints all at once in vector registers.
+//! and `origin_k` (one 3×3 product). Sines and cosines come from [`RealField`] (`std`'s or
+//! `libm`'s), not from the crate's own kernel that generated code uses: this runtime is the
+//! independent reference generated code is checked against.
 
 use crate::se3::{Adjoint, Se3, Twist};
 use nalgebra::{convert, Matrix3, RealField, SMatrix, SVector, Vector3};
@@ -145,54 +145,25 @@ impl<T: RealField + Copy> Motion<T> {
     }
 }
 
-/// `(sin x, cos x)`: for `f64` and `f32` the crate's own kernel ([`crate::real::fast`], what
-/// [`crate::Real::sin_cos`] and so the generated code use; within 1 ulp of glibc's), for other
-/// scalar types [`RealField`]'s.
+/// `(sin x, cos x)` from [`RealField`] (`std`'s, or `libm`'s without `std`): not the crate's own
+/// kernel ([`crate::real::fast`]) that generated code uses, so that this runtime, the reference
+/// generated code is checked against, shares none of its arithmetic.
 #[inline(always)]
 fn sin_cos<T: RealField + Copy>(x: T) -> (T, T) {
-    use core::any::Any;
-    let any: &dyn Any = &x;
-    if let Some(&x) = any.downcast_ref::<f64>() {
-        if let Some(sc) = same_type(crate::real::fast::sin_cos_f64(x)) {
-            return sc;
-        }
-    } else if let Some(&x) = any.downcast_ref::<f32>() {
-        if let Some(sc) = same_type(crate::real::fast::sin_cos_f32(x)) {
-            return sc;
-        }
-    }
     x.sin_cos()
 }
 
-/// `(sin θ_k, cos θ_k)` of the first `I` entries of `q`, as [`sin_cos`] gives them (bit for
-/// bit); for `f64` all at once, side by side in vector registers
-/// ([`crate::real::fast::sin_cos_f64_array`]).
+/// `(sin θ_k, cos θ_k)` of the first `I` entries of `q`, as [`sin_cos`] gives them.
 #[inline(always)]
 fn sin_cos_first<T: RealField + Copy, const N: usize, const I: usize>(
     q: &SVector<T, N>,
 ) -> ([T; I], [T; I]) {
-    use core::any::Any;
-    let x: [T; I] = core::array::from_fn(|k| q[k]);
-    let any: &dyn Any = &x;
-    if let Some(x) = any.downcast_ref::<[f64; I]>() {
-        if let Some(sc) = same_type(crate::real::fast::sin_cos_f64_array(x)) {
-            return sc;
-        }
-    }
     let mut s = [T::zero(); I];
     let mut c = [T::one(); I];
-    for ((s, c), &x) in s.iter_mut().zip(c.iter_mut()).zip(&x) {
-        (*s, *c) = sin_cos(x);
+    for k in 0..I {
+        (s[k], c[k]) = sin_cos(q[k]);
     }
     (s, c)
-}
-
-/// `(a, b)` as `(T, T)` when `U` is `T` (always, where [`sin_cos`] calls it).
-#[inline(always)]
-fn same_type<T: 'static + Copy, U: 'static + Copy>((a, b): (U, U)) -> Option<(T, T)> {
-    use core::any::Any;
-    let (a, b): (&dyn Any, &dyn Any) = (&a, &b);
-    Some((*a.downcast_ref::<T>()?, *b.downcast_ref::<T>()?))
 }
 
 /// `exp(ω̂ θ) = cos θ I + sin θ ω̂ + (1 − cos θ) ω ωᵀ` for a unit `ω` (Rodrigues (2.7), with
