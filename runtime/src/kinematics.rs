@@ -153,19 +153,6 @@ fn sin_cos<T: RealField + Copy>(x: T) -> (T, T) {
     x.sin_cos()
 }
 
-/// `(sin θ_k, cos θ_k)` of the first `I` entries of `q`, as [`sin_cos`] gives them.
-#[inline(always)]
-fn sin_cos_first<T: RealField + Copy, const N: usize, const I: usize>(
-    q: &SVector<T, N>,
-) -> ([T; I], [T; I]) {
-    let mut s = [T::zero(); I];
-    let mut c = [T::one(); I];
-    for k in 0..I {
-        (s[k], c[k]) = sin_cos(q[k]);
-    }
-    (s, c)
-}
-
 /// `exp(ω̂ θ) = cos θ I + sin θ ω̂ + (1 − cos θ) ω ωᵀ` for a unit `ω` (Rodrigues (2.7), with
 /// `ω̂² = ω ωᵀ − I`), from `s = sin θ`, `c = cos θ`.
 #[inline(always)]
@@ -260,19 +247,13 @@ impl<'a, T: RealField + Copy> Step<'a, T> {
     /// The joint at `θ`, its sine and cosine taken only where the motion needs them.
     #[inline(always)]
     fn new(joint: &'a Joint<T>, theta: T) -> Self {
-        Self::with_trig(joint, theta, || sin_cos(theta))
-    }
-
-    /// The joint at `θ` with `(sin θ, cos θ)` from `trig`, called only for a revolute joint.
-    #[inline(always)]
-    fn with_trig(joint: &'a Joint<T>, theta: T, trig: impl FnOnce() -> (T, T)) -> Self {
         let motion = Motion::of(&joint.twist);
         let (sin, cos) = match motion {
             Motion::Axis(_, negative) => {
-                let (s, c) = trig();
+                let (s, c) = sin_cos(theta);
                 (if negative { -s } else { s }, c)
             }
-            Motion::Revolute(_) => trig(),
+            Motion::Revolute(_) => sin_cos(theta),
             Motion::Prismatic(_) | Motion::General => (T::zero(), T::one()),
         };
         Step {
@@ -402,20 +383,9 @@ pub fn forward_kinematics<T: RealField + Copy>(
     tool: &Se3<T>,
 ) -> Se3<T> {
     assert_eq!(joints.len(), q.len(), "one joint value per joint");
-    forward_sweep(joints, q, tool, |_, theta| sin_cos(theta))
-}
-
-/// [`forward_kinematics`] with joint `k`'s `(sin θ_k, cos θ_k)` from `trig(k, θ_k)`.
-#[inline(always)]
-fn forward_sweep<T: RealField + Copy>(
-    joints: &[Joint<T>],
-    q: &[T],
-    tool: &Se3<T>,
-    trig: impl Fn(usize, T) -> (T, T),
-) -> Se3<T> {
     let mut g: Option<Se3<T>> = None;
-    for (k, (j, &theta)) in joints.iter().zip(q).enumerate() {
-        let step = Step::with_trig(j, theta, || trig(k, theta));
+    for (j, &theta) in joints.iter().zip(q) {
+        let step = Step::new(j, theta);
         g = Some(match g {
             // The first joint's frame is its transform (no product with the identity).
             None => step.transform(),
@@ -469,29 +439,22 @@ pub fn body_jacobian_columns<T: RealField + Copy>(
 ) -> Se3<T> {
     assert_eq!(joints.len(), q.len(), "one joint value per joint");
     assert_eq!(joints.len(), columns.len(), "one column per joint");
-    body_sweep(
-        joints,
-        q,
-        tool,
-        |_, theta| sin_cos(theta),
-        |k, column| columns[k] = column,
-    )
+    body_sweep(joints, q, tool, |k, column| columns[k] = column)
 }
 
-/// [`body_jacobian_columns`] with joint `k`'s `(sin θ_k, cos θ_k)` from `trig(k, θ_k)`, column
-/// `k` handed to `put(k, column)` (written straight into the caller's matrix).
+/// [`body_jacobian_columns`] with column `k` handed to `put(k, column)` (written straight into
+/// the caller's matrix).
 #[inline(always)]
 fn body_sweep<T: RealField + Copy>(
     joints: &[Joint<T>],
     q: &[T],
     tool: &Se3<T>,
-    trig: impl Fn(usize, T) -> (T, T),
     mut put: impl FnMut(usize, Twist<T>),
 ) -> Se3<T> {
     // Backward sweep: g = g_ke, starting from g_ne = tool.
     let mut g = *tool;
     for (k, (j, &theta)) in joints.iter().zip(q).enumerate().rev() {
-        let step = Step::with_trig(j, theta, || trig(k, theta));
+        let step = Step::new(j, theta);
         put(k, step.column_inverse(&g));
         g = step.before(&g);
     }
@@ -586,8 +549,7 @@ impl<T: RealField + Copy, const N: usize> Chain<T, N> {
     /// Forward kinematics `g_0e(θ)`.
     #[inline]
     pub fn forward_kinematics(&self, q: &SVector<T, N>) -> Se3<T> {
-        let (s, c) = sin_cos_first::<T, N, N>(q);
-        forward_sweep(&self.joints, q.as_slice(), &self.tool, |k, _| (s[k], c[k]))
+        forward_kinematics(&self.joints, q.as_slice(), &self.tool)
     }
 
     /// The frame `g_0k` of link `k` (1-based; `k = 0` is the base, the identity).
@@ -662,18 +624,12 @@ impl<T: RealField + Copy, const N: usize> Chain<T, N> {
         )
     }
 
-    /// The body Jacobian (2.54)–(2.55) written into `m`, the joints' sines and cosines taken all
-    /// at once; returns `g_0e`.
+    /// The body Jacobian (2.54)–(2.55) written into `m`; returns `g_0e`.
     #[inline(always)]
     fn body_columns(&self, q: &SVector<T, N>, m: &mut SMatrix<T, 6, N>) -> Se3<T> {
-        let (s, c) = sin_cos_first::<T, N, N>(q);
-        body_sweep(
-            &self.joints,
-            q.as_slice(),
-            &self.tool,
-            |k, _| (s[k], c[k]),
-            |k, column| m.set_column(k, &column),
-        )
+        body_sweep(&self.joints, q.as_slice(), &self.tool, |k, column| {
+            m.set_column(k, &column)
+        })
     }
 
     /// `J^B_0i` (3.13) written into `m`; returns `g_0i`. `I ≤ N` (checked by the callers).
@@ -683,12 +639,10 @@ impl<T: RealField + Copy, const N: usize> Chain<T, N> {
         q: &SVector<T, N>,
         m: &mut SMatrix<T, 6, I>,
     ) -> Se3<T> {
-        let (s, c) = sin_cos_first::<T, N, I>(q);
         body_sweep(
             &self.joints[..I],
             &q.as_slice()[..I],
             &Se3::identity(),
-            |k, _| (s[k], c[k]),
             |k, column| m.set_column(k, &column),
         )
     }
