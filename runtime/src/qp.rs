@@ -311,6 +311,33 @@ impl<T: RealField + Copy, const N: usize, const E: usize, const C: usize> Proble
     pub fn solve(&self, warm: &ActiveSet<N, C>, settings: &Settings) -> Solution<T, N, E, C> {
         solve(self, warm, settings)
     }
+
+    /// `true` when `x` meets every inequality row, `lo ≤ G x ≤ hi` and `lb ≤ x ≤ ub`, within the
+    /// solver's feasibility tolerance (the test it applies to its own iterates).
+    pub fn meets_inequalities(&self, x: &SVector<T, N>) -> bool {
+        let feas = feasibility::<T, N>();
+        let within = |s: T, l: T, u: T, mag: T| {
+            let tol = row_tolerance(feas, l, u, mag);
+            s >= l - tol && s <= u + tol
+        };
+        let general = (0..C).all(|r| {
+            let row = self.g.row(r);
+            let mag = (0..N).fold(T::zero(), |m, j| m + (row[j] * x[j]).abs());
+            within((row * x)[0], self.lo[r], self.hi[r], mag)
+        });
+        general && (0..N).all(|k| within(x[k], self.lb[k], self.ub[k], x[k].abs()))
+    }
+}
+
+/// `64 n ε`: the solver's feasibility tolerance per unit of a row's size.
+fn feasibility<T: RealField + Copy, const N: usize>() -> T {
+    T::default_epsilon() * nalgebra::convert::<f64, T>(64.0 * N.max(1) as f64)
+}
+
+/// The feasibility tolerance of a row with bounds `l`, `u` and `Σ|a_j x_j| = mag` at `x`:
+/// `feas (1 + max(|l|, |u|) + mag)`.
+fn row_tolerance<T: RealField + Copy>(feas: T, l: T, u: T, mag: T) -> T {
+    feas * (T::one() + l.abs().max(u.abs()) + mag)
 }
 
 /// Solves `problem` from the warm start `warm` (see the [module docs](self) for the method and
@@ -641,7 +668,7 @@ impl<T: RealField + Copy, const N: usize, const C: usize> Work<T, N, C> {
             relaxed: false,
             eq_inconsistent: false,
             tiny: eps.powf(nalgebra::convert(2.0 / 3.0)),
-            feas: eps * nalgebra::convert::<f64, T>(64.0 * N.max(1) as f64),
+            feas: feasibility::<T, N>(),
             round: eps * nalgebra::convert::<f64, T>(16.0),
         }
     }
@@ -753,7 +780,7 @@ impl<T: RealField + Copy, const N: usize, const C: usize> Work<T, N, C> {
         } else {
             x[id - C].abs()
         };
-        self.feas * (T::one() + l.abs().max(u.abs()) + mag)
+        row_tolerance(self.feas, l, u, mag)
     }
 
     /// Adds row `id` at side `s` to the working set; `false` if it is (numerically) dependent.
@@ -1547,6 +1574,38 @@ mod tests {
 
     fn close(a: Vector2<f64>, b: [f64; 2]) -> bool {
         (a - Vector2::new(b[0], b[1])).amax() < 1e-12
+    }
+
+    #[test]
+    fn meets_inequalities_is_the_solvers_feasibility_test() {
+        // The box and one general row x0 + x1 ≤ 1, pulled past both by the linear term.
+        let mut p = Problem::<f64, 2, 0, 1> {
+            h: Matrix2::identity(),
+            f: Vector2::new(-5.0, -5.0),
+            a_eq: SMatrix::zeros(),
+            b_eq: SVector::zeros(),
+            g: SMatrix::from_row_slice(&[1.0, 1.0]),
+            lo: SVector::from_element(-10.0),
+            hi: SVector::from_element(1.0),
+            lb: Vector2::repeat(-2.0),
+            ub: Vector2::repeat(2.0),
+        };
+        let s = solve(&p, &ActiveSet::EMPTY, &Settings::DEFAULT);
+        assert_eq!(s.status, Status::Optimal);
+        assert!(p.meets_inequalities(&s.x));
+        assert!(
+            !p.meets_inequalities(&(s.x + Vector2::new(1e-9, 0.0))),
+            "past the row"
+        );
+        p.hi[0] = 10.0;
+        assert!(
+            !p.meets_inequalities(&Vector2::new(2.0 + 1e-9, 0.0)),
+            "past the box"
+        );
+        assert!(
+            p.meets_inequalities(&Vector2::new(2.0 + 1e-15, 0.0)),
+            "within rounding"
+        );
     }
 
     #[test]

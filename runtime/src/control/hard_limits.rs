@@ -534,17 +534,7 @@ pub(super) fn same_working_set<T: RealField + Copy, const N: usize, const R: usi
     let schur = a * u;
     let dx = u * Cholesky::new(&schur)?.solve(db);
     let next = x + dx;
-    let g = (problem.g * next)[0];
-    // The same tolerance as the solver's feasibility test, relative to the bound's size.
-    let eps = T::default_epsilon() * nalgebra::convert(1e3);
-    let within = |v: T, lo: T, hi: T| {
-        v >= lo - eps * (T::one() + lo.abs()) && v <= hi + eps * (T::one() + hi.abs())
-    };
-    let free_within = (0..N)
-        .filter(|&k| !bound(k))
-        .all(|k| within(next[k], problem.lb[k], problem.ub[k]));
-    (next.iter().all(|v| v.is_finite()) && free_within && within(g, problem.lo[0], problem.hi[0]))
-        .then_some(next)
+    (next.iter().all(|v| v.is_finite()) && problem.meets_inequalities(&next)).then_some(next)
 }
 
 /// `g_l` of (Q6): `l̇_a = g_lᵀ θ̇_{1..i}` for a fixed trocar, `g_lᵀ = −[dᵀ, (r × d)ᵀ] J^B_0i / |d|²`
