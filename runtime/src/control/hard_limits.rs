@@ -496,6 +496,43 @@ pub(super) fn solve_problem<T: RealField + Copy, const N: usize, const R: usize>
     }
 }
 
+/// (Q9)'s second solve: `problem` with the trocar rows' right-hand side set to `b_eq`, after a
+/// first solve that gave `x` with `first` from the working set now in `active`. While that
+/// working set holds, the KKT system of the change ([`same_working_set`]); else a full solve from
+/// it. `None` when that gives no finite rates: the first solve's stand, and `active` with them.
+pub(super) fn solve_again<T: RealField + Copy, const N: usize, const R: usize>(
+    problem: &mut Problem<T, N, R, 1>,
+    b_eq: SVector<T, R>,
+    x: &SVector<T, N>,
+    first: QpReport,
+    weights: &QpWeights<T>,
+    active: &mut ActiveSet<N, 1>,
+) -> Option<(SVector<T, N>, QpReport)> {
+    let db = b_eq - problem.b_eq;
+    problem.b_eq = b_eq;
+    if first.status == Status::Optimal {
+        if let Some(kept) = same_working_set(problem, active, x, &db) {
+            let report = QpReport {
+                resolved: true,
+                ..first
+            };
+            return Some((kept, report));
+        }
+    }
+    let mut warm = *active;
+    let (again, second) = solve_problem(problem, weights, &mut warm).ok()?;
+    if !again.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    *active = warm;
+    let report = QpReport {
+        iterations: first.iterations + second.iterations,
+        resolved: true,
+        ..second
+    };
+    Some((again, report))
+}
+
 /// (Q9)'s second solve while the first's working set holds: the solution of (Q1)–(Q6) with the
 /// right-hand side of (Q2) changed by `Δb` and every active limit kept where it is. The linear
 /// term cancels against the first solution's stationarity, so

@@ -818,39 +818,23 @@ impl<
             ChordCheck::AfterChange => self.qp_previous.as_ref().is_some_and(|p| p.changed),
             ChordCheck::Always => true,
         };
+        let position = s.g_0i.transform_point(&point);
         let mut first_residual = None;
         if check {
             let reached = kin.g_0i(&(q + qd * dt));
-            let from = s.g_0i.transform_point(&point);
-            let chord = directions * shaft.moved_across(&reached, &point, &from) / dt;
-            let qd_i = SVector::<T, I>::from_fn(|k, _| qd[k]);
-            let asked = a * qd_i;
+            let chord = directions * shaft.moved_across(&reached, &point, &position) / dt;
             if chord.iter().all(|v| v.is_finite()) {
-                let db = asked + dv_0r - chord - problem.b_eq;
-                let kept = (report.status == crate::qp::Status::Optimal)
-                    .then(|| hard_limits::same_working_set(&problem, &self.qp_active, &qd, &db))
-                    .flatten();
-                if let Some(again) = kept {
-                    qd = again;
-                    report.resolved = true;
+                let asked = a * SVector::<T, I>::from_fn(|k, _| qd[k]);
+                if let Some(again) = hard_limits::solve_again(
+                    &mut problem,
+                    asked + dv_0r - chord,
+                    &qd,
+                    report,
+                    weights,
+                    &mut self.qp_active,
+                ) {
+                    (qd, report) = again;
                     first_residual = Some(chord - dv_0r - feedback);
-                } else {
-                    problem.b_eq += db;
-                    let mut active = self.qp_active;
-                    if let Ok((again, second)) =
-                        hard_limits::solve_problem(&problem, weights, &mut active)
-                    {
-                        if again.iter().all(|v| v.is_finite()) {
-                            qd = again;
-                            self.qp_active = active;
-                            report = QpReport {
-                                iterations: report.iterations + second.iterations,
-                                resolved: true,
-                                ..second
-                            };
-                            first_residual = Some(chord - dv_0r - feedback);
-                        }
-                    }
                 }
             }
         }
@@ -859,7 +843,7 @@ impl<
             rotation: s.g_0i.rotation,
             jb0i: s.jb0i,
             point,
-            position: s.g_0i.transform_point(&point),
+            position,
             directions,
             target: dv_0r,
             feedback,
