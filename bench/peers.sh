@@ -25,8 +25,9 @@
 #    (AVX-512) build of the calling code segfaults in Pinocchio's Model destructor on this machine);
 #    checks every implementation against its f64 reference and each other (cargo test), and times
 #    everything in one criterion run;
-# 4. thread CPU time per evaluation (cg_driver CPUTIME=1), and for the Panda cases the interleaved
-#    minimum wall time of ours and the Rust peers taking turns (bin `interleave`, native and default ISA);
+# 4. thread CPU time per evaluation (cg_driver CPUTIME=1), and for the 7- and 8-joint cases (the two
+#    Panda cases, dia10_like, oblique7, the Panda with an RCM) the interleaved minimum wall time of
+#    ours and the Rust peers taking turns (bin `interleave`, native and default ISA);
 # 5. the Panda again with EVERYTHING at the default x86-64 ISA (Rust -C target-cpu=x86-64, C with
 #    -march=x86-64; TROCAR_PEERS_DEFAULT_ISA=1), with dia10_like and oblique7: criterion and CPU
 #    time, target/default-isa/;
@@ -69,6 +70,10 @@ echo "== machine" >&2
 { lscpu | grep -E 'Model name|^CPU\(s\)|MHz' ; gcc --version | head -1; g++ --version | head -1; rustc --version
   "$here/.venv/bin/pip" list 2>/dev/null | grep -iE '^(casadi|sympy|wrenfold|symforce|pin|libpinocchio|cmeel-eigen|cmeel-urdfdom-headers) ' || true
   uptime; } | tee "$out/machine.txt" >&2
+
+# `ours_trig` (our `JointTrig::new` alone) is measured for the two Panda cases of the laparoscope's
+# chain (one `sin_cos_array` of the 7 joints).
+trig_alone() { case "$1" in panda|panda_i) echo ours_trig ;; esac; }
 
 # Our generated code joins in when the generator's Builder is in this checkout (feature `ours`).
 feature_list=""
@@ -157,9 +162,10 @@ if true; then
   # Interleaved minimum wall time of the Panda cases (ours beside the Rust peers, in turns).
   if [[ "$feature_list" == *ours* ]]; then
     "${dflt[@]}" cargo build --release -q --bin interleave "${features[@]}"
-    for case in panda panda_i; do
+    for case in panda panda_i dia_zy oblique7 panda_rcm; do
+      # shellcheck disable=SC2046
       "$harness/target/default-isa/release/interleave" "$case" 60 20000 ours_f64 wrenfold symforce \
-        ours_f64_given_trig wrenfold_given_trig symforce_given_trig ours_trig | sed "s/^/$case /"
+        ours_f64_given_trig wrenfold_given_trig symforce_given_trig $(trig_alone "$case") | sed "s/^/$case /"
     done | tee "$out/interleave_default_isa.txt" >&2
   fi
   unset TROCAR_PEERS_DEFAULT_ISA
@@ -168,9 +174,10 @@ fi
 if [[ "$feature_list" == *ours* ]]; then
   echo "== interleaved minimum, native" >&2
   cargo build --release -q --bin interleave "${features[@]}"
-  for case in panda panda_i; do
+  for case in panda panda_i dia_zy oblique7 panda_rcm; do
+    # shellcheck disable=SC2046
     "$harness/target/release/interleave" "$case" 60 20000 ours_f64 wrenfold symforce \
-      ours_f64_given_trig wrenfold_given_trig symforce_given_trig ours_trig | sed "s/^/$case /"
+      ours_f64_given_trig wrenfold_given_trig symforce_given_trig $(trig_alone "$case") | sed "s/^/$case /"
   done | tee "$out/interleave_native.txt" >&2
 fi
 

@@ -75,7 +75,6 @@ fn main() {
             .robot(robots.join("unidirectional.toml"))
             .robot(robots.join("bidirectional-zy.toml"))
             .robot(robots.join("bidirectional-zx.toml"))
-            .robot(robots.join("dia10_like_zy.toml"))
             // The Franka Panda with a laparoscope (its chain from urdf/panda.urdf): module
             // `panda_laparoscope`, whose forward_kinematics_i / partial_body_jacobian are g_0i
             // and J^B_0i of its constrained link frame F_i = panda_link7's (panda_joint8's fixed
@@ -84,13 +83,31 @@ fn main() {
             // Bench-only: the same chain up to panda_link8, no constraint (module `panda_link8`:
             // forward_kinematics and body_jacobian of the flange itself).
             .robot(manifest.join("panda-link8.toml"))
-            // Bench-only generic robots with a computed Λ#: a 7-DOF chain with oblique float
-            // axes and 2 explicit H rows (module `oblique7`, written by `bench/chains.py
-            // --peers`), and the Panda with the RCM on panda_link6 (`panda_link6_rcm`).
-            .robot(manifest.join("oblique7.toml"))
-            .robot(manifest.join("panda-link6-rcm.toml"))
             .compile()
             .expect("trocar code generation");
+        // The cases whose peers compute g_0e, J^B_0i and J^r together get exactly those three
+        // as one fused program with out-parameters (`step_outputs`, issue 29's fused outputs on
+        // request), as a controller's build script would ask for them: dia10_like, and the
+        // bench-only generic robots with a computed Λ#, a 7-DOF chain with oblique float axes
+        // and 2 explicit H rows (module `oblique7`, written by `bench/chains.py --peers`) and the
+        // Panda with the RCM on panda_link6 (`panda_link6_rcm`).
+        {
+            use trocar_codegen::catalogue::Function;
+            trocar_codegen::Builder::new()
+                .robot(robots.join("dia10_like_zy.toml"))
+                .robot(manifest.join("oblique7.toml"))
+                .robot(manifest.join("panda-link6-rcm.toml"))
+                .function(
+                    "step_outputs",
+                    [
+                        Function::ForwardKinematics,
+                        Function::PartialBodyJacobian,
+                        Function::ConstrainedJacobian,
+                    ],
+                )
+                .compile()
+                .expect("trocar code generation");
+        }
     }
 
     if std::env::var_os("CARGO_FEATURE_PINOCCHIO").is_some() {

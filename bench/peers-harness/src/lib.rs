@@ -956,15 +956,16 @@ pub mod ours {
     include!(concat!(env!("OUT_DIR"), "/oblique7.rs"));
     include!(concat!(env!("OUT_DIR"), "/panda_link6_rcm.rs"));
 
-    /// g_0e, J^B_0i and J^r of a constrained module from one `JointTrig`, by its
-    /// `pose_and_jacobians_trig` (one program for the step's outputs, as CasADi's one function
-    /// with three outputs; its J_c is not stored, so the compiler drops it).
+    /// g_0e, J^B_0i and J^r of a constrained module, by the fused `step_outputs` (from `q`)
+    /// or `step_outputs_trig` (given a `JointTrig`) that the build script asks the generator
+    /// for: one program for exactly these three outputs, as CasADi's one function with three
+    /// outputs, the Jacobians written in place.
     macro_rules! step_outputs {
-        ($m:ident, $t:expr, $pp:expr, $out:expr) => {{
-            let (g, jbi, jr, _jc) = $m::pose_and_jacobians_trig($t, &$pp);
+        ($f:path, $arg:expr, $pp:expr, $out:expr) => {{
+            let mut g = ([[T::ZERO; 3]; 3], [T::ZERO; 3]);
+            let (head, jr) = $out.split_at_mut(48);
+            $f($arg, &$pp, &mut g, cols(&mut head[12..]), cols(jr));
             put_pose($out, g);
-            *cols(&mut $out[12..]) = jbi;
-            *cols(&mut $out[48..]) = jr;
         }};
     }
 
@@ -1020,10 +1021,9 @@ pub mod ours {
                 *cols(out) = bidirectional_zx::constrained_jacobian(&q8(q), &pp);
             }
             Case::DiaZy => {
-                // One JointTrig per control step shared by FK, J^B_0i and J^r (8 sin_cos).
+                // One sin_cos_array of the 8 joints shared by FK, J^B_0i and J^r.
                 let pp = dia10_like_zy::Params { l_a: p[0] };
-                let t = dia10_like_zy::JointTrig::new(joints(q));
-                step_outputs!(dia10_like_zy, &t, pp, out);
+                step_outputs!(dia10_like_zy::step_outputs, joints(q), pp, out);
             }
             Case::Panda => {
                 // panda_link8 (bench-local description, no constraint): the fused
@@ -1048,13 +1048,12 @@ pub mod ours {
                 put_pose(out, g);
             }
             Case::Oblique7 => {
-                let t = oblique7::JointTrig::new(joints(q));
-                step_outputs!(oblique7, &t, oblique7::Params { l_a: p[0] }, out);
+                let pp = oblique7::Params { l_a: p[0] };
+                step_outputs!(oblique7::step_outputs, joints(q), pp, out);
             }
             Case::PandaRcm => {
-                let t = panda_link6_rcm::JointTrig::new(joints(q));
                 let pp = panda_link6_rcm::Params { l_a: p[0] };
-                step_outputs!(panda_link6_rcm, &t, pp, out);
+                step_outputs!(panda_link6_rcm::step_outputs, joints(q), pp, out);
             }
         }
     }
@@ -1062,6 +1061,55 @@ pub mod ours {
     /// [`eval`] in `f64` with the case fixed ([`super::EvalFn`]).
     pub fn eval_fn(case: Case) -> super::EvalFn {
         per_case!(eval, case; Uni, Bzy, Bzx, DiaZy, Panda, PandaI, Oblique7, PandaRcm)
+    }
+
+    /// The fused cases from `q` in two calls, as a caller holding a `JointTrig` would make
+    /// them: the module's `JointTrig::new`, then its fused `_trig` function (the same
+    /// arithmetic as [`eval`]'s one function, with the trigonometry in a call of its own).
+    #[inline(always)]
+    pub fn eval_split<T: Real>(case: Case, q: &[T], p: &[T], out: &mut [T]) {
+        match case {
+            Case::DiaZy => {
+                let t = dia10_like_zy::JointTrig::new(joints(q));
+                let pp = dia10_like_zy::Params { l_a: p[0] };
+                step_outputs!(dia10_like_zy::step_outputs_trig, &t, pp, out);
+            }
+            Case::Oblique7 => {
+                let t = oblique7::JointTrig::new(joints(q));
+                let pp = oblique7::Params { l_a: p[0] };
+                step_outputs!(oblique7::step_outputs_trig, &t, pp, out);
+            }
+            Case::PandaRcm => {
+                let t = panda_link6_rcm::JointTrig::new(joints(q));
+                let pp = panda_link6_rcm::Params { l_a: p[0] };
+                step_outputs!(panda_link6_rcm::step_outputs_trig, &t, pp, out);
+            }
+            Case::PandaI => {
+                let t = panda_laparoscope::JointTrig::new(joints(q));
+                let pp = panda_laparoscope::Params { l_a: p[0] };
+                let mut g = ([[T::ZERO; 3]; 3], [T::ZERO; 3]);
+                panda_laparoscope::link_pose_and_jacobian_trig(
+                    &t,
+                    &pp,
+                    &mut g,
+                    cols(&mut out[12..]),
+                );
+                put_pose(out, g);
+            }
+            Case::Panda => {
+                let t = panda_link8::JointTrig::new(joints(q));
+                let pp = panda_link8::Params::nominal();
+                let mut g = ([[T::ZERO; 3]; 3], [T::ZERO; 3]);
+                panda_link8::pose_and_jacobian_trig(&t, &pp, &mut g, cols(&mut out[12..]));
+                put_pose(out, g);
+            }
+            _ => eval(case, q, p, out),
+        }
+    }
+
+    /// [`eval_split`] in `f64` with the case fixed ([`super::EvalFn`]).
+    pub fn split_fn(case: Case) -> super::EvalFn {
+        per_case!(eval_split, case; Uni, Bzy, Bzx, DiaZy, Panda, PandaI, Oblique7, PandaRcm)
     }
 
     /// Precomputed trig of the case's joints (presets: θ7, θ8; dia10_like: all 8), as each
@@ -1140,7 +1188,7 @@ pub mod ours {
             }
             Case::DiaZy => {
                 let pp = dia10_like_zy::Params { l_a: p[0] };
-                step_outputs!(dia10_like_zy, &t.d, pp, out);
+                step_outputs!(dia10_like_zy::step_outputs_trig, &t.d, pp, out);
             }
             Case::Panda => {
                 let pp = panda_link8::Params::nominal();
@@ -1159,14 +1207,13 @@ pub mod ours {
                 );
                 put_pose(out, g);
             }
-            Case::Oblique7 => step_outputs!(oblique7, &t.o7, oblique7::Params { l_a: p[0] }, out),
+            Case::Oblique7 => {
+                let pp = oblique7::Params { l_a: p[0] };
+                step_outputs!(oblique7::step_outputs_trig, &t.o7, pp, out);
+            }
             Case::PandaRcm => {
-                step_outputs!(
-                    panda_link6_rcm,
-                    &t.p6,
-                    panda_link6_rcm::Params { l_a: p[0] },
-                    out
-                )
+                let pp = panda_link6_rcm::Params { l_a: p[0] };
+                step_outputs!(panda_link6_rcm::step_outputs_trig, &t.p6, pp, out);
             }
         }
     }

@@ -1,7 +1,7 @@
-//! Batch evaluation on lane types: the Panda's pose of `panda_link7` and its body Jacobian
-//! (`JointTrig::new` + `forward_kinematics_i_trig` + `partial_body_jacobian_trig`, the "q → pose +
-//! J^B" of BENCHMARKS.md) for `BATCH` configurations, in one criterion group whose ratios are
-//! read from one run (throughput: one element is one configuration).
+//! Batch evaluation on lane types: the Panda's pose of `panda_link7` and its body Jacobian (the
+//! fused `link_pose_and_jacobian`, one program from `q`: the "q → pose + J^B" of BENCHMARKS.md)
+//! for `BATCH` configurations, in one criterion group whose ratios are read from one run
+//! (throughput: one element is one configuration).
 //!
 //! - `scalar/f64`, `scalar/f32`: the generated code on one configuration at a time;
 //! - `lanes/f64x4`, `lanes/f32x8`: the same code on `trocar::lanes::F64x4` / `F32x8`, inputs
@@ -9,7 +9,10 @@
 //! - `for_each/f64x4`, `for_each/f32x8`: `trocar::lanes::for_each_*` from a slice of
 //!   configurations to one scalar result per configuration (the lanes gathered and scattered);
 //! - `own/f64x4`, `own/f32x8`: the kernel on a lane type of plain arrays (`[f64; 4]` with every
-//!   operation written lane by lane for the compiler to vectorise), the alternative to `wide`.
+//!   operation written lane by lane for the compiler to vectorise), the alternative to `wide`;
+//! - `trig/*`: the joints' sines and cosines alone (`JointTrig::new`), scalar and on lanes: the
+//!   part of the evaluation that the scalar code already computes on SIMD lanes (its seven
+//!   joints side by side), so that batching configurations cannot make it cheaper per element.
 //!
 //! Before timing, every lane result is checked bit for bit against the scalar code, so a run
 //! under other flags (`-C target-cpu=native`: FMA) checks that too. Inputs pass through
@@ -42,15 +45,13 @@ fn configs() -> Vec<[f64; m::N]> {
         .collect()
 }
 
-type Out<T> = (([[T; 3]; 3], [T; 3]), [[T; 6]; m::N]);
+type Out<T> = (([[T; 3]; 3], [T; 3]), [[T; 6]; m::I]);
 
 #[inline(always)]
 fn pose_and_jb<T: Arith>(q: &[T; m::N], p: &m::Params<T>) -> Out<T> {
-    let t = m::JointTrig::new(q);
-    (
-        m::forward_kinematics_i_trig(&t, p),
-        m::partial_body_jacobian_trig(&t, p),
-    )
+    let mut o = (([[T::ZERO; 3]; 3], [T::ZERO; 3]), [[T::ZERO; 6]; m::I]);
+    m::link_pose_and_jacobian(q, p, &mut o.0, &mut o.1);
+    o
 }
 
 /// A lane type of plain arrays, every operation lane by lane (what the compiler vectorises by
@@ -233,7 +234,7 @@ fn lanes(c: &mut Criterion) {
             g.bench_function($name, |b| {
                 b.iter(|| {
                     for (q, o) in black_box(&$inputs).iter().zip($outs.iter_mut()) {
-                        *o = pose_and_jb(q, $p);
+                        m::link_pose_and_jacobian(q, $p, &mut o.0, &mut o.1);
                     }
                     black_box(&mut $outs);
                 })
@@ -252,6 +253,23 @@ fn lanes(c: &mut Criterion) {
             black_box(&mut each);
         })
     });
+    macro_rules! trig {
+        ($name:literal, $inputs:expr) => {
+            let mut touts: Vec<_> = $inputs.iter().map(m::JointTrig::new).collect();
+            g.bench_function($name, |b| {
+                b.iter(|| {
+                    for (q, o) in black_box(&$inputs).iter().zip(touts.iter_mut()) {
+                        *o = m::JointTrig::new(q);
+                    }
+                    black_box(&mut touts);
+                })
+            });
+        };
+    }
+    trig!("trig/f64", qs);
+    trig!("trig/f64x4", q4);
+    trig!("trig/f32", qs32);
+    trig!("trig/f32x8", q8);
     let mut each32 = out32.clone();
     g.bench_function("for_each/f32x8", |b| {
         b.iter(|| {

@@ -3,8 +3,10 @@
 //! wall-clock time per evaluation (ns). On a shared machine a slow period then hits every IMPL
 //! alike instead of one contiguous block, and the minimum is the least disturbed round.
 //!
-//! CASE: panda | panda_i (the 16 configurations of `Case::configs`, cycled as `cg_driver` does).
-//! IMPL: ours_f64 | ours_f64_given_trig | wrenfold | symforce | wrenfold_given_trig |
+//! CASE: any case of the harness (`panda`, `panda_i`: the 16 configurations of `Case::configs`,
+//! cycled as `cg_driver` does; the other cases have one configuration, evaluated every time).
+//! IMPL: ours_f64 | ours_f64_split (`JointTrig::new`, then the fused `_trig` function) |
+//! ours_f64_given_trig | wrenfold | symforce | wrenfold_given_trig |
 //! symforce_given_trig | ours_trig (our `JointTrig::new` alone). Needs the feature `ours`.
 use std::hint::black_box;
 use std::time::Instant;
@@ -16,12 +18,21 @@ use trocar_peers_harness::Case;
 type Eval = Box<dyn FnMut(usize)>;
 
 fn implementation(name: &str, case: Case) -> Eval {
+    // Sixteen entries for every case (the Panda's are distinct; the others repeat their one).
     let qs = case.configs();
+    let qs: Vec<Vec<f64>> = (0..16).map(|k| qs[k % qs.len()].clone()).collect();
     let (_, p) = case.inputs();
     let mut out = vec![0.0; case.out_len()];
     match name {
         "ours_f64" => {
             let f = black_box(ours::eval_fn(case));
+            Box::new(move |k| {
+                f(&qs[k], black_box(&p), &mut out);
+                black_box(&mut out);
+            })
+        }
+        "ours_f64_split" => {
+            let f = black_box(ours::split_fn(case));
             Box::new(move |k| {
                 f(&qs[k], black_box(&p), &mut out);
                 black_box(&mut out);
