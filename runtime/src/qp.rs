@@ -157,6 +157,7 @@
 // meant wherever it appears: a NaN fails the test.
 #![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord)]
 
+use crate::linalg::Cholesky;
 use nalgebra::{RealField, SMatrix, SVector};
 
 /// Which bound of an inequality row holds it in the active set.
@@ -919,17 +920,19 @@ impl<T: RealField + Copy, const N: usize, const C: usize> Work<T, N, C> {
             }
             c
         });
-        let mut m = [[T::zero(); N]; N];
-        for (a, ma) in m.iter_mut().enumerate().take(r) {
-            for (b, mab) in ma.iter_mut().enumerate().take(r) {
-                let mut v = T::zero();
-                for si in &s {
-                    v += si[a] * si[b];
-                }
-                *mab = v;
+        // SᵀS in the leading r × r block, the identity beside it: the core's Cholesky factors
+        // the block as it would alone (the identity adds unit pivots and no fill), and a
+        // right-hand side that is zero past r solves to zero there.
+        let m = SMatrix::<T, N, N>::from_fn(|a, b| {
+            if a < r && b < r {
+                s.iter().fold(T::zero(), |v, si| v + si[a] * si[b])
+            } else if a == b {
+                T::one()
+            } else {
+                T::zero()
             }
-        }
-        let Some(chol) = SmallChol::new(&m, r) else {
+        });
+        let Some(chol) = Cholesky::new(&m) else {
             return;
         };
         let mut z = [T::zero(); N];
@@ -944,7 +947,7 @@ impl<T: RealField + Copy, const N: usize, const C: usize> Work<T, N, C> {
                     rhs[j] += si[j] * res;
                 }
             }
-            let dz = chol.solve(&rhs);
+            let dz = chol.solve(&SVector::<T, N>::from(rhs));
             for j in 0..r {
                 z[j] += dz[j];
             }
@@ -1487,54 +1490,6 @@ impl<T: RealField + Copy, const N: usize, const C: usize> Work<T, N, C> {
     }
 }
 
-/// Cholesky `M = L Lᵀ` of the leading `r × r` block, for the normal equations (6).
-struct SmallChol<T: RealField + Copy, const N: usize> {
-    l: [[T; N]; N],
-    r: usize,
-}
-
-impl<T: RealField + Copy, const N: usize> SmallChol<T, N> {
-    fn new(m: &[[T; N]; N], r: usize) -> Option<Self> {
-        let mut l = [[T::zero(); N]; N];
-        for i in 0..r {
-            for j in 0..=i {
-                let mut s = m[i][j];
-                for k in 0..j {
-                    s -= l[i][k] * l[j][k];
-                }
-                if i == j {
-                    if !(s > T::zero()) {
-                        return None;
-                    }
-                    l[i][i] = s.sqrt();
-                } else {
-                    l[i][j] = s / l[j][j];
-                }
-            }
-        }
-        Some(SmallChol { l, r })
-    }
-
-    fn solve(&self, b: &[T; N]) -> [T; N] {
-        let mut y = [T::zero(); N];
-        for i in 0..self.r {
-            let mut s = b[i];
-            for (k, yk) in y.iter().enumerate().take(i) {
-                s -= self.l[i][k] * *yk;
-            }
-            y[i] = s / self.l[i][i];
-        }
-        for i in (0..self.r).rev() {
-            let mut s = y[i];
-            for k in i + 1..self.r {
-                s -= self.l[k][i] * y[k];
-            }
-            y[i] = s / self.l[i][i];
-        }
-        y
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1669,6 +1624,37 @@ mod tests {
         assert_eq!(s.status, Status::Optimal);
         assert!(close(s.x, [1.0, -1.0]), "{:?}", s.x);
         assert!((s.objective + 2.0).abs() < 1e-12);
+    }
+
+    /// Three inconsistent rows of rank two in four variables (the normal equations of the
+    /// least-squares right-hand side factored by the core's Cholesky): with `H = I` and a wide
+    /// box the minimiser is the minimum-norm least-squares solution `A⁺ b`, here from nalgebra's
+    /// SVD.
+    #[test]
+    fn inconsistent_rows_of_lower_rank_give_the_minimum_norm_least_squares_point() {
+        let a_eq = SMatrix::<f64, 3, 4>::new(
+            1.0, 2.0, 0.0, -1.0, //
+            0.0, 1.0, 1.0, 0.5, //
+            1.0, 3.0, 1.0, -0.5,
+        );
+        let b_eq = SVector::<f64, 3>::new(0.4, -0.2, 0.9);
+        let p: Problem<f64, 4, 3, 0> = Problem {
+            h: SMatrix::identity(),
+            f: SVector::zeros(),
+            a_eq,
+            b_eq,
+            g: SMatrix::zeros(),
+            lo: SVector::zeros(),
+            hi: SVector::zeros(),
+            lb: SVector::repeat(-10.0),
+            ub: SVector::repeat(10.0),
+        };
+        let s = p.solve(&ActiveSet::EMPTY, &S);
+        assert_eq!(s.status, Status::EqualitiesInconsistent);
+        let want = a_eq.pseudo_inverse(1e-12).expect("svd") * b_eq;
+        assert!((s.x - want).amax() < 1e-12, "{:?} vs {want:?}", s.x);
+        let residual = (a_eq * want - b_eq).amax();
+        assert!((s.equality_residual - residual).abs() < 1e-12);
     }
 
     #[test]
