@@ -7,12 +7,14 @@
 //! cycled as `cg_driver` does; the other cases have one configuration, evaluated every time).
 //! IMPL: ours_f64 | ours_f64_split (`JointTrig::new`, then the fused `_trig` function) |
 //! ours_f64_given_trig | wrenfold | symforce | wrenfold_given_trig |
-//! symforce_given_trig | ours_trig (our `JointTrig::new` alone). Needs the feature `ours`.
+//! symforce_given_trig | ours_trig (our `JointTrig::new` alone) | the C peers `casadi`,
+//! `casadi_cse`, `sympy` (and `rust_reference`), each through the harness's `eval`. Needs the
+//! feature `ours`.
 use std::hint::black_box;
 use std::time::Instant;
 use trocar_peers_harness::ours;
 use trocar_peers_harness::rust_peers::{RustPeer, Trig};
-use trocar_peers_harness::Case;
+use trocar_peers_harness::{Case, Peer};
 
 /// One implementation's evaluation of configuration `k` (0..16), writing into its own buffer.
 type Eval = Box<dyn FnMut(usize)>;
@@ -48,6 +50,13 @@ fn implementation(name: &str, case: Case) -> Eval {
         "ours_trig" => Box::new(move |k| {
             black_box(ours::panda_trig::<f64>(&qs[k]));
         }),
+        _ if Peer::from_name(name).is_some() => {
+            let peer = Peer::from_name(name).expect("checked");
+            Box::new(move |k| {
+                trocar_peers_harness::eval(peer, case, &qs[k], black_box(&p), &mut out);
+                black_box(&mut out);
+            })
+        }
         _ => {
             let (peer, given_trig) = match name.strip_suffix("_given_trig") {
                 Some(base) => (RustPeer::from_name(base), true),
