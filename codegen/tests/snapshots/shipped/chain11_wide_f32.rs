@@ -7046,6 +7046,13 @@ pub mod chain11_wide {
         fk: &mut ([[f32; 3]; 3], [f32; 3]),
         jb0e: &mut [[f32; 6]; N],
     ) {
+        jb0e[9][5] = <f32 as ::trocar::Real>::ZERO;
+        jb0e[10][0] = -0.09_f32;
+        jb0e[10][1] = <f32 as ::trocar::Real>::ZERO;
+        jb0e[10][2] = <f32 as ::trocar::Real>::ZERO;
+        jb0e[10][3] = <f32 as ::trocar::Real>::ZERO;
+        jb0e[10][4] = <f32 as ::trocar::Real>::ZERO;
+        jb0e[10][5] = <f32 as ::trocar::Real>::ONE;
         let (
             [s1,
             s2,
@@ -7074,164 +7081,157 @@ pub mod chain11_wide {
         ) = <f32 as ::trocar::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7], q[8], q[9], q[10]],
         );
+        jb0e[8][5] = s10;
+        jb0e[9][0] = -(0.02_f32 * c11);
+        jb0e[9][1] = 0.02_f32 * s11;
+        jb0e[9][3] = s11;
+        jb0e[9][4] = c11;
         let x0 = 0.09_f32 * s11;
+        jb0e[9][2] = x0;
         let x1 = c10 * c11;
+        jb0e[8][3] = x1;
         let x2 = c10 * s11;
+        jb0e[8][4] = -x2;
         let x3 = 0.13_f32 + <f32 as ::trocar::Real>::mul_add(0.09_f32, c11, 0.09_f32);
+        jb0e[8][2] = c10 * x3;
         let x4 = s10 * c11;
         let x5 = s10 * s11;
         let x6 = <f32 as ::trocar::Real>::mul_add(s10, x0, -(0.02_f32 * c10));
+        jb0e[8][0] = -<f32 as ::trocar::Real>::mul_add(s11, x6, x3 * x4);
+        jb0e[8][1] = <f32 as ::trocar::Real>::mul_add(x3, x5, -(c11 * x6));
         let x7 = 0.015_f32 - <f32 as ::trocar::Real>::mul_add(c10, x0, 0.02_f32 * s10)
             - 0.01_f32;
         let x8 = <f32 as ::trocar::Real>::mul_add(c9, s11, s9 * x4);
         let x9 = <f32 as ::trocar::Real>::mul_add(c9, c11, -(s9 * x5));
         let x10 = s9 * c10;
         let x11 = 0.1_f32 + <f32 as ::trocar::Real>::mul_add(c9, x3, -(s9 * x6));
+        jb0e[7][0] = <f32 as ::trocar::Real>::mul_add(x7, x8, -(x1 * x11));
+        jb0e[7][1] = <f32 as ::trocar::Real>::mul_add(x2, x11, x7 * x9);
+        jb0e[7][2] = -<f32 as ::trocar::Real>::mul_add(s10, x11, x7 * x10);
         let x12 = <f32 as ::trocar::Real>::mul_add(s9, s11, -(c9 * x4));
+        jb0e[7][3] = x12;
         let x13 = <f32 as ::trocar::Real>::mul_add(s9, c11, c9 * x5);
+        jb0e[7][4] = x13;
         let x14 = c9 * c10;
+        jb0e[7][5] = x14;
         let x15 = <f32 as ::trocar::Real>::mul_add(c8, x1, -(s8 * x8));
         let x16 = <f32 as ::trocar::Real>::mul_add(c8, x2, s8 * x9);
         let x17 = <f32 as ::trocar::Real>::mul_add(c8, s10, s8 * x10);
         let x18 = <f32 as ::trocar::Real>::mul_add(c8, x7, -(s8 * x11));
         let x19 = <f32 as ::trocar::Real>::mul_add(s8, x1, c8 * x8);
+        jb0e[6][3] = x19;
         let x20 = <f32 as ::trocar::Real>::mul_add(c8, x9, -(s8 * x2));
+        jb0e[6][4] = x20;
         let x21 = <f32 as ::trocar::Real>::mul_add(s8, s10, -(c8 * x10));
+        jb0e[6][5] = x21;
         let x22 = 0.01_f32
             + (0.02_f32 + <f32 as ::trocar::Real>::mul_add(s9, x3, c9 * x6));
+        jb0e[6][0] = <f32 as ::trocar::Real>::mul_add(x15, x22, -(x12 * x18));
+        jb0e[6][1] = -<f32 as ::trocar::Real>::mul_add(x16, x22, x13 * x18);
+        jb0e[6][2] = <f32 as ::trocar::Real>::mul_add(x17, x22, -(x14 * x18));
         let x23 = <f32 as ::trocar::Real>::mul_add(c7, x15, s7 * x12);
+        jb0e[5][3] = x23;
         let x24 = <f32 as ::trocar::Real>::mul_add(s7, x13, -(c7 * x16));
+        jb0e[5][4] = x24;
         let x25 = <f32 as ::trocar::Real>::mul_add(c7, x17, s7 * x14);
+        jb0e[5][5] = x25;
         let x26 = 0.12_f32
             + (0.11_f32 + <f32 as ::trocar::Real>::mul_add(s8, x7, c8 * x11));
         let x27 = <f32 as ::trocar::Real>::mul_add(c7, x12, -(s7 * x15));
         let x28 = <f32 as ::trocar::Real>::mul_add(s7, x16, c7 * x13);
         let x29 = <f32 as ::trocar::Real>::mul_add(c7, x14, -(s7 * x17));
         let x30 = <f32 as ::trocar::Real>::mul_add(c7, x22, -(s7 * x18));
+        jb0e[5][0] = <f32 as ::trocar::Real>::mul_add(x26, x27, -(x19 * x30));
+        jb0e[5][1] = <f32 as ::trocar::Real>::mul_add(x26, x28, -(x20 * x30));
+        jb0e[5][2] = <f32 as ::trocar::Real>::mul_add(x26, x29, -(x21 * x30));
         let x31 = 0.01_f32
             + (0.02_f32 + <f32 as ::trocar::Real>::mul_add(c7, x18, s7 * x22));
         let x32 = <f32 as ::trocar::Real>::mul_add(c6, x19, -(s6 * x27));
         let x33 = <f32 as ::trocar::Real>::mul_add(c6, x20, -(s6 * x28));
         let x34 = <f32 as ::trocar::Real>::mul_add(c6, x21, -(s6 * x29));
         let x35 = 0.12_f32 + <f32 as ::trocar::Real>::mul_add(c6, x26, -(s6 * x30));
+        jb0e[4][0] = <f32 as ::trocar::Real>::mul_add(x31, x32, -(x23 * x35));
+        jb0e[4][1] = <f32 as ::trocar::Real>::mul_add(x31, x33, -(x24 * x35));
+        jb0e[4][2] = <f32 as ::trocar::Real>::mul_add(x31, x34, -(x25 * x35));
         let x36 = <f32 as ::trocar::Real>::mul_add(s6, x19, c6 * x27);
+        jb0e[4][3] = x36;
         let x37 = <f32 as ::trocar::Real>::mul_add(s6, x20, c6 * x28);
+        jb0e[4][4] = x37;
         let x38 = <f32 as ::trocar::Real>::mul_add(s6, x21, c6 * x29);
+        jb0e[4][5] = x38;
         let x39 = <f32 as ::trocar::Real>::mul_add(c5, x23, -(s5 * x32));
         let x40 = <f32 as ::trocar::Real>::mul_add(c5, x24, -(s5 * x33));
         let x41 = <f32 as ::trocar::Real>::mul_add(c5, x25, -(s5 * x34));
         let x42 = <f32 as ::trocar::Real>::mul_add(c5, x31, -(s5 * x35));
         let x43 = <f32 as ::trocar::Real>::mul_add(s5, x23, c5 * x32);
+        jb0e[3][3] = x43;
         let x44 = <f32 as ::trocar::Real>::mul_add(s5, x24, c5 * x33);
+        jb0e[3][4] = x44;
         let x45 = <f32 as ::trocar::Real>::mul_add(s5, x25, c5 * x34);
+        jb0e[3][5] = x45;
         let x46 = 0.01_f32 + <f32 as ::trocar::Real>::mul_add(s6, x26, c6 * x30)
             - 0.02_f32;
+        jb0e[3][0] = <f32 as ::trocar::Real>::mul_add(x39, x46, -(x36 * x42));
+        jb0e[3][1] = <f32 as ::trocar::Real>::mul_add(x40, x46, -(x37 * x42));
+        jb0e[3][2] = <f32 as ::trocar::Real>::mul_add(x41, x46, -(x38 * x42));
         let x47 = <f32 as ::trocar::Real>::mul_add(c4, x39, s4 * x36);
+        jb0e[2][3] = x47;
         let x48 = <f32 as ::trocar::Real>::mul_add(c4, x40, s4 * x37);
+        jb0e[2][4] = x48;
         let x49 = <f32 as ::trocar::Real>::mul_add(c4, x41, s4 * x38);
+        jb0e[2][5] = x49;
         let x50 = 0.13_f32
             + (0.09_f32 + <f32 as ::trocar::Real>::mul_add(s5, x31, c5 * x35));
         let x51 = <f32 as ::trocar::Real>::mul_add(c4, x36, -(s4 * x39));
         let x52 = <f32 as ::trocar::Real>::mul_add(c4, x37, -(s4 * x40));
         let x53 = <f32 as ::trocar::Real>::mul_add(c4, x38, -(s4 * x41));
         let x54 = <f32 as ::trocar::Real>::mul_add(c4, x46, -(s4 * x42));
+        jb0e[2][0] = <f32 as ::trocar::Real>::mul_add(x50, x51, -(x43 * x54));
+        jb0e[2][1] = <f32 as ::trocar::Real>::mul_add(x50, x52, -(x44 * x54));
+        jb0e[2][2] = <f32 as ::trocar::Real>::mul_add(x50, x53, -(x45 * x54));
         let x55 = 0.015_f32 + <f32 as ::trocar::Real>::mul_add(c4, x42, s4 * x46)
             - 0.01_f32;
         let x56 = <f32 as ::trocar::Real>::mul_add(c3, x43, -(s3 * x51));
         let x57 = <f32 as ::trocar::Real>::mul_add(c3, x44, -(s3 * x52));
         let x58 = <f32 as ::trocar::Real>::mul_add(c3, x45, -(s3 * x53));
         let x59 = 0.1_f32 + <f32 as ::trocar::Real>::mul_add(c3, x50, -(s3 * x54));
-        let x60 = <f32 as ::trocar::Real>::mul_add(s3, x43, c3 * x51);
-        let x61 = <f32 as ::trocar::Real>::mul_add(s3, x44, c3 * x52);
-        let x62 = <f32 as ::trocar::Real>::mul_add(s3, x45, c3 * x53);
-        let x63 = <f32 as ::trocar::Real>::mul_add(c2, x47, -(s2 * x56));
-        let x64 = <f32 as ::trocar::Real>::mul_add(c2, x48, -(s2 * x57));
-        let x65 = <f32 as ::trocar::Real>::mul_add(c2, x49, -(s2 * x58));
-        let x66 = <f32 as ::trocar::Real>::mul_add(c2, x55, -(s2 * x59));
-        let x67 = <f32 as ::trocar::Real>::mul_add(s2, x47, c2 * x56);
-        let x68 = <f32 as ::trocar::Real>::mul_add(s2, x48, c2 * x57);
-        let x69 = <f32 as ::trocar::Real>::mul_add(s2, x49, c2 * x58);
-        let x70 = 0.01_f32
-            + (0.02_f32 + <f32 as ::trocar::Real>::mul_add(s3, x50, c3 * x54));
-        fk.0[0][0] = <f32 as ::trocar::Real>::mul_add(c1, x63, s1 * x60);
-        fk.0[0][1] = x67;
-        fk.0[0][2] = <f32 as ::trocar::Real>::mul_add(c1, x60, -(s1 * x63));
-        fk.0[1][0] = <f32 as ::trocar::Real>::mul_add(c1, x64, s1 * x61);
-        fk.0[1][1] = x68;
-        fk.0[1][2] = <f32 as ::trocar::Real>::mul_add(c1, x61, -(s1 * x64));
-        fk.0[2][0] = <f32 as ::trocar::Real>::mul_add(c1, x65, s1 * x62);
-        fk.0[2][1] = x69;
-        fk.0[2][2] = <f32 as ::trocar::Real>::mul_add(c1, x62, -(s1 * x65));
-        fk.1[0] = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(c1, x66, s1 * x70);
         fk.1[1] = 0.12_f32
             + (0.11_f32 + <f32 as ::trocar::Real>::mul_add(s2, x55, c2 * x59));
+        jb0e[1][0] = <f32 as ::trocar::Real>::mul_add(x55, x56, -(x47 * x59));
+        jb0e[1][1] = <f32 as ::trocar::Real>::mul_add(x55, x57, -(x48 * x59));
+        jb0e[1][2] = <f32 as ::trocar::Real>::mul_add(x55, x58, -(x49 * x59));
+        let x60 = <f32 as ::trocar::Real>::mul_add(s3, x43, c3 * x51);
+        jb0e[1][3] = x60;
+        let x61 = <f32 as ::trocar::Real>::mul_add(s3, x44, c3 * x52);
+        jb0e[1][4] = x61;
+        let x62 = <f32 as ::trocar::Real>::mul_add(s3, x45, c3 * x53);
+        jb0e[1][5] = x62;
+        let x63 = <f32 as ::trocar::Real>::mul_add(c2, x47, -(s2 * x56));
+        fk.0[0][0] = <f32 as ::trocar::Real>::mul_add(c1, x63, s1 * x60);
+        fk.0[0][2] = <f32 as ::trocar::Real>::mul_add(c1, x60, -(s1 * x63));
+        let x64 = <f32 as ::trocar::Real>::mul_add(c2, x48, -(s2 * x57));
+        fk.0[1][0] = <f32 as ::trocar::Real>::mul_add(c1, x64, s1 * x61);
+        fk.0[1][2] = <f32 as ::trocar::Real>::mul_add(c1, x61, -(s1 * x64));
+        let x65 = <f32 as ::trocar::Real>::mul_add(c2, x49, -(s2 * x58));
+        fk.0[2][0] = <f32 as ::trocar::Real>::mul_add(c1, x65, s1 * x62);
+        fk.0[2][2] = <f32 as ::trocar::Real>::mul_add(c1, x62, -(s1 * x65));
+        let x66 = <f32 as ::trocar::Real>::mul_add(c2, x55, -(s2 * x59));
+        let x67 = <f32 as ::trocar::Real>::mul_add(s2, x47, c2 * x56);
+        fk.0[0][1] = x67;
+        jb0e[0][3] = x67;
+        let x68 = <f32 as ::trocar::Real>::mul_add(s2, x48, c2 * x57);
+        fk.0[1][1] = x68;
+        jb0e[0][4] = x68;
+        let x69 = <f32 as ::trocar::Real>::mul_add(s2, x49, c2 * x58);
+        fk.0[2][1] = x69;
+        jb0e[0][5] = x69;
+        let x70 = 0.01_f32
+            + (0.02_f32 + <f32 as ::trocar::Real>::mul_add(s3, x50, c3 * x54));
+        fk.1[0] = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(c1, x66, s1 * x70);
         fk.1[2] = <f32 as ::trocar::Real>::mul_add(c1, x70, -(s1 * x66));
         jb0e[0][0] = <f32 as ::trocar::Real>::mul_add(x63, x70, -(x60 * x66));
         jb0e[0][1] = <f32 as ::trocar::Real>::mul_add(x64, x70, -(x61 * x66));
         jb0e[0][2] = <f32 as ::trocar::Real>::mul_add(x65, x70, -(x62 * x66));
-        jb0e[0][3] = x67;
-        jb0e[0][4] = x68;
-        jb0e[0][5] = x69;
-        jb0e[1][0] = <f32 as ::trocar::Real>::mul_add(x55, x56, -(x47 * x59));
-        jb0e[1][1] = <f32 as ::trocar::Real>::mul_add(x55, x57, -(x48 * x59));
-        jb0e[1][2] = <f32 as ::trocar::Real>::mul_add(x55, x58, -(x49 * x59));
-        jb0e[1][3] = x60;
-        jb0e[1][4] = x61;
-        jb0e[1][5] = x62;
-        jb0e[2][0] = <f32 as ::trocar::Real>::mul_add(x50, x51, -(x43 * x54));
-        jb0e[2][1] = <f32 as ::trocar::Real>::mul_add(x50, x52, -(x44 * x54));
-        jb0e[2][2] = <f32 as ::trocar::Real>::mul_add(x50, x53, -(x45 * x54));
-        jb0e[2][3] = x47;
-        jb0e[2][4] = x48;
-        jb0e[2][5] = x49;
-        jb0e[3][0] = <f32 as ::trocar::Real>::mul_add(x39, x46, -(x36 * x42));
-        jb0e[3][1] = <f32 as ::trocar::Real>::mul_add(x40, x46, -(x37 * x42));
-        jb0e[3][2] = <f32 as ::trocar::Real>::mul_add(x41, x46, -(x38 * x42));
-        jb0e[3][3] = x43;
-        jb0e[3][4] = x44;
-        jb0e[3][5] = x45;
-        jb0e[4][0] = <f32 as ::trocar::Real>::mul_add(x31, x32, -(x23 * x35));
-        jb0e[4][1] = <f32 as ::trocar::Real>::mul_add(x31, x33, -(x24 * x35));
-        jb0e[4][2] = <f32 as ::trocar::Real>::mul_add(x31, x34, -(x25 * x35));
-        jb0e[4][3] = x36;
-        jb0e[4][4] = x37;
-        jb0e[4][5] = x38;
-        jb0e[5][0] = <f32 as ::trocar::Real>::mul_add(x26, x27, -(x19 * x30));
-        jb0e[5][1] = <f32 as ::trocar::Real>::mul_add(x26, x28, -(x20 * x30));
-        jb0e[5][2] = <f32 as ::trocar::Real>::mul_add(x26, x29, -(x21 * x30));
-        jb0e[5][3] = x23;
-        jb0e[5][4] = x24;
-        jb0e[5][5] = x25;
-        jb0e[6][0] = <f32 as ::trocar::Real>::mul_add(x15, x22, -(x12 * x18));
-        jb0e[6][1] = -<f32 as ::trocar::Real>::mul_add(x16, x22, x13 * x18);
-        jb0e[6][2] = <f32 as ::trocar::Real>::mul_add(x17, x22, -(x14 * x18));
-        jb0e[6][3] = x19;
-        jb0e[6][4] = x20;
-        jb0e[6][5] = x21;
-        jb0e[7][0] = <f32 as ::trocar::Real>::mul_add(x7, x8, -(x1 * x11));
-        jb0e[7][1] = <f32 as ::trocar::Real>::mul_add(x2, x11, x7 * x9);
-        jb0e[7][2] = -<f32 as ::trocar::Real>::mul_add(s10, x11, x7 * x10);
-        jb0e[7][3] = x12;
-        jb0e[7][4] = x13;
-        jb0e[7][5] = x14;
-        jb0e[8][0] = -<f32 as ::trocar::Real>::mul_add(s11, x6, x3 * x4);
-        jb0e[8][1] = <f32 as ::trocar::Real>::mul_add(x3, x5, -(c11 * x6));
-        jb0e[8][2] = c10 * x3;
-        jb0e[8][3] = x1;
-        jb0e[8][4] = -x2;
-        jb0e[8][5] = s10;
-        jb0e[9][0] = -(0.02_f32 * c11);
-        jb0e[9][1] = 0.02_f32 * s11;
-        jb0e[9][2] = x0;
-        jb0e[9][3] = s11;
-        jb0e[9][4] = c11;
-        jb0e[9][5] = <f32 as ::trocar::Real>::ZERO;
-        jb0e[10][0] = -0.09_f32;
-        jb0e[10][1] = <f32 as ::trocar::Real>::ZERO;
-        jb0e[10][2] = <f32 as ::trocar::Real>::ZERO;
-        jb0e[10][3] = <f32 as ::trocar::Real>::ZERO;
-        jb0e[10][4] = <f32 as ::trocar::Real>::ZERO;
-        jb0e[10][5] = <f32 as ::trocar::Real>::ONE;
     }
     /// [`pose_and_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]).
     ///
@@ -7243,174 +7243,9 @@ pub mod chain11_wide {
         fk: &mut ([[f32; 3]; 3], [f32; 3]),
         jb0e: &mut [[f32; 6]; N],
     ) {
-        let x0 = 0.09_f32 * t.sin[10];
-        let x1 = t.cos[9] * t.cos[10];
-        let x2 = t.cos[9] * t.sin[10];
-        let x3 = 0.13_f32
-            + <f32 as ::trocar::Real>::mul_add(0.09_f32, t.cos[10], 0.09_f32);
-        let x4 = t.sin[9] * t.cos[10];
-        let x5 = t.sin[9] * t.sin[10];
-        let x6 = <f32 as ::trocar::Real>::mul_add(t.sin[9], x0, -(0.02_f32 * t.cos[9]));
-        let x7 = 0.015_f32
-            - <f32 as ::trocar::Real>::mul_add(t.cos[9], x0, 0.02_f32 * t.sin[9])
-            - 0.01_f32;
-        let x8 = <f32 as ::trocar::Real>::mul_add(t.cos[8], t.sin[10], t.sin[8] * x4);
-        let x9 = <f32 as ::trocar::Real>::mul_add(t.cos[8], t.cos[10], -(t.sin[8] * x5));
-        let x10 = t.sin[8] * t.cos[9];
-        let x11 = 0.1_f32
-            + <f32 as ::trocar::Real>::mul_add(t.cos[8], x3, -(t.sin[8] * x6));
-        let x12 = <f32 as ::trocar::Real>::mul_add(
-            t.sin[8],
-            t.sin[10],
-            -(t.cos[8] * x4),
-        );
-        let x13 = <f32 as ::trocar::Real>::mul_add(t.sin[8], t.cos[10], t.cos[8] * x5);
-        let x14 = t.cos[8] * t.cos[9];
-        let x15 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x1, -(t.sin[7] * x8));
-        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x2, t.sin[7] * x9);
-        let x17 = <f32 as ::trocar::Real>::mul_add(t.cos[7], t.sin[9], t.sin[7] * x10);
-        let x18 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x7, -(t.sin[7] * x11));
-        let x19 = <f32 as ::trocar::Real>::mul_add(t.sin[7], x1, t.cos[7] * x8);
-        let x20 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x9, -(t.sin[7] * x2));
-        let x21 = <f32 as ::trocar::Real>::mul_add(
-            t.sin[7],
-            t.sin[9],
-            -(t.cos[7] * x10),
-        );
-        let x22 = 0.01_f32
-            + (0.02_f32 + <f32 as ::trocar::Real>::mul_add(t.sin[8], x3, t.cos[8] * x6));
-        let x23 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x15, t.sin[6] * x12);
-        let x24 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x13, -(t.cos[6] * x16));
-        let x25 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x17, t.sin[6] * x14);
-        let x26 = 0.12_f32
-            + (0.11_f32
-                + <f32 as ::trocar::Real>::mul_add(t.sin[7], x7, t.cos[7] * x11));
-        let x27 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x12, -(t.sin[6] * x15));
-        let x28 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x16, t.cos[6] * x13);
-        let x29 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x14, -(t.sin[6] * x17));
-        let x30 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x22, -(t.sin[6] * x18));
-        let x31 = 0.01_f32
-            + (0.02_f32
-                + <f32 as ::trocar::Real>::mul_add(t.cos[6], x18, t.sin[6] * x22));
-        let x32 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x19, -(t.sin[5] * x27));
-        let x33 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x20, -(t.sin[5] * x28));
-        let x34 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x21, -(t.sin[5] * x29));
-        let x35 = 0.12_f32
-            + <f32 as ::trocar::Real>::mul_add(t.cos[5], x26, -(t.sin[5] * x30));
-        let x36 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x19, t.cos[5] * x27);
-        let x37 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x20, t.cos[5] * x28);
-        let x38 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x21, t.cos[5] * x29);
-        let x39 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x23, -(t.sin[4] * x32));
-        let x40 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x24, -(t.sin[4] * x33));
-        let x41 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x25, -(t.sin[4] * x34));
-        let x42 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x31, -(t.sin[4] * x35));
-        let x43 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x23, t.cos[4] * x32);
-        let x44 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x24, t.cos[4] * x33);
-        let x45 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x25, t.cos[4] * x34);
-        let x46 = 0.01_f32
-            + <f32 as ::trocar::Real>::mul_add(t.sin[5], x26, t.cos[5] * x30) - 0.02_f32;
-        let x47 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x39, t.sin[3] * x36);
-        let x48 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x40, t.sin[3] * x37);
-        let x49 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x41, t.sin[3] * x38);
-        let x50 = 0.13_f32
-            + (0.09_f32
-                + <f32 as ::trocar::Real>::mul_add(t.sin[4], x31, t.cos[4] * x35));
-        let x51 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x36, -(t.sin[3] * x39));
-        let x52 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x37, -(t.sin[3] * x40));
-        let x53 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x38, -(t.sin[3] * x41));
-        let x54 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x46, -(t.sin[3] * x42));
-        let x55 = 0.015_f32
-            + <f32 as ::trocar::Real>::mul_add(t.cos[3], x42, t.sin[3] * x46) - 0.01_f32;
-        let x56 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x43, -(t.sin[2] * x51));
-        let x57 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x44, -(t.sin[2] * x52));
-        let x58 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x45, -(t.sin[2] * x53));
-        let x59 = 0.1_f32
-            + <f32 as ::trocar::Real>::mul_add(t.cos[2], x50, -(t.sin[2] * x54));
-        let x60 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x43, t.cos[2] * x51);
-        let x61 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x44, t.cos[2] * x52);
-        let x62 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x45, t.cos[2] * x53);
-        let x63 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x47, -(t.sin[1] * x56));
-        let x64 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x48, -(t.sin[1] * x57));
-        let x65 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x49, -(t.sin[1] * x58));
-        let x66 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x55, -(t.sin[1] * x59));
-        let x67 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x47, t.cos[1] * x56);
-        let x68 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x48, t.cos[1] * x57);
-        let x69 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x49, t.cos[1] * x58);
-        let x70 = 0.01_f32
-            + (0.02_f32
-                + <f32 as ::trocar::Real>::mul_add(t.sin[2], x50, t.cos[2] * x54));
-        fk.0[0][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x63, t.sin[0] * x60);
-        fk.0[0][1] = x67;
-        fk.0[0][2] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x60, -(t.sin[0] * x63));
-        fk.0[1][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x64, t.sin[0] * x61);
-        fk.0[1][1] = x68;
-        fk.0[1][2] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x61, -(t.sin[0] * x64));
-        fk.0[2][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x65, t.sin[0] * x62);
-        fk.0[2][1] = x69;
-        fk.0[2][2] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x62, -(t.sin[0] * x65));
-        fk.1[0] = 0.02_f32
-            + <f32 as ::trocar::Real>::mul_add(t.cos[0], x66, t.sin[0] * x70);
-        fk.1[1] = 0.12_f32
-            + (0.11_f32
-                + <f32 as ::trocar::Real>::mul_add(t.sin[1], x55, t.cos[1] * x59));
-        fk.1[2] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x70, -(t.sin[0] * x66));
-        jb0e[0][0] = <f32 as ::trocar::Real>::mul_add(x63, x70, -(x60 * x66));
-        jb0e[0][1] = <f32 as ::trocar::Real>::mul_add(x64, x70, -(x61 * x66));
-        jb0e[0][2] = <f32 as ::trocar::Real>::mul_add(x65, x70, -(x62 * x66));
-        jb0e[0][3] = x67;
-        jb0e[0][4] = x68;
-        jb0e[0][5] = x69;
-        jb0e[1][0] = <f32 as ::trocar::Real>::mul_add(x55, x56, -(x47 * x59));
-        jb0e[1][1] = <f32 as ::trocar::Real>::mul_add(x55, x57, -(x48 * x59));
-        jb0e[1][2] = <f32 as ::trocar::Real>::mul_add(x55, x58, -(x49 * x59));
-        jb0e[1][3] = x60;
-        jb0e[1][4] = x61;
-        jb0e[1][5] = x62;
-        jb0e[2][0] = <f32 as ::trocar::Real>::mul_add(x50, x51, -(x43 * x54));
-        jb0e[2][1] = <f32 as ::trocar::Real>::mul_add(x50, x52, -(x44 * x54));
-        jb0e[2][2] = <f32 as ::trocar::Real>::mul_add(x50, x53, -(x45 * x54));
-        jb0e[2][3] = x47;
-        jb0e[2][4] = x48;
-        jb0e[2][5] = x49;
-        jb0e[3][0] = <f32 as ::trocar::Real>::mul_add(x39, x46, -(x36 * x42));
-        jb0e[3][1] = <f32 as ::trocar::Real>::mul_add(x40, x46, -(x37 * x42));
-        jb0e[3][2] = <f32 as ::trocar::Real>::mul_add(x41, x46, -(x38 * x42));
-        jb0e[3][3] = x43;
-        jb0e[3][4] = x44;
-        jb0e[3][5] = x45;
-        jb0e[4][0] = <f32 as ::trocar::Real>::mul_add(x31, x32, -(x23 * x35));
-        jb0e[4][1] = <f32 as ::trocar::Real>::mul_add(x31, x33, -(x24 * x35));
-        jb0e[4][2] = <f32 as ::trocar::Real>::mul_add(x31, x34, -(x25 * x35));
-        jb0e[4][3] = x36;
-        jb0e[4][4] = x37;
-        jb0e[4][5] = x38;
-        jb0e[5][0] = <f32 as ::trocar::Real>::mul_add(x26, x27, -(x19 * x30));
-        jb0e[5][1] = <f32 as ::trocar::Real>::mul_add(x26, x28, -(x20 * x30));
-        jb0e[5][2] = <f32 as ::trocar::Real>::mul_add(x26, x29, -(x21 * x30));
-        jb0e[5][3] = x23;
-        jb0e[5][4] = x24;
-        jb0e[5][5] = x25;
-        jb0e[6][0] = <f32 as ::trocar::Real>::mul_add(x15, x22, -(x12 * x18));
-        jb0e[6][1] = -<f32 as ::trocar::Real>::mul_add(x16, x22, x13 * x18);
-        jb0e[6][2] = <f32 as ::trocar::Real>::mul_add(x17, x22, -(x14 * x18));
-        jb0e[6][3] = x19;
-        jb0e[6][4] = x20;
-        jb0e[6][5] = x21;
-        jb0e[7][0] = <f32 as ::trocar::Real>::mul_add(x7, x8, -(x1 * x11));
-        jb0e[7][1] = <f32 as ::trocar::Real>::mul_add(x2, x11, x7 * x9);
-        jb0e[7][2] = -<f32 as ::trocar::Real>::mul_add(t.sin[9], x11, x7 * x10);
-        jb0e[7][3] = x12;
-        jb0e[7][4] = x13;
-        jb0e[7][5] = x14;
-        jb0e[8][0] = -<f32 as ::trocar::Real>::mul_add(t.sin[10], x6, x3 * x4);
-        jb0e[8][1] = <f32 as ::trocar::Real>::mul_add(x3, x5, -(t.cos[10] * x6));
-        jb0e[8][2] = t.cos[9] * x3;
-        jb0e[8][3] = x1;
-        jb0e[8][4] = -x2;
         jb0e[8][5] = t.sin[9];
         jb0e[9][0] = -(0.02_f32 * t.cos[10]);
         jb0e[9][1] = 0.02_f32 * t.sin[10];
-        jb0e[9][2] = x0;
         jb0e[9][3] = t.sin[10];
         jb0e[9][4] = t.cos[10];
         jb0e[9][5] = <f32 as ::trocar::Real>::ZERO;
@@ -7420,6 +7255,171 @@ pub mod chain11_wide {
         jb0e[10][3] = <f32 as ::trocar::Real>::ZERO;
         jb0e[10][4] = <f32 as ::trocar::Real>::ZERO;
         jb0e[10][5] = <f32 as ::trocar::Real>::ONE;
+        let x0 = 0.09_f32 * t.sin[10];
+        jb0e[9][2] = x0;
+        let x1 = t.cos[9] * t.cos[10];
+        jb0e[8][3] = x1;
+        let x2 = t.cos[9] * t.sin[10];
+        jb0e[8][4] = -x2;
+        let x3 = 0.13_f32
+            + <f32 as ::trocar::Real>::mul_add(0.09_f32, t.cos[10], 0.09_f32);
+        jb0e[8][2] = t.cos[9] * x3;
+        let x4 = t.sin[9] * t.cos[10];
+        let x5 = t.sin[9] * t.sin[10];
+        let x6 = <f32 as ::trocar::Real>::mul_add(t.sin[9], x0, -(0.02_f32 * t.cos[9]));
+        jb0e[8][0] = -<f32 as ::trocar::Real>::mul_add(t.sin[10], x6, x3 * x4);
+        jb0e[8][1] = <f32 as ::trocar::Real>::mul_add(x3, x5, -(t.cos[10] * x6));
+        let x7 = 0.015_f32
+            - <f32 as ::trocar::Real>::mul_add(t.cos[9], x0, 0.02_f32 * t.sin[9])
+            - 0.01_f32;
+        let x8 = <f32 as ::trocar::Real>::mul_add(t.cos[8], t.sin[10], t.sin[8] * x4);
+        let x9 = <f32 as ::trocar::Real>::mul_add(t.cos[8], t.cos[10], -(t.sin[8] * x5));
+        let x10 = t.sin[8] * t.cos[9];
+        let x11 = 0.1_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[8], x3, -(t.sin[8] * x6));
+        jb0e[7][0] = <f32 as ::trocar::Real>::mul_add(x7, x8, -(x1 * x11));
+        jb0e[7][1] = <f32 as ::trocar::Real>::mul_add(x2, x11, x7 * x9);
+        jb0e[7][2] = -<f32 as ::trocar::Real>::mul_add(t.sin[9], x11, x7 * x10);
+        let x12 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[8],
+            t.sin[10],
+            -(t.cos[8] * x4),
+        );
+        jb0e[7][3] = x12;
+        let x13 = <f32 as ::trocar::Real>::mul_add(t.sin[8], t.cos[10], t.cos[8] * x5);
+        jb0e[7][4] = x13;
+        let x14 = t.cos[8] * t.cos[9];
+        jb0e[7][5] = x14;
+        let x15 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x1, -(t.sin[7] * x8));
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x2, t.sin[7] * x9);
+        let x17 = <f32 as ::trocar::Real>::mul_add(t.cos[7], t.sin[9], t.sin[7] * x10);
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x7, -(t.sin[7] * x11));
+        let x19 = <f32 as ::trocar::Real>::mul_add(t.sin[7], x1, t.cos[7] * x8);
+        jb0e[6][3] = x19;
+        let x20 = <f32 as ::trocar::Real>::mul_add(t.cos[7], x9, -(t.sin[7] * x2));
+        jb0e[6][4] = x20;
+        let x21 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            t.sin[9],
+            -(t.cos[7] * x10),
+        );
+        jb0e[6][5] = x21;
+        let x22 = 0.01_f32
+            + (0.02_f32 + <f32 as ::trocar::Real>::mul_add(t.sin[8], x3, t.cos[8] * x6));
+        jb0e[6][0] = <f32 as ::trocar::Real>::mul_add(x15, x22, -(x12 * x18));
+        jb0e[6][1] = -<f32 as ::trocar::Real>::mul_add(x16, x22, x13 * x18);
+        jb0e[6][2] = <f32 as ::trocar::Real>::mul_add(x17, x22, -(x14 * x18));
+        let x23 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x15, t.sin[6] * x12);
+        jb0e[5][3] = x23;
+        let x24 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x13, -(t.cos[6] * x16));
+        jb0e[5][4] = x24;
+        let x25 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x17, t.sin[6] * x14);
+        jb0e[5][5] = x25;
+        let x26 = 0.12_f32
+            + (0.11_f32
+                + <f32 as ::trocar::Real>::mul_add(t.sin[7], x7, t.cos[7] * x11));
+        let x27 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x12, -(t.sin[6] * x15));
+        let x28 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x16, t.cos[6] * x13);
+        let x29 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x14, -(t.sin[6] * x17));
+        let x30 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x22, -(t.sin[6] * x18));
+        jb0e[5][0] = <f32 as ::trocar::Real>::mul_add(x26, x27, -(x19 * x30));
+        jb0e[5][1] = <f32 as ::trocar::Real>::mul_add(x26, x28, -(x20 * x30));
+        jb0e[5][2] = <f32 as ::trocar::Real>::mul_add(x26, x29, -(x21 * x30));
+        let x31 = 0.01_f32
+            + (0.02_f32
+                + <f32 as ::trocar::Real>::mul_add(t.cos[6], x18, t.sin[6] * x22));
+        let x32 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x19, -(t.sin[5] * x27));
+        let x33 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x20, -(t.sin[5] * x28));
+        let x34 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x21, -(t.sin[5] * x29));
+        let x35 = 0.12_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[5], x26, -(t.sin[5] * x30));
+        jb0e[4][0] = <f32 as ::trocar::Real>::mul_add(x31, x32, -(x23 * x35));
+        jb0e[4][1] = <f32 as ::trocar::Real>::mul_add(x31, x33, -(x24 * x35));
+        jb0e[4][2] = <f32 as ::trocar::Real>::mul_add(x31, x34, -(x25 * x35));
+        let x36 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x19, t.cos[5] * x27);
+        jb0e[4][3] = x36;
+        let x37 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x20, t.cos[5] * x28);
+        jb0e[4][4] = x37;
+        let x38 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x21, t.cos[5] * x29);
+        jb0e[4][5] = x38;
+        let x39 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x23, -(t.sin[4] * x32));
+        let x40 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x24, -(t.sin[4] * x33));
+        let x41 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x25, -(t.sin[4] * x34));
+        let x42 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x31, -(t.sin[4] * x35));
+        let x43 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x23, t.cos[4] * x32);
+        jb0e[3][3] = x43;
+        let x44 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x24, t.cos[4] * x33);
+        jb0e[3][4] = x44;
+        let x45 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x25, t.cos[4] * x34);
+        jb0e[3][5] = x45;
+        let x46 = 0.01_f32
+            + <f32 as ::trocar::Real>::mul_add(t.sin[5], x26, t.cos[5] * x30) - 0.02_f32;
+        jb0e[3][0] = <f32 as ::trocar::Real>::mul_add(x39, x46, -(x36 * x42));
+        jb0e[3][1] = <f32 as ::trocar::Real>::mul_add(x40, x46, -(x37 * x42));
+        jb0e[3][2] = <f32 as ::trocar::Real>::mul_add(x41, x46, -(x38 * x42));
+        let x47 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x39, t.sin[3] * x36);
+        jb0e[2][3] = x47;
+        let x48 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x40, t.sin[3] * x37);
+        jb0e[2][4] = x48;
+        let x49 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x41, t.sin[3] * x38);
+        jb0e[2][5] = x49;
+        let x50 = 0.13_f32
+            + (0.09_f32
+                + <f32 as ::trocar::Real>::mul_add(t.sin[4], x31, t.cos[4] * x35));
+        let x51 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x36, -(t.sin[3] * x39));
+        let x52 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x37, -(t.sin[3] * x40));
+        let x53 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x38, -(t.sin[3] * x41));
+        let x54 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x46, -(t.sin[3] * x42));
+        jb0e[2][0] = <f32 as ::trocar::Real>::mul_add(x50, x51, -(x43 * x54));
+        jb0e[2][1] = <f32 as ::trocar::Real>::mul_add(x50, x52, -(x44 * x54));
+        jb0e[2][2] = <f32 as ::trocar::Real>::mul_add(x50, x53, -(x45 * x54));
+        let x55 = 0.015_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[3], x42, t.sin[3] * x46) - 0.01_f32;
+        let x56 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x43, -(t.sin[2] * x51));
+        let x57 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x44, -(t.sin[2] * x52));
+        let x58 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x45, -(t.sin[2] * x53));
+        let x59 = 0.1_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[2], x50, -(t.sin[2] * x54));
+        fk.1[1] = 0.12_f32
+            + (0.11_f32
+                + <f32 as ::trocar::Real>::mul_add(t.sin[1], x55, t.cos[1] * x59));
+        jb0e[1][0] = <f32 as ::trocar::Real>::mul_add(x55, x56, -(x47 * x59));
+        jb0e[1][1] = <f32 as ::trocar::Real>::mul_add(x55, x57, -(x48 * x59));
+        jb0e[1][2] = <f32 as ::trocar::Real>::mul_add(x55, x58, -(x49 * x59));
+        let x60 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x43, t.cos[2] * x51);
+        jb0e[1][3] = x60;
+        let x61 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x44, t.cos[2] * x52);
+        jb0e[1][4] = x61;
+        let x62 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x45, t.cos[2] * x53);
+        jb0e[1][5] = x62;
+        let x63 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x47, -(t.sin[1] * x56));
+        fk.0[0][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x63, t.sin[0] * x60);
+        fk.0[0][2] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x60, -(t.sin[0] * x63));
+        let x64 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x48, -(t.sin[1] * x57));
+        fk.0[1][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x64, t.sin[0] * x61);
+        fk.0[1][2] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x61, -(t.sin[0] * x64));
+        let x65 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x49, -(t.sin[1] * x58));
+        fk.0[2][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x65, t.sin[0] * x62);
+        fk.0[2][2] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x62, -(t.sin[0] * x65));
+        let x66 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x55, -(t.sin[1] * x59));
+        let x67 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x47, t.cos[1] * x56);
+        fk.0[0][1] = x67;
+        jb0e[0][3] = x67;
+        let x68 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x48, t.cos[1] * x57);
+        fk.0[1][1] = x68;
+        jb0e[0][4] = x68;
+        let x69 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x49, t.cos[1] * x58);
+        fk.0[2][1] = x69;
+        jb0e[0][5] = x69;
+        let x70 = 0.01_f32
+            + (0.02_f32
+                + <f32 as ::trocar::Real>::mul_add(t.sin[2], x50, t.cos[2] * x54));
+        fk.1[0] = 0.02_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[0], x66, t.sin[0] * x70);
+        fk.1[2] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x70, -(t.sin[0] * x66));
+        jb0e[0][0] = <f32 as ::trocar::Real>::mul_add(x63, x70, -(x60 * x66));
+        jb0e[0][1] = <f32 as ::trocar::Real>::mul_add(x64, x70, -(x61 * x66));
+        jb0e[0][2] = <f32 as ::trocar::Real>::mul_add(x65, x70, -(x62 * x66));
     }
     /// `g_0i`, `J^B_0i` in one program: the values of [`forward_kinematics_i`] and [`partial_body_jacobian`], thesis (2.21), (3.13), computed together so that they share every common value.
     ///
@@ -7434,91 +7434,91 @@ pub mod chain11_wide {
         fk0i: &mut ([[f32; 3]; 3], [f32; 3]),
         jb0i: &mut [[f32; 6]; I],
     ) {
-        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f32 as ::trocar::Real>::sin_cos_array(
-            &[q[0], q[1], q[2], q[3], q[4], q[5]],
-        );
-        let x0 = s5 * c6;
-        let x1 = s5 * s6;
-        let x2 = 0.01_f32 * c5;
-        let x3 = <f32 as ::trocar::Real>::mul_add(-0.12_f32, s5, x2);
-        let x4 = c5 * c6;
-        let x5 = c5 * s6;
-        let x6 = c4 * c5;
-        let x7 = <f32 as ::trocar::Real>::mul_add(s4, s6, -(c4 * x0));
-        let x8 = <f32 as ::trocar::Real>::mul_add(c4, x1, s4 * c6);
-        let x9 = 0.13_f32
-            + (0.09_f32 + <f32 as ::trocar::Real>::mul_add(0.01_f32, s5, 0.12_f32 * c5));
-        let x10 = s4 * c5;
-        let x11 = <f32 as ::trocar::Real>::mul_add(s4, x0, c4 * s6);
-        let x12 = <f32 as ::trocar::Real>::mul_add(c4, c6, -(s4 * x1));
-        let x13 = <f32 as ::trocar::Real>::mul_add(s4, x3, 0.01_f32 * c4);
-        let x14 = 0.015_f32 + <f32 as ::trocar::Real>::mul_add(c4, x3, -(0.01_f32 * s4))
-            - 0.01_f32;
-        let x15 = <f32 as ::trocar::Real>::mul_add(c3, s5, s3 * x10);
-        let x16 = <f32 as ::trocar::Real>::mul_add(c3, x4, -(s3 * x11));
-        let x17 = <f32 as ::trocar::Real>::mul_add(c3, x5, s3 * x12);
-        let x18 = 0.1_f32 + <f32 as ::trocar::Real>::mul_add(c3, x9, s3 * x13);
-        let x19 = <f32 as ::trocar::Real>::mul_add(s3, s5, -(c3 * x10));
-        let x20 = <f32 as ::trocar::Real>::mul_add(s3, x4, c3 * x11);
-        let x21 = <f32 as ::trocar::Real>::mul_add(c3, x12, -(s3 * x5));
-        let x22 = <f32 as ::trocar::Real>::mul_add(c2, x6, -(s2 * x15));
-        let x23 = <f32 as ::trocar::Real>::mul_add(c2, x7, -(s2 * x16));
-        let x24 = <f32 as ::trocar::Real>::mul_add(c2, x8, s2 * x17);
-        let x25 = <f32 as ::trocar::Real>::mul_add(c2, x14, -(s2 * x18));
-        let x26 = <f32 as ::trocar::Real>::mul_add(s2, x6, c2 * x15);
-        let x27 = <f32 as ::trocar::Real>::mul_add(s2, x7, c2 * x16);
-        let x28 = <f32 as ::trocar::Real>::mul_add(s2, x8, -(c2 * x17));
-        let x29 = 0.01_f32
-            + (0.02_f32 + <f32 as ::trocar::Real>::mul_add(s3, x9, -(c3 * x13)));
-        fk0i.0[0][0] = <f32 as ::trocar::Real>::mul_add(c1, x22, s1 * x19);
-        fk0i.0[0][1] = x26;
-        fk0i.0[0][2] = <f32 as ::trocar::Real>::mul_add(c1, x19, -(s1 * x22));
-        fk0i.0[1][0] = <f32 as ::trocar::Real>::mul_add(c1, x23, s1 * x20);
-        fk0i.0[1][1] = x27;
-        fk0i.0[1][2] = <f32 as ::trocar::Real>::mul_add(c1, x20, -(s1 * x23));
-        fk0i.0[2][0] = <f32 as ::trocar::Real>::mul_add(c1, x24, s1 * x21);
-        fk0i.0[2][1] = x28;
-        fk0i.0[2][2] = <f32 as ::trocar::Real>::mul_add(c1, x21, -(s1 * x24));
-        fk0i.1[0] = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(c1, x25, s1 * x29);
-        fk0i.1[1] = 0.12_f32
-            + (0.11_f32 + <f32 as ::trocar::Real>::mul_add(s2, x14, c2 * x18));
-        fk0i.1[2] = <f32 as ::trocar::Real>::mul_add(c1, x29, -(s1 * x25));
-        jb0i[0][0] = <f32 as ::trocar::Real>::mul_add(x22, x29, -(x19 * x25));
-        jb0i[0][1] = <f32 as ::trocar::Real>::mul_add(x23, x29, -(x20 * x25));
-        jb0i[0][2] = <f32 as ::trocar::Real>::mul_add(x24, x29, -(x21 * x25));
-        jb0i[0][3] = x26;
-        jb0i[0][4] = x27;
-        jb0i[0][5] = x28;
-        jb0i[1][0] = <f32 as ::trocar::Real>::mul_add(x14, x15, -(x6 * x18));
-        jb0i[1][1] = <f32 as ::trocar::Real>::mul_add(x14, x16, -(x7 * x18));
-        jb0i[1][2] = -<f32 as ::trocar::Real>::mul_add(x8, x18, x14 * x17);
-        jb0i[1][3] = x19;
-        jb0i[1][4] = x20;
-        jb0i[1][5] = x21;
-        jb0i[2][0] = <f32 as ::trocar::Real>::mul_add(s5, x13, -(x9 * x10));
-        jb0i[2][1] = <f32 as ::trocar::Real>::mul_add(x4, x13, x9 * x11);
-        jb0i[2][2] = <f32 as ::trocar::Real>::mul_add(x9, x12, -(x5 * x13));
-        jb0i[2][3] = x6;
-        jb0i[2][4] = x7;
-        jb0i[2][5] = x8;
-        jb0i[3][0] = -x2;
-        jb0i[3][1] = <f32 as ::trocar::Real>::mul_add(0.01_f32, x0, -(s6 * x3));
-        jb0i[3][2] = -<f32 as ::trocar::Real>::mul_add(0.01_f32, x1, c6 * x3);
-        jb0i[3][3] = s5;
-        jb0i[3][4] = x4;
-        jb0i[3][5] = -x5;
         jb0i[4][0] = -0.12_f32;
-        jb0i[4][1] = 0.01_f32 * c6;
-        jb0i[4][2] = -(0.01_f32 * s6);
         jb0i[4][3] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[4][4] = s6;
-        jb0i[4][5] = c6;
         jb0i[5][0] = <f32 as ::trocar::Real>::ZERO;
         jb0i[5][1] = <f32 as ::trocar::Real>::ZERO;
         jb0i[5][2] = <f32 as ::trocar::Real>::ZERO;
         jb0i[5][3] = <f32 as ::trocar::Real>::ONE;
         jb0i[5][4] = <f32 as ::trocar::Real>::ZERO;
         jb0i[5][5] = <f32 as ::trocar::Real>::ZERO;
+        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f32 as ::trocar::Real>::sin_cos_array(
+            &[q[0], q[1], q[2], q[3], q[4], q[5]],
+        );
+        jb0i[3][3] = s5;
+        jb0i[4][1] = 0.01_f32 * c6;
+        jb0i[4][2] = -(0.01_f32 * s6);
+        jb0i[4][4] = s6;
+        jb0i[4][5] = c6;
+        let x0 = s5 * c6;
+        let x1 = s5 * s6;
+        let x2 = 0.01_f32 * c5;
+        jb0i[3][0] = -x2;
+        let x3 = <f32 as ::trocar::Real>::mul_add(-0.12_f32, s5, x2);
+        jb0i[3][1] = <f32 as ::trocar::Real>::mul_add(0.01_f32, x0, -(s6 * x3));
+        jb0i[3][2] = -<f32 as ::trocar::Real>::mul_add(0.01_f32, x1, c6 * x3);
+        let x4 = c5 * c6;
+        jb0i[3][4] = x4;
+        let x5 = c5 * s6;
+        jb0i[3][5] = -x5;
+        let x6 = c4 * c5;
+        jb0i[2][3] = x6;
+        let x7 = <f32 as ::trocar::Real>::mul_add(s4, s6, -(c4 * x0));
+        jb0i[2][4] = x7;
+        let x8 = <f32 as ::trocar::Real>::mul_add(c4, x1, s4 * c6);
+        jb0i[2][5] = x8;
+        let x9 = 0.13_f32
+            + (0.09_f32 + <f32 as ::trocar::Real>::mul_add(0.01_f32, s5, 0.12_f32 * c5));
+        let x10 = s4 * c5;
+        let x11 = <f32 as ::trocar::Real>::mul_add(s4, x0, c4 * s6);
+        let x12 = <f32 as ::trocar::Real>::mul_add(c4, c6, -(s4 * x1));
+        let x13 = <f32 as ::trocar::Real>::mul_add(s4, x3, 0.01_f32 * c4);
+        jb0i[2][0] = <f32 as ::trocar::Real>::mul_add(s5, x13, -(x9 * x10));
+        jb0i[2][1] = <f32 as ::trocar::Real>::mul_add(x4, x13, x9 * x11);
+        jb0i[2][2] = <f32 as ::trocar::Real>::mul_add(x9, x12, -(x5 * x13));
+        let x14 = 0.015_f32 + <f32 as ::trocar::Real>::mul_add(c4, x3, -(0.01_f32 * s4))
+            - 0.01_f32;
+        let x15 = <f32 as ::trocar::Real>::mul_add(c3, s5, s3 * x10);
+        let x16 = <f32 as ::trocar::Real>::mul_add(c3, x4, -(s3 * x11));
+        let x17 = <f32 as ::trocar::Real>::mul_add(c3, x5, s3 * x12);
+        let x18 = 0.1_f32 + <f32 as ::trocar::Real>::mul_add(c3, x9, s3 * x13);
+        fk0i.1[1] = 0.12_f32
+            + (0.11_f32 + <f32 as ::trocar::Real>::mul_add(s2, x14, c2 * x18));
+        jb0i[1][0] = <f32 as ::trocar::Real>::mul_add(x14, x15, -(x6 * x18));
+        jb0i[1][1] = <f32 as ::trocar::Real>::mul_add(x14, x16, -(x7 * x18));
+        jb0i[1][2] = -<f32 as ::trocar::Real>::mul_add(x8, x18, x14 * x17);
+        let x19 = <f32 as ::trocar::Real>::mul_add(s3, s5, -(c3 * x10));
+        jb0i[1][3] = x19;
+        let x20 = <f32 as ::trocar::Real>::mul_add(s3, x4, c3 * x11);
+        jb0i[1][4] = x20;
+        let x21 = <f32 as ::trocar::Real>::mul_add(c3, x12, -(s3 * x5));
+        jb0i[1][5] = x21;
+        let x22 = <f32 as ::trocar::Real>::mul_add(c2, x6, -(s2 * x15));
+        fk0i.0[0][0] = <f32 as ::trocar::Real>::mul_add(c1, x22, s1 * x19);
+        fk0i.0[0][2] = <f32 as ::trocar::Real>::mul_add(c1, x19, -(s1 * x22));
+        let x23 = <f32 as ::trocar::Real>::mul_add(c2, x7, -(s2 * x16));
+        fk0i.0[1][0] = <f32 as ::trocar::Real>::mul_add(c1, x23, s1 * x20);
+        fk0i.0[1][2] = <f32 as ::trocar::Real>::mul_add(c1, x20, -(s1 * x23));
+        let x24 = <f32 as ::trocar::Real>::mul_add(c2, x8, s2 * x17);
+        fk0i.0[2][0] = <f32 as ::trocar::Real>::mul_add(c1, x24, s1 * x21);
+        fk0i.0[2][2] = <f32 as ::trocar::Real>::mul_add(c1, x21, -(s1 * x24));
+        let x25 = <f32 as ::trocar::Real>::mul_add(c2, x14, -(s2 * x18));
+        let x26 = <f32 as ::trocar::Real>::mul_add(s2, x6, c2 * x15);
+        fk0i.0[0][1] = x26;
+        jb0i[0][3] = x26;
+        let x27 = <f32 as ::trocar::Real>::mul_add(s2, x7, c2 * x16);
+        fk0i.0[1][1] = x27;
+        jb0i[0][4] = x27;
+        let x28 = <f32 as ::trocar::Real>::mul_add(s2, x8, -(c2 * x17));
+        fk0i.0[2][1] = x28;
+        jb0i[0][5] = x28;
+        let x29 = 0.01_f32
+            + (0.02_f32 + <f32 as ::trocar::Real>::mul_add(s3, x9, -(c3 * x13)));
+        fk0i.1[0] = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(c1, x25, s1 * x29);
+        fk0i.1[2] = <f32 as ::trocar::Real>::mul_add(c1, x29, -(s1 * x25));
+        jb0i[0][0] = <f32 as ::trocar::Real>::mul_add(x22, x29, -(x19 * x25));
+        jb0i[0][1] = <f32 as ::trocar::Real>::mul_add(x23, x29, -(x20 * x25));
+        jb0i[0][2] = <f32 as ::trocar::Real>::mul_add(x24, x29, -(x21 * x25));
     }
     /// [`link_pose_and_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]).
     ///
@@ -7530,102 +7530,7 @@ pub mod chain11_wide {
         fk0i: &mut ([[f32; 3]; 3], [f32; 3]),
         jb0i: &mut [[f32; 6]; I],
     ) {
-        let x0 = t.sin[4] * t.cos[5];
-        let x1 = t.sin[4] * t.sin[5];
-        let x2 = 0.01_f32 * t.cos[4];
-        let x3 = <f32 as ::trocar::Real>::mul_add(-0.12_f32, t.sin[4], x2);
-        let x4 = t.cos[4] * t.cos[5];
-        let x5 = t.cos[4] * t.sin[5];
-        let x6 = t.cos[3] * t.cos[4];
-        let x7 = <f32 as ::trocar::Real>::mul_add(t.sin[3], t.sin[5], -(t.cos[3] * x0));
-        let x8 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x1, t.sin[3] * t.cos[5]);
-        let x9 = 0.13_f32
-            + (0.09_f32
-                + <f32 as ::trocar::Real>::mul_add(
-                    0.01_f32,
-                    t.sin[4],
-                    0.12_f32 * t.cos[4],
-                ));
-        let x10 = t.sin[3] * t.cos[4];
-        let x11 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x0, t.cos[3] * t.sin[5]);
-        let x12 = <f32 as ::trocar::Real>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x1));
-        let x13 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x3, 0.01_f32 * t.cos[3]);
-        let x14 = 0.015_f32
-            + <f32 as ::trocar::Real>::mul_add(t.cos[3], x3, -(0.01_f32 * t.sin[3]))
-            - 0.01_f32;
-        let x15 = <f32 as ::trocar::Real>::mul_add(t.cos[2], t.sin[4], t.sin[2] * x10);
-        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x4, -(t.sin[2] * x11));
-        let x17 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x5, t.sin[2] * x12);
-        let x18 = 0.1_f32
-            + <f32 as ::trocar::Real>::mul_add(t.cos[2], x9, t.sin[2] * x13);
-        let x19 = <f32 as ::trocar::Real>::mul_add(
-            t.sin[2],
-            t.sin[4],
-            -(t.cos[2] * x10),
-        );
-        let x20 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x4, t.cos[2] * x11);
-        let x21 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x12, -(t.sin[2] * x5));
-        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x6, -(t.sin[1] * x15));
-        let x23 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x7, -(t.sin[1] * x16));
-        let x24 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x8, t.sin[1] * x17);
-        let x25 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x14, -(t.sin[1] * x18));
-        let x26 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x6, t.cos[1] * x15);
-        let x27 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x7, t.cos[1] * x16);
-        let x28 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x8, -(t.cos[1] * x17));
-        let x29 = 0.01_f32
-            + (0.02_f32
-                + <f32 as ::trocar::Real>::mul_add(t.sin[2], x9, -(t.cos[2] * x13)));
-        fk0i.0[0][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x22, t.sin[0] * x19);
-        fk0i.0[0][1] = x26;
-        fk0i.0[0][2] = <f32 as ::trocar::Real>::mul_add(
-            t.cos[0],
-            x19,
-            -(t.sin[0] * x22),
-        );
-        fk0i.0[1][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x23, t.sin[0] * x20);
-        fk0i.0[1][1] = x27;
-        fk0i.0[1][2] = <f32 as ::trocar::Real>::mul_add(
-            t.cos[0],
-            x20,
-            -(t.sin[0] * x23),
-        );
-        fk0i.0[2][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x24, t.sin[0] * x21);
-        fk0i.0[2][1] = x28;
-        fk0i.0[2][2] = <f32 as ::trocar::Real>::mul_add(
-            t.cos[0],
-            x21,
-            -(t.sin[0] * x24),
-        );
-        fk0i.1[0] = 0.02_f32
-            + <f32 as ::trocar::Real>::mul_add(t.cos[0], x25, t.sin[0] * x29);
-        fk0i.1[1] = 0.12_f32
-            + (0.11_f32
-                + <f32 as ::trocar::Real>::mul_add(t.sin[1], x14, t.cos[1] * x18));
-        fk0i.1[2] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x29, -(t.sin[0] * x25));
-        jb0i[0][0] = <f32 as ::trocar::Real>::mul_add(x22, x29, -(x19 * x25));
-        jb0i[0][1] = <f32 as ::trocar::Real>::mul_add(x23, x29, -(x20 * x25));
-        jb0i[0][2] = <f32 as ::trocar::Real>::mul_add(x24, x29, -(x21 * x25));
-        jb0i[0][3] = x26;
-        jb0i[0][4] = x27;
-        jb0i[0][5] = x28;
-        jb0i[1][0] = <f32 as ::trocar::Real>::mul_add(x14, x15, -(x6 * x18));
-        jb0i[1][1] = <f32 as ::trocar::Real>::mul_add(x14, x16, -(x7 * x18));
-        jb0i[1][2] = -<f32 as ::trocar::Real>::mul_add(x8, x18, x14 * x17);
-        jb0i[1][3] = x19;
-        jb0i[1][4] = x20;
-        jb0i[1][5] = x21;
-        jb0i[2][0] = <f32 as ::trocar::Real>::mul_add(t.sin[4], x13, -(x9 * x10));
-        jb0i[2][1] = <f32 as ::trocar::Real>::mul_add(x4, x13, x9 * x11);
-        jb0i[2][2] = <f32 as ::trocar::Real>::mul_add(x9, x12, -(x5 * x13));
-        jb0i[2][3] = x6;
-        jb0i[2][4] = x7;
-        jb0i[2][5] = x8;
-        jb0i[3][0] = -x2;
-        jb0i[3][1] = <f32 as ::trocar::Real>::mul_add(0.01_f32, x0, -(t.sin[5] * x3));
-        jb0i[3][2] = -<f32 as ::trocar::Real>::mul_add(0.01_f32, x1, t.cos[5] * x3);
         jb0i[3][3] = t.sin[4];
-        jb0i[3][4] = x4;
-        jb0i[3][5] = -x5;
         jb0i[4][0] = -0.12_f32;
         jb0i[4][1] = 0.01_f32 * t.cos[5];
         jb0i[4][2] = -(0.01_f32 * t.sin[5]);
@@ -7638,6 +7543,101 @@ pub mod chain11_wide {
         jb0i[5][3] = <f32 as ::trocar::Real>::ONE;
         jb0i[5][4] = <f32 as ::trocar::Real>::ZERO;
         jb0i[5][5] = <f32 as ::trocar::Real>::ZERO;
+        let x0 = t.sin[4] * t.cos[5];
+        let x1 = t.sin[4] * t.sin[5];
+        let x2 = 0.01_f32 * t.cos[4];
+        jb0i[3][0] = -x2;
+        let x3 = <f32 as ::trocar::Real>::mul_add(-0.12_f32, t.sin[4], x2);
+        jb0i[3][1] = <f32 as ::trocar::Real>::mul_add(0.01_f32, x0, -(t.sin[5] * x3));
+        jb0i[3][2] = -<f32 as ::trocar::Real>::mul_add(0.01_f32, x1, t.cos[5] * x3);
+        let x4 = t.cos[4] * t.cos[5];
+        jb0i[3][4] = x4;
+        let x5 = t.cos[4] * t.sin[5];
+        jb0i[3][5] = -x5;
+        let x6 = t.cos[3] * t.cos[4];
+        jb0i[2][3] = x6;
+        let x7 = <f32 as ::trocar::Real>::mul_add(t.sin[3], t.sin[5], -(t.cos[3] * x0));
+        jb0i[2][4] = x7;
+        let x8 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x1, t.sin[3] * t.cos[5]);
+        jb0i[2][5] = x8;
+        let x9 = 0.13_f32
+            + (0.09_f32
+                + <f32 as ::trocar::Real>::mul_add(
+                    0.01_f32,
+                    t.sin[4],
+                    0.12_f32 * t.cos[4],
+                ));
+        let x10 = t.sin[3] * t.cos[4];
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x0, t.cos[3] * t.sin[5]);
+        let x12 = <f32 as ::trocar::Real>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x1));
+        let x13 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x3, 0.01_f32 * t.cos[3]);
+        jb0i[2][0] = <f32 as ::trocar::Real>::mul_add(t.sin[4], x13, -(x9 * x10));
+        jb0i[2][1] = <f32 as ::trocar::Real>::mul_add(x4, x13, x9 * x11);
+        jb0i[2][2] = <f32 as ::trocar::Real>::mul_add(x9, x12, -(x5 * x13));
+        let x14 = 0.015_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[3], x3, -(0.01_f32 * t.sin[3]))
+            - 0.01_f32;
+        let x15 = <f32 as ::trocar::Real>::mul_add(t.cos[2], t.sin[4], t.sin[2] * x10);
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x4, -(t.sin[2] * x11));
+        let x17 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x5, t.sin[2] * x12);
+        let x18 = 0.1_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[2], x9, t.sin[2] * x13);
+        fk0i.1[1] = 0.12_f32
+            + (0.11_f32
+                + <f32 as ::trocar::Real>::mul_add(t.sin[1], x14, t.cos[1] * x18));
+        jb0i[1][0] = <f32 as ::trocar::Real>::mul_add(x14, x15, -(x6 * x18));
+        jb0i[1][1] = <f32 as ::trocar::Real>::mul_add(x14, x16, -(x7 * x18));
+        jb0i[1][2] = -<f32 as ::trocar::Real>::mul_add(x8, x18, x14 * x17);
+        let x19 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[2],
+            t.sin[4],
+            -(t.cos[2] * x10),
+        );
+        jb0i[1][3] = x19;
+        let x20 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x4, t.cos[2] * x11);
+        jb0i[1][4] = x20;
+        let x21 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x12, -(t.sin[2] * x5));
+        jb0i[1][5] = x21;
+        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x6, -(t.sin[1] * x15));
+        fk0i.0[0][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x22, t.sin[0] * x19);
+        fk0i.0[0][2] = <f32 as ::trocar::Real>::mul_add(
+            t.cos[0],
+            x19,
+            -(t.sin[0] * x22),
+        );
+        let x23 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x7, -(t.sin[1] * x16));
+        fk0i.0[1][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x23, t.sin[0] * x20);
+        fk0i.0[1][2] = <f32 as ::trocar::Real>::mul_add(
+            t.cos[0],
+            x20,
+            -(t.sin[0] * x23),
+        );
+        let x24 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x8, t.sin[1] * x17);
+        fk0i.0[2][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x24, t.sin[0] * x21);
+        fk0i.0[2][2] = <f32 as ::trocar::Real>::mul_add(
+            t.cos[0],
+            x21,
+            -(t.sin[0] * x24),
+        );
+        let x25 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x14, -(t.sin[1] * x18));
+        let x26 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x6, t.cos[1] * x15);
+        fk0i.0[0][1] = x26;
+        jb0i[0][3] = x26;
+        let x27 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x7, t.cos[1] * x16);
+        fk0i.0[1][1] = x27;
+        jb0i[0][4] = x27;
+        let x28 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x8, -(t.cos[1] * x17));
+        fk0i.0[2][1] = x28;
+        jb0i[0][5] = x28;
+        let x29 = 0.01_f32
+            + (0.02_f32
+                + <f32 as ::trocar::Real>::mul_add(t.sin[2], x9, -(t.cos[2] * x13)));
+        fk0i.1[0] = 0.02_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[0], x25, t.sin[0] * x29);
+        fk0i.1[2] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x29, -(t.sin[0] * x25));
+        jb0i[0][0] = <f32 as ::trocar::Real>::mul_add(x22, x29, -(x19 * x25));
+        jb0i[0][1] = <f32 as ::trocar::Real>::mul_add(x23, x29, -(x20 * x25));
+        jb0i[0][2] = <f32 as ::trocar::Real>::mul_add(x24, x29, -(x21 * x25));
     }
     /// `(g_0e, J^B_0i, J^r_0e, J_c)` as [`pose_and_jacobians_trig`] returns them: `(R, p)` with
     /// `R` column-major, then the three matrices column-major.

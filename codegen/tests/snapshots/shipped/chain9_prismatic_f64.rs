@@ -6089,6 +6089,15 @@ pub mod chain9_prismatic {
         fk: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0e: &mut [[f64; 6]; N],
     ) {
+        jb0e[3][3] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[3][4] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[3][5] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[8][0] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[8][1] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[8][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[8][3] = 0.28962947762551555_f64;
+        jb0e[8][4] = 0.9564250858492325_f64;
+        jb0e[8][5] = -0.03695701352462508_f64;
         let ([s1, s2, s3, s5, s6, s7, s8, s9], [c1, c2, c3, c5, c6, c7, c8, c9]) = <f64 as ::trocar::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[4], q[5], q[6], q[7], q[8]],
         );
@@ -6155,16 +6164,34 @@ pub mod chain9_prismatic {
             s9,
             0.19866933079506122_f64 * c9,
         );
+        jb0e[7][0] = -<f64 as ::trocar::Real>::mul_add(
+            0.2_f64,
+            x22,
+            <f64 as ::trocar::Real>::mul_add(0.15_f64, x19, 0.0023170358210041243_f64),
+        );
+        jb0e[7][3] = <f64 as ::trocar::Real>::mul_add(0.8_f64, x19, -(0.6_f64 * x22));
         let x23 = <f64 as ::trocar::Real>::mul_add(
             0.2750958473182437_f64,
             s9,
             0.09784339500725571_f64 * c9,
         );
+        jb0e[7][1] = <f64 as ::trocar::Real>::mul_add(
+            0.2_f64,
+            x23,
+            -<f64 as ::trocar::Real>::mul_add(0.15_f64, x20, 0.00765140068679386_f64),
+        );
+        jb0e[7][4] = <f64 as ::trocar::Real>::mul_add(0.8_f64, x20, 0.6_f64 * x23);
         let x24 = <f64 as ::trocar::Real>::mul_add(
             0.975170327201816_f64,
             c9,
             -(0.21835066314633444_f64 * s9),
         );
+        jb0e[7][2] = <f64 as ::trocar::Real>::mul_add(
+            0.2_f64,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(-0.15_f64, x21, 0.00029565610819700066_f64),
+        );
+        jb0e[7][5] = <f64 as ::trocar::Real>::mul_add(0.8_f64, x21, 0.6_f64 * x24);
         let x25 = <f64 as ::trocar::Real>::mul_add(
             -x16,
             x22,
@@ -6198,32 +6225,47 @@ pub mod chain9_prismatic {
         );
         let x32 = 0.04_f64
             + <f64 as ::trocar::Real>::mul_add(0.25_f64, c8, -(0.008_f64 * s8));
+        jb0e[6][0] = <f64 as ::trocar::Real>::mul_add(x28, x29, -(x25 * x32));
+        jb0e[6][1] = <f64 as ::trocar::Real>::mul_add(x28, x30, -(x26 * x32));
+        jb0e[6][2] = <f64 as ::trocar::Real>::mul_add(x28, x31, -(x27 * x32));
         let x33 = <f64 as ::trocar::Real>::mul_add(
             -x18,
             x22,
             <f64 as ::trocar::Real>::mul_add(x16, x19, 0.23170358210041245_f64 * s8),
         );
+        jb0e[6][3] = x33;
         let x34 = <f64 as ::trocar::Real>::mul_add(
             x18,
             x23,
             <f64 as ::trocar::Real>::mul_add(x16, x20, 0.765140068679386_f64 * s8),
         );
+        jb0e[6][4] = x34;
         let x35 = <f64 as ::trocar::Real>::mul_add(
             x18,
             x24,
             <f64 as ::trocar::Real>::mul_add(x16, x21, -(0.029565610819700067_f64 * s8)),
         );
+        jb0e[6][5] = x35;
         let x36 = <f64 as ::trocar::Real>::mul_add(0.2_f64, s8, 0.01_f64 * x18);
         let x37 = <f64 as ::trocar::Real>::mul_add(c7, x25, -(s7 * x29));
         let x38 = <f64 as ::trocar::Real>::mul_add(c7, x26, -(s7 * x30));
         let x39 = <f64 as ::trocar::Real>::mul_add(c7, x27, -(s7 * x31));
         let x40 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(c7, x28, -(s7 * x32));
+        jb0e[5][0] = <f64 as ::trocar::Real>::mul_add(x36, x37, -(x33 * x40));
+        jb0e[5][1] = <f64 as ::trocar::Real>::mul_add(x36, x38, -(x34 * x40));
+        jb0e[5][2] = <f64 as ::trocar::Real>::mul_add(x36, x39, -(x35 * x40));
         let x41 = <f64 as ::trocar::Real>::mul_add(s7, x25, c7 * x29);
+        jb0e[5][3] = x41;
         let x42 = <f64 as ::trocar::Real>::mul_add(s7, x26, c7 * x30);
+        jb0e[5][4] = x42;
         let x43 = <f64 as ::trocar::Real>::mul_add(s7, x27, c7 * x31);
+        jb0e[5][5] = x43;
         let x44 = <f64 as ::trocar::Real>::mul_add(c6, x37, s6 * x33);
+        jb0e[4][3] = x44;
         let x45 = <f64 as ::trocar::Real>::mul_add(c6, x38, s6 * x34);
+        jb0e[4][4] = x45;
         let x46 = <f64 as ::trocar::Real>::mul_add(c6, x39, s6 * x35);
+        jb0e[4][5] = x46;
         let x47 = <f64 as ::trocar::Real>::mul_add(c6, x40, s6 * x36);
         let x48 = 0.05_f64
             + (0.3_f64 + <f64 as ::trocar::Real>::mul_add(s7, x28, c7 * x32));
@@ -6231,6 +6273,9 @@ pub mod chain9_prismatic {
         let x50 = <f64 as ::trocar::Real>::mul_add(c6, x34, -(s6 * x38));
         let x51 = <f64 as ::trocar::Real>::mul_add(c6, x35, -(s6 * x39));
         let x52 = <f64 as ::trocar::Real>::mul_add(c6, x36, -(s6 * x40));
+        jb0e[4][0] = <f64 as ::trocar::Real>::mul_add(x48, x49, -(x41 * x52));
+        jb0e[4][1] = <f64 as ::trocar::Real>::mul_add(x48, x50, -(x42 * x52));
+        jb0e[4][2] = <f64 as ::trocar::Real>::mul_add(x48, x51, -(x43 * x52));
         let x53 = <f64 as ::trocar::Real>::mul_add(
             x8,
             x49,
@@ -6251,31 +6296,37 @@ pub mod chain9_prismatic {
             x49,
             <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x44, x9 * x41),
         );
+        jb0e[3][0] = x56;
         let x57 = <f64 as ::trocar::Real>::mul_add(
             -x10,
             x50,
             <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x45, x9 * x42),
         );
+        jb0e[3][1] = x57;
         let x58 = <f64 as ::trocar::Real>::mul_add(
             -x10,
             x51,
             <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x46, x9 * x43),
         );
+        jb0e[3][2] = x58;
         let x59 = <f64 as ::trocar::Real>::mul_add(
             x12,
             x49,
             <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x44, x11 * x41),
         );
+        jb0e[2][3] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x56, 0.8_f64 * x59);
         let x60 = <f64 as ::trocar::Real>::mul_add(
             x12,
             x50,
             <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x45, x11 * x42),
         );
+        jb0e[2][4] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x57, 0.8_f64 * x60);
         let x61 = <f64 as ::trocar::Real>::mul_add(
             x12,
             x51,
             <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x46, x11 * x43),
         );
+        jb0e[2][5] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x58, 0.8_f64 * x61);
         let x62 = 0.02_f64
             + <f64 as ::trocar::Real>::mul_add(
                 x12,
@@ -6302,21 +6353,39 @@ pub mod chain9_prismatic {
         let x65 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x62, -(0.8_f64 * x64));
         let x66 = 0.8_f64 * x63;
         let x67 = 0.6_f64 * x63;
+        jb0e[2][0] = <f64 as ::trocar::Real>::mul_add(
+            -x59,
+            x67,
+            <f64 as ::trocar::Real>::mul_add(x53, x65, x56 * x66),
+        );
+        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(
+            -x60,
+            x67,
+            <f64 as ::trocar::Real>::mul_add(x54, x65, x57 * x66),
+        );
+        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(
+            -x61,
+            x67,
+            <f64 as ::trocar::Real>::mul_add(x55, x65, x58 * x66),
+        );
         let x68 = <f64 as ::trocar::Real>::mul_add(
             x3,
             x59,
             <f64 as ::trocar::Real>::mul_add(c3, x53, -(x2 * x56)),
         );
+        jb0e[1][3] = x68;
         let x69 = <f64 as ::trocar::Real>::mul_add(
             x3,
             x60,
             <f64 as ::trocar::Real>::mul_add(c3, x54, -(x2 * x57)),
         );
+        jb0e[1][4] = x69;
         let x70 = <f64 as ::trocar::Real>::mul_add(
             x3,
             x61,
             <f64 as ::trocar::Real>::mul_add(c3, x55, -(x2 * x58)),
         );
+        jb0e[1][5] = x70;
         let x71 = <f64 as ::trocar::Real>::mul_add(
             x5,
             x59,
@@ -6358,6 +6427,11 @@ pub mod chain9_prismatic {
             x62,
             <f64 as ::trocar::Real>::mul_add(x5, x64, -(x3 * x63)),
         ) - 0.03_f64;
+        fk.1[2] = p.d_1
+            + (0.1_f64 + <f64 as ::trocar::Real>::mul_add(x1, x74, x0 * x78));
+        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x74, x75, -(x71 * x78));
+        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x74, x76, -(x72 * x78));
+        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x74, x77, -(x73 * x78));
         let x79 = 0.05_f64
             + <f64 as ::trocar::Real>::mul_add(
                 x3,
@@ -6365,103 +6439,29 @@ pub mod chain9_prismatic {
                 <f64 as ::trocar::Real>::mul_add(c3, x63, -(x2 * x64)),
             );
         let x80 = <f64 as ::trocar::Real>::mul_add(x0, x71, -(x1 * x75));
-        let x81 = <f64 as ::trocar::Real>::mul_add(x0, x72, -(x1 * x76));
-        let x82 = <f64 as ::trocar::Real>::mul_add(x0, x73, -(x1 * x77));
-        let x83 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x74, -(x1 * x78));
-        let x84 = <f64 as ::trocar::Real>::mul_add(x1, x71, x0 * x75);
-        let x85 = <f64 as ::trocar::Real>::mul_add(x1, x72, x0 * x76);
-        let x86 = <f64 as ::trocar::Real>::mul_add(x1, x73, x0 * x77);
         fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x68, -(s1 * x80));
         fk.0[0][1] = <f64 as ::trocar::Real>::mul_add(s1, x68, c1 * x80);
-        fk.0[0][2] = x84;
+        let x81 = <f64 as ::trocar::Real>::mul_add(x0, x72, -(x1 * x76));
         fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x69, -(s1 * x81));
         fk.0[1][1] = <f64 as ::trocar::Real>::mul_add(s1, x69, c1 * x81);
-        fk.0[1][2] = x85;
+        let x82 = <f64 as ::trocar::Real>::mul_add(x0, x73, -(x1 * x77));
         fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(c1, x70, -(s1 * x82));
         fk.0[2][1] = <f64 as ::trocar::Real>::mul_add(s1, x70, c1 * x82);
-        fk.0[2][2] = x86;
+        let x83 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x74, -(x1 * x78));
         fk.1[0] = <f64 as ::trocar::Real>::mul_add(c1, x79, -(s1 * x83));
         fk.1[1] = <f64 as ::trocar::Real>::mul_add(s1, x79, c1 * x83);
-        fk.1[2] = p.d_1
-            + (0.1_f64 + <f64 as ::trocar::Real>::mul_add(x1, x74, x0 * x78));
         jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x79, x80, -(x68 * x83));
         jb0e[0][1] = <f64 as ::trocar::Real>::mul_add(x79, x81, -(x69 * x83));
         jb0e[0][2] = <f64 as ::trocar::Real>::mul_add(x79, x82, -(x70 * x83));
+        let x84 = <f64 as ::trocar::Real>::mul_add(x1, x71, x0 * x75);
+        fk.0[0][2] = x84;
         jb0e[0][3] = x84;
+        let x85 = <f64 as ::trocar::Real>::mul_add(x1, x72, x0 * x76);
+        fk.0[1][2] = x85;
         jb0e[0][4] = x85;
+        let x86 = <f64 as ::trocar::Real>::mul_add(x1, x73, x0 * x77);
+        fk.0[2][2] = x86;
         jb0e[0][5] = x86;
-        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x74, x75, -(x71 * x78));
-        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x74, x76, -(x72 * x78));
-        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x74, x77, -(x73 * x78));
-        jb0e[1][3] = x68;
-        jb0e[1][4] = x69;
-        jb0e[1][5] = x70;
-        jb0e[2][0] = <f64 as ::trocar::Real>::mul_add(
-            -x59,
-            x67,
-            <f64 as ::trocar::Real>::mul_add(x53, x65, x56 * x66),
-        );
-        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(
-            -x60,
-            x67,
-            <f64 as ::trocar::Real>::mul_add(x54, x65, x57 * x66),
-        );
-        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(
-            -x61,
-            x67,
-            <f64 as ::trocar::Real>::mul_add(x55, x65, x58 * x66),
-        );
-        jb0e[2][3] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x56, 0.8_f64 * x59);
-        jb0e[2][4] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x57, 0.8_f64 * x60);
-        jb0e[2][5] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x58, 0.8_f64 * x61);
-        jb0e[3][0] = x56;
-        jb0e[3][1] = x57;
-        jb0e[3][2] = x58;
-        jb0e[3][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[3][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[3][5] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[4][0] = <f64 as ::trocar::Real>::mul_add(x48, x49, -(x41 * x52));
-        jb0e[4][1] = <f64 as ::trocar::Real>::mul_add(x48, x50, -(x42 * x52));
-        jb0e[4][2] = <f64 as ::trocar::Real>::mul_add(x48, x51, -(x43 * x52));
-        jb0e[4][3] = x44;
-        jb0e[4][4] = x45;
-        jb0e[4][5] = x46;
-        jb0e[5][0] = <f64 as ::trocar::Real>::mul_add(x36, x37, -(x33 * x40));
-        jb0e[5][1] = <f64 as ::trocar::Real>::mul_add(x36, x38, -(x34 * x40));
-        jb0e[5][2] = <f64 as ::trocar::Real>::mul_add(x36, x39, -(x35 * x40));
-        jb0e[5][3] = x41;
-        jb0e[5][4] = x42;
-        jb0e[5][5] = x43;
-        jb0e[6][0] = <f64 as ::trocar::Real>::mul_add(x28, x29, -(x25 * x32));
-        jb0e[6][1] = <f64 as ::trocar::Real>::mul_add(x28, x30, -(x26 * x32));
-        jb0e[6][2] = <f64 as ::trocar::Real>::mul_add(x28, x31, -(x27 * x32));
-        jb0e[6][3] = x33;
-        jb0e[6][4] = x34;
-        jb0e[6][5] = x35;
-        jb0e[7][0] = -<f64 as ::trocar::Real>::mul_add(
-            0.2_f64,
-            x22,
-            <f64 as ::trocar::Real>::mul_add(0.15_f64, x19, 0.0023170358210041243_f64),
-        );
-        jb0e[7][1] = <f64 as ::trocar::Real>::mul_add(
-            0.2_f64,
-            x23,
-            -<f64 as ::trocar::Real>::mul_add(0.15_f64, x20, 0.00765140068679386_f64),
-        );
-        jb0e[7][2] = <f64 as ::trocar::Real>::mul_add(
-            0.2_f64,
-            x24,
-            <f64 as ::trocar::Real>::mul_add(-0.15_f64, x21, 0.00029565610819700066_f64),
-        );
-        jb0e[7][3] = <f64 as ::trocar::Real>::mul_add(0.8_f64, x19, -(0.6_f64 * x22));
-        jb0e[7][4] = <f64 as ::trocar::Real>::mul_add(0.8_f64, x20, 0.6_f64 * x23);
-        jb0e[7][5] = <f64 as ::trocar::Real>::mul_add(0.8_f64, x21, 0.6_f64 * x24);
-        jb0e[8][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[8][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[8][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[8][3] = 0.28962947762551555_f64;
-        jb0e[8][4] = 0.9564250858492325_f64;
-        jb0e[8][5] = -0.03695701352462508_f64;
     }
     /// [`pose_and_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]).
     ///
@@ -6473,6 +6473,15 @@ pub mod chain9_prismatic {
         fk: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0e: &mut [[f64; 6]; N],
     ) {
+        jb0e[3][3] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[3][4] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[3][5] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[8][0] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[8][1] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[8][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[8][3] = 0.28962947762551555_f64;
+        jb0e[8][4] = 0.9564250858492325_f64;
+        jb0e[8][5] = -0.03695701352462508_f64;
         let x0 = <f64 as ::trocar::Real>::mul_add(
             0.955336489125606_f64,
             t.cos[1],
@@ -6536,16 +6545,34 @@ pub mod chain9_prismatic {
             t.sin[8],
             0.19866933079506122_f64 * t.cos[8],
         );
+        jb0e[7][0] = -<f64 as ::trocar::Real>::mul_add(
+            0.2_f64,
+            x22,
+            <f64 as ::trocar::Real>::mul_add(0.15_f64, x19, 0.0023170358210041243_f64),
+        );
+        jb0e[7][3] = <f64 as ::trocar::Real>::mul_add(0.8_f64, x19, -(0.6_f64 * x22));
         let x23 = <f64 as ::trocar::Real>::mul_add(
             0.2750958473182437_f64,
             t.sin[8],
             0.09784339500725571_f64 * t.cos[8],
         );
+        jb0e[7][1] = <f64 as ::trocar::Real>::mul_add(
+            0.2_f64,
+            x23,
+            -<f64 as ::trocar::Real>::mul_add(0.15_f64, x20, 0.00765140068679386_f64),
+        );
+        jb0e[7][4] = <f64 as ::trocar::Real>::mul_add(0.8_f64, x20, 0.6_f64 * x23);
         let x24 = <f64 as ::trocar::Real>::mul_add(
             0.975170327201816_f64,
             t.cos[8],
             -(0.21835066314633444_f64 * t.sin[8]),
         );
+        jb0e[7][2] = <f64 as ::trocar::Real>::mul_add(
+            0.2_f64,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(-0.15_f64, x21, 0.00029565610819700066_f64),
+        );
+        jb0e[7][5] = <f64 as ::trocar::Real>::mul_add(0.8_f64, x21, 0.6_f64 * x24);
         let x25 = <f64 as ::trocar::Real>::mul_add(
             -x16,
             x22,
@@ -6607,6 +6634,9 @@ pub mod chain9_prismatic {
                 t.cos[7],
                 -(0.008_f64 * t.sin[7]),
             );
+        jb0e[6][0] = <f64 as ::trocar::Real>::mul_add(x28, x29, -(x25 * x32));
+        jb0e[6][1] = <f64 as ::trocar::Real>::mul_add(x28, x30, -(x26 * x32));
+        jb0e[6][2] = <f64 as ::trocar::Real>::mul_add(x28, x31, -(x27 * x32));
         let x33 = <f64 as ::trocar::Real>::mul_add(
             -x18,
             x22,
@@ -6616,11 +6646,13 @@ pub mod chain9_prismatic {
                 0.23170358210041245_f64 * t.sin[7],
             ),
         );
+        jb0e[6][3] = x33;
         let x34 = <f64 as ::trocar::Real>::mul_add(
             x18,
             x23,
             <f64 as ::trocar::Real>::mul_add(x16, x20, 0.765140068679386_f64 * t.sin[7]),
         );
+        jb0e[6][4] = x34;
         let x35 = <f64 as ::trocar::Real>::mul_add(
             x18,
             x24,
@@ -6630,18 +6662,28 @@ pub mod chain9_prismatic {
                 -(0.029565610819700067_f64 * t.sin[7]),
             ),
         );
+        jb0e[6][5] = x35;
         let x36 = <f64 as ::trocar::Real>::mul_add(0.2_f64, t.sin[7], 0.01_f64 * x18);
         let x37 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x25, -(t.sin[6] * x29));
         let x38 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x26, -(t.sin[6] * x30));
         let x39 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x27, -(t.sin[6] * x31));
         let x40 = 0.02_f64
             + <f64 as ::trocar::Real>::mul_add(t.cos[6], x28, -(t.sin[6] * x32));
+        jb0e[5][0] = <f64 as ::trocar::Real>::mul_add(x36, x37, -(x33 * x40));
+        jb0e[5][1] = <f64 as ::trocar::Real>::mul_add(x36, x38, -(x34 * x40));
+        jb0e[5][2] = <f64 as ::trocar::Real>::mul_add(x36, x39, -(x35 * x40));
         let x41 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x25, t.cos[6] * x29);
+        jb0e[5][3] = x41;
         let x42 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x26, t.cos[6] * x30);
+        jb0e[5][4] = x42;
         let x43 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x27, t.cos[6] * x31);
+        jb0e[5][5] = x43;
         let x44 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x37, t.sin[5] * x33);
+        jb0e[4][3] = x44;
         let x45 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x38, t.sin[5] * x34);
+        jb0e[4][4] = x45;
         let x46 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x39, t.sin[5] * x35);
+        jb0e[4][5] = x46;
         let x47 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x40, t.sin[5] * x36);
         let x48 = 0.05_f64
             + (0.3_f64
@@ -6650,6 +6692,9 @@ pub mod chain9_prismatic {
         let x50 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x34, -(t.sin[5] * x38));
         let x51 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x35, -(t.sin[5] * x39));
         let x52 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x36, -(t.sin[5] * x40));
+        jb0e[4][0] = <f64 as ::trocar::Real>::mul_add(x48, x49, -(x41 * x52));
+        jb0e[4][1] = <f64 as ::trocar::Real>::mul_add(x48, x50, -(x42 * x52));
+        jb0e[4][2] = <f64 as ::trocar::Real>::mul_add(x48, x51, -(x43 * x52));
         let x53 = <f64 as ::trocar::Real>::mul_add(
             x8,
             x49,
@@ -6670,31 +6715,37 @@ pub mod chain9_prismatic {
             x49,
             <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x44, x9 * x41),
         );
+        jb0e[3][0] = x56;
         let x57 = <f64 as ::trocar::Real>::mul_add(
             -x10,
             x50,
             <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x45, x9 * x42),
         );
+        jb0e[3][1] = x57;
         let x58 = <f64 as ::trocar::Real>::mul_add(
             -x10,
             x51,
             <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x46, x9 * x43),
         );
+        jb0e[3][2] = x58;
         let x59 = <f64 as ::trocar::Real>::mul_add(
             x12,
             x49,
             <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x44, x11 * x41),
         );
+        jb0e[2][3] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x56, 0.8_f64 * x59);
         let x60 = <f64 as ::trocar::Real>::mul_add(
             x12,
             x50,
             <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x45, x11 * x42),
         );
+        jb0e[2][4] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x57, 0.8_f64 * x60);
         let x61 = <f64 as ::trocar::Real>::mul_add(
             x12,
             x51,
             <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x46, x11 * x43),
         );
+        jb0e[2][5] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x58, 0.8_f64 * x61);
         let x62 = 0.02_f64
             + <f64 as ::trocar::Real>::mul_add(
                 x12,
@@ -6721,21 +6772,39 @@ pub mod chain9_prismatic {
         let x65 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x62, -(0.8_f64 * x64));
         let x66 = 0.8_f64 * x63;
         let x67 = 0.6_f64 * x63;
+        jb0e[2][0] = <f64 as ::trocar::Real>::mul_add(
+            -x59,
+            x67,
+            <f64 as ::trocar::Real>::mul_add(x53, x65, x56 * x66),
+        );
+        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(
+            -x60,
+            x67,
+            <f64 as ::trocar::Real>::mul_add(x54, x65, x57 * x66),
+        );
+        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(
+            -x61,
+            x67,
+            <f64 as ::trocar::Real>::mul_add(x55, x65, x58 * x66),
+        );
         let x68 = <f64 as ::trocar::Real>::mul_add(
             x3,
             x59,
             <f64 as ::trocar::Real>::mul_add(t.cos[2], x53, -(x2 * x56)),
         );
+        jb0e[1][3] = x68;
         let x69 = <f64 as ::trocar::Real>::mul_add(
             x3,
             x60,
             <f64 as ::trocar::Real>::mul_add(t.cos[2], x54, -(x2 * x57)),
         );
+        jb0e[1][4] = x69;
         let x70 = <f64 as ::trocar::Real>::mul_add(
             x3,
             x61,
             <f64 as ::trocar::Real>::mul_add(t.cos[2], x55, -(x2 * x58)),
         );
+        jb0e[1][5] = x70;
         let x71 = <f64 as ::trocar::Real>::mul_add(
             x5,
             x59,
@@ -6777,6 +6846,11 @@ pub mod chain9_prismatic {
             x62,
             <f64 as ::trocar::Real>::mul_add(x5, x64, -(x3 * x63)),
         ) - 0.03_f64;
+        fk.1[2] = p.d_1
+            + (0.1_f64 + <f64 as ::trocar::Real>::mul_add(x1, x74, x0 * x78));
+        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x74, x75, -(x71 * x78));
+        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x74, x76, -(x72 * x78));
+        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x74, x77, -(x73 * x78));
         let x79 = 0.05_f64
             + <f64 as ::trocar::Real>::mul_add(
                 x3,
@@ -6784,103 +6858,29 @@ pub mod chain9_prismatic {
                 <f64 as ::trocar::Real>::mul_add(t.cos[2], x63, -(x2 * x64)),
             );
         let x80 = <f64 as ::trocar::Real>::mul_add(x0, x71, -(x1 * x75));
-        let x81 = <f64 as ::trocar::Real>::mul_add(x0, x72, -(x1 * x76));
-        let x82 = <f64 as ::trocar::Real>::mul_add(x0, x73, -(x1 * x77));
-        let x83 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x74, -(x1 * x78));
-        let x84 = <f64 as ::trocar::Real>::mul_add(x1, x71, x0 * x75);
-        let x85 = <f64 as ::trocar::Real>::mul_add(x1, x72, x0 * x76);
-        let x86 = <f64 as ::trocar::Real>::mul_add(x1, x73, x0 * x77);
         fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x68, -(t.sin[0] * x80));
         fk.0[0][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x68, t.cos[0] * x80);
-        fk.0[0][2] = x84;
+        let x81 = <f64 as ::trocar::Real>::mul_add(x0, x72, -(x1 * x76));
         fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x69, -(t.sin[0] * x81));
         fk.0[1][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x69, t.cos[0] * x81);
-        fk.0[1][2] = x85;
+        let x82 = <f64 as ::trocar::Real>::mul_add(x0, x73, -(x1 * x77));
         fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x70, -(t.sin[0] * x82));
         fk.0[2][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x70, t.cos[0] * x82);
-        fk.0[2][2] = x86;
+        let x83 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x74, -(x1 * x78));
         fk.1[0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x79, -(t.sin[0] * x83));
         fk.1[1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x79, t.cos[0] * x83);
-        fk.1[2] = p.d_1
-            + (0.1_f64 + <f64 as ::trocar::Real>::mul_add(x1, x74, x0 * x78));
         jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x79, x80, -(x68 * x83));
         jb0e[0][1] = <f64 as ::trocar::Real>::mul_add(x79, x81, -(x69 * x83));
         jb0e[0][2] = <f64 as ::trocar::Real>::mul_add(x79, x82, -(x70 * x83));
+        let x84 = <f64 as ::trocar::Real>::mul_add(x1, x71, x0 * x75);
+        fk.0[0][2] = x84;
         jb0e[0][3] = x84;
+        let x85 = <f64 as ::trocar::Real>::mul_add(x1, x72, x0 * x76);
+        fk.0[1][2] = x85;
         jb0e[0][4] = x85;
+        let x86 = <f64 as ::trocar::Real>::mul_add(x1, x73, x0 * x77);
+        fk.0[2][2] = x86;
         jb0e[0][5] = x86;
-        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x74, x75, -(x71 * x78));
-        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x74, x76, -(x72 * x78));
-        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x74, x77, -(x73 * x78));
-        jb0e[1][3] = x68;
-        jb0e[1][4] = x69;
-        jb0e[1][5] = x70;
-        jb0e[2][0] = <f64 as ::trocar::Real>::mul_add(
-            -x59,
-            x67,
-            <f64 as ::trocar::Real>::mul_add(x53, x65, x56 * x66),
-        );
-        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(
-            -x60,
-            x67,
-            <f64 as ::trocar::Real>::mul_add(x54, x65, x57 * x66),
-        );
-        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(
-            -x61,
-            x67,
-            <f64 as ::trocar::Real>::mul_add(x55, x65, x58 * x66),
-        );
-        jb0e[2][3] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x56, 0.8_f64 * x59);
-        jb0e[2][4] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x57, 0.8_f64 * x60);
-        jb0e[2][5] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x58, 0.8_f64 * x61);
-        jb0e[3][0] = x56;
-        jb0e[3][1] = x57;
-        jb0e[3][2] = x58;
-        jb0e[3][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[3][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[3][5] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[4][0] = <f64 as ::trocar::Real>::mul_add(x48, x49, -(x41 * x52));
-        jb0e[4][1] = <f64 as ::trocar::Real>::mul_add(x48, x50, -(x42 * x52));
-        jb0e[4][2] = <f64 as ::trocar::Real>::mul_add(x48, x51, -(x43 * x52));
-        jb0e[4][3] = x44;
-        jb0e[4][4] = x45;
-        jb0e[4][5] = x46;
-        jb0e[5][0] = <f64 as ::trocar::Real>::mul_add(x36, x37, -(x33 * x40));
-        jb0e[5][1] = <f64 as ::trocar::Real>::mul_add(x36, x38, -(x34 * x40));
-        jb0e[5][2] = <f64 as ::trocar::Real>::mul_add(x36, x39, -(x35 * x40));
-        jb0e[5][3] = x41;
-        jb0e[5][4] = x42;
-        jb0e[5][5] = x43;
-        jb0e[6][0] = <f64 as ::trocar::Real>::mul_add(x28, x29, -(x25 * x32));
-        jb0e[6][1] = <f64 as ::trocar::Real>::mul_add(x28, x30, -(x26 * x32));
-        jb0e[6][2] = <f64 as ::trocar::Real>::mul_add(x28, x31, -(x27 * x32));
-        jb0e[6][3] = x33;
-        jb0e[6][4] = x34;
-        jb0e[6][5] = x35;
-        jb0e[7][0] = -<f64 as ::trocar::Real>::mul_add(
-            0.2_f64,
-            x22,
-            <f64 as ::trocar::Real>::mul_add(0.15_f64, x19, 0.0023170358210041243_f64),
-        );
-        jb0e[7][1] = <f64 as ::trocar::Real>::mul_add(
-            0.2_f64,
-            x23,
-            -<f64 as ::trocar::Real>::mul_add(0.15_f64, x20, 0.00765140068679386_f64),
-        );
-        jb0e[7][2] = <f64 as ::trocar::Real>::mul_add(
-            0.2_f64,
-            x24,
-            <f64 as ::trocar::Real>::mul_add(-0.15_f64, x21, 0.00029565610819700066_f64),
-        );
-        jb0e[7][3] = <f64 as ::trocar::Real>::mul_add(0.8_f64, x19, -(0.6_f64 * x22));
-        jb0e[7][4] = <f64 as ::trocar::Real>::mul_add(0.8_f64, x20, 0.6_f64 * x23);
-        jb0e[7][5] = <f64 as ::trocar::Real>::mul_add(0.8_f64, x21, 0.6_f64 * x24);
-        jb0e[8][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[8][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[8][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[8][3] = 0.28962947762551555_f64;
-        jb0e[8][4] = 0.9564250858492325_f64;
-        jb0e[8][5] = -0.03695701352462508_f64;
     }
     /// `g_0i`, `J^B_0i` in one program: the values of [`forward_kinematics_i`] and [`partial_body_jacobian`], thesis (2.21), (3.13), computed together so that they share every common value.
     ///
@@ -6895,9 +6895,24 @@ pub mod chain9_prismatic {
         fk0i: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0i: &mut [[f64; 6]; I],
     ) {
+        jb0i[3][3] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[3][4] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[3][5] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[4][1] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[4][4] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[5][0] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[5][1] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[5][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[5][3] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[5][4] = <f64 as ::trocar::Real>::ONE;
+        jb0i[5][5] = <f64 as ::trocar::Real>::ZERO;
         let ([s1, s2, s3, s5, s6], [c1, c2, c3, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[4], q[5]],
         );
+        jb0i[4][0] = -(0.05_f64 * s6);
+        jb0i[4][2] = 0.05_f64 * c6;
+        jb0i[4][3] = c6;
+        jb0i[4][5] = s6;
         let x0 = <f64 as ::trocar::Real>::mul_add(
             0.955336489125606_f64,
             c2,
@@ -6928,6 +6943,12 @@ pub mod chain9_prismatic {
             c5,
             -(0.07736548146578168_f64 * s5),
         );
+        jb0i[2][4] = <f64 as ::trocar::Real>::mul_add(
+            0.6_f64,
+            x9,
+            0.7368487952023082_f64 * s5,
+        );
+        jb0i[3][1] = x9;
         let x10 = <f64 as ::trocar::Real>::mul_add(
             0.9800665778412416_f64,
             s5,
@@ -6942,17 +6963,21 @@ pub mod chain9_prismatic {
             c6,
             x10 * s6,
         );
+        jb0i[3][0] = x15;
         let x16 = <f64 as ::trocar::Real>::mul_add(
             0.18298657129998708_f64,
             s6,
             -(x10 * c6),
         );
+        jb0i[3][2] = x16;
         let x17 = <f64 as ::trocar::Real>::mul_add(
             0.3894183423086505_f64,
             c6,
             -(x12 * s6),
         );
+        jb0i[2][3] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x15, 0.8_f64 * x17);
         let x18 = <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, s6, x12 * c6);
+        jb0i[2][5] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x16, 0.8_f64 * x18);
         let x19 = <f64 as ::trocar::Real>::mul_add(
             0.04605304970014426_f64,
             s5,
@@ -6964,21 +6989,39 @@ pub mod chain9_prismatic {
         let x22 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x19, -(0.8_f64 * x21));
         let x23 = 0.8_f64 * x20;
         let x24 = 0.6_f64 * x20;
+        jb0i[2][0] = <f64 as ::trocar::Real>::mul_add(
+            -x17,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(x13, x22, x15 * x23),
+        );
+        jb0i[2][1] = <f64 as ::trocar::Real>::mul_add(
+            -x11,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(x9, x23, -(x7 * x22)),
+        );
+        jb0i[2][2] = <f64 as ::trocar::Real>::mul_add(
+            -x18,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(x14, x22, x16 * x23),
+        );
         let x25 = <f64 as ::trocar::Real>::mul_add(
             x3,
             x17,
             <f64 as ::trocar::Real>::mul_add(c3, x13, -(x2 * x15)),
         );
+        jb0i[1][3] = x25;
         let x26 = <f64 as ::trocar::Real>::mul_add(
             x3,
             x11,
             -<f64 as ::trocar::Real>::mul_add(c3, x7, x2 * x9),
         );
+        jb0i[1][4] = x26;
         let x27 = <f64 as ::trocar::Real>::mul_add(
             x3,
             x18,
             <f64 as ::trocar::Real>::mul_add(c3, x14, -(x2 * x16)),
         );
+        jb0i[1][5] = x27;
         let x28 = <f64 as ::trocar::Real>::mul_add(
             x5,
             x17,
@@ -7020,6 +7063,11 @@ pub mod chain9_prismatic {
             x19,
             <f64 as ::trocar::Real>::mul_add(x5, x21, -(x3 * x20)),
         ) - 0.03_f64;
+        fk0i.1[2] = p.d_1
+            + (0.1_f64 + <f64 as ::trocar::Real>::mul_add(x1, x31, x0 * x35));
+        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x31, x32, -(x28 * x35));
+        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x31, x33, -(x29 * x35));
+        jb0i[1][2] = <f64 as ::trocar::Real>::mul_add(x31, x34, -(x30 * x35));
         let x36 = 0.05_f64
             + <f64 as ::trocar::Real>::mul_add(
                 x3,
@@ -7027,77 +7075,29 @@ pub mod chain9_prismatic {
                 <f64 as ::trocar::Real>::mul_add(c3, x20, -(x2 * x21)),
             );
         let x37 = <f64 as ::trocar::Real>::mul_add(x0, x28, -(x1 * x32));
-        let x38 = <f64 as ::trocar::Real>::mul_add(x0, x29, -(x1 * x33));
-        let x39 = <f64 as ::trocar::Real>::mul_add(x0, x30, -(x1 * x34));
-        let x40 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35));
-        let x41 = <f64 as ::trocar::Real>::mul_add(x1, x28, x0 * x32);
-        let x42 = <f64 as ::trocar::Real>::mul_add(x1, x29, x0 * x33);
-        let x43 = <f64 as ::trocar::Real>::mul_add(x1, x30, x0 * x34);
         fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x25, -(s1 * x37));
         fk0i.0[0][1] = <f64 as ::trocar::Real>::mul_add(s1, x25, c1 * x37);
-        fk0i.0[0][2] = x41;
+        let x38 = <f64 as ::trocar::Real>::mul_add(x0, x29, -(x1 * x33));
         fk0i.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x26, -(s1 * x38));
         fk0i.0[1][1] = <f64 as ::trocar::Real>::mul_add(s1, x26, c1 * x38);
-        fk0i.0[1][2] = x42;
+        let x39 = <f64 as ::trocar::Real>::mul_add(x0, x30, -(x1 * x34));
         fk0i.0[2][0] = <f64 as ::trocar::Real>::mul_add(c1, x27, -(s1 * x39));
         fk0i.0[2][1] = <f64 as ::trocar::Real>::mul_add(s1, x27, c1 * x39);
-        fk0i.0[2][2] = x43;
+        let x40 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35));
         fk0i.1[0] = <f64 as ::trocar::Real>::mul_add(c1, x36, -(s1 * x40));
         fk0i.1[1] = <f64 as ::trocar::Real>::mul_add(s1, x36, c1 * x40);
-        fk0i.1[2] = p.d_1
-            + (0.1_f64 + <f64 as ::trocar::Real>::mul_add(x1, x31, x0 * x35));
         jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(x36, x37, -(x25 * x40));
         jb0i[0][1] = <f64 as ::trocar::Real>::mul_add(x36, x38, -(x26 * x40));
         jb0i[0][2] = <f64 as ::trocar::Real>::mul_add(x36, x39, -(x27 * x40));
+        let x41 = <f64 as ::trocar::Real>::mul_add(x1, x28, x0 * x32);
+        fk0i.0[0][2] = x41;
         jb0i[0][3] = x41;
+        let x42 = <f64 as ::trocar::Real>::mul_add(x1, x29, x0 * x33);
+        fk0i.0[1][2] = x42;
         jb0i[0][4] = x42;
+        let x43 = <f64 as ::trocar::Real>::mul_add(x1, x30, x0 * x34);
+        fk0i.0[2][2] = x43;
         jb0i[0][5] = x43;
-        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x31, x32, -(x28 * x35));
-        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x31, x33, -(x29 * x35));
-        jb0i[1][2] = <f64 as ::trocar::Real>::mul_add(x31, x34, -(x30 * x35));
-        jb0i[1][3] = x25;
-        jb0i[1][4] = x26;
-        jb0i[1][5] = x27;
-        jb0i[2][0] = <f64 as ::trocar::Real>::mul_add(
-            -x17,
-            x24,
-            <f64 as ::trocar::Real>::mul_add(x13, x22, x15 * x23),
-        );
-        jb0i[2][1] = <f64 as ::trocar::Real>::mul_add(
-            -x11,
-            x24,
-            <f64 as ::trocar::Real>::mul_add(x9, x23, -(x7 * x22)),
-        );
-        jb0i[2][2] = <f64 as ::trocar::Real>::mul_add(
-            -x18,
-            x24,
-            <f64 as ::trocar::Real>::mul_add(x14, x22, x16 * x23),
-        );
-        jb0i[2][3] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x15, 0.8_f64 * x17);
-        jb0i[2][4] = <f64 as ::trocar::Real>::mul_add(
-            0.6_f64,
-            x9,
-            0.7368487952023082_f64 * s5,
-        );
-        jb0i[2][5] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x16, 0.8_f64 * x18);
-        jb0i[3][0] = x15;
-        jb0i[3][1] = x9;
-        jb0i[3][2] = x16;
-        jb0i[3][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[3][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[3][5] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][0] = -(0.05_f64 * s6);
-        jb0i[4][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][2] = 0.05_f64 * c6;
-        jb0i[4][3] = c6;
-        jb0i[4][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][5] = s6;
-        jb0i[5][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][4] = <f64 as ::trocar::Real>::ONE;
-        jb0i[5][5] = <f64 as ::trocar::Real>::ZERO;
     }
     /// [`link_pose_and_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]).
     ///
@@ -7109,6 +7109,21 @@ pub mod chain9_prismatic {
         fk0i: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0i: &mut [[f64; 6]; I],
     ) {
+        jb0i[3][3] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[3][4] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[3][5] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[4][0] = -(0.05_f64 * t.sin[5]);
+        jb0i[4][1] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[4][2] = 0.05_f64 * t.cos[5];
+        jb0i[4][3] = t.cos[5];
+        jb0i[4][4] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[4][5] = t.sin[5];
+        jb0i[5][0] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[5][1] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[5][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[5][3] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[5][4] = <f64 as ::trocar::Real>::ONE;
+        jb0i[5][5] = <f64 as ::trocar::Real>::ZERO;
         let x0 = <f64 as ::trocar::Real>::mul_add(
             0.955336489125606_f64,
             t.cos[1],
@@ -7139,6 +7154,12 @@ pub mod chain9_prismatic {
             t.cos[4],
             -(0.07736548146578168_f64 * t.sin[4]),
         );
+        jb0i[2][4] = <f64 as ::trocar::Real>::mul_add(
+            0.6_f64,
+            x9,
+            0.7368487952023082_f64 * t.sin[4],
+        );
+        jb0i[3][1] = x9;
         let x10 = <f64 as ::trocar::Real>::mul_add(
             0.9800665778412416_f64,
             t.sin[4],
@@ -7161,21 +7182,25 @@ pub mod chain9_prismatic {
             t.cos[5],
             x10 * t.sin[5],
         );
+        jb0i[3][0] = x15;
         let x16 = <f64 as ::trocar::Real>::mul_add(
             0.18298657129998708_f64,
             t.sin[5],
             -(x10 * t.cos[5]),
         );
+        jb0i[3][2] = x16;
         let x17 = <f64 as ::trocar::Real>::mul_add(
             0.3894183423086505_f64,
             t.cos[5],
             -(x12 * t.sin[5]),
         );
+        jb0i[2][3] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x15, 0.8_f64 * x17);
         let x18 = <f64 as ::trocar::Real>::mul_add(
             0.3894183423086505_f64,
             t.sin[5],
             x12 * t.cos[5],
         );
+        jb0i[2][5] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x16, 0.8_f64 * x18);
         let x19 = <f64 as ::trocar::Real>::mul_add(
             0.04605304970014426_f64,
             t.sin[4],
@@ -7187,21 +7212,39 @@ pub mod chain9_prismatic {
         let x22 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x19, -(0.8_f64 * x21));
         let x23 = 0.8_f64 * x20;
         let x24 = 0.6_f64 * x20;
+        jb0i[2][0] = <f64 as ::trocar::Real>::mul_add(
+            -x17,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(x13, x22, x15 * x23),
+        );
+        jb0i[2][1] = <f64 as ::trocar::Real>::mul_add(
+            -x11,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(x9, x23, -(x7 * x22)),
+        );
+        jb0i[2][2] = <f64 as ::trocar::Real>::mul_add(
+            -x18,
+            x24,
+            <f64 as ::trocar::Real>::mul_add(x14, x22, x16 * x23),
+        );
         let x25 = <f64 as ::trocar::Real>::mul_add(
             x3,
             x17,
             <f64 as ::trocar::Real>::mul_add(t.cos[2], x13, -(x2 * x15)),
         );
+        jb0i[1][3] = x25;
         let x26 = <f64 as ::trocar::Real>::mul_add(
             x3,
             x11,
             -<f64 as ::trocar::Real>::mul_add(t.cos[2], x7, x2 * x9),
         );
+        jb0i[1][4] = x26;
         let x27 = <f64 as ::trocar::Real>::mul_add(
             x3,
             x18,
             <f64 as ::trocar::Real>::mul_add(t.cos[2], x14, -(x2 * x16)),
         );
+        jb0i[1][5] = x27;
         let x28 = <f64 as ::trocar::Real>::mul_add(
             x5,
             x17,
@@ -7243,6 +7286,11 @@ pub mod chain9_prismatic {
             x19,
             <f64 as ::trocar::Real>::mul_add(x5, x21, -(x3 * x20)),
         ) - 0.03_f64;
+        fk0i.1[2] = p.d_1
+            + (0.1_f64 + <f64 as ::trocar::Real>::mul_add(x1, x31, x0 * x35));
+        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x31, x32, -(x28 * x35));
+        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x31, x33, -(x29 * x35));
+        jb0i[1][2] = <f64 as ::trocar::Real>::mul_add(x31, x34, -(x30 * x35));
         let x36 = 0.05_f64
             + <f64 as ::trocar::Real>::mul_add(
                 x3,
@@ -7250,89 +7298,41 @@ pub mod chain9_prismatic {
                 <f64 as ::trocar::Real>::mul_add(t.cos[2], x20, -(x2 * x21)),
             );
         let x37 = <f64 as ::trocar::Real>::mul_add(x0, x28, -(x1 * x32));
-        let x38 = <f64 as ::trocar::Real>::mul_add(x0, x29, -(x1 * x33));
-        let x39 = <f64 as ::trocar::Real>::mul_add(x0, x30, -(x1 * x34));
-        let x40 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35));
-        let x41 = <f64 as ::trocar::Real>::mul_add(x1, x28, x0 * x32);
-        let x42 = <f64 as ::trocar::Real>::mul_add(x1, x29, x0 * x33);
-        let x43 = <f64 as ::trocar::Real>::mul_add(x1, x30, x0 * x34);
         fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(
             t.cos[0],
             x25,
             -(t.sin[0] * x37),
         );
         fk0i.0[0][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x25, t.cos[0] * x37);
-        fk0i.0[0][2] = x41;
+        let x38 = <f64 as ::trocar::Real>::mul_add(x0, x29, -(x1 * x33));
         fk0i.0[1][0] = <f64 as ::trocar::Real>::mul_add(
             t.cos[0],
             x26,
             -(t.sin[0] * x38),
         );
         fk0i.0[1][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x26, t.cos[0] * x38);
-        fk0i.0[1][2] = x42;
+        let x39 = <f64 as ::trocar::Real>::mul_add(x0, x30, -(x1 * x34));
         fk0i.0[2][0] = <f64 as ::trocar::Real>::mul_add(
             t.cos[0],
             x27,
             -(t.sin[0] * x39),
         );
         fk0i.0[2][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x27, t.cos[0] * x39);
-        fk0i.0[2][2] = x43;
+        let x40 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35));
         fk0i.1[0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x36, -(t.sin[0] * x40));
         fk0i.1[1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x36, t.cos[0] * x40);
-        fk0i.1[2] = p.d_1
-            + (0.1_f64 + <f64 as ::trocar::Real>::mul_add(x1, x31, x0 * x35));
         jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(x36, x37, -(x25 * x40));
         jb0i[0][1] = <f64 as ::trocar::Real>::mul_add(x36, x38, -(x26 * x40));
         jb0i[0][2] = <f64 as ::trocar::Real>::mul_add(x36, x39, -(x27 * x40));
+        let x41 = <f64 as ::trocar::Real>::mul_add(x1, x28, x0 * x32);
+        fk0i.0[0][2] = x41;
         jb0i[0][3] = x41;
+        let x42 = <f64 as ::trocar::Real>::mul_add(x1, x29, x0 * x33);
+        fk0i.0[1][2] = x42;
         jb0i[0][4] = x42;
+        let x43 = <f64 as ::trocar::Real>::mul_add(x1, x30, x0 * x34);
+        fk0i.0[2][2] = x43;
         jb0i[0][5] = x43;
-        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x31, x32, -(x28 * x35));
-        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x31, x33, -(x29 * x35));
-        jb0i[1][2] = <f64 as ::trocar::Real>::mul_add(x31, x34, -(x30 * x35));
-        jb0i[1][3] = x25;
-        jb0i[1][4] = x26;
-        jb0i[1][5] = x27;
-        jb0i[2][0] = <f64 as ::trocar::Real>::mul_add(
-            -x17,
-            x24,
-            <f64 as ::trocar::Real>::mul_add(x13, x22, x15 * x23),
-        );
-        jb0i[2][1] = <f64 as ::trocar::Real>::mul_add(
-            -x11,
-            x24,
-            <f64 as ::trocar::Real>::mul_add(x9, x23, -(x7 * x22)),
-        );
-        jb0i[2][2] = <f64 as ::trocar::Real>::mul_add(
-            -x18,
-            x24,
-            <f64 as ::trocar::Real>::mul_add(x14, x22, x16 * x23),
-        );
-        jb0i[2][3] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x15, 0.8_f64 * x17);
-        jb0i[2][4] = <f64 as ::trocar::Real>::mul_add(
-            0.6_f64,
-            x9,
-            0.7368487952023082_f64 * t.sin[4],
-        );
-        jb0i[2][5] = <f64 as ::trocar::Real>::mul_add(0.6_f64, x16, 0.8_f64 * x18);
-        jb0i[3][0] = x15;
-        jb0i[3][1] = x9;
-        jb0i[3][2] = x16;
-        jb0i[3][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[3][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[3][5] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][0] = -(0.05_f64 * t.sin[5]);
-        jb0i[4][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][2] = 0.05_f64 * t.cos[5];
-        jb0i[4][3] = t.cos[5];
-        jb0i[4][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][5] = t.sin[5];
-        jb0i[5][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][4] = <f64 as ::trocar::Real>::ONE;
-        jb0i[5][5] = <f64 as ::trocar::Real>::ZERO;
     }
     /// `(g_0e, J^B_0i, J^r_0e, J_c)` as [`pose_and_jacobians_trig`] returns them: `(R, p)` with
     /// `R` column-major, then the three matrices column-major.

@@ -1244,96 +1244,8 @@ pub mod iiwa_link6 {
         fk: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0e: &mut [[f64; 6]; N],
     ) {
-        let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::Real>::sin_cos_array(
-            &[q[0], q[1], q[2], q[3], q[4], q[5], q[6]],
-        );
-        let x0 = c6 * c7;
-        let x1 = c6 * s7;
-        let x2 = 0.126_f64 * s6;
-        let x3 = s6 * c7;
-        let x4 = s6 * s7;
-        let x5 = <f64 as ::trocar::Real>::mul_add(c5, x0, -(s5 * s7));
-        let x6 = <f64 as ::trocar::Real>::mul_add(c5, x1, s5 * c7);
-        let x7 = c5 * s6;
-        let x8 = c5 * x2;
-        let x9 = 0.1845_f64
-            + <f64 as ::trocar::Real>::mul_add(0.126_f64, c6, 0.2155_f64);
-        let x10 = <f64 as ::trocar::Real>::mul_add(s5, x0, c5 * s7);
-        let x11 = <f64 as ::trocar::Real>::mul_add(s5, x1, -(c5 * c7));
-        let x12 = s5 * s6;
-        let x13 = s5 * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(c4, x5, s4 * x3);
-        let x15 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c4, x7, -(s4 * c6));
-        let x17 = <f64 as ::trocar::Real>::mul_add(c4, x8, -(s4 * x9));
-        let x18 = <f64 as ::trocar::Real>::mul_add(s4, x5, -(c4 * x3));
-        let x19 = <f64 as ::trocar::Real>::mul_add(c4, x4, -(s4 * x6));
-        let x20 = <f64 as ::trocar::Real>::mul_add(s4, x7, c4 * c6);
-        let x21 = <f64 as ::trocar::Real>::mul_add(s3, x10, -(c3 * x14));
-        let x22 = <f64 as ::trocar::Real>::mul_add(c3, x15, -(s3 * x11));
-        let x23 = <f64 as ::trocar::Real>::mul_add(s3, x12, -(c3 * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(s3, x13, -(c3 * x17));
-        let x25 = 0.2045_f64
-            + (0.2155_f64 + <f64 as ::trocar::Real>::mul_add(s4, x8, c4 * x9));
-        let x26 = <f64 as ::trocar::Real>::mul_add(s3, x14, c3 * x10);
-        let x27 = <f64 as ::trocar::Real>::mul_add(s3, x15, c3 * x11);
-        let x28 = <f64 as ::trocar::Real>::mul_add(s3, x16, c3 * x12);
-        let x29 = <f64 as ::trocar::Real>::mul_add(s3, x17, c3 * x13);
-        let x30 = <f64 as ::trocar::Real>::mul_add(s2, x18, -(c2 * x21));
-        let x31 = <f64 as ::trocar::Real>::mul_add(s2, x19, -(c2 * x22));
-        let x32 = <f64 as ::trocar::Real>::mul_add(s2, x20, -(c2 * x23));
-        let x33 = <f64 as ::trocar::Real>::mul_add(s2, x25, -(c2 * x24));
-        let x34 = <f64 as ::trocar::Real>::mul_add(s2, x21, c2 * x18);
-        let x35 = <f64 as ::trocar::Real>::mul_add(s2, x22, c2 * x19);
-        let x36 = <f64 as ::trocar::Real>::mul_add(s2, x23, c2 * x20);
-        fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x30, -(s1 * x26));
-        fk.0[0][1] = <f64 as ::trocar::Real>::mul_add(s1, x30, c1 * x26);
-        fk.0[0][2] = x34;
-        fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x31, s1 * x27);
-        fk.0[1][1] = <f64 as ::trocar::Real>::mul_add(s1, x31, -(c1 * x27));
-        fk.0[1][2] = x35;
-        fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(c1, x32, -(s1 * x28));
-        fk.0[2][1] = <f64 as ::trocar::Real>::mul_add(s1, x32, c1 * x28);
-        fk.0[2][2] = x36;
-        fk.1[0] = <f64 as ::trocar::Real>::mul_add(c1, x33, -(s1 * x29));
-        fk.1[1] = <f64 as ::trocar::Real>::mul_add(s1, x33, c1 * x29);
-        fk.1[2] = 0.1575_f64
-            + (0.2025_f64 + <f64 as ::trocar::Real>::mul_add(s2, x24, c2 * x25));
-        jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x26, x33, -(x29 * x30));
-        jb0e[0][1] = -<f64 as ::trocar::Real>::mul_add(x29, x31, x27 * x33);
-        jb0e[0][2] = <f64 as ::trocar::Real>::mul_add(x28, x33, -(x29 * x32));
-        jb0e[0][3] = x34;
-        jb0e[0][4] = x35;
-        jb0e[0][5] = x36;
-        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25));
-        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25));
-        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25));
-        jb0e[1][3] = x26;
-        jb0e[1][4] = -x27;
-        jb0e[1][5] = x28;
-        jb0e[2][0] = <f64 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14));
-        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17));
-        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16));
-        jb0e[2][3] = x18;
-        jb0e[2][4] = x19;
-        jb0e[2][5] = x20;
-        jb0e[3][0] = -<f64 as ::trocar::Real>::mul_add(x5, x9, x3 * x8);
-        jb0e[3][1] = <f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8);
-        jb0e[3][2] = <f64 as ::trocar::Real>::mul_add(c6, x8, -(x7 * x9));
-        jb0e[3][3] = -x10;
-        jb0e[3][4] = x11;
-        jb0e[3][5] = -x12;
-        jb0e[4][0] = s7 * x2;
-        jb0e[4][1] = c7 * x2;
         jb0e[4][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[4][3] = -x3;
-        jb0e[4][4] = x4;
-        jb0e[4][5] = c6;
-        jb0e[5][0] = 0.126_f64 * c7;
-        jb0e[5][1] = -(0.126_f64 * s7);
         jb0e[5][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[5][3] = s7;
-        jb0e[5][4] = c7;
         jb0e[5][5] = <f64 as ::trocar::Real>::ZERO;
         jb0e[6][0] = <f64 as ::trocar::Real>::ZERO;
         jb0e[6][1] = <f64 as ::trocar::Real>::ZERO;
@@ -1341,6 +1253,94 @@ pub mod iiwa_link6 {
         jb0e[6][3] = <f64 as ::trocar::Real>::ZERO;
         jb0e[6][4] = <f64 as ::trocar::Real>::ZERO;
         jb0e[6][5] = <f64 as ::trocar::Real>::ONE;
+        let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::Real>::sin_cos_array(
+            &[q[0], q[1], q[2], q[3], q[4], q[5], q[6]],
+        );
+        jb0e[4][5] = c6;
+        jb0e[5][0] = 0.126_f64 * c7;
+        jb0e[5][1] = -(0.126_f64 * s7);
+        jb0e[5][3] = s7;
+        jb0e[5][4] = c7;
+        let x0 = c6 * c7;
+        let x1 = c6 * s7;
+        let x2 = 0.126_f64 * s6;
+        jb0e[4][0] = s7 * x2;
+        jb0e[4][1] = c7 * x2;
+        let x3 = s6 * c7;
+        jb0e[4][3] = -x3;
+        let x4 = s6 * s7;
+        jb0e[4][4] = x4;
+        let x5 = <f64 as ::trocar::Real>::mul_add(c5, x0, -(s5 * s7));
+        let x6 = <f64 as ::trocar::Real>::mul_add(c5, x1, s5 * c7);
+        let x7 = c5 * s6;
+        let x8 = c5 * x2;
+        let x9 = 0.1845_f64
+            + <f64 as ::trocar::Real>::mul_add(0.126_f64, c6, 0.2155_f64);
+        jb0e[3][0] = -<f64 as ::trocar::Real>::mul_add(x5, x9, x3 * x8);
+        jb0e[3][1] = <f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8);
+        jb0e[3][2] = <f64 as ::trocar::Real>::mul_add(c6, x8, -(x7 * x9));
+        let x10 = <f64 as ::trocar::Real>::mul_add(s5, x0, c5 * s7);
+        jb0e[3][3] = -x10;
+        let x11 = <f64 as ::trocar::Real>::mul_add(s5, x1, -(c5 * c7));
+        jb0e[3][4] = x11;
+        let x12 = s5 * s6;
+        jb0e[3][5] = -x12;
+        let x13 = s5 * x2;
+        let x14 = <f64 as ::trocar::Real>::mul_add(c4, x5, s4 * x3);
+        let x15 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x4);
+        let x16 = <f64 as ::trocar::Real>::mul_add(c4, x7, -(s4 * c6));
+        let x17 = <f64 as ::trocar::Real>::mul_add(c4, x8, -(s4 * x9));
+        jb0e[2][0] = <f64 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14));
+        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17));
+        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16));
+        let x18 = <f64 as ::trocar::Real>::mul_add(s4, x5, -(c4 * x3));
+        jb0e[2][3] = x18;
+        let x19 = <f64 as ::trocar::Real>::mul_add(c4, x4, -(s4 * x6));
+        jb0e[2][4] = x19;
+        let x20 = <f64 as ::trocar::Real>::mul_add(s4, x7, c4 * c6);
+        jb0e[2][5] = x20;
+        let x21 = <f64 as ::trocar::Real>::mul_add(s3, x10, -(c3 * x14));
+        let x22 = <f64 as ::trocar::Real>::mul_add(c3, x15, -(s3 * x11));
+        let x23 = <f64 as ::trocar::Real>::mul_add(s3, x12, -(c3 * x16));
+        let x24 = <f64 as ::trocar::Real>::mul_add(s3, x13, -(c3 * x17));
+        let x25 = 0.2045_f64
+            + (0.2155_f64 + <f64 as ::trocar::Real>::mul_add(s4, x8, c4 * x9));
+        fk.1[2] = 0.1575_f64
+            + (0.2025_f64 + <f64 as ::trocar::Real>::mul_add(s2, x24, c2 * x25));
+        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25));
+        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25));
+        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25));
+        let x26 = <f64 as ::trocar::Real>::mul_add(s3, x14, c3 * x10);
+        jb0e[1][3] = x26;
+        let x27 = <f64 as ::trocar::Real>::mul_add(s3, x15, c3 * x11);
+        jb0e[1][4] = -x27;
+        let x28 = <f64 as ::trocar::Real>::mul_add(s3, x16, c3 * x12);
+        jb0e[1][5] = x28;
+        let x29 = <f64 as ::trocar::Real>::mul_add(s3, x17, c3 * x13);
+        let x30 = <f64 as ::trocar::Real>::mul_add(s2, x18, -(c2 * x21));
+        fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x30, -(s1 * x26));
+        fk.0[0][1] = <f64 as ::trocar::Real>::mul_add(s1, x30, c1 * x26);
+        let x31 = <f64 as ::trocar::Real>::mul_add(s2, x19, -(c2 * x22));
+        fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x31, s1 * x27);
+        fk.0[1][1] = <f64 as ::trocar::Real>::mul_add(s1, x31, -(c1 * x27));
+        let x32 = <f64 as ::trocar::Real>::mul_add(s2, x20, -(c2 * x23));
+        fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(c1, x32, -(s1 * x28));
+        fk.0[2][1] = <f64 as ::trocar::Real>::mul_add(s1, x32, c1 * x28);
+        let x33 = <f64 as ::trocar::Real>::mul_add(s2, x25, -(c2 * x24));
+        fk.1[0] = <f64 as ::trocar::Real>::mul_add(c1, x33, -(s1 * x29));
+        fk.1[1] = <f64 as ::trocar::Real>::mul_add(s1, x33, c1 * x29);
+        jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x26, x33, -(x29 * x30));
+        jb0e[0][1] = -<f64 as ::trocar::Real>::mul_add(x29, x31, x27 * x33);
+        jb0e[0][2] = <f64 as ::trocar::Real>::mul_add(x28, x33, -(x29 * x32));
+        let x34 = <f64 as ::trocar::Real>::mul_add(s2, x21, c2 * x18);
+        fk.0[0][2] = x34;
+        jb0e[0][3] = x34;
+        let x35 = <f64 as ::trocar::Real>::mul_add(s2, x22, c2 * x19);
+        fk.0[1][2] = x35;
+        jb0e[0][4] = x35;
+        let x36 = <f64 as ::trocar::Real>::mul_add(s2, x23, c2 * x20);
+        fk.0[2][2] = x36;
+        jb0e[0][5] = x36;
     }
     /// [`pose_and_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]).
     ///
@@ -1352,89 +1352,7 @@ pub mod iiwa_link6 {
         fk: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0e: &mut [[f64; 6]; N],
     ) {
-        let x0 = t.cos[5] * t.cos[6];
-        let x1 = t.cos[5] * t.sin[6];
-        let x2 = 0.126_f64 * t.sin[5];
-        let x3 = t.sin[5] * t.cos[6];
-        let x4 = t.sin[5] * t.sin[6];
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x0, -(t.sin[4] * t.sin[6]));
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x1, t.sin[4] * t.cos[6]);
-        let x7 = t.cos[4] * t.sin[5];
-        let x8 = t.cos[4] * x2;
-        let x9 = 0.1845_f64
-            + <f64 as ::trocar::Real>::mul_add(0.126_f64, t.cos[5], 0.2155_f64);
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x0, t.cos[4] * t.sin[6]);
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x1, -(t.cos[4] * t.cos[6]));
-        let x12 = t.sin[4] * t.sin[5];
-        let x13 = t.sin[4] * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x5, t.sin[3] * x3);
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x7, -(t.sin[3] * t.cos[5]));
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x5, -(t.cos[3] * x3));
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x4, -(t.sin[3] * x6));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x7, t.cos[3] * t.cos[5]);
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x10, -(t.cos[2] * x14));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x15, -(t.sin[2] * x11));
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x12, -(t.cos[2] * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x13, -(t.cos[2] * x17));
-        let x25 = 0.2045_f64
-            + (0.2155_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9));
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x14, t.cos[2] * x10);
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x15, t.cos[2] * x11);
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x12);
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x13);
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x18, -(t.cos[1] * x21));
-        let x31 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x19, -(t.cos[1] * x22));
-        let x32 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x20, -(t.cos[1] * x23));
-        let x33 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x25, -(t.cos[1] * x24));
-        let x34 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x21, t.cos[1] * x18);
-        let x35 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x22, t.cos[1] * x19);
-        let x36 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x23, t.cos[1] * x20);
-        fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x30, -(t.sin[0] * x26));
-        fk.0[0][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x30, t.cos[0] * x26);
-        fk.0[0][2] = x34;
-        fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x31, t.sin[0] * x27);
-        fk.0[1][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x31, -(t.cos[0] * x27));
-        fk.0[1][2] = x35;
-        fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x32, -(t.sin[0] * x28));
-        fk.0[2][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x32, t.cos[0] * x28);
-        fk.0[2][2] = x36;
-        fk.1[0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x33, -(t.sin[0] * x29));
-        fk.1[1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x33, t.cos[0] * x29);
-        fk.1[2] = 0.1575_f64
-            + (0.2025_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[1], x24, t.cos[1] * x25));
-        jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x26, x33, -(x29 * x30));
-        jb0e[0][1] = -<f64 as ::trocar::Real>::mul_add(x29, x31, x27 * x33);
-        jb0e[0][2] = <f64 as ::trocar::Real>::mul_add(x28, x33, -(x29 * x32));
-        jb0e[0][3] = x34;
-        jb0e[0][4] = x35;
-        jb0e[0][5] = x36;
-        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25));
-        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25));
-        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25));
-        jb0e[1][3] = x26;
-        jb0e[1][4] = -x27;
-        jb0e[1][5] = x28;
-        jb0e[2][0] = <f64 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14));
-        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17));
-        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16));
-        jb0e[2][3] = x18;
-        jb0e[2][4] = x19;
-        jb0e[2][5] = x20;
-        jb0e[3][0] = -<f64 as ::trocar::Real>::mul_add(x5, x9, x3 * x8);
-        jb0e[3][1] = <f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8);
-        jb0e[3][2] = <f64 as ::trocar::Real>::mul_add(t.cos[5], x8, -(x7 * x9));
-        jb0e[3][3] = -x10;
-        jb0e[3][4] = x11;
-        jb0e[3][5] = -x12;
-        jb0e[4][0] = t.sin[6] * x2;
-        jb0e[4][1] = t.cos[6] * x2;
         jb0e[4][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[4][3] = -x3;
-        jb0e[4][4] = x4;
         jb0e[4][5] = t.cos[5];
         jb0e[5][0] = 0.126_f64 * t.cos[6];
         jb0e[5][1] = -(0.126_f64 * t.sin[6]);
@@ -1448,6 +1366,88 @@ pub mod iiwa_link6 {
         jb0e[6][3] = <f64 as ::trocar::Real>::ZERO;
         jb0e[6][4] = <f64 as ::trocar::Real>::ZERO;
         jb0e[6][5] = <f64 as ::trocar::Real>::ONE;
+        let x0 = t.cos[5] * t.cos[6];
+        let x1 = t.cos[5] * t.sin[6];
+        let x2 = 0.126_f64 * t.sin[5];
+        jb0e[4][0] = t.sin[6] * x2;
+        jb0e[4][1] = t.cos[6] * x2;
+        let x3 = t.sin[5] * t.cos[6];
+        jb0e[4][3] = -x3;
+        let x4 = t.sin[5] * t.sin[6];
+        jb0e[4][4] = x4;
+        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x0, -(t.sin[4] * t.sin[6]));
+        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x1, t.sin[4] * t.cos[6]);
+        let x7 = t.cos[4] * t.sin[5];
+        let x8 = t.cos[4] * x2;
+        let x9 = 0.1845_f64
+            + <f64 as ::trocar::Real>::mul_add(0.126_f64, t.cos[5], 0.2155_f64);
+        jb0e[3][0] = -<f64 as ::trocar::Real>::mul_add(x5, x9, x3 * x8);
+        jb0e[3][1] = <f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8);
+        jb0e[3][2] = <f64 as ::trocar::Real>::mul_add(t.cos[5], x8, -(x7 * x9));
+        let x10 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x0, t.cos[4] * t.sin[6]);
+        jb0e[3][3] = -x10;
+        let x11 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x1, -(t.cos[4] * t.cos[6]));
+        jb0e[3][4] = x11;
+        let x12 = t.sin[4] * t.sin[5];
+        jb0e[3][5] = -x12;
+        let x13 = t.sin[4] * x2;
+        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x5, t.sin[3] * x3);
+        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
+        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x7, -(t.sin[3] * t.cos[5]));
+        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
+        jb0e[2][0] = <f64 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14));
+        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17));
+        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16));
+        let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x5, -(t.cos[3] * x3));
+        jb0e[2][3] = x18;
+        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x4, -(t.sin[3] * x6));
+        jb0e[2][4] = x19;
+        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x7, t.cos[3] * t.cos[5]);
+        jb0e[2][5] = x20;
+        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x10, -(t.cos[2] * x14));
+        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x15, -(t.sin[2] * x11));
+        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x12, -(t.cos[2] * x16));
+        let x24 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x13, -(t.cos[2] * x17));
+        let x25 = 0.2045_f64
+            + (0.2155_f64
+                + <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9));
+        fk.1[2] = 0.1575_f64
+            + (0.2025_f64
+                + <f64 as ::trocar::Real>::mul_add(t.sin[1], x24, t.cos[1] * x25));
+        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25));
+        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25));
+        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25));
+        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x14, t.cos[2] * x10);
+        jb0e[1][3] = x26;
+        let x27 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x15, t.cos[2] * x11);
+        jb0e[1][4] = -x27;
+        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x12);
+        jb0e[1][5] = x28;
+        let x29 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x13);
+        let x30 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x18, -(t.cos[1] * x21));
+        fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x30, -(t.sin[0] * x26));
+        fk.0[0][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x30, t.cos[0] * x26);
+        let x31 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x19, -(t.cos[1] * x22));
+        fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x31, t.sin[0] * x27);
+        fk.0[1][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x31, -(t.cos[0] * x27));
+        let x32 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x20, -(t.cos[1] * x23));
+        fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x32, -(t.sin[0] * x28));
+        fk.0[2][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x32, t.cos[0] * x28);
+        let x33 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x25, -(t.cos[1] * x24));
+        fk.1[0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x33, -(t.sin[0] * x29));
+        fk.1[1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x33, t.cos[0] * x29);
+        jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x26, x33, -(x29 * x30));
+        jb0e[0][1] = -<f64 as ::trocar::Real>::mul_add(x29, x31, x27 * x33);
+        jb0e[0][2] = <f64 as ::trocar::Real>::mul_add(x28, x33, -(x29 * x32));
+        let x34 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x21, t.cos[1] * x18);
+        fk.0[0][2] = x34;
+        jb0e[0][3] = x34;
+        let x35 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x22, t.cos[1] * x19);
+        fk.0[1][2] = x35;
+        jb0e[0][4] = x35;
+        let x36 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x23, t.cos[1] * x20);
+        fk.0[2][2] = x36;
+        jb0e[0][5] = x36;
     }
     /// `g_0i`, `J^B_0i` in one program: the values of [`forward_kinematics_i`] and [`partial_body_jacobian`], thesis (2.21), (3.13), computed together so that they share every common value.
     ///
@@ -1462,78 +1462,9 @@ pub mod iiwa_link6 {
         fk0i: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0i: &mut [[f64; 6]; I],
     ) {
-        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
-            &[q[0], q[1], q[2], q[3], q[4], q[5]],
-        );
-        let x0 = c5 * c6;
-        let x1 = c5 * s6;
-        let x2 = s5 * c6;
-        let x3 = s5 * s6;
-        let x4 = <f64 as ::trocar::Real>::mul_add(c4, x0, s4 * s6);
-        let x5 = <f64 as ::trocar::Real>::mul_add(c4, x1, -(s4 * c6));
-        let x6 = c4 * s5;
-        let x7 = 0.4_f64 * s4;
-        let x8 = <f64 as ::trocar::Real>::mul_add(c4, s6, -(s4 * x0));
-        let x9 = <f64 as ::trocar::Real>::mul_add(s4, x1, c4 * c6);
-        let x10 = s4 * s5;
-        let x11 = <f64 as ::trocar::Real>::mul_add(c3, x4, -(s3 * x2));
-        let x12 = <f64 as ::trocar::Real>::mul_add(s3, x3, -(c3 * x5));
-        let x13 = <f64 as ::trocar::Real>::mul_add(c3, x6, s3 * c5);
-        let x14 = c3 * x7;
-        let x15 = 0.2045_f64 + <f64 as ::trocar::Real>::mul_add(0.4_f64, c4, 0.2155_f64);
-        let x16 = <f64 as ::trocar::Real>::mul_add(s3, x4, c3 * x2);
-        let x17 = <f64 as ::trocar::Real>::mul_add(s3, x5, c3 * x3);
-        let x18 = <f64 as ::trocar::Real>::mul_add(c3, c5, -(s3 * x6));
-        let x19 = s3 * x7;
-        let x20 = <f64 as ::trocar::Real>::mul_add(s2, x8, -(c2 * x11));
-        let x21 = <f64 as ::trocar::Real>::mul_add(s2, x9, -(c2 * x12));
-        let x22 = <f64 as ::trocar::Real>::mul_add(c2, x13, s2 * x10);
-        let x23 = <f64 as ::trocar::Real>::mul_add(s2, x15, -(c2 * x14));
-        let x24 = <f64 as ::trocar::Real>::mul_add(s2, x11, c2 * x8);
-        let x25 = <f64 as ::trocar::Real>::mul_add(s2, x12, c2 * x9);
-        let x26 = <f64 as ::trocar::Real>::mul_add(s2, x13, -(c2 * x10));
-        fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x20, s1 * x16);
-        fk0i.0[0][1] = <f64 as ::trocar::Real>::mul_add(s1, x20, -(c1 * x16));
-        fk0i.0[0][2] = x24;
-        fk0i.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x21, -(s1 * x17));
-        fk0i.0[1][1] = <f64 as ::trocar::Real>::mul_add(s1, x21, c1 * x17);
-        fk0i.0[1][2] = x25;
-        fk0i.0[2][0] = -<f64 as ::trocar::Real>::mul_add(c1, x22, s1 * x18);
-        fk0i.0[2][1] = <f64 as ::trocar::Real>::mul_add(c1, x18, -(s1 * x22));
-        fk0i.0[2][2] = x26;
-        fk0i.1[0] = <f64 as ::trocar::Real>::mul_add(c1, x23, s1 * x19);
-        fk0i.1[1] = <f64 as ::trocar::Real>::mul_add(s1, x23, -(c1 * x19));
-        fk0i.1[2] = 0.1575_f64
-            + (0.2025_f64 + <f64 as ::trocar::Real>::mul_add(s2, x14, c2 * x15));
-        jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(x19, x20, -(x16 * x23));
-        jb0i[0][1] = <f64 as ::trocar::Real>::mul_add(x19, x21, x17 * x23);
-        jb0i[0][2] = <f64 as ::trocar::Real>::mul_add(x18, x23, -(x19 * x22));
-        jb0i[0][3] = x24;
-        jb0i[0][4] = x25;
-        jb0i[0][5] = x26;
-        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x8, x14, -(x11 * x15));
-        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x9, x14, -(x12 * x15));
-        jb0i[1][2] = -<f64 as ::trocar::Real>::mul_add(x13, x15, x10 * x14);
-        jb0i[1][3] = -x16;
-        jb0i[1][4] = x17;
-        jb0i[1][5] = x18;
-        jb0i[2][0] = x2 * x7;
-        jb0i[2][1] = -(x3 * x7);
-        jb0i[2][2] = -(c5 * x7);
-        jb0i[2][3] = x8;
-        jb0i[2][4] = x9;
-        jb0i[2][5] = -x10;
-        jb0i[3][0] = 0.4_f64 * x0;
-        jb0i[3][1] = -(0.4_f64 * x1);
-        jb0i[3][2] = 0.4_f64 * s5;
-        jb0i[3][3] = x2;
-        jb0i[3][4] = -x3;
-        jb0i[3][5] = -c5;
         jb0i[4][0] = <f64 as ::trocar::Real>::ZERO;
         jb0i[4][1] = <f64 as ::trocar::Real>::ZERO;
         jb0i[4][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][3] = s6;
-        jb0i[4][4] = c6;
         jb0i[4][5] = <f64 as ::trocar::Real>::ZERO;
         jb0i[5][0] = <f64 as ::trocar::Real>::ZERO;
         jb0i[5][1] = <f64 as ::trocar::Real>::ZERO;
@@ -1541,6 +1472,75 @@ pub mod iiwa_link6 {
         jb0i[5][3] = <f64 as ::trocar::Real>::ZERO;
         jb0i[5][4] = <f64 as ::trocar::Real>::ZERO;
         jb0i[5][5] = <f64 as ::trocar::Real>::ONE;
+        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+            &[q[0], q[1], q[2], q[3], q[4], q[5]],
+        );
+        jb0i[3][2] = 0.4_f64 * s5;
+        jb0i[3][5] = -c5;
+        jb0i[4][3] = s6;
+        jb0i[4][4] = c6;
+        let x0 = c5 * c6;
+        jb0i[3][0] = 0.4_f64 * x0;
+        let x1 = c5 * s6;
+        jb0i[3][1] = -(0.4_f64 * x1);
+        let x2 = s5 * c6;
+        jb0i[3][3] = x2;
+        let x3 = s5 * s6;
+        jb0i[3][4] = -x3;
+        let x4 = <f64 as ::trocar::Real>::mul_add(c4, x0, s4 * s6);
+        let x5 = <f64 as ::trocar::Real>::mul_add(c4, x1, -(s4 * c6));
+        let x6 = c4 * s5;
+        let x7 = 0.4_f64 * s4;
+        jb0i[2][0] = x2 * x7;
+        jb0i[2][1] = -(x3 * x7);
+        jb0i[2][2] = -(c5 * x7);
+        let x8 = <f64 as ::trocar::Real>::mul_add(c4, s6, -(s4 * x0));
+        jb0i[2][3] = x8;
+        let x9 = <f64 as ::trocar::Real>::mul_add(s4, x1, c4 * c6);
+        jb0i[2][4] = x9;
+        let x10 = s4 * s5;
+        jb0i[2][5] = -x10;
+        let x11 = <f64 as ::trocar::Real>::mul_add(c3, x4, -(s3 * x2));
+        let x12 = <f64 as ::trocar::Real>::mul_add(s3, x3, -(c3 * x5));
+        let x13 = <f64 as ::trocar::Real>::mul_add(c3, x6, s3 * c5);
+        let x14 = c3 * x7;
+        let x15 = 0.2045_f64 + <f64 as ::trocar::Real>::mul_add(0.4_f64, c4, 0.2155_f64);
+        fk0i.1[2] = 0.1575_f64
+            + (0.2025_f64 + <f64 as ::trocar::Real>::mul_add(s2, x14, c2 * x15));
+        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x8, x14, -(x11 * x15));
+        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x9, x14, -(x12 * x15));
+        jb0i[1][2] = -<f64 as ::trocar::Real>::mul_add(x13, x15, x10 * x14);
+        let x16 = <f64 as ::trocar::Real>::mul_add(s3, x4, c3 * x2);
+        jb0i[1][3] = -x16;
+        let x17 = <f64 as ::trocar::Real>::mul_add(s3, x5, c3 * x3);
+        jb0i[1][4] = x17;
+        let x18 = <f64 as ::trocar::Real>::mul_add(c3, c5, -(s3 * x6));
+        jb0i[1][5] = x18;
+        let x19 = s3 * x7;
+        let x20 = <f64 as ::trocar::Real>::mul_add(s2, x8, -(c2 * x11));
+        fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x20, s1 * x16);
+        fk0i.0[0][1] = <f64 as ::trocar::Real>::mul_add(s1, x20, -(c1 * x16));
+        let x21 = <f64 as ::trocar::Real>::mul_add(s2, x9, -(c2 * x12));
+        fk0i.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x21, -(s1 * x17));
+        fk0i.0[1][1] = <f64 as ::trocar::Real>::mul_add(s1, x21, c1 * x17);
+        let x22 = <f64 as ::trocar::Real>::mul_add(c2, x13, s2 * x10);
+        fk0i.0[2][0] = -<f64 as ::trocar::Real>::mul_add(c1, x22, s1 * x18);
+        fk0i.0[2][1] = <f64 as ::trocar::Real>::mul_add(c1, x18, -(s1 * x22));
+        let x23 = <f64 as ::trocar::Real>::mul_add(s2, x15, -(c2 * x14));
+        fk0i.1[0] = <f64 as ::trocar::Real>::mul_add(c1, x23, s1 * x19);
+        fk0i.1[1] = <f64 as ::trocar::Real>::mul_add(s1, x23, -(c1 * x19));
+        jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(x19, x20, -(x16 * x23));
+        jb0i[0][1] = <f64 as ::trocar::Real>::mul_add(x19, x21, x17 * x23);
+        jb0i[0][2] = <f64 as ::trocar::Real>::mul_add(x18, x23, -(x19 * x22));
+        let x24 = <f64 as ::trocar::Real>::mul_add(s2, x11, c2 * x8);
+        fk0i.0[0][2] = x24;
+        jb0i[0][3] = x24;
+        let x25 = <f64 as ::trocar::Real>::mul_add(s2, x12, c2 * x9);
+        fk0i.0[1][2] = x25;
+        jb0i[0][4] = x25;
+        let x26 = <f64 as ::trocar::Real>::mul_add(s2, x13, -(c2 * x10));
+        fk0i.0[2][2] = x26;
+        jb0i[0][5] = x26;
     }
     /// [`link_pose_and_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]).
     ///
@@ -1552,83 +1552,7 @@ pub mod iiwa_link6 {
         fk0i: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0i: &mut [[f64; 6]; I],
     ) {
-        let x0 = t.cos[4] * t.cos[5];
-        let x1 = t.cos[4] * t.sin[5];
-        let x2 = t.sin[4] * t.cos[5];
-        let x3 = t.sin[4] * t.sin[5];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x0, t.sin[3] * t.sin[5]);
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x1, -(t.sin[3] * t.cos[5]));
-        let x6 = t.cos[3] * t.sin[4];
-        let x7 = 0.4_f64 * t.sin[3];
-        let x8 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.sin[5], -(t.sin[3] * x0));
-        let x9 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x1, t.cos[3] * t.cos[5]);
-        let x10 = t.sin[3] * t.sin[4];
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x4, -(t.sin[2] * x2));
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x3, -(t.cos[2] * x5));
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x6, t.sin[2] * t.cos[4]);
-        let x14 = t.cos[2] * x7;
-        let x15 = 0.2045_f64
-            + <f64 as ::trocar::Real>::mul_add(0.4_f64, t.cos[3], 0.2155_f64);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x4, t.cos[2] * x2);
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x5, t.cos[2] * x3);
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x6));
-        let x19 = t.sin[2] * x7;
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x8, -(t.cos[1] * x11));
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x9, -(t.cos[1] * x12));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x13, t.sin[1] * x10);
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x15, -(t.cos[1] * x14));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x11, t.cos[1] * x8);
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x12, t.cos[1] * x9);
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x13, -(t.cos[1] * x10));
-        fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x20, t.sin[0] * x16);
-        fk0i.0[0][1] = <f64 as ::trocar::Real>::mul_add(
-            t.sin[0],
-            x20,
-            -(t.cos[0] * x16),
-        );
-        fk0i.0[0][2] = x24;
-        fk0i.0[1][0] = <f64 as ::trocar::Real>::mul_add(
-            t.cos[0],
-            x21,
-            -(t.sin[0] * x17),
-        );
-        fk0i.0[1][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x21, t.cos[0] * x17);
-        fk0i.0[1][2] = x25;
-        fk0i.0[2][0] = -<f64 as ::trocar::Real>::mul_add(t.cos[0], x22, t.sin[0] * x18);
-        fk0i.0[2][1] = <f64 as ::trocar::Real>::mul_add(
-            t.cos[0],
-            x18,
-            -(t.sin[0] * x22),
-        );
-        fk0i.0[2][2] = x26;
-        fk0i.1[0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x23, t.sin[0] * x19);
-        fk0i.1[1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x23, -(t.cos[0] * x19));
-        fk0i.1[2] = 0.1575_f64
-            + (0.2025_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[1], x14, t.cos[1] * x15));
-        jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(x19, x20, -(x16 * x23));
-        jb0i[0][1] = <f64 as ::trocar::Real>::mul_add(x19, x21, x17 * x23);
-        jb0i[0][2] = <f64 as ::trocar::Real>::mul_add(x18, x23, -(x19 * x22));
-        jb0i[0][3] = x24;
-        jb0i[0][4] = x25;
-        jb0i[0][5] = x26;
-        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x8, x14, -(x11 * x15));
-        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x9, x14, -(x12 * x15));
-        jb0i[1][2] = -<f64 as ::trocar::Real>::mul_add(x13, x15, x10 * x14);
-        jb0i[1][3] = -x16;
-        jb0i[1][4] = x17;
-        jb0i[1][5] = x18;
-        jb0i[2][0] = x2 * x7;
-        jb0i[2][1] = -(x3 * x7);
-        jb0i[2][2] = -(t.cos[4] * x7);
-        jb0i[2][3] = x8;
-        jb0i[2][4] = x9;
-        jb0i[2][5] = -x10;
-        jb0i[3][0] = 0.4_f64 * x0;
-        jb0i[3][1] = -(0.4_f64 * x1);
         jb0i[3][2] = 0.4_f64 * t.sin[4];
-        jb0i[3][3] = x2;
-        jb0i[3][4] = -x3;
         jb0i[3][5] = -t.cos[4];
         jb0i[4][0] = <f64 as ::trocar::Real>::ZERO;
         jb0i[4][1] = <f64 as ::trocar::Real>::ZERO;
@@ -1642,6 +1566,82 @@ pub mod iiwa_link6 {
         jb0i[5][3] = <f64 as ::trocar::Real>::ZERO;
         jb0i[5][4] = <f64 as ::trocar::Real>::ZERO;
         jb0i[5][5] = <f64 as ::trocar::Real>::ONE;
+        let x0 = t.cos[4] * t.cos[5];
+        jb0i[3][0] = 0.4_f64 * x0;
+        let x1 = t.cos[4] * t.sin[5];
+        jb0i[3][1] = -(0.4_f64 * x1);
+        let x2 = t.sin[4] * t.cos[5];
+        jb0i[3][3] = x2;
+        let x3 = t.sin[4] * t.sin[5];
+        jb0i[3][4] = -x3;
+        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x0, t.sin[3] * t.sin[5]);
+        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x1, -(t.sin[3] * t.cos[5]));
+        let x6 = t.cos[3] * t.sin[4];
+        let x7 = 0.4_f64 * t.sin[3];
+        jb0i[2][0] = x2 * x7;
+        jb0i[2][1] = -(x3 * x7);
+        jb0i[2][2] = -(t.cos[4] * x7);
+        let x8 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.sin[5], -(t.sin[3] * x0));
+        jb0i[2][3] = x8;
+        let x9 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x1, t.cos[3] * t.cos[5]);
+        jb0i[2][4] = x9;
+        let x10 = t.sin[3] * t.sin[4];
+        jb0i[2][5] = -x10;
+        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x4, -(t.sin[2] * x2));
+        let x12 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x3, -(t.cos[2] * x5));
+        let x13 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x6, t.sin[2] * t.cos[4]);
+        let x14 = t.cos[2] * x7;
+        let x15 = 0.2045_f64
+            + <f64 as ::trocar::Real>::mul_add(0.4_f64, t.cos[3], 0.2155_f64);
+        fk0i.1[2] = 0.1575_f64
+            + (0.2025_f64
+                + <f64 as ::trocar::Real>::mul_add(t.sin[1], x14, t.cos[1] * x15));
+        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x8, x14, -(x11 * x15));
+        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x9, x14, -(x12 * x15));
+        jb0i[1][2] = -<f64 as ::trocar::Real>::mul_add(x13, x15, x10 * x14);
+        let x16 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x4, t.cos[2] * x2);
+        jb0i[1][3] = -x16;
+        let x17 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x5, t.cos[2] * x3);
+        jb0i[1][4] = x17;
+        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x6));
+        jb0i[1][5] = x18;
+        let x19 = t.sin[2] * x7;
+        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x8, -(t.cos[1] * x11));
+        fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x20, t.sin[0] * x16);
+        fk0i.0[0][1] = <f64 as ::trocar::Real>::mul_add(
+            t.sin[0],
+            x20,
+            -(t.cos[0] * x16),
+        );
+        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x9, -(t.cos[1] * x12));
+        fk0i.0[1][0] = <f64 as ::trocar::Real>::mul_add(
+            t.cos[0],
+            x21,
+            -(t.sin[0] * x17),
+        );
+        fk0i.0[1][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x21, t.cos[0] * x17);
+        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x13, t.sin[1] * x10);
+        fk0i.0[2][0] = -<f64 as ::trocar::Real>::mul_add(t.cos[0], x22, t.sin[0] * x18);
+        fk0i.0[2][1] = <f64 as ::trocar::Real>::mul_add(
+            t.cos[0],
+            x18,
+            -(t.sin[0] * x22),
+        );
+        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x15, -(t.cos[1] * x14));
+        fk0i.1[0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x23, t.sin[0] * x19);
+        fk0i.1[1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x23, -(t.cos[0] * x19));
+        jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(x19, x20, -(x16 * x23));
+        jb0i[0][1] = <f64 as ::trocar::Real>::mul_add(x19, x21, x17 * x23);
+        jb0i[0][2] = <f64 as ::trocar::Real>::mul_add(x18, x23, -(x19 * x22));
+        let x24 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x11, t.cos[1] * x8);
+        fk0i.0[0][2] = x24;
+        jb0i[0][3] = x24;
+        let x25 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x12, t.cos[1] * x9);
+        fk0i.0[1][2] = x25;
+        jb0i[0][4] = x25;
+        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x13, -(t.cos[1] * x10));
+        fk0i.0[2][2] = x26;
+        jb0i[0][5] = x26;
     }
     /// `(g_0e, J^B_0i, J^r_0e, J_c)` as [`pose_and_jacobians_trig`] returns them: `(R, p)` with
     /// `R` column-major, then the three matrices column-major.

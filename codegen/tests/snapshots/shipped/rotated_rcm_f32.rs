@@ -1450,40 +1450,79 @@ pub mod rotated_rcm {
         fk: &mut ([[f32; 3]; 3], [f32; 3]),
         jb0e: &mut [[f32; 6]; N],
     ) {
+        jb0e[6][1] = <f32 as ::trocar::Real>::ZERO;
+        jb0e[6][2] = <f32 as ::trocar::Real>::ZERO;
+        jb0e[6][3] = <f32 as ::trocar::Real>::ZERO;
+        jb0e[7][0] = <f32 as ::trocar::Real>::ZERO;
+        jb0e[7][1] = <f32 as ::trocar::Real>::ZERO;
+        jb0e[7][2] = p.l_8;
+        jb0e[7][3] = <f32 as ::trocar::Real>::ONE;
+        jb0e[7][4] = <f32 as ::trocar::Real>::ZERO;
+        jb0e[7][5] = <f32 as ::trocar::Real>::ZERO;
         let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <f32 as ::trocar::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7]],
         );
+        jb0e[5][3] = s7;
+        jb0e[6][4] = s8;
+        jb0e[6][5] = c8;
         let x0 = c8 * p.l_8;
+        jb0e[6][0] = -x0;
         let x1 = s8 * p.l_8;
+        jb0e[5][0] = c7 * x1;
         let x2 = s7 * c8;
         let x3 = s7 * s8;
         let x4 = s7 * x0;
+        jb0e[5][1] = <f32 as ::trocar::Real>::mul_add(s8, x4, -(x1 * x2));
+        jb0e[5][2] = <f32 as ::trocar::Real>::mul_add(x1, x3, c8 * x4);
         let x5 = c7 * c8;
+        jb0e[5][4] = x5;
         let x6 = c7 * s8;
+        jb0e[5][5] = -x6;
         let x7 = <f32 as ::trocar::Real>::mul_add(c7, x0, 0.33_f32);
         let x8 = c6 * c7;
+        jb0e[4][3] = x8;
         let x9 = <f32 as ::trocar::Real>::mul_add(s6, s8, -(c6 * x2));
+        jb0e[4][4] = x9;
         let x10 = <f32 as ::trocar::Real>::mul_add(c6, x3, s6 * c8);
+        jb0e[4][5] = x10;
         let x11 = <f32 as ::trocar::Real>::mul_add(s6, x1, -(c6 * x4));
         let x12 = s6 * c7;
         let x13 = <f32 as ::trocar::Real>::mul_add(s6, x2, c6 * s8);
         let x14 = <f32 as ::trocar::Real>::mul_add(c6, c8, -(s6 * x3));
         let x15 = <f32 as ::trocar::Real>::mul_add(s6, x4, c6 * x1);
+        jb0e[4][0] = -<f32 as ::trocar::Real>::mul_add(s7, x15, x7 * x12);
+        jb0e[4][1] = <f32 as ::trocar::Real>::mul_add(x7, x13, -(x5 * x15));
+        jb0e[4][2] = <f32 as ::trocar::Real>::mul_add(x6, x15, x7 * x14);
         let x16 = <f32 as ::trocar::Real>::mul_add(c5, s7, s5 * x12);
+        jb0e[3][3] = x16;
         let x17 = <f32 as ::trocar::Real>::mul_add(c5, x5, -(s5 * x13));
+        jb0e[3][4] = x17;
         let x18 = <f32 as ::trocar::Real>::mul_add(c5, x6, s5 * x14);
+        jb0e[3][5] = -x18;
         let x19 = 0.39_f32 + <f32 as ::trocar::Real>::mul_add(c5, x7, -(s5 * x15));
         let x20 = <f32 as ::trocar::Real>::mul_add(s5, s7, -(c5 * x12));
         let x21 = <f32 as ::trocar::Real>::mul_add(s5, x5, c5 * x13);
         let x22 = <f32 as ::trocar::Real>::mul_add(c5, x14, -(s5 * x6));
         let x23 = <f32 as ::trocar::Real>::mul_add(s5, x7, c5 * x15);
+        jb0e[3][0] = <f32 as ::trocar::Real>::mul_add(x8, x23, -(x11 * x20));
+        jb0e[3][1] = <f32 as ::trocar::Real>::mul_add(x9, x23, -(x11 * x21));
+        jb0e[3][2] = <f32 as ::trocar::Real>::mul_add(x10, x23, -(x11 * x22));
         let x24 = <f32 as ::trocar::Real>::mul_add(c4, x8, s4 * x20);
+        jb0e[1][3] = x24;
+        jb0e[2][3] = x24;
         let x25 = <f32 as ::trocar::Real>::mul_add(c4, x9, s4 * x21);
+        jb0e[1][4] = x25;
+        jb0e[2][4] = x25;
         let x26 = <f32 as ::trocar::Real>::mul_add(c4, x10, s4 * x22);
+        jb0e[1][5] = x26;
+        jb0e[2][5] = x26;
         let x27 = <f32 as ::trocar::Real>::mul_add(c4, x20, -(s4 * x8));
         let x28 = <f32 as ::trocar::Real>::mul_add(c4, x21, -(s4 * x9));
         let x29 = <f32 as ::trocar::Real>::mul_add(c4, x22, -(s4 * x10));
         let x30 = <f32 as ::trocar::Real>::mul_add(c4, x23, -(s4 * x11));
+        jb0e[2][0] = <f32 as ::trocar::Real>::mul_add(x19, x27, -(x16 * x30));
+        jb0e[2][1] = <f32 as ::trocar::Real>::mul_add(x19, x28, -(x17 * x30));
+        jb0e[2][2] = <f32 as ::trocar::Real>::mul_add(x18, x30, x19 * x29);
         let x31 = <f32 as ::trocar::Real>::mul_add(c3, x16, -(s3 * x27));
         let x32 = <f32 as ::trocar::Real>::mul_add(c3, x17, -(s3 * x28));
         let x33 = <f32 as ::trocar::Real>::mul_add(c3, x18, s3 * x29);
@@ -1492,74 +1531,35 @@ pub mod rotated_rcm {
         let x36 = <f32 as ::trocar::Real>::mul_add(s3, x17, c3 * x28);
         let x37 = <f32 as ::trocar::Real>::mul_add(c3, x29, -(s3 * x18));
         let x38 = <f32 as ::trocar::Real>::mul_add(s3, x19, c3 * x30);
-        let x39 = 0.194_f32 + <f32 as ::trocar::Real>::mul_add(c4, x11, s4 * x23);
-        let x40 = <f32 as ::trocar::Real>::mul_add(c2, x31, -(s2 * x35));
-        let x41 = <f32 as ::trocar::Real>::mul_add(c2, x32, -(s2 * x36));
-        let x42 = <f32 as ::trocar::Real>::mul_add(c2, x33, s2 * x37);
-        let x43 = <f32 as ::trocar::Real>::mul_add(c2, x34, -(s2 * x38));
-        let x44 = <f32 as ::trocar::Real>::mul_add(s2, x31, c2 * x35);
-        let x45 = <f32 as ::trocar::Real>::mul_add(s2, x32, c2 * x36);
-        let x46 = <f32 as ::trocar::Real>::mul_add(c2, x37, -(s2 * x33));
-        fk.0[0][0] = <f32 as ::trocar::Real>::mul_add(c1, x24, -(s1 * x40));
-        fk.0[0][1] = <f32 as ::trocar::Real>::mul_add(s1, x24, c1 * x40);
-        fk.0[0][2] = x44;
-        fk.0[1][0] = <f32 as ::trocar::Real>::mul_add(c1, x25, -(s1 * x41));
-        fk.0[1][1] = <f32 as ::trocar::Real>::mul_add(s1, x25, c1 * x41);
-        fk.0[1][2] = x45;
-        fk.0[2][0] = <f32 as ::trocar::Real>::mul_add(c1, x26, s1 * x42);
-        fk.0[2][1] = <f32 as ::trocar::Real>::mul_add(s1, x26, -(c1 * x42));
-        fk.0[2][2] = x46;
-        fk.1[0] = <f32 as ::trocar::Real>::mul_add(c1, x39, -(s1 * x43));
-        fk.1[1] = <f32 as ::trocar::Real>::mul_add(s1, x39, c1 * x43);
         fk.1[2] = 1.037_f32 + <f32 as ::trocar::Real>::mul_add(s2, x34, c2 * x38);
-        jb0e[0][0] = <f32 as ::trocar::Real>::mul_add(x39, x40, -(x24 * x43));
-        jb0e[0][1] = <f32 as ::trocar::Real>::mul_add(x39, x41, -(x25 * x43));
-        jb0e[0][2] = -<f32 as ::trocar::Real>::mul_add(x26, x43, x39 * x42);
-        jb0e[0][3] = x44;
-        jb0e[0][4] = x45;
-        jb0e[0][5] = x46;
         jb0e[1][0] = <f32 as ::trocar::Real>::mul_add(x34, x35, -(x31 * x38));
         jb0e[1][1] = <f32 as ::trocar::Real>::mul_add(x34, x36, -(x32 * x38));
         jb0e[1][2] = <f32 as ::trocar::Real>::mul_add(x33, x38, x34 * x37);
-        jb0e[1][3] = x24;
-        jb0e[1][4] = x25;
-        jb0e[1][5] = x26;
-        jb0e[2][0] = <f32 as ::trocar::Real>::mul_add(x19, x27, -(x16 * x30));
-        jb0e[2][1] = <f32 as ::trocar::Real>::mul_add(x19, x28, -(x17 * x30));
-        jb0e[2][2] = <f32 as ::trocar::Real>::mul_add(x18, x30, x19 * x29);
-        jb0e[2][3] = x24;
-        jb0e[2][4] = x25;
-        jb0e[2][5] = x26;
-        jb0e[3][0] = <f32 as ::trocar::Real>::mul_add(x8, x23, -(x11 * x20));
-        jb0e[3][1] = <f32 as ::trocar::Real>::mul_add(x9, x23, -(x11 * x21));
-        jb0e[3][2] = <f32 as ::trocar::Real>::mul_add(x10, x23, -(x11 * x22));
-        jb0e[3][3] = x16;
-        jb0e[3][4] = x17;
-        jb0e[3][5] = -x18;
-        jb0e[4][0] = -<f32 as ::trocar::Real>::mul_add(s7, x15, x7 * x12);
-        jb0e[4][1] = <f32 as ::trocar::Real>::mul_add(x7, x13, -(x5 * x15));
-        jb0e[4][2] = <f32 as ::trocar::Real>::mul_add(x6, x15, x7 * x14);
-        jb0e[4][3] = x8;
-        jb0e[4][4] = x9;
-        jb0e[4][5] = x10;
-        jb0e[5][0] = c7 * x1;
-        jb0e[5][1] = <f32 as ::trocar::Real>::mul_add(s8, x4, -(x1 * x2));
-        jb0e[5][2] = <f32 as ::trocar::Real>::mul_add(x1, x3, c8 * x4);
-        jb0e[5][3] = s7;
-        jb0e[5][4] = x5;
-        jb0e[5][5] = -x6;
-        jb0e[6][0] = -x0;
-        jb0e[6][1] = <f32 as ::trocar::Real>::ZERO;
-        jb0e[6][2] = <f32 as ::trocar::Real>::ZERO;
-        jb0e[6][3] = <f32 as ::trocar::Real>::ZERO;
-        jb0e[6][4] = s8;
-        jb0e[6][5] = c8;
-        jb0e[7][0] = <f32 as ::trocar::Real>::ZERO;
-        jb0e[7][1] = <f32 as ::trocar::Real>::ZERO;
-        jb0e[7][2] = p.l_8;
-        jb0e[7][3] = <f32 as ::trocar::Real>::ONE;
-        jb0e[7][4] = <f32 as ::trocar::Real>::ZERO;
-        jb0e[7][5] = <f32 as ::trocar::Real>::ZERO;
+        let x39 = 0.194_f32 + <f32 as ::trocar::Real>::mul_add(c4, x11, s4 * x23);
+        let x40 = <f32 as ::trocar::Real>::mul_add(c2, x31, -(s2 * x35));
+        fk.0[0][0] = <f32 as ::trocar::Real>::mul_add(c1, x24, -(s1 * x40));
+        fk.0[0][1] = <f32 as ::trocar::Real>::mul_add(s1, x24, c1 * x40);
+        let x41 = <f32 as ::trocar::Real>::mul_add(c2, x32, -(s2 * x36));
+        fk.0[1][0] = <f32 as ::trocar::Real>::mul_add(c1, x25, -(s1 * x41));
+        fk.0[1][1] = <f32 as ::trocar::Real>::mul_add(s1, x25, c1 * x41);
+        let x42 = <f32 as ::trocar::Real>::mul_add(c2, x33, s2 * x37);
+        fk.0[2][0] = <f32 as ::trocar::Real>::mul_add(c1, x26, s1 * x42);
+        fk.0[2][1] = <f32 as ::trocar::Real>::mul_add(s1, x26, -(c1 * x42));
+        let x43 = <f32 as ::trocar::Real>::mul_add(c2, x34, -(s2 * x38));
+        fk.1[0] = <f32 as ::trocar::Real>::mul_add(c1, x39, -(s1 * x43));
+        fk.1[1] = <f32 as ::trocar::Real>::mul_add(s1, x39, c1 * x43);
+        jb0e[0][0] = <f32 as ::trocar::Real>::mul_add(x39, x40, -(x24 * x43));
+        jb0e[0][1] = <f32 as ::trocar::Real>::mul_add(x39, x41, -(x25 * x43));
+        jb0e[0][2] = -<f32 as ::trocar::Real>::mul_add(x26, x43, x39 * x42);
+        let x44 = <f32 as ::trocar::Real>::mul_add(s2, x31, c2 * x35);
+        fk.0[0][2] = x44;
+        jb0e[0][3] = x44;
+        let x45 = <f32 as ::trocar::Real>::mul_add(s2, x32, c2 * x36);
+        fk.0[1][2] = x45;
+        jb0e[0][4] = x45;
+        let x46 = <f32 as ::trocar::Real>::mul_add(c2, x37, -(s2 * x33));
+        fk.0[2][2] = x46;
+        jb0e[0][5] = x46;
     }
     /// [`pose_and_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]).
     ///
@@ -1571,110 +1571,7 @@ pub mod rotated_rcm {
         fk: &mut ([[f32; 3]; 3], [f32; 3]),
         jb0e: &mut [[f32; 6]; N],
     ) {
-        let x0 = t.cos[7] * p.l_8;
-        let x1 = t.sin[7] * p.l_8;
-        let x2 = t.sin[6] * t.cos[7];
-        let x3 = t.sin[6] * t.sin[7];
-        let x4 = t.sin[6] * x0;
-        let x5 = t.cos[6] * t.cos[7];
-        let x6 = t.cos[6] * t.sin[7];
-        let x7 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x0, 0.33_f32);
-        let x8 = t.cos[5] * t.cos[6];
-        let x9 = <f32 as ::trocar::Real>::mul_add(t.sin[5], t.sin[7], -(t.cos[5] * x2));
-        let x10 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x3, t.sin[5] * t.cos[7]);
-        let x11 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x1, -(t.cos[5] * x4));
-        let x12 = t.sin[5] * t.cos[6];
-        let x13 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x2, t.cos[5] * t.sin[7]);
-        let x14 = <f32 as ::trocar::Real>::mul_add(t.cos[5], t.cos[7], -(t.sin[5] * x3));
-        let x15 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x4, t.cos[5] * x1);
-        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[4], t.sin[6], t.sin[4] * x12);
-        let x17 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x5, -(t.sin[4] * x13));
-        let x18 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x6, t.sin[4] * x14);
-        let x19 = 0.39_f32
-            + <f32 as ::trocar::Real>::mul_add(t.cos[4], x7, -(t.sin[4] * x15));
-        let x20 = <f32 as ::trocar::Real>::mul_add(
-            t.sin[4],
-            t.sin[6],
-            -(t.cos[4] * x12),
-        );
-        let x21 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x5, t.cos[4] * x13);
-        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x14, -(t.sin[4] * x6));
-        let x23 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x7, t.cos[4] * x15);
-        let x24 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x8, t.sin[3] * x20);
-        let x25 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x9, t.sin[3] * x21);
-        let x26 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x10, t.sin[3] * x22);
-        let x27 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x20, -(t.sin[3] * x8));
-        let x28 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x21, -(t.sin[3] * x9));
-        let x29 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x22, -(t.sin[3] * x10));
-        let x30 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x23, -(t.sin[3] * x11));
-        let x31 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x16, -(t.sin[2] * x27));
-        let x32 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x17, -(t.sin[2] * x28));
-        let x33 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x18, t.sin[2] * x29);
-        let x34 = 0.38_f32
-            + <f32 as ::trocar::Real>::mul_add(t.cos[2], x19, -(t.sin[2] * x30));
-        let x35 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x27);
-        let x36 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x28);
-        let x37 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x29, -(t.sin[2] * x18));
-        let x38 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x19, t.cos[2] * x30);
-        let x39 = 0.194_f32
-            + <f32 as ::trocar::Real>::mul_add(t.cos[3], x11, t.sin[3] * x23);
-        let x40 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x31, -(t.sin[1] * x35));
-        let x41 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x32, -(t.sin[1] * x36));
-        let x42 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x33, t.sin[1] * x37);
-        let x43 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x34, -(t.sin[1] * x38));
-        let x44 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x31, t.cos[1] * x35);
-        let x45 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x32, t.cos[1] * x36);
-        let x46 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x37, -(t.sin[1] * x33));
-        fk.0[0][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x24, -(t.sin[0] * x40));
-        fk.0[0][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x24, t.cos[0] * x40);
-        fk.0[0][2] = x44;
-        fk.0[1][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x25, -(t.sin[0] * x41));
-        fk.0[1][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x25, t.cos[0] * x41);
-        fk.0[1][2] = x45;
-        fk.0[2][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x26, t.sin[0] * x42);
-        fk.0[2][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x26, -(t.cos[0] * x42));
-        fk.0[2][2] = x46;
-        fk.1[0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x39, -(t.sin[0] * x43));
-        fk.1[1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x39, t.cos[0] * x43);
-        fk.1[2] = 1.037_f32
-            + <f32 as ::trocar::Real>::mul_add(t.sin[1], x34, t.cos[1] * x38);
-        jb0e[0][0] = <f32 as ::trocar::Real>::mul_add(x39, x40, -(x24 * x43));
-        jb0e[0][1] = <f32 as ::trocar::Real>::mul_add(x39, x41, -(x25 * x43));
-        jb0e[0][2] = -<f32 as ::trocar::Real>::mul_add(x26, x43, x39 * x42);
-        jb0e[0][3] = x44;
-        jb0e[0][4] = x45;
-        jb0e[0][5] = x46;
-        jb0e[1][0] = <f32 as ::trocar::Real>::mul_add(x34, x35, -(x31 * x38));
-        jb0e[1][1] = <f32 as ::trocar::Real>::mul_add(x34, x36, -(x32 * x38));
-        jb0e[1][2] = <f32 as ::trocar::Real>::mul_add(x33, x38, x34 * x37);
-        jb0e[1][3] = x24;
-        jb0e[1][4] = x25;
-        jb0e[1][5] = x26;
-        jb0e[2][0] = <f32 as ::trocar::Real>::mul_add(x19, x27, -(x16 * x30));
-        jb0e[2][1] = <f32 as ::trocar::Real>::mul_add(x19, x28, -(x17 * x30));
-        jb0e[2][2] = <f32 as ::trocar::Real>::mul_add(x18, x30, x19 * x29);
-        jb0e[2][3] = x24;
-        jb0e[2][4] = x25;
-        jb0e[2][5] = x26;
-        jb0e[3][0] = <f32 as ::trocar::Real>::mul_add(x8, x23, -(x11 * x20));
-        jb0e[3][1] = <f32 as ::trocar::Real>::mul_add(x9, x23, -(x11 * x21));
-        jb0e[3][2] = <f32 as ::trocar::Real>::mul_add(x10, x23, -(x11 * x22));
-        jb0e[3][3] = x16;
-        jb0e[3][4] = x17;
-        jb0e[3][5] = -x18;
-        jb0e[4][0] = -<f32 as ::trocar::Real>::mul_add(t.sin[6], x15, x7 * x12);
-        jb0e[4][1] = <f32 as ::trocar::Real>::mul_add(x7, x13, -(x5 * x15));
-        jb0e[4][2] = <f32 as ::trocar::Real>::mul_add(x6, x15, x7 * x14);
-        jb0e[4][3] = x8;
-        jb0e[4][4] = x9;
-        jb0e[4][5] = x10;
-        jb0e[5][0] = t.cos[6] * x1;
-        jb0e[5][1] = <f32 as ::trocar::Real>::mul_add(t.sin[7], x4, -(x1 * x2));
-        jb0e[5][2] = <f32 as ::trocar::Real>::mul_add(x1, x3, t.cos[7] * x4);
         jb0e[5][3] = t.sin[6];
-        jb0e[5][4] = x5;
-        jb0e[5][5] = -x6;
-        jb0e[6][0] = -x0;
         jb0e[6][1] = <f32 as ::trocar::Real>::ZERO;
         jb0e[6][2] = <f32 as ::trocar::Real>::ZERO;
         jb0e[6][3] = <f32 as ::trocar::Real>::ZERO;
@@ -1686,6 +1583,109 @@ pub mod rotated_rcm {
         jb0e[7][3] = <f32 as ::trocar::Real>::ONE;
         jb0e[7][4] = <f32 as ::trocar::Real>::ZERO;
         jb0e[7][5] = <f32 as ::trocar::Real>::ZERO;
+        let x0 = t.cos[7] * p.l_8;
+        jb0e[6][0] = -x0;
+        let x1 = t.sin[7] * p.l_8;
+        jb0e[5][0] = t.cos[6] * x1;
+        let x2 = t.sin[6] * t.cos[7];
+        let x3 = t.sin[6] * t.sin[7];
+        let x4 = t.sin[6] * x0;
+        jb0e[5][1] = <f32 as ::trocar::Real>::mul_add(t.sin[7], x4, -(x1 * x2));
+        jb0e[5][2] = <f32 as ::trocar::Real>::mul_add(x1, x3, t.cos[7] * x4);
+        let x5 = t.cos[6] * t.cos[7];
+        jb0e[5][4] = x5;
+        let x6 = t.cos[6] * t.sin[7];
+        jb0e[5][5] = -x6;
+        let x7 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x0, 0.33_f32);
+        let x8 = t.cos[5] * t.cos[6];
+        jb0e[4][3] = x8;
+        let x9 = <f32 as ::trocar::Real>::mul_add(t.sin[5], t.sin[7], -(t.cos[5] * x2));
+        jb0e[4][4] = x9;
+        let x10 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x3, t.sin[5] * t.cos[7]);
+        jb0e[4][5] = x10;
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x1, -(t.cos[5] * x4));
+        let x12 = t.sin[5] * t.cos[6];
+        let x13 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x2, t.cos[5] * t.sin[7]);
+        let x14 = <f32 as ::trocar::Real>::mul_add(t.cos[5], t.cos[7], -(t.sin[5] * x3));
+        let x15 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x4, t.cos[5] * x1);
+        jb0e[4][0] = -<f32 as ::trocar::Real>::mul_add(t.sin[6], x15, x7 * x12);
+        jb0e[4][1] = <f32 as ::trocar::Real>::mul_add(x7, x13, -(x5 * x15));
+        jb0e[4][2] = <f32 as ::trocar::Real>::mul_add(x6, x15, x7 * x14);
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[4], t.sin[6], t.sin[4] * x12);
+        jb0e[3][3] = x16;
+        let x17 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x5, -(t.sin[4] * x13));
+        jb0e[3][4] = x17;
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x6, t.sin[4] * x14);
+        jb0e[3][5] = -x18;
+        let x19 = 0.39_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[4], x7, -(t.sin[4] * x15));
+        let x20 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[4],
+            t.sin[6],
+            -(t.cos[4] * x12),
+        );
+        let x21 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x5, t.cos[4] * x13);
+        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x14, -(t.sin[4] * x6));
+        let x23 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x7, t.cos[4] * x15);
+        jb0e[3][0] = <f32 as ::trocar::Real>::mul_add(x8, x23, -(x11 * x20));
+        jb0e[3][1] = <f32 as ::trocar::Real>::mul_add(x9, x23, -(x11 * x21));
+        jb0e[3][2] = <f32 as ::trocar::Real>::mul_add(x10, x23, -(x11 * x22));
+        let x24 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x8, t.sin[3] * x20);
+        jb0e[1][3] = x24;
+        jb0e[2][3] = x24;
+        let x25 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x9, t.sin[3] * x21);
+        jb0e[1][4] = x25;
+        jb0e[2][4] = x25;
+        let x26 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x10, t.sin[3] * x22);
+        jb0e[1][5] = x26;
+        jb0e[2][5] = x26;
+        let x27 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x20, -(t.sin[3] * x8));
+        let x28 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x21, -(t.sin[3] * x9));
+        let x29 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x22, -(t.sin[3] * x10));
+        let x30 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x23, -(t.sin[3] * x11));
+        jb0e[2][0] = <f32 as ::trocar::Real>::mul_add(x19, x27, -(x16 * x30));
+        jb0e[2][1] = <f32 as ::trocar::Real>::mul_add(x19, x28, -(x17 * x30));
+        jb0e[2][2] = <f32 as ::trocar::Real>::mul_add(x18, x30, x19 * x29);
+        let x31 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x16, -(t.sin[2] * x27));
+        let x32 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x17, -(t.sin[2] * x28));
+        let x33 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x18, t.sin[2] * x29);
+        let x34 = 0.38_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[2], x19, -(t.sin[2] * x30));
+        let x35 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x27);
+        let x36 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x28);
+        let x37 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x29, -(t.sin[2] * x18));
+        let x38 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x19, t.cos[2] * x30);
+        fk.1[2] = 1.037_f32
+            + <f32 as ::trocar::Real>::mul_add(t.sin[1], x34, t.cos[1] * x38);
+        jb0e[1][0] = <f32 as ::trocar::Real>::mul_add(x34, x35, -(x31 * x38));
+        jb0e[1][1] = <f32 as ::trocar::Real>::mul_add(x34, x36, -(x32 * x38));
+        jb0e[1][2] = <f32 as ::trocar::Real>::mul_add(x33, x38, x34 * x37);
+        let x39 = 0.194_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[3], x11, t.sin[3] * x23);
+        let x40 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x31, -(t.sin[1] * x35));
+        fk.0[0][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x24, -(t.sin[0] * x40));
+        fk.0[0][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x24, t.cos[0] * x40);
+        let x41 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x32, -(t.sin[1] * x36));
+        fk.0[1][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x25, -(t.sin[0] * x41));
+        fk.0[1][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x25, t.cos[0] * x41);
+        let x42 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x33, t.sin[1] * x37);
+        fk.0[2][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x26, t.sin[0] * x42);
+        fk.0[2][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x26, -(t.cos[0] * x42));
+        let x43 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x34, -(t.sin[1] * x38));
+        fk.1[0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x39, -(t.sin[0] * x43));
+        fk.1[1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x39, t.cos[0] * x43);
+        jb0e[0][0] = <f32 as ::trocar::Real>::mul_add(x39, x40, -(x24 * x43));
+        jb0e[0][1] = <f32 as ::trocar::Real>::mul_add(x39, x41, -(x25 * x43));
+        jb0e[0][2] = -<f32 as ::trocar::Real>::mul_add(x26, x43, x39 * x42);
+        let x44 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x31, t.cos[1] * x35);
+        fk.0[0][2] = x44;
+        jb0e[0][3] = x44;
+        let x45 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x32, t.cos[1] * x36);
+        fk.0[1][2] = x45;
+        jb0e[0][4] = x45;
+        let x46 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x37, -(t.sin[1] * x33));
+        fk.0[2][2] = x46;
+        jb0e[0][5] = x46;
     }
     /// `g_0i`, `J^B_0i` in one program: the values of [`forward_kinematics_i`] and [`partial_body_jacobian`], thesis (2.21), (3.13), computed together so that they share every common value.
     ///
@@ -1700,19 +1700,46 @@ pub mod rotated_rcm {
         fk0i: &mut ([[f32; 3]; 3], [f32; 3]),
         jb0i: &mut [[f32; 6]; I],
     ) {
+        jb0i[3][0] = <f32 as ::trocar::Real>::ZERO;
+        jb0i[3][1] = <f32 as ::trocar::Real>::ZERO;
+        jb0i[3][2] = <f32 as ::trocar::Real>::ZERO;
+        jb0i[4][0] = <f32 as ::trocar::Real>::ZERO;
+        jb0i[4][1] = <f32 as ::trocar::Real>::ZERO;
+        jb0i[4][2] = <f32 as ::trocar::Real>::ZERO;
+        jb0i[4][4] = <f32 as ::trocar::Real>::ZERO;
+        jb0i[5][0] = <f32 as ::trocar::Real>::ZERO;
+        jb0i[5][1] = <f32 as ::trocar::Real>::ZERO;
+        jb0i[5][2] = <f32 as ::trocar::Real>::ZERO;
+        jb0i[5][3] = <f32 as ::trocar::Real>::ZERO;
+        jb0i[5][4] = <f32 as ::trocar::Real>::ONE;
+        jb0i[5][5] = <f32 as ::trocar::Real>::ZERO;
         let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f32 as ::trocar::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5]],
         );
+        jb0i[3][4] = c5;
+        jb0i[4][3] = c6;
+        jb0i[4][5] = s6;
         let x0 = s5 * s6;
+        jb0i[3][3] = x0;
         let x1 = s5 * c6;
+        jb0i[3][5] = -x1;
         let x2 = c5 * s6;
         let x3 = c5 * c6;
         let x4 = <f32 as ::trocar::Real>::mul_add(c4, c6, -(s4 * x2));
+        jb0i[1][3] = x4;
+        jb0i[2][3] = x4;
         let x5 = s4 * s5;
+        jb0i[1][4] = x5;
+        jb0i[2][4] = x5;
         let x6 = <f32 as ::trocar::Real>::mul_add(c4, s6, s4 * x3);
+        jb0i[1][5] = x6;
+        jb0i[2][5] = x6;
         let x7 = <f32 as ::trocar::Real>::mul_add(s4, c6, c4 * x2);
+        jb0i[2][0] = -(0.39_f32 * x7);
         let x8 = c4 * s5;
+        jb0i[2][1] = 0.39_f32 * x8;
         let x9 = <f32 as ::trocar::Real>::mul_add(c4, x3, -(s4 * s6));
+        jb0i[2][2] = 0.39_f32 * x9;
         let x10 = <f32 as ::trocar::Real>::mul_add(c3, x0, s3 * x7);
         let x11 = <f32 as ::trocar::Real>::mul_add(c3, c5, -(s3 * x8));
         let x12 = <f32 as ::trocar::Real>::mul_add(c3, x1, s3 * x9);
@@ -1721,61 +1748,34 @@ pub mod rotated_rcm {
         let x15 = <f32 as ::trocar::Real>::mul_add(s3, c5, c3 * x8);
         let x16 = <f32 as ::trocar::Real>::mul_add(c3, x9, -(s3 * x1));
         let x17 = 0.39_f32 * s3;
-        let x18 = <f32 as ::trocar::Real>::mul_add(c2, x10, -(s2 * x14));
-        let x19 = <f32 as ::trocar::Real>::mul_add(c2, x11, -(s2 * x15));
-        let x20 = <f32 as ::trocar::Real>::mul_add(c2, x12, s2 * x16);
-        let x21 = <f32 as ::trocar::Real>::mul_add(c2, x13, -(s2 * x17));
-        let x22 = <f32 as ::trocar::Real>::mul_add(s2, x10, c2 * x14);
-        let x23 = <f32 as ::trocar::Real>::mul_add(s2, x11, c2 * x15);
-        let x24 = <f32 as ::trocar::Real>::mul_add(c2, x16, -(s2 * x12));
-        fk0i.0[0][0] = <f32 as ::trocar::Real>::mul_add(c1, x4, -(s1 * x18));
-        fk0i.0[0][1] = <f32 as ::trocar::Real>::mul_add(s1, x4, c1 * x18);
-        fk0i.0[0][2] = x22;
-        fk0i.0[1][0] = <f32 as ::trocar::Real>::mul_add(c1, x5, -(s1 * x19));
-        fk0i.0[1][1] = <f32 as ::trocar::Real>::mul_add(s1, x5, c1 * x19);
-        fk0i.0[1][2] = x23;
-        fk0i.0[2][0] = <f32 as ::trocar::Real>::mul_add(c1, x6, s1 * x20);
-        fk0i.0[2][1] = <f32 as ::trocar::Real>::mul_add(s1, x6, -(c1 * x20));
-        fk0i.0[2][2] = x24;
-        fk0i.1[0] = <f32 as ::trocar::Real>::mul_add(0.194_f32, c1, -(s1 * x21));
-        fk0i.1[1] = <f32 as ::trocar::Real>::mul_add(0.194_f32, s1, c1 * x21);
         fk0i.1[2] = 1.037_f32 + <f32 as ::trocar::Real>::mul_add(s2, x13, c2 * x17);
-        jb0i[0][0] = <f32 as ::trocar::Real>::mul_add(0.194_f32, x18, -(x4 * x21));
-        jb0i[0][1] = <f32 as ::trocar::Real>::mul_add(0.194_f32, x19, -(x5 * x21));
-        jb0i[0][2] = -<f32 as ::trocar::Real>::mul_add(x6, x21, 0.194_f32 * x20);
-        jb0i[0][3] = x22;
-        jb0i[0][4] = x23;
-        jb0i[0][5] = x24;
         jb0i[1][0] = <f32 as ::trocar::Real>::mul_add(x13, x14, -(x10 * x17));
         jb0i[1][1] = <f32 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17));
         jb0i[1][2] = <f32 as ::trocar::Real>::mul_add(x12, x17, x13 * x16);
-        jb0i[1][3] = x4;
-        jb0i[1][4] = x5;
-        jb0i[1][5] = x6;
-        jb0i[2][0] = -(0.39_f32 * x7);
-        jb0i[2][1] = 0.39_f32 * x8;
-        jb0i[2][2] = 0.39_f32 * x9;
-        jb0i[2][3] = x4;
-        jb0i[2][4] = x5;
-        jb0i[2][5] = x6;
-        jb0i[3][0] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[3][1] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[3][2] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[3][3] = x0;
-        jb0i[3][4] = c5;
-        jb0i[3][5] = -x1;
-        jb0i[4][0] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[4][1] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[4][2] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[4][3] = c6;
-        jb0i[4][4] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[4][5] = s6;
-        jb0i[5][0] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[5][1] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[5][2] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[5][3] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[5][4] = <f32 as ::trocar::Real>::ONE;
-        jb0i[5][5] = <f32 as ::trocar::Real>::ZERO;
+        let x18 = <f32 as ::trocar::Real>::mul_add(c2, x10, -(s2 * x14));
+        fk0i.0[0][0] = <f32 as ::trocar::Real>::mul_add(c1, x4, -(s1 * x18));
+        fk0i.0[0][1] = <f32 as ::trocar::Real>::mul_add(s1, x4, c1 * x18);
+        let x19 = <f32 as ::trocar::Real>::mul_add(c2, x11, -(s2 * x15));
+        fk0i.0[1][0] = <f32 as ::trocar::Real>::mul_add(c1, x5, -(s1 * x19));
+        fk0i.0[1][1] = <f32 as ::trocar::Real>::mul_add(s1, x5, c1 * x19);
+        let x20 = <f32 as ::trocar::Real>::mul_add(c2, x12, s2 * x16);
+        fk0i.0[2][0] = <f32 as ::trocar::Real>::mul_add(c1, x6, s1 * x20);
+        fk0i.0[2][1] = <f32 as ::trocar::Real>::mul_add(s1, x6, -(c1 * x20));
+        let x21 = <f32 as ::trocar::Real>::mul_add(c2, x13, -(s2 * x17));
+        fk0i.1[0] = <f32 as ::trocar::Real>::mul_add(0.194_f32, c1, -(s1 * x21));
+        fk0i.1[1] = <f32 as ::trocar::Real>::mul_add(0.194_f32, s1, c1 * x21);
+        jb0i[0][0] = <f32 as ::trocar::Real>::mul_add(0.194_f32, x18, -(x4 * x21));
+        jb0i[0][1] = <f32 as ::trocar::Real>::mul_add(0.194_f32, x19, -(x5 * x21));
+        jb0i[0][2] = -<f32 as ::trocar::Real>::mul_add(x6, x21, 0.194_f32 * x20);
+        let x22 = <f32 as ::trocar::Real>::mul_add(s2, x10, c2 * x14);
+        fk0i.0[0][2] = x22;
+        jb0i[0][3] = x22;
+        let x23 = <f32 as ::trocar::Real>::mul_add(s2, x11, c2 * x15);
+        fk0i.0[1][2] = x23;
+        jb0i[0][4] = x23;
+        let x24 = <f32 as ::trocar::Real>::mul_add(c2, x16, -(s2 * x12));
+        fk0i.0[2][2] = x24;
+        jb0i[0][5] = x24;
     }
     /// [`link_pose_and_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]).
     ///
@@ -1787,76 +1787,10 @@ pub mod rotated_rcm {
         fk0i: &mut ([[f32; 3]; 3], [f32; 3]),
         jb0i: &mut [[f32; 6]; I],
     ) {
-        let x0 = t.sin[4] * t.sin[5];
-        let x1 = t.sin[4] * t.cos[5];
-        let x2 = t.cos[4] * t.sin[5];
-        let x3 = t.cos[4] * t.cos[5];
-        let x4 = <f32 as ::trocar::Real>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x2));
-        let x5 = t.sin[3] * t.sin[4];
-        let x6 = <f32 as ::trocar::Real>::mul_add(t.cos[3], t.sin[5], t.sin[3] * x3);
-        let x7 = <f32 as ::trocar::Real>::mul_add(t.sin[3], t.cos[5], t.cos[3] * x2);
-        let x8 = t.cos[3] * t.sin[4];
-        let x9 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * t.sin[5]));
-        let x10 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x0, t.sin[2] * x7);
-        let x11 = <f32 as ::trocar::Real>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x8));
-        let x12 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x1, t.sin[2] * x9);
-        let x13 = <f32 as ::trocar::Real>::mul_add(0.39_f32, t.cos[2], 0.38_f32);
-        let x14 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x0, -(t.cos[2] * x7));
-        let x15 = <f32 as ::trocar::Real>::mul_add(t.sin[2], t.cos[4], t.cos[2] * x8);
-        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x9, -(t.sin[2] * x1));
-        let x17 = 0.39_f32 * t.sin[2];
-        let x18 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x10, -(t.sin[1] * x14));
-        let x19 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x11, -(t.sin[1] * x15));
-        let x20 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x12, t.sin[1] * x16);
-        let x21 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x13, -(t.sin[1] * x17));
-        let x22 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x10, t.cos[1] * x14);
-        let x23 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x11, t.cos[1] * x15);
-        let x24 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x16, -(t.sin[1] * x12));
-        fk0i.0[0][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x4, -(t.sin[0] * x18));
-        fk0i.0[0][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x4, t.cos[0] * x18);
-        fk0i.0[0][2] = x22;
-        fk0i.0[1][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x5, -(t.sin[0] * x19));
-        fk0i.0[1][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x5, t.cos[0] * x19);
-        fk0i.0[1][2] = x23;
-        fk0i.0[2][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x6, t.sin[0] * x20);
-        fk0i.0[2][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x6, -(t.cos[0] * x20));
-        fk0i.0[2][2] = x24;
-        fk0i.1[0] = <f32 as ::trocar::Real>::mul_add(
-            0.194_f32,
-            t.cos[0],
-            -(t.sin[0] * x21),
-        );
-        fk0i.1[1] = <f32 as ::trocar::Real>::mul_add(
-            0.194_f32,
-            t.sin[0],
-            t.cos[0] * x21,
-        );
-        fk0i.1[2] = 1.037_f32
-            + <f32 as ::trocar::Real>::mul_add(t.sin[1], x13, t.cos[1] * x17);
-        jb0i[0][0] = <f32 as ::trocar::Real>::mul_add(0.194_f32, x18, -(x4 * x21));
-        jb0i[0][1] = <f32 as ::trocar::Real>::mul_add(0.194_f32, x19, -(x5 * x21));
-        jb0i[0][2] = -<f32 as ::trocar::Real>::mul_add(x6, x21, 0.194_f32 * x20);
-        jb0i[0][3] = x22;
-        jb0i[0][4] = x23;
-        jb0i[0][5] = x24;
-        jb0i[1][0] = <f32 as ::trocar::Real>::mul_add(x13, x14, -(x10 * x17));
-        jb0i[1][1] = <f32 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17));
-        jb0i[1][2] = <f32 as ::trocar::Real>::mul_add(x12, x17, x13 * x16);
-        jb0i[1][3] = x4;
-        jb0i[1][4] = x5;
-        jb0i[1][5] = x6;
-        jb0i[2][0] = -(0.39_f32 * x7);
-        jb0i[2][1] = 0.39_f32 * x8;
-        jb0i[2][2] = 0.39_f32 * x9;
-        jb0i[2][3] = x4;
-        jb0i[2][4] = x5;
-        jb0i[2][5] = x6;
         jb0i[3][0] = <f32 as ::trocar::Real>::ZERO;
         jb0i[3][1] = <f32 as ::trocar::Real>::ZERO;
         jb0i[3][2] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[3][3] = x0;
         jb0i[3][4] = t.cos[4];
-        jb0i[3][5] = -x1;
         jb0i[4][0] = <f32 as ::trocar::Real>::ZERO;
         jb0i[4][1] = <f32 as ::trocar::Real>::ZERO;
         jb0i[4][2] = <f32 as ::trocar::Real>::ZERO;
@@ -1869,6 +1803,72 @@ pub mod rotated_rcm {
         jb0i[5][3] = <f32 as ::trocar::Real>::ZERO;
         jb0i[5][4] = <f32 as ::trocar::Real>::ONE;
         jb0i[5][5] = <f32 as ::trocar::Real>::ZERO;
+        let x0 = t.sin[4] * t.sin[5];
+        jb0i[3][3] = x0;
+        let x1 = t.sin[4] * t.cos[5];
+        jb0i[3][5] = -x1;
+        let x2 = t.cos[4] * t.sin[5];
+        let x3 = t.cos[4] * t.cos[5];
+        let x4 = <f32 as ::trocar::Real>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x2));
+        jb0i[1][3] = x4;
+        jb0i[2][3] = x4;
+        let x5 = t.sin[3] * t.sin[4];
+        jb0i[1][4] = x5;
+        jb0i[2][4] = x5;
+        let x6 = <f32 as ::trocar::Real>::mul_add(t.cos[3], t.sin[5], t.sin[3] * x3);
+        jb0i[1][5] = x6;
+        jb0i[2][5] = x6;
+        let x7 = <f32 as ::trocar::Real>::mul_add(t.sin[3], t.cos[5], t.cos[3] * x2);
+        jb0i[2][0] = -(0.39_f32 * x7);
+        let x8 = t.cos[3] * t.sin[4];
+        jb0i[2][1] = 0.39_f32 * x8;
+        let x9 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * t.sin[5]));
+        jb0i[2][2] = 0.39_f32 * x9;
+        let x10 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x0, t.sin[2] * x7);
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x8));
+        let x12 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x1, t.sin[2] * x9);
+        let x13 = <f32 as ::trocar::Real>::mul_add(0.39_f32, t.cos[2], 0.38_f32);
+        let x14 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x0, -(t.cos[2] * x7));
+        let x15 = <f32 as ::trocar::Real>::mul_add(t.sin[2], t.cos[4], t.cos[2] * x8);
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x9, -(t.sin[2] * x1));
+        let x17 = 0.39_f32 * t.sin[2];
+        fk0i.1[2] = 1.037_f32
+            + <f32 as ::trocar::Real>::mul_add(t.sin[1], x13, t.cos[1] * x17);
+        jb0i[1][0] = <f32 as ::trocar::Real>::mul_add(x13, x14, -(x10 * x17));
+        jb0i[1][1] = <f32 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17));
+        jb0i[1][2] = <f32 as ::trocar::Real>::mul_add(x12, x17, x13 * x16);
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x10, -(t.sin[1] * x14));
+        fk0i.0[0][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x4, -(t.sin[0] * x18));
+        fk0i.0[0][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x4, t.cos[0] * x18);
+        let x19 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x11, -(t.sin[1] * x15));
+        fk0i.0[1][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x5, -(t.sin[0] * x19));
+        fk0i.0[1][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x5, t.cos[0] * x19);
+        let x20 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x12, t.sin[1] * x16);
+        fk0i.0[2][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x6, t.sin[0] * x20);
+        fk0i.0[2][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x6, -(t.cos[0] * x20));
+        let x21 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x13, -(t.sin[1] * x17));
+        fk0i.1[0] = <f32 as ::trocar::Real>::mul_add(
+            0.194_f32,
+            t.cos[0],
+            -(t.sin[0] * x21),
+        );
+        fk0i.1[1] = <f32 as ::trocar::Real>::mul_add(
+            0.194_f32,
+            t.sin[0],
+            t.cos[0] * x21,
+        );
+        jb0i[0][0] = <f32 as ::trocar::Real>::mul_add(0.194_f32, x18, -(x4 * x21));
+        jb0i[0][1] = <f32 as ::trocar::Real>::mul_add(0.194_f32, x19, -(x5 * x21));
+        jb0i[0][2] = -<f32 as ::trocar::Real>::mul_add(x6, x21, 0.194_f32 * x20);
+        let x22 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x10, t.cos[1] * x14);
+        fk0i.0[0][2] = x22;
+        jb0i[0][3] = x22;
+        let x23 = <f32 as ::trocar::Real>::mul_add(t.sin[1], x11, t.cos[1] * x15);
+        fk0i.0[1][2] = x23;
+        jb0i[0][4] = x23;
+        let x24 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x16, -(t.sin[1] * x12));
+        fk0i.0[2][2] = x24;
+        jb0i[0][5] = x24;
     }
     /// `(g_0e, J^B_0i, J^r_0e, J_c)` as [`pose_and_jacobians_trig`] returns them: `(R, p)` with
     /// `R` column-major, then the three matrices column-major.

@@ -1433,15 +1433,39 @@ pub mod ur5_trocar {
         fk: &mut ([[f32; 3]; 3], [f32; 3]),
         jb0e: &mut [[f32; 6]; N],
     ) {
+        jb0e[4][2] = <f32 as ::trocar::Real>::ZERO;
+        jb0e[4][5] = <f32 as ::trocar::Real>::ZERO;
+        jb0e[5][0] = <f32 as ::trocar::Real>::ZERO;
+        jb0e[5][1] = <f32 as ::trocar::Real>::ZERO;
+        jb0e[5][2] = <f32 as ::trocar::Real>::ZERO;
+        jb0e[5][3] = <f32 as ::trocar::Real>::ZERO;
+        jb0e[5][4] = <f32 as ::trocar::Real>::ZERO;
+        jb0e[5][5] = <f32 as ::trocar::Real>::ONE;
         let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f32 as ::trocar::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5]],
         );
+        jb0e[1][5] = c5;
+        jb0e[2][5] = c5;
+        jb0e[3][2] = -(0.09465_f32 * s5);
+        jb0e[3][5] = c5;
+        jb0e[4][0] = -(0.43229999999999996_f32 * c6);
+        jb0e[4][1] = 0.43229999999999996_f32 * s6;
+        jb0e[4][3] = -s6;
+        jb0e[4][4] = -c6;
         let x0 = c5 * c6;
         let x1 = c5 * s6;
         let x2 = 0.43229999999999996_f32 * s5;
+        jb0e[3][0] = <f32 as ::trocar::Real>::mul_add(0.09465_f32, x0, -(s6 * x2));
+        jb0e[3][1] = -<f32 as ::trocar::Real>::mul_add(0.09465_f32, x1, c6 * x2);
         let x3 = s5 * c6;
+        jb0e[1][3] = x3;
+        jb0e[2][3] = x3;
+        jb0e[3][3] = x3;
         let x4 = s5 * s6;
         let x5 = -x4;
+        jb0e[1][4] = x5;
+        jb0e[2][4] = x5;
+        jb0e[3][4] = x5;
         let x6 = <f32 as ::trocar::Real>::mul_add(s4, x0, c4 * s6);
         let x7 = <f32 as ::trocar::Real>::mul_add(s4, x1, -(c4 * c6));
         let x8 = s4 * s5;
@@ -1451,6 +1475,9 @@ pub mod ur5_trocar {
         let x12 = c4 * s5;
         let x13 = 0.39225_f32
             + <f32 as ::trocar::Real>::mul_add(c4, x2, -(0.09465_f32 * s4));
+        jb0e[2][0] = -<f32 as ::trocar::Real>::mul_add(x6, x13, x9 * x10);
+        jb0e[2][1] = <f32 as ::trocar::Real>::mul_add(x7, x13, -(x9 * x11));
+        jb0e[2][2] = <f32 as ::trocar::Real>::mul_add(x8, x13, -(x9 * x12));
         let x14 = <f32 as ::trocar::Real>::mul_add(s3, x10, -(c3 * x6));
         let x15 = <f32 as ::trocar::Real>::mul_add(c3, x7, s3 * x11);
         let x16 = <f32 as ::trocar::Real>::mul_add(c3, x8, s3 * x12);
@@ -1459,64 +1486,37 @@ pub mod ur5_trocar {
         let x19 = <f32 as ::trocar::Real>::mul_add(c3, x11, -(s3 * x7));
         let x20 = <f32 as ::trocar::Real>::mul_add(c3, x12, -(s3 * x8));
         let x21 = 0.425_f32 + <f32 as ::trocar::Real>::mul_add(c3, x13, -(s3 * x9));
+        fk.1[2] = 0.089159_f32 - <f32 as ::trocar::Real>::mul_add(c2, x17, s2 * x21);
+        jb0e[1][0] = <f32 as ::trocar::Real>::mul_add(x14, x21, -(x17 * x18));
+        jb0e[1][1] = <f32 as ::trocar::Real>::mul_add(x15, x21, -(x17 * x19));
+        jb0e[1][2] = <f32 as ::trocar::Real>::mul_add(x16, x21, -(x17 * x20));
         let x22 = <f32 as ::trocar::Real>::mul_add(c2, x18, -(s2 * x14));
+        fk.0[0][0] = <f32 as ::trocar::Real>::mul_add(c1, x22, -(s1 * x3));
+        fk.0[0][1] = <f32 as ::trocar::Real>::mul_add(s1, x22, c1 * x3);
         let x23 = <f32 as ::trocar::Real>::mul_add(c2, x19, -(s2 * x15));
+        fk.0[1][0] = <f32 as ::trocar::Real>::mul_add(c1, x23, s1 * x4);
+        fk.0[1][1] = <f32 as ::trocar::Real>::mul_add(s1, x23, -(c1 * x4));
         let x24 = <f32 as ::trocar::Real>::mul_add(c2, x20, -(s2 * x16));
+        fk.0[2][0] = <f32 as ::trocar::Real>::mul_add(c1, x24, -(s1 * c5));
+        fk.0[2][1] = <f32 as ::trocar::Real>::mul_add(s1, x24, c1 * c5);
         let x25 = <f32 as ::trocar::Real>::mul_add(c2, x21, -(s2 * x17));
         let x26 = 0.13585_f32
             + (<f32 as ::trocar::Real>::mul_add(0.43229999999999996_f32, c5, 0.093_f32)
                 - 0.1197_f32);
-        let x27 = -<f32 as ::trocar::Real>::mul_add(c2, x14, s2 * x18);
-        let x28 = -<f32 as ::trocar::Real>::mul_add(c2, x15, s2 * x19);
-        let x29 = -<f32 as ::trocar::Real>::mul_add(c2, x16, s2 * x20);
-        fk.0[0][0] = <f32 as ::trocar::Real>::mul_add(c1, x22, -(s1 * x3));
-        fk.0[0][1] = <f32 as ::trocar::Real>::mul_add(s1, x22, c1 * x3);
-        fk.0[0][2] = x27;
-        fk.0[1][0] = <f32 as ::trocar::Real>::mul_add(c1, x23, s1 * x4);
-        fk.0[1][1] = <f32 as ::trocar::Real>::mul_add(s1, x23, -(c1 * x4));
-        fk.0[1][2] = x28;
-        fk.0[2][0] = <f32 as ::trocar::Real>::mul_add(c1, x24, -(s1 * c5));
-        fk.0[2][1] = <f32 as ::trocar::Real>::mul_add(s1, x24, c1 * c5);
-        fk.0[2][2] = x29;
         fk.1[0] = <f32 as ::trocar::Real>::mul_add(c1, x25, -(s1 * x26));
         fk.1[1] = <f32 as ::trocar::Real>::mul_add(s1, x25, c1 * x26);
-        fk.1[2] = 0.089159_f32 - <f32 as ::trocar::Real>::mul_add(c2, x17, s2 * x21);
         jb0e[0][0] = <f32 as ::trocar::Real>::mul_add(x3, x25, -(x22 * x26));
         jb0e[0][1] = -<f32 as ::trocar::Real>::mul_add(x23, x26, x4 * x25);
         jb0e[0][2] = <f32 as ::trocar::Real>::mul_add(c5, x25, -(x24 * x26));
+        let x27 = -<f32 as ::trocar::Real>::mul_add(c2, x14, s2 * x18);
+        fk.0[0][2] = x27;
         jb0e[0][3] = x27;
+        let x28 = -<f32 as ::trocar::Real>::mul_add(c2, x15, s2 * x19);
+        fk.0[1][2] = x28;
         jb0e[0][4] = x28;
+        let x29 = -<f32 as ::trocar::Real>::mul_add(c2, x16, s2 * x20);
+        fk.0[2][2] = x29;
         jb0e[0][5] = x29;
-        jb0e[1][0] = <f32 as ::trocar::Real>::mul_add(x14, x21, -(x17 * x18));
-        jb0e[1][1] = <f32 as ::trocar::Real>::mul_add(x15, x21, -(x17 * x19));
-        jb0e[1][2] = <f32 as ::trocar::Real>::mul_add(x16, x21, -(x17 * x20));
-        jb0e[1][3] = x3;
-        jb0e[1][4] = x5;
-        jb0e[1][5] = c5;
-        jb0e[2][0] = -<f32 as ::trocar::Real>::mul_add(x6, x13, x9 * x10);
-        jb0e[2][1] = <f32 as ::trocar::Real>::mul_add(x7, x13, -(x9 * x11));
-        jb0e[2][2] = <f32 as ::trocar::Real>::mul_add(x8, x13, -(x9 * x12));
-        jb0e[2][3] = x3;
-        jb0e[2][4] = x5;
-        jb0e[2][5] = c5;
-        jb0e[3][0] = <f32 as ::trocar::Real>::mul_add(0.09465_f32, x0, -(s6 * x2));
-        jb0e[3][1] = -<f32 as ::trocar::Real>::mul_add(0.09465_f32, x1, c6 * x2);
-        jb0e[3][2] = -(0.09465_f32 * s5);
-        jb0e[3][3] = x3;
-        jb0e[3][4] = x5;
-        jb0e[3][5] = c5;
-        jb0e[4][0] = -(0.43229999999999996_f32 * c6);
-        jb0e[4][1] = 0.43229999999999996_f32 * s6;
-        jb0e[4][2] = <f32 as ::trocar::Real>::ZERO;
-        jb0e[4][3] = -s6;
-        jb0e[4][4] = -c6;
-        jb0e[4][5] = <f32 as ::trocar::Real>::ZERO;
-        jb0e[5][0] = <f32 as ::trocar::Real>::ZERO;
-        jb0e[5][1] = <f32 as ::trocar::Real>::ZERO;
-        jb0e[5][2] = <f32 as ::trocar::Real>::ZERO;
-        jb0e[5][3] = <f32 as ::trocar::Real>::ZERO;
-        jb0e[5][4] = <f32 as ::trocar::Real>::ZERO;
-        jb0e[5][5] = <f32 as ::trocar::Real>::ONE;
     }
     /// [`pose_and_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]).
     ///
@@ -1528,87 +1528,9 @@ pub mod ur5_trocar {
         fk: &mut ([[f32; 3]; 3], [f32; 3]),
         jb0e: &mut [[f32; 6]; N],
     ) {
-        let x0 = t.cos[4] * t.cos[5];
-        let x1 = t.cos[4] * t.sin[5];
-        let x2 = 0.43229999999999996_f32 * t.sin[4];
-        let x3 = t.sin[4] * t.cos[5];
-        let x4 = t.sin[4] * t.sin[5];
-        let x5 = -x4;
-        let x6 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x0, t.cos[3] * t.sin[5]);
-        let x7 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x1, -(t.cos[3] * t.cos[5]));
-        let x8 = t.sin[3] * t.sin[4];
-        let x9 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x2, 0.09465_f32 * t.cos[3]);
-        let x10 = <f32 as ::trocar::Real>::mul_add(t.sin[3], t.sin[5], -(t.cos[3] * x0));
-        let x11 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x1, t.sin[3] * t.cos[5]);
-        let x12 = t.cos[3] * t.sin[4];
-        let x13 = 0.39225_f32
-            + <f32 as ::trocar::Real>::mul_add(t.cos[3], x2, -(0.09465_f32 * t.sin[3]));
-        let x14 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x10, -(t.cos[2] * x6));
-        let x15 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x7, t.sin[2] * x11);
-        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x8, t.sin[2] * x12);
-        let x17 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x9, t.sin[2] * x13);
-        let x18 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x6, t.cos[2] * x10);
-        let x19 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x11, -(t.sin[2] * x7));
-        let x20 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x12, -(t.sin[2] * x8));
-        let x21 = 0.425_f32
-            + <f32 as ::trocar::Real>::mul_add(t.cos[2], x13, -(t.sin[2] * x9));
-        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x18, -(t.sin[1] * x14));
-        let x23 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x19, -(t.sin[1] * x15));
-        let x24 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x20, -(t.sin[1] * x16));
-        let x25 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x21, -(t.sin[1] * x17));
-        let x26 = 0.13585_f32
-            + (<f32 as ::trocar::Real>::mul_add(
-                0.43229999999999996_f32,
-                t.cos[4],
-                0.093_f32,
-            ) - 0.1197_f32);
-        let x27 = -<f32 as ::trocar::Real>::mul_add(t.cos[1], x14, t.sin[1] * x18);
-        let x28 = -<f32 as ::trocar::Real>::mul_add(t.cos[1], x15, t.sin[1] * x19);
-        let x29 = -<f32 as ::trocar::Real>::mul_add(t.cos[1], x16, t.sin[1] * x20);
-        fk.0[0][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x22, -(t.sin[0] * x3));
-        fk.0[0][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x22, t.cos[0] * x3);
-        fk.0[0][2] = x27;
-        fk.0[1][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x23, t.sin[0] * x4);
-        fk.0[1][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x23, -(t.cos[0] * x4));
-        fk.0[1][2] = x28;
-        fk.0[2][0] = <f32 as ::trocar::Real>::mul_add(
-            t.cos[0],
-            x24,
-            -(t.sin[0] * t.cos[4]),
-        );
-        fk.0[2][1] = <f32 as ::trocar::Real>::mul_add(
-            t.sin[0],
-            x24,
-            t.cos[0] * t.cos[4],
-        );
-        fk.0[2][2] = x29;
-        fk.1[0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x25, -(t.sin[0] * x26));
-        fk.1[1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x25, t.cos[0] * x26);
-        fk.1[2] = 0.089159_f32
-            - <f32 as ::trocar::Real>::mul_add(t.cos[1], x17, t.sin[1] * x21);
-        jb0e[0][0] = <f32 as ::trocar::Real>::mul_add(x3, x25, -(x22 * x26));
-        jb0e[0][1] = -<f32 as ::trocar::Real>::mul_add(x23, x26, x4 * x25);
-        jb0e[0][2] = <f32 as ::trocar::Real>::mul_add(t.cos[4], x25, -(x24 * x26));
-        jb0e[0][3] = x27;
-        jb0e[0][4] = x28;
-        jb0e[0][5] = x29;
-        jb0e[1][0] = <f32 as ::trocar::Real>::mul_add(x14, x21, -(x17 * x18));
-        jb0e[1][1] = <f32 as ::trocar::Real>::mul_add(x15, x21, -(x17 * x19));
-        jb0e[1][2] = <f32 as ::trocar::Real>::mul_add(x16, x21, -(x17 * x20));
-        jb0e[1][3] = x3;
-        jb0e[1][4] = x5;
         jb0e[1][5] = t.cos[4];
-        jb0e[2][0] = -<f32 as ::trocar::Real>::mul_add(x6, x13, x9 * x10);
-        jb0e[2][1] = <f32 as ::trocar::Real>::mul_add(x7, x13, -(x9 * x11));
-        jb0e[2][2] = <f32 as ::trocar::Real>::mul_add(x8, x13, -(x9 * x12));
-        jb0e[2][3] = x3;
-        jb0e[2][4] = x5;
         jb0e[2][5] = t.cos[4];
-        jb0e[3][0] = <f32 as ::trocar::Real>::mul_add(0.09465_f32, x0, -(t.sin[5] * x2));
-        jb0e[3][1] = -<f32 as ::trocar::Real>::mul_add(0.09465_f32, x1, t.cos[5] * x2);
         jb0e[3][2] = -(0.09465_f32 * t.sin[4]);
-        jb0e[3][3] = x3;
-        jb0e[3][4] = x5;
         jb0e[3][5] = t.cos[4];
         jb0e[4][0] = -(0.43229999999999996_f32 * t.cos[5]);
         jb0e[4][1] = 0.43229999999999996_f32 * t.sin[5];
@@ -1622,6 +1544,84 @@ pub mod ur5_trocar {
         jb0e[5][3] = <f32 as ::trocar::Real>::ZERO;
         jb0e[5][4] = <f32 as ::trocar::Real>::ZERO;
         jb0e[5][5] = <f32 as ::trocar::Real>::ONE;
+        let x0 = t.cos[4] * t.cos[5];
+        let x1 = t.cos[4] * t.sin[5];
+        let x2 = 0.43229999999999996_f32 * t.sin[4];
+        jb0e[3][0] = <f32 as ::trocar::Real>::mul_add(0.09465_f32, x0, -(t.sin[5] * x2));
+        jb0e[3][1] = -<f32 as ::trocar::Real>::mul_add(0.09465_f32, x1, t.cos[5] * x2);
+        let x3 = t.sin[4] * t.cos[5];
+        jb0e[1][3] = x3;
+        jb0e[2][3] = x3;
+        jb0e[3][3] = x3;
+        let x4 = t.sin[4] * t.sin[5];
+        let x5 = -x4;
+        jb0e[1][4] = x5;
+        jb0e[2][4] = x5;
+        jb0e[3][4] = x5;
+        let x6 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x0, t.cos[3] * t.sin[5]);
+        let x7 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x1, -(t.cos[3] * t.cos[5]));
+        let x8 = t.sin[3] * t.sin[4];
+        let x9 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x2, 0.09465_f32 * t.cos[3]);
+        let x10 = <f32 as ::trocar::Real>::mul_add(t.sin[3], t.sin[5], -(t.cos[3] * x0));
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x1, t.sin[3] * t.cos[5]);
+        let x12 = t.cos[3] * t.sin[4];
+        let x13 = 0.39225_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[3], x2, -(0.09465_f32 * t.sin[3]));
+        jb0e[2][0] = -<f32 as ::trocar::Real>::mul_add(x6, x13, x9 * x10);
+        jb0e[2][1] = <f32 as ::trocar::Real>::mul_add(x7, x13, -(x9 * x11));
+        jb0e[2][2] = <f32 as ::trocar::Real>::mul_add(x8, x13, -(x9 * x12));
+        let x14 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x10, -(t.cos[2] * x6));
+        let x15 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x7, t.sin[2] * x11);
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x8, t.sin[2] * x12);
+        let x17 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x9, t.sin[2] * x13);
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x6, t.cos[2] * x10);
+        let x19 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x11, -(t.sin[2] * x7));
+        let x20 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x12, -(t.sin[2] * x8));
+        let x21 = 0.425_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[2], x13, -(t.sin[2] * x9));
+        fk.1[2] = 0.089159_f32
+            - <f32 as ::trocar::Real>::mul_add(t.cos[1], x17, t.sin[1] * x21);
+        jb0e[1][0] = <f32 as ::trocar::Real>::mul_add(x14, x21, -(x17 * x18));
+        jb0e[1][1] = <f32 as ::trocar::Real>::mul_add(x15, x21, -(x17 * x19));
+        jb0e[1][2] = <f32 as ::trocar::Real>::mul_add(x16, x21, -(x17 * x20));
+        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x18, -(t.sin[1] * x14));
+        fk.0[0][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x22, -(t.sin[0] * x3));
+        fk.0[0][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x22, t.cos[0] * x3);
+        let x23 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x19, -(t.sin[1] * x15));
+        fk.0[1][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x23, t.sin[0] * x4);
+        fk.0[1][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x23, -(t.cos[0] * x4));
+        let x24 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x20, -(t.sin[1] * x16));
+        fk.0[2][0] = <f32 as ::trocar::Real>::mul_add(
+            t.cos[0],
+            x24,
+            -(t.sin[0] * t.cos[4]),
+        );
+        fk.0[2][1] = <f32 as ::trocar::Real>::mul_add(
+            t.sin[0],
+            x24,
+            t.cos[0] * t.cos[4],
+        );
+        let x25 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x21, -(t.sin[1] * x17));
+        let x26 = 0.13585_f32
+            + (<f32 as ::trocar::Real>::mul_add(
+                0.43229999999999996_f32,
+                t.cos[4],
+                0.093_f32,
+            ) - 0.1197_f32);
+        fk.1[0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x25, -(t.sin[0] * x26));
+        fk.1[1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x25, t.cos[0] * x26);
+        jb0e[0][0] = <f32 as ::trocar::Real>::mul_add(x3, x25, -(x22 * x26));
+        jb0e[0][1] = -<f32 as ::trocar::Real>::mul_add(x23, x26, x4 * x25);
+        jb0e[0][2] = <f32 as ::trocar::Real>::mul_add(t.cos[4], x25, -(x24 * x26));
+        let x27 = -<f32 as ::trocar::Real>::mul_add(t.cos[1], x14, t.sin[1] * x18);
+        fk.0[0][2] = x27;
+        jb0e[0][3] = x27;
+        let x28 = -<f32 as ::trocar::Real>::mul_add(t.cos[1], x15, t.sin[1] * x19);
+        fk.0[1][2] = x28;
+        jb0e[0][4] = x28;
+        let x29 = -<f32 as ::trocar::Real>::mul_add(t.cos[1], x16, t.sin[1] * x20);
+        fk.0[2][2] = x29;
+        jb0e[0][5] = x29;
     }
     /// `g_0i`, `J^B_0i` in one program: the values of [`forward_kinematics_i`] and [`partial_body_jacobian`], thesis (2.21), (3.13), computed together so that they share every common value.
     ///
@@ -1636,15 +1636,39 @@ pub mod ur5_trocar {
         fk0i: &mut ([[f32; 3]; 3], [f32; 3]),
         jb0i: &mut [[f32; 6]; I],
     ) {
+        jb0i[4][2] = <f32 as ::trocar::Real>::ZERO;
+        jb0i[4][5] = <f32 as ::trocar::Real>::ZERO;
+        jb0i[5][0] = <f32 as ::trocar::Real>::ZERO;
+        jb0i[5][1] = <f32 as ::trocar::Real>::ZERO;
+        jb0i[5][2] = <f32 as ::trocar::Real>::ZERO;
+        jb0i[5][3] = <f32 as ::trocar::Real>::ZERO;
+        jb0i[5][4] = <f32 as ::trocar::Real>::ZERO;
+        jb0i[5][5] = <f32 as ::trocar::Real>::ONE;
         let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f32 as ::trocar::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5]],
         );
+        jb0i[1][5] = c5;
+        jb0i[2][5] = c5;
+        jb0i[3][2] = -(0.09465_f32 * s5);
+        jb0i[3][5] = c5;
+        jb0i[4][0] = -(0.0823_f32 * c6);
+        jb0i[4][1] = 0.0823_f32 * s6;
+        jb0i[4][3] = -s6;
+        jb0i[4][4] = -c6;
         let x0 = c5 * c6;
         let x1 = c5 * s6;
         let x2 = 0.0823_f32 * s5;
+        jb0i[3][0] = <f32 as ::trocar::Real>::mul_add(0.09465_f32, x0, -(s6 * x2));
+        jb0i[3][1] = -<f32 as ::trocar::Real>::mul_add(0.09465_f32, x1, c6 * x2);
         let x3 = s5 * c6;
+        jb0i[1][3] = x3;
+        jb0i[2][3] = x3;
+        jb0i[3][3] = x3;
         let x4 = s5 * s6;
         let x5 = -x4;
+        jb0i[1][4] = x5;
+        jb0i[2][4] = x5;
+        jb0i[3][4] = x5;
         let x6 = <f32 as ::trocar::Real>::mul_add(s4, x0, c4 * s6);
         let x7 = <f32 as ::trocar::Real>::mul_add(s4, x1, -(c4 * c6));
         let x8 = s4 * s5;
@@ -1654,6 +1678,9 @@ pub mod ur5_trocar {
         let x12 = c4 * s5;
         let x13 = 0.39225_f32
             + <f32 as ::trocar::Real>::mul_add(c4, x2, -(0.09465_f32 * s4));
+        jb0i[2][0] = -<f32 as ::trocar::Real>::mul_add(x6, x13, x9 * x10);
+        jb0i[2][1] = <f32 as ::trocar::Real>::mul_add(x7, x13, -(x9 * x11));
+        jb0i[2][2] = <f32 as ::trocar::Real>::mul_add(x8, x13, -(x9 * x12));
         let x14 = <f32 as ::trocar::Real>::mul_add(s3, x10, -(c3 * x6));
         let x15 = <f32 as ::trocar::Real>::mul_add(c3, x7, s3 * x11);
         let x16 = <f32 as ::trocar::Real>::mul_add(c3, x8, s3 * x12);
@@ -1662,63 +1689,36 @@ pub mod ur5_trocar {
         let x19 = <f32 as ::trocar::Real>::mul_add(c3, x11, -(s3 * x7));
         let x20 = <f32 as ::trocar::Real>::mul_add(c3, x12, -(s3 * x8));
         let x21 = 0.425_f32 + <f32 as ::trocar::Real>::mul_add(c3, x13, -(s3 * x9));
-        let x22 = <f32 as ::trocar::Real>::mul_add(c2, x18, -(s2 * x14));
-        let x23 = <f32 as ::trocar::Real>::mul_add(c2, x19, -(s2 * x15));
-        let x24 = <f32 as ::trocar::Real>::mul_add(c2, x20, -(s2 * x16));
-        let x25 = <f32 as ::trocar::Real>::mul_add(c2, x21, -(s2 * x17));
-        let x26 = 0.13585_f32
-            + (<f32 as ::trocar::Real>::mul_add(0.0823_f32, c5, 0.093_f32) - 0.1197_f32);
-        let x27 = -<f32 as ::trocar::Real>::mul_add(c2, x14, s2 * x18);
-        let x28 = -<f32 as ::trocar::Real>::mul_add(c2, x15, s2 * x19);
-        let x29 = -<f32 as ::trocar::Real>::mul_add(c2, x16, s2 * x20);
-        fk0i.0[0][0] = <f32 as ::trocar::Real>::mul_add(c1, x22, -(s1 * x3));
-        fk0i.0[0][1] = <f32 as ::trocar::Real>::mul_add(s1, x22, c1 * x3);
-        fk0i.0[0][2] = x27;
-        fk0i.0[1][0] = <f32 as ::trocar::Real>::mul_add(c1, x23, s1 * x4);
-        fk0i.0[1][1] = <f32 as ::trocar::Real>::mul_add(s1, x23, -(c1 * x4));
-        fk0i.0[1][2] = x28;
-        fk0i.0[2][0] = <f32 as ::trocar::Real>::mul_add(c1, x24, -(s1 * c5));
-        fk0i.0[2][1] = <f32 as ::trocar::Real>::mul_add(s1, x24, c1 * c5);
-        fk0i.0[2][2] = x29;
-        fk0i.1[0] = <f32 as ::trocar::Real>::mul_add(c1, x25, -(s1 * x26));
-        fk0i.1[1] = <f32 as ::trocar::Real>::mul_add(s1, x25, c1 * x26);
         fk0i.1[2] = 0.089159_f32 - <f32 as ::trocar::Real>::mul_add(c2, x17, s2 * x21);
-        jb0i[0][0] = <f32 as ::trocar::Real>::mul_add(x3, x25, -(x22 * x26));
-        jb0i[0][1] = -<f32 as ::trocar::Real>::mul_add(x23, x26, x4 * x25);
-        jb0i[0][2] = <f32 as ::trocar::Real>::mul_add(c5, x25, -(x24 * x26));
-        jb0i[0][3] = x27;
-        jb0i[0][4] = x28;
-        jb0i[0][5] = x29;
         jb0i[1][0] = <f32 as ::trocar::Real>::mul_add(x14, x21, -(x17 * x18));
         jb0i[1][1] = <f32 as ::trocar::Real>::mul_add(x15, x21, -(x17 * x19));
         jb0i[1][2] = <f32 as ::trocar::Real>::mul_add(x16, x21, -(x17 * x20));
-        jb0i[1][3] = x3;
-        jb0i[1][4] = x5;
-        jb0i[1][5] = c5;
-        jb0i[2][0] = -<f32 as ::trocar::Real>::mul_add(x6, x13, x9 * x10);
-        jb0i[2][1] = <f32 as ::trocar::Real>::mul_add(x7, x13, -(x9 * x11));
-        jb0i[2][2] = <f32 as ::trocar::Real>::mul_add(x8, x13, -(x9 * x12));
-        jb0i[2][3] = x3;
-        jb0i[2][4] = x5;
-        jb0i[2][5] = c5;
-        jb0i[3][0] = <f32 as ::trocar::Real>::mul_add(0.09465_f32, x0, -(s6 * x2));
-        jb0i[3][1] = -<f32 as ::trocar::Real>::mul_add(0.09465_f32, x1, c6 * x2);
-        jb0i[3][2] = -(0.09465_f32 * s5);
-        jb0i[3][3] = x3;
-        jb0i[3][4] = x5;
-        jb0i[3][5] = c5;
-        jb0i[4][0] = -(0.0823_f32 * c6);
-        jb0i[4][1] = 0.0823_f32 * s6;
-        jb0i[4][2] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[4][3] = -s6;
-        jb0i[4][4] = -c6;
-        jb0i[4][5] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[5][0] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[5][1] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[5][2] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[5][3] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[5][4] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[5][5] = <f32 as ::trocar::Real>::ONE;
+        let x22 = <f32 as ::trocar::Real>::mul_add(c2, x18, -(s2 * x14));
+        fk0i.0[0][0] = <f32 as ::trocar::Real>::mul_add(c1, x22, -(s1 * x3));
+        fk0i.0[0][1] = <f32 as ::trocar::Real>::mul_add(s1, x22, c1 * x3);
+        let x23 = <f32 as ::trocar::Real>::mul_add(c2, x19, -(s2 * x15));
+        fk0i.0[1][0] = <f32 as ::trocar::Real>::mul_add(c1, x23, s1 * x4);
+        fk0i.0[1][1] = <f32 as ::trocar::Real>::mul_add(s1, x23, -(c1 * x4));
+        let x24 = <f32 as ::trocar::Real>::mul_add(c2, x20, -(s2 * x16));
+        fk0i.0[2][0] = <f32 as ::trocar::Real>::mul_add(c1, x24, -(s1 * c5));
+        fk0i.0[2][1] = <f32 as ::trocar::Real>::mul_add(s1, x24, c1 * c5);
+        let x25 = <f32 as ::trocar::Real>::mul_add(c2, x21, -(s2 * x17));
+        let x26 = 0.13585_f32
+            + (<f32 as ::trocar::Real>::mul_add(0.0823_f32, c5, 0.093_f32) - 0.1197_f32);
+        fk0i.1[0] = <f32 as ::trocar::Real>::mul_add(c1, x25, -(s1 * x26));
+        fk0i.1[1] = <f32 as ::trocar::Real>::mul_add(s1, x25, c1 * x26);
+        jb0i[0][0] = <f32 as ::trocar::Real>::mul_add(x3, x25, -(x22 * x26));
+        jb0i[0][1] = -<f32 as ::trocar::Real>::mul_add(x23, x26, x4 * x25);
+        jb0i[0][2] = <f32 as ::trocar::Real>::mul_add(c5, x25, -(x24 * x26));
+        let x27 = -<f32 as ::trocar::Real>::mul_add(c2, x14, s2 * x18);
+        fk0i.0[0][2] = x27;
+        jb0i[0][3] = x27;
+        let x28 = -<f32 as ::trocar::Real>::mul_add(c2, x15, s2 * x19);
+        fk0i.0[1][2] = x28;
+        jb0i[0][4] = x28;
+        let x29 = -<f32 as ::trocar::Real>::mul_add(c2, x16, s2 * x20);
+        fk0i.0[2][2] = x29;
+        jb0i[0][5] = x29;
     }
     /// [`link_pose_and_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]).
     ///
@@ -1730,84 +1730,9 @@ pub mod ur5_trocar {
         fk0i: &mut ([[f32; 3]; 3], [f32; 3]),
         jb0i: &mut [[f32; 6]; I],
     ) {
-        let x0 = t.cos[4] * t.cos[5];
-        let x1 = t.cos[4] * t.sin[5];
-        let x2 = 0.0823_f32 * t.sin[4];
-        let x3 = t.sin[4] * t.cos[5];
-        let x4 = t.sin[4] * t.sin[5];
-        let x5 = -x4;
-        let x6 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x0, t.cos[3] * t.sin[5]);
-        let x7 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x1, -(t.cos[3] * t.cos[5]));
-        let x8 = t.sin[3] * t.sin[4];
-        let x9 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x2, 0.09465_f32 * t.cos[3]);
-        let x10 = <f32 as ::trocar::Real>::mul_add(t.sin[3], t.sin[5], -(t.cos[3] * x0));
-        let x11 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x1, t.sin[3] * t.cos[5]);
-        let x12 = t.cos[3] * t.sin[4];
-        let x13 = 0.39225_f32
-            + <f32 as ::trocar::Real>::mul_add(t.cos[3], x2, -(0.09465_f32 * t.sin[3]));
-        let x14 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x10, -(t.cos[2] * x6));
-        let x15 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x7, t.sin[2] * x11);
-        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x8, t.sin[2] * x12);
-        let x17 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x9, t.sin[2] * x13);
-        let x18 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x6, t.cos[2] * x10);
-        let x19 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x11, -(t.sin[2] * x7));
-        let x20 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x12, -(t.sin[2] * x8));
-        let x21 = 0.425_f32
-            + <f32 as ::trocar::Real>::mul_add(t.cos[2], x13, -(t.sin[2] * x9));
-        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x18, -(t.sin[1] * x14));
-        let x23 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x19, -(t.sin[1] * x15));
-        let x24 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x20, -(t.sin[1] * x16));
-        let x25 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x21, -(t.sin[1] * x17));
-        let x26 = 0.13585_f32
-            + (<f32 as ::trocar::Real>::mul_add(0.0823_f32, t.cos[4], 0.093_f32)
-                - 0.1197_f32);
-        let x27 = -<f32 as ::trocar::Real>::mul_add(t.cos[1], x14, t.sin[1] * x18);
-        let x28 = -<f32 as ::trocar::Real>::mul_add(t.cos[1], x15, t.sin[1] * x19);
-        let x29 = -<f32 as ::trocar::Real>::mul_add(t.cos[1], x16, t.sin[1] * x20);
-        fk0i.0[0][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x22, -(t.sin[0] * x3));
-        fk0i.0[0][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x22, t.cos[0] * x3);
-        fk0i.0[0][2] = x27;
-        fk0i.0[1][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x23, t.sin[0] * x4);
-        fk0i.0[1][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x23, -(t.cos[0] * x4));
-        fk0i.0[1][2] = x28;
-        fk0i.0[2][0] = <f32 as ::trocar::Real>::mul_add(
-            t.cos[0],
-            x24,
-            -(t.sin[0] * t.cos[4]),
-        );
-        fk0i.0[2][1] = <f32 as ::trocar::Real>::mul_add(
-            t.sin[0],
-            x24,
-            t.cos[0] * t.cos[4],
-        );
-        fk0i.0[2][2] = x29;
-        fk0i.1[0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x25, -(t.sin[0] * x26));
-        fk0i.1[1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x25, t.cos[0] * x26);
-        fk0i.1[2] = 0.089159_f32
-            - <f32 as ::trocar::Real>::mul_add(t.cos[1], x17, t.sin[1] * x21);
-        jb0i[0][0] = <f32 as ::trocar::Real>::mul_add(x3, x25, -(x22 * x26));
-        jb0i[0][1] = -<f32 as ::trocar::Real>::mul_add(x23, x26, x4 * x25);
-        jb0i[0][2] = <f32 as ::trocar::Real>::mul_add(t.cos[4], x25, -(x24 * x26));
-        jb0i[0][3] = x27;
-        jb0i[0][4] = x28;
-        jb0i[0][5] = x29;
-        jb0i[1][0] = <f32 as ::trocar::Real>::mul_add(x14, x21, -(x17 * x18));
-        jb0i[1][1] = <f32 as ::trocar::Real>::mul_add(x15, x21, -(x17 * x19));
-        jb0i[1][2] = <f32 as ::trocar::Real>::mul_add(x16, x21, -(x17 * x20));
-        jb0i[1][3] = x3;
-        jb0i[1][4] = x5;
         jb0i[1][5] = t.cos[4];
-        jb0i[2][0] = -<f32 as ::trocar::Real>::mul_add(x6, x13, x9 * x10);
-        jb0i[2][1] = <f32 as ::trocar::Real>::mul_add(x7, x13, -(x9 * x11));
-        jb0i[2][2] = <f32 as ::trocar::Real>::mul_add(x8, x13, -(x9 * x12));
-        jb0i[2][3] = x3;
-        jb0i[2][4] = x5;
         jb0i[2][5] = t.cos[4];
-        jb0i[3][0] = <f32 as ::trocar::Real>::mul_add(0.09465_f32, x0, -(t.sin[5] * x2));
-        jb0i[3][1] = -<f32 as ::trocar::Real>::mul_add(0.09465_f32, x1, t.cos[5] * x2);
         jb0i[3][2] = -(0.09465_f32 * t.sin[4]);
-        jb0i[3][3] = x3;
-        jb0i[3][4] = x5;
         jb0i[3][5] = t.cos[4];
         jb0i[4][0] = -(0.0823_f32 * t.cos[5]);
         jb0i[4][1] = 0.0823_f32 * t.sin[5];
@@ -1821,6 +1746,81 @@ pub mod ur5_trocar {
         jb0i[5][3] = <f32 as ::trocar::Real>::ZERO;
         jb0i[5][4] = <f32 as ::trocar::Real>::ZERO;
         jb0i[5][5] = <f32 as ::trocar::Real>::ONE;
+        let x0 = t.cos[4] * t.cos[5];
+        let x1 = t.cos[4] * t.sin[5];
+        let x2 = 0.0823_f32 * t.sin[4];
+        jb0i[3][0] = <f32 as ::trocar::Real>::mul_add(0.09465_f32, x0, -(t.sin[5] * x2));
+        jb0i[3][1] = -<f32 as ::trocar::Real>::mul_add(0.09465_f32, x1, t.cos[5] * x2);
+        let x3 = t.sin[4] * t.cos[5];
+        jb0i[1][3] = x3;
+        jb0i[2][3] = x3;
+        jb0i[3][3] = x3;
+        let x4 = t.sin[4] * t.sin[5];
+        let x5 = -x4;
+        jb0i[1][4] = x5;
+        jb0i[2][4] = x5;
+        jb0i[3][4] = x5;
+        let x6 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x0, t.cos[3] * t.sin[5]);
+        let x7 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x1, -(t.cos[3] * t.cos[5]));
+        let x8 = t.sin[3] * t.sin[4];
+        let x9 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x2, 0.09465_f32 * t.cos[3]);
+        let x10 = <f32 as ::trocar::Real>::mul_add(t.sin[3], t.sin[5], -(t.cos[3] * x0));
+        let x11 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x1, t.sin[3] * t.cos[5]);
+        let x12 = t.cos[3] * t.sin[4];
+        let x13 = 0.39225_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[3], x2, -(0.09465_f32 * t.sin[3]));
+        jb0i[2][0] = -<f32 as ::trocar::Real>::mul_add(x6, x13, x9 * x10);
+        jb0i[2][1] = <f32 as ::trocar::Real>::mul_add(x7, x13, -(x9 * x11));
+        jb0i[2][2] = <f32 as ::trocar::Real>::mul_add(x8, x13, -(x9 * x12));
+        let x14 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x10, -(t.cos[2] * x6));
+        let x15 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x7, t.sin[2] * x11);
+        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x8, t.sin[2] * x12);
+        let x17 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x9, t.sin[2] * x13);
+        let x18 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x6, t.cos[2] * x10);
+        let x19 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x11, -(t.sin[2] * x7));
+        let x20 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x12, -(t.sin[2] * x8));
+        let x21 = 0.425_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[2], x13, -(t.sin[2] * x9));
+        fk0i.1[2] = 0.089159_f32
+            - <f32 as ::trocar::Real>::mul_add(t.cos[1], x17, t.sin[1] * x21);
+        jb0i[1][0] = <f32 as ::trocar::Real>::mul_add(x14, x21, -(x17 * x18));
+        jb0i[1][1] = <f32 as ::trocar::Real>::mul_add(x15, x21, -(x17 * x19));
+        jb0i[1][2] = <f32 as ::trocar::Real>::mul_add(x16, x21, -(x17 * x20));
+        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x18, -(t.sin[1] * x14));
+        fk0i.0[0][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x22, -(t.sin[0] * x3));
+        fk0i.0[0][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x22, t.cos[0] * x3);
+        let x23 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x19, -(t.sin[1] * x15));
+        fk0i.0[1][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x23, t.sin[0] * x4);
+        fk0i.0[1][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x23, -(t.cos[0] * x4));
+        let x24 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x20, -(t.sin[1] * x16));
+        fk0i.0[2][0] = <f32 as ::trocar::Real>::mul_add(
+            t.cos[0],
+            x24,
+            -(t.sin[0] * t.cos[4]),
+        );
+        fk0i.0[2][1] = <f32 as ::trocar::Real>::mul_add(
+            t.sin[0],
+            x24,
+            t.cos[0] * t.cos[4],
+        );
+        let x25 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x21, -(t.sin[1] * x17));
+        let x26 = 0.13585_f32
+            + (<f32 as ::trocar::Real>::mul_add(0.0823_f32, t.cos[4], 0.093_f32)
+                - 0.1197_f32);
+        fk0i.1[0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x25, -(t.sin[0] * x26));
+        fk0i.1[1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x25, t.cos[0] * x26);
+        jb0i[0][0] = <f32 as ::trocar::Real>::mul_add(x3, x25, -(x22 * x26));
+        jb0i[0][1] = -<f32 as ::trocar::Real>::mul_add(x23, x26, x4 * x25);
+        jb0i[0][2] = <f32 as ::trocar::Real>::mul_add(t.cos[4], x25, -(x24 * x26));
+        let x27 = -<f32 as ::trocar::Real>::mul_add(t.cos[1], x14, t.sin[1] * x18);
+        fk0i.0[0][2] = x27;
+        jb0i[0][3] = x27;
+        let x28 = -<f32 as ::trocar::Real>::mul_add(t.cos[1], x15, t.sin[1] * x19);
+        fk0i.0[1][2] = x28;
+        jb0i[0][4] = x28;
+        let x29 = -<f32 as ::trocar::Real>::mul_add(t.cos[1], x16, t.sin[1] * x20);
+        fk0i.0[2][2] = x29;
+        jb0i[0][5] = x29;
     }
     /// `(g_0e, J^B_0i, J^r_0e, J_c)` as [`pose_and_jacobians_trig`] returns them: `(R, p)` with
     /// `R` column-major, then the three matrices column-major.
