@@ -71,9 +71,12 @@ echo "== machine" >&2
   "$here/.venv/bin/pip" list 2>/dev/null | grep -iE '^(casadi|sympy|wrenfold|symforce|pin|libpinocchio|cmeel-eigen|cmeel-urdfdom-headers) ' || true
   uptime; } | tee "$out/machine.txt" >&2
 
-# `ours_trig` (our `JointTrig::new` alone) is measured for the two Panda cases of the laparoscope's
-# chain (one `sin_cos_array` of the 7 joints).
-trig_alone() { case "$1" in panda|panda_i) echo ours_trig ;; esac; }
+# For the two Panda cases also: `ours_trig` (our `JointTrig::new` alone, one `sin_cos_array` of the
+# 7 joints), and ours writing into the generated functions' own `(R, p)` and Jacobian in place, as
+# the Rust peers write into the caller's arrays (the flat-buffer variants copy our pose once more).
+trig_alone() {
+  case "$1" in panda|panda_i) echo ours_trig ours_f64_in_place ours_f64_given_trig_in_place ;; esac
+}
 
 # Our generated code joins in when the generator's Builder is in this checkout (feature `ours`).
 feature_list=""

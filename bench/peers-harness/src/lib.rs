@@ -1063,6 +1063,64 @@ pub mod ours {
         per_case!(eval, case; Uni, Bzy, Bzx, DiaZy, Panda, PandaI, Oblique7, PandaRcm)
     }
 
+    /// The Panda cases' outputs in the generated functions' own layout, `(R, p)` and the
+    /// column-major `6 × 7` Jacobian, for [`eval_panda_in_place`] and
+    /// [`eval_trig_panda_in_place`].
+    pub struct PandaOut<T: Real> {
+        /// The pose `(R, p)`, `R` column-major.
+        pub g: ([[T; 3]; 3], [T; 3]),
+        /// The body Jacobian, column-major.
+        pub jb: [[T; 6]; 7],
+    }
+
+    impl<T: Real> Default for PandaOut<T> {
+        fn default() -> Self {
+            PandaOut {
+                g: ([[T::ZERO; 3]; 3], [T::ZERO; 3]),
+                jb: [[T::ZERO; 6]; 7],
+            }
+        }
+    }
+
+    /// [`eval`] of a Panda case writing into `out` in the functions' own layout: the outputs
+    /// written in place, as the Rust peers write theirs into the caller's arrays, without the
+    /// copy of the pose from a local into the flat buffer that [`eval`] makes.
+    #[inline(always)]
+    pub fn eval_panda_in_place<T: Real>(case: Case, q: &[T], p: &[T], out: &mut PandaOut<T>) {
+        match case {
+            Case::Panda => {
+                let pp = panda_link8::Params::nominal();
+                panda_link8::pose_and_jacobian(joints(q), &pp, &mut out.g, &mut out.jb);
+            }
+            Case::PandaI => {
+                let pp = panda_laparoscope::Params { l_a: p[0] };
+                panda_laparoscope::link_pose_and_jacobian(joints(q), &pp, &mut out.g, &mut out.jb);
+            }
+            other => panic!("{} is not a Panda case", other.name()),
+        }
+    }
+
+    /// [`eval_trig`] of a Panda case writing into `out` in place ([`eval_panda_in_place`]).
+    #[inline(always)]
+    pub fn eval_trig_panda_in_place<T: Real>(
+        case: Case,
+        t: &Trig<T>,
+        p: &[T],
+        out: &mut PandaOut<T>,
+    ) {
+        match case {
+            Case::Panda => {
+                let pp = panda_link8::Params::nominal();
+                panda_link8::pose_and_jacobian_trig(&t.p8, &pp, &mut out.g, &mut out.jb);
+            }
+            Case::PandaI => {
+                let pp = panda_laparoscope::Params { l_a: p[0] };
+                panda_laparoscope::link_pose_and_jacobian_trig(&t.pi, &pp, &mut out.g, &mut out.jb);
+            }
+            other => panic!("{} is not a Panda case", other.name()),
+        }
+    }
+
     /// The fused cases from `q` in two calls, as a caller holding a `JointTrig` would make
     /// them: the module's `JointTrig::new`, then its fused `_trig` function (the same
     /// arithmetic as [`eval`]'s one function, with the trigonometry in a call of its own).

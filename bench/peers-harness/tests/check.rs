@@ -395,6 +395,41 @@ fn ours_agree_with_the_reference_f64_and_f32() {
     }
 }
 
+/// The Panda cases written in place in the generated functions' own layout (the timing
+/// drivers' `ours_f64_in_place`, `ours_f64_given_trig_in_place`) hold the reference's values:
+/// `(R, p)` and the column-major Jacobian read as the flat buffer's R, p, J.
+#[cfg(feature = "ours")]
+#[test]
+fn ours_in_place_agree_with_the_reference() {
+    use trocar_peers_harness::ours;
+    let mut seed = 9;
+    for case in [Case::Panda, Case::PandaI] {
+        for (q, p) in panda_inputs(case, &mut seed, 200) {
+            let mut want = vec![0.0; case.out_len()];
+            reference::eval(case, &q, &p, &mut want);
+            let scale = want.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+            let mut a = ours::PandaOut::<f64>::default();
+            ours::eval_panda_in_place(case, &q, &p, &mut a);
+            let mut b = ours::PandaOut::<f64>::default();
+            ours::eval_trig_panda_in_place(case, &ours::Trig::new(case, &q), &p, &mut b);
+            for o in [&a, &b] {
+                let flat: Vec<f64> =
+                    o.g.0
+                        .iter()
+                        .flatten()
+                        .chain(&o.g.1)
+                        .chain(o.jb.iter().flatten())
+                        .copied()
+                        .collect();
+                assert_eq!(flat.len(), want.len());
+                for (i, (x, w)) in flat.iter().zip(&want).enumerate() {
+                    assert!((x - w).abs() <= 1e-12 * scale, "{case:?} [{i}]");
+                }
+            }
+        }
+    }
+}
+
 /// The CasADi functions need no `iw` or `w` scratch, which is why `eval` passes null for both;
 /// the Panda's need `w`, at most `CASADI_W` doubles, which `eval` passes.
 #[test]

@@ -254,6 +254,27 @@ fn panda(name: &str, case: Case, n: usize) {
             })
         }
         #[cfg(feature = "ours")]
+        "ours_f64_in_place" => {
+            use trocar_peers_harness::ours;
+            let mut o = ours::PandaOut::<f64>::default();
+            measured_loop(n, &mut || {
+                k = black_box(k + 1) & 15;
+                ours::eval_panda_in_place(case, &qs[k], black_box(&p), &mut o);
+                black_box(&mut o);
+            })
+        }
+        #[cfg(feature = "ours")]
+        "ours_f64_given_trig_in_place" => {
+            use trocar_peers_harness::ours;
+            let trigs: Vec<ours::Trig<f64>> = qs.iter().map(|q| ours::Trig::new(case, q)).collect();
+            let mut o = ours::PandaOut::<f64>::default();
+            measured_loop(n, &mut || {
+                k = black_box(k + 1) & 15;
+                ours::eval_trig_panda_in_place(case, &trigs[k], black_box(&p), &mut o);
+                black_box(&mut o);
+            })
+        }
+        #[cfg(feature = "ours")]
         "ours_f64_given_trig" => {
             use trocar_peers_harness::ours;
             let trigs: Vec<ours::Trig<f64>> = qs.iter().map(|q| ours::Trig::new(case, q)).collect();

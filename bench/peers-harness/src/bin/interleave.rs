@@ -6,6 +6,9 @@
 //! CASE: any case of the harness (`panda`, `panda_i`: the 16 configurations of `Case::configs`,
 //! cycled as `cg_driver` does; the other cases have one configuration, evaluated every time).
 //! IMPL: ours_f64 | ours_f64_split (`JointTrig::new`, then the fused `_trig` function) |
+//! ours_f64_in_place | ours_f64_given_trig_in_place (the Panda cases writing into the generated
+//! functions' own `(R, p)` and `[[f64; 6]; 7]` in place, without the copy of the pose into the
+//! flat buffer) |
 //! ours_f64_given_trig | wrenfold | symforce | wrenfold_given_trig |
 //! symforce_given_trig | ours_trig (our `JointTrig::new` alone) | the C peers `casadi`,
 //! `casadi_cse`, `sympy` (and `rust_reference`), each through the harness's `eval`. Needs the
@@ -38,6 +41,21 @@ fn implementation(name: &str, case: Case) -> Eval {
             Box::new(move |k| {
                 f(&qs[k], black_box(&p), &mut out);
                 black_box(&mut out);
+            })
+        }
+        "ours_f64_in_place" => {
+            let mut o = ours::PandaOut::<f64>::default();
+            Box::new(move |k| {
+                ours::eval_panda_in_place(case, &qs[k], black_box(&p), &mut o);
+                black_box(&mut o);
+            })
+        }
+        "ours_f64_given_trig_in_place" => {
+            let trigs: Vec<ours::Trig<f64>> = qs.iter().map(|q| ours::Trig::new(case, q)).collect();
+            let mut o = ours::PandaOut::<f64>::default();
+            Box::new(move |k| {
+                ours::eval_trig_panda_in_place(case, &trigs[k], black_box(&p), &mut o);
+                black_box(&mut o);
             })
         }
         "ours_f64_given_trig" => {
