@@ -228,7 +228,9 @@ def panda_table(out, crit, crit_default, cg, cpu, net):
 
 
 RUST_ROWS = [
-    ("ours_f64", "trocar (`JointTrig::new` + the `_trig` functions)"),
+    ("ours_f64", "trocar (one function: `constrained_jacobian` for the presets, the fused `pose_and_jacobian` / "
+                 "`link_pose_and_jacobian` for the Panda, the fused `step_outputs` for dia10_like, oblique7 and the "
+                 "Panda RCM)"),
     ("wrenfold", "wrenfold (one function)"),
     ("symforce", "SymForce (one function)"),
     ("ours_f64_given_trig", "trocar, given the sines and cosines"),
