@@ -383,16 +383,7 @@ pub fn forward_kinematics<T: RealField + Copy>(
     tool: &Se3<T>,
 ) -> Se3<T> {
     assert_eq!(joints.len(), q.len(), "one joint value per joint");
-    let mut g: Option<Se3<T>> = None;
-    for (j, &theta) in joints.iter().zip(q) {
-        let step = Step::new(j, theta);
-        g = Some(match g {
-            // The first joint's frame is its transform (no product with the identity).
-            None => step.transform(),
-            Some(g) => step.after(&g),
-        });
-    }
-    match g {
+    match forward_sweep(joints, q, |_, _, _| {}) {
         Some(g) => g.compose(tool),
         None => *tool,
     }
@@ -405,15 +396,29 @@ pub fn forward_kinematics<T: RealField + Copy>(
 pub fn link_frames<T: RealField + Copy>(joints: &[Joint<T>], q: &[T], frames: &mut [Se3<T>]) {
     assert_eq!(joints.len(), q.len(), "one joint value per joint");
     assert_eq!(joints.len(), frames.len(), "one frame per joint");
+    forward_sweep(joints, q, |k, _, g| frames[k] = *g);
+}
+
+/// The forward sweep from the base: `visit(k, step, g_0k)` for each joint `k` in turn, `g_0k`
+/// the link frame after joint `k`; returns `g_0n` (`None` for no joints). The first joint's
+/// frame is its transform (no product with the identity).
+#[inline(always)]
+fn forward_sweep<T: RealField + Copy>(
+    joints: &[Joint<T>],
+    q: &[T],
+    mut visit: impl FnMut(usize, &Step<'_, T>, &Se3<T>),
+) -> Option<Se3<T>> {
     let mut g: Option<Se3<T>> = None;
-    for ((j, &theta), f) in joints.iter().zip(q).zip(frames.iter_mut()) {
+    for (k, (j, &theta)) in joints.iter().zip(q).enumerate() {
+        let step = Step::new(j, theta);
         let next = match g {
-            None => j.transform(theta),
-            Some(g) => Step::new(j, theta).after(&g),
+            None => step.transform(),
+            Some(g) => step.after(&g),
         };
-        *f = next;
+        visit(k, &step, &next);
         g = Some(next);
     }
+    g
 }
 
 /// The body Jacobian (2.54)–(2.55) of `joints` with end-effector transform `tool`, column `k`
@@ -475,13 +480,7 @@ pub fn spatial_jacobian_columns<T: RealField + Copy>(
 ) -> Se3<T> {
     assert_eq!(joints.len(), q.len(), "one joint value per joint");
     assert_eq!(joints.len(), columns.len(), "one column per joint");
-    let mut g = Se3::identity();
-    for ((j, &theta), col) in joints.iter().zip(q).zip(columns.iter_mut()) {
-        let step = Step::new(j, theta);
-        g = step.after(&g);
-        *col = step.column(&g);
-    }
-    g
+    forward_sweep(joints, q, |k, step, g| columns[k] = step.column(g)).unwrap_or_else(Se3::identity)
 }
 
 /// The constrained Jacobian (3.15) `J^r_0e = [Ad_{g_ei} Λ# | J^B_0e2]` from the joints **after**
