@@ -250,6 +250,8 @@ impl_real!(f32, sin_cos_f32, sqrtf, fabsf);
     clippy::neg_cmp_op_on_partial_ord
 )]
 pub mod fast {
+    use core::ops::{Add, Mul, Sub};
+
     #[inline(always)]
     fn two_sum64(a: f64, b: f64) -> (f64, f64) {
         let s = a + b;
@@ -272,10 +274,61 @@ pub mod fast {
     const FRAC_2_PI_64: f64 = 6.36619772367581382433e-01;
     const TOINT_64: f64 = 1.5 / f64::EPSILON;
 
-    /// fdlibm `__kernel_sin(y0, y1, 1)` and `__kernel_cos(y0, y1)` on `|y0 + y1| ≤ π/4`, then the
-    /// quadrant select and the sign of `x`.
+    /// What the `f64` kernels and the one-step reduction are written against: `f64` itself, for
+    /// one argument, and [`Side`], for `W` arguments side by side with each operation one map
+    /// over all of them. One text of the arithmetic, so every path gives the same bits.
+    trait Ops: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> {
+        fn splat(x: f64) -> Self;
+    }
+
+    impl Ops for f64 {
+        #[inline(always)]
+        fn splat(x: f64) -> Self {
+            x
+        }
+    }
+
+    /// `W` values side by side, each operation one elementwise map (which the compiler turns
+    /// into whole vector registers where a loop of scalar paths it does not; see
+    /// [`sin_cos_f64_lanes`]).
+    #[derive(Clone, Copy)]
+    struct Side<const W: usize>([f64; W]);
+
+    impl<const W: usize> Ops for Side<W> {
+        #[inline(always)]
+        fn splat(x: f64) -> Self {
+            Side([x; W])
+        }
+    }
+
+    impl<const W: usize> Add for Side<W> {
+        type Output = Self;
+        #[inline(always)]
+        fn add(self, o: Self) -> Self {
+            Side(core::array::from_fn(|k| self.0[k] + o.0[k]))
+        }
+    }
+
+    impl<const W: usize> Sub for Side<W> {
+        type Output = Self;
+        #[inline(always)]
+        fn sub(self, o: Self) -> Self {
+            Side(core::array::from_fn(|k| self.0[k] - o.0[k]))
+        }
+    }
+
+    impl<const W: usize> Mul for Side<W> {
+        type Output = Self;
+        #[inline(always)]
+        fn mul(self, o: Self) -> Self {
+            Side(core::array::from_fn(|k| self.0[k] * o.0[k]))
+        }
+    }
+
+    /// fdlibm `__kernel_sin(y0, y1, 1)` and `__kernel_cos(y0, y1)` on `|y0 + y1| ≤ π/4`:
+    /// `(sin, cos)` of the reduced argument.
     #[inline(always)]
-    fn finish64(y0: f64, y1: f64, quadrant: u32, sign: u64) -> (f64, f64) {
+    fn kernels64<T: Ops>(y0: T, y1: T) -> (T, T) {
         const S1: f64 = -1.66666666666666324348e-01;
         const S2: f64 = 8.33333333332248946124e-03;
         const S3: f64 = -1.98412698298579493134e-04;
@@ -288,18 +341,40 @@ pub mod fast {
         const C4: f64 = -2.75573143513906633035e-07;
         const C5: f64 = 2.08757232129817482790e-09;
         const C6: f64 = -1.13596475577881948265e-11;
+        let k = T::splat;
         let z = y0 * y0;
         let w = z * z;
-        let rs = S2 + z * (S3 + z * S4) + z * w * (S5 + z * S6);
+        let rs = k(S2) + z * (k(S3) + z * k(S4)) + z * w * (k(S5) + z * k(S6));
         let v = z * y0;
-        let s = y0 - ((z * (0.5 * y1 - v * rs) - y1) - v * S1);
-        let rc = z * (C1 + z * (C2 + z * C3)) + w * w * (C4 + z * (C5 + z * C6));
-        let hz = 0.5 * z;
-        let wc = 1.0 - hz;
-        let c = wc + (((1.0 - wc) - hz) + (z * rc - y0 * y1));
-        let (s, c) = if quadrant & 1 == 0 { (s, c) } else { (c, -s) };
-        let (s, c) = if quadrant & 2 == 0 { (s, c) } else { (-s, -c) };
-        (f64::from_bits(s.to_bits() ^ sign), c)
+        let s = y0 - ((z * (k(0.5) * y1 - v * rs) - y1) - v * k(S1));
+        let rc = z * (k(C1) + z * (k(C2) + z * k(C3))) + w * w * (k(C4) + z * (k(C5) + z * k(C6)));
+        let hz = k(0.5) * z;
+        let wc = k(1.0) - hz;
+        let c = wc + (((k(1.0) - wc) - hz) + (z * rc - y0 * y1));
+        (s, c)
+    }
+
+    /// The quadrant select on the kernels' `(s, c)` and the sign of `x` on the sine, on the bits:
+    /// quadrant bit 0 turns `(s, c)` into `(c, −s)`, bit 1 negates both.
+    #[inline(always)]
+    fn select64(s: f64, c: f64, quadrant: u64, sign: u64) -> (f64, f64) {
+        const SIGN: u64 = 1 << 63;
+        let (sb, cb) = (s.to_bits(), c.to_bits());
+        let swap = 0u64.wrapping_sub(quadrant & 1);
+        let d = (sb ^ cb) & swap;
+        let flip = (quadrant << 62) & SIGN;
+        (
+            f64::from_bits(sb ^ d ^ flip ^ sign),
+            f64::from_bits(cb ^ d ^ flip ^ (swap & SIGN)),
+        )
+    }
+
+    /// [`kernels64`] and [`select64`]: `(sin x, cos x)` from `x = n·π/2 + (y0 + y1)` with
+    /// `quadrant = n mod 2⁶⁴` and `sign` the sign bit of `x`.
+    #[inline(always)]
+    fn finish64(y0: f64, y1: f64, quadrant: u64, sign: u64) -> (f64, f64) {
+        let (s, c) = kernels64(y0, y1);
+        select64(s, c, quadrant, sign)
     }
 
     /// The careful reduction: π/2 in four parts (three of 33 bits, `n·P_k` exact for `n < 2²⁰`),
@@ -319,7 +394,7 @@ pub mod fast {
             return (libm::sin(x), libm::cos(x));
         }
         let t = ax * FRAC_2_PI_64 + TOINT_64;
-        let quadrant = t.to_bits() as u32;
+        let quadrant = t.to_bits();
         let fnum = t - TOINT_64;
         let r1 = ax - fnum * P1; // exact (Sterbenz)
         let (r2, e1) = two_sum64(r1, -(fnum * P2));
@@ -345,100 +420,99 @@ pub mod fast {
         if !(ax <= F64_FAST_LIMIT) {
             return careful64(x);
         }
-        let (y0, y1, quadrant) = one_step64(ax);
+        let (y0, y1, t) = one_step64(ax);
         let ex = (ax.to_bits() >> 52) as i64;
         let ey = ((y0.to_bits() >> 52) & 0x7ff) as i64;
         if ex - ey > 16 {
             return careful64(x);
         }
-        finish64(y0, y1, quadrant, sign)
+        finish64(y0, y1, t.to_bits(), sign)
     }
 
     /// musl's one-step Cody–Waite reduction of `ax = |x| ≤ F64_FAST_LIMIT`:
     /// `ax = n·π/2 + (y0 + y1)` with `P1` of 33 bits (`n·P1` exact) and `P1T = π/2 − P1`;
-    /// returns `(y0, y1, n mod 2³²)`. Its result cancels when `x` is near a multiple of π/2,
-    /// which the callers test.
+    /// returns `(y0, y1, t)`, `t`'s bits holding `n mod 2⁶⁴`. Its result cancels when `x` is near
+    /// a multiple of π/2, which the callers test.
     #[inline(always)]
-    fn one_step64(ax: f64) -> (f64, f64, u32) {
+    fn one_step64<T: Ops>(ax: T) -> (T, T, T) {
         const P1: f64 = 1.57079632673412561417e+00;
         const P1T: f64 = 6.07710050650619224932e-11;
-        let t = ax * FRAC_2_PI_64 + TOINT_64;
-        let quadrant = t.to_bits() as u32;
-        let fnum = t - TOINT_64;
-        let r = ax - fnum * P1; // exact
-        let w = fnum * P1T;
+        let t = ax * T::splat(FRAC_2_PI_64) + T::splat(TOINT_64);
+        let fnum = t - T::splat(TOINT_64);
+        let r = ax - fnum * T::splat(P1); // exact
+        let w = fnum * T::splat(P1T);
         let y0 = r - w;
-        (y0, (r - y0) - w, quadrant)
+        (y0, (r - y0) - w, t)
     }
 
-    /// Lanes of the side-by-side kernel [`sin_cos_f64_lanes`] for [`sin_cos_f64_array`]: eight
-    /// where the target has AVX-512, four where it has AVX2, two on any other x86-64 (SSE2's
-    /// two `f64` lanes: `JointTrig::new` of 7 joints in 493 instructions and 46 ns instead of 688
-    /// and 58 at the default target, BENCHMARKS.md), none (one element at a time) elsewhere.
-    pub const F64_LANES: usize = if cfg!(target_feature = "avx512f") {
-        8
-    } else if cfg!(target_feature = "avx2") {
-        4
-    } else if cfg!(target_arch = "x86_64") {
-        2
-    } else {
-        1
-    };
+    /// Lanes of the side-by-side kernel [`sin_cos_f64_lanes`] for [`sin_cos_f64_array`]: eight on
+    /// any x86-64 (one AVX-512 register, two AVX2 ones, four SSE2 pairs), none (one element at a
+    /// time) elsewhere. Seven joints, Intel Xeon with AVX-512 (BENCHMARKS.md, "Trigonometry in
+    /// groups of eight"): one group of eight 21–23 ns at AVX-512, 27 ns at AVX2 (a group of four
+    /// then a padded one took 82–84 ns) and 35–37 ns at SSE2 (pairs then one alone 45–48 ns).
+    pub const F64_LANES: usize = if cfg!(target_arch = "x86_64") { 8 } else { 1 };
+
+    /// Whether [`sin_cos_f64_lanes`] computes its lanes as maps over all of them ([`Side`], one
+    /// elementwise operation at a time) rather than as one scalar path per lane. The maps where
+    /// the widest vectors are SSE2's two `f64` lanes (x86-64 without AVX2): the compiler turns
+    /// each map into whole vector operations, where it vectorised the paths only in part (seven
+    /// joints in a group of eight 35–37 ns against 51–54). With AVX2 or AVX-512 it vectorises the
+    /// paths and not the maps (AVX-512: 21–23 ns against 55–58), so the paths there.
+    const MAPS: bool = cfg!(all(target_arch = "x86_64", not(target_feature = "avx2")));
 
     /// [`sin_cos_f64`] of every element, bit for bit. With [`F64_LANES`] > 1 the elements go
-    /// through [`sin_cos_f64_lanes`] that many at a time, the last group padded (by repeating
-    /// its last element) when three or more are left (one or two left go alone through
-    /// [`sin_cos_f64`]); with two lanes, two at a time and a last odd one alone. Measured on a 7-joint arm (AVX-512 machine): four lanes then three
-    /// one by one 47–53 ns; one padded group of eight 16–17 ns.
+    /// through [`sin_cos_f64_lanes`] in groups of eight, the last group padded (by repeating its
+    /// last element) when three or more are left (one or two left go alone through
+    /// [`sin_cos_f64`]); where the lanes are maps (SSE2, whose cost grows with the width) three or
+    /// four left make a group of four.
     #[inline(always)]
     pub fn sin_cos_f64_array<const N: usize>(x: &[f64; N]) -> ([f64; N], [f64; N]) {
-        if F64_LANES == 8 {
-            lanes_array::<N, 8>(x)
-        } else if F64_LANES == 4 {
-            lanes_array::<N, 4>(x)
-        } else if F64_LANES == 2 {
-            lanes_array::<N, 2>(x)
-        } else {
-            let mut s = [0.0; N];
-            let mut c = [0.0; N];
-            for j in 0..N {
-                (s[j], c[j]) = sin_cos_f64(x[j]);
-            }
-            (s, c)
-        }
-    }
-
-    #[inline(always)]
-    fn lanes_array<const N: usize, const W: usize>(x: &[f64; N]) -> ([f64; N], [f64; N]) {
         let mut s = [0.0; N];
         let mut c = [0.0; N];
         let mut k = 0;
-        // A group of two or fewer goes one element at a time: padding two joints out to a
-        // group of eight (the presets' `J^r` needs `q7`, `q8` only) made the compiler build the
-        // vector through the stack, a failed store-to-load forwarding, and took the call out of
-        // line (the presets' `J^r` from `q` 53 ns instead of 26).
-        // (Pairs need no padding: two lanes take any two elements.)
-        while k + W.min(3) <= N {
-            let m = W.min(N - k);
-            // The spare lanes repeat the last element (zeros written into a copy made the
-            // compiler build the vector through memory, a store-to-load forwarding stall: 7
-            // joints took 47 ns instead of 17 in one AVX-512 group).
-            let xs: [f64; W] = core::array::from_fn(|l| x[k + l.min(m - 1)]);
-            let (sw, cw) = sin_cos_f64_lanes::<W>(&xs);
-            // Element by element: `copy_from_slice` here sent the results through memory too
-            // (7 joints 44 ns instead of 17, AVX-512).
-            #[allow(clippy::manual_memcpy)]
-            for l in 0..m {
-                s[k + l] = sw[l];
-                c[k + l] = cw[l];
+        if F64_LANES == 8 {
+            // A group of two or fewer goes one element at a time: padding two joints out to a
+            // group of eight (the presets' `J^r` needs `q7`, `q8` only) made the compiler build
+            // the vector through the stack, a failed store-to-load forwarding, and took the call
+            // out of line (the presets' `J^r` from `q` 53 ns instead of 26).
+            while k + 3 <= N {
+                k += if MAPS && N - k <= 4 {
+                    group::<N, 4>(x, k, &mut s, &mut c)
+                } else {
+                    group::<N, 8>(x, k, &mut s, &mut c)
+                };
             }
-            k += m;
         }
         while k < N {
             (s[k], c[k]) = sin_cos_f64(x[k]);
             k += 1;
         }
         (s, c)
+    }
+
+    /// Elements `k..` (at most `W` of them) of `x` through [`sin_cos_f64_lanes`] into `s`, `c`;
+    /// returns how many.
+    #[inline(always)]
+    fn group<const N: usize, const W: usize>(
+        x: &[f64; N],
+        k: usize,
+        s: &mut [f64; N],
+        c: &mut [f64; N],
+    ) -> usize {
+        let m = W.min(N - k);
+        // The spare lanes repeat the last element (zeros written into a copy made the compiler
+        // build the vector through memory, a store-to-load forwarding stall: 7 joints took 47 ns
+        // instead of 17 in one AVX-512 group).
+        let xs: [f64; W] = core::array::from_fn(|l| x[k + l.min(m - 1)]);
+        let (sw, cw) = sin_cos_f64_lanes::<W>(&xs);
+        // Element by element: `copy_from_slice` here sent the results through memory too
+        // (7 joints 44 ns instead of 17, AVX-512).
+        #[allow(clippy::manual_memcpy)]
+        for l in 0..m {
+            s[k + l] = sw[l];
+            c[k + l] = cw[l];
+        }
+        m
     }
 
     /// [`sin_cos_f64`] of four elements: [`sin_cos_f64_lanes`] with `W = 4`.
@@ -452,27 +526,60 @@ pub mod fast {
     /// all of them, so the compiler can put them in vector registers. If any element needs more
     /// (beyond [`F64_FAST_LIMIT`], NaN, ±∞, or a reduction that may have cancelled:
     /// `|y0| < 2⁻¹⁶ |x|`, which holds whenever musl's exponent test of [`sin_cos_f64`] does),
-    /// all are recomputed by [`sin_cos_f64`].
+    /// all are recomputed by [`sin_cos_f64`]. `|x| ≤ π/4` needs no select: the reduction then
+    /// gives `n = 0` and exactly `(|x|, 0)`, the arguments [`sin_cos_f64`] hands to the kernels
+    /// unreduced.
     #[inline(always)]
     pub fn sin_cos_f64_lanes<const W: usize>(x: &[f64; W]) -> ([f64; W], [f64; W]) {
         const TWO_M16: f64 = 1.0 / 65536.0;
         const ABS: u64 = !(1u64 << 63);
         let mut s = [0.0; W];
         let mut c = [0.0; W];
+        if MAPS {
+            let ax: Side<W> = Side(core::array::from_fn(|k| {
+                f64::from_bits(x[k].to_bits() & ABS)
+            }));
+            let (y0, y1, t) = one_step64(ax);
+            let least = ax * Side::splat(TWO_M16);
+            let mut slow = false;
+            for k in 0..W {
+                slow |= !(ax.0[k] <= F64_FAST_LIMIT)
+                    | (f64::from_bits(y0.0[k].to_bits() & ABS) < least.0[k]);
+            }
+            if slow {
+                return each_alone(x);
+            }
+            let (sk, ck) = kernels64(y0, y1);
+            for k in 0..W {
+                (s[k], c[k]) = select64(sk.0[k], ck.0[k], t.0[k].to_bits(), x[k].to_bits() & !ABS);
+            }
+            return (s, c);
+        }
         let mut slow = false;
         for k in 0..W {
             let sign = x[k].to_bits() & !ABS;
             let ax = f64::from_bits(x[k].to_bits() & ABS);
-            // |x| ≤ π/4 needs no select: the reduction then gives n = 0 and exactly (|x|, 0), the
-            // arguments sin_cos_f64 hands to the kernels unreduced.
-            let (y0, y1, quadrant) = one_step64(ax);
+            let (y0, y1, t) = one_step64(ax);
             slow |= !(ax <= F64_FAST_LIMIT) | (f64::from_bits(y0.to_bits() & ABS) < ax * TWO_M16);
-            (s[k], c[k]) = finish64(y0, y1, quadrant, sign);
+            (s[k], c[k]) = finish64(y0, y1, t.to_bits(), sign);
         }
         if slow {
             for k in 0..W {
                 (s[k], c[k]) = sin_cos_f64(x[k]);
             }
+        }
+        (s, c)
+    }
+
+    /// [`sin_cos_f64`] of each element: the lanes' rare path, out of line where the lanes are maps
+    /// (inline, the compiler vectorised the maps less: 7 joints 42 ns instead of 39 in pairs).
+    #[cold]
+    #[inline(never)]
+    fn each_alone<const W: usize>(x: &[f64; W]) -> ([f64; W], [f64; W]) {
+        let mut s = [0.0; W];
+        let mut c = [0.0; W];
+        for k in 0..W {
+            (s[k], c[k]) = sin_cos_f64(x[k]);
         }
         (s, c)
     }
