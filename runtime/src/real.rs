@@ -275,8 +275,8 @@ pub mod fast {
     const TOINT_64: f64 = 1.5 / f64::EPSILON;
 
     /// What the `f64` kernels and the one-step reduction are written against: `f64` itself, for
-    /// one argument, and [`Side`], for `W` arguments side by side with each operation one map
-    /// over all of them. One text of the arithmetic, so every path gives the same bits.
+    /// one argument, and [`sse2::Pair`], for two side by side in one SSE2 register. One text of
+    /// the arithmetic, so every path gives the same bits.
     trait Ops: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> {
         fn splat(x: f64) -> Self;
     }
@@ -288,40 +288,126 @@ pub mod fast {
         }
     }
 
-    /// `W` values side by side, each operation one elementwise map (which the compiler turns
-    /// into whole vector registers where a loop of scalar paths it does not; see
-    /// [`sin_cos_f64_lanes`]).
-    #[derive(Clone, Copy)]
-    struct Side<const W: usize>([f64; W]);
+    /// Two `f64` in one SSE2 register, for [`sin_cos_f64_lanes`] where SSE2 is the widest
+    /// vector unit (x86-64 without AVX2). There the compiler vectorised the lanes' scalar paths
+    /// only in part, and how much depended on its settings (elementwise maps over eight lanes:
+    /// 394 instructions for seven joints with 16 codegen units, 644 with one); operations written
+    /// on the register pair give the same instructions under any setting.
+    ///
+    /// Every operation is one SSE2 intrinsic on registers: no memory is read or written through
+    /// a pointer. The intrinsics' only precondition is that the CPU has SSE2, and this module is
+    /// compiled only when the target enables the `sse2` feature (every x86-64 target does: its
+    /// ABI passes `f64` in SSE registers), so each `unsafe` block below is sound.
+    #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+    mod sse2 {
+        use core::arch::x86_64::*;
+        use core::ops::{Add, Mul, Sub};
 
-    impl<const W: usize> Ops for Side<W> {
-        #[inline(always)]
-        fn splat(x: f64) -> Self {
-            Side([x; W])
+        /// Lane 0 and lane 1 of an SSE2 register.
+        #[derive(Clone, Copy)]
+        pub(super) struct Pair(__m128d);
+
+        const SIGN: u64 = 1 << 63;
+
+        impl Pair {
+            #[inline(always)]
+            pub(super) fn new(a: f64, b: f64) -> Self {
+                // SAFETY: SSE2 is enabled (module cfg); registers only.
+                Pair(unsafe { _mm_set_pd(b, a) })
+            }
+
+            #[inline(always)]
+            pub(super) fn lanes(self) -> [f64; 2] {
+                // SAFETY: SSE2 is enabled (module cfg); registers only.
+                unsafe {
+                    [
+                        _mm_cvtsd_f64(self.0),
+                        _mm_cvtsd_f64(_mm_unpackhi_pd(self.0, self.0)),
+                    ]
+                }
+            }
+
+            /// `(|x|, the sign bit of x)`.
+            #[inline(always)]
+            pub(super) fn abs_and_sign(self) -> (Self, Self) {
+                // SAFETY: SSE2 is enabled (module cfg); registers only.
+                unsafe {
+                    let s = _mm_set1_pd(-0.0);
+                    (Pair(_mm_andnot_pd(s, self.0)), Pair(_mm_and_pd(s, self.0)))
+                }
+            }
+
+            /// Lanes where `!(self <= limit)` (NaN included) or `|y| < least`, as a bit mask.
+            #[inline(always)]
+            pub(super) fn beyond_or_cancelled(self, limit: f64, y: Self, least: Self) -> i32 {
+                // SAFETY: SSE2 is enabled (module cfg); registers only.
+                unsafe {
+                    let abs_y = _mm_andnot_pd(_mm_set1_pd(-0.0), y.0);
+                    _mm_movemask_pd(_mm_or_pd(
+                        _mm_cmpnle_pd(self.0, _mm_set1_pd(limit)),
+                        _mm_cmplt_pd(abs_y, least.0),
+                    ))
+                }
+            }
+
+            /// [`super::select64`] on both lanes: `t`'s bits hold the quadrant, `sign` the sign
+            /// of `x`.
+            #[inline(always)]
+            pub(super) fn select(s: Self, c: Self, t: Self, sign: Self) -> (Self, Self) {
+                // SAFETY: SSE2 is enabled (module cfg); registers only.
+                unsafe {
+                    let q = _mm_castpd_si128(t.0);
+                    let swap = _mm_castsi128_pd(_mm_sub_epi64(
+                        _mm_setzero_si128(),
+                        _mm_and_si128(q, _mm_set1_epi64x(1)),
+                    ));
+                    let sign_bit = _mm_castsi128_pd(_mm_set1_epi64x(SIGN as i64));
+                    let d = _mm_and_pd(_mm_xor_pd(s.0, c.0), swap);
+                    let flip = _mm_and_pd(_mm_castsi128_pd(_mm_slli_epi64(q, 62)), sign_bit);
+                    (
+                        Pair(_mm_xor_pd(_mm_xor_pd(s.0, d), _mm_xor_pd(flip, sign.0))),
+                        Pair(_mm_xor_pd(
+                            _mm_xor_pd(c.0, d),
+                            _mm_xor_pd(flip, _mm_and_pd(swap, sign_bit)),
+                        )),
+                    )
+                }
+            }
         }
-    }
 
-    impl<const W: usize> Add for Side<W> {
-        type Output = Self;
-        #[inline(always)]
-        fn add(self, o: Self) -> Self {
-            Side(core::array::from_fn(|k| self.0[k] + o.0[k]))
+        impl super::Ops for Pair {
+            #[inline(always)]
+            fn splat(x: f64) -> Self {
+                // SAFETY: SSE2 is enabled (module cfg); registers only.
+                Pair(unsafe { _mm_set1_pd(x) })
+            }
         }
-    }
 
-    impl<const W: usize> Sub for Side<W> {
-        type Output = Self;
-        #[inline(always)]
-        fn sub(self, o: Self) -> Self {
-            Side(core::array::from_fn(|k| self.0[k] - o.0[k]))
+        impl Add for Pair {
+            type Output = Self;
+            #[inline(always)]
+            fn add(self, o: Self) -> Self {
+                // SAFETY: SSE2 is enabled (module cfg); registers only.
+                Pair(unsafe { _mm_add_pd(self.0, o.0) })
+            }
         }
-    }
 
-    impl<const W: usize> Mul for Side<W> {
-        type Output = Self;
-        #[inline(always)]
-        fn mul(self, o: Self) -> Self {
-            Side(core::array::from_fn(|k| self.0[k] * o.0[k]))
+        impl Sub for Pair {
+            type Output = Self;
+            #[inline(always)]
+            fn sub(self, o: Self) -> Self {
+                // SAFETY: SSE2 is enabled (module cfg); registers only.
+                Pair(unsafe { _mm_sub_pd(self.0, o.0) })
+            }
+        }
+
+        impl Mul for Pair {
+            type Output = Self;
+            #[inline(always)]
+            fn mul(self, o: Self) -> Self {
+                // SAFETY: SSE2 is enabled (module cfg); registers only.
+                Pair(unsafe { _mm_mul_pd(self.0, o.0) })
+            }
         }
     }
 
@@ -445,28 +531,33 @@ pub mod fast {
         (y0, (r - y0) - w, t)
     }
 
-    /// Lanes of the side-by-side kernel [`sin_cos_f64_lanes`] for [`sin_cos_f64_array`]: eight on
-    /// any x86-64 (one AVX-512 register, two AVX2 ones, four SSE2 pairs), none (one element at a
-    /// time) elsewhere. Seven joints, Intel Xeon with AVX-512 (BENCHMARKS.md, "Trigonometry in
-    /// groups of eight"): one group of eight 21–23 ns at AVX-512, 27 ns at AVX2 (a group of four
-    /// then a padded one took 82–84 ns) and 35–37 ns at SSE2 (pairs then one alone 45–48 ns).
-    pub const F64_LANES: usize = if cfg!(target_arch = "x86_64") { 8 } else { 1 };
+    /// Lanes of the side-by-side kernel [`sin_cos_f64_lanes`] for [`sin_cos_f64_array`]: eight
+    /// where the target has AVX2 (two registers) or AVX-512 (one), two on any other x86-64
+    /// (SSE2's pairs, [`sse2::Pair`]), none (one element at a time) elsewhere. Seven joints,
+    /// Intel Xeon with AVX-512 (BENCHMARKS.md, "Trigonometry on AVX2 and SSE2"): one group of
+    /// eight 22–23 ns with AVX2, where a group of four then a padded one took 87–90 ns.
+    pub const F64_LANES: usize = if cfg!(any(target_feature = "avx512f", target_feature = "avx2")) {
+        8
+    } else if cfg!(all(target_arch = "x86_64", target_feature = "sse2")) {
+        2
+    } else {
+        1
+    };
 
-    /// Whether [`sin_cos_f64_lanes`] computes its lanes as maps over all of them ([`Side`], one
-    /// elementwise operation at a time) rather than as one scalar path per lane. The maps where
-    /// the widest vectors are SSE2's two `f64` lanes (x86-64 without AVX2): the compiler turns
-    /// each map into whole vector operations, where it vectorised the paths only in part (seven
-    /// joints in a group of eight 35–37 ns against 51–54). With AVX2 or AVX-512 it vectorises the
-    /// paths and not the maps (AVX-512: 21–23 ns against 55–58), so the paths there.
-    const MAPS: bool = cfg!(all(target_arch = "x86_64", not(target_feature = "avx2")));
+    /// Whether [`sin_cos_f64_lanes`] computes its lanes two at a time on [`sse2::Pair`] rather
+    /// than as one scalar path per lane: where SSE2 is the widest vector unit. With AVX2 or
+    /// AVX-512 the compiler vectorises the scalar paths whole.
+    const PAIRS: bool = F64_LANES == 2;
 
-    /// [`sin_cos_f64`] of every element, bit for bit. With [`F64_LANES`] > 1 the elements go
+    /// [`sin_cos_f64`] of every element, bit for bit. With eight [`F64_LANES`] the elements go
     /// through [`sin_cos_f64_lanes`] in groups of eight, the last group padded (by repeating its
     /// last element) when three or more are left (one or two left go alone through
-    /// [`sin_cos_f64`]); where the lanes are maps (SSE2, whose cost grows with the width) three or
-    /// four left make a group of four.
+    /// [`sin_cos_f64`]); with two, all of them through [`sin_cos_f64_lanes`] in pairs.
     #[inline(always)]
     pub fn sin_cos_f64_array<const N: usize>(x: &[f64; N]) -> ([f64; N], [f64; N]) {
+        if PAIRS && N >= 2 {
+            return sin_cos_f64_lanes(x);
+        }
         let mut s = [0.0; N];
         let mut c = [0.0; N];
         let mut k = 0;
@@ -476,11 +567,7 @@ pub mod fast {
             // the vector through the stack, a failed store-to-load forwarding, and took the call
             // out of line (the presets' `J^r` from `q` 53 ns instead of 26).
             while k + 3 <= N {
-                k += if MAPS && N - k <= 4 {
-                    group::<N, 4>(x, k, &mut s, &mut c)
-                } else {
-                    group::<N, 8>(x, k, &mut s, &mut c)
-                };
+                k += group::<N, 8>(x, k, &mut s, &mut c);
             }
         }
         while k < N {
@@ -535,25 +622,9 @@ pub mod fast {
         const ABS: u64 = !(1u64 << 63);
         let mut s = [0.0; W];
         let mut c = [0.0; W];
-        if MAPS {
-            let ax: Side<W> = Side(core::array::from_fn(|k| {
-                f64::from_bits(x[k].to_bits() & ABS)
-            }));
-            let (y0, y1, t) = one_step64(ax);
-            let least = ax * Side::splat(TWO_M16);
-            let mut slow = false;
-            for k in 0..W {
-                slow |= !(ax.0[k] <= F64_FAST_LIMIT)
-                    | (f64::from_bits(y0.0[k].to_bits() & ABS) < least.0[k]);
-            }
-            if slow {
-                return each_alone(x);
-            }
-            let (sk, ck) = kernels64(y0, y1);
-            for k in 0..W {
-                (s[k], c[k]) = select64(sk.0[k], ck.0[k], t.0[k].to_bits(), x[k].to_bits() & !ABS);
-            }
-            return (s, c);
+        #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+        if PAIRS {
+            return pairs(x);
         }
         let mut slow = false;
         for k in 0..W {
@@ -571,8 +642,57 @@ pub mod fast {
         (s, c)
     }
 
-    /// [`sin_cos_f64`] of each element: the lanes' rare path, out of line where the lanes are maps
-    /// (inline, the compiler vectorised the maps less: 7 joints 42 ns instead of 39 in pairs).
+    /// [`sin_cos_f64_lanes`] on [`sse2::Pair`]s: lanes `2i, 2i + 1` in pair `i` (an odd last lane
+    /// paired with itself), the one-step reduction, both kernels and the select on each pair;
+    /// if any lane needs more, [`sin_cos_f64`] of every element.
+    #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+    #[inline(always)]
+    fn pairs<const W: usize>(x: &[f64; W]) -> ([f64; W], [f64; W]) {
+        let mut s = [0.0; W];
+        let mut c = [0.0; W];
+        let n = W.div_ceil(2);
+        // The first four pairs written out, so that their independent chains interleave (as a
+        // loop the compiler kept it rolled, one pair after another: 511 instructions and
+        // 45–48 ns for seven joints).
+        let mut slow = one_pair(x, 0, &mut s, &mut c);
+        if n > 1 {
+            slow |= one_pair(x, 1, &mut s, &mut c);
+        }
+        if n > 2 {
+            slow |= one_pair(x, 2, &mut s, &mut c);
+        }
+        if n > 3 {
+            slow |= one_pair(x, 3, &mut s, &mut c);
+        }
+        for i in 4..n {
+            slow |= one_pair(x, i, &mut s, &mut c);
+        }
+        if slow != 0 {
+            return each_alone(x);
+        }
+        (s, c)
+    }
+
+    /// Pair `i` of [`pairs`] into `s`, `c`; nonzero if a lane needs [`sin_cos_f64`]'s rare paths.
+    #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+    #[inline(always)]
+    fn one_pair<const W: usize>(x: &[f64; W], i: usize, s: &mut [f64; W], c: &mut [f64; W]) -> i32 {
+        use sse2::Pair;
+        let (ax, sign) = Pair::new(x[2 * i], x[(2 * i + 1).min(W - 1)]).abs_and_sign();
+        let (y0, y1, t) = one_step64(ax);
+        let slow = ax.beyond_or_cancelled(F64_FAST_LIMIT, y0, ax * Pair::splat(1.0 / 65536.0));
+        let (sk, ck) = kernels64(y0, y1);
+        let (sp, cp) = Pair::select(sk, ck, t, sign);
+        let (sp, cp) = (sp.lanes(), cp.lanes());
+        for l in 0..2.min(W - 2 * i) {
+            s[2 * i + l] = sp[l];
+            c[2 * i + l] = cp[l];
+        }
+        slow
+    }
+
+    /// [`sin_cos_f64`] of each element: the pairs' rare path, out of line.
+    #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
     #[cold]
     #[inline(never)]
     fn each_alone<const W: usize>(x: &[f64; W]) -> ([f64; W], [f64; W]) {
