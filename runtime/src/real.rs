@@ -38,8 +38,9 @@ pub trait Real:
     /// `(sin x, cos x)`.
     fn sin_cos(self) -> (Self, Self);
     /// `(sin x_k, cos x_k)` for every `k`: what generated code calls, once per control step, for
-    /// all the joints it uses. Exactly [`Real::sin_cos`] of each element; `f64` computes eight
-    /// (AVX-512) or four (AVX2) elements side by side ([`fast::sin_cos_f64_array`]).
+    /// all the joints it uses. Exactly [`Real::sin_cos`] of each element; `f64` on x86-64
+    /// computes eight (AVX-512, AVX2) or two (SSE2) elements side by side
+    /// ([`fast::sin_cos_f64_array`]).
     #[inline(always)]
     fn sin_cos_array<const N: usize>(x: &[Self; N]) -> ([Self; N], [Self; N]) {
         let mut s = [Self::ZERO; N];
@@ -290,9 +291,10 @@ pub mod fast {
 
     /// Two `f64` in one SSE2 register, for [`sin_cos_f64_lanes`] where SSE2 is the widest
     /// vector unit (x86-64 without AVX2). There the compiler vectorised the lanes' scalar paths
-    /// only in part, and how much depended on its settings (elementwise maps over eight lanes:
-    /// 394 instructions for seven joints with 16 codegen units, 644 with one); operations written
-    /// on the register pair give the same instructions under any setting.
+    /// only in part (seven joints 498–519 instructions, 45–48 ns), and elementwise maps over eight
+    /// lanes as much as its settings let it (394 instructions with 16 codegen units, 644 with
+    /// one); operations written on the register pair give the same 451 instructions and 36–38 ns
+    /// under either setting (BENCHMARKS.md, "Trigonometry on AVX2 and SSE2").
     ///
     /// Every operation is one SSE2 intrinsic on registers: no memory is read or written through
     /// a pointer. The intrinsics' only precondition is that the CPU has SSE2, and this module is
@@ -533,7 +535,7 @@ pub mod fast {
 
     /// Lanes of the side-by-side kernel [`sin_cos_f64_lanes`] for [`sin_cos_f64_array`]: eight
     /// where the target has AVX2 (two registers) or AVX-512 (one), two on any other x86-64
-    /// (SSE2's pairs, [`sse2::Pair`]), none (one element at a time) elsewhere. Seven joints,
+    /// (two `f64` in one SSE2 register), none (one element at a time) elsewhere. Seven joints,
     /// Intel Xeon with AVX-512 (BENCHMARKS.md, "Trigonometry on AVX2 and SSE2"): one group of
     /// eight 22–23 ns with AVX2, where a group of four then a padded one took 87–90 ns.
     pub const F64_LANES: usize = if cfg!(any(target_feature = "avx512f", target_feature = "avx2")) {

@@ -103,7 +103,7 @@
 //! the chord linearised about `θ̇⁰`: what is left is the change of its nonlinear part between `θ̇⁰`
 //! and `θ̇`, second order in `θ̇ − θ̇⁰`. The next step's (Q8) takes the first solve's residual
 //! `c⁰ − dv_0r − f`. The change is small, and the second solve keeps the first's working set
-//! (the KKT system of the change alone, [`same_working_set`]) unless that would cross a limit or
+//! (the KKT system of the change alone, `same_working_set`) unless that would cross a limit or
 //! the depth row is active; then it is solved in full from the first's working set.
 //! [`ChordCheck::AfterChange`] does so at the step after a working-set change (the default in
 //! `f64`), [`ChordCheck::Always`] at every step (one more forward kinematics of the link and one
