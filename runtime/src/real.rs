@@ -656,7 +656,10 @@ pub mod fast {
         // The first four pairs written out, so that their independent chains interleave (as a
         // loop the compiler kept it rolled, one pair after another: 511 instructions and
         // 45–48 ns for seven joints).
-        let mut slow = one_pair(x, 0, &mut s, &mut c);
+        let mut slow = 0;
+        if n > 0 {
+            slow |= one_pair(x, 0, &mut s, &mut c);
+        }
         if n > 1 {
             slow |= one_pair(x, 1, &mut s, &mut c);
         }

@@ -390,3 +390,50 @@ fn small_arguments_need_no_reduction_in_lanes() {
         q = f64::from_bits(q.to_bits() - 1);
     }
 }
+
+/// `sin_cos_f64_lanes` of every width from 0 to 11 (odd widths pair their last lane with itself
+/// where the lanes are SSE2 pairs; beyond eight lanes the pairs go on in a loop), bit for bit the
+/// scalar `sin_cos_f64`, with one lane in eleven sent to the careful path.
+#[test]
+fn lanes_of_every_width_equal_the_scalar_one() {
+    use trocar::real::fast::{sin_cos_f64, sin_cos_f64_lanes};
+    fn check<const W: usize>(x: [f64; W]) {
+        let (s, c) = sin_cos_f64_lanes::<W>(&x);
+        for k in 0..W {
+            let (ws, wc) = sin_cos_f64(x[k]);
+            assert_eq!(
+                (s[k].to_bits(), c[k].to_bits()),
+                (ws.to_bits(), wc.to_bits()),
+                "W = {W}, lane {k}, x = {:e}",
+                x[k]
+            );
+        }
+    }
+    let mut seed = 11u64;
+    for round in 0..2_000 {
+        let mut x = [0.0f64; 11];
+        for (k, v) in x.iter_mut().enumerate() {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            *v = if round % 11 == k {
+                // a neighbour of a multiple of π/2: the careful reduction
+                f64::from_bits(((round % 50) as f64 * core::f64::consts::FRAC_PI_2).to_bits() + 1)
+            } else {
+                ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 50.0
+            };
+        }
+        check::<0>([]);
+        check::<1>([x[0]]);
+        check::<2>([x[0], x[1]]);
+        check::<3>([x[0], x[1], x[2]]);
+        check::<4>([x[0], x[1], x[2], x[3]]);
+        check::<5>([x[0], x[1], x[2], x[3], x[4]]);
+        check::<6>(core::array::from_fn(|k| x[k]));
+        check::<7>(core::array::from_fn(|k| x[k]));
+        check::<8>(core::array::from_fn(|k| x[k]));
+        check::<9>(core::array::from_fn(|k| x[k]));
+        check::<10>(core::array::from_fn(|k| x[k]));
+        check::<11>(x);
+    }
+}
