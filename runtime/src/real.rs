@@ -39,7 +39,7 @@ pub trait Real:
     fn sin_cos(self) -> (Self, Self);
     /// `(sin x_k, cos x_k)` for every `k`: what generated code calls, once per control step, for
     /// all the joints it uses. Exactly [`Real::sin_cos`] of each element; `f64` on x86-64
-    /// computes eight (AVX-512, AVX2) or two (SSE2) elements side by side
+    /// computes eight (AVX-512, AVX2) or two (SSE2 without AVX2) elements side by side
     /// ([`fast::sin_cos_f64_array`]).
     #[inline(always)]
     fn sin_cos_array<const N: usize>(x: &[Self; N]) -> ([Self; N], [Self; N]) {
@@ -276,7 +276,7 @@ pub mod fast {
     const TOINT_64: f64 = 1.5 / f64::EPSILON;
 
     /// What the `f64` kernels and the one-step reduction are written against: `f64` itself, for
-    /// one argument, and [`sse2::Pair`], for two side by side in one SSE2 register. One text of
+    /// one argument, and `sse2::Pair` (x86-64 with SSE2), for two side by side in one register. One text of
     /// the arithmetic, so every path gives the same bits.
     trait Ops: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> {
         fn splat(x: f64) -> Self;
@@ -289,8 +289,8 @@ pub mod fast {
         }
     }
 
-    /// Two `f64` in one SSE2 register, for [`sin_cos_f64_lanes`] where SSE2 is the widest
-    /// vector unit (x86-64 without AVX2). There the compiler vectorised the lanes' scalar paths
+    /// Two `f64` in one SSE2 register, for [`sin_cos_f64_lanes`] on x86-64 targets with SSE2
+    /// and without AVX2 (the default target; AVX without AVX2 too). There the compiler vectorised the lanes' scalar paths
     /// only in part (seven joints 498–519 instructions, 45–48 ns), and elementwise maps over eight
     /// lanes as much as its settings let it (394 instructions with 16 codegen units, 644 with
     /// one); operations written on the register pair give the same 451 instructions and 36–38 ns
@@ -298,8 +298,9 @@ pub mod fast {
     ///
     /// Every operation is one SSE2 intrinsic on registers: no memory is read or written through
     /// a pointer. The intrinsics' only precondition is that the CPU has SSE2, and this module is
-    /// compiled only when the target enables the `sse2` feature (every x86-64 target does: its
-    /// ABI passes `f64` in SSE registers), so each `unsafe` block below is sound.
+    /// compiled only when the target enables the `sse2` feature (the hosted x86-64 targets do:
+    /// their ABI passes `f64` in SSE registers; a soft-float one such as `x86_64-unknown-none`
+    /// does not, and takes the scalar path), so each `unsafe` block below is sound.
     #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
     mod sse2 {
         use core::arch::x86_64::*;
@@ -534,10 +535,10 @@ pub mod fast {
     }
 
     /// Lanes of the side-by-side kernel [`sin_cos_f64_lanes`] for [`sin_cos_f64_array`]: eight
-    /// where the target has AVX2 (two registers) or AVX-512 (one), two on any other x86-64
-    /// (two `f64` in one SSE2 register), none (one element at a time) elsewhere. Seven joints,
-    /// Intel Xeon with AVX-512 (BENCHMARKS.md, "Trigonometry on AVX2 and SSE2"): one group of
-    /// eight 22–23 ns with AVX2, where a group of four then a padded one took 87–90 ns.
+    /// where the target has AVX2 (two registers) or AVX-512 (one), two on other x86-64 targets
+    /// with SSE2 (two `f64` in one SSE2 register), none (one element at a time) elsewhere. Seven
+    /// joints, Intel Xeon with AVX-512 (BENCHMARKS.md, "Trigonometry on AVX2 and SSE2"): one
+    /// group of eight 22–24 ns with AVX2, where a group of four then a padded one took 79–83 ns.
     pub const F64_LANES: usize = if cfg!(any(target_feature = "avx512f", target_feature = "avx2")) {
         8
     } else if cfg!(all(target_arch = "x86_64", target_feature = "sse2")) {
@@ -546,15 +547,16 @@ pub mod fast {
         1
     };
 
-    /// Whether [`sin_cos_f64_lanes`] computes its lanes two at a time on [`sse2::Pair`] rather
-    /// than as one scalar path per lane: where SSE2 is the widest vector unit. With AVX2 or
+    /// Whether [`sin_cos_f64_lanes`] computes its lanes two at a time on `sse2::Pair` rather
+    /// than as one scalar path per lane: on x86-64 with SSE2 and without AVX2. With AVX2 or
     /// AVX-512 the compiler vectorises the scalar paths whole.
     const PAIRS: bool = F64_LANES == 2;
 
     /// [`sin_cos_f64`] of every element, bit for bit. With eight [`F64_LANES`] the elements go
     /// through [`sin_cos_f64_lanes`] in groups of eight, the last group padded (by repeating its
     /// last element) when three or more are left (one or two left go alone through
-    /// [`sin_cos_f64`]); with two, all of them through [`sin_cos_f64_lanes`] in pairs.
+    /// [`sin_cos_f64`]); with two, arrays of two or more elements go through
+    /// [`sin_cos_f64_lanes`] in pairs (one element alone through [`sin_cos_f64`]).
     #[inline(always)]
     pub fn sin_cos_f64_array<const N: usize>(x: &[f64; N]) -> ([f64; N], [f64; N]) {
         if PAIRS && N >= 2 {

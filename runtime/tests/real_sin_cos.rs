@@ -418,7 +418,9 @@ fn lanes_of_every_width_equal_the_scalar_one() {
                 .wrapping_add(1442695040888963407);
             *v = if round % 11 == k {
                 // a neighbour of a multiple of π/2: the careful reduction
-                f64::from_bits(((round % 50) as f64 * core::f64::consts::FRAC_PI_2).to_bits() + 1)
+                f64::from_bits(
+                    ((round % 50 + 1) as f64 * core::f64::consts::FRAC_PI_2).to_bits() + 1,
+                )
             } else {
                 ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 50.0
             };
