@@ -274,6 +274,11 @@ pub mod fast {
 
     const FRAC_2_PI_64: f64 = 6.36619772367581382433e-01;
     const TOINT_64: f64 = 1.5 / f64::EPSILON;
+    /// The sign bit of an `f64`.
+    const SIGN: u64 = 1 << 63;
+    /// The lanes' cancellation test: a reduced `|y0|` below `2⁻¹⁶ |x|` may have cancelled (it
+    /// holds whenever musl's exponent test of [`sin_cos_f64`] does).
+    const TWO_M16: f64 = 1.0 / 65536.0;
 
     /// What the `f64` kernels and the one-step reduction are written against: `f64` itself, for
     /// one argument, and `sse2::Pair` (x86-64 with SSE2), for two side by side in one register. One text of
@@ -310,7 +315,7 @@ pub mod fast {
         #[derive(Clone, Copy)]
         pub(super) struct Pair(__m128d);
 
-        const SIGN: u64 = 1 << 63;
+        use super::SIGN;
 
         impl Pair {
             #[inline(always)]
@@ -447,7 +452,6 @@ pub mod fast {
     /// quadrant bit 0 turns `(s, c)` into `(c, −s)`, bit 1 negates both.
     #[inline(always)]
     fn select64(s: f64, c: f64, quadrant: u64, sign: u64) -> (f64, f64) {
-        const SIGN: u64 = 1 << 63;
         let (sb, cb) = (s.to_bits(), c.to_bits());
         let swap = 0u64.wrapping_sub(quadrant & 1);
         let d = (sb ^ cb) & swap;
@@ -622,14 +626,13 @@ pub mod fast {
     /// unreduced.
     #[inline(always)]
     pub fn sin_cos_f64_lanes<const W: usize>(x: &[f64; W]) -> ([f64; W], [f64; W]) {
-        const TWO_M16: f64 = 1.0 / 65536.0;
-        const ABS: u64 = !(1u64 << 63);
-        let mut s = [0.0; W];
-        let mut c = [0.0; W];
+        const ABS: u64 = !SIGN;
         #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
         if PAIRS {
             return pairs(x);
         }
+        let mut s = [0.0; W];
+        let mut c = [0.0; W];
         let mut slow = false;
         for k in 0..W {
             let sign = x[k].to_bits() & !ABS;
@@ -687,7 +690,7 @@ pub mod fast {
         use sse2::Pair;
         let (ax, sign) = Pair::new(x[2 * i], x[(2 * i + 1).min(W - 1)]).abs_and_sign();
         let (y0, y1, t) = one_step64(ax);
-        let slow = ax.beyond_or_cancelled(F64_FAST_LIMIT, y0, ax * Pair::splat(1.0 / 65536.0));
+        let slow = ax.beyond_or_cancelled(F64_FAST_LIMIT, y0, ax * Pair::splat(TWO_M16));
         let (sk, ck) = kernels64(y0, y1);
         let (sp, cp) = Pair::select(sk, ck, t, sign);
         let (sp, cp) = (sp.lanes(), cp.lanes());
@@ -710,6 +713,7 @@ pub mod fast {
         }
         (s, c)
     }
+
     const FRAC_2_PI_32: f32 = 0.636_619_75;
     const TOINT_32: f32 = 1.5 / f32::EPSILON;
 
