@@ -10,7 +10,7 @@
 //! - `+ − × ÷`, `sqrt` are IEEE-754 operations, correctly rounded lane by lane as they are on one
 //!   number; `abs` clears and `−x` flips the sign bit (so `−(+0) = −0`, as for `f64`: `wide`'s own
 //!   negation computes `0 − x`, which gives `+0`, and is not used);
-//! - `mul_add` is fused exactly where [`Real::mul_add`](crate::Real::mul_add) is (the `std`
+//! - `mul_add` is fused exactly where [`Real::mul_add`] is (the `std`
 //!   feature and a target with FMA) and two operations elsewhere;
 //! - `sin_cos` runs the main path of [`fast::sin_cos_f64`] / [`fast::sin_cos_f32`] on all lanes at
 //!   once ([`fast::sin_cos_f64_lanes`], [`fast::sin_cos_f32_lanes`]), and recomputes every lane

@@ -294,6 +294,48 @@ pub mod fast {
         }
     }
 
+    /// [`Ops`] and `+`, `−`, `×` for a vector type `$t(register)` from its intrinsics
+    /// (`sse2::Pair`, `avx2::Quad`). Used inside a module whose docs prove that the intrinsics'
+    /// target feature is present wherever the type is used; the intrinsics work on registers only.
+    #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+    macro_rules! vector_ops {
+        ($t:ident, $splat:ident, $add:ident, $sub:ident, $mul:ident) => {
+            impl super::Ops for $t {
+                #[inline(always)]
+                fn splat(x: f64) -> Self {
+                    // SAFETY: the target feature is present (module docs); registers only.
+                    $t(unsafe { $splat(x) })
+                }
+            }
+            impl core::ops::Add for $t {
+                type Output = Self;
+                #[inline(always)]
+                fn add(self, o: Self) -> Self {
+                    // SAFETY: the target feature is present (module docs); registers only.
+                    $t(unsafe { $add(self.0, o.0) })
+                }
+            }
+            impl core::ops::Sub for $t {
+                type Output = Self;
+                #[inline(always)]
+                fn sub(self, o: Self) -> Self {
+                    // SAFETY: the target feature is present (module docs); registers only.
+                    $t(unsafe { $sub(self.0, o.0) })
+                }
+            }
+            impl core::ops::Mul for $t {
+                type Output = Self;
+                #[inline(always)]
+                fn mul(self, o: Self) -> Self {
+                    // SAFETY: the target feature is present (module docs); registers only.
+                    $t(unsafe { $mul(self.0, o.0) })
+                }
+            }
+        };
+    }
+    #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+    use vector_ops;
+
     /// Two `f64` in one SSE2 register, for [`sin_cos_f64_lanes`] on x86-64 targets with SSE2
     /// and without AVX2 (the default target; AVX without AVX2 too). There the compiler vectorised the lanes' scalar paths
     /// only in part (seven joints 498–519 instructions, 45–48 ns), and elementwise maps over eight
@@ -309,7 +351,6 @@ pub mod fast {
     #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
     mod sse2 {
         use core::arch::x86_64::*;
-        use core::ops::{Add, Mul, Sub};
 
         /// Lane 0 and lane 1 of an SSE2 register.
         #[derive(Clone, Copy)]
@@ -383,40 +424,7 @@ pub mod fast {
             }
         }
 
-        impl super::Ops for Pair {
-            #[inline(always)]
-            fn splat(x: f64) -> Self {
-                // SAFETY: SSE2 is enabled (module cfg); registers only.
-                Pair(unsafe { _mm_set1_pd(x) })
-            }
-        }
-
-        impl Add for Pair {
-            type Output = Self;
-            #[inline(always)]
-            fn add(self, o: Self) -> Self {
-                // SAFETY: SSE2 is enabled (module cfg); registers only.
-                Pair(unsafe { _mm_add_pd(self.0, o.0) })
-            }
-        }
-
-        impl Sub for Pair {
-            type Output = Self;
-            #[inline(always)]
-            fn sub(self, o: Self) -> Self {
-                // SAFETY: SSE2 is enabled (module cfg); registers only.
-                Pair(unsafe { _mm_sub_pd(self.0, o.0) })
-            }
-        }
-
-        impl Mul for Pair {
-            type Output = Self;
-            #[inline(always)]
-            fn mul(self, o: Self) -> Self {
-                // SAFETY: SSE2 is enabled (module cfg); registers only.
-                Pair(unsafe { _mm_mul_pd(self.0, o.0) })
-            }
-        }
+        super::vector_ops!(Pair, _mm_set1_pd, _mm_add_pd, _mm_sub_pd, _mm_mul_pd);
     }
 
     /// fdlibm `__kernel_sin(y0, y1, 1)` and `__kernel_cos(y0, y1)` on `|y0 + y1| ≤ π/4`:
@@ -561,14 +569,39 @@ pub mod fast {
     /// last element) when three or more are left (one or two left go alone through
     /// [`sin_cos_f64`]); with two, arrays of two or more elements go through
     /// [`sin_cos_f64_lanes`] in pairs (one element alone through [`sin_cos_f64`]).
+    ///
+    /// With `std`, on an x86-64 target without AVX2 (the default target) running on a CPU that
+    /// has it, arrays of three to eight elements go as one group of eight on AVX2, chosen at run
+    /// time (std's detection, cached): the same operations, none fused, so the same bits. On an
+    /// Intel Xeon with AVX-512, default target: the Panda's seven joints 29–30 ns against 37 in
+    /// SSE2 pairs, its pose and body Jacobian from `q` 55–57 ns against 60 (BENCHMARKS.md, "AVX2
+    /// chosen at run time"). Longer arrays, and builds without `std`, keep the pairs.
     #[inline(always)]
     pub fn sin_cos_f64_array<const N: usize>(x: &[f64; N]) -> ([f64; N], [f64; N]) {
-        if PAIRS && N >= 2 {
-            return sin_cos_f64_lanes(x);
-        }
         let mut s = [0.0; N];
         let mut c = [0.0; N];
         let mut k = 0;
+        if PAIRS && N >= 2 {
+            #[cfg(all(feature = "std", target_arch = "x86_64", not(target_feature = "avx2")))]
+            if (3..=8).contains(&N) && avx2::available() {
+                let e = |l: usize| x[l.min(N - 1)];
+                // SAFETY: `avx2::eight` only needs the CPU to have AVX2, which `available`
+                // has confirmed (std's detection, which also checks that the operating
+                // system saves the YMM registers).
+                let (s, c) =
+                    unsafe { avx2::eight::<N>(e(0), e(1), e(2), e(3), e(4), e(5), e(6), e(7)) };
+                // Each element read alone (8-byte loads): the caller's own loads of two
+                // neighbours at once would span two of `eight`'s stores, a failed
+                // store-to-load forwarding.
+                // SAFETY: `s[k]`, `c[k]` are valid, aligned `f64` of local arrays.
+                let read = |a: &[f64; N], k: usize| unsafe { core::ptr::read_volatile(&a[k]) };
+                return (
+                    core::array::from_fn(|k| read(&s, k)),
+                    core::array::from_fn(|k| read(&c, k)),
+                );
+            }
+            return sin_cos_f64_lanes(x);
+        }
         if F64_LANES == 8 {
             // A group of two or fewer goes one element at a time: padding two joints out to a
             // group of eight (the presets' `J^r` needs `q7`, `q8` only) made the compiler build
@@ -585,6 +618,172 @@ pub mod fast {
         (s, c)
     }
 
+    /// Groups of eight compiled for AVX2, for x86-64 builds whose target lacks it; chosen at run
+    /// time by [`sin_cos_f64_array`].
+    ///
+    /// The eight lanes are two `Quad`s: four `f64` in one AVX register, one AVX intrinsic per
+    /// operation, the same arithmetic as every other path ([`kernels64`], [`one_step64`]). The
+    /// compiler's own vectorisation of [`sin_cos_f64_lanes`] in such a function built its
+    /// vectors through the stack, a failed store-to-load forwarding that made the Panda's seven
+    /// joints slower than the SSE2 pairs (49–51 ns against 35).
+    ///
+    /// Soundness: every `unsafe` block below is an AVX or AVX2 intrinsic on registers (no memory
+    /// is read or written through a pointer), whose one precondition is that the CPU has AVX2.
+    /// `Quad` and its operations are private to this module, and are used only inside
+    /// [`avx2::eight`](self::avx2), which is compiled for AVX2 and unsafe to call; its one
+    /// caller calls it only after `available` has confirmed AVX2 at run time.
+    #[cfg(all(feature = "std", target_arch = "x86_64", not(target_feature = "avx2")))]
+    mod avx2 {
+        use core::arch::x86_64::*;
+
+        use super::{kernels64, one_step64, Ops, F64_FAST_LIMIT, SIGN, TWO_M16};
+
+        /// Whether the CPU (and the operating system) supports AVX2; std caches the answer.
+        #[inline(always)]
+        pub(super) fn available() -> bool {
+            std::arch::is_x86_feature_detected!("avx2")
+        }
+
+        /// [`super::sin_cos_f64_lanes`] of eight elements, bit for bit (no operation is fused),
+        /// compiled for AVX2. The arguments come one by one, in registers.
+        ///
+        /// # Safety
+        /// The CPU must have AVX2.
+        #[allow(clippy::too_many_arguments)]
+        #[target_feature(enable = "avx2")]
+        pub(super) unsafe fn eight<const N: usize>(
+            x0: f64,
+            x1: f64,
+            x2: f64,
+            x3: f64,
+            x4: f64,
+            x5: f64,
+            x6: f64,
+            x7: f64,
+        ) -> ([f64; N], [f64; N]) {
+            let (s0, c0, slow0) = four(Quad::new(x0, x1, x2, x3));
+            let (s1, c1, slow1) = four(Quad::new(x4, x5, x6, x7));
+            let x = [x0, x1, x2, x3, x4, x5, x6, x7];
+            if (slow0 | slow1) != 0 {
+                let (s, c) = each_alone(x);
+                return (
+                    core::array::from_fn(|k| s[k]),
+                    core::array::from_fn(|k| c[k]),
+                );
+            }
+            let (s0, c0, s1, c1) = (s0.lanes(), c0.lanes(), s1.lanes(), c1.lanes());
+            (
+                core::array::from_fn(|k| if k < 4 { s0[k] } else { s1[k - 4] }),
+                core::array::from_fn(|k| if k < 4 { c0[k] } else { c1[k - 4] }),
+            )
+        }
+
+        /// One quad: the one-step reduction, both kernels and the select; nonzero if a lane
+        /// needs [`super::sin_cos_f64`]'s rare paths.
+        #[inline(always)]
+        fn four(x: Quad) -> (Quad, Quad, i32) {
+            let (ax, sign) = x.abs_and_sign();
+            let (y0, y1, t) = one_step64(ax);
+            let slow = ax.beyond_or_cancelled(F64_FAST_LIMIT, y0, ax * Quad::splat(TWO_M16));
+            let (s, c) = kernels64(y0, y1);
+            let (s, c) = Quad::select(s, c, t, sign);
+            (s, c, slow)
+        }
+
+        /// [`super::sin_cos_f64`] of each element: the rare path, out of line.
+        #[cold]
+        #[inline(never)]
+        fn each_alone(x: [f64; 8]) -> ([f64; 8], [f64; 8]) {
+            let mut s = [0.0; 8];
+            let mut c = [0.0; 8];
+            for k in 0..8 {
+                (s[k], c[k]) = super::sin_cos_f64(x[k]);
+            }
+            (s, c)
+        }
+
+        /// Four `f64` in one AVX register (lane 0 first).
+        #[derive(Clone, Copy)]
+        struct Quad(__m256d);
+
+        impl Quad {
+            #[inline(always)]
+            fn new(a: f64, b: f64, c: f64, d: f64) -> Self {
+                // SAFETY: AVX2 (module docs); registers only.
+                Quad(unsafe { _mm256_set_pd(d, c, b, a) })
+            }
+
+            #[inline(always)]
+            fn lanes(self) -> [f64; 4] {
+                // SAFETY: four `f64` in 32 bytes, lane 0 at the lowest address; every bit
+                // pattern is an `f64`.
+                unsafe { core::mem::transmute::<__m256d, [f64; 4]>(self.0) }
+            }
+
+            /// `(|x|, the sign bit of x)`.
+            #[inline(always)]
+            fn abs_and_sign(self) -> (Self, Self) {
+                // SAFETY: AVX2 (module docs); registers only.
+                unsafe {
+                    let s = _mm256_set1_pd(-0.0);
+                    (
+                        Quad(_mm256_andnot_pd(s, self.0)),
+                        Quad(_mm256_and_pd(s, self.0)),
+                    )
+                }
+            }
+
+            /// Lanes where `!(self <= limit)` (NaN included) or `|y| < least`, as a bit mask.
+            #[inline(always)]
+            fn beyond_or_cancelled(self, limit: f64, y: Self, least: Self) -> i32 {
+                // SAFETY: AVX2 (module docs); registers only.
+                unsafe {
+                    let abs_y = _mm256_andnot_pd(_mm256_set1_pd(-0.0), y.0);
+                    _mm256_movemask_pd(_mm256_or_pd(
+                        _mm256_cmp_pd::<_CMP_NLE_UQ>(self.0, _mm256_set1_pd(limit)),
+                        _mm256_cmp_pd::<_CMP_LT_OQ>(abs_y, least.0),
+                    ))
+                }
+            }
+
+            /// [`super::select64`] on the four lanes: `t`'s bits hold the quadrant, `sign` the
+            /// sign of `x`.
+            #[inline(always)]
+            fn select(s: Self, c: Self, t: Self, sign: Self) -> (Self, Self) {
+                // SAFETY: AVX2 (module docs); registers only.
+                unsafe {
+                    let q = _mm256_castpd_si256(t.0);
+                    let swap = _mm256_castsi256_pd(_mm256_sub_epi64(
+                        _mm256_setzero_si256(),
+                        _mm256_and_si256(q, _mm256_set1_epi64x(1)),
+                    ));
+                    let sign_bit = _mm256_castsi256_pd(_mm256_set1_epi64x(SIGN as i64));
+                    let d = _mm256_and_pd(_mm256_xor_pd(s.0, c.0), swap);
+                    let flip =
+                        _mm256_and_pd(_mm256_castsi256_pd(_mm256_slli_epi64::<62>(q)), sign_bit);
+                    (
+                        Quad(_mm256_xor_pd(
+                            _mm256_xor_pd(s.0, d),
+                            _mm256_xor_pd(flip, sign.0),
+                        )),
+                        Quad(_mm256_xor_pd(
+                            _mm256_xor_pd(c.0, d),
+                            _mm256_xor_pd(flip, _mm256_and_pd(swap, sign_bit)),
+                        )),
+                    )
+                }
+            }
+        }
+
+        super::vector_ops!(
+            Quad,
+            _mm256_set1_pd,
+            _mm256_add_pd,
+            _mm256_sub_pd,
+            _mm256_mul_pd
+        );
+    }
+
     /// Elements `k..` (at most `W` of them) of `x` through [`sin_cos_f64_lanes`] into `s`, `c`;
     /// returns how many.
     #[inline(always)]
@@ -599,7 +798,7 @@ pub mod fast {
         // build the vector through memory, a store-to-load forwarding stall: 7 joints took 47 ns
         // instead of 17 in one AVX-512 group).
         let xs: [f64; W] = core::array::from_fn(|l| x[k + l.min(m - 1)]);
-        let (sw, cw) = sin_cos_f64_lanes::<W>(&xs);
+        let (sw, cw) = each_lane::<W>(&xs);
         // Element by element: `copy_from_slice` here sent the results through memory too
         // (7 joints 44 ns instead of 17, AVX-512).
         #[allow(clippy::manual_memcpy)]
@@ -626,11 +825,18 @@ pub mod fast {
     /// unreduced.
     #[inline(always)]
     pub fn sin_cos_f64_lanes<const W: usize>(x: &[f64; W]) -> ([f64; W], [f64; W]) {
-        const ABS: u64 = !SIGN;
         #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
         if PAIRS {
             return pairs(x);
         }
+        each_lane(x)
+    }
+
+    /// [`sin_cos_f64_lanes`] as one scalar path per lane, which the compiler vectorises where
+    /// the target has AVX2 or AVX-512.
+    #[inline(always)]
+    fn each_lane<const W: usize>(x: &[f64; W]) -> ([f64; W], [f64; W]) {
+        const ABS: u64 = !SIGN;
         let mut s = [0.0; W];
         let mut c = [0.0; W];
         let mut slow = false;

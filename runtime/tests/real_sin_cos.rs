@@ -226,7 +226,8 @@ fn f32_exhaustive_fast_path() {
 }
 
 /// `sin_cos_f64_lanes` (eight, four and two lanes) and `sin_cos_f64_array` (what generated code calls through
-/// `Real::sin_cos_array`) are `sin_cos_f64` of each element, bit for bit: random arguments, the
+/// `Real::sin_cos_array`; of two to eight elements, on AVX2 quads chosen at run time where a
+/// default-target build runs on a CPU with AVX2) are `sin_cos_f64` of each element, bit for bit: random arguments, the
 /// neighbours of π/4 and of multiples of π/2 (where the careful reduction takes over), huge
 /// arguments, NaN and ±∞, in arrays that mix them.
 #[test]
@@ -292,6 +293,8 @@ fn array_version_equals_the_scalar_one_bit_for_bit() {
         // Two go one at a time, three as a padded group: both sides of the boundary.
         let (s2e, c2e) = sin_cos_f64_array(&[x[0], x[1]]);
         let (s3e, c3e) = sin_cos_f64_array(&[x[0], x[1], x[2]]);
+        let (s4e, c4e) = sin_cos_f64_array(&[x[0], x[1], x[2], x[3]]);
+        let (s6, c6) = sin_cos_f64_array(&[x[0], x[1], x[2], x[3], x[4], x[5]]);
         let (s7, c7) = sin_cos_f64_array(&[x[0], x[1], x[2], x[3], x[4], x[5], x[6]]);
         let (s8, c8) = sin_cos_f64_lanes(&x);
         // Two lanes (SSE2, the default x86-64 target's `sin_cos_f64_array`), pair by pair.
@@ -320,6 +323,12 @@ fn array_version_equals_the_scalar_one_bit_for_bit() {
             }
             if k < 3 {
                 assert_eq!((s3e[k].to_bits(), c3e[k].to_bits()), want, "three");
+            }
+            if k < 4 {
+                assert_eq!((s4e[k].to_bits(), c4e[k].to_bits()), want, "four");
+            }
+            if k < 6 {
+                assert_eq!((s6[k].to_bits(), c6[k].to_bits()), want, "six");
             }
             if k < 7 {
                 assert_eq!((s7[k].to_bits(), c7[k].to_bits()), want);
