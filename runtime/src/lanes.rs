@@ -13,8 +13,11 @@
 //! - `mul_add` is fused exactly where [`Real::mul_add`] is (the `std`
 //!   feature and a target with FMA) and two operations elsewhere;
 //! - `sin_cos` runs the main path of [`fast::sin_cos_f64`] / [`fast::sin_cos_f32`] on all lanes at
-//!   once ([`fast::sin_cos_f64_lanes`], [`fast::sin_cos_f32_lanes`]), and recomputes every lane
-//!   with the scalar function when one needs the careful reduction.
+//!   once (`F64x4` on `wide::f64x4` itself, the same arithmetic text as the scalar function;
+//!   `F32x8` through [`fast::sin_cos_f32_lanes`]), and recomputes every lane with the scalar
+//!   function when one needs the careful reduction. `F64x4` on its vector type: the Panda's
+//!   pose and body Jacobian for four configurations 10 % faster with AVX-512 than through
+//!   arrays of four (BENCHMARKS.md, "`F64x4`'s sines and cosines on its vector type").
 //!
 //! ```
 //! use trocar::lanes::{F64x4, Lanes};
@@ -185,8 +188,8 @@ macro_rules! lane_type {
             }
             #[inline(always)]
             fn sin_cos(self) -> (Self, Self) {
-                let (s, c) = $kernel(&self.to_array());
-                (Self::from_array(s), Self::from_array(c))
+                let (s, c) = $kernel(self.0);
+                (Self(s), Self(c))
             }
             #[inline(always)]
             fn sin_cos_array<const N: usize>(x: &[Self; N]) -> ([Self; N], [Self; N]) {
@@ -266,13 +269,20 @@ macro_rules! lane_type {
     };
 }
 
+/// [`fast::sin_cos_f32_lanes`] of the eight lanes.
+#[inline(always)]
+fn sin_cos_f32x8(x: wide::f32x8) -> (wide::f32x8, wide::f32x8) {
+    let (s, c) = fast::sin_cos_f32_lanes::<8>(&x.to_array());
+    (wide::f32x8::new(s), wide::f32x8::new(c))
+}
+
 lane_type!(
     /// Four `f64` lanes (`wide::f64x4`: one AVX register, or two SSE2/NEON ones).
-    F64x4, f64x4, f64, 4, u64, fast::sin_cos_f64_lanes::<4>
+    F64x4, f64x4, f64, 4, u64, fast::sin_cos_f64x4
 );
 lane_type!(
     /// Eight `f32` lanes (`wide::f32x8`: one AVX register, or two SSE2/NEON ones).
-    F32x8, f32x8, f32, 8, u32, fast::sin_cos_f32_lanes::<8>
+    F32x8, f32x8, f32, 8, u32, sin_cos_f32x8
 );
 
 /// A value made of lane types (a lane type, arrays and tuples of them: what generated functions

@@ -460,13 +460,54 @@ pub mod fast {
     /// quadrant bit 0 turns `(s, c)` into `(c, −s)`, bit 1 negates both.
     #[inline(always)]
     fn select64(s: f64, c: f64, quadrant: u64, sign: u64) -> (f64, f64) {
-        let (sb, cb) = (s.to_bits(), c.to_bits());
-        let swap = 0u64.wrapping_sub(quadrant & 1);
+        let (s, c) = select_bits(s.to_bits(), c.to_bits(), quadrant, sign);
+        (f64::from_bits(s), f64::from_bits(c))
+    }
+
+    /// The bits of one `f64` per lane: `u64` itself, and `wide::u64x4` for `F64x4`.
+    trait LaneBits:
+        Copy
+        + core::ops::BitAnd<Output = Self>
+        + core::ops::BitXor<Output = Self>
+        + core::ops::Shl<u64, Output = Self>
+    {
+        fn splat(x: u64) -> Self;
+        /// All ones where bit 0 is set, zero elsewhere.
+        fn mask_of_bit_0(self) -> Self;
+    }
+
+    impl LaneBits for u64 {
+        #[inline(always)]
+        fn splat(x: u64) -> Self {
+            x
+        }
+        #[inline(always)]
+        fn mask_of_bit_0(self) -> Self {
+            0u64.wrapping_sub(self & 1)
+        }
+    }
+
+    #[cfg(feature = "lanes")]
+    impl LaneBits for wide::u64x4 {
+        #[inline(always)]
+        fn splat(x: u64) -> Self {
+            wide::u64x4::splat(x)
+        }
+        #[inline(always)]
+        fn mask_of_bit_0(self) -> Self {
+            wide::u64x4::splat(0) - (self & wide::u64x4::splat(1))
+        }
+    }
+
+    /// [`select64`] on the bits of `s`, `c`, the quadrant and the sign, lane by lane.
+    #[inline(always)]
+    fn select_bits<B: LaneBits>(sb: B, cb: B, quadrant: B, sign: B) -> (B, B) {
+        let swap = quadrant.mask_of_bit_0();
         let d = (sb ^ cb) & swap;
-        let flip = (quadrant << 62) & SIGN;
+        let flip = (quadrant << 62) & B::splat(SIGN);
         (
-            f64::from_bits(sb ^ d ^ flip ^ sign),
-            f64::from_bits(cb ^ d ^ flip ^ (swap & SIGN)),
+            sb ^ d ^ flip ^ sign,
+            cb ^ d ^ flip ^ (swap & B::splat(SIGN)),
         )
     }
 
@@ -544,6 +585,43 @@ pub mod fast {
         let w = fnum * T::splat(P1T);
         let y0 = r - w;
         (y0, (r - y0) - w, t)
+    }
+
+    /// `wide::f64x4` for the lane type `F64x4` (feature `lanes`): its four lanes go through the
+    /// same arithmetic as every other path, on the vector type itself.
+    #[cfg(feature = "lanes")]
+    impl Ops for wide::f64x4 {
+        #[inline(always)]
+        fn splat(x: f64) -> Self {
+            wide::f64x4::splat(x)
+        }
+    }
+
+    /// [`sin_cos_f64`] of each lane of a `wide::f64x4`, bit for bit, computed on the vector:
+    /// the one-step reduction, both kernels and the select on the lanes' bits; if a
+    /// lane needs more (as in [`sin_cos_f64_lanes`]), every lane through [`sin_cos_f64`].
+    #[cfg(feature = "lanes")]
+    #[inline(always)]
+    pub(crate) fn sin_cos_f64x4(x: wide::f64x4) -> (wide::f64x4, wide::f64x4) {
+        use bytemuck::cast;
+        use wide::{f64x4, u64x4, CmpLe, CmpLt};
+        let bits: u64x4 = cast(x);
+        let sign = bits & u64x4::splat(SIGN);
+        let ax: f64x4 = cast(bits & u64x4::splat(!SIGN));
+        let (y0, y1, t) = one_step64(ax);
+        let fine = ax.cmp_le(f64x4::splat(F64_FAST_LIMIT));
+        let cancelled = y0.abs().cmp_lt(ax * f64x4::splat(TWO_M16));
+        if ((!fine) | cancelled).move_mask() != 0 {
+            let x = x.to_array();
+            let r: [(f64, f64); 4] = core::array::from_fn(|k| sin_cos_f64(x[k]));
+            return (
+                f64x4::new(core::array::from_fn(|k| r[k].0)),
+                f64x4::new(core::array::from_fn(|k| r[k].1)),
+            );
+        }
+        let (s, c) = kernels64(y0, y1);
+        let (s, c) = select_bits::<u64x4>(cast(s), cast(c), cast(t), sign);
+        (cast(s), cast(c))
     }
 
     /// Lanes of the side-by-side kernel [`sin_cos_f64_lanes`] for [`sin_cos_f64_array`]: eight
