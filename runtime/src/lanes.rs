@@ -16,7 +16,7 @@
 //!   once (`F64x4` on `wide::f64x4` itself, the same arithmetic text as the scalar function;
 //!   `F32x8` through [`fast::sin_cos_f32_lanes`]), and recomputes every lane with the scalar
 //!   function when one needs the careful reduction. `F64x4` on its vector type: the Panda's
-//!   pose and body Jacobian for four configurations 10 % faster with AVX-512 than through
+//!   pose and body Jacobian for four configurations 11 % faster with AVX-512 than through
 //!   arrays of four (BENCHMARKS.md, "`F64x4`'s sines and cosines on its vector type").
 //!
 //! ```

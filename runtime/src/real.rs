@@ -39,7 +39,8 @@ pub trait Real:
     fn sin_cos(self) -> (Self, Self);
     /// `(sin x_k, cos x_k)` for every `k`: what generated code calls, once per control step, for
     /// all the joints it uses. Exactly [`Real::sin_cos`] of each element; `f64` on x86-64
-    /// computes eight (AVX-512, AVX2) or two (SSE2 without AVX2) elements side by side
+    /// computes eight (AVX-512, AVX2) or two (SSE2 without AVX2) elements side by side, and a
+    /// default-target build with `std` takes AVX2 at run time where the CPU has it
     /// ([`fast::sin_cos_f64_array`]).
     #[inline(always)]
     fn sin_cos_array<const N: usize>(x: &[Self; N]) -> ([Self; N], [Self; N]) {
@@ -281,8 +282,9 @@ pub mod fast {
     const TWO_M16: f64 = 1.0 / 65536.0;
 
     /// What the `f64` kernels and the one-step reduction are written against: `f64` itself, for
-    /// one argument, and `sse2::Pair` (x86-64 with SSE2), for two side by side in one register. One text of
-    /// the arithmetic, so every path gives the same bits.
+    /// one argument; `sse2::Pair` (x86-64 with SSE2) and `avx2::Quad` (chosen at run time) for
+    /// two or four side by side in one register; `wide::f64x4` for the lane type `F64x4`. One
+    /// text of the arithmetic, so every path gives the same bits.
     trait Ops: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> {
         fn splat(x: f64) -> Self;
     }
@@ -660,7 +662,12 @@ pub mod fast {
         let mut c = [0.0; N];
         let mut k = 0;
         if PAIRS && N >= 2 {
-            #[cfg(all(feature = "std", target_arch = "x86_64", not(target_feature = "avx2")))]
+            #[cfg(all(
+                feature = "std",
+                target_arch = "x86_64",
+                target_feature = "sse2",
+                not(target_feature = "avx2")
+            ))]
             if (3..=8).contains(&N) && avx2::available() {
                 let e = |l: usize| x[l.min(N - 1)];
                 // SAFETY: `avx2::eight` only needs the CPU to have AVX2, which `available`
@@ -703,14 +710,20 @@ pub mod fast {
     /// operation, the same arithmetic as every other path ([`kernels64`], [`one_step64`]). The
     /// compiler's own vectorisation of [`sin_cos_f64_lanes`] in such a function built its
     /// vectors through the stack, a failed store-to-load forwarding that made the Panda's seven
-    /// joints slower than the SSE2 pairs (49–51 ns against 35).
+    /// joints slower than the SSE2 pairs (51–52 ns against 37).
     ///
-    /// Soundness: every `unsafe` block below is an AVX or AVX2 intrinsic on registers (no memory
-    /// is read or written through a pointer), whose one precondition is that the CPU has AVX2.
+    /// Soundness: every `unsafe` block below but one is an AVX or AVX2 intrinsic on registers (no
+    /// memory is read or written through a pointer), whose one precondition is that the CPU has
+    /// AVX2; the other is the transmute of `Quad::lanes`, sound for any bits (its own comment).
     /// `Quad` and its operations are private to this module, and are used only inside
     /// [`avx2::eight`](self::avx2), which is compiled for AVX2 and unsafe to call; its one
     /// caller calls it only after `available` has confirmed AVX2 at run time.
-    #[cfg(all(feature = "std", target_arch = "x86_64", not(target_feature = "avx2")))]
+    #[cfg(all(
+        feature = "std",
+        target_arch = "x86_64",
+        target_feature = "sse2",
+        not(target_feature = "avx2")
+    ))]
     mod avx2 {
         use core::arch::x86_64::*;
 

@@ -226,7 +226,7 @@ fn f32_exhaustive_fast_path() {
 }
 
 /// `sin_cos_f64_lanes` (eight, four and two lanes) and `sin_cos_f64_array` (what generated code calls through
-/// `Real::sin_cos_array`; of two to eight elements, on AVX2 quads chosen at run time where a
+/// `Real::sin_cos_array`; of three to eight elements, on AVX2 quads chosen at run time where a
 /// default-target build runs on a CPU with AVX2) are `sin_cos_f64` of each element, bit for bit: random arguments, the
 /// neighbours of π/4 and of multiples of π/2 (where the careful reduction takes over), huge
 /// arguments, NaN and ±∞, in arrays that mix them.
