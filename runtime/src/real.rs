@@ -296,6 +296,39 @@ pub mod fast {
         }
     }
 
+    /// A vector of `f64` lanes that runs [`sin_cos_f64`]'s main path on all its lanes at once
+    /// ([`main_path`]): `sse2::Pair`, `avx2::Quad`, `wide::f64x4`.
+    #[cfg(any(
+        all(target_arch = "x86_64", target_feature = "sse2"),
+        feature = "lanes"
+    ))]
+    trait Vector: Ops {
+        /// `(|x|, the sign bit of x)`.
+        fn abs_and_sign(self) -> (Self, Self);
+        /// Lanes where `!(self <= limit)` (NaN included) or `|y| < least`, as a bit mask.
+        fn beyond_or_cancelled(self, limit: f64, y: Self, least: Self) -> i32;
+        /// [`select64`] on every lane: `t`'s bits hold the quadrant, `sign` the sign of `x`.
+        fn select(s: Self, c: Self, t: Self, sign: Self) -> (Self, Self);
+    }
+
+    /// [`sin_cos_f64`]'s main path on every lane of `x`: the one-step reduction, both kernels and
+    /// the select; the mask of lanes that need its rare paths instead (beyond
+    /// [`F64_FAST_LIMIT`], NaN, ±∞, or a reduction that may have cancelled, as in
+    /// [`sin_cos_f64_lanes`]).
+    #[cfg(any(
+        all(target_arch = "x86_64", target_feature = "sse2"),
+        feature = "lanes"
+    ))]
+    #[inline(always)]
+    fn main_path<V: Vector>(x: V) -> (V, V, i32) {
+        let (ax, sign) = x.abs_and_sign();
+        let (y0, y1, t) = one_step64(ax);
+        let slow = ax.beyond_or_cancelled(F64_FAST_LIMIT, y0, ax * V::splat(TWO_M16));
+        let (s, c) = kernels64(y0, y1);
+        let (s, c) = V::select(s, c, t, sign);
+        (s, c, slow)
+    }
+
     /// [`Ops`] and `+`, `−`, `×` for a vector type `$t(register)` from its intrinsics
     /// (`sse2::Pair`, `avx2::Quad`). Used inside a module whose docs prove that the intrinsics'
     /// target feature is present wherever the type is used; the intrinsics work on registers only.
@@ -377,10 +410,11 @@ pub mod fast {
                     ]
                 }
             }
+        }
 
-            /// `(|x|, the sign bit of x)`.
+        impl super::Vector for Pair {
             #[inline(always)]
-            pub(super) fn abs_and_sign(self) -> (Self, Self) {
+            fn abs_and_sign(self) -> (Self, Self) {
                 // SAFETY: SSE2 is enabled (module cfg); registers only.
                 unsafe {
                     let s = _mm_set1_pd(-0.0);
@@ -388,9 +422,8 @@ pub mod fast {
                 }
             }
 
-            /// Lanes where `!(self <= limit)` (NaN included) or `|y| < least`, as a bit mask.
             #[inline(always)]
-            pub(super) fn beyond_or_cancelled(self, limit: f64, y: Self, least: Self) -> i32 {
+            fn beyond_or_cancelled(self, limit: f64, y: Self, least: Self) -> i32 {
                 // SAFETY: SSE2 is enabled (module cfg); registers only.
                 unsafe {
                     let abs_y = _mm_andnot_pd(_mm_set1_pd(-0.0), y.0);
@@ -401,10 +434,8 @@ pub mod fast {
                 }
             }
 
-            /// [`super::select64`] on both lanes: `t`'s bits hold the quadrant, `sign` the sign
-            /// of `x`.
             #[inline(always)]
-            pub(super) fn select(s: Self, c: Self, t: Self, sign: Self) -> (Self, Self) {
+            fn select(s: Self, c: Self, t: Self, sign: Self) -> (Self, Self) {
                 // SAFETY: SSE2 is enabled (module cfg); registers only.
                 unsafe {
                     let q = _mm_castpd_si128(t.0);
@@ -599,31 +630,46 @@ pub mod fast {
         }
     }
 
-    /// [`sin_cos_f64`] of each lane of a `wide::f64x4`, bit for bit, computed on the vector:
-    /// the one-step reduction, both kernels and the select on the lanes' bits; if a
-    /// lane needs more (as in [`sin_cos_f64_lanes`]), every lane through [`sin_cos_f64`].
+    /// The select on the lanes' bits (`wide::u64x4`), through the scalar [`select64`]'s
+    /// [`select_bits`].
+    #[cfg(feature = "lanes")]
+    impl Vector for wide::f64x4 {
+        #[inline(always)]
+        fn abs_and_sign(self) -> (Self, Self) {
+            let bits: wide::u64x4 = bytemuck::cast(self);
+            (
+                bytemuck::cast(bits & wide::u64x4::splat(!SIGN)),
+                bytemuck::cast(bits & wide::u64x4::splat(SIGN)),
+            )
+        }
+        #[inline(always)]
+        fn beyond_or_cancelled(self, limit: f64, y: Self, least: Self) -> i32 {
+            use wide::{CmpLe, CmpLt};
+            ((!self.cmp_le(Self::splat(limit))) | y.abs().cmp_lt(least)).move_mask()
+        }
+        #[inline(always)]
+        fn select(s: Self, c: Self, t: Self, sign: Self) -> (Self, Self) {
+            use bytemuck::cast;
+            let (s, c) = select_bits::<wide::u64x4>(cast(s), cast(c), cast(t), cast(sign));
+            (cast(s), cast(c))
+        }
+    }
+
+    /// [`sin_cos_f64`] of each lane of a `wide::f64x4`, bit for bit, computed on the vector
+    /// ([`main_path`]); if a lane needs more, every lane through [`sin_cos_f64`].
     #[cfg(feature = "lanes")]
     #[inline(always)]
     pub(crate) fn sin_cos_f64x4(x: wide::f64x4) -> (wide::f64x4, wide::f64x4) {
-        use bytemuck::cast;
-        use wide::{f64x4, u64x4, CmpLe, CmpLt};
-        let bits: u64x4 = cast(x);
-        let sign = bits & u64x4::splat(SIGN);
-        let ax: f64x4 = cast(bits & u64x4::splat(!SIGN));
-        let (y0, y1, t) = one_step64(ax);
-        let fine = ax.cmp_le(f64x4::splat(F64_FAST_LIMIT));
-        let cancelled = y0.abs().cmp_lt(ax * f64x4::splat(TWO_M16));
-        if ((!fine) | cancelled).move_mask() != 0 {
+        let (s, c, slow) = main_path(x);
+        if slow != 0 {
             let x = x.to_array();
             let r: [(f64, f64); 4] = core::array::from_fn(|k| sin_cos_f64(x[k]));
             return (
-                f64x4::new(core::array::from_fn(|k| r[k].0)),
-                f64x4::new(core::array::from_fn(|k| r[k].1)),
+                wide::f64x4::new(core::array::from_fn(|k| r[k].0)),
+                wide::f64x4::new(core::array::from_fn(|k| r[k].1)),
             );
         }
-        let (s, c) = kernels64(y0, y1);
-        let (s, c) = select_bits::<u64x4>(cast(s), cast(c), cast(t), sign);
-        (cast(s), cast(c))
+        (s, c)
     }
 
     /// Lanes of the side-by-side kernel [`sin_cos_f64_lanes`] for [`sin_cos_f64_array`]: eight
@@ -727,7 +773,7 @@ pub mod fast {
     mod avx2 {
         use core::arch::x86_64::*;
 
-        use super::{kernels64, one_step64, Ops, F64_FAST_LIMIT, SIGN, TWO_M16};
+        use super::{main_path, Vector, SIGN};
 
         /// Whether the CPU (and the operating system) supports AVX2; std caches the answer.
         #[inline(always)]
@@ -752,11 +798,10 @@ pub mod fast {
             x6: f64,
             x7: f64,
         ) -> ([f64; N], [f64; N]) {
-            let (s0, c0, slow0) = four(Quad::new(x0, x1, x2, x3));
-            let (s1, c1, slow1) = four(Quad::new(x4, x5, x6, x7));
-            let x = [x0, x1, x2, x3, x4, x5, x6, x7];
+            let (s0, c0, slow0) = main_path(Quad::new(x0, x1, x2, x3));
+            let (s1, c1, slow1) = main_path(Quad::new(x4, x5, x6, x7));
             if (slow0 | slow1) != 0 {
-                let (s, c) = each_alone(x);
+                let (s, c) = super::each_alone(&[x0, x1, x2, x3, x4, x5, x6, x7]);
                 return (
                     core::array::from_fn(|k| s[k]),
                     core::array::from_fn(|k| c[k]),
@@ -767,30 +812,6 @@ pub mod fast {
                 core::array::from_fn(|k| if k < 4 { s0[k] } else { s1[k - 4] }),
                 core::array::from_fn(|k| if k < 4 { c0[k] } else { c1[k - 4] }),
             )
-        }
-
-        /// One quad: the one-step reduction, both kernels and the select; nonzero if a lane
-        /// needs [`super::sin_cos_f64`]'s rare paths.
-        #[inline(always)]
-        fn four(x: Quad) -> (Quad, Quad, i32) {
-            let (ax, sign) = x.abs_and_sign();
-            let (y0, y1, t) = one_step64(ax);
-            let slow = ax.beyond_or_cancelled(F64_FAST_LIMIT, y0, ax * Quad::splat(TWO_M16));
-            let (s, c) = kernels64(y0, y1);
-            let (s, c) = Quad::select(s, c, t, sign);
-            (s, c, slow)
-        }
-
-        /// [`super::sin_cos_f64`] of each element: the rare path, out of line.
-        #[cold]
-        #[inline(never)]
-        fn each_alone(x: [f64; 8]) -> ([f64; 8], [f64; 8]) {
-            let mut s = [0.0; 8];
-            let mut c = [0.0; 8];
-            for k in 0..8 {
-                (s[k], c[k]) = super::sin_cos_f64(x[k]);
-            }
-            (s, c)
         }
 
         /// Four `f64` in one AVX register (lane 0 first).
@@ -810,8 +831,9 @@ pub mod fast {
                 // pattern is an `f64`.
                 unsafe { core::mem::transmute::<__m256d, [f64; 4]>(self.0) }
             }
+        }
 
-            /// `(|x|, the sign bit of x)`.
+        impl Vector for Quad {
             #[inline(always)]
             fn abs_and_sign(self) -> (Self, Self) {
                 // SAFETY: AVX2 (module docs); registers only.
@@ -824,7 +846,6 @@ pub mod fast {
                 }
             }
 
-            /// Lanes where `!(self <= limit)` (NaN included) or `|y| < least`, as a bit mask.
             #[inline(always)]
             fn beyond_or_cancelled(self, limit: f64, y: Self, least: Self) -> i32 {
                 // SAFETY: AVX2 (module docs); registers only.
@@ -837,8 +858,6 @@ pub mod fast {
                 }
             }
 
-            /// [`super::select64`] on the four lanes: `t`'s bits hold the quadrant, `sign` the
-            /// sign of `x`.
             #[inline(always)]
             fn select(s: Self, c: Self, t: Self, sign: Self) -> (Self, Self) {
                 // SAFETY: AVX2 (module docs); registers only.
@@ -984,12 +1003,7 @@ pub mod fast {
     #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
     #[inline(always)]
     fn one_pair<const W: usize>(x: &[f64; W], i: usize, s: &mut [f64; W], c: &mut [f64; W]) -> i32 {
-        use sse2::Pair;
-        let (ax, sign) = Pair::new(x[2 * i], x[(2 * i + 1).min(W - 1)]).abs_and_sign();
-        let (y0, y1, t) = one_step64(ax);
-        let slow = ax.beyond_or_cancelled(F64_FAST_LIMIT, y0, ax * Pair::splat(TWO_M16));
-        let (sk, ck) = kernels64(y0, y1);
-        let (sp, cp) = Pair::select(sk, ck, t, sign);
+        let (sp, cp, slow) = main_path(sse2::Pair::new(x[2 * i], x[(2 * i + 1).min(W - 1)]));
         let (sp, cp) = (sp.lanes(), cp.lanes());
         for l in 0..2.min(W - 2 * i) {
             s[2 * i + l] = sp[l];
@@ -998,7 +1012,7 @@ pub mod fast {
         slow
     }
 
-    /// [`sin_cos_f64`] of each element: the pairs' rare path, out of line.
+    /// [`sin_cos_f64`] of each element: the rare path of the pairs and the quads, out of line.
     #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
     #[cold]
     #[inline(never)]
