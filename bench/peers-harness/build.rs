@@ -109,6 +109,28 @@ fn main() {
                 )
                 .compile()
                 .expect("trocar code generation");
+            // The same Panda and step cases with `f64` entry points choosing FMA at run time
+            // (`fma_at_run_time`): modules `<name>_fma`, whose `_f64` functions the IMPLs
+            // `ours_f64_fma` and `ours_f64_given_trig_fma` call.
+            trocar_codegen::Builder::new()
+                .robot_as(
+                    robots.join("panda-laparoscope.toml"),
+                    "panda_laparoscope_fma",
+                )
+                .robot_as(robots.join("dia10_like_zy.toml"), "dia10_like_zy_fma")
+                .robot_as(manifest.join("oblique7.toml"), "oblique7_fma")
+                .robot_as(manifest.join("panda-link6-rcm.toml"), "panda_link6_rcm_fma")
+                .function(
+                    "step_outputs",
+                    [
+                        Function::ForwardKinematics,
+                        Function::PartialBodyJacobian,
+                        Function::ConstrainedJacobian,
+                    ],
+                )
+                .fma_at_run_time(true)
+                .compile()
+                .expect("trocar code generation");
         }
     }
 

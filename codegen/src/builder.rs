@@ -57,6 +57,9 @@ pub struct ModuleOptions {
     /// Fused functions besides the defaults ([`Builder::function`]): each one function computing
     /// several catalogue outputs in one program.
     pub functions: Vec<Fused>,
+    /// Also emit each fused function's `f64` entry points with fused multiply-adds chosen at run
+    /// time (`<name>_f64`, `<name>_trig_f64`); see [`Builder::fma_at_run_time`].
+    pub fma_at_run_time: bool,
     /// The files the description was read from (the TOML file, then the URDF it reads), relative
     /// to the package's root or absolute: their hash is the module's `DESCRIPTION_HASH`. Empty
     /// for a description given in memory.
@@ -85,7 +88,17 @@ pub fn generate_module(
     options: &ModuleOptions,
 ) -> Result<TokenStream, Error> {
     let runtime = options.runtime()?;
-    let spec = spec_for(desc, options)?;
+    let mut spec = spec_for(desc, options)?;
+    if options.fma_at_run_time {
+        if options.real != Scalar::Generic {
+            let real = match options.real {
+                Scalar::F32 => "f32",
+                _ => "f64",
+            };
+            return Err(Error::FmaNeedsGeneric(real.into()));
+        }
+        spec.fma_at_run_time = true;
+    }
     let mut items = emit::module_items_in(&spec, options.real, &runtime);
     if options.c_api {
         items.extend(emit::c_api::items(&spec, options.real, runtime.tokens()));
@@ -210,6 +223,7 @@ pub struct Builder {
     checks: Option<ChecksGate>,
     evidence: Option<usize>,
     functions: Vec<Fused>,
+    fma_at_run_time: bool,
 }
 
 impl Builder {
@@ -280,6 +294,19 @@ impl Builder {
     /// ([`crate::emit::c_api`]). A crate built as a `staticlib` or `cdylib` then exports them.
     pub fn c_api(&mut self, on: bool) -> &mut Self {
         self.c_api = on;
+        self
+    }
+
+    /// Also emit, for each fused function `name` of each serial robot (the defaults and those of
+    /// [`Builder::function`]), the `f64` entry points `name_f64` and `name_trig_f64` with fused
+    /// multiply-adds chosen at run time (`trocar::fma`): in a build for the default x86-64
+    /// target, on a CPU with AVX2 and FMA, they run `name` compiled for those (every `mul_add`
+    /// one instruction, rounded once); elsewhere they call `name::<f64>`. Their results' last
+    /// bits then depend on the CPU. The fused functions become `#[inline(always)]`. Needs the
+    /// generic scalar ([`Scalar::Generic`], the default); [`Builder::generate`] fails with
+    /// [`Error::FmaNeedsGeneric`] otherwise.
+    pub fn fma_at_run_time(&mut self, on: bool) -> &mut Self {
+        self.fma_at_run_time = on;
         self
     }
 
@@ -377,6 +404,7 @@ impl Builder {
                 checks: self.checks.clone(),
                 evidence: self.evidence,
                 functions: self.functions.clone(),
+                fma_at_run_time: self.fma_at_run_time,
                 description_files,
             };
             let code = generate_module_string(&desc, &options)?;

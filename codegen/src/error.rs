@@ -34,6 +34,10 @@ pub enum Error {
         /// What is wrong.
         message: String,
     },
+    /// [`crate::Builder::fma_at_run_time`] asked of a module that is not generic over the
+    /// scalar (its entry points run the generic functions on `trocar::fma::FusedF64`); the
+    /// scalar asked for.
+    FmaNeedsGeneric(String),
     /// The generation-time check of [`crate::Builder::evidence`] failed: the report, with the
     /// functions that do not match the numeric runtime.
     Evidence(String),
@@ -56,6 +60,12 @@ impl fmt::Display for Error {
             ),
             Error::Internal(m) => write!(f, "internal generator error: {m}"),
             Error::Function { name, message } => write!(f, "function `{name}`: {message}"),
+            Error::FmaNeedsGeneric(real) => write!(
+                f,
+                "fma_at_run_time needs a module generic over the scalar (real = generic), not \
+                 real = {real}: its `_f64` entry points run the generic functions on \
+                 trocar::fma::FusedF64"
+            ),
             Error::Evidence(m) => write!(
                 f,
                 "the generated module does not match the numeric runtime (evidence):\n{m}"

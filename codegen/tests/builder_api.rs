@@ -319,3 +319,52 @@ fn fused_functions_on_request() {
         assert!(err.to_string().starts_with(&format!("function `{name}`: ")));
     }
 }
+
+/// `fma_at_run_time`: each fused function gains `<name>_f64` and `<name>_trig_f64`, which take
+/// the function compiled for AVX2 and FMA when `trocar::fma::available()` holds; a monomorphic
+/// module is refused with the scalar named.
+#[test]
+fn fma_at_run_time_emits_f64_entry_points_for_generic_modules() {
+    let desc = RobotDescription::preset("dia10_like_zy").unwrap();
+    let options = ModuleOptions {
+        fma_at_run_time: true,
+        ..ModuleOptions::default()
+    };
+    let code = generate_module_string(&desc, &options).unwrap();
+    for name in ["pose_and_jacobian", "link_pose_and_jacobian"] {
+        for f in [format!("{name}_f64"), format!("{name}_trig_f64")] {
+            assert!(code.contains(&format!("pub fn {f}(")), "{f} missing");
+        }
+        assert!(
+            code.contains(&format!("unsafe fn {name}_fma(")),
+            "{name}_fma missing"
+        );
+    }
+    assert!(code.contains("#[target_feature(enable = \"avx2,fma\")]"));
+    assert!(code.contains("::trocar::fma::available()"));
+    assert!(code.contains("#[repr(C)]\n    pub struct JointTrig"));
+    // Without the option nothing of it is emitted.
+    let plain = generate_module_string(&desc, &ModuleOptions::default()).unwrap();
+    assert!(!plain.contains("_f64(") && !plain.contains("target_feature"));
+    for (real, name) in [(Scalar::F64, "f64"), (Scalar::F32, "f32")] {
+        let err = generate_module_string(
+            &desc,
+            &ModuleOptions {
+                real,
+                fma_at_run_time: true,
+                ..ModuleOptions::default()
+            },
+        )
+        .unwrap_err();
+        assert!(
+            matches!(&err, Error::FmaNeedsGeneric(r) if r == name),
+            "{err}"
+        );
+        assert!(
+            err.to_string().contains(&format!(
+                "needs a module generic over the scalar (real = generic), not real = {name}"
+            )),
+            "{err}"
+        );
+    }
+}

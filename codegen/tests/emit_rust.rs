@@ -141,6 +141,7 @@ fn small_module() -> ModuleSpec {
         joint_ranges: Vec::new(),
         pose_and_jacobians: None,
         fused: Vec::new(),
+        fma_at_run_time: false,
     }
 }
 

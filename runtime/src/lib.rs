@@ -16,6 +16,7 @@
 pub mod constraint;
 pub mod control;
 pub mod finite_diff;
+pub mod fma;
 pub mod kinematics;
 #[cfg(feature = "lanes")]
 pub mod lanes;

@@ -749,6 +749,29 @@ pub mod fast {
         (s, c)
     }
 
+    /// [`sin_cos_f64_array`] for a caller compiled for AVX2 and FMA at run time (the `_fma`
+    /// functions of `fma_at_run_time` modules, through [`crate::fma::FusedF64`]), bit for bit
+    /// the same: the AVX2 groups' results returned as they are, without the element-by-element
+    /// reads that spare SSE2 callers a failed store-to-load forwarding. Such a caller does not
+    /// need them, and they cost it: dia10_like's step outputs from `q` took 60 ns with them and
+    /// 54 ns without (BENCHMARKS.md, "FMA chosen at run time").
+    #[inline(always)]
+    pub(crate) fn sin_cos_f64_array_for_avx2<const N: usize>(x: &[f64; N]) -> ([f64; N], [f64; N]) {
+        #[cfg(all(
+            feature = "std",
+            target_arch = "x86_64",
+            target_feature = "sse2",
+            not(target_feature = "avx2")
+        ))]
+        if PAIRS && (3..=8).contains(&N) && avx2::available() {
+            let e = |l: usize| x[l.min(N - 1)];
+            // SAFETY: `avx2::eight` only needs the CPU to have AVX2, which `available` has
+            // confirmed.
+            return unsafe { avx2::eight::<N>(e(0), e(1), e(2), e(3), e(4), e(5), e(6), e(7)) };
+        }
+        sin_cos_f64_array(x)
+    }
+
     /// Groups of eight compiled for AVX2, for x86-64 builds whose target lacks it; chosen at run
     /// time by [`sin_cos_f64_array`].
     ///

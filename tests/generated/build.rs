@@ -37,6 +37,16 @@ fn main() {
     if let Err(e) = b.compile() {
         panic!("trocar-codegen: {e}");
     }
+    // The fused functions' `f64` entry points with FMA chosen at run time
+    // (`Builder::fma_at_run_time`), beside the modules above that have the same functions.
+    let mut fma = Builder::new();
+    fma.robot_as(format!("{robots}/panda-laparoscope.toml"), "panda_fma")
+        .robot_as(format!("{robots}/dia10_like_zy.toml"), "dia10_fma")
+        .function("step_outputs", STEP_OUTPUTS)
+        .fma_at_run_time(true);
+    if let Err(e) = fma.compile() {
+        panic!("trocar-codegen: {e}");
+    }
     // Monomorphic variants (`--real f32|f64`).
     let mut f32b = Builder::new();
     f32b.robot_as(

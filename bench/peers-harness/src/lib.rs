@@ -955,6 +955,10 @@ pub mod ours {
     include!(concat!(env!("OUT_DIR"), "/panda_link8.rs"));
     include!(concat!(env!("OUT_DIR"), "/oblique7.rs"));
     include!(concat!(env!("OUT_DIR"), "/panda_link6_rcm.rs"));
+    include!(concat!(env!("OUT_DIR"), "/panda_laparoscope_fma.rs"));
+    include!(concat!(env!("OUT_DIR"), "/dia10_like_zy_fma.rs"));
+    include!(concat!(env!("OUT_DIR"), "/oblique7_fma.rs"));
+    include!(concat!(env!("OUT_DIR"), "/panda_link6_rcm_fma.rs"));
 
     /// g_0e, J^B_0i and J^r of a constrained module, by the fused `step_outputs` (from `q`)
     /// or `step_outputs_trig` (given a `JointTrig`) that the build script asks the generator
@@ -966,6 +970,15 @@ pub mod ours {
             let (head, jr) = $out.split_at_mut(48);
             $f($arg, &$pp, &mut g, cols(&mut head[12..]), cols(jr));
             put_pose($out, g);
+        }};
+    }
+
+    /// As `step_outputs!`, the pose written in place into `$g` (the caller's, as the peers
+    /// write theirs) instead of a local copied into `out[..12]`.
+    macro_rules! step_outputs_in_place {
+        ($f:path, $arg:expr, $pp:expr, $g:expr, $out:expr) => {{
+            let (head, jr) = $out.split_at_mut(48);
+            $f($arg, &$pp, $g, cols(&mut head[12..]), cols(jr));
         }};
     }
 
@@ -1214,6 +1227,165 @@ pub mod ours {
     #[inline(always)]
     pub fn panda_trig<T: Real>(q: &[T]) -> panda_laparoscope::JointTrig<T> {
         panda_laparoscope::JointTrig::new(joints(q))
+    }
+
+    /// [`eval`] of the fused cases through the `_f64` entry points of the modules generated with
+    /// `fma_at_run_time` (`<module>_fma`: FMA chosen at run time), the pose written in place
+    /// into `panda.g` (the Panda's Jacobian into `panda.jb` as [`eval_panda_in_place`] writes
+    /// it, the step cases' into `out[12..]` as [`eval_step_in_place`] writes them).
+    #[inline(always)]
+    pub fn eval_fma(case: Case, q: &[f64], p: &[f64], out: &mut [f64], panda: &mut PandaOut<f64>) {
+        let g = &mut panda.g;
+        match case {
+            Case::PandaI => {
+                let pp = panda_laparoscope_fma::Params { l_a: p[0] };
+                panda_laparoscope_fma::link_pose_and_jacobian_f64(
+                    joints(q),
+                    &pp,
+                    &mut panda.g,
+                    &mut panda.jb,
+                );
+            }
+            Case::DiaZy => {
+                let pp = dia10_like_zy_fma::Params { l_a: p[0] };
+                step_outputs_in_place!(dia10_like_zy_fma::step_outputs_f64, joints(q), pp, g, out);
+            }
+            Case::Oblique7 => {
+                let pp = oblique7_fma::Params { l_a: p[0] };
+                step_outputs_in_place!(oblique7_fma::step_outputs_f64, joints(q), pp, g, out);
+            }
+            Case::PandaRcm => {
+                let pp = panda_link6_rcm_fma::Params { l_a: p[0] };
+                step_outputs_in_place!(
+                    panda_link6_rcm_fma::step_outputs_f64,
+                    joints(q),
+                    pp,
+                    g,
+                    out
+                );
+            }
+            other => panic!("{} has no module with FMA chosen at run time", other.name()),
+        }
+    }
+
+    /// The `JointTrig` of the `<module>_fma` modules ([`eval_trig_fma`]).
+    pub struct TrigFma {
+        /// `JointTrig` of panda_laparoscope_fma.
+        pub pi: panda_laparoscope_fma::JointTrig<f64>,
+        /// `JointTrig` of dia10_like_zy_fma.
+        pub d: dia10_like_zy_fma::JointTrig<f64>,
+        /// `JointTrig` of oblique7_fma.
+        pub o7: oblique7_fma::JointTrig<f64>,
+        /// `JointTrig` of panda_link6_rcm_fma.
+        pub p6: panda_link6_rcm_fma::JointTrig<f64>,
+    }
+
+    impl TrigFma {
+        /// `sin_cos` of every joint, once.
+        pub fn new(q: &[f64]) -> Self {
+            let q7: [f64; 7] = first(q);
+            TrigFma {
+                pi: panda_laparoscope_fma::JointTrig::new(&q7),
+                d: dia10_like_zy_fma::JointTrig::new(&first(q)),
+                o7: oblique7_fma::JointTrig::new(&q7),
+                p6: panda_link6_rcm_fma::JointTrig::new(&q7),
+            }
+        }
+    }
+
+    /// [`eval`] of the step cases (dia10_like, oblique7, the Panda RCM) with the pose written in
+    /// place into `g` ([`eval_fma`]'s layout), the Jacobians into `out[12..]`.
+    #[inline(always)]
+    pub fn eval_step_in_place<T: Real>(
+        case: Case,
+        q: &[T],
+        p: &[T],
+        g: &mut ([[T; 3]; 3], [T; 3]),
+        out: &mut [T],
+    ) {
+        match case {
+            Case::DiaZy => {
+                let pp = dia10_like_zy::Params { l_a: p[0] };
+                step_outputs_in_place!(dia10_like_zy::step_outputs, joints(q), pp, g, out);
+            }
+            Case::Oblique7 => {
+                let pp = oblique7::Params { l_a: p[0] };
+                step_outputs_in_place!(oblique7::step_outputs, joints(q), pp, g, out);
+            }
+            Case::PandaRcm => {
+                let pp = panda_link6_rcm::Params { l_a: p[0] };
+                step_outputs_in_place!(panda_link6_rcm::step_outputs, joints(q), pp, g, out);
+            }
+            other => panic!("{} is not a step case", other.name()),
+        }
+    }
+
+    /// [`eval_step_in_place`] given precomputed sines and cosines.
+    #[inline(always)]
+    pub fn eval_trig_step_in_place<T: Real>(
+        case: Case,
+        t: &Trig<T>,
+        p: &[T],
+        g: &mut ([[T; 3]; 3], [T; 3]),
+        out: &mut [T],
+    ) {
+        match case {
+            Case::DiaZy => {
+                let pp = dia10_like_zy::Params { l_a: p[0] };
+                step_outputs_in_place!(dia10_like_zy::step_outputs_trig, &t.d, pp, g, out);
+            }
+            Case::Oblique7 => {
+                let pp = oblique7::Params { l_a: p[0] };
+                step_outputs_in_place!(oblique7::step_outputs_trig, &t.o7, pp, g, out);
+            }
+            Case::PandaRcm => {
+                let pp = panda_link6_rcm::Params { l_a: p[0] };
+                step_outputs_in_place!(panda_link6_rcm::step_outputs_trig, &t.p6, pp, g, out);
+            }
+            other => panic!("{} is not a step case", other.name()),
+        }
+    }
+
+    /// [`eval_fma`] given precomputed sines and cosines (the `_trig_f64` entry points).
+    #[inline(always)]
+    pub fn eval_trig_fma(
+        case: Case,
+        t: &TrigFma,
+        p: &[f64],
+        out: &mut [f64],
+        panda: &mut PandaOut<f64>,
+    ) {
+        let g = &mut panda.g;
+        match case {
+            Case::PandaI => {
+                let pp = panda_laparoscope_fma::Params { l_a: p[0] };
+                panda_laparoscope_fma::link_pose_and_jacobian_trig_f64(
+                    &t.pi,
+                    &pp,
+                    &mut panda.g,
+                    &mut panda.jb,
+                );
+            }
+            Case::DiaZy => {
+                let pp = dia10_like_zy_fma::Params { l_a: p[0] };
+                step_outputs_in_place!(dia10_like_zy_fma::step_outputs_trig_f64, &t.d, pp, g, out);
+            }
+            Case::Oblique7 => {
+                let pp = oblique7_fma::Params { l_a: p[0] };
+                step_outputs_in_place!(oblique7_fma::step_outputs_trig_f64, &t.o7, pp, g, out);
+            }
+            Case::PandaRcm => {
+                let pp = panda_link6_rcm_fma::Params { l_a: p[0] };
+                step_outputs_in_place!(
+                    panda_link6_rcm_fma::step_outputs_trig_f64,
+                    &t.p6,
+                    pp,
+                    g,
+                    out
+                );
+            }
+            other => panic!("{} has no module with FMA chosen at run time", other.name()),
+        }
     }
 
     /// The `_trig` functions given precomputed sines and cosines (no trigonometry inside).

@@ -430,6 +430,67 @@ fn ours_in_place_agree_with_the_reference() {
     }
 }
 
+/// The step cases written with the pose in place (`ours_f64_in_place`,
+/// `ours_f64_given_trig_in_place` of the step cases) and every fused case through the `_f64`
+/// entry points of the `fma_at_run_time` modules (`ours_f64_fma`, `ours_f64_given_trig_fma`)
+/// hold the reference's values.
+#[cfg(feature = "ours")]
+#[test]
+fn ours_in_place_and_fma_agree_with_the_reference() {
+    use trocar_peers_harness::ours;
+    let mut seed = 10;
+    for case in [Case::PandaI, Case::DiaZy, Case::Oblique7, Case::PandaRcm] {
+        let inputs: Vec<(Vec<f64>, Vec<f64>)> = if case.is_panda() {
+            panda_inputs(case, &mut seed, 200)
+        } else {
+            (0..200).map(|_| random_inputs(case, &mut seed)).collect()
+        };
+        for (q, p) in inputs {
+            let mut want = vec![0.0; case.out_len()];
+            reference::eval(case, &q, &p, &mut want);
+            let scale = want.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+            let mut results = Vec::new();
+            let flat = |o: &ours::PandaOut<f64>, out: &[f64]| -> Vec<f64> {
+                let pose = o.g.0.iter().flatten().chain(&o.g.1).copied();
+                if case.is_panda() {
+                    pose.chain(o.jb.iter().flatten().copied()).collect()
+                } else {
+                    pose.chain(out[12..].iter().copied()).collect()
+                }
+            };
+            if !case.is_panda() {
+                let (mut o, mut out) = (ours::PandaOut::default(), vec![f64::NAN; want.len()]);
+                ours::eval_step_in_place(case, &q, &p, &mut o.g, &mut out);
+                results.push(("in place", flat(&o, &out)));
+                let (mut o, mut out) = (ours::PandaOut::default(), vec![f64::NAN; want.len()]);
+                ours::eval_trig_step_in_place(
+                    case,
+                    &ours::Trig::new(case, &q),
+                    &p,
+                    &mut o.g,
+                    &mut out,
+                );
+                results.push(("in place, given trig", flat(&o, &out)));
+            }
+            let (mut o, mut out) = (ours::PandaOut::default(), vec![f64::NAN; want.len()]);
+            ours::eval_fma(case, &q, &p, &mut out, &mut o);
+            results.push(("fma", flat(&o, &out)));
+            let (mut o, mut out) = (ours::PandaOut::default(), vec![f64::NAN; want.len()]);
+            ours::eval_trig_fma(case, &ours::TrigFma::new(&q), &p, &mut out, &mut o);
+            results.push(("fma, given trig", flat(&o, &out)));
+            for (what, got) in results {
+                assert_eq!(got.len(), want.len());
+                for (i, (x, w)) in got.iter().zip(&want).enumerate() {
+                    assert!(
+                        (x - w).abs() <= 1e-12 * scale,
+                        "{what} {case:?} [{i}]: {x} vs {w}"
+                    );
+                }
+            }
+        }
+    }
+}
+
 /// The CasADi functions need no `iw` or `w` scratch, which is why `eval` passes null for both;
 /// the Panda's need `w`, at most `CASADI_W` doubles, which `eval` passes.
 #[test]

@@ -44,6 +44,12 @@ pub enum Command {
         /// constraint, `link_pose_and_jacobian=fk0i,jb0i`.
         #[arg(long = "function", value_name = "NAME=OUTPUT,...", value_parser = trocar_model::catalogue::Fused::parse)]
         functions: Vec<trocar_model::catalogue::Fused>,
+        /// Also emit each fused function's `f64` entry points `<name>_f64` and
+        /// `<name>_trig_f64`, with fused multiply-adds chosen at run time: built for the
+        /// default x86-64 target, on a CPU with AVX2 and FMA they run the function compiled for
+        /// those (results' last bits then depend on the CPU). Needs `--real generic`.
+        #[arg(long)]
+        fma_at_run_time: bool,
     },
     /// Evaluate the constrained Jacobian and friends at a configuration.
     Eval {

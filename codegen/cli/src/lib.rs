@@ -59,6 +59,7 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             c_api,
             c_header,
             functions,
+            fma_at_run_time,
         } => commands::generate::run(
             &robot,
             output.as_deref(),
@@ -66,6 +67,7 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             c_api,
             c_header.as_deref(),
             functions,
+            fma_at_run_time,
         ),
         Command::Eval {
             robot,

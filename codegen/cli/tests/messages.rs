@@ -240,3 +240,35 @@ fn a_parameter_value_puts_the_trocar_outside_the_instrument() {
     );
     assert_eq!(code, 0, "{err}");
 }
+
+/// `generate --fma-at-run-time`: the fused functions' `f64` entry points in the module; with
+/// `--real f64` a one-line refusal and no file.
+#[test]
+fn fma_at_run_time_in_generate() {
+    let dir = scratch("fma-at-run-time");
+    let (code, out, err) = trocar_in(&dir, &["generate", "dia10_like_zy", "--fma-at-run-time"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("pub fn pose_and_jacobian_f64("), "{out}");
+    assert!(
+        out.contains("pub fn link_pose_and_jacobian_trig_f64("),
+        "{out}"
+    );
+    let (code, _, err) = trocar_in(
+        &dir,
+        &[
+            "generate",
+            "dia10_like_zy",
+            "--real",
+            "f64",
+            "--fma-at-run-time",
+            "-o",
+            "m.rs",
+        ],
+    );
+    assert_ne!(code, 0);
+    assert!(
+        err.contains("fma_at_run_time needs a module generic over the scalar (real = generic), not real = f64"),
+        "{err}"
+    );
+    assert!(names_in(&dir).is_empty(), "{:?}", names_in(&dir));
+}

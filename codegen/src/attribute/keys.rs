@@ -11,8 +11,8 @@ use syn::{Expr, ExprLit, Lit, LitStr, Meta, MetaList, Token};
 use trocar_model::catalogue::{Function, Fused};
 
 /// Every key the attribute accepts (for "unknown key" messages).
-pub(crate) const KEYS: &str = "preset, file, toml, real, module, checks, function, name, params, \
-     joints, end_effector, constraint";
+pub(crate) const KEYS: &str = "preset, file, toml, real, module, checks, function, \
+     fma_at_run_time, name, params, joints, end_effector, constraint";
 
 /// Where the description comes from.
 pub(crate) enum Source {
@@ -44,6 +44,9 @@ pub(crate) struct Attr {
     pub checks: Option<ChecksGate>,
     /// `function(name(output, ...), ...)`: fused functions, each with the span of its name.
     pub functions: Vec<(Fused, Span)>,
+    /// `fma_at_run_time`: the fused functions' `f64` entry points with FMA chosen at run time;
+    /// the key's span.
+    pub fma_at_run_time: Option<Span>,
 }
 
 /// The fused functions of one `function(name(output, ...), ...)` key, each with the span of its
@@ -146,6 +149,7 @@ pub(crate) fn parse(tokens: TokenStream) -> syn::Result<Attr> {
     let mut module = None;
     let mut checks = None;
     let mut fused = Vec::new();
+    let mut fma_at_run_time = None;
 
     fn set_source(
         source: &mut Option<(String, Span, Source)>,
@@ -232,6 +236,13 @@ pub(crate) fn parse(tokens: TokenStream) -> syn::Result<Attr> {
                     fused.extend(functions(&l, &mut errors));
                 }
             }
+            "fma_at_run_time" => match meta {
+                Meta::Path(_) => fma_at_run_time = Some(span),
+                _ => errors.at(
+                    meta.span(),
+                    "`fma_at_run_time` takes no value: write `fma_at_run_time` alone",
+                ),
+            },
             "name" | "params" | "joints" | "end_effector" | "constraint" => {
                 inline.first.get_or_insert(span);
                 match key.as_str() {
@@ -290,5 +301,6 @@ pub(crate) fn parse(tokens: TokenStream) -> syn::Result<Attr> {
         module,
         checks,
         functions: fused,
+        fma_at_run_time,
     })
 }

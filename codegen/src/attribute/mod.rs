@@ -76,6 +76,7 @@ fn try_expand(attr: TokenStream, item: TokenStream) -> syn::Result<TokenStream> 
         module_name: Some(module.to_string()),
         checks: attr.checks.clone(),
         functions: attr.functions.iter().map(|(f, _)| f.clone()).collect(),
+        fma_at_run_time: attr.fma_at_run_time.is_some(),
         description_files: tracked
             .as_ref()
             .map(RobotDescription::files_read)
@@ -90,6 +91,7 @@ fn try_expand(attr: TokenStream, item: TokenStream) -> syn::Result<TokenStream> 
                 .iter()
                 .find(|(f, _)| f.name == *name)
                 .map_or(source_span, |(_, s)| *s),
+            crate::Error::FmaNeedsGeneric(_) => attr.fma_at_run_time.unwrap_or(source_span),
             _ => source_span,
         };
         syn::Error::new(span, format_args!("trocar-codegen: {e}"))

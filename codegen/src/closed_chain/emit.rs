@@ -153,6 +153,7 @@ pub fn module_spec(d: &MechanismDerivation, module_name: &str) -> ModuleSpec {
         joint_ranges: Vec::new(),
         pose_and_jacobians: None,
         fused: Vec::new(),
+        fma_at_run_time: false,
     }
 }
 

@@ -779,6 +779,7 @@ pub fn module_spec_with(
         joint_ranges: d.joint_ranges.clone(),
         pose_and_jacobians,
         fused,
+        fma_at_run_time: false,
     })
 }
 

@@ -271,6 +271,9 @@ pub struct ModuleSpec {
     pub pose_and_jacobians: Option<Program>,
     /// Functions computing several catalogue outputs in one program ([`catalogue::Fused`]).
     pub fused: Vec<FusedFunction>,
+    /// Also emit each fused function's `f64` entry points with FMA chosen at run time
+    /// (`<name>_f64`, `<name>_trig_f64`; [`fma_entry_points`]); generic modules only.
+    pub fma_at_run_time: bool,
 }
 
 impl ModuleSpec {
@@ -967,7 +970,10 @@ fn out_type(o: &FusedOutput, ty: &Ty) -> TokenStream {
 }
 
 /// A fused function ([`FusedFunction`]) and its `_trig` variant, writing into out-parameters.
-fn fused_tokens(f: &FusedFunction, ty: &Ty, n: usize) -> TokenStream {
+///
+/// With `fma_at_run_time` both are `#[inline(always)]`, so that the entry points of
+/// [`fma_entry_points`] compile their whole program for AVX2 and FMA.
+fn fused_tokens(f: &FusedFunction, ty: &Ty, n: usize, fma_at_run_time: bool) -> TokenStream {
     let guarded = |o: &FusedOutput| o.zero_when_not_finite && o.layout == Layout::Scalar;
     // An output that is tested (`is_finite`) needs `Real`; otherwise the program runs on lanes.
     let generics = if f.outputs.iter().any(guarded) {
@@ -1076,19 +1082,135 @@ fn fused_tokens(f: &FusedFunction, ty: &Ty, n: usize) -> TokenStream {
     let p = if uses_p { quote!(p) } else { quote!(_p) };
     let t = ty.t();
     let n_ty = if n > 0 { quote!(N) } else { quote!(0) };
+    let inline = if fma_at_run_time {
+        quote!(#[inline(always)])
+    } else {
+        quote!(#[inline])
+    };
     quote! {
         #doc_q
-        #[inline]
+        #inline
         pub fn #name #generics (#q: &[#t; #n_ty], #p: &Params #args, #(#params),*) {
             #(#stmts_q)*
         }
 
         #doc_t
-        #[inline]
+        #inline
         pub fn #name_trig #generics (#tt: &JointTrig #args, #p: &Params #args, #(#params),*) {
             #(#stmts_t)*
         }
     }
+}
+
+/// The `f64` entry points of a fused function with FMA chosen at run time (`trocar::fma`):
+/// `<name>_f64` and `<name>_trig_f64`, each taking the private `<name>_fma` /
+/// `<name>_trig_fma` (the fused function on `FusedF64`, compiled for AVX2 and FMA) where
+/// `trocar::fma::available()` holds, and `<name>::<f64>` otherwise.
+fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStream {
+    let rt = ty.runtime();
+    let f64_ty = Ty {
+        real: Scalar::F64,
+        runtime: rt.clone(),
+    };
+    let n_ty = if spec.joints > 0 {
+        quote!(N)
+    } else {
+        quote!(0)
+    };
+    let outs: Vec<Ident> = f
+        .outputs
+        .iter()
+        .map(|o| format_ident!("{}", o.function.short_name()))
+        .collect();
+    let params: Vec<TokenStream> = f
+        .outputs
+        .iter()
+        .zip(&outs)
+        .map(|(o, id)| {
+            let t = out_type(o, &f64_ty);
+            quote!(#id: &mut #t)
+        })
+        .collect();
+    // Each output seen as `FusedF64` storage: matrices and scalars in place, the pose through a
+    // local (a tuple's layout is not guaranteed to follow its fields' types), copied out after.
+    let mut locals = Vec::new();
+    let mut copies = Vec::new();
+    let views: Vec<TokenStream> = f
+        .outputs
+        .iter()
+        .zip(&outs)
+        .map(|(o, id)| match o.layout {
+            Layout::Scalar => quote!(#rt::fma::FusedF64::scalar_mut(#id)),
+            Layout::Matrix { .. } => quote!(#rt::fma::FusedF64::matrix_mut(#id)),
+            Layout::Transform => {
+                let local = format_ident!("{}_fused", id);
+                locals.push(quote! {
+                    let mut #local = ([[F(0.0); 3]; 3], [F(0.0); 3]);
+                });
+                copies.push(quote! {
+                    *#id = (#local.0.map(|c| c.map(|v| v.0)), #local.1.map(|v| v.0));
+                });
+                quote!(&mut #local)
+            }
+        })
+        .collect();
+    // The casts are sound (the `_fma` function's doc, which the generated code carries, says
+    // why): `Params` and `JointTrig` are `#[repr(C)]` ([`repr_c`]) over `T` fields only.
+    let params_fused = quote!(unsafe { &*(p as *const Params<f64>).cast::<Params<F>>() });
+    let mut items = TokenStream::new();
+    for trig in [false, true] {
+        let base = if trig {
+            format!("{}_trig", f.name)
+        } else {
+            f.name.clone()
+        };
+        let name = format_ident!("{}", base);
+        let name_f64 = format_ident!("{}_f64", base);
+        let name_fma = format_ident!("{}_fma", base);
+        let (input, input_fused, arg) = if trig {
+            (
+                quote!(t: &JointTrig<f64>),
+                quote!(unsafe { &*(t as *const JointTrig<f64>).cast::<JointTrig<F>>() }),
+                quote!(t),
+            )
+        } else {
+            (quote!(q: &[f64; #n_ty]), quote!(F::array(q)), quote!(q))
+        };
+        let doc = doc_attrs(&format!(
+            "[`{base}`] in `f64` with fused multiply-adds chosen at run time              ([`{rt}::fma`](mod@{rt}::fma)): on an x86-64 CPU with AVX2 and FMA, in a build              whose target lacks FMA, [`{base}`] compiled for them, every `mul_add` rounded once              (bit for bit [`{base}`] built with FMA); [`{base}`]`::<f64>` otherwise. The last              bits of the results then depend on the CPU: call [`{base}`] where they must not.",
+            rt = rt.to_string().replace(' ', "")
+        ));
+        let doc_fma = doc_attrs(&format!(
+            "[`{base}_f64`] on a CPU with AVX2 and FMA: [`{base}`] on `FusedF64`, compiled              for them (it is inlined here).
+
+# Safety
+
+The CPU must have AVX2 and FMA."
+        ));
+        items.extend(quote! {
+            #doc
+            #[inline]
+            pub fn #name_f64(#input, p: &Params<f64>, #(#params),*) {
+                #[cfg(target_arch = "x86_64")]
+                if #rt::fma::available() {
+                    unsafe { #name_fma(#arg, p, #(#outs),*) };
+                    return;
+                }
+                #name::<f64>(#arg, p, #(#outs),*)
+            }
+
+            #doc_fma
+            #[cfg(target_arch = "x86_64")]
+            #[target_feature(enable = "avx2,fma")]
+            unsafe fn #name_fma(#input, p: &Params<f64>, #(#params),*) {
+                use #rt::fma::FusedF64 as F;
+                #(#locals)*
+                #name::<F>(#input_fused, #params_fused, #(#views),*);
+                #(#copies)*
+            }
+        });
+    }
+    items
 }
 
 /// `pose_and_jacobians_trig` of a constrained robot: `g_0e`, `J^B_0i`, `J^r_0e` and `J_c` from one
@@ -1194,11 +1316,13 @@ fn params_tokens(spec: &ModuleSpec, ty: &Ty) -> TokenStream {
         spec.name
     ));
     let rt = ty.runtime();
+    let repr = repr_c(spec);
     if spec.params.is_empty() {
         return match ty.real {
             Scalar::Generic => quote! {
                 #doc_struct
                 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+                #repr
                 pub struct Params<T>(::core::marker::PhantomData<T>);
 
                 impl<T: #rt::Arith> Params<T> {
@@ -1231,6 +1355,7 @@ fn params_tokens(spec: &ModuleSpec, ty: &Ty) -> TokenStream {
         let d = format!(" `{name}` (nominal value {value:?}).");
         quote!(#[doc = #d] pub #id: #t,)
     });
+    let repr = repr_c(spec);
     let inits = spec.params.iter().map(|(name, value)| {
         let id = format_ident!("{}", name);
         let v = ty.lit(*value);
@@ -1239,6 +1364,7 @@ fn params_tokens(spec: &ModuleSpec, ty: &Ty) -> TokenStream {
     quote! {
         #doc_struct
         #[derive(Clone, Copy, Debug, Default, PartialEq)]
+        #repr
         pub struct Params #generics {
             #(#fields)*
         }
@@ -1252,6 +1378,14 @@ fn params_tokens(spec: &ModuleSpec, ty: &Ty) -> TokenStream {
             }
         }
     }
+}
+
+/// `#[repr(C)]` for `Params` and `JointTrig` in a module with `fma_at_run_time`: their fields are
+/// all `T` (or arrays of `T`), so with a fixed field order `Params<f64>` and `JointTrig<f64>` have
+/// the layout of `Params<FusedF64>` and `JointTrig<FusedF64>`, and the `_fma` functions read the
+/// caller's values in place ([`fma_entry_points`]).
+fn repr_c(spec: &ModuleSpec) -> Option<TokenStream> {
+    spec.fma_at_run_time.then(|| quote!(#[repr(C)]))
 }
 
 fn trig_tokens(spec: &ModuleSpec, ty: &Ty) -> TokenStream {
@@ -1296,9 +1430,11 @@ fn trig_tokens(spec: &ModuleSpec, ty: &Ty) -> TokenStream {
          functions.\n\nUnused entries hold `sin = 0`, `cos = 1`."
     ));
     let q = if n > 0 { quote!(q) } else { quote!(_q) };
+    let repr = repr_c(spec);
     quote! {
         #doc
         #[derive(Clone, Copy, Debug, PartialEq)]
+        #repr
         pub struct JointTrig #generics {
             /// The joint values `q`, base first.
             pub q: [#t; N],
@@ -1398,7 +1534,13 @@ pub fn module_items_in(spec: &ModuleSpec, real: Scalar, runtime: &Runtime) -> To
         .functions
         .iter()
         .map(|f| function_tokens(f, &ty, spec.joints));
-    let fused = spec.fused.iter().map(|f| fused_tokens(f, &ty, spec.joints));
+    let fused = spec.fused.iter().map(|f| {
+        let mut items = fused_tokens(f, &ty, spec.joints, spec.fma_at_run_time);
+        if spec.fma_at_run_time {
+            items.extend(fma_entry_points(f, spec, &ty));
+        }
+        items
+    });
     let step = pose_and_jacobians_tokens(spec, &ty);
     let controller = spec
         .controller

@@ -23,6 +23,15 @@ struct Kinematics;
 )]
 struct ZyFused;
 
+// The fused function's `f64` entry points with FMA chosen at run time.
+#[constrained_robot(
+    preset = "bidirectional-zy",
+    module = "zy_fma",
+    function(step(jr, manipulability, fk)),
+    fma_at_run_time
+)]
+struct ZyFma;
+
 fn main() {
     let q = [0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
     let p: ZyParams<f64> = Zy::nominal_params();
@@ -37,6 +46,10 @@ fn main() {
     let (mut jr_s, mut w_s, mut g) = ([[0.0; 6]; 6], 0.0, ([[0.0; 3]; 3], [0.0; 3]));
     ZyFused::step(&q, &zy_fused::Params::nominal(), &mut jr_s, &mut w_s, &mut g);
     assert!((w_s - expected).abs() < 1e-12, "{w_s} vs {expected}");
+    let (mut jr_f, mut w_f, mut g_f) = ([[0.0; 6]; 6], 0.0, ([[0.0; 3]; 3], [0.0; 3]));
+    ZyFma::step_f64(&q, &zy_fma::Params::nominal(), &mut jr_f, &mut w_f, &mut g_f);
+    assert!((w_f - w_s).abs() < 1e-12, "{w_f} vs {w_s}");
+    assert!((g_f.1[2] - g.1[2]).abs() < 1e-12);
     // R_0e is a rotation: orthonormal columns.
     for a in 0..3 {
         for b in 0..3 {

@@ -30,6 +30,9 @@ generated!(
     "dia10_like_zy_four_calls.rs",
 );
 
+// `f64` entry points with FMA chosen at run time (`Builder::fma_at_run_time`).
+generated!("panda_fma.rs", "dia10_fma.rs");
+
 // Closed mechanisms (four-bar linkage, planar Gough–Stewart platform).
 generated!("four_bar.rs", "planar_stewart.rs", "four_bar_f32.rs");
 

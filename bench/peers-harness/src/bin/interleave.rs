@@ -6,10 +6,12 @@
 //! CASE: any case of the harness (`panda`, `panda_i`: the 16 configurations of `Case::configs`,
 //! cycled as `cg_driver` does; the other cases have one configuration, evaluated every time).
 //! IMPL: ours_f64 | ours_f64_split (`JointTrig::new`, then the fused `_trig` function) |
-//! ours_f64_in_place | ours_f64_given_trig_in_place (the Panda cases writing into the generated
-//! functions' own `(R, p)` and `[[f64; 6]; 7]` in place, without the copy of the pose into the
-//! flat buffer) |
-//! ours_f64_given_trig | wrenfold | symforce | wrenfold_given_trig |
+//! ours_f64_in_place | ours_f64_given_trig_in_place (writing the pose into the generated
+//! functions' own `(R, p)` in place, without the copy into the flat buffer; the Panda cases
+//! their `[[f64; 6]; 7]` too, the step cases their Jacobians into the flat buffer) |
+//! ours_f64_given_trig | ours_f64_fma | ours_f64_given_trig_fma (the fused cases through the
+//! `_f64` entry points of the modules generated with `fma_at_run_time`, FMA chosen at run time;
+//! the Panda in place) | wrenfold | symforce | wrenfold_given_trig |
 //! symforce_given_trig | ours_trig (our `JointTrig::new` alone) | the C peers `casadi`,
 //! `casadi_cse`, `sympy` (and `rust_reference`), each through the harness's `eval`. Needs the
 //! feature `ours`.
@@ -43,10 +45,26 @@ fn implementation(name: &str, case: Case) -> Eval {
                 black_box(&mut out);
             })
         }
-        "ours_f64_in_place" => {
+        "ours_f64_in_place" if case.is_panda() => {
             let mut o = ours::PandaOut::<f64>::default();
             Box::new(move |k| {
                 ours::eval_panda_in_place(case, &qs[k], black_box(&p), &mut o);
+                black_box(&mut o);
+            })
+        }
+        "ours_f64_given_trig_in_place" if case.is_panda() => {
+            let trigs: Vec<ours::Trig<f64>> = qs.iter().map(|q| ours::Trig::new(case, q)).collect();
+            let mut o = ours::PandaOut::<f64>::default();
+            Box::new(move |k| {
+                ours::eval_trig_panda_in_place(case, &trigs[k], black_box(&p), &mut o);
+                black_box(&mut o);
+            })
+        }
+        "ours_f64_in_place" => {
+            let mut o = ours::PandaOut::<f64>::default();
+            Box::new(move |k| {
+                ours::eval_step_in_place(case, &qs[k], black_box(&p), &mut o.g, &mut out);
+                black_box(&mut out);
                 black_box(&mut o);
             })
         }
@@ -54,7 +72,8 @@ fn implementation(name: &str, case: Case) -> Eval {
             let trigs: Vec<ours::Trig<f64>> = qs.iter().map(|q| ours::Trig::new(case, q)).collect();
             let mut o = ours::PandaOut::<f64>::default();
             Box::new(move |k| {
-                ours::eval_trig_panda_in_place(case, &trigs[k], black_box(&p), &mut o);
+                ours::eval_trig_step_in_place(case, &trigs[k], black_box(&p), &mut o.g, &mut out);
+                black_box(&mut out);
                 black_box(&mut o);
             })
         }
@@ -63,6 +82,23 @@ fn implementation(name: &str, case: Case) -> Eval {
             Box::new(move |k| {
                 ours::eval_trig(case, &trigs[k], black_box(&p), &mut out);
                 black_box(&mut out);
+            })
+        }
+        "ours_f64_fma" => {
+            let mut o = ours::PandaOut::<f64>::default();
+            Box::new(move |k| {
+                ours::eval_fma(case, &qs[k], black_box(&p), &mut out, &mut o);
+                black_box(&mut out);
+                black_box(&mut o);
+            })
+        }
+        "ours_f64_given_trig_fma" => {
+            let trigs: Vec<ours::TrigFma> = qs.iter().map(|q| ours::TrigFma::new(q)).collect();
+            let mut o = ours::PandaOut::<f64>::default();
+            Box::new(move |k| {
+                ours::eval_trig_fma(case, &trigs[k], black_box(&p), &mut out, &mut o);
+                black_box(&mut out);
+                black_box(&mut o);
             })
         }
         "ours_trig" => Box::new(move |k| {

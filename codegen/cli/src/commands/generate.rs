@@ -8,7 +8,8 @@ use std::path::Path;
 use trocar_api::{Error, Robot};
 
 /// Runs `trocar generate`: writes the module to `output` (or stdout), with the fused
-/// `functions` besides the defaults, and the C header to `c_header`; with `c_header` alone only the header is written. An output named `-` is stdout
+/// `functions` besides the defaults (with their `f64` entry points choosing FMA at run time when
+/// `fma_at_run_time`), and the C header to `c_header`; with `c_header` alone only the header is written. An output named `-` is stdout
 /// (one of them at most).
 pub(crate) fn run(
     robot: &str,
@@ -17,6 +18,7 @@ pub(crate) fn run(
     c_api: bool,
     c_header: Option<&Path>,
     functions: Vec<trocar_model::catalogue::Fused>,
+    fma_at_run_time: bool,
 ) -> Result<i32, CliError> {
     let stdout = Path::new("-");
     if output == Some(stdout) && c_header == Some(stdout) {
@@ -47,6 +49,7 @@ pub(crate) fn run(
         real: real.into(),
         c_api,
         functions,
+        fma_at_run_time,
         ..Default::default()
     };
     let write = |option: &str, path: &Path, text: &str| {

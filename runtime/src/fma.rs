@@ -1,0 +1,246 @@
+//! Fused multiply-add chosen at run time: `f64` code built for the default x86-64 target, whose
+//! instruction set has no FMA, running fused multiply-adds on a CPU that has them.
+//!
+//! Generated code writes every product that is added once as [`Real::mul_add`], which is one
+//! FMA instruction only where the *build target* has FMA (`-C target-cpu=native`,
+//! `x86-64-v3`). A crate built for the default target therefore runs two operations per
+//! product even on a CPU with FMA. A module generated with the option `fma_at_run_time` (the
+//! generator's `Builder::fma_at_run_time`, the command line's `--fma-at-run-time`) also has, for
+//! each of its fused functions `name` and `name_trig`, an `f64` entry point `name_f64` and
+//! `name_trig_f64` that asks [`available`] and then either
+//!
+//! - runs the function on [`FusedF64`] inside a function compiled for AVX2 and FMA (every
+//!   `mul_add` one fused instruction, the rest VEX-encoded), or
+//! - calls `name::<f64>`, exactly as without the option.
+//!
+//! **The results then depend on the CPU** the code runs on, in their last bits: a fused
+//! `x·a + b` is rounded once, the two operations twice. On a CPU with AVX2 and FMA they are bit
+//! for bit those of the same module built with `-C target-feature=+fma` (or any `target-cpu`
+//! with FMA); elsewhere bit for bit those of `name::<f64>`. Use `name::<f64>` itself where the
+//! same binary must give the same bits everywhere; the lane types of [`lanes`](crate::lanes)
+//! are bit for bit `name::<f64>`, not `name_f64`.
+//!
+//! The Panda's pose and body Jacobian given the sines and cosines: 17.5 ns instead of 24.6 ns
+//! at the default target (BENCHMARKS.md, "FMA chosen at run time").
+//!
+//! ```
+//! use trocar::fma::FusedF64;
+//! use trocar::Real;
+//!
+//! // `mul_add` of a `FusedF64` is always rounded once.
+//! let (x, a, b) = (0.1, 10.0, -1.0);
+//! let fused = FusedF64(x).mul_add(FusedF64(a), FusedF64(b)).0;
+//! assert_eq!(fused, f64::mul_add(x, a, b));
+//! assert_eq!(fused, 5.551115123125783e-17); // 0.1 · 10 − 1 before rounding
+//! ```
+
+use crate::real::{fast, Real};
+use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
+
+/// An `f64` whose [`Real::mul_add`] is always fused (one rounding), whatever the build target:
+/// the scalar that a module's `_f64` entry points run on inside their AVX2 + FMA function
+/// ([module docs](self)).
+///
+/// Everything else is `f64`'s: the same IEEE operations, the same [`Real::sin_cos`] (this
+/// crate's kernels, which fuse nothing). Outside a function compiled with FMA, `mul_add` is a
+/// correctly rounded software routine (`std`'s, or `libm`'s without `std`): right, but slow.
+#[derive(Clone, Copy, Debug, Default, PartialEq, PartialOrd)]
+#[repr(transparent)]
+pub struct FusedF64(pub f64);
+
+macro_rules! binary {
+    ($($op:ident $f:ident $assign:ident $fa:ident $sym:tt),*) => {$(
+        impl $op for FusedF64 {
+            type Output = FusedF64;
+            #[inline(always)]
+            fn $f(self, o: FusedF64) -> FusedF64 {
+                FusedF64(self.0 $sym o.0)
+            }
+        }
+        impl $assign for FusedF64 {
+            #[inline(always)]
+            fn $fa(&mut self, o: FusedF64) {
+                self.0 = self.0 $sym o.0;
+            }
+        }
+    )*};
+}
+binary!(Add add AddAssign add_assign +, Sub sub SubAssign sub_assign -, Mul mul MulAssign mul_assign *);
+
+impl Div for FusedF64 {
+    type Output = FusedF64;
+    #[inline(always)]
+    fn div(self, o: FusedF64) -> FusedF64 {
+        FusedF64(self.0 / o.0)
+    }
+}
+
+impl Neg for FusedF64 {
+    type Output = FusedF64;
+    #[inline(always)]
+    fn neg(self) -> FusedF64 {
+        FusedF64(-self.0)
+    }
+}
+
+impl Real for FusedF64 {
+    const ZERO: Self = FusedF64(0.0);
+    const ONE: Self = FusedF64(1.0);
+    #[inline(always)]
+    fn lit(x: f64) -> Self {
+        FusedF64(x)
+    }
+    #[inline(always)]
+    fn to_f64(self) -> f64 {
+        self.0
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        let (s, c) = fast::sin_cos_f64(self.0);
+        (FusedF64(s), FusedF64(c))
+    }
+    #[inline(always)]
+    fn sin_cos_array<const N: usize>(x: &[Self; N]) -> ([Self; N], [Self; N]) {
+        let (s, c) = fast::sin_cos_f64_array_for_avx2(&x.map(|v| v.0));
+        (s.map(FusedF64), c.map(FusedF64))
+    }
+    /// `self · a + b` rounded once.
+    #[inline(always)]
+    fn mul_add(self, a: Self, b: Self) -> Self {
+        #[cfg(feature = "std")]
+        {
+            FusedF64(f64::mul_add(self.0, a.0, b.0))
+        }
+        #[cfg(not(feature = "std"))]
+        {
+            FusedF64(libm::fma(self.0, a.0, b.0))
+        }
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        FusedF64(<f64 as Real>::sqrt(self.0))
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        FusedF64(<f64 as Real>::abs(self.0))
+    }
+    #[inline(always)]
+    fn is_finite(self) -> bool {
+        self.0.is_finite()
+    }
+}
+
+impl FusedF64 {
+    /// An array of `f64` (the joint values) seen as `FusedF64`, in place.
+    #[inline(always)]
+    pub fn array<const N: usize>(x: &[f64; N]) -> &[FusedF64; N] {
+        // SAFETY: `FusedF64` is `#[repr(transparent)]` over `f64` (its size, alignment and valid
+        // bit patterns), so `[FusedF64; N]` has the layout of `[f64; N]`; the shared borrow
+        // lasts as long as `x`'s.
+        unsafe { &*(x as *const [f64; N]).cast::<[FusedF64; N]>() }
+    }
+
+    /// A matrix `[[f64; R]; C]` (an output of a generated function) seen as `[[FusedF64; R];
+    /// C]`, in place.
+    #[inline(always)]
+    pub fn matrix_mut<const R: usize, const C: usize>(
+        x: &mut [[f64; R]; C],
+    ) -> &mut [[FusedF64; R]; C] {
+        // SAFETY: `FusedF64` is `#[repr(transparent)]` over `f64`, so it has `f64`'s size,
+        // alignment and valid bit patterns; arrays lay out their elements contiguously by the
+        // element's size, so `[[FusedF64; R]; C]` has the layout of `[[f64; R]; C]` and every
+        // value of one is a value of the other. The result borrows `x` mutably for its lifetime,
+        // so nothing else reads or writes the memory meanwhile.
+        unsafe { &mut *(x as *mut [[f64; R]; C]).cast::<[[FusedF64; R]; C]>() }
+    }
+
+    /// An `f64` output seen as a `FusedF64`, in place.
+    #[inline(always)]
+    pub fn scalar_mut(x: &mut f64) -> &mut FusedF64 {
+        // SAFETY: as in `matrix_mut`: `#[repr(transparent)]` over `f64`, borrowed mutably.
+        unsafe { &mut *(x as *mut f64).cast::<FusedF64>() }
+    }
+}
+
+/// Whether the `_f64` entry points of modules generated with `fma_at_run_time` take their
+/// AVX2 + FMA function: `true` on an x86-64 CPU with AVX2 and FMA, in a build with `std` whose
+/// target lacks FMA. `false` without `std` (no detection), on other architectures, and where
+/// the target already has FMA (`name::<f64>` is fused there, with the same bits). The answer
+/// is `std`'s cached CPU detection: a load and a test.
+#[inline]
+pub fn available() -> bool {
+    #[cfg(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma")))]
+    {
+        std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+    }
+    #[cfg(not(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma"))))]
+    {
+        false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `mul_add` is rounded once: `0.1 · 10 − 1` keeps the product's rounding error, which two
+    /// operations lose; and it is `std`'s fused value bit for bit over a spread of operands.
+    #[test]
+    fn mul_add_is_rounded_once() {
+        let two_roundings = 0.1f64 * 10.0 - 1.0;
+        assert_eq!(two_roundings, 0.0);
+        let once = FusedF64(0.1).mul_add(FusedF64(10.0), FusedF64(-1.0)).0;
+        assert_eq!(once, 5.551115123125783e-17);
+        let mut x = 0.377_f64;
+        for _ in 0..1000 {
+            x = (x * 3.7 + 0.31).fract() * 7.0 - 3.5;
+            let (a, b) = (x * 1.3 - 0.2, -x * 0.7 + 0.9);
+            let got = FusedF64(x).mul_add(FusedF64(a), FusedF64(b)).0;
+            assert_eq!(got.to_bits(), libm::fma(x, a, b).to_bits(), "{x} {a} {b}");
+        }
+    }
+
+    /// Everything but `mul_add` is `f64`'s own, bit for bit.
+    #[test]
+    fn the_rest_is_f64() {
+        let xs = [0.3, -2.5, 1e-300, 7.0e5, -0.0, 3.0];
+        for &x in &xs {
+            let f = FusedF64(x);
+            let (s, c) = f.sin_cos();
+            assert_eq!((s.0, c.0), <f64 as Real>::sin_cos(x));
+            assert_eq!(f.sqrt().0.to_bits(), <f64 as Real>::sqrt(x).to_bits());
+            assert_eq!((-f).0.to_bits(), (-x).to_bits());
+            assert_eq!((f / FusedF64(3.0)).0, x / 3.0);
+        }
+        let (s, c) = FusedF64::sin_cos_array(&xs.map(FusedF64));
+        let (s64, c64) = <f64 as Real>::sin_cos_array(&xs);
+        assert_eq!(s.map(|v| v.0.to_bits()), s64.map(f64::to_bits));
+        assert_eq!(c.map(|v| v.0.to_bits()), c64.map(f64::to_bits));
+    }
+
+    /// The in-place views read and write the `f64` storage.
+    #[test]
+    fn views_write_in_place() {
+        let q = [0.5, -1.0, 2.0];
+        assert_eq!(FusedF64::array(&q).map(|v| v.0), q);
+        let mut m = [[0.0f64; 2]; 3];
+        FusedF64::matrix_mut(&mut m)[2][1] = FusedF64(4.5);
+        assert_eq!(m[2][1], 4.5);
+        let mut s = 1.0f64;
+        *FusedF64::scalar_mut(&mut s) = FusedF64(-2.0);
+        assert_eq!(s, -2.0);
+    }
+
+    /// Detection agrees with the CPU and the build.
+    #[test]
+    fn available_follows_the_cpu_and_the_build() {
+        #[cfg(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma")))]
+        assert_eq!(
+            available(),
+            std::arch::is_x86_feature_detected!("avx2")
+                && std::arch::is_x86_feature_detected!("fma")
+        );
+        #[cfg(not(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma"))))]
+        assert!(!available());
+    }
+}
