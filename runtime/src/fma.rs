@@ -166,12 +166,24 @@ impl FusedF64 {
 /// AVX2 + FMA function: `true` on an x86-64 CPU with AVX2 and FMA, in a build with `std` whose
 /// target lacks FMA. `false` without `std` (no detection), on other architectures, and where
 /// the target already has FMA (`name::<f64>` is fused there, with the same bits). The answer
-/// is `std`'s cached CPU detection: a load and a test.
+/// is `std`'s CPU detection, made once and kept: after the first call, one load and a test.
 #[inline]
 pub fn available() -> bool {
     #[cfg(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma")))]
     {
-        std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        use core::sync::atomic::{AtomicU8, Ordering};
+        /// 0: not asked yet; 1: no; 2: yes.
+        static ANSWER: AtomicU8 = AtomicU8::new(0);
+        match ANSWER.load(Ordering::Relaxed) {
+            2 => true,
+            1 => false,
+            _ => {
+                let yes = std::arch::is_x86_feature_detected!("avx2")
+                    && std::arch::is_x86_feature_detected!("fma");
+                ANSWER.store(if yes { 2 } else { 1 }, Ordering::Relaxed);
+                yes
+            }
+        }
     }
     #[cfg(not(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma"))))]
     {

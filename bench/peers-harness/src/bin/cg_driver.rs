@@ -4,7 +4,9 @@
 //! instruction count divided by N is instructions per evaluation (the loop's own ~5 instructions
 //! per iteration included; `cg_driver noop - N` measures them).
 //! IMPL: casadi | casadi_cse | sympy | rust_reference | numeric | baseline (presets) | ours_f64 |
-//! ours_f64_given_trig |
+//! ours_f64_given_trig | ours_f64_in_place | ours_f64_given_trig_in_place (the pose in place) |
+//! ours_f64_fma | ours_f64_given_trig_fma (the fused cases' `_f64` entry points of the
+//! `fma_at_run_time` modules) |
 //! ours_f32 (feature `ours`) | wrenfold | symforce | wrenfold_given_trig | symforce_given_trig |
 //! wrenfold_fed_trocar_sin_cos | symforce_fed_trocar_sin_cos (Panda cases, feature `ours`) | pinocchio | pinocchio_fk (feature `pinocchio`, Panda cases) |
 //! ours_trig | trig_c_glibc (Panda cases: the 7 joints' trigonometry alone) | noop |
@@ -150,7 +152,13 @@ fn main() {
             });
         }
         #[cfg(feature = "ours")]
-        "ours_f64" | "ours_f64_given_trig" | "ours_f32" => {
+        "ours_f64"
+        | "ours_f64_given_trig"
+        | "ours_f32"
+        | "ours_f64_in_place"
+        | "ours_f64_given_trig_in_place"
+        | "ours_f64_fma"
+        | "ours_f64_given_trig_fma" => {
             use trocar_peers_harness::ours;
             let case =
                 Case::from_name(&args[2]).unwrap_or_else(|| panic!("unknown CASE {}", args[2]));
@@ -169,6 +177,52 @@ fn main() {
                     measured_loop(n, &mut || {
                         ours::eval_trig(case, black_box(&t), black_box(&p), &mut out);
                         black_box(&mut out);
+                    })
+                }
+                "ours_f64_in_place" => {
+                    let mut o = ours::PandaOut::<f64>::default();
+                    measured_loop(n, &mut || {
+                        ours::eval_step_in_place(
+                            case,
+                            black_box(&q),
+                            black_box(&p),
+                            &mut o.g,
+                            &mut out,
+                        );
+                        black_box(&mut out);
+                        black_box(&mut o);
+                    })
+                }
+                "ours_f64_given_trig_in_place" => {
+                    let t = ours::Trig::new(case, &q);
+                    let mut o = ours::PandaOut::<f64>::default();
+                    measured_loop(n, &mut || {
+                        ours::eval_trig_step_in_place(
+                            case,
+                            black_box(&t),
+                            black_box(&p),
+                            &mut o.g,
+                            &mut out,
+                        );
+                        black_box(&mut out);
+                        black_box(&mut o);
+                    })
+                }
+                "ours_f64_fma" => {
+                    let mut o = ours::PandaOut::<f64>::default();
+                    measured_loop(n, &mut || {
+                        ours::eval_fma(case, black_box(&q), black_box(&p), &mut out, &mut o);
+                        black_box(&mut out);
+                        black_box(&mut o);
+                    })
+                }
+                "ours_f64_given_trig_fma" => {
+                    let t = ours::TrigFma::new(&q);
+                    let mut o = ours::PandaOut::<f64>::default();
+                    measured_loop(n, &mut || {
+                        ours::eval_trig_fma(case, black_box(&t), black_box(&p), &mut out, &mut o);
+                        black_box(&mut out);
+                        black_box(&mut o);
                     })
                 }
                 _ => {
@@ -271,6 +325,29 @@ fn panda(name: &str, case: Case, n: usize) {
             measured_loop(n, &mut || {
                 k = black_box(k + 1) & 15;
                 ours::eval_trig_panda_in_place(case, &trigs[k], black_box(&p), &mut o);
+                black_box(&mut o);
+            })
+        }
+        #[cfg(feature = "ours")]
+        "ours_f64_fma" => {
+            use trocar_peers_harness::ours;
+            let mut o = ours::PandaOut::<f64>::default();
+            measured_loop(n, &mut || {
+                k = black_box(k + 1) & 15;
+                ours::eval_fma(case, &qs[k], black_box(&p), &mut out, &mut o);
+                black_box(&mut out);
+                black_box(&mut o);
+            })
+        }
+        #[cfg(feature = "ours")]
+        "ours_f64_given_trig_fma" => {
+            use trocar_peers_harness::ours;
+            let trigs: Vec<ours::TrigFma> = qs.iter().map(|q| ours::TrigFma::new(q)).collect();
+            let mut o = ours::PandaOut::<f64>::default();
+            measured_loop(n, &mut || {
+                k = black_box(k + 1) & 15;
+                ours::eval_trig_fma(case, &trigs[k], black_box(&p), &mut out, &mut o);
+                black_box(&mut out);
                 black_box(&mut o);
             })
         }

@@ -84,6 +84,21 @@ fn implementation(name: &str, case: Case) -> Eval {
                 black_box(&mut out);
             })
         }
+        "ours_f64_fma" if case.is_panda() => {
+            let mut o = ours::PandaOut::<f64>::default();
+            Box::new(move |k| {
+                ours::eval_fma(case, &qs[k], black_box(&p), &mut [], &mut o);
+                black_box(&mut o);
+            })
+        }
+        "ours_f64_given_trig_fma" if case.is_panda() => {
+            let trigs: Vec<ours::TrigFma> = qs.iter().map(|q| ours::TrigFma::new(q)).collect();
+            let mut o = ours::PandaOut::<f64>::default();
+            Box::new(move |k| {
+                ours::eval_trig_fma(case, &trigs[k], black_box(&p), &mut [], &mut o);
+                black_box(&mut o);
+            })
+        }
         "ours_f64_fma" => {
             let mut o = ours::PandaOut::<f64>::default();
             Box::new(move |k| {
