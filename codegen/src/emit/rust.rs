@@ -969,6 +969,25 @@ fn out_type(o: &FusedOutput, ty: &Ty) -> TokenStream {
     }
 }
 
+/// A fused function's out-parameters: their names (the outputs' short names) and `name: &mut type`.
+fn out_params(f: &FusedFunction, ty: &Ty) -> (Vec<Ident>, Vec<TokenStream>) {
+    let outs: Vec<Ident> = f
+        .outputs
+        .iter()
+        .map(|o| format_ident!("{}", o.function.short_name()))
+        .collect();
+    let params = f
+        .outputs
+        .iter()
+        .zip(&outs)
+        .map(|(o, id)| {
+            let t = out_type(o, ty);
+            quote!(#id: &mut #t)
+        })
+        .collect();
+    (outs, params)
+}
+
 /// A fused function ([`FusedFunction`]) and its `_trig` variant, writing into out-parameters.
 ///
 /// With `fma_at_run_time` both are `#[inline(always)]`, so that the entry points of
@@ -1043,20 +1062,7 @@ fn fused_tokens(f: &FusedFunction, ty: &Ty, n: usize, fma_at_run_time: bool) -> 
         super::program::OpCounts { trig: 0, ..counts }
     ));
     let r = ty.real_trait_path();
-    let outs: Vec<Ident> = f
-        .outputs
-        .iter()
-        .map(|o| format_ident!("{}", o.function.short_name()))
-        .collect();
-    let params: Vec<TokenStream> = f
-        .outputs
-        .iter()
-        .zip(&outs)
-        .map(|(o, id)| {
-            let ty = out_type(o, ty);
-            quote!(#id: &mut #ty)
-        })
-        .collect();
+    let (outs, params) = out_params(f, ty);
     let stores = |values: &[TokenStream]| -> Vec<TokenStream> {
         f.outputs
             .iter()
@@ -1117,20 +1123,7 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
     } else {
         quote!(0)
     };
-    let outs: Vec<Ident> = f
-        .outputs
-        .iter()
-        .map(|o| format_ident!("{}", o.function.short_name()))
-        .collect();
-    let params: Vec<TokenStream> = f
-        .outputs
-        .iter()
-        .zip(&outs)
-        .map(|(o, id)| {
-            let t = out_type(o, &f64_ty);
-            quote!(#id: &mut #t)
-        })
-        .collect();
+    let (outs, params) = out_params(f, &f64_ty);
     // Each output seen as `FusedF64` storage: matrices and scalars in place, the pose through a
     // local (a tuple's layout is not guaranteed to follow its fields' types), copied out after.
     let mut locals = Vec::new();
