@@ -349,9 +349,10 @@ impl Builder {
     /// function returns. Every module already has `pose_and_jacobian` (`g_0e`, `J^B_0e`) and,
     /// with a constraint, `link_pose_and_jacobian` (`g_0i`, `J^B_0i`) ([`Fused::defaults`]); a
     /// function named like one of them replaces it. May be called several times. Generation
-    /// fails with [`Error::Function`] when the name is taken or not a snake_case identifier, or an
-    /// output is repeated or not a function of the module (`constrained_jacobian` of a robot
-    /// without a constraint).
+    /// fails with [`Error::Function`] when the name is taken, is not a snake_case identifier or
+    /// ends in a suffix the module gives to variants (`_trig`, and `_f64`, `_fma` of
+    /// [`Builder::fma_at_run_time`]), or an output is repeated or not a function of the module
+    /// (`constrained_jacobian` of a robot without a constraint).
     pub fn function(
         &mut self,
         name: &str,

@@ -4,7 +4,9 @@
 //! ([`kinematics`]), the constrained Jacobian of a remote centre of motion ([`constraint`]),
 //! fixed-size dense linear algebra ([`linalg`]), manipulability ([`manipulability`]), finite-difference references ([`finite_diff`]), the
 //! constrained kinematic controller ([`control`]) and the dense QP solver for its hard limits
-//! ([`qp`]).
+//! ([`qp`]). Generated code runs on [`Real`] (one number) or [`Arith`] (also the lane types of
+//! `lanes`, feature `lanes`); [`fma`] chooses fused multiply-adds at run time for the `f64` entry
+//! points of modules generated with `fma_at_run_time`.
 //!
 //! Everything a control loop calls is allocation-free, works on `nalgebra` fixed-size types and
 //! builds with `#![no_std]` (`default-features = false`; `libm` supplies the math functions).

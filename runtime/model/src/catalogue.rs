@@ -579,6 +579,13 @@ impl Fused {
                 "`{name}` ends in `_trig`, the suffix of the variant taking `JointTrig`"
             ));
         }
+        if name.ends_with("_f64") || name.ends_with("_fma") {
+            return Err(format!(
+                "`{name}` ends in `_{}`, a suffix of the `f64` entry points that \
+                 `fma_at_run_time` adds to each fused function",
+                &name[name.len() - 3..]
+            ));
+        }
         let taken = Function::SERIAL
             .iter()
             .chain(&Function::MECHANISM)
@@ -680,6 +687,8 @@ mod tests {
             "2x",
             "fn",
             "x_trig",
+            "x_f64",
+            "x_fma",
             "body_jacobian",
             "step_kinematics",
             "",
@@ -689,6 +698,11 @@ mod tests {
         for f in Fused::defaults(true) {
             assert!(Fused::check_name(&f.name).is_ok());
         }
+        let e = Fused::check_name("step_f64").unwrap_err();
+        assert!(
+            e.contains("ends in `_f64`, a suffix of the `f64` entry points"),
+            "{e}"
+        );
     }
 
     #[test]
