@@ -272,7 +272,7 @@ pub struct ModuleSpec {
     /// Functions computing several catalogue outputs in one program ([`catalogue::Fused`]).
     pub fused: Vec<FusedFunction>,
     /// Also emit each fused function's `f64` entry points with FMA chosen at run time
-    /// (`<name>_f64`, `<name>_trig_f64`; [`fma_entry_points`]); generic modules only.
+    /// (`<name>_f64`, `<name>_trig_f64`, written by `fma_entry_points`); generic modules only.
     pub fma_at_run_time: bool,
 }
 
