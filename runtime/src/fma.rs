@@ -17,8 +17,8 @@
 //! `x·a + b` is rounded once, the two operations twice. On a CPU with AVX2 and FMA they are bit
 //! for bit those of the same module built with `-C target-feature=+fma` (or any `target-cpu`
 //! with FMA); elsewhere bit for bit those of `name::<f64>`. Use `name::<f64>` itself where the
-//! same binary must give the same bits everywhere; the lane types of `trocar::lanes` (feature `lanes`)
-//! are bit for bit `name::<f64>`, not `name_f64`.
+//! same binary must give the same bits everywhere; the lane types of `trocar::lanes` (feature
+//! `lanes`) are bit for bit `name::<f64>`, not `name_f64`.
 //!
 //! The Panda's pose and body Jacobian given the sines and cosines: 17.5 ns instead of 24.6 ns
 //! at the default target (BENCHMARKS.md, "FMA chosen at run time").
