@@ -328,10 +328,15 @@ fn fma_at_run_time_emits_f64_entry_points_for_generic_modules() {
     let desc = RobotDescription::preset("dia10_like_zy").unwrap();
     let options = ModuleOptions {
         fma_at_run_time: true,
+        // A single output gets its entry points through a fused function of that one output.
+        functions: vec![trocar_codegen::catalogue::Fused::new(
+            "jr_only",
+            [trocar_codegen::catalogue::Function::ConstrainedJacobian],
+        )],
         ..ModuleOptions::default()
     };
     let code = generate_module_string(&desc, &options).unwrap();
-    for name in ["pose_and_jacobian", "link_pose_and_jacobian"] {
+    for name in ["pose_and_jacobian", "link_pose_and_jacobian", "jr_only"] {
         for f in [format!("{name}_f64"), format!("{name}_trig_f64")] {
             assert!(code.contains(&format!("pub fn {f}(")), "{f} missing");
         }
