@@ -1170,15 +1170,23 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
             (quote!(q: &[f64; #n_ty]), quote!(F::array(q)), quote!(q))
         };
         let doc = doc_attrs(&format!(
-            "[`{base}`] in `f64` with fused multiply-adds chosen at run time              ([`{rt}::fma`](mod@{rt}::fma)): on an x86-64 CPU with AVX2 and FMA, in a build              whose target lacks FMA, [`{base}`] compiled for them, every `mul_add` rounded once              (bit for bit [`{base}`] built with FMA); [`{base}`]`::<f64>` otherwise. The last              bits of the results then depend on the CPU: call [`{base}`] where they must not.",
+            "[`{base}`] in `f64` with fused multiply-adds chosen at run time (`{rt}::fma`): \
+             on an x86-64 CPU with AVX2 and FMA, in a build whose target lacks FMA, \
+             [`{base}`] compiled for them, every `mul_add` rounded once (bit for bit \
+             [`{base}`] built with FMA); [`{base}`]`::<f64>` otherwise. The last bits of the \
+             results therefore depend on the CPU: call [`{base}`] where they must not.",
             rt = rt.to_string().replace(' ', "")
         ));
         let doc_fma = doc_attrs(&format!(
-            "[`{base}_f64`] on a CPU with AVX2 and FMA: [`{base}`] on `FusedF64`, compiled              for them (it is inlined here).
-
-# Safety
-
-The CPU must have AVX2 and FMA."
+            "[`{base}_f64`] on a CPU with AVX2 and FMA: [`{base}`] on `FusedF64`, compiled for \
+             them (it is `#[inline(always)]`, so its whole program is).\n\n# Safety\n\nThe CPU \
+             must have AVX2 and FMA: [`{base}_f64`] calls this function only when \
+             `fma::available()` says so.\n\nThe views of the arguments as `FusedF64` are sound: \
+             `Params` and `JointTrig` are `#[repr(C)]` with fields `f64`, `[f64; N]` (or one \
+             `PhantomData`) only, and `FusedF64` is `#[repr(transparent)]` over `f64`, so \
+             `Params<f64>` and `Params<FusedF64>` (and the same for `JointTrig`) have one layout \
+             and every value of one is a value of the other; the views borrow the arguments for \
+             no longer than the call."
         ));
         items.extend(quote! {
             #doc
