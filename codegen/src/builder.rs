@@ -79,16 +79,7 @@ fn spec_for(desc: &RobotDescription, options: &ModuleOptions) -> Result<emit::Mo
     let name = checked_module_name(&desc.name, options.module_name.as_deref())?;
     let d =
         derivation::derive(desc).map_err(|e| Error::Description(e.into_description_error(desc)))?;
-    bridge::module_spec_with(&d, &name, &options.functions)
-}
-
-/// The module `pub mod <name> { ... }` for a description, as tokens (for the attribute).
-pub fn generate_module(
-    desc: &RobotDescription,
-    options: &ModuleOptions,
-) -> Result<TokenStream, Error> {
-    let runtime = options.runtime()?;
-    let mut spec = spec_for(desc, options)?;
+    let mut spec = bridge::module_spec_with(&d, &name, &options.functions)?;
     if options.fma_at_run_time {
         if options.real != Scalar::Generic {
             let real = match options.real {
@@ -99,6 +90,16 @@ pub fn generate_module(
         }
         spec.fma_at_run_time = true;
     }
+    Ok(spec)
+}
+
+/// The module `pub mod <name> { ... }` for a description, as tokens (for the attribute).
+pub fn generate_module(
+    desc: &RobotDescription,
+    options: &ModuleOptions,
+) -> Result<TokenStream, Error> {
+    let runtime = options.runtime()?;
+    let spec = spec_for(desc, options)?;
     let mut items = emit::module_items_in(&spec, options.real, &runtime);
     if options.c_api {
         items.extend(emit::c_api::items(&spec, options.real, runtime.tokens()));

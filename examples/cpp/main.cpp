@@ -28,6 +28,21 @@ int main() {
         std::fprintf(stderr, "kinematics not finite at the start\n");
         return 1;
     }
+    // g_0i and J^B_0i from one program (the fused function), one after the other in one array:
+    // the same g_0i to rounding.
+    std::array<double, PANDA_LAPAROSCOPE_LINK_POSE_AND_JACOBIAN_LEN> fused{};
+    if (panda_laparoscope_link_pose_and_jacobian(q.data(), params.data(), fused.data()) != 0) {
+        std::fprintf(stderr, "fused kinematics not finite at the start\n");
+        return 1;
+    }
+    for (int e = 0; e < 12; ++e) {
+        const double g = fused[PANDA_LAPAROSCOPE_LINK_POSE_AND_JACOBIAN_FK0I_OFFSET + e];
+        if (std::fabs(g - g0i[e]) > 1e-12) {
+            std::fprintf(stderr, "fused g_0i[%d] = %.17g, forward_kinematics_i %.17g\n", e, g,
+                         g0i[e]);
+            return 1;
+        }
+    }
     std::array<double, 3> trocar{};
     for (int r = 0; r < 3; ++r) {  // p_0r = R_0i p_ir + p_0i (R column-major, then p)
         trocar[r] = g0i[9 + r];

@@ -43,7 +43,8 @@ fn main() {
     fma.robot_as(format!("{robots}/panda-laparoscope.toml"), "panda_fma")
         .robot_as(format!("{robots}/dia10_like_zy.toml"), "dia10_fma")
         .function("step_outputs", STEP_OUTPUTS)
-        .fma_at_run_time(true);
+        .fma_at_run_time(true)
+        .c_api(true);
     if let Err(e) = fma.compile() {
         panic!("trocar-codegen: {e}");
     }

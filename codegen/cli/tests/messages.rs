@@ -253,6 +253,27 @@ fn fma_at_run_time_in_generate() {
         out.contains("pub fn link_pose_and_jacobian_trig_f64("),
         "{out}"
     );
+    // The C header: each fused function's outputs one after the other, FMA chosen at run time.
+    let (code, h, err) = trocar_in(
+        &dir,
+        &[
+            "generate",
+            "dia10_like_zy",
+            "--fma-at-run-time",
+            "--c-header",
+            "-",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    for line in [
+        "#define DIA10_LIKE_ZY_POSE_AND_JACOBIAN_LEN 60",
+        "#define DIA10_LIKE_ZY_POSE_AND_JACOBIAN_FK_OFFSET 0",
+        "#define DIA10_LIKE_ZY_POSE_AND_JACOBIAN_JB0E_OFFSET 12",
+        "int dia10_like_zy_link_pose_and_jacobian(const double *q, const double *params, double *out);",
+        "Fused multiply-adds are chosen at run time",
+    ] {
+        assert!(h.contains(line), "{line} missing from\n{h}");
+    }
     let (code, _, err) = trocar_in(
         &dir,
         &[

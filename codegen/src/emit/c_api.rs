@@ -15,12 +15,18 @@
 //! [`C_NULL_ARGUMENT`] when a pointer is null (nothing is written). Nothing allocates; the
 //! functions are straight-line arithmetic and cannot panic.
 //!
+//! Every fused function `name` of the module (`pose_and_jacobian`, `link_pose_and_jacobian`, those
+//! of [`crate::Builder::function`]) gets the same signature, `out` receiving its outputs one after
+//! the other, each in its own layout (the header `#define`s each one's offset and the total). In a
+//! generic module generated with [`crate::Builder::fma_at_run_time`] it calls `name_f64`, so C and
+//! C++ callers get the fused multiply-adds chosen at run time too.
+//!
 //! A constrained module whose constraint frame slides along its link (it has `Kinematics`) also
 //! gets `<module>_controller_step`: one step of the runtime's constrained controller
 //! (`trocar::control::Controller`, damped least squares, drift correction, the joint-limit
 //! objective where the module has `JOINT_LIMITS`) on the generated kinematics.
 
-use super::rust::{EmittedFunction, Layout, ModuleSpec, Scalar};
+use super::rust::{EmittedFunction, FusedFunction, Layout, ModuleSpec, Scalar};
 use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
 use std::fmt::Write as _;
@@ -174,6 +180,7 @@ pub fn items(spec: &ModuleSpec, real: Scalar, rt: &TokenStream) -> TokenStream {
             }
         }
     });
+    let fused = spec.fused.iter().map(|f| fused_c(spec, f, real, &t));
     let controller = has_controller(spec).then(|| controller_step(spec, &t, rt));
     let p_const = Literal::usize_unsuffixed(p_count);
     quote! {
@@ -187,7 +194,133 @@ pub fn items(spec: &ModuleSpec, real: Scalar, rt: &TokenStream) -> TokenStream {
         pub const C_CONTROL_ERROR: i32 = 3;
         #read_params
         #(#fns)*
+        #(#fused)*
         #controller
+    }
+}
+
+/// The offset of each output of a fused function in its C `out`, and the total.
+fn fused_offsets(f: &FusedFunction) -> (Vec<usize>, usize) {
+    let mut offsets = Vec::new();
+    let mut total = 0;
+    for o in &f.outputs {
+        offsets.push(total);
+        total += o.layout.len();
+    }
+    (offsets, total)
+}
+
+/// `<module>_<name>` of a fused function: its outputs one after the other in `out`, matrices in
+/// place, a pose and a scalar through locals; `name_f64` where the module has
+/// `fma_at_run_time`.
+fn fused_c(spec: &ModuleSpec, f: &FusedFunction, real: Scalar, t: &TokenStream) -> TokenStream {
+    let c_name = format_ident!("{}_{}", prefix(spec), f.name);
+    let target = if spec.fma_at_run_time && real == Scalar::Generic {
+        format_ident!("{}_f64", f.name)
+    } else {
+        format_ident!("{}", f.name)
+    };
+    let (offsets, total) = fused_offsets(f);
+    let mut views = Vec::new();
+    let mut args = Vec::new();
+    let mut copies = Vec::new();
+    for (k, (o, &offset)) in f.outputs.iter().zip(&offsets).enumerate() {
+        let id = format_ident!("o{k}");
+        let at = Literal::usize_unsuffixed(offset);
+        match o.layout {
+            Layout::Scalar => {
+                views.push(quote!(let mut #id: #t = 0.0;));
+                args.push(quote!(&mut #id));
+                copies.push(quote!(out[#at] = #id;));
+            }
+            Layout::Transform => {
+                views.push(
+                    quote!(let mut #id: ([[#t; 3]; 3], [#t; 3]) = ([[0.0; 3]; 3], [0.0; 3]);),
+                );
+                args.push(quote!(&mut #id));
+                let range = |from: usize| {
+                    let (a, b) = (
+                        Literal::usize_unsuffixed(offset + from),
+                        Literal::usize_unsuffixed(offset + from + 3),
+                    );
+                    quote!(#a..#b)
+                };
+                let (r0, r1, r2, rp) = (range(0), range(3), range(6), range(9));
+                copies.push(quote! {
+                    out[#r0].copy_from_slice(&#id.0[0]);
+                    out[#r1].copy_from_slice(&#id.0[1]);
+                    out[#r2].copy_from_slice(&#id.0[2]);
+                    out[#rp].copy_from_slice(&#id.1);
+                });
+            }
+            Layout::Matrix { rows, cols } => {
+                let (r, c) = (
+                    Literal::usize_unsuffixed(rows),
+                    Literal::usize_unsuffixed(cols),
+                );
+                let start = if offset == 0 {
+                    quote!(out)
+                } else {
+                    quote!(out.add(#at))
+                };
+                views.push(quote! {
+                    // SAFETY: `out` has room for every output (the caller's contract); this
+                    // one's `rows × cols` values start at its offset, apart from the others'.
+                    let #id: &mut [[#t; #r]; #c] = unsafe { &mut *#start.cast::<[[#t; #r]; #c]>() };
+                });
+                args.push(quote!(#id));
+            }
+        }
+    }
+    let total_lit = Literal::usize_unsuffixed(total);
+    let ct = if matches!(real, Scalar::F32) {
+        "float"
+    } else {
+        "double"
+    };
+    let outputs = f
+        .outputs
+        .iter()
+        .zip(&offsets)
+        .map(|(o, off)| format!("`{}` at {off}", o.function.short_name()))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let doc = format!(
+        " C ABI of [`{name}`]: `int {c_name}(const {ct} *q, const {ct} *params, {ct} *out)`;          `out` receives {total} values, the outputs one after the other ({outputs}), each          column-major. Returns 0, `C_NOT_FINITE` (1) or `C_NULL_ARGUMENT` (2).{fma}",
+        name = target,
+        fma = if target != f.name.as_str() {
+            " FMA is chosen at run time (`trocar::fma`)."
+        } else {
+            ""
+        },
+    );
+    quote! {
+        #[doc = #doc]
+        ///
+        /// # Safety
+        /// `q` points to `N` readable values, `params` to the parameters (`PARAMS` values,
+        /// declaration order; null when there are none), `out` to room for all the outputs'
+        /// values, and `out` overlaps neither.
+        #[no_mangle]
+        pub unsafe extern "C" fn #c_name(q: *const #t, params: *const #t, out: *mut #t) -> i32 {
+            if q.is_null() || out.is_null() {
+                return C_NULL_ARGUMENT;
+            }
+            // SAFETY: the caller's contract for `params`.
+            let Some(p) = (unsafe { c_params(params) }) else {
+                return C_NULL_ARGUMENT;
+            };
+            // SAFETY: non-null (checked above) and, by the caller's contract, pointing to `N`
+            // readable values.
+            let q: &[#t; N] = unsafe { &*q.cast::<[#t; N]>() };
+            #(#views)*
+            #target(q, &p, #(#args),*);
+            // SAFETY: non-null, room for all the outputs (the caller's contract); the views
+            // above are no longer used.
+            let out: &mut [#t; #total_lit] = unsafe { &mut *out.cast::<[#t; #total_lit]>() };
+            #(#copies)*
+            if out.iter().all(|v| v.is_finite()) { 0 } else { C_NOT_FINITE }
+        }
     }
 }
 
@@ -340,7 +473,9 @@ pub fn header(spec: &ModuleSpec, real: Scalar) -> String {
          Matrices are written COLUMN-MAJOR (out[c * rows + r] is entry (r, c)), as the Rust\n\
          functions return them; a pose is R column-major (9) then p (3).\n\
          Returns 0, {upper}_NOT_FINITE when a value written is not finite, {upper}_NULL_ARGUMENT\n\
-         when a pointer is NULL (nothing written). No function allocates or fails otherwise. */",
+         when a pointer is NULL (nothing written). No function allocates or fails otherwise.\n\
+         A function of several outputs (computed in one program) writes them one after the other:\n\
+         {upper}_<NAME>_<OUTPUT>_OFFSET is where each starts, {upper}_<NAME>_LEN their total. */",
         n = spec.joints,
         p = spec.params.len(),
     );
@@ -383,6 +518,37 @@ pub fn header(spec: &ModuleSpec, real: Scalar) -> String {
             f.equation,
             f.name.to_uppercase(),
             len(f),
+            f.name
+        );
+    }
+    for f in &spec.fused {
+        let (offsets, total) = fused_offsets(f);
+        let name = f.name.to_uppercase();
+        let list = f
+            .outputs
+            .iter()
+            .map(|o| o.function.short_name())
+            .collect::<Vec<_>>()
+            .join(", ");
+        let fma = if spec.fma_at_run_time && real == Scalar::Generic {
+            " Fused multiply-adds are chosen at run time (on a CPU with AVX2 and FMA), so the\n   last bits of the results depend on the CPU."
+        } else {
+            ""
+        };
+        let _ = writeln!(
+            h,
+            "/* {list} in one program, one after the other in out (each column-major, a pose as R\n   then p).{fma} */\n#define {upper}_{name}_LEN {total}"
+        );
+        for (o, off) in f.outputs.iter().zip(&offsets) {
+            let _ = writeln!(
+                h,
+                "#define {upper}_{name}_{}_OFFSET {off}",
+                o.function.short_name().to_uppercase()
+            );
+        }
+        let _ = writeln!(
+            h,
+            "int {m}_{}(const {ct} *q, const {ct} *params, {ct} *out);\n",
             f.name
         );
     }

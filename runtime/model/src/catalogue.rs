@@ -602,8 +602,10 @@ impl Fused {
     }
 }
 
-/// Functions a serial module may hold besides the catalogue's.
-const RESERVED_ITEMS: [&str; 4] = [
+/// Functions a serial module may hold besides the catalogue's (`controller_step`: the C ABI's
+/// `<module>_controller_step`, beside each fused function's `<module>_<name>`).
+const RESERVED_ITEMS: [&str; 5] = [
+    "controller_step",
     "pose_and_jacobians",
     "step_kinematics",
     "trocar_offset",

@@ -1,7 +1,7 @@
 //! The C ABI of an `f32` module and of a generic one (whose C functions are `f64`): each writes
 //! its Rust function's values in the documented layout (column-major).
 
-use trocar_tests_generated::{dia10_capi as g, panda_capi_f32 as p};
+use trocar_tests_generated::{dia10_capi as g, dia10_fma, panda_capi_f32 as p, panda_fma};
 
 #[test]
 fn f32_functions_write_the_rust_values() {
@@ -47,4 +47,106 @@ fn generic_module_functions_are_f64() {
         &lambda[..],
         g::lambda_null_space::<f64>(&g::Params { l_a: 0.15 }).as_flattened()
     );
+}
+
+/// A fused function's C ABI writes its outputs one after the other, each in its layout: a
+/// generic module's `pose_and_jacobian` and `link_pose_and_jacobian` (`f64`) and an `f32`
+/// module's, bit for bit the Rust functions' values; null pointers are refused.
+#[test]
+fn fused_functions_write_their_outputs_one_after_the_other() {
+    let q = [0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
+    let params = [0.15];
+    let pp = g::Params { l_a: 0.15 };
+    let mut out = [f64::NAN; 12 + 6 * 8];
+    // SAFETY: q holds N = 8 values, params PARAMS = 1, out room for g_0e (12) and J^B_0e (48).
+    let status =
+        unsafe { g::dia10_capi_pose_and_jacobian(q.as_ptr(), params.as_ptr(), out.as_mut_ptr()) };
+    assert_eq!(status, 0);
+    let (mut fk, mut jb) = (([[0.0; 3]; 3], [0.0; 3]), [[0.0; 6]; 8]);
+    g::pose_and_jacobian(&q, &pp, &mut fk, &mut jb);
+    assert_eq!(&out[..9], fk.0.as_flattened());
+    assert_eq!(&out[9..12], &fk.1);
+    assert_eq!(&out[12..], jb.as_flattened());
+    // The separate functions agree to rounding (another program for the same values).
+    let (r, t) = g::forward_kinematics::<f64>(&q, &pp);
+    for (a, b) in out[..9]
+        .iter()
+        .zip(r.as_flattened())
+        .chain(out[9..12].iter().zip(&t))
+    {
+        assert!((a - b).abs() < 1e-14, "{a} vs {b}");
+    }
+    // SAFETY: a null `out` is refused before anything is read or written.
+    let status = unsafe {
+        g::dia10_capi_link_pose_and_jacobian(q.as_ptr(), params.as_ptr(), std::ptr::null_mut())
+    };
+    assert_eq!(status, g::C_NULL_ARGUMENT);
+
+    let q32: [f32; 7] = [0.3, -0.5, 0.2, -2.1, 0.4, 1.9, 0.6];
+    let mut out32 = [f32::NAN; 12 + 42];
+    // SAFETY: q32 holds N = 7 values, params one, out32 room for g_0i (12) and J^B_0i (42).
+    let status = unsafe {
+        p::panda_capi_f32_link_pose_and_jacobian(
+            q32.as_ptr(),
+            [0.21_f32].as_ptr(),
+            out32.as_mut_ptr(),
+        )
+    };
+    assert_eq!(status, 0);
+    let (mut fk, mut jb) = (([[0.0f32; 3]; 3], [0.0f32; 3]), [[0.0f32; 6]; 7]);
+    p::link_pose_and_jacobian(&q32, &p::Params { l_a: 0.21 }, &mut fk, &mut jb);
+    assert_eq!(&out32[..9], fk.0.as_flattened());
+    assert_eq!(&out32[9..12], &fk.1);
+    assert_eq!(&out32[12..], jb.as_flattened());
+}
+
+/// In a module generated with `fma_at_run_time` the fused functions' C ABI calls the `_f64`
+/// entry points (FMA chosen at run time): bit for bit theirs, a scalar output included.
+#[test]
+fn fused_functions_of_an_fma_module_call_the_f64_entry_points() {
+    let q = [0.3, -0.5, 0.2, -2.1, 0.4, 1.9, 0.6];
+    let params = [0.21];
+    let mut out = [f64::NAN; 12 + 42];
+    // SAFETY: q holds N = 7 values, params PARAMS = 1, out room for g_0i and J^B_0i.
+    let status = unsafe {
+        panda_fma::panda_fma_link_pose_and_jacobian(q.as_ptr(), params.as_ptr(), out.as_mut_ptr())
+    };
+    assert_eq!(status, 0);
+    let (mut fk, mut jb) = (([[0.0; 3]; 3], [0.0; 3]), [[0.0; 6]; 7]);
+    panda_fma::link_pose_and_jacobian_f64(&q, &panda_fma::Params { l_a: 0.21 }, &mut fk, &mut jb);
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&out[..9]), bits(fk.0.as_flattened()));
+    assert_eq!(bits(&out[9..12]), bits(&fk.1));
+    assert_eq!(bits(&out[12..]), bits(jb.as_flattened()));
+
+    // dia10_like's step_outputs: J^r (36), w (1), g_0e (12), J^B_0i (36), J_c (12).
+    let q = [0.0, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
+    let mut out = [f64::NAN; 36 + 1 + 12 + 36 + 12];
+    // SAFETY: q holds N = 8 values, params PARAMS = 1, out room for the five outputs.
+    let status =
+        unsafe { dia10_fma::dia10_fma_step_outputs(q.as_ptr(), [0.15].as_ptr(), out.as_mut_ptr()) };
+    assert_eq!(status, 0);
+    let (mut jr, mut w, mut g0e, mut jbi, mut jc) = (
+        [[0.0; 6]; 6],
+        0.0,
+        ([[0.0; 3]; 3], [0.0; 3]),
+        [[0.0; 6]; 6],
+        [[0.0; 6]; 2],
+    );
+    dia10_fma::step_outputs_f64(
+        &q,
+        &dia10_fma::Params { l_a: 0.15 },
+        &mut jr,
+        &mut w,
+        &mut g0e,
+        &mut jbi,
+        &mut jc,
+    );
+    let mut want = jr.as_flattened().to_vec();
+    want.push(w);
+    want.extend(g0e.0.as_flattened());
+    want.extend(g0e.1);
+    want.extend(jbi.as_flattened());
+    want.extend(jc.as_flattened());
+    assert_eq!(bits(&out), bits(&want));
 }
