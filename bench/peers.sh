@@ -78,6 +78,15 @@ trig_alone() {
   case "$1" in panda|panda_i) echo ours_trig ours_f64_in_place ours_f64_given_trig_in_place ;; esac
 }
 
+# At the default ISA, the fused cases also through the `_f64` entry points of the modules generated
+# with `fma_at_run_time` (FMA chosen at run time), and the step cases with the pose in place.
+fma_at_run_time() {
+  case "$1" in
+    panda_i) echo ours_f64_fma ours_f64_given_trig_fma ;;
+    dia_zy|oblique7|panda_rcm) echo ours_f64_in_place ours_f64_given_trig_in_place ours_f64_fma ours_f64_given_trig_fma ;;
+  esac
+}
+
 # Our generated code joins in when the generator's Builder is in this checkout (feature `ours`).
 feature_list=""
 ours_impls=""
@@ -168,7 +177,8 @@ if true; then
     for case in panda panda_i dia_zy oblique7 panda_rcm; do
       # shellcheck disable=SC2046
       "$harness/target/default-isa/release/interleave" "$case" 60 20000 ours_f64 wrenfold symforce \
-        ours_f64_given_trig wrenfold_given_trig symforce_given_trig $(trig_alone "$case") | sed "s/^/$case /"
+        ours_f64_given_trig wrenfold_given_trig symforce_given_trig $(trig_alone "$case") \
+        $(fma_at_run_time "$case") | sed "s/^/$case /"
     done | tee "$out/interleave_default_isa.txt" >&2
   fi
   unset TROCAR_PEERS_DEFAULT_ISA
