@@ -100,6 +100,9 @@ pub fn generate_module(
 ) -> Result<TokenStream, Error> {
     let runtime = options.runtime()?;
     let spec = spec_for(desc, options)?;
+    if options.c_api {
+        c_api_names(&spec)?;
+    }
     let mut items = emit::module_items_in(&spec, options.real, &runtime);
     if options.c_api {
         items.extend(emit::c_api::items(&spec, options.real, runtime.tokens()));
@@ -150,6 +153,26 @@ pub fn generate_module(
         }));
     }
     Ok(tokens)
+}
+
+/// With the C ABI, a fused function's C function `<module>_<name>` lives beside the module's
+/// Rust items: a fused name that starts with `<module>_` (it could be another C function's Rust
+/// name) or is the C ABI's helper `c_params` would clash.
+fn c_api_names(spec: &emit::ModuleSpec) -> Result<(), Error> {
+    let prefix = format!("{}_", spec.name);
+    for f in &spec.fused {
+        if f.name == "c_params" || f.name.starts_with(&prefix) {
+            return Err(Error::Function {
+                name: f.name.clone(),
+                message: format!(
+                    "with the C ABI the module's C functions are named `{prefix}<function>`, \
+                     beside its Rust items, and it holds `c_params`: name the function without \
+                     the prefix `{prefix}`"
+                ),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// The first `f32` literal of `tokens` that overflows `f32` (it would not compile), if any.
@@ -301,8 +324,9 @@ impl Builder {
     /// Also emit, for each fused function `name` of each serial robot (the defaults and those of
     /// [`Builder::function`]), the `f64` entry points `name_f64` and `name_trig_f64` with fused
     /// multiply-adds chosen at run time (`trocar::fma`): in a build for the default x86-64
-    /// target, on a CPU with AVX2 and FMA, they run `name` compiled for those (every `mul_add`
-    /// one instruction, rounded once); elsewhere they call `name::<f64>`. Their results' last
+    /// target with `trocar`'s `std` feature, on a CPU with AVX2 and FMA, they run `name`
+    /// compiled for those (every `mul_add` one instruction when optimised, rounded once);
+    /// elsewhere, and always without `std`, they call `name::<f64>`. Their results' last
     /// bits then depend on the CPU. The fused functions become `#[inline(always)]`. Needs the
     /// generic scalar ([`Scalar::Generic`], the default); [`Builder::generate`] fails with
     /// [`Error::FmaNeedsGeneric`] otherwise.

@@ -373,3 +373,35 @@ fn fma_at_run_time_emits_f64_entry_points_for_generic_modules() {
         );
     }
 }
+
+/// With the C ABI a fused function named with the module's prefix (or `c_params`) would clash
+/// with the C functions beside the module's Rust items: refused, naming the prefix.
+#[test]
+fn c_api_refuses_fused_names_that_clash_with_its_symbols() {
+    let desc = RobotDescription::preset("dia10_like_zy").unwrap();
+    for name in ["dia10_like_zy_step", "c_params"] {
+        let options = ModuleOptions {
+            c_api: true,
+            functions: vec![trocar_codegen::catalogue::Fused::new(
+                name,
+                [trocar_codegen::catalogue::Function::ForwardKinematics],
+            )],
+            ..ModuleOptions::default()
+        };
+        let err = generate_module_string(&desc, &options).unwrap_err();
+        let Error::Function { name: n, message } = &err else {
+            panic!("{err}");
+        };
+        assert_eq!(n, name);
+        assert!(
+            message.contains("without the prefix `dia10_like_zy_`"),
+            "{message}"
+        );
+        // Without the C ABI the name is fine.
+        let plain = ModuleOptions {
+            c_api: false,
+            ..options
+        };
+        assert!(generate_module_string(&desc, &plain).is_ok());
+    }
+}

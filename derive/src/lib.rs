@@ -57,8 +57,8 @@
 //! Options for every form: `real = "f32" | "f64" | "generic"` (default generic over
 //! `T: trocar::Real`), `module = "name"` (default: the struct name in snake case),
 //! `fma_at_run_time` (each fused function also as `<name>_f64` and `<name>_trig_f64`, `f64`
-//! entry points with fused multiply-adds chosen at run time: see `trocar::fma`; generic modules
-//! only).
+//! entry points with fused multiply-adds chosen at run time where `trocar` has its `std` feature:
+//! see `trocar::fma`; generic modules only).
 //!
 //! # What it generates
 //!

@@ -10,7 +10,7 @@
 //! `name_trig_f64` that asks [`available`] and then either
 //!
 //! - runs the function on [`FusedF64`] inside a function compiled for AVX2 and FMA (every
-//!   `mul_add` one fused instruction, the rest VEX-encoded), or
+//!   `mul_add` one fused instruction when optimised, the rest VEX-encoded), or
 //! - calls `name::<f64>`, exactly as without the option.
 //!
 //! **The results then depend on the CPU** the code runs on, in their last bits: a fused
@@ -20,8 +20,11 @@
 //! same binary must give the same bits everywhere; the lane types of `trocar::lanes` (feature
 //! `lanes`) are bit for bit `name::<f64>`, not `name_f64`.
 //!
-//! The Panda's pose and body Jacobian given the sines and cosines: 17.5 ns instead of 24.6 ns
-//! at the default target (BENCHMARKS.md, "FMA chosen at run time").
+//! The Panda's pose and body Jacobian given the sines and cosines: about 18 ns instead of 23 ns
+//! at the default target (BENCHMARKS.md, "FMA chosen at run time"). Only optimised code gains:
+//! at opt-level 0 (a debug build) `f64::mul_add` is not inlined into the `_fma` function, and
+//! every `mul_add` is a call (a module's `pose_and_jacobian_trig_f64` in a debug build: 631 ns
+//! against 207 ns for `pose_and_jacobian_trig::<f64>`).
 //!
 //! ```
 //! use trocar::fma::FusedF64;

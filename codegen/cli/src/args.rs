@@ -46,8 +46,9 @@ pub enum Command {
         functions: Vec<trocar_model::catalogue::Fused>,
         /// Also emit each fused function's `f64` entry points `<name>_f64` and
         /// `<name>_trig_f64`, with fused multiply-adds chosen at run time: built for the
-        /// default x86-64 target, on a CPU with AVX2 and FMA they run the function compiled for
-        /// those (results' last bits then depend on the CPU). Needs `--real generic`.
+        /// default x86-64 target with trocar's `std` feature, on a CPU with AVX2 and FMA they
+        /// run the function compiled for those (results' last bits then depend on the CPU).
+        /// Needs `--real generic`.
         #[arg(long)]
         fma_at_run_time: bool,
     },

@@ -161,7 +161,7 @@ pub fn items(spec: &ModuleSpec, real: Scalar, rt: &TokenStream) -> TokenStream {
             /// parameters alone), `params` to the parameters (`PARAMS` values, declaration
             /// order; null when there are none), `out` to room for the result, and `out`
             /// overlaps neither.
-            #[no_mangle]
+            #[unsafe(no_mangle)]
             pub unsafe extern "C" fn #c_name(q: *const #t, params: *const #t, out: *mut #t) -> i32 {
                 if #q_check out.is_null() {
                     return C_NULL_ARGUMENT;
@@ -286,10 +286,12 @@ fn fused_c(spec: &ModuleSpec, f: &FusedFunction, real: Scalar, t: &TokenStream) 
         .collect::<Vec<_>>()
         .join(", ");
     let doc = format!(
-        " C ABI of [`{name}`]: `int {c_name}(const {ct} *q, const {ct} *params, {ct} *out)`;          `out` receives {total} values, the outputs one after the other ({outputs}), each          column-major. Returns 0, `C_NOT_FINITE` (1) or `C_NULL_ARGUMENT` (2).{fma}",
+        " C ABI of [`{name}`]: `int {c_name}(const {ct} *q, const {ct} *params, {ct} *out)`; \
+         `out` receives {total} values, the outputs one after the other ({outputs}), each \
+         column-major. Returns 0, `C_NOT_FINITE` (1) or `C_NULL_ARGUMENT` (2).{fma}",
         name = target,
         fma = if target != f.name.as_str() {
-            " FMA is chosen at run time (`trocar::fma`)."
+            " Fused multiply-adds are chosen at run time (`trocar::fma`, with `std`)."
         } else {
             ""
         },
@@ -301,7 +303,7 @@ fn fused_c(spec: &ModuleSpec, f: &FusedFunction, real: Scalar, t: &TokenStream) 
         /// `q` points to `N` readable values, `params` to the parameters (`PARAMS` values,
         /// declaration order; null when there are none), `out` to room for all the outputs'
         /// values, and `out` overlaps neither.
-        #[no_mangle]
+        #[unsafe(no_mangle)]
         pub unsafe extern "C" fn #c_name(q: *const #t, params: *const #t, out: *mut #t) -> i32 {
             if q.is_null() || out.is_null() {
                 return C_NULL_ARGUMENT;
@@ -374,7 +376,7 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
         /// `q` points to `N` values, `params` to `PARAMS` values (null when there are none),
         /// `target` to 18, `trocar` to 3, `gains` to 8, `qd` to room for `N` values and
         /// `report` to room for 8 or is null; the outputs overlap no input.
-        #[no_mangle]
+        #[unsafe(no_mangle)]
         #[allow(clippy::too_many_arguments)]
         pub unsafe extern "C" fn #c_name(
             q: *const #t,

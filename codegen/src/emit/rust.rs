@@ -1089,7 +1089,7 @@ fn fused_tokens(f: &FusedFunction, ty: &Ty, n: usize, fma_at_run_time: bool) -> 
     let t = ty.t();
     let n_ty = if n > 0 { quote!(N) } else { quote!(0) };
     let inline = if fma_at_run_time {
-        quote!(#[inline(always)])
+        quote!(#[inline(always)] #[allow(clippy::inline_always)])
     } else {
         quote!(#[inline])
     };
@@ -1149,7 +1149,8 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
         .collect();
     // The casts are sound (the `_fma` function's doc, which the generated code carries, says
     // why): `Params` and `JointTrig` are `#[repr(C)]` ([`repr_c`]) over `T` fields only.
-    let params_fused = quote!(unsafe { &*(p as *const Params<f64>).cast::<Params<F>>() });
+    let params_fused =
+        quote!(unsafe { &*::core::ptr::from_ref::<Params<f64>>(p).cast::<Params<F>>() });
     let mut items = TokenStream::new();
     for trig in [false, true] {
         let base = if trig {
@@ -1163,7 +1164,9 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
         let (input, input_fused, arg) = if trig {
             (
                 quote!(t: &JointTrig<f64>),
-                quote!(unsafe { &*(t as *const JointTrig<f64>).cast::<JointTrig<F>>() }),
+                quote!(unsafe {
+                    &*::core::ptr::from_ref::<JointTrig<f64>>(t).cast::<JointTrig<F>>()
+                }),
                 quote!(t),
             )
         } else {
@@ -1171,10 +1174,12 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
         };
         let doc = doc_attrs(&format!(
             "[`{base}`] in `f64` with fused multiply-adds chosen at run time (`{rt}::fma`): \
-             on an x86-64 CPU with AVX2 and FMA, in a build whose target lacks FMA, \
-             [`{base}`] compiled for them, every `mul_add` rounded once (bit for bit \
-             [`{base}`] built with FMA); [`{base}`]`::<f64>` otherwise. The last bits of the \
-             results therefore depend on the CPU: call [`{base}`] where they must not.",
+             on an x86-64 CPU with AVX2 and FMA, in a build with `trocar`'s `std` feature \
+             whose target lacks FMA, [`{base}`] compiled for them, every `mul_add` rounded \
+             once (bit for bit [`{base}`] built with FMA); [`{base}`]`::<f64>` otherwise \
+             (without `std`, always). The last bits of the results therefore depend on the \
+             CPU: call [`{base}`] where they must not. Fast when optimised: at opt-level 0 \
+             each `mul_add` is a call.",
             rt = rt.to_string().replace(' ', "")
         ));
         let doc_fma = doc_attrs(&format!(
@@ -1197,7 +1202,7 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
                     unsafe { #name_fma(#arg, p, #(#outs),*) };
                     return;
                 }
-                #name::<f64>(#arg, p, #(#outs),*)
+                #name::<f64>(#arg, p, #(#outs),*);
             }
 
             #doc_fma

@@ -76,11 +76,29 @@ fn fused_functions_write_their_outputs_one_after_the_other() {
     {
         assert!((a - b).abs() < 1e-14, "{a} vs {b}");
     }
-    // SAFETY: a null `out` is refused before anything is read or written.
+    // SAFETY: a null `out`, `q` or `params` (this module has a parameter) is refused before
+    // anything is read or written.
+    unsafe {
+        let status =
+            g::dia10_capi_link_pose_and_jacobian(q.as_ptr(), params.as_ptr(), std::ptr::null_mut());
+        assert_eq!(status, g::C_NULL_ARGUMENT);
+        let status = g::dia10_capi_link_pose_and_jacobian(
+            std::ptr::null(),
+            params.as_ptr(),
+            out.as_mut_ptr(),
+        );
+        assert_eq!(status, g::C_NULL_ARGUMENT);
+        let status =
+            g::dia10_capi_link_pose_and_jacobian(q.as_ptr(), std::ptr::null(), out.as_mut_ptr());
+        assert_eq!(status, g::C_NULL_ARGUMENT);
+    }
+    // A value that is not finite is reported (the values are written all the same).
+    let q_nan = [f64::NAN, -0.3, 0.9, 0.2, -0.6, 0.1, 0.5, 0.3];
+    // SAFETY: as above.
     let status = unsafe {
-        g::dia10_capi_link_pose_and_jacobian(q.as_ptr(), params.as_ptr(), std::ptr::null_mut())
+        g::dia10_capi_pose_and_jacobian(q_nan.as_ptr(), params.as_ptr(), out.as_mut_ptr())
     };
-    assert_eq!(status, g::C_NULL_ARGUMENT);
+    assert_eq!(status, g::C_NOT_FINITE);
 
     let q32: [f32; 7] = [0.3, -0.5, 0.2, -2.1, 0.4, 1.9, 0.6];
     let mut out32 = [f32::NAN; 12 + 42];
