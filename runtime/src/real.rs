@@ -714,13 +714,7 @@ pub mod fast {
                 target_feature = "sse2",
                 not(target_feature = "avx2")
             ))]
-            if (3..=8).contains(&N) && avx2::available() {
-                let e = |l: usize| x[l.min(N - 1)];
-                // SAFETY: `avx2::eight` only needs the CPU to have AVX2, which `available`
-                // has confirmed (std's detection, which also checks that the operating
-                // system saves the YMM registers).
-                let (s, c) =
-                    unsafe { avx2::eight::<N>(e(0), e(1), e(2), e(3), e(4), e(5), e(6), e(7)) };
+            if let Some((s, c)) = avx2::groups(x) {
                 // Each element read alone (8-byte loads): the caller's own loads of two
                 // neighbours at once would span two of `eight`'s stores, a failed
                 // store-to-load forwarding.
@@ -763,11 +757,10 @@ pub mod fast {
             target_feature = "sse2",
             not(target_feature = "avx2")
         ))]
-        if PAIRS && (3..=8).contains(&N) && avx2::available() {
-            let e = |l: usize| x[l.min(N - 1)];
-            // SAFETY: `avx2::eight` only needs the CPU to have AVX2, which `available` has
-            // confirmed.
-            return unsafe { avx2::eight::<N>(e(0), e(1), e(2), e(3), e(4), e(5), e(6), e(7)) };
+        if PAIRS {
+            if let Some(r) = avx2::groups(x) {
+                return r;
+            }
         }
         sin_cos_f64_array(x)
     }
@@ -786,7 +779,7 @@ pub mod fast {
     /// AVX2; the other is the transmute of `Quad::lanes`, sound for any bits (its own comment).
     /// `Quad` and its operations are private to this module, and are used only inside
     /// [`avx2::eight`](self::avx2), which is compiled for AVX2 and unsafe to call; its one
-    /// caller calls it only after `available` has confirmed AVX2 at run time.
+    /// caller, `groups`, calls it only after std's detection has confirmed AVX2 at run time.
     #[cfg(all(
         feature = "std",
         target_arch = "x86_64",
@@ -798,10 +791,18 @@ pub mod fast {
 
         use super::{main_path, Vector, SIGN};
 
-        /// Whether the CPU (and the operating system) supports AVX2; std caches the answer.
+        /// `x` (three to eight elements) as one group of eight on AVX2, padded with its last
+        /// element, where the CPU (and the operating system) supports AVX2 (std's detection,
+        /// cached); `None` for other lengths or without AVX2.
         #[inline(always)]
-        pub(super) fn available() -> bool {
-            std::arch::is_x86_feature_detected!("avx2")
+        pub(super) fn groups<const N: usize>(x: &[f64; N]) -> Option<([f64; N], [f64; N])> {
+            if !(3..=8).contains(&N) || !std::arch::is_x86_feature_detected!("avx2") {
+                return None;
+            }
+            let e = |l: usize| x[l.min(N - 1)];
+            // SAFETY: `eight` only needs the CPU to have AVX2, which std's detection has just
+            // confirmed (it also checks that the operating system saves the YMM registers).
+            Some(unsafe { eight::<N>(e(0), e(1), e(2), e(3), e(4), e(5), e(6), e(7)) })
         }
 
         /// [`super::sin_cos_f64_lanes`] of eight elements, bit for bit (no operation is fused),

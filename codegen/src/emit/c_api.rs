@@ -26,7 +26,7 @@
 //! (`trocar::control::Controller`, damped least squares, drift correction, the joint-limit
 //! objective where the module has `JOINT_LIMITS`) on the generated kinematics.
 
-use super::rust::{EmittedFunction, FusedFunction, Layout, ModuleSpec, Scalar};
+use super::rust::{FusedFunction, Layout, ModuleSpec, Scalar};
 use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
 use std::fmt::Write as _;
@@ -39,12 +39,22 @@ pub const C_NULL_ARGUMENT: i32 = 2;
 /// singular Jacobian without damping, a non-finite value, the trocar at the link's frame).
 pub const C_CONTROL_ERROR: i32 = 3;
 
-/// Number of values a function's result holds.
-fn len(f: &EmittedFunction) -> usize {
-    match f.layout {
-        Layout::Scalar => 1,
-        Layout::Matrix { rows, cols } => rows * cols,
-        Layout::Transform => 12,
+/// A pose `(R, p)` (the expression `pose`) into `out` from `offset`: `R` column-major, then `p`;
+/// literal ranges, the layout every C function writes a pose in.
+fn pose_into(pose: &TokenStream, offset: usize) -> TokenStream {
+    let range = |from: usize| {
+        let (a, b) = (
+            Literal::usize_unsuffixed(offset + from),
+            Literal::usize_unsuffixed(offset + from + 3),
+        );
+        quote!(#a..#b)
+    };
+    let (r0, r1, r2, rp) = (range(0), range(3), range(6), range(9));
+    quote! {
+        out[#r0].copy_from_slice(&#pose.0[0]);
+        out[#r1].copy_from_slice(&#pose.0[1]);
+        out[#r2].copy_from_slice(&#pose.0[2]);
+        out[#rp].copy_from_slice(&#pose.1);
     }
 }
 
@@ -106,7 +116,7 @@ pub fn items(spec: &ModuleSpec, real: Scalar, rt: &TokenStream) -> TokenStream {
     let fns = spec.functions.iter().map(|f| {
         let name = format_ident!("{}", f.name);
         let c_name = format_ident!("{}_{}", prefix(spec), f.name);
-        let n = Literal::usize_unsuffixed(len(f));
+        let n = Literal::usize_unsuffixed(f.layout.len());
         let call = if f.takes_joints {
             quote!(#name(q, &p))
         } else {
@@ -122,13 +132,7 @@ pub fn items(spec: &ModuleSpec, real: Scalar, rt: &TokenStream) -> TokenStream {
                     }
                 }
             }
-            Layout::Transform => quote! {
-                let (r, t) = value;
-                for (c, column) in r.iter().enumerate() {
-                    out[3 * c..3 * c + 3].copy_from_slice(column);
-                }
-                out[9..12].copy_from_slice(&t);
-            },
+            Layout::Transform => pose_into(&quote!(value), 0),
         };
         let doc =
             format!(
@@ -137,7 +141,7 @@ pub fn items(spec: &ModuleSpec, real: Scalar, rt: &TokenStream) -> TokenStream {
              `C_NULL_ARGUMENT` (2); see the C header (`trocar generate --c-header`).",
             name = f.name,
             ct = if matches!(real, Scalar::F32) { "float" } else { "double" },
-            n = len(f),
+            n = f.layout.len(),
         );
         let q_check = if f.takes_joints {
             quote!(q.is_null() ||)
@@ -215,7 +219,8 @@ fn fused_offsets(f: &FusedFunction) -> (Vec<usize>, usize) {
 /// `fma_at_run_time`.
 fn fused_c(spec: &ModuleSpec, f: &FusedFunction, real: Scalar, t: &TokenStream) -> TokenStream {
     let c_name = format_ident!("{}_{}", prefix(spec), f.name);
-    let target = if spec.fma_at_run_time && real == Scalar::Generic {
+    // `fma_at_run_time` holds for generic modules only (the builder refuses the others).
+    let target = if spec.fma_at_run_time {
         format_ident!("{}_f64", f.name)
     } else {
         format_ident!("{}", f.name)
@@ -238,20 +243,7 @@ fn fused_c(spec: &ModuleSpec, f: &FusedFunction, real: Scalar, t: &TokenStream) 
                     quote!(let mut #id: ([[#t; 3]; 3], [#t; 3]) = ([[0.0; 3]; 3], [0.0; 3]);),
                 );
                 args.push(quote!(&mut #id));
-                let range = |from: usize| {
-                    let (a, b) = (
-                        Literal::usize_unsuffixed(offset + from),
-                        Literal::usize_unsuffixed(offset + from + 3),
-                    );
-                    quote!(#a..#b)
-                };
-                let (r0, r1, r2, rp) = (range(0), range(3), range(6), range(9));
-                copies.push(quote! {
-                    out[#r0].copy_from_slice(&#id.0[0]);
-                    out[#r1].copy_from_slice(&#id.0[1]);
-                    out[#r2].copy_from_slice(&#id.0[2]);
-                    out[#rp].copy_from_slice(&#id.1);
-                });
+                copies.push(pose_into(&quote!(#id), offset));
             }
             Layout::Matrix { rows, cols } => {
                 let (r, c) = (
@@ -290,7 +282,7 @@ fn fused_c(spec: &ModuleSpec, f: &FusedFunction, real: Scalar, t: &TokenStream) 
          `out` receives {total} values, the outputs one after the other ({outputs}), each \
          column-major. Returns 0, `C_NOT_FINITE` (1) or `C_NULL_ARGUMENT` (2).{fma}",
         name = target,
-        fma = if target != f.name.as_str() {
+        fma = if spec.fma_at_run_time {
             " Fused multiply-adds are chosen at run time (`trocar::fma`, with `std`)."
         } else {
             ""
@@ -519,7 +511,7 @@ pub fn header(spec: &ModuleSpec, real: Scalar) -> String {
             f.summary,
             f.equation,
             f.name.to_uppercase(),
-            len(f),
+            f.layout.len(),
             f.name
         );
     }
@@ -532,7 +524,7 @@ pub fn header(spec: &ModuleSpec, real: Scalar) -> String {
             .map(|o| o.function.short_name())
             .collect::<Vec<_>>()
             .join(", ");
-        let fma = if spec.fma_at_run_time && real == Scalar::Generic {
+        let fma = if spec.fma_at_run_time {
             " Fused multiply-adds are chosen at run time (on a CPU with AVX2 and FMA), so the\n   last bits of the results depend on the CPU."
         } else {
             ""

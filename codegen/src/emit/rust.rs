@@ -1361,7 +1361,6 @@ fn params_tokens(spec: &ModuleSpec, ty: &Ty) -> TokenStream {
         let d = format!(" `{name}` (nominal value {value:?}).");
         quote!(#[doc = #d] pub #id: #t,)
     });
-    let repr = repr_c(spec);
     let inits = spec.params.iter().map(|(name, value)| {
         let id = format_ident!("{}", name);
         let v = ty.lit(*value);

@@ -62,79 +62,89 @@ fn rel(a: &[u64], b: &[u64]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// A pose `(R, p)`.
+type Pose<T> = ([[T; 3]; 3], [T; 3]);
+
+/// The bits of an `f64` pose and `6 × C` matrix filled by `f`.
+fn run<const C: usize>(f: impl Fn(&mut Pose<f64>, &mut [[f64; 6]; C])) -> Vec<u64> {
+    let (mut g, mut jb) = (([[0.0; 3]; 3], [0.0; 3]), [[0.0; 6]; C]);
+    f(&mut g, &mut jb);
+    let mut b = pose_bits(&g);
+    b.extend(bits(&jb));
+    b
+}
+
+/// One of the Panda's fused functions of a pose and a `6 × C` Jacobian (`what`) at `q`: the
+/// entry point from `q` (`entry`) and from `JointTrig` (`entry_trig`) give the same bits; they
+/// are the fused program (`fused`, `name::<FusedF64>` outside any FMA function) where FMA is
+/// available and `plain` (`name::<f64>` of the module generated without the option) elsewhere,
+/// and `plain` to rounding always. Returns whether the entry point's bits differ from `plain`'s.
+fn check_pose_and_jacobian<const C: usize>(
+    what: &str,
+    q: &[f64],
+    entry: impl Fn(&mut Pose<f64>, &mut [[f64; 6]; C]),
+    entry_trig: impl Fn(&mut Pose<f64>, &mut [[f64; 6]; C]),
+    fused: impl Fn(&mut Pose<FusedF64>, &mut [[FusedF64; 6]; C]),
+    plain: impl Fn(&mut Pose<f64>, &mut [[f64; 6]; C]),
+) -> bool {
+    let got = run(entry);
+    assert_eq!(
+        got,
+        run(entry_trig),
+        "{what} from q and given JointTrig at {q:?}"
+    );
+    let (mut gf, mut jbf) = (
+        ([[FusedF64(0.0); 3]; 3], [FusedF64(0.0); 3]),
+        [[FusedF64(0.0); 6]; C],
+    );
+    fused(&mut gf, &mut jbf);
+    let mut fused = fused_pose_bits(&gf);
+    fused.extend(fused_bits(&jbf));
+    let plain = run(plain);
+    if fma::available() {
+        assert_eq!(got, fused, "{what}: the fused program at {q:?}");
+    } else {
+        assert_eq!(got, plain, "{what}: name::<f64> at {q:?}");
+    }
+    assert!(
+        rel(&got, &plain) < 1e-13,
+        "{what}: {} at {q:?}",
+        rel(&got, &plain)
+    );
+    got != plain
+}
+
 /// The Panda's `link_pose_and_jacobian` (g_0i, J^B_0i) and `pose_and_jacobian` (g_0e, J^B_0e),
 /// from `q` and given `JointTrig`.
 #[test]
 fn panda_entry_points_are_the_fused_program() {
-    let p = panda_fma::Params::<f64>::nominal();
-    let pf = panda_fma::Params::<FusedF64> {
+    use panda_fma as m;
+    let p = m::Params::<f64>::nominal();
+    let pf = m::Params::<FusedF64> {
         l_a: FusedF64(p.l_a),
     };
     let p0 = panda_laparoscope::Params::<f64>::nominal();
     let mut differ = 0usize;
-    for q in configs::<{ panda_fma::N }>(300) {
-        let t = panda_fma::JointTrig::new(&q);
+    for q in configs::<{ m::N }>(300) {
+        let t = m::JointTrig::new(&q);
         let qf = q.map(FusedF64);
-
-        let (mut g, mut jb) = (([[0.0; 3]; 3], [0.0; 3]), [[0.0; 6]; panda_fma::I]);
-        panda_fma::link_pose_and_jacobian_f64(&q, &p, &mut g, &mut jb);
-        let (mut gt, mut jbt) = (([[0.0; 3]; 3], [0.0; 3]), [[0.0; 6]; panda_fma::I]);
-        panda_fma::link_pose_and_jacobian_trig_f64(&t, &p, &mut gt, &mut jbt);
-        let mut got = pose_bits(&g);
-        got.extend(bits(&jb));
-        let mut got_t = pose_bits(&gt);
-        got_t.extend(bits(&jbt));
-        assert_eq!(got, got_t, "from q and given JointTrig at {q:?}");
-
-        let (mut gf, mut jbf) = (
-            ([[FusedF64(0.0); 3]; 3], [FusedF64(0.0); 3]),
-            [[FusedF64(0.0); 6]; panda_fma::I],
-        );
-        panda_fma::link_pose_and_jacobian(&qf, &pf, &mut gf, &mut jbf);
-        let mut fused = fused_pose_bits(&gf);
-        fused.extend(fused_bits(&jbf));
-        let (mut g0, mut jb0) = (([[0.0; 3]; 3], [0.0; 3]), [[0.0; 6]; panda_fma::I]);
-        panda_laparoscope::link_pose_and_jacobian(&q, &p0, &mut g0, &mut jb0);
-        let mut plain = pose_bits(&g0);
-        plain.extend(bits(&jb0));
-
-        if fma::available() {
-            assert_eq!(got, fused, "the fused program at {q:?}");
-        } else {
-            assert_eq!(got, plain, "name::<f64> at {q:?}");
-        }
-        assert!(rel(&got, &plain) < 1e-13, "{} at {q:?}", rel(&got, &plain));
-        differ += usize::from(got != plain);
-
-        // The flange: pose_and_jacobian.
-        let (mut g, mut jb) = (([[0.0; 3]; 3], [0.0; 3]), [[0.0; 6]; panda_fma::N]);
-        panda_fma::pose_and_jacobian_f64(&q, &p, &mut g, &mut jb);
-        let (mut gf, mut jbf) = (
-            ([[FusedF64(0.0); 3]; 3], [FusedF64(0.0); 3]),
-            [[FusedF64(0.0); 6]; panda_fma::N],
-        );
-        panda_fma::pose_and_jacobian_trig(&panda_fma::JointTrig::new(&qf), &pf, &mut gf, &mut jbf);
-        let mut got = pose_bits(&g);
-        got.extend(bits(&jb));
-        let (mut gt, mut jbt) = (([[0.0; 3]; 3], [0.0; 3]), [[0.0; 6]; panda_fma::N]);
-        panda_fma::pose_and_jacobian_trig_f64(&t, &p, &mut gt, &mut jbt);
-        let mut got_t = pose_bits(&gt);
-        got_t.extend(bits(&jbt));
-        assert_eq!(
-            got, got_t,
-            "pose_and_jacobian from q and given JointTrig at {q:?}"
-        );
-        let mut fused = fused_pose_bits(&gf);
-        fused.extend(fused_bits(&jbf));
-        let (mut g0, mut jb0) = (([[0.0; 3]; 3], [0.0; 3]), [[0.0; 6]; panda_fma::N]);
-        panda_laparoscope::pose_and_jacobian(&q, &p0, &mut g0, &mut jb0);
-        let mut plain = pose_bits(&g0);
-        plain.extend(bits(&jb0));
-        if fma::available() {
-            assert_eq!(got, fused, "pose_and_jacobian at {q:?}");
-        } else {
-            assert_eq!(got, plain, "pose_and_jacobian::<f64> at {q:?}");
-        }
+        differ += usize::from(check_pose_and_jacobian::<{ m::I }>(
+            "link_pose_and_jacobian",
+            &q,
+            |g, jb| m::link_pose_and_jacobian_f64(&q, &p, g, jb),
+            |g, jb| m::link_pose_and_jacobian_trig_f64(&t, &p, g, jb),
+            |g, jb| m::link_pose_and_jacobian(&qf, &pf, g, jb),
+            |g, jb| panda_laparoscope::link_pose_and_jacobian(&q, &p0, g, jb),
+        ));
+        // The flange.
+        differ += usize::from(check_pose_and_jacobian::<{ m::N }>(
+            "pose_and_jacobian",
+            &q,
+            |g, jb| m::pose_and_jacobian_f64(&q, &p, g, jb),
+            |g, jb| m::pose_and_jacobian_trig_f64(&t, &p, g, jb),
+            |g, jb| m::pose_and_jacobian_trig(&m::JointTrig::new(&qf), &pf, g, jb),
+            |g, jb| panda_laparoscope::pose_and_jacobian(&q, &p0, g, jb),
+        ));
     }
     // With FMA taken, rounding once must change some last bits over 300 configurations;
     // without it nothing may change.
