@@ -325,8 +325,9 @@ impl Builder {
     /// [`Builder::function`]), the `f64` entry points `name_f64` and `name_trig_f64` with fused
     /// multiply-adds chosen at run time (`trocar::fma`): in a build for the default x86-64
     /// target with `trocar`'s `std` feature, on a CPU with AVX2 and FMA, they run `name`
-    /// compiled for those (every `mul_add` one instruction when optimised, rounded once);
-    /// elsewhere, and always without `std`, they call `name::<f64>`. Their results' last
+    /// compiled for those (every `mul_add` one instruction when optimised, rounded once;
+    /// `name_trig_f64` compiled for AVX-512F and AVX-512VL too where the CPU has them, with the
+    /// same bits); elsewhere, and always without `std`, they call `name::<f64>`. Their results' last
     /// bits then depend on the CPU. The fused functions become `#[inline(always)]`. Needs the
     /// generic scalar ([`Scalar::Generic`], the default); [`Builder::generate`] fails with
     /// [`Error::FmaNeedsGeneric`] otherwise.
@@ -375,7 +376,7 @@ impl Builder {
     /// with a constraint, `link_pose_and_jacobian` (`g_0i`, `J^B_0i`) ([`Fused::defaults`]); a
     /// function named like one of them replaces it. May be called several times. Generation
     /// fails with [`Error::Function`] when the name is taken, is not a snake_case identifier or
-    /// ends in a suffix the module gives to variants (`_trig`, and `_f64`, `_fma` of
+    /// ends in a suffix the module gives to variants (`_trig`, and `_f64`, `_fma`, `_avx512` of
     /// [`Builder::fma_at_run_time`]), or an output is repeated or not a function of the module
     /// (`constrained_jacobian` of a robot without a constraint).
     pub fn function(

@@ -10,7 +10,9 @@
 //! `name_trig_f64` that asks [`available`] and then either
 //!
 //! - runs the function on [`FusedF64`] inside a function compiled for AVX2 and FMA (every
-//!   `mul_add` one fused instruction when optimised, the rest VEX-encoded), or
+//!   `mul_add` one fused instruction when optimised, the rest VEX-encoded); `name_trig_f64`,
+//!   where the CPU also has AVX-512F and AVX-512VL ([`avx512_available`]), inside one compiled
+//!   for those as well, with the same bits; or
 //! - calls `name::<f64>`, exactly as without the option.
 //!
 //! **The results then depend on the CPU** the code runs on, in their last bits: a fused
@@ -21,7 +23,9 @@
 //! `lanes`) are bit for bit `name::<f64>`, not `name_f64`.
 //!
 //! The Panda's pose and body Jacobian given the sines and cosines: about 18 ns instead of 23 ns
-//! at the default target (BENCHMARKS.md, "FMA chosen at run time"). Only optimised code gains:
+//! at the default target on an Intel Xeon (BENCHMARKS.md, "FMA chosen at run time"); 14 ns with
+//! AVX-512 instead of 17.5 with AVX2 and 18.5 without the option on an AMD EPYC (section "The
+//! fused functions on AVX-512, given the sines and cosines"). Only optimised code gains:
 //! at opt-level 0 (a debug build) `f64::mul_add` is not inlined into the `_fma` function, and
 //! every `mul_add` is a call (a module's `pose_and_jacobian_trig_f64` in a debug build: 631 ns
 //! against 207 ns for `pose_and_jacobian_trig::<f64>`).
@@ -172,25 +176,62 @@ impl FusedF64 {
 /// is `std`'s CPU detection, made once and kept: after the first call, one load and a test.
 #[inline]
 pub fn available() -> bool {
+    answer() >= WITH_FMA
+}
+
+/// Whether the `_trig_f64` entry points (given the sines and cosines) of modules generated with
+/// `fma_at_run_time` take their AVX-512 function instead: where [`available`] holds and the CPU
+/// also has AVX-512F and AVX-512VL. That function is the same program on [`FusedF64`], compiled
+/// for AVX2, FMA, AVX-512F and AVX-512VL (thirty-two vector registers instead of sixteen), so it
+/// gives the same bits as the AVX2 + FMA one: every operation is the same IEEE operation, every
+/// `mul_add` rounded once. On an AMD EPYC (Zen 4), default target: the Panda's pose and body
+/// Jacobian given the sines and cosines 14 ns instead of 17.5 (BENCHMARKS.md, "The fused
+/// functions on AVX-512, given the sines and cosines"). The entry points from `q` keep the
+/// AVX2 + FMA function, which was faster there from `q` (40 ns against 46).
+#[inline]
+pub fn avx512_available() -> bool {
+    answer() == WITH_AVX512
+}
+
+/// [`answer`]: no FMA function (no `std`, not x86-64, a target with FMA, or a CPU without AVX2
+/// and FMA).
+const NONE: u8 = 1;
+/// [`answer`]: AVX2 and FMA.
+const WITH_FMA: u8 = 2;
+/// [`answer`]: AVX2, FMA, AVX-512F and AVX-512VL.
+const WITH_AVX512: u8 = 3;
+
+/// What the CPU offers the FMA functions ([`NONE`], [`WITH_FMA`], [`WITH_AVX512`]), detected
+/// once by `std` and kept.
+#[inline]
+fn answer() -> u8 {
     #[cfg(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma")))]
     {
         use core::sync::atomic::{AtomicU8, Ordering};
-        /// 0: not asked yet; 1: no; 2: yes.
+        /// 0: not asked yet; otherwise the answer.
         static ANSWER: AtomicU8 = AtomicU8::new(0);
         match ANSWER.load(Ordering::Relaxed) {
-            2 => true,
-            1 => false,
-            _ => {
-                let yes = std::arch::is_x86_feature_detected!("avx2")
-                    && std::arch::is_x86_feature_detected!("fma");
-                ANSWER.store(if yes { 2 } else { 1 }, Ordering::Relaxed);
-                yes
+            0 => {
+                let a = if !(std::arch::is_x86_feature_detected!("avx2")
+                    && std::arch::is_x86_feature_detected!("fma"))
+                {
+                    NONE
+                } else if std::arch::is_x86_feature_detected!("avx512f")
+                    && std::arch::is_x86_feature_detected!("avx512vl")
+                {
+                    WITH_AVX512
+                } else {
+                    WITH_FMA
+                };
+                ANSWER.store(a, Ordering::Relaxed);
+                a
             }
+            a => a,
         }
     }
     #[cfg(not(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma"))))]
     {
-        false
+        NONE
     }
 }
 
@@ -257,5 +298,18 @@ mod tests {
         );
         #[cfg(not(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma"))))]
         assert!(!available());
+    }
+
+    /// The AVX-512 answer agrees with the CPU and implies the AVX2 + FMA one.
+    #[test]
+    fn avx512_follows_the_cpu_and_needs_fma() {
+        #[cfg(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma")))]
+        assert_eq!(
+            avx512_available(),
+            available()
+                && std::arch::is_x86_feature_detected!("avx512f")
+                && std::arch::is_x86_feature_detected!("avx512vl")
+        );
+        assert!(!avx512_available() || available());
     }
 }

@@ -1111,7 +1111,11 @@ fn fused_tokens(f: &FusedFunction, ty: &Ty, n: usize, fma_at_run_time: bool) -> 
 /// The `f64` entry points of a fused function with FMA chosen at run time (`trocar::fma`):
 /// `<name>_f64` and `<name>_trig_f64`, each taking the private `<name>_fma` /
 /// `<name>_trig_fma` (the fused function on `FusedF64`, compiled for AVX2 and FMA) where
-/// `trocar::fma::available()` holds, and `<name>::<f64>` otherwise.
+/// `trocar::fma::available()` holds, and `<name>::<f64>` otherwise; `<name>_trig_f64` takes
+/// `<name>_trig_avx512` (the same, compiled for AVX-512F and AVX-512VL too) first where
+/// `trocar::fma::avx512_available()` holds. From `q` the AVX2 function stays: compiled for
+/// AVX-512 it was slower there (BENCHMARKS.md, "The fused functions on AVX-512, given the sines
+/// and cosines").
 fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStream {
     let rt = ty.runtime();
     let f64_ty = Ty {
@@ -1175,12 +1179,17 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
         let doc = doc_attrs(&format!(
             "[`{base}`] in `f64` with fused multiply-adds chosen at run time (`{rt}::fma`): \
              on an x86-64 CPU with AVX2 and FMA, in a build with `trocar`'s `std` feature \
-             whose target lacks FMA, [`{base}`] compiled for them, every `mul_add` rounded \
-             once (bit for bit [`{base}`] built with FMA); [`{base}`]`::<f64>` otherwise \
-             (without `std`, always). The last bits of the results therefore depend on the \
-             CPU: call [`{base}`] where they must not. Fast when optimised: at opt-level 0 \
-             each `mul_add` is a call.",
-            rt = rt.to_string().replace(' ', "")
+             whose target lacks FMA, [`{base}`] compiled for them{avx512}, every `mul_add` \
+             rounded once (bit for bit [`{base}`] built with FMA); [`{base}`]`::<f64>` \
+             otherwise (without `std`, always). The last bits of the results therefore depend \
+             on the CPU: call [`{base}`] where they must not. Fast when optimised: at \
+             opt-level 0 each `mul_add` is a call.",
+            rt = rt.to_string().replace(' ', ""),
+            avx512 = if trig {
+                " (and for AVX-512F and AVX-512VL too where the CPU has them, with the same bits)"
+            } else {
+                ""
+            }
         ));
         let doc_fma = doc_attrs(&format!(
             "[`{base}_f64`] on a CPU with AVX2 and FMA: [`{base}`] on `FusedF64`, compiled for \
@@ -1193,10 +1202,47 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
              and every value of one is a value of the other; the views borrow the arguments for \
              no longer than the call."
         ));
+        let body = quote! {
+            use #rt::fma::FusedF64 as F;
+            #(#locals)*
+            #name::<F>(#input_fused, #params_fused, #(#views),*);
+            #(#copies)*
+        };
+        // Given the sines and cosines, the AVX-512 function first where the CPU has it.
+        let (avx512_call, avx512_fn) = if trig {
+            let name_avx512 = format_ident!("{}_avx512", base);
+            let doc_avx512 = doc_attrs(&format!(
+                "[`{base}_fma`] compiled for AVX-512F and AVX-512VL too (thirty-two vector \
+                 registers): the same operations, so the same bits.\n\n# Safety\n\nThe CPU \
+                 must have AVX2, FMA, AVX-512F and AVX-512VL: [`{base}_f64`] calls this \
+                 function only when `fma::avx512_available()` says so. The views of the \
+                 arguments are sound as in [`{base}_fma`]."
+            ));
+            (
+                quote! {
+                    #[cfg(target_arch = "x86_64")]
+                    if #rt::fma::avx512_available() {
+                        unsafe { #name_avx512(#arg, p, #(#outs),*) };
+                        return;
+                    }
+                },
+                quote! {
+                    #doc_avx512
+                    #[cfg(target_arch = "x86_64")]
+                    #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
+                    unsafe fn #name_avx512(#input, p: &Params<f64>, #(#params),*) {
+                        #body
+                    }
+                },
+            )
+        } else {
+            (TokenStream::new(), TokenStream::new())
+        };
         items.extend(quote! {
             #doc
             #[inline]
             pub fn #name_f64(#input, p: &Params<f64>, #(#params),*) {
+                #avx512_call
                 #[cfg(target_arch = "x86_64")]
                 if #rt::fma::available() {
                     unsafe { #name_fma(#arg, p, #(#outs),*) };
@@ -1209,11 +1255,10 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
             #[cfg(target_arch = "x86_64")]
             #[target_feature(enable = "avx2,fma")]
             unsafe fn #name_fma(#input, p: &Params<f64>, #(#params),*) {
-                use #rt::fma::FusedF64 as F;
-                #(#locals)*
-                #name::<F>(#input_fused, #params_fused, #(#views),*);
-                #(#copies)*
+                #body
             }
+
+            #avx512_fn
         });
     }
     items

@@ -579,11 +579,13 @@ impl Fused {
                 "`{name}` ends in `_trig`, the suffix of the variant taking `JointTrig`"
             ));
         }
-        if name.ends_with("_f64") || name.ends_with("_fma") {
+        if let Some(suffix) = ["_f64", "_fma", "_avx512"]
+            .into_iter()
+            .find(|s| name.ends_with(s))
+        {
             return Err(format!(
-                "`{name}` ends in `_{}`, a suffix of the `f64` entry points that \
-                 `fma_at_run_time` adds to each fused function",
-                &name[name.len() - 3..]
+                "`{name}` ends in `{suffix}`, a suffix of the `f64` entry points that \
+                 `fma_at_run_time` adds to each fused function"
             ));
         }
         let taken = Function::SERIAL
@@ -691,6 +693,7 @@ mod tests {
             "x_trig",
             "x_f64",
             "x_fma",
+            "x_avx512",
             "body_jacobian",
             "step_kinematics",
             "",
@@ -705,6 +708,8 @@ mod tests {
             e.contains("ends in `_f64`, a suffix of the `f64` entry points"),
             "{e}"
         );
+        let e = Fused::check_name("step_trig_avx512").unwrap_err();
+        assert!(e.contains("ends in `_avx512`"), "{e}");
     }
 
     #[test]

@@ -171,7 +171,21 @@ fn main() {
     let rounds: usize = args[2].parse().expect("ROUNDS");
     let n: usize = args[3].parse().expect("N");
     let names = &args[4..];
-    let mut impls: Vec<Eval> = names.iter().map(|s| implementation(s, case)).collect();
+    // TROCAR_PEERS_PAD=BYTES: an allocation of that size kept before each IMPL's own, which
+    // moves every IMPL's data on the heap (to tell layout effects, such as 4K aliasing between
+    // an IMPL's output stores and its input loads, from the code's own cost).
+    let pad: usize = std::env::var("TROCAR_PEERS_PAD")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(0);
+    let mut pads = Vec::new();
+    let mut impls: Vec<Eval> = names
+        .iter()
+        .map(|s| {
+            pads.push(vec![0u8; pad]);
+            implementation(s, case)
+        })
+        .collect();
     let mut best = vec![f64::INFINITY; impls.len()];
     // One warm-up round, not counted.
     for f in &mut impls {
@@ -185,4 +199,5 @@ fn main() {
     for (name, b) in names.iter().zip(&best) {
         println!("{name} {b:.2}");
     }
+    drop(pads);
 }
