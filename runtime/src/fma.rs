@@ -11,7 +11,7 @@
 //!
 //! - runs the function on [`FusedF64`] inside a function compiled for AVX2 and FMA (every
 //!   `mul_add` one fused instruction when optimised, the rest VEX-encoded); `name_trig_f64`,
-//!   where the CPU also has AVX-512F and AVX-512VL ([`avx512_available`]), inside one compiled
+//!   where the CPU also has AVX-512F and AVX-512VL ([`Path::Avx512`]), inside one compiled
 //!   for those as well, with the same bits; or
 //! - calls `name::<f64>`, exactly as without the option.
 //!
@@ -169,70 +169,69 @@ impl FusedF64 {
     }
 }
 
-/// Whether the `_f64` entry points of modules generated with `fma_at_run_time` take their
-/// AVX2 + FMA function: `true` on an x86-64 CPU with AVX2 and FMA, in a build with `std` whose
-/// target lacks FMA. `false` without `std` (no detection), on other architectures, and where
-/// the target already has FMA (`name::<f64>` is fused there, with the same bits). The answer
-/// is `std`'s CPU detection, made once and kept: after the first call, one load and a test.
-#[inline]
-pub fn available() -> bool {
-    answer() >= WITH_FMA
+/// Which function the `_f64` entry points of modules generated with `fma_at_run_time` take on
+/// this CPU ([`path`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Path {
+    /// `name::<f64>` itself: no `std` (no detection), not x86-64, a build target that already
+    /// has FMA (`name::<f64>` is fused there, with the same bits), or a CPU without AVX2 and FMA.
+    Plain,
+    /// The function compiled for AVX2 and FMA.
+    Fma,
+    /// As [`Path::Fma`], and the CPU also has AVX-512F and AVX-512VL: `name_trig_f64` (given the
+    /// sines and cosines) takes the same program compiled for those too, with the same bits
+    /// (every operation the same IEEE operation, every `mul_add` rounded once) and thirty-two
+    /// vector registers instead of sixteen. On an AMD EPYC (Zen 4), default target, the Panda's
+    /// pose and body Jacobian given the sines and cosines: 14 ns instead of 17.5 (BENCHMARKS.md,
+    /// "The fused functions on AVX-512, given the sines and cosines"). The entry points from
+    /// `q` keep the AVX2 + FMA function, faster there from `q` (40 ns against 46).
+    Avx512,
 }
 
-/// Whether the `_trig_f64` entry points (given the sines and cosines) of modules generated with
-/// `fma_at_run_time` take their AVX-512 function instead: where [`available`] holds and the CPU
-/// also has AVX-512F and AVX-512VL. That function is the same program on [`FusedF64`], compiled
-/// for AVX2, FMA, AVX-512F and AVX-512VL (thirty-two vector registers instead of sixteen), so it
-/// gives the same bits as the AVX2 + FMA one: every operation is the same IEEE operation, every
-/// `mul_add` rounded once. On an AMD EPYC (Zen 4), default target: the Panda's pose and body
-/// Jacobian given the sines and cosines 14 ns instead of 17.5 (BENCHMARKS.md, "The fused
-/// functions on AVX-512, given the sines and cosines"). The entry points from `q` keep the
-/// AVX2 + FMA function, which was faster there from `q` (40 ns against 46).
+/// The path of this CPU and build ([`Path`]): `std`'s CPU detection, made once and kept;
+/// after the first call, one load.
 #[inline]
-pub fn avx512_available() -> bool {
-    answer() == WITH_AVX512
-}
-
-/// [`answer`]: no FMA function (no `std`, not x86-64, a target with FMA, or a CPU without AVX2
-/// and FMA).
-const NONE: u8 = 1;
-/// [`answer`]: AVX2 and FMA.
-const WITH_FMA: u8 = 2;
-/// [`answer`]: AVX2, FMA, AVX-512F and AVX-512VL.
-const WITH_AVX512: u8 = 3;
-
-/// What the CPU offers the FMA functions ([`NONE`], [`WITH_FMA`], [`WITH_AVX512`]), detected
-/// once by `std` and kept.
-#[inline]
-fn answer() -> u8 {
+pub fn path() -> Path {
     #[cfg(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma")))]
     {
         use core::sync::atomic::{AtomicU8, Ordering};
-        /// 0: not asked yet; otherwise the answer.
+        /// 0: not asked yet; 1, 2, 3: `Path::Plain`, `Path::Fma`, `Path::Avx512`.
         static ANSWER: AtomicU8 = AtomicU8::new(0);
         match ANSWER.load(Ordering::Relaxed) {
-            0 => {
-                let a = if !(std::arch::is_x86_feature_detected!("avx2")
+            1 => Path::Plain,
+            2 => Path::Fma,
+            3 => Path::Avx512,
+            _ => {
+                let path = if !(std::arch::is_x86_feature_detected!("avx2")
                     && std::arch::is_x86_feature_detected!("fma"))
                 {
-                    NONE
+                    Path::Plain
                 } else if std::arch::is_x86_feature_detected!("avx512f")
                     && std::arch::is_x86_feature_detected!("avx512vl")
                 {
-                    WITH_AVX512
+                    Path::Avx512
                 } else {
-                    WITH_FMA
+                    Path::Fma
                 };
-                ANSWER.store(a, Ordering::Relaxed);
-                a
+                ANSWER.store(path as u8 + 1, Ordering::Relaxed);
+                path
             }
-            a => a,
         }
     }
     #[cfg(not(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma"))))]
     {
-        NONE
+        Path::Plain
     }
+}
+
+/// Whether the `_f64` entry points of modules generated with `fma_at_run_time` take their
+/// AVX2 + FMA function (or, given the sines and cosines, the AVX-512 one): `true` on an x86-64
+/// CPU with AVX2 and FMA, in a build with `std` whose target lacks FMA. `false` without `std`
+/// (no detection), on other architectures, and where the target already has FMA
+/// (`name::<f64>` is fused there, with the same bits). [`path`] tells which.
+#[inline]
+pub fn available() -> bool {
+    path() >= Path::Fma
 }
 
 #[cfg(test)]
@@ -300,16 +299,24 @@ mod tests {
         assert!(!available());
     }
 
-    /// The AVX-512 answer agrees with the CPU and implies the AVX2 + FMA one.
+    /// The path agrees with the CPU, and AVX-512 comes only with AVX2 and FMA.
     #[test]
-    fn avx512_follows_the_cpu_and_needs_fma() {
+    fn the_path_follows_the_cpu() {
         #[cfg(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma")))]
-        assert_eq!(
-            avx512_available(),
-            available()
-                && std::arch::is_x86_feature_detected!("avx512f")
-                && std::arch::is_x86_feature_detected!("avx512vl")
-        );
-        assert!(!avx512_available() || available());
+        {
+            let fma = std::arch::is_x86_feature_detected!("avx2")
+                && std::arch::is_x86_feature_detected!("fma");
+            let avx512 = std::arch::is_x86_feature_detected!("avx512f")
+                && std::arch::is_x86_feature_detected!("avx512vl");
+            let expected = match (fma, avx512) {
+                (false, _) => Path::Plain,
+                (true, false) => Path::Fma,
+                (true, true) => Path::Avx512,
+            };
+            assert_eq!(path(), expected);
+            assert_eq!(path(), expected, "the kept answer");
+        }
+        #[cfg(not(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma"))))]
+        assert_eq!(path(), Path::Plain);
     }
 }

@@ -1112,8 +1112,8 @@ fn fused_tokens(f: &FusedFunction, ty: &Ty, n: usize, fma_at_run_time: bool) -> 
 /// `<name>_f64` and `<name>_trig_f64`, each taking the private `<name>_fma` /
 /// `<name>_trig_fma` (the fused function on `FusedF64`, compiled for AVX2 and FMA) where
 /// `trocar::fma::available()` holds, and `<name>::<f64>` otherwise; `<name>_trig_f64` takes
-/// `<name>_trig_avx512` (the same, compiled for AVX-512F and AVX-512VL too) first where
-/// `trocar::fma::avx512_available()` holds. From `q` the AVX2 function stays: compiled for
+/// `<name>_trig_avx512` (the same, compiled for AVX-512F and AVX-512VL too) instead where
+/// `trocar::fma::path()` is `Avx512`. From `q` the AVX2 function stays: compiled for
 /// AVX-512 it was slower there (BENCHMARKS.md, "The fused functions on AVX-512, given the sines
 /// and cosines").
 fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStream {
@@ -1195,7 +1195,7 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
             "[`{base}_f64`] on a CPU with AVX2 and FMA: [`{base}`] on `FusedF64`, compiled for \
              them (it is `#[inline(always)]`, so its whole program is).\n\n# Safety\n\nThe CPU \
              must have AVX2 and FMA: [`{base}_f64`] calls this function only when \
-             `fma::available()` says so.\n\nThe views of the arguments as `FusedF64` are sound: \
+             `fma::path()` is `Fma` or `Avx512`, which it is only on such a CPU.\n\nThe views of the arguments as `FusedF64` are sound: \
              `Params` and `JointTrig` are `#[repr(C)]` with fields `f64`, `[f64; N]` (or one \
              `PhantomData`) only, and `FusedF64` is `#[repr(transparent)]` over `f64`, so \
              `Params<f64>` and `Params<FusedF64>` (and the same for `JointTrig`) have one layout \
@@ -1208,22 +1208,30 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
             #name::<F>(#input_fused, #params_fused, #(#views),*);
             #(#copies)*
         };
-        // Given the sines and cosines, the AVX-512 function first where the CPU has it.
-        let (avx512_call, avx512_fn) = if trig {
+        // Given the sines and cosines, the AVX-512 function where the CPU has it (one load of
+        // the kept answer either way).
+        let (dispatch, avx512_fn) = if trig {
             let name_avx512 = format_ident!("{}_avx512", base);
             let doc_avx512 = doc_attrs(&format!(
                 "[`{base}_fma`] compiled for AVX-512F and AVX-512VL too (thirty-two vector \
                  registers): the same operations, so the same bits.\n\n# Safety\n\nThe CPU \
                  must have AVX2, FMA, AVX-512F and AVX-512VL: [`{base}_f64`] calls this \
-                 function only when `fma::avx512_available()` says so. The views of the \
-                 arguments are sound as in [`{base}_fma`]."
+                 function only when `fma::path()` is `Avx512`, which it is only on such a CPU. \
+                 The views of the arguments are sound as in [`{base}_fma`]."
             ));
             (
                 quote! {
                     #[cfg(target_arch = "x86_64")]
-                    if #rt::fma::avx512_available() {
-                        unsafe { #name_avx512(#arg, p, #(#outs),*) };
-                        return;
+                    match #rt::fma::path() {
+                        #rt::fma::Path::Avx512 => {
+                            unsafe { #name_avx512(#arg, p, #(#outs),*) };
+                            return;
+                        }
+                        #rt::fma::Path::Fma => {
+                            unsafe { #name_fma(#arg, p, #(#outs),*) };
+                            return;
+                        }
+                        #rt::fma::Path::Plain => {}
                     }
                 },
                 quote! {
@@ -1236,18 +1244,22 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
                 },
             )
         } else {
-            (TokenStream::new(), TokenStream::new())
+            (
+                quote! {
+                    #[cfg(target_arch = "x86_64")]
+                    if #rt::fma::available() {
+                        unsafe { #name_fma(#arg, p, #(#outs),*) };
+                        return;
+                    }
+                },
+                TokenStream::new(),
+            )
         };
         items.extend(quote! {
             #doc
             #[inline]
             pub fn #name_f64(#input, p: &Params<f64>, #(#params),*) {
-                #avx512_call
-                #[cfg(target_arch = "x86_64")]
-                if #rt::fma::available() {
-                    unsafe { #name_fma(#arg, p, #(#outs),*) };
-                    return;
-                }
+                #dispatch
                 #name::<f64>(#arg, p, #(#outs),*);
             }
 

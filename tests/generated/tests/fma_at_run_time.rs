@@ -75,7 +75,9 @@ fn run<const C: usize>(f: impl Fn(&mut Pose<f64>, &mut [[f64; 6]; C])) -> Vec<u6
 }
 
 /// One of the Panda's fused functions of a pose and a `6 × C` Jacobian (`what`) at `q`: the
-/// entry point from `q` (`entry`) and from `JointTrig` (`entry_trig`) give the same bits; they
+/// entry point from `q` (`entry`) and from `JointTrig` (`entry_trig`) give the same bits (where
+/// `fma::path()` is `Avx512`, `entry_trig` runs the function compiled for AVX-512 and `entry`
+/// the AVX2 + FMA one, so this compares the two); they
 /// are the fused program (`fused`, `name::<FusedF64>` outside any FMA function) where FMA is
 /// available and `plain` (`name::<f64>` of the module generated without the option) elsewhere,
 /// and `plain` to rounding always. Returns whether the entry point's bits differ from `plain`'s.
