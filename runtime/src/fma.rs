@@ -172,12 +172,13 @@ impl FusedF64 {
 /// Which function the `_f64` entry points of modules generated with `fma_at_run_time` take on
 /// this CPU ([`path`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[repr(u8)]
 pub enum Path {
     /// `name::<f64>` itself: no `std` (no detection), not x86-64, a build target that already
     /// has FMA (`name::<f64>` is fused there, with the same bits), or a CPU without AVX2 and FMA.
-    Plain,
+    Plain = 1,
     /// The function compiled for AVX2 and FMA.
-    Fma,
+    Fma = 2,
     /// As [`Path::Fma`], and the CPU also has AVX-512F and AVX-512VL: `name_trig_f64` (given the
     /// sines and cosines) takes the same program compiled for those too, with the same bits
     /// (every operation the same IEEE operation, every `mul_add` rounded once) and thirty-two
@@ -185,7 +186,7 @@ pub enum Path {
     /// pose and body Jacobian given the sines and cosines: 14 ns instead of 17.5 (BENCHMARKS.md,
     /// "The fused functions on AVX-512, given the sines and cosines"). The entry points from
     /// `q` keep the AVX2 + FMA function, faster there from `q` (40 ns against 46).
-    Avx512,
+    Avx512 = 3,
 }
 
 /// The path of this CPU and build ([`Path`]): `std`'s CPU detection, made once and kept;
@@ -195,7 +196,7 @@ pub fn path() -> Path {
     #[cfg(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma")))]
     {
         use core::sync::atomic::{AtomicU8, Ordering};
-        /// 0: not asked yet; 1, 2, 3: `Path::Plain`, `Path::Fma`, `Path::Avx512`.
+        /// 0: not asked yet; otherwise the answer's discriminant.
         static ANSWER: AtomicU8 = AtomicU8::new(0);
         match ANSWER.load(Ordering::Relaxed) {
             1 => Path::Plain,
@@ -213,7 +214,7 @@ pub fn path() -> Path {
                 } else {
                     Path::Fma
                 };
-                ANSWER.store(path as u8 + 1, Ordering::Relaxed);
+                ANSWER.store(path as u8, Ordering::Relaxed);
                 path
             }
         }

@@ -1255,9 +1255,12 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
                 TokenStream::new(),
             )
         };
+        // The dispatch inline in the caller (a call of its own was 10 instructions more per
+        // evaluation, BENCHMARKS.md, "The fused functions on AVX-512, …").
         items.extend(quote! {
             #doc
-            #[inline]
+            #[inline(always)]
+            #[allow(clippy::inline_always)]
             pub fn #name_f64(#input, p: &Params<f64>, #(#params),*) {
                 #dispatch
                 #name::<f64>(#arg, p, #(#outs),*);
