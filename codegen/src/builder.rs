@@ -328,7 +328,9 @@ impl Builder {
     /// compiled for those (every `mul_add` one instruction when optimised, rounded once;
     /// `name_trig_f64` compiled for AVX-512F and AVX-512VL too where the CPU has them, with the
     /// same bits); elsewhere, and always without `std`, they call `name::<f64>`. Their results' last
-    /// bits then depend on the CPU. The fused functions become `#[inline(always)]`. Needs the
+    /// bits then depend on the CPU. The fused functions become `#[inline(always)]`. The
+    /// AVX-512 function needs Rust 1.89 or later (the AVX-512 target features became stable
+    /// there) to compile the generated module; the rest of trocar needs 1.85. Needs the
     /// generic scalar ([`Scalar::Generic`], the default); [`Builder::generate`] fails with
     /// [`Error::FmaNeedsGeneric`] otherwise.
     pub fn fma_at_run_time(&mut self, on: bool) -> &mut Self {
