@@ -27,7 +27,8 @@
 #    everything in one criterion run;
 # 4. thread CPU time per evaluation (cg_driver CPUTIME=1), and for the 7- and 8-joint cases (the two
 #    Panda cases, dia10_like, oblique7, the Panda with an RCM) the interleaved minimum wall time of
-#    ours and the Rust peers taking turns (bin `interleave`, native and default ISA);
+#    ours and the Rust peers taking turns (bin `interleave`, native and default ISA; in the listed
+#    order and the reverse one, each IMPL's minimum over the two);
 # 5. the Panda again with EVERYTHING at the default x86-64 ISA (Rust -C target-cpu=x86-64, C with
 #    -march=x86-64; TROCAR_PEERS_DEFAULT_ISA=1), with dia10_like and oblique7: criterion and CPU
 #    time, target/default-isa/;
@@ -76,6 +77,19 @@ echo "== machine" >&2
 # the Rust peers write into the caller's arrays (the flat-buffer variants copy our pose once more).
 trig_alone() {
   case "$1" in panda|panda_i) echo ours_trig ours_f64_in_place ours_f64_given_trig_in_place ;; esac
+}
+
+# `interleave BINARY CASE IMPL...` in the given order and in the reverse one, each IMPL's minimum
+# over the two: in one order an IMPL can run up to 1.7× slower for reasons of placement, not of
+# its code (BENCHMARKS.md, "The fused functions on AVX-512, given the sines and cosines").
+both_orders() {
+  local bin="$1" case="$2"
+  shift 2
+  local reversed=()
+  for ((i = $#; i >= 1; i--)); do reversed+=("${!i}"); done
+  { "$bin" "$case" 60 20000 "$@"; "$bin" "$case" 60 20000 "${reversed[@]}"; } |
+    awk '{ if (!($1 in m) || $2 < m[$1]) m[$1] = $2; if (!($1 in o)) { o[$1] = ++n; k[n] = $1 } }
+         END { for (i = 1; i <= n; i++) printf "%s %.2f\n", k[i], m[k[i]] }'
 }
 
 # At the default ISA, the fused cases also through the `_f64` entry points of the modules generated
@@ -176,7 +190,7 @@ if true; then
     "${dflt[@]}" cargo build --release -q --bin interleave "${features[@]}"
     for case in panda panda_i dia_zy oblique7 panda_rcm; do
       # shellcheck disable=SC2046
-      "$harness/target/default-isa/release/interleave" "$case" 60 20000 ours_f64 wrenfold symforce \
+      both_orders "$harness/target/default-isa/release/interleave" "$case" ours_f64 wrenfold symforce \
         ours_f64_given_trig wrenfold_given_trig symforce_given_trig $(trig_alone "$case") \
         $(fma_at_run_time "$case") | sed "s/^/$case /"
     done | tee "$out/interleave_default_isa.txt" >&2
@@ -189,7 +203,7 @@ if [[ "$feature_list" == *ours* ]]; then
   cargo build --release -q --bin interleave "${features[@]}"
   for case in panda panda_i dia_zy oblique7 panda_rcm; do
     # shellcheck disable=SC2046
-    "$harness/target/release/interleave" "$case" 60 20000 ours_f64 wrenfold symforce \
+    both_orders "$harness/target/release/interleave" "$case" ours_f64 wrenfold symforce \
       ours_f64_given_trig wrenfold_given_trig symforce_given_trig $(trig_alone "$case") | sed "s/^/$case /"
   done | tee "$out/interleave_native.txt" >&2
 fi
