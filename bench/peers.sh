@@ -80,10 +80,10 @@ trig_alone() {
 }
 
 # `interleave BINARY CASE IMPL...` in the given order and in the reverse one, each IMPL's minimum
-# over the two: in one order an IMPL can run up to 1.7× slower for reasons of placement, not of
+# over the two: in one order an IMPL ran about 1.75× slower for reasons of placement, not of
 # its code (BENCHMARKS.md, "The fused functions on AVX-512, given the sines and cosines").
 both_orders() {
-  local bin="$1" case="$2"
+  local bin="$1" case="$2" i
   shift 2
   local reversed=()
   for ((i = $#; i >= 1; i--)); do reversed+=("${!i}"); done

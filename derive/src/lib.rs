@@ -58,7 +58,7 @@
 //! `T: trocar::Real`), `module = "name"` (default: the struct name in snake case),
 //! `fma_at_run_time` (each fused function also as `<name>_f64` and `<name>_trig_f64`, `f64`
 //! entry points with fused multiply-adds chosen at run time where `trocar` has its `std` feature:
-//! see `trocar::fma`; generic modules only).
+//! see `trocar::fma`; generic modules only; needs Rust 1.89 or later).
 //!
 //! # What it generates
 //!

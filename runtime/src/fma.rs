@@ -7,13 +7,19 @@
 //! product even on a CPU with FMA. A module generated with the option `fma_at_run_time` (the
 //! generator's `Builder::fma_at_run_time`, the command line's `--fma-at-run-time`) also has, for
 //! each of its fused functions `name` and `name_trig`, an `f64` entry point `name_f64` and
-//! `name_trig_f64` that asks [`available`] and then either
+//! `name_trig_f64` that asks [`path`] (one load of an answer kept after the first call) and then
+//! either
 //!
 //! - runs the function on [`FusedF64`] inside a function compiled for AVX2 and FMA (every
 //!   `mul_add` one fused instruction when optimised, the rest VEX-encoded); `name_trig_f64`,
 //!   where the CPU also has AVX-512F and AVX-512VL ([`Path::Avx512`]), inside one compiled
 //!   for those as well, with the same bits; or
 //! - calls `name::<f64>`, exactly as without the option.
+//!
+//! Such a module needs Rust 1.89 or later (the AVX-512 target features became stable there).
+//! The environment variable `TROCAR_FMA_PATH`, read once with the first detection, caps the
+//! path: `plain` (always `name::<f64>`), `fma` (never the AVX-512 function); it never selects a
+//! function the CPU cannot run.
 //!
 //! **The results then depend on the CPU** the code runs on, in their last bits: a fused
 //! `x·a + b` is rounded once, the two operations twice. On a CPU with AVX2 and FMA they are bit
@@ -173,6 +179,7 @@ impl FusedF64 {
 /// this CPU ([`path`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 #[repr(u8)]
+#[non_exhaustive]
 pub enum Path {
     /// `name::<f64>` itself: no `std` (no detection), not x86-64, a build target that already
     /// has FMA (`name::<f64>` is fused there, with the same bits), or a CPU without AVX2 and FMA.
@@ -189,39 +196,64 @@ pub enum Path {
     Avx512 = 3,
 }
 
-/// The path of this CPU and build ([`Path`]): `std`'s CPU detection, made once and kept;
-/// after the first call, one load.
+/// The path of this CPU and build ([`Path`]): `std`'s CPU detection, capped by
+/// `TROCAR_FMA_PATH` ([module docs](self)), made once and kept; after the first call, one load.
 #[inline]
 pub fn path() -> Path {
     #[cfg(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma")))]
     {
-        use core::sync::atomic::{AtomicU8, Ordering};
-        /// 0: not asked yet; otherwise the answer's discriminant.
-        static ANSWER: AtomicU8 = AtomicU8::new(0);
+        use core::sync::atomic::Ordering;
         match ANSWER.load(Ordering::Relaxed) {
             1 => Path::Plain,
             2 => Path::Fma,
             3 => Path::Avx512,
-            _ => {
-                let path = if !(std::arch::is_x86_feature_detected!("avx2")
-                    && std::arch::is_x86_feature_detected!("fma"))
-                {
-                    Path::Plain
-                } else if std::arch::is_x86_feature_detected!("avx512f")
-                    && std::arch::is_x86_feature_detected!("avx512vl")
-                {
-                    Path::Avx512
-                } else {
-                    Path::Fma
-                };
-                ANSWER.store(path as u8, Ordering::Relaxed);
-                path
-            }
+            _ => detect(),
         }
     }
     #[cfg(not(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma"))))]
     {
         Path::Plain
+    }
+}
+
+/// [`path`]'s kept answer: 0 before the first call, the answer's discriminant after.
+#[cfg(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma")))]
+static ANSWER: core::sync::atomic::AtomicU8 = core::sync::atomic::AtomicU8::new(0);
+
+/// The first call of [`path`]: `std`'s detection under `TROCAR_FMA_PATH`'s cap, kept in
+/// [`ANSWER`]. Out of line, so that [`path`] stays one load and a test where it is inlined (in
+/// line, the environment's reading made it a call: 18 instructions more per evaluation).
+#[cfg(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma")))]
+#[cold]
+#[inline(never)]
+fn detect() -> Path {
+    let path = if !(std::arch::is_x86_feature_detected!("avx2")
+        && std::arch::is_x86_feature_detected!("fma"))
+    {
+        Path::Plain
+    } else if std::arch::is_x86_feature_detected!("avx512f")
+        && std::arch::is_x86_feature_detected!("avx512vl")
+    {
+        Path::Avx512
+    } else {
+        Path::Fma
+    };
+    let path = path.min(cap(std::env::var("TROCAR_FMA_PATH").ok().as_deref()));
+    ANSWER.store(path as u8, core::sync::atomic::Ordering::Relaxed);
+    path
+}
+
+/// The highest path `TROCAR_FMA_PATH` allows: `plain`, `fma`, anything else (or unset) none lower
+/// than [`Path::Avx512`].
+#[cfg_attr(
+    not(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma"))),
+    allow(dead_code)
+)]
+fn cap(value: Option<&str>) -> Path {
+    match value.map(str::trim) {
+        Some(v) if v.eq_ignore_ascii_case("plain") => Path::Plain,
+        Some(v) if v.eq_ignore_ascii_case("fma") => Path::Fma,
+        _ => Path::Avx512,
     }
 }
 
@@ -300,7 +332,10 @@ mod tests {
         assert!(!available());
     }
 
-    /// The path agrees with the CPU, and AVX-512 comes only with AVX2 and FMA.
+    /// The path agrees with the CPU (under `TROCAR_FMA_PATH`'s cap), and AVX-512 comes only
+    /// with AVX2 and FMA. With `TROCAR_EXPECT_FMA_PATH` set (`plain`, `fma`, `avx512`; CI sets
+    /// it from the CPU's flags), the path must be that one, so that a run states which
+    /// functions the fused-program tests compared.
     #[test]
     fn the_path_follows_the_cpu() {
         #[cfg(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma")))]
@@ -309,15 +344,33 @@ mod tests {
                 && std::arch::is_x86_feature_detected!("fma");
             let avx512 = std::arch::is_x86_feature_detected!("avx512f")
                 && std::arch::is_x86_feature_detected!("avx512vl");
-            let expected = match (fma, avx512) {
+            let detected = match (fma, avx512) {
                 (false, _) => Path::Plain,
                 (true, false) => Path::Fma,
                 (true, true) => Path::Avx512,
             };
+            let expected = detected.min(cap(std::env::var("TROCAR_FMA_PATH").ok().as_deref()));
             assert_eq!(path(), expected);
             assert_eq!(path(), expected, "the kept answer");
         }
         #[cfg(not(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma"))))]
         assert_eq!(path(), Path::Plain);
+        #[cfg(feature = "std")]
+        if let Ok(want) = std::env::var("TROCAR_EXPECT_FMA_PATH") {
+            assert_eq!(
+                format!("{:?}", path()).to_lowercase(),
+                want.trim().to_lowercase()
+            );
+        }
+    }
+
+    /// `TROCAR_FMA_PATH`'s values.
+    #[test]
+    fn the_cap_reads_its_values() {
+        assert_eq!(cap(None), Path::Avx512);
+        assert_eq!(cap(Some("plain")), Path::Plain);
+        assert_eq!(cap(Some(" FMA ")), Path::Fma);
+        assert_eq!(cap(Some("avx512")), Path::Avx512);
+        assert_eq!(cap(Some("anything")), Path::Avx512);
     }
 }

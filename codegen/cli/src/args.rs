@@ -48,7 +48,7 @@ pub enum Command {
         /// `<name>_trig_f64`, with fused multiply-adds chosen at run time: built for the
         /// default x86-64 target with trocar's `std` feature, on a CPU with AVX2 and FMA they
         /// run the function compiled for those (results' last bits then depend on the CPU).
-        /// Needs `--real generic`.
+        /// Needs `--real generic`; the generated module needs Rust 1.89 or later.
         #[arg(long)]
         fma_at_run_time: bool,
     },

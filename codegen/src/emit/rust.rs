@@ -1231,7 +1231,7 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
                             unsafe { #name_fma(#arg, p, #(#outs),*) };
                             return;
                         }
-                        #rt::fma::Path::Plain => {}
+                        _ => {}
                     }
                 },
                 quote! {
@@ -1255,12 +1255,12 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
                 TokenStream::new(),
             )
         };
-        // The dispatch inline in the caller (a call of its own was 10 instructions more per
-        // evaluation, BENCHMARKS.md, "The fused functions on AVX-512, …").
+        // `#[inline]`, not `always`: `name` is `#[inline(always)]` here, so the fallback
+        // `name::<f64>` would be copied into every caller (BENCHMARKS.md, "The fused functions
+        // on AVX-512, …": 7 instructions per evaluation more through the call).
         items.extend(quote! {
             #doc
-            #[inline(always)]
-            #[allow(clippy::inline_always)]
+            #[inline]
             pub fn #name_f64(#input, p: &Params<f64>, #(#params),*) {
                 #dispatch
                 #name::<f64>(#arg, p, #(#outs),*);

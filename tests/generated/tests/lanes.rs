@@ -108,7 +108,7 @@ fn joint(rng: &mut Rng, i: usize) -> f64 {
         1 => rng.uniform(-8.0, 8.0),
         2 => rng.uniform(-1000.0, 1000.0),
         3 => {
-            if rng.next() % 3 == 0 {
+            if rng.next().is_multiple_of(3) {
                 EDGES[(rng.next() % EDGES.len() as u64) as usize]
             } else {
                 rng.uniform(-2.0, 2.0)
