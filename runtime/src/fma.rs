@@ -319,21 +319,8 @@ mod tests {
         assert_eq!(s, -2.0);
     }
 
-    /// Detection agrees with the CPU and the build.
-    #[test]
-    fn available_follows_the_cpu_and_the_build() {
-        #[cfg(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma")))]
-        assert_eq!(
-            available(),
-            std::arch::is_x86_feature_detected!("avx2")
-                && std::arch::is_x86_feature_detected!("fma")
-        );
-        #[cfg(not(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma"))))]
-        assert!(!available());
-    }
-
-    /// The path agrees with the CPU (under `TROCAR_FMA_PATH`'s cap), and AVX-512 comes only
-    /// with AVX2 and FMA. With `TROCAR_EXPECT_FMA_PATH` set (`plain`, `fma`, `avx512`; CI sets
+    /// The path, and [`available`] with it, agree with the CPU and the build (under
+    /// `TROCAR_FMA_PATH`'s cap), and AVX-512 comes only with AVX2 and FMA. With `TROCAR_EXPECT_FMA_PATH` set (`plain`, `fma`, `avx512`; CI sets
     /// it from the CPU's flags), the path must be that one, so that a run states which
     /// functions the fused-program tests compared.
     #[test]
@@ -352,9 +339,13 @@ mod tests {
             let expected = detected.min(cap(std::env::var("TROCAR_FMA_PATH").ok().as_deref()));
             assert_eq!(path(), expected);
             assert_eq!(path(), expected, "the kept answer");
+            assert_eq!(available(), expected != Path::Plain);
         }
         #[cfg(not(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma"))))]
-        assert_eq!(path(), Path::Plain);
+        {
+            assert_eq!(path(), Path::Plain);
+            assert!(!available());
+        }
         #[cfg(feature = "std")]
         if let Ok(want) = std::env::var("TROCAR_EXPECT_FMA_PATH") {
             assert_eq!(

@@ -1195,12 +1195,13 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
             "[`{base}_f64`] on a CPU with AVX2 and FMA: [`{base}`] on `FusedF64`, compiled for \
              them (it is `#[inline(always)]`, so its whole program is).\n\n# Safety\n\nThe CPU \
              must have AVX2 and FMA: [`{base}_f64`] calls this function only when \
-             `fma::path()` is `Fma` or `Avx512`, which it is only on such a CPU.\n\nThe views of the arguments as `FusedF64` are sound: \
-             `Params` and `JointTrig` are `#[repr(C)]` with fields `f64`, `[f64; N]` (or one \
-             `PhantomData`) only, and `FusedF64` is `#[repr(transparent)]` over `f64`, so \
-             `Params<f64>` and `Params<FusedF64>` (and the same for `JointTrig`) have one layout \
-             and every value of one is a value of the other; the views borrow the arguments for \
-             no longer than the call."
+             `fma::path()` is `Fma` or `Avx512`, which it is only on such a CPU.\n\nThe views \
+             of the arguments as `FusedF64` are sound: `Params` and `JointTrig` are \
+             `#[repr(C)]` with fields `f64`, `[f64; N]` (or one `PhantomData`) only, and \
+             `FusedF64` is `#[repr(transparent)]` over `f64`, so `Params<f64>` and \
+             `Params<FusedF64>` (and the same for `JointTrig`) have one layout and every value \
+             of one is a value of the other; the views borrow the arguments for no longer than \
+             the call."
         ));
         let body = quote! {
             use #rt::fma::FusedF64 as F;
@@ -1255,9 +1256,10 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
                 TokenStream::new(),
             )
         };
-        // `#[inline]`, not `always`: `name` is `#[inline(always)]` here, so the fallback
-        // `name::<f64>` would be copied into every caller (BENCHMARKS.md, "The fused functions
-        // on AVX-512, …": 7 instructions per evaluation more through the call).
+        // `#[inline]`, not `always`: `name` is `#[inline(always)]` here, so `always` would copy
+        // the fallback `name::<f64>` into every caller, and with `path()` one load the entry
+        // points inline where they pay anyway (BENCHMARKS.md, "The fused functions on AVX-512,
+        // …": the same instruction counts either way).
         items.extend(quote! {
             #doc
             #[inline]
