@@ -38,9 +38,10 @@
 //! ```
 //!
 //! [`for_each_f64x4`] and [`for_each_f32x8`] run such a function over a slice of any length (the
-//! last group padded).
+//! last group padded) into a slice of results.
 
 use crate::real::{fast, Arith, Real};
+use core::marker::PhantomData;
 use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
 
 macro_rules! lane_type {
@@ -265,6 +266,35 @@ macro_rules! lane_type {
             fn lane(&self, k: usize) -> $scalar {
                 self.get(k)
             }
+            #[inline(always)]
+            fn write_lanes<S: Slots<$scalar>>(&self, slots: &mut S) {
+                let a = self.to_array();
+                for (k, x) in a.into_iter().enumerate() {
+                    *slots.slot(k) = x;
+                }
+            }
+            /// Blocks of four elements transposed: lane `k`'s four values stored together.
+            #[inline(always)]
+            fn write_array_lanes<const N: usize, S: Slots<[$scalar; N]>>(
+                a: &[Self; N],
+                slots: &mut S,
+            ) {
+                let mut j = 0;
+                while j + 4 <= N {
+                    let b = [a[j].to_array(), a[j + 1].to_array(), a[j + 2].to_array(), a[j + 3].to_array()];
+                    for k in 0..$w {
+                        slots.slot(k)[j..j + 4].copy_from_slice(&[b[0][k], b[1][k], b[2][k], b[3][k]]);
+                    }
+                    j += 4;
+                }
+                while j < N {
+                    let b = a[j].to_array();
+                    for k in 0..$w {
+                        slots.slot(k)[j] = b[k];
+                    }
+                    j += 1;
+                }
+            }
         }
     };
 }
@@ -294,6 +324,73 @@ pub trait Lanes {
     const LANES: usize;
     /// The value of lane `k` (`k < LANES`).
     fn lane(&self, k: usize) -> Self::Lane;
+    /// Every lane into its slot: `*slots.slot(k) = self.lane(k)` for `k < LANES`, element by
+    /// element in place, without building each lane's value and moving it (what
+    /// [`for_each_f64x4`] and [`for_each_f32x8`] write their results with).
+    #[inline(always)]
+    fn write_lanes<S: Slots<Self::Lane>>(&self, slots: &mut S) {
+        for k in 0..Self::LANES {
+            *slots.slot(k) = self.lane(k);
+        }
+    }
+    /// [`write_lanes`](Lanes::write_lanes) of an array of values: what `[Self; N]` writes with,
+    /// so that a lane type can write several elements of an array together. Element by element
+    /// unless a lane type does better.
+    #[inline(always)]
+    fn write_array_lanes<const N: usize, S: Slots<[Self::Lane; N]>>(a: &[Self; N], slots: &mut S)
+    where
+        Self: Sized,
+    {
+        for (j, x) in a.iter().enumerate() {
+            x.write_lanes(&mut Part::new(slots, move |t: &mut [Self::Lane; N]| {
+                &mut t[j]
+            }));
+        }
+    }
+}
+
+/// Where the lanes of a value go, one slot per lane (see [`Lanes::write_lanes`]).
+pub trait Slots<T> {
+    /// The slot of lane `k` (`k < LANES` of the value written).
+    fn slot(&mut self, k: usize) -> &mut T;
+}
+
+/// Lane `k` into element `k`.
+impl<T, const W: usize> Slots<T> for [T; W] {
+    #[inline(always)]
+    fn slot(&mut self, k: usize) -> &mut T {
+        &mut self[k]
+    }
+}
+
+/// One part of every slot of `S` (an element of an array, a field of a tuple): the slots of a
+/// value's part, so that a nested value writes its lanes part by part.
+struct Part<'a, S, T, F> {
+    slots: &'a mut S,
+    part: F,
+    whole: PhantomData<fn(&mut T)>,
+}
+
+impl<'a, S, T, F> Part<'a, S, T, F> {
+    #[inline(always)]
+    fn new<U>(slots: &'a mut S, part: F) -> Self
+    where
+        S: Slots<T>,
+        F: Fn(&mut T) -> &mut U,
+    {
+        Self {
+            slots,
+            part,
+            whole: PhantomData,
+        }
+    }
+}
+
+impl<T, U, S: Slots<T>, F: Fn(&mut T) -> &mut U> Slots<U> for Part<'_, S, T, F> {
+    #[inline(always)]
+    fn slot(&mut self, k: usize) -> &mut U {
+        (self.part)(self.slots.slot(k))
+    }
 }
 
 impl<L: Lanes, const N: usize> Lanes for [L; N] {
@@ -303,68 +400,91 @@ impl<L: Lanes, const N: usize> Lanes for [L; N] {
     fn lane(&self, k: usize) -> Self::Lane {
         core::array::from_fn(|j| self[j].lane(k))
     }
-}
-
-impl<A: Lanes, B: Lanes> Lanes for (A, B) {
-    type Lane = (A::Lane, B::Lane);
-    const LANES: usize = A::LANES;
     #[inline(always)]
-    fn lane(&self, k: usize) -> Self::Lane {
-        (self.0.lane(k), self.1.lane(k))
+    fn write_lanes<S: Slots<Self::Lane>>(&self, slots: &mut S) {
+        L::write_array_lanes(self, slots);
     }
 }
 
-impl<A: Lanes, B: Lanes, C: Lanes> Lanes for (A, B, C) {
-    type Lane = (A::Lane, B::Lane, C::Lane);
-    const LANES: usize = A::LANES;
-    #[inline(always)]
-    fn lane(&self, k: usize) -> Self::Lane {
-        (self.0.lane(k), self.1.lane(k), self.2.lane(k))
-    }
+macro_rules! tuple_lanes {
+    ($($t:ident $i:tt),+) => {
+        impl<$($t: Lanes),+> Lanes for ($($t,)+) {
+            type Lane = ($($t::Lane,)+);
+            const LANES: usize = <tuple_lanes!(@first $($t)+)>::LANES;
+            #[inline(always)]
+            fn lane(&self, k: usize) -> Self::Lane {
+                ($(self.$i.lane(k),)+)
+            }
+            #[inline(always)]
+            fn write_lanes<S: Slots<Self::Lane>>(&self, slots: &mut S) {
+                $(self.$i.write_lanes(&mut Part::new(slots, |t: &mut Self::Lane| &mut t.$i));)+
+            }
+        }
+    };
+    (@first $a:ident $($rest:ident)*) => { $a };
 }
 
-impl<A: Lanes, B: Lanes, C: Lanes, D: Lanes> Lanes for (A, B, C, D) {
-    type Lane = (A::Lane, B::Lane, C::Lane, D::Lane);
-    const LANES: usize = A::LANES;
-    #[inline(always)]
-    fn lane(&self, k: usize) -> Self::Lane {
-        (
-            self.0.lane(k),
-            self.1.lane(k),
-            self.2.lane(k),
-            self.3.lane(k),
-        )
-    }
-}
+tuple_lanes!(A 0, B 1);
+tuple_lanes!(A 0, B 1, C 2);
+tuple_lanes!(A 0, B 1, C 2, D 3);
 
 macro_rules! for_each {
     ($(#[$doc:meta])* $fn:ident, $lanes:ident, $scalar:ty, $w:literal) => {
         $(#[$doc])*
-        pub fn $fn<const N: usize, R: Lanes>(
+        pub fn $fn<const N: usize, R: Lanes + Default>(
             configs: &[[$scalar; N]],
-            mut f: impl FnMut(&[$lanes; N]) -> R,
-            mut out: impl FnMut(usize, R::Lane),
+            mut f: impl FnMut(&[$lanes; N], &mut R),
+            out: &mut [R::Lane],
         ) {
+            assert_eq!(
+                configs.len(),
+                out.len(),
+                "{}: {} configurations and {} results",
+                stringify!($fn),
+                configs.len(),
+                out.len()
+            );
+            // One value in lanes, kept from group to group: `f` writes into it and its lanes are
+            // written out in place, nothing built, returned or moved per group.
+            let mut r = R::default();
+            let mut groups = out.chunks_exact_mut($w);
             let mut start = 0;
-            while start < configs.len() {
-                let m = (configs.len() - start).min($w);
+            for slots in &mut groups {
+                let group: &[[$scalar; N]; $w] = configs[start..start + $w]
+                    .try_into()
+                    .expect("a group of the chunk's length");
+                let slots: &mut [R::Lane; $w] =
+                    slots.try_into().expect("a chunk of the group's length");
+                f(&$lanes::gather(group), &mut r);
+                r.write_lanes(slots);
+                start += $w;
+            }
+            let rest = groups.into_remainder();
+            if let Some(last) = configs[start..].last() {
                 // The spare lanes of the last group repeat its last configuration.
                 let group: [[$scalar; N]; $w] =
-                    core::array::from_fn(|k| configs[start + k.min(m - 1)]);
-                let r = f(&$lanes::gather(&group));
-                for k in 0..m {
-                    out(start + k, r.lane(k));
+                    core::array::from_fn(|k| *configs.get(start + k).unwrap_or(last));
+                f(&$lanes::gather(&group), &mut r);
+                for (k, slot) in rest.iter_mut().enumerate() {
+                    *slot = r.lane(k);
                 }
-                start += m;
             }
         }
     };
 }
 
 for_each!(
-    /// `f` of every configuration, four at a time on [`F64x4`] lanes: `out(i, value)` receives the
-    /// value for `configs[i]`, in order, bit for bit what `f` of that configuration alone on
-    /// `f64` gives when `f` is a generated function (generic over [`Arith`]).
+    /// `f` of every configuration, four at a time on [`F64x4`] lanes, into `out`: `out[i]` becomes
+    /// the value for `configs[i]`, bit for bit what `f` of that configuration alone on `f64` gives
+    /// when `f` is a generated function (generic over [`Arith`]). `f` writes a group's results
+    /// into a value in lanes (`R`, one kept from group to group, starting at `R::default()`), as
+    /// the generated functions with output arguments do; a function that returns its value is
+    /// called as `|q, r| *r = g(q)`. The last group is padded with its last configuration.
+    /// Results are written in place ([`Lanes::write_lanes`]).
+    ///
+    /// # Panics
+    ///
+    /// If `out` and `configs` differ in length.
     ///
     /// ```
     /// use trocar::lanes::for_each_f64x4;
@@ -375,13 +495,18 @@ for_each!(
     /// }
     /// let configs = vec![[1.0, 2.0, 2.0]; 5];
     /// let mut out = vec![0.0; 5];
-    /// for_each_f64x4(&configs, norm2, |i, v| out[i] = v);
+    /// for_each_f64x4(&configs, |q, r| *r = norm2(q), &mut out);
     /// assert_eq!(out, vec![9.0; 5]);
     /// ```
     for_each_f64x4, F64x4, f64, 4
 );
 for_each!(
-    /// `f` of every configuration, eight at a time on [`F32x8`] lanes (see [`for_each_f64x4`]).
+    /// `f` of every configuration, eight at a time on [`F32x8`] lanes, into `out` (see
+    /// [`for_each_f64x4`]).
+    ///
+    /// # Panics
+    ///
+    /// If `out` and `configs` differ in length.
     for_each_f32x8, F32x8, f32, 8
 );
 
@@ -561,22 +686,46 @@ mod tests {
             let (s, c) = T::sin_cos_array(q);
             ([s[0] * c[1], c[0]], T::mul_add(s[1], s[1], c[1] * c[1]))
         }
-        let mut seen = vec![false; configs.len()];
-        for_each_f64x4(&configs, f, |i, v| {
-            assert!(!seen[i]);
-            seen[i] = true;
-            let w = f(&configs[i]);
-            assert!(same64(v.0[0], w.0[0]) && same64(v.0[1], w.0[1]) && same64(v.1, w.1));
-        });
-        assert!(seen.iter().all(|&s| s));
-        let c32: Vec<[f32; 2]> = configs.iter().map(|c| c.map(|x| x as f32)).collect();
-        let mut count = 0;
-        for_each_f32x8(&c32, f, |i, v| {
-            assert_eq!(i, count);
-            count += 1;
-            let w = f(&c32[i]);
-            assert!(same32(v.0[0], w.0[0]) && same32(v.0[1], w.0[1]) && same32(v.1, w.1));
-        });
-        assert_eq!(count, c32.len());
+        // Lengths 0..=11 cover no group, whole groups, and every size of a padded last group.
+        for n in 0..=configs.len() {
+            let c = &configs[..n];
+            let mut out = vec![([f64::NAN; 2], f64::NAN); n];
+            for_each_f64x4(c, |q, r| *r = f(q), &mut out);
+            for (i, v) in out.iter().enumerate() {
+                let w = f(&c[i]);
+                assert!(
+                    same64(v.0[0], w.0[0]) && same64(v.0[1], w.0[1]) && same64(v.1, w.1),
+                    "f64x4, {n} configurations, result {i}"
+                );
+            }
+            let c32: Vec<[f32; 2]> = c.iter().map(|c| c.map(|x| x as f32)).collect();
+            let mut out = vec![([f32::NAN; 2], f32::NAN); n];
+            for_each_f32x8(&c32, |q, r| *r = f(q), &mut out);
+            for (i, v) in out.iter().enumerate() {
+                let w = f(&c32[i]);
+                assert!(
+                    same32(v.0[0], w.0[0]) && same32(v.0[1], w.0[1]) && same32(v.1, w.1),
+                    "f32x8, {n} configurations, result {i}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn write_lanes_is_lane_by_lane() {
+        let x = [F64x4::from_array([1.0, 2.0, 3.0, 4.0]), F64x4::splat(-0.0)];
+        let v = (x, [x, x], F64x4::from_array([5.0, 6.0, 7.0, 8.0]));
+        let mut slots = [([0.5; 2], [[0.5; 2]; 2], 0.5); 4];
+        v.write_lanes(&mut slots);
+        for (k, s) in slots.iter().enumerate() {
+            assert_eq!(format!("{s:?}"), format!("{:?}", v.lane(k)), "lane {k}");
+        }
+    }
+
+    #[test]
+    #[should_panic(expected = "3 configurations and 2 results")]
+    fn for_each_wants_one_result_per_configuration() {
+        let mut out = [0.0; 2];
+        for_each_f64x4(&[[0.0]; 3], |q: &[F64x4; 1], r| *r = q[0], &mut out);
     }
 }

@@ -224,7 +224,11 @@ fn lanes(c: &mut Criterion) {
     assert_lanes(&outo4, &out, "own f64x4");
     assert_lanes(&outo8, &out32, "own f32x8");
     let mut each = out.clone();
-    for_each_f64x4(&qs, |q| pose_and_jb(q, &pl), |i, v| each[i] = v);
+    for_each_f64x4(
+        &qs,
+        |q, o: &mut Out<F64x4>| m::link_pose_and_jacobian(q, &pl, &mut o.0, &mut o.1),
+        &mut each,
+    );
     assert_eq!(format!("{each:?}"), format!("{out:?}"));
 
     let mut g = c.benchmark_group("lanes/panda_pose_jb");
@@ -249,7 +253,11 @@ fn lanes(c: &mut Criterion) {
     run!("own/f32x8", qo8, outo8, &po32);
     g.bench_function("for_each/f64x4", |b| {
         b.iter(|| {
-            for_each_f64x4(black_box(&qs), |q| pose_and_jb(q, &pl), |i, v| each[i] = v);
+            for_each_f64x4(
+                black_box(&qs),
+                |q, o: &mut Out<F64x4>| m::link_pose_and_jacobian(q, &pl, &mut o.0, &mut o.1),
+                &mut each,
+            );
             black_box(&mut each);
         })
     });
@@ -271,12 +279,18 @@ fn lanes(c: &mut Criterion) {
     trig!("trig/f32", qs32);
     trig!("trig/f32x8", q8);
     let mut each32 = out32.clone();
+    for_each_f32x8(
+        &qs32,
+        |q, o: &mut Out<F32x8>| m::link_pose_and_jacobian(q, &pl32, &mut o.0, &mut o.1),
+        &mut each32,
+    );
+    assert_eq!(format!("{each32:?}"), format!("{out32:?}"));
     g.bench_function("for_each/f32x8", |b| {
         b.iter(|| {
             for_each_f32x8(
                 black_box(&qs32),
-                |q| pose_and_jb(q, &pl32),
-                |i, v| each32[i] = v,
+                |q, o: &mut Out<F32x8>| m::link_pose_and_jacobian(q, &pl32, &mut o.0, &mut o.1),
+                &mut each32,
             );
             black_box(&mut each32);
         })

@@ -237,3 +237,60 @@ fn reference_arm_presets_and_fixtures_on_lanes_are_the_scalar_code_bit_for_bit()
         []
     );
 }
+
+/// `for_each_*` over a slice of the Panda's configurations (every length up to three groups, so
+/// whole groups and every padded last group), with a fused function writing into its outputs
+/// and a function returning its value: each result bit for bit the scalar code's.
+#[test]
+fn for_each_on_the_panda_is_the_scalar_code_bit_for_bit() {
+    use g::panda_laparoscope as m;
+    use trocar::lanes::{for_each_f32x8, for_each_f64x4};
+    type Out<T> = (([[T; 3]; 3], [T; 3]), [[T; 6]; m::I]);
+    let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+    let all: Vec<[f64; m::N]> = (0..24)
+        .map(|i| core::array::from_fn(|_| joint(&mut rng, i)))
+        .collect();
+    let (p, p1) = (m::Params::<F64x4>::nominal(), m::Params::<f64>::nominal());
+    let (p8, p32) = (m::Params::<F32x8>::nominal(), m::Params::<f32>::nominal());
+    for n in 0..=all.len() {
+        let configs = &all[..n];
+        let mut out = vec![Out::<f64>::default(); n];
+        for_each_f64x4(
+            configs,
+            |q, o: &mut Out<F64x4>| m::link_pose_and_jacobian(q, &p, &mut o.0, &mut o.1),
+            &mut out,
+        );
+        let mut jb = vec![[[f64::NAN; 6]; m::N]; n];
+        for_each_f64x4(configs, |q, r| *r = m::body_jacobian(q, &p), &mut jb);
+        for (i, c) in configs.iter().enumerate() {
+            let mut o = Out::<f64>::default();
+            m::link_pose_and_jacobian(c, &p1, &mut o.0, &mut o.1);
+            assert_eq!(
+                bits(&out[i]),
+                bits(&o),
+                "f64x4: {n} configurations, result {i}"
+            );
+            assert_eq!(
+                bits(&jb[i]),
+                bits(&m::body_jacobian(c, &p1)),
+                "f64x4 body_jacobian: {n}, {i}"
+            );
+        }
+        let configs: Vec<[f32; m::N]> = configs.iter().map(|c| c.map(|x| x as f32)).collect();
+        let mut out = vec![Out::<f32>::default(); n];
+        for_each_f32x8(
+            &configs,
+            |q, o: &mut Out<F32x8>| m::link_pose_and_jacobian(q, &p8, &mut o.0, &mut o.1),
+            &mut out,
+        );
+        for (i, c) in configs.iter().enumerate() {
+            let mut o = Out::<f32>::default();
+            m::link_pose_and_jacobian(c, &p32, &mut o.0, &mut o.1);
+            assert_eq!(
+                bits(&out[i]),
+                bits(&o),
+                "f32x8: {n} configurations, result {i}"
+            );
+        }
+    }
+}
