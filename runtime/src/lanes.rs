@@ -267,7 +267,11 @@ macro_rules! lane_type {
                 self.get(k)
             }
             #[inline(always)]
-            fn write_lanes<S: Slots<$scalar>>(&self, slots: &mut S) {
+            fn zeroed() -> Self {
+                <Self as Arith>::ZERO
+            }
+            #[inline(always)]
+            fn write_lanes<S: Slots<$scalar> + ?Sized>(&self, slots: &mut S) {
                 let a = self.to_array();
                 for (k, x) in a.into_iter().enumerate() {
                     *slots.slot(k) = x;
@@ -275,22 +279,27 @@ macro_rules! lane_type {
             }
             /// Blocks of four elements transposed: lane `k`'s four values stored together.
             #[inline(always)]
-            fn write_array_lanes<const N: usize, S: Slots<[$scalar; N]>>(
+            fn write_array_lanes<const N: usize, S: Slots<[$scalar; N]> + ?Sized>(
                 a: &[Self; N],
                 slots: &mut S,
             ) {
                 let mut j = 0;
                 while j + 4 <= N {
-                    let b = [a[j].to_array(), a[j + 1].to_array(), a[j + 2].to_array(), a[j + 3].to_array()];
+                    let b = [
+                        a[j].to_array(),
+                        a[j + 1].to_array(),
+                        a[j + 2].to_array(),
+                        a[j + 3].to_array(),
+                    ];
                     for k in 0..$w {
-                        slots.slot(k)[j..j + 4].copy_from_slice(&[b[0][k], b[1][k], b[2][k], b[3][k]]);
+                        let four = [b[0][k], b[1][k], b[2][k], b[3][k]];
+                        slots.slot(k)[j..j + 4].copy_from_slice(&four);
                     }
                     j += 4;
                 }
                 while j < N {
-                    let b = a[j].to_array();
-                    for k in 0..$w {
-                        slots.slot(k)[j] = b[k];
+                    for (k, x) in a[j].to_array().into_iter().enumerate() {
+                        slots.slot(k)[j] = x;
                     }
                     j += 1;
                 }
@@ -308,6 +317,12 @@ fn each<L: Arith, const N: usize>(x: &[L; N]) -> ([L; N], [L; N]) {
         (s[k], c[k]) = x[k].sin_cos();
     }
     (s, c)
+}
+
+/// The elements' sines and cosines, each on its vector type.
+#[inline(always)]
+fn sin_cos_array_f32x8<const N: usize>(x: &[F32x8; N]) -> ([F32x8; N], [F32x8; N]) {
+    each(x)
 }
 
 /// The elements' sines and cosines, where the target has AVX2 or AVX-512 two elements at a time
@@ -351,7 +366,7 @@ lane_type!(
 );
 lane_type!(
     /// Eight `f32` lanes (`wide::f32x8`: one AVX register, or two SSE2/NEON ones).
-    F32x8, f32x8, f32, 8, u32, sin_cos_f32x8, each::<F32x8, N>
+    F32x8, f32x8, f32, 8, u32, sin_cos_f32x8, sin_cos_array_f32x8
 );
 
 /// A value made of lane types (a lane type, arrays and tuples of them: what generated functions
@@ -363,21 +378,31 @@ pub trait Lanes {
     const LANES: usize;
     /// The value of lane `k` (`k < LANES`).
     fn lane(&self, k: usize) -> Self::Lane;
-    /// Every lane into its slot: `*slots.slot(k) = self.lane(k)` for `k < LANES`, element by
-    /// element in place, without building each lane's value and moving it (what
-    /// [`for_each_f64x4`] and [`for_each_f32x8`] write their results with).
+    /// The value whose every lane is all zeros (what [`for_each_f64x4`] and [`for_each_f32x8`]
+    /// start their value in lanes from; arrays of any length have one, unlike `Default`).
+    fn zeroed() -> Self
+    where
+        Self: Sized;
+    /// Every lane into its slot: `*slots.slot(k) = self.lane(k)` for `k < LANES` (what
+    /// [`for_each_f64x4`] and [`for_each_f32x8`] write their results with). The lane types,
+    /// their arrays and tuples write element by element in place, without building each lane's
+    /// value and moving it, blocks of four array elements transposed; this provided version
+    /// builds each lane's value.
     #[inline(always)]
-    fn write_lanes<S: Slots<Self::Lane>>(&self, slots: &mut S) {
+    fn write_lanes<S: Slots<Self::Lane> + ?Sized>(&self, slots: &mut S) {
         for k in 0..Self::LANES {
             *slots.slot(k) = self.lane(k);
         }
     }
     /// [`write_lanes`](Lanes::write_lanes) of an array of values: what `[Self; N]` writes with,
     /// so that a lane type can write several elements of an array together. Element by element
-    /// unless a lane type does better.
+    /// unless a lane type does better. Not meant to be called directly.
+    #[doc(hidden)]
     #[inline(always)]
-    fn write_array_lanes<const N: usize, S: Slots<[Self::Lane; N]>>(a: &[Self; N], slots: &mut S)
-    where
+    fn write_array_lanes<const N: usize, S: Slots<[Self::Lane; N]> + ?Sized>(
+        a: &[Self; N],
+        slots: &mut S,
+    ) where
         Self: Sized,
     {
         for (j, x) in a.iter().enumerate() {
@@ -402,15 +427,23 @@ impl<T, const W: usize> Slots<T> for [T; W] {
     }
 }
 
+/// Lane `k` into element `k` (panics if the slice is shorter than the value's lanes).
+impl<T> Slots<T> for [T] {
+    #[inline(always)]
+    fn slot(&mut self, k: usize) -> &mut T {
+        &mut self[k]
+    }
+}
+
 /// One part of every slot of `S` (an element of an array, a field of a tuple): the slots of a
 /// value's part, so that a nested value writes its lanes part by part.
-struct Part<'a, S, T, F> {
+struct Part<'a, S: ?Sized, T, F> {
     slots: &'a mut S,
     part: F,
     whole: PhantomData<fn(&mut T)>,
 }
 
-impl<'a, S, T, F> Part<'a, S, T, F> {
+impl<'a, S: ?Sized, T, F> Part<'a, S, T, F> {
     #[inline(always)]
     fn new<U>(slots: &'a mut S, part: F) -> Self
     where
@@ -425,7 +458,7 @@ impl<'a, S, T, F> Part<'a, S, T, F> {
     }
 }
 
-impl<T, U, S: Slots<T>, F: Fn(&mut T) -> &mut U> Slots<U> for Part<'_, S, T, F> {
+impl<T, U, S: Slots<T> + ?Sized, F: Fn(&mut T) -> &mut U> Slots<U> for Part<'_, S, T, F> {
     #[inline(always)]
     fn slot(&mut self, k: usize) -> &mut U {
         (self.part)(self.slots.slot(k))
@@ -440,7 +473,11 @@ impl<L: Lanes, const N: usize> Lanes for [L; N] {
         core::array::from_fn(|j| self[j].lane(k))
     }
     #[inline(always)]
-    fn write_lanes<S: Slots<Self::Lane>>(&self, slots: &mut S) {
+    fn zeroed() -> Self {
+        core::array::from_fn(|_| L::zeroed())
+    }
+    #[inline(always)]
+    fn write_lanes<S: Slots<Self::Lane> + ?Sized>(&self, slots: &mut S) {
         L::write_array_lanes(self, slots);
     }
 }
@@ -455,7 +492,11 @@ macro_rules! tuple_lanes {
                 ($(self.$i.lane(k),)+)
             }
             #[inline(always)]
-            fn write_lanes<S: Slots<Self::Lane>>(&self, slots: &mut S) {
+            fn zeroed() -> Self {
+                ($($t::zeroed(),)+)
+            }
+            #[inline(always)]
+            fn write_lanes<S: Slots<Self::Lane> + ?Sized>(&self, slots: &mut S) {
                 $(self.$i.write_lanes(&mut Part::new(slots, |t: &mut Self::Lane| &mut t.$i));)+
             }
         }
@@ -470,7 +511,7 @@ tuple_lanes!(A 0, B 1, C 2, D 3);
 macro_rules! for_each {
     ($(#[$doc:meta])* $fn:ident, $lanes:ident, $scalar:ty, $w:literal) => {
         $(#[$doc])*
-        pub fn $fn<const N: usize, R: Lanes + Default>(
+        pub fn $fn<const N: usize, R: Lanes>(
             configs: &[[$scalar; N]],
             mut f: impl FnMut(&[$lanes; N], &mut R),
             out: &mut [R::Lane],
@@ -485,7 +526,7 @@ macro_rules! for_each {
             );
             // One value in lanes, kept from group to group: `f` writes into it and its lanes are
             // written out in place, nothing built, returned or moved per group.
-            let mut r = R::default();
+            let mut r = R::zeroed();
             let mut groups = out.chunks_exact_mut($w);
             let mut start = 0;
             for slots in &mut groups {
@@ -515,11 +556,16 @@ macro_rules! for_each {
 for_each!(
     /// `f` of every configuration, four at a time on [`F64x4`] lanes, into `out`: `out[i]` becomes
     /// the value for `configs[i]`, bit for bit what `f` of that configuration alone on `f64` gives
-    /// when `f` is a generated function (generic over [`Arith`]). `f` writes a group's results
-    /// into a value in lanes (`R`, one kept from group to group, starting at `R::default()`), as
-    /// the generated functions with output arguments do; a function that returns its value is
-    /// called as `|q, r| *r = g(q)`. The last group is padded with its last configuration.
-    /// Results are written in place ([`Lanes::write_lanes`]).
+    /// when `f` is a generated function (generic over [`Arith`]).
+    ///
+    /// `f` writes a group's results into a value in lanes, `r`, as the generated functions with
+    /// output arguments do (`|q, o: &mut ([F64x4; 3], [F64x4; 3])| arm::g(q, &p, &mut o.0, &mut
+    /// o.1)`: the closure's second argument needs its type); a function that returns its value is
+    /// called as `|q, r| *r = g(q)`. `r` starts as [`Lanes::zeroed`] and is kept from group to
+    /// group, so it holds the previous group's values when `f` is called: `f` must write all of
+    /// it (the generated functions do). The last group is padded with its last configuration.
+    /// Whole groups' results are written in place ([`Lanes::write_lanes`]), the last partial
+    /// group's lane by lane.
     ///
     /// # Panics
     ///
@@ -788,6 +834,71 @@ mod tests {
         v.write_lanes(&mut slots);
         for (k, s) in slots.iter().enumerate() {
             assert_eq!(format!("{s:?}"), format!("{:?}", v.lane(k)), "lane {k}");
+        }
+    }
+
+    /// Arrays of 1, 4, 5, 8 and 9 elements (no block of four, whole blocks, blocks and a rest)
+    /// nested in tuples and arrays, on both lane types: `write_lanes` (and `for_each` through
+    /// it) lane by lane what `lane` gives.
+    #[test]
+    fn write_lanes_transposes_blocks_of_four() {
+        type V<L> = ([L; 1], [L; 4], ([L; 5], [[L; 8]; 2]), [L; 9]);
+        fn value<L: Lanes + Copy>(mut next: impl FnMut() -> L) -> V<L> {
+            let mut a = <V<L> as Lanes>::zeroed();
+            a.0 = core::array::from_fn(|_| next());
+            a.1 = core::array::from_fn(|_| next());
+            a.2 .0 = core::array::from_fn(|_| next());
+            a.2 .1 = core::array::from_fn(|_| core::array::from_fn(|_| next()));
+            a.3 = core::array::from_fn(|_| next());
+            a
+        }
+        let mut x = 0.0;
+        let v64 = value(|| {
+            x += 1.0;
+            F64x4::from_array(core::array::from_fn(|k| x + 0.25 * k as f64))
+        });
+        let mut slots = [<V<F64x4> as Lanes>::zeroed().lane(0); 4];
+        v64.write_lanes(&mut slots);
+        for (k, s) in slots.iter().enumerate() {
+            assert_eq!(
+                format!("{s:?}"),
+                format!("{:?}", v64.lane(k)),
+                "f64x4 lane {k}"
+            );
+        }
+        let mut x = 0.0;
+        let v32 = value(|| {
+            x += 1.0;
+            F32x8::from_array(core::array::from_fn(|k| x + 0.125 * k as f32))
+        });
+        let mut slots = vec![<V<F32x8> as Lanes>::zeroed().lane(0); 8];
+        v32.write_lanes(&mut slots[..]);
+        for (k, s) in slots.iter().enumerate() {
+            assert_eq!(
+                format!("{s:?}"),
+                format!("{:?}", v32.lane(k)),
+                "f32x8 lane {k}"
+            );
+        }
+        // The same through `for_each`, whole groups and a partial last one.
+        let configs: Vec<[f32; 1]> = (0..11).map(|i| [i as f32]).collect();
+        let f = |q: &[F32x8; 1], r: &mut V<F32x8>| {
+            let mut n = 0.0;
+            *r = value(|| {
+                n += 1.0;
+                q[0] * F32x8::splat(n)
+            });
+        };
+        let mut out = vec![<V<F32x8> as Lanes>::zeroed().lane(0); configs.len()];
+        for_each_f32x8(&configs, f, &mut out);
+        for (i, c) in configs.iter().enumerate() {
+            let mut r = <V<F32x8> as Lanes>::zeroed();
+            f(&[F32x8::splat(c[0])], &mut r);
+            assert_eq!(
+                format!("{:?}", out[i]),
+                format!("{:?}", r.lane(0)),
+                "result {i}"
+            );
         }
     }
 

@@ -163,6 +163,9 @@ macro_rules! own_lanes {
             fn lane(&self, k: usize) -> $s {
                 self.0[k]
             }
+            fn zeroed() -> Self {
+                Self::ZERO
+            }
         }
     };
 }
