@@ -20,6 +20,15 @@ pub enum Error {
     NoOutDir,
     /// Two robots would be written to the same file.
     DuplicateModule(String),
+    /// With the C ABI ([`crate::Builder::c_api`]), two modules of one build export the same C
+    /// symbol (`<module>_<function>`: module `arm` and module `arm_link` both give
+    /// `arm_link_pose_and_jacobian`), which would not link.
+    CSymbolClash {
+        /// The symbol.
+        symbol: String,
+        /// The two modules that export it.
+        modules: (String, String),
+    },
     /// A module name is not a Rust identifier.
     BadModuleName(String),
     /// The runtime path ([`crate::Builder::runtime_path`]) is not a Rust path.
@@ -53,6 +62,14 @@ impl fmt::Display for Error {
                 "no output directory: call `Builder::out_dir` or run from a build script (OUT_DIR)"
             ),
             Error::DuplicateModule(m) => write!(f, "two robots generate the module `{m}`"),
+            Error::CSymbolClash {
+                symbol,
+                modules: (a, b),
+            } => write!(
+                f,
+                "with the C ABI the modules `{a}` and `{b}` both export the C symbol `{symbol}`, \
+                 which would not link: rename one of them (Builder::robot_as)"
+            ),
             Error::BadModuleName(m) => write!(f, "`{m}` is not a valid module name"),
             Error::BadRuntimePath(p) => write!(
                 f,

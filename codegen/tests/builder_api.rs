@@ -405,3 +405,35 @@ fn c_api_refuses_fused_names_that_clash_with_its_symbols() {
         assert!(generate_module_string(&desc, &plain).is_ok());
     }
 }
+
+#[test]
+fn c_symbols_clashing_across_modules_are_rejected() {
+    // Module `arm`'s `link_pose_and_jacobian` and module `arm_link`'s `pose_and_jacobian` are
+    // both `arm_link_pose_and_jacobian` in C.
+    let desc = robots().join("unidirectional.toml");
+    let mut b = Builder::new();
+    b.robot_as(&desc, "arm").robot_as(&desc, "arm_link");
+    let files = b.generate().expect("no C ABI, no C symbols");
+    assert!(files.contains_key("arm.rs") && files.contains_key("arm_link.rs"));
+    let err = b.c_api(true).generate().unwrap_err();
+    match &err {
+        Error::CSymbolClash { symbol, modules } => {
+            assert_eq!(symbol, "arm_link_pose_and_jacobian");
+            assert_eq!(modules, &("arm".to_string(), "arm_link".to_string()));
+        }
+        other => panic!("expected a C symbol clash, got {other}"),
+    }
+    let msg = err.to_string();
+    assert!(
+        msg.contains("`arm`") && msg.contains("`arm_link`") && msg.contains("robot_as"),
+        "{msg}"
+    );
+    // Distinct prefixes link side by side.
+    let ok = Builder::new()
+        .robot_as(&desc, "arm")
+        .robot_as(&desc, "other")
+        .c_api(true)
+        .generate()
+        .expect("no clash");
+    assert!(ok.contains_key("arm.h") && ok.contains_key("other.h"));
+}

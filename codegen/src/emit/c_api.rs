@@ -63,6 +63,24 @@ fn prefix(spec: &ModuleSpec) -> String {
     spec.name.clone()
 }
 
+/// The C symbol of the module's function `f`: `<module>_<f>`.
+fn symbol(spec: &ModuleSpec, f: &str) -> String {
+    format!("{}_{f}", prefix(spec))
+}
+
+/// Every C symbol the module exports (its functions, fused functions and controller step), for
+/// the check that two modules of one build do not export the same one.
+pub fn symbols(spec: &ModuleSpec) -> Vec<String> {
+    let functions = spec.functions.iter().map(|f| f.name.as_str());
+    let fused = spec.fused.iter().map(|f| f.name.as_str());
+    let controller = has_controller(spec).then_some("controller_step");
+    functions
+        .chain(fused)
+        .chain(controller)
+        .map(|f| symbol(spec, f))
+        .collect()
+}
+
 /// Whether the module has `Kinematics` (a constraint frame that slides along its link), and so
 /// `<module>_controller_step`.
 fn has_controller(spec: &ModuleSpec) -> bool {
@@ -115,7 +133,7 @@ pub fn items(spec: &ModuleSpec, real: Scalar, rt: &TokenStream) -> TokenStream {
     };
     let fns = spec.functions.iter().map(|f| {
         let name = format_ident!("{}", f.name);
-        let c_name = format_ident!("{}_{}", prefix(spec), f.name);
+        let c_name = format_ident!("{}", symbol(spec, &f.name));
         let n = Literal::usize_unsuffixed(f.layout.len());
         let call = if f.takes_joints {
             quote!(#name(q, &p))
@@ -218,7 +236,7 @@ fn fused_offsets(f: &FusedFunction) -> (Vec<usize>, usize) {
 /// place, a pose and a scalar through locals; `name_f64` where the module has
 /// `fma_at_run_time`.
 fn fused_c(spec: &ModuleSpec, f: &FusedFunction, real: Scalar, t: &TokenStream) -> TokenStream {
-    let c_name = format_ident!("{}_{}", prefix(spec), f.name);
+    let c_name = format_ident!("{}", symbol(spec, &f.name));
     // `fma_at_run_time` holds for generic modules only (the builder refuses the others).
     let target = if spec.fma_at_run_time {
         format_ident!("{}_f64", f.name)
@@ -320,7 +338,7 @@ fn fused_c(spec: &ModuleSpec, f: &FusedFunction, real: Scalar, t: &TokenStream) 
 
 /// `<module>_controller_step`: one step of the runtime controller on `Kinematics`.
 fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> TokenStream {
-    let c_name = format_ident!("{}_controller_step", prefix(spec));
+    let c_name = format_ident!("{}", symbol(spec, "controller_step"));
     let rows = if spec.controller.as_ref().is_some_and(|c| c.task) {
         quote!(TASK_ROWS)
     } else {
