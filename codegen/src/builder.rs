@@ -82,11 +82,7 @@ fn spec_for(desc: &RobotDescription, options: &ModuleOptions) -> Result<emit::Mo
     let mut spec = bridge::module_spec_with(&d, &name, &options.functions)?;
     if options.fma_at_run_time {
         if options.real != Scalar::Generic {
-            let real = match options.real {
-                Scalar::F32 => "f32",
-                _ => "f64",
-            };
-            return Err(Error::FmaNeedsGeneric(real.into()));
+            return Err(Error::FmaNeedsGeneric(options.real.to_string()));
         }
         spec.fma_at_run_time = true;
     }

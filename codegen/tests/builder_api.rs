@@ -437,3 +437,12 @@ fn c_symbols_clashing_across_modules_are_rejected() {
         .expect("no clash");
     assert!(ok.contains_key("arm.h") && ok.contains_key("other.h"));
 }
+
+#[test]
+fn scalar_names_read_back() {
+    for s in [Scalar::Generic, Scalar::F32, Scalar::F64] {
+        assert_eq!(s.to_string().parse::<Scalar>(), Ok(s));
+    }
+    assert_eq!(Scalar::F32.to_string(), "f32");
+    assert!("f16".parse::<Scalar>().unwrap_err().contains("f16"));
+}

@@ -33,6 +33,17 @@ impl std::str::FromStr for Scalar {
     }
 }
 
+/// The name [`FromStr`](std::str::FromStr) reads: `generic`, `f32` or `f64`.
+impl std::fmt::Display for Scalar {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Scalar::Generic => "generic",
+            Scalar::F32 => "f32",
+            Scalar::F64 => "f64",
+        })
+    }
+}
+
 /// What a function returns; outputs of its program are in this layout.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Layout {
