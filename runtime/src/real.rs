@@ -214,7 +214,7 @@ macro_rules! impl_real {
 }
 
 impl_real!(f64, sin_cos_f64, sqrt, fabs, sin_cos_f64_array);
-impl_real!(f32, sin_cos_f32, sqrtf, fabsf);
+impl_real!(f32, sin_cos_f32, sqrtf, fabsf, sin_cos_f32_array);
 
 /// Fast, accurate `(sin x, cos x)`, with or without `std`: what [`Real::sin_cos`] (the generated
 /// code's trigonometry) uses.
@@ -1129,6 +1129,48 @@ pub mod fast {
         }
         let y1 = (r - y0) - w;
         finish32(y0, y1, quadrant, sign)
+    }
+
+    /// Lanes of the side-by-side kernel [`sin_cos_f32_lanes`] for [`sin_cos_f32_array`]: eight on
+    /// x86-64 (two SSE2 registers of four `f32` at the default target, one AVX register with
+    /// AVX2 or AVX-512), none (one element at a time) elsewhere, where the lanes would run one
+    /// after the other (or are unmeasured: aarch64's NEON). The Panda's seven joints at the
+    /// default target: 268 instructions instead of 540 (BENCHMARKS.md, "`f32` joints in groups of
+    /// eight").
+    pub const F32_LANES: usize = if cfg!(all(target_arch = "x86_64", target_feature = "sse2")) {
+        8
+    } else {
+        1
+    };
+
+    /// [`sin_cos_f32`] of every element, bit for bit. With eight [`F32_LANES`] the elements go
+    /// through [`sin_cos_f32_lanes`] in groups of eight, the last group padded (by repeating its
+    /// last element) when three or more are left (one or two left go alone through
+    /// [`sin_cos_f32`]).
+    #[inline(always)]
+    pub fn sin_cos_f32_array<const N: usize>(x: &[f32; N]) -> ([f32; N], [f32; N]) {
+        let mut s = [0.0; N];
+        let mut c = [0.0; N];
+        let mut k = 0;
+        if F32_LANES == 8 {
+            while k + 3 <= N {
+                let m = (N - k).min(8);
+                // The spare lanes repeat the last element (see `group` for `f64`).
+                let xs: [f32; 8] = core::array::from_fn(|l| x[k + l.min(m - 1)]);
+                let (sw, cw) = sin_cos_f32_lanes::<8>(&xs);
+                #[allow(clippy::manual_memcpy)]
+                for l in 0..m {
+                    s[k + l] = sw[l];
+                    c[k + l] = cw[l];
+                }
+                k += m;
+            }
+        }
+        while k < N {
+            (s[k], c[k]) = sin_cos_f32(x[k]);
+            k += 1;
+        }
+        (s, c)
     }
 
     /// [`sin_cos_f32`] of `W` elements, bit for bit, computed side by side: the main path of

@@ -448,3 +448,65 @@ fn lanes_of_every_width_equal_the_scalar_one() {
         check::<11>(x);
     }
 }
+
+/// `sin_cos_f32_array` (what generated `f32` code calls through `Real::sin_cos_array`: groups of
+/// eight, the last padded, where the target has vector registers for `f32`) of every length from
+/// 1 to 19, bit for bit the scalar `sin_cos_f32`: random and special arguments, with some groups
+/// holding an argument that needs the careful reduction.
+#[test]
+fn f32_arrays_of_every_length_equal_the_scalar_one() {
+    use trocar::real::fast::sin_cos_f32_array;
+    fn check<const N: usize>(x: &[f32]) {
+        let x: [f32; N] = core::array::from_fn(|k| x[k]);
+        let (s, c) = sin_cos_f32_array(&x);
+        for k in 0..N {
+            let (ws, wc) = sin_cos_f32(x[k]);
+            assert_eq!(
+                (s[k].to_bits(), c[k].to_bits()),
+                (ws.to_bits(), wc.to_bits()),
+                "N = {N}, element {k}, x = {:e}",
+                x[k]
+            );
+        }
+    }
+    let specials = [
+        0.0f32,
+        -0.0,
+        f32::NAN,
+        f32::INFINITY,
+        -1e-45,
+        f32::MAX,
+        F32_FAST_LIMIT,
+        1e10,
+        core::f32::consts::FRAC_PI_2,
+        -3.0 * core::f32::consts::FRAC_PI_2,
+    ];
+    let mut r = Lcg(19);
+    for round in 0..3_000 {
+        let x: Vec<f32> = (0..19)
+            .map(|k| {
+                if round % 3 == 0 && k == round % 19 {
+                    specials[(r.next() % specials.len() as u64) as usize]
+                } else if round % 3 == 1 {
+                    f32::from_bits(r.next() as u32)
+                } else {
+                    ((r.unit() - 0.5) * 20.0) as f32
+                }
+            })
+            .collect();
+        check::<1>(&x);
+        check::<2>(&x);
+        check::<3>(&x);
+        check::<4>(&x);
+        check::<5>(&x);
+        check::<6>(&x);
+        check::<7>(&x);
+        check::<8>(&x);
+        check::<9>(&x);
+        check::<10>(&x);
+        check::<11>(&x);
+        check::<16>(&x);
+        check::<17>(&x);
+        check::<19>(&x);
+    }
+}
