@@ -19,10 +19,12 @@
 //!   pose and body Jacobian for four configurations 11 % faster with AVX-512 than through
 //!   arrays of four (BENCHMARKS.md, "`F64x4`'s sines and cosines on its vector type").
 //!   `sin_cos_array` (a chain's joints at once) on `F64x4`, where the target has AVX2 or
-//!   AVX-512, takes the joints two at a time as one group of eight through
-//!   [`fast::sin_cos_f64_lanes`], the scalar code's own group of eight joints: the Panda's pose
-//!   and body Jacobian 0.51–0.53× a scalar evaluation instead of 0.57× (BENCHMARKS.md, "Slices
-//!   of configurations written in place").
+//!   AVX-512, takes the joints four, then two at a time as sixteen or eight `f64` through
+//!   [`fast::sin_cos_f64_lanes`], the scalar code's group kernel, and on `F32x8` two at a time
+//!   as sixteen `f32` through [`fast::sin_cos_f32_lanes`]: the Panda's pose and body Jacobian
+//!   0.46× a scalar evaluation with `F64x4` instead of 0.57×, and 0.33–0.34× of a scalar `f32`
+//!   one with `F32x8` instead of 0.51× (BENCHMARKS.md, "Slices of configurations written in
+//!   place" and "`f32` joints in groups of eight").
 //!
 //! ```
 //! use trocar::lanes::{F64x4, Lanes};
@@ -319,16 +321,33 @@ fn each<L: Arith, const N: usize>(x: &[L; N]) -> ([L; N], [L; N]) {
     (s, c)
 }
 
-/// The elements' sines and cosines, each on its vector type.
+/// The elements' sines and cosines, two at a time as sixteen `f32` through
+/// [`fast::sin_cos_f32_lanes`], an odd last element alone.
 #[inline(always)]
 fn sin_cos_array_f32x8<const N: usize>(x: &[F32x8; N]) -> ([F32x8; N], [F32x8; N]) {
-    each(x)
+    let mut s = [F32x8::ZERO; N];
+    let mut c = [F32x8::ONE; N];
+    let mut k = 0;
+    while k + 2 <= N {
+        let (a, b) = (x[k].0.as_array_ref(), x[k + 1].0.as_array_ref());
+        let sixteen: [f32; 16] = core::array::from_fn(|l| if l < 8 { a[l] } else { b[l - 8] });
+        let (se, ce) = fast::sin_cos_f32_lanes::<16>(&sixteen);
+        s[k] = F32x8::from_array(core::array::from_fn(|l| se[l]));
+        s[k + 1] = F32x8::from_array(core::array::from_fn(|l| se[l + 8]));
+        c[k] = F32x8::from_array(core::array::from_fn(|l| ce[l]));
+        c[k + 1] = F32x8::from_array(core::array::from_fn(|l| ce[l + 8]));
+        k += 2;
+    }
+    if k < N {
+        (s[k], c[k]) = x[k].sin_cos();
+    }
+    (s, c)
 }
 
-/// The elements' sines and cosines, where the target has AVX2 or AVX-512 two elements at a time
-/// as one group of eight `f64` through [`fast::sin_cos_f64_lanes`] (the scalar code's group of
-/// eight joints, bit for bit [`fast::sin_cos_f64`] of each lane), an odd last element on its
-/// vector type; each element on its vector type elsewhere.
+/// The elements' sines and cosines, where the target has AVX2 or AVX-512 four elements at a
+/// time as sixteen `f64`, then two at a time as eight, through [`fast::sin_cos_f64_lanes`] (the
+/// scalar code's group kernel, bit for bit [`fast::sin_cos_f64`] of each lane), an odd last
+/// element on its vector type; each element on its vector type elsewhere.
 #[inline(always)]
 fn sin_cos_array_f64x4<const N: usize>(x: &[F64x4; N]) -> ([F64x4; N], [F64x4; N]) {
     if fast::F64_LANES != 8 {
@@ -337,6 +356,15 @@ fn sin_cos_array_f64x4<const N: usize>(x: &[F64x4; N]) -> ([F64x4; N], [F64x4; N
     let mut s = [F64x4::ZERO; N];
     let mut c = [F64x4::ONE; N];
     let mut k = 0;
+    while k + 4 <= N {
+        let sixteen: [f64; 16] = core::array::from_fn(|l| x[k + l / 4].0.as_array_ref()[l % 4]);
+        let (se, ce) = fast::sin_cos_f64_lanes::<16>(&sixteen);
+        for j in 0..4 {
+            s[k + j] = F64x4::from_array(core::array::from_fn(|l| se[4 * j + l]));
+            c[k + j] = F64x4::from_array(core::array::from_fn(|l| ce[4 * j + l]));
+        }
+        k += 4;
+    }
     while k + 2 <= N {
         let (a, b) = (x[k].0.as_array_ref(), x[k + 1].0.as_array_ref());
         let eight: [f64; 8] = core::array::from_fn(|l| if l < 4 { a[l] } else { b[l - 4] });
@@ -703,6 +731,36 @@ mod tests {
             }
         }
         let v = f64_samples(20_160);
+        check::<1>(&v);
+        check::<2>(&v);
+        check::<3>(&v);
+        check::<7>(&v);
+        check::<9>(&v);
+    }
+
+    /// `F32x8::sin_cos_array` of one to nine elements (pairs as sixteen `f32`, an odd last one
+    /// alone), each lane [`sin_cos_f32`]'s bits.
+    #[test]
+    fn f32_lanes_sin_cos_array_is_the_scalar_one_bit_for_bit() {
+        fn check<const N: usize>(v: &[f32]) {
+            for (i, w) in v.chunks_exact(8 * N).enumerate() {
+                let x: [F32x8; N] = core::array::from_fn(|j| {
+                    F32x8::from_array(core::array::from_fn(|k| w[8 * j + k]))
+                });
+                let (s, c) = F32x8::sin_cos_array(&x);
+                for j in 0..N {
+                    for k in 0..8 {
+                        let (s1, c1) = sin_cos_f32(w[8 * j + k]);
+                        assert!(
+                            same32(s[j].get(k), s1) && same32(c[j].get(k), c1),
+                            "N = {N}, group {i}, element {j}, lane {k}, x = {:e}",
+                            w[8 * j + k]
+                        );
+                    }
+                }
+            }
+        }
+        let v: Vec<f32> = f64_samples(40_320).iter().map(|&x| x as f32).collect();
         check::<1>(&v);
         check::<2>(&v);
         check::<3>(&v);
