@@ -212,8 +212,17 @@ pub fn generate_module_string(
     desc: &RobotDescription,
     options: &ModuleOptions,
 ) -> Result<String, Error> {
-    let tokens = generate_module(desc, options)?;
-    emit::format_file(tokens).map_err(|e| Error::Internal(e.to_string()))
+    module_string(desc, options, spec_for(desc, options)?)
+}
+
+/// [`generate_module_string`] of the description's derived module `spec`.
+fn module_string(
+    desc: &RobotDescription,
+    options: &ModuleOptions,
+    spec: emit::ModuleSpec,
+) -> Result<String, Error> {
+    emit::format_file(module_tokens(desc, options, spec)?)
+        .map_err(|e| Error::Internal(e.to_string()))
 }
 
 /// The module of a closed mechanism as a formatted file (prettyplease, headed by the
@@ -454,8 +463,7 @@ impl Builder {
             } else {
                 Vec::new()
             };
-            let code = emit::format_file(module_tokens(&desc, &options, spec)?)
-                .map_err(|e| Error::Internal(e.to_string()))?;
+            let code = module_string(&desc, &options, spec)?;
             let file = format!("{module}.rs");
             if out.insert(file, code).is_some() {
                 return Err(Error::DuplicateModule(module));
