@@ -100,26 +100,6 @@ macro_rules! lane_type {
                 core::array::from_fn(|j| Self::from_array(core::array::from_fn(|k| configs[k][j])))
             }
 
-            /// Elements `k..k + G` of `x` as one array of `M = G · LANES` numbers (element by
-            /// element, lane by lane) through `kernel`, a side-by-side `sin_cos`, into `s`, `c`.
-            #[inline(always)]
-            fn through_kernel<const N: usize, const G: usize, const M: usize>(
-                x: &[Self; N],
-                k: usize,
-                s: &mut [Self; N],
-                c: &mut [Self; N],
-                kernel: impl Fn(&[$scalar; M]) -> ([$scalar; M], [$scalar; M]),
-            ) {
-                const { assert!(M == G * $w) };
-                let all: [$scalar; M] =
-                    core::array::from_fn(|l| x[k + l / $w].0.as_array_ref()[l % $w]);
-                let (sm, cm) = kernel(&all);
-                for j in 0..G {
-                    s[k + j] = Self::from_array(core::array::from_fn(|l| sm[$w * j + l]));
-                    c[k + j] = Self::from_array(core::array::from_fn(|l| cm[$w * j + l]));
-                }
-            }
-
             /// Each lane by itself: `f` of the lanes' elements.
             #[cfg(not(all(
                 target_feature = "sse2",
@@ -345,10 +325,17 @@ fn each<L: Arith, const N: usize>(x: &[L; N]) -> ([L; N], [L; N]) {
 /// [`fast::sin_cos_f32_lanes`], an odd last element alone.
 #[inline(always)]
 fn sin_cos_array_f32x8<const N: usize>(x: &[F32x8; N]) -> ([F32x8; N], [F32x8; N]) {
-    let (mut s, mut c) = ([F32x8::ZERO; N], [F32x8::ONE; N]);
+    let mut s = [F32x8::ZERO; N];
+    let mut c = [F32x8::ONE; N];
     let mut k = 0;
     while k + 2 <= N {
-        F32x8::through_kernel::<N, 2, 16>(x, k, &mut s, &mut c, fast::sin_cos_f32_lanes::<16>);
+        let (a, b) = (x[k].0.as_array_ref(), x[k + 1].0.as_array_ref());
+        let sixteen: [f32; 16] = core::array::from_fn(|l| if l < 8 { a[l] } else { b[l - 8] });
+        let (se, ce) = fast::sin_cos_f32_lanes::<16>(&sixteen);
+        s[k] = F32x8::from_array(core::array::from_fn(|l| se[l]));
+        s[k + 1] = F32x8::from_array(core::array::from_fn(|l| se[l + 8]));
+        c[k] = F32x8::from_array(core::array::from_fn(|l| ce[l]));
+        c[k + 1] = F32x8::from_array(core::array::from_fn(|l| ce[l + 8]));
         k += 2;
     }
     if k < N {
@@ -366,14 +353,26 @@ fn sin_cos_array_f64x4<const N: usize>(x: &[F64x4; N]) -> ([F64x4; N], [F64x4; N
     if fast::F64_LANES != 8 {
         return each(x);
     }
-    let (mut s, mut c) = ([F64x4::ZERO; N], [F64x4::ONE; N]);
+    let mut s = [F64x4::ZERO; N];
+    let mut c = [F64x4::ONE; N];
     let mut k = 0;
     while k + 4 <= N {
-        F64x4::through_kernel::<N, 4, 16>(x, k, &mut s, &mut c, fast::sin_cos_f64_lanes::<16>);
+        let sixteen: [f64; 16] = core::array::from_fn(|l| x[k + l / 4].0.as_array_ref()[l % 4]);
+        let (se, ce) = fast::sin_cos_f64_lanes::<16>(&sixteen);
+        for j in 0..4 {
+            s[k + j] = F64x4::from_array(core::array::from_fn(|l| se[4 * j + l]));
+            c[k + j] = F64x4::from_array(core::array::from_fn(|l| ce[4 * j + l]));
+        }
         k += 4;
     }
     while k + 2 <= N {
-        F64x4::through_kernel::<N, 2, 8>(x, k, &mut s, &mut c, fast::sin_cos_f64_lanes::<8>);
+        let (a, b) = (x[k].0.as_array_ref(), x[k + 1].0.as_array_ref());
+        let eight: [f64; 8] = core::array::from_fn(|l| if l < 4 { a[l] } else { b[l - 4] });
+        let (se, ce) = fast::sin_cos_f64_lanes::<8>(&eight);
+        s[k] = F64x4::from_array(core::array::from_fn(|l| se[l]));
+        s[k + 1] = F64x4::from_array(core::array::from_fn(|l| se[l + 4]));
+        c[k] = F64x4::from_array(core::array::from_fn(|l| ce[l]));
+        c[k + 1] = F64x4::from_array(core::array::from_fn(|l| ce[l + 4]));
         k += 2;
     }
     if k < N {
