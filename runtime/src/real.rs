@@ -656,18 +656,14 @@ pub mod fast {
     }
 
     /// [`sin_cos_f64`] of each lane of a `wide::f64x4`, bit for bit, computed on the vector
-    /// ([`main_path`]); if a lane needs more, every lane through [`sin_cos_f64`].
+    /// ([`main_path`]); a lane that needs more through [`sin_cos_f64`] ([`redo_lanes64`]).
     #[cfg(feature = "lanes")]
     #[inline(always)]
     pub(crate) fn sin_cos_f64x4(x: wide::f64x4) -> (wide::f64x4, wide::f64x4) {
         let (s, c, slow) = main_path(x);
         if slow != 0 {
-            let x = x.to_array();
-            let r: [(f64, f64); 4] = core::array::from_fn(|k| sin_cos_f64(x[k]));
-            return (
-                wide::f64x4::new(core::array::from_fn(|k| r[k].0)),
-                wide::f64x4::new(core::array::from_fn(|k| r[k].1)),
-            );
+            let (s, c) = redo_lanes64(&x.to_array(), s.to_array(), c.to_array());
+            return (wide::f64x4::new(s), wide::f64x4::new(c));
         }
         (s, c)
     }
@@ -824,17 +820,20 @@ pub mod fast {
         ) -> ([f64; N], [f64; N]) {
             let (s0, c0, slow0) = main_path(Quad::new(x0, x1, x2, x3));
             let (s1, c1, slow1) = main_path(Quad::new(x4, x5, x6, x7));
+            let (s0, c0, s1, c1) = (s0.lanes(), c0.lanes(), s1.lanes(), c1.lanes());
+            let s = core::array::from_fn(|k| if k < 4 { s0[k] } else { s1[k - 4] });
+            let c = core::array::from_fn(|k| if k < 4 { c0[k] } else { c1[k - 4] });
             if (slow0 | slow1) != 0 {
-                let (s, c) = super::each_alone(&[x0, x1, x2, x3, x4, x5, x6, x7]);
+                let x = [x0, x1, x2, x3, x4, x5, x6, x7];
+                let (s, c) = super::redo_lanes64::<8>(&x, s, c);
                 return (
                     core::array::from_fn(|k| s[k]),
                     core::array::from_fn(|k| c[k]),
                 );
             }
-            let (s0, c0, s1, c1) = (s0.lanes(), c0.lanes(), s1.lanes(), c1.lanes());
             (
-                core::array::from_fn(|k| if k < 4 { s0[k] } else { s1[k - 4] }),
-                core::array::from_fn(|k| if k < 4 { c0[k] } else { c1[k - 4] }),
+                core::array::from_fn(|k| s[k]),
+                core::array::from_fn(|k| c[k]),
             )
         }
 
@@ -953,8 +952,8 @@ pub mod fast {
     /// [`sin_cos_f64`] (one-step reduction, both kernels, quadrant select) runs branch-free on
     /// all of them, so the compiler can put them in vector registers. If any element needs more
     /// (beyond [`F64_FAST_LIMIT`], NaN, ±∞, or a reduction that may have cancelled:
-    /// `|y0| < 2⁻¹⁶ |x|`, which holds whenever musl's exponent test of [`sin_cos_f64`] does),
-    /// all are recomputed by [`sin_cos_f64`]. `|x| ≤ π/4` needs no select: the reduction then
+    /// `|y0| < 2⁻¹⁶ |x|`, which holds whenever musl's exponent test of [`sin_cos_f64`] does), that
+    /// element is recomputed by [`sin_cos_f64`] ([`redo_lanes64`]). `|x| ≤ π/4` needs no select: the reduction then
     /// gives `n = 0` and exactly `(|x|, 0)`, the arguments [`sin_cos_f64`] hands to the kernels
     /// unreduced.
     #[inline(always)]
@@ -978,12 +977,20 @@ pub mod fast {
             let sign = x[k].to_bits() & !ABS;
             let ax = f64::from_bits(x[k].to_bits() & ABS);
             let (y0, y1, t) = one_step64(ax);
-            slow |= !(ax <= F64_FAST_LIMIT) | (f64::from_bits(y0.to_bits() & ABS) < ax * TWO_M16);
+            slow |= lane_needs_care64(ax, y0);
             (s[k], c[k]) = finish64(y0, y1, t.to_bits(), sign);
         }
         if slow {
+            // Only the lanes that failed the test, the others holding `sin_cos_f64`'s bits
+            // already; out of line beyond eight lanes, in line up to eight (see
+            // `sin_cos_f32_lanes`).
+            if W > 8 {
+                return redo_lanes64(x, s, c);
+            }
             for k in 0..W {
-                (s[k], c[k]) = sin_cos_f64(x[k]);
+                if needs_care64(x[k]) {
+                    (s[k], c[k]) = sin_cos_f64(x[k]);
+                }
             }
         }
         (s, c)
@@ -991,7 +998,7 @@ pub mod fast {
 
     /// [`sin_cos_f64_lanes`] on [`sse2::Pair`]s: lanes `2i, 2i + 1` in pair `i` (an odd last lane
     /// paired with itself), the one-step reduction, both kernels and the select on each pair;
-    /// if any lane needs more, [`sin_cos_f64`] of every element.
+    /// a lane that needs more through [`sin_cos_f64`] ([`redo_lanes64`]).
     #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
     #[inline(always)]
     fn pairs<const W: usize>(x: &[f64; W]) -> ([f64; W], [f64; W]) {
@@ -1018,7 +1025,7 @@ pub mod fast {
             slow |= one_pair(x, i, &mut s, &mut c);
         }
         if slow != 0 {
-            return each_alone(x);
+            return redo_lanes64(x, s, c);
         }
         (s, c)
     }
@@ -1036,15 +1043,37 @@ pub mod fast {
         slow
     }
 
-    /// [`sin_cos_f64`] of each element: the rare path of the pairs and the quads, out of line.
-    #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+    /// [`sin_cos_f64_lanes`]' test of one lane: beyond [`F64_FAST_LIMIT`] (NaN and ±∞
+    /// included), or a reduction `y0` of `ax = |x|` that may have cancelled (`|y0| < 2⁻¹⁶ |x|`,
+    /// which holds whenever musl's exponent test of [`sin_cos_f64`] does). The vector types'
+    /// `beyond_or_cancelled` is the same test.
+    #[inline(always)]
+    fn lane_needs_care64(ax: f64, y0: f64) -> bool {
+        !(ax <= F64_FAST_LIMIT) | (f64::from_bits(y0.to_bits() & !SIGN) < ax * TWO_M16)
+    }
+
+    /// [`lane_needs_care64`] of `x`, its reduction computed again.
+    #[inline(always)]
+    fn needs_care64(x: f64) -> bool {
+        let ax = f64::from_bits(x.to_bits() & !SIGN);
+        lane_needs_care64(ax, one_step64(ax).0)
+    }
+
+    /// The rare path of every group of `f64` lanes, out of line: the lanes that fail
+    /// [`lane_needs_care64`] recomputed by [`sin_cos_f64`], the others kept, being its bits
+    /// already. One argument near a multiple of π/2 (a joint at ±π/2, common in robots' home
+    /// poses) costs one careful reduction, not a whole group recomputed one element at a time.
     #[cold]
     #[inline(never)]
-    fn each_alone<const W: usize>(x: &[f64; W]) -> ([f64; W], [f64; W]) {
-        let mut s = [0.0; W];
-        let mut c = [0.0; W];
+    fn redo_lanes64<const W: usize>(
+        x: &[f64; W],
+        mut s: [f64; W],
+        mut c: [f64; W],
+    ) -> ([f64; W], [f64; W]) {
         for k in 0..W {
-            (s[k], c[k]) = sin_cos_f64(x[k]);
+            if needs_care64(x[k]) {
+                (s[k], c[k]) = sin_cos_f64(x[k]);
+            }
         }
         (s, c)
     }
@@ -1101,13 +1130,25 @@ pub mod fast {
         finish32(y0, y1, quadrant, sign)
     }
 
+    /// The one-step reduction of `ax = |x|` (`P1` of 12 bits, `n·P1` exact, `P1T = π/2 − P1`):
+    /// `(y0, y1, t)` with `x = n·π/2 + (y0 + y1)` and `n mod 2³²` the bits of `t`.
+    #[inline(always)]
+    fn reduce32(ax: f32) -> (f32, f32, f32) {
+        const P1: f32 = 1.570_800_8; // 0x1.922p0
+        const P1T: f32 = -4.454_455e-6; // pi/2 - P1, rounded
+        let t = ax * FRAC_2_PI_32 + TOINT_32;
+        let fnum = t - TOINT_32;
+        let r = ax - fnum * P1; // exact
+        let w = fnum * P1T;
+        let y0 = r - w;
+        (y0, (r - y0) - w, t)
+    }
+
     /// `(sin x, cos x)` for `f32`, < 1 ulp, single-precision arithmetic only (see the
     /// [module docs](self)). One-step reduction (`P1` of 12 bits, `P1T = π/2 − P1`); arguments
     /// whose reduction cancels by more than 8 bits take the careful path.
     #[inline(always)]
     pub fn sin_cos_f32(x: f32) -> (f32, f32) {
-        const P1: f32 = 1.570_800_8; // 0x1.922p0
-        const P1T: f32 = -4.454_455e-6; // pi/2 - P1, rounded
         let sign = x.to_bits() & (1u32 << 31);
         let ax = f32::from_bits(x.to_bits() & !(1u32 << 31));
         if ax <= core::f32::consts::FRAC_PI_4 {
@@ -1116,18 +1157,13 @@ pub mod fast {
         if !(ax <= F32_FAST_LIMIT) {
             return careful32(x);
         }
-        let t = ax * FRAC_2_PI_32 + TOINT_32;
+        let (y0, y1, t) = reduce32(ax);
         let quadrant = t.to_bits();
-        let fnum = t - TOINT_32;
-        let r = ax - fnum * P1; // exact
-        let w = fnum * P1T;
-        let y0 = r - w;
         let ex = (ax.to_bits() >> 23) as i32;
         let ey = ((y0.to_bits() >> 23) & 0xff) as i32;
         if ex - ey > 8 {
             return careful32(x);
         }
-        let y1 = (r - y0) - w;
         finish32(y0, y1, quadrant, sign)
     }
 
@@ -1177,14 +1213,11 @@ pub mod fast {
     /// [`sin_cos_f32`] (one-step reduction, both kernels, quadrant select) runs branch-free on
     /// all of them, so the compiler can put them in vector registers. If any element needs more
     /// (beyond [`F32_FAST_LIMIT`], NaN, ±∞, or a reduction that may have cancelled:
-    /// `|y0| < 2⁻⁸ |x|`, which holds whenever the exponent test of [`sin_cos_f32`] does), all
-    /// are recomputed by [`sin_cos_f32`]. For `|x| ≤ π/4` the reduction gives `n = 0` and exactly
+    /// `|y0| < 2⁻⁸ |x|`, which holds whenever the exponent test of [`sin_cos_f32`] does), that
+    /// element is recomputed by [`sin_cos_f32`], the others kept. For `|x| ≤ π/4` the reduction gives `n = 0` and exactly
     /// `(|x|, +0)`, the arguments [`sin_cos_f32`] hands to the kernels unreduced.
     #[inline(always)]
     pub fn sin_cos_f32_lanes<const W: usize>(x: &[f32; W]) -> ([f32; W], [f32; W]) {
-        const P1: f32 = 1.570_800_8; // 0x1.922p0
-        const P1T: f32 = -4.454_455e-6; // pi/2 - P1, rounded
-        const TWO_M8: f32 = 1.0 / 256.0;
         const ABS: u32 = !(1u32 << 31);
         let mut s = [0.0; W];
         let mut c = [0.0; W];
@@ -1192,22 +1225,60 @@ pub mod fast {
         for k in 0..W {
             let sign = x[k].to_bits() & !ABS;
             let ax = f32::from_bits(x[k].to_bits() & ABS);
-            let t = ax * FRAC_2_PI_32 + TOINT_32;
+            let (y0, y1, t) = reduce32(ax);
             let quadrant = t.to_bits();
-            let fnum = t - TOINT_32;
-            let r = ax - fnum * P1; // exact
-            let w = fnum * P1T;
-            let y0 = r - w;
-            let y1 = (r - y0) - w;
-            slow |= !(ax <= F32_FAST_LIMIT) | (f32::from_bits(y0.to_bits() & ABS) < ax * TWO_M8);
+            slow |= lane_needs_care32(ax, y0);
             (s[k], c[k]) = finish32(y0, y1, quadrant, sign);
         }
         if slow {
+            // Only the lanes that failed the test, the others holding `sin_cos_f32`'s bits
+            // already. Beyond eight lanes out of line: in line, `F32x8`'s sixteen lanes took
+            // 1.4x the time (its 64 Panda configurations' sines and cosines 0.72-0.75 us
+            // against 0.49-0.53); up to eight in line: out of line, the scalar `f32` Panda's
+            // seven joints took 1.1x the time (BENCHMARKS.md, "Only the lanes that need it").
+            if W > 8 {
+                return redo_lanes32(x, s, c);
+            }
             for k in 0..W {
+                if needs_care32(x[k]) {
+                    (s[k], c[k]) = sin_cos_f32(x[k]);
+                }
+            }
+        }
+        (s, c)
+    }
+
+    /// The rare path of [`sin_cos_f32_lanes`] beyond eight lanes, out of line: the lanes that
+    /// fail [`lane_needs_care32`] recomputed by [`sin_cos_f32`], the others kept, being its bits
+    /// already.
+    #[cold]
+    #[inline(never)]
+    fn redo_lanes32<const W: usize>(
+        x: &[f32; W],
+        mut s: [f32; W],
+        mut c: [f32; W],
+    ) -> ([f32; W], [f32; W]) {
+        for k in 0..W {
+            if needs_care32(x[k]) {
                 (s[k], c[k]) = sin_cos_f32(x[k]);
             }
         }
         (s, c)
+    }
+
+    /// [`sin_cos_f32_lanes`]' test of one lane: beyond [`F32_FAST_LIMIT`] (NaN and ±∞ included),
+    /// or a reduction `y0` of `|x|` that may have cancelled (`|y0| < 2⁻⁸ |x|`).
+    #[inline(always)]
+    fn lane_needs_care32(ax: f32, y0: f32) -> bool {
+        const TWO_M8: f32 = 1.0 / 256.0;
+        !(ax <= F32_FAST_LIMIT) | (f32::from_bits(y0.to_bits() & !(1u32 << 31)) < ax * TWO_M8)
+    }
+
+    /// [`lane_needs_care32`] of `x`, its reduction computed again.
+    #[inline(always)]
+    fn needs_care32(x: f32) -> bool {
+        let ax = f32::from_bits(x.to_bits() & !(1u32 << 31));
+        lane_needs_care32(ax, reduce32(ax).0)
     }
 }
 

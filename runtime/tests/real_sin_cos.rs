@@ -400,9 +400,10 @@ fn small_arguments_need_no_reduction_in_lanes() {
     }
 }
 
-/// `sin_cos_f64_lanes` of every width from 0 to 11 (odd widths pair their last lane with itself
-/// where the lanes are SSE2 pairs; beyond eight lanes the pairs go on in a loop), bit for bit the
-/// scalar `sin_cos_f64`, with one lane in eleven sent to the careful path.
+/// `sin_cos_f64_lanes` of every width from 0 to 11 and of 16 (odd widths pair their last lane
+/// with itself where the lanes are SSE2 pairs; beyond eight lanes the pairs go on in a loop, and
+/// the rare path is out of line), bit for bit the scalar `sin_cos_f64`, with one lane in eleven
+/// sent to the careful path (only that lane recomputed: a wrong lane kept or dropped fails it).
 #[test]
 fn lanes_of_every_width_equal_the_scalar_one() {
     use trocar::real::fast::{sin_cos_f64, sin_cos_f64_lanes};
@@ -446,27 +447,34 @@ fn lanes_of_every_width_equal_the_scalar_one() {
         check::<9>(core::array::from_fn(|k| x[k]));
         check::<10>(core::array::from_fn(|k| x[k]));
         check::<11>(x);
+        check::<16>(core::array::from_fn(|k| x[k % 11]));
     }
 }
 
 /// `sin_cos_f32_array` (what generated `f32` code calls through `Real::sin_cos_array`: groups of
-/// eight, the last padded, where the target has vector registers for `f32`) of every length from
-/// 1 to 19, bit for bit the scalar `sin_cos_f32`: random and special arguments, with some groups
-/// holding an argument that needs the careful reduction.
+/// eight, the last padded, where the target has vector registers for `f32`) and
+/// `sin_cos_f32_lanes` (the group kernel; `F32x8` runs it on sixteen lanes, where its rare path
+/// is out of line) of every length from 1 to 19, bit for bit the scalar `sin_cos_f32`: random
+/// and special arguments, with some groups holding an argument that needs the careful reduction
+/// (only that lane recomputed: a wrong lane kept or dropped fails it).
 #[test]
 fn f32_arrays_of_every_length_equal_the_scalar_one() {
-    use trocar::real::fast::sin_cos_f32_array;
+    use trocar::real::fast::{sin_cos_f32_array, sin_cos_f32_lanes};
     fn check<const N: usize>(x: &[f32]) {
         let x: [f32; N] = core::array::from_fn(|k| x[k]);
-        let (s, c) = sin_cos_f32_array(&x);
-        for k in 0..N {
-            let (ws, wc) = sin_cos_f32(x[k]);
-            assert_eq!(
-                (s[k].to_bits(), c[k].to_bits()),
-                (ws.to_bits(), wc.to_bits()),
-                "N = {N}, element {k}, x = {:e}",
-                x[k]
-            );
+        for (what, (s, c)) in [
+            ("array", sin_cos_f32_array(&x)),
+            ("lanes", sin_cos_f32_lanes(&x)),
+        ] {
+            for k in 0..N {
+                let (ws, wc) = sin_cos_f32(x[k]);
+                assert_eq!(
+                    (s[k].to_bits(), c[k].to_bits()),
+                    (ws.to_bits(), wc.to_bits()),
+                    "{what}, N = {N}, element {k}, x = {:e}",
+                    x[k]
+                );
+            }
         }
     }
     let specials = [

@@ -18,6 +18,7 @@
 //! under other flags (`-C target-cpu=native`: FMA) checks that too. Inputs pass through
 //! `black_box`, outputs are written to a buffer whose address goes through `black_box`.
 
+use core::f64::consts::{FRAC_PI_2, FRAC_PI_4};
 use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
 use trocar::lanes::{for_each_f32x8, for_each_f64x4, F32x8, F64x4, Lanes};
@@ -254,6 +255,31 @@ fn lanes(c: &mut Criterion) {
     run!("scalar/f32", qs32, out32, &p32);
     run!("lanes/f32x8", q8, out8, &pl32);
     run!("own/f32x8", qo8, outo8, &po32);
+    // The Panda's ready pose, a joint at π/2 in every configuration: the sines and cosines'
+    // rare path (the careful reduction) in every group.
+    let ready = [
+        0.0,
+        -FRAC_PI_4,
+        0.0,
+        -3.0 * FRAC_PI_4,
+        0.0,
+        FRAC_PI_2,
+        FRAC_PI_4,
+    ];
+    let rs = vec![ready; BATCH];
+    let rs32: Vec<[f32; m::N]> = rs.iter().map(|q| q.map(|x| x as f32)).collect();
+    let r4 = groups::<F64x4, f64, 4>(&rs, F64x4::gather);
+    let r8 = groups::<F32x8, f32, 8>(&rs32, F32x8::gather);
+    let mut rout: Vec<Out<f64>> = rs.iter().map(|q| pose_and_jb(q, &p)).collect();
+    let mut rout32: Vec<Out<f32>> = rs32.iter().map(|q| pose_and_jb(q, &p32)).collect();
+    let mut rout4: Vec<Out<F64x4>> = r4.iter().map(|q| pose_and_jb(q, &pl)).collect();
+    let mut rout8: Vec<Out<F32x8>> = r8.iter().map(|q| pose_and_jb(q, &pl32)).collect();
+    assert_lanes(&rout4, &rout, "ready f64x4");
+    assert_lanes(&rout8, &rout32, "ready f32x8");
+    run!("ready/scalar/f64", rs, rout, &p);
+    run!("ready/lanes/f64x4", r4, rout4, &pl);
+    run!("ready/scalar/f32", rs32, rout32, &p32);
+    run!("ready/lanes/f32x8", r8, rout8, &pl32);
     g.bench_function("for_each/f64x4", |b| {
         b.iter(|| {
             for_each_f64x4(
