@@ -329,19 +329,31 @@ fn sin_cos_array_f32x8<const N: usize>(x: &[F32x8; N]) -> ([F32x8; N], [F32x8; N
     let mut c = [F32x8::ONE; N];
     let mut k = 0;
     while k + 2 <= N {
-        let (a, b) = (x[k].0.as_array_ref(), x[k + 1].0.as_array_ref());
-        let sixteen: [f32; 16] = core::array::from_fn(|l| if l < 8 { a[l] } else { b[l - 8] });
-        let (se, ce) = fast::sin_cos_f32_lanes::<16>(&sixteen);
-        s[k] = F32x8::from_array(core::array::from_fn(|l| se[l]));
-        s[k + 1] = F32x8::from_array(core::array::from_fn(|l| se[l + 8]));
-        c[k] = F32x8::from_array(core::array::from_fn(|l| ce[l]));
-        c[k + 1] = F32x8::from_array(core::array::from_fn(|l| ce[l + 8]));
+        group_f32x8::<N, 2, 16>(x, k, &mut s, &mut c);
         k += 2;
     }
     if k < N {
         (s[k], c[k]) = x[k].sin_cos();
     }
     (s, c)
+}
+
+/// Elements `k..k + G` of `x` as `M = 8 G` `f32` through [`fast::sin_cos_f32_lanes`] into `s`,
+/// `c` (lane `l` of element `k + j` at `8 j + l`).
+#[inline(always)]
+fn group_f32x8<const N: usize, const G: usize, const M: usize>(
+    x: &[F32x8; N],
+    k: usize,
+    s: &mut [F32x8; N],
+    c: &mut [F32x8; N],
+) {
+    const { assert!(M == 8 * G) };
+    let all: [f32; M] = core::array::from_fn(|l| x[k + l / 8].0.as_array_ref()[l % 8]);
+    let (se, ce) = fast::sin_cos_f32_lanes::<M>(&all);
+    for j in 0..G {
+        s[k + j] = F32x8::from_array(core::array::from_fn(|l| se[8 * j + l]));
+        c[k + j] = F32x8::from_array(core::array::from_fn(|l| ce[8 * j + l]));
+    }
 }
 
 /// The elements' sines and cosines, where the target has AVX2 or AVX-512 four elements at a
@@ -357,28 +369,35 @@ fn sin_cos_array_f64x4<const N: usize>(x: &[F64x4; N]) -> ([F64x4; N], [F64x4; N
     let mut c = [F64x4::ONE; N];
     let mut k = 0;
     while k + 4 <= N {
-        let sixteen: [f64; 16] = core::array::from_fn(|l| x[k + l / 4].0.as_array_ref()[l % 4]);
-        let (se, ce) = fast::sin_cos_f64_lanes::<16>(&sixteen);
-        for j in 0..4 {
-            s[k + j] = F64x4::from_array(core::array::from_fn(|l| se[4 * j + l]));
-            c[k + j] = F64x4::from_array(core::array::from_fn(|l| ce[4 * j + l]));
-        }
+        group_f64x4::<N, 4, 16>(x, k, &mut s, &mut c);
         k += 4;
     }
     while k + 2 <= N {
-        let (a, b) = (x[k].0.as_array_ref(), x[k + 1].0.as_array_ref());
-        let eight: [f64; 8] = core::array::from_fn(|l| if l < 4 { a[l] } else { b[l - 4] });
-        let (se, ce) = fast::sin_cos_f64_lanes::<8>(&eight);
-        s[k] = F64x4::from_array(core::array::from_fn(|l| se[l]));
-        s[k + 1] = F64x4::from_array(core::array::from_fn(|l| se[l + 4]));
-        c[k] = F64x4::from_array(core::array::from_fn(|l| ce[l]));
-        c[k + 1] = F64x4::from_array(core::array::from_fn(|l| ce[l + 4]));
+        group_f64x4::<N, 2, 8>(x, k, &mut s, &mut c);
         k += 2;
     }
     if k < N {
         (s[k], c[k]) = x[k].sin_cos();
     }
     (s, c)
+}
+
+/// Elements `k..k + G` of `x` as `M = 4 G` `f64` through [`fast::sin_cos_f64_lanes`] into `s`,
+/// `c` (lane `l` of element `k + j` at `4 j + l`).
+#[inline(always)]
+fn group_f64x4<const N: usize, const G: usize, const M: usize>(
+    x: &[F64x4; N],
+    k: usize,
+    s: &mut [F64x4; N],
+    c: &mut [F64x4; N],
+) {
+    const { assert!(M == 4 * G) };
+    let all: [f64; M] = core::array::from_fn(|l| x[k + l / 4].0.as_array_ref()[l % 4]);
+    let (se, ce) = fast::sin_cos_f64_lanes::<M>(&all);
+    for j in 0..G {
+        s[k + j] = F64x4::from_array(core::array::from_fn(|l| se[4 * j + l]));
+        c[k + j] = F64x4::from_array(core::array::from_fn(|l| ce[4 * j + l]));
+    }
 }
 
 /// [`fast::sin_cos_f32_lanes`] of the eight lanes.
