@@ -71,9 +71,10 @@ pub trait Real:
 /// `sqrt` and `abs`, with no comparison, branch or conversion to a single number.
 ///
 /// Generated functions whose body is one straight-line program (forward kinematics, the
-/// Jacobians, `pose_and_jacobians_trig`, the `Params` and `JointTrig` structs) are generic over `T: Arith`, so they run on `f32` and `f64` and on the lane types of
-/// [`lanes`](crate::lanes) (feature `lanes`: four `f64` or eight `f32` configurations side by
-/// side, each lane bit for bit the scalar code's result). Functions that branch on a value
+/// Jacobians, `pose_and_jacobians_trig`, the `Params` and `JointTrig` structs) are generic over
+/// `T: Arith`, so they run on `f32` and `f64` and on the lane types of [`lanes`](crate::lanes)
+/// (feature `lanes`: four `f64` or eight `f32` configurations side by side, each lane bit for
+/// bit the scalar code's result). Functions that branch on a value
 /// (`manipulability`'s finiteness guard, the pivoting solves, the controller) stay `T: Real`.
 ///
 /// Every [`Real`] is an `Arith` (a blanket implementation that calls the [`Real`] functions of
@@ -372,9 +373,9 @@ pub mod fast {
     use vector_ops;
 
     /// Two `f64` in one SSE2 register, for [`sin_cos_f64_lanes`] on x86-64 targets with SSE2
-    /// and without AVX2 (the default target; AVX without AVX2 too). There the compiler vectorised the lanes' scalar paths
-    /// only in part (seven joints 498–519 instructions, 45–48 ns), and elementwise maps over eight
-    /// lanes as much as its settings let it (394 instructions with 16 codegen units, 644 with
+    /// and without AVX2 (the default target; AVX without AVX2 too). There the compiler
+    /// vectorised the lanes' scalar paths only in part (seven joints 498–519 instructions,
+    /// 45–48 ns), and elementwise maps over eight lanes as much as its settings let it (394 instructions with 16 codegen units, 644 with
     /// one); operations written on the register pair give the same 451 instructions and 36–38 ns
     /// under either setting (BENCHMARKS.md, "Trigonometry on AVX2 and SSE2").
     ///
@@ -959,9 +960,9 @@ pub mod fast {
     /// all of them, so the compiler can put them in vector registers. If any element needs more
     /// (beyond [`F64_FAST_LIMIT`], NaN, ±∞, or a reduction that may have cancelled:
     /// `|y0| < 2⁻¹⁶ |x|`, which holds whenever musl's exponent test of [`sin_cos_f64`] does), that
-    /// element is recomputed by [`sin_cos_f64`] ([`redo_lanes64`]). `|x| ≤ π/4` needs no select: the reduction then
-    /// gives `n = 0` and exactly `(|x|, 0)`, the arguments [`sin_cos_f64`] hands to the kernels
-    /// unreduced.
+    /// element is recomputed by [`sin_cos_f64`] ([`redo_lanes64`]), the others kept. `|x| ≤ π/4`
+    /// needs no select: the reduction then gives `n = 0` and exactly `(|x|, 0)`, the arguments
+    /// [`sin_cos_f64`] hands to the kernels unreduced.
     #[inline(always)]
     pub fn sin_cos_f64_lanes<const W: usize>(x: &[f64; W]) -> ([f64; W], [f64; W]) {
         #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
@@ -1220,8 +1221,9 @@ pub mod fast {
     /// all of them, so the compiler can put them in vector registers. If any element needs more
     /// (beyond [`F32_FAST_LIMIT`], NaN, ±∞, or a reduction that may have cancelled:
     /// `|y0| < 2⁻⁸ |x|`, which holds whenever the exponent test of [`sin_cos_f32`] does), that
-    /// element is recomputed by [`sin_cos_f32`], the others kept. For `|x| ≤ π/4` the reduction gives `n = 0` and exactly
-    /// `(|x|, +0)`, the arguments [`sin_cos_f32`] hands to the kernels unreduced.
+    /// element is recomputed by [`sin_cos_f32`], the others kept. For `|x| ≤ π/4` the reduction
+    /// gives `n = 0` and exactly `(|x|, +0)`, the arguments [`sin_cos_f32`] hands to the kernels
+    /// unreduced.
     #[inline(always)]
     pub fn sin_cos_f32_lanes<const W: usize>(x: &[f32; W]) -> ([f32; W], [f32; W]) {
         const ABS: u32 = !(1u32 << 31);
