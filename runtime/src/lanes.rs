@@ -681,7 +681,8 @@ mod tests {
             f64::NAN,
         ];
         // In blocks of one kind, so that most groups of lanes take the side-by-side path (one
-        // argument that needs the careful reduction sends its whole group to the scalar one).
+        // argument that needs the careful reduction sends its lane, or on `F64x4`'s own vector
+        // its four lanes, to the scalar function).
         for i in 0..n {
             let u = (r.next() >> 11) as f64 / (1u64 << 53) as f64;
             v.push(match 4 * i / n {

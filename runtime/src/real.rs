@@ -375,9 +375,10 @@ pub mod fast {
     /// Two `f64` in one SSE2 register, for [`sin_cos_f64_lanes`] on x86-64 targets with SSE2
     /// and without AVX2 (the default target; AVX without AVX2 too). There the compiler
     /// vectorised the lanes' scalar paths only in part (seven joints 498–519 instructions,
-    /// 45–48 ns), and elementwise maps over eight lanes as much as its settings let it (394 instructions with 16 codegen units, 644 with
-    /// one); operations written on the register pair give the same 451 instructions and 36–38 ns
-    /// under either setting (BENCHMARKS.md, "Trigonometry on AVX2 and SSE2").
+    /// 45–48 ns), and elementwise maps over eight lanes as much as its settings let it (394
+    /// instructions with 16 codegen units, 644 with one); operations written on the register pair
+    /// give the same 451 instructions and 36–38 ns under either setting (BENCHMARKS.md,
+    /// "Trigonometry on AVX2 and SSE2").
     ///
     /// Every operation is one SSE2 intrinsic on registers: no memory is read or written through
     /// a pointer. The intrinsics' only precondition is that the CPU has SSE2, and this module is
@@ -960,7 +961,7 @@ pub mod fast {
     /// all of them, so the compiler can put them in vector registers. If any element needs more
     /// (beyond [`F64_FAST_LIMIT`], NaN, ±∞, or a reduction that may have cancelled:
     /// `|y0| < 2⁻¹⁶ |x|`, which holds whenever musl's exponent test of [`sin_cos_f64`] does), that
-    /// element is recomputed by [`sin_cos_f64`] ([`redo_lanes64`]), the others kept. `|x| ≤ π/4`
+    /// element is recomputed by [`sin_cos_f64`], the others kept. `|x| ≤ π/4`
     /// needs no select: the reduction then gives `n = 0` and exactly `(|x|, 0)`, the arguments
     /// [`sin_cos_f64`] hands to the kernels unreduced.
     #[inline(always)]
@@ -1066,7 +1067,8 @@ pub mod fast {
         lane_needs_care64(ax, one_step64(ax).0)
     }
 
-    /// The rare path of every group of `f64` lanes, out of line: the lanes that fail
+    /// The rare path of the `f64` groups, out of line (the SSE2 pairs, the AVX2 groups chosen at
+    /// run time, and [`sin_cos_f64_lanes`] beyond eight lanes): the lanes that fail
     /// [`lane_needs_care64`] recomputed by [`sin_cos_f64`], the others kept, being its bits
     /// already. One argument near a multiple of π/2 (a joint at ±π/2, common in robots' home
     /// poses) costs one careful reduction, not a whole group recomputed one element at a time.
@@ -1241,8 +1243,8 @@ pub mod fast {
         if slow {
             // Only the lanes that failed the test, the others holding `sin_cos_f32`'s bits
             // already. Beyond eight lanes out of line: in line, `F32x8`'s sixteen lanes took
-            // 1.4x the time (its 64 Panda configurations' sines and cosines 0.72-0.75 us
-            // against 0.49-0.53); up to eight in line: out of line, the scalar `f32` Panda's
+            // 1.4-1.6x the time (its 64 Panda configurations' sines and cosines 0.72-0.77 us
+            // against 0.48-0.53); up to eight in line: out of line, the scalar `f32` Panda's
             // seven joints took 1.1x the time (BENCHMARKS.md, "Only the lanes that need it").
             if W > 8 {
                 return redo_lanes32(x, s, c);

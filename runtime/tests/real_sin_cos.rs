@@ -225,11 +225,11 @@ fn f32_exhaustive_fast_path() {
     );
 }
 
-/// `sin_cos_f64_lanes` (eight, four and two lanes) and `sin_cos_f64_array` (what generated code calls through
-/// `Real::sin_cos_array`; of three to eight elements, on AVX2 quads chosen at run time where a
-/// default-target build runs on a CPU with AVX2) are `sin_cos_f64` of each element, bit for bit: random arguments, the
-/// neighbours of π/4 and of multiples of π/2 (where the careful reduction takes over), huge
-/// arguments, NaN and ±∞, in arrays that mix them.
+/// `sin_cos_f64_lanes` (eight, four and two lanes) and `sin_cos_f64_array` (what generated code
+/// calls through `Real::sin_cos_array`; of three to eight elements, on AVX2 quads chosen at run
+/// time where a default-target build runs on a CPU with AVX2) are `sin_cos_f64` of each element,
+/// bit for bit: random arguments, the neighbours of π/4 and of multiples of π/2 (where the
+/// careful reduction takes over), huge arguments, NaN and ±∞, in arrays that mix them.
 #[test]
 fn array_version_equals_the_scalar_one_bit_for_bit() {
     use trocar::real::fast::{sin_cos_f64_array, sin_cos_f64_lanes, sin_cos_f64_x4};
@@ -403,7 +403,7 @@ fn small_arguments_need_no_reduction_in_lanes() {
 /// `sin_cos_f64_lanes` of every width from 0 to 11 and of 16 (odd widths pair their last lane
 /// with itself where the lanes are SSE2 pairs; beyond eight lanes the pairs go on in a loop, and
 /// the rare path is out of line), bit for bit the scalar `sin_cos_f64`, with one lane in eleven
-/// sent to the careful path (only that lane recomputed: a wrong lane kept or dropped fails it).
+/// sent to the careful path (that lane left on the side-by-side path's value fails it).
 #[test]
 fn lanes_of_every_width_equal_the_scalar_one() {
     use trocar::real::fast::{sin_cos_f64, sin_cos_f64_lanes};
@@ -454,9 +454,9 @@ fn lanes_of_every_width_equal_the_scalar_one() {
 /// `sin_cos_f32_array` (what generated `f32` code calls through `Real::sin_cos_array`: groups of
 /// eight, the last padded, where the target has vector registers for `f32`) and
 /// `sin_cos_f32_lanes` (the group kernel; `F32x8` runs it on sixteen lanes, where its rare path
-/// is out of line) of every length from 1 to 19, bit for bit the scalar `sin_cos_f32`: random
+/// is out of line) of lengths 1–11, 16, 17 and 19, bit for bit the scalar `sin_cos_f32`: random
 /// and special arguments, with some groups holding an argument that needs the careful reduction
-/// (only that lane recomputed: a wrong lane kept or dropped fails it).
+/// (that lane left on the side-by-side path's value fails it).
 #[test]
 fn f32_arrays_of_every_length_equal_the_scalar_one() {
     use trocar::real::fast::{sin_cos_f32_array, sin_cos_f32_lanes};
