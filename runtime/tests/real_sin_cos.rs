@@ -518,3 +518,38 @@ fn f32_arrays_of_every_length_equal_the_scalar_one() {
         check::<19>(&x);
     }
 }
+
+/// Seven joints, one of them at a multiple of π/2 (a joint at ±π/2, as in a robot's home pose)
+/// among ordinary ones, at every position: `sin_cos_f64_array` and `sin_cos_f32_array` (one
+/// group of eight: on AVX2 chosen at run time or on SSE2 pairs at the default target, compiled
+/// for AVX2 or AVX-512 otherwise) bit for bit the scalar functions. Only that lane takes the
+/// careful reduction; left on the group's value, it fails this test.
+#[test]
+fn one_joint_at_a_multiple_of_half_pi_among_seven() {
+    use core::f64::consts::FRAC_PI_2;
+    use trocar::real::fast::{sin_cos_f32_array, sin_cos_f64_array};
+    let mut r = Lcg(7);
+    for round in 0..700 {
+        let mut x: [f64; 7] = core::array::from_fn(|_| (r.unit() - 0.5) * 5.0);
+        x[round % 7] = [1.0, -1.0, 2.0, 3.0, -3.0][round % 5] * FRAC_PI_2;
+        let (s, c) = sin_cos_f64_array(&x);
+        let x32 = x.map(|v| v as f32);
+        let (s32, c32) = sin_cos_f32_array(&x32);
+        for k in 0..7 {
+            let (ws, wc) = sin_cos_f64(x[k]);
+            assert_eq!(
+                (s[k].to_bits(), c[k].to_bits()),
+                (ws.to_bits(), wc.to_bits()),
+                "f64, element {k}, x = {:e}",
+                x[k]
+            );
+            let (ws, wc) = sin_cos_f32(x32[k]);
+            assert_eq!(
+                (s32[k].to_bits(), c32[k].to_bits()),
+                (ws.to_bits(), wc.to_bits()),
+                "f32, element {k}, x = {:e}",
+                x32[k]
+            );
+        }
+    }
+}
