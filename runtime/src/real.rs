@@ -995,11 +995,7 @@ pub mod fast {
             if W > 8 {
                 return redo_lanes64(x, s, c);
             }
-            for k in 0..W {
-                if needs_care64(x[k]) {
-                    (s[k], c[k]) = sin_cos_f64(x[k]);
-                }
-            }
+            recompute_failing_lanes64(x, &mut s, &mut c);
         }
         (s, c)
     }
@@ -1079,12 +1075,20 @@ pub mod fast {
         mut s: [f64; W],
         mut c: [f64; W],
     ) -> ([f64; W], [f64; W]) {
+        recompute_failing_lanes64(x, &mut s, &mut c);
+        (s, c)
+    }
+
+    /// The lanes of `x` that fail [`lane_needs_care64`] into `s`, `c` through [`sin_cos_f64`]
+    /// (the others are left, holding its bits already): the rare path of the groups, in line
+    /// (up to eight lanes) or out of line ([`redo_lanes64`]).
+    #[inline(always)]
+    fn recompute_failing_lanes64<const W: usize>(x: &[f64; W], s: &mut [f64; W], c: &mut [f64; W]) {
         for k in 0..W {
             if needs_care64(x[k]) {
                 (s[k], c[k]) = sin_cos_f64(x[k]);
             }
         }
-        (s, c)
     }
 
     const FRAC_2_PI_32: f32 = 0.636_619_75;
@@ -1249,11 +1253,7 @@ pub mod fast {
             if W > 8 {
                 return redo_lanes32(x, s, c);
             }
-            for k in 0..W {
-                if needs_care32(x[k]) {
-                    (s[k], c[k]) = sin_cos_f32(x[k]);
-                }
-            }
+            recompute_failing_lanes32(x, &mut s, &mut c);
         }
         (s, c)
     }
@@ -1268,12 +1268,20 @@ pub mod fast {
         mut s: [f32; W],
         mut c: [f32; W],
     ) -> ([f32; W], [f32; W]) {
+        recompute_failing_lanes32(x, &mut s, &mut c);
+        (s, c)
+    }
+
+    /// The lanes of `x` that fail [`lane_needs_care32`] into `s`, `c` through [`sin_cos_f32`]
+    /// (the others are left, holding its bits already): the rare path of the groups, in line
+    /// (up to eight lanes) or out of line ([`redo_lanes32`]).
+    #[inline(always)]
+    fn recompute_failing_lanes32<const W: usize>(x: &[f32; W], s: &mut [f32; W], c: &mut [f32; W]) {
         for k in 0..W {
             if needs_care32(x[k]) {
                 (s[k], c[k]) = sin_cos_f32(x[k]);
             }
         }
-        (s, c)
     }
 
     /// [`sin_cos_f32_lanes`]' test of one lane: beyond [`F32_FAST_LIMIT`] (NaN and ±∞ included),
