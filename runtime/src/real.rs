@@ -256,7 +256,7 @@ pub mod fast {
     use core::ops::{Add, Mul, Sub};
 
     #[inline(always)]
-    fn two_sum64(a: f64, b: f64) -> (f64, f64) {
+    fn two_sum64<T: Ops>(a: T, b: T) -> (T, T) {
         let s = a + b;
         let bb = s - a;
         (s, (a - (s - bb)) + (b - bb))
@@ -561,25 +561,36 @@ pub mod fast {
     #[cold]
     #[inline(never)]
     fn careful64(x: f64) -> (f64, f64) {
-        const P1: f64 = 1.57079632673412561417e+00;
-        const P2: f64 = 6.07710050630396597660e-11;
-        const P3: f64 = 2.02226624871116645580e-21;
-        const P4: f64 = 8.47842766036889956997e-32;
         let sign = x.to_bits() & (1u64 << 63);
         let ax = f64::from_bits(x.to_bits() & !(1u64 << 63));
         if !(ax <= F64_FAST_LIMIT) {
             return (libm::sin(x), libm::cos(x));
         }
-        let t = ax * FRAC_2_PI_64 + TOINT_64;
-        let quadrant = t.to_bits();
-        let fnum = t - TOINT_64;
-        let r1 = ax - fnum * P1; // exact (Sterbenz)
-        let (r2, e1) = two_sum64(r1, -(fnum * P2));
-        let (hi, e2) = two_sum64(r2, -(fnum * P3));
-        let lo = (e1 + e2) - fnum * P4;
+        let (y0, y1, t) = careful_reduction64(ax);
+        finish64(y0, y1, t.to_bits(), sign)
+    }
+
+    /// [`careful64`]'s reduction of `ax = |x| ≤ F64_FAST_LIMIT`: `(y0, y1, t)` with
+    /// `ax = n·π/2 + (y0 + y1)` and `t`'s bits holding `n mod 2⁶⁴`, as [`one_step64`]; for one
+    /// argument, and for the lanes of [`careful_lanes64`] side by side.
+    #[inline(always)]
+    fn careful_reduction64<T: Ops>(ax: T) -> (T, T, T) {
+        const P1: f64 = 1.57079632673412561417e+00;
+        const P2: f64 = 6.07710050630396597660e-11;
+        const P3: f64 = 2.02226624871116645580e-21;
+        const P4: f64 = 8.47842766036889956997e-32;
+        let k = T::splat;
+        let t = ax * k(FRAC_2_PI_64) + k(TOINT_64);
+        let fnum = t - k(TOINT_64);
+        let r1 = ax - fnum * k(P1); // exact (Sterbenz)
+                                    // `0 − a` is `−a` for every `a ≠ 0`; `fnum · P2`, `fnum · P3` are nonzero wherever the
+                                    // result is used (`n ≥ 1`: `|x| > π/4`).
+        let (r2, e1) = two_sum64(r1, k(0.0) - fnum * k(P2));
+        let (hi, e2) = two_sum64(r2, k(0.0) - fnum * k(P3));
+        let lo = (e1 + e2) - fnum * k(P4);
         let y0 = hi + lo;
         let y1 = (hi - y0) + lo;
-        finish64(y0, y1, quadrant, sign)
+        (y0, y1, t)
     }
 
     /// `(sin x, cos x)` for `f64`, < 1 ulp (see the [module docs](self)).
@@ -598,9 +609,7 @@ pub mod fast {
             return careful64(x);
         }
         let (y0, y1, t) = one_step64(ax);
-        let ex = (ax.to_bits() >> 52) as i64;
-        let ey = ((y0.to_bits() >> 52) & 0x7ff) as i64;
-        if ex - ey > 16 {
+        if cancelled64(ax, y0) {
             return careful64(x);
         }
         finish64(y0, y1, t.to_bits(), sign)
@@ -658,9 +667,10 @@ pub mod fast {
     }
 
     /// [`sin_cos_f64`] of each lane of a `wide::f64x4`, bit for bit, computed on the vector
-    /// ([`main_path`]); if a lane needs more, every lane through [`sin_cos_f64`] (of four lanes,
-    /// at the default target, with the Panda at its ready pose: recomputing only the lanes that
-    /// need it, in line or out of line, measured 1.1x slower).
+    /// ([`main_path`]); if a lane needs more, every lane through [`sin_cos_f64`]. Of four lanes,
+    /// at the default target, recomputing only the lanes that need it (in line or out of line)
+    /// made the Panda at its ready pose 1.1x slower, and the careful reduction on all four
+    /// ([`careful_lanes64`]) made it 0.95x but random configurations 1.03-1.05x slower.
     #[cfg(feature = "lanes")]
     #[inline(always)]
     pub(crate) fn sin_cos_f64x4(x: wide::f64x4) -> (wide::f64x4, wide::f64x4) {
@@ -793,7 +803,10 @@ pub mod fast {
     mod avx2 {
         use core::arch::x86_64::*;
 
-        use super::{main_path, Vector, SIGN};
+        use super::{
+            cancelled64, careful_reduction64, kernels64, main_path, one_step64, Vector,
+            F64_FAST_LIMIT, SIGN,
+        };
 
         /// `x` (three to eight elements) as one group of eight on AVX2, padded with its last
         /// element, where the CPU (and the operating system) supports AVX2 (std's detection,
@@ -833,16 +846,62 @@ pub mod fast {
             let c = core::array::from_fn(|k| if k < 4 { c0[k] } else { c1[k - 4] });
             if (slow0 | slow1) != 0 {
                 let x = [x0, x1, x2, x3, x4, x5, x6, x7];
-                let (s, c) = super::redo_lanes64::<8>(&x, s, c);
-                return (
-                    core::array::from_fn(|k| s[k]),
-                    core::array::from_fn(|k| c[k]),
-                );
+                // SAFETY: this function's own precondition (AVX2).
+                return unsafe { careful::<N>(&x, s, c) };
             }
             (
                 core::array::from_fn(|k| s[k]),
                 core::array::from_fn(|k| c[k]),
             )
+        }
+
+        /// The rare path of [`eight`], out of line: [`super::careful_reductions64`] on the two
+        /// `Quad`s, compiled for AVX2 like them (the careful reduction and both kernels on all
+        /// eight lanes, taken where [`cancelled64`] sends [`super::sin_cos_f64`] to its careful
+        /// reduction; lanes beyond [`F64_FAST_LIMIT`], NaN and ±∞ one at a time through
+        /// [`super::sin_cos_f64`]). The Panda at its ready pose (`q6 = π/2`), default target:
+        /// 0.86-0.94x the time of recomputing the failing lane through the scalar function
+        /// (BENCHMARKS.md, "The careful reduction on all lanes").
+        ///
+        /// # Safety
+        /// The CPU must have AVX2.
+        #[cold]
+        #[inline(never)]
+        #[target_feature(enable = "avx2")]
+        unsafe fn careful<const N: usize>(
+            x: &[f64; 8],
+            s: [f64; 8],
+            c: [f64; 8],
+        ) -> ([f64; N], [f64; N]) {
+            let [s0, c0, a0, y0] = careful_quad(x[0], x[1], x[2], x[3]);
+            let [s1, c1, a1, y1] = careful_quad(x[4], x[5], x[6], x[7]);
+            // Written element by element into the caller's result (no closures: they would not
+            // be compiled for AVX2 inside `core::array::from_fn`).
+            let mut r = ([0.0; N], [0.0; N]);
+            for k in 0..N {
+                let (l, a, y) = if k < 4 { (k, a0, y0) } else { (k - 4, a1, y1) };
+                (r.0[k], r.1[k]) = if !(a[l] <= F64_FAST_LIMIT) {
+                    super::sin_cos_f64(x[k])
+                } else if !cancelled64(a[l], y[l]) {
+                    (s[k], c[k])
+                } else if k < 4 {
+                    (s0[l], c0[l])
+                } else {
+                    (s1[l], c1[l])
+                };
+            }
+            r
+        }
+
+        /// The careful reduction, both kernels and the select on one `Quad` (in line in
+        /// [`careful`]): `(sin, cos, |x|, the one-step reduction's y0)` of each lane.
+        #[inline(always)]
+        fn careful_quad(a: f64, b: f64, c: f64, d: f64) -> [[f64; 4]; 4] {
+            let (ax, sign) = Quad::new(a, b, c, d).abs_and_sign();
+            let (y0, y1, t) = careful_reduction64(ax);
+            let (s, c) = kernels64(y0, y1);
+            let (s, c) = Quad::select(s, c, t, sign);
+            [s.lanes(), c.lanes(), ax.lanes(), one_step64(ax).0.lanes()]
         }
 
         /// Four `f64` in one AVX register (lane 0 first).
@@ -960,10 +1019,11 @@ pub mod fast {
     /// [`sin_cos_f64`] (one-step reduction, both kernels, quadrant select) runs branch-free on
     /// all of them, so the compiler can put them in vector registers. If any element needs more
     /// (beyond [`F64_FAST_LIMIT`], NaN, ±∞, or a reduction that may have cancelled:
-    /// `|y0| < 2⁻¹⁶ |x|`, which holds whenever musl's exponent test of [`sin_cos_f64`] does), that
-    /// element is recomputed by [`sin_cos_f64`], the others kept. `|x| ≤ π/4`
-    /// needs no select: the reduction then gives `n = 0` and exactly `(|x|, 0)`, the arguments
-    /// [`sin_cos_f64`] hands to the kernels unreduced.
+    /// `|y0| < 2⁻¹⁶ |x|`, which holds whenever musl's exponent test of [`sin_cos_f64`] does),
+    /// the elements that [`sin_cos_f64`] sends to its careful reduction take it (on all lanes
+    /// side by side where the compiler vectorises them, one element at a time on SSE2's pairs),
+    /// the others are kept. `|x| ≤ π/4` needs no select: the reduction then gives `n = 0` and
+    /// exactly `(|x|, 0)`, the arguments [`sin_cos_f64`] hands to the kernels unreduced.
     #[inline(always)]
     pub fn sin_cos_f64_lanes<const W: usize>(x: &[f64; W]) -> ([f64; W], [f64; W]) {
         #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
@@ -989,13 +1049,13 @@ pub mod fast {
             (s[k], c[k]) = finish64(y0, y1, t.to_bits(), sign);
         }
         if slow {
-            // Only the lanes that failed the test, the others holding `sin_cos_f64`'s bits
-            // already; out of line beyond eight lanes, in line up to eight (see
-            // `sin_cos_f32_lanes`).
+            // The careful reduction on all lanes, taken by those that need it, the others
+            // holding `sin_cos_f64`'s bits already; out of line beyond eight lanes, in line up
+            // to eight (see `sin_cos_f32_lanes`).
             if W > 8 {
-                return redo_lanes64(x, s, c);
+                return careful_lanes64(x, s, c);
             }
-            recompute_failing_lanes64(x, &mut s, &mut c);
+            careful_reductions64(x, &mut s, &mut c);
         }
         (s, c)
     }
@@ -1063,11 +1123,22 @@ pub mod fast {
         lane_needs_care64(ax, one_step64(ax).0)
     }
 
-    /// The rare path of the `f64` groups, out of line (the SSE2 pairs, the AVX2 groups chosen at
-    /// run time, and [`sin_cos_f64_lanes`] beyond eight lanes): the lanes that fail
-    /// [`lane_needs_care64`] recomputed by [`sin_cos_f64`], the others kept, being its bits
-    /// already. One argument near a multiple of π/2 (a joint at ±π/2, common in robots' home
-    /// poses) costs one careful reduction, not a whole group recomputed one element at a time.
+    /// musl's exponent test of [`sin_cos_f64`]: the one-step reduction `y0` of `ax = |x|` lost
+    /// more than 16 bits (false for `|x| ≤ π/4`, whose reduction is `ax` itself).
+    #[inline(always)]
+    fn cancelled64(ax: f64, y0: f64) -> bool {
+        let ex = (ax.to_bits() >> 52) as i64;
+        let ey = ((y0.to_bits() >> 52) & 0x7ff) as i64;
+        ex - ey > 16
+    }
+
+    /// The rare path of the SSE2 pairs, out of line: the lanes that fail [`lane_needs_care64`]
+    /// recomputed by [`sin_cos_f64`], the others kept, being its bits already. One argument
+    /// near a multiple of π/2 (a joint at ±π/2, common in robots' home poses) costs one careful
+    /// reduction, not a whole group recomputed one element at a time, nor
+    /// [`careful_lanes64`]'s one per lane, which code built for the default target runs one
+    /// after the other (from the AVX2 groups chosen at run time, the Panda at its ready pose
+    /// took 1.3x the time that way).
     #[cold]
     #[inline(never)]
     fn redo_lanes64<const W: usize>(
@@ -1075,18 +1146,54 @@ pub mod fast {
         mut s: [f64; W],
         mut c: [f64; W],
     ) -> ([f64; W], [f64; W]) {
-        recompute_failing_lanes64(x, &mut s, &mut c);
-        (s, c)
-    }
-
-    /// The lanes of `x` that fail [`lane_needs_care64`] into `s`, `c` through [`sin_cos_f64`]
-    /// (the others are left, holding its bits already): the rare path of the groups, in line
-    /// (up to eight lanes) or out of line ([`redo_lanes64`]).
-    #[inline(always)]
-    fn recompute_failing_lanes64<const W: usize>(x: &[f64; W], s: &mut [f64; W], c: &mut [f64; W]) {
         for k in 0..W {
             if needs_care64(x[k]) {
                 (s[k], c[k]) = sin_cos_f64(x[k]);
+            }
+        }
+        (s, c)
+    }
+
+    /// The rare path of the compiler-vectorised groups beyond eight lanes and of `F64x4`'s own
+    /// vector, out of line: [`careful_reductions64`].
+    #[cold]
+    #[inline(never)]
+    fn careful_lanes64<const W: usize>(
+        x: &[f64; W],
+        mut s: [f64; W],
+        mut c: [f64; W],
+    ) -> ([f64; W], [f64; W]) {
+        careful_reductions64(x, &mut s, &mut c);
+        (s, c)
+    }
+
+    /// The rare path of the compiler-vectorised groups (in line up to eight lanes, out of line
+    /// beyond through [`careful_lanes64`]), branch-free on all `W` lanes so that the compiler
+    /// vectorises it too: the careful reduction and both kernels on every lane, taken where
+    /// [`cancelled64`] sends [`sin_cos_f64`] to [`careful64`] (the other lanes keep the main
+    /// path's results in `s`, `c`, which are [`sin_cos_f64`]'s bits); then lanes beyond
+    /// [`F64_FAST_LIMIT`] (NaN, ±∞) one at a time through [`sin_cos_f64`] (`libm`). Four
+    /// configurations of the Panda at its ready pose (`q6 = π/2`) on `F64x4` cost one vector
+    /// pass instead of four scalar careful reductions (BENCHMARKS.md, "The careful reduction on
+    /// all lanes").
+    #[inline(always)]
+    fn careful_reductions64<const W: usize>(x: &[f64; W], s: &mut [f64; W], c: &mut [f64; W]) {
+        let mut beyond = false;
+        for k in 0..W {
+            let sign = x[k].to_bits() & SIGN;
+            let ax = f64::from_bits(x[k].to_bits() & !SIGN);
+            beyond |= !(ax <= F64_FAST_LIMIT);
+            let take = cancelled64(ax, one_step64(ax).0);
+            let (y0, y1, t) = careful_reduction64(ax);
+            let (sc, cc) = finish64(y0, y1, t.to_bits(), sign);
+            s[k] = if take { sc } else { s[k] };
+            c[k] = if take { cc } else { c[k] };
+        }
+        if beyond {
+            for k in 0..W {
+                if !(f64::from_bits(x[k].to_bits() & !SIGN) <= F64_FAST_LIMIT) {
+                    (s[k], c[k]) = sin_cos_f64(x[k]);
+                }
             }
         }
     }
@@ -1122,17 +1229,24 @@ pub mod fast {
     #[cold]
     #[inline(never)]
     fn careful32(x: f32) -> (f32, f32) {
-        const P1: f32 = 1.570_800_8; // 0x1.922p0
-        const P2: f32 = -4.453_584_6e-6; // -0x1.2aep-18
-        const P3: f32 = -8.706_138e-10; // -0x1.deap-31
-        const P4: f32 = 6.223_372e-14; // 0x1.184698p-44
         let sign = x.to_bits() & (1u32 << 31);
         let ax = f32::from_bits(x.to_bits() & !(1u32 << 31));
         if !(ax <= F32_FAST_LIMIT) {
             return (libm::sinf(x), libm::cosf(x));
         }
+        let (y0, y1, t) = careful_reduction32(ax);
+        finish32(y0, y1, t.to_bits(), sign)
+    }
+
+    /// [`careful32`]'s reduction of `ax = |x| ≤ F32_FAST_LIMIT`: `(y0, y1, t)` as
+    /// [`reduce32`]; for one argument, and for the lanes of [`careful_lanes32`] side by side.
+    #[inline(always)]
+    fn careful_reduction32(ax: f32) -> (f32, f32, f32) {
+        const P1: f32 = 1.570_800_8; // 0x1.922p0
+        const P2: f32 = -4.453_584_6e-6; // -0x1.2aep-18
+        const P3: f32 = -8.706_138e-10; // -0x1.deap-31
+        const P4: f32 = 6.223_372e-14; // 0x1.184698p-44
         let t = ax * FRAC_2_PI_32 + TOINT_32;
-        let quadrant = t.to_bits();
         let fnum = t - TOINT_32;
         let r1 = ax - fnum * P1;
         let (r2, e1) = two_sum32(r1, -(fnum * P2));
@@ -1140,7 +1254,7 @@ pub mod fast {
         let lo = (e1 + e2) - fnum * P4;
         let y0 = hi + lo;
         let y1 = (hi - y0) + lo;
-        finish32(y0, y1, quadrant, sign)
+        (y0, y1, t)
     }
 
     /// The one-step reduction of `ax = |x|` (`P1` of 12 bits, `n·P1` exact, `P1T = π/2 − P1`):
@@ -1172,9 +1286,7 @@ pub mod fast {
         }
         let (y0, y1, t) = reduce32(ax);
         let quadrant = t.to_bits();
-        let ex = (ax.to_bits() >> 23) as i32;
-        let ey = ((y0.to_bits() >> 23) & 0xff) as i32;
-        if ex - ey > 8 {
+        if cancelled32(ax, y0) {
             return careful32(x);
         }
         finish32(y0, y1, quadrant, sign)
@@ -1226,8 +1338,9 @@ pub mod fast {
     /// [`sin_cos_f32`] (one-step reduction, both kernels, quadrant select) runs branch-free on
     /// all of them, so the compiler can put them in vector registers. If any element needs more
     /// (beyond [`F32_FAST_LIMIT`], NaN, ±∞, or a reduction that may have cancelled:
-    /// `|y0| < 2⁻⁸ |x|`, which holds whenever the exponent test of [`sin_cos_f32`] does), that
-    /// element is recomputed by [`sin_cos_f32`], the others kept. For `|x| ≤ π/4` the reduction
+    /// `|y0| < 2⁻⁸ |x|`, which holds whenever the exponent test of [`sin_cos_f32`] does), the
+    /// careful reduction runs on all lanes side by side and the elements that [`sin_cos_f32`]
+    /// sends to it take its result, the others are kept. For `|x| ≤ π/4` the reduction
     /// gives `n = 0` and exactly `(|x|, +0)`, the arguments [`sin_cos_f32`] hands to the kernels
     /// unreduced.
     #[inline(always)]
@@ -1245,58 +1358,82 @@ pub mod fast {
             (s[k], c[k]) = finish32(y0, y1, quadrant, sign);
         }
         if slow {
-            // Only the lanes that failed the test, the others holding `sin_cos_f32`'s bits
-            // already. Beyond eight lanes out of line: in line, `F32x8`'s sixteen lanes took
-            // 1.4-1.6x the time (its 64 Panda configurations' sines and cosines 0.72-0.77 us
-            // against 0.48-0.53); up to eight in line: out of line, the scalar `f32` Panda's
-            // seven joints took 1.1x the time (BENCHMARKS.md, "Only the lanes that need it").
+            // The careful reduction on all lanes, taken by those that need it, the others
+            // holding `sin_cos_f32`'s bits already. Beyond eight lanes out of line: in line,
+            // `F32x8`'s sixteen lanes took 1.4-1.6x the time (its 64 Panda configurations'
+            // sines and cosines 0.72-0.77 us against 0.48-0.53, BENCHMARKS.md, "Only the lanes
+            // that need it"); up to eight in line: out of line, the scalar Panda's seven joints
+            // took 1.3x the time in `f32` and 1.3-1.35x in `f64` on random configurations
+            // (BENCHMARKS.md, "The careful reduction on all lanes").
             if W > 8 {
-                return redo_lanes32(x, s, c);
+                return careful_lanes32(x, s, c);
             }
-            recompute_failing_lanes32(x, &mut s, &mut c);
+            careful_reductions32(x, &mut s, &mut c);
         }
         (s, c)
     }
 
-    /// The rare path of [`sin_cos_f32_lanes`] beyond eight lanes, out of line: the lanes that
-    /// fail [`lane_needs_care32`] recomputed by [`sin_cos_f32`], the others kept, being its bits
-    /// already.
+    /// [`sin_cos_f32`]'s exponent test: the one-step reduction `y0` of `ax = |x|` lost more
+    /// than 8 bits (false for `|x| ≤ π/4`, whose reduction is `ax` itself).
+    #[inline(always)]
+    fn cancelled32(ax: f32, y0: f32) -> bool {
+        let ex = (ax.to_bits() >> 23) as i32;
+        let ey = ((y0.to_bits() >> 23) & 0xff) as i32;
+        ex - ey > 8
+    }
+
+    /// The rare path of [`sin_cos_f32_lanes`] beyond eight lanes, out of line:
+    /// [`careful_reductions32`].
     #[cold]
     #[inline(never)]
-    fn redo_lanes32<const W: usize>(
+    fn careful_lanes32<const W: usize>(
         x: &[f32; W],
         mut s: [f32; W],
         mut c: [f32; W],
     ) -> ([f32; W], [f32; W]) {
-        recompute_failing_lanes32(x, &mut s, &mut c);
+        careful_reductions32(x, &mut s, &mut c);
         (s, c)
     }
 
-    /// The lanes of `x` that fail [`lane_needs_care32`] into `s`, `c` through [`sin_cos_f32`]
-    /// (the others are left, holding its bits already): the rare path of the groups, in line
-    /// (up to eight lanes) or out of line ([`redo_lanes32`]).
+    /// The rare path of [`sin_cos_f32_lanes`] (in line up to eight lanes, out of line beyond
+    /// through [`careful_lanes32`]), branch-free on all `W` lanes so that the compiler
+    /// vectorises it too: the careful reduction and both kernels on every lane, taken where
+    /// [`cancelled32`] sends [`sin_cos_f32`] to [`careful32`] (the other lanes keep the main
+    /// path's results in `s`, `c`, which are [`sin_cos_f32`]'s bits); then lanes beyond
+    /// [`F32_FAST_LIMIT`] (NaN, ±∞) one at a time through [`sin_cos_f32`] (`libm`). `F32x8` with
+    /// a joint at ±π/2 in every configuration (eight lanes of a group of sixteen) costs one
+    /// vector pass instead of eight scalar careful reductions (BENCHMARKS.md, "The careful
+    /// reduction on all lanes").
     #[inline(always)]
-    fn recompute_failing_lanes32<const W: usize>(x: &[f32; W], s: &mut [f32; W], c: &mut [f32; W]) {
+    fn careful_reductions32<const W: usize>(x: &[f32; W], s: &mut [f32; W], c: &mut [f32; W]) {
+        const SIGN32: u32 = 1 << 31;
+        let mut beyond = false;
         for k in 0..W {
-            if needs_care32(x[k]) {
-                (s[k], c[k]) = sin_cos_f32(x[k]);
+            let sign = x[k].to_bits() & SIGN32;
+            let ax = f32::from_bits(x[k].to_bits() & !SIGN32);
+            beyond |= !(ax <= F32_FAST_LIMIT);
+            let take = cancelled32(ax, reduce32(ax).0);
+            let (y0, y1, t) = careful_reduction32(ax);
+            let (sc, cc) = finish32(y0, y1, t.to_bits(), sign);
+            s[k] = if take { sc } else { s[k] };
+            c[k] = if take { cc } else { c[k] };
+        }
+        if beyond {
+            for k in 0..W {
+                if !(f32::from_bits(x[k].to_bits() & !SIGN32) <= F32_FAST_LIMIT) {
+                    (s[k], c[k]) = sin_cos_f32(x[k]);
+                }
             }
         }
     }
 
     /// [`sin_cos_f32_lanes`]' test of one lane: beyond [`F32_FAST_LIMIT`] (NaN and ±∞ included),
-    /// or a reduction `y0` of `|x|` that may have cancelled (`|y0| < 2⁻⁸ |x|`).
+    /// or a reduction `y0` of `|x|` that may have cancelled (`|y0| < 2⁻⁸ |x|`, which holds
+    /// whenever [`cancelled32`] does).
     #[inline(always)]
     fn lane_needs_care32(ax: f32, y0: f32) -> bool {
         const TWO_M8: f32 = 1.0 / 256.0;
         !(ax <= F32_FAST_LIMIT) | (f32::from_bits(y0.to_bits() & !(1u32 << 31)) < ax * TWO_M8)
-    }
-
-    /// [`lane_needs_care32`] of `x`, its reduction computed again.
-    #[inline(always)]
-    fn needs_care32(x: f32) -> bool {
-        let ax = f32::from_bits(x.to_bits() & !(1u32 << 31));
-        lane_needs_care32(ax, reduce32(ax).0)
     }
 }
 
