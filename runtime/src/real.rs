@@ -1154,8 +1154,8 @@ pub mod fast {
         (s, c)
     }
 
-    /// The rare path of the compiler-vectorised groups beyond eight lanes and of `F64x4`'s own
-    /// vector, out of line: [`careful_reductions64`].
+    /// The rare path of the compiler-vectorised groups beyond eight lanes, out of line:
+    /// [`careful_reductions64`].
     #[cold]
     #[inline(never)]
     fn careful_lanes64<const W: usize>(
