@@ -876,10 +876,10 @@ pub mod fast {
             // Written element by element into the caller's result (no closures: they would not
             // be compiled for AVX2 inside `core::array::from_fn`).
             let mut r = ([0.0; N], [0.0; N]);
-            for k in 0..N {
+            for (k, &xk) in x.iter().enumerate().take(N) {
                 let (l, [sm, cm, sc, cc, a, y]) = if k < 4 { (k, q0) } else { (k - 4, q1) };
                 (r.0[k], r.1[k]) = if !(a[l] <= F64_FAST_LIMIT) {
-                    super::sin_cos_f64(x[k])
+                    super::sin_cos_f64(xk)
                 } else if cancelled64(a[l], y[l]) {
                     (sc[l], cc[l])
                 } else {
@@ -1059,9 +1059,9 @@ pub mod fast {
             // holding `sin_cos_f64`'s bits already; out of line beyond eight lanes, in line up
             // to eight (see `sin_cos_f32_lanes`).
             if W > 8 {
-                return careful_lanes64(x, s, c);
+                return careful_lanes64(x);
             }
-            careful_reductions64(x, &mut s, &mut c);
+            return careful_reductions64(x);
         }
         (s, c)
     }
@@ -1164,36 +1164,35 @@ pub mod fast {
     /// [`careful_reductions64`].
     #[cold]
     #[inline(never)]
-    fn careful_lanes64<const W: usize>(
-        x: &[f64; W],
-        mut s: [f64; W],
-        mut c: [f64; W],
-    ) -> ([f64; W], [f64; W]) {
-        careful_reductions64(x, &mut s, &mut c);
-        (s, c)
+    fn careful_lanes64<const W: usize>(x: &[f64; W]) -> ([f64; W], [f64; W]) {
+        careful_reductions64(x)
     }
 
     /// The rare path of the compiler-vectorised groups (in line up to eight lanes, out of line
-    /// beyond through [`careful_lanes64`]), branch-free on all `W` lanes so that the compiler
-    /// vectorises it too: the careful reduction and both kernels on every lane, taken where
-    /// [`cancelled64`] sends [`sin_cos_f64`] to [`careful64`] (the other lanes keep the main
-    /// path's results in `s`, `c`, which are [`sin_cos_f64`]'s bits); then lanes beyond
-    /// [`F64_FAST_LIMIT`] (NaN, ±∞) one at a time through [`sin_cos_f64`] (`libm`). Four
-    /// configurations of the Panda at its ready pose (`q6 = π/2`) on `F64x4` cost one vector
-    /// pass instead of four scalar careful reductions (BENCHMARKS.md, "The careful reduction on
-    /// all lanes").
+    /// beyond through [`careful_lanes64`]), from `x` alone and branch-free on all `W` lanes so
+    /// that the compiler vectorises it too: both reductions of every lane, the careful one taken
+    /// where [`cancelled64`] sends [`sin_cos_f64`] to [`careful64`], then both kernels and the
+    /// select once (each lane [`sin_cos_f64`]'s bits); then lanes beyond [`F64_FAST_LIMIT`] (NaN,
+    /// ±∞) one at a time through [`sin_cos_f64`] (`libm`). Four configurations of the Panda at
+    /// its ready pose (`q6 = π/2`) on `F64x4` cost one vector pass instead of four scalar careful
+    /// reductions (BENCHMARKS.md, "The careful reduction on all lanes").
     #[inline(always)]
-    fn careful_reductions64<const W: usize>(x: &[f64; W], s: &mut [f64; W], c: &mut [f64; W]) {
+    fn careful_reductions64<const W: usize>(x: &[f64; W]) -> ([f64; W], [f64; W]) {
+        let mut s = [0.0; W];
+        let mut c = [0.0; W];
         let mut beyond = false;
         for k in 0..W {
             let sign = x[k].to_bits() & SIGN;
             let ax = f64::from_bits(x[k].to_bits() & !SIGN);
             beyond |= !(ax <= F64_FAST_LIMIT);
-            let take = cancelled64(ax, one_step64(ax).0);
-            let (y0, y1, t) = careful_reduction64(ax);
-            let (sc, cc) = finish64(y0, y1, t.to_bits(), sign);
-            s[k] = if take { sc } else { s[k] };
-            c[k] = if take { cc } else { c[k] };
+            let one_step = one_step64(ax);
+            let careful = careful_reduction64(ax);
+            let (y0, y1, t) = if cancelled64(ax, one_step.0) {
+                careful
+            } else {
+                one_step
+            };
+            (s[k], c[k]) = finish64(y0, y1, t.to_bits(), sign);
         }
         if beyond {
             for k in 0..W {
@@ -1202,6 +1201,7 @@ pub mod fast {
                 }
             }
         }
+        (s, c)
     }
 
     const FRAC_2_PI_32: f32 = 0.636_619_75;
@@ -1372,9 +1372,9 @@ pub mod fast {
             // took 1.3x the time in `f32` and 1.3-1.35x in `f64` on random configurations
             // (BENCHMARKS.md, "The careful reduction on all lanes").
             if W > 8 {
-                return careful_lanes32(x, s, c);
+                return careful_lanes32(x);
             }
-            careful_reductions32(x, &mut s, &mut c);
+            return careful_reductions32(x);
         }
         (s, c)
     }
@@ -1392,37 +1392,36 @@ pub mod fast {
     /// [`careful_reductions32`].
     #[cold]
     #[inline(never)]
-    fn careful_lanes32<const W: usize>(
-        x: &[f32; W],
-        mut s: [f32; W],
-        mut c: [f32; W],
-    ) -> ([f32; W], [f32; W]) {
-        careful_reductions32(x, &mut s, &mut c);
-        (s, c)
+    fn careful_lanes32<const W: usize>(x: &[f32; W]) -> ([f32; W], [f32; W]) {
+        careful_reductions32(x)
     }
 
     /// The rare path of [`sin_cos_f32_lanes`] (in line up to eight lanes, out of line beyond
-    /// through [`careful_lanes32`]), branch-free on all `W` lanes so that the compiler
-    /// vectorises it too: the careful reduction and both kernels on every lane, taken where
-    /// [`cancelled32`] sends [`sin_cos_f32`] to [`careful32`] (the other lanes keep the main
-    /// path's results in `s`, `c`, which are [`sin_cos_f32`]'s bits); then lanes beyond
-    /// [`F32_FAST_LIMIT`] (NaN, ±∞) one at a time through [`sin_cos_f32`] (`libm`). `F32x8` with
-    /// a joint at ±π/2 in every configuration (eight lanes of a group of sixteen) costs one
-    /// vector pass instead of eight scalar careful reductions (BENCHMARKS.md, "The careful
-    /// reduction on all lanes").
+    /// through [`careful_lanes32`]), from `x` alone and branch-free on all `W` lanes so that the
+    /// compiler vectorises it too: both reductions of every lane, the careful one taken where
+    /// [`cancelled32`] sends [`sin_cos_f32`] to [`careful32`], then both kernels and the select
+    /// once (each lane [`sin_cos_f32`]'s bits); then lanes beyond [`F32_FAST_LIMIT`] (NaN, ±∞)
+    /// one at a time through [`sin_cos_f32`] (`libm`). `F32x8` with a joint at ±π/2 in every
+    /// configuration (eight lanes of a group of sixteen) costs one vector pass instead of eight
+    /// scalar careful reductions (BENCHMARKS.md, "The careful reduction on all lanes").
     #[inline(always)]
-    fn careful_reductions32<const W: usize>(x: &[f32; W], s: &mut [f32; W], c: &mut [f32; W]) {
+    fn careful_reductions32<const W: usize>(x: &[f32; W]) -> ([f32; W], [f32; W]) {
         const SIGN32: u32 = 1 << 31;
+        let mut s = [0.0; W];
+        let mut c = [0.0; W];
         let mut beyond = false;
         for k in 0..W {
             let sign = x[k].to_bits() & SIGN32;
             let ax = f32::from_bits(x[k].to_bits() & !SIGN32);
             beyond |= !(ax <= F32_FAST_LIMIT);
-            let take = cancelled32(ax, reduce32(ax).0);
-            let (y0, y1, t) = careful_reduction32(ax);
-            let (sc, cc) = finish32(y0, y1, t.to_bits(), sign);
-            s[k] = if take { sc } else { s[k] };
-            c[k] = if take { cc } else { c[k] };
+            let one_step = reduce32(ax);
+            let careful = careful_reduction32(ax);
+            let (y0, y1, t) = if cancelled32(ax, one_step.0) {
+                careful
+            } else {
+                one_step
+            };
+            (s[k], c[k]) = finish32(y0, y1, t.to_bits(), sign);
         }
         if beyond {
             for k in 0..W {
@@ -1431,6 +1430,7 @@ pub mod fast {
                 }
             }
         }
+        (s, c)
     }
 
     /// [`sin_cos_f32_lanes`]' test of one lane: beyond [`F32_FAST_LIMIT`] (NaN and ±∞ included),
