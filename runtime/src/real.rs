@@ -862,7 +862,7 @@ pub mod fast {
         /// eight lanes, taken where [`cancelled64`] sends [`super::sin_cos_f64`] to its careful
         /// reduction; lanes beyond [`F64_FAST_LIMIT`], NaN and ±∞ one at a time through
         /// [`super::sin_cos_f64`]). The Panda at its ready pose (`q6 = π/2`), default target:
-        /// 0.86-0.94x the time of recomputing the failing lane through the scalar function
+        /// 0.86-0.98x the time of recomputing the failing lane through the scalar function
         /// (BENCHMARKS.md, "The careful reduction on all lanes").
         ///
         /// # Safety
@@ -1055,9 +1055,10 @@ pub mod fast {
             (s[k], c[k]) = finish64(y0, y1, t.to_bits(), sign);
         }
         if slow {
-            // The careful reduction on all lanes, taken by those that need it, the others
-            // holding `sin_cos_f64`'s bits already; out of line beyond eight lanes, in line up
-            // to eight (see `sin_cos_f32_lanes`).
+            // Every lane again from `x` alone, the careful reduction where it is needed (given
+            // this path's `s`, `c` too, the compiler tested after the kernels: the Panda's
+            // evaluation took 1.1-1.2x the time); out of line beyond eight lanes, in line up to
+            // eight (see `sin_cos_f32_lanes`).
             if W > 8 {
                 return careful_lanes64(x);
             }
@@ -1364,8 +1365,8 @@ pub mod fast {
             (s[k], c[k]) = finish32(y0, y1, quadrant, sign);
         }
         if slow {
-            // The careful reduction on all lanes, taken by those that need it, the others
-            // holding `sin_cos_f32`'s bits already. Beyond eight lanes out of line: in line,
+            // Every lane again from `x` alone, the careful reduction where it is needed (see
+            // `sin_cos_f64_lanes`). Beyond eight lanes out of line: in line,
             // `F32x8`'s sixteen lanes took 1.4-1.6x the time (its 64 Panda configurations'
             // sines and cosines 0.72-0.77 us against 0.48-0.53, BENCHMARKS.md, "Only the lanes
             // that need it"); up to eight in line: out of line, the scalar Panda's seven joints
