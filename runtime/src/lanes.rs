@@ -14,10 +14,12 @@
 //!   feature and a target with FMA) and two operations elsewhere;
 //! - `sin_cos` runs the main path of [`fast::sin_cos_f64`] / [`fast::sin_cos_f32`] on all lanes at
 //!   once (`F64x4` on `wide::f64x4` itself, the same arithmetic text as the scalar function;
-//!   `F32x8` through [`fast::sin_cos_f32_lanes`]), and recomputes every lane with the scalar
-//!   function when one needs the careful reduction. `F64x4` on its vector type: the Panda's
-//!   pose and body Jacobian for four configurations 11 % faster with AVX-512 than through
-//!   arrays of four (BENCHMARKS.md, "`F64x4`'s sines and cosines on its vector type").
+//!   `F32x8` through [`fast::sin_cos_f32_lanes`]); when a lane needs the careful reduction,
+//!   `F64x4` recomputes its four lanes with the scalar function and `F32x8` recomputes its lanes
+//!   side by side, each with the reduction the scalar function would choose. `F64x4` on its
+//!   vector type: the Panda's pose and body Jacobian for four configurations 11 % faster with
+//!   AVX-512 than through arrays of four (BENCHMARKS.md, "`F64x4`'s sines and cosines on its
+//!   vector type").
 //!   `sin_cos_array` (a chain's joints at once) on `F64x4`, where the target has AVX2 or
 //!   AVX-512, takes the joints four, then two at a time as sixteen or eight `f64` through
 //!   [`fast::sin_cos_f64_lanes`], the scalar code's group kernel, and on `F32x8` two at a time

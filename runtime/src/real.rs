@@ -572,7 +572,8 @@ pub mod fast {
 
     /// [`careful64`]'s reduction of `ax = |x| ≤ F64_FAST_LIMIT`: `(y0, y1, t)` with
     /// `ax = n·π/2 + (y0 + y1)` and `t`'s bits holding `n mod 2⁶⁴`, as [`one_step64`]; for one
-    /// argument, and for the lanes of [`careful_lanes64`] side by side.
+    /// argument, and side by side for the lanes of [`careful_reductions64`] and the AVX2 groups'
+    /// rare path.
     #[inline(always)]
     fn careful_reduction64<T: Ops>(ax: T) -> (T, T, T) {
         const P1: f64 = 1.57079632673412561417e+00;
@@ -582,9 +583,9 @@ pub mod fast {
         let k = T::splat;
         let t = ax * k(FRAC_2_PI_64) + k(TOINT_64);
         let fnum = t - k(TOINT_64);
-        let r1 = ax - fnum * k(P1); // exact (Sterbenz)
-                                    // `0 − a` is `−a` for every `a ≠ 0`; `fnum · P2`, `fnum · P3` are nonzero wherever the
-                                    // result is used (`n ≥ 1`: `|x| > π/4`).
+        // `r1` is exact (Sterbenz). `0 − a` is `−a` for every `a ≠ 0`; for `a = +0` (`n = 0`) TwoSum
+        // still gives the same sum and error.
+        let r1 = ax - fnum * k(P1);
         let (r2, e1) = two_sum64(r1, k(0.0) - fnum * k(P2));
         let (hi, e2) = two_sum64(r2, k(0.0) - fnum * k(P3));
         let lo = (e1 + e2) - fnum * k(P4);
@@ -788,12 +789,13 @@ pub mod fast {
     /// vectors through the stack, a failed store-to-load forwarding that made the Panda's seven
     /// joints slower than the SSE2 pairs (51–52 ns against 37).
     ///
-    /// Soundness: every `unsafe` block below but one is an AVX or AVX2 intrinsic on registers (no
-    /// memory is read or written through a pointer), whose one precondition is that the CPU has
-    /// AVX2; the other is the transmute of `Quad::lanes`, sound for any bits (its own comment).
-    /// `Quad` and its operations are private to this module, and are used only inside
-    /// [`avx2::eight`](self::avx2), which is compiled for AVX2 and unsafe to call; its one
-    /// caller, `groups`, calls it only after std's detection has confirmed AVX2 at run time.
+    /// Soundness: the `unsafe` blocks below are AVX or AVX2 intrinsics on registers (no memory is
+    /// read or written through a pointer), whose one precondition is that the CPU has AVX2; the
+    /// transmute of `Quad::lanes`, sound for any bits (its own comment); and the calls of the
+    /// two functions compiled for AVX2, `eight` (from `groups`, only after std's detection has
+    /// confirmed AVX2 at run time) and `careful` (from `eight` alone). `Quad` and its operations
+    /// are private to this module and used only inside those two and `careful_quad`, which is
+    /// private and called only from `careful`.
     #[cfg(all(
         feature = "std",
         target_arch = "x86_64",
@@ -856,14 +858,14 @@ pub mod fast {
             )
         }
 
-        /// The rare path of [`eight`], out of line, from `x` alone (its main path again, then)
-        /// [`super::careful_reductions64`] on the two `Quad`s, compiled for AVX2 like them (the
-        /// careful reduction and both kernels on all
-        /// eight lanes, taken where [`cancelled64`] sends [`super::sin_cos_f64`] to its careful
-        /// reduction; lanes beyond [`F64_FAST_LIMIT`], NaN and ±∞ one at a time through
-        /// [`super::sin_cos_f64`]). The Panda at its ready pose (`q6 = π/2`), default target:
-        /// 0.86-0.98x the time of recomputing the failing lane through the scalar function
-        /// (BENCHMARKS.md, "The careful reduction on all lanes").
+        /// The rare path of [`eight`], out of line, compiled for AVX2 like it, from the eight
+        /// arguments alone (given the main path's results as well, the compiler tested after
+        /// `eight`'s kernels, and the Panda's pose and body Jacobian from `q` took 50 ns instead
+        /// of 44.5): on each `Quad` the main path again and the careful reduction with both
+        /// kernels ([`careful_quad`]); each lane takes the careful result where [`cancelled64`]
+        /// sends [`super::sin_cos_f64`] to its careful reduction, the main path's otherwise, and
+        /// lanes beyond [`F64_FAST_LIMIT`], NaN and ±∞ go one at a time through
+        /// [`super::sin_cos_f64`] (BENCHMARKS.md, "The careful reduction on all lanes").
         ///
         /// # Safety
         /// The CPU must have AVX2.
@@ -873,8 +875,7 @@ pub mod fast {
         unsafe fn careful<const N: usize>(x: &[f64; 8]) -> ([f64; N], [f64; N]) {
             let q0 = careful_quad(x[0], x[1], x[2], x[3]);
             let q1 = careful_quad(x[4], x[5], x[6], x[7]);
-            // Written element by element into the caller's result (no closures: they would not
-            // be compiled for AVX2 inside `core::array::from_fn`).
+            // Written element by element into the caller's result.
             let mut r = ([0.0; N], [0.0; N]);
             for (k, &xk) in x.iter().enumerate().take(N) {
                 let (l, [sm, cm, sc, cc, a, y]) = if k < 4 { (k, q0) } else { (k - 4, q1) };
@@ -1026,9 +1027,10 @@ pub mod fast {
     /// all of them, so the compiler can put them in vector registers. If any element needs more
     /// (beyond [`F64_FAST_LIMIT`], NaN, ±∞, or a reduction that may have cancelled:
     /// `|y0| < 2⁻¹⁶ |x|`, which holds whenever musl's exponent test of [`sin_cos_f64`] does),
-    /// the elements that [`sin_cos_f64`] sends to its careful reduction take it (on all lanes
-    /// side by side where the compiler vectorises them, one element at a time on SSE2's pairs),
-    /// the others are kept. `|x| ≤ π/4` needs no select: the reduction then gives `n = 0` and
+    /// the elements that [`sin_cos_f64`] sends to its careful reduction take it: where the
+    /// compiler vectorises the lanes, every lane is computed again from `x` with the reduction
+    /// [`sin_cos_f64`] would choose; on SSE2's pairs those elements alone go through
+    /// [`sin_cos_f64`], the others are kept. `|x| ≤ π/4` needs no select: the reduction then gives `n = 0` and
     /// exactly `(|x|, 0)`, the arguments [`sin_cos_f64`] hands to the kernels unreduced.
     #[inline(always)]
     pub fn sin_cos_f64_lanes<const W: usize>(x: &[f64; W]) -> ([f64; W], [f64; W]) {
@@ -1124,6 +1126,7 @@ pub mod fast {
     }
 
     /// [`lane_needs_care64`] of `x`, its reduction computed again.
+    #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
     #[inline(always)]
     fn needs_care64(x: f64) -> bool {
         let ax = f64::from_bits(x.to_bits() & !SIGN);
@@ -1146,6 +1149,7 @@ pub mod fast {
     /// [`careful_lanes64`]'s one per lane, which code built for the default target runs one
     /// after the other (from the AVX2 groups chosen at run time, the Panda at its ready pose
     /// took 1.3x the time that way).
+    #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
     #[cold]
     #[inline(never)]
     fn redo_lanes64<const W: usize>(
@@ -1246,7 +1250,7 @@ pub mod fast {
     }
 
     /// [`careful32`]'s reduction of `ax = |x| ≤ F32_FAST_LIMIT`: `(y0, y1, t)` as
-    /// [`reduce32`]; for one argument, and for the lanes of [`careful_lanes32`] side by side.
+    /// [`reduce32`]; for one argument, and for the lanes of [`careful_reductions32`] side by side.
     #[inline(always)]
     fn careful_reduction32(ax: f32) -> (f32, f32, f32) {
         const P1: f32 = 1.570_800_8; // 0x1.922p0
@@ -1345,9 +1349,9 @@ pub mod fast {
     /// [`sin_cos_f32`] (one-step reduction, both kernels, quadrant select) runs branch-free on
     /// all of them, so the compiler can put them in vector registers. If any element needs more
     /// (beyond [`F32_FAST_LIMIT`], NaN, ±∞, or a reduction that may have cancelled:
-    /// `|y0| < 2⁻⁸ |x|`, which holds whenever the exponent test of [`sin_cos_f32`] does), the
-    /// careful reduction runs on all lanes side by side and the elements that [`sin_cos_f32`]
-    /// sends to it take its result, the others are kept. For `|x| ≤ π/4` the reduction
+    /// `|y0| < 2⁻⁸ |x|`, which holds whenever the exponent test of [`sin_cos_f32`] does), every
+    /// lane is computed again from `x`, side by side, with the reduction [`sin_cos_f32`] would
+    /// choose (the careful one where it sends the element to it). For `|x| ≤ π/4` the reduction
     /// gives `n = 0` and exactly `(|x|, +0)`, the arguments [`sin_cos_f32`] hands to the kernels
     /// unreduced.
     #[inline(always)]
@@ -1369,9 +1373,9 @@ pub mod fast {
             // `sin_cos_f64_lanes`). Beyond eight lanes out of line: in line,
             // `F32x8`'s sixteen lanes took 1.4-1.6x the time (its 64 Panda configurations'
             // sines and cosines 0.72-0.77 us against 0.48-0.53, BENCHMARKS.md, "Only the lanes
-            // that need it"); up to eight in line: out of line, the scalar Panda's seven joints
+            // that need it"); up to eight in line: out of line, the scalar Panda's evaluation
             // took 1.3x the time in `f32` and 1.3-1.35x in `f64` on random configurations
-            // (BENCHMARKS.md, "The careful reduction on all lanes").
+            // (BENCHMARKS.md, "The careful reduction on all lanes", its first form).
             if W > 8 {
                 return careful_lanes32(x);
             }

@@ -403,7 +403,8 @@ fn small_arguments_need_no_reduction_in_lanes() {
 /// `sin_cos_f64_lanes` of every width from 0 to 11 and of 16 (odd widths pair their last lane
 /// with itself where the lanes are SSE2 pairs; beyond eight lanes the pairs go on in a loop, and
 /// the rare path is out of line), bit for bit the scalar `sin_cos_f64`, with one lane in eleven
-/// sent to the careful path (that lane left on the side-by-side path's value fails it).
+/// sent to the careful path (that lane left on the side-by-side path's value fails it) and, in
+/// some groups, one at or beyond the fast limit, NaN or ±∞.
 #[test]
 fn lanes_of_every_width_equal_the_scalar_one() {
     use trocar::real::fast::{sin_cos_f64, sin_cos_f64_lanes};
@@ -431,6 +432,17 @@ fn lanes_of_every_width_equal_the_scalar_one() {
                 f64::from_bits(
                     ((round % 50 + 1) as f64 * core::f64::consts::FRAC_PI_2).to_bits() + 1,
                 )
+            } else if round % 13 == k {
+                // at and beyond the fast limit, NaN, ±∞: `libm`, one lane at a time
+                let limit = trocar::real::fast::F64_FAST_LIMIT;
+                [
+                    limit,
+                    f64::from_bits(limit.to_bits() + 1),
+                    -1.5 * limit,
+                    f64::NAN,
+                    f64::INFINITY,
+                    f64::NEG_INFINITY,
+                ][(round / 13) % 6]
             } else {
                 ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 50.0
             };
