@@ -1061,10 +1061,11 @@ pub mod fast {
             // this path's `s`, `c` too, the compiler tested after the kernels: the Panda's
             // evaluation took 1.1-1.2x the time); out of line beyond eight lanes, in line up to
             // eight (see `sin_cos_f32_lanes`).
-            if W > 8 {
-                return careful_lanes64(x);
+            if W <= 8 {
+                return careful_reductions64(x);
             }
-            return careful_reductions64(x);
+            // Assigned, not returned: see `sin_cos_f32_lanes`.
+            (s, c) = careful_lanes64(x);
         }
         (s, c)
     }
@@ -1284,7 +1285,7 @@ pub mod fast {
 
     /// `(sin x, cos x)` for `f32`, < 1 ulp, single-precision arithmetic only (see the
     /// [module docs](self)). One-step reduction (`P1` of 12 bits, `P1T = π/2 − P1`); arguments
-    /// whose reduction cancels by more than 8 bits take the careful path.
+    /// whose reduction cancels by more than 12 bits take the careful path ([`cancelled32`]).
     #[inline(always)]
     pub fn sin_cos_f32(x: f32) -> (f32, f32) {
         let sign = x.to_bits() & (1u32 << 31);
@@ -1349,7 +1350,7 @@ pub mod fast {
     /// [`sin_cos_f32`] (one-step reduction, both kernels, quadrant select) runs branch-free on
     /// all of them, so the compiler can put them in vector registers. If any element needs more
     /// (beyond [`F32_FAST_LIMIT`], NaN, ±∞, or a reduction that may have cancelled:
-    /// `|y0| < 2⁻⁸ |x|`, which holds whenever the exponent test of [`sin_cos_f32`] does), every
+    /// `|y0| < 2⁻¹² |x|`, which holds whenever the exponent test of [`sin_cos_f32`] does), every
     /// lane is computed again from `x`, side by side, with the reduction [`sin_cos_f32`] would
     /// choose (the careful one where it sends the element to it). For `|x| ≤ π/4` the reduction
     /// gives `n = 0` and exactly `(|x|, +0)`, the arguments [`sin_cos_f32`] hands to the kernels
@@ -1376,21 +1377,37 @@ pub mod fast {
             // that need it"); up to eight in line: out of line, the scalar Panda's evaluation
             // took 1.3x the time in `f32` and 1.3-1.35x in `f64` on random configurations
             // (BENCHMARKS.md, "The careful reduction on all lanes", its first form).
-            if W > 8 {
-                return careful_lanes32(x);
+            if W <= 8 {
+                return careful_reductions32(x);
             }
-            return careful_reductions32(x);
+            // Assigned to `s`, `c`, not returned: `return careful_lanes32(x)` made the call write
+            // into the result's place, so the main path stored its results there too and read
+            // them back (the two paths met in memory; on Zen 4 the reload of each 64-byte
+            // result waited on its store, and `F32x8`'s evaluation took 1.15-1.2x the time,
+            // BENCHMARKS.md, "Where the two paths meet").
+            (s, c) = careful_lanes32(x);
         }
         (s, c)
     }
 
     /// [`sin_cos_f32`]'s exponent test: the one-step reduction `y0` of `ax = |x|` lost more
-    /// than 8 bits (false for `|x| ≤ π/4`, whose reduction is `ax` itself).
+    /// than 12 bits (false for `|x| ≤ π/4`, whose reduction is `ax` itself).
+    ///
+    /// Why 12: [`reduce32`]'s `y0 + y1` differs from `|x| − n·π/2` only through `P1T` (within
+    /// 2⁻⁴² of π/2 − P1) and the rounding of `n·P1T` (at most `n·2⁻⁴¹`), less than `n·2⁻⁴⁰` in
+    /// all. Passing the test means `|y0| > 2⁻¹³ |x| ≥ 2⁻¹³ (n − ½)·π/2`, so the reduced argument
+    /// is off by less than 2⁻²⁶ of itself: at most 0.16 ulp more in the result. Every `f32`
+    /// with `|x| ≤ 4096` checked against the exact value (`f32_exhaustive_fast_path`) gives the
+    /// same worst case as with the careful reduction from 8 bits on (0.849 ulp); at 20 bits
+    /// that check fails (1.45 ulp at `x = 1.5707945`, `y ≈ 2⁻¹⁹`). The lanes' trigger
+    /// (`|y0| < 2⁻¹² |x|`) then flags a joint sampled uniformly in [−2.5, 2.5] rad about once
+    /// in 3,000 samples, not once in 200 as at 8 bits, where a sixteen-lane `F32x8` group took
+    /// its rare path in one call of 13.
     #[inline(always)]
     fn cancelled32(ax: f32, y0: f32) -> bool {
         let ex = (ax.to_bits() >> 23) as i32;
         let ey = ((y0.to_bits() >> 23) & 0xff) as i32;
-        ex - ey > 8
+        ex - ey > 12
     }
 
     /// The rare path of [`sin_cos_f32_lanes`] beyond eight lanes, out of line:
@@ -1439,12 +1456,12 @@ pub mod fast {
     }
 
     /// [`sin_cos_f32_lanes`]' test of one lane: beyond [`F32_FAST_LIMIT`] (NaN and ±∞ included),
-    /// or a reduction `y0` of `|x|` that may have cancelled (`|y0| < 2⁻⁸ |x|`, which holds
+    /// or a reduction `y0` of `|x|` that may have cancelled (`|y0| < 2⁻¹² |x|`, which holds
     /// whenever [`cancelled32`] does).
     #[inline(always)]
     fn lane_needs_care32(ax: f32, y0: f32) -> bool {
-        const TWO_M8: f32 = 1.0 / 256.0;
-        !(ax <= F32_FAST_LIMIT) | (f32::from_bits(y0.to_bits() & !(1u32 << 31)) < ax * TWO_M8)
+        const TWO_M12: f32 = 1.0 / 4096.0;
+        !(ax <= F32_FAST_LIMIT) | (f32::from_bits(y0.to_bits() & !(1u32 << 31)) < ax * TWO_M12)
     }
 }
 

@@ -209,6 +209,25 @@ fn f32_grid_random_and_all_magnitudes() {
     eprintln!("f32 sampled: max {:.3} ulp, max abs {:e}", w.0, w.1);
 }
 
+/// Every `f32` within 2¹⁶ ulps of `n·π/2` for the multiples a robot's joints reach (n ≤ 8) and a
+/// few large ones: the arguments whose one-step reduction cancels, where the exponent test
+/// chooses between the one-step and the careful reduction. Taking the one-step reduction up to
+/// 20 bits of cancellation instead of 12 fails here (1.45 ulp at `x = 1.5707945`).
+#[test]
+fn f32_every_argument_near_multiples_of_half_pi() {
+    let mut w = (0.0, 0.0);
+    for n in (1..=8).chain([100, 1000, 2600]) {
+        let centre = (n as f64 * core::f64::consts::FRAC_PI_2) as f32;
+        let b = centre.to_bits() as i64;
+        for d in -(1i64 << 16)..=(1 << 16) {
+            let x = f32::from_bits((b + d) as u32);
+            check32(x, &mut w);
+            check32(-x, &mut w);
+        }
+    }
+    eprintln!("f32 near n·π/2: max {:.3} ulp, max abs {:e}", w.0, w.1);
+}
+
 #[test]
 #[ignore = "slow: every f32 in [-4096, 4096]; run with --release -- --ignored"]
 fn f32_exhaustive_fast_path() {
