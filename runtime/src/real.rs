@@ -794,8 +794,7 @@ pub mod fast {
     /// transmute of `Quad::lanes`, sound for any bits (its own comment); and the calls of the
     /// two functions compiled for AVX2, `eight` (from `groups`, only after std's detection has
     /// confirmed AVX2 at run time) and `careful` (from `eight` alone). `Quad` and its operations
-    /// are private to this module and used only inside those two and `careful_quad`, which is
-    /// private and called only from `careful`.
+    /// are private to this module and used only inside `eight`.
     #[cfg(all(
         feature = "std",
         target_arch = "x86_64",
@@ -805,10 +804,7 @@ pub mod fast {
     mod avx2 {
         use core::arch::x86_64::*;
 
-        use super::{
-            cancelled64, careful_reduction64, kernels64, main_path, one_step64, Vector,
-            F64_FAST_LIMIT, SIGN,
-        };
+        use super::{careful_reductions64, main_path, Vector, SIGN};
 
         /// `x` (three to eight elements) as one group of eight on AVX2, padded with its last
         /// element, where the CPU (and the operating system) supports AVX2 (std's detection,
@@ -861,11 +857,11 @@ pub mod fast {
         /// The rare path of [`eight`], out of line, compiled for AVX2 like it, from the eight
         /// arguments alone (given the main path's results as well, the compiler tested after
         /// `eight`'s kernels, and the Panda's pose and body Jacobian from `q` took 50 ns instead
-        /// of 44.5): on each `Quad` the main path again and the careful reduction with both
-        /// kernels ([`careful_quad`]); each lane takes the careful result where [`cancelled64`]
-        /// sends [`super::sin_cos_f64`] to its careful reduction, the main path's otherwise, and
-        /// lanes beyond [`F64_FAST_LIMIT`], NaN and ±∞ go one at a time through
-        /// [`super::sin_cos_f64`] (BENCHMARKS.md, "The careful reduction on all lanes").
+        /// of 44.5): [`careful_reductions64`] on the eight lanes, which the compiler vectorises
+        /// for AVX2 here (both reductions of every lane, the careful one where [`cancelled64`]
+        /// sends [`super::sin_cos_f64`] to it, both kernels once; lanes beyond
+        /// [`F64_FAST_LIMIT`], NaN and ±∞ one at a time through [`super::sin_cos_f64`]),
+        /// written into the caller's result (BENCHMARKS.md, "Where the two paths meet").
         ///
         /// # Safety
         /// The CPU must have AVX2.
@@ -873,42 +869,11 @@ pub mod fast {
         #[inline(never)]
         #[target_feature(enable = "avx2")]
         unsafe fn careful<const N: usize>(x: &[f64; 8]) -> ([f64; N], [f64; N]) {
-            let q0 = careful_quad(x[0], x[1], x[2], x[3]);
-            let q1 = careful_quad(x[4], x[5], x[6], x[7]);
-            // Written element by element into the caller's result.
-            let mut r = ([0.0; N], [0.0; N]);
-            for (k, &xk) in x.iter().enumerate().take(N) {
-                let (l, [sm, cm, sc, cc, a, y]) = if k < 4 { (k, q0) } else { (k - 4, q1) };
-                (r.0[k], r.1[k]) = if !(a[l] <= F64_FAST_LIMIT) {
-                    super::sin_cos_f64(xk)
-                } else if cancelled64(a[l], y[l]) {
-                    (sc[l], cc[l])
-                } else {
-                    (sm[l], cm[l])
-                };
-            }
-            r
-        }
-
-        /// The main path and the careful reduction's (both kernels and the select after each)
-        /// on one `Quad`, in line in [`careful`]: `(sin, cos)` of the main path, `(sin, cos)` of
-        /// the careful one, `|x|` and the one-step reduction's `y0`, of each lane.
-        #[inline(always)]
-        fn careful_quad(a: f64, b: f64, c: f64, d: f64) -> [[f64; 4]; 6] {
-            let x = Quad::new(a, b, c, d);
-            let (sm, cm, _) = main_path(x);
-            let (ax, sign) = x.abs_and_sign();
-            let (y0, y1, t) = careful_reduction64(ax);
-            let (s, c) = kernels64(y0, y1);
-            let (s, c) = Quad::select(s, c, t, sign);
-            [
-                sm.lanes(),
-                cm.lanes(),
-                s.lanes(),
-                c.lanes(),
-                ax.lanes(),
-                one_step64(ax).0.lanes(),
-            ]
+            let (s, c) = careful_reductions64(x);
+            (
+                core::array::from_fn(|k| s[k]),
+                core::array::from_fn(|k| c[k]),
+            )
         }
 
         /// Four `f64` in one AVX register (lane 0 first).
