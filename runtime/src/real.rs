@@ -572,8 +572,8 @@ pub mod fast {
 
     /// [`careful64`]'s reduction of `ax = |x| ≤ F64_FAST_LIMIT`: `(y0, y1, t)` with
     /// `ax = n·π/2 + (y0 + y1)` and `t`'s bits holding `n mod 2⁶⁴`, as [`one_step64`]; for one
-    /// argument, and side by side for the lanes of [`careful_reductions64`] and the AVX2 groups'
-    /// rare path.
+    /// argument, and lane by lane in [`careful_reductions64`] (which the compiler vectorises,
+    /// compiled for AVX2 in the AVX2 groups' rare path).
     #[inline(always)]
     fn careful_reduction64<T: Ops>(ax: T) -> (T, T, T) {
         const P1: f64 = 1.57079632673412561417e+00;
@@ -783,11 +783,14 @@ pub mod fast {
     /// Groups of eight compiled for AVX2, for x86-64 builds whose target lacks it; chosen at run
     /// time by [`sin_cos_f64_array`].
     ///
-    /// The eight lanes are two `Quad`s: four `f64` in one AVX register, one AVX intrinsic per
-    /// operation, the same arithmetic as every other path ([`kernels64`], [`one_step64`]). The
-    /// compiler's own vectorisation of [`sin_cos_f64_lanes`] in such a function built its
-    /// vectors through the stack, a failed store-to-load forwarding that made the Panda's seven
-    /// joints slower than the SSE2 pairs (51–52 ns against 37).
+    /// The main path's eight lanes are two `Quad`s: four `f64` in one AVX register, one AVX
+    /// intrinsic per operation, the same arithmetic as every other path ([`kernels64`],
+    /// [`one_step64`]). The compiler's own vectorisation of [`sin_cos_f64_lanes`] in such a
+    /// function built its vectors through the stack, a failed store-to-load forwarding that made
+    /// the Panda's seven joints slower than the SSE2 pairs (51–52 ns against 37). The rare path
+    /// (`careful`) is the compiler's vectorisation of [`careful_reductions64`], stack traffic
+    /// and all: it runs only for arguments near a multiple of π/2, and one pass there cost less
+    /// than the two `Quad` passes it replaced (BENCHMARKS.md, "Where the two paths meet").
     ///
     /// Soundness: the `unsafe` blocks below are AVX or AVX2 intrinsics on registers (no memory is
     /// read or written through a pointer), whose one precondition is that the CPU has AVX2; the
@@ -858,10 +861,10 @@ pub mod fast {
         /// arguments alone (given the main path's results as well, the compiler tested after
         /// `eight`'s kernels, and the Panda's pose and body Jacobian from `q` took 50 ns instead
         /// of 44.5): [`careful_reductions64`] on the eight lanes, which the compiler vectorises
-        /// for AVX2 here (both reductions of every lane, the careful one where [`cancelled64`]
-        /// sends [`super::sin_cos_f64`] to it, both kernels once; lanes beyond
-        /// [`F64_FAST_LIMIT`], NaN and ±∞ one at a time through [`super::sin_cos_f64`]),
-        /// written into the caller's result (BENCHMARKS.md, "Where the two paths meet").
+        /// for AVX2 here (both reductions of every lane, the careful one where
+        /// [`super::cancelled64`] sends [`super::sin_cos_f64`] to it, both kernels once; lanes
+        /// beyond [`super::F64_FAST_LIMIT`], NaN and ±∞ one at a time through
+        /// [`super::sin_cos_f64`]) (BENCHMARKS.md, "Where the two paths meet").
         ///
         /// # Safety
         /// The CPU must have AVX2.
@@ -1250,7 +1253,7 @@ pub mod fast {
 
     /// `(sin x, cos x)` for `f32`, < 1 ulp, single-precision arithmetic only (see the
     /// [module docs](self)). One-step reduction (`P1` of 12 bits, `P1T = π/2 − P1`); arguments
-    /// whose reduction cancels by more than 12 bits take the careful path ([`cancelled32`]).
+    /// whose reduction cancels by more than 12 bits take the careful path.
     #[inline(always)]
     pub fn sin_cos_f32(x: f32) -> (f32, f32) {
         let sign = x.to_bits() & (1u32 << 31);
@@ -1348,7 +1351,7 @@ pub mod fast {
             // Assigned to `s`, `c`, not returned: `return careful_lanes32(x)` made the call write
             // into the result's place, so the main path stored its results there too and read
             // them back (the two paths met in memory; on Zen 4 the reload of each 64-byte
-            // result waited on its store, and `F32x8`'s evaluation took 1.15-1.2x the time,
+            // result waited on its store, and `F32x8`'s evaluation took 1.12-1.17x the time,
             // BENCHMARKS.md, "Where the two paths meet").
             (s, c) = careful_lanes32(x);
         }
@@ -1361,10 +1364,10 @@ pub mod fast {
     /// Why 12: [`reduce32`]'s `y0 + y1` differs from `|x| − n·π/2` only through `P1T` (within
     /// 2⁻⁴² of π/2 − P1) and the rounding of `n·P1T` (at most `n·2⁻⁴¹`), less than `n·2⁻⁴⁰` in
     /// all. Passing the test means `|y0| > 2⁻¹³ |x| ≥ 2⁻¹³ (n − ½)·π/2`, so the reduced argument
-    /// is off by less than 2⁻²⁶ of itself: at most 0.16 ulp more in the result. Every `f32`
-    /// with `|x| ≤ 4096` checked against the exact value (`f32_exhaustive_fast_path`) gives the
-    /// same worst case as with the careful reduction from 8 bits on (0.849 ulp); at 20 bits
-    /// that check fails (1.45 ulp at `x = 1.5707945`, `y ≈ 2⁻¹⁹`). The lanes' trigger
+    /// is off by less than `0.16 · 2⁻²⁴` of itself: at most 0.16 ulp more in the result. Every
+    /// `f32` with `|x| ≤ 4096` checked against the exact value (`f32_exhaustive_fast_path`)
+    /// gives the same worst case as with the careful reduction from 8 bits on (0.849 ulp); at
+    /// 20 bits that check fails (1.45 ulp at `x = 1.5707945`, `y ≈ 2⁻¹⁹`). The lanes' trigger
     /// (`|y0| < 2⁻¹² |x|`) then flags a joint sampled uniformly in [−2.5, 2.5] rad about once
     /// in 3,000 samples, not once in 200 as at 8 bits, where a sixteen-lane `F32x8` group took
     /// its rare path in one call of 13.

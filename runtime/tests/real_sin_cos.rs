@@ -210,19 +210,45 @@ fn f32_grid_random_and_all_magnitudes() {
 }
 
 /// Every `f32` within 2¹⁶ ulps of `n·π/2` for the multiples a robot's joints reach (n ≤ 8) and a
-/// few large ones: the arguments whose one-step reduction cancels, where the exponent test
-/// chooses between the one-step and the careful reduction. Taking the one-step reduction up to
-/// 20 bits of cancellation instead of 12 fails here (1.45 ulp at `x = 1.5707945`).
+/// few large ones (the last window ends below `F32_FAST_LIMIT`): the arguments whose one-step
+/// reduction cancels, where the exponent test chooses between the one-step and the careful
+/// reduction. Each against the exact value, and the group kernel on eight and sixteen lanes of
+/// them against the scalar function, bit for bit (the lanes' own trigger must flag every
+/// argument that the exponent test sends to the careful reduction). Taking the one-step
+/// reduction up to 20 bits of cancellation instead of 12 fails here (1.45 ulp at
+/// `x = 1.5707945`).
 #[test]
 fn f32_every_argument_near_multiples_of_half_pi() {
+    use trocar::real::fast::sin_cos_f32_lanes;
+    fn lanes_equal_scalar<const W: usize>(x: &[f32; W]) {
+        let (s, c) = sin_cos_f32_lanes(x);
+        for k in 0..W {
+            let (ws, wc) = sin_cos_f32(x[k]);
+            assert_eq!(
+                (s[k].to_bits(), c[k].to_bits()),
+                (ws.to_bits(), wc.to_bits()),
+                "{W} lanes, x = {:e}",
+                x[k]
+            );
+        }
+    }
     let mut w = (0.0, 0.0);
-    for n in (1..=8).chain([100, 1000, 2600]) {
+    for n in (1..=8).chain([100, 1000, 2590]) {
         let centre = (n as f64 * core::f64::consts::FRAC_PI_2) as f32;
         let b = centre.to_bits() as i64;
-        for d in -(1i64 << 16)..=(1 << 16) {
-            let x = f32::from_bits((b + d) as u32);
+        let xs: Vec<f32> = (-(1i64 << 16)..=(1 << 16))
+            .flat_map(|d| {
+                let x = f32::from_bits((b + d) as u32);
+                [x, -x]
+            })
+            .collect();
+        assert!(xs.iter().all(|x| x.abs() <= F32_FAST_LIMIT));
+        for &x in &xs {
             check32(x, &mut w);
-            check32(-x, &mut w);
+        }
+        for g in xs.chunks_exact(16) {
+            lanes_equal_scalar::<16>(g.try_into().unwrap());
+            lanes_equal_scalar::<8>(g[..8].try_into().unwrap());
         }
     }
     eprintln!("f32 near n·π/2: max {:.3} ulp, max abs {:e}", w.0, w.1);
