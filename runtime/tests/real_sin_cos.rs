@@ -508,6 +508,57 @@ fn lanes_of_every_width_equal_the_scalar_one() {
     }
 }
 
+/// Arguments whose one-step reduction cancels by 12 to 19 bits near `n·π/2` (n ≤ 8): the band
+/// where the lanes' trigger (`|y0| < 2⁻¹⁶ |x|`) flags a lane and musl's exponent test (more than
+/// 16 bits) may or may not send it to the careful reduction. Every lane of `sin_cos_f64_lanes`
+/// (eight and sixteen lanes, and `sin_cos_f64_array` of seven) bit for bit `sin_cos_f64`.
+/// In this band both reductions are accurate far below an ulp (the one-step one to about
+/// `n·2⁻⁸⁶`), so which one a lane takes does not show in these results: a rare path that took
+/// the careful reduction for every flagged lane passes this test too. It guards the lanes'
+/// results where their rare path starts, not the choice of reduction.
+#[test]
+fn f64_lanes_where_the_trigger_and_the_exponent_test_differ() {
+    use trocar::real::fast::{sin_cos_f64_array, sin_cos_f64_lanes};
+    fn check<const W: usize>(x: &[f64; W], s: &[f64], c: &[f64]) {
+        for k in 0..W {
+            let (ws, wc) = sin_cos_f64(x[k]);
+            assert_eq!(
+                (s[k].to_bits(), c[k].to_bits()),
+                (ws.to_bits(), wc.to_bits()),
+                "{W} lanes, x = {:e}",
+                x[k]
+            );
+        }
+    }
+    let mut r = Lcg(29);
+    let mut xs = Vec::new();
+    for n in 1..=8 {
+        let centre = n as f64 * core::f64::consts::FRAC_PI_2;
+        for bits in 12..20 {
+            for _ in 0..250 {
+                // |y| in [2^-bits, 2^(1-bits)) of |x|, either side
+                let y = centre * (1.0 + r.unit()) * 2f64.powi(-bits);
+                xs.push(if r.next() & 1 == 0 {
+                    centre + y
+                } else {
+                    centre - y
+                });
+            }
+        }
+    }
+    for g in xs.chunks_exact(16) {
+        let x16: [f64; 16] = g.try_into().unwrap();
+        let (s, c) = sin_cos_f64_lanes(&x16);
+        check(&x16, &s, &c);
+        let x8: [f64; 8] = g[..8].try_into().unwrap();
+        let (s, c) = sin_cos_f64_lanes(&x8);
+        check(&x8, &s, &c);
+        let x7: [f64; 7] = g[8..15].try_into().unwrap();
+        let (s, c) = sin_cos_f64_array(&x7);
+        check(&x7, &s, &c);
+    }
+}
+
 /// `sin_cos_f32_array` (what generated `f32` code calls through `Real::sin_cos_array`: groups of
 /// eight, the last padded, where the target has vector registers for `f32`) and
 /// `sin_cos_f32_lanes` (the group kernel; `F32x8` runs it on sixteen lanes, where its rare path
