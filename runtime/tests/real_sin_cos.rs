@@ -81,6 +81,33 @@ impl Lcg {
     }
 }
 
+/// Every element of `(s, c)` bit for bit `sin_cos_f64` of the same element of `x` (`what` names
+/// the path in the message).
+fn assert_scalar_bits64(what: &str, x: &[f64], s: &[f64], c: &[f64]) {
+    for (k, &xk) in x.iter().enumerate() {
+        let (ws, wc) = sin_cos_f64(xk);
+        assert_eq!(
+            (s[k].to_bits(), c[k].to_bits()),
+            (ws.to_bits(), wc.to_bits()),
+            "{what}, element {k} of {}, x = {xk:e}",
+            x.len()
+        );
+    }
+}
+
+/// [`assert_scalar_bits64`] for `f32` and `sin_cos_f32`.
+fn assert_scalar_bits32(what: &str, x: &[f32], s: &[f32], c: &[f32]) {
+    for (k, &xk) in x.iter().enumerate() {
+        let (ws, wc) = sin_cos_f32(xk);
+        assert_eq!(
+            (s[k].to_bits(), c[k].to_bits()),
+            (ws.to_bits(), wc.to_bits()),
+            "{what}, element {k} of {}, x = {xk:e}",
+            x.len()
+        );
+    }
+}
+
 const SPECIAL64: [f64; 14] = [
     0.0,
     -0.0,
@@ -222,15 +249,7 @@ fn f32_every_argument_near_multiples_of_half_pi() {
     use trocar::real::fast::sin_cos_f32_lanes;
     fn lanes_equal_scalar<const W: usize>(x: &[f32; W]) {
         let (s, c) = sin_cos_f32_lanes(x);
-        for k in 0..W {
-            let (ws, wc) = sin_cos_f32(x[k]);
-            assert_eq!(
-                (s[k].to_bits(), c[k].to_bits()),
-                (ws.to_bits(), wc.to_bits()),
-                "{W} lanes, x = {:e}",
-                x[k]
-            );
-        }
+        assert_scalar_bits32("lanes", x, &s, &c);
     }
     let mut w = (0.0, 0.0);
     for n in (1..=8).chain([100, 1000, 2590]) {
@@ -452,18 +471,10 @@ fn small_arguments_need_no_reduction_in_lanes() {
 /// some groups, one at or beyond the fast limit, NaN or ±∞.
 #[test]
 fn lanes_of_every_width_equal_the_scalar_one() {
-    use trocar::real::fast::{sin_cos_f64, sin_cos_f64_lanes};
+    use trocar::real::fast::sin_cos_f64_lanes;
     fn check<const W: usize>(x: [f64; W]) {
         let (s, c) = sin_cos_f64_lanes::<W>(&x);
-        for k in 0..W {
-            let (ws, wc) = sin_cos_f64(x[k]);
-            assert_eq!(
-                (s[k].to_bits(), c[k].to_bits()),
-                (ws.to_bits(), wc.to_bits()),
-                "W = {W}, lane {k}, x = {:e}",
-                x[k]
-            );
-        }
+        assert_scalar_bits64("lanes", &x, &s, &c);
     }
     let mut seed = 11u64;
     for round in 0..2_000 {
@@ -519,17 +530,6 @@ fn lanes_of_every_width_equal_the_scalar_one() {
 #[test]
 fn f64_lanes_where_the_trigger_and_the_exponent_test_differ() {
     use trocar::real::fast::{sin_cos_f64_array, sin_cos_f64_lanes};
-    fn check<const W: usize>(x: &[f64; W], s: &[f64], c: &[f64]) {
-        for k in 0..W {
-            let (ws, wc) = sin_cos_f64(x[k]);
-            assert_eq!(
-                (s[k].to_bits(), c[k].to_bits()),
-                (ws.to_bits(), wc.to_bits()),
-                "{W} lanes, x = {:e}",
-                x[k]
-            );
-        }
-    }
     let mut r = Lcg(29);
     let mut xs = Vec::new();
     for n in 1..=8 {
@@ -549,13 +549,13 @@ fn f64_lanes_where_the_trigger_and_the_exponent_test_differ() {
     for g in xs.chunks_exact(16) {
         let x16: [f64; 16] = g.try_into().unwrap();
         let (s, c) = sin_cos_f64_lanes(&x16);
-        check(&x16, &s, &c);
+        assert_scalar_bits64("lanes", &x16, &s, &c);
         let x8: [f64; 8] = g[..8].try_into().unwrap();
         let (s, c) = sin_cos_f64_lanes(&x8);
-        check(&x8, &s, &c);
+        assert_scalar_bits64("lanes", &x8, &s, &c);
         let x7: [f64; 7] = g[8..15].try_into().unwrap();
         let (s, c) = sin_cos_f64_array(&x7);
-        check(&x7, &s, &c);
+        assert_scalar_bits64("array", &x7, &s, &c);
     }
 }
 
@@ -574,15 +574,7 @@ fn f32_arrays_of_every_length_equal_the_scalar_one() {
             ("array", sin_cos_f32_array(&x)),
             ("lanes", sin_cos_f32_lanes(&x)),
         ] {
-            for k in 0..N {
-                let (ws, wc) = sin_cos_f32(x[k]);
-                assert_eq!(
-                    (s[k].to_bits(), c[k].to_bits()),
-                    (ws.to_bits(), wc.to_bits()),
-                    "{what}, N = {N}, element {k}, x = {:e}",
-                    x[k]
-                );
-            }
+            assert_scalar_bits32(what, &x, &s, &c);
         }
     }
     let specials = [
@@ -643,21 +635,7 @@ fn one_joint_at_a_multiple_of_half_pi_among_seven() {
         let (s, c) = sin_cos_f64_array(&x);
         let x32 = x.map(|v| v as f32);
         let (s32, c32) = sin_cos_f32_array(&x32);
-        for k in 0..7 {
-            let (ws, wc) = sin_cos_f64(x[k]);
-            assert_eq!(
-                (s[k].to_bits(), c[k].to_bits()),
-                (ws.to_bits(), wc.to_bits()),
-                "f64, element {k}, x = {:e}",
-                x[k]
-            );
-            let (ws, wc) = sin_cos_f32(x32[k]);
-            assert_eq!(
-                (s32[k].to_bits(), c32[k].to_bits()),
-                (ws.to_bits(), wc.to_bits()),
-                "f32, element {k}, x = {:e}",
-                x32[k]
-            );
-        }
+        assert_scalar_bits64("f64 array", &x, &s, &c);
+        assert_scalar_bits32("f32 array", &x32, &s32, &c32);
     }
 }
