@@ -998,8 +998,9 @@ pub mod fast {
     /// the elements that [`sin_cos_f64`] sends to its careful reduction take it: where the
     /// compiler vectorises the lanes, every lane is computed again from `x` with the reduction
     /// [`sin_cos_f64`] would choose; on SSE2's pairs those elements alone go through
-    /// [`sin_cos_f64`], the others are kept. `|x| ≤ π/4` needs no select: the reduction then gives `n = 0` and
-    /// exactly `(|x|, 0)`, the arguments [`sin_cos_f64`] hands to the kernels unreduced.
+    /// [`sin_cos_f64`], the others are kept. `|x| ≤ π/4` needs no select: the reduction then
+    /// gives `n = 0` and exactly `(|x|, 0)`, the arguments [`sin_cos_f64`] hands to the kernels
+    /// unreduced.
     #[inline(always)]
     pub fn sin_cos_f64_lanes<const W: usize>(x: &[f64; W]) -> ([f64; W], [f64; W]) {
         #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]

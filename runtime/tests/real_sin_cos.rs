@@ -420,7 +420,7 @@ fn array_version_equals_the_scalar_one_bit_for_bit() {
 /// from subnormal to π/4 and at π/4's neighbours.
 #[test]
 fn small_arguments_need_no_reduction_in_lanes() {
-    use trocar::real::fast::{sin_cos_f64, sin_cos_f64_lanes};
+    use trocar::real::fast::sin_cos_f64_lanes;
     let mut seed = 11u64;
     let mut next = || {
         seed = seed
@@ -443,23 +443,12 @@ fn small_arguments_need_no_reduction_in_lanes() {
             }
         });
         let (s, c) = sin_cos_f64_lanes::<8>(&x);
-        for k in 0..8 {
-            let (ws, wc) = sin_cos_f64(x[k]);
-            assert_eq!(s[k].to_bits(), ws.to_bits(), "sin {:e}", x[k]);
-            assert_eq!(c[k].to_bits(), wc.to_bits(), "cos {:e}", x[k]);
-        }
+        assert_scalar_bits64("eight lanes", &x, &s, &c);
     }
     let mut q = quarter;
     for _ in 0..1000 {
         let (s, c) = sin_cos_f64_lanes::<2>(&[q, -q]);
-        assert_eq!((s[0].to_bits(), c[0].to_bits()), {
-            let (a, b) = sin_cos_f64(q);
-            (a.to_bits(), b.to_bits())
-        });
-        assert_eq!((s[1].to_bits(), c[1].to_bits()), {
-            let (a, b) = sin_cos_f64(-q);
-            (a.to_bits(), b.to_bits())
-        });
+        assert_scalar_bits64("two lanes", &[q, -q], &s, &c);
         q = f64::from_bits(q.to_bits() - 1);
     }
 }
