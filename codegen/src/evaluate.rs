@@ -13,10 +13,11 @@ mod compiled;
 pub use compiled::{Compiled, LANES};
 
 use crate::closed_chain::{emit as mechanism_emit, MechanismDerivation};
-use crate::derivation;
+use crate::derivation::{self, Derivation};
 use crate::emit::{bridge, Layout, ModuleSpec};
 use crate::error::Error;
 use crate::naming::module_name;
+use std::sync::Arc;
 use trocar_model::catalogue::{Function, Fused};
 use trocar_model::description::RobotDescription;
 
@@ -32,6 +33,9 @@ pub struct Generated {
     row_major: Vec<Vec<usize>>,
     /// Every fused function's program, compiled, in the order of `spec.fused`.
     fused: Vec<Compiled>,
+    /// A serial robot's derivation, from which [`Generated::fuse`] builds programs of outputs
+    /// asked for later (`None` for a mechanism).
+    derivation: Option<Arc<Derivation>>,
 }
 
 impl Generated {
@@ -39,10 +43,9 @@ impl Generated {
     pub fn new(description: &RobotDescription) -> Result<Self, Error> {
         let d = derivation::derive(description)
             .map_err(|e| Error::Description(e.into_description_error(description)))?;
-        Ok(Generated::from_spec(bridge::module_spec(
-            &d,
-            &module_name(&description.name),
-        )))
+        let mut g = Generated::from_spec(bridge::module_spec(&d, &module_name(&description.name)));
+        g.derivation = Some(Arc::new(d));
+        Ok(g)
     }
 
     /// The polynomial functions of a closed mechanism's module ([`Function::is_program`]:
@@ -82,6 +85,7 @@ impl Generated {
             entries,
             row_major,
             fused,
+            derivation: None,
         }
     }
 
@@ -179,6 +183,54 @@ impl Generated {
         )
     }
 
+    /// One program computing the catalogue functions `outputs` of a serial robot's module, in
+    /// that order, with every value they have in common computed once: the program of a fused
+    /// function of these outputs (`Builder::function`, `trocar generate --function`), compiled,
+    /// for callers that ask for a set of outputs at run time (`trocar_api`'s
+    /// `Robot::fused_evaluator`, Python's `Robot.eval(q, what=("fk0i", "jb0i"))`). Each output
+    /// equals its own function's to rounding (the shared values may be formed in another order).
+    ///
+    /// Builds the module's programs again with this request (about as long as `trocar
+    /// generate`: tens of milliseconds on a 7-joint arm), so a caller keeps the result.
+    /// [`Error::Function`] (named by the outputs' short names) when `outputs` is empty, names a
+    /// function twice, or names one the module does not have, or the module is a closed
+    /// mechanism's.
+    pub fn fuse(&self, outputs: &[Function]) -> Result<FusedProgram, Error> {
+        let label = outputs
+            .iter()
+            .map(|f| f.short_name())
+            .collect::<Vec<_>>()
+            .join(",");
+        let Some(d) = &self.derivation else {
+            return Err(Error::Function {
+                name: label,
+                message: "several outputs in one program are built for serial robots, not for \
+                          a closed mechanism (evaluate its functions one by one)"
+                    .into(),
+            });
+        };
+        // A name no default and no catalogue function has; errors are renamed after the outputs.
+        const NAME: &str = "requested_outputs";
+        let request = Fused::new(NAME, outputs.iter().copied());
+        let spec =
+            bridge::module_spec_with(d, &self.spec.name, &[request]).map_err(|e| match e {
+                Error::Function { message, .. } => Error::Function {
+                    name: label.clone(),
+                    message,
+                },
+                e => e,
+            })?;
+        let f = spec
+            .fused
+            .into_iter()
+            .find(|f| f.name == NAME)
+            .ok_or_else(|| Error::Internal(format!("{label}: the fused program was not built")))?;
+        Ok(FusedProgram {
+            compiled: Compiled::new(&f.program, spec.joints),
+            outputs: f.outputs.iter().map(|o| (o.function, o.layout)).collect(),
+        })
+    }
+
     /// Evaluates `function` at `q` with parameter values in declaration order; a transform comes
     /// back as a 4×4 homogeneous matrix. `None` when the module has no such function or the
     /// argument lengths are wrong.
@@ -186,6 +238,36 @@ impl Generated {
         let out = self.outputs(function, q, params)?;
         let shape = self.spec.function(function)?.layout;
         Some(shaped(shape, &out))
+    }
+}
+
+/// Several catalogue functions of a module computed by one compiled program
+/// ([`Generated::fuse`]); the program's outputs are each function's in its emitted layout, one
+/// function after the other.
+#[derive(Clone, Debug)]
+pub struct FusedProgram {
+    compiled: Compiled,
+    outputs: Vec<(Function, Layout)>,
+}
+
+impl FusedProgram {
+    /// The compiled program.
+    pub fn compiled(&self) -> &Compiled {
+        &self.compiled
+    }
+
+    /// The functions computed and the layout of each one's outputs, in order.
+    pub fn outputs(&self) -> &[(Function, Layout)] {
+        &self.outputs
+    }
+
+    /// The range of the program's outputs that holds function `k`'s.
+    ///
+    /// # Panics
+    /// If `k` is not below the number of functions.
+    pub fn range(&self, k: usize) -> std::ops::Range<usize> {
+        let start: usize = self.outputs[..k].iter().map(|(_, l)| l.len()).sum();
+        start..start + self.outputs[k].1.len()
     }
 }
 

@@ -4,10 +4,10 @@
 use crate::error::{Error, Result};
 use crate::evaluation::Evaluation;
 use std::path::Path;
-use std::sync::OnceLock;
+use std::sync::{Arc, Mutex, OnceLock};
 use trocar_codegen::catalogue::Function;
 use trocar_codegen::emit::Layout;
-use trocar_codegen::evaluate::{Compiled, Generated};
+use trocar_codegen::evaluate::{Compiled, FusedProgram, Generated};
 use trocar_model::closed_chain::MechanismModel;
 use trocar_model::description::RobotDescription;
 use trocar_model::Description;
@@ -48,6 +48,8 @@ struct Serial {
     desc: RobotDescription,
     generated: OnceLock<Generated>,
     numeric: OnceLock<NumericRobot<f64>>,
+    /// The fused programs built so far ([`Robot::fused_evaluator`]), by their functions.
+    fused: Mutex<Vec<(Vec<Function>, Arc<Fusion>)>>,
 }
 
 #[derive(Debug)]
@@ -96,6 +98,7 @@ impl Robot {
                 desc,
                 generated: OnceLock::new(),
                 numeric: OnceLock::new(),
+                fused: Mutex::new(Vec::new()),
             })),
             Description::Mechanism(model) => Kind::Mechanism(Box::new(Mechanism {
                 model,
@@ -116,6 +119,7 @@ impl Robot {
                 desc,
                 generated: OnceLock::new(),
                 numeric: OnceLock::new(),
+                fused: Mutex::new(Vec::new()),
             })),
         }
     }
@@ -408,6 +412,78 @@ impl Robot {
             compiled,
             shape: Shape { layout },
             row_major,
+        })
+    }
+
+    /// Several functions of a serial robot as one compiled program that computes every value
+    /// they share once (the pose of a link and its Jacobian share the whole walk along the
+    /// chain): the program a fused function of these outputs has in the generated module
+    /// (`trocar generate --function NAME=OUTPUT,...`). The first call with a set builds its
+    /// program (about as long as `trocar generate`; tens of milliseconds on a 7-joint arm);
+    /// later calls with the same functions in the same order reuse it.
+    ///
+    /// ```no_run
+    /// use trocar_api::{Function, Robot};
+    /// let robot = Robot::load("panda-laparoscope")?;
+    /// let both = robot.fused_evaluator(&[
+    ///     Function::ConstrainedLinkKinematics, // g_0i, 4 × 4
+    ///     Function::PartialBodyJacobian,       // J^B_0i, 6 × 7
+    /// ])?;
+    /// let mut out = vec![0.0; both.len()];
+    /// both.eval_into(&[0.0, -0.3, 0.0, -2.2, 0.0, 2.0, 0.8], &robot.param_values(&[])?, &mut out)?;
+    /// let (pose, jacobian) = (&out[both.range(0)], &out[both.range(1)]);
+    /// # Ok::<(), trocar_api::Error>(())
+    /// ```
+    ///
+    /// An error when `functions` is empty, names one twice or one the robot does not have, or
+    /// the robot is a closed mechanism.
+    pub fn fused_evaluator(&self, functions: &[Function]) -> Result<FusedEvaluator<'_>> {
+        let Kind::Serial(s) = &self.kind else {
+            return Err(Error::Unsupported(format!(
+                "`{}` is a closed mechanism: several outputs in one program are built for serial \
+                 robots (evaluate jr, jc, passive and det one by one)",
+                self.name()
+            )));
+        };
+        if functions.is_empty() {
+            return Err(Error::Input(
+                "no outputs asked for: name at least one quantity".into(),
+            ));
+        }
+        let generated = self.derive()?;
+        let cached = |list: &[(Vec<Function>, Arc<Fusion>)]| {
+            list.iter()
+                .find(|(f, _)| f == functions)
+                .map(|(_, fusion)| Arc::clone(fusion))
+        };
+        // A poisoned lock held only a list that was complete at every step.
+        let found = cached(&s.fused.lock().unwrap_or_else(|e| e.into_inner()));
+        let fusion = match found {
+            Some(fusion) => fusion,
+            None => {
+                // Built outside the lock: another thread may build the same set meanwhile, and
+                // the first one stored is kept.
+                let program = generated.fuse(functions).map_err(|e| match e {
+                    trocar_codegen::Error::Function { name, message } => {
+                        Error::Unsupported(format!("--what {name}: {message}"))
+                    }
+                    e => Error::Generation(e),
+                })?;
+                let built = Arc::new(Fusion::new(program));
+                let mut list = s.fused.lock().unwrap_or_else(|e| e.into_inner());
+                match cached(&list) {
+                    Some(fusion) => fusion,
+                    None => {
+                        list.push((functions.to_vec(), Arc::clone(&built)));
+                        built
+                    }
+                }
+            }
+        };
+        Ok(FusedEvaluator {
+            robot: self,
+            generated,
+            fusion,
         })
     }
 
@@ -819,23 +895,27 @@ impl Evaluator<'_> {
         self.len() == 0
     }
 
+    fn block(&self) -> Block<'_> {
+        Block {
+            robot: self.robot,
+            generated: self.generated,
+            compiled: self.compiled,
+            row_major: self.row_major,
+            len: self.len(),
+            transforms: match self.shape.layout {
+                Layout::Transform => &[0],
+                _ => &[],
+            },
+        }
+    }
+
     /// Evaluates at `q` (one value per joint) with parameter values `values` (declaration
     /// order) into `out` (`rows · cols` entries, row by row). An error if the result is not
     /// finite (what it divides by is named); lengths are the caller's to get right (checked).
     pub fn eval_into(&self, q: &[f64], values: &[f64], out: &mut [f64]) -> Result<()> {
-        self.check_lengths(q.len(), values.len(), out.len(), 1)?;
-        if let Layout::Transform = self.shape.layout {
-            // The constant last row of a homogeneous transform, which no output writes.
-            out[12..16].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
-        }
-        let finite = SCRATCH.with(|s| {
-            self.compiled
-                .eval_into_at(q, values, &mut s.borrow_mut(), out, Some(self.row_major))
-        });
-        if finite {
-            Ok(())
-        } else {
-            Err(self.not_finite(values, None))
+        match self.block().eval_into(q, values, out)? {
+            None => Ok(()),
+            Some(_) => Err(not_finite(self.generated, self.function, values, None)),
         }
     }
 
@@ -844,6 +924,197 @@ impl Evaluator<'_> {
     /// `count` calls of [`Evaluator::eval_into`]; the configurations are evaluated
     /// [`trocar_codegen::evaluate::LANES`] at a time on every core.
     pub fn eval_many(&self, q: &[f64], values: &[f64], out: &mut [f64]) -> Result<()> {
+        match self.block().eval_many(q, values, out)? {
+            None => Ok(()),
+            Some(k) => Err(not_finite(
+                self.generated,
+                self.function,
+                values,
+                Some(k / self.len().max(1)),
+            )),
+        }
+    }
+}
+
+/// Several functions of a serial robot evaluated by one compiled program that computes every
+/// value they share once ([`Robot::fused_evaluator`]): the program of a fused function of these
+/// outputs in the generated module (`trocar generate --function`). A result holds each
+/// function's matrix row by row, one function after the other ([`FusedEvaluator::range`]).
+#[derive(Clone, Debug)]
+pub struct FusedEvaluator<'a> {
+    robot: &'a Robot,
+    generated: &'a Generated,
+    fusion: Arc<Fusion>,
+}
+
+/// A fused program and where its outputs go in a result.
+#[derive(Debug)]
+struct Fusion {
+    program: FusedProgram,
+    /// Each function's `(rows, cols)`.
+    dims: Vec<(usize, usize)>,
+    /// Where each function's matrix starts in a result.
+    starts: Vec<usize>,
+    /// Where each output of the program goes in a result.
+    row_major: Vec<usize>,
+    /// Where each homogeneous transform starts in a result.
+    transforms: Vec<usize>,
+    /// Entries of one result.
+    len: usize,
+}
+
+impl Fusion {
+    fn new(program: FusedProgram) -> Self {
+        let dims: Vec<(usize, usize)> = program
+            .outputs()
+            .iter()
+            .map(|(_, layout)| Shape { layout: *layout }.dims())
+            .collect();
+        let mut starts = Vec::with_capacity(dims.len());
+        let mut row_major = Vec::new();
+        let mut transforms = Vec::new();
+        let mut len = 0;
+        for ((_, layout), (r, c)) in program.outputs().iter().zip(&dims) {
+            starts.push(len);
+            row_major.extend(layout.row_major_positions().into_iter().map(|k| k + len));
+            if let Layout::Transform = layout {
+                transforms.push(len);
+            }
+            len += r * c;
+        }
+        Fusion {
+            program,
+            dims,
+            starts,
+            row_major,
+            transforms,
+            len,
+        }
+    }
+}
+
+impl FusedEvaluator<'_> {
+    /// The functions, in the order of their matrices in a result.
+    pub fn functions(&self) -> Vec<Function> {
+        self.fusion
+            .program
+            .outputs()
+            .iter()
+            .map(|(f, _)| *f)
+            .collect()
+    }
+
+    /// Each function's `(rows, cols)` (4 × 4 for a pose, 1 × 1 for a scalar), in order.
+    pub fn dims(&self) -> &[(usize, usize)] {
+        &self.fusion.dims
+    }
+
+    /// The entries of a result that hold function `k`'s matrix, row by row.
+    ///
+    /// # Panics
+    /// If `k` is not below the number of functions.
+    pub fn range(&self, k: usize) -> std::ops::Range<usize> {
+        let (r, c) = self.fusion.dims[k];
+        let start = self.fusion.starts[k];
+        start..start + r * c
+    }
+
+    /// Entries of one result: every function's `rows · cols`, summed.
+    pub fn len(&self) -> usize {
+        self.fusion.len
+    }
+
+    /// Whether a result has no entries (never: a fused evaluator has at least one function).
+    pub fn is_empty(&self) -> bool {
+        self.fusion.len == 0
+    }
+
+    fn block(&self) -> Block<'_> {
+        Block {
+            robot: self.robot,
+            generated: self.generated,
+            compiled: self.fusion.program.compiled(),
+            row_major: &self.fusion.row_major,
+            len: self.fusion.len,
+            transforms: &self.fusion.transforms,
+        }
+    }
+
+    /// The function whose matrix holds entry `k` of a result.
+    fn function_at(&self, k: usize) -> Function {
+        let j = (0..self.fusion.dims.len())
+            .rfind(|&j| self.fusion.starts[j] <= k)
+            .unwrap_or(0);
+        self.fusion.program.outputs()[j].0
+    }
+
+    /// Evaluates at `q` (one value per joint) with parameter values `values` (declaration
+    /// order) into `out` ([`FusedEvaluator::len`] entries: each function's matrix row by row,
+    /// one after the other). Each function's values equal its own [`Evaluator`]'s to rounding.
+    /// An error if a result is not finite (which function, and what it divides by).
+    pub fn eval_into(&self, q: &[f64], values: &[f64], out: &mut [f64]) -> Result<()> {
+        match self.block().eval_into(q, values, out)? {
+            None => Ok(()),
+            Some(k) => Err(not_finite(
+                self.generated,
+                self.function_at(k),
+                values,
+                None,
+            )),
+        }
+    }
+
+    /// Evaluates at `count = q.len() / dof` configurations given one after the other into
+    /// `out` (`count × len` entries, each configuration's result as
+    /// [`FusedEvaluator::eval_into`] writes it), on every core as [`Evaluator::eval_many`].
+    pub fn eval_many(&self, q: &[f64], values: &[f64], out: &mut [f64]) -> Result<()> {
+        let len = self.fusion.len.max(1);
+        match self.block().eval_many(q, values, out)? {
+            None => Ok(()),
+            Some(k) => Err(not_finite(
+                self.generated,
+                self.function_at(k % len),
+                values,
+                Some(k / len),
+            )),
+        }
+    }
+}
+
+/// What both evaluators run: a compiled program whose outputs go to the positions `row_major`
+/// of a result of `len` entries, in which homogeneous transforms start at `transforms`.
+struct Block<'r> {
+    robot: &'r Robot,
+    generated: &'r Generated,
+    compiled: &'r Compiled,
+    row_major: &'r [usize],
+    len: usize,
+    transforms: &'r [usize],
+}
+
+impl Block<'_> {
+    /// The constant last row of each homogeneous transform in one result, which no output
+    /// writes.
+    fn last_rows(&self, out: &mut [f64]) {
+        for &t in self.transforms {
+            out[t + 12..t + 16].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
+        }
+    }
+
+    /// One configuration into `out`; the first entry that is not finite, if any.
+    fn eval_into(&self, q: &[f64], values: &[f64], out: &mut [f64]) -> Result<Option<usize>> {
+        self.check_lengths(q.len(), values.len(), out.len(), 1)?;
+        self.last_rows(out);
+        let finite = SCRATCH.with(|s| {
+            self.compiled
+                .eval_into_at(q, values, &mut s.borrow_mut(), out, Some(self.row_major))
+        });
+        Ok((!finite).then(|| out.iter().position(|v| !v.is_finite()).unwrap_or(0)))
+    }
+
+    /// Configurations one after the other into `out`, on every core from [`PARALLEL_FROM`]
+    /// configurations; the first entry that is not finite, if any.
+    fn eval_many(&self, q: &[f64], values: &[f64], out: &mut [f64]) -> Result<Option<usize>> {
         let n = self.generated.joints();
         let count = q.len().checked_div(n).unwrap_or(0);
         if q.len() != count * n {
@@ -861,17 +1132,16 @@ impl Evaluator<'_> {
                 q[k]
             )));
         }
-        let len = self.len();
+        let len = self.len;
         let threads = if count >= PARALLEL_FROM {
             std::thread::available_parallelism().map_or(1, |p| p.get())
         } else {
             1
         };
         let per = count.div_ceil(threads.max(1)).max(1);
-        if let Layout::Transform = self.shape.layout {
-            // The constant last row of a homogeneous transform, which no output writes.
-            for block in out.chunks_exact_mut(16) {
-                block[12..].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
+        if !self.transforms.is_empty() {
+            for block in out.chunks_exact_mut(len) {
+                self.last_rows(block);
             }
         }
         let work = |qs: &[f64], outs: &mut [f64]| {
@@ -894,11 +1164,7 @@ impl Evaluator<'_> {
                     .fold(first, |all, h| h.join().unwrap_or(false) && all)
             })
         };
-        if !finite {
-            let k = out.iter().position(|v| !v.is_finite()).unwrap_or(0);
-            return Err(self.not_finite(values, Some(k / len.max(1))));
-        }
-        Ok(())
+        Ok((!finite).then(|| out.iter().position(|v| !v.is_finite()).unwrap_or(0)))
     }
 
     fn check_lengths(&self, q: usize, values: usize, out: usize, count: usize) -> Result<()> {
@@ -916,54 +1182,57 @@ impl Evaluator<'_> {
                 self.robot.name()
             )));
         }
-        if out != count * self.len() {
+        if out != count * self.len {
             return Err(Error::Input(format!(
                 "the output holds {out} values, not {count} × {}",
-                self.len()
+                self.len
             )));
         }
         Ok(())
     }
+}
 
-    /// Why the result is not finite: a parameter it divides by at zero, or an overflow.
-    fn not_finite(&self, values: &[f64], configuration: Option<usize>) -> Error {
-        let function = self.function;
-        let names = self.generated.param_names();
-        let divisors: Vec<(String, f64)> = self
-            .generated
-            .divisors(function)
-            .into_iter()
-            .filter_map(|d| {
-                let k = names.iter().position(|n| *n == d)?;
-                Some((d, values[k]))
-            })
-            .collect();
-        let list = |only_zero: bool| {
-            divisors
-                .iter()
-                .filter(|(_, v)| !only_zero || v.abs() < f64::MIN_POSITIVE)
-                .map(|(d, v)| format!("`{d}` = {v:e}"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        };
-        let at = match configuration {
-            Some(k) => format!("at configuration {k}"),
-            None => "at this configuration".to_string(),
-        };
-        let zero = list(true);
-        Error::NotFinite(if !zero.is_empty() {
-            format!("`{function}` is not finite {at}: it divides by {zero} (zero or subnormal)")
-        } else if !divisors.is_empty() {
-            format!(
-                "`{function}` is not finite {at}: an intermediate value overflowed; it divides by {}",
-                list(false)
-            )
-        } else {
-            format!(
-                "`{function}` is not finite {at}: an intermediate value overflowed (a joint value or a parameter too large)"
-            )
+/// Why `function`'s result is not finite: a parameter it divides by at zero, or an overflow.
+fn not_finite(
+    generated: &Generated,
+    function: Function,
+    values: &[f64],
+    configuration: Option<usize>,
+) -> Error {
+    let names = generated.param_names();
+    let divisors: Vec<(String, f64)> = generated
+        .divisors(function)
+        .into_iter()
+        .filter_map(|d| {
+            let k = names.iter().position(|n| *n == d)?;
+            Some((d, values[k]))
         })
-    }
+        .collect();
+    let list = |only_zero: bool| {
+        divisors
+            .iter()
+            .filter(|(_, v)| !only_zero || v.abs() < f64::MIN_POSITIVE)
+            .map(|(d, v)| format!("`{d}` = {v:e}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let at = match configuration {
+        Some(k) => format!("at configuration {k}"),
+        None => "at this configuration".to_string(),
+    };
+    let zero = list(true);
+    Error::NotFinite(if !zero.is_empty() {
+        format!("`{function}` is not finite {at}: it divides by {zero} (zero or subnormal)")
+    } else if !divisors.is_empty() {
+        format!(
+            "`{function}` is not finite {at}: an intermediate value overflowed; it divides by {}",
+            list(false)
+        )
+    } else {
+        format!(
+            "`{function}` is not finite {at}: an intermediate value overflowed (a joint value or a parameter too large)"
+        )
+    })
 }
 
 /// The error for a task Jacobian asked of a robot without a `[task]`.

@@ -1,0 +1,163 @@
+//! Several outputs in one program (`Robot::fused_evaluator`): each output against its own
+//! function's evaluator and against the numeric runtime, many configurations against one, and
+//! the errors.
+
+use trocar_api::{Error, Function, Robot};
+use trocar_model::description::RobotDescription;
+
+/// Joint values spread over `[-2.5, 2.5]` rad (a fixed sequence, so that a failure repeats).
+fn configurations(n: usize, count: usize) -> Vec<Vec<f64>> {
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    (0..count)
+        .map(|_| {
+            (0..n)
+                .map(|_| {
+                    state = state
+                        .wrapping_mul(6_364_136_223_846_793_005)
+                        .wrapping_add(1_442_695_040_888_963_407);
+                    ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 5.0
+                })
+                .collect()
+        })
+        .collect()
+}
+
+fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+/// Every output of each set equals its own function's evaluation to rounding and the numeric
+/// runtime's to 1e-9 of its size, in the order asked for.
+#[test]
+fn each_output_is_its_own_functions_value() {
+    use Function::*;
+    let sets: [(&str, &[Function]); 5] = [
+        (
+            "panda-laparoscope",
+            &[ConstrainedLinkKinematics, PartialBodyJacobian],
+        ),
+        (
+            "panda-laparoscope",
+            &[PartialBodyJacobian, ForwardKinematics, ConstrainedJacobian],
+        ),
+        ("dia10_like_zy", &[ForwardKinematics, BodyJacobian]),
+        (
+            "dia10_like_zy",
+            &[ConstrainedJacobian, Manipulability, ConstraintJacobianC],
+        ),
+        ("bidirectional-zx", &[Manipulability]),
+    ];
+    for (name, functions) in sets {
+        let robot = Robot::load(name).unwrap();
+        let values = robot.param_values(&[]).unwrap();
+        let fused = robot.fused_evaluator(functions).unwrap();
+        assert_eq!(fused.functions(), functions);
+        let mut out = vec![f64::NAN; fused.len()];
+        for q in configurations(robot.dof(), 40) {
+            fused.eval_into(&q, &values, &mut out).unwrap();
+            for (k, &f) in functions.iter().enumerate() {
+                let got = &out[fused.range(k)];
+                let alone = robot.eval(f, &q, &[]).unwrap();
+                assert_eq!(fused.dims()[k], (alone.rows, alone.cols), "{name} {f}");
+                let scale = alone.data.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+                let d = largest_difference(got, &alone.data);
+                assert!(
+                    d <= 1e-13 * scale,
+                    "{name} {f}: {d:e} from its own function"
+                );
+                // The numeric runtime has no g_0i; its own function is checked by `verify`.
+                if f != Function::ConstrainedLinkKinematics {
+                    let numeric = robot.eval_numeric(f, &q, &[]).unwrap();
+                    let d = largest_difference(got, &numeric.data);
+                    assert!(
+                        d <= 1e-9 * scale,
+                        "{name} {f}: {d:e} from the numeric runtime"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// Many configurations give each configuration's single evaluation bit for bit, on one thread
+/// and (from 512 configurations) on every core, with the poses' constant last rows.
+#[test]
+fn many_configurations_are_each_ones_evaluation() {
+    let robot = Robot::load("panda-laparoscope").unwrap();
+    let values = robot.param_values(&[]).unwrap();
+    let fused = robot
+        .fused_evaluator(&[
+            Function::ForwardKinematics,
+            Function::PartialBodyJacobian,
+            Function::ConstrainedLinkKinematics,
+        ])
+        .unwrap();
+    for count in [3, 700] {
+        let qs = configurations(robot.dof(), count);
+        let flat: Vec<f64> = qs.iter().flatten().copied().collect();
+        let mut many = vec![f64::NAN; count * fused.len()];
+        fused.eval_many(&flat, &values, &mut many).unwrap();
+        let mut one = vec![f64::NAN; fused.len()];
+        for (q, block) in qs.iter().zip(many.chunks_exact(fused.len())) {
+            fused.eval_into(q, &values, &mut one).unwrap();
+            let same = one
+                .iter()
+                .zip(block)
+                .all(|(a, b)| a.to_bits() == b.to_bits());
+            assert!(same, "{count} configurations: differs at {q:?}");
+            for k in [0, 2] {
+                assert_eq!(&block[fused.range(k)][12..], &[0.0, 0.0, 0.0, 1.0]);
+            }
+        }
+    }
+}
+
+/// Wrong requests and wrong arguments are errors that say what is wrong.
+#[test]
+fn errors_name_what_is_wrong() {
+    let robot = Robot::load("dia10_like_zy").unwrap();
+    let message = |r: Result<trocar_api::FusedEvaluator<'_>, Error>| r.unwrap_err().to_string();
+    assert!(message(robot.fused_evaluator(&[])).contains("no outputs"));
+    let twice = message(robot.fused_evaluator(&[Function::ForwardKinematics; 2]));
+    assert!(twice.contains("`fk` given twice"), "{twice}");
+    let task = message(robot.fused_evaluator(&[Function::ConstrainedTaskJacobian]));
+    assert!(task.contains("not a function of this module"), "{task}");
+
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../runtime/model/tests/data/arm7.urdf"
+    );
+    let free = Robot::from_description(RobotDescription::from_urdf_file(path, "tool").unwrap());
+    let jr = message(
+        free.fused_evaluator(&[Function::ForwardKinematics, Function::ConstrainedJacobian]),
+    );
+    assert!(jr.contains("--what fk,jr") && jr.contains("`jr`"), "{jr}");
+
+    let mechanism = Robot::load("four-bar").unwrap();
+    let m = message(mechanism.fused_evaluator(&[Function::ReducedJacobian]));
+    assert!(m.contains("closed mechanism"), "{m}");
+
+    let fused = robot
+        .fused_evaluator(&[Function::ForwardKinematics, Function::ConstrainedJacobian])
+        .unwrap();
+    let values = robot.param_values(&[]).unwrap();
+    let mut out = vec![0.0; fused.len()];
+    let short = fused.eval_into(&[0.0; 3], &values, &mut out).unwrap_err();
+    assert!(short.to_string().contains("joints"), "{short}");
+    let mut small = vec![0.0; fused.len() - 1];
+    let q = vec![0.1; robot.dof()];
+    let len = fused.eval_into(&q, &values, &mut small).unwrap_err();
+    assert!(len.to_string().contains("output holds"), "{len}");
+    let mut many = vec![0.0; 2 * fused.len()];
+    let mut bad = vec![0.1; 2 * robot.dof()];
+    bad[robot.dof() + 1] = f64::NAN;
+    let nan = fused.eval_many(&bad, &values, &mut many).unwrap_err();
+    assert!(
+        nan.to_string().contains("configuration 1: joint 2"),
+        "{nan}"
+    );
+}
