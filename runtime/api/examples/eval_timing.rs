@@ -61,5 +61,62 @@ fn main() -> Result<(), trocar_api::Error> {
             best_many * 1e9
         );
     }
+    // Several outputs in one program against the same outputs' own programs one after the other.
+    let set = [
+        Function::ConstrainedLinkKinematics,
+        Function::PartialBodyJacobian,
+    ];
+    let fused = robot.fused_evaluator(&set)?;
+    let mut out = vec![0.0; fused.len()];
+    let mut best = f64::INFINITY;
+    for _ in 0..5 {
+        let t = Instant::now();
+        for _ in 0..200_000 {
+            fused.eval_into(std::hint::black_box(&q), &values, &mut out)?;
+        }
+        best = best.min(t.elapsed().as_secs_f64() / 200_000.0);
+    }
+    let qs: Vec<f64> = (0..10_000)
+        .flat_map(|k| q.map(|x| x + 1e-4 * k as f64))
+        .collect();
+    let mut many = vec![0.0; 10_000 * fused.len()];
+    let mut best_many = f64::INFINITY;
+    for _ in 0..5 {
+        let t = Instant::now();
+        fused.eval_many(&qs, &values, &mut many)?;
+        best_many = best_many.min(t.elapsed().as_secs_f64() / 10_000.0);
+    }
+    println!(
+        "fk0i + jb0i: eval_many {:.1} ns per configuration",
+        best_many * 1e9
+    );
+    let singles: Vec<_> = set
+        .iter()
+        .map(|&f| robot.evaluator(f))
+        .collect::<Result<_, _>>()?;
+    let mut best_singles = f64::INFINITY;
+    for _ in 0..5 {
+        let t = Instant::now();
+        for _ in 0..200_000 {
+            for e in &singles {
+                e.eval_into(std::hint::black_box(&q), &values, &mut out[..e.len()])?;
+            }
+        }
+        best_singles = best_singles.min(t.elapsed().as_secs_f64() / 200_000.0);
+    }
+    println!(
+        "fk0i + jb0i: one program {:.1} ns ({} operations), their own programs {:.1} ns ({} operations)",
+        best * 1e9,
+        robot
+            .derive()?
+            .fuse(&set)
+            .map_err(trocar_api::Error::Generation)?
+            .compiled()
+            .operations(),
+        best_singles * 1e9,
+        set.iter()
+            .map(|&f| robot.derive().map(|g| g.compiled(f).map_or(0, |c| c.operations())))
+            .sum::<Result<usize, _>>()?
+    );
     Ok(())
 }

@@ -1079,7 +1079,100 @@ impl FusedEvaluator<'_> {
             )),
         }
     }
+    /// [`FusedEvaluator::eval_many`] with each function's results in a slice of its own:
+    /// `outs[k]` receives function `k`'s matrix (row by row) for every configuration, one after
+    /// the other (`count × rows · cols` entries), as separate arrays of each quantity want them.
+    /// The configurations go through a small buffer, 64 at a time, on every core.
+    pub fn eval_many_each(&self, q: &[f64], values: &[f64], outs: &mut [&mut [f64]]) -> Result<()> {
+        let block = self.block();
+        let count = block.configurations(q, values)?;
+        let fusion = &self.fusion;
+        if outs.len() != fusion.dims.len() {
+            return Err(Error::Input(format!(
+                "{} outputs given for {} functions",
+                outs.len(),
+                fusion.dims.len()
+            )));
+        }
+        let sizes: Vec<usize> = fusion.dims.iter().map(|(r, c)| r * c).collect();
+        for (k, (out, size)) in outs.iter().zip(&sizes).enumerate() {
+            if out.len() != count * size {
+                return Err(Error::Input(format!(
+                    "output {k} holds {} values, not {count} × {size}",
+                    out.len()
+                )));
+            }
+        }
+        let n = self.generated.joints();
+        let len = fusion.len;
+        let per = per_thread(count);
+        // One part per thread: its configurations and its piece of every output.
+        let mut pieces: Vec<std::slice::ChunksMut<'_, f64>> = outs
+            .iter_mut()
+            .zip(&sizes)
+            .map(|(out, size)| out.chunks_mut((per * size).max(1)))
+            .collect();
+        let parts: Vec<(&[f64], Vec<&mut [f64]>)> = q
+            .chunks(per * n)
+            .map(|qs| {
+                let mine = pieces
+                    .iter_mut()
+                    .map(|p| p.next().unwrap_or_default())
+                    .collect();
+                (qs, mine)
+            })
+            .collect();
+        let finite = on_every_core(parts, |(qs, mut mine)| {
+            let mut buffer = vec![0.0; CHUNK * len];
+            for b in buffer.chunks_exact_mut(len.max(1)) {
+                block.last_rows(b);
+            }
+            let mut finite = true;
+            for (c, qc) in qs.chunks(CHUNK * n).enumerate() {
+                let m = qc.len() / n;
+                let buffer = &mut buffer[..m * len];
+                finite &=
+                    block
+                        .compiled
+                        .eval_batch_ordered(qc, values, buffer, len, block.row_major);
+                for (k, piece) in mine.iter_mut().enumerate() {
+                    let (start, size) = (fusion.starts[k], sizes[k]);
+                    let to = &mut piece[c * CHUNK * size..][..m * size];
+                    for (to, from) in to
+                        .chunks_exact_mut(size.max(1))
+                        .zip(buffer.chunks_exact(len))
+                    {
+                        to.copy_from_slice(&from[start..start + size]);
+                    }
+                }
+            }
+            finite
+        });
+        if finite {
+            return Ok(());
+        }
+        // The earliest configuration with a value that is not finite, and its function.
+        let (configuration, k) = outs
+            .iter()
+            .zip(&sizes)
+            .enumerate()
+            .filter_map(|(k, (out, size))| {
+                let at = out.iter().position(|v| !v.is_finite())?;
+                Some((at / size.max(&1), k))
+            })
+            .min()
+            .unwrap_or((0, 0));
+        Err(not_finite(
+            self.generated,
+            fusion.program.outputs()[k].0,
+            values,
+            Some(configuration),
+        ))
+    }
 }
+
+/// Configurations [`FusedEvaluator::eval_many_each`] evaluates at a time into its buffer.
+const CHUNK: usize = 64;
 
 /// What both evaluators run: a compiled program whose outputs go to the positions `row_major`
 /// of a result of `len` entries, in which homogeneous transforms start at `transforms`.
@@ -1115,6 +1208,27 @@ impl Block<'_> {
     /// Configurations one after the other into `out`, on every core from [`PARALLEL_FROM`]
     /// configurations; the first entry that is not finite, if any.
     fn eval_many(&self, q: &[f64], values: &[f64], out: &mut [f64]) -> Result<Option<usize>> {
+        let count = self.configurations(q, values)?;
+        let n = self.generated.joints();
+        self.check_lengths(n, values.len(), out.len(), count)?;
+        let len = self.len;
+        if !self.transforms.is_empty() {
+            for block in out.chunks_exact_mut(len) {
+                self.last_rows(block);
+            }
+        }
+        let per = per_thread(count);
+        let parts = q.chunks(per * n).zip(out.chunks_mut(per * len)).collect();
+        let finite = on_every_core(parts, |(qs, outs)| {
+            self.compiled
+                .eval_batch_ordered(qs, values, outs, len, self.row_major)
+        });
+        Ok((!finite).then(|| out.iter().position(|v| !v.is_finite()).unwrap_or(0)))
+    }
+
+    /// The number of configurations in `q` (one after the other), checked: whole, finite, and
+    /// `values` one per parameter.
+    fn configurations(&self, q: &[f64], values: &[f64]) -> Result<usize> {
         let n = self.generated.joints();
         let count = q.len().checked_div(n).unwrap_or(0);
         if q.len() != count * n {
@@ -1123,7 +1237,7 @@ impl Block<'_> {
                 q.len()
             )));
         }
-        self.check_lengths(n, values.len(), out.len(), count)?;
+        self.check_lengths(n, values.len(), 0, 0)?;
         if let Some(k) = q.iter().position(|v| !v.is_finite()) {
             return Err(Error::Input(format!(
                 "configuration {}: joint {} is not finite ({})",
@@ -1132,39 +1246,7 @@ impl Block<'_> {
                 q[k]
             )));
         }
-        let len = self.len;
-        let threads = if count >= PARALLEL_FROM {
-            std::thread::available_parallelism().map_or(1, |p| p.get())
-        } else {
-            1
-        };
-        let per = count.div_ceil(threads.max(1)).max(1);
-        if !self.transforms.is_empty() {
-            for block in out.chunks_exact_mut(len) {
-                self.last_rows(block);
-            }
-        }
-        let work = |qs: &[f64], outs: &mut [f64]| {
-            self.compiled
-                .eval_batch_ordered(qs, values, outs, len, self.row_major)
-        };
-        let finite = if threads <= 1 {
-            work(q, out)
-        } else {
-            std::thread::scope(|scope| {
-                // The first chunk on this thread, the others on threads of their own.
-                let mut chunks = q.chunks(per * n).zip(out.chunks_mut(per * len));
-                let here = chunks.next();
-                let handles: Vec<_> = chunks
-                    .map(|(qs, outs)| scope.spawn(move || work(qs, outs)))
-                    .collect();
-                let first = here.is_none_or(|(qs, outs)| work(qs, outs));
-                handles
-                    .into_iter()
-                    .fold(first, |all, h| h.join().unwrap_or(false) && all)
-            })
-        };
-        Ok((!finite).then(|| out.iter().position(|v| !v.is_finite()).unwrap_or(0)))
+        Ok(count)
     }
 
     fn check_lengths(&self, q: usize, values: usize, out: usize, count: usize) -> Result<()> {
@@ -1190,6 +1272,37 @@ impl Block<'_> {
         }
         Ok(())
     }
+}
+
+/// Configurations per thread for `count` of them: all on one thread below [`PARALLEL_FROM`],
+/// otherwise shared evenly by the cores.
+fn per_thread(count: usize) -> usize {
+    let threads = if count >= PARALLEL_FROM {
+        std::thread::available_parallelism().map_or(1, |p| p.get())
+    } else {
+        1
+    };
+    count.div_ceil(threads.max(1)).max(1)
+}
+
+/// `work` on every part, the first on this thread and each other one on a thread of its own;
+/// whether every call returned `true`.
+fn on_every_core<T: Send>(parts: Vec<T>, work: impl Fn(T) -> bool + Sync) -> bool {
+    let mut parts = parts.into_iter();
+    let Some(here) = parts.next() else {
+        return true;
+    };
+    if parts.len() == 0 {
+        return work(here);
+    }
+    std::thread::scope(|scope| {
+        let work = &work;
+        let handles: Vec<_> = parts.map(|part| scope.spawn(move || work(part))).collect();
+        let first = work(here);
+        handles
+            .into_iter()
+            .fold(first, |all, h| h.join().unwrap_or(false) && all)
+    })
 }
 
 /// Why `function`'s result is not finite: a parameter it divides by at zero, or an overflow.

@@ -113,6 +113,28 @@ fn many_configurations_are_each_ones_evaluation() {
                 assert_eq!(&block[fused.range(k)][12..], &[0.0, 0.0, 0.0, 1.0]);
             }
         }
+        // Each function's results in an array of its own: the same values.
+        let mut each: Vec<Vec<f64>> = fused
+            .dims()
+            .iter()
+            .map(|(r, c)| vec![f64::NAN; count * r * c])
+            .collect();
+        let mut slices: Vec<&mut [f64]> = each.iter_mut().map(|v| v.as_mut_slice()).collect();
+        fused.eval_many_each(&flat, &values, &mut slices).unwrap();
+        for (i, block) in many.chunks_exact(fused.len()).enumerate() {
+            for (k, values) in each.iter().enumerate() {
+                let size = fused.range(k).len();
+                let got = &values[i * size..(i + 1) * size];
+                let same = got
+                    .iter()
+                    .zip(&block[fused.range(k)])
+                    .all(|(a, b)| a.to_bits() == b.to_bits());
+                assert!(
+                    same,
+                    "{count} configurations: function {k} of configuration {i}"
+                );
+            }
+        }
     }
 }
 
@@ -160,4 +182,25 @@ fn errors_name_what_is_wrong() {
         nan.to_string().contains("configuration 1: joint 2"),
         "{nan}"
     );
+    let (a, b) = (fused.range(0).len(), fused.range(1).len());
+    let (mut pose, mut jr) = (vec![0.0; 2 * a], vec![0.0; 2 * b]);
+    let nan = fused
+        .eval_many_each(&bad, &values, &mut [&mut pose, &mut jr])
+        .unwrap_err();
+    assert!(
+        nan.to_string().contains("configuration 1: joint 2"),
+        "{nan}"
+    );
+    let good = vec![0.1; 2 * robot.dof()];
+    let one = fused
+        .eval_many_each(&good, &values, &mut [&mut pose])
+        .unwrap_err();
+    assert!(
+        one.to_string().contains("1 outputs given for 2 functions"),
+        "{one}"
+    );
+    let short = fused
+        .eval_many_each(&good, &values, &mut [&mut pose, &mut jr[1..]])
+        .unwrap_err();
+    assert!(short.to_string().contains("output 1 holds"), "{short}");
 }

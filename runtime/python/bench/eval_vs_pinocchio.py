@@ -8,6 +8,9 @@ On the Franka Panda (shipped ``panda-laparoscope``; Pinocchio reads the same URD
 - ``robot.eval(q, what=...)`` per call, for the partial body Jacobian ``jb0i`` (J^B_0i in
   panda_link7's frame, 6 x 7), the pose ``fk`` and ``jr``, against ``pinocchio.computeFrameJacobian(model,
   data, q, frame, LOCAL)`` (the same J^B, panda_link7) per call;
+- ``robot.eval(q, what=("fk0i", "jb0i"))`` (the pose of panda_link7 and J^B_0i from one
+  program) against ``computeFrameJacobian`` and reading ``data.oMf[frame]``, and against two
+  trocar calls;
 - ``robot.eval_many(Q, what="jb0i")`` for N = 10^4 configurations, per configuration;
 - ``trocar.Controller(robot, method="dls").step(...)`` per step.
 
@@ -73,6 +76,25 @@ def main():
         print(f"trocar robot.eval(q, what={what!r:7})     {t * 1e6:8.3f} us per call"
               f"  {t / t_pin:6.3f}x Pinocchio")
 
+    # The pose and the Jacobian together: one Pinocchio call computes both (the frame's
+    # placement is data.oMf[frame] afterwards; reading it as an array is part of the cost), as
+    # one trocar call does with a tuple of names (one program); two trocar calls for comparison.
+    def pin_pose_and_jacobian():
+        j = pin.computeFrameJacobian(model, data, qp, frame, pin.ReferenceFrame.LOCAL)
+        return data.oMf[frame].homogeneous, j
+
+    g_pin, _ = pin_pose_and_jacobian()
+    g_t, _ = robot.eval(q, what=("fk0i", "jb0i"))
+    print(f"max |g_0i trocar - Pinocchio| = {np.max(np.abs(g_t - g_pin)):.1e}")
+    t_pin2 = per_call(pin_pose_and_jacobian, n)
+    t_both = per_call(lambda: robot.eval(q, what=("fk0i", "jb0i")), n)
+    t_two = per_call(lambda: (robot.eval(q, what="fk0i"), robot.eval(q, what="jb0i")), n)
+    print(f"pinocchio computeFrameJacobian + oMf    {t_pin2 * 1e6:8.3f} us per call")
+    print(f"trocar robot.eval(q, what=('fk0i', 'jb0i')) {t_both * 1e6:8.3f} us per call"
+          f"  {t_both / t_pin2:6.3f}x Pinocchio")
+    print(f"trocar eval 'fk0i' then 'jb0i'         {t_two * 1e6:8.3f} us per pair"
+          f"  {t_two / t_pin2:6.3f}x Pinocchio")
+
     qs = rng.uniform(lo, hi, size=(10_000, 7))
     t_many = per_call(lambda: robot.eval_many(qs, what="jb0i"), 5) / len(qs)
     print(f"trocar robot.eval_many(Q, 'jb0i'), N=1e4 {t_many * 1e9:8.1f} ns per configuration"
@@ -88,6 +110,7 @@ def main():
     print(f"ratio eval / Pinocchio (worst of the four): {worst:.3f} (target <= 1)")
     print(f"ratio eval_many per configuration / Pinocchio: {t_many / t_pin:.3f} (target <= 0.1)")
     print(f"Controller.step: {t_step * 1e6:.2f} us (target <= 20 us)")
+    print(f"ratio pose and Jacobian in one call / Pinocchio's: {t_both / t_pin2:.3f}")
 
 
 if __name__ == "__main__":

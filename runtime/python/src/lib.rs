@@ -9,9 +9,9 @@ use numpy::ndarray::{Array1, Array2};
 use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
 };
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyList, PyString, PyTuple};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use trocar_api::{ControllerOptions, Function, Method, RcmOptions, SpeedLimit, Target};
@@ -70,6 +70,42 @@ fn method(name: &str) -> PyResult<Method> {
     }
 }
 
+/// What `eval` and `eval_many` are asked for: one quantity, or several in one program.
+enum What {
+    One(Function),
+    Several(Vec<Function>),
+}
+
+/// A new `rows × cols` array holding `data` row by row.
+fn matrix<'py>(
+    py: Python<'py>,
+    rows: usize,
+    cols: usize,
+    data: &[f64],
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    if data.len() != rows * cols {
+        return Err(PyValueError::new_err(format!(
+            "{} values for a {rows} × {cols} matrix",
+            data.len()
+        )));
+    }
+    // SAFETY: `new` leaves the data uninitialised; every entry is written just below (the
+    // lengths were checked above) before the array is handed to Python.
+    let out = unsafe { PyArray2::<f64>::new(py, [rows, cols], false) };
+    // SAFETY: `out` was created just above as a new, C-contiguous array and has not been handed
+    // to Python or borrowed yet, so this is the only reference to its data while the slice
+    // lives (for the one copy).
+    unsafe { out.as_slice_mut() }
+        .map_err(|e| PyValueError::new_err(e.to_string()))?
+        .copy_from_slice(data);
+    Ok(out)
+}
+
+thread_local! {
+    /// The result of a fused evaluation before it is copied to its arrays, kept per thread.
+    static RESULT: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
 /// A robot or closed mechanism: a shipped name (`bidirectional-zy`, `panda-laparoscope`,
 /// `four-bar`, …) or a TOML file (its chain may come from a URDF). Loaded, derived and compiled
 /// once; every evaluation after that runs the compiled closed forms.
@@ -91,6 +127,94 @@ impl Robot {
                 self.inner.param_values(&p).map_err(value_error)
             }
         }
+    }
+
+    /// `what` as `eval` takes it: `None` for `"jr"`, one name, or a tuple or list of names.
+    fn what(&self, what: Option<&Bound<'_, PyAny>>) -> PyResult<What> {
+        let Some(what) = what else {
+            return Ok(What::One(self.function("jr")?));
+        };
+        if let Ok(name) = what.cast::<PyString>() {
+            return Ok(What::One(self.function(name.to_str()?)?));
+        }
+        let not_names = || {
+            PyTypeError::new_err(format!(
+                "what: a quantity's name (\"jr\", \"jb0i\", ...) or a tuple or list of names \
+                 (strings), not {}",
+                what.repr()
+                    .map_or_else(|_| "this value".to_string(), |r| r.to_string())
+            ))
+        };
+        let mut functions = Vec::with_capacity(4);
+        let mut add = |name: Bound<'_, PyAny>| -> PyResult<()> {
+            let name = name.cast_into::<PyString>().map_err(|_| not_names())?;
+            let function = self.function(name.to_str()?)?;
+            if functions.contains(&function) {
+                return Err(PyValueError::new_err(format!(
+                    "what: `{}` is asked for twice",
+                    function.short_name()
+                )));
+            }
+            functions.push(function);
+            Ok(())
+        };
+        if let Ok(tuple) = what.cast::<PyTuple>() {
+            tuple.iter().try_for_each(&mut add)?;
+        } else if let Ok(list) = what.cast::<PyList>() {
+            list.iter().try_for_each(&mut add)?;
+        } else {
+            return Err(not_names());
+        }
+        if functions.is_empty() {
+            return Err(PyValueError::new_err(
+                "what: an empty sequence; name at least one quantity",
+            ));
+        }
+        Ok(What::Several(functions))
+    }
+
+    /// [`Robot::eval`] of one function.
+    fn eval_one<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        function: Function,
+        params: Option<BTreeMap<String, f64>>,
+        numeric: bool,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        with_joints(q, |q| {
+            if numeric || self.inner.is_mechanism() {
+                let p: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
+                let m = if numeric {
+                    self.inner.eval_numeric(function, q, &p)
+                } else {
+                    self.inner.eval(function, q, &p)
+                }
+                .map_err(value_error)?;
+                return matrix(py, m.rows, m.cols, &m.data);
+            }
+            self.inner.check_q(q).map_err(value_error)?;
+            let e = self.inner.evaluator(function).map_err(value_error)?;
+            // SAFETY: `new` leaves the data uninitialised; the array is handed to Python only
+            // after `eval_into` has written every entry (each output at its own row-major
+            // position, they cover the matrix, and a transform's constant last row), and is
+            // dropped unread otherwise.
+            let out = unsafe { PyArray2::<f64>::new(py, [e.rows(), e.cols()], false) };
+            let written = {
+                // SAFETY: `out` was created just above as a new, C-contiguous array of
+                // `rows × cols` values and has not been handed to Python or borrowed yet, so
+                // this is the only reference to its data while the slice lives (it ends with
+                // this block).
+                let data = unsafe { out.as_slice_mut() }
+                    .map_err(|e| PyValueError::new_err(e.to_string()))?;
+                match params {
+                    None => e.eval_into(q, &self.nominal, data),
+                    Some(p) => e.eval_into(q, &self.values(Some(p))?, data),
+                }
+            };
+            written.map_err(value_error)?;
+            Ok(out)
+        })
     }
 
     fn function(&self, what: &str) -> PyResult<Function> {
@@ -189,69 +313,85 @@ impl Robot {
 
     /// The quantity `what` (a catalogue name such as `"constrained_jacobian"` or a short name
     /// such as `"jr"`) at the joint values `q`, as a 2-D array, row-major (a scalar such as the
-    /// manipulability is 1 × 1, a pose 4 × 4). `params` overrides parameter values by name;
-    /// `numeric` uses the numeric runtime instead of the generated closed forms.
-    #[pyo3(signature = (q, what = "jr", params = None, numeric = false))]
+    /// manipulability is 1 × 1, a pose 4 × 4). `what` may also be a tuple or list of names: a
+    /// tuple of arrays then comes back, one per name, computed by one program that shares every
+    /// value they have in common (a serial robot's closed forms). `params` overrides parameter
+    /// values by name; `numeric` uses the numeric runtime instead of the generated closed forms.
+    #[pyo3(signature = (q, what = None, params = None, numeric = false))]
     fn eval<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
-        what: &str,
+        what: Option<&Bound<'py, PyAny>>,
         params: Option<BTreeMap<String, f64>>,
         numeric: bool,
-    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let function = self.function(what)?;
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let functions = match self.what(what)? {
+            What::One(function) => {
+                return Ok(self.eval_one(py, q, function, params, numeric)?.into_any());
+            }
+            What::Several(functions) => functions,
+        };
         with_joints(q, |q| {
             if numeric || self.inner.is_mechanism() {
                 let p: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
-                let m = if numeric {
-                    self.inner.eval_numeric(function, q, &p)
-                } else {
-                    self.inner.eval(function, q, &p)
-                }
-                .map_err(value_error)?;
-                let a = Array2::from_shape_vec((m.rows, m.cols), m.data)
-                    .map_err(|e| PyValueError::new_err(e.to_string()))?;
-                return Ok(a.into_pyarray(py));
+                let arrays = functions
+                    .iter()
+                    .map(|&f| {
+                        let m = if numeric {
+                            self.inner.eval_numeric(f, q, &p)
+                        } else {
+                            self.inner.eval(f, q, &p)
+                        }
+                        .map_err(value_error)?;
+                        matrix(py, m.rows, m.cols, &m.data)
+                    })
+                    .collect::<PyResult<Vec<_>>>()?;
+                return Ok(PyTuple::new(py, arrays)?.into_any());
             }
             self.inner.check_q(q).map_err(value_error)?;
-            let e = self.inner.evaluator(function).map_err(value_error)?;
-            // SAFETY: `new` leaves the data uninitialised; the array is handed to Python only
-            // after `eval_into` has written every entry (each output at its own row-major
-            // position, they cover the matrix, and a transform's constant last row), and is
-            // dropped unread otherwise.
-            let out = unsafe { PyArray2::<f64>::new(py, [e.rows(), e.cols()], false) };
-            let written = {
-                // SAFETY: `out` was created just above as a new, C-contiguous array of
-                // `rows × cols` values and has not been handed to Python or borrowed yet, so
-                // this is the only reference to its data while the slice lives (it ends with
-                // this block).
-                let data = unsafe { out.as_slice_mut() }
-                    .map_err(|e| PyValueError::new_err(e.to_string()))?;
-                match params {
-                    None => e.eval_into(q, &self.nominal, data),
-                    Some(p) => e.eval_into(q, &self.values(Some(p))?, data),
-                }
+            let e = self
+                .inner
+                .fused_evaluator(&functions)
+                .map_err(value_error)?;
+            let values = match params {
+                None => None,
+                Some(p) => Some(self.values(Some(p))?),
             };
-            written.map_err(value_error)?;
-            Ok(out)
+            let values = values.as_deref().unwrap_or(&self.nominal);
+            // Taken out of the thread's slot while in use: creating the arrays may run Python
+            // code (a collection's finalisers), which may evaluate again on this thread.
+            let mut out = RESULT.with(|slot| slot.take());
+            out.resize(e.len(), 0.0);
+            let arrays = e
+                .eval_into(q, values, &mut out)
+                .map_err(value_error)
+                .and_then(|()| {
+                    e.dims()
+                        .iter()
+                        .enumerate()
+                        .map(|(k, &(rows, cols))| matrix(py, rows, cols, &out[e.range(k)]))
+                        .collect::<PyResult<Vec<_>>>()
+                });
+            RESULT.with(|slot| slot.replace(out));
+            Ok(PyTuple::new(py, arrays?)?.into_any())
         })
     }
 
     /// `what` at every row of `Q` (an `(N, joints)` array), as an `(N, rows, cols)` array equal
     /// to N calls of `eval`; the configurations are evaluated side by side on every core,
-    /// without the GIL.
-    #[pyo3(signature = (q, what = "jr", params = None))]
+    /// without the GIL. With a tuple or list of names, a tuple of such arrays, one per name,
+    /// computed by one program (as `eval`).
+    #[pyo3(signature = (q, what = None, params = None))]
     fn eval_many<'py>(
         &self,
         py: Python<'py>,
         q: PyReadonlyArray2<'py, f64>,
-        what: &str,
+        what: Option<&Bound<'py, PyAny>>,
         params: Option<BTreeMap<String, f64>>,
-    ) -> PyResult<Bound<'py, PyArray3<f64>>> {
-        let function = self.function(what)?;
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let what = self.what(what)?;
         let values = self.values(params)?;
-        let e = self.inner.evaluator(function).map_err(value_error)?;
         let (count, n) = q.as_array().dim();
         if n != self.inner.dof() {
             return Err(PyValueError::new_err(format!(
@@ -270,23 +410,58 @@ impl Robot {
                 &owned
             }
         };
-        let (rows, cols) = (e.rows(), e.cols());
-        // SAFETY: `new` leaves the data uninitialised; the array is handed to Python only after
-        // `eval_many` has written every entry of every configuration (each output at its own
-        // row-major position, they cover the matrix, and a transform's constant last row), and
-        // is dropped unread otherwise.
-        let out = unsafe { PyArray3::<f64>::new(py, [count, rows, cols], false) };
+        let functions = match what {
+            What::One(function) => {
+                let e = self.inner.evaluator(function).map_err(value_error)?;
+                let (rows, cols) = (e.rows(), e.cols());
+                // SAFETY: `new` leaves the data uninitialised; the array is handed to Python
+                // only after `eval_many` has written every entry of every configuration (each
+                // output at its own row-major position, they cover the matrix, and a
+                // transform's constant last row), and is dropped unread otherwise.
+                let out = unsafe { PyArray3::<f64>::new(py, [count, rows, cols], false) };
+                {
+                    // SAFETY: `out` was created just above as a new, C-contiguous array and has
+                    // not been handed to Python or borrowed yet, so this is the only reference
+                    // to its data while the slice lives (it ends with this block). Python code
+                    // that runs while the GIL is released below cannot reach `out`, which no
+                    // Python object refers to yet.
+                    let data = unsafe { out.as_slice_mut() }
+                        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+                    py.detach(|| e.eval_many(flat, &values, data))
+                        .map_err(value_error)?;
+                }
+                return Ok(out.into_any());
+            }
+            What::Several(functions) => functions,
+        };
+        let e = self
+            .inner
+            .fused_evaluator(&functions)
+            .map_err(value_error)?;
+        // SAFETY: `new` leaves the data uninitialised; the arrays are handed to Python only
+        // after `eval_many_each` has written every entry of every configuration (each
+        // function's matrix row by row, a transform with its constant last row), and are
+        // dropped unread otherwise.
+        let arrays: Vec<Bound<'py, PyArray3<f64>>> = e
+            .dims()
+            .iter()
+            .map(|&(rows, cols)| unsafe { PyArray3::<f64>::new(py, [count, rows, cols], false) })
+            .collect();
         {
-            // SAFETY: `out` was created just above as a new, C-contiguous array and has not
-            // been handed to Python or borrowed yet, so this is the only reference to its data
-            // while the slice lives (it ends with this block). Python code that runs while the
-            // GIL is released below cannot reach `out`, which no Python object refers to yet.
-            let data =
-                unsafe { out.as_slice_mut() }.map_err(|e| PyValueError::new_err(e.to_string()))?;
-            py.detach(|| e.eval_many(flat, &values, data))
+            // SAFETY: each array was created just above as a new, C-contiguous array and has
+            // not been handed to Python or borrowed yet, so these are the only references to
+            // their data while the slices live (they end with this block). Python code that
+            // runs while the GIL is released below cannot reach them, which no Python object
+            // refers to yet.
+            let mut outs = arrays
+                .iter()
+                .map(|a| unsafe { a.as_slice_mut() })
+                .collect::<Result<Vec<&mut [f64]>, _>>()
+                .map_err(|e| PyValueError::new_err(e.to_string()))?;
+            py.detach(|| e.eval_many_each(flat, &values, &mut outs))
                 .map_err(value_error)?;
         }
-        Ok(out)
+        Ok(PyTuple::new(py, arrays)?.into_any())
     }
 
     /// Row and column labels of `what`'s matrix (`(rows, cols)`, e.g. `v_x … w_z` by `dq_joint1

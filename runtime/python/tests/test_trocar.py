@@ -228,6 +228,59 @@ def test_eval_many_is_eval_at_every_row(what):
         robot.eval_many(bad, what=what)
 
 
+@pytest.mark.parametrize("what", [("fk0i", "jb0i"), ["jb0i", "fk", "jr", "manip"],
+                                  ("forward_kinematics", "body_jacobian")])
+def test_several_quantities_in_one_program(what):
+    robot = trocar.Robot.load("panda-laparoscope")
+    rng = np.random.default_rng(5)
+    lo, hi = np.array(robot.joint_limits).T
+    qs = rng.uniform(lo, hi, size=(600, robot.joints))
+    for q in qs[:25]:
+        got = robot.eval(q, what=what)
+        assert isinstance(got, tuple) and len(got) == len(what)
+        for name, value in zip(what, got):
+            # Each as its own function gives it (another program: equal to rounding), and as
+            # the numeric runtime does (it has no g_0i).
+            alone = robot.eval(q, what=name)
+            assert value.shape == alone.shape and value.flags["C_CONTIGUOUS"]
+            np.testing.assert_allclose(value, alone, rtol=0, atol=1e-14)
+            if name != "fk0i":
+                np.testing.assert_allclose(value, robot.eval(q, what=name, numeric=True),
+                                           rtol=0, atol=1e-12)
+    # Many configurations (on both cores from 512): each row is that configuration's tuple.
+    many = robot.eval_many(qs, what=what)
+    assert isinstance(many, tuple) and len(many) == len(what)
+    for k in [0, 9, 300, 599]:
+        for value, one in zip(many, robot.eval(qs[k], what=what)):
+            np.testing.assert_array_equal(value[k], one)
+    # The numeric runtime and a mechanism give tuples too, each its own function's value.
+    numeric = robot.eval(qs[0], what=("fk", "jb0i"), numeric=True)
+    np.testing.assert_array_equal(numeric[1], robot.eval(qs[0], what="jb0i", numeric=True))
+    four_bar = trocar.Robot.load("four-bar")
+    qm = [0.5, 1.0, 0.3][:four_bar.joints] + [0.2] * max(0, four_bar.joints - 3)
+    pair = four_bar.eval(qm, what=["jr", "det"])
+    np.testing.assert_array_equal(pair[0], four_bar.eval(qm, what="jr"))
+    np.testing.assert_array_equal(pair[1], four_bar.eval(qm, what="det"))
+
+
+def test_several_quantities_are_checked():
+    robot = trocar.Robot.load("panda-laparoscope")
+    with pytest.raises(ValueError, match="empty"):
+        robot.eval(PANDA_Q, what=())
+    with pytest.raises(ValueError, match="`fk` is asked for twice"):
+        robot.eval(PANDA_Q, what=("fk", "forward_kinematics"))
+    with pytest.raises(ValueError, match="not a quantity"):
+        robot.eval(PANDA_Q, what=("fk", "nope"))
+    with pytest.raises(TypeError, match="tuple or list of names"):
+        robot.eval(PANDA_Q, what=("fk", 3))
+    with pytest.raises(TypeError, match="tuple or list of names"):
+        robot.eval_many(np.zeros((2, 7)), what=3)
+    bad = np.zeros((4, 7))
+    bad[2, 6] = np.inf
+    with pytest.raises(ValueError, match="configuration 2"):
+        robot.eval_many(bad, what=("fk", "jb0i"))
+
+
 def test_shapes_names_labels_and_limits():
     robot = trocar.Robot.load("panda-laparoscope")
     assert robot.joint_names == [f"panda_joint{k}" for k in range(1, 8)]

@@ -1,7 +1,7 @@
 """Type stubs of the native module ``trocar._trocar`` (re-exported by ``trocar``)."""
 
 import os
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -37,6 +37,7 @@ class Robot:
         """Each joint's (lower, upper) limits; (-inf, inf) where the description has none."""
     def quantities(self) -> List[str]:
         """The quantities ``eval`` takes for this robot, by their catalogue names."""
+    @overload
     def eval_many(
         self,
         q: npt.NDArray[np.float64],
@@ -45,8 +46,18 @@ class Robot:
     ) -> npt.NDArray[np.float64]:
         """``what`` at every row of the ``(N, joints)`` array ``q``: an ``(N, rows, cols)`` array
         equal to N calls of ``eval``, evaluated on every core without the GIL."""
+    @overload
+    def eval_many(
+        self,
+        q: npt.NDArray[np.float64],
+        what: Sequence[str],
+        params: Optional[Mapping[str, float]] = None,
+    ) -> Tuple[npt.NDArray[np.float64], ...]:
+        """Several quantities at every row of ``q``: one ``(N, rows, cols)`` array per name,
+        computed by one program (as ``eval`` with a sequence of names)."""
     def labels(self, what: str) -> Optional[Tuple[List[str], List[str]]]:
         """Row and column labels of ``what``'s matrix, or ``None`` for a pose or a scalar."""
+    @overload
     def eval(
         self,
         q: Union[Sequence[float], npt.NDArray[np.float64]],
@@ -58,9 +69,23 @@ class Robot:
 
         ``what``: a catalogue name (``constrained_jacobian``, ``partial_body_jacobian``, ...) or
         a short name: ``jr`` (J^r_0e, thesis (3.15)), ``manip`` ((3.36), 1 × 1), ``task`` (S J^r),
-        ``jc`` ((3.33)), ``jb0i`` ((3.13)), ``jb0e`` ((2.55)), ``fk`` (4 × 4); for closed
-        mechanisms ``jr``, ``jc``, ``passive``, ``det``. ``params`` overrides parameter values by
-        name; ``numeric`` evaluates with the numeric runtime instead of the generated closed forms.
+        ``jc`` ((3.33)), ``jb0i`` ((3.13)), ``jb0e`` ((2.55)), ``fk`` (4 × 4), ``fk0i`` (g_0i,
+        4 × 4); for closed mechanisms ``jr``, ``jc``, ``passive``, ``det``. ``params`` overrides
+        parameter values by name; ``numeric`` evaluates with the numeric runtime instead of the
+        generated closed forms.
+        """
+    @overload
+    def eval(
+        self,
+        q: Union[Sequence[float], npt.NDArray[np.float64]],
+        what: Sequence[str],
+        params: Optional[Mapping[str, float]] = None,
+        numeric: bool = False,
+    ) -> Tuple[npt.NDArray[np.float64], ...]:
+        """Several quantities at ``q``, e.g. ``g, j = robot.eval(q, what=("fk0i", "jb0i"))``: a
+        tuple of arrays, one per name, computed by one program that shares every value they have
+        in common (the pose and the Jacobian share the walk along the chain). The first call with
+        a new set of names builds its program (milliseconds); later calls reuse it.
         """
     def verify(self, samples: int = 1000, seed: int = 1) -> Dict[str, Any]:
         """``trocar verify``: ``{"robot", "samples", "passed", "checks": {name: {"max_error",
