@@ -74,7 +74,9 @@ pub enum Command {
         /// (jb0i), body_jacobian (jb0e), forward_kinematics (fk), forward_kinematics_i (fk0i),
         /// lambda_null_space, lambda_pinv, constraint_frame, ...; closed mechanisms:
         /// reduced_jacobian (jr), constraint_jacobian (jc), passive_map (passive),
-        /// constraint_determinant (det), task_jacobian (ja).
+        /// constraint_determinant (det), task_jacobian (ja). Several, comma-separated
+        /// (`fk0i,jb0i`): each printed under its name (`--json`: one object keyed by the names),
+        /// a serial robot's computed by one program that shares their common values.
         #[arg(long, default_value = "jr")]
         what: String,
         /// Print JSON `{"rows", "cols", "data": [[row], ...]}`: row by row (generated functions

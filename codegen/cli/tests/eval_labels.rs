@@ -100,3 +100,72 @@ fn scalars_and_poses_stay_plain() {
         "{fk}"
     );
 }
+
+/// `--what a,b,...`: each quantity under its name, the values of asking for it alone (to
+/// rounding: one program shares their common values), in the order given; errors for a name
+/// given twice or an empty one.
+#[test]
+fn several_quantities_are_each_the_answer_alone() {
+    let q = "--q=0.1,-0.4,0.2,-2.0,0.1,1.8,0.7";
+    let json = trocar(&[
+        "eval",
+        "panda-laparoscope",
+        q,
+        "--what",
+        "jb0i,fk0i,manip",
+        "--json",
+    ]);
+    let both: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(both.as_object().unwrap().len(), 3);
+    // In the order asked for.
+    let at = |name: &str| json.find(&format!("\"{name}\":")).unwrap();
+    assert!(
+        at("jb0i") < at("fk0i") && at("fk0i") < at("manip"),
+        "{json}"
+    );
+    for name in ["jb0i", "fk0i", "manip"] {
+        let alone: serde_json::Value = serde_json::from_str(&trocar(&[
+            "eval",
+            "panda-laparoscope",
+            q,
+            "--what",
+            name,
+            "--json",
+        ]))
+        .unwrap();
+        let numbers = |v: &serde_json::Value| -> Vec<f64> {
+            v["data"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .flat_map(|row| row.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()))
+                .collect()
+        };
+        let (a, b) = (numbers(&both[name]), numbers(&alone));
+        assert_eq!(a.len(), b.len(), "{name}");
+        assert_eq!(both[name]["rows"], alone["rows"], "{name}");
+        let d = a
+            .iter()
+            .zip(&b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max);
+        assert!(d < 1e-14, "{name}: {d:e}");
+    }
+    // Text: each matrix under a heading, jb0i with its labels.
+    let text = trocar(&["eval", "panda-laparoscope", q, "--what", "fk0i,jb0i"]);
+    assert!(text.starts_with("fk0i (forward_kinematics_i):\n"), "{text}");
+    assert!(
+        text.contains("\n\njb0i (partial_body_jacobian):\n"),
+        "{text}"
+    );
+    assert!(text.contains("dq_panda_joint7"), "{text}");
+    for (what, message) in [
+        ("fk,jb0i,fk", "`fk` given twice"),
+        ("fk,,jb0i", "an empty name"),
+        ("fk,nope", "not a quantity"),
+    ] {
+        let (code, _, err) = common::trocar(&["eval", "panda-laparoscope", q, "--what", what]);
+        assert_eq!(code, 1, "{what}");
+        assert!(err.contains(message), "{what}: {err}");
+    }
+}

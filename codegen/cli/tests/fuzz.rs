@@ -1105,7 +1105,7 @@ fn flag(name: &'static str) -> BoxedStrategy<Vec<Vec<u8>>> {
 fn what() -> BoxedStrategy<String> {
     prop_oneof![
         8 => select(WHATS).prop_map(String::from),
-        1 => select(strs(&["JR", "", "x", "--json", "all"])),
+        1 => select(strs(&["JR", "", "x", "--json", "all", "fk,jb0i", "jr,jr", "fk,", "manip,jr,fk0i"])),
     ]
     .boxed()
 }

@@ -363,6 +363,50 @@ impl Robot {
         self.eval_with(function, q, &values)
     }
 
+    /// Several functions at joint values `q` with the parameter overrides `params`, each as
+    /// [`Robot::eval`] gives it, in the order asked for: a serial robot's from one program that
+    /// computes every value they share once ([`Robot::fused_evaluator`]), a closed mechanism's
+    /// one by one.
+    pub fn eval_several(
+        &self,
+        functions: &[Function],
+        q: &[f64],
+        params: &[(String, f64)],
+    ) -> Result<Vec<Evaluation>> {
+        self.check_q(q)?;
+        let values = self.param_values(params)?;
+        if self.is_mechanism() {
+            if functions.is_empty() {
+                return Err(Error::Input(
+                    "no outputs asked for: name at least one quantity".into(),
+                ));
+            }
+            if let Some(k) = (1..functions.len()).find(|&k| functions[..k].contains(&functions[k]))
+            {
+                return Err(Error::Input(format!(
+                    "--what: `{}` given twice",
+                    functions[k].short_name()
+                )));
+            }
+            return functions
+                .iter()
+                .map(|&f| self.eval_with(f, q, &values))
+                .collect();
+        }
+        let e = self.fused_evaluator(functions)?;
+        let mut out = vec![0.0; e.len()];
+        e.eval_into(q, &values, &mut out)?;
+        Ok(e.dims()
+            .iter()
+            .enumerate()
+            .map(|(k, &(rows, cols))| Evaluation {
+                rows,
+                cols,
+                data: out[e.range(k)].to_vec(),
+            })
+            .collect())
+    }
+
     /// [`Robot::eval`] with the parameter values given in declaration order (no checks of `q`).
     pub fn eval_with(&self, function: Function, q: &[f64], values: &[f64]) -> Result<Evaluation> {
         match &self.kind {
