@@ -193,8 +193,8 @@ impl Generated {
     /// Builds the module's programs again with this request (about as long as `trocar
     /// generate`: tens of milliseconds on a 7-joint arm), so a caller keeps the result.
     /// [`Error::Function`] (named by the outputs' short names) when `outputs` is empty, names a
-    /// function twice, or names one the module does not have, or the module is a closed
-    /// mechanism's.
+    /// function twice, or names one the module does not have, or the module keeps no derivation
+    /// (a closed mechanism's).
     pub fn fuse(&self, outputs: &[Function]) -> Result<FusedProgram, Error> {
         let label = outputs
             .iter()
@@ -204,8 +204,9 @@ impl Generated {
         let Some(d) = &self.derivation else {
             return Err(Error::Function {
                 name: label,
-                message: "several outputs in one program are built for serial robots, not for \
-                          a closed mechanism (evaluate its functions one by one)"
+                message: "several outputs in one program are built from a serial robot's \
+                          derivation, which this module does not keep (a closed mechanism's, or \
+                          one built from a module spec); evaluate its functions one by one"
                     .into(),
             });
         };
@@ -259,15 +260,6 @@ impl FusedProgram {
     /// The functions computed and the layout of each one's outputs, in order.
     pub fn outputs(&self) -> &[(Function, Layout)] {
         &self.outputs
-    }
-
-    /// The range of the program's outputs that holds function `k`'s.
-    ///
-    /// # Panics
-    /// If `k` is not below the number of functions.
-    pub fn range(&self, k: usize) -> std::ops::Range<usize> {
-        let start: usize = self.outputs[..k].iter().map(|(_, l)| l.len()).sum();
-        start..start + self.outputs[k].1.len()
     }
 }
 

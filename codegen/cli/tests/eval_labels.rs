@@ -159,8 +159,36 @@ fn several_quantities_are_each_the_answer_alone() {
         "{text}"
     );
     assert!(text.contains("dq_panda_joint7"), "{text}");
+    // --numeric and a mechanism: each quantity from its own evaluation, the numbers of asking
+    // for it alone.
+    for (robot, q, what) in [
+        ("panda-laparoscope", q, "--numeric"),
+        ("four-bar", "--q=0.5,1.2,0.3,0.9", ""),
+    ] {
+        let names = if robot == "four-bar" {
+            ["jr", "det"]
+        } else {
+            ["fk", "jb0i"]
+        };
+        let mut args = vec!["eval", robot, q, "--what"];
+        let joined = names.join(",");
+        args.push(&joined);
+        args.push("--json");
+        if !what.is_empty() {
+            args.push(what);
+        }
+        let both: serde_json::Value = serde_json::from_str(&trocar(&args)).unwrap();
+        for name in names {
+            let mut alone_args = vec!["eval", robot, q, "--what", name, "--json"];
+            if !what.is_empty() {
+                alone_args.push(what);
+            }
+            let alone: serde_json::Value = serde_json::from_str(&trocar(&alone_args)).unwrap();
+            assert_eq!(both[name], alone, "{robot} {name}");
+        }
+    }
     for (what, message) in [
-        ("fk,jb0i,fk", "`fk` given twice"),
+        ("fk,jb0i,fk", "`fk` asked for twice"),
         ("fk,,jb0i", "an empty name"),
         ("fk,nope", "not a quantity"),
     ] {

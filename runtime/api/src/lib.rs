@@ -34,7 +34,9 @@ mod trajectory;
 pub use controller::{ControllerOptions, RobotController, Step, Target, SUPPORTED};
 pub use error::{Error, Result};
 pub use evaluation::Evaluation;
-pub use robot::{urdf_jacobian, Evaluator, FusedEvaluator, Robot, MAX_SAMPLES, TWIST};
+pub use robot::{
+    check_outputs, urdf_jacobian, Evaluator, FusedEvaluator, Robot, MAX_SAMPLES, TWIST,
+};
 pub use simulate::{simulate, RcmOptions, SimulationRun, SpeedLimit};
 pub use trajectory::{
     run_options, simulate_robot, simulate_trajectory, simulation_section, Orientation, RunRequest,

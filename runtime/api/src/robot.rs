@@ -376,18 +376,7 @@ impl Robot {
         self.check_q(q)?;
         let values = self.param_values(params)?;
         if self.is_mechanism() {
-            if functions.is_empty() {
-                return Err(Error::Input(
-                    "no outputs asked for: name at least one quantity".into(),
-                ));
-            }
-            if let Some(k) = (1..functions.len()).find(|&k| functions[..k].contains(&functions[k]))
-            {
-                return Err(Error::Input(format!(
-                    "--what: `{}` given twice",
-                    functions[k].short_name()
-                )));
-            }
+            check_outputs(functions)?;
             return functions
                 .iter()
                 .map(|&f| self.eval_with(f, q, &values))
@@ -482,6 +471,7 @@ impl Robot {
     /// An error when `functions` is empty, names one twice or one the robot does not have, or
     /// the robot is a closed mechanism.
     pub fn fused_evaluator(&self, functions: &[Function]) -> Result<FusedEvaluator<'_>> {
+        check_outputs(functions)?;
         let Kind::Serial(s) = &self.kind else {
             return Err(Error::Unsupported(format!(
                 "`{}` is a closed mechanism: several outputs in one program are built for serial \
@@ -489,11 +479,6 @@ impl Robot {
                 self.name()
             )));
         };
-        if functions.is_empty() {
-            return Err(Error::Input(
-                "no outputs asked for: name at least one quantity".into(),
-            ));
-        }
         let generated = self.derive()?;
         let cached = |list: &[(Vec<Function>, Arc<Fusion>)]| {
             list.iter()
@@ -1123,9 +1108,10 @@ impl FusedEvaluator<'_> {
             )),
         }
     }
+
     /// [`FusedEvaluator::eval_many`] with each function's results in a slice of its own:
     /// `outs[k]` receives function `k`'s matrix (row by row) for every configuration, one after
-    /// the other (`count × rows · cols` entries), as separate arrays of each quantity want them.
+    /// the other (`count × rows · cols` entries), as separate arrays of each quantity need them.
     /// The configurations go through a small buffer, 64 at a time, on every core.
     pub fn eval_many_each(&self, q: &[f64], values: &[f64], outs: &mut [&mut [f64]]) -> Result<()> {
         let block = self.block();
@@ -1184,7 +1170,7 @@ impl FusedEvaluator<'_> {
                     let to = &mut piece[c * CHUNK * size..][..m * size];
                     for (to, from) in to
                         .chunks_exact_mut(size.max(1))
-                        .zip(buffer.chunks_exact(len))
+                        .zip(buffer.chunks_exact(len.max(1)))
                     {
                         to.copy_from_slice(&from[start..start + size]);
                     }
@@ -1318,6 +1304,23 @@ impl Block<'_> {
     }
 }
 
+/// Checks a set of outputs asked for together (`--what a,b`, Python's `what=(...)`): at least
+/// one, none twice (by the function, whichever of its names was given).
+pub fn check_outputs(functions: &[Function]) -> Result<()> {
+    if functions.is_empty() {
+        return Err(Error::Input(
+            "--what: no quantity asked for; name at least one".into(),
+        ));
+    }
+    if let Some(k) = (1..functions.len()).find(|&k| functions[..k].contains(&functions[k])) {
+        return Err(Error::Input(format!(
+            "--what: `{}` asked for twice",
+            functions[k].short_name()
+        )));
+    }
+    Ok(())
+}
+
 /// Configurations per thread for `count` of them: all on one thread below [`PARALLEL_FROM`],
 /// otherwise shared evenly by the cores.
 fn per_thread(count: usize) -> usize {
@@ -1343,9 +1346,10 @@ fn on_every_core<T: Send>(parts: Vec<T>, work: impl Fn(T) -> bool + Sync) -> boo
         let work = &work;
         let handles: Vec<_> = parts.map(|part| scope.spawn(move || work(part))).collect();
         let first = work(here);
-        handles
-            .into_iter()
-            .fold(first, |all, h| h.join().unwrap_or(false) && all)
+        handles.into_iter().fold(first, |all, h| {
+            // A worker's panic is a fault of this code, not a value: it goes on as one.
+            h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)) && all
+        })
     })
 }
 

@@ -4,6 +4,7 @@
 
 use trocar_api::{Error, Function, Robot};
 use trocar_model::description::RobotDescription;
+use trocar_model::numeric::NumericModel;
 
 /// Joint values spread over `[-2.5, 2.5]` rad (a fixed sequence, so that a failure repeats).
 fn configurations(n: usize, count: usize) -> Vec<Vec<f64>> {
@@ -31,7 +32,8 @@ fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// Every output of each set equals its own function's evaluation to rounding and the numeric
-/// runtime's to 1e-9 of its size, in the order asked for.
+/// reference's (`trocar_check::reference`, the one `trocar verify` uses) to 1e-9 of its size,
+/// in the order asked for.
 #[test]
 fn each_output_is_its_own_functions_value() {
     use Function::*;
@@ -53,6 +55,8 @@ fn each_output_is_its_own_functions_value() {
     ];
     for (name, functions) in sets {
         let robot = Robot::load(name).unwrap();
+        let model =
+            NumericModel::<f64>::from_description(robot.description().unwrap(), &[]).unwrap();
         let values = robot.param_values(&[]).unwrap();
         let fused = robot.fused_evaluator(functions).unwrap();
         assert_eq!(fused.functions(), functions);
@@ -69,15 +73,18 @@ fn each_output_is_its_own_functions_value() {
                     d <= 1e-13 * scale,
                     "{name} {f}: {d:e} from its own function"
                 );
-                // The numeric runtime has no g_0i; its own function is checked by `verify`.
-                if f != Function::ConstrainedLinkKinematics {
-                    let numeric = robot.eval_numeric(f, &q, &[]).unwrap();
-                    let d = largest_difference(got, &numeric.data);
-                    assert!(
-                        d <= 1e-9 * scale,
-                        "{name} {f}: {d:e} from the numeric runtime"
-                    );
-                }
+                // The numeric reference of `trocar verify` (column-major; compared row by row).
+                let reference = trocar_check::reference::evaluate(&model, f, &q)
+                    .unwrap()
+                    .unwrap();
+                let rows: Vec<f64> = (0..reference.nrows())
+                    .flat_map(|r| reference.row(r).iter().copied().collect::<Vec<_>>())
+                    .collect();
+                let d = largest_difference(got, &rows);
+                assert!(
+                    d <= 1e-9 * scale,
+                    "{name} {f}: {d:e} from the numeric reference"
+                );
             }
         }
     }
@@ -96,7 +103,8 @@ fn many_configurations_are_each_ones_evaluation() {
             Function::ConstrainedLinkKinematics,
         ])
         .unwrap();
-    for count in [3, 700] {
+    // None, a few, around the 64 configurations of `eval_many_each`'s buffer, and on every core.
+    for count in [0, 3, 63, 64, 65, 700] {
         let qs = configurations(robot.dof(), count);
         let flat: Vec<f64> = qs.iter().flatten().copied().collect();
         let mut many = vec![f64::NAN; count * fused.len()];
@@ -143,9 +151,9 @@ fn many_configurations_are_each_ones_evaluation() {
 fn errors_name_what_is_wrong() {
     let robot = Robot::load("dia10_like_zy").unwrap();
     let message = |r: Result<trocar_api::FusedEvaluator<'_>, Error>| r.unwrap_err().to_string();
-    assert!(message(robot.fused_evaluator(&[])).contains("no outputs"));
+    assert!(message(robot.fused_evaluator(&[])).contains("no quantity asked for"));
     let twice = message(robot.fused_evaluator(&[Function::ForwardKinematics; 2]));
-    assert!(twice.contains("`fk` given twice"), "{twice}");
+    assert!(twice.contains("`fk` asked for twice"), "{twice}");
     let task = message(robot.fused_evaluator(&[Function::ConstrainedTaskJacobian]));
     assert!(task.contains("not a function of this module"), "{task}");
 
@@ -203,4 +211,61 @@ fn errors_name_what_is_wrong() {
         .eval_many_each(&good, &values, &mut [&mut pose, &mut jr[1..]])
         .unwrap_err();
     assert!(short.to_string().contains("output 1 holds"), "{short}");
+}
+
+/// A result that is not finite names its function and configuration, whichever order the
+/// functions are in and whichever way they are evaluated (dia10_like's `J^r` divides by `l_a`).
+#[test]
+fn a_result_that_is_not_finite_names_its_function() {
+    let robot = Robot::load("dia10_like_zy").unwrap();
+    let values = robot.param_values(&[("l_a".into(), 0.0)]).unwrap();
+    let n = robot.dof();
+    let qs: Vec<f64> = configurations(n, 3).into_iter().flatten().collect();
+    for set in [
+        [Function::ForwardKinematics, Function::ConstrainedJacobian],
+        [Function::ConstrainedJacobian, Function::ForwardKinematics],
+    ] {
+        let fused = robot.fused_evaluator(&set).unwrap();
+        let mut out = vec![0.0; fused.len()];
+        let one = fused.eval_into(&qs[..n], &values, &mut out).unwrap_err();
+        let mut many = vec![0.0; 3 * fused.len()];
+        let all = fused.eval_many(&qs, &values, &mut many).unwrap_err();
+        let mut each: Vec<Vec<f64>> = (0..2)
+            .map(|k| vec![0.0; 3 * fused.range(k).len()])
+            .collect();
+        let mut slices: Vec<&mut [f64]> = each.iter_mut().map(|v| v.as_mut_slice()).collect();
+        let split = fused.eval_many_each(&qs, &values, &mut slices).unwrap_err();
+        for (e, at) in [
+            (one, "this configuration"),
+            (all, "configuration 0"),
+            (split, "configuration 0"),
+        ] {
+            let m = e.to_string();
+            assert!(m.contains("`constrained_jacobian` is not finite"), "{m}");
+            assert!(m.contains(at) && m.contains("`l_a` = 0e0"), "{m}");
+        }
+    }
+}
+
+/// The program of a set is built once and shared by threads asking for it at the same time.
+#[test]
+fn threads_share_one_program() {
+    let robot = Robot::load("panda-laparoscope").unwrap();
+    let values = robot.param_values(&[]).unwrap();
+    let set = [Function::BodyJacobian, Function::ForwardKinematics];
+    let q = configurations(robot.dof(), 1).remove(0);
+    let results: Vec<Vec<f64>> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..4)
+            .map(|_| {
+                scope.spawn(|| {
+                    let fused = robot.fused_evaluator(&set).unwrap();
+                    let mut out = vec![0.0; fused.len()];
+                    fused.eval_into(&q, &values, &mut out).unwrap();
+                    out
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    assert!(results.windows(2).all(|w| w[0] == w[1]));
 }

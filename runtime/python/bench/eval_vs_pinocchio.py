@@ -91,6 +91,12 @@ def main():
         return pin.updateFramePlacement(model, data, frame).homogeneous, j
 
     g_t, j_t = robot.eval(q, what=("fk0i", "jb0i"))
+    pin.framesForwardKinematics(model, data, np.zeros(model.nq))
+    before = data.oMf[frame].homogeneous.copy()
+    pin.computeFrameJacobian(model, data, qp, frame, pin.ReferenceFrame.LOCAL)
+    print("computeFrameJacobian leaves data.oMf[frame] as it was: "
+          f"{np.array_equal(data.oMf[frame].homogeneous, before)}"
+          f" (then {np.max(np.abs(data.oMf[frame].homogeneous - g_t)):.1e} from the pose)")
     for way in (pin_joint_jacobians, pin_frame_jacobian):
         g_p, j_p = way()
         print(f"{way.__name__}: max |g_0i trocar - Pinocchio| = {np.max(np.abs(g_t - g_p)):.1e},"

@@ -149,12 +149,6 @@ impl Robot {
         let mut add = |name: Bound<'_, PyAny>| -> PyResult<()> {
             let name = name.cast_into::<PyString>().map_err(|_| not_names())?;
             let function = self.function(name.to_str()?)?;
-            if functions.contains(&function) {
-                return Err(PyValueError::new_err(format!(
-                    "what: `{}` is asked for twice",
-                    function.short_name()
-                )));
-            }
             functions.push(function);
             Ok(())
         };
@@ -165,12 +159,38 @@ impl Robot {
         } else {
             return Err(not_names());
         }
-        if functions.is_empty() {
-            return Err(PyValueError::new_err(
-                "what: an empty sequence; name at least one quantity",
-            ));
-        }
+        trocar_api::check_outputs(&functions).map_err(value_error)?;
         Ok(What::Several(functions))
+    }
+
+    /// `function` at the `count` configurations `flat` (one after the other), as `eval_many`
+    /// of one name returns it.
+    fn many<'py>(
+        &self,
+        py: Python<'py>,
+        function: Function,
+        flat: &[f64],
+        count: usize,
+        values: &[f64],
+    ) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        let e = self.inner.evaluator(function).map_err(value_error)?;
+        let (rows, cols) = (e.rows(), e.cols());
+        // SAFETY: `new` leaves the data uninitialised; the array is handed to Python only after
+        // `eval_many` has written every entry of every configuration (each output at its own
+        // row-major position, they cover the matrix, and a transform's constant last row), and
+        // is dropped unread otherwise.
+        let out = unsafe { PyArray3::<f64>::new(py, [count, rows, cols], false) };
+        {
+            // SAFETY: `out` was created just above as a new, C-contiguous array and has not
+            // been handed to Python or borrowed yet, so this is the only reference to its data
+            // while the slice lives (it ends with this block). Python code that runs while the
+            // GIL is released below cannot reach `out`, which no Python object refers to yet.
+            let data =
+                unsafe { out.as_slice_mut() }.map_err(|e| PyValueError::new_err(e.to_string()))?;
+            py.detach(|| e.eval_many(flat, values, data))
+                .map_err(value_error)?;
+        }
+        Ok(out)
     }
 
     /// [`Robot::eval`] of one function.
@@ -412,31 +432,21 @@ impl Robot {
         };
         let functions = match what {
             What::One(function) => {
-                let e = self.inner.evaluator(function).map_err(value_error)?;
-                let (rows, cols) = (e.rows(), e.cols());
-                // SAFETY: `new` leaves the data uninitialised; the array is handed to Python
-                // only after `eval_many` has written every entry of every configuration (each
-                // output at its own row-major position, they cover the matrix, and a
-                // transform's constant last row), and is dropped unread otherwise.
-                let out = unsafe { PyArray3::<f64>::new(py, [count, rows, cols], false) };
-                {
-                    // SAFETY: `out` was created just above as a new, C-contiguous array and has
-                    // not been handed to Python or borrowed yet, so this is the only reference
-                    // to its data while the slice lives (it ends with this block). Python code
-                    // that runs while the GIL is released below cannot reach `out`, which no
-                    // Python object refers to yet.
-                    let data = unsafe { out.as_slice_mut() }
-                        .map_err(|e| PyValueError::new_err(e.to_string()))?;
-                    py.detach(|| e.eval_many(flat, &values, data))
-                        .map_err(value_error)?;
-                }
-                return Ok(out.into_any());
+                return Ok(self.many(py, function, flat, count, &values)?.into_any());
+            }
+            // A mechanism's functions one by one.
+            What::Several(functions) if self.inner.is_mechanism() => {
+                let arrays = functions
+                    .iter()
+                    .map(|&f| self.many(py, f, flat, count, &values))
+                    .collect::<PyResult<Vec<_>>>()?;
+                return Ok(PyTuple::new(py, arrays)?.into_any());
             }
             What::Several(functions) => functions,
         };
-        let e = self
-            .inner
-            .fused_evaluator(&functions)
+        // Without the GIL: the first call with a set builds its program (milliseconds).
+        let e = py
+            .detach(|| self.inner.fused_evaluator(&functions))
             .map_err(value_error)?;
         // SAFETY: `new` leaves the data uninitialised; the arrays are handed to Python only
         // after `eval_many_each` has written every entry of every configuration (each

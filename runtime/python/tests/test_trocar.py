@@ -261,13 +261,18 @@ def test_several_quantities_in_one_program(what):
     pair = four_bar.eval(qm, what=["jr", "det"])
     np.testing.assert_array_equal(pair[0], four_bar.eval(qm, what="jr"))
     np.testing.assert_array_equal(pair[1], four_bar.eval(qm, what="det"))
+    qms = np.array([qm, [x + 0.01 for x in qm]])
+    many_pair = four_bar.eval_many(qms, what=["jc", "ja"])
+    for k in range(2):
+        np.testing.assert_array_equal(many_pair[0][k], four_bar.eval(qms[k], what="jc"))
+        np.testing.assert_array_equal(many_pair[1][k], four_bar.eval(qms[k], what="ja"))
 
 
 def test_several_quantities_are_checked():
     robot = trocar.Robot.load("panda-laparoscope")
-    with pytest.raises(ValueError, match="empty"):
+    with pytest.raises(ValueError, match="no quantity asked for"):
         robot.eval(PANDA_Q, what=())
-    with pytest.raises(ValueError, match="`fk` is asked for twice"):
+    with pytest.raises(ValueError, match="`fk` asked for twice"):
         robot.eval(PANDA_Q, what=("fk", "forward_kinematics"))
     with pytest.raises(ValueError, match="not a quantity"):
         robot.eval(PANDA_Q, what=("fk", "nope"))

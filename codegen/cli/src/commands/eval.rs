@@ -46,12 +46,7 @@ pub(crate) fn run(
         }
     }
     let outs = if numeric {
-        if let Some(k) = (1..functions.len()).find(|&k| functions[..k].contains(&functions[k])) {
-            return Err(trocar_api::Error::Input(format!(
-                "--what: `{}` given twice",
-                functions[k].short_name()
-            )));
-        }
+        trocar_api::check_outputs(&functions)?;
         functions
             .iter()
             .map(|&f| robot.eval_numeric(f, q, params))

@@ -41,7 +41,7 @@ class Robot:
     def eval_many(
         self,
         q: npt.NDArray[np.float64],
-        what: str = "jr",
+        what: str = ...,
         params: Optional[Mapping[str, float]] = None,
     ) -> npt.NDArray[np.float64]:
         """``what`` at every row of the ``(N, joints)`` array ``q``: an ``(N, rows, cols)`` array
@@ -50,7 +50,7 @@ class Robot:
     def eval_many(
         self,
         q: npt.NDArray[np.float64],
-        what: Sequence[str],
+        what: Union[Tuple[str, ...], List[str]],
         params: Optional[Mapping[str, float]] = None,
     ) -> Tuple[npt.NDArray[np.float64], ...]:
         """Several quantities at every row of ``q``: one ``(N, rows, cols)`` array per name,
@@ -61,7 +61,7 @@ class Robot:
     def eval(
         self,
         q: Union[Sequence[float], npt.NDArray[np.float64]],
-        what: str = "jr",
+        what: str = ...,
         params: Optional[Mapping[str, float]] = None,
         numeric: bool = False,
     ) -> npt.NDArray[np.float64]:
@@ -78,7 +78,7 @@ class Robot:
     def eval(
         self,
         q: Union[Sequence[float], npt.NDArray[np.float64]],
-        what: Sequence[str],
+        what: Union[Tuple[str, ...], List[str]],
         params: Optional[Mapping[str, float]] = None,
         numeric: bool = False,
     ) -> Tuple[npt.NDArray[np.float64], ...]:
