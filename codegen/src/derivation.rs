@@ -4,7 +4,13 @@
 //! Steps, with the thesis's equation numbers (see [`derive()`]):
 //!
 //! 1. Each joint `k` gives `T_k = origin_k · exp(ξ̂_k q_k)` (parent frame → `F_k`), with `ξ_k` the
-//!    joint twist in `F_k` (2.25)–(2.27), linear part first.
+//!    joint twist in `F_k` (2.25)–(2.27), linear part first. A revolute joint about an oblique
+//!    axis (not a coordinate axis of `F_k`) is written in its link frame turned by a constant
+//!    rotation `A_k` whose `z` axis is the joint's axis, `F'_k = F_k A_k`: Rodrigues' formula
+//!    (2.14) is then `R_z(q_k)` and the twist `(0, ẑ)`, and the chain is
+//!    `T'_k = A_{k−1}⁻¹ · origin_k · A_k · R_z(q_k)` ([`Derivation::frame_turns`]). A product that
+//!    ends at a link frame (`g_0i`, `J^B_0i`, the end effector's `g_ne`) turns back by `A⁻¹` there,
+//!    one that starts at one (`g_ie`) by `A`, so every result is in the description's frames.
 //! 2. Forward kinematics `g_0e = T_1 ⋯ T_n · g_ne` and `g_0i = T_1 ⋯ T_i` (2.21).
 //! 3. Body Jacobians (2.53)–(2.55), (3.13): column `k` is `Ad_{g_ke}⁻¹ ξ_k`; `J^B_0i` is the same
 //!    for the chain cut at `F_i`, `J^B_0e2` the columns `j..n` of `J^B_0e`.
@@ -223,11 +229,19 @@ pub struct Derivation {
     pub n: usize,
     /// Which joints are prismatic-like (their value `q_k` appears itself, not through `s_k, c_k`).
     pub joint_is_linear: Vec<bool>,
-    /// `ξ_k` in `F_k`, `6 × 1` each.
+    /// `ξ_k` in `F'_k` (`F_k` turned by [`Derivation::frame_turns`]), `6 × 1` each.
     pub twists: Vec<Matrix>,
-    /// `T_k = origin_k · exp(ξ̂_k q_k)`, parent → `F_k`, one per joint.
+    /// `T'_k = A_{k−1}⁻¹ · origin_k · A_k · exp(ξ̂_k q_k)`, `F'_{k−1}` → `F'_k`, one per joint
+    /// (`T_k = origin_k · exp(ξ̂_k q_k)` where no frame is turned).
     pub joint_transforms: Vec<Transform>,
-    /// `g_ne`, the end effector relative to the last joint frame (constant).
+    /// `A_k` for each joint `k` whose link frame is turned so that the joint's oblique axis is
+    /// its `z` axis (`F'_k = F_k A_k`, a constant rotation), `None` for a frame kept as the
+    /// description gives it. A product of [`Derivation::joint_transforms`] from link `a` to link
+    /// `b` is the description's `T_{a+1} ⋯ T_b` once `A_a` is put before it and `A_b⁻¹` after it
+    /// ([`Derivation::frame_turn`]).
+    pub frame_turns: Vec<Option<Transform>>,
+    /// `g_ne`, the end effector relative to the last joint frame `F_n` (constant; as the
+    /// description gives it, not turned).
     pub end_effector: Transform,
     /// `g_0e(q)`, forward kinematics, fully expanded; `None` when the expansion would exceed
     /// [`EXPANSION_BUDGET`] (generic chains grow like `3^n` terms). Then evaluate it as a product:
@@ -352,19 +366,8 @@ impl Ctx<'_> {
     }
 
     fn rotation(&self, r: &Rotation, field: &str) -> Result<Matrix, DerivationError> {
-        let m: [[f64; 3]; 3] = match r {
-            Rotation::Matrix(m) => *m,
-            Rotation::Rpy([roll, pitch, yaw]) => {
-                // R = Rz(yaw) Ry(pitch) Rx(roll), with `f64::sin_cos`; the entries become exact
-                // rationals below.
-                let m = trocar::se3::rotation_from_rpy_sin_cos(
-                    roll.sin_cos(),
-                    pitch.sin_cos(),
-                    yaw.sin_cos(),
-                );
-                [0, 1, 2].map(|r| [0, 1, 2].map(|c| m[(r, c)]))
-            }
-        };
+        // The entries become exact rationals below.
+        let m = rotation_f64(r);
         let mut out = Matrix::zeros(3, 3);
         for (i, row) in m.iter().enumerate() {
             for (j, x) in row.iter().enumerate() {
@@ -403,6 +406,72 @@ impl Ctx<'_> {
             Rational::from_f64_snapped(a[1]).map_err(|e| inv(field, e))?,
             Rational::from_f64_snapped(a[2]).map_err(|e| inv(field, e))?,
         ])
+    }
+
+    /// `A_k` of joint `k` (0-based, [`Derivation::frame_turns`]): for a revolute joint whose
+    /// axis `ω` is not a coordinate axis, the rotation with columns `x`, `ω × x`, `ω`, where `x`
+    /// is the unit vector along the common normal `ω × ω_next` of this axis and the next
+    /// revolute joint's (Denavit–Hartenberg's choice), or along `ω × e` for the coordinate axis
+    /// `e` least aligned with `ω` where there is none (the last joint, a prismatic one, parallel
+    /// axes); `None` otherwise.
+    fn frame_turn(&self, k: usize) -> Result<Option<Transform>, DerivationError> {
+        let JointKind::Revolute { axis } = &self.desc.joints[k].kind else {
+            return Ok(None);
+        };
+        let field = format!("joints[{k}].axis");
+        let w = self.unit_axis(axis, &field)?;
+        if w.iter().filter(|x| !x.is_zero()).count() < 2 {
+            return Ok(None);
+        }
+        let a = *axis;
+        let least = (0..3)
+            .min_by(|&p, &q| a[p].abs().total_cmp(&a[q].abs()))
+            .unwrap_or(0);
+        let mut e = [0.0; 3];
+        e[least] = 1.0;
+        let cross = |u: [f64; 3], v: [f64; 3]| {
+            [
+                u[1] * v[2] - u[2] * v[1],
+                u[2] * v[0] - u[0] * v[2],
+                u[0] * v[1] - u[1] * v[0],
+            ]
+        };
+        // DH's choice where it exists: x along the common normal of this axis and the next
+        // joint's (in F_k), so that the next turn leaves one entry of the constant zero.
+        let next_axis = self
+            .desc
+            .joints
+            .get(k + 1)
+            .and_then(|next| match &next.kind {
+                JointKind::Revolute { axis: b } => {
+                    let m = rotation_f64(&next.origin.rotation);
+                    Some([0, 1, 2].map(|r| m[r][0] * b[0] + m[r][1] * b[1] + m[r][2] * b[2]))
+                }
+                _ => None,
+            });
+        let normal = next_axis
+            .map(|b| cross(a, b))
+            .filter(|c| (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt() > 1e-6);
+        let x = normal.unwrap_or_else(|| cross(a, e));
+        let norm = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+        let x = x.map(|v| v / norm);
+        let y = cross(a, x);
+        let columns = [x, y, a];
+        let mut rot = Matrix::zeros(3, 3);
+        for (col, v) in columns.iter().enumerate() {
+            for (row, value) in v.iter().enumerate() {
+                let r = if col == 2 {
+                    w[row].clone()
+                } else {
+                    Rational::from_f64_snapped(*value).map_err(|e| inv(&field, e))?
+                };
+                rot.set(row, col, Poly::constant(r));
+            }
+        }
+        Ok(Some(Transform {
+            rot,
+            pos: Matrix::zeros(3, 1),
+        }))
     }
 
     /// `(ξ_k, exp(ξ̂_k q_k), linear?)` for joint `k` (0-based) (2.25)–(2.27), (2.36).
@@ -479,6 +548,57 @@ impl Ctx<'_> {
     }
 }
 
+/// A description's rotation as `f64` entries, row-major: `R = Rz(yaw) Ry(pitch) Rx(roll)` with
+/// `f64::sin_cos` for `rpy`.
+fn rotation_f64(r: &Rotation) -> [[f64; 3]; 3] {
+    match r {
+        Rotation::Matrix(m) => *m,
+        Rotation::Rpy([roll, pitch, yaw]) => {
+            let m = trocar::se3::rotation_from_rpy_sin_cos(
+                roll.sin_cos(),
+                pitch.sin_cos(),
+                yaw.sin_cos(),
+            );
+            [0, 1, 2].map(|r| [0, 1, 2].map(|c| m[(r, c)]))
+        }
+    }
+}
+
+/// The twist `(0, ẑ)` of a revolute joint about the `z` axis of its frame and
+/// `exp(ξ̂ q_k) = (R_z(q_k), 0)` ((2.14) with `ω = ẑ`).
+fn about_z(k: usize) -> (Matrix, Transform) {
+    let (s, c) = (Poly::sin(k), Poly::cos(k));
+    let z = Poly::zero;
+    let xi = Matrix::column_vector(vec![z(), z(), z(), z(), z(), Poly::one()]);
+    let rot = Matrix::from_fn(3, 3, |r, col| match (r, col) {
+        (0, 0) | (1, 1) => c.clone(),
+        (0, 1) => s.neg(),
+        (1, 0) => s.clone(),
+        (2, 2) => Poly::one(),
+        _ => z(),
+    });
+    (
+        xi,
+        Transform {
+            rot,
+            pos: Matrix::zeros(3, 1),
+        },
+    )
+}
+
+/// `A_link⁻¹ · tail` (the identity or `tail` where the frame `F_link` is not turned): what a
+/// product of the turned transforms up to link `link` (1-based; 0 is the base) needs after it
+/// to end in the description's frame, then at `tail` given in that frame.
+fn turned_back(turns: &[Option<Transform>], link: usize, tail: Option<&Transform>) -> Transform {
+    let turn = link.checked_sub(1).and_then(|k| turns[k].as_ref());
+    match (turn, tail) {
+        (Some(a), Some(t)) => a.inverse().compose(t),
+        (Some(a), None) => a.inverse(),
+        (None, Some(t)) => t.clone(),
+        (None, None) => Transform::identity(),
+    }
+}
+
 /// Rows of a selection matrix (`H`, `S`) as exact rationals; errors name `{prefix}[k]`.
 fn rational_rows(rows: &[[f64; 6]], prefix: &str) -> Result<Vec<Vec<Rational>>, DerivationError> {
     rows.iter()
@@ -551,14 +671,31 @@ pub fn derive(desc: &RobotDescription) -> Result<Derivation, DerivationError> {
     let mut twists = Vec::with_capacity(n);
     let mut transforms = Vec::with_capacity(n);
     let mut linear = Vec::with_capacity(n);
+    let mut turns: Vec<Option<Transform>> = Vec::with_capacity(n);
     for k in 0..n {
         let origin = ctx.origin(&desc.joints[k].origin, &format!("joints[{k}].origin"))?;
-        let (xi, e, lin) = ctx.joint(k)?;
+        let (mut xi, mut e, lin) = ctx.joint(k)?;
+        let turn = ctx.frame_turn(k)?;
+        if turn.is_some() {
+            // The oblique axis is z of the turned frame: (2.14) with ω = ẑ.
+            (xi, e) = about_z(k);
+        }
+        // T'_k = A_{k−1}⁻¹ · origin_k · A_k · exp(ξ̂'_k q_k).
+        let mut t = origin;
+        if let Some(a) = k.checked_sub(1).and_then(|p| turns[p].as_ref()) {
+            t = a.inverse().compose(&t);
+        }
+        if let Some(a) = &turn {
+            t = t.compose(a);
+        }
         twists.push(xi);
-        transforms.push(origin.compose(&e));
+        transforms.push(t.compose(&e));
         linear.push(lin);
+        turns.push(turn);
     }
     let end_effector = ctx.origin(&desc.end_effector.origin, "end_effector")?;
+    // g_ne from the last turned frame F'_n.
+    let end_effector_turned = turned_back(&turns, n, Some(&end_effector));
 
     let constraint = match &desc.constraint {
         None => None,
@@ -568,7 +705,8 @@ pub fn derive(desc: &RobotDescription) -> Result<Derivation, DerivationError> {
             desc.task.as_ref().map(|t| t.select.as_slice()),
             &twists,
             &transforms,
-            &end_effector,
+            &turns,
+            &end_effector_turned,
         )?),
     };
     let (fk_e, body_jacobian_e) = match &constraint {
@@ -589,10 +727,10 @@ pub fn derive(desc: &RobotDescription) -> Result<Derivation, DerivationError> {
             for t in &transforms {
                 g = g.and_then(|g| compose_within_budget(&g, t));
             }
-            let fk = g.and_then(|g| compose_within_budget(&g, &end_effector));
+            let fk = g.and_then(|g| compose_within_budget(&g, &end_effector_turned));
             (
                 fk,
-                body_jacobian(&twists, &transforms, 0, n, &end_effector, true),
+                body_jacobian(&twists, &transforms, 0, n, &end_effector_turned, true),
             )
         }
     };
@@ -605,6 +743,7 @@ pub fn derive(desc: &RobotDescription) -> Result<Derivation, DerivationError> {
         joint_is_linear: linear,
         twists,
         joint_transforms: transforms,
+        frame_turns: turns,
         end_effector,
         fk_e,
         body_jacobian_e,
@@ -620,6 +759,7 @@ fn derive_constraint(
     task: Option<&[[f64; 6]]>,
     twists: &[Matrix],
     transforms: &[Transform],
+    turns: &[Option<Transform>],
     end_effector: &Transform,
 ) -> Result<ConstrainedDerivation, DerivationError> {
     let n = transforms.len();
@@ -704,19 +844,25 @@ fn derive_constraint(
             .map_err(|e| DerivationError::symbolic("constraint", e))?,
     );
 
-    // g_0i = T_1 ⋯ T_i and g_ie = T_j ⋯ T_n g_ne (2.21)
+    // g_0i = T_1 ⋯ T_i and g_ie = T_j ⋯ T_n g_ne (2.21), in F_i (a turned F'_i turned back).
     let mut fk_i = Transform::identity();
     for t in &transforms[..i] {
         fk_i = shared_transform(fk_i.compose(t));
+    }
+    let back_to_i = turned_back(turns, i, None);
+    if turns[i - 1].is_some() {
+        fk_i = shared_transform(fk_i.compose(&back_to_i));
     }
     let mut g_ie = end_effector.clone();
     for t in transforms[i..].iter().rev() {
         g_ie = shared_transform(t.compose(&g_ie));
     }
+    if let Some(a) = &turns[i - 1] {
+        g_ie = shared_transform(a.compose(&g_ie));
+    }
     let ad_g_ei = shared(g_ie.adjoint_inverse());
-    let ident = Transform::identity();
     // Without a budget `body_jacobian` always returns `Some`.
-    let body_jacobian_i = body_jacobian(twists, transforms, 0, i, &ident, false)
+    let body_jacobian_i = body_jacobian(twists, transforms, 0, i, &back_to_i, false)
         .unwrap_or_else(|| Matrix::zeros(6, i));
     let body_jacobian_e2 = body_jacobian(twists, transforms, i, n, end_effector, false)
         .unwrap_or_else(|| Matrix::zeros(6, n - i));
@@ -787,6 +933,24 @@ pub fn manipulability(j: &Matrix) -> Result<Manipulability, SymbolicError> {
 }
 
 impl Derivation {
+    /// `A` of link frame `link` (1-based: the frame after joint `link`; 0 is the base, never
+    /// turned), if it is turned ([`Derivation::frame_turns`]).
+    pub fn frame_turn(&self, link: usize) -> Option<&Transform> {
+        link.checked_sub(1)
+            .and_then(|k| self.frame_turns.get(k))
+            .and_then(Option::as_ref)
+    }
+
+    /// `A_link⁻¹ · tail`: what a product of [`Derivation::joint_transforms`] up to link `link`
+    /// needs after it to end in the description's frame `F_link` and then at `tail` (given in
+    /// `F_link`); `None` when that is the identity.
+    pub fn turned_back(&self, link: usize, tail: Option<&Transform>) -> Option<Transform> {
+        match (self.frame_turn(link), tail) {
+            (None, None) => None,
+            _ => Some(turned_back(&self.frame_turns, link, tail)),
+        }
+    }
+
     /// Size summary `(name, rows, cols, total terms)` of every derived matrix, for reports.
     pub fn sizes(&self) -> Vec<(&'static str, usize, usize, usize)> {
         let t = |name, m: &Matrix| (name, m.rows(), m.cols(), m.total_terms());

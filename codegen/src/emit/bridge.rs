@@ -210,20 +210,22 @@ fn fk_product_program(d: &Derivation, upto: usize, tail: Option<&Transform>) -> 
     prog
 }
 
-/// The product `T_a ⋯ T_b` of the joints `range` (0-based), then `tail` if given, built into
-/// `prog` left to right (2.21); the identity when both are empty.
+/// The product `T_a ⋯ T_b` of the joints `range` (0-based), then `tail` if given (in the
+/// description's frame of the last link), built into `prog` left to right (2.21); the identity
+/// when both are empty. Turned link frames ([`Derivation::frame_turns`]) are turned back at both
+/// ends.
 fn chain_product(
     d: &Derivation,
     prog: &mut Program,
     range: std::ops::Range<usize>,
     tail: Option<&Transform>,
 ) -> NumTransform {
+    let head = d.frame_turn(range.start).cloned();
+    let end = d.turned_back(range.end, tail);
     let mut b = PolyBuilder::new(prog);
-    let mut factors: Vec<NumTransform> = d.joint_transforms[range]
-        .iter()
-        .map(|t| b.transform(t))
-        .collect();
-    if let Some(t) = tail {
+    let mut factors: Vec<NumTransform> = head.iter().map(|t| b.transform(t)).collect();
+    factors.extend(d.joint_transforms[range].iter().map(|t| b.transform(t)));
+    if let Some(t) = &end {
         factors.push(b.transform(t));
     }
     let mut acc = match factors.first() {
@@ -276,8 +278,9 @@ fn body_jacobian_walk(
             (v, w)
         })
         .collect();
-    let mut g = match tail {
-        Some(t) => b.transform(t),
+    // In the description's frame of link `upto` (a turned frame turned back), then `tail`.
+    let mut g = match d.turned_back(upto, tail) {
+        Some(t) => b.transform(&t),
         None => b.transform(&Transform::identity()),
     };
     let mut cols = vec![[ValueId(0); 6]; upto];

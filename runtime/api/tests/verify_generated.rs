@@ -72,3 +72,29 @@ fn urdf_arm_without_constraint() {
         200,
     );
 }
+
+/// Oblique axes everywhere: every link frame is turned so that its joint's axis is z, the
+/// constrained link's and the last one's included, and turned back where the results are
+/// expressed (`g_0i`, `J^B_0i`, the end effector).
+#[test]
+fn oblique_axes_on_every_joint() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/oblique7.toml");
+    let description = RobotDescription::from_toml_file(path).unwrap();
+    let d = trocar_codegen::derivation::derive(&description).unwrap();
+    assert!(
+        d.frame_turns.iter().all(Option::is_some),
+        "every axis is oblique"
+    );
+    check(&description, 300);
+    // A short chain, whose expanded forms are emitted where they are cheaper: the constrained
+    // link's and the last joint's axes oblique.
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/dia10_oblique.toml");
+    let description = RobotDescription::from_toml_file(path).unwrap();
+    let d = trocar_codegen::derivation::derive(&description).unwrap();
+    let turned: Vec<bool> = d.frame_turns.iter().map(Option::is_some).collect();
+    assert_eq!(
+        turned,
+        [false, false, false, false, false, true, false, true]
+    );
+    check(&description, 300);
+}

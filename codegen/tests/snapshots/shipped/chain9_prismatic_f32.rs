@@ -75,7 +75,7 @@ pub mod chain9_prismatic {
     ///
     /// Returns `(R, p)`: the rotation **column-major** (`r[col][row]`, nalgebra: `Matrix3::from_data(ArrayStorage(r))`) and the position.
     ///
-    /// Operations: 142 add, 212 mul, 0 div, 0 sqrt, 8 trig (sin_cos), 0 neg, 0 abs.
+    /// Operations: 146 add, 229 mul, 0 div, 0 sqrt, 8 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
     #[must_use]
     pub fn forward_kinematics(q: &[f32; N], p: &Params) -> ([[f32; 3]; 3], [f32; 3]) {
@@ -92,12 +92,12 @@ pub mod chain9_prismatic {
             s2,
             0.29552020666133955_f32 * c2,
         );
-        let x2 = 0.8_f32 * s3;
-        let x3 = 0.6_f32 * s3;
-        let x4 = <f32 as ::trocar::Real>::mul_add(0.64_f32, c3, 0.36_f32);
-        let x5 = 0.48_f32 * (<f32 as ::trocar::Real>::ONE - c3);
-        let x6 = <f32 as ::trocar::Real>::mul_add(0.36_f32, c3, 0.64_f32);
-        let x7 = 0.1_f32 + q[3];
+        let x2 = 0.8_f32 * c3;
+        let x3 = 0.8_f32 * s3;
+        let x4 = 0.6_f32 * c3;
+        let x5 = 0.6_f32 * s3;
+        let x6 = <f32 as ::trocar::Real>::mul_add(0.8_f32, q[3], 0.08_f32);
+        let x7 = <f32 as ::trocar::Real>::mul_add(0.6_f32, q[3], 0.06_f32);
         let x8 = <f32 as ::trocar::Real>::mul_add(
             0.3816559020950483_f32,
             s5,
@@ -120,268 +120,255 @@ pub mod chain9_prismatic {
         );
         let x12 = 0.9210609940028851_f32 * s5;
         let x13 = 0.9210609940028851_f32 * c5;
-        let x14 = <f32 as ::trocar::Real>::mul_add(0.36_f32, c8, 0.64_f32);
+        let x14 = 0.6_f32 * c8;
         let x15 = 0.6_f32 * s8;
-        let x16 = 0.48_f32 * (<f32 as ::trocar::Real>::ONE - c8);
+        let x16 = 0.8_f32 * c8;
         let x17 = 0.8_f32 * s8;
-        let x18 = <f32 as ::trocar::Real>::mul_add(0.64_f32, c8, 0.36_f32);
-        let x19 = s1 * x0;
-        let x20 = s1 * x1;
-        let x21 = c1 * x0;
-        let x22 = c1 * x1;
-        let x23 = <f32 as ::trocar::Real>::mul_add(
-            -x3,
-            x20,
-            <f32 as ::trocar::Real>::mul_add(c1, c3, -(x2 * x19)),
-        );
+        let x18 = <f32 as ::trocar::Real>::mul_add(0.8_f32, s9, 0.6_f32 * c9);
+        let x19 = <f32 as ::trocar::Real>::mul_add(0.8_f32, c9, -(0.6_f32 * s9));
+        let x20 = s1 * x0;
+        let x21 = s1 * x1;
+        let x22 = c1 * x0;
+        let x23 = c1 * x1;
         let x24 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x20,
-            -<f32 as ::trocar::Real>::mul_add(c1, x2, x4 * x19),
+            x4,
+            x21,
+            <f32 as ::trocar::Real>::mul_add(c1, s3, x2 * x20),
         );
         let x25 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x20,
-            <f32 as ::trocar::Real>::mul_add(c1, x3, -(x5 * x19)),
+            x5,
+            x21,
+            <f32 as ::trocar::Real>::mul_add(x3, x20, -(c1 * c3)),
         );
-        let x26 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x22,
-            <f32 as ::trocar::Real>::mul_add(s1, c3, x2 * x21),
-        );
+        let x26 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x21, -(0.6_f32 * x20));
         let x27 = <f32 as ::trocar::Real>::mul_add(
-            -x5,
-            x22,
-            <f32 as ::trocar::Real>::mul_add(x4, x21, -(s1 * x2)),
+            x4,
+            x23,
+            <f32 as ::trocar::Real>::mul_add(x2, x22, -(s1 * s3)),
         );
         let x28 = <f32 as ::trocar::Real>::mul_add(
-            -x6,
-            x22,
-            <f32 as ::trocar::Real>::mul_add(s1, x3, x5 * x21),
+            x5,
+            x23,
+            <f32 as ::trocar::Real>::mul_add(s1, c3, x3 * x22),
         );
-        let x29 = <f32 as ::trocar::Real>::mul_add(x1, x2, -(x0 * x3));
-        let x30 = <f32 as ::trocar::Real>::mul_add(x1, x4, x0 * x5);
-        let x31 = <f32 as ::trocar::Real>::mul_add(x1, x5, x0 * x6);
-        let x32 = <f32 as ::trocar::Real>::mul_add(
-            0.3894183423086505_f32,
-            x25,
-            <f32 as ::trocar::Real>::mul_add(
-                0.90270109637546_f32,
-                x23,
-                0.18298657129998708_f32 * x24,
-            ),
-        );
-        let x33 = <f32 as ::trocar::Real>::mul_add(
-            x12,
-            x25,
-            <f32 as ::trocar::Real>::mul_add(x10, x24, -(x8 * x23)),
-        );
-        let x34 = <f32 as ::trocar::Real>::mul_add(
-            x13,
-            x25,
-            <f32 as ::trocar::Real>::mul_add(x9, x23, -(x11 * x24)),
-        );
-        let x35 = <f32 as ::trocar::Real>::mul_add(
-            0.3894183423086505_f32,
-            x28,
-            <f32 as ::trocar::Real>::mul_add(
-                0.90270109637546_f32,
-                x26,
-                0.18298657129998708_f32 * x27,
-            ),
-        );
-        let x36 = <f32 as ::trocar::Real>::mul_add(
-            x12,
-            x28,
-            <f32 as ::trocar::Real>::mul_add(x10, x27, -(x8 * x26)),
-        );
-        let x37 = <f32 as ::trocar::Real>::mul_add(
-            x13,
-            x28,
-            <f32 as ::trocar::Real>::mul_add(x9, x26, -(x11 * x27)),
-        );
-        let x38 = <f32 as ::trocar::Real>::mul_add(
-            0.3894183423086505_f32,
-            x31,
-            <f32 as ::trocar::Real>::mul_add(
-                0.90270109637546_f32,
-                x29,
-                0.18298657129998708_f32 * x30,
-            ),
-        );
+        let x29 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x22, -(0.8_f32 * x23));
+        let x30 = <f32 as ::trocar::Real>::mul_add(x1, x2, -(x0 * x4));
+        let x31 = <f32 as ::trocar::Real>::mul_add(x0, x5, -(x1 * x3));
+        let x32 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x1, 0.8_f32 * x0);
+        let x33 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x26, -(0.8_f32 * x24));
+        let x34 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x24, 0.8_f32 * x26);
+        let x35 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x27, 0.6_f32 * x29);
+        let x36 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x29, -(0.6_f32 * x27));
+        let x37 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x30, 0.6_f32 * x32);
+        let x38 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x32, -(0.6_f32 * x30));
         let x39 = <f32 as ::trocar::Real>::mul_add(
-            x12,
-            x31,
-            <f32 as ::trocar::Real>::mul_add(x10, x30, -(x8 * x29)),
+            0.3894183423086505_f32,
+            x34,
+            <f32 as ::trocar::Real>::mul_add(
+                0.18298657129998708_f32,
+                x33,
+                -(0.90270109637546_f32 * x25),
+            ),
         );
         let x40 = <f32 as ::trocar::Real>::mul_add(
+            x12,
+            x34,
+            <f32 as ::trocar::Real>::mul_add(x8, x25, x10 * x33),
+        );
+        let x41 = <f32 as ::trocar::Real>::mul_add(
             x13,
-            x31,
-            <f32 as ::trocar::Real>::mul_add(x9, x29, -(x11 * x30)),
+            x34,
+            -<f32 as ::trocar::Real>::mul_add(x9, x25, x11 * x33),
         );
-        let x41 = <f32 as ::trocar::Real>::mul_add(c6, x32, -(s6 * x34));
-        let x42 = <f32 as ::trocar::Real>::mul_add(s6, x32, c6 * x34);
-        let x43 = <f32 as ::trocar::Real>::mul_add(c6, x35, -(s6 * x37));
-        let x44 = <f32 as ::trocar::Real>::mul_add(s6, x35, c6 * x37);
-        let x45 = <f32 as ::trocar::Real>::mul_add(c6, x38, -(s6 * x40));
-        let x46 = <f32 as ::trocar::Real>::mul_add(s6, x38, c6 * x40);
-        let x47 = <f32 as ::trocar::Real>::mul_add(c7, x41, s7 * x33);
-        let x48 = <f32 as ::trocar::Real>::mul_add(c7, x33, -(s7 * x41));
-        let x49 = <f32 as ::trocar::Real>::mul_add(c7, x43, s7 * x36);
-        let x50 = <f32 as ::trocar::Real>::mul_add(c7, x36, -(s7 * x43));
-        let x51 = <f32 as ::trocar::Real>::mul_add(c7, x45, s7 * x39);
-        let x52 = <f32 as ::trocar::Real>::mul_add(c7, x39, -(s7 * x45));
-        let x53 = <f32 as ::trocar::Real>::mul_add(
-            x16,
-            x42,
-            <f32 as ::trocar::Real>::mul_add(x14, x47, x15 * x48),
+        let x42 = <f32 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f32,
+            x36,
+            <f32 as ::trocar::Real>::mul_add(
+                0.90270109637546_f32,
+                x28,
+                0.18298657129998708_f32 * x35,
+            ),
         );
-        let x54 = <f32 as ::trocar::Real>::mul_add(
-            x17,
-            x42,
-            <f32 as ::trocar::Real>::mul_add(c8, x48, -(x15 * x47)),
+        let x43 = <f32 as ::trocar::Real>::mul_add(
+            x12,
+            x36,
+            <f32 as ::trocar::Real>::mul_add(x10, x35, -(x8 * x28)),
         );
-        let x55 = <f32 as ::trocar::Real>::mul_add(
-            x18,
-            x42,
-            <f32 as ::trocar::Real>::mul_add(x16, x47, -(x17 * x48)),
+        let x44 = <f32 as ::trocar::Real>::mul_add(
+            x13,
+            x36,
+            <f32 as ::trocar::Real>::mul_add(x9, x28, -(x11 * x35)),
         );
-        let x56 = <f32 as ::trocar::Real>::mul_add(
-            x16,
-            x44,
-            <f32 as ::trocar::Real>::mul_add(x14, x49, x15 * x50),
+        let x45 = <f32 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f32,
+            x38,
+            <f32 as ::trocar::Real>::mul_add(
+                0.18298657129998708_f32,
+                x37,
+                -(0.90270109637546_f32 * x31),
+            ),
         );
-        let x57 = <f32 as ::trocar::Real>::mul_add(
-            x17,
-            x44,
-            <f32 as ::trocar::Real>::mul_add(c8, x50, -(x15 * x49)),
+        let x46 = <f32 as ::trocar::Real>::mul_add(
+            x12,
+            x38,
+            <f32 as ::trocar::Real>::mul_add(x8, x31, x10 * x37),
         );
-        let x58 = <f32 as ::trocar::Real>::mul_add(
-            x18,
-            x44,
-            <f32 as ::trocar::Real>::mul_add(x16, x49, -(x17 * x50)),
+        let x47 = <f32 as ::trocar::Real>::mul_add(
+            x13,
+            x38,
+            -<f32 as ::trocar::Real>::mul_add(x9, x31, x11 * x37),
         );
-        let x59 = <f32 as ::trocar::Real>::mul_add(
-            x16,
-            x46,
-            <f32 as ::trocar::Real>::mul_add(x14, x51, x15 * x52),
-        );
+        let x48 = <f32 as ::trocar::Real>::mul_add(c6, x39, -(s6 * x41));
+        let x49 = <f32 as ::trocar::Real>::mul_add(s6, x39, c6 * x41);
+        let x50 = <f32 as ::trocar::Real>::mul_add(c6, x42, -(s6 * x44));
+        let x51 = <f32 as ::trocar::Real>::mul_add(s6, x42, c6 * x44);
+        let x52 = <f32 as ::trocar::Real>::mul_add(c6, x45, -(s6 * x47));
+        let x53 = <f32 as ::trocar::Real>::mul_add(s6, x45, c6 * x47);
+        let x54 = <f32 as ::trocar::Real>::mul_add(c7, x48, s7 * x40);
+        let x55 = <f32 as ::trocar::Real>::mul_add(c7, x40, -(s7 * x48));
+        let x56 = <f32 as ::trocar::Real>::mul_add(c7, x50, s7 * x43);
+        let x57 = <f32 as ::trocar::Real>::mul_add(c7, x43, -(s7 * x50));
+        let x58 = <f32 as ::trocar::Real>::mul_add(c7, x52, s7 * x46);
+        let x59 = <f32 as ::trocar::Real>::mul_add(c7, x46, -(s7 * x52));
         let x60 = <f32 as ::trocar::Real>::mul_add(
-            x17,
-            x46,
-            <f32 as ::trocar::Real>::mul_add(c8, x52, -(x15 * x51)),
+            x16,
+            x49,
+            -<f32 as ::trocar::Real>::mul_add(x14, x54, s8 * x55),
         );
         let x61 = <f32 as ::trocar::Real>::mul_add(
-            x18,
-            x46,
-            <f32 as ::trocar::Real>::mul_add(x16, x51, -(x17 * x52)),
+            -x17,
+            x49,
+            <f32 as ::trocar::Real>::mul_add(x15, x54, -(c8 * x55)),
         );
-        let x62 = <f32 as ::trocar::Real>::mul_add(c9, x53, -(s9 * x55));
-        let x63 = <f32 as ::trocar::Real>::mul_add(s9, x53, c9 * x55);
-        let x64 = <f32 as ::trocar::Real>::mul_add(c9, x56, -(s9 * x58));
-        let x65 = <f32 as ::trocar::Real>::mul_add(s9, x56, c9 * x58);
-        let x66 = <f32 as ::trocar::Real>::mul_add(c9, x59, -(s9 * x61));
-        let x67 = <f32 as ::trocar::Real>::mul_add(s9, x59, c9 * x61);
+        let x62 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x54, 0.6_f32 * x49);
+        let x63 = <f32 as ::trocar::Real>::mul_add(
+            x16,
+            x51,
+            -<f32 as ::trocar::Real>::mul_add(x14, x56, s8 * x57),
+        );
+        let x64 = <f32 as ::trocar::Real>::mul_add(
+            -x17,
+            x51,
+            <f32 as ::trocar::Real>::mul_add(x15, x56, -(c8 * x57)),
+        );
+        let x65 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x56, 0.6_f32 * x51);
+        let x66 = <f32 as ::trocar::Real>::mul_add(
+            x16,
+            x53,
+            -<f32 as ::trocar::Real>::mul_add(x14, x58, s8 * x59),
+        );
+        let x67 = <f32 as ::trocar::Real>::mul_add(
+            -x17,
+            x53,
+            <f32 as ::trocar::Real>::mul_add(x15, x58, -(c8 * x59)),
+        );
+        let x68 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x58, 0.6_f32 * x53);
+        let x69 = <f32 as ::trocar::Real>::mul_add(x19, x62, -(x18 * x60));
+        let x70 = <f32 as ::trocar::Real>::mul_add(x19, x60, x18 * x62);
+        let x71 = <f32 as ::trocar::Real>::mul_add(x19, x65, -(x18 * x63));
+        let x72 = <f32 as ::trocar::Real>::mul_add(x19, x63, x18 * x65);
+        let x73 = <f32 as ::trocar::Real>::mul_add(x19, x68, -(x18 * x66));
+        let x74 = <f32 as ::trocar::Real>::mul_add(x19, x66, x18 * x68);
         (
             [
                 [
                     <f32 as ::trocar::Real>::mul_add(
                         -0.19866933079506122_f32,
-                        x63,
+                        x70,
                         <f32 as ::trocar::Real>::mul_add(
                             0.9362933635841992_f32,
-                            x62,
-                            0.28962947762551555_f32 * x54,
+                            x69,
+                            -(0.28962947762551555_f32 * x61),
                         ),
                     ),
                     <f32 as ::trocar::Real>::mul_add(
                         -0.19866933079506122_f32,
-                        x65,
+                        x72,
                         <f32 as ::trocar::Real>::mul_add(
                             0.9362933635841992_f32,
-                            x64,
-                            0.28962947762551555_f32 * x57,
+                            x71,
+                            -(0.28962947762551555_f32 * x64),
                         ),
                     ),
                     <f32 as ::trocar::Real>::mul_add(
                         -0.19866933079506122_f32,
-                        x67,
+                        x74,
                         <f32 as ::trocar::Real>::mul_add(
                             0.9362933635841992_f32,
-                            x66,
-                            0.28962947762551555_f32 * x60,
+                            x73,
+                            -(0.28962947762551555_f32 * x67),
                         ),
                     ),
                 ],
                 [
                     <f32 as ::trocar::Real>::mul_add(
                         0.09784339500725571_f32,
-                        x63,
-                        <f32 as ::trocar::Real>::mul_add(
-                            0.9564250858492325_f32,
-                            x54,
-                            -(0.2750958473182437_f32 * x62),
+                        x70,
+                        -<f32 as ::trocar::Real>::mul_add(
+                            0.2750958473182437_f32,
+                            x69,
+                            0.9564250858492325_f32 * x61,
                         ),
                     ),
                     <f32 as ::trocar::Real>::mul_add(
                         0.09784339500725571_f32,
-                        x65,
-                        <f32 as ::trocar::Real>::mul_add(
-                            0.9564250858492325_f32,
-                            x57,
-                            -(0.2750958473182437_f32 * x64),
+                        x72,
+                        -<f32 as ::trocar::Real>::mul_add(
+                            0.2750958473182437_f32,
+                            x71,
+                            0.9564250858492325_f32 * x64,
                         ),
                     ),
                     <f32 as ::trocar::Real>::mul_add(
                         0.09784339500725571_f32,
-                        x67,
-                        <f32 as ::trocar::Real>::mul_add(
-                            0.9564250858492325_f32,
-                            x60,
-                            -(0.2750958473182437_f32 * x66),
+                        x74,
+                        -<f32 as ::trocar::Real>::mul_add(
+                            0.2750958473182437_f32,
+                            x73,
+                            0.9564250858492325_f32 * x67,
                         ),
                     ),
                 ],
                 [
                     <f32 as ::trocar::Real>::mul_add(
                         0.975170327201816_f32,
-                        x63,
+                        x70,
                         <f32 as ::trocar::Real>::mul_add(
                             0.21835066314633444_f32,
-                            x62,
-                            -(0.03695701352462508_f32 * x54),
+                            x69,
+                            0.03695701352462508_f32 * x61,
                         ),
                     ),
                     <f32 as ::trocar::Real>::mul_add(
                         0.975170327201816_f32,
-                        x65,
+                        x72,
                         <f32 as ::trocar::Real>::mul_add(
                             0.21835066314633444_f32,
-                            x64,
-                            -(0.03695701352462508_f32 * x57),
+                            x71,
+                            0.03695701352462508_f32 * x64,
                         ),
                     ),
                     <f32 as ::trocar::Real>::mul_add(
                         0.975170327201816_f32,
-                        x67,
+                        x74,
                         <f32 as ::trocar::Real>::mul_add(
                             0.21835066314633444_f32,
-                            x66,
-                            -(0.03695701352462508_f32 * x60),
+                            x73,
+                            0.03695701352462508_f32 * x67,
                         ),
                     ),
                 ],
             ],
             [
                 <f32 as ::trocar::Real>::mul_add(
-                    0.15_f32,
-                    x54,
+                    -0.15_f32,
+                    x61,
                     <f32 as ::trocar::Real>::mul_add(
                         0.04_f32,
-                        x48,
+                        x55,
                         <f32 as ::trocar::Real>::mul_add(
                             0.05_f32,
-                            x33,
+                            x40,
                             <f32 as ::trocar::Real>::mul_add(
                                 0.05_f32,
                                 c1,
@@ -389,80 +376,119 @@ pub mod chain9_prismatic {
                             )
                                 - <f32 as ::trocar::Real>::mul_add(
                                     0.4_f32,
-                                    x19,
-                                    0.03_f32 * x20,
+                                    x20,
+                                    0.03_f32 * x21,
                                 )
-                                + <f32 as ::trocar::Real>::mul_add(0.01_f32, x23, x7 * x24)
+                                + <f32 as ::trocar::Real>::mul_add(
+                                    x7,
+                                    x26,
+                                    -<f32 as ::trocar::Real>::mul_add(x6, x24, 0.01_f32 * x25),
+                                )
                                 + <f32 as ::trocar::Real>::mul_add(
                                     0.25_f32,
-                                    x24,
-                                    0.02_f32 * x25,
+                                    x33,
+                                    0.02_f32 * x34,
                                 ),
                         )
                             + <f32 as ::trocar::Real>::mul_add(
                                 0.02_f32,
-                                x41,
-                                0.3_f32 * x33,
+                                x48,
+                                0.3_f32 * x40,
                             ),
-                    ) + <f32 as ::trocar::Real>::mul_add(0.1_f32, x54, 0.01_f32 * x55),
+                    )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.006_f32,
+                            x62,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.008_f32,
+                                x60,
+                                -(0.1_f32 * x61),
+                            ),
+                        ),
                 ),
                 <f32 as ::trocar::Real>::mul_add(
-                    0.15_f32,
-                    x57,
+                    -0.15_f32,
+                    x64,
                     <f32 as ::trocar::Real>::mul_add(
                         0.04_f32,
-                        x50,
+                        x57,
                         <f32 as ::trocar::Real>::mul_add(
                             0.05_f32,
-                            x36,
+                            x43,
                             <f32 as ::trocar::Real>::mul_add(0.05_f32, s1, 0.02_f32 * c1)
                                 + <f32 as ::trocar::Real>::mul_add(
                                     0.4_f32,
-                                    x21,
-                                    0.03_f32 * x22,
+                                    x22,
+                                    0.03_f32 * x23,
                                 )
-                                + <f32 as ::trocar::Real>::mul_add(0.01_f32, x26, x7 * x27)
+                                + <f32 as ::trocar::Real>::mul_add(
+                                    x7,
+                                    x29,
+                                    <f32 as ::trocar::Real>::mul_add(x6, x27, 0.01_f32 * x28),
+                                )
                                 + <f32 as ::trocar::Real>::mul_add(
                                     0.25_f32,
-                                    x27,
-                                    0.02_f32 * x28,
+                                    x35,
+                                    0.02_f32 * x36,
                                 ),
                         )
                             + <f32 as ::trocar::Real>::mul_add(
                                 0.02_f32,
-                                x43,
-                                0.3_f32 * x36,
+                                x50,
+                                0.3_f32 * x43,
                             ),
-                    ) + <f32 as ::trocar::Real>::mul_add(0.1_f32, x57, 0.01_f32 * x58),
+                    )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.006_f32,
+                            x65,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.008_f32,
+                                x63,
+                                -(0.1_f32 * x64),
+                            ),
+                        ),
                 ),
                 <f32 as ::trocar::Real>::mul_add(
-                    0.15_f32,
-                    x60,
+                    -0.15_f32,
+                    x67,
                     <f32 as ::trocar::Real>::mul_add(
                         0.04_f32,
-                        x52,
+                        x59,
                         <f32 as ::trocar::Real>::mul_add(
                             0.05_f32,
-                            x39,
+                            x46,
                             p.d_1 + 0.1_f32
                                 + <f32 as ::trocar::Real>::mul_add(
                                     0.4_f32,
                                     x1,
                                     -(0.03_f32 * x0),
                                 )
-                                + <f32 as ::trocar::Real>::mul_add(0.01_f32, x29, x7 * x30)
+                                + <f32 as ::trocar::Real>::mul_add(
+                                    x7,
+                                    x32,
+                                    <f32 as ::trocar::Real>::mul_add(x6, x30, -(0.01_f32 * x31)),
+                                )
                                 + <f32 as ::trocar::Real>::mul_add(
                                     0.25_f32,
-                                    x30,
-                                    0.02_f32 * x31,
+                                    x37,
+                                    0.02_f32 * x38,
                                 ),
                         )
                             + <f32 as ::trocar::Real>::mul_add(
                                 0.02_f32,
-                                x45,
-                                0.3_f32 * x39,
+                                x52,
+                                0.3_f32 * x46,
                             ),
-                    ) + <f32 as ::trocar::Real>::mul_add(0.1_f32, x60, 0.01_f32 * x61),
+                    )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.006_f32,
+                            x68,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.008_f32,
+                                x66,
+                                -(0.1_f32 * x67),
+                            ),
+                        ),
                 ),
             ],
         )
@@ -471,7 +497,7 @@ pub mod chain9_prismatic {
     ///
     /// Returns `(R, p)`: the rotation **column-major** (`r[col][row]`, nalgebra: `Matrix3::from_data(ArrayStorage(r))`) and the position.
     ///
-    /// Operations: 142 add, 212 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
+    /// Operations: 146 add, 229 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
     pub fn forward_kinematics_trig(
@@ -488,12 +514,12 @@ pub mod chain9_prismatic {
             t.sin[1],
             0.29552020666133955_f32 * t.cos[1],
         );
-        let x2 = 0.8_f32 * t.sin[2];
-        let x3 = 0.6_f32 * t.sin[2];
-        let x4 = <f32 as ::trocar::Real>::mul_add(0.64_f32, t.cos[2], 0.36_f32);
-        let x5 = 0.48_f32 * (<f32 as ::trocar::Real>::ONE - t.cos[2]);
-        let x6 = <f32 as ::trocar::Real>::mul_add(0.36_f32, t.cos[2], 0.64_f32);
-        let x7 = 0.1_f32 + t.q[3];
+        let x2 = 0.8_f32 * t.cos[2];
+        let x3 = 0.8_f32 * t.sin[2];
+        let x4 = 0.6_f32 * t.cos[2];
+        let x5 = 0.6_f32 * t.sin[2];
+        let x6 = <f32 as ::trocar::Real>::mul_add(0.8_f32, t.q[3], 0.08_f32);
+        let x7 = <f32 as ::trocar::Real>::mul_add(0.6_f32, t.q[3], 0.06_f32);
         let x8 = <f32 as ::trocar::Real>::mul_add(
             0.3816559020950483_f32,
             t.sin[4],
@@ -516,268 +542,263 @@ pub mod chain9_prismatic {
         );
         let x12 = 0.9210609940028851_f32 * t.sin[4];
         let x13 = 0.9210609940028851_f32 * t.cos[4];
-        let x14 = <f32 as ::trocar::Real>::mul_add(0.36_f32, t.cos[7], 0.64_f32);
+        let x14 = 0.6_f32 * t.cos[7];
         let x15 = 0.6_f32 * t.sin[7];
-        let x16 = 0.48_f32 * (<f32 as ::trocar::Real>::ONE - t.cos[7]);
+        let x16 = 0.8_f32 * t.cos[7];
         let x17 = 0.8_f32 * t.sin[7];
-        let x18 = <f32 as ::trocar::Real>::mul_add(0.64_f32, t.cos[7], 0.36_f32);
-        let x19 = t.sin[0] * x0;
-        let x20 = t.sin[0] * x1;
-        let x21 = t.cos[0] * x0;
-        let x22 = t.cos[0] * x1;
-        let x23 = <f32 as ::trocar::Real>::mul_add(
-            -x3,
-            x20,
-            <f32 as ::trocar::Real>::mul_add(t.cos[0], t.cos[2], -(x2 * x19)),
+        let x18 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            t.sin[8],
+            0.6_f32 * t.cos[8],
         );
+        let x19 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            t.cos[8],
+            -(0.6_f32 * t.sin[8]),
+        );
+        let x20 = t.sin[0] * x0;
+        let x21 = t.sin[0] * x1;
+        let x22 = t.cos[0] * x0;
+        let x23 = t.cos[0] * x1;
         let x24 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x20,
-            -<f32 as ::trocar::Real>::mul_add(t.cos[0], x2, x4 * x19),
+            x4,
+            x21,
+            <f32 as ::trocar::Real>::mul_add(t.cos[0], t.sin[2], x2 * x20),
         );
         let x25 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x20,
-            <f32 as ::trocar::Real>::mul_add(t.cos[0], x3, -(x5 * x19)),
+            x5,
+            x21,
+            <f32 as ::trocar::Real>::mul_add(x3, x20, -(t.cos[0] * t.cos[2])),
         );
-        let x26 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x22,
-            <f32 as ::trocar::Real>::mul_add(t.sin[0], t.cos[2], x2 * x21),
-        );
+        let x26 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x21, -(0.6_f32 * x20));
         let x27 = <f32 as ::trocar::Real>::mul_add(
-            -x5,
-            x22,
-            <f32 as ::trocar::Real>::mul_add(x4, x21, -(t.sin[0] * x2)),
+            x4,
+            x23,
+            <f32 as ::trocar::Real>::mul_add(x2, x22, -(t.sin[0] * t.sin[2])),
         );
         let x28 = <f32 as ::trocar::Real>::mul_add(
-            -x6,
-            x22,
-            <f32 as ::trocar::Real>::mul_add(t.sin[0], x3, x5 * x21),
+            x5,
+            x23,
+            <f32 as ::trocar::Real>::mul_add(t.sin[0], t.cos[2], x3 * x22),
         );
-        let x29 = <f32 as ::trocar::Real>::mul_add(x1, x2, -(x0 * x3));
-        let x30 = <f32 as ::trocar::Real>::mul_add(x1, x4, x0 * x5);
-        let x31 = <f32 as ::trocar::Real>::mul_add(x1, x5, x0 * x6);
-        let x32 = <f32 as ::trocar::Real>::mul_add(
-            0.3894183423086505_f32,
-            x25,
-            <f32 as ::trocar::Real>::mul_add(
-                0.90270109637546_f32,
-                x23,
-                0.18298657129998708_f32 * x24,
-            ),
-        );
-        let x33 = <f32 as ::trocar::Real>::mul_add(
-            x12,
-            x25,
-            <f32 as ::trocar::Real>::mul_add(x10, x24, -(x8 * x23)),
-        );
-        let x34 = <f32 as ::trocar::Real>::mul_add(
-            x13,
-            x25,
-            <f32 as ::trocar::Real>::mul_add(x9, x23, -(x11 * x24)),
-        );
-        let x35 = <f32 as ::trocar::Real>::mul_add(
-            0.3894183423086505_f32,
-            x28,
-            <f32 as ::trocar::Real>::mul_add(
-                0.90270109637546_f32,
-                x26,
-                0.18298657129998708_f32 * x27,
-            ),
-        );
-        let x36 = <f32 as ::trocar::Real>::mul_add(
-            x12,
-            x28,
-            <f32 as ::trocar::Real>::mul_add(x10, x27, -(x8 * x26)),
-        );
-        let x37 = <f32 as ::trocar::Real>::mul_add(
-            x13,
-            x28,
-            <f32 as ::trocar::Real>::mul_add(x9, x26, -(x11 * x27)),
-        );
-        let x38 = <f32 as ::trocar::Real>::mul_add(
-            0.3894183423086505_f32,
-            x31,
-            <f32 as ::trocar::Real>::mul_add(
-                0.90270109637546_f32,
-                x29,
-                0.18298657129998708_f32 * x30,
-            ),
-        );
+        let x29 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x22, -(0.8_f32 * x23));
+        let x30 = <f32 as ::trocar::Real>::mul_add(x1, x2, -(x0 * x4));
+        let x31 = <f32 as ::trocar::Real>::mul_add(x0, x5, -(x1 * x3));
+        let x32 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x1, 0.8_f32 * x0);
+        let x33 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x26, -(0.8_f32 * x24));
+        let x34 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x24, 0.8_f32 * x26);
+        let x35 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x27, 0.6_f32 * x29);
+        let x36 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x29, -(0.6_f32 * x27));
+        let x37 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x30, 0.6_f32 * x32);
+        let x38 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x32, -(0.6_f32 * x30));
         let x39 = <f32 as ::trocar::Real>::mul_add(
-            x12,
-            x31,
-            <f32 as ::trocar::Real>::mul_add(x10, x30, -(x8 * x29)),
+            0.3894183423086505_f32,
+            x34,
+            <f32 as ::trocar::Real>::mul_add(
+                0.18298657129998708_f32,
+                x33,
+                -(0.90270109637546_f32 * x25),
+            ),
         );
         let x40 = <f32 as ::trocar::Real>::mul_add(
+            x12,
+            x34,
+            <f32 as ::trocar::Real>::mul_add(x8, x25, x10 * x33),
+        );
+        let x41 = <f32 as ::trocar::Real>::mul_add(
             x13,
-            x31,
-            <f32 as ::trocar::Real>::mul_add(x9, x29, -(x11 * x30)),
+            x34,
+            -<f32 as ::trocar::Real>::mul_add(x9, x25, x11 * x33),
         );
-        let x41 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x32, -(t.sin[5] * x34));
-        let x42 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x32, t.cos[5] * x34);
-        let x43 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x35, -(t.sin[5] * x37));
-        let x44 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x35, t.cos[5] * x37);
-        let x45 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x38, -(t.sin[5] * x40));
-        let x46 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x38, t.cos[5] * x40);
-        let x47 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x41, t.sin[6] * x33);
-        let x48 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x33, -(t.sin[6] * x41));
-        let x49 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x43, t.sin[6] * x36);
-        let x50 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x36, -(t.sin[6] * x43));
-        let x51 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x45, t.sin[6] * x39);
-        let x52 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x39, -(t.sin[6] * x45));
-        let x53 = <f32 as ::trocar::Real>::mul_add(
-            x16,
-            x42,
-            <f32 as ::trocar::Real>::mul_add(x14, x47, x15 * x48),
+        let x42 = <f32 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f32,
+            x36,
+            <f32 as ::trocar::Real>::mul_add(
+                0.90270109637546_f32,
+                x28,
+                0.18298657129998708_f32 * x35,
+            ),
         );
-        let x54 = <f32 as ::trocar::Real>::mul_add(
-            x17,
-            x42,
-            <f32 as ::trocar::Real>::mul_add(t.cos[7], x48, -(x15 * x47)),
+        let x43 = <f32 as ::trocar::Real>::mul_add(
+            x12,
+            x36,
+            <f32 as ::trocar::Real>::mul_add(x10, x35, -(x8 * x28)),
         );
-        let x55 = <f32 as ::trocar::Real>::mul_add(
-            x18,
-            x42,
-            <f32 as ::trocar::Real>::mul_add(x16, x47, -(x17 * x48)),
+        let x44 = <f32 as ::trocar::Real>::mul_add(
+            x13,
+            x36,
+            <f32 as ::trocar::Real>::mul_add(x9, x28, -(x11 * x35)),
         );
-        let x56 = <f32 as ::trocar::Real>::mul_add(
-            x16,
-            x44,
-            <f32 as ::trocar::Real>::mul_add(x14, x49, x15 * x50),
+        let x45 = <f32 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f32,
+            x38,
+            <f32 as ::trocar::Real>::mul_add(
+                0.18298657129998708_f32,
+                x37,
+                -(0.90270109637546_f32 * x31),
+            ),
         );
-        let x57 = <f32 as ::trocar::Real>::mul_add(
-            x17,
-            x44,
-            <f32 as ::trocar::Real>::mul_add(t.cos[7], x50, -(x15 * x49)),
+        let x46 = <f32 as ::trocar::Real>::mul_add(
+            x12,
+            x38,
+            <f32 as ::trocar::Real>::mul_add(x8, x31, x10 * x37),
         );
-        let x58 = <f32 as ::trocar::Real>::mul_add(
-            x18,
-            x44,
-            <f32 as ::trocar::Real>::mul_add(x16, x49, -(x17 * x50)),
+        let x47 = <f32 as ::trocar::Real>::mul_add(
+            x13,
+            x38,
+            -<f32 as ::trocar::Real>::mul_add(x9, x31, x11 * x37),
         );
-        let x59 = <f32 as ::trocar::Real>::mul_add(
-            x16,
-            x46,
-            <f32 as ::trocar::Real>::mul_add(x14, x51, x15 * x52),
-        );
+        let x48 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x39, -(t.sin[5] * x41));
+        let x49 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x39, t.cos[5] * x41);
+        let x50 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x42, -(t.sin[5] * x44));
+        let x51 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x42, t.cos[5] * x44);
+        let x52 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x45, -(t.sin[5] * x47));
+        let x53 = <f32 as ::trocar::Real>::mul_add(t.sin[5], x45, t.cos[5] * x47);
+        let x54 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x48, t.sin[6] * x40);
+        let x55 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x40, -(t.sin[6] * x48));
+        let x56 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x50, t.sin[6] * x43);
+        let x57 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x43, -(t.sin[6] * x50));
+        let x58 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x52, t.sin[6] * x46);
+        let x59 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x46, -(t.sin[6] * x52));
         let x60 = <f32 as ::trocar::Real>::mul_add(
-            x17,
-            x46,
-            <f32 as ::trocar::Real>::mul_add(t.cos[7], x52, -(x15 * x51)),
+            x16,
+            x49,
+            -<f32 as ::trocar::Real>::mul_add(x14, x54, t.sin[7] * x55),
         );
         let x61 = <f32 as ::trocar::Real>::mul_add(
-            x18,
-            x46,
-            <f32 as ::trocar::Real>::mul_add(x16, x51, -(x17 * x52)),
+            -x17,
+            x49,
+            <f32 as ::trocar::Real>::mul_add(x15, x54, -(t.cos[7] * x55)),
         );
-        let x62 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x53, -(t.sin[8] * x55));
-        let x63 = <f32 as ::trocar::Real>::mul_add(t.sin[8], x53, t.cos[8] * x55);
-        let x64 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x56, -(t.sin[8] * x58));
-        let x65 = <f32 as ::trocar::Real>::mul_add(t.sin[8], x56, t.cos[8] * x58);
-        let x66 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x59, -(t.sin[8] * x61));
-        let x67 = <f32 as ::trocar::Real>::mul_add(t.sin[8], x59, t.cos[8] * x61);
+        let x62 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x54, 0.6_f32 * x49);
+        let x63 = <f32 as ::trocar::Real>::mul_add(
+            x16,
+            x51,
+            -<f32 as ::trocar::Real>::mul_add(x14, x56, t.sin[7] * x57),
+        );
+        let x64 = <f32 as ::trocar::Real>::mul_add(
+            -x17,
+            x51,
+            <f32 as ::trocar::Real>::mul_add(x15, x56, -(t.cos[7] * x57)),
+        );
+        let x65 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x56, 0.6_f32 * x51);
+        let x66 = <f32 as ::trocar::Real>::mul_add(
+            x16,
+            x53,
+            -<f32 as ::trocar::Real>::mul_add(x14, x58, t.sin[7] * x59),
+        );
+        let x67 = <f32 as ::trocar::Real>::mul_add(
+            -x17,
+            x53,
+            <f32 as ::trocar::Real>::mul_add(x15, x58, -(t.cos[7] * x59)),
+        );
+        let x68 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x58, 0.6_f32 * x53);
+        let x69 = <f32 as ::trocar::Real>::mul_add(x19, x62, -(x18 * x60));
+        let x70 = <f32 as ::trocar::Real>::mul_add(x19, x60, x18 * x62);
+        let x71 = <f32 as ::trocar::Real>::mul_add(x19, x65, -(x18 * x63));
+        let x72 = <f32 as ::trocar::Real>::mul_add(x19, x63, x18 * x65);
+        let x73 = <f32 as ::trocar::Real>::mul_add(x19, x68, -(x18 * x66));
+        let x74 = <f32 as ::trocar::Real>::mul_add(x19, x66, x18 * x68);
         (
             [
                 [
                     <f32 as ::trocar::Real>::mul_add(
                         -0.19866933079506122_f32,
-                        x63,
+                        x70,
                         <f32 as ::trocar::Real>::mul_add(
                             0.9362933635841992_f32,
-                            x62,
-                            0.28962947762551555_f32 * x54,
+                            x69,
+                            -(0.28962947762551555_f32 * x61),
                         ),
                     ),
                     <f32 as ::trocar::Real>::mul_add(
                         -0.19866933079506122_f32,
-                        x65,
+                        x72,
                         <f32 as ::trocar::Real>::mul_add(
                             0.9362933635841992_f32,
-                            x64,
-                            0.28962947762551555_f32 * x57,
+                            x71,
+                            -(0.28962947762551555_f32 * x64),
                         ),
                     ),
                     <f32 as ::trocar::Real>::mul_add(
                         -0.19866933079506122_f32,
-                        x67,
+                        x74,
                         <f32 as ::trocar::Real>::mul_add(
                             0.9362933635841992_f32,
-                            x66,
-                            0.28962947762551555_f32 * x60,
+                            x73,
+                            -(0.28962947762551555_f32 * x67),
                         ),
                     ),
                 ],
                 [
                     <f32 as ::trocar::Real>::mul_add(
                         0.09784339500725571_f32,
-                        x63,
-                        <f32 as ::trocar::Real>::mul_add(
-                            0.9564250858492325_f32,
-                            x54,
-                            -(0.2750958473182437_f32 * x62),
+                        x70,
+                        -<f32 as ::trocar::Real>::mul_add(
+                            0.2750958473182437_f32,
+                            x69,
+                            0.9564250858492325_f32 * x61,
                         ),
                     ),
                     <f32 as ::trocar::Real>::mul_add(
                         0.09784339500725571_f32,
-                        x65,
-                        <f32 as ::trocar::Real>::mul_add(
-                            0.9564250858492325_f32,
-                            x57,
-                            -(0.2750958473182437_f32 * x64),
+                        x72,
+                        -<f32 as ::trocar::Real>::mul_add(
+                            0.2750958473182437_f32,
+                            x71,
+                            0.9564250858492325_f32 * x64,
                         ),
                     ),
                     <f32 as ::trocar::Real>::mul_add(
                         0.09784339500725571_f32,
-                        x67,
-                        <f32 as ::trocar::Real>::mul_add(
-                            0.9564250858492325_f32,
-                            x60,
-                            -(0.2750958473182437_f32 * x66),
+                        x74,
+                        -<f32 as ::trocar::Real>::mul_add(
+                            0.2750958473182437_f32,
+                            x73,
+                            0.9564250858492325_f32 * x67,
                         ),
                     ),
                 ],
                 [
                     <f32 as ::trocar::Real>::mul_add(
                         0.975170327201816_f32,
-                        x63,
+                        x70,
                         <f32 as ::trocar::Real>::mul_add(
                             0.21835066314633444_f32,
-                            x62,
-                            -(0.03695701352462508_f32 * x54),
+                            x69,
+                            0.03695701352462508_f32 * x61,
                         ),
                     ),
                     <f32 as ::trocar::Real>::mul_add(
                         0.975170327201816_f32,
-                        x65,
+                        x72,
                         <f32 as ::trocar::Real>::mul_add(
                             0.21835066314633444_f32,
-                            x64,
-                            -(0.03695701352462508_f32 * x57),
+                            x71,
+                            0.03695701352462508_f32 * x64,
                         ),
                     ),
                     <f32 as ::trocar::Real>::mul_add(
                         0.975170327201816_f32,
-                        x67,
+                        x74,
                         <f32 as ::trocar::Real>::mul_add(
                             0.21835066314633444_f32,
-                            x66,
-                            -(0.03695701352462508_f32 * x60),
+                            x73,
+                            0.03695701352462508_f32 * x67,
                         ),
                     ),
                 ],
             ],
             [
                 <f32 as ::trocar::Real>::mul_add(
-                    0.15_f32,
-                    x54,
+                    -0.15_f32,
+                    x61,
                     <f32 as ::trocar::Real>::mul_add(
                         0.04_f32,
-                        x48,
+                        x55,
                         <f32 as ::trocar::Real>::mul_add(
                             0.05_f32,
-                            x33,
+                            x40,
                             <f32 as ::trocar::Real>::mul_add(
                                 0.05_f32,
                                 t.cos[0],
@@ -785,32 +806,45 @@ pub mod chain9_prismatic {
                             )
                                 - <f32 as ::trocar::Real>::mul_add(
                                     0.4_f32,
-                                    x19,
-                                    0.03_f32 * x20,
+                                    x20,
+                                    0.03_f32 * x21,
                                 )
-                                + <f32 as ::trocar::Real>::mul_add(0.01_f32, x23, x7 * x24)
+                                + <f32 as ::trocar::Real>::mul_add(
+                                    x7,
+                                    x26,
+                                    -<f32 as ::trocar::Real>::mul_add(x6, x24, 0.01_f32 * x25),
+                                )
                                 + <f32 as ::trocar::Real>::mul_add(
                                     0.25_f32,
-                                    x24,
-                                    0.02_f32 * x25,
+                                    x33,
+                                    0.02_f32 * x34,
                                 ),
                         )
                             + <f32 as ::trocar::Real>::mul_add(
                                 0.02_f32,
-                                x41,
-                                0.3_f32 * x33,
+                                x48,
+                                0.3_f32 * x40,
                             ),
-                    ) + <f32 as ::trocar::Real>::mul_add(0.1_f32, x54, 0.01_f32 * x55),
+                    )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.006_f32,
+                            x62,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.008_f32,
+                                x60,
+                                -(0.1_f32 * x61),
+                            ),
+                        ),
                 ),
                 <f32 as ::trocar::Real>::mul_add(
-                    0.15_f32,
-                    x57,
+                    -0.15_f32,
+                    x64,
                     <f32 as ::trocar::Real>::mul_add(
                         0.04_f32,
-                        x50,
+                        x57,
                         <f32 as ::trocar::Real>::mul_add(
                             0.05_f32,
-                            x36,
+                            x43,
                             <f32 as ::trocar::Real>::mul_add(
                                 0.05_f32,
                                 t.sin[0],
@@ -818,51 +852,77 @@ pub mod chain9_prismatic {
                             )
                                 + <f32 as ::trocar::Real>::mul_add(
                                     0.4_f32,
-                                    x21,
-                                    0.03_f32 * x22,
+                                    x22,
+                                    0.03_f32 * x23,
                                 )
-                                + <f32 as ::trocar::Real>::mul_add(0.01_f32, x26, x7 * x27)
+                                + <f32 as ::trocar::Real>::mul_add(
+                                    x7,
+                                    x29,
+                                    <f32 as ::trocar::Real>::mul_add(x6, x27, 0.01_f32 * x28),
+                                )
                                 + <f32 as ::trocar::Real>::mul_add(
                                     0.25_f32,
-                                    x27,
-                                    0.02_f32 * x28,
+                                    x35,
+                                    0.02_f32 * x36,
                                 ),
                         )
                             + <f32 as ::trocar::Real>::mul_add(
                                 0.02_f32,
-                                x43,
-                                0.3_f32 * x36,
+                                x50,
+                                0.3_f32 * x43,
                             ),
-                    ) + <f32 as ::trocar::Real>::mul_add(0.1_f32, x57, 0.01_f32 * x58),
+                    )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.006_f32,
+                            x65,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.008_f32,
+                                x63,
+                                -(0.1_f32 * x64),
+                            ),
+                        ),
                 ),
                 <f32 as ::trocar::Real>::mul_add(
-                    0.15_f32,
-                    x60,
+                    -0.15_f32,
+                    x67,
                     <f32 as ::trocar::Real>::mul_add(
                         0.04_f32,
-                        x52,
+                        x59,
                         <f32 as ::trocar::Real>::mul_add(
                             0.05_f32,
-                            x39,
+                            x46,
                             p.d_1 + 0.1_f32
                                 + <f32 as ::trocar::Real>::mul_add(
                                     0.4_f32,
                                     x1,
                                     -(0.03_f32 * x0),
                                 )
-                                + <f32 as ::trocar::Real>::mul_add(0.01_f32, x29, x7 * x30)
+                                + <f32 as ::trocar::Real>::mul_add(
+                                    x7,
+                                    x32,
+                                    <f32 as ::trocar::Real>::mul_add(x6, x30, -(0.01_f32 * x31)),
+                                )
                                 + <f32 as ::trocar::Real>::mul_add(
                                     0.25_f32,
-                                    x30,
-                                    0.02_f32 * x31,
+                                    x37,
+                                    0.02_f32 * x38,
                                 ),
                         )
                             + <f32 as ::trocar::Real>::mul_add(
                                 0.02_f32,
-                                x45,
-                                0.3_f32 * x39,
+                                x52,
+                                0.3_f32 * x46,
                             ),
-                    ) + <f32 as ::trocar::Real>::mul_add(0.1_f32, x60, 0.01_f32 * x61),
+                    )
+                        + <f32 as ::trocar::Real>::mul_add(
+                            0.006_f32,
+                            x68,
+                            <f32 as ::trocar::Real>::mul_add(
+                                0.008_f32,
+                                x66,
+                                -(0.1_f32 * x67),
+                            ),
+                        ),
                 ),
             ],
         )
@@ -871,7 +931,7 @@ pub mod chain9_prismatic {
     ///
     /// Returns the 6 × 9 matrix **column-major**: `[[f32; 6]; N]` holds N columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f32, 6, 9>::from_data(ArrayStorage(a))`.
     ///
-    /// Operations: 157 add, 248 mul, 0 div, 0 sqrt, 7 trig (sin_cos), 1 neg, 0 abs.
+    /// Operations: 145 add, 237 mul, 0 div, 0 sqrt, 7 trig (sin_cos), 2 neg, 0 abs.
     #[inline]
     #[must_use]
     pub fn body_jacobian(q: &[f32; N], _p: &Params) -> [[f32; 6]; N] {
@@ -888,381 +948,340 @@ pub mod chain9_prismatic {
             s2,
             0.29552020666133955_f32 * c2,
         );
-        let x2 = 0.8_f32 * s3;
-        let x3 = 0.6_f32 * s3;
-        let x4 = <f32 as ::trocar::Real>::mul_add(0.64_f32, c3, 0.36_f32);
-        let x5 = 0.48_f32 * (<f32 as ::trocar::Real>::ONE - c3);
-        let x6 = <f32 as ::trocar::Real>::mul_add(0.36_f32, c3, 0.64_f32);
-        let x7 = <f32 as ::trocar::Real>::mul_add(
+        let x2 = 0.8_f32 * c3;
+        let x3 = 0.8_f32 * s3;
+        let x4 = 0.6_f32 * c3;
+        let x5 = 0.6_f32 * s3;
+        let x6 = <f32 as ::trocar::Real>::mul_add(
             0.3816559020950483_f32,
             s5,
             0.19866933079506122_f32 * c5,
         );
-        let x8 = <f32 as ::trocar::Real>::mul_add(
+        let x7 = <f32 as ::trocar::Real>::mul_add(
             0.19866933079506122_f32,
             s5,
             -(0.3816559020950483_f32 * c5),
         );
-        let x9 = <f32 as ::trocar::Real>::mul_add(
+        let x8 = <f32 as ::trocar::Real>::mul_add(
             0.9800665778412416_f32,
             c5,
             -(0.07736548146578168_f32 * s5),
         );
-        let x10 = <f32 as ::trocar::Real>::mul_add(
+        let x9 = <f32 as ::trocar::Real>::mul_add(
             0.9800665778412416_f32,
             s5,
             0.07736548146578168_f32 * c5,
         );
-        let x11 = 0.9210609940028851_f32 * s5;
-        let x12 = 0.9210609940028851_f32 * c5;
-        let x13 = <f32 as ::trocar::Real>::mul_add(0.36_f32, c8, 0.64_f32);
-        let x14 = 0.6_f32 * s8;
-        let x15 = <f32 as ::trocar::Real>::ONE - c8;
-        let x16 = 0.48_f32 * x15;
-        let x17 = 0.8_f32 * s8;
-        let x18 = <f32 as ::trocar::Real>::mul_add(0.64_f32, c8, 0.36_f32);
+        let x10 = 0.9210609940028851_f32 * s5;
+        let x11 = 0.9210609940028851_f32 * c5;
+        let x12 = 0.6_f32 * c8;
+        let x13 = 0.8_f32 * c8;
+        let x14 = <f32 as ::trocar::Real>::mul_add(0.8_f32, s9, 0.6_f32 * c9);
+        let x15 = <f32 as ::trocar::Real>::mul_add(0.8_f32, c9, -(0.6_f32 * s9));
+        let x16 = <f32 as ::trocar::Real>::mul_add(
+            0.9362933635841992_f32,
+            x14,
+            0.19866933079506122_f32 * x15,
+        );
+        let x17 = <f32 as ::trocar::Real>::mul_add(
+            0.2750958473182437_f32,
+            x14,
+            0.09784339500725571_f32 * x15,
+        );
+        let x18 = <f32 as ::trocar::Real>::mul_add(
+            0.975170327201816_f32,
+            x15,
+            -(0.21835066314633444_f32 * x14),
+        );
         let x19 = <f32 as ::trocar::Real>::mul_add(
             0.9362933635841992_f32,
-            c9,
-            -(0.19866933079506122_f32 * s9),
+            x15,
+            -(0.19866933079506122_f32 * x14),
         );
         let x20 = <f32 as ::trocar::Real>::mul_add(
             0.09784339500725571_f32,
-            s9,
-            -(0.2750958473182437_f32 * c9),
+            x14,
+            -(0.2750958473182437_f32 * x15),
         );
         let x21 = <f32 as ::trocar::Real>::mul_add(
             0.21835066314633444_f32,
-            c9,
-            0.975170327201816_f32 * s9,
+            x15,
+            0.975170327201816_f32 * x14,
         );
         let x22 = <f32 as ::trocar::Real>::mul_add(
-            0.9362933635841992_f32,
-            s9,
-            0.19866933079506122_f32 * c9,
+            0.8_f32,
+            x19,
+            <f32 as ::trocar::Real>::mul_add(x12, x16, -(0.17377768657530931_f32 * s8)),
         );
         let x23 = <f32 as ::trocar::Real>::mul_add(
-            0.2750958473182437_f32,
-            s9,
-            0.09784339500725571_f32 * c9,
+            0.8_f32,
+            x20,
+            -<f32 as ::trocar::Real>::mul_add(x12, x17, 0.5738550515095394_f32 * s8),
         );
         let x24 = <f32 as ::trocar::Real>::mul_add(
-            0.975170327201816_f32,
-            c9,
-            -(0.21835066314633444_f32 * s9),
+            0.8_f32,
+            x21,
+            <f32 as ::trocar::Real>::mul_add(0.022174208114775048_f32, s8, -(x12 * x18)),
         );
-        let x25 = <f32 as ::trocar::Real>::mul_add(
-            -x16,
-            x22,
-            <f32 as ::trocar::Real>::mul_add(x13, x19, -(0.17377768657530931_f32 * s8)),
-        );
+        let x25 = 0.0048000000000000004_f32
+            - <f32 as ::trocar::Real>::mul_add(0.0048_f32, c8, 0.15_f32 * s8);
         let x26 = <f32 as ::trocar::Real>::mul_add(
+            s8,
             x16,
-            x23,
-            <f32 as ::trocar::Real>::mul_add(x13, x20, -(0.5738550515095394_f32 * s8)),
+            0.28962947762551555_f32 * c8,
         );
         let x27 = <f32 as ::trocar::Real>::mul_add(
-            x16,
-            x24,
-            <f32 as ::trocar::Real>::mul_add(x13, x21, 0.022174208114775048_f32 * s8),
+            0.9564250858492325_f32,
+            c8,
+            -(s8 * x17),
         );
-        let x28 = <f32 as ::trocar::Real>::mul_add(0.0048_f32, x15, -(0.15_f32 * s8));
-        let x29 = <f32 as ::trocar::Real>::mul_add(
-            x17,
-            x22,
-            <f32 as ::trocar::Real>::mul_add(x14, x19, 0.28962947762551555_f32 * c8),
+        let x28 = <f32 as ::trocar::Real>::mul_add(
+            s8,
+            x18,
+            0.03695701352462508_f32 * c8,
         );
+        let x29 = 0.04_f32
+            + <f32 as ::trocar::Real>::mul_add(0.25_f32, c8, -(0.008_f32 * s8));
         let x30 = <f32 as ::trocar::Real>::mul_add(
-            -x17,
-            x23,
-            <f32 as ::trocar::Real>::mul_add(x14, x20, 0.9564250858492325_f32 * c8),
+            0.6_f32,
+            x19,
+            <f32 as ::trocar::Real>::mul_add(0.23170358210041245_f32, s8, -(x13 * x16)),
         );
         let x31 = <f32 as ::trocar::Real>::mul_add(
-            -x17,
-            x24,
-            <f32 as ::trocar::Real>::mul_add(x14, x21, -(0.03695701352462508_f32 * c8)),
+            0.6_f32,
+            x20,
+            <f32 as ::trocar::Real>::mul_add(x13, x17, 0.765140068679386_f32 * s8),
         );
-        let x32 = 0.04_f32
-            + <f32 as ::trocar::Real>::mul_add(0.25_f32, c8, -(0.008_f32 * s8));
-        let x33 = <f32 as ::trocar::Real>::mul_add(
-            -x18,
-            x22,
-            <f32 as ::trocar::Real>::mul_add(x16, x19, 0.23170358210041245_f32 * s8),
+        let x32 = <f32 as ::trocar::Real>::mul_add(
+            0.6_f32,
+            x21,
+            <f32 as ::trocar::Real>::mul_add(x13, x18, -(0.029565610819700067_f32 * s8)),
         );
-        let x34 = <f32 as ::trocar::Real>::mul_add(
-            x18,
-            x23,
-            <f32 as ::trocar::Real>::mul_add(x16, x20, 0.765140068679386_f32 * s8),
-        );
-        let x35 = <f32 as ::trocar::Real>::mul_add(
-            x18,
-            x24,
-            <f32 as ::trocar::Real>::mul_add(x16, x21, -(0.029565610819700067_f32 * s8)),
-        );
-        let x36 = <f32 as ::trocar::Real>::mul_add(0.2_f32, s8, 0.01_f32 * x18);
-        let x37 = <f32 as ::trocar::Real>::mul_add(c7, x25, -(s7 * x29));
-        let x38 = <f32 as ::trocar::Real>::mul_add(c7, x26, -(s7 * x30));
-        let x39 = <f32 as ::trocar::Real>::mul_add(c7, x27, -(s7 * x31));
-        let x40 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(c7, x28, -(s7 * x32));
-        let x41 = <f32 as ::trocar::Real>::mul_add(s7, x25, c7 * x29);
-        let x42 = <f32 as ::trocar::Real>::mul_add(s7, x26, c7 * x30);
-        let x43 = <f32 as ::trocar::Real>::mul_add(s7, x27, c7 * x31);
+        let x33 = <f32 as ::trocar::Real>::mul_add(0.0064_f32, c8, 0.2_f32 * s8)
+            + 0.0036_f32;
+        let x34 = <f32 as ::trocar::Real>::mul_add(c7, x22, -(s7 * x26));
+        let x35 = <f32 as ::trocar::Real>::mul_add(c7, x23, -(s7 * x27));
+        let x36 = <f32 as ::trocar::Real>::mul_add(c7, x24, s7 * x28);
+        let x37 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(c7, x25, -(s7 * x29));
+        let x38 = <f32 as ::trocar::Real>::mul_add(s7, x22, c7 * x26);
+        let x39 = <f32 as ::trocar::Real>::mul_add(s7, x23, c7 * x27);
+        let x40 = <f32 as ::trocar::Real>::mul_add(s7, x24, -(c7 * x28));
+        let x41 = <f32 as ::trocar::Real>::mul_add(c6, x34, s6 * x30);
+        let x42 = <f32 as ::trocar::Real>::mul_add(c6, x35, s6 * x31);
+        let x43 = <f32 as ::trocar::Real>::mul_add(c6, x36, s6 * x32);
         let x44 = <f32 as ::trocar::Real>::mul_add(c6, x37, s6 * x33);
-        let x45 = <f32 as ::trocar::Real>::mul_add(c6, x38, s6 * x34);
-        let x46 = <f32 as ::trocar::Real>::mul_add(c6, x39, s6 * x35);
-        let x47 = <f32 as ::trocar::Real>::mul_add(c6, x40, s6 * x36);
-        let x48 = 0.05_f32
-            + (0.3_f32 + <f32 as ::trocar::Real>::mul_add(s7, x28, c7 * x32));
+        let x45 = 0.05_f32
+            + (0.3_f32 + <f32 as ::trocar::Real>::mul_add(s7, x25, c7 * x29));
+        let x46 = <f32 as ::trocar::Real>::mul_add(c6, x30, -(s6 * x34));
+        let x47 = <f32 as ::trocar::Real>::mul_add(c6, x31, -(s6 * x35));
+        let x48 = <f32 as ::trocar::Real>::mul_add(c6, x32, -(s6 * x36));
         let x49 = <f32 as ::trocar::Real>::mul_add(c6, x33, -(s6 * x37));
-        let x50 = <f32 as ::trocar::Real>::mul_add(c6, x34, -(s6 * x38));
-        let x51 = <f32 as ::trocar::Real>::mul_add(c6, x35, -(s6 * x39));
-        let x52 = <f32 as ::trocar::Real>::mul_add(c6, x36, -(s6 * x40));
+        let x50 = <f32 as ::trocar::Real>::mul_add(
+            x7,
+            x46,
+            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x41, -(x6 * x38)),
+        );
+        let x51 = <f32 as ::trocar::Real>::mul_add(
+            x7,
+            x47,
+            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x42, -(x6 * x39)),
+        );
+        let x52 = <f32 as ::trocar::Real>::mul_add(
+            x7,
+            x48,
+            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x43, -(x6 * x40)),
+        );
         let x53 = <f32 as ::trocar::Real>::mul_add(
-            x8,
-            x49,
-            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x44, -(x7 * x41)),
+            -x9,
+            x46,
+            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x41, x8 * x38),
         );
         let x54 = <f32 as ::trocar::Real>::mul_add(
-            x8,
-            x50,
-            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x45, -(x7 * x42)),
+            -x9,
+            x47,
+            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x42, x8 * x39),
         );
         let x55 = <f32 as ::trocar::Real>::mul_add(
-            x8,
-            x51,
-            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x46, -(x7 * x43)),
+            -x9,
+            x48,
+            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x43, x8 * x40),
         );
-        let x56 = <f32 as ::trocar::Real>::mul_add(
-            -x10,
-            x49,
-            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x44, x9 * x41),
-        );
+        let x56 = 0.25_f32
+            + <f32 as ::trocar::Real>::mul_add(
+                -x9,
+                x49,
+                <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x44, x8 * x45),
+            );
         let x57 = <f32 as ::trocar::Real>::mul_add(
-            -x10,
-            x50,
-            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x45, x9 * x42),
+            x11,
+            x46,
+            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x41, x10 * x38),
         );
         let x58 = <f32 as ::trocar::Real>::mul_add(
-            -x10,
-            x51,
-            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x46, x9 * x43),
+            x11,
+            x47,
+            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x42, x10 * x39),
         );
         let x59 = <f32 as ::trocar::Real>::mul_add(
-            x12,
+            x11,
+            x48,
+            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x43, x10 * x40),
+        );
+        let x60 = 0.02_f32
+            + <f32 as ::trocar::Real>::mul_add(
+                x11,
+                x49,
+                <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x44, x10 * x45),
+            );
+        let x61 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x53, -(0.6_f32 * x57));
+        let x62 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x54, -(0.6_f32 * x58));
+        let x63 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x55, -(0.6_f32 * x59));
+        let x64 = <f32 as ::trocar::Real>::mul_add(0.8_f32, q[3], 0.08_f32)
+            + <f32 as ::trocar::Real>::mul_add(0.8_f32, x56, -(0.6_f32 * x60));
+        let x65 = <f32 as ::trocar::Real>::mul_add(
+            x7,
             x49,
-            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x44, x11 * x41),
-        );
-        let x60 = <f32 as ::trocar::Real>::mul_add(
-            x12,
-            x50,
-            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x45, x11 * x42),
-        );
-        let x61 = <f32 as ::trocar::Real>::mul_add(
-            x12,
-            x51,
-            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x46, x11 * x43),
-        );
-        let x62 = 0.02_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x12,
-                x52,
-                <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x47, x11 * x48),
-            );
-        let x63 = 0.01_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x8,
-                x52,
-                <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x47, -(x7 * x48)),
-            );
-        let x64 = 0.1_f32 + q[3]
-            + (0.25_f32
-                + <f32 as ::trocar::Real>::mul_add(
-                    -x10,
-                    x52,
-                    <f32 as ::trocar::Real>::mul_add(
-                        0.18298657129998708_f32,
-                        x47,
-                        x9 * x48,
-                    ),
-                ));
-        let x65 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x62, -(0.8_f32 * x64));
-        let x66 = 0.8_f32 * x63;
-        let x67 = 0.6_f32 * x63;
-        let x68 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x59,
-            <f32 as ::trocar::Real>::mul_add(c3, x53, -(x2 * x56)),
-        );
-        let x69 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x60,
-            <f32 as ::trocar::Real>::mul_add(c3, x54, -(x2 * x57)),
-        );
-        let x70 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x61,
-            <f32 as ::trocar::Real>::mul_add(c3, x55, -(x2 * x58)),
-        );
-        let x71 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x59,
-            <f32 as ::trocar::Real>::mul_add(x2, x53, x4 * x56),
-        );
-        let x72 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x60,
-            <f32 as ::trocar::Real>::mul_add(x2, x54, x4 * x57),
-        );
+            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x44, -(x6 * x45)),
+        ) + 0.01_f32;
+        let x66 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x53, 0.8_f32 * x57);
+        let x67 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x54, 0.8_f32 * x58);
+        let x68 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x55, 0.8_f32 * x59);
+        let x69 = <f32 as ::trocar::Real>::mul_add(0.6_f32, q[3], 0.06_f32)
+            + <f32 as ::trocar::Real>::mul_add(0.6_f32, x56, 0.8_f32 * x60);
+        let x70 = <f32 as ::trocar::Real>::mul_add(c3, x50, -(s3 * x61));
+        let x71 = <f32 as ::trocar::Real>::mul_add(c3, x51, -(s3 * x62));
+        let x72 = <f32 as ::trocar::Real>::mul_add(c3, x52, -(s3 * x63));
         let x73 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x61,
-            <f32 as ::trocar::Real>::mul_add(x2, x55, x4 * x58),
+            0.6_f32,
+            x66,
+            <f32 as ::trocar::Real>::mul_add(x2, x61, x3 * x50),
         );
-        let x74 = 0.4_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x5,
-                x62,
-                <f32 as ::trocar::Real>::mul_add(x2, x63, x4 * x64),
-            );
+        let x74 = <f32 as ::trocar::Real>::mul_add(
+            0.6_f32,
+            x67,
+            <f32 as ::trocar::Real>::mul_add(x2, x62, x3 * x51),
+        );
         let x75 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x59,
-            <f32 as ::trocar::Real>::mul_add(x5, x56, -(x3 * x53)),
+            0.6_f32,
+            x68,
+            <f32 as ::trocar::Real>::mul_add(x2, x63, x3 * x52),
         );
-        let x76 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x60,
-            <f32 as ::trocar::Real>::mul_add(x5, x57, -(x3 * x54)),
-        );
+        let x76 = 0.4_f32
+            + <f32 as ::trocar::Real>::mul_add(
+                0.6_f32,
+                x69,
+                <f32 as ::trocar::Real>::mul_add(x2, x64, x3 * x65),
+            );
         let x77 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x61,
-            <f32 as ::trocar::Real>::mul_add(x5, x58, -(x3 * x55)),
+            0.8_f32,
+            x66,
+            -<f32 as ::trocar::Real>::mul_add(x4, x61, x5 * x50),
         );
         let x78 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x62,
-            <f32 as ::trocar::Real>::mul_add(x5, x64, -(x3 * x63)),
+            0.8_f32,
+            x67,
+            -<f32 as ::trocar::Real>::mul_add(x4, x62, x5 * x51),
+        );
+        let x79 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x68,
+            -<f32 as ::trocar::Real>::mul_add(x4, x63, x5 * x52),
+        );
+        let x80 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x69,
+            -<f32 as ::trocar::Real>::mul_add(x4, x64, x5 * x65),
         ) - 0.03_f32;
-        let x79 = 0.05_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x3,
-                x62,
-                <f32 as ::trocar::Real>::mul_add(c3, x63, -(x2 * x64)),
-            );
-        let x80 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(x0, x74, -(x1 * x78));
+        let x81 = 0.05_f32 + <f32 as ::trocar::Real>::mul_add(c3, x65, -(s3 * x64));
+        let x82 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(x0, x76, -(x1 * x80));
         [
             [
                 <f32 as ::trocar::Real>::mul_add(
-                    x79,
-                    <f32 as ::trocar::Real>::mul_add(x0, x71, -(x1 * x75)),
-                    -(x68 * x80),
-                ),
-                <f32 as ::trocar::Real>::mul_add(
-                    x79,
-                    <f32 as ::trocar::Real>::mul_add(x0, x72, -(x1 * x76)),
-                    -(x69 * x80),
-                ),
-                <f32 as ::trocar::Real>::mul_add(
-                    x79,
+                    x81,
                     <f32 as ::trocar::Real>::mul_add(x0, x73, -(x1 * x77)),
-                    -(x70 * x80),
+                    -(x70 * x82),
                 ),
-                <f32 as ::trocar::Real>::mul_add(x1, x71, x0 * x75),
-                <f32 as ::trocar::Real>::mul_add(x1, x72, x0 * x76),
+                <f32 as ::trocar::Real>::mul_add(
+                    x81,
+                    <f32 as ::trocar::Real>::mul_add(x0, x74, -(x1 * x78)),
+                    -(x71 * x82),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    x81,
+                    <f32 as ::trocar::Real>::mul_add(x0, x75, -(x1 * x79)),
+                    -(x72 * x82),
+                ),
                 <f32 as ::trocar::Real>::mul_add(x1, x73, x0 * x77),
+                <f32 as ::trocar::Real>::mul_add(x1, x74, x0 * x78),
+                <f32 as ::trocar::Real>::mul_add(x1, x75, x0 * x79),
             ],
             [
-                <f32 as ::trocar::Real>::mul_add(x74, x75, -(x71 * x78)),
-                <f32 as ::trocar::Real>::mul_add(x74, x76, -(x72 * x78)),
-                <f32 as ::trocar::Real>::mul_add(x74, x77, -(x73 * x78)),
-                x68,
-                x69,
+                <f32 as ::trocar::Real>::mul_add(x76, x77, -(x73 * x80)),
+                <f32 as ::trocar::Real>::mul_add(x76, x78, -(x74 * x80)),
+                <f32 as ::trocar::Real>::mul_add(x76, x79, -(x75 * x80)),
                 x70,
+                x71,
+                x72,
             ],
             [
-                <f32 as ::trocar::Real>::mul_add(
-                    -x59,
-                    x67,
-                    <f32 as ::trocar::Real>::mul_add(x53, x65, x56 * x66),
-                ),
-                <f32 as ::trocar::Real>::mul_add(
-                    -x60,
-                    x67,
-                    <f32 as ::trocar::Real>::mul_add(x54, x65, x57 * x66),
-                ),
-                <f32 as ::trocar::Real>::mul_add(
-                    -x61,
-                    x67,
-                    <f32 as ::trocar::Real>::mul_add(x55, x65, x58 * x66),
-                ),
-                <f32 as ::trocar::Real>::mul_add(0.6_f32, x56, 0.8_f32 * x59),
-                <f32 as ::trocar::Real>::mul_add(0.6_f32, x57, 0.8_f32 * x60),
-                <f32 as ::trocar::Real>::mul_add(0.6_f32, x58, 0.8_f32 * x61),
+                <f32 as ::trocar::Real>::mul_add(x61, x65, -(x50 * x64)),
+                <f32 as ::trocar::Real>::mul_add(x62, x65, -(x51 * x64)),
+                <f32 as ::trocar::Real>::mul_add(x63, x65, -(x52 * x64)),
+                x66,
+                x67,
+                x68,
             ],
             [
-                x56,
-                x57,
-                x58,
+                x53,
+                x54,
+                x55,
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
             ],
             [
-                <f32 as ::trocar::Real>::mul_add(x48, x49, -(x41 * x52)),
-                <f32 as ::trocar::Real>::mul_add(x48, x50, -(x42 * x52)),
-                <f32 as ::trocar::Real>::mul_add(x48, x51, -(x43 * x52)),
-                x44,
-                x45,
-                x46,
-            ],
-            [
-                <f32 as ::trocar::Real>::mul_add(x36, x37, -(x33 * x40)),
-                <f32 as ::trocar::Real>::mul_add(x36, x38, -(x34 * x40)),
-                <f32 as ::trocar::Real>::mul_add(x36, x39, -(x35 * x40)),
+                <f32 as ::trocar::Real>::mul_add(x45, x46, -(x38 * x49)),
+                <f32 as ::trocar::Real>::mul_add(x45, x47, -(x39 * x49)),
+                <f32 as ::trocar::Real>::mul_add(x45, x48, -(x40 * x49)),
                 x41,
                 x42,
                 x43,
             ],
             [
-                <f32 as ::trocar::Real>::mul_add(x28, x29, -(x25 * x32)),
-                <f32 as ::trocar::Real>::mul_add(x28, x30, -(x26 * x32)),
-                <f32 as ::trocar::Real>::mul_add(x28, x31, -(x27 * x32)),
-                x33,
-                x34,
-                x35,
+                <f32 as ::trocar::Real>::mul_add(x33, x34, -(x30 * x37)),
+                <f32 as ::trocar::Real>::mul_add(x33, x35, -(x31 * x37)),
+                <f32 as ::trocar::Real>::mul_add(x33, x36, -(x32 * x37)),
+                x38,
+                x39,
+                x40,
+            ],
+            [
+                <f32 as ::trocar::Real>::mul_add(x25, x26, -(x22 * x29)),
+                <f32 as ::trocar::Real>::mul_add(x25, x27, -(x23 * x29)),
+                -<f32 as ::trocar::Real>::mul_add(x24, x29, x25 * x28),
+                x30,
+                x31,
+                x32,
             ],
             [
                 -<f32 as ::trocar::Real>::mul_add(
-                    0.2_f32,
-                    x22,
-                    <f32 as ::trocar::Real>::mul_add(
-                        0.15_f32,
-                        x19,
-                        0.0023170358210041243_f32,
-                    ),
+                    0.25_f32,
+                    x16,
+                    0.0023170358210041243_f32,
                 ),
                 <f32 as ::trocar::Real>::mul_add(
-                    0.2_f32,
-                    x23,
-                    -<f32 as ::trocar::Real>::mul_add(
-                        0.15_f32,
-                        x20,
-                        0.00765140068679386_f32,
-                    ),
+                    0.25_f32,
+                    x17,
+                    -0.00765140068679386_f32,
                 ),
                 <f32 as ::trocar::Real>::mul_add(
-                    0.2_f32,
-                    x24,
-                    <f32 as ::trocar::Real>::mul_add(
-                        -0.15_f32,
-                        x21,
-                        0.00029565610819700066_f32,
-                    ),
+                    0.25_f32,
+                    x18,
+                    0.00029565610819700066_f32,
                 ),
-                <f32 as ::trocar::Real>::mul_add(0.8_f32, x19, -(0.6_f32 * x22)),
-                <f32 as ::trocar::Real>::mul_add(0.8_f32, x20, 0.6_f32 * x23),
-                <f32 as ::trocar::Real>::mul_add(0.8_f32, x21, 0.6_f32 * x24),
+                x19,
+                x20,
+                x21,
             ],
             [
                 <f32 as ::trocar::Real>::ZERO,
@@ -1278,7 +1297,7 @@ pub mod chain9_prismatic {
     ///
     /// Returns the 6 × 9 matrix **column-major**: `[[f32; 6]; N]` holds N columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f32, 6, 9>::from_data(ArrayStorage(a))`.
     ///
-    /// Operations: 157 add, 248 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
+    /// Operations: 145 add, 237 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 2 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
     pub fn body_jacobian_trig(t: &JointTrig, _p: &Params) -> [[f32; 6]; N] {
@@ -1292,419 +1311,382 @@ pub mod chain9_prismatic {
             t.sin[1],
             0.29552020666133955_f32 * t.cos[1],
         );
-        let x2 = 0.8_f32 * t.sin[2];
-        let x3 = 0.6_f32 * t.sin[2];
-        let x4 = <f32 as ::trocar::Real>::mul_add(0.64_f32, t.cos[2], 0.36_f32);
-        let x5 = 0.48_f32 * (<f32 as ::trocar::Real>::ONE - t.cos[2]);
-        let x6 = <f32 as ::trocar::Real>::mul_add(0.36_f32, t.cos[2], 0.64_f32);
-        let x7 = <f32 as ::trocar::Real>::mul_add(
+        let x2 = 0.8_f32 * t.cos[2];
+        let x3 = 0.8_f32 * t.sin[2];
+        let x4 = 0.6_f32 * t.cos[2];
+        let x5 = 0.6_f32 * t.sin[2];
+        let x6 = <f32 as ::trocar::Real>::mul_add(
             0.3816559020950483_f32,
             t.sin[4],
             0.19866933079506122_f32 * t.cos[4],
         );
-        let x8 = <f32 as ::trocar::Real>::mul_add(
+        let x7 = <f32 as ::trocar::Real>::mul_add(
             0.19866933079506122_f32,
             t.sin[4],
             -(0.3816559020950483_f32 * t.cos[4]),
         );
-        let x9 = <f32 as ::trocar::Real>::mul_add(
+        let x8 = <f32 as ::trocar::Real>::mul_add(
             0.9800665778412416_f32,
             t.cos[4],
             -(0.07736548146578168_f32 * t.sin[4]),
         );
-        let x10 = <f32 as ::trocar::Real>::mul_add(
+        let x9 = <f32 as ::trocar::Real>::mul_add(
             0.9800665778412416_f32,
             t.sin[4],
             0.07736548146578168_f32 * t.cos[4],
         );
-        let x11 = 0.9210609940028851_f32 * t.sin[4];
-        let x12 = 0.9210609940028851_f32 * t.cos[4];
-        let x13 = <f32 as ::trocar::Real>::mul_add(0.36_f32, t.cos[7], 0.64_f32);
-        let x14 = 0.6_f32 * t.sin[7];
-        let x15 = <f32 as ::trocar::Real>::ONE - t.cos[7];
-        let x16 = 0.48_f32 * x15;
-        let x17 = 0.8_f32 * t.sin[7];
-        let x18 = <f32 as ::trocar::Real>::mul_add(0.64_f32, t.cos[7], 0.36_f32);
+        let x10 = 0.9210609940028851_f32 * t.sin[4];
+        let x11 = 0.9210609940028851_f32 * t.cos[4];
+        let x12 = 0.6_f32 * t.cos[7];
+        let x13 = 0.8_f32 * t.cos[7];
+        let x14 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            t.sin[8],
+            0.6_f32 * t.cos[8],
+        );
+        let x15 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            t.cos[8],
+            -(0.6_f32 * t.sin[8]),
+        );
+        let x16 = <f32 as ::trocar::Real>::mul_add(
+            0.9362933635841992_f32,
+            x14,
+            0.19866933079506122_f32 * x15,
+        );
+        let x17 = <f32 as ::trocar::Real>::mul_add(
+            0.2750958473182437_f32,
+            x14,
+            0.09784339500725571_f32 * x15,
+        );
+        let x18 = <f32 as ::trocar::Real>::mul_add(
+            0.975170327201816_f32,
+            x15,
+            -(0.21835066314633444_f32 * x14),
+        );
         let x19 = <f32 as ::trocar::Real>::mul_add(
             0.9362933635841992_f32,
-            t.cos[8],
-            -(0.19866933079506122_f32 * t.sin[8]),
+            x15,
+            -(0.19866933079506122_f32 * x14),
         );
         let x20 = <f32 as ::trocar::Real>::mul_add(
             0.09784339500725571_f32,
-            t.sin[8],
-            -(0.2750958473182437_f32 * t.cos[8]),
+            x14,
+            -(0.2750958473182437_f32 * x15),
         );
         let x21 = <f32 as ::trocar::Real>::mul_add(
             0.21835066314633444_f32,
-            t.cos[8],
-            0.975170327201816_f32 * t.sin[8],
+            x15,
+            0.975170327201816_f32 * x14,
         );
         let x22 = <f32 as ::trocar::Real>::mul_add(
-            0.9362933635841992_f32,
-            t.sin[8],
-            0.19866933079506122_f32 * t.cos[8],
-        );
-        let x23 = <f32 as ::trocar::Real>::mul_add(
-            0.2750958473182437_f32,
-            t.sin[8],
-            0.09784339500725571_f32 * t.cos[8],
-        );
-        let x24 = <f32 as ::trocar::Real>::mul_add(
-            0.975170327201816_f32,
-            t.cos[8],
-            -(0.21835066314633444_f32 * t.sin[8]),
-        );
-        let x25 = <f32 as ::trocar::Real>::mul_add(
-            -x16,
-            x22,
+            0.8_f32,
+            x19,
             <f32 as ::trocar::Real>::mul_add(
-                x13,
-                x19,
+                x12,
+                x16,
                 -(0.17377768657530931_f32 * t.sin[7]),
             ),
         );
-        let x26 = <f32 as ::trocar::Real>::mul_add(
-            x16,
-            x23,
-            <f32 as ::trocar::Real>::mul_add(
-                x13,
-                x20,
-                -(0.5738550515095394_f32 * t.sin[7]),
+        let x23 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x20,
+            -<f32 as ::trocar::Real>::mul_add(
+                x12,
+                x17,
+                0.5738550515095394_f32 * t.sin[7],
             ),
+        );
+        let x24 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x21,
+            <f32 as ::trocar::Real>::mul_add(
+                0.022174208114775048_f32,
+                t.sin[7],
+                -(x12 * x18),
+            ),
+        );
+        let x25 = 0.0048000000000000004_f32
+            - <f32 as ::trocar::Real>::mul_add(
+                0.0048_f32,
+                t.cos[7],
+                0.15_f32 * t.sin[7],
+            );
+        let x26 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            x16,
+            0.28962947762551555_f32 * t.cos[7],
         );
         let x27 = <f32 as ::trocar::Real>::mul_add(
-            x16,
-            x24,
-            <f32 as ::trocar::Real>::mul_add(
-                x13,
-                x21,
-                0.022174208114775048_f32 * t.sin[7],
-            ),
+            0.9564250858492325_f32,
+            t.cos[7],
+            -(t.sin[7] * x17),
         );
         let x28 = <f32 as ::trocar::Real>::mul_add(
-            0.0048_f32,
-            x15,
-            -(0.15_f32 * t.sin[7]),
+            t.sin[7],
+            x18,
+            0.03695701352462508_f32 * t.cos[7],
         );
-        let x29 = <f32 as ::trocar::Real>::mul_add(
-            x17,
-            x22,
-            <f32 as ::trocar::Real>::mul_add(
-                x14,
-                x19,
-                0.28962947762551555_f32 * t.cos[7],
-            ),
-        );
-        let x30 = <f32 as ::trocar::Real>::mul_add(
-            -x17,
-            x23,
-            <f32 as ::trocar::Real>::mul_add(x14, x20, 0.9564250858492325_f32 * t.cos[7]),
-        );
-        let x31 = <f32 as ::trocar::Real>::mul_add(
-            -x17,
-            x24,
-            <f32 as ::trocar::Real>::mul_add(
-                x14,
-                x21,
-                -(0.03695701352462508_f32 * t.cos[7]),
-            ),
-        );
-        let x32 = 0.04_f32
+        let x29 = 0.04_f32
             + <f32 as ::trocar::Real>::mul_add(
                 0.25_f32,
                 t.cos[7],
                 -(0.008_f32 * t.sin[7]),
             );
-        let x33 = <f32 as ::trocar::Real>::mul_add(
-            -x18,
-            x22,
+        let x30 = <f32 as ::trocar::Real>::mul_add(
+            0.6_f32,
+            x19,
             <f32 as ::trocar::Real>::mul_add(
-                x16,
-                x19,
-                0.23170358210041245_f32 * t.sin[7],
+                0.23170358210041245_f32,
+                t.sin[7],
+                -(x13 * x16),
             ),
         );
-        let x34 = <f32 as ::trocar::Real>::mul_add(
-            x18,
-            x23,
-            <f32 as ::trocar::Real>::mul_add(x16, x20, 0.765140068679386_f32 * t.sin[7]),
+        let x31 = <f32 as ::trocar::Real>::mul_add(
+            0.6_f32,
+            x20,
+            <f32 as ::trocar::Real>::mul_add(x13, x17, 0.765140068679386_f32 * t.sin[7]),
         );
-        let x35 = <f32 as ::trocar::Real>::mul_add(
-            x18,
-            x24,
+        let x32 = <f32 as ::trocar::Real>::mul_add(
+            0.6_f32,
+            x21,
             <f32 as ::trocar::Real>::mul_add(
-                x16,
-                x21,
+                x13,
+                x18,
                 -(0.029565610819700067_f32 * t.sin[7]),
             ),
         );
-        let x36 = <f32 as ::trocar::Real>::mul_add(0.2_f32, t.sin[7], 0.01_f32 * x18);
-        let x37 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x25, -(t.sin[6] * x29));
-        let x38 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x26, -(t.sin[6] * x30));
-        let x39 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x27, -(t.sin[6] * x31));
-        let x40 = 0.02_f32
-            + <f32 as ::trocar::Real>::mul_add(t.cos[6], x28, -(t.sin[6] * x32));
-        let x41 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x25, t.cos[6] * x29);
-        let x42 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x26, t.cos[6] * x30);
-        let x43 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x27, t.cos[6] * x31);
+        let x33 = <f32 as ::trocar::Real>::mul_add(
+            0.0064_f32,
+            t.cos[7],
+            0.2_f32 * t.sin[7],
+        ) + 0.0036_f32;
+        let x34 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x22, -(t.sin[6] * x26));
+        let x35 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x23, -(t.sin[6] * x27));
+        let x36 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x24, t.sin[6] * x28);
+        let x37 = 0.02_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[6], x25, -(t.sin[6] * x29));
+        let x38 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x22, t.cos[6] * x26);
+        let x39 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x23, t.cos[6] * x27);
+        let x40 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x24, -(t.cos[6] * x28));
+        let x41 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x34, t.sin[5] * x30);
+        let x42 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x35, t.sin[5] * x31);
+        let x43 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x36, t.sin[5] * x32);
         let x44 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x37, t.sin[5] * x33);
-        let x45 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x38, t.sin[5] * x34);
-        let x46 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x39, t.sin[5] * x35);
-        let x47 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x40, t.sin[5] * x36);
-        let x48 = 0.05_f32
+        let x45 = 0.05_f32
             + (0.3_f32
-                + <f32 as ::trocar::Real>::mul_add(t.sin[6], x28, t.cos[6] * x32));
+                + <f32 as ::trocar::Real>::mul_add(t.sin[6], x25, t.cos[6] * x29));
+        let x46 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x30, -(t.sin[5] * x34));
+        let x47 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x31, -(t.sin[5] * x35));
+        let x48 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x32, -(t.sin[5] * x36));
         let x49 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x33, -(t.sin[5] * x37));
-        let x50 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x34, -(t.sin[5] * x38));
-        let x51 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x35, -(t.sin[5] * x39));
-        let x52 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x36, -(t.sin[5] * x40));
+        let x50 = <f32 as ::trocar::Real>::mul_add(
+            x7,
+            x46,
+            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x41, -(x6 * x38)),
+        );
+        let x51 = <f32 as ::trocar::Real>::mul_add(
+            x7,
+            x47,
+            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x42, -(x6 * x39)),
+        );
+        let x52 = <f32 as ::trocar::Real>::mul_add(
+            x7,
+            x48,
+            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x43, -(x6 * x40)),
+        );
         let x53 = <f32 as ::trocar::Real>::mul_add(
-            x8,
-            x49,
-            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x44, -(x7 * x41)),
+            -x9,
+            x46,
+            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x41, x8 * x38),
         );
         let x54 = <f32 as ::trocar::Real>::mul_add(
-            x8,
-            x50,
-            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x45, -(x7 * x42)),
+            -x9,
+            x47,
+            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x42, x8 * x39),
         );
         let x55 = <f32 as ::trocar::Real>::mul_add(
-            x8,
-            x51,
-            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x46, -(x7 * x43)),
+            -x9,
+            x48,
+            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x43, x8 * x40),
         );
-        let x56 = <f32 as ::trocar::Real>::mul_add(
-            -x10,
-            x49,
-            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x44, x9 * x41),
-        );
+        let x56 = 0.25_f32
+            + <f32 as ::trocar::Real>::mul_add(
+                -x9,
+                x49,
+                <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x44, x8 * x45),
+            );
         let x57 = <f32 as ::trocar::Real>::mul_add(
-            -x10,
-            x50,
-            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x45, x9 * x42),
+            x11,
+            x46,
+            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x41, x10 * x38),
         );
         let x58 = <f32 as ::trocar::Real>::mul_add(
-            -x10,
-            x51,
-            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x46, x9 * x43),
+            x11,
+            x47,
+            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x42, x10 * x39),
         );
         let x59 = <f32 as ::trocar::Real>::mul_add(
-            x12,
+            x11,
+            x48,
+            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x43, x10 * x40),
+        );
+        let x60 = 0.02_f32
+            + <f32 as ::trocar::Real>::mul_add(
+                x11,
+                x49,
+                <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x44, x10 * x45),
+            );
+        let x61 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x53, -(0.6_f32 * x57));
+        let x62 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x54, -(0.6_f32 * x58));
+        let x63 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x55, -(0.6_f32 * x59));
+        let x64 = <f32 as ::trocar::Real>::mul_add(0.8_f32, t.q[3], 0.08_f32)
+            + <f32 as ::trocar::Real>::mul_add(0.8_f32, x56, -(0.6_f32 * x60));
+        let x65 = <f32 as ::trocar::Real>::mul_add(
+            x7,
             x49,
-            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x44, x11 * x41),
-        );
-        let x60 = <f32 as ::trocar::Real>::mul_add(
-            x12,
-            x50,
-            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x45, x11 * x42),
-        );
-        let x61 = <f32 as ::trocar::Real>::mul_add(
-            x12,
-            x51,
-            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x46, x11 * x43),
-        );
-        let x62 = 0.02_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x12,
-                x52,
-                <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x47, x11 * x48),
-            );
-        let x63 = 0.01_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x8,
-                x52,
-                <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x47, -(x7 * x48)),
-            );
-        let x64 = 0.1_f32 + t.q[3]
-            + (0.25_f32
-                + <f32 as ::trocar::Real>::mul_add(
-                    -x10,
-                    x52,
-                    <f32 as ::trocar::Real>::mul_add(
-                        0.18298657129998708_f32,
-                        x47,
-                        x9 * x48,
-                    ),
-                ));
-        let x65 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x62, -(0.8_f32 * x64));
-        let x66 = 0.8_f32 * x63;
-        let x67 = 0.6_f32 * x63;
-        let x68 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x59,
-            <f32 as ::trocar::Real>::mul_add(t.cos[2], x53, -(x2 * x56)),
-        );
-        let x69 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x60,
-            <f32 as ::trocar::Real>::mul_add(t.cos[2], x54, -(x2 * x57)),
-        );
-        let x70 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x61,
-            <f32 as ::trocar::Real>::mul_add(t.cos[2], x55, -(x2 * x58)),
-        );
-        let x71 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x59,
-            <f32 as ::trocar::Real>::mul_add(x2, x53, x4 * x56),
-        );
-        let x72 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x60,
-            <f32 as ::trocar::Real>::mul_add(x2, x54, x4 * x57),
-        );
+            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x44, -(x6 * x45)),
+        ) + 0.01_f32;
+        let x66 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x53, 0.8_f32 * x57);
+        let x67 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x54, 0.8_f32 * x58);
+        let x68 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x55, 0.8_f32 * x59);
+        let x69 = <f32 as ::trocar::Real>::mul_add(0.6_f32, t.q[3], 0.06_f32)
+            + <f32 as ::trocar::Real>::mul_add(0.6_f32, x56, 0.8_f32 * x60);
+        let x70 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x50, -(t.sin[2] * x61));
+        let x71 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x51, -(t.sin[2] * x62));
+        let x72 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x52, -(t.sin[2] * x63));
         let x73 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x61,
-            <f32 as ::trocar::Real>::mul_add(x2, x55, x4 * x58),
+            0.6_f32,
+            x66,
+            <f32 as ::trocar::Real>::mul_add(x2, x61, x3 * x50),
         );
-        let x74 = 0.4_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x5,
-                x62,
-                <f32 as ::trocar::Real>::mul_add(x2, x63, x4 * x64),
-            );
+        let x74 = <f32 as ::trocar::Real>::mul_add(
+            0.6_f32,
+            x67,
+            <f32 as ::trocar::Real>::mul_add(x2, x62, x3 * x51),
+        );
         let x75 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x59,
-            <f32 as ::trocar::Real>::mul_add(x5, x56, -(x3 * x53)),
+            0.6_f32,
+            x68,
+            <f32 as ::trocar::Real>::mul_add(x2, x63, x3 * x52),
         );
-        let x76 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x60,
-            <f32 as ::trocar::Real>::mul_add(x5, x57, -(x3 * x54)),
-        );
+        let x76 = 0.4_f32
+            + <f32 as ::trocar::Real>::mul_add(
+                0.6_f32,
+                x69,
+                <f32 as ::trocar::Real>::mul_add(x2, x64, x3 * x65),
+            );
         let x77 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x61,
-            <f32 as ::trocar::Real>::mul_add(x5, x58, -(x3 * x55)),
+            0.8_f32,
+            x66,
+            -<f32 as ::trocar::Real>::mul_add(x4, x61, x5 * x50),
         );
         let x78 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x62,
-            <f32 as ::trocar::Real>::mul_add(x5, x64, -(x3 * x63)),
+            0.8_f32,
+            x67,
+            -<f32 as ::trocar::Real>::mul_add(x4, x62, x5 * x51),
+        );
+        let x79 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x68,
+            -<f32 as ::trocar::Real>::mul_add(x4, x63, x5 * x52),
+        );
+        let x80 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x69,
+            -<f32 as ::trocar::Real>::mul_add(x4, x64, x5 * x65),
         ) - 0.03_f32;
-        let x79 = 0.05_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x3,
-                x62,
-                <f32 as ::trocar::Real>::mul_add(t.cos[2], x63, -(x2 * x64)),
-            );
-        let x80 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(x0, x74, -(x1 * x78));
+        let x81 = 0.05_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[2], x65, -(t.sin[2] * x64));
+        let x82 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(x0, x76, -(x1 * x80));
         [
             [
                 <f32 as ::trocar::Real>::mul_add(
-                    x79,
-                    <f32 as ::trocar::Real>::mul_add(x0, x71, -(x1 * x75)),
-                    -(x68 * x80),
-                ),
-                <f32 as ::trocar::Real>::mul_add(
-                    x79,
-                    <f32 as ::trocar::Real>::mul_add(x0, x72, -(x1 * x76)),
-                    -(x69 * x80),
-                ),
-                <f32 as ::trocar::Real>::mul_add(
-                    x79,
+                    x81,
                     <f32 as ::trocar::Real>::mul_add(x0, x73, -(x1 * x77)),
-                    -(x70 * x80),
+                    -(x70 * x82),
                 ),
-                <f32 as ::trocar::Real>::mul_add(x1, x71, x0 * x75),
-                <f32 as ::trocar::Real>::mul_add(x1, x72, x0 * x76),
+                <f32 as ::trocar::Real>::mul_add(
+                    x81,
+                    <f32 as ::trocar::Real>::mul_add(x0, x74, -(x1 * x78)),
+                    -(x71 * x82),
+                ),
+                <f32 as ::trocar::Real>::mul_add(
+                    x81,
+                    <f32 as ::trocar::Real>::mul_add(x0, x75, -(x1 * x79)),
+                    -(x72 * x82),
+                ),
                 <f32 as ::trocar::Real>::mul_add(x1, x73, x0 * x77),
+                <f32 as ::trocar::Real>::mul_add(x1, x74, x0 * x78),
+                <f32 as ::trocar::Real>::mul_add(x1, x75, x0 * x79),
             ],
             [
-                <f32 as ::trocar::Real>::mul_add(x74, x75, -(x71 * x78)),
-                <f32 as ::trocar::Real>::mul_add(x74, x76, -(x72 * x78)),
-                <f32 as ::trocar::Real>::mul_add(x74, x77, -(x73 * x78)),
-                x68,
-                x69,
+                <f32 as ::trocar::Real>::mul_add(x76, x77, -(x73 * x80)),
+                <f32 as ::trocar::Real>::mul_add(x76, x78, -(x74 * x80)),
+                <f32 as ::trocar::Real>::mul_add(x76, x79, -(x75 * x80)),
                 x70,
+                x71,
+                x72,
             ],
             [
-                <f32 as ::trocar::Real>::mul_add(
-                    -x59,
-                    x67,
-                    <f32 as ::trocar::Real>::mul_add(x53, x65, x56 * x66),
-                ),
-                <f32 as ::trocar::Real>::mul_add(
-                    -x60,
-                    x67,
-                    <f32 as ::trocar::Real>::mul_add(x54, x65, x57 * x66),
-                ),
-                <f32 as ::trocar::Real>::mul_add(
-                    -x61,
-                    x67,
-                    <f32 as ::trocar::Real>::mul_add(x55, x65, x58 * x66),
-                ),
-                <f32 as ::trocar::Real>::mul_add(0.6_f32, x56, 0.8_f32 * x59),
-                <f32 as ::trocar::Real>::mul_add(0.6_f32, x57, 0.8_f32 * x60),
-                <f32 as ::trocar::Real>::mul_add(0.6_f32, x58, 0.8_f32 * x61),
+                <f32 as ::trocar::Real>::mul_add(x61, x65, -(x50 * x64)),
+                <f32 as ::trocar::Real>::mul_add(x62, x65, -(x51 * x64)),
+                <f32 as ::trocar::Real>::mul_add(x63, x65, -(x52 * x64)),
+                x66,
+                x67,
+                x68,
             ],
             [
-                x56,
-                x57,
-                x58,
+                x53,
+                x54,
+                x55,
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
             ],
             [
-                <f32 as ::trocar::Real>::mul_add(x48, x49, -(x41 * x52)),
-                <f32 as ::trocar::Real>::mul_add(x48, x50, -(x42 * x52)),
-                <f32 as ::trocar::Real>::mul_add(x48, x51, -(x43 * x52)),
-                x44,
-                x45,
-                x46,
-            ],
-            [
-                <f32 as ::trocar::Real>::mul_add(x36, x37, -(x33 * x40)),
-                <f32 as ::trocar::Real>::mul_add(x36, x38, -(x34 * x40)),
-                <f32 as ::trocar::Real>::mul_add(x36, x39, -(x35 * x40)),
+                <f32 as ::trocar::Real>::mul_add(x45, x46, -(x38 * x49)),
+                <f32 as ::trocar::Real>::mul_add(x45, x47, -(x39 * x49)),
+                <f32 as ::trocar::Real>::mul_add(x45, x48, -(x40 * x49)),
                 x41,
                 x42,
                 x43,
             ],
             [
-                <f32 as ::trocar::Real>::mul_add(x28, x29, -(x25 * x32)),
-                <f32 as ::trocar::Real>::mul_add(x28, x30, -(x26 * x32)),
-                <f32 as ::trocar::Real>::mul_add(x28, x31, -(x27 * x32)),
-                x33,
-                x34,
-                x35,
+                <f32 as ::trocar::Real>::mul_add(x33, x34, -(x30 * x37)),
+                <f32 as ::trocar::Real>::mul_add(x33, x35, -(x31 * x37)),
+                <f32 as ::trocar::Real>::mul_add(x33, x36, -(x32 * x37)),
+                x38,
+                x39,
+                x40,
+            ],
+            [
+                <f32 as ::trocar::Real>::mul_add(x25, x26, -(x22 * x29)),
+                <f32 as ::trocar::Real>::mul_add(x25, x27, -(x23 * x29)),
+                -<f32 as ::trocar::Real>::mul_add(x24, x29, x25 * x28),
+                x30,
+                x31,
+                x32,
             ],
             [
                 -<f32 as ::trocar::Real>::mul_add(
-                    0.2_f32,
-                    x22,
-                    <f32 as ::trocar::Real>::mul_add(
-                        0.15_f32,
-                        x19,
-                        0.0023170358210041243_f32,
-                    ),
+                    0.25_f32,
+                    x16,
+                    0.0023170358210041243_f32,
                 ),
                 <f32 as ::trocar::Real>::mul_add(
-                    0.2_f32,
-                    x23,
-                    -<f32 as ::trocar::Real>::mul_add(
-                        0.15_f32,
-                        x20,
-                        0.00765140068679386_f32,
-                    ),
+                    0.25_f32,
+                    x17,
+                    -0.00765140068679386_f32,
                 ),
                 <f32 as ::trocar::Real>::mul_add(
-                    0.2_f32,
-                    x24,
-                    <f32 as ::trocar::Real>::mul_add(
-                        -0.15_f32,
-                        x21,
-                        0.00029565610819700066_f32,
-                    ),
+                    0.25_f32,
+                    x18,
+                    0.00029565610819700066_f32,
                 ),
-                <f32 as ::trocar::Real>::mul_add(0.8_f32, x19, -(0.6_f32 * x22)),
-                <f32 as ::trocar::Real>::mul_add(0.8_f32, x20, 0.6_f32 * x23),
-                <f32 as ::trocar::Real>::mul_add(0.8_f32, x21, 0.6_f32 * x24),
+                x19,
+                x20,
+                x21,
             ],
             [
                 <f32 as ::trocar::Real>::ZERO,
@@ -4916,7 +4898,7 @@ pub mod chain9_prismatic {
     ///
     /// Returns the 6 × 6 matrix **column-major**: `[[f32; 6]; I]` holds I columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f32, 6, 6>::from_data(ArrayStorage(a))`.
     ///
-    /// Operations: 71 add, 117 mul, 0 div, 0 sqrt, 4 trig (sin_cos), 1 neg, 0 abs.
+    /// Operations: 67 add, 116 mul, 0 div, 0 sqrt, 4 trig (sin_cos), 4 neg, 0 abs.
     #[inline]
     #[must_use]
     pub fn partial_body_jacobian(q: &[f32; N], _p: &Params) -> [[f32; 6]; I] {
@@ -4933,182 +4915,157 @@ pub mod chain9_prismatic {
             s2,
             0.29552020666133955_f32 * c2,
         );
-        let x2 = 0.8_f32 * s3;
-        let x3 = 0.6_f32 * s3;
-        let x4 = <f32 as ::trocar::Real>::mul_add(0.64_f32, c3, 0.36_f32);
-        let x5 = 0.48_f32 * (<f32 as ::trocar::Real>::ONE - c3);
-        let x6 = <f32 as ::trocar::Real>::mul_add(0.36_f32, c3, 0.64_f32);
-        let x7 = <f32 as ::trocar::Real>::mul_add(
+        let x2 = 0.8_f32 * c3;
+        let x3 = 0.8_f32 * s3;
+        let x4 = 0.6_f32 * c3;
+        let x5 = 0.6_f32 * s3;
+        let x6 = <f32 as ::trocar::Real>::mul_add(
             0.3816559020950483_f32,
             s5,
             0.19866933079506122_f32 * c5,
         );
-        let x8 = <f32 as ::trocar::Real>::mul_add(
+        let x7 = <f32 as ::trocar::Real>::mul_add(
             0.19866933079506122_f32,
             s5,
             -(0.3816559020950483_f32 * c5),
         );
-        let x9 = <f32 as ::trocar::Real>::mul_add(
+        let x8 = <f32 as ::trocar::Real>::mul_add(
             0.9800665778412416_f32,
             c5,
             -(0.07736548146578168_f32 * s5),
         );
-        let x10 = <f32 as ::trocar::Real>::mul_add(
+        let x9 = <f32 as ::trocar::Real>::mul_add(
             0.9800665778412416_f32,
             s5,
             0.07736548146578168_f32 * c5,
         );
-        let x11 = 0.9210609940028851_f32 * s5;
-        let x12 = 0.9210609940028851_f32 * c5;
-        let x13 = <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, c6, -(x8 * s6));
-        let x14 = <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, s6, x8 * c6);
-        let x15 = <f32 as ::trocar::Real>::mul_add(
-            0.18298657129998708_f32,
-            c6,
-            x10 * s6,
-        );
-        let x16 = <f32 as ::trocar::Real>::mul_add(
+        let x10 = 0.9210609940028851_f32 * c5;
+        let x11 = <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, c6, -(x7 * s6));
+        let x12 = <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, s6, x7 * c6);
+        let x13 = <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, c6, x9 * s6);
+        let x14 = <f32 as ::trocar::Real>::mul_add(
             0.18298657129998708_f32,
             s6,
-            -(x10 * c6),
+            -(x9 * c6),
         );
-        let x17 = <f32 as ::trocar::Real>::mul_add(
+        let x15 = <f32 as ::trocar::Real>::mul_add(0.05_f32, x8, 0.25_f32);
+        let x16 = <f32 as ::trocar::Real>::mul_add(
             0.3894183423086505_f32,
             c6,
-            -(x12 * s6),
+            -(x10 * s6),
         );
-        let x18 = <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, s6, x12 * c6);
-        let x19 = <f32 as ::trocar::Real>::mul_add(
+        let x17 = <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, s6, x10 * c6);
+        let x18 = <f32 as ::trocar::Real>::mul_add(
             0.04605304970014426_f32,
             s5,
             0.02_f32,
         );
-        let x20 = <f32 as ::trocar::Real>::mul_add(-0.05_f32, x7, 0.01_f32);
-        let x21 = 0.1_f32 + q[3]
-            + <f32 as ::trocar::Real>::mul_add(0.05_f32, x9, 0.25_f32);
-        let x22 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x19, -(0.8_f32 * x21));
-        let x23 = 0.8_f32 * x20;
-        let x24 = 0.6_f32 * x20;
+        let x19 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x13, -(0.6_f32 * x16));
+        let x20 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x8,
+            -(0.552636596401731_f32 * s5),
+        );
+        let x21 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x14, -(0.6_f32 * x17));
+        let x22 = <f32 as ::trocar::Real>::mul_add(0.8_f32, q[3], 0.08_f32)
+            + <f32 as ::trocar::Real>::mul_add(0.8_f32, x15, -(0.6_f32 * x18));
+        let x23 = <f32 as ::trocar::Real>::mul_add(0.05_f32, x6, -0.01_f32);
+        let x24 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x13, 0.8_f32 * x16);
         let x25 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x17,
-            <f32 as ::trocar::Real>::mul_add(c3, x13, -(x2 * x15)),
+            0.6_f32,
+            x8,
+            0.7368487952023082_f32 * s5,
         );
-        let x26 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x11,
-            -<f32 as ::trocar::Real>::mul_add(c3, x7, x2 * x9),
+        let x26 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x14, 0.8_f32 * x17);
+        let x27 = <f32 as ::trocar::Real>::mul_add(0.6_f32, q[3], 0.06_f32)
+            + <f32 as ::trocar::Real>::mul_add(0.6_f32, x15, 0.8_f32 * x18);
+        let x28 = <f32 as ::trocar::Real>::mul_add(c3, x11, -(s3 * x19));
+        let x29 = <f32 as ::trocar::Real>::mul_add(s3, x20, c3 * x6);
+        let x30 = <f32 as ::trocar::Real>::mul_add(c3, x12, -(s3 * x21));
+        let x31 = <f32 as ::trocar::Real>::mul_add(
+            0.6_f32,
+            x24,
+            <f32 as ::trocar::Real>::mul_add(x2, x19, x3 * x11),
         );
-        let x27 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x18,
-            <f32 as ::trocar::Real>::mul_add(c3, x14, -(x2 * x16)),
-        );
-        let x28 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x17,
-            <f32 as ::trocar::Real>::mul_add(x2, x13, x4 * x15),
-        );
-        let x29 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x11,
-            <f32 as ::trocar::Real>::mul_add(x4, x9, -(x2 * x7)),
-        );
-        let x30 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x18,
-            <f32 as ::trocar::Real>::mul_add(x2, x14, x4 * x16),
-        );
-        let x31 = 0.4_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x5,
-                x19,
-                <f32 as ::trocar::Real>::mul_add(x2, x20, x4 * x21),
-            );
         let x32 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x17,
-            <f32 as ::trocar::Real>::mul_add(x5, x15, -(x3 * x13)),
+            0.6_f32,
+            x25,
+            <f32 as ::trocar::Real>::mul_add(x2, x20, -(x3 * x6)),
         );
         let x33 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x11,
-            <f32 as ::trocar::Real>::mul_add(x3, x7, x5 * x9),
+            0.6_f32,
+            x26,
+            <f32 as ::trocar::Real>::mul_add(x2, x21, x3 * x12),
         );
-        let x34 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x18,
-            <f32 as ::trocar::Real>::mul_add(x5, x16, -(x3 * x14)),
-        );
-        let x35 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x19,
-            <f32 as ::trocar::Real>::mul_add(x5, x21, -(x3 * x20)),
-        ) - 0.03_f32;
-        let x36 = 0.05_f32
+        let x34 = 0.4_f32
             + <f32 as ::trocar::Real>::mul_add(
-                x3,
-                x19,
-                <f32 as ::trocar::Real>::mul_add(c3, x20, -(x2 * x21)),
+                0.6_f32,
+                x27,
+                <f32 as ::trocar::Real>::mul_add(x2, x22, -(x3 * x23)),
             );
-        let x37 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35));
+        let x35 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x24,
+            -<f32 as ::trocar::Real>::mul_add(x4, x19, x5 * x11),
+        );
+        let x36 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x25,
+            <f32 as ::trocar::Real>::mul_add(x5, x6, -(x4 * x20)),
+        );
+        let x37 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x26,
+            -<f32 as ::trocar::Real>::mul_add(x4, x21, x5 * x12),
+        );
+        let x38 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x27,
+            <f32 as ::trocar::Real>::mul_add(x5, x23, -(x4 * x22)),
+        ) - 0.03_f32;
+        let x39 = 0.05_f32 - <f32 as ::trocar::Real>::mul_add(s3, x22, c3 * x23);
+        let x40 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(x0, x34, -(x1 * x38));
         [
             [
                 <f32 as ::trocar::Real>::mul_add(
-                    x36,
-                    <f32 as ::trocar::Real>::mul_add(x0, x28, -(x1 * x32)),
-                    -(x25 * x37),
+                    x39,
+                    <f32 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35)),
+                    -(x28 * x40),
                 ),
                 <f32 as ::trocar::Real>::mul_add(
-                    x36,
-                    <f32 as ::trocar::Real>::mul_add(x0, x29, -(x1 * x33)),
-                    -(x26 * x37),
+                    x29,
+                    x40,
+                    x39 * <f32 as ::trocar::Real>::mul_add(x0, x32, -(x1 * x36)),
                 ),
                 <f32 as ::trocar::Real>::mul_add(
-                    x36,
-                    <f32 as ::trocar::Real>::mul_add(x0, x30, -(x1 * x34)),
-                    -(x27 * x37),
+                    x39,
+                    <f32 as ::trocar::Real>::mul_add(x0, x33, -(x1 * x37)),
+                    -(x30 * x40),
                 ),
-                <f32 as ::trocar::Real>::mul_add(x1, x28, x0 * x32),
-                <f32 as ::trocar::Real>::mul_add(x1, x29, x0 * x33),
-                <f32 as ::trocar::Real>::mul_add(x1, x30, x0 * x34),
+                <f32 as ::trocar::Real>::mul_add(x1, x31, x0 * x35),
+                <f32 as ::trocar::Real>::mul_add(x1, x32, x0 * x36),
+                <f32 as ::trocar::Real>::mul_add(x1, x33, x0 * x37),
             ],
             [
-                <f32 as ::trocar::Real>::mul_add(x31, x32, -(x28 * x35)),
-                <f32 as ::trocar::Real>::mul_add(x31, x33, -(x29 * x35)),
-                <f32 as ::trocar::Real>::mul_add(x31, x34, -(x30 * x35)),
+                <f32 as ::trocar::Real>::mul_add(x34, x35, -(x31 * x38)),
+                <f32 as ::trocar::Real>::mul_add(x34, x36, -(x32 * x38)),
+                <f32 as ::trocar::Real>::mul_add(x34, x37, -(x33 * x38)),
+                x28,
+                -x29,
+                x30,
+            ],
+            [
+                -<f32 as ::trocar::Real>::mul_add(x19, x23, x11 * x22),
+                <f32 as ::trocar::Real>::mul_add(x6, x22, -(x20 * x23)),
+                -<f32 as ::trocar::Real>::mul_add(x21, x23, x12 * x22),
+                x24,
                 x25,
                 x26,
-                x27,
             ],
             [
-                <f32 as ::trocar::Real>::mul_add(
-                    -x17,
-                    x24,
-                    <f32 as ::trocar::Real>::mul_add(x13, x22, x15 * x23),
-                ),
-                <f32 as ::trocar::Real>::mul_add(
-                    -x11,
-                    x24,
-                    <f32 as ::trocar::Real>::mul_add(x9, x23, -(x7 * x22)),
-                ),
-                <f32 as ::trocar::Real>::mul_add(
-                    -x18,
-                    x24,
-                    <f32 as ::trocar::Real>::mul_add(x14, x22, x16 * x23),
-                ),
-                <f32 as ::trocar::Real>::mul_add(0.6_f32, x15, 0.8_f32 * x17),
-                <f32 as ::trocar::Real>::mul_add(
-                    0.6_f32,
-                    x9,
-                    0.7368487952023082_f32 * s5,
-                ),
-                <f32 as ::trocar::Real>::mul_add(0.6_f32, x16, 0.8_f32 * x18),
-            ],
-            [
-                x15,
-                x9,
-                x16,
+                x13,
+                x8,
+                x14,
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
@@ -5135,7 +5092,7 @@ pub mod chain9_prismatic {
     ///
     /// Returns the 6 × 6 matrix **column-major**: `[[f32; 6]; I]` holds I columns of 6 entries, `a[col][row]`. The conversion to nalgebra is free: `SMatrix::<f32, 6, 6>::from_data(ArrayStorage(a))`.
     ///
-    /// Operations: 71 add, 117 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
+    /// Operations: 67 add, 116 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 4 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
     pub fn partial_body_jacobian_trig(t: &JointTrig, _p: &Params) -> [[f32; 6]; I] {
@@ -5149,194 +5106,174 @@ pub mod chain9_prismatic {
             t.sin[1],
             0.29552020666133955_f32 * t.cos[1],
         );
-        let x2 = 0.8_f32 * t.sin[2];
-        let x3 = 0.6_f32 * t.sin[2];
-        let x4 = <f32 as ::trocar::Real>::mul_add(0.64_f32, t.cos[2], 0.36_f32);
-        let x5 = 0.48_f32 * (<f32 as ::trocar::Real>::ONE - t.cos[2]);
-        let x6 = <f32 as ::trocar::Real>::mul_add(0.36_f32, t.cos[2], 0.64_f32);
-        let x7 = <f32 as ::trocar::Real>::mul_add(
+        let x2 = 0.8_f32 * t.cos[2];
+        let x3 = 0.8_f32 * t.sin[2];
+        let x4 = 0.6_f32 * t.cos[2];
+        let x5 = 0.6_f32 * t.sin[2];
+        let x6 = <f32 as ::trocar::Real>::mul_add(
             0.3816559020950483_f32,
             t.sin[4],
             0.19866933079506122_f32 * t.cos[4],
         );
-        let x8 = <f32 as ::trocar::Real>::mul_add(
+        let x7 = <f32 as ::trocar::Real>::mul_add(
             0.19866933079506122_f32,
             t.sin[4],
             -(0.3816559020950483_f32 * t.cos[4]),
         );
-        let x9 = <f32 as ::trocar::Real>::mul_add(
+        let x8 = <f32 as ::trocar::Real>::mul_add(
             0.9800665778412416_f32,
             t.cos[4],
             -(0.07736548146578168_f32 * t.sin[4]),
         );
-        let x10 = <f32 as ::trocar::Real>::mul_add(
+        let x9 = <f32 as ::trocar::Real>::mul_add(
             0.9800665778412416_f32,
             t.sin[4],
             0.07736548146578168_f32 * t.cos[4],
         );
-        let x11 = 0.9210609940028851_f32 * t.sin[4];
-        let x12 = 0.9210609940028851_f32 * t.cos[4];
-        let x13 = <f32 as ::trocar::Real>::mul_add(
+        let x10 = 0.9210609940028851_f32 * t.cos[4];
+        let x11 = <f32 as ::trocar::Real>::mul_add(
             0.90270109637546_f32,
             t.cos[5],
-            -(x8 * t.sin[5]),
+            -(x7 * t.sin[5]),
+        );
+        let x12 = <f32 as ::trocar::Real>::mul_add(
+            0.90270109637546_f32,
+            t.sin[5],
+            x7 * t.cos[5],
+        );
+        let x13 = <f32 as ::trocar::Real>::mul_add(
+            0.18298657129998708_f32,
+            t.cos[5],
+            x9 * t.sin[5],
         );
         let x14 = <f32 as ::trocar::Real>::mul_add(
-            0.90270109637546_f32,
-            t.sin[5],
-            x8 * t.cos[5],
-        );
-        let x15 = <f32 as ::trocar::Real>::mul_add(
             0.18298657129998708_f32,
-            t.cos[5],
-            x10 * t.sin[5],
+            t.sin[5],
+            -(x9 * t.cos[5]),
         );
+        let x15 = <f32 as ::trocar::Real>::mul_add(0.05_f32, x8, 0.25_f32);
         let x16 = <f32 as ::trocar::Real>::mul_add(
-            0.18298657129998708_f32,
-            t.sin[5],
-            -(x10 * t.cos[5]),
+            0.3894183423086505_f32,
+            t.cos[5],
+            -(x10 * t.sin[5]),
         );
         let x17 = <f32 as ::trocar::Real>::mul_add(
             0.3894183423086505_f32,
-            t.cos[5],
-            -(x12 * t.sin[5]),
+            t.sin[5],
+            x10 * t.cos[5],
         );
         let x18 = <f32 as ::trocar::Real>::mul_add(
-            0.3894183423086505_f32,
-            t.sin[5],
-            x12 * t.cos[5],
-        );
-        let x19 = <f32 as ::trocar::Real>::mul_add(
             0.04605304970014426_f32,
             t.sin[4],
             0.02_f32,
         );
-        let x20 = <f32 as ::trocar::Real>::mul_add(-0.05_f32, x7, 0.01_f32);
-        let x21 = 0.1_f32 + t.q[3]
-            + <f32 as ::trocar::Real>::mul_add(0.05_f32, x9, 0.25_f32);
-        let x22 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x19, -(0.8_f32 * x21));
-        let x23 = 0.8_f32 * x20;
-        let x24 = 0.6_f32 * x20;
+        let x19 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x13, -(0.6_f32 * x16));
+        let x20 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x8,
+            -(0.552636596401731_f32 * t.sin[4]),
+        );
+        let x21 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x14, -(0.6_f32 * x17));
+        let x22 = <f32 as ::trocar::Real>::mul_add(0.8_f32, t.q[3], 0.08_f32)
+            + <f32 as ::trocar::Real>::mul_add(0.8_f32, x15, -(0.6_f32 * x18));
+        let x23 = <f32 as ::trocar::Real>::mul_add(0.05_f32, x6, -0.01_f32);
+        let x24 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x13, 0.8_f32 * x16);
         let x25 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x17,
-            <f32 as ::trocar::Real>::mul_add(t.cos[2], x13, -(x2 * x15)),
+            0.6_f32,
+            x8,
+            0.7368487952023082_f32 * t.sin[4],
         );
-        let x26 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x11,
-            -<f32 as ::trocar::Real>::mul_add(t.cos[2], x7, x2 * x9),
+        let x26 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x14, 0.8_f32 * x17);
+        let x27 = <f32 as ::trocar::Real>::mul_add(0.6_f32, t.q[3], 0.06_f32)
+            + <f32 as ::trocar::Real>::mul_add(0.6_f32, x15, 0.8_f32 * x18);
+        let x28 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x11, -(t.sin[2] * x19));
+        let x29 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x20, t.cos[2] * x6);
+        let x30 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x12, -(t.sin[2] * x21));
+        let x31 = <f32 as ::trocar::Real>::mul_add(
+            0.6_f32,
+            x24,
+            <f32 as ::trocar::Real>::mul_add(x2, x19, x3 * x11),
         );
-        let x27 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x18,
-            <f32 as ::trocar::Real>::mul_add(t.cos[2], x14, -(x2 * x16)),
-        );
-        let x28 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x17,
-            <f32 as ::trocar::Real>::mul_add(x2, x13, x4 * x15),
-        );
-        let x29 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x11,
-            <f32 as ::trocar::Real>::mul_add(x4, x9, -(x2 * x7)),
-        );
-        let x30 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x18,
-            <f32 as ::trocar::Real>::mul_add(x2, x14, x4 * x16),
-        );
-        let x31 = 0.4_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x5,
-                x19,
-                <f32 as ::trocar::Real>::mul_add(x2, x20, x4 * x21),
-            );
         let x32 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x17,
-            <f32 as ::trocar::Real>::mul_add(x5, x15, -(x3 * x13)),
+            0.6_f32,
+            x25,
+            <f32 as ::trocar::Real>::mul_add(x2, x20, -(x3 * x6)),
         );
         let x33 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x11,
-            <f32 as ::trocar::Real>::mul_add(x3, x7, x5 * x9),
+            0.6_f32,
+            x26,
+            <f32 as ::trocar::Real>::mul_add(x2, x21, x3 * x12),
         );
-        let x34 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x18,
-            <f32 as ::trocar::Real>::mul_add(x5, x16, -(x3 * x14)),
-        );
-        let x35 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x19,
-            <f32 as ::trocar::Real>::mul_add(x5, x21, -(x3 * x20)),
-        ) - 0.03_f32;
-        let x36 = 0.05_f32
+        let x34 = 0.4_f32
             + <f32 as ::trocar::Real>::mul_add(
-                x3,
-                x19,
-                <f32 as ::trocar::Real>::mul_add(t.cos[2], x20, -(x2 * x21)),
+                0.6_f32,
+                x27,
+                <f32 as ::trocar::Real>::mul_add(x2, x22, -(x3 * x23)),
             );
-        let x37 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35));
+        let x35 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x24,
+            -<f32 as ::trocar::Real>::mul_add(x4, x19, x5 * x11),
+        );
+        let x36 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x25,
+            <f32 as ::trocar::Real>::mul_add(x5, x6, -(x4 * x20)),
+        );
+        let x37 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x26,
+            -<f32 as ::trocar::Real>::mul_add(x4, x21, x5 * x12),
+        );
+        let x38 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x27,
+            <f32 as ::trocar::Real>::mul_add(x5, x23, -(x4 * x22)),
+        ) - 0.03_f32;
+        let x39 = 0.05_f32
+            - <f32 as ::trocar::Real>::mul_add(t.sin[2], x22, t.cos[2] * x23);
+        let x40 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(x0, x34, -(x1 * x38));
         [
             [
                 <f32 as ::trocar::Real>::mul_add(
-                    x36,
-                    <f32 as ::trocar::Real>::mul_add(x0, x28, -(x1 * x32)),
-                    -(x25 * x37),
+                    x39,
+                    <f32 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35)),
+                    -(x28 * x40),
                 ),
                 <f32 as ::trocar::Real>::mul_add(
-                    x36,
-                    <f32 as ::trocar::Real>::mul_add(x0, x29, -(x1 * x33)),
-                    -(x26 * x37),
+                    x29,
+                    x40,
+                    x39 * <f32 as ::trocar::Real>::mul_add(x0, x32, -(x1 * x36)),
                 ),
                 <f32 as ::trocar::Real>::mul_add(
-                    x36,
-                    <f32 as ::trocar::Real>::mul_add(x0, x30, -(x1 * x34)),
-                    -(x27 * x37),
+                    x39,
+                    <f32 as ::trocar::Real>::mul_add(x0, x33, -(x1 * x37)),
+                    -(x30 * x40),
                 ),
-                <f32 as ::trocar::Real>::mul_add(x1, x28, x0 * x32),
-                <f32 as ::trocar::Real>::mul_add(x1, x29, x0 * x33),
-                <f32 as ::trocar::Real>::mul_add(x1, x30, x0 * x34),
+                <f32 as ::trocar::Real>::mul_add(x1, x31, x0 * x35),
+                <f32 as ::trocar::Real>::mul_add(x1, x32, x0 * x36),
+                <f32 as ::trocar::Real>::mul_add(x1, x33, x0 * x37),
             ],
             [
-                <f32 as ::trocar::Real>::mul_add(x31, x32, -(x28 * x35)),
-                <f32 as ::trocar::Real>::mul_add(x31, x33, -(x29 * x35)),
-                <f32 as ::trocar::Real>::mul_add(x31, x34, -(x30 * x35)),
+                <f32 as ::trocar::Real>::mul_add(x34, x35, -(x31 * x38)),
+                <f32 as ::trocar::Real>::mul_add(x34, x36, -(x32 * x38)),
+                <f32 as ::trocar::Real>::mul_add(x34, x37, -(x33 * x38)),
+                x28,
+                -x29,
+                x30,
+            ],
+            [
+                -<f32 as ::trocar::Real>::mul_add(x19, x23, x11 * x22),
+                <f32 as ::trocar::Real>::mul_add(x6, x22, -(x20 * x23)),
+                -<f32 as ::trocar::Real>::mul_add(x21, x23, x12 * x22),
+                x24,
                 x25,
                 x26,
-                x27,
             ],
             [
-                <f32 as ::trocar::Real>::mul_add(
-                    -x17,
-                    x24,
-                    <f32 as ::trocar::Real>::mul_add(x13, x22, x15 * x23),
-                ),
-                <f32 as ::trocar::Real>::mul_add(
-                    -x11,
-                    x24,
-                    <f32 as ::trocar::Real>::mul_add(x9, x23, -(x7 * x22)),
-                ),
-                <f32 as ::trocar::Real>::mul_add(
-                    -x18,
-                    x24,
-                    <f32 as ::trocar::Real>::mul_add(x14, x22, x16 * x23),
-                ),
-                <f32 as ::trocar::Real>::mul_add(0.6_f32, x15, 0.8_f32 * x17),
-                <f32 as ::trocar::Real>::mul_add(
-                    0.6_f32,
-                    x9,
-                    0.7368487952023082_f32 * t.sin[4],
-                ),
-                <f32 as ::trocar::Real>::mul_add(0.6_f32, x16, 0.8_f32 * x18),
-            ],
-            [
-                x15,
-                x9,
-                x16,
+                x13,
+                x8,
+                x14,
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
@@ -5363,7 +5300,7 @@ pub mod chain9_prismatic {
     ///
     /// Returns `(R, p)`: the rotation **column-major** (`r[col][row]`, nalgebra: `Matrix3::from_data(ArrayStorage(r))`) and the position.
     ///
-    /// Operations: 73 add, 111 mul, 0 div, 0 sqrt, 5 trig (sin_cos), 0 neg, 0 abs.
+    /// Operations: 78 add, 125 mul, 0 div, 0 sqrt, 5 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
     #[must_use]
     pub fn forward_kinematics_i(q: &[f32; N], p: &Params) -> ([[f32; 3]; 3], [f32; 3]) {
@@ -5380,12 +5317,12 @@ pub mod chain9_prismatic {
             s2,
             0.29552020666133955_f32 * c2,
         );
-        let x2 = 0.8_f32 * s3;
-        let x3 = 0.6_f32 * s3;
-        let x4 = <f32 as ::trocar::Real>::mul_add(0.64_f32, c3, 0.36_f32);
-        let x5 = 0.48_f32 * (<f32 as ::trocar::Real>::ONE - c3);
-        let x6 = <f32 as ::trocar::Real>::mul_add(0.36_f32, c3, 0.64_f32);
-        let x7 = 0.1_f32 + q[3];
+        let x2 = 0.8_f32 * c3;
+        let x3 = 0.8_f32 * s3;
+        let x4 = 0.6_f32 * c3;
+        let x5 = 0.6_f32 * s3;
+        let x6 = <f32 as ::trocar::Real>::mul_add(0.8_f32, q[3], 0.08_f32);
+        let x7 = <f32 as ::trocar::Real>::mul_add(0.6_f32, q[3], 0.06_f32);
         let x8 = <f32 as ::trocar::Real>::mul_add(
             0.3816559020950483_f32,
             s5,
@@ -5413,133 +5350,143 @@ pub mod chain9_prismatic {
         let x16 = c1 * x0;
         let x17 = c1 * x1;
         let x18 = <f32 as ::trocar::Real>::mul_add(
-            -x3,
+            x4,
             x15,
-            <f32 as ::trocar::Real>::mul_add(c1, c3, -(x2 * x14)),
+            <f32 as ::trocar::Real>::mul_add(c1, s3, x2 * x14),
         );
         let x19 = <f32 as ::trocar::Real>::mul_add(
             x5,
             x15,
-            -<f32 as ::trocar::Real>::mul_add(c1, x2, x4 * x14),
+            <f32 as ::trocar::Real>::mul_add(x3, x14, -(c1 * c3)),
         );
-        let x20 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x15,
-            <f32 as ::trocar::Real>::mul_add(c1, x3, -(x5 * x14)),
-        );
+        let x20 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x15, -(0.6_f32 * x14));
         let x21 = <f32 as ::trocar::Real>::mul_add(
-            x3,
+            x4,
             x17,
-            <f32 as ::trocar::Real>::mul_add(s1, c3, x2 * x16),
+            <f32 as ::trocar::Real>::mul_add(x2, x16, -(s1 * s3)),
         );
         let x22 = <f32 as ::trocar::Real>::mul_add(
-            -x5,
+            x5,
             x17,
-            <f32 as ::trocar::Real>::mul_add(x4, x16, -(s1 * x2)),
+            <f32 as ::trocar::Real>::mul_add(s1, c3, x3 * x16),
         );
-        let x23 = <f32 as ::trocar::Real>::mul_add(
-            -x6,
-            x17,
-            <f32 as ::trocar::Real>::mul_add(s1, x3, x5 * x16),
-        );
-        let x24 = <f32 as ::trocar::Real>::mul_add(x1, x2, -(x0 * x3));
-        let x25 = <f32 as ::trocar::Real>::mul_add(x1, x4, x0 * x5);
-        let x26 = <f32 as ::trocar::Real>::mul_add(x1, x5, x0 * x6);
-        let x27 = <f32 as ::trocar::Real>::mul_add(
-            0.3894183423086505_f32,
-            x20,
-            <f32 as ::trocar::Real>::mul_add(
-                0.90270109637546_f32,
-                x18,
-                0.18298657129998708_f32 * x19,
-            ),
-        );
-        let x28 = <f32 as ::trocar::Real>::mul_add(
-            x12,
-            x20,
-            <f32 as ::trocar::Real>::mul_add(x10, x19, -(x8 * x18)),
-        );
-        let x29 = <f32 as ::trocar::Real>::mul_add(
-            x13,
-            x20,
-            <f32 as ::trocar::Real>::mul_add(x9, x18, -(x11 * x19)),
-        );
-        let x30 = <f32 as ::trocar::Real>::mul_add(
-            0.3894183423086505_f32,
-            x23,
-            <f32 as ::trocar::Real>::mul_add(
-                0.90270109637546_f32,
-                x21,
-                0.18298657129998708_f32 * x22,
-            ),
-        );
-        let x31 = <f32 as ::trocar::Real>::mul_add(
-            x12,
-            x23,
-            <f32 as ::trocar::Real>::mul_add(x10, x22, -(x8 * x21)),
-        );
-        let x32 = <f32 as ::trocar::Real>::mul_add(
-            x13,
-            x23,
-            <f32 as ::trocar::Real>::mul_add(x9, x21, -(x11 * x22)),
-        );
+        let x23 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x16, -(0.8_f32 * x17));
+        let x24 = <f32 as ::trocar::Real>::mul_add(x1, x2, -(x0 * x4));
+        let x25 = <f32 as ::trocar::Real>::mul_add(x0, x5, -(x1 * x3));
+        let x26 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x1, 0.8_f32 * x0);
+        let x27 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x20, -(0.8_f32 * x18));
+        let x28 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x18, 0.8_f32 * x20);
+        let x29 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x21, 0.6_f32 * x23);
+        let x30 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x23, -(0.6_f32 * x21));
+        let x31 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x24, 0.6_f32 * x26);
+        let x32 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x26, -(0.6_f32 * x24));
         let x33 = <f32 as ::trocar::Real>::mul_add(
             0.3894183423086505_f32,
-            x26,
+            x28,
             <f32 as ::trocar::Real>::mul_add(
-                0.90270109637546_f32,
-                x24,
-                0.18298657129998708_f32 * x25,
+                0.18298657129998708_f32,
+                x27,
+                -(0.90270109637546_f32 * x19),
             ),
         );
         let x34 = <f32 as ::trocar::Real>::mul_add(
             x12,
-            x26,
-            <f32 as ::trocar::Real>::mul_add(x10, x25, -(x8 * x24)),
+            x28,
+            <f32 as ::trocar::Real>::mul_add(x8, x19, x10 * x27),
         );
         let x35 = <f32 as ::trocar::Real>::mul_add(
             x13,
-            x26,
-            <f32 as ::trocar::Real>::mul_add(x9, x24, -(x11 * x25)),
+            x28,
+            -<f32 as ::trocar::Real>::mul_add(x9, x19, x11 * x27),
+        );
+        let x36 = <f32 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f32,
+            x30,
+            <f32 as ::trocar::Real>::mul_add(
+                0.90270109637546_f32,
+                x22,
+                0.18298657129998708_f32 * x29,
+            ),
+        );
+        let x37 = <f32 as ::trocar::Real>::mul_add(
+            x12,
+            x30,
+            <f32 as ::trocar::Real>::mul_add(x10, x29, -(x8 * x22)),
+        );
+        let x38 = <f32 as ::trocar::Real>::mul_add(
+            x13,
+            x30,
+            <f32 as ::trocar::Real>::mul_add(x9, x22, -(x11 * x29)),
+        );
+        let x39 = <f32 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f32,
+            x32,
+            <f32 as ::trocar::Real>::mul_add(
+                0.18298657129998708_f32,
+                x31,
+                -(0.90270109637546_f32 * x25),
+            ),
+        );
+        let x40 = <f32 as ::trocar::Real>::mul_add(
+            x12,
+            x32,
+            <f32 as ::trocar::Real>::mul_add(x8, x25, x10 * x31),
+        );
+        let x41 = <f32 as ::trocar::Real>::mul_add(
+            x13,
+            x32,
+            -<f32 as ::trocar::Real>::mul_add(x9, x25, x11 * x31),
         );
         (
             [
                 [
-                    <f32 as ::trocar::Real>::mul_add(c6, x27, -(s6 * x29)),
-                    <f32 as ::trocar::Real>::mul_add(c6, x30, -(s6 * x32)),
                     <f32 as ::trocar::Real>::mul_add(c6, x33, -(s6 * x35)),
+                    <f32 as ::trocar::Real>::mul_add(c6, x36, -(s6 * x38)),
+                    <f32 as ::trocar::Real>::mul_add(c6, x39, -(s6 * x41)),
                 ],
-                [x28, x31, x34],
+                [x34, x37, x40],
                 [
-                    <f32 as ::trocar::Real>::mul_add(s6, x27, c6 * x29),
-                    <f32 as ::trocar::Real>::mul_add(s6, x30, c6 * x32),
                     <f32 as ::trocar::Real>::mul_add(s6, x33, c6 * x35),
+                    <f32 as ::trocar::Real>::mul_add(s6, x36, c6 * x38),
+                    <f32 as ::trocar::Real>::mul_add(s6, x39, c6 * x41),
                 ],
             ],
             [
                 <f32 as ::trocar::Real>::mul_add(
                     0.05_f32,
-                    x28,
+                    x34,
                     <f32 as ::trocar::Real>::mul_add(0.05_f32, c1, -(0.02_f32 * s1))
                         - <f32 as ::trocar::Real>::mul_add(0.4_f32, x14, 0.03_f32 * x15)
-                        + <f32 as ::trocar::Real>::mul_add(0.01_f32, x18, x7 * x19)
-                        + <f32 as ::trocar::Real>::mul_add(0.25_f32, x19, 0.02_f32 * x20),
+                        + <f32 as ::trocar::Real>::mul_add(
+                            x7,
+                            x20,
+                            -<f32 as ::trocar::Real>::mul_add(x6, x18, 0.01_f32 * x19),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(0.25_f32, x27, 0.02_f32 * x28),
                 ),
                 <f32 as ::trocar::Real>::mul_add(
                     0.05_f32,
-                    x31,
+                    x37,
                     <f32 as ::trocar::Real>::mul_add(0.05_f32, s1, 0.02_f32 * c1)
                         + <f32 as ::trocar::Real>::mul_add(0.4_f32, x16, 0.03_f32 * x17)
-                        + <f32 as ::trocar::Real>::mul_add(0.01_f32, x21, x7 * x22)
-                        + <f32 as ::trocar::Real>::mul_add(0.25_f32, x22, 0.02_f32 * x23),
+                        + <f32 as ::trocar::Real>::mul_add(
+                            x7,
+                            x23,
+                            <f32 as ::trocar::Real>::mul_add(x6, x21, 0.01_f32 * x22),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(0.25_f32, x29, 0.02_f32 * x30),
                 ),
                 <f32 as ::trocar::Real>::mul_add(
                     0.05_f32,
-                    x34,
+                    x40,
                     p.d_1 + 0.1_f32
                         + <f32 as ::trocar::Real>::mul_add(0.4_f32, x1, -(0.03_f32 * x0))
-                        + <f32 as ::trocar::Real>::mul_add(0.01_f32, x24, x7 * x25)
-                        + <f32 as ::trocar::Real>::mul_add(0.25_f32, x25, 0.02_f32 * x26),
+                        + <f32 as ::trocar::Real>::mul_add(
+                            x7,
+                            x26,
+                            <f32 as ::trocar::Real>::mul_add(x6, x24, -(0.01_f32 * x25)),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(0.25_f32, x31, 0.02_f32 * x32),
                 ),
             ],
         )
@@ -5548,7 +5495,7 @@ pub mod chain9_prismatic {
     ///
     /// Returns `(R, p)`: the rotation **column-major** (`r[col][row]`, nalgebra: `Matrix3::from_data(ArrayStorage(r))`) and the position.
     ///
-    /// Operations: 73 add, 111 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
+    /// Operations: 78 add, 125 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
     pub fn forward_kinematics_i_trig(
@@ -5565,12 +5512,12 @@ pub mod chain9_prismatic {
             t.sin[1],
             0.29552020666133955_f32 * t.cos[1],
         );
-        let x2 = 0.8_f32 * t.sin[2];
-        let x3 = 0.6_f32 * t.sin[2];
-        let x4 = <f32 as ::trocar::Real>::mul_add(0.64_f32, t.cos[2], 0.36_f32);
-        let x5 = 0.48_f32 * (<f32 as ::trocar::Real>::ONE - t.cos[2]);
-        let x6 = <f32 as ::trocar::Real>::mul_add(0.36_f32, t.cos[2], 0.64_f32);
-        let x7 = 0.1_f32 + t.q[3];
+        let x2 = 0.8_f32 * t.cos[2];
+        let x3 = 0.8_f32 * t.sin[2];
+        let x4 = 0.6_f32 * t.cos[2];
+        let x5 = 0.6_f32 * t.sin[2];
+        let x6 = <f32 as ::trocar::Real>::mul_add(0.8_f32, t.q[3], 0.08_f32);
+        let x7 = <f32 as ::trocar::Real>::mul_add(0.6_f32, t.q[3], 0.06_f32);
         let x8 = <f32 as ::trocar::Real>::mul_add(
             0.3816559020950483_f32,
             t.sin[4],
@@ -5598,139 +5545,149 @@ pub mod chain9_prismatic {
         let x16 = t.cos[0] * x0;
         let x17 = t.cos[0] * x1;
         let x18 = <f32 as ::trocar::Real>::mul_add(
-            -x3,
+            x4,
             x15,
-            <f32 as ::trocar::Real>::mul_add(t.cos[0], t.cos[2], -(x2 * x14)),
+            <f32 as ::trocar::Real>::mul_add(t.cos[0], t.sin[2], x2 * x14),
         );
         let x19 = <f32 as ::trocar::Real>::mul_add(
             x5,
             x15,
-            -<f32 as ::trocar::Real>::mul_add(t.cos[0], x2, x4 * x14),
+            <f32 as ::trocar::Real>::mul_add(x3, x14, -(t.cos[0] * t.cos[2])),
         );
-        let x20 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x15,
-            <f32 as ::trocar::Real>::mul_add(t.cos[0], x3, -(x5 * x14)),
-        );
+        let x20 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x15, -(0.6_f32 * x14));
         let x21 = <f32 as ::trocar::Real>::mul_add(
-            x3,
+            x4,
             x17,
-            <f32 as ::trocar::Real>::mul_add(t.sin[0], t.cos[2], x2 * x16),
+            <f32 as ::trocar::Real>::mul_add(x2, x16, -(t.sin[0] * t.sin[2])),
         );
         let x22 = <f32 as ::trocar::Real>::mul_add(
-            -x5,
+            x5,
             x17,
-            <f32 as ::trocar::Real>::mul_add(x4, x16, -(t.sin[0] * x2)),
+            <f32 as ::trocar::Real>::mul_add(t.sin[0], t.cos[2], x3 * x16),
         );
-        let x23 = <f32 as ::trocar::Real>::mul_add(
-            -x6,
-            x17,
-            <f32 as ::trocar::Real>::mul_add(t.sin[0], x3, x5 * x16),
-        );
-        let x24 = <f32 as ::trocar::Real>::mul_add(x1, x2, -(x0 * x3));
-        let x25 = <f32 as ::trocar::Real>::mul_add(x1, x4, x0 * x5);
-        let x26 = <f32 as ::trocar::Real>::mul_add(x1, x5, x0 * x6);
-        let x27 = <f32 as ::trocar::Real>::mul_add(
-            0.3894183423086505_f32,
-            x20,
-            <f32 as ::trocar::Real>::mul_add(
-                0.90270109637546_f32,
-                x18,
-                0.18298657129998708_f32 * x19,
-            ),
-        );
-        let x28 = <f32 as ::trocar::Real>::mul_add(
-            x12,
-            x20,
-            <f32 as ::trocar::Real>::mul_add(x10, x19, -(x8 * x18)),
-        );
-        let x29 = <f32 as ::trocar::Real>::mul_add(
-            x13,
-            x20,
-            <f32 as ::trocar::Real>::mul_add(x9, x18, -(x11 * x19)),
-        );
-        let x30 = <f32 as ::trocar::Real>::mul_add(
-            0.3894183423086505_f32,
-            x23,
-            <f32 as ::trocar::Real>::mul_add(
-                0.90270109637546_f32,
-                x21,
-                0.18298657129998708_f32 * x22,
-            ),
-        );
-        let x31 = <f32 as ::trocar::Real>::mul_add(
-            x12,
-            x23,
-            <f32 as ::trocar::Real>::mul_add(x10, x22, -(x8 * x21)),
-        );
-        let x32 = <f32 as ::trocar::Real>::mul_add(
-            x13,
-            x23,
-            <f32 as ::trocar::Real>::mul_add(x9, x21, -(x11 * x22)),
-        );
+        let x23 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x16, -(0.8_f32 * x17));
+        let x24 = <f32 as ::trocar::Real>::mul_add(x1, x2, -(x0 * x4));
+        let x25 = <f32 as ::trocar::Real>::mul_add(x0, x5, -(x1 * x3));
+        let x26 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x1, 0.8_f32 * x0);
+        let x27 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x20, -(0.8_f32 * x18));
+        let x28 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x18, 0.8_f32 * x20);
+        let x29 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x21, 0.6_f32 * x23);
+        let x30 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x23, -(0.6_f32 * x21));
+        let x31 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x24, 0.6_f32 * x26);
+        let x32 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x26, -(0.6_f32 * x24));
         let x33 = <f32 as ::trocar::Real>::mul_add(
             0.3894183423086505_f32,
-            x26,
+            x28,
             <f32 as ::trocar::Real>::mul_add(
-                0.90270109637546_f32,
-                x24,
-                0.18298657129998708_f32 * x25,
+                0.18298657129998708_f32,
+                x27,
+                -(0.90270109637546_f32 * x19),
             ),
         );
         let x34 = <f32 as ::trocar::Real>::mul_add(
             x12,
-            x26,
-            <f32 as ::trocar::Real>::mul_add(x10, x25, -(x8 * x24)),
+            x28,
+            <f32 as ::trocar::Real>::mul_add(x8, x19, x10 * x27),
         );
         let x35 = <f32 as ::trocar::Real>::mul_add(
             x13,
-            x26,
-            <f32 as ::trocar::Real>::mul_add(x9, x24, -(x11 * x25)),
+            x28,
+            -<f32 as ::trocar::Real>::mul_add(x9, x19, x11 * x27),
+        );
+        let x36 = <f32 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f32,
+            x30,
+            <f32 as ::trocar::Real>::mul_add(
+                0.90270109637546_f32,
+                x22,
+                0.18298657129998708_f32 * x29,
+            ),
+        );
+        let x37 = <f32 as ::trocar::Real>::mul_add(
+            x12,
+            x30,
+            <f32 as ::trocar::Real>::mul_add(x10, x29, -(x8 * x22)),
+        );
+        let x38 = <f32 as ::trocar::Real>::mul_add(
+            x13,
+            x30,
+            <f32 as ::trocar::Real>::mul_add(x9, x22, -(x11 * x29)),
+        );
+        let x39 = <f32 as ::trocar::Real>::mul_add(
+            0.3894183423086505_f32,
+            x32,
+            <f32 as ::trocar::Real>::mul_add(
+                0.18298657129998708_f32,
+                x31,
+                -(0.90270109637546_f32 * x25),
+            ),
+        );
+        let x40 = <f32 as ::trocar::Real>::mul_add(
+            x12,
+            x32,
+            <f32 as ::trocar::Real>::mul_add(x8, x25, x10 * x31),
+        );
+        let x41 = <f32 as ::trocar::Real>::mul_add(
+            x13,
+            x32,
+            -<f32 as ::trocar::Real>::mul_add(x9, x25, x11 * x31),
         );
         (
             [
                 [
-                    <f32 as ::trocar::Real>::mul_add(t.cos[5], x27, -(t.sin[5] * x29)),
-                    <f32 as ::trocar::Real>::mul_add(t.cos[5], x30, -(t.sin[5] * x32)),
                     <f32 as ::trocar::Real>::mul_add(t.cos[5], x33, -(t.sin[5] * x35)),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[5], x36, -(t.sin[5] * x38)),
+                    <f32 as ::trocar::Real>::mul_add(t.cos[5], x39, -(t.sin[5] * x41)),
                 ],
-                [x28, x31, x34],
+                [x34, x37, x40],
                 [
-                    <f32 as ::trocar::Real>::mul_add(t.sin[5], x27, t.cos[5] * x29),
-                    <f32 as ::trocar::Real>::mul_add(t.sin[5], x30, t.cos[5] * x32),
                     <f32 as ::trocar::Real>::mul_add(t.sin[5], x33, t.cos[5] * x35),
+                    <f32 as ::trocar::Real>::mul_add(t.sin[5], x36, t.cos[5] * x38),
+                    <f32 as ::trocar::Real>::mul_add(t.sin[5], x39, t.cos[5] * x41),
                 ],
             ],
             [
                 <f32 as ::trocar::Real>::mul_add(
                     0.05_f32,
-                    x28,
+                    x34,
                     <f32 as ::trocar::Real>::mul_add(
                         0.05_f32,
                         t.cos[0],
                         -(0.02_f32 * t.sin[0]),
                     ) - <f32 as ::trocar::Real>::mul_add(0.4_f32, x14, 0.03_f32 * x15)
-                        + <f32 as ::trocar::Real>::mul_add(0.01_f32, x18, x7 * x19)
-                        + <f32 as ::trocar::Real>::mul_add(0.25_f32, x19, 0.02_f32 * x20),
+                        + <f32 as ::trocar::Real>::mul_add(
+                            x7,
+                            x20,
+                            -<f32 as ::trocar::Real>::mul_add(x6, x18, 0.01_f32 * x19),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(0.25_f32, x27, 0.02_f32 * x28),
                 ),
                 <f32 as ::trocar::Real>::mul_add(
                     0.05_f32,
-                    x31,
+                    x37,
                     <f32 as ::trocar::Real>::mul_add(
                         0.05_f32,
                         t.sin[0],
                         0.02_f32 * t.cos[0],
                     ) + <f32 as ::trocar::Real>::mul_add(0.4_f32, x16, 0.03_f32 * x17)
-                        + <f32 as ::trocar::Real>::mul_add(0.01_f32, x21, x7 * x22)
-                        + <f32 as ::trocar::Real>::mul_add(0.25_f32, x22, 0.02_f32 * x23),
+                        + <f32 as ::trocar::Real>::mul_add(
+                            x7,
+                            x23,
+                            <f32 as ::trocar::Real>::mul_add(x6, x21, 0.01_f32 * x22),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(0.25_f32, x29, 0.02_f32 * x30),
                 ),
                 <f32 as ::trocar::Real>::mul_add(
                     0.05_f32,
-                    x34,
+                    x40,
                     p.d_1 + 0.1_f32
                         + <f32 as ::trocar::Real>::mul_add(0.4_f32, x1, -(0.03_f32 * x0))
-                        + <f32 as ::trocar::Real>::mul_add(0.01_f32, x24, x7 * x25)
-                        + <f32 as ::trocar::Real>::mul_add(0.25_f32, x25, 0.02_f32 * x26),
+                        + <f32 as ::trocar::Real>::mul_add(
+                            x7,
+                            x26,
+                            <f32 as ::trocar::Real>::mul_add(x6, x24, -(0.01_f32 * x25)),
+                        )
+                        + <f32 as ::trocar::Real>::mul_add(0.25_f32, x31, 0.02_f32 * x32),
                 ),
             ],
         )
@@ -6081,7 +6038,7 @@ pub mod chain9_prismatic {
     /// - `fk`: `g_0e` as `(R, p)`, `R` column-major (`r[col][row]`)
     /// - `jb0e`: `J^B_0e`, 6 × N, column-major (`[[f32; 6]; N]`, `a[col][row]`)
     ///
-    /// Operations: 168 add, 266 mul, 0 div, 0 sqrt, 8 trig (sin_cos), 1 neg, 0 abs.
+    /// Operations: 156 add, 255 mul, 0 div, 0 sqrt, 8 trig (sin_cos), 2 neg, 0 abs.
     #[inline]
     pub fn pose_and_jacobian(
         q: &[f32; N],
@@ -6111,361 +6068,332 @@ pub mod chain9_prismatic {
             s2,
             0.29552020666133955_f32 * c2,
         );
-        let x2 = 0.8_f32 * s3;
-        let x3 = 0.6_f32 * s3;
-        let x4 = <f32 as ::trocar::Real>::mul_add(0.64_f32, c3, 0.36_f32);
-        let x5 = 0.48_f32 * (<f32 as ::trocar::Real>::ONE - c3);
-        let x6 = <f32 as ::trocar::Real>::mul_add(0.36_f32, c3, 0.64_f32);
-        let x7 = <f32 as ::trocar::Real>::mul_add(
+        let x2 = 0.8_f32 * c3;
+        let x3 = 0.8_f32 * s3;
+        let x4 = 0.6_f32 * c3;
+        let x5 = 0.6_f32 * s3;
+        let x6 = <f32 as ::trocar::Real>::mul_add(
             0.3816559020950483_f32,
             s5,
             0.19866933079506122_f32 * c5,
         );
-        let x8 = <f32 as ::trocar::Real>::mul_add(
+        let x7 = <f32 as ::trocar::Real>::mul_add(
             0.19866933079506122_f32,
             s5,
             -(0.3816559020950483_f32 * c5),
         );
-        let x9 = <f32 as ::trocar::Real>::mul_add(
+        let x8 = <f32 as ::trocar::Real>::mul_add(
             0.9800665778412416_f32,
             c5,
             -(0.07736548146578168_f32 * s5),
         );
-        let x10 = <f32 as ::trocar::Real>::mul_add(
+        let x9 = <f32 as ::trocar::Real>::mul_add(
             0.9800665778412416_f32,
             s5,
             0.07736548146578168_f32 * c5,
         );
-        let x11 = 0.9210609940028851_f32 * s5;
-        let x12 = 0.9210609940028851_f32 * c5;
-        let x13 = <f32 as ::trocar::Real>::mul_add(0.36_f32, c8, 0.64_f32);
-        let x14 = 0.6_f32 * s8;
-        let x15 = <f32 as ::trocar::Real>::ONE - c8;
-        let x16 = 0.48_f32 * x15;
-        let x17 = 0.8_f32 * s8;
-        let x18 = <f32 as ::trocar::Real>::mul_add(0.64_f32, c8, 0.36_f32);
-        let x19 = <f32 as ::trocar::Real>::mul_add(
+        let x10 = 0.9210609940028851_f32 * s5;
+        let x11 = 0.9210609940028851_f32 * c5;
+        let x12 = 0.6_f32 * c8;
+        let x13 = 0.8_f32 * c8;
+        let x14 = <f32 as ::trocar::Real>::mul_add(0.8_f32, s9, 0.6_f32 * c9);
+        let x15 = <f32 as ::trocar::Real>::mul_add(0.8_f32, c9, -(0.6_f32 * s9));
+        let x16 = <f32 as ::trocar::Real>::mul_add(
             0.9362933635841992_f32,
-            c9,
-            -(0.19866933079506122_f32 * s9),
-        );
-        let x20 = <f32 as ::trocar::Real>::mul_add(
-            0.09784339500725571_f32,
-            s9,
-            -(0.2750958473182437_f32 * c9),
-        );
-        let x21 = <f32 as ::trocar::Real>::mul_add(
-            0.21835066314633444_f32,
-            c9,
-            0.975170327201816_f32 * s9,
-        );
-        let x22 = <f32 as ::trocar::Real>::mul_add(
-            0.9362933635841992_f32,
-            s9,
-            0.19866933079506122_f32 * c9,
+            x14,
+            0.19866933079506122_f32 * x15,
         );
         jb0e[7][0] = -<f32 as ::trocar::Real>::mul_add(
-            0.2_f32,
-            x22,
-            <f32 as ::trocar::Real>::mul_add(0.15_f32, x19, 0.0023170358210041243_f32),
+            0.25_f32,
+            x16,
+            0.0023170358210041243_f32,
         );
-        jb0e[7][3] = <f32 as ::trocar::Real>::mul_add(0.8_f32, x19, -(0.6_f32 * x22));
-        let x23 = <f32 as ::trocar::Real>::mul_add(
+        let x17 = <f32 as ::trocar::Real>::mul_add(
             0.2750958473182437_f32,
-            s9,
-            0.09784339500725571_f32 * c9,
+            x14,
+            0.09784339500725571_f32 * x15,
         );
         jb0e[7][1] = <f32 as ::trocar::Real>::mul_add(
-            0.2_f32,
-            x23,
-            -<f32 as ::trocar::Real>::mul_add(0.15_f32, x20, 0.00765140068679386_f32),
+            0.25_f32,
+            x17,
+            -0.00765140068679386_f32,
         );
-        jb0e[7][4] = <f32 as ::trocar::Real>::mul_add(0.8_f32, x20, 0.6_f32 * x23);
-        let x24 = <f32 as ::trocar::Real>::mul_add(
+        let x18 = <f32 as ::trocar::Real>::mul_add(
             0.975170327201816_f32,
-            c9,
-            -(0.21835066314633444_f32 * s9),
+            x15,
+            -(0.21835066314633444_f32 * x14),
         );
         jb0e[7][2] = <f32 as ::trocar::Real>::mul_add(
-            0.2_f32,
-            x24,
-            <f32 as ::trocar::Real>::mul_add(-0.15_f32, x21, 0.00029565610819700066_f32),
+            0.25_f32,
+            x18,
+            0.00029565610819700066_f32,
         );
-        jb0e[7][5] = <f32 as ::trocar::Real>::mul_add(0.8_f32, x21, 0.6_f32 * x24);
-        let x25 = <f32 as ::trocar::Real>::mul_add(
-            -x16,
-            x22,
-            <f32 as ::trocar::Real>::mul_add(x13, x19, -(0.17377768657530931_f32 * s8)),
+        let x19 = <f32 as ::trocar::Real>::mul_add(
+            0.9362933635841992_f32,
+            x15,
+            -(0.19866933079506122_f32 * x14),
         );
+        jb0e[7][3] = x19;
+        let x20 = <f32 as ::trocar::Real>::mul_add(
+            0.09784339500725571_f32,
+            x14,
+            -(0.2750958473182437_f32 * x15),
+        );
+        jb0e[7][4] = x20;
+        let x21 = <f32 as ::trocar::Real>::mul_add(
+            0.21835066314633444_f32,
+            x15,
+            0.975170327201816_f32 * x14,
+        );
+        jb0e[7][5] = x21;
+        let x22 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x19,
+            <f32 as ::trocar::Real>::mul_add(x12, x16, -(0.17377768657530931_f32 * s8)),
+        );
+        let x23 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x20,
+            -<f32 as ::trocar::Real>::mul_add(x12, x17, 0.5738550515095394_f32 * s8),
+        );
+        let x24 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x21,
+            <f32 as ::trocar::Real>::mul_add(0.022174208114775048_f32, s8, -(x12 * x18)),
+        );
+        let x25 = 0.0048000000000000004_f32
+            - <f32 as ::trocar::Real>::mul_add(0.0048_f32, c8, 0.15_f32 * s8);
         let x26 = <f32 as ::trocar::Real>::mul_add(
+            s8,
             x16,
-            x23,
-            <f32 as ::trocar::Real>::mul_add(x13, x20, -(0.5738550515095394_f32 * s8)),
+            0.28962947762551555_f32 * c8,
         );
         let x27 = <f32 as ::trocar::Real>::mul_add(
-            x16,
-            x24,
-            <f32 as ::trocar::Real>::mul_add(x13, x21, 0.022174208114775048_f32 * s8),
+            0.9564250858492325_f32,
+            c8,
+            -(s8 * x17),
         );
-        let x28 = <f32 as ::trocar::Real>::mul_add(0.0048_f32, x15, -(0.15_f32 * s8));
-        let x29 = <f32 as ::trocar::Real>::mul_add(
-            x17,
-            x22,
-            <f32 as ::trocar::Real>::mul_add(x14, x19, 0.28962947762551555_f32 * c8),
+        let x28 = <f32 as ::trocar::Real>::mul_add(
+            s8,
+            x18,
+            0.03695701352462508_f32 * c8,
         );
-        let x30 = <f32 as ::trocar::Real>::mul_add(
-            -x17,
-            x23,
-            <f32 as ::trocar::Real>::mul_add(x14, x20, 0.9564250858492325_f32 * c8),
-        );
-        let x31 = <f32 as ::trocar::Real>::mul_add(
-            -x17,
-            x24,
-            <f32 as ::trocar::Real>::mul_add(x14, x21, -(0.03695701352462508_f32 * c8)),
-        );
-        let x32 = 0.04_f32
+        let x29 = 0.04_f32
             + <f32 as ::trocar::Real>::mul_add(0.25_f32, c8, -(0.008_f32 * s8));
-        jb0e[6][0] = <f32 as ::trocar::Real>::mul_add(x28, x29, -(x25 * x32));
-        jb0e[6][1] = <f32 as ::trocar::Real>::mul_add(x28, x30, -(x26 * x32));
-        jb0e[6][2] = <f32 as ::trocar::Real>::mul_add(x28, x31, -(x27 * x32));
-        let x33 = <f32 as ::trocar::Real>::mul_add(
-            -x18,
-            x22,
-            <f32 as ::trocar::Real>::mul_add(x16, x19, 0.23170358210041245_f32 * s8),
+        jb0e[6][0] = <f32 as ::trocar::Real>::mul_add(x25, x26, -(x22 * x29));
+        jb0e[6][1] = <f32 as ::trocar::Real>::mul_add(x25, x27, -(x23 * x29));
+        jb0e[6][2] = -<f32 as ::trocar::Real>::mul_add(x24, x29, x25 * x28);
+        let x30 = <f32 as ::trocar::Real>::mul_add(
+            0.6_f32,
+            x19,
+            <f32 as ::trocar::Real>::mul_add(0.23170358210041245_f32, s8, -(x13 * x16)),
         );
-        jb0e[6][3] = x33;
-        let x34 = <f32 as ::trocar::Real>::mul_add(
-            x18,
-            x23,
-            <f32 as ::trocar::Real>::mul_add(x16, x20, 0.765140068679386_f32 * s8),
+        jb0e[6][3] = x30;
+        let x31 = <f32 as ::trocar::Real>::mul_add(
+            0.6_f32,
+            x20,
+            <f32 as ::trocar::Real>::mul_add(x13, x17, 0.765140068679386_f32 * s8),
         );
-        jb0e[6][4] = x34;
-        let x35 = <f32 as ::trocar::Real>::mul_add(
-            x18,
-            x24,
-            <f32 as ::trocar::Real>::mul_add(x16, x21, -(0.029565610819700067_f32 * s8)),
+        jb0e[6][4] = x31;
+        let x32 = <f32 as ::trocar::Real>::mul_add(
+            0.6_f32,
+            x21,
+            <f32 as ::trocar::Real>::mul_add(x13, x18, -(0.029565610819700067_f32 * s8)),
         );
-        jb0e[6][5] = x35;
-        let x36 = <f32 as ::trocar::Real>::mul_add(0.2_f32, s8, 0.01_f32 * x18);
-        let x37 = <f32 as ::trocar::Real>::mul_add(c7, x25, -(s7 * x29));
-        let x38 = <f32 as ::trocar::Real>::mul_add(c7, x26, -(s7 * x30));
-        let x39 = <f32 as ::trocar::Real>::mul_add(c7, x27, -(s7 * x31));
-        let x40 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(c7, x28, -(s7 * x32));
-        jb0e[5][0] = <f32 as ::trocar::Real>::mul_add(x36, x37, -(x33 * x40));
-        jb0e[5][1] = <f32 as ::trocar::Real>::mul_add(x36, x38, -(x34 * x40));
-        jb0e[5][2] = <f32 as ::trocar::Real>::mul_add(x36, x39, -(x35 * x40));
-        let x41 = <f32 as ::trocar::Real>::mul_add(s7, x25, c7 * x29);
-        jb0e[5][3] = x41;
-        let x42 = <f32 as ::trocar::Real>::mul_add(s7, x26, c7 * x30);
-        jb0e[5][4] = x42;
-        let x43 = <f32 as ::trocar::Real>::mul_add(s7, x27, c7 * x31);
-        jb0e[5][5] = x43;
+        jb0e[6][5] = x32;
+        let x33 = <f32 as ::trocar::Real>::mul_add(0.0064_f32, c8, 0.2_f32 * s8)
+            + 0.0036_f32;
+        let x34 = <f32 as ::trocar::Real>::mul_add(c7, x22, -(s7 * x26));
+        let x35 = <f32 as ::trocar::Real>::mul_add(c7, x23, -(s7 * x27));
+        let x36 = <f32 as ::trocar::Real>::mul_add(c7, x24, s7 * x28);
+        let x37 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(c7, x25, -(s7 * x29));
+        jb0e[5][0] = <f32 as ::trocar::Real>::mul_add(x33, x34, -(x30 * x37));
+        jb0e[5][1] = <f32 as ::trocar::Real>::mul_add(x33, x35, -(x31 * x37));
+        jb0e[5][2] = <f32 as ::trocar::Real>::mul_add(x33, x36, -(x32 * x37));
+        let x38 = <f32 as ::trocar::Real>::mul_add(s7, x22, c7 * x26);
+        jb0e[5][3] = x38;
+        let x39 = <f32 as ::trocar::Real>::mul_add(s7, x23, c7 * x27);
+        jb0e[5][4] = x39;
+        let x40 = <f32 as ::trocar::Real>::mul_add(s7, x24, -(c7 * x28));
+        jb0e[5][5] = x40;
+        let x41 = <f32 as ::trocar::Real>::mul_add(c6, x34, s6 * x30);
+        jb0e[4][3] = x41;
+        let x42 = <f32 as ::trocar::Real>::mul_add(c6, x35, s6 * x31);
+        jb0e[4][4] = x42;
+        let x43 = <f32 as ::trocar::Real>::mul_add(c6, x36, s6 * x32);
+        jb0e[4][5] = x43;
         let x44 = <f32 as ::trocar::Real>::mul_add(c6, x37, s6 * x33);
-        jb0e[4][3] = x44;
-        let x45 = <f32 as ::trocar::Real>::mul_add(c6, x38, s6 * x34);
-        jb0e[4][4] = x45;
-        let x46 = <f32 as ::trocar::Real>::mul_add(c6, x39, s6 * x35);
-        jb0e[4][5] = x46;
-        let x47 = <f32 as ::trocar::Real>::mul_add(c6, x40, s6 * x36);
-        let x48 = 0.05_f32
-            + (0.3_f32 + <f32 as ::trocar::Real>::mul_add(s7, x28, c7 * x32));
+        let x45 = 0.05_f32
+            + (0.3_f32 + <f32 as ::trocar::Real>::mul_add(s7, x25, c7 * x29));
+        let x46 = <f32 as ::trocar::Real>::mul_add(c6, x30, -(s6 * x34));
+        let x47 = <f32 as ::trocar::Real>::mul_add(c6, x31, -(s6 * x35));
+        let x48 = <f32 as ::trocar::Real>::mul_add(c6, x32, -(s6 * x36));
         let x49 = <f32 as ::trocar::Real>::mul_add(c6, x33, -(s6 * x37));
-        let x50 = <f32 as ::trocar::Real>::mul_add(c6, x34, -(s6 * x38));
-        let x51 = <f32 as ::trocar::Real>::mul_add(c6, x35, -(s6 * x39));
-        let x52 = <f32 as ::trocar::Real>::mul_add(c6, x36, -(s6 * x40));
-        jb0e[4][0] = <f32 as ::trocar::Real>::mul_add(x48, x49, -(x41 * x52));
-        jb0e[4][1] = <f32 as ::trocar::Real>::mul_add(x48, x50, -(x42 * x52));
-        jb0e[4][2] = <f32 as ::trocar::Real>::mul_add(x48, x51, -(x43 * x52));
+        jb0e[4][0] = <f32 as ::trocar::Real>::mul_add(x45, x46, -(x38 * x49));
+        jb0e[4][1] = <f32 as ::trocar::Real>::mul_add(x45, x47, -(x39 * x49));
+        jb0e[4][2] = <f32 as ::trocar::Real>::mul_add(x45, x48, -(x40 * x49));
+        let x50 = <f32 as ::trocar::Real>::mul_add(
+            x7,
+            x46,
+            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x41, -(x6 * x38)),
+        );
+        let x51 = <f32 as ::trocar::Real>::mul_add(
+            x7,
+            x47,
+            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x42, -(x6 * x39)),
+        );
+        let x52 = <f32 as ::trocar::Real>::mul_add(
+            x7,
+            x48,
+            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x43, -(x6 * x40)),
+        );
         let x53 = <f32 as ::trocar::Real>::mul_add(
-            x8,
-            x49,
-            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x44, -(x7 * x41)),
+            -x9,
+            x46,
+            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x41, x8 * x38),
         );
+        jb0e[3][0] = x53;
         let x54 = <f32 as ::trocar::Real>::mul_add(
-            x8,
-            x50,
-            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x45, -(x7 * x42)),
+            -x9,
+            x47,
+            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x42, x8 * x39),
         );
+        jb0e[3][1] = x54;
         let x55 = <f32 as ::trocar::Real>::mul_add(
-            x8,
-            x51,
-            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x46, -(x7 * x43)),
+            -x9,
+            x48,
+            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x43, x8 * x40),
         );
-        let x56 = <f32 as ::trocar::Real>::mul_add(
-            -x10,
-            x49,
-            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x44, x9 * x41),
-        );
-        jb0e[3][0] = x56;
+        jb0e[3][2] = x55;
+        let x56 = 0.25_f32
+            + <f32 as ::trocar::Real>::mul_add(
+                -x9,
+                x49,
+                <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x44, x8 * x45),
+            );
         let x57 = <f32 as ::trocar::Real>::mul_add(
-            -x10,
-            x50,
-            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x45, x9 * x42),
+            x11,
+            x46,
+            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x41, x10 * x38),
         );
-        jb0e[3][1] = x57;
         let x58 = <f32 as ::trocar::Real>::mul_add(
-            -x10,
-            x51,
-            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x46, x9 * x43),
+            x11,
+            x47,
+            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x42, x10 * x39),
         );
-        jb0e[3][2] = x58;
         let x59 = <f32 as ::trocar::Real>::mul_add(
-            x12,
+            x11,
+            x48,
+            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x43, x10 * x40),
+        );
+        let x60 = 0.02_f32
+            + <f32 as ::trocar::Real>::mul_add(
+                x11,
+                x49,
+                <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x44, x10 * x45),
+            );
+        let x61 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x53, -(0.6_f32 * x57));
+        let x62 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x54, -(0.6_f32 * x58));
+        let x63 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x55, -(0.6_f32 * x59));
+        let x64 = <f32 as ::trocar::Real>::mul_add(0.8_f32, q[3], 0.08_f32)
+            + <f32 as ::trocar::Real>::mul_add(0.8_f32, x56, -(0.6_f32 * x60));
+        let x65 = <f32 as ::trocar::Real>::mul_add(
+            x7,
             x49,
-            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x44, x11 * x41),
-        );
-        jb0e[2][3] = <f32 as ::trocar::Real>::mul_add(0.6_f32, x56, 0.8_f32 * x59);
-        let x60 = <f32 as ::trocar::Real>::mul_add(
-            x12,
-            x50,
-            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x45, x11 * x42),
-        );
-        jb0e[2][4] = <f32 as ::trocar::Real>::mul_add(0.6_f32, x57, 0.8_f32 * x60);
-        let x61 = <f32 as ::trocar::Real>::mul_add(
-            x12,
-            x51,
-            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x46, x11 * x43),
-        );
-        jb0e[2][5] = <f32 as ::trocar::Real>::mul_add(0.6_f32, x58, 0.8_f32 * x61);
-        let x62 = 0.02_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x12,
-                x52,
-                <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x47, x11 * x48),
-            );
-        let x63 = 0.01_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x8,
-                x52,
-                <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x47, -(x7 * x48)),
-            );
-        let x64 = 0.1_f32 + q[3]
-            + (0.25_f32
-                + <f32 as ::trocar::Real>::mul_add(
-                    -x10,
-                    x52,
-                    <f32 as ::trocar::Real>::mul_add(
-                        0.18298657129998708_f32,
-                        x47,
-                        x9 * x48,
-                    ),
-                ));
-        let x65 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x62, -(0.8_f32 * x64));
-        let x66 = 0.8_f32 * x63;
-        let x67 = 0.6_f32 * x63;
-        jb0e[2][0] = <f32 as ::trocar::Real>::mul_add(
-            -x59,
-            x67,
-            <f32 as ::trocar::Real>::mul_add(x53, x65, x56 * x66),
-        );
-        jb0e[2][1] = <f32 as ::trocar::Real>::mul_add(
-            -x60,
-            x67,
-            <f32 as ::trocar::Real>::mul_add(x54, x65, x57 * x66),
-        );
-        jb0e[2][2] = <f32 as ::trocar::Real>::mul_add(
-            -x61,
-            x67,
-            <f32 as ::trocar::Real>::mul_add(x55, x65, x58 * x66),
-        );
-        let x68 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x59,
-            <f32 as ::trocar::Real>::mul_add(c3, x53, -(x2 * x56)),
-        );
-        jb0e[1][3] = x68;
-        let x69 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x60,
-            <f32 as ::trocar::Real>::mul_add(c3, x54, -(x2 * x57)),
-        );
-        jb0e[1][4] = x69;
-        let x70 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x61,
-            <f32 as ::trocar::Real>::mul_add(c3, x55, -(x2 * x58)),
-        );
-        jb0e[1][5] = x70;
-        let x71 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x59,
-            <f32 as ::trocar::Real>::mul_add(x2, x53, x4 * x56),
-        );
-        let x72 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x60,
-            <f32 as ::trocar::Real>::mul_add(x2, x54, x4 * x57),
-        );
+            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x44, -(x6 * x45)),
+        ) + 0.01_f32;
+        jb0e[2][0] = <f32 as ::trocar::Real>::mul_add(x61, x65, -(x50 * x64));
+        jb0e[2][1] = <f32 as ::trocar::Real>::mul_add(x62, x65, -(x51 * x64));
+        jb0e[2][2] = <f32 as ::trocar::Real>::mul_add(x63, x65, -(x52 * x64));
+        let x66 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x53, 0.8_f32 * x57);
+        jb0e[2][3] = x66;
+        let x67 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x54, 0.8_f32 * x58);
+        jb0e[2][4] = x67;
+        let x68 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x55, 0.8_f32 * x59);
+        jb0e[2][5] = x68;
+        let x69 = <f32 as ::trocar::Real>::mul_add(0.6_f32, q[3], 0.06_f32)
+            + <f32 as ::trocar::Real>::mul_add(0.6_f32, x56, 0.8_f32 * x60);
+        let x70 = <f32 as ::trocar::Real>::mul_add(c3, x50, -(s3 * x61));
+        jb0e[1][3] = x70;
+        let x71 = <f32 as ::trocar::Real>::mul_add(c3, x51, -(s3 * x62));
+        jb0e[1][4] = x71;
+        let x72 = <f32 as ::trocar::Real>::mul_add(c3, x52, -(s3 * x63));
+        jb0e[1][5] = x72;
         let x73 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x61,
-            <f32 as ::trocar::Real>::mul_add(x2, x55, x4 * x58),
+            0.6_f32,
+            x66,
+            <f32 as ::trocar::Real>::mul_add(x2, x61, x3 * x50),
         );
-        let x74 = 0.4_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x5,
-                x62,
-                <f32 as ::trocar::Real>::mul_add(x2, x63, x4 * x64),
-            );
+        let x74 = <f32 as ::trocar::Real>::mul_add(
+            0.6_f32,
+            x67,
+            <f32 as ::trocar::Real>::mul_add(x2, x62, x3 * x51),
+        );
         let x75 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x59,
-            <f32 as ::trocar::Real>::mul_add(x5, x56, -(x3 * x53)),
+            0.6_f32,
+            x68,
+            <f32 as ::trocar::Real>::mul_add(x2, x63, x3 * x52),
         );
-        let x76 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x60,
-            <f32 as ::trocar::Real>::mul_add(x5, x57, -(x3 * x54)),
-        );
+        let x76 = 0.4_f32
+            + <f32 as ::trocar::Real>::mul_add(
+                0.6_f32,
+                x69,
+                <f32 as ::trocar::Real>::mul_add(x2, x64, x3 * x65),
+            );
         let x77 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x61,
-            <f32 as ::trocar::Real>::mul_add(x5, x58, -(x3 * x55)),
+            0.8_f32,
+            x66,
+            -<f32 as ::trocar::Real>::mul_add(x4, x61, x5 * x50),
         );
         let x78 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x62,
-            <f32 as ::trocar::Real>::mul_add(x5, x64, -(x3 * x63)),
+            0.8_f32,
+            x67,
+            -<f32 as ::trocar::Real>::mul_add(x4, x62, x5 * x51),
+        );
+        let x79 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x68,
+            -<f32 as ::trocar::Real>::mul_add(x4, x63, x5 * x52),
+        );
+        let x80 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x69,
+            -<f32 as ::trocar::Real>::mul_add(x4, x64, x5 * x65),
         ) - 0.03_f32;
         fk.1[2] = p.d_1
-            + (0.1_f32 + <f32 as ::trocar::Real>::mul_add(x1, x74, x0 * x78));
-        jb0e[1][0] = <f32 as ::trocar::Real>::mul_add(x74, x75, -(x71 * x78));
-        jb0e[1][1] = <f32 as ::trocar::Real>::mul_add(x74, x76, -(x72 * x78));
-        jb0e[1][2] = <f32 as ::trocar::Real>::mul_add(x74, x77, -(x73 * x78));
-        let x79 = 0.05_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x3,
-                x62,
-                <f32 as ::trocar::Real>::mul_add(c3, x63, -(x2 * x64)),
-            );
-        let x80 = <f32 as ::trocar::Real>::mul_add(x0, x71, -(x1 * x75));
-        fk.0[0][0] = <f32 as ::trocar::Real>::mul_add(c1, x68, -(s1 * x80));
-        fk.0[0][1] = <f32 as ::trocar::Real>::mul_add(s1, x68, c1 * x80);
-        let x81 = <f32 as ::trocar::Real>::mul_add(x0, x72, -(x1 * x76));
-        fk.0[1][0] = <f32 as ::trocar::Real>::mul_add(c1, x69, -(s1 * x81));
-        fk.0[1][1] = <f32 as ::trocar::Real>::mul_add(s1, x69, c1 * x81);
+            + (0.1_f32 + <f32 as ::trocar::Real>::mul_add(x1, x76, x0 * x80));
+        jb0e[1][0] = <f32 as ::trocar::Real>::mul_add(x76, x77, -(x73 * x80));
+        jb0e[1][1] = <f32 as ::trocar::Real>::mul_add(x76, x78, -(x74 * x80));
+        jb0e[1][2] = <f32 as ::trocar::Real>::mul_add(x76, x79, -(x75 * x80));
+        let x81 = 0.05_f32 + <f32 as ::trocar::Real>::mul_add(c3, x65, -(s3 * x64));
         let x82 = <f32 as ::trocar::Real>::mul_add(x0, x73, -(x1 * x77));
-        fk.0[2][0] = <f32 as ::trocar::Real>::mul_add(c1, x70, -(s1 * x82));
-        fk.0[2][1] = <f32 as ::trocar::Real>::mul_add(s1, x70, c1 * x82);
-        let x83 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(x0, x74, -(x1 * x78));
-        fk.1[0] = <f32 as ::trocar::Real>::mul_add(c1, x79, -(s1 * x83));
-        fk.1[1] = <f32 as ::trocar::Real>::mul_add(s1, x79, c1 * x83);
-        jb0e[0][0] = <f32 as ::trocar::Real>::mul_add(x79, x80, -(x68 * x83));
-        jb0e[0][1] = <f32 as ::trocar::Real>::mul_add(x79, x81, -(x69 * x83));
-        jb0e[0][2] = <f32 as ::trocar::Real>::mul_add(x79, x82, -(x70 * x83));
-        let x84 = <f32 as ::trocar::Real>::mul_add(x1, x71, x0 * x75);
-        fk.0[0][2] = x84;
-        jb0e[0][3] = x84;
-        let x85 = <f32 as ::trocar::Real>::mul_add(x1, x72, x0 * x76);
-        fk.0[1][2] = x85;
-        jb0e[0][4] = x85;
+        fk.0[0][0] = <f32 as ::trocar::Real>::mul_add(c1, x70, -(s1 * x82));
+        fk.0[0][1] = <f32 as ::trocar::Real>::mul_add(s1, x70, c1 * x82);
+        let x83 = <f32 as ::trocar::Real>::mul_add(x0, x74, -(x1 * x78));
+        fk.0[1][0] = <f32 as ::trocar::Real>::mul_add(c1, x71, -(s1 * x83));
+        fk.0[1][1] = <f32 as ::trocar::Real>::mul_add(s1, x71, c1 * x83);
+        let x84 = <f32 as ::trocar::Real>::mul_add(x0, x75, -(x1 * x79));
+        fk.0[2][0] = <f32 as ::trocar::Real>::mul_add(c1, x72, -(s1 * x84));
+        fk.0[2][1] = <f32 as ::trocar::Real>::mul_add(s1, x72, c1 * x84);
+        let x85 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(x0, x76, -(x1 * x80));
+        fk.1[0] = <f32 as ::trocar::Real>::mul_add(c1, x81, -(s1 * x85));
+        fk.1[1] = <f32 as ::trocar::Real>::mul_add(s1, x81, c1 * x85);
+        jb0e[0][0] = <f32 as ::trocar::Real>::mul_add(x81, x82, -(x70 * x85));
+        jb0e[0][1] = <f32 as ::trocar::Real>::mul_add(x81, x83, -(x71 * x85));
+        jb0e[0][2] = <f32 as ::trocar::Real>::mul_add(x81, x84, -(x72 * x85));
         let x86 = <f32 as ::trocar::Real>::mul_add(x1, x73, x0 * x77);
-        fk.0[2][2] = x86;
-        jb0e[0][5] = x86;
+        fk.0[0][2] = x86;
+        jb0e[0][3] = x86;
+        let x87 = <f32 as ::trocar::Real>::mul_add(x1, x74, x0 * x78);
+        fk.0[1][2] = x87;
+        jb0e[0][4] = x87;
+        let x88 = <f32 as ::trocar::Real>::mul_add(x1, x75, x0 * x79);
+        fk.0[2][2] = x88;
+        jb0e[0][5] = x88;
     }
     /// [`pose_and_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]).
     ///
-    /// Operations: 168 add, 266 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
+    /// Operations: 156 add, 255 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 2 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     pub fn pose_and_jacobian_trig(
         t: &JointTrig,
@@ -6492,402 +6420,377 @@ pub mod chain9_prismatic {
             t.sin[1],
             0.29552020666133955_f32 * t.cos[1],
         );
-        let x2 = 0.8_f32 * t.sin[2];
-        let x3 = 0.6_f32 * t.sin[2];
-        let x4 = <f32 as ::trocar::Real>::mul_add(0.64_f32, t.cos[2], 0.36_f32);
-        let x5 = 0.48_f32 * (<f32 as ::trocar::Real>::ONE - t.cos[2]);
-        let x6 = <f32 as ::trocar::Real>::mul_add(0.36_f32, t.cos[2], 0.64_f32);
-        let x7 = <f32 as ::trocar::Real>::mul_add(
+        let x2 = 0.8_f32 * t.cos[2];
+        let x3 = 0.8_f32 * t.sin[2];
+        let x4 = 0.6_f32 * t.cos[2];
+        let x5 = 0.6_f32 * t.sin[2];
+        let x6 = <f32 as ::trocar::Real>::mul_add(
             0.3816559020950483_f32,
             t.sin[4],
             0.19866933079506122_f32 * t.cos[4],
         );
-        let x8 = <f32 as ::trocar::Real>::mul_add(
+        let x7 = <f32 as ::trocar::Real>::mul_add(
             0.19866933079506122_f32,
             t.sin[4],
             -(0.3816559020950483_f32 * t.cos[4]),
         );
-        let x9 = <f32 as ::trocar::Real>::mul_add(
+        let x8 = <f32 as ::trocar::Real>::mul_add(
             0.9800665778412416_f32,
             t.cos[4],
             -(0.07736548146578168_f32 * t.sin[4]),
         );
-        let x10 = <f32 as ::trocar::Real>::mul_add(
+        let x9 = <f32 as ::trocar::Real>::mul_add(
             0.9800665778412416_f32,
             t.sin[4],
             0.07736548146578168_f32 * t.cos[4],
         );
-        let x11 = 0.9210609940028851_f32 * t.sin[4];
-        let x12 = 0.9210609940028851_f32 * t.cos[4];
-        let x13 = <f32 as ::trocar::Real>::mul_add(0.36_f32, t.cos[7], 0.64_f32);
-        let x14 = 0.6_f32 * t.sin[7];
-        let x15 = <f32 as ::trocar::Real>::ONE - t.cos[7];
-        let x16 = 0.48_f32 * x15;
-        let x17 = 0.8_f32 * t.sin[7];
-        let x18 = <f32 as ::trocar::Real>::mul_add(0.64_f32, t.cos[7], 0.36_f32);
-        let x19 = <f32 as ::trocar::Real>::mul_add(
-            0.9362933635841992_f32,
-            t.cos[8],
-            -(0.19866933079506122_f32 * t.sin[8]),
-        );
-        let x20 = <f32 as ::trocar::Real>::mul_add(
-            0.09784339500725571_f32,
+        let x10 = 0.9210609940028851_f32 * t.sin[4];
+        let x11 = 0.9210609940028851_f32 * t.cos[4];
+        let x12 = 0.6_f32 * t.cos[7];
+        let x13 = 0.8_f32 * t.cos[7];
+        let x14 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
             t.sin[8],
-            -(0.2750958473182437_f32 * t.cos[8]),
+            0.6_f32 * t.cos[8],
         );
-        let x21 = <f32 as ::trocar::Real>::mul_add(
-            0.21835066314633444_f32,
+        let x15 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
             t.cos[8],
-            0.975170327201816_f32 * t.sin[8],
+            -(0.6_f32 * t.sin[8]),
         );
-        let x22 = <f32 as ::trocar::Real>::mul_add(
+        let x16 = <f32 as ::trocar::Real>::mul_add(
             0.9362933635841992_f32,
-            t.sin[8],
-            0.19866933079506122_f32 * t.cos[8],
+            x14,
+            0.19866933079506122_f32 * x15,
         );
         jb0e[7][0] = -<f32 as ::trocar::Real>::mul_add(
-            0.2_f32,
-            x22,
-            <f32 as ::trocar::Real>::mul_add(0.15_f32, x19, 0.0023170358210041243_f32),
+            0.25_f32,
+            x16,
+            0.0023170358210041243_f32,
         );
-        jb0e[7][3] = <f32 as ::trocar::Real>::mul_add(0.8_f32, x19, -(0.6_f32 * x22));
-        let x23 = <f32 as ::trocar::Real>::mul_add(
+        let x17 = <f32 as ::trocar::Real>::mul_add(
             0.2750958473182437_f32,
-            t.sin[8],
-            0.09784339500725571_f32 * t.cos[8],
+            x14,
+            0.09784339500725571_f32 * x15,
         );
         jb0e[7][1] = <f32 as ::trocar::Real>::mul_add(
-            0.2_f32,
-            x23,
-            -<f32 as ::trocar::Real>::mul_add(0.15_f32, x20, 0.00765140068679386_f32),
+            0.25_f32,
+            x17,
+            -0.00765140068679386_f32,
         );
-        jb0e[7][4] = <f32 as ::trocar::Real>::mul_add(0.8_f32, x20, 0.6_f32 * x23);
-        let x24 = <f32 as ::trocar::Real>::mul_add(
+        let x18 = <f32 as ::trocar::Real>::mul_add(
             0.975170327201816_f32,
-            t.cos[8],
-            -(0.21835066314633444_f32 * t.sin[8]),
+            x15,
+            -(0.21835066314633444_f32 * x14),
         );
         jb0e[7][2] = <f32 as ::trocar::Real>::mul_add(
-            0.2_f32,
-            x24,
-            <f32 as ::trocar::Real>::mul_add(-0.15_f32, x21, 0.00029565610819700066_f32),
+            0.25_f32,
+            x18,
+            0.00029565610819700066_f32,
         );
-        jb0e[7][5] = <f32 as ::trocar::Real>::mul_add(0.8_f32, x21, 0.6_f32 * x24);
-        let x25 = <f32 as ::trocar::Real>::mul_add(
-            -x16,
-            x22,
+        let x19 = <f32 as ::trocar::Real>::mul_add(
+            0.9362933635841992_f32,
+            x15,
+            -(0.19866933079506122_f32 * x14),
+        );
+        jb0e[7][3] = x19;
+        let x20 = <f32 as ::trocar::Real>::mul_add(
+            0.09784339500725571_f32,
+            x14,
+            -(0.2750958473182437_f32 * x15),
+        );
+        jb0e[7][4] = x20;
+        let x21 = <f32 as ::trocar::Real>::mul_add(
+            0.21835066314633444_f32,
+            x15,
+            0.975170327201816_f32 * x14,
+        );
+        jb0e[7][5] = x21;
+        let x22 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x19,
             <f32 as ::trocar::Real>::mul_add(
-                x13,
-                x19,
+                x12,
+                x16,
                 -(0.17377768657530931_f32 * t.sin[7]),
             ),
         );
-        let x26 = <f32 as ::trocar::Real>::mul_add(
-            x16,
-            x23,
-            <f32 as ::trocar::Real>::mul_add(
-                x13,
-                x20,
-                -(0.5738550515095394_f32 * t.sin[7]),
+        let x23 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x20,
+            -<f32 as ::trocar::Real>::mul_add(
+                x12,
+                x17,
+                0.5738550515095394_f32 * t.sin[7],
             ),
+        );
+        let x24 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x21,
+            <f32 as ::trocar::Real>::mul_add(
+                0.022174208114775048_f32,
+                t.sin[7],
+                -(x12 * x18),
+            ),
+        );
+        let x25 = 0.0048000000000000004_f32
+            - <f32 as ::trocar::Real>::mul_add(
+                0.0048_f32,
+                t.cos[7],
+                0.15_f32 * t.sin[7],
+            );
+        let x26 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[7],
+            x16,
+            0.28962947762551555_f32 * t.cos[7],
         );
         let x27 = <f32 as ::trocar::Real>::mul_add(
-            x16,
-            x24,
-            <f32 as ::trocar::Real>::mul_add(
-                x13,
-                x21,
-                0.022174208114775048_f32 * t.sin[7],
-            ),
+            0.9564250858492325_f32,
+            t.cos[7],
+            -(t.sin[7] * x17),
         );
         let x28 = <f32 as ::trocar::Real>::mul_add(
-            0.0048_f32,
-            x15,
-            -(0.15_f32 * t.sin[7]),
+            t.sin[7],
+            x18,
+            0.03695701352462508_f32 * t.cos[7],
         );
-        let x29 = <f32 as ::trocar::Real>::mul_add(
-            x17,
-            x22,
-            <f32 as ::trocar::Real>::mul_add(
-                x14,
-                x19,
-                0.28962947762551555_f32 * t.cos[7],
-            ),
-        );
-        let x30 = <f32 as ::trocar::Real>::mul_add(
-            -x17,
-            x23,
-            <f32 as ::trocar::Real>::mul_add(x14, x20, 0.9564250858492325_f32 * t.cos[7]),
-        );
-        let x31 = <f32 as ::trocar::Real>::mul_add(
-            -x17,
-            x24,
-            <f32 as ::trocar::Real>::mul_add(
-                x14,
-                x21,
-                -(0.03695701352462508_f32 * t.cos[7]),
-            ),
-        );
-        let x32 = 0.04_f32
+        let x29 = 0.04_f32
             + <f32 as ::trocar::Real>::mul_add(
                 0.25_f32,
                 t.cos[7],
                 -(0.008_f32 * t.sin[7]),
             );
-        jb0e[6][0] = <f32 as ::trocar::Real>::mul_add(x28, x29, -(x25 * x32));
-        jb0e[6][1] = <f32 as ::trocar::Real>::mul_add(x28, x30, -(x26 * x32));
-        jb0e[6][2] = <f32 as ::trocar::Real>::mul_add(x28, x31, -(x27 * x32));
-        let x33 = <f32 as ::trocar::Real>::mul_add(
-            -x18,
-            x22,
+        jb0e[6][0] = <f32 as ::trocar::Real>::mul_add(x25, x26, -(x22 * x29));
+        jb0e[6][1] = <f32 as ::trocar::Real>::mul_add(x25, x27, -(x23 * x29));
+        jb0e[6][2] = -<f32 as ::trocar::Real>::mul_add(x24, x29, x25 * x28);
+        let x30 = <f32 as ::trocar::Real>::mul_add(
+            0.6_f32,
+            x19,
             <f32 as ::trocar::Real>::mul_add(
-                x16,
-                x19,
-                0.23170358210041245_f32 * t.sin[7],
+                0.23170358210041245_f32,
+                t.sin[7],
+                -(x13 * x16),
             ),
         );
-        jb0e[6][3] = x33;
-        let x34 = <f32 as ::trocar::Real>::mul_add(
-            x18,
-            x23,
-            <f32 as ::trocar::Real>::mul_add(x16, x20, 0.765140068679386_f32 * t.sin[7]),
+        jb0e[6][3] = x30;
+        let x31 = <f32 as ::trocar::Real>::mul_add(
+            0.6_f32,
+            x20,
+            <f32 as ::trocar::Real>::mul_add(x13, x17, 0.765140068679386_f32 * t.sin[7]),
         );
-        jb0e[6][4] = x34;
-        let x35 = <f32 as ::trocar::Real>::mul_add(
-            x18,
-            x24,
+        jb0e[6][4] = x31;
+        let x32 = <f32 as ::trocar::Real>::mul_add(
+            0.6_f32,
+            x21,
             <f32 as ::trocar::Real>::mul_add(
-                x16,
-                x21,
+                x13,
+                x18,
                 -(0.029565610819700067_f32 * t.sin[7]),
             ),
         );
-        jb0e[6][5] = x35;
-        let x36 = <f32 as ::trocar::Real>::mul_add(0.2_f32, t.sin[7], 0.01_f32 * x18);
-        let x37 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x25, -(t.sin[6] * x29));
-        let x38 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x26, -(t.sin[6] * x30));
-        let x39 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x27, -(t.sin[6] * x31));
-        let x40 = 0.02_f32
-            + <f32 as ::trocar::Real>::mul_add(t.cos[6], x28, -(t.sin[6] * x32));
-        jb0e[5][0] = <f32 as ::trocar::Real>::mul_add(x36, x37, -(x33 * x40));
-        jb0e[5][1] = <f32 as ::trocar::Real>::mul_add(x36, x38, -(x34 * x40));
-        jb0e[5][2] = <f32 as ::trocar::Real>::mul_add(x36, x39, -(x35 * x40));
-        let x41 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x25, t.cos[6] * x29);
-        jb0e[5][3] = x41;
-        let x42 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x26, t.cos[6] * x30);
-        jb0e[5][4] = x42;
-        let x43 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x27, t.cos[6] * x31);
-        jb0e[5][5] = x43;
+        jb0e[6][5] = x32;
+        let x33 = <f32 as ::trocar::Real>::mul_add(
+            0.0064_f32,
+            t.cos[7],
+            0.2_f32 * t.sin[7],
+        ) + 0.0036_f32;
+        let x34 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x22, -(t.sin[6] * x26));
+        let x35 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x23, -(t.sin[6] * x27));
+        let x36 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x24, t.sin[6] * x28);
+        let x37 = 0.02_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[6], x25, -(t.sin[6] * x29));
+        jb0e[5][0] = <f32 as ::trocar::Real>::mul_add(x33, x34, -(x30 * x37));
+        jb0e[5][1] = <f32 as ::trocar::Real>::mul_add(x33, x35, -(x31 * x37));
+        jb0e[5][2] = <f32 as ::trocar::Real>::mul_add(x33, x36, -(x32 * x37));
+        let x38 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x22, t.cos[6] * x26);
+        jb0e[5][3] = x38;
+        let x39 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x23, t.cos[6] * x27);
+        jb0e[5][4] = x39;
+        let x40 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x24, -(t.cos[6] * x28));
+        jb0e[5][5] = x40;
+        let x41 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x34, t.sin[5] * x30);
+        jb0e[4][3] = x41;
+        let x42 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x35, t.sin[5] * x31);
+        jb0e[4][4] = x42;
+        let x43 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x36, t.sin[5] * x32);
+        jb0e[4][5] = x43;
         let x44 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x37, t.sin[5] * x33);
-        jb0e[4][3] = x44;
-        let x45 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x38, t.sin[5] * x34);
-        jb0e[4][4] = x45;
-        let x46 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x39, t.sin[5] * x35);
-        jb0e[4][5] = x46;
-        let x47 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x40, t.sin[5] * x36);
-        let x48 = 0.05_f32
+        let x45 = 0.05_f32
             + (0.3_f32
-                + <f32 as ::trocar::Real>::mul_add(t.sin[6], x28, t.cos[6] * x32));
+                + <f32 as ::trocar::Real>::mul_add(t.sin[6], x25, t.cos[6] * x29));
+        let x46 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x30, -(t.sin[5] * x34));
+        let x47 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x31, -(t.sin[5] * x35));
+        let x48 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x32, -(t.sin[5] * x36));
         let x49 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x33, -(t.sin[5] * x37));
-        let x50 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x34, -(t.sin[5] * x38));
-        let x51 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x35, -(t.sin[5] * x39));
-        let x52 = <f32 as ::trocar::Real>::mul_add(t.cos[5], x36, -(t.sin[5] * x40));
-        jb0e[4][0] = <f32 as ::trocar::Real>::mul_add(x48, x49, -(x41 * x52));
-        jb0e[4][1] = <f32 as ::trocar::Real>::mul_add(x48, x50, -(x42 * x52));
-        jb0e[4][2] = <f32 as ::trocar::Real>::mul_add(x48, x51, -(x43 * x52));
+        jb0e[4][0] = <f32 as ::trocar::Real>::mul_add(x45, x46, -(x38 * x49));
+        jb0e[4][1] = <f32 as ::trocar::Real>::mul_add(x45, x47, -(x39 * x49));
+        jb0e[4][2] = <f32 as ::trocar::Real>::mul_add(x45, x48, -(x40 * x49));
+        let x50 = <f32 as ::trocar::Real>::mul_add(
+            x7,
+            x46,
+            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x41, -(x6 * x38)),
+        );
+        let x51 = <f32 as ::trocar::Real>::mul_add(
+            x7,
+            x47,
+            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x42, -(x6 * x39)),
+        );
+        let x52 = <f32 as ::trocar::Real>::mul_add(
+            x7,
+            x48,
+            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x43, -(x6 * x40)),
+        );
         let x53 = <f32 as ::trocar::Real>::mul_add(
-            x8,
-            x49,
-            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x44, -(x7 * x41)),
+            -x9,
+            x46,
+            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x41, x8 * x38),
         );
+        jb0e[3][0] = x53;
         let x54 = <f32 as ::trocar::Real>::mul_add(
-            x8,
-            x50,
-            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x45, -(x7 * x42)),
+            -x9,
+            x47,
+            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x42, x8 * x39),
         );
+        jb0e[3][1] = x54;
         let x55 = <f32 as ::trocar::Real>::mul_add(
-            x8,
-            x51,
-            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x46, -(x7 * x43)),
+            -x9,
+            x48,
+            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x43, x8 * x40),
         );
-        let x56 = <f32 as ::trocar::Real>::mul_add(
-            -x10,
-            x49,
-            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x44, x9 * x41),
-        );
-        jb0e[3][0] = x56;
+        jb0e[3][2] = x55;
+        let x56 = 0.25_f32
+            + <f32 as ::trocar::Real>::mul_add(
+                -x9,
+                x49,
+                <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x44, x8 * x45),
+            );
         let x57 = <f32 as ::trocar::Real>::mul_add(
-            -x10,
-            x50,
-            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x45, x9 * x42),
+            x11,
+            x46,
+            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x41, x10 * x38),
         );
-        jb0e[3][1] = x57;
         let x58 = <f32 as ::trocar::Real>::mul_add(
-            -x10,
-            x51,
-            <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, x46, x9 * x43),
+            x11,
+            x47,
+            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x42, x10 * x39),
         );
-        jb0e[3][2] = x58;
         let x59 = <f32 as ::trocar::Real>::mul_add(
-            x12,
+            x11,
+            x48,
+            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x43, x10 * x40),
+        );
+        let x60 = 0.02_f32
+            + <f32 as ::trocar::Real>::mul_add(
+                x11,
+                x49,
+                <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x44, x10 * x45),
+            );
+        let x61 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x53, -(0.6_f32 * x57));
+        let x62 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x54, -(0.6_f32 * x58));
+        let x63 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x55, -(0.6_f32 * x59));
+        let x64 = <f32 as ::trocar::Real>::mul_add(0.8_f32, t.q[3], 0.08_f32)
+            + <f32 as ::trocar::Real>::mul_add(0.8_f32, x56, -(0.6_f32 * x60));
+        let x65 = <f32 as ::trocar::Real>::mul_add(
+            x7,
             x49,
-            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x44, x11 * x41),
-        );
-        jb0e[2][3] = <f32 as ::trocar::Real>::mul_add(0.6_f32, x56, 0.8_f32 * x59);
-        let x60 = <f32 as ::trocar::Real>::mul_add(
-            x12,
-            x50,
-            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x45, x11 * x42),
-        );
-        jb0e[2][4] = <f32 as ::trocar::Real>::mul_add(0.6_f32, x57, 0.8_f32 * x60);
-        let x61 = <f32 as ::trocar::Real>::mul_add(
-            x12,
-            x51,
-            <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x46, x11 * x43),
-        );
-        jb0e[2][5] = <f32 as ::trocar::Real>::mul_add(0.6_f32, x58, 0.8_f32 * x61);
-        let x62 = 0.02_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x12,
-                x52,
-                <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, x47, x11 * x48),
-            );
-        let x63 = 0.01_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x8,
-                x52,
-                <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x47, -(x7 * x48)),
-            );
-        let x64 = 0.1_f32 + t.q[3]
-            + (0.25_f32
-                + <f32 as ::trocar::Real>::mul_add(
-                    -x10,
-                    x52,
-                    <f32 as ::trocar::Real>::mul_add(
-                        0.18298657129998708_f32,
-                        x47,
-                        x9 * x48,
-                    ),
-                ));
-        let x65 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x62, -(0.8_f32 * x64));
-        let x66 = 0.8_f32 * x63;
-        let x67 = 0.6_f32 * x63;
-        jb0e[2][0] = <f32 as ::trocar::Real>::mul_add(
-            -x59,
-            x67,
-            <f32 as ::trocar::Real>::mul_add(x53, x65, x56 * x66),
-        );
-        jb0e[2][1] = <f32 as ::trocar::Real>::mul_add(
-            -x60,
-            x67,
-            <f32 as ::trocar::Real>::mul_add(x54, x65, x57 * x66),
-        );
-        jb0e[2][2] = <f32 as ::trocar::Real>::mul_add(
-            -x61,
-            x67,
-            <f32 as ::trocar::Real>::mul_add(x55, x65, x58 * x66),
-        );
-        let x68 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x59,
-            <f32 as ::trocar::Real>::mul_add(t.cos[2], x53, -(x2 * x56)),
-        );
-        jb0e[1][3] = x68;
-        let x69 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x60,
-            <f32 as ::trocar::Real>::mul_add(t.cos[2], x54, -(x2 * x57)),
-        );
-        jb0e[1][4] = x69;
-        let x70 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x61,
-            <f32 as ::trocar::Real>::mul_add(t.cos[2], x55, -(x2 * x58)),
-        );
-        jb0e[1][5] = x70;
-        let x71 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x59,
-            <f32 as ::trocar::Real>::mul_add(x2, x53, x4 * x56),
-        );
-        let x72 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x60,
-            <f32 as ::trocar::Real>::mul_add(x2, x54, x4 * x57),
-        );
+            <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, x44, -(x6 * x45)),
+        ) + 0.01_f32;
+        jb0e[2][0] = <f32 as ::trocar::Real>::mul_add(x61, x65, -(x50 * x64));
+        jb0e[2][1] = <f32 as ::trocar::Real>::mul_add(x62, x65, -(x51 * x64));
+        jb0e[2][2] = <f32 as ::trocar::Real>::mul_add(x63, x65, -(x52 * x64));
+        let x66 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x53, 0.8_f32 * x57);
+        jb0e[2][3] = x66;
+        let x67 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x54, 0.8_f32 * x58);
+        jb0e[2][4] = x67;
+        let x68 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x55, 0.8_f32 * x59);
+        jb0e[2][5] = x68;
+        let x69 = <f32 as ::trocar::Real>::mul_add(0.6_f32, t.q[3], 0.06_f32)
+            + <f32 as ::trocar::Real>::mul_add(0.6_f32, x56, 0.8_f32 * x60);
+        let x70 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x50, -(t.sin[2] * x61));
+        jb0e[1][3] = x70;
+        let x71 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x51, -(t.sin[2] * x62));
+        jb0e[1][4] = x71;
+        let x72 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x52, -(t.sin[2] * x63));
+        jb0e[1][5] = x72;
         let x73 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x61,
-            <f32 as ::trocar::Real>::mul_add(x2, x55, x4 * x58),
+            0.6_f32,
+            x66,
+            <f32 as ::trocar::Real>::mul_add(x2, x61, x3 * x50),
         );
-        let x74 = 0.4_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x5,
-                x62,
-                <f32 as ::trocar::Real>::mul_add(x2, x63, x4 * x64),
-            );
+        let x74 = <f32 as ::trocar::Real>::mul_add(
+            0.6_f32,
+            x67,
+            <f32 as ::trocar::Real>::mul_add(x2, x62, x3 * x51),
+        );
         let x75 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x59,
-            <f32 as ::trocar::Real>::mul_add(x5, x56, -(x3 * x53)),
+            0.6_f32,
+            x68,
+            <f32 as ::trocar::Real>::mul_add(x2, x63, x3 * x52),
         );
-        let x76 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x60,
-            <f32 as ::trocar::Real>::mul_add(x5, x57, -(x3 * x54)),
-        );
+        let x76 = 0.4_f32
+            + <f32 as ::trocar::Real>::mul_add(
+                0.6_f32,
+                x69,
+                <f32 as ::trocar::Real>::mul_add(x2, x64, x3 * x65),
+            );
         let x77 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x61,
-            <f32 as ::trocar::Real>::mul_add(x5, x58, -(x3 * x55)),
+            0.8_f32,
+            x66,
+            -<f32 as ::trocar::Real>::mul_add(x4, x61, x5 * x50),
         );
         let x78 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x62,
-            <f32 as ::trocar::Real>::mul_add(x5, x64, -(x3 * x63)),
+            0.8_f32,
+            x67,
+            -<f32 as ::trocar::Real>::mul_add(x4, x62, x5 * x51),
+        );
+        let x79 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x68,
+            -<f32 as ::trocar::Real>::mul_add(x4, x63, x5 * x52),
+        );
+        let x80 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x69,
+            -<f32 as ::trocar::Real>::mul_add(x4, x64, x5 * x65),
         ) - 0.03_f32;
         fk.1[2] = p.d_1
-            + (0.1_f32 + <f32 as ::trocar::Real>::mul_add(x1, x74, x0 * x78));
-        jb0e[1][0] = <f32 as ::trocar::Real>::mul_add(x74, x75, -(x71 * x78));
-        jb0e[1][1] = <f32 as ::trocar::Real>::mul_add(x74, x76, -(x72 * x78));
-        jb0e[1][2] = <f32 as ::trocar::Real>::mul_add(x74, x77, -(x73 * x78));
-        let x79 = 0.05_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x3,
-                x62,
-                <f32 as ::trocar::Real>::mul_add(t.cos[2], x63, -(x2 * x64)),
-            );
-        let x80 = <f32 as ::trocar::Real>::mul_add(x0, x71, -(x1 * x75));
-        fk.0[0][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x68, -(t.sin[0] * x80));
-        fk.0[0][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x68, t.cos[0] * x80);
-        let x81 = <f32 as ::trocar::Real>::mul_add(x0, x72, -(x1 * x76));
-        fk.0[1][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x69, -(t.sin[0] * x81));
-        fk.0[1][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x69, t.cos[0] * x81);
+            + (0.1_f32 + <f32 as ::trocar::Real>::mul_add(x1, x76, x0 * x80));
+        jb0e[1][0] = <f32 as ::trocar::Real>::mul_add(x76, x77, -(x73 * x80));
+        jb0e[1][1] = <f32 as ::trocar::Real>::mul_add(x76, x78, -(x74 * x80));
+        jb0e[1][2] = <f32 as ::trocar::Real>::mul_add(x76, x79, -(x75 * x80));
+        let x81 = 0.05_f32
+            + <f32 as ::trocar::Real>::mul_add(t.cos[2], x65, -(t.sin[2] * x64));
         let x82 = <f32 as ::trocar::Real>::mul_add(x0, x73, -(x1 * x77));
-        fk.0[2][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x70, -(t.sin[0] * x82));
-        fk.0[2][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x70, t.cos[0] * x82);
-        let x83 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(x0, x74, -(x1 * x78));
-        fk.1[0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x79, -(t.sin[0] * x83));
-        fk.1[1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x79, t.cos[0] * x83);
-        jb0e[0][0] = <f32 as ::trocar::Real>::mul_add(x79, x80, -(x68 * x83));
-        jb0e[0][1] = <f32 as ::trocar::Real>::mul_add(x79, x81, -(x69 * x83));
-        jb0e[0][2] = <f32 as ::trocar::Real>::mul_add(x79, x82, -(x70 * x83));
-        let x84 = <f32 as ::trocar::Real>::mul_add(x1, x71, x0 * x75);
-        fk.0[0][2] = x84;
-        jb0e[0][3] = x84;
-        let x85 = <f32 as ::trocar::Real>::mul_add(x1, x72, x0 * x76);
-        fk.0[1][2] = x85;
-        jb0e[0][4] = x85;
+        fk.0[0][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x70, -(t.sin[0] * x82));
+        fk.0[0][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x70, t.cos[0] * x82);
+        let x83 = <f32 as ::trocar::Real>::mul_add(x0, x74, -(x1 * x78));
+        fk.0[1][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x71, -(t.sin[0] * x83));
+        fk.0[1][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x71, t.cos[0] * x83);
+        let x84 = <f32 as ::trocar::Real>::mul_add(x0, x75, -(x1 * x79));
+        fk.0[2][0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x72, -(t.sin[0] * x84));
+        fk.0[2][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x72, t.cos[0] * x84);
+        let x85 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(x0, x76, -(x1 * x80));
+        fk.1[0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x81, -(t.sin[0] * x85));
+        fk.1[1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x81, t.cos[0] * x85);
+        jb0e[0][0] = <f32 as ::trocar::Real>::mul_add(x81, x82, -(x70 * x85));
+        jb0e[0][1] = <f32 as ::trocar::Real>::mul_add(x81, x83, -(x71 * x85));
+        jb0e[0][2] = <f32 as ::trocar::Real>::mul_add(x81, x84, -(x72 * x85));
         let x86 = <f32 as ::trocar::Real>::mul_add(x1, x73, x0 * x77);
-        fk.0[2][2] = x86;
-        jb0e[0][5] = x86;
+        fk.0[0][2] = x86;
+        jb0e[0][3] = x86;
+        let x87 = <f32 as ::trocar::Real>::mul_add(x1, x74, x0 * x78);
+        fk.0[1][2] = x87;
+        jb0e[0][4] = x87;
+        let x88 = <f32 as ::trocar::Real>::mul_add(x1, x75, x0 * x79);
+        fk.0[2][2] = x88;
+        jb0e[0][5] = x88;
     }
     /// `g_0i`, `J^B_0i` in one program: the values of [`forward_kinematics_i`] and [`partial_body_jacobian`], thesis (2.21), (3.13), computed together so that they share every common value.
     ///
     /// - `fk0i`: `g_0i` as `(R, p)`, `R` column-major (`r[col][row]`)
     /// - `jb0i`: `J^B_0i`, 6 × I, column-major (`[[f32; 6]; I]`, `a[col][row]`)
     ///
-    /// Operations: 82 add, 135 mul, 0 div, 0 sqrt, 5 trig (sin_cos), 1 neg, 0 abs.
+    /// Operations: 78 add, 134 mul, 0 div, 0 sqrt, 5 trig (sin_cos), 5 neg, 0 abs.
     #[inline]
     pub fn link_pose_and_jacobian(
         q: &[f32; N],
@@ -6923,185 +6826,160 @@ pub mod chain9_prismatic {
             s2,
             0.29552020666133955_f32 * c2,
         );
-        let x2 = 0.8_f32 * s3;
-        let x3 = 0.6_f32 * s3;
-        let x4 = <f32 as ::trocar::Real>::mul_add(0.64_f32, c3, 0.36_f32);
-        let x5 = 0.48_f32 * (<f32 as ::trocar::Real>::ONE - c3);
-        let x6 = <f32 as ::trocar::Real>::mul_add(0.36_f32, c3, 0.64_f32);
-        let x7 = <f32 as ::trocar::Real>::mul_add(
+        let x2 = 0.8_f32 * c3;
+        let x3 = 0.8_f32 * s3;
+        let x4 = 0.6_f32 * c3;
+        let x5 = 0.6_f32 * s3;
+        let x6 = <f32 as ::trocar::Real>::mul_add(
             0.3816559020950483_f32,
             s5,
             0.19866933079506122_f32 * c5,
         );
-        let x8 = <f32 as ::trocar::Real>::mul_add(
+        let x7 = <f32 as ::trocar::Real>::mul_add(
             0.19866933079506122_f32,
             s5,
             -(0.3816559020950483_f32 * c5),
         );
-        let x9 = <f32 as ::trocar::Real>::mul_add(
+        let x8 = <f32 as ::trocar::Real>::mul_add(
             0.9800665778412416_f32,
             c5,
             -(0.07736548146578168_f32 * s5),
         );
-        jb0i[2][4] = <f32 as ::trocar::Real>::mul_add(
-            0.6_f32,
-            x9,
-            0.7368487952023082_f32 * s5,
-        );
-        jb0i[3][1] = x9;
-        let x10 = <f32 as ::trocar::Real>::mul_add(
+        jb0i[3][1] = x8;
+        let x9 = <f32 as ::trocar::Real>::mul_add(
             0.9800665778412416_f32,
             s5,
             0.07736548146578168_f32 * c5,
         );
-        let x11 = 0.9210609940028851_f32 * s5;
-        let x12 = 0.9210609940028851_f32 * c5;
-        let x13 = <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, c6, -(x8 * s6));
-        let x14 = <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, s6, x8 * c6);
-        let x15 = <f32 as ::trocar::Real>::mul_add(
-            0.18298657129998708_f32,
-            c6,
-            x10 * s6,
-        );
-        jb0i[3][0] = x15;
-        let x16 = <f32 as ::trocar::Real>::mul_add(
+        let x10 = 0.9210609940028851_f32 * c5;
+        let x11 = <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, c6, -(x7 * s6));
+        let x12 = <f32 as ::trocar::Real>::mul_add(0.90270109637546_f32, s6, x7 * c6);
+        let x13 = <f32 as ::trocar::Real>::mul_add(0.18298657129998708_f32, c6, x9 * s6);
+        jb0i[3][0] = x13;
+        let x14 = <f32 as ::trocar::Real>::mul_add(
             0.18298657129998708_f32,
             s6,
-            -(x10 * c6),
+            -(x9 * c6),
         );
-        jb0i[3][2] = x16;
-        let x17 = <f32 as ::trocar::Real>::mul_add(
+        jb0i[3][2] = x14;
+        let x15 = <f32 as ::trocar::Real>::mul_add(0.05_f32, x8, 0.25_f32);
+        let x16 = <f32 as ::trocar::Real>::mul_add(
             0.3894183423086505_f32,
             c6,
-            -(x12 * s6),
+            -(x10 * s6),
         );
-        jb0i[2][3] = <f32 as ::trocar::Real>::mul_add(0.6_f32, x15, 0.8_f32 * x17);
-        let x18 = <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, s6, x12 * c6);
-        jb0i[2][5] = <f32 as ::trocar::Real>::mul_add(0.6_f32, x16, 0.8_f32 * x18);
-        let x19 = <f32 as ::trocar::Real>::mul_add(
+        let x17 = <f32 as ::trocar::Real>::mul_add(0.3894183423086505_f32, s6, x10 * c6);
+        let x18 = <f32 as ::trocar::Real>::mul_add(
             0.04605304970014426_f32,
             s5,
             0.02_f32,
         );
-        let x20 = <f32 as ::trocar::Real>::mul_add(-0.05_f32, x7, 0.01_f32);
-        let x21 = 0.1_f32 + q[3]
-            + <f32 as ::trocar::Real>::mul_add(0.05_f32, x9, 0.25_f32);
-        let x22 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x19, -(0.8_f32 * x21));
-        let x23 = 0.8_f32 * x20;
-        let x24 = 0.6_f32 * x20;
-        jb0i[2][0] = <f32 as ::trocar::Real>::mul_add(
-            -x17,
-            x24,
-            <f32 as ::trocar::Real>::mul_add(x13, x22, x15 * x23),
+        let x19 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x13, -(0.6_f32 * x16));
+        let x20 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x8,
+            -(0.552636596401731_f32 * s5),
         );
-        jb0i[2][1] = <f32 as ::trocar::Real>::mul_add(
-            -x11,
-            x24,
-            <f32 as ::trocar::Real>::mul_add(x9, x23, -(x7 * x22)),
-        );
-        jb0i[2][2] = <f32 as ::trocar::Real>::mul_add(
-            -x18,
-            x24,
-            <f32 as ::trocar::Real>::mul_add(x14, x22, x16 * x23),
-        );
+        let x21 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x14, -(0.6_f32 * x17));
+        let x22 = <f32 as ::trocar::Real>::mul_add(0.8_f32, q[3], 0.08_f32)
+            + <f32 as ::trocar::Real>::mul_add(0.8_f32, x15, -(0.6_f32 * x18));
+        let x23 = <f32 as ::trocar::Real>::mul_add(0.05_f32, x6, -0.01_f32);
+        jb0i[2][0] = -<f32 as ::trocar::Real>::mul_add(x19, x23, x11 * x22);
+        jb0i[2][1] = <f32 as ::trocar::Real>::mul_add(x6, x22, -(x20 * x23));
+        jb0i[2][2] = -<f32 as ::trocar::Real>::mul_add(x21, x23, x12 * x22);
+        let x24 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x13, 0.8_f32 * x16);
+        jb0i[2][3] = x24;
         let x25 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x17,
-            <f32 as ::trocar::Real>::mul_add(c3, x13, -(x2 * x15)),
+            0.6_f32,
+            x8,
+            0.7368487952023082_f32 * s5,
         );
-        jb0i[1][3] = x25;
-        let x26 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x11,
-            -<f32 as ::trocar::Real>::mul_add(c3, x7, x2 * x9),
+        jb0i[2][4] = x25;
+        let x26 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x14, 0.8_f32 * x17);
+        jb0i[2][5] = x26;
+        let x27 = <f32 as ::trocar::Real>::mul_add(0.6_f32, q[3], 0.06_f32)
+            + <f32 as ::trocar::Real>::mul_add(0.6_f32, x15, 0.8_f32 * x18);
+        let x28 = <f32 as ::trocar::Real>::mul_add(c3, x11, -(s3 * x19));
+        jb0i[1][3] = x28;
+        let x29 = <f32 as ::trocar::Real>::mul_add(s3, x20, c3 * x6);
+        jb0i[1][4] = -x29;
+        let x30 = <f32 as ::trocar::Real>::mul_add(c3, x12, -(s3 * x21));
+        jb0i[1][5] = x30;
+        let x31 = <f32 as ::trocar::Real>::mul_add(
+            0.6_f32,
+            x24,
+            <f32 as ::trocar::Real>::mul_add(x2, x19, x3 * x11),
         );
-        jb0i[1][4] = x26;
-        let x27 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x18,
-            <f32 as ::trocar::Real>::mul_add(c3, x14, -(x2 * x16)),
-        );
-        jb0i[1][5] = x27;
-        let x28 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x17,
-            <f32 as ::trocar::Real>::mul_add(x2, x13, x4 * x15),
-        );
-        let x29 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x11,
-            <f32 as ::trocar::Real>::mul_add(x4, x9, -(x2 * x7)),
-        );
-        let x30 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x18,
-            <f32 as ::trocar::Real>::mul_add(x2, x14, x4 * x16),
-        );
-        let x31 = 0.4_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x5,
-                x19,
-                <f32 as ::trocar::Real>::mul_add(x2, x20, x4 * x21),
-            );
         let x32 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x17,
-            <f32 as ::trocar::Real>::mul_add(x5, x15, -(x3 * x13)),
+            0.6_f32,
+            x25,
+            <f32 as ::trocar::Real>::mul_add(x2, x20, -(x3 * x6)),
         );
         let x33 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x11,
-            <f32 as ::trocar::Real>::mul_add(x3, x7, x5 * x9),
+            0.6_f32,
+            x26,
+            <f32 as ::trocar::Real>::mul_add(x2, x21, x3 * x12),
         );
-        let x34 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x18,
-            <f32 as ::trocar::Real>::mul_add(x5, x16, -(x3 * x14)),
-        );
+        let x34 = 0.4_f32
+            + <f32 as ::trocar::Real>::mul_add(
+                0.6_f32,
+                x27,
+                <f32 as ::trocar::Real>::mul_add(x2, x22, -(x3 * x23)),
+            );
         let x35 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x19,
-            <f32 as ::trocar::Real>::mul_add(x5, x21, -(x3 * x20)),
+            0.8_f32,
+            x24,
+            -<f32 as ::trocar::Real>::mul_add(x4, x19, x5 * x11),
+        );
+        let x36 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x25,
+            <f32 as ::trocar::Real>::mul_add(x5, x6, -(x4 * x20)),
+        );
+        let x37 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x26,
+            -<f32 as ::trocar::Real>::mul_add(x4, x21, x5 * x12),
+        );
+        let x38 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x27,
+            <f32 as ::trocar::Real>::mul_add(x5, x23, -(x4 * x22)),
         ) - 0.03_f32;
         fk0i.1[2] = p.d_1
-            + (0.1_f32 + <f32 as ::trocar::Real>::mul_add(x1, x31, x0 * x35));
-        jb0i[1][0] = <f32 as ::trocar::Real>::mul_add(x31, x32, -(x28 * x35));
-        jb0i[1][1] = <f32 as ::trocar::Real>::mul_add(x31, x33, -(x29 * x35));
-        jb0i[1][2] = <f32 as ::trocar::Real>::mul_add(x31, x34, -(x30 * x35));
-        let x36 = 0.05_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x3,
-                x19,
-                <f32 as ::trocar::Real>::mul_add(c3, x20, -(x2 * x21)),
-            );
-        let x37 = <f32 as ::trocar::Real>::mul_add(x0, x28, -(x1 * x32));
-        fk0i.0[0][0] = <f32 as ::trocar::Real>::mul_add(c1, x25, -(s1 * x37));
-        fk0i.0[0][1] = <f32 as ::trocar::Real>::mul_add(s1, x25, c1 * x37);
-        let x38 = <f32 as ::trocar::Real>::mul_add(x0, x29, -(x1 * x33));
-        fk0i.0[1][0] = <f32 as ::trocar::Real>::mul_add(c1, x26, -(s1 * x38));
-        fk0i.0[1][1] = <f32 as ::trocar::Real>::mul_add(s1, x26, c1 * x38);
-        let x39 = <f32 as ::trocar::Real>::mul_add(x0, x30, -(x1 * x34));
-        fk0i.0[2][0] = <f32 as ::trocar::Real>::mul_add(c1, x27, -(s1 * x39));
-        fk0i.0[2][1] = <f32 as ::trocar::Real>::mul_add(s1, x27, c1 * x39);
-        let x40 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35));
-        fk0i.1[0] = <f32 as ::trocar::Real>::mul_add(c1, x36, -(s1 * x40));
-        fk0i.1[1] = <f32 as ::trocar::Real>::mul_add(s1, x36, c1 * x40);
-        jb0i[0][0] = <f32 as ::trocar::Real>::mul_add(x36, x37, -(x25 * x40));
-        jb0i[0][1] = <f32 as ::trocar::Real>::mul_add(x36, x38, -(x26 * x40));
-        jb0i[0][2] = <f32 as ::trocar::Real>::mul_add(x36, x39, -(x27 * x40));
-        let x41 = <f32 as ::trocar::Real>::mul_add(x1, x28, x0 * x32);
-        fk0i.0[0][2] = x41;
-        jb0i[0][3] = x41;
-        let x42 = <f32 as ::trocar::Real>::mul_add(x1, x29, x0 * x33);
-        fk0i.0[1][2] = x42;
-        jb0i[0][4] = x42;
-        let x43 = <f32 as ::trocar::Real>::mul_add(x1, x30, x0 * x34);
-        fk0i.0[2][2] = x43;
-        jb0i[0][5] = x43;
+            + (0.1_f32 + <f32 as ::trocar::Real>::mul_add(x1, x34, x0 * x38));
+        jb0i[1][0] = <f32 as ::trocar::Real>::mul_add(x34, x35, -(x31 * x38));
+        jb0i[1][1] = <f32 as ::trocar::Real>::mul_add(x34, x36, -(x32 * x38));
+        jb0i[1][2] = <f32 as ::trocar::Real>::mul_add(x34, x37, -(x33 * x38));
+        let x39 = 0.05_f32 - <f32 as ::trocar::Real>::mul_add(s3, x22, c3 * x23);
+        let x40 = <f32 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35));
+        fk0i.0[0][0] = <f32 as ::trocar::Real>::mul_add(c1, x28, -(s1 * x40));
+        fk0i.0[0][1] = <f32 as ::trocar::Real>::mul_add(s1, x28, c1 * x40);
+        let x41 = <f32 as ::trocar::Real>::mul_add(x0, x32, -(x1 * x36));
+        fk0i.0[1][0] = -<f32 as ::trocar::Real>::mul_add(c1, x29, s1 * x41);
+        fk0i.0[1][1] = <f32 as ::trocar::Real>::mul_add(c1, x41, -(s1 * x29));
+        let x42 = <f32 as ::trocar::Real>::mul_add(x0, x33, -(x1 * x37));
+        fk0i.0[2][0] = <f32 as ::trocar::Real>::mul_add(c1, x30, -(s1 * x42));
+        fk0i.0[2][1] = <f32 as ::trocar::Real>::mul_add(s1, x30, c1 * x42);
+        let x43 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(x0, x34, -(x1 * x38));
+        fk0i.1[0] = <f32 as ::trocar::Real>::mul_add(c1, x39, -(s1 * x43));
+        fk0i.1[1] = <f32 as ::trocar::Real>::mul_add(s1, x39, c1 * x43);
+        jb0i[0][0] = <f32 as ::trocar::Real>::mul_add(x39, x40, -(x28 * x43));
+        jb0i[0][1] = <f32 as ::trocar::Real>::mul_add(x29, x43, x39 * x41);
+        jb0i[0][2] = <f32 as ::trocar::Real>::mul_add(x39, x42, -(x30 * x43));
+        let x44 = <f32 as ::trocar::Real>::mul_add(x1, x31, x0 * x35);
+        fk0i.0[0][2] = x44;
+        jb0i[0][3] = x44;
+        let x45 = <f32 as ::trocar::Real>::mul_add(x1, x32, x0 * x36);
+        fk0i.0[1][2] = x45;
+        jb0i[0][4] = x45;
+        let x46 = <f32 as ::trocar::Real>::mul_add(x1, x33, x0 * x37);
+        fk0i.0[2][2] = x46;
+        jb0i[0][5] = x46;
     }
     /// [`link_pose_and_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]).
     ///
-    /// Operations: 82 add, 135 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
+    /// Operations: 78 add, 134 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 5 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     pub fn link_pose_and_jacobian_trig(
         t: &JointTrig,
@@ -7134,205 +7012,185 @@ pub mod chain9_prismatic {
             t.sin[1],
             0.29552020666133955_f32 * t.cos[1],
         );
-        let x2 = 0.8_f32 * t.sin[2];
-        let x3 = 0.6_f32 * t.sin[2];
-        let x4 = <f32 as ::trocar::Real>::mul_add(0.64_f32, t.cos[2], 0.36_f32);
-        let x5 = 0.48_f32 * (<f32 as ::trocar::Real>::ONE - t.cos[2]);
-        let x6 = <f32 as ::trocar::Real>::mul_add(0.36_f32, t.cos[2], 0.64_f32);
-        let x7 = <f32 as ::trocar::Real>::mul_add(
+        let x2 = 0.8_f32 * t.cos[2];
+        let x3 = 0.8_f32 * t.sin[2];
+        let x4 = 0.6_f32 * t.cos[2];
+        let x5 = 0.6_f32 * t.sin[2];
+        let x6 = <f32 as ::trocar::Real>::mul_add(
             0.3816559020950483_f32,
             t.sin[4],
             0.19866933079506122_f32 * t.cos[4],
         );
-        let x8 = <f32 as ::trocar::Real>::mul_add(
+        let x7 = <f32 as ::trocar::Real>::mul_add(
             0.19866933079506122_f32,
             t.sin[4],
             -(0.3816559020950483_f32 * t.cos[4]),
         );
-        let x9 = <f32 as ::trocar::Real>::mul_add(
+        let x8 = <f32 as ::trocar::Real>::mul_add(
             0.9800665778412416_f32,
             t.cos[4],
             -(0.07736548146578168_f32 * t.sin[4]),
         );
-        jb0i[2][4] = <f32 as ::trocar::Real>::mul_add(
-            0.6_f32,
-            x9,
-            0.7368487952023082_f32 * t.sin[4],
-        );
-        jb0i[3][1] = x9;
-        let x10 = <f32 as ::trocar::Real>::mul_add(
+        jb0i[3][1] = x8;
+        let x9 = <f32 as ::trocar::Real>::mul_add(
             0.9800665778412416_f32,
             t.sin[4],
             0.07736548146578168_f32 * t.cos[4],
         );
-        let x11 = 0.9210609940028851_f32 * t.sin[4];
-        let x12 = 0.9210609940028851_f32 * t.cos[4];
+        let x10 = 0.9210609940028851_f32 * t.cos[4];
+        let x11 = <f32 as ::trocar::Real>::mul_add(
+            0.90270109637546_f32,
+            t.cos[5],
+            -(x7 * t.sin[5]),
+        );
+        let x12 = <f32 as ::trocar::Real>::mul_add(
+            0.90270109637546_f32,
+            t.sin[5],
+            x7 * t.cos[5],
+        );
         let x13 = <f32 as ::trocar::Real>::mul_add(
-            0.90270109637546_f32,
+            0.18298657129998708_f32,
             t.cos[5],
-            -(x8 * t.sin[5]),
+            x9 * t.sin[5],
         );
+        jb0i[3][0] = x13;
         let x14 = <f32 as ::trocar::Real>::mul_add(
-            0.90270109637546_f32,
-            t.sin[5],
-            x8 * t.cos[5],
-        );
-        let x15 = <f32 as ::trocar::Real>::mul_add(
             0.18298657129998708_f32,
-            t.cos[5],
-            x10 * t.sin[5],
+            t.sin[5],
+            -(x9 * t.cos[5]),
         );
-        jb0i[3][0] = x15;
+        jb0i[3][2] = x14;
+        let x15 = <f32 as ::trocar::Real>::mul_add(0.05_f32, x8, 0.25_f32);
         let x16 = <f32 as ::trocar::Real>::mul_add(
-            0.18298657129998708_f32,
-            t.sin[5],
-            -(x10 * t.cos[5]),
+            0.3894183423086505_f32,
+            t.cos[5],
+            -(x10 * t.sin[5]),
         );
-        jb0i[3][2] = x16;
         let x17 = <f32 as ::trocar::Real>::mul_add(
             0.3894183423086505_f32,
-            t.cos[5],
-            -(x12 * t.sin[5]),
-        );
-        jb0i[2][3] = <f32 as ::trocar::Real>::mul_add(0.6_f32, x15, 0.8_f32 * x17);
-        let x18 = <f32 as ::trocar::Real>::mul_add(
-            0.3894183423086505_f32,
             t.sin[5],
-            x12 * t.cos[5],
+            x10 * t.cos[5],
         );
-        jb0i[2][5] = <f32 as ::trocar::Real>::mul_add(0.6_f32, x16, 0.8_f32 * x18);
-        let x19 = <f32 as ::trocar::Real>::mul_add(
+        let x18 = <f32 as ::trocar::Real>::mul_add(
             0.04605304970014426_f32,
             t.sin[4],
             0.02_f32,
         );
-        let x20 = <f32 as ::trocar::Real>::mul_add(-0.05_f32, x7, 0.01_f32);
-        let x21 = 0.1_f32 + t.q[3]
-            + <f32 as ::trocar::Real>::mul_add(0.05_f32, x9, 0.25_f32);
-        let x22 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x19, -(0.8_f32 * x21));
-        let x23 = 0.8_f32 * x20;
-        let x24 = 0.6_f32 * x20;
-        jb0i[2][0] = <f32 as ::trocar::Real>::mul_add(
-            -x17,
-            x24,
-            <f32 as ::trocar::Real>::mul_add(x13, x22, x15 * x23),
+        let x19 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x13, -(0.6_f32 * x16));
+        let x20 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x8,
+            -(0.552636596401731_f32 * t.sin[4]),
         );
-        jb0i[2][1] = <f32 as ::trocar::Real>::mul_add(
-            -x11,
-            x24,
-            <f32 as ::trocar::Real>::mul_add(x9, x23, -(x7 * x22)),
-        );
-        jb0i[2][2] = <f32 as ::trocar::Real>::mul_add(
-            -x18,
-            x24,
-            <f32 as ::trocar::Real>::mul_add(x14, x22, x16 * x23),
-        );
+        let x21 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x14, -(0.6_f32 * x17));
+        let x22 = <f32 as ::trocar::Real>::mul_add(0.8_f32, t.q[3], 0.08_f32)
+            + <f32 as ::trocar::Real>::mul_add(0.8_f32, x15, -(0.6_f32 * x18));
+        let x23 = <f32 as ::trocar::Real>::mul_add(0.05_f32, x6, -0.01_f32);
+        jb0i[2][0] = -<f32 as ::trocar::Real>::mul_add(x19, x23, x11 * x22);
+        jb0i[2][1] = <f32 as ::trocar::Real>::mul_add(x6, x22, -(x20 * x23));
+        jb0i[2][2] = -<f32 as ::trocar::Real>::mul_add(x21, x23, x12 * x22);
+        let x24 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x13, 0.8_f32 * x16);
+        jb0i[2][3] = x24;
         let x25 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x17,
-            <f32 as ::trocar::Real>::mul_add(t.cos[2], x13, -(x2 * x15)),
+            0.6_f32,
+            x8,
+            0.7368487952023082_f32 * t.sin[4],
         );
-        jb0i[1][3] = x25;
-        let x26 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x11,
-            -<f32 as ::trocar::Real>::mul_add(t.cos[2], x7, x2 * x9),
+        jb0i[2][4] = x25;
+        let x26 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x14, 0.8_f32 * x17);
+        jb0i[2][5] = x26;
+        let x27 = <f32 as ::trocar::Real>::mul_add(0.6_f32, t.q[3], 0.06_f32)
+            + <f32 as ::trocar::Real>::mul_add(0.6_f32, x15, 0.8_f32 * x18);
+        let x28 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x11, -(t.sin[2] * x19));
+        jb0i[1][3] = x28;
+        let x29 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x20, t.cos[2] * x6);
+        jb0i[1][4] = -x29;
+        let x30 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x12, -(t.sin[2] * x21));
+        jb0i[1][5] = x30;
+        let x31 = <f32 as ::trocar::Real>::mul_add(
+            0.6_f32,
+            x24,
+            <f32 as ::trocar::Real>::mul_add(x2, x19, x3 * x11),
         );
-        jb0i[1][4] = x26;
-        let x27 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x18,
-            <f32 as ::trocar::Real>::mul_add(t.cos[2], x14, -(x2 * x16)),
-        );
-        jb0i[1][5] = x27;
-        let x28 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x17,
-            <f32 as ::trocar::Real>::mul_add(x2, x13, x4 * x15),
-        );
-        let x29 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x11,
-            <f32 as ::trocar::Real>::mul_add(x4, x9, -(x2 * x7)),
-        );
-        let x30 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x18,
-            <f32 as ::trocar::Real>::mul_add(x2, x14, x4 * x16),
-        );
-        let x31 = 0.4_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x5,
-                x19,
-                <f32 as ::trocar::Real>::mul_add(x2, x20, x4 * x21),
-            );
         let x32 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x17,
-            <f32 as ::trocar::Real>::mul_add(x5, x15, -(x3 * x13)),
+            0.6_f32,
+            x25,
+            <f32 as ::trocar::Real>::mul_add(x2, x20, -(x3 * x6)),
         );
         let x33 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x11,
-            <f32 as ::trocar::Real>::mul_add(x3, x7, x5 * x9),
+            0.6_f32,
+            x26,
+            <f32 as ::trocar::Real>::mul_add(x2, x21, x3 * x12),
         );
-        let x34 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x18,
-            <f32 as ::trocar::Real>::mul_add(x5, x16, -(x3 * x14)),
-        );
+        let x34 = 0.4_f32
+            + <f32 as ::trocar::Real>::mul_add(
+                0.6_f32,
+                x27,
+                <f32 as ::trocar::Real>::mul_add(x2, x22, -(x3 * x23)),
+            );
         let x35 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x19,
-            <f32 as ::trocar::Real>::mul_add(x5, x21, -(x3 * x20)),
+            0.8_f32,
+            x24,
+            -<f32 as ::trocar::Real>::mul_add(x4, x19, x5 * x11),
+        );
+        let x36 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x25,
+            <f32 as ::trocar::Real>::mul_add(x5, x6, -(x4 * x20)),
+        );
+        let x37 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x26,
+            -<f32 as ::trocar::Real>::mul_add(x4, x21, x5 * x12),
+        );
+        let x38 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x27,
+            <f32 as ::trocar::Real>::mul_add(x5, x23, -(x4 * x22)),
         ) - 0.03_f32;
         fk0i.1[2] = p.d_1
-            + (0.1_f32 + <f32 as ::trocar::Real>::mul_add(x1, x31, x0 * x35));
-        jb0i[1][0] = <f32 as ::trocar::Real>::mul_add(x31, x32, -(x28 * x35));
-        jb0i[1][1] = <f32 as ::trocar::Real>::mul_add(x31, x33, -(x29 * x35));
-        jb0i[1][2] = <f32 as ::trocar::Real>::mul_add(x31, x34, -(x30 * x35));
-        let x36 = 0.05_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x3,
-                x19,
-                <f32 as ::trocar::Real>::mul_add(t.cos[2], x20, -(x2 * x21)),
-            );
-        let x37 = <f32 as ::trocar::Real>::mul_add(x0, x28, -(x1 * x32));
+            + (0.1_f32 + <f32 as ::trocar::Real>::mul_add(x1, x34, x0 * x38));
+        jb0i[1][0] = <f32 as ::trocar::Real>::mul_add(x34, x35, -(x31 * x38));
+        jb0i[1][1] = <f32 as ::trocar::Real>::mul_add(x34, x36, -(x32 * x38));
+        jb0i[1][2] = <f32 as ::trocar::Real>::mul_add(x34, x37, -(x33 * x38));
+        let x39 = 0.05_f32
+            - <f32 as ::trocar::Real>::mul_add(t.sin[2], x22, t.cos[2] * x23);
+        let x40 = <f32 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35));
         fk0i.0[0][0] = <f32 as ::trocar::Real>::mul_add(
             t.cos[0],
-            x25,
-            -(t.sin[0] * x37),
+            x28,
+            -(t.sin[0] * x40),
         );
-        fk0i.0[0][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x25, t.cos[0] * x37);
-        let x38 = <f32 as ::trocar::Real>::mul_add(x0, x29, -(x1 * x33));
-        fk0i.0[1][0] = <f32 as ::trocar::Real>::mul_add(
+        fk0i.0[0][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x28, t.cos[0] * x40);
+        let x41 = <f32 as ::trocar::Real>::mul_add(x0, x32, -(x1 * x36));
+        fk0i.0[1][0] = -<f32 as ::trocar::Real>::mul_add(t.cos[0], x29, t.sin[0] * x41);
+        fk0i.0[1][1] = <f32 as ::trocar::Real>::mul_add(
             t.cos[0],
-            x26,
-            -(t.sin[0] * x38),
+            x41,
+            -(t.sin[0] * x29),
         );
-        fk0i.0[1][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x26, t.cos[0] * x38);
-        let x39 = <f32 as ::trocar::Real>::mul_add(x0, x30, -(x1 * x34));
+        let x42 = <f32 as ::trocar::Real>::mul_add(x0, x33, -(x1 * x37));
         fk0i.0[2][0] = <f32 as ::trocar::Real>::mul_add(
             t.cos[0],
-            x27,
-            -(t.sin[0] * x39),
+            x30,
+            -(t.sin[0] * x42),
         );
-        fk0i.0[2][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x27, t.cos[0] * x39);
-        let x40 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35));
-        fk0i.1[0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x36, -(t.sin[0] * x40));
-        fk0i.1[1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x36, t.cos[0] * x40);
-        jb0i[0][0] = <f32 as ::trocar::Real>::mul_add(x36, x37, -(x25 * x40));
-        jb0i[0][1] = <f32 as ::trocar::Real>::mul_add(x36, x38, -(x26 * x40));
-        jb0i[0][2] = <f32 as ::trocar::Real>::mul_add(x36, x39, -(x27 * x40));
-        let x41 = <f32 as ::trocar::Real>::mul_add(x1, x28, x0 * x32);
-        fk0i.0[0][2] = x41;
-        jb0i[0][3] = x41;
-        let x42 = <f32 as ::trocar::Real>::mul_add(x1, x29, x0 * x33);
-        fk0i.0[1][2] = x42;
-        jb0i[0][4] = x42;
-        let x43 = <f32 as ::trocar::Real>::mul_add(x1, x30, x0 * x34);
-        fk0i.0[2][2] = x43;
-        jb0i[0][5] = x43;
+        fk0i.0[2][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x30, t.cos[0] * x42);
+        let x43 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(x0, x34, -(x1 * x38));
+        fk0i.1[0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x39, -(t.sin[0] * x43));
+        fk0i.1[1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x39, t.cos[0] * x43);
+        jb0i[0][0] = <f32 as ::trocar::Real>::mul_add(x39, x40, -(x28 * x43));
+        jb0i[0][1] = <f32 as ::trocar::Real>::mul_add(x29, x43, x39 * x41);
+        jb0i[0][2] = <f32 as ::trocar::Real>::mul_add(x39, x42, -(x30 * x43));
+        let x44 = <f32 as ::trocar::Real>::mul_add(x1, x31, x0 * x35);
+        fk0i.0[0][2] = x44;
+        jb0i[0][3] = x44;
+        let x45 = <f32 as ::trocar::Real>::mul_add(x1, x32, x0 * x36);
+        fk0i.0[1][2] = x45;
+        jb0i[0][4] = x45;
+        let x46 = <f32 as ::trocar::Real>::mul_add(x1, x33, x0 * x37);
+        fk0i.0[2][2] = x46;
+        jb0i[0][5] = x46;
     }
     /// `(g_0e, J^B_0i, J^r_0e, J_c)` as [`pose_and_jacobians_trig`] returns them: `(R, p)` with
     /// `R` column-major, then the three matrices column-major.
@@ -7348,7 +7206,7 @@ pub mod chain9_prismatic {
     ///
     /// Divides by `l_a`: the result is not finite where that is 0 (nor, in general, with a NaN or infinite input); test it with `is_finite` where that can happen.
     ///
-    /// Operations: 533 add, 649 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 2 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
+    /// Operations: 529 add, 652 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 5 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline(always)]
     #[must_use]
     pub fn pose_and_jacobians_trig(t: &JointTrig, p: &Params) -> PoseAndJacobians {
@@ -7362,265 +7220,283 @@ pub mod chain9_prismatic {
             t.sin[1],
             0.29552020666133955_f32 * t.cos[1],
         );
-        let x2 = 0.8_f32 * t.sin[2];
-        let x3 = 0.6_f32 * t.sin[2];
-        let x4 = <f32 as ::trocar::Real>::mul_add(0.64_f32, t.cos[2], 0.36_f32);
-        let x5 = 0.48_f32 * (<f32 as ::trocar::Real>::ONE - t.cos[2]);
-        let x6 = <f32 as ::trocar::Real>::mul_add(0.36_f32, t.cos[2], 0.64_f32);
-        let x7 = <f32 as ::trocar::Real>::mul_add(
+        let x2 = 0.8_f32 * t.cos[2];
+        let x3 = 0.8_f32 * t.sin[2];
+        let x4 = 0.6_f32 * t.cos[2];
+        let x5 = 0.6_f32 * t.sin[2];
+        let x6 = <f32 as ::trocar::Real>::mul_add(
             0.3816559020950483_f32,
             t.sin[4],
             0.19866933079506122_f32 * t.cos[4],
         );
-        let x8 = <f32 as ::trocar::Real>::mul_add(
+        let x7 = <f32 as ::trocar::Real>::mul_add(
             0.19866933079506122_f32,
             t.sin[4],
             -(0.3816559020950483_f32 * t.cos[4]),
         );
-        let x9 = <f32 as ::trocar::Real>::mul_add(
+        let x8 = <f32 as ::trocar::Real>::mul_add(
             0.9800665778412416_f32,
             t.cos[4],
             -(0.07736548146578168_f32 * t.sin[4]),
         );
-        let x10 = <f32 as ::trocar::Real>::mul_add(
+        let x9 = <f32 as ::trocar::Real>::mul_add(
             0.9800665778412416_f32,
             t.sin[4],
             0.07736548146578168_f32 * t.cos[4],
         );
-        let x11 = 0.9210609940028851_f32 * t.sin[4];
-        let x12 = 0.9210609940028851_f32 * t.cos[4];
-        let x13 = <f32 as ::trocar::Real>::mul_add(
+        let x10 = 0.9210609940028851_f32 * t.cos[4];
+        let x11 = <f32 as ::trocar::Real>::mul_add(
             0.90270109637546_f32,
             t.cos[5],
-            -(x8 * t.sin[5]),
+            -(x7 * t.sin[5]),
+        );
+        let x12 = <f32 as ::trocar::Real>::mul_add(
+            0.90270109637546_f32,
+            t.sin[5],
+            x7 * t.cos[5],
+        );
+        let x13 = <f32 as ::trocar::Real>::mul_add(
+            0.18298657129998708_f32,
+            t.cos[5],
+            x9 * t.sin[5],
         );
         let x14 = <f32 as ::trocar::Real>::mul_add(
-            0.90270109637546_f32,
-            t.sin[5],
-            x8 * t.cos[5],
-        );
-        let x15 = <f32 as ::trocar::Real>::mul_add(
             0.18298657129998708_f32,
-            t.cos[5],
-            x10 * t.sin[5],
+            t.sin[5],
+            -(x9 * t.cos[5]),
         );
+        let x15 = <f32 as ::trocar::Real>::mul_add(0.05_f32, x8, 0.25_f32);
         let x16 = <f32 as ::trocar::Real>::mul_add(
-            0.18298657129998708_f32,
-            t.sin[5],
-            -(x10 * t.cos[5]),
+            0.3894183423086505_f32,
+            t.cos[5],
+            -(x10 * t.sin[5]),
         );
         let x17 = <f32 as ::trocar::Real>::mul_add(
             0.3894183423086505_f32,
-            t.cos[5],
-            -(x12 * t.sin[5]),
+            t.sin[5],
+            x10 * t.cos[5],
         );
         let x18 = <f32 as ::trocar::Real>::mul_add(
-            0.3894183423086505_f32,
-            t.sin[5],
-            x12 * t.cos[5],
-        );
-        let x19 = <f32 as ::trocar::Real>::mul_add(
             0.04605304970014426_f32,
             t.sin[4],
             0.02_f32,
         );
-        let x20 = <f32 as ::trocar::Real>::mul_add(-0.05_f32, x7, 0.01_f32);
-        let x21 = 0.1_f32 + t.q[3]
-            + <f32 as ::trocar::Real>::mul_add(0.05_f32, x9, 0.25_f32);
-        let x22 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x19, -(0.8_f32 * x21));
-        let x23 = 0.8_f32 * x20;
-        let x24 = 0.6_f32 * x20;
+        let x19 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x13, -(0.6_f32 * x16));
+        let x20 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x8,
+            -(0.552636596401731_f32 * t.sin[4]),
+        );
+        let x21 = <f32 as ::trocar::Real>::mul_add(0.8_f32, x14, -(0.6_f32 * x17));
+        let x22 = <f32 as ::trocar::Real>::mul_add(0.8_f32, t.q[3], 0.08_f32)
+            + <f32 as ::trocar::Real>::mul_add(0.8_f32, x15, -(0.6_f32 * x18));
+        let x23 = <f32 as ::trocar::Real>::mul_add(0.05_f32, x6, -0.01_f32);
+        let x24 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x13, 0.8_f32 * x16);
         let x25 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x17,
-            <f32 as ::trocar::Real>::mul_add(t.cos[2], x13, -(x2 * x15)),
+            0.6_f32,
+            x8,
+            0.7368487952023082_f32 * t.sin[4],
         );
-        let x26 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x11,
-            -<f32 as ::trocar::Real>::mul_add(t.cos[2], x7, x2 * x9),
+        let x26 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x14, 0.8_f32 * x17);
+        let x27 = <f32 as ::trocar::Real>::mul_add(0.6_f32, t.q[3], 0.06_f32)
+            + <f32 as ::trocar::Real>::mul_add(0.6_f32, x15, 0.8_f32 * x18);
+        let x28 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x11, -(t.sin[2] * x19));
+        let x29 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x20, t.cos[2] * x6);
+        let x30 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x12, -(t.sin[2] * x21));
+        let x31 = <f32 as ::trocar::Real>::mul_add(
+            0.6_f32,
+            x24,
+            <f32 as ::trocar::Real>::mul_add(x2, x19, x3 * x11),
         );
-        let x27 = <f32 as ::trocar::Real>::mul_add(
-            x3,
-            x18,
-            <f32 as ::trocar::Real>::mul_add(t.cos[2], x14, -(x2 * x16)),
-        );
-        let x28 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x17,
-            <f32 as ::trocar::Real>::mul_add(x2, x13, x4 * x15),
-        );
-        let x29 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x11,
-            <f32 as ::trocar::Real>::mul_add(x4, x9, -(x2 * x7)),
-        );
-        let x30 = <f32 as ::trocar::Real>::mul_add(
-            x5,
-            x18,
-            <f32 as ::trocar::Real>::mul_add(x2, x14, x4 * x16),
-        );
-        let x31 = 0.4_f32
-            + <f32 as ::trocar::Real>::mul_add(
-                x5,
-                x19,
-                <f32 as ::trocar::Real>::mul_add(x2, x20, x4 * x21),
-            );
         let x32 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x17,
-            <f32 as ::trocar::Real>::mul_add(x5, x15, -(x3 * x13)),
+            0.6_f32,
+            x25,
+            <f32 as ::trocar::Real>::mul_add(x2, x20, -(x3 * x6)),
         );
         let x33 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x11,
-            <f32 as ::trocar::Real>::mul_add(x3, x7, x5 * x9),
+            0.6_f32,
+            x26,
+            <f32 as ::trocar::Real>::mul_add(x2, x21, x3 * x12),
         );
-        let x34 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x18,
-            <f32 as ::trocar::Real>::mul_add(x5, x16, -(x3 * x14)),
-        );
-        let x35 = <f32 as ::trocar::Real>::mul_add(
-            x6,
-            x19,
-            <f32 as ::trocar::Real>::mul_add(x5, x21, -(x3 * x20)),
-        ) - 0.03_f32;
-        let x36 = 0.05_f32
+        let x34 = 0.4_f32
             + <f32 as ::trocar::Real>::mul_add(
-                x3,
-                x19,
-                <f32 as ::trocar::Real>::mul_add(t.cos[2], x20, -(x2 * x21)),
+                0.6_f32,
+                x27,
+                <f32 as ::trocar::Real>::mul_add(x2, x22, -(x3 * x23)),
             );
-        let x37 = <f32 as ::trocar::Real>::mul_add(x0, x28, -(x1 * x32));
-        let x38 = <f32 as ::trocar::Real>::mul_add(x0, x29, -(x1 * x33));
-        let x39 = <f32 as ::trocar::Real>::mul_add(x0, x30, -(x1 * x34));
-        let x40 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35));
-        let x41 = <f32 as ::trocar::Real>::mul_add(x1, x28, x0 * x32);
-        let x42 = <f32 as ::trocar::Real>::mul_add(x1, x29, x0 * x33);
-        let x43 = <f32 as ::trocar::Real>::mul_add(x1, x30, x0 * x34);
-        let x44 = <f32 as ::trocar::Real>::mul_add(t.cos[0], x25, -(t.sin[0] * x37));
-        let x45 = <f32 as ::trocar::Real>::mul_add(t.cos[0], x26, -(t.sin[0] * x38));
-        let x46 = <f32 as ::trocar::Real>::mul_add(t.cos[0], x27, -(t.sin[0] * x39));
-        let x47 = <f32 as ::trocar::Real>::mul_add(t.sin[0], x25, t.cos[0] * x37);
-        let x48 = <f32 as ::trocar::Real>::mul_add(t.sin[0], x26, t.cos[0] * x38);
-        let x49 = <f32 as ::trocar::Real>::mul_add(t.sin[0], x27, t.cos[0] * x39);
-        let x50 = <f32 as ::trocar::Real>::mul_add(0.36_f32, t.cos[7], 0.64_f32);
-        let x51 = 0.6_f32 * t.sin[7];
-        let x52 = 0.48_f32 * (<f32 as ::trocar::Real>::ONE - t.cos[7]);
-        let x53 = 0.8_f32 * t.sin[7];
-        let x54 = <f32 as ::trocar::Real>::mul_add(0.64_f32, t.cos[7], 0.36_f32);
-        let x55 = t.sin[6] * x51;
-        let x56 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x50, -x55);
-        let x57 = t.cos[6] * x51;
-        let x58 = <f32 as ::trocar::Real>::mul_add(t.sin[6], t.cos[7], x57);
-        let x59 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x52, t.sin[6] * x53);
-        let x60 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x50, x57);
-        let x61 = <f32 as ::trocar::Real>::mul_add(t.cos[6], t.cos[7], -x55);
-        let x62 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x52, -(t.cos[6] * x53));
-        let x63 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x56, -(t.sin[8] * x59));
-        let x64 = <f32 as ::trocar::Real>::mul_add(t.sin[8], x56, t.cos[8] * x59);
-        let x65 = <f32 as ::trocar::Real>::mul_add(t.cos[8], x60, -(t.sin[8] * x62));
-        let x66 = <f32 as ::trocar::Real>::mul_add(t.sin[8], x60, t.cos[8] * x62);
-        let x67 = <f32 as ::trocar::Real>::mul_add(x52, t.cos[8], -(x54 * t.sin[8]));
-        let x68 = <f32 as ::trocar::Real>::mul_add(x52, t.sin[8], x54 * t.cos[8]);
-        let x69 = <f32 as ::trocar::Real>::mul_add(
+        let x35 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x24,
+            -<f32 as ::trocar::Real>::mul_add(x4, x19, x5 * x11),
+        );
+        let x36 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x25,
+            <f32 as ::trocar::Real>::mul_add(x5, x6, -(x4 * x20)),
+        );
+        let x37 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x26,
+            -<f32 as ::trocar::Real>::mul_add(x4, x21, x5 * x12),
+        );
+        let x38 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            x27,
+            <f32 as ::trocar::Real>::mul_add(x5, x23, -(x4 * x22)),
+        ) - 0.03_f32;
+        let x39 = 0.05_f32
+            - <f32 as ::trocar::Real>::mul_add(t.sin[2], x22, t.cos[2] * x23);
+        let x40 = <f32 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35));
+        let x41 = <f32 as ::trocar::Real>::mul_add(x0, x32, -(x1 * x36));
+        let x42 = <f32 as ::trocar::Real>::mul_add(x0, x33, -(x1 * x37));
+        let x43 = 0.02_f32 + <f32 as ::trocar::Real>::mul_add(x0, x34, -(x1 * x38));
+        let x44 = <f32 as ::trocar::Real>::mul_add(x1, x31, x0 * x35);
+        let x45 = <f32 as ::trocar::Real>::mul_add(x1, x32, x0 * x36);
+        let x46 = <f32 as ::trocar::Real>::mul_add(x1, x33, x0 * x37);
+        let x47 = <f32 as ::trocar::Real>::mul_add(t.cos[0], x28, -(t.sin[0] * x40));
+        let x48 = <f32 as ::trocar::Real>::mul_add(t.cos[0], x29, t.sin[0] * x41);
+        let x49 = <f32 as ::trocar::Real>::mul_add(t.cos[0], x30, -(t.sin[0] * x42));
+        let x50 = <f32 as ::trocar::Real>::mul_add(t.sin[0], x28, t.cos[0] * x40);
+        let x51 = <f32 as ::trocar::Real>::mul_add(t.cos[0], x41, -(t.sin[0] * x29));
+        let x52 = <f32 as ::trocar::Real>::mul_add(t.sin[0], x30, t.cos[0] * x42);
+        let x53 = 0.6_f32 * t.cos[7];
+        let x54 = 0.6_f32 * t.sin[7];
+        let x55 = 0.8_f32 * t.cos[7];
+        let x56 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            t.sin[8],
+            0.6_f32 * t.cos[8],
+        );
+        let x57 = <f32 as ::trocar::Real>::mul_add(
+            0.8_f32,
+            t.cos[8],
+            -(0.6_f32 * t.sin[8]),
+        );
+        let x58 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[6],
+            t.sin[7],
+            -(t.cos[6] * x53),
+        );
+        let x59 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x54, t.sin[6] * t.cos[7]);
+        let x60 = 0.8_f32 * t.cos[6];
+        let x61 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x53, t.cos[6] * t.sin[7]);
+        let x62 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[6],
+            x54,
+            -(t.cos[6] * t.cos[7]),
+        );
+        let x63 = 0.8_f32 * t.sin[6];
+        let x64 = <f32 as ::trocar::Real>::mul_add(x57, x60, -(x56 * x58));
+        let x65 = <f32 as ::trocar::Real>::mul_add(x57, x58, x56 * x60);
+        let x66 = <f32 as ::trocar::Real>::mul_add(x56, x61, x57 * x63);
+        let x67 = <f32 as ::trocar::Real>::mul_add(x56, x63, -(x57 * x61));
+        let x68 = <f32 as ::trocar::Real>::mul_add(0.6_f32, x57, -(x55 * x56));
+        let x69 = <f32 as ::trocar::Real>::mul_add(x55, x57, 0.6_f32 * x56);
+        let x70 = <f32 as ::trocar::Real>::mul_add(
             -0.19866933079506122_f32,
-            x64,
+            x65,
             <f32 as ::trocar::Real>::mul_add(
                 0.9362933635841992_f32,
-                x63,
-                -(0.28962947762551555_f32 * x58),
-            ),
-        );
-        let x70 = <f32 as ::trocar::Real>::mul_add(
-            0.09784339500725571_f32,
-            x64,
-            -<f32 as ::trocar::Real>::mul_add(
-                0.2750958473182437_f32,
-                x63,
-                0.9564250858492325_f32 * x58,
+                x64,
+                -(0.28962947762551555_f32 * x59),
             ),
         );
         let x71 = <f32 as ::trocar::Real>::mul_add(
-            0.975170327201816_f32,
-            x64,
-            <f32 as ::trocar::Real>::mul_add(
-                0.21835066314633444_f32,
-                x63,
-                0.03695701352462508_f32 * x58,
+            0.09784339500725571_f32,
+            x65,
+            -<f32 as ::trocar::Real>::mul_add(
+                0.2750958473182437_f32,
+                x64,
+                0.9564250858492325_f32 * x59,
             ),
         );
         let x72 = <f32 as ::trocar::Real>::mul_add(
-            -0.15_f32,
-            x58,
-            <f32 as ::trocar::Real>::mul_add(-0.04_f32, t.sin[6], 0.02_f32)
-                + <f32 as ::trocar::Real>::mul_add(0.01_f32, x59, -(0.1_f32 * x58)),
-        );
-        let x73 = <f32 as ::trocar::Real>::mul_add(
-            -0.19866933079506122_f32,
-            x66,
+            0.975170327201816_f32,
+            x65,
             <f32 as ::trocar::Real>::mul_add(
-                0.9362933635841992_f32,
-                x65,
-                0.28962947762551555_f32 * x61,
+                0.21835066314633444_f32,
+                x64,
+                0.03695701352462508_f32 * x59,
             ),
         );
+        let x73 = <f32 as ::trocar::Real>::mul_add(
+            -0.15_f32,
+            x59,
+            <f32 as ::trocar::Real>::mul_add(-0.04_f32, t.sin[6], 0.02_f32)
+                + <f32 as ::trocar::Real>::mul_add(
+                    0.0048000000000000004_f32,
+                    t.cos[6],
+                    <f32 as ::trocar::Real>::mul_add(0.008_f32, x58, -(0.1_f32 * x59)),
+                ),
+        );
         let x74 = <f32 as ::trocar::Real>::mul_add(
-            0.09784339500725571_f32,
-            x66,
+            -0.19866933079506122_f32,
+            x67,
             <f32 as ::trocar::Real>::mul_add(
-                0.9564250858492325_f32,
-                x61,
-                -(0.2750958473182437_f32 * x65),
+                0.9362933635841992_f32,
+                x66,
+                -(0.28962947762551555_f32 * x62),
             ),
         );
         let x75 = <f32 as ::trocar::Real>::mul_add(
-            0.975170327201816_f32,
-            x66,
-            <f32 as ::trocar::Real>::mul_add(
-                0.21835066314633444_f32,
-                x65,
-                -(0.03695701352462508_f32 * x61),
+            0.09784339500725571_f32,
+            x67,
+            -<f32 as ::trocar::Real>::mul_add(
+                0.2750958473182437_f32,
+                x66,
+                0.9564250858492325_f32 * x62,
             ),
         );
         let x76 = <f32 as ::trocar::Real>::mul_add(
-            0.15_f32,
-            x61,
-            <f32 as ::trocar::Real>::mul_add(0.04_f32, t.cos[6], 0.3_f32)
-                + <f32 as ::trocar::Real>::mul_add(0.1_f32, x61, 0.01_f32 * x62),
-        );
-        let x77 = 0.23170358210041245_f32 * t.sin[7];
-        let x78 = <f32 as ::trocar::Real>::mul_add(
-            -0.19866933079506122_f32,
-            x68,
-            <f32 as ::trocar::Real>::mul_add(0.9362933635841992_f32, x67, x77),
-        );
-        let x79 = 0.765140068679386_f32 * t.sin[7];
-        let x80 = <f32 as ::trocar::Real>::mul_add(
-            0.09784339500725571_f32,
-            x68,
-            <f32 as ::trocar::Real>::mul_add(-0.2750958473182437_f32, x67, x79),
-        );
-        let x81 = <f32 as ::trocar::Real>::mul_add(
             0.975170327201816_f32,
-            x68,
+            x67,
             <f32 as ::trocar::Real>::mul_add(
                 0.21835066314633444_f32,
-                x67,
+                x66,
+                0.03695701352462508_f32 * x62,
+            ),
+        );
+        let x77 = <f32 as ::trocar::Real>::mul_add(
+            -0.15_f32,
+            x62,
+            <f32 as ::trocar::Real>::mul_add(0.04_f32, t.cos[6], 0.3_f32)
+                + <f32 as ::trocar::Real>::mul_add(
+                    0.0048000000000000004_f32,
+                    t.sin[6],
+                    -<f32 as ::trocar::Real>::mul_add(0.008_f32, x61, 0.1_f32 * x62),
+                ),
+        );
+        let x78 = 0.23170358210041245_f32 * t.sin[7];
+        let x79 = <f32 as ::trocar::Real>::mul_add(
+            -0.19866933079506122_f32,
+            x69,
+            <f32 as ::trocar::Real>::mul_add(0.9362933635841992_f32, x68, x78),
+        );
+        let x80 = 0.765140068679386_f32 * t.sin[7];
+        let x81 = <f32 as ::trocar::Real>::mul_add(
+            0.09784339500725571_f32,
+            x69,
+            <f32 as ::trocar::Real>::mul_add(-0.2750958473182437_f32, x68, x80),
+        );
+        let x82 = <f32 as ::trocar::Real>::mul_add(
+            0.975170327201816_f32,
+            x69,
+            <f32 as ::trocar::Real>::mul_add(
+                0.21835066314633444_f32,
+                x68,
                 -(0.029565610819700067_f32 * t.sin[7]),
             ),
         );
-        let x82 = <f32 as ::trocar::Real>::mul_add(
+        let x83 = <f32 as ::trocar::Real>::mul_add(
             0.12_f32,
             t.sin[7],
             <f32 as ::trocar::Real>::mul_add(
-                0.08000000000000002_f32,
-                t.sin[7],
-                0.01_f32 * x54,
-            ),
+                0.0064_f32,
+                t.cos[7],
+                0.08000000000000002_f32 * t.sin[7],
+            ) + 0.0036_f32,
         );
-        let x83 = <f32 as ::trocar::Real>::mul_add(
+        let x84 = <f32 as ::trocar::Real>::mul_add(
             t.sin[8],
             <f32 as ::trocar::Real>::mul_add(
                 0.3778998554341936_f32,
@@ -7637,7 +7513,7 @@ pub mod chain9_prismatic {
                 -(0.17377768657530934_f32 * t.sin[7]),
             ),
         );
-        let x84 = <f32 as ::trocar::Real>::mul_add(
+        let x85 = <f32 as ::trocar::Real>::mul_add(
             t.sin[7],
             <f32 as ::trocar::Real>::mul_add(
                 0.6298330923903226_f32,
@@ -7646,8 +7522,8 @@ pub mod chain9_prismatic {
             ),
             0.28962947762551555_f32 * t.cos[7],
         );
-        let x85 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x83, t.cos[6] * x84);
-        let x86 = <f32 as ::trocar::Real>::mul_add(
+        let x86 = <f32 as ::trocar::Real>::mul_add(t.sin[6], x84, t.cos[6] * x85);
+        let x87 = <f32 as ::trocar::Real>::mul_add(
             t.cos[8],
             <f32 as ::trocar::Real>::mul_add(
                 0.14599933463805048_f32,
@@ -7656,25 +7532,25 @@ pub mod chain9_prismatic {
             ),
             0.5738550515095395_f32 * t.sin[7],
         );
-        let x87 = <f32 as ::trocar::Real>::mul_add(
+        let x88 = <f32 as ::trocar::Real>::mul_add(
             t.sin[8],
             <f32 as ::trocar::Real>::mul_add(
                 -0.09682238451014492_f32,
                 t.cos[7],
                 0.19466577951740063_f32,
             ),
-            -x86,
+            -x87,
         );
-        let x88 = 0.16137064085024153_f32 * t.sin[8];
-        let x89 = t.sin[7]
-            * <f32 as ::trocar::Real>::mul_add(0.24333222439675078_f32, t.cos[8], x88);
-        let x90 = 0.9564250858492325_f32 * t.cos[7];
-        let x91 = <f32 as ::trocar::Real>::mul_add(
-            t.sin[6],
-            x87,
-            t.cos[6] * (x90 - x89),
-        );
+        let x89 = 0.16137064085024153_f32 * t.sin[8];
+        let x90 = t.sin[7]
+            * <f32 as ::trocar::Real>::mul_add(0.24333222439675078_f32, t.cos[8], x89);
+        let x91 = 0.9564250858492325_f32 * t.cos[7];
         let x92 = <f32 as ::trocar::Real>::mul_add(
+            t.sin[6],
+            x88,
+            t.cos[6] * (x91 - x90),
+        );
+        let x93 = <f32 as ::trocar::Real>::mul_add(
             t.sin[8],
             <f32 as ::trocar::Real>::mul_add(
                 0.45586963610289427_f32,
@@ -7691,40 +7567,40 @@ pub mod chain9_prismatic {
                 0.022174208114775048_f32 * t.sin[7],
             ),
         );
-        let x93 = 0.7597827268381572_f32 * t.sin[8];
-        let x94 = 0.6491258638736521_f32 * t.cos[8];
-        let x95 = 0.03695701352462508_f32 * t.cos[7];
-        let x96 = <f32 as ::trocar::Real>::mul_add(
+        let x94 = 0.7597827268381572_f32 * t.sin[8];
+        let x95 = 0.6491258638736521_f32 * t.cos[8];
+        let x96 = 0.03695701352462508_f32 * t.cos[7];
+        let x97 = <f32 as ::trocar::Real>::mul_add(
             t.sin[6],
-            x92,
-            t.cos[6] * <f32 as ::trocar::Real>::mul_add(t.sin[7], x93 - x94, -x95),
+            x93,
+            t.cos[6] * <f32 as ::trocar::Real>::mul_add(t.sin[7], x94 - x95, -x96),
         );
-        let x97 = 0.5038664739122581_f32 * p.l_a;
-        let x98 = <f32 as ::trocar::Real>::mul_add(
+        let x98 = 0.5038664739122581_f32 * p.l_a;
+        let x99 = <f32 as ::trocar::Real>::mul_add(
             0.4324268896719411_f32,
             p.l_a,
             -0.12972806690158234_f32,
         );
-        let x99 = 0.5765691862292548_f32 * p.l_a;
-        let x100 = 0.3778998554341936_f32 * p.l_a;
-        let x101 = 0.12909651268019323_f32 * p.l_a;
-        let x102 = 0.14599933463805048_f32 * p.l_a;
-        let x103 = 0.6078261814705257_f32 * p.l_a;
-        let x104 = 0.3894755183241913_f32 * p.l_a;
-        let x105 = 0.5193006910989217_f32 * p.l_a;
-        let x106 = 0.45586963610289427_f32 * p.l_a;
-        let x107 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x83, -(t.sin[6] * x84));
-        let x108 = <f32 as ::trocar::Real>::mul_add(
-            t.cos[6],
-            x87,
-            t.sin[6] * (x89 - x90),
-        );
+        let x100 = 0.5765691862292548_f32 * p.l_a;
+        let x101 = 0.3778998554341936_f32 * p.l_a;
+        let x102 = 0.12909651268019323_f32 * p.l_a;
+        let x103 = 0.14599933463805048_f32 * p.l_a;
+        let x104 = 0.6078261814705257_f32 * p.l_a;
+        let x105 = 0.3894755183241913_f32 * p.l_a;
+        let x106 = 0.5193006910989217_f32 * p.l_a;
+        let x107 = 0.45586963610289427_f32 * p.l_a;
+        let x108 = <f32 as ::trocar::Real>::mul_add(t.cos[6], x84, -(t.sin[6] * x85));
         let x109 = <f32 as ::trocar::Real>::mul_add(
             t.cos[6],
-            x92,
-            t.sin[6] * <f32 as ::trocar::Real>::mul_add(t.sin[7], x94 - x93, x95),
+            x88,
+            t.sin[6] * (x90 - x91),
         );
         let x110 = <f32 as ::trocar::Real>::mul_add(
+            t.cos[6],
+            x93,
+            t.sin[6] * <f32 as ::trocar::Real>::mul_add(t.sin[7], x95 - x94, x96),
+        );
+        let x111 = <f32 as ::trocar::Real>::mul_add(
             0.008648537793438821_f32,
             t.cos[8],
             <f32 as ::trocar::Real>::mul_add(
@@ -7733,16 +7609,16 @@ pub mod chain9_prismatic {
                 0.08688884328765467_f32,
             ),
         );
-        let x111 = 0.007490346908673594_f32 * t.cos[8];
-        let x112 = 0.0015893546463604897_f32 * t.sin[8];
-        let x113 = 0.12902630233994597_f32 * t.sin[8];
-        let x114 = 0.14326369406494216_f32 * t.cos[8];
-        let x115 = <f32 as ::trocar::Real>::mul_add(
+        let x112 = 0.007490346908673594_f32 * t.cos[8];
+        let x113 = 0.0015893546463604897_f32 * t.sin[8];
+        let x114 = 0.12902630233994597_f32 * t.sin[8];
+        let x115 = 0.14326369406494216_f32 * t.cos[8];
+        let x116 = <f32 as ::trocar::Real>::mul_add(
             t.sin[7],
-            0.006951107463012373_f32 + x111 - x112,
+            0.006951107463012373_f32 + x112 - x113,
             <f32 as ::trocar::Real>::mul_add(
                 t.cos[7],
-                0.0013902214926024747_f32 + x113 - x114,
+                0.0013902214926024747_f32 + x114 - x115,
                 -<f32 as ::trocar::Real>::mul_add(
                     0.1282613813744756_f32,
                     t.cos[8],
@@ -7754,18 +7630,18 @@ pub mod chain9_prismatic {
                 ),
             ),
         );
-        let x116 = 0.0019364476902028983_f32 * t.sin[8];
-        let x117 = 0.00291998669276101_f32 * t.cos[8];
-        let x118 = 0.0007827471600580457_f32 * t.sin[8];
-        let x119 = 0.0022007667785459493_f32 * t.cos[8];
-        let x120 = 0.03811410155557032_f32 * t.cos[8];
-        let x121 = 0.04479354949894437_f32 * t.sin[8];
-        let x122 = <f32 as ::trocar::Real>::mul_add(
+        let x117 = 0.0019364476902028983_f32 * t.sin[8];
+        let x118 = 0.00291998669276101_f32 * t.cos[8];
+        let x119 = 0.0007827471600580457_f32 * t.sin[8];
+        let x120 = 0.0022007667785459493_f32 * t.cos[8];
+        let x121 = 0.03811410155557032_f32 * t.cos[8];
+        let x122 = 0.04479354949894437_f32 * t.sin[8];
+        let x123 = <f32 as ::trocar::Real>::mul_add(
             t.sin[7],
-            0.022954202060381578_f32 + x118 - x119,
+            0.022954202060381578_f32 + x119 - x120,
             <f32 as ::trocar::Real>::mul_add(
                 t.cos[7],
-                0.004590840412076316_f32 + x120 - x121,
+                0.004590840412076316_f32 + x121 - x122,
                 <f32 as ::trocar::Real>::mul_add(
                     0.016418964946840205_f32,
                     t.sin[8],
@@ -7773,11 +7649,11 @@ pub mod chain9_prismatic {
                 ) - 0.004590840412076316_f32,
             ),
         );
-        let x123 = 0.009117392722057886_f32 * t.sin[8];
-        let x124 = 0.007789510366483825_f32 * t.cos[8];
-        let x125 = 0.007801362617614528_f32 * t.sin[8];
-        let x126 = 0.0017468053051706756_f32 * t.cos[8];
-        let x127 = <f32 as ::trocar::Real>::mul_add(
+        let x124 = 0.009117392722057886_f32 * t.sin[8];
+        let x125 = 0.007789510366483825_f32 * t.cos[8];
+        let x126 = 0.007801362617614528_f32 * t.sin[8];
+        let x127 = 0.0017468053051706756_f32 * t.cos[8];
+        let x128 = <f32 as ::trocar::Real>::mul_add(
             0.13637752463466377_f32,
             t.cos[8],
             <f32 as ::trocar::Real>::mul_add(
@@ -7786,12 +7662,12 @@ pub mod chain9_prismatic {
                 0.0001773936649182004_f32,
             ),
         );
-        let x128 = <f32 as ::trocar::Real>::mul_add(
+        let x129 = <f32 as ::trocar::Real>::mul_add(
             t.sin[7],
-            x125 + x126 - 0.0008869683245910019_f32,
+            x126 + x127 - 0.0008869683245910019_f32,
             <f32 as ::trocar::Real>::mul_add(
                 -t.cos[7],
-                x127,
+                x128,
                 <f32 as ::trocar::Real>::mul_add(
                     -0.13473943666968044_f32,
                     t.sin[8],
@@ -7803,51 +7679,51 @@ pub mod chain9_prismatic {
                 ),
             ),
         );
-        let x129 = t.sin[8]
+        let x130 = t.sin[8]
             * <f32 as ::trocar::Real>::mul_add(
                 0.5038664739122581_f32,
                 t.cos[7],
                 0.4324268896719411_f32,
             );
-        let x130 = 0.5765691862292548_f32 * t.cos[7];
-        let x131 = <f32 as ::trocar::Real>::mul_add(
+        let x131 = 0.5765691862292548_f32 * t.cos[7];
+        let x132 = <f32 as ::trocar::Real>::mul_add(
             t.cos[8],
-            0.3778998554341936_f32 - x130,
-            x77,
-        ) - x129;
-        let x132 = t.sin[8]
+            0.3778998554341936_f32 - x131,
+            x78,
+        ) - x130;
+        let x133 = t.sin[8]
             * <f32 as ::trocar::Real>::mul_add(
                 0.12909651268019323_f32,
                 t.cos[7],
                 0.14599933463805048_f32,
             );
-        let x133 = 0.19466577951740063_f32 * t.cos[7];
-        let x134 = x132
+        let x134 = 0.19466577951740063_f32 * t.cos[7];
+        let x135 = x133
             + <f32 as ::trocar::Real>::mul_add(
                 t.cos[8],
-                x133 - 0.09682238451014492_f32,
-                x79,
+                x134 - 0.09682238451014492_f32,
+                x80,
             );
-        let x135 = 0.6078261814705257_f32 * t.cos[7];
-        let x136 = t.cos[8]
+        let x136 = 0.6078261814705257_f32 * t.cos[7];
+        let x137 = t.cos[8]
             * <f32 as ::trocar::Real>::mul_add(
                 0.5193006910989217_f32,
                 t.cos[7],
                 0.45586963610289427_f32,
             );
-        let x137 = 0.029565610819700064_f32 * t.sin[7];
-        let x138 = <f32 as ::trocar::Real>::mul_add(
+        let x138 = 0.029565610819700064_f32 * t.sin[7];
+        let x139 = <f32 as ::trocar::Real>::mul_add(
             t.sin[8],
-            0.3894755183241913_f32 - x135,
-            x136 - x137,
+            0.3894755183241913_f32 - x136,
+            x137 - x138,
         );
-        let x139 = <f32 as ::trocar::Real>::ONE
+        let x140 = <f32 as ::trocar::Real>::ONE
             / <f32 as ::trocar::Real>::mul_add(
                 p.l_a,
                 p.l_a,
                 <f32 as ::trocar::Real>::ONE,
             );
-        let x140 = <f32 as ::trocar::Real>::mul_add(
+        let x141 = <f32 as ::trocar::Real>::mul_add(
             t.sin[7],
             <f32 as ::trocar::Real>::mul_add(
                 -0.005617760181505195_f32,
@@ -7880,11 +7756,11 @@ pub mod chain9_prismatic {
                 ),
             ),
         );
-        let x141 = 0.18017787069664212_f32 * t.sin[8];
-        let x142 = 0.15745827309758065_f32 * t.cos[8];
-        let x143 = 0.0019866933079506124_f32 * t.sin[8];
-        let x144 = 0.009362933635841992_f32 * t.cos[8];
-        let x145 = <f32 as ::trocar::Real>::mul_add(
+        let x142 = 0.18017787069664212_f32 * t.sin[8];
+        let x143 = 0.15745827309758065_f32 * t.cos[8];
+        let x144 = 0.0019866933079506124_f32 * t.sin[8];
+        let x145 = 0.009362933635841992_f32 * t.cos[8];
+        let x146 = <f32 as ::trocar::Real>::mul_add(
             t.sin[7],
             <f32 as ::trocar::Real>::mul_add(
                 -0.0005870603700435343_f32,
@@ -7913,10 +7789,10 @@ pub mod chain9_prismatic {
                 ) - 0.006121120549435088_f32,
             ),
         );
-        let x146 = 0.04034266021256038_f32 * t.cos[8];
-        let x147 = 0.060833056099187696_f32 * t.sin[8];
-        let x148 = 0.0009784339500725572_f32 * t.sin[8];
-        let x149 = <f32 as ::trocar::Real>::mul_add(
+        let x147 = 0.04034266021256038_f32 * t.cos[8];
+        let x148 = 0.060833056099187696_f32 * t.sin[8];
+        let x149 = 0.0009784339500725572_f32 * t.sin[8];
+        let x150 = <f32 as ::trocar::Real>::mul_add(
             -t.sin[7],
             <f32 as ::trocar::Real>::mul_add(
                 0.0013101039788780064_f32,
@@ -7949,7 +7825,7 @@ pub mod chain9_prismatic {
                 ),
             ),
         );
-        let x150 = <f32 as ::trocar::Real>::mul_add(
+        let x151 = <f32 as ::trocar::Real>::mul_add(
             t.sin[7],
             <f32 as ::trocar::Real>::mul_add(
                 0.1899456817095393_f32,
@@ -7972,123 +7848,107 @@ pub mod chain9_prismatic {
                 [
                     [
                         <f32 as ::trocar::Real>::mul_add(
-                            x46,
-                            x78,
-                            <f32 as ::trocar::Real>::mul_add(x44, x69, x45 * x73),
-                        ),
-                        <f32 as ::trocar::Real>::mul_add(
                             x49,
-                            x78,
-                            <f32 as ::trocar::Real>::mul_add(x47, x69, x48 * x73),
+                            x79,
+                            <f32 as ::trocar::Real>::mul_add(x47, x70, -(x48 * x74)),
                         ),
                         <f32 as ::trocar::Real>::mul_add(
-                            x43,
-                            x78,
-                            <f32 as ::trocar::Real>::mul_add(x41, x69, x42 * x73),
+                            x52,
+                            x79,
+                            <f32 as ::trocar::Real>::mul_add(x50, x70, x51 * x74),
                         ),
-                    ],
-                    [
                         <f32 as ::trocar::Real>::mul_add(
                             x46,
-                            x80,
+                            x79,
                             <f32 as ::trocar::Real>::mul_add(x44, x70, x45 * x74),
                         ),
-                        <f32 as ::trocar::Real>::mul_add(
-                            x49,
-                            x80,
-                            <f32 as ::trocar::Real>::mul_add(x47, x70, x48 * x74),
-                        ),
-                        <f32 as ::trocar::Real>::mul_add(
-                            x43,
-                            x80,
-                            <f32 as ::trocar::Real>::mul_add(x41, x70, x42 * x74),
-                        ),
                     ],
                     [
+                        <f32 as ::trocar::Real>::mul_add(
+                            x49,
+                            x81,
+                            <f32 as ::trocar::Real>::mul_add(x47, x71, -(x48 * x75)),
+                        ),
+                        <f32 as ::trocar::Real>::mul_add(
+                            x52,
+                            x81,
+                            <f32 as ::trocar::Real>::mul_add(x50, x71, x51 * x75),
+                        ),
                         <f32 as ::trocar::Real>::mul_add(
                             x46,
                             x81,
                             <f32 as ::trocar::Real>::mul_add(x44, x71, x45 * x75),
                         ),
+                    ],
+                    [
                         <f32 as ::trocar::Real>::mul_add(
                             x49,
-                            x81,
-                            <f32 as ::trocar::Real>::mul_add(x47, x71, x48 * x75),
+                            x82,
+                            <f32 as ::trocar::Real>::mul_add(x47, x72, -(x48 * x76)),
                         ),
                         <f32 as ::trocar::Real>::mul_add(
-                            x43,
-                            x81,
-                            <f32 as ::trocar::Real>::mul_add(x41, x71, x42 * x75),
+                            x52,
+                            x82,
+                            <f32 as ::trocar::Real>::mul_add(x50, x72, x51 * x76),
                         ),
-                    ],
-                ],
-                [
-                    <f32 as ::trocar::Real>::mul_add(t.cos[0], x36, -(t.sin[0] * x40))
-                        + <f32 as ::trocar::Real>::mul_add(
+                        <f32 as ::trocar::Real>::mul_add(
                             x46,
                             x82,
                             <f32 as ::trocar::Real>::mul_add(x44, x72, x45 * x76),
                         ),
-                    <f32 as ::trocar::Real>::mul_add(t.sin[0], x36, t.cos[0] * x40)
+                    ],
+                ],
+                [
+                    <f32 as ::trocar::Real>::mul_add(t.cos[0], x39, -(t.sin[0] * x43))
                         + <f32 as ::trocar::Real>::mul_add(
                             x49,
-                            x82,
-                            <f32 as ::trocar::Real>::mul_add(x47, x72, x48 * x76),
+                            x83,
+                            <f32 as ::trocar::Real>::mul_add(x47, x73, -(x48 * x77)),
+                        ),
+                    <f32 as ::trocar::Real>::mul_add(t.sin[0], x39, t.cos[0] * x43)
+                        + <f32 as ::trocar::Real>::mul_add(
+                            x52,
+                            x83,
+                            <f32 as ::trocar::Real>::mul_add(x50, x73, x51 * x77),
                         ),
                     p.d_1
-                        + (0.1_f32 + <f32 as ::trocar::Real>::mul_add(x1, x31, x0 * x35))
+                        + (0.1_f32 + <f32 as ::trocar::Real>::mul_add(x1, x34, x0 * x38))
                         + <f32 as ::trocar::Real>::mul_add(
-                            x43,
-                            x82,
-                            <f32 as ::trocar::Real>::mul_add(x41, x72, x42 * x76),
+                            x46,
+                            x83,
+                            <f32 as ::trocar::Real>::mul_add(x44, x73, x45 * x77),
                         ),
                 ],
             ),
             [
                 [
-                    <f32 as ::trocar::Real>::mul_add(x36, x37, -(x25 * x40)),
-                    <f32 as ::trocar::Real>::mul_add(x36, x38, -(x26 * x40)),
-                    <f32 as ::trocar::Real>::mul_add(x36, x39, -(x27 * x40)),
-                    x41,
-                    x42,
-                    x43,
+                    <f32 as ::trocar::Real>::mul_add(x39, x40, -(x28 * x43)),
+                    <f32 as ::trocar::Real>::mul_add(x29, x43, x39 * x41),
+                    <f32 as ::trocar::Real>::mul_add(x39, x42, -(x30 * x43)),
+                    x44,
+                    x45,
+                    x46,
                 ],
                 [
-                    <f32 as ::trocar::Real>::mul_add(x31, x32, -(x28 * x35)),
-                    <f32 as ::trocar::Real>::mul_add(x31, x33, -(x29 * x35)),
-                    <f32 as ::trocar::Real>::mul_add(x31, x34, -(x30 * x35)),
+                    <f32 as ::trocar::Real>::mul_add(x34, x35, -(x31 * x38)),
+                    <f32 as ::trocar::Real>::mul_add(x34, x36, -(x32 * x38)),
+                    <f32 as ::trocar::Real>::mul_add(x34, x37, -(x33 * x38)),
+                    x28,
+                    -x29,
+                    x30,
+                ],
+                [
+                    -<f32 as ::trocar::Real>::mul_add(x19, x23, x11 * x22),
+                    <f32 as ::trocar::Real>::mul_add(x6, x22, -(x20 * x23)),
+                    -<f32 as ::trocar::Real>::mul_add(x21, x23, x12 * x22),
+                    x24,
                     x25,
                     x26,
-                    x27,
                 ],
                 [
-                    <f32 as ::trocar::Real>::mul_add(
-                        -x17,
-                        x24,
-                        <f32 as ::trocar::Real>::mul_add(x13, x22, x15 * x23),
-                    ),
-                    <f32 as ::trocar::Real>::mul_add(
-                        -x11,
-                        x24,
-                        <f32 as ::trocar::Real>::mul_add(x9, x23, -(x7 * x22)),
-                    ),
-                    <f32 as ::trocar::Real>::mul_add(
-                        -x18,
-                        x24,
-                        <f32 as ::trocar::Real>::mul_add(x14, x22, x16 * x23),
-                    ),
-                    <f32 as ::trocar::Real>::mul_add(0.6_f32, x15, 0.8_f32 * x17),
-                    <f32 as ::trocar::Real>::mul_add(
-                        0.6_f32,
-                        x9,
-                        0.7368487952023082_f32 * t.sin[4],
-                    ),
-                    <f32 as ::trocar::Real>::mul_add(0.6_f32, x16, 0.8_f32 * x18),
-                ],
-                [
-                    x15,
-                    x9,
-                    x16,
+                    x13,
+                    x8,
+                    x14,
                     <f32 as ::trocar::Real>::ZERO,
                     <f32 as ::trocar::Real>::ZERO,
                     <f32 as ::trocar::Real>::ZERO,
@@ -8112,9 +7972,9 @@ pub mod chain9_prismatic {
             ],
             [
                 [
-                    x85,
-                    x91,
-                    x96,
+                    x86,
+                    x92,
+                    x97,
                     <f32 as ::trocar::Real>::ZERO,
                     <f32 as ::trocar::Real>::ZERO,
                     <f32 as ::trocar::Real>::ZERO,
@@ -8130,7 +7990,7 @@ pub mod chain9_prismatic {
                                 <f32 as ::trocar::Real>::mul_add(
                                     0.0019866933079506124_f32,
                                     t.sin[6],
-                                    x97,
+                                    x98,
                                 ) - 0.15115994217367743_f32,
                             ),
                             <f32 as ::trocar::Real>::mul_add(
@@ -8143,7 +8003,7 @@ pub mod chain9_prismatic {
                                 <f32 as ::trocar::Real>::mul_add(
                                     -0.14326369406494216_f32,
                                     t.cos[6],
-                                    x98,
+                                    x99,
                                 ),
                             ),
                         ),
@@ -8157,7 +8017,7 @@ pub mod chain9_prismatic {
                                     <f32 as ::trocar::Real>::mul_add(
                                         0.07141219640937821_f32,
                                         t.cos[6],
-                                        x99,
+                                        x100,
                                     ) - 0.17297075586877644_f32,
                                 ),
                                 <f32 as ::trocar::Real>::mul_add(
@@ -8171,7 +8031,7 @@ pub mod chain9_prismatic {
                                         -0.12902630233994597_f32,
                                         t.cos[6],
                                         0.11336995663025808_f32,
-                                    ) - x100,
+                                    ) - x101,
                                 ),
                             ),
                             <f32 as ::trocar::Real>::mul_add(
@@ -8210,7 +8070,7 @@ pub mod chain9_prismatic {
                                     t.cos[6],
                                     0.03872895380405797_f32,
                                 ),
-                            ) - x101,
+                            ) - x102,
                             <f32 as ::trocar::Real>::mul_add(
                                 -t.sin[7],
                                 <f32 as ::trocar::Real>::mul_add(
@@ -8222,7 +8082,7 @@ pub mod chain9_prismatic {
                                     0.03811410155557032_f32,
                                     t.cos[6],
                                     0.04379980039141514_f32,
-                                ) - x102,
+                                ) - x103,
                             ),
                         ),
                         <f32 as ::trocar::Real>::mul_add(
@@ -8290,7 +8150,7 @@ pub mod chain9_prismatic {
                                 <f32 as ::trocar::Real>::mul_add(
                                     0.07305583232222679_f32,
                                     t.cos[6],
-                                    x103,
+                                    x104,
                                 ) - 0.18234785444115773_f32,
                             ),
                             <f32 as ::trocar::Real>::mul_add(
@@ -8304,7 +8164,7 @@ pub mod chain9_prismatic {
                                     -0.13637752463466377_f32,
                                     t.cos[6],
                                     0.11684265549725738_f32,
-                                ) - x104,
+                                ) - x105,
                             ),
                         ),
                         <f32 as ::trocar::Real>::mul_add(
@@ -8319,7 +8179,7 @@ pub mod chain9_prismatic {
                                         t.cos[6],
                                         0.15579020732967652_f32,
                                     ),
-                                ) - x105,
+                                ) - x106,
                                 <f32 as ::trocar::Real>::mul_add(
                                     -t.sin[7],
                                     <f32 as ::trocar::Real>::mul_add(
@@ -8331,7 +8191,7 @@ pub mod chain9_prismatic {
                                         0.1480599582188462_f32,
                                         t.cos[6],
                                         0.1367608908308683_f32,
-                                    ) - x106,
+                                    ) - x107,
                                 ),
                             ),
                             <f32 as ::trocar::Real>::mul_add(
@@ -8358,9 +8218,9 @@ pub mod chain9_prismatic {
                             ),
                         ),
                     ),
-                    x107,
                     x108,
                     x109,
+                    x110,
                 ],
                 [
                     <f32 as ::trocar::Real>::mul_add(
@@ -8369,22 +8229,22 @@ pub mod chain9_prismatic {
                             t.sin[8],
                             <f32 as ::trocar::Real>::mul_add(
                                 t.cos[7],
-                                x100 - 0.11336995663025808_f32,
+                                x101 - 0.11336995663025808_f32,
                                 <f32 as ::trocar::Real>::mul_add(
                                     0.012596661847806452_f32,
                                     t.sin[7],
                                     0.17297075586877644_f32,
-                                ) - x99,
+                                ) - x100,
                             ),
                             <f32 as ::trocar::Real>::mul_add(
                                 t.cos[8],
                                 <f32 as ::trocar::Real>::mul_add(
                                     t.cos[7],
-                                    x98,
+                                    x99,
                                     <f32 as ::trocar::Real>::mul_add(
                                         0.01441422965573137_f32,
                                         t.sin[7],
-                                        x97,
+                                        x98,
                                     ) - 0.15115994217367743_f32,
                                 ),
                                 <f32 as ::trocar::Real>::mul_add(
@@ -8424,7 +8284,7 @@ pub mod chain9_prismatic {
                                     <f32 as ::trocar::Real>::mul_add(
                                         -0.28962947762551555_f32,
                                         p.l_a,
-                                        x110,
+                                        x111,
                                     ),
                                     <f32 as ::trocar::Real>::mul_add(
                                         0.010077329478245162_f32,
@@ -8433,7 +8293,7 @@ pub mod chain9_prismatic {
                                     ),
                                 ),
                             ),
-                            x115,
+                            x116,
                         ),
                     ),
                     <f32 as ::trocar::Real>::mul_add(
@@ -8461,12 +8321,12 @@ pub mod chain9_prismatic {
                                 t.cos[8],
                                 <f32 as ::trocar::Real>::mul_add(
                                     t.cos[7],
-                                    0.04379980039141514_f32 - x102,
+                                    0.04379980039141514_f32 - x103,
                                     <f32 as ::trocar::Real>::mul_add(
                                         -0.004866644487935016_f32,
                                         t.sin[7],
                                         0.03872895380405797_f32,
-                                    ) - x101,
+                                    ) - x102,
                                 ),
                                 <f32 as ::trocar::Real>::mul_add(
                                     t.sin[7],
@@ -8505,7 +8365,7 @@ pub mod chain9_prismatic {
                                     <f32 as ::trocar::Real>::mul_add(
                                         -0.9564250858492326_f32,
                                         p.l_a,
-                                        0.28692752575476976_f32 - x116 - x117,
+                                        0.28692752575476976_f32 - x117 - x118,
                                     ),
                                     <f32 as ::trocar::Real>::mul_add(
                                         0.0038933155903480123_f32,
@@ -8514,7 +8374,7 @@ pub mod chain9_prismatic {
                                     ),
                                 ),
                             ),
-                            x122,
+                            x123,
                         ),
                     ),
                     <f32 as ::trocar::Real>::mul_add(
@@ -8523,22 +8383,22 @@ pub mod chain9_prismatic {
                             t.sin[8],
                             <f32 as ::trocar::Real>::mul_add(
                                 t.cos[7],
-                                x106 - 0.1367608908308683_f32,
+                                x107 - 0.1367608908308683_f32,
                                 <f32 as ::trocar::Real>::mul_add(
                                     0.015195654536763144_f32,
                                     t.sin[7],
-                                    x105,
+                                    x106,
                                 ) - 0.15579020732967652_f32,
                             ),
                             <f32 as ::trocar::Real>::mul_add(
                                 t.cos[8],
                                 <f32 as ::trocar::Real>::mul_add(
                                     t.cos[7],
-                                    0.11684265549725738_f32 - x104,
+                                    0.11684265549725738_f32 - x105,
                                     <f32 as ::trocar::Real>::mul_add(
                                         -0.012982517277473044_f32,
                                         t.sin[7],
-                                        x103 - 0.18234785444115773_f32,
+                                        x104 - 0.18234785444115773_f32,
                                     ),
                                 ),
                                 <f32 as ::trocar::Real>::mul_add(
@@ -8578,8 +8438,8 @@ pub mod chain9_prismatic {
                                     <f32 as ::trocar::Real>::mul_add(
                                         0.03695701352462508_f32,
                                         p.l_a,
-                                        x123,
-                                    ) - 0.011087104057387524_f32 - x124,
+                                        x124,
+                                    ) - 0.011087104057387524_f32 - x125,
                                     <f32 as ::trocar::Real>::mul_add(
                                         0.010386013821978434_f32,
                                         t.sin[8],
@@ -8587,14 +8447,14 @@ pub mod chain9_prismatic {
                                     ),
                                 ),
                             ),
-                            x128,
+                            x129,
                         ),
                     ),
-                    x131,
-                    x134,
-                    x138,
+                    x132,
+                    x135,
+                    x139,
                 ],
-                [x115, x122, x128, x131, x134, x138],
+                [x116, x123, x129, x132, x135, x139],
                 [
                     -<f32 as ::trocar::Real>::mul_add(
                         0.18017787069664212_f32,
@@ -8646,7 +8506,7 @@ pub mod chain9_prismatic {
             ],
             [
                 [
-                    x139
+                    x140
                         * <f32 as ::trocar::Real>::mul_add(
                             p.l_a,
                             <f32 as ::trocar::Real>::mul_add(
@@ -8673,14 +8533,14 @@ pub mod chain9_prismatic {
                                                 0.052133305972592796_f32,
                                             ),
                                         ),
-                                        x112 - 0.006951107463012373_f32 - x111,
+                                        x113 - 0.006951107463012373_f32 - x112,
                                     ),
                                 ),
                                 <f32 as ::trocar::Real>::mul_add(
                                     t.cos[7],
                                     <f32 as ::trocar::Real>::mul_add(
                                         -t.sin[6],
-                                        x110,
+                                        x111,
                                         <f32 as ::trocar::Real>::mul_add(
                                             t.cos[6],
                                             <f32 as ::trocar::Real>::mul_add(
@@ -8688,7 +8548,7 @@ pub mod chain9_prismatic {
                                                 t.sin[8],
                                                 0.12972806690158234_f32 * t.cos[8],
                                             ) - 0.005792589552510311_f32,
-                                            x114 - 0.0013902214926024747_f32 - x113,
+                                            x115 - 0.0013902214926024747_f32 - x114,
                                         ),
                                     ),
                                     <f32 as ::trocar::Real>::mul_add(
@@ -8718,9 +8578,9 @@ pub mod chain9_prismatic {
                                     ),
                                 ),
                             ),
-                            x107,
+                            x108,
                         ),
-                    x139
+                    x140
                         * <f32 as ::trocar::Real>::mul_add(
                             p.l_a,
                             <f32 as ::trocar::Real>::mul_add(
@@ -8743,14 +8603,14 @@ pub mod chain9_prismatic {
                                             t.sin[8],
                                             0.004866644487935016_f32 * t.cos[8],
                                         ) - 0.17215651545286184_f32,
-                                        x119 - 0.022954202060381578_f32 - x118,
+                                        x120 - 0.022954202060381578_f32 - x119,
                                     ),
                                 ),
                                 <f32 as ::trocar::Real>::mul_add(
                                     t.cos[7],
                                     <f32 as ::trocar::Real>::mul_add(
                                         t.sin[6],
-                                        x116 + x117 - 0.28692752575476976_f32,
+                                        x117 + x118 - 0.28692752575476976_f32,
                                         <f32 as ::trocar::Real>::mul_add(
                                             -t.cos[6],
                                             <f32 as ::trocar::Real>::mul_add(
@@ -8762,7 +8622,7 @@ pub mod chain9_prismatic {
                                                     0.01912850171698465_f32,
                                                 ),
                                             ),
-                                            x121 - 0.004590840412076316_f32 - x120,
+                                            x122 - 0.004590840412076316_f32 - x121,
                                         ),
                                     ),
                                     <f32 as ::trocar::Real>::mul_add(
@@ -8801,7 +8661,7 @@ pub mod chain9_prismatic {
                                         t.cos[7],
                                         0.1946657795174006_f32,
                                     ),
-                                    -x86,
+                                    -x87,
                                 ),
                                 t.sin[6]
                                     * <f32 as ::trocar::Real>::mul_add(
@@ -8809,13 +8669,13 @@ pub mod chain9_prismatic {
                                         <f32 as ::trocar::Real>::mul_add(
                                             0.2433322243967508_f32,
                                             t.cos[8],
-                                            x88,
+                                            x89,
                                         ),
                                         -(0.9564250858492326_f32 * t.cos[7]),
                                     ),
                             ),
                         ),
-                    x139
+                    x140
                         * <f32 as ::trocar::Real>::mul_add(
                             p.l_a,
                             <f32 as ::trocar::Real>::mul_add(
@@ -8842,14 +8702,14 @@ pub mod chain9_prismatic {
                                                 0.006652262434432514_f32,
                                             ),
                                         ),
-                                        0.0008869683245910019_f32 - x125 - x126,
+                                        0.0008869683245910019_f32 - x126 - x127,
                                     ),
                                 ),
                                 <f32 as ::trocar::Real>::mul_add(
                                     t.cos[7],
                                     <f32 as ::trocar::Real>::mul_add(
                                         t.sin[6],
-                                        0.011087104057387524_f32 + x124 - x123,
+                                        0.011087104057387524_f32 + x125 - x124,
                                         <f32 as ::trocar::Real>::mul_add(
                                             t.cos[6],
                                             <f32 as ::trocar::Real>::mul_add(
@@ -8861,7 +8721,7 @@ pub mod chain9_prismatic {
                                                     0.0007391402704925016_f32,
                                                 ),
                                             ),
-                                            x127,
+                                            x128,
                                         ),
                                     ),
                                     <f32 as ::trocar::Real>::mul_add(
@@ -8891,44 +8751,44 @@ pub mod chain9_prismatic {
                                     ),
                                 ),
                             ),
-                            x109,
+                            x110,
                         ),
                     p.l_a
-                        * (x139
-                            * (x129
+                        * (x140
+                            * (x130
                                 + <f32 as ::trocar::Real>::mul_add(
                                     t.cos[8],
-                                    x130 - 0.3778998554341936_f32,
-                                    -x77,
+                                    x131 - 0.3778998554341936_f32,
+                                    -x78,
                                 ))),
                     p.l_a
-                        * (x139
+                        * (x140
                             * (<f32 as ::trocar::Real>::mul_add(
                                 t.cos[8],
-                                0.09682238451014492_f32 - x133,
-                                -x79,
-                            ) - x132)),
+                                0.09682238451014492_f32 - x134,
+                                -x80,
+                            ) - x133)),
                     p.l_a
-                        * (x139
+                        * (x140
                             * <f32 as ::trocar::Real>::mul_add(
                                 t.sin[8],
-                                x135 - 0.3894755183241913_f32,
-                                x137 - x136,
+                                x136 - 0.3894755183241913_f32,
+                                x138 - x137,
                             )),
                 ],
                 [
-                    x139
+                    x140
                         * <f32 as ::trocar::Real>::mul_add(
                             p.l_a,
                             <f32 as ::trocar::Real>::mul_add(
                                 t.cos[6],
-                                x140,
+                                x141,
                                 <f32 as ::trocar::Real>::mul_add(
                                     t.sin[6],
                                     <f32 as ::trocar::Real>::mul_add(
                                         t.sin[7],
-                                        0.0017377768657530933_f32 + x141 - x142,
-                                        t.cos[7] * (x143 - x144),
+                                        0.0017377768657530933_f32 + x142 - x143,
+                                        t.cos[7] * (x144 - x145),
                                     ),
                                     <f32 as ::trocar::Real>::mul_add(
                                         -t.sin[8],
@@ -8949,24 +8809,24 @@ pub mod chain9_prismatic {
                                     ),
                                 ),
                             ),
-                            x131,
+                            x132,
                         ),
-                    x139
+                    x140
                         * <f32 as ::trocar::Real>::mul_add(
                             p.l_a,
                             <f32 as ::trocar::Real>::mul_add(
                                 t.cos[6],
-                                x145,
+                                x146,
                                 <f32 as ::trocar::Real>::mul_add(
                                     t.sin[6],
                                     <f32 as ::trocar::Real>::mul_add(
                                         t.sin[7],
-                                        0.005738550515095395_f32 + x146 - x147,
+                                        0.005738550515095395_f32 + x147 - x148,
                                         t.cos[7]
                                             * <f32 as ::trocar::Real>::mul_add(
                                                 0.002750958473182437_f32,
                                                 t.cos[8],
-                                                -x148,
+                                                -x149,
                                             ),
                                     ),
                                     <f32 as ::trocar::Real>::mul_add(
@@ -8988,17 +8848,17 @@ pub mod chain9_prismatic {
                                     ),
                                 ),
                             ),
-                            x134,
+                            x135,
                         ),
-                    x139
+                    x140
                         * <f32 as ::trocar::Real>::mul_add(
                             p.l_a,
                             <f32 as ::trocar::Real>::mul_add(
                                 t.cos[6],
-                                x149,
+                                x150,
                                 <f32 as ::trocar::Real>::mul_add(
                                     -t.sin[6],
-                                    x150,
+                                    x151,
                                     <f32 as ::trocar::Real>::mul_add(
                                         t.sin[8],
                                         <f32 as ::trocar::Real>::mul_add(
@@ -9018,22 +8878,22 @@ pub mod chain9_prismatic {
                                     ),
                                 ),
                             ),
-                            x138,
+                            x139,
                         ),
-                    p.l_a * (x107 * x139),
-                    p.l_a * (x108 * x139),
-                    p.l_a * (x109 * x139),
+                    p.l_a * (x108 * x140),
+                    p.l_a * (x109 * x140),
+                    p.l_a * (x110 * x140),
                 ],
                 [
                     <f32 as ::trocar::Real>::mul_add(
                         t.sin[6],
-                        x140,
+                        x141,
                         <f32 as ::trocar::Real>::mul_add(
                             t.cos[6],
                             <f32 as ::trocar::Real>::mul_add(
                                 t.sin[7],
-                                x142 - 0.0017377768657530933_f32 - x141,
-                                t.cos[7] * (x144 - x143),
+                                x143 - 0.0017377768657530933_f32 - x142,
+                                t.cos[7] * (x145 - x144),
                             ),
                             <f32 as ::trocar::Real>::mul_add(
                                 t.sin[8],
@@ -9056,17 +8916,17 @@ pub mod chain9_prismatic {
                     ),
                     <f32 as ::trocar::Real>::mul_add(
                         t.sin[6],
-                        x145,
+                        x146,
                         <f32 as ::trocar::Real>::mul_add(
                             t.cos[6],
                             <f32 as ::trocar::Real>::mul_add(
                                 t.sin[7],
-                                x147 - 0.005738550515095395_f32 - x146,
+                                x148 - 0.005738550515095395_f32 - x147,
                                 t.cos[7]
                                     * <f32 as ::trocar::Real>::mul_add(
                                         -0.0027509584731824368_f32,
                                         t.cos[8],
-                                        x148,
+                                        x149,
                                     ),
                             ),
                             <f32 as ::trocar::Real>::mul_add(
@@ -9090,10 +8950,10 @@ pub mod chain9_prismatic {
                     ),
                     <f32 as ::trocar::Real>::mul_add(
                         t.sin[6],
-                        x149,
+                        x150,
                         <f32 as ::trocar::Real>::mul_add(
                             t.cos[6],
-                            x150,
+                            x151,
                             <f32 as ::trocar::Real>::mul_add(
                                 t.sin[8],
                                 <f32 as ::trocar::Real>::mul_add(
@@ -9114,9 +8974,9 @@ pub mod chain9_prismatic {
                             ),
                         ),
                     ),
-                    x85,
-                    x91,
-                    x96,
+                    x86,
+                    x92,
+                    x97,
                 ],
             ],
         )
