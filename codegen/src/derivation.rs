@@ -11,6 +11,7 @@
 //!    `T'_k = A_{k−1}⁻¹ · origin_k · A_k · R_z(q_k)` ([`Derivation::frame_turns`]). A product that
 //!    ends at a link frame (`g_0i`, `J^B_0i`, the end effector's `g_ne`) turns back by `A⁻¹` there,
 //!    one that starts at one (`g_ie`) by `A`, so every result is in the description's frames.
+//!    Prismatic joints and joints given as a twist keep their frames.
 //! 2. Forward kinematics `g_0e = T_1 ⋯ T_n · g_ne` and `g_0i = T_1 ⋯ T_i` (2.21).
 //! 3. Body Jacobians (2.53)–(2.55), (3.13): column `k` is `Ad_{g_ke}⁻¹ ξ_k`; `J^B_0i` is the same
 //!    for the chain cut at `F_i`, `J^B_0e2` the columns `j..n` of `J^B_0e`.
@@ -34,8 +35,9 @@
 //! grows linearly with the joints. Coefficients are exact while short and floating beyond
 //! (rule "float stays float" of [`crate::symbolic::number`]): the thesis's robots are derived
 //! exactly and canonically, a calibrated robot's float geometry in `f64` precision. The
-//! per-joint transforms are kept as well ([`Derivation::joint_transforms`]) so an emitter may
-//! evaluate forward kinematics as a product instead of the expanded form.
+//! per-joint transforms are kept as well ([`Derivation::joint_transforms`], in the turned frames
+//! of step 1) so an emitter may evaluate forward kinematics as a product instead of the expanded
+//! form.
 //!
 //! # For an emitter
 //! Walk [`Matrix::entries`] (row-major) and [`Poly::terms`]: each term is a [`Rational`]
@@ -231,21 +233,23 @@ pub struct Derivation {
     pub joint_is_linear: Vec<bool>,
     /// `ξ_k` in `F'_k` (`F_k` turned by [`Derivation::frame_turns`]), `6 × 1` each.
     pub twists: Vec<Matrix>,
-    /// `T'_k = A_{k−1}⁻¹ · origin_k · A_k · exp(ξ̂_k q_k)`, `F'_{k−1}` → `F'_k`, one per joint
+    /// `T'_k = A_{k−1}⁻¹ · origin_k · A_k · exp(ξ̂'_k q_k)`, `F'_{k−1}` → `F'_k`, one per joint
     /// (`T_k = origin_k · exp(ξ̂_k q_k)` where no frame is turned).
     pub joint_transforms: Vec<Transform>,
-    /// `A_k` for each joint `k` whose link frame is turned so that the joint's oblique axis is
-    /// its `z` axis (`F'_k = F_k A_k`, a constant rotation), `None` for a frame kept as the
-    /// description gives it. A product of [`Derivation::joint_transforms`] from link `a` to link
-    /// `b` is the description's `T_{a+1} ⋯ T_b` once `A_a` is put before it and `A_b⁻¹` after it
-    /// ([`Derivation::frame_turn`]).
+    /// Entry `k` (0-based) is `A_{k+1}`, the constant rotation that turns link frame `k + 1`
+    /// (1-based, after joint `k + 1`) so that its joint's oblique axis is its `z` axis
+    /// (`F'_{k+1} = F_{k+1} A_{k+1}`), or `None` for a frame kept as the description gives it.
+    /// A product of [`Derivation::joint_transforms`] from link `a` to link `b` is the
+    /// description's `T_{a+1} ⋯ T_b` once `A_a` is put before it and `A_b⁻¹` after it
+    /// ([`Derivation::frame_turn`], [`Derivation::turned_back`]).
     pub frame_turns: Vec<Option<Transform>>,
     /// `g_ne`, the end effector relative to the last joint frame `F_n` (constant; as the
     /// description gives it, not turned).
     pub end_effector: Transform,
     /// `g_0e(q)`, forward kinematics, fully expanded; `None` when the expansion would exceed
     /// [`EXPANSION_BUDGET`] (generic chains grow like `3^n` terms). Then evaluate it as a product:
-    /// `fk_i · g_ie` for a constrained robot, or the [`Derivation::joint_transforms`] in order.
+    /// `fk_i · g_ie` for a constrained robot, or the [`Derivation::joint_transforms`] in order
+    /// followed by [`Derivation::turned_back`]`(n, Some(&end_effector))`.
     pub fk_e: Option<Transform>,
     /// `J^B_0e(q)`, `6 × n` (2.53)–(2.55), fully expanded; `None` beyond [`EXPANSION_BUDGET`].
     /// For a constrained robot it is `[Ad_{g_ei} J^B_0i | J^B_0e2]` (3.12)–(3.14).
@@ -423,7 +427,9 @@ impl Ctx<'_> {
         if w.iter().filter(|x| !x.is_zero()).count() < 2 {
             return Ok(None);
         }
-        let a = *axis;
+        // The unit axis: A is then orthonormal to rounding, so that Aᵀ is its inverse.
+        let length = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).sqrt();
+        let a = axis.map(|v| v / length);
         let least = (0..3)
             .min_by(|&p, &q| a[p].abs().total_cmp(&a[q].abs()))
             .unwrap_or(0);
@@ -453,18 +459,17 @@ impl Ctx<'_> {
             .map(|b| cross(a, b))
             .filter(|c| (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt() > 1e-6);
         let x = normal.unwrap_or_else(|| cross(a, e));
+        // One Gram–Schmidt step: a cross product of nearly parallel axes leaves `x` off the
+        // perpendicular by its rounding over its length.
+        let along = x[0] * a[0] + x[1] * a[1] + x[2] * a[2];
+        let x = [0, 1, 2].map(|r| x[r] - along * a[r]);
         let norm = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
         let x = x.map(|v| v / norm);
         let y = cross(a, x);
-        let columns = [x, y, a];
         let mut rot = Matrix::zeros(3, 3);
-        for (col, v) in columns.iter().enumerate() {
+        for (col, v) in [x, y, a].iter().enumerate() {
             for (row, value) in v.iter().enumerate() {
-                let r = if col == 2 {
-                    w[row].clone()
-                } else {
-                    Rational::from_f64_snapped(*value).map_err(|e| inv(&field, e))?
-                };
+                let r = Rational::from_f64_snapped(*value).map_err(|e| inv(&field, e))?;
                 rot.set(row, col, Poly::constant(r));
             }
         }

@@ -11,7 +11,10 @@
 //! `Ad⁻¹_{g_ke} ξ_k = (R_keᵀ (v_k + ω_k × p_ke), R_keᵀ ω_k)` from the suffix products
 //! `g_ke = T_{k+1} ⋯ T_n g_ne`, whenever that program is cheaper than the expanded polynomials
 //! (both are built and the one with fewer live operations is kept); the two are equal as
-//! functions (the expanded form is what the derivation's symbolic tests check).
+//! functions (the expanded form is what the derivation's symbolic tests check). The per-joint
+//! transforms are those of the turned link frames ([`Derivation::frame_turns`]): a product that
+//! starts or ends at a link turns there ([`Derivation::frame_turn`],
+//! [`Derivation::turned_back`]).
 
 use super::program::{Factor, Program, Term, ValueId};
 use super::rust::{ConstItem, EmittedFunction, FusedFunction, ModuleSpec};

@@ -86,6 +86,7 @@ fn oblique_axes_on_every_joint() {
         "every axis is oblique"
     );
     check(&description, 300);
+    fused_sets_match_the_reference(&description);
     // A short chain, whose expanded forms are emitted where they are cheaper: the constrained
     // link's and the last joint's axes oblique.
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/dia10_oblique.toml");
@@ -97,4 +98,54 @@ fn oblique_axes_on_every_joint() {
         [false, false, false, false, false, true, false, true]
     );
     check(&description, 300);
+    fused_sets_match_the_reference(&description);
+    // Without a constraint: g_0e and J^B_0e end at the turned last frame.
+    let mut free = RobotDescription::from_toml_file(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/oblique7.toml"
+    ))
+    .unwrap();
+    free.constraint = None;
+    free.task = None;
+    check(&free, 200);
+}
+
+/// Fused programs of several outputs, among them the one that builds `g_0e` as `g_0i · g_ie`
+/// and so starts a product at the (turned) constrained link, against the numeric reference.
+fn fused_sets_match_the_reference(description: &RobotDescription) {
+    use trocar_api::{Function as F, Robot};
+    let robot = Robot::from_description(description.clone());
+    let model =
+        trocar_model::numeric::NumericModel::<f64>::from_description(description, &[]).unwrap();
+    let values = robot.param_values(&[]).unwrap();
+    let n = robot.dof();
+    for set in [
+        vec![F::ForwardKinematics, F::PartialBodyJacobian],
+        vec![F::ForwardKinematics, F::ConstrainedLinkKinematics],
+        vec![
+            F::ConstrainedJacobian,
+            F::ForwardKinematics,
+            F::BodyJacobian,
+        ],
+    ] {
+        let fused = robot.fused_evaluator(&set).unwrap();
+        let mut out = vec![0.0; fused.len()];
+        for s in 0..50 {
+            let q: Vec<f64> = (0..n)
+                .map(|k| ((s * n + k) as f64 * 0.618_033_988_75).fract() * 5.0 - 2.5)
+                .collect();
+            fused.eval_into(&q, &values, &mut out).unwrap();
+            for (k, &f) in set.iter().enumerate() {
+                let want = trocar_check::reference::evaluate(&model, f, &q)
+                    .unwrap()
+                    .unwrap();
+                let got = &out[fused.range(k)];
+                let worst = (0..want.nrows())
+                    .flat_map(|r| (0..want.ncols()).map(move |c| (r, c)))
+                    .map(|(r, c)| (got[r * want.ncols() + c] - want[(r, c)]).abs())
+                    .fold(0.0, f64::max);
+                assert!(worst < 1e-12, "{}: {f} off by {worst:e}", description.name);
+            }
+        }
+    }
 }
