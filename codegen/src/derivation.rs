@@ -685,11 +685,9 @@ pub fn derive(desc: &RobotDescription) -> Result<Derivation, DerivationError> {
             // The oblique axis is z of the turned frame: (2.14) with ω = ẑ.
             (xi, e) = about_z(k);
         }
-        // T'_k = A_{k−1}⁻¹ · origin_k · A_k · exp(ξ̂'_k q_k).
-        let mut t = origin;
-        if let Some(a) = k.checked_sub(1).and_then(|p| turns[p].as_ref()) {
-            t = a.inverse().compose(&t);
-        }
+        // T'_k = A_{k−1}⁻¹ · origin_k · A_k · exp(ξ̂'_k q_k); link k − 1 is joint k's parent
+        // (`turned_back` counts links from 1, `k` joints from 0).
+        let mut t = turned_back(&turns, k, Some(&origin));
         if let Some(a) = &turn {
             t = t.compose(a);
         }

@@ -193,6 +193,26 @@ impl Robot {
         Ok(out)
     }
 
+    /// `function` at `q` as a new array, from the numeric runtime (`numeric`) or from the
+    /// library's checked evaluation (a closed mechanism's closed forms): `eval`'s path where no
+    /// compiled program of a serial robot is run.
+    fn evaluated<'py>(
+        &self,
+        py: Python<'py>,
+        function: Function,
+        q: &[f64],
+        params: &[(String, f64)],
+        numeric: bool,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let m = if numeric {
+            self.inner.eval_numeric(function, q, params)
+        } else {
+            self.inner.eval(function, q, params)
+        }
+        .map_err(value_error)?;
+        matrix(py, m.rows, m.cols, &m.data)
+    }
+
     /// [`Robot::eval`] of one function.
     fn eval_one<'py>(
         &self,
@@ -205,13 +225,7 @@ impl Robot {
         with_joints(q, |q| {
             if numeric || self.inner.is_mechanism() {
                 let p: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
-                let m = if numeric {
-                    self.inner.eval_numeric(function, q, &p)
-                } else {
-                    self.inner.eval(function, q, &p)
-                }
-                .map_err(value_error)?;
-                return matrix(py, m.rows, m.cols, &m.data);
+                return self.evaluated(py, function, q, &p, numeric);
             }
             self.inner.check_q(q).map_err(value_error)?;
             let e = self.inner.evaluator(function).map_err(value_error)?;
@@ -357,15 +371,7 @@ impl Robot {
                 let p: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
                 let arrays = functions
                     .iter()
-                    .map(|&f| {
-                        let m = if numeric {
-                            self.inner.eval_numeric(f, q, &p)
-                        } else {
-                            self.inner.eval(f, q, &p)
-                        }
-                        .map_err(value_error)?;
-                        matrix(py, m.rows, m.cols, &m.data)
-                    })
+                    .map(|&f| self.evaluated(py, f, q, &p, numeric))
                     .collect::<PyResult<Vec<_>>>()?;
                 return Ok(PyTuple::new(py, arrays)?.into_any());
             }

@@ -19,14 +19,15 @@ pub(crate) fn run(
     numeric: bool,
 ) -> Result<i32, CliError> {
     let robot = Robot::load(robot)?;
-    if what.split(',').any(|name| name.trim().is_empty()) {
+    let names: Vec<&str> = what.split(',').map(str::trim).collect();
+    if names.iter().any(|name| name.is_empty()) {
         return Err(trocar_api::Error::Input(format!(
             "--what {what}: an empty name (give names separated by single commas, e.g. fk0i,jb0i)"
         )));
     }
-    let functions = what
-        .split(',')
-        .map(|name| robot.function(name.trim()))
+    let functions = names
+        .iter()
+        .map(|name| robot.function(name))
         .collect::<Result<Vec<_>, _>>()?;
     robot.check_q(q)?;
     robot.param_values(params)?;
@@ -65,10 +66,10 @@ pub(crate) fn run(
         print_matrix(&outs[0], json, robot.labels(function))?;
     } else if json {
         // One object, each quantity under the name it was asked by.
-        let entries: Vec<String> = what
-            .split(',')
+        let entries: Vec<String> = names
+            .iter()
             .zip(&outs)
-            .map(|(name, m)| format!("\"{}\": {}", name.trim(), to_json(m)))
+            .map(|(name, m)| format!("\"{name}\": {}", to_json(m)))
             .collect();
         write_stdout(&format!("{{{}}}\n", entries.join(", ")))?;
     } else {
