@@ -899,6 +899,7 @@ macro_rules! per_case {
     };
 }
 
+pub mod paired_rows;
 pub mod rust_peers;
 
 /// [`baseline_eval`] with the case fixed ([`EvalFn`]).

@@ -430,6 +430,35 @@ fn ours_in_place_agree_with_the_reference() {
     }
 }
 
+/// The hand-written kernel with rows as SSE2 pairs (`paired_rows`) holds the reference's values
+/// of `panda_link7`'s pose and body Jacobian.
+#[cfg(target_arch = "x86_64")]
+#[test]
+fn paired_rows_agree_with_the_reference() {
+    let case = Case::PandaI;
+    let mut seed = 10;
+    for (q, p) in panda_inputs(case, &mut seed, 500) {
+        let mut want = vec![0.0; case.out_len()];
+        reference::eval(case, &q, &p, &mut want);
+        let scale = want.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+        let s: [f64; 7] = std::array::from_fn(|k| q[k].sin());
+        let c: [f64; 7] = std::array::from_fn(|k| q[k].cos());
+        let mut g = ([[f64::NAN; 3]; 3], [f64::NAN; 3]);
+        let mut jb = [[f64::NAN; 6]; 7];
+        trocar_peers_harness::paired_rows::panda_link7(&s, &c, &mut g, &mut jb);
+        let flat: Vec<f64> =
+            g.0.iter()
+                .flatten()
+                .chain(&g.1)
+                .chain(jb.iter().flatten())
+                .copied()
+                .collect();
+        for (i, (x, w)) in flat.iter().zip(&want).enumerate() {
+            assert!((x - w).abs() <= 1e-13 * scale, "[{i}] {x} vs {w} at {q:?}");
+        }
+    }
+}
+
 /// The step cases written with the pose in place (`ours_f64_in_place`,
 /// `ours_f64_given_trig_in_place` of the step cases) and every fused case through the `_f64`
 /// entry points of the `fma_at_run_time` modules (`ours_f64_fma`, `ours_f64_given_trig_fma`)

@@ -8,7 +8,8 @@
 //! ours_f64_fma | ours_f64_given_trig_fma (the fused cases' `_f64` entry points of the
 //! `fma_at_run_time` modules) |
 //! ours_f32 (feature `ours`) | wrenfold | symforce | wrenfold_given_trig | symforce_given_trig |
-//! wrenfold_fed_trocar_sin_cos | symforce_fed_trocar_sin_cos (Panda cases, feature `ours`) | pinocchio | pinocchio_fk (feature `pinocchio`, Panda cases) |
+//! wrenfold_fed_trocar_sin_cos | symforce_fed_trocar_sin_cos (Panda cases, feature `ours`) |
+//! paired_rows_given_trig (`panda_i`, feature `ours`: the hand-written kernel of `paired_rows`) | pinocchio | pinocchio_fk (feature `pinocchio`, Panda cases) |
 //! ours_trig | trig_c_glibc (Panda cases: the 7 joints' trigonometry alone) | noop |
 //! trig_c_glibc | trig_std_f64 | trig_fast_f64 | trig_std_f32 | trig_fast_f32 | trig_libm_f64 |
 //! trig_libm_f32. CASE: uni | bzy | bzx | dia_zy | panda | panda_i | -.
@@ -314,6 +315,23 @@ fn panda(name: &str, case: Case, n: usize) {
             measured_loop(n, &mut || {
                 k = black_box(k + 1) & 15;
                 ours::eval_panda_in_place(case, &qs[k], black_box(&p), &mut o);
+                black_box(&mut o);
+            })
+        }
+        #[cfg(feature = "ours")]
+        "paired_rows_given_trig" if case == Case::PandaI => {
+            let trigs: Vec<([f64; 7], [f64; 7])> = qs
+                .iter()
+                .map(|q| {
+                    let t = Trig::new(q);
+                    (t.s[..7].try_into().unwrap(), t.c[..7].try_into().unwrap())
+                })
+                .collect();
+            let mut o = trocar_peers_harness::ours::PandaOut::<f64>::default();
+            measured_loop(n, &mut || {
+                k = black_box(k + 1) & 15;
+                let (s, c) = &trigs[k];
+                trocar_peers_harness::paired_rows::panda_link7(s, c, &mut o.g, &mut o.jb);
                 black_box(&mut o);
             })
         }

@@ -12,7 +12,8 @@
 //! ours_f64_given_trig | ours_f64_fma | ours_f64_given_trig_fma (the fused cases through the
 //! `_f64` entry points of the modules generated with `fma_at_run_time`, FMA chosen at run time;
 //! the Panda in place) | wrenfold | symforce | wrenfold_given_trig |
-//! symforce_given_trig | ours_trig (our `JointTrig::new` alone) | the C peers `casadi`,
+//! symforce_given_trig | paired_rows_given_trig (`panda_i` only: the hand-written kernel of
+//! `paired_rows`, given the sines and cosines) | ours_trig (our `JointTrig::new` alone) | the C peers `casadi`,
 //! `casadi_cse`, `sympy` (and `rust_reference`), each through the harness's `eval`. Needs the
 //! feature `ours`.
 use std::hint::black_box;
@@ -113,6 +114,22 @@ fn implementation(name: &str, case: Case) -> Eval {
             Box::new(move |k| {
                 ours::eval_trig_fma(case, &trigs[k], black_box(&p), &mut out, &mut o);
                 black_box(&mut out);
+                black_box(&mut o);
+            })
+        }
+        "paired_rows_given_trig" if case == Case::PandaI => {
+            // The peers' sines and cosines (`std`), as for `symforce_given_trig`.
+            let trigs: Vec<([f64; 7], [f64; 7])> = qs
+                .iter()
+                .map(|q| {
+                    let t = Trig::new(q);
+                    (t.s[..7].try_into().unwrap(), t.c[..7].try_into().unwrap())
+                })
+                .collect();
+            let mut o = ours::PandaOut::<f64>::default();
+            Box::new(move |k| {
+                let (s, c) = &trigs[k];
+                trocar_peers_harness::paired_rows::panda_link7(s, c, &mut o.g, &mut o.jb);
                 black_box(&mut o);
             })
         }
