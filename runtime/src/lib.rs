@@ -24,6 +24,7 @@ pub mod kinematics;
 pub mod lanes;
 pub mod linalg;
 pub mod manipulability;
+pub mod paired_rows;
 pub mod qp;
 pub mod real;
 pub mod se3;

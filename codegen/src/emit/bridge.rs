@@ -461,13 +461,69 @@ fn fused_functions(
                 .iter()
                 .map(|&f| function_of(functions, f))
                 .collect();
-            FusedFunction::new(
+            let mut f = FusedFunction::new(
                 &r.name,
                 &outputs,
                 fused_program(d, &r.outputs, forms, functions),
-            )
+            );
+            let link_pose_and_jacobian = r.outputs.len() == 2
+                && r.outputs.contains(&F::ConstrainedLinkKinematics)
+                && r.outputs.contains(&F::PartialBodyJacobian);
+            if let (true, Some(c)) = (link_pose_and_jacobian, &d.constraint) {
+                f.paired_heads = paired_heads(d, c.link);
+            }
+            f
         })
         .collect())
+}
+
+/// The heads `Trans(o_k) R_x(roll_k)` of joints `1..=upto`, base first, as `(roll in quarter
+/// turns, o)`, when the chain up to link `upto` is one of right-angle joints: every joint turns
+/// about the `z` axis of its link frame, `T_k = Trans(o_k) R_x(roll_k) R_z(q_k)` with a constant
+/// `o_k` and `roll_k` one of `0`, `+π/2`, `−π/2` (modified Denavit–Hartenberg with right-angle
+/// twists, as the Panda), and no frame up to link `upto` is turned. `None` otherwise.
+///
+/// Such a chain's `g_0i` and `J^B_0i` can be walked with the rows of the homogeneous transform
+/// as pairs (`trocar::paired_rows`).
+pub fn paired_heads(d: &Derivation, upto: usize) -> Option<Vec<(i8, [f64; 3])>> {
+    if upto == 0 || d.turned_back(upto, None).is_some() {
+        return None;
+    }
+    let z_twist: Vec<Poly> = [0, 0, 0, 0, 0, 1].map(Poly::integer).to_vec();
+    (0..upto)
+        .map(|k| {
+            if d.joint_is_linear[k]
+                || d.frame_turns[k].is_some()
+                || d.twists[k].entries() != z_twist.as_slice()
+            {
+                return None;
+            }
+            let t = &d.joint_transforms[k];
+            let (c, s) = (Poly::cos(k), Poly::sin(k));
+            let (zero, one) = (Poly::zero(), Poly::one());
+            // Row 1 of R_x(roll) R_z(q) is (c, −s, 0) for every roll; rows 2 and 3 tell it.
+            let rz = [
+                [c.clone(), s.neg(), zero.clone()],
+                [s.clone(), c.clone(), zero.clone()],
+                [zero.clone(), zero.clone(), one.clone()],
+            ];
+            let neg = |r: &[Poly; 3]| [r[0].neg(), r[1].neg(), r[2].neg()];
+            let candidates = [
+                (0i8, [rz[0].clone(), rz[1].clone(), rz[2].clone()]),
+                (1, [rz[0].clone(), neg(&rz[2]), rz[1].clone()]),
+                (-1, [rz[0].clone(), rz[2].clone(), neg(&rz[1])]),
+            ];
+            let roll = candidates.into_iter().find_map(|(roll, rows)| {
+                let fits = (0..3).all(|i| (0..3).all(|j| t.rot.get(i, j) == &rows[i][j]));
+                fits.then_some(roll)
+            })?;
+            let mut o = [0.0; 3];
+            for (i, x) in o.iter_mut().enumerate() {
+                *x = t.pos.get(i, 0).as_constant()?.to_f64();
+            }
+            Some((roll, o))
+        })
+        .collect()
 }
 
 /// Most terms in all of a matrix in graph form that [`graph_or_expanded`] writes out to compare

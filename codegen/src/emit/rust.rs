@@ -201,6 +201,11 @@ pub struct FusedFunction {
     pub outputs: Vec<FusedOutput>,
     /// One program; its outputs are those of `outputs`, each in its layout, one after the other.
     pub program: Program,
+    /// For `g_0i` and `J^B_0i` together, on a chain of right-angle joints: each joint's head
+    /// `Trans(o) R_x(roll)`, base first, as `(roll, o)` with `roll` in quarter turns (0, 1 or −1).
+    /// The function is then also written as the walk of `trocar::paired_rows`, which the
+    /// default x86-64 target takes ([`paired_heads`](super::bridge::paired_heads)).
+    pub paired_heads: Option<Vec<(i8, [f64; 3])>>,
 }
 
 impl FusedFunction {
@@ -225,6 +230,7 @@ impl FusedFunction {
             name: name.to_string(),
             outputs,
             program,
+            paired_heads: None,
         }
     }
 
@@ -1088,8 +1094,43 @@ fn fused_tokens(f: &FusedFunction, ty: &Ty, n: usize, fma_at_run_time: bool) -> 
     let body_t = body(&f.program, ty, Access::Trig);
     let stores_q = stores(&body_q.outs);
     let stores_t = stores(&body_t.outs);
-    let stmts_q = body_q.interleaved(stores_q);
-    let stmts_t = body_t.interleaved(stores_t);
+    let mut stmts_q = body_q.interleaved(stores_q);
+    let mut stmts_t = body_t.interleaved(stores_t);
+    let mut doc_q = doc_q;
+    let mut doc_t = doc_t;
+    if let (Some(heads), false) = (&f.paired_heads, fma_at_run_time) {
+        let walk_doc = doc_attrs(&format!(
+            "\nOn x86-64 without AVX (the default target), where SSE2 is the widest unit, the \
+             chain is walked instead with the rows of the homogeneous transform as pairs \
+             (`{}::paired_rows`), the same values to rounding.",
+            ty.runtime().to_string().replace(' ', "")
+        ));
+        doc_q.extend(walk_doc.clone());
+        doc_t.extend(walk_doc);
+        let at = |g: catalogue::Function| {
+            let k = f
+                .outputs
+                .iter()
+                .position(|o| o.function == g)
+                .expect("paired heads are set for g_0i and J^B_0i");
+            outs[k].clone()
+        };
+        let (g, jb) = (
+            at(catalogue::Function::ConstrainedLinkKinematics),
+            at(catalogue::Function::PartialBodyJacobian),
+        );
+        for (stmts, access) in [(&mut stmts_q, Access::Q), (&mut stmts_t, Access::Trig)] {
+            let walk = paired_walk(heads, ty, access, &g, &jb);
+            let program = std::mem::take(stmts);
+            stmts.push(quote! {
+                if cfg!(all(target_arch = "x86_64", not(target_feature = "avx"))) {
+                    #(#walk)*
+                } else {
+                    #(#program)*
+                }
+            });
+        }
+    }
     let uses_q = uses(&f.program, |op| {
         matches!(op, Op::Joint(_) | Op::Sin(_) | Op::Cos(_))
     });
@@ -1117,6 +1158,68 @@ fn fused_tokens(f: &FusedFunction, ty: &Ty, n: usize, fma_at_run_time: bool) -> 
             #(#stmts_t)*
         }
     }
+}
+
+/// The statements of `g_0i` and `J^B_0i` written into `g` and `jb` by the walk of
+/// `trocar::paired_rows` over the joints with heads `heads` (base first,
+/// [`FusedFunction::paired_heads`]): from link `i` towards the base, each joint's column of
+/// `J^B_0i` from the rows reached before it (2.45), `g_0i` at the end.
+fn paired_walk(
+    heads: &[(i8, [f64; 3])],
+    ty: &Ty,
+    access: Access,
+    g: &Ident,
+    jb: &Ident,
+) -> Vec<TokenStream> {
+    let rt = ty.runtime();
+    let r = ty.real_path();
+    let i = heads.len();
+    let mut stmts = Vec::new();
+    let joints: Vec<usize> = (0..i).collect();
+    let trig = |k: usize| match access {
+        Access::Q => {
+            let (s, c) = (format_ident!("s{}", k + 1), format_ident!("c{}", k + 1));
+            (quote!(#s), quote!(#c))
+        }
+        Access::Trig => {
+            let k = Literal::usize_unsuffixed(k);
+            (quote!(t.sin[#k]), quote!(t.cos[#k]))
+        }
+    };
+    if access == Access::Q {
+        stmts.extend(trig_statement(&r, &joints, |_| true, |_| true));
+    }
+    let last = Literal::usize_unsuffixed(i - 1);
+    stmts.push(quote!(#jb[#last] = [#r::ZERO, #r::ZERO, #r::ZERO, #r::ZERO, #r::ZERO, #r::ONE];));
+    for k in (0..i).rev() {
+        let (roll, o) = heads[k];
+        let roll = match roll {
+            0 => quote!(#rt::paired_rows::Roll::Zero),
+            1 => quote!(#rt::paired_rows::Roll::Quarter),
+            _ => quote!(#rt::paired_rows::Roll::MinusQuarter),
+        };
+        let o = o.map(|x| {
+            let l = Literal::f64_unsuffixed(x.abs());
+            if x < 0.0 {
+                quote!(-#l)
+            } else {
+                quote!(#l)
+            }
+        });
+        let (s, c) = trig(k);
+        stmts.push(if k == i - 1 {
+            quote!(let rows = #rt::paired_rows::Rows::first(#s, #c, #roll, [#(#o),*]);)
+        } else {
+            quote!(let rows = rows.joint(#s, #c, #roll, [#(#o),*]);)
+        });
+        stmts.push(if k == 0 {
+            quote!(rows.pose(#g);)
+        } else {
+            let col = Literal::usize_unsuffixed(k - 1);
+            quote!(rows.column(&mut #jb[#col]);)
+        });
+    }
+    stmts
 }
 
 /// The `f64` entry points of a fused function with FMA chosen at run time (`trocar::fma`):

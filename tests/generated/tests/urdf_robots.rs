@@ -67,6 +67,18 @@ macro_rules! generated_vs_numeric {
                 prop_assert!(against(&jbi, &robot.partial_body_jacobian(&q).unwrap()) < 1e-12);
                 prop_assert!(against(&jr, &robot.constrained_jacobian(&q).unwrap()) < 1e-12);
                 prop_assert!(against(&jc, &robot.constraint_jacobian_c(&q).unwrap()) < 1e-12);
+                // The fused g_0i and J^B_0i, from q and given the sines and cosines (the
+                // Panda's walk with rows as pairs where the target is x86-64 without AVX).
+                let jbi_n = robot.partial_body_jacobian(&q).unwrap();
+                let (mut gi, mut jb) = (([[0.0; 3]; 3], [0.0; 3]), [[0.0; 6]; g::I]);
+                g::link_pose_and_jacobian(&q, &p, &mut gi, &mut jb);
+                let (mut gi_t, mut jb_t) = (([[0.0; 3]; 3], [0.0; 3]), [[0.0; 6]; g::I]);
+                g::link_pose_and_jacobian_trig(&g::JointTrig::new(&q), &p, &mut gi_t, &mut jb_t);
+                for (gi, jb) in [(gi, jb), (gi_t, jb_t)] {
+                    prop_assert!(max_diff(gi.0.iter().flatten().copied(), fki.rotation.iter().copied()) < 1e-12);
+                    prop_assert!(max_diff(gi.1, fki.translation.iter().copied()) < 1e-12);
+                    prop_assert!(against(&jb, &jbi_n) < 1e-12);
+                }
                 generated_vs_numeric!(@task $task, g, q, p, robot);
                 let w = g::manipulability(&q, &p);
                 let wn = robot.manipulability(&q).unwrap();

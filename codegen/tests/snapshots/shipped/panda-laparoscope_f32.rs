@@ -1649,6 +1649,8 @@ pub mod panda_laparoscope {
     /// - `jb0i`: `J^B_0i`, 6 × I, column-major (`[[f32; 6]; I]`, `a[col][row]`)
     ///
     /// Operations: 53 add, 108 mul, 0 div, 0 sqrt, 7 trig (sin_cos), 9 neg, 0 abs.
+    ///
+    /// On x86-64 without AVX (the default target), where SSE2 is the widest unit, the chain is walked instead with the rows of the homogeneous transform as pairs (`::trocar::paired_rows`), the same values to rounding.
     #[inline]
     pub fn link_pose_and_jacobian(
         q: &[f32; N],
@@ -1656,104 +1658,156 @@ pub mod panda_laparoscope {
         fk0i: &mut ([[f32; 3]; 3], [f32; 3]),
         jb0i: &mut [[f32; 6]; I],
     ) {
-        jb0i[4][2] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[5][0] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[5][1] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[5][2] = -0.088_f32;
-        jb0i[5][5] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[6][0] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[6][1] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[6][2] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[6][3] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[6][4] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[6][5] = <f32 as ::trocar::Real>::ONE;
-        let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f32 as ::trocar::Real>::sin_cos_array(
-            &[q[0], q[1], q[2], q[3], q[4], q[5], q[6]],
-        );
-        jb0i[4][5] = -c6;
-        jb0i[5][3] = s7;
-        jb0i[5][4] = c7;
-        let x0 = c6 * c7;
-        let x1 = c6 * s7;
-        let x2 = 0.088_f32 * c6;
-        jb0i[4][0] = -(s7 * x2);
-        jb0i[4][1] = -(c7 * x2);
-        let x3 = s6 * c7;
-        jb0i[4][3] = x3;
-        let x4 = s6 * s7;
-        jb0i[4][4] = -x4;
-        let x5 = <f32 as ::trocar::Real>::mul_add(c5, x0, s5 * s7);
-        let x6 = <f32 as ::trocar::Real>::mul_add(s5, c7, -(c5 * x1));
-        let x7 = c5 * s6;
-        let x8 = <f32 as ::trocar::Real>::mul_add(c5, x2, -0.0825_f32);
-        let x9 = <f32 as ::trocar::Real>::mul_add(0.088_f32, s6, 0.384_f32);
-        jb0i[3][0] = <f32 as ::trocar::Real>::mul_add(x3, x8, -(x5 * x9));
-        jb0i[3][1] = -<f32 as ::trocar::Real>::mul_add(x6, x9, x4 * x8);
-        jb0i[3][2] = -<f32 as ::trocar::Real>::mul_add(x7, x9, c6 * x8);
-        let x10 = <f32 as ::trocar::Real>::mul_add(c5, s7, -(s5 * x0));
-        jb0i[3][3] = x10;
-        let x11 = <f32 as ::trocar::Real>::mul_add(s5, x1, c5 * c7);
-        jb0i[3][4] = x11;
-        let x12 = s5 * s6;
-        jb0i[3][5] = -x12;
-        let x13 = s5 * x2;
-        let x14 = <f32 as ::trocar::Real>::mul_add(c4, x5, -(s4 * x3));
-        let x15 = <f32 as ::trocar::Real>::mul_add(c4, x6, s4 * x4);
-        let x16 = <f32 as ::trocar::Real>::mul_add(c4, x7, s4 * c6);
-        let x17 = 0.0825_f32 + <f32 as ::trocar::Real>::mul_add(c4, x8, -(s4 * x9));
-        jb0i[2][0] = -<f32 as ::trocar::Real>::mul_add(x13, x14, x10 * x17);
-        jb0i[2][1] = -<f32 as ::trocar::Real>::mul_add(x13, x15, x11 * x17);
-        jb0i[2][2] = <f32 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16));
-        let x18 = <f32 as ::trocar::Real>::mul_add(s4, x5, c4 * x3);
-        jb0i[2][3] = x18;
-        let x19 = <f32 as ::trocar::Real>::mul_add(s4, x6, -(c4 * x4));
-        jb0i[2][4] = x19;
-        let x20 = <f32 as ::trocar::Real>::mul_add(s4, x7, -(c4 * c6));
-        jb0i[2][5] = x20;
-        let x21 = <f32 as ::trocar::Real>::mul_add(c3, x14, s3 * x10);
-        let x22 = <f32 as ::trocar::Real>::mul_add(c3, x15, s3 * x11);
-        let x23 = <f32 as ::trocar::Real>::mul_add(c3, x16, -(s3 * x12));
-        let x24 = <f32 as ::trocar::Real>::mul_add(c3, x17, -(s3 * x13));
-        let x25 = <f32 as ::trocar::Real>::mul_add(s4, x8, c4 * x9) + 0.316_f32;
-        fk0i.1[2] = 0.333_f32 + <f32 as ::trocar::Real>::mul_add(c2, x25, -(s2 * x24));
-        jb0i[1][0] = <f32 as ::trocar::Real>::mul_add(x21, x25, -(x18 * x24));
-        jb0i[1][1] = <f32 as ::trocar::Real>::mul_add(x22, x25, -(x19 * x24));
-        jb0i[1][2] = <f32 as ::trocar::Real>::mul_add(x23, x25, -(x20 * x24));
-        let x26 = <f32 as ::trocar::Real>::mul_add(s3, x14, -(c3 * x10));
-        jb0i[1][3] = x26;
-        let x27 = <f32 as ::trocar::Real>::mul_add(s3, x15, -(c3 * x11));
-        jb0i[1][4] = x27;
-        let x28 = <f32 as ::trocar::Real>::mul_add(s3, x16, c3 * x12);
-        jb0i[1][5] = x28;
-        let x29 = <f32 as ::trocar::Real>::mul_add(s3, x17, c3 * x13);
-        let x30 = <f32 as ::trocar::Real>::mul_add(c2, x21, s2 * x18);
-        fk0i.0[0][0] = <f32 as ::trocar::Real>::mul_add(c1, x30, -(s1 * x26));
-        fk0i.0[0][1] = <f32 as ::trocar::Real>::mul_add(s1, x30, c1 * x26);
-        let x31 = <f32 as ::trocar::Real>::mul_add(c2, x22, s2 * x19);
-        fk0i.0[1][0] = <f32 as ::trocar::Real>::mul_add(c1, x31, -(s1 * x27));
-        fk0i.0[1][1] = <f32 as ::trocar::Real>::mul_add(s1, x31, c1 * x27);
-        let x32 = <f32 as ::trocar::Real>::mul_add(c2, x23, s2 * x20);
-        fk0i.0[2][0] = <f32 as ::trocar::Real>::mul_add(c1, x32, -(s1 * x28));
-        fk0i.0[2][1] = <f32 as ::trocar::Real>::mul_add(s1, x32, c1 * x28);
-        let x33 = <f32 as ::trocar::Real>::mul_add(c2, x24, s2 * x25);
-        fk0i.1[0] = <f32 as ::trocar::Real>::mul_add(c1, x33, -(s1 * x29));
-        fk0i.1[1] = <f32 as ::trocar::Real>::mul_add(s1, x33, c1 * x29);
-        jb0i[0][0] = <f32 as ::trocar::Real>::mul_add(x26, x33, -(x29 * x30));
-        jb0i[0][1] = <f32 as ::trocar::Real>::mul_add(x27, x33, -(x29 * x31));
-        jb0i[0][2] = <f32 as ::trocar::Real>::mul_add(x28, x33, -(x29 * x32));
-        let x34 = <f32 as ::trocar::Real>::mul_add(c2, x18, -(s2 * x21));
-        fk0i.0[0][2] = x34;
-        jb0i[0][3] = x34;
-        let x35 = <f32 as ::trocar::Real>::mul_add(c2, x19, -(s2 * x22));
-        fk0i.0[1][2] = x35;
-        jb0i[0][4] = x35;
-        let x36 = <f32 as ::trocar::Real>::mul_add(c2, x20, -(s2 * x23));
-        fk0i.0[2][2] = x36;
-        jb0i[0][5] = x36;
+        if cfg!(all(target_arch = "x86_64", not(target_feature = "avx"))) {
+            let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f32 as ::trocar::Real>::sin_cos_array(
+                &[q[0], q[1], q[2], q[3], q[4], q[5], q[6]],
+            );
+            jb0i[6] = [
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ONE,
+            ];
+            let rows = ::trocar::paired_rows::Rows::first(
+                s7,
+                c7,
+                ::trocar::paired_rows::Roll::Quarter,
+                [0.088, 0.0, 0.0],
+            );
+            rows.column(&mut jb0i[5]);
+            let rows = rows
+                .joint(s6, c6, ::trocar::paired_rows::Roll::Quarter, [0.0, 0.0, 0.0]);
+            rows.column(&mut jb0i[4]);
+            let rows = rows
+                .joint(
+                    s5,
+                    c5,
+                    ::trocar::paired_rows::Roll::MinusQuarter,
+                    [-0.0825, 0.384, 0.0],
+                );
+            rows.column(&mut jb0i[3]);
+            let rows = rows
+                .joint(s4, c4, ::trocar::paired_rows::Roll::Quarter, [0.0825, 0.0, 0.0]);
+            rows.column(&mut jb0i[2]);
+            let rows = rows
+                .joint(s3, c3, ::trocar::paired_rows::Roll::Quarter, [0.0, -0.316, 0.0]);
+            rows.column(&mut jb0i[1]);
+            let rows = rows
+                .joint(
+                    s2,
+                    c2,
+                    ::trocar::paired_rows::Roll::MinusQuarter,
+                    [0.0, 0.0, 0.0],
+                );
+            rows.column(&mut jb0i[0]);
+            let rows = rows
+                .joint(s1, c1, ::trocar::paired_rows::Roll::Zero, [0.0, 0.0, 0.333]);
+            rows.pose(fk0i);
+        } else {
+            jb0i[4][2] = <f32 as ::trocar::Real>::ZERO;
+            jb0i[5][0] = <f32 as ::trocar::Real>::ZERO;
+            jb0i[5][1] = <f32 as ::trocar::Real>::ZERO;
+            jb0i[5][2] = -0.088_f32;
+            jb0i[5][5] = <f32 as ::trocar::Real>::ZERO;
+            jb0i[6][0] = <f32 as ::trocar::Real>::ZERO;
+            jb0i[6][1] = <f32 as ::trocar::Real>::ZERO;
+            jb0i[6][2] = <f32 as ::trocar::Real>::ZERO;
+            jb0i[6][3] = <f32 as ::trocar::Real>::ZERO;
+            jb0i[6][4] = <f32 as ::trocar::Real>::ZERO;
+            jb0i[6][5] = <f32 as ::trocar::Real>::ONE;
+            let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f32 as ::trocar::Real>::sin_cos_array(
+                &[q[0], q[1], q[2], q[3], q[4], q[5], q[6]],
+            );
+            jb0i[4][5] = -c6;
+            jb0i[5][3] = s7;
+            jb0i[5][4] = c7;
+            let x0 = c6 * c7;
+            let x1 = c6 * s7;
+            let x2 = 0.088_f32 * c6;
+            jb0i[4][0] = -(s7 * x2);
+            jb0i[4][1] = -(c7 * x2);
+            let x3 = s6 * c7;
+            jb0i[4][3] = x3;
+            let x4 = s6 * s7;
+            jb0i[4][4] = -x4;
+            let x5 = <f32 as ::trocar::Real>::mul_add(c5, x0, s5 * s7);
+            let x6 = <f32 as ::trocar::Real>::mul_add(s5, c7, -(c5 * x1));
+            let x7 = c5 * s6;
+            let x8 = <f32 as ::trocar::Real>::mul_add(c5, x2, -0.0825_f32);
+            let x9 = <f32 as ::trocar::Real>::mul_add(0.088_f32, s6, 0.384_f32);
+            jb0i[3][0] = <f32 as ::trocar::Real>::mul_add(x3, x8, -(x5 * x9));
+            jb0i[3][1] = -<f32 as ::trocar::Real>::mul_add(x6, x9, x4 * x8);
+            jb0i[3][2] = -<f32 as ::trocar::Real>::mul_add(x7, x9, c6 * x8);
+            let x10 = <f32 as ::trocar::Real>::mul_add(c5, s7, -(s5 * x0));
+            jb0i[3][3] = x10;
+            let x11 = <f32 as ::trocar::Real>::mul_add(s5, x1, c5 * c7);
+            jb0i[3][4] = x11;
+            let x12 = s5 * s6;
+            jb0i[3][5] = -x12;
+            let x13 = s5 * x2;
+            let x14 = <f32 as ::trocar::Real>::mul_add(c4, x5, -(s4 * x3));
+            let x15 = <f32 as ::trocar::Real>::mul_add(c4, x6, s4 * x4);
+            let x16 = <f32 as ::trocar::Real>::mul_add(c4, x7, s4 * c6);
+            let x17 = 0.0825_f32 + <f32 as ::trocar::Real>::mul_add(c4, x8, -(s4 * x9));
+            jb0i[2][0] = -<f32 as ::trocar::Real>::mul_add(x13, x14, x10 * x17);
+            jb0i[2][1] = -<f32 as ::trocar::Real>::mul_add(x13, x15, x11 * x17);
+            jb0i[2][2] = <f32 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16));
+            let x18 = <f32 as ::trocar::Real>::mul_add(s4, x5, c4 * x3);
+            jb0i[2][3] = x18;
+            let x19 = <f32 as ::trocar::Real>::mul_add(s4, x6, -(c4 * x4));
+            jb0i[2][4] = x19;
+            let x20 = <f32 as ::trocar::Real>::mul_add(s4, x7, -(c4 * c6));
+            jb0i[2][5] = x20;
+            let x21 = <f32 as ::trocar::Real>::mul_add(c3, x14, s3 * x10);
+            let x22 = <f32 as ::trocar::Real>::mul_add(c3, x15, s3 * x11);
+            let x23 = <f32 as ::trocar::Real>::mul_add(c3, x16, -(s3 * x12));
+            let x24 = <f32 as ::trocar::Real>::mul_add(c3, x17, -(s3 * x13));
+            let x25 = <f32 as ::trocar::Real>::mul_add(s4, x8, c4 * x9) + 0.316_f32;
+            fk0i.1[2] = 0.333_f32
+                + <f32 as ::trocar::Real>::mul_add(c2, x25, -(s2 * x24));
+            jb0i[1][0] = <f32 as ::trocar::Real>::mul_add(x21, x25, -(x18 * x24));
+            jb0i[1][1] = <f32 as ::trocar::Real>::mul_add(x22, x25, -(x19 * x24));
+            jb0i[1][2] = <f32 as ::trocar::Real>::mul_add(x23, x25, -(x20 * x24));
+            let x26 = <f32 as ::trocar::Real>::mul_add(s3, x14, -(c3 * x10));
+            jb0i[1][3] = x26;
+            let x27 = <f32 as ::trocar::Real>::mul_add(s3, x15, -(c3 * x11));
+            jb0i[1][4] = x27;
+            let x28 = <f32 as ::trocar::Real>::mul_add(s3, x16, c3 * x12);
+            jb0i[1][5] = x28;
+            let x29 = <f32 as ::trocar::Real>::mul_add(s3, x17, c3 * x13);
+            let x30 = <f32 as ::trocar::Real>::mul_add(c2, x21, s2 * x18);
+            fk0i.0[0][0] = <f32 as ::trocar::Real>::mul_add(c1, x30, -(s1 * x26));
+            fk0i.0[0][1] = <f32 as ::trocar::Real>::mul_add(s1, x30, c1 * x26);
+            let x31 = <f32 as ::trocar::Real>::mul_add(c2, x22, s2 * x19);
+            fk0i.0[1][0] = <f32 as ::trocar::Real>::mul_add(c1, x31, -(s1 * x27));
+            fk0i.0[1][1] = <f32 as ::trocar::Real>::mul_add(s1, x31, c1 * x27);
+            let x32 = <f32 as ::trocar::Real>::mul_add(c2, x23, s2 * x20);
+            fk0i.0[2][0] = <f32 as ::trocar::Real>::mul_add(c1, x32, -(s1 * x28));
+            fk0i.0[2][1] = <f32 as ::trocar::Real>::mul_add(s1, x32, c1 * x28);
+            let x33 = <f32 as ::trocar::Real>::mul_add(c2, x24, s2 * x25);
+            fk0i.1[0] = <f32 as ::trocar::Real>::mul_add(c1, x33, -(s1 * x29));
+            fk0i.1[1] = <f32 as ::trocar::Real>::mul_add(s1, x33, c1 * x29);
+            jb0i[0][0] = <f32 as ::trocar::Real>::mul_add(x26, x33, -(x29 * x30));
+            jb0i[0][1] = <f32 as ::trocar::Real>::mul_add(x27, x33, -(x29 * x31));
+            jb0i[0][2] = <f32 as ::trocar::Real>::mul_add(x28, x33, -(x29 * x32));
+            let x34 = <f32 as ::trocar::Real>::mul_add(c2, x18, -(s2 * x21));
+            fk0i.0[0][2] = x34;
+            jb0i[0][3] = x34;
+            let x35 = <f32 as ::trocar::Real>::mul_add(c2, x19, -(s2 * x22));
+            fk0i.0[1][2] = x35;
+            jb0i[0][4] = x35;
+            let x36 = <f32 as ::trocar::Real>::mul_add(c2, x20, -(s2 * x23));
+            fk0i.0[2][2] = x36;
+            jb0i[0][5] = x36;
+        }
     }
     /// [`link_pose_and_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]).
     ///
     /// Operations: 53 add, 108 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 9 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
+    ///
+    /// On x86-64 without AVX (the default target), where SSE2 is the widest unit, the chain is walked instead with the rows of the homogeneous transform as pairs (`::trocar::paired_rows`), the same values to rounding.
     #[inline]
     pub fn link_pose_and_jacobian_trig(
         t: &JointTrig,
@@ -1761,112 +1815,214 @@ pub mod panda_laparoscope {
         fk0i: &mut ([[f32; 3]; 3], [f32; 3]),
         jb0i: &mut [[f32; 6]; I],
     ) {
-        jb0i[4][2] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[4][5] = -t.cos[5];
-        jb0i[5][0] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[5][1] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[5][2] = -0.088_f32;
-        jb0i[5][3] = t.sin[6];
-        jb0i[5][4] = t.cos[6];
-        jb0i[5][5] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[6][0] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[6][1] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[6][2] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[6][3] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[6][4] = <f32 as ::trocar::Real>::ZERO;
-        jb0i[6][5] = <f32 as ::trocar::Real>::ONE;
-        let x0 = t.cos[5] * t.cos[6];
-        let x1 = t.cos[5] * t.sin[6];
-        let x2 = 0.088_f32 * t.cos[5];
-        jb0i[4][0] = -(t.sin[6] * x2);
-        jb0i[4][1] = -(t.cos[6] * x2);
-        let x3 = t.sin[5] * t.cos[6];
-        jb0i[4][3] = x3;
-        let x4 = t.sin[5] * t.sin[6];
-        jb0i[4][4] = -x4;
-        let x5 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x0, t.sin[4] * t.sin[6]);
-        let x6 = <f32 as ::trocar::Real>::mul_add(t.sin[4], t.cos[6], -(t.cos[4] * x1));
-        let x7 = t.cos[4] * t.sin[5];
-        let x8 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x2, -0.0825_f32);
-        let x9 = <f32 as ::trocar::Real>::mul_add(0.088_f32, t.sin[5], 0.384_f32);
-        jb0i[3][0] = <f32 as ::trocar::Real>::mul_add(x3, x8, -(x5 * x9));
-        jb0i[3][1] = -<f32 as ::trocar::Real>::mul_add(x6, x9, x4 * x8);
-        jb0i[3][2] = -<f32 as ::trocar::Real>::mul_add(x7, x9, t.cos[5] * x8);
-        let x10 = <f32 as ::trocar::Real>::mul_add(t.cos[4], t.sin[6], -(t.sin[4] * x0));
-        jb0i[3][3] = x10;
-        let x11 = <f32 as ::trocar::Real>::mul_add(t.sin[4], x1, t.cos[4] * t.cos[6]);
-        jb0i[3][4] = x11;
-        let x12 = t.sin[4] * t.sin[5];
-        jb0i[3][5] = -x12;
-        let x13 = t.sin[4] * x2;
-        let x14 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x5, -(t.sin[3] * x3));
-        let x15 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
-        let x16 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x7, t.sin[3] * t.cos[5]);
-        let x17 = 0.0825_f32
-            + <f32 as ::trocar::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
-        jb0i[2][0] = -<f32 as ::trocar::Real>::mul_add(x13, x14, x10 * x17);
-        jb0i[2][1] = -<f32 as ::trocar::Real>::mul_add(x13, x15, x11 * x17);
-        jb0i[2][2] = <f32 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16));
-        let x18 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x5, t.cos[3] * x3);
-        jb0i[2][3] = x18;
-        let x19 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x6, -(t.cos[3] * x4));
-        jb0i[2][4] = x19;
-        let x20 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x7, -(t.cos[3] * t.cos[5]));
-        jb0i[2][5] = x20;
-        let x21 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x14, t.sin[2] * x10);
-        let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x15, t.sin[2] * x11);
-        let x23 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x16, -(t.sin[2] * x12));
-        let x24 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x17, -(t.sin[2] * x13));
-        let x25 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9)
-            + 0.316_f32;
-        fk0i.1[2] = 0.333_f32
-            + <f32 as ::trocar::Real>::mul_add(t.cos[1], x25, -(t.sin[1] * x24));
-        jb0i[1][0] = <f32 as ::trocar::Real>::mul_add(x21, x25, -(x18 * x24));
-        jb0i[1][1] = <f32 as ::trocar::Real>::mul_add(x22, x25, -(x19 * x24));
-        jb0i[1][2] = <f32 as ::trocar::Real>::mul_add(x23, x25, -(x20 * x24));
-        let x26 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x14, -(t.cos[2] * x10));
-        jb0i[1][3] = x26;
-        let x27 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x15, -(t.cos[2] * x11));
-        jb0i[1][4] = x27;
-        let x28 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x12);
-        jb0i[1][5] = x28;
-        let x29 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x13);
-        let x30 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x21, t.sin[1] * x18);
-        fk0i.0[0][0] = <f32 as ::trocar::Real>::mul_add(
-            t.cos[0],
-            x30,
-            -(t.sin[0] * x26),
-        );
-        fk0i.0[0][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x30, t.cos[0] * x26);
-        let x31 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x22, t.sin[1] * x19);
-        fk0i.0[1][0] = <f32 as ::trocar::Real>::mul_add(
-            t.cos[0],
-            x31,
-            -(t.sin[0] * x27),
-        );
-        fk0i.0[1][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x31, t.cos[0] * x27);
-        let x32 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x23, t.sin[1] * x20);
-        fk0i.0[2][0] = <f32 as ::trocar::Real>::mul_add(
-            t.cos[0],
-            x32,
-            -(t.sin[0] * x28),
-        );
-        fk0i.0[2][1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x32, t.cos[0] * x28);
-        let x33 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x24, t.sin[1] * x25);
-        fk0i.1[0] = <f32 as ::trocar::Real>::mul_add(t.cos[0], x33, -(t.sin[0] * x29));
-        fk0i.1[1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x33, t.cos[0] * x29);
-        jb0i[0][0] = <f32 as ::trocar::Real>::mul_add(x26, x33, -(x29 * x30));
-        jb0i[0][1] = <f32 as ::trocar::Real>::mul_add(x27, x33, -(x29 * x31));
-        jb0i[0][2] = <f32 as ::trocar::Real>::mul_add(x28, x33, -(x29 * x32));
-        let x34 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x18, -(t.sin[1] * x21));
-        fk0i.0[0][2] = x34;
-        jb0i[0][3] = x34;
-        let x35 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x19, -(t.sin[1] * x22));
-        fk0i.0[1][2] = x35;
-        jb0i[0][4] = x35;
-        let x36 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x20, -(t.sin[1] * x23));
-        fk0i.0[2][2] = x36;
-        jb0i[0][5] = x36;
+        if cfg!(all(target_arch = "x86_64", not(target_feature = "avx"))) {
+            jb0i[6] = [
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ZERO,
+                <f32 as ::trocar::Real>::ONE,
+            ];
+            let rows = ::trocar::paired_rows::Rows::first(
+                t.sin[6],
+                t.cos[6],
+                ::trocar::paired_rows::Roll::Quarter,
+                [0.088, 0.0, 0.0],
+            );
+            rows.column(&mut jb0i[5]);
+            let rows = rows
+                .joint(
+                    t.sin[5],
+                    t.cos[5],
+                    ::trocar::paired_rows::Roll::Quarter,
+                    [0.0, 0.0, 0.0],
+                );
+            rows.column(&mut jb0i[4]);
+            let rows = rows
+                .joint(
+                    t.sin[4],
+                    t.cos[4],
+                    ::trocar::paired_rows::Roll::MinusQuarter,
+                    [-0.0825, 0.384, 0.0],
+                );
+            rows.column(&mut jb0i[3]);
+            let rows = rows
+                .joint(
+                    t.sin[3],
+                    t.cos[3],
+                    ::trocar::paired_rows::Roll::Quarter,
+                    [0.0825, 0.0, 0.0],
+                );
+            rows.column(&mut jb0i[2]);
+            let rows = rows
+                .joint(
+                    t.sin[2],
+                    t.cos[2],
+                    ::trocar::paired_rows::Roll::Quarter,
+                    [0.0, -0.316, 0.0],
+                );
+            rows.column(&mut jb0i[1]);
+            let rows = rows
+                .joint(
+                    t.sin[1],
+                    t.cos[1],
+                    ::trocar::paired_rows::Roll::MinusQuarter,
+                    [0.0, 0.0, 0.0],
+                );
+            rows.column(&mut jb0i[0]);
+            let rows = rows
+                .joint(
+                    t.sin[0],
+                    t.cos[0],
+                    ::trocar::paired_rows::Roll::Zero,
+                    [0.0, 0.0, 0.333],
+                );
+            rows.pose(fk0i);
+        } else {
+            jb0i[4][2] = <f32 as ::trocar::Real>::ZERO;
+            jb0i[4][5] = -t.cos[5];
+            jb0i[5][0] = <f32 as ::trocar::Real>::ZERO;
+            jb0i[5][1] = <f32 as ::trocar::Real>::ZERO;
+            jb0i[5][2] = -0.088_f32;
+            jb0i[5][3] = t.sin[6];
+            jb0i[5][4] = t.cos[6];
+            jb0i[5][5] = <f32 as ::trocar::Real>::ZERO;
+            jb0i[6][0] = <f32 as ::trocar::Real>::ZERO;
+            jb0i[6][1] = <f32 as ::trocar::Real>::ZERO;
+            jb0i[6][2] = <f32 as ::trocar::Real>::ZERO;
+            jb0i[6][3] = <f32 as ::trocar::Real>::ZERO;
+            jb0i[6][4] = <f32 as ::trocar::Real>::ZERO;
+            jb0i[6][5] = <f32 as ::trocar::Real>::ONE;
+            let x0 = t.cos[5] * t.cos[6];
+            let x1 = t.cos[5] * t.sin[6];
+            let x2 = 0.088_f32 * t.cos[5];
+            jb0i[4][0] = -(t.sin[6] * x2);
+            jb0i[4][1] = -(t.cos[6] * x2);
+            let x3 = t.sin[5] * t.cos[6];
+            jb0i[4][3] = x3;
+            let x4 = t.sin[5] * t.sin[6];
+            jb0i[4][4] = -x4;
+            let x5 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x0, t.sin[4] * t.sin[6]);
+            let x6 = <f32 as ::trocar::Real>::mul_add(
+                t.sin[4],
+                t.cos[6],
+                -(t.cos[4] * x1),
+            );
+            let x7 = t.cos[4] * t.sin[5];
+            let x8 = <f32 as ::trocar::Real>::mul_add(t.cos[4], x2, -0.0825_f32);
+            let x9 = <f32 as ::trocar::Real>::mul_add(0.088_f32, t.sin[5], 0.384_f32);
+            jb0i[3][0] = <f32 as ::trocar::Real>::mul_add(x3, x8, -(x5 * x9));
+            jb0i[3][1] = -<f32 as ::trocar::Real>::mul_add(x6, x9, x4 * x8);
+            jb0i[3][2] = -<f32 as ::trocar::Real>::mul_add(x7, x9, t.cos[5] * x8);
+            let x10 = <f32 as ::trocar::Real>::mul_add(
+                t.cos[4],
+                t.sin[6],
+                -(t.sin[4] * x0),
+            );
+            jb0i[3][3] = x10;
+            let x11 = <f32 as ::trocar::Real>::mul_add(
+                t.sin[4],
+                x1,
+                t.cos[4] * t.cos[6],
+            );
+            jb0i[3][4] = x11;
+            let x12 = t.sin[4] * t.sin[5];
+            jb0i[3][5] = -x12;
+            let x13 = t.sin[4] * x2;
+            let x14 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x5, -(t.sin[3] * x3));
+            let x15 = <f32 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
+            let x16 = <f32 as ::trocar::Real>::mul_add(
+                t.cos[3],
+                x7,
+                t.sin[3] * t.cos[5],
+            );
+            let x17 = 0.0825_f32
+                + <f32 as ::trocar::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
+            jb0i[2][0] = -<f32 as ::trocar::Real>::mul_add(x13, x14, x10 * x17);
+            jb0i[2][1] = -<f32 as ::trocar::Real>::mul_add(x13, x15, x11 * x17);
+            jb0i[2][2] = <f32 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16));
+            let x18 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x5, t.cos[3] * x3);
+            jb0i[2][3] = x18;
+            let x19 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x6, -(t.cos[3] * x4));
+            jb0i[2][4] = x19;
+            let x20 = <f32 as ::trocar::Real>::mul_add(
+                t.sin[3],
+                x7,
+                -(t.cos[3] * t.cos[5]),
+            );
+            jb0i[2][5] = x20;
+            let x21 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x14, t.sin[2] * x10);
+            let x22 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x15, t.sin[2] * x11);
+            let x23 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x16, -(t.sin[2] * x12));
+            let x24 = <f32 as ::trocar::Real>::mul_add(t.cos[2], x17, -(t.sin[2] * x13));
+            let x25 = <f32 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9)
+                + 0.316_f32;
+            fk0i.1[2] = 0.333_f32
+                + <f32 as ::trocar::Real>::mul_add(t.cos[1], x25, -(t.sin[1] * x24));
+            jb0i[1][0] = <f32 as ::trocar::Real>::mul_add(x21, x25, -(x18 * x24));
+            jb0i[1][1] = <f32 as ::trocar::Real>::mul_add(x22, x25, -(x19 * x24));
+            jb0i[1][2] = <f32 as ::trocar::Real>::mul_add(x23, x25, -(x20 * x24));
+            let x26 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x14, -(t.cos[2] * x10));
+            jb0i[1][3] = x26;
+            let x27 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x15, -(t.cos[2] * x11));
+            jb0i[1][4] = x27;
+            let x28 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x12);
+            jb0i[1][5] = x28;
+            let x29 = <f32 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x13);
+            let x30 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x21, t.sin[1] * x18);
+            fk0i.0[0][0] = <f32 as ::trocar::Real>::mul_add(
+                t.cos[0],
+                x30,
+                -(t.sin[0] * x26),
+            );
+            fk0i.0[0][1] = <f32 as ::trocar::Real>::mul_add(
+                t.sin[0],
+                x30,
+                t.cos[0] * x26,
+            );
+            let x31 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x22, t.sin[1] * x19);
+            fk0i.0[1][0] = <f32 as ::trocar::Real>::mul_add(
+                t.cos[0],
+                x31,
+                -(t.sin[0] * x27),
+            );
+            fk0i.0[1][1] = <f32 as ::trocar::Real>::mul_add(
+                t.sin[0],
+                x31,
+                t.cos[0] * x27,
+            );
+            let x32 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x23, t.sin[1] * x20);
+            fk0i.0[2][0] = <f32 as ::trocar::Real>::mul_add(
+                t.cos[0],
+                x32,
+                -(t.sin[0] * x28),
+            );
+            fk0i.0[2][1] = <f32 as ::trocar::Real>::mul_add(
+                t.sin[0],
+                x32,
+                t.cos[0] * x28,
+            );
+            let x33 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x24, t.sin[1] * x25);
+            fk0i.1[0] = <f32 as ::trocar::Real>::mul_add(
+                t.cos[0],
+                x33,
+                -(t.sin[0] * x29),
+            );
+            fk0i.1[1] = <f32 as ::trocar::Real>::mul_add(t.sin[0], x33, t.cos[0] * x29);
+            jb0i[0][0] = <f32 as ::trocar::Real>::mul_add(x26, x33, -(x29 * x30));
+            jb0i[0][1] = <f32 as ::trocar::Real>::mul_add(x27, x33, -(x29 * x31));
+            jb0i[0][2] = <f32 as ::trocar::Real>::mul_add(x28, x33, -(x29 * x32));
+            let x34 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x18, -(t.sin[1] * x21));
+            fk0i.0[0][2] = x34;
+            jb0i[0][3] = x34;
+            let x35 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x19, -(t.sin[1] * x22));
+            fk0i.0[1][2] = x35;
+            jb0i[0][4] = x35;
+            let x36 = <f32 as ::trocar::Real>::mul_add(t.cos[1], x20, -(t.sin[1] * x23));
+            fk0i.0[2][2] = x36;
+            jb0i[0][5] = x36;
+        }
     }
     /// `(g_0e, J^B_0i, J^r_0e, J_c)` as [`pose_and_jacobians_trig`] returns them: `(R, p)` with
     /// `R` column-major, then the three matrices column-major.
