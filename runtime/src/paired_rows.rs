@@ -12,10 +12,11 @@
 //! A row `(R_r1, R_r2 | R_r3, p_r)` of `S` is two [`Pair`]s. `R_z(q)` mixes rows 1 and 2 lane
 //! by lane (four multiplications and two additions of pairs per row, no shuffles), `R_x(±π/2)`
 //! only renames rows (their signs are carried with the rows and folded into the next addition
-//! or subtraction), and `Trans(o)` adds to the `p` lanes. On x86-64 a `Pair<f64>` is one SSE2
-//! register: at the default target, where SSE2 is the widest unit, the Panda's `g_0i` and
-//! `J^B_0i` given the sines and cosines take 262 instructions instead of the 377 of the same
-//! values written out as scalar expressions (BENCHMARKS.md, "Rows as SSE2 pairs").
+//! or subtraction), and `Trans(o)` adds to the `p` lanes. On x86-64 a `Pair<f64>` (or
+//! `Pair<f32>`) is one SSE2 register: at the default target, where SSE2 is the widest unit,
+//! the Panda's generated `link_pose_and_jacobian_trig` takes 287 instructions through this
+//! walk instead of the 377 of the same values written out as scalar expressions
+//! (BENCHMARKS.md, "Rows as SSE2 pairs").
 //!
 //! Every operation is one IEEE operation per lane, so a [`Pair`] of lane types gives, lane by
 //! lane, the bits of the scalar walk.
@@ -23,89 +24,119 @@
 use crate::Arith;
 use core::ops::{Add, Mul, Neg, Sub};
 
-/// Two values side by side, `[lo, hi]`. For `f64` on x86-64 every operation is one SSE2
-/// instruction on both; otherwise one operation of `T` on each.
+/// Two values side by side, `[lo, hi]`. For `f64` and `f32` on x86-64 (with SSE2, as every
+/// x86-64 target but the soft-float ones) every operation is one SSE2 instruction on both;
+/// otherwise one operation of `T` on each.
 #[derive(Clone, Copy, Debug)]
-#[repr(C, align(16))]
 pub struct Pair<T>([T; 2]);
 
-/// Whether `T` is `f64` on x86-64, where a [`Pair`] is one SSE2 register.
+/// `op` of `a` and `b` as one SSE2 instruction, where `T` is `f64` or `f32` and the target has
+/// SSE2; `None` otherwise. The type tests compare constant `TypeId`s, which the compiler folds.
 #[inline(always)]
-fn sse2<T: 'static>() -> bool {
-    cfg!(target_arch = "x86_64") && core::any::TypeId::of::<T>() == core::any::TypeId::of::<f64>()
+#[allow(unused_variables)] // `a`, `b` and `op` go unused without SSE2
+fn on_sse2<T: Arith>(a: &Pair<T>, b: &Pair<T>, op: Op) -> Option<Pair<T>> {
+    #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+    {
+        use core::any::Any;
+        let (a, b) = (a as &dyn Any, b as &dyn Any);
+        if let (Some(x), Some(y)) = (a.downcast_ref::<Pair<f64>>(), b.downcast_ref()) {
+            let r = sse2::f64_op(*x, *y, op);
+            return (&r as &dyn Any).downcast_ref::<Pair<T>>().copied();
+        }
+        if let (Some(x), Some(y)) = (a.downcast_ref::<Pair<f32>>(), b.downcast_ref()) {
+            let r = sse2::f32_op(*x, *y, op);
+            return (&r as &dyn Any).downcast_ref::<Pair<T>>().copied();
+        }
+    }
+    #[allow(unreachable_code)]
+    None
 }
 
-#[cfg(target_arch = "x86_64")]
+/// An operation of [`Pair`] (`Neg` and `HiSplat` read only the first operand).
+#[derive(Clone, Copy)]
+#[allow(dead_code)] // built only where SSE2 takes them
+enum Op {
+    Add,
+    Sub,
+    Mul,
+    Neg,
+    HiSplat,
+}
+
+#[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
 mod sse2 {
-    //! `Pair<f64>` through SSE2.
+    //! `Pair<f64>` and `Pair<f32>` through SSE2.
     //!
-    //! SAFETY (every function): SSE2 is part of x86-64's baseline, so the intrinsics exist on
-    //! every x86-64 target. The callers have checked that `T` is `f64` ([`super::sse2`]), so a
-    //! `Pair<T>` is a `Pair<f64>`: `[f64; 2]`, 16 bytes, which `_mm_loadu_pd` reads and
-    //! `_mm_storeu_pd` writes (unaligned forms: no alignment is assumed). The pointer casts
-    //! between `Pair<T>` and `Pair<f64>` are therefore casts of a type to itself.
-    use super::Pair;
+    //! SAFETY (every `unsafe` block): the module is compiled only where the target has SSE2
+    //! (its `cfg`), so the intrinsics may be called. `_mm_loadu_pd` reads the 16 bytes of the
+    //! `[f64; 2]` inside a `Pair<f64>` (a shared borrow, valid for reads); `_mm_storeu_pd` and
+    //! `_mm_storeu_ps` write 16 bytes of an array of that size, local or borrowed `&mut`
+    //! (valid for writes); all are the unaligned forms, so no alignment is assumed. Every other intrinsic touches
+    //! registers only.
+    use super::{Op, Pair};
     use core::arch::x86_64::{
-        __m128d, _mm_add_pd, _mm_loadu_pd, _mm_mul_pd, _mm_set1_pd, _mm_storeu_pd, _mm_sub_pd,
-        _mm_unpackhi_pd, _mm_xor_pd,
+        __m128, __m128d, _mm_add_pd, _mm_add_ps, _mm_loadu_pd, _mm_mul_pd, _mm_mul_ps, _mm_set1_pd,
+        _mm_set1_ps, _mm_setr_ps, _mm_shuffle_ps, _mm_storeu_pd, _mm_storeu_ps, _mm_sub_pd,
+        _mm_sub_ps, _mm_unpackhi_pd, _mm_xor_pd, _mm_xor_ps,
     };
 
     #[inline(always)]
-    fn load<T>(p: &Pair<T>) -> __m128d {
-        // SAFETY: see the module; `p` is a `Pair<f64>`, 16 readable bytes.
-        unsafe { _mm_loadu_pd(core::ptr::from_ref(p).cast::<f64>()) }
+    fn load(p: &Pair<f64>) -> __m128d {
+        // SAFETY: see the module.
+        unsafe { _mm_loadu_pd(p.0.as_ptr()) }
     }
 
+    /// `op` of two `Pair<f64>`.
     #[inline(always)]
-    fn store<T: Copy>(x: __m128d, like: Pair<T>) -> Pair<T> {
-        let mut out = like;
-        // SAFETY: see the module; `out` is a `Pair<f64>`, 16 writable bytes.
-        unsafe { _mm_storeu_pd(core::ptr::from_mut(&mut out).cast::<f64>(), x) };
-        out
-    }
-
-    /// One SSE2 operation on both lanes.
-    #[inline(always)]
-    pub(super) fn binary<T: Copy>(a: Pair<T>, b: Pair<T>, op: Op) -> Pair<T> {
+    pub(super) fn f64_op(a: Pair<f64>, b: Pair<f64>, op: Op) -> Pair<f64> {
         let (x, y) = (load(&a), load(&b));
-        // SAFETY: see the module; registers only.
+        // SAFETY: see the module.
         let r = unsafe {
             match op {
                 Op::Add => _mm_add_pd(x, y),
                 Op::Sub => _mm_sub_pd(x, y),
                 Op::Mul => _mm_mul_pd(x, y),
+                Op::Neg => _mm_xor_pd(x, _mm_set1_pd(-0.0)),
+                Op::HiSplat => _mm_unpackhi_pd(x, x),
             }
         };
-        store(r, a)
+        let mut out = [0.0; 2];
+        // SAFETY: see the module.
+        unsafe { _mm_storeu_pd(out.as_mut_ptr(), r) };
+        Pair(out)
     }
 
-    /// `−a`: the sign bits flipped (as `f64`'s `Neg`).
+    /// `dst = a`, one store of both lanes.
     #[inline(always)]
-    pub(super) fn neg<T: Copy>(a: Pair<T>) -> Pair<T> {
-        // SAFETY: see the module; registers only.
-        store(unsafe { _mm_xor_pd(load(&a), _mm_set1_pd(-0.0)) }, a)
+    pub(super) fn store(a: Pair<f64>, dst: &mut [f64; 2]) {
+        // SAFETY: see the module; `dst` is 16 bytes valid for writes.
+        unsafe { _mm_storeu_pd(dst.as_mut_ptr(), load(&a)) }
     }
 
-    /// `dst = a`, one unaligned store.
     #[inline(always)]
-    pub(super) fn store_into<T: Copy>(a: Pair<T>, dst: &mut [T; 2]) {
-        // SAFETY: see the module; `dst` is a `[f64; 2]`, 16 writable bytes.
-        unsafe { _mm_storeu_pd(core::ptr::from_mut(dst).cast::<f64>(), load(&a)) }
+    fn load32(p: &Pair<f32>) -> __m128 {
+        // SAFETY: see the module.
+        unsafe { _mm_setr_ps(p.0[0], p.0[1], 0.0, 0.0) }
     }
 
-    /// `[hi, hi]`.
+    /// `op` of two `Pair<f32>`, in the low two of four lanes.
     #[inline(always)]
-    pub(super) fn hi_splat<T: Copy>(a: Pair<T>) -> Pair<T> {
-        let x = load(&a);
-        // SAFETY: see the module; registers only.
-        store(unsafe { _mm_unpackhi_pd(x, x) }, a)
-    }
-
-    #[derive(Clone, Copy)]
-    pub(super) enum Op {
-        Add,
-        Sub,
-        Mul,
+    pub(super) fn f32_op(a: Pair<f32>, b: Pair<f32>, op: Op) -> Pair<f32> {
+        let (x, y) = (load32(&a), load32(&b));
+        // SAFETY: see the module.
+        let r = unsafe {
+            match op {
+                Op::Add => _mm_add_ps(x, y),
+                Op::Sub => _mm_sub_ps(x, y),
+                Op::Mul => _mm_mul_ps(x, y),
+                Op::Neg => _mm_xor_ps(x, _mm_set1_ps(-0.0)),
+                Op::HiSplat => _mm_shuffle_ps::<0b01_01_01_01>(x, x),
+            }
+        };
+        let mut out = [0.0f32; 4];
+        // SAFETY: see the module.
+        unsafe { _mm_storeu_ps(out.as_mut_ptr(), r) };
+        Pair([out[0], out[1]])
     }
 }
 
@@ -137,9 +168,9 @@ impl<T: Arith> Pair<T> {
     /// `[hi, hi]`.
     #[inline(always)]
     pub fn hi_splat(self) -> Self {
-        #[cfg(target_arch = "x86_64")]
-        if sse2::<T>() {
-            return sse2::hi_splat(self);
+        #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+        if let Some(r) = on_sse2(&self, &self, Op::HiSplat) {
+            return r;
         }
         Pair([self.0[1], self.0[1]])
     }
@@ -147,9 +178,14 @@ impl<T: Arith> Pair<T> {
     /// Writes `[lo, hi]` into `dst`.
     #[inline(always)]
     pub fn store(self, dst: &mut [T; 2]) {
-        #[cfg(target_arch = "x86_64")]
-        if sse2::<T>() {
-            return sse2::store_into(self, dst);
+        #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+        {
+            use core::any::Any;
+            let pair = (&self as &dyn Any).downcast_ref::<Pair<f64>>();
+            let out = (dst as &mut dyn Any).downcast_mut::<[f64; 2]>();
+            if let (Some(&pair), Some(out)) = (pair, out) {
+                return sse2::store(pair, out);
+            }
         }
         *dst = self.0;
     }
@@ -374,9 +410,9 @@ impl<T: Arith> core::ops::Add for Pair<T> {
     type Output = Self;
     #[inline(always)]
     fn add(self, b: Self) -> Self {
-        #[cfg(target_arch = "x86_64")]
-        if sse2::<T>() {
-            return sse2::binary(self, b, sse2::Op::Add);
+        #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+        if let Some(r) = on_sse2(&self, &b, Op::Add) {
+            return r;
         }
         Pair([self.0[0] + b.0[0], self.0[1] + b.0[1]])
     }
@@ -387,9 +423,9 @@ impl<T: Arith> core::ops::Sub for Pair<T> {
     type Output = Self;
     #[inline(always)]
     fn sub(self, b: Self) -> Self {
-        #[cfg(target_arch = "x86_64")]
-        if sse2::<T>() {
-            return sse2::binary(self, b, sse2::Op::Sub);
+        #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+        if let Some(r) = on_sse2(&self, &b, Op::Sub) {
+            return r;
         }
         Pair([self.0[0] - b.0[0], self.0[1] - b.0[1]])
     }
@@ -400,9 +436,9 @@ impl<T: Arith> core::ops::Mul for Pair<T> {
     type Output = Self;
     #[inline(always)]
     fn mul(self, b: Self) -> Self {
-        #[cfg(target_arch = "x86_64")]
-        if sse2::<T>() {
-            return sse2::binary(self, b, sse2::Op::Mul);
+        #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+        if let Some(r) = on_sse2(&self, &b, Op::Mul) {
+            return r;
         }
         Pair([self.0[0] * b.0[0], self.0[1] * b.0[1]])
     }
@@ -413,9 +449,9 @@ impl<T: Arith> core::ops::Neg for Pair<T> {
     type Output = Self;
     #[inline(always)]
     fn neg(self) -> Self {
-        #[cfg(target_arch = "x86_64")]
-        if sse2::<T>() {
-            return sse2::neg(self);
+        #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+        if let Some(r) = on_sse2(&self, &self, Op::Neg) {
+            return r;
         }
         Pair([-self.0[0], -self.0[1]])
     }
@@ -522,8 +558,8 @@ mod tests {
         }
     }
 
-    /// `Pair<f64>` (SSE2 on x86-64) and `Pair<f32>` (one operation per lane) against the same
-    /// operations on plain numbers, bit for bit.
+    /// `Pair<f64>` and `Pair<f32>` (SSE2 on x86-64) against the same operations on plain
+    /// numbers, bit for bit.
     #[test]
     fn pair_operations_are_lane_operations() {
         let xs = [1.5f64, -0.0, 3.25e-300, -7.0e10, 0.1, f64::INFINITY];
@@ -537,9 +573,25 @@ mod tests {
                 assert_eq!(bits(p.neg()), [(-a).to_bits(), (-b).to_bits()]);
                 assert_eq!(bits(p.hi_splat()), [b.to_bits(), b.to_bits()]);
                 let (a32, b32) = (a as f32, b as f32);
-                let p32 = Pair::new(a32, b32).mul(Pair::splat(b32));
-                assert_eq!(p32.lo().to_bits(), (a32 * b32).to_bits());
-                assert_eq!(p32.hi().to_bits(), (b32 * b32).to_bits());
+                let (p, r) = (Pair::new(a32, b32), Pair::new(b32, a32));
+                let bits = |x: Pair<f32>| [x.lo().to_bits(), x.hi().to_bits()];
+                assert_eq!(
+                    bits(p.add(r)),
+                    [(a32 + b32).to_bits(), (b32 + a32).to_bits()]
+                );
+                assert_eq!(
+                    bits(p.sub(r)),
+                    [(a32 - b32).to_bits(), (b32 - a32).to_bits()]
+                );
+                assert_eq!(
+                    bits(p.mul(r)),
+                    [(a32 * b32).to_bits(), (b32 * a32).to_bits()]
+                );
+                assert_eq!(bits(p.neg()), [(-a32).to_bits(), (-b32).to_bits()]);
+                assert_eq!(bits(p.hi_splat()), [b32.to_bits(), b32.to_bits()]);
+                let mut dst = [0.0f32; 2];
+                p.store(&mut dst);
+                assert_eq!(dst.map(f32::to_bits), [a32.to_bits(), b32.to_bits()]);
             }
         }
     }

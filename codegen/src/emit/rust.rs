@@ -1100,9 +1100,11 @@ fn fused_tokens(f: &FusedFunction, ty: &Ty, n: usize, fma_at_run_time: bool) -> 
     let mut doc_t = doc_t;
     if let (Some(heads), false) = (&f.paired_heads, fma_at_run_time) {
         let walk_doc = doc_attrs(&format!(
-            "\nOn x86-64 without AVX (the default target), where SSE2 is the widest unit, the \
-             chain is walked instead with the rows of the homogeneous transform as pairs \
-             (`{}::paired_rows`), the same values to rounding.",
+            "\nOn x86-64 with SSE2 and without AVX (the default target), the chain is walked \
+             instead with the rows of the homogeneous transform as pairs \
+             (`{}::paired_rows`): one SSE2 register per pair for `f64` and `f32`, one operation \
+             per lane for the lane types (so that they stay, lane by lane, the scalar walk); \
+             the same values to rounding. The operation counts above are the program's.",
             ty.runtime().to_string().replace(' ', "")
         ));
         doc_q.extend(walk_doc.clone());
@@ -1123,7 +1125,11 @@ fn fused_tokens(f: &FusedFunction, ty: &Ty, n: usize, fma_at_run_time: bool) -> 
             let walk = paired_walk(heads, ty, access, &g, &jb);
             let program = std::mem::take(stmts);
             stmts.push(quote! {
-                if cfg!(all(target_arch = "x86_64", not(target_feature = "avx"))) {
+                if cfg!(all(
+                    target_arch = "x86_64",
+                    target_feature = "sse2",
+                    not(target_feature = "avx")
+                )) {
                     #(#walk)*
                 } else {
                     #(#program)*

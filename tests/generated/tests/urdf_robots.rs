@@ -79,6 +79,20 @@ macro_rules! generated_vs_numeric {
                     prop_assert!(max_diff(gi.1, fki.translation.iter().copied()) < 1e-12);
                     prop_assert!(against(&jb, &jbi_n) < 1e-12);
                 }
+                // The same in f32 (one operation per lane where f64 takes SSE2 pairs), against
+                // the f64 numeric robot at the f32-rounded joint values.
+                let q32 = q.map(|x| x as f32);
+                let mut p32 = g::Params::<f32>::nominal();
+                p32.l_a = l_a as f32;
+                let q32_64 = q32.map(f64::from);
+                let fki32 = robot.link_frame(g::I, &q32_64).unwrap();
+                let jbi32_n = robot.partial_body_jacobian(&q32_64).unwrap();
+                let (mut gi, mut jb) = (([[0.0f32; 3]; 3], [0.0f32; 3]), [[0.0f32; 6]; g::I]);
+                g::link_pose_and_jacobian_trig(&g::JointTrig::new(&q32), &p32, &mut gi, &mut jb);
+                let jb64 = jb.map(|c| c.map(f64::from));
+                prop_assert!(max_diff(gi.0.iter().flatten().map(|&x| f64::from(x)), fki32.rotation.iter().copied()) < 1e-5);
+                prop_assert!(max_diff(gi.1.map(f64::from), fki32.translation.iter().copied()) < 1e-5);
+                prop_assert!(against(&jb64, &jbi32_n) < 1e-5);
                 generated_vs_numeric!(@task $task, g, q, p, robot);
                 let w = g::manipulability(&q, &p);
                 let wn = robot.manipulability(&q).unwrap();

@@ -1650,7 +1650,7 @@ pub mod panda_laparoscope {
     ///
     /// Operations: 53 add, 108 mul, 0 div, 0 sqrt, 7 trig (sin_cos), 9 neg, 0 abs.
     ///
-    /// On x86-64 without AVX (the default target), where SSE2 is the widest unit, the chain is walked instead with the rows of the homogeneous transform as pairs (`::trocar::paired_rows`), the same values to rounding.
+    /// On x86-64 with SSE2 and without AVX (the default target), the chain is walked instead with the rows of the homogeneous transform as pairs (`::trocar::paired_rows`): one SSE2 register per pair for `f64` and `f32`, one operation per lane for the lane types (so that they stay, lane by lane, the scalar walk); the same values to rounding. The operation counts above are the program's.
     #[inline]
     pub fn link_pose_and_jacobian(
         q: &[f32; N],
@@ -1658,7 +1658,10 @@ pub mod panda_laparoscope {
         fk0i: &mut ([[f32; 3]; 3], [f32; 3]),
         jb0i: &mut [[f32; 6]; I],
     ) {
-        if cfg!(all(target_arch = "x86_64", not(target_feature = "avx"))) {
+        if cfg!(
+            all(target_arch = "x86_64", target_feature = "sse2", not(target_feature =
+            "avx"))
+        ) {
             let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f32 as ::trocar::Real>::sin_cos_array(
                 &[q[0], q[1], q[2], q[3], q[4], q[5], q[6]],
             );
@@ -1807,7 +1810,7 @@ pub mod panda_laparoscope {
     ///
     /// Operations: 53 add, 108 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 9 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     ///
-    /// On x86-64 without AVX (the default target), where SSE2 is the widest unit, the chain is walked instead with the rows of the homogeneous transform as pairs (`::trocar::paired_rows`), the same values to rounding.
+    /// On x86-64 with SSE2 and without AVX (the default target), the chain is walked instead with the rows of the homogeneous transform as pairs (`::trocar::paired_rows`): one SSE2 register per pair for `f64` and `f32`, one operation per lane for the lane types (so that they stay, lane by lane, the scalar walk); the same values to rounding. The operation counts above are the program's.
     #[inline]
     pub fn link_pose_and_jacobian_trig(
         t: &JointTrig,
@@ -1815,7 +1818,10 @@ pub mod panda_laparoscope {
         fk0i: &mut ([[f32; 3]; 3], [f32; 3]),
         jb0i: &mut [[f32; 6]; I],
     ) {
-        if cfg!(all(target_arch = "x86_64", not(target_feature = "avx"))) {
+        if cfg!(
+            all(target_arch = "x86_64", target_feature = "sse2", not(target_feature =
+            "avx"))
+        ) {
             jb0i[6] = [
                 <f32 as ::trocar::Real>::ZERO,
                 <f32 as ::trocar::Real>::ZERO,
