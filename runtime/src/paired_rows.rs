@@ -54,7 +54,6 @@ fn on_sse2<T: Arith>(a: &Pair<T>, b: &Pair<T>, op: Op) -> Option<Pair<T>> {
 
 /// An operation of [`Pair`] (`Neg` and `HiSplat` read only the first operand).
 #[derive(Clone, Copy)]
-#[allow(dead_code)] // built only where SSE2 takes them
 enum Op {
     Add,
     Sub,
@@ -71,8 +70,8 @@ mod sse2 {
     //! (its `cfg`), so the intrinsics may be called. `_mm_loadu_pd` reads the 16 bytes of the
     //! `[f64; 2]` inside a `Pair<f64>` (a shared borrow, valid for reads); `_mm_storeu_pd` and
     //! `_mm_storeu_ps` write 16 bytes of an array of that size, local or borrowed `&mut`
-    //! (valid for writes); all are the unaligned forms, so no alignment is assumed. Every other intrinsic touches
-    //! registers only.
+    //! (valid for writes); all are the unaligned forms, so no alignment is assumed. Every other
+    //! intrinsic touches registers only.
     use super::{Op, Pair};
     use core::arch::x86_64::{
         __m128, __m128d, _mm_add_pd, _mm_add_ps, _mm_loadu_pd, _mm_mul_pd, _mm_mul_ps, _mm_set1_pd,
@@ -168,7 +167,6 @@ impl<T: Arith> Pair<T> {
     /// `[hi, hi]`.
     #[inline(always)]
     pub fn hi_splat(self) -> Self {
-        #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
         if let Some(r) = on_sse2(&self, &self, Op::HiSplat) {
             return r;
         }
@@ -359,8 +357,11 @@ impl<T: Arith> Rows<T> {
         let [x1, x2, x3] = self.rows;
         let (p1, p2) = (x1.b.hi_splat(), x2.b.hi_splat());
         // σ₁σ₂ (X₁.p X₂ − X₂.p X₁); a zero `b` has a zero `p`.
-        let (first, second) = if x1.neg == x2.neg { (x1, x2) } else { (x2, x1) };
-        let (pf, ps) = if x1.neg == x2.neg { (p1, p2) } else { (p2, p1) };
+        let ((first, pf), (second, ps)) = if x1.neg == x2.neg {
+            ((x1, p1), (x2, p2))
+        } else {
+            ((x2, p2), (x1, p1))
+        };
         // pf · second − ps · first, the terms with a zero `p` or a zero pair left out.
         let term =
             |p: Pair<T>, p_zero: bool, x: Pair<T>, x_zero: bool| (p.mul(x), p_zero || x_zero);
@@ -406,11 +407,10 @@ impl<T: Arith> Rows<T> {
 }
 
 /// Lane by lane `a + b`.
-impl<T: Arith> core::ops::Add for Pair<T> {
+impl<T: Arith> Add for Pair<T> {
     type Output = Self;
     #[inline(always)]
     fn add(self, b: Self) -> Self {
-        #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
         if let Some(r) = on_sse2(&self, &b, Op::Add) {
             return r;
         }
@@ -419,11 +419,10 @@ impl<T: Arith> core::ops::Add for Pair<T> {
 }
 
 /// Lane by lane `a - b`.
-impl<T: Arith> core::ops::Sub for Pair<T> {
+impl<T: Arith> Sub for Pair<T> {
     type Output = Self;
     #[inline(always)]
     fn sub(self, b: Self) -> Self {
-        #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
         if let Some(r) = on_sse2(&self, &b, Op::Sub) {
             return r;
         }
@@ -432,11 +431,10 @@ impl<T: Arith> core::ops::Sub for Pair<T> {
 }
 
 /// Lane by lane `a * b`.
-impl<T: Arith> core::ops::Mul for Pair<T> {
+impl<T: Arith> Mul for Pair<T> {
     type Output = Self;
     #[inline(always)]
     fn mul(self, b: Self) -> Self {
-        #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
         if let Some(r) = on_sse2(&self, &b, Op::Mul) {
             return r;
         }
@@ -445,11 +443,10 @@ impl<T: Arith> core::ops::Mul for Pair<T> {
 }
 
 /// Lane by lane `−a` (the sign bits flipped).
-impl<T: Arith> core::ops::Neg for Pair<T> {
+impl<T: Arith> Neg for Pair<T> {
     type Output = Self;
     #[inline(always)]
     fn neg(self) -> Self {
-        #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
         if let Some(r) = on_sse2(&self, &self, Op::Neg) {
             return r;
         }

@@ -167,9 +167,15 @@ fn column(rows: &[Row; 3], col: &mut [f64; 6]) {
     let [x1, x2, x3] = *rows;
     let (p1, p2) = (x1.b.hi_splat(), x2.b.hi_splat());
     let (va, vb) = if x1.neg == x2.neg {
-        (p1.mul(x2.a).sub(p2.mul(x1.a)), p1.mul(x2.b).sub(p2.mul(x1.b)))
+        (
+            p1.mul(x2.a).sub(p2.mul(x1.a)),
+            p1.mul(x2.b).sub(p2.mul(x1.b)),
+        )
     } else {
-        (p2.mul(x1.a).sub(p1.mul(x2.a)), p2.mul(x1.b).sub(p1.mul(x2.b)))
+        (
+            p2.mul(x1.a).sub(p1.mul(x2.a)),
+            p2.mul(x1.b).sub(p1.mul(x2.b)),
+        )
     };
     let (wa, wb) = x3.value();
     let (v, w) = col.split_at_mut(3);
@@ -231,4 +237,12 @@ pub fn panda_link7(
         g.0[2][i] = b.lo();
         g.1[i] = b.hi();
     }
+}
+
+/// The first seven joints' `(sin, cos)` as `std` computes them, as the peers are given them
+/// ([`crate::rust_peers::Trig`]): the inputs of [`panda_link7`] in the bench drivers.
+pub fn std_sin_cos(q: &[f64]) -> ([f64; 7], [f64; 7]) {
+    let t = crate::rust_peers::Trig::new(q);
+    let first = |x: &[f64; 8]| core::array::from_fn(|k| x[k]);
+    (first(&t.s), first(&t.c))
 }

@@ -320,18 +320,14 @@ fn panda(name: &str, case: Case, n: usize) {
         }
         #[cfg(feature = "ours")]
         "paired_rows_given_trig" if case == Case::PandaI => {
-            let trigs: Vec<([f64; 7], [f64; 7])> = qs
-                .iter()
-                .map(|q| {
-                    let t = Trig::new(q);
-                    (t.s[..7].try_into().unwrap(), t.c[..7].try_into().unwrap())
-                })
-                .collect();
+            use trocar_peers_harness::paired_rows;
+            let trigs: Vec<([f64; 7], [f64; 7])> =
+                qs.iter().map(|q| paired_rows::std_sin_cos(q)).collect();
             let mut o = trocar_peers_harness::ours::PandaOut::<f64>::default();
             measured_loop(n, &mut || {
                 k = black_box(k + 1) & 15;
                 let (s, c) = &trigs[k];
-                trocar_peers_harness::paired_rows::panda_link7(s, c, &mut o.g, &mut o.jb);
+                paired_rows::panda_link7(s, c, &mut o.g, &mut o.jb);
                 black_box(&mut o);
             })
         }

@@ -19,6 +19,7 @@
 use std::hint::black_box;
 use std::time::Instant;
 use trocar_peers_harness::ours;
+use trocar_peers_harness::paired_rows;
 use trocar_peers_harness::rust_peers::{RustPeer, Trig};
 use trocar_peers_harness::{Case, Peer};
 
@@ -119,17 +120,12 @@ fn implementation(name: &str, case: Case) -> Eval {
         }
         "paired_rows_given_trig" if case == Case::PandaI => {
             // The peers' sines and cosines (`std`), as for `symforce_given_trig`.
-            let trigs: Vec<([f64; 7], [f64; 7])> = qs
-                .iter()
-                .map(|q| {
-                    let t = Trig::new(q);
-                    (t.s[..7].try_into().unwrap(), t.c[..7].try_into().unwrap())
-                })
-                .collect();
+            let trigs: Vec<([f64; 7], [f64; 7])> =
+                qs.iter().map(|q| paired_rows::std_sin_cos(q)).collect();
             let mut o = ours::PandaOut::<f64>::default();
             Box::new(move |k| {
                 let (s, c) = &trigs[k];
-                trocar_peers_harness::paired_rows::panda_link7(s, c, &mut o.g, &mut o.jb);
+                paired_rows::panda_link7(s, c, &mut o.g, &mut o.jb);
                 black_box(&mut o);
             })
         }
