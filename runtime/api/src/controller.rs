@@ -17,7 +17,7 @@ use crate::robot::Robot;
 use nalgebra::{Const, Matrix3, SVector, Vector3};
 use trocar::control::{
     self, ChainKinematics, Controller as Typed, HardLimits, NullSpaceObjective, QpReport, Rcm,
-    Reference,
+    Reference, StepStatus,
 };
 use trocar::linalg::SquareDim;
 use trocar_model::numeric::NumericModel;
@@ -95,6 +95,30 @@ impl ControllerOptions {
         s.controller_config()
     }
 
+    /// Checks the gains against the sample time `dt` (s): `dt` finite and positive, and each
+    /// proportional gain below its stable bound (`kp dt`, `kr dt < 2`, `ko dt < 4`:
+    /// [`trocar::control::gain_bound`]), with the bound in the message.
+    pub fn check_sample_time(&self, dt: f64) -> Result<()> {
+        self.check()?;
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(Error::Input(format!(
+                "dt = {dt}: must be a positive time (s)"
+            )));
+        }
+        for (name, k) in [("kp", self.kp), ("ko", self.ko), ("kr", self.kr)] {
+            let bound = control::gain_bound(name);
+            if k * dt >= bound {
+                return Err(Error::Input(format!(
+                    "{name} = {k} /s at dt = {dt} s: {name} · dt = {:.4} is not below {bound}, \
+                     where the discrete loop stops converging; at this sample time {name} < {} /s",
+                    k * dt,
+                    bound / dt
+                )));
+            }
+        }
+        Ok(())
+    }
+
     fn check(&self) -> Result<()> {
         let named = [
             ("kp", self.kp),
@@ -169,10 +193,13 @@ pub struct Step {
     pub kappa_r: f64,
     /// Damping applied to `J^B_0i`.
     pub kappa_i: f64,
-    /// The QP's outcome with [`Method::Qp`]: its status (`"Optimal"`, `"InequalitiesRelaxed"`:
-    /// the limits could not all be kept with the trocar, ...), working-set changes and active
-    /// limits; `None` for the other methods.
+    /// The QP's outcome with [`Method::Qp`]: its status (`"Optimal"`,
+    /// `"EqualitiesInconsistent"`: the trocar rows met in least squares within the limits, ...),
+    /// working-set changes and active limits; `None` for the other methods.
     pub qp: Option<QpReport>,
+    /// Whether every constraint held, or which gave way: the joint limits never do (every
+    /// method's rates keep each joint within its speed limit and, over `dt`, its range).
+    pub status: StepStatus,
 }
 
 /// One instantiation of the typed controller, behind the sizes known at run time.
@@ -251,6 +278,7 @@ where
             kappa_r: out.kappa_r,
             kappa_i: out.kappa_i,
             qp: out.qp,
+            status: out.status,
         })
     }
 
@@ -477,7 +505,12 @@ impl RobotController {
         }
         self.inner
             .step(q, target, trocar, dv, dt)
-            .map_err(|e| Error::NotFinite(format!("control step: {e}")))
+            .map_err(|e| match e {
+                control::ControlError::Config(c) => {
+                    Error::Input(format!("control step at dt = {dt} s: {c}"))
+                }
+                e => Error::NotFinite(format!("control step: {e}")),
+            })
     }
 
     /// Restarts the filtered inverse (it re-initialises on the next step) and the QP's warm

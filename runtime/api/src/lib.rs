@@ -42,6 +42,7 @@ pub use trajectory::{
     run_options, simulate_robot, simulate_trajectory, simulation_section, Orientation, RunRequest,
     Trajectory, TrajectoryOptions, TrajectoryRun, MAX_TRAJECTORY_BYTES, START_TOLERANCE,
 };
+pub use trocar::control::StepStatus;
 pub use trocar_codegen::catalogue::Function;
 pub use trocar_model::description::SimulationDesc;
 pub use trocar_sim::simulation::{CsvRows, Method};

@@ -455,6 +455,7 @@ pub fn simulate_trajectory(
             )));
         }
     }
+    options.controller.check_sample_time(options.dt)?;
     let mut ctrl = RobotController::new(robot, options.controller)?;
     let axes = arm.lateral_axes();
     const NAMES: [&str; 3] = ["x_r", "y_r", "z_r"];
@@ -486,6 +487,16 @@ pub fn simulate_trajectory(
                 options.dt,
             )
             .map_err(|e| Error::Simulation(format!("t = {t:.3} s: {e}")))?;
+        if !step.status.held() {
+            return Err(Error::Simulation(format!(
+                "t = {t:.3} s: {} (lateral error {:.3e} m); the run stops at the first step \
+                 that does not hold every constraint",
+                step.status,
+                step.lateral_error
+                    .iter()
+                    .fold(0.0f64, |m, v| m.max(v.abs()))
+            )));
+        }
         let rotation = target.rotation.map(|r| Matrix3::from_fn(|i, j| r[i][j]));
         rows.push(arm.measure(&StepRecord {
             t,

@@ -114,9 +114,16 @@
 //! The solver meets (Q2) first ([`crate::qp`]'s phase 0). If the trocar rows have no common
 //! solution (`A` rank-deficient at a singularity of `J^B_0i`), they are met in least squares
 //! ([`Status::EqualitiesInconsistent`]). If no rates keep the trocar within every limit (the
-//! drift correction asks for motion a joint at its safety distance would need), the limits are
-//! exceeded by the least total amount and the trocar kept ([`Status::InequalitiesRelaxed`]). The
-//! status is in [`super::StepOutput::qp`]; the rates are always finite.
+//! drift correction asks for motion a joint at its safety distance would need, a trocar off the
+//! shaft, a speed limit too small for the motion commanded), the solver would exceed the limits
+//! ([`Status::InequalitiesRelaxed`]); the step does not take those rates. Joint position and
+//! speed limits are physical — the robot faults or breaks beyond them — so the limits hold and
+//! the trocar gives way: the rates within the limits nearest to the trocar rows, then the task
+//! within both ([`trocar_within_limits`]), reported as [`Status::EqualitiesInconsistent`] in
+//! [`super::StepOutput::qp`] and as [`super::StepStatus::TrocarYielded`] in
+//! [`super::StepOutput::status`]. Every step's rates are finally clipped to the box (Q3) and
+//! [`rate_box`], so that rounding cannot take a joint past a limit either; they are always
+//! finite.
 
 // `!(a < b)` is meant: a NaN takes the branch of a missing bound.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -311,7 +318,9 @@ impl<T: RealField + Copy, const N: usize> Default for HardLimits<T, N> {
 /// What the QP step reports ([`super::StepOutput::qp`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct QpReport {
-    /// How the solve ended.
+    /// How the solve ended. [`Status::EqualitiesInconsistent`] also where the trocar rows could
+    /// not be met within the limits and were met in least squares within them (see "On
+    /// conflict"); never [`Status::InequalitiesRelaxed`]: the step does not exceed a limit.
     pub status: Status,
     /// Working-set changes (0 when the warm start was right).
     pub iterations: usize,
@@ -337,6 +346,8 @@ pub(super) struct QpInputs<'a, T: RealField + Copy, const N: usize, const I: usi
     pub trocar: &'a Vector3<T>,
     pub l_a: T,
     pub max_joint_speed: Option<T>,
+    /// The sample time: a joint's range bounds its rate over it ([`rate_box`]).
+    pub dt: T,
 }
 
 /// What (Q7) keeps of the previous step.
@@ -422,7 +433,8 @@ pub(super) fn step_problem<
     }
     // (Q2): A [I 0] θ̇ = dv_0r.
     let a_eq = SMatrix::<T, R, N>::from_fn(|r, c| if c < I { inputs.a[(r, c)] } else { T::zero() });
-    // (Q3), (Q5).
+    // (Q3), (Q5), and the joints' ranges over the sample time ([`rate_box`]).
+    let (box_lo, box_hi) = rate_box(inputs.q, inputs.dt, limits, inputs.max_joint_speed);
     let mut lb = SVector::<T, N>::zeros();
     let mut ub = SVector::<T, N>::zeros();
     for k in 0..N {
@@ -430,15 +442,8 @@ pub(super) fn step_problem<
             limits
                 .joint_damper
                 .rate_bounds(inputs.q[k], limits.lower[k], limits.upper[k], big);
-        let mut speed = limits.speed[k].abs();
-        if let Some(s) = inputs.max_joint_speed {
-            speed = speed.min(s.abs());
-        }
-        if !(speed < big) {
-            speed = big;
-        }
-        lb[k] = lo.max(-speed);
-        ub[k] = hi.min(speed);
+        lb[k] = lo.max(box_lo[k]).max(-big).min(T::zero());
+        ub[k] = hi.min(box_hi[k]).min(big).max(T::zero());
     }
     // (Q4), (Q6): l̇_a = g_lᵀ θ̇.
     let g_i = depth_rate_row(
@@ -463,6 +468,122 @@ pub(super) fn step_problem<
         lb,
         ub,
     }
+}
+
+/// The joint rates every inverse may command at `q` over the sample time `dt`: within the
+/// speed limit `θ̇max_k` (and [`super::ControllerConfig::max_joint_speed`], the smaller), and
+/// such that `q_k + dt θ̇_k` stays within `[θ_min,k, θ_max,k]`; a joint already beyond a bound
+/// may only move back (its bound on that side is 0). Always `lb_k ≤ 0 ≤ ub_k`, so `θ̇ = 0` is
+/// within; infinite where there is no limit (a NaN limit is taken as none:
+/// [`super::ControllerConfig::check`] and the callers refuse them).
+pub fn rate_box<T: RealField + Copy, const N: usize>(
+    q: &SVector<T, N>,
+    dt: T,
+    limits: &HardLimits<T, N>,
+    max_joint_speed: Option<T>,
+) -> (SVector<T, N>, SVector<T, N>) {
+    let inf = T::one() / T::zero();
+    let mut lb = SVector::<T, N>::zeros();
+    let mut ub = SVector::<T, N>::zeros();
+    for k in 0..N {
+        // `!(x > y)` is false for a NaN `y`: a NaN limit is taken as none.
+        let mut speed = inf;
+        let own = limits.speed[k].abs();
+        if own < speed {
+            speed = own;
+        }
+        if let Some(s) = max_joint_speed {
+            if s.abs() < speed {
+                speed = s.abs();
+            }
+        }
+        let (mut lo, mut hi) = (-speed, speed);
+        if limits.lower[k].is_finite() {
+            let back = ((limits.lower[k] - q[k]) / dt).min(T::zero());
+            if back > lo {
+                lo = back;
+            }
+        }
+        if limits.upper[k].is_finite() {
+            let ahead = ((limits.upper[k] - q[k]) / dt).max(T::zero());
+            if ahead < hi {
+                hi = ahead;
+            }
+        }
+        lb[k] = lo.min(T::zero());
+        ub[k] = hi.max(T::zero());
+    }
+    (lb, ub)
+}
+
+/// `true` when some joint of `q` is beyond its range.
+pub fn joint_outside<T: RealField + Copy, const N: usize>(
+    q: &SVector<T, N>,
+    limits: &HardLimits<T, N>,
+) -> bool {
+    (0..N).any(|k| q[k] < limits.lower[k] || q[k] > limits.upper[k])
+}
+
+/// When the trocar rows (Q2) and the limits have no common solution (the solver's
+/// [`Status::InequalitiesRelaxed`]): the limits hold and the trocar gives way, in two solves.
+/// First the rates within the inequalities that come nearest to the trocar rows,
+/// `x₁ = argmin ½ ‖A x − b‖²` subject to (Q3)–(Q4); then the task (Q1) within the inequalities
+/// with the trocar rows asked to do what `x₁` does, `A x = A x₁` (feasible: `x₁` meets it). The
+/// second solve's rates when they meet the inequalities, else `x₁`. `None` when neither solve
+/// gives finite rates.
+pub(super) fn trocar_within_limits<T: RealField + Copy, const N: usize, const R: usize>(
+    problem: &Problem<T, N, R, 1>,
+    weights: &QpWeights<T>,
+    warm: &mut ActiveSet<N, 1>,
+) -> Option<(SVector<T, N>, QpReport)> {
+    let settings = Settings {
+        max_iterations: weights.max_iterations,
+    };
+    let a = problem.a_eq;
+    let nearest = Problem::<T, N, 0, 1> {
+        h: a.tr_mul(&a),
+        f: -a.tr_mul(&problem.b_eq),
+        a_eq: SMatrix::zeros(),
+        b_eq: SVector::zeros(),
+        g: problem.g,
+        lo: problem.lo,
+        hi: problem.hi,
+        lb: problem.lb,
+        ub: problem.ub,
+    };
+    let first = qp::solve(&nearest, &ActiveSet::EMPTY, &settings);
+    if matches!(first.status, Status::NonFinite | Status::InvalidBounds)
+        || !first.x.iter().all(|v| v.is_finite())
+    {
+        return None;
+    }
+    let mut task = *problem;
+    task.b_eq = a * first.x;
+    let second = qp::solve(&task, &first.active, &settings);
+    let kept = matches!(
+        second.status,
+        Status::Optimal | Status::EqualitiesInconsistent | Status::IterationLimit
+    ) && second.x.iter().all(|v| v.is_finite())
+        && problem.meets_inequalities(&second.x);
+    let (x, active, iterations) = if kept {
+        (
+            second.x,
+            second.active,
+            first.iterations + second.iterations,
+        )
+    } else {
+        (first.x, first.active, first.iterations)
+    };
+    *warm = active;
+    Some((
+        x,
+        QpReport {
+            status: Status::EqualitiesInconsistent,
+            iterations,
+            active: active.len(),
+            resolved: false,
+        },
+    ))
 }
 
 /// Solves a problem of [`step_problem`] from `warm` (the working set of the solve before),
@@ -521,7 +642,7 @@ pub(super) fn solve_again<T: RealField + Copy, const N: usize, const R: usize>(
     }
     let mut warm = *active;
     let (again, second) = solve_problem(problem, weights, &mut warm).ok()?;
-    if !again.iter().all(|v| v.is_finite()) {
+    if second.status == Status::InequalitiesRelaxed || !again.iter().all(|v| v.is_finite()) {
         return None;
     }
     *active = warm;

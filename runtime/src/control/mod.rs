@@ -56,7 +56,7 @@ mod shaft;
 
 pub use crate::linalg::determinant;
 pub use crate::manipulability::manipulability;
-pub use hard_limits::{ChordCheck, Damper, HardLimits, QpReport, QpWeights};
+pub use hard_limits::{rate_box, ChordCheck, Damper, HardLimits, QpReport, QpWeights};
 pub use inverse::{Damping, FilteredInverse, PreparedJacobian};
 pub use quaternion::{orientation_error, Quaternion};
 pub use redundancy::{
@@ -344,6 +344,149 @@ pub struct StepOutput<T: RealField + Copy, const N: usize, const R: usize> {
     pub kappa_i: T,
     /// The QP's outcome with [`Inverse::Qp`] (`None` for the other inverses).
     pub qp: Option<QpReport>,
+    /// Whether the step held every constraint, or which gave way ([`StepStatus`]).
+    pub status: StepStatus,
+}
+
+/// Whether a step held the trocar and every limit. The joint limits never give way: the rates
+/// of every step keep each joint within its speed limit and, over the sample time, within its
+/// range ([`HardLimits`]); what gives way when they cannot all hold is the trocar.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StepStatus {
+    /// The trocar rows `Λ J^B_0i θ̇ = dv_0r` are met and every limit is kept.
+    Held,
+    /// No joint rates within the joint limits meet the trocar rows (the drift correction or the
+    /// commanded motion of the trocar asks for more than the joints at their limits allow, or
+    /// `Λ J^B_0i` is rank-deficient): the rates are the best within the limits — the trocar rows
+    /// in least squares (QP), the constraint's own rates scaled into the limits (the other
+    /// inverses) — and the link leaves the trocar.
+    TrocarYielded,
+    /// A joint is beyond its range at `q` (it can only move back); everything else held.
+    JointOutside,
+    /// The trocar's offset `l_a` is outside the insertion-depth bounds of [`HardLimits`] (the
+    /// QP keeps it from going further); everything else held.
+    DepthOutside,
+}
+
+impl StepStatus {
+    /// `true` for [`StepStatus::Held`].
+    pub fn held(&self) -> bool {
+        *self == StepStatus::Held
+    }
+}
+
+impl core::fmt::Display for StepStatus {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            StepStatus::Held => "every constraint held",
+            StepStatus::TrocarYielded => {
+                "the trocar could not be held within the joint limits: the rates are the best \
+                 within them and the link leaves the trocar"
+            }
+            StepStatus::JointOutside => "a joint is beyond its range",
+            StepStatus::DepthOutside => {
+                "the instrument's insertion (l_a) is outside its depth bounds"
+            }
+        })
+    }
+}
+
+/// The bound on `K dt` of a proportional gain `K` at the sample time `dt`: the discrete error of
+/// the position loop and of the drift correction, `e ← (1 − K dt) e`, converges only for
+/// `0 ≤ K dt < 2` (without overshoot up to 1). The orientation loop's quaternion error moves at
+/// half the rate, `ε̇ = −½ K_o η ε`, so its bound is `K_o dt < 4`. [`ControllerConfig::check`]
+/// refuses gains at or beyond these bounds ([`gain_bound`]).
+pub const MAX_GAIN_TIMES_DT: f64 = 2.0;
+
+/// The bound of `K dt` for the gain named `"kp"`, `"kr"` ([`MAX_GAIN_TIMES_DT`]) or `"ko"`
+/// (twice that): a gain is accepted when `K dt` is below it.
+pub fn gain_bound(name: &str) -> f64 {
+    if name == "ko" {
+        2.0 * MAX_GAIN_TIMES_DT
+    } else {
+        MAX_GAIN_TIMES_DT
+    }
+}
+
+/// A gain or setting of [`ControllerConfig`] that [`ControllerConfig::check`] refuses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ConfigError {
+    /// The sample time is not finite and positive.
+    SampleTime,
+    /// A gain (`"kp"`, `"ko"`, `"kr"`, a damping or filter gain) is negative or not finite.
+    Gain(&'static str),
+    /// A proportional gain times the sample time exceeds [`MAX_GAIN_TIMES_DT`].
+    GainTimesDt(&'static str),
+    /// [`ControllerConfig::max_joint_speed`] is not a finite positive speed.
+    MaxJointSpeed,
+}
+
+impl core::fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            ConfigError::SampleTime => f.write_str("the sample time dt must be finite and > 0"),
+            ConfigError::Gain(name) => write!(f, "{name} must be a finite number >= 0"),
+            ConfigError::GainTimesDt(name) => write!(
+                f,
+                "{name} * dt must be below {} (the discrete loop diverges beyond)",
+                gain_bound(name)
+            ),
+            ConfigError::MaxJointSpeed => {
+                f.write_str("max_joint_speed must be a finite speed > 0 (or none)")
+            }
+        }
+    }
+}
+
+impl<T: RealField + Copy> ControllerConfig<T> {
+    /// Checks the gains against the sample time `dt`: `dt` finite and positive; every gain
+    /// finite and `≥ 0`; `K_p dt < 2`, `K_r dt < 2`, `K_o dt < 4` ([`MAX_GAIN_TIMES_DT`]); the joint
+    /// speed limit, if any, finite and positive. [`Controller::step`] refuses a step whose
+    /// configuration fails it.
+    pub fn check(&self, dt: T) -> Result<(), ConfigError> {
+        if !(dt.is_finite() && dt > T::zero()) {
+            return Err(ConfigError::SampleTime);
+        }
+        let finite = |v: T| v.is_finite() && v >= T::zero();
+        for (name, k) in [("kp", self.kp), ("ko", self.ko), ("kr", self.kr)] {
+            if !finite(k) {
+                return Err(ConfigError::Gain(name));
+            }
+            if k * dt >= nalgebra::convert(gain_bound(name)) {
+                return Err(ConfigError::GainTimesDt(name));
+            }
+        }
+        let damping = |d: &Damping<T>, name: &'static str| match *d {
+            Damping::Constant(k) if !finite(k) => Err(ConfigError::Gain(name)),
+            Damping::Variable { alpha0, w0 } if !(finite(alpha0) && finite(w0)) => {
+                Err(ConfigError::Gain(name))
+            }
+            _ => Ok(()),
+        };
+        match self.inverse {
+            Inverse::Dls(d) => damping(&d, "the damping of J^r")?,
+            Inverse::Fi { gamma_r, gamma_l } => {
+                if !(finite(gamma_r) && finite(gamma_l)) {
+                    return Err(ConfigError::Gain("the filtered inverse's gain"));
+                }
+            }
+            Inverse::Qp(w) => {
+                if !(finite(w.kappa) && finite(w.gamma)) {
+                    return Err(ConfigError::Gain("the QP weight kappa"));
+                }
+            }
+            Inverse::Pinv => {}
+        }
+        if let Some(d) = &self.jb0i_damping {
+            damping(d, "the damping of J^B_0i")?;
+        }
+        if let Some(s) = self.max_joint_speed {
+            if !(s.is_finite() && s > T::zero()) {
+                return Err(ConfigError::MaxJointSpeed);
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Why a step failed.
@@ -357,6 +500,8 @@ pub enum ControlError {
     NonFinite,
     /// The kinematics could not be evaluated (e.g. `l_a = 0`: the trocar at `F_i`).
     Kinematics,
+    /// The configuration or the sample time was refused ([`ControllerConfig::check`]).
+    Config(ConfigError),
 }
 
 impl core::fmt::Display for ControlError {
@@ -368,6 +513,7 @@ impl core::fmt::Display for ControlError {
             ControlError::Kinematics => {
                 "the constrained kinematics could not be evaluated (trocar at F_i?)"
             }
+            ControlError::Config(e) => return write!(f, "{e}"),
         })
     }
 }
@@ -416,28 +562,63 @@ fn constrained_rows<T: RealField + Copy, const I: usize, const R: usize>(
     Some(lambda * j)
 }
 
-/// `θ̇_c + α (θ̇ − θ̇_c)` for [`ControllerConfig::max_joint_speed`]: `θ̇_c = A† dv_0r` on the
-/// joints up to the constrained link (zero after it), `A = Λ J^B_0i`, and the largest
-/// `α ∈ [0, 1]` that keeps every entry within `±limit` (`α = 0`, `θ̇ = θ̇_c`, if `θ̇_c` alone
-/// exceeds it). `None` if `A Aᵀ` is singular.
-fn within_speed_limit<T: RealField + Copy, const N: usize, const I: usize, const R: usize>(
+/// `θ̇_c + α (θ̇ − θ̇_c)` within the joint limits' box `[lb, ub]` ([`hard_limits::rate_box`]):
+/// `θ̇_c = A† dv_0r` on the joints up to the constrained link (zero after it), `A = Λ J^B_0i`,
+/// and the largest `α ∈ [0, 1]` that keeps every entry within the box, so `Λ J^B_0i θ̇ = dv_0r`
+/// still holds and the link keeps to the trocar while the end effector slows down. When `θ̇_c`
+/// alone leaves the box, the trocar cannot be held within the limits: `β θ̇_c` with the largest
+/// `β ∈ [0, 1]` within it, and `true` (the trocar yields). `None` if `A Aᵀ` is singular.
+fn within_box<T: RealField + Copy, const N: usize, const I: usize, const R: usize>(
     qd: &SVector<T, N>,
     j: &SMatrix<T, 6, I>,
     lambda_pinv: &SMatrix<T, 6, R>,
     dv_0r: &SVector<T, R>,
-    limit: T,
-) -> Option<SVector<T, N>> {
+    lb: &SVector<T, N>,
+    ub: &SVector<T, N>,
+) -> Option<(SVector<T, N>, bool)> {
     let a = constrained_rows(j, lambda_pinv)?;
     let c_i: SVector<T, I> = a.tr_mul(&Cholesky::new(&(a * a.transpose()))?.solve(dv_0r));
     let c = SVector::<T, N>::from_fn(|k, _| if k < I { c_i[k] } else { T::zero() });
-    let r = qd - c;
-    // |c_k + α r_k| ≤ limit for every k: α ≤ (limit − sign(r_k) c_k) / |r_k|.
-    let alpha = (0..N)
-        .filter(|&k| r[k] != T::zero())
-        .map(|k| (limit - c[k] * r[k].signum()) / r[k].abs())
+    if !c.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    if (0..N).all(|k| c[k] >= lb[k] && c[k] <= ub[k]) {
+        let alpha = largest_step_within(&c, &(qd - c), lb, ub);
+        Some((c + (qd - c) * alpha, false))
+    } else {
+        let beta = largest_step_within(&SVector::zeros(), &c, lb, ub);
+        Some((c * beta, true))
+    }
+}
+
+/// The largest `s ∈ [0, 1]` with `lb ≤ x + s d ≤ ub`, for `x` within the box.
+fn largest_step_within<T: RealField + Copy, const N: usize>(
+    x: &SVector<T, N>,
+    d: &SVector<T, N>,
+    lb: &SVector<T, N>,
+    ub: &SVector<T, N>,
+) -> T {
+    (0..N)
+        .filter(|&k| d[k] != T::zero())
+        .map(|k| {
+            let room = if d[k] > T::zero() {
+                ub[k] - x[k]
+            } else {
+                x[k] - lb[k]
+            };
+            room / d[k].abs()
+        })
         .fold(T::one(), |a, b| a.min(b))
-        .max(T::zero());
-    Some(c + r * alpha)
+        .max(T::zero())
+}
+
+/// `x` clipped to `[lb, ub]` entry by entry.
+fn clipped<T: RealField + Copy, const N: usize>(
+    x: &SVector<T, N>,
+    lb: &SVector<T, N>,
+    ub: &SVector<T, N>,
+) -> SVector<T, N> {
+    SVector::from_fn(|k, _| x[k].max(lb[k]).min(ub[k]))
 }
 
 /// `θ̇` with the constraint first, for a damped `J = J^B_0i`: with `A = Λ J` (the constrained
@@ -565,6 +746,7 @@ impl<
         Const<P>: SquareDim,
     {
         let c = self.config;
+        c.check(dt).map_err(ControlError::Config)?;
         // 1. l_a from the trocar point, and the kinematics there.
         let (l_a, s) = kin.evaluate_at_trocar(q, &rcm.trocar)?;
         let h = kin.h();
@@ -707,11 +889,19 @@ impl<
         if !qd.iter().all(|v| v.is_finite()) {
             return Err(ControlError::NonFinite);
         }
-        if let Some(limit) = c.max_joint_speed {
-            if qd.amax() > limit {
-                qd = within_speed_limit(&qd, &s.jb0i, &s.lambda_pinv, &dv_0r, limit)
-                    .ok_or(ControlError::SingularJb0i)?;
+        // The joint limits: speed, and range over the sample time.
+        let (lb, ub) = hard_limits::rate_box(q, dt, &self.limits, c.max_joint_speed);
+        let mut status = StepStatus::Held;
+        if (0..N).any(|k| !(qd[k] >= lb[k] && qd[k] <= ub[k])) {
+            let (within, yielded) = within_box(&qd, &s.jb0i, &s.lambda_pinv, &dv_0r, &lb, &ub)
+                .ok_or(ControlError::SingularJb0i)?;
+            qd = clipped(&within, &lb, &ub);
+            if yielded {
+                status = StepStatus::TrocarYielded;
             }
+        }
+        if status.held() && hard_limits::joint_outside(q, &self.limits) {
+            status = StepStatus::JointOutside;
         }
         Ok(StepOutput {
             qd,
@@ -726,6 +916,7 @@ impl<
             kappa_r,
             kappa_i,
             qp: None,
+            status,
         })
     }
 
@@ -804,20 +995,30 @@ impl<
             trocar: &rcm.trocar,
             l_a,
             max_joint_speed: self.config.max_joint_speed,
+            dt,
         };
         let mut problem =
             hard_limits::step_problem(&inputs, &task, &v_t, weights, &self.objective, &self.limits);
         let (mut qd, mut report) =
             hard_limits::solve_problem(&problem, weights, &mut self.qp_active)?;
+        let mut yielded = report.status == crate::qp::Status::EqualitiesInconsistent;
+        if report.status == crate::qp::Status::InequalitiesRelaxed {
+            // The limits hold; the trocar gives way ("On conflict" in [`hard_limits`]).
+            (qd, report) =
+                hard_limits::trocar_within_limits(&problem, weights, &mut self.qp_active)
+                    .ok_or(ControlError::NonFinite)?;
+            yielded = true;
+        }
         if !qd.iter().all(|v| v.is_finite()) {
             return Err(ControlError::NonFinite);
         }
         // (Q9): the step's own chord at the rates found, and one more solve.
-        let check = match weights.chord_check {
-            ChordCheck::Never => false,
-            ChordCheck::AfterChange => self.qp_previous.as_ref().is_some_and(|p| p.changed),
-            ChordCheck::Always => true,
-        };
+        let check = !yielded
+            && match weights.chord_check {
+                ChordCheck::Never => false,
+                ChordCheck::AfterChange => self.qp_previous.as_ref().is_some_and(|p| p.changed),
+                ChordCheck::Always => true,
+            };
         let position = s.g_0i.transform_point(&point);
         let mut first_residual = None;
         if check {
@@ -838,6 +1039,8 @@ impl<
                 }
             }
         }
+        // Rounding must not take a joint past a limit either.
+        let qd = clipped(&qd, &problem.lb, &problem.ub);
         self.qp_previous = Some(hard_limits::Previous {
             qd,
             rotation: s.g_0i.rotation,
@@ -851,6 +1054,15 @@ impl<
             residual: first_residual,
             changed: report.iterations > 0,
         });
+        let status = if yielded {
+            StepStatus::TrocarYielded
+        } else if hard_limits::joint_outside(q, &self.limits) {
+            StepStatus::JointOutside
+        } else if l_a < self.limits.depth[0] || l_a > self.limits.depth[1] {
+            StepStatus::DepthOutside
+        } else {
+            StepStatus::Held
+        };
         let task_jr: SMatrix<T, P, M> = if whole {
             SMatrix::from_fn(|r, c| s.jr[(r, c)])
         } else {
@@ -869,6 +1081,7 @@ impl<
             kappa_r: weights.kappa,
             kappa_i: T::zero(),
             qp: Some(report),
+            status,
         })
     }
 }

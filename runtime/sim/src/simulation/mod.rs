@@ -168,6 +168,12 @@ where
         let out = ctrl
             .step(kin, &q, &reference, &rcm, dt)
             .map_err(|e| SimulationError::Control { t, error: e })?;
+        if !out.status.held() {
+            return Err(SimulationError::Yielded {
+                t,
+                status: out.status,
+            });
+        }
         let q_next = q + out.qd * dt;
 
         // Measurements from forward kinematics.
@@ -284,6 +290,12 @@ fn run_panda(
         let out = ctrl
             .step(&kin, &q, &reference, &rcm, dt)
             .map_err(|e| SimulationError::Control { t, error: e })?;
+        if !out.status.held() {
+            return Err(SimulationError::Yielded {
+                t,
+                status: out.status,
+            });
+        }
         let q_next = q + out.qd * dt;
         rows.push(measured(
             &arm,

@@ -127,6 +127,14 @@ pub enum SimulationError {
         /// The failure.
         error: ControlError,
     },
+    /// A step could not hold every constraint at time `t` (the trocar gave way to the joint
+    /// limits, a joint or the insertion was outside its bounds): the run stops there.
+    Yielded {
+        /// Time (s).
+        t: f64,
+        /// What gave way.
+        status: trocar::control::StepStatus,
+    },
 }
 
 impl core::fmt::Display for SimulationError {
@@ -138,6 +146,7 @@ impl core::fmt::Display for SimulationError {
             ),
             SimulationError::Description(s) => write!(f, "robot description: {s}"),
             SimulationError::Control { t, error } => write!(f, "at t = {t:.3} s: {error}"),
+            SimulationError::Yielded { t, status } => write!(f, "at t = {t:.3} s: {status}"),
         }
     }
 }
