@@ -637,7 +637,7 @@ fn bases() -> &'static Bases {
 /// directory, and the output files the arguments ask for.
 #[derive(Clone)]
 struct Case {
-    /// Where the case comes from: `toml`, `urdf`, `chain` or `cli`.
+    /// Where the case comes from: `toml`, `urdf`, `chain`, `cli` or `trajectory`.
     source: &'static str,
     args: Vec<Vec<u8>>,
     files: Vec<(String, Vec<u8>)>,
@@ -1720,6 +1720,294 @@ fn other_cli() -> BoxedStrategy<Case> {
         .boxed()
 }
 
+// ---------------------------------------------------------------------------------------------
+// User trajectories and `[simulation]` sections
+// ---------------------------------------------------------------------------------------------
+
+/// The Panda laparoscope's start configuration and its tip there (`trocar eval panda-laparoscope
+/// --what fk`); the shaft points down, the trocar 0.15 m above the tip.
+const PANDA_Q0: &str =
+    "0,-0.7853981633974483,0,-2.356194490192345,0,1.5707963267948966,0.7853981633974483";
+const PANDA_TIP: [f64; 3] = [0.3068905665929411, 0.0, 0.19028205230283923];
+
+/// `(lower, upper, speed)` of each joint of a URDF's `<limit>` lines, in order.
+fn urdf_joint_limits(path: &Path) -> Vec<(f64, f64, f64)> {
+    let text = fs::read_to_string(path).expect("a shipped URDF");
+    let attr = |tag: &str, name: &str| -> f64 {
+        let key = format!("{name}=\"");
+        let start = tag.find(&key).expect("the attribute") + key.len();
+        let end = start + tag[start..].find('"').expect("its end");
+        tag[start..end].parse().expect("a number")
+    };
+    text.lines()
+        .filter(|l| l.trim_start().starts_with("<limit "))
+        .map(|l| (attr(l, "lower"), attr(l, "upper"), attr(l, "velocity")))
+        .collect()
+}
+
+/// The limits a `simulate` run of the trajectory source must keep, by the robot's joint count.
+fn trajectory_limits(joints: usize) -> &'static [(f64, f64, f64)] {
+    static PANDA: OnceLock<Vec<(f64, f64, f64)>> = OnceLock::new();
+    static UR5: OnceLock<Vec<(f64, f64, f64)>> = OnceLock::new();
+    if joints == 7 {
+        PANDA.get_or_init(|| urdf_joint_limits(&robots_dir().join("urdf/panda.urdf")))
+    } else {
+        UR5.get_or_init(|| urdf_joint_limits(&examples_dir().join("robots/urdf/ur5.urdf")))
+    }
+}
+
+fn examples_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples")
+}
+
+/// A short path near the Panda's start tip: a hold, a line or a circle, with a roll column, a
+/// quaternion, or neither; rows from `t0`.
+fn panda_path() -> BoxedStrategy<String> {
+    (
+        0..3usize,
+        0..3usize,
+        prop_oneof![Just(0.0), Just(0.02), Just(-0.01)],
+        prop_oneof![3 => Just(0.3), 1 => Just(0.05), 1 => Just(1e-6)],
+        prop_oneof![3 => Just(0.01), 1 => Just(0.05), 1 => Just(0.3)],
+    )
+        .prop_map(|(shape, orientation, t0, span, size)| {
+            let c = PANDA_TIP;
+            let header = ["t,x,y,z,roll", "t,x,y,z,qw,qx,qy,qz", "t,x,y,z"][orientation];
+            let mut s = format!("{header}\n");
+            for k in 0..=6 {
+                let t = t0 + span * k as f64 / 6.0;
+                let a = 2.0 * std::f64::consts::PI * k as f64 / 6.0;
+                let (dx, dy, dz) = match shape {
+                    0 => (0.0, 0.0, 0.0),
+                    1 => (size * k as f64 / 6.0, 0.0, -size * k as f64 / 12.0),
+                    _ => (size * (a.cos() - 1.0), size * a.sin(), 0.0),
+                };
+                let tail = match orientation {
+                    0 => format!(",{}", 0.1 * a.sin()),
+                    // The tip pointing down at q0: the quaternion of R = diag(1, −1, −1) turned
+                    // by −π/4 about z.
+                    1 => ",0,0.9238795325112867,-0.3826834323650898,0".to_string(),
+                    _ => String::new(),
+                };
+                s += &format!("{t},{},{},{}{tail}\n", c[0] + dx, c[1] + dy, c[2] + dz);
+            }
+            s
+        })
+        .boxed()
+}
+
+/// CSV edits: numbers, lines, bytes.
+fn csv_edit() -> BoxedStrategy<Edit> {
+    prop_oneof![
+        5 => (any::<usize>(), num()).prop_map(|(i, v)| Edit::Number(i, v)),
+        3 => (any::<usize>(), (-1.0f64..1.0).prop_map(|v| format!("{v}")))
+            .prop_map(|(i, v)| Edit::Number(i, v)),
+        1 => any::<usize>().prop_map(Edit::DeleteLine),
+        1 => any::<usize>().prop_map(Edit::DuplicateLine),
+        1 => (any::<usize>(), any::<usize>()).prop_map(|(i, j)| Edit::SwapLines(i, j)),
+        1 => (any::<usize>(), select(strs(&["t,x,y,z", "# comment", "", "1,2", "t,t,x,y,z", "\u{feff}t,x,y,z,roll"])))
+            .prop_map(|(i, s)| Edit::InsertLine(i, s)),
+        1 => any::<usize>().prop_map(Edit::Truncate),
+        1 => (any::<usize>(), select(BYTES)).prop_map(|(i, b)| Edit::InsertBytes(i, b.to_vec())),
+    ]
+    .boxed()
+}
+
+/// `--trocar` values: the default (none), on the shaft, near it, far off it, garbage.
+fn trocar_arg() -> BoxedStrategy<Vec<Vec<u8>>> {
+    let c = PANDA_TIP;
+    let on = |dx: f64, dz: f64| format!("{},{},{}", c[0] + dx, c[1], c[2] + dz);
+    let values = vec![
+        on(0.0, 0.15),
+        on(5e-4, 0.15),
+        on(0.0085, 0.15),
+        on(0.2, 0.15),
+        on(0.0, 0.3),
+        on(0.0, 0.5),
+        on(0.0, -0.1),
+        "1e300,0,0".to_string(),
+        "nan,0,0".to_string(),
+        "0,0".to_string(),
+    ];
+    opt("--trocar", select(values).boxed(), 2)
+}
+
+/// `simulate panda-laparoscope --trajectory F` with a generated, mutated path and flags.
+fn panda_trajectory_cases() -> BoxedStrategy<Case> {
+    let method = choice(&["pinv", "dls", "fi", "qp", "all"], &["x"]);
+    let speed = select(strs(&[
+        "none", "2", "0.5", "1e-4", "0", "-1", "nan", "inf", "1e308",
+    ]));
+    let q0 = prop_oneof![
+        6 => Just(PANDA_Q0.to_string()),
+        // Joint 6 at and beyond its lower limit (-0.0175), joint 4 at its upper one (-0.0698).
+        1 => Just("0,-0.7853981633974483,0,-2.356194490192345,0,-0.0175,0.7853981633974483".to_string()),
+        1 => Just("0,-0.7853981633974483,0,-2.356194490192345,0,-0.3,0.7853981633974483".to_string()),
+        1 => Just("0,-0.7853981633974483,0,-0.0698,0,1.5707963267948966,0.7853981633974483".to_string()),
+    ];
+    let file = prop_oneof![
+        8 => Just(None),
+        1 => select(vec!["/dev/zero", "/dev/null", ".", "missing.csv", "/etc/passwd"]).prop_map(Some),
+    ];
+    (
+        panda_path(),
+        edits(csv_edit(), 10),
+        q0,
+        opt("--method", method, 3),
+        opt("--max-joint-speed", speed.boxed(), 3),
+        opt(
+            "--drift-correction",
+            select(strs(&["on", "off"])).boxed(),
+            5,
+        ),
+        trocar_arg(),
+        file,
+    )
+        .prop_map(|(path, e, q0, m, v, d, t, file)| {
+            let mut args = vec![
+                arg("simulate"),
+                arg("panda-laparoscope"),
+                arg("--trajectory"),
+                arg(file.unwrap_or("path.csv")),
+                arg("--q0"),
+                arg(q0),
+            ];
+            args.extend([m, v, d, t].concat());
+            args.push(arg("--csv"));
+            args.push(arg("trace.csv"));
+            Case {
+                source: "trajectory",
+                args,
+                files: vec![("path.csv".into(), mutate(&path, &e))],
+                outputs: vec![arg("trace.csv")],
+            }
+        })
+        .boxed()
+}
+
+/// The UR5 example with a generated `[simulation]` section (gains at and beyond their stable
+/// bound at the 2 ms sample time, speed limits, trocars, paths that are devices or not
+/// trajectories), now and then mutated as a TOML description is.
+fn simulation_section_cases() -> BoxedStrategy<Case> {
+    let root = examples_dir();
+    let text = fs::read_to_string(root.join("robots/ur5_trocar.toml")).expect("the UR5 example");
+    let head = text[..text.find("[simulation]").expect("its section")].to_string();
+    let urdf = fs::read(root.join("robots/urdf/ur5.urdf")).expect("its URDF");
+    let circle = fs::read_to_string(root.join("trajectories/ur5-circle.csv")).expect("its path");
+    // The first second of the circle: 21 rows of 0.05 s after the comments.
+    let short: String = circle
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .take(22)
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let gain = prop_oneof![
+        3 => select(strs(&["5.0", "10.0", "20"])),
+        1 => select(strs(&["999", "1000", "1999.9", "2000", "1e6", "-5", "0", "nan", "1e300"])),
+    ];
+    let entry = |key: &'static str, values: Vec<String>| prop_oneof![2 => Just(String::new()), 3 => select(values).prop_map(move |v| format!("{key} = {v}\n"))];
+    (
+        (
+            entry(
+                "trajectory",
+                strs(&[
+                    "\"path.csv\"",
+                    "\"/dev/zero\"",
+                    "\"../../etc/passwd\"",
+                    "\"urdf/ur5.urdf\"",
+                    "\"missing.csv\"",
+                ]),
+            ),
+            entry("method", strs(&["\"dls\"", "\"qp\"", "\"pinv\"", "\"fi\"", "\"all\""])),
+            entry(
+                "q0",
+                strs(&[
+                    "[0, -1.5707963267948966, 1.5707963267948966, -1.5707963267948966, -1.5707963267948966, 0]",
+                    "[0, -1.5707963267948966, 3.2, -1.5707963267948966, -1.5707963267948966, 0]",
+                    "[0, 0]",
+                ]),
+            ),
+            entry(
+                "trocar",
+                strs(&["[0.4, 0.1, 0.3]", "[1e300, 0, 0]", "[0, 0]", "[\"x\", 0, 0]"]),
+            ),
+        ),
+        (
+            gain.clone().prop_map(|v| format!("kp = {v}\n")),
+            gain.clone().prop_map(|v| format!("ko = {v}\n")),
+            prop_oneof![Just(String::new()), gain.prop_map(|v| format!("kr = {v}\n"))],
+            entry("max_joint_speed", strs(&["2", "1e-4", "0", "-1", "nan", "1e6"])),
+            entry("null_space_gain", strs(&["10", "0", "999", "1e6", "-1"])),
+        ),
+        edits(toml_edit(strs(&["l_a", "kp", "trocar"])), 12),
+    )
+        .prop_map(move |((traj, method, q0, trocar), (kp, ko, kr, speed, gain), e)| {
+            let section =
+                format!("[simulation]\n{traj}{method}{q0}{trocar}{kp}{ko}{kr}{speed}{gain}");
+            let arm = format!("{head}{section}");
+            Case {
+                source: "trajectory",
+                args: vec![arg("simulate"), arg("arm.toml"), arg("--csv"), arg("trace.csv")],
+                files: vec![
+                    ("arm.toml".into(), mutate(&arm, &e)),
+                    ("urdf/ur5.urdf".into(), urdf.clone()),
+                    ("path.csv".into(), short.clone().into_bytes()),
+                ],
+                outputs: vec![arg("trace.csv")],
+            }
+        })
+        .boxed()
+}
+
+/// User trajectories and `[simulation]` sections under `simulate`.
+fn trajectory_cases() -> BoxedStrategy<Case> {
+    prop_oneof![
+        3 => panda_trajectory_cases(),
+        2 => simulation_section_cases(),
+    ]
+    .boxed()
+}
+
+/// A `simulate` run of the trajectory source that succeeded kept every joint within its URDF
+/// range and speed limit on every row of its CSV (the limits are physical: success with a joint
+/// past one is a failure).
+fn check_limits_kept(case: &Case, dir: &Path) -> Result<(), Problem> {
+    let Ok(text) = fs::read_to_string(dir.join("case/trace.csv")) else {
+        return Ok(());
+    };
+    let mut lines = text.lines();
+    let Some(header) = lines.next() else {
+        return Ok(());
+    };
+    let columns: Vec<&str> = header.split(',').collect();
+    let joints = columns.iter().filter(|c| c.starts_with("qd")).count();
+    let limits = trajectory_limits(joints);
+    for (row, line) in lines.enumerate() {
+        let cells: Vec<f64> = line.split(',').filter_map(|c| c.parse().ok()).collect();
+        for (k, &(lo, hi, speed)) in limits.iter().enumerate() {
+            let at = |name: String| columns.iter().position(|c| *c == name);
+            let (Some(q), Some(qd)) = (at(format!("q{}", k + 1)), at(format!("qd{}", k + 1)))
+            else {
+                continue;
+            };
+            let (q, qd) = (cells[q], cells[qd]);
+            let tol = 1e-9 * (1.0 + hi.abs());
+            if q < lo - tol || q > hi + tol || qd.abs() > speed * (1.0 + 1e-9) {
+                return Err(problem(
+                    "limit exceeded",
+                    format!(
+                        "{}: CSV row {}: joint {} at {q} rad, {qd} rad/s (range [{lo}, {hi}], speed {speed}) with exit code 0",
+                        case.command_line(),
+                        row + 2,
+                        k + 1
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Command-line values on the shipped descriptions.
 fn cli_cases() -> BoxedStrategy<Case> {
     prop_oneof![
@@ -1741,6 +2029,7 @@ fn all_cases() -> BoxedStrategy<Case> {
         15 => urdf_cases(),
         15 => chain_cases(),
         32 => cli_cases(),
+        6 => trajectory_cases(),
     ]
     .boxed()
 }
@@ -2122,6 +2411,9 @@ fn check(case: &Case, out: &Outcome, dir: &Path) -> Result<(), Problem> {
     }
     // `simulate`'s summary and `eval`'s notes go to stderr.
     check_words("stderr", &stderr)?;
+    if case.source == "trajectory" && case.command() == "simulate" {
+        check_limits_kept(case, dir)?;
+    }
     for o in &case.outputs {
         let p = dir.join("case").join(OsStr::from_bytes(normal(o)));
         match fs::read(&p) {
@@ -2537,6 +2829,16 @@ fn mutated_urdf_descriptions_fail_cleanly() {
 #[test]
 fn command_line_values_fail_cleanly() {
     bounded("cli", cli_cases(), 400);
+}
+
+/// User trajectories (generated paths near the Panda's tip, mutated; `--trocar`, `--q0`,
+/// `--method`, `--max-joint-speed` values) and the UR5 example's `[simulation]` section
+/// (gains at and past their stable bound, speed limits, trocars, device and foreign paths),
+/// under `simulate`: besides the checks of every case, a run that succeeds kept every joint
+/// within its URDF range and speed limit.
+#[test]
+fn user_trajectories_and_simulation_sections_fail_cleanly() {
+    bounded("trajectory", trajectory_cases(), 120);
 }
 
 /// The long run: `TROCAR_FUZZ_CASES` (default 100000) cases of every kind over

@@ -107,16 +107,24 @@ fn excesses(csv: &Csv, limits: &[(f64, f64, f64)]) -> (f64, f64, f64) {
 }
 
 #[test]
-fn dls_exceeds_a_limit_and_the_qp_keeps_every_one() {
+fn dls_keeps_the_joint_limits_and_the_qp_every_limit() {
     let limits = urdf_limits();
     let dir = temp_dir("both");
 
     let dls = run("dls", &dir);
     let (joint, speed, depth) = excesses(&dls, &limits);
     // The reference drives joint 7 past its range, asks it for more than its speed and pulls
-    // the instrument past l_max: DLS, which knows none of these, follows.
-    assert!(joint > 0.0, "DLS stayed within the joint ranges ({joint})");
-    assert!(speed > 0.0, "DLS stayed within the speed limits ({speed})");
+    // the instrument past l_max. The joints' ranges and speeds are physical and no method
+    // commands past them (DLS slows the task where a joint would leave them, its rates judged
+    // over the sample time); the insertion depth is the QP's alone, and DLS follows past it.
+    assert!(
+        joint <= 0.0,
+        "DLS took a joint out of its URDF range by {joint} rad"
+    );
+    assert!(
+        speed <= 1e-9,
+        "DLS commanded a joint rate past its limit by {speed} rad/s"
+    );
     assert!(depth > 0.0, "DLS stayed within the depth bounds ({depth})");
 
     let qp = run("qp", &dir);
@@ -147,8 +155,9 @@ fn dls_exceeds_a_limit_and_the_qp_keeps_every_one() {
     // With the residual asked back (Q8) and, after a working-set change, the step's own chord
     // (Q9), the trocar keeps far closer: measured 9.8e-9 m.
     assert!(max_drift <= 1e-7, "drift {max_drift} m");
-    // Measured: 6.3e-7 m/s (runtime/sim/CONTROL.md).
-    assert!(max_lateral <= 1e-6, "lateral velocity {max_lateral} m/s");
+    // Measured: 1.2e-6 m/s, at the working-set changes, with the QP's `κ` floor of 1e-3 (6.3e-7
+    // with a fixed `κ = 0.01`, which tracked the task 40 times worse where no limit acts).
+    assert!(max_lateral <= 2e-6, "lateral velocity {max_lateral} m/s");
     let (t, ep) = (qp.col("t"), qp.col("ep_norm"));
 
     // The tip follows where no limit holds it: before the withdrawal (t < 1 s) and after
@@ -179,7 +188,7 @@ fn dls_exceeds_a_limit_and_the_qp_keeps_every_one() {
 }
 
 #[test]
-fn without_the_drift_correction_the_trocar_moves_under_1e_6_m_per_s_over_the_whole_run() {
+fn without_the_drift_correction_the_trocar_moves_under_2e_6_m_per_s_over_the_whole_run() {
     // With the residual of the shaft's motion across the trocar asked back (Q8), and the
     // step's own chord after a working-set change (Q9), what is left a step is the change of
     // the chord's third-order term; the drift correction is off, so nothing else commands
@@ -193,8 +202,8 @@ fn without_the_drift_correction_the_trocar_moves_under_1e_6_m_per_s_over_the_who
         .map(|r| r[vx].hypot(r[vy]))
         .fold(0.0, f64::max);
     let max_drift = qp.rows.iter().map(|r| r[drift]).fold(0.0, f64::max);
-    // Measured: 5.1e-7 m/s and 4.6e-8 m.
-    assert!(max_lateral <= 1e-6, "lateral velocity {max_lateral} m/s");
+    // Measured: 1.2e-6 m/s (5.1e-7 with a fixed `κ = 0.01`) and 4.6e-8 m.
+    assert!(max_lateral <= 2e-6, "lateral velocity {max_lateral} m/s");
     assert!(max_drift <= 1e-7, "drift {max_drift} m");
     let (joint, speed, depth) = excesses(&qp, &urdf_limits());
     assert!(joint <= 0.0 && speed <= 1e-9 && depth <= 0.0);

@@ -167,14 +167,52 @@ fn bad_trajectories_name_the_file_row_and_column_and_write_nothing() {
         ),
         (
             "far",
-            format!("{}\n{}\n1,5,5,5,0\n", rows[0], rows[1]),
+            format!("{}\n{}\n1000,5,5,5,0\n", rows[0], rows[1]),
             ":3: columns x, y, z: the point is",
         ),
         (
             // Comment lines count: the rows are named by their line in the file.
             "far-after-comments",
-            format!("# a path\n\n{}\n{}\n1,5,5,5,0\n", rows[0], rows[1]),
+            format!("# a path\n\n{}\n{}\n1000,5,5,5,0\n", rows[0], rows[1]),
             ":5: columns x, y, z: the point is",
+        ),
+        (
+            // A jump between rows close in time: the feed-forward would be 5e7 m/s.
+            "fast",
+            {
+                let c = start_tip();
+                format!(
+                    "{}\n0,{},{},{},0\n1,{},{},{},0\n1.000000001,{},{},{},0\n",
+                    rows[0],
+                    c[0],
+                    c[1],
+                    c[2],
+                    c[0],
+                    c[1],
+                    c[2],
+                    c[0] + 0.05,
+                    c[1],
+                    c[2]
+                )
+            },
+            ":4: columns x, y, z: the tip would move at 5.0000e7 m/s",
+        ),
+        (
+            // The tip 0.1 m on the robot's side of the trocar (the shaft points down at q0,
+            // the trocar 0.15 m above the tip): the instrument would be pulled out.
+            "behind",
+            {
+                let c = start_tip();
+                format!(
+                    "{}\n{}\n10,{},{},{},0\n",
+                    rows[0],
+                    rows[1],
+                    c[0],
+                    c[1],
+                    c[2] + 0.25
+                )
+            },
+            ":3: columns x, y, z: the point is behind the trocar",
         ),
         (
             "nan-literal",
@@ -285,7 +323,10 @@ fn ur5_follows_the_example_circle_and_is_drawn() {
     assert_eq!(code, 0, "{err}");
     eprintln!("ur5 run with its figures: {:?}", started.elapsed());
     for word in [
-        "max tip error after the first second",
+        "max tip error",
+        "after the first second",
+        "max orientation error",
+        "peak joint rate",
         "max drift",
         "max lateral velocity",
         "closest approach to a joint limit",

@@ -19,6 +19,14 @@ use trocar_sim::simulation::{ArmModel, Method, StepRecord, Trace};
 /// The largest trajectory file read (bytes): a path of 10⁵ rows fits many times over.
 pub const MAX_TRAJECTORY_BYTES: u64 = 64 << 20;
 
+/// The fastest a trajectory may move the tip between two rows (m/s): far above what an
+/// instrument through a trocar is moved at (cm/s), far below the feed-forward that a jump
+/// between rows close in time would command (a 5 cm step over 1 ns is 5e7 m/s).
+pub const MAX_REFERENCE_SPEED: f64 = 2.0;
+
+/// The fastest a trajectory may turn the tip between two rows (rad/s).
+pub const MAX_REFERENCE_ANGULAR_SPEED: f64 = 20.0;
+
 /// How a trajectory gives the tip's orientation.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Orientation {
@@ -204,7 +212,9 @@ impl Trajectory {
 
     /// Checks a trajectory built by hand as [`Trajectory::parse`] checks one it reads: at
     /// least two rows, one position (and orientation, when given) per time, increasing times,
-    /// every value within the number rule, unit quaternions.
+    /// every value within the number rule, unit quaternions, and between two rows a speed of
+    /// at most [`MAX_REFERENCE_SPEED`] and a turn rate of at most
+    /// [`MAX_REFERENCE_ANGULAR_SPEED`] (the feed-forward the controller is given).
     pub fn check(&self, name: &str) -> Result<()> {
         let n = self.t.len();
         let orientations = match &self.orientation {
@@ -250,6 +260,33 @@ impl Trajectory {
                 self.t[k + 1],
                 self.t[k]
             )));
+        }
+        let line = |k: usize| self.lines.get(k).copied().unwrap_or(k + 2);
+        for k in 0..n - 1 {
+            let span = self.t[k + 1] - self.t[k];
+            let (a, b) = (self.position[k], self.position[k + 1]);
+            let speed = (0..3).map(|i| (b[i] - a[i]).powi(2)).sum::<f64>().sqrt() / span;
+            if !(speed <= MAX_REFERENCE_SPEED) {
+                return Err(Error::Input(format!(
+                    "{name}:{}: columns x, y, z: the tip would move at {speed:.4e} m/s from the row before (t = {} to {} s); at most {MAX_REFERENCE_SPEED} m/s",
+                    line(k + 1),
+                    self.t[k],
+                    self.t[k + 1]
+                )));
+            }
+            let turn = match &self.orientation {
+                Orientation::None => 0.0,
+                Orientation::Roll(r) => (r[k + 1] - r[k]).abs(),
+                Orientation::Quaternion(q) => unit(q[k + 1]).angle_to(&unit(q[k])),
+            } / span;
+            if !(turn <= MAX_REFERENCE_ANGULAR_SPEED) {
+                return Err(Error::Input(format!(
+                    "{name}:{}: the tip would turn at {turn:.4e} rad/s from the row before (t = {} to {} s); at most {MAX_REFERENCE_ANGULAR_SPEED} rad/s",
+                    line(k + 1),
+                    self.t[k],
+                    self.t[k + 1]
+                )));
+            }
         }
         Ok(())
     }
@@ -351,6 +388,12 @@ pub type TrajectoryRun = SimulationRun;
 /// starts at `t = 0` is refused (the controller would be asked for a jump).
 pub const START_TOLERANCE: f64 = 1e-3;
 
+/// The largest distance (m) of a given trocar point from the shaft's line at `q0`. A run starts
+/// with the shaft through the trocar: the drift correction would otherwise pull the shaft across
+/// the body wall at `K_r` times the offset in its first steps (8.5 mm at `K_r = 20 /s` is
+/// 0.17 m/s). Beyond this a run is refused.
+pub const TROCAR_TOLERANCE: f64 = 1e-3;
+
 /// Runs `robot`'s constrained controller along `trajectory` from `options.q0` for the
 /// trajectory's duration, measuring everything from the numeric forward kinematics (not the
 /// controller's Jacobians, [`ArmModel::measure`], as the shipped scenarios): the columns `t,
@@ -431,6 +474,36 @@ pub fn simulate_trajectory(
     let trocar = options
         .trocar
         .map_or_else(|| g0i.transform_point(&g_ir.translation), Vector3::from);
+    // The joints start within their ranges.
+    for (k, (v, l)) in q0.iter().zip(robot.joint_limits()).enumerate() {
+        if let Some([lo, hi]) = l {
+            if !(lo <= *v && *v <= hi) {
+                return Err(Error::Input(format!(
+                    "q0: joint {} = {v} is outside its range [{lo}, {hi}]; start the run within every joint's limits",
+                    k + 1
+                )));
+            }
+        }
+    }
+    // The shaft passes through the trocar at q0, between the link and the tip: `l_a` within
+    // `(0, l_tip)`, `l_tip` the tip's offset along the shaft (the instrument's length).
+    let l_a0 = shaft.offset(&g0i, &trocar);
+    let off = (shaft.constraint_pose(&g0i, l_a0).translation - trocar).norm();
+    if !(off <= TROCAR_TOLERANCE) {
+        return Err(Error::Input(format!(
+            "trocar: the point ({}, {}, {}) is {off:.4e} m off the shaft's line at q0, more than {TROCAR_TOLERANCE} m; give the trocar on the shaft (the default is the constraint frame's origin at q0)",
+            trocar.x, trocar.y, trocar.z
+        )));
+    }
+    let l_tip = shaft.offset(&g0i, &g0e.translation);
+    let insertion = [l_tip.min(0.0), l_tip.max(0.0)];
+    if !(insertion[0] < l_a0 && l_a0 < insertion[1]) {
+        return Err(Error::Input(format!(
+            "trocar: at q0 the trocar is at l_a = {l_a0:.4} along the shaft, outside the instrument (l_a in ({:.4}, {:.4}) from the link to the tip)",
+            insertion[0], insertion[1]
+        )));
+    }
+
     // A path that starts at t = 0 must start at the tip.
     let start = Vector3::from(trajectory.position[0]);
     let distance = (start - g0e.translation).norm();
@@ -454,9 +527,30 @@ pub fn simulate_trajectory(
                 trajectory.lines.get(k).copied().unwrap_or(k + 2)
             )));
         }
+        // Every point of the path is beyond the trocar, on the side the tip enters at q0.
+        if (Vector3::from(*p) - trocar).dot(&(g0e.translation - trocar)) <= 0.0 {
+            return Err(Error::Input(format!(
+                "{source}:{}: columns x, y, z: the point is behind the trocar (on the robot's side of the plane through the trocar across the instrument at q0): the instrument would be pulled out through the trocar",
+                trajectory.lines.get(k).copied().unwrap_or(k + 2)
+            )));
+        }
     }
     options.controller.check_sample_time(options.dt)?;
-    let mut ctrl = RobotController::new(robot, options.controller)?;
+    // The instrument's length bounds `l_a` in every run: the QP holds it as its depth bounds
+    // (intersected with the caller's), the other methods stop where it is left.
+    let mut controller = options.controller;
+    let depth = match controller.depth_limits {
+        Some([lo, hi]) => [lo.max(insertion[0]), hi.min(insertion[1])],
+        None => insertion,
+    };
+    if !(depth[0] < depth[1] && depth[0] <= l_a0 && l_a0 <= depth[1]) {
+        return Err(Error::Input(format!(
+            "depth_limits: l_a = {l_a0:.4} at q0 is outside [{:.4}, {:.4}] (the bounds given, within the instrument's ({:.4}, {:.4}))",
+            depth[0], depth[1], insertion[0], insertion[1]
+        )));
+    }
+    controller.depth_limits = Some(depth);
+    let mut ctrl = RobotController::new(robot, controller)?;
     let axes = arm.lateral_axes();
     const NAMES: [&str; 3] = ["x_r", "y_r", "z_r"];
     let t_end = trajectory.t[trajectory.t.len() - 1];
@@ -487,6 +581,12 @@ pub fn simulate_trajectory(
                 options.dt,
             )
             .map_err(|e| Error::Simulation(format!("t = {t:.3} s: {e}")))?;
+        if !(depth[0] <= step.l_a && step.l_a <= depth[1]) && step.status.held() {
+            return Err(Error::Simulation(format!(
+                "t = {t:.3} s: l_a = {:.4} left [{:.4}, {:.4}] (the instrument between the link and its tip, and the depth bounds given): the run stops",
+                step.l_a, depth[0], depth[1]
+            )));
+        }
         if !step.status.held() {
             return Err(Error::Simulation(format!(
                 "t = {t:.3} s: {} (lateral error {:.3e} m); the run stops at the first step \
@@ -514,9 +614,17 @@ pub fn simulate_trajectory(
         for (a, b) in q.iter_mut().zip(&step.qd) {
             *a += b * options.dt;
         }
-        if q.iter().any(|v| !v.is_finite()) {
+        if let Some(k) = q
+            .iter()
+            .chain(&step.qd)
+            .position(|v| trocar_model::validity::check(*v).is_err())
+        {
+            let (what, j) = if k < n { ("q", k) } else { ("qd", k - n) };
             return Err(Error::Simulation(format!(
-                "t = {t:.3} s: the joints left the finite numbers"
+                "t = {t:.3} s: {what}{} = {:e} is beyond the numbers a run writes (finite, within ±{:e})",
+                j + 1,
+                if k < n { q[j] } else { step.qd[j] },
+                trocar_model::validity::MAX_MAGNITUDE
             )));
         }
         if k % report == 0 {
@@ -560,19 +668,27 @@ pub fn simulate_trajectory(
             )
         })
         .fold(f64::INFINITY, f64::min);
+    let max_lateral = trace
+        .rows
+        .iter()
+        .map(|r| r.vr[0].abs().max(r.vr[1].abs()))
+        .fold(0.0, f64::max);
+    let after_1s = if t_end > 1.0 {
+        format!(", after the first second {:.3e} m", s.max_ep_after_1s)
+    } else {
+        String::new()
+    };
     let summary = format!(
-        "`{}` along {source} ({:?}, {} steps of {} s): max tip error after the first second {:.3e} m, max drift {:.3e} m, max lateral velocity {:.3e} m/s{}",
+        "`{}` along {source} ({:?}, {} steps of {} s): max tip error {:.3e} m{after_1s}, max orientation error {:.3e}, max drift {:.3e} m, max lateral velocity {:.3e} m/s, peak joint rate {:.3e}{}",
         desc.name,
         options.controller.method,
         steps,
         options.dt,
-        s.max_ep_after_1s,
+        s.max_ep,
+        s.max_eo,
         s.max_drift,
-        trace
-            .rows
-            .iter()
-            .map(|r| r.vr[0].abs().max(r.vr[1].abs()))
-            .fold(0.0, f64::max),
+        max_lateral,
+        s.peak_qd,
         if margin.is_finite() {
             format!(
                 ", closest approach to a joint limit {margin:.4} rad{}",

@@ -436,10 +436,13 @@ subject to  (A + H_v R_0rᵀ E) θ̇ = dv_0r + ½ H_v R_0rᵀ E θ̇⁻         
   `l_a = (r − o)·d / |d|²`, `ṙ = −v − ω × r`; a general inequality row of the QP).
 - Every damper is clipped so that `θ̇ = 0` satisfies it (`lb ≤ 0 ≤ ub`). On conflict the trocar
   comes first: equality rows with no common solution are met in least squares
-  (`EqualitiesInconsistent`); if no rates keep the trocar within every limit, the limits are
-  exceeded by the least total amount and the trocar kept (`InequalitiesRelaxed`). The rates are
-  always finite; `StepOutput::qp` reports the status, the working-set changes and the active
-  rows.
+  (`EqualitiesInconsistent`). The joint limits are physical and never give way: if no rates
+  keep the trocar within every limit, the step takes the rates within the limits nearest to the
+  trocar rows, then the task within both (`EqualitiesInconsistent` again), and
+  `StepOutput::status` says `TrocarYielded`; a simulation stops there with an error. Every
+  method's rates are also kept within each joint's speed limit and, over the sample time, its
+  range (`trocar::control::rate_box`). The rates are always finite; `StepOutput::qp` reports the
+  status, the working-set changes and the active rows.
 
 **The scenario** `panda-laparoscope-limits` (12 s, 2 ms explicit Euler, drift correction on, no
 speed limit of the controller's own so that the URDF's bind): the Panda laparoscope of the

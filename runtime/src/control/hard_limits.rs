@@ -144,6 +144,13 @@ pub struct QpWeights<T> {
     /// `γ` of (Q1): the weight of the null-space objective's gradient `u0`; `γ = κ²` moves the
     /// spare freedom at `u0` where no limit acts, as (45) does.
     pub gamma: T,
+    /// The damping rule of the task: with it, `κ` of a step is the larger of
+    /// [`QpWeights::kappa`] and the rule's `κ(w_r)` at the task Jacobian's manipulability — the
+    /// damping of [`super::Inverse::Dls`] (3.44) — and `γ` is scaled by `(κ / QpWeights::kappa)²`
+    /// with it, so that the spare freedom still moves at `u0`. Away from singularities `κ` is
+    /// then the small floor `kappa`, and with no limit active the step tracks the task as the
+    /// DLS step does. `None`: `κ` is `kappa` at every step.
+    pub damping: Option<super::Damping<T>>,
     /// The most working-set changes of one solve ([`Settings::max_iterations`]): it bounds the
     /// time of a step.
     pub max_iterations: usize,
@@ -182,6 +189,7 @@ impl<T: RealField + Copy> QpWeights<T> {
         QpWeights {
             kappa,
             gamma: kappa * kappa,
+            damping: None,
             max_iterations: Settings::DEFAULT.max_iterations,
             chord_correction: true,
             // In f32 the rounding of the positions over a sample time (ε |p| / dt, 1.5e-5 m/s

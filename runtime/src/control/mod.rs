@@ -997,6 +997,25 @@ impl<
             max_joint_speed: self.config.max_joint_speed,
             dt,
         };
+        let task_jr: SMatrix<T, P, M> = if whole {
+            SMatrix::from_fn(|r, c| s.jr[(r, c)])
+        } else {
+            sel * s.jr
+        };
+        let w_r = PreparedJacobian::new(&task_jr).manipulability();
+        // One damping rule: the task's (3.44) where the weights carry it, `kappa` the floor.
+        let mut weights = *weights;
+        if let Some(d) = weights.damping {
+            let kappa = d.kappa(w_r);
+            if kappa > weights.kappa {
+                if weights.kappa > T::zero() {
+                    let scale = kappa / weights.kappa;
+                    weights.gamma *= scale * scale;
+                }
+                weights.kappa = kappa;
+            }
+        }
+        let weights = &weights;
         let mut problem =
             hard_limits::step_problem(&inputs, &task, &v_t, weights, &self.objective, &self.limits);
         let (mut qd, mut report) =
@@ -1063,11 +1082,6 @@ impl<
         } else {
             StepStatus::Held
         };
-        let task_jr: SMatrix<T, P, M> = if whole {
-            SMatrix::from_fn(|r, c| s.jr[(r, c)])
-        } else {
-            sel * s.jr
-        };
         Ok(StepOutput {
             qd,
             l_a,
@@ -1076,7 +1090,7 @@ impl<
             u: *u,
             lateral_error,
             dv_0r,
-            w_r: PreparedJacobian::new(&task_jr).manipulability(),
+            w_r,
             w_i: PreparedJacobian::new(&s.jb0i).manipulability(),
             kappa_r: weights.kappa,
             kappa_i: T::zero(),

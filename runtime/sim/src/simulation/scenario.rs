@@ -547,7 +547,11 @@ pub struct ScenarioConfig {
     /// Gain `K` (1/s) of the null-space objective (46) (joint-limit distance) on a redundant
     /// arm (the Panda); unused on the reference arm, which has none.
     pub null_space_gain: f64,
-    /// `κ` of the QP step ([`Method::Qp`], (Q1) of `trocar::control::hard_limits`); `γ = κ²`.
+    /// The floor of `κ` of the QP step ([`Method::Qp`], (Q1) of `trocar::control::hard_limits`;
+    /// `γ = κ²`): a step's `κ` is the larger of it and the DLS damping of the task Jacobian
+    /// (3.44) at its manipulability, so that with no limit active the QP tracks the task as
+    /// DLS does. 1e-3 by default: it keeps the Hessian regular on a redundant arm and damps the
+    /// task by `κ²` relative to its gains' squared singular values (1e-6 of a unit one).
     pub qp_kappa: f64,
     /// When the QP step measures its own chord and solves again ((Q9) of
     /// `trocar::control::hard_limits`): after a working-set change by default.
@@ -589,7 +593,7 @@ impl ScenarioConfig {
             dls_w0_i: 0.01,
             fi_gamma: 5.0,
             null_space_gain: 10.0,
-            qp_kappa: 0.01,
+            qp_kappa: 1e-3,
             qp_chord_check: ChordCheck::AfterChange,
             s4_rcm_amplitude: S4_RCM_AMPLITUDE,
         }
@@ -642,6 +646,7 @@ impl ScenarioConfig {
             Method::Qp => (
                 Inverse::Qp(QpWeights {
                     chord_check: self.qp_chord_check,
+                    damping: Some(dls_r),
                     ..QpWeights::with_kappa(self.qp_kappa)
                 }),
                 None,
