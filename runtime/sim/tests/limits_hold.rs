@@ -456,3 +456,44 @@ fn unstable_gains_and_bad_sample_times_are_refused() {
         );
     }
 }
+
+/// An insertion outside its depth bounds at the start (`l_a` = 0.25 m, bounds [0.3, 0.35]) was
+/// reported `Optimal` and the shaft stayed where it was; the step now says so, and does not take
+/// `l_a` further below its bound.
+#[test]
+fn an_insertion_outside_its_bounds_is_reported() {
+    let (kin, ranges, speeds) = panda();
+    let q = SVector::<f64, 7>::from(PANDA_Q0);
+    let s = Scene {
+        place: std::array::from_fn(|k| {
+            let [lo, hi] = ranges[k];
+            (q[k] - lo) / (hi - lo)
+        }),
+        trocar_off: [0.0; 3],
+        l_a: 0.25,
+        max_speed: None,
+        speed_scale: 1.0,
+        depth: Some((-0.05, 0.1)),
+        gains: [0.005, 0.005, 0.02],
+        method: 0,
+        target: [0.0, 0.0, 0.01],
+        velocity: [0.0; 3],
+        dv: [0.0; 2],
+        dt: 0.002,
+    };
+    let mut b = build(&kin, &ranges, &speeds, &s);
+    assert_eq!(b.limits.depth, [0.3, 0.35]);
+    let (reference, rcm) = (b.reference, b.rcm);
+    let out = b.ctrl.step(&kin, &b.q, &reference, &rcm, s.dt).unwrap();
+    assert!((out.l_a - 0.25).abs() < 1e-9, "{}", out.l_a);
+    assert_eq!(out.status, StepStatus::DepthOutside);
+    // The reference moves the tip 1 cm up the shaft; `l_a` does not decrease.
+    let g_0i = kin.chain.link_frame(7, &b.q);
+    let row = trocar::control::hard_limits::depth_rate_row(
+        &kin.chain.partial_body_jacobian::<7>(&b.q),
+        &g_0i,
+        &kin.shaft.direction,
+        &rcm.trocar,
+    );
+    assert!(row.dot(&out.qd) >= -1e-12, "l_a moves further out");
+}

@@ -277,6 +277,10 @@ fn run_panda(
     let mut ctrl = Controller::<f64, 7, 7, 2, 4, 4, 4>::new(config.controller_config())
         .with_objective(objective)
         .with_limits(hard);
+    // The instrument's length bounds `l_a`: the trocar between the link (0) and the tip.
+    let l_tip = kin
+        .shaft
+        .offset(&chain.link_frame(7, &q), &g_0e0.translation);
     let mut rows = Vec::with_capacity(steps + 1);
     let report_every = (steps / 100).max(1);
     let none = Vector3::zeros();
@@ -290,10 +294,15 @@ fn run_panda(
         let out = ctrl
             .step(&kin, &q, &reference, &rcm, dt)
             .map_err(|e| SimulationError::Control { t, error: e })?;
-        if !out.status.held() {
+        let outside = !(out.l_a > 0.0 && out.l_a < l_tip);
+        if !out.status.held() || outside {
             return Err(SimulationError::Yielded {
                 t,
-                status: out.status,
+                status: if outside {
+                    trocar::control::StepStatus::DepthOutside
+                } else {
+                    out.status
+                },
             });
         }
         let q_next = q + out.qd * dt;
