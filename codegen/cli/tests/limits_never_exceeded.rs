@@ -83,7 +83,9 @@ fn a_gain_the_sample_time_makes_unstable_is_refused_with_its_bound() {
     ]);
     assert_eq!(code, 1, "{err}");
     assert!(
-        err.contains("kr · dt = 4.0000 is not below 2") && err.contains("kr < 1000 /s"),
+        err.contains("`kr = ...` in the [simulation] section of")
+            && err.contains("kr · dt = 4.0000 is not below 2")
+            && err.contains("kr < 1000 /s"),
         "{err}"
     );
     assert!(!csv.exists(), "a refused run wrote its CSV");

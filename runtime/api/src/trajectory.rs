@@ -266,7 +266,7 @@ impl Trajectory {
             let span = self.t[k + 1] - self.t[k];
             let (a, b) = (self.position[k], self.position[k + 1]);
             let speed = (0..3).map(|i| (b[i] - a[i]).powi(2)).sum::<f64>().sqrt() / span;
-            if !(speed <= MAX_REFERENCE_SPEED) {
+            if speed.is_nan() || speed > MAX_REFERENCE_SPEED {
                 return Err(Error::Input(format!(
                     "{name}:{}: columns x, y, z: the tip would move at {speed:.4e} m/s from the row before (t = {} to {} s); at most {MAX_REFERENCE_SPEED} m/s",
                     line(k + 1),
@@ -279,7 +279,7 @@ impl Trajectory {
                 Orientation::Roll(r) => (r[k + 1] - r[k]).abs(),
                 Orientation::Quaternion(q) => unit(q[k + 1]).angle_to(&unit(q[k])),
             } / span;
-            if !(turn <= MAX_REFERENCE_ANGULAR_SPEED) {
+            if turn.is_nan() || turn > MAX_REFERENCE_ANGULAR_SPEED {
                 return Err(Error::Input(format!(
                     "{name}:{}: the tip would turn at {turn:.4e} rad/s from the row before (t = {} to {} s); at most {MAX_REFERENCE_ANGULAR_SPEED} rad/s",
                     line(k + 1),
@@ -489,7 +489,7 @@ pub fn simulate_trajectory(
     // `(0, l_tip)`, `l_tip` the tip's offset along the shaft (the instrument's length).
     let l_a0 = shaft.offset(&g0i, &trocar);
     let off = (shaft.constraint_pose(&g0i, l_a0).translation - trocar).norm();
-    if !(off <= TROCAR_TOLERANCE) {
+    if off.is_nan() || off > TROCAR_TOLERANCE {
         return Err(Error::Input(format!(
             "trocar: the point ({}, {}, {}) is {off:.4e} m off the shaft's line at q0, more than {TROCAR_TOLERANCE} m; give the trocar on the shaft (the default is the constraint frame's origin at q0)",
             trocar.x, trocar.y, trocar.z
@@ -885,13 +885,28 @@ pub fn run_options(
         Some(crate::SpeedLimit::At(v)) => controller.max_joint_speed = Some(v),
         None => {}
     }
+    let dt = 0.002;
+    // The section's gains against the sample time, located at their entry.
+    for (key, given) in [("kp", section.kp), ("ko", section.ko), ("kr", section.kr)] {
+        if given.is_some() {
+            let only = ControllerOptions {
+                kp: if key == "kp" { controller.kp } else { 0.0 },
+                ko: if key == "ko" { controller.ko } else { 0.0 },
+                kr: if key == "kr" { controller.kr } else { 0.0 },
+                ..controller
+            };
+            if let Err(e) = only.check_sample_time(dt) {
+                return Err(Error::Input(format!("{}: {e}", where_(key))));
+            }
+        }
+    }
     Ok((
         trajectory,
         TrajectoryOptions {
             q0,
             trocar: request.trocar.or(section.trocar),
             controller,
-            dt: 0.002,
+            dt,
         },
     ))
 }

@@ -361,13 +361,8 @@ fn the_qp_lets_the_trocar_give_way_not_the_limits() {
     let (reference, rcm) = (b.reference, b.rcm);
     let out = b.ctrl.step(&kin, &b.q, &reference, &rcm, s.dt).unwrap();
     assert_eq!(out.status, StepStatus::TrocarYielded);
-    for k in 0..7 {
-        assert!(
-            out.qd[k].abs() <= speeds[k],
-            "joint {}: {} rad/s",
-            k + 1,
-            out.qd[k]
-        );
+    for (k, (v, speed)) in out.qd.iter().zip(&speeds).enumerate() {
+        assert!(v.abs() <= *speed, "joint {}: {v} rad/s", k + 1);
     }
     // The rates still move the link toward the trocar: the lateral error shrinks.
     let before = out.lateral_error.norm();
