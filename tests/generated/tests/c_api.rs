@@ -263,3 +263,64 @@ fn a_non_finite_input_is_reported_where_the_result_is_finite() {
     };
     assert_eq!(status, p::C_NOT_FINITE);
 }
+
+/// RELIABILITY.md F30 in an `f32` module: a sample time that is not a number and a value beyond
+/// the number rule are refused with `qd` set to zeros, and a trocar 0.2 m off the shaft keeps
+/// the speed limit and says the trocar yielded.
+#[test]
+fn f32_controller_step_refuses_and_keeps_the_speed_limit() {
+    let q: [f32; 7] = [0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785];
+    let pp = p::Params { l_a: 0.25 };
+    let (ri, ti) = p::forward_kinematics_i(&q, &pp);
+    let (_, tir) = p::constraint_frame(&pp);
+    let (re, te) = p::forward_kinematics(&q, &pp);
+    let mut trocar = [0.0_f32; 3];
+    for r in 0..3 {
+        trocar[r] = ti[r] + (0..3).map(|c| ri[c][r] * tir[c]).sum::<f32>();
+    }
+    let mut target = [0.0_f32; 18];
+    target[..3].copy_from_slice(&te);
+    target[3..12].copy_from_slice(re.as_flattened());
+    let gains: [f32; 8] = [5.0, 10.0, 20.0, 0.05, 1e-3, 0.01, 2.0, 10.0];
+    let step = |trocar: [f32; 3], dt: f32, gains: [f32; 8]| {
+        let mut qd = [f32::NAN; 7];
+        let mut report = [f32::NAN; 8];
+        // SAFETY: q holds N = 7 values, params PARAMS = 1, target 18, trocar 3, gains 8, qd
+        // room for 7 and report for 8.
+        let status = unsafe {
+            p::panda_capi_f32_controller_step(
+                q.as_ptr(),
+                [0.25_f32].as_ptr(),
+                target.as_ptr(),
+                trocar.as_ptr(),
+                dt,
+                gains.as_ptr(),
+                qd.as_mut_ptr(),
+                report.as_mut_ptr(),
+            )
+        };
+        (status, qd, report)
+    };
+    let (status, qd, report) = step(trocar, 0.002, gains);
+    assert_eq!(status, 0);
+    assert!(qd.iter().chain(&report).all(|v| v.is_finite()));
+    for (dt, kr) in [
+        (f32::NAN, 20.0),
+        (0.002, 2e6),
+        (0.002, -20.0),
+        (0.002, 1000.0),
+    ] {
+        let mut g = gains;
+        g[2] = kr;
+        let (status, qd, report) = step(trocar, dt, g);
+        assert_eq!(status, p::C_INVALID_ARGUMENT, "dt {dt}, K_r {kr}");
+        assert_eq!(qd, [0.0; 7]);
+        assert!(report.iter().all(|v| v.is_nan()), "report not written");
+    }
+    let mut off = trocar;
+    off[0] += 0.2;
+    let (status, qd, report) = step(off, 0.002, gains);
+    assert_eq!(status, p::C_TROCAR_YIELDED);
+    assert!(qd.iter().all(|v| v.abs() <= 2.0), "{qd:?}");
+    assert!(report.iter().all(|v| v.is_finite()));
+}
