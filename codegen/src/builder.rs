@@ -161,8 +161,10 @@ fn module_tokens(
 
 /// With the C ABI, a fused function's C function `<module>_<name>` lives beside the module's
 /// Rust items: a fused name that starts with `<module>_` (it could be another C function's Rust
-/// name) or is the C ABI's helper `c_params` would clash.
+/// name) or is the C ABI's helper `c_params` would clash; and the header's macros must be
+/// distinct ([`emit::c_api::check_names`]).
 fn c_api_names(spec: &emit::ModuleSpec) -> Result<(), Error> {
+    emit::c_api::check_names(spec)?;
     let prefix = format!("{}_", spec.name);
     for f in &spec.fused {
         if f.name == "c_params" || f.name.starts_with(&prefix) {
@@ -197,12 +199,14 @@ fn f32_overflow(tokens: TokenStream) -> Option<String> {
 
 /// The C header of a description's module's C ABI ([`ModuleOptions::c_api`],
 /// [`crate::emit::c_api`]): its sizes and parameter indices as `#define`s and one prototype per
-/// function; matrices column-major.
+/// function; matrices column-major. Fails with [`Error::CMacroClash`] when two of the module's names
+/// give one macro, and with [`Error::Function`] for a fused name the C ABI cannot take.
 pub fn generate_c_header(
     desc: &RobotDescription,
     options: &ModuleOptions,
 ) -> Result<String, Error> {
     let spec = spec_for(desc, options)?;
+    c_api_names(&spec)?;
     Ok(emit::c_api::header(&spec, options.real))
 }
 
@@ -457,6 +461,9 @@ impl Builder {
                 description_files,
             };
             let spec = spec_for(&desc, &options)?;
+            if self.c_api {
+                c_api_names(&spec)?;
+            }
             let header = self.c_api.then(|| emit::c_api::header(&spec, options.real));
             let exported = if self.c_api {
                 emit::c_api::symbols(&spec)

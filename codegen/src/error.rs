@@ -29,6 +29,17 @@ pub enum Error {
         /// The two modules that export it.
         modules: (String, String),
     },
+    /// With the C ABI, two names of one module give the same macro in its C header (C macros are
+    /// the names in upper case: the parameters `l_b` and `L_B` both give `<MODULE>_PARAM_L_B`),
+    /// which C would define twice ([`crate::emit::c_api::check_names`]).
+    CMacroClash {
+        /// The macro.
+        name: String,
+        /// What gives it first (`"the parameter `l_b`"`).
+        first: String,
+        /// What gives it again.
+        second: String,
+    },
     /// A module name is not a Rust identifier.
     BadModuleName(String),
     /// The runtime path ([`crate::Builder::runtime_path`]) is not a Rust path.
@@ -69,6 +80,15 @@ impl fmt::Display for Error {
                 f,
                 "with the C ABI the modules `{a}` and `{b}` both export the C symbol `{symbol}`, \
                  which would not link: rename one of them (Builder::robot_as)"
+            ),
+            Error::CMacroClash {
+                name,
+                first,
+                second,
+            } => write!(
+                f,
+                "with the C ABI {first} and {second} both give the C header's macro `{name}` \
+                 (C macros are the names in upper case): rename one of them"
             ),
             Error::BadModuleName(m) => write!(f, "`{m}` is not a valid module name"),
             Error::BadRuntimePath(p) => write!(

@@ -446,3 +446,177 @@ fn scalar_names_read_back() {
     assert_eq!(Scalar::F32.to_string(), "f32");
     assert!("f16".parse::<Scalar>().unwrap_err().contains("f16"));
 }
+
+/// The shipped `unidirectional` description with a second parameter `L_B` beside its `l_b`
+/// (used in a joint's offset), and the module name `twin`.
+fn twin_description() -> RobotDescription {
+    let text = std::fs::read_to_string(robots().join("unidirectional.toml"))
+        .unwrap()
+        .replace("name = \"unidirectional\"", "name = \"twin\"")
+        .replace("l_8 = 0.21", "l_8 = 0.21\nL_B = 0.05")
+        .replace("xyz = [0, 0.39, 0]", "xyz = [0, \"0.39 + L_B\", 0]");
+    assert!(text.contains("L_B = 0.05") && text.contains("0.39 + L_B"));
+    RobotDescription::from_toml_str(&text, None).expect("l_b and L_B are distinct in Rust")
+}
+
+/// RELIABILITY.md F32: the C header's macros are the names in upper case, so the parameters
+/// `l_b` and `L_B` both gave `TWIN_PARAM_L_B`, defined twice (`cc -Wall -Werror` failed; a C
+/// caller wrote `l_b` into `L_B`'s slot). With the C ABI (module and header) such a module is
+/// refused, naming both parameters and the macro; without it the module is fine.
+#[test]
+fn c_header_macros_that_collide_are_refused() {
+    let desc = twin_description();
+    let plain = ModuleOptions::default();
+    assert!(generate_module_string(&desc, &plain).is_ok());
+    let c = ModuleOptions {
+        c_api: true,
+        ..ModuleOptions::default()
+    };
+    for err in [
+        generate_module_string(&desc, &c).unwrap_err(),
+        trocar_codegen::generate_c_header(&desc, &c).unwrap_err(),
+    ] {
+        match &err {
+            Error::CMacroClash {
+                name,
+                first,
+                second,
+            } => {
+                assert_eq!(name, "TWIN_PARAM_L_B");
+                assert_eq!(first, "the parameter `l_b`");
+                assert_eq!(second, "the parameter `L_B`");
+            }
+            other => panic!("expected a C macro clash, got {other}"),
+        }
+        let msg = err.to_string();
+        assert!(
+            msg.contains("`TWIN_PARAM_L_B`")
+                && msg.contains("upper case")
+                && msg.contains("rename"),
+            "{msg}"
+        );
+    }
+    // The builder's C ABI too.
+    let dir = temp_dir("twin");
+    let path = dir.join("twin.toml");
+    std::fs::write(
+        &path,
+        std::fs::read_to_string(robots().join("unidirectional.toml"))
+            .unwrap()
+            .replace("name = \"unidirectional\"", "name = \"twin\"")
+            .replace("l_8 = 0.21", "l_8 = 0.21\nL_B = 0.05")
+            .replace("xyz = [0, 0.39, 0]", "xyz = [0, \"0.39 + L_B\", 0]"),
+    )
+    .unwrap();
+    let err = Builder::new()
+        .robot(&path)
+        .c_api(true)
+        .generate()
+        .unwrap_err();
+    assert!(matches!(err, Error::CMacroClash { .. }), "{err}");
+    // A parameter `x_len` and a function `param_x` would both give `TWIN_PARAM_X_LEN`.
+    let text = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace("L_B = 0.05", "x_len = 0.05")
+        .replace("0.39 + L_B", "0.39 + x_len");
+    let desc = RobotDescription::from_toml_str(&text, None).unwrap();
+    let c = ModuleOptions {
+        c_api: true,
+        functions: vec![trocar_codegen::catalogue::Fused::new(
+            "param_x",
+            [trocar_codegen::catalogue::Function::ForwardKinematics],
+        )],
+        ..ModuleOptions::default()
+    };
+    let err = trocar_codegen::generate_c_header(&desc, &c).unwrap_err();
+    let msg = err.to_string();
+    assert!(
+        msg.contains("`TWIN_PARAM_X_LEN`")
+            && msg.contains("the parameter `x_len`")
+            && msg.contains("the function `param_x`"),
+        "{msg}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The macros the header defines are those [`trocar_codegen::emit::c_api::macros`] lists (the
+/// list the clash check reads), each once, for every shipped robot and a module with a fused
+/// function of its own.
+#[test]
+fn c_header_defines_the_listed_macros_once() {
+    for name in trocar_model::description::preset_names() {
+        let desc = RobotDescription::preset(name).unwrap();
+        let options = ModuleOptions {
+            c_api: true,
+            functions: vec![trocar_codegen::catalogue::Fused::new(
+                "step",
+                [
+                    trocar_codegen::catalogue::Function::ForwardKinematics,
+                    trocar_codegen::catalogue::Function::BodyJacobian,
+                ],
+            )],
+            ..ModuleOptions::default()
+        };
+        let header = trocar_codegen::generate_c_header(&desc, &options).unwrap();
+        let defined: Vec<&str> = header
+            .lines()
+            .filter_map(|l| l.strip_prefix("#define "))
+            .map(|l| l.split([' ', '(']).next().unwrap())
+            .collect();
+        let d = trocar_codegen::derivation::derive(&desc).unwrap();
+        let spec = trocar_codegen::emit::bridge::module_spec_with(
+            &d,
+            &module_name(&desc.name),
+            &options.functions,
+        )
+        .unwrap();
+        let listed: Vec<String> = trocar_codegen::emit::c_api::macros(&spec)
+            .into_iter()
+            .map(|(m, _)| m)
+            .collect();
+        let mut a: Vec<&str> = defined.clone();
+        let mut b: Vec<&str> = listed.iter().map(String::as_str).collect();
+        a.sort_unstable();
+        b.sort_unstable();
+        assert_eq!(a, b, "{name}");
+        let mut unique = a.clone();
+        unique.dedup();
+        assert_eq!(unique.len(), a.len(), "{name}: a macro defined twice");
+    }
+}
+
+/// RELIABILITY.md F31: the wrappers of the C ABI and of `fma_at_run_time` called a fused
+/// function by its bare name, so their own parameters and locals (`q`, `p`, `out`, `o0`,
+/// `params`; `q`, `p`, the outputs' short names `fk`, `manip`, the local `fk_fused`) shadowed a
+/// function named like one and the module did not compile. They now call it through `self::`.
+/// The modules are compiled in `tests/generated` (`shadowing`, `tests/c_api.rs`).
+#[test]
+fn wrappers_call_fused_functions_through_self() {
+    let desc = RobotDescription::preset("unidirectional").unwrap();
+    let names = [
+        "q", "p", "out", "o0", "o1", "params", "fk", "fk_fused", "manip",
+    ];
+    let options = ModuleOptions {
+        c_api: true,
+        fma_at_run_time: true,
+        functions: names
+            .iter()
+            .map(|n| {
+                trocar_codegen::catalogue::Fused::new(
+                    *n,
+                    [
+                        trocar_codegen::catalogue::Function::ForwardKinematics,
+                        trocar_codegen::catalogue::Function::Manipulability,
+                    ],
+                )
+            })
+            .collect(),
+        ..ModuleOptions::default()
+    };
+    let code = generate_module_string(&desc, &options).unwrap();
+    for n in names {
+        // The C function and the `_f64` entry point's fallback.
+        assert!(code.contains(&format!("self::{n}_f64(q, &p,")), "{n}");
+        assert!(code.contains(&format!("self::{n}::<f64>(q, p,")), "{n}");
+    }
+}

@@ -54,6 +54,42 @@ int main() {
     std::array<double, 18> target{};
     std::array<double, n> qd{};
     std::array<double, 8> report{};
+    // What the step refuses gets the header's codes: a sample time that is not a number and a
+    // negative gain (qd then zeros); a trocar 0.2 m off the shaft cannot be held within the
+    // speed limit (gains[6]): the rates keep it, and the step says the trocar yielded.
+    {
+        std::array<double, 18> start{};
+        for (int r = 0; r < 3; ++r) start[r] = g0e[9 + r];
+        for (int e = 0; e < 9; ++e) start[3 + e] = g0e[e];
+        std::array<double, 8> negative = gains;
+        negative[2] = -gains[2];
+        std::array<double, 3> off = trocar;
+        off[0] += 0.2;
+        const int nan_dt = panda_laparoscope_controller_step(
+            q.data(), params.data(), start.data(), trocar.data(), std::nan(""), gains.data(),
+            qd.data(), nullptr);
+        const int negative_kr = panda_laparoscope_controller_step(
+            q.data(), params.data(), start.data(), trocar.data(), dt, negative.data(), qd.data(),
+            nullptr);
+        if (nan_dt != PANDA_LAPAROSCOPE_INVALID_ARGUMENT ||
+            negative_kr != PANDA_LAPAROSCOPE_INVALID_ARGUMENT) {
+            std::fprintf(stderr, "dt NaN: status %d, K_r < 0: status %d\n", nan_dt, negative_kr);
+            return 1;
+        }
+        const int yielded = panda_laparoscope_controller_step(
+            q.data(), params.data(), start.data(), off.data(), dt, gains.data(), qd.data(),
+            report.data());
+        if (yielded != PANDA_LAPAROSCOPE_TROCAR_YIELDED) {
+            std::fprintf(stderr, "trocar off the shaft: status %d\n", yielded);
+            return 1;
+        }
+        for (double v : qd) {
+            if (!(std::fabs(v) <= gains[6])) {
+                std::fprintf(stderr, "trocar off the shaft: |qd| = %g > %g\n", v, gains[6]);
+                return 1;
+            }
+        }
+    }
     const int steps = 500;
     for (int k = 0; k <= steps; ++k) {
         const double t = k * dt;

@@ -133,4 +133,23 @@ fn main() {
     if let Err(e) = cg.compile() {
         panic!("trocar-codegen: {e}");
     }
+    // Fused functions named like the wrappers' own parameters and locals (`q`, `p`, `out`,
+    // `o0`, `params`; with `fma_at_run_time` the outputs' short names and `fk_fused`): the
+    // wrappers call them through `self::`, so the module compiles (RELIABILITY.md F31).
+    let mut shadow = Builder::new();
+    shadow
+        .robot_as(format!("{robots}/unidirectional.toml"), "shadowing")
+        .c_api(true)
+        .fma_at_run_time(true);
+    for name in [
+        "q", "p", "out", "o0", "o1", "params", "fk", "fk_fused", "manip",
+    ] {
+        shadow.function(
+            name,
+            [Function::ForwardKinematics, Function::Manipulability],
+        );
+    }
+    if let Err(e) = shadow.compile() {
+        panic!("trocar-codegen: {e}");
+    }
 }

@@ -10,10 +10,10 @@
 //! (`float` for an `f32` module; a generic module's C ABI is `double`): `q` the `N` joint values,
 //! `params` the parameters in declaration order, `out` room for the result in the layout of the
 //! Rust function — matrices **column-major** (`out[c · rows + r]` is entry `(r, c)`), a pose as
-//! `R` column-major then `p` (12 values). The return code is `0` when every value written is
-//! finite, [`C_NOT_FINITE`] when one is not (the values are written all the same), and
-//! [`C_NULL_ARGUMENT`] when a pointer is null (nothing is written). Nothing allocates; the
-//! functions are straight-line arithmetic and cannot panic.
+//! `R` column-major then `p` (12 values). The return code is `0` when every value read (`q`,
+//! `params`) and written is finite, [`C_NOT_FINITE`] when one is not (the values are written all
+//! the same), and [`C_NULL_ARGUMENT`] when a pointer is null (nothing is written). Nothing
+//! allocates; the functions are straight-line arithmetic and cannot panic.
 //!
 //! Every fused function `name` of the module (`pose_and_jacobian`, `link_pose_and_jacobian`, those
 //! of [`crate::Builder::function`]) gets the same signature, `out` receiving its outputs one after
@@ -24,7 +24,17 @@
 //! A constrained module whose constraint frame slides along its link (it has `Kinematics`) also
 //! gets `<module>_controller_step`: one step of the runtime's constrained controller
 //! (`trocar::control::Controller`, damped least squares, drift correction, the joint-limit
-//! objective where the module has `JOINT_LIMITS`) on the generated kinematics.
+//! objective and the joint ranges where the module has `JOINT_LIMITS`) on the generated
+//! kinematics. Every number it reads follows the number rule (finite, not subnormal, within
+//! ±[`C_MAX_MAGNITUDE`]) and the gains the controller's own check
+//! (`trocar::control::ControllerConfig::check`: non-negative, `K dt` within its stable bound),
+//! else it returns [`C_INVALID_ARGUMENT`]; its rates always keep the joint speed limit (and the
+//! joint ranges over `dt`), and [`C_TROCAR_YIELDED`] says when the trocar could not be held
+//! within them.
+//!
+//! The header's macros are the module's name in upper case followed by a name of the module
+//! (a parameter's, a function's): [`check_names`] refuses a module in which two of them would
+//! be the same macro (parameters `l_b` and `L_B`).
 
 use super::rust::{FusedFunction, Layout, ModuleSpec, Scalar};
 use proc_macro2::{Literal, TokenStream};
@@ -38,6 +48,20 @@ pub const C_NULL_ARGUMENT: i32 = 2;
 /// Return code of `<module>_controller_step`: the controller could not compute a step (a
 /// singular Jacobian without damping, a non-finite value, the trocar at the link's frame).
 pub const C_CONTROL_ERROR: i32 = 3;
+/// Return code of `<module>_controller_step`: an input is outside the number rule (not finite,
+/// subnormal, beyond ±[`C_MAX_MAGNITUDE`]), `dt` is not positive, or a gain is refused by
+/// `trocar::control::ControllerConfig::check` (negative, `K dt` at or beyond its stable bound).
+pub const C_INVALID_ARGUMENT: i32 = 4;
+/// Return code of `<module>_controller_step`: the trocar could not be held within the joint
+/// speed limit and ranges (`trocar::control::StepStatus::TrocarYielded`); `qd` holds the best
+/// rates within them.
+pub const C_TROCAR_YIELDED: i32 = 5;
+/// Return code of `<module>_controller_step`: a joint of `q` is beyond its range
+/// (`trocar::control::StepStatus::JointOutside`); `qd` moves it back only.
+pub const C_JOINT_OUTSIDE: i32 = 6;
+/// The largest magnitude `<module>_controller_step` accepts for any value it reads: the number
+/// rule of every number trocar takes from a user (`trocar_model::validity::MAX_MAGNITUDE`).
+pub const C_MAX_MAGNITUDE: f64 = trocar_model::validity::MAX_MAGNITUDE;
 
 /// A pose `(R, p)` (the expression `pose`) into `out` from `offset`: `R` column-major, then `p`;
 /// literal ranges, the layout every C function writes a pose in.
@@ -110,38 +134,43 @@ pub fn items(spec: &ModuleSpec, real: Scalar, rt: &TokenStream) -> TokenStream {
         _ => quote!(Params),
     };
     let read_params = quote! {
-        /// The parameters from a C array (`PARAMS` values, declaration order); `None` for a null
-        /// pointer where there are parameters.
+        /// The parameters from a C array (`PARAMS` values, declaration order), and the values
+        /// read; `None` for a null pointer where there are parameters.
         ///
         /// # Safety
         /// `params` points to `PARAMS` readable values (it may be null when there are none).
         #[inline]
-        unsafe fn c_params(params: *const #t) -> Option<#params_ty> {
+        unsafe fn c_params(params: *const #t) -> Option<(#params_ty, [#t; #p_len])> {
             if #p_len > 0 && params.is_null() {
                 return None;
             }
-            // SAFETY: non-null when there are parameters (checked above) and, by the caller's
-            // contract, pointing to `PARAMS` values; not read when there are none.
-            let p: &[#t] = if #p_len == 0 {
-                &[]
-            } else {
-                unsafe { ::core::slice::from_raw_parts(params, #p_len) }
-            };
-            let _ = p;
-            Some(#params_init)
+            let mut p: [#t; #p_len] = [0.0; #p_len];
+            if #p_len > 0 {
+                // SAFETY: non-null (checked above) and, by the caller's contract, pointing to
+                // `PARAMS` readable values.
+                p.copy_from_slice(unsafe { ::core::slice::from_raw_parts(params, #p_len) });
+            }
+            Some((#params_init, p))
         }
     };
     let fns = spec.functions.iter().map(|f| {
         let name = format_ident!("{}", f.name);
         let c_name = format_ident!("{}", symbol(spec, &f.name));
         let n = Literal::usize_unsuffixed(f.layout.len());
+        // Through `self::`, so that no local of the wrapper can shadow the function.
         let call = if f.takes_joints {
-            quote!(#name(q, &p))
+            quote!(self::#name(q, &p))
         } else {
-            quote!(#name(&p))
+            quote!(self::#name(&p))
         };
         let flatten = match f.layout {
             Layout::Scalar => quote!(out[0] = value;),
+            // A single row: one value a column (`c * 1` is clippy's `identity_op`).
+            Layout::Matrix { rows: 1, .. } => quote! {
+                for (c, column) in value.iter().enumerate() {
+                    out[c] = column[0];
+                }
+            },
             Layout::Matrix { rows, .. } => {
                 let rows = Literal::usize_unsuffixed(rows);
                 quote! {
@@ -155,8 +184,9 @@ pub fn items(spec: &ModuleSpec, real: Scalar, rt: &TokenStream) -> TokenStream {
         let doc =
             format!(
             " C ABI of [`{name}`]: `int {c_name}(const {ct} *q, const {ct} *params, {ct} *out)`; \
-             `out` receives {n} values (column-major). Returns 0, `C_NOT_FINITE` (1) or \
-             `C_NULL_ARGUMENT` (2); see the C header (`trocar generate --c-header`).",
+             `out` receives {n} values (column-major). Returns 0, `C_NOT_FINITE` (1: a value \
+             read or written is not finite) or `C_NULL_ARGUMENT` (2); see the C header \
+             (`trocar generate --c-header`).",
             name = f.name,
             ct = if matches!(real, Scalar::F32) { "float" } else { "double" },
             n = f.layout.len(),
@@ -171,6 +201,7 @@ pub fn items(spec: &ModuleSpec, real: Scalar, rt: &TokenStream) -> TokenStream {
                 // SAFETY: non-null (checked above) and, by the caller's contract, pointing to
                 // `N` readable values.
                 let q: &[#t; N] = unsafe { &*q.cast::<[#t; N]>() };
+                let read_finite = read_finite && q.iter().all(|v| v.is_finite());
             }
         } else {
             quote!(let _ = q;)
@@ -189,16 +220,19 @@ pub fn items(spec: &ModuleSpec, real: Scalar, rt: &TokenStream) -> TokenStream {
                     return C_NULL_ARGUMENT;
                 }
                 // SAFETY: the caller's contract for `params`.
-                let Some(p) = (unsafe { c_params(params) }) else {
+                let Some((p, p_values)) = (unsafe { c_params(params) }) else {
                     return C_NULL_ARGUMENT;
                 };
+                // A value read that is not finite is reported even where the result is finite
+                // (a manipulability is 0 where its value is not finite).
+                let read_finite = p_values.iter().all(|v| v.is_finite());
                 #q_read
                 let value = #call;
                 // SAFETY: non-null (checked above) and, by the caller's contract, room for the
                 // result's values, not overlapping the inputs.
                 let out: &mut [#t; #n] = unsafe { &mut *out.cast::<[#t; #n]>() };
                 #flatten
-                if out.iter().all(|v| v.is_finite()) { 0 } else { C_NOT_FINITE }
+                if read_finite && out.iter().all(|v| v.is_finite()) { 0 } else { C_NOT_FINITE }
             }
         }
     });
@@ -214,6 +248,16 @@ pub fn items(spec: &ModuleSpec, real: Scalar, rt: &TokenStream) -> TokenStream {
         pub const C_NULL_ARGUMENT: i32 = 2;
         /// C return code of the controller step: no step could be computed.
         pub const C_CONTROL_ERROR: i32 = 3;
+        /// C return code of the controller step: an input is outside the number rule (not
+        /// finite, subnormal, beyond ±1e6), `dt` is not positive, or a gain is refused
+        /// (negative, `K dt` at or beyond its stable bound).
+        pub const C_INVALID_ARGUMENT: i32 = 4;
+        /// C return code of the controller step: the trocar could not be held within the joint
+        /// limits; the rates written are the best within them.
+        pub const C_TROCAR_YIELDED: i32 = 5;
+        /// C return code of the controller step: a joint is beyond its range; the rates
+        /// written move it back only.
+        pub const C_JOINT_OUTSIDE: i32 = 6;
         #read_params
         #(#fns)*
         #(#fused)*
@@ -237,7 +281,9 @@ fn fused_offsets(f: &FusedFunction) -> (Vec<usize>, usize) {
 /// `fma_at_run_time`.
 fn fused_c(spec: &ModuleSpec, f: &FusedFunction, real: Scalar, t: &TokenStream) -> TokenStream {
     let c_name = format_ident!("{}", symbol(spec, &f.name));
-    // `fma_at_run_time` holds for generic modules only (the builder refuses the others).
+    // `fma_at_run_time` holds for generic modules only (the builder refuses the others). Called
+    // through `self::`: the wrapper's own names (`q`, `p`, `out`, `o0`, ...) would shadow a
+    // function named like them.
     let target = if spec.fma_at_run_time {
         format_ident!("{}_f64", f.name)
     } else {
@@ -298,7 +344,8 @@ fn fused_c(spec: &ModuleSpec, f: &FusedFunction, real: Scalar, t: &TokenStream) 
     let doc = format!(
         " C ABI of [`{name}`]: `int {c_name}(const {ct} *q, const {ct} *params, {ct} *out)`; \
          `out` receives {total} values, the outputs one after the other ({outputs}), each \
-         column-major. Returns 0, `C_NOT_FINITE` (1) or `C_NULL_ARGUMENT` (2).{fma}",
+         column-major. Returns 0, `C_NOT_FINITE` (1: a value read or written is not finite) or \
+         `C_NULL_ARGUMENT` (2).{fma}",
         name = target,
         fma = if spec.fma_at_run_time {
             " Fused multiply-adds are chosen at run time (`trocar::fma`, with `std`)."
@@ -319,19 +366,21 @@ fn fused_c(spec: &ModuleSpec, f: &FusedFunction, real: Scalar, t: &TokenStream) 
                 return C_NULL_ARGUMENT;
             }
             // SAFETY: the caller's contract for `params`.
-            let Some(p) = (unsafe { c_params(params) }) else {
+            let Some((p, p_values)) = (unsafe { c_params(params) }) else {
                 return C_NULL_ARGUMENT;
             };
             // SAFETY: non-null (checked above) and, by the caller's contract, pointing to `N`
             // readable values.
             let q: &[#t; N] = unsafe { &*q.cast::<[#t; N]>() };
+            let read_finite =
+                p_values.iter().all(|v| v.is_finite()) && q.iter().all(|v| v.is_finite());
             #(#views)*
-            #target(q, &p, #(#args),*);
+            self::#target(q, &p, #(#args),*);
             // SAFETY: non-null, room for all the outputs (the caller's contract); the views
             // above are no longer used.
             let out: &mut [#t; #total_lit] = unsafe { &mut *out.cast::<[#t; #total_lit]>() };
             #(#copies)*
-            if out.iter().all(|v| v.is_finite()) { 0 } else { C_NOT_FINITE }
+            if read_finite && out.iter().all(|v| v.is_finite()) { 0 } else { C_NOT_FINITE }
         }
     }
 }
@@ -351,13 +400,23 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
     } else {
         quote!()
     };
+    let max = Literal::f64_unsuffixed(C_MAX_MAGNITUDE);
+    // With `JOINT_LIMITS`, the joint-limit objective (gain > 0) and, always, the joint ranges:
+    // the rates keep every joint within its range over `dt` (`trocar::control::rate_box`).
     let objective = if limits {
         quote! {
+            let lower = SVector::from_fn(|k, _| JOINT_LIMITS[k][0] #cast);
+            let upper = SVector::from_fn(|k, _| JOINT_LIMITS[k][1] #cast);
+            let ctrl = ctrl.with_limits(#rt::control::HardLimits {
+                lower,
+                upper,
+                ..#rt::control::HardLimits::none()
+            });
             let ctrl = if gains[7] > 0.0 {
                 ctrl.with_objective(#rt::control::NullSpaceObjective::JointLimits {
                     gain: gains[7],
-                    lower: #rt::nalgebra::SVector::from_fn(|k, _| JOINT_LIMITS[k][0] #cast),
-                    upper: #rt::nalgebra::SVector::from_fn(|k, _| JOINT_LIMITS[k][1] #cast),
+                    lower,
+                    upper,
                 })
             } else {
                 ctrl
@@ -365,6 +424,11 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
         }
     } else {
         quote!()
+    };
+    let ranges = if limits {
+        " and, over `dt`, within the joint ranges (`JOINT_LIMITS`)"
+    } else {
+        ""
     };
     let doc = format!(
         " C ABI of one step of the runtime's constrained controller (`trocar::control::Controller`, \
@@ -375,9 +439,18 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
          the trocar point (3); `gains` 8 values: `K_p`, `K_o`, `K_r` (drift correction), DLS `α0`, \
          `w0` of the task Jacobian and of `J^B_0i`, the joint speed limit (≤ 0: none), the \
          joint-limit objective's gain (≤ 0: none; used where the module has `JOINT_LIMITS`). \
-         `qd` receives the `N` joint rates; `report` (may be null) 8 values: `l_a`, `|e_p|`, \
-         `|ε̃|`, the lateral offset of the trocar from the link `|e_r|`, `w_r`, `w_i`, `κ_r`, \
-         `κ_i`. Returns 0, `C_NULL_ARGUMENT` (2) or `C_CONTROL_ERROR` (3)."
+         `qd` receives the `N` joint rates, within the speed limit{ranges}; `report` (may be \
+         null) 8 values: `l_a`, `|e_p|`, `|ε̃|`, the lateral offset of the trocar from the link \
+         `|e_r|`, `w_r`, `w_i`, `κ_r`, `κ_i`.\n\n\
+         Every value read follows the number rule (finite, not subnormal, within ±1e6), `dt > 0`, \
+         and the gains pass `ControllerConfig::check` (`K_p`, `K_o`, `K_r`, `α0`, `w0` \
+         non-negative, `K_p dt < 2`, `K_r dt < 2`, `K_o dt < 4`). Returns 0 (every constraint \
+         held), `C_TROCAR_YIELDED` (5: the trocar could not be held within the joint limits; \
+         `qd` and `report` written, the rates the best within the limits), `C_JOINT_OUTSIDE` \
+         (6: a joint of `q` is beyond its range; written, the rates move it back only), \
+         `C_NULL_ARGUMENT` (2: nothing written), `C_INVALID_ARGUMENT` (4) or \
+         `C_CONTROL_ERROR` (3: no step could be computed); with 4 and 3, `qd` is set to zeros \
+         (the joints stop) and `report` is not written."
     );
     quote! {
         #[doc = #doc]
@@ -398,13 +471,16 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
             qd: *mut #t,
             report: *mut #t,
         ) -> i32 {
-            use #rt::control::{Controller, ControllerConfig, Damping, Inverse, Rcm, Reference};
+            use #rt::control::{
+                ControlError, Controller, ControllerConfig, Damping, Inverse, Rcm, Reference,
+                StepStatus,
+            };
             use #rt::nalgebra::{Matrix3, SVector, Vector3};
             if q.is_null() || target.is_null() || trocar.is_null() || gains.is_null() || qd.is_null() {
                 return C_NULL_ARGUMENT;
             }
             // SAFETY: the caller's contract for `params`.
-            let Some(p) = (unsafe { c_params(params) }) else {
+            let Some((p, p_values)) = (unsafe { c_params(params) }) else {
                 return C_NULL_ARGUMENT;
             };
             // SAFETY: each pointer is non-null (checked above) and, by the caller's contract,
@@ -417,6 +493,25 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
                     &*gains.cast::<[#t; 8]>(),
                 )
             };
+            // SAFETY: non-null (checked above) and, by the caller's contract, room for `N` values
+            // that overlap no input.
+            let qd: &mut [#t; N] = unsafe { &mut *qd.cast::<[#t; N]>() };
+            // The number rule of every number trocar takes from a user: finite, not subnormal
+            // (rounding debris), within ±1e6 (a trocar at 1e300 gave rates of 2e301).
+            let rule = |v: &#t| {
+                v.is_finite() && v.abs() <= #max && (*v == 0.0 || v.abs() >= #t::MIN_POSITIVE)
+            };
+            let read_ok = q.iter().all(rule)
+                && p_values.iter().all(rule)
+                && target.iter().all(rule)
+                && trocar.iter().all(rule)
+                && gains.iter().all(rule)
+                && rule(&dt)
+                && dt > 0.0;
+            if !read_ok {
+                *qd = [0.0; N];
+                return C_INVALID_ARGUMENT;
+            }
             let config = ControllerConfig {
                 kp: gains[0],
                 ko: gains[1],
@@ -441,31 +536,148 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
             let kin = Kinematics { params: p };
             let out = match ctrl.step(&kin, &SVector::from(*q), &reference, &rcm, dt) {
                 Ok(out) => out,
-                Err(_) => return C_CONTROL_ERROR,
+                Err(e) => {
+                    *qd = [0.0; N];
+                    return match e {
+                        // Negative gains, `K dt` at or beyond its stable bound.
+                        ControlError::Config(_) => C_INVALID_ARGUMENT,
+                        _ => C_CONTROL_ERROR,
+                    };
+                }
             };
-            // SAFETY: non-null (checked above), room for `N` values by the caller's contract.
-            let qd: &mut [#t; N] = unsafe { &mut *qd.cast::<[#t; N]>() };
+            let values = [
+                out.l_a,
+                out.ep.norm(),
+                out.eq.eps.norm(),
+                out.lateral_error.norm(),
+                out.w_r,
+                out.w_i,
+                out.kappa_r,
+                out.kappa_i,
+            ];
+            if !(out.qd.iter().all(|v| v.is_finite()) && values.iter().all(|v| v.is_finite())) {
+                *qd = [0.0; N];
+                return C_CONTROL_ERROR;
+            }
             qd.copy_from_slice(out.qd.as_slice());
             if !report.is_null() {
                 // SAFETY: non-null, room for 8 values by the caller's contract.
                 let report: &mut [#t; 8] = unsafe { &mut *report.cast::<[#t; 8]>() };
-                *report = [
-                    out.l_a,
-                    out.ep.norm(),
-                    out.eq.eps.norm(),
-                    out.lateral_error.norm(),
-                    out.w_r,
-                    out.w_i,
-                    out.kappa_r,
-                    out.kappa_i,
-                ];
+                *report = values;
             }
-            0
+            match out.status {
+                // No insertion-depth bounds are set here: the depth is never outside them.
+                StepStatus::Held | StepStatus::DepthOutside => 0,
+                StepStatus::TrocarYielded => C_TROCAR_YIELDED,
+                StepStatus::JointOutside => C_JOINT_OUTSIDE,
+            }
         }
     }
 }
 
-/// The C header of a module's C ABI ([`items`]), with its sizes as `#define`s.
+/// The return codes the header `#define`s, after the module's name in upper case.
+const CODES: [(&str, i32); 6] = [
+    ("NOT_FINITE", C_NOT_FINITE),
+    ("NULL_ARGUMENT", C_NULL_ARGUMENT),
+    ("CONTROL_ERROR", C_CONTROL_ERROR),
+    ("INVALID_ARGUMENT", C_INVALID_ARGUMENT),
+    ("TROCAR_YIELDED", C_TROCAR_YIELDED),
+    ("JOINT_OUTSIDE", C_JOINT_OUTSIDE),
+];
+
+/// The header's include guard.
+fn guard(upper: &str) -> String {
+    format!("TROCAR_{upper}_H")
+}
+
+/// The macro of a parameter's index.
+fn param_macro(upper: &str, name: &str) -> String {
+    format!("{upper}_PARAM_{}", name.to_uppercase())
+}
+
+/// The macro of a function's number of values.
+fn len_macro(upper: &str, function: &str) -> String {
+    format!("{upper}_{}_LEN", function.to_uppercase())
+}
+
+/// The macro of the offset of a fused function's output in its `out`.
+fn offset_macro(upper: &str, function: &str, output: &str) -> String {
+    format!(
+        "{upper}_{}_{}_OFFSET",
+        function.to_uppercase(),
+        output.to_uppercase()
+    )
+}
+
+/// Every macro the header of `spec` defines ([`header`]), in its order, each with what it
+/// stands for (`"the parameter `l_b`"`).
+pub fn macros(spec: &ModuleSpec) -> Vec<(String, String)> {
+    let upper = prefix(spec).to_uppercase();
+    let mut list = vec![(guard(&upper), "the include guard".to_string())];
+    for c in &spec.consts {
+        list.push((
+            format!("{upper}_{}", c.name),
+            format!("the constant `{}`", c.name),
+        ));
+    }
+    list.push((
+        format!("{upper}_PARAMS"),
+        "the number of parameters".to_string(),
+    ));
+    for (name, _) in &spec.params {
+        list.push((param_macro(&upper, name), format!("the parameter `{name}`")));
+    }
+    for (code, _) in CODES {
+        list.push((format!("{upper}_{code}"), "a return code".to_string()));
+    }
+    if spec.joint_limits.is_some() {
+        list.push((
+            format!("{upper}_JOINT_LIMITS"),
+            "the joint limits".to_string(),
+        ));
+    }
+    for f in &spec.functions {
+        list.push((
+            len_macro(&upper, &f.name),
+            format!("the function `{}`", f.name),
+        ));
+    }
+    for f in &spec.fused {
+        list.push((
+            len_macro(&upper, &f.name),
+            format!("the function `{}`", f.name),
+        ));
+        for o in &f.outputs {
+            let short = o.function.short_name();
+            list.push((
+                offset_macro(&upper, &f.name, short),
+                format!("the output `{short}` of the function `{}`", f.name),
+            ));
+        }
+    }
+    list
+}
+
+/// Refuses a module whose header would define one macro twice ([`macros`]): C macros are the
+/// names in upper case, so the parameters `l_b` and `L_B` would both be `<MODULE>_PARAM_L_B` (the
+/// compiler warns of the redefinition and a C caller writes `l_b` into `L_B`'s slot), and a
+/// parameter `x_len` and a function `param_x` would both give `<MODULE>_PARAM_X_LEN`.
+pub fn check_names(spec: &ModuleSpec) -> Result<(), crate::Error> {
+    let list = macros(spec);
+    for (k, (name, what)) in list.iter().enumerate() {
+        if let Some((_, first)) = list[..k].iter().find(|(n, _)| n == name) {
+            return Err(crate::Error::CMacroClash {
+                name: name.clone(),
+                first: first.clone(),
+                second: what.clone(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The C header of a module's C ABI ([`items`]), with its sizes as `#define`s (the macros of
+/// [`macros`]; [`check_names`] refuses a module in which two of them are the same).
 pub fn header(spec: &ModuleSpec, real: Scalar) -> String {
     let ct = if matches!(real, Scalar::F32) {
         "float"
@@ -484,14 +696,15 @@ pub fn header(spec: &ModuleSpec, real: Scalar) -> String {
          (see {upper}_PARAM_<NAME>; may be NULL when there are none); out: room for the result.\n\
          Matrices are written COLUMN-MAJOR (out[c * rows + r] is entry (r, c)), as the Rust\n\
          functions return them; a pose is R column-major (9) then p (3).\n\
-         Returns 0, {upper}_NOT_FINITE when a value written is not finite, {upper}_NULL_ARGUMENT\n\
-         when a pointer is NULL (nothing written). No function allocates or fails otherwise.\n\
+         Returns 0, {upper}_NOT_FINITE when a value read (q, params) or written is not finite\n\
+         (the values are written all the same), {upper}_NULL_ARGUMENT when a pointer is NULL\n\
+         (nothing written). No function allocates or fails otherwise.\n\
          A function of several outputs (computed in one program) writes them one after the other:\n\
          {upper}_<NAME>_<OUTPUT>_OFFSET is where each starts, {upper}_<NAME>_LEN their total. */",
         n = spec.joints,
         p = spec.params.len(),
     );
-    let guard = format!("TROCAR_{upper}_H");
+    let guard = guard(&upper);
     let _ = writeln!(h, "#ifndef {guard}\n#define {guard}\n");
     for c in &spec.consts {
         let _ = writeln!(h, "#define {upper}_{} {}", c.name, c.value);
@@ -500,14 +713,13 @@ pub fn header(spec: &ModuleSpec, real: Scalar) -> String {
     for (k, (name, value)) in spec.params.iter().enumerate() {
         let _ = writeln!(
             h,
-            "#define {upper}_PARAM_{} {k} /* nominal {value:?} */",
-            name.to_uppercase()
+            "#define {} {k} /* nominal {value:?} */",
+            param_macro(&upper, name)
         );
     }
-    let _ = writeln!(
-        h,
-        "#define {upper}_NOT_FINITE {C_NOT_FINITE}\n#define {upper}_NULL_ARGUMENT {C_NULL_ARGUMENT}\n#define {upper}_CONTROL_ERROR {C_CONTROL_ERROR}"
-    );
+    for (code, value) in CODES {
+        let _ = writeln!(h, "#define {upper}_{code} {value}");
+    }
     if let Some(limits) = &spec.joint_limits {
         let _ = writeln!(h, "/* Joint limits {{lower, upper}}, base first. */");
         let _ = write!(h, "#define {upper}_JOINT_LIMITS {{");
@@ -525,17 +737,16 @@ pub fn header(spec: &ModuleSpec, real: Scalar) -> String {
         };
         let _ = writeln!(
             h,
-            "/* {} {} ({shape}). */\n#define {upper}_{}_LEN {}\nint {m}_{}(const {ct} *q, const {ct} *params, {ct} *out);\n",
+            "/* {} {} ({shape}). */\n#define {} {}\nint {m}_{}(const {ct} *q, const {ct} *params, {ct} *out);\n",
             f.summary,
             f.equation,
-            f.name.to_uppercase(),
+            len_macro(&upper, &f.name),
             f.layout.len(),
             f.name
         );
     }
     for f in &spec.fused {
         let (offsets, total) = fused_offsets(f);
-        let name = f.name.to_uppercase();
         let list = f
             .outputs
             .iter()
@@ -549,13 +760,14 @@ pub fn header(spec: &ModuleSpec, real: Scalar) -> String {
         };
         let _ = writeln!(
             h,
-            "/* {list} in one program, one after the other in out (each column-major, a pose as R\n   then p).{fma} */\n#define {upper}_{name}_LEN {total}"
+            "/* {list} in one program, one after the other in out (each column-major, a pose as R\n   then p).{fma} */\n#define {} {total}",
+            len_macro(&upper, &f.name)
         );
         for (o, off) in f.outputs.iter().zip(&offsets) {
             let _ = writeln!(
                 h,
-                "#define {upper}_{name}_{}_OFFSET {off}",
-                o.function.short_name().to_uppercase()
+                "#define {} {off}",
+                offset_macro(&upper, &f.name, o.function.short_name())
             );
         }
         let _ = writeln!(
@@ -565,18 +777,37 @@ pub fn header(spec: &ModuleSpec, real: Scalar) -> String {
         );
     }
     if has_controller(spec) {
+        let ranges = if spec.joint_limits.is_some() {
+            format!(" and, over dt, within the joint\n   ranges ({upper}_JOINT_LIMITS)")
+        } else {
+            String::new()
+        };
         let _ = writeln!(
             h,
-            "/* One step of trocar's constrained controller (damped least squares, drift correction,\n\
-             the joint-limit objective) on this module's kinematics.\n\
-             target[18]: tip position (3), orientation R column-major (9), velocity (3), angular\n\
-             velocity (3), base frame. trocar[3]: the trocar point. gains[8]: K_p, K_o, K_r, DLS\n\
-             alpha0, w0 of the task Jacobian, w0 of J^B_0i, joint speed limit (<= 0: none),\n\
-             joint-limit objective gain (<= 0: none). qd[{n}]: the joint rates. report[8] (or NULL):\n\
-             l_a, |e_p|, |eps|, |e_r| (trocar's lateral offset from the link), w_r, w_i, kappa_r,\n\
-             kappa_i. Returns 0, {upper}_NULL_ARGUMENT or {upper}_CONTROL_ERROR. */\n\
+            "/* One step of trocar's constrained controller (damped least squares, drift correction,\n   \
+             the joint-limit objective) on this module's kinematics.\n   \
+             target[18]: tip position (3), orientation R column-major (9), velocity (3), angular\n   \
+             velocity (3), base frame. trocar[3]: the trocar point. gains[8]: K_p, K_o, K_r, DLS\n   \
+             alpha0, w0 of the task Jacobian, w0 of J^B_0i, joint speed limit (<= 0: none),\n   \
+             joint-limit objective gain (<= 0: none).\n   \
+             qd[{n}]: the joint rates, always within the speed limit{ranges}.\n   \
+             report[8] (or NULL): l_a, |e_p|, |eps|, |e_r| (trocar's lateral offset from the\n   \
+             link), w_r, w_i, kappa_r, kappa_i.\n   \
+             Every value read must be finite, not subnormal and within +-{max:e}; dt > 0; K_p, K_o,\n   \
+             K_r, alpha0 and the w0 >= 0; K_p dt < 2, K_r dt < 2, K_o dt < 4.\n   \
+             Returns 0 when every constraint held;\n   \
+             {upper}_TROCAR_YIELDED when the trocar could not be held within the joint limits\n     \
+             (qd and report written: the best rates within the limits; the link leaves the\n     \
+             trocar);\n   \
+             {upper}_JOINT_OUTSIDE when a joint of q is beyond its range (qd and report written;\n     \
+             qd moves it back only);\n   \
+             {upper}_INVALID_ARGUMENT when an input breaks the rules above;\n   \
+             {upper}_CONTROL_ERROR when no step could be computed (with this code and the one\n     \
+             above qd is set to zeros and report is not written);\n   \
+             {upper}_NULL_ARGUMENT when a pointer other than report is NULL (nothing written). */\n\
              int {m}_controller_step(const {ct} *q, const {ct} *params, const {ct} *target,\n    const {ct} *trocar, {ct} dt, const {ct} *gains, {ct} *qd, {ct} *report);\n",
-            n = spec.joints
+            n = spec.joints,
+            max = C_MAX_MAGNITUDE,
         );
     }
     let _ = writeln!(h, "#ifdef __cplusplus\n}}\n#endif\n\n#endif /* {guard} */");

@@ -1275,6 +1275,8 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
     // why): `Params` and `JointTrig` are `#[repr(C)]` ([`repr_c`]) over `T` fields only.
     let params_fused =
         quote!(unsafe { &*::core::ptr::from_ref::<Params<f64>>(p).cast::<Params<F>>() });
+    // The functions are called through `self::`: the entry points' parameters (`q`, `t`, `p`,
+    // the outputs' short names) and locals (`fk_fused`) would shadow a function named like one.
     let mut items = TokenStream::new();
     for trig in [false, true] {
         let base = if trig {
@@ -1326,7 +1328,7 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
         let body = quote! {
             use #rt::fma::FusedF64 as F;
             #(#locals)*
-            #name::<F>(#input_fused, #params_fused, #(#views),*);
+            self::#name::<F>(#input_fused, #params_fused, #(#views),*);
             #(#copies)*
         };
         // Given the sines and cosines, the AVX-512 function where the CPU has it (one load of
@@ -1345,11 +1347,11 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
                     #[cfg(target_arch = "x86_64")]
                     match #rt::fma::path() {
                         #rt::fma::Path::Avx512 => {
-                            unsafe { #name_avx512(#arg, p, #(#outs),*) };
+                            unsafe { self::#name_avx512(#arg, p, #(#outs),*) };
                             return;
                         }
                         #rt::fma::Path::Fma => {
-                            unsafe { #name_fma(#arg, p, #(#outs),*) };
+                            unsafe { self::#name_fma(#arg, p, #(#outs),*) };
                             return;
                         }
                         _ => {}
@@ -1369,7 +1371,7 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
                 quote! {
                     #[cfg(target_arch = "x86_64")]
                     if #rt::fma::available() {
-                        unsafe { #name_fma(#arg, p, #(#outs),*) };
+                        unsafe { self::#name_fma(#arg, p, #(#outs),*) };
                         return;
                     }
                 },
@@ -1385,7 +1387,7 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
             #[inline]
             pub fn #name_f64(#input, p: &Params<f64>, #(#params),*) {
                 #dispatch
-                #name::<f64>(#arg, p, #(#outs),*);
+                self::#name::<f64>(#arg, p, #(#outs),*);
             }
 
             #doc_fma

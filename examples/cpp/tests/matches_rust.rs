@@ -2,7 +2,7 @@
 //! loop written in Rust on the generated module and `trocar::control::Controller`.
 
 use trocar::control::{
-    Controller, ControllerConfig, Damping, Inverse, NullSpaceObjective, Rcm, Reference,
+    Controller, ControllerConfig, Damping, HardLimits, Inverse, NullSpaceObjective, Rcm, Reference,
 };
 use trocar::nalgebra::{Matrix3, SVector, Vector3};
 use trocar_cpp_example::panda_laparoscope as m;
@@ -96,14 +96,22 @@ fn rust_loop() -> Vec<Vec<f64>> {
         kr: 20.0,
         max_joint_speed: Some(2.0),
     };
+    let lower = SVector::from_fn(|k, _| m::JOINT_LIMITS[k][0]);
+    let upper = SVector::from_fn(|k, _| m::JOINT_LIMITS[k][1]);
+    // The C step keeps the joints within their ranges (over dt) as well as the speed limit.
     let mut ctrl =
         Controller::<f64, { m::N }, { m::I }, { m::R }, { m::K }, { m::M }, { m::TASK_ROWS }>::new(
             config,
         )
+        .with_limits(HardLimits {
+            lower,
+            upper,
+            ..HardLimits::none()
+        })
         .with_objective(NullSpaceObjective::JointLimits {
             gain: 10.0,
-            lower: SVector::from_fn(|k, _| m::JOINT_LIMITS[k][0]),
-            upper: SVector::from_fn(|k, _| m::JOINT_LIMITS[k][1]),
+            lower,
+            upper,
         });
     let kin = m::Kinematics { params: p };
     let (dt, speed) = (0.002, 0.01);

@@ -47,3 +47,6 @@ generated!("bidirectional_zy_reexport.rs", "four_bar_reexport.rs");
 
 // The C ABI of a module in f32 and of a generic one (C functions in f64).
 generated!("panda_capi_f32.rs", "dia10_capi.rs");
+
+// Fused functions named like the C and `fma_at_run_time` wrappers' parameters and locals.
+generated!("shadowing.rs");
