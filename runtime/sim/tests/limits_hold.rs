@@ -18,9 +18,8 @@
 //!
 //! A second property runs a few steps of one scene and integrates them, so that the QP's warm
 //! start and the chord terms of later steps are exercised too (their limits checked at every
-//! step, the trocar rows at the first). `TROCAR_LIMITS_CASES` sets the
-//! number of cases of each (default 6000 and 1000: with three to six steps a case, more than
-//! 10⁴ steps in all).
+//! step, the trocar rows at the first). `TROCAR_LIMITS_CASES` sets the number of cases of the
+//! first (default 10⁴; the second runs a fifth as many, of three to six steps each).
 
 use nalgebra::{SMatrix, SVector, Vector3};
 use proptest::prelude::*;
@@ -288,7 +287,7 @@ fn check_step(
 
 proptest! {
     #![proptest_config(ProptestConfig {
-        cases: cases(6000),
+        cases: cases(10_000),
         failure_persistence: None,
         ..ProptestConfig::default()
     })]
@@ -312,7 +311,7 @@ proptest! {
 
 proptest! {
     #![proptest_config(ProptestConfig {
-        cases: cases(6000) / 6,
+        cases: cases(10_000) / 5,
         failure_persistence: None,
         ..ProptestConfig::default()
     })]

@@ -248,8 +248,9 @@ impl<T: RealField + Copy> Damper<T> {
     }
 }
 
-/// The hard limits of the QP step: joint ranges, joint speeds, and the trocar's offset `l_a`
-/// along the shaft (the insertion depth), with their dampers (Q3)–(Q5).
+/// The hard limits: joint ranges and joint speeds, which bound every inverse's rates
+/// ([`rate_box`]), and, for the QP step, the dampers (Q5) of the ranges and the trocar's offset
+/// `l_a` along the shaft (the insertion depth) (Q3)–(Q4).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HardLimits<T: RealField + Copy, const N: usize> {
     /// `θ_min` (rad, m for a prismatic joint); `−∞` for none.

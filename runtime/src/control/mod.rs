@@ -283,13 +283,17 @@ pub struct ControllerConfig<T> {
     pub jb0i_damping: Option<Damping<T>>,
     /// Gain `K_r` (1/s) of the RCM drift correction; `0` reproduces the thesis.
     pub kr: T,
-    /// Joint speed limit (rad/s, m/s for a prismatic joint), `None` for none. Where `θ̇`
-    /// exceeds it, the task's share of `θ̇` is scaled down and the constraint's is kept:
+    /// Joint speed limit (rad/s, m/s for a prismatic joint), `None` for none; with
+    /// [`HardLimits::speed`] the smaller of the two holds. For the inverses other than the QP,
+    /// where `θ̇` leaves the limits ([`rate_box`]: this speed, and each joint's range over the
+    /// sample time), the task's share of `θ̇` is scaled down and the constraint's is kept:
     /// `θ̇ = θ̇_c + α (θ̇ − θ̇_c)` with `θ̇_c = A† dv_0r` (`A = Λ J^B_0i`) and the largest
-    /// `α ∈ [0, 1]` within the limit, so `Λ J^B_0i θ̇ = dv_0r` still holds and the link keeps
-    /// to the trocar while the end effector slows down. Over a sample time `dt` the joints move
-    /// along a straight line, which leaves the link off the trocar by a second-order term
-    /// (≈ ½ l (|θ̇| dt)² per step for a lever `l`); bounding `|θ̇|` bounds that drift.
+    /// `α ∈ [0, 1]` within the limits, so `Λ J^B_0i θ̇ = dv_0r` still holds and the link keeps
+    /// to the trocar while the end effector slows down; where `θ̇_c` alone leaves them, it is
+    /// scaled into them and the step reports [`StepStatus::TrocarYielded`]. Over a sample time
+    /// `dt` the joints move along a straight line, which leaves the link off the trocar by a
+    /// second-order term (≈ ½ l (|θ̇| dt)² per step for a lever `l`); bounding `|θ̇|` bounds that
+    /// drift.
     pub max_joint_speed: Option<T>,
 }
 
@@ -541,8 +545,9 @@ pub struct Controller<
     /// What the spare freedom of the joints before the constraint does when `J^B_0i` is wide
     /// (`I > 6`); [`NullSpaceObjective::None`] by default.
     pub objective: NullSpaceObjective<T, N>,
-    /// The hard limits of [`Inverse::Qp`] ([`HardLimits::none`] by default); unused by the
-    /// other inverses.
+    /// The hard limits ([`HardLimits::none`] by default): the joint ranges and speeds bound
+    /// every inverse's rates ([`rate_box`]); the dampers and the insertion depth are the QP's
+    /// ([`Inverse::Qp`]).
     pub limits: HardLimits<T, N>,
     fi: FilteredInverse<T, P, M>,
     fi_started: bool,
@@ -698,7 +703,8 @@ impl<
         }
     }
 
-    /// The same controller with the hard limits of [`Inverse::Qp`].
+    /// The same controller with hard limits: the joint ranges and speeds for every inverse,
+    /// the dampers and the insertion depth for [`Inverse::Qp`].
     #[must_use]
     pub fn with_limits(mut self, limits: HardLimits<T, N>) -> Self {
         self.limits = limits;
@@ -730,7 +736,11 @@ impl<
         self.qp_previous = None;
     }
 
-    /// One control step at joints `q`; `dt` is the sample time (used by the filtered inverse).
+    /// One control step at joints `q`; `dt` is the sample time (the filtered inverse integrates
+    /// over it, the joint ranges bound the rates over it). The configuration is checked first
+    /// ([`ControllerConfig::check`]: a refused one is [`ControlError::Config`]). The rates never
+    /// leave the joint limits ([`rate_box`]); [`StepOutput::status`] says whether the trocar and
+    /// every limit held, or what gave way.
     pub fn step<Kin: ConstrainedKinematics<T, N, I, R, K, M, P>>(
         &mut self,
         kin: &Kin,
