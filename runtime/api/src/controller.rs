@@ -95,7 +95,7 @@ impl ControllerOptions {
         s.controller_config()
     }
 
-    fn check(&self) -> Result<()> {
+    pub(crate) fn check(&self) -> Result<()> {
         let named = [
             ("kp", self.kp),
             ("ko", self.ko),
