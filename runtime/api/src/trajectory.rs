@@ -16,8 +16,15 @@ use std::path::{Path, PathBuf};
 use trocar_model::description::SimulationDesc;
 use trocar_sim::simulation::{ArmModel, Method, StepRecord, Trace};
 
-/// The largest trajectory file read (bytes): a path of 10⁵ rows fits many times over.
+/// The largest trajectory read (bytes, 64 MiB): a path of 10⁵ rows fits many times over. The
+/// bytes read are counted, not the size the file system reports, so a device or a pipe
+/// (`/dev/zero`) is refused after this many bytes too.
 pub const MAX_TRAJECTORY_BYTES: u64 = 64 << 20;
+
+/// The most control steps a run along a trajectory takes (10⁶: 2000 s at the 2 ms sample time).
+/// Every step keeps a row of the trace, about 0.35 kB for a seven-joint arm, so the trace stays
+/// below about 0.4 GB (and its CSV below about 0.5 GB); a longer path is refused before the run.
+pub const MAX_TRAJECTORY_STEPS: usize = 1_000_000;
 
 /// How a trajectory gives the tip's orientation.
 #[derive(Clone, Debug, PartialEq)]
@@ -54,18 +61,27 @@ impl Trajectory {
     /// the column: missing columns, a value that is not a finite number, times that do not
     /// increase, fewer than two rows, a quaternion that is not of unit length.
     pub fn from_csv(path: &Path) -> Result<Self> {
+        use std::io::Read;
         let shown = path.display();
-        let meta = std::fs::metadata(path)
-            .map_err(|e| Error::Input(format!("{shown}: cannot read the trajectory: {e}")))?;
-        if meta.len() > MAX_TRAJECTORY_BYTES {
+        let cannot =
+            |e: std::io::Error| Error::Input(format!("{shown}: cannot read the trajectory: {e}"));
+        // At most one byte more than the limit is read, whatever the file is (a device or a
+        // pipe reports no size): one more says it is too large.
+        let mut bytes = Vec::new();
+        std::fs::File::open(path)
+            .and_then(|f| f.take(MAX_TRAJECTORY_BYTES + 1).read_to_end(&mut bytes))
+            .map_err(cannot)?;
+        if bytes.len() as u64 > MAX_TRAJECTORY_BYTES {
             return Err(Error::Input(format!(
-                "{shown}: the trajectory has {} bytes, more than the {} read",
-                meta.len(),
-                MAX_TRAJECTORY_BYTES
+                "{shown}: the trajectory is larger than the {MAX_TRAJECTORY_BYTES} bytes (64 MiB) read"
             )));
         }
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| Error::Input(format!("{shown}: cannot read the trajectory: {e}")))?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            Error::Input(format!(
+                "{shown}: cannot read the trajectory: not UTF-8 text (byte {})",
+                e.utf8_error().valid_up_to() + 1
+            ))
+        })?;
         let mut t = Self::parse(&text, &shown.to_string())?;
         t.source = Some(path.to_path_buf());
         Ok(t)
@@ -252,6 +268,25 @@ impl Trajectory {
             )));
         }
         Ok(())
+    }
+
+    /// The control steps of `dt` (s) a run along the trajectory takes, from `t = 0` to its last
+    /// row; refused beyond [`MAX_TRAJECTORY_STEPS`] (the trace's memory), naming the last row's
+    /// line of `name`.
+    pub fn steps(&self, dt: f64, name: &str) -> Result<usize> {
+        let t_end = self.t.last().copied().unwrap_or(0.0).max(0.0);
+        let steps = (t_end / dt).ceil();
+        if !(steps <= MAX_TRAJECTORY_STEPS as f64) {
+            let line = self
+                .lines
+                .last()
+                .map_or_else(String::new, |l| format!(":{l}"));
+            return Err(Error::Input(format!(
+                "{name}{line}: column `t`: the path ends at t = {t_end} s, {steps:.0} control steps of {dt} s; a run takes at most {MAX_TRAJECTORY_STEPS} steps ({} s), which bounds the trace's memory",
+                MAX_TRAJECTORY_STEPS as f64 * dt
+            )));
+        }
+        Ok(steps as usize)
     }
 
     /// Whether the trajectory gives an orientation.
@@ -458,14 +493,7 @@ pub fn simulate_trajectory(
     let mut ctrl = RobotController::new(robot, options.controller)?;
     let axes = arm.lateral_axes();
     const NAMES: [&str; 3] = ["x_r", "y_r", "z_r"];
-    let t_end = trajectory.t[trajectory.t.len() - 1];
-    let steps = (t_end / options.dt).ceil() as usize;
-    if steps > 10_000_000 {
-        return Err(Error::Input(format!(
-            "{source}: {steps} control steps of {} s; at most 10⁷",
-            options.dt
-        )));
-    }
+    let steps = trajectory.steps(options.dt, &source)?;
     let limits = robot.joint_limits();
     let mut rows = Vec::with_capacity(steps + 1);
     let mut q = q0.clone();

@@ -37,3 +37,69 @@ fn a_scenario_refuses_the_speed_limits_the_controller_refuses() {
     assert!(SpeedLimit::At(2.0).check().is_ok());
     assert!(SpeedLimit::Unlimited.check().is_ok());
 }
+
+/// The Panda's start configuration of the shipped scenario and the tip there.
+fn panda_start() -> (Robot, Vec<f64>, [f64; 3]) {
+    let robot = Robot::load("panda-laparoscope").unwrap();
+    let q0 = trocar_sim::simulation::PANDA_Q0.to_vec();
+    let fk = robot
+        .eval(trocar_api::Function::ForwardKinematics, &q0, &[])
+        .unwrap();
+    (robot, q0, [fk.data[3], fk.data[7], fk.data[11]])
+}
+
+/// A device that never ends (`/dev/zero`) reports a size of 0, which the 64 MiB cap used to
+/// read: it was read until memory ran out. Now at most one byte more than the cap is read, and
+/// the error says the limit.
+#[test]
+fn an_endless_trajectory_file_is_refused_after_the_cap() {
+    let started = std::time::Instant::now();
+    let e = trocar_api::Trajectory::from_csv(std::path::Path::new("/dev/zero"))
+        .expect_err("/dev/zero read as a trajectory");
+    assert!(started.elapsed().as_secs_f64() < 20.0, "read for too long");
+    let message = e.to_string();
+    assert!(
+        message.starts_with("/dev/zero: the trajectory is larger than the 67108864 bytes"),
+        "{message}"
+    );
+    assert_eq!(trocar_api::MAX_TRAJECTORY_BYTES, 64 << 20);
+}
+
+/// A two-row path that ends at t = 2001 s asks for 1 000 500 steps of 2 ms: it is refused
+/// before the run, naming the row and the limit (the step cap used to be 10⁷, which bounded the
+/// steps and not the trace's memory: 3.4 GB at t = 19 999 s).
+#[test]
+fn a_path_longer_than_the_step_cap_is_refused_before_the_run() {
+    let (robot, q0, tip) = panda_start();
+    let text = format!(
+        "t,x,y,z,roll\n0,{0},{1},{2},0\n2001,{0},{1},{2},0\n",
+        tip[0], tip[1], tip[2]
+    );
+    let trajectory = trocar_api::Trajectory::parse(&text, "long.csv").unwrap();
+    let options = trocar_api::TrajectoryOptions {
+        q0,
+        trocar: None,
+        controller: ControllerOptions::default(),
+        dt: 0.002,
+    };
+    let started = std::time::Instant::now();
+    let e = trocar_api::simulate_trajectory(&robot, &trajectory, &options, &mut |_| {})
+        .expect_err("a path of 1 000 500 steps runs");
+    assert!(
+        started.elapsed().as_secs_f64() < 5.0,
+        "refused after the run"
+    );
+    let message = e.to_string();
+    assert!(
+        message.starts_with("the trajectory:3: column `t`: the path ends at t = 2001 s"),
+        "{message}"
+    );
+    assert!(message.contains("at most 1000000 steps"), "{message}");
+    assert_eq!(trajectory.steps(0.002, "long.csv").ok(), None);
+    // At the cap exactly: 2000 s.
+    let at_cap = trocar_api::Trajectory::parse("t,x,y,z\n0,0,0,0\n2000,0,0,0\n", "p").unwrap();
+    assert_eq!(
+        at_cap.steps(0.002, "p").unwrap(),
+        trocar_api::MAX_TRAJECTORY_STEPS
+    );
+}
