@@ -87,8 +87,11 @@ impl Trajectory {
         Ok(t)
     }
 
-    /// Parses CSV text (`name` for messages).
+    /// Parses CSV text (`name` for messages). A byte-order mark before the header (as some
+    /// spreadsheets write UTF-8) is skipped. Text whose header has no column `t` is not quoted in
+    /// the error (it may be any file): the message says how many fields the line has.
     pub fn parse(text: &str, name: &str) -> Result<Self> {
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let mut lines = text
             .lines()
             .enumerate()
@@ -101,6 +104,13 @@ impl Trajectory {
         let header_line = header_index + 1;
         let columns: Vec<String> = header.split(',').map(|c| c.trim().to_string()).collect();
         let find = |c: &str| columns.iter().position(|x| x == c);
+        if find("t").is_none() {
+            let n = columns.len();
+            return Err(Error::Input(format!(
+                "{name}:{header_line}: no column `t`: this line, the first that is not blank or a `#` comment, has {n} comma-separated field{} and none is `t` (a trajectory's header names t, x, y, z and optionally roll or qw, qx, qy, qz)",
+                if n == 1 { "" } else { "s" }
+            )));
+        }
         for (k, c) in columns.iter().enumerate() {
             if columns[..k].contains(c) {
                 return Err(Error::Input(format!(

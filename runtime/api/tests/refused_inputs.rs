@@ -103,3 +103,51 @@ fn a_path_longer_than_the_step_cap_is_refused_before_the_run() {
         trocar_api::MAX_TRAJECTORY_STEPS
     );
 }
+
+/// A CSV saved with a UTF-8 byte-order mark (as spreadsheets write it) was refused with the
+/// invisible character in the message ("no column `t`", the header's first column being
+/// `\u{feff}t`); it is read as without the mark, with the same line numbers.
+#[test]
+fn a_byte_order_mark_before_the_header_is_skipped() {
+    let plain = "t,x,y,z\n0,0,0,0\n1,0.1,0,0\n";
+    let marked = format!("\u{feff}{plain}");
+    let a = trocar_api::Trajectory::parse(plain, "p.csv").unwrap();
+    let b = trocar_api::Trajectory::parse(&marked, "p.csv").unwrap();
+    assert_eq!(a, b);
+    let bad = "\u{feff}t,x,y,z\n0,0,0,0\n1,zero,0,0\n";
+    let e = trocar_api::Trajectory::parse(bad, "p.csv").unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "p.csv:3: column `x`: `zero` is not a number",
+        "{e}"
+    );
+    let dir = std::env::temp_dir().join(format!("trocar-bom-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("bom.csv");
+    std::fs::write(&path, marked.as_bytes()).unwrap();
+    assert_eq!(trocar_api::Trajectory::from_csv(&path).unwrap().t, a.t);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A file that is not a trajectory (`[simulation] trajectory = "../../etc/passwd"`) had its first
+/// line quoted in the error ("it has: root:x:0:0:..."): a header without a column `t` is now
+/// described by its number of fields, not by its text. A header with `t` still lists its
+/// columns, which helps with a misspelt one.
+#[test]
+fn a_file_that_is_not_a_trajectory_is_not_quoted() {
+    let secret = "root:x:0:0:secret-word:/root:/bin/bash,second field\nmore,text\n";
+    let e = trocar_api::Trajectory::parse(secret, "passwd").unwrap_err();
+    let message = e.to_string();
+    assert!(!message.contains("secret-word"), "{message}");
+    assert!(!message.contains("root"), "{message}");
+    assert!(
+        message.starts_with("passwd:1: no column `t`: this line, the first that is not blank or a `#` comment, has 2 comma-separated fields and none is `t`"),
+        "{message}"
+    );
+    let e = trocar_api::Trajectory::parse("t,x,why,z\n0,0,0,0\n1,0,0,0\n", "p.csv").unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("p.csv:1: no column `y` (the header names t, x, y, z and optionally roll or qw, qx, qy, qz; it has: t, x, why, z)"),
+        "{e}"
+    );
+}
