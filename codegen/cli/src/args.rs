@@ -132,8 +132,8 @@ pub enum Command {
         /// [simulation] section.
         scenario: String,
         /// Inverse used for J^r (default: the scenario's). `all` runs pinv, dls, fi and qp and
-        /// draws one figure comparing them to --plot (serial scenarios; not with --csv,
-        /// --animate or --snapshot).
+        /// draws one figure comparing them to --plot (serial scenarios, and a robot along a
+        /// trajectory; not with --csv, --animate or --snapshot).
         #[arg(long, value_enum)]
         method: Option<MethodArg>,
         /// Close the loop on the trocar position.

@@ -489,9 +489,16 @@ pub fn simulate_trajectory(
         )));
     }
     // The tip cannot be farther from the trocar than the instrument is long: the distance from
-    // the shaft's origin on the link (l_a = 0) to the tip.
+    // the shaft's origin on the link (l_a = 0) to the tip. An instrument on the last link only:
+    // with the constraint on a middle link the tip moves with the joints beyond it.
     let reach = (g0e.translation - shaft.constraint_pose(&g0i, 0.0).translation).norm();
-    for (k, p) in trajectory.position.iter().enumerate() {
+    let on_last_link = constraint.link == n;
+    for (k, p) in trajectory
+        .position
+        .iter()
+        .enumerate()
+        .filter(|_| on_last_link)
+    {
         let d = (Vector3::from(*p) - trocar).norm();
         if d > reach {
             return Err(Error::Input(format!(
