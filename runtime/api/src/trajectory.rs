@@ -286,7 +286,7 @@ impl Trajectory {
     pub fn steps(&self, dt: f64, name: &str) -> Result<usize> {
         let t_end = self.t.last().copied().unwrap_or(0.0).max(0.0);
         let steps = (t_end / dt).ceil();
-        if !(steps <= MAX_TRAJECTORY_STEPS as f64) {
+        if steps.is_nan() || steps > MAX_TRAJECTORY_STEPS as f64 {
             let line = self
                 .lines
                 .last()
