@@ -132,8 +132,8 @@ pub enum Command {
         /// [simulation] section.
         scenario: String,
         /// Inverse used for J^r (default: the scenario's). `all` runs pinv, dls, fi and qp and
-        /// draws one figure comparing them to --plot (serial scenarios; not with --csv,
-        /// --animate or --snapshot).
+        /// draws one figure comparing them to --plot (serial scenarios, and a robot along a
+        /// trajectory; not with --csv, --animate or --snapshot).
         #[arg(long, value_enum)]
         method: Option<MethodArg>,
         /// Close the loop on the trocar position.
@@ -169,7 +169,8 @@ pub enum Command {
         /// tip path instead of running a shipped scenario (a description file whose
         /// [simulation] section names a trajectory runs it without this flag): a CSV with a header, `t` (s,
         /// increasing), `x,y,z` (m, base frame) and, for a task that commands orientation,
-        /// `roll` (rad about the tip's z, relative to q0) or `qw,qx,qy,qz`.
+        /// `roll` (rad about the tip's z, relative to q0) or `qw,qx,qy,qz`. At most 64 MiB
+        /// read and 10⁶ control steps of 2 ms (2000 s).
         #[arg(long, value_name = "PATH.csv")]
         trajectory: Option<PathBuf>,
         /// With a robot's own trajectory: the start configuration, all joints, base first

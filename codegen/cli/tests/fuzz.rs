@@ -2195,6 +2195,23 @@ fn check_matrix(text: &str) -> Result<(), Problem> {
     if text.trim().is_empty() {
         return Err(problem("invalid output", "exit code 0 with no matrix"));
     }
+    // Several outputs (`--what a,b`): each after a line `name (catalogue name):`, checked alone.
+    let is_title = |l: &str| l.trim_end().ends_with("):") && l.contains(" (");
+    if text.lines().any(is_title) {
+        let mut block = String::new();
+        for line in text.lines() {
+            if is_title(line) {
+                if !block.trim().is_empty() {
+                    check_matrix(&block)?;
+                }
+                block.clear();
+            } else {
+                block += line;
+                block.push('\n');
+            }
+        }
+        return check_matrix(&block);
+    }
     // Labelled text: a header of column labels, then each row's label before its numbers.
     let labelled = text
         .split_whitespace()

@@ -63,3 +63,57 @@ fn a_changed_snippet_is_found() {
     let md = "x\n```rust,ignore\nlet a = 1;\n```\n```sh\nls\n```\n";
     assert_eq!(rust_blocks(md), vec![vec!["let a = 1;".to_owned()]]);
 }
+
+/// The README's dependency lines named only a version (`trocar-check = "0.1"`) of crates that are
+/// not on crates.io: every `trocar` crate a TOML block of the README depends on is given by
+/// `path` or `git` (RELIABILITY.md F28).
+#[test]
+fn the_readmes_dependency_lines_work_today() {
+    let here = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let readme = std::fs::read_to_string(here.join("../../README.md")).unwrap();
+    let mut in_toml = false;
+    let mut seen = 0;
+    for line in readme.lines() {
+        if line.starts_with("```") {
+            in_toml = line.trim() == "```toml";
+            continue;
+        }
+        let inline = line.contains("trocar = {") || line.contains("trocar-");
+        let dependency = line.split_once(" = ").is_some_and(|(name, _)| {
+            name.trim().starts_with("trocar") && !name.contains(' ') && !name.contains('`')
+        });
+        if (in_toml && dependency) || (!in_toml && inline && line.contains("version = \"0.")) {
+            seen += usize::from(in_toml);
+            assert!(
+                line.contains("path = ") || line.contains("git = "),
+                "README: `{line}` names a crate not on crates.io; give it by path or git"
+            );
+        }
+    }
+    assert!(seen >= 3, "the README's dependency lines were not found");
+}
+
+/// The documents the examples' crate documentation points to exist (`examples/cpp/src/lib.rs`
+/// pointed to an `examples/cpp/README.md` that was not there).
+#[test]
+fn the_documents_the_examples_point_to_exist() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mut checked = 0;
+    for dir in std::fs::read_dir(root.join("examples")).unwrap() {
+        let lib = dir.unwrap().path().join("src/lib.rs");
+        let Ok(text) = std::fs::read_to_string(&lib) else {
+            continue;
+        };
+        for quoted in text.split('`').skip(1).step_by(2) {
+            if quoted.starts_with("examples/") && quoted.ends_with(".md") {
+                assert!(
+                    root.join(quoted).is_file(),
+                    "{} points to {quoted}, which does not exist",
+                    lib.display()
+                );
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked >= 1, "no document pointed to was found");
+}

@@ -119,7 +119,7 @@ impl ControllerOptions {
         Ok(())
     }
 
-    fn check(&self) -> Result<()> {
+    pub(crate) fn check(&self) -> Result<()> {
         let named = [
             ("kp", self.kp),
             ("ko", self.ko),

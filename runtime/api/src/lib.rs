@@ -40,7 +40,8 @@ pub use robot::{
 pub use simulate::{simulate, RcmOptions, SimulationRun, SpeedLimit};
 pub use trajectory::{
     run_options, simulate_robot, simulate_trajectory, simulation_section, Orientation, RunRequest,
-    Trajectory, TrajectoryOptions, TrajectoryRun, MAX_TRAJECTORY_BYTES, START_TOLERANCE,
+    Trajectory, TrajectoryOptions, TrajectoryRun, MAX_TRAJECTORY_BYTES, MAX_TRAJECTORY_STEPS,
+    START_TOLERANCE,
 };
 pub use trocar::control::StepStatus;
 pub use trocar_codegen::catalogue::Function;

@@ -16,6 +16,23 @@ pub enum SpeedLimit {
     At(f64),
 }
 
+impl SpeedLimit {
+    /// Refuses a limit that is not a positive finite number (NaN would drop the limit, zero or a
+    /// negative one would hold the arm still), by the rule [`crate::ControllerOptions`] follows
+    /// for `max_joint_speed`, with its message: the scenarios, a user's trajectory and the
+    /// controller refuse the same values in the same words.
+    pub fn check(&self) -> Result<()> {
+        match *self {
+            SpeedLimit::Unlimited => Ok(()),
+            SpeedLimit::At(v) => crate::ControllerOptions {
+                max_joint_speed: Some(v),
+                ..crate::ControllerOptions::default()
+            }
+            .check(),
+        }
+    }
+}
+
 /// How an RCM scenario's controller runs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RcmOptions {
@@ -242,7 +259,10 @@ fn rcm_scenario(
         .with_drift_correction(options.drift_correction);
     match options.max_joint_speed {
         Some(SpeedLimit::Unlimited) => config = config.with_max_joint_speed(None),
-        Some(SpeedLimit::At(v)) => config = config.with_max_joint_speed(Some(v)),
+        Some(limit @ SpeedLimit::At(v)) => {
+            limit.check()?;
+            config = config.with_max_joint_speed(Some(v));
+        }
         None => {}
     }
     let trace = simulation::run(&config, progress).map_err(|e| Error::Simulation(e.to_string()))?;

@@ -16,7 +16,9 @@ use std::path::{Path, PathBuf};
 use trocar_model::description::SimulationDesc;
 use trocar_sim::simulation::{ArmModel, Method, StepRecord, Trace};
 
-/// The largest trajectory file read (bytes): a path of 10⁵ rows fits many times over.
+/// The largest trajectory read (bytes, 64 MiB): a path of 10⁵ rows fits many times over. The
+/// bytes read are counted, not the size the file system reports, so a device or a pipe
+/// (`/dev/zero`) is refused after this many bytes too.
 pub const MAX_TRAJECTORY_BYTES: u64 = 64 << 20;
 
 /// The fastest a trajectory may move the tip between two rows (m/s): far above what an
@@ -26,6 +28,11 @@ pub const MAX_REFERENCE_SPEED: f64 = 2.0;
 
 /// The fastest a trajectory may turn the tip between two rows (rad/s).
 pub const MAX_REFERENCE_ANGULAR_SPEED: f64 = 20.0;
+
+/// The most control steps a run along a trajectory takes (10⁶: 2000 s at the 2 ms sample time).
+/// Every step keeps a row of the trace, about 0.35 kB for a seven-joint arm, so the trace stays
+/// below about 0.4 GB (and its CSV below about 0.5 GB); a longer path is refused before the run.
+pub const MAX_TRAJECTORY_STEPS: usize = 1_000_000;
 
 /// How a trajectory gives the tip's orientation.
 #[derive(Clone, Debug, PartialEq)]
@@ -62,25 +69,37 @@ impl Trajectory {
     /// the column: missing columns, a value that is not a finite number, times that do not
     /// increase, fewer than two rows, a quaternion that is not of unit length.
     pub fn from_csv(path: &Path) -> Result<Self> {
+        use std::io::Read;
         let shown = path.display();
-        let meta = std::fs::metadata(path)
-            .map_err(|e| Error::Input(format!("{shown}: cannot read the trajectory: {e}")))?;
-        if meta.len() > MAX_TRAJECTORY_BYTES {
+        let cannot =
+            |e: std::io::Error| Error::Input(format!("{shown}: cannot read the trajectory: {e}"));
+        // At most one byte more than the limit is read, whatever the file is (a device or a
+        // pipe reports no size): one more says it is too large.
+        let mut bytes = Vec::new();
+        std::fs::File::open(path)
+            .and_then(|f| f.take(MAX_TRAJECTORY_BYTES + 1).read_to_end(&mut bytes))
+            .map_err(cannot)?;
+        if bytes.len() as u64 > MAX_TRAJECTORY_BYTES {
             return Err(Error::Input(format!(
-                "{shown}: the trajectory has {} bytes, more than the {} read",
-                meta.len(),
-                MAX_TRAJECTORY_BYTES
+                "{shown}: the trajectory is larger than the {MAX_TRAJECTORY_BYTES} bytes (64 MiB) read"
             )));
         }
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| Error::Input(format!("{shown}: cannot read the trajectory: {e}")))?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            Error::Input(format!(
+                "{shown}: cannot read the trajectory: not UTF-8 text (byte {})",
+                e.utf8_error().valid_up_to() + 1
+            ))
+        })?;
         let mut t = Self::parse(&text, &shown.to_string())?;
         t.source = Some(path.to_path_buf());
         Ok(t)
     }
 
-    /// Parses CSV text (`name` for messages).
+    /// Parses CSV text (`name` for messages). A byte-order mark before the header (as some
+    /// spreadsheets write UTF-8) is skipped. Text whose header has no column `t` is not quoted in
+    /// the error (it may be any file): the message says how many fields the line has.
     pub fn parse(text: &str, name: &str) -> Result<Self> {
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let mut lines = text
             .lines()
             .enumerate()
@@ -93,6 +112,13 @@ impl Trajectory {
         let header_line = header_index + 1;
         let columns: Vec<String> = header.split(',').map(|c| c.trim().to_string()).collect();
         let find = |c: &str| columns.iter().position(|x| x == c);
+        if find("t").is_none() {
+            let n = columns.len();
+            return Err(Error::Input(format!(
+                "{name}:{header_line}: no column `t`: this line, the first that is not blank or a `#` comment, has {n} comma-separated field{} and none is `t` (a trajectory's header names t, x, y, z and optionally roll or qw, qx, qy, qz)",
+                if n == 1 { "" } else { "s" }
+            )));
+        }
         for (k, c) in columns.iter().enumerate() {
             if columns[..k].contains(c) {
                 return Err(Error::Input(format!(
@@ -289,6 +315,25 @@ impl Trajectory {
             }
         }
         Ok(())
+    }
+
+    /// The control steps of `dt` (s) a run along the trajectory takes, from `t = 0` to its last
+    /// row; refused beyond [`MAX_TRAJECTORY_STEPS`] (the trace's memory), naming the last row's
+    /// line of `name`.
+    pub fn steps(&self, dt: f64, name: &str) -> Result<usize> {
+        let t_end = self.t.last().copied().unwrap_or(0.0).max(0.0);
+        let steps = (t_end / dt).ceil();
+        if steps.is_nan() || steps > MAX_TRAJECTORY_STEPS as f64 {
+            let line = self
+                .lines
+                .last()
+                .map_or_else(String::new, |l| format!(":{l}"));
+            return Err(Error::Input(format!(
+                "{name}{line}: column `t`: the path ends at t = {t_end} s, {steps:.0} control steps of {dt} s; a run takes at most {MAX_TRAJECTORY_STEPS} steps ({} s), which bounds the trace's memory",
+                MAX_TRAJECTORY_STEPS as f64 * dt
+            )));
+        }
+        Ok(steps as usize)
     }
 
     /// Whether the trajectory gives an orientation.
@@ -495,8 +540,15 @@ pub fn simulate_trajectory(
             trocar.x, trocar.y, trocar.z
         )));
     }
+    // An instrument on the last link only: with the constraint on a middle link the tip moves
+    // with the joints beyond it, and the link's length bounds nothing here.
+    let on_last_link = constraint.link == n;
     let l_tip = shaft.offset(&g0i, &g0e.translation);
-    let insertion = [l_tip.min(0.0), l_tip.max(0.0)];
+    let insertion = if on_last_link {
+        [l_tip.min(0.0), l_tip.max(0.0)]
+    } else {
+        [f64::NEG_INFINITY, f64::INFINITY]
+    };
     if !(insertion[0] < l_a0 && l_a0 < insertion[1]) {
         return Err(Error::Input(format!(
             "trocar: at q0 the trocar is at l_a = {l_a0:.4} along the shaft, outside the instrument (l_a in ({:.4}, {:.4}) from the link to the tip)",
@@ -517,9 +569,15 @@ pub fn simulate_trajectory(
         )));
     }
     // The tip cannot be farther from the trocar than the instrument is long: the distance from
-    // the shaft's origin on the link (l_a = 0) to the tip.
+    // the shaft's origin on the link (l_a = 0) to the tip. An instrument on the last link only:
+    // with the constraint on a middle link the tip moves with the joints beyond it.
     let reach = (g0e.translation - shaft.constraint_pose(&g0i, 0.0).translation).norm();
-    for (k, p) in trajectory.position.iter().enumerate() {
+    for (k, p) in trajectory
+        .position
+        .iter()
+        .enumerate()
+        .filter(|_| on_last_link)
+    {
         let d = (Vector3::from(*p) - trocar).norm();
         if d > reach {
             return Err(Error::Input(format!(
@@ -549,18 +607,13 @@ pub fn simulate_trajectory(
             depth[0], depth[1], insertion[0], insertion[1]
         )));
     }
-    controller.depth_limits = Some(depth);
+    if depth.iter().all(|v| v.is_finite()) {
+        controller.depth_limits = Some(depth);
+    }
     let mut ctrl = RobotController::new(robot, controller)?;
     let axes = arm.lateral_axes();
     const NAMES: [&str; 3] = ["x_r", "y_r", "z_r"];
-    let t_end = trajectory.t[trajectory.t.len() - 1];
-    let steps = (t_end / options.dt).ceil() as usize;
-    if steps > 10_000_000 {
-        return Err(Error::Input(format!(
-            "{source}: {steps} control steps of {} s; at most 10⁷",
-            options.dt
-        )));
-    }
+    let steps = trajectory.steps(options.dt, &source)?;
     let limits = robot.joint_limits();
     let mut rows = Vec::with_capacity(steps + 1);
     let mut q = q0.clone();
@@ -673,7 +726,7 @@ pub fn simulate_trajectory(
         .iter()
         .map(|r| r.vr[0].abs().max(r.vr[1].abs()))
         .fold(0.0, f64::max);
-    let after_1s = if t_end > 1.0 {
+    let after_1s = if trajectory.t[trajectory.t.len() - 1] > 1.0 {
         format!(", after the first second {:.3e} m", s.max_ep_after_1s)
     } else {
         String::new()

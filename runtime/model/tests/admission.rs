@@ -212,3 +212,25 @@ fn the_trocar_lies_on_the_instrument() {
     assert!(e.line.is_some(), "{e}");
     assert!(panda_with("l_a = 0.25 ", "l_a = 0.39 ").is_ok());
 }
+
+/// A constraint point that slides along an axis the instrument does not run along
+/// (`xyz = [0, "l_a", 0.107]` on a shaft along z) was reported against `parameters.l_a` ("outside the
+/// instrument"); the value is not what is wrong, the axis is: the error is on `constraint.xyz`,
+/// with its line (RELIABILITY.md F27).
+#[test]
+fn a_sliding_axis_away_from_the_tip_is_located_at_the_constraint() {
+    for axis in [
+        "[0, \"l_a\", 0.107]",
+        "[\"l_a\", 0, 0.107]",
+        "[0, 0, \"0.107 - l_a\"]",
+    ] {
+        let e = panda_with("xyz = [0, 0, \"0.107 + l_a\"]", &format!("xyz = {axis}")).unwrap_err();
+        assert_eq!(e.field, "constraint.xyz", "{axis}: {e}");
+        assert!(
+            e.message.contains("does not point toward the tip"),
+            "{axis}: {e}"
+        );
+        assert!(!e.message.contains("-0"), "{e}");
+        assert!(e.line.is_some(), "{e}");
+    }
+}

@@ -33,7 +33,9 @@ fn every_preset_is_valid_and_round_trips() {
             "bidirectional-zx",
             "dia10_like_zy",
             "dia10_like_zx",
-            "panda-laparoscope"
+            "panda-laparoscope",
+            "iiwa-endoscope",
+            "iiwa-link6"
         ]
     );
     for name in names {

@@ -9,7 +9,7 @@ use numpy::ndarray::{Array1, Array2};
 use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
 };
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::exceptions::{PyMemoryError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyString, PyTuple};
 use std::collections::BTreeMap;
@@ -17,7 +17,59 @@ use std::path::PathBuf;
 use trocar_api::{ControllerOptions, Function, Method, RcmOptions, SpeedLimit, Target};
 
 fn value_error(e: trocar_api::Error) -> PyErr {
-    PyValueError::new_err(e.to_string())
+    PyValueError::new_err(keywords(&e.to_string()))
+}
+
+/// The library's message in Python's words: the command line's flags (`--q`, `--param`,
+/// `--what`, …) become the keyword arguments they stand for (`q`, `params`, `what`, …). Text in
+/// backquotes (a quoted name, or a command to run) is kept as written.
+fn keywords(message: &str) -> String {
+    const FLAGS: [(&str, &str); 10] = [
+        ("--q0 q1,...,q", "q0=[q1, ..., q"),
+        ("--trajectory PATH.csv", "trajectory=\"PATH.csv\""),
+        ("--q0", "q0"),
+        ("--q", "q"),
+        ("--param", "params"),
+        ("--what", "what"),
+        ("--numeric", "numeric=True"),
+        ("--trocar", "trocar"),
+        ("--max-joint-speed", "max_joint_speed"),
+        ("--trajectory", "trajectory"),
+    ];
+    let mut out = String::with_capacity(message.len());
+    for (k, part) in message.split('`').enumerate() {
+        if k > 0 {
+            out.push('`');
+        }
+        if k % 2 == 1 {
+            out.push_str(part);
+            continue;
+        }
+        let mut rest = part;
+        'scan: while let Some(at) = rest.find("--") {
+            out.push_str(&rest[..at]);
+            let tail = &rest[at..];
+            for (flag, word) in FLAGS {
+                // A whole flag: not followed by a letter, digit or hyphen.
+                let whole = tail.strip_prefix(flag).is_some_and(|after| {
+                    !after
+                        .chars()
+                        .next()
+                        .is_some_and(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
+                        || flag.ends_with(",q")
+                });
+                if whole {
+                    out.push_str(word);
+                    rest = &tail[flag.len()..];
+                    continue 'scan;
+                }
+            }
+            out.push_str("--");
+            rest = &tail[2..];
+        }
+        out.push_str(rest);
+    }
+    out
 }
 
 /// Most joint values [`with_joints`] holds on the stack (more are copied to the heap).
@@ -101,6 +153,51 @@ fn matrix<'py>(
     Ok(out)
 }
 
+/// A new, uninitialised, C-ordered `count × rows × cols` array of `float64`, made by
+/// `numpy.empty`: an array that cannot be allocated raises `MemoryError` with numpy's message (its
+/// size and shape) instead of ending the interpreter.
+///
+/// # Safety
+///
+/// The caller writes every entry before the array is handed to Python, as with
+/// [`PyArray3::new`].
+unsafe fn empty3<'py>(
+    py: Python<'py>,
+    count: usize,
+    rows: usize,
+    cols: usize,
+) -> PyResult<Bound<'py, PyArray3<f64>>> {
+    let array = py
+        .import("numpy")?
+        .getattr("empty")?
+        .call1(((count, rows, cols), "float64"))?;
+    Ok(array.cast_into::<PyArray3<f64>>()?)
+}
+
+/// The configurations `Q` of `eval_many`: a 2-D `float64` array read in place, or anything numpy
+/// converts to one (`numpy.asarray(Q, dtype="float64")`: integer arrays, nested lists), as `eval`
+/// takes integers.
+fn configurations<'py>(
+    py: Python<'py>,
+    q: &Bound<'py, PyAny>,
+) -> PyResult<PyReadonlyArray2<'py, f64>> {
+    if let Ok(a) = q.extract::<PyReadonlyArray2<'py, f64>>() {
+        return Ok(a);
+    }
+    let converted = py
+        .import("numpy")?
+        .getattr("asarray")?
+        .call1((q, "float64"))?;
+    let ndim: usize = converted.getattr("ndim")?.extract()?;
+    if ndim != 2 {
+        return Err(PyValueError::new_err(format!(
+            "Q: a 2-D array of joint values, one row per configuration (N, joints); got {ndim} dimension{}",
+            if ndim == 1 { "" } else { "s" }
+        )));
+    }
+    converted.extract::<PyReadonlyArray2<'py, f64>>()
+}
+
 thread_local! {
     /// The result of a fused evaluation before it is copied to its arrays, kept per thread.
     static RESULT: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
@@ -175,11 +272,11 @@ impl Robot {
     ) -> PyResult<Bound<'py, PyArray3<f64>>> {
         let e = self.inner.evaluator(function).map_err(value_error)?;
         let (rows, cols) = (e.rows(), e.cols());
-        // SAFETY: `new` leaves the data uninitialised; the array is handed to Python only after
-        // `eval_many` has written every entry of every configuration (each output at its own
-        // row-major position, they cover the matrix, and a transform's constant last row), and
-        // is dropped unread otherwise.
-        let out = unsafe { PyArray3::<f64>::new(py, [count, rows, cols], false) };
+        // SAFETY: `empty3` leaves the data uninitialised; the array is handed to Python only
+        // after `eval_many` has written every entry of every configuration (each output at its
+        // own row-major position, they cover the matrix, and a transform's constant last row),
+        // and is dropped unread otherwise.
+        let out = unsafe { empty3(py, count, rows, cols) }?;
         {
             // SAFETY: `out` was created just above as a new, C-contiguous array and has not
             // been handed to Python or borrowed yet, so this is the only reference to its data
@@ -404,18 +501,20 @@ impl Robot {
         })
     }
 
-    /// `what` at every row of `Q` (an `(N, joints)` array), as an `(N, rows, cols)` array equal
-    /// to N calls of `eval`; the configurations are evaluated side by side on every core,
+    /// `what` at every row of `Q` (an `(N, joints)` array, `float64` or anything numpy converts
+    /// to it), as an `(N, rows, cols)` array equal to N calls of `eval` (`MemoryError` when it
+    /// cannot be allocated); the configurations are evaluated side by side on every core,
     /// without the GIL. With a tuple or list of names, a tuple of such arrays, one per name,
     /// computed by one program (as `eval`).
     #[pyo3(signature = (q, what = None, params = None))]
     fn eval_many<'py>(
         &self,
         py: Python<'py>,
-        q: PyReadonlyArray2<'py, f64>,
+        q: &Bound<'py, PyAny>,
         what: Option<&Bound<'py, PyAny>>,
         params: Option<BTreeMap<String, f64>>,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let q = configurations(py, q)?;
         let what = self.what(what)?;
         let values = self.values(params)?;
         let (count, n) = q.as_array().dim();
@@ -432,7 +531,17 @@ impl Robot {
         let flat: &[f64] = match view.as_slice() {
             Some(s) => s,
             None => {
-                owned = view.iter().copied().collect::<Vec<f64>>();
+                // A copy that cannot be allocated (a broadcast view of many rows) raises
+                // `MemoryError` instead of ending the interpreter.
+                let mut copy = Vec::new();
+                copy.try_reserve_exact(view.len()).map_err(|_| {
+                    PyMemoryError::new_err(format!(
+                        "Unable to allocate {} bytes for a copy of Q, shape ({count}, {n}), to read it row by row",
+                        view.len().saturating_mul(std::mem::size_of::<f64>())
+                    ))
+                })?;
+                copy.extend(view.iter().copied());
+                owned = copy;
                 &owned
             }
         };
@@ -454,15 +563,15 @@ impl Robot {
         let e = py
             .detach(|| self.inner.fused_evaluator(&functions))
             .map_err(value_error)?;
-        // SAFETY: `new` leaves the data uninitialised; the arrays are handed to Python only
+        // SAFETY: `empty3` leaves the data uninitialised; the arrays are handed to Python only
         // after `eval_many_each` has written every entry of every configuration (each
         // function's matrix row by row, a transform with its constant last row), and are
         // dropped unread otherwise.
         let arrays: Vec<Bound<'py, PyArray3<f64>>> = e
             .dims()
             .iter()
-            .map(|&(rows, cols)| unsafe { PyArray3::<f64>::new(py, [count, rows, cols], false) })
-            .collect();
+            .map(|&(rows, cols)| unsafe { empty3(py, count, rows, cols) })
+            .collect::<PyResult<_>>()?;
         {
             // SAFETY: each array was created just above as a new, C-contiguous array and has
             // not been handed to Python or borrowed yet, so these are the only references to
@@ -598,7 +707,8 @@ impl Controller {
     /// `kappa_r`, `kappa_i`, and with `method="qp"` `qp_status` (`"Optimal"`,
     /// `"InequalitiesRelaxed"` when the limits could not all be kept with the trocar, ...),
     /// `qp_iterations`, `qp_active` (the number of limits reached) and `qp_resolved` (the step
-    /// measured its own chord over `dt` and solved again); `None` otherwise.
+    /// measured its own chord over `dt` and solved again); `None` otherwise. A dict with another
+    /// key, or a rotation that is not a proper rotation matrix, raises `ValueError`.
     #[pyo3(signature = (q, reference, trocar, dt, dv = None))]
     fn step<'py>(
         &mut self,
@@ -611,6 +721,20 @@ impl Controller {
     ) -> PyResult<Bound<'py, PyDict>> {
         let q = joints(q)?;
         let target = if let Ok(d) = reference.cast::<PyDict>() {
+            for key in d.keys() {
+                let known = key
+                    .cast::<PyString>()
+                    .ok()
+                    .and_then(|k| k.to_str().ok())
+                    .is_some_and(|k| REFERENCE_KEYS.contains(&k));
+                if !known {
+                    return Err(PyValueError::new_err(format!(
+                        "reference: unknown key {} (the keys are \"{}\")",
+                        key.repr()?,
+                        REFERENCE_KEYS.join("\", \"")
+                    )));
+                }
+            }
             let get3 = |k: &str| -> PyResult<[f64; 3]> {
                 match d.get_item(k)? {
                     Some(v) => v.extract::<[f64; 3]>(),
@@ -641,6 +765,9 @@ impl Controller {
                 }
                 _ => None,
             };
+            if let Some(r) = &rotation {
+                check_rotation(r)?;
+            }
             Target {
                 position,
                 rotation,
@@ -690,6 +817,40 @@ impl Controller {
     }
 }
 
+/// The keys a reference dict of `Controller.step` may have.
+const REFERENCE_KEYS: [&str; 4] = ["position", "rotation", "velocity", "angular_velocity"];
+
+/// How far a reference's rotation matrix may be from orthonormal: the largest entry of
+/// `RᵀR − I`.
+const ROTATION_TOLERANCE: f64 = 1e-6;
+
+/// Refuses a reference rotation that is not a proper rotation: a finite matrix with
+/// `|RᵀR − I| ≤` [`ROTATION_TOLERANCE`] entry by entry and `det R > 0` (a zero matrix or a
+/// reflection would be read as some other orientation).
+fn check_rotation(r: &[[f64; 3]; 3]) -> PyResult<()> {
+    if let Some(v) = r.iter().flatten().find(|v| !v.is_finite()) {
+        return Err(PyValueError::new_err(format!(
+            "reference[\"rotation\"]: {v} is not a finite number"
+        )));
+    }
+    let mut worst = 0.0f64;
+    for i in 0..3 {
+        for j in 0..3 {
+            let dot: f64 = (0..3).map(|k| r[k][i] * r[k][j]).sum();
+            worst = worst.max((dot - if i == j { 1.0 } else { 0.0 }).abs());
+        }
+    }
+    let det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1])
+        - r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0])
+        + r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+    if worst > ROTATION_TOLERANCE || det <= 0.0 {
+        return Err(PyValueError::new_err(format!(
+            "reference[\"rotation\"]: not a rotation matrix (RᵀR differs from I by {worst:.3e}, tolerance {ROTATION_TOLERANCE:e}; det R = {det:.6})"
+        )));
+    }
+    Ok(())
+}
+
 /// `trocar simulate`: runs a scenario (`"1"`–`"4"`, `"exp421"`, `"panda-laparoscope"`,
 /// `"panda-laparoscope-limits"`, or a closed-chain scenario such as `"four-bar"`) and returns its
 /// trace as named columns (`t` first), the columns of the command line's CSV. `method`
@@ -713,15 +874,23 @@ fn simulate<'py>(
     q0: Option<Vec<f64>>,
     trocar: Option<[f64; 3]>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    // A scenario's name, a robot's name or a description file: a `str` or any `os.PathLike`.
+    let named: Option<PathBuf> = match scenario.cast::<Robot>() {
+        Ok(_) => None,
+        Err(_) => Some(scenario.extract().map_err(|_| {
+            PyTypeError::new_err(
+                "scenario: a scenario's name, a Robot, or a description's path (str or os.PathLike)",
+            )
+        })?),
+    };
     // A robot's own trajectory: given, or named by its description's [simulation] section
     // (a `Robot`, or a description file that is not a scenario's name).
     let own = trajectory.is_some()
-        || scenario.cast::<Robot>().is_ok()
-        || scenario.extract::<String>().is_ok_and(|name| {
+        || named.as_ref().is_none_or(|name| {
             trocar_api::simulate::scenario_names()
                 .iter()
-                .all(|s| *s != name.as_str())
-                && std::path::Path::new(&name).is_file()
+                .all(|s| Some(*s) != name.to_str())
+                && name.is_file()
         });
     let columns = if !own {
         if q0.is_some() || trocar.is_some() {
@@ -729,7 +898,11 @@ fn simulate<'py>(
                 "q0 and trocar apply to a robot's own trajectory (trajectory=, or a description with a [simulation] section)",
             ));
         }
-        let scenario: String = scenario.extract()?;
+        let scenario = named
+            .as_deref()
+            .and_then(std::path::Path::to_str)
+            .unwrap_or_default()
+            .to_string();
         let options = RcmOptions {
             method: method.map(self::method).transpose()?,
             drift_correction,
@@ -748,8 +921,8 @@ fn simulate<'py>(
         let robot: &trocar_api::Robot = match scenario.cast::<Robot>() {
             Ok(r) => &r.get().inner,
             Err(_) => {
-                let name: PathBuf = scenario.extract()?;
-                loaded = trocar_api::Robot::load(&name).map_err(value_error)?;
+                let name = named.as_deref().unwrap_or(std::path::Path::new(""));
+                loaded = trocar_api::Robot::load(name).map_err(value_error)?;
                 &loaded
             }
         };
@@ -766,16 +939,7 @@ fn simulate<'py>(
             },
         };
         py.detach(|| trocar_api::simulate_robot(robot, &request, &mut |_| {}))
-            .map_err(|e| {
-                // The command line's words for the Python keywords.
-                PyValueError::new_err(
-                    e.to_string()
-                        .replace("--q0 q1,...,q", "q0=[q1, ..., q")
-                        .replace("--q0", "q0")
-                        .replace("--trocar", "trocar")
-                        .replace("--trajectory PATH.csv", "trajectory=\"PATH.csv\""),
-                )
-            })?
+            .map_err(value_error)?
             .columns()
     };
     let out = PyDict::new(py);

@@ -103,12 +103,14 @@ def test_a_task_robot_manipulability_is_that_of_the_task_jacobian():
 
 
 def test_errors_are_value_errors_with_the_command_lines_message():
+    """The command line's message, with the arguments named as Python's keywords (`q` for
+    `--q`)."""
     robot = trocar.Robot.load("bidirectional-zy")
     out = cli("eval", "bidirectional-zy", "--q=0,1", "--what", "jr")
     with pytest.raises(ValueError) as e:
         robot.eval([0, 1], what="jr")
     assert out.returncode == 1
-    assert out.stderr.strip() == f"error: {e.value}"
+    assert out.stderr.strip() == f"error: --{e.value}"
     with pytest.raises(ValueError, match="unknown parameter `l_x`"):
         robot.eval(Q8, params={"l_x": 1.0})
     with pytest.raises(ValueError, match="not a quantity of the robot .* jr \\(constrained_jacobian\\)"):

@@ -37,7 +37,7 @@ pub(crate) fn method_all_conflict(csv: bool, animate: bool, snapshot: bool) -> O
     .into_iter()
     .find_map(|(o, given)| given.then_some(o))?;
     Some(format!(
-        "{option} writes one run; --method all compares pinv, dls and fi on one figure (--plot only)"
+        "{option} writes one run; --method all compares pinv, dls, fi and qp on one figure (--plot only)"
     ))
 }
 
@@ -222,10 +222,15 @@ pub(crate) fn run_trajectory(
             Some([*x, *y, *z])
         }
     };
-    if user.method == Some(MethodArg::All) {
-        return Err(Error::Input(
-            "--method all compares the shipped scenarios; with --trajectory give one method".into(),
-        ));
+    let all = user.method == Some(MethodArg::All);
+    if all {
+        if let Some(message) = method_all_conflict(
+            user.csv.is_some(),
+            user.views.animate.is_some(),
+            user.views.snapshot.is_some(),
+        ) {
+            return Err(Error::Input(message));
+        }
     }
     let request = trocar_api::RunRequest {
         trajectory: path.map(Path::to_path_buf),
@@ -274,6 +279,28 @@ pub(crate) fn run_trajectory(
                 "--snapshot-times {t}: the trajectory runs from 0 to {end} s"
             )));
         }
+    }
+    if all {
+        // Each method along the same path, from the same start, on one figure.
+        let mut runs = Vec::with_capacity(trocar_api::Method::ALL.len());
+        for method in trocar_api::Method::ALL {
+            let mut options = options.clone();
+            options.controller.method = method;
+            runs.push(with_progress(
+                &format!("trajectory ({})", method.name()),
+                |progress| trocar_api::simulate_trajectory(&robot, &trajectory, &options, progress),
+            )?);
+        }
+        if let Some(path) = user.plot.as_deref() {
+            let traces: Vec<&trocar_sim::simulation::Trace> =
+                runs.iter().filter_map(SimulationRun::rcm_trace).collect();
+            trocar_sim::plot::write_comparison(&traces, outputs.temporary(path))
+                .map_err(|e| outputs.explain(format!("--plot {}: {e}", path.display())))?;
+        }
+        outputs.commit()?;
+        let summary: Vec<&str> = runs.iter().map(|r| r.summary.as_str()).collect();
+        write_stderr(&format!("{}\n", summary.join("\n")));
+        return Ok(0);
     }
     let run = with_progress("trajectory", |progress| {
         trocar_api::simulate_trajectory(&robot, &trajectory, &options, progress)

@@ -47,8 +47,8 @@ pub use presets::{preset, preset_names, PRESETS};
 pub use simulation::{SimulationDesc, SIMULATION_METHODS};
 pub use trocar::constraint::NullSpaceBasis;
 pub use validate::{
-    admission_problems, admission_rank_problem, admit, trocar_beyond_tip, AdmissionError,
-    RANK_CONFIGURATIONS,
+    admission_problems, admission_rank_problem, admit, shaft_not_toward_tip, trocar_beyond_tip,
+    AdmissionError, RANK_CONFIGURATIONS,
 };
 
 impl RobotDescription {

@@ -1,5 +1,7 @@
-//! The description files shipped with trocar: the thesis's three wrist presets, the reference arm
-//! and a Franka Panda holding a laparoscope (its chain from the shipped `urdf/panda.urdf`).
+//! The description files shipped with trocar (every `robots/*.toml`): the thesis's three wrist
+//! presets, the reference arm, a Franka Panda holding a laparoscope (its chain from the shipped
+//! `urdf/panda.urdf`) and a KUKA iiwa 14 constrained on its last link (holding an endoscope) and
+//! on a middle link (their chain from `urdf/iiwa14.urdf`).
 
 /// `(name, TOML text)` of every shipped description.
 pub const PRESETS: &[(&str, &str)] = &[
@@ -27,14 +29,25 @@ pub const PRESETS: &[(&str, &str)] = &[
         "panda-laparoscope",
         include_str!("../../robots/panda-laparoscope.toml"),
     ),
+    (
+        "iiwa-endoscope",
+        include_str!("../../robots/iiwa-endoscope.toml"),
+    ),
+    ("iiwa-link6", include_str!("../../robots/iiwa-link6.toml")),
 ];
 
 /// `(path relative to the shipped descriptions, URDF text)` of every URDF a shipped description
 /// takes its chain from (`[robot] urdf = "…"`).
-pub const SHIPPED_URDFS: &[(&str, &str)] = &[(
-    "urdf/panda.urdf",
-    include_str!("../../robots/urdf/panda.urdf"),
-)];
+pub const SHIPPED_URDFS: &[(&str, &str)] = &[
+    (
+        "urdf/panda.urdf",
+        include_str!("../../robots/urdf/panda.urdf"),
+    ),
+    (
+        "urdf/iiwa14.urdf",
+        include_str!("../../robots/urdf/iiwa14.urdf"),
+    ),
+];
 
 /// The shipped URDF `rel` when `file` is a shipped description (`<preset NAME>`), else `None`.
 pub(crate) fn shipped_urdf(file: Option<&std::path::Path>, rel: &str) -> Option<&'static str> {

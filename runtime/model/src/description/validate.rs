@@ -22,7 +22,7 @@
 //! | the method needs `n − r ≥ t` (`t` task rows, 6 without `[task]`) | `constraint.h` (`task.select` with a task) |
 //! | `J^r` needs `m = (6 − r) + (n − i) ≥ t` columns (3.15) | `constraint.link` (`task.select` with a task) |
 //! | `i ≥ 6` joints before the constrained link (`J^B_0i` of rank 6) | `constraint.link` |
-//! | on the last link, a constraint point sliding along the instrument (`o + l_a d`) not beyond the end effector along `d` at the nominal value | `parameters.NAME` |
+//! | on the last link, a constraint point sliding along the instrument (`o + l_a d`) not beyond the end effector along `d` at the nominal value | `parameters.NAME` (`constraint.xyz` when `d` does not point toward the end effector) |
 //! | `S J^r_0e` (`J^r_0e` without a task) of rank `t` at some configuration ([`admission_rank_problem`]) | `task.select` (`constraint.h` without a task) |
 //! | task rows: 1 to 6, none zero, linearly independent | `task.select`, `task.select[k]` |
 //! | wrist `unidirectional` needs `H = x_r`; `zy`/`zx` need `H = (x_r, z_r)` | `constraint.wrist` |
@@ -362,6 +362,57 @@ pub fn admit(n: usize, link: usize, r: usize, t: usize) -> Result<(), AdmissionE
 /// (the end effector, fixed in the same link) along `d` at the parameters' values: the trocar
 /// would be outside the instrument. `Some((parameter, message))` when it does.
 pub fn trocar_beyond_tip(d: &RobotDescription) -> Option<(String, String)> {
+    let s = sliding_point(d)?;
+    let (name, value, dd, at_tip) = (&s.name, s.value, s.dd, s.at_tip);
+    let beyond = (value - at_tip) * dd.sqrt();
+    (beyond > 1e-12 * (1.0 + at_tip.abs()) && beyond.is_finite()).then(|| {
+        (
+            name.clone(),
+            format!(
+                "the trocar is outside the instrument: at {name} = {value} the constraint point lies {beyond:.6} beyond the tip `{}` along the shaft (constraint.xyz); {name} must stay below {at_tip:.6}",
+                d.end_effector.name
+            ),
+        )
+    })
+}
+
+/// When [`trocar_beyond_tip`] finds the trocar beyond the tip because the direction the
+/// constraint point slides along (its parameter's coefficients in `constraint.xyz`) does not
+/// point toward the tip at all — the tip's projection on that line is at or behind the point at
+/// parameter 0, as with `xyz = [0, "l_a", 0]` on a shaft along `z` — the axis is what is wrong,
+/// not the parameter's value: the message for `constraint.xyz`.
+pub fn shaft_not_toward_tip(d: &RobotDescription) -> Option<String> {
+    let s = sliding_point(d)?;
+    if s.at_tip > 0.0 || trocar_beyond_tip(d).is_none() {
+        return None;
+    }
+    // `+ 0.0` writes -0 as 0.
+    let f = |v: [f64; 3]| format!("({}, {}, {})", v[0] + 0.0, v[1] + 0.0, v[2] + 0.0);
+    Some(format!(
+        "the constraint point slides along {} with {} (from {}), which does not point toward the tip `{}` at {} (end_effector.xyz): the trocar's offset runs along the instrument's shaft, from the link toward the tip",
+        f(s.dir),
+        s.name,
+        f(s.origin),
+        d.end_effector.name,
+        f(s.tip)
+    ))
+}
+
+/// A constraint point on the last link that slides along a line with one parameter, and the
+/// instrument's tip: what [`trocar_beyond_tip`] and [`shaft_not_toward_tip`] judge.
+struct SlidingPoint {
+    name: String,
+    value: f64,
+    dir: [f64; 3],
+    origin: [f64; 3],
+    tip: [f64; 3],
+    /// `|dir|²`.
+    dd: f64,
+    /// The parameter's value that puts the point at the tip's projection on the line.
+    at_tip: f64,
+}
+
+fn sliding_point(d: &RobotDescription) -> Option<SlidingPoint> {
     let c = d.constraint.as_ref()?;
     if c.link != d.joints.len() {
         return None;
@@ -399,15 +450,14 @@ pub fn trocar_beyond_tip(d: &RobotDescription) -> Option<(String, String)> {
     }
     // The value of the parameter that puts the point at the tip's projection on the shaft.
     let at_tip = (0..3).map(|k| dir[k] * (tip[k] - origin[k])).sum::<f64>() / dd;
-    let beyond = (value - at_tip) * dd.sqrt();
-    (beyond > 1e-12 * (1.0 + at_tip.abs()) && beyond.is_finite()).then(|| {
-        (
-            name.clone(),
-            format!(
-                "the trocar is outside the instrument: at {name} = {value} the constraint point lies {beyond:.6} beyond the tip `{}` along the shaft (constraint.xyz); {name} must stay below {at_tip:.6}",
-                d.end_effector.name
-            ),
-        )
+    Some(SlidingPoint {
+        name: name.clone(),
+        value,
+        dir,
+        origin,
+        tip,
+        dd,
+        at_tip,
     })
 }
 
@@ -741,9 +791,12 @@ impl Checker<'_> {
         }
     }
 
-    /// [`trocar_beyond_tip`], on the parameter.
+    /// [`trocar_beyond_tip`], on the parameter; on `constraint.xyz` when the point does not
+    /// slide toward the tip at all ([`shaft_not_toward_tip`]).
     fn trocar_inside_the_instrument(&mut self, _c: &super::ConstraintDesc) {
-        if let Some((name, message)) = trocar_beyond_tip(self.d) {
+        if let Some(message) = shaft_not_toward_tip(self.d) {
+            self.err("constraint.xyz", message);
+        } else if let Some((name, message)) = trocar_beyond_tip(self.d) {
             self.err(&format!("parameters.{name}"), message);
         }
     }

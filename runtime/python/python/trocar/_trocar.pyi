@@ -40,16 +40,18 @@ class Robot:
     @overload
     def eval_many(
         self,
-        q: npt.NDArray[np.float64],
+        q: npt.ArrayLike,
         what: str = ...,
         params: Optional[Mapping[str, float]] = None,
     ) -> npt.NDArray[np.float64]:
-        """``what`` at every row of the ``(N, joints)`` array ``q``: an ``(N, rows, cols)`` array
-        equal to N calls of ``eval``, evaluated on every core without the GIL."""
+        """``what`` at every row of the ``(N, joints)`` array ``q`` (``float64``, or anything
+        ``numpy.asarray`` converts to it, such as integers): an ``(N, rows, cols)`` array equal
+        to N calls of ``eval``, evaluated on every core without the GIL. Raises ``MemoryError``
+        when the result cannot be allocated."""
     @overload
     def eval_many(
         self,
-        q: npt.NDArray[np.float64],
+        q: npt.ArrayLike,
         what: Union[Tuple[str, ...], List[str]],
         params: Optional[Mapping[str, float]] = None,
     ) -> Tuple[npt.NDArray[np.float64], ...]:
@@ -141,7 +143,11 @@ class Controller:
     ) -> Dict[str, Any]:
         """One step: ``{"qd", "l_a", "position_error", "orientation_error", "lateral_error",
         "dv_0r", "w_r", "w_i", "kappa_r", "kappa_i", "qp_status", "qp_iterations",
-        "qp_active", "qp_resolved"}`` (the last four ``None`` unless ``method="qp"``)."""
+        "qp_active", "qp_resolved"}`` (the last four ``None`` unless ``method="qp"``).
+
+        A ``reference`` dict has the keys ``"position"``, ``"rotation"``, ``"velocity"`` and
+        ``"angular_velocity"`` only (another key raises ``ValueError``); its rotation must be a
+        proper rotation matrix (``|RᵀR − I| ≤ 1e-6`` entry by entry, ``det R > 0``)."""
     def reset(self) -> None:
         """Restarts the filtered inverse and the QP's warm start."""
 
