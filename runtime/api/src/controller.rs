@@ -156,6 +156,35 @@ impl ControllerOptions {
     }
 }
 
+/// How far a target's rotation matrix may be from orthonormal: the largest entry of `RᵀR − I`.
+pub const ROTATION_TOLERANCE: f64 = 1e-6;
+
+/// Whether `r` (row by row) is a proper rotation: finite, `|RᵀR − I| ≤` [`ROTATION_TOLERANCE`]
+/// entry by entry and `det R > 0` (a zero matrix or a reflection would be read as some other
+/// orientation). The reason when it is not. [`RobotController::step`] refuses a target whose
+/// rotation is not.
+pub fn proper_rotation(r: &[[f64; 3]; 3]) -> std::result::Result<(), String> {
+    if let Some(v) = r.iter().flatten().find(|v| !v.is_finite()) {
+        return Err(format!("{v} is not a finite number"));
+    }
+    let mut worst = 0.0f64;
+    for i in 0..3 {
+        for j in 0..3 {
+            let dot: f64 = (0..3).map(|k| r[k][i] * r[k][j]).sum();
+            worst = worst.max((dot - if i == j { 1.0 } else { 0.0 }).abs());
+        }
+    }
+    let det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1])
+        - r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0])
+        + r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+    if worst > ROTATION_TOLERANCE || det <= 0.0 {
+        return Err(format!(
+            "not a rotation matrix (RᵀR differs from I by {worst:.3e}, tolerance {ROTATION_TOLERANCE:e}; det R = {det:.6})"
+        ));
+    }
+    Ok(())
+}
+
 /// The desired end-effector motion at one instant, in base coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Target {
@@ -502,6 +531,10 @@ impl RobotController {
             return Err(Error::Input(format!(
                 "dt = {dt}: must be a positive time (s)"
             )));
+        }
+        if let Some(r) = &target.rotation {
+            proper_rotation(r)
+                .map_err(|reason| Error::Input(format!("target.rotation: {reason}")))?;
         }
         self.inner
             .step(q, target, trocar, dv, dt)

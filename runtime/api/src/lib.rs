@@ -31,7 +31,10 @@ mod robot;
 pub mod simulate;
 mod trajectory;
 
-pub use controller::{ControllerOptions, RobotController, Step, Target, SUPPORTED};
+pub use controller::{
+    proper_rotation, ControllerOptions, RobotController, Step, Target, ROTATION_TOLERANCE,
+    SUPPORTED,
+};
 pub use error::{Error, Result};
 pub use evaluation::Evaluation;
 pub use robot::{

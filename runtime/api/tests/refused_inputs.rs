@@ -151,3 +151,42 @@ fn a_file_that_is_not_a_trajectory_is_not_quoted() {
         "{e}"
     );
 }
+
+/// A target rotation that is not a proper rotation (a zero matrix, a reflection) was taken by
+/// the library's controller as some orientation; the rule Python applies holds for every caller.
+#[test]
+fn a_target_rotation_must_be_a_rotation() {
+    let robot = trocar_api::Robot::load("panda-laparoscope").unwrap();
+    let mut ctrl =
+        trocar_api::RobotController::new(&robot, trocar_api::ControllerOptions::default()).unwrap();
+    let q = [
+        0.0,
+        -std::f64::consts::FRAC_PI_4,
+        0.0,
+        -3.0 * std::f64::consts::FRAC_PI_4,
+        0.0,
+        std::f64::consts::FRAC_PI_2,
+        std::f64::consts::FRAC_PI_4,
+    ];
+    let trocar = [0.3068905665929411, 0.0, 0.34028205230283923];
+    let mut target = trocar_api::Target {
+        position: [0.3068905665929411, 0.0, 0.19028205230283923],
+        rotation: Some([[0.0; 3]; 3]),
+        velocity: [0.0; 3],
+        angular_velocity: [0.0; 3],
+    };
+    let err = ctrl
+        .step(&q, &target, &trocar, &[0.0, 0.0], 0.002)
+        .unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("target.rotation: not a rotation matrix"),
+        "{err}"
+    );
+    target.rotation = Some([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1.0]]);
+    assert!(ctrl.step(&q, &target, &trocar, &[0.0, 0.0], 0.002).is_err());
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    target.rotation = Some([[s, -s, 0.0], [-s, -s, 0.0], [0.0, 0.0, -1.0]]);
+    let step = ctrl.step(&q, &target, &trocar, &[0.0, 0.0], 0.002).unwrap();
+    assert_eq!(step.status, trocar_api::StepStatus::Held);
+}

@@ -704,8 +704,10 @@ impl Controller {
     /// and `"angular_velocity"` (feed-forward, base frame) — with the trocar at `trocar` (base
     /// frame, m), moving laterally at `dv` (default: fixed). Returns a dict: `qd` (joint rates),
     /// `l_a`, `position_error`, `orientation_error`, `lateral_error`, `dv_0r`, `w_r`, `w_i`,
-    /// `kappa_r`, `kappa_i`, and with `method="qp"` `qp_status` (`"Optimal"`,
-    /// `"InequalitiesRelaxed"` when the limits could not all be kept with the trocar, ...),
+    /// `kappa_r`, `kappa_i`, `status` (`"Held"`; `"TrocarYielded"` when the trocar could not be
+    /// held within the joint limits, which hold in every step; `"JointOutside"`,
+    /// `"DepthOutside"`), and with `method="qp"` `qp_status` (`"Optimal"`,
+    /// `"EqualitiesInconsistent"` when the trocar rows were met in least squares, ...),
     /// `qp_iterations`, `qp_active` (the number of limits reached) and `qp_resolved` (the step
     /// measured its own chord over `dt` and solved again); `None` otherwise. A dict with another
     /// key, or a rotation that is not a proper rotation matrix, raises `ValueError`.
@@ -804,6 +806,7 @@ impl Controller {
         out.set_item("w_i", s.w_i)?;
         out.set_item("kappa_r", s.kappa_r)?;
         out.set_item("kappa_i", s.kappa_i)?;
+        out.set_item("status", format!("{:?}", s.status))?;
         out.set_item("qp_status", s.qp.map(|r| format!("{:?}", r.status)))?;
         out.set_item("qp_iterations", s.qp.map(|r| r.iterations))?;
         out.set_item("qp_active", s.qp.map(|r| r.active))?;
@@ -820,35 +823,11 @@ impl Controller {
 /// The keys a reference dict of `Controller.step` may have.
 const REFERENCE_KEYS: [&str; 4] = ["position", "rotation", "velocity", "angular_velocity"];
 
-/// How far a reference's rotation matrix may be from orthonormal: the largest entry of
-/// `RᵀR − I`.
-const ROTATION_TOLERANCE: f64 = 1e-6;
-
-/// Refuses a reference rotation that is not a proper rotation: a finite matrix with
-/// `|RᵀR − I| ≤` [`ROTATION_TOLERANCE`] entry by entry and `det R > 0` (a zero matrix or a
-/// reflection would be read as some other orientation).
+/// Refuses a reference rotation that is not a proper rotation ([`trocar_api::proper_rotation`],
+/// the rule the library's controller applies too).
 fn check_rotation(r: &[[f64; 3]; 3]) -> PyResult<()> {
-    if let Some(v) = r.iter().flatten().find(|v| !v.is_finite()) {
-        return Err(PyValueError::new_err(format!(
-            "reference[\"rotation\"]: {v} is not a finite number"
-        )));
-    }
-    let mut worst = 0.0f64;
-    for i in 0..3 {
-        for j in 0..3 {
-            let dot: f64 = (0..3).map(|k| r[k][i] * r[k][j]).sum();
-            worst = worst.max((dot - if i == j { 1.0 } else { 0.0 }).abs());
-        }
-    }
-    let det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1])
-        - r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0])
-        + r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
-    if worst > ROTATION_TOLERANCE || det <= 0.0 {
-        return Err(PyValueError::new_err(format!(
-            "reference[\"rotation\"]: not a rotation matrix (RᵀR differs from I by {worst:.3e}, tolerance {ROTATION_TOLERANCE:e}; det R = {det:.6})"
-        )));
-    }
-    Ok(())
+    trocar_api::proper_rotation(r)
+        .map_err(|reason| PyValueError::new_err(format!("reference[\"rotation\"]: {reason}")))
 }
 
 /// `trocar simulate`: runs a scenario (`"1"`–`"4"`, `"exp421"`, `"panda-laparoscope"`,

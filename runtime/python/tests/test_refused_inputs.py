@@ -128,3 +128,31 @@ def test_messages_name_the_arguments_not_the_command_lines_flags():
     assert str(e.value).startswith("what jacobian: not a quantity"), e.value
     for message in (str(e.value),):
         assert "--" not in message
+
+
+def test_a_step_says_when_the_trocar_gave_way_and_keeps_the_limits():
+    """The QP step with the trocar 0.2 m off the shaft exceeded joint 6's speed limit (9.6 rad/s
+    against 2.61) and said nothing but its solver's status (RELIABILITY.md F10): the rates now
+    keep every URDF speed limit and the step's status says the trocar gave way."""
+    robot = trocar.Robot.load("panda-laparoscope")
+    ctrl, q, point, fk = controller_and_reference()
+    held = ctrl.step(q, {"position": fk[:3, 3], "rotation": fk[:3, :3]}, point, 0.002)
+    assert held["status"] == "Held"
+    qp = trocar.Controller(robot, method="qp")
+    off = point + np.array([0.2, 0.0, 0.0])
+    out = qp.step(q, {"position": fk[:3, 3], "rotation": fk[:3, :3]}, off, 0.002)
+    assert out["status"] == "TrocarYielded"
+    speeds = [2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61]  # the Panda URDF's velocity limits
+    assert all(abs(v) <= s for v, s in zip(out["qd"], speeds)), out["qd"]
+
+
+def test_a_gain_the_sample_time_makes_unstable_is_refused():
+    """kr = 2000 /s at 2 ms (kr dt = 4) was run, and diverged (F11): the step refuses it with
+    the bound; the same gain at 0.5 ms (kr dt = 1) is taken."""
+    robot = trocar.Robot.load("panda-laparoscope")
+    ctrl = trocar.Controller(robot, kr=2000.0)
+    _, q, point, fk = controller_and_reference()
+    reference = {"position": fk[:3, 3], "rotation": fk[:3, :3]}
+    with pytest.raises(ValueError, match=r"kr \* dt must be below 2"):
+        ctrl.step(q, reference, point, 0.002)
+    ctrl.step(q, reference, point, 0.0005)

@@ -142,8 +142,11 @@ class Controller:
         dv: Optional[Sequence[float]] = None,
     ) -> Dict[str, Any]:
         """One step: ``{"qd", "l_a", "position_error", "orientation_error", "lateral_error",
-        "dv_0r", "w_r", "w_i", "kappa_r", "kappa_i", "qp_status", "qp_iterations",
+        "dv_0r", "w_r", "w_i", "kappa_r", "kappa_i", "status", "qp_status", "qp_iterations",
         "qp_active", "qp_resolved"}`` (the last four ``None`` unless ``method="qp"``).
+        ``status`` is ``"Held"``, or what gave way: ``"TrocarYielded"`` (the trocar could not be
+        held within the joint limits, which every step keeps), ``"JointOutside"``,
+        ``"DepthOutside"``.
 
         A ``reference`` dict has the keys ``"position"``, ``"rotation"``, ``"velocity"`` and
         ``"angular_velocity"`` only (another key raises ``ValueError``); its rotation must be a
