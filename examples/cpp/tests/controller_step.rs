@@ -3,7 +3,7 @@
 //! return code (with `qd` set to zeros, or nothing written for a null pointer), the report never
 //! holds a NaN, and a positive joint speed limit (and the joint ranges over `dt`) always hold,
 //! the trocar yielding with its own code when it cannot be held within them (RELIABILITY.md
-//! F30).
+//! F27).
 
 use trocar_cpp_example::panda_laparoscope as m;
 

@@ -1,5 +1,5 @@
 """What every front door refuses, refused from Python in the library's words (RELIABILITY.md's
-findings F20 onwards): each case here was accepted, or aborted the interpreter, before."""
+findings F18 onwards): each case here was accepted, or aborted the interpreter, before."""
 
 import math
 import os
