@@ -262,6 +262,9 @@ pub struct Derivation {
     /// Each joint's limits `[lower, upper]`, base first; `None` for a joint without (a URDF
     /// `continuous` joint, or none written): it turns without bound.
     pub joint_ranges: Vec<Option<[f64; 2]>>,
+    /// Each joint's speed limit `|q̇| ≤ v` (rad/s or m/s), base first, from the description (a
+    /// URDF joint's `velocity`, `speed_limit = v`); `None` for a joint without.
+    pub joint_speed_limits: Vec<Option<f64>>,
 }
 
 /// Largest estimated number of terms of one entry of an expanded product (`len(a) · len(b) ·
@@ -753,6 +756,7 @@ pub fn derive(desc: &RobotDescription) -> Result<Derivation, DerivationError> {
         constraint,
         joint_limits: desc.joints.iter().map(|j| j.limits).collect(),
         joint_ranges: desc.joints.iter().map(|j| j.limits).collect(),
+        joint_speed_limits: desc.joints.iter().map(|j| j.speed_limit).collect(),
     })
 }
 

@@ -139,6 +139,7 @@ fn small_module() -> ModuleSpec {
         controller: None,
         joint_limits: None,
         joint_ranges: Vec::new(),
+        joint_speed_limits: Vec::new(),
         pose_and_jacobians: None,
         fused: Vec::new(),
         fma_at_run_time: false,

@@ -839,6 +839,7 @@ pub fn module_spec_with(
         controller: super::controller::ControllerSpec::of(d),
         joint_limits: d.joint_limits.clone(),
         joint_ranges: d.joint_ranges.clone(),
+        joint_speed_limits: d.joint_speed_limits.clone(),
         pose_and_jacobians,
         fused,
         fma_at_run_time: false,

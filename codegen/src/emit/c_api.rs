@@ -28,8 +28,9 @@
 //! kinematics. Every number it reads follows the number rule (finite, not subnormal, within
 //! ±[`C_MAX_MAGNITUDE`]) and the gains the controller's own check
 //! (`trocar::control::ControllerConfig::check`: non-negative, `K dt` within its stable bound),
-//! else it returns [`C_INVALID_ARGUMENT`]; its rates always keep the joint speed limit (and the
-//! joint ranges over `dt`), and [`C_TROCAR_YIELDED`] says when the trocar could not be held
+//! else it returns [`C_INVALID_ARGUMENT`]; its rates always keep the joint speed limit `gains[6]`,
+//! each joint's own speed limit from the description (a URDF joint's `velocity`) and the joint
+//! ranges over `dt`, and [`C_TROCAR_YIELDED`] says when the trocar could not be held
 //! within them.
 //!
 //! The header's macros are the module's name in upper case followed by a name of the module
@@ -401,6 +402,19 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
         quote!()
     };
     let max = Literal::f64_unsuffixed(C_MAX_MAGNITUDE);
+    // Each joint's own speed limit (a URDF joint's `velocity`), infinite for none: the rates
+    // keep it as well as `gains[6]` (`trocar::control::rate_box` takes the smaller).
+    let speeds =
+        (0..spec.joints).map(
+            |k| match spec.joint_speed_limits.get(k).copied().flatten() {
+                Some(v) => {
+                    let v = Literal::f64_unsuffixed(v);
+                    quote!(#v)
+                }
+                None => quote!(#t::INFINITY),
+            },
+        );
+    let speed = quote!(let speed = SVector::<#t, N>::from([#(#speeds),*]););
     // With `JOINT_LIMITS`, the joint-limit objective (gain > 0) and, always, the joint ranges:
     // the rates keep every joint within its range over `dt` (`trocar::control::rate_box`).
     let objective = if limits {
@@ -410,6 +424,7 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
             let ctrl = ctrl.with_limits(#rt::control::HardLimits {
                 lower,
                 upper,
+                speed,
                 ..#rt::control::HardLimits::none()
             });
             let ctrl = if gains[7] > 0.0 {
@@ -423,7 +438,12 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
             };
         }
     } else {
-        quote!()
+        quote! {
+            let ctrl = ctrl.with_limits(#rt::control::HardLimits {
+                speed,
+                ..#rt::control::HardLimits::none()
+            });
+        }
     };
     let ranges = if limits {
         " and, over `dt`, within the joint ranges (`JOINT_LIMITS`)"
@@ -437,9 +457,10 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
          `target` holds 18 values: the tip's desired position (3), orientation `R` column-major \
          (9), linear and angular feed-forward velocities (3 + 3), all in the base frame; `trocar` \
          the trocar point (3); `gains` 8 values: `K_p`, `K_o`, `K_r` (drift correction), DLS `α0`, \
-         `w0` of the task Jacobian and of `J^B_0i`, the joint speed limit (≤ 0: none), the \
-         joint-limit objective's gain (≤ 0: none; used where the module has `JOINT_LIMITS`). \
-         `qd` receives the `N` joint rates, within the speed limit{ranges}; `report` (may be \
+         `w0` of the task Jacobian and of `J^B_0i`, the joint speed limit (≤ 0: none but the \
+         joints' own), the joint-limit objective's gain (≤ 0: none; used where the module has `JOINT_LIMITS`). \
+         `qd` receives the `N` joint rates, within the speed limit and each joint's own (the \
+         description's `speed_limit`, a URDF joint's `velocity`){ranges}; `report` (may be \
          null) 8 values: `l_a`, `|e_p|`, `|ε̃|`, the lateral offset of the trocar from the link \
          `|e_r|`, `w_r`, `w_i`, `κ_r`, `κ_i`.\n\n\
          Every value read follows the number rule (finite, not subnormal, within ±1e6), `dt > 0`, \
@@ -521,6 +542,7 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
                 max_joint_speed: if gains[6] > 0.0 { Some(gains[6]) } else { None },
             };
             let ctrl = Controller::<#t, N, I, R, K, M, #rows>::new(config);
+            #speed
             #objective
             let mut ctrl = ctrl;
             let reference = Reference {
@@ -788,9 +810,10 @@ pub fn header(spec: &ModuleSpec, real: Scalar) -> String {
              the joint-limit objective) on this module's kinematics.\n   \
              target[18]: tip position (3), orientation R column-major (9), velocity (3), angular\n   \
              velocity (3), base frame. trocar[3]: the trocar point. gains[8]: K_p, K_o, K_r, DLS\n   \
-             alpha0, w0 of the task Jacobian, w0 of J^B_0i, joint speed limit (<= 0: none),\n   \
-             joint-limit objective gain (<= 0: none).\n   \
-             qd[{n}]: the joint rates, always within the speed limit{ranges}.\n   \
+             alpha0, w0 of the task Jacobian, w0 of J^B_0i, joint speed limit (<= 0: none\n   \
+             but the joints' own), joint-limit objective gain (<= 0: none).\n   \
+             qd[{n}]: the joint rates, always within the speed limit and each joint's own (the\n   \
+             URDF's velocity){ranges}.\n   \
              report[8] (or NULL): l_a, |e_p|, |eps|, |e_r| (trocar's lateral offset from the\n   \
              link), w_r, w_i, kappa_r, kappa_i.\n   \
              Every value read must be finite, not subnormal and within +-{max:e}; dt > 0; K_p, K_o,\n   \

@@ -282,6 +282,9 @@ pub struct ModuleSpec {
     /// Each joint's limits, `None` for a joint without (a `continuous` one): emitted as
     /// `JOINT_RANGES` when some joint has limits and another has none.
     pub joint_ranges: Vec<Option<[f64; 2]>>,
+    /// Each joint's speed limit (rad/s or m/s), `None` for a joint without: the C controller
+    /// step keeps it ([`super::c_api`]). Empty when no joint has one.
+    pub joint_speed_limits: Vec<Option<f64>>,
     /// A constrained robot's `g_0e`, `J^B_0i`, `J^r_0e` and `J_c` as one program (outputs in that
     /// order), when it is smaller than their four functions: `pose_and_jacobians_trig` is then
     /// written from it, otherwise it calls the four.

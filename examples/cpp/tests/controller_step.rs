@@ -426,3 +426,39 @@ fn any_accepted_step_keeps_the_limits() {
         "{codes:?}"
     );
 }
+
+/// The Panda's URDF velocities (`<limit velocity>` of joints 1–4 and 5–7, rad/s).
+const URDF_VELOCITY: [f64; 7] = [2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61];
+
+/// With no speed limit in `gains[6]` (0) or one above the joints' own (3 rad/s), a trocar
+/// 0.2 m off the shaft gave |qd| of 7 rad/s: beyond the URDF's 2.175 rad/s, with a success
+/// code. Every step of 200 keeps each joint's own speed limit.
+#[test]
+fn the_joints_own_speed_limits_hold_without_a_speed_limit() {
+    for speed in [0.0, 3.0] {
+        let mut i = inputs();
+        i.trocar[0] += 0.2;
+        i.gains[6] = speed;
+        let mut fastest = 0.0_f64;
+        for k in 0..200 {
+            let o = step(&i);
+            assert!(
+                [0, m::C_TROCAR_YIELDED].contains(&o.status),
+                "gains[6] = {speed}, step {k}: {}",
+                o.status
+            );
+            assert_within_limits(&i, &o, &format!("gains[6] = {speed}, step {k}"));
+            for (j, velocity) in URDF_VELOCITY.into_iter().enumerate() {
+                assert!(
+                    o.qd[j].abs() <= velocity * (1.0 + 1e-12),
+                    "gains[6] = {speed}, step {k}: joint {j} at {} rad/s",
+                    o.qd[j]
+                );
+                fastest = fastest.max(o.qd[j].abs() / velocity);
+                i.q[j] += i.dt * o.qd[j];
+            }
+        }
+        // The first steps ask for more than the joints can give: a joint is at its limit.
+        assert!(fastest > 0.99, "gains[6] = {speed}: {fastest}");
+    }
+}
