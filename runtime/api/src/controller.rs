@@ -106,15 +106,7 @@ impl ControllerOptions {
             )));
         }
         for (name, k) in [("kp", self.kp), ("ko", self.ko), ("kr", self.kr)] {
-            let bound = control::gain_bound(name);
-            if k * dt >= bound {
-                return Err(Error::Input(format!(
-                    "{name} = {k} /s at dt = {dt} s: {name} · dt = {:.4} is not below {bound}, \
-                     where the discrete loop stops converging; at this sample time {name} < {} /s",
-                    k * dt,
-                    bound / dt
-                )));
-            }
+            check_gain_times_dt(name, k, dt)?;
         }
         Ok(())
     }
@@ -154,6 +146,21 @@ impl ControllerOptions {
         }
         Ok(())
     }
+}
+
+/// Refuses the proportional gain `name` (`"kp"`, `"ko"` or `"kr"`) of value `k` (1/s) when
+/// `k dt` is not below its stable bound ([`trocar::control::gain_bound`]), with the bound.
+pub(crate) fn check_gain_times_dt(name: &str, k: f64, dt: f64) -> Result<()> {
+    let bound = control::gain_bound(name);
+    if k * dt >= bound {
+        return Err(Error::Input(format!(
+            "{name} = {k} /s at dt = {dt} s: {name} · dt = {:.4} is not below {bound}, where the \
+             discrete loop stops converging; at this sample time {name} < {} /s",
+            k * dt,
+            bound / dt
+        )));
+    }
+    Ok(())
 }
 
 /// How far a target's rotation matrix may be from orthonormal: the largest entry of `RᵀR − I`.

@@ -940,17 +940,14 @@ pub fn run_options(
     }
     let dt = 0.002;
     // The section's gains against the sample time, located at their entry.
-    for (key, given) in [("kp", section.kp), ("ko", section.ko), ("kr", section.kr)] {
+    for (key, given, value) in [
+        ("kp", section.kp, controller.kp),
+        ("ko", section.ko, controller.ko),
+        ("kr", section.kr, controller.kr),
+    ] {
         if given.is_some() {
-            let only = ControllerOptions {
-                kp: if key == "kp" { controller.kp } else { 0.0 },
-                ko: if key == "ko" { controller.ko } else { 0.0 },
-                kr: if key == "kr" { controller.kr } else { 0.0 },
-                ..controller
-            };
-            if let Err(e) = only.check_sample_time(dt) {
-                return Err(Error::Input(format!("{}: {e}", where_(key))));
-            }
+            crate::controller::check_gain_times_dt(key, value, dt)
+                .map_err(|e| Error::Input(format!("{}: {e}", where_(key))))?;
         }
     }
     Ok((
