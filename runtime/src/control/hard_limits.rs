@@ -121,9 +121,13 @@
 //! the trocar gives way: the rates within the limits nearest to the trocar rows, then the task
 //! within both ([`trocar_within_limits`]), reported as [`Status::EqualitiesInconsistent`] in
 //! [`super::StepOutput::qp`] and as [`super::StepStatus::TrocarYielded`] in
-//! [`super::StepOutput::status`]. Every step's rates are finally clipped to the box (Q3) and
-//! [`rate_box`], so that rounding cannot take a joint past a limit either; they are always
-//! finite.
+//! [`super::StepOutput::status`]. Whether the trocar held is judged from the rates commanded:
+//! the rows asked of the step met to `√ε (1 + |b|)` (a relaxation the solver reports can be of
+//! the order of its own tolerances, and a benign singularity meets the rows in least squares
+//! exactly). Every step's rates are finally clipped to the box (Q3) and [`rate_box`] (whose
+//! bounds step back where `q + dt θ̇` would round past a range), so that rounding cannot take a
+//! joint past a limit either; they are always finite. After a step that gave way the next one
+//! asks (Q2) afresh, without (Q7)–(Q8).
 
 // `!(a < b)` is meant: a NaN takes the branch of a missing bound.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -518,6 +522,22 @@ pub fn rate_box<T: RealField + Copy, const N: usize>(
             if ahead < hi {
                 hi = ahead;
             }
+        }
+        // `q + dt ((max − q)/dt)` may round one ulp past `max`: step the bound back until the
+        // joint's next position, as the caller integrates it, is within.
+        for _ in 0..4 {
+            if !(limits.upper[k].is_finite() && hi > T::zero() && q[k] + dt * hi > limits.upper[k])
+            {
+                break;
+            }
+            hi -= hi.abs() * T::default_epsilon();
+        }
+        for _ in 0..4 {
+            if !(limits.lower[k].is_finite() && lo < T::zero() && q[k] + dt * lo < limits.lower[k])
+            {
+                break;
+            }
+            lo += lo.abs() * T::default_epsilon();
         }
         lb[k] = lo.min(T::zero());
         ub[k] = hi.max(T::zero());

@@ -478,6 +478,14 @@ impl<T: RealField + Copy> ControllerConfig<T> {
                 if !(finite(w.kappa) && finite(w.gamma)) {
                     return Err(ConfigError::Gain("the QP weight kappa"));
                 }
+                if let Some(d) = &w.damping {
+                    damping(d, "the QP's damping rule")?;
+                }
+                if w.chord_feedback.is_some_and(|f| !finite(f)) || w.max_iterations == 0 {
+                    return Err(ConfigError::Gain(
+                        "the QP's chord feedback or iteration limit",
+                    ));
+                }
             }
             Inverse::Pinv => {}
         }
@@ -571,8 +579,9 @@ fn constrained_rows<T: RealField + Copy, const I: usize, const R: usize>(
 /// `θ̇_c = A† dv_0r` on the joints up to the constrained link (zero after it), `A = Λ J^B_0i`,
 /// and the largest `α ∈ [0, 1]` that keeps every entry within the box, so `Λ J^B_0i θ̇ = dv_0r`
 /// still holds and the link keeps to the trocar while the end effector slows down. When `θ̇_c`
-/// alone leaves the box, the trocar cannot be held within the limits: `β θ̇_c` with the largest
-/// `β ∈ [0, 1]` within it, and `true` (the trocar yields). `None` if `A Aᵀ` is singular.
+/// alone leaves the box, the rates nearest to `θ̇` that meet the rows within it (a small QP);
+/// where none do, the rates within the limits nearest to the rows, and `true` (the trocar
+/// yields). `None` if `A Aᵀ` is singular.
 fn within_box<T: RealField + Copy, const N: usize, const I: usize, const R: usize>(
     qd: &SVector<T, N>,
     j: &SMatrix<T, 6, I>,
@@ -589,10 +598,46 @@ fn within_box<T: RealField + Copy, const N: usize, const I: usize, const R: usiz
     }
     if (0..N).all(|k| c[k] >= lb[k] && c[k] <= ub[k]) {
         let alpha = largest_step_within(&c, &(qd - c), lb, ub);
-        Some((c + (qd - c) * alpha, false))
-    } else {
-        let beta = largest_step_within(&SVector::zeros(), &c, lb, ub);
-        Some((c * beta, true))
+        return Some((c + (qd - c) * alpha, false));
+    }
+    // `θ̇_c` leaves the box, but other rates `θ̇_c + null(A)` may meet the rows within it: the
+    // rates nearest to `θ̇` that do, `argmin ½ ‖x − θ̇‖²` subject to `A x = dv_0r` and the box;
+    // where none do, the limits hold and the trocar gives way ([`hard_limits::trocar_within_limits`]).
+    let big = hard_limits::big::<T>();
+    let problem = crate::qp::Problem::<T, N, R, 1> {
+        h: SMatrix::identity(),
+        f: -qd,
+        a_eq: SMatrix::from_fn(|r, k| if k < I { a[(r, k)] } else { T::zero() }),
+        b_eq: *dv_0r,
+        g: SMatrix::zeros(),
+        lo: SVector::from_element(-T::one()),
+        hi: SVector::from_element(T::one()),
+        lb: lb.map(|v| v.max(-big).min(T::zero())),
+        ub: ub.map(|v| v.min(big).max(T::zero())),
+    };
+    let settings = crate::qp::Settings::DEFAULT;
+    let solution = crate::qp::solve(&problem, &crate::qp::ActiveSet::EMPTY, &settings);
+    // Whether rates give way: the rows' residual, not the solver's word alone (a relaxation it
+    // reports can be of the order of its tolerances).
+    let tolerance = T::default_epsilon().sqrt() * (T::one() + dv_0r.amax());
+    let gives_way = |x: &SVector<T, N>| !((problem.a_eq * x - dv_0r).amax() <= tolerance);
+    match solution.status {
+        crate::qp::Status::Optimal => Some((solution.x, gives_way(&solution.x))),
+        crate::qp::Status::NonFinite | crate::qp::Status::InvalidBounds => {
+            let beta = largest_step_within(&SVector::zeros(), &c, lb, ub);
+            Some((c * beta, true))
+        }
+        _ => {
+            let weights = QpWeights::with_kappa(T::zero());
+            let mut warm = crate::qp::ActiveSet::EMPTY;
+            match hard_limits::trocar_within_limits(&problem, &weights, &mut warm) {
+                Some((x, _)) => Some((x, gives_way(&x))),
+                None => {
+                    let beta = largest_step_within(&SVector::zeros(), &c, lb, ub);
+                    Some((c * beta, true))
+                }
+            }
+        }
     }
 }
 
@@ -1021,6 +1066,9 @@ impl<
                 if weights.kappa > T::zero() {
                     let scale = kappa / weights.kappa;
                     weights.gamma *= scale * scale;
+                } else if weights.gamma > T::zero() {
+                    // A floor of 0: γ/κ² is taken as 1, the spare freedom moving at `u0`.
+                    weights.gamma = kappa * kappa;
                 }
                 weights.kappa = kappa;
             }
@@ -1030,8 +1078,11 @@ impl<
             hard_limits::step_problem(&inputs, &task, &v_t, weights, &self.objective, &self.limits);
         let (mut qd, mut report) =
             hard_limits::solve_problem(&problem, weights, &mut self.qp_active)?;
-        let mut yielded = report.status == crate::qp::Status::EqualitiesInconsistent;
-        if report.status == crate::qp::Status::InequalitiesRelaxed {
+        let relaxed = report.status == crate::qp::Status::InequalitiesRelaxed
+            || (report.status == crate::qp::Status::IterationLimit
+                && !problem.meets_inequalities(&qd));
+        let mut yielded = false;
+        if relaxed {
             // The limits hold; the trocar gives way ("On conflict" in [`hard_limits`]).
             (qd, report) =
                 hard_limits::trocar_within_limits(&problem, weights, &mut self.qp_active)
@@ -1070,6 +1121,13 @@ impl<
         }
         // Rounding must not take a joint past a limit either.
         let qd = clipped(&qd, &problem.lb, &problem.ub);
+        // Whether the trocar held: the rows asked of the step ((Q2), with (Q7)–(Q9) when on) met
+        // by the rates commanded, to a tolerance of the rounding's order.
+        let residual = (problem.a_eq * qd - problem.b_eq).amax();
+        let tolerance = T::default_epsilon().sqrt() * (T::one() + problem.b_eq.amax());
+        // (A relaxation the solver reports can be of the order of its tolerances: the
+        // residual decides.)
+        yielded = !(residual <= tolerance);
         self.qp_previous = Some(hard_limits::Previous {
             qd,
             rotation: s.g_0i.rotation,
@@ -1083,6 +1141,11 @@ impl<
             residual: first_residual,
             changed: report.iterations > 0,
         });
+        if yielded {
+            // The next step asks the trocar rows afresh: the shortfall of this one is not a chord
+            // residual for (Q8) to ask back (the drift correction `K_r e_r` sees it).
+            self.qp_previous = None;
+        }
         let status = if yielded {
             StepStatus::TrocarYielded
         } else if hard_limits::joint_outside(q, &self.limits) {
