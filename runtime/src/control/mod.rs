@@ -620,7 +620,12 @@ fn within_box<T: RealField + Copy, const N: usize, const I: usize, const R: usiz
     // Whether rates give way: the rows' residual, not the solver's word alone (a relaxation it
     // reports can be of the order of its tolerances).
     let tolerance = T::default_epsilon().sqrt() * (T::one() + dv_0r.amax());
-    let gives_way = |x: &SVector<T, N>| !((problem.a_eq * x - dv_0r).amax() <= tolerance);
+    let gives_way = |x: &SVector<T, N>| {
+        !matches!(
+            (problem.a_eq * x - dv_0r).amax().partial_cmp(&tolerance),
+            Some(core::cmp::Ordering::Less | core::cmp::Ordering::Equal)
+        )
+    };
     match solution.status {
         crate::qp::Status::Optimal => Some((solution.x, gives_way(&solution.x))),
         crate::qp::Status::NonFinite | crate::qp::Status::InvalidBounds => {
@@ -1127,7 +1132,10 @@ impl<
         let tolerance = T::default_epsilon().sqrt() * (T::one() + problem.b_eq.amax());
         // (A relaxation the solver reports can be of the order of its tolerances: the
         // residual decides.)
-        yielded = !(residual <= tolerance);
+        yielded = !matches!(
+            residual.partial_cmp(&tolerance),
+            Some(core::cmp::Ordering::Less | core::cmp::Ordering::Equal)
+        );
         self.qp_previous = Some(hard_limits::Previous {
             qd,
             rotation: s.g_0i.rotation,
