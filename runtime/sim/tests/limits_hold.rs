@@ -338,6 +338,30 @@ proptest! {
     }
 }
 
+/// A scene at the Panda's start `PANDA_Q0` with the trocar `l_a` = 0.25 m along the shaft, no
+/// speed limit of the controller's own, the URDF's speeds, the QP and 2 ms: the fixed scenes
+/// below change what they test.
+fn scene_at_start(ranges: &[[f64; 2]]) -> Scene {
+    let q = SVector::<f64, 7>::from(PANDA_Q0);
+    Scene {
+        place: std::array::from_fn(|k| {
+            let [lo, hi] = ranges[k];
+            (q[k] - lo) / (hi - lo)
+        }),
+        trocar_off: [0.0; 3],
+        l_a: 0.25,
+        max_speed: None,
+        speed_scale: 1.0,
+        depth: None,
+        gains: [0.1; 3],
+        method: 0,
+        target: [0.0; 3],
+        velocity: [0.0; 3],
+        dv: [0.0; 2],
+        dt: 0.002,
+    }
+}
+
 /// The issue this file guards against, as found: the Panda held 0.2 m off its trocar by the
 /// QP with the URDF limits, `K_r = 20 /s` (the drift correction asks for 4 m/s across the
 /// wall). Before, the QP exceeded joint 6's speed limit (9.6 rad/s against 2.61) and reported
@@ -345,23 +369,10 @@ proptest! {
 #[test]
 fn the_qp_lets_the_trocar_give_way_not_the_limits() {
     let (kin, ranges, speeds) = panda();
-    let q = SVector::<f64, 7>::from(PANDA_Q0);
     let s = Scene {
-        place: std::array::from_fn(|k| {
-            let [lo, hi] = ranges[k];
-            (q[k] - lo) / (hi - lo)
-        }),
         trocar_off: [0.2, 0.0, 0.0],
-        l_a: 0.25,
-        max_speed: None,
-        speed_scale: 1.0,
-        depth: None,
         gains: [5.0 * 0.002 / 2.0, 10.0 * 0.002 / 4.0, 20.0 * 0.002 / 2.0],
-        method: 0,
-        target: [0.0; 3],
-        velocity: [0.0; 3],
-        dv: [0.0; 2],
-        dt: 0.002,
+        ..scene_at_start(&ranges)
     };
     let mut b = build(&kin, &ranges, &speeds, &s);
     let (reference, rcm) = (b.reference, b.rcm);
@@ -387,24 +398,7 @@ fn the_qp_lets_the_trocar_give_way_not_the_limits() {
 #[test]
 fn unstable_gains_and_bad_sample_times_are_refused() {
     let (kin, ranges, speeds) = panda();
-    let q = SVector::<f64, 7>::from(PANDA_Q0);
-    let s = Scene {
-        place: std::array::from_fn(|k| {
-            let [lo, hi] = ranges[k];
-            (q[k] - lo) / (hi - lo)
-        }),
-        trocar_off: [0.0; 3],
-        l_a: 0.25,
-        max_speed: None,
-        speed_scale: 1.0,
-        depth: None,
-        gains: [0.1; 3],
-        method: 0,
-        target: [0.0; 3],
-        velocity: [0.0; 3],
-        dv: [0.0; 2],
-        dt: 0.002,
-    };
+    let s = scene_at_start(&ranges);
     let b = build(&kin, &ranges, &speeds, &s);
     let (reference, rcm) = (b.reference, b.rcm);
     let step = |config: ControllerConfig<f64>, dt: f64| {
@@ -464,23 +458,11 @@ fn unstable_gains_and_bad_sample_times_are_refused() {
 #[test]
 fn an_insertion_outside_its_bounds_is_reported() {
     let (kin, ranges, speeds) = panda();
-    let q = SVector::<f64, 7>::from(PANDA_Q0);
     let s = Scene {
-        place: std::array::from_fn(|k| {
-            let [lo, hi] = ranges[k];
-            (q[k] - lo) / (hi - lo)
-        }),
-        trocar_off: [0.0; 3],
-        l_a: 0.25,
-        max_speed: None,
-        speed_scale: 1.0,
         depth: Some((-0.05, 0.1)),
         gains: [0.005, 0.005, 0.02],
-        method: 0,
         target: [0.0, 0.0, 0.01],
-        velocity: [0.0; 3],
-        dv: [0.0; 2],
-        dt: 0.002,
+        ..scene_at_start(&ranges)
     };
     let mut b = build(&kin, &ranges, &speeds, &s);
     assert_eq!(b.limits.depth, [0.3, 0.35]);
