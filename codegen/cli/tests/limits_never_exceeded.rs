@@ -3,35 +3,10 @@
 //! (RELIABILITY.md, F10–F17): each test here failed before its fix.
 
 mod common;
-use common::{json_matrix, trocar};
-
-const PANDA_Q0: &str =
-    "0,-0.7853981633974483,0,-2.356194490192345,0,1.5707963267948966,0.7853981633974483";
+use common::{fresh_dir, panda_tip, trocar, PANDA_Q0};
 
 fn dir(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!(
-        "trocar-limits-never-exceeded-{}-{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-/// The Panda's tip at q0, from `trocar eval`.
-fn panda_tip() -> [f64; 3] {
-    let (code, out, err) = trocar(&[
-        "eval",
-        "panda-laparoscope",
-        "--q",
-        PANDA_Q0,
-        "--what",
-        "fk",
-        "--json",
-    ]);
-    assert_eq!(code, 0, "{err}");
-    let (_, _, m) = json_matrix(&out);
-    [m[0][3], m[1][3], m[2][3]]
+    fresh_dir("limits-never-exceeded", name)
 }
 
 /// The tip held where it is for `seconds`.

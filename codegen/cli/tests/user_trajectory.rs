@@ -2,35 +2,17 @@
 //! trajectories refused (each error names the file, the row and the column, and writes nothing).
 
 mod common;
-use common::{json_matrix, trocar};
+use common::{fresh_dir, panda_tip, trocar, PANDA_Q0};
 
-const Q0: &str =
-    "0,-0.7853981633974483,0,-2.356194490192345,0,1.5707963267948966,0.7853981633974483";
+const Q0: &str = PANDA_Q0;
 
 fn dir(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!(
-        "trocar-user-trajectory-{}-{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    fresh_dir("user-trajectory", name)
 }
 
 /// The Panda's tip at q0, from `trocar eval`.
 fn start_tip() -> [f64; 3] {
-    let (code, out, err) = trocar(&[
-        "eval",
-        "panda-laparoscope",
-        "--q",
-        Q0,
-        "--what",
-        "fk",
-        "--json",
-    ]);
-    assert_eq!(code, 0, "{err}");
-    let (_, _, m) = json_matrix(&out);
-    [m[0][3], m[1][3], m[2][3]]
+    panda_tip()
 }
 
 /// A 10 s circle of radius 1 cm through the start tip, in the plane normal to the shaft (the

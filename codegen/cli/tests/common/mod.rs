@@ -37,3 +37,32 @@ pub fn json_matrix(text: &str) -> (usize, usize, Vec<Vec<f64>>) {
         .collect();
     (rows, cols, data)
 }
+
+/// The Panda laparoscope's start configuration (`--q0`): the ready pose, the shaft pointing
+/// down.
+pub const PANDA_Q0: &str =
+    "0,-0.7853981633974483,0,-2.356194490192345,0,1.5707963267948966,0.7853981633974483";
+
+/// A fresh, empty directory `trocar-<test>-<pid>-<name>` under the system's temporary one.
+pub fn fresh_dir(test: &str, name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("trocar-{test}-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The Panda laparoscope's tip at [`PANDA_Q0`], from `trocar eval`.
+pub fn panda_tip() -> [f64; 3] {
+    let (code, out, err) = trocar(&[
+        "eval",
+        "panda-laparoscope",
+        "--q",
+        PANDA_Q0,
+        "--what",
+        "fk",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (_, _, m) = json_matrix(&out);
+    [m[0][3], m[1][3], m[2][3]]
+}
