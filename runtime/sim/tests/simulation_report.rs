@@ -456,16 +456,18 @@ panda-laparoscope-limits --method M --csv` (joint limits and speeds from the URD
 
 | method | closest approach to a URDF joint limit | largest \|q̇_k\| − q̇max_k | `l_a` range (m) | max drift (m) | max lateral velocity (m/s) | tip error where no limit holds (m) |
 |---|---:|---:|---|---:|---:|---:|
-| dls | −0.067 rad (q7 beyond its limit) | +1.52 rad/s (q̇7 = 4.13) | [0.250, 0.330] (beyond `l_max`) | 1.0e-5 | 4.1e-5 | 1.0e-6 |
-| qp | 0.244 rad | 0 (q̇7 = 2.61 at its limit) | [0.250, 0.298] | 9.8e-9 | 6.3e-7 | 2.7e-5 |
+| dls | 0 rad (q7 stops at its limit) | 0 (q̇7 = 2.61 at its limit) | [0.250, 0.330] (beyond `l_max`, the QP's bound) | 5.2e-6 | 3.4e-5 | 1.0e-6 |
+| qp | 0.2455 rad | 0 (q̇7 = 2.61 at its limit) | [0.250, 0.298] | 1.0e-8 | 9.9e-7 | 2.5e-6 |
 
-With DLS every limit is exceeded (DLS with the default 2 rad/s limit of the controller would keep
-the speeds, not the range or the depth). With the QP none is: `l_a` stops at 0.298 m
+With DLS the joint ranges and speeds hold (every method's rates keep them, judged over the
+sample time: joint 7 stops at its range and the task slows there) and the depth bound, which is
+the QP's alone, is passed. With the QP no limit is reached: `l_a` stops at 0.298 m
 (`l_max − ρ_s`), the tip short of the reference by the 3.2 cm asked beyond it; joint 7 runs at
 its 2.61 rad/s and the rest of the arm rolls the flange for the remainder, the roll and the tip
 lagging (tip error up to 4.5 cm, `‖ε̃‖` up to 0.19 while the limits hold), and q7 peaks at
-2.65 rad. Where no limit holds (before 1 s and after 10.5 s) the tip is within 2.7e-5 m of the
-reference (the bias of `κ` and of the objective's pull). The trocar holds to 9.8 nm.
+2.65 rad. Where no limit holds (before 1 s and after 10.5 s) the tip is within 2.5e-6 m of the
+reference (`κ` follows the DLS damping rule with a floor of 1e-3; with a fixed `κ = 0.01` it was
+2.7e-5 m). The trocar holds to 10 nm.
 
 What (Q7) leaves is the third-order term of the chord over a sample time, up to 1.7e-5 m/s
 between 4.3 and 4.9 s, where the whole arm rolls the flange at up to 2.2–2.6 rad/s a joint. It
