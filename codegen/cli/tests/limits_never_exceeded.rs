@@ -3,7 +3,7 @@
 //! (RELIABILITY.md, F10–F17): each test here failed before its fix.
 
 mod common;
-use common::{fresh_dir, panda_tip, trocar, PANDA_Q0};
+use common::{fresh_dir, panda_tip, trocar, ur5_with_section, PANDA_Q0};
 
 fn dir(name: &str) -> std::path::PathBuf {
     fresh_dir("limits-never-exceeded", name)
@@ -30,25 +30,12 @@ fn hold_csv(d: &std::path::Path, seconds: f64) -> std::path::PathBuf {
 #[test]
 fn a_gain_the_sample_time_makes_unstable_is_refused_with_its_bound() {
     let d = dir("gain");
-    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples");
-    let text = std::fs::read_to_string(format!("{root}/robots/ur5_trocar.toml")).unwrap();
-    let text = text
-        .replace("method = \"dls\"", "method = \"qp\"\nkr = 2000")
-        .replace("../trajectories/", "");
-    assert!(text.contains("kr = 2000"), "the section changed: {text}");
-    std::fs::create_dir_all(d.join("urdf")).unwrap();
-    std::fs::copy(
-        format!("{root}/robots/urdf/ur5.urdf"),
-        d.join("urdf/ur5.urdf"),
-    )
-    .unwrap();
-    std::fs::copy(
-        format!("{root}/trajectories/ur5-circle.csv"),
-        d.join("ur5-circle.csv"),
-    )
-    .unwrap();
-    let arm = d.join("arm.toml");
-    std::fs::write(&arm, text).unwrap();
+    let arm = ur5_with_section(
+        &d,
+        "trajectory = \"circle.csv\"\n\
+         q0 = [0, -1.5707963267948966, 1.5707963267948966, -1.5707963267948966, -1.5707963267948966, 0]\n\
+         method = \"qp\"\nkr = 2000\n",
+    );
     let csv = d.join("out.csv");
     let (code, _, err) = trocar(&[
         "simulate",

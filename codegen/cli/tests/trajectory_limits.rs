@@ -5,7 +5,7 @@
 //! limit in the message.
 
 mod common;
-use common::trocar;
+use common::{trocar, ur5_with_section};
 use std::io::Write;
 use std::process::{Command, Stdio};
 use std::time::Instant;
@@ -24,23 +24,6 @@ fn dir(name: &str) -> std::path::PathBuf {
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
-}
-
-/// The UR5 example's description with `section` as its `[simulation]` section, written in `d`
-/// beside a copy of its URDF.
-fn ur5_with_section(d: &std::path::Path, section: &str) -> std::path::PathBuf {
-    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples");
-    let text = std::fs::read_to_string(format!("{root}/robots/ur5_trocar.toml")).unwrap();
-    let head = &text[..text.find("[simulation]").unwrap()];
-    std::fs::create_dir_all(d.join("urdf")).unwrap();
-    std::fs::copy(
-        format!("{root}/robots/urdf/ur5.urdf"),
-        d.join("urdf/ur5.urdf"),
-    )
-    .unwrap();
-    let path = d.join("arm.toml");
-    std::fs::write(&path, format!("{head}[simulation]\n{section}")).unwrap();
-    path
 }
 
 #[test]

@@ -2,7 +2,7 @@
 //! trajectories refused (each error names the file, the row and the column, and writes nothing).
 
 mod common;
-use common::{fresh_dir, panda_tip, trocar, PANDA_Q0};
+use common::{fresh_dir, panda_tip, trocar, ur5_with_section, PANDA_Q0};
 
 const Q0: &str = PANDA_Q0;
 
@@ -367,28 +367,6 @@ fn ur5_follows_the_example_circle_and_is_drawn() {
     }
     assert_eq!(frames, 50);
     let _ = std::fs::remove_dir_all(&d);
-}
-
-/// The UR5 description with its `[simulation]` section replaced by `section`, written in `d`
-/// beside a copy of its URDF (the description names `urdf/ur5.urdf`).
-fn ur5_with_section(d: &std::path::Path, section: &str) -> std::path::PathBuf {
-    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples");
-    let text = std::fs::read_to_string(format!("{root}/robots/ur5_trocar.toml")).unwrap();
-    let head = &text[..text.find("[simulation]").unwrap()];
-    std::fs::create_dir_all(d.join("urdf")).unwrap();
-    std::fs::copy(
-        format!("{root}/robots/urdf/ur5.urdf"),
-        d.join("urdf/ur5.urdf"),
-    )
-    .unwrap();
-    std::fs::copy(
-        format!("{root}/trajectories/ur5-circle.csv"),
-        d.join("circle.csv"),
-    )
-    .unwrap();
-    let path = d.join("arm.toml");
-    std::fs::write(&path, format!("{head}[simulation]\n{section}")).unwrap();
-    path
 }
 
 /// `trocar simulate my_arm.toml` runs the description's own `[simulation]`; the flags override

@@ -66,3 +66,26 @@ pub fn panda_tip() -> [f64; 3] {
     let (_, _, m) = json_matrix(&out);
     [m[0][3], m[1][3], m[2][3]]
 }
+
+/// The UR5 example's description with its `[simulation]` section replaced by `section`, written
+/// in `d` as `arm.toml` beside a copy of its URDF (`urdf/ur5.urdf`, as the description names it)
+/// and of its circle (`circle.csv`).
+pub fn ur5_with_section(d: &std::path::Path, section: &str) -> std::path::PathBuf {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples");
+    let text = std::fs::read_to_string(format!("{root}/robots/ur5_trocar.toml")).unwrap();
+    let head = &text[..text.find("[simulation]").unwrap()];
+    std::fs::create_dir_all(d.join("urdf")).unwrap();
+    std::fs::copy(
+        format!("{root}/robots/urdf/ur5.urdf"),
+        d.join("urdf/ur5.urdf"),
+    )
+    .unwrap();
+    std::fs::copy(
+        format!("{root}/trajectories/ur5-circle.csv"),
+        d.join("circle.csv"),
+    )
+    .unwrap();
+    let path = d.join("arm.toml");
+    std::fs::write(&path, format!("{head}[simulation]\n{section}")).unwrap();
+    path
+}
