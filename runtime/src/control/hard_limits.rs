@@ -545,6 +545,23 @@ pub fn rate_box<T: RealField + Copy, const N: usize>(
     (lb, ub)
 }
 
+/// Whether the rates `x` meet the trocar rows `A x = b` of `problem` to `√ε (1 + |b|∞)`: the one
+/// test of whether a step held the trocar (a relaxation the solver reports can be of the order
+/// of its own tolerances, and a benign singularity meets the rows in least squares exactly). A
+/// NaN residual does not meet them.
+pub(super) fn trocar_rows_met<T: RealField + Copy, const N: usize, const R: usize>(
+    problem: &Problem<T, N, R, 1>,
+    x: &SVector<T, N>,
+) -> bool {
+    let tolerance = T::default_epsilon().sqrt() * (T::one() + problem.b_eq.amax());
+    matches!(
+        (problem.a_eq * x - problem.b_eq)
+            .amax()
+            .partial_cmp(&tolerance),
+        Some(core::cmp::Ordering::Less | core::cmp::Ordering::Equal)
+    )
+}
+
 /// `true` when some joint of `q` is beyond its range.
 pub fn joint_outside<T: RealField + Copy, const N: usize>(
     q: &SVector<T, N>,

@@ -617,15 +617,8 @@ fn within_box<T: RealField + Copy, const N: usize, const I: usize, const R: usiz
     };
     let settings = crate::qp::Settings::DEFAULT;
     let solution = crate::qp::solve(&problem, &crate::qp::ActiveSet::EMPTY, &settings);
-    // Whether rates give way: the rows' residual, not the solver's word alone (a relaxation it
-    // reports can be of the order of its tolerances).
-    let tolerance = T::default_epsilon().sqrt() * (T::one() + dv_0r.amax());
-    let gives_way = |x: &SVector<T, N>| {
-        !matches!(
-            (problem.a_eq * x - dv_0r).amax().partial_cmp(&tolerance),
-            Some(core::cmp::Ordering::Less | core::cmp::Ordering::Equal)
-        )
-    };
+    // Whether rates give way: the rows' residual, not the solver's word alone.
+    let gives_way = |x: &SVector<T, N>| !hard_limits::trocar_rows_met(&problem, x);
     match solution.status {
         crate::qp::Status::Optimal => Some((solution.x, gives_way(&solution.x))),
         crate::qp::Status::NonFinite | crate::qp::Status::InvalidBounds => {
@@ -1128,14 +1121,7 @@ impl<
         let qd = clipped(&qd, &problem.lb, &problem.ub);
         // Whether the trocar held: the rows asked of the step ((Q2), with (Q7)–(Q9) when on) met
         // by the rates commanded, to a tolerance of the rounding's order.
-        let residual = (problem.a_eq * qd - problem.b_eq).amax();
-        let tolerance = T::default_epsilon().sqrt() * (T::one() + problem.b_eq.amax());
-        // (A relaxation the solver reports can be of the order of its tolerances: the
-        // residual decides.)
-        yielded = !matches!(
-            residual.partial_cmp(&tolerance),
-            Some(core::cmp::Ordering::Less | core::cmp::Ordering::Equal)
-        );
+        yielded = !hard_limits::trocar_rows_met(&problem, &qd);
         self.qp_previous = Some(hard_limits::Previous {
             qd,
             rotation: s.g_0i.rotation,
