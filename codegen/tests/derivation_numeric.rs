@@ -466,7 +466,7 @@ fn no_constraint_gives_fk_and_body_jacobian_only() {
 /// kinematics; the constrained link's joint and the last one are oblique.
 #[test]
 fn oblique_frames_match_numeric_kinematics() {
-    let data = concat!(env!("CARGO_MANIFEST_DIR"), "/../runtime/api/tests/data/");
+    let data = concat!(env!("CARGO_MANIFEST_DIR"), "/api/tests/data/");
     let constrained =
         RobotDescription::from_toml_file(format!("{data}dia10_oblique.toml")).unwrap();
     let d = derive(&constrained).unwrap();

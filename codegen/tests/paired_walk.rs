@@ -49,7 +49,7 @@ fn other_chains_are_not() {
     for robot in [
         "runtime/model/robots/iiwa-link6.toml",
         "runtime/model/robots/dia10_like_zy.toml",
-        "runtime/api/tests/data/oblique7.toml",
+        "codegen/api/tests/data/oblique7.toml",
     ] {
         assert_eq!(heads(robot), None, "{robot}");
     }

@@ -251,12 +251,23 @@ pub(crate) fn usage_error(cli: &Cli) -> Option<clap::Error> {
     else {
         return None;
     };
-    let message = crate::commands::simulate::method_all_conflict(
-        csv.is_some(),
-        animate.is_some(),
-        snapshot.is_some(),
-    )?;
+    let message = method_all_conflict(csv.is_some(), animate.is_some(), snapshot.is_some())?;
     Some(Cli::command().error(clap::error::ErrorKind::ArgumentConflict, message))
+}
+
+/// Why `--method all` cannot be asked for with these outputs, if it cannot: `--csv`,
+/// `--animate` and `--snapshot` each write one run.
+pub(crate) fn method_all_conflict(csv: bool, animate: bool, snapshot: bool) -> Option<String> {
+    let option = [
+        ("--csv", csv),
+        ("--animate", animate),
+        ("--snapshot", snapshot),
+    ]
+    .into_iter()
+    .find_map(|(o, given)| given.then_some(o))?;
+    Some(format!(
+        "{option} writes one run; --method all compares pinv, dls, fi and qp on one figure (--plot only)"
+    ))
 }
 
 /// A sample time for `--dt`: a positive, finite number of seconds.

@@ -1,7 +1,7 @@
 //! `trocar simulate`: the thesis's RCM scenarios and the closed-chain simulations
 //! ([`trocar_api::simulate`]), their CSV, figures and views of the arm written atomically.
 
-use crate::args::MethodArg;
+use crate::args::{method_all_conflict, MethodArg};
 use crate::output::{write_stderr, CliError, OutputKind, Outputs};
 use crate::progress::with_progress;
 use std::path::{Path, PathBuf};
@@ -24,21 +24,6 @@ impl ArmViews {
     fn any(&self) -> bool {
         self.animate.is_some() || self.snapshot.is_some()
     }
-}
-
-/// Why `--method all` cannot be asked for with these outputs, if it cannot: `--csv`,
-/// `--animate` and `--snapshot` each write one run.
-pub(crate) fn method_all_conflict(csv: bool, animate: bool, snapshot: bool) -> Option<String> {
-    let option = [
-        ("--csv", csv),
-        ("--animate", animate),
-        ("--snapshot", snapshot),
-    ]
-    .into_iter()
-    .find_map(|(o, given)| given.then_some(o))?;
-    Some(format!(
-        "{option} writes one run; --method all compares pinv, dls, fi and qp on one figure (--plot only)"
-    ))
 }
 
 /// Refuses, before the run, views of a closed chain and snapshot times outside the scenario.

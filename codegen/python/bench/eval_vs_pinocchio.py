@@ -1,7 +1,7 @@
 """Per-call time of trocar's Python evaluation against Pinocchio's, in one interpreter.
 
-    pip install ./runtime/python pin
-    python runtime/python/bench/eval_vs_pinocchio.py
+    pip install ./codegen/python pin
+    python codegen/python/bench/eval_vs_pinocchio.py
 
 On the Franka Panda (shipped ``panda-laparoscope``; Pinocchio reads the same URDF), times:
 
