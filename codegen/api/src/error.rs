@@ -15,8 +15,19 @@ pub enum Error {
     Description(DescriptionError),
     /// The closed forms could not be derived or emitted.
     Generation(trocar_codegen::Error),
-    /// A value given by the caller (joint values, parameters, options) is not acceptable; the
-    /// message names the argument as the command line spells it (`--q`, `--param`).
+    /// A value given by the caller is not acceptable, or one is missing: `argument` is the
+    /// library's name of it (`q`, `params`, `what`, `samples`, `q0`, `trocar`, `trajectory`,
+    /// `method`, ... as [`Robot`](crate::Robot)'s methods, [`RunRequest`](crate::RunRequest) and
+    /// Python name them), `problem` says what is wrong with it. Displays as
+    /// `argument: problem`; the command line prints its own flag for `argument`.
+    Argument {
+        /// The argument's name in the library.
+        argument: &'static str,
+        /// What is wrong.
+        problem: String,
+    },
+    /// A value given by the caller is not acceptable (a file it names, a combination of
+    /// values); the message says which and where.
     Input(String),
     /// The quantity asked for does not exist for this robot, or not on this path.
     Unsupported(String),
@@ -46,10 +57,21 @@ impl fmt::Display for Error {
             | Error::NotFinite(m)
             | Error::Simulation(m)
             | Error::Output(m) => f.write_str(m),
+            Error::Argument { argument, problem } => write!(f, "{argument}: {problem}"),
             Error::Robot { file, message } => match file {
                 Some(p) => write!(f, "{}: {message}", p.display()),
                 None => f.write_str(message),
             },
+        }
+    }
+}
+
+impl Error {
+    /// An [`Error::Argument`]: `argument` (the library's name) and what is wrong with it.
+    pub fn argument(argument: &'static str, problem: impl Into<String>) -> Self {
+        Error::Argument {
+            argument,
+            problem: problem.into(),
         }
     }
 }

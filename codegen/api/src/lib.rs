@@ -37,19 +37,27 @@ pub use controller::{
 };
 pub use error::{Error, Result};
 pub use evaluation::Evaluation;
-pub use robot::{
-    check_outputs, urdf_jacobian, Evaluator, FusedEvaluator, Robot, MAX_SAMPLES, TWIST,
-};
+pub use robot::{urdf_jacobian, Evaluator, FusedEvaluator, Robot, MAX_SAMPLES, TWIST};
 pub use simulate::{simulate, RcmOptions, SimulationRun, SpeedLimit};
 pub use trajectory::{
-    run_options, simulate_robot, simulate_trajectory, simulation_section, Orientation, RunRequest,
-    Trajectory, TrajectoryOptions, TrajectoryRun, MAX_TRAJECTORY_BYTES, MAX_TRAJECTORY_STEPS,
-    START_TOLERANCE,
+    simulate_robot, simulate_trajectory, Orientation, RunRequest, Trajectory, TrajectoryOptions,
+    TrajectoryRun, MAX_TRAJECTORY_BYTES, MAX_TRAJECTORY_STEPS, START_TOLERANCE,
 };
 pub use trocar::control::StepStatus;
-pub use trocar_codegen::catalogue::Function;
+pub use trocar_codegen::{ModuleOptions, Scalar};
+pub use trocar_model::catalogue::{Function, Fused};
 pub use trocar_model::description::SimulationDesc;
-pub use trocar_sim::simulation::{CsvRows, Method};
+/// The number rule every value given to the library obeys (finite, not subnormal, at most
+/// 1e6 in magnitude), for callers that check their own inputs the same way.
+pub use trocar_model::validity;
+pub use trocar_sim::plot::{write_comparison, ImageFormat};
+pub use trocar_sim::simulation::{CsvRows, Method, Scenario, Trace};
+
+/// The files a description at `path` is read from: `path` itself and, when its chain comes from
+/// a URDF (`[robot] urdf = "…"`), that URDF. Unreadable files are listed all the same.
+pub fn files_read(path: impl AsRef<std::path::Path>) -> Vec<std::path::PathBuf> {
+    trocar_model::description::RobotDescription::files_read(path)
+}
 
 /// The names of everything shipped, as the library and the command line accept them.
 #[derive(Clone, Debug, PartialEq)]

@@ -217,27 +217,50 @@ impl Robot {
                     } else {
                         "description"
                     };
-                    Error::Input(format!(
-                        "unknown parameter `{name}` (the {owner} declares: {})",
-                        declared
-                            .iter()
-                            .map(|(n, _)| n.as_str())
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    ))
+                    Error::argument(
+                        "params",
+                        format!(
+                            "unknown parameter `{name}` (the {owner} declares: {})",
+                            declared
+                                .iter()
+                                .map(|(n, _)| n.as_str())
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        ),
+                    )
                 })?;
             if let Err(problem) = trocar_model::validity::check(*value) {
-                return Err(Error::Input(format!(
-                    "--param {name}={value:e}: {value:e} {problem}"
-                )));
+                return Err(Error::argument(
+                    "params",
+                    format!("{name} = {value:e}: {value:e} {problem}"),
+                ));
             }
             if seen.contains(&name.as_str()) {
-                return Err(Error::Input(format!(
-                    "--param {name}: given twice (give each parameter once)"
-                )));
+                return Err(Error::argument(
+                    "params",
+                    format!("{name} given twice (give each parameter once)"),
+                ));
             }
             seen.push(name);
             values[k] = *value;
+        }
+        // The trocar on the instrument at the values given, not only at the nominal ones.
+        if let (Some(desc), false) = (self.description(), overrides.is_empty()) {
+            let mut at = desc.clone();
+            for (name, value) in overrides {
+                if let Some(p) = at.parameters.iter_mut().find(|p| &p.name == name) {
+                    p.value = *value;
+                }
+            }
+            if let Some((name, message)) = trocar_model::description::trocar_beyond_tip(&at) {
+                return Err(Error::argument(
+                    "params",
+                    format!(
+                        "{name}={}: {message}",
+                        at.parameter(&name).unwrap_or(f64::NAN)
+                    ),
+                ));
+            }
         }
         Ok(values)
     }
@@ -252,17 +275,20 @@ impl Robot {
                 .map(|f| format!("{} ({})", f.short_name(), f.name()))
                 .collect::<Vec<_>>()
                 .join(", ");
-            Error::Input(if self.is_mechanism() {
-                format!(
-                    "--what {name}: not defined for a closed mechanism (`{}` has: {names})",
-                    self.name()
-                )
-            } else {
-                format!(
-                    "--what {name}: not a quantity of the robot `{}` (expected one of: {names})",
-                    self.name()
-                )
-            })
+            Error::argument(
+                "what",
+                if self.is_mechanism() {
+                    format!(
+                        "`{name}` is not defined for a closed mechanism (`{}` has: {names})",
+                        self.name()
+                    )
+                } else {
+                    format!(
+                        "`{name}` is not a quantity of the robot `{}` (expected one of: {names})",
+                        self.name()
+                    )
+                },
+            )
         })
     }
 
@@ -322,28 +348,34 @@ impl Robot {
     pub fn check_q(&self, q: &[f64]) -> Result<()> {
         let n = self.dof();
         if q.len() != n {
-            return Err(Error::Input(match &self.kind {
-                Kind::Serial(s) => format!(
-                    "--q has {} values but `{}` has {} joints (give all joint values, base first)",
-                    q.len(),
-                    s.desc.name,
-                    n
-                ),
-                Kind::Mechanism(m) => format!(
-                    "--q: `{}` has {n} joints ({}), got {} values",
-                    m.model.name,
-                    m.model.joint_names().join(", "),
-                    q.len()
-                ),
-            }));
+            return Err(Error::argument(
+                "q",
+                match &self.kind {
+                    Kind::Serial(s) => format!(
+                        "{} values given, `{}` has {} joints (give all joint values, base first)",
+                        q.len(),
+                        s.desc.name,
+                        n
+                    ),
+                    Kind::Mechanism(m) => format!(
+                        "`{}` has {n} joints ({}), got {} values",
+                        m.model.name,
+                        m.model.joint_names().join(", "),
+                        q.len()
+                    ),
+                },
+            ));
         }
         if let Err((k, problem)) = trocar_model::validity::check_all(q) {
             let names = self.joint_names();
-            return Err(Error::Input(if self.is_mechanism() {
-                format!("--q: value {} ({}, {:e}) {problem}", k + 1, names[k], q[k])
-            } else {
-                format!("--q: value {} ({:e}) {problem}", k + 1, q[k])
-            }));
+            return Err(Error::argument(
+                "q",
+                if self.is_mechanism() {
+                    format!("value {} ({}, {:e}) {problem}", k + 1, names[k], q[k])
+                } else {
+                    format!("value {} ({:e}) {problem}", k + 1, q[k])
+                },
+            ));
         }
         Ok(())
     }
@@ -376,7 +408,7 @@ impl Robot {
         self.check_q(q)?;
         let values = self.param_values(params)?;
         if self.is_mechanism() {
-            check_outputs(functions)?;
+            Robot::check_outputs(functions)?;
             return functions
                 .iter()
                 .map(|&f| self.eval_with(f, q, &values))
@@ -428,7 +460,7 @@ impl Robot {
                     d.name
                 ),
                 None => format!(
-                    "--what {}: not defined for a closed mechanism (use jr, jc, passive or det)",
+                    "`{}` is not defined for a closed mechanism (use jr, jc, passive or det)",
                     function.short_name()
                 ),
             })
@@ -471,7 +503,7 @@ impl Robot {
     /// An error when `functions` is empty, names one twice or one the robot does not have, or
     /// the robot is a closed mechanism.
     pub fn fused_evaluator(&self, functions: &[Function]) -> Result<FusedEvaluator<'_>> {
-        check_outputs(functions)?;
+        Robot::check_outputs(functions)?;
         let Kind::Serial(s) = &self.kind else {
             return Err(Error::Unsupported(format!(
                 "`{}` is a closed mechanism: several outputs in one program are built for serial \
@@ -494,7 +526,7 @@ impl Robot {
                 // the first one stored is kept.
                 let program = generated.fuse(functions).map_err(|e| match e {
                     trocar_codegen::Error::Function { name, message } => {
-                        Error::Unsupported(format!("--what {name}: {message}"))
+                        Error::argument("what", format!("`{name}`: {message}"))
                     }
                     e => Error::Generation(e),
                 })?;
@@ -534,7 +566,7 @@ impl Robot {
             Ok(out)
         } else {
             Err(Error::NotFinite(format!(
-                "--what {} --numeric: the result is not finite at this configuration and these \
+                "`{}`, evaluated numerically: the result is not finite at this configuration and these \
                  parameter values (an extreme parameter value, or a singular configuration)",
                 function.short_name()
             )))
@@ -597,7 +629,7 @@ impl Robot {
         );
         if constrained_only && s.desc.constraint.is_none() {
             return Err(Error::Unsupported(format!(
-                "`{}` has no [constraint]: only --what jb0e and fk apply",
+                "`{}` has no [constraint]: only jb0e and fk apply",
                 s.desc.name
             )));
         }
@@ -624,7 +656,7 @@ impl Robot {
             }
             other => {
                 return Err(Error::Unsupported(format!(
-                    "--what {} --numeric: the numeric runtime evaluates jr, manip, task, jc, \
+                    "`{}`: the numeric runtime evaluates jr, manip, task, jc, \
                      jb0i, jb0e and fk",
                     other.short_name()
                 )))
@@ -708,7 +740,7 @@ impl Robot {
             }
             other => {
                 return Err(Error::Unsupported(format!(
-                    "--what {}: not defined for a closed mechanism (use jr, jc, passive or det)",
+                    "`{}` is not defined for a closed mechanism (use jr, jc, passive or det)",
                     other.short_name()
                 )))
             }
@@ -809,7 +841,7 @@ impl Robot {
         }
         if !options.functions.is_empty() && self.is_mechanism() {
             return Err(Error::Unsupported(format!(
-                "`{}` is a closed mechanism: fused functions (--function) are emitted for serial \
+                "`{}` is a closed mechanism: fused functions are emitted for serial \
                  robots",
                 self.name()
             )));
@@ -832,15 +864,34 @@ impl Robot {
         }
     }
 
+    /// Checks a set of outputs asked for together (`what`): at least one, none twice (by the
+    /// function, whichever of its names was given).
+    pub fn check_outputs(functions: &[Function]) -> Result<()> {
+        if functions.is_empty() {
+            return Err(Error::argument(
+                "what",
+                "no quantity asked for; name at least one",
+            ));
+        }
+        if let Some(k) = (1..functions.len()).find(|&k| functions[..k].contains(&functions[k])) {
+            return Err(Error::argument(
+                "what",
+                format!("`{}` asked for twice", functions[k].short_name()),
+            ));
+        }
+        Ok(())
+    }
+
     /// Checks a sample count of [`Robot::verify`]: at least 1 and at most [`MAX_SAMPLES`].
     pub fn check_samples(samples: usize) -> Result<()> {
         if samples == 0 {
-            return Err(Error::Input("--samples must be at least 1".into()));
+            return Err(Error::argument("samples", "must be at least 1"));
         }
         if samples > MAX_SAMPLES {
-            return Err(Error::Input(format!(
-                "--samples {samples}: at most {MAX_SAMPLES} samples are checked"
-            )));
+            return Err(Error::argument(
+                "samples",
+                format!("{samples} asked for; at most {MAX_SAMPLES} samples are checked"),
+            ));
         }
         Ok(())
     }
@@ -857,9 +908,8 @@ impl Robot {
         let Some(desc) = self.description() else {
             let name = &self.source;
             return Err(Error::Unsupported(format!(
-                "`{name}` is a closed mechanism: `verify` checks serial robots; compare the \
-                 closed form with the runtime by `trocar eval {name} --q ... --what jr` \
-                 with and without `--numeric`"
+                "`{name}` is a closed mechanism: `verify` checks serial robots; compare its \
+                 closed form `jr` with the numeric runtime's (evaluated both ways)"
             )));
         };
         Self::check_samples(samples)?;
@@ -1283,10 +1333,13 @@ impl Block<'_> {
         let n = self.generated.joints();
         let p = self.generated.param_count();
         if q != n {
-            return Err(Error::Input(format!(
-                "--q has {q} values but `{}` has {n} joints (give all joint values, base first)",
-                self.robot.name()
-            )));
+            return Err(Error::argument(
+                "q",
+                format!(
+                    "{q} values given, `{}` has {n} joints (give all joint values, base first)",
+                    self.robot.name()
+                ),
+            ));
         }
         if values != p {
             return Err(Error::Input(format!(
@@ -1302,23 +1355,6 @@ impl Block<'_> {
         }
         Ok(())
     }
-}
-
-/// Checks a set of outputs asked for together (`--what a,b`, Python's `what=(...)`): at least
-/// one, none twice (by the function, whichever of its names was given).
-pub fn check_outputs(functions: &[Function]) -> Result<()> {
-    if functions.is_empty() {
-        return Err(Error::Input(
-            "--what: no quantity asked for; name at least one".into(),
-        ));
-    }
-    if let Some(k) = (1..functions.len()).find(|&k| functions[..k].contains(&functions[k])) {
-        return Err(Error::Input(format!(
-            "--what: `{}` asked for twice",
-            functions[k].short_name()
-        )));
-    }
-    Ok(())
 }
 
 /// Configurations per thread for `count` of them: all on one thread below [`PARALLEL_FROM`],
@@ -1399,7 +1435,7 @@ fn not_finite(
 /// The error for a task Jacobian asked of a robot without a `[task]`.
 fn no_task(desc: &RobotDescription) -> Error {
     Error::Unsupported(format!(
-        "`{}` has no [task]: --what task needs one (select = [\"x\", \"y\", \"z\", \"rz\"], ...)",
+        "`{}` has no [task]: the task Jacobian needs one (select = [\"x\", \"y\", \"z\", \"rz\"], ...)",
         desc.name
     ))
 }
@@ -1422,7 +1458,7 @@ fn mechanism_numeric(
         }
         Function::ConstraintDeterminant => {
             return Err(Error::Unsupported(format!(
-                "--what det: `{}` has {} structural equations and {} passive joints, so J_Cp \
+                "det: `{}` has {} structural equations and {} passive joints, so J_Cp \
                  is {} × {}, not square, and has no determinant (use jr, jc or passive)",
                 m.name,
                 d.j_cp.nrows(),
@@ -1441,7 +1477,7 @@ fn mechanism_numeric(
         }
         other => {
             return Err(Error::Unsupported(format!(
-                "--what {}: not defined for a closed mechanism (use jr, jc, passive or det)",
+                "`{}` is not defined for a closed mechanism (use jr, jc, passive or det)",
                 other.short_name()
             )))
         }

@@ -158,17 +158,20 @@ impl SimulationRun {
     }
 }
 
-/// Refuses a closed-chain `scenario` for `option`, which does `what` only on the serial
-/// scenarios (named from [`simulation::Scenario::ALL`]).
-pub fn serial_only(option: &str, scenario: &str, what: &str) -> Result<()> {
+/// Refuses a closed-chain `scenario` for `argument` (the library's name of an option), which
+/// does `what` only on the serial scenarios (named from [`simulation::Scenario::ALL`]).
+pub fn serial_only(argument: &'static str, scenario: &str, what: &str) -> Result<()> {
     if !is_closed_chain(scenario) {
         return Ok(());
     }
     let names: Vec<&str> = simulation::Scenario::ALL.iter().map(|s| s.name()).collect();
-    Err(Error::Input(format!(
-        "{option}: `{scenario}` is a closed-chain scenario; {what} only ({})",
-        names.join(", ")
-    )))
+    Err(Error::argument(
+        argument,
+        format!(
+            "`{scenario}` is a closed-chain scenario; {what} only ({})",
+            names.join(", ")
+        ),
+    ))
 }
 
 /// Runs the simulation `scenario` (`1`, `2`, `3`, `4`, `exp421`, `panda-laparoscope`, or a
@@ -194,7 +197,7 @@ pub fn compare_methods(
     progress: &mut dyn FnMut(f64),
 ) -> Result<Vec<SimulationRun>> {
     serial_only(
-        "--method all",
+        "method",
         scenario,
         "the methods are compared on the serial scenarios",
     )?;
@@ -227,7 +230,7 @@ fn closed_chain_scenario(
 ) -> Result<SimulationRun> {
     if *options != RcmOptions::default() {
         return Err(Error::Input(format!(
-            "`{scenario}` is a closed-chain scenario: --method, --drift-correction and --max-joint-speed apply to the RCM scenarios only"
+            "`{scenario}` is a closed-chain scenario: the method, the drift correction and the joint speed limit apply to the RCM scenarios only"
         )));
     }
     let trace = closed_chain::simulate(

@@ -466,9 +466,17 @@ pub fn simulate_trajectory(
         .map_or_else(|| "the trajectory".to_string(), |p| p.display().to_string());
     trajectory.check(&source)?;
     let n = desc.joints.len();
-    robot
-        .check_q(&options.q0)
-        .map_err(|e| Error::Input(e.to_string().replace("--q", "--q0")))?;
+    robot.check_q(&options.q0).map_err(|e| match e {
+        // The start configuration is `q0` here.
+        Error::Argument {
+            argument: "q",
+            problem,
+        } => Error::Argument {
+            argument: "q0",
+            problem,
+        },
+        e => e,
+    })?;
     if !(options.dt.is_finite() && options.dt > 0.0 && options.dt <= 0.1) {
         return Err(Error::Input(format!(
             "dt = {}: must be in (0, 0.1] s",
@@ -829,25 +837,27 @@ pub struct RunRequest {
     pub max_joint_speed: Option<crate::SpeedLimit>,
 }
 
-/// The `[simulation]` section of `robot`'s description, when it has one: read from the file it
-/// was loaded from, or from the shipped text for a shipped name. Errors name the file, the line
-/// and the field.
-pub fn simulation_section(robot: &Robot) -> Result<Option<SimulationDesc>> {
-    let Some(desc) = robot.description() else {
-        return Ok(None);
-    };
-    let n = desc.joints.len();
-    let file = Path::new(robot.source());
-    if file.is_file() {
-        return Ok(SimulationDesc::from_toml_file(file, n)?);
-    }
-    match trocar_model::description::preset(robot.source()) {
-        Some(text) => Ok(SimulationDesc::from_toml_str(
-            text,
-            Some(Path::new(&format!("<preset {}>", robot.source()))),
-            n,
-        )?),
-        None => Ok(None),
+impl Robot {
+    /// The `[simulation]` section of the robot's description, when it has one: read from the
+    /// file it was loaded from, or from the shipped text for a shipped name. Errors name the
+    /// file, the line and the field.
+    pub fn simulation_section(&self) -> Result<Option<SimulationDesc>> {
+        let Some(desc) = self.description() else {
+            return Ok(None);
+        };
+        let n = desc.joints.len();
+        let file = Path::new(self.source());
+        if file.is_file() {
+            return Ok(SimulationDesc::from_toml_file(file, n)?);
+        }
+        match trocar_model::description::preset(self.source()) {
+            Some(text) => Ok(SimulationDesc::from_toml_str(
+                text,
+                Some(Path::new(&format!("<preset {}>", self.source()))),
+                n,
+            )?),
+            None => Ok(None),
+        }
     }
 }
 
@@ -860,15 +870,26 @@ pub fn simulate_robot(
     request: &RunRequest,
     progress: &mut dyn FnMut(f64),
 ) -> Result<SimulationRun> {
-    let section = simulation_section(robot)?.unwrap_or_default();
-    let (trajectory, options) = run_options(robot, request, &section)?;
+    let section = robot.simulation_section()?.unwrap_or_default();
+    let (trajectory, options) = request.resolve(robot, &section)?;
     let trajectory = Trajectory::from_csv(&trajectory)?;
     simulate_trajectory(robot, &trajectory, &options, progress)
 }
 
-/// The trajectory file and the options of a run: the caller's values, else the section's, else
-/// the defaults.
-pub fn run_options(
+impl RunRequest {
+    /// The trajectory file and the options of a run of `robot`: this request's values, else
+    /// those of `section` (the description's, [`Robot::simulation_section`]), else the
+    /// defaults.
+    pub fn resolve(
+        &self,
+        robot: &Robot,
+        section: &SimulationDesc,
+    ) -> Result<(PathBuf, TrajectoryOptions)> {
+        resolve(robot, self, section)
+    }
+}
+
+fn resolve(
     robot: &Robot,
     request: &RunRequest,
     section: &SimulationDesc,
@@ -890,23 +911,29 @@ pub fn run_options(
         .clone()
         .or_else(|| section.trajectory.clone())
         .ok_or_else(|| {
-            Error::Input(format!(
-                "`{}` runs along a trajectory: give it with --trajectory PATH.csv or as {}",
-                robot.name(),
-                where_("trajectory")
-            ))
+            Error::argument(
+                "trajectory",
+                format!(
+                    "`{}` runs along a trajectory: give one (a CSV file) or set it as {}",
+                    robot.name(),
+                    where_("trajectory")
+                ),
+            )
         })?;
     let q0 = request
         .q0
         .clone()
         .or_else(|| section.q0.clone())
         .ok_or_else(|| {
-            Error::Input(format!(
-                "--trajectory: give the start configuration with --q0 q1,...,q{} (all joints of `{}`, base first) or as {}",
-                robot.dof(),
-                robot.name(),
-                where_("q0")
-            ))
+            Error::argument(
+                "q0",
+                format!(
+                    "the start configuration of the trajectory is missing: give q1,...,q{} (all joints of `{}`, base first) or set it as {}",
+                    robot.dof(),
+                    robot.name(),
+                    where_("q0")
+                ),
+            )
         })?;
     let mut controller = ControllerOptions::default();
     if let Some(m) = section.method.as_deref() {

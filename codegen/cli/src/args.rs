@@ -1,8 +1,9 @@
 //! The command-line arguments (clap types) of `trocar`.
 
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
-use trocar_api::SpeedLimit;
+use trocar_api::{Method, Scalar, SpeedLimit};
 
 /// Command-line arguments of `trocar`.
 #[derive(Debug, Parser)]
@@ -28,8 +29,8 @@ pub enum Command {
         #[arg(short, long)]
         output: Option<PathBuf>,
         /// Scalar type of the generated code.
-        #[arg(long, value_enum, default_value_t = RealArg::Generic)]
-        real: RealArg,
+        #[arg(long, default_value = "generic", value_parser = real_values())]
+        real: Scalar,
         /// Also emit the C ABI: `extern "C"` functions `<module>_<function>(q, params, out)`
         /// (matrices column-major) and `<module>_controller_step` (serial robots).
         #[arg(long)]
@@ -42,8 +43,8 @@ pub enum Command {
         /// `step=fk,jb0e,jr` (outputs by name or short name, as `eval --what` takes them);
         /// repeatable. Every module already has `pose_and_jacobian=fk,jb0e` and, with a
         /// constraint, `link_pose_and_jacobian=fk0i,jb0i`.
-        #[arg(long = "function", value_name = "NAME=OUTPUT,...", value_parser = trocar_model::catalogue::Fused::parse)]
-        functions: Vec<trocar_model::catalogue::Fused>,
+        #[arg(long = "function", value_name = "NAME=OUTPUT,...", value_parser = trocar_api::Fused::parse)]
+        functions: Vec<trocar_api::Fused>,
         /// Also emit each fused function's `f64` entry points `<name>_f64` and
         /// `<name>_trig_f64`, with fused multiply-adds chosen at run time: built for the
         /// default x86-64 target with trocar's `std` feature, on a CPU with AVX2 and FMA they
@@ -134,8 +135,8 @@ pub enum Command {
         /// Inverse used for J^r (default: the scenario's). `all` runs pinv, dls, fi and qp and
         /// draws one figure comparing them to --plot (serial scenarios, and a robot along a
         /// trajectory; not with --csv, --animate or --snapshot).
-        #[arg(long, value_enum)]
-        method: Option<MethodArg>,
+        #[arg(long, value_parser = method_values())]
+        method: Option<String>,
         /// Close the loop on the trocar position.
         #[arg(long, value_enum, default_value_t = OnOff::On)]
         drift_correction: OnOff,
@@ -200,16 +201,17 @@ pub enum Command {
     List,
 }
 
-/// `--real`: the scalar type of generated code ([`trocar_codegen::Scalar`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum RealArg {
-    /// Generic over `T: trocar::Arith` (straight-line functions, which also run on
-    /// `trocar::lanes`) and `T: trocar::Real` (the functions that test a value).
-    Generic,
-    /// `f32`.
-    F32,
-    /// `f64`.
-    F64,
+/// `--real`'s values: the scalar type of generated code ([`Scalar`]) by its name.
+fn real_values() -> impl TypedValueParser<Value = Scalar> {
+    PossibleValuesParser::new([
+        PossibleValue::new("generic").help(
+            "generic over `T: trocar::Arith` (straight-line functions, which also run on \
+             `trocar::lanes`) and `T: trocar::Real` (the functions that test a value)",
+        ),
+        PossibleValue::new("f32"),
+        PossibleValue::new("f64"),
+    ])
+    .try_map(|s| s.parse::<Scalar>())
 }
 
 /// Frame of `trocar jacobian`.
@@ -221,20 +223,25 @@ pub enum Frame {
     Spatial,
 }
 
-/// `--method`: the inverse used by the controller, or all of them compared.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum MethodArg {
-    /// Moore–Penrose pseudo-inverse.
-    Pinv,
-    /// Damped least squares with variable damping (3.44)–(3.46).
-    Dls,
-    /// Filtered inverse (3.47)–(3.50).
-    Fi,
-    /// One quadratic program per step: the trocar, the joint limits, the joint speed limits
-    /// and the insertion depth held as hard constraints.
-    Qp,
-    /// `trocar simulate` only: pinv, dls, fi and qp, compared on one figure (`--plot`).
-    All,
+/// `--method`'s values: each [`Method`] by its name, and `all` (pinv, dls, fi and qp compared
+/// on one figure).
+fn method_values() -> PossibleValuesParser {
+    PossibleValuesParser::new(
+        Method::ALL
+            .iter()
+            .map(|m| PossibleValue::new(m.name()).help(m.summary()))
+            .chain([PossibleValue::new(ALL_METHODS).help(
+                "`trocar simulate` only: pinv, dls, fi and qp, compared on one figure (--plot)",
+            )]),
+    )
+}
+
+/// The `--method` value that compares every method.
+pub(crate) const ALL_METHODS: &str = "all";
+
+/// The method `--method` names, `None` when absent or `all`.
+pub(crate) fn method(value: Option<&str>) -> Option<Method> {
+    value.and_then(Method::from_name)
 }
 
 /// The usage error of a parsed command line that clap's rules cannot express: `--method all`
@@ -242,7 +249,7 @@ pub enum MethodArg {
 pub(crate) fn usage_error(cli: &Cli) -> Option<clap::Error> {
     use clap::CommandFactory;
     let Command::Simulate {
-        method: Some(MethodArg::All),
+        method: Some(method),
         csv,
         animate,
         snapshot,
@@ -251,6 +258,9 @@ pub(crate) fn usage_error(cli: &Cli) -> Option<clap::Error> {
     else {
         return None;
     };
+    if method != ALL_METHODS {
+        return None;
+    }
     let message = method_all_conflict(csv.is_some(), animate.is_some(), snapshot.is_some())?;
     Some(Cli::command().error(clap::error::ErrorKind::ArgumentConflict, message))
 }
@@ -276,24 +286,24 @@ fn parse_seconds(s: &str) -> Result<f64, String> {
         .trim()
         .parse()
         .map_err(|_| format!("`{s}` is not a number of seconds"))?;
-    // The number rule (`trocar_model::validity`: not subnormal, at most 1e6), then the rule of
+    // The number rule (`trocar_api::validity`: not subnormal, at most 1e6), then the rule of
     // the library's `CsvRows::check`, with the value as the user wrote it.
-    trocar_model::validity::check(v).map_err(|p| format!("`{s}` {p}"))?;
-    trocar_sim::simulation::CsvRows::Period(v)
+    trocar_api::validity::check(v).map_err(|p| format!("`{s}` {p}"))?;
+    trocar_api::CsvRows::Period(v)
         .check()
         .map_err(|_| format!("`{s}`: must be a positive, finite number of seconds"))?;
     Ok(v)
 }
 
 /// Parses one `--snapshot-times` value: a time in seconds under the number rule
-/// (`trocar_model::validity`: finite, not subnormal, at most 1e6) and not negative; whether it
+/// (`trocar_api::validity`: finite, not subnormal, at most 1e6) and not negative; whether it
 /// lies within the scenario is checked before the run.
 fn parse_time(s: &str) -> Result<f64, String> {
     let v: f64 = s
         .trim()
         .parse()
         .map_err(|_| format!("`{s}` is not a number of seconds"))?;
-    trocar_model::validity::check(v).map_err(|p| format!("`{s}` {p}"))?;
+    trocar_api::validity::check(v).map_err(|p| format!("`{s}` {p}"))?;
     if v < 0.0 {
         return Err(format!("`{s}`: a time is not negative"));
     }
@@ -301,8 +311,8 @@ fn parse_time(s: &str) -> Result<f64, String> {
 }
 
 /// The rows `trocar simulate` writes to its CSV, from `--every` and `--dt`.
-pub fn csv_rows(every: Option<u64>, dt: Option<f64>) -> trocar_sim::simulation::CsvRows {
-    use trocar_sim::simulation::CsvRows;
+pub fn csv_rows(every: Option<u64>, dt: Option<f64>) -> trocar_api::CsvRows {
+    use trocar_api::CsvRows;
     match (every, dt) {
         (Some(n), _) => CsvRows::Every(usize::try_from(n).unwrap_or(usize::MAX)),
         (None, Some(dt)) => CsvRows::Period(dt),
@@ -311,7 +321,7 @@ pub fn csv_rows(every: Option<u64>, dt: Option<f64>) -> trocar_sim::simulation::
 }
 
 /// Parses `--max-joint-speed`: `none`, or a positive number that passes the number rule
-/// (`trocar_model::validity`).
+/// (`trocar_api::validity`).
 fn parse_speed_limit(s: &str) -> Result<SpeedLimit, String> {
     if s.eq_ignore_ascii_case("none") {
         return Ok(SpeedLimit::Unlimited);
@@ -320,7 +330,7 @@ fn parse_speed_limit(s: &str) -> Result<SpeedLimit, String> {
         .trim()
         .parse()
         .map_err(|_| format!("`{s}` is not a number (rad/s) or `none`"))?;
-    trocar_model::validity::check(v).map_err(|p| format!("`{s}`: {p}"))?;
+    trocar_api::validity::check(v).map_err(|p| format!("`{s}`: {p}"))?;
     if v <= 0.0 {
         return Err(format!("`{s}`: a speed limit must be positive (or `none`)"));
     }
@@ -336,30 +346,7 @@ pub enum OnOff {
     Off,
 }
 
-impl From<RealArg> for trocar_codegen::Scalar {
-    fn from(r: RealArg) -> Self {
-        match r {
-            RealArg::Generic => trocar_codegen::Scalar::Generic,
-            RealArg::F32 => trocar_codegen::Scalar::F32,
-            RealArg::F64 => trocar_codegen::Scalar::F64,
-        }
-    }
-}
-
-impl MethodArg {
-    /// The simulation's method, `None` for `all`.
-    pub fn method(self) -> Option<trocar_api::Method> {
-        match self {
-            MethodArg::Pinv => Some(trocar_api::Method::Pinv),
-            MethodArg::Dls => Some(trocar_api::Method::Dls),
-            MethodArg::Fi => Some(trocar_api::Method::Fi),
-            MethodArg::Qp => Some(trocar_api::Method::Qp),
-            MethodArg::All => None,
-        }
-    }
-}
-
-/// Parses one `--param name=value` (the value obeying [`trocar_model::validity`]).
+/// Parses one `--param name=value` (the value obeying [`trocar_api::validity`]).
 fn parse_param(s: &str) -> Result<(String, f64), String> {
     let (name, value) = s
         .split_once('=')
@@ -368,7 +355,7 @@ fn parse_param(s: &str) -> Result<(String, f64), String> {
         .trim()
         .parse()
         .map_err(|_| format!("`{s}`: `{value}` is not a number"))?;
-    if let Err(problem) = trocar_model::validity::check(value) {
+    if let Err(problem) = trocar_api::validity::check(value) {
         return Err(format!("`{s}`: {value:e} {problem}"));
     }
     Ok((name.trim().to_string(), value))

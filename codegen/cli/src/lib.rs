@@ -30,7 +30,7 @@ mod progress;
 
 use clap::Parser;
 
-pub use args::{Cli, Command, Frame, MethodArg, OnOff, RealArg};
+pub use args::{Cli, Command, Frame, OnOff};
 pub use trocar_api::Error as CliError;
 
 /// Runs the command line with the process arguments and returns the exit code.
@@ -106,13 +106,13 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             trocar,
         } => {
             let options = trocar_api::RcmOptions {
-                method: method.and_then(MethodArg::method),
+                method: args::method(method.as_deref()),
                 drift_correction: drift_correction == OnOff::On,
                 max_joint_speed,
             };
             // A robot's own trajectory: given, or named by the description's [simulation].
             let own = trajectory.is_some()
-                || (trocar_sim::simulation::Scenario::from_name(&scenario).is_err()
+                || (trocar_api::Scenario::from_name(&scenario).is_err()
                     && std::path::Path::new(&scenario).is_file());
             if own {
                 commands::simulate::run_trajectory(

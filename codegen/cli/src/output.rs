@@ -195,7 +195,7 @@ impl Outputs {
                 )));
             }
             let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-            if kind == OutputKind::Figure && trocar_sim::plot::ImageFormat::of(path).is_none() {
+            if kind == OutputKind::Figure && trocar_api::ImageFormat::of(path).is_none() {
                 return Err(err(
                     "a figure is written as SVG or PNG; name the file `….svg` or `….png`".into(),
                 ));
@@ -458,10 +458,24 @@ fn cell(v: f64) -> String {
     }
 }
 
-/// Prints an error to stderr and returns the exit code of a failed command.
+/// Prints an error to stderr and returns the exit code of a failed command. An argument the
+/// library names ([`Error::Argument`]) is printed as the flag that gives it.
 pub(crate) fn print_error(e: &CliError) -> i32 {
-    write_stderr(&format!("error: {e}\n"));
+    let text = match e {
+        Error::Argument { argument, problem } => format!("{}: {problem}", flag(argument)),
+        e => e.to_string(),
+    };
+    write_stderr(&format!("error: {text}\n"));
     1
+}
+
+/// The flag of the library's argument `argument`: `--` and its name in kebab case (`q0` →
+/// `--q0`, `max_joint_speed` → `--max-joint-speed`), but `params` → `--param` (one a flag).
+pub(crate) fn flag(argument: &str) -> String {
+    match argument {
+        "params" => "--param".to_string(),
+        a => format!("--{}", a.replace('_', "-")),
+    }
 }
 
 /// The JSON form `{"rows": R, "cols": C, "data": [[row], ...]}` (keys in this order).

@@ -201,7 +201,7 @@ fn verify_samples_are_bounded() {
         &["verify", "no-such-robot", "--samples", "10000001"],
         &dir,
         10,
-        &["--samples 10000001", "at most 10000000"],
+        &["--samples: 10000001", "at most 10000000"],
     );
 }
 

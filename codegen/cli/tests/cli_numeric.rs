@@ -77,7 +77,7 @@ fn user_errors_say_what_and_where() {
     let (code, _, err) = trocar(&["eval", "bidirectional-zy", "--numeric", "--q", "0,1"]);
     assert_eq!(code, 1);
     assert!(
-        err.contains("--q has 2 values") && err.contains("8 joints"),
+        err.contains("--q: 2 values given") && err.contains("8 joints"),
         "{err}"
     );
 

@@ -223,7 +223,7 @@ fn a_parameter_value_puts_the_trocar_outside_the_instrument() {
     );
     assert_eq!(code, 1, "{err}");
     assert!(
-        err.contains("--param l_a=0.45") && err.contains("outside the instrument"),
+        err.contains("--param: l_a=0.45") && err.contains("outside the instrument"),
         "{err}"
     );
     let (code, _, err) = trocar_in(

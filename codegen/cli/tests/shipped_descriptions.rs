@@ -59,7 +59,7 @@ fn every_shipped_description_is_listed_verified_and_simulated() {
         assert!(out.contains("[constraint]"), "{name}");
         let joints = {
             let (_, _, err) = trocar(&["eval", &name, "--q", "0", "--what", "fk"]);
-            // "--q has 1 values but `NAME` has N joints (...)"
+            // "--q: 1 values given, `NAME` has N joints (...)"
             let before = err.split(" joints").next().unwrap();
             before
                 .rsplit(' ')

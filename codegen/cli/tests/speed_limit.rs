@@ -55,7 +55,7 @@ fn a_limit_must_be_a_positive_speed() {
     let (code, err) = simulate(&["four-bar", "--max-joint-speed", "3"]);
     assert_eq!(code, Some(1), "{err}");
     assert!(
-        err.contains("--max-joint-speed apply to the RCM scenarios only"),
+        err.contains("the joint speed limit apply to the RCM scenarios only"),
         "{err}"
     );
 }

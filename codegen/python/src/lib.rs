@@ -16,60 +16,10 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 use trocar_api::{ControllerOptions, Function, Method, RcmOptions, SpeedLimit, Target};
 
+/// The library's error as a `ValueError`: its message names the arguments as the library does,
+/// which are this module's keyword arguments (`q`, `params`, `what`, `q0`, `trocar`, ...).
 fn value_error(e: trocar_api::Error) -> PyErr {
-    PyValueError::new_err(keywords(&e.to_string()))
-}
-
-/// The library's message in Python's words: the command line's flags (`--q`, `--param`,
-/// `--what`, …) become the keyword arguments they stand for (`q`, `params`, `what`, …). Text in
-/// backquotes (a quoted name, or a command to run) is kept as written.
-fn keywords(message: &str) -> String {
-    const FLAGS: [(&str, &str); 10] = [
-        ("--q0 q1,...,q", "q0=[q1, ..., q"),
-        ("--trajectory PATH.csv", "trajectory=\"PATH.csv\""),
-        ("--q0", "q0"),
-        ("--q", "q"),
-        ("--param", "params"),
-        ("--what", "what"),
-        ("--numeric", "numeric=True"),
-        ("--trocar", "trocar"),
-        ("--max-joint-speed", "max_joint_speed"),
-        ("--trajectory", "trajectory"),
-    ];
-    let mut out = String::with_capacity(message.len());
-    for (k, part) in message.split('`').enumerate() {
-        if k > 0 {
-            out.push('`');
-        }
-        if k % 2 == 1 {
-            out.push_str(part);
-            continue;
-        }
-        let mut rest = part;
-        'scan: while let Some(at) = rest.find("--") {
-            out.push_str(&rest[..at]);
-            let tail = &rest[at..];
-            for (flag, word) in FLAGS {
-                // A whole flag: not followed by a letter, digit or hyphen.
-                let whole = tail.strip_prefix(flag).is_some_and(|after| {
-                    !after
-                        .chars()
-                        .next()
-                        .is_some_and(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
-                        || flag.ends_with(",q")
-                });
-                if whole {
-                    out.push_str(word);
-                    rest = &tail[flag.len()..];
-                    continue 'scan;
-                }
-            }
-            out.push_str("--");
-            rest = &tail[2..];
-        }
-        out.push_str(rest);
-    }
-    out
+    PyValueError::new_err(e.to_string())
 }
 
 /// Most joint values [`with_joints`] holds on the stack (more are copied to the heap).
@@ -256,7 +206,7 @@ impl Robot {
         } else {
             return Err(not_names());
         }
-        trocar_api::check_outputs(&functions).map_err(value_error)?;
+        trocar_api::Robot::check_outputs(&functions).map_err(value_error)?;
         Ok(What::Several(functions))
     }
 
@@ -630,8 +580,8 @@ impl Robot {
     /// (`real="generic"`) or for `"f64"` / `"f32"`.
     #[pyo3(signature = (real = "f64"))]
     fn generate(&self, py: Python<'_>, real: &str) -> PyResult<String> {
-        let real: trocar_codegen::Scalar = real.parse().map_err(PyValueError::new_err)?;
-        let options = trocar_codegen::ModuleOptions {
+        let real: trocar_api::Scalar = real.parse().map_err(PyValueError::new_err)?;
+        let options = trocar_api::ModuleOptions {
             real,
             ..Default::default()
         };

@@ -119,7 +119,7 @@ def test_messages_name_the_arguments_not_the_command_lines_flags():
     robot = trocar.Robot.load("bidirectional-zy")
     with pytest.raises(ValueError) as e:
         robot.eval([0, 1], what="jr")
-    assert str(e.value).startswith("q has 2 values but `bidirectional_zy` has 8 joints"), e.value
+    assert str(e.value).startswith("q: 2 values given, `bidirectional_zy` has 8 joints"), e.value
     with pytest.raises(ValueError) as e:
         robot.eval([0.0] * 8, params={"l_a": float("inf")})
     assert str(e.value).startswith("params l_a=inf:"), e.value

@@ -423,7 +423,7 @@ def test_the_ur5_example_follows_its_circle_as_the_command_line(tmp_path):
     np.testing.assert_allclose(data["rcm_drift"], trace["rcm_drift"], rtol=1e-12, atol=1e-18)
     np.testing.assert_allclose(data["q6"], trace["q6"], rtol=1e-12, atol=1e-15)
     assert gif.read_bytes()[:6] == b"GIF89a"
-    with pytest.raises(ValueError, match=r"^q0 has 2 values but `ur5_trocar` has 6 joints"):
+    with pytest.raises(ValueError, match=r"^q0: 2 values given, `ur5_trocar` has 6 joints"):
         trocar.simulate(str(desc), q0=[0.0, 0.0])
 
 

@@ -31,23 +31,8 @@ pub(crate) fn run(
         .collect::<Result<Vec<_>, _>>()?;
     robot.check_q(q)?;
     robot.param_values(params)?;
-    // The trocar on the instrument at the values given, not only at the nominal ones.
-    if let (Some(desc), false) = (robot.description(), params.is_empty()) {
-        let mut at = desc.clone();
-        for (name, value) in params {
-            if let Some(p) = at.parameters.iter_mut().find(|p| &p.name == name) {
-                p.value = *value;
-            }
-        }
-        if let Some((name, message)) = trocar_model::description::trocar_beyond_tip(&at) {
-            return Err(trocar_api::Error::Input(format!(
-                "--param {name}={}: {message}",
-                at.parameter(&name).unwrap_or(f64::NAN)
-            )));
-        }
-    }
     let outs = if numeric {
-        trocar_api::check_outputs(&functions)?;
+        trocar_api::Robot::check_outputs(&functions)?;
         functions
             .iter()
             .map(|&f| robot.eval_numeric(f, q, params))

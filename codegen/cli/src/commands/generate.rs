@@ -1,7 +1,6 @@
 //! `trocar generate`: the emitted Rust module of a serial robot or a closed mechanism, and the C
 //! header of its C ABI.
 
-use crate::args::RealArg;
 use crate::output::{write_stdout, CliError, OutputKind, Outputs};
 use crate::progress::with_spinner;
 use std::path::Path;
@@ -14,10 +13,10 @@ use trocar_api::{Error, Robot};
 pub(crate) fn run(
     robot: &str,
     output: Option<&Path>,
-    real: RealArg,
+    real: trocar_api::Scalar,
     c_api: bool,
     c_header: Option<&Path>,
-    functions: Vec<trocar_model::catalogue::Fused>,
+    functions: Vec<trocar_api::Fused>,
     fma_at_run_time: bool,
 ) -> Result<i32, CliError> {
     let stdout = Path::new("-");
@@ -33,7 +32,7 @@ pub(crate) fn run(
     let c_header = c_header.filter(|p| *p != stdout);
     // The files the command reads (the description and its URDF), which no output may replace.
     let reads = if Path::new(robot).is_file() {
-        trocar_model::description::RobotDescription::files_read(robot)
+        trocar_api::files_read(robot)
     } else {
         Vec::new()
     };
@@ -45,8 +44,8 @@ pub(crate) fn run(
         &reads,
     )?;
     let robot = Robot::load(robot)?;
-    let options = trocar_codegen::ModuleOptions {
-        real: real.into(),
+    let options = trocar_api::ModuleOptions {
+        real,
         c_api,
         functions,
         fma_at_run_time,

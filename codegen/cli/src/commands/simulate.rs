@@ -1,7 +1,7 @@
 //! `trocar simulate`: the thesis's RCM scenarios and the closed-chain simulations
 //! ([`trocar_api::simulate`]), their CSV, figures and views of the arm written atomically.
 
-use crate::args::{method_all_conflict, MethodArg};
+use crate::args::{method_all_conflict, ALL_METHODS};
 use crate::output::{write_stderr, CliError, OutputKind, Outputs};
 use crate::progress::with_progress;
 use std::path::{Path, PathBuf};
@@ -32,9 +32,9 @@ fn check_views(scenario: &str, views: &ArmViews) -> Result<(), CliError> {
         return Ok(());
     }
     let option = if views.animate.is_some() {
-        "--animate"
+        "animate"
     } else {
-        "--snapshot"
+        "snapshot"
     };
     sim::serial_only(
         option,
@@ -42,7 +42,7 @@ fn check_views(scenario: &str, views: &ArmViews) -> Result<(), CliError> {
         "--animate and --snapshot draw the serial arms",
     )?;
     if let (Ok(which), Some(times)) = (
-        trocar_sim::simulation::Scenario::from_name(scenario),
+        trocar_api::Scenario::from_name(scenario),
         &views.snapshot_times,
     ) {
         let end = which.duration();
@@ -59,7 +59,7 @@ fn check_views(scenario: &str, views: &ArmViews) -> Result<(), CliError> {
 /// are written whole once it has succeeded, and the summary goes to stderr.
 pub(crate) fn run(
     scenario: &str,
-    method: Option<MethodArg>,
+    method: Option<String>,
     options: &RcmOptions,
     csv: Option<&Path>,
     csv_rows: CsvRows,
@@ -76,7 +76,7 @@ pub(crate) fn run(
         &[],
     )?;
     check_views(scenario, views)?;
-    let summary = if method == Some(MethodArg::All) {
+    let summary = if method.as_deref() == Some(ALL_METHODS) {
         if let Some(message) = method_all_conflict(
             csv.is_some(),
             views.animate.is_some(),
@@ -88,9 +88,9 @@ pub(crate) fn run(
             sim::compare_methods(scenario, options, progress)
         })?;
         if let Some(path) = plot {
-            let traces: Vec<&trocar_sim::simulation::Trace> =
+            let traces: Vec<&trocar_api::Trace> =
                 runs.iter().filter_map(SimulationRun::rcm_trace).collect();
-            trocar_sim::plot::write_comparison(&traces, outputs.temporary(path))
+            trocar_api::write_comparison(&traces, outputs.temporary(path))
                 .map_err(|e| outputs.explain(format!("--plot {}: {e}", path.display())))?;
         }
         runs.iter()
@@ -157,7 +157,7 @@ fn write_run(
 #[derive(Clone, Debug)]
 pub(crate) struct UserRun {
     /// `--method`.
-    pub method: Option<MethodArg>,
+    pub method: Option<String>,
     /// The controller's options (`--drift-correction`, `--max-joint-speed`).
     pub options: RcmOptions,
     /// `--q0`.
@@ -191,7 +191,7 @@ pub(crate) fn run_trajectory(
             "`{name}` is a closed mechanism: a trajectory drives a serial robot's tip"
         )));
     }
-    let section = trocar_api::simulation_section(&robot)?.unwrap_or_default();
+    let section = robot.simulation_section()?.unwrap_or_default();
     let trocar = match &user.trocar {
         None => None,
         Some(v) => {
@@ -201,13 +201,13 @@ pub(crate) fn run_trajectory(
                     v.len()
                 )));
             };
-            if let Err((k, problem)) = trocar_model::validity::check_all(v) {
+            if let Err((k, problem)) = trocar_api::validity::check_all(v) {
                 return Err(Error::Input(format!("--trocar: value {} {problem}", k + 1)));
             }
             Some([*x, *y, *z])
         }
     };
-    let all = user.method == Some(MethodArg::All);
+    let all = user.method.as_deref() == Some(ALL_METHODS);
     if all {
         if let Some(message) = method_all_conflict(
             user.csv.is_some(),
@@ -221,7 +221,7 @@ pub(crate) fn run_trajectory(
         trajectory: path.map(Path::to_path_buf),
         q0: user.q0.clone(),
         trocar,
-        method: user.method.and_then(MethodArg::method),
+        method: crate::args::method(user.method.as_deref()),
         drift_correction: (!user.options.drift_correction).then_some(false),
         max_joint_speed: user.options.max_joint_speed,
     };
@@ -235,9 +235,7 @@ pub(crate) fn run_trajectory(
         .cloned()
         .collect();
     if Path::new(name).is_file() {
-        reads.extend(trocar_model::description::RobotDescription::files_read(
-            name,
-        ));
+        reads.extend(trocar_api::files_read(name));
     }
     let outputs = Outputs::check(
         &[
@@ -256,7 +254,7 @@ pub(crate) fn run_trajectory(
         ],
         &reads,
     )?;
-    let (path, options) = trocar_api::run_options(&robot, &request, &section)?;
+    let (path, options) = request.resolve(&robot, &section)?;
     let trajectory = trocar_api::Trajectory::from_csv(&path)?;
     if let (Some(times), Some(end)) = (&user.views.snapshot_times, trajectory.t.last()) {
         if let Some(t) = times.iter().find(|t| !(0.0..=*end).contains(*t)) {
@@ -277,9 +275,9 @@ pub(crate) fn run_trajectory(
             )?);
         }
         if let Some(path) = user.plot.as_deref() {
-            let traces: Vec<&trocar_sim::simulation::Trace> =
+            let traces: Vec<&trocar_api::Trace> =
                 runs.iter().filter_map(SimulationRun::rcm_trace).collect();
-            trocar_sim::plot::write_comparison(&traces, outputs.temporary(path))
+            trocar_api::write_comparison(&traces, outputs.temporary(path))
                 .map_err(|e| outputs.explain(format!("--plot {}: {e}", path.display())))?;
         }
         outputs.commit()?;

@@ -101,6 +101,19 @@ impl Method {
         }
     }
 
+    /// What the method does, in one line (the command line's help).
+    pub fn summary(self) -> &'static str {
+        match self {
+            Method::Qp => {
+                "one quadratic program per step: the trocar, the joint limits, the joint speed \
+                 limits and the insertion depth held as hard constraints"
+            }
+            Method::Pinv => "Moore–Penrose pseudo-inverse",
+            Method::Dls => "damped least squares with variable damping (3.44)–(3.46)",
+            Method::Fi => "filtered inverse (3.47)–(3.50)",
+        }
+    }
+
     /// Parses `"pinv"`, `"dls"`, `"fi"` or `"qp"`.
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
