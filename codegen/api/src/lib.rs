@@ -6,11 +6,14 @@
 //! ([`Robot::verify`]), emit them ([`Robot::generate`]), run the constrained controller on the
 //! robot ([`RobotController`]) and the shipped simulations ([`simulate()`]). Nothing here parses
 //! command lines or prints; long work reports progress through a callback, and every failure is
-//! an [`Error`] whose message says what is wrong and where (file, line, field).
+//! an [`Error`] whose message says what is wrong and where (file, line, field; a value given
+//! by the caller by the library's name of its argument, [`Error::Argument`]).
 //!
-//! The quantities are the catalogue's [`Function`]s (`constrained_jacobian`, …, with short names
+//! This crate is the one door to trocar for programs: the `trocar` command line maps its flags
+//! onto it and the Python package its keyword arguments, and neither reaches below it. The
+//! quantities are the catalogue's [`Function`]s (`constrained_jacobian`, …, with short names
 //! such as `jr` resolved by [`Robot::function`]); the scalar type of generated code is
-//! [`trocar_codegen::Scalar`]; the inverse a simulation uses is [`Method`].
+//! [`Scalar`]; the controller's method is [`Method`].
 //!
 //! ```no_run
 //! use trocar_api::{Function, Robot};
@@ -98,8 +101,8 @@ pub fn preset(name: &str) -> Result<&'static str> {
 }
 
 /// The generated Rust module of `robot` (a shipped name or a file) for the scalar type `real`.
-pub fn generate(robot: &str, real: trocar_codegen::Scalar) -> Result<String> {
-    Robot::load(robot)?.generate(&trocar_codegen::ModuleOptions {
+pub fn generate(robot: &str, real: Scalar) -> Result<String> {
+    Robot::load(robot)?.generate(&ModuleOptions {
         real,
         ..Default::default()
     })
