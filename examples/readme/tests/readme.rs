@@ -66,7 +66,7 @@ fn a_changed_snippet_is_found() {
 
 /// The README's dependency lines named only a version (`trocar-check = "0.1"`) of crates that are
 /// not on crates.io: every `trocar` crate a TOML block of the README depends on is given by
-/// `path` or `git` (RELIABILITY.md F26).
+/// `path` or `git` (docs/RELIABILITY.md F26).
 #[test]
 fn the_readmes_dependency_lines_work_today() {
     let here = Path::new(env!("CARGO_MANIFEST_DIR"));

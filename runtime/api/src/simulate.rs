@@ -270,7 +270,7 @@ fn rcm_scenario(
     let mut out = String::new();
     if let Some(note) = which.deviation() {
         out += &format!(
-            "scenario {scenario} on the reference arm: {note} (see runtime/sim/CONTROL.md)\n"
+            "scenario {scenario} on the reference arm: {note} (see docs/CONTROL.md)\n"
         );
     }
     out += &format!(
