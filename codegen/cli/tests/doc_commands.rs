@@ -135,7 +135,9 @@ fn commands(name: &str, markdown: &str) -> Result<Vec<DocCommand>, Vec<String>> 
                 args: words(rest),
             });
         } else if text.starts_with("cargo run") {
-            wrong.push(format!("{place}: `{text}` is not a `trocar` command ({PREFIXES:?})"));
+            wrong.push(format!(
+                "{place}: `{text}` is not a `trocar` command ({PREFIXES:?})"
+            ));
         }
     }
     if wrong.is_empty() {
@@ -188,7 +190,11 @@ fn run(binary: &Path, command: &DocCommand) -> Result<(), String> {
         let stderr = String::from_utf8_lossy(&out.stderr);
         let tail: Vec<&str> = stderr.lines().rev().take(5).collect();
         let tail: Vec<&str> = tail.into_iter().rev().collect();
-        Err(format!("{shown}: {}\n    {}", out.status, tail.join("\n    ")))
+        Err(format!(
+            "{shown}: {}\n    {}",
+            out.status,
+            tail.join("\n    ")
+        ))
     } else if let Some(missing) = outputs.iter().find(|f| !f.is_file()) {
         Err(format!("{shown}: {} was not written", missing.display()))
     } else {
@@ -204,7 +210,11 @@ fn every_command_of_the_documents_runs() {
     let mut wrong = Vec::new();
     for doc in documents() {
         let text = std::fs::read_to_string(&doc).unwrap();
-        let name = doc.strip_prefix(root()).unwrap_or(&doc).display().to_string();
+        let name = doc
+            .strip_prefix(root())
+            .unwrap_or(&doc)
+            .display()
+            .to_string();
         match commands(&name, &text) {
             Ok(found) => {
                 for c in found {
@@ -299,6 +309,10 @@ fn a_misspelled_command_is_found() {
     assert!(run(binary, &bad("eval no-such-robot --q 0")).is_err());
     assert!(run(binary, &bad("list")).is_ok());
     // An output goes into the temporary directory, not where the document names it.
-    assert!(run(binary, &bad("generate unidirectional -o docs/figures/never.rs")).is_ok());
+    assert!(run(
+        binary,
+        &bad("generate unidirectional -o docs/figures/never.rs")
+    )
+    .is_ok());
     assert!(!root().join("docs/figures/never.rs").exists());
 }

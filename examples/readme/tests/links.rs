@@ -152,7 +152,10 @@ fn problems(file: &Path, markdown: &str) -> Vec<String> {
             }
             let heading_text = std::fs::read_to_string(&resolved).unwrap();
             if !anchors(&heading_text).contains(anchor) {
-                out.push(format!("{here}: no heading of {} has the anchor #{anchor}", resolved.display()));
+                out.push(format!(
+                    "{here}: no heading of {} has the anchor #{anchor}",
+                    resolved.display()
+                ));
             }
         }
     }
@@ -173,7 +176,10 @@ fn every_link_of_the_documents_resolves() {
             .sum::<usize>();
         all.extend(problems(doc, &text));
     }
-    assert!(links >= 30, "only {links} links were found in the documents");
+    assert!(
+        links >= 30,
+        "only {links} links were found in the documents"
+    );
     assert!(all.is_empty(), "broken links:\n{}", all.join("\n"));
 }
 
@@ -197,7 +203,8 @@ fn a_broken_link_or_anchor_is_found() {
 
 #[test]
 fn anchors_follow_githubs_rule() {
-    let text = "# The QP solver against Clarabel\n## One LU in the core: nalgebra's fixed-size `LU`\n\
+    let text =
+        "# The QP solver against Clarabel\n## One LU in the core: nalgebra's fixed-size `LU`\n\
                 ## Trigonometry: why trocar has its own `sin_cos`\n## Reading\n### Reading\n\
                 ```sh\n# not a heading\n```\n";
     let found = anchors(text);
