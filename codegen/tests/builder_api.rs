@@ -459,7 +459,7 @@ fn twin_description() -> RobotDescription {
     RobotDescription::from_toml_str(&text, None).expect("l_b and L_B are distinct in Rust")
 }
 
-/// RELIABILITY.md F29: the C header's macros are the names in upper case, so the parameters
+/// docs/RELIABILITY.md F29: the C header's macros are the names in upper case, so the parameters
 /// `l_b` and `L_B` both gave `TWIN_PARAM_L_B`, defined twice (`cc -Wall -Werror` failed; a C
 /// caller wrote `l_b` into `L_B`'s slot). With the C ABI (module and header) such a module is
 /// refused, naming both parameters and the macro; without it the module is fine.
@@ -585,7 +585,7 @@ fn c_header_defines_the_listed_macros_once() {
     }
 }
 
-/// RELIABILITY.md F28: the wrappers of the C ABI and of `fma_at_run_time` called a fused
+/// docs/RELIABILITY.md F28: the wrappers of the C ABI and of `fma_at_run_time` called a fused
 /// function by its bare name, so their own parameters and locals (`q`, `p`, `out`, `o0`,
 /// `params`; `q`, `p`, the outputs' short names `fk`, `manip`, the local `fk_fused`) shadowed a
 /// function named like one and the module did not compile. They now call it through `self::`.

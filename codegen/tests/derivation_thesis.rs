@@ -2,7 +2,7 @@
 //! (3.40)–(3.42) against the derivation, **symbolically**: every printed matrix is transcribed by
 //! hand below (from `docs/reference-robots.md` and the thesis text) and parsed into the canonical normal form;
 //! equality is `==` of normal forms, i.e. identity modulo `s² + c² = 1`.
-//! The findings are those of `codegen/ERRATA.md`.
+//! The findings are those of `docs/ERRATA.md`.
 
 mod derivation_support;
 
@@ -99,7 +99,7 @@ fn printed_3_29() -> Matrix {
     ])
 }
 
-/// The derived (3.29) for the zx geometry of `docs/reference-robots.md` (published in `codegen/ERRATA.md`).
+/// The derived (3.29) for the zx geometry of `docs/reference-robots.md` (published in `docs/ERRATA.md`).
 fn derived_3_29() -> Matrix {
     matrix(&[
         &[

@@ -135,7 +135,7 @@ fn main() {
     }
     // Fused functions named like the wrappers' own parameters and locals (`q`, `p`, `out`,
     // `o0`, `params`; with `fma_at_run_time` the outputs' short names and `fk_fused`): the
-    // wrappers call them through `self::`, so the module compiles (RELIABILITY.md F28).
+    // wrappers call them through `self::`, so the module compiles (docs/RELIABILITY.md F28).
     let mut shadow = Builder::new();
     shadow
         .robot_as(format!("{robots}/unidirectional.toml"), "shadowing")

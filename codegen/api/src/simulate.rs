@@ -272,9 +272,7 @@ fn rcm_scenario(
     let s = trace.summary();
     let mut out = String::new();
     if let Some(note) = which.deviation() {
-        out += &format!(
-            "scenario {scenario} on the reference arm: {note} (see runtime/sim/CONTROL.md)\n"
-        );
+        out += &format!("scenario {scenario} on the reference arm: {note} (see docs/CONTROL.md)\n");
     }
     out += &format!(
         "scenario {scenario} ({method:?}, drift correction {}, joint speed limit {}):\n  \

@@ -1,4 +1,4 @@
-//! Values every front door refuses in the same words (RELIABILITY.md's findings F18 onwards): a
+//! Values every front door refuses in the same words (docs/RELIABILITY.md's findings F18 onwards): a
 //! joint speed limit that is not a positive number, trajectories too large to hold, a
 //! trajectory file's byte-order mark and what its error messages may quote.
 

@@ -20,7 +20,7 @@
 //! shrunk by proptest and saved as a reproducer. Failures already reported and not yet fixed are
 //! listed in [`KNOWN_FINDINGS`]: they are counted apart and do not fail a run
 //! (`TROCAR_FUZZ_STRICT=1` ignores the list). The long run is ignored by default:
-//! `cargo test -p trocar-cli --test fuzz -- --ignored --nocapture` (see RELIABILITY.md).
+//! `cargo test -p trocar-cli --test fuzz -- --ignored --nocapture` (see docs/RELIABILITY.md).
 //! Environment: `TROCAR_FUZZ_CASES` (long run, default 100000), `TROCAR_FUZZ_CI_CASES` (each CI
 //! test), `TROCAR_FUZZ_WORKERS` (1 or 2, default 2), `TROCAR_FUZZ_SEED` (default 1),
 //! `TROCAR_FUZZ_FAILURES` (where reproducers go, default `$CARGO_TARGET_TMPDIR/fuzz-failures`),
@@ -2471,7 +2471,7 @@ struct KnownFinding {
     matches: fn(&Case, &Outcome) -> bool,
 }
 
-/// The known failures, reported with their reproducers (RELIABILITY.md lists them): none open.
+/// The known failures, reported with their reproducers (docs/RELIABILITY.md lists them): none open.
 /// F1–F4 (deep expressions, deep URDF nesting, a non-finite numeric `det` and `manip` printed with
 /// exit code 0) are fixed, and their reproducers are regression cases.
 const KNOWN_FINDINGS: &[KnownFinding] = &[];
@@ -2859,7 +2859,7 @@ fn user_trajectories_and_simulation_sections_fail_cleanly() {
 }
 
 /// The long run: `TROCAR_FUZZ_CASES` (default 100000) cases of every kind over
-/// `TROCAR_FUZZ_WORKERS` (default 2, at most 2) threads; prints the figures of RELIABILITY.md.
+/// `TROCAR_FUZZ_WORKERS` (default 2, at most 2) threads; prints the figures of docs/RELIABILITY.md.
 #[test]
 #[ignore = "long: about 10^5 cases; run with --ignored --nocapture"]
 fn long_fuzz_run() {

@@ -9,7 +9,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// `[l_min, l_max]` of the scenario (m), as documented in `runtime/sim/CONTROL.md`.
+/// `[l_min, l_max]` of the scenario (m), as documented in `docs/CONTROL.md`.
 const DEPTH: [f64; 2] = [0.05, 0.30];
 
 /// `(lower, upper, velocity)` of the Panda's seven joints, parsed from the shipped URDF.

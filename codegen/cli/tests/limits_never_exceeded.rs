@@ -1,6 +1,6 @@
 //! `trocar simulate` never reports success for a run that exceeded a limit or could not hold the
 //! trocar, refuses gains the sample time makes unstable, and refuses starts it cannot run from
-//! (RELIABILITY.md, F10–F17): each test here failed before its fix.
+//! (docs/RELIABILITY.md, F10–F17): each test here failed before its fix.
 
 mod common;
 use common::{fresh_dir, panda_tip, trocar, ur5_with_section, PANDA_Q0};

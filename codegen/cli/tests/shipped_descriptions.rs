@@ -1,6 +1,6 @@
 //! Every description file shipped in `runtime/model/robots/` is listed by `trocar list`, passes
 //! `trocar verify` by its name, and runs briefly along a path held at its tip with every method
-//! (`--method all`), as a user's robot does (RELIABILITY.md F24). `iiwa-endoscope` and
+//! (`--method all`), as a user's robot does (docs/RELIABILITY.md F24). `iiwa-endoscope` and
 //! `iiwa-link6` were shipped as files but not as names: not listed, and `trocar verify
 //! iiwa-endoscope` could not read the file.
 

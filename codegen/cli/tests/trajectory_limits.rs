@@ -1,4 +1,4 @@
-//! The trajectory reader's limits from the command line (RELIABILITY.md F19): a trajectory that
+//! The trajectory reader's limits from the command line (docs/RELIABILITY.md F19): a trajectory that
 //! never ends (a device, a pipe, named by `--trajectory` or by a description's `[simulation]`
 //! section) is refused after `trocar_api::MAX_TRAJECTORY_BYTES` bytes, and a path longer than
 //! `trocar_api::MAX_TRAJECTORY_STEPS` control steps before the run; each quickly and with the

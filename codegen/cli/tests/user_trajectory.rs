@@ -470,13 +470,13 @@ fn a_description_carries_its_own_scenario() {
     let _ = std::fs::remove_dir_all(&d);
 }
 
-/// The README's "Your own robot" commands, as written there (outputs redirected to a
+/// The "Your own robot" commands of `docs/simulation.md`, as written there (outputs redirected to a
 /// temporary directory): each exits with 0 and writes its files.
 #[test]
 fn the_readmes_own_robot_commands_run() {
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
-    let readme = std::fs::read_to_string(format!("{root}/README.md")).unwrap();
-    let section = &readme[readme.find("## Your own robot").expect("the section")..];
+    let readme = std::fs::read_to_string(format!("{root}/docs/simulation.md")).unwrap();
+    let section = &readme[readme.find("## Your own robot,").expect("the section")..];
     let block = section
         .split("```sh\n")
         .nth(1)

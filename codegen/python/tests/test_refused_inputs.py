@@ -1,4 +1,4 @@
-"""What every front door refuses, refused from Python in the library's words (RELIABILITY.md's
+"""What every front door refuses, refused from Python in the library's words (docs/RELIABILITY.md's
 findings F18 onwards): each case here was accepted, or aborted the interpreter, before."""
 
 import math
@@ -132,7 +132,7 @@ def test_messages_name_the_arguments_not_the_command_lines_flags():
 
 def test_a_step_says_when_the_trocar_gave_way_and_keeps_the_limits():
     """The QP step with the trocar 0.2 m off the shaft exceeded joint 6's speed limit (9.6 rad/s
-    against 2.61) and said nothing but its solver's status (RELIABILITY.md F10): the rates now
+    against 2.61) and said nothing but its solver's status (docs/RELIABILITY.md F10): the rates now
     keep every URDF speed limit and the step's status says the trocar gave way."""
     robot = trocar.Robot.load("panda-laparoscope")
     ctrl, q, point, fk = controller_and_reference()

@@ -331,7 +331,7 @@ def test_controller_step_is_the_rust_controllers_step():
 
 
 def test_a_python_control_loop_keeps_the_trocar():
-    """The README's loop: the tip moves 2 cm sideways while the shaft stays in the trocar."""
+    """docs/python.md's loop: the tip moves 2 cm sideways while the shaft stays in the trocar."""
     robot = trocar.Robot.load("panda-laparoscope")
     q = np.array([0.0, -np.pi / 4, 0.0, -3 * np.pi / 4, 0.0, np.pi / 2, np.pi / 4])
     g0i = robot.eval(q, what="fk0i")
@@ -348,11 +348,11 @@ def test_a_python_control_loop_keeps_the_trocar():
 
 
 def test_the_readmes_python_example_runs():
-    """The README's Python example, as written there."""
-    text = (ROOT / "README.md").read_text()
+    """The Python example of docs/python.md, as written there."""
+    text = (ROOT / "docs" / "python.md").read_text()
     block = text.split("```python\n", 1)[1].split("```", 1)[0]
     scope = {}
-    exec(compile(block, "README.md", "exec"), scope)
+    exec(compile(block, "docs/python.md", "exec"), scope)
     robot, q, goal = scope["robot"], scope["q"], scope["goal"]
     assert np.linalg.norm(robot.eval(q, what="fk")[:3, 3] - goal) < 1e-4
     assert np.max(np.abs(scope["out"]["lateral_error"])) < 1e-6

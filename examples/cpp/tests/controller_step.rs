@@ -2,7 +2,7 @@
 //! the number rule, a bad sample time, gains the controller refuses and null pointers get their
 //! return code (with `qd` set to zeros, or nothing written for a null pointer), the report never
 //! holds a NaN, and a positive joint speed limit (and the joint ranges over `dt`) always hold,
-//! the trocar yielding with its own code when it cannot be held within them (RELIABILITY.md
+//! the trocar yielding with its own code when it cannot be held within them (docs/RELIABILITY.md
 //! F27).
 
 use trocar_cpp_example::panda_laparoscope as m;

@@ -15,7 +15,7 @@
 //!
 //! The limits are parsed from the Panda's URDF here, not taken from the generated module. The
 //! number of cases is `TROCAR_C_FUZZ_CASES` (20 000 by default); `c_controller_step_fuzz_long`
-//! (ignored) runs 10⁵. RELIABILITY.md, "The C ABI's controller step", has the figures of a run.
+//! (ignored) runs 10⁵. docs/RELIABILITY.md, "The C ABI's controller step", has the figures of a run.
 
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestCaseError, TestRunner};
@@ -586,7 +586,7 @@ fn c_controller_step_fuzz() {
     }
 }
 
-/// The long run of RELIABILITY.md: 10⁵ cases (or `TROCAR_C_FUZZ_CASES`).
+/// The long run of docs/RELIABILITY.md: 10⁵ cases (or `TROCAR_C_FUZZ_CASES`).
 #[test]
 #[ignore = "the long run: 1e5 cases"]
 fn c_controller_step_fuzz_long() {

@@ -1,8 +1,8 @@
-//! The README's "Using generated code" and "Testing your generated code" snippets, compiled as
-//! they are shown: `build.rs` generates the module of `robots/arm.toml` in `f32` with its checks
+//! The snippets of the README's tour and of `docs/generated-code.md`, compiled as they are
+//! shown: `build.rs` generates the module of `robots/arm.toml` in `f32` with its checks
 //! and evidence, included below, [`step`] runs the runtime controller on it,
 //! [`tip_and_jacobians`] calls a fused function, and the unit tests
-//! check the compiled module with `trocar_check`. `tests/readme.rs` checks that the README shows
+//! check the compiled module with `trocar_check`. `tests/readme.rs` checks that those pages show
 //! exactly this code.
 #![no_std]
 #![warn(missing_docs)]

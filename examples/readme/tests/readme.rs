@@ -1,5 +1,6 @@
 //! The README's Rust snippets are this crate's code: every line of every ```rust block of the
-//! README, in order, is a line of `build.rs` followed by `src/lib.rs` (leading whitespace aside).
+//! README (and of `docs/generated-code.md`), in order, is a line of `build.rs` followed by
+//! `src/lib.rs` (leading whitespace aside).
 //! The crate itself compiles (it is a workspace member), so the README's snippets do.
 
 use std::path::Path;
@@ -34,20 +35,23 @@ fn find_in_order(code: &[&str], from: usize, block: &[String]) -> Result<usize, 
 #[test]
 fn the_readme_shows_this_crates_code() {
     let here = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let readme = std::fs::read_to_string(here.join("../../README.md")).unwrap();
     let code = std::fs::read_to_string(here.join("build.rs")).unwrap()
         + &std::fs::read_to_string(here.join("src/lib.rs")).unwrap();
     let lines: Vec<&str> = code.lines().collect();
-    let blocks = rust_blocks(&readme);
-    assert!(
-        blocks.len() >= 3,
-        "the README's Rust snippets were not found"
-    );
-    let mut at = 0;
-    for block in &blocks {
-        at = find_in_order(&lines, at, block).unwrap_or_else(|line| {
-            panic!("README line `{line}` is not in examples/readme (build.rs, src/lib.rs)")
-        });
+    // The README's tour and the guide's page on generated code show the same crate.
+    for page in ["README.md", "docs/generated-code.md"] {
+        let text = std::fs::read_to_string(here.join("../..").join(page)).unwrap();
+        let blocks = rust_blocks(&text);
+        assert!(
+            blocks.len() >= 3,
+            "the Rust snippets of {page} were not found"
+        );
+        let mut at = 0;
+        for block in &blocks {
+            at = find_in_order(&lines, at, block).unwrap_or_else(|line| {
+                panic!("{page} line `{line}` is not in examples/readme (build.rs, src/lib.rs)")
+            });
+        }
     }
 }
 
@@ -66,7 +70,7 @@ fn a_changed_snippet_is_found() {
 
 /// The README's dependency lines named only a version (`trocar-check = "0.1"`) of crates that are
 /// not on crates.io: every `trocar` crate a TOML block of the README depends on is given by
-/// `path` or `git` (RELIABILITY.md F26).
+/// `path` or `git` (docs/RELIABILITY.md F26).
 #[test]
 fn the_readmes_dependency_lines_work_today() {
     let here = Path::new(env!("CARGO_MANIFEST_DIR"));

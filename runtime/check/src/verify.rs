@@ -221,7 +221,7 @@ impl Tolerances {
     };
 
     /// For a candidate computing in `f32` (its inputs rounded to `f32`): `2e-6` against the
-    /// numeric runtime, the bound the README states for generated `f32` code (relative to the
+    /// numeric runtime, the bound `docs/generated-code.md` gives `f32` code (relative to the
     /// matrix norm, manipulability to its Hadamard bound); `1e-3` against central differences of
     /// step `3e-3` (the rounding of `q ± h` to `f32` alone is `≈ 1e-7 / h`).
     pub const F32: Tolerances = Tolerances {

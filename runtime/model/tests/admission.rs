@@ -216,7 +216,7 @@ fn the_trocar_lies_on_the_instrument() {
 /// A constraint point that slides along an axis the instrument does not run along
 /// (`xyz = [0, "l_a", 0.107]` on a shaft along z) was reported against `parameters.l_a` ("outside the
 /// instrument"); the value is not what is wrong, the axis is: the error is on `constraint.xyz`,
-/// with its line (RELIABILITY.md F25).
+/// with its line (docs/RELIABILITY.md F25).
 #[test]
 fn a_sliding_axis_away_from_the_tip_is_located_at_the_constraint() {
     for axis in [

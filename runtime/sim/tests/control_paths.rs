@@ -393,7 +393,7 @@ fn jacobians_match_finite_differences_and_thesis() {
     }
     let (lb, l8) = (0.33 - la, 0.21);
     let (s7, c7, s8, c8) = (q[6].sin(), q[6].cos(), q[7].sin(), q[7].cos());
-    // Check the unidirectional J^r (3.24), which is exact as printed for this geometry (`codegen/ERRATA.md`).
+    // Check the unidirectional J^r (3.24), which is exact as printed for this geometry (`docs/ERRATA.md`).
     let kin1 = ChainKinematics::thesis(kin2.chain, Constraint::<f64, 1>::thesis(6, la).unwrap());
     let s1: ConstrainedState<f64, 6, 1, 5, 7> = kin1.evaluate(&q, la).unwrap();
     let a1 = -c8 * (l8 + lb * c7) / la;

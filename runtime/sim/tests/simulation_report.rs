@@ -1,4 +1,4 @@
-//! Generates `runtime/sim/CONTROL.md` (the method comparison and drift tables) and the figures.
+//! Generates `docs/CONTROL.md` (the method comparison and drift tables) and the figures.
 //! Not part of the normal test run (it takes ~30 s in release); regenerate with
 //!
 //! ```text
@@ -164,7 +164,7 @@ fn write_control_md() {
     md.push_str(TAIL);
     md.push_str(PANDA);
     md.push_str(HARD_LIMITS);
-    let out = concat!(env!("CARGO_MANIFEST_DIR"), "/CONTROL.md");
+    let out = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/CONTROL.md");
     std::fs::write(out, md).unwrap();
 }
 

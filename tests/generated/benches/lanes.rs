@@ -1,5 +1,5 @@
 //! Batch evaluation on lane types: the Panda's pose of `panda_link7` and its body Jacobian (the
-//! fused `link_pose_and_jacobian`, one program from `q`: the "q → pose + J^B" of BENCHMARKS.md)
+//! fused `link_pose_and_jacobian` from `q`; BENCHMARKS.md, "Batch evaluation on SIMD lanes")
 //! for `BATCH` configurations, in one criterion group whose ratios are read from one run
 //! (throughput: one element is one configuration).
 //!

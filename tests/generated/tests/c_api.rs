@@ -169,7 +169,7 @@ fn fused_functions_of_an_fma_module_call_the_f64_entry_points() {
     assert_eq!(bits(&out), bits(&want));
 }
 
-/// RELIABILITY.md F28: fused functions named `q`, `p`, `out`, `o0`, `o1`, `params` (the C
+/// docs/RELIABILITY.md F28: fused functions named `q`, `p`, `out`, `o0`, `o1`, `params` (the C
 /// wrappers' parameters and locals) and `fk`, `fk_fused`, `manip` (the `fma_at_run_time` entry
 /// points' parameters and locals) compile (this crate builds the module `shadowing`) and their
 /// C functions and `_f64` entry points write the values of the functions they wrap.
@@ -214,7 +214,7 @@ fn fused_functions_named_like_the_wrappers_locals_work() {
     assert!((m - w).abs() < 1e-12 && (fk.1[2] - t[2]).abs() < 1e-12);
 }
 
-/// RELIABILITY.md F30: a parameter that is not finite is reported by every C function, also
+/// docs/RELIABILITY.md F30: a parameter that is not finite is reported by every C function, also
 /// where the result is finite: `manipulability` with `l_a` NaN returned 0 with w = 0 (its value
 /// is 0 where it is not finite), while the others returned `C_NOT_FINITE`. A non-finite `q`
 /// likewise; finite inputs still give 0.
@@ -264,7 +264,7 @@ fn a_non_finite_input_is_reported_where_the_result_is_finite() {
     assert_eq!(status, p::C_NOT_FINITE);
 }
 
-/// RELIABILITY.md F27 in an `f32` module: a sample time that is not a number and a value beyond
+/// docs/RELIABILITY.md F27 in an `f32` module: a sample time that is not a number and a value beyond
 /// the number rule are refused with `qd` set to zeros, and a trocar 0.2 m off the shaft keeps
 /// the speed limit and says the trocar yielded.
 #[test]

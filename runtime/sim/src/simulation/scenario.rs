@@ -173,7 +173,7 @@ pub const OMEGA: f64 = 2.0 * PI / 200.0;
 /// Half-range of the experiment's rotation about the joint-7 axis at `q0` (rad), `7π/72`: the
 /// rotation `(7π/72)(cos ωk − 1) ∈ [−0.61, 0]` replaces the thesis's `(π/18)(cos ωk − 1)` about
 /// the end-effector x axis, which leaves this arm's `q7 ≥ 0.5`. With it `q7` sweeps
-/// `[0.06, 0.8]` and `J^B_0i` passes near a singularity (see CONTROL.md).
+/// `[0.06, 0.8]` and `J^B_0i` passes near a singularity (see `docs/CONTROL.md`).
 pub const EXP421_AMPLITUDE: f64 = 7.0 * PI / 72.0;
 /// Frequency of experiment 4.2.1 per iteration (`2π/7000` rad per 2 ms step).
 pub const OMEGA_K_421: f64 = 2.0 * PI / 7000.0;
@@ -191,7 +191,7 @@ pub const S4_RCM_AMPLITUDE_THESIS: f64 = 0.005;
 /// rates; afterwards the elbow stretches (`q3 → 0`, `J^B_0i` singular) and the link leaves the
 /// trocar. With the sign reversed the trocar first moves the link away from the tool axis, and at
 /// 1 mm/s the run stays regular (`|q7| ≥ 0.39`, `w_r ≥ 0.033`, `w_i ≥ 0.038`); at 1.5 mm/s the
-/// elbow stretches out (`q3 → 0`) at t ≈ 162 s. See `runtime/sim/CONTROL.md`.
+/// elbow stretches out (`q3 → 0`) at t ≈ 162 s. See `docs/CONTROL.md`.
 pub const S4_RCM_AMPLITUDE: f64 = -0.001;
 
 impl Scenario {
@@ -378,7 +378,7 @@ impl Scenario {
     }
 
     /// How the scenario departs from the thesis on the reference arm (one line, for the
-    /// command-line output), if it does; `runtime/sim/CONTROL.md` gives the reasons and numbers.
+    /// command-line output), if it does; `docs/CONTROL.md` gives the reasons and numbers.
     pub fn deviation(self) -> Option<&'static str> {
         match self {
             Scenario::S3 => Some(
