@@ -9,10 +9,7 @@ use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use trocar_codegen::derivation::{derive, DerivationErrorKind, ManipulabilityForm, NullSpaceBasis};
 use trocar_codegen::symbolic::Env;
-use trocar_model::description::{
-    ConstraintDesc, EndEffector, JointDesc, JointKind, Origin, Parameter, RobotDescription,
-    Rotation, Wrist,
-};
+use trocar_model::description::{JointKind, RobotDescription, Rotation, Wrist};
 
 const TOL: f64 = 1e-12;
 
@@ -272,117 +269,36 @@ fn derived_basis_on_a_preset_geometry() {
     assert_eq!(der.constraint.unwrap().basis, NullSpaceBasis::Computed);
 }
 
-fn rand_scalar(rng: &mut StdRng, lo: f64, hi: f64) -> trocar_model::description::Linear {
-    num((rng.gen_range(lo..hi) * 1000.0_f64).round() / 1000.0)
-}
-
-/// A random 9-joint chain: Pythagorean-triple axes (exact unit vectors) in random orientations
-/// (rpy, irrational entries), random offsets, one prismatic joint, one screw joint with pitch
-/// (`Twist` with `ωᵀv ≠ 0`), parameters in an offset and in the constraint; the constraint at
-/// link 6 with a random 3-row `H` and a non-identity `R_ir`.
-fn random_chain(seed: u64) -> RobotDescription {
-    let mut rng = StdRng::seed_from_u64(seed);
-    let axes: [[f64; 3]; 6] = [
-        [0.6, 0.8, 0.0],
-        [0.0, 0.28, 0.96],
-        [0.36, 0.48, 0.8],
-        [0.0, 0.0, 1.0],
-        [-0.8, 0.0, 0.6],
-        [1.0, 0.0, 0.0],
+/// dia10_like and the thesis presets derive with the end effector's pose and body Jacobian
+/// expanded; the sizes of the derived expressions are printed. How long the derivation takes is
+/// measured by `cargo bench -p trocar-codegen --bench derivation`.
+#[test]
+fn presets_derive_with_expanded_pose_and_body_jacobian() {
+    let cases = [
+        ("dia10_like_zy", dia10_like(false)),
+        ("dia10_like_zx", dia10_like(true)),
+        ("unidirectional", preset("unidirectional")),
+        ("bidirectional-zy", preset("bidirectional-zy")),
+        ("bidirectional-zx", preset("bidirectional-zx")),
     ];
-    let mut joints = Vec::new();
-    for k in 0..9 {
-        let axis = axes[rng.gen_range(0..axes.len())];
-        let kind = match k {
-            3 => JointKind::Prismatic { axis },
-            6 => JointKind::Twist {
-                v: [num(0.1), par(&[(0.5, "l_p")]), num(-0.2)],
-                w: axis,
-            },
-            _ => JointKind::Revolute { axis },
-        };
-        let xyz = if k == 2 {
-            [
-                rand_scalar(&mut rng, -0.3, 0.3),
-                par(&[(1.0, "l_p")]),
-                num(0.05),
-            ]
-        } else {
-            [
-                rand_scalar(&mut rng, -0.3, 0.3),
-                rand_scalar(&mut rng, -0.3, 0.3),
-                rand_scalar(&mut rng, -0.3, 0.3),
-            ]
-        };
-        let rotation = if k % 3 == 1 && k < 6 {
-            Rotation::Rpy([
-                rng.gen_range(-1.0..1.0),
-                rng.gen_range(-1.0..1.0),
-                rng.gen_range(-1.0..1.0),
-            ])
-        } else {
-            Rotation::Rpy([0.0, 0.0, 0.0])
-        };
-        joints.push(JointDesc {
-            name: format!("j{k}"),
-            origin: Origin { xyz, rotation },
-            kind,
-            limits: None,
-            speed_limit: None,
-            location: None,
-        });
-    }
-    let h: Vec<[f64; 6]> = (0..3)
-        .map(|_| {
-            let mut r = [0.0; 6];
-            for x in r.iter_mut() {
-                *x = (rng.gen_range(-1.0..1.0_f64) * 10.0).round() / 10.0;
-            }
-            r
-        })
-        .collect();
-    RobotDescription {
-        name: "random_chain".into(),
-        parameters: vec![
-            Parameter {
-                name: "l_p".into(),
-                value: 0.2,
-            },
-            Parameter {
-                name: "l_a".into(),
-                value: 0.15,
-            },
-        ],
-        joints,
-        end_effector: EndEffector {
-            name: "tool".into(),
-            origin: Origin {
-                xyz: [num(0.01), num(0.1), num(0.02)],
-                rotation: Rotation::Matrix([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]),
-            },
-        },
-        constraint: Some(ConstraintDesc {
-            link: 6,
-            origin: Origin {
-                xyz: [num(0.02), par(&[(1.0, "l_a")]), num(-0.01)],
-                rotation: Rotation::Rpy([0.3, -0.2, 0.7]),
-            },
-            h,
-            wrist: None,
-        }),
-        task: None,
-        source: None,
+    for (name, desc) in cases {
+        let d = derive(&desc).unwrap();
+        assert!(d.fk_e.is_some() && d.body_jacobian_e.is_some(), "{name}");
+        let sizes: Vec<String> = d
+            .sizes()
+            .iter()
+            .map(|(n, r, c, t)| format!("{n} {r}x{c}: {t}"))
+            .collect();
+        println!("{name}: terms: {}", sizes.join(", "));
     }
 }
 
 #[test]
 fn random_chain_with_prismatic_screw_and_three_row_h() {
     let desc = random_chain(7);
-    let t = std::time::Instant::now();
     let d = derive(&desc).unwrap();
     println!(
-        "random chain: {:.1} ms; sizes {:?}; fk_e expanded: {}, manipulability closed form: {}",
-        t.elapsed().as_secs_f64() * 1e3,
+        "random chain: sizes {:?}; fk_e expanded: {}, manipulability closed form: {}",
         d.sizes(),
         d.fk_e.is_some(),
         d.constraint.as_ref().unwrap().manipulability.is_some()

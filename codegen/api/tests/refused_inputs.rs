@@ -15,13 +15,10 @@ fn a_scenario_refuses_the_speed_limits_the_controller_refuses() {
             max_joint_speed: Some(SpeedLimit::At(v)),
             ..RcmOptions::default()
         };
-        let started = std::time::Instant::now();
-        let e = trocar_api::simulate("panda-laparoscope", &options, &mut |_| {})
+        let mut progress = 0;
+        let e = trocar_api::simulate("panda-laparoscope", &options, &mut |_| progress += 1)
             .expect_err("a speed limit that is not positive runs");
-        assert!(
-            started.elapsed().as_secs_f64() < 5.0,
-            "refused after the run"
-        );
+        assert_eq!(progress, 0, "refused after the run had begun");
         let controller = RobotController::new(
             &robot,
             ControllerOptions {
@@ -53,10 +50,8 @@ fn panda_start() -> (Robot, Vec<f64>, [f64; 3]) {
 /// the error says the limit.
 #[test]
 fn an_endless_trajectory_file_is_refused_after_the_cap() {
-    let started = std::time::Instant::now();
     let e = trocar_api::Trajectory::from_csv(std::path::Path::new("/dev/zero"))
         .expect_err("/dev/zero read as a trajectory");
-    assert!(started.elapsed().as_secs_f64() < 20.0, "read for too long");
     let message = e.to_string();
     assert!(
         message.starts_with("/dev/zero: the trajectory is larger than the 67108864 bytes"),
@@ -82,13 +77,10 @@ fn a_path_longer_than_the_step_cap_is_refused_before_the_run() {
         controller: ControllerOptions::default(),
         dt: 0.002,
     };
-    let started = std::time::Instant::now();
-    let e = trocar_api::simulate_trajectory(&robot, &trajectory, &options, &mut |_| {})
+    let mut progress = 0;
+    let e = trocar_api::simulate_trajectory(&robot, &trajectory, &options, &mut |_| progress += 1)
         .expect_err("a path of 1 000 500 steps runs");
-    assert!(
-        started.elapsed().as_secs_f64() < 5.0,
-        "refused after the run"
-    );
+    assert_eq!(progress, 0, "refused after the run had begun");
     let message = e.to_string();
     assert!(
         message.starts_with("the trajectory:3: column `t`: the path ends at t = 2001 s"),

@@ -1,14 +1,13 @@
 //! The trajectory reader's limits from the command line (docs/RELIABILITY.md F19): a trajectory that
 //! never ends (a device, a pipe, named by `--trajectory` or by a description's `[simulation]`
 //! section) is refused after `trocar_api::MAX_TRAJECTORY_BYTES` bytes, and a path longer than
-//! `trocar_api::MAX_TRAJECTORY_STEPS` control steps before the run; each quickly and with the
-//! limit in the message.
+//! `trocar_api::MAX_TRAJECTORY_STEPS` control steps before the run (no output is written); each
+//! with the limit in the message.
 
 mod common;
 use common::{trocar, ur5_with_section};
 use std::io::Write;
 use std::process::{Command, Stdio};
-use std::time::Instant;
 
 const Q0: &str =
     "0,-0.7853981633974483,0,-2.356194490192345,0,1.5707963267948966,0.7853981633974483";
@@ -28,7 +27,6 @@ fn dir(name: &str) -> std::path::PathBuf {
 
 #[test]
 fn dev_zero_as_a_trajectory_is_refused_after_the_cap() {
-    let started = Instant::now();
     let (code, _, err) = trocar(&[
         "simulate",
         "panda-laparoscope",
@@ -39,7 +37,6 @@ fn dev_zero_as_a_trajectory_is_refused_after_the_cap() {
     ]);
     assert_eq!(code, 1, "{err}");
     assert!(err.contains(&format!("/dev/zero: {TOO_LARGE}")), "{err}");
-    assert!(started.elapsed().as_secs() < 30, "read for too long");
 
     // Named by a description's [simulation] section.
     let d = dir("section");
@@ -116,7 +113,6 @@ fn a_path_beyond_the_step_cap_is_refused_before_the_run() {
     )
     .unwrap();
     let csv = d.join("out.csv");
-    let started = Instant::now();
     let (code, _, err) = trocar(&[
         "simulate",
         "panda-laparoscope",
@@ -132,7 +128,6 @@ fn a_path_beyond_the_step_cap_is_refused_before_the_run() {
         err.contains("long.csv:3: column `t`: the path ends at t = 2001 s, 1000500 control steps of 0.002 s; a run takes at most 1000000 steps (2000 s)"),
         "{err}"
     );
-    assert!(started.elapsed().as_secs() < 30, "refused after the run");
     assert!(!csv.exists());
     let _ = std::fs::remove_dir_all(&d);
 }

@@ -288,7 +288,6 @@ fn urdf_limits(path: &str) -> Vec<[f64; 2]> {
 fn ur5_follows_the_example_circle_and_is_drawn() {
     let d = dir("ur5");
     let [csv, plot, gif, still] = ["run.csv", "run.png", "run.gif", "still.svg"].map(|f| d.join(f));
-    let started = std::time::Instant::now();
     let (code, _, err) = trocar(&[
         "simulate",
         "examples/robots/ur5_trocar.toml",
@@ -306,7 +305,6 @@ fn ur5_follows_the_example_circle_and_is_drawn() {
         still.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{err}");
-    eprintln!("ur5 run with its figures: {:?}", started.elapsed());
     for word in [
         "max tip error",
         "after the first second",

@@ -368,7 +368,6 @@ mod tests {
     /// the file in its dep-info, so editing it rebuilds the calling crate.
     #[test]
     fn file_form_tracks_the_description_file() {
-        let t = std::time::Instant::now();
         let out = super::try_expand(
             quote!(file = "../derive/tests/ui/robots/arm.toml", real = "f32"),
             quote!(
@@ -377,10 +376,6 @@ mod tests {
         )
         .expect("valid description")
         .to_string();
-        eprintln!(
-            "expansion of dia10_like_zy (test profile): {:?}",
-            t.elapsed()
-        );
         let path = std::fs::canonicalize(
             std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
                 .join("../derive/tests/ui/robots/arm.toml"),

@@ -4,6 +4,8 @@
 //! symbolic engine.
 #![allow(dead_code)]
 
+use rand::rngs::StdRng;
+use rand::{Rng, SeedableRng};
 use trocar_model::description::{
     ConstraintDesc, EndEffector, JointDesc, JointKind, Linear, Origin, Parameter, RobotDescription,
     Rotation, Wrist,
@@ -407,4 +409,110 @@ pub fn norm(a: &[Vec<f64>]) -> f64 {
 
 pub fn m4_vec(g: &M4) -> Vec<Vec<f64>> {
     g.iter().map(|r| r.to_vec()).collect()
+}
+
+// ---------------------------------------------------------------------------------------------
+// A random chain (the numeric tests and the derivation benchmark).
+
+pub fn rand_scalar(rng: &mut StdRng, lo: f64, hi: f64) -> Linear {
+    num((rng.gen_range(lo..hi) * 1000.0_f64).round() / 1000.0)
+}
+
+/// A random 9-joint chain: Pythagorean-triple axes (exact unit vectors) in random orientations
+/// (rpy, irrational entries), random offsets, one prismatic joint, one screw joint with pitch
+/// (`Twist` with `ωᵀv ≠ 0`), parameters in an offset and in the constraint; the constraint at
+/// link 6 with a random 3-row `H` and a non-identity `R_ir`.
+pub fn random_chain(seed: u64) -> RobotDescription {
+    let mut rng = StdRng::seed_from_u64(seed);
+    let axes: [[f64; 3]; 6] = [
+        [0.6, 0.8, 0.0],
+        [0.0, 0.28, 0.96],
+        [0.36, 0.48, 0.8],
+        [0.0, 0.0, 1.0],
+        [-0.8, 0.0, 0.6],
+        [1.0, 0.0, 0.0],
+    ];
+    let mut joints = Vec::new();
+    for k in 0..9 {
+        let axis = axes[rng.gen_range(0..axes.len())];
+        let kind = match k {
+            3 => JointKind::Prismatic { axis },
+            6 => JointKind::Twist {
+                v: [num(0.1), par(&[(0.5, "l_p")]), num(-0.2)],
+                w: axis,
+            },
+            _ => JointKind::Revolute { axis },
+        };
+        let xyz = if k == 2 {
+            [
+                rand_scalar(&mut rng, -0.3, 0.3),
+                par(&[(1.0, "l_p")]),
+                num(0.05),
+            ]
+        } else {
+            [
+                rand_scalar(&mut rng, -0.3, 0.3),
+                rand_scalar(&mut rng, -0.3, 0.3),
+                rand_scalar(&mut rng, -0.3, 0.3),
+            ]
+        };
+        let rotation = if k % 3 == 1 && k < 6 {
+            Rotation::Rpy([
+                rng.gen_range(-1.0..1.0),
+                rng.gen_range(-1.0..1.0),
+                rng.gen_range(-1.0..1.0),
+            ])
+        } else {
+            Rotation::Rpy([0.0, 0.0, 0.0])
+        };
+        joints.push(JointDesc {
+            name: format!("j{k}"),
+            origin: Origin { xyz, rotation },
+            kind,
+            limits: None,
+            speed_limit: None,
+            location: None,
+        });
+    }
+    let h: Vec<[f64; 6]> = (0..3)
+        .map(|_| {
+            let mut r = [0.0; 6];
+            for x in r.iter_mut() {
+                *x = (rng.gen_range(-1.0..1.0_f64) * 10.0).round() / 10.0;
+            }
+            r
+        })
+        .collect();
+    RobotDescription {
+        name: "random_chain".into(),
+        parameters: vec![
+            Parameter {
+                name: "l_p".into(),
+                value: 0.2,
+            },
+            Parameter {
+                name: "l_a".into(),
+                value: 0.15,
+            },
+        ],
+        joints,
+        end_effector: EndEffector {
+            name: "tool".into(),
+            origin: Origin {
+                xyz: [num(0.01), num(0.1), num(0.02)],
+                rotation: Rotation::Matrix([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]),
+            },
+        },
+        constraint: Some(ConstraintDesc {
+            link: 6,
+            origin: Origin {
+                xyz: [num(0.02), par(&[(1.0, "l_a")]), num(-0.01)],
+                rotation: Rotation::Rpy([0.3, -0.2, 0.7]),
+            },
+            h,
+            wrist: None,
+        }),
+        task: None,
+        source: None,
+    }
 }
