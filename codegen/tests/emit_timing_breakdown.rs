@@ -3,7 +3,9 @@
 
 use std::time::Instant;
 use trocar_codegen::derivation::derive;
-use trocar_codegen::emit::{bridge::module_spec, format_file, module_tokens, Scalar};
+use trocar_codegen::emit::{format_file, module_tokens};
+use trocar_codegen::lower::module_spec;
+use trocar_codegen::Scalar;
 use trocar_model::description::RobotDescription;
 
 #[test]
