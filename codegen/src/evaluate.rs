@@ -1,8 +1,10 @@
 //! Evaluation of the generated programs: the closed-form path of `trocar eval` and what
 //! `trocar verify` checks.
 //!
-//! The programs evaluated here are exactly those the emitter turns into Rust (after CSE, constant
-//! folding and factoring), compiled once ([`Compiled`]) and evaluated in `f64` operation for
+//! An interpreter of the IR beside the backends: it lowers a derivation as the generator does
+//! (`lower`) and runs the module's programs (`ir`); neither imports it. The programs evaluated
+//! here are exactly those the emitter turns into Rust (after CSE, constant folding and
+//! factoring), compiled once ([`Compiled`]) and evaluated in `f64` operation for
 //! operation as the generated `f64` code evaluates them (the same `sin_cos`, the same fused
 //! multiply-adds), so the answers are bit for bit the generated code's; the generated-code test
 //! crate checks that. Functions are named by the catalogue ([`trocar_model::catalogue::Function`]),

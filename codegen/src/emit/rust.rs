@@ -1,5 +1,7 @@
-//! Rust tokens for a robot module: `Params`, `JointTrig`, constants and one function (plus its
-//! `_trig` variant) per [`EmittedFunction`].
+//! The Rust backend: tokens for a robot module read from its [`ModuleSpec`] (`Params`,
+//! `JointTrig`, constants, one function plus its `_trig` variant per [`EmittedFunction`], the
+//! fused functions and their FMA entry points, the controller glue of [`super::controller`]),
+//! naming the runtime crate by [`Runtime`], formatted with prettyplease ([`format_file`]).
 
 use crate::ir::{
     EmittedFunction, FusedFunction, FusedOutput, Layout, ModuleSpec, Op, Program, Scalar, ValueId,

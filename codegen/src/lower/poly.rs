@@ -130,7 +130,8 @@ impl NumTransform {
         NumTransform { rot, pos }
     }
 
-    /// Outputs in the [`Layout::Transform`](crate::ir::Layout::Transform) layout: `R` column-major, then `p`.
+    /// Outputs in the layout [`Transform`](crate::ir::Layout::Transform): `R` column-major,
+    /// then `p`.
     pub fn outputs(&self) -> Vec<ValueId> {
         let mut v = Vec::with_capacity(12);
         for j in 0..3 {
@@ -143,6 +144,7 @@ impl NumTransform {
     }
 }
 
+/// `a · b`.
 fn dot(p: &mut Program, a: &[ValueId; 3], b: &[ValueId; 3]) -> ValueId {
     let mut acc = p.constant(0.0);
     for k in 0..3 {
@@ -152,6 +154,7 @@ fn dot(p: &mut Program, a: &[ValueId; 3], b: &[ValueId; 3]) -> ValueId {
     acc
 }
 
+/// `a × b`.
 pub(super) fn cross(p: &mut Program, a: &[ValueId; 3], b: &[ValueId; 3]) -> [ValueId; 3] {
     let mut out = [ValueId(0); 3];
     for (i, o) in out.iter_mut().enumerate() {
@@ -176,6 +179,7 @@ pub(super) fn rot_t_apply(
     out
 }
 
+/// An empty program over the derivation's parameters (their indices are the program's).
 pub(super) fn new_program(d: &Derivation) -> Program {
     Program::new(d.params.clone())
 }
@@ -188,8 +192,8 @@ pub fn matrix_program(d: &Derivation, m: &Matrix) -> Program {
     prog
 }
 
-/// A rigid transform's expanded entries as a program, outputs in the [`Layout::Transform`](crate::ir::Layout::Transform)
-/// layout.
+/// A rigid transform's expanded entries as a program, outputs in the layout
+/// [`Transform`](crate::ir::Layout::Transform).
 pub fn transform_program(d: &Derivation, t: &Transform) -> Program {
     let mut prog = new_program(d);
     let values = PolyBuilder::new(&mut prog).transform(t);
