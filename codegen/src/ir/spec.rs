@@ -307,7 +307,8 @@ impl ModuleSpec {
 
 /// What a constrained robot's step functions and controller glue are built from
 /// (`step_kinematics`, `StepKinematics` and, when the constraint frame slides along the link,
-/// `Kinematics`).
+/// `Kinematics`); lowering builds it from a derivation (`ControllerSpec::of`, in
+/// `lower::controller`).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ControllerSpec {
     /// The parameter that slides the constraint frame along the link (`lower::shaft_parameter`).
