@@ -24,8 +24,10 @@
 use crate::closed_chain;
 use crate::derivation;
 use crate::emit::checks::{self, ChecksGate};
-use crate::emit::{self, bridge, Runtime, Scalar};
+use crate::emit::{self, Runtime};
 use crate::error::Error;
+use crate::ir::{ModuleSpec, Scalar};
+use crate::lower;
 use crate::naming::checked_module_name;
 use proc_macro2::TokenStream;
 use std::collections::BTreeMap;
@@ -75,11 +77,11 @@ impl ModuleOptions {
     }
 }
 
-fn spec_for(desc: &RobotDescription, options: &ModuleOptions) -> Result<emit::ModuleSpec, Error> {
+fn spec_for(desc: &RobotDescription, options: &ModuleOptions) -> Result<ModuleSpec, Error> {
     let name = checked_module_name(&desc.name, options.module_name.as_deref())?;
     let d =
         derivation::derive(desc).map_err(|e| Error::Description(e.into_description_error(desc)))?;
-    let mut spec = bridge::module_spec_with(&d, &name, &options.functions)?;
+    let mut spec = lower::module_spec_with(&d, &name, &options.functions)?;
     if options.fma_at_run_time {
         if options.real != Scalar::Generic {
             return Err(Error::FmaNeedsGeneric(options.real.to_string()));
@@ -101,7 +103,7 @@ pub fn generate_module(
 fn module_tokens(
     desc: &RobotDescription,
     options: &ModuleOptions,
-    spec: emit::ModuleSpec,
+    spec: ModuleSpec,
 ) -> Result<TokenStream, Error> {
     let runtime = options.runtime()?;
     if options.c_api {
@@ -163,7 +165,7 @@ fn module_tokens(
 /// Rust items: a fused name that starts with `<module>_` (it could be another C function's Rust
 /// name) or is the C ABI's helper `c_params` would clash; and the header's macros must be
 /// distinct ([`emit::c_api::check_names`]).
-fn c_api_names(spec: &emit::ModuleSpec) -> Result<(), Error> {
+fn c_api_names(spec: &ModuleSpec) -> Result<(), Error> {
     emit::c_api::check_names(spec)?;
     let prefix = format!("{}_", spec.name);
     for f in &spec.fused {
@@ -223,7 +225,7 @@ pub fn generate_module_string(
 fn module_string(
     desc: &RobotDescription,
     options: &ModuleOptions,
-    spec: emit::ModuleSpec,
+    spec: ModuleSpec,
 ) -> Result<String, Error> {
     emit::format_file(module_tokens(desc, options, spec)?)
         .map_err(|e| Error::Internal(e.to_string()))
@@ -237,12 +239,29 @@ pub fn generate_mechanism_string(
     options: &ModuleOptions,
 ) -> Result<String, Error> {
     let runtime = options.runtime()?;
-    closed_chain::emit::generate_mechanism_string(
-        src,
-        options.module_name.as_deref(),
+    let d = closed_chain::derive(src).map_err(Error::Description)?;
+    for (k, name) in d.params.iter().enumerate() {
+        if syn::parse_str::<syn::Ident>(name).is_err() {
+            return Err(Error::Description(
+                closed_chain::MechanismError::new(
+                    format!("parameters.{name}"),
+                    format!(
+                        "parameter {k} `{name}` is not a Rust identifier (a field of `Params`)"
+                    ),
+                )
+                .into_description_error(src.file.as_deref()),
+            ));
+        }
+    }
+    let name = checked_module_name(&d.name, options.module_name.as_deref())?;
+    let spec = lower::mechanism::module_spec(&d, &name);
+    emit::format_file(emit::mechanism::module_tokens(
+        &d,
+        &spec,
         options.real,
         &runtime,
-    )
+    ))
+    .map_err(|e| Error::Internal(e.to_string()))
 }
 
 #[derive(Clone, Debug)]

@@ -281,7 +281,7 @@ pub const MANIPULABILITY_BUDGET: usize = 400;
 /// a sum of squared minors (in closed form, or from the Jacobian's values): `t + 1`, one spare
 /// column. Beyond it the count grows combinatorially (`C(10, 6) = 210` minors for a 12-joint
 /// chain, whose closed form took 2.9 s) and the manipulability comes from a factorisation of the
-/// emitted Jacobian instead ([`crate::emit::bridge::manipulability_from_jr`]).
+/// emitted Jacobian instead (`lower::manipulability_from_jr`).
 pub fn minors_apply(rows: usize, cols: usize) -> bool {
     cols >= rows && cols - rows <= 1
 }

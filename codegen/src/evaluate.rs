@@ -1,8 +1,10 @@
 //! Evaluation of the generated programs: the closed-form path of `trocar eval` and what
 //! `trocar verify` checks.
 //!
-//! The programs evaluated here are exactly those the emitter turns into Rust (after CSE, constant
-//! folding and factoring), compiled once ([`Compiled`]) and evaluated in `f64` operation for
+//! An interpreter of the IR beside the backends: it lowers a derivation as the generator does
+//! (`lower`) and runs the module's programs (`ir`); neither imports it. The programs evaluated
+//! here are exactly those the emitter turns into Rust (after CSE, constant folding and
+//! factoring), compiled once ([`Compiled`]) and evaluated in `f64` operation for
 //! operation as the generated `f64` code evaluates them (the same `sin_cos`, the same fused
 //! multiply-adds), so the answers are bit for bit the generated code's; the generated-code test
 //! crate checks that. Functions are named by the catalogue ([`trocar_model::catalogue::Function`]),
@@ -12,10 +14,11 @@ mod compiled;
 
 pub use compiled::{Compiled, LANES};
 
-use crate::closed_chain::{emit as mechanism_emit, MechanismDerivation};
+use crate::closed_chain::MechanismDerivation;
 use crate::derivation::{self, Derivation};
-use crate::emit::{bridge, Layout, ModuleSpec};
 use crate::error::Error;
+use crate::ir::{Layout, ModuleSpec};
+use crate::lower;
 use crate::naming::module_name;
 use std::sync::Arc;
 use trocar_model::catalogue::{Function, Fused};
@@ -43,7 +46,7 @@ impl Generated {
     pub fn new(description: &RobotDescription) -> Result<Self, Error> {
         let d = derivation::derive(description)
             .map_err(|e| Error::Description(e.into_description_error(description)))?;
-        let mut g = Generated::from_spec(bridge::module_spec(&d, &module_name(&description.name)));
+        let mut g = Generated::from_spec(lower::module_spec(&d, &module_name(&description.name)));
         g.derivation = Some(Arc::new(d));
         Ok(g)
     }
@@ -52,7 +55,7 @@ impl Generated {
     /// `constraint_jacobian`, `task_jacobian`, `constraint_determinant` and the numerators);
     /// `q` holds all joints, active and passive.
     pub fn mechanism(derivation: &MechanismDerivation) -> Self {
-        Generated::from_spec(mechanism_emit::module_spec(
+        Generated::from_spec(lower::mechanism::module_spec(
             derivation,
             &module_name(&derivation.name),
         ))
@@ -129,7 +132,7 @@ impl Generated {
         self.spec.function(function).is_some()
     }
 
-    /// The parameters `function` divides by ([`Program::divisor_params`](crate::emit::program::Program::divisor_params)):
+    /// The parameters `function` divides by ([`Program::divisor_params`](crate::ir::Program::divisor_params)):
     /// where its result is not finite when one of them is 0. Empty when the module has no
     /// such function.
     pub fn divisors(&self, function: Function) -> Vec<String> {
@@ -214,7 +217,7 @@ impl Generated {
         const NAME: &str = "requested_outputs";
         let request = Fused::new(NAME, outputs.iter().copied());
         let spec =
-            bridge::module_spec_with(d, &self.spec.name, &[request]).map_err(|e| match e {
+            lower::module_spec_with(d, &self.spec.name, &[request]).map_err(|e| match e {
                 Error::Function { message, .. } => Error::Function {
                     name: label.clone(),
                     message,

@@ -37,6 +37,24 @@
 //! - [`symbolic`] (the exact expression engine), [`derivation`] (the thesis's steps on symbols)
 //!   and [`closed_chain`] (the same for closed mechanisms): the derivation itself, for whoever
 //!   wants the symbolic results.
+//!
+//! # The pipeline
+//!
+//! Each pass reads only the passes above it in this list:
+//!
+//! 1. [`symbolic`]: exact polynomials over joint sines and cosines and named parameters.
+//! 2. [`derivation`] (serial robots, thesis (2.21)–(3.36)) and [`closed_chain`] (closed
+//!    mechanisms, Freitas, Leite & Lizarralde 2010, (5)–(8)): the closed forms on symbols.
+//! 3. `ir`: the straight-line program with its rewrite rules (CSE, constant folding, Horner
+//!    factoring, dead code) and the module specification (`ModuleSpec`: what a generated
+//!    module holds, independent of the output language).
+//! 4. `lower`: derivation → IR (a robot's or a mechanism's `ModuleSpec`).
+//! 5. `emit`: one backend per output, reading the IR: Rust (`emit::rust`, with the controller
+//!    glue `emit::controller` and the mechanism wrappers `emit::mechanism`), the C ABI
+//!    (`emit::c_api`) and the checks (`emit::checks`); and beside them [`evaluate`], which runs
+//!    the IR in `f64` as the emitted code does.
+//! 6. [`Builder`] and the generation functions: description → derivation → lowering →
+//!    backends → files; [`attribute`] on top of them.
 #![warn(missing_docs)]
 
 pub mod attribute;
@@ -47,6 +65,10 @@ pub mod derivation;
 pub mod emit;
 mod error;
 pub mod evaluate;
+#[doc(hidden)]
+pub mod ir;
+#[doc(hidden)]
+pub mod lower;
 mod naming;
 pub mod symbolic;
 
@@ -55,7 +77,7 @@ pub use builder::{
     ModuleOptions,
 };
 pub use emit::checks::ChecksGate;
-pub use emit::Scalar;
 pub use error::Error;
+pub use ir::Scalar;
 pub use naming::module_name;
 pub use trocar_model::catalogue;

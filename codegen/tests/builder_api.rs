@@ -564,7 +564,7 @@ fn c_header_defines_the_listed_macros_once() {
             .map(|l| l.split([' ', '(']).next().unwrap())
             .collect();
         let d = trocar_codegen::derivation::derive(&desc).unwrap();
-        let spec = trocar_codegen::emit::bridge::module_spec_with(
+        let spec = trocar_codegen::lower::module_spec_with(
             &d,
             &module_name(&desc.name),
             &options.functions,

@@ -4,7 +4,7 @@
 
 use trocar_codegen::catalogue::Function;
 use trocar_codegen::derivation::derive;
-use trocar_codegen::emit::bridge::module_spec;
+use trocar_codegen::lower::module_spec;
 use trocar_codegen::{generate_module_string, ModuleOptions};
 use trocar_model::description::{preset_names, RobotDescription};
 
@@ -27,7 +27,8 @@ fn presets_generate_and_print_op_counts() {
 /// the derivation's expanded polynomials.
 #[test]
 fn programs_agree_with_expanded_polynomials() {
-    use trocar_codegen::emit::bridge::{manipulability_from_jr, matrix_program};
+    use trocar_codegen::evaluate::Compiled;
+    use trocar_codegen::lower::{manipulability_from_jr, matrix_program};
     use trocar_codegen::symbolic::Env;
     for name in preset_names() {
         let desc = RobotDescription::preset(name).unwrap();
@@ -92,7 +93,7 @@ fn programs_agree_with_expanded_polynomials() {
                 ),
                 (&matrix_program(&d, &c.jr), col_major(&c.jr)),
             ] {
-                let got = prog.eval(&q, &params);
+                let got = Compiled::new(prog, q.len()).eval(&q, &params);
                 let scale = expected.iter().fold(1.0f64, |a, x| a.max(x.abs()));
                 for (g, e) in got.iter().zip(&expected) {
                     assert!((g - e).abs() <= 1e-12 * scale, "{name}: {g} vs {e}");
@@ -107,7 +108,8 @@ fn programs_agree_with_expanded_polynomials() {
 /// formats (its types are those of the four functions).
 #[test]
 fn pose_and_jacobians_is_one_program_or_the_four_functions() {
-    use trocar_codegen::emit::{format_file, module_tokens, Scalar};
+    use trocar_codegen::emit::{format_file, module_tokens};
+    use trocar_codegen::Scalar;
     for name in preset_names() {
         let desc = RobotDescription::preset(name).unwrap();
         let d = derive(&desc).unwrap();

@@ -1,7 +1,8 @@
 //! Rules of the program optimiser, one test each (named after the rule), op counts and the
 //! interpreter against direct `f64` computation.
 
-use trocar_codegen::emit::{Factor, Op, Program, Term};
+use trocar_codegen::evaluate::Compiled;
+use trocar_codegen::ir::{Factor, Op, Program, Term};
 
 fn prog() -> Program {
     Program::new(vec!["l_a".into(), "l_b".into(), "l_8".into()])
@@ -249,7 +250,7 @@ fn horner() {
     let q: [f64; 8] = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.4, -1.1];
     let params: [f64; 3] = [0.15, 0.18, 0.21];
     let direct = -q[7].cos() * (params[2] + params[1] * q[6].cos()) / params[0];
-    assert!((p.eval(&q, &params)[0] - direct).abs() < 1e-14);
+    assert!((Compiled::new(&p, q.len()).eval(&q, &params)[0] - direct).abs() < 1e-14);
 }
 
 #[test]
@@ -327,10 +328,11 @@ fn interpreter_matches_direct_f64() {
         seed ^= seed << 17;
         (seed >> 11) as f64 / (1u64 << 53) as f64 * 6.0 - 3.0
     };
+    let compiled = Compiled::new(&p, 8);
     for _ in 0..1000 {
         let q: Vec<f64> = (0..8).map(|_| rnd()).collect();
         let l = [rnd().abs() + 0.1, rnd(), rnd()];
-        let got = p.eval(&q, &l);
+        let got = compiled.eval(&q, &l);
         let da = -q[7].sin() * (l[0] + l[1] + l[2] * q[6].cos());
         let db = 0.5 * q[6].sin() * q[7].cos().powi(2) - 3.0 * q[2] + 0.25;
         let dw = (da * db).abs();
@@ -368,8 +370,8 @@ fn import_shares_common_values() {
     b.set_outputs(vec![outs[0], outs[1], c]);
     let q = [0.3, -0.2, 0.0, 0.9];
     let params = [0.15, 0.18, 0.21];
-    let got = b.eval(&q, &params);
-    let want = a.eval(&q, &params);
+    let got = Compiled::new(&b, q.len()).eval(&q, &params);
+    let want = Compiled::new(&a, q.len()).eval(&q, &params);
     assert_eq!(&got[..2], &want[..]);
     assert!((want[1] - 0.3f64.sin() * 0.15).abs() < 1e-16);
 }

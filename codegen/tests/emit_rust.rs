@@ -1,8 +1,8 @@
 //! Emission of a small hand-built module: token/string snapshot and operation counts in docs.
 
-use trocar_codegen::emit::{
-    format_file, module_tokens, ConstItem, EmittedFunction, Factor, Layout, ModuleSpec, Program,
-    Scalar, Term,
+use trocar_codegen::emit::{format_file, module_tokens};
+use trocar_codegen::ir::{
+    ConstItem, EmittedFunction, Factor, Layout, ModuleSpec, Program, Scalar, Term,
 };
 
 fn params() -> Vec<String> {

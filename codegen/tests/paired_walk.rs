@@ -1,5 +1,5 @@
 //! Which chains are walked with the rows of the homogeneous transform as pairs
-//! (`bridge::paired_heads`, `trocar::paired_rows`), and what the emitted function then holds.
+//! (`lower::paired_heads`, `trocar::paired_rows`), and what the emitted function then holds.
 //! The values themselves are checked against the numeric robot by `tests/generated`'s
 //! `urdf_robots` (the Panda's fused `g_0i` and `J^B_0i`, `f64`, built for the default x86-64
 //! target, which takes the walk) and `agree` (`f64` and `f32`), and the lane types against the
@@ -8,7 +8,7 @@
 use std::path::{Path, PathBuf};
 use trocar_codegen::catalogue::Function;
 use trocar_codegen::derivation::derive;
-use trocar_codegen::emit::bridge::paired_heads;
+use trocar_codegen::lower::paired_heads;
 use trocar_codegen::{Builder, Scalar};
 use trocar_model::description::RobotDescription;
 

@@ -86,7 +86,7 @@ fn main() {
     let desc = trocar_model::description::RobotDescription::preset("dia10_like_zy")
         .unwrap_or_else(|e| panic!("dia10_like_zy: {e}"));
     let d = trocar_codegen::derivation::derive(&desc).unwrap_or_else(|e| panic!("{e}"));
-    let mut spec = trocar_codegen::emit::bridge::module_spec_with(
+    let mut spec = trocar_codegen::lower::module_spec_with(
         &d,
         "dia10_like_zy_four_calls",
         &[trocar_codegen::catalogue::Fused::new(

@@ -2,7 +2,7 @@
 
 use super::errors::Errors;
 use crate::emit::checks::ChecksGate;
-use crate::emit::Scalar;
+use crate::ir::Scalar;
 use proc_macro2::{Span, TokenStream};
 use syn::parse::Parser;
 use syn::punctuated::Punctuated;

@@ -36,10 +36,10 @@
 //! structural equations than passive joints, such as cooperating arms with point contacts) are
 //! rejected with an error, as are contact models.
 //!
-//! [`emit`] turns a [`MechanismDerivation`] into a module (see [`emit::module_tokens`]).
+//! Lowering (`lower::mechanism`) turns a [`MechanismDerivation`] into a module's programs and
+//! the Rust backend (`emit::mechanism`) into its module.
 
 mod derive;
-pub mod emit;
 
 pub use derive::{
     derive, derive_mechanism, length_poly, MechanismDerivation, MechanismError, MAX_LENGTH_TERMS,

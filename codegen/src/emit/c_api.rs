@@ -37,7 +37,7 @@
 //! (a parameter's, a function's): [`check_names`] refuses a module in which two of them would
 //! be the same macro (parameters `l_b` and `L_B`).
 
-use super::rust::{FusedFunction, Layout, ModuleSpec, Scalar};
+use crate::ir::{FusedFunction, Layout, ModuleSpec, Scalar};
 use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
 use std::fmt::Write as _;
@@ -684,11 +684,11 @@ pub fn macros(spec: &ModuleSpec) -> Vec<(String, String)> {
 /// names in upper case, so the parameters `l_b` and `L_B` would both be `<MODULE>_PARAM_L_B` (the
 /// compiler warns of the redefinition and a C caller writes `l_b` into `L_B`'s slot), and a
 /// parameter `x_len` and a function `param_x` would both give `<MODULE>_PARAM_X_LEN`.
-pub fn check_names(spec: &ModuleSpec) -> Result<(), crate::Error> {
+pub fn check_names(spec: &ModuleSpec) -> Result<(), crate::error::Error> {
     let list = macros(spec);
     for (k, (name, what)) in list.iter().enumerate() {
         if let Some((_, first)) = list[..k].iter().find(|(n, _)| n == name) {
-            return Err(crate::Error::CMacroClash {
+            return Err(crate::error::Error::CMacroClash {
                 name: name.clone(),
                 first: first.clone(),
                 second: what.clone(),

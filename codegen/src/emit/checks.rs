@@ -10,7 +10,7 @@
 //!   file(s) still hash to it, so that a module whose description changed fails to build.
 //! - [`evidence_doc`]: the module documentation's section with the generation-time check.
 
-use super::rust::{Layout, ModuleSpec, Scalar};
+use crate::ir::{Layout, ModuleSpec, Scalar};
 use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
 use std::path::{Path, PathBuf};

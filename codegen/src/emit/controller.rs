@@ -10,88 +10,14 @@
 //!   null-space objectives) runs on generated code with no hand-written kinematics.
 //!
 //! The constraint frame slides along the link when `g_ir = (R_ir, o + l_a d)` for one parameter
-//! `l_a` with `R_ir` and `o` free of it and `d` a constant direction ([`shaft_parameter`]): the
+//! `l_a` with `R_ir` and `o` free of it and `d` a constant direction (`lower::shaft_parameter`): the
 //! thesis's `(I, (0, l_a, 0))` and a laparoscope's `(I, (0, 0, flange + l_a))` alike. Every step
 //! puts `F_r` at the point of that line nearest to the trocar,
 //! `l_a = ((p_t − p_0i − R_0i o) · R_0i d) / |d|²`.
 
-use super::Scalar;
-use crate::derivation::Derivation;
-use crate::symbolic::{inverse_denominator, node_definition, Atom, Transform};
+use crate::ir::{ControllerSpec, Scalar};
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
-
-/// What the module's step functions and controller glue are built from.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct ControllerSpec {
-    /// The parameter that slides the constraint frame along the link ([`shaft_parameter`]).
-    pub offset: Option<String>,
-    /// Whether the module has a task selection (`task_selection`, `constrained_task_jacobian`).
-    pub task: bool,
-    /// Rows of the task Jacobian `S J^r` (6 without a task).
-    pub task_rows: usize,
-    /// Columns `m` of `J^r`.
-    pub m: usize,
-    /// The constrained link `i` (columns of `J^B_0i`).
-    pub link: usize,
-}
-
-impl ControllerSpec {
-    /// For a derivation with a constraint; `None` without one.
-    pub fn of(d: &Derivation) -> Option<Self> {
-        let c = d.constraint.as_ref()?;
-        Some(ControllerSpec {
-            offset: shaft_parameter(d),
-            task: c.task.is_some(),
-            task_rows: c.task.as_ref().map_or(6, |t| t.s.rows()),
-            m: c.m,
-            link: c.link,
-        })
-    }
-}
-
-/// The parameter that slides the constraint frame along a fixed line of the constrained link:
-/// `g_ir = (R_ir, o + p d)` with `R_ir` and `o` free of `p` and `d` a nonzero constant. A
-/// parameter named `l_a` is preferred; otherwise the only such parameter; `None` if there is
-/// none or the choice is ambiguous.
-pub fn shaft_parameter(d: &Derivation) -> Option<String> {
-    let c = d.constraint.as_ref()?;
-    let candidates: Vec<usize> = (0..d.params.len())
-        .filter(|&k| slides_along_line(&c.g_ir, k))
-        .collect();
-    let k = match candidates.iter().find(|&&k| d.params[k] == "l_a") {
-        Some(&k) => k,
-        None if candidates.len() == 1 => candidates[0],
-        None => return None,
-    };
-    Some(d.params[k].clone())
-}
-
-/// Whether `g` is `(R, o + p_k d)`: `R` free of parameter `k`, the translation affine in it with
-/// constant coefficients, not all zero.
-fn slides_along_line(g: &Transform, k: usize) -> bool {
-    if g.rot.entries().iter().any(|e| e.params().contains(&k)) {
-        return false;
-    }
-    let mut moves = false;
-    for e in g.pos.entries() {
-        for (m, _) in e.terms() {
-            let mentions = m.factors().iter().any(|&(a, _)| match a {
-                Atom::Param(p) => p as usize == k,
-                Atom::Inv(id) => inverse_denominator(id).params().contains(&k),
-                Atom::Node(id) => node_definition(id).params().contains(&k),
-                _ => false,
-            });
-            if mentions {
-                if m.factors() != [(Atom::Param(k as u16), 1)] {
-                    return false;
-                }
-                moves = true;
-            }
-        }
-    }
-    moves
-}
 
 /// The step storage, the step function and, with a sliding constraint frame, the controller
 /// glue. `rt` is the path of the runtime crate in emitted code (`::trocar`).

@@ -1,26 +1,29 @@
-//! Optimisation (CSE, constant folding, Horner factoring, dead-code removal) and emission of
-//! Rust tokens.
+//! The backends: one per output, each reading the IR ([`crate::ir`]) and none another's, except
+//! that the Rust module holds the controller glue and a mechanism's module is a robot module
+//! with wrappers.
 //!
-//! - [`program`]: the straight-line program representation and its rewrite rules, each stated
-//!   once and tested; operation counts; an interpreter.
 //! - [`rust`]: tokens for a robot module (`Params`, `JointTrig`, constants, one function and its
-//!   `_trig` variant per output), formatted with prettyplease.
+//!   `_trig` variant per output, the fused functions), formatted with prettyplease; the path of
+//!   the runtime crate in emitted code ([`Runtime`]).
+//! - [`mechanism`]: a closed mechanism's module, the functions that divide by `det J_Cp`
+//!   wrapped around the polynomial ones.
+//! - [`controller`]: the control step's items in a constrained robot's module
+//!   (`StepKinematics`, `step_kinematics`, `Kinematics`), written by [`rust`].
+//! - [`c_api`]: the C ABI (`extern "C"` functions) and its header.
+//! - [`checks`]: the module's checks and its evidence.
 //!
 //! # Array order
 //! Every matrix is returned **column-major**: a `rows × cols` matrix is `[[T; rows]; cols]`
 //! (`a[col][row]`), exactly nalgebra's `ArrayStorage`, so
 //! `SMatrix::<T, rows, cols>::from_data(ArrayStorage(a))` is free.
 
-pub mod bridge;
 pub mod c_api;
 pub mod checks;
 pub mod controller;
-pub mod program;
+pub mod mechanism;
 pub mod rust;
 
-pub use program::{Const, Factor, Op, OpCounts, Program, Term, ValueId};
 pub use rust::{
     format_file, module_items, module_items_in, module_tokens, module_tokens_in, wrap_module,
-    ConstItem, EmittedFunction, FusedFunction, FusedOutput, Layout, ModuleSpec, Runtime, Scalar,
-    DEFAULT_RUNTIME_PATH,
+    Runtime, DEFAULT_RUNTIME_PATH,
 };

@@ -19,7 +19,7 @@
 //! which the compiler vectorises; the sines and cosines of the lanes come from one
 //! `sin_cos_array` call per joint. Each lane's results are those of [`Compiled::eval`] bit for bit.
 
-use crate::emit::program::{Op, Program, ValueId};
+use crate::ir::{Op, Program, ValueId};
 use trocar::real::fast;
 use trocar::Real;
 

@@ -790,15 +790,6 @@ impl Program {
     pub fn live_len(&self) -> usize {
         self.live().iter().filter(|&&l| l).count()
     }
-
-    /// Evaluates the outputs at joint values `q` and parameter values `params` exactly as the
-    /// emitted code does ([`crate::evaluate::Compiled`]; compile once to evaluate often).
-    ///
-    /// # Panics
-    /// If `params` has not one value per parameter.
-    pub fn eval(&self, q: &[f64], params: &[f64]) -> Vec<f64> {
-        crate::evaluate::Compiled::new(self, q.len()).eval(q, params)
-    }
 }
 
 fn is_power_of_two(y: f64) -> bool {
