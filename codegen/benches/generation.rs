@@ -8,7 +8,9 @@
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use quote::quote;
 use trocar_codegen::derivation::derive;
-use trocar_codegen::emit::{bridge::module_spec, format_file, module_tokens, Scalar};
+use trocar_codegen::emit::{format_file, module_tokens};
+use trocar_codegen::lower::module_spec;
+use trocar_codegen::Scalar;
 use trocar_codegen::{attribute, generate_module_string, ModuleOptions};
 use trocar_model::description::{preset_names, RobotDescription};
 
