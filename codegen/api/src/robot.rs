@@ -232,7 +232,7 @@ impl Robot {
             if let Err(problem) = trocar_model::validity::check(*value) {
                 return Err(Error::argument(
                     "params",
-                    format!("{name} = {value:e}: {value:e} {problem}"),
+                    format!("{name}={value:e}: {value:e} {problem}"),
                 ));
             }
             if seen.contains(&name.as_str()) {

@@ -122,10 +122,10 @@ def test_messages_name_the_arguments_not_the_command_lines_flags():
     assert str(e.value).startswith("q: 2 values given, `bidirectional_zy` has 8 joints"), e.value
     with pytest.raises(ValueError) as e:
         robot.eval([0.0] * 8, params={"l_a": float("inf")})
-    assert str(e.value).startswith("params l_a=inf:"), e.value
+    assert str(e.value).startswith("params: l_a=inf:"), e.value
     with pytest.raises(ValueError) as e:
         robot.eval([0.0] * 8, what="jacobian")
-    assert str(e.value).startswith("what jacobian: not a quantity"), e.value
+    assert str(e.value).startswith("what: `jacobian` is not a quantity"), e.value
     for message in (str(e.value),):
         assert "--" not in message
 
