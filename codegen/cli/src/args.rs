@@ -204,7 +204,7 @@ pub enum Command {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum RealArg {
     /// Generic over `T: trocar::Arith` (straight-line functions, which also run on
-    /// `trocar::lanes`) and `T: trocar::Real` (the functions that test a value).
+    /// `trocar::emitted::lanes`) and `T: trocar::Real` (the functions that test a value).
     Generic,
     /// `f32`.
     F32,

@@ -10,7 +10,7 @@ use trocar_model::catalogue;
 /// The scalar type of generated code.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Default, Hash)]
 pub enum Scalar {
-    /// Generic over `T: ::trocar::Real` (works for `f32` and `f64`).
+    /// Generic over `T: ::trocar::emitted::Real` (works for `f32` and `f64`).
     #[default]
     Generic,
     /// Monomorphic `f32`.
@@ -203,7 +203,7 @@ pub struct FusedFunction {
     pub program: Program,
     /// For `g_0i` and `J^B_0i` together, on a chain of right-angle joints: each joint's head
     /// `Trans(o) R_x(roll)`, base first, as `(roll, o)` with `roll` in quarter turns (0, 1 or −1).
-    /// The function is then also written as the walk of `trocar::paired_rows`, which the
+    /// The function is then also written as the walk of `trocar::emitted::paired_rows`, which the
     /// default x86-64 target takes ([`paired_heads`](super::bridge::paired_heads)).
     pub paired_heads: Option<Vec<(i8, [f64; 3])>>,
 }
@@ -306,9 +306,10 @@ impl ModuleSpec {
 /// The default path of the runtime crate in emitted code ([`Runtime`]).
 pub const DEFAULT_RUNTIME_PATH: &str = "::trocar";
 
-/// The path through which emitted code names the runtime crate `trocar` (`<T: ::trocar::Real>`),
-/// `::trocar` by default; another path (e.g. `::my_reexport::trocar`) serves a crate that reaches
-/// `trocar` through a re-export (prost-build's `prost_path`).
+/// The path through which emitted code names the runtime crate `trocar`
+/// (`<T: ::trocar::emitted::Real>`), `::trocar` by default; another path (e.g.
+/// `::my_reexport::trocar`) serves a crate that reaches `trocar` through a re-export
+/// (prost-build's `prost_path`).
 #[derive(Clone, Debug)]
 pub struct Runtime {
     path: String,
@@ -379,11 +380,11 @@ impl Ty {
         }
     }
     /// The generic parameter of a straight-line function: `<T: Arith>` (the part of `Real` that
-    /// runs lane by lane, `trocar::lanes`).
+    /// runs lane by lane, `trocar::emitted::lanes`).
     pub(crate) fn generics(&self) -> TokenStream {
         let rt = &self.runtime;
         match self.real {
-            Scalar::Generic => quote!(<T: #rt::Arith>),
+            Scalar::Generic => quote!(<T: #rt::emitted::Arith>),
             _ => quote!(),
         }
     }
@@ -392,7 +393,7 @@ impl Ty {
     pub(crate) fn real_generics(&self) -> TokenStream {
         let rt = &self.runtime;
         match self.real {
-            Scalar::Generic => quote!(<T: #rt::Real>),
+            Scalar::Generic => quote!(<T: #rt::emitted::Real>),
             _ => quote!(),
         }
     }
@@ -408,15 +409,15 @@ impl Ty {
         let t = self.t();
         let rt = &self.runtime;
         match self.real {
-            Scalar::Generic => quote!(<#t as #rt::Arith>),
-            Scalar::F32 | Scalar::F64 => quote!(<#t as #rt::Real>),
+            Scalar::Generic => quote!(<#t as #rt::emitted::Arith>),
+            Scalar::F32 | Scalar::F64 => quote!(<#t as #rt::emitted::Real>),
         }
     }
     /// The path of `Real`'s own functions (`is_finite`, `to_f64`): `<T as Real>`.
     pub(crate) fn real_trait_path(&self) -> TokenStream {
         let t = self.t();
         let rt = &self.runtime;
-        quote!(<#t as #rt::Real>)
+        quote!(<#t as #rt::emitted::Real>)
     }
     fn lit(&self, x: f64) -> TokenStream {
         let r = self.real_path();
@@ -1105,7 +1106,7 @@ fn fused_tokens(f: &FusedFunction, ty: &Ty, n: usize, fma_at_run_time: bool) -> 
         let walk_doc = doc_attrs(&format!(
             "\nOn x86-64 with SSE2 and without AVX (the default target), the chain is walked \
              instead with the rows of the homogeneous transform as pairs \
-             (`{}::paired_rows`): one SSE2 register per pair for `f64` and `f32`, one operation \
+             (`{}::emitted::paired_rows`): one SSE2 register per pair for `f64` and `f32`, one operation \
              per lane for the lane types (so that they stay, lane by lane, the scalar walk); \
              the same values to rounding. The operation counts above are the program's.",
             ty.runtime().to_string().replace(' ', "")
@@ -1170,7 +1171,7 @@ fn fused_tokens(f: &FusedFunction, ty: &Ty, n: usize, fma_at_run_time: bool) -> 
 }
 
 /// The statements of `g_0i` and `J^B_0i` written into `g` and `jb` by the walk of
-/// `trocar::paired_rows` over the joints with heads `heads` (base first,
+/// `trocar::emitted::paired_rows` over the joints with heads `heads` (base first,
 /// [`FusedFunction::paired_heads`]): from link `i` towards the base, each joint's column of
 /// `J^B_0i` from the rows reached before it (2.45), `g_0i` at the end.
 fn paired_walk(
@@ -1203,9 +1204,9 @@ fn paired_walk(
     for k in (0..i).rev() {
         let (roll, o) = heads[k];
         let roll = match roll {
-            0 => quote!(#rt::paired_rows::Roll::Zero),
-            1 => quote!(#rt::paired_rows::Roll::Quarter),
-            _ => quote!(#rt::paired_rows::Roll::MinusQuarter),
+            0 => quote!(#rt::emitted::paired_rows::Roll::Zero),
+            1 => quote!(#rt::emitted::paired_rows::Roll::Quarter),
+            _ => quote!(#rt::emitted::paired_rows::Roll::MinusQuarter),
         };
         let o = o.map(|x| {
             let l = Literal::f64_unsuffixed(x.abs());
@@ -1217,7 +1218,7 @@ fn paired_walk(
         });
         let (s, c) = trig(k);
         stmts.push(if k == i - 1 {
-            quote!(let rows = #rt::paired_rows::Rows::first(#s, #c, #roll, [#(#o),*]);)
+            quote!(let rows = #rt::emitted::paired_rows::Rows::first(#s, #c, #roll, [#(#o),*]);)
         } else {
             quote!(let rows = rows.joint(#s, #c, #roll, [#(#o),*]);)
         });
@@ -1231,12 +1232,12 @@ fn paired_walk(
     stmts
 }
 
-/// The `f64` entry points of a fused function with FMA chosen at run time (`trocar::fma`):
+/// The `f64` entry points of a fused function with FMA chosen at run time (`trocar::emitted::fma`):
 /// `<name>_f64` and `<name>_trig_f64`, each taking the private `<name>_fma` /
 /// `<name>_trig_fma` (the fused function on `FusedF64`, compiled for AVX2 and FMA) where
-/// `trocar::fma::available()` holds, and `<name>::<f64>` otherwise; `<name>_trig_f64` takes
+/// `trocar::emitted::fma::available()` holds, and `<name>::<f64>` otherwise; `<name>_trig_f64` takes
 /// `<name>_trig_avx512` (the same, compiled for AVX-512F and AVX-512VL too) instead where
-/// `trocar::fma::path()` is `Avx512`. From `q` the AVX2 function stays: compiled for
+/// `trocar::emitted::fma::path()` is `Avx512`. From `q` the AVX2 function stays: compiled for
 /// AVX-512 it was slower there (BENCHMARKS.md, "The fused functions on AVX-512, given the sines
 /// and cosines").
 fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStream {
@@ -1260,8 +1261,8 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
         .iter()
         .zip(&outs)
         .map(|(o, id)| match o.layout {
-            Layout::Scalar => quote!(#rt::fma::FusedF64::scalar_mut(#id)),
-            Layout::Matrix { .. } => quote!(#rt::fma::FusedF64::matrix_mut(#id)),
+            Layout::Scalar => quote!(#rt::emitted::fma::FusedF64::scalar_mut(#id)),
+            Layout::Matrix { .. } => quote!(#rt::emitted::fma::FusedF64::matrix_mut(#id)),
             Layout::Transform => {
                 let local = format_ident!("{}_fused", id);
                 locals.push(quote! {
@@ -1302,7 +1303,7 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
             (quote!(q: &[f64; #n_ty]), quote!(F::array(q)), quote!(q))
         };
         let doc = doc_attrs(&format!(
-            "[`{base}`] in `f64` with fused multiply-adds chosen at run time (`{rt}::fma`): \
+            "[`{base}`] in `f64` with fused multiply-adds chosen at run time (`{rt}::emitted::fma`): \
              on an x86-64 CPU with AVX2 and FMA, in a build with `trocar`'s `std` feature \
              whose target lacks FMA, [`{base}`] compiled for them{avx512}, every `mul_add` \
              rounded once (bit for bit [`{base}`] built with FMA); [`{base}`]`::<f64>` \
@@ -1329,7 +1330,7 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
              the call."
         ));
         let body = quote! {
-            use #rt::fma::FusedF64 as F;
+            use #rt::emitted::fma::FusedF64 as F;
             #(#locals)*
             self::#name::<F>(#input_fused, #params_fused, #(#views),*);
             #(#copies)*
@@ -1348,12 +1349,12 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
             (
                 quote! {
                     #[cfg(target_arch = "x86_64")]
-                    match #rt::fma::path() {
-                        #rt::fma::Path::Avx512 => {
+                    match #rt::emitted::fma::path() {
+                        #rt::emitted::fma::Path::Avx512 => {
                             unsafe { self::#name_avx512(#arg, p, #(#outs),*) };
                             return;
                         }
-                        #rt::fma::Path::Fma => {
+                        #rt::emitted::fma::Path::Fma => {
                             unsafe { self::#name_fma(#arg, p, #(#outs),*) };
                             return;
                         }
@@ -1373,7 +1374,7 @@ fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStrea
             (
                 quote! {
                     #[cfg(target_arch = "x86_64")]
-                    if #rt::fma::available() {
+                    if #rt::emitted::fma::available() {
                         unsafe { self::#name_fma(#arg, p, #(#outs),*) };
                         return;
                     }
@@ -1518,7 +1519,7 @@ fn params_tokens(spec: &ModuleSpec, ty: &Ty) -> TokenStream {
                 #repr
                 pub struct Params<T>(::core::marker::PhantomData<T>);
 
-                impl<T: #rt::Arith> Params<T> {
+                impl<T: #rt::emitted::Arith> Params<T> {
                     /// The description's nominal values (this robot has no parameters).
                     #[inline]
                     #[must_use]

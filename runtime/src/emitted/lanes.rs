@@ -29,7 +29,7 @@
 //!   place" and "`f32` joints in groups of eight").
 //!
 //! ```
-//! use trocar::lanes::{F64x4, Lanes};
+//! use trocar::emitted::lanes::{F64x4, Lanes};
 //! use trocar::Arith;
 //!
 //! // Any function generic over `Arith`, as generated code is.
@@ -49,7 +49,7 @@
 //! [`for_each_f64x4`] and [`for_each_f32x8`] run such a function over a slice of any length (the
 //! last group padded) into a slice of results.
 
-use crate::real::{fast, Arith, Real};
+use super::{fast, Arith, Real};
 use core::marker::PhantomData;
 use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
 
@@ -621,7 +621,7 @@ for_each!(
     /// If `out` and `configs` differ in length.
     ///
     /// ```
-    /// use trocar::lanes::for_each_f64x4;
+    /// use trocar::emitted::lanes::for_each_f64x4;
     /// use trocar::Arith;
     ///
     /// fn norm2<T: Arith>(q: &[T; 3]) -> T {
@@ -646,8 +646,8 @@ for_each!(
 
 #[cfg(test)]
 mod tests {
+    use super::fast::{sin_cos_f32, sin_cos_f64};
     use super::*;
-    use crate::real::fast::{sin_cos_f32, sin_cos_f64};
 
     /// splitmix64: reproducible pseudo-random bits.
     struct Bits(u64);

@@ -25,7 +25,7 @@
 //! `x·a + b` is rounded once, the two operations twice. On a CPU with AVX2 and FMA they are bit
 //! for bit those of the same module built with `-C target-feature=+fma` (or any `target-cpu`
 //! with FMA); elsewhere bit for bit those of `name::<f64>`. Use `name::<f64>` itself where the
-//! same binary must give the same bits everywhere; the lane types of `trocar::lanes` (feature
+//! same binary must give the same bits everywhere; the lane types of `trocar::emitted::lanes` (feature
 //! `lanes`) are bit for bit `name::<f64>`, not `name_f64`.
 //!
 //! The Panda's pose and body Jacobian given the sines and cosines: about 18 ns instead of 23 ns
@@ -37,7 +37,7 @@
 //! against 207 ns for `pose_and_jacobian_trig::<f64>`).
 //!
 //! ```
-//! use trocar::fma::FusedF64;
+//! use trocar::emitted::fma::FusedF64;
 //! use trocar::Real;
 //!
 //! // `mul_add` of a `FusedF64` is always rounded once.
@@ -47,7 +47,7 @@
 //! assert_eq!(fused, 5.551115123125783e-17); // 0.1 · 10 − 1 before rounding
 //! ```
 
-use crate::real::{fast, Real};
+use super::{fast, Real};
 use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
 
 /// An `f64` whose [`Real::mul_add`] is always fused (one rounding), whatever the build target:

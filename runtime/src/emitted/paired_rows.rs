@@ -21,7 +21,7 @@
 //! Every operation is one IEEE operation per lane, so a [`Pair`] of lane types gives, lane by
 //! lane, the bits of the scalar walk.
 
-use crate::Arith;
+use super::Arith;
 use core::ops::{Add, Mul, Neg, Sub};
 
 /// Two values side by side, `[lo, hi]`. For `f64` and `f32` on x86-64 (with SSE2, as every
