@@ -21,10 +21,10 @@
 //!   Error: **< 1 ulp and ≤ 6e-8 absolute** — checked exhaustively on every `f32` in
 //!   `[-4096, 4096]` against the exact value (max 0.849 ulp, 5.06e-8 absolute).
 //!
-//! `sin(−0) = −0`, `cos(±0) = 1`, NaN for NaN and ±∞. [`Real::sin_cos`](super::Real::sin_cos) uses these functions
-//! with the `std` feature too: two joints take about half the time of std's (glibc's) `sin_cos`
-//! on the x86-64 machines of `BENCHMARKS.md` (116 vs 247 instructions), for at most 1 ulp of
-//! difference (`f64`). The numeric runtime (`nalgebra`'s `RealField`) keeps std's.
+//! `sin(−0) = −0`, `cos(±0) = 1`, NaN for NaN and ±∞. [`Real::sin_cos`](super::Real::sin_cos)
+//! uses these functions with the `std` feature too: faster than std's (glibc's) `sin_cos` (see
+//! BENCHMARKS.md), for at most 1 ulp of difference (`f64`). The numeric runtime (`nalgebra`'s
+//! `RealField`) keeps std's.
 // The kernels' coefficients are the published fdlibm/musl and Cephes minimax values, written to
 // the digits of their sources so they can be checked against them; 2/π stays a literal beside
 // its split parts for the same reason. `!(|x| <= LIMIT)` is meant: it sends NaN to the slow path.
@@ -155,11 +155,10 @@ use vector_ops;
 
 /// Two `f64` in one SSE2 register, for [`sin_cos_f64_lanes`] on x86-64 targets with SSE2
 /// and without AVX2 (the default target; AVX without AVX2 too). There the compiler
-/// vectorised the lanes' scalar paths only in part (seven joints 498–519 instructions,
-/// 45–48 ns), and elementwise maps over eight lanes as much as its settings let it (394
-/// instructions with 16 codegen units, 644 with one); operations written on the register pair
-/// give the same 451 instructions and 36–38 ns under either setting (BENCHMARKS.md,
-/// "Trigonometry on AVX2 and SSE2").
+/// vectorised the lanes' scalar paths only in part, and elementwise maps over eight lanes as
+/// much as its settings (codegen units) let it; operations written on the register pair give
+/// the same code under either setting, and faster (see BENCHMARKS.md, "Trigonometry on AVX2
+/// and SSE2").
 ///
 /// Every operation is one SSE2 intrinsic on registers: no memory is read or written through
 /// a pointer. The intrinsics' only precondition is that the CPU has SSE2, and this module is
@@ -451,8 +450,9 @@ impl Vector for wide::f64x4 {
 /// [`sin_cos_f64`] of each lane of a `wide::f64x4`, bit for bit, computed on the vector
 /// ([`main_path`]); if a lane needs more, every lane through [`sin_cos_f64`]. Of four lanes,
 /// at the default target, recomputing only the lanes that need it (in line or out of line)
-/// made the Panda at its ready pose 1.1x slower, and the careful reduction on all four
-/// ([`careful_lanes64`]) made it 0.95x but random configurations 1.03-1.05x slower.
+/// made the Panda at its ready pose slower, and the careful reduction on all four
+/// ([`careful_lanes64`]) made it faster there but random configurations slower (see
+/// BENCHMARKS.md).
 #[cfg(feature = "lanes")]
 #[inline(always)]
 pub(crate) fn sin_cos_f64x4(x: wide::f64x4) -> (wide::f64x4, wide::f64x4) {
@@ -470,9 +470,9 @@ pub(crate) fn sin_cos_f64x4(x: wide::f64x4) -> (wide::f64x4, wide::f64x4) {
 
 /// Lanes of the side-by-side kernel [`sin_cos_f64_lanes`] for [`sin_cos_f64_array`]: eight
 /// where the target has AVX2 (two registers) or AVX-512 (one), two on other x86-64 targets
-/// with SSE2 (two `f64` in one SSE2 register), none (one element at a time) elsewhere. Seven
-/// joints, Intel Xeon with AVX-512 (BENCHMARKS.md, "Trigonometry on AVX2 and SSE2"): one
-/// group of eight 22–24 ns with AVX2, where a group of four then a padded one took 79–83 ns.
+/// with SSE2 (two `f64` in one SSE2 register), none (one element at a time) elsewhere. With
+/// AVX2, seven joints as one group of eight are faster than a group of four then a padded one
+/// (see BENCHMARKS.md, "Trigonometry on AVX2 and SSE2").
 pub const F64_LANES: usize = if cfg!(any(target_feature = "avx512f", target_feature = "avx2")) {
     8
 } else if cfg!(all(target_arch = "x86_64", target_feature = "sse2")) {
@@ -494,10 +494,9 @@ const PAIRS: bool = F64_LANES == 2;
 ///
 /// With `std`, on an x86-64 target without AVX2 (the default target) running on a CPU that
 /// has it, arrays of three to eight elements go as one group of eight on AVX2, chosen at run
-/// time (std's detection, cached): the same operations, none fused, so the same bits. On an
-/// Intel Xeon with AVX-512, default target: the Panda's seven joints 29–30 ns against 37 in
-/// SSE2 pairs, its pose and body Jacobian from `q` 55–57 ns against 60 (BENCHMARKS.md, "AVX2
-/// chosen at run time"). Longer arrays, and builds without `std`, keep the pairs.
+/// time (std's detection, cached): the same operations, none fused, so the same bits, faster
+/// than the SSE2 pairs (see BENCHMARKS.md, "AVX2 chosen at run time"). Longer arrays, and
+/// builds without `std`, keep the pairs.
 #[inline(always)]
 pub fn sin_cos_f64_array<const N: usize>(x: &[f64; N]) -> ([f64; N], [f64; N]) {
     let mut s = [0.0; N];
@@ -527,7 +526,7 @@ pub fn sin_cos_f64_array<const N: usize>(x: &[f64; N]) -> ([f64; N], [f64; N]) {
         // A group of two or fewer goes one element at a time: padding two joints out to a
         // group of eight (the presets' `J^r` needs `q7`, `q8` only) made the compiler build
         // the vector through the stack, a failed store-to-load forwarding, and took the call
-        // out of line (the presets' `J^r` from `q` 53 ns instead of 26).
+        // out of line (the presets' `J^r` from `q` about twice as slow).
         while k + 3 <= N {
             k += group::<N, 8>(x, k, &mut s, &mut c);
         }
@@ -543,8 +542,7 @@ pub fn sin_cos_f64_array<const N: usize>(x: &[f64; N]) -> ([f64; N], [f64; N]) {
 /// functions of `fma_at_run_time` modules, through [`FusedF64`](super::fma::FusedF64)), bit for bit
 /// the same: the AVX2 groups' results returned as they are, without the element-by-element
 /// reads that spare SSE2 callers a failed store-to-load forwarding. Such a caller does not
-/// need them, and they cost it: dia10_like's step outputs from `q` took 60 ns with them and
-/// 54 ns without (BENCHMARKS.md, "FMA chosen at run time").
+/// need them, and they cost it (see BENCHMARKS.md, "FMA chosen at run time").
 #[inline(always)]
 pub(crate) fn sin_cos_f64_array_for_avx2<const N: usize>(x: &[f64; N]) -> ([f64; N], [f64; N]) {
     #[cfg(all(
@@ -568,7 +566,7 @@ pub(crate) fn sin_cos_f64_array_for_avx2<const N: usize>(x: &[f64; N]) -> ([f64;
 /// intrinsic per operation, the same arithmetic as every other path ([`kernels64`],
 /// [`one_step64`]). The compiler's own vectorisation of [`sin_cos_f64_lanes`] in such a
 /// function built its vectors through the stack, a failed store-to-load forwarding that made
-/// the Panda's seven joints slower than the SSE2 pairs (51–52 ns against 37). The rare path
+/// the Panda's seven joints slower than the SSE2 pairs. The rare path
 /// (`careful`) is the compiler's vectorisation of [`careful_reductions64`], stack traffic
 /// and all: it runs only for arguments near a multiple of π/2, and one pass there cost less
 /// than the two `Quad` passes it replaced (BENCHMARKS.md, "Where the two paths meet").
@@ -626,7 +624,7 @@ mod avx2 {
         if (slow0 | slow1) != 0 {
             // Given `x` alone: with the main path's results passed as well, the compiler
             // tested after both kernels instead of before, and the Panda's pose and body
-            // Jacobian from `q` took 50 ns instead of 44.5.
+            // Jacobian from `q` was slower.
             let x = [x0, x1, x2, x3, x4, x5, x6, x7];
             // SAFETY: this function's own precondition (AVX2).
             return unsafe { careful::<N>(&x) };
@@ -640,8 +638,8 @@ mod avx2 {
 
     /// The rare path of [`eight`], out of line, compiled for AVX2 like it, from the eight
     /// arguments alone (given the main path's results as well, the compiler tested after
-    /// `eight`'s kernels, and the Panda's pose and body Jacobian from `q` took 50 ns instead
-    /// of 44.5): [`careful_reductions64`] on the eight lanes, which the compiler vectorises
+    /// `eight`'s kernels, and the Panda's pose and body Jacobian from `q` was slower):
+    /// [`careful_reductions64`] on the eight lanes, which the compiler vectorises
     /// for AVX2 here (both reductions of every lane, the careful one where
     /// [`super::cancelled64`] sends [`super::sin_cos_f64`] to it, both kernels once; lanes
     /// beyond [`super::F64_FAST_LIMIT`], NaN and ±∞ one at a time through
@@ -750,12 +748,12 @@ fn group<const N: usize, const W: usize>(
 ) -> usize {
     let m = W.min(N - k);
     // The spare lanes repeat the last element (zeros written into a copy made the compiler
-    // build the vector through memory, a store-to-load forwarding stall: 7 joints took 47 ns
-    // instead of 17 in one AVX-512 group).
+    // build the vector through memory, a store-to-load forwarding stall: several times slower
+    // in one AVX-512 group).
     let xs: [f64; W] = core::array::from_fn(|l| x[k + l.min(m - 1)]);
     let (sw, cw) = each_lane::<W>(&xs);
     // Element by element: `copy_from_slice` here sent the results through memory too
-    // (7 joints 44 ns instead of 17, AVX-512).
+    // (several times slower, AVX-512).
     #[allow(clippy::manual_memcpy)]
     for l in 0..m {
         s[k + l] = sw[l];
@@ -807,9 +805,9 @@ fn each_lane<const W: usize>(x: &[f64; W]) -> ([f64; W], [f64; W]) {
     }
     if slow {
         // Every lane again from `x` alone, the careful reduction where it is needed (given
-        // this path's `s`, `c` too, the compiler tested after the kernels: the Panda's
-        // evaluation took 1.1-1.2x the time); out of line beyond eight lanes, in line up to
-        // eight (see `sin_cos_f32_lanes`).
+        // this path's `s`, `c` too, the compiler tested after the kernels, and the Panda's
+        // evaluation was slower); out of line beyond eight lanes, in line up to eight (see
+        // `sin_cos_f32_lanes`).
         if W <= 8 {
             return careful_reductions64(x);
         }
@@ -829,8 +827,7 @@ fn pairs<const W: usize>(x: &[f64; W]) -> ([f64; W], [f64; W]) {
     let mut c = [0.0; W];
     let n = W.div_ceil(2);
     // The first four pairs written out, so that their independent chains interleave (as a
-    // loop the compiler kept it rolled, one pair after another: 511 instructions and
-    // 45–48 ns for seven joints).
+    // loop the compiler kept it rolled, one pair after another, and slower).
     let mut slow = 0;
     if n > 0 {
         slow |= one_pair(x, 0, &mut s, &mut c);
@@ -897,8 +894,8 @@ fn cancelled64(ax: f64, y0: f64) -> bool {
 /// near a multiple of π/2 (a joint at ±π/2, common in robots' home poses) costs one careful
 /// reduction, not a whole group recomputed one element at a time, nor
 /// [`careful_lanes64`]'s one per lane, which code built for the default target runs one
-/// after the other (from the AVX2 groups chosen at run time, the Panda at its ready pose
-/// took 1.3x the time that way).
+/// after the other (from the AVX2 groups chosen at run time, the Panda at its ready pose was
+/// slower that way).
 #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
 #[cold]
 #[inline(never)]
@@ -1057,8 +1054,8 @@ pub fn sin_cos_f32(x: f32) -> (f32, f32) {
 /// x86-64 (two SSE2 registers of four `f32` at the default target, one AVX register with
 /// AVX2 or AVX-512), none (one element at a time) elsewhere, where the lanes would run one
 /// after the other (or are unmeasured: aarch64's NEON). The Panda's seven joints at the
-/// default target: 268 instructions instead of 540 (BENCHMARKS.md, "`f32` joints in groups of
-/// eight").
+/// default target take about half the instructions of one at a time (see BENCHMARKS.md,
+/// "`f32` joints in groups of eight").
 pub const F32_LANES: usize = if cfg!(all(target_arch = "x86_64", target_feature = "sse2")) {
     8
 } else {
@@ -1120,20 +1117,19 @@ pub fn sin_cos_f32_lanes<const W: usize>(x: &[f32; W]) -> ([f32; W], [f32; W]) {
     }
     if slow {
         // Every lane again from `x` alone, the careful reduction where it is needed (see
-        // `sin_cos_f64_lanes`). Beyond eight lanes out of line: in line,
-        // `F32x8`'s sixteen lanes took 1.4-1.6x the time (its 64 Panda configurations'
-        // sines and cosines 0.72-0.77 us against 0.48-0.53, BENCHMARKS.md, "Only the lanes
-        // that need it"); up to eight in line: out of line, the scalar Panda's evaluation
-        // took 1.3x the time in `f32` and 1.3-1.35x in `f64` on random configurations
-        // (BENCHMARKS.md, "The careful reduction on all lanes", its first form).
+        // `sin_cos_f64_lanes`). Beyond eight lanes out of line: in line, `F32x8`'s sixteen
+        // lanes were slower (BENCHMARKS.md, "Only the lanes that need it"); up to eight in
+        // line: out of line, the scalar Panda's evaluation was slower in `f32` and `f64` on
+        // random configurations (BENCHMARKS.md, "The careful reduction on all lanes", its
+        // first form).
         if W <= 8 {
             return careful_reductions32(x);
         }
         // Assigned to `s`, `c`, not returned: `return careful_lanes32(x)` made the call write
         // into the result's place, so the main path stored its results there too and read
         // them back (the two paths met in memory; on Zen 4 the reload of each 64-byte
-        // result waited on its store, and `F32x8`'s evaluation took 1.12-1.17x the time,
-        // BENCHMARKS.md, "Where the two paths meet").
+        // result waited on its store, and `F32x8`'s evaluation was slower, BENCHMARKS.md,
+        // "Where the two paths meet").
         (s, c) = careful_lanes32(x);
     }
     (s, c)

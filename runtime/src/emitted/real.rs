@@ -154,7 +154,7 @@ macro_rules! impl_real {
                 self as f64
             }
             /// [`fast`] with or without `std`: at most 1 ulp from glibc (`f64`), under 1 ulp
-            /// from the exact value (`f32`), and about half the time of std's `sin_cos`.
+            /// from the exact value (`f32`), and faster than std's `sin_cos` (see BENCHMARKS.md).
             #[inline(always)]
             fn sin_cos(self) -> (Self, Self) {
                 fast::$fast(self)
