@@ -13,6 +13,7 @@
 //! Pseudo-inverses and determinants of dynamic matrices are faer's dense decompositions
 //! ([`crate::linalg`]).
 
+pub use crate::linalg::RobotScalar;
 use faer::{Col, Mat};
 use nalgebra::{convert, Const};
 use trocar::constraint::Constraint;
@@ -21,12 +22,6 @@ use trocar::linalg::SquareDim;
 use trocar::se3::{Se3, Twist};
 use trocar_model::description::RobotDescription;
 pub use trocar_model::numeric::{AnyConstraint, NumericModel, RobotError};
-
-/// A scalar the numeric robot works in: a real field for both nalgebra (the typed kernels) and
-/// faer (the dynamic matrices), i.e. `f32` or `f64`.
-pub trait RobotScalar: nalgebra::RealField + Copy + faer::traits::RealField {}
-
-impl<T: nalgebra::RealField + Copy + faer::traits::RealField> RobotScalar for T {}
 
 /// A numeric robot: a [`RobotDescription`] evaluated with parameter values, answering with
 /// dynamic-size [`faer::Mat`] matrices. Joint values `q` are all `n` joints, base first.
