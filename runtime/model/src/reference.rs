@@ -45,6 +45,17 @@ fn check_q<T: RealField + Copy>(model: &NumericModel<T>, q: &[T]) -> Result<(), 
     Ok(())
 }
 
+/// `Ok` when `k` names a link of the chain (`0` the base, `n` the last joint's frame).
+fn check_link<T: RealField + Copy>(model: &NumericModel<T>, k: usize) -> Result<(), RobotError> {
+    if k > model.dof() {
+        return Err(RobotError::LinkOutOfRange {
+            link: k,
+            joints: model.dof(),
+        });
+    }
+    Ok(())
+}
+
 /// The constraint of the model, or [`RobotError::NoConstraint`].
 fn constraint<T: RealField + Copy>(
     model: &NumericModel<T>,
@@ -72,12 +83,7 @@ pub fn link_frame<T: RealField + Copy>(
     q: &[T],
 ) -> Result<Se3<T>, RobotError> {
     check_q(model, q)?;
-    if k > model.dof() {
-        return Err(RobotError::LinkOutOfRange {
-            link: k,
-            joints: model.dof(),
-        });
-    }
+    check_link(model, k)?;
     Ok(kinematics::forward_kinematics(
         &model.joints()[..k],
         &q[..k],
@@ -114,12 +120,7 @@ pub fn partial_body_jacobian_at<T: RealField + Copy>(
     q: &[T],
 ) -> Result<DMatrix<T>, RobotError> {
     check_q(model, q)?;
-    if k > model.dof() {
-        return Err(RobotError::LinkOutOfRange {
-            link: k,
-            joints: model.dof(),
-        });
-    }
+    check_link(model, k)?;
     let mut cols = vec![Twist::zeros(); k];
     kinematics::body_jacobian_columns(&model.joints()[..k], &q[..k], &Se3::identity(), &mut cols);
     Ok(columns(&cols))
