@@ -44,14 +44,14 @@ IMPLS = [("casadi", "CasADi C (SX, defaults)"), ("casadi_cse", "CasADi C (SX, cs
 TRIG = [("c_glibc_two_sincos", "trig_c_glibc", "C glibc sin+cos of 2 joints (gcc merges into sincos)"),
         ("rust_std_two_sin_cos_f64", "trig_std_f64", "Rust std f64::sin_cos x2"),
         ("trocar_real_two_sin_cos_f64", None, "trocar::Real::sin_cos f64 x2 (std build)"),
-        (None, "trig_fast_f64", "trocar::real::fast::sin_cos_f64 x2 (no_std path)"),
+        (None, "trig_fast_f64", "trocar::emitted::fast::sin_cos_f64 x2 (no_std path)"),
         ("libm_two_sin_cos_f64", "trig_libm_f64", "libm crate sin, cos f64 x2 (previous no_std path)"),
         ("rust_std_two_sin_cos_f32", "trig_std_f32", "Rust std f32::sin_cos x2"),
         ("trocar_real_two_sin_cos_f32", None, "trocar::Real::sin_cos f32 x2 (std build)"),
-        (None, "trig_fast_f32", "trocar::real::fast::sin_cos_f32 x2 (no_std path)"),
+        (None, "trig_fast_f32", "trocar::emitted::fast::sin_cos_f32 x2 (no_std path)"),
         ("libm_two_sin_cos_f32", "trig_libm_f32", "libm crate sinf, cosf x2 (previous no_std path)"),
-        ("fast_two_sin_cos_f64", None, "trocar::real::fast::sin_cos_f64 x2 (criterion)"),
-        ("fast_two_sin_cos_f32", None, "trocar::real::fast::sin_cos_f32 x2 (criterion)")]
+        ("fast_two_sin_cos_f64", None, "trocar::emitted::fast::sin_cos_f64 x2 (criterion)"),
+        ("fast_two_sin_cos_f32", None, "trocar::emitted::fast::sin_cos_f32 x2 (criterion)")]
 
 
 def load(path):

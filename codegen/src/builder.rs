@@ -362,7 +362,7 @@ impl Builder {
 
     /// Also emit, for each fused function `name` of each serial robot (the defaults and those of
     /// [`Builder::function`]), the `f64` entry points `name_f64` and `name_trig_f64` with fused
-    /// multiply-adds chosen at run time (`trocar::fma`): in a build for the default x86-64
+    /// multiply-adds chosen at run time (`trocar::emitted::fma`): in a build for the default x86-64
     /// target with `trocar`'s `std` feature, on a CPU with AVX2 and FMA, they run `name`
     /// compiled for those (every `mul_add` one instruction when optimised, rounded once;
     /// `name_trig_f64` compiled for AVX-512F and AVX-512VL too where the CPU has them, with the

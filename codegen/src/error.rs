@@ -55,7 +55,7 @@ pub enum Error {
         message: String,
     },
     /// [`crate::Builder::fma_at_run_time`] asked of a module that is not generic over the
-    /// scalar (its entry points run the generic functions on `trocar::fma::FusedF64`); the
+    /// scalar (its entry points run the generic functions on `trocar::emitted::fma::FusedF64`); the
     /// scalar asked for.
     FmaNeedsGeneric(String),
     /// The generation-time check of [`crate::Builder::evidence`] failed: the report, with the
@@ -101,7 +101,7 @@ impl fmt::Display for Error {
                 f,
                 "fma_at_run_time needs a module generic over the scalar (real = generic), not \
                  real = {real}: its `_f64` entry points run the generic functions on \
-                 trocar::fma::FusedF64"
+                 trocar::emitted::fma::FusedF64"
             ),
             Error::Evidence(m) => write!(
                 f,

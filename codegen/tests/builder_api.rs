@@ -151,7 +151,7 @@ fn unconstrained_robot() {
     let cut = text.find("[constraint]").unwrap();
     let desc = RobotDescription::from_toml_str(&text[..cut], None).unwrap();
     let code = generate_module_string(&desc, &ModuleOptions::default()).unwrap();
-    assert!(code.contains("pub fn forward_kinematics<T: ::trocar::Arith>"));
+    assert!(code.contains("pub fn forward_kinematics<T: ::trocar::emitted::Arith>"));
     assert!(code.contains("-> [[T; 6]; N]"));
     assert!(!code.contains("constrained_jacobian"));
     assert!(!code.contains("pub const M"));
@@ -169,10 +169,16 @@ fn runtime_path_is_used_everywhere() {
         .generate()
         .unwrap();
     for (file, code) in &files {
-        assert!(code.contains("T: ::my_reexport::trocar::Real"), "{file}");
-        assert!(code.contains("T: ::my_reexport::trocar::Arith"), "{file}");
         assert!(
-            code.contains("<T as ::my_reexport::trocar::Real>"),
+            code.contains("T: ::my_reexport::trocar::emitted::Real"),
+            "{file}"
+        );
+        assert!(
+            code.contains("T: ::my_reexport::trocar::emitted::Arith"),
+            "{file}"
+        );
+        assert!(
+            code.contains("<T as ::my_reexport::trocar::emitted::Real>"),
             "{file}"
         );
         let bare = code.replace("::my_reexport::trocar::", "");
@@ -185,7 +191,7 @@ fn runtime_path_is_used_everywhere() {
         .robot(robots().join("bidirectional-zy.toml"))
         .generate()
         .unwrap();
-    assert!(default["bidirectional_zy.rs"].contains("<T as ::trocar::Real>"));
+    assert!(default["bidirectional_zy.rs"].contains("<T as ::trocar::emitted::Real>"));
     assert!(!default["bidirectional_zy.rs"].contains("my_reexport"));
 
     let err = Builder::new()
@@ -288,7 +294,7 @@ fn fused_functions_on_request() {
     };
     let code =
         generate_module_string(&unconstrained, &options("pose", &[F::ForwardKinematics])).unwrap();
-    assert!(code.contains("pub fn pose_and_jacobian<T: ::trocar::Arith>("));
+    assert!(code.contains("pub fn pose_and_jacobian<T: ::trocar::emitted::Arith>("));
     assert!(!code.contains("link_pose_and_jacobian"));
     for (name, outputs, message) in [
         (
@@ -321,7 +327,7 @@ fn fused_functions_on_request() {
 }
 
 /// `fma_at_run_time`: each fused function gains `<name>_f64` and `<name>_trig_f64`, which take
-/// the function compiled for AVX2 and FMA when `trocar::fma::available()` holds; a monomorphic
+/// the function compiled for AVX2 and FMA when `trocar::emitted::fma::available()` holds; a monomorphic
 /// module is refused with the scalar named.
 #[test]
 fn fma_at_run_time_emits_f64_entry_points_for_generic_modules() {
@@ -346,7 +352,7 @@ fn fma_at_run_time_emits_f64_entry_points_for_generic_modules() {
         );
     }
     assert!(code.contains("#[target_feature(enable = \"avx2,fma\")]"));
-    assert!(code.contains("::trocar::fma::available()"));
+    assert!(code.contains("::trocar::emitted::fma::available()"));
     assert!(code.contains("#[repr(C)]\n    pub struct JointTrig"));
     // Without the option nothing of it is emitted.
     let plain = generate_module_string(&desc, &ModuleOptions::default()).unwrap();

@@ -1,5 +1,5 @@
 //! Which chains are walked with the rows of the homogeneous transform as pairs
-//! (`lower::paired_heads`, `trocar::paired_rows`), and what the emitted function then holds.
+//! (`lower::paired_heads`, `trocar::emitted::paired_rows`), and what the emitted function then holds.
 //! The values themselves are checked against the numeric robot by `tests/generated`'s
 //! `urdf_robots` (the Panda's fused `g_0i` and `J^B_0i`, `f64`, built for the default x86-64
 //! target, which takes the walk) and `agree` (`f64` and `f32`), and the lane types against the

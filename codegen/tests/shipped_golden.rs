@@ -3,7 +3,7 @@
 //!
 //! - `<stem>_f64.rs` is the `f64` module, byte for byte;
 //! - the `f32` module is **the `f64` golden with every `f64` replaced by `f32`** (the three bytes,
-//!   wherever they occur: types, `0.25_f64`, `<f64 as ::trocar::Real>`), **then patched by
+//!   wherever they occur: types, `0.25_f64`, `<f64 as ::trocar::emitted::Real>`), **then patched by
 //!   `<stem>_f32.diff`** when that file exists. The diff holds only the lines the replacement does
 //!   not give, as a unified diff without context lines from the replaced `f64` golden to the `f32`
 //!   module. Today they are the joint limits (`JOINT_LIMITS` is `[[f64; 2]; N]` whatever the
@@ -352,7 +352,7 @@ fn a_changed_line_of_either_module_fails_the_check() {
         |text: &str, needle: &str| lines(text).iter().position(|l| l.contains(needle)).unwrap() + 1;
     let middle = lines(&f32_module).len() / 2;
     let limits = line_of(&f32_module, "JOINT_LIMITS") + 1; // a joint's limits: a diff line
-    let typed = line_of(&f32_module, "<f32 as ::trocar::Real>"); // a line the mapping explains
+    let typed = line_of(&f32_module, "<f32 as ::trocar::emitted::Real>"); // a line the mapping explains
     let fails_at = |f64_m: &str, f32_m: &str, module: &str, k: usize| {
         let problems = check("ur5", f64_m, f32_m, &f64_module, &diff);
         assert!(
@@ -371,7 +371,7 @@ fn a_changed_line_of_either_module_fails_the_check() {
         fails_at(&f64_module, &edit(&f32_module, k, &space), "f32 module", k);
     }
     // The same change in both modules.
-    let both = |l: &str| Some(l.replace("::trocar::Real", "::trocar::Arith"));
+    let both = |l: &str| Some(l.replace("::trocar::emitted::Real", "::trocar::emitted::Arith"));
     fails_at(
         &edit(&f64_module, typed, &both),
         &edit(&f32_module, typed, &both),
@@ -394,12 +394,17 @@ fn a_changed_line_of_either_module_fails_the_check() {
         "f32 module",
         typed,
     );
-    // A line less.
+    // A line less: one that differs from the line after it (removing one of two equal lines
+    // shows first where the copies end).
+    let f32_lines = lines(&f32_module);
+    let removed = (middle..f32_lines.len())
+        .find(|&k| f32_lines[k - 1] != f32_lines[k])
+        .unwrap();
     fails_at(
         &f64_module,
-        &edit(&f32_module, middle, &|_| None),
+        &edit(&f32_module, removed, &|_| None),
         "f32 module",
-        middle,
+        removed,
     );
     // The final newline.
     let last = lines(&f64_module).len();

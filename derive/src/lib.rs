@@ -58,15 +58,16 @@
 //! `T: trocar::Real`), `module = "name"` (default: the struct name in snake case),
 //! `fma_at_run_time` (each fused function also as `<name>_f64` and `<name>_trig_f64`, `f64`
 //! entry points with fused multiply-adds chosen at run time where `trocar` has its `std` feature:
-//! see `trocar::fma`; generic modules only; needs Rust 1.89 or later).
+//! see `trocar::emitted::fma`; generic modules only; needs Rust 1.89 or later).
 //!
 //! # What it generates
 //!
 //! For `struct Arm;`: the module `arm` (the generator's output: `N`, `Params`, `JointTrig`,
 //! `constrained_jacobian`, `manipulability`, ... each with its `_trig` variant), type aliases
 //! `ArmParams` and `ArmJointTrig`, and `impl Arm` with the module's constants and a delegating
-//! associated function per generated function. The generated code names `::trocar::Real`, so the
-//! calling crate depends on `trocar` (with or without its `std` feature). The associated functions
+//! associated function per generated function. The generated code names `::trocar::emitted`
+//! (what generated code may call), so the calling crate depends on `trocar` (with or without its
+//! `std` feature). The associated functions
 //! take the module's types and sizes as the module's functions do (`&[T; N]`, `&Params<T>`), so
 //! the struct cannot be named like one of them (`struct Params;`, `struct JointTrig;` are errors).
 //!

@@ -146,7 +146,7 @@ impl<T: RealField + Copy> Motion<T> {
 }
 
 /// `(sin x, cos x)` from [`RealField`] (`std`'s, or `libm`'s without `std`): not the crate's own
-/// kernel ([`crate::real::fast`]) that generated code uses, so that this runtime, the reference
+/// kernel ([`crate::emitted::fast`]) that generated code uses, so that this runtime, the reference
 /// generated code is checked against, shares none of its arithmetic.
 #[inline(always)]
 fn sin_cos<T: RealField + Copy>(x: T) -> (T, T) {

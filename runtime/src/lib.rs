@@ -4,9 +4,11 @@
 //! ([`kinematics`]), the constrained Jacobian of a remote centre of motion ([`constraint`]),
 //! fixed-size dense linear algebra ([`linalg`]), manipulability ([`manipulability`]), finite-difference references ([`finite_diff`]), the
 //! constrained kinematic controller ([`control`]) and the dense QP solver for its hard limits
-//! ([`qp`]). Generated code runs on [`Real`] (one number) or [`Arith`] (also the lane types of
-//! `lanes`, feature `lanes`); [`fma`] chooses fused multiply-adds at run time for the `f64` entry
-//! points of modules generated with `fma_at_run_time`.
+//! ([`qp`]). Generated code runs on [`emitted`], the one module it may call: the scalar traits
+//! [`Real`] (one number) and [`Arith`] (also the lane types of `emitted::lanes`, feature
+//! `lanes`), the kernels only it uses (its `sin_cos`, the chain walked as SSE2 pairs, fused
+//! multiply-adds chosen at run time) and re-exports of the controller's types it names. The rest
+//! of the crate does not depend on that module.
 //!
 //! Everything a control loop calls is allocation-free, works on `nalgebra` fixed-size types and
 //! builds with `#![no_std]` (`default-features = false`; `libm` supplies the math functions).
@@ -17,19 +19,17 @@
 
 pub mod constraint;
 pub mod control;
+pub mod emitted;
 pub mod finite_diff;
-pub mod fma;
 pub mod kinematics;
-#[cfg(feature = "lanes")]
-pub mod lanes;
 pub mod linalg;
 pub mod manipulability;
-pub mod paired_rows;
 pub mod qp;
-pub mod real;
 pub mod se3;
 
-pub use real::{Arith, Real};
+/// The scalar traits of generated code ([`emitted::Real`], [`emitted::Arith`]), at the root for
+/// code written against generated functions.
+pub use emitted::{Arith, Real};
 
 /// Re-export of the linear-algebra crate the runtime's types come from.
 pub use nalgebra;

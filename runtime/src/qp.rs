@@ -121,9 +121,9 @@
 //! - *Bounded time, no allocation, no panic.* Fixed-size arrays throughout, a bounded number of
 //!   iterations of bounded cost, every division guarded.
 //! - *Fast enough.* On the controller's problem (`n = 7`, 2 trocar rows, 14 box bounds and one
-//!   two-sided depth row) a warm-started solve takes 1.0 µs (median, Intel Xeon, `cargo bench
-//!   -p trocar --bench qp`; 2.8 µs cold), Clarabel's interior-point solve of the same problems
-//!   64 µs in the same run (`BENCHMARKS.md`).
+//!   two-sided depth row) a warm-started solve takes about a microsecond, well within a control
+//!   step and far below an interior-point solve (Clarabel) of the same problems (see
+//!   BENCHMARKS.md; `cargo bench -p trocar --bench qp`).
 //!
 //! # What is guaranteed
 //!

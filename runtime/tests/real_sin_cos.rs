@@ -1,11 +1,11 @@
-//! `trocar::real::fast::{sin_cos_f64, sin_cos_f32}` (what `Real::sin_cos` uses) against std.
+//! `trocar::emitted::fast::{sin_cos_f64, sin_cos_f32}` (what `Real::sin_cos` uses) against std.
 //!
 //! f64: at most 1 ulp from std (glibc, itself < 1 ulp from the exact value). f32: < 1 ulp and
 //! ≤ 6e-8 absolute from the exact value (std's f64 `sin_cos`, exact to far below an f32 ulp);
 //! measured exhaustively on [-4096, 4096]: 0.849 ulp, 5.06e-8.
 //! The exhaustive f32 check and a 10⁷-sample f64 check are `#[ignore]`d (run with
 //! `cargo test --release -p trocar --test real_sin_cos -- --ignored`).
-use trocar::real::fast::{sin_cos_f32, sin_cos_f64, F32_FAST_LIMIT, F64_FAST_LIMIT};
+use trocar::emitted::fast::{sin_cos_f32, sin_cos_f64, F32_FAST_LIMIT, F64_FAST_LIMIT};
 
 fn ord64(x: f64) -> i64 {
     let b = x.to_bits() as i64;
@@ -246,7 +246,7 @@ fn f32_grid_random_and_all_magnitudes() {
 /// `x = 1.5707945`).
 #[test]
 fn f32_every_argument_near_multiples_of_half_pi() {
-    use trocar::real::fast::sin_cos_f32_lanes;
+    use trocar::emitted::fast::sin_cos_f32_lanes;
     fn lanes_equal_scalar<const W: usize>(x: &[f32; W]) {
         let (s, c) = sin_cos_f32_lanes(x);
         assert_scalar_bits32("lanes", x, &s, &c);
@@ -296,7 +296,7 @@ fn f32_exhaustive_fast_path() {
 /// careful reduction takes over), huge arguments, NaN and ±∞, in arrays that mix them.
 #[test]
 fn array_version_equals_the_scalar_one_bit_for_bit() {
-    use trocar::real::fast::{sin_cos_f64_array, sin_cos_f64_lanes, sin_cos_f64_x4};
+    use trocar::emitted::fast::{sin_cos_f64_array, sin_cos_f64_lanes, sin_cos_f64_x4};
     use trocar::Real;
     let mut special = Vec::new();
     for k in 0..2000i64 {
@@ -420,7 +420,7 @@ fn array_version_equals_the_scalar_one_bit_for_bit() {
 /// from subnormal to π/4 and at π/4's neighbours.
 #[test]
 fn small_arguments_need_no_reduction_in_lanes() {
-    use trocar::real::fast::sin_cos_f64_lanes;
+    use trocar::emitted::fast::sin_cos_f64_lanes;
     let mut seed = 11u64;
     let mut next = || {
         seed = seed
@@ -460,7 +460,7 @@ fn small_arguments_need_no_reduction_in_lanes() {
 /// some groups, one at or beyond the fast limit, NaN or ±∞.
 #[test]
 fn lanes_of_every_width_equal_the_scalar_one() {
-    use trocar::real::fast::sin_cos_f64_lanes;
+    use trocar::emitted::fast::sin_cos_f64_lanes;
     fn check<const W: usize>(x: [f64; W]) {
         let (s, c) = sin_cos_f64_lanes::<W>(&x);
         assert_scalar_bits64("lanes", &x, &s, &c);
@@ -479,7 +479,7 @@ fn lanes_of_every_width_equal_the_scalar_one() {
                 )
             } else if round % 13 == k {
                 // at and beyond the fast limit, NaN, ±∞: `libm`, one lane at a time
-                let limit = trocar::real::fast::F64_FAST_LIMIT;
+                let limit = trocar::emitted::fast::F64_FAST_LIMIT;
                 [
                     limit,
                     f64::from_bits(limit.to_bits() + 1),
@@ -518,7 +518,7 @@ fn lanes_of_every_width_equal_the_scalar_one() {
 /// results where their rare path starts, not the choice of reduction.
 #[test]
 fn f64_lanes_where_the_trigger_and_the_exponent_test_differ() {
-    use trocar::real::fast::{sin_cos_f64_array, sin_cos_f64_lanes};
+    use trocar::emitted::fast::{sin_cos_f64_array, sin_cos_f64_lanes};
     let mut r = Lcg(29);
     let mut xs = Vec::new();
     for n in 1..=8 {
@@ -556,7 +556,7 @@ fn f64_lanes_where_the_trigger_and_the_exponent_test_differ() {
 /// (that lane left on the side-by-side path's value fails it).
 #[test]
 fn f32_arrays_of_every_length_equal_the_scalar_one() {
-    use trocar::real::fast::{sin_cos_f32_array, sin_cos_f32_lanes};
+    use trocar::emitted::fast::{sin_cos_f32_array, sin_cos_f32_lanes};
     fn check<const N: usize>(x: &[f32]) {
         let x: [f32; N] = core::array::from_fn(|k| x[k]);
         for (what, (s, c)) in [
@@ -616,7 +616,7 @@ fn f32_arrays_of_every_length_equal_the_scalar_one() {
 #[test]
 fn one_joint_at_a_multiple_of_half_pi_among_seven() {
     use core::f64::consts::FRAC_PI_2;
-    use trocar::real::fast::{sin_cos_f32_array, sin_cos_f64_array};
+    use trocar::emitted::fast::{sin_cos_f32_array, sin_cos_f64_array};
     let mut r = Lcg(7);
     for round in 0..700 {
         let mut x: [f64; 7] = core::array::from_fn(|_| (r.unit() - 0.5) * 5.0);

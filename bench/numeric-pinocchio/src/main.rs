@@ -219,13 +219,13 @@ fn run(
         }),
         "trig" => measured_loop(n, &mut || {
             k = black_box(k + 1) & 15;
-            black_box(trocar::real::fast::sin_cos_f64_array(&qs[k]));
+            black_box(trocar::emitted::fast::sin_cos_f64_array(&qs[k]));
         }),
         "trig1" => measured_loop(n, &mut || {
             k = black_box(k + 1) & 15;
             let q = &qs[k];
             black_box(core::array::from_fn::<_, 7, _>(|i| {
-                trocar::real::fast::sin_cos_f64(q[i])
+                trocar::emitted::fast::sin_cos_f64(q[i])
             }));
         }),
         _ => panic!("impl"),

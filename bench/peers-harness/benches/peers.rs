@@ -267,8 +267,8 @@ fn trig(c: &mut Criterion) {
         b.iter(|| {
             let q = black_box(q2);
             black_box([
-                trocar::real::fast::sin_cos_f64(q[0]),
-                trocar::real::fast::sin_cos_f64(q[1]),
+                trocar::emitted::fast::sin_cos_f64(q[0]),
+                trocar::emitted::fast::sin_cos_f64(q[1]),
             ])
         })
     });
@@ -277,8 +277,8 @@ fn trig(c: &mut Criterion) {
         b.iter(|| {
             let q = black_box(q2f);
             black_box([
-                trocar::real::fast::sin_cos_f32(q[0]),
-                trocar::real::fast::sin_cos_f32(q[1]),
+                trocar::emitted::fast::sin_cos_f32(q[0]),
+                trocar::emitted::fast::sin_cos_f32(q[1]),
             ])
         })
     });

@@ -14,7 +14,7 @@
 //!
 //! `tests/check.rs` checks it against the reference; BENCHMARKS.md ("Rows as SSE2 pairs") has the
 //! measurement. The generated code now walks such chains the same way through
-//! `trocar::paired_rows` (from the identity at the link, its first steps' zero pairs known but
+//! `trocar::emitted::paired_rows` (from the identity at the link, its first steps' zero pairs known but
 //! not its constants); this kernel stays as the hand-written bound it is measured against.
 #![cfg(target_arch = "x86_64")]
 

@@ -32,7 +32,7 @@ fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// Every output of each set equals its own function's evaluation to rounding and the numeric
-/// reference's (`trocar_check::reference`, the one `trocar verify` uses) to 1e-9 of its size,
+/// reference's (`trocar_model::reference`, the one `trocar verify` uses) to 1e-9 of its size,
 /// in the order asked for.
 #[test]
 fn each_output_is_its_own_functions_value() {
@@ -74,7 +74,7 @@ fn each_output_is_its_own_functions_value() {
                     "{name} {f}: {d:e} from its own function"
                 );
                 // The numeric reference of `trocar verify` (column-major; compared row by row).
-                let reference = trocar_check::reference::evaluate(&model, f, &q)
+                let reference = trocar_model::reference::evaluate(&model, f, &q)
                     .unwrap()
                     .unwrap();
                 let rows: Vec<f64> = (0..reference.nrows())

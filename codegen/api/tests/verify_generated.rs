@@ -136,7 +136,7 @@ fn fused_sets_match_the_reference(description: &RobotDescription) {
                 .collect();
             fused.eval_into(&q, &values, &mut out).unwrap();
             for (k, &f) in set.iter().enumerate() {
-                let want = trocar_check::reference::evaluate(&model, f, &q)
+                let want = trocar_model::reference::evaluate(&model, f, &q)
                     .unwrap()
                     .unwrap();
                 let got = &out[fused.range(k)];

@@ -206,7 +206,7 @@ fn real_values() -> impl TypedValueParser<Value = Scalar> {
     PossibleValuesParser::new([
         PossibleValue::new("generic").help(
             "generic over `T: trocar::Arith` (straight-line functions, which also run on \
-             `trocar::lanes`) and `T: trocar::Real` (the functions that test a value)",
+             `trocar::emitted::lanes`) and `T: trocar::Real` (the functions that test a value)",
         ),
         PossibleValue::new("f32"),
         PossibleValue::new("f64"),

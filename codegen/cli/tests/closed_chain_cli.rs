@@ -11,7 +11,7 @@ fn cli_generate_mechanism() {
     let (code, out, err) = trocar(&["generate", "runtime/model/robots/mechanisms/four-bar.toml"]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("pub mod four_bar {"));
-    assert!(out.contains("pub fn passive_velocities<T: ::trocar::Real>("));
+    assert!(out.contains("pub fn passive_velocities<T: ::trocar::emitted::Real>("));
     let (code, out, err) = trocar(&["generate", "planar-stewart", "--real", "f32"]);
     assert_eq!(code, 0, "{err}");
     let flat: String = out.split_whitespace().collect::<Vec<_>>().join(" ");

@@ -323,7 +323,7 @@ fn delegates(strukt: &ItemStruct, module: &syn::ItemMod) -> syn::Result<TokenStr
             /// The description's nominal parameter values (`Params::nominal()`).
             #[inline]
             #[must_use]
-            pub fn nominal_params<T: ::trocar::Real>() -> #params_alias<T> {
+            pub fn nominal_params<T: ::trocar::emitted::Real>() -> #params_alias<T> {
                 #m::Params::nominal()
             }
         },

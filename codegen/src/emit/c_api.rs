@@ -349,7 +349,7 @@ fn fused_c(spec: &ModuleSpec, f: &FusedFunction, real: Scalar, t: &TokenStream) 
          `C_NULL_ARGUMENT` (2).{fma}",
         name = target,
         fma = if spec.fma_at_run_time {
-            " Fused multiply-adds are chosen at run time (`trocar::fma`, with `std`)."
+            " Fused multiply-adds are chosen at run time (`trocar::emitted::fma`, with `std`)."
         } else {
             ""
         },
@@ -421,14 +421,14 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
         quote! {
             let lower = SVector::from_fn(|k, _| JOINT_LIMITS[k][0] #cast);
             let upper = SVector::from_fn(|k, _| JOINT_LIMITS[k][1] #cast);
-            let ctrl = ctrl.with_limits(#rt::control::HardLimits {
+            let ctrl = ctrl.with_limits(#rt::emitted::HardLimits {
                 lower,
                 upper,
                 speed,
-                ..#rt::control::HardLimits::none()
+                ..#rt::emitted::HardLimits::none()
             });
             let ctrl = if gains[7] > 0.0 {
-                ctrl.with_objective(#rt::control::NullSpaceObjective::JointLimits {
+                ctrl.with_objective(#rt::emitted::NullSpaceObjective::JointLimits {
                     gain: gains[7],
                     lower,
                     upper,
@@ -439,9 +439,9 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
         }
     } else {
         quote! {
-            let ctrl = ctrl.with_limits(#rt::control::HardLimits {
+            let ctrl = ctrl.with_limits(#rt::emitted::HardLimits {
                 speed,
-                ..#rt::control::HardLimits::none()
+                ..#rt::emitted::HardLimits::none()
             });
         }
     };
@@ -492,11 +492,11 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
             qd: *mut #t,
             report: *mut #t,
         ) -> i32 {
-            use #rt::control::{
+            use #rt::emitted::{
                 ControlError, Controller, ControllerConfig, Damping, Inverse, Rcm, Reference,
                 StepStatus,
             };
-            use #rt::nalgebra::{Matrix3, SVector, Vector3};
+            use #rt::emitted::nalgebra::{Matrix3, SVector, Vector3};
             if q.is_null() || target.is_null() || trocar.is_null() || gains.is_null() || qd.is_null() {
                 return C_NULL_ARGUMENT;
             }

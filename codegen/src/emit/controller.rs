@@ -23,11 +23,11 @@ use quote::{format_ident, quote};
 /// glue. `rt` is the path of the runtime crate in emitted code (`::trocar`).
 pub(crate) fn tokens(rt: &TokenStream, real: Scalar, spec: &ControllerSpec) -> TokenStream {
     let (t, generics, args) = match real {
-        Scalar::Generic => (quote!(T), quote!(<T: #rt::Real>), quote!(<T>)),
+        Scalar::Generic => (quote!(T), quote!(<T: #rt::emitted::Real>), quote!(<T>)),
         Scalar::F32 => (quote!(f32), quote!(), quote!()),
         Scalar::F64 => (quote!(f64), quote!(), quote!()),
     };
-    let r = quote!(<#t as #rt::Real>);
+    let r = quote!(<#t as #rt::emitted::Real>);
     let (task_field, task_zero, task_fill, task_check) = if spec.task {
         (
             quote! {
@@ -252,26 +252,29 @@ fn glue_tokens(rt: &TokenStream, real: Scalar, offset: &str, spec: &ControllerSp
     let (t, generics, args, impl_generics, ty_args) = match real {
         Scalar::Generic => (
             quote!(T),
-            quote!(<T: #rt::Real>),
+            quote!(<T: #rt::emitted::Real>),
             quote!(<T>),
-            quote!(<T: #rt::Real + #rt::nalgebra::RealField>),
+            quote!(<T: #rt::emitted::Real + #rt::emitted::nalgebra::RealField>),
             quote!(<T>),
         ),
         Scalar::F32 => (quote!(f32), quote!(), quote!(), quote!(), quote!()),
         Scalar::F64 => (quote!(f64), quote!(), quote!(), quote!(), quote!()),
     };
-    let real = quote!(<#t as #rt::Real>);
+    let real = quote!(<#t as #rt::emitted::Real>);
     let (p_const, selection) = if task {
         (
             quote!(TASK_ROWS),
             quote! {
-                #rt::nalgebra::SMatrix::from_data(#rt::nalgebra::ArrayStorage(
+                #rt::emitted::nalgebra::SMatrix::from_data(#rt::emitted::nalgebra::ArrayStorage(
                     task_selection(&self.params),
                 ))
             },
         )
     } else {
-        (quote!(6), quote!(#rt::nalgebra::SMatrix::identity()))
+        (
+            quote!(6),
+            quote!(#rt::emitted::nalgebra::SMatrix::identity()),
+        )
     };
     let struct_doc = format!(
         "The runtime controller's kinematics on this module's closed forms: \
@@ -288,7 +291,7 @@ fn glue_tokens(rt: &TokenStream, real: Scalar, offset: &str, spec: &ControllerSp
         offset = offset,
     );
     let struct_doc = doc_lines(&struct_doc);
-    let state_ty = quote!(#rt::control::ConstrainedState<#t, I, R, K, M>);
+    let state_ty = quote!(#rt::emitted::ConstrainedState<#t, I, R, K, M>);
     let solve_task = (spec.task_rows == spec.m).then(|| {
         let name = format_ident!("lu_solve_{}", spec.m);
         quote! {
@@ -297,11 +300,11 @@ fn glue_tokens(rt: &TokenStream, real: Scalar, offset: &str, spec: &ControllerSp
             #[inline]
             fn solve_task(
                 &self,
-                j: &#rt::nalgebra::SMatrix<#t, #p_const, M>,
-                b: &#rt::nalgebra::SVector<#t, #p_const>,
-            ) -> ::core::option::Option<(#rt::nalgebra::SVector<#t, M>, #t)> {
+                j: &#rt::emitted::nalgebra::SMatrix<#t, #p_const, M>,
+                b: &#rt::emitted::nalgebra::SVector<#t, #p_const>,
+            ) -> ::core::option::Option<(#rt::emitted::nalgebra::SVector<#t, M>, #t)> {
                 let (x, det) = #name(&j.data.0, &b.data.0[0]);
-                ::core::option::Option::Some((#rt::nalgebra::SVector::from(x), det))
+                ::core::option::Option::Some((#rt::emitted::nalgebra::SVector::from(x), det))
             }
         }
     });
@@ -326,11 +329,11 @@ fn glue_tokens(rt: &TokenStream, real: Scalar, offset: &str, spec: &ControllerSp
             #[inline]
             fn solve_jb0i(
                 &self,
-                j: &#rt::nalgebra::SMatrix<#t, 6, I>,
-                b: &#rt::nalgebra::SVector<#t, 6>,
-            ) -> ::core::option::Option<(#rt::nalgebra::SVector<#t, I>, #t)> {
+                j: &#rt::emitted::nalgebra::SMatrix<#t, 6, I>,
+                b: &#rt::emitted::nalgebra::SVector<#t, 6>,
+            ) -> ::core::option::Option<(#rt::emitted::nalgebra::SVector<#t, I>, #t)> {
                 let (x, det_or_w) = #name(&j.data.0, &b.data.0[0]);
-                ::core::option::Option::Some((#rt::nalgebra::SVector::from(x), det_or_w))
+                ::core::option::Option::Some((#rt::emitted::nalgebra::SVector::from(x), det_or_w))
             }
         }
     });
@@ -354,68 +357,68 @@ fn glue_tokens(rt: &TokenStream, real: Scalar, offset: &str, spec: &ControllerSp
         impl #impl_generics Kinematics #ty_args {
             /// A pose from the generated `(R column-major, p)`.
             #[inline]
-            fn pose((r, p): ([[#t; 3]; 3], [#t; 3])) -> #rt::se3::Se3<#t> {
-                #rt::se3::Se3 {
-                    rotation: #rt::nalgebra::Matrix3::from_data(#rt::nalgebra::ArrayStorage(r)),
-                    translation: #rt::nalgebra::Vector3::from_data(#rt::nalgebra::ArrayStorage([p])),
+            fn pose((r, p): ([[#t; 3]; 3], [#t; 3])) -> #rt::emitted::Se3<#t> {
+                #rt::emitted::Se3 {
+                    rotation: #rt::emitted::nalgebra::Matrix3::from_data(#rt::emitted::nalgebra::ArrayStorage(r)),
+                    translation: #rt::emitted::nalgebra::Vector3::from_data(#rt::emitted::nalgebra::ArrayStorage([p])),
                 }
             }
 
             /// The runtime's state from a filled [`StepKinematics`].
             #[inline]
             fn state(s: &StepKinematics #ty_args) -> #state_ty {
-                #rt::control::ConstrainedState {
+                #rt::emitted::ConstrainedState {
                     g_0e: Self::pose(s.g_0e),
                     g_0i: Self::pose(s.g_0i),
-                    jr: #rt::nalgebra::SMatrix::from_data(#rt::nalgebra::ArrayStorage(s.jr)),
-                    jb0i: #rt::nalgebra::SMatrix::from_data(#rt::nalgebra::ArrayStorage(s.jb0i)),
-                    jc: #rt::nalgebra::SMatrix::from_data(#rt::nalgebra::ArrayStorage(s.jc)),
-                    lambda_sharp: #rt::nalgebra::SMatrix::from_data(#rt::nalgebra::ArrayStorage(
+                    jr: #rt::emitted::nalgebra::SMatrix::from_data(#rt::emitted::nalgebra::ArrayStorage(s.jr)),
+                    jb0i: #rt::emitted::nalgebra::SMatrix::from_data(#rt::emitted::nalgebra::ArrayStorage(s.jb0i)),
+                    jc: #rt::emitted::nalgebra::SMatrix::from_data(#rt::emitted::nalgebra::ArrayStorage(s.jc)),
+                    lambda_sharp: #rt::emitted::nalgebra::SMatrix::from_data(#rt::emitted::nalgebra::ArrayStorage(
                         s.lambda_sharp,
                     )),
-                    lambda_pinv: #rt::nalgebra::SMatrix::from_data(#rt::nalgebra::ArrayStorage(
+                    lambda_pinv: #rt::emitted::nalgebra::SMatrix::from_data(#rt::emitted::nalgebra::ArrayStorage(
                         s.lambda_pinv,
                     )),
                 }
             }
         }
 
-        impl #impl_generics #rt::control::ConstrainedKinematics<#t, N, I, R, K, M, #p_const>
+        impl #impl_generics #rt::emitted::ConstrainedKinematics<#t, N, I, R, K, M, #p_const>
             for Kinematics #ty_args
         {
             #[inline]
-            fn g_0i(&self, q: &#rt::nalgebra::SVector<#t, N>) -> #rt::se3::Se3<#t> {
+            fn g_0i(&self, q: &#rt::emitted::nalgebra::SVector<#t, N>) -> #rt::emitted::Se3<#t> {
                 Self::pose(forward_kinematics_i(&q.data.0[0], &self.params))
             }
 
             #[inline]
-            fn h(&self) -> #rt::nalgebra::SMatrix<#t, R, 6> {
-                #rt::nalgebra::SMatrix::from_data(#rt::nalgebra::ArrayStorage(
+            fn h(&self) -> #rt::emitted::nalgebra::SMatrix<#t, R, 6> {
+                #rt::emitted::nalgebra::SMatrix::from_data(#rt::emitted::nalgebra::ArrayStorage(
                     constraint_selection(&self.params),
                 ))
             }
 
             #[inline]
-            fn shaft(&self) -> #rt::control::Shaft<#t> {
+            fn shaft(&self) -> #rt::emitted::Shaft<#t> {
                 let mut p = self.params;
                 p.#offset = #real::ZERO;
                 let at_zero = Self::pose(constraint_frame(&p));
                 p.#offset = #real::ONE;
                 let at_one = Self::pose(constraint_frame(&p));
-                #rt::control::Shaft::from_frames(&at_zero, &at_one)
+                #rt::emitted::Shaft::from_frames(&at_zero, &at_one)
             }
 
             #[inline]
-            fn task_selection(&self) -> #rt::nalgebra::SMatrix<#t, #p_const, 6> {
+            fn task_selection(&self) -> #rt::emitted::nalgebra::SMatrix<#t, #p_const, 6> {
                 #selection
             }
 
             #[inline]
             fn evaluate(
                 &self,
-                q: &#rt::nalgebra::SVector<#t, N>,
+                q: &#rt::emitted::nalgebra::SVector<#t, N>,
                 l_a: #t,
-            ) -> ::core::result::Result<#state_ty, #rt::control::ControlError> {
+            ) -> ::core::result::Result<#state_ty, #rt::emitted::ControlError> {
                 let t = JointTrig::new(&q.data.0[0]);
                 let mut p = self.params;
                 p.#offset = l_a;
@@ -424,7 +427,7 @@ fn glue_tokens(rt: &TokenStream, real: Scalar, offset: &str, spec: &ControllerSp
                 s.offset = l_a;
                 fill_step(&t, &p, &mut s);
                 if !#real::is_finite(l_a) || !step_is_finite(&s) {
-                    return ::core::result::Result::Err(#rt::control::ControlError::Kinematics);
+                    return ::core::result::Result::Err(#rt::emitted::ControlError::Kinematics);
                 }
                 ::core::result::Result::Ok(Self::state(&s))
             }
@@ -436,16 +439,16 @@ fn glue_tokens(rt: &TokenStream, real: Scalar, offset: &str, spec: &ControllerSp
             #[inline]
             fn evaluate_at_trocar(
                 &self,
-                q: &#rt::nalgebra::SVector<#t, N>,
-                trocar: &#rt::nalgebra::Vector3<#t>,
-            ) -> ::core::result::Result<(#t, #state_ty), #rt::control::ControlError> {
+                q: &#rt::emitted::nalgebra::SVector<#t, N>,
+                trocar: &#rt::emitted::nalgebra::Vector3<#t>,
+            ) -> ::core::result::Result<(#t, #state_ty), #rt::emitted::ControlError> {
                 // As `step_kinematics`, without checking every output: the controller checks
                 // the joint rates it computes from them.
                 let t = JointTrig::new(&q.data.0[0]);
                 let mut s = StepKinematics::zeroed();
                 fill_at_trocar(&t, &trocar.data.0[0], &self.params, &mut s);
                 if !#real::is_finite(s.offset) {
-                    return ::core::result::Result::Err(#rt::control::ControlError::Kinematics);
+                    return ::core::result::Result::Err(#rt::emitted::ControlError::Kinematics);
                 }
                 ::core::result::Result::Ok((s.offset, Self::state(&s)))
             }
@@ -513,7 +516,7 @@ const MIN_NORM_MAX_NN: f64 = 1e4;
 /// finite) and the controller factors `J` itself.
 pub(crate) fn min_norm_solve_tokens(rt: &TokenStream, real: Scalar, d: usize) -> TokenStream {
     let (t, generics) = real_generics(rt, real);
-    let r = quote!(<#t as #rt::Real>);
+    let r = quote!(<#t as #rt::emitted::Real>);
     let name = format_ident!("min_norm_solve_{}", d);
     let mut body = elimination_tokens(rt, real, d, 2);
     let ys = back_substitution(&mut body, d, 0);
@@ -550,7 +553,7 @@ pub(crate) fn min_norm_solve_tokens(rt: &TokenStream, real: Scalar, d: usize) ->
 /// The element type and generics of an emitted solve.
 fn real_generics(rt: &TokenStream, real: Scalar) -> (TokenStream, TokenStream) {
     match real {
-        Scalar::Generic => (quote!(T), quote!(<T: #rt::Real>)),
+        Scalar::Generic => (quote!(T), quote!(<T: #rt::emitted::Real>)),
         Scalar::F32 => (quote!(f32), quote!()),
         Scalar::F64 => (quote!(f64), quote!()),
     }
@@ -573,7 +576,7 @@ fn elim_b(rhs: usize, row: usize) -> proc_macro2::Ident {
 /// `det` = the block's determinant.
 fn elimination_tokens(rt: &TokenStream, real: Scalar, d: usize, rhs: usize) -> Vec<TokenStream> {
     let (t, _) = real_generics(rt, real);
-    let r = quote!(<#t as #rt::Real>);
+    let r = quote!(<#t as #rt::emitted::Real>);
     let a = elim_a;
     let mut body = Vec::new();
     for row in 0..d {

@@ -37,7 +37,7 @@ fn wrapper_tokens(d: &MechanismDerivation, ty: &Ty) -> TokenStream {
         })
         .collect();
     let quotient_generics = match ty.real {
-        Scalar::Generic => quote!(<T: #rt::Real, const IN: usize, const OUT: usize>),
+        Scalar::Generic => quote!(<T: #rt::emitted::Real, const IN: usize, const OUT: usize>),
         _ => quote!(<const IN: usize, const OUT: usize>),
     };
     let reduced = format_ident!("{}", F::ReducedJacobian.name());

@@ -20,7 +20,7 @@
 //! `sin_cos_array` call per joint. Each lane's results are those of [`Compiled::eval`] bit for bit.
 
 use crate::ir::{Op, Program, ValueId};
-use trocar::real::fast;
+use trocar::emitted::fast;
 use trocar::Real;
 
 /// Configurations evaluated side by side by [`Compiled::eval_batch`].

@@ -12,7 +12,7 @@ use trocar_model::catalogue;
 /// The scalar type of generated code.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Default, Hash)]
 pub enum Scalar {
-    /// Generic over `T: ::trocar::Real` (works for `f32` and `f64`).
+    /// Generic over `T: ::trocar::emitted::Real` (works for `f32` and `f64`).
     #[default]
     Generic,
     /// Monomorphic `f32`.
@@ -205,7 +205,7 @@ pub struct FusedFunction {
     pub program: Program,
     /// For `g_0i` and `J^B_0i` together, on a chain of right-angle joints: each joint's head
     /// `Trans(o) R_x(roll)`, base first, as `(roll, o)` with `roll` in quarter turns (0, 1 or −1).
-    /// The function is then also written as the walk of `trocar::paired_rows`, which the
+    /// The function is then also written as the walk of `trocar::emitted::paired_rows`, which the
     /// default x86-64 target takes (chosen by lowering, `lower::paired_heads`).
     pub paired_heads: Option<Vec<(i8, [f64; 3])>>,
 }

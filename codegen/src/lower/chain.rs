@@ -121,7 +121,7 @@ pub(super) fn body_jacobian_walk(
 /// twists, as the Panda), and no frame up to link `upto` is turned. `None` otherwise.
 ///
 /// Such a chain's `g_0i` and `J^B_0i` can be walked with the rows of the homogeneous transform
-/// as pairs (`trocar::paired_rows`). A joint about `−z` (twist `(0, −ẑ)`) is not taken.
+/// as pairs (`trocar::emitted::paired_rows`). A joint about `−z` (twist `(0, −ẑ)`) is not taken.
 pub fn paired_heads(d: &Derivation, upto: usize) -> Option<Vec<(i8, [f64; 3])>> {
     if upto == 0 || d.turned_back(upto, None).is_some() {
         return None;

@@ -27,7 +27,7 @@ pub mod bidirectional_zy {
     pub const K: usize = 4;
     /// The named parameters of `bidirectional_zy`: runtime inputs of every function.
     #[derive(Clone, Copy, Debug, Default, PartialEq)]
-    pub struct Params<T: ::trocar::Arith> {
+    pub struct Params<T: ::trocar::emitted::Arith> {
         /// `l_a` (nominal value 0.15).
         pub l_a: T,
         /// `l_b` (nominal value 0.18).
@@ -35,15 +35,15 @@ pub mod bidirectional_zy {
         /// `l_8` (nominal value 0.21).
         pub l_8: T,
     }
-    impl<T: ::trocar::Arith> Params<T> {
+    impl<T: ::trocar::emitted::Arith> Params<T> {
         /// The description's nominal values.
         #[inline]
         #[must_use]
         pub fn nominal() -> Self {
             Params {
-                l_a: <T as ::trocar::Arith>::lit(0.15),
-                l_b: <T as ::trocar::Arith>::lit(0.18),
-                l_8: <T as ::trocar::Arith>::lit(0.21),
+                l_a: <T as ::trocar::emitted::Arith>::lit(0.15),
+                l_b: <T as ::trocar::emitted::Arith>::lit(0.18),
+                l_8: <T as ::trocar::emitted::Arith>::lit(0.21),
             }
         }
     }
@@ -51,7 +51,7 @@ pub mod bidirectional_zy {
     ///
     /// Unused entries hold `sin = 0`, `cos = 1`.
     #[derive(Clone, Copy, Debug, PartialEq)]
-    pub struct JointTrig<T: ::trocar::Arith> {
+    pub struct JointTrig<T: ::trocar::emitted::Arith> {
         /// The joint values `q`, base first.
         pub q: [T; N],
         /// `sin q[k]`.
@@ -59,12 +59,12 @@ pub mod bidirectional_zy {
         /// `cos q[k]`.
         pub cos: [T; N],
     }
-    impl<T: ::trocar::Arith> JointTrig<T> {
+    impl<T: ::trocar::emitted::Arith> JointTrig<T> {
         /// The sines and cosines of the used joints, in one `sin_cos_array` call.
         #[inline(always)]
         #[must_use]
         pub fn new(q: &[T; N]) -> Self {
-            let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <T as ::trocar::Arith>::sin_cos_array(
+            let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <T as ::trocar::emitted::Arith>::sin_cos_array(
                 &[q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7]],
             );
             JointTrig {
@@ -81,11 +81,11 @@ pub mod bidirectional_zy {
     /// Operations: 47 add, 88 mul, 0 div, 0 sqrt, 8 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn forward_kinematics<T: ::trocar::Arith>(
+    pub fn forward_kinematics<T: ::trocar::emitted::Arith>(
         q: &[T; N],
         p: &Params<T>,
     ) -> ([[T; 3]; 3], [T; 3]) {
-        let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <T as ::trocar::Arith>::sin_cos_array(
+        let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <T as ::trocar::emitted::Arith>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7]],
         );
         let x0 = p.l_a + p.l_b;
@@ -93,98 +93,98 @@ pub mod bidirectional_zy {
         let x2 = s1 * s2;
         let x3 = c1 * c2;
         let x4 = c1 * s2;
-        let x5 = <T as ::trocar::Arith>::mul_add(s3, x2, -(c3 * x1));
-        let x6 = <T as ::trocar::Arith>::mul_add(s3, x1, c3 * x2);
-        let x7 = <T as ::trocar::Arith>::mul_add(c3, x3, -(s3 * x4));
-        let x8 = <T as ::trocar::Arith>::mul_add(s3, x3, c3 * x4);
-        let x9 = <T as ::trocar::Arith>::mul_add(s2, c3, c2 * s3);
-        let x10 = <T as ::trocar::Arith>::mul_add(c2, c3, -(s2 * s3));
-        let x11 = <T as ::trocar::Arith>::mul_add(c1, c4, -(s4 * x6));
-        let x12 = <T as ::trocar::Arith>::mul_add(c1, s4, c4 * x6);
-        let x13 = <T as ::trocar::Arith>::mul_add(s1, c4, s4 * x8);
-        let x14 = <T as ::trocar::Arith>::mul_add(s1, s4, -(c4 * x8));
+        let x5 = <T as ::trocar::emitted::Arith>::mul_add(s3, x2, -(c3 * x1));
+        let x6 = <T as ::trocar::emitted::Arith>::mul_add(s3, x1, c3 * x2);
+        let x7 = <T as ::trocar::emitted::Arith>::mul_add(c3, x3, -(s3 * x4));
+        let x8 = <T as ::trocar::emitted::Arith>::mul_add(s3, x3, c3 * x4);
+        let x9 = <T as ::trocar::emitted::Arith>::mul_add(s2, c3, c2 * s3);
+        let x10 = <T as ::trocar::emitted::Arith>::mul_add(c2, c3, -(s2 * s3));
+        let x11 = <T as ::trocar::emitted::Arith>::mul_add(c1, c4, -(s4 * x6));
+        let x12 = <T as ::trocar::emitted::Arith>::mul_add(c1, s4, c4 * x6);
+        let x13 = <T as ::trocar::emitted::Arith>::mul_add(s1, c4, s4 * x8);
+        let x14 = <T as ::trocar::emitted::Arith>::mul_add(s1, s4, -(c4 * x8));
         let x15 = s4 * x10;
         let x16 = c4 * x10;
-        let x17 = <T as ::trocar::Arith>::mul_add(c5, x5, s5 * x12);
-        let x18 = <T as ::trocar::Arith>::mul_add(c5, x12, -(s5 * x5));
-        let x19 = <T as ::trocar::Arith>::mul_add(c5, x7, s5 * x14);
-        let x20 = <T as ::trocar::Arith>::mul_add(c5, x14, -(s5 * x7));
-        let x21 = <T as ::trocar::Arith>::mul_add(c5, x9, s5 * x16);
-        let x22 = <T as ::trocar::Arith>::mul_add(c5, x16, -(s5 * x9));
-        let x23 = <T as ::trocar::Arith>::mul_add(c6, x11, -(s6 * x18));
-        let x24 = <T as ::trocar::Arith>::mul_add(s6, x11, c6 * x18);
-        let x25 = <T as ::trocar::Arith>::mul_add(c6, x13, -(s6 * x20));
-        let x26 = <T as ::trocar::Arith>::mul_add(s6, x13, c6 * x20);
-        let x27 = <T as ::trocar::Arith>::mul_add(c6, x15, s6 * x22);
-        let x28 = <T as ::trocar::Arith>::mul_add(c6, x22, -(s6 * x15));
-        let x29 = <T as ::trocar::Arith>::mul_add(c7, x23, s7 * x17);
-        let x30 = <T as ::trocar::Arith>::mul_add(c7, x17, -(s7 * x23));
-        let x31 = <T as ::trocar::Arith>::mul_add(c7, x25, s7 * x19);
-        let x32 = <T as ::trocar::Arith>::mul_add(c7, x19, -(s7 * x25));
-        let x33 = <T as ::trocar::Arith>::mul_add(s7, x21, -(c7 * x27));
-        let x34 = <T as ::trocar::Arith>::mul_add(s7, x27, c7 * x21);
+        let x17 = <T as ::trocar::emitted::Arith>::mul_add(c5, x5, s5 * x12);
+        let x18 = <T as ::trocar::emitted::Arith>::mul_add(c5, x12, -(s5 * x5));
+        let x19 = <T as ::trocar::emitted::Arith>::mul_add(c5, x7, s5 * x14);
+        let x20 = <T as ::trocar::emitted::Arith>::mul_add(c5, x14, -(s5 * x7));
+        let x21 = <T as ::trocar::emitted::Arith>::mul_add(c5, x9, s5 * x16);
+        let x22 = <T as ::trocar::emitted::Arith>::mul_add(c5, x16, -(s5 * x9));
+        let x23 = <T as ::trocar::emitted::Arith>::mul_add(c6, x11, -(s6 * x18));
+        let x24 = <T as ::trocar::emitted::Arith>::mul_add(s6, x11, c6 * x18);
+        let x25 = <T as ::trocar::emitted::Arith>::mul_add(c6, x13, -(s6 * x20));
+        let x26 = <T as ::trocar::emitted::Arith>::mul_add(s6, x13, c6 * x20);
+        let x27 = <T as ::trocar::emitted::Arith>::mul_add(c6, x15, s6 * x22);
+        let x28 = <T as ::trocar::emitted::Arith>::mul_add(c6, x22, -(s6 * x15));
+        let x29 = <T as ::trocar::emitted::Arith>::mul_add(c7, x23, s7 * x17);
+        let x30 = <T as ::trocar::emitted::Arith>::mul_add(c7, x17, -(s7 * x23));
+        let x31 = <T as ::trocar::emitted::Arith>::mul_add(c7, x25, s7 * x19);
+        let x32 = <T as ::trocar::emitted::Arith>::mul_add(c7, x19, -(s7 * x25));
+        let x33 = <T as ::trocar::emitted::Arith>::mul_add(s7, x21, -(c7 * x27));
+        let x34 = <T as ::trocar::emitted::Arith>::mul_add(s7, x27, c7 * x21);
         (
             [
                 [
-                    <T as ::trocar::Arith>::mul_add(c8, x29, -(s8 * x24)),
-                    <T as ::trocar::Arith>::mul_add(c8, x31, -(s8 * x26)),
-                    <T as ::trocar::Arith>::mul_add(c8, x33, -(s8 * x28)),
+                    <T as ::trocar::emitted::Arith>::mul_add(c8, x29, -(s8 * x24)),
+                    <T as ::trocar::emitted::Arith>::mul_add(c8, x31, -(s8 * x26)),
+                    <T as ::trocar::emitted::Arith>::mul_add(c8, x33, -(s8 * x28)),
                 ],
                 [x30, x32, x34],
                 [
-                    <T as ::trocar::Arith>::mul_add(s8, x29, c8 * x24),
-                    <T as ::trocar::Arith>::mul_add(s8, x31, c8 * x26),
-                    <T as ::trocar::Arith>::mul_add(s8, x33, c8 * x28),
+                    <T as ::trocar::emitted::Arith>::mul_add(s8, x29, c8 * x24),
+                    <T as ::trocar::emitted::Arith>::mul_add(s8, x31, c8 * x26),
+                    <T as ::trocar::emitted::Arith>::mul_add(s8, x33, c8 * x28),
                 ],
             ],
             [
-                <T as ::trocar::Arith>::mul_add(
+                <T as ::trocar::emitted::Arith>::mul_add(
                     p.l_8,
                     x30,
-                    <T as ::trocar::Arith>::mul_add(
+                    <T as ::trocar::emitted::Arith>::mul_add(
                         x0,
                         x17,
-                        <T as ::trocar::Arith>::mul_add(
-                            <T as ::trocar::Arith>::lit(0.39),
+                        <T as ::trocar::emitted::Arith>::mul_add(
+                            <T as ::trocar::emitted::Arith>::lit(0.39),
                             x5,
-                            <T as ::trocar::Arith>::mul_add(
-                                <T as ::trocar::Arith>::lit(0.194),
+                            <T as ::trocar::emitted::Arith>::mul_add(
+                                <T as ::trocar::emitted::Arith>::lit(0.194),
                                 c1,
-                                -(<T as ::trocar::Arith>::lit(0.38) * x1),
+                                -(<T as ::trocar::emitted::Arith>::lit(0.38) * x1),
                             ),
                         ),
                     ),
                 ),
-                <T as ::trocar::Arith>::mul_add(
+                <T as ::trocar::emitted::Arith>::mul_add(
                     p.l_8,
                     x32,
-                    <T as ::trocar::Arith>::mul_add(
+                    <T as ::trocar::emitted::Arith>::mul_add(
                         x0,
                         x19,
-                        <T as ::trocar::Arith>::mul_add(
-                            <T as ::trocar::Arith>::lit(0.39),
+                        <T as ::trocar::emitted::Arith>::mul_add(
+                            <T as ::trocar::emitted::Arith>::lit(0.39),
                             x7,
-                            <T as ::trocar::Arith>::mul_add(
-                                <T as ::trocar::Arith>::lit(0.194),
+                            <T as ::trocar::emitted::Arith>::mul_add(
+                                <T as ::trocar::emitted::Arith>::lit(0.194),
                                 s1,
-                                <T as ::trocar::Arith>::lit(0.38) * x3,
+                                <T as ::trocar::emitted::Arith>::lit(0.38) * x3,
                             ),
                         ),
                     ),
                 ),
-                <T as ::trocar::Arith>::mul_add(
+                <T as ::trocar::emitted::Arith>::mul_add(
                     p.l_8,
                     x34,
-                    <T as ::trocar::Arith>::mul_add(
+                    <T as ::trocar::emitted::Arith>::mul_add(
                         x0,
                         x21,
-                        <T as ::trocar::Arith>::mul_add(
-                            <T as ::trocar::Arith>::lit(0.39),
+                        <T as ::trocar::emitted::Arith>::mul_add(
+                            <T as ::trocar::emitted::Arith>::lit(0.39),
                             x9,
-                            <T as ::trocar::Arith>::mul_add(
-                                <T as ::trocar::Arith>::lit(0.38),
+                            <T as ::trocar::emitted::Arith>::mul_add(
+                                <T as ::trocar::emitted::Arith>::lit(0.38),
                                 s2,
-                                <T as ::trocar::Arith>::lit(1.037),
+                                <T as ::trocar::emitted::Arith>::lit(1.037),
                             ),
                         ),
                     ),
@@ -199,7 +199,7 @@ pub mod bidirectional_zy {
     /// Operations: 47 add, 88 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn forward_kinematics_trig<T: ::trocar::Arith>(
+    pub fn forward_kinematics_trig<T: ::trocar::emitted::Arith>(
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> ([[T; 3]; 3], [T; 3]) {
@@ -208,106 +208,214 @@ pub mod bidirectional_zy {
         let x2 = t.sin[0] * t.sin[1];
         let x3 = t.cos[0] * t.cos[1];
         let x4 = t.cos[0] * t.sin[1];
-        let x5 = <T as ::trocar::Arith>::mul_add(t.sin[2], x2, -(t.cos[2] * x1));
-        let x6 = <T as ::trocar::Arith>::mul_add(t.sin[2], x1, t.cos[2] * x2);
-        let x7 = <T as ::trocar::Arith>::mul_add(t.cos[2], x3, -(t.sin[2] * x4));
-        let x8 = <T as ::trocar::Arith>::mul_add(t.sin[2], x3, t.cos[2] * x4);
-        let x9 = <T as ::trocar::Arith>::mul_add(
+        let x5 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[2],
+            x2,
+            -(t.cos[2] * x1),
+        );
+        let x6 = <T as ::trocar::emitted::Arith>::mul_add(t.sin[2], x1, t.cos[2] * x2);
+        let x7 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[2],
+            x3,
+            -(t.sin[2] * x4),
+        );
+        let x8 = <T as ::trocar::emitted::Arith>::mul_add(t.sin[2], x3, t.cos[2] * x4);
+        let x9 = <T as ::trocar::emitted::Arith>::mul_add(
             t.sin[1],
             t.cos[2],
             t.cos[1] * t.sin[2],
         );
-        let x10 = <T as ::trocar::Arith>::mul_add(
+        let x10 = <T as ::trocar::emitted::Arith>::mul_add(
             t.cos[1],
             t.cos[2],
             -(t.sin[1] * t.sin[2]),
         );
-        let x11 = <T as ::trocar::Arith>::mul_add(t.cos[0], t.cos[3], -(t.sin[3] * x6));
-        let x12 = <T as ::trocar::Arith>::mul_add(t.cos[0], t.sin[3], t.cos[3] * x6);
-        let x13 = <T as ::trocar::Arith>::mul_add(t.sin[0], t.cos[3], t.sin[3] * x8);
-        let x14 = <T as ::trocar::Arith>::mul_add(t.sin[0], t.sin[3], -(t.cos[3] * x8));
+        let x11 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[0],
+            t.cos[3],
+            -(t.sin[3] * x6),
+        );
+        let x12 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[0],
+            t.sin[3],
+            t.cos[3] * x6,
+        );
+        let x13 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[0],
+            t.cos[3],
+            t.sin[3] * x8,
+        );
+        let x14 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[0],
+            t.sin[3],
+            -(t.cos[3] * x8),
+        );
         let x15 = t.sin[3] * x10;
         let x16 = t.cos[3] * x10;
-        let x17 = <T as ::trocar::Arith>::mul_add(t.cos[4], x5, t.sin[4] * x12);
-        let x18 = <T as ::trocar::Arith>::mul_add(t.cos[4], x12, -(t.sin[4] * x5));
-        let x19 = <T as ::trocar::Arith>::mul_add(t.cos[4], x7, t.sin[4] * x14);
-        let x20 = <T as ::trocar::Arith>::mul_add(t.cos[4], x14, -(t.sin[4] * x7));
-        let x21 = <T as ::trocar::Arith>::mul_add(t.cos[4], x9, t.sin[4] * x16);
-        let x22 = <T as ::trocar::Arith>::mul_add(t.cos[4], x16, -(t.sin[4] * x9));
-        let x23 = <T as ::trocar::Arith>::mul_add(t.cos[5], x11, -(t.sin[5] * x18));
-        let x24 = <T as ::trocar::Arith>::mul_add(t.sin[5], x11, t.cos[5] * x18);
-        let x25 = <T as ::trocar::Arith>::mul_add(t.cos[5], x13, -(t.sin[5] * x20));
-        let x26 = <T as ::trocar::Arith>::mul_add(t.sin[5], x13, t.cos[5] * x20);
-        let x27 = <T as ::trocar::Arith>::mul_add(t.cos[5], x15, t.sin[5] * x22);
-        let x28 = <T as ::trocar::Arith>::mul_add(t.cos[5], x22, -(t.sin[5] * x15));
-        let x29 = <T as ::trocar::Arith>::mul_add(t.cos[6], x23, t.sin[6] * x17);
-        let x30 = <T as ::trocar::Arith>::mul_add(t.cos[6], x17, -(t.sin[6] * x23));
-        let x31 = <T as ::trocar::Arith>::mul_add(t.cos[6], x25, t.sin[6] * x19);
-        let x32 = <T as ::trocar::Arith>::mul_add(t.cos[6], x19, -(t.sin[6] * x25));
-        let x33 = <T as ::trocar::Arith>::mul_add(t.sin[6], x21, -(t.cos[6] * x27));
-        let x34 = <T as ::trocar::Arith>::mul_add(t.sin[6], x27, t.cos[6] * x21);
+        let x17 = <T as ::trocar::emitted::Arith>::mul_add(t.cos[4], x5, t.sin[4] * x12);
+        let x18 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[4],
+            x12,
+            -(t.sin[4] * x5),
+        );
+        let x19 = <T as ::trocar::emitted::Arith>::mul_add(t.cos[4], x7, t.sin[4] * x14);
+        let x20 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[4],
+            x14,
+            -(t.sin[4] * x7),
+        );
+        let x21 = <T as ::trocar::emitted::Arith>::mul_add(t.cos[4], x9, t.sin[4] * x16);
+        let x22 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[4],
+            x16,
+            -(t.sin[4] * x9),
+        );
+        let x23 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[5],
+            x11,
+            -(t.sin[5] * x18),
+        );
+        let x24 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[5],
+            x11,
+            t.cos[5] * x18,
+        );
+        let x25 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[5],
+            x13,
+            -(t.sin[5] * x20),
+        );
+        let x26 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[5],
+            x13,
+            t.cos[5] * x20,
+        );
+        let x27 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[5],
+            x15,
+            t.sin[5] * x22,
+        );
+        let x28 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[5],
+            x22,
+            -(t.sin[5] * x15),
+        );
+        let x29 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[6],
+            x23,
+            t.sin[6] * x17,
+        );
+        let x30 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[6],
+            x17,
+            -(t.sin[6] * x23),
+        );
+        let x31 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[6],
+            x25,
+            t.sin[6] * x19,
+        );
+        let x32 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[6],
+            x19,
+            -(t.sin[6] * x25),
+        );
+        let x33 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[6],
+            x21,
+            -(t.cos[6] * x27),
+        );
+        let x34 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[6],
+            x27,
+            t.cos[6] * x21,
+        );
         (
             [
                 [
-                    <T as ::trocar::Arith>::mul_add(t.cos[7], x29, -(t.sin[7] * x24)),
-                    <T as ::trocar::Arith>::mul_add(t.cos[7], x31, -(t.sin[7] * x26)),
-                    <T as ::trocar::Arith>::mul_add(t.cos[7], x33, -(t.sin[7] * x28)),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        t.cos[7],
+                        x29,
+                        -(t.sin[7] * x24),
+                    ),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        t.cos[7],
+                        x31,
+                        -(t.sin[7] * x26),
+                    ),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        t.cos[7],
+                        x33,
+                        -(t.sin[7] * x28),
+                    ),
                 ],
                 [x30, x32, x34],
                 [
-                    <T as ::trocar::Arith>::mul_add(t.sin[7], x29, t.cos[7] * x24),
-                    <T as ::trocar::Arith>::mul_add(t.sin[7], x31, t.cos[7] * x26),
-                    <T as ::trocar::Arith>::mul_add(t.sin[7], x33, t.cos[7] * x28),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        t.sin[7],
+                        x29,
+                        t.cos[7] * x24,
+                    ),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        t.sin[7],
+                        x31,
+                        t.cos[7] * x26,
+                    ),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        t.sin[7],
+                        x33,
+                        t.cos[7] * x28,
+                    ),
                 ],
             ],
             [
-                <T as ::trocar::Arith>::mul_add(
+                <T as ::trocar::emitted::Arith>::mul_add(
                     p.l_8,
                     x30,
-                    <T as ::trocar::Arith>::mul_add(
+                    <T as ::trocar::emitted::Arith>::mul_add(
                         x0,
                         x17,
-                        <T as ::trocar::Arith>::mul_add(
-                            <T as ::trocar::Arith>::lit(0.39),
+                        <T as ::trocar::emitted::Arith>::mul_add(
+                            <T as ::trocar::emitted::Arith>::lit(0.39),
                             x5,
-                            <T as ::trocar::Arith>::mul_add(
-                                <T as ::trocar::Arith>::lit(0.194),
+                            <T as ::trocar::emitted::Arith>::mul_add(
+                                <T as ::trocar::emitted::Arith>::lit(0.194),
                                 t.cos[0],
-                                -(<T as ::trocar::Arith>::lit(0.38) * x1),
+                                -(<T as ::trocar::emitted::Arith>::lit(0.38) * x1),
                             ),
                         ),
                     ),
                 ),
-                <T as ::trocar::Arith>::mul_add(
+                <T as ::trocar::emitted::Arith>::mul_add(
                     p.l_8,
                     x32,
-                    <T as ::trocar::Arith>::mul_add(
+                    <T as ::trocar::emitted::Arith>::mul_add(
                         x0,
                         x19,
-                        <T as ::trocar::Arith>::mul_add(
-                            <T as ::trocar::Arith>::lit(0.39),
+                        <T as ::trocar::emitted::Arith>::mul_add(
+                            <T as ::trocar::emitted::Arith>::lit(0.39),
                             x7,
-                            <T as ::trocar::Arith>::mul_add(
-                                <T as ::trocar::Arith>::lit(0.194),
+                            <T as ::trocar::emitted::Arith>::mul_add(
+                                <T as ::trocar::emitted::Arith>::lit(0.194),
                                 t.sin[0],
-                                <T as ::trocar::Arith>::lit(0.38) * x3,
+                                <T as ::trocar::emitted::Arith>::lit(0.38) * x3,
                             ),
                         ),
                     ),
                 ),
-                <T as ::trocar::Arith>::mul_add(
+                <T as ::trocar::emitted::Arith>::mul_add(
                     p.l_8,
                     x34,
-                    <T as ::trocar::Arith>::mul_add(
+                    <T as ::trocar::emitted::Arith>::mul_add(
                         x0,
                         x21,
-                        <T as ::trocar::Arith>::mul_add(
-                            <T as ::trocar::Arith>::lit(0.39),
+                        <T as ::trocar::emitted::Arith>::mul_add(
+                            <T as ::trocar::emitted::Arith>::lit(0.39),
                             x9,
-                            <T as ::trocar::Arith>::mul_add(
-                                <T as ::trocar::Arith>::lit(0.38),
+                            <T as ::trocar::emitted::Arith>::mul_add(
+                                <T as ::trocar::emitted::Arith>::lit(0.38),
                                 t.sin[1],
-                                <T as ::trocar::Arith>::lit(1.037),
+                                <T as ::trocar::emitted::Arith>::lit(1.037),
                             ),
                         ),
                     ),
@@ -322,8 +430,11 @@ pub mod bidirectional_zy {
     /// Operations: 55 add, 114 mul, 0 div, 0 sqrt, 7 trig (sin_cos), 6 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn body_jacobian<T: ::trocar::Arith>(q: &[T; N], p: &Params<T>) -> [[T; 6]; N] {
-        let ([s2, s3, s4, s5, s6, s7, s8], [c2, c3, c4, c5, c6, c7, c8]) = <T as ::trocar::Arith>::sin_cos_array(
+    pub fn body_jacobian<T: ::trocar::emitted::Arith>(
+        q: &[T; N],
+        p: &Params<T>,
+    ) -> [[T; 6]; N] {
+        let ([s2, s3, s4, s5, s6, s7, s8], [c2, c3, c4, c5, c6, c7, c8]) = <T as ::trocar::emitted::Arith>::sin_cos_array(
             &[q[1], q[2], q[3], q[4], q[5], q[6], q[7]],
         );
         let x0 = c7 * c8;
@@ -331,112 +442,112 @@ pub mod bidirectional_zy {
         let x2 = s7 * p.l_8;
         let x3 = s7 * c8;
         let x4 = s7 * s8;
-        let x5 = <T as ::trocar::Arith>::mul_add(c7, p.l_8, p.l_a + p.l_b);
-        let x6 = <T as ::trocar::Arith>::mul_add(c6, x0, -(s6 * s8));
+        let x5 = <T as ::trocar::emitted::Arith>::mul_add(c7, p.l_8, p.l_a + p.l_b);
+        let x6 = <T as ::trocar::emitted::Arith>::mul_add(c6, x0, -(s6 * s8));
         let x7 = c6 * s7;
-        let x8 = <T as ::trocar::Arith>::mul_add(c6, x1, s6 * c8);
+        let x8 = <T as ::trocar::emitted::Arith>::mul_add(c6, x1, s6 * c8);
         let x9 = c6 * x2;
-        let x10 = <T as ::trocar::Arith>::mul_add(s6, x0, c6 * s8);
+        let x10 = <T as ::trocar::emitted::Arith>::mul_add(s6, x0, c6 * s8);
         let x11 = s6 * s7;
-        let x12 = <T as ::trocar::Arith>::mul_add(c6, c8, -(s6 * x1));
+        let x12 = <T as ::trocar::emitted::Arith>::mul_add(c6, c8, -(s6 * x1));
         let x13 = s6 * x2;
-        let x14 = <T as ::trocar::Arith>::mul_add(c5, x3, s5 * x10);
-        let x15 = <T as ::trocar::Arith>::mul_add(c5, c7, -(s5 * x11));
-        let x16 = <T as ::trocar::Arith>::mul_add(c5, x4, -(s5 * x12));
-        let x17 = <T as ::trocar::Arith>::lit(0.39)
-            + <T as ::trocar::Arith>::mul_add(c5, x5, -(s5 * x13));
-        let x18 = <T as ::trocar::Arith>::mul_add(s5, x3, -(c5 * x10));
-        let x19 = <T as ::trocar::Arith>::mul_add(s5, c7, c5 * x11);
-        let x20 = <T as ::trocar::Arith>::mul_add(s5, x4, c5 * x12);
-        let x21 = <T as ::trocar::Arith>::mul_add(s5, x5, c5 * x13);
-        let x22 = <T as ::trocar::Arith>::mul_add(c4, x6, s4 * x18);
-        let x23 = <T as ::trocar::Arith>::mul_add(s4, x19, -(c4 * x7));
-        let x24 = <T as ::trocar::Arith>::mul_add(c4, x8, s4 * x20);
-        let x25 = <T as ::trocar::Arith>::mul_add(c4, x18, -(s4 * x6));
-        let x26 = <T as ::trocar::Arith>::mul_add(s4, x7, c4 * x19);
-        let x27 = <T as ::trocar::Arith>::mul_add(c4, x20, -(s4 * x8));
-        let x28 = <T as ::trocar::Arith>::mul_add(s4, x9, c4 * x21);
-        let x29 = <T as ::trocar::Arith>::mul_add(c3, x14, -(s3 * x25));
-        let x30 = <T as ::trocar::Arith>::mul_add(c3, x15, -(s3 * x26));
-        let x31 = <T as ::trocar::Arith>::mul_add(c3, x16, -(s3 * x27));
-        let x32 = <T as ::trocar::Arith>::lit(0.38)
-            + <T as ::trocar::Arith>::mul_add(c3, x17, -(s3 * x28));
-        let x33 = <T as ::trocar::Arith>::mul_add(s3, x14, c3 * x25);
-        let x34 = <T as ::trocar::Arith>::mul_add(s3, x15, c3 * x26);
-        let x35 = <T as ::trocar::Arith>::mul_add(s3, x16, c3 * x27);
-        let x36 = <T as ::trocar::Arith>::mul_add(s3, x17, c3 * x28);
-        let x37 = <T as ::trocar::Arith>::lit(0.194)
-            + <T as ::trocar::Arith>::mul_add(s4, x21, -(c4 * x9));
-        let x38 = <T as ::trocar::Arith>::mul_add(c2, x32, -(s2 * x36));
+        let x14 = <T as ::trocar::emitted::Arith>::mul_add(c5, x3, s5 * x10);
+        let x15 = <T as ::trocar::emitted::Arith>::mul_add(c5, c7, -(s5 * x11));
+        let x16 = <T as ::trocar::emitted::Arith>::mul_add(c5, x4, -(s5 * x12));
+        let x17 = <T as ::trocar::emitted::Arith>::lit(0.39)
+            + <T as ::trocar::emitted::Arith>::mul_add(c5, x5, -(s5 * x13));
+        let x18 = <T as ::trocar::emitted::Arith>::mul_add(s5, x3, -(c5 * x10));
+        let x19 = <T as ::trocar::emitted::Arith>::mul_add(s5, c7, c5 * x11);
+        let x20 = <T as ::trocar::emitted::Arith>::mul_add(s5, x4, c5 * x12);
+        let x21 = <T as ::trocar::emitted::Arith>::mul_add(s5, x5, c5 * x13);
+        let x22 = <T as ::trocar::emitted::Arith>::mul_add(c4, x6, s4 * x18);
+        let x23 = <T as ::trocar::emitted::Arith>::mul_add(s4, x19, -(c4 * x7));
+        let x24 = <T as ::trocar::emitted::Arith>::mul_add(c4, x8, s4 * x20);
+        let x25 = <T as ::trocar::emitted::Arith>::mul_add(c4, x18, -(s4 * x6));
+        let x26 = <T as ::trocar::emitted::Arith>::mul_add(s4, x7, c4 * x19);
+        let x27 = <T as ::trocar::emitted::Arith>::mul_add(c4, x20, -(s4 * x8));
+        let x28 = <T as ::trocar::emitted::Arith>::mul_add(s4, x9, c4 * x21);
+        let x29 = <T as ::trocar::emitted::Arith>::mul_add(c3, x14, -(s3 * x25));
+        let x30 = <T as ::trocar::emitted::Arith>::mul_add(c3, x15, -(s3 * x26));
+        let x31 = <T as ::trocar::emitted::Arith>::mul_add(c3, x16, -(s3 * x27));
+        let x32 = <T as ::trocar::emitted::Arith>::lit(0.38)
+            + <T as ::trocar::emitted::Arith>::mul_add(c3, x17, -(s3 * x28));
+        let x33 = <T as ::trocar::emitted::Arith>::mul_add(s3, x14, c3 * x25);
+        let x34 = <T as ::trocar::emitted::Arith>::mul_add(s3, x15, c3 * x26);
+        let x35 = <T as ::trocar::emitted::Arith>::mul_add(s3, x16, c3 * x27);
+        let x36 = <T as ::trocar::emitted::Arith>::mul_add(s3, x17, c3 * x28);
+        let x37 = <T as ::trocar::emitted::Arith>::lit(0.194)
+            + <T as ::trocar::emitted::Arith>::mul_add(s4, x21, -(c4 * x9));
+        let x38 = <T as ::trocar::emitted::Arith>::mul_add(c2, x32, -(s2 * x36));
         [
             [
-                <T as ::trocar::Arith>::mul_add(
+                <T as ::trocar::emitted::Arith>::mul_add(
                     x37,
-                    <T as ::trocar::Arith>::mul_add(c2, x29, -(s2 * x33)),
+                    <T as ::trocar::emitted::Arith>::mul_add(c2, x29, -(s2 * x33)),
                     -(x22 * x38),
                 ),
-                <T as ::trocar::Arith>::mul_add(
+                <T as ::trocar::emitted::Arith>::mul_add(
                     x37,
-                    <T as ::trocar::Arith>::mul_add(c2, x30, -(s2 * x34)),
+                    <T as ::trocar::emitted::Arith>::mul_add(c2, x30, -(s2 * x34)),
                     -(x23 * x38),
                 ),
-                <T as ::trocar::Arith>::mul_add(
+                <T as ::trocar::emitted::Arith>::mul_add(
                     x37,
-                    <T as ::trocar::Arith>::mul_add(c2, x31, -(s2 * x35)),
+                    <T as ::trocar::emitted::Arith>::mul_add(c2, x31, -(s2 * x35)),
                     -(x24 * x38),
                 ),
-                <T as ::trocar::Arith>::mul_add(s2, x29, c2 * x33),
-                <T as ::trocar::Arith>::mul_add(s2, x30, c2 * x34),
-                <T as ::trocar::Arith>::mul_add(s2, x31, c2 * x35),
+                <T as ::trocar::emitted::Arith>::mul_add(s2, x29, c2 * x33),
+                <T as ::trocar::emitted::Arith>::mul_add(s2, x30, c2 * x34),
+                <T as ::trocar::emitted::Arith>::mul_add(s2, x31, c2 * x35),
             ],
             [
-                <T as ::trocar::Arith>::mul_add(x32, x33, -(x29 * x36)),
-                <T as ::trocar::Arith>::mul_add(x32, x34, -(x30 * x36)),
-                <T as ::trocar::Arith>::mul_add(x32, x35, -(x31 * x36)),
+                <T as ::trocar::emitted::Arith>::mul_add(x32, x33, -(x29 * x36)),
+                <T as ::trocar::emitted::Arith>::mul_add(x32, x34, -(x30 * x36)),
+                <T as ::trocar::emitted::Arith>::mul_add(x32, x35, -(x31 * x36)),
                 x22,
                 x23,
                 x24,
             ],
             [
-                <T as ::trocar::Arith>::mul_add(x17, x25, -(x14 * x28)),
-                <T as ::trocar::Arith>::mul_add(x17, x26, -(x15 * x28)),
-                <T as ::trocar::Arith>::mul_add(x17, x27, -(x16 * x28)),
+                <T as ::trocar::emitted::Arith>::mul_add(x17, x25, -(x14 * x28)),
+                <T as ::trocar::emitted::Arith>::mul_add(x17, x26, -(x15 * x28)),
+                <T as ::trocar::emitted::Arith>::mul_add(x17, x27, -(x16 * x28)),
                 x22,
                 x23,
                 x24,
             ],
             [
-                <T as ::trocar::Arith>::mul_add(x6, x21, x9 * x18),
-                <T as ::trocar::Arith>::mul_add(x9, x19, -(x7 * x21)),
-                <T as ::trocar::Arith>::mul_add(x8, x21, x9 * x20),
+                <T as ::trocar::emitted::Arith>::mul_add(x6, x21, x9 * x18),
+                <T as ::trocar::emitted::Arith>::mul_add(x9, x19, -(x7 * x21)),
+                <T as ::trocar::emitted::Arith>::mul_add(x8, x21, x9 * x20),
                 x14,
                 x15,
                 x16,
             ],
             [
-                -<T as ::trocar::Arith>::mul_add(x3, x13, x5 * x10),
-                <T as ::trocar::Arith>::mul_add(x5, x11, -(c7 * x13)),
-                <T as ::trocar::Arith>::mul_add(x5, x12, -(x4 * x13)),
+                -<T as ::trocar::emitted::Arith>::mul_add(x3, x13, x5 * x10),
+                <T as ::trocar::emitted::Arith>::mul_add(x5, x11, -(c7 * x13)),
+                <T as ::trocar::emitted::Arith>::mul_add(x5, x12, -(x4 * x13)),
                 x6,
                 -x7,
                 x8,
             ],
-            [-(s8 * x2), <T as ::trocar::Arith>::ZERO, c8 * x2, x3, c7, x4],
+            [-(s8 * x2), <T as ::trocar::emitted::Arith>::ZERO, c8 * x2, x3, c7, x4],
             [
                 -(c8 * p.l_8),
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 -(s8 * p.l_8),
                 -s8,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 c8,
             ],
             [
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ONE,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ONE,
+                <T as ::trocar::emitted::Arith>::ZERO,
             ],
         ]
     }
@@ -447,7 +558,7 @@ pub mod bidirectional_zy {
     /// Operations: 55 add, 114 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 6 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn body_jacobian_trig<T: ::trocar::Arith>(
+    pub fn body_jacobian_trig<T: ::trocar::emitted::Arith>(
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> [[T; 6]; N] {
@@ -456,99 +567,191 @@ pub mod bidirectional_zy {
         let x2 = t.sin[6] * p.l_8;
         let x3 = t.sin[6] * t.cos[7];
         let x4 = t.sin[6] * t.sin[7];
-        let x5 = <T as ::trocar::Arith>::mul_add(t.cos[6], p.l_8, p.l_a + p.l_b);
-        let x6 = <T as ::trocar::Arith>::mul_add(t.cos[5], x0, -(t.sin[5] * t.sin[7]));
+        let x5 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[6],
+            p.l_8,
+            p.l_a + p.l_b,
+        );
+        let x6 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[5],
+            x0,
+            -(t.sin[5] * t.sin[7]),
+        );
         let x7 = t.cos[5] * t.sin[6];
-        let x8 = <T as ::trocar::Arith>::mul_add(t.cos[5], x1, t.sin[5] * t.cos[7]);
+        let x8 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[5],
+            x1,
+            t.sin[5] * t.cos[7],
+        );
         let x9 = t.cos[5] * x2;
-        let x10 = <T as ::trocar::Arith>::mul_add(t.sin[5], x0, t.cos[5] * t.sin[7]);
+        let x10 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[5],
+            x0,
+            t.cos[5] * t.sin[7],
+        );
         let x11 = t.sin[5] * t.sin[6];
-        let x12 = <T as ::trocar::Arith>::mul_add(t.cos[5], t.cos[7], -(t.sin[5] * x1));
+        let x12 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[5],
+            t.cos[7],
+            -(t.sin[5] * x1),
+        );
         let x13 = t.sin[5] * x2;
-        let x14 = <T as ::trocar::Arith>::mul_add(t.cos[4], x3, t.sin[4] * x10);
-        let x15 = <T as ::trocar::Arith>::mul_add(t.cos[4], t.cos[6], -(t.sin[4] * x11));
-        let x16 = <T as ::trocar::Arith>::mul_add(t.cos[4], x4, -(t.sin[4] * x12));
-        let x17 = <T as ::trocar::Arith>::lit(0.39)
-            + <T as ::trocar::Arith>::mul_add(t.cos[4], x5, -(t.sin[4] * x13));
-        let x18 = <T as ::trocar::Arith>::mul_add(t.sin[4], x3, -(t.cos[4] * x10));
-        let x19 = <T as ::trocar::Arith>::mul_add(t.sin[4], t.cos[6], t.cos[4] * x11);
-        let x20 = <T as ::trocar::Arith>::mul_add(t.sin[4], x4, t.cos[4] * x12);
-        let x21 = <T as ::trocar::Arith>::mul_add(t.sin[4], x5, t.cos[4] * x13);
-        let x22 = <T as ::trocar::Arith>::mul_add(t.cos[3], x6, t.sin[3] * x18);
-        let x23 = <T as ::trocar::Arith>::mul_add(t.sin[3], x19, -(t.cos[3] * x7));
-        let x24 = <T as ::trocar::Arith>::mul_add(t.cos[3], x8, t.sin[3] * x20);
-        let x25 = <T as ::trocar::Arith>::mul_add(t.cos[3], x18, -(t.sin[3] * x6));
-        let x26 = <T as ::trocar::Arith>::mul_add(t.sin[3], x7, t.cos[3] * x19);
-        let x27 = <T as ::trocar::Arith>::mul_add(t.cos[3], x20, -(t.sin[3] * x8));
-        let x28 = <T as ::trocar::Arith>::mul_add(t.sin[3], x9, t.cos[3] * x21);
-        let x29 = <T as ::trocar::Arith>::mul_add(t.cos[2], x14, -(t.sin[2] * x25));
-        let x30 = <T as ::trocar::Arith>::mul_add(t.cos[2], x15, -(t.sin[2] * x26));
-        let x31 = <T as ::trocar::Arith>::mul_add(t.cos[2], x16, -(t.sin[2] * x27));
-        let x32 = <T as ::trocar::Arith>::lit(0.38)
-            + <T as ::trocar::Arith>::mul_add(t.cos[2], x17, -(t.sin[2] * x28));
-        let x33 = <T as ::trocar::Arith>::mul_add(t.sin[2], x14, t.cos[2] * x25);
-        let x34 = <T as ::trocar::Arith>::mul_add(t.sin[2], x15, t.cos[2] * x26);
-        let x35 = <T as ::trocar::Arith>::mul_add(t.sin[2], x16, t.cos[2] * x27);
-        let x36 = <T as ::trocar::Arith>::mul_add(t.sin[2], x17, t.cos[2] * x28);
-        let x37 = <T as ::trocar::Arith>::lit(0.194)
-            + <T as ::trocar::Arith>::mul_add(t.sin[3], x21, -(t.cos[3] * x9));
-        let x38 = <T as ::trocar::Arith>::mul_add(t.cos[1], x32, -(t.sin[1] * x36));
+        let x14 = <T as ::trocar::emitted::Arith>::mul_add(t.cos[4], x3, t.sin[4] * x10);
+        let x15 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[4],
+            t.cos[6],
+            -(t.sin[4] * x11),
+        );
+        let x16 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[4],
+            x4,
+            -(t.sin[4] * x12),
+        );
+        let x17 = <T as ::trocar::emitted::Arith>::lit(0.39)
+            + <T as ::trocar::emitted::Arith>::mul_add(t.cos[4], x5, -(t.sin[4] * x13));
+        let x18 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[4],
+            x3,
+            -(t.cos[4] * x10),
+        );
+        let x19 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[4],
+            t.cos[6],
+            t.cos[4] * x11,
+        );
+        let x20 = <T as ::trocar::emitted::Arith>::mul_add(t.sin[4], x4, t.cos[4] * x12);
+        let x21 = <T as ::trocar::emitted::Arith>::mul_add(t.sin[4], x5, t.cos[4] * x13);
+        let x22 = <T as ::trocar::emitted::Arith>::mul_add(t.cos[3], x6, t.sin[3] * x18);
+        let x23 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[3],
+            x19,
+            -(t.cos[3] * x7),
+        );
+        let x24 = <T as ::trocar::emitted::Arith>::mul_add(t.cos[3], x8, t.sin[3] * x20);
+        let x25 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[3],
+            x18,
+            -(t.sin[3] * x6),
+        );
+        let x26 = <T as ::trocar::emitted::Arith>::mul_add(t.sin[3], x7, t.cos[3] * x19);
+        let x27 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[3],
+            x20,
+            -(t.sin[3] * x8),
+        );
+        let x28 = <T as ::trocar::emitted::Arith>::mul_add(t.sin[3], x9, t.cos[3] * x21);
+        let x29 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[2],
+            x14,
+            -(t.sin[2] * x25),
+        );
+        let x30 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[2],
+            x15,
+            -(t.sin[2] * x26),
+        );
+        let x31 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[2],
+            x16,
+            -(t.sin[2] * x27),
+        );
+        let x32 = <T as ::trocar::emitted::Arith>::lit(0.38)
+            + <T as ::trocar::emitted::Arith>::mul_add(t.cos[2], x17, -(t.sin[2] * x28));
+        let x33 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[2],
+            x14,
+            t.cos[2] * x25,
+        );
+        let x34 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[2],
+            x15,
+            t.cos[2] * x26,
+        );
+        let x35 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[2],
+            x16,
+            t.cos[2] * x27,
+        );
+        let x36 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[2],
+            x17,
+            t.cos[2] * x28,
+        );
+        let x37 = <T as ::trocar::emitted::Arith>::lit(0.194)
+            + <T as ::trocar::emitted::Arith>::mul_add(t.sin[3], x21, -(t.cos[3] * x9));
+        let x38 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[1],
+            x32,
+            -(t.sin[1] * x36),
+        );
         [
             [
-                <T as ::trocar::Arith>::mul_add(
+                <T as ::trocar::emitted::Arith>::mul_add(
                     x37,
-                    <T as ::trocar::Arith>::mul_add(t.cos[1], x29, -(t.sin[1] * x33)),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        t.cos[1],
+                        x29,
+                        -(t.sin[1] * x33),
+                    ),
                     -(x22 * x38),
                 ),
-                <T as ::trocar::Arith>::mul_add(
+                <T as ::trocar::emitted::Arith>::mul_add(
                     x37,
-                    <T as ::trocar::Arith>::mul_add(t.cos[1], x30, -(t.sin[1] * x34)),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        t.cos[1],
+                        x30,
+                        -(t.sin[1] * x34),
+                    ),
                     -(x23 * x38),
                 ),
-                <T as ::trocar::Arith>::mul_add(
+                <T as ::trocar::emitted::Arith>::mul_add(
                     x37,
-                    <T as ::trocar::Arith>::mul_add(t.cos[1], x31, -(t.sin[1] * x35)),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        t.cos[1],
+                        x31,
+                        -(t.sin[1] * x35),
+                    ),
                     -(x24 * x38),
                 ),
-                <T as ::trocar::Arith>::mul_add(t.sin[1], x29, t.cos[1] * x33),
-                <T as ::trocar::Arith>::mul_add(t.sin[1], x30, t.cos[1] * x34),
-                <T as ::trocar::Arith>::mul_add(t.sin[1], x31, t.cos[1] * x35),
+                <T as ::trocar::emitted::Arith>::mul_add(t.sin[1], x29, t.cos[1] * x33),
+                <T as ::trocar::emitted::Arith>::mul_add(t.sin[1], x30, t.cos[1] * x34),
+                <T as ::trocar::emitted::Arith>::mul_add(t.sin[1], x31, t.cos[1] * x35),
             ],
             [
-                <T as ::trocar::Arith>::mul_add(x32, x33, -(x29 * x36)),
-                <T as ::trocar::Arith>::mul_add(x32, x34, -(x30 * x36)),
-                <T as ::trocar::Arith>::mul_add(x32, x35, -(x31 * x36)),
+                <T as ::trocar::emitted::Arith>::mul_add(x32, x33, -(x29 * x36)),
+                <T as ::trocar::emitted::Arith>::mul_add(x32, x34, -(x30 * x36)),
+                <T as ::trocar::emitted::Arith>::mul_add(x32, x35, -(x31 * x36)),
                 x22,
                 x23,
                 x24,
             ],
             [
-                <T as ::trocar::Arith>::mul_add(x17, x25, -(x14 * x28)),
-                <T as ::trocar::Arith>::mul_add(x17, x26, -(x15 * x28)),
-                <T as ::trocar::Arith>::mul_add(x17, x27, -(x16 * x28)),
+                <T as ::trocar::emitted::Arith>::mul_add(x17, x25, -(x14 * x28)),
+                <T as ::trocar::emitted::Arith>::mul_add(x17, x26, -(x15 * x28)),
+                <T as ::trocar::emitted::Arith>::mul_add(x17, x27, -(x16 * x28)),
                 x22,
                 x23,
                 x24,
             ],
             [
-                <T as ::trocar::Arith>::mul_add(x6, x21, x9 * x18),
-                <T as ::trocar::Arith>::mul_add(x9, x19, -(x7 * x21)),
-                <T as ::trocar::Arith>::mul_add(x8, x21, x9 * x20),
+                <T as ::trocar::emitted::Arith>::mul_add(x6, x21, x9 * x18),
+                <T as ::trocar::emitted::Arith>::mul_add(x9, x19, -(x7 * x21)),
+                <T as ::trocar::emitted::Arith>::mul_add(x8, x21, x9 * x20),
                 x14,
                 x15,
                 x16,
             ],
             [
-                -<T as ::trocar::Arith>::mul_add(x3, x13, x5 * x10),
-                <T as ::trocar::Arith>::mul_add(x5, x11, -(t.cos[6] * x13)),
-                <T as ::trocar::Arith>::mul_add(x5, x12, -(x4 * x13)),
+                -<T as ::trocar::emitted::Arith>::mul_add(x3, x13, x5 * x10),
+                <T as ::trocar::emitted::Arith>::mul_add(x5, x11, -(t.cos[6] * x13)),
+                <T as ::trocar::emitted::Arith>::mul_add(x5, x12, -(x4 * x13)),
                 x6,
                 -x7,
                 x8,
             ],
             [
                 -(t.sin[7] * x2),
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 t.cos[7] * x2,
                 x3,
                 t.cos[6],
@@ -556,19 +759,19 @@ pub mod bidirectional_zy {
             ],
             [
                 -(t.cos[7] * p.l_8),
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 -(t.sin[7] * p.l_8),
                 -t.sin[7],
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 t.cos[7],
             ],
             [
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ONE,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ONE,
+                <T as ::trocar::emitted::Arith>::ZERO,
             ],
         ]
     }
@@ -583,12 +786,14 @@ pub mod bidirectional_zy {
     /// Operations: 2 add, 22 mul, 1 div, 0 sqrt, 2 trig (sin_cos), 10 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn constrained_jacobian<T: ::trocar::Arith>(
+    pub fn constrained_jacobian<T: ::trocar::emitted::Arith>(
         q: &[T; N],
         p: &Params<T>,
     ) -> [[T; 6]; M] {
-        let ([s7, s8], [c7, c8]) = <T as ::trocar::Arith>::sin_cos_array(&[q[6], q[7]]);
-        let x0 = <T as ::trocar::Arith>::ONE / p.l_a;
+        let ([s7, s8], [c7, c8]) = <T as ::trocar::emitted::Arith>::sin_cos_array(
+            &[q[6], q[7]],
+        );
+        let x0 = <T as ::trocar::emitted::Arith>::ONE / p.l_a;
         let x1 = (c7 * p.l_b + p.l_8) * x0;
         let x2 = x0 * s7;
         let x3 = c8 * s7;
@@ -600,41 +805,48 @@ pub mod bidirectional_zy {
                 p.l_b * x2,
                 -(x1 * s8),
                 -(x0 * s8),
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 x0 * c8,
             ],
             [
                 x3,
                 c7,
                 x4,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
             ],
             [
                 s8 * x5,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 -(c8 * x5),
                 -(x0 * (c7 * c8)),
                 x2,
                 -(x0 * (c7 * s8)),
             ],
-            [-(p.l_8 * x4), <T as ::trocar::Arith>::ZERO, p.l_8 * x3, x3, c7, x4],
+            [
+                -(p.l_8 * x4),
+                <T as ::trocar::emitted::Arith>::ZERO,
+                p.l_8 * x3,
+                x3,
+                c7,
+                x4,
+            ],
             [
                 -(p.l_8 * c8),
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 -(p.l_8 * s8),
                 -s8,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 c8,
             ],
             [
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ONE,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ONE,
+                <T as ::trocar::emitted::Arith>::ZERO,
             ],
         ]
     }
@@ -645,11 +857,11 @@ pub mod bidirectional_zy {
     /// Operations: 2 add, 22 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 10 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn constrained_jacobian_trig<T: ::trocar::Arith>(
+    pub fn constrained_jacobian_trig<T: ::trocar::emitted::Arith>(
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> [[T; 6]; M] {
-        let x0 = <T as ::trocar::Arith>::ONE / p.l_a;
+        let x0 = <T as ::trocar::emitted::Arith>::ONE / p.l_a;
         let x1 = (t.cos[6] * p.l_b + p.l_8) * x0;
         let x2 = x0 * t.sin[6];
         let x3 = t.cos[7] * t.sin[6];
@@ -661,41 +873,48 @@ pub mod bidirectional_zy {
                 p.l_b * x2,
                 -(x1 * t.sin[7]),
                 -(x0 * t.sin[7]),
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 x0 * t.cos[7],
             ],
             [
                 x3,
                 t.cos[6],
                 x4,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
             ],
             [
                 t.sin[7] * x5,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 -(t.cos[7] * x5),
                 -(x0 * (t.cos[6] * t.cos[7])),
                 x2,
                 -(x0 * (t.cos[6] * t.sin[7])),
             ],
-            [-(p.l_8 * x4), <T as ::trocar::Arith>::ZERO, p.l_8 * x3, x3, t.cos[6], x4],
+            [
+                -(p.l_8 * x4),
+                <T as ::trocar::emitted::Arith>::ZERO,
+                p.l_8 * x3,
+                x3,
+                t.cos[6],
+                x4,
+            ],
             [
                 -(p.l_8 * t.cos[7]),
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 -(p.l_8 * t.sin[7]),
                 -t.sin[7],
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 t.cos[7],
             ],
             [
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ONE,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ONE,
+                <T as ::trocar::emitted::Arith>::ZERO,
             ],
         ]
     }
@@ -708,24 +927,30 @@ pub mod bidirectional_zy {
     /// Operations: 7 add, 26 mul, 1 div, 0 sqrt, 2 trig (sin_cos), 4 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn constraint_jacobian_c<T: ::trocar::Arith>(
+    pub fn constraint_jacobian_c<T: ::trocar::emitted::Arith>(
         q: &[T; N],
         p: &Params<T>,
     ) -> [[T; 6]; R] {
-        let ([s7, s8], [c7, c8]) = <T as ::trocar::Arith>::sin_cos_array(&[q[6], q[7]]);
-        let x0 = <T as ::trocar::Arith>::ONE
-            / <T as ::trocar::Arith>::mul_add(p.l_a, p.l_a, <T as ::trocar::Arith>::ONE);
-        let x1 = <T as ::trocar::Arith>::mul_add(
+        let ([s7, s8], [c7, c8]) = <T as ::trocar::emitted::Arith>::sin_cos_array(
+            &[q[6], q[7]],
+        );
+        let x0 = <T as ::trocar::emitted::Arith>::ONE
+            / <T as ::trocar::emitted::Arith>::mul_add(
+                p.l_a,
+                p.l_a,
+                <T as ::trocar::emitted::Arith>::ONE,
+            );
+        let x1 = <T as ::trocar::emitted::Arith>::mul_add(
             p.l_a,
             p.l_a + p.l_b,
-            <T as ::trocar::Arith>::ONE,
+            <T as ::trocar::emitted::Arith>::ONE,
         );
-        let x2 = x0 * <T as ::trocar::Arith>::mul_add(x1, c7, p.l_a * p.l_8);
+        let x2 = x0 * <T as ::trocar::emitted::Arith>::mul_add(x1, c7, p.l_a * p.l_8);
         let x3 = x0
-            * <T as ::trocar::Arith>::mul_add(
+            * <T as ::trocar::emitted::Arith>::mul_add(
                 p.l_a,
-                p.l_b + <T as ::trocar::Arith>::mul_add(c7, p.l_8, p.l_a),
-                <T as ::trocar::Arith>::ONE,
+                p.l_b + <T as ::trocar::emitted::Arith>::mul_add(c7, p.l_8, p.l_a),
+                <T as ::trocar::emitted::Arith>::ONE,
             );
         [
             [
@@ -733,12 +958,12 @@ pub mod bidirectional_zy {
                 -(x0 * x1 * s7),
                 x2 * s8,
                 x0 * (p.l_a * s8),
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 -(x0 * (p.l_a * c8)),
             ],
             [
                 -(s8 * x3),
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 c8 * x3,
                 x0 * (p.l_a * (c7 * c8)),
                 -(x0 * (p.l_a * s7)),
@@ -753,23 +978,28 @@ pub mod bidirectional_zy {
     /// Operations: 7 add, 26 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 4 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn constraint_jacobian_c_trig<T: ::trocar::Arith>(
+    pub fn constraint_jacobian_c_trig<T: ::trocar::emitted::Arith>(
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> [[T; 6]; R] {
-        let x0 = <T as ::trocar::Arith>::ONE
-            / <T as ::trocar::Arith>::mul_add(p.l_a, p.l_a, <T as ::trocar::Arith>::ONE);
-        let x1 = <T as ::trocar::Arith>::mul_add(
+        let x0 = <T as ::trocar::emitted::Arith>::ONE
+            / <T as ::trocar::emitted::Arith>::mul_add(
+                p.l_a,
+                p.l_a,
+                <T as ::trocar::emitted::Arith>::ONE,
+            );
+        let x1 = <T as ::trocar::emitted::Arith>::mul_add(
             p.l_a,
             p.l_a + p.l_b,
-            <T as ::trocar::Arith>::ONE,
+            <T as ::trocar::emitted::Arith>::ONE,
         );
-        let x2 = x0 * <T as ::trocar::Arith>::mul_add(x1, t.cos[6], p.l_a * p.l_8);
+        let x2 = x0
+            * <T as ::trocar::emitted::Arith>::mul_add(x1, t.cos[6], p.l_a * p.l_8);
         let x3 = x0
-            * <T as ::trocar::Arith>::mul_add(
+            * <T as ::trocar::emitted::Arith>::mul_add(
                 p.l_a,
-                p.l_b + <T as ::trocar::Arith>::mul_add(t.cos[6], p.l_8, p.l_a),
-                <T as ::trocar::Arith>::ONE,
+                p.l_b + <T as ::trocar::emitted::Arith>::mul_add(t.cos[6], p.l_8, p.l_a),
+                <T as ::trocar::emitted::Arith>::ONE,
             );
         [
             [
@@ -777,12 +1007,12 @@ pub mod bidirectional_zy {
                 -(x0 * x1 * t.sin[6]),
                 x2 * t.sin[7],
                 x0 * (p.l_a * t.sin[7]),
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 -(x0 * (p.l_a * t.cos[7])),
             ],
             [
                 -(t.sin[7] * x3),
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 t.cos[7] * x3,
                 x0 * (p.l_a * (t.cos[6] * t.cos[7])),
                 -(x0 * (p.l_a * t.sin[6])),
@@ -797,97 +1027,97 @@ pub mod bidirectional_zy {
     /// Operations: 24 add, 57 mul, 0 div, 0 sqrt, 5 trig (sin_cos), 3 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn partial_body_jacobian<T: ::trocar::Arith>(
+    pub fn partial_body_jacobian<T: ::trocar::emitted::Arith>(
         q: &[T; N],
         _p: &Params<T>,
     ) -> [[T; 6]; I] {
-        let ([s2, s3, s4, s5, s6], [c2, c3, c4, c5, c6]) = <T as ::trocar::Arith>::sin_cos_array(
+        let ([s2, s3, s4, s5, s6], [c2, c3, c4, c5, c6]) = <T as ::trocar::emitted::Arith>::sin_cos_array(
             &[q[1], q[2], q[3], q[4], q[5]],
         );
         let x0 = s5 * s6;
         let x1 = s5 * c6;
         let x2 = c5 * s6;
         let x3 = c5 * c6;
-        let x4 = <T as ::trocar::Arith>::mul_add(c4, c6, -(s4 * x2));
+        let x4 = <T as ::trocar::emitted::Arith>::mul_add(c4, c6, -(s4 * x2));
         let x5 = s4 * s5;
-        let x6 = <T as ::trocar::Arith>::mul_add(c4, s6, s4 * x3);
-        let x7 = <T as ::trocar::Arith>::mul_add(s4, c6, c4 * x2);
+        let x6 = <T as ::trocar::emitted::Arith>::mul_add(c4, s6, s4 * x3);
+        let x7 = <T as ::trocar::emitted::Arith>::mul_add(s4, c6, c4 * x2);
         let x8 = c4 * s5;
-        let x9 = <T as ::trocar::Arith>::mul_add(c4, x3, -(s4 * s6));
-        let x10 = <T as ::trocar::Arith>::mul_add(c3, x0, s3 * x7);
-        let x11 = <T as ::trocar::Arith>::mul_add(c3, c5, -(s3 * x8));
-        let x12 = <T as ::trocar::Arith>::mul_add(c3, x1, s3 * x9);
-        let x13 = <T as ::trocar::Arith>::mul_add(
-            <T as ::trocar::Arith>::lit(0.39),
+        let x9 = <T as ::trocar::emitted::Arith>::mul_add(c4, x3, -(s4 * s6));
+        let x10 = <T as ::trocar::emitted::Arith>::mul_add(c3, x0, s3 * x7);
+        let x11 = <T as ::trocar::emitted::Arith>::mul_add(c3, c5, -(s3 * x8));
+        let x12 = <T as ::trocar::emitted::Arith>::mul_add(c3, x1, s3 * x9);
+        let x13 = <T as ::trocar::emitted::Arith>::mul_add(
+            <T as ::trocar::emitted::Arith>::lit(0.39),
             c3,
-            <T as ::trocar::Arith>::lit(0.38),
+            <T as ::trocar::emitted::Arith>::lit(0.38),
         );
-        let x14 = <T as ::trocar::Arith>::mul_add(s3, x0, -(c3 * x7));
-        let x15 = <T as ::trocar::Arith>::mul_add(s3, c5, c3 * x8);
-        let x16 = <T as ::trocar::Arith>::mul_add(c3, x9, -(s3 * x1));
-        let x17 = <T as ::trocar::Arith>::lit(0.39) * s3;
-        let x18 = <T as ::trocar::Arith>::mul_add(c2, x13, -(s2 * x17));
+        let x14 = <T as ::trocar::emitted::Arith>::mul_add(s3, x0, -(c3 * x7));
+        let x15 = <T as ::trocar::emitted::Arith>::mul_add(s3, c5, c3 * x8);
+        let x16 = <T as ::trocar::emitted::Arith>::mul_add(c3, x9, -(s3 * x1));
+        let x17 = <T as ::trocar::emitted::Arith>::lit(0.39) * s3;
+        let x18 = <T as ::trocar::emitted::Arith>::mul_add(c2, x13, -(s2 * x17));
         [
             [
-                <T as ::trocar::Arith>::mul_add(
-                    <T as ::trocar::Arith>::lit(0.194),
-                    <T as ::trocar::Arith>::mul_add(c2, x10, -(s2 * x14)),
+                <T as ::trocar::emitted::Arith>::mul_add(
+                    <T as ::trocar::emitted::Arith>::lit(0.194),
+                    <T as ::trocar::emitted::Arith>::mul_add(c2, x10, -(s2 * x14)),
                     -(x4 * x18),
                 ),
-                <T as ::trocar::Arith>::mul_add(
-                    <T as ::trocar::Arith>::lit(0.194),
-                    <T as ::trocar::Arith>::mul_add(c2, x11, -(s2 * x15)),
+                <T as ::trocar::emitted::Arith>::mul_add(
+                    <T as ::trocar::emitted::Arith>::lit(0.194),
+                    <T as ::trocar::emitted::Arith>::mul_add(c2, x11, -(s2 * x15)),
                     -(x5 * x18),
                 ),
-                -<T as ::trocar::Arith>::mul_add(
+                -<T as ::trocar::emitted::Arith>::mul_add(
                     x6,
                     x18,
-                    <T as ::trocar::Arith>::lit(0.194)
-                        * <T as ::trocar::Arith>::mul_add(c2, x12, s2 * x16),
+                    <T as ::trocar::emitted::Arith>::lit(0.194)
+                        * <T as ::trocar::emitted::Arith>::mul_add(c2, x12, s2 * x16),
                 ),
-                <T as ::trocar::Arith>::mul_add(s2, x10, c2 * x14),
-                <T as ::trocar::Arith>::mul_add(s2, x11, c2 * x15),
-                <T as ::trocar::Arith>::mul_add(c2, x16, -(s2 * x12)),
+                <T as ::trocar::emitted::Arith>::mul_add(s2, x10, c2 * x14),
+                <T as ::trocar::emitted::Arith>::mul_add(s2, x11, c2 * x15),
+                <T as ::trocar::emitted::Arith>::mul_add(c2, x16, -(s2 * x12)),
             ],
             [
-                <T as ::trocar::Arith>::mul_add(x13, x14, -(x10 * x17)),
-                <T as ::trocar::Arith>::mul_add(x13, x15, -(x11 * x17)),
-                <T as ::trocar::Arith>::mul_add(x12, x17, x13 * x16),
+                <T as ::trocar::emitted::Arith>::mul_add(x13, x14, -(x10 * x17)),
+                <T as ::trocar::emitted::Arith>::mul_add(x13, x15, -(x11 * x17)),
+                <T as ::trocar::emitted::Arith>::mul_add(x12, x17, x13 * x16),
                 x4,
                 x5,
                 x6,
             ],
             [
-                -(<T as ::trocar::Arith>::lit(0.39) * x7),
-                <T as ::trocar::Arith>::lit(0.39) * x8,
-                <T as ::trocar::Arith>::lit(0.39) * x9,
+                -(<T as ::trocar::emitted::Arith>::lit(0.39) * x7),
+                <T as ::trocar::emitted::Arith>::lit(0.39) * x8,
+                <T as ::trocar::emitted::Arith>::lit(0.39) * x9,
                 x4,
                 x5,
                 x6,
             ],
             [
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 x0,
                 c5,
                 -x1,
             ],
             [
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 c6,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 s6,
             ],
             [
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ONE,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ONE,
+                <T as ::trocar::emitted::Arith>::ZERO,
             ],
         ]
     }
@@ -898,7 +1128,7 @@ pub mod bidirectional_zy {
     /// Operations: 24 add, 57 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 3 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn partial_body_jacobian_trig<T: ::trocar::Arith>(
+    pub fn partial_body_jacobian_trig<T: ::trocar::emitted::Arith>(
         t: &JointTrig<T>,
         _p: &Params<T>,
     ) -> [[T; 6]; I] {
@@ -906,86 +1136,138 @@ pub mod bidirectional_zy {
         let x1 = t.sin[4] * t.cos[5];
         let x2 = t.cos[4] * t.sin[5];
         let x3 = t.cos[4] * t.cos[5];
-        let x4 = <T as ::trocar::Arith>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x2));
-        let x5 = t.sin[3] * t.sin[4];
-        let x6 = <T as ::trocar::Arith>::mul_add(t.cos[3], t.sin[5], t.sin[3] * x3);
-        let x7 = <T as ::trocar::Arith>::mul_add(t.sin[3], t.cos[5], t.cos[3] * x2);
-        let x8 = t.cos[3] * t.sin[4];
-        let x9 = <T as ::trocar::Arith>::mul_add(t.cos[3], x3, -(t.sin[3] * t.sin[5]));
-        let x10 = <T as ::trocar::Arith>::mul_add(t.cos[2], x0, t.sin[2] * x7);
-        let x11 = <T as ::trocar::Arith>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x8));
-        let x12 = <T as ::trocar::Arith>::mul_add(t.cos[2], x1, t.sin[2] * x9);
-        let x13 = <T as ::trocar::Arith>::mul_add(
-            <T as ::trocar::Arith>::lit(0.39),
-            t.cos[2],
-            <T as ::trocar::Arith>::lit(0.38),
+        let x4 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[3],
+            t.cos[5],
+            -(t.sin[3] * x2),
         );
-        let x14 = <T as ::trocar::Arith>::mul_add(t.sin[2], x0, -(t.cos[2] * x7));
-        let x15 = <T as ::trocar::Arith>::mul_add(t.sin[2], t.cos[4], t.cos[2] * x8);
-        let x16 = <T as ::trocar::Arith>::mul_add(t.cos[2], x9, -(t.sin[2] * x1));
-        let x17 = <T as ::trocar::Arith>::lit(0.39) * t.sin[2];
-        let x18 = <T as ::trocar::Arith>::mul_add(t.cos[1], x13, -(t.sin[1] * x17));
+        let x5 = t.sin[3] * t.sin[4];
+        let x6 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[3],
+            t.sin[5],
+            t.sin[3] * x3,
+        );
+        let x7 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[3],
+            t.cos[5],
+            t.cos[3] * x2,
+        );
+        let x8 = t.cos[3] * t.sin[4];
+        let x9 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[3],
+            x3,
+            -(t.sin[3] * t.sin[5]),
+        );
+        let x10 = <T as ::trocar::emitted::Arith>::mul_add(t.cos[2], x0, t.sin[2] * x7);
+        let x11 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[2],
+            t.cos[4],
+            -(t.sin[2] * x8),
+        );
+        let x12 = <T as ::trocar::emitted::Arith>::mul_add(t.cos[2], x1, t.sin[2] * x9);
+        let x13 = <T as ::trocar::emitted::Arith>::mul_add(
+            <T as ::trocar::emitted::Arith>::lit(0.39),
+            t.cos[2],
+            <T as ::trocar::emitted::Arith>::lit(0.38),
+        );
+        let x14 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[2],
+            x0,
+            -(t.cos[2] * x7),
+        );
+        let x15 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[2],
+            t.cos[4],
+            t.cos[2] * x8,
+        );
+        let x16 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[2],
+            x9,
+            -(t.sin[2] * x1),
+        );
+        let x17 = <T as ::trocar::emitted::Arith>::lit(0.39) * t.sin[2];
+        let x18 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[1],
+            x13,
+            -(t.sin[1] * x17),
+        );
         [
             [
-                <T as ::trocar::Arith>::mul_add(
-                    <T as ::trocar::Arith>::lit(0.194),
-                    <T as ::trocar::Arith>::mul_add(t.cos[1], x10, -(t.sin[1] * x14)),
+                <T as ::trocar::emitted::Arith>::mul_add(
+                    <T as ::trocar::emitted::Arith>::lit(0.194),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        t.cos[1],
+                        x10,
+                        -(t.sin[1] * x14),
+                    ),
                     -(x4 * x18),
                 ),
-                <T as ::trocar::Arith>::mul_add(
-                    <T as ::trocar::Arith>::lit(0.194),
-                    <T as ::trocar::Arith>::mul_add(t.cos[1], x11, -(t.sin[1] * x15)),
+                <T as ::trocar::emitted::Arith>::mul_add(
+                    <T as ::trocar::emitted::Arith>::lit(0.194),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        t.cos[1],
+                        x11,
+                        -(t.sin[1] * x15),
+                    ),
                     -(x5 * x18),
                 ),
-                -<T as ::trocar::Arith>::mul_add(
+                -<T as ::trocar::emitted::Arith>::mul_add(
                     x6,
                     x18,
-                    <T as ::trocar::Arith>::lit(0.194)
-                        * <T as ::trocar::Arith>::mul_add(t.cos[1], x12, t.sin[1] * x16),
+                    <T as ::trocar::emitted::Arith>::lit(0.194)
+                        * <T as ::trocar::emitted::Arith>::mul_add(
+                            t.cos[1],
+                            x12,
+                            t.sin[1] * x16,
+                        ),
                 ),
-                <T as ::trocar::Arith>::mul_add(t.sin[1], x10, t.cos[1] * x14),
-                <T as ::trocar::Arith>::mul_add(t.sin[1], x11, t.cos[1] * x15),
-                <T as ::trocar::Arith>::mul_add(t.cos[1], x16, -(t.sin[1] * x12)),
+                <T as ::trocar::emitted::Arith>::mul_add(t.sin[1], x10, t.cos[1] * x14),
+                <T as ::trocar::emitted::Arith>::mul_add(t.sin[1], x11, t.cos[1] * x15),
+                <T as ::trocar::emitted::Arith>::mul_add(
+                    t.cos[1],
+                    x16,
+                    -(t.sin[1] * x12),
+                ),
             ],
             [
-                <T as ::trocar::Arith>::mul_add(x13, x14, -(x10 * x17)),
-                <T as ::trocar::Arith>::mul_add(x13, x15, -(x11 * x17)),
-                <T as ::trocar::Arith>::mul_add(x12, x17, x13 * x16),
+                <T as ::trocar::emitted::Arith>::mul_add(x13, x14, -(x10 * x17)),
+                <T as ::trocar::emitted::Arith>::mul_add(x13, x15, -(x11 * x17)),
+                <T as ::trocar::emitted::Arith>::mul_add(x12, x17, x13 * x16),
                 x4,
                 x5,
                 x6,
             ],
             [
-                -(<T as ::trocar::Arith>::lit(0.39) * x7),
-                <T as ::trocar::Arith>::lit(0.39) * x8,
-                <T as ::trocar::Arith>::lit(0.39) * x9,
+                -(<T as ::trocar::emitted::Arith>::lit(0.39) * x7),
+                <T as ::trocar::emitted::Arith>::lit(0.39) * x8,
+                <T as ::trocar::emitted::Arith>::lit(0.39) * x9,
                 x4,
                 x5,
                 x6,
             ],
             [
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 x0,
                 t.cos[4],
                 -x1,
             ],
             [
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 t.cos[5],
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 t.sin[5],
             ],
             [
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ONE,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ONE,
+                <T as ::trocar::emitted::Arith>::ZERO,
             ],
         ]
     }
@@ -996,76 +1278,76 @@ pub mod bidirectional_zy {
     /// Operations: 28 add, 58 mul, 0 div, 0 sqrt, 6 trig (sin_cos), 1 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn forward_kinematics_i<T: ::trocar::Arith>(
+    pub fn forward_kinematics_i<T: ::trocar::emitted::Arith>(
         q: &[T; N],
         _p: &Params<T>,
     ) -> ([[T; 3]; 3], [T; 3]) {
-        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <T as ::trocar::Arith>::sin_cos_array(
+        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <T as ::trocar::emitted::Arith>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5]],
         );
         let x0 = s1 * c2;
         let x1 = s1 * s2;
         let x2 = c1 * c2;
         let x3 = c1 * s2;
-        let x4 = <T as ::trocar::Arith>::mul_add(s3, x1, -(c3 * x0));
-        let x5 = <T as ::trocar::Arith>::mul_add(s3, x0, c3 * x1);
-        let x6 = <T as ::trocar::Arith>::mul_add(c3, x2, -(s3 * x3));
-        let x7 = <T as ::trocar::Arith>::mul_add(s3, x2, c3 * x3);
-        let x8 = <T as ::trocar::Arith>::mul_add(s2, c3, c2 * s3);
-        let x9 = <T as ::trocar::Arith>::mul_add(c2, c3, -(s2 * s3));
-        let x10 = <T as ::trocar::Arith>::mul_add(c1, c4, -(s4 * x5));
-        let x11 = <T as ::trocar::Arith>::mul_add(c1, s4, c4 * x5);
-        let x12 = <T as ::trocar::Arith>::mul_add(s1, c4, s4 * x7);
-        let x13 = <T as ::trocar::Arith>::mul_add(s1, s4, -(c4 * x7));
+        let x4 = <T as ::trocar::emitted::Arith>::mul_add(s3, x1, -(c3 * x0));
+        let x5 = <T as ::trocar::emitted::Arith>::mul_add(s3, x0, c3 * x1);
+        let x6 = <T as ::trocar::emitted::Arith>::mul_add(c3, x2, -(s3 * x3));
+        let x7 = <T as ::trocar::emitted::Arith>::mul_add(s3, x2, c3 * x3);
+        let x8 = <T as ::trocar::emitted::Arith>::mul_add(s2, c3, c2 * s3);
+        let x9 = <T as ::trocar::emitted::Arith>::mul_add(c2, c3, -(s2 * s3));
+        let x10 = <T as ::trocar::emitted::Arith>::mul_add(c1, c4, -(s4 * x5));
+        let x11 = <T as ::trocar::emitted::Arith>::mul_add(c1, s4, c4 * x5);
+        let x12 = <T as ::trocar::emitted::Arith>::mul_add(s1, c4, s4 * x7);
+        let x13 = <T as ::trocar::emitted::Arith>::mul_add(s1, s4, -(c4 * x7));
         let x14 = s4 * x9;
         let x15 = c4 * x9;
-        let x16 = <T as ::trocar::Arith>::mul_add(c5, x11, -(s5 * x4));
-        let x17 = <T as ::trocar::Arith>::mul_add(c5, x13, -(s5 * x6));
-        let x18 = <T as ::trocar::Arith>::mul_add(c5, x15, -(s5 * x8));
+        let x16 = <T as ::trocar::emitted::Arith>::mul_add(c5, x11, -(s5 * x4));
+        let x17 = <T as ::trocar::emitted::Arith>::mul_add(c5, x13, -(s5 * x6));
+        let x18 = <T as ::trocar::emitted::Arith>::mul_add(c5, x15, -(s5 * x8));
         (
             [
                 [
-                    <T as ::trocar::Arith>::mul_add(c6, x10, -(s6 * x16)),
-                    <T as ::trocar::Arith>::mul_add(c6, x12, -(s6 * x17)),
-                    -<T as ::trocar::Arith>::mul_add(c6, x14, s6 * x18),
+                    <T as ::trocar::emitted::Arith>::mul_add(c6, x10, -(s6 * x16)),
+                    <T as ::trocar::emitted::Arith>::mul_add(c6, x12, -(s6 * x17)),
+                    -<T as ::trocar::emitted::Arith>::mul_add(c6, x14, s6 * x18),
                 ],
                 [
-                    <T as ::trocar::Arith>::mul_add(c5, x4, s5 * x11),
-                    <T as ::trocar::Arith>::mul_add(c5, x6, s5 * x13),
-                    <T as ::trocar::Arith>::mul_add(c5, x8, s5 * x15),
+                    <T as ::trocar::emitted::Arith>::mul_add(c5, x4, s5 * x11),
+                    <T as ::trocar::emitted::Arith>::mul_add(c5, x6, s5 * x13),
+                    <T as ::trocar::emitted::Arith>::mul_add(c5, x8, s5 * x15),
                 ],
                 [
-                    <T as ::trocar::Arith>::mul_add(s6, x10, c6 * x16),
-                    <T as ::trocar::Arith>::mul_add(s6, x12, c6 * x17),
-                    <T as ::trocar::Arith>::mul_add(c6, x18, -(s6 * x14)),
+                    <T as ::trocar::emitted::Arith>::mul_add(s6, x10, c6 * x16),
+                    <T as ::trocar::emitted::Arith>::mul_add(s6, x12, c6 * x17),
+                    <T as ::trocar::emitted::Arith>::mul_add(c6, x18, -(s6 * x14)),
                 ],
             ],
             [
-                <T as ::trocar::Arith>::mul_add(
-                    <T as ::trocar::Arith>::lit(0.39),
+                <T as ::trocar::emitted::Arith>::mul_add(
+                    <T as ::trocar::emitted::Arith>::lit(0.39),
                     x4,
-                    <T as ::trocar::Arith>::mul_add(
-                        <T as ::trocar::Arith>::lit(0.194),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::lit(0.194),
                         c1,
-                        -(<T as ::trocar::Arith>::lit(0.38) * x0),
+                        -(<T as ::trocar::emitted::Arith>::lit(0.38) * x0),
                     ),
                 ),
-                <T as ::trocar::Arith>::mul_add(
-                    <T as ::trocar::Arith>::lit(0.39),
+                <T as ::trocar::emitted::Arith>::mul_add(
+                    <T as ::trocar::emitted::Arith>::lit(0.39),
                     x6,
-                    <T as ::trocar::Arith>::mul_add(
-                        <T as ::trocar::Arith>::lit(0.194),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::lit(0.194),
                         s1,
-                        <T as ::trocar::Arith>::lit(0.38) * x2,
+                        <T as ::trocar::emitted::Arith>::lit(0.38) * x2,
                     ),
                 ),
-                <T as ::trocar::Arith>::mul_add(
-                    <T as ::trocar::Arith>::lit(0.39),
+                <T as ::trocar::emitted::Arith>::mul_add(
+                    <T as ::trocar::emitted::Arith>::lit(0.39),
                     x8,
-                    <T as ::trocar::Arith>::mul_add(
-                        <T as ::trocar::Arith>::lit(0.38),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::lit(0.38),
                         s2,
-                        <T as ::trocar::Arith>::lit(1.037),
+                        <T as ::trocar::emitted::Arith>::lit(1.037),
                     ),
                 ),
             ],
@@ -1078,7 +1360,7 @@ pub mod bidirectional_zy {
     /// Operations: 28 add, 58 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn forward_kinematics_i_trig<T: ::trocar::Arith>(
+    pub fn forward_kinematics_i_trig<T: ::trocar::emitted::Arith>(
         t: &JointTrig<T>,
         _p: &Params<T>,
     ) -> ([[T; 3]; 3], [T; 3]) {
@@ -1086,73 +1368,145 @@ pub mod bidirectional_zy {
         let x1 = t.sin[0] * t.sin[1];
         let x2 = t.cos[0] * t.cos[1];
         let x3 = t.cos[0] * t.sin[1];
-        let x4 = <T as ::trocar::Arith>::mul_add(t.sin[2], x1, -(t.cos[2] * x0));
-        let x5 = <T as ::trocar::Arith>::mul_add(t.sin[2], x0, t.cos[2] * x1);
-        let x6 = <T as ::trocar::Arith>::mul_add(t.cos[2], x2, -(t.sin[2] * x3));
-        let x7 = <T as ::trocar::Arith>::mul_add(t.sin[2], x2, t.cos[2] * x3);
-        let x8 = <T as ::trocar::Arith>::mul_add(
+        let x4 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[2],
+            x1,
+            -(t.cos[2] * x0),
+        );
+        let x5 = <T as ::trocar::emitted::Arith>::mul_add(t.sin[2], x0, t.cos[2] * x1);
+        let x6 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[2],
+            x2,
+            -(t.sin[2] * x3),
+        );
+        let x7 = <T as ::trocar::emitted::Arith>::mul_add(t.sin[2], x2, t.cos[2] * x3);
+        let x8 = <T as ::trocar::emitted::Arith>::mul_add(
             t.sin[1],
             t.cos[2],
             t.cos[1] * t.sin[2],
         );
-        let x9 = <T as ::trocar::Arith>::mul_add(
+        let x9 = <T as ::trocar::emitted::Arith>::mul_add(
             t.cos[1],
             t.cos[2],
             -(t.sin[1] * t.sin[2]),
         );
-        let x10 = <T as ::trocar::Arith>::mul_add(t.cos[0], t.cos[3], -(t.sin[3] * x5));
-        let x11 = <T as ::trocar::Arith>::mul_add(t.cos[0], t.sin[3], t.cos[3] * x5);
-        let x12 = <T as ::trocar::Arith>::mul_add(t.sin[0], t.cos[3], t.sin[3] * x7);
-        let x13 = <T as ::trocar::Arith>::mul_add(t.sin[0], t.sin[3], -(t.cos[3] * x7));
+        let x10 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[0],
+            t.cos[3],
+            -(t.sin[3] * x5),
+        );
+        let x11 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[0],
+            t.sin[3],
+            t.cos[3] * x5,
+        );
+        let x12 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[0],
+            t.cos[3],
+            t.sin[3] * x7,
+        );
+        let x13 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[0],
+            t.sin[3],
+            -(t.cos[3] * x7),
+        );
         let x14 = t.sin[3] * x9;
         let x15 = t.cos[3] * x9;
-        let x16 = <T as ::trocar::Arith>::mul_add(t.cos[4], x11, -(t.sin[4] * x4));
-        let x17 = <T as ::trocar::Arith>::mul_add(t.cos[4], x13, -(t.sin[4] * x6));
-        let x18 = <T as ::trocar::Arith>::mul_add(t.cos[4], x15, -(t.sin[4] * x8));
+        let x16 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[4],
+            x11,
+            -(t.sin[4] * x4),
+        );
+        let x17 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[4],
+            x13,
+            -(t.sin[4] * x6),
+        );
+        let x18 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[4],
+            x15,
+            -(t.sin[4] * x8),
+        );
         (
             [
                 [
-                    <T as ::trocar::Arith>::mul_add(t.cos[5], x10, -(t.sin[5] * x16)),
-                    <T as ::trocar::Arith>::mul_add(t.cos[5], x12, -(t.sin[5] * x17)),
-                    -<T as ::trocar::Arith>::mul_add(t.cos[5], x14, t.sin[5] * x18),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        t.cos[5],
+                        x10,
+                        -(t.sin[5] * x16),
+                    ),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        t.cos[5],
+                        x12,
+                        -(t.sin[5] * x17),
+                    ),
+                    -<T as ::trocar::emitted::Arith>::mul_add(
+                        t.cos[5],
+                        x14,
+                        t.sin[5] * x18,
+                    ),
                 ],
                 [
-                    <T as ::trocar::Arith>::mul_add(t.cos[4], x4, t.sin[4] * x11),
-                    <T as ::trocar::Arith>::mul_add(t.cos[4], x6, t.sin[4] * x13),
-                    <T as ::trocar::Arith>::mul_add(t.cos[4], x8, t.sin[4] * x15),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        t.cos[4],
+                        x4,
+                        t.sin[4] * x11,
+                    ),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        t.cos[4],
+                        x6,
+                        t.sin[4] * x13,
+                    ),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        t.cos[4],
+                        x8,
+                        t.sin[4] * x15,
+                    ),
                 ],
                 [
-                    <T as ::trocar::Arith>::mul_add(t.sin[5], x10, t.cos[5] * x16),
-                    <T as ::trocar::Arith>::mul_add(t.sin[5], x12, t.cos[5] * x17),
-                    <T as ::trocar::Arith>::mul_add(t.cos[5], x18, -(t.sin[5] * x14)),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        t.sin[5],
+                        x10,
+                        t.cos[5] * x16,
+                    ),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        t.sin[5],
+                        x12,
+                        t.cos[5] * x17,
+                    ),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        t.cos[5],
+                        x18,
+                        -(t.sin[5] * x14),
+                    ),
                 ],
             ],
             [
-                <T as ::trocar::Arith>::mul_add(
-                    <T as ::trocar::Arith>::lit(0.39),
+                <T as ::trocar::emitted::Arith>::mul_add(
+                    <T as ::trocar::emitted::Arith>::lit(0.39),
                     x4,
-                    <T as ::trocar::Arith>::mul_add(
-                        <T as ::trocar::Arith>::lit(0.194),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::lit(0.194),
                         t.cos[0],
-                        -(<T as ::trocar::Arith>::lit(0.38) * x0),
+                        -(<T as ::trocar::emitted::Arith>::lit(0.38) * x0),
                     ),
                 ),
-                <T as ::trocar::Arith>::mul_add(
-                    <T as ::trocar::Arith>::lit(0.39),
+                <T as ::trocar::emitted::Arith>::mul_add(
+                    <T as ::trocar::emitted::Arith>::lit(0.39),
                     x6,
-                    <T as ::trocar::Arith>::mul_add(
-                        <T as ::trocar::Arith>::lit(0.194),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::lit(0.194),
                         t.sin[0],
-                        <T as ::trocar::Arith>::lit(0.38) * x2,
+                        <T as ::trocar::emitted::Arith>::lit(0.38) * x2,
                     ),
                 ),
-                <T as ::trocar::Arith>::mul_add(
-                    <T as ::trocar::Arith>::lit(0.39),
+                <T as ::trocar::emitted::Arith>::mul_add(
+                    <T as ::trocar::emitted::Arith>::lit(0.39),
                     x8,
-                    <T as ::trocar::Arith>::mul_add(
-                        <T as ::trocar::Arith>::lit(0.38),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::lit(0.38),
                         t.sin[1],
-                        <T as ::trocar::Arith>::lit(1.037),
+                        <T as ::trocar::emitted::Arith>::lit(1.037),
                     ),
                 ),
             ],
@@ -1165,15 +1519,17 @@ pub mod bidirectional_zy {
     /// Operations: 0 add, 4 mul, 1 div, 0 sqrt, 1 trig (sin_cos), 0 neg, 1 abs.
     #[inline]
     #[must_use]
-    pub fn manipulability<T: ::trocar::Real>(q: &[T; N], p: &Params<T>) -> T {
-        let ([s7], [_]) = <T as ::trocar::Arith>::sin_cos_array(&[q[6]]);
-        let x0 = <T as ::trocar::Arith>::ONE / p.l_a;
+    pub fn manipulability<T: ::trocar::emitted::Real>(q: &[T; N], p: &Params<T>) -> T {
+        let ([s7], [_]) = <T as ::trocar::emitted::Arith>::sin_cos_array(&[q[6]]);
+        let x0 = <T as ::trocar::emitted::Arith>::ONE / p.l_a;
         {
-            let w = <T as ::trocar::Arith>::abs(s7 * (x0 * x0) * (p.l_b * p.l_b));
-            if <T as ::trocar::Real>::is_finite(w) {
+            let w = <T as ::trocar::emitted::Arith>::abs(
+                s7 * (x0 * x0) * (p.l_b * p.l_b),
+            );
+            if <T as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <T as ::trocar::Real>::ZERO
+                <T as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1184,14 +1540,19 @@ pub mod bidirectional_zy {
     /// Operations: 0 add, 4 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 1 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn manipulability_trig<T: ::trocar::Real>(t: &JointTrig<T>, p: &Params<T>) -> T {
-        let x0 = <T as ::trocar::Arith>::ONE / p.l_a;
+    pub fn manipulability_trig<T: ::trocar::emitted::Real>(
+        t: &JointTrig<T>,
+        p: &Params<T>,
+    ) -> T {
+        let x0 = <T as ::trocar::emitted::Arith>::ONE / p.l_a;
         {
-            let w = <T as ::trocar::Arith>::abs(t.sin[6] * (x0 * x0) * (p.l_b * p.l_b));
-            if <T as ::trocar::Real>::is_finite(w) {
+            let w = <T as ::trocar::emitted::Arith>::abs(
+                t.sin[6] * (x0 * x0) * (p.l_b * p.l_b),
+            );
+            if <T as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <T as ::trocar::Real>::ZERO
+                <T as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1202,16 +1563,19 @@ pub mod bidirectional_zy {
     /// Operations: 0 add, 5 mul, 1 div, 0 sqrt, 1 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn manipulability_squared<T: ::trocar::Real>(q: &[T; N], p: &Params<T>) -> T {
-        let ([s7], [_]) = <T as ::trocar::Arith>::sin_cos_array(&[q[6]]);
-        let x0 = <T as ::trocar::Arith>::ONE / p.l_a;
+    pub fn manipulability_squared<T: ::trocar::emitted::Real>(
+        q: &[T; N],
+        p: &Params<T>,
+    ) -> T {
+        let ([s7], [_]) = <T as ::trocar::emitted::Arith>::sin_cos_array(&[q[6]]);
+        let x0 = <T as ::trocar::emitted::Arith>::ONE / p.l_a;
         let x1 = s7 * (x0 * x0) * (p.l_b * p.l_b);
         {
             let w = x1 * x1;
-            if <T as ::trocar::Real>::is_finite(w) {
+            if <T as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <T as ::trocar::Real>::ZERO
+                <T as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1222,18 +1586,18 @@ pub mod bidirectional_zy {
     /// Operations: 0 add, 5 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn manipulability_squared_trig<T: ::trocar::Real>(
+    pub fn manipulability_squared_trig<T: ::trocar::emitted::Real>(
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> T {
-        let x0 = <T as ::trocar::Arith>::ONE / p.l_a;
+        let x0 = <T as ::trocar::emitted::Arith>::ONE / p.l_a;
         let x1 = t.sin[6] * (x0 * x0) * (p.l_b * p.l_b);
         {
             let w = x1 * x1;
-            if <T as ::trocar::Real>::is_finite(w) {
+            if <T as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <T as ::trocar::Real>::ZERO
+                <T as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1244,14 +1608,34 @@ pub mod bidirectional_zy {
     /// Operations: 0 add, 0 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn constraint_selection<T: ::trocar::Arith>(_p: &Params<T>) -> [[T; R]; 6] {
+    pub fn constraint_selection<T: ::trocar::emitted::Arith>(
+        _p: &Params<T>,
+    ) -> [[T; R]; 6] {
         [
-            [<T as ::trocar::Arith>::ONE, <T as ::trocar::Arith>::ZERO],
-            [<T as ::trocar::Arith>::ZERO, <T as ::trocar::Arith>::ZERO],
-            [<T as ::trocar::Arith>::ZERO, <T as ::trocar::Arith>::ONE],
-            [<T as ::trocar::Arith>::ZERO, <T as ::trocar::Arith>::ZERO],
-            [<T as ::trocar::Arith>::ZERO, <T as ::trocar::Arith>::ZERO],
-            [<T as ::trocar::Arith>::ZERO, <T as ::trocar::Arith>::ZERO],
+            [
+                <T as ::trocar::emitted::Arith>::ONE,
+                <T as ::trocar::emitted::Arith>::ZERO,
+            ],
+            [
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+            ],
+            [
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ONE,
+            ],
+            [
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+            ],
+            [
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+            ],
+            [
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+            ],
         ]
     }
     /// Null-space basis `Λ#` of `Λ = H Ad_{g_ri}` (3.3), 6 × K: `V^B_0i = Λ# v0i`, thesis (3.6) (presets: (3.23), (3.27)).
@@ -1263,40 +1647,40 @@ pub mod bidirectional_zy {
     /// Operations: 0 add, 0 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn lambda_null_space<T: ::trocar::Arith>(p: &Params<T>) -> [[T; 6]; K] {
-        let x0 = <T as ::trocar::Arith>::ONE / p.l_a;
+    pub fn lambda_null_space<T: ::trocar::emitted::Arith>(p: &Params<T>) -> [[T; 6]; K] {
+        let x0 = <T as ::trocar::emitted::Arith>::ONE / p.l_a;
         [
             [
-                <T as ::trocar::Arith>::ONE,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ONE,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 x0,
             ],
             [
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ONE,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ONE,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
             ],
             [
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ONE,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ONE,
                 -x0,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
             ],
             [
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ONE,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ONE,
+                <T as ::trocar::emitted::Arith>::ZERO,
             ],
         ]
     }
@@ -1309,26 +1693,26 @@ pub mod bidirectional_zy {
     /// Operations: 1 add, 2 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 1 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn lambda_pinv<T: ::trocar::Arith>(p: &Params<T>) -> [[T; 6]; R] {
-        let x0 = <T as ::trocar::Arith>::ONE
-            / (<T as ::trocar::Arith>::ONE + p.l_a * p.l_a);
+    pub fn lambda_pinv<T: ::trocar::emitted::Arith>(p: &Params<T>) -> [[T; 6]; R] {
+        let x0 = <T as ::trocar::emitted::Arith>::ONE
+            / (<T as ::trocar::emitted::Arith>::ONE + p.l_a * p.l_a);
         let x1 = p.l_a * x0;
         [
             [
                 x0,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 -x1,
             ],
             [
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 x0,
                 x1,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
             ],
         ]
     }
@@ -1339,26 +1723,32 @@ pub mod bidirectional_zy {
     /// Operations: 0 add, 0 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn constraint_frame<T: ::trocar::Arith>(p: &Params<T>) -> ([[T; 3]; 3], [T; 3]) {
+    pub fn constraint_frame<T: ::trocar::emitted::Arith>(
+        p: &Params<T>,
+    ) -> ([[T; 3]; 3], [T; 3]) {
         (
             [
                 [
-                    <T as ::trocar::Arith>::ONE,
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ONE,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
                 ],
                 [
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ONE,
-                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ONE,
+                    <T as ::trocar::emitted::Arith>::ZERO,
                 ],
                 [
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ONE,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ONE,
                 ],
             ],
-            [<T as ::trocar::Arith>::ZERO, p.l_a, <T as ::trocar::Arith>::ZERO],
+            [
+                <T as ::trocar::emitted::Arith>::ZERO,
+                p.l_a,
+                <T as ::trocar::emitted::Arith>::ZERO,
+            ],
         )
     }
     /// `g_0e`, `J^B_0e` in one program: the values of [`forward_kinematics`] and [`body_jacobian`], thesis (2.21), (2.53)–(2.55), computed together so that they share every common value.
@@ -1368,22 +1758,22 @@ pub mod bidirectional_zy {
     ///
     /// Operations: 65 add, 132 mul, 0 div, 0 sqrt, 8 trig (sin_cos), 6 neg, 0 abs.
     #[inline]
-    pub fn pose_and_jacobian<T: ::trocar::Arith>(
+    pub fn pose_and_jacobian<T: ::trocar::emitted::Arith>(
         q: &[T; N],
         p: &Params<T>,
         fk: &mut ([[T; 3]; 3], [T; 3]),
         jb0e: &mut [[T; 6]; N],
     ) {
-        jb0e[5][1] = <T as ::trocar::Arith>::ZERO;
-        jb0e[6][1] = <T as ::trocar::Arith>::ZERO;
-        jb0e[6][4] = <T as ::trocar::Arith>::ZERO;
-        jb0e[7][0] = <T as ::trocar::Arith>::ZERO;
-        jb0e[7][1] = <T as ::trocar::Arith>::ZERO;
-        jb0e[7][2] = <T as ::trocar::Arith>::ZERO;
-        jb0e[7][3] = <T as ::trocar::Arith>::ZERO;
-        jb0e[7][4] = <T as ::trocar::Arith>::ONE;
-        jb0e[7][5] = <T as ::trocar::Arith>::ZERO;
-        let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <T as ::trocar::Arith>::sin_cos_array(
+        jb0e[5][1] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0e[6][1] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0e[6][4] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0e[7][0] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0e[7][1] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0e[7][2] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0e[7][3] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0e[7][4] = <T as ::trocar::emitted::Arith>::ONE;
+        jb0e[7][5] = <T as ::trocar::emitted::Arith>::ZERO;
+        let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <T as ::trocar::emitted::Arith>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7]],
         );
         jb0e[5][4] = c7;
@@ -1400,90 +1790,90 @@ pub mod bidirectional_zy {
         jb0e[5][3] = x3;
         let x4 = s7 * s8;
         jb0e[5][5] = x4;
-        let x5 = <T as ::trocar::Arith>::mul_add(c7, p.l_8, p.l_a + p.l_b);
-        let x6 = <T as ::trocar::Arith>::mul_add(c6, x0, -(s6 * s8));
+        let x5 = <T as ::trocar::emitted::Arith>::mul_add(c7, p.l_8, p.l_a + p.l_b);
+        let x6 = <T as ::trocar::emitted::Arith>::mul_add(c6, x0, -(s6 * s8));
         jb0e[4][3] = x6;
         let x7 = c6 * s7;
         jb0e[4][4] = -x7;
-        let x8 = <T as ::trocar::Arith>::mul_add(c6, x1, s6 * c8);
+        let x8 = <T as ::trocar::emitted::Arith>::mul_add(c6, x1, s6 * c8);
         jb0e[4][5] = x8;
         let x9 = c6 * x2;
-        let x10 = <T as ::trocar::Arith>::mul_add(s6, x0, c6 * s8);
+        let x10 = <T as ::trocar::emitted::Arith>::mul_add(s6, x0, c6 * s8);
         let x11 = s6 * s7;
-        let x12 = <T as ::trocar::Arith>::mul_add(c6, c8, -(s6 * x1));
+        let x12 = <T as ::trocar::emitted::Arith>::mul_add(c6, c8, -(s6 * x1));
         let x13 = s6 * x2;
-        jb0e[4][0] = -<T as ::trocar::Arith>::mul_add(x3, x13, x5 * x10);
-        jb0e[4][1] = <T as ::trocar::Arith>::mul_add(x5, x11, -(c7 * x13));
-        jb0e[4][2] = <T as ::trocar::Arith>::mul_add(x5, x12, -(x4 * x13));
-        let x14 = <T as ::trocar::Arith>::mul_add(c5, x3, s5 * x10);
+        jb0e[4][0] = -<T as ::trocar::emitted::Arith>::mul_add(x3, x13, x5 * x10);
+        jb0e[4][1] = <T as ::trocar::emitted::Arith>::mul_add(x5, x11, -(c7 * x13));
+        jb0e[4][2] = <T as ::trocar::emitted::Arith>::mul_add(x5, x12, -(x4 * x13));
+        let x14 = <T as ::trocar::emitted::Arith>::mul_add(c5, x3, s5 * x10);
         jb0e[3][3] = x14;
-        let x15 = <T as ::trocar::Arith>::mul_add(c5, c7, -(s5 * x11));
+        let x15 = <T as ::trocar::emitted::Arith>::mul_add(c5, c7, -(s5 * x11));
         jb0e[3][4] = x15;
-        let x16 = <T as ::trocar::Arith>::mul_add(c5, x4, -(s5 * x12));
+        let x16 = <T as ::trocar::emitted::Arith>::mul_add(c5, x4, -(s5 * x12));
         jb0e[3][5] = x16;
-        let x17 = <T as ::trocar::Arith>::lit(0.39)
-            + <T as ::trocar::Arith>::mul_add(c5, x5, -(s5 * x13));
-        let x18 = <T as ::trocar::Arith>::mul_add(s5, x3, -(c5 * x10));
-        let x19 = <T as ::trocar::Arith>::mul_add(s5, c7, c5 * x11);
-        let x20 = <T as ::trocar::Arith>::mul_add(s5, x4, c5 * x12);
-        let x21 = <T as ::trocar::Arith>::mul_add(s5, x5, c5 * x13);
-        jb0e[3][0] = <T as ::trocar::Arith>::mul_add(x6, x21, x9 * x18);
-        jb0e[3][1] = <T as ::trocar::Arith>::mul_add(x9, x19, -(x7 * x21));
-        jb0e[3][2] = <T as ::trocar::Arith>::mul_add(x8, x21, x9 * x20);
-        let x22 = <T as ::trocar::Arith>::mul_add(c4, x6, s4 * x18);
+        let x17 = <T as ::trocar::emitted::Arith>::lit(0.39)
+            + <T as ::trocar::emitted::Arith>::mul_add(c5, x5, -(s5 * x13));
+        let x18 = <T as ::trocar::emitted::Arith>::mul_add(s5, x3, -(c5 * x10));
+        let x19 = <T as ::trocar::emitted::Arith>::mul_add(s5, c7, c5 * x11);
+        let x20 = <T as ::trocar::emitted::Arith>::mul_add(s5, x4, c5 * x12);
+        let x21 = <T as ::trocar::emitted::Arith>::mul_add(s5, x5, c5 * x13);
+        jb0e[3][0] = <T as ::trocar::emitted::Arith>::mul_add(x6, x21, x9 * x18);
+        jb0e[3][1] = <T as ::trocar::emitted::Arith>::mul_add(x9, x19, -(x7 * x21));
+        jb0e[3][2] = <T as ::trocar::emitted::Arith>::mul_add(x8, x21, x9 * x20);
+        let x22 = <T as ::trocar::emitted::Arith>::mul_add(c4, x6, s4 * x18);
         jb0e[1][3] = x22;
         jb0e[2][3] = x22;
-        let x23 = <T as ::trocar::Arith>::mul_add(s4, x19, -(c4 * x7));
+        let x23 = <T as ::trocar::emitted::Arith>::mul_add(s4, x19, -(c4 * x7));
         jb0e[1][4] = x23;
         jb0e[2][4] = x23;
-        let x24 = <T as ::trocar::Arith>::mul_add(c4, x8, s4 * x20);
+        let x24 = <T as ::trocar::emitted::Arith>::mul_add(c4, x8, s4 * x20);
         jb0e[1][5] = x24;
         jb0e[2][5] = x24;
-        let x25 = <T as ::trocar::Arith>::mul_add(c4, x18, -(s4 * x6));
-        let x26 = <T as ::trocar::Arith>::mul_add(s4, x7, c4 * x19);
-        let x27 = <T as ::trocar::Arith>::mul_add(c4, x20, -(s4 * x8));
-        let x28 = <T as ::trocar::Arith>::mul_add(s4, x9, c4 * x21);
-        jb0e[2][0] = <T as ::trocar::Arith>::mul_add(x17, x25, -(x14 * x28));
-        jb0e[2][1] = <T as ::trocar::Arith>::mul_add(x17, x26, -(x15 * x28));
-        jb0e[2][2] = <T as ::trocar::Arith>::mul_add(x17, x27, -(x16 * x28));
-        let x29 = <T as ::trocar::Arith>::mul_add(c3, x14, -(s3 * x25));
-        let x30 = <T as ::trocar::Arith>::mul_add(c3, x15, -(s3 * x26));
-        let x31 = <T as ::trocar::Arith>::mul_add(c3, x16, -(s3 * x27));
-        let x32 = <T as ::trocar::Arith>::lit(0.38)
-            + <T as ::trocar::Arith>::mul_add(c3, x17, -(s3 * x28));
-        let x33 = <T as ::trocar::Arith>::mul_add(s3, x14, c3 * x25);
-        let x34 = <T as ::trocar::Arith>::mul_add(s3, x15, c3 * x26);
-        let x35 = <T as ::trocar::Arith>::mul_add(s3, x16, c3 * x27);
-        let x36 = <T as ::trocar::Arith>::mul_add(s3, x17, c3 * x28);
-        fk.1[2] = <T as ::trocar::Arith>::lit(1.037)
-            + <T as ::trocar::Arith>::mul_add(s2, x32, c2 * x36);
-        jb0e[1][0] = <T as ::trocar::Arith>::mul_add(x32, x33, -(x29 * x36));
-        jb0e[1][1] = <T as ::trocar::Arith>::mul_add(x32, x34, -(x30 * x36));
-        jb0e[1][2] = <T as ::trocar::Arith>::mul_add(x32, x35, -(x31 * x36));
-        let x37 = <T as ::trocar::Arith>::lit(0.194)
-            + <T as ::trocar::Arith>::mul_add(s4, x21, -(c4 * x9));
-        let x38 = <T as ::trocar::Arith>::mul_add(c2, x29, -(s2 * x33));
-        fk.0[0][0] = <T as ::trocar::Arith>::mul_add(c1, x22, -(s1 * x38));
-        fk.0[0][1] = <T as ::trocar::Arith>::mul_add(s1, x22, c1 * x38);
-        let x39 = <T as ::trocar::Arith>::mul_add(c2, x30, -(s2 * x34));
-        fk.0[1][0] = <T as ::trocar::Arith>::mul_add(c1, x23, -(s1 * x39));
-        fk.0[1][1] = <T as ::trocar::Arith>::mul_add(s1, x23, c1 * x39);
-        let x40 = <T as ::trocar::Arith>::mul_add(c2, x31, -(s2 * x35));
-        fk.0[2][0] = <T as ::trocar::Arith>::mul_add(c1, x24, -(s1 * x40));
-        fk.0[2][1] = <T as ::trocar::Arith>::mul_add(s1, x24, c1 * x40);
-        let x41 = <T as ::trocar::Arith>::mul_add(c2, x32, -(s2 * x36));
-        fk.1[0] = <T as ::trocar::Arith>::mul_add(c1, x37, -(s1 * x41));
-        fk.1[1] = <T as ::trocar::Arith>::mul_add(s1, x37, c1 * x41);
-        jb0e[0][0] = <T as ::trocar::Arith>::mul_add(x37, x38, -(x22 * x41));
-        jb0e[0][1] = <T as ::trocar::Arith>::mul_add(x37, x39, -(x23 * x41));
-        jb0e[0][2] = <T as ::trocar::Arith>::mul_add(x37, x40, -(x24 * x41));
-        let x42 = <T as ::trocar::Arith>::mul_add(s2, x29, c2 * x33);
+        let x25 = <T as ::trocar::emitted::Arith>::mul_add(c4, x18, -(s4 * x6));
+        let x26 = <T as ::trocar::emitted::Arith>::mul_add(s4, x7, c4 * x19);
+        let x27 = <T as ::trocar::emitted::Arith>::mul_add(c4, x20, -(s4 * x8));
+        let x28 = <T as ::trocar::emitted::Arith>::mul_add(s4, x9, c4 * x21);
+        jb0e[2][0] = <T as ::trocar::emitted::Arith>::mul_add(x17, x25, -(x14 * x28));
+        jb0e[2][1] = <T as ::trocar::emitted::Arith>::mul_add(x17, x26, -(x15 * x28));
+        jb0e[2][2] = <T as ::trocar::emitted::Arith>::mul_add(x17, x27, -(x16 * x28));
+        let x29 = <T as ::trocar::emitted::Arith>::mul_add(c3, x14, -(s3 * x25));
+        let x30 = <T as ::trocar::emitted::Arith>::mul_add(c3, x15, -(s3 * x26));
+        let x31 = <T as ::trocar::emitted::Arith>::mul_add(c3, x16, -(s3 * x27));
+        let x32 = <T as ::trocar::emitted::Arith>::lit(0.38)
+            + <T as ::trocar::emitted::Arith>::mul_add(c3, x17, -(s3 * x28));
+        let x33 = <T as ::trocar::emitted::Arith>::mul_add(s3, x14, c3 * x25);
+        let x34 = <T as ::trocar::emitted::Arith>::mul_add(s3, x15, c3 * x26);
+        let x35 = <T as ::trocar::emitted::Arith>::mul_add(s3, x16, c3 * x27);
+        let x36 = <T as ::trocar::emitted::Arith>::mul_add(s3, x17, c3 * x28);
+        fk.1[2] = <T as ::trocar::emitted::Arith>::lit(1.037)
+            + <T as ::trocar::emitted::Arith>::mul_add(s2, x32, c2 * x36);
+        jb0e[1][0] = <T as ::trocar::emitted::Arith>::mul_add(x32, x33, -(x29 * x36));
+        jb0e[1][1] = <T as ::trocar::emitted::Arith>::mul_add(x32, x34, -(x30 * x36));
+        jb0e[1][2] = <T as ::trocar::emitted::Arith>::mul_add(x32, x35, -(x31 * x36));
+        let x37 = <T as ::trocar::emitted::Arith>::lit(0.194)
+            + <T as ::trocar::emitted::Arith>::mul_add(s4, x21, -(c4 * x9));
+        let x38 = <T as ::trocar::emitted::Arith>::mul_add(c2, x29, -(s2 * x33));
+        fk.0[0][0] = <T as ::trocar::emitted::Arith>::mul_add(c1, x22, -(s1 * x38));
+        fk.0[0][1] = <T as ::trocar::emitted::Arith>::mul_add(s1, x22, c1 * x38);
+        let x39 = <T as ::trocar::emitted::Arith>::mul_add(c2, x30, -(s2 * x34));
+        fk.0[1][0] = <T as ::trocar::emitted::Arith>::mul_add(c1, x23, -(s1 * x39));
+        fk.0[1][1] = <T as ::trocar::emitted::Arith>::mul_add(s1, x23, c1 * x39);
+        let x40 = <T as ::trocar::emitted::Arith>::mul_add(c2, x31, -(s2 * x35));
+        fk.0[2][0] = <T as ::trocar::emitted::Arith>::mul_add(c1, x24, -(s1 * x40));
+        fk.0[2][1] = <T as ::trocar::emitted::Arith>::mul_add(s1, x24, c1 * x40);
+        let x41 = <T as ::trocar::emitted::Arith>::mul_add(c2, x32, -(s2 * x36));
+        fk.1[0] = <T as ::trocar::emitted::Arith>::mul_add(c1, x37, -(s1 * x41));
+        fk.1[1] = <T as ::trocar::emitted::Arith>::mul_add(s1, x37, c1 * x41);
+        jb0e[0][0] = <T as ::trocar::emitted::Arith>::mul_add(x37, x38, -(x22 * x41));
+        jb0e[0][1] = <T as ::trocar::emitted::Arith>::mul_add(x37, x39, -(x23 * x41));
+        jb0e[0][2] = <T as ::trocar::emitted::Arith>::mul_add(x37, x40, -(x24 * x41));
+        let x42 = <T as ::trocar::emitted::Arith>::mul_add(s2, x29, c2 * x33);
         fk.0[0][2] = x42;
         jb0e[0][3] = x42;
-        let x43 = <T as ::trocar::Arith>::mul_add(s2, x30, c2 * x34);
+        let x43 = <T as ::trocar::emitted::Arith>::mul_add(s2, x30, c2 * x34);
         fk.0[1][2] = x43;
         jb0e[0][4] = x43;
-        let x44 = <T as ::trocar::Arith>::mul_add(s2, x31, c2 * x35);
+        let x44 = <T as ::trocar::emitted::Arith>::mul_add(s2, x31, c2 * x35);
         fk.0[2][2] = x44;
         jb0e[0][5] = x44;
     }
@@ -1491,26 +1881,26 @@ pub mod bidirectional_zy {
     ///
     /// Operations: 65 add, 132 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 6 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
-    pub fn pose_and_jacobian_trig<T: ::trocar::Arith>(
+    pub fn pose_and_jacobian_trig<T: ::trocar::emitted::Arith>(
         t: &JointTrig<T>,
         p: &Params<T>,
         fk: &mut ([[T; 3]; 3], [T; 3]),
         jb0e: &mut [[T; 6]; N],
     ) {
-        jb0e[5][1] = <T as ::trocar::Arith>::ZERO;
+        jb0e[5][1] = <T as ::trocar::emitted::Arith>::ZERO;
         jb0e[5][4] = t.cos[6];
         jb0e[6][0] = -(t.cos[7] * p.l_8);
-        jb0e[6][1] = <T as ::trocar::Arith>::ZERO;
+        jb0e[6][1] = <T as ::trocar::emitted::Arith>::ZERO;
         jb0e[6][2] = -(t.sin[7] * p.l_8);
         jb0e[6][3] = -t.sin[7];
-        jb0e[6][4] = <T as ::trocar::Arith>::ZERO;
+        jb0e[6][4] = <T as ::trocar::emitted::Arith>::ZERO;
         jb0e[6][5] = t.cos[7];
-        jb0e[7][0] = <T as ::trocar::Arith>::ZERO;
-        jb0e[7][1] = <T as ::trocar::Arith>::ZERO;
-        jb0e[7][2] = <T as ::trocar::Arith>::ZERO;
-        jb0e[7][3] = <T as ::trocar::Arith>::ZERO;
-        jb0e[7][4] = <T as ::trocar::Arith>::ONE;
-        jb0e[7][5] = <T as ::trocar::Arith>::ZERO;
+        jb0e[7][0] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0e[7][1] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0e[7][2] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0e[7][3] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0e[7][4] = <T as ::trocar::emitted::Arith>::ONE;
+        jb0e[7][5] = <T as ::trocar::emitted::Arith>::ZERO;
         let x0 = t.cos[6] * t.cos[7];
         let x1 = t.cos[6] * t.sin[7];
         let x2 = t.sin[6] * p.l_8;
@@ -1520,90 +1910,230 @@ pub mod bidirectional_zy {
         jb0e[5][3] = x3;
         let x4 = t.sin[6] * t.sin[7];
         jb0e[5][5] = x4;
-        let x5 = <T as ::trocar::Arith>::mul_add(t.cos[6], p.l_8, p.l_a + p.l_b);
-        let x6 = <T as ::trocar::Arith>::mul_add(t.cos[5], x0, -(t.sin[5] * t.sin[7]));
+        let x5 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[6],
+            p.l_8,
+            p.l_a + p.l_b,
+        );
+        let x6 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[5],
+            x0,
+            -(t.sin[5] * t.sin[7]),
+        );
         jb0e[4][3] = x6;
         let x7 = t.cos[5] * t.sin[6];
         jb0e[4][4] = -x7;
-        let x8 = <T as ::trocar::Arith>::mul_add(t.cos[5], x1, t.sin[5] * t.cos[7]);
+        let x8 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[5],
+            x1,
+            t.sin[5] * t.cos[7],
+        );
         jb0e[4][5] = x8;
         let x9 = t.cos[5] * x2;
-        let x10 = <T as ::trocar::Arith>::mul_add(t.sin[5], x0, t.cos[5] * t.sin[7]);
+        let x10 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[5],
+            x0,
+            t.cos[5] * t.sin[7],
+        );
         let x11 = t.sin[5] * t.sin[6];
-        let x12 = <T as ::trocar::Arith>::mul_add(t.cos[5], t.cos[7], -(t.sin[5] * x1));
+        let x12 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[5],
+            t.cos[7],
+            -(t.sin[5] * x1),
+        );
         let x13 = t.sin[5] * x2;
-        jb0e[4][0] = -<T as ::trocar::Arith>::mul_add(x3, x13, x5 * x10);
-        jb0e[4][1] = <T as ::trocar::Arith>::mul_add(x5, x11, -(t.cos[6] * x13));
-        jb0e[4][2] = <T as ::trocar::Arith>::mul_add(x5, x12, -(x4 * x13));
-        let x14 = <T as ::trocar::Arith>::mul_add(t.cos[4], x3, t.sin[4] * x10);
+        jb0e[4][0] = -<T as ::trocar::emitted::Arith>::mul_add(x3, x13, x5 * x10);
+        jb0e[4][1] = <T as ::trocar::emitted::Arith>::mul_add(
+            x5,
+            x11,
+            -(t.cos[6] * x13),
+        );
+        jb0e[4][2] = <T as ::trocar::emitted::Arith>::mul_add(x5, x12, -(x4 * x13));
+        let x14 = <T as ::trocar::emitted::Arith>::mul_add(t.cos[4], x3, t.sin[4] * x10);
         jb0e[3][3] = x14;
-        let x15 = <T as ::trocar::Arith>::mul_add(t.cos[4], t.cos[6], -(t.sin[4] * x11));
+        let x15 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[4],
+            t.cos[6],
+            -(t.sin[4] * x11),
+        );
         jb0e[3][4] = x15;
-        let x16 = <T as ::trocar::Arith>::mul_add(t.cos[4], x4, -(t.sin[4] * x12));
+        let x16 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[4],
+            x4,
+            -(t.sin[4] * x12),
+        );
         jb0e[3][5] = x16;
-        let x17 = <T as ::trocar::Arith>::lit(0.39)
-            + <T as ::trocar::Arith>::mul_add(t.cos[4], x5, -(t.sin[4] * x13));
-        let x18 = <T as ::trocar::Arith>::mul_add(t.sin[4], x3, -(t.cos[4] * x10));
-        let x19 = <T as ::trocar::Arith>::mul_add(t.sin[4], t.cos[6], t.cos[4] * x11);
-        let x20 = <T as ::trocar::Arith>::mul_add(t.sin[4], x4, t.cos[4] * x12);
-        let x21 = <T as ::trocar::Arith>::mul_add(t.sin[4], x5, t.cos[4] * x13);
-        jb0e[3][0] = <T as ::trocar::Arith>::mul_add(x6, x21, x9 * x18);
-        jb0e[3][1] = <T as ::trocar::Arith>::mul_add(x9, x19, -(x7 * x21));
-        jb0e[3][2] = <T as ::trocar::Arith>::mul_add(x8, x21, x9 * x20);
-        let x22 = <T as ::trocar::Arith>::mul_add(t.cos[3], x6, t.sin[3] * x18);
+        let x17 = <T as ::trocar::emitted::Arith>::lit(0.39)
+            + <T as ::trocar::emitted::Arith>::mul_add(t.cos[4], x5, -(t.sin[4] * x13));
+        let x18 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[4],
+            x3,
+            -(t.cos[4] * x10),
+        );
+        let x19 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[4],
+            t.cos[6],
+            t.cos[4] * x11,
+        );
+        let x20 = <T as ::trocar::emitted::Arith>::mul_add(t.sin[4], x4, t.cos[4] * x12);
+        let x21 = <T as ::trocar::emitted::Arith>::mul_add(t.sin[4], x5, t.cos[4] * x13);
+        jb0e[3][0] = <T as ::trocar::emitted::Arith>::mul_add(x6, x21, x9 * x18);
+        jb0e[3][1] = <T as ::trocar::emitted::Arith>::mul_add(x9, x19, -(x7 * x21));
+        jb0e[3][2] = <T as ::trocar::emitted::Arith>::mul_add(x8, x21, x9 * x20);
+        let x22 = <T as ::trocar::emitted::Arith>::mul_add(t.cos[3], x6, t.sin[3] * x18);
         jb0e[1][3] = x22;
         jb0e[2][3] = x22;
-        let x23 = <T as ::trocar::Arith>::mul_add(t.sin[3], x19, -(t.cos[3] * x7));
+        let x23 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[3],
+            x19,
+            -(t.cos[3] * x7),
+        );
         jb0e[1][4] = x23;
         jb0e[2][4] = x23;
-        let x24 = <T as ::trocar::Arith>::mul_add(t.cos[3], x8, t.sin[3] * x20);
+        let x24 = <T as ::trocar::emitted::Arith>::mul_add(t.cos[3], x8, t.sin[3] * x20);
         jb0e[1][5] = x24;
         jb0e[2][5] = x24;
-        let x25 = <T as ::trocar::Arith>::mul_add(t.cos[3], x18, -(t.sin[3] * x6));
-        let x26 = <T as ::trocar::Arith>::mul_add(t.sin[3], x7, t.cos[3] * x19);
-        let x27 = <T as ::trocar::Arith>::mul_add(t.cos[3], x20, -(t.sin[3] * x8));
-        let x28 = <T as ::trocar::Arith>::mul_add(t.sin[3], x9, t.cos[3] * x21);
-        jb0e[2][0] = <T as ::trocar::Arith>::mul_add(x17, x25, -(x14 * x28));
-        jb0e[2][1] = <T as ::trocar::Arith>::mul_add(x17, x26, -(x15 * x28));
-        jb0e[2][2] = <T as ::trocar::Arith>::mul_add(x17, x27, -(x16 * x28));
-        let x29 = <T as ::trocar::Arith>::mul_add(t.cos[2], x14, -(t.sin[2] * x25));
-        let x30 = <T as ::trocar::Arith>::mul_add(t.cos[2], x15, -(t.sin[2] * x26));
-        let x31 = <T as ::trocar::Arith>::mul_add(t.cos[2], x16, -(t.sin[2] * x27));
-        let x32 = <T as ::trocar::Arith>::lit(0.38)
-            + <T as ::trocar::Arith>::mul_add(t.cos[2], x17, -(t.sin[2] * x28));
-        let x33 = <T as ::trocar::Arith>::mul_add(t.sin[2], x14, t.cos[2] * x25);
-        let x34 = <T as ::trocar::Arith>::mul_add(t.sin[2], x15, t.cos[2] * x26);
-        let x35 = <T as ::trocar::Arith>::mul_add(t.sin[2], x16, t.cos[2] * x27);
-        let x36 = <T as ::trocar::Arith>::mul_add(t.sin[2], x17, t.cos[2] * x28);
-        fk.1[2] = <T as ::trocar::Arith>::lit(1.037)
-            + <T as ::trocar::Arith>::mul_add(t.sin[1], x32, t.cos[1] * x36);
-        jb0e[1][0] = <T as ::trocar::Arith>::mul_add(x32, x33, -(x29 * x36));
-        jb0e[1][1] = <T as ::trocar::Arith>::mul_add(x32, x34, -(x30 * x36));
-        jb0e[1][2] = <T as ::trocar::Arith>::mul_add(x32, x35, -(x31 * x36));
-        let x37 = <T as ::trocar::Arith>::lit(0.194)
-            + <T as ::trocar::Arith>::mul_add(t.sin[3], x21, -(t.cos[3] * x9));
-        let x38 = <T as ::trocar::Arith>::mul_add(t.cos[1], x29, -(t.sin[1] * x33));
-        fk.0[0][0] = <T as ::trocar::Arith>::mul_add(t.cos[0], x22, -(t.sin[0] * x38));
-        fk.0[0][1] = <T as ::trocar::Arith>::mul_add(t.sin[0], x22, t.cos[0] * x38);
-        let x39 = <T as ::trocar::Arith>::mul_add(t.cos[1], x30, -(t.sin[1] * x34));
-        fk.0[1][0] = <T as ::trocar::Arith>::mul_add(t.cos[0], x23, -(t.sin[0] * x39));
-        fk.0[1][1] = <T as ::trocar::Arith>::mul_add(t.sin[0], x23, t.cos[0] * x39);
-        let x40 = <T as ::trocar::Arith>::mul_add(t.cos[1], x31, -(t.sin[1] * x35));
-        fk.0[2][0] = <T as ::trocar::Arith>::mul_add(t.cos[0], x24, -(t.sin[0] * x40));
-        fk.0[2][1] = <T as ::trocar::Arith>::mul_add(t.sin[0], x24, t.cos[0] * x40);
-        let x41 = <T as ::trocar::Arith>::mul_add(t.cos[1], x32, -(t.sin[1] * x36));
-        fk.1[0] = <T as ::trocar::Arith>::mul_add(t.cos[0], x37, -(t.sin[0] * x41));
-        fk.1[1] = <T as ::trocar::Arith>::mul_add(t.sin[0], x37, t.cos[0] * x41);
-        jb0e[0][0] = <T as ::trocar::Arith>::mul_add(x37, x38, -(x22 * x41));
-        jb0e[0][1] = <T as ::trocar::Arith>::mul_add(x37, x39, -(x23 * x41));
-        jb0e[0][2] = <T as ::trocar::Arith>::mul_add(x37, x40, -(x24 * x41));
-        let x42 = <T as ::trocar::Arith>::mul_add(t.sin[1], x29, t.cos[1] * x33);
+        let x25 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[3],
+            x18,
+            -(t.sin[3] * x6),
+        );
+        let x26 = <T as ::trocar::emitted::Arith>::mul_add(t.sin[3], x7, t.cos[3] * x19);
+        let x27 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[3],
+            x20,
+            -(t.sin[3] * x8),
+        );
+        let x28 = <T as ::trocar::emitted::Arith>::mul_add(t.sin[3], x9, t.cos[3] * x21);
+        jb0e[2][0] = <T as ::trocar::emitted::Arith>::mul_add(x17, x25, -(x14 * x28));
+        jb0e[2][1] = <T as ::trocar::emitted::Arith>::mul_add(x17, x26, -(x15 * x28));
+        jb0e[2][2] = <T as ::trocar::emitted::Arith>::mul_add(x17, x27, -(x16 * x28));
+        let x29 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[2],
+            x14,
+            -(t.sin[2] * x25),
+        );
+        let x30 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[2],
+            x15,
+            -(t.sin[2] * x26),
+        );
+        let x31 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[2],
+            x16,
+            -(t.sin[2] * x27),
+        );
+        let x32 = <T as ::trocar::emitted::Arith>::lit(0.38)
+            + <T as ::trocar::emitted::Arith>::mul_add(t.cos[2], x17, -(t.sin[2] * x28));
+        let x33 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[2],
+            x14,
+            t.cos[2] * x25,
+        );
+        let x34 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[2],
+            x15,
+            t.cos[2] * x26,
+        );
+        let x35 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[2],
+            x16,
+            t.cos[2] * x27,
+        );
+        let x36 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[2],
+            x17,
+            t.cos[2] * x28,
+        );
+        fk.1[2] = <T as ::trocar::emitted::Arith>::lit(1.037)
+            + <T as ::trocar::emitted::Arith>::mul_add(t.sin[1], x32, t.cos[1] * x36);
+        jb0e[1][0] = <T as ::trocar::emitted::Arith>::mul_add(x32, x33, -(x29 * x36));
+        jb0e[1][1] = <T as ::trocar::emitted::Arith>::mul_add(x32, x34, -(x30 * x36));
+        jb0e[1][2] = <T as ::trocar::emitted::Arith>::mul_add(x32, x35, -(x31 * x36));
+        let x37 = <T as ::trocar::emitted::Arith>::lit(0.194)
+            + <T as ::trocar::emitted::Arith>::mul_add(t.sin[3], x21, -(t.cos[3] * x9));
+        let x38 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[1],
+            x29,
+            -(t.sin[1] * x33),
+        );
+        fk.0[0][0] = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[0],
+            x22,
+            -(t.sin[0] * x38),
+        );
+        fk.0[0][1] = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[0],
+            x22,
+            t.cos[0] * x38,
+        );
+        let x39 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[1],
+            x30,
+            -(t.sin[1] * x34),
+        );
+        fk.0[1][0] = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[0],
+            x23,
+            -(t.sin[0] * x39),
+        );
+        fk.0[1][1] = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[0],
+            x23,
+            t.cos[0] * x39,
+        );
+        let x40 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[1],
+            x31,
+            -(t.sin[1] * x35),
+        );
+        fk.0[2][0] = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[0],
+            x24,
+            -(t.sin[0] * x40),
+        );
+        fk.0[2][1] = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[0],
+            x24,
+            t.cos[0] * x40,
+        );
+        let x41 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[1],
+            x32,
+            -(t.sin[1] * x36),
+        );
+        fk.1[0] = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[0],
+            x37,
+            -(t.sin[0] * x41),
+        );
+        fk.1[1] = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[0],
+            x37,
+            t.cos[0] * x41,
+        );
+        jb0e[0][0] = <T as ::trocar::emitted::Arith>::mul_add(x37, x38, -(x22 * x41));
+        jb0e[0][1] = <T as ::trocar::emitted::Arith>::mul_add(x37, x39, -(x23 * x41));
+        jb0e[0][2] = <T as ::trocar::emitted::Arith>::mul_add(x37, x40, -(x24 * x41));
+        let x42 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[1],
+            x29,
+            t.cos[1] * x33,
+        );
         fk.0[0][2] = x42;
         jb0e[0][3] = x42;
-        let x43 = <T as ::trocar::Arith>::mul_add(t.sin[1], x30, t.cos[1] * x34);
+        let x43 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[1],
+            x30,
+            t.cos[1] * x34,
+        );
         fk.0[1][2] = x43;
         jb0e[0][4] = x43;
-        let x44 = <T as ::trocar::Arith>::mul_add(t.sin[1], x31, t.cos[1] * x35);
+        let x44 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[1],
+            x31,
+            t.cos[1] * x35,
+        );
         fk.0[2][2] = x44;
         jb0e[0][5] = x44;
     }
@@ -1614,26 +2144,26 @@ pub mod bidirectional_zy {
     ///
     /// Operations: 34 add, 75 mul, 0 div, 0 sqrt, 6 trig (sin_cos), 3 neg, 0 abs.
     #[inline]
-    pub fn link_pose_and_jacobian<T: ::trocar::Arith>(
+    pub fn link_pose_and_jacobian<T: ::trocar::emitted::Arith>(
         q: &[T; N],
         _p: &Params<T>,
         fk0i: &mut ([[T; 3]; 3], [T; 3]),
         jb0i: &mut [[T; 6]; I],
     ) {
-        jb0i[3][0] = <T as ::trocar::Arith>::ZERO;
-        jb0i[3][1] = <T as ::trocar::Arith>::ZERO;
-        jb0i[3][2] = <T as ::trocar::Arith>::ZERO;
-        jb0i[4][0] = <T as ::trocar::Arith>::ZERO;
-        jb0i[4][1] = <T as ::trocar::Arith>::ZERO;
-        jb0i[4][2] = <T as ::trocar::Arith>::ZERO;
-        jb0i[4][4] = <T as ::trocar::Arith>::ZERO;
-        jb0i[5][0] = <T as ::trocar::Arith>::ZERO;
-        jb0i[5][1] = <T as ::trocar::Arith>::ZERO;
-        jb0i[5][2] = <T as ::trocar::Arith>::ZERO;
-        jb0i[5][3] = <T as ::trocar::Arith>::ZERO;
-        jb0i[5][4] = <T as ::trocar::Arith>::ONE;
-        jb0i[5][5] = <T as ::trocar::Arith>::ZERO;
-        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <T as ::trocar::Arith>::sin_cos_array(
+        jb0i[3][0] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0i[3][1] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0i[3][2] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0i[4][0] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0i[4][1] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0i[4][2] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0i[4][4] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0i[5][0] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0i[5][1] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0i[5][2] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0i[5][3] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0i[5][4] = <T as ::trocar::emitted::Arith>::ONE;
+        jb0i[5][5] = <T as ::trocar::emitted::Arith>::ZERO;
+        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <T as ::trocar::emitted::Arith>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5]],
         );
         jb0i[3][4] = c5;
@@ -1645,80 +2175,80 @@ pub mod bidirectional_zy {
         jb0i[3][5] = -x1;
         let x2 = c5 * s6;
         let x3 = c5 * c6;
-        let x4 = <T as ::trocar::Arith>::mul_add(c4, c6, -(s4 * x2));
+        let x4 = <T as ::trocar::emitted::Arith>::mul_add(c4, c6, -(s4 * x2));
         jb0i[1][3] = x4;
         jb0i[2][3] = x4;
         let x5 = s4 * s5;
         jb0i[1][4] = x5;
         jb0i[2][4] = x5;
-        let x6 = <T as ::trocar::Arith>::mul_add(c4, s6, s4 * x3);
+        let x6 = <T as ::trocar::emitted::Arith>::mul_add(c4, s6, s4 * x3);
         jb0i[1][5] = x6;
         jb0i[2][5] = x6;
-        let x7 = <T as ::trocar::Arith>::mul_add(s4, c6, c4 * x2);
-        jb0i[2][0] = -(<T as ::trocar::Arith>::lit(0.39) * x7);
+        let x7 = <T as ::trocar::emitted::Arith>::mul_add(s4, c6, c4 * x2);
+        jb0i[2][0] = -(<T as ::trocar::emitted::Arith>::lit(0.39) * x7);
         let x8 = c4 * s5;
-        jb0i[2][1] = <T as ::trocar::Arith>::lit(0.39) * x8;
-        let x9 = <T as ::trocar::Arith>::mul_add(c4, x3, -(s4 * s6));
-        jb0i[2][2] = <T as ::trocar::Arith>::lit(0.39) * x9;
-        let x10 = <T as ::trocar::Arith>::mul_add(c3, x0, s3 * x7);
-        let x11 = <T as ::trocar::Arith>::mul_add(c3, c5, -(s3 * x8));
-        let x12 = <T as ::trocar::Arith>::mul_add(c3, x1, s3 * x9);
-        let x13 = <T as ::trocar::Arith>::mul_add(
-            <T as ::trocar::Arith>::lit(0.39),
+        jb0i[2][1] = <T as ::trocar::emitted::Arith>::lit(0.39) * x8;
+        let x9 = <T as ::trocar::emitted::Arith>::mul_add(c4, x3, -(s4 * s6));
+        jb0i[2][2] = <T as ::trocar::emitted::Arith>::lit(0.39) * x9;
+        let x10 = <T as ::trocar::emitted::Arith>::mul_add(c3, x0, s3 * x7);
+        let x11 = <T as ::trocar::emitted::Arith>::mul_add(c3, c5, -(s3 * x8));
+        let x12 = <T as ::trocar::emitted::Arith>::mul_add(c3, x1, s3 * x9);
+        let x13 = <T as ::trocar::emitted::Arith>::mul_add(
+            <T as ::trocar::emitted::Arith>::lit(0.39),
             c3,
-            <T as ::trocar::Arith>::lit(0.38),
+            <T as ::trocar::emitted::Arith>::lit(0.38),
         );
-        let x14 = <T as ::trocar::Arith>::mul_add(s3, x0, -(c3 * x7));
-        let x15 = <T as ::trocar::Arith>::mul_add(s3, c5, c3 * x8);
-        let x16 = <T as ::trocar::Arith>::mul_add(c3, x9, -(s3 * x1));
-        let x17 = <T as ::trocar::Arith>::lit(0.39) * s3;
-        fk0i.1[2] = <T as ::trocar::Arith>::lit(1.037)
-            + <T as ::trocar::Arith>::mul_add(s2, x13, c2 * x17);
-        jb0i[1][0] = <T as ::trocar::Arith>::mul_add(x13, x14, -(x10 * x17));
-        jb0i[1][1] = <T as ::trocar::Arith>::mul_add(x13, x15, -(x11 * x17));
-        jb0i[1][2] = <T as ::trocar::Arith>::mul_add(x12, x17, x13 * x16);
-        let x18 = <T as ::trocar::Arith>::mul_add(c2, x10, -(s2 * x14));
-        fk0i.0[0][0] = <T as ::trocar::Arith>::mul_add(c1, x4, -(s1 * x18));
-        fk0i.0[0][1] = <T as ::trocar::Arith>::mul_add(s1, x4, c1 * x18);
-        let x19 = <T as ::trocar::Arith>::mul_add(c2, x11, -(s2 * x15));
-        fk0i.0[1][0] = <T as ::trocar::Arith>::mul_add(c1, x5, -(s1 * x19));
-        fk0i.0[1][1] = <T as ::trocar::Arith>::mul_add(s1, x5, c1 * x19);
-        let x20 = <T as ::trocar::Arith>::mul_add(c2, x12, s2 * x16);
-        fk0i.0[2][0] = <T as ::trocar::Arith>::mul_add(c1, x6, s1 * x20);
-        fk0i.0[2][1] = <T as ::trocar::Arith>::mul_add(s1, x6, -(c1 * x20));
-        let x21 = <T as ::trocar::Arith>::mul_add(c2, x13, -(s2 * x17));
-        fk0i.1[0] = <T as ::trocar::Arith>::mul_add(
-            <T as ::trocar::Arith>::lit(0.194),
+        let x14 = <T as ::trocar::emitted::Arith>::mul_add(s3, x0, -(c3 * x7));
+        let x15 = <T as ::trocar::emitted::Arith>::mul_add(s3, c5, c3 * x8);
+        let x16 = <T as ::trocar::emitted::Arith>::mul_add(c3, x9, -(s3 * x1));
+        let x17 = <T as ::trocar::emitted::Arith>::lit(0.39) * s3;
+        fk0i.1[2] = <T as ::trocar::emitted::Arith>::lit(1.037)
+            + <T as ::trocar::emitted::Arith>::mul_add(s2, x13, c2 * x17);
+        jb0i[1][0] = <T as ::trocar::emitted::Arith>::mul_add(x13, x14, -(x10 * x17));
+        jb0i[1][1] = <T as ::trocar::emitted::Arith>::mul_add(x13, x15, -(x11 * x17));
+        jb0i[1][2] = <T as ::trocar::emitted::Arith>::mul_add(x12, x17, x13 * x16);
+        let x18 = <T as ::trocar::emitted::Arith>::mul_add(c2, x10, -(s2 * x14));
+        fk0i.0[0][0] = <T as ::trocar::emitted::Arith>::mul_add(c1, x4, -(s1 * x18));
+        fk0i.0[0][1] = <T as ::trocar::emitted::Arith>::mul_add(s1, x4, c1 * x18);
+        let x19 = <T as ::trocar::emitted::Arith>::mul_add(c2, x11, -(s2 * x15));
+        fk0i.0[1][0] = <T as ::trocar::emitted::Arith>::mul_add(c1, x5, -(s1 * x19));
+        fk0i.0[1][1] = <T as ::trocar::emitted::Arith>::mul_add(s1, x5, c1 * x19);
+        let x20 = <T as ::trocar::emitted::Arith>::mul_add(c2, x12, s2 * x16);
+        fk0i.0[2][0] = <T as ::trocar::emitted::Arith>::mul_add(c1, x6, s1 * x20);
+        fk0i.0[2][1] = <T as ::trocar::emitted::Arith>::mul_add(s1, x6, -(c1 * x20));
+        let x21 = <T as ::trocar::emitted::Arith>::mul_add(c2, x13, -(s2 * x17));
+        fk0i.1[0] = <T as ::trocar::emitted::Arith>::mul_add(
+            <T as ::trocar::emitted::Arith>::lit(0.194),
             c1,
             -(s1 * x21),
         );
-        fk0i.1[1] = <T as ::trocar::Arith>::mul_add(
-            <T as ::trocar::Arith>::lit(0.194),
+        fk0i.1[1] = <T as ::trocar::emitted::Arith>::mul_add(
+            <T as ::trocar::emitted::Arith>::lit(0.194),
             s1,
             c1 * x21,
         );
-        jb0i[0][0] = <T as ::trocar::Arith>::mul_add(
-            <T as ::trocar::Arith>::lit(0.194),
+        jb0i[0][0] = <T as ::trocar::emitted::Arith>::mul_add(
+            <T as ::trocar::emitted::Arith>::lit(0.194),
             x18,
             -(x4 * x21),
         );
-        jb0i[0][1] = <T as ::trocar::Arith>::mul_add(
-            <T as ::trocar::Arith>::lit(0.194),
+        jb0i[0][1] = <T as ::trocar::emitted::Arith>::mul_add(
+            <T as ::trocar::emitted::Arith>::lit(0.194),
             x19,
             -(x5 * x21),
         );
-        jb0i[0][2] = -<T as ::trocar::Arith>::mul_add(
+        jb0i[0][2] = -<T as ::trocar::emitted::Arith>::mul_add(
             x6,
             x21,
-            <T as ::trocar::Arith>::lit(0.194) * x20,
+            <T as ::trocar::emitted::Arith>::lit(0.194) * x20,
         );
-        let x22 = <T as ::trocar::Arith>::mul_add(s2, x10, c2 * x14);
+        let x22 = <T as ::trocar::emitted::Arith>::mul_add(s2, x10, c2 * x14);
         fk0i.0[0][2] = x22;
         jb0i[0][3] = x22;
-        let x23 = <T as ::trocar::Arith>::mul_add(s2, x11, c2 * x15);
+        let x23 = <T as ::trocar::emitted::Arith>::mul_add(s2, x11, c2 * x15);
         fk0i.0[1][2] = x23;
         jb0i[0][4] = x23;
-        let x24 = <T as ::trocar::Arith>::mul_add(c2, x16, -(s2 * x12));
+        let x24 = <T as ::trocar::emitted::Arith>::mul_add(c2, x16, -(s2 * x12));
         fk0i.0[2][2] = x24;
         jb0i[0][5] = x24;
     }
@@ -1726,108 +2256,192 @@ pub mod bidirectional_zy {
     ///
     /// Operations: 34 add, 75 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 3 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
-    pub fn link_pose_and_jacobian_trig<T: ::trocar::Arith>(
+    pub fn link_pose_and_jacobian_trig<T: ::trocar::emitted::Arith>(
         t: &JointTrig<T>,
         _p: &Params<T>,
         fk0i: &mut ([[T; 3]; 3], [T; 3]),
         jb0i: &mut [[T; 6]; I],
     ) {
-        jb0i[3][0] = <T as ::trocar::Arith>::ZERO;
-        jb0i[3][1] = <T as ::trocar::Arith>::ZERO;
-        jb0i[3][2] = <T as ::trocar::Arith>::ZERO;
+        jb0i[3][0] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0i[3][1] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0i[3][2] = <T as ::trocar::emitted::Arith>::ZERO;
         jb0i[3][4] = t.cos[4];
-        jb0i[4][0] = <T as ::trocar::Arith>::ZERO;
-        jb0i[4][1] = <T as ::trocar::Arith>::ZERO;
-        jb0i[4][2] = <T as ::trocar::Arith>::ZERO;
+        jb0i[4][0] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0i[4][1] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0i[4][2] = <T as ::trocar::emitted::Arith>::ZERO;
         jb0i[4][3] = t.cos[5];
-        jb0i[4][4] = <T as ::trocar::Arith>::ZERO;
+        jb0i[4][4] = <T as ::trocar::emitted::Arith>::ZERO;
         jb0i[4][5] = t.sin[5];
-        jb0i[5][0] = <T as ::trocar::Arith>::ZERO;
-        jb0i[5][1] = <T as ::trocar::Arith>::ZERO;
-        jb0i[5][2] = <T as ::trocar::Arith>::ZERO;
-        jb0i[5][3] = <T as ::trocar::Arith>::ZERO;
-        jb0i[5][4] = <T as ::trocar::Arith>::ONE;
-        jb0i[5][5] = <T as ::trocar::Arith>::ZERO;
+        jb0i[5][0] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0i[5][1] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0i[5][2] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0i[5][3] = <T as ::trocar::emitted::Arith>::ZERO;
+        jb0i[5][4] = <T as ::trocar::emitted::Arith>::ONE;
+        jb0i[5][5] = <T as ::trocar::emitted::Arith>::ZERO;
         let x0 = t.sin[4] * t.sin[5];
         jb0i[3][3] = x0;
         let x1 = t.sin[4] * t.cos[5];
         jb0i[3][5] = -x1;
         let x2 = t.cos[4] * t.sin[5];
         let x3 = t.cos[4] * t.cos[5];
-        let x4 = <T as ::trocar::Arith>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x2));
+        let x4 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[3],
+            t.cos[5],
+            -(t.sin[3] * x2),
+        );
         jb0i[1][3] = x4;
         jb0i[2][3] = x4;
         let x5 = t.sin[3] * t.sin[4];
         jb0i[1][4] = x5;
         jb0i[2][4] = x5;
-        let x6 = <T as ::trocar::Arith>::mul_add(t.cos[3], t.sin[5], t.sin[3] * x3);
+        let x6 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[3],
+            t.sin[5],
+            t.sin[3] * x3,
+        );
         jb0i[1][5] = x6;
         jb0i[2][5] = x6;
-        let x7 = <T as ::trocar::Arith>::mul_add(t.sin[3], t.cos[5], t.cos[3] * x2);
-        jb0i[2][0] = -(<T as ::trocar::Arith>::lit(0.39) * x7);
-        let x8 = t.cos[3] * t.sin[4];
-        jb0i[2][1] = <T as ::trocar::Arith>::lit(0.39) * x8;
-        let x9 = <T as ::trocar::Arith>::mul_add(t.cos[3], x3, -(t.sin[3] * t.sin[5]));
-        jb0i[2][2] = <T as ::trocar::Arith>::lit(0.39) * x9;
-        let x10 = <T as ::trocar::Arith>::mul_add(t.cos[2], x0, t.sin[2] * x7);
-        let x11 = <T as ::trocar::Arith>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x8));
-        let x12 = <T as ::trocar::Arith>::mul_add(t.cos[2], x1, t.sin[2] * x9);
-        let x13 = <T as ::trocar::Arith>::mul_add(
-            <T as ::trocar::Arith>::lit(0.39),
-            t.cos[2],
-            <T as ::trocar::Arith>::lit(0.38),
+        let x7 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[3],
+            t.cos[5],
+            t.cos[3] * x2,
         );
-        let x14 = <T as ::trocar::Arith>::mul_add(t.sin[2], x0, -(t.cos[2] * x7));
-        let x15 = <T as ::trocar::Arith>::mul_add(t.sin[2], t.cos[4], t.cos[2] * x8);
-        let x16 = <T as ::trocar::Arith>::mul_add(t.cos[2], x9, -(t.sin[2] * x1));
-        let x17 = <T as ::trocar::Arith>::lit(0.39) * t.sin[2];
-        fk0i.1[2] = <T as ::trocar::Arith>::lit(1.037)
-            + <T as ::trocar::Arith>::mul_add(t.sin[1], x13, t.cos[1] * x17);
-        jb0i[1][0] = <T as ::trocar::Arith>::mul_add(x13, x14, -(x10 * x17));
-        jb0i[1][1] = <T as ::trocar::Arith>::mul_add(x13, x15, -(x11 * x17));
-        jb0i[1][2] = <T as ::trocar::Arith>::mul_add(x12, x17, x13 * x16);
-        let x18 = <T as ::trocar::Arith>::mul_add(t.cos[1], x10, -(t.sin[1] * x14));
-        fk0i.0[0][0] = <T as ::trocar::Arith>::mul_add(t.cos[0], x4, -(t.sin[0] * x18));
-        fk0i.0[0][1] = <T as ::trocar::Arith>::mul_add(t.sin[0], x4, t.cos[0] * x18);
-        let x19 = <T as ::trocar::Arith>::mul_add(t.cos[1], x11, -(t.sin[1] * x15));
-        fk0i.0[1][0] = <T as ::trocar::Arith>::mul_add(t.cos[0], x5, -(t.sin[0] * x19));
-        fk0i.0[1][1] = <T as ::trocar::Arith>::mul_add(t.sin[0], x5, t.cos[0] * x19);
-        let x20 = <T as ::trocar::Arith>::mul_add(t.cos[1], x12, t.sin[1] * x16);
-        fk0i.0[2][0] = <T as ::trocar::Arith>::mul_add(t.cos[0], x6, t.sin[0] * x20);
-        fk0i.0[2][1] = <T as ::trocar::Arith>::mul_add(t.sin[0], x6, -(t.cos[0] * x20));
-        let x21 = <T as ::trocar::Arith>::mul_add(t.cos[1], x13, -(t.sin[1] * x17));
-        fk0i.1[0] = <T as ::trocar::Arith>::mul_add(
-            <T as ::trocar::Arith>::lit(0.194),
+        jb0i[2][0] = -(<T as ::trocar::emitted::Arith>::lit(0.39) * x7);
+        let x8 = t.cos[3] * t.sin[4];
+        jb0i[2][1] = <T as ::trocar::emitted::Arith>::lit(0.39) * x8;
+        let x9 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[3],
+            x3,
+            -(t.sin[3] * t.sin[5]),
+        );
+        jb0i[2][2] = <T as ::trocar::emitted::Arith>::lit(0.39) * x9;
+        let x10 = <T as ::trocar::emitted::Arith>::mul_add(t.cos[2], x0, t.sin[2] * x7);
+        let x11 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[2],
+            t.cos[4],
+            -(t.sin[2] * x8),
+        );
+        let x12 = <T as ::trocar::emitted::Arith>::mul_add(t.cos[2], x1, t.sin[2] * x9);
+        let x13 = <T as ::trocar::emitted::Arith>::mul_add(
+            <T as ::trocar::emitted::Arith>::lit(0.39),
+            t.cos[2],
+            <T as ::trocar::emitted::Arith>::lit(0.38),
+        );
+        let x14 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[2],
+            x0,
+            -(t.cos[2] * x7),
+        );
+        let x15 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[2],
+            t.cos[4],
+            t.cos[2] * x8,
+        );
+        let x16 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[2],
+            x9,
+            -(t.sin[2] * x1),
+        );
+        let x17 = <T as ::trocar::emitted::Arith>::lit(0.39) * t.sin[2];
+        fk0i.1[2] = <T as ::trocar::emitted::Arith>::lit(1.037)
+            + <T as ::trocar::emitted::Arith>::mul_add(t.sin[1], x13, t.cos[1] * x17);
+        jb0i[1][0] = <T as ::trocar::emitted::Arith>::mul_add(x13, x14, -(x10 * x17));
+        jb0i[1][1] = <T as ::trocar::emitted::Arith>::mul_add(x13, x15, -(x11 * x17));
+        jb0i[1][2] = <T as ::trocar::emitted::Arith>::mul_add(x12, x17, x13 * x16);
+        let x18 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[1],
+            x10,
+            -(t.sin[1] * x14),
+        );
+        fk0i.0[0][0] = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[0],
+            x4,
+            -(t.sin[0] * x18),
+        );
+        fk0i.0[0][1] = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[0],
+            x4,
+            t.cos[0] * x18,
+        );
+        let x19 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[1],
+            x11,
+            -(t.sin[1] * x15),
+        );
+        fk0i.0[1][0] = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[0],
+            x5,
+            -(t.sin[0] * x19),
+        );
+        fk0i.0[1][1] = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[0],
+            x5,
+            t.cos[0] * x19,
+        );
+        let x20 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[1],
+            x12,
+            t.sin[1] * x16,
+        );
+        fk0i.0[2][0] = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[0],
+            x6,
+            t.sin[0] * x20,
+        );
+        fk0i.0[2][1] = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[0],
+            x6,
+            -(t.cos[0] * x20),
+        );
+        let x21 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[1],
+            x13,
+            -(t.sin[1] * x17),
+        );
+        fk0i.1[0] = <T as ::trocar::emitted::Arith>::mul_add(
+            <T as ::trocar::emitted::Arith>::lit(0.194),
             t.cos[0],
             -(t.sin[0] * x21),
         );
-        fk0i.1[1] = <T as ::trocar::Arith>::mul_add(
-            <T as ::trocar::Arith>::lit(0.194),
+        fk0i.1[1] = <T as ::trocar::emitted::Arith>::mul_add(
+            <T as ::trocar::emitted::Arith>::lit(0.194),
             t.sin[0],
             t.cos[0] * x21,
         );
-        jb0i[0][0] = <T as ::trocar::Arith>::mul_add(
-            <T as ::trocar::Arith>::lit(0.194),
+        jb0i[0][0] = <T as ::trocar::emitted::Arith>::mul_add(
+            <T as ::trocar::emitted::Arith>::lit(0.194),
             x18,
             -(x4 * x21),
         );
-        jb0i[0][1] = <T as ::trocar::Arith>::mul_add(
-            <T as ::trocar::Arith>::lit(0.194),
+        jb0i[0][1] = <T as ::trocar::emitted::Arith>::mul_add(
+            <T as ::trocar::emitted::Arith>::lit(0.194),
             x19,
             -(x5 * x21),
         );
-        jb0i[0][2] = -<T as ::trocar::Arith>::mul_add(
+        jb0i[0][2] = -<T as ::trocar::emitted::Arith>::mul_add(
             x6,
             x21,
-            <T as ::trocar::Arith>::lit(0.194) * x20,
+            <T as ::trocar::emitted::Arith>::lit(0.194) * x20,
         );
-        let x22 = <T as ::trocar::Arith>::mul_add(t.sin[1], x10, t.cos[1] * x14);
+        let x22 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[1],
+            x10,
+            t.cos[1] * x14,
+        );
         fk0i.0[0][2] = x22;
         jb0i[0][3] = x22;
-        let x23 = <T as ::trocar::Arith>::mul_add(t.sin[1], x11, t.cos[1] * x15);
+        let x23 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[1],
+            x11,
+            t.cos[1] * x15,
+        );
         fk0i.0[1][2] = x23;
         jb0i[0][4] = x23;
-        let x24 = <T as ::trocar::Arith>::mul_add(t.cos[1], x16, -(t.sin[1] * x12));
+        let x24 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[1],
+            x16,
+            -(t.sin[1] * x12),
+        );
         fk0i.0[2][2] = x24;
         jb0i[0][5] = x24;
     }
@@ -1848,7 +2462,7 @@ pub mod bidirectional_zy {
     /// Operations: 65 add, 151 mul, 2 div, 0 sqrt, 0 trig (sin_cos), 17 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline(always)]
     #[must_use]
-    pub fn pose_and_jacobians_trig<T: ::trocar::Arith>(
+    pub fn pose_and_jacobians_trig<T: ::trocar::emitted::Arith>(
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> PoseAndJacobians<T> {
@@ -1856,37 +2470,109 @@ pub mod bidirectional_zy {
         let x1 = t.sin[4] * t.cos[5];
         let x2 = t.cos[4] * t.sin[5];
         let x3 = t.cos[4] * t.cos[5];
-        let x4 = <T as ::trocar::Arith>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x2));
-        let x5 = t.sin[3] * t.sin[4];
-        let x6 = <T as ::trocar::Arith>::mul_add(t.cos[3], t.sin[5], t.sin[3] * x3);
-        let x7 = <T as ::trocar::Arith>::mul_add(t.sin[3], t.cos[5], t.cos[3] * x2);
-        let x8 = t.cos[3] * t.sin[4];
-        let x9 = <T as ::trocar::Arith>::mul_add(t.cos[3], x3, -(t.sin[3] * t.sin[5]));
-        let x10 = <T as ::trocar::Arith>::mul_add(t.cos[2], x0, t.sin[2] * x7);
-        let x11 = <T as ::trocar::Arith>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x8));
-        let x12 = <T as ::trocar::Arith>::mul_add(t.cos[2], x1, t.sin[2] * x9);
-        let x13 = <T as ::trocar::Arith>::mul_add(
-            <T as ::trocar::Arith>::lit(0.39),
-            t.cos[2],
-            <T as ::trocar::Arith>::lit(0.38),
+        let x4 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[3],
+            t.cos[5],
+            -(t.sin[3] * x2),
         );
-        let x14 = <T as ::trocar::Arith>::mul_add(t.sin[2], x0, -(t.cos[2] * x7));
-        let x15 = <T as ::trocar::Arith>::mul_add(t.sin[2], t.cos[4], t.cos[2] * x8);
-        let x16 = <T as ::trocar::Arith>::mul_add(t.cos[2], x9, -(t.sin[2] * x1));
-        let x17 = <T as ::trocar::Arith>::lit(0.39) * t.sin[2];
-        let x18 = <T as ::trocar::Arith>::mul_add(t.cos[1], x10, -(t.sin[1] * x14));
-        let x19 = <T as ::trocar::Arith>::mul_add(t.cos[1], x11, -(t.sin[1] * x15));
-        let x20 = <T as ::trocar::Arith>::mul_add(t.cos[1], x12, t.sin[1] * x16);
-        let x21 = <T as ::trocar::Arith>::mul_add(t.cos[1], x13, -(t.sin[1] * x17));
-        let x22 = <T as ::trocar::Arith>::mul_add(t.sin[1], x10, t.cos[1] * x14);
-        let x23 = <T as ::trocar::Arith>::mul_add(t.sin[1], x11, t.cos[1] * x15);
-        let x24 = <T as ::trocar::Arith>::mul_add(t.cos[1], x16, -(t.sin[1] * x12));
-        let x25 = <T as ::trocar::Arith>::mul_add(t.cos[0], x4, -(t.sin[0] * x18));
-        let x26 = <T as ::trocar::Arith>::mul_add(t.cos[0], x5, -(t.sin[0] * x19));
-        let x27 = <T as ::trocar::Arith>::mul_add(t.cos[0], x6, t.sin[0] * x20);
-        let x28 = <T as ::trocar::Arith>::mul_add(t.sin[0], x4, t.cos[0] * x18);
-        let x29 = <T as ::trocar::Arith>::mul_add(t.sin[0], x5, t.cos[0] * x19);
-        let x30 = <T as ::trocar::Arith>::mul_add(t.sin[0], x6, -(t.cos[0] * x20));
+        let x5 = t.sin[3] * t.sin[4];
+        let x6 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[3],
+            t.sin[5],
+            t.sin[3] * x3,
+        );
+        let x7 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[3],
+            t.cos[5],
+            t.cos[3] * x2,
+        );
+        let x8 = t.cos[3] * t.sin[4];
+        let x9 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[3],
+            x3,
+            -(t.sin[3] * t.sin[5]),
+        );
+        let x10 = <T as ::trocar::emitted::Arith>::mul_add(t.cos[2], x0, t.sin[2] * x7);
+        let x11 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[2],
+            t.cos[4],
+            -(t.sin[2] * x8),
+        );
+        let x12 = <T as ::trocar::emitted::Arith>::mul_add(t.cos[2], x1, t.sin[2] * x9);
+        let x13 = <T as ::trocar::emitted::Arith>::mul_add(
+            <T as ::trocar::emitted::Arith>::lit(0.39),
+            t.cos[2],
+            <T as ::trocar::emitted::Arith>::lit(0.38),
+        );
+        let x14 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[2],
+            x0,
+            -(t.cos[2] * x7),
+        );
+        let x15 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[2],
+            t.cos[4],
+            t.cos[2] * x8,
+        );
+        let x16 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[2],
+            x9,
+            -(t.sin[2] * x1),
+        );
+        let x17 = <T as ::trocar::emitted::Arith>::lit(0.39) * t.sin[2];
+        let x18 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[1],
+            x10,
+            -(t.sin[1] * x14),
+        );
+        let x19 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[1],
+            x11,
+            -(t.sin[1] * x15),
+        );
+        let x20 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[1],
+            x12,
+            t.sin[1] * x16,
+        );
+        let x21 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[1],
+            x13,
+            -(t.sin[1] * x17),
+        );
+        let x22 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[1],
+            x10,
+            t.cos[1] * x14,
+        );
+        let x23 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[1],
+            x11,
+            t.cos[1] * x15,
+        );
+        let x24 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[1],
+            x16,
+            -(t.sin[1] * x12),
+        );
+        let x25 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[0],
+            x4,
+            -(t.sin[0] * x18),
+        );
+        let x26 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.cos[0],
+            x5,
+            -(t.sin[0] * x19),
+        );
+        let x27 = <T as ::trocar::emitted::Arith>::mul_add(t.cos[0], x6, t.sin[0] * x20);
+        let x28 = <T as ::trocar::emitted::Arith>::mul_add(t.sin[0], x4, t.cos[0] * x18);
+        let x29 = <T as ::trocar::emitted::Arith>::mul_add(t.sin[0], x5, t.cos[0] * x19);
+        let x30 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[0],
+            x6,
+            -(t.cos[0] * x20),
+        );
         let x31 = p.l_a + p.l_b;
         let x32 = t.cos[6] * t.cos[7];
         let x33 = t.cos[6] * t.sin[7];
@@ -1895,151 +2581,168 @@ pub mod bidirectional_zy {
         let x36 = t.sin[6] * p.l_8;
         let x37 = t.cos[6] * p.l_8;
         let x38 = x31 + x37;
-        let x39 = <T as ::trocar::Arith>::ONE / p.l_a;
-        let x40 = <T as ::trocar::Arith>::mul_add(t.cos[6], p.l_b, p.l_8) * x39;
+        let x39 = <T as ::trocar::emitted::Arith>::ONE / p.l_a;
+        let x40 = <T as ::trocar::emitted::Arith>::mul_add(t.cos[6], p.l_b, p.l_8) * x39;
         let x41 = t.sin[6] * x39;
         let x42 = x39 * (p.l_b + x37);
-        let x43 = <T as ::trocar::Arith>::ONE
-            / <T as ::trocar::Arith>::mul_add(p.l_a, p.l_a, <T as ::trocar::Arith>::ONE);
-        let x44 = <T as ::trocar::Arith>::mul_add(
+        let x43 = <T as ::trocar::emitted::Arith>::ONE
+            / <T as ::trocar::emitted::Arith>::mul_add(
+                p.l_a,
+                p.l_a,
+                <T as ::trocar::emitted::Arith>::ONE,
+            );
+        let x44 = <T as ::trocar::emitted::Arith>::mul_add(
             p.l_a,
             x31,
-            <T as ::trocar::Arith>::ONE,
+            <T as ::trocar::emitted::Arith>::ONE,
         );
-        let x45 = x43 * <T as ::trocar::Arith>::mul_add(t.cos[6], x44, p.l_a * p.l_8);
+        let x45 = x43
+            * <T as ::trocar::emitted::Arith>::mul_add(t.cos[6], x44, p.l_a * p.l_8);
         let x46 = x43
-            * <T as ::trocar::Arith>::mul_add(
+            * <T as ::trocar::emitted::Arith>::mul_add(
                 p.l_a,
                 p.l_b + (p.l_a + x37),
-                <T as ::trocar::Arith>::ONE,
+                <T as ::trocar::emitted::Arith>::ONE,
             );
         (
             (
                 [
                     [
-                        <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::mul_add(
                             -x27,
                             t.sin[7],
-                            <T as ::trocar::Arith>::mul_add(x25, x32, x26 * x34),
+                            <T as ::trocar::emitted::Arith>::mul_add(x25, x32, x26 * x34),
                         ),
-                        <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::mul_add(
                             -x30,
                             t.sin[7],
-                            <T as ::trocar::Arith>::mul_add(x28, x32, x29 * x34),
+                            <T as ::trocar::emitted::Arith>::mul_add(x28, x32, x29 * x34),
                         ),
-                        <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::mul_add(
                             -x24,
                             t.sin[7],
-                            <T as ::trocar::Arith>::mul_add(x22, x32, x23 * x34),
+                            <T as ::trocar::emitted::Arith>::mul_add(x22, x32, x23 * x34),
                         ),
                     ],
                     [
-                        <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::mul_add(
                             x26,
                             t.cos[6],
                             -(x25 * t.sin[6]),
                         ),
-                        <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::mul_add(
                             x29,
                             t.cos[6],
                             -(x28 * t.sin[6]),
                         ),
-                        <T as ::trocar::Arith>::mul_add(x23, t.cos[6], -(x22 * t.sin[6])),
+                        <T as ::trocar::emitted::Arith>::mul_add(
+                            x23,
+                            t.cos[6],
+                            -(x22 * t.sin[6]),
+                        ),
                     ],
                     [
-                        <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::mul_add(
                             x27,
                             t.cos[7],
-                            <T as ::trocar::Arith>::mul_add(x25, x33, x26 * x35),
+                            <T as ::trocar::emitted::Arith>::mul_add(x25, x33, x26 * x35),
                         ),
-                        <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::mul_add(
                             x30,
                             t.cos[7],
-                            <T as ::trocar::Arith>::mul_add(x28, x33, x29 * x35),
+                            <T as ::trocar::emitted::Arith>::mul_add(x28, x33, x29 * x35),
                         ),
-                        <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::mul_add(
                             x24,
                             t.cos[7],
-                            <T as ::trocar::Arith>::mul_add(x22, x33, x23 * x35),
+                            <T as ::trocar::emitted::Arith>::mul_add(x22, x33, x23 * x35),
                         ),
                     ],
                 ],
                 [
-                    <T as ::trocar::Arith>::mul_add(
-                        <T as ::trocar::Arith>::lit(0.194),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::lit(0.194),
                         t.cos[0],
                         -(t.sin[0] * x21),
-                    ) + <T as ::trocar::Arith>::mul_add(x26, x38, -(x25 * x36)),
-                    <T as ::trocar::Arith>::mul_add(
-                        <T as ::trocar::Arith>::lit(0.194),
+                    ) + <T as ::trocar::emitted::Arith>::mul_add(x26, x38, -(x25 * x36)),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::lit(0.194),
                         t.sin[0],
                         t.cos[0] * x21,
-                    ) + <T as ::trocar::Arith>::mul_add(x29, x38, -(x28 * x36)),
-                    <T as ::trocar::Arith>::lit(1.037)
-                        + <T as ::trocar::Arith>::mul_add(t.sin[1], x13, t.cos[1] * x17)
-                        + <T as ::trocar::Arith>::mul_add(x23, x38, -(x22 * x36)),
+                    ) + <T as ::trocar::emitted::Arith>::mul_add(x29, x38, -(x28 * x36)),
+                    <T as ::trocar::emitted::Arith>::lit(1.037)
+                        + <T as ::trocar::emitted::Arith>::mul_add(
+                            t.sin[1],
+                            x13,
+                            t.cos[1] * x17,
+                        )
+                        + <T as ::trocar::emitted::Arith>::mul_add(
+                            x23,
+                            x38,
+                            -(x22 * x36),
+                        ),
                 ],
             ),
             [
                 [
-                    <T as ::trocar::Arith>::mul_add(
-                        <T as ::trocar::Arith>::lit(0.194),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::lit(0.194),
                         x18,
                         -(x4 * x21),
                     ),
-                    <T as ::trocar::Arith>::mul_add(
-                        <T as ::trocar::Arith>::lit(0.194),
+                    <T as ::trocar::emitted::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::lit(0.194),
                         x19,
                         -(x5 * x21),
                     ),
-                    -<T as ::trocar::Arith>::mul_add(
+                    -<T as ::trocar::emitted::Arith>::mul_add(
                         x6,
                         x21,
-                        <T as ::trocar::Arith>::lit(0.194) * x20,
+                        <T as ::trocar::emitted::Arith>::lit(0.194) * x20,
                     ),
                     x22,
                     x23,
                     x24,
                 ],
                 [
-                    <T as ::trocar::Arith>::mul_add(x13, x14, -(x10 * x17)),
-                    <T as ::trocar::Arith>::mul_add(x13, x15, -(x11 * x17)),
-                    <T as ::trocar::Arith>::mul_add(x12, x17, x13 * x16),
+                    <T as ::trocar::emitted::Arith>::mul_add(x13, x14, -(x10 * x17)),
+                    <T as ::trocar::emitted::Arith>::mul_add(x13, x15, -(x11 * x17)),
+                    <T as ::trocar::emitted::Arith>::mul_add(x12, x17, x13 * x16),
                     x4,
                     x5,
                     x6,
                 ],
                 [
-                    -(<T as ::trocar::Arith>::lit(0.39) * x7),
-                    <T as ::trocar::Arith>::lit(0.39) * x8,
-                    <T as ::trocar::Arith>::lit(0.39) * x9,
+                    -(<T as ::trocar::emitted::Arith>::lit(0.39) * x7),
+                    <T as ::trocar::emitted::Arith>::lit(0.39) * x8,
+                    <T as ::trocar::emitted::Arith>::lit(0.39) * x9,
                     x4,
                     x5,
                     x6,
                 ],
                 [
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
                     x0,
                     t.cos[4],
                     -x1,
                 ],
                 [
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
                     t.cos[5],
-                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
                     t.sin[5],
                 ],
                 [
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ONE,
-                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ONE,
+                    <T as ::trocar::emitted::Arith>::ZERO,
                 ],
             ],
             [
@@ -2048,20 +2751,20 @@ pub mod bidirectional_zy {
                     p.l_b * x41,
                     -(t.sin[7] * x40),
                     -(t.sin[7] * x39),
-                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
                     t.cos[7] * x39,
                 ],
                 [
                     x34,
                     t.cos[6],
                     x35,
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
                 ],
                 [
                     t.sin[7] * x42,
-                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
                     -(t.cos[7] * x42),
                     -(x32 * x39),
                     x41,
@@ -2069,7 +2772,7 @@ pub mod bidirectional_zy {
                 ],
                 [
                     -(p.l_8 * x35),
-                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
                     p.l_8 * x34,
                     x34,
                     t.cos[6],
@@ -2077,19 +2780,19 @@ pub mod bidirectional_zy {
                 ],
                 [
                     -(t.cos[7] * p.l_8),
-                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
                     -(t.sin[7] * p.l_8),
                     -t.sin[7],
-                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
                     t.cos[7],
                 ],
                 [
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ONE,
-                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ONE,
+                    <T as ::trocar::emitted::Arith>::ZERO,
                 ],
             ],
             [
@@ -2098,12 +2801,12 @@ pub mod bidirectional_zy {
                     -(t.sin[6] * (x43 * x44)),
                     t.sin[7] * x45,
                     x43 * (p.l_a * t.sin[7]),
-                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
                     -(x43 * (p.l_a * t.cos[7])),
                 ],
                 [
                     -(t.sin[7] * x46),
-                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
                     t.cos[7] * x46,
                     x43 * (p.l_a * x32),
                     -(x43 * (t.sin[6] * p.l_a)),
@@ -2116,7 +2819,7 @@ pub mod bidirectional_zy {
     ///
     /// The constraint frame slides along the link with `params.l_a`: [`step_kinematics`] sets it to the trocar's offset first.
     #[derive(Clone, Copy, Debug, PartialEq)]
-    pub struct StepKinematics<T: ::trocar::Real> {
+    pub struct StepKinematics<T: ::trocar::emitted::Real> {
         /// The trocar offset `l_a` of this step: the constraint frame's position along the link.
         pub offset: T,
         /// `g_0e = (R_0e, p_0e)` of the end effector.
@@ -2134,12 +2837,12 @@ pub mod bidirectional_zy {
         /// `Λ†`, 6 × R.
         pub lambda_pinv: [[T; 6]; R],
     }
-    impl<T: ::trocar::Real> StepKinematics<T> {
+    impl<T: ::trocar::emitted::Real> StepKinematics<T> {
         /// All zeros (storage to be filled by [`step_kinematics`]).
         #[inline]
         #[must_use]
         pub fn zeroed() -> Self {
-            let z = <T as ::trocar::Real>::ZERO;
+            let z = <T as ::trocar::emitted::Real>::ZERO;
             StepKinematics {
                 offset: z,
                 g_0e: ([[z; 3]; 3], [z; 3]),
@@ -2154,7 +2857,7 @@ pub mod bidirectional_zy {
     }
     /// Fills everything but `g_0i` (and the offset) at the parameters `p`.
     #[inline]
-    fn fill_step<T: ::trocar::Real>(
+    fn fill_step<T: ::trocar::emitted::Real>(
         t: &JointTrig<T>,
         p: &Params<T>,
         out: &mut StepKinematics<T>,
@@ -2165,8 +2868,10 @@ pub mod bidirectional_zy {
     }
     /// Whether every output of a filled step is finite.
     #[inline]
-    fn step_is_finite<T: ::trocar::Real>(out: &StepKinematics<T>) -> bool {
-        let finite = |x: &[T]| x.iter().all(|&v| <T as ::trocar::Real>::is_finite(v));
+    fn step_is_finite<T: ::trocar::emitted::Real>(out: &StepKinematics<T>) -> bool {
+        let finite = |x: &[T]| {
+            x.iter().all(|&v| <T as ::trocar::emitted::Real>::is_finite(v))
+        };
         finite(&out.g_0e.1) && finite(&out.g_0i.1) && finite(out.g_0e.0.as_flattened())
             && finite(out.g_0i.0.as_flattened()) && finite(out.jb0i.as_flattened())
             && finite(out.jr.as_flattened()) && finite(out.jc.as_flattened())
@@ -2176,19 +2881,19 @@ pub mod bidirectional_zy {
     /// `l_a` of the point of the line `g_ir(l) = (R_ir, o + l d)` nearest to `trocar` (base coordinates) with the link at `g_0i`: `((p_t − p_0i − R_0i o) · R_0i d) / |d|²`, with `o` and `d` from [`constraint_frame`] at `l_a = 0` and `1`.
     #[inline]
     #[must_use]
-    pub fn trocar_offset<T: ::trocar::Real>(
+    pub fn trocar_offset<T: ::trocar::emitted::Real>(
         g_0i: &([[T; 3]; 3], [T; 3]),
         trocar: &[T; 3],
         params: &Params<T>,
     ) -> T {
         let mut p = *params;
-        p.l_a = <T as ::trocar::Real>::ZERO;
+        p.l_a = <T as ::trocar::emitted::Real>::ZERO;
         let o = constraint_frame(&p).1;
-        p.l_a = <T as ::trocar::Real>::ONE;
+        p.l_a = <T as ::trocar::emitted::Real>::ONE;
         let o1 = constraint_frame(&p).1;
         let d = [o1[0] - o[0], o1[1] - o[1], o1[2] - o[2]];
         let (rot, pos) = g_0i;
-        let mut num = <T as ::trocar::Real>::ZERO;
+        let mut num = <T as ::trocar::emitted::Real>::ZERO;
         for i in 0..3 {
             let ro = rot[0][i] * o[0] + rot[1][i] * o[1] + rot[2][i] * o[2];
             let rd = rot[0][i] * d[0] + rot[1][i] * d[1] + rot[2][i] * d[2];
@@ -2202,18 +2907,18 @@ pub mod bidirectional_zy {
     /// (e.g. a null-space basis that divides by the offset, at offset 0); `out` is
     /// then not meaningful.
     #[inline]
-    pub fn step_kinematics<T: ::trocar::Real>(
+    pub fn step_kinematics<T: ::trocar::emitted::Real>(
         t: &JointTrig<T>,
         trocar: &[T; 3],
         params: &Params<T>,
         out: &mut StepKinematics<T>,
     ) -> bool {
         fill_at_trocar(t, trocar, params, out);
-        <T as ::trocar::Real>::is_finite(out.offset) && step_is_finite(out)
+        <T as ::trocar::emitted::Real>::is_finite(out.offset) && step_is_finite(out)
     }
     /// [`step_kinematics`] without the finiteness check.
     #[inline]
-    fn fill_at_trocar<T: ::trocar::Real>(
+    fn fill_at_trocar<T: ::trocar::emitted::Real>(
         t: &JointTrig<T>,
         trocar: &[T; 3],
         params: &Params<T>,
@@ -2234,7 +2939,7 @@ pub mod bidirectional_zy {
         clippy::many_single_char_names,
         clippy::too_many_lines
     )]
-    pub fn lu_solve_6<T: ::trocar::Real>(
+    pub fn lu_solve_6<T: ::trocar::emitted::Real>(
         j: &[[T; 6usize]; 6usize],
         b: &[T; 6usize],
     ) -> ([T; 6usize], T) {
@@ -2280,8 +2985,10 @@ pub mod bidirectional_zy {
         let mut a5_4 = j[4usize][5usize];
         let mut a5_5 = j[5usize][5usize];
         let mut b0_5 = b[5usize];
-        let mut det = <T as ::trocar::Real>::ONE;
-        if <T as ::trocar::Real>::abs(a1_0) > <T as ::trocar::Real>::abs(a0_0) {
+        let mut det = <T as ::trocar::emitted::Real>::ONE;
+        if <T as ::trocar::emitted::Real>::abs(a1_0)
+            > <T as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a1_0);
             ::core::mem::swap(&mut a0_1, &mut a1_1);
             ::core::mem::swap(&mut a0_2, &mut a1_2);
@@ -2291,7 +2998,9 @@ pub mod bidirectional_zy {
             ::core::mem::swap(&mut b0_0, &mut b0_1);
             det = -det;
         }
-        if <T as ::trocar::Real>::abs(a2_0) > <T as ::trocar::Real>::abs(a0_0) {
+        if <T as ::trocar::emitted::Real>::abs(a2_0)
+            > <T as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a2_0);
             ::core::mem::swap(&mut a0_1, &mut a2_1);
             ::core::mem::swap(&mut a0_2, &mut a2_2);
@@ -2301,7 +3010,9 @@ pub mod bidirectional_zy {
             ::core::mem::swap(&mut b0_0, &mut b0_2);
             det = -det;
         }
-        if <T as ::trocar::Real>::abs(a3_0) > <T as ::trocar::Real>::abs(a0_0) {
+        if <T as ::trocar::emitted::Real>::abs(a3_0)
+            > <T as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a3_0);
             ::core::mem::swap(&mut a0_1, &mut a3_1);
             ::core::mem::swap(&mut a0_2, &mut a3_2);
@@ -2311,7 +3022,9 @@ pub mod bidirectional_zy {
             ::core::mem::swap(&mut b0_0, &mut b0_3);
             det = -det;
         }
-        if <T as ::trocar::Real>::abs(a4_0) > <T as ::trocar::Real>::abs(a0_0) {
+        if <T as ::trocar::emitted::Real>::abs(a4_0)
+            > <T as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a4_0);
             ::core::mem::swap(&mut a0_1, &mut a4_1);
             ::core::mem::swap(&mut a0_2, &mut a4_2);
@@ -2321,7 +3034,9 @@ pub mod bidirectional_zy {
             ::core::mem::swap(&mut b0_0, &mut b0_4);
             det = -det;
         }
-        if <T as ::trocar::Real>::abs(a5_0) > <T as ::trocar::Real>::abs(a0_0) {
+        if <T as ::trocar::emitted::Real>::abs(a5_0)
+            > <T as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a5_0);
             ::core::mem::swap(&mut a0_1, &mut a5_1);
             ::core::mem::swap(&mut a0_2, &mut a5_2);
@@ -2332,7 +3047,7 @@ pub mod bidirectional_zy {
             det = -det;
         }
         det *= a0_0;
-        let inv0 = <T as ::trocar::Real>::ONE / a0_0;
+        let inv0 = <T as ::trocar::emitted::Real>::ONE / a0_0;
         let l = a1_0 * inv0;
         a1_1 -= l * a0_1;
         a1_2 -= l * a0_2;
@@ -2368,7 +3083,9 @@ pub mod bidirectional_zy {
         a5_4 -= l * a0_4;
         a5_5 -= l * a0_5;
         b0_5 -= l * b0_0;
-        if <T as ::trocar::Real>::abs(a2_1) > <T as ::trocar::Real>::abs(a1_1) {
+        if <T as ::trocar::emitted::Real>::abs(a2_1)
+            > <T as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a2_1);
             ::core::mem::swap(&mut a1_2, &mut a2_2);
             ::core::mem::swap(&mut a1_3, &mut a2_3);
@@ -2377,7 +3094,9 @@ pub mod bidirectional_zy {
             ::core::mem::swap(&mut b0_1, &mut b0_2);
             det = -det;
         }
-        if <T as ::trocar::Real>::abs(a3_1) > <T as ::trocar::Real>::abs(a1_1) {
+        if <T as ::trocar::emitted::Real>::abs(a3_1)
+            > <T as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a3_1);
             ::core::mem::swap(&mut a1_2, &mut a3_2);
             ::core::mem::swap(&mut a1_3, &mut a3_3);
@@ -2386,7 +3105,9 @@ pub mod bidirectional_zy {
             ::core::mem::swap(&mut b0_1, &mut b0_3);
             det = -det;
         }
-        if <T as ::trocar::Real>::abs(a4_1) > <T as ::trocar::Real>::abs(a1_1) {
+        if <T as ::trocar::emitted::Real>::abs(a4_1)
+            > <T as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a4_1);
             ::core::mem::swap(&mut a1_2, &mut a4_2);
             ::core::mem::swap(&mut a1_3, &mut a4_3);
@@ -2395,7 +3116,9 @@ pub mod bidirectional_zy {
             ::core::mem::swap(&mut b0_1, &mut b0_4);
             det = -det;
         }
-        if <T as ::trocar::Real>::abs(a5_1) > <T as ::trocar::Real>::abs(a1_1) {
+        if <T as ::trocar::emitted::Real>::abs(a5_1)
+            > <T as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a5_1);
             ::core::mem::swap(&mut a1_2, &mut a5_2);
             ::core::mem::swap(&mut a1_3, &mut a5_3);
@@ -2405,7 +3128,7 @@ pub mod bidirectional_zy {
             det = -det;
         }
         det *= a1_1;
-        let inv1 = <T as ::trocar::Real>::ONE / a1_1;
+        let inv1 = <T as ::trocar::emitted::Real>::ONE / a1_1;
         let l = a2_1 * inv1;
         a2_2 -= l * a1_2;
         a2_3 -= l * a1_3;
@@ -2430,7 +3153,9 @@ pub mod bidirectional_zy {
         a5_4 -= l * a1_4;
         a5_5 -= l * a1_5;
         b0_5 -= l * b0_1;
-        if <T as ::trocar::Real>::abs(a3_2) > <T as ::trocar::Real>::abs(a2_2) {
+        if <T as ::trocar::emitted::Real>::abs(a3_2)
+            > <T as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a3_2);
             ::core::mem::swap(&mut a2_3, &mut a3_3);
             ::core::mem::swap(&mut a2_4, &mut a3_4);
@@ -2438,7 +3163,9 @@ pub mod bidirectional_zy {
             ::core::mem::swap(&mut b0_2, &mut b0_3);
             det = -det;
         }
-        if <T as ::trocar::Real>::abs(a4_2) > <T as ::trocar::Real>::abs(a2_2) {
+        if <T as ::trocar::emitted::Real>::abs(a4_2)
+            > <T as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a4_2);
             ::core::mem::swap(&mut a2_3, &mut a4_3);
             ::core::mem::swap(&mut a2_4, &mut a4_4);
@@ -2446,7 +3173,9 @@ pub mod bidirectional_zy {
             ::core::mem::swap(&mut b0_2, &mut b0_4);
             det = -det;
         }
-        if <T as ::trocar::Real>::abs(a5_2) > <T as ::trocar::Real>::abs(a2_2) {
+        if <T as ::trocar::emitted::Real>::abs(a5_2)
+            > <T as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a5_2);
             ::core::mem::swap(&mut a2_3, &mut a5_3);
             ::core::mem::swap(&mut a2_4, &mut a5_4);
@@ -2455,7 +3184,7 @@ pub mod bidirectional_zy {
             det = -det;
         }
         det *= a2_2;
-        let inv2 = <T as ::trocar::Real>::ONE / a2_2;
+        let inv2 = <T as ::trocar::emitted::Real>::ONE / a2_2;
         let l = a3_2 * inv2;
         a3_3 -= l * a2_3;
         a3_4 -= l * a2_4;
@@ -2471,14 +3200,18 @@ pub mod bidirectional_zy {
         a5_4 -= l * a2_4;
         a5_5 -= l * a2_5;
         b0_5 -= l * b0_2;
-        if <T as ::trocar::Real>::abs(a4_3) > <T as ::trocar::Real>::abs(a3_3) {
+        if <T as ::trocar::emitted::Real>::abs(a4_3)
+            > <T as ::trocar::emitted::Real>::abs(a3_3)
+        {
             ::core::mem::swap(&mut a3_3, &mut a4_3);
             ::core::mem::swap(&mut a3_4, &mut a4_4);
             ::core::mem::swap(&mut a3_5, &mut a4_5);
             ::core::mem::swap(&mut b0_3, &mut b0_4);
             det = -det;
         }
-        if <T as ::trocar::Real>::abs(a5_3) > <T as ::trocar::Real>::abs(a3_3) {
+        if <T as ::trocar::emitted::Real>::abs(a5_3)
+            > <T as ::trocar::emitted::Real>::abs(a3_3)
+        {
             ::core::mem::swap(&mut a3_3, &mut a5_3);
             ::core::mem::swap(&mut a3_4, &mut a5_4);
             ::core::mem::swap(&mut a3_5, &mut a5_5);
@@ -2486,7 +3219,7 @@ pub mod bidirectional_zy {
             det = -det;
         }
         det *= a3_3;
-        let inv3 = <T as ::trocar::Real>::ONE / a3_3;
+        let inv3 = <T as ::trocar::emitted::Real>::ONE / a3_3;
         let l = a4_3 * inv3;
         a4_4 -= l * a3_4;
         a4_5 -= l * a3_5;
@@ -2495,19 +3228,21 @@ pub mod bidirectional_zy {
         a5_4 -= l * a3_4;
         a5_5 -= l * a3_5;
         b0_5 -= l * b0_3;
-        if <T as ::trocar::Real>::abs(a5_4) > <T as ::trocar::Real>::abs(a4_4) {
+        if <T as ::trocar::emitted::Real>::abs(a5_4)
+            > <T as ::trocar::emitted::Real>::abs(a4_4)
+        {
             ::core::mem::swap(&mut a4_4, &mut a5_4);
             ::core::mem::swap(&mut a4_5, &mut a5_5);
             ::core::mem::swap(&mut b0_4, &mut b0_5);
             det = -det;
         }
         det *= a4_4;
-        let inv4 = <T as ::trocar::Real>::ONE / a4_4;
+        let inv4 = <T as ::trocar::emitted::Real>::ONE / a4_4;
         let l = a5_4 * inv4;
         a5_5 -= l * a4_5;
         b0_5 -= l * b0_4;
         det *= a5_5;
-        let inv5 = <T as ::trocar::Real>::ONE / a5_5;
+        let inv5 = <T as ::trocar::emitted::Real>::ONE / a5_5;
         let x5 = (b0_5) * inv5;
         let x4 = (b0_4 - a4_5 * x5) * inv4;
         let x3 = (b0_3 - a3_4 * x4 - a3_5 * x5) * inv3;
@@ -2521,11 +3256,11 @@ pub mod bidirectional_zy {
     ///
     /// The constraint frame slides along the link with `params.l_a` (`g_ir = (R_ir, o + l_a d)`, [`constraint_frame`]); a step computes everything from one [`JointTrig`] as [`step_kinematics`] does. A non-finite offset is `ControlError::Kinematics`; other non-finite outputs (e.g. a basis that divides by the offset, at offset 0) reach the joint rates, which the controller rejects (`ControlError::NonFinite`).
     #[derive(Clone, Copy, Debug, PartialEq)]
-    pub struct Kinematics<T: ::trocar::Real> {
+    pub struct Kinematics<T: ::trocar::emitted::Real> {
         /// The parameters; the trocar offset is overwritten at every evaluation.
         pub params: Params<T>,
     }
-    impl<T: ::trocar::Real> Kinematics<T> {
+    impl<T: ::trocar::emitted::Real> Kinematics<T> {
         /// With the description's nominal parameters.
         #[inline]
         #[must_use]
@@ -2535,16 +3270,18 @@ pub mod bidirectional_zy {
             }
         }
     }
-    impl<T: ::trocar::Real + ::trocar::nalgebra::RealField> Kinematics<T> {
+    impl<
+        T: ::trocar::emitted::Real + ::trocar::emitted::nalgebra::RealField,
+    > Kinematics<T> {
         /// A pose from the generated `(R column-major, p)`.
         #[inline]
-        fn pose((r, p): ([[T; 3]; 3], [T; 3])) -> ::trocar::se3::Se3<T> {
-            ::trocar::se3::Se3 {
-                rotation: ::trocar::nalgebra::Matrix3::from_data(
-                    ::trocar::nalgebra::ArrayStorage(r),
+        fn pose((r, p): ([[T; 3]; 3], [T; 3])) -> ::trocar::emitted::Se3<T> {
+            ::trocar::emitted::Se3 {
+                rotation: ::trocar::emitted::nalgebra::Matrix3::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(r),
                 ),
-                translation: ::trocar::nalgebra::Vector3::from_data(
-                    ::trocar::nalgebra::ArrayStorage([p]),
+                translation: ::trocar::emitted::nalgebra::Vector3::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage([p]),
                 ),
             }
         }
@@ -2552,62 +3289,67 @@ pub mod bidirectional_zy {
         #[inline]
         fn state(
             s: &StepKinematics<T>,
-        ) -> ::trocar::control::ConstrainedState<T, I, R, K, M> {
-            ::trocar::control::ConstrainedState {
+        ) -> ::trocar::emitted::ConstrainedState<T, I, R, K, M> {
+            ::trocar::emitted::ConstrainedState {
                 g_0e: Self::pose(s.g_0e),
                 g_0i: Self::pose(s.g_0i),
-                jr: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jr),
+                jr: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jr),
                 ),
-                jb0i: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jb0i),
+                jb0i: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jb0i),
                 ),
-                jc: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jc),
+                jc: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jc),
                 ),
-                lambda_sharp: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.lambda_sharp),
+                lambda_sharp: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.lambda_sharp),
                 ),
-                lambda_pinv: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.lambda_pinv),
+                lambda_pinv: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.lambda_pinv),
                 ),
             }
         }
     }
     impl<
-        T: ::trocar::Real + ::trocar::nalgebra::RealField,
-    > ::trocar::control::ConstrainedKinematics<T, N, I, R, K, M, 6> for Kinematics<T> {
+        T: ::trocar::emitted::Real + ::trocar::emitted::nalgebra::RealField,
+    > ::trocar::emitted::ConstrainedKinematics<T, N, I, R, K, M, 6> for Kinematics<T> {
         #[inline]
-        fn g_0i(&self, q: &::trocar::nalgebra::SVector<T, N>) -> ::trocar::se3::Se3<T> {
+        fn g_0i(
+            &self,
+            q: &::trocar::emitted::nalgebra::SVector<T, N>,
+        ) -> ::trocar::emitted::Se3<T> {
             Self::pose(forward_kinematics_i(&q.data.0[0], &self.params))
         }
         #[inline]
-        fn h(&self) -> ::trocar::nalgebra::SMatrix<T, R, 6> {
-            ::trocar::nalgebra::SMatrix::from_data(
-                ::trocar::nalgebra::ArrayStorage(constraint_selection(&self.params)),
+        fn h(&self) -> ::trocar::emitted::nalgebra::SMatrix<T, R, 6> {
+            ::trocar::emitted::nalgebra::SMatrix::from_data(
+                ::trocar::emitted::nalgebra::ArrayStorage(
+                    constraint_selection(&self.params),
+                ),
             )
         }
         #[inline]
-        fn shaft(&self) -> ::trocar::control::Shaft<T> {
+        fn shaft(&self) -> ::trocar::emitted::Shaft<T> {
             let mut p = self.params;
-            p.l_a = <T as ::trocar::Real>::ZERO;
+            p.l_a = <T as ::trocar::emitted::Real>::ZERO;
             let at_zero = Self::pose(constraint_frame(&p));
-            p.l_a = <T as ::trocar::Real>::ONE;
+            p.l_a = <T as ::trocar::emitted::Real>::ONE;
             let at_one = Self::pose(constraint_frame(&p));
-            ::trocar::control::Shaft::from_frames(&at_zero, &at_one)
+            ::trocar::emitted::Shaft::from_frames(&at_zero, &at_one)
         }
         #[inline]
-        fn task_selection(&self) -> ::trocar::nalgebra::SMatrix<T, 6, 6> {
-            ::trocar::nalgebra::SMatrix::identity()
+        fn task_selection(&self) -> ::trocar::emitted::nalgebra::SMatrix<T, 6, 6> {
+            ::trocar::emitted::nalgebra::SMatrix::identity()
         }
         #[inline]
         fn evaluate(
             &self,
-            q: &::trocar::nalgebra::SVector<T, N>,
+            q: &::trocar::emitted::nalgebra::SVector<T, N>,
             l_a: T,
         ) -> ::core::result::Result<
-            ::trocar::control::ConstrainedState<T, I, R, K, M>,
-            ::trocar::control::ControlError,
+            ::trocar::emitted::ConstrainedState<T, I, R, K, M>,
+            ::trocar::emitted::ControlError,
         > {
             let t = JointTrig::new(&q.data.0[0]);
             let mut p = self.params;
@@ -2616,9 +3358,9 @@ pub mod bidirectional_zy {
             s.g_0i = forward_kinematics_i_trig(&t, &p);
             s.offset = l_a;
             fill_step(&t, &p, &mut s);
-            if !<T as ::trocar::Real>::is_finite(l_a) || !step_is_finite(&s) {
+            if !<T as ::trocar::emitted::Real>::is_finite(l_a) || !step_is_finite(&s) {
                 return ::core::result::Result::Err(
-                    ::trocar::control::ControlError::Kinematics,
+                    ::trocar::emitted::ControlError::Kinematics,
                 );
             }
             ::core::result::Result::Ok(Self::state(&s))
@@ -2628,22 +3370,25 @@ pub mod bidirectional_zy {
         #[inline]
         fn solve_task(
             &self,
-            j: &::trocar::nalgebra::SMatrix<T, 6, M>,
-            b: &::trocar::nalgebra::SVector<T, 6>,
-        ) -> ::core::option::Option<(::trocar::nalgebra::SVector<T, M>, T)> {
+            j: &::trocar::emitted::nalgebra::SMatrix<T, 6, M>,
+            b: &::trocar::emitted::nalgebra::SVector<T, 6>,
+        ) -> ::core::option::Option<(::trocar::emitted::nalgebra::SVector<T, M>, T)> {
             let (x, det) = lu_solve_6(&j.data.0, &b.data.0[0]);
-            ::core::option::Option::Some((::trocar::nalgebra::SVector::from(x), det))
+            ::core::option::Option::Some((
+                ::trocar::emitted::nalgebra::SVector::from(x),
+                det,
+            ))
         }
         /// `J^B_0i` (6 × 6) solved by the straight-line elimination emitted for this size.
         #[inline]
         fn solve_jb0i(
             &self,
-            j: &::trocar::nalgebra::SMatrix<T, 6, I>,
-            b: &::trocar::nalgebra::SVector<T, 6>,
-        ) -> ::core::option::Option<(::trocar::nalgebra::SVector<T, I>, T)> {
+            j: &::trocar::emitted::nalgebra::SMatrix<T, 6, I>,
+            b: &::trocar::emitted::nalgebra::SVector<T, 6>,
+        ) -> ::core::option::Option<(::trocar::emitted::nalgebra::SVector<T, I>, T)> {
             let (x, det_or_w) = lu_solve_6(&j.data.0, &b.data.0[0]);
             ::core::option::Option::Some((
-                ::trocar::nalgebra::SVector::from(x),
+                ::trocar::emitted::nalgebra::SVector::from(x),
                 det_or_w,
             ))
         }
@@ -2651,18 +3396,18 @@ pub mod bidirectional_zy {
         #[inline]
         fn evaluate_at_trocar(
             &self,
-            q: &::trocar::nalgebra::SVector<T, N>,
-            trocar: &::trocar::nalgebra::Vector3<T>,
+            q: &::trocar::emitted::nalgebra::SVector<T, N>,
+            trocar: &::trocar::emitted::nalgebra::Vector3<T>,
         ) -> ::core::result::Result<
-            (T, ::trocar::control::ConstrainedState<T, I, R, K, M>),
-            ::trocar::control::ControlError,
+            (T, ::trocar::emitted::ConstrainedState<T, I, R, K, M>),
+            ::trocar::emitted::ControlError,
         > {
             let t = JointTrig::new(&q.data.0[0]);
             let mut s = StepKinematics::zeroed();
             fill_at_trocar(&t, &trocar.data.0[0], &self.params, &mut s);
-            if !<T as ::trocar::Real>::is_finite(s.offset) {
+            if !<T as ::trocar::emitted::Real>::is_finite(s.offset) {
                 return ::core::result::Result::Err(
-                    ::trocar::control::ControlError::Kinematics,
+                    ::trocar::emitted::ControlError::Kinematics,
                 );
             }
             ::core::result::Result::Ok((s.offset, Self::state(&s)))

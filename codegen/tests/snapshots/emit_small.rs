@@ -13,7 +13,7 @@ pub mod small {
     pub const N: usize = 8;
     /// The named parameters of `small`: runtime inputs of every function.
     #[derive(Clone, Copy, Debug, Default, PartialEq)]
-    pub struct Params<T: ::trocar::Arith> {
+    pub struct Params<T: ::trocar::emitted::Arith> {
         /// `l_a` (nominal value 0.15).
         pub l_a: T,
         /// `l_b` (nominal value 0.18).
@@ -21,15 +21,15 @@ pub mod small {
         /// `l_8` (nominal value 0.21).
         pub l_8: T,
     }
-    impl<T: ::trocar::Arith> Params<T> {
+    impl<T: ::trocar::emitted::Arith> Params<T> {
         /// The description's nominal values.
         #[inline]
         #[must_use]
         pub fn nominal() -> Self {
             Params {
-                l_a: <T as ::trocar::Arith>::lit(0.15),
-                l_b: <T as ::trocar::Arith>::lit(0.18),
-                l_8: <T as ::trocar::Arith>::lit(0.21),
+                l_a: <T as ::trocar::emitted::Arith>::lit(0.15),
+                l_b: <T as ::trocar::emitted::Arith>::lit(0.18),
+                l_8: <T as ::trocar::emitted::Arith>::lit(0.21),
             }
         }
     }
@@ -37,7 +37,7 @@ pub mod small {
     ///
     /// Unused entries hold `sin = 0`, `cos = 1`.
     #[derive(Clone, Copy, Debug, PartialEq)]
-    pub struct JointTrig<T: ::trocar::Arith> {
+    pub struct JointTrig<T: ::trocar::emitted::Arith> {
         /// The joint values `q`, base first.
         pub q: [T; N],
         /// `sin q[k]`.
@@ -45,33 +45,33 @@ pub mod small {
         /// `cos q[k]`.
         pub cos: [T; N],
     }
-    impl<T: ::trocar::Arith> JointTrig<T> {
+    impl<T: ::trocar::emitted::Arith> JointTrig<T> {
         /// The sines and cosines of the used joints, in one `sin_cos_array` call.
         #[inline(always)]
         #[must_use]
         pub fn new(q: &[T; N]) -> Self {
-            let ([s7, s8], [c7, c8]) = <T as ::trocar::Arith>::sin_cos_array(
+            let ([s7, s8], [c7, c8]) = <T as ::trocar::emitted::Arith>::sin_cos_array(
                 &[q[6], q[7]],
             );
             JointTrig {
                 q: *q,
                 sin: [
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ZERO,
-                    <T as ::trocar::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
+                    <T as ::trocar::emitted::Arith>::ZERO,
                     s7,
                     s8,
                 ],
                 cos: [
-                    <T as ::trocar::Arith>::ONE,
-                    <T as ::trocar::Arith>::ONE,
-                    <T as ::trocar::Arith>::ONE,
-                    <T as ::trocar::Arith>::ONE,
-                    <T as ::trocar::Arith>::ONE,
-                    <T as ::trocar::Arith>::ONE,
+                    <T as ::trocar::emitted::Arith>::ONE,
+                    <T as ::trocar::emitted::Arith>::ONE,
+                    <T as ::trocar::emitted::Arith>::ONE,
+                    <T as ::trocar::emitted::Arith>::ONE,
+                    <T as ::trocar::emitted::Arith>::ONE,
+                    <T as ::trocar::emitted::Arith>::ONE,
                     c7,
                     c8,
                 ],
@@ -87,9 +87,14 @@ pub mod small {
     /// Operations: 1 add, 10 mul, 1 div, 0 sqrt, 2 trig (sin_cos), 3 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn two_columns<T: ::trocar::Arith>(q: &[T; N], p: &Params<T>) -> [[T; 6]; 2] {
-        let ([s7, s8], [c7, c8]) = <T as ::trocar::Arith>::sin_cos_array(&[q[6], q[7]]);
-        let x0 = <T as ::trocar::Arith>::ONE / p.l_a;
+    pub fn two_columns<T: ::trocar::emitted::Arith>(
+        q: &[T; N],
+        p: &Params<T>,
+    ) -> [[T; 6]; 2] {
+        let ([s7, s8], [c7, c8]) = <T as ::trocar::emitted::Arith>::sin_cos_array(
+            &[q[6], q[7]],
+        );
+        let x0 = <T as ::trocar::emitted::Arith>::ONE / p.l_a;
         let x1 = (c7 * p.l_b + p.l_8) * x0;
         [
             [
@@ -97,16 +102,16 @@ pub mod small {
                 p.l_b * (x0 * s7),
                 -(x1 * s8),
                 -(x0 * s8),
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 x0 * c8,
             ],
             [
                 c8 * s7,
                 c7,
                 s7 * s8,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
             ],
         ]
     }
@@ -117,11 +122,11 @@ pub mod small {
     /// Operations: 1 add, 10 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 3 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn two_columns_trig<T: ::trocar::Arith>(
+    pub fn two_columns_trig<T: ::trocar::emitted::Arith>(
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> [[T; 6]; 2] {
-        let x0 = <T as ::trocar::Arith>::ONE / p.l_a;
+        let x0 = <T as ::trocar::emitted::Arith>::ONE / p.l_a;
         let x1 = (t.cos[6] * p.l_b + p.l_8) * x0;
         [
             [
@@ -129,16 +134,16 @@ pub mod small {
                 p.l_b * (x0 * t.sin[6]),
                 -(x1 * t.sin[7]),
                 -(x0 * t.sin[7]),
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
                 x0 * t.cos[7],
             ],
             [
                 t.cos[7] * t.sin[6],
                 t.cos[6],
                 t.sin[6] * t.sin[7],
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
-                <T as ::trocar::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
+                <T as ::trocar::emitted::Arith>::ZERO,
             ],
         ]
     }
@@ -149,21 +154,21 @@ pub mod small {
     /// Operations: 0 add, 4 mul, 1 div, 0 sqrt, 1 trig (sin_cos), 0 neg, 1 abs.
     #[inline]
     #[must_use]
-    pub fn manipulability<T: ::trocar::Arith>(q: &[T; N], p: &Params<T>) -> T {
-        let ([s7], [_]) = <T as ::trocar::Arith>::sin_cos_array(&[q[6]]);
-        let x0 = <T as ::trocar::Arith>::ONE / p.l_a;
-        <T as ::trocar::Arith>::abs(s7 * (x0 * x0) * (p.l_b * p.l_b))
+    pub fn manipulability<T: ::trocar::emitted::Arith>(q: &[T; N], p: &Params<T>) -> T {
+        let ([s7], [_]) = <T as ::trocar::emitted::Arith>::sin_cos_array(&[q[6]]);
+        let x0 = <T as ::trocar::emitted::Arith>::ONE / p.l_a;
+        <T as ::trocar::emitted::Arith>::abs(s7 * (x0 * x0) * (p.l_b * p.l_b))
     }
     /// [`manipulability`] from precomputed joint sines and cosines ([`JointTrig`]), thesis (3.42).
     ///
     /// Operations: 0 add, 4 mul, 1 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 1 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn manipulability_trig<T: ::trocar::Arith>(
+    pub fn manipulability_trig<T: ::trocar::emitted::Arith>(
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> T {
-        let x0 = <T as ::trocar::Arith>::ONE / p.l_a;
-        <T as ::trocar::Arith>::abs(t.sin[6] * (x0 * x0) * (p.l_b * p.l_b))
+        let x0 = <T as ::trocar::emitted::Arith>::ONE / p.l_a;
+        <T as ::trocar::emitted::Arith>::abs(t.sin[6] * (x0 * x0) * (p.l_b * p.l_b))
     }
 }

@@ -32,7 +32,7 @@ pub mod four_bar {
     pub const R: usize = 3;
     /// The named parameters of `four_bar`: runtime inputs of every function.
     #[derive(Clone, Copy, Debug, Default, PartialEq)]
-    pub struct Params<T: ::trocar::Arith> {
+    pub struct Params<T: ::trocar::emitted::Arith> {
         /// `l0` (nominal value 1.0).
         pub l0: T,
         /// `l1` (nominal value 1.2).
@@ -44,17 +44,17 @@ pub mod four_bar {
         /// `l4` (nominal value 1.4).
         pub l4: T,
     }
-    impl<T: ::trocar::Arith> Params<T> {
+    impl<T: ::trocar::emitted::Arith> Params<T> {
         /// The description's nominal values.
         #[inline]
         #[must_use]
         pub fn nominal() -> Self {
             Params {
-                l0: <T as ::trocar::Arith>::ONE,
-                l1: <T as ::trocar::Arith>::lit(1.2),
-                l2: <T as ::trocar::Arith>::lit(1.4),
-                l3: <T as ::trocar::Arith>::lit(0.6),
-                l4: <T as ::trocar::Arith>::lit(1.4),
+                l0: <T as ::trocar::emitted::Arith>::ONE,
+                l1: <T as ::trocar::emitted::Arith>::lit(1.2),
+                l2: <T as ::trocar::emitted::Arith>::lit(1.4),
+                l3: <T as ::trocar::emitted::Arith>::lit(0.6),
+                l4: <T as ::trocar::emitted::Arith>::lit(1.4),
             }
         }
     }
@@ -62,7 +62,7 @@ pub mod four_bar {
     ///
     /// Unused entries hold `sin = 0`, `cos = 1`.
     #[derive(Clone, Copy, Debug, PartialEq)]
-    pub struct JointTrig<T: ::trocar::Arith> {
+    pub struct JointTrig<T: ::trocar::emitted::Arith> {
         /// The joint values `q`, base first.
         pub q: [T; N],
         /// `sin q[k]`.
@@ -70,12 +70,12 @@ pub mod four_bar {
         /// `cos q[k]`.
         pub cos: [T; N],
     }
-    impl<T: ::trocar::Arith> JointTrig<T> {
+    impl<T: ::trocar::emitted::Arith> JointTrig<T> {
         /// The sines and cosines of the used joints, in one `sin_cos_array` call.
         #[inline(always)]
         #[must_use]
         pub fn new(q: &[T; N]) -> Self {
-            let ([s1, s2, s3, s4], [c1, c2, c3, c4]) = <T as ::trocar::Arith>::sin_cos_array(
+            let ([s1, s2, s3, s4], [c1, c2, c3, c4]) = <T as ::trocar::emitted::Arith>::sin_cos_array(
                 &[q[0], q[1], q[2], q[3]],
             );
             JointTrig {
@@ -92,11 +92,11 @@ pub mod four_bar {
     /// Operations: 11 add, 20 mul, 0 div, 0 sqrt, 4 trig (sin_cos), 2 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn constraint_jacobian<T: ::trocar::Arith>(
+    pub fn constraint_jacobian<T: ::trocar::emitted::Arith>(
         q: &[T; N],
         p: &Params<T>,
     ) -> [[T; R]; N] {
-        let ([s1, s2, s3, s4], [c1, c2, c3, c4]) = <T as ::trocar::Arith>::sin_cos_array(
+        let ([s1, s2, s3, s4], [c1, c2, c3, c4]) = <T as ::trocar::emitted::Arith>::sin_cos_array(
             &[q[0], q[1], q[2], q[3]],
         );
         let x0 = p.l3 + p.l4;
@@ -104,29 +104,29 @@ pub mod four_bar {
         let x2 = x1 + p.l1;
         let x3 = x0 * c1 * s2;
         let x4 = s1 * (x0 * s2);
-        let x5 = <T as ::trocar::Arith>::mul_add(p.l4, c4, p.l2);
+        let x5 = <T as ::trocar::emitted::Arith>::mul_add(p.l4, c4, p.l2);
         let x6 = s4 * c3;
         let x7 = s3 * s4;
         [
             [
-                -<T as ::trocar::Arith>::mul_add(x2, s1, x3),
-                <T as ::trocar::Arith>::mul_add(x2, c1, -x4),
-                <T as ::trocar::Arith>::ONE,
+                -<T as ::trocar::emitted::Arith>::mul_add(x2, s1, x3),
+                <T as ::trocar::emitted::Arith>::mul_add(x2, c1, -x4),
+                <T as ::trocar::emitted::Arith>::ONE,
             ],
             [
-                -<T as ::trocar::Arith>::mul_add(x1, s1, x3),
-                <T as ::trocar::Arith>::mul_add(x1, c1, -x4),
-                <T as ::trocar::Arith>::ONE,
+                -<T as ::trocar::emitted::Arith>::mul_add(x1, s1, x3),
+                <T as ::trocar::emitted::Arith>::mul_add(x1, c1, -x4),
+                <T as ::trocar::emitted::Arith>::ONE,
             ],
             [
-                <T as ::trocar::Arith>::mul_add(x5, s3, p.l4 * x6),
-                <T as ::trocar::Arith>::mul_add(p.l4, x7, -(x5 * c3)),
-                -<T as ::trocar::Arith>::ONE,
+                <T as ::trocar::emitted::Arith>::mul_add(x5, s3, p.l4 * x6),
+                <T as ::trocar::emitted::Arith>::mul_add(p.l4, x7, -(x5 * c3)),
+                -<T as ::trocar::emitted::Arith>::ONE,
             ],
             [
-                p.l4 * <T as ::trocar::Arith>::mul_add(c4, s3, x6),
-                p.l4 * <T as ::trocar::Arith>::mul_add(-c4, c3, x7),
-                -<T as ::trocar::Arith>::ONE,
+                p.l4 * <T as ::trocar::emitted::Arith>::mul_add(c4, s3, x6),
+                p.l4 * <T as ::trocar::emitted::Arith>::mul_add(-c4, c3, x7),
+                -<T as ::trocar::emitted::Arith>::ONE,
             ],
         ]
     }
@@ -137,7 +137,7 @@ pub mod four_bar {
     /// Operations: 11 add, 20 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 2 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn constraint_jacobian_trig<T: ::trocar::Arith>(
+    pub fn constraint_jacobian_trig<T: ::trocar::emitted::Arith>(
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> [[T; R]; N] {
@@ -146,29 +146,29 @@ pub mod four_bar {
         let x2 = x1 + p.l1;
         let x3 = x0 * t.cos[0] * t.sin[1];
         let x4 = t.sin[0] * (x0 * t.sin[1]);
-        let x5 = <T as ::trocar::Arith>::mul_add(p.l4, t.cos[3], p.l2);
+        let x5 = <T as ::trocar::emitted::Arith>::mul_add(p.l4, t.cos[3], p.l2);
         let x6 = t.sin[3] * t.cos[2];
         let x7 = t.sin[2] * t.sin[3];
         [
             [
-                -<T as ::trocar::Arith>::mul_add(x2, t.sin[0], x3),
-                <T as ::trocar::Arith>::mul_add(x2, t.cos[0], -x4),
-                <T as ::trocar::Arith>::ONE,
+                -<T as ::trocar::emitted::Arith>::mul_add(x2, t.sin[0], x3),
+                <T as ::trocar::emitted::Arith>::mul_add(x2, t.cos[0], -x4),
+                <T as ::trocar::emitted::Arith>::ONE,
             ],
             [
-                -<T as ::trocar::Arith>::mul_add(x1, t.sin[0], x3),
-                <T as ::trocar::Arith>::mul_add(x1, t.cos[0], -x4),
-                <T as ::trocar::Arith>::ONE,
+                -<T as ::trocar::emitted::Arith>::mul_add(x1, t.sin[0], x3),
+                <T as ::trocar::emitted::Arith>::mul_add(x1, t.cos[0], -x4),
+                <T as ::trocar::emitted::Arith>::ONE,
             ],
             [
-                <T as ::trocar::Arith>::mul_add(x5, t.sin[2], p.l4 * x6),
-                <T as ::trocar::Arith>::mul_add(p.l4, x7, -(x5 * t.cos[2])),
-                -<T as ::trocar::Arith>::ONE,
+                <T as ::trocar::emitted::Arith>::mul_add(x5, t.sin[2], p.l4 * x6),
+                <T as ::trocar::emitted::Arith>::mul_add(p.l4, x7, -(x5 * t.cos[2])),
+                -<T as ::trocar::emitted::Arith>::ONE,
             ],
             [
-                p.l4 * <T as ::trocar::Arith>::mul_add(t.cos[3], t.sin[2], x6),
-                p.l4 * <T as ::trocar::Arith>::mul_add(-t.cos[3], t.cos[2], x7),
-                -<T as ::trocar::Arith>::ONE,
+                p.l4 * <T as ::trocar::emitted::Arith>::mul_add(t.cos[3], t.sin[2], x6),
+                p.l4 * <T as ::trocar::emitted::Arith>::mul_add(-t.cos[3], t.cos[2], x7),
+                -<T as ::trocar::emitted::Arith>::ONE,
             ],
         ]
     }
@@ -179,15 +179,15 @@ pub mod four_bar {
     /// Operations: 0 add, 0 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn task_jacobian<T: ::trocar::Arith>(
+    pub fn task_jacobian<T: ::trocar::emitted::Arith>(
         _q: &[T; N],
         _p: &Params<T>,
     ) -> [[T; N_OUTPUTS]; N] {
         [
-            [<T as ::trocar::Arith>::lit(0.5)],
-            [<T as ::trocar::Arith>::lit(0.5)],
-            [<T as ::trocar::Arith>::lit(0.5)],
-            [<T as ::trocar::Arith>::lit(0.5)],
+            [<T as ::trocar::emitted::Arith>::lit(0.5)],
+            [<T as ::trocar::emitted::Arith>::lit(0.5)],
+            [<T as ::trocar::emitted::Arith>::lit(0.5)],
+            [<T as ::trocar::emitted::Arith>::lit(0.5)],
         ]
     }
     /// [`task_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]), thesis (4), (19), (31) of Freitas, Leite & Lizarralde (2010).
@@ -197,15 +197,15 @@ pub mod four_bar {
     /// Operations: 0 add, 0 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn task_jacobian_trig<T: ::trocar::Arith>(
+    pub fn task_jacobian_trig<T: ::trocar::emitted::Arith>(
         _t: &JointTrig<T>,
         _p: &Params<T>,
     ) -> [[T; N_OUTPUTS]; N] {
         [
-            [<T as ::trocar::Arith>::lit(0.5)],
-            [<T as ::trocar::Arith>::lit(0.5)],
-            [<T as ::trocar::Arith>::lit(0.5)],
-            [<T as ::trocar::Arith>::lit(0.5)],
+            [<T as ::trocar::emitted::Arith>::lit(0.5)],
+            [<T as ::trocar::emitted::Arith>::lit(0.5)],
+            [<T as ::trocar::emitted::Arith>::lit(0.5)],
+            [<T as ::trocar::emitted::Arith>::lit(0.5)],
         ]
     }
     /// `det J_Cp`, the determinant of the passive columns of `J_C`: zero exactly at the parallel (actuator) singularities, where the passive joints can move with the active joints locked, thesis (7), §4.5 of Freitas, Leite & Lizarralde (2010).
@@ -213,8 +213,11 @@ pub mod four_bar {
     /// Operations: 6 add, 9 mul, 0 div, 0 sqrt, 4 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn constraint_determinant<T: ::trocar::Arith>(q: &[T; N], p: &Params<T>) -> T {
-        let ([s1, s2, s3, s4], [c1, c2, c3, _]) = <T as ::trocar::Arith>::sin_cos_array(
+    pub fn constraint_determinant<T: ::trocar::emitted::Arith>(
+        q: &[T; N],
+        p: &Params<T>,
+    ) -> T {
+        let ([s1, s2, s3, s4], [c1, c2, c3, _]) = <T as ::trocar::emitted::Arith>::sin_cos_array(
             &[q[0], q[1], q[2], q[3]],
         );
         let x0 = (s2 * s3 + c2 * c3) * s1;
@@ -226,7 +229,7 @@ pub mod four_bar {
     /// Operations: 6 add, 9 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn constraint_determinant_trig<T: ::trocar::Arith>(
+    pub fn constraint_determinant_trig<T: ::trocar::emitted::Arith>(
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> T {
@@ -243,20 +246,24 @@ pub mod four_bar {
     /// Operations: 7 add, 13 mul, 0 div, 0 sqrt, 4 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn reduced_jacobian_numerator<T: ::trocar::Arith>(
+    pub fn reduced_jacobian_numerator<T: ::trocar::emitted::Arith>(
         q: &[T; N],
         p: &Params<T>,
     ) -> [[T; 1 + N_OUTPUTS]; N_ACTIVE] {
-        let ([s1, s2, s3, s4], [c1, c2, c3, _]) = <T as ::trocar::Arith>::sin_cos_array(
+        let ([s1, s2, s3, s4], [c1, c2, c3, _]) = <T as ::trocar::emitted::Arith>::sin_cos_array(
             &[q[0], q[1], q[2], q[3]],
         );
-        let x0 = <T as ::trocar::Arith>::mul_add(s2, s3, c2 * c3) * s1;
-        let x1 = <T as ::trocar::Arith>::mul_add(s3, c2, -(s2 * c3)) * c1;
+        let x0 = <T as ::trocar::emitted::Arith>::mul_add(s2, s3, c2 * c3) * s1;
+        let x1 = <T as ::trocar::emitted::Arith>::mul_add(s3, c2, -(s2 * c3)) * c1;
         [
             [
-                <T as ::trocar::Arith>::mul_add(x1 + s4 - x0, p.l4, (x1 - x0) * p.l3)
-                    * p.l2,
-                p.l2 * <T as ::trocar::Arith>::mul_add(c3, s1, -(s3 * c1)) * p.l1,
+                <T as ::trocar::emitted::Arith>::mul_add(
+                    x1 + s4 - x0,
+                    p.l4,
+                    (x1 - x0) * p.l3,
+                ) * p.l2,
+                p.l2 * <T as ::trocar::emitted::Arith>::mul_add(c3, s1, -(s3 * c1))
+                    * p.l1,
             ],
         ]
     }
@@ -267,26 +274,29 @@ pub mod four_bar {
     /// Operations: 7 add, 13 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn reduced_jacobian_numerator_trig<T: ::trocar::Arith>(
+    pub fn reduced_jacobian_numerator_trig<T: ::trocar::emitted::Arith>(
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> [[T; 1 + N_OUTPUTS]; N_ACTIVE] {
-        let x0 = <T as ::trocar::Arith>::mul_add(t.sin[1], t.sin[2], t.cos[1] * t.cos[2])
-            * t.sin[0];
-        let x1 = <T as ::trocar::Arith>::mul_add(
+        let x0 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[1],
+            t.sin[2],
+            t.cos[1] * t.cos[2],
+        ) * t.sin[0];
+        let x1 = <T as ::trocar::emitted::Arith>::mul_add(
             t.sin[2],
             t.cos[1],
             -(t.sin[1] * t.cos[2]),
         ) * t.cos[0];
         [
             [
-                <T as ::trocar::Arith>::mul_add(
+                <T as ::trocar::emitted::Arith>::mul_add(
                     x1 + t.sin[3] - x0,
                     p.l4,
                     (x1 - x0) * p.l3,
                 ) * p.l2,
                 p.l2
-                    * <T as ::trocar::Arith>::mul_add(
+                    * <T as ::trocar::emitted::Arith>::mul_add(
                         t.cos[2],
                         t.sin[0],
                         -(t.sin[2] * t.cos[0]),
@@ -303,48 +313,55 @@ pub mod four_bar {
     /// Operations: 23 add, 35 mul, 0 div, 0 sqrt, 4 trig (sin_cos), 0 neg, 0 abs.
     #[inline]
     #[must_use]
-    pub fn passive_map_numerator<T: ::trocar::Arith>(
+    pub fn passive_map_numerator<T: ::trocar::emitted::Arith>(
         q: &[T; N],
         p: &Params<T>,
     ) -> [[T; 1 + N_PASSIVE]; N_ACTIVE] {
-        let ([s1, s2, s3, s4], [c1, c2, c3, c4]) = <T as ::trocar::Arith>::sin_cos_array(
+        let ([s1, s2, s3, s4], [c1, c2, c3, c4]) = <T as ::trocar::emitted::Arith>::sin_cos_array(
             &[q[0], q[1], q[2], q[3]],
         );
-        let x0 = <T as ::trocar::Arith>::mul_add(s2, s3, c2 * c3) * s1;
-        let x1 = <T as ::trocar::Arith>::mul_add(s3, c2, -(s2 * c3)) * c1;
+        let x0 = <T as ::trocar::emitted::Arith>::mul_add(s2, s3, c2 * c3) * s1;
+        let x1 = <T as ::trocar::emitted::Arith>::mul_add(s3, c2, -(s2 * c3)) * c1;
         let x2 = p.l4 + p.l3;
-        let x3 = <T as ::trocar::Arith>::mul_add(c2, x2, p.l1);
+        let x3 = <T as ::trocar::emitted::Arith>::mul_add(c2, x2, p.l1);
         let x4 = s3 * s4;
         let x5 = c3 * c4;
-        let x6 = c1 * <T as ::trocar::Arith>::mul_add(s3, c4, c3 * s4);
+        let x6 = c1 * <T as ::trocar::emitted::Arith>::mul_add(s3, c4, c3 * s4);
         let x7 = s2 * p.l3;
         [
             [
-                <T as ::trocar::Arith>::mul_add(x1 + s4 - x0, p.l4, (x1 - x0) * p.l3)
-                    * p.l2,
+                <T as ::trocar::emitted::Arith>::mul_add(
+                    x1 + s4 - x0,
+                    p.l4,
+                    (x1 - x0) * p.l3,
+                ) * p.l2,
                 p.l2
-                    * <T as ::trocar::Arith>::mul_add(
+                    * <T as ::trocar::emitted::Arith>::mul_add(
                         s1,
-                        <T as ::trocar::Arith>::mul_add(c3, x3, s2 * (s3 * x2)),
-                        <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::mul_add(c3, x3, s2 * (s3 * x2)),
+                        <T as ::trocar::emitted::Arith>::mul_add(
                             c1,
-                            <T as ::trocar::Arith>::mul_add(s2, c3 * x2, -(s3 * x3)),
+                            <T as ::trocar::emitted::Arith>::mul_add(
+                                s2,
+                                c3 * x2,
+                                -(s3 * x3),
+                            ),
                             -(s4 * p.l4),
                         ),
                     ),
                 p.l1
-                    * <T as ::trocar::Arith>::mul_add(
+                    * <T as ::trocar::emitted::Arith>::mul_add(
                         p.l4,
-                        <T as ::trocar::Arith>::mul_add(s1, x4 - x5, x6 - s2),
+                        <T as ::trocar::emitted::Arith>::mul_add(s1, x4 - x5, x6 - s2),
                         -x7,
                     ),
                 p.l1
-                    * <T as ::trocar::Arith>::mul_add(
+                    * <T as ::trocar::emitted::Arith>::mul_add(
                         p.l4,
-                        <T as ::trocar::Arith>::mul_add(s1, x5 - x4, s2 - x6),
-                        <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::mul_add(s1, x5 - x4, s2 - x6),
+                        <T as ::trocar::emitted::Arith>::mul_add(
                             p.l2,
-                            <T as ::trocar::Arith>::mul_add(c3, s1, -(s3 * c1)),
+                            <T as ::trocar::emitted::Arith>::mul_add(c3, s1, -(s3 * c1)),
                             x7,
                         ),
                     ),
@@ -358,42 +375,49 @@ pub mod four_bar {
     /// Operations: 23 add, 35 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 0 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     #[inline]
     #[must_use]
-    pub fn passive_map_numerator_trig<T: ::trocar::Arith>(
+    pub fn passive_map_numerator_trig<T: ::trocar::emitted::Arith>(
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> [[T; 1 + N_PASSIVE]; N_ACTIVE] {
-        let x0 = <T as ::trocar::Arith>::mul_add(t.sin[1], t.sin[2], t.cos[1] * t.cos[2])
-            * t.sin[0];
-        let x1 = <T as ::trocar::Arith>::mul_add(
+        let x0 = <T as ::trocar::emitted::Arith>::mul_add(
+            t.sin[1],
+            t.sin[2],
+            t.cos[1] * t.cos[2],
+        ) * t.sin[0];
+        let x1 = <T as ::trocar::emitted::Arith>::mul_add(
             t.sin[2],
             t.cos[1],
             -(t.sin[1] * t.cos[2]),
         ) * t.cos[0];
         let x2 = p.l4 + p.l3;
-        let x3 = <T as ::trocar::Arith>::mul_add(t.cos[1], x2, p.l1);
+        let x3 = <T as ::trocar::emitted::Arith>::mul_add(t.cos[1], x2, p.l1);
         let x4 = t.sin[2] * t.sin[3];
         let x5 = t.cos[2] * t.cos[3];
         let x6 = t.cos[0]
-            * <T as ::trocar::Arith>::mul_add(t.sin[2], t.cos[3], t.cos[2] * t.sin[3]);
+            * <T as ::trocar::emitted::Arith>::mul_add(
+                t.sin[2],
+                t.cos[3],
+                t.cos[2] * t.sin[3],
+            );
         let x7 = t.sin[1] * p.l3;
         [
             [
-                <T as ::trocar::Arith>::mul_add(
+                <T as ::trocar::emitted::Arith>::mul_add(
                     x1 + t.sin[3] - x0,
                     p.l4,
                     (x1 - x0) * p.l3,
                 ) * p.l2,
                 p.l2
-                    * <T as ::trocar::Arith>::mul_add(
+                    * <T as ::trocar::emitted::Arith>::mul_add(
                         t.sin[0],
-                        <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::mul_add(
                             t.cos[2],
                             x3,
                             t.sin[1] * (t.sin[2] * x2),
                         ),
-                        <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::mul_add(
                             t.cos[0],
-                            <T as ::trocar::Arith>::mul_add(
+                            <T as ::trocar::emitted::Arith>::mul_add(
                                 t.sin[1],
                                 t.cos[2] * x2,
                                 -(t.sin[2] * x3),
@@ -402,9 +426,9 @@ pub mod four_bar {
                         ),
                     ),
                 p.l1
-                    * <T as ::trocar::Arith>::mul_add(
+                    * <T as ::trocar::emitted::Arith>::mul_add(
                         p.l4,
-                        <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::mul_add(
                             t.sin[0],
                             x4 - x5,
                             x6 - t.sin[1],
@@ -412,16 +436,16 @@ pub mod four_bar {
                         -x7,
                     ),
                 p.l1
-                    * <T as ::trocar::Arith>::mul_add(
+                    * <T as ::trocar::emitted::Arith>::mul_add(
                         p.l4,
-                        <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::mul_add(
                             t.sin[0],
                             x5 - x4,
                             t.sin[1] - x6,
                         ),
-                        <T as ::trocar::Arith>::mul_add(
+                        <T as ::trocar::emitted::Arith>::mul_add(
                             p.l2,
-                            <T as ::trocar::Arith>::mul_add(
+                            <T as ::trocar::emitted::Arith>::mul_add(
                                 t.cos[2],
                                 t.sin[0],
                                 -(t.sin[2] * t.cos[0]),
@@ -439,20 +463,20 @@ pub mod four_bar {
     /// Rows `1..` of every column of `a` divided by row 0 (`det J_Cp`); `None` when the
     /// determinant is zero or any value is not finite.
     #[inline]
-    fn quotient<T: ::trocar::Real, const IN: usize, const OUT: usize>(
+    fn quotient<T: ::trocar::emitted::Real, const IN: usize, const OUT: usize>(
         a: &[[T; IN]; N_ACTIVE],
     ) -> Option<[[T; OUT]; N_ACTIVE]> {
-        let mut out = [[<T as ::trocar::Real>::ZERO; OUT]; N_ACTIVE];
+        let mut out = [[<T as ::trocar::emitted::Real>::ZERO; OUT]; N_ACTIVE];
         for (o, col) in out.iter_mut().zip(a.iter()) {
             let det = col[0];
-            if !(<T as ::trocar::Real>::is_finite(det)
-                && det != <T as ::trocar::Real>::ZERO)
+            if !(<T as ::trocar::emitted::Real>::is_finite(det)
+                && det != <T as ::trocar::emitted::Real>::ZERO)
             {
                 return None;
             }
             for (x, v) in o.iter_mut().zip(col.iter().skip(1)) {
                 let y = *v / det;
-                if !<T as ::trocar::Real>::is_finite(y) {
+                if !<T as ::trocar::emitted::Real>::is_finite(y) {
                     return None;
                 }
                 *x = y;
@@ -468,7 +492,7 @@ pub mod four_bar {
     /// Computed as [`reduced_jacobian_numerator`] divided by `det J_Cp`.
     #[inline]
     #[must_use]
-    pub fn reduced_jacobian<T: ::trocar::Real>(
+    pub fn reduced_jacobian<T: ::trocar::emitted::Real>(
         q: &[T; N],
         p: &Params<T>,
     ) -> Option<[[T; N_OUTPUTS]; N_ACTIVE]> {
@@ -477,7 +501,7 @@ pub mod four_bar {
     /// [`reduced_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]).
     #[inline]
     #[must_use]
-    pub fn reduced_jacobian_trig<T: ::trocar::Real>(
+    pub fn reduced_jacobian_trig<T: ::trocar::emitted::Real>(
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> Option<[[T; N_OUTPUTS]; N_ACTIVE]> {
@@ -488,7 +512,7 @@ pub mod four_bar {
     /// order of [`PASSIVE`]. `None` when `det J_Cp` is zero or not finite.
     #[inline]
     #[must_use]
-    pub fn passive_map<T: ::trocar::Real>(
+    pub fn passive_map<T: ::trocar::emitted::Real>(
         q: &[T; N],
         p: &Params<T>,
     ) -> Option<[[T; N_PASSIVE]; N_ACTIVE]> {
@@ -497,7 +521,7 @@ pub mod four_bar {
     /// [`passive_map`] from precomputed joint sines and cosines ([`JointTrig`]).
     #[inline]
     #[must_use]
-    pub fn passive_map_trig<T: ::trocar::Real>(
+    pub fn passive_map_trig<T: ::trocar::emitted::Real>(
         t: &JointTrig<T>,
         p: &Params<T>,
     ) -> Option<[[T; N_PASSIVE]; N_ACTIVE]> {
@@ -509,19 +533,19 @@ pub mod four_bar {
     /// not finite.
     #[inline]
     #[must_use]
-    pub fn passive_velocities<T: ::trocar::Real>(
+    pub fn passive_velocities<T: ::trocar::emitted::Real>(
         q: &[T; N],
         qd_active: &[T; N_ACTIVE],
         p: &Params<T>,
     ) -> Option<[T; N_PASSIVE]> {
         let m = passive_map(q, p)?;
-        let mut v = [<T as ::trocar::Real>::ZERO; N_PASSIVE];
+        let mut v = [<T as ::trocar::emitted::Real>::ZERO; N_PASSIVE];
         for (col, w) in m.iter().zip(qd_active.iter()) {
             for (x, e) in v.iter_mut().zip(col.iter()) {
                 *x += *e * *w;
             }
         }
-        if v.iter().all(|x| <T as ::trocar::Real>::is_finite(*x)) {
+        if v.iter().all(|x| <T as ::trocar::emitted::Real>::is_finite(*x)) {
             Some(v)
         } else {
             None

@@ -12,7 +12,7 @@
 //! }
 //! ```
 //!
-//! which compares every function with the numeric runtime ([`reference`]: the typed kernels of
+//! which compares every function with the numeric runtime ([`trocar_model::reference`]: the typed kernels of
 //! `trocar` on the description) and the Jacobians with central differences of the module's own
 //! poses, at random configurations and parameter values ([`verify::verify`]), and panics with
 //! the function, the worst configuration and parameters, the entries that differ and the
@@ -28,7 +28,6 @@
 //! (and proptest): no plotting, command-line or file-format crate beyond the model's.
 #![warn(missing_docs)]
 
-pub mod reference;
 pub mod verify;
 
 pub use nalgebra::DMatrix;

@@ -16,7 +16,6 @@
 //! The result is a [`Report`] with the largest error of each check, the configuration and
 //! parameters where it happened and the entries that differ there.
 
-use crate::reference;
 use crate::Ranges;
 use nalgebra::{DMatrix, Matrix3, Vector3};
 use std::fmt;
@@ -24,6 +23,7 @@ use trocar::se3::Se3;
 use trocar_model::catalogue::{Function, Fused};
 use trocar_model::description::RobotDescription;
 use trocar_model::numeric::{NumericModel, RobotError};
+use trocar_model::reference;
 
 /// The generated functions [`verify`] checks against the numeric runtime, in report order: every
 /// function of a serial robot's module ([`Function::SERIAL`]).
@@ -645,7 +645,7 @@ pub fn verify(
             let jb0e = match value_of(&references, Function::BodyJacobian) {
                 Some(m) => m,
                 None => {
-                    computed = reference::body_jacobian(&model, &q);
+                    computed = reference::body_jacobian(&model, &q)?;
                     &computed
                 }
             };

@@ -1,7 +1,8 @@
 //! # trocar-model — robot and mechanism descriptions
 //!
 //! Serial robots (TOML, URDF) and closed planar mechanisms (TOML) are read into one validated
-//! model, and converted to the numeric types of [`trocar`] ([`numeric::NumericModel`]).
+//! model, and converted to the numeric types of [`trocar`] ([`numeric::NumericModel`]), whose
+//! numeric reference of the catalogue ([`reference`]) `trocar-check` and `trocar-sim` share.
 //! [`Description::load`] decides which reader a file or a shipped name goes to.
 #![warn(missing_docs)]
 
@@ -11,6 +12,7 @@ pub mod description;
 pub mod expr;
 mod load;
 pub mod numeric;
+pub mod reference;
 pub mod singularity;
 pub mod validity;
 

@@ -1,16 +1,21 @@
-//! Dense linear algebra of dynamic size, on faer only: the one pseudo-inverse of the crate
+//! Dense linear algebra of dynamic size, on faer (over [`RobotScalar`]): the one pseudo-inverse of the crate
 //! (singular values counted by the one rule of [`trocar_model::singularity`]), ranks, null spaces
 //! and ranges, the annihilator `Ã` of (19)/(31)/(41) of Freitas, Leite & Lizarralde (2010), the
 //! singular-value analysis of their §5.4, inverses and determinants by LU.
 //!
-//! The closed chains ([`crate::closed_chain`]) and the numeric robot ([`crate::robot`]) call
-//! these. Empty matrices (a mechanism without passive joints has an `r × 0` block `J_Cp`) are
-//! handled without calling a decomposition.
+//! The closed chains (`closed_chain`) and the numeric robot (`robot`) call
+//! these; this module calls neither. Empty matrices (a mechanism without passive joints has an
+//! `r × 0` block `J_Cp`) are handled without calling a decomposition.
 
-use crate::robot::RobotScalar;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::solvers::DenseSolveCore;
 use faer::{Col, Mat, MatRef};
+
+/// A scalar of the dynamic matrices here and of the numeric robot: a real field for both
+/// nalgebra (the typed kernels) and faer (the dynamic matrices), i.e. `f32` or `f64`.
+pub trait RobotScalar: nalgebra::RealField + Copy + faer::traits::RealField {}
+
+impl<T: nalgebra::RealField + Copy + faer::traits::RealField> RobotScalar for T {}
 
 /// Relative tolerance on singular values used for ranks and the pseudo-inverse: `σ_i` counts when
 /// `σ_i > tol · max(σ_1, 1)` (the one rule of [`trocar_model::singularity`]).

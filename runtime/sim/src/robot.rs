@@ -6,27 +6,24 @@
 //! overrides) and answers with [`faer::Mat`] outputs; every error on user input is a
 //! [`RobotError`], never a panic. Its methods carry the names of the generated functions
 //! ([`trocar_model::catalogue`]): `constrained_jacobian`, `constraint_jacobian_c`,
-//! `partial_body_jacobian`, `constrained_task_jacobian`, ... The kernels it calls are those of the
-//! allocation-free typed API ([`trocar::kinematics`], [`trocar::constraint`]) on the
-//! [`NumericModel`] of `trocar-model`; [`NumericRobot::to_chain`] and
+//! `partial_body_jacobian`, `constrained_task_jacobian`, ... Its values are those of the one
+//! numeric reference, [`trocar_model::reference`] (the kernels of the allocation-free typed API
+//! on the [`NumericModel`] of `trocar-model`, which `trocar-check` compares generated code
+//! with), copied into faer matrices; [`NumericRobot::to_chain`] and
 //! [`NumericRobot::to_constraint`] hand the description to that API for control loops.
 //! Pseudo-inverses and determinants of dynamic matrices are faer's dense decompositions
 //! ([`crate::linalg`]).
 
+pub use crate::linalg::RobotScalar;
 use faer::{Col, Mat};
-use nalgebra::{convert, Const};
+use nalgebra::{Const, DMatrix};
 use trocar::constraint::Constraint;
-use trocar::kinematics::{self, Chain, Joint};
+use trocar::kinematics::{Chain, Joint};
 use trocar::linalg::SquareDim;
 use trocar::se3::{Se3, Twist};
 use trocar_model::description::RobotDescription;
 pub use trocar_model::numeric::{AnyConstraint, NumericModel, RobotError};
-
-/// A scalar the numeric robot works in: a real field for both nalgebra (the typed kernels) and
-/// faer (the dynamic matrices), i.e. `f32` or `f64`.
-pub trait RobotScalar: nalgebra::RealField + Copy + faer::traits::RealField {}
-
-impl<T: nalgebra::RealField + Copy + faer::traits::RealField> RobotScalar for T {}
+use trocar_model::reference;
 
 /// A numeric robot: a [`RobotDescription`] evaluated with parameter values, answering with
 /// dynamic-size [`faer::Mat`] matrices. Joint values `q` are all `n` joints, base first.
@@ -98,91 +95,45 @@ impl<T: RobotScalar> NumericRobot<T> {
         self.model.constraint_rows()
     }
 
-    fn check_q(&self, q: &[T]) -> Result<(), RobotError> {
-        if q.len() != self.dof() {
-            return Err(RobotError::WrongJointCount {
-                expected: self.dof(),
-                got: q.len(),
-            });
-        }
-        Ok(())
-    }
-
     fn constraint(&self) -> Result<&AnyConstraint<T>, RobotError> {
         self.model.constraint().ok_or(RobotError::NoConstraint)
     }
 
     /// Forward kinematics `g_0e(θ)` (2.35).
     pub fn forward_kinematics(&self, q: &[T]) -> Result<Se3<T>, RobotError> {
-        self.check_q(q)?;
-        Ok(kinematics::forward_kinematics(
-            self.joints(),
-            q,
-            self.tool(),
-        ))
+        reference::forward_kinematics(&self.model, q)
     }
 
     /// Forward kinematics as the homogeneous 4×4 matrix `[[R, p], [0, 1]]`.
     pub fn forward_kinematics_matrix(&self, q: &[T]) -> Result<Mat<T>, RobotError> {
-        let g = self.forward_kinematics(q)?.to_homogeneous();
-        Ok(Mat::from_fn(4, 4, |r, c| g[(r, c)]))
+        Ok(to_mat(&reference::homogeneous(
+            &self.forward_kinematics(q)?,
+        )))
     }
 
     /// The frame `g_0k` of link `k` (`0` is the base, `n` the last joint's frame).
     pub fn link_frame(&self, k: usize, q: &[T]) -> Result<Se3<T>, RobotError> {
-        self.check_q(q)?;
-        if k > self.dof() {
-            return Err(RobotError::LinkOutOfRange {
-                link: k,
-                joints: self.dof(),
-            });
-        }
-        Ok(kinematics::forward_kinematics(
-            &self.joints()[..k],
-            &q[..k],
-            &Se3::identity(),
-        ))
+        reference::link_frame(&self.model, k, q)
     }
 
     /// The body Jacobian `J^B_0e(θ)`, 6×n (2.54)–(2.55).
     pub fn body_jacobian(&self, q: &[T]) -> Result<Mat<T>, RobotError> {
-        self.check_q(q)?;
-        let mut cols = vec![Twist::zeros(); self.dof()];
-        kinematics::body_jacobian_columns(self.joints(), q, self.tool(), &mut cols);
-        Ok(columns_to_mat(&cols))
+        reference::body_jacobian(&self.model, q).map(|m| to_mat(&m))
     }
 
     /// The spatial Jacobian `J^S_0e(θ)`, 6×n (2.53).
     pub fn spatial_jacobian(&self, q: &[T]) -> Result<Mat<T>, RobotError> {
-        self.check_q(q)?;
-        let mut cols = vec![Twist::zeros(); self.dof()];
-        kinematics::spatial_jacobian_columns(self.joints(), q, &mut cols);
-        Ok(columns_to_mat(&cols))
+        reference::spatial_jacobian(&self.model, q).map(|m| to_mat(&m))
     }
 
     /// The partial body Jacobian `J^B_0k(θ_1..θ_k)`, 6×k (3.13), of the chain cut at `F_k`.
     pub fn partial_body_jacobian_at(&self, k: usize, q: &[T]) -> Result<Mat<T>, RobotError> {
-        self.check_q(q)?;
-        if k > self.dof() {
-            return Err(RobotError::LinkOutOfRange {
-                link: k,
-                joints: self.dof(),
-            });
-        }
-        let mut cols = vec![Twist::zeros(); k];
-        kinematics::body_jacobian_columns(
-            &self.joints()[..k],
-            &q[..k],
-            &Se3::identity(),
-            &mut cols,
-        );
-        Ok(columns_to_mat(&cols))
+        reference::partial_body_jacobian_at(&self.model, k, q).map(|m| to_mat(&m))
     }
 
     /// `J^B_0i` (3.13) at the constrained link `i`, 6×i.
     pub fn partial_body_jacobian(&self, q: &[T]) -> Result<Mat<T>, RobotError> {
-        let i = self.constraint()?.link();
-        self.partial_body_jacobian_at(i, q)
+        reference::partial_body_jacobian(&self.model, q).map(|m| to_mat(&m))
     }
 
     /// The split (3.12) at the constrained link: `(J^B_0e1, J^B_0e2)`, 6×i and 6×(n−i).
@@ -198,71 +149,46 @@ impl<T: RobotScalar> NumericRobot<T> {
 
     /// `Λ = H Ad_{g_ri}`, r×6 (3.3).
     pub fn lambda(&self) -> Result<Mat<T>, RobotError> {
-        let c = self.constraint()?;
-        Ok(column_major(&c.lambda_column_major(), c.rows(), 6))
+        reference::lambda(&self.model).map(|m| to_mat(&m))
     }
 
     /// `Λ#`, 6×(6−r): the thesis basis (3.23)/(3.27) when the description names a wrist preset,
     /// the computed basis otherwise (see [`trocar::constraint::NullSpaceBasis`]).
     pub fn lambda_null_space(&self) -> Result<Mat<T>, RobotError> {
-        Ok(columns_to_mat(
-            self.constraint()?.lambda_null_space_columns(),
-        ))
+        reference::lambda_null_space(&self.model).map(|m| to_mat(&m))
     }
 
     /// `Λ† = Λᵀ (Λ Λᵀ)⁻¹`, 6×r.
     pub fn lambda_pinv(&self) -> Result<Mat<T>, RobotError> {
-        let c = self.constraint()?;
-        Ok(column_major(&c.lambda_pinv_column_major(), 6, c.rows()))
+        reference::lambda_pinv(&self.model).map(|m| to_mat(&m))
     }
 
     /// The constrained Jacobian `J^r_0e = [Ad_{g_ei} Λ# | J^B_0e2]`, 6×m, `m = 6 − r + n − i` (3.15).
     pub fn constrained_jacobian(&self, q: &[T]) -> Result<Mat<T>, RobotError> {
-        self.check_q(q)?;
-        let c = self.constraint()?;
-        let i = c.link();
-        let sharp = c.lambda_null_space_columns();
-        let mut cols = vec![Twist::zeros(); sharp.len() + self.dof() - i];
-        kinematics::constrained_jacobian_columns(
-            &self.joints()[i..],
-            &q[i..],
-            self.tool(),
-            sharp,
-            &mut cols,
-        );
-        Ok(columns_to_mat(&cols))
+        reference::constrained_jacobian(&self.model, q).map(|m| to_mat(&m))
     }
 
     /// `J_c = Ad_{g_ei} Λ†`, 6×r (3.33).
     pub fn constraint_jacobian_c(&self, q: &[T]) -> Result<Mat<T>, RobotError> {
-        self.check_q(q)?;
-        let c = self.constraint()?;
-        let i = c.link();
-        let g_ie = kinematics::forward_kinematics(&self.joints()[i..], &q[i..], self.tool());
-        Ok(column_major(
-            &c.constraint_jacobian_c_column_major(&g_ie),
-            6,
-            c.rows(),
-        ))
+        reference::constraint_jacobian_c(&self.model, q).map(|m| to_mat(&m))
     }
 
     /// The task selection `S`, t×6 (rows of the end-effector body twist, components in `F_e`), or
     /// `None` without a `[task]`.
     pub fn task_selection(&self) -> Option<Mat<T>> {
-        let task = self.description().task.as_ref()?;
-        Some(Mat::from_fn(task.select.len(), 6, |r, c| {
-            convert(task.select[r][c])
-        }))
+        reference::task_selection(&self.model)
+            .ok()
+            .map(|m| to_mat(&m))
     }
 
-    /// The task Jacobian `S J^r_0e`, t×m. Errors without a `[task]`.
+    /// The task Jacobian `S J^r_0e`, t×m (the product in faer). Errors without a `[task]`.
     pub fn constrained_task_jacobian(&self, q: &[T]) -> Result<Mat<T>, RobotError> {
         let s = self.task_selection().ok_or(RobotError::NoTask)?;
         Ok(s * self.constrained_jacobian(q)?)
     }
 
     /// Manipulability (3.36) of what the task commands: `w = sqrt(|det(J Jᵀ)|)` of `S J^r_0e` with
-    /// a `[task]`, of `J^r_0e` without.
+    /// a `[task]`, of `J^r_0e` without ([`manipulability_dynamic`], faer's LU).
     pub fn manipulability(&self, q: &[T]) -> Result<T, RobotError> {
         let jr = self.constrained_jacobian(q)?;
         Ok(match self.task_selection() {
@@ -317,17 +243,7 @@ impl<T: RobotScalar> NumericRobot<T> {
 
     /// The finite-difference body Jacobian (central differences through the SE(3) log), step `h`.
     pub fn finite_difference_body_jacobian(&self, q: &[T], h: T) -> Result<Mat<T>, RobotError> {
-        self.check_q(q)?;
-        let mut qq = q.to_vec();
-        let mut cols = vec![Twist::zeros(); self.dof()];
-        trocar::finite_diff::body_jacobian_columns(
-            self.joints(),
-            &mut qq,
-            self.tool(),
-            h,
-            &mut cols,
-        );
-        Ok(columns_to_mat(&cols))
+        reference::finite_difference_body_jacobian(&self.model, q, h).map(|m| to_mat(&m))
     }
 
     /// The typed chain for the allocation-free API. Errors if `N ≠ n`.
@@ -405,12 +321,7 @@ fn has_zero_pivot<T: RobotScalar>(m: &Mat<T>) -> bool {
     false
 }
 
-/// A 6×k matrix from twist columns.
-fn columns_to_mat<T: RobotScalar>(cols: &[Twist<T>]) -> Mat<T> {
-    Mat::from_fn(6, cols.len(), |r, c| cols[c][r])
-}
-
-/// A `rows`×`cols` matrix from column-major entries.
-fn column_major<T: RobotScalar>(values: &[T], rows: usize, cols: usize) -> Mat<T> {
-    Mat::from_fn(rows, cols, |r, c| values[c * rows + r])
+/// The faer matrix of a nalgebra one (the same entries).
+fn to_mat<T: RobotScalar>(m: &DMatrix<T>) -> Mat<T> {
+    Mat::from_fn(m.nrows(), m.ncols(), |r, c| m[(r, c)])
 }

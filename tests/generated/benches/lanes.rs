@@ -4,9 +4,9 @@
 //! (throughput: one element is one configuration).
 //!
 //! - `scalar/f64`, `scalar/f32`: the generated code on one configuration at a time;
-//! - `lanes/f64x4`, `lanes/f32x8`: the same code on `trocar::lanes::F64x4` / `F32x8`, inputs
+//! - `lanes/f64x4`, `lanes/f32x8`: the same code on `trocar::emitted::lanes::F64x4` / `F32x8`, inputs
 //!   already in lanes and the results left in lanes (the kernel);
-//! - `for_each/f64x4`, `for_each/f32x8`: `trocar::lanes::for_each_*` from a slice of
+//! - `for_each/f64x4`, `for_each/f32x8`: `trocar::emitted::lanes::for_each_*` from a slice of
 //!   configurations to one scalar result per configuration (the lanes gathered and scattered);
 //! - `own/f64x4`, `own/f32x8`: the kernel on a lane type of plain arrays (`[f64; 4]` with every
 //!   operation written lane by lane for the compiler to vectorise), the alternative to `wide`;
@@ -21,8 +21,8 @@
 use core::f64::consts::{FRAC_PI_2, FRAC_PI_4};
 use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
-use trocar::lanes::{for_each_f32x8, for_each_f64x4, F32x8, F64x4, Lanes};
-use trocar::real::fast;
+use trocar::emitted::fast;
+use trocar::emitted::lanes::{for_each_f32x8, for_each_f64x4, F32x8, F64x4, Lanes};
 use trocar::{Arith, Real};
 use trocar_tests_generated::panda_laparoscope as m;
 
@@ -56,7 +56,7 @@ fn pose_and_jb<T: Arith>(q: &[T; m::N], p: &m::Params<T>) -> Out<T> {
 }
 
 /// A lane type of plain arrays, every operation lane by lane (what the compiler vectorises by
-/// itself), with the same `sin_cos` kernels as `trocar::lanes`.
+/// itself), with the same `sin_cos` kernels as `trocar::emitted::lanes`.
 macro_rules! own_lanes {
     ($name:ident, $s:ty, $w:literal, $kernel:path) => {
         #[derive(Clone, Copy, Debug, Default)]

@@ -1,4 +1,4 @@
-//! Generated modules, compiled in a `#![no_std]` crate (nothing but `core` and `trocar::Real`).
+//! Generated modules, compiled in a `#![no_std]` crate (nothing but `core` and `trocar::emitted`).
 #![no_std]
 #![deny(warnings)]
 #![warn(missing_docs)]

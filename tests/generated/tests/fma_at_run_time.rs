@@ -1,4 +1,4 @@
-//! The `f64` entry points of modules generated with `fma_at_run_time` (`trocar::fma`).
+//! The `f64` entry points of modules generated with `fma_at_run_time` (`trocar::emitted::fma`).
 //!
 //! On a CPU with AVX2 and FMA, in a build whose target lacks FMA, `name_f64` runs `name` on
 //! `FusedF64` compiled for those: its results must be bit for bit `name::<FusedF64>` evaluated
@@ -9,7 +9,7 @@
 //! generated without the option (`panda_laparoscope`, `dia10_like_zy`), which `agree.rs` checks
 //! against an independent computation and finite differences.
 
-use trocar::fma::{self, FusedF64};
+use trocar::emitted::fma::{self, FusedF64};
 use trocar_tests_generated::{dia10_fma, dia10_like_zy, panda_fma, panda_laparoscope};
 
 /// A deterministic spread of configurations (xorshift), inside ±π and beyond it.

@@ -1,10 +1,10 @@
-//! The generated modules on lane types (`trocar::lanes::F64x4`, `F32x8`) against the same modules
+//! The generated modules on lane types (`trocar::emitted::lanes::F64x4`, `F32x8`) against the same modules
 //! on `f64` and `f32`, one configuration at a time: every straight-line function, at random
 //! configurations (small and large angles, prismatic offsets) and at edge values (±0,
 //! subnormals, multiples of π/2, the `sin_cos` fast path's limits and beyond), equal bit for bit
 //! lane by lane.
 
-use trocar::lanes::{F32x8, F64x4, Lanes};
+use trocar::emitted::lanes::{F32x8, F64x4, Lanes};
 use trocar_tests_generated as g;
 
 /// The bit patterns of a generated function's value (NaN: any NaN, as one pattern).
@@ -244,7 +244,7 @@ fn reference_arm_presets_and_fixtures_on_lanes_are_the_scalar_code_bit_for_bit()
 #[test]
 fn for_each_on_the_panda_is_the_scalar_code_bit_for_bit() {
     use g::panda_laparoscope as m;
-    use trocar::lanes::{for_each_f32x8, for_each_f64x4};
+    use trocar::emitted::lanes::{for_each_f32x8, for_each_f64x4};
     type Out<T> = (([[T; 3]; 3], [T; 3]), [[T; 6]; m::I]);
     let mut rng = Rng(0x2545_f491_4f6c_dd1d);
     let all: Vec<[f64; m::N]> = (0..24)

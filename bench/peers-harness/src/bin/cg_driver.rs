@@ -101,8 +101,8 @@ fn main() {
         "trig_fast_f64" => measured_loop(n, &mut || {
             let q = black_box(q2);
             black_box([
-                trocar::real::fast::sin_cos_f64(q[0]),
-                trocar::real::fast::sin_cos_f64(q[1]),
+                trocar::emitted::fast::sin_cos_f64(q[0]),
+                trocar::emitted::fast::sin_cos_f64(q[1]),
             ]);
         }),
         "trig_libm_f64" => measured_loop(n, &mut || {
@@ -119,8 +119,8 @@ fn main() {
         "trig_fast_f32" => measured_loop(n, &mut || {
             let q = black_box(q2f);
             black_box([
-                trocar::real::fast::sin_cos_f32(q[0]),
-                trocar::real::fast::sin_cos_f32(q[1]),
+                trocar::emitted::fast::sin_cos_f32(q[0]),
+                trocar::emitted::fast::sin_cos_f32(q[1]),
             ]);
         }),
         "trig_libm_f32" => measured_loop(n, &mut || {

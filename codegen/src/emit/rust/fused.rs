@@ -1,7 +1,7 @@
 //! Fused functions ([`FusedFunction`]): several catalogue outputs from one program, each written
-//! through a `&mut` out-parameter; the walk of `trocar::paired_rows` for `g_0i` and `J^B_0i` on
+//! through a `&mut` out-parameter; the walk of `trocar::emitted::paired_rows` for `g_0i` and `J^B_0i` on
 //! chains of right-angle joints (2.21), (2.45); and the `f64` entry points with FMA chosen at run
-//! time (`trocar::fma`).
+//! time (`trocar::emitted::fma`).
 
 use super::body::{body, trig_statement, uses, Access};
 use super::function::{divides_by, divisors, doc_attrs};
@@ -200,7 +200,7 @@ pub(super) fn fused_tokens(
         let walk_doc = doc_attrs(&format!(
             "\nOn x86-64 with SSE2 and without AVX (the default target), the chain is walked \
              instead with the rows of the homogeneous transform as pairs \
-             (`{}::paired_rows`): one SSE2 register per pair for `f64` and `f32`, one operation \
+             (`{}::emitted::paired_rows`): one SSE2 register per pair for `f64` and `f32`, one operation \
              per lane for the lane types (so that they stay, lane by lane, the scalar walk); \
              the same values to rounding. The operation counts above are the program's.",
             ty.runtime().to_string().replace(' ', "")
@@ -265,7 +265,7 @@ pub(super) fn fused_tokens(
 }
 
 /// The statements of `g_0i` and `J^B_0i` written into `g` and `jb` by the walk of
-/// `trocar::paired_rows` over the joints with heads `heads` (base first,
+/// `trocar::emitted::paired_rows` over the joints with heads `heads` (base first,
 /// [`FusedFunction::paired_heads`]): from link `i` towards the base, each joint's column of
 /// `J^B_0i` from the rows reached before it (2.45), `g_0i` at the end.
 pub(super) fn paired_walk(
@@ -298,9 +298,9 @@ pub(super) fn paired_walk(
     for k in (0..i).rev() {
         let (roll, o) = heads[k];
         let roll = match roll {
-            0 => quote!(#rt::paired_rows::Roll::Zero),
-            1 => quote!(#rt::paired_rows::Roll::Quarter),
-            _ => quote!(#rt::paired_rows::Roll::MinusQuarter),
+            0 => quote!(#rt::emitted::paired_rows::Roll::Zero),
+            1 => quote!(#rt::emitted::paired_rows::Roll::Quarter),
+            _ => quote!(#rt::emitted::paired_rows::Roll::MinusQuarter),
         };
         let o = o.map(|x| {
             let l = Literal::f64_unsuffixed(x.abs());
@@ -312,7 +312,7 @@ pub(super) fn paired_walk(
         });
         let (s, c) = trig(k);
         stmts.push(if k == i - 1 {
-            quote!(let rows = #rt::paired_rows::Rows::first(#s, #c, #roll, [#(#o),*]);)
+            quote!(let rows = #rt::emitted::paired_rows::Rows::first(#s, #c, #roll, [#(#o),*]);)
         } else {
             quote!(let rows = rows.joint(#s, #c, #roll, [#(#o),*]);)
         });
@@ -326,12 +326,12 @@ pub(super) fn paired_walk(
     stmts
 }
 
-/// The `f64` entry points of a fused function with FMA chosen at run time (`trocar::fma`):
+/// The `f64` entry points of a fused function with FMA chosen at run time (`trocar::emitted::fma`):
 /// `<name>_f64` and `<name>_trig_f64`, each taking the private `<name>_fma` /
 /// `<name>_trig_fma` (the fused function on `FusedF64`, compiled for AVX2 and FMA) where
-/// `trocar::fma::available()` holds, and `<name>::<f64>` otherwise; `<name>_trig_f64` takes
+/// `trocar::emitted::fma::available()` holds, and `<name>::<f64>` otherwise; `<name>_trig_f64` takes
 /// `<name>_trig_avx512` (the same, compiled for AVX-512F and AVX-512VL too) instead where
-/// `trocar::fma::path()` is `Avx512`. From `q` the AVX2 function stays: compiled for
+/// `trocar::emitted::fma::path()` is `Avx512`. From `q` the AVX2 function stays: compiled for
 /// AVX-512 it was slower there (BENCHMARKS.md, "The fused functions on AVX-512, given the sines
 /// and cosines").
 pub(super) fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStream {
@@ -355,8 +355,8 @@ pub(super) fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) ->
         .iter()
         .zip(&outs)
         .map(|(o, id)| match o.layout {
-            Layout::Scalar => quote!(#rt::fma::FusedF64::scalar_mut(#id)),
-            Layout::Matrix { .. } => quote!(#rt::fma::FusedF64::matrix_mut(#id)),
+            Layout::Scalar => quote!(#rt::emitted::fma::FusedF64::scalar_mut(#id)),
+            Layout::Matrix { .. } => quote!(#rt::emitted::fma::FusedF64::matrix_mut(#id)),
             Layout::Transform => {
                 let local = format_ident!("{}_fused", id);
                 locals.push(quote! {
@@ -397,7 +397,7 @@ pub(super) fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) ->
             (quote!(q: &[f64; #n_ty]), quote!(F::array(q)), quote!(q))
         };
         let doc = doc_attrs(&format!(
-            "[`{base}`] in `f64` with fused multiply-adds chosen at run time (`{rt}::fma`): \
+            "[`{base}`] in `f64` with fused multiply-adds chosen at run time (`{rt}::emitted::fma`): \
              on an x86-64 CPU with AVX2 and FMA, in a build with `trocar`'s `std` feature \
              whose target lacks FMA, [`{base}`] compiled for them{avx512}, every `mul_add` \
              rounded once (bit for bit [`{base}`] built with FMA); [`{base}`]`::<f64>` \
@@ -424,7 +424,7 @@ pub(super) fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) ->
              the call."
         ));
         let body = quote! {
-            use #rt::fma::FusedF64 as F;
+            use #rt::emitted::fma::FusedF64 as F;
             #(#locals)*
             self::#name::<F>(#input_fused, #params_fused, #(#views),*);
             #(#copies)*
@@ -443,12 +443,12 @@ pub(super) fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) ->
             (
                 quote! {
                     #[cfg(target_arch = "x86_64")]
-                    match #rt::fma::path() {
-                        #rt::fma::Path::Avx512 => {
+                    match #rt::emitted::fma::path() {
+                        #rt::emitted::fma::Path::Avx512 => {
                             unsafe { self::#name_avx512(#arg, p, #(#outs),*) };
                             return;
                         }
-                        #rt::fma::Path::Fma => {
+                        #rt::emitted::fma::Path::Fma => {
                             unsafe { self::#name_fma(#arg, p, #(#outs),*) };
                             return;
                         }
@@ -468,7 +468,7 @@ pub(super) fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) ->
             (
                 quote! {
                     #[cfg(target_arch = "x86_64")]
-                    if #rt::fma::available() {
+                    if #rt::emitted::fma::available() {
                         unsafe { self::#name_fma(#arg, p, #(#outs),*) };
                         return;
                     }

@@ -139,7 +139,7 @@ fn params_tokens(spec: &ModuleSpec, ty: &Ty) -> TokenStream {
                 #repr
                 pub struct Params<T>(::core::marker::PhantomData<T>);
 
-                impl<T: #rt::Arith> Params<T> {
+                impl<T: #rt::emitted::Arith> Params<T> {
                     /// The description's nominal values (this robot has no parameters).
                     #[inline]
                     #[must_use]

@@ -9,7 +9,7 @@ use quote::quote;
 /// The default path of the runtime crate in emitted code ([`Runtime`]).
 pub const DEFAULT_RUNTIME_PATH: &str = "::trocar";
 
-/// The path through which emitted code names the runtime crate `trocar` (`<T: ::trocar::Real>`),
+/// The path through which emitted code names the runtime crate `trocar` (`<T: ::trocar::emitted::Real>`),
 /// `::trocar` by default; another path (e.g. `::my_reexport::trocar`) serves a crate that reaches
 /// `trocar` through a re-export (prost-build's `prost_path`).
 #[derive(Clone, Debug)]
@@ -82,11 +82,11 @@ impl Ty {
         }
     }
     /// The generic parameter of a straight-line function: `<T: Arith>` (the part of `Real` that
-    /// runs lane by lane, `trocar::lanes`).
+    /// runs lane by lane, `trocar::emitted::lanes`).
     pub(crate) fn generics(&self) -> TokenStream {
         let rt = &self.runtime;
         match self.real {
-            Scalar::Generic => quote!(<T: #rt::Arith>),
+            Scalar::Generic => quote!(<T: #rt::emitted::Arith>),
             _ => quote!(),
         }
     }
@@ -95,7 +95,7 @@ impl Ty {
     pub(crate) fn real_generics(&self) -> TokenStream {
         let rt = &self.runtime;
         match self.real {
-            Scalar::Generic => quote!(<T: #rt::Real>),
+            Scalar::Generic => quote!(<T: #rt::emitted::Real>),
             _ => quote!(),
         }
     }
@@ -111,15 +111,15 @@ impl Ty {
         let t = self.t();
         let rt = &self.runtime;
         match self.real {
-            Scalar::Generic => quote!(<#t as #rt::Arith>),
-            Scalar::F32 | Scalar::F64 => quote!(<#t as #rt::Real>),
+            Scalar::Generic => quote!(<#t as #rt::emitted::Arith>),
+            Scalar::F32 | Scalar::F64 => quote!(<#t as #rt::emitted::Real>),
         }
     }
     /// The path of `Real`'s own functions (`is_finite`, `to_f64`): `<T as Real>`.
     pub(crate) fn real_trait_path(&self) -> TokenStream {
         let t = self.t();
         let rt = &self.runtime;
-        quote!(<#t as #rt::Real>)
+        quote!(<#t as #rt::emitted::Real>)
     }
     pub(crate) fn lit(&self, x: f64) -> TokenStream {
         let r = self.real_path();

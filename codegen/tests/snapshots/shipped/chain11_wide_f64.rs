@@ -81,7 +81,7 @@ pub mod chain11_wide {
                 c10,
                 c11,
                 ],
-            ) = <f64 as ::trocar::Real>::sin_cos_array(
+            ) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
                 &[q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7], q[8], q[9], q[10]],
             );
             JointTrig {
@@ -124,206 +124,255 @@ pub mod chain11_wide {
             c10,
             c11,
             ],
-        ) = <f64 as ::trocar::Real>::sin_cos_array(
+        ) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7], q[8], q[9], q[10]],
         );
         let x0 = c1 * c2;
         let x1 = c1 * s2;
         let x2 = s1 * c2;
         let x3 = s1 * s2;
-        let x4 = <f64 as ::trocar::Real>::mul_add(s1, s3, -(c3 * x1));
-        let x5 = <f64 as ::trocar::Real>::mul_add(s3, x1, s1 * c3);
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(s1, s3, -(c3 * x1));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x1, s1 * c3);
         let x6 = c2 * c3;
         let x7 = c2 * s3;
-        let x8 = <f64 as ::trocar::Real>::mul_add(c3, x3, c1 * s3);
-        let x9 = <f64 as ::trocar::Real>::mul_add(c1, c3, -(s3 * x3));
-        let x10 = <f64 as ::trocar::Real>::mul_add(c4, x0, -(s4 * x5));
-        let x11 = <f64 as ::trocar::Real>::mul_add(s4, x0, c4 * x5);
-        let x12 = <f64 as ::trocar::Real>::mul_add(s2, c4, s4 * x7);
-        let x13 = <f64 as ::trocar::Real>::mul_add(s2, s4, -(c4 * x7));
-        let x14 = <f64 as ::trocar::Real>::mul_add(c4, x2, s4 * x9);
-        let x15 = <f64 as ::trocar::Real>::mul_add(c4, x9, -(s4 * x2));
-        let x16 = <f64 as ::trocar::Real>::mul_add(c5, x10, s5 * x4);
-        let x17 = <f64 as ::trocar::Real>::mul_add(c5, x4, -(s5 * x10));
-        let x18 = <f64 as ::trocar::Real>::mul_add(c5, x12, s5 * x6);
-        let x19 = <f64 as ::trocar::Real>::mul_add(c5, x6, -(s5 * x12));
-        let x20 = <f64 as ::trocar::Real>::mul_add(s5, x8, -(c5 * x14));
-        let x21 = <f64 as ::trocar::Real>::mul_add(s5, x14, c5 * x8);
-        let x22 = <f64 as ::trocar::Real>::mul_add(c6, x17, s6 * x11);
-        let x23 = <f64 as ::trocar::Real>::mul_add(c6, x11, -(s6 * x17));
-        let x24 = <f64 as ::trocar::Real>::mul_add(c6, x19, s6 * x13);
-        let x25 = <f64 as ::trocar::Real>::mul_add(c6, x13, -(s6 * x19));
-        let x26 = <f64 as ::trocar::Real>::mul_add(c6, x21, s6 * x15);
-        let x27 = <f64 as ::trocar::Real>::mul_add(c6, x15, -(s6 * x21));
-        let x28 = <f64 as ::trocar::Real>::mul_add(c7, x16, -(s7 * x23));
-        let x29 = <f64 as ::trocar::Real>::mul_add(s7, x16, c7 * x23);
-        let x30 = <f64 as ::trocar::Real>::mul_add(c7, x18, -(s7 * x25));
-        let x31 = <f64 as ::trocar::Real>::mul_add(s7, x18, c7 * x25);
-        let x32 = <f64 as ::trocar::Real>::mul_add(c7, x20, -(s7 * x27));
-        let x33 = <f64 as ::trocar::Real>::mul_add(s7, x20, c7 * x27);
-        let x34 = <f64 as ::trocar::Real>::mul_add(c8, x28, s8 * x22);
-        let x35 = <f64 as ::trocar::Real>::mul_add(c8, x22, -(s8 * x28));
-        let x36 = <f64 as ::trocar::Real>::mul_add(c8, x30, s8 * x24);
-        let x37 = <f64 as ::trocar::Real>::mul_add(c8, x24, -(s8 * x30));
-        let x38 = <f64 as ::trocar::Real>::mul_add(c8, x32, s8 * x26);
-        let x39 = <f64 as ::trocar::Real>::mul_add(c8, x26, -(s8 * x32));
-        let x40 = <f64 as ::trocar::Real>::mul_add(c9, x35, s9 * x29);
-        let x41 = <f64 as ::trocar::Real>::mul_add(c9, x29, -(s9 * x35));
-        let x42 = <f64 as ::trocar::Real>::mul_add(c9, x37, s9 * x31);
-        let x43 = <f64 as ::trocar::Real>::mul_add(c9, x31, -(s9 * x37));
-        let x44 = <f64 as ::trocar::Real>::mul_add(c9, x39, s9 * x33);
-        let x45 = <f64 as ::trocar::Real>::mul_add(c9, x33, -(s9 * x39));
-        let x46 = <f64 as ::trocar::Real>::mul_add(c10, x34, -(s10 * x41));
-        let x47 = <f64 as ::trocar::Real>::mul_add(s10, x34, c10 * x41);
-        let x48 = <f64 as ::trocar::Real>::mul_add(c10, x36, -(s10 * x43));
-        let x49 = <f64 as ::trocar::Real>::mul_add(s10, x36, c10 * x43);
-        let x50 = <f64 as ::trocar::Real>::mul_add(c10, x38, -(s10 * x45));
-        let x51 = <f64 as ::trocar::Real>::mul_add(s10, x38, c10 * x45);
-        let x52 = <f64 as ::trocar::Real>::mul_add(c11, x40, -(s11 * x46));
-        let x53 = <f64 as ::trocar::Real>::mul_add(c11, x42, -(s11 * x48));
-        let x54 = <f64 as ::trocar::Real>::mul_add(c11, x44, -(s11 * x50));
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x3, c1 * s3);
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(c1, c3, -(s3 * x3));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x0, -(s4 * x5));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x0, c4 * x5);
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(s2, c4, s4 * x7);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(s2, s4, -(c4 * x7));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x2, s4 * x9);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x9, -(s4 * x2));
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x10, s5 * x4);
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x4, -(s5 * x10));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x12, s5 * x6);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x6, -(s5 * x12));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x8, -(c5 * x14));
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x14, c5 * x8);
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x17, s6 * x11);
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x11, -(s6 * x17));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x19, s6 * x13);
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x13, -(s6 * x19));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x21, s6 * x15);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x15, -(s6 * x21));
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x16, -(s7 * x23));
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(s7, x16, c7 * x23);
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x18, -(s7 * x25));
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(s7, x18, c7 * x25);
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x20, -(s7 * x27));
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(s7, x20, c7 * x27);
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(c8, x28, s8 * x22);
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(c8, x22, -(s8 * x28));
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(c8, x30, s8 * x24);
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(c8, x24, -(s8 * x30));
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(c8, x32, s8 * x26);
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(c8, x26, -(s8 * x32));
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(c9, x35, s9 * x29);
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(c9, x29, -(s9 * x35));
+        let x42 = <f64 as ::trocar::emitted::Real>::mul_add(c9, x37, s9 * x31);
+        let x43 = <f64 as ::trocar::emitted::Real>::mul_add(c9, x31, -(s9 * x37));
+        let x44 = <f64 as ::trocar::emitted::Real>::mul_add(c9, x39, s9 * x33);
+        let x45 = <f64 as ::trocar::emitted::Real>::mul_add(c9, x33, -(s9 * x39));
+        let x46 = <f64 as ::trocar::emitted::Real>::mul_add(c10, x34, -(s10 * x41));
+        let x47 = <f64 as ::trocar::emitted::Real>::mul_add(s10, x34, c10 * x41);
+        let x48 = <f64 as ::trocar::emitted::Real>::mul_add(c10, x36, -(s10 * x43));
+        let x49 = <f64 as ::trocar::emitted::Real>::mul_add(s10, x36, c10 * x43);
+        let x50 = <f64 as ::trocar::emitted::Real>::mul_add(c10, x38, -(s10 * x45));
+        let x51 = <f64 as ::trocar::emitted::Real>::mul_add(s10, x38, c10 * x45);
+        let x52 = <f64 as ::trocar::emitted::Real>::mul_add(c11, x40, -(s11 * x46));
+        let x53 = <f64 as ::trocar::emitted::Real>::mul_add(c11, x42, -(s11 * x48));
+        let x54 = <f64 as ::trocar::emitted::Real>::mul_add(c11, x44, -(s11 * x50));
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(c11, x46, s11 * x40),
-                    <f64 as ::trocar::Real>::mul_add(c11, x48, s11 * x42),
-                    <f64 as ::trocar::Real>::mul_add(c11, x50, s11 * x44),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c11, x46, s11 * x40),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c11, x48, s11 * x42),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c11, x50, s11 * x44),
                 ],
                 [x52, x53, x54],
                 [x47, x49, x51],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.09_f64,
                     x52,
-                    <f64 as ::trocar::Real>::mul_add(0.01_f64, s1, 0.02_f64)
-                        + <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(0.01_f64, s1, 0.02_f64)
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.02_f64,
                             s1,
-                            -<f64 as ::trocar::Real>::mul_add(0.01_f64, x0, 0.1_f64 * x1),
+                            -<f64 as ::trocar::emitted::Real>::mul_add(
+                                0.01_f64,
+                                x0,
+                                0.1_f64 * x1,
+                            ),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(0.015_f64, x0, 0.13_f64 * x4)
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.015_f64,
+                            x0,
+                            0.13_f64 * x4,
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.09_f64,
                             x4,
                             -(0.02_f64 * x11),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.01_f64,
                             x11,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.01_f64,
                                 x16,
                                 0.12_f64 * x17,
                             ),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(0.02_f64, x16, 0.12_f64 * x22)
-                        + <f64 as ::trocar::Real>::mul_add(0.11_f64, x22, 0.01_f64 * x29)
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.02_f64,
+                            x16,
+                            0.12_f64 * x22,
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.11_f64,
+                            x22,
+                            0.01_f64 * x29,
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.02_f64,
                             x29,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.1_f64,
                                 x35,
                                 -(0.01_f64 * x34),
                             ),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.015_f64,
                             x34,
                             0.13_f64 * x40,
                         )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.09_f64,
                             x40,
                             -(0.02_f64 * x47),
                         ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.09_f64,
                     x53,
                     0.22999999999999998_f64
-                        + <f64 as ::trocar::Real>::mul_add(0.1_f64, c2, -(0.01_f64 * s2))
-                        + <f64 as ::trocar::Real>::mul_add(0.015_f64, s2, 0.13_f64 * x6)
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.1_f64,
+                            c2,
+                            -(0.01_f64 * s2),
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.015_f64,
+                            s2,
+                            0.13_f64 * x6,
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.09_f64,
                             x6,
                             -(0.02_f64 * x13),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.01_f64,
                             x13,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.01_f64,
                                 x18,
                                 0.12_f64 * x19,
                             ),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(0.02_f64, x18, 0.12_f64 * x24)
-                        + <f64 as ::trocar::Real>::mul_add(0.11_f64, x24, 0.01_f64 * x31)
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.02_f64,
+                            x18,
+                            0.12_f64 * x24,
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.11_f64,
+                            x24,
+                            0.01_f64 * x31,
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.02_f64,
                             x31,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.1_f64,
                                 x37,
                                 -(0.01_f64 * x36),
                             ),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.015_f64,
                             x36,
                             0.13_f64 * x42,
                         )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.09_f64,
                             x42,
                             -(0.02_f64 * x49),
                         ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.09_f64,
                     x54,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.01_f64,
                         c1,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.02_f64,
                             c1,
-                            <f64 as ::trocar::Real>::mul_add(0.01_f64, x2, 0.1_f64 * x3),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                0.01_f64,
+                                x2,
+                                0.1_f64 * x3,
+                            ),
                         ),
-                    ) + <f64 as ::trocar::Real>::mul_add(0.13_f64, x8, -(0.015_f64 * x2))
-                        + <f64 as ::trocar::Real>::mul_add(
+                    )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.13_f64,
+                            x8,
+                            -(0.015_f64 * x2),
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.09_f64,
                             x8,
                             -(0.02_f64 * x15),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.01_f64,
                             x15,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.01_f64,
                                 x20,
                                 0.12_f64 * x21,
                             ),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(0.02_f64, x20, 0.12_f64 * x26)
-                        + <f64 as ::trocar::Real>::mul_add(0.11_f64, x26, 0.01_f64 * x33)
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.02_f64,
+                            x20,
+                            0.12_f64 * x26,
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.11_f64,
+                            x26,
+                            0.01_f64 * x33,
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.02_f64,
                             x33,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.1_f64,
                                 x39,
                                 -(0.01_f64 * x38),
                             ),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.015_f64,
                             x38,
                             0.13_f64 * x44,
                         )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.09_f64,
                             x44,
                             -(0.02_f64 * x51),
@@ -347,207 +396,452 @@ pub mod chain11_wide {
         let x1 = t.cos[0] * t.sin[1];
         let x2 = t.sin[0] * t.cos[1];
         let x3 = t.sin[0] * t.sin[1];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.sin[0], t.sin[2], -(t.cos[2] * x1));
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x1, t.sin[0] * t.cos[2]);
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            t.sin[2],
+            -(t.cos[2] * x1),
+        );
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x1,
+            t.sin[0] * t.cos[2],
+        );
         let x6 = t.cos[1] * t.cos[2];
         let x7 = t.cos[1] * t.sin[2];
-        let x8 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x3, t.cos[0] * t.sin[2]);
-        let x9 = <f64 as ::trocar::Real>::mul_add(t.cos[0], t.cos[2], -(t.sin[2] * x3));
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x0, -(t.sin[3] * x5));
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x0, t.cos[3] * x5);
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.sin[1], t.cos[3], t.sin[3] * x7);
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.sin[1], t.sin[3], -(t.cos[3] * x7));
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x2, t.sin[3] * x9);
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x9, -(t.sin[3] * x2));
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x10, t.sin[4] * x4);
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x4, -(t.sin[4] * x10));
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x12, t.sin[4] * x6);
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x6, -(t.sin[4] * x12));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x8, -(t.cos[4] * x14));
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x14, t.cos[4] * x8);
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x17, t.sin[5] * x11);
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x11, -(t.sin[5] * x17));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x19, t.sin[5] * x13);
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x13, -(t.sin[5] * x19));
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x21, t.sin[5] * x15);
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x15, -(t.sin[5] * x21));
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x16, -(t.sin[6] * x23));
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x16, t.cos[6] * x23);
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x18, -(t.sin[6] * x25));
-        let x31 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x18, t.cos[6] * x25);
-        let x32 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x20, -(t.sin[6] * x27));
-        let x33 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x20, t.cos[6] * x27);
-        let x34 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x28, t.sin[7] * x22);
-        let x35 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x22, -(t.sin[7] * x28));
-        let x36 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x30, t.sin[7] * x24);
-        let x37 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x24, -(t.sin[7] * x30));
-        let x38 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x32, t.sin[7] * x26);
-        let x39 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x26, -(t.sin[7] * x32));
-        let x40 = <f64 as ::trocar::Real>::mul_add(t.cos[8], x35, t.sin[8] * x29);
-        let x41 = <f64 as ::trocar::Real>::mul_add(t.cos[8], x29, -(t.sin[8] * x35));
-        let x42 = <f64 as ::trocar::Real>::mul_add(t.cos[8], x37, t.sin[8] * x31);
-        let x43 = <f64 as ::trocar::Real>::mul_add(t.cos[8], x31, -(t.sin[8] * x37));
-        let x44 = <f64 as ::trocar::Real>::mul_add(t.cos[8], x39, t.sin[8] * x33);
-        let x45 = <f64 as ::trocar::Real>::mul_add(t.cos[8], x33, -(t.sin[8] * x39));
-        let x46 = <f64 as ::trocar::Real>::mul_add(t.cos[9], x34, -(t.sin[9] * x41));
-        let x47 = <f64 as ::trocar::Real>::mul_add(t.sin[9], x34, t.cos[9] * x41);
-        let x48 = <f64 as ::trocar::Real>::mul_add(t.cos[9], x36, -(t.sin[9] * x43));
-        let x49 = <f64 as ::trocar::Real>::mul_add(t.sin[9], x36, t.cos[9] * x43);
-        let x50 = <f64 as ::trocar::Real>::mul_add(t.cos[9], x38, -(t.sin[9] * x45));
-        let x51 = <f64 as ::trocar::Real>::mul_add(t.sin[9], x38, t.cos[9] * x45);
-        let x52 = <f64 as ::trocar::Real>::mul_add(t.cos[10], x40, -(t.sin[10] * x46));
-        let x53 = <f64 as ::trocar::Real>::mul_add(t.cos[10], x42, -(t.sin[10] * x48));
-        let x54 = <f64 as ::trocar::Real>::mul_add(t.cos[10], x44, -(t.sin[10] * x50));
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x3,
+            t.cos[0] * t.sin[2],
+        );
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            t.cos[2],
+            -(t.sin[2] * x3),
+        );
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x0,
+            -(t.sin[3] * x5),
+        );
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[3], x0, t.cos[3] * x5);
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            t.cos[3],
+            t.sin[3] * x7,
+        );
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            t.sin[3],
+            -(t.cos[3] * x7),
+        );
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x2, t.sin[3] * x9);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x9,
+            -(t.sin[3] * x2),
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x10,
+            t.sin[4] * x4,
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x4,
+            -(t.sin[4] * x10),
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x12,
+            t.sin[4] * x6,
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x6,
+            -(t.sin[4] * x12),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x8,
+            -(t.cos[4] * x14),
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x14,
+            t.cos[4] * x8,
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x17,
+            t.sin[5] * x11,
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x11,
+            -(t.sin[5] * x17),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x19,
+            t.sin[5] * x13,
+        );
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x13,
+            -(t.sin[5] * x19),
+        );
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x21,
+            t.sin[5] * x15,
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x15,
+            -(t.sin[5] * x21),
+        );
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x16,
+            -(t.sin[6] * x23),
+        );
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[6],
+            x16,
+            t.cos[6] * x23,
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x18,
+            -(t.sin[6] * x25),
+        );
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[6],
+            x18,
+            t.cos[6] * x25,
+        );
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x20,
+            -(t.sin[6] * x27),
+        );
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[6],
+            x20,
+            t.cos[6] * x27,
+        );
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[7],
+            x28,
+            t.sin[7] * x22,
+        );
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[7],
+            x22,
+            -(t.sin[7] * x28),
+        );
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[7],
+            x30,
+            t.sin[7] * x24,
+        );
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[7],
+            x24,
+            -(t.sin[7] * x30),
+        );
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[7],
+            x32,
+            t.sin[7] * x26,
+        );
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[7],
+            x26,
+            -(t.sin[7] * x32),
+        );
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[8],
+            x35,
+            t.sin[8] * x29,
+        );
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[8],
+            x29,
+            -(t.sin[8] * x35),
+        );
+        let x42 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[8],
+            x37,
+            t.sin[8] * x31,
+        );
+        let x43 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[8],
+            x31,
+            -(t.sin[8] * x37),
+        );
+        let x44 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[8],
+            x39,
+            t.sin[8] * x33,
+        );
+        let x45 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[8],
+            x33,
+            -(t.sin[8] * x39),
+        );
+        let x46 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[9],
+            x34,
+            -(t.sin[9] * x41),
+        );
+        let x47 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[9],
+            x34,
+            t.cos[9] * x41,
+        );
+        let x48 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[9],
+            x36,
+            -(t.sin[9] * x43),
+        );
+        let x49 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[9],
+            x36,
+            t.cos[9] * x43,
+        );
+        let x50 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[9],
+            x38,
+            -(t.sin[9] * x45),
+        );
+        let x51 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[9],
+            x38,
+            t.cos[9] * x45,
+        );
+        let x52 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[10],
+            x40,
+            -(t.sin[10] * x46),
+        );
+        let x53 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[10],
+            x42,
+            -(t.sin[10] * x48),
+        );
+        let x54 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[10],
+            x44,
+            -(t.sin[10] * x50),
+        );
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[10], x46, t.sin[10] * x40),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[10], x48, t.sin[10] * x42),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[10], x50, t.sin[10] * x44),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[10],
+                        x46,
+                        t.sin[10] * x40,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[10],
+                        x48,
+                        t.sin[10] * x42,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[10],
+                        x50,
+                        t.sin[10] * x44,
+                    ),
                 ],
                 [x52, x53, x54],
                 [x47, x49, x51],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.09_f64,
                     x52,
-                    <f64 as ::trocar::Real>::mul_add(0.01_f64, t.sin[0], 0.02_f64)
-                        + <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.01_f64,
+                        t.sin[0],
+                        0.02_f64,
+                    )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.02_f64,
                             t.sin[0],
-                            -<f64 as ::trocar::Real>::mul_add(0.01_f64, x0, 0.1_f64 * x1),
+                            -<f64 as ::trocar::emitted::Real>::mul_add(
+                                0.01_f64,
+                                x0,
+                                0.1_f64 * x1,
+                            ),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(0.015_f64, x0, 0.13_f64 * x4)
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.015_f64,
+                            x0,
+                            0.13_f64 * x4,
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.09_f64,
                             x4,
                             -(0.02_f64 * x11),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.01_f64,
                             x11,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.01_f64,
                                 x16,
                                 0.12_f64 * x17,
                             ),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(0.02_f64, x16, 0.12_f64 * x22)
-                        + <f64 as ::trocar::Real>::mul_add(0.11_f64, x22, 0.01_f64 * x29)
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.02_f64,
+                            x16,
+                            0.12_f64 * x22,
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.11_f64,
+                            x22,
+                            0.01_f64 * x29,
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.02_f64,
                             x29,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.1_f64,
                                 x35,
                                 -(0.01_f64 * x34),
                             ),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.015_f64,
                             x34,
                             0.13_f64 * x40,
                         )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.09_f64,
                             x40,
                             -(0.02_f64 * x47),
                         ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.09_f64,
                     x53,
                     0.22999999999999998_f64
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.1_f64,
                             t.cos[1],
                             -(0.01_f64 * t.sin[1]),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.015_f64,
                             t.sin[1],
                             0.13_f64 * x6,
                         )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.09_f64,
                             x6,
                             -(0.02_f64 * x13),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.01_f64,
                             x13,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.01_f64,
                                 x18,
                                 0.12_f64 * x19,
                             ),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(0.02_f64, x18, 0.12_f64 * x24)
-                        + <f64 as ::trocar::Real>::mul_add(0.11_f64, x24, 0.01_f64 * x31)
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.02_f64,
+                            x18,
+                            0.12_f64 * x24,
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.11_f64,
+                            x24,
+                            0.01_f64 * x31,
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.02_f64,
                             x31,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.1_f64,
                                 x37,
                                 -(0.01_f64 * x36),
                             ),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.015_f64,
                             x36,
                             0.13_f64 * x42,
                         )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.09_f64,
                             x42,
                             -(0.02_f64 * x49),
                         ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.09_f64,
                     x54,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.01_f64,
                         t.cos[0],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.02_f64,
                             t.cos[0],
-                            <f64 as ::trocar::Real>::mul_add(0.01_f64, x2, 0.1_f64 * x3),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                0.01_f64,
+                                x2,
+                                0.1_f64 * x3,
+                            ),
                         ),
-                    ) + <f64 as ::trocar::Real>::mul_add(0.13_f64, x8, -(0.015_f64 * x2))
-                        + <f64 as ::trocar::Real>::mul_add(
+                    )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.13_f64,
+                            x8,
+                            -(0.015_f64 * x2),
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.09_f64,
                             x8,
                             -(0.02_f64 * x15),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.01_f64,
                             x15,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.01_f64,
                                 x20,
                                 0.12_f64 * x21,
                             ),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(0.02_f64, x20, 0.12_f64 * x26)
-                        + <f64 as ::trocar::Real>::mul_add(0.11_f64, x26, 0.01_f64 * x33)
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.02_f64,
+                            x20,
+                            0.12_f64 * x26,
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.11_f64,
+                            x26,
+                            0.01_f64 * x33,
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.02_f64,
                             x33,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.1_f64,
                                 x39,
                                 -(0.01_f64 * x38),
                             ),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.015_f64,
                             x38,
                             0.13_f64 * x44,
                         )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.09_f64,
                             x44,
                             -(0.02_f64 * x51),
@@ -587,162 +881,167 @@ pub mod chain11_wide {
             c10,
             c11,
             ],
-        ) = <f64 as ::trocar::Real>::sin_cos_array(
+        ) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[1], q[2], q[3], q[4], q[5], q[6], q[7], q[8], q[9], q[10]],
         );
         let x0 = 0.09_f64 * s11;
         let x1 = c10 * c11;
         let x2 = c10 * s11;
-        let x3 = 0.13_f64 + <f64 as ::trocar::Real>::mul_add(0.09_f64, c11, 0.09_f64);
+        let x3 = 0.13_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.09_f64, c11, 0.09_f64);
         let x4 = s10 * c11;
         let x5 = s10 * s11;
-        let x6 = <f64 as ::trocar::Real>::mul_add(s10, x0, -(0.02_f64 * c10));
-        let x7 = 0.015_f64 - <f64 as ::trocar::Real>::mul_add(c10, x0, 0.02_f64 * s10)
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(s10, x0, -(0.02_f64 * c10));
+        let x7 = 0.015_f64
+            - <f64 as ::trocar::emitted::Real>::mul_add(c10, x0, 0.02_f64 * s10)
             - 0.01_f64;
-        let x8 = <f64 as ::trocar::Real>::mul_add(c9, s11, s9 * x4);
-        let x9 = <f64 as ::trocar::Real>::mul_add(c9, c11, -(s9 * x5));
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(c9, s11, s9 * x4);
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(c9, c11, -(s9 * x5));
         let x10 = s9 * c10;
-        let x11 = 0.1_f64 + <f64 as ::trocar::Real>::mul_add(c9, x3, -(s9 * x6));
-        let x12 = <f64 as ::trocar::Real>::mul_add(s9, s11, -(c9 * x4));
-        let x13 = <f64 as ::trocar::Real>::mul_add(s9, c11, c9 * x5);
+        let x11 = 0.1_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c9, x3, -(s9 * x6));
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(s9, s11, -(c9 * x4));
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(s9, c11, c9 * x5);
         let x14 = c9 * c10;
-        let x15 = <f64 as ::trocar::Real>::mul_add(c8, x1, -(s8 * x8));
-        let x16 = <f64 as ::trocar::Real>::mul_add(c8, x2, s8 * x9);
-        let x17 = <f64 as ::trocar::Real>::mul_add(c8, s10, s8 * x10);
-        let x18 = <f64 as ::trocar::Real>::mul_add(c8, x7, -(s8 * x11));
-        let x19 = <f64 as ::trocar::Real>::mul_add(s8, x1, c8 * x8);
-        let x20 = <f64 as ::trocar::Real>::mul_add(c8, x9, -(s8 * x2));
-        let x21 = <f64 as ::trocar::Real>::mul_add(s8, s10, -(c8 * x10));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c8, x1, -(s8 * x8));
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c8, x2, s8 * x9);
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c8, s10, s8 * x10);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c8, x7, -(s8 * x11));
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(s8, x1, c8 * x8);
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(c8, x9, -(s8 * x2));
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(s8, s10, -(c8 * x10));
         let x22 = 0.01_f64
-            + (0.02_f64 + <f64 as ::trocar::Real>::mul_add(s9, x3, c9 * x6));
-        let x23 = <f64 as ::trocar::Real>::mul_add(c7, x15, s7 * x12);
-        let x24 = <f64 as ::trocar::Real>::mul_add(s7, x13, -(c7 * x16));
-        let x25 = <f64 as ::trocar::Real>::mul_add(c7, x17, s7 * x14);
+            + (0.02_f64 + <f64 as ::trocar::emitted::Real>::mul_add(s9, x3, c9 * x6));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x15, s7 * x12);
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(s7, x13, -(c7 * x16));
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x17, s7 * x14);
         let x26 = 0.12_f64
-            + (0.11_f64 + <f64 as ::trocar::Real>::mul_add(s8, x7, c8 * x11));
-        let x27 = <f64 as ::trocar::Real>::mul_add(c7, x12, -(s7 * x15));
-        let x28 = <f64 as ::trocar::Real>::mul_add(s7, x16, c7 * x13);
-        let x29 = <f64 as ::trocar::Real>::mul_add(c7, x14, -(s7 * x17));
-        let x30 = <f64 as ::trocar::Real>::mul_add(c7, x22, -(s7 * x18));
+            + (0.11_f64 + <f64 as ::trocar::emitted::Real>::mul_add(s8, x7, c8 * x11));
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x12, -(s7 * x15));
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(s7, x16, c7 * x13);
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x14, -(s7 * x17));
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x22, -(s7 * x18));
         let x31 = 0.01_f64
-            + (0.02_f64 + <f64 as ::trocar::Real>::mul_add(c7, x18, s7 * x22));
-        let x32 = <f64 as ::trocar::Real>::mul_add(c6, x19, -(s6 * x27));
-        let x33 = <f64 as ::trocar::Real>::mul_add(c6, x20, -(s6 * x28));
-        let x34 = <f64 as ::trocar::Real>::mul_add(c6, x21, -(s6 * x29));
-        let x35 = 0.12_f64 + <f64 as ::trocar::Real>::mul_add(c6, x26, -(s6 * x30));
-        let x36 = <f64 as ::trocar::Real>::mul_add(s6, x19, c6 * x27);
-        let x37 = <f64 as ::trocar::Real>::mul_add(s6, x20, c6 * x28);
-        let x38 = <f64 as ::trocar::Real>::mul_add(s6, x21, c6 * x29);
-        let x39 = <f64 as ::trocar::Real>::mul_add(c5, x23, -(s5 * x32));
-        let x40 = <f64 as ::trocar::Real>::mul_add(c5, x24, -(s5 * x33));
-        let x41 = <f64 as ::trocar::Real>::mul_add(c5, x25, -(s5 * x34));
-        let x42 = <f64 as ::trocar::Real>::mul_add(c5, x31, -(s5 * x35));
-        let x43 = <f64 as ::trocar::Real>::mul_add(s5, x23, c5 * x32);
-        let x44 = <f64 as ::trocar::Real>::mul_add(s5, x24, c5 * x33);
-        let x45 = <f64 as ::trocar::Real>::mul_add(s5, x25, c5 * x34);
-        let x46 = 0.01_f64 + <f64 as ::trocar::Real>::mul_add(s6, x26, c6 * x30)
+            + (0.02_f64 + <f64 as ::trocar::emitted::Real>::mul_add(c7, x18, s7 * x22));
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x19, -(s6 * x27));
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x20, -(s6 * x28));
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x21, -(s6 * x29));
+        let x35 = 0.12_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c6, x26, -(s6 * x30));
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x19, c6 * x27);
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x20, c6 * x28);
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x21, c6 * x29);
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x23, -(s5 * x32));
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x24, -(s5 * x33));
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x25, -(s5 * x34));
+        let x42 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x31, -(s5 * x35));
+        let x43 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x23, c5 * x32);
+        let x44 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x24, c5 * x33);
+        let x45 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x25, c5 * x34);
+        let x46 = 0.01_f64 + <f64 as ::trocar::emitted::Real>::mul_add(s6, x26, c6 * x30)
             - 0.02_f64;
-        let x47 = <f64 as ::trocar::Real>::mul_add(c4, x39, s4 * x36);
-        let x48 = <f64 as ::trocar::Real>::mul_add(c4, x40, s4 * x37);
-        let x49 = <f64 as ::trocar::Real>::mul_add(c4, x41, s4 * x38);
+        let x47 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x39, s4 * x36);
+        let x48 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x40, s4 * x37);
+        let x49 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x41, s4 * x38);
         let x50 = 0.13_f64
-            + (0.09_f64 + <f64 as ::trocar::Real>::mul_add(s5, x31, c5 * x35));
-        let x51 = <f64 as ::trocar::Real>::mul_add(c4, x36, -(s4 * x39));
-        let x52 = <f64 as ::trocar::Real>::mul_add(c4, x37, -(s4 * x40));
-        let x53 = <f64 as ::trocar::Real>::mul_add(c4, x38, -(s4 * x41));
-        let x54 = <f64 as ::trocar::Real>::mul_add(c4, x46, -(s4 * x42));
-        let x55 = 0.015_f64 + <f64 as ::trocar::Real>::mul_add(c4, x42, s4 * x46)
-            - 0.01_f64;
-        let x56 = <f64 as ::trocar::Real>::mul_add(c3, x43, -(s3 * x51));
-        let x57 = <f64 as ::trocar::Real>::mul_add(c3, x44, -(s3 * x52));
-        let x58 = <f64 as ::trocar::Real>::mul_add(c3, x45, -(s3 * x53));
-        let x59 = 0.1_f64 + <f64 as ::trocar::Real>::mul_add(c3, x50, -(s3 * x54));
-        let x60 = <f64 as ::trocar::Real>::mul_add(s3, x43, c3 * x51);
-        let x61 = <f64 as ::trocar::Real>::mul_add(s3, x44, c3 * x52);
-        let x62 = <f64 as ::trocar::Real>::mul_add(s3, x45, c3 * x53);
-        let x63 = <f64 as ::trocar::Real>::mul_add(c2, x55, -(s2 * x59));
+            + (0.09_f64 + <f64 as ::trocar::emitted::Real>::mul_add(s5, x31, c5 * x35));
+        let x51 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x36, -(s4 * x39));
+        let x52 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x37, -(s4 * x40));
+        let x53 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x38, -(s4 * x41));
+        let x54 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x46, -(s4 * x42));
+        let x55 = 0.015_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c4, x42, s4 * x46) - 0.01_f64;
+        let x56 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x43, -(s3 * x51));
+        let x57 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x44, -(s3 * x52));
+        let x58 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x45, -(s3 * x53));
+        let x59 = 0.1_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c3, x50, -(s3 * x54));
+        let x60 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x43, c3 * x51);
+        let x61 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x44, c3 * x52);
+        let x62 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x45, c3 * x53);
+        let x63 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x55, -(s2 * x59));
         let x64 = 0.01_f64
-            + (0.02_f64 + <f64 as ::trocar::Real>::mul_add(s3, x50, c3 * x54));
+            + (0.02_f64 + <f64 as ::trocar::emitted::Real>::mul_add(s3, x50, c3 * x54));
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
-                    <f64 as ::trocar::Real>::mul_add(c2, x47, -(s2 * x56)),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(c2, x47, -(s2 * x56)),
                     x64,
                     -(x60 * x63),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
-                    <f64 as ::trocar::Real>::mul_add(c2, x48, -(s2 * x57)),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(c2, x48, -(s2 * x57)),
                     x64,
                     -(x61 * x63),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
-                    <f64 as ::trocar::Real>::mul_add(c2, x49, -(s2 * x58)),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(c2, x49, -(s2 * x58)),
                     x64,
                     -(x62 * x63),
                 ),
-                <f64 as ::trocar::Real>::mul_add(s2, x47, c2 * x56),
-                <f64 as ::trocar::Real>::mul_add(s2, x48, c2 * x57),
-                <f64 as ::trocar::Real>::mul_add(s2, x49, c2 * x58),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x47, c2 * x56),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x48, c2 * x57),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x49, c2 * x58),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x55, x56, -(x47 * x59)),
-                <f64 as ::trocar::Real>::mul_add(x55, x57, -(x48 * x59)),
-                <f64 as ::trocar::Real>::mul_add(x55, x58, -(x49 * x59)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x55, x56, -(x47 * x59)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x55, x57, -(x48 * x59)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x55, x58, -(x49 * x59)),
                 x60,
                 x61,
                 x62,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x50, x51, -(x43 * x54)),
-                <f64 as ::trocar::Real>::mul_add(x50, x52, -(x44 * x54)),
-                <f64 as ::trocar::Real>::mul_add(x50, x53, -(x45 * x54)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x50, x51, -(x43 * x54)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x50, x52, -(x44 * x54)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x50, x53, -(x45 * x54)),
                 x47,
                 x48,
                 x49,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x39, x46, -(x36 * x42)),
-                <f64 as ::trocar::Real>::mul_add(x40, x46, -(x37 * x42)),
-                <f64 as ::trocar::Real>::mul_add(x41, x46, -(x38 * x42)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x39, x46, -(x36 * x42)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x40, x46, -(x37 * x42)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x41, x46, -(x38 * x42)),
                 x43,
                 x44,
                 x45,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x31, x32, -(x23 * x35)),
-                <f64 as ::trocar::Real>::mul_add(x31, x33, -(x24 * x35)),
-                <f64 as ::trocar::Real>::mul_add(x31, x34, -(x25 * x35)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x31, x32, -(x23 * x35)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x31, x33, -(x24 * x35)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x31, x34, -(x25 * x35)),
                 x36,
                 x37,
                 x38,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x26, x27, -(x19 * x30)),
-                <f64 as ::trocar::Real>::mul_add(x26, x28, -(x20 * x30)),
-                <f64 as ::trocar::Real>::mul_add(x26, x29, -(x21 * x30)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x26, x27, -(x19 * x30)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x26, x28, -(x20 * x30)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x26, x29, -(x21 * x30)),
                 x23,
                 x24,
                 x25,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x15, x22, -(x12 * x18)),
-                -<f64 as ::trocar::Real>::mul_add(x16, x22, x13 * x18),
-                <f64 as ::trocar::Real>::mul_add(x17, x22, -(x14 * x18)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x15, x22, -(x12 * x18)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x16, x22, x13 * x18),
+                <f64 as ::trocar::emitted::Real>::mul_add(x17, x22, -(x14 * x18)),
                 x19,
                 x20,
                 x21,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x7, x8, -(x1 * x11)),
-                <f64 as ::trocar::Real>::mul_add(x2, x11, x7 * x9),
-                -<f64 as ::trocar::Real>::mul_add(s10, x11, x7 * x10),
+                <f64 as ::trocar::emitted::Real>::mul_add(x7, x8, -(x1 * x11)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x2, x11, x7 * x9),
+                -<f64 as ::trocar::emitted::Real>::mul_add(s10, x11, x7 * x10),
                 x12,
                 x13,
                 x14,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(s11, x6, x3 * x4),
-                <f64 as ::trocar::Real>::mul_add(x3, x5, -(c11 * x6)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(s11, x6, x3 * x4),
+                <f64 as ::trocar::emitted::Real>::mul_add(x3, x5, -(c11 * x6)),
                 c10 * x3,
                 x1,
                 -x2,
@@ -754,15 +1053,15 @@ pub mod chain11_wide {
                 x0,
                 s11,
                 c11,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 -0.09_f64,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -778,172 +1077,386 @@ pub mod chain11_wide {
         let x1 = t.cos[9] * t.cos[10];
         let x2 = t.cos[9] * t.sin[10];
         let x3 = 0.13_f64
-            + <f64 as ::trocar::Real>::mul_add(0.09_f64, t.cos[10], 0.09_f64);
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.09_f64, t.cos[10], 0.09_f64);
         let x4 = t.sin[9] * t.cos[10];
         let x5 = t.sin[9] * t.sin[10];
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.sin[9], x0, -(0.02_f64 * t.cos[9]));
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[9],
+            x0,
+            -(0.02_f64 * t.cos[9]),
+        );
         let x7 = 0.015_f64
-            - <f64 as ::trocar::Real>::mul_add(t.cos[9], x0, 0.02_f64 * t.sin[9])
-            - 0.01_f64;
-        let x8 = <f64 as ::trocar::Real>::mul_add(t.cos[8], t.sin[10], t.sin[8] * x4);
-        let x9 = <f64 as ::trocar::Real>::mul_add(t.cos[8], t.cos[10], -(t.sin[8] * x5));
+            - <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[9],
+                x0,
+                0.02_f64 * t.sin[9],
+            ) - 0.01_f64;
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[8],
+            t.sin[10],
+            t.sin[8] * x4,
+        );
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[8],
+            t.cos[10],
+            -(t.sin[8] * x5),
+        );
         let x10 = t.sin[8] * t.cos[9];
         let x11 = 0.1_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[8], x3, -(t.sin[8] * x6));
-        let x12 = <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[8], x3, -(t.sin[8] * x6));
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
             t.sin[10],
             -(t.cos[8] * x4),
         );
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.sin[8], t.cos[10], t.cos[8] * x5);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[8],
+            t.cos[10],
+            t.cos[8] * x5,
+        );
         let x14 = t.cos[8] * t.cos[9];
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x1, -(t.sin[7] * x8));
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x2, t.sin[7] * x9);
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[7], t.sin[9], t.sin[7] * x10);
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x7, -(t.sin[7] * x11));
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.sin[7], x1, t.cos[7] * x8);
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x9, -(t.sin[7] * x2));
-        let x21 = <f64 as ::trocar::Real>::mul_add(
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[7],
+            x1,
+            -(t.sin[7] * x8),
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[7], x2, t.sin[7] * x9);
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[7],
+            t.sin[9],
+            t.sin[7] * x10,
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[7],
+            x7,
+            -(t.sin[7] * x11),
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[7], x1, t.cos[7] * x8);
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[7],
+            x9,
+            -(t.sin[7] * x2),
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
             t.sin[9],
             -(t.cos[7] * x10),
         );
         let x22 = 0.01_f64
-            + (0.02_f64 + <f64 as ::trocar::Real>::mul_add(t.sin[8], x3, t.cos[8] * x6));
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x15, t.sin[6] * x12);
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x13, -(t.cos[6] * x16));
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x17, t.sin[6] * x14);
+            + (0.02_f64
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[8],
+                    x3,
+                    t.cos[8] * x6,
+                ));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x15,
+            t.sin[6] * x12,
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[6],
+            x13,
+            -(t.cos[6] * x16),
+        );
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x17,
+            t.sin[6] * x14,
+        );
         let x26 = 0.12_f64
             + (0.11_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[7], x7, t.cos[7] * x11));
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x12, -(t.sin[6] * x15));
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x16, t.cos[6] * x13);
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x14, -(t.sin[6] * x17));
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x22, -(t.sin[6] * x18));
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[7],
+                    x7,
+                    t.cos[7] * x11,
+                ));
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x12,
+            -(t.sin[6] * x15),
+        );
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[6],
+            x16,
+            t.cos[6] * x13,
+        );
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x14,
+            -(t.sin[6] * x17),
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x22,
+            -(t.sin[6] * x18),
+        );
         let x31 = 0.01_f64
             + (0.02_f64
-                + <f64 as ::trocar::Real>::mul_add(t.cos[6], x18, t.sin[6] * x22));
-        let x32 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x19, -(t.sin[5] * x27));
-        let x33 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x20, -(t.sin[5] * x28));
-        let x34 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x21, -(t.sin[5] * x29));
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.cos[6],
+                    x18,
+                    t.sin[6] * x22,
+                ));
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x19,
+            -(t.sin[5] * x27),
+        );
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x20,
+            -(t.sin[5] * x28),
+        );
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x21,
+            -(t.sin[5] * x29),
+        );
         let x35 = 0.12_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[5], x26, -(t.sin[5] * x30));
-        let x36 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x19, t.cos[5] * x27);
-        let x37 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x20, t.cos[5] * x28);
-        let x38 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x21, t.cos[5] * x29);
-        let x39 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x23, -(t.sin[4] * x32));
-        let x40 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x24, -(t.sin[4] * x33));
-        let x41 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x25, -(t.sin[4] * x34));
-        let x42 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x31, -(t.sin[4] * x35));
-        let x43 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x23, t.cos[4] * x32);
-        let x44 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x24, t.cos[4] * x33);
-        let x45 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x25, t.cos[4] * x34);
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[5],
+                x26,
+                -(t.sin[5] * x30),
+            );
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x19,
+            t.cos[5] * x27,
+        );
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x20,
+            t.cos[5] * x28,
+        );
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x21,
+            t.cos[5] * x29,
+        );
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x23,
+            -(t.sin[4] * x32),
+        );
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x24,
+            -(t.sin[4] * x33),
+        );
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x25,
+            -(t.sin[4] * x34),
+        );
+        let x42 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x31,
+            -(t.sin[4] * x35),
+        );
+        let x43 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x23,
+            t.cos[4] * x32,
+        );
+        let x44 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x24,
+            t.cos[4] * x33,
+        );
+        let x45 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x25,
+            t.cos[4] * x34,
+        );
         let x46 = 0.01_f64
-            + <f64 as ::trocar::Real>::mul_add(t.sin[5], x26, t.cos[5] * x30) - 0.02_f64;
-        let x47 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x39, t.sin[3] * x36);
-        let x48 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x40, t.sin[3] * x37);
-        let x49 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x41, t.sin[3] * x38);
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.sin[5], x26, t.cos[5] * x30)
+            - 0.02_f64;
+        let x47 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x39,
+            t.sin[3] * x36,
+        );
+        let x48 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x40,
+            t.sin[3] * x37,
+        );
+        let x49 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x41,
+            t.sin[3] * x38,
+        );
         let x50 = 0.13_f64
             + (0.09_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[4], x31, t.cos[4] * x35));
-        let x51 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x36, -(t.sin[3] * x39));
-        let x52 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x37, -(t.sin[3] * x40));
-        let x53 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x38, -(t.sin[3] * x41));
-        let x54 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x46, -(t.sin[3] * x42));
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[4],
+                    x31,
+                    t.cos[4] * x35,
+                ));
+        let x51 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x36,
+            -(t.sin[3] * x39),
+        );
+        let x52 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x37,
+            -(t.sin[3] * x40),
+        );
+        let x53 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x38,
+            -(t.sin[3] * x41),
+        );
+        let x54 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x46,
+            -(t.sin[3] * x42),
+        );
         let x55 = 0.015_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[3], x42, t.sin[3] * x46) - 0.01_f64;
-        let x56 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x43, -(t.sin[2] * x51));
-        let x57 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x44, -(t.sin[2] * x52));
-        let x58 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x45, -(t.sin[2] * x53));
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x42, t.sin[3] * x46)
+            - 0.01_f64;
+        let x56 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x43,
+            -(t.sin[2] * x51),
+        );
+        let x57 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x44,
+            -(t.sin[2] * x52),
+        );
+        let x58 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x45,
+            -(t.sin[2] * x53),
+        );
         let x59 = 0.1_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[2], x50, -(t.sin[2] * x54));
-        let x60 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x43, t.cos[2] * x51);
-        let x61 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x44, t.cos[2] * x52);
-        let x62 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x45, t.cos[2] * x53);
-        let x63 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x55, -(t.sin[1] * x59));
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[2],
+                x50,
+                -(t.sin[2] * x54),
+            );
+        let x60 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x43,
+            t.cos[2] * x51,
+        );
+        let x61 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x44,
+            t.cos[2] * x52,
+        );
+        let x62 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x45,
+            t.cos[2] * x53,
+        );
+        let x63 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x55,
+            -(t.sin[1] * x59),
+        );
         let x64 = 0.01_f64
             + (0.02_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[2], x50, t.cos[2] * x54));
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[2],
+                    x50,
+                    t.cos[2] * x54,
+                ));
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
-                    <f64 as ::trocar::Real>::mul_add(t.cos[1], x47, -(t.sin[1] * x56)),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[1],
+                        x47,
+                        -(t.sin[1] * x56),
+                    ),
                     x64,
                     -(x60 * x63),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
-                    <f64 as ::trocar::Real>::mul_add(t.cos[1], x48, -(t.sin[1] * x57)),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[1],
+                        x48,
+                        -(t.sin[1] * x57),
+                    ),
                     x64,
                     -(x61 * x63),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
-                    <f64 as ::trocar::Real>::mul_add(t.cos[1], x49, -(t.sin[1] * x58)),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[1],
+                        x49,
+                        -(t.sin[1] * x58),
+                    ),
                     x64,
                     -(x62 * x63),
                 ),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x47, t.cos[1] * x56),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x48, t.cos[1] * x57),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x49, t.cos[1] * x58),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x47, t.cos[1] * x56),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x48, t.cos[1] * x57),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x49, t.cos[1] * x58),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x55, x56, -(x47 * x59)),
-                <f64 as ::trocar::Real>::mul_add(x55, x57, -(x48 * x59)),
-                <f64 as ::trocar::Real>::mul_add(x55, x58, -(x49 * x59)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x55, x56, -(x47 * x59)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x55, x57, -(x48 * x59)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x55, x58, -(x49 * x59)),
                 x60,
                 x61,
                 x62,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x50, x51, -(x43 * x54)),
-                <f64 as ::trocar::Real>::mul_add(x50, x52, -(x44 * x54)),
-                <f64 as ::trocar::Real>::mul_add(x50, x53, -(x45 * x54)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x50, x51, -(x43 * x54)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x50, x52, -(x44 * x54)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x50, x53, -(x45 * x54)),
                 x47,
                 x48,
                 x49,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x39, x46, -(x36 * x42)),
-                <f64 as ::trocar::Real>::mul_add(x40, x46, -(x37 * x42)),
-                <f64 as ::trocar::Real>::mul_add(x41, x46, -(x38 * x42)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x39, x46, -(x36 * x42)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x40, x46, -(x37 * x42)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x41, x46, -(x38 * x42)),
                 x43,
                 x44,
                 x45,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x31, x32, -(x23 * x35)),
-                <f64 as ::trocar::Real>::mul_add(x31, x33, -(x24 * x35)),
-                <f64 as ::trocar::Real>::mul_add(x31, x34, -(x25 * x35)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x31, x32, -(x23 * x35)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x31, x33, -(x24 * x35)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x31, x34, -(x25 * x35)),
                 x36,
                 x37,
                 x38,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x26, x27, -(x19 * x30)),
-                <f64 as ::trocar::Real>::mul_add(x26, x28, -(x20 * x30)),
-                <f64 as ::trocar::Real>::mul_add(x26, x29, -(x21 * x30)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x26, x27, -(x19 * x30)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x26, x28, -(x20 * x30)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x26, x29, -(x21 * x30)),
                 x23,
                 x24,
                 x25,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x15, x22, -(x12 * x18)),
-                -<f64 as ::trocar::Real>::mul_add(x16, x22, x13 * x18),
-                <f64 as ::trocar::Real>::mul_add(x17, x22, -(x14 * x18)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x15, x22, -(x12 * x18)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x16, x22, x13 * x18),
+                <f64 as ::trocar::emitted::Real>::mul_add(x17, x22, -(x14 * x18)),
                 x19,
                 x20,
                 x21,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x7, x8, -(x1 * x11)),
-                <f64 as ::trocar::Real>::mul_add(x2, x11, x7 * x9),
-                -<f64 as ::trocar::Real>::mul_add(t.sin[9], x11, x7 * x10),
+                <f64 as ::trocar::emitted::Real>::mul_add(x7, x8, -(x1 * x11)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x2, x11, x7 * x9),
+                -<f64 as ::trocar::emitted::Real>::mul_add(t.sin[9], x11, x7 * x10),
                 x12,
                 x13,
                 x14,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(t.sin[10], x6, x3 * x4),
-                <f64 as ::trocar::Real>::mul_add(x3, x5, -(t.cos[10] * x6)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(t.sin[10], x6, x3 * x4),
+                <f64 as ::trocar::emitted::Real>::mul_add(x3, x5, -(t.cos[10] * x6)),
                 t.cos[9] * x3,
                 x1,
                 -x2,
@@ -955,15 +1468,15 @@ pub mod chain11_wide {
                 x0,
                 t.sin[10],
                 t.cos[10],
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 -0.09_f64,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -977,19 +1490,19 @@ pub mod chain11_wide {
     #[inline]
     #[must_use]
     pub fn constrained_jacobian(q: &[f64; N], p: &Params) -> [[f64; 6]; M] {
-        let ([s7, s8, s9, s10, s11], [c7, c8, c9, c10, c11]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s7, s8, s9, s10, s11], [c7, c8, c9, c10, c11]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[6], q[7], q[8], q[9], q[10]],
         );
         let x0 = s9 * s10;
         let x1 = s11 * c9;
-        let x2 = <f64 as ::trocar::Real>::mul_add(x0, c11, x1);
+        let x2 = <f64 as ::trocar::emitted::Real>::mul_add(x0, c11, x1);
         let x3 = s8 * c10;
-        let x4 = <f64 as ::trocar::Real>::mul_add(x2, c8, c11 * x3);
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(x2, c8, c11 * x3);
         let x5 = c9 * c8;
-        let x6 = <f64 as ::trocar::Real>::mul_add(
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
             c11,
             x5,
-            -(s11 * <f64 as ::trocar::Real>::mul_add(x0, c8, x3)),
+            -(s11 * <f64 as ::trocar::emitted::Real>::mul_add(x0, c8, x3)),
         );
         let x7 = s10 * s8;
         let x8 = c10 * (s9 * c8);
@@ -998,36 +1511,36 @@ pub mod chain11_wide {
         let x11 = 0.005_f64 * s8;
         let x12 = x10 - x11;
         let x13 = 0.1_f64 * c8;
-        let x14 = <f64 as ::trocar::Real>::mul_add(0.03_f64, s9, 0.22_f64);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(0.03_f64, s9, 0.22_f64);
         let x15 = c8 * x14;
-        let x16 = <f64 as ::trocar::Real>::mul_add(c9, x12 - x13, -x15);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c9, x12 - x13, -x15);
         let x17 = 0.22_f64 * s9;
         let x18 = 0.03_f64 + x17;
         let x19 = 0.02_f64 * c9;
-        let x20 = <f64 as ::trocar::Real>::mul_add(-c10, x18, x19);
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(-c10, x18, x19);
         let x21 = 0.02_f64 * s10;
         let x22 = 0.005_f64 - x21;
         let x23 = 0.02_f64 * c10;
         let x24 = 0.03_f64 * c9;
-        let x25 = <f64 as ::trocar::Real>::mul_add(
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
             s9,
-            <f64 as ::trocar::Real>::mul_add(s8, x22, 0.23_f64 + x13 - p.l_a),
+            <f64 as ::trocar::emitted::Real>::mul_add(s8, x22, 0.23_f64 + x13 - p.l_a),
             c8 * (x23 - x24),
         );
         let x26 = s9 * s8;
-        let x27 = <f64 as ::trocar::Real>::mul_add(c10, x26, s10 * c8);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(c10, x26, s10 * c8);
         let x28 = 0.23_f64 - p.l_a;
         let x29 = s8 * x28;
         let x30 = 0.005_f64 + x29;
         let x31 = c8 * x10;
-        let x32 = <f64 as ::trocar::Real>::mul_add(0.22_f64, c9, 0.1_f64);
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(0.22_f64, c9, 0.1_f64);
         let x33 = x31 - x32;
         let x34 = x22 + x29;
         let x35 = 0.23_f64 + x11;
-        let x36 = <f64 as ::trocar::Real>::mul_add(c9, x13 + x35 - p.l_a, x15);
-        let x37 = <f64 as ::trocar::Real>::mul_add(s8, x10, -0.005_f64);
-        let x38 = <f64 as ::trocar::Real>::mul_add(c8, x28, x32);
-        let x39 = <f64 as ::trocar::Real>::mul_add(s9, s7, -(c9 * (s8 * c7)));
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(c9, x13 + x35 - p.l_a, x15);
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(s8, x10, -0.005_f64);
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(c8, x28, x32);
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(s9, s7, -(c9 * (s8 * c7)));
         let x40 = 0.1_f64 * c9;
         let x41 = x14 + x40;
         let x42 = 0.09_f64 * c11;
@@ -1038,54 +1551,59 @@ pub mod chain11_wide {
         let x47 = s10 * (0.03_f64 + x46);
         let x48 = 0.09_f64 * x1;
         let x49 = s8 * (x47 + x48);
-        let x50 = <f64 as ::trocar::Real>::mul_add(c9, x45, 0.1_f64);
+        let x50 = <f64 as ::trocar::emitted::Real>::mul_add(c9, x45, 0.1_f64);
         let x51 = 0.09_f64 * s11;
-        let x52 = <f64 as ::trocar::Real>::mul_add(
+        let x52 = <f64 as ::trocar::emitted::Real>::mul_add(
             s10,
             x31 - x50,
-            s9 * <f64 as ::trocar::Real>::mul_add(c10, x37, x51),
+            s9 * <f64 as ::trocar::emitted::Real>::mul_add(c10, x37, x51),
         );
         let x53 = x2 * s8;
         let x54 = c11 * (c8 * c10);
-        let x55 = <f64 as ::trocar::Real>::mul_add(s9, s11, -(c11 * (s10 * c9)));
+        let x55 = <f64 as ::trocar::emitted::Real>::mul_add(
+            s9,
+            s11,
+            -(c11 * (s10 * c9)),
+        );
         let x56 = c9 * s7;
-        let x57 = <f64 as ::trocar::Real>::mul_add(0.02_f64, s7, 0.03_f64);
+        let x57 = <f64 as ::trocar::emitted::Real>::mul_add(0.02_f64, s7, 0.03_f64);
         let x58 = s9 * x57;
         let x59 = 0.22_f64 + x40;
         let x60 = s8 * (x58 + x59);
         let x61 = 0.02_f64 * c7;
-        let x62 = c9 * <f64 as ::trocar::Real>::mul_add(0.005_f64, c8, x61);
+        let x62 = c9 * <f64 as ::trocar::emitted::Real>::mul_add(0.005_f64, c8, x61);
         let x63 = c10 * (x17 + x57);
-        let x64 = <f64 as ::trocar::Real>::mul_add(0.1_f64, s9, x23);
+        let x64 = <f64 as ::trocar::emitted::Real>::mul_add(0.1_f64, s9, x23);
         let x65 = x21 - 0.005_f64;
         let x66 = c8 * x65;
-        let x67 = <f64 as ::trocar::Real>::mul_add(
+        let x67 = <f64 as ::trocar::emitted::Real>::mul_add(
             s8,
-            <f64 as ::trocar::Real>::mul_add(-c9, x57, x64),
+            <f64 as ::trocar::emitted::Real>::mul_add(-c9, x57, x64),
             s9 * (x66 - x61),
         );
         let x68 = 0.02_f64 * c8;
-        let x69 = s8 * <f64 as ::trocar::Real>::mul_add(x18, s7, 0.02_f64);
-        let x70 = 0.02_f64 * <f64 as ::trocar::Real>::mul_add(c9, s8 * s7, s9 * c7);
-        let x71 = <f64 as ::trocar::Real>::mul_add(
+        let x69 = s8 * <f64 as ::trocar::emitted::Real>::mul_add(x18, s7, 0.02_f64);
+        let x70 = 0.02_f64
+            * <f64 as ::trocar::emitted::Real>::mul_add(c9, s8 * s7, s9 * c7);
+        let x71 = <f64 as ::trocar::emitted::Real>::mul_add(
             s7,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 s9,
-                <f64 as ::trocar::Real>::mul_add(s8, x65, x10 - x13),
+                <f64 as ::trocar::emitted::Real>::mul_add(s8, x65, x10 - x13),
                 c8 * (x24 - x23),
             ),
-            c9 * <f64 as ::trocar::Real>::mul_add(c7, x34, x68),
+            c9 * <f64 as ::trocar::emitted::Real>::mul_add(c7, x34, x68),
         );
         let x72 = x27 * s7;
         let x73 = c10 * (c9 * c7);
         let x74 = s10 * s11;
-        let x75 = <f64 as ::trocar::Real>::mul_add(s9, c11, c9 * x74);
+        let x75 = <f64 as ::trocar::emitted::Real>::mul_add(s9, c11, c9 * x74);
         let x76 = x64 - x24;
-        let x77 = <f64 as ::trocar::Real>::mul_add(0.22_f64, c11, 0.09_f64);
+        let x77 = <f64 as ::trocar::emitted::Real>::mul_add(0.22_f64, c11, 0.09_f64);
         let x78 = c10 * x77;
         let x79 = 0.005_f64 * s10;
         let x80 = x79 - 0.02_f64;
-        let x81 = <f64 as ::trocar::Real>::mul_add(-0.005_f64, c10, x51);
+        let x81 = <f64 as ::trocar::emitted::Real>::mul_add(-0.005_f64, c10, x51);
         let x82 = s11 * c10;
         let x83 = c11 * c10;
         [
@@ -1093,137 +1611,178 @@ pub mod chain11_wide {
                 x4,
                 x6,
                 x9,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
-                    <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         c11,
-                        <f64 as ::trocar::Real>::mul_add(s10, x16, s8 * x20),
-                        <f64 as ::trocar::Real>::mul_add(s11, x25, -(0.09_f64 * x27)),
+                        <f64 as ::trocar::emitted::Real>::mul_add(s10, x16, s8 * x20),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            s11,
+                            x25,
+                            -(0.09_f64 * x27),
+                        ),
                     ),
                     c7,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         c11,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             s9,
-                            <f64 as ::trocar::Real>::mul_add(s10, x30, -0.02_f64),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                s10,
+                                x30,
+                                -0.02_f64,
+                            ),
                             c10 * x33,
                         ),
                         c9
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 s11,
                                 x34,
                                 -(0.09_f64 * c10),
                             ),
                     ) * s7,
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     s11,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         s10,
-                        <f64 as ::trocar::Real>::mul_add(c7, x36, s7 * (s9 * x37)),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            c7,
+                            x36,
+                            s7 * (s9 * x37),
+                        ),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             c10,
-                            <f64 as ::trocar::Real>::mul_add(s7, x38, s8 * (x18 * c7)),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                s7,
+                                x38,
+                                s8 * (x18 * c7),
+                            ),
                             0.02_f64 * x39,
                         ),
                     ),
-                    c11 * <f64 as ::trocar::Real>::mul_add(x25, c7, s7 * (c9 * x34)),
+                    c11
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            x25,
+                            c7,
+                            s7 * (c9 * x34),
+                        ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     c7,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         c10,
-                        <f64 as ::trocar::Real>::mul_add(c9, x35 - p.l_a, x44),
+                        <f64 as ::trocar::emitted::Real>::mul_add(c9, x35 - p.l_a, x44),
                         -x49,
                     ),
                     s7 * x52,
                 ),
-                <f64 as ::trocar::Real>::mul_add(c7, x54 - x53, s7 * x55),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(c7, x54 - x53, s7 * x55),
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     s11,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         s10,
-                        <f64 as ::trocar::Real>::mul_add(x26, c7, x56),
+                        <f64 as ::trocar::emitted::Real>::mul_add(x26, c7, x56),
                         -(c10 * (c8 * c7)),
                     ),
                     c11 * x39,
                 ),
-                <f64 as ::trocar::Real>::mul_add(x27, c7, c10 * x56),
+                <f64 as ::trocar::emitted::Real>::mul_add(x27, c7, c10 * x56),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     c11,
-                    <f64 as ::trocar::Real>::mul_add(s10, x62 - x60, c8 * (x63 - x19)),
-                    <f64 as ::trocar::Real>::mul_add(s11, x67, 0.09_f64 * (x8 - x7)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        s10,
+                        x62 - x60,
+                        c8 * (x63 - x19),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        s11,
+                        x67,
+                        0.09_f64 * (x8 - x7),
+                    ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     s11,
-                    <f64 as ::trocar::Real>::mul_add(s10, x60 - x62, c8 * (x19 - x63)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        s10,
+                        x60 - x62,
+                        c8 * (x19 - x63),
+                    ),
                     c11 * x67,
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     c10,
-                    <f64 as ::trocar::Real>::mul_add(s8, x58 + (x42 + x59), -x62),
-                    c8 * <f64 as ::trocar::Real>::mul_add(s10, x46 + x57, x48),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        s8,
+                        x58 + (x42 + x59),
+                        -x62,
+                    ),
+                    c8 * <f64 as ::trocar::emitted::Real>::mul_add(s10, x46 + x57, x48),
                 ),
                 x4,
                 x6,
                 x9,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     c11,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         s10,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             s7,
                             x36,
-                            s9 * <f64 as ::trocar::Real>::mul_add(c7, x30, x68),
+                            s9 * <f64 as ::trocar::emitted::Real>::mul_add(c7, x30, x68),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             c10,
-                            <f64 as ::trocar::Real>::mul_add(c7, x33, x69),
+                            <f64 as ::trocar::emitted::Real>::mul_add(c7, x33, x69),
                             -x70,
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(s11, x71, 0.09_f64 * (x72 - x73)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        s11,
+                        x71,
+                        0.09_f64 * (x72 - x73),
+                    ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     s11,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         s10,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x16,
                             s7,
-                            s9 * <f64 as ::trocar::Real>::mul_add(c7, x37, -x68),
+                            s9 * <f64 as ::trocar::emitted::Real>::mul_add(c7, x37, -x68),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             c10,
-                            <f64 as ::trocar::Real>::mul_add(c7, x38, -x69),
+                            <f64 as ::trocar::emitted::Real>::mul_add(c7, x38, -x69),
                             x70,
                         ),
                     ),
                     c11 * x71,
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     s7,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         c10,
-                        <f64 as ::trocar::Real>::mul_add(c9, x12, -x44),
+                        <f64 as ::trocar::emitted::Real>::mul_add(c9, x12, -x44),
                         x49,
                     ),
-                    <f64 as ::trocar::Real>::mul_add(c7, x52, 0.02_f64 * x9),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c7, x52, 0.02_f64 * x9),
                 ),
-                <f64 as ::trocar::Real>::mul_add(s7, x53 - x54, c7 * x55),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(s7, x53 - x54, c7 * x55),
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     s7,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         s8,
-                        <f64 as ::trocar::Real>::mul_add(c11, c9, -(x0 * s11)),
+                        <f64 as ::trocar::emitted::Real>::mul_add(c11, c9, -(x0 * s11)),
                         c10 * (s11 * c8),
                     ),
                     c7 * x75,
@@ -1231,33 +1790,46 @@ pub mod chain11_wide {
                 x73 - x72,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     s8,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         s11,
                         x76,
-                        -(s10 * <f64 as ::trocar::Real>::mul_add(c11, x41, 0.09_f64)),
+                        -(s10
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
+                                c11,
+                                x41,
+                                0.09_f64,
+                            )),
                     ),
                     c8
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             s9,
-                            <f64 as ::trocar::Real>::mul_add(s11, x65, x78),
+                            <f64 as ::trocar::emitted::Real>::mul_add(s11, x65, x78),
                             c11
-                                * <f64 as ::trocar::Real>::mul_add(c9, x80, 0.03_f64 * c10),
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
+                                    c9,
+                                    x80,
+                                    0.03_f64 * c10,
+                                ),
                         ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     s11,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         s10,
-                        <f64 as ::trocar::Real>::mul_add(s8, x41, -(0.005_f64 * x5)),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            s8,
+                            x41,
+                            -(0.005_f64 * x5),
+                        ),
                         c8 * x20,
                     ),
-                    c11 * <f64 as ::trocar::Real>::mul_add(s8, x76, s9 * x66),
+                    c11 * <f64 as ::trocar::emitted::Real>::mul_add(s8, x76, s9 * x66),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     c8,
-                    <f64 as ::trocar::Real>::mul_add(c9, x81, x47),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c9, x81, x47),
                     s8 * (c10 * x43),
                 ),
                 x4,
@@ -1265,24 +1837,33 @@ pub mod chain11_wide {
                 x9,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     c9,
-                    <f64 as ::trocar::Real>::mul_add(s11, x22, -x78),
-                    c11 * <f64 as ::trocar::Real>::mul_add(s9, x80, -(0.1_f64 * c10)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s11, x22, -x78),
+                    c11
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            s9,
+                            x80,
+                            -(0.1_f64 * c10),
+                        ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     s11,
-                    <f64 as ::trocar::Real>::mul_add(s9, 0.02_f64 - x79, c10 * x32),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        s9,
+                        0.02_f64 - x79,
+                        c10 * x32,
+                    ),
                     c9 * (c11 * x22),
                 ),
-                <f64 as ::trocar::Real>::mul_add(s9, x81, -(s10 * x50)),
+                <f64 as ::trocar::emitted::Real>::mul_add(s9, x81, -(s10 * x50)),
                 x55,
                 x75,
                 c9 * c10,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(0.02_f64, x82, -(s10 * x77)),
-                <f64 as ::trocar::Real>::mul_add(0.22_f64, x74, 0.02_f64 * x83),
+                <f64 as ::trocar::emitted::Real>::mul_add(0.02_f64, x82, -(s10 * x77)),
+                <f64 as ::trocar::emitted::Real>::mul_add(0.22_f64, x74, 0.02_f64 * x83),
                 c10 * x45,
                 x83,
                 -x82,
@@ -1294,15 +1875,15 @@ pub mod chain11_wide {
                 x51,
                 s11,
                 c11,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 -0.09_f64,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -1316,14 +1897,14 @@ pub mod chain11_wide {
     pub fn constrained_jacobian_trig(t: &JointTrig, p: &Params) -> [[f64; 6]; M] {
         let x0 = t.sin[8] * t.sin[9];
         let x1 = t.sin[10] * t.cos[8];
-        let x2 = <f64 as ::trocar::Real>::mul_add(x0, t.cos[10], x1);
+        let x2 = <f64 as ::trocar::emitted::Real>::mul_add(x0, t.cos[10], x1);
         let x3 = t.sin[7] * t.cos[9];
-        let x4 = <f64 as ::trocar::Real>::mul_add(x2, t.cos[7], t.cos[10] * x3);
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(x2, t.cos[7], t.cos[10] * x3);
         let x5 = t.cos[8] * t.cos[7];
-        let x6 = <f64 as ::trocar::Real>::mul_add(
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[10],
             x5,
-            -(t.sin[10] * <f64 as ::trocar::Real>::mul_add(x0, t.cos[7], x3)),
+            -(t.sin[10] * <f64 as ::trocar::emitted::Real>::mul_add(x0, t.cos[7], x3)),
         );
         let x7 = t.sin[9] * t.sin[7];
         let x8 = t.cos[9] * (t.sin[8] * t.cos[7]);
@@ -1332,36 +1913,52 @@ pub mod chain11_wide {
         let x11 = 0.005_f64 * t.sin[7];
         let x12 = x10 - x11;
         let x13 = 0.1_f64 * t.cos[7];
-        let x14 = <f64 as ::trocar::Real>::mul_add(0.03_f64, t.sin[8], 0.22_f64);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.03_f64,
+            t.sin[8],
+            0.22_f64,
+        );
         let x15 = t.cos[7] * x14;
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[8], x12 - x13, -x15);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[8], x12 - x13, -x15);
         let x17 = 0.22_f64 * t.sin[8];
         let x18 = 0.03_f64 + x17;
         let x19 = 0.02_f64 * t.cos[8];
-        let x20 = <f64 as ::trocar::Real>::mul_add(-t.cos[9], x18, x19);
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(-t.cos[9], x18, x19);
         let x21 = 0.02_f64 * t.sin[9];
         let x22 = 0.005_f64 - x21;
         let x23 = 0.02_f64 * t.cos[9];
         let x24 = 0.03_f64 * t.cos[8];
-        let x25 = <f64 as ::trocar::Real>::mul_add(
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
-            <f64 as ::trocar::Real>::mul_add(t.sin[7], x22, 0.23_f64 + x13 - p.l_a),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[7],
+                x22,
+                0.23_f64 + x13 - p.l_a,
+            ),
             t.cos[7] * (x23 - x24),
         );
         let x26 = t.sin[8] * t.sin[7];
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.cos[9], x26, t.sin[9] * t.cos[7]);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[9],
+            x26,
+            t.sin[9] * t.cos[7],
+        );
         let x28 = 0.23_f64 - p.l_a;
         let x29 = t.sin[7] * x28;
         let x30 = 0.005_f64 + x29;
         let x31 = t.cos[7] * x10;
-        let x32 = <f64 as ::trocar::Real>::mul_add(0.22_f64, t.cos[8], 0.1_f64);
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(0.22_f64, t.cos[8], 0.1_f64);
         let x33 = x31 - x32;
         let x34 = x22 + x29;
         let x35 = 0.23_f64 + x11;
-        let x36 = <f64 as ::trocar::Real>::mul_add(t.cos[8], x13 + x35 - p.l_a, x15);
-        let x37 = <f64 as ::trocar::Real>::mul_add(t.sin[7], x10, -0.005_f64);
-        let x38 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x28, x32);
-        let x39 = <f64 as ::trocar::Real>::mul_add(
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[8],
+            x13 + x35 - p.l_a,
+            x15,
+        );
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[7], x10, -0.005_f64);
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[7], x28, x32);
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
             t.sin[6],
             -(t.cos[8] * (t.sin[7] * t.cos[6])),
@@ -1376,63 +1973,77 @@ pub mod chain11_wide {
         let x47 = t.sin[9] * (0.03_f64 + x46);
         let x48 = 0.09_f64 * x1;
         let x49 = t.sin[7] * (x47 + x48);
-        let x50 = <f64 as ::trocar::Real>::mul_add(t.cos[8], x45, 0.1_f64);
+        let x50 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[8], x45, 0.1_f64);
         let x51 = 0.09_f64 * t.sin[10];
-        let x52 = <f64 as ::trocar::Real>::mul_add(
+        let x52 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[9],
             x31 - x50,
-            t.sin[8] * <f64 as ::trocar::Real>::mul_add(t.cos[9], x37, x51),
+            t.sin[8] * <f64 as ::trocar::emitted::Real>::mul_add(t.cos[9], x37, x51),
         );
         let x53 = x2 * t.sin[7];
         let x54 = t.cos[10] * (t.cos[7] * t.cos[9]);
-        let x55 = <f64 as ::trocar::Real>::mul_add(
+        let x55 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
             t.sin[10],
             -(t.cos[10] * (t.sin[9] * t.cos[8])),
         );
         let x56 = t.cos[8] * t.sin[6];
-        let x57 = <f64 as ::trocar::Real>::mul_add(0.02_f64, t.sin[6], 0.03_f64);
+        let x57 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.02_f64,
+            t.sin[6],
+            0.03_f64,
+        );
         let x58 = t.sin[8] * x57;
         let x59 = 0.22_f64 + x40;
         let x60 = t.sin[7] * (x58 + x59);
         let x61 = 0.02_f64 * t.cos[6];
-        let x62 = t.cos[8] * <f64 as ::trocar::Real>::mul_add(0.005_f64, t.cos[7], x61);
+        let x62 = t.cos[8]
+            * <f64 as ::trocar::emitted::Real>::mul_add(0.005_f64, t.cos[7], x61);
         let x63 = t.cos[9] * (x17 + x57);
-        let x64 = <f64 as ::trocar::Real>::mul_add(0.1_f64, t.sin[8], x23);
+        let x64 = <f64 as ::trocar::emitted::Real>::mul_add(0.1_f64, t.sin[8], x23);
         let x65 = x21 - 0.005_f64;
         let x66 = t.cos[7] * x65;
-        let x67 = <f64 as ::trocar::Real>::mul_add(
+        let x67 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
-            <f64 as ::trocar::Real>::mul_add(-t.cos[8], x57, x64),
+            <f64 as ::trocar::emitted::Real>::mul_add(-t.cos[8], x57, x64),
             t.sin[8] * (x66 - x61),
         );
         let x68 = 0.02_f64 * t.cos[7];
-        let x69 = t.sin[7] * <f64 as ::trocar::Real>::mul_add(x18, t.sin[6], 0.02_f64);
+        let x69 = t.sin[7]
+            * <f64 as ::trocar::emitted::Real>::mul_add(x18, t.sin[6], 0.02_f64);
         let x70 = 0.02_f64
-            * <f64 as ::trocar::Real>::mul_add(
+            * <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[8],
                 t.sin[7] * t.sin[6],
                 t.sin[8] * t.cos[6],
             );
-        let x71 = <f64 as ::trocar::Real>::mul_add(
+        let x71 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[6],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[8],
-                <f64 as ::trocar::Real>::mul_add(t.sin[7], x65, x10 - x13),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[7], x65, x10 - x13),
                 t.cos[7] * (x24 - x23),
             ),
-            t.cos[8] * <f64 as ::trocar::Real>::mul_add(t.cos[6], x34, x68),
+            t.cos[8] * <f64 as ::trocar::emitted::Real>::mul_add(t.cos[6], x34, x68),
         );
         let x72 = x27 * t.sin[6];
         let x73 = t.cos[9] * (t.cos[8] * t.cos[6]);
         let x74 = t.sin[9] * t.sin[10];
-        let x75 = <f64 as ::trocar::Real>::mul_add(t.sin[8], t.cos[10], t.cos[8] * x74);
+        let x75 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[8],
+            t.cos[10],
+            t.cos[8] * x74,
+        );
         let x76 = x64 - x24;
-        let x77 = <f64 as ::trocar::Real>::mul_add(0.22_f64, t.cos[10], 0.09_f64);
+        let x77 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.22_f64,
+            t.cos[10],
+            0.09_f64,
+        );
         let x78 = t.cos[9] * x77;
         let x79 = 0.005_f64 * t.sin[9];
         let x80 = x79 - 0.02_f64;
-        let x81 = <f64 as ::trocar::Real>::mul_add(-0.005_f64, t.cos[9], x51);
+        let x81 = <f64 as ::trocar::emitted::Real>::mul_add(-0.005_f64, t.cos[9], x51);
         let x82 = t.sin[10] * t.cos[9];
         let x83 = t.cos[10] * t.cos[9];
         [
@@ -1440,49 +2051,57 @@ pub mod chain11_wide {
                 x4,
                 x6,
                 x9,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
-                    <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[10],
-                        <f64 as ::trocar::Real>::mul_add(t.sin[9], x16, t.sin[7] * x20),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.sin[9],
+                            x16,
+                            t.sin[7] * x20,
+                        ),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[10],
                             x25,
                             -(0.09_f64 * x27),
                         ),
                     ),
                     t.cos[6],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[10],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[8],
-                            <f64 as ::trocar::Real>::mul_add(t.sin[9], x30, -0.02_f64),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                t.sin[9],
+                                x30,
+                                -0.02_f64,
+                            ),
                             t.cos[9] * x33,
                         ),
                         t.cos[8]
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[10],
                                 x34,
                                 -(0.09_f64 * t.cos[9]),
                             ),
                     ) * t.sin[6],
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[10],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[9],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[6],
                             x36,
                             t.sin[6] * (t.sin[8] * x37),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[9],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[6],
                                 x38,
                                 t.sin[7] * (x18 * t.cos[6]),
@@ -1491,121 +2110,162 @@ pub mod chain11_wide {
                         ),
                     ),
                     t.cos[10]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             x25,
                             t.cos[6],
                             t.sin[6] * (t.cos[8] * x34),
                         ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.cos[6],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[9],
-                        <f64 as ::trocar::Real>::mul_add(t.cos[8], x35 - p.l_a, x44),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.cos[8],
+                            x35 - p.l_a,
+                            x44,
+                        ),
                         -x49,
                     ),
                     t.sin[6] * x52,
                 ),
-                <f64 as ::trocar::Real>::mul_add(t.cos[6], x54 - x53, t.sin[6] * x55),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.cos[6],
+                    x54 - x53,
+                    t.sin[6] * x55,
+                ),
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[10],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[9],
-                        <f64 as ::trocar::Real>::mul_add(x26, t.cos[6], x56),
+                        <f64 as ::trocar::emitted::Real>::mul_add(x26, t.cos[6], x56),
                         -(t.cos[9] * (t.cos[7] * t.cos[6])),
                     ),
                     t.cos[10] * x39,
                 ),
-                <f64 as ::trocar::Real>::mul_add(x27, t.cos[6], t.cos[9] * x56),
+                <f64 as ::trocar::emitted::Real>::mul_add(x27, t.cos[6], t.cos[9] * x56),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.cos[10],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[9],
                         x62 - x60,
                         t.cos[7] * (x63 - x19),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[10],
                         x67,
                         0.09_f64 * (x8 - x7),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[10],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[9],
                         x60 - x62,
                         t.cos[7] * (x19 - x63),
                     ),
                     t.cos[10] * x67,
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.cos[9],
-                    <f64 as ::trocar::Real>::mul_add(t.sin[7], x58 + (x42 + x59), -x62),
-                    t.cos[7] * <f64 as ::trocar::Real>::mul_add(t.sin[9], x46 + x57, x48),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[7],
+                        x58 + (x42 + x59),
+                        -x62,
+                    ),
+                    t.cos[7]
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.sin[9],
+                            x46 + x57,
+                            x48,
+                        ),
                 ),
                 x4,
                 x6,
                 x9,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.cos[10],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[9],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[6],
                             x36,
                             t.sin[8]
-                                * <f64 as ::trocar::Real>::mul_add(t.cos[6], x30, x68),
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
+                                    t.cos[6],
+                                    x30,
+                                    x68,
+                                ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[9],
-                            <f64 as ::trocar::Real>::mul_add(t.cos[6], x33, x69),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                t.cos[6],
+                                x33,
+                                x69,
+                            ),
                             -x70,
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[10],
                         x71,
                         0.09_f64 * (x72 - x73),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[10],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[9],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x16,
                             t.sin[6],
                             t.sin[8]
-                                * <f64 as ::trocar::Real>::mul_add(t.cos[6], x37, -x68),
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
+                                    t.cos[6],
+                                    x37,
+                                    -x68,
+                                ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[9],
-                            <f64 as ::trocar::Real>::mul_add(t.cos[6], x38, -x69),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                t.cos[6],
+                                x38,
+                                -x69,
+                            ),
                             x70,
                         ),
                     ),
                     t.cos[10] * x71,
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[6],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[9],
-                        <f64 as ::trocar::Real>::mul_add(t.cos[8], x12, -x44),
+                        <f64 as ::trocar::emitted::Real>::mul_add(t.cos[8], x12, -x44),
                         x49,
                     ),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[6], x52, 0.02_f64 * x9),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[6],
+                        x52,
+                        0.02_f64 * x9,
+                    ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(t.sin[6], x53 - x54, t.cos[6] * x55),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[6],
-                    <f64 as ::trocar::Real>::mul_add(
+                    x53 - x54,
+                    t.cos[6] * x55,
+                ),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[6],
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[7],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[10],
                             t.cos[8],
                             -(x0 * t.sin[10]),
@@ -1617,31 +2277,39 @@ pub mod chain11_wide {
                 x73 - x72,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[7],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[10],
                         x76,
                         -(t.sin[9]
-                            * <f64 as ::trocar::Real>::mul_add(t.cos[10], x41, 0.09_f64)),
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
+                                t.cos[10],
+                                x41,
+                                0.09_f64,
+                            )),
                     ),
                     t.cos[7]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[8],
-                            <f64 as ::trocar::Real>::mul_add(t.sin[10], x65, x78),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                t.sin[10],
+                                x65,
+                                x78,
+                            ),
                             t.cos[10]
-                                * <f64 as ::trocar::Real>::mul_add(
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[8],
                                     x80,
                                     0.03_f64 * t.cos[9],
                                 ),
                         ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[10],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[9],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[7],
                             x41,
                             -(0.005_f64 * x5),
@@ -1649,11 +2317,15 @@ pub mod chain11_wide {
                         t.cos[7] * x20,
                     ),
                     t.cos[10]
-                        * <f64 as ::trocar::Real>::mul_add(t.sin[7], x76, t.sin[8] * x66),
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.sin[7],
+                            x76,
+                            t.sin[8] * x66,
+                        ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.cos[7],
-                    <f64 as ::trocar::Real>::mul_add(t.cos[8], x81, x47),
+                    <f64 as ::trocar::emitted::Real>::mul_add(t.cos[8], x81, x47),
                     t.sin[7] * (t.cos[9] * x43),
                 ),
                 x4,
@@ -1661,33 +2333,41 @@ pub mod chain11_wide {
                 x9,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.cos[8],
-                    <f64 as ::trocar::Real>::mul_add(t.sin[10], x22, -x78),
+                    <f64 as ::trocar::emitted::Real>::mul_add(t.sin[10], x22, -x78),
                     t.cos[10]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[8],
                             x80,
                             -(0.1_f64 * t.cos[9]),
                         ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[10],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[8],
                         0.02_f64 - x79,
                         t.cos[9] * x32,
                     ),
                     t.cos[8] * (t.cos[10] * x22),
                 ),
-                <f64 as ::trocar::Real>::mul_add(t.sin[8], x81, -(t.sin[9] * x50)),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[8],
+                    x81,
+                    -(t.sin[9] * x50),
+                ),
                 x55,
                 x75,
                 t.cos[8] * t.cos[9],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(0.02_f64, x82, -(t.sin[9] * x77)),
-                <f64 as ::trocar::Real>::mul_add(0.22_f64, x74, 0.02_f64 * x83),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    0.02_f64,
+                    x82,
+                    -(t.sin[9] * x77),
+                ),
+                <f64 as ::trocar::emitted::Real>::mul_add(0.22_f64, x74, 0.02_f64 * x83),
                 t.cos[9] * x45,
                 x83,
                 -x82,
@@ -1699,15 +2379,15 @@ pub mod chain11_wide {
                 x51,
                 t.sin[10],
                 t.cos[10],
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 -0.09_f64,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -1721,52 +2401,57 @@ pub mod chain11_wide {
     #[inline]
     #[must_use]
     pub fn constraint_jacobian_c(q: &[f64; N], p: &Params) -> [[f64; 6]; R] {
-        let ([s7, s8, s9, s10, s11], [c7, c8, c9, c10, c11]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s7, s8, s9, s10, s11], [c7, c8, c9, c10, c11]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[6], q[7], q[8], q[9], q[10]],
         );
-        let x0 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
+            / <f64 as ::trocar::emitted::Real>::mul_add(
                 p.l_a,
                 p.l_a,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ONE,
             );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.1_f64,
             c9,
-            <f64 as ::trocar::Real>::mul_add(0.03_f64, s9, 0.22_f64),
+            <f64 as ::trocar::emitted::Real>::mul_add(0.03_f64, s9, 0.22_f64),
         );
-        let x2 = c9 * <f64 as ::trocar::Real>::mul_add(0.005_f64, s8, 0.23_f64);
-        let x3 = <f64 as ::trocar::Real>::mul_add(x1, c8, x2) * s10;
-        let x4 = <f64 as ::trocar::Real>::mul_add(0.22_f64, s9, 0.03_f64) * c10;
+        let x2 = c9 * <f64 as ::trocar::emitted::Real>::mul_add(0.005_f64, s8, 0.23_f64);
+        let x3 = <f64 as ::trocar::emitted::Real>::mul_add(x1, c8, x2) * s10;
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(0.22_f64, s9, 0.03_f64) * c10;
         let x5 = 0.02_f64 * c9;
         let x6 = 0.02_f64 * s10;
-        let x7 = <f64 as ::trocar::Real>::mul_add(
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
             s9,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 s8,
                 0.005_f64 - x6,
-                <f64 as ::trocar::Real>::mul_add(0.1_f64, c8, 0.23_f64),
+                <f64 as ::trocar::emitted::Real>::mul_add(0.1_f64, c8, 0.23_f64),
             ),
-            c8 * <f64 as ::trocar::Real>::mul_add(0.02_f64, c10, -(0.03_f64 * c9)),
+            c8
+                * <f64 as ::trocar::emitted::Real>::mul_add(
+                    0.02_f64,
+                    c10,
+                    -(0.03_f64 * c9),
+                ),
         );
         let x8 = s9 * s8;
-        let x9 = <f64 as ::trocar::Real>::mul_add(c10, x8, c8 * s10);
-        let x10 = <f64 as ::trocar::Real>::mul_add(
-            <f64 as ::trocar::Real>::mul_add(s8, x5 - x4, -x3),
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(c10, x8, c8 * s10);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(s8, x5 - x4, -x3),
             c11,
-            <f64 as ::trocar::Real>::mul_add(x7, s11, -(0.09_f64 * x9)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x7, s11, -(0.09_f64 * x9)),
         );
         let x11 = 0.23_f64 * s8;
         let x12 = 0.005_f64 + x11;
         let x13 = s10 * x12;
-        let x14 = <f64 as ::trocar::Real>::mul_add(0.23_f64, c8, 0.1_f64);
-        let x15 = c10 * <f64 as ::trocar::Real>::mul_add(0.22_f64, c9, x14);
-        let x16 = <f64 as ::trocar::Real>::mul_add(s9, 0.02_f64 - x13, x15);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(0.23_f64, c8, 0.1_f64);
+        let x15 = c10 * <f64 as ::trocar::emitted::Real>::mul_add(0.22_f64, c9, x14);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(s9, 0.02_f64 - x13, x15);
         let x17 = x6 - 0.005_f64 - x11;
         let x18 = 0.09_f64 * c10;
         let x19 = s9 * s10;
         let x20 = c9 * s11;
-        let x21 = <f64 as ::trocar::Real>::mul_add(c11, x19, x20);
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(c11, x19, x20);
         let x22 = s8 * c10;
         let x23 = s8 * x21;
         let x24 = c11 * (c8 * c10);
@@ -1774,83 +2459,90 @@ pub mod chain11_wide {
         let x26 = s9 * s11;
         let x27 = c11 * (c9 * s10);
         let x28 = x26 - x27;
-        let x29 = <f64 as ::trocar::Real>::mul_add(c7, x25, s7 * x28);
-        let x30 = <f64 as ::trocar::Real>::mul_add(s8, x4 - x5, x3);
-        let x31 = <f64 as ::trocar::Real>::mul_add(s9, x13 - 0.02_f64, -x15);
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x25, s7 * x28);
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(s8, x4 - x5, x3);
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(s9, x13 - 0.02_f64, -x15);
         let x32 = c9 * s7;
-        let x33 = <f64 as ::trocar::Real>::mul_add(
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
             s11,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 s10,
-                <f64 as ::trocar::Real>::mul_add(x8, c7, x32),
+                <f64 as ::trocar::emitted::Real>::mul_add(x8, c7, x32),
                 -(c10 * (c8 * c7)),
             ),
-            c11 * <f64 as ::trocar::Real>::mul_add(s9, s7, -(c9 * (s8 * c7))),
+            c11 * <f64 as ::trocar::emitted::Real>::mul_add(s9, s7, -(c9 * (s8 * c7))),
         );
         let x34 = 0.09_f64 * c11;
         let x35 = 0.22_f64 + x34;
-        let x36 = <f64 as ::trocar::Real>::mul_add(
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
             c10,
-            <f64 as ::trocar::Real>::mul_add(c8, x1 + x34, x2),
+            <f64 as ::trocar::emitted::Real>::mul_add(c8, x1 + x34, x2),
             -(s8
-                * <f64 as ::trocar::Real>::mul_add(
+                * <f64 as ::trocar::emitted::Real>::mul_add(
                     s10,
-                    <f64 as ::trocar::Real>::mul_add(s9, x35, 0.03_f64),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s9, x35, 0.03_f64),
                     0.09_f64 * x20,
                 )),
         );
-        let x37 = s10 * <f64 as ::trocar::Real>::mul_add(c9, x35, x14);
+        let x37 = s10 * <f64 as ::trocar::emitted::Real>::mul_add(c9, x35, x14);
         let x38 = c10 * x12;
         let x39 = 0.09_f64 * s11;
-        let x40 = <f64 as ::trocar::Real>::mul_add(x9, c7, c10 * x32);
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(x9, c7, c10 * x32);
         let x41 = s11 * x19;
         let x42 = c9 * c11;
         let x43 = c10 * (c8 * s11);
-        let x44 = c7 * <f64 as ::trocar::Real>::mul_add(s9, c11, c9 * (s10 * s11));
+        let x44 = c7
+            * <f64 as ::trocar::emitted::Real>::mul_add(s9, c11, c9 * (s10 * s11));
         let x45 = x9 * s7;
         let x46 = c10 * (c9 * c7);
         let x47 = x12 - x6;
         [
             [
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x10,
                             s7,
-                            <f64 as ::trocar::Real>::mul_add(
-                                <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     c11,
                                     x16,
-                                    c9 * <f64 as ::trocar::Real>::mul_add(s11, x17, x18),
+                                    c9
+                                        * <f64 as ::trocar::emitted::Real>::mul_add(s11, x17, x18),
                                 ),
                                 c7,
                                 -(0.02_f64
-                                    * <f64 as ::trocar::Real>::mul_add(c8, x21, c11 * x22)),
+                                    * <f64 as ::trocar::emitted::Real>::mul_add(
+                                        c8,
+                                        x21,
+                                        c11 * x22,
+                                    )),
                             ),
                         ),
                         x29,
                     ),
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             s11,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 s7,
                                 x30,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     c7,
                                     x31,
-                                    0.02_f64 * <f64 as ::trocar::Real>::mul_add(c8, x19, x22),
+                                    0.02_f64
+                                        * <f64 as ::trocar::emitted::Real>::mul_add(c8, x19, x22),
                                 ),
                             ),
                             c11
-                                * <f64 as ::trocar::Real>::mul_add(
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
                                     x7,
                                     s7,
                                     c9
-                                        * <f64 as ::trocar::Real>::mul_add(
+                                        * <f64 as ::trocar::emitted::Real>::mul_add(
                                             x17,
                                             c7,
                                             -(0.02_f64 * c8),
@@ -1860,16 +2552,20 @@ pub mod chain11_wide {
                         x33,
                     ),
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             s7,
                             x36,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 c7,
-                                <f64 as ::trocar::Real>::mul_add(s9, x38 - x39, x37),
+                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                    s9,
+                                    x38 - x39,
+                                    x37,
+                                ),
                                 0.02_f64
-                                    * <f64 as ::trocar::Real>::mul_add(
+                                    * <f64 as ::trocar::emitted::Real>::mul_add(
                                         c10,
                                         s9 * c8,
                                         -(s8 * s10),
@@ -1879,54 +2575,81 @@ pub mod chain11_wide {
                         x40,
                     ),
                 p.l_a
-                    * (x0 * <f64 as ::trocar::Real>::mul_add(s7, x25, c7 * (x27 - x26))),
+                    * (x0
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            s7,
+                            x25,
+                            c7 * (x27 - x26),
+                        )),
                 p.l_a
                     * (x0
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             s7,
-                            <f64 as ::trocar::Real>::mul_add(s8, x41 - x42, -x43),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                s8,
+                                x41 - x42,
+                                -x43,
+                            ),
                             -x44,
                         )),
                 p.l_a * (x0 * (x45 - x46)),
             ],
             [
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x10,
                             c7,
                             s7
-                                * <f64 as ::trocar::Real>::mul_add(
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
                                     c11,
                                     x31,
-                                    c9 * <f64 as ::trocar::Real>::mul_add(s11, x47, -x18),
+                                    c9
+                                        * <f64 as ::trocar::emitted::Real>::mul_add(s11, x47, -x18),
                                 ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(s7, x23 - x24, c7 * x28),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            s7,
+                            x23 - x24,
+                            c7 * x28,
+                        ),
                     ),
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             s11,
-                            <f64 as ::trocar::Real>::mul_add(c7, x30, s7 * x16),
+                            <f64 as ::trocar::emitted::Real>::mul_add(c7, x30, s7 * x16),
                             c11
-                                * <f64 as ::trocar::Real>::mul_add(x7, c7, s7 * (c9 * x47)),
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
+                                    x7,
+                                    c7,
+                                    s7 * (c9 * x47),
+                                ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             s7,
-                            <f64 as ::trocar::Real>::mul_add(s8, x42 - x41, x43),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                s8,
+                                x42 - x41,
+                                x43,
+                            ),
                             x44,
                         ),
                     ),
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             c7,
                             x36,
-                            s7 * <f64 as ::trocar::Real>::mul_add(s9, x39 - x38, -x37),
+                            s7
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
+                                    s9,
+                                    x39 - x38,
+                                    -x37,
+                                ),
                         ),
                         x46 - x45,
                     ),
@@ -1944,56 +2667,65 @@ pub mod chain11_wide {
     #[inline]
     #[must_use]
     pub fn constraint_jacobian_c_trig(t: &JointTrig, p: &Params) -> [[f64; 6]; R] {
-        let x0 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
+            / <f64 as ::trocar::emitted::Real>::mul_add(
                 p.l_a,
                 p.l_a,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ONE,
             );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.1_f64,
             t.cos[8],
-            <f64 as ::trocar::Real>::mul_add(0.03_f64, t.sin[8], 0.22_f64),
+            <f64 as ::trocar::emitted::Real>::mul_add(0.03_f64, t.sin[8], 0.22_f64),
         );
         let x2 = t.cos[8]
-            * <f64 as ::trocar::Real>::mul_add(0.005_f64, t.sin[7], 0.23_f64);
-        let x3 = <f64 as ::trocar::Real>::mul_add(x1, t.cos[7], x2) * t.sin[9];
-        let x4 = <f64 as ::trocar::Real>::mul_add(0.22_f64, t.sin[8], 0.03_f64)
+            * <f64 as ::trocar::emitted::Real>::mul_add(0.005_f64, t.sin[7], 0.23_f64);
+        let x3 = <f64 as ::trocar::emitted::Real>::mul_add(x1, t.cos[7], x2) * t.sin[9];
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(0.22_f64, t.sin[8], 0.03_f64)
             * t.cos[9];
         let x5 = 0.02_f64 * t.cos[8];
         let x6 = 0.02_f64 * t.sin[9];
-        let x7 = <f64 as ::trocar::Real>::mul_add(
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[7],
                 0.005_f64 - x6,
-                <f64 as ::trocar::Real>::mul_add(0.1_f64, t.cos[7], 0.23_f64),
+                <f64 as ::trocar::emitted::Real>::mul_add(0.1_f64, t.cos[7], 0.23_f64),
             ),
             t.cos[7]
-                * <f64 as ::trocar::Real>::mul_add(
+                * <f64 as ::trocar::emitted::Real>::mul_add(
                     0.02_f64,
                     t.cos[9],
                     -(0.03_f64 * t.cos[8]),
                 ),
         );
         let x8 = t.sin[8] * t.sin[7];
-        let x9 = <f64 as ::trocar::Real>::mul_add(t.cos[9], x8, t.cos[7] * t.sin[9]);
-        let x10 = <f64 as ::trocar::Real>::mul_add(
-            <f64 as ::trocar::Real>::mul_add(t.sin[7], x5 - x4, -x3),
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[9],
+            x8,
+            t.cos[7] * t.sin[9],
+        );
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(t.sin[7], x5 - x4, -x3),
             t.cos[10],
-            <f64 as ::trocar::Real>::mul_add(x7, t.sin[10], -(0.09_f64 * x9)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x7, t.sin[10], -(0.09_f64 * x9)),
         );
         let x11 = 0.23_f64 * t.sin[7];
         let x12 = 0.005_f64 + x11;
         let x13 = t.sin[9] * x12;
-        let x14 = <f64 as ::trocar::Real>::mul_add(0.23_f64, t.cos[7], 0.1_f64);
-        let x15 = t.cos[9] * <f64 as ::trocar::Real>::mul_add(0.22_f64, t.cos[8], x14);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.sin[8], 0.02_f64 - x13, x15);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(0.23_f64, t.cos[7], 0.1_f64);
+        let x15 = t.cos[9]
+            * <f64 as ::trocar::emitted::Real>::mul_add(0.22_f64, t.cos[8], x14);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[8],
+            0.02_f64 - x13,
+            x15,
+        );
         let x17 = x6 - 0.005_f64 - x11;
         let x18 = 0.09_f64 * t.cos[9];
         let x19 = t.sin[8] * t.sin[9];
         let x20 = t.cos[8] * t.sin[10];
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.cos[10], x19, x20);
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[10], x19, x20);
         let x22 = t.sin[7] * t.cos[9];
         let x23 = t.sin[7] * x21;
         let x24 = t.cos[10] * (t.cos[7] * t.cos[9]);
@@ -2001,19 +2733,27 @@ pub mod chain11_wide {
         let x26 = t.sin[8] * t.sin[10];
         let x27 = t.cos[10] * (t.cos[8] * t.sin[9]);
         let x28 = x26 - x27;
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x25, t.sin[6] * x28);
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.sin[7], x4 - x5, x3);
-        let x31 = <f64 as ::trocar::Real>::mul_add(t.sin[8], x13 - 0.02_f64, -x15);
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x25,
+            t.sin[6] * x28,
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[7], x4 - x5, x3);
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[8],
+            x13 - 0.02_f64,
+            -x15,
+        );
         let x32 = t.cos[8] * t.sin[6];
-        let x33 = <f64 as ::trocar::Real>::mul_add(
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[10],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[9],
-                <f64 as ::trocar::Real>::mul_add(x8, t.cos[6], x32),
+                <f64 as ::trocar::emitted::Real>::mul_add(x8, t.cos[6], x32),
                 -(t.cos[9] * (t.cos[7] * t.cos[6])),
             ),
             t.cos[10]
-                * <f64 as ::trocar::Real>::mul_add(
+                * <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[8],
                     t.sin[6],
                     -(t.cos[8] * (t.sin[7] * t.cos[6])),
@@ -2021,25 +2761,30 @@ pub mod chain11_wide {
         );
         let x34 = 0.09_f64 * t.cos[10];
         let x35 = 0.22_f64 + x34;
-        let x36 = <f64 as ::trocar::Real>::mul_add(
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[9],
-            <f64 as ::trocar::Real>::mul_add(t.cos[7], x1 + x34, x2),
+            <f64 as ::trocar::emitted::Real>::mul_add(t.cos[7], x1 + x34, x2),
             -(t.sin[7]
-                * <f64 as ::trocar::Real>::mul_add(
+                * <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[9],
-                    <f64 as ::trocar::Real>::mul_add(t.sin[8], x35, 0.03_f64),
+                    <f64 as ::trocar::emitted::Real>::mul_add(t.sin[8], x35, 0.03_f64),
                     0.09_f64 * x20,
                 )),
         );
-        let x37 = t.sin[9] * <f64 as ::trocar::Real>::mul_add(t.cos[8], x35, x14);
+        let x37 = t.sin[9]
+            * <f64 as ::trocar::emitted::Real>::mul_add(t.cos[8], x35, x14);
         let x38 = t.cos[9] * x12;
         let x39 = 0.09_f64 * t.sin[10];
-        let x40 = <f64 as ::trocar::Real>::mul_add(x9, t.cos[6], t.cos[9] * x32);
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(
+            x9,
+            t.cos[6],
+            t.cos[9] * x32,
+        );
         let x41 = t.sin[10] * x19;
         let x42 = t.cos[8] * t.cos[10];
         let x43 = t.cos[9] * (t.cos[7] * t.sin[10]);
         let x44 = t.cos[6]
-            * <f64 as ::trocar::Real>::mul_add(
+            * <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[8],
                 t.cos[10],
                 t.cos[8] * (t.sin[9] * t.sin[10]),
@@ -2050,21 +2795,25 @@ pub mod chain11_wide {
         [
             [
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x10,
                             t.sin[6],
-                            <f64 as ::trocar::Real>::mul_add(
-                                <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[10],
                                     x16,
                                     t.cos[8]
-                                        * <f64 as ::trocar::Real>::mul_add(t.sin[10], x17, x18),
+                                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                                            t.sin[10],
+                                            x17,
+                                            x18,
+                                        ),
                                 ),
                                 t.cos[6],
                                 -(0.02_f64
-                                    * <f64 as ::trocar::Real>::mul_add(
+                                    * <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.cos[7],
                                         x21,
                                         t.cos[10] * x22,
@@ -2074,26 +2823,30 @@ pub mod chain11_wide {
                         x29,
                     ),
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[10],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[6],
                                 x30,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[6],
                                     x31,
                                     0.02_f64
-                                        * <f64 as ::trocar::Real>::mul_add(t.cos[7], x19, x22),
+                                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                                            t.cos[7],
+                                            x19,
+                                            x22,
+                                        ),
                                 ),
                             ),
                             t.cos[10]
-                                * <f64 as ::trocar::Real>::mul_add(
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
                                     x7,
                                     t.sin[6],
                                     t.cos[8]
-                                        * <f64 as ::trocar::Real>::mul_add(
+                                        * <f64 as ::trocar::emitted::Real>::mul_add(
                                             x17,
                                             t.cos[6],
                                             -(0.02_f64 * t.cos[7]),
@@ -2103,16 +2856,20 @@ pub mod chain11_wide {
                         x33,
                     ),
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[6],
                             x36,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[6],
-                                <f64 as ::trocar::Real>::mul_add(t.sin[8], x38 - x39, x37),
+                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                    t.sin[8],
+                                    x38 - x39,
+                                    x37,
+                                ),
                                 0.02_f64
-                                    * <f64 as ::trocar::Real>::mul_add(
+                                    * <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.cos[9],
                                         t.sin[8] * t.cos[7],
                                         -(t.sin[7] * t.sin[9]),
@@ -2123,72 +2880,84 @@ pub mod chain11_wide {
                     ),
                 p.l_a
                     * (x0
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[6],
                             x25,
                             t.cos[6] * (x27 - x26),
                         )),
                 p.l_a
                     * (x0
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[6],
-                            <f64 as ::trocar::Real>::mul_add(t.sin[7], x41 - x42, -x43),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                t.sin[7],
+                                x41 - x42,
+                                -x43,
+                            ),
                             -x44,
                         )),
                 p.l_a * (x0 * (x45 - x46)),
             ],
             [
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x10,
                             t.cos[6],
                             t.sin[6]
-                                * <f64 as ::trocar::Real>::mul_add(
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[10],
                                     x31,
                                     t.cos[8]
-                                        * <f64 as ::trocar::Real>::mul_add(t.sin[10], x47, -x18),
+                                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                                            t.sin[10],
+                                            x47,
+                                            -x18,
+                                        ),
                                 ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[6],
                             x23 - x24,
                             t.cos[6] * x28,
                         ),
                     ),
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[10],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[6],
                                 x30,
                                 t.sin[6] * x16,
                             ),
                             t.cos[10]
-                                * <f64 as ::trocar::Real>::mul_add(
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
                                     x7,
                                     t.cos[6],
                                     t.sin[6] * (t.cos[8] * x47),
                                 ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[6],
-                            <f64 as ::trocar::Real>::mul_add(t.sin[7], x42 - x41, x43),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                t.sin[7],
+                                x42 - x41,
+                                x43,
+                            ),
                             x44,
                         ),
                     ),
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[6],
                             x36,
                             t.sin[6]
-                                * <f64 as ::trocar::Real>::mul_add(
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[8],
                                     x39 - x38,
                                     -x37,
@@ -2210,77 +2979,84 @@ pub mod chain11_wide {
     #[inline]
     #[must_use]
     pub fn partial_body_jacobian(q: &[f64; N], _p: &Params) -> [[f64; 6]; I] {
-        let ([s2, s3, s4, s5, s6], [c2, c3, c4, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s2, s3, s4, s5, s6], [c2, c3, c4, c5, c6]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[1], q[2], q[3], q[4], q[5]],
         );
         let x0 = s5 * c6;
         let x1 = s5 * s6;
         let x2 = 0.01_f64 * c5;
-        let x3 = <f64 as ::trocar::Real>::mul_add(-0.12_f64, s5, x2);
+        let x3 = <f64 as ::trocar::emitted::Real>::mul_add(-0.12_f64, s5, x2);
         let x4 = c5 * c6;
         let x5 = c5 * s6;
         let x6 = c4 * c5;
-        let x7 = <f64 as ::trocar::Real>::mul_add(s4, s6, -(c4 * x0));
-        let x8 = <f64 as ::trocar::Real>::mul_add(c4, x1, s4 * c6);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(s4, s6, -(c4 * x0));
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x1, s4 * c6);
         let x9 = 0.13_f64
-            + (0.09_f64 + <f64 as ::trocar::Real>::mul_add(0.01_f64, s5, 0.12_f64 * c5));
+            + (0.09_f64
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    0.01_f64,
+                    s5,
+                    0.12_f64 * c5,
+                ));
         let x10 = s4 * c5;
-        let x11 = <f64 as ::trocar::Real>::mul_add(s4, x0, c4 * s6);
-        let x12 = <f64 as ::trocar::Real>::mul_add(c4, c6, -(s4 * x1));
-        let x13 = <f64 as ::trocar::Real>::mul_add(s4, x3, 0.01_f64 * c4);
-        let x14 = 0.015_f64 + <f64 as ::trocar::Real>::mul_add(c4, x3, -(0.01_f64 * s4))
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x0, c4 * s6);
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(c4, c6, -(s4 * x1));
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x3, 0.01_f64 * c4);
+        let x14 = 0.015_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c4, x3, -(0.01_f64 * s4))
             - 0.01_f64;
-        let x15 = <f64 as ::trocar::Real>::mul_add(c3, s5, s3 * x10);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c3, x4, -(s3 * x11));
-        let x17 = <f64 as ::trocar::Real>::mul_add(c3, x5, s3 * x12);
-        let x18 = 0.1_f64 + <f64 as ::trocar::Real>::mul_add(c3, x9, s3 * x13);
-        let x19 = <f64 as ::trocar::Real>::mul_add(s3, s5, -(c3 * x10));
-        let x20 = <f64 as ::trocar::Real>::mul_add(s3, x4, c3 * x11);
-        let x21 = <f64 as ::trocar::Real>::mul_add(c3, x12, -(s3 * x5));
-        let x22 = <f64 as ::trocar::Real>::mul_add(c2, x14, -(s2 * x18));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c3, s5, s3 * x10);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x4, -(s3 * x11));
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x5, s3 * x12);
+        let x18 = 0.1_f64 + <f64 as ::trocar::emitted::Real>::mul_add(c3, x9, s3 * x13);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(s3, s5, -(c3 * x10));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x4, c3 * x11);
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x12, -(s3 * x5));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x14, -(s2 * x18));
         let x23 = 0.01_f64
-            + (0.02_f64 + <f64 as ::trocar::Real>::mul_add(s3, x9, -(c3 * x13)));
+            + (0.02_f64
+                + <f64 as ::trocar::emitted::Real>::mul_add(s3, x9, -(c3 * x13)));
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
-                    <f64 as ::trocar::Real>::mul_add(c2, x6, -(s2 * x15)),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(c2, x6, -(s2 * x15)),
                     x23,
                     -(x19 * x22),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
-                    <f64 as ::trocar::Real>::mul_add(c2, x7, -(s2 * x16)),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(c2, x7, -(s2 * x16)),
                     x23,
                     -(x20 * x22),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
-                    <f64 as ::trocar::Real>::mul_add(c2, x8, s2 * x17),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(c2, x8, s2 * x17),
                     x23,
                     -(x21 * x22),
                 ),
-                <f64 as ::trocar::Real>::mul_add(s2, x6, c2 * x15),
-                <f64 as ::trocar::Real>::mul_add(s2, x7, c2 * x16),
-                <f64 as ::trocar::Real>::mul_add(s2, x8, -(c2 * x17)),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x6, c2 * x15),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x7, c2 * x16),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x8, -(c2 * x17)),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x14, x15, -(x6 * x18)),
-                <f64 as ::trocar::Real>::mul_add(x14, x16, -(x7 * x18)),
-                -<f64 as ::trocar::Real>::mul_add(x8, x18, x14 * x17),
+                <f64 as ::trocar::emitted::Real>::mul_add(x14, x15, -(x6 * x18)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x14, x16, -(x7 * x18)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x8, x18, x14 * x17),
                 x19,
                 x20,
                 x21,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(s5, x13, -(x9 * x10)),
-                <f64 as ::trocar::Real>::mul_add(x4, x13, x9 * x11),
-                <f64 as ::trocar::Real>::mul_add(x9, x12, -(x5 * x13)),
+                <f64 as ::trocar::emitted::Real>::mul_add(s5, x13, -(x9 * x10)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x4, x13, x9 * x11),
+                <f64 as ::trocar::emitted::Real>::mul_add(x9, x12, -(x5 * x13)),
                 x6,
                 x7,
                 x8,
             ],
             [
                 -x2,
-                <f64 as ::trocar::Real>::mul_add(0.01_f64, x0, -(s6 * x3)),
-                -<f64 as ::trocar::Real>::mul_add(0.01_f64, x1, c6 * x3),
+                <f64 as ::trocar::emitted::Real>::mul_add(0.01_f64, x0, -(s6 * x3)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(0.01_f64, x1, c6 * x3),
                 s5,
                 x4,
                 -x5,
@@ -2289,17 +3065,17 @@ pub mod chain11_wide {
                 -0.12_f64,
                 0.01_f64 * c6,
                 -(0.01_f64 * s6),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 s6,
                 c6,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -2314,83 +3090,154 @@ pub mod chain11_wide {
         let x0 = t.sin[4] * t.cos[5];
         let x1 = t.sin[4] * t.sin[5];
         let x2 = 0.01_f64 * t.cos[4];
-        let x3 = <f64 as ::trocar::Real>::mul_add(-0.12_f64, t.sin[4], x2);
+        let x3 = <f64 as ::trocar::emitted::Real>::mul_add(-0.12_f64, t.sin[4], x2);
         let x4 = t.cos[4] * t.cos[5];
         let x5 = t.cos[4] * t.sin[5];
         let x6 = t.cos[3] * t.cos[4];
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.sin[3], t.sin[5], -(t.cos[3] * x0));
-        let x8 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x1, t.sin[3] * t.cos[5]);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            t.sin[5],
+            -(t.cos[3] * x0),
+        );
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x1,
+            t.sin[3] * t.cos[5],
+        );
         let x9 = 0.13_f64
             + (0.09_f64
-                + <f64 as ::trocar::Real>::mul_add(
+                + <f64 as ::trocar::emitted::Real>::mul_add(
                     0.01_f64,
                     t.sin[4],
                     0.12_f64 * t.cos[4],
                 ));
         let x10 = t.sin[3] * t.cos[4];
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x0, t.cos[3] * t.sin[5]);
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x1));
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x3, 0.01_f64 * t.cos[3]);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x0,
+            t.cos[3] * t.sin[5],
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            t.cos[5],
+            -(t.sin[3] * x1),
+        );
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x3,
+            0.01_f64 * t.cos[3],
+        );
         let x14 = 0.015_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[3], x3, -(0.01_f64 * t.sin[3]))
-            - 0.01_f64;
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[2], t.sin[4], t.sin[2] * x10);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x4, -(t.sin[2] * x11));
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x5, t.sin[2] * x12);
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[3],
+                x3,
+                -(0.01_f64 * t.sin[3]),
+            ) - 0.01_f64;
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            t.sin[4],
+            t.sin[2] * x10,
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x4,
+            -(t.sin[2] * x11),
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x5,
+            t.sin[2] * x12,
+        );
         let x18 = 0.1_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[2], x9, t.sin[2] * x13);
-        let x19 = <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x9, t.sin[2] * x13);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[2],
             t.sin[4],
             -(t.cos[2] * x10),
         );
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x4, t.cos[2] * x11);
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x12, -(t.sin[2] * x5));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x14, -(t.sin[1] * x18));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x4,
+            t.cos[2] * x11,
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x12,
+            -(t.sin[2] * x5),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x14,
+            -(t.sin[1] * x18),
+        );
         let x23 = 0.01_f64
             + (0.02_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[2], x9, -(t.cos[2] * x13)));
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[2],
+                    x9,
+                    -(t.cos[2] * x13),
+                ));
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
-                    <f64 as ::trocar::Real>::mul_add(t.cos[1], x6, -(t.sin[1] * x15)),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[1],
+                        x6,
+                        -(t.sin[1] * x15),
+                    ),
                     x23,
                     -(x19 * x22),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
-                    <f64 as ::trocar::Real>::mul_add(t.cos[1], x7, -(t.sin[1] * x16)),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[1],
+                        x7,
+                        -(t.sin[1] * x16),
+                    ),
                     x23,
                     -(x20 * x22),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
-                    <f64 as ::trocar::Real>::mul_add(t.cos[1], x8, t.sin[1] * x17),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[1],
+                        x8,
+                        t.sin[1] * x17,
+                    ),
                     x23,
                     -(x21 * x22),
                 ),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x6, t.cos[1] * x15),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x7, t.cos[1] * x16),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x8, -(t.cos[1] * x17)),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x6, t.cos[1] * x15),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x7, t.cos[1] * x16),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[1],
+                    x8,
+                    -(t.cos[1] * x17),
+                ),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x14, x15, -(x6 * x18)),
-                <f64 as ::trocar::Real>::mul_add(x14, x16, -(x7 * x18)),
-                -<f64 as ::trocar::Real>::mul_add(x8, x18, x14 * x17),
+                <f64 as ::trocar::emitted::Real>::mul_add(x14, x15, -(x6 * x18)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x14, x16, -(x7 * x18)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x8, x18, x14 * x17),
                 x19,
                 x20,
                 x21,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(t.sin[4], x13, -(x9 * x10)),
-                <f64 as ::trocar::Real>::mul_add(x4, x13, x9 * x11),
-                <f64 as ::trocar::Real>::mul_add(x9, x12, -(x5 * x13)),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[4], x13, -(x9 * x10)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x4, x13, x9 * x11),
+                <f64 as ::trocar::emitted::Real>::mul_add(x9, x12, -(x5 * x13)),
                 x6,
                 x7,
                 x8,
             ],
             [
                 -x2,
-                <f64 as ::trocar::Real>::mul_add(0.01_f64, x0, -(t.sin[5] * x3)),
-                -<f64 as ::trocar::Real>::mul_add(0.01_f64, x1, t.cos[5] * x3),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    0.01_f64,
+                    x0,
+                    -(t.sin[5] * x3),
+                ),
+                -<f64 as ::trocar::emitted::Real>::mul_add(0.01_f64, x1, t.cos[5] * x3),
                 t.sin[4],
                 x4,
                 -x5,
@@ -2399,17 +3246,17 @@ pub mod chain11_wide {
                 -0.12_f64,
                 0.01_f64 * t.cos[5],
                 -(0.01_f64 * t.sin[5]),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 t.sin[5],
                 t.cos[5],
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -2421,81 +3268,131 @@ pub mod chain11_wide {
     #[inline]
     #[must_use]
     pub fn forward_kinematics_i(q: &[f64; N], _p: &Params) -> ([[f64; 3]; 3], [f64; 3]) {
-        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5]],
         );
         let x0 = c1 * c2;
         let x1 = c1 * s2;
         let x2 = s1 * c2;
         let x3 = s1 * s2;
-        let x4 = <f64 as ::trocar::Real>::mul_add(s1, s3, -(c3 * x1));
-        let x5 = <f64 as ::trocar::Real>::mul_add(s3, x1, s1 * c3);
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(s1, s3, -(c3 * x1));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x1, s1 * c3);
         let x6 = c2 * c3;
         let x7 = c2 * s3;
-        let x8 = <f64 as ::trocar::Real>::mul_add(c3, x3, c1 * s3);
-        let x9 = <f64 as ::trocar::Real>::mul_add(c1, c3, -(s3 * x3));
-        let x10 = <f64 as ::trocar::Real>::mul_add(c4, x0, -(s4 * x5));
-        let x11 = <f64 as ::trocar::Real>::mul_add(s4, x0, c4 * x5);
-        let x12 = <f64 as ::trocar::Real>::mul_add(s2, c4, s4 * x7);
-        let x13 = <f64 as ::trocar::Real>::mul_add(s2, s4, -(c4 * x7));
-        let x14 = <f64 as ::trocar::Real>::mul_add(c4, x2, s4 * x9);
-        let x15 = <f64 as ::trocar::Real>::mul_add(c4, x9, -(s4 * x2));
-        let x16 = <f64 as ::trocar::Real>::mul_add(c5, x10, s5 * x4);
-        let x17 = <f64 as ::trocar::Real>::mul_add(c5, x4, -(s5 * x10));
-        let x18 = <f64 as ::trocar::Real>::mul_add(c5, x12, s5 * x6);
-        let x19 = <f64 as ::trocar::Real>::mul_add(c5, x6, -(s5 * x12));
-        let x20 = <f64 as ::trocar::Real>::mul_add(s5, x8, -(c5 * x14));
-        let x21 = <f64 as ::trocar::Real>::mul_add(s5, x14, c5 * x8);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x3, c1 * s3);
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(c1, c3, -(s3 * x3));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x0, -(s4 * x5));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x0, c4 * x5);
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(s2, c4, s4 * x7);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(s2, s4, -(c4 * x7));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x2, s4 * x9);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x9, -(s4 * x2));
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x10, s5 * x4);
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x4, -(s5 * x10));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x12, s5 * x6);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x6, -(s5 * x12));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x8, -(c5 * x14));
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x14, c5 * x8);
         (
             [
                 [x16, x18, x20],
                 [
-                    <f64 as ::trocar::Real>::mul_add(c6, x17, s6 * x11),
-                    <f64 as ::trocar::Real>::mul_add(c6, x19, s6 * x13),
-                    <f64 as ::trocar::Real>::mul_add(c6, x21, s6 * x15),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x17, s6 * x11),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x19, s6 * x13),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x21, s6 * x15),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(c6, x11, -(s6 * x17)),
-                    <f64 as ::trocar::Real>::mul_add(c6, x13, -(s6 * x19)),
-                    <f64 as ::trocar::Real>::mul_add(c6, x15, -(s6 * x21)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x11, -(s6 * x17)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x13, -(s6 * x19)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x15, -(s6 * x21)),
                 ],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(0.01_f64, s1, 0.02_f64)
-                    + <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(0.01_f64, s1, 0.02_f64)
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
                         0.02_f64,
                         s1,
-                        -<f64 as ::trocar::Real>::mul_add(0.01_f64, x0, 0.1_f64 * x1),
-                    ) + <f64 as ::trocar::Real>::mul_add(0.015_f64, x0, 0.13_f64 * x4)
-                    + <f64 as ::trocar::Real>::mul_add(0.09_f64, x4, -(0.02_f64 * x11))
-                    + <f64 as ::trocar::Real>::mul_add(
+                        -<f64 as ::trocar::emitted::Real>::mul_add(
+                            0.01_f64,
+                            x0,
+                            0.1_f64 * x1,
+                        ),
+                    )
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.015_f64,
+                        x0,
+                        0.13_f64 * x4,
+                    )
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.09_f64,
+                        x4,
+                        -(0.02_f64 * x11),
+                    )
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
                         0.01_f64,
                         x11,
-                        <f64 as ::trocar::Real>::mul_add(0.01_f64, x16, 0.12_f64 * x17),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.01_f64,
+                            x16,
+                            0.12_f64 * x17,
+                        ),
                     ),
                 0.22999999999999998_f64
-                    + <f64 as ::trocar::Real>::mul_add(0.1_f64, c2, -(0.01_f64 * s2))
-                    + <f64 as ::trocar::Real>::mul_add(0.015_f64, s2, 0.13_f64 * x6)
-                    + <f64 as ::trocar::Real>::mul_add(0.09_f64, x6, -(0.02_f64 * x13))
-                    + <f64 as ::trocar::Real>::mul_add(
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.1_f64,
+                        c2,
+                        -(0.01_f64 * s2),
+                    )
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.015_f64,
+                        s2,
+                        0.13_f64 * x6,
+                    )
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.09_f64,
+                        x6,
+                        -(0.02_f64 * x13),
+                    )
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
                         0.01_f64,
                         x13,
-                        <f64 as ::trocar::Real>::mul_add(0.01_f64, x18, 0.12_f64 * x19),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.01_f64,
+                            x18,
+                            0.12_f64 * x19,
+                        ),
                     ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.01_f64,
                     c1,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.02_f64,
                         c1,
-                        <f64 as ::trocar::Real>::mul_add(0.01_f64, x2, 0.1_f64 * x3),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.01_f64,
+                            x2,
+                            0.1_f64 * x3,
+                        ),
                     ),
-                ) + <f64 as ::trocar::Real>::mul_add(0.13_f64, x8, -(0.015_f64 * x2))
-                    + <f64 as ::trocar::Real>::mul_add(0.09_f64, x8, -(0.02_f64 * x15))
-                    + <f64 as ::trocar::Real>::mul_add(
+                )
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.13_f64,
+                        x8,
+                        -(0.015_f64 * x2),
+                    )
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.09_f64,
+                        x8,
+                        -(0.02_f64 * x15),
+                    )
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
                         0.01_f64,
                         x15,
-                        <f64 as ::trocar::Real>::mul_add(0.01_f64, x20, 0.12_f64 * x21),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.01_f64,
+                            x20,
+                            0.12_f64 * x21,
+                        ),
                     ),
             ],
         )
@@ -2515,81 +3412,204 @@ pub mod chain11_wide {
         let x1 = t.cos[0] * t.sin[1];
         let x2 = t.sin[0] * t.cos[1];
         let x3 = t.sin[0] * t.sin[1];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.sin[0], t.sin[2], -(t.cos[2] * x1));
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x1, t.sin[0] * t.cos[2]);
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            t.sin[2],
+            -(t.cos[2] * x1),
+        );
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x1,
+            t.sin[0] * t.cos[2],
+        );
         let x6 = t.cos[1] * t.cos[2];
         let x7 = t.cos[1] * t.sin[2];
-        let x8 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x3, t.cos[0] * t.sin[2]);
-        let x9 = <f64 as ::trocar::Real>::mul_add(t.cos[0], t.cos[2], -(t.sin[2] * x3));
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x0, -(t.sin[3] * x5));
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x0, t.cos[3] * x5);
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.sin[1], t.cos[3], t.sin[3] * x7);
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.sin[1], t.sin[3], -(t.cos[3] * x7));
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x2, t.sin[3] * x9);
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x9, -(t.sin[3] * x2));
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x10, t.sin[4] * x4);
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x4, -(t.sin[4] * x10));
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x12, t.sin[4] * x6);
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x6, -(t.sin[4] * x12));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x8, -(t.cos[4] * x14));
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x14, t.cos[4] * x8);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x3,
+            t.cos[0] * t.sin[2],
+        );
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            t.cos[2],
+            -(t.sin[2] * x3),
+        );
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x0,
+            -(t.sin[3] * x5),
+        );
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[3], x0, t.cos[3] * x5);
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            t.cos[3],
+            t.sin[3] * x7,
+        );
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            t.sin[3],
+            -(t.cos[3] * x7),
+        );
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x2, t.sin[3] * x9);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x9,
+            -(t.sin[3] * x2),
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x10,
+            t.sin[4] * x4,
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x4,
+            -(t.sin[4] * x10),
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x12,
+            t.sin[4] * x6,
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x6,
+            -(t.sin[4] * x12),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x8,
+            -(t.cos[4] * x14),
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x14,
+            t.cos[4] * x8,
+        );
         (
             [
                 [x16, x18, x20],
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x17, t.sin[5] * x11),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x19, t.sin[5] * x13),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x21, t.sin[5] * x15),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x17,
+                        t.sin[5] * x11,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x19,
+                        t.sin[5] * x13,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x21,
+                        t.sin[5] * x15,
+                    ),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x11, -(t.sin[5] * x17)),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x13, -(t.sin[5] * x19)),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x15, -(t.sin[5] * x21)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x11,
+                        -(t.sin[5] * x17),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x13,
+                        -(t.sin[5] * x19),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x15,
+                        -(t.sin[5] * x21),
+                    ),
                 ],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(0.01_f64, t.sin[0], 0.02_f64)
-                    + <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(0.01_f64, t.sin[0], 0.02_f64)
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
                         0.02_f64,
                         t.sin[0],
-                        -<f64 as ::trocar::Real>::mul_add(0.01_f64, x0, 0.1_f64 * x1),
-                    ) + <f64 as ::trocar::Real>::mul_add(0.015_f64, x0, 0.13_f64 * x4)
-                    + <f64 as ::trocar::Real>::mul_add(0.09_f64, x4, -(0.02_f64 * x11))
-                    + <f64 as ::trocar::Real>::mul_add(
+                        -<f64 as ::trocar::emitted::Real>::mul_add(
+                            0.01_f64,
+                            x0,
+                            0.1_f64 * x1,
+                        ),
+                    )
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.015_f64,
+                        x0,
+                        0.13_f64 * x4,
+                    )
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.09_f64,
+                        x4,
+                        -(0.02_f64 * x11),
+                    )
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
                         0.01_f64,
                         x11,
-                        <f64 as ::trocar::Real>::mul_add(0.01_f64, x16, 0.12_f64 * x17),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.01_f64,
+                            x16,
+                            0.12_f64 * x17,
+                        ),
                     ),
                 0.22999999999999998_f64
-                    + <f64 as ::trocar::Real>::mul_add(
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
                         0.1_f64,
                         t.cos[1],
                         -(0.01_f64 * t.sin[1]),
                     )
-                    + <f64 as ::trocar::Real>::mul_add(
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
                         0.015_f64,
                         t.sin[1],
                         0.13_f64 * x6,
-                    ) + <f64 as ::trocar::Real>::mul_add(0.09_f64, x6, -(0.02_f64 * x13))
-                    + <f64 as ::trocar::Real>::mul_add(
+                    )
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.09_f64,
+                        x6,
+                        -(0.02_f64 * x13),
+                    )
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
                         0.01_f64,
                         x13,
-                        <f64 as ::trocar::Real>::mul_add(0.01_f64, x18, 0.12_f64 * x19),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.01_f64,
+                            x18,
+                            0.12_f64 * x19,
+                        ),
                     ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.01_f64,
                     t.cos[0],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.02_f64,
                         t.cos[0],
-                        <f64 as ::trocar::Real>::mul_add(0.01_f64, x2, 0.1_f64 * x3),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.01_f64,
+                            x2,
+                            0.1_f64 * x3,
+                        ),
                     ),
-                ) + <f64 as ::trocar::Real>::mul_add(0.13_f64, x8, -(0.015_f64 * x2))
-                    + <f64 as ::trocar::Real>::mul_add(0.09_f64, x8, -(0.02_f64 * x15))
-                    + <f64 as ::trocar::Real>::mul_add(
+                )
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.13_f64,
+                        x8,
+                        -(0.015_f64 * x2),
+                    )
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.09_f64,
+                        x8,
+                        -(0.02_f64 * x15),
+                    )
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
                         0.01_f64,
                         x15,
-                        <f64 as ::trocar::Real>::mul_add(0.01_f64, x20, 0.12_f64 * x21),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.01_f64,
+                            x20,
+                            0.12_f64 * x21,
+                        ),
                     ),
             ],
         )
@@ -2602,19 +3622,19 @@ pub mod chain11_wide {
     #[inline]
     #[must_use]
     pub fn manipulability(q: &[f64; N], p: &Params) -> f64 {
-        let ([s7, s8, s9, s10, s11], [c7, c8, c9, c10, c11]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s7, s8, s9, s10, s11], [c7, c8, c9, c10, c11]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[6], q[7], q[8], q[9], q[10]],
         );
         let x0 = s9 * s10;
         let x1 = s11 * c9;
-        let x2 = <f64 as ::trocar::Real>::mul_add(x0, c11, x1);
+        let x2 = <f64 as ::trocar::emitted::Real>::mul_add(x0, c11, x1);
         let x3 = s8 * c10;
-        let x4 = <f64 as ::trocar::Real>::mul_add(x2, c8, c11 * x3);
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(x2, c8, c11 * x3);
         let x5 = c9 * c8;
-        let x6 = <f64 as ::trocar::Real>::mul_add(
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
             c11,
             x5,
-            -(s11 * <f64 as ::trocar::Real>::mul_add(x0, c8, x3)),
+            -(s11 * <f64 as ::trocar::emitted::Real>::mul_add(x0, c8, x3)),
         );
         let x7 = s10 * s8;
         let x8 = c10 * (s9 * c8);
@@ -2623,65 +3643,70 @@ pub mod chain11_wide {
         let x11 = 0.005_f64 * s8;
         let x12 = x10 - x11;
         let x13 = 0.1_f64 * c8;
-        let x14 = <f64 as ::trocar::Real>::mul_add(0.03_f64, s9, 0.22_f64);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(0.03_f64, s9, 0.22_f64);
         let x15 = c8 * x14;
-        let x16 = <f64 as ::trocar::Real>::mul_add(c9, x12 - x13, -x15);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c9, x12 - x13, -x15);
         let x17 = 0.22_f64 * s9;
         let x18 = 0.03_f64 + x17;
         let x19 = 0.02_f64 * c9;
-        let x20 = <f64 as ::trocar::Real>::mul_add(-c10, x18, x19);
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(-c10, x18, x19);
         let x21 = 0.02_f64 * s10;
         let x22 = 0.005_f64 - x21;
         let x23 = 0.02_f64 * c10;
         let x24 = 0.03_f64 * c9;
-        let x25 = <f64 as ::trocar::Real>::mul_add(
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
             s9,
-            <f64 as ::trocar::Real>::mul_add(s8, x22, 0.23_f64 + x13 - p.l_a),
+            <f64 as ::trocar::emitted::Real>::mul_add(s8, x22, 0.23_f64 + x13 - p.l_a),
             c8 * (x23 - x24),
         );
         let x26 = s9 * s8;
-        let x27 = <f64 as ::trocar::Real>::mul_add(c10, x26, s10 * c8);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(c10, x26, s10 * c8);
         let x28 = 0.23_f64 - p.l_a;
         let x29 = s8 * x28;
         let x30 = 0.005_f64 + x29;
         let x31 = c8 * x10;
-        let x32 = <f64 as ::trocar::Real>::mul_add(0.22_f64, c9, 0.1_f64);
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(0.22_f64, c9, 0.1_f64);
         let x33 = x31 - x32;
         let x34 = x22 + x29;
-        let x35 = <f64 as ::trocar::Real>::mul_add(
-            <f64 as ::trocar::Real>::mul_add(
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 c11,
-                <f64 as ::trocar::Real>::mul_add(s10, x16, s8 * x20),
-                <f64 as ::trocar::Real>::mul_add(s11, x25, -(0.09_f64 * x27)),
+                <f64 as ::trocar::emitted::Real>::mul_add(s10, x16, s8 * x20),
+                <f64 as ::trocar::emitted::Real>::mul_add(s11, x25, -(0.09_f64 * x27)),
             ),
             c7,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 c11,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     s9,
-                    <f64 as ::trocar::Real>::mul_add(s10, x30, -0.02_f64),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s10, x30, -0.02_f64),
                     c10 * x33,
                 ),
-                c9 * <f64 as ::trocar::Real>::mul_add(s11, x34, -(0.09_f64 * c10)),
+                c9
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
+                        s11,
+                        x34,
+                        -(0.09_f64 * c10),
+                    ),
             ) * s7,
         );
         let x36 = 0.23_f64 + x11;
-        let x37 = <f64 as ::trocar::Real>::mul_add(c9, x13 + x36 - p.l_a, x15);
-        let x38 = <f64 as ::trocar::Real>::mul_add(s8, x10, -0.005_f64);
-        let x39 = <f64 as ::trocar::Real>::mul_add(c8, x28, x32);
-        let x40 = <f64 as ::trocar::Real>::mul_add(s9, s7, -(c9 * (s8 * c7)));
-        let x41 = <f64 as ::trocar::Real>::mul_add(
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(c9, x13 + x36 - p.l_a, x15);
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(s8, x10, -0.005_f64);
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(c8, x28, x32);
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(s9, s7, -(c9 * (s8 * c7)));
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(
             s11,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 s10,
-                <f64 as ::trocar::Real>::mul_add(c7, x37, s7 * (s9 * x38)),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(c7, x37, s7 * (s9 * x38)),
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     c10,
-                    <f64 as ::trocar::Real>::mul_add(s7, x39, s8 * (x18 * c7)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s7, x39, s8 * (x18 * c7)),
                     0.02_f64 * x40,
                 ),
             ),
-            c11 * <f64 as ::trocar::Real>::mul_add(x25, c7, s7 * (c9 * x34)),
+            c11 * <f64 as ::trocar::emitted::Real>::mul_add(x25, c7, s7 * (c9 * x34)),
         );
         let x42 = 0.1_f64 * c9;
         let x43 = x14 + x42;
@@ -2693,210 +3718,228 @@ pub mod chain11_wide {
         let x49 = s10 * (0.03_f64 + x48);
         let x50 = 0.09_f64 * x1;
         let x51 = s8 * (x49 + x50);
-        let x52 = <f64 as ::trocar::Real>::mul_add(c9, x47, 0.1_f64);
+        let x52 = <f64 as ::trocar::emitted::Real>::mul_add(c9, x47, 0.1_f64);
         let x53 = 0.09_f64 * s11;
-        let x54 = <f64 as ::trocar::Real>::mul_add(
+        let x54 = <f64 as ::trocar::emitted::Real>::mul_add(
             s10,
             x31 - x52,
-            s9 * <f64 as ::trocar::Real>::mul_add(c10, x38, x53),
+            s9 * <f64 as ::trocar::emitted::Real>::mul_add(c10, x38, x53),
         );
-        let x55 = <f64 as ::trocar::Real>::mul_add(
+        let x55 = <f64 as ::trocar::emitted::Real>::mul_add(
             c7,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 c10,
-                <f64 as ::trocar::Real>::mul_add(c9, x36 - p.l_a, x46),
+                <f64 as ::trocar::emitted::Real>::mul_add(c9, x36 - p.l_a, x46),
                 -x51,
             ),
             s7 * x54,
         );
         let x56 = x2 * s8;
         let x57 = c11 * (c8 * c10);
-        let x58 = <f64 as ::trocar::Real>::mul_add(s9, s11, -(c11 * (s10 * c9)));
-        let x59 = <f64 as ::trocar::Real>::mul_add(c7, x57 - x56, s7 * x58);
-        let x60 = c9 * s7;
-        let x61 = <f64 as ::trocar::Real>::mul_add(
+        let x58 = <f64 as ::trocar::emitted::Real>::mul_add(
+            s9,
             s11,
-            <f64 as ::trocar::Real>::mul_add(
+            -(c11 * (s10 * c9)),
+        );
+        let x59 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x57 - x56, s7 * x58);
+        let x60 = c9 * s7;
+        let x61 = <f64 as ::trocar::emitted::Real>::mul_add(
+            s11,
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 s10,
-                <f64 as ::trocar::Real>::mul_add(x26, c7, x60),
+                <f64 as ::trocar::emitted::Real>::mul_add(x26, c7, x60),
                 -(c10 * (c8 * c7)),
             ),
             c11 * x40,
         );
-        let x62 = <f64 as ::trocar::Real>::mul_add(x27, c7, c10 * x60);
-        let x63 = <f64 as ::trocar::Real>::mul_add(0.02_f64, s7, 0.03_f64);
+        let x62 = <f64 as ::trocar::emitted::Real>::mul_add(x27, c7, c10 * x60);
+        let x63 = <f64 as ::trocar::emitted::Real>::mul_add(0.02_f64, s7, 0.03_f64);
         let x64 = s9 * x63;
         let x65 = 0.22_f64 + x42;
         let x66 = s8 * (x64 + x65);
         let x67 = 0.02_f64 * c7;
-        let x68 = c9 * <f64 as ::trocar::Real>::mul_add(0.005_f64, c8, x67);
+        let x68 = c9 * <f64 as ::trocar::emitted::Real>::mul_add(0.005_f64, c8, x67);
         let x69 = c10 * (x17 + x63);
-        let x70 = <f64 as ::trocar::Real>::mul_add(0.1_f64, s9, x23);
+        let x70 = <f64 as ::trocar::emitted::Real>::mul_add(0.1_f64, s9, x23);
         let x71 = x21 - 0.005_f64;
         let x72 = c8 * x71;
-        let x73 = <f64 as ::trocar::Real>::mul_add(
+        let x73 = <f64 as ::trocar::emitted::Real>::mul_add(
             s8,
-            <f64 as ::trocar::Real>::mul_add(-c9, x63, x70),
+            <f64 as ::trocar::emitted::Real>::mul_add(-c9, x63, x70),
             s9 * (x72 - x67),
         );
-        let x74 = <f64 as ::trocar::Real>::mul_add(
+        let x74 = <f64 as ::trocar::emitted::Real>::mul_add(
             c11,
-            <f64 as ::trocar::Real>::mul_add(s10, x68 - x66, c8 * (x69 - x19)),
-            <f64 as ::trocar::Real>::mul_add(s11, x73, 0.09_f64 * (x8 - x7)),
+            <f64 as ::trocar::emitted::Real>::mul_add(s10, x68 - x66, c8 * (x69 - x19)),
+            <f64 as ::trocar::emitted::Real>::mul_add(s11, x73, 0.09_f64 * (x8 - x7)),
         );
-        let x75 = <f64 as ::trocar::Real>::mul_add(
+        let x75 = <f64 as ::trocar::emitted::Real>::mul_add(
             s11,
-            <f64 as ::trocar::Real>::mul_add(s10, x66 - x68, c8 * (x19 - x69)),
+            <f64 as ::trocar::emitted::Real>::mul_add(s10, x66 - x68, c8 * (x19 - x69)),
             c11 * x73,
         );
-        let x76 = <f64 as ::trocar::Real>::mul_add(
+        let x76 = <f64 as ::trocar::emitted::Real>::mul_add(
             c10,
-            <f64 as ::trocar::Real>::mul_add(s8, x64 + (x44 + x65), -x68),
-            c8 * <f64 as ::trocar::Real>::mul_add(s10, x48 + x63, x50),
+            <f64 as ::trocar::emitted::Real>::mul_add(s8, x64 + (x44 + x65), -x68),
+            c8 * <f64 as ::trocar::emitted::Real>::mul_add(s10, x48 + x63, x50),
         );
         let x77 = 0.02_f64 * c8;
-        let x78 = s8 * <f64 as ::trocar::Real>::mul_add(x18, s7, 0.02_f64);
-        let x79 = 0.02_f64 * <f64 as ::trocar::Real>::mul_add(c9, s8 * s7, s9 * c7);
-        let x80 = <f64 as ::trocar::Real>::mul_add(
+        let x78 = s8 * <f64 as ::trocar::emitted::Real>::mul_add(x18, s7, 0.02_f64);
+        let x79 = 0.02_f64
+            * <f64 as ::trocar::emitted::Real>::mul_add(c9, s8 * s7, s9 * c7);
+        let x80 = <f64 as ::trocar::emitted::Real>::mul_add(
             s7,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 s9,
-                <f64 as ::trocar::Real>::mul_add(s8, x71, x10 - x13),
+                <f64 as ::trocar::emitted::Real>::mul_add(s8, x71, x10 - x13),
                 c8 * (x24 - x23),
             ),
-            c9 * <f64 as ::trocar::Real>::mul_add(c7, x34, x77),
+            c9 * <f64 as ::trocar::emitted::Real>::mul_add(c7, x34, x77),
         );
         let x81 = x27 * s7;
         let x82 = c10 * (c9 * c7);
-        let x83 = <f64 as ::trocar::Real>::mul_add(
+        let x83 = <f64 as ::trocar::emitted::Real>::mul_add(
             c11,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 s10,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     s7,
                     x37,
-                    s9 * <f64 as ::trocar::Real>::mul_add(c7, x30, x77),
+                    s9 * <f64 as ::trocar::emitted::Real>::mul_add(c7, x30, x77),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     c10,
-                    <f64 as ::trocar::Real>::mul_add(c7, x33, x78),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c7, x33, x78),
                     -x79,
                 ),
             ),
-            <f64 as ::trocar::Real>::mul_add(s11, x80, 0.09_f64 * (x81 - x82)),
+            <f64 as ::trocar::emitted::Real>::mul_add(s11, x80, 0.09_f64 * (x81 - x82)),
         );
-        let x84 = <f64 as ::trocar::Real>::mul_add(
+        let x84 = <f64 as ::trocar::emitted::Real>::mul_add(
             s11,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 s10,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x16,
                     s7,
-                    s9 * <f64 as ::trocar::Real>::mul_add(c7, x38, -x77),
+                    s9 * <f64 as ::trocar::emitted::Real>::mul_add(c7, x38, -x77),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     c10,
-                    <f64 as ::trocar::Real>::mul_add(c7, x39, -x78),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c7, x39, -x78),
                     x79,
                 ),
             ),
             c11 * x80,
         );
-        let x85 = <f64 as ::trocar::Real>::mul_add(
+        let x85 = <f64 as ::trocar::emitted::Real>::mul_add(
             s7,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 c10,
-                <f64 as ::trocar::Real>::mul_add(c9, x12, -x46),
+                <f64 as ::trocar::emitted::Real>::mul_add(c9, x12, -x46),
                 x51,
             ),
-            <f64 as ::trocar::Real>::mul_add(c7, x54, 0.02_f64 * x9),
+            <f64 as ::trocar::emitted::Real>::mul_add(c7, x54, 0.02_f64 * x9),
         );
-        let x86 = <f64 as ::trocar::Real>::mul_add(s7, x56 - x57, c7 * x58);
+        let x86 = <f64 as ::trocar::emitted::Real>::mul_add(s7, x56 - x57, c7 * x58);
         let x87 = s10 * s11;
-        let x88 = <f64 as ::trocar::Real>::mul_add(s9, c11, c9 * x87);
-        let x89 = <f64 as ::trocar::Real>::mul_add(
+        let x88 = <f64 as ::trocar::emitted::Real>::mul_add(s9, c11, c9 * x87);
+        let x89 = <f64 as ::trocar::emitted::Real>::mul_add(
             s7,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 s8,
-                <f64 as ::trocar::Real>::mul_add(c11, c9, -(x0 * s11)),
+                <f64 as ::trocar::emitted::Real>::mul_add(c11, c9, -(x0 * s11)),
                 c10 * (s11 * c8),
             ),
             c7 * x88,
         );
         let x90 = x82 - x81;
         let x91 = x70 - x24;
-        let x92 = <f64 as ::trocar::Real>::mul_add(0.22_f64, c11, 0.09_f64);
+        let x92 = <f64 as ::trocar::emitted::Real>::mul_add(0.22_f64, c11, 0.09_f64);
         let x93 = c10 * x92;
         let x94 = 0.005_f64 * s10;
         let x95 = x94 - 0.02_f64;
-        let x96 = <f64 as ::trocar::Real>::mul_add(
+        let x96 = <f64 as ::trocar::emitted::Real>::mul_add(
             s8,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 s11,
                 x91,
-                -(s10 * <f64 as ::trocar::Real>::mul_add(c11, x43, 0.09_f64)),
+                -(s10 * <f64 as ::trocar::emitted::Real>::mul_add(c11, x43, 0.09_f64)),
             ),
             c8
-                * <f64 as ::trocar::Real>::mul_add(
+                * <f64 as ::trocar::emitted::Real>::mul_add(
                     s9,
-                    <f64 as ::trocar::Real>::mul_add(s11, x71, x93),
-                    c11 * <f64 as ::trocar::Real>::mul_add(c9, x95, 0.03_f64 * c10),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s11, x71, x93),
+                    c11
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            c9,
+                            x95,
+                            0.03_f64 * c10,
+                        ),
                 ),
         );
-        let x97 = <f64 as ::trocar::Real>::mul_add(
+        let x97 = <f64 as ::trocar::emitted::Real>::mul_add(
             s11,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 s10,
-                <f64 as ::trocar::Real>::mul_add(s8, x43, -(0.005_f64 * x5)),
+                <f64 as ::trocar::emitted::Real>::mul_add(s8, x43, -(0.005_f64 * x5)),
                 c8 * x20,
             ),
-            c11 * <f64 as ::trocar::Real>::mul_add(s8, x91, s9 * x72),
+            c11 * <f64 as ::trocar::emitted::Real>::mul_add(s8, x91, s9 * x72),
         );
-        let x98 = <f64 as ::trocar::Real>::mul_add(-0.005_f64, c10, x53);
-        let x99 = <f64 as ::trocar::Real>::mul_add(
+        let x98 = <f64 as ::trocar::emitted::Real>::mul_add(-0.005_f64, c10, x53);
+        let x99 = <f64 as ::trocar::emitted::Real>::mul_add(
             c8,
-            <f64 as ::trocar::Real>::mul_add(c9, x98, x49),
+            <f64 as ::trocar::emitted::Real>::mul_add(c9, x98, x49),
             s8 * (c10 * x45),
         );
-        let x100 = <f64 as ::trocar::Real>::mul_add(
+        let x100 = <f64 as ::trocar::emitted::Real>::mul_add(
             c9,
-            <f64 as ::trocar::Real>::mul_add(s11, x22, -x93),
-            c11 * <f64 as ::trocar::Real>::mul_add(s9, x95, -(0.1_f64 * c10)),
+            <f64 as ::trocar::emitted::Real>::mul_add(s11, x22, -x93),
+            c11 * <f64 as ::trocar::emitted::Real>::mul_add(s9, x95, -(0.1_f64 * c10)),
         );
-        let x101 = <f64 as ::trocar::Real>::mul_add(
+        let x101 = <f64 as ::trocar::emitted::Real>::mul_add(
             s11,
-            <f64 as ::trocar::Real>::mul_add(s9, 0.02_f64 - x94, c10 * x32),
+            <f64 as ::trocar::emitted::Real>::mul_add(s9, 0.02_f64 - x94, c10 * x32),
             c9 * (c11 * x22),
         );
-        let x102 = <f64 as ::trocar::Real>::mul_add(s9, x98, -(s10 * x52));
+        let x102 = <f64 as ::trocar::emitted::Real>::mul_add(s9, x98, -(s10 * x52));
         let x103 = c9 * c10;
         let x104 = s11 * c10;
-        let x105 = <f64 as ::trocar::Real>::mul_add(0.02_f64, x104, -(s10 * x92));
+        let x105 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.02_f64,
+            x104,
+            -(s10 * x92),
+        );
         let x106 = c11 * c10;
-        let x107 = <f64 as ::trocar::Real>::mul_add(0.22_f64, x87, 0.02_f64 * x106);
+        let x107 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.22_f64,
+            x87,
+            0.02_f64 * x106,
+        );
         let x108 = c10 * x47;
         let x109 = 0.02_f64 * c11;
         let x110 = 0.02_f64 * s11;
-        let x111 = <f64 as ::trocar::Real>::sqrt(
-            <f64 as ::trocar::Real>::mul_add(
+        let x111 = <f64 as ::trocar::emitted::Real>::sqrt(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x109,
                 x109,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x105,
                     x105,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x100,
                         x100,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x96,
                             x96,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x83,
                                 x83,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x74,
                                     x74,
-                                    <f64 as ::trocar::Real>::mul_add(x4, x4, x35 * x35),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(x4, x4, x35 * x35),
                                 ),
                             ),
                         ),
@@ -2913,63 +3956,71 @@ pub mod chain11_wide {
         let x118 = x105 / x111;
         let x119 = x109 / x111;
         let x120 = -0.09_f64 / x111;
-        let x121 = <f64 as ::trocar::Real>::mul_add(
+        let x121 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x110,
             x119,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x107,
                 x118,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x101,
                     x117,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x97,
                         x116,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x84,
                             x115,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x75,
                                 x114,
-                                <f64 as ::trocar::Real>::mul_add(x6, x112, x41 * x113),
+                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                    x6,
+                                    x112,
+                                    x41 * x113,
+                                ),
                             ),
                         ),
                     ),
                 ),
             ),
         );
-        let x122 = <f64 as ::trocar::Real>::mul_add(-x112, x121, x6);
-        let x123 = <f64 as ::trocar::Real>::mul_add(-x113, x121, x41);
-        let x124 = <f64 as ::trocar::Real>::mul_add(-x114, x121, x75);
-        let x125 = <f64 as ::trocar::Real>::mul_add(-x115, x121, x84);
-        let x126 = <f64 as ::trocar::Real>::mul_add(-x116, x121, x97);
-        let x127 = <f64 as ::trocar::Real>::mul_add(-x117, x121, x101);
-        let x128 = <f64 as ::trocar::Real>::mul_add(-x118, x121, x107);
-        let x129 = <f64 as ::trocar::Real>::mul_add(x119, x121, x110);
+        let x122 = <f64 as ::trocar::emitted::Real>::mul_add(-x112, x121, x6);
+        let x123 = <f64 as ::trocar::emitted::Real>::mul_add(-x113, x121, x41);
+        let x124 = <f64 as ::trocar::emitted::Real>::mul_add(-x114, x121, x75);
+        let x125 = <f64 as ::trocar::emitted::Real>::mul_add(-x115, x121, x84);
+        let x126 = <f64 as ::trocar::emitted::Real>::mul_add(-x116, x121, x97);
+        let x127 = <f64 as ::trocar::emitted::Real>::mul_add(-x117, x121, x101);
+        let x128 = <f64 as ::trocar::emitted::Real>::mul_add(-x118, x121, x107);
+        let x129 = <f64 as ::trocar::emitted::Real>::mul_add(x119, x121, x110);
         let x130 = x120 * x121;
-        let x131 = <f64 as ::trocar::Real>::sqrt(
-            <f64 as ::trocar::Real>::mul_add(
+        let x131 = <f64 as ::trocar::emitted::Real>::sqrt(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x130,
                 x130,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x129,
                     x129,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x128,
                         x128,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x127,
                             x127,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x126,
                                 x126,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x125,
                                     x125,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         x124,
                                         x124,
-                                        <f64 as ::trocar::Real>::mul_add(x122, x122, x123 * x123),
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
+                                            x122,
+                                            x122,
+                                            x123 * x123,
+                                        ),
                                     ),
                                 ),
                             ),
@@ -2987,62 +4038,28 @@ pub mod chain11_wide {
         let x138 = x128 / x131;
         let x139 = x129 / x131;
         let x140 = x130 / x131;
-        let x141 = <f64 as ::trocar::Real>::mul_add(
+        let x141 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x53,
             x119,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x108,
                 x118,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x102,
                     x117,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x99,
                         x116,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x85,
                             x115,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x76,
                                 x114,
-                                <f64 as ::trocar::Real>::mul_add(x9, x112, x55 * x113),
-                            ),
-                        ),
-                    ),
-                ),
-            ),
-        );
-        let x142 = <f64 as ::trocar::Real>::mul_add(-x112, x141, x9);
-        let x143 = <f64 as ::trocar::Real>::mul_add(-x113, x141, x55);
-        let x144 = <f64 as ::trocar::Real>::mul_add(-x114, x141, x76);
-        let x145 = <f64 as ::trocar::Real>::mul_add(-x115, x141, x85);
-        let x146 = <f64 as ::trocar::Real>::mul_add(-x116, x141, x99);
-        let x147 = <f64 as ::trocar::Real>::mul_add(-x117, x141, x102);
-        let x148 = <f64 as ::trocar::Real>::mul_add(-x118, x141, x108);
-        let x149 = <f64 as ::trocar::Real>::mul_add(x119, x141, x53);
-        let x150 = x120 * x141;
-        let x151 = <f64 as ::trocar::Real>::mul_add(
-            x140,
-            x150,
-            <f64 as ::trocar::Real>::mul_add(
-                x139,
-                x149,
-                <f64 as ::trocar::Real>::mul_add(
-                    x138,
-                    x148,
-                    <f64 as ::trocar::Real>::mul_add(
-                        x137,
-                        x147,
-                        <f64 as ::trocar::Real>::mul_add(
-                            x136,
-                            x146,
-                            <f64 as ::trocar::Real>::mul_add(
-                                x135,
-                                x145,
-                                <f64 as ::trocar::Real>::mul_add(
-                                    x134,
-                                    x144,
-                                    <f64 as ::trocar::Real>::mul_add(x132, x142, x133 * x143),
+                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                    x9,
+                                    x112,
+                                    x55 * x113,
                                 ),
                             ),
                         ),
@@ -3050,38 +4067,84 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x152 = <f64 as ::trocar::Real>::mul_add(-x132, x151, x142);
-        let x153 = <f64 as ::trocar::Real>::mul_add(-x133, x151, x143);
-        let x154 = <f64 as ::trocar::Real>::mul_add(-x134, x151, x144);
-        let x155 = <f64 as ::trocar::Real>::mul_add(-x135, x151, x145);
-        let x156 = <f64 as ::trocar::Real>::mul_add(-x136, x151, x146);
-        let x157 = <f64 as ::trocar::Real>::mul_add(-x137, x151, x147);
-        let x158 = <f64 as ::trocar::Real>::mul_add(-x138, x151, x148);
-        let x159 = <f64 as ::trocar::Real>::mul_add(-x139, x151, x149);
-        let x160 = <f64 as ::trocar::Real>::mul_add(x140, x151, -x150);
-        let x161 = <f64 as ::trocar::Real>::sqrt(
-            <f64 as ::trocar::Real>::mul_add(
+        let x142 = <f64 as ::trocar::emitted::Real>::mul_add(-x112, x141, x9);
+        let x143 = <f64 as ::trocar::emitted::Real>::mul_add(-x113, x141, x55);
+        let x144 = <f64 as ::trocar::emitted::Real>::mul_add(-x114, x141, x76);
+        let x145 = <f64 as ::trocar::emitted::Real>::mul_add(-x115, x141, x85);
+        let x146 = <f64 as ::trocar::emitted::Real>::mul_add(-x116, x141, x99);
+        let x147 = <f64 as ::trocar::emitted::Real>::mul_add(-x117, x141, x102);
+        let x148 = <f64 as ::trocar::emitted::Real>::mul_add(-x118, x141, x108);
+        let x149 = <f64 as ::trocar::emitted::Real>::mul_add(x119, x141, x53);
+        let x150 = x120 * x141;
+        let x151 = <f64 as ::trocar::emitted::Real>::mul_add(
+            x140,
+            x150,
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                x139,
+                x149,
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    x138,
+                    x148,
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        x137,
+                        x147,
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            x136,
+                            x146,
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x135,
+                                x145,
+                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                    x134,
+                                    x144,
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x132,
+                                        x142,
+                                        x133 * x143,
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x152 = <f64 as ::trocar::emitted::Real>::mul_add(-x132, x151, x142);
+        let x153 = <f64 as ::trocar::emitted::Real>::mul_add(-x133, x151, x143);
+        let x154 = <f64 as ::trocar::emitted::Real>::mul_add(-x134, x151, x144);
+        let x155 = <f64 as ::trocar::emitted::Real>::mul_add(-x135, x151, x145);
+        let x156 = <f64 as ::trocar::emitted::Real>::mul_add(-x136, x151, x146);
+        let x157 = <f64 as ::trocar::emitted::Real>::mul_add(-x137, x151, x147);
+        let x158 = <f64 as ::trocar::emitted::Real>::mul_add(-x138, x151, x148);
+        let x159 = <f64 as ::trocar::emitted::Real>::mul_add(-x139, x151, x149);
+        let x160 = <f64 as ::trocar::emitted::Real>::mul_add(x140, x151, -x150);
+        let x161 = <f64 as ::trocar::emitted::Real>::sqrt(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x160,
                 x160,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x159,
                     x159,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x158,
                         x158,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x157,
                             x157,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x156,
                                 x156,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x155,
                                     x155,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         x154,
                                         x154,
-                                        <f64 as ::trocar::Real>::mul_add(x152, x152, x153 * x153),
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
+                                            x152,
+                                            x152,
+                                            x153 * x153,
+                                        ),
                                     ),
                                 ),
                             ),
@@ -3099,58 +4162,66 @@ pub mod chain11_wide {
         let x168 = x158 / x161;
         let x169 = x159 / x161;
         let x170 = x160 / x161;
-        let x171 = <f64 as ::trocar::Real>::mul_add(
+        let x171 = <f64 as ::trocar::emitted::Real>::mul_add(
             -s11,
             x119,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x106,
                 x118,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x58,
                     x117,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x4,
                         x116,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x86,
                             x115,
-                            <f64 as ::trocar::Real>::mul_add(x59, x113, x4 * x114),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x59,
+                                x113,
+                                x4 * x114,
+                            ),
                         ),
                     ),
                 ),
             ),
         );
         let x172 = x112 * x171;
-        let x173 = <f64 as ::trocar::Real>::mul_add(-x113, x171, x59);
-        let x174 = <f64 as ::trocar::Real>::mul_add(-x114, x171, x4);
-        let x175 = <f64 as ::trocar::Real>::mul_add(-x115, x171, x86);
-        let x176 = <f64 as ::trocar::Real>::mul_add(-x116, x171, x4);
-        let x177 = <f64 as ::trocar::Real>::mul_add(-x117, x171, x58);
-        let x178 = <f64 as ::trocar::Real>::mul_add(-x118, x171, x106);
-        let x179 = <f64 as ::trocar::Real>::mul_add(x119, x171, s11);
+        let x173 = <f64 as ::trocar::emitted::Real>::mul_add(-x113, x171, x59);
+        let x174 = <f64 as ::trocar::emitted::Real>::mul_add(-x114, x171, x4);
+        let x175 = <f64 as ::trocar::emitted::Real>::mul_add(-x115, x171, x86);
+        let x176 = <f64 as ::trocar::emitted::Real>::mul_add(-x116, x171, x4);
+        let x177 = <f64 as ::trocar::emitted::Real>::mul_add(-x117, x171, x58);
+        let x178 = <f64 as ::trocar::emitted::Real>::mul_add(-x118, x171, x106);
+        let x179 = <f64 as ::trocar::emitted::Real>::mul_add(x119, x171, s11);
         let x180 = x120 * x171;
-        let x181 = <f64 as ::trocar::Real>::mul_add(
+        let x181 = <f64 as ::trocar::emitted::Real>::mul_add(
             x140,
             x180,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x139,
                 x179,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x138,
                     x178,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x137,
                         x177,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x136,
                             x176,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x135,
                                 x175,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x134,
                                     x174,
-                                    <f64 as ::trocar::Real>::mul_add(x133, x173, -(x132 * x172)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x133,
+                                        x173,
+                                        -(x132 * x172),
+                                    ),
                                 ),
                             ),
                         ),
@@ -3158,37 +4229,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x182 = <f64 as ::trocar::Real>::mul_add(x132, x181, x172);
-        let x183 = <f64 as ::trocar::Real>::mul_add(-x133, x181, x173);
-        let x184 = <f64 as ::trocar::Real>::mul_add(-x134, x181, x174);
-        let x185 = <f64 as ::trocar::Real>::mul_add(-x135, x181, x175);
-        let x186 = <f64 as ::trocar::Real>::mul_add(-x136, x181, x176);
-        let x187 = <f64 as ::trocar::Real>::mul_add(-x137, x181, x177);
-        let x188 = <f64 as ::trocar::Real>::mul_add(-x138, x181, x178);
-        let x189 = <f64 as ::trocar::Real>::mul_add(-x139, x181, x179);
-        let x190 = <f64 as ::trocar::Real>::mul_add(x140, x181, -x180);
-        let x191 = <f64 as ::trocar::Real>::mul_add(
+        let x182 = <f64 as ::trocar::emitted::Real>::mul_add(x132, x181, x172);
+        let x183 = <f64 as ::trocar::emitted::Real>::mul_add(-x133, x181, x173);
+        let x184 = <f64 as ::trocar::emitted::Real>::mul_add(-x134, x181, x174);
+        let x185 = <f64 as ::trocar::emitted::Real>::mul_add(-x135, x181, x175);
+        let x186 = <f64 as ::trocar::emitted::Real>::mul_add(-x136, x181, x176);
+        let x187 = <f64 as ::trocar::emitted::Real>::mul_add(-x137, x181, x177);
+        let x188 = <f64 as ::trocar::emitted::Real>::mul_add(-x138, x181, x178);
+        let x189 = <f64 as ::trocar::emitted::Real>::mul_add(-x139, x181, x179);
+        let x190 = <f64 as ::trocar::emitted::Real>::mul_add(x140, x181, -x180);
+        let x191 = <f64 as ::trocar::emitted::Real>::mul_add(
             x170,
             x190,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x169,
                 x189,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x168,
                     x188,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x167,
                         x187,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x166,
                             x186,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x165,
                                 x185,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x164,
                                     x184,
-                                    <f64 as ::trocar::Real>::mul_add(x163, x183, -(x162 * x182)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x163,
+                                        x183,
+                                        -(x162 * x182),
+                                    ),
                                 ),
                             ),
                         ),
@@ -3196,38 +4271,42 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x192 = <f64 as ::trocar::Real>::mul_add(x162, x191, x182);
-        let x193 = <f64 as ::trocar::Real>::mul_add(-x163, x191, x183);
-        let x194 = <f64 as ::trocar::Real>::mul_add(-x164, x191, x184);
-        let x195 = <f64 as ::trocar::Real>::mul_add(-x165, x191, x185);
-        let x196 = <f64 as ::trocar::Real>::mul_add(-x166, x191, x186);
-        let x197 = <f64 as ::trocar::Real>::mul_add(-x167, x191, x187);
-        let x198 = <f64 as ::trocar::Real>::mul_add(-x168, x191, x188);
-        let x199 = <f64 as ::trocar::Real>::mul_add(-x169, x191, x189);
-        let x200 = <f64 as ::trocar::Real>::mul_add(-x170, x191, x190);
-        let x201 = <f64 as ::trocar::Real>::sqrt(
-            <f64 as ::trocar::Real>::mul_add(
+        let x192 = <f64 as ::trocar::emitted::Real>::mul_add(x162, x191, x182);
+        let x193 = <f64 as ::trocar::emitted::Real>::mul_add(-x163, x191, x183);
+        let x194 = <f64 as ::trocar::emitted::Real>::mul_add(-x164, x191, x184);
+        let x195 = <f64 as ::trocar::emitted::Real>::mul_add(-x165, x191, x185);
+        let x196 = <f64 as ::trocar::emitted::Real>::mul_add(-x166, x191, x186);
+        let x197 = <f64 as ::trocar::emitted::Real>::mul_add(-x167, x191, x187);
+        let x198 = <f64 as ::trocar::emitted::Real>::mul_add(-x168, x191, x188);
+        let x199 = <f64 as ::trocar::emitted::Real>::mul_add(-x169, x191, x189);
+        let x200 = <f64 as ::trocar::emitted::Real>::mul_add(-x170, x191, x190);
+        let x201 = <f64 as ::trocar::emitted::Real>::sqrt(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x200,
                 x200,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x199,
                     x199,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x198,
                         x198,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x197,
                             x197,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x196,
                                 x196,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x195,
                                     x195,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         x194,
                                         x194,
-                                        <f64 as ::trocar::Real>::mul_add(x192, x192, x193 * x193),
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
+                                            x192,
+                                            x192,
+                                            x193 * x193,
+                                        ),
                                     ),
                                 ),
                             ),
@@ -3245,58 +4324,66 @@ pub mod chain11_wide {
         let x208 = x198 / x201;
         let x209 = x199 / x201;
         let x210 = x200 / x201;
-        let x211 = <f64 as ::trocar::Real>::mul_add(
+        let x211 = <f64 as ::trocar::emitted::Real>::mul_add(
             -c11,
             x119,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -x104,
                 x118,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x88,
                     x117,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x6,
                         x116,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x89,
                             x115,
-                            <f64 as ::trocar::Real>::mul_add(x61, x113, x6 * x114),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x61,
+                                x113,
+                                x6 * x114,
+                            ),
                         ),
                     ),
                 ),
             ),
         );
         let x212 = x112 * x211;
-        let x213 = <f64 as ::trocar::Real>::mul_add(-x113, x211, x61);
-        let x214 = <f64 as ::trocar::Real>::mul_add(-x114, x211, x6);
-        let x215 = <f64 as ::trocar::Real>::mul_add(-x115, x211, x89);
-        let x216 = <f64 as ::trocar::Real>::mul_add(-x116, x211, x6);
-        let x217 = <f64 as ::trocar::Real>::mul_add(-x117, x211, x88);
-        let x218 = <f64 as ::trocar::Real>::mul_add(x118, x211, x104);
-        let x219 = <f64 as ::trocar::Real>::mul_add(x119, x211, c11);
+        let x213 = <f64 as ::trocar::emitted::Real>::mul_add(-x113, x211, x61);
+        let x214 = <f64 as ::trocar::emitted::Real>::mul_add(-x114, x211, x6);
+        let x215 = <f64 as ::trocar::emitted::Real>::mul_add(-x115, x211, x89);
+        let x216 = <f64 as ::trocar::emitted::Real>::mul_add(-x116, x211, x6);
+        let x217 = <f64 as ::trocar::emitted::Real>::mul_add(-x117, x211, x88);
+        let x218 = <f64 as ::trocar::emitted::Real>::mul_add(x118, x211, x104);
+        let x219 = <f64 as ::trocar::emitted::Real>::mul_add(x119, x211, c11);
         let x220 = x120 * x211;
-        let x221 = <f64 as ::trocar::Real>::mul_add(
+        let x221 = <f64 as ::trocar::emitted::Real>::mul_add(
             x140,
             x220,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x139,
                 x219,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -x138,
                     x218,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x137,
                         x217,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x136,
                             x216,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x135,
                                 x215,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x134,
                                     x214,
-                                    <f64 as ::trocar::Real>::mul_add(x133, x213, -(x132 * x212)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x133,
+                                        x213,
+                                        -(x132 * x212),
+                                    ),
                                 ),
                             ),
                         ),
@@ -3304,37 +4391,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x222 = <f64 as ::trocar::Real>::mul_add(x132, x221, x212);
-        let x223 = <f64 as ::trocar::Real>::mul_add(-x133, x221, x213);
-        let x224 = <f64 as ::trocar::Real>::mul_add(-x134, x221, x214);
-        let x225 = <f64 as ::trocar::Real>::mul_add(-x135, x221, x215);
-        let x226 = <f64 as ::trocar::Real>::mul_add(-x136, x221, x216);
-        let x227 = <f64 as ::trocar::Real>::mul_add(-x137, x221, x217);
-        let x228 = <f64 as ::trocar::Real>::mul_add(x138, x221, x218);
-        let x229 = <f64 as ::trocar::Real>::mul_add(-x139, x221, x219);
-        let x230 = <f64 as ::trocar::Real>::mul_add(x140, x221, -x220);
-        let x231 = <f64 as ::trocar::Real>::mul_add(
+        let x222 = <f64 as ::trocar::emitted::Real>::mul_add(x132, x221, x212);
+        let x223 = <f64 as ::trocar::emitted::Real>::mul_add(-x133, x221, x213);
+        let x224 = <f64 as ::trocar::emitted::Real>::mul_add(-x134, x221, x214);
+        let x225 = <f64 as ::trocar::emitted::Real>::mul_add(-x135, x221, x215);
+        let x226 = <f64 as ::trocar::emitted::Real>::mul_add(-x136, x221, x216);
+        let x227 = <f64 as ::trocar::emitted::Real>::mul_add(-x137, x221, x217);
+        let x228 = <f64 as ::trocar::emitted::Real>::mul_add(x138, x221, x218);
+        let x229 = <f64 as ::trocar::emitted::Real>::mul_add(-x139, x221, x219);
+        let x230 = <f64 as ::trocar::emitted::Real>::mul_add(x140, x221, -x220);
+        let x231 = <f64 as ::trocar::emitted::Real>::mul_add(
             x170,
             x230,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x169,
                 x229,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -x168,
                     x228,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x167,
                         x227,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x166,
                             x226,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x165,
                                 x225,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x164,
                                     x224,
-                                    <f64 as ::trocar::Real>::mul_add(x163, x223, -(x162 * x222)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x163,
+                                        x223,
+                                        -(x162 * x222),
+                                    ),
                                 ),
                             ),
                         ),
@@ -3342,37 +4433,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x232 = <f64 as ::trocar::Real>::mul_add(x162, x231, x222);
-        let x233 = <f64 as ::trocar::Real>::mul_add(-x163, x231, x223);
-        let x234 = <f64 as ::trocar::Real>::mul_add(-x164, x231, x224);
-        let x235 = <f64 as ::trocar::Real>::mul_add(-x165, x231, x225);
-        let x236 = <f64 as ::trocar::Real>::mul_add(-x166, x231, x226);
-        let x237 = <f64 as ::trocar::Real>::mul_add(-x167, x231, x227);
-        let x238 = <f64 as ::trocar::Real>::mul_add(x168, x231, x228);
-        let x239 = <f64 as ::trocar::Real>::mul_add(-x169, x231, x229);
-        let x240 = <f64 as ::trocar::Real>::mul_add(-x170, x231, x230);
-        let x241 = <f64 as ::trocar::Real>::mul_add(
+        let x232 = <f64 as ::trocar::emitted::Real>::mul_add(x162, x231, x222);
+        let x233 = <f64 as ::trocar::emitted::Real>::mul_add(-x163, x231, x223);
+        let x234 = <f64 as ::trocar::emitted::Real>::mul_add(-x164, x231, x224);
+        let x235 = <f64 as ::trocar::emitted::Real>::mul_add(-x165, x231, x225);
+        let x236 = <f64 as ::trocar::emitted::Real>::mul_add(-x166, x231, x226);
+        let x237 = <f64 as ::trocar::emitted::Real>::mul_add(-x167, x231, x227);
+        let x238 = <f64 as ::trocar::emitted::Real>::mul_add(x168, x231, x228);
+        let x239 = <f64 as ::trocar::emitted::Real>::mul_add(-x169, x231, x229);
+        let x240 = <f64 as ::trocar::emitted::Real>::mul_add(-x170, x231, x230);
+        let x241 = <f64 as ::trocar::emitted::Real>::mul_add(
             x210,
             x240,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x209,
                 x239,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -x208,
                     x238,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x207,
                         x237,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x206,
                             x236,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x205,
                                 x235,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x204,
                                     x234,
-                                    <f64 as ::trocar::Real>::mul_add(x202, x232, x203 * x233),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x202,
+                                        x232,
+                                        x203 * x233,
+                                    ),
                                 ),
                             ),
                         ),
@@ -3380,38 +4475,42 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x242 = <f64 as ::trocar::Real>::mul_add(x202, x241, -x232);
-        let x243 = <f64 as ::trocar::Real>::mul_add(-x203, x241, x233);
-        let x244 = <f64 as ::trocar::Real>::mul_add(-x204, x241, x234);
-        let x245 = <f64 as ::trocar::Real>::mul_add(-x205, x241, x235);
-        let x246 = <f64 as ::trocar::Real>::mul_add(-x206, x241, x236);
-        let x247 = <f64 as ::trocar::Real>::mul_add(-x207, x241, x237);
-        let x248 = <f64 as ::trocar::Real>::mul_add(x208, x241, x238);
-        let x249 = <f64 as ::trocar::Real>::mul_add(-x209, x241, x239);
-        let x250 = <f64 as ::trocar::Real>::mul_add(-x210, x241, x240);
-        let x251 = <f64 as ::trocar::Real>::sqrt(
-            <f64 as ::trocar::Real>::mul_add(
+        let x242 = <f64 as ::trocar::emitted::Real>::mul_add(x202, x241, -x232);
+        let x243 = <f64 as ::trocar::emitted::Real>::mul_add(-x203, x241, x233);
+        let x244 = <f64 as ::trocar::emitted::Real>::mul_add(-x204, x241, x234);
+        let x245 = <f64 as ::trocar::emitted::Real>::mul_add(-x205, x241, x235);
+        let x246 = <f64 as ::trocar::emitted::Real>::mul_add(-x206, x241, x236);
+        let x247 = <f64 as ::trocar::emitted::Real>::mul_add(-x207, x241, x237);
+        let x248 = <f64 as ::trocar::emitted::Real>::mul_add(x208, x241, x238);
+        let x249 = <f64 as ::trocar::emitted::Real>::mul_add(-x209, x241, x239);
+        let x250 = <f64 as ::trocar::emitted::Real>::mul_add(-x210, x241, x240);
+        let x251 = <f64 as ::trocar::emitted::Real>::sqrt(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x250,
                 x250,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x249,
                     x249,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x248,
                         x248,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x247,
                             x247,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x246,
                                 x246,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x245,
                                     x245,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         x244,
                                         x244,
-                                        <f64 as ::trocar::Real>::mul_add(x242, x242, x243 * x243),
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
+                                            x242,
+                                            x242,
+                                            x243 * x243,
+                                        ),
                                     ),
                                 ),
                             ),
@@ -3430,58 +4529,66 @@ pub mod chain11_wide {
         let x259 = x249 / x251;
         let x260 = x250 / x251;
         let x261 = x120
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 s10,
                 x118,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x103,
                     x117,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x9,
                         x116,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x90,
                             x115,
-                            <f64 as ::trocar::Real>::mul_add(x62, x113, x9 * x114),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x62,
+                                x113,
+                                x9 * x114,
+                            ),
                         ),
                     ),
                 ),
             );
         let x262 = x112 * x261;
-        let x263 = <f64 as ::trocar::Real>::mul_add(-x113, x261, x62);
-        let x264 = <f64 as ::trocar::Real>::mul_add(-x114, x261, x9);
-        let x265 = <f64 as ::trocar::Real>::mul_add(-x115, x261, x90);
-        let x266 = <f64 as ::trocar::Real>::mul_add(-x116, x261, x9);
-        let x267 = <f64 as ::trocar::Real>::mul_add(-x117, x261, x103);
-        let x268 = <f64 as ::trocar::Real>::mul_add(-x118, x261, s10);
+        let x263 = <f64 as ::trocar::emitted::Real>::mul_add(-x113, x261, x62);
+        let x264 = <f64 as ::trocar::emitted::Real>::mul_add(-x114, x261, x9);
+        let x265 = <f64 as ::trocar::emitted::Real>::mul_add(-x115, x261, x90);
+        let x266 = <f64 as ::trocar::emitted::Real>::mul_add(-x116, x261, x9);
+        let x267 = <f64 as ::trocar::emitted::Real>::mul_add(-x117, x261, x103);
+        let x268 = <f64 as ::trocar::emitted::Real>::mul_add(-x118, x261, s10);
         let x269 = x119 * x261;
-        let x270 = <f64 as ::trocar::Real>::mul_add(
+        let x270 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x120,
             x261,
-            <f64 as ::trocar::Real>::ONE,
+            <f64 as ::trocar::emitted::Real>::ONE,
         );
-        let x271 = <f64 as ::trocar::Real>::mul_add(
+        let x271 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x140,
             x270,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x139,
                 x269,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x138,
                     x268,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x137,
                         x267,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x136,
                             x266,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x135,
                                 x265,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x134,
                                     x264,
-                                    <f64 as ::trocar::Real>::mul_add(x133, x263, -(x132 * x262)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x133,
+                                        x263,
+                                        -(x132 * x262),
+                                    ),
                                 ),
                             ),
                         ),
@@ -3489,37 +4596,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x272 = <f64 as ::trocar::Real>::mul_add(x132, x271, x262);
-        let x273 = <f64 as ::trocar::Real>::mul_add(-x133, x271, x263);
-        let x274 = <f64 as ::trocar::Real>::mul_add(-x134, x271, x264);
-        let x275 = <f64 as ::trocar::Real>::mul_add(-x135, x271, x265);
-        let x276 = <f64 as ::trocar::Real>::mul_add(-x136, x271, x266);
-        let x277 = <f64 as ::trocar::Real>::mul_add(-x137, x271, x267);
-        let x278 = <f64 as ::trocar::Real>::mul_add(-x138, x271, x268);
-        let x279 = <f64 as ::trocar::Real>::mul_add(-x139, x271, x269);
-        let x280 = <f64 as ::trocar::Real>::mul_add(x140, x271, x270);
-        let x281 = <f64 as ::trocar::Real>::mul_add(
+        let x272 = <f64 as ::trocar::emitted::Real>::mul_add(x132, x271, x262);
+        let x273 = <f64 as ::trocar::emitted::Real>::mul_add(-x133, x271, x263);
+        let x274 = <f64 as ::trocar::emitted::Real>::mul_add(-x134, x271, x264);
+        let x275 = <f64 as ::trocar::emitted::Real>::mul_add(-x135, x271, x265);
+        let x276 = <f64 as ::trocar::emitted::Real>::mul_add(-x136, x271, x266);
+        let x277 = <f64 as ::trocar::emitted::Real>::mul_add(-x137, x271, x267);
+        let x278 = <f64 as ::trocar::emitted::Real>::mul_add(-x138, x271, x268);
+        let x279 = <f64 as ::trocar::emitted::Real>::mul_add(-x139, x271, x269);
+        let x280 = <f64 as ::trocar::emitted::Real>::mul_add(x140, x271, x270);
+        let x281 = <f64 as ::trocar::emitted::Real>::mul_add(
             x170,
             x280,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x169,
                 x279,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x168,
                     x278,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x167,
                         x277,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x166,
                             x276,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x165,
                                 x275,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x164,
                                     x274,
-                                    <f64 as ::trocar::Real>::mul_add(x163, x273, -(x162 * x272)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x163,
+                                        x273,
+                                        -(x162 * x272),
+                                    ),
                                 ),
                             ),
                         ),
@@ -3527,37 +4638,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x282 = <f64 as ::trocar::Real>::mul_add(x162, x281, x272);
-        let x283 = <f64 as ::trocar::Real>::mul_add(-x163, x281, x273);
-        let x284 = <f64 as ::trocar::Real>::mul_add(-x164, x281, x274);
-        let x285 = <f64 as ::trocar::Real>::mul_add(-x165, x281, x275);
-        let x286 = <f64 as ::trocar::Real>::mul_add(-x166, x281, x276);
-        let x287 = <f64 as ::trocar::Real>::mul_add(-x167, x281, x277);
-        let x288 = <f64 as ::trocar::Real>::mul_add(-x168, x281, x278);
-        let x289 = <f64 as ::trocar::Real>::mul_add(-x169, x281, x279);
-        let x290 = <f64 as ::trocar::Real>::mul_add(-x170, x281, x280);
-        let x291 = <f64 as ::trocar::Real>::mul_add(
+        let x282 = <f64 as ::trocar::emitted::Real>::mul_add(x162, x281, x272);
+        let x283 = <f64 as ::trocar::emitted::Real>::mul_add(-x163, x281, x273);
+        let x284 = <f64 as ::trocar::emitted::Real>::mul_add(-x164, x281, x274);
+        let x285 = <f64 as ::trocar::emitted::Real>::mul_add(-x165, x281, x275);
+        let x286 = <f64 as ::trocar::emitted::Real>::mul_add(-x166, x281, x276);
+        let x287 = <f64 as ::trocar::emitted::Real>::mul_add(-x167, x281, x277);
+        let x288 = <f64 as ::trocar::emitted::Real>::mul_add(-x168, x281, x278);
+        let x289 = <f64 as ::trocar::emitted::Real>::mul_add(-x169, x281, x279);
+        let x290 = <f64 as ::trocar::emitted::Real>::mul_add(-x170, x281, x280);
+        let x291 = <f64 as ::trocar::emitted::Real>::mul_add(
             x210,
             x290,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x209,
                 x289,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x208,
                     x288,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x207,
                         x287,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x206,
                             x286,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x205,
                                 x285,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x204,
                                     x284,
-                                    <f64 as ::trocar::Real>::mul_add(x202, x282, x203 * x283),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x202,
+                                        x282,
+                                        x203 * x283,
+                                    ),
                                 ),
                             ),
                         ),
@@ -3565,37 +4680,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x292 = <f64 as ::trocar::Real>::mul_add(x202, x291, -x282);
-        let x293 = <f64 as ::trocar::Real>::mul_add(-x203, x291, x283);
-        let x294 = <f64 as ::trocar::Real>::mul_add(-x204, x291, x284);
-        let x295 = <f64 as ::trocar::Real>::mul_add(-x205, x291, x285);
-        let x296 = <f64 as ::trocar::Real>::mul_add(-x206, x291, x286);
-        let x297 = <f64 as ::trocar::Real>::mul_add(-x207, x291, x287);
-        let x298 = <f64 as ::trocar::Real>::mul_add(-x208, x291, x288);
-        let x299 = <f64 as ::trocar::Real>::mul_add(-x209, x291, x289);
-        let x300 = <f64 as ::trocar::Real>::mul_add(-x210, x291, x290);
-        let x301 = <f64 as ::trocar::Real>::mul_add(
+        let x292 = <f64 as ::trocar::emitted::Real>::mul_add(x202, x291, -x282);
+        let x293 = <f64 as ::trocar::emitted::Real>::mul_add(-x203, x291, x283);
+        let x294 = <f64 as ::trocar::emitted::Real>::mul_add(-x204, x291, x284);
+        let x295 = <f64 as ::trocar::emitted::Real>::mul_add(-x205, x291, x285);
+        let x296 = <f64 as ::trocar::emitted::Real>::mul_add(-x206, x291, x286);
+        let x297 = <f64 as ::trocar::emitted::Real>::mul_add(-x207, x291, x287);
+        let x298 = <f64 as ::trocar::emitted::Real>::mul_add(-x208, x291, x288);
+        let x299 = <f64 as ::trocar::emitted::Real>::mul_add(-x209, x291, x289);
+        let x300 = <f64 as ::trocar::emitted::Real>::mul_add(-x210, x291, x290);
+        let x301 = <f64 as ::trocar::emitted::Real>::mul_add(
             x260,
             x300,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x259,
                 x299,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -x258,
                     x298,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x257,
                         x297,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x256,
                             x296,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x255,
                                 x295,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x254,
                                     x294,
-                                    <f64 as ::trocar::Real>::mul_add(x252, x292, x253 * x293),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x252,
+                                        x292,
+                                        x253 * x293,
+                                    ),
                                 ),
                             ),
                         ),
@@ -3603,40 +4722,44 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x302 = <f64 as ::trocar::Real>::mul_add(-x252, x301, x292);
-        let x303 = <f64 as ::trocar::Real>::mul_add(-x253, x301, x293);
-        let x304 = <f64 as ::trocar::Real>::mul_add(-x254, x301, x294);
-        let x305 = <f64 as ::trocar::Real>::mul_add(-x255, x301, x295);
-        let x306 = <f64 as ::trocar::Real>::mul_add(-x256, x301, x296);
-        let x307 = <f64 as ::trocar::Real>::mul_add(-x257, x301, x297);
-        let x308 = <f64 as ::trocar::Real>::mul_add(x258, x301, x298);
-        let x309 = <f64 as ::trocar::Real>::mul_add(-x259, x301, x299);
-        let x310 = <f64 as ::trocar::Real>::mul_add(-x260, x301, x300);
+        let x302 = <f64 as ::trocar::emitted::Real>::mul_add(-x252, x301, x292);
+        let x303 = <f64 as ::trocar::emitted::Real>::mul_add(-x253, x301, x293);
+        let x304 = <f64 as ::trocar::emitted::Real>::mul_add(-x254, x301, x294);
+        let x305 = <f64 as ::trocar::emitted::Real>::mul_add(-x255, x301, x295);
+        let x306 = <f64 as ::trocar::emitted::Real>::mul_add(-x256, x301, x296);
+        let x307 = <f64 as ::trocar::emitted::Real>::mul_add(-x257, x301, x297);
+        let x308 = <f64 as ::trocar::emitted::Real>::mul_add(x258, x301, x298);
+        let x309 = <f64 as ::trocar::emitted::Real>::mul_add(-x259, x301, x299);
+        let x310 = <f64 as ::trocar::emitted::Real>::mul_add(-x260, x301, x300);
         {
             let w = x111 * x131 * x161 * x201 * x251
-                * <f64 as ::trocar::Real>::sqrt(
-                    <f64 as ::trocar::Real>::mul_add(
+                * <f64 as ::trocar::emitted::Real>::sqrt(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x310,
                         x310,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x309,
                             x309,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x308,
                                 x308,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x307,
                                     x307,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         x306,
                                         x306,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             x305,
                                             x305,
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 x304,
                                                 x304,
-                                                <f64 as ::trocar::Real>::mul_add(x302, x302, x303 * x303),
+                                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                                    x302,
+                                                    x302,
+                                                    x303 * x303,
+                                                ),
                                             ),
                                         ),
                                     ),
@@ -3645,10 +4768,10 @@ pub mod chain11_wide {
                         ),
                     ),
                 );
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -3662,14 +4785,14 @@ pub mod chain11_wide {
     pub fn manipulability_trig(t: &JointTrig, p: &Params) -> f64 {
         let x0 = t.sin[8] * t.sin[9];
         let x1 = t.sin[10] * t.cos[8];
-        let x2 = <f64 as ::trocar::Real>::mul_add(x0, t.cos[10], x1);
+        let x2 = <f64 as ::trocar::emitted::Real>::mul_add(x0, t.cos[10], x1);
         let x3 = t.sin[7] * t.cos[9];
-        let x4 = <f64 as ::trocar::Real>::mul_add(x2, t.cos[7], t.cos[10] * x3);
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(x2, t.cos[7], t.cos[10] * x3);
         let x5 = t.cos[8] * t.cos[7];
-        let x6 = <f64 as ::trocar::Real>::mul_add(
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[10],
             x5,
-            -(t.sin[10] * <f64 as ::trocar::Real>::mul_add(x0, t.cos[7], x3)),
+            -(t.sin[10] * <f64 as ::trocar::emitted::Real>::mul_add(x0, t.cos[7], x3)),
         );
         let x7 = t.sin[9] * t.sin[7];
         let x8 = t.cos[9] * (t.sin[8] * t.cos[7]);
@@ -3678,47 +4801,63 @@ pub mod chain11_wide {
         let x11 = 0.005_f64 * t.sin[7];
         let x12 = x10 - x11;
         let x13 = 0.1_f64 * t.cos[7];
-        let x14 = <f64 as ::trocar::Real>::mul_add(0.03_f64, t.sin[8], 0.22_f64);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.03_f64,
+            t.sin[8],
+            0.22_f64,
+        );
         let x15 = t.cos[7] * x14;
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[8], x12 - x13, -x15);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[8], x12 - x13, -x15);
         let x17 = 0.22_f64 * t.sin[8];
         let x18 = 0.03_f64 + x17;
         let x19 = 0.02_f64 * t.cos[8];
-        let x20 = <f64 as ::trocar::Real>::mul_add(-t.cos[9], x18, x19);
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(-t.cos[9], x18, x19);
         let x21 = 0.02_f64 * t.sin[9];
         let x22 = 0.005_f64 - x21;
         let x23 = 0.02_f64 * t.cos[9];
         let x24 = 0.03_f64 * t.cos[8];
-        let x25 = <f64 as ::trocar::Real>::mul_add(
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
-            <f64 as ::trocar::Real>::mul_add(t.sin[7], x22, 0.23_f64 + x13 - p.l_a),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[7],
+                x22,
+                0.23_f64 + x13 - p.l_a,
+            ),
             t.cos[7] * (x23 - x24),
         );
         let x26 = t.sin[8] * t.sin[7];
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.cos[9], x26, t.sin[9] * t.cos[7]);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[9],
+            x26,
+            t.sin[9] * t.cos[7],
+        );
         let x28 = 0.23_f64 - p.l_a;
         let x29 = t.sin[7] * x28;
         let x30 = 0.005_f64 + x29;
         let x31 = t.cos[7] * x10;
-        let x32 = <f64 as ::trocar::Real>::mul_add(0.22_f64, t.cos[8], 0.1_f64);
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(0.22_f64, t.cos[8], 0.1_f64);
         let x33 = x31 - x32;
         let x34 = x22 + x29;
-        let x35 = <f64 as ::trocar::Real>::mul_add(
-            <f64 as ::trocar::Real>::mul_add(
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[10],
-                <f64 as ::trocar::Real>::mul_add(t.sin[9], x16, t.sin[7] * x20),
-                <f64 as ::trocar::Real>::mul_add(t.sin[10], x25, -(0.09_f64 * x27)),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[9], x16, t.sin[7] * x20),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[10],
+                    x25,
+                    -(0.09_f64 * x27),
+                ),
             ),
             t.cos[6],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[10],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[8],
-                    <f64 as ::trocar::Real>::mul_add(t.sin[9], x30, -0.02_f64),
+                    <f64 as ::trocar::emitted::Real>::mul_add(t.sin[9], x30, -0.02_f64),
                     t.cos[9] * x33,
                 ),
                 t.cos[8]
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[10],
                         x34,
                         -(0.09_f64 * t.cos[9]),
@@ -3726,26 +4865,30 @@ pub mod chain11_wide {
             ) * t.sin[6],
         );
         let x36 = 0.23_f64 + x11;
-        let x37 = <f64 as ::trocar::Real>::mul_add(t.cos[8], x13 + x36 - p.l_a, x15);
-        let x38 = <f64 as ::trocar::Real>::mul_add(t.sin[7], x10, -0.005_f64);
-        let x39 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x28, x32);
-        let x40 = <f64 as ::trocar::Real>::mul_add(
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[8],
+            x13 + x36 - p.l_a,
+            x15,
+        );
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[7], x10, -0.005_f64);
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[7], x28, x32);
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
             t.sin[6],
             -(t.cos[8] * (t.sin[7] * t.cos[6])),
         );
-        let x41 = <f64 as ::trocar::Real>::mul_add(
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[10],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[9],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.cos[6],
                     x37,
                     t.sin[6] * (t.sin[8] * x38),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.cos[9],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[6],
                         x39,
                         t.sin[7] * (x18 * t.cos[6]),
@@ -3754,7 +4897,7 @@ pub mod chain11_wide {
                 ),
             ),
             t.cos[10]
-                * <f64 as ::trocar::Real>::mul_add(
+                * <f64 as ::trocar::emitted::Real>::mul_add(
                     x25,
                     t.cos[6],
                     t.sin[6] * (t.cos[8] * x34),
@@ -3770,233 +4913,308 @@ pub mod chain11_wide {
         let x49 = t.sin[9] * (0.03_f64 + x48);
         let x50 = 0.09_f64 * x1;
         let x51 = t.sin[7] * (x49 + x50);
-        let x52 = <f64 as ::trocar::Real>::mul_add(t.cos[8], x47, 0.1_f64);
+        let x52 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[8], x47, 0.1_f64);
         let x53 = 0.09_f64 * t.sin[10];
-        let x54 = <f64 as ::trocar::Real>::mul_add(
+        let x54 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[9],
             x31 - x52,
-            t.sin[8] * <f64 as ::trocar::Real>::mul_add(t.cos[9], x38, x53),
+            t.sin[8] * <f64 as ::trocar::emitted::Real>::mul_add(t.cos[9], x38, x53),
         );
-        let x55 = <f64 as ::trocar::Real>::mul_add(
+        let x55 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[6],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[9],
-                <f64 as ::trocar::Real>::mul_add(t.cos[8], x36 - p.l_a, x46),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.cos[8], x36 - p.l_a, x46),
                 -x51,
             ),
             t.sin[6] * x54,
         );
         let x56 = x2 * t.sin[7];
         let x57 = t.cos[10] * (t.cos[7] * t.cos[9]);
-        let x58 = <f64 as ::trocar::Real>::mul_add(
+        let x58 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
             t.sin[10],
             -(t.cos[10] * (t.sin[9] * t.cos[8])),
         );
-        let x59 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x57 - x56, t.sin[6] * x58);
+        let x59 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x57 - x56,
+            t.sin[6] * x58,
+        );
         let x60 = t.cos[8] * t.sin[6];
-        let x61 = <f64 as ::trocar::Real>::mul_add(
+        let x61 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[10],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[9],
-                <f64 as ::trocar::Real>::mul_add(x26, t.cos[6], x60),
+                <f64 as ::trocar::emitted::Real>::mul_add(x26, t.cos[6], x60),
                 -(t.cos[9] * (t.cos[7] * t.cos[6])),
             ),
             t.cos[10] * x40,
         );
-        let x62 = <f64 as ::trocar::Real>::mul_add(x27, t.cos[6], t.cos[9] * x60);
-        let x63 = <f64 as ::trocar::Real>::mul_add(0.02_f64, t.sin[6], 0.03_f64);
+        let x62 = <f64 as ::trocar::emitted::Real>::mul_add(
+            x27,
+            t.cos[6],
+            t.cos[9] * x60,
+        );
+        let x63 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.02_f64,
+            t.sin[6],
+            0.03_f64,
+        );
         let x64 = t.sin[8] * x63;
         let x65 = 0.22_f64 + x42;
         let x66 = t.sin[7] * (x64 + x65);
         let x67 = 0.02_f64 * t.cos[6];
-        let x68 = t.cos[8] * <f64 as ::trocar::Real>::mul_add(0.005_f64, t.cos[7], x67);
+        let x68 = t.cos[8]
+            * <f64 as ::trocar::emitted::Real>::mul_add(0.005_f64, t.cos[7], x67);
         let x69 = t.cos[9] * (x17 + x63);
-        let x70 = <f64 as ::trocar::Real>::mul_add(0.1_f64, t.sin[8], x23);
+        let x70 = <f64 as ::trocar::emitted::Real>::mul_add(0.1_f64, t.sin[8], x23);
         let x71 = x21 - 0.005_f64;
         let x72 = t.cos[7] * x71;
-        let x73 = <f64 as ::trocar::Real>::mul_add(
+        let x73 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
-            <f64 as ::trocar::Real>::mul_add(-t.cos[8], x63, x70),
+            <f64 as ::trocar::emitted::Real>::mul_add(-t.cos[8], x63, x70),
             t.sin[8] * (x72 - x67),
         );
-        let x74 = <f64 as ::trocar::Real>::mul_add(
+        let x74 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[10],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[9],
                 x68 - x66,
                 t.cos[7] * (x69 - x19),
             ),
-            <f64 as ::trocar::Real>::mul_add(t.sin[10], x73, 0.09_f64 * (x8 - x7)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[10],
+                x73,
+                0.09_f64 * (x8 - x7),
+            ),
         );
-        let x75 = <f64 as ::trocar::Real>::mul_add(
+        let x75 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[10],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[9],
                 x66 - x68,
                 t.cos[7] * (x19 - x69),
             ),
             t.cos[10] * x73,
         );
-        let x76 = <f64 as ::trocar::Real>::mul_add(
+        let x76 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[9],
-            <f64 as ::trocar::Real>::mul_add(t.sin[7], x64 + (x44 + x65), -x68),
-            t.cos[7] * <f64 as ::trocar::Real>::mul_add(t.sin[9], x48 + x63, x50),
+            <f64 as ::trocar::emitted::Real>::mul_add(t.sin[7], x64 + (x44 + x65), -x68),
+            t.cos[7]
+                * <f64 as ::trocar::emitted::Real>::mul_add(t.sin[9], x48 + x63, x50),
         );
         let x77 = 0.02_f64 * t.cos[7];
-        let x78 = t.sin[7] * <f64 as ::trocar::Real>::mul_add(x18, t.sin[6], 0.02_f64);
+        let x78 = t.sin[7]
+            * <f64 as ::trocar::emitted::Real>::mul_add(x18, t.sin[6], 0.02_f64);
         let x79 = 0.02_f64
-            * <f64 as ::trocar::Real>::mul_add(
+            * <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[8],
                 t.sin[7] * t.sin[6],
                 t.sin[8] * t.cos[6],
             );
-        let x80 = <f64 as ::trocar::Real>::mul_add(
+        let x80 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[6],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[8],
-                <f64 as ::trocar::Real>::mul_add(t.sin[7], x71, x10 - x13),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[7], x71, x10 - x13),
                 t.cos[7] * (x24 - x23),
             ),
-            t.cos[8] * <f64 as ::trocar::Real>::mul_add(t.cos[6], x34, x77),
+            t.cos[8] * <f64 as ::trocar::emitted::Real>::mul_add(t.cos[6], x34, x77),
         );
         let x81 = x27 * t.sin[6];
         let x82 = t.cos[9] * (t.cos[8] * t.cos[6]);
-        let x83 = <f64 as ::trocar::Real>::mul_add(
+        let x83 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[10],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[9],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[6],
                     x37,
-                    t.sin[8] * <f64 as ::trocar::Real>::mul_add(t.cos[6], x30, x77),
+                    t.sin[8]
+                        * <f64 as ::trocar::emitted::Real>::mul_add(t.cos[6], x30, x77),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.cos[9],
-                    <f64 as ::trocar::Real>::mul_add(t.cos[6], x33, x78),
+                    <f64 as ::trocar::emitted::Real>::mul_add(t.cos[6], x33, x78),
                     -x79,
                 ),
             ),
-            <f64 as ::trocar::Real>::mul_add(t.sin[10], x80, 0.09_f64 * (x81 - x82)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[10],
+                x80,
+                0.09_f64 * (x81 - x82),
+            ),
         );
-        let x84 = <f64 as ::trocar::Real>::mul_add(
+        let x84 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[10],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[9],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x16,
                     t.sin[6],
-                    t.sin[8] * <f64 as ::trocar::Real>::mul_add(t.cos[6], x38, -x77),
+                    t.sin[8]
+                        * <f64 as ::trocar::emitted::Real>::mul_add(t.cos[6], x38, -x77),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.cos[9],
-                    <f64 as ::trocar::Real>::mul_add(t.cos[6], x39, -x78),
+                    <f64 as ::trocar::emitted::Real>::mul_add(t.cos[6], x39, -x78),
                     x79,
                 ),
             ),
             t.cos[10] * x80,
         );
-        let x85 = <f64 as ::trocar::Real>::mul_add(
+        let x85 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[6],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[9],
-                <f64 as ::trocar::Real>::mul_add(t.cos[8], x12, -x46),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.cos[8], x12, -x46),
                 x51,
             ),
-            <f64 as ::trocar::Real>::mul_add(t.cos[6], x54, 0.02_f64 * x9),
+            <f64 as ::trocar::emitted::Real>::mul_add(t.cos[6], x54, 0.02_f64 * x9),
         );
-        let x86 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x56 - x57, t.cos[6] * x58);
-        let x87 = t.sin[9] * t.sin[10];
-        let x88 = <f64 as ::trocar::Real>::mul_add(t.sin[8], t.cos[10], t.cos[8] * x87);
-        let x89 = <f64 as ::trocar::Real>::mul_add(
+        let x86 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[6],
-            <f64 as ::trocar::Real>::mul_add(
+            x56 - x57,
+            t.cos[6] * x58,
+        );
+        let x87 = t.sin[9] * t.sin[10];
+        let x88 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[8],
+            t.cos[10],
+            t.cos[8] * x87,
+        );
+        let x89 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[6],
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[7],
-                <f64 as ::trocar::Real>::mul_add(t.cos[10], t.cos[8], -(x0 * t.sin[10])),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.cos[10],
+                    t.cos[8],
+                    -(x0 * t.sin[10]),
+                ),
                 t.cos[9] * (t.sin[10] * t.cos[7]),
             ),
             t.cos[6] * x88,
         );
         let x90 = x82 - x81;
         let x91 = x70 - x24;
-        let x92 = <f64 as ::trocar::Real>::mul_add(0.22_f64, t.cos[10], 0.09_f64);
+        let x92 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.22_f64,
+            t.cos[10],
+            0.09_f64,
+        );
         let x93 = t.cos[9] * x92;
         let x94 = 0.005_f64 * t.sin[9];
         let x95 = x94 - 0.02_f64;
-        let x96 = <f64 as ::trocar::Real>::mul_add(
+        let x96 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[10],
                 x91,
-                -(t.sin[9] * <f64 as ::trocar::Real>::mul_add(t.cos[10], x43, 0.09_f64)),
+                -(t.sin[9]
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[10],
+                        x43,
+                        0.09_f64,
+                    )),
             ),
             t.cos[7]
-                * <f64 as ::trocar::Real>::mul_add(
+                * <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[8],
-                    <f64 as ::trocar::Real>::mul_add(t.sin[10], x71, x93),
+                    <f64 as ::trocar::emitted::Real>::mul_add(t.sin[10], x71, x93),
                     t.cos[10]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[8],
                             x95,
                             0.03_f64 * t.cos[9],
                         ),
                 ),
         );
-        let x97 = <f64 as ::trocar::Real>::mul_add(
+        let x97 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[10],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[9],
-                <f64 as ::trocar::Real>::mul_add(t.sin[7], x43, -(0.005_f64 * x5)),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[7],
+                    x43,
+                    -(0.005_f64 * x5),
+                ),
                 t.cos[7] * x20,
             ),
-            t.cos[10] * <f64 as ::trocar::Real>::mul_add(t.sin[7], x91, t.sin[8] * x72),
+            t.cos[10]
+                * <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[7],
+                    x91,
+                    t.sin[8] * x72,
+                ),
         );
-        let x98 = <f64 as ::trocar::Real>::mul_add(-0.005_f64, t.cos[9], x53);
-        let x99 = <f64 as ::trocar::Real>::mul_add(
+        let x98 = <f64 as ::trocar::emitted::Real>::mul_add(-0.005_f64, t.cos[9], x53);
+        let x99 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[7],
-            <f64 as ::trocar::Real>::mul_add(t.cos[8], x98, x49),
+            <f64 as ::trocar::emitted::Real>::mul_add(t.cos[8], x98, x49),
             t.sin[7] * (t.cos[9] * x45),
         );
-        let x100 = <f64 as ::trocar::Real>::mul_add(
+        let x100 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[8],
-            <f64 as ::trocar::Real>::mul_add(t.sin[10], x22, -x93),
+            <f64 as ::trocar::emitted::Real>::mul_add(t.sin[10], x22, -x93),
             t.cos[10]
-                * <f64 as ::trocar::Real>::mul_add(t.sin[8], x95, -(0.1_f64 * t.cos[9])),
+                * <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[8],
+                    x95,
+                    -(0.1_f64 * t.cos[9]),
+                ),
         );
-        let x101 = <f64 as ::trocar::Real>::mul_add(
+        let x101 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[10],
-            <f64 as ::trocar::Real>::mul_add(t.sin[8], 0.02_f64 - x94, t.cos[9] * x32),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[8],
+                0.02_f64 - x94,
+                t.cos[9] * x32,
+            ),
             t.cos[8] * (t.cos[10] * x22),
         );
-        let x102 = <f64 as ::trocar::Real>::mul_add(t.sin[8], x98, -(t.sin[9] * x52));
+        let x102 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[8],
+            x98,
+            -(t.sin[9] * x52),
+        );
         let x103 = t.cos[8] * t.cos[9];
         let x104 = t.sin[10] * t.cos[9];
-        let x105 = <f64 as ::trocar::Real>::mul_add(0.02_f64, x104, -(t.sin[9] * x92));
+        let x105 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.02_f64,
+            x104,
+            -(t.sin[9] * x92),
+        );
         let x106 = t.cos[10] * t.cos[9];
-        let x107 = <f64 as ::trocar::Real>::mul_add(0.22_f64, x87, 0.02_f64 * x106);
+        let x107 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.22_f64,
+            x87,
+            0.02_f64 * x106,
+        );
         let x108 = t.cos[9] * x47;
         let x109 = 0.02_f64 * t.cos[10];
         let x110 = 0.02_f64 * t.sin[10];
-        let x111 = <f64 as ::trocar::Real>::sqrt(
-            <f64 as ::trocar::Real>::mul_add(
+        let x111 = <f64 as ::trocar::emitted::Real>::sqrt(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x109,
                 x109,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x105,
                     x105,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x100,
                         x100,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x96,
                             x96,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x83,
                                 x83,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x74,
                                     x74,
-                                    <f64 as ::trocar::Real>::mul_add(x4, x4, x35 * x35),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(x4, x4, x35 * x35),
                                 ),
                             ),
                         ),
@@ -4013,63 +5231,71 @@ pub mod chain11_wide {
         let x118 = x105 / x111;
         let x119 = x109 / x111;
         let x120 = -0.09_f64 / x111;
-        let x121 = <f64 as ::trocar::Real>::mul_add(
+        let x121 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x110,
             x119,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x107,
                 x118,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x101,
                     x117,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x97,
                         x116,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x84,
                             x115,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x75,
                                 x114,
-                                <f64 as ::trocar::Real>::mul_add(x6, x112, x41 * x113),
+                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                    x6,
+                                    x112,
+                                    x41 * x113,
+                                ),
                             ),
                         ),
                     ),
                 ),
             ),
         );
-        let x122 = <f64 as ::trocar::Real>::mul_add(-x112, x121, x6);
-        let x123 = <f64 as ::trocar::Real>::mul_add(-x113, x121, x41);
-        let x124 = <f64 as ::trocar::Real>::mul_add(-x114, x121, x75);
-        let x125 = <f64 as ::trocar::Real>::mul_add(-x115, x121, x84);
-        let x126 = <f64 as ::trocar::Real>::mul_add(-x116, x121, x97);
-        let x127 = <f64 as ::trocar::Real>::mul_add(-x117, x121, x101);
-        let x128 = <f64 as ::trocar::Real>::mul_add(-x118, x121, x107);
-        let x129 = <f64 as ::trocar::Real>::mul_add(x119, x121, x110);
+        let x122 = <f64 as ::trocar::emitted::Real>::mul_add(-x112, x121, x6);
+        let x123 = <f64 as ::trocar::emitted::Real>::mul_add(-x113, x121, x41);
+        let x124 = <f64 as ::trocar::emitted::Real>::mul_add(-x114, x121, x75);
+        let x125 = <f64 as ::trocar::emitted::Real>::mul_add(-x115, x121, x84);
+        let x126 = <f64 as ::trocar::emitted::Real>::mul_add(-x116, x121, x97);
+        let x127 = <f64 as ::trocar::emitted::Real>::mul_add(-x117, x121, x101);
+        let x128 = <f64 as ::trocar::emitted::Real>::mul_add(-x118, x121, x107);
+        let x129 = <f64 as ::trocar::emitted::Real>::mul_add(x119, x121, x110);
         let x130 = x120 * x121;
-        let x131 = <f64 as ::trocar::Real>::sqrt(
-            <f64 as ::trocar::Real>::mul_add(
+        let x131 = <f64 as ::trocar::emitted::Real>::sqrt(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x130,
                 x130,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x129,
                     x129,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x128,
                         x128,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x127,
                             x127,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x126,
                                 x126,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x125,
                                     x125,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         x124,
                                         x124,
-                                        <f64 as ::trocar::Real>::mul_add(x122, x122, x123 * x123),
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
+                                            x122,
+                                            x122,
+                                            x123 * x123,
+                                        ),
                                     ),
                                 ),
                             ),
@@ -4087,62 +5313,28 @@ pub mod chain11_wide {
         let x138 = x128 / x131;
         let x139 = x129 / x131;
         let x140 = x130 / x131;
-        let x141 = <f64 as ::trocar::Real>::mul_add(
+        let x141 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x53,
             x119,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x108,
                 x118,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x102,
                     x117,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x99,
                         x116,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x85,
                             x115,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x76,
                                 x114,
-                                <f64 as ::trocar::Real>::mul_add(x9, x112, x55 * x113),
-                            ),
-                        ),
-                    ),
-                ),
-            ),
-        );
-        let x142 = <f64 as ::trocar::Real>::mul_add(-x112, x141, x9);
-        let x143 = <f64 as ::trocar::Real>::mul_add(-x113, x141, x55);
-        let x144 = <f64 as ::trocar::Real>::mul_add(-x114, x141, x76);
-        let x145 = <f64 as ::trocar::Real>::mul_add(-x115, x141, x85);
-        let x146 = <f64 as ::trocar::Real>::mul_add(-x116, x141, x99);
-        let x147 = <f64 as ::trocar::Real>::mul_add(-x117, x141, x102);
-        let x148 = <f64 as ::trocar::Real>::mul_add(-x118, x141, x108);
-        let x149 = <f64 as ::trocar::Real>::mul_add(x119, x141, x53);
-        let x150 = x120 * x141;
-        let x151 = <f64 as ::trocar::Real>::mul_add(
-            x140,
-            x150,
-            <f64 as ::trocar::Real>::mul_add(
-                x139,
-                x149,
-                <f64 as ::trocar::Real>::mul_add(
-                    x138,
-                    x148,
-                    <f64 as ::trocar::Real>::mul_add(
-                        x137,
-                        x147,
-                        <f64 as ::trocar::Real>::mul_add(
-                            x136,
-                            x146,
-                            <f64 as ::trocar::Real>::mul_add(
-                                x135,
-                                x145,
-                                <f64 as ::trocar::Real>::mul_add(
-                                    x134,
-                                    x144,
-                                    <f64 as ::trocar::Real>::mul_add(x132, x142, x133 * x143),
+                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                    x9,
+                                    x112,
+                                    x55 * x113,
                                 ),
                             ),
                         ),
@@ -4150,38 +5342,84 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x152 = <f64 as ::trocar::Real>::mul_add(-x132, x151, x142);
-        let x153 = <f64 as ::trocar::Real>::mul_add(-x133, x151, x143);
-        let x154 = <f64 as ::trocar::Real>::mul_add(-x134, x151, x144);
-        let x155 = <f64 as ::trocar::Real>::mul_add(-x135, x151, x145);
-        let x156 = <f64 as ::trocar::Real>::mul_add(-x136, x151, x146);
-        let x157 = <f64 as ::trocar::Real>::mul_add(-x137, x151, x147);
-        let x158 = <f64 as ::trocar::Real>::mul_add(-x138, x151, x148);
-        let x159 = <f64 as ::trocar::Real>::mul_add(-x139, x151, x149);
-        let x160 = <f64 as ::trocar::Real>::mul_add(x140, x151, -x150);
-        let x161 = <f64 as ::trocar::Real>::sqrt(
-            <f64 as ::trocar::Real>::mul_add(
+        let x142 = <f64 as ::trocar::emitted::Real>::mul_add(-x112, x141, x9);
+        let x143 = <f64 as ::trocar::emitted::Real>::mul_add(-x113, x141, x55);
+        let x144 = <f64 as ::trocar::emitted::Real>::mul_add(-x114, x141, x76);
+        let x145 = <f64 as ::trocar::emitted::Real>::mul_add(-x115, x141, x85);
+        let x146 = <f64 as ::trocar::emitted::Real>::mul_add(-x116, x141, x99);
+        let x147 = <f64 as ::trocar::emitted::Real>::mul_add(-x117, x141, x102);
+        let x148 = <f64 as ::trocar::emitted::Real>::mul_add(-x118, x141, x108);
+        let x149 = <f64 as ::trocar::emitted::Real>::mul_add(x119, x141, x53);
+        let x150 = x120 * x141;
+        let x151 = <f64 as ::trocar::emitted::Real>::mul_add(
+            x140,
+            x150,
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                x139,
+                x149,
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    x138,
+                    x148,
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        x137,
+                        x147,
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            x136,
+                            x146,
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x135,
+                                x145,
+                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                    x134,
+                                    x144,
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x132,
+                                        x142,
+                                        x133 * x143,
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x152 = <f64 as ::trocar::emitted::Real>::mul_add(-x132, x151, x142);
+        let x153 = <f64 as ::trocar::emitted::Real>::mul_add(-x133, x151, x143);
+        let x154 = <f64 as ::trocar::emitted::Real>::mul_add(-x134, x151, x144);
+        let x155 = <f64 as ::trocar::emitted::Real>::mul_add(-x135, x151, x145);
+        let x156 = <f64 as ::trocar::emitted::Real>::mul_add(-x136, x151, x146);
+        let x157 = <f64 as ::trocar::emitted::Real>::mul_add(-x137, x151, x147);
+        let x158 = <f64 as ::trocar::emitted::Real>::mul_add(-x138, x151, x148);
+        let x159 = <f64 as ::trocar::emitted::Real>::mul_add(-x139, x151, x149);
+        let x160 = <f64 as ::trocar::emitted::Real>::mul_add(x140, x151, -x150);
+        let x161 = <f64 as ::trocar::emitted::Real>::sqrt(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x160,
                 x160,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x159,
                     x159,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x158,
                         x158,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x157,
                             x157,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x156,
                                 x156,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x155,
                                     x155,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         x154,
                                         x154,
-                                        <f64 as ::trocar::Real>::mul_add(x152, x152, x153 * x153),
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
+                                            x152,
+                                            x152,
+                                            x153 * x153,
+                                        ),
                                     ),
                                 ),
                             ),
@@ -4199,58 +5437,66 @@ pub mod chain11_wide {
         let x168 = x158 / x161;
         let x169 = x159 / x161;
         let x170 = x160 / x161;
-        let x171 = <f64 as ::trocar::Real>::mul_add(
+        let x171 = <f64 as ::trocar::emitted::Real>::mul_add(
             -t.sin[10],
             x119,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x106,
                 x118,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x58,
                     x117,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x4,
                         x116,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x86,
                             x115,
-                            <f64 as ::trocar::Real>::mul_add(x59, x113, x4 * x114),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x59,
+                                x113,
+                                x4 * x114,
+                            ),
                         ),
                     ),
                 ),
             ),
         );
         let x172 = x112 * x171;
-        let x173 = <f64 as ::trocar::Real>::mul_add(-x113, x171, x59);
-        let x174 = <f64 as ::trocar::Real>::mul_add(-x114, x171, x4);
-        let x175 = <f64 as ::trocar::Real>::mul_add(-x115, x171, x86);
-        let x176 = <f64 as ::trocar::Real>::mul_add(-x116, x171, x4);
-        let x177 = <f64 as ::trocar::Real>::mul_add(-x117, x171, x58);
-        let x178 = <f64 as ::trocar::Real>::mul_add(-x118, x171, x106);
-        let x179 = <f64 as ::trocar::Real>::mul_add(x119, x171, t.sin[10]);
+        let x173 = <f64 as ::trocar::emitted::Real>::mul_add(-x113, x171, x59);
+        let x174 = <f64 as ::trocar::emitted::Real>::mul_add(-x114, x171, x4);
+        let x175 = <f64 as ::trocar::emitted::Real>::mul_add(-x115, x171, x86);
+        let x176 = <f64 as ::trocar::emitted::Real>::mul_add(-x116, x171, x4);
+        let x177 = <f64 as ::trocar::emitted::Real>::mul_add(-x117, x171, x58);
+        let x178 = <f64 as ::trocar::emitted::Real>::mul_add(-x118, x171, x106);
+        let x179 = <f64 as ::trocar::emitted::Real>::mul_add(x119, x171, t.sin[10]);
         let x180 = x120 * x171;
-        let x181 = <f64 as ::trocar::Real>::mul_add(
+        let x181 = <f64 as ::trocar::emitted::Real>::mul_add(
             x140,
             x180,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x139,
                 x179,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x138,
                     x178,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x137,
                         x177,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x136,
                             x176,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x135,
                                 x175,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x134,
                                     x174,
-                                    <f64 as ::trocar::Real>::mul_add(x133, x173, -(x132 * x172)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x133,
+                                        x173,
+                                        -(x132 * x172),
+                                    ),
                                 ),
                             ),
                         ),
@@ -4258,37 +5504,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x182 = <f64 as ::trocar::Real>::mul_add(x132, x181, x172);
-        let x183 = <f64 as ::trocar::Real>::mul_add(-x133, x181, x173);
-        let x184 = <f64 as ::trocar::Real>::mul_add(-x134, x181, x174);
-        let x185 = <f64 as ::trocar::Real>::mul_add(-x135, x181, x175);
-        let x186 = <f64 as ::trocar::Real>::mul_add(-x136, x181, x176);
-        let x187 = <f64 as ::trocar::Real>::mul_add(-x137, x181, x177);
-        let x188 = <f64 as ::trocar::Real>::mul_add(-x138, x181, x178);
-        let x189 = <f64 as ::trocar::Real>::mul_add(-x139, x181, x179);
-        let x190 = <f64 as ::trocar::Real>::mul_add(x140, x181, -x180);
-        let x191 = <f64 as ::trocar::Real>::mul_add(
+        let x182 = <f64 as ::trocar::emitted::Real>::mul_add(x132, x181, x172);
+        let x183 = <f64 as ::trocar::emitted::Real>::mul_add(-x133, x181, x173);
+        let x184 = <f64 as ::trocar::emitted::Real>::mul_add(-x134, x181, x174);
+        let x185 = <f64 as ::trocar::emitted::Real>::mul_add(-x135, x181, x175);
+        let x186 = <f64 as ::trocar::emitted::Real>::mul_add(-x136, x181, x176);
+        let x187 = <f64 as ::trocar::emitted::Real>::mul_add(-x137, x181, x177);
+        let x188 = <f64 as ::trocar::emitted::Real>::mul_add(-x138, x181, x178);
+        let x189 = <f64 as ::trocar::emitted::Real>::mul_add(-x139, x181, x179);
+        let x190 = <f64 as ::trocar::emitted::Real>::mul_add(x140, x181, -x180);
+        let x191 = <f64 as ::trocar::emitted::Real>::mul_add(
             x170,
             x190,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x169,
                 x189,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x168,
                     x188,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x167,
                         x187,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x166,
                             x186,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x165,
                                 x185,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x164,
                                     x184,
-                                    <f64 as ::trocar::Real>::mul_add(x163, x183, -(x162 * x182)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x163,
+                                        x183,
+                                        -(x162 * x182),
+                                    ),
                                 ),
                             ),
                         ),
@@ -4296,38 +5546,42 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x192 = <f64 as ::trocar::Real>::mul_add(x162, x191, x182);
-        let x193 = <f64 as ::trocar::Real>::mul_add(-x163, x191, x183);
-        let x194 = <f64 as ::trocar::Real>::mul_add(-x164, x191, x184);
-        let x195 = <f64 as ::trocar::Real>::mul_add(-x165, x191, x185);
-        let x196 = <f64 as ::trocar::Real>::mul_add(-x166, x191, x186);
-        let x197 = <f64 as ::trocar::Real>::mul_add(-x167, x191, x187);
-        let x198 = <f64 as ::trocar::Real>::mul_add(-x168, x191, x188);
-        let x199 = <f64 as ::trocar::Real>::mul_add(-x169, x191, x189);
-        let x200 = <f64 as ::trocar::Real>::mul_add(-x170, x191, x190);
-        let x201 = <f64 as ::trocar::Real>::sqrt(
-            <f64 as ::trocar::Real>::mul_add(
+        let x192 = <f64 as ::trocar::emitted::Real>::mul_add(x162, x191, x182);
+        let x193 = <f64 as ::trocar::emitted::Real>::mul_add(-x163, x191, x183);
+        let x194 = <f64 as ::trocar::emitted::Real>::mul_add(-x164, x191, x184);
+        let x195 = <f64 as ::trocar::emitted::Real>::mul_add(-x165, x191, x185);
+        let x196 = <f64 as ::trocar::emitted::Real>::mul_add(-x166, x191, x186);
+        let x197 = <f64 as ::trocar::emitted::Real>::mul_add(-x167, x191, x187);
+        let x198 = <f64 as ::trocar::emitted::Real>::mul_add(-x168, x191, x188);
+        let x199 = <f64 as ::trocar::emitted::Real>::mul_add(-x169, x191, x189);
+        let x200 = <f64 as ::trocar::emitted::Real>::mul_add(-x170, x191, x190);
+        let x201 = <f64 as ::trocar::emitted::Real>::sqrt(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x200,
                 x200,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x199,
                     x199,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x198,
                         x198,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x197,
                             x197,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x196,
                                 x196,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x195,
                                     x195,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         x194,
                                         x194,
-                                        <f64 as ::trocar::Real>::mul_add(x192, x192, x193 * x193),
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
+                                            x192,
+                                            x192,
+                                            x193 * x193,
+                                        ),
                                     ),
                                 ),
                             ),
@@ -4345,58 +5599,66 @@ pub mod chain11_wide {
         let x208 = x198 / x201;
         let x209 = x199 / x201;
         let x210 = x200 / x201;
-        let x211 = <f64 as ::trocar::Real>::mul_add(
+        let x211 = <f64 as ::trocar::emitted::Real>::mul_add(
             -t.cos[10],
             x119,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -x104,
                 x118,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x88,
                     x117,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x6,
                         x116,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x89,
                             x115,
-                            <f64 as ::trocar::Real>::mul_add(x61, x113, x6 * x114),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x61,
+                                x113,
+                                x6 * x114,
+                            ),
                         ),
                     ),
                 ),
             ),
         );
         let x212 = x112 * x211;
-        let x213 = <f64 as ::trocar::Real>::mul_add(-x113, x211, x61);
-        let x214 = <f64 as ::trocar::Real>::mul_add(-x114, x211, x6);
-        let x215 = <f64 as ::trocar::Real>::mul_add(-x115, x211, x89);
-        let x216 = <f64 as ::trocar::Real>::mul_add(-x116, x211, x6);
-        let x217 = <f64 as ::trocar::Real>::mul_add(-x117, x211, x88);
-        let x218 = <f64 as ::trocar::Real>::mul_add(x118, x211, x104);
-        let x219 = <f64 as ::trocar::Real>::mul_add(x119, x211, t.cos[10]);
+        let x213 = <f64 as ::trocar::emitted::Real>::mul_add(-x113, x211, x61);
+        let x214 = <f64 as ::trocar::emitted::Real>::mul_add(-x114, x211, x6);
+        let x215 = <f64 as ::trocar::emitted::Real>::mul_add(-x115, x211, x89);
+        let x216 = <f64 as ::trocar::emitted::Real>::mul_add(-x116, x211, x6);
+        let x217 = <f64 as ::trocar::emitted::Real>::mul_add(-x117, x211, x88);
+        let x218 = <f64 as ::trocar::emitted::Real>::mul_add(x118, x211, x104);
+        let x219 = <f64 as ::trocar::emitted::Real>::mul_add(x119, x211, t.cos[10]);
         let x220 = x120 * x211;
-        let x221 = <f64 as ::trocar::Real>::mul_add(
+        let x221 = <f64 as ::trocar::emitted::Real>::mul_add(
             x140,
             x220,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x139,
                 x219,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -x138,
                     x218,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x137,
                         x217,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x136,
                             x216,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x135,
                                 x215,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x134,
                                     x214,
-                                    <f64 as ::trocar::Real>::mul_add(x133, x213, -(x132 * x212)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x133,
+                                        x213,
+                                        -(x132 * x212),
+                                    ),
                                 ),
                             ),
                         ),
@@ -4404,37 +5666,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x222 = <f64 as ::trocar::Real>::mul_add(x132, x221, x212);
-        let x223 = <f64 as ::trocar::Real>::mul_add(-x133, x221, x213);
-        let x224 = <f64 as ::trocar::Real>::mul_add(-x134, x221, x214);
-        let x225 = <f64 as ::trocar::Real>::mul_add(-x135, x221, x215);
-        let x226 = <f64 as ::trocar::Real>::mul_add(-x136, x221, x216);
-        let x227 = <f64 as ::trocar::Real>::mul_add(-x137, x221, x217);
-        let x228 = <f64 as ::trocar::Real>::mul_add(x138, x221, x218);
-        let x229 = <f64 as ::trocar::Real>::mul_add(-x139, x221, x219);
-        let x230 = <f64 as ::trocar::Real>::mul_add(x140, x221, -x220);
-        let x231 = <f64 as ::trocar::Real>::mul_add(
+        let x222 = <f64 as ::trocar::emitted::Real>::mul_add(x132, x221, x212);
+        let x223 = <f64 as ::trocar::emitted::Real>::mul_add(-x133, x221, x213);
+        let x224 = <f64 as ::trocar::emitted::Real>::mul_add(-x134, x221, x214);
+        let x225 = <f64 as ::trocar::emitted::Real>::mul_add(-x135, x221, x215);
+        let x226 = <f64 as ::trocar::emitted::Real>::mul_add(-x136, x221, x216);
+        let x227 = <f64 as ::trocar::emitted::Real>::mul_add(-x137, x221, x217);
+        let x228 = <f64 as ::trocar::emitted::Real>::mul_add(x138, x221, x218);
+        let x229 = <f64 as ::trocar::emitted::Real>::mul_add(-x139, x221, x219);
+        let x230 = <f64 as ::trocar::emitted::Real>::mul_add(x140, x221, -x220);
+        let x231 = <f64 as ::trocar::emitted::Real>::mul_add(
             x170,
             x230,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x169,
                 x229,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -x168,
                     x228,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x167,
                         x227,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x166,
                             x226,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x165,
                                 x225,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x164,
                                     x224,
-                                    <f64 as ::trocar::Real>::mul_add(x163, x223, -(x162 * x222)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x163,
+                                        x223,
+                                        -(x162 * x222),
+                                    ),
                                 ),
                             ),
                         ),
@@ -4442,37 +5708,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x232 = <f64 as ::trocar::Real>::mul_add(x162, x231, x222);
-        let x233 = <f64 as ::trocar::Real>::mul_add(-x163, x231, x223);
-        let x234 = <f64 as ::trocar::Real>::mul_add(-x164, x231, x224);
-        let x235 = <f64 as ::trocar::Real>::mul_add(-x165, x231, x225);
-        let x236 = <f64 as ::trocar::Real>::mul_add(-x166, x231, x226);
-        let x237 = <f64 as ::trocar::Real>::mul_add(-x167, x231, x227);
-        let x238 = <f64 as ::trocar::Real>::mul_add(x168, x231, x228);
-        let x239 = <f64 as ::trocar::Real>::mul_add(-x169, x231, x229);
-        let x240 = <f64 as ::trocar::Real>::mul_add(-x170, x231, x230);
-        let x241 = <f64 as ::trocar::Real>::mul_add(
+        let x232 = <f64 as ::trocar::emitted::Real>::mul_add(x162, x231, x222);
+        let x233 = <f64 as ::trocar::emitted::Real>::mul_add(-x163, x231, x223);
+        let x234 = <f64 as ::trocar::emitted::Real>::mul_add(-x164, x231, x224);
+        let x235 = <f64 as ::trocar::emitted::Real>::mul_add(-x165, x231, x225);
+        let x236 = <f64 as ::trocar::emitted::Real>::mul_add(-x166, x231, x226);
+        let x237 = <f64 as ::trocar::emitted::Real>::mul_add(-x167, x231, x227);
+        let x238 = <f64 as ::trocar::emitted::Real>::mul_add(x168, x231, x228);
+        let x239 = <f64 as ::trocar::emitted::Real>::mul_add(-x169, x231, x229);
+        let x240 = <f64 as ::trocar::emitted::Real>::mul_add(-x170, x231, x230);
+        let x241 = <f64 as ::trocar::emitted::Real>::mul_add(
             x210,
             x240,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x209,
                 x239,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -x208,
                     x238,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x207,
                         x237,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x206,
                             x236,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x205,
                                 x235,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x204,
                                     x234,
-                                    <f64 as ::trocar::Real>::mul_add(x202, x232, x203 * x233),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x202,
+                                        x232,
+                                        x203 * x233,
+                                    ),
                                 ),
                             ),
                         ),
@@ -4480,38 +5750,42 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x242 = <f64 as ::trocar::Real>::mul_add(x202, x241, -x232);
-        let x243 = <f64 as ::trocar::Real>::mul_add(-x203, x241, x233);
-        let x244 = <f64 as ::trocar::Real>::mul_add(-x204, x241, x234);
-        let x245 = <f64 as ::trocar::Real>::mul_add(-x205, x241, x235);
-        let x246 = <f64 as ::trocar::Real>::mul_add(-x206, x241, x236);
-        let x247 = <f64 as ::trocar::Real>::mul_add(-x207, x241, x237);
-        let x248 = <f64 as ::trocar::Real>::mul_add(x208, x241, x238);
-        let x249 = <f64 as ::trocar::Real>::mul_add(-x209, x241, x239);
-        let x250 = <f64 as ::trocar::Real>::mul_add(-x210, x241, x240);
-        let x251 = <f64 as ::trocar::Real>::sqrt(
-            <f64 as ::trocar::Real>::mul_add(
+        let x242 = <f64 as ::trocar::emitted::Real>::mul_add(x202, x241, -x232);
+        let x243 = <f64 as ::trocar::emitted::Real>::mul_add(-x203, x241, x233);
+        let x244 = <f64 as ::trocar::emitted::Real>::mul_add(-x204, x241, x234);
+        let x245 = <f64 as ::trocar::emitted::Real>::mul_add(-x205, x241, x235);
+        let x246 = <f64 as ::trocar::emitted::Real>::mul_add(-x206, x241, x236);
+        let x247 = <f64 as ::trocar::emitted::Real>::mul_add(-x207, x241, x237);
+        let x248 = <f64 as ::trocar::emitted::Real>::mul_add(x208, x241, x238);
+        let x249 = <f64 as ::trocar::emitted::Real>::mul_add(-x209, x241, x239);
+        let x250 = <f64 as ::trocar::emitted::Real>::mul_add(-x210, x241, x240);
+        let x251 = <f64 as ::trocar::emitted::Real>::sqrt(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x250,
                 x250,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x249,
                     x249,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x248,
                         x248,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x247,
                             x247,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x246,
                                 x246,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x245,
                                     x245,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         x244,
                                         x244,
-                                        <f64 as ::trocar::Real>::mul_add(x242, x242, x243 * x243),
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
+                                            x242,
+                                            x242,
+                                            x243 * x243,
+                                        ),
                                     ),
                                 ),
                             ),
@@ -4530,58 +5804,66 @@ pub mod chain11_wide {
         let x259 = x249 / x251;
         let x260 = x250 / x251;
         let x261 = x120
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[9],
                 x118,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x103,
                     x117,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x9,
                         x116,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x90,
                             x115,
-                            <f64 as ::trocar::Real>::mul_add(x62, x113, x9 * x114),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x62,
+                                x113,
+                                x9 * x114,
+                            ),
                         ),
                     ),
                 ),
             );
         let x262 = x112 * x261;
-        let x263 = <f64 as ::trocar::Real>::mul_add(-x113, x261, x62);
-        let x264 = <f64 as ::trocar::Real>::mul_add(-x114, x261, x9);
-        let x265 = <f64 as ::trocar::Real>::mul_add(-x115, x261, x90);
-        let x266 = <f64 as ::trocar::Real>::mul_add(-x116, x261, x9);
-        let x267 = <f64 as ::trocar::Real>::mul_add(-x117, x261, x103);
-        let x268 = <f64 as ::trocar::Real>::mul_add(-x118, x261, t.sin[9]);
+        let x263 = <f64 as ::trocar::emitted::Real>::mul_add(-x113, x261, x62);
+        let x264 = <f64 as ::trocar::emitted::Real>::mul_add(-x114, x261, x9);
+        let x265 = <f64 as ::trocar::emitted::Real>::mul_add(-x115, x261, x90);
+        let x266 = <f64 as ::trocar::emitted::Real>::mul_add(-x116, x261, x9);
+        let x267 = <f64 as ::trocar::emitted::Real>::mul_add(-x117, x261, x103);
+        let x268 = <f64 as ::trocar::emitted::Real>::mul_add(-x118, x261, t.sin[9]);
         let x269 = x119 * x261;
-        let x270 = <f64 as ::trocar::Real>::mul_add(
+        let x270 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x120,
             x261,
-            <f64 as ::trocar::Real>::ONE,
+            <f64 as ::trocar::emitted::Real>::ONE,
         );
-        let x271 = <f64 as ::trocar::Real>::mul_add(
+        let x271 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x140,
             x270,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x139,
                 x269,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x138,
                     x268,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x137,
                         x267,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x136,
                             x266,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x135,
                                 x265,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x134,
                                     x264,
-                                    <f64 as ::trocar::Real>::mul_add(x133, x263, -(x132 * x262)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x133,
+                                        x263,
+                                        -(x132 * x262),
+                                    ),
                                 ),
                             ),
                         ),
@@ -4589,37 +5871,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x272 = <f64 as ::trocar::Real>::mul_add(x132, x271, x262);
-        let x273 = <f64 as ::trocar::Real>::mul_add(-x133, x271, x263);
-        let x274 = <f64 as ::trocar::Real>::mul_add(-x134, x271, x264);
-        let x275 = <f64 as ::trocar::Real>::mul_add(-x135, x271, x265);
-        let x276 = <f64 as ::trocar::Real>::mul_add(-x136, x271, x266);
-        let x277 = <f64 as ::trocar::Real>::mul_add(-x137, x271, x267);
-        let x278 = <f64 as ::trocar::Real>::mul_add(-x138, x271, x268);
-        let x279 = <f64 as ::trocar::Real>::mul_add(-x139, x271, x269);
-        let x280 = <f64 as ::trocar::Real>::mul_add(x140, x271, x270);
-        let x281 = <f64 as ::trocar::Real>::mul_add(
+        let x272 = <f64 as ::trocar::emitted::Real>::mul_add(x132, x271, x262);
+        let x273 = <f64 as ::trocar::emitted::Real>::mul_add(-x133, x271, x263);
+        let x274 = <f64 as ::trocar::emitted::Real>::mul_add(-x134, x271, x264);
+        let x275 = <f64 as ::trocar::emitted::Real>::mul_add(-x135, x271, x265);
+        let x276 = <f64 as ::trocar::emitted::Real>::mul_add(-x136, x271, x266);
+        let x277 = <f64 as ::trocar::emitted::Real>::mul_add(-x137, x271, x267);
+        let x278 = <f64 as ::trocar::emitted::Real>::mul_add(-x138, x271, x268);
+        let x279 = <f64 as ::trocar::emitted::Real>::mul_add(-x139, x271, x269);
+        let x280 = <f64 as ::trocar::emitted::Real>::mul_add(x140, x271, x270);
+        let x281 = <f64 as ::trocar::emitted::Real>::mul_add(
             x170,
             x280,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x169,
                 x279,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x168,
                     x278,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x167,
                         x277,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x166,
                             x276,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x165,
                                 x275,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x164,
                                     x274,
-                                    <f64 as ::trocar::Real>::mul_add(x163, x273, -(x162 * x272)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x163,
+                                        x273,
+                                        -(x162 * x272),
+                                    ),
                                 ),
                             ),
                         ),
@@ -4627,37 +5913,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x282 = <f64 as ::trocar::Real>::mul_add(x162, x281, x272);
-        let x283 = <f64 as ::trocar::Real>::mul_add(-x163, x281, x273);
-        let x284 = <f64 as ::trocar::Real>::mul_add(-x164, x281, x274);
-        let x285 = <f64 as ::trocar::Real>::mul_add(-x165, x281, x275);
-        let x286 = <f64 as ::trocar::Real>::mul_add(-x166, x281, x276);
-        let x287 = <f64 as ::trocar::Real>::mul_add(-x167, x281, x277);
-        let x288 = <f64 as ::trocar::Real>::mul_add(-x168, x281, x278);
-        let x289 = <f64 as ::trocar::Real>::mul_add(-x169, x281, x279);
-        let x290 = <f64 as ::trocar::Real>::mul_add(-x170, x281, x280);
-        let x291 = <f64 as ::trocar::Real>::mul_add(
+        let x282 = <f64 as ::trocar::emitted::Real>::mul_add(x162, x281, x272);
+        let x283 = <f64 as ::trocar::emitted::Real>::mul_add(-x163, x281, x273);
+        let x284 = <f64 as ::trocar::emitted::Real>::mul_add(-x164, x281, x274);
+        let x285 = <f64 as ::trocar::emitted::Real>::mul_add(-x165, x281, x275);
+        let x286 = <f64 as ::trocar::emitted::Real>::mul_add(-x166, x281, x276);
+        let x287 = <f64 as ::trocar::emitted::Real>::mul_add(-x167, x281, x277);
+        let x288 = <f64 as ::trocar::emitted::Real>::mul_add(-x168, x281, x278);
+        let x289 = <f64 as ::trocar::emitted::Real>::mul_add(-x169, x281, x279);
+        let x290 = <f64 as ::trocar::emitted::Real>::mul_add(-x170, x281, x280);
+        let x291 = <f64 as ::trocar::emitted::Real>::mul_add(
             x210,
             x290,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x209,
                 x289,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x208,
                     x288,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x207,
                         x287,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x206,
                             x286,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x205,
                                 x285,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x204,
                                     x284,
-                                    <f64 as ::trocar::Real>::mul_add(x202, x282, x203 * x283),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x202,
+                                        x282,
+                                        x203 * x283,
+                                    ),
                                 ),
                             ),
                         ),
@@ -4665,37 +5955,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x292 = <f64 as ::trocar::Real>::mul_add(x202, x291, -x282);
-        let x293 = <f64 as ::trocar::Real>::mul_add(-x203, x291, x283);
-        let x294 = <f64 as ::trocar::Real>::mul_add(-x204, x291, x284);
-        let x295 = <f64 as ::trocar::Real>::mul_add(-x205, x291, x285);
-        let x296 = <f64 as ::trocar::Real>::mul_add(-x206, x291, x286);
-        let x297 = <f64 as ::trocar::Real>::mul_add(-x207, x291, x287);
-        let x298 = <f64 as ::trocar::Real>::mul_add(-x208, x291, x288);
-        let x299 = <f64 as ::trocar::Real>::mul_add(-x209, x291, x289);
-        let x300 = <f64 as ::trocar::Real>::mul_add(-x210, x291, x290);
-        let x301 = <f64 as ::trocar::Real>::mul_add(
+        let x292 = <f64 as ::trocar::emitted::Real>::mul_add(x202, x291, -x282);
+        let x293 = <f64 as ::trocar::emitted::Real>::mul_add(-x203, x291, x283);
+        let x294 = <f64 as ::trocar::emitted::Real>::mul_add(-x204, x291, x284);
+        let x295 = <f64 as ::trocar::emitted::Real>::mul_add(-x205, x291, x285);
+        let x296 = <f64 as ::trocar::emitted::Real>::mul_add(-x206, x291, x286);
+        let x297 = <f64 as ::trocar::emitted::Real>::mul_add(-x207, x291, x287);
+        let x298 = <f64 as ::trocar::emitted::Real>::mul_add(-x208, x291, x288);
+        let x299 = <f64 as ::trocar::emitted::Real>::mul_add(-x209, x291, x289);
+        let x300 = <f64 as ::trocar::emitted::Real>::mul_add(-x210, x291, x290);
+        let x301 = <f64 as ::trocar::emitted::Real>::mul_add(
             x260,
             x300,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x259,
                 x299,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -x258,
                     x298,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x257,
                         x297,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x256,
                             x296,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x255,
                                 x295,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x254,
                                     x294,
-                                    <f64 as ::trocar::Real>::mul_add(x252, x292, x253 * x293),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x252,
+                                        x292,
+                                        x253 * x293,
+                                    ),
                                 ),
                             ),
                         ),
@@ -4703,40 +5997,44 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x302 = <f64 as ::trocar::Real>::mul_add(-x252, x301, x292);
-        let x303 = <f64 as ::trocar::Real>::mul_add(-x253, x301, x293);
-        let x304 = <f64 as ::trocar::Real>::mul_add(-x254, x301, x294);
-        let x305 = <f64 as ::trocar::Real>::mul_add(-x255, x301, x295);
-        let x306 = <f64 as ::trocar::Real>::mul_add(-x256, x301, x296);
-        let x307 = <f64 as ::trocar::Real>::mul_add(-x257, x301, x297);
-        let x308 = <f64 as ::trocar::Real>::mul_add(x258, x301, x298);
-        let x309 = <f64 as ::trocar::Real>::mul_add(-x259, x301, x299);
-        let x310 = <f64 as ::trocar::Real>::mul_add(-x260, x301, x300);
+        let x302 = <f64 as ::trocar::emitted::Real>::mul_add(-x252, x301, x292);
+        let x303 = <f64 as ::trocar::emitted::Real>::mul_add(-x253, x301, x293);
+        let x304 = <f64 as ::trocar::emitted::Real>::mul_add(-x254, x301, x294);
+        let x305 = <f64 as ::trocar::emitted::Real>::mul_add(-x255, x301, x295);
+        let x306 = <f64 as ::trocar::emitted::Real>::mul_add(-x256, x301, x296);
+        let x307 = <f64 as ::trocar::emitted::Real>::mul_add(-x257, x301, x297);
+        let x308 = <f64 as ::trocar::emitted::Real>::mul_add(x258, x301, x298);
+        let x309 = <f64 as ::trocar::emitted::Real>::mul_add(-x259, x301, x299);
+        let x310 = <f64 as ::trocar::emitted::Real>::mul_add(-x260, x301, x300);
         {
             let w = x111 * x131 * x161 * x201 * x251
-                * <f64 as ::trocar::Real>::sqrt(
-                    <f64 as ::trocar::Real>::mul_add(
+                * <f64 as ::trocar::emitted::Real>::sqrt(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x310,
                         x310,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x309,
                             x309,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x308,
                                 x308,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x307,
                                     x307,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         x306,
                                         x306,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             x305,
                                             x305,
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 x304,
                                                 x304,
-                                                <f64 as ::trocar::Real>::mul_add(x302, x302, x303 * x303),
+                                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                                    x302,
+                                                    x302,
+                                                    x303 * x303,
+                                                ),
                                             ),
                                         ),
                                     ),
@@ -4745,10 +6043,10 @@ pub mod chain11_wide {
                         ),
                     ),
                 );
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -4760,19 +6058,19 @@ pub mod chain11_wide {
     #[inline]
     #[must_use]
     pub fn manipulability_squared(q: &[f64; N], p: &Params) -> f64 {
-        let ([s7, s8, s9, s10, s11], [c7, c8, c9, c10, c11]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s7, s8, s9, s10, s11], [c7, c8, c9, c10, c11]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[6], q[7], q[8], q[9], q[10]],
         );
         let x0 = s9 * s10;
         let x1 = s11 * c9;
-        let x2 = <f64 as ::trocar::Real>::mul_add(x0, c11, x1);
+        let x2 = <f64 as ::trocar::emitted::Real>::mul_add(x0, c11, x1);
         let x3 = s8 * c10;
-        let x4 = <f64 as ::trocar::Real>::mul_add(x2, c8, c11 * x3);
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(x2, c8, c11 * x3);
         let x5 = c9 * c8;
-        let x6 = <f64 as ::trocar::Real>::mul_add(
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
             c11,
             x5,
-            -(s11 * <f64 as ::trocar::Real>::mul_add(x0, c8, x3)),
+            -(s11 * <f64 as ::trocar::emitted::Real>::mul_add(x0, c8, x3)),
         );
         let x7 = s10 * s8;
         let x8 = c10 * (s9 * c8);
@@ -4781,65 +6079,70 @@ pub mod chain11_wide {
         let x11 = 0.005_f64 * s8;
         let x12 = x10 - x11;
         let x13 = 0.1_f64 * c8;
-        let x14 = <f64 as ::trocar::Real>::mul_add(0.03_f64, s9, 0.22_f64);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(0.03_f64, s9, 0.22_f64);
         let x15 = c8 * x14;
-        let x16 = <f64 as ::trocar::Real>::mul_add(c9, x12 - x13, -x15);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c9, x12 - x13, -x15);
         let x17 = 0.22_f64 * s9;
         let x18 = 0.03_f64 + x17;
         let x19 = 0.02_f64 * c9;
-        let x20 = <f64 as ::trocar::Real>::mul_add(-c10, x18, x19);
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(-c10, x18, x19);
         let x21 = 0.02_f64 * s10;
         let x22 = 0.005_f64 - x21;
         let x23 = 0.02_f64 * c10;
         let x24 = 0.03_f64 * c9;
-        let x25 = <f64 as ::trocar::Real>::mul_add(
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
             s9,
-            <f64 as ::trocar::Real>::mul_add(s8, x22, 0.23_f64 + x13 - p.l_a),
+            <f64 as ::trocar::emitted::Real>::mul_add(s8, x22, 0.23_f64 + x13 - p.l_a),
             c8 * (x23 - x24),
         );
         let x26 = s9 * s8;
-        let x27 = <f64 as ::trocar::Real>::mul_add(c10, x26, s10 * c8);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(c10, x26, s10 * c8);
         let x28 = 0.23_f64 - p.l_a;
         let x29 = s8 * x28;
         let x30 = 0.005_f64 + x29;
         let x31 = c8 * x10;
-        let x32 = <f64 as ::trocar::Real>::mul_add(0.22_f64, c9, 0.1_f64);
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(0.22_f64, c9, 0.1_f64);
         let x33 = x31 - x32;
         let x34 = x22 + x29;
-        let x35 = <f64 as ::trocar::Real>::mul_add(
-            <f64 as ::trocar::Real>::mul_add(
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 c11,
-                <f64 as ::trocar::Real>::mul_add(s10, x16, s8 * x20),
-                <f64 as ::trocar::Real>::mul_add(s11, x25, -(0.09_f64 * x27)),
+                <f64 as ::trocar::emitted::Real>::mul_add(s10, x16, s8 * x20),
+                <f64 as ::trocar::emitted::Real>::mul_add(s11, x25, -(0.09_f64 * x27)),
             ),
             c7,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 c11,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     s9,
-                    <f64 as ::trocar::Real>::mul_add(s10, x30, -0.02_f64),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s10, x30, -0.02_f64),
                     c10 * x33,
                 ),
-                c9 * <f64 as ::trocar::Real>::mul_add(s11, x34, -(0.09_f64 * c10)),
+                c9
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
+                        s11,
+                        x34,
+                        -(0.09_f64 * c10),
+                    ),
             ) * s7,
         );
         let x36 = 0.23_f64 + x11;
-        let x37 = <f64 as ::trocar::Real>::mul_add(c9, x13 + x36 - p.l_a, x15);
-        let x38 = <f64 as ::trocar::Real>::mul_add(s8, x10, -0.005_f64);
-        let x39 = <f64 as ::trocar::Real>::mul_add(c8, x28, x32);
-        let x40 = <f64 as ::trocar::Real>::mul_add(s9, s7, -(c9 * (s8 * c7)));
-        let x41 = <f64 as ::trocar::Real>::mul_add(
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(c9, x13 + x36 - p.l_a, x15);
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(s8, x10, -0.005_f64);
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(c8, x28, x32);
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(s9, s7, -(c9 * (s8 * c7)));
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(
             s11,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 s10,
-                <f64 as ::trocar::Real>::mul_add(c7, x37, s7 * (s9 * x38)),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(c7, x37, s7 * (s9 * x38)),
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     c10,
-                    <f64 as ::trocar::Real>::mul_add(s7, x39, s8 * (x18 * c7)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s7, x39, s8 * (x18 * c7)),
                     0.02_f64 * x40,
                 ),
             ),
-            c11 * <f64 as ::trocar::Real>::mul_add(x25, c7, s7 * (c9 * x34)),
+            c11 * <f64 as ::trocar::emitted::Real>::mul_add(x25, c7, s7 * (c9 * x34)),
         );
         let x42 = 0.1_f64 * c9;
         let x43 = x14 + x42;
@@ -4851,210 +6154,228 @@ pub mod chain11_wide {
         let x49 = s10 * (0.03_f64 + x48);
         let x50 = 0.09_f64 * x1;
         let x51 = s8 * (x49 + x50);
-        let x52 = <f64 as ::trocar::Real>::mul_add(c9, x47, 0.1_f64);
+        let x52 = <f64 as ::trocar::emitted::Real>::mul_add(c9, x47, 0.1_f64);
         let x53 = 0.09_f64 * s11;
-        let x54 = <f64 as ::trocar::Real>::mul_add(
+        let x54 = <f64 as ::trocar::emitted::Real>::mul_add(
             s10,
             x31 - x52,
-            s9 * <f64 as ::trocar::Real>::mul_add(c10, x38, x53),
+            s9 * <f64 as ::trocar::emitted::Real>::mul_add(c10, x38, x53),
         );
-        let x55 = <f64 as ::trocar::Real>::mul_add(
+        let x55 = <f64 as ::trocar::emitted::Real>::mul_add(
             c7,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 c10,
-                <f64 as ::trocar::Real>::mul_add(c9, x36 - p.l_a, x46),
+                <f64 as ::trocar::emitted::Real>::mul_add(c9, x36 - p.l_a, x46),
                 -x51,
             ),
             s7 * x54,
         );
         let x56 = x2 * s8;
         let x57 = c11 * (c8 * c10);
-        let x58 = <f64 as ::trocar::Real>::mul_add(s9, s11, -(c11 * (s10 * c9)));
-        let x59 = <f64 as ::trocar::Real>::mul_add(c7, x57 - x56, s7 * x58);
-        let x60 = c9 * s7;
-        let x61 = <f64 as ::trocar::Real>::mul_add(
+        let x58 = <f64 as ::trocar::emitted::Real>::mul_add(
+            s9,
             s11,
-            <f64 as ::trocar::Real>::mul_add(
+            -(c11 * (s10 * c9)),
+        );
+        let x59 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x57 - x56, s7 * x58);
+        let x60 = c9 * s7;
+        let x61 = <f64 as ::trocar::emitted::Real>::mul_add(
+            s11,
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 s10,
-                <f64 as ::trocar::Real>::mul_add(x26, c7, x60),
+                <f64 as ::trocar::emitted::Real>::mul_add(x26, c7, x60),
                 -(c10 * (c8 * c7)),
             ),
             c11 * x40,
         );
-        let x62 = <f64 as ::trocar::Real>::mul_add(x27, c7, c10 * x60);
-        let x63 = <f64 as ::trocar::Real>::mul_add(0.02_f64, s7, 0.03_f64);
+        let x62 = <f64 as ::trocar::emitted::Real>::mul_add(x27, c7, c10 * x60);
+        let x63 = <f64 as ::trocar::emitted::Real>::mul_add(0.02_f64, s7, 0.03_f64);
         let x64 = s9 * x63;
         let x65 = 0.22_f64 + x42;
         let x66 = s8 * (x64 + x65);
         let x67 = 0.02_f64 * c7;
-        let x68 = c9 * <f64 as ::trocar::Real>::mul_add(0.005_f64, c8, x67);
+        let x68 = c9 * <f64 as ::trocar::emitted::Real>::mul_add(0.005_f64, c8, x67);
         let x69 = c10 * (x17 + x63);
-        let x70 = <f64 as ::trocar::Real>::mul_add(0.1_f64, s9, x23);
+        let x70 = <f64 as ::trocar::emitted::Real>::mul_add(0.1_f64, s9, x23);
         let x71 = x21 - 0.005_f64;
         let x72 = c8 * x71;
-        let x73 = <f64 as ::trocar::Real>::mul_add(
+        let x73 = <f64 as ::trocar::emitted::Real>::mul_add(
             s8,
-            <f64 as ::trocar::Real>::mul_add(-c9, x63, x70),
+            <f64 as ::trocar::emitted::Real>::mul_add(-c9, x63, x70),
             s9 * (x72 - x67),
         );
-        let x74 = <f64 as ::trocar::Real>::mul_add(
+        let x74 = <f64 as ::trocar::emitted::Real>::mul_add(
             c11,
-            <f64 as ::trocar::Real>::mul_add(s10, x68 - x66, c8 * (x69 - x19)),
-            <f64 as ::trocar::Real>::mul_add(s11, x73, 0.09_f64 * (x8 - x7)),
+            <f64 as ::trocar::emitted::Real>::mul_add(s10, x68 - x66, c8 * (x69 - x19)),
+            <f64 as ::trocar::emitted::Real>::mul_add(s11, x73, 0.09_f64 * (x8 - x7)),
         );
-        let x75 = <f64 as ::trocar::Real>::mul_add(
+        let x75 = <f64 as ::trocar::emitted::Real>::mul_add(
             s11,
-            <f64 as ::trocar::Real>::mul_add(s10, x66 - x68, c8 * (x19 - x69)),
+            <f64 as ::trocar::emitted::Real>::mul_add(s10, x66 - x68, c8 * (x19 - x69)),
             c11 * x73,
         );
-        let x76 = <f64 as ::trocar::Real>::mul_add(
+        let x76 = <f64 as ::trocar::emitted::Real>::mul_add(
             c10,
-            <f64 as ::trocar::Real>::mul_add(s8, x64 + (x44 + x65), -x68),
-            c8 * <f64 as ::trocar::Real>::mul_add(s10, x48 + x63, x50),
+            <f64 as ::trocar::emitted::Real>::mul_add(s8, x64 + (x44 + x65), -x68),
+            c8 * <f64 as ::trocar::emitted::Real>::mul_add(s10, x48 + x63, x50),
         );
         let x77 = 0.02_f64 * c8;
-        let x78 = s8 * <f64 as ::trocar::Real>::mul_add(x18, s7, 0.02_f64);
-        let x79 = 0.02_f64 * <f64 as ::trocar::Real>::mul_add(c9, s8 * s7, s9 * c7);
-        let x80 = <f64 as ::trocar::Real>::mul_add(
+        let x78 = s8 * <f64 as ::trocar::emitted::Real>::mul_add(x18, s7, 0.02_f64);
+        let x79 = 0.02_f64
+            * <f64 as ::trocar::emitted::Real>::mul_add(c9, s8 * s7, s9 * c7);
+        let x80 = <f64 as ::trocar::emitted::Real>::mul_add(
             s7,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 s9,
-                <f64 as ::trocar::Real>::mul_add(s8, x71, x10 - x13),
+                <f64 as ::trocar::emitted::Real>::mul_add(s8, x71, x10 - x13),
                 c8 * (x24 - x23),
             ),
-            c9 * <f64 as ::trocar::Real>::mul_add(c7, x34, x77),
+            c9 * <f64 as ::trocar::emitted::Real>::mul_add(c7, x34, x77),
         );
         let x81 = x27 * s7;
         let x82 = c10 * (c9 * c7);
-        let x83 = <f64 as ::trocar::Real>::mul_add(
+        let x83 = <f64 as ::trocar::emitted::Real>::mul_add(
             c11,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 s10,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     s7,
                     x37,
-                    s9 * <f64 as ::trocar::Real>::mul_add(c7, x30, x77),
+                    s9 * <f64 as ::trocar::emitted::Real>::mul_add(c7, x30, x77),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     c10,
-                    <f64 as ::trocar::Real>::mul_add(c7, x33, x78),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c7, x33, x78),
                     -x79,
                 ),
             ),
-            <f64 as ::trocar::Real>::mul_add(s11, x80, 0.09_f64 * (x81 - x82)),
+            <f64 as ::trocar::emitted::Real>::mul_add(s11, x80, 0.09_f64 * (x81 - x82)),
         );
-        let x84 = <f64 as ::trocar::Real>::mul_add(
+        let x84 = <f64 as ::trocar::emitted::Real>::mul_add(
             s11,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 s10,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x16,
                     s7,
-                    s9 * <f64 as ::trocar::Real>::mul_add(c7, x38, -x77),
+                    s9 * <f64 as ::trocar::emitted::Real>::mul_add(c7, x38, -x77),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     c10,
-                    <f64 as ::trocar::Real>::mul_add(c7, x39, -x78),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c7, x39, -x78),
                     x79,
                 ),
             ),
             c11 * x80,
         );
-        let x85 = <f64 as ::trocar::Real>::mul_add(
+        let x85 = <f64 as ::trocar::emitted::Real>::mul_add(
             s7,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 c10,
-                <f64 as ::trocar::Real>::mul_add(c9, x12, -x46),
+                <f64 as ::trocar::emitted::Real>::mul_add(c9, x12, -x46),
                 x51,
             ),
-            <f64 as ::trocar::Real>::mul_add(c7, x54, 0.02_f64 * x9),
+            <f64 as ::trocar::emitted::Real>::mul_add(c7, x54, 0.02_f64 * x9),
         );
-        let x86 = <f64 as ::trocar::Real>::mul_add(s7, x56 - x57, c7 * x58);
+        let x86 = <f64 as ::trocar::emitted::Real>::mul_add(s7, x56 - x57, c7 * x58);
         let x87 = s10 * s11;
-        let x88 = <f64 as ::trocar::Real>::mul_add(s9, c11, c9 * x87);
-        let x89 = <f64 as ::trocar::Real>::mul_add(
+        let x88 = <f64 as ::trocar::emitted::Real>::mul_add(s9, c11, c9 * x87);
+        let x89 = <f64 as ::trocar::emitted::Real>::mul_add(
             s7,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 s8,
-                <f64 as ::trocar::Real>::mul_add(c11, c9, -(x0 * s11)),
+                <f64 as ::trocar::emitted::Real>::mul_add(c11, c9, -(x0 * s11)),
                 c10 * (s11 * c8),
             ),
             c7 * x88,
         );
         let x90 = x82 - x81;
         let x91 = x70 - x24;
-        let x92 = <f64 as ::trocar::Real>::mul_add(0.22_f64, c11, 0.09_f64);
+        let x92 = <f64 as ::trocar::emitted::Real>::mul_add(0.22_f64, c11, 0.09_f64);
         let x93 = c10 * x92;
         let x94 = 0.005_f64 * s10;
         let x95 = x94 - 0.02_f64;
-        let x96 = <f64 as ::trocar::Real>::mul_add(
+        let x96 = <f64 as ::trocar::emitted::Real>::mul_add(
             s8,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 s11,
                 x91,
-                -(s10 * <f64 as ::trocar::Real>::mul_add(c11, x43, 0.09_f64)),
+                -(s10 * <f64 as ::trocar::emitted::Real>::mul_add(c11, x43, 0.09_f64)),
             ),
             c8
-                * <f64 as ::trocar::Real>::mul_add(
+                * <f64 as ::trocar::emitted::Real>::mul_add(
                     s9,
-                    <f64 as ::trocar::Real>::mul_add(s11, x71, x93),
-                    c11 * <f64 as ::trocar::Real>::mul_add(c9, x95, 0.03_f64 * c10),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s11, x71, x93),
+                    c11
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            c9,
+                            x95,
+                            0.03_f64 * c10,
+                        ),
                 ),
         );
-        let x97 = <f64 as ::trocar::Real>::mul_add(
+        let x97 = <f64 as ::trocar::emitted::Real>::mul_add(
             s11,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 s10,
-                <f64 as ::trocar::Real>::mul_add(s8, x43, -(0.005_f64 * x5)),
+                <f64 as ::trocar::emitted::Real>::mul_add(s8, x43, -(0.005_f64 * x5)),
                 c8 * x20,
             ),
-            c11 * <f64 as ::trocar::Real>::mul_add(s8, x91, s9 * x72),
+            c11 * <f64 as ::trocar::emitted::Real>::mul_add(s8, x91, s9 * x72),
         );
-        let x98 = <f64 as ::trocar::Real>::mul_add(-0.005_f64, c10, x53);
-        let x99 = <f64 as ::trocar::Real>::mul_add(
+        let x98 = <f64 as ::trocar::emitted::Real>::mul_add(-0.005_f64, c10, x53);
+        let x99 = <f64 as ::trocar::emitted::Real>::mul_add(
             c8,
-            <f64 as ::trocar::Real>::mul_add(c9, x98, x49),
+            <f64 as ::trocar::emitted::Real>::mul_add(c9, x98, x49),
             s8 * (c10 * x45),
         );
-        let x100 = <f64 as ::trocar::Real>::mul_add(
+        let x100 = <f64 as ::trocar::emitted::Real>::mul_add(
             c9,
-            <f64 as ::trocar::Real>::mul_add(s11, x22, -x93),
-            c11 * <f64 as ::trocar::Real>::mul_add(s9, x95, -(0.1_f64 * c10)),
+            <f64 as ::trocar::emitted::Real>::mul_add(s11, x22, -x93),
+            c11 * <f64 as ::trocar::emitted::Real>::mul_add(s9, x95, -(0.1_f64 * c10)),
         );
-        let x101 = <f64 as ::trocar::Real>::mul_add(
+        let x101 = <f64 as ::trocar::emitted::Real>::mul_add(
             s11,
-            <f64 as ::trocar::Real>::mul_add(s9, 0.02_f64 - x94, c10 * x32),
+            <f64 as ::trocar::emitted::Real>::mul_add(s9, 0.02_f64 - x94, c10 * x32),
             c9 * (c11 * x22),
         );
-        let x102 = <f64 as ::trocar::Real>::mul_add(s9, x98, -(s10 * x52));
+        let x102 = <f64 as ::trocar::emitted::Real>::mul_add(s9, x98, -(s10 * x52));
         let x103 = c9 * c10;
         let x104 = s11 * c10;
-        let x105 = <f64 as ::trocar::Real>::mul_add(0.02_f64, x104, -(s10 * x92));
+        let x105 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.02_f64,
+            x104,
+            -(s10 * x92),
+        );
         let x106 = c11 * c10;
-        let x107 = <f64 as ::trocar::Real>::mul_add(0.22_f64, x87, 0.02_f64 * x106);
+        let x107 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.22_f64,
+            x87,
+            0.02_f64 * x106,
+        );
         let x108 = c10 * x47;
         let x109 = 0.02_f64 * c11;
         let x110 = 0.02_f64 * s11;
-        let x111 = <f64 as ::trocar::Real>::sqrt(
-            <f64 as ::trocar::Real>::mul_add(
+        let x111 = <f64 as ::trocar::emitted::Real>::sqrt(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x109,
                 x109,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x105,
                     x105,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x100,
                         x100,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x96,
                             x96,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x83,
                                 x83,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x74,
                                     x74,
-                                    <f64 as ::trocar::Real>::mul_add(x4, x4, x35 * x35),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(x4, x4, x35 * x35),
                                 ),
                             ),
                         ),
@@ -5071,63 +6392,71 @@ pub mod chain11_wide {
         let x118 = x105 / x111;
         let x119 = x109 / x111;
         let x120 = -0.09_f64 / x111;
-        let x121 = <f64 as ::trocar::Real>::mul_add(
+        let x121 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x110,
             x119,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x107,
                 x118,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x101,
                     x117,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x97,
                         x116,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x84,
                             x115,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x75,
                                 x114,
-                                <f64 as ::trocar::Real>::mul_add(x6, x112, x41 * x113),
+                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                    x6,
+                                    x112,
+                                    x41 * x113,
+                                ),
                             ),
                         ),
                     ),
                 ),
             ),
         );
-        let x122 = <f64 as ::trocar::Real>::mul_add(-x112, x121, x6);
-        let x123 = <f64 as ::trocar::Real>::mul_add(-x113, x121, x41);
-        let x124 = <f64 as ::trocar::Real>::mul_add(-x114, x121, x75);
-        let x125 = <f64 as ::trocar::Real>::mul_add(-x115, x121, x84);
-        let x126 = <f64 as ::trocar::Real>::mul_add(-x116, x121, x97);
-        let x127 = <f64 as ::trocar::Real>::mul_add(-x117, x121, x101);
-        let x128 = <f64 as ::trocar::Real>::mul_add(-x118, x121, x107);
-        let x129 = <f64 as ::trocar::Real>::mul_add(x119, x121, x110);
+        let x122 = <f64 as ::trocar::emitted::Real>::mul_add(-x112, x121, x6);
+        let x123 = <f64 as ::trocar::emitted::Real>::mul_add(-x113, x121, x41);
+        let x124 = <f64 as ::trocar::emitted::Real>::mul_add(-x114, x121, x75);
+        let x125 = <f64 as ::trocar::emitted::Real>::mul_add(-x115, x121, x84);
+        let x126 = <f64 as ::trocar::emitted::Real>::mul_add(-x116, x121, x97);
+        let x127 = <f64 as ::trocar::emitted::Real>::mul_add(-x117, x121, x101);
+        let x128 = <f64 as ::trocar::emitted::Real>::mul_add(-x118, x121, x107);
+        let x129 = <f64 as ::trocar::emitted::Real>::mul_add(x119, x121, x110);
         let x130 = x120 * x121;
-        let x131 = <f64 as ::trocar::Real>::sqrt(
-            <f64 as ::trocar::Real>::mul_add(
+        let x131 = <f64 as ::trocar::emitted::Real>::sqrt(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x130,
                 x130,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x129,
                     x129,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x128,
                         x128,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x127,
                             x127,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x126,
                                 x126,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x125,
                                     x125,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         x124,
                                         x124,
-                                        <f64 as ::trocar::Real>::mul_add(x122, x122, x123 * x123),
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
+                                            x122,
+                                            x122,
+                                            x123 * x123,
+                                        ),
                                     ),
                                 ),
                             ),
@@ -5145,62 +6474,28 @@ pub mod chain11_wide {
         let x138 = x128 / x131;
         let x139 = x129 / x131;
         let x140 = x130 / x131;
-        let x141 = <f64 as ::trocar::Real>::mul_add(
+        let x141 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x53,
             x119,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x108,
                 x118,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x102,
                     x117,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x99,
                         x116,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x85,
                             x115,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x76,
                                 x114,
-                                <f64 as ::trocar::Real>::mul_add(x9, x112, x55 * x113),
-                            ),
-                        ),
-                    ),
-                ),
-            ),
-        );
-        let x142 = <f64 as ::trocar::Real>::mul_add(-x112, x141, x9);
-        let x143 = <f64 as ::trocar::Real>::mul_add(-x113, x141, x55);
-        let x144 = <f64 as ::trocar::Real>::mul_add(-x114, x141, x76);
-        let x145 = <f64 as ::trocar::Real>::mul_add(-x115, x141, x85);
-        let x146 = <f64 as ::trocar::Real>::mul_add(-x116, x141, x99);
-        let x147 = <f64 as ::trocar::Real>::mul_add(-x117, x141, x102);
-        let x148 = <f64 as ::trocar::Real>::mul_add(-x118, x141, x108);
-        let x149 = <f64 as ::trocar::Real>::mul_add(x119, x141, x53);
-        let x150 = x120 * x141;
-        let x151 = <f64 as ::trocar::Real>::mul_add(
-            x140,
-            x150,
-            <f64 as ::trocar::Real>::mul_add(
-                x139,
-                x149,
-                <f64 as ::trocar::Real>::mul_add(
-                    x138,
-                    x148,
-                    <f64 as ::trocar::Real>::mul_add(
-                        x137,
-                        x147,
-                        <f64 as ::trocar::Real>::mul_add(
-                            x136,
-                            x146,
-                            <f64 as ::trocar::Real>::mul_add(
-                                x135,
-                                x145,
-                                <f64 as ::trocar::Real>::mul_add(
-                                    x134,
-                                    x144,
-                                    <f64 as ::trocar::Real>::mul_add(x132, x142, x133 * x143),
+                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                    x9,
+                                    x112,
+                                    x55 * x113,
                                 ),
                             ),
                         ),
@@ -5208,38 +6503,84 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x152 = <f64 as ::trocar::Real>::mul_add(-x132, x151, x142);
-        let x153 = <f64 as ::trocar::Real>::mul_add(-x133, x151, x143);
-        let x154 = <f64 as ::trocar::Real>::mul_add(-x134, x151, x144);
-        let x155 = <f64 as ::trocar::Real>::mul_add(-x135, x151, x145);
-        let x156 = <f64 as ::trocar::Real>::mul_add(-x136, x151, x146);
-        let x157 = <f64 as ::trocar::Real>::mul_add(-x137, x151, x147);
-        let x158 = <f64 as ::trocar::Real>::mul_add(-x138, x151, x148);
-        let x159 = <f64 as ::trocar::Real>::mul_add(-x139, x151, x149);
-        let x160 = <f64 as ::trocar::Real>::mul_add(x140, x151, -x150);
-        let x161 = <f64 as ::trocar::Real>::sqrt(
-            <f64 as ::trocar::Real>::mul_add(
+        let x142 = <f64 as ::trocar::emitted::Real>::mul_add(-x112, x141, x9);
+        let x143 = <f64 as ::trocar::emitted::Real>::mul_add(-x113, x141, x55);
+        let x144 = <f64 as ::trocar::emitted::Real>::mul_add(-x114, x141, x76);
+        let x145 = <f64 as ::trocar::emitted::Real>::mul_add(-x115, x141, x85);
+        let x146 = <f64 as ::trocar::emitted::Real>::mul_add(-x116, x141, x99);
+        let x147 = <f64 as ::trocar::emitted::Real>::mul_add(-x117, x141, x102);
+        let x148 = <f64 as ::trocar::emitted::Real>::mul_add(-x118, x141, x108);
+        let x149 = <f64 as ::trocar::emitted::Real>::mul_add(x119, x141, x53);
+        let x150 = x120 * x141;
+        let x151 = <f64 as ::trocar::emitted::Real>::mul_add(
+            x140,
+            x150,
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                x139,
+                x149,
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    x138,
+                    x148,
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        x137,
+                        x147,
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            x136,
+                            x146,
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x135,
+                                x145,
+                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                    x134,
+                                    x144,
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x132,
+                                        x142,
+                                        x133 * x143,
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x152 = <f64 as ::trocar::emitted::Real>::mul_add(-x132, x151, x142);
+        let x153 = <f64 as ::trocar::emitted::Real>::mul_add(-x133, x151, x143);
+        let x154 = <f64 as ::trocar::emitted::Real>::mul_add(-x134, x151, x144);
+        let x155 = <f64 as ::trocar::emitted::Real>::mul_add(-x135, x151, x145);
+        let x156 = <f64 as ::trocar::emitted::Real>::mul_add(-x136, x151, x146);
+        let x157 = <f64 as ::trocar::emitted::Real>::mul_add(-x137, x151, x147);
+        let x158 = <f64 as ::trocar::emitted::Real>::mul_add(-x138, x151, x148);
+        let x159 = <f64 as ::trocar::emitted::Real>::mul_add(-x139, x151, x149);
+        let x160 = <f64 as ::trocar::emitted::Real>::mul_add(x140, x151, -x150);
+        let x161 = <f64 as ::trocar::emitted::Real>::sqrt(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x160,
                 x160,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x159,
                     x159,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x158,
                         x158,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x157,
                             x157,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x156,
                                 x156,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x155,
                                     x155,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         x154,
                                         x154,
-                                        <f64 as ::trocar::Real>::mul_add(x152, x152, x153 * x153),
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
+                                            x152,
+                                            x152,
+                                            x153 * x153,
+                                        ),
                                     ),
                                 ),
                             ),
@@ -5257,58 +6598,66 @@ pub mod chain11_wide {
         let x168 = x158 / x161;
         let x169 = x159 / x161;
         let x170 = x160 / x161;
-        let x171 = <f64 as ::trocar::Real>::mul_add(
+        let x171 = <f64 as ::trocar::emitted::Real>::mul_add(
             -s11,
             x119,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x106,
                 x118,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x58,
                     x117,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x4,
                         x116,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x86,
                             x115,
-                            <f64 as ::trocar::Real>::mul_add(x59, x113, x4 * x114),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x59,
+                                x113,
+                                x4 * x114,
+                            ),
                         ),
                     ),
                 ),
             ),
         );
         let x172 = x112 * x171;
-        let x173 = <f64 as ::trocar::Real>::mul_add(-x113, x171, x59);
-        let x174 = <f64 as ::trocar::Real>::mul_add(-x114, x171, x4);
-        let x175 = <f64 as ::trocar::Real>::mul_add(-x115, x171, x86);
-        let x176 = <f64 as ::trocar::Real>::mul_add(-x116, x171, x4);
-        let x177 = <f64 as ::trocar::Real>::mul_add(-x117, x171, x58);
-        let x178 = <f64 as ::trocar::Real>::mul_add(-x118, x171, x106);
-        let x179 = <f64 as ::trocar::Real>::mul_add(x119, x171, s11);
+        let x173 = <f64 as ::trocar::emitted::Real>::mul_add(-x113, x171, x59);
+        let x174 = <f64 as ::trocar::emitted::Real>::mul_add(-x114, x171, x4);
+        let x175 = <f64 as ::trocar::emitted::Real>::mul_add(-x115, x171, x86);
+        let x176 = <f64 as ::trocar::emitted::Real>::mul_add(-x116, x171, x4);
+        let x177 = <f64 as ::trocar::emitted::Real>::mul_add(-x117, x171, x58);
+        let x178 = <f64 as ::trocar::emitted::Real>::mul_add(-x118, x171, x106);
+        let x179 = <f64 as ::trocar::emitted::Real>::mul_add(x119, x171, s11);
         let x180 = x120 * x171;
-        let x181 = <f64 as ::trocar::Real>::mul_add(
+        let x181 = <f64 as ::trocar::emitted::Real>::mul_add(
             x140,
             x180,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x139,
                 x179,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x138,
                     x178,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x137,
                         x177,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x136,
                             x176,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x135,
                                 x175,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x134,
                                     x174,
-                                    <f64 as ::trocar::Real>::mul_add(x133, x173, -(x132 * x172)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x133,
+                                        x173,
+                                        -(x132 * x172),
+                                    ),
                                 ),
                             ),
                         ),
@@ -5316,37 +6665,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x182 = <f64 as ::trocar::Real>::mul_add(x132, x181, x172);
-        let x183 = <f64 as ::trocar::Real>::mul_add(-x133, x181, x173);
-        let x184 = <f64 as ::trocar::Real>::mul_add(-x134, x181, x174);
-        let x185 = <f64 as ::trocar::Real>::mul_add(-x135, x181, x175);
-        let x186 = <f64 as ::trocar::Real>::mul_add(-x136, x181, x176);
-        let x187 = <f64 as ::trocar::Real>::mul_add(-x137, x181, x177);
-        let x188 = <f64 as ::trocar::Real>::mul_add(-x138, x181, x178);
-        let x189 = <f64 as ::trocar::Real>::mul_add(-x139, x181, x179);
-        let x190 = <f64 as ::trocar::Real>::mul_add(x140, x181, -x180);
-        let x191 = <f64 as ::trocar::Real>::mul_add(
+        let x182 = <f64 as ::trocar::emitted::Real>::mul_add(x132, x181, x172);
+        let x183 = <f64 as ::trocar::emitted::Real>::mul_add(-x133, x181, x173);
+        let x184 = <f64 as ::trocar::emitted::Real>::mul_add(-x134, x181, x174);
+        let x185 = <f64 as ::trocar::emitted::Real>::mul_add(-x135, x181, x175);
+        let x186 = <f64 as ::trocar::emitted::Real>::mul_add(-x136, x181, x176);
+        let x187 = <f64 as ::trocar::emitted::Real>::mul_add(-x137, x181, x177);
+        let x188 = <f64 as ::trocar::emitted::Real>::mul_add(-x138, x181, x178);
+        let x189 = <f64 as ::trocar::emitted::Real>::mul_add(-x139, x181, x179);
+        let x190 = <f64 as ::trocar::emitted::Real>::mul_add(x140, x181, -x180);
+        let x191 = <f64 as ::trocar::emitted::Real>::mul_add(
             x170,
             x190,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x169,
                 x189,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x168,
                     x188,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x167,
                         x187,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x166,
                             x186,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x165,
                                 x185,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x164,
                                     x184,
-                                    <f64 as ::trocar::Real>::mul_add(x163, x183, -(x162 * x182)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x163,
+                                        x183,
+                                        -(x162 * x182),
+                                    ),
                                 ),
                             ),
                         ),
@@ -5354,38 +6707,42 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x192 = <f64 as ::trocar::Real>::mul_add(x162, x191, x182);
-        let x193 = <f64 as ::trocar::Real>::mul_add(-x163, x191, x183);
-        let x194 = <f64 as ::trocar::Real>::mul_add(-x164, x191, x184);
-        let x195 = <f64 as ::trocar::Real>::mul_add(-x165, x191, x185);
-        let x196 = <f64 as ::trocar::Real>::mul_add(-x166, x191, x186);
-        let x197 = <f64 as ::trocar::Real>::mul_add(-x167, x191, x187);
-        let x198 = <f64 as ::trocar::Real>::mul_add(-x168, x191, x188);
-        let x199 = <f64 as ::trocar::Real>::mul_add(-x169, x191, x189);
-        let x200 = <f64 as ::trocar::Real>::mul_add(-x170, x191, x190);
-        let x201 = <f64 as ::trocar::Real>::sqrt(
-            <f64 as ::trocar::Real>::mul_add(
+        let x192 = <f64 as ::trocar::emitted::Real>::mul_add(x162, x191, x182);
+        let x193 = <f64 as ::trocar::emitted::Real>::mul_add(-x163, x191, x183);
+        let x194 = <f64 as ::trocar::emitted::Real>::mul_add(-x164, x191, x184);
+        let x195 = <f64 as ::trocar::emitted::Real>::mul_add(-x165, x191, x185);
+        let x196 = <f64 as ::trocar::emitted::Real>::mul_add(-x166, x191, x186);
+        let x197 = <f64 as ::trocar::emitted::Real>::mul_add(-x167, x191, x187);
+        let x198 = <f64 as ::trocar::emitted::Real>::mul_add(-x168, x191, x188);
+        let x199 = <f64 as ::trocar::emitted::Real>::mul_add(-x169, x191, x189);
+        let x200 = <f64 as ::trocar::emitted::Real>::mul_add(-x170, x191, x190);
+        let x201 = <f64 as ::trocar::emitted::Real>::sqrt(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x200,
                 x200,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x199,
                     x199,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x198,
                         x198,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x197,
                             x197,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x196,
                                 x196,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x195,
                                     x195,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         x194,
                                         x194,
-                                        <f64 as ::trocar::Real>::mul_add(x192, x192, x193 * x193),
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
+                                            x192,
+                                            x192,
+                                            x193 * x193,
+                                        ),
                                     ),
                                 ),
                             ),
@@ -5403,58 +6760,66 @@ pub mod chain11_wide {
         let x208 = x198 / x201;
         let x209 = x199 / x201;
         let x210 = x200 / x201;
-        let x211 = <f64 as ::trocar::Real>::mul_add(
+        let x211 = <f64 as ::trocar::emitted::Real>::mul_add(
             -c11,
             x119,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -x104,
                 x118,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x88,
                     x117,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x6,
                         x116,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x89,
                             x115,
-                            <f64 as ::trocar::Real>::mul_add(x61, x113, x6 * x114),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x61,
+                                x113,
+                                x6 * x114,
+                            ),
                         ),
                     ),
                 ),
             ),
         );
         let x212 = x112 * x211;
-        let x213 = <f64 as ::trocar::Real>::mul_add(-x113, x211, x61);
-        let x214 = <f64 as ::trocar::Real>::mul_add(-x114, x211, x6);
-        let x215 = <f64 as ::trocar::Real>::mul_add(-x115, x211, x89);
-        let x216 = <f64 as ::trocar::Real>::mul_add(-x116, x211, x6);
-        let x217 = <f64 as ::trocar::Real>::mul_add(-x117, x211, x88);
-        let x218 = <f64 as ::trocar::Real>::mul_add(x118, x211, x104);
-        let x219 = <f64 as ::trocar::Real>::mul_add(x119, x211, c11);
+        let x213 = <f64 as ::trocar::emitted::Real>::mul_add(-x113, x211, x61);
+        let x214 = <f64 as ::trocar::emitted::Real>::mul_add(-x114, x211, x6);
+        let x215 = <f64 as ::trocar::emitted::Real>::mul_add(-x115, x211, x89);
+        let x216 = <f64 as ::trocar::emitted::Real>::mul_add(-x116, x211, x6);
+        let x217 = <f64 as ::trocar::emitted::Real>::mul_add(-x117, x211, x88);
+        let x218 = <f64 as ::trocar::emitted::Real>::mul_add(x118, x211, x104);
+        let x219 = <f64 as ::trocar::emitted::Real>::mul_add(x119, x211, c11);
         let x220 = x120 * x211;
-        let x221 = <f64 as ::trocar::Real>::mul_add(
+        let x221 = <f64 as ::trocar::emitted::Real>::mul_add(
             x140,
             x220,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x139,
                 x219,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -x138,
                     x218,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x137,
                         x217,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x136,
                             x216,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x135,
                                 x215,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x134,
                                     x214,
-                                    <f64 as ::trocar::Real>::mul_add(x133, x213, -(x132 * x212)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x133,
+                                        x213,
+                                        -(x132 * x212),
+                                    ),
                                 ),
                             ),
                         ),
@@ -5462,37 +6827,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x222 = <f64 as ::trocar::Real>::mul_add(x132, x221, x212);
-        let x223 = <f64 as ::trocar::Real>::mul_add(-x133, x221, x213);
-        let x224 = <f64 as ::trocar::Real>::mul_add(-x134, x221, x214);
-        let x225 = <f64 as ::trocar::Real>::mul_add(-x135, x221, x215);
-        let x226 = <f64 as ::trocar::Real>::mul_add(-x136, x221, x216);
-        let x227 = <f64 as ::trocar::Real>::mul_add(-x137, x221, x217);
-        let x228 = <f64 as ::trocar::Real>::mul_add(x138, x221, x218);
-        let x229 = <f64 as ::trocar::Real>::mul_add(-x139, x221, x219);
-        let x230 = <f64 as ::trocar::Real>::mul_add(x140, x221, -x220);
-        let x231 = <f64 as ::trocar::Real>::mul_add(
+        let x222 = <f64 as ::trocar::emitted::Real>::mul_add(x132, x221, x212);
+        let x223 = <f64 as ::trocar::emitted::Real>::mul_add(-x133, x221, x213);
+        let x224 = <f64 as ::trocar::emitted::Real>::mul_add(-x134, x221, x214);
+        let x225 = <f64 as ::trocar::emitted::Real>::mul_add(-x135, x221, x215);
+        let x226 = <f64 as ::trocar::emitted::Real>::mul_add(-x136, x221, x216);
+        let x227 = <f64 as ::trocar::emitted::Real>::mul_add(-x137, x221, x217);
+        let x228 = <f64 as ::trocar::emitted::Real>::mul_add(x138, x221, x218);
+        let x229 = <f64 as ::trocar::emitted::Real>::mul_add(-x139, x221, x219);
+        let x230 = <f64 as ::trocar::emitted::Real>::mul_add(x140, x221, -x220);
+        let x231 = <f64 as ::trocar::emitted::Real>::mul_add(
             x170,
             x230,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x169,
                 x229,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -x168,
                     x228,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x167,
                         x227,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x166,
                             x226,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x165,
                                 x225,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x164,
                                     x224,
-                                    <f64 as ::trocar::Real>::mul_add(x163, x223, -(x162 * x222)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x163,
+                                        x223,
+                                        -(x162 * x222),
+                                    ),
                                 ),
                             ),
                         ),
@@ -5500,37 +6869,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x232 = <f64 as ::trocar::Real>::mul_add(x162, x231, x222);
-        let x233 = <f64 as ::trocar::Real>::mul_add(-x163, x231, x223);
-        let x234 = <f64 as ::trocar::Real>::mul_add(-x164, x231, x224);
-        let x235 = <f64 as ::trocar::Real>::mul_add(-x165, x231, x225);
-        let x236 = <f64 as ::trocar::Real>::mul_add(-x166, x231, x226);
-        let x237 = <f64 as ::trocar::Real>::mul_add(-x167, x231, x227);
-        let x238 = <f64 as ::trocar::Real>::mul_add(x168, x231, x228);
-        let x239 = <f64 as ::trocar::Real>::mul_add(-x169, x231, x229);
-        let x240 = <f64 as ::trocar::Real>::mul_add(-x170, x231, x230);
-        let x241 = <f64 as ::trocar::Real>::mul_add(
+        let x232 = <f64 as ::trocar::emitted::Real>::mul_add(x162, x231, x222);
+        let x233 = <f64 as ::trocar::emitted::Real>::mul_add(-x163, x231, x223);
+        let x234 = <f64 as ::trocar::emitted::Real>::mul_add(-x164, x231, x224);
+        let x235 = <f64 as ::trocar::emitted::Real>::mul_add(-x165, x231, x225);
+        let x236 = <f64 as ::trocar::emitted::Real>::mul_add(-x166, x231, x226);
+        let x237 = <f64 as ::trocar::emitted::Real>::mul_add(-x167, x231, x227);
+        let x238 = <f64 as ::trocar::emitted::Real>::mul_add(x168, x231, x228);
+        let x239 = <f64 as ::trocar::emitted::Real>::mul_add(-x169, x231, x229);
+        let x240 = <f64 as ::trocar::emitted::Real>::mul_add(-x170, x231, x230);
+        let x241 = <f64 as ::trocar::emitted::Real>::mul_add(
             x210,
             x240,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x209,
                 x239,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -x208,
                     x238,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x207,
                         x237,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x206,
                             x236,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x205,
                                 x235,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x204,
                                     x234,
-                                    <f64 as ::trocar::Real>::mul_add(x202, x232, x203 * x233),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x202,
+                                        x232,
+                                        x203 * x233,
+                                    ),
                                 ),
                             ),
                         ),
@@ -5538,38 +6911,42 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x242 = <f64 as ::trocar::Real>::mul_add(x202, x241, -x232);
-        let x243 = <f64 as ::trocar::Real>::mul_add(-x203, x241, x233);
-        let x244 = <f64 as ::trocar::Real>::mul_add(-x204, x241, x234);
-        let x245 = <f64 as ::trocar::Real>::mul_add(-x205, x241, x235);
-        let x246 = <f64 as ::trocar::Real>::mul_add(-x206, x241, x236);
-        let x247 = <f64 as ::trocar::Real>::mul_add(-x207, x241, x237);
-        let x248 = <f64 as ::trocar::Real>::mul_add(x208, x241, x238);
-        let x249 = <f64 as ::trocar::Real>::mul_add(-x209, x241, x239);
-        let x250 = <f64 as ::trocar::Real>::mul_add(-x210, x241, x240);
-        let x251 = <f64 as ::trocar::Real>::sqrt(
-            <f64 as ::trocar::Real>::mul_add(
+        let x242 = <f64 as ::trocar::emitted::Real>::mul_add(x202, x241, -x232);
+        let x243 = <f64 as ::trocar::emitted::Real>::mul_add(-x203, x241, x233);
+        let x244 = <f64 as ::trocar::emitted::Real>::mul_add(-x204, x241, x234);
+        let x245 = <f64 as ::trocar::emitted::Real>::mul_add(-x205, x241, x235);
+        let x246 = <f64 as ::trocar::emitted::Real>::mul_add(-x206, x241, x236);
+        let x247 = <f64 as ::trocar::emitted::Real>::mul_add(-x207, x241, x237);
+        let x248 = <f64 as ::trocar::emitted::Real>::mul_add(x208, x241, x238);
+        let x249 = <f64 as ::trocar::emitted::Real>::mul_add(-x209, x241, x239);
+        let x250 = <f64 as ::trocar::emitted::Real>::mul_add(-x210, x241, x240);
+        let x251 = <f64 as ::trocar::emitted::Real>::sqrt(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x250,
                 x250,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x249,
                     x249,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x248,
                         x248,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x247,
                             x247,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x246,
                                 x246,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x245,
                                     x245,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         x244,
                                         x244,
-                                        <f64 as ::trocar::Real>::mul_add(x242, x242, x243 * x243),
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
+                                            x242,
+                                            x242,
+                                            x243 * x243,
+                                        ),
                                     ),
                                 ),
                             ),
@@ -5588,58 +6965,66 @@ pub mod chain11_wide {
         let x259 = x249 / x251;
         let x260 = x250 / x251;
         let x261 = x120
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 s10,
                 x118,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x103,
                     x117,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x9,
                         x116,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x90,
                             x115,
-                            <f64 as ::trocar::Real>::mul_add(x62, x113, x9 * x114),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x62,
+                                x113,
+                                x9 * x114,
+                            ),
                         ),
                     ),
                 ),
             );
         let x262 = x112 * x261;
-        let x263 = <f64 as ::trocar::Real>::mul_add(-x113, x261, x62);
-        let x264 = <f64 as ::trocar::Real>::mul_add(-x114, x261, x9);
-        let x265 = <f64 as ::trocar::Real>::mul_add(-x115, x261, x90);
-        let x266 = <f64 as ::trocar::Real>::mul_add(-x116, x261, x9);
-        let x267 = <f64 as ::trocar::Real>::mul_add(-x117, x261, x103);
-        let x268 = <f64 as ::trocar::Real>::mul_add(-x118, x261, s10);
+        let x263 = <f64 as ::trocar::emitted::Real>::mul_add(-x113, x261, x62);
+        let x264 = <f64 as ::trocar::emitted::Real>::mul_add(-x114, x261, x9);
+        let x265 = <f64 as ::trocar::emitted::Real>::mul_add(-x115, x261, x90);
+        let x266 = <f64 as ::trocar::emitted::Real>::mul_add(-x116, x261, x9);
+        let x267 = <f64 as ::trocar::emitted::Real>::mul_add(-x117, x261, x103);
+        let x268 = <f64 as ::trocar::emitted::Real>::mul_add(-x118, x261, s10);
         let x269 = x119 * x261;
-        let x270 = <f64 as ::trocar::Real>::mul_add(
+        let x270 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x120,
             x261,
-            <f64 as ::trocar::Real>::ONE,
+            <f64 as ::trocar::emitted::Real>::ONE,
         );
-        let x271 = <f64 as ::trocar::Real>::mul_add(
+        let x271 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x140,
             x270,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x139,
                 x269,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x138,
                     x268,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x137,
                         x267,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x136,
                             x266,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x135,
                                 x265,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x134,
                                     x264,
-                                    <f64 as ::trocar::Real>::mul_add(x133, x263, -(x132 * x262)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x133,
+                                        x263,
+                                        -(x132 * x262),
+                                    ),
                                 ),
                             ),
                         ),
@@ -5647,37 +7032,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x272 = <f64 as ::trocar::Real>::mul_add(x132, x271, x262);
-        let x273 = <f64 as ::trocar::Real>::mul_add(-x133, x271, x263);
-        let x274 = <f64 as ::trocar::Real>::mul_add(-x134, x271, x264);
-        let x275 = <f64 as ::trocar::Real>::mul_add(-x135, x271, x265);
-        let x276 = <f64 as ::trocar::Real>::mul_add(-x136, x271, x266);
-        let x277 = <f64 as ::trocar::Real>::mul_add(-x137, x271, x267);
-        let x278 = <f64 as ::trocar::Real>::mul_add(-x138, x271, x268);
-        let x279 = <f64 as ::trocar::Real>::mul_add(-x139, x271, x269);
-        let x280 = <f64 as ::trocar::Real>::mul_add(x140, x271, x270);
-        let x281 = <f64 as ::trocar::Real>::mul_add(
+        let x272 = <f64 as ::trocar::emitted::Real>::mul_add(x132, x271, x262);
+        let x273 = <f64 as ::trocar::emitted::Real>::mul_add(-x133, x271, x263);
+        let x274 = <f64 as ::trocar::emitted::Real>::mul_add(-x134, x271, x264);
+        let x275 = <f64 as ::trocar::emitted::Real>::mul_add(-x135, x271, x265);
+        let x276 = <f64 as ::trocar::emitted::Real>::mul_add(-x136, x271, x266);
+        let x277 = <f64 as ::trocar::emitted::Real>::mul_add(-x137, x271, x267);
+        let x278 = <f64 as ::trocar::emitted::Real>::mul_add(-x138, x271, x268);
+        let x279 = <f64 as ::trocar::emitted::Real>::mul_add(-x139, x271, x269);
+        let x280 = <f64 as ::trocar::emitted::Real>::mul_add(x140, x271, x270);
+        let x281 = <f64 as ::trocar::emitted::Real>::mul_add(
             x170,
             x280,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x169,
                 x279,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x168,
                     x278,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x167,
                         x277,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x166,
                             x276,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x165,
                                 x275,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x164,
                                     x274,
-                                    <f64 as ::trocar::Real>::mul_add(x163, x273, -(x162 * x272)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x163,
+                                        x273,
+                                        -(x162 * x272),
+                                    ),
                                 ),
                             ),
                         ),
@@ -5685,37 +7074,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x282 = <f64 as ::trocar::Real>::mul_add(x162, x281, x272);
-        let x283 = <f64 as ::trocar::Real>::mul_add(-x163, x281, x273);
-        let x284 = <f64 as ::trocar::Real>::mul_add(-x164, x281, x274);
-        let x285 = <f64 as ::trocar::Real>::mul_add(-x165, x281, x275);
-        let x286 = <f64 as ::trocar::Real>::mul_add(-x166, x281, x276);
-        let x287 = <f64 as ::trocar::Real>::mul_add(-x167, x281, x277);
-        let x288 = <f64 as ::trocar::Real>::mul_add(-x168, x281, x278);
-        let x289 = <f64 as ::trocar::Real>::mul_add(-x169, x281, x279);
-        let x290 = <f64 as ::trocar::Real>::mul_add(-x170, x281, x280);
-        let x291 = <f64 as ::trocar::Real>::mul_add(
+        let x282 = <f64 as ::trocar::emitted::Real>::mul_add(x162, x281, x272);
+        let x283 = <f64 as ::trocar::emitted::Real>::mul_add(-x163, x281, x273);
+        let x284 = <f64 as ::trocar::emitted::Real>::mul_add(-x164, x281, x274);
+        let x285 = <f64 as ::trocar::emitted::Real>::mul_add(-x165, x281, x275);
+        let x286 = <f64 as ::trocar::emitted::Real>::mul_add(-x166, x281, x276);
+        let x287 = <f64 as ::trocar::emitted::Real>::mul_add(-x167, x281, x277);
+        let x288 = <f64 as ::trocar::emitted::Real>::mul_add(-x168, x281, x278);
+        let x289 = <f64 as ::trocar::emitted::Real>::mul_add(-x169, x281, x279);
+        let x290 = <f64 as ::trocar::emitted::Real>::mul_add(-x170, x281, x280);
+        let x291 = <f64 as ::trocar::emitted::Real>::mul_add(
             x210,
             x290,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x209,
                 x289,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x208,
                     x288,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x207,
                         x287,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x206,
                             x286,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x205,
                                 x285,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x204,
                                     x284,
-                                    <f64 as ::trocar::Real>::mul_add(x202, x282, x203 * x283),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x202,
+                                        x282,
+                                        x203 * x283,
+                                    ),
                                 ),
                             ),
                         ),
@@ -5723,37 +7116,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x292 = <f64 as ::trocar::Real>::mul_add(x202, x291, -x282);
-        let x293 = <f64 as ::trocar::Real>::mul_add(-x203, x291, x283);
-        let x294 = <f64 as ::trocar::Real>::mul_add(-x204, x291, x284);
-        let x295 = <f64 as ::trocar::Real>::mul_add(-x205, x291, x285);
-        let x296 = <f64 as ::trocar::Real>::mul_add(-x206, x291, x286);
-        let x297 = <f64 as ::trocar::Real>::mul_add(-x207, x291, x287);
-        let x298 = <f64 as ::trocar::Real>::mul_add(-x208, x291, x288);
-        let x299 = <f64 as ::trocar::Real>::mul_add(-x209, x291, x289);
-        let x300 = <f64 as ::trocar::Real>::mul_add(-x210, x291, x290);
-        let x301 = <f64 as ::trocar::Real>::mul_add(
+        let x292 = <f64 as ::trocar::emitted::Real>::mul_add(x202, x291, -x282);
+        let x293 = <f64 as ::trocar::emitted::Real>::mul_add(-x203, x291, x283);
+        let x294 = <f64 as ::trocar::emitted::Real>::mul_add(-x204, x291, x284);
+        let x295 = <f64 as ::trocar::emitted::Real>::mul_add(-x205, x291, x285);
+        let x296 = <f64 as ::trocar::emitted::Real>::mul_add(-x206, x291, x286);
+        let x297 = <f64 as ::trocar::emitted::Real>::mul_add(-x207, x291, x287);
+        let x298 = <f64 as ::trocar::emitted::Real>::mul_add(-x208, x291, x288);
+        let x299 = <f64 as ::trocar::emitted::Real>::mul_add(-x209, x291, x289);
+        let x300 = <f64 as ::trocar::emitted::Real>::mul_add(-x210, x291, x290);
+        let x301 = <f64 as ::trocar::emitted::Real>::mul_add(
             x260,
             x300,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x259,
                 x299,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -x258,
                     x298,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x257,
                         x297,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x256,
                             x296,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x255,
                                 x295,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x254,
                                     x294,
-                                    <f64 as ::trocar::Real>::mul_add(x252, x292, x253 * x293),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x252,
+                                        x292,
+                                        x253 * x293,
+                                    ),
                                 ),
                             ),
                         ),
@@ -5761,39 +7158,43 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x302 = <f64 as ::trocar::Real>::mul_add(-x252, x301, x292);
-        let x303 = <f64 as ::trocar::Real>::mul_add(-x253, x301, x293);
-        let x304 = <f64 as ::trocar::Real>::mul_add(-x254, x301, x294);
-        let x305 = <f64 as ::trocar::Real>::mul_add(-x255, x301, x295);
-        let x306 = <f64 as ::trocar::Real>::mul_add(-x256, x301, x296);
-        let x307 = <f64 as ::trocar::Real>::mul_add(-x257, x301, x297);
-        let x308 = <f64 as ::trocar::Real>::mul_add(x258, x301, x298);
-        let x309 = <f64 as ::trocar::Real>::mul_add(-x259, x301, x299);
-        let x310 = <f64 as ::trocar::Real>::mul_add(-x260, x301, x300);
+        let x302 = <f64 as ::trocar::emitted::Real>::mul_add(-x252, x301, x292);
+        let x303 = <f64 as ::trocar::emitted::Real>::mul_add(-x253, x301, x293);
+        let x304 = <f64 as ::trocar::emitted::Real>::mul_add(-x254, x301, x294);
+        let x305 = <f64 as ::trocar::emitted::Real>::mul_add(-x255, x301, x295);
+        let x306 = <f64 as ::trocar::emitted::Real>::mul_add(-x256, x301, x296);
+        let x307 = <f64 as ::trocar::emitted::Real>::mul_add(-x257, x301, x297);
+        let x308 = <f64 as ::trocar::emitted::Real>::mul_add(x258, x301, x298);
+        let x309 = <f64 as ::trocar::emitted::Real>::mul_add(-x259, x301, x299);
+        let x310 = <f64 as ::trocar::emitted::Real>::mul_add(-x260, x301, x300);
         let x311 = x111 * x131 * x161 * x201 * x251
-            * <f64 as ::trocar::Real>::sqrt(
-                <f64 as ::trocar::Real>::mul_add(
+            * <f64 as ::trocar::emitted::Real>::sqrt(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x310,
                     x310,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x309,
                         x309,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x308,
                             x308,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x307,
                                 x307,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x306,
                                     x306,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         x305,
                                         x305,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             x304,
                                             x304,
-                                            <f64 as ::trocar::Real>::mul_add(x302, x302, x303 * x303),
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                                x302,
+                                                x302,
+                                                x303 * x303,
+                                            ),
                                         ),
                                     ),
                                 ),
@@ -5804,10 +7205,10 @@ pub mod chain11_wide {
             );
         {
             let w = x311 * x311;
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -5821,14 +7222,14 @@ pub mod chain11_wide {
     pub fn manipulability_squared_trig(t: &JointTrig, p: &Params) -> f64 {
         let x0 = t.sin[8] * t.sin[9];
         let x1 = t.sin[10] * t.cos[8];
-        let x2 = <f64 as ::trocar::Real>::mul_add(x0, t.cos[10], x1);
+        let x2 = <f64 as ::trocar::emitted::Real>::mul_add(x0, t.cos[10], x1);
         let x3 = t.sin[7] * t.cos[9];
-        let x4 = <f64 as ::trocar::Real>::mul_add(x2, t.cos[7], t.cos[10] * x3);
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(x2, t.cos[7], t.cos[10] * x3);
         let x5 = t.cos[8] * t.cos[7];
-        let x6 = <f64 as ::trocar::Real>::mul_add(
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[10],
             x5,
-            -(t.sin[10] * <f64 as ::trocar::Real>::mul_add(x0, t.cos[7], x3)),
+            -(t.sin[10] * <f64 as ::trocar::emitted::Real>::mul_add(x0, t.cos[7], x3)),
         );
         let x7 = t.sin[9] * t.sin[7];
         let x8 = t.cos[9] * (t.sin[8] * t.cos[7]);
@@ -5837,47 +7238,63 @@ pub mod chain11_wide {
         let x11 = 0.005_f64 * t.sin[7];
         let x12 = x10 - x11;
         let x13 = 0.1_f64 * t.cos[7];
-        let x14 = <f64 as ::trocar::Real>::mul_add(0.03_f64, t.sin[8], 0.22_f64);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.03_f64,
+            t.sin[8],
+            0.22_f64,
+        );
         let x15 = t.cos[7] * x14;
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[8], x12 - x13, -x15);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[8], x12 - x13, -x15);
         let x17 = 0.22_f64 * t.sin[8];
         let x18 = 0.03_f64 + x17;
         let x19 = 0.02_f64 * t.cos[8];
-        let x20 = <f64 as ::trocar::Real>::mul_add(-t.cos[9], x18, x19);
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(-t.cos[9], x18, x19);
         let x21 = 0.02_f64 * t.sin[9];
         let x22 = 0.005_f64 - x21;
         let x23 = 0.02_f64 * t.cos[9];
         let x24 = 0.03_f64 * t.cos[8];
-        let x25 = <f64 as ::trocar::Real>::mul_add(
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
-            <f64 as ::trocar::Real>::mul_add(t.sin[7], x22, 0.23_f64 + x13 - p.l_a),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[7],
+                x22,
+                0.23_f64 + x13 - p.l_a,
+            ),
             t.cos[7] * (x23 - x24),
         );
         let x26 = t.sin[8] * t.sin[7];
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.cos[9], x26, t.sin[9] * t.cos[7]);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[9],
+            x26,
+            t.sin[9] * t.cos[7],
+        );
         let x28 = 0.23_f64 - p.l_a;
         let x29 = t.sin[7] * x28;
         let x30 = 0.005_f64 + x29;
         let x31 = t.cos[7] * x10;
-        let x32 = <f64 as ::trocar::Real>::mul_add(0.22_f64, t.cos[8], 0.1_f64);
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(0.22_f64, t.cos[8], 0.1_f64);
         let x33 = x31 - x32;
         let x34 = x22 + x29;
-        let x35 = <f64 as ::trocar::Real>::mul_add(
-            <f64 as ::trocar::Real>::mul_add(
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[10],
-                <f64 as ::trocar::Real>::mul_add(t.sin[9], x16, t.sin[7] * x20),
-                <f64 as ::trocar::Real>::mul_add(t.sin[10], x25, -(0.09_f64 * x27)),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[9], x16, t.sin[7] * x20),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[10],
+                    x25,
+                    -(0.09_f64 * x27),
+                ),
             ),
             t.cos[6],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[10],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[8],
-                    <f64 as ::trocar::Real>::mul_add(t.sin[9], x30, -0.02_f64),
+                    <f64 as ::trocar::emitted::Real>::mul_add(t.sin[9], x30, -0.02_f64),
                     t.cos[9] * x33,
                 ),
                 t.cos[8]
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[10],
                         x34,
                         -(0.09_f64 * t.cos[9]),
@@ -5885,26 +7302,30 @@ pub mod chain11_wide {
             ) * t.sin[6],
         );
         let x36 = 0.23_f64 + x11;
-        let x37 = <f64 as ::trocar::Real>::mul_add(t.cos[8], x13 + x36 - p.l_a, x15);
-        let x38 = <f64 as ::trocar::Real>::mul_add(t.sin[7], x10, -0.005_f64);
-        let x39 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x28, x32);
-        let x40 = <f64 as ::trocar::Real>::mul_add(
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[8],
+            x13 + x36 - p.l_a,
+            x15,
+        );
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[7], x10, -0.005_f64);
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[7], x28, x32);
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
             t.sin[6],
             -(t.cos[8] * (t.sin[7] * t.cos[6])),
         );
-        let x41 = <f64 as ::trocar::Real>::mul_add(
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[10],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[9],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.cos[6],
                     x37,
                     t.sin[6] * (t.sin[8] * x38),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.cos[9],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[6],
                         x39,
                         t.sin[7] * (x18 * t.cos[6]),
@@ -5913,7 +7334,7 @@ pub mod chain11_wide {
                 ),
             ),
             t.cos[10]
-                * <f64 as ::trocar::Real>::mul_add(
+                * <f64 as ::trocar::emitted::Real>::mul_add(
                     x25,
                     t.cos[6],
                     t.sin[6] * (t.cos[8] * x34),
@@ -5929,233 +7350,308 @@ pub mod chain11_wide {
         let x49 = t.sin[9] * (0.03_f64 + x48);
         let x50 = 0.09_f64 * x1;
         let x51 = t.sin[7] * (x49 + x50);
-        let x52 = <f64 as ::trocar::Real>::mul_add(t.cos[8], x47, 0.1_f64);
+        let x52 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[8], x47, 0.1_f64);
         let x53 = 0.09_f64 * t.sin[10];
-        let x54 = <f64 as ::trocar::Real>::mul_add(
+        let x54 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[9],
             x31 - x52,
-            t.sin[8] * <f64 as ::trocar::Real>::mul_add(t.cos[9], x38, x53),
+            t.sin[8] * <f64 as ::trocar::emitted::Real>::mul_add(t.cos[9], x38, x53),
         );
-        let x55 = <f64 as ::trocar::Real>::mul_add(
+        let x55 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[6],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[9],
-                <f64 as ::trocar::Real>::mul_add(t.cos[8], x36 - p.l_a, x46),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.cos[8], x36 - p.l_a, x46),
                 -x51,
             ),
             t.sin[6] * x54,
         );
         let x56 = x2 * t.sin[7];
         let x57 = t.cos[10] * (t.cos[7] * t.cos[9]);
-        let x58 = <f64 as ::trocar::Real>::mul_add(
+        let x58 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
             t.sin[10],
             -(t.cos[10] * (t.sin[9] * t.cos[8])),
         );
-        let x59 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x57 - x56, t.sin[6] * x58);
+        let x59 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x57 - x56,
+            t.sin[6] * x58,
+        );
         let x60 = t.cos[8] * t.sin[6];
-        let x61 = <f64 as ::trocar::Real>::mul_add(
+        let x61 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[10],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[9],
-                <f64 as ::trocar::Real>::mul_add(x26, t.cos[6], x60),
+                <f64 as ::trocar::emitted::Real>::mul_add(x26, t.cos[6], x60),
                 -(t.cos[9] * (t.cos[7] * t.cos[6])),
             ),
             t.cos[10] * x40,
         );
-        let x62 = <f64 as ::trocar::Real>::mul_add(x27, t.cos[6], t.cos[9] * x60);
-        let x63 = <f64 as ::trocar::Real>::mul_add(0.02_f64, t.sin[6], 0.03_f64);
+        let x62 = <f64 as ::trocar::emitted::Real>::mul_add(
+            x27,
+            t.cos[6],
+            t.cos[9] * x60,
+        );
+        let x63 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.02_f64,
+            t.sin[6],
+            0.03_f64,
+        );
         let x64 = t.sin[8] * x63;
         let x65 = 0.22_f64 + x42;
         let x66 = t.sin[7] * (x64 + x65);
         let x67 = 0.02_f64 * t.cos[6];
-        let x68 = t.cos[8] * <f64 as ::trocar::Real>::mul_add(0.005_f64, t.cos[7], x67);
+        let x68 = t.cos[8]
+            * <f64 as ::trocar::emitted::Real>::mul_add(0.005_f64, t.cos[7], x67);
         let x69 = t.cos[9] * (x17 + x63);
-        let x70 = <f64 as ::trocar::Real>::mul_add(0.1_f64, t.sin[8], x23);
+        let x70 = <f64 as ::trocar::emitted::Real>::mul_add(0.1_f64, t.sin[8], x23);
         let x71 = x21 - 0.005_f64;
         let x72 = t.cos[7] * x71;
-        let x73 = <f64 as ::trocar::Real>::mul_add(
+        let x73 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
-            <f64 as ::trocar::Real>::mul_add(-t.cos[8], x63, x70),
+            <f64 as ::trocar::emitted::Real>::mul_add(-t.cos[8], x63, x70),
             t.sin[8] * (x72 - x67),
         );
-        let x74 = <f64 as ::trocar::Real>::mul_add(
+        let x74 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[10],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[9],
                 x68 - x66,
                 t.cos[7] * (x69 - x19),
             ),
-            <f64 as ::trocar::Real>::mul_add(t.sin[10], x73, 0.09_f64 * (x8 - x7)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[10],
+                x73,
+                0.09_f64 * (x8 - x7),
+            ),
         );
-        let x75 = <f64 as ::trocar::Real>::mul_add(
+        let x75 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[10],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[9],
                 x66 - x68,
                 t.cos[7] * (x19 - x69),
             ),
             t.cos[10] * x73,
         );
-        let x76 = <f64 as ::trocar::Real>::mul_add(
+        let x76 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[9],
-            <f64 as ::trocar::Real>::mul_add(t.sin[7], x64 + (x44 + x65), -x68),
-            t.cos[7] * <f64 as ::trocar::Real>::mul_add(t.sin[9], x48 + x63, x50),
+            <f64 as ::trocar::emitted::Real>::mul_add(t.sin[7], x64 + (x44 + x65), -x68),
+            t.cos[7]
+                * <f64 as ::trocar::emitted::Real>::mul_add(t.sin[9], x48 + x63, x50),
         );
         let x77 = 0.02_f64 * t.cos[7];
-        let x78 = t.sin[7] * <f64 as ::trocar::Real>::mul_add(x18, t.sin[6], 0.02_f64);
+        let x78 = t.sin[7]
+            * <f64 as ::trocar::emitted::Real>::mul_add(x18, t.sin[6], 0.02_f64);
         let x79 = 0.02_f64
-            * <f64 as ::trocar::Real>::mul_add(
+            * <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[8],
                 t.sin[7] * t.sin[6],
                 t.sin[8] * t.cos[6],
             );
-        let x80 = <f64 as ::trocar::Real>::mul_add(
+        let x80 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[6],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[8],
-                <f64 as ::trocar::Real>::mul_add(t.sin[7], x71, x10 - x13),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[7], x71, x10 - x13),
                 t.cos[7] * (x24 - x23),
             ),
-            t.cos[8] * <f64 as ::trocar::Real>::mul_add(t.cos[6], x34, x77),
+            t.cos[8] * <f64 as ::trocar::emitted::Real>::mul_add(t.cos[6], x34, x77),
         );
         let x81 = x27 * t.sin[6];
         let x82 = t.cos[9] * (t.cos[8] * t.cos[6]);
-        let x83 = <f64 as ::trocar::Real>::mul_add(
+        let x83 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[10],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[9],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[6],
                     x37,
-                    t.sin[8] * <f64 as ::trocar::Real>::mul_add(t.cos[6], x30, x77),
+                    t.sin[8]
+                        * <f64 as ::trocar::emitted::Real>::mul_add(t.cos[6], x30, x77),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.cos[9],
-                    <f64 as ::trocar::Real>::mul_add(t.cos[6], x33, x78),
+                    <f64 as ::trocar::emitted::Real>::mul_add(t.cos[6], x33, x78),
                     -x79,
                 ),
             ),
-            <f64 as ::trocar::Real>::mul_add(t.sin[10], x80, 0.09_f64 * (x81 - x82)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[10],
+                x80,
+                0.09_f64 * (x81 - x82),
+            ),
         );
-        let x84 = <f64 as ::trocar::Real>::mul_add(
+        let x84 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[10],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[9],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x16,
                     t.sin[6],
-                    t.sin[8] * <f64 as ::trocar::Real>::mul_add(t.cos[6], x38, -x77),
+                    t.sin[8]
+                        * <f64 as ::trocar::emitted::Real>::mul_add(t.cos[6], x38, -x77),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.cos[9],
-                    <f64 as ::trocar::Real>::mul_add(t.cos[6], x39, -x78),
+                    <f64 as ::trocar::emitted::Real>::mul_add(t.cos[6], x39, -x78),
                     x79,
                 ),
             ),
             t.cos[10] * x80,
         );
-        let x85 = <f64 as ::trocar::Real>::mul_add(
+        let x85 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[6],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[9],
-                <f64 as ::trocar::Real>::mul_add(t.cos[8], x12, -x46),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.cos[8], x12, -x46),
                 x51,
             ),
-            <f64 as ::trocar::Real>::mul_add(t.cos[6], x54, 0.02_f64 * x9),
+            <f64 as ::trocar::emitted::Real>::mul_add(t.cos[6], x54, 0.02_f64 * x9),
         );
-        let x86 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x56 - x57, t.cos[6] * x58);
-        let x87 = t.sin[9] * t.sin[10];
-        let x88 = <f64 as ::trocar::Real>::mul_add(t.sin[8], t.cos[10], t.cos[8] * x87);
-        let x89 = <f64 as ::trocar::Real>::mul_add(
+        let x86 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[6],
-            <f64 as ::trocar::Real>::mul_add(
+            x56 - x57,
+            t.cos[6] * x58,
+        );
+        let x87 = t.sin[9] * t.sin[10];
+        let x88 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[8],
+            t.cos[10],
+            t.cos[8] * x87,
+        );
+        let x89 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[6],
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[7],
-                <f64 as ::trocar::Real>::mul_add(t.cos[10], t.cos[8], -(x0 * t.sin[10])),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.cos[10],
+                    t.cos[8],
+                    -(x0 * t.sin[10]),
+                ),
                 t.cos[9] * (t.sin[10] * t.cos[7]),
             ),
             t.cos[6] * x88,
         );
         let x90 = x82 - x81;
         let x91 = x70 - x24;
-        let x92 = <f64 as ::trocar::Real>::mul_add(0.22_f64, t.cos[10], 0.09_f64);
+        let x92 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.22_f64,
+            t.cos[10],
+            0.09_f64,
+        );
         let x93 = t.cos[9] * x92;
         let x94 = 0.005_f64 * t.sin[9];
         let x95 = x94 - 0.02_f64;
-        let x96 = <f64 as ::trocar::Real>::mul_add(
+        let x96 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[10],
                 x91,
-                -(t.sin[9] * <f64 as ::trocar::Real>::mul_add(t.cos[10], x43, 0.09_f64)),
+                -(t.sin[9]
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[10],
+                        x43,
+                        0.09_f64,
+                    )),
             ),
             t.cos[7]
-                * <f64 as ::trocar::Real>::mul_add(
+                * <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[8],
-                    <f64 as ::trocar::Real>::mul_add(t.sin[10], x71, x93),
+                    <f64 as ::trocar::emitted::Real>::mul_add(t.sin[10], x71, x93),
                     t.cos[10]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[8],
                             x95,
                             0.03_f64 * t.cos[9],
                         ),
                 ),
         );
-        let x97 = <f64 as ::trocar::Real>::mul_add(
+        let x97 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[10],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[9],
-                <f64 as ::trocar::Real>::mul_add(t.sin[7], x43, -(0.005_f64 * x5)),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[7],
+                    x43,
+                    -(0.005_f64 * x5),
+                ),
                 t.cos[7] * x20,
             ),
-            t.cos[10] * <f64 as ::trocar::Real>::mul_add(t.sin[7], x91, t.sin[8] * x72),
+            t.cos[10]
+                * <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[7],
+                    x91,
+                    t.sin[8] * x72,
+                ),
         );
-        let x98 = <f64 as ::trocar::Real>::mul_add(-0.005_f64, t.cos[9], x53);
-        let x99 = <f64 as ::trocar::Real>::mul_add(
+        let x98 = <f64 as ::trocar::emitted::Real>::mul_add(-0.005_f64, t.cos[9], x53);
+        let x99 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[7],
-            <f64 as ::trocar::Real>::mul_add(t.cos[8], x98, x49),
+            <f64 as ::trocar::emitted::Real>::mul_add(t.cos[8], x98, x49),
             t.sin[7] * (t.cos[9] * x45),
         );
-        let x100 = <f64 as ::trocar::Real>::mul_add(
+        let x100 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[8],
-            <f64 as ::trocar::Real>::mul_add(t.sin[10], x22, -x93),
+            <f64 as ::trocar::emitted::Real>::mul_add(t.sin[10], x22, -x93),
             t.cos[10]
-                * <f64 as ::trocar::Real>::mul_add(t.sin[8], x95, -(0.1_f64 * t.cos[9])),
+                * <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[8],
+                    x95,
+                    -(0.1_f64 * t.cos[9]),
+                ),
         );
-        let x101 = <f64 as ::trocar::Real>::mul_add(
+        let x101 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[10],
-            <f64 as ::trocar::Real>::mul_add(t.sin[8], 0.02_f64 - x94, t.cos[9] * x32),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[8],
+                0.02_f64 - x94,
+                t.cos[9] * x32,
+            ),
             t.cos[8] * (t.cos[10] * x22),
         );
-        let x102 = <f64 as ::trocar::Real>::mul_add(t.sin[8], x98, -(t.sin[9] * x52));
+        let x102 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[8],
+            x98,
+            -(t.sin[9] * x52),
+        );
         let x103 = t.cos[8] * t.cos[9];
         let x104 = t.sin[10] * t.cos[9];
-        let x105 = <f64 as ::trocar::Real>::mul_add(0.02_f64, x104, -(t.sin[9] * x92));
+        let x105 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.02_f64,
+            x104,
+            -(t.sin[9] * x92),
+        );
         let x106 = t.cos[10] * t.cos[9];
-        let x107 = <f64 as ::trocar::Real>::mul_add(0.22_f64, x87, 0.02_f64 * x106);
+        let x107 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.22_f64,
+            x87,
+            0.02_f64 * x106,
+        );
         let x108 = t.cos[9] * x47;
         let x109 = 0.02_f64 * t.cos[10];
         let x110 = 0.02_f64 * t.sin[10];
-        let x111 = <f64 as ::trocar::Real>::sqrt(
-            <f64 as ::trocar::Real>::mul_add(
+        let x111 = <f64 as ::trocar::emitted::Real>::sqrt(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x109,
                 x109,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x105,
                     x105,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x100,
                         x100,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x96,
                             x96,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x83,
                                 x83,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x74,
                                     x74,
-                                    <f64 as ::trocar::Real>::mul_add(x4, x4, x35 * x35),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(x4, x4, x35 * x35),
                                 ),
                             ),
                         ),
@@ -6172,63 +7668,71 @@ pub mod chain11_wide {
         let x118 = x105 / x111;
         let x119 = x109 / x111;
         let x120 = -0.09_f64 / x111;
-        let x121 = <f64 as ::trocar::Real>::mul_add(
+        let x121 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x110,
             x119,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x107,
                 x118,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x101,
                     x117,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x97,
                         x116,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x84,
                             x115,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x75,
                                 x114,
-                                <f64 as ::trocar::Real>::mul_add(x6, x112, x41 * x113),
+                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                    x6,
+                                    x112,
+                                    x41 * x113,
+                                ),
                             ),
                         ),
                     ),
                 ),
             ),
         );
-        let x122 = <f64 as ::trocar::Real>::mul_add(-x112, x121, x6);
-        let x123 = <f64 as ::trocar::Real>::mul_add(-x113, x121, x41);
-        let x124 = <f64 as ::trocar::Real>::mul_add(-x114, x121, x75);
-        let x125 = <f64 as ::trocar::Real>::mul_add(-x115, x121, x84);
-        let x126 = <f64 as ::trocar::Real>::mul_add(-x116, x121, x97);
-        let x127 = <f64 as ::trocar::Real>::mul_add(-x117, x121, x101);
-        let x128 = <f64 as ::trocar::Real>::mul_add(-x118, x121, x107);
-        let x129 = <f64 as ::trocar::Real>::mul_add(x119, x121, x110);
+        let x122 = <f64 as ::trocar::emitted::Real>::mul_add(-x112, x121, x6);
+        let x123 = <f64 as ::trocar::emitted::Real>::mul_add(-x113, x121, x41);
+        let x124 = <f64 as ::trocar::emitted::Real>::mul_add(-x114, x121, x75);
+        let x125 = <f64 as ::trocar::emitted::Real>::mul_add(-x115, x121, x84);
+        let x126 = <f64 as ::trocar::emitted::Real>::mul_add(-x116, x121, x97);
+        let x127 = <f64 as ::trocar::emitted::Real>::mul_add(-x117, x121, x101);
+        let x128 = <f64 as ::trocar::emitted::Real>::mul_add(-x118, x121, x107);
+        let x129 = <f64 as ::trocar::emitted::Real>::mul_add(x119, x121, x110);
         let x130 = x120 * x121;
-        let x131 = <f64 as ::trocar::Real>::sqrt(
-            <f64 as ::trocar::Real>::mul_add(
+        let x131 = <f64 as ::trocar::emitted::Real>::sqrt(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x130,
                 x130,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x129,
                     x129,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x128,
                         x128,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x127,
                             x127,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x126,
                                 x126,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x125,
                                     x125,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         x124,
                                         x124,
-                                        <f64 as ::trocar::Real>::mul_add(x122, x122, x123 * x123),
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
+                                            x122,
+                                            x122,
+                                            x123 * x123,
+                                        ),
                                     ),
                                 ),
                             ),
@@ -6246,62 +7750,28 @@ pub mod chain11_wide {
         let x138 = x128 / x131;
         let x139 = x129 / x131;
         let x140 = x130 / x131;
-        let x141 = <f64 as ::trocar::Real>::mul_add(
+        let x141 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x53,
             x119,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x108,
                 x118,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x102,
                     x117,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x99,
                         x116,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x85,
                             x115,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x76,
                                 x114,
-                                <f64 as ::trocar::Real>::mul_add(x9, x112, x55 * x113),
-                            ),
-                        ),
-                    ),
-                ),
-            ),
-        );
-        let x142 = <f64 as ::trocar::Real>::mul_add(-x112, x141, x9);
-        let x143 = <f64 as ::trocar::Real>::mul_add(-x113, x141, x55);
-        let x144 = <f64 as ::trocar::Real>::mul_add(-x114, x141, x76);
-        let x145 = <f64 as ::trocar::Real>::mul_add(-x115, x141, x85);
-        let x146 = <f64 as ::trocar::Real>::mul_add(-x116, x141, x99);
-        let x147 = <f64 as ::trocar::Real>::mul_add(-x117, x141, x102);
-        let x148 = <f64 as ::trocar::Real>::mul_add(-x118, x141, x108);
-        let x149 = <f64 as ::trocar::Real>::mul_add(x119, x141, x53);
-        let x150 = x120 * x141;
-        let x151 = <f64 as ::trocar::Real>::mul_add(
-            x140,
-            x150,
-            <f64 as ::trocar::Real>::mul_add(
-                x139,
-                x149,
-                <f64 as ::trocar::Real>::mul_add(
-                    x138,
-                    x148,
-                    <f64 as ::trocar::Real>::mul_add(
-                        x137,
-                        x147,
-                        <f64 as ::trocar::Real>::mul_add(
-                            x136,
-                            x146,
-                            <f64 as ::trocar::Real>::mul_add(
-                                x135,
-                                x145,
-                                <f64 as ::trocar::Real>::mul_add(
-                                    x134,
-                                    x144,
-                                    <f64 as ::trocar::Real>::mul_add(x132, x142, x133 * x143),
+                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                    x9,
+                                    x112,
+                                    x55 * x113,
                                 ),
                             ),
                         ),
@@ -6309,38 +7779,84 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x152 = <f64 as ::trocar::Real>::mul_add(-x132, x151, x142);
-        let x153 = <f64 as ::trocar::Real>::mul_add(-x133, x151, x143);
-        let x154 = <f64 as ::trocar::Real>::mul_add(-x134, x151, x144);
-        let x155 = <f64 as ::trocar::Real>::mul_add(-x135, x151, x145);
-        let x156 = <f64 as ::trocar::Real>::mul_add(-x136, x151, x146);
-        let x157 = <f64 as ::trocar::Real>::mul_add(-x137, x151, x147);
-        let x158 = <f64 as ::trocar::Real>::mul_add(-x138, x151, x148);
-        let x159 = <f64 as ::trocar::Real>::mul_add(-x139, x151, x149);
-        let x160 = <f64 as ::trocar::Real>::mul_add(x140, x151, -x150);
-        let x161 = <f64 as ::trocar::Real>::sqrt(
-            <f64 as ::trocar::Real>::mul_add(
+        let x142 = <f64 as ::trocar::emitted::Real>::mul_add(-x112, x141, x9);
+        let x143 = <f64 as ::trocar::emitted::Real>::mul_add(-x113, x141, x55);
+        let x144 = <f64 as ::trocar::emitted::Real>::mul_add(-x114, x141, x76);
+        let x145 = <f64 as ::trocar::emitted::Real>::mul_add(-x115, x141, x85);
+        let x146 = <f64 as ::trocar::emitted::Real>::mul_add(-x116, x141, x99);
+        let x147 = <f64 as ::trocar::emitted::Real>::mul_add(-x117, x141, x102);
+        let x148 = <f64 as ::trocar::emitted::Real>::mul_add(-x118, x141, x108);
+        let x149 = <f64 as ::trocar::emitted::Real>::mul_add(x119, x141, x53);
+        let x150 = x120 * x141;
+        let x151 = <f64 as ::trocar::emitted::Real>::mul_add(
+            x140,
+            x150,
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                x139,
+                x149,
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    x138,
+                    x148,
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        x137,
+                        x147,
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            x136,
+                            x146,
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x135,
+                                x145,
+                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                    x134,
+                                    x144,
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x132,
+                                        x142,
+                                        x133 * x143,
+                                    ),
+                                ),
+                            ),
+                        ),
+                    ),
+                ),
+            ),
+        );
+        let x152 = <f64 as ::trocar::emitted::Real>::mul_add(-x132, x151, x142);
+        let x153 = <f64 as ::trocar::emitted::Real>::mul_add(-x133, x151, x143);
+        let x154 = <f64 as ::trocar::emitted::Real>::mul_add(-x134, x151, x144);
+        let x155 = <f64 as ::trocar::emitted::Real>::mul_add(-x135, x151, x145);
+        let x156 = <f64 as ::trocar::emitted::Real>::mul_add(-x136, x151, x146);
+        let x157 = <f64 as ::trocar::emitted::Real>::mul_add(-x137, x151, x147);
+        let x158 = <f64 as ::trocar::emitted::Real>::mul_add(-x138, x151, x148);
+        let x159 = <f64 as ::trocar::emitted::Real>::mul_add(-x139, x151, x149);
+        let x160 = <f64 as ::trocar::emitted::Real>::mul_add(x140, x151, -x150);
+        let x161 = <f64 as ::trocar::emitted::Real>::sqrt(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x160,
                 x160,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x159,
                     x159,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x158,
                         x158,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x157,
                             x157,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x156,
                                 x156,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x155,
                                     x155,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         x154,
                                         x154,
-                                        <f64 as ::trocar::Real>::mul_add(x152, x152, x153 * x153),
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
+                                            x152,
+                                            x152,
+                                            x153 * x153,
+                                        ),
                                     ),
                                 ),
                             ),
@@ -6358,58 +7874,66 @@ pub mod chain11_wide {
         let x168 = x158 / x161;
         let x169 = x159 / x161;
         let x170 = x160 / x161;
-        let x171 = <f64 as ::trocar::Real>::mul_add(
+        let x171 = <f64 as ::trocar::emitted::Real>::mul_add(
             -t.sin[10],
             x119,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x106,
                 x118,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x58,
                     x117,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x4,
                         x116,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x86,
                             x115,
-                            <f64 as ::trocar::Real>::mul_add(x59, x113, x4 * x114),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x59,
+                                x113,
+                                x4 * x114,
+                            ),
                         ),
                     ),
                 ),
             ),
         );
         let x172 = x112 * x171;
-        let x173 = <f64 as ::trocar::Real>::mul_add(-x113, x171, x59);
-        let x174 = <f64 as ::trocar::Real>::mul_add(-x114, x171, x4);
-        let x175 = <f64 as ::trocar::Real>::mul_add(-x115, x171, x86);
-        let x176 = <f64 as ::trocar::Real>::mul_add(-x116, x171, x4);
-        let x177 = <f64 as ::trocar::Real>::mul_add(-x117, x171, x58);
-        let x178 = <f64 as ::trocar::Real>::mul_add(-x118, x171, x106);
-        let x179 = <f64 as ::trocar::Real>::mul_add(x119, x171, t.sin[10]);
+        let x173 = <f64 as ::trocar::emitted::Real>::mul_add(-x113, x171, x59);
+        let x174 = <f64 as ::trocar::emitted::Real>::mul_add(-x114, x171, x4);
+        let x175 = <f64 as ::trocar::emitted::Real>::mul_add(-x115, x171, x86);
+        let x176 = <f64 as ::trocar::emitted::Real>::mul_add(-x116, x171, x4);
+        let x177 = <f64 as ::trocar::emitted::Real>::mul_add(-x117, x171, x58);
+        let x178 = <f64 as ::trocar::emitted::Real>::mul_add(-x118, x171, x106);
+        let x179 = <f64 as ::trocar::emitted::Real>::mul_add(x119, x171, t.sin[10]);
         let x180 = x120 * x171;
-        let x181 = <f64 as ::trocar::Real>::mul_add(
+        let x181 = <f64 as ::trocar::emitted::Real>::mul_add(
             x140,
             x180,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x139,
                 x179,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x138,
                     x178,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x137,
                         x177,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x136,
                             x176,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x135,
                                 x175,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x134,
                                     x174,
-                                    <f64 as ::trocar::Real>::mul_add(x133, x173, -(x132 * x172)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x133,
+                                        x173,
+                                        -(x132 * x172),
+                                    ),
                                 ),
                             ),
                         ),
@@ -6417,37 +7941,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x182 = <f64 as ::trocar::Real>::mul_add(x132, x181, x172);
-        let x183 = <f64 as ::trocar::Real>::mul_add(-x133, x181, x173);
-        let x184 = <f64 as ::trocar::Real>::mul_add(-x134, x181, x174);
-        let x185 = <f64 as ::trocar::Real>::mul_add(-x135, x181, x175);
-        let x186 = <f64 as ::trocar::Real>::mul_add(-x136, x181, x176);
-        let x187 = <f64 as ::trocar::Real>::mul_add(-x137, x181, x177);
-        let x188 = <f64 as ::trocar::Real>::mul_add(-x138, x181, x178);
-        let x189 = <f64 as ::trocar::Real>::mul_add(-x139, x181, x179);
-        let x190 = <f64 as ::trocar::Real>::mul_add(x140, x181, -x180);
-        let x191 = <f64 as ::trocar::Real>::mul_add(
+        let x182 = <f64 as ::trocar::emitted::Real>::mul_add(x132, x181, x172);
+        let x183 = <f64 as ::trocar::emitted::Real>::mul_add(-x133, x181, x173);
+        let x184 = <f64 as ::trocar::emitted::Real>::mul_add(-x134, x181, x174);
+        let x185 = <f64 as ::trocar::emitted::Real>::mul_add(-x135, x181, x175);
+        let x186 = <f64 as ::trocar::emitted::Real>::mul_add(-x136, x181, x176);
+        let x187 = <f64 as ::trocar::emitted::Real>::mul_add(-x137, x181, x177);
+        let x188 = <f64 as ::trocar::emitted::Real>::mul_add(-x138, x181, x178);
+        let x189 = <f64 as ::trocar::emitted::Real>::mul_add(-x139, x181, x179);
+        let x190 = <f64 as ::trocar::emitted::Real>::mul_add(x140, x181, -x180);
+        let x191 = <f64 as ::trocar::emitted::Real>::mul_add(
             x170,
             x190,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x169,
                 x189,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x168,
                     x188,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x167,
                         x187,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x166,
                             x186,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x165,
                                 x185,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x164,
                                     x184,
-                                    <f64 as ::trocar::Real>::mul_add(x163, x183, -(x162 * x182)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x163,
+                                        x183,
+                                        -(x162 * x182),
+                                    ),
                                 ),
                             ),
                         ),
@@ -6455,38 +7983,42 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x192 = <f64 as ::trocar::Real>::mul_add(x162, x191, x182);
-        let x193 = <f64 as ::trocar::Real>::mul_add(-x163, x191, x183);
-        let x194 = <f64 as ::trocar::Real>::mul_add(-x164, x191, x184);
-        let x195 = <f64 as ::trocar::Real>::mul_add(-x165, x191, x185);
-        let x196 = <f64 as ::trocar::Real>::mul_add(-x166, x191, x186);
-        let x197 = <f64 as ::trocar::Real>::mul_add(-x167, x191, x187);
-        let x198 = <f64 as ::trocar::Real>::mul_add(-x168, x191, x188);
-        let x199 = <f64 as ::trocar::Real>::mul_add(-x169, x191, x189);
-        let x200 = <f64 as ::trocar::Real>::mul_add(-x170, x191, x190);
-        let x201 = <f64 as ::trocar::Real>::sqrt(
-            <f64 as ::trocar::Real>::mul_add(
+        let x192 = <f64 as ::trocar::emitted::Real>::mul_add(x162, x191, x182);
+        let x193 = <f64 as ::trocar::emitted::Real>::mul_add(-x163, x191, x183);
+        let x194 = <f64 as ::trocar::emitted::Real>::mul_add(-x164, x191, x184);
+        let x195 = <f64 as ::trocar::emitted::Real>::mul_add(-x165, x191, x185);
+        let x196 = <f64 as ::trocar::emitted::Real>::mul_add(-x166, x191, x186);
+        let x197 = <f64 as ::trocar::emitted::Real>::mul_add(-x167, x191, x187);
+        let x198 = <f64 as ::trocar::emitted::Real>::mul_add(-x168, x191, x188);
+        let x199 = <f64 as ::trocar::emitted::Real>::mul_add(-x169, x191, x189);
+        let x200 = <f64 as ::trocar::emitted::Real>::mul_add(-x170, x191, x190);
+        let x201 = <f64 as ::trocar::emitted::Real>::sqrt(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x200,
                 x200,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x199,
                     x199,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x198,
                         x198,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x197,
                             x197,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x196,
                                 x196,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x195,
                                     x195,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         x194,
                                         x194,
-                                        <f64 as ::trocar::Real>::mul_add(x192, x192, x193 * x193),
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
+                                            x192,
+                                            x192,
+                                            x193 * x193,
+                                        ),
                                     ),
                                 ),
                             ),
@@ -6504,58 +8036,66 @@ pub mod chain11_wide {
         let x208 = x198 / x201;
         let x209 = x199 / x201;
         let x210 = x200 / x201;
-        let x211 = <f64 as ::trocar::Real>::mul_add(
+        let x211 = <f64 as ::trocar::emitted::Real>::mul_add(
             -t.cos[10],
             x119,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -x104,
                 x118,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x88,
                     x117,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x6,
                         x116,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x89,
                             x115,
-                            <f64 as ::trocar::Real>::mul_add(x61, x113, x6 * x114),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x61,
+                                x113,
+                                x6 * x114,
+                            ),
                         ),
                     ),
                 ),
             ),
         );
         let x212 = x112 * x211;
-        let x213 = <f64 as ::trocar::Real>::mul_add(-x113, x211, x61);
-        let x214 = <f64 as ::trocar::Real>::mul_add(-x114, x211, x6);
-        let x215 = <f64 as ::trocar::Real>::mul_add(-x115, x211, x89);
-        let x216 = <f64 as ::trocar::Real>::mul_add(-x116, x211, x6);
-        let x217 = <f64 as ::trocar::Real>::mul_add(-x117, x211, x88);
-        let x218 = <f64 as ::trocar::Real>::mul_add(x118, x211, x104);
-        let x219 = <f64 as ::trocar::Real>::mul_add(x119, x211, t.cos[10]);
+        let x213 = <f64 as ::trocar::emitted::Real>::mul_add(-x113, x211, x61);
+        let x214 = <f64 as ::trocar::emitted::Real>::mul_add(-x114, x211, x6);
+        let x215 = <f64 as ::trocar::emitted::Real>::mul_add(-x115, x211, x89);
+        let x216 = <f64 as ::trocar::emitted::Real>::mul_add(-x116, x211, x6);
+        let x217 = <f64 as ::trocar::emitted::Real>::mul_add(-x117, x211, x88);
+        let x218 = <f64 as ::trocar::emitted::Real>::mul_add(x118, x211, x104);
+        let x219 = <f64 as ::trocar::emitted::Real>::mul_add(x119, x211, t.cos[10]);
         let x220 = x120 * x211;
-        let x221 = <f64 as ::trocar::Real>::mul_add(
+        let x221 = <f64 as ::trocar::emitted::Real>::mul_add(
             x140,
             x220,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x139,
                 x219,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -x138,
                     x218,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x137,
                         x217,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x136,
                             x216,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x135,
                                 x215,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x134,
                                     x214,
-                                    <f64 as ::trocar::Real>::mul_add(x133, x213, -(x132 * x212)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x133,
+                                        x213,
+                                        -(x132 * x212),
+                                    ),
                                 ),
                             ),
                         ),
@@ -6563,37 +8103,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x222 = <f64 as ::trocar::Real>::mul_add(x132, x221, x212);
-        let x223 = <f64 as ::trocar::Real>::mul_add(-x133, x221, x213);
-        let x224 = <f64 as ::trocar::Real>::mul_add(-x134, x221, x214);
-        let x225 = <f64 as ::trocar::Real>::mul_add(-x135, x221, x215);
-        let x226 = <f64 as ::trocar::Real>::mul_add(-x136, x221, x216);
-        let x227 = <f64 as ::trocar::Real>::mul_add(-x137, x221, x217);
-        let x228 = <f64 as ::trocar::Real>::mul_add(x138, x221, x218);
-        let x229 = <f64 as ::trocar::Real>::mul_add(-x139, x221, x219);
-        let x230 = <f64 as ::trocar::Real>::mul_add(x140, x221, -x220);
-        let x231 = <f64 as ::trocar::Real>::mul_add(
+        let x222 = <f64 as ::trocar::emitted::Real>::mul_add(x132, x221, x212);
+        let x223 = <f64 as ::trocar::emitted::Real>::mul_add(-x133, x221, x213);
+        let x224 = <f64 as ::trocar::emitted::Real>::mul_add(-x134, x221, x214);
+        let x225 = <f64 as ::trocar::emitted::Real>::mul_add(-x135, x221, x215);
+        let x226 = <f64 as ::trocar::emitted::Real>::mul_add(-x136, x221, x216);
+        let x227 = <f64 as ::trocar::emitted::Real>::mul_add(-x137, x221, x217);
+        let x228 = <f64 as ::trocar::emitted::Real>::mul_add(x138, x221, x218);
+        let x229 = <f64 as ::trocar::emitted::Real>::mul_add(-x139, x221, x219);
+        let x230 = <f64 as ::trocar::emitted::Real>::mul_add(x140, x221, -x220);
+        let x231 = <f64 as ::trocar::emitted::Real>::mul_add(
             x170,
             x230,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x169,
                 x229,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -x168,
                     x228,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x167,
                         x227,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x166,
                             x226,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x165,
                                 x225,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x164,
                                     x224,
-                                    <f64 as ::trocar::Real>::mul_add(x163, x223, -(x162 * x222)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x163,
+                                        x223,
+                                        -(x162 * x222),
+                                    ),
                                 ),
                             ),
                         ),
@@ -6601,37 +8145,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x232 = <f64 as ::trocar::Real>::mul_add(x162, x231, x222);
-        let x233 = <f64 as ::trocar::Real>::mul_add(-x163, x231, x223);
-        let x234 = <f64 as ::trocar::Real>::mul_add(-x164, x231, x224);
-        let x235 = <f64 as ::trocar::Real>::mul_add(-x165, x231, x225);
-        let x236 = <f64 as ::trocar::Real>::mul_add(-x166, x231, x226);
-        let x237 = <f64 as ::trocar::Real>::mul_add(-x167, x231, x227);
-        let x238 = <f64 as ::trocar::Real>::mul_add(x168, x231, x228);
-        let x239 = <f64 as ::trocar::Real>::mul_add(-x169, x231, x229);
-        let x240 = <f64 as ::trocar::Real>::mul_add(-x170, x231, x230);
-        let x241 = <f64 as ::trocar::Real>::mul_add(
+        let x232 = <f64 as ::trocar::emitted::Real>::mul_add(x162, x231, x222);
+        let x233 = <f64 as ::trocar::emitted::Real>::mul_add(-x163, x231, x223);
+        let x234 = <f64 as ::trocar::emitted::Real>::mul_add(-x164, x231, x224);
+        let x235 = <f64 as ::trocar::emitted::Real>::mul_add(-x165, x231, x225);
+        let x236 = <f64 as ::trocar::emitted::Real>::mul_add(-x166, x231, x226);
+        let x237 = <f64 as ::trocar::emitted::Real>::mul_add(-x167, x231, x227);
+        let x238 = <f64 as ::trocar::emitted::Real>::mul_add(x168, x231, x228);
+        let x239 = <f64 as ::trocar::emitted::Real>::mul_add(-x169, x231, x229);
+        let x240 = <f64 as ::trocar::emitted::Real>::mul_add(-x170, x231, x230);
+        let x241 = <f64 as ::trocar::emitted::Real>::mul_add(
             x210,
             x240,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x209,
                 x239,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -x208,
                     x238,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x207,
                         x237,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x206,
                             x236,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x205,
                                 x235,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x204,
                                     x234,
-                                    <f64 as ::trocar::Real>::mul_add(x202, x232, x203 * x233),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x202,
+                                        x232,
+                                        x203 * x233,
+                                    ),
                                 ),
                             ),
                         ),
@@ -6639,38 +8187,42 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x242 = <f64 as ::trocar::Real>::mul_add(x202, x241, -x232);
-        let x243 = <f64 as ::trocar::Real>::mul_add(-x203, x241, x233);
-        let x244 = <f64 as ::trocar::Real>::mul_add(-x204, x241, x234);
-        let x245 = <f64 as ::trocar::Real>::mul_add(-x205, x241, x235);
-        let x246 = <f64 as ::trocar::Real>::mul_add(-x206, x241, x236);
-        let x247 = <f64 as ::trocar::Real>::mul_add(-x207, x241, x237);
-        let x248 = <f64 as ::trocar::Real>::mul_add(x208, x241, x238);
-        let x249 = <f64 as ::trocar::Real>::mul_add(-x209, x241, x239);
-        let x250 = <f64 as ::trocar::Real>::mul_add(-x210, x241, x240);
-        let x251 = <f64 as ::trocar::Real>::sqrt(
-            <f64 as ::trocar::Real>::mul_add(
+        let x242 = <f64 as ::trocar::emitted::Real>::mul_add(x202, x241, -x232);
+        let x243 = <f64 as ::trocar::emitted::Real>::mul_add(-x203, x241, x233);
+        let x244 = <f64 as ::trocar::emitted::Real>::mul_add(-x204, x241, x234);
+        let x245 = <f64 as ::trocar::emitted::Real>::mul_add(-x205, x241, x235);
+        let x246 = <f64 as ::trocar::emitted::Real>::mul_add(-x206, x241, x236);
+        let x247 = <f64 as ::trocar::emitted::Real>::mul_add(-x207, x241, x237);
+        let x248 = <f64 as ::trocar::emitted::Real>::mul_add(x208, x241, x238);
+        let x249 = <f64 as ::trocar::emitted::Real>::mul_add(-x209, x241, x239);
+        let x250 = <f64 as ::trocar::emitted::Real>::mul_add(-x210, x241, x240);
+        let x251 = <f64 as ::trocar::emitted::Real>::sqrt(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x250,
                 x250,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x249,
                     x249,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x248,
                         x248,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x247,
                             x247,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x246,
                                 x246,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x245,
                                     x245,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         x244,
                                         x244,
-                                        <f64 as ::trocar::Real>::mul_add(x242, x242, x243 * x243),
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
+                                            x242,
+                                            x242,
+                                            x243 * x243,
+                                        ),
                                     ),
                                 ),
                             ),
@@ -6689,58 +8241,66 @@ pub mod chain11_wide {
         let x259 = x249 / x251;
         let x260 = x250 / x251;
         let x261 = x120
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[9],
                 x118,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x103,
                     x117,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x9,
                         x116,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x90,
                             x115,
-                            <f64 as ::trocar::Real>::mul_add(x62, x113, x9 * x114),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x62,
+                                x113,
+                                x9 * x114,
+                            ),
                         ),
                     ),
                 ),
             );
         let x262 = x112 * x261;
-        let x263 = <f64 as ::trocar::Real>::mul_add(-x113, x261, x62);
-        let x264 = <f64 as ::trocar::Real>::mul_add(-x114, x261, x9);
-        let x265 = <f64 as ::trocar::Real>::mul_add(-x115, x261, x90);
-        let x266 = <f64 as ::trocar::Real>::mul_add(-x116, x261, x9);
-        let x267 = <f64 as ::trocar::Real>::mul_add(-x117, x261, x103);
-        let x268 = <f64 as ::trocar::Real>::mul_add(-x118, x261, t.sin[9]);
+        let x263 = <f64 as ::trocar::emitted::Real>::mul_add(-x113, x261, x62);
+        let x264 = <f64 as ::trocar::emitted::Real>::mul_add(-x114, x261, x9);
+        let x265 = <f64 as ::trocar::emitted::Real>::mul_add(-x115, x261, x90);
+        let x266 = <f64 as ::trocar::emitted::Real>::mul_add(-x116, x261, x9);
+        let x267 = <f64 as ::trocar::emitted::Real>::mul_add(-x117, x261, x103);
+        let x268 = <f64 as ::trocar::emitted::Real>::mul_add(-x118, x261, t.sin[9]);
         let x269 = x119 * x261;
-        let x270 = <f64 as ::trocar::Real>::mul_add(
+        let x270 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x120,
             x261,
-            <f64 as ::trocar::Real>::ONE,
+            <f64 as ::trocar::emitted::Real>::ONE,
         );
-        let x271 = <f64 as ::trocar::Real>::mul_add(
+        let x271 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x140,
             x270,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x139,
                 x269,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x138,
                     x268,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x137,
                         x267,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x136,
                             x266,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x135,
                                 x265,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x134,
                                     x264,
-                                    <f64 as ::trocar::Real>::mul_add(x133, x263, -(x132 * x262)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x133,
+                                        x263,
+                                        -(x132 * x262),
+                                    ),
                                 ),
                             ),
                         ),
@@ -6748,37 +8308,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x272 = <f64 as ::trocar::Real>::mul_add(x132, x271, x262);
-        let x273 = <f64 as ::trocar::Real>::mul_add(-x133, x271, x263);
-        let x274 = <f64 as ::trocar::Real>::mul_add(-x134, x271, x264);
-        let x275 = <f64 as ::trocar::Real>::mul_add(-x135, x271, x265);
-        let x276 = <f64 as ::trocar::Real>::mul_add(-x136, x271, x266);
-        let x277 = <f64 as ::trocar::Real>::mul_add(-x137, x271, x267);
-        let x278 = <f64 as ::trocar::Real>::mul_add(-x138, x271, x268);
-        let x279 = <f64 as ::trocar::Real>::mul_add(-x139, x271, x269);
-        let x280 = <f64 as ::trocar::Real>::mul_add(x140, x271, x270);
-        let x281 = <f64 as ::trocar::Real>::mul_add(
+        let x272 = <f64 as ::trocar::emitted::Real>::mul_add(x132, x271, x262);
+        let x273 = <f64 as ::trocar::emitted::Real>::mul_add(-x133, x271, x263);
+        let x274 = <f64 as ::trocar::emitted::Real>::mul_add(-x134, x271, x264);
+        let x275 = <f64 as ::trocar::emitted::Real>::mul_add(-x135, x271, x265);
+        let x276 = <f64 as ::trocar::emitted::Real>::mul_add(-x136, x271, x266);
+        let x277 = <f64 as ::trocar::emitted::Real>::mul_add(-x137, x271, x267);
+        let x278 = <f64 as ::trocar::emitted::Real>::mul_add(-x138, x271, x268);
+        let x279 = <f64 as ::trocar::emitted::Real>::mul_add(-x139, x271, x269);
+        let x280 = <f64 as ::trocar::emitted::Real>::mul_add(x140, x271, x270);
+        let x281 = <f64 as ::trocar::emitted::Real>::mul_add(
             x170,
             x280,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x169,
                 x279,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x168,
                     x278,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x167,
                         x277,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x166,
                             x276,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x165,
                                 x275,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x164,
                                     x274,
-                                    <f64 as ::trocar::Real>::mul_add(x163, x273, -(x162 * x272)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x163,
+                                        x273,
+                                        -(x162 * x272),
+                                    ),
                                 ),
                             ),
                         ),
@@ -6786,37 +8350,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x282 = <f64 as ::trocar::Real>::mul_add(x162, x281, x272);
-        let x283 = <f64 as ::trocar::Real>::mul_add(-x163, x281, x273);
-        let x284 = <f64 as ::trocar::Real>::mul_add(-x164, x281, x274);
-        let x285 = <f64 as ::trocar::Real>::mul_add(-x165, x281, x275);
-        let x286 = <f64 as ::trocar::Real>::mul_add(-x166, x281, x276);
-        let x287 = <f64 as ::trocar::Real>::mul_add(-x167, x281, x277);
-        let x288 = <f64 as ::trocar::Real>::mul_add(-x168, x281, x278);
-        let x289 = <f64 as ::trocar::Real>::mul_add(-x169, x281, x279);
-        let x290 = <f64 as ::trocar::Real>::mul_add(-x170, x281, x280);
-        let x291 = <f64 as ::trocar::Real>::mul_add(
+        let x282 = <f64 as ::trocar::emitted::Real>::mul_add(x162, x281, x272);
+        let x283 = <f64 as ::trocar::emitted::Real>::mul_add(-x163, x281, x273);
+        let x284 = <f64 as ::trocar::emitted::Real>::mul_add(-x164, x281, x274);
+        let x285 = <f64 as ::trocar::emitted::Real>::mul_add(-x165, x281, x275);
+        let x286 = <f64 as ::trocar::emitted::Real>::mul_add(-x166, x281, x276);
+        let x287 = <f64 as ::trocar::emitted::Real>::mul_add(-x167, x281, x277);
+        let x288 = <f64 as ::trocar::emitted::Real>::mul_add(-x168, x281, x278);
+        let x289 = <f64 as ::trocar::emitted::Real>::mul_add(-x169, x281, x279);
+        let x290 = <f64 as ::trocar::emitted::Real>::mul_add(-x170, x281, x280);
+        let x291 = <f64 as ::trocar::emitted::Real>::mul_add(
             x210,
             x290,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x209,
                 x289,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x208,
                     x288,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x207,
                         x287,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x206,
                             x286,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x205,
                                 x285,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x204,
                                     x284,
-                                    <f64 as ::trocar::Real>::mul_add(x202, x282, x203 * x283),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x202,
+                                        x282,
+                                        x203 * x283,
+                                    ),
                                 ),
                             ),
                         ),
@@ -6824,37 +8392,41 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x292 = <f64 as ::trocar::Real>::mul_add(x202, x291, -x282);
-        let x293 = <f64 as ::trocar::Real>::mul_add(-x203, x291, x283);
-        let x294 = <f64 as ::trocar::Real>::mul_add(-x204, x291, x284);
-        let x295 = <f64 as ::trocar::Real>::mul_add(-x205, x291, x285);
-        let x296 = <f64 as ::trocar::Real>::mul_add(-x206, x291, x286);
-        let x297 = <f64 as ::trocar::Real>::mul_add(-x207, x291, x287);
-        let x298 = <f64 as ::trocar::Real>::mul_add(-x208, x291, x288);
-        let x299 = <f64 as ::trocar::Real>::mul_add(-x209, x291, x289);
-        let x300 = <f64 as ::trocar::Real>::mul_add(-x210, x291, x290);
-        let x301 = <f64 as ::trocar::Real>::mul_add(
+        let x292 = <f64 as ::trocar::emitted::Real>::mul_add(x202, x291, -x282);
+        let x293 = <f64 as ::trocar::emitted::Real>::mul_add(-x203, x291, x283);
+        let x294 = <f64 as ::trocar::emitted::Real>::mul_add(-x204, x291, x284);
+        let x295 = <f64 as ::trocar::emitted::Real>::mul_add(-x205, x291, x285);
+        let x296 = <f64 as ::trocar::emitted::Real>::mul_add(-x206, x291, x286);
+        let x297 = <f64 as ::trocar::emitted::Real>::mul_add(-x207, x291, x287);
+        let x298 = <f64 as ::trocar::emitted::Real>::mul_add(-x208, x291, x288);
+        let x299 = <f64 as ::trocar::emitted::Real>::mul_add(-x209, x291, x289);
+        let x300 = <f64 as ::trocar::emitted::Real>::mul_add(-x210, x291, x290);
+        let x301 = <f64 as ::trocar::emitted::Real>::mul_add(
             x260,
             x300,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x259,
                 x299,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -x258,
                     x298,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x257,
                         x297,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x256,
                             x296,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x255,
                                 x295,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x254,
                                     x294,
-                                    <f64 as ::trocar::Real>::mul_add(x252, x292, x253 * x293),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x252,
+                                        x292,
+                                        x253 * x293,
+                                    ),
                                 ),
                             ),
                         ),
@@ -6862,39 +8434,43 @@ pub mod chain11_wide {
                 ),
             ),
         );
-        let x302 = <f64 as ::trocar::Real>::mul_add(-x252, x301, x292);
-        let x303 = <f64 as ::trocar::Real>::mul_add(-x253, x301, x293);
-        let x304 = <f64 as ::trocar::Real>::mul_add(-x254, x301, x294);
-        let x305 = <f64 as ::trocar::Real>::mul_add(-x255, x301, x295);
-        let x306 = <f64 as ::trocar::Real>::mul_add(-x256, x301, x296);
-        let x307 = <f64 as ::trocar::Real>::mul_add(-x257, x301, x297);
-        let x308 = <f64 as ::trocar::Real>::mul_add(x258, x301, x298);
-        let x309 = <f64 as ::trocar::Real>::mul_add(-x259, x301, x299);
-        let x310 = <f64 as ::trocar::Real>::mul_add(-x260, x301, x300);
+        let x302 = <f64 as ::trocar::emitted::Real>::mul_add(-x252, x301, x292);
+        let x303 = <f64 as ::trocar::emitted::Real>::mul_add(-x253, x301, x293);
+        let x304 = <f64 as ::trocar::emitted::Real>::mul_add(-x254, x301, x294);
+        let x305 = <f64 as ::trocar::emitted::Real>::mul_add(-x255, x301, x295);
+        let x306 = <f64 as ::trocar::emitted::Real>::mul_add(-x256, x301, x296);
+        let x307 = <f64 as ::trocar::emitted::Real>::mul_add(-x257, x301, x297);
+        let x308 = <f64 as ::trocar::emitted::Real>::mul_add(x258, x301, x298);
+        let x309 = <f64 as ::trocar::emitted::Real>::mul_add(-x259, x301, x299);
+        let x310 = <f64 as ::trocar::emitted::Real>::mul_add(-x260, x301, x300);
         let x311 = x111 * x131 * x161 * x201 * x251
-            * <f64 as ::trocar::Real>::sqrt(
-                <f64 as ::trocar::Real>::mul_add(
+            * <f64 as ::trocar::emitted::Real>::sqrt(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x310,
                     x310,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         x309,
                         x309,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x308,
                             x308,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 x307,
                                 x307,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x306,
                                     x306,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         x305,
                                         x305,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             x304,
                                             x304,
-                                            <f64 as ::trocar::Real>::mul_add(x302, x302, x303 * x303),
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                                x302,
+                                                x302,
+                                                x303 * x303,
+                                            ),
                                         ),
                                     ),
                                 ),
@@ -6905,10 +8481,10 @@ pub mod chain11_wide {
             );
         {
             let w = x311 * x311;
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -6921,12 +8497,30 @@ pub mod chain11_wide {
     #[must_use]
     pub fn constraint_selection(_p: &Params) -> [[f64; R]; 6] {
         [
-            [<f64 as ::trocar::Real>::ONE, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ONE],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
+            [
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
         ]
     }
     /// Null-space basis `Λ#` of `Λ = H Ad_{g_ri}` (3.3), 6 × K: `V^B_0i = Λ# v0i`, thesis (3.6) (presets: (3.23), (3.27)).
@@ -6939,36 +8533,36 @@ pub mod chain11_wide {
     pub fn lambda_null_space(p: &Params) -> [[f64; 6]; K] {
         [
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -p.l_a,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 p.l_a,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -6982,25 +8576,25 @@ pub mod chain11_wide {
     #[inline]
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f64; 6]; R] {
-        let x0 = <f64 as ::trocar::Real>::ONE
-            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
+            / (<f64 as ::trocar::emitted::Real>::ONE + p.l_a * p.l_a);
         let x1 = p.l_a * x0;
         [
             [
                 x0,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -x1,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x0,
                 x1,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -7015,22 +8609,26 @@ pub mod chain11_wide {
         (
             [
                 [
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
                 ],
             ],
-            [<f64 as ::trocar::Real>::ZERO, p.l_a, <f64 as ::trocar::Real>::ZERO],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                p.l_a,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
         )
     }
     /// `g_0e`, `J^B_0e` in one program: the values of [`forward_kinematics`] and [`body_jacobian`], thesis (2.21), (2.53)–(2.55), computed together so that they share every common value.
@@ -7046,13 +8644,13 @@ pub mod chain11_wide {
         fk: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0e: &mut [[f64; 6]; N],
     ) {
-        jb0e[9][5] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[9][5] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0e[10][0] = -0.09_f64;
-        jb0e[10][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[10][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[10][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[10][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[10][5] = <f64 as ::trocar::Real>::ONE;
+        jb0e[10][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[10][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[10][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[10][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[10][5] = <f64 as ::trocar::emitted::Real>::ONE;
         let (
             [s1,
             s2,
@@ -7078,7 +8676,7 @@ pub mod chain11_wide {
             c10,
             c11,
             ],
-        ) = <f64 as ::trocar::Real>::sin_cos_array(
+        ) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7], q[8], q[9], q[10]],
         );
         jb0e[8][5] = s10;
@@ -7092,146 +8690,152 @@ pub mod chain11_wide {
         jb0e[8][3] = x1;
         let x2 = c10 * s11;
         jb0e[8][4] = -x2;
-        let x3 = 0.13_f64 + <f64 as ::trocar::Real>::mul_add(0.09_f64, c11, 0.09_f64);
+        let x3 = 0.13_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.09_f64, c11, 0.09_f64);
         jb0e[8][2] = c10 * x3;
         let x4 = s10 * c11;
         let x5 = s10 * s11;
-        let x6 = <f64 as ::trocar::Real>::mul_add(s10, x0, -(0.02_f64 * c10));
-        jb0e[8][0] = -<f64 as ::trocar::Real>::mul_add(s11, x6, x3 * x4);
-        jb0e[8][1] = <f64 as ::trocar::Real>::mul_add(x3, x5, -(c11 * x6));
-        let x7 = 0.015_f64 - <f64 as ::trocar::Real>::mul_add(c10, x0, 0.02_f64 * s10)
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(s10, x0, -(0.02_f64 * c10));
+        jb0e[8][0] = -<f64 as ::trocar::emitted::Real>::mul_add(s11, x6, x3 * x4);
+        jb0e[8][1] = <f64 as ::trocar::emitted::Real>::mul_add(x3, x5, -(c11 * x6));
+        let x7 = 0.015_f64
+            - <f64 as ::trocar::emitted::Real>::mul_add(c10, x0, 0.02_f64 * s10)
             - 0.01_f64;
-        let x8 = <f64 as ::trocar::Real>::mul_add(c9, s11, s9 * x4);
-        let x9 = <f64 as ::trocar::Real>::mul_add(c9, c11, -(s9 * x5));
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(c9, s11, s9 * x4);
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(c9, c11, -(s9 * x5));
         let x10 = s9 * c10;
-        let x11 = 0.1_f64 + <f64 as ::trocar::Real>::mul_add(c9, x3, -(s9 * x6));
-        jb0e[7][0] = <f64 as ::trocar::Real>::mul_add(x7, x8, -(x1 * x11));
-        jb0e[7][1] = <f64 as ::trocar::Real>::mul_add(x2, x11, x7 * x9);
-        jb0e[7][2] = -<f64 as ::trocar::Real>::mul_add(s10, x11, x7 * x10);
-        let x12 = <f64 as ::trocar::Real>::mul_add(s9, s11, -(c9 * x4));
+        let x11 = 0.1_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c9, x3, -(s9 * x6));
+        jb0e[7][0] = <f64 as ::trocar::emitted::Real>::mul_add(x7, x8, -(x1 * x11));
+        jb0e[7][1] = <f64 as ::trocar::emitted::Real>::mul_add(x2, x11, x7 * x9);
+        jb0e[7][2] = -<f64 as ::trocar::emitted::Real>::mul_add(s10, x11, x7 * x10);
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(s9, s11, -(c9 * x4));
         jb0e[7][3] = x12;
-        let x13 = <f64 as ::trocar::Real>::mul_add(s9, c11, c9 * x5);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(s9, c11, c9 * x5);
         jb0e[7][4] = x13;
         let x14 = c9 * c10;
         jb0e[7][5] = x14;
-        let x15 = <f64 as ::trocar::Real>::mul_add(c8, x1, -(s8 * x8));
-        let x16 = <f64 as ::trocar::Real>::mul_add(c8, x2, s8 * x9);
-        let x17 = <f64 as ::trocar::Real>::mul_add(c8, s10, s8 * x10);
-        let x18 = <f64 as ::trocar::Real>::mul_add(c8, x7, -(s8 * x11));
-        let x19 = <f64 as ::trocar::Real>::mul_add(s8, x1, c8 * x8);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c8, x1, -(s8 * x8));
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c8, x2, s8 * x9);
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c8, s10, s8 * x10);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c8, x7, -(s8 * x11));
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(s8, x1, c8 * x8);
         jb0e[6][3] = x19;
-        let x20 = <f64 as ::trocar::Real>::mul_add(c8, x9, -(s8 * x2));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(c8, x9, -(s8 * x2));
         jb0e[6][4] = x20;
-        let x21 = <f64 as ::trocar::Real>::mul_add(s8, s10, -(c8 * x10));
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(s8, s10, -(c8 * x10));
         jb0e[6][5] = x21;
         let x22 = 0.01_f64
-            + (0.02_f64 + <f64 as ::trocar::Real>::mul_add(s9, x3, c9 * x6));
-        jb0e[6][0] = <f64 as ::trocar::Real>::mul_add(x15, x22, -(x12 * x18));
-        jb0e[6][1] = -<f64 as ::trocar::Real>::mul_add(x16, x22, x13 * x18);
-        jb0e[6][2] = <f64 as ::trocar::Real>::mul_add(x17, x22, -(x14 * x18));
-        let x23 = <f64 as ::trocar::Real>::mul_add(c7, x15, s7 * x12);
+            + (0.02_f64 + <f64 as ::trocar::emitted::Real>::mul_add(s9, x3, c9 * x6));
+        jb0e[6][0] = <f64 as ::trocar::emitted::Real>::mul_add(x15, x22, -(x12 * x18));
+        jb0e[6][1] = -<f64 as ::trocar::emitted::Real>::mul_add(x16, x22, x13 * x18);
+        jb0e[6][2] = <f64 as ::trocar::emitted::Real>::mul_add(x17, x22, -(x14 * x18));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x15, s7 * x12);
         jb0e[5][3] = x23;
-        let x24 = <f64 as ::trocar::Real>::mul_add(s7, x13, -(c7 * x16));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(s7, x13, -(c7 * x16));
         jb0e[5][4] = x24;
-        let x25 = <f64 as ::trocar::Real>::mul_add(c7, x17, s7 * x14);
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x17, s7 * x14);
         jb0e[5][5] = x25;
         let x26 = 0.12_f64
-            + (0.11_f64 + <f64 as ::trocar::Real>::mul_add(s8, x7, c8 * x11));
-        let x27 = <f64 as ::trocar::Real>::mul_add(c7, x12, -(s7 * x15));
-        let x28 = <f64 as ::trocar::Real>::mul_add(s7, x16, c7 * x13);
-        let x29 = <f64 as ::trocar::Real>::mul_add(c7, x14, -(s7 * x17));
-        let x30 = <f64 as ::trocar::Real>::mul_add(c7, x22, -(s7 * x18));
-        jb0e[5][0] = <f64 as ::trocar::Real>::mul_add(x26, x27, -(x19 * x30));
-        jb0e[5][1] = <f64 as ::trocar::Real>::mul_add(x26, x28, -(x20 * x30));
-        jb0e[5][2] = <f64 as ::trocar::Real>::mul_add(x26, x29, -(x21 * x30));
+            + (0.11_f64 + <f64 as ::trocar::emitted::Real>::mul_add(s8, x7, c8 * x11));
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x12, -(s7 * x15));
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(s7, x16, c7 * x13);
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x14, -(s7 * x17));
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x22, -(s7 * x18));
+        jb0e[5][0] = <f64 as ::trocar::emitted::Real>::mul_add(x26, x27, -(x19 * x30));
+        jb0e[5][1] = <f64 as ::trocar::emitted::Real>::mul_add(x26, x28, -(x20 * x30));
+        jb0e[5][2] = <f64 as ::trocar::emitted::Real>::mul_add(x26, x29, -(x21 * x30));
         let x31 = 0.01_f64
-            + (0.02_f64 + <f64 as ::trocar::Real>::mul_add(c7, x18, s7 * x22));
-        let x32 = <f64 as ::trocar::Real>::mul_add(c6, x19, -(s6 * x27));
-        let x33 = <f64 as ::trocar::Real>::mul_add(c6, x20, -(s6 * x28));
-        let x34 = <f64 as ::trocar::Real>::mul_add(c6, x21, -(s6 * x29));
-        let x35 = 0.12_f64 + <f64 as ::trocar::Real>::mul_add(c6, x26, -(s6 * x30));
-        jb0e[4][0] = <f64 as ::trocar::Real>::mul_add(x31, x32, -(x23 * x35));
-        jb0e[4][1] = <f64 as ::trocar::Real>::mul_add(x31, x33, -(x24 * x35));
-        jb0e[4][2] = <f64 as ::trocar::Real>::mul_add(x31, x34, -(x25 * x35));
-        let x36 = <f64 as ::trocar::Real>::mul_add(s6, x19, c6 * x27);
+            + (0.02_f64 + <f64 as ::trocar::emitted::Real>::mul_add(c7, x18, s7 * x22));
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x19, -(s6 * x27));
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x20, -(s6 * x28));
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x21, -(s6 * x29));
+        let x35 = 0.12_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c6, x26, -(s6 * x30));
+        jb0e[4][0] = <f64 as ::trocar::emitted::Real>::mul_add(x31, x32, -(x23 * x35));
+        jb0e[4][1] = <f64 as ::trocar::emitted::Real>::mul_add(x31, x33, -(x24 * x35));
+        jb0e[4][2] = <f64 as ::trocar::emitted::Real>::mul_add(x31, x34, -(x25 * x35));
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x19, c6 * x27);
         jb0e[4][3] = x36;
-        let x37 = <f64 as ::trocar::Real>::mul_add(s6, x20, c6 * x28);
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x20, c6 * x28);
         jb0e[4][4] = x37;
-        let x38 = <f64 as ::trocar::Real>::mul_add(s6, x21, c6 * x29);
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x21, c6 * x29);
         jb0e[4][5] = x38;
-        let x39 = <f64 as ::trocar::Real>::mul_add(c5, x23, -(s5 * x32));
-        let x40 = <f64 as ::trocar::Real>::mul_add(c5, x24, -(s5 * x33));
-        let x41 = <f64 as ::trocar::Real>::mul_add(c5, x25, -(s5 * x34));
-        let x42 = <f64 as ::trocar::Real>::mul_add(c5, x31, -(s5 * x35));
-        let x43 = <f64 as ::trocar::Real>::mul_add(s5, x23, c5 * x32);
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x23, -(s5 * x32));
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x24, -(s5 * x33));
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x25, -(s5 * x34));
+        let x42 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x31, -(s5 * x35));
+        let x43 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x23, c5 * x32);
         jb0e[3][3] = x43;
-        let x44 = <f64 as ::trocar::Real>::mul_add(s5, x24, c5 * x33);
+        let x44 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x24, c5 * x33);
         jb0e[3][4] = x44;
-        let x45 = <f64 as ::trocar::Real>::mul_add(s5, x25, c5 * x34);
+        let x45 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x25, c5 * x34);
         jb0e[3][5] = x45;
-        let x46 = 0.01_f64 + <f64 as ::trocar::Real>::mul_add(s6, x26, c6 * x30)
+        let x46 = 0.01_f64 + <f64 as ::trocar::emitted::Real>::mul_add(s6, x26, c6 * x30)
             - 0.02_f64;
-        jb0e[3][0] = <f64 as ::trocar::Real>::mul_add(x39, x46, -(x36 * x42));
-        jb0e[3][1] = <f64 as ::trocar::Real>::mul_add(x40, x46, -(x37 * x42));
-        jb0e[3][2] = <f64 as ::trocar::Real>::mul_add(x41, x46, -(x38 * x42));
-        let x47 = <f64 as ::trocar::Real>::mul_add(c4, x39, s4 * x36);
+        jb0e[3][0] = <f64 as ::trocar::emitted::Real>::mul_add(x39, x46, -(x36 * x42));
+        jb0e[3][1] = <f64 as ::trocar::emitted::Real>::mul_add(x40, x46, -(x37 * x42));
+        jb0e[3][2] = <f64 as ::trocar::emitted::Real>::mul_add(x41, x46, -(x38 * x42));
+        let x47 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x39, s4 * x36);
         jb0e[2][3] = x47;
-        let x48 = <f64 as ::trocar::Real>::mul_add(c4, x40, s4 * x37);
+        let x48 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x40, s4 * x37);
         jb0e[2][4] = x48;
-        let x49 = <f64 as ::trocar::Real>::mul_add(c4, x41, s4 * x38);
+        let x49 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x41, s4 * x38);
         jb0e[2][5] = x49;
         let x50 = 0.13_f64
-            + (0.09_f64 + <f64 as ::trocar::Real>::mul_add(s5, x31, c5 * x35));
-        let x51 = <f64 as ::trocar::Real>::mul_add(c4, x36, -(s4 * x39));
-        let x52 = <f64 as ::trocar::Real>::mul_add(c4, x37, -(s4 * x40));
-        let x53 = <f64 as ::trocar::Real>::mul_add(c4, x38, -(s4 * x41));
-        let x54 = <f64 as ::trocar::Real>::mul_add(c4, x46, -(s4 * x42));
-        jb0e[2][0] = <f64 as ::trocar::Real>::mul_add(x50, x51, -(x43 * x54));
-        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(x50, x52, -(x44 * x54));
-        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(x50, x53, -(x45 * x54));
-        let x55 = 0.015_f64 + <f64 as ::trocar::Real>::mul_add(c4, x42, s4 * x46)
-            - 0.01_f64;
-        let x56 = <f64 as ::trocar::Real>::mul_add(c3, x43, -(s3 * x51));
-        let x57 = <f64 as ::trocar::Real>::mul_add(c3, x44, -(s3 * x52));
-        let x58 = <f64 as ::trocar::Real>::mul_add(c3, x45, -(s3 * x53));
-        let x59 = 0.1_f64 + <f64 as ::trocar::Real>::mul_add(c3, x50, -(s3 * x54));
+            + (0.09_f64 + <f64 as ::trocar::emitted::Real>::mul_add(s5, x31, c5 * x35));
+        let x51 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x36, -(s4 * x39));
+        let x52 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x37, -(s4 * x40));
+        let x53 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x38, -(s4 * x41));
+        let x54 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x46, -(s4 * x42));
+        jb0e[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(x50, x51, -(x43 * x54));
+        jb0e[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(x50, x52, -(x44 * x54));
+        jb0e[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(x50, x53, -(x45 * x54));
+        let x55 = 0.015_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c4, x42, s4 * x46) - 0.01_f64;
+        let x56 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x43, -(s3 * x51));
+        let x57 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x44, -(s3 * x52));
+        let x58 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x45, -(s3 * x53));
+        let x59 = 0.1_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c3, x50, -(s3 * x54));
         fk.1[1] = 0.12_f64
-            + (0.11_f64 + <f64 as ::trocar::Real>::mul_add(s2, x55, c2 * x59));
-        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x55, x56, -(x47 * x59));
-        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x55, x57, -(x48 * x59));
-        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x55, x58, -(x49 * x59));
-        let x60 = <f64 as ::trocar::Real>::mul_add(s3, x43, c3 * x51);
+            + (0.11_f64 + <f64 as ::trocar::emitted::Real>::mul_add(s2, x55, c2 * x59));
+        jb0e[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x55, x56, -(x47 * x59));
+        jb0e[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x55, x57, -(x48 * x59));
+        jb0e[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x55, x58, -(x49 * x59));
+        let x60 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x43, c3 * x51);
         jb0e[1][3] = x60;
-        let x61 = <f64 as ::trocar::Real>::mul_add(s3, x44, c3 * x52);
+        let x61 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x44, c3 * x52);
         jb0e[1][4] = x61;
-        let x62 = <f64 as ::trocar::Real>::mul_add(s3, x45, c3 * x53);
+        let x62 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x45, c3 * x53);
         jb0e[1][5] = x62;
-        let x63 = <f64 as ::trocar::Real>::mul_add(c2, x47, -(s2 * x56));
-        fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x63, s1 * x60);
-        fk.0[0][2] = <f64 as ::trocar::Real>::mul_add(c1, x60, -(s1 * x63));
-        let x64 = <f64 as ::trocar::Real>::mul_add(c2, x48, -(s2 * x57));
-        fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x64, s1 * x61);
-        fk.0[1][2] = <f64 as ::trocar::Real>::mul_add(c1, x61, -(s1 * x64));
-        let x65 = <f64 as ::trocar::Real>::mul_add(c2, x49, -(s2 * x58));
-        fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(c1, x65, s1 * x62);
-        fk.0[2][2] = <f64 as ::trocar::Real>::mul_add(c1, x62, -(s1 * x65));
-        let x66 = <f64 as ::trocar::Real>::mul_add(c2, x55, -(s2 * x59));
-        let x67 = <f64 as ::trocar::Real>::mul_add(s2, x47, c2 * x56);
+        let x63 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x47, -(s2 * x56));
+        fk.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x63, s1 * x60);
+        fk.0[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x60, -(s1 * x63));
+        let x64 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x48, -(s2 * x57));
+        fk.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x64, s1 * x61);
+        fk.0[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x61, -(s1 * x64));
+        let x65 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x49, -(s2 * x58));
+        fk.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x65, s1 * x62);
+        fk.0[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x62, -(s1 * x65));
+        let x66 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x55, -(s2 * x59));
+        let x67 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x47, c2 * x56);
         fk.0[0][1] = x67;
         jb0e[0][3] = x67;
-        let x68 = <f64 as ::trocar::Real>::mul_add(s2, x48, c2 * x57);
+        let x68 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x48, c2 * x57);
         fk.0[1][1] = x68;
         jb0e[0][4] = x68;
-        let x69 = <f64 as ::trocar::Real>::mul_add(s2, x49, c2 * x58);
+        let x69 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x49, c2 * x58);
         fk.0[2][1] = x69;
         jb0e[0][5] = x69;
         let x70 = 0.01_f64
-            + (0.02_f64 + <f64 as ::trocar::Real>::mul_add(s3, x50, c3 * x54));
-        fk.1[0] = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(c1, x66, s1 * x70);
-        fk.1[2] = <f64 as ::trocar::Real>::mul_add(c1, x70, -(s1 * x66));
-        jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x63, x70, -(x60 * x66));
-        jb0e[0][1] = <f64 as ::trocar::Real>::mul_add(x64, x70, -(x61 * x66));
-        jb0e[0][2] = <f64 as ::trocar::Real>::mul_add(x65, x70, -(x62 * x66));
+            + (0.02_f64 + <f64 as ::trocar::emitted::Real>::mul_add(s3, x50, c3 * x54));
+        fk.1[0] = 0.02_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c1, x66, s1 * x70);
+        fk.1[2] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x70, -(s1 * x66));
+        jb0e[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x63, x70, -(x60 * x66));
+        jb0e[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(x64, x70, -(x61 * x66));
+        jb0e[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(x65, x70, -(x62 * x66));
     }
     /// [`pose_and_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]).
     ///
@@ -7248,13 +8852,13 @@ pub mod chain11_wide {
         jb0e[9][1] = 0.02_f64 * t.sin[10];
         jb0e[9][3] = t.sin[10];
         jb0e[9][4] = t.cos[10];
-        jb0e[9][5] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[9][5] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0e[10][0] = -0.09_f64;
-        jb0e[10][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[10][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[10][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[10][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[10][5] = <f64 as ::trocar::Real>::ONE;
+        jb0e[10][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[10][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[10][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[10][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[10][5] = <f64 as ::trocar::emitted::Real>::ONE;
         let x0 = 0.09_f64 * t.sin[10];
         jb0e[9][2] = x0;
         let x1 = t.cos[9] * t.cos[10];
@@ -7262,164 +8866,426 @@ pub mod chain11_wide {
         let x2 = t.cos[9] * t.sin[10];
         jb0e[8][4] = -x2;
         let x3 = 0.13_f64
-            + <f64 as ::trocar::Real>::mul_add(0.09_f64, t.cos[10], 0.09_f64);
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.09_f64, t.cos[10], 0.09_f64);
         jb0e[8][2] = t.cos[9] * x3;
         let x4 = t.sin[9] * t.cos[10];
         let x5 = t.sin[9] * t.sin[10];
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.sin[9], x0, -(0.02_f64 * t.cos[9]));
-        jb0e[8][0] = -<f64 as ::trocar::Real>::mul_add(t.sin[10], x6, x3 * x4);
-        jb0e[8][1] = <f64 as ::trocar::Real>::mul_add(x3, x5, -(t.cos[10] * x6));
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[9],
+            x0,
+            -(0.02_f64 * t.cos[9]),
+        );
+        jb0e[8][0] = -<f64 as ::trocar::emitted::Real>::mul_add(t.sin[10], x6, x3 * x4);
+        jb0e[8][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            x3,
+            x5,
+            -(t.cos[10] * x6),
+        );
         let x7 = 0.015_f64
-            - <f64 as ::trocar::Real>::mul_add(t.cos[9], x0, 0.02_f64 * t.sin[9])
-            - 0.01_f64;
-        let x8 = <f64 as ::trocar::Real>::mul_add(t.cos[8], t.sin[10], t.sin[8] * x4);
-        let x9 = <f64 as ::trocar::Real>::mul_add(t.cos[8], t.cos[10], -(t.sin[8] * x5));
+            - <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[9],
+                x0,
+                0.02_f64 * t.sin[9],
+            ) - 0.01_f64;
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[8],
+            t.sin[10],
+            t.sin[8] * x4,
+        );
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[8],
+            t.cos[10],
+            -(t.sin[8] * x5),
+        );
         let x10 = t.sin[8] * t.cos[9];
         let x11 = 0.1_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[8], x3, -(t.sin[8] * x6));
-        jb0e[7][0] = <f64 as ::trocar::Real>::mul_add(x7, x8, -(x1 * x11));
-        jb0e[7][1] = <f64 as ::trocar::Real>::mul_add(x2, x11, x7 * x9);
-        jb0e[7][2] = -<f64 as ::trocar::Real>::mul_add(t.sin[9], x11, x7 * x10);
-        let x12 = <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[8], x3, -(t.sin[8] * x6));
+        jb0e[7][0] = <f64 as ::trocar::emitted::Real>::mul_add(x7, x8, -(x1 * x11));
+        jb0e[7][1] = <f64 as ::trocar::emitted::Real>::mul_add(x2, x11, x7 * x9);
+        jb0e[7][2] = -<f64 as ::trocar::emitted::Real>::mul_add(t.sin[9], x11, x7 * x10);
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
             t.sin[10],
             -(t.cos[8] * x4),
         );
         jb0e[7][3] = x12;
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.sin[8], t.cos[10], t.cos[8] * x5);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[8],
+            t.cos[10],
+            t.cos[8] * x5,
+        );
         jb0e[7][4] = x13;
         let x14 = t.cos[8] * t.cos[9];
         jb0e[7][5] = x14;
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x1, -(t.sin[7] * x8));
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x2, t.sin[7] * x9);
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[7], t.sin[9], t.sin[7] * x10);
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x7, -(t.sin[7] * x11));
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.sin[7], x1, t.cos[7] * x8);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[7],
+            x1,
+            -(t.sin[7] * x8),
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[7], x2, t.sin[7] * x9);
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[7],
+            t.sin[9],
+            t.sin[7] * x10,
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[7],
+            x7,
+            -(t.sin[7] * x11),
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[7], x1, t.cos[7] * x8);
         jb0e[6][3] = x19;
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x9, -(t.sin[7] * x2));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[7],
+            x9,
+            -(t.sin[7] * x2),
+        );
         jb0e[6][4] = x20;
-        let x21 = <f64 as ::trocar::Real>::mul_add(
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
             t.sin[9],
             -(t.cos[7] * x10),
         );
         jb0e[6][5] = x21;
         let x22 = 0.01_f64
-            + (0.02_f64 + <f64 as ::trocar::Real>::mul_add(t.sin[8], x3, t.cos[8] * x6));
-        jb0e[6][0] = <f64 as ::trocar::Real>::mul_add(x15, x22, -(x12 * x18));
-        jb0e[6][1] = -<f64 as ::trocar::Real>::mul_add(x16, x22, x13 * x18);
-        jb0e[6][2] = <f64 as ::trocar::Real>::mul_add(x17, x22, -(x14 * x18));
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x15, t.sin[6] * x12);
+            + (0.02_f64
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[8],
+                    x3,
+                    t.cos[8] * x6,
+                ));
+        jb0e[6][0] = <f64 as ::trocar::emitted::Real>::mul_add(x15, x22, -(x12 * x18));
+        jb0e[6][1] = -<f64 as ::trocar::emitted::Real>::mul_add(x16, x22, x13 * x18);
+        jb0e[6][2] = <f64 as ::trocar::emitted::Real>::mul_add(x17, x22, -(x14 * x18));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x15,
+            t.sin[6] * x12,
+        );
         jb0e[5][3] = x23;
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x13, -(t.cos[6] * x16));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[6],
+            x13,
+            -(t.cos[6] * x16),
+        );
         jb0e[5][4] = x24;
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x17, t.sin[6] * x14);
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x17,
+            t.sin[6] * x14,
+        );
         jb0e[5][5] = x25;
         let x26 = 0.12_f64
             + (0.11_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[7], x7, t.cos[7] * x11));
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x12, -(t.sin[6] * x15));
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x16, t.cos[6] * x13);
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x14, -(t.sin[6] * x17));
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x22, -(t.sin[6] * x18));
-        jb0e[5][0] = <f64 as ::trocar::Real>::mul_add(x26, x27, -(x19 * x30));
-        jb0e[5][1] = <f64 as ::trocar::Real>::mul_add(x26, x28, -(x20 * x30));
-        jb0e[5][2] = <f64 as ::trocar::Real>::mul_add(x26, x29, -(x21 * x30));
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[7],
+                    x7,
+                    t.cos[7] * x11,
+                ));
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x12,
+            -(t.sin[6] * x15),
+        );
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[6],
+            x16,
+            t.cos[6] * x13,
+        );
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x14,
+            -(t.sin[6] * x17),
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x22,
+            -(t.sin[6] * x18),
+        );
+        jb0e[5][0] = <f64 as ::trocar::emitted::Real>::mul_add(x26, x27, -(x19 * x30));
+        jb0e[5][1] = <f64 as ::trocar::emitted::Real>::mul_add(x26, x28, -(x20 * x30));
+        jb0e[5][2] = <f64 as ::trocar::emitted::Real>::mul_add(x26, x29, -(x21 * x30));
         let x31 = 0.01_f64
             + (0.02_f64
-                + <f64 as ::trocar::Real>::mul_add(t.cos[6], x18, t.sin[6] * x22));
-        let x32 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x19, -(t.sin[5] * x27));
-        let x33 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x20, -(t.sin[5] * x28));
-        let x34 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x21, -(t.sin[5] * x29));
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.cos[6],
+                    x18,
+                    t.sin[6] * x22,
+                ));
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x19,
+            -(t.sin[5] * x27),
+        );
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x20,
+            -(t.sin[5] * x28),
+        );
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x21,
+            -(t.sin[5] * x29),
+        );
         let x35 = 0.12_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[5], x26, -(t.sin[5] * x30));
-        jb0e[4][0] = <f64 as ::trocar::Real>::mul_add(x31, x32, -(x23 * x35));
-        jb0e[4][1] = <f64 as ::trocar::Real>::mul_add(x31, x33, -(x24 * x35));
-        jb0e[4][2] = <f64 as ::trocar::Real>::mul_add(x31, x34, -(x25 * x35));
-        let x36 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x19, t.cos[5] * x27);
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[5],
+                x26,
+                -(t.sin[5] * x30),
+            );
+        jb0e[4][0] = <f64 as ::trocar::emitted::Real>::mul_add(x31, x32, -(x23 * x35));
+        jb0e[4][1] = <f64 as ::trocar::emitted::Real>::mul_add(x31, x33, -(x24 * x35));
+        jb0e[4][2] = <f64 as ::trocar::emitted::Real>::mul_add(x31, x34, -(x25 * x35));
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x19,
+            t.cos[5] * x27,
+        );
         jb0e[4][3] = x36;
-        let x37 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x20, t.cos[5] * x28);
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x20,
+            t.cos[5] * x28,
+        );
         jb0e[4][4] = x37;
-        let x38 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x21, t.cos[5] * x29);
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x21,
+            t.cos[5] * x29,
+        );
         jb0e[4][5] = x38;
-        let x39 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x23, -(t.sin[4] * x32));
-        let x40 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x24, -(t.sin[4] * x33));
-        let x41 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x25, -(t.sin[4] * x34));
-        let x42 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x31, -(t.sin[4] * x35));
-        let x43 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x23, t.cos[4] * x32);
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x23,
+            -(t.sin[4] * x32),
+        );
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x24,
+            -(t.sin[4] * x33),
+        );
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x25,
+            -(t.sin[4] * x34),
+        );
+        let x42 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x31,
+            -(t.sin[4] * x35),
+        );
+        let x43 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x23,
+            t.cos[4] * x32,
+        );
         jb0e[3][3] = x43;
-        let x44 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x24, t.cos[4] * x33);
+        let x44 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x24,
+            t.cos[4] * x33,
+        );
         jb0e[3][4] = x44;
-        let x45 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x25, t.cos[4] * x34);
+        let x45 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x25,
+            t.cos[4] * x34,
+        );
         jb0e[3][5] = x45;
         let x46 = 0.01_f64
-            + <f64 as ::trocar::Real>::mul_add(t.sin[5], x26, t.cos[5] * x30) - 0.02_f64;
-        jb0e[3][0] = <f64 as ::trocar::Real>::mul_add(x39, x46, -(x36 * x42));
-        jb0e[3][1] = <f64 as ::trocar::Real>::mul_add(x40, x46, -(x37 * x42));
-        jb0e[3][2] = <f64 as ::trocar::Real>::mul_add(x41, x46, -(x38 * x42));
-        let x47 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x39, t.sin[3] * x36);
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.sin[5], x26, t.cos[5] * x30)
+            - 0.02_f64;
+        jb0e[3][0] = <f64 as ::trocar::emitted::Real>::mul_add(x39, x46, -(x36 * x42));
+        jb0e[3][1] = <f64 as ::trocar::emitted::Real>::mul_add(x40, x46, -(x37 * x42));
+        jb0e[3][2] = <f64 as ::trocar::emitted::Real>::mul_add(x41, x46, -(x38 * x42));
+        let x47 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x39,
+            t.sin[3] * x36,
+        );
         jb0e[2][3] = x47;
-        let x48 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x40, t.sin[3] * x37);
+        let x48 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x40,
+            t.sin[3] * x37,
+        );
         jb0e[2][4] = x48;
-        let x49 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x41, t.sin[3] * x38);
+        let x49 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x41,
+            t.sin[3] * x38,
+        );
         jb0e[2][5] = x49;
         let x50 = 0.13_f64
             + (0.09_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[4], x31, t.cos[4] * x35));
-        let x51 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x36, -(t.sin[3] * x39));
-        let x52 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x37, -(t.sin[3] * x40));
-        let x53 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x38, -(t.sin[3] * x41));
-        let x54 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x46, -(t.sin[3] * x42));
-        jb0e[2][0] = <f64 as ::trocar::Real>::mul_add(x50, x51, -(x43 * x54));
-        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(x50, x52, -(x44 * x54));
-        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(x50, x53, -(x45 * x54));
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[4],
+                    x31,
+                    t.cos[4] * x35,
+                ));
+        let x51 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x36,
+            -(t.sin[3] * x39),
+        );
+        let x52 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x37,
+            -(t.sin[3] * x40),
+        );
+        let x53 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x38,
+            -(t.sin[3] * x41),
+        );
+        let x54 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x46,
+            -(t.sin[3] * x42),
+        );
+        jb0e[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(x50, x51, -(x43 * x54));
+        jb0e[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(x50, x52, -(x44 * x54));
+        jb0e[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(x50, x53, -(x45 * x54));
         let x55 = 0.015_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[3], x42, t.sin[3] * x46) - 0.01_f64;
-        let x56 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x43, -(t.sin[2] * x51));
-        let x57 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x44, -(t.sin[2] * x52));
-        let x58 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x45, -(t.sin[2] * x53));
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x42, t.sin[3] * x46)
+            - 0.01_f64;
+        let x56 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x43,
+            -(t.sin[2] * x51),
+        );
+        let x57 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x44,
+            -(t.sin[2] * x52),
+        );
+        let x58 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x45,
+            -(t.sin[2] * x53),
+        );
         let x59 = 0.1_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[2], x50, -(t.sin[2] * x54));
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[2],
+                x50,
+                -(t.sin[2] * x54),
+            );
         fk.1[1] = 0.12_f64
             + (0.11_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[1], x55, t.cos[1] * x59));
-        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x55, x56, -(x47 * x59));
-        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x55, x57, -(x48 * x59));
-        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x55, x58, -(x49 * x59));
-        let x60 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x43, t.cos[2] * x51);
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[1],
+                    x55,
+                    t.cos[1] * x59,
+                ));
+        jb0e[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x55, x56, -(x47 * x59));
+        jb0e[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x55, x57, -(x48 * x59));
+        jb0e[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x55, x58, -(x49 * x59));
+        let x60 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x43,
+            t.cos[2] * x51,
+        );
         jb0e[1][3] = x60;
-        let x61 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x44, t.cos[2] * x52);
+        let x61 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x44,
+            t.cos[2] * x52,
+        );
         jb0e[1][4] = x61;
-        let x62 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x45, t.cos[2] * x53);
+        let x62 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x45,
+            t.cos[2] * x53,
+        );
         jb0e[1][5] = x62;
-        let x63 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x47, -(t.sin[1] * x56));
-        fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x63, t.sin[0] * x60);
-        fk.0[0][2] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x60, -(t.sin[0] * x63));
-        let x64 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x48, -(t.sin[1] * x57));
-        fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x64, t.sin[0] * x61);
-        fk.0[1][2] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x61, -(t.sin[0] * x64));
-        let x65 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x49, -(t.sin[1] * x58));
-        fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x65, t.sin[0] * x62);
-        fk.0[2][2] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x62, -(t.sin[0] * x65));
-        let x66 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x55, -(t.sin[1] * x59));
-        let x67 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x47, t.cos[1] * x56);
+        let x63 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x47,
+            -(t.sin[1] * x56),
+        );
+        fk.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x63,
+            t.sin[0] * x60,
+        );
+        fk.0[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x60,
+            -(t.sin[0] * x63),
+        );
+        let x64 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x48,
+            -(t.sin[1] * x57),
+        );
+        fk.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x64,
+            t.sin[0] * x61,
+        );
+        fk.0[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x61,
+            -(t.sin[0] * x64),
+        );
+        let x65 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x49,
+            -(t.sin[1] * x58),
+        );
+        fk.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x65,
+            t.sin[0] * x62,
+        );
+        fk.0[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x62,
+            -(t.sin[0] * x65),
+        );
+        let x66 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x55,
+            -(t.sin[1] * x59),
+        );
+        let x67 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x47,
+            t.cos[1] * x56,
+        );
         fk.0[0][1] = x67;
         jb0e[0][3] = x67;
-        let x68 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x48, t.cos[1] * x57);
+        let x68 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x48,
+            t.cos[1] * x57,
+        );
         fk.0[1][1] = x68;
         jb0e[0][4] = x68;
-        let x69 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x49, t.cos[1] * x58);
+        let x69 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x49,
+            t.cos[1] * x58,
+        );
         fk.0[2][1] = x69;
         jb0e[0][5] = x69;
         let x70 = 0.01_f64
             + (0.02_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[2], x50, t.cos[2] * x54));
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[2],
+                    x50,
+                    t.cos[2] * x54,
+                ));
         fk.1[0] = 0.02_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[0], x66, t.sin[0] * x70);
-        fk.1[2] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x70, -(t.sin[0] * x66));
-        jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x63, x70, -(x60 * x66));
-        jb0e[0][1] = <f64 as ::trocar::Real>::mul_add(x64, x70, -(x61 * x66));
-        jb0e[0][2] = <f64 as ::trocar::Real>::mul_add(x65, x70, -(x62 * x66));
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[0], x66, t.sin[0] * x70);
+        fk.1[2] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x70,
+            -(t.sin[0] * x66),
+        );
+        jb0e[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x63, x70, -(x60 * x66));
+        jb0e[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(x64, x70, -(x61 * x66));
+        jb0e[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(x65, x70, -(x62 * x66));
     }
     /// `g_0i`, `J^B_0i` in one program: the values of [`forward_kinematics_i`] and [`partial_body_jacobian`], thesis (2.21), (3.13), computed together so that they share every common value.
     ///
@@ -7435,14 +9301,14 @@ pub mod chain11_wide {
         jb0i: &mut [[f64; 6]; I],
     ) {
         jb0i[4][0] = -0.12_f64;
-        jb0i[4][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][3] = <f64 as ::trocar::Real>::ONE;
-        jb0i[5][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][5] = <f64 as ::trocar::Real>::ZERO;
-        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+        jb0i[4][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][3] = <f64 as ::trocar::emitted::Real>::ONE;
+        jb0i[5][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5]],
         );
         jb0i[3][3] = s5;
@@ -7454,71 +9320,79 @@ pub mod chain11_wide {
         let x1 = s5 * s6;
         let x2 = 0.01_f64 * c5;
         jb0i[3][0] = -x2;
-        let x3 = <f64 as ::trocar::Real>::mul_add(-0.12_f64, s5, x2);
-        jb0i[3][1] = <f64 as ::trocar::Real>::mul_add(0.01_f64, x0, -(s6 * x3));
-        jb0i[3][2] = -<f64 as ::trocar::Real>::mul_add(0.01_f64, x1, c6 * x3);
+        let x3 = <f64 as ::trocar::emitted::Real>::mul_add(-0.12_f64, s5, x2);
+        jb0i[3][1] = <f64 as ::trocar::emitted::Real>::mul_add(0.01_f64, x0, -(s6 * x3));
+        jb0i[3][2] = -<f64 as ::trocar::emitted::Real>::mul_add(0.01_f64, x1, c6 * x3);
         let x4 = c5 * c6;
         jb0i[3][4] = x4;
         let x5 = c5 * s6;
         jb0i[3][5] = -x5;
         let x6 = c4 * c5;
         jb0i[2][3] = x6;
-        let x7 = <f64 as ::trocar::Real>::mul_add(s4, s6, -(c4 * x0));
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(s4, s6, -(c4 * x0));
         jb0i[2][4] = x7;
-        let x8 = <f64 as ::trocar::Real>::mul_add(c4, x1, s4 * c6);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x1, s4 * c6);
         jb0i[2][5] = x8;
         let x9 = 0.13_f64
-            + (0.09_f64 + <f64 as ::trocar::Real>::mul_add(0.01_f64, s5, 0.12_f64 * c5));
+            + (0.09_f64
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    0.01_f64,
+                    s5,
+                    0.12_f64 * c5,
+                ));
         let x10 = s4 * c5;
-        let x11 = <f64 as ::trocar::Real>::mul_add(s4, x0, c4 * s6);
-        let x12 = <f64 as ::trocar::Real>::mul_add(c4, c6, -(s4 * x1));
-        let x13 = <f64 as ::trocar::Real>::mul_add(s4, x3, 0.01_f64 * c4);
-        jb0i[2][0] = <f64 as ::trocar::Real>::mul_add(s5, x13, -(x9 * x10));
-        jb0i[2][1] = <f64 as ::trocar::Real>::mul_add(x4, x13, x9 * x11);
-        jb0i[2][2] = <f64 as ::trocar::Real>::mul_add(x9, x12, -(x5 * x13));
-        let x14 = 0.015_f64 + <f64 as ::trocar::Real>::mul_add(c4, x3, -(0.01_f64 * s4))
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x0, c4 * s6);
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(c4, c6, -(s4 * x1));
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x3, 0.01_f64 * c4);
+        jb0i[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(s5, x13, -(x9 * x10));
+        jb0i[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(x4, x13, x9 * x11);
+        jb0i[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(x9, x12, -(x5 * x13));
+        let x14 = 0.015_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c4, x3, -(0.01_f64 * s4))
             - 0.01_f64;
-        let x15 = <f64 as ::trocar::Real>::mul_add(c3, s5, s3 * x10);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c3, x4, -(s3 * x11));
-        let x17 = <f64 as ::trocar::Real>::mul_add(c3, x5, s3 * x12);
-        let x18 = 0.1_f64 + <f64 as ::trocar::Real>::mul_add(c3, x9, s3 * x13);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c3, s5, s3 * x10);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x4, -(s3 * x11));
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x5, s3 * x12);
+        let x18 = 0.1_f64 + <f64 as ::trocar::emitted::Real>::mul_add(c3, x9, s3 * x13);
         fk0i.1[1] = 0.12_f64
-            + (0.11_f64 + <f64 as ::trocar::Real>::mul_add(s2, x14, c2 * x18));
-        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x14, x15, -(x6 * x18));
-        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x14, x16, -(x7 * x18));
-        jb0i[1][2] = -<f64 as ::trocar::Real>::mul_add(x8, x18, x14 * x17);
-        let x19 = <f64 as ::trocar::Real>::mul_add(s3, s5, -(c3 * x10));
+            + (0.11_f64 + <f64 as ::trocar::emitted::Real>::mul_add(s2, x14, c2 * x18));
+        jb0i[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x14, x15, -(x6 * x18));
+        jb0i[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x14, x16, -(x7 * x18));
+        jb0i[1][2] = -<f64 as ::trocar::emitted::Real>::mul_add(x8, x18, x14 * x17);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(s3, s5, -(c3 * x10));
         jb0i[1][3] = x19;
-        let x20 = <f64 as ::trocar::Real>::mul_add(s3, x4, c3 * x11);
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x4, c3 * x11);
         jb0i[1][4] = x20;
-        let x21 = <f64 as ::trocar::Real>::mul_add(c3, x12, -(s3 * x5));
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x12, -(s3 * x5));
         jb0i[1][5] = x21;
-        let x22 = <f64 as ::trocar::Real>::mul_add(c2, x6, -(s2 * x15));
-        fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x22, s1 * x19);
-        fk0i.0[0][2] = <f64 as ::trocar::Real>::mul_add(c1, x19, -(s1 * x22));
-        let x23 = <f64 as ::trocar::Real>::mul_add(c2, x7, -(s2 * x16));
-        fk0i.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x23, s1 * x20);
-        fk0i.0[1][2] = <f64 as ::trocar::Real>::mul_add(c1, x20, -(s1 * x23));
-        let x24 = <f64 as ::trocar::Real>::mul_add(c2, x8, s2 * x17);
-        fk0i.0[2][0] = <f64 as ::trocar::Real>::mul_add(c1, x24, s1 * x21);
-        fk0i.0[2][2] = <f64 as ::trocar::Real>::mul_add(c1, x21, -(s1 * x24));
-        let x25 = <f64 as ::trocar::Real>::mul_add(c2, x14, -(s2 * x18));
-        let x26 = <f64 as ::trocar::Real>::mul_add(s2, x6, c2 * x15);
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x6, -(s2 * x15));
+        fk0i.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x22, s1 * x19);
+        fk0i.0[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x19, -(s1 * x22));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x7, -(s2 * x16));
+        fk0i.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x23, s1 * x20);
+        fk0i.0[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x20, -(s1 * x23));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x8, s2 * x17);
+        fk0i.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x24, s1 * x21);
+        fk0i.0[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x21, -(s1 * x24));
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x14, -(s2 * x18));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x6, c2 * x15);
         fk0i.0[0][1] = x26;
         jb0i[0][3] = x26;
-        let x27 = <f64 as ::trocar::Real>::mul_add(s2, x7, c2 * x16);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x7, c2 * x16);
         fk0i.0[1][1] = x27;
         jb0i[0][4] = x27;
-        let x28 = <f64 as ::trocar::Real>::mul_add(s2, x8, -(c2 * x17));
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x8, -(c2 * x17));
         fk0i.0[2][1] = x28;
         jb0i[0][5] = x28;
         let x29 = 0.01_f64
-            + (0.02_f64 + <f64 as ::trocar::Real>::mul_add(s3, x9, -(c3 * x13)));
-        fk0i.1[0] = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(c1, x25, s1 * x29);
-        fk0i.1[2] = <f64 as ::trocar::Real>::mul_add(c1, x29, -(s1 * x25));
-        jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(x22, x29, -(x19 * x25));
-        jb0i[0][1] = <f64 as ::trocar::Real>::mul_add(x23, x29, -(x20 * x25));
-        jb0i[0][2] = <f64 as ::trocar::Real>::mul_add(x24, x29, -(x21 * x25));
+            + (0.02_f64
+                + <f64 as ::trocar::emitted::Real>::mul_add(s3, x9, -(c3 * x13)));
+        fk0i.1[0] = 0.02_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c1, x25, s1 * x29);
+        fk0i.1[2] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x29, -(s1 * x25));
+        jb0i[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x22, x29, -(x19 * x25));
+        jb0i[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(x23, x29, -(x20 * x25));
+        jb0i[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(x24, x29, -(x21 * x25));
     }
     /// [`link_pose_and_jacobian`] from precomputed joint sines and cosines ([`JointTrig`]).
     ///
@@ -7534,110 +9408,217 @@ pub mod chain11_wide {
         jb0i[4][0] = -0.12_f64;
         jb0i[4][1] = 0.01_f64 * t.cos[5];
         jb0i[4][2] = -(0.01_f64 * t.sin[5]);
-        jb0i[4][3] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[4][3] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0i[4][4] = t.sin[5];
         jb0i[4][5] = t.cos[5];
-        jb0i[5][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][3] = <f64 as ::trocar::Real>::ONE;
-        jb0i[5][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][5] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[5][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][3] = <f64 as ::trocar::emitted::Real>::ONE;
+        jb0i[5][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][5] = <f64 as ::trocar::emitted::Real>::ZERO;
         let x0 = t.sin[4] * t.cos[5];
         let x1 = t.sin[4] * t.sin[5];
         let x2 = 0.01_f64 * t.cos[4];
         jb0i[3][0] = -x2;
-        let x3 = <f64 as ::trocar::Real>::mul_add(-0.12_f64, t.sin[4], x2);
-        jb0i[3][1] = <f64 as ::trocar::Real>::mul_add(0.01_f64, x0, -(t.sin[5] * x3));
-        jb0i[3][2] = -<f64 as ::trocar::Real>::mul_add(0.01_f64, x1, t.cos[5] * x3);
+        let x3 = <f64 as ::trocar::emitted::Real>::mul_add(-0.12_f64, t.sin[4], x2);
+        jb0i[3][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.01_f64,
+            x0,
+            -(t.sin[5] * x3),
+        );
+        jb0i[3][2] = -<f64 as ::trocar::emitted::Real>::mul_add(
+            0.01_f64,
+            x1,
+            t.cos[5] * x3,
+        );
         let x4 = t.cos[4] * t.cos[5];
         jb0i[3][4] = x4;
         let x5 = t.cos[4] * t.sin[5];
         jb0i[3][5] = -x5;
         let x6 = t.cos[3] * t.cos[4];
         jb0i[2][3] = x6;
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.sin[3], t.sin[5], -(t.cos[3] * x0));
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            t.sin[5],
+            -(t.cos[3] * x0),
+        );
         jb0i[2][4] = x7;
-        let x8 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x1, t.sin[3] * t.cos[5]);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x1,
+            t.sin[3] * t.cos[5],
+        );
         jb0i[2][5] = x8;
         let x9 = 0.13_f64
             + (0.09_f64
-                + <f64 as ::trocar::Real>::mul_add(
+                + <f64 as ::trocar::emitted::Real>::mul_add(
                     0.01_f64,
                     t.sin[4],
                     0.12_f64 * t.cos[4],
                 ));
         let x10 = t.sin[3] * t.cos[4];
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x0, t.cos[3] * t.sin[5]);
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x1));
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x3, 0.01_f64 * t.cos[3]);
-        jb0i[2][0] = <f64 as ::trocar::Real>::mul_add(t.sin[4], x13, -(x9 * x10));
-        jb0i[2][1] = <f64 as ::trocar::Real>::mul_add(x4, x13, x9 * x11);
-        jb0i[2][2] = <f64 as ::trocar::Real>::mul_add(x9, x12, -(x5 * x13));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x0,
+            t.cos[3] * t.sin[5],
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            t.cos[5],
+            -(t.sin[3] * x1),
+        );
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x3,
+            0.01_f64 * t.cos[3],
+        );
+        jb0i[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x13,
+            -(x9 * x10),
+        );
+        jb0i[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(x4, x13, x9 * x11);
+        jb0i[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(x9, x12, -(x5 * x13));
         let x14 = 0.015_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[3], x3, -(0.01_f64 * t.sin[3]))
-            - 0.01_f64;
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[2], t.sin[4], t.sin[2] * x10);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x4, -(t.sin[2] * x11));
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x5, t.sin[2] * x12);
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[3],
+                x3,
+                -(0.01_f64 * t.sin[3]),
+            ) - 0.01_f64;
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            t.sin[4],
+            t.sin[2] * x10,
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x4,
+            -(t.sin[2] * x11),
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x5,
+            t.sin[2] * x12,
+        );
         let x18 = 0.1_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[2], x9, t.sin[2] * x13);
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x9, t.sin[2] * x13);
         fk0i.1[1] = 0.12_f64
             + (0.11_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[1], x14, t.cos[1] * x18));
-        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x14, x15, -(x6 * x18));
-        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x14, x16, -(x7 * x18));
-        jb0i[1][2] = -<f64 as ::trocar::Real>::mul_add(x8, x18, x14 * x17);
-        let x19 = <f64 as ::trocar::Real>::mul_add(
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[1],
+                    x14,
+                    t.cos[1] * x18,
+                ));
+        jb0i[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x14, x15, -(x6 * x18));
+        jb0i[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x14, x16, -(x7 * x18));
+        jb0i[1][2] = -<f64 as ::trocar::emitted::Real>::mul_add(x8, x18, x14 * x17);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[2],
             t.sin[4],
             -(t.cos[2] * x10),
         );
         jb0i[1][3] = x19;
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x4, t.cos[2] * x11);
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x4,
+            t.cos[2] * x11,
+        );
         jb0i[1][4] = x20;
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x12, -(t.sin[2] * x5));
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x12,
+            -(t.sin[2] * x5),
+        );
         jb0i[1][5] = x21;
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x6, -(t.sin[1] * x15));
-        fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x22, t.sin[0] * x19);
-        fk0i.0[0][2] = <f64 as ::trocar::Real>::mul_add(
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x6,
+            -(t.sin[1] * x15),
+        );
+        fk0i.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x22,
+            t.sin[0] * x19,
+        );
+        fk0i.0[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[0],
             x19,
             -(t.sin[0] * x22),
         );
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x7, -(t.sin[1] * x16));
-        fk0i.0[1][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x23, t.sin[0] * x20);
-        fk0i.0[1][2] = <f64 as ::trocar::Real>::mul_add(
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x7,
+            -(t.sin[1] * x16),
+        );
+        fk0i.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x23,
+            t.sin[0] * x20,
+        );
+        fk0i.0[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[0],
             x20,
             -(t.sin[0] * x23),
         );
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x8, t.sin[1] * x17);
-        fk0i.0[2][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x24, t.sin[0] * x21);
-        fk0i.0[2][2] = <f64 as ::trocar::Real>::mul_add(
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x8,
+            t.sin[1] * x17,
+        );
+        fk0i.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x24,
+            t.sin[0] * x21,
+        );
+        fk0i.0[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[0],
             x21,
             -(t.sin[0] * x24),
         );
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x14, -(t.sin[1] * x18));
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x6, t.cos[1] * x15);
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x14,
+            -(t.sin[1] * x18),
+        );
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x6,
+            t.cos[1] * x15,
+        );
         fk0i.0[0][1] = x26;
         jb0i[0][3] = x26;
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x7, t.cos[1] * x16);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x7,
+            t.cos[1] * x16,
+        );
         fk0i.0[1][1] = x27;
         jb0i[0][4] = x27;
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x8, -(t.cos[1] * x17));
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x8,
+            -(t.cos[1] * x17),
+        );
         fk0i.0[2][1] = x28;
         jb0i[0][5] = x28;
         let x29 = 0.01_f64
             + (0.02_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[2], x9, -(t.cos[2] * x13)));
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[2],
+                    x9,
+                    -(t.cos[2] * x13),
+                ));
         fk0i.1[0] = 0.02_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[0], x25, t.sin[0] * x29);
-        fk0i.1[2] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x29, -(t.sin[0] * x25));
-        jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(x22, x29, -(x19 * x25));
-        jb0i[0][1] = <f64 as ::trocar::Real>::mul_add(x23, x29, -(x20 * x25));
-        jb0i[0][2] = <f64 as ::trocar::Real>::mul_add(x24, x29, -(x21 * x25));
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[0], x25, t.sin[0] * x29);
+        fk0i.1[2] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x29,
+            -(t.sin[0] * x25),
+        );
+        jb0i[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x22, x29, -(x19 * x25));
+        jb0i[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(x23, x29, -(x20 * x25));
+        jb0i[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(x24, x29, -(x21 * x25));
     }
     /// `(g_0e, J^B_0i, J^r_0e, J_c)` as [`pose_and_jacobians_trig`] returns them: `(R, p)` with
     /// `R` column-major, then the three matrices column-major.
@@ -7660,130 +9641,295 @@ pub mod chain11_wide {
         let x0 = t.sin[4] * t.cos[5];
         let x1 = t.sin[4] * t.sin[5];
         let x2 = 0.01_f64 * t.cos[4];
-        let x3 = <f64 as ::trocar::Real>::mul_add(-0.12_f64, t.sin[4], x2);
+        let x3 = <f64 as ::trocar::emitted::Real>::mul_add(-0.12_f64, t.sin[4], x2);
         let x4 = t.cos[4] * t.cos[5];
         let x5 = t.cos[4] * t.sin[5];
         let x6 = t.cos[3] * t.cos[4];
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.sin[3], t.sin[5], -(t.cos[3] * x0));
-        let x8 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x1, t.sin[3] * t.cos[5]);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            t.sin[5],
+            -(t.cos[3] * x0),
+        );
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x1,
+            t.sin[3] * t.cos[5],
+        );
         let x9 = 0.13_f64
             + (0.09_f64
-                + <f64 as ::trocar::Real>::mul_add(
+                + <f64 as ::trocar::emitted::Real>::mul_add(
                     0.01_f64,
                     t.sin[4],
                     0.12_f64 * t.cos[4],
                 ));
         let x10 = t.sin[3] * t.cos[4];
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x0, t.cos[3] * t.sin[5]);
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x1));
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x3, 0.01_f64 * t.cos[3]);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x0,
+            t.cos[3] * t.sin[5],
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            t.cos[5],
+            -(t.sin[3] * x1),
+        );
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x3,
+            0.01_f64 * t.cos[3],
+        );
         let x14 = 0.015_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[3], x3, -(0.01_f64 * t.sin[3]))
-            - 0.01_f64;
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[2], t.sin[4], t.sin[2] * x10);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x4, -(t.sin[2] * x11));
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x5, t.sin[2] * x12);
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[3],
+                x3,
+                -(0.01_f64 * t.sin[3]),
+            ) - 0.01_f64;
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            t.sin[4],
+            t.sin[2] * x10,
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x4,
+            -(t.sin[2] * x11),
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x5,
+            t.sin[2] * x12,
+        );
         let x18 = 0.1_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[2], x9, t.sin[2] * x13);
-        let x19 = <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x9, t.sin[2] * x13);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[2],
             t.sin[4],
             -(t.cos[2] * x10),
         );
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x4, t.cos[2] * x11);
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x12, -(t.sin[2] * x5));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x6, -(t.sin[1] * x15));
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x7, -(t.sin[1] * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x8, t.sin[1] * x17);
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x14, -(t.sin[1] * x18));
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x6, t.cos[1] * x15);
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x7, t.cos[1] * x16);
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x8, -(t.cos[1] * x17));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x4,
+            t.cos[2] * x11,
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x12,
+            -(t.sin[2] * x5),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x6,
+            -(t.sin[1] * x15),
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x7,
+            -(t.sin[1] * x16),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x8,
+            t.sin[1] * x17,
+        );
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x14,
+            -(t.sin[1] * x18),
+        );
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x6,
+            t.cos[1] * x15,
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x7,
+            t.cos[1] * x16,
+        );
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x8,
+            -(t.cos[1] * x17),
+        );
         let x29 = 0.01_f64
             + (0.02_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[2], x9, -(t.cos[2] * x13)));
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.cos[0], x22, t.sin[0] * x19);
-        let x31 = <f64 as ::trocar::Real>::mul_add(t.cos[0], x23, t.sin[0] * x20);
-        let x32 = <f64 as ::trocar::Real>::mul_add(t.cos[0], x24, t.sin[0] * x21);
-        let x33 = <f64 as ::trocar::Real>::mul_add(t.cos[0], x19, -(t.sin[0] * x22));
-        let x34 = <f64 as ::trocar::Real>::mul_add(t.cos[0], x20, -(t.sin[0] * x23));
-        let x35 = <f64 as ::trocar::Real>::mul_add(t.cos[0], x21, -(t.sin[0] * x24));
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[2],
+                    x9,
+                    -(t.cos[2] * x13),
+                ));
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x22,
+            t.sin[0] * x19,
+        );
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x23,
+            t.sin[0] * x20,
+        );
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x24,
+            t.sin[0] * x21,
+        );
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x19,
+            -(t.sin[0] * x22),
+        );
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x20,
+            -(t.sin[0] * x23),
+        );
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x21,
+            -(t.sin[0] * x24),
+        );
         let x36 = t.cos[6] * t.cos[7];
         let x37 = t.cos[6] * t.sin[7];
         let x38 = t.sin[6] * t.cos[7];
         let x39 = t.sin[6] * t.sin[7];
-        let x40 = <f64 as ::trocar::Real>::mul_add(
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[6],
             t.sin[8],
             -(t.cos[8] * x37),
         );
         let x41 = t.sin[6] * t.cos[8];
-        let x42 = <f64 as ::trocar::Real>::mul_add(t.sin[8], x37, x41);
+        let x42 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[8], x37, x41);
         let x43 = 0.02_f64 * t.sin[6];
         let x44 = t.cos[7] * t.cos[8];
         let x45 = t.cos[7] * t.sin[8];
         let x46 = 0.1_f64 * t.cos[7];
-        let x47 = <f64 as ::trocar::Real>::mul_add(t.cos[8], x39, t.cos[6] * t.sin[8]);
+        let x47 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[8],
+            x39,
+            t.cos[6] * t.sin[8],
+        );
         let x48 = t.cos[6] * t.cos[8];
-        let x49 = <f64 as ::trocar::Real>::mul_add(-t.sin[8], x39, x48);
+        let x49 = <f64 as ::trocar::emitted::Real>::mul_add(-t.sin[8], x39, x48);
         let x50 = 0.02_f64 * t.cos[6];
         let x51 = t.cos[9] * x36;
-        let x52 = <f64 as ::trocar::Real>::mul_add(-t.sin[9], x42, x51);
-        let x53 = <f64 as ::trocar::Real>::mul_add(t.sin[9], x36, t.cos[9] * x42);
+        let x52 = <f64 as ::trocar::emitted::Real>::mul_add(-t.sin[9], x42, x51);
+        let x53 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[9],
+            x36,
+            t.cos[9] * x42,
+        );
         let x54 = t.sin[7] * t.cos[9];
-        let x55 = <f64 as ::trocar::Real>::mul_add(t.sin[9], x45, x54);
+        let x55 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[9], x45, x54);
         let x56 = t.sin[7] * t.sin[9];
         let x57 = t.cos[9] * x45;
         let x58 = x56 - x57;
-        let x59 = <f64 as ::trocar::Real>::mul_add(t.cos[9], x38, t.sin[9] * x49);
-        let x60 = <f64 as ::trocar::Real>::mul_add(t.cos[9], x49, -(t.sin[9] * x38));
-        let x61 = <f64 as ::trocar::Real>::mul_add(t.cos[10], x52, t.sin[10] * x40);
+        let x59 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[9],
+            x38,
+            t.sin[9] * x49,
+        );
+        let x60 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[9],
+            x49,
+            -(t.sin[9] * x38),
+        );
+        let x61 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[10],
+            x52,
+            t.sin[10] * x40,
+        );
         let x62 = t.cos[10] * x40;
-        let x63 = <f64 as ::trocar::Real>::mul_add(-t.sin[10], x52, x62);
-        let x64 = <f64 as ::trocar::Real>::mul_add(t.cos[10], x55, t.sin[10] * x44);
+        let x63 = <f64 as ::trocar::emitted::Real>::mul_add(-t.sin[10], x52, x62);
+        let x64 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[10],
+            x55,
+            t.sin[10] * x44,
+        );
         let x65 = t.cos[10] * x44;
-        let x66 = <f64 as ::trocar::Real>::mul_add(-t.sin[10], x55, x65);
+        let x66 = <f64 as ::trocar::emitted::Real>::mul_add(-t.sin[10], x55, x65);
         let x67 = 0.02_f64 * x58;
-        let x68 = <f64 as ::trocar::Real>::mul_add(t.sin[10], x47, -(t.cos[10] * x59));
-        let x69 = <f64 as ::trocar::Real>::mul_add(t.sin[10], x59, t.cos[10] * x47);
-        let x70 = <f64 as ::trocar::Real>::mul_add(
+        let x68 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[10],
+            x47,
+            -(t.cos[10] * x59),
+        );
+        let x69 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[10],
+            x59,
+            t.cos[10] * x47,
+        );
+        let x70 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.09_f64,
             x63,
-            <f64 as ::trocar::Real>::mul_add(0.01_f64, t.sin[6], 0.02_f64)
-                + (x43 - <f64 as ::trocar::Real>::mul_add(0.01_f64, x36, 0.1_f64 * x37))
-                + <f64 as ::trocar::Real>::mul_add(0.015_f64, x36, 0.13_f64 * x40)
-                + <f64 as ::trocar::Real>::mul_add(0.09_f64, x40, -(0.02_f64 * x53)),
+            <f64 as ::trocar::emitted::Real>::mul_add(0.01_f64, t.sin[6], 0.02_f64)
+                + (x43
+                    - <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.01_f64,
+                        x36,
+                        0.1_f64 * x37,
+                    ))
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    0.015_f64,
+                    x36,
+                    0.13_f64 * x40,
+                )
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    0.09_f64,
+                    x40,
+                    -(0.02_f64 * x53),
+                ),
         );
-        let x71 = <f64 as ::trocar::Real>::mul_add(
+        let x71 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.09_f64,
             x66,
             0.22999999999999998_f64
-                + <f64 as ::trocar::Real>::mul_add(-0.01_f64, t.sin[7], x46)
-                + <f64 as ::trocar::Real>::mul_add(0.015_f64, t.sin[7], 0.13_f64 * x44)
-                + <f64 as ::trocar::Real>::mul_add(0.09_f64, x44, -x67),
+                + <f64 as ::trocar::emitted::Real>::mul_add(-0.01_f64, t.sin[7], x46)
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    0.015_f64,
+                    t.sin[7],
+                    0.13_f64 * x44,
+                ) + <f64 as ::trocar::emitted::Real>::mul_add(0.09_f64, x44, -x67),
         );
-        let x72 = <f64 as ::trocar::Real>::mul_add(
+        let x72 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.09_f64,
             x69,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.01_f64,
                 t.cos[6],
-                <f64 as ::trocar::Real>::mul_add(0.01_f64, x38, 0.1_f64 * x39) + x50,
-            ) + <f64 as ::trocar::Real>::mul_add(0.13_f64, x47, -(0.015_f64 * x38))
-                + <f64 as ::trocar::Real>::mul_add(0.09_f64, x47, -(0.02_f64 * x60)),
+                <f64 as ::trocar::emitted::Real>::mul_add(0.01_f64, x38, 0.1_f64 * x39)
+                    + x50,
+            )
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    0.13_f64,
+                    x47,
+                    -(0.015_f64 * x38),
+                )
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    0.09_f64,
+                    x47,
+                    -(0.02_f64 * x60),
+                ),
         );
         let x73 = t.sin[8] * t.sin[9];
         let x74 = t.cos[8] * t.sin[10];
-        let x75 = <f64 as ::trocar::Real>::mul_add(t.cos[10], x73, x74);
-        let x76 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x75, t.cos[10] * x54);
-        let x77 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x73, x54);
-        let x78 = <f64 as ::trocar::Real>::mul_add(-t.sin[10], x77, x65);
+        let x75 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[10], x73, x74);
+        let x76 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[7],
+            x75,
+            t.cos[10] * x54,
+        );
+        let x77 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[7], x73, x54);
+        let x78 = <f64 as ::trocar::emitted::Real>::mul_add(-t.sin[10], x77, x65);
         let x79 = p.l_a - 0.23_f64;
         let x80 = 0.005_f64 * t.sin[7];
         let x81 = x79 - x80;
-        let x82 = <f64 as ::trocar::Real>::mul_add(0.03_f64, t.sin[8], 0.22_f64);
+        let x82 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.03_f64,
+            t.sin[8],
+            0.22_f64,
+        );
         let x83 = t.cos[7] * x82;
-        let x84 = <f64 as ::trocar::Real>::mul_add(t.cos[8], x81 - x46, -x83);
+        let x84 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[8], x81 - x46, -x83);
         let x85 = 0.22_f64 * t.sin[8];
         let x86 = 0.03_f64 + x85;
         let x87 = t.cos[9] * x86;
@@ -7797,9 +9943,17 @@ pub mod chain11_wide {
         let x95 = 0.02_f64 * t.cos[9];
         let x96 = 0.03_f64 * t.cos[8];
         let x97 = t.cos[7] * (x95 - x96);
-        let x98 = <f64 as ::trocar::Real>::mul_add(t.sin[8], x93 + (x94 - p.l_a), x97);
+        let x98 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[8],
+            x93 + (x94 - p.l_a),
+            x97,
+        );
         let x99 = t.sin[7] * t.sin[8];
-        let x100 = <f64 as ::trocar::Real>::mul_add(t.cos[9], x99, t.cos[7] * t.sin[9]);
+        let x100 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[9],
+            x99,
+            t.cos[7] * t.sin[9],
+        );
         let x101 = 0.09_f64 * x100;
         let x102 = 0.23_f64 - p.l_a;
         let x103 = t.sin[7] * x102;
@@ -7811,9 +9965,13 @@ pub mod chain11_wide {
         let x109 = x92 + x103;
         let x110 = 0.09_f64 * t.cos[9];
         let x111 = 0.23_f64 + x80;
-        let x112 = <f64 as ::trocar::Real>::mul_add(t.cos[8], x46 + x111 - p.l_a, x83);
-        let x113 = <f64 as ::trocar::Real>::mul_add(t.sin[7], x79, -0.005_f64);
-        let x114 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x102, x107);
+        let x112 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[8],
+            x46 + x111 - p.l_a,
+            x83,
+        );
+        let x113 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[7], x79, -0.005_f64);
+        let x114 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[7], x102, x107);
         let x115 = 0.1_f64 * t.cos[8];
         let x116 = x82 + x115;
         let x117 = 0.09_f64 * t.cos[10];
@@ -7827,10 +9985,10 @@ pub mod chain11_wide {
         let x125 = t.cos[8] * x120;
         let x126 = 0.1_f64 + x125;
         let x127 = 0.09_f64 * t.sin[10];
-        let x128 = <f64 as ::trocar::Real>::mul_add(
+        let x128 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[9],
             x105 - x126,
-            t.sin[8] * <f64 as ::trocar::Real>::mul_add(t.cos[9], x113, x127),
+            t.sin[8] * <f64 as ::trocar::emitted::Real>::mul_add(t.cos[9], x113, x127),
         );
         let x129 = t.sin[7] * x75;
         let x130 = t.cos[10] * (t.cos[7] * t.cos[9]);
@@ -7838,48 +9996,58 @@ pub mod chain11_wide {
         let x132 = t.sin[8] * t.sin[10];
         let x133 = t.cos[10] * (t.cos[8] * t.sin[9]);
         let x134 = x132 - x133;
-        let x135 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x131, t.sin[6] * x134);
-        let x136 = <f64 as ::trocar::Real>::mul_add(
+        let x135 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x131,
+            t.sin[6] * x134,
+        );
+        let x136 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[10],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[9],
-                <f64 as ::trocar::Real>::mul_add(t.cos[6], x99, x41),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.cos[6], x99, x41),
                 -x51,
             ),
             x62,
         );
-        let x137 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x100, t.cos[9] * x41);
+        let x137 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x100,
+            t.cos[9] * x41,
+        );
         let x138 = x43 + 0.03_f64;
         let x139 = t.sin[8] * x138;
         let x140 = 0.22_f64 + x115;
         let x141 = t.sin[7] * (x139 + x140);
-        let x142 = t.cos[8] * <f64 as ::trocar::Real>::mul_add(0.005_f64, t.cos[7], x50);
+        let x142 = t.cos[8]
+            * <f64 as ::trocar::emitted::Real>::mul_add(0.005_f64, t.cos[7], x50);
         let x143 = t.cos[9] * (x85 + x138);
-        let x144 = <f64 as ::trocar::Real>::mul_add(0.1_f64, t.sin[8], x95);
+        let x144 = <f64 as ::trocar::emitted::Real>::mul_add(0.1_f64, t.sin[8], x95);
         let x145 = x91 - 0.005_f64;
         let x146 = t.cos[7] * x145;
-        let x147 = <f64 as ::trocar::Real>::mul_add(
+        let x147 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
-            <f64 as ::trocar::Real>::mul_add(-t.cos[8], x138, x144),
+            <f64 as ::trocar::emitted::Real>::mul_add(-t.cos[8], x138, x144),
             t.sin[8] * (x146 - x50),
         );
         let x148 = x57 - x56;
         let x149 = 0.02_f64 * t.cos[7];
-        let x150 = t.sin[7] * <f64 as ::trocar::Real>::mul_add(t.sin[6], x86, 0.02_f64);
+        let x150 = t.sin[7]
+            * <f64 as ::trocar::emitted::Real>::mul_add(t.sin[6], x86, 0.02_f64);
         let x151 = 0.02_f64 * x47;
-        let x152 = <f64 as ::trocar::Real>::mul_add(
+        let x152 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[6],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[8],
-                <f64 as ::trocar::Real>::mul_add(t.sin[7], x145, x79 - x46),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[7], x145, x79 - x46),
                 t.cos[7] * (x96 - x95),
             ),
-            t.cos[8] * <f64 as ::trocar::Real>::mul_add(t.cos[6], x109, x149),
+            t.cos[8] * <f64 as ::trocar::emitted::Real>::mul_add(t.cos[6], x109, x149),
         );
         let x153 = t.sin[6] * x100;
         let x154 = t.cos[9] * x48;
         let x155 = x153 - x154;
-        let x156 = <f64 as ::trocar::Real>::mul_add(
+        let x156 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[6],
             x129 - x130,
             t.cos[6] * x134,
@@ -7888,50 +10056,71 @@ pub mod chain11_wide {
         let x158 = t.sin[10] * x73;
         let x159 = t.cos[9] * (t.cos[7] * t.sin[10]);
         let x160 = t.sin[9] * t.sin[10];
-        let x161 = <f64 as ::trocar::Real>::mul_add(
+        let x161 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
             t.cos[10],
             t.cos[8] * x160,
         );
         let x162 = t.cos[6] * x161;
-        let x163 = <f64 as ::trocar::Real>::mul_add(
+        let x163 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[6],
-            <f64 as ::trocar::Real>::mul_add(t.sin[7], x157 - x158, x159),
+            <f64 as ::trocar::emitted::Real>::mul_add(t.sin[7], x157 - x158, x159),
             x162,
         );
         let x164 = x154 - x153;
         let x165 = x144 - x96;
-        let x166 = <f64 as ::trocar::Real>::mul_add(0.22_f64, t.cos[10], 0.09_f64);
+        let x166 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.22_f64,
+            t.cos[10],
+            0.09_f64,
+        );
         let x167 = t.cos[9] * x166;
         let x168 = 0.005_f64 * t.sin[9];
         let x169 = x168 - 0.02_f64;
-        let x170 = <f64 as ::trocar::Real>::mul_add(-0.005_f64, t.cos[9], x127);
+        let x170 = <f64 as ::trocar::emitted::Real>::mul_add(-0.005_f64, t.cos[9], x127);
         let x171 = t.cos[9] * t.sin[10];
         let x172 = t.cos[9] * t.cos[10];
-        let x173 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(
+        let x173 = <f64 as ::trocar::emitted::Real>::ONE
+            / <f64 as ::trocar::emitted::Real>::mul_add(
                 p.l_a,
                 p.l_a,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ONE,
             );
         let x174 = t.cos[8] * x111;
-        let x175 = t.sin[9] * <f64 as ::trocar::Real>::mul_add(t.cos[7], x116, x174);
-        let x176 = <f64 as ::trocar::Real>::mul_add(t.sin[8], x93 + x94, x97);
-        let x177 = <f64 as ::trocar::Real>::mul_add(
+        let x175 = t.sin[9]
+            * <f64 as ::trocar::emitted::Real>::mul_add(t.cos[7], x116, x174);
+        let x176 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[8], x93 + x94, x97);
+        let x177 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[10],
             x90 - x175,
-            <f64 as ::trocar::Real>::mul_add(t.sin[10], x176, -x101),
+            <f64 as ::trocar::emitted::Real>::mul_add(t.sin[10], x176, -x101),
         );
         let x178 = 0.23_f64 * t.sin[7];
         let x179 = 0.005_f64 + x178;
         let x180 = t.sin[9] * x179;
-        let x181 = <f64 as ::trocar::Real>::mul_add(0.23_f64, t.cos[7], 0.1_f64);
+        let x181 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.23_f64,
+            t.cos[7],
+            0.1_f64,
+        );
         let x182 = t.cos[9] * (x106 + x181);
-        let x183 = <f64 as ::trocar::Real>::mul_add(t.sin[8], 0.02_f64 - x180, x182);
+        let x183 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[8],
+            0.02_f64 - x180,
+            x182,
+        );
         let x184 = x145 - x178;
-        let x185 = <f64 as ::trocar::Real>::mul_add(t.sin[7], x87 - x88, x175);
-        let x186 = <f64 as ::trocar::Real>::mul_add(t.sin[8], x180 - 0.02_f64, -x182);
-        let x187 = <f64 as ::trocar::Real>::mul_add(t.cos[9], x119 + x174, -x124);
+        let x185 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[7], x87 - x88, x175);
+        let x186 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[8],
+            x180 - 0.02_f64,
+            -x182,
+        );
+        let x187 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[9],
+            x119 + x174,
+            -x124,
+        );
         let x188 = t.sin[9] * (x125 + x181);
         let x189 = t.cos[9] * x179;
         let x190 = x179 - x91;
@@ -7939,114 +10128,182 @@ pub mod chain11_wide {
             (
                 [
                     [
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x32,
                             x68,
-                            <f64 as ::trocar::Real>::mul_add(x30, x61, x31 * x64),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x30,
+                                x61,
+                                x31 * x64,
+                            ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x28,
                             x68,
-                            <f64 as ::trocar::Real>::mul_add(x26, x61, x27 * x64),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x26,
+                                x61,
+                                x27 * x64,
+                            ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x35,
                             x68,
-                            <f64 as ::trocar::Real>::mul_add(x33, x61, x34 * x64),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x33,
+                                x61,
+                                x34 * x64,
+                            ),
                         ),
                     ],
                     [
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x32,
                             x69,
-                            <f64 as ::trocar::Real>::mul_add(x30, x63, x31 * x66),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x30,
+                                x63,
+                                x31 * x66,
+                            ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x28,
                             x69,
-                            <f64 as ::trocar::Real>::mul_add(x26, x63, x27 * x66),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x26,
+                                x63,
+                                x27 * x66,
+                            ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x35,
                             x69,
-                            <f64 as ::trocar::Real>::mul_add(x33, x63, x34 * x66),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x33,
+                                x63,
+                                x34 * x66,
+                            ),
                         ),
                     ],
                     [
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x32,
                             x60,
-                            <f64 as ::trocar::Real>::mul_add(x30, x53, x31 * x58),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x30,
+                                x53,
+                                x31 * x58,
+                            ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x28,
                             x60,
-                            <f64 as ::trocar::Real>::mul_add(x26, x53, x27 * x58),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x26,
+                                x53,
+                                x27 * x58,
+                            ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x35,
                             x60,
-                            <f64 as ::trocar::Real>::mul_add(x33, x53, x34 * x58),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x33,
+                                x53,
+                                x34 * x58,
+                            ),
                         ),
                     ],
                 ],
                 [
                     0.02_f64
-                        + <f64 as ::trocar::Real>::mul_add(t.cos[0], x25, t.sin[0] * x29)
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.cos[0],
+                            x25,
+                            t.sin[0] * x29,
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             x32,
                             x72,
-                            <f64 as ::trocar::Real>::mul_add(x30, x70, x31 * x71),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x30,
+                                x70,
+                                x31 * x71,
+                            ),
                         ),
                     0.12_f64
                         + (0.11_f64
-                            + <f64 as ::trocar::Real>::mul_add(
+                            + <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[1],
                                 x14,
                                 t.cos[1] * x18,
                             ))
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             x28,
                             x72,
-                            <f64 as ::trocar::Real>::mul_add(x26, x70, x27 * x71),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x26,
+                                x70,
+                                x27 * x71,
+                            ),
                         ),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[0], x29, -(t.sin[0] * x25))
-                        + <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[0],
+                        x29,
+                        -(t.sin[0] * x25),
+                    )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             x35,
                             x72,
-                            <f64 as ::trocar::Real>::mul_add(x33, x70, x34 * x71),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x33,
+                                x70,
+                                x34 * x71,
+                            ),
                         ),
                 ],
             ),
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(x22, x29, -(x19 * x25)),
-                    <f64 as ::trocar::Real>::mul_add(x23, x29, -(x20 * x25)),
-                    <f64 as ::trocar::Real>::mul_add(x24, x29, -(x21 * x25)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x22, x29, -(x19 * x25)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x23, x29, -(x20 * x25)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x24, x29, -(x21 * x25)),
                     x26,
                     x27,
                     x28,
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(x14, x15, -(x6 * x18)),
-                    <f64 as ::trocar::Real>::mul_add(x14, x16, -(x7 * x18)),
-                    -<f64 as ::trocar::Real>::mul_add(x8, x18, x14 * x17),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x14, x15, -(x6 * x18)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x14, x16, -(x7 * x18)),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(x8, x18, x14 * x17),
                     x19,
                     x20,
                     x21,
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.sin[4], x13, -(x9 * x10)),
-                    <f64 as ::trocar::Real>::mul_add(x4, x13, x9 * x11),
-                    <f64 as ::trocar::Real>::mul_add(x9, x12, -(x5 * x13)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[4],
+                        x13,
+                        -(x9 * x10),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x4, x13, x9 * x11),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x9, x12, -(x5 * x13)),
                     x6,
                     x7,
                     x8,
                 ],
                 [
                     -x2,
-                    <f64 as ::trocar::Real>::mul_add(0.01_f64, x0, -(t.sin[5] * x3)),
-                    -<f64 as ::trocar::Real>::mul_add(0.01_f64, x1, t.cos[5] * x3),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.01_f64,
+                        x0,
+                        -(t.sin[5] * x3),
+                    ),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        0.01_f64,
+                        x1,
+                        t.cos[5] * x3,
+                    ),
                     t.sin[4],
                     x4,
                     -x5,
@@ -8055,17 +10312,17 @@ pub mod chain11_wide {
                     -0.12_f64,
                     0.01_f64 * t.cos[5],
                     -(0.01_f64 * t.sin[5]),
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     t.sin[5],
                     t.cos[5],
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
             ],
             [
@@ -8073,42 +10330,58 @@ pub mod chain11_wide {
                     x76,
                     x78,
                     x58,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[6],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[10],
-                            <f64 as ::trocar::Real>::mul_add(t.sin[9], x84, x90),
-                            <f64 as ::trocar::Real>::mul_add(t.sin[10], x98, -x101),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                t.sin[9],
+                                x84,
+                                x90,
+                            ),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                t.sin[10],
+                                x98,
+                                -x101,
+                            ),
                         ),
                         t.sin[6]
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[10],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[8],
-                                    <f64 as ::trocar::Real>::mul_add(t.sin[9], x104, -0.02_f64),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        t.sin[9],
+                                        x104,
+                                        -0.02_f64,
+                                    ),
                                     t.cos[9] * x108,
                                 ),
                                 t.cos[8]
-                                    * <f64 as ::trocar::Real>::mul_add(t.sin[10], x109, -x110),
+                                    * <f64 as ::trocar::emitted::Real>::mul_add(
+                                        t.sin[10],
+                                        x109,
+                                        -x110,
+                                    ),
                             ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[10],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[9],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[6],
                                 x112,
                                 t.sin[6] * (t.sin[8] * x113),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[9],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[6],
                                     x114,
                                     t.sin[7] * (t.cos[6] * x86),
@@ -8117,17 +10390,17 @@ pub mod chain11_wide {
                             ),
                         ),
                         t.cos[10]
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[6],
                                 x98,
                                 t.sin[6] * (t.cos[8] * x109),
                             ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[6],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[9],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[8],
                                 x111 - p.l_a,
                                 x119,
@@ -8141,37 +10414,37 @@ pub mod chain11_wide {
                     x137,
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[10],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[9],
                             x142 - x141,
                             t.cos[7] * (x143 - x88),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[10],
                             x147,
                             0.09_f64 * x148,
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[10],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[9],
                             x141 - x142,
                             t.cos[7] * (x88 - x143),
                         ),
                         t.cos[10] * x147,
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[9],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[7],
                             x139 + (x117 + x140),
                             -x142,
                         ),
                         t.cos[7]
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[9],
                                 x121 + x138,
                                 x123,
@@ -8182,89 +10455,113 @@ pub mod chain11_wide {
                     x58,
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[10],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[9],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[6],
                                 x112,
                                 t.sin[8]
-                                    * <f64 as ::trocar::Real>::mul_add(t.cos[6], x104, x149),
+                                    * <f64 as ::trocar::emitted::Real>::mul_add(
+                                        t.cos[6],
+                                        x104,
+                                        x149,
+                                    ),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[9],
-                                <f64 as ::trocar::Real>::mul_add(t.cos[6], x108, x150),
+                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                    t.cos[6],
+                                    x108,
+                                    x150,
+                                ),
                                 -x151,
                             ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[10],
                             x152,
                             0.09_f64 * x155,
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[10],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[9],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[6],
                                 x84,
                                 t.sin[8]
-                                    * <f64 as ::trocar::Real>::mul_add(t.cos[6], x113, -x149),
+                                    * <f64 as ::trocar::emitted::Real>::mul_add(
+                                        t.cos[6],
+                                        x113,
+                                        -x149,
+                                    ),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[9],
-                                <f64 as ::trocar::Real>::mul_add(t.cos[6], x114, -x150),
+                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                    t.cos[6],
+                                    x114,
+                                    -x150,
+                                ),
                                 x151,
                             ),
                         ),
                         t.cos[10] * x152,
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[6],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[9],
-                            <f64 as ::trocar::Real>::mul_add(t.cos[8], x81, -x119),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                t.cos[8],
+                                x81,
+                                -x119,
+                            ),
                             x124,
                         ),
-                        <f64 as ::trocar::Real>::mul_add(t.cos[6], x128, x67),
+                        <f64 as ::trocar::emitted::Real>::mul_add(t.cos[6], x128, x67),
                     ),
                     x156,
                     x163,
                     x164,
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[7],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[10],
                             x165,
                             -(t.sin[9]
-                                * <f64 as ::trocar::Real>::mul_add(
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[10],
                                     x116,
                                     0.09_f64,
                                 )),
                         ),
                         t.cos[7]
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[8],
-                                <f64 as ::trocar::Real>::mul_add(t.sin[10], x145, x167),
+                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                    t.sin[10],
+                                    x145,
+                                    x167,
+                                ),
                                 t.cos[10]
-                                    * <f64 as ::trocar::Real>::mul_add(
+                                    * <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.cos[8],
                                         x169,
                                         0.03_f64 * t.cos[9],
                                     ),
                             ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[10],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[9],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[7],
                                 x116,
                                 -(0.005_f64 * x44),
@@ -8272,15 +10569,15 @@ pub mod chain11_wide {
                             t.cos[7] * x89,
                         ),
                         t.cos[10]
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[7],
                                 x165,
                                 t.sin[8] * x146,
                             ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[7],
-                        <f64 as ::trocar::Real>::mul_add(t.cos[8], x170, x122),
+                        <f64 as ::trocar::emitted::Real>::mul_add(t.cos[8], x170, x122),
                         t.sin[7] * (t.cos[9] * x118),
                     ),
                     x76,
@@ -8288,33 +10585,45 @@ pub mod chain11_wide {
                     x58,
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[8],
-                        <f64 as ::trocar::Real>::mul_add(t.sin[10], x92, -x167),
+                        <f64 as ::trocar::emitted::Real>::mul_add(t.sin[10], x92, -x167),
                         t.cos[10]
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[8],
                                 x169,
                                 -(0.1_f64 * t.cos[9]),
                             ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[10],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[8],
                             0.02_f64 - x168,
                             t.cos[9] * x107,
                         ),
                         t.cos[8] * (t.cos[10] * x92),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(t.sin[8], x170, -(t.sin[9] * x126)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[8],
+                        x170,
+                        -(t.sin[9] * x126),
+                    ),
                     x134,
                     x161,
                     t.cos[8] * t.cos[9],
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(0.02_f64, x171, -(t.sin[9] * x166)),
-                    <f64 as ::trocar::Real>::mul_add(0.22_f64, x160, 0.02_f64 * x172),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.02_f64,
+                        x171,
+                        -(t.sin[9] * x166),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.22_f64,
+                        x160,
+                        0.02_f64 * x172,
+                    ),
                     t.cos[9] * x120,
                     x172,
                     -x171,
@@ -8326,32 +10635,36 @@ pub mod chain11_wide {
                     x127,
                     t.sin[10],
                     t.cos[10],
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
                     -0.09_f64,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
                 ],
             ],
             [
                 [
                     x173
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l_a,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[6],
                                 x177,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[6],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.cos[10],
                                         x183,
                                         t.cos[8]
-                                            * <f64 as ::trocar::Real>::mul_add(t.sin[10], x184, x110),
+                                            * <f64 as ::trocar::emitted::Real>::mul_add(
+                                                t.sin[10],
+                                                x184,
+                                                x110,
+                                            ),
                                     ),
                                     -(0.02_f64 * x76),
                                 ),
@@ -8359,38 +10672,42 @@ pub mod chain11_wide {
                             x135,
                         ),
                     x173
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l_a,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[10],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[6],
                                     x185,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.cos[6],
                                         x186,
                                         0.02_f64 * x77,
                                     ),
                                 ),
                                 t.cos[10]
-                                    * <f64 as ::trocar::Real>::mul_add(
+                                    * <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.sin[6],
                                         x176,
                                         t.cos[8]
-                                            * <f64 as ::trocar::Real>::mul_add(t.cos[6], x184, -x149),
+                                            * <f64 as ::trocar::emitted::Real>::mul_add(
+                                                t.cos[6],
+                                                x184,
+                                                -x149,
+                                            ),
                                     ),
                             ),
                             x136,
                         ),
                     x173
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l_a,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[6],
                                 x187,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[6],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.sin[8],
                                         x189 - x127,
                                         x188,
@@ -8402,16 +10719,16 @@ pub mod chain11_wide {
                         ),
                     p.l_a
                         * (x173
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[6],
                                 x131,
                                 t.cos[6] * (x133 - x132),
                             )),
                     p.l_a
                         * (x173
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[6],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[7],
                                     x158 - x157,
                                     -x159,
@@ -8422,33 +10739,37 @@ pub mod chain11_wide {
                 ],
                 [
                     x173
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l_a,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[6],
                                 x177,
                                 t.sin[6]
-                                    * <f64 as ::trocar::Real>::mul_add(
+                                    * <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.cos[10],
                                         x186,
                                         t.cos[8]
-                                            * <f64 as ::trocar::Real>::mul_add(t.sin[10], x190, -x110),
+                                            * <f64 as ::trocar::emitted::Real>::mul_add(
+                                                t.sin[10],
+                                                x190,
+                                                -x110,
+                                            ),
                                     ),
                             ),
                             x156,
                         ),
                     x173
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l_a,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[10],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[6],
                                     x185,
                                     t.sin[6] * x183,
                                 ),
                                 t.cos[10]
-                                    * <f64 as ::trocar::Real>::mul_add(
+                                    * <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.cos[6],
                                         x176,
                                         t.sin[6] * (t.cos[8] * x190),
@@ -8457,13 +10778,13 @@ pub mod chain11_wide {
                             x163,
                         ),
                     x173
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l_a,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[6],
                                 x187,
                                 t.sin[6]
-                                    * <f64 as ::trocar::Real>::mul_add(
+                                    * <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.sin[8],
                                         x127 - x189,
                                         -x188,
@@ -8505,7 +10826,7 @@ pub mod chain11_wide {
         #[inline]
         #[must_use]
         pub fn zeroed() -> Self {
-            let z = <f64 as ::trocar::Real>::ZERO;
+            let z = <f64 as ::trocar::emitted::Real>::ZERO;
             StepKinematics {
                 offset: z,
                 g_0e: ([[z; 3]; 3], [z; 3]),
@@ -8529,7 +10850,7 @@ pub mod chain11_wide {
     #[inline]
     fn step_is_finite(out: &StepKinematics) -> bool {
         let finite = |x: &[f64]| {
-            x.iter().all(|&v| <f64 as ::trocar::Real>::is_finite(v))
+            x.iter().all(|&v| <f64 as ::trocar::emitted::Real>::is_finite(v))
         };
         finite(&out.g_0e.1) && finite(&out.g_0i.1) && finite(out.g_0e.0.as_flattened())
             && finite(out.g_0i.0.as_flattened()) && finite(out.jb0i.as_flattened())
@@ -8546,13 +10867,13 @@ pub mod chain11_wide {
         params: &Params,
     ) -> f64 {
         let mut p = *params;
-        p.l_a = <f64 as ::trocar::Real>::ZERO;
+        p.l_a = <f64 as ::trocar::emitted::Real>::ZERO;
         let o = constraint_frame(&p).1;
-        p.l_a = <f64 as ::trocar::Real>::ONE;
+        p.l_a = <f64 as ::trocar::emitted::Real>::ONE;
         let o1 = constraint_frame(&p).1;
         let d = [o1[0] - o[0], o1[1] - o[1], o1[2] - o[2]];
         let (rot, pos) = g_0i;
-        let mut num = <f64 as ::trocar::Real>::ZERO;
+        let mut num = <f64 as ::trocar::emitted::Real>::ZERO;
         for i in 0..3 {
             let ro = rot[0][i] * o[0] + rot[1][i] * o[1] + rot[2][i] * o[2];
             let rd = rot[0][i] * d[0] + rot[1][i] * d[1] + rot[2][i] * d[2];
@@ -8573,7 +10894,7 @@ pub mod chain11_wide {
         out: &mut StepKinematics,
     ) -> bool {
         fill_at_trocar(t, trocar, params, out);
-        <f64 as ::trocar::Real>::is_finite(out.offset) && step_is_finite(out)
+        <f64 as ::trocar::emitted::Real>::is_finite(out.offset) && step_is_finite(out)
     }
     /// [`step_kinematics`] without the finiteness check.
     #[inline]
@@ -8644,8 +10965,10 @@ pub mod chain11_wide {
         let mut a5_4 = j[4usize][5usize];
         let mut a5_5 = j[5usize][5usize];
         let mut b0_5 = b[5usize];
-        let mut det = <f64 as ::trocar::Real>::ONE;
-        if <f64 as ::trocar::Real>::abs(a1_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        let mut det = <f64 as ::trocar::emitted::Real>::ONE;
+        if <f64 as ::trocar::emitted::Real>::abs(a1_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a1_0);
             ::core::mem::swap(&mut a0_1, &mut a1_1);
             ::core::mem::swap(&mut a0_2, &mut a1_2);
@@ -8655,7 +10978,9 @@ pub mod chain11_wide {
             ::core::mem::swap(&mut b0_0, &mut b0_1);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a2_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a2_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a2_0);
             ::core::mem::swap(&mut a0_1, &mut a2_1);
             ::core::mem::swap(&mut a0_2, &mut a2_2);
@@ -8665,7 +10990,9 @@ pub mod chain11_wide {
             ::core::mem::swap(&mut b0_0, &mut b0_2);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a3_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a3_0);
             ::core::mem::swap(&mut a0_1, &mut a3_1);
             ::core::mem::swap(&mut a0_2, &mut a3_2);
@@ -8675,7 +11002,9 @@ pub mod chain11_wide {
             ::core::mem::swap(&mut b0_0, &mut b0_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a4_0);
             ::core::mem::swap(&mut a0_1, &mut a4_1);
             ::core::mem::swap(&mut a0_2, &mut a4_2);
@@ -8685,7 +11014,9 @@ pub mod chain11_wide {
             ::core::mem::swap(&mut b0_0, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a5_0);
             ::core::mem::swap(&mut a0_1, &mut a5_1);
             ::core::mem::swap(&mut a0_2, &mut a5_2);
@@ -8696,7 +11027,7 @@ pub mod chain11_wide {
             det = -det;
         }
         det *= a0_0;
-        let inv0 = <f64 as ::trocar::Real>::ONE / a0_0;
+        let inv0 = <f64 as ::trocar::emitted::Real>::ONE / a0_0;
         let l = a1_0 * inv0;
         a1_1 -= l * a0_1;
         a1_2 -= l * a0_2;
@@ -8732,7 +11063,9 @@ pub mod chain11_wide {
         a5_4 -= l * a0_4;
         a5_5 -= l * a0_5;
         b0_5 -= l * b0_0;
-        if <f64 as ::trocar::Real>::abs(a2_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a2_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a2_1);
             ::core::mem::swap(&mut a1_2, &mut a2_2);
             ::core::mem::swap(&mut a1_3, &mut a2_3);
@@ -8741,7 +11074,9 @@ pub mod chain11_wide {
             ::core::mem::swap(&mut b0_1, &mut b0_2);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a3_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a3_1);
             ::core::mem::swap(&mut a1_2, &mut a3_2);
             ::core::mem::swap(&mut a1_3, &mut a3_3);
@@ -8750,7 +11085,9 @@ pub mod chain11_wide {
             ::core::mem::swap(&mut b0_1, &mut b0_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a4_1);
             ::core::mem::swap(&mut a1_2, &mut a4_2);
             ::core::mem::swap(&mut a1_3, &mut a4_3);
@@ -8759,7 +11096,9 @@ pub mod chain11_wide {
             ::core::mem::swap(&mut b0_1, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a5_1);
             ::core::mem::swap(&mut a1_2, &mut a5_2);
             ::core::mem::swap(&mut a1_3, &mut a5_3);
@@ -8769,7 +11108,7 @@ pub mod chain11_wide {
             det = -det;
         }
         det *= a1_1;
-        let inv1 = <f64 as ::trocar::Real>::ONE / a1_1;
+        let inv1 = <f64 as ::trocar::emitted::Real>::ONE / a1_1;
         let l = a2_1 * inv1;
         a2_2 -= l * a1_2;
         a2_3 -= l * a1_3;
@@ -8794,7 +11133,9 @@ pub mod chain11_wide {
         a5_4 -= l * a1_4;
         a5_5 -= l * a1_5;
         b0_5 -= l * b0_1;
-        if <f64 as ::trocar::Real>::abs(a3_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a3_2);
             ::core::mem::swap(&mut a2_3, &mut a3_3);
             ::core::mem::swap(&mut a2_4, &mut a3_4);
@@ -8802,7 +11143,9 @@ pub mod chain11_wide {
             ::core::mem::swap(&mut b0_2, &mut b0_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a4_2);
             ::core::mem::swap(&mut a2_3, &mut a4_3);
             ::core::mem::swap(&mut a2_4, &mut a4_4);
@@ -8810,7 +11153,9 @@ pub mod chain11_wide {
             ::core::mem::swap(&mut b0_2, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a5_2);
             ::core::mem::swap(&mut a2_3, &mut a5_3);
             ::core::mem::swap(&mut a2_4, &mut a5_4);
@@ -8819,7 +11164,7 @@ pub mod chain11_wide {
             det = -det;
         }
         det *= a2_2;
-        let inv2 = <f64 as ::trocar::Real>::ONE / a2_2;
+        let inv2 = <f64 as ::trocar::emitted::Real>::ONE / a2_2;
         let l = a3_2 * inv2;
         a3_3 -= l * a2_3;
         a3_4 -= l * a2_4;
@@ -8835,14 +11180,18 @@ pub mod chain11_wide {
         a5_4 -= l * a2_4;
         a5_5 -= l * a2_5;
         b0_5 -= l * b0_2;
-        if <f64 as ::trocar::Real>::abs(a4_3) > <f64 as ::trocar::Real>::abs(a3_3) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_3)
+            > <f64 as ::trocar::emitted::Real>::abs(a3_3)
+        {
             ::core::mem::swap(&mut a3_3, &mut a4_3);
             ::core::mem::swap(&mut a3_4, &mut a4_4);
             ::core::mem::swap(&mut a3_5, &mut a4_5);
             ::core::mem::swap(&mut b0_3, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_3) > <f64 as ::trocar::Real>::abs(a3_3) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_3)
+            > <f64 as ::trocar::emitted::Real>::abs(a3_3)
+        {
             ::core::mem::swap(&mut a3_3, &mut a5_3);
             ::core::mem::swap(&mut a3_4, &mut a5_4);
             ::core::mem::swap(&mut a3_5, &mut a5_5);
@@ -8850,7 +11199,7 @@ pub mod chain11_wide {
             det = -det;
         }
         det *= a3_3;
-        let inv3 = <f64 as ::trocar::Real>::ONE / a3_3;
+        let inv3 = <f64 as ::trocar::emitted::Real>::ONE / a3_3;
         let l = a4_3 * inv3;
         a4_4 -= l * a3_4;
         a4_5 -= l * a3_5;
@@ -8859,19 +11208,21 @@ pub mod chain11_wide {
         a5_4 -= l * a3_4;
         a5_5 -= l * a3_5;
         b0_5 -= l * b0_3;
-        if <f64 as ::trocar::Real>::abs(a5_4) > <f64 as ::trocar::Real>::abs(a4_4) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_4)
+            > <f64 as ::trocar::emitted::Real>::abs(a4_4)
+        {
             ::core::mem::swap(&mut a4_4, &mut a5_4);
             ::core::mem::swap(&mut a4_5, &mut a5_5);
             ::core::mem::swap(&mut b0_4, &mut b0_5);
             det = -det;
         }
         det *= a4_4;
-        let inv4 = <f64 as ::trocar::Real>::ONE / a4_4;
+        let inv4 = <f64 as ::trocar::emitted::Real>::ONE / a4_4;
         let l = a5_4 * inv4;
         a5_5 -= l * a4_5;
         b0_5 -= l * b0_4;
         det *= a5_5;
-        let inv5 = <f64 as ::trocar::Real>::ONE / a5_5;
+        let inv5 = <f64 as ::trocar::emitted::Real>::ONE / a5_5;
         let x5 = (b0_5) * inv5;
         let x4 = (b0_4 - a4_5 * x5) * inv4;
         let x3 = (b0_3 - a3_4 * x4 - a3_5 * x5) * inv3;
@@ -8902,13 +11253,13 @@ pub mod chain11_wide {
     impl Kinematics {
         /// A pose from the generated `(R column-major, p)`.
         #[inline]
-        fn pose((r, p): ([[f64; 3]; 3], [f64; 3])) -> ::trocar::se3::Se3<f64> {
-            ::trocar::se3::Se3 {
-                rotation: ::trocar::nalgebra::Matrix3::from_data(
-                    ::trocar::nalgebra::ArrayStorage(r),
+        fn pose((r, p): ([[f64; 3]; 3], [f64; 3])) -> ::trocar::emitted::Se3<f64> {
+            ::trocar::emitted::Se3 {
+                rotation: ::trocar::emitted::nalgebra::Matrix3::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(r),
                 ),
-                translation: ::trocar::nalgebra::Vector3::from_data(
-                    ::trocar::nalgebra::ArrayStorage([p]),
+                translation: ::trocar::emitted::nalgebra::Vector3::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage([p]),
                 ),
             }
         }
@@ -8916,63 +11267,65 @@ pub mod chain11_wide {
         #[inline]
         fn state(
             s: &StepKinematics,
-        ) -> ::trocar::control::ConstrainedState<f64, I, R, K, M> {
-            ::trocar::control::ConstrainedState {
+        ) -> ::trocar::emitted::ConstrainedState<f64, I, R, K, M> {
+            ::trocar::emitted::ConstrainedState {
                 g_0e: Self::pose(s.g_0e),
                 g_0i: Self::pose(s.g_0i),
-                jr: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jr),
+                jr: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jr),
                 ),
-                jb0i: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jb0i),
+                jb0i: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jb0i),
                 ),
-                jc: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jc),
+                jc: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jc),
                 ),
-                lambda_sharp: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.lambda_sharp),
+                lambda_sharp: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.lambda_sharp),
                 ),
-                lambda_pinv: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.lambda_pinv),
+                lambda_pinv: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.lambda_pinv),
                 ),
             }
         }
     }
-    impl ::trocar::control::ConstrainedKinematics<f64, N, I, R, K, M, 6> for Kinematics {
+    impl ::trocar::emitted::ConstrainedKinematics<f64, N, I, R, K, M, 6> for Kinematics {
         #[inline]
         fn g_0i(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
-        ) -> ::trocar::se3::Se3<f64> {
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
+        ) -> ::trocar::emitted::Se3<f64> {
             Self::pose(forward_kinematics_i(&q.data.0[0], &self.params))
         }
         #[inline]
-        fn h(&self) -> ::trocar::nalgebra::SMatrix<f64, R, 6> {
-            ::trocar::nalgebra::SMatrix::from_data(
-                ::trocar::nalgebra::ArrayStorage(constraint_selection(&self.params)),
+        fn h(&self) -> ::trocar::emitted::nalgebra::SMatrix<f64, R, 6> {
+            ::trocar::emitted::nalgebra::SMatrix::from_data(
+                ::trocar::emitted::nalgebra::ArrayStorage(
+                    constraint_selection(&self.params),
+                ),
             )
         }
         #[inline]
-        fn shaft(&self) -> ::trocar::control::Shaft<f64> {
+        fn shaft(&self) -> ::trocar::emitted::Shaft<f64> {
             let mut p = self.params;
-            p.l_a = <f64 as ::trocar::Real>::ZERO;
+            p.l_a = <f64 as ::trocar::emitted::Real>::ZERO;
             let at_zero = Self::pose(constraint_frame(&p));
-            p.l_a = <f64 as ::trocar::Real>::ONE;
+            p.l_a = <f64 as ::trocar::emitted::Real>::ONE;
             let at_one = Self::pose(constraint_frame(&p));
-            ::trocar::control::Shaft::from_frames(&at_zero, &at_one)
+            ::trocar::emitted::Shaft::from_frames(&at_zero, &at_one)
         }
         #[inline]
-        fn task_selection(&self) -> ::trocar::nalgebra::SMatrix<f64, 6, 6> {
-            ::trocar::nalgebra::SMatrix::identity()
+        fn task_selection(&self) -> ::trocar::emitted::nalgebra::SMatrix<f64, 6, 6> {
+            ::trocar::emitted::nalgebra::SMatrix::identity()
         }
         #[inline]
         fn evaluate(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
             l_a: f64,
         ) -> ::core::result::Result<
-            ::trocar::control::ConstrainedState<f64, I, R, K, M>,
-            ::trocar::control::ControlError,
+            ::trocar::emitted::ConstrainedState<f64, I, R, K, M>,
+            ::trocar::emitted::ControlError,
         > {
             let t = JointTrig::new(&q.data.0[0]);
             let mut p = self.params;
@@ -8981,9 +11334,9 @@ pub mod chain11_wide {
             s.g_0i = forward_kinematics_i_trig(&t, &p);
             s.offset = l_a;
             fill_step(&t, &p, &mut s);
-            if !<f64 as ::trocar::Real>::is_finite(l_a) || !step_is_finite(&s) {
+            if !<f64 as ::trocar::emitted::Real>::is_finite(l_a) || !step_is_finite(&s) {
                 return ::core::result::Result::Err(
-                    ::trocar::control::ControlError::Kinematics,
+                    ::trocar::emitted::ControlError::Kinematics,
                 );
             }
             ::core::result::Result::Ok(Self::state(&s))
@@ -8992,12 +11345,14 @@ pub mod chain11_wide {
         #[inline]
         fn solve_jb0i(
             &self,
-            j: &::trocar::nalgebra::SMatrix<f64, 6, I>,
-            b: &::trocar::nalgebra::SVector<f64, 6>,
-        ) -> ::core::option::Option<(::trocar::nalgebra::SVector<f64, I>, f64)> {
+            j: &::trocar::emitted::nalgebra::SMatrix<f64, 6, I>,
+            b: &::trocar::emitted::nalgebra::SVector<f64, 6>,
+        ) -> ::core::option::Option<
+            (::trocar::emitted::nalgebra::SVector<f64, I>, f64),
+        > {
             let (x, det_or_w) = lu_solve_6(&j.data.0, &b.data.0[0]);
             ::core::option::Option::Some((
-                ::trocar::nalgebra::SVector::from(x),
+                ::trocar::emitted::nalgebra::SVector::from(x),
                 det_or_w,
             ))
         }
@@ -9005,18 +11360,18 @@ pub mod chain11_wide {
         #[inline]
         fn evaluate_at_trocar(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
-            trocar: &::trocar::nalgebra::Vector3<f64>,
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
+            trocar: &::trocar::emitted::nalgebra::Vector3<f64>,
         ) -> ::core::result::Result<
-            (f64, ::trocar::control::ConstrainedState<f64, I, R, K, M>),
-            ::trocar::control::ControlError,
+            (f64, ::trocar::emitted::ConstrainedState<f64, I, R, K, M>),
+            ::trocar::emitted::ControlError,
         > {
             let t = JointTrig::new(&q.data.0[0]);
             let mut s = StepKinematics::zeroed();
             fill_at_trocar(&t, &trocar.data.0[0], &self.params, &mut s);
-            if !<f64 as ::trocar::Real>::is_finite(s.offset) {
+            if !<f64 as ::trocar::emitted::Real>::is_finite(s.offset) {
                 return ::core::result::Result::Err(
-                    ::trocar::control::ControlError::Kinematics,
+                    ::trocar::emitted::ControlError::Kinematics,
                 );
             }
             ::core::result::Result::Ok((s.offset, Self::state(&s)))

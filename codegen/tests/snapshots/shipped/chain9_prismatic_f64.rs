@@ -61,13 +61,33 @@ pub mod chain9_prismatic {
         #[inline(always)]
         #[must_use]
         pub fn new(q: &[f64; N]) -> Self {
-            let ([s1, s2, s3, s5, s6, s7, s8, s9], [c1, c2, c3, c5, c6, c7, c8, c9]) = <f64 as ::trocar::Real>::sin_cos_array(
+            let ([s1, s2, s3, s5, s6, s7, s8, s9], [c1, c2, c3, c5, c6, c7, c8, c9]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
                 &[q[0], q[1], q[2], q[4], q[5], q[6], q[7], q[8]],
             );
             JointTrig {
                 q: *q,
-                sin: [s1, s2, s3, <f64 as ::trocar::Real>::ZERO, s5, s6, s7, s8, s9],
-                cos: [c1, c2, c3, <f64 as ::trocar::Real>::ONE, c5, c6, c7, c8, c9],
+                sin: [
+                    s1,
+                    s2,
+                    s3,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    s5,
+                    s6,
+                    s7,
+                    s8,
+                    s9,
+                ],
+                cos: [
+                    c1,
+                    c2,
+                    c3,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    c5,
+                    c6,
+                    c7,
+                    c8,
+                    c9,
+                ],
             }
         }
     }
@@ -79,15 +99,15 @@ pub mod chain9_prismatic {
     #[inline]
     #[must_use]
     pub fn forward_kinematics(q: &[f64; N], p: &Params) -> ([[f64; 3]; 3], [f64; 3]) {
-        let ([s1, s2, s3, s5, s6, s7, s8, s9], [c1, c2, c3, c5, c6, c7, c8, c9]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s2, s3, s5, s6, s7, s8, s9], [c1, c2, c3, c5, c6, c7, c8, c9]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[4], q[5], q[6], q[7], q[8]],
         );
-        let x0 = <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             c2,
             -(0.29552020666133955_f64 * s2),
         );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             s2,
             0.29552020666133955_f64 * c2,
@@ -96,24 +116,24 @@ pub mod chain9_prismatic {
         let x3 = 0.8_f64 * s3;
         let x4 = 0.6_f64 * c3;
         let x5 = 0.6_f64 * s3;
-        let x6 = <f64 as ::trocar::Real>::mul_add(0.8_f64, q[3], 0.08_f64);
-        let x7 = <f64 as ::trocar::Real>::mul_add(0.6_f64, q[3], 0.06_f64);
-        let x8 = <f64 as ::trocar::Real>::mul_add(
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, q[3], 0.08_f64);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, q[3], 0.06_f64);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3816559020950483_f64,
             s5,
             0.19866933079506122_f64 * c5,
         );
-        let x9 = <f64 as ::trocar::Real>::mul_add(
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.19866933079506122_f64,
             s5,
             -(0.3816559020950483_f64 * c5),
         );
-        let x10 = <f64 as ::trocar::Real>::mul_add(
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             c5,
             -(0.07736548146578168_f64 * s5),
         );
-        let x11 = <f64 as ::trocar::Real>::mul_add(
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             s5,
             0.07736548146578168_f64 * c5,
@@ -124,176 +144,200 @@ pub mod chain9_prismatic {
         let x15 = 0.6_f64 * s8;
         let x16 = 0.8_f64 * c8;
         let x17 = 0.8_f64 * s8;
-        let x18 = <f64 as ::trocar::Real>::mul_add(0.8_f64, s9, 0.6_f64 * c9);
-        let x19 = <f64 as ::trocar::Real>::mul_add(0.8_f64, c9, -(0.6_f64 * s9));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, s9, 0.6_f64 * c9);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            c9,
+            -(0.6_f64 * s9),
+        );
         let x20 = s1 * x0;
         let x21 = s1 * x1;
         let x22 = c1 * x0;
         let x23 = c1 * x1;
-        let x24 = <f64 as ::trocar::Real>::mul_add(
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
             x4,
             x21,
-            <f64 as ::trocar::Real>::mul_add(c1, s3, x2 * x20),
+            <f64 as ::trocar::emitted::Real>::mul_add(c1, s3, x2 * x20),
         );
-        let x25 = <f64 as ::trocar::Real>::mul_add(
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
             x5,
             x21,
-            <f64 as ::trocar::Real>::mul_add(x3, x20, -(c1 * c3)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x3, x20, -(c1 * c3)),
         );
-        let x26 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x21, -(0.6_f64 * x20));
-        let x27 = <f64 as ::trocar::Real>::mul_add(
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x21,
+            -(0.6_f64 * x20),
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
             x4,
             x23,
-            <f64 as ::trocar::Real>::mul_add(x2, x22, -(s1 * s3)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x22, -(s1 * s3)),
         );
-        let x28 = <f64 as ::trocar::Real>::mul_add(
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
             x5,
             x23,
-            <f64 as ::trocar::Real>::mul_add(s1, c3, x3 * x22),
+            <f64 as ::trocar::emitted::Real>::mul_add(s1, c3, x3 * x22),
         );
-        let x29 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x22, -(0.8_f64 * x23));
-        let x30 = <f64 as ::trocar::Real>::mul_add(x1, x2, -(x0 * x4));
-        let x31 = <f64 as ::trocar::Real>::mul_add(x0, x5, -(x1 * x3));
-        let x32 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x1, 0.8_f64 * x0);
-        let x33 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x26, -(0.8_f64 * x24));
-        let x34 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x24, 0.8_f64 * x26);
-        let x35 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x27, 0.6_f64 * x29);
-        let x36 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x29, -(0.6_f64 * x27));
-        let x37 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x30, 0.6_f64 * x32);
-        let x38 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x32, -(0.6_f64 * x30));
-        let x39 = <f64 as ::trocar::Real>::mul_add(
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.6_f64,
+            x22,
+            -(0.8_f64 * x23),
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(x1, x2, -(x0 * x4));
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(x0, x5, -(x1 * x3));
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x1, 0.8_f64 * x0);
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.6_f64,
+            x26,
+            -(0.8_f64 * x24),
+        );
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x24, 0.8_f64 * x26);
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x27, 0.6_f64 * x29);
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x29,
+            -(0.6_f64 * x27),
+        );
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x30, 0.6_f64 * x32);
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x32,
+            -(0.6_f64 * x30),
+        );
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3894183423086505_f64,
             x34,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.18298657129998708_f64,
                 x33,
                 -(0.90270109637546_f64 * x25),
             ),
         );
-        let x40 = <f64 as ::trocar::Real>::mul_add(
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(
             x12,
             x34,
-            <f64 as ::trocar::Real>::mul_add(x8, x25, x10 * x33),
+            <f64 as ::trocar::emitted::Real>::mul_add(x8, x25, x10 * x33),
         );
-        let x41 = <f64 as ::trocar::Real>::mul_add(
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(
             x13,
             x34,
-            -<f64 as ::trocar::Real>::mul_add(x9, x25, x11 * x33),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x9, x25, x11 * x33),
         );
-        let x42 = <f64 as ::trocar::Real>::mul_add(
+        let x42 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3894183423086505_f64,
             x36,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.90270109637546_f64,
                 x28,
                 0.18298657129998708_f64 * x35,
             ),
         );
-        let x43 = <f64 as ::trocar::Real>::mul_add(
+        let x43 = <f64 as ::trocar::emitted::Real>::mul_add(
             x12,
             x36,
-            <f64 as ::trocar::Real>::mul_add(x10, x35, -(x8 * x28)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x10, x35, -(x8 * x28)),
         );
-        let x44 = <f64 as ::trocar::Real>::mul_add(
+        let x44 = <f64 as ::trocar::emitted::Real>::mul_add(
             x13,
             x36,
-            <f64 as ::trocar::Real>::mul_add(x9, x28, -(x11 * x35)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x9, x28, -(x11 * x35)),
         );
-        let x45 = <f64 as ::trocar::Real>::mul_add(
+        let x45 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3894183423086505_f64,
             x38,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.18298657129998708_f64,
                 x37,
                 -(0.90270109637546_f64 * x31),
             ),
         );
-        let x46 = <f64 as ::trocar::Real>::mul_add(
+        let x46 = <f64 as ::trocar::emitted::Real>::mul_add(
             x12,
             x38,
-            <f64 as ::trocar::Real>::mul_add(x8, x31, x10 * x37),
+            <f64 as ::trocar::emitted::Real>::mul_add(x8, x31, x10 * x37),
         );
-        let x47 = <f64 as ::trocar::Real>::mul_add(
+        let x47 = <f64 as ::trocar::emitted::Real>::mul_add(
             x13,
             x38,
-            -<f64 as ::trocar::Real>::mul_add(x9, x31, x11 * x37),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x9, x31, x11 * x37),
         );
-        let x48 = <f64 as ::trocar::Real>::mul_add(c6, x39, -(s6 * x41));
-        let x49 = <f64 as ::trocar::Real>::mul_add(s6, x39, c6 * x41);
-        let x50 = <f64 as ::trocar::Real>::mul_add(c6, x42, -(s6 * x44));
-        let x51 = <f64 as ::trocar::Real>::mul_add(s6, x42, c6 * x44);
-        let x52 = <f64 as ::trocar::Real>::mul_add(c6, x45, -(s6 * x47));
-        let x53 = <f64 as ::trocar::Real>::mul_add(s6, x45, c6 * x47);
-        let x54 = <f64 as ::trocar::Real>::mul_add(c7, x48, s7 * x40);
-        let x55 = <f64 as ::trocar::Real>::mul_add(c7, x40, -(s7 * x48));
-        let x56 = <f64 as ::trocar::Real>::mul_add(c7, x50, s7 * x43);
-        let x57 = <f64 as ::trocar::Real>::mul_add(c7, x43, -(s7 * x50));
-        let x58 = <f64 as ::trocar::Real>::mul_add(c7, x52, s7 * x46);
-        let x59 = <f64 as ::trocar::Real>::mul_add(c7, x46, -(s7 * x52));
-        let x60 = <f64 as ::trocar::Real>::mul_add(
+        let x48 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x39, -(s6 * x41));
+        let x49 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x39, c6 * x41);
+        let x50 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x42, -(s6 * x44));
+        let x51 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x42, c6 * x44);
+        let x52 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x45, -(s6 * x47));
+        let x53 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x45, c6 * x47);
+        let x54 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x48, s7 * x40);
+        let x55 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x40, -(s7 * x48));
+        let x56 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x50, s7 * x43);
+        let x57 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x43, -(s7 * x50));
+        let x58 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x52, s7 * x46);
+        let x59 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x46, -(s7 * x52));
+        let x60 = <f64 as ::trocar::emitted::Real>::mul_add(
             x16,
             x49,
-            -<f64 as ::trocar::Real>::mul_add(x14, x54, s8 * x55),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x14, x54, s8 * x55),
         );
-        let x61 = <f64 as ::trocar::Real>::mul_add(
+        let x61 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x17,
             x49,
-            <f64 as ::trocar::Real>::mul_add(x15, x54, -(c8 * x55)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x15, x54, -(c8 * x55)),
         );
-        let x62 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x54, 0.6_f64 * x49);
-        let x63 = <f64 as ::trocar::Real>::mul_add(
+        let x62 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x54, 0.6_f64 * x49);
+        let x63 = <f64 as ::trocar::emitted::Real>::mul_add(
             x16,
             x51,
-            -<f64 as ::trocar::Real>::mul_add(x14, x56, s8 * x57),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x14, x56, s8 * x57),
         );
-        let x64 = <f64 as ::trocar::Real>::mul_add(
+        let x64 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x17,
             x51,
-            <f64 as ::trocar::Real>::mul_add(x15, x56, -(c8 * x57)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x15, x56, -(c8 * x57)),
         );
-        let x65 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x56, 0.6_f64 * x51);
-        let x66 = <f64 as ::trocar::Real>::mul_add(
+        let x65 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x56, 0.6_f64 * x51);
+        let x66 = <f64 as ::trocar::emitted::Real>::mul_add(
             x16,
             x53,
-            -<f64 as ::trocar::Real>::mul_add(x14, x58, s8 * x59),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x14, x58, s8 * x59),
         );
-        let x67 = <f64 as ::trocar::Real>::mul_add(
+        let x67 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x17,
             x53,
-            <f64 as ::trocar::Real>::mul_add(x15, x58, -(c8 * x59)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x15, x58, -(c8 * x59)),
         );
-        let x68 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x58, 0.6_f64 * x53);
-        let x69 = <f64 as ::trocar::Real>::mul_add(x19, x62, -(x18 * x60));
-        let x70 = <f64 as ::trocar::Real>::mul_add(x19, x60, x18 * x62);
-        let x71 = <f64 as ::trocar::Real>::mul_add(x19, x65, -(x18 * x63));
-        let x72 = <f64 as ::trocar::Real>::mul_add(x19, x63, x18 * x65);
-        let x73 = <f64 as ::trocar::Real>::mul_add(x19, x68, -(x18 * x66));
-        let x74 = <f64 as ::trocar::Real>::mul_add(x19, x66, x18 * x68);
+        let x68 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x58, 0.6_f64 * x53);
+        let x69 = <f64 as ::trocar::emitted::Real>::mul_add(x19, x62, -(x18 * x60));
+        let x70 = <f64 as ::trocar::emitted::Real>::mul_add(x19, x60, x18 * x62);
+        let x71 = <f64 as ::trocar::emitted::Real>::mul_add(x19, x65, -(x18 * x63));
+        let x72 = <f64 as ::trocar::emitted::Real>::mul_add(x19, x63, x18 * x65);
+        let x73 = <f64 as ::trocar::emitted::Real>::mul_add(x19, x68, -(x18 * x66));
+        let x74 = <f64 as ::trocar::emitted::Real>::mul_add(x19, x66, x18 * x68);
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         -0.19866933079506122_f64,
                         x70,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.9362933635841992_f64,
                             x69,
                             -(0.28962947762551555_f64 * x61),
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         -0.19866933079506122_f64,
                         x72,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.9362933635841992_f64,
                             x71,
                             -(0.28962947762551555_f64 * x64),
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         -0.19866933079506122_f64,
                         x74,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.9362933635841992_f64,
                             x73,
                             -(0.28962947762551555_f64 * x67),
@@ -301,28 +345,28 @@ pub mod chain9_prismatic {
                     ),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.09784339500725571_f64,
                         x70,
-                        -<f64 as ::trocar::Real>::mul_add(
+                        -<f64 as ::trocar::emitted::Real>::mul_add(
                             0.2750958473182437_f64,
                             x69,
                             0.9564250858492325_f64 * x61,
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.09784339500725571_f64,
                         x72,
-                        -<f64 as ::trocar::Real>::mul_add(
+                        -<f64 as ::trocar::emitted::Real>::mul_add(
                             0.2750958473182437_f64,
                             x71,
                             0.9564250858492325_f64 * x64,
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.09784339500725571_f64,
                         x74,
-                        -<f64 as ::trocar::Real>::mul_add(
+                        -<f64 as ::trocar::emitted::Real>::mul_add(
                             0.2750958473182437_f64,
                             x73,
                             0.9564250858492325_f64 * x67,
@@ -330,28 +374,28 @@ pub mod chain9_prismatic {
                     ),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.975170327201816_f64,
                         x70,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.21835066314633444_f64,
                             x69,
                             0.03695701352462508_f64 * x61,
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.975170327201816_f64,
                         x72,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.21835066314633444_f64,
                             x71,
                             0.03695701352462508_f64 * x64,
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.975170327201816_f64,
                         x74,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.21835066314633444_f64,
                             x73,
                             0.03695701352462508_f64 * x67,
@@ -360,130 +404,146 @@ pub mod chain9_prismatic {
                 ],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.15_f64,
                     x61,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.04_f64,
                         x55,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.05_f64,
                             x40,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.05_f64,
                                 c1,
                                 -(0.02_f64 * s1),
                             )
-                                - <f64 as ::trocar::Real>::mul_add(
+                                - <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.4_f64,
                                     x20,
                                     0.03_f64 * x21,
                                 )
-                                + <f64 as ::trocar::Real>::mul_add(
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
                                     x7,
                                     x26,
-                                    -<f64 as ::trocar::Real>::mul_add(x6, x24, 0.01_f64 * x25),
+                                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                                        x6,
+                                        x24,
+                                        0.01_f64 * x25,
+                                    ),
                                 )
-                                + <f64 as ::trocar::Real>::mul_add(
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.25_f64,
                                     x33,
                                     0.02_f64 * x34,
                                 ),
                         )
-                            + <f64 as ::trocar::Real>::mul_add(
+                            + <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.02_f64,
                                 x48,
                                 0.3_f64 * x40,
                             ),
                     )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.006_f64,
                             x62,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.008_f64,
                                 x60,
                                 -(0.1_f64 * x61),
                             ),
                         ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.15_f64,
                     x64,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.04_f64,
                         x57,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.05_f64,
                             x43,
-                            <f64 as ::trocar::Real>::mul_add(0.05_f64, s1, 0.02_f64 * c1)
-                                + <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                0.05_f64,
+                                s1,
+                                0.02_f64 * c1,
+                            )
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.4_f64,
                                     x22,
                                     0.03_f64 * x23,
                                 )
-                                + <f64 as ::trocar::Real>::mul_add(
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
                                     x7,
                                     x29,
-                                    <f64 as ::trocar::Real>::mul_add(x6, x27, 0.01_f64 * x28),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x6,
+                                        x27,
+                                        0.01_f64 * x28,
+                                    ),
                                 )
-                                + <f64 as ::trocar::Real>::mul_add(
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.25_f64,
                                     x35,
                                     0.02_f64 * x36,
                                 ),
                         )
-                            + <f64 as ::trocar::Real>::mul_add(
+                            + <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.02_f64,
                                 x50,
                                 0.3_f64 * x43,
                             ),
                     )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.006_f64,
                             x65,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.008_f64,
                                 x63,
                                 -(0.1_f64 * x64),
                             ),
                         ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.15_f64,
                     x67,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.04_f64,
                         x59,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.05_f64,
                             x46,
                             p.d_1 + 0.1_f64
-                                + <f64 as ::trocar::Real>::mul_add(
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.4_f64,
                                     x1,
                                     -(0.03_f64 * x0),
                                 )
-                                + <f64 as ::trocar::Real>::mul_add(
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
                                     x7,
                                     x32,
-                                    <f64 as ::trocar::Real>::mul_add(x6, x30, -(0.01_f64 * x31)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x6,
+                                        x30,
+                                        -(0.01_f64 * x31),
+                                    ),
                                 )
-                                + <f64 as ::trocar::Real>::mul_add(
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.25_f64,
                                     x37,
                                     0.02_f64 * x38,
                                 ),
                         )
-                            + <f64 as ::trocar::Real>::mul_add(
+                            + <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.02_f64,
                                 x52,
                                 0.3_f64 * x46,
                             ),
                     )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.006_f64,
                             x68,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.008_f64,
                                 x66,
                                 -(0.1_f64 * x67),
@@ -504,12 +564,12 @@ pub mod chain9_prismatic {
         t: &JointTrig,
         p: &Params,
     ) -> ([[f64; 3]; 3], [f64; 3]) {
-        let x0 = <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             t.cos[1],
             -(0.29552020666133955_f64 * t.sin[1]),
         );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             t.sin[1],
             0.29552020666133955_f64 * t.cos[1],
@@ -518,24 +578,24 @@ pub mod chain9_prismatic {
         let x3 = 0.8_f64 * t.sin[2];
         let x4 = 0.6_f64 * t.cos[2];
         let x5 = 0.6_f64 * t.sin[2];
-        let x6 = <f64 as ::trocar::Real>::mul_add(0.8_f64, t.q[3], 0.08_f64);
-        let x7 = <f64 as ::trocar::Real>::mul_add(0.6_f64, t.q[3], 0.06_f64);
-        let x8 = <f64 as ::trocar::Real>::mul_add(
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, t.q[3], 0.08_f64);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, t.q[3], 0.06_f64);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3816559020950483_f64,
             t.sin[4],
             0.19866933079506122_f64 * t.cos[4],
         );
-        let x9 = <f64 as ::trocar::Real>::mul_add(
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.19866933079506122_f64,
             t.sin[4],
             -(0.3816559020950483_f64 * t.cos[4]),
         );
-        let x10 = <f64 as ::trocar::Real>::mul_add(
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             t.cos[4],
             -(0.07736548146578168_f64 * t.sin[4]),
         );
-        let x11 = <f64 as ::trocar::Real>::mul_add(
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             t.sin[4],
             0.07736548146578168_f64 * t.cos[4],
@@ -546,12 +606,12 @@ pub mod chain9_prismatic {
         let x15 = 0.6_f64 * t.sin[7];
         let x16 = 0.8_f64 * t.cos[7];
         let x17 = 0.8_f64 * t.sin[7];
-        let x18 = <f64 as ::trocar::Real>::mul_add(
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             t.sin[8],
             0.6_f64 * t.cos[8],
         );
-        let x19 = <f64 as ::trocar::Real>::mul_add(
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             t.cos[8],
             -(0.6_f64 * t.sin[8]),
@@ -560,170 +620,238 @@ pub mod chain9_prismatic {
         let x21 = t.sin[0] * x1;
         let x22 = t.cos[0] * x0;
         let x23 = t.cos[0] * x1;
-        let x24 = <f64 as ::trocar::Real>::mul_add(
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
             x4,
             x21,
-            <f64 as ::trocar::Real>::mul_add(t.cos[0], t.sin[2], x2 * x20),
+            <f64 as ::trocar::emitted::Real>::mul_add(t.cos[0], t.sin[2], x2 * x20),
         );
-        let x25 = <f64 as ::trocar::Real>::mul_add(
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
             x5,
             x21,
-            <f64 as ::trocar::Real>::mul_add(x3, x20, -(t.cos[0] * t.cos[2])),
+            <f64 as ::trocar::emitted::Real>::mul_add(x3, x20, -(t.cos[0] * t.cos[2])),
         );
-        let x26 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x21, -(0.6_f64 * x20));
-        let x27 = <f64 as ::trocar::Real>::mul_add(
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x21,
+            -(0.6_f64 * x20),
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
             x4,
             x23,
-            <f64 as ::trocar::Real>::mul_add(x2, x22, -(t.sin[0] * t.sin[2])),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x22, -(t.sin[0] * t.sin[2])),
         );
-        let x28 = <f64 as ::trocar::Real>::mul_add(
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
             x5,
             x23,
-            <f64 as ::trocar::Real>::mul_add(t.sin[0], t.cos[2], x3 * x22),
+            <f64 as ::trocar::emitted::Real>::mul_add(t.sin[0], t.cos[2], x3 * x22),
         );
-        let x29 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x22, -(0.8_f64 * x23));
-        let x30 = <f64 as ::trocar::Real>::mul_add(x1, x2, -(x0 * x4));
-        let x31 = <f64 as ::trocar::Real>::mul_add(x0, x5, -(x1 * x3));
-        let x32 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x1, 0.8_f64 * x0);
-        let x33 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x26, -(0.8_f64 * x24));
-        let x34 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x24, 0.8_f64 * x26);
-        let x35 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x27, 0.6_f64 * x29);
-        let x36 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x29, -(0.6_f64 * x27));
-        let x37 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x30, 0.6_f64 * x32);
-        let x38 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x32, -(0.6_f64 * x30));
-        let x39 = <f64 as ::trocar::Real>::mul_add(
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.6_f64,
+            x22,
+            -(0.8_f64 * x23),
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(x1, x2, -(x0 * x4));
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(x0, x5, -(x1 * x3));
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x1, 0.8_f64 * x0);
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.6_f64,
+            x26,
+            -(0.8_f64 * x24),
+        );
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x24, 0.8_f64 * x26);
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x27, 0.6_f64 * x29);
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x29,
+            -(0.6_f64 * x27),
+        );
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x30, 0.6_f64 * x32);
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x32,
+            -(0.6_f64 * x30),
+        );
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3894183423086505_f64,
             x34,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.18298657129998708_f64,
                 x33,
                 -(0.90270109637546_f64 * x25),
             ),
         );
-        let x40 = <f64 as ::trocar::Real>::mul_add(
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(
             x12,
             x34,
-            <f64 as ::trocar::Real>::mul_add(x8, x25, x10 * x33),
+            <f64 as ::trocar::emitted::Real>::mul_add(x8, x25, x10 * x33),
         );
-        let x41 = <f64 as ::trocar::Real>::mul_add(
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(
             x13,
             x34,
-            -<f64 as ::trocar::Real>::mul_add(x9, x25, x11 * x33),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x9, x25, x11 * x33),
         );
-        let x42 = <f64 as ::trocar::Real>::mul_add(
+        let x42 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3894183423086505_f64,
             x36,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.90270109637546_f64,
                 x28,
                 0.18298657129998708_f64 * x35,
             ),
         );
-        let x43 = <f64 as ::trocar::Real>::mul_add(
+        let x43 = <f64 as ::trocar::emitted::Real>::mul_add(
             x12,
             x36,
-            <f64 as ::trocar::Real>::mul_add(x10, x35, -(x8 * x28)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x10, x35, -(x8 * x28)),
         );
-        let x44 = <f64 as ::trocar::Real>::mul_add(
+        let x44 = <f64 as ::trocar::emitted::Real>::mul_add(
             x13,
             x36,
-            <f64 as ::trocar::Real>::mul_add(x9, x28, -(x11 * x35)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x9, x28, -(x11 * x35)),
         );
-        let x45 = <f64 as ::trocar::Real>::mul_add(
+        let x45 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3894183423086505_f64,
             x38,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.18298657129998708_f64,
                 x37,
                 -(0.90270109637546_f64 * x31),
             ),
         );
-        let x46 = <f64 as ::trocar::Real>::mul_add(
+        let x46 = <f64 as ::trocar::emitted::Real>::mul_add(
             x12,
             x38,
-            <f64 as ::trocar::Real>::mul_add(x8, x31, x10 * x37),
+            <f64 as ::trocar::emitted::Real>::mul_add(x8, x31, x10 * x37),
         );
-        let x47 = <f64 as ::trocar::Real>::mul_add(
+        let x47 = <f64 as ::trocar::emitted::Real>::mul_add(
             x13,
             x38,
-            -<f64 as ::trocar::Real>::mul_add(x9, x31, x11 * x37),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x9, x31, x11 * x37),
         );
-        let x48 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x39, -(t.sin[5] * x41));
-        let x49 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x39, t.cos[5] * x41);
-        let x50 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x42, -(t.sin[5] * x44));
-        let x51 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x42, t.cos[5] * x44);
-        let x52 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x45, -(t.sin[5] * x47));
-        let x53 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x45, t.cos[5] * x47);
-        let x54 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x48, t.sin[6] * x40);
-        let x55 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x40, -(t.sin[6] * x48));
-        let x56 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x50, t.sin[6] * x43);
-        let x57 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x43, -(t.sin[6] * x50));
-        let x58 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x52, t.sin[6] * x46);
-        let x59 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x46, -(t.sin[6] * x52));
-        let x60 = <f64 as ::trocar::Real>::mul_add(
+        let x48 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x39,
+            -(t.sin[5] * x41),
+        );
+        let x49 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x39,
+            t.cos[5] * x41,
+        );
+        let x50 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x42,
+            -(t.sin[5] * x44),
+        );
+        let x51 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x42,
+            t.cos[5] * x44,
+        );
+        let x52 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x45,
+            -(t.sin[5] * x47),
+        );
+        let x53 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x45,
+            t.cos[5] * x47,
+        );
+        let x54 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x48,
+            t.sin[6] * x40,
+        );
+        let x55 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x40,
+            -(t.sin[6] * x48),
+        );
+        let x56 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x50,
+            t.sin[6] * x43,
+        );
+        let x57 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x43,
+            -(t.sin[6] * x50),
+        );
+        let x58 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x52,
+            t.sin[6] * x46,
+        );
+        let x59 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x46,
+            -(t.sin[6] * x52),
+        );
+        let x60 = <f64 as ::trocar::emitted::Real>::mul_add(
             x16,
             x49,
-            -<f64 as ::trocar::Real>::mul_add(x14, x54, t.sin[7] * x55),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x14, x54, t.sin[7] * x55),
         );
-        let x61 = <f64 as ::trocar::Real>::mul_add(
+        let x61 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x17,
             x49,
-            <f64 as ::trocar::Real>::mul_add(x15, x54, -(t.cos[7] * x55)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x15, x54, -(t.cos[7] * x55)),
         );
-        let x62 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x54, 0.6_f64 * x49);
-        let x63 = <f64 as ::trocar::Real>::mul_add(
+        let x62 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x54, 0.6_f64 * x49);
+        let x63 = <f64 as ::trocar::emitted::Real>::mul_add(
             x16,
             x51,
-            -<f64 as ::trocar::Real>::mul_add(x14, x56, t.sin[7] * x57),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x14, x56, t.sin[7] * x57),
         );
-        let x64 = <f64 as ::trocar::Real>::mul_add(
+        let x64 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x17,
             x51,
-            <f64 as ::trocar::Real>::mul_add(x15, x56, -(t.cos[7] * x57)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x15, x56, -(t.cos[7] * x57)),
         );
-        let x65 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x56, 0.6_f64 * x51);
-        let x66 = <f64 as ::trocar::Real>::mul_add(
+        let x65 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x56, 0.6_f64 * x51);
+        let x66 = <f64 as ::trocar::emitted::Real>::mul_add(
             x16,
             x53,
-            -<f64 as ::trocar::Real>::mul_add(x14, x58, t.sin[7] * x59),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x14, x58, t.sin[7] * x59),
         );
-        let x67 = <f64 as ::trocar::Real>::mul_add(
+        let x67 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x17,
             x53,
-            <f64 as ::trocar::Real>::mul_add(x15, x58, -(t.cos[7] * x59)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x15, x58, -(t.cos[7] * x59)),
         );
-        let x68 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x58, 0.6_f64 * x53);
-        let x69 = <f64 as ::trocar::Real>::mul_add(x19, x62, -(x18 * x60));
-        let x70 = <f64 as ::trocar::Real>::mul_add(x19, x60, x18 * x62);
-        let x71 = <f64 as ::trocar::Real>::mul_add(x19, x65, -(x18 * x63));
-        let x72 = <f64 as ::trocar::Real>::mul_add(x19, x63, x18 * x65);
-        let x73 = <f64 as ::trocar::Real>::mul_add(x19, x68, -(x18 * x66));
-        let x74 = <f64 as ::trocar::Real>::mul_add(x19, x66, x18 * x68);
+        let x68 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x58, 0.6_f64 * x53);
+        let x69 = <f64 as ::trocar::emitted::Real>::mul_add(x19, x62, -(x18 * x60));
+        let x70 = <f64 as ::trocar::emitted::Real>::mul_add(x19, x60, x18 * x62);
+        let x71 = <f64 as ::trocar::emitted::Real>::mul_add(x19, x65, -(x18 * x63));
+        let x72 = <f64 as ::trocar::emitted::Real>::mul_add(x19, x63, x18 * x65);
+        let x73 = <f64 as ::trocar::emitted::Real>::mul_add(x19, x68, -(x18 * x66));
+        let x74 = <f64 as ::trocar::emitted::Real>::mul_add(x19, x66, x18 * x68);
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         -0.19866933079506122_f64,
                         x70,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.9362933635841992_f64,
                             x69,
                             -(0.28962947762551555_f64 * x61),
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         -0.19866933079506122_f64,
                         x72,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.9362933635841992_f64,
                             x71,
                             -(0.28962947762551555_f64 * x64),
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         -0.19866933079506122_f64,
                         x74,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.9362933635841992_f64,
                             x73,
                             -(0.28962947762551555_f64 * x67),
@@ -731,28 +859,28 @@ pub mod chain9_prismatic {
                     ),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.09784339500725571_f64,
                         x70,
-                        -<f64 as ::trocar::Real>::mul_add(
+                        -<f64 as ::trocar::emitted::Real>::mul_add(
                             0.2750958473182437_f64,
                             x69,
                             0.9564250858492325_f64 * x61,
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.09784339500725571_f64,
                         x72,
-                        -<f64 as ::trocar::Real>::mul_add(
+                        -<f64 as ::trocar::emitted::Real>::mul_add(
                             0.2750958473182437_f64,
                             x71,
                             0.9564250858492325_f64 * x64,
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.09784339500725571_f64,
                         x74,
-                        -<f64 as ::trocar::Real>::mul_add(
+                        -<f64 as ::trocar::emitted::Real>::mul_add(
                             0.2750958473182437_f64,
                             x73,
                             0.9564250858492325_f64 * x67,
@@ -760,28 +888,28 @@ pub mod chain9_prismatic {
                     ),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.975170327201816_f64,
                         x70,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.21835066314633444_f64,
                             x69,
                             0.03695701352462508_f64 * x61,
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.975170327201816_f64,
                         x72,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.21835066314633444_f64,
                             x71,
                             0.03695701352462508_f64 * x64,
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.975170327201816_f64,
                         x74,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.21835066314633444_f64,
                             x73,
                             0.03695701352462508_f64 * x67,
@@ -790,134 +918,146 @@ pub mod chain9_prismatic {
                 ],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.15_f64,
                     x61,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.04_f64,
                         x55,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.05_f64,
                             x40,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.05_f64,
                                 t.cos[0],
                                 -(0.02_f64 * t.sin[0]),
                             )
-                                - <f64 as ::trocar::Real>::mul_add(
+                                - <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.4_f64,
                                     x20,
                                     0.03_f64 * x21,
                                 )
-                                + <f64 as ::trocar::Real>::mul_add(
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
                                     x7,
                                     x26,
-                                    -<f64 as ::trocar::Real>::mul_add(x6, x24, 0.01_f64 * x25),
+                                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                                        x6,
+                                        x24,
+                                        0.01_f64 * x25,
+                                    ),
                                 )
-                                + <f64 as ::trocar::Real>::mul_add(
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.25_f64,
                                     x33,
                                     0.02_f64 * x34,
                                 ),
                         )
-                            + <f64 as ::trocar::Real>::mul_add(
+                            + <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.02_f64,
                                 x48,
                                 0.3_f64 * x40,
                             ),
                     )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.006_f64,
                             x62,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.008_f64,
                                 x60,
                                 -(0.1_f64 * x61),
                             ),
                         ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.15_f64,
                     x64,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.04_f64,
                         x57,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.05_f64,
                             x43,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.05_f64,
                                 t.sin[0],
                                 0.02_f64 * t.cos[0],
                             )
-                                + <f64 as ::trocar::Real>::mul_add(
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.4_f64,
                                     x22,
                                     0.03_f64 * x23,
                                 )
-                                + <f64 as ::trocar::Real>::mul_add(
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
                                     x7,
                                     x29,
-                                    <f64 as ::trocar::Real>::mul_add(x6, x27, 0.01_f64 * x28),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x6,
+                                        x27,
+                                        0.01_f64 * x28,
+                                    ),
                                 )
-                                + <f64 as ::trocar::Real>::mul_add(
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.25_f64,
                                     x35,
                                     0.02_f64 * x36,
                                 ),
                         )
-                            + <f64 as ::trocar::Real>::mul_add(
+                            + <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.02_f64,
                                 x50,
                                 0.3_f64 * x43,
                             ),
                     )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.006_f64,
                             x65,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.008_f64,
                                 x63,
                                 -(0.1_f64 * x64),
                             ),
                         ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.15_f64,
                     x67,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.04_f64,
                         x59,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.05_f64,
                             x46,
                             p.d_1 + 0.1_f64
-                                + <f64 as ::trocar::Real>::mul_add(
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.4_f64,
                                     x1,
                                     -(0.03_f64 * x0),
                                 )
-                                + <f64 as ::trocar::Real>::mul_add(
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
                                     x7,
                                     x32,
-                                    <f64 as ::trocar::Real>::mul_add(x6, x30, -(0.01_f64 * x31)),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        x6,
+                                        x30,
+                                        -(0.01_f64 * x31),
+                                    ),
                                 )
-                                + <f64 as ::trocar::Real>::mul_add(
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.25_f64,
                                     x37,
                                     0.02_f64 * x38,
                                 ),
                         )
-                            + <f64 as ::trocar::Real>::mul_add(
+                            + <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.02_f64,
                                 x52,
                                 0.3_f64 * x46,
                             ),
                     )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.006_f64,
                             x68,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.008_f64,
                                 x66,
                                 -(0.1_f64 * x67),
@@ -935,15 +1075,15 @@ pub mod chain9_prismatic {
     #[inline]
     #[must_use]
     pub fn body_jacobian(q: &[f64; N], _p: &Params) -> [[f64; 6]; N] {
-        let ([s2, s3, s5, s6, s7, s8, s9], [c2, c3, c5, c6, c7, c8, c9]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s2, s3, s5, s6, s7, s8, s9], [c2, c3, c5, c6, c7, c8, c9]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[1], q[2], q[4], q[5], q[6], q[7], q[8]],
         );
-        let x0 = <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             c2,
             -(0.29552020666133955_f64 * s2),
         );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             s2,
             0.29552020666133955_f64 * c2,
@@ -952,22 +1092,22 @@ pub mod chain9_prismatic {
         let x3 = 0.8_f64 * s3;
         let x4 = 0.6_f64 * c3;
         let x5 = 0.6_f64 * s3;
-        let x6 = <f64 as ::trocar::Real>::mul_add(
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3816559020950483_f64,
             s5,
             0.19866933079506122_f64 * c5,
         );
-        let x7 = <f64 as ::trocar::Real>::mul_add(
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.19866933079506122_f64,
             s5,
             -(0.3816559020950483_f64 * c5),
         );
-        let x8 = <f64 as ::trocar::Real>::mul_add(
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             c5,
             -(0.07736548146578168_f64 * s5),
         );
-        let x9 = <f64 as ::trocar::Real>::mul_add(
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             s5,
             0.07736548146578168_f64 * c5,
@@ -976,257 +1116,348 @@ pub mod chain9_prismatic {
         let x11 = 0.9210609940028851_f64 * c5;
         let x12 = 0.6_f64 * c8;
         let x13 = 0.8_f64 * c8;
-        let x14 = <f64 as ::trocar::Real>::mul_add(0.8_f64, s9, 0.6_f64 * c9);
-        let x15 = <f64 as ::trocar::Real>::mul_add(0.8_f64, c9, -(0.6_f64 * s9));
-        let x16 = <f64 as ::trocar::Real>::mul_add(
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, s9, 0.6_f64 * c9);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            c9,
+            -(0.6_f64 * s9),
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9362933635841992_f64,
             x14,
             0.19866933079506122_f64 * x15,
         );
-        let x17 = <f64 as ::trocar::Real>::mul_add(
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.2750958473182437_f64,
             x14,
             0.09784339500725571_f64 * x15,
         );
-        let x18 = <f64 as ::trocar::Real>::mul_add(
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.975170327201816_f64,
             x15,
             -(0.21835066314633444_f64 * x14),
         );
-        let x19 = <f64 as ::trocar::Real>::mul_add(
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9362933635841992_f64,
             x15,
             -(0.19866933079506122_f64 * x14),
         );
-        let x20 = <f64 as ::trocar::Real>::mul_add(
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.09784339500725571_f64,
             x14,
             -(0.2750958473182437_f64 * x15),
         );
-        let x21 = <f64 as ::trocar::Real>::mul_add(
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.21835066314633444_f64,
             x15,
             0.975170327201816_f64 * x14,
         );
-        let x22 = <f64 as ::trocar::Real>::mul_add(
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x19,
-            <f64 as ::trocar::Real>::mul_add(x12, x16, -(0.17377768657530931_f64 * s8)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                x12,
+                x16,
+                -(0.17377768657530931_f64 * s8),
+            ),
         );
-        let x23 = <f64 as ::trocar::Real>::mul_add(
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x20,
-            -<f64 as ::trocar::Real>::mul_add(x12, x17, 0.5738550515095394_f64 * s8),
+            -<f64 as ::trocar::emitted::Real>::mul_add(
+                x12,
+                x17,
+                0.5738550515095394_f64 * s8,
+            ),
         );
-        let x24 = <f64 as ::trocar::Real>::mul_add(
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x21,
-            <f64 as ::trocar::Real>::mul_add(0.022174208114775048_f64, s8, -(x12 * x18)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.022174208114775048_f64,
+                s8,
+                -(x12 * x18),
+            ),
         );
         let x25 = 0.0048000000000000004_f64
-            - <f64 as ::trocar::Real>::mul_add(0.0048_f64, c8, 0.15_f64 * s8);
-        let x26 = <f64 as ::trocar::Real>::mul_add(
+            - <f64 as ::trocar::emitted::Real>::mul_add(0.0048_f64, c8, 0.15_f64 * s8);
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
             s8,
             x16,
             0.28962947762551555_f64 * c8,
         );
-        let x27 = <f64 as ::trocar::Real>::mul_add(
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9564250858492325_f64,
             c8,
             -(s8 * x17),
         );
-        let x28 = <f64 as ::trocar::Real>::mul_add(
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
             s8,
             x18,
             0.03695701352462508_f64 * c8,
         );
         let x29 = 0.04_f64
-            + <f64 as ::trocar::Real>::mul_add(0.25_f64, c8, -(0.008_f64 * s8));
-        let x30 = <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.25_f64, c8, -(0.008_f64 * s8));
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x19,
-            <f64 as ::trocar::Real>::mul_add(0.23170358210041245_f64, s8, -(x13 * x16)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.23170358210041245_f64,
+                s8,
+                -(x13 * x16),
+            ),
         );
-        let x31 = <f64 as ::trocar::Real>::mul_add(
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x20,
-            <f64 as ::trocar::Real>::mul_add(x13, x17, 0.765140068679386_f64 * s8),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                x13,
+                x17,
+                0.765140068679386_f64 * s8,
+            ),
         );
-        let x32 = <f64 as ::trocar::Real>::mul_add(
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x21,
-            <f64 as ::trocar::Real>::mul_add(x13, x18, -(0.029565610819700067_f64 * s8)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                x13,
+                x18,
+                -(0.029565610819700067_f64 * s8),
+            ),
         );
-        let x33 = <f64 as ::trocar::Real>::mul_add(0.0064_f64, c8, 0.2_f64 * s8)
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(0.0064_f64, c8, 0.2_f64 * s8)
             + 0.0036_f64;
-        let x34 = <f64 as ::trocar::Real>::mul_add(c7, x22, -(s7 * x26));
-        let x35 = <f64 as ::trocar::Real>::mul_add(c7, x23, -(s7 * x27));
-        let x36 = <f64 as ::trocar::Real>::mul_add(c7, x24, s7 * x28);
-        let x37 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(c7, x25, -(s7 * x29));
-        let x38 = <f64 as ::trocar::Real>::mul_add(s7, x22, c7 * x26);
-        let x39 = <f64 as ::trocar::Real>::mul_add(s7, x23, c7 * x27);
-        let x40 = <f64 as ::trocar::Real>::mul_add(s7, x24, -(c7 * x28));
-        let x41 = <f64 as ::trocar::Real>::mul_add(c6, x34, s6 * x30);
-        let x42 = <f64 as ::trocar::Real>::mul_add(c6, x35, s6 * x31);
-        let x43 = <f64 as ::trocar::Real>::mul_add(c6, x36, s6 * x32);
-        let x44 = <f64 as ::trocar::Real>::mul_add(c6, x37, s6 * x33);
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x22, -(s7 * x26));
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x23, -(s7 * x27));
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x24, s7 * x28);
+        let x37 = 0.02_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c7, x25, -(s7 * x29));
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(s7, x22, c7 * x26);
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(s7, x23, c7 * x27);
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(s7, x24, -(c7 * x28));
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x34, s6 * x30);
+        let x42 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x35, s6 * x31);
+        let x43 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x36, s6 * x32);
+        let x44 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x37, s6 * x33);
         let x45 = 0.05_f64
-            + (0.3_f64 + <f64 as ::trocar::Real>::mul_add(s7, x25, c7 * x29));
-        let x46 = <f64 as ::trocar::Real>::mul_add(c6, x30, -(s6 * x34));
-        let x47 = <f64 as ::trocar::Real>::mul_add(c6, x31, -(s6 * x35));
-        let x48 = <f64 as ::trocar::Real>::mul_add(c6, x32, -(s6 * x36));
-        let x49 = <f64 as ::trocar::Real>::mul_add(c6, x33, -(s6 * x37));
-        let x50 = <f64 as ::trocar::Real>::mul_add(
+            + (0.3_f64 + <f64 as ::trocar::emitted::Real>::mul_add(s7, x25, c7 * x29));
+        let x46 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x30, -(s6 * x34));
+        let x47 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x31, -(s6 * x35));
+        let x48 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x32, -(s6 * x36));
+        let x49 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x33, -(s6 * x37));
+        let x50 = <f64 as ::trocar::emitted::Real>::mul_add(
             x7,
             x46,
-            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x41, -(x6 * x38)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.90270109637546_f64,
+                x41,
+                -(x6 * x38),
+            ),
         );
-        let x51 = <f64 as ::trocar::Real>::mul_add(
+        let x51 = <f64 as ::trocar::emitted::Real>::mul_add(
             x7,
             x47,
-            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x42, -(x6 * x39)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.90270109637546_f64,
+                x42,
+                -(x6 * x39),
+            ),
         );
-        let x52 = <f64 as ::trocar::Real>::mul_add(
+        let x52 = <f64 as ::trocar::emitted::Real>::mul_add(
             x7,
             x48,
-            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x43, -(x6 * x40)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.90270109637546_f64,
+                x43,
+                -(x6 * x40),
+            ),
         );
-        let x53 = <f64 as ::trocar::Real>::mul_add(
+        let x53 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x9,
             x46,
-            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x41, x8 * x38),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.18298657129998708_f64,
+                x41,
+                x8 * x38,
+            ),
         );
-        let x54 = <f64 as ::trocar::Real>::mul_add(
+        let x54 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x9,
             x47,
-            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x42, x8 * x39),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.18298657129998708_f64,
+                x42,
+                x8 * x39,
+            ),
         );
-        let x55 = <f64 as ::trocar::Real>::mul_add(
+        let x55 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x9,
             x48,
-            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x43, x8 * x40),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.18298657129998708_f64,
+                x43,
+                x8 * x40,
+            ),
         );
         let x56 = 0.25_f64
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 -x9,
                 x49,
-                <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x44, x8 * x45),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    0.18298657129998708_f64,
+                    x44,
+                    x8 * x45,
+                ),
             );
-        let x57 = <f64 as ::trocar::Real>::mul_add(
+        let x57 = <f64 as ::trocar::emitted::Real>::mul_add(
             x11,
             x46,
-            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x41, x10 * x38),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.3894183423086505_f64,
+                x41,
+                x10 * x38,
+            ),
         );
-        let x58 = <f64 as ::trocar::Real>::mul_add(
+        let x58 = <f64 as ::trocar::emitted::Real>::mul_add(
             x11,
             x47,
-            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x42, x10 * x39),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.3894183423086505_f64,
+                x42,
+                x10 * x39,
+            ),
         );
-        let x59 = <f64 as ::trocar::Real>::mul_add(
+        let x59 = <f64 as ::trocar::emitted::Real>::mul_add(
             x11,
             x48,
-            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x43, x10 * x40),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.3894183423086505_f64,
+                x43,
+                x10 * x40,
+            ),
         );
         let x60 = 0.02_f64
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 x11,
                 x49,
-                <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x44, x10 * x45),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    0.3894183423086505_f64,
+                    x44,
+                    x10 * x45,
+                ),
             );
-        let x61 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x53, -(0.6_f64 * x57));
-        let x62 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x54, -(0.6_f64 * x58));
-        let x63 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x55, -(0.6_f64 * x59));
-        let x64 = <f64 as ::trocar::Real>::mul_add(0.8_f64, q[3], 0.08_f64)
-            + <f64 as ::trocar::Real>::mul_add(0.8_f64, x56, -(0.6_f64 * x60));
-        let x65 = <f64 as ::trocar::Real>::mul_add(
+        let x61 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x53,
+            -(0.6_f64 * x57),
+        );
+        let x62 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x54,
+            -(0.6_f64 * x58),
+        );
+        let x63 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x55,
+            -(0.6_f64 * x59),
+        );
+        let x64 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, q[3], 0.08_f64)
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x56, -(0.6_f64 * x60));
+        let x65 = <f64 as ::trocar::emitted::Real>::mul_add(
             x7,
             x49,
-            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x44, -(x6 * x45)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.90270109637546_f64,
+                x44,
+                -(x6 * x45),
+            ),
         ) + 0.01_f64;
-        let x66 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x53, 0.8_f64 * x57);
-        let x67 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x54, 0.8_f64 * x58);
-        let x68 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x55, 0.8_f64 * x59);
-        let x69 = <f64 as ::trocar::Real>::mul_add(0.6_f64, q[3], 0.06_f64)
-            + <f64 as ::trocar::Real>::mul_add(0.6_f64, x56, 0.8_f64 * x60);
-        let x70 = <f64 as ::trocar::Real>::mul_add(c3, x50, -(s3 * x61));
-        let x71 = <f64 as ::trocar::Real>::mul_add(c3, x51, -(s3 * x62));
-        let x72 = <f64 as ::trocar::Real>::mul_add(c3, x52, -(s3 * x63));
-        let x73 = <f64 as ::trocar::Real>::mul_add(
+        let x66 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x53, 0.8_f64 * x57);
+        let x67 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x54, 0.8_f64 * x58);
+        let x68 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x55, 0.8_f64 * x59);
+        let x69 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, q[3], 0.06_f64)
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x56, 0.8_f64 * x60);
+        let x70 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x50, -(s3 * x61));
+        let x71 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x51, -(s3 * x62));
+        let x72 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x52, -(s3 * x63));
+        let x73 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x66,
-            <f64 as ::trocar::Real>::mul_add(x2, x61, x3 * x50),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x61, x3 * x50),
         );
-        let x74 = <f64 as ::trocar::Real>::mul_add(
+        let x74 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x67,
-            <f64 as ::trocar::Real>::mul_add(x2, x62, x3 * x51),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x62, x3 * x51),
         );
-        let x75 = <f64 as ::trocar::Real>::mul_add(
+        let x75 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x68,
-            <f64 as ::trocar::Real>::mul_add(x2, x63, x3 * x52),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x63, x3 * x52),
         );
         let x76 = 0.4_f64
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 0.6_f64,
                 x69,
-                <f64 as ::trocar::Real>::mul_add(x2, x64, x3 * x65),
+                <f64 as ::trocar::emitted::Real>::mul_add(x2, x64, x3 * x65),
             );
-        let x77 = <f64 as ::trocar::Real>::mul_add(
+        let x77 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x66,
-            -<f64 as ::trocar::Real>::mul_add(x4, x61, x5 * x50),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x61, x5 * x50),
         );
-        let x78 = <f64 as ::trocar::Real>::mul_add(
+        let x78 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x67,
-            -<f64 as ::trocar::Real>::mul_add(x4, x62, x5 * x51),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x62, x5 * x51),
         );
-        let x79 = <f64 as ::trocar::Real>::mul_add(
+        let x79 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x68,
-            -<f64 as ::trocar::Real>::mul_add(x4, x63, x5 * x52),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x63, x5 * x52),
         );
-        let x80 = <f64 as ::trocar::Real>::mul_add(
+        let x80 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x69,
-            -<f64 as ::trocar::Real>::mul_add(x4, x64, x5 * x65),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x64, x5 * x65),
         ) - 0.03_f64;
-        let x81 = 0.05_f64 + <f64 as ::trocar::Real>::mul_add(c3, x65, -(s3 * x64));
-        let x82 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x76, -(x1 * x80));
+        let x81 = 0.05_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c3, x65, -(s3 * x64));
+        let x82 = 0.02_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(x0, x76, -(x1 * x80));
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x81,
-                    <f64 as ::trocar::Real>::mul_add(x0, x73, -(x1 * x77)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x0, x73, -(x1 * x77)),
                     -(x70 * x82),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x81,
-                    <f64 as ::trocar::Real>::mul_add(x0, x74, -(x1 * x78)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x0, x74, -(x1 * x78)),
                     -(x71 * x82),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x81,
-                    <f64 as ::trocar::Real>::mul_add(x0, x75, -(x1 * x79)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x0, x75, -(x1 * x79)),
                     -(x72 * x82),
                 ),
-                <f64 as ::trocar::Real>::mul_add(x1, x73, x0 * x77),
-                <f64 as ::trocar::Real>::mul_add(x1, x74, x0 * x78),
-                <f64 as ::trocar::Real>::mul_add(x1, x75, x0 * x79),
+                <f64 as ::trocar::emitted::Real>::mul_add(x1, x73, x0 * x77),
+                <f64 as ::trocar::emitted::Real>::mul_add(x1, x74, x0 * x78),
+                <f64 as ::trocar::emitted::Real>::mul_add(x1, x75, x0 * x79),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x76, x77, -(x73 * x80)),
-                <f64 as ::trocar::Real>::mul_add(x76, x78, -(x74 * x80)),
-                <f64 as ::trocar::Real>::mul_add(x76, x79, -(x75 * x80)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x76, x77, -(x73 * x80)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x76, x78, -(x74 * x80)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x76, x79, -(x75 * x80)),
                 x70,
                 x71,
                 x72,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x61, x65, -(x50 * x64)),
-                <f64 as ::trocar::Real>::mul_add(x62, x65, -(x51 * x64)),
-                <f64 as ::trocar::Real>::mul_add(x63, x65, -(x52 * x64)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x61, x65, -(x50 * x64)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x62, x65, -(x51 * x64)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x63, x65, -(x52 * x64)),
                 x66,
                 x67,
                 x68,
@@ -1235,46 +1466,46 @@ pub mod chain9_prismatic {
                 x53,
                 x54,
                 x55,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x45, x46, -(x38 * x49)),
-                <f64 as ::trocar::Real>::mul_add(x45, x47, -(x39 * x49)),
-                <f64 as ::trocar::Real>::mul_add(x45, x48, -(x40 * x49)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x45, x46, -(x38 * x49)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x45, x47, -(x39 * x49)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x45, x48, -(x40 * x49)),
                 x41,
                 x42,
                 x43,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x33, x34, -(x30 * x37)),
-                <f64 as ::trocar::Real>::mul_add(x33, x35, -(x31 * x37)),
-                <f64 as ::trocar::Real>::mul_add(x33, x36, -(x32 * x37)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x33, x34, -(x30 * x37)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x33, x35, -(x31 * x37)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x33, x36, -(x32 * x37)),
                 x38,
                 x39,
                 x40,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x25, x26, -(x22 * x29)),
-                <f64 as ::trocar::Real>::mul_add(x25, x27, -(x23 * x29)),
-                -<f64 as ::trocar::Real>::mul_add(x24, x29, x25 * x28),
+                <f64 as ::trocar::emitted::Real>::mul_add(x25, x26, -(x22 * x29)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x25, x27, -(x23 * x29)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x24, x29, x25 * x28),
                 x30,
                 x31,
                 x32,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     0.25_f64,
                     x16,
                     0.0023170358210041243_f64,
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.25_f64,
                     x17,
                     -0.00765140068679386_f64,
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.25_f64,
                     x18,
                     0.00029565610819700066_f64,
@@ -1284,9 +1515,9 @@ pub mod chain9_prismatic {
                 x21,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 0.28962947762551555_f64,
                 0.9564250858492325_f64,
                 -0.03695701352462508_f64,
@@ -1301,12 +1532,12 @@ pub mod chain9_prismatic {
     #[inline]
     #[must_use]
     pub fn body_jacobian_trig(t: &JointTrig, _p: &Params) -> [[f64; 6]; N] {
-        let x0 = <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             t.cos[1],
             -(0.29552020666133955_f64 * t.sin[1]),
         );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             t.sin[1],
             0.29552020666133955_f64 * t.cos[1],
@@ -1315,22 +1546,22 @@ pub mod chain9_prismatic {
         let x3 = 0.8_f64 * t.sin[2];
         let x4 = 0.6_f64 * t.cos[2];
         let x5 = 0.6_f64 * t.sin[2];
-        let x6 = <f64 as ::trocar::Real>::mul_add(
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3816559020950483_f64,
             t.sin[4],
             0.19866933079506122_f64 * t.cos[4],
         );
-        let x7 = <f64 as ::trocar::Real>::mul_add(
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.19866933079506122_f64,
             t.sin[4],
             -(0.3816559020950483_f64 * t.cos[4]),
         );
-        let x8 = <f64 as ::trocar::Real>::mul_add(
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             t.cos[4],
             -(0.07736548146578168_f64 * t.sin[4]),
         );
-        let x9 = <f64 as ::trocar::Real>::mul_add(
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             t.sin[4],
             0.07736548146578168_f64 * t.cos[4],
@@ -1339,299 +1570,444 @@ pub mod chain9_prismatic {
         let x11 = 0.9210609940028851_f64 * t.cos[4];
         let x12 = 0.6_f64 * t.cos[7];
         let x13 = 0.8_f64 * t.cos[7];
-        let x14 = <f64 as ::trocar::Real>::mul_add(
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             t.sin[8],
             0.6_f64 * t.cos[8],
         );
-        let x15 = <f64 as ::trocar::Real>::mul_add(
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             t.cos[8],
             -(0.6_f64 * t.sin[8]),
         );
-        let x16 = <f64 as ::trocar::Real>::mul_add(
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9362933635841992_f64,
             x14,
             0.19866933079506122_f64 * x15,
         );
-        let x17 = <f64 as ::trocar::Real>::mul_add(
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.2750958473182437_f64,
             x14,
             0.09784339500725571_f64 * x15,
         );
-        let x18 = <f64 as ::trocar::Real>::mul_add(
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.975170327201816_f64,
             x15,
             -(0.21835066314633444_f64 * x14),
         );
-        let x19 = <f64 as ::trocar::Real>::mul_add(
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9362933635841992_f64,
             x15,
             -(0.19866933079506122_f64 * x14),
         );
-        let x20 = <f64 as ::trocar::Real>::mul_add(
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.09784339500725571_f64,
             x14,
             -(0.2750958473182437_f64 * x15),
         );
-        let x21 = <f64 as ::trocar::Real>::mul_add(
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.21835066314633444_f64,
             x15,
             0.975170327201816_f64 * x14,
         );
-        let x22 = <f64 as ::trocar::Real>::mul_add(
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x19,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x12,
                 x16,
                 -(0.17377768657530931_f64 * t.sin[7]),
             ),
         );
-        let x23 = <f64 as ::trocar::Real>::mul_add(
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x20,
-            -<f64 as ::trocar::Real>::mul_add(
+            -<f64 as ::trocar::emitted::Real>::mul_add(
                 x12,
                 x17,
                 0.5738550515095394_f64 * t.sin[7],
             ),
         );
-        let x24 = <f64 as ::trocar::Real>::mul_add(
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x21,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.022174208114775048_f64,
                 t.sin[7],
                 -(x12 * x18),
             ),
         );
         let x25 = 0.0048000000000000004_f64
-            - <f64 as ::trocar::Real>::mul_add(
+            - <f64 as ::trocar::emitted::Real>::mul_add(
                 0.0048_f64,
                 t.cos[7],
                 0.15_f64 * t.sin[7],
             );
-        let x26 = <f64 as ::trocar::Real>::mul_add(
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
             x16,
             0.28962947762551555_f64 * t.cos[7],
         );
-        let x27 = <f64 as ::trocar::Real>::mul_add(
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9564250858492325_f64,
             t.cos[7],
             -(t.sin[7] * x17),
         );
-        let x28 = <f64 as ::trocar::Real>::mul_add(
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
             x18,
             0.03695701352462508_f64 * t.cos[7],
         );
         let x29 = 0.04_f64
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 0.25_f64,
                 t.cos[7],
                 -(0.008_f64 * t.sin[7]),
             );
-        let x30 = <f64 as ::trocar::Real>::mul_add(
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x19,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.23170358210041245_f64,
                 t.sin[7],
                 -(x13 * x16),
             ),
         );
-        let x31 = <f64 as ::trocar::Real>::mul_add(
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x20,
-            <f64 as ::trocar::Real>::mul_add(x13, x17, 0.765140068679386_f64 * t.sin[7]),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                x13,
+                x17,
+                0.765140068679386_f64 * t.sin[7],
+            ),
         );
-        let x32 = <f64 as ::trocar::Real>::mul_add(
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x21,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x13,
                 x18,
                 -(0.029565610819700067_f64 * t.sin[7]),
             ),
         );
-        let x33 = <f64 as ::trocar::Real>::mul_add(
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.0064_f64,
             t.cos[7],
             0.2_f64 * t.sin[7],
         ) + 0.0036_f64;
-        let x34 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x22, -(t.sin[6] * x26));
-        let x35 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x23, -(t.sin[6] * x27));
-        let x36 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x24, t.sin[6] * x28);
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x22,
+            -(t.sin[6] * x26),
+        );
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x23,
+            -(t.sin[6] * x27),
+        );
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x24,
+            t.sin[6] * x28,
+        );
         let x37 = 0.02_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[6], x25, -(t.sin[6] * x29));
-        let x38 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x22, t.cos[6] * x26);
-        let x39 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x23, t.cos[6] * x27);
-        let x40 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x24, -(t.cos[6] * x28));
-        let x41 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x34, t.sin[5] * x30);
-        let x42 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x35, t.sin[5] * x31);
-        let x43 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x36, t.sin[5] * x32);
-        let x44 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x37, t.sin[5] * x33);
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[6],
+                x25,
+                -(t.sin[6] * x29),
+            );
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[6],
+            x22,
+            t.cos[6] * x26,
+        );
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[6],
+            x23,
+            t.cos[6] * x27,
+        );
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[6],
+            x24,
+            -(t.cos[6] * x28),
+        );
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x34,
+            t.sin[5] * x30,
+        );
+        let x42 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x35,
+            t.sin[5] * x31,
+        );
+        let x43 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x36,
+            t.sin[5] * x32,
+        );
+        let x44 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x37,
+            t.sin[5] * x33,
+        );
         let x45 = 0.05_f64
             + (0.3_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[6], x25, t.cos[6] * x29));
-        let x46 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x30, -(t.sin[5] * x34));
-        let x47 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x31, -(t.sin[5] * x35));
-        let x48 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x32, -(t.sin[5] * x36));
-        let x49 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x33, -(t.sin[5] * x37));
-        let x50 = <f64 as ::trocar::Real>::mul_add(
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[6],
+                    x25,
+                    t.cos[6] * x29,
+                ));
+        let x46 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x30,
+            -(t.sin[5] * x34),
+        );
+        let x47 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x31,
+            -(t.sin[5] * x35),
+        );
+        let x48 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x32,
+            -(t.sin[5] * x36),
+        );
+        let x49 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x33,
+            -(t.sin[5] * x37),
+        );
+        let x50 = <f64 as ::trocar::emitted::Real>::mul_add(
             x7,
             x46,
-            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x41, -(x6 * x38)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.90270109637546_f64,
+                x41,
+                -(x6 * x38),
+            ),
         );
-        let x51 = <f64 as ::trocar::Real>::mul_add(
+        let x51 = <f64 as ::trocar::emitted::Real>::mul_add(
             x7,
             x47,
-            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x42, -(x6 * x39)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.90270109637546_f64,
+                x42,
+                -(x6 * x39),
+            ),
         );
-        let x52 = <f64 as ::trocar::Real>::mul_add(
+        let x52 = <f64 as ::trocar::emitted::Real>::mul_add(
             x7,
             x48,
-            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x43, -(x6 * x40)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.90270109637546_f64,
+                x43,
+                -(x6 * x40),
+            ),
         );
-        let x53 = <f64 as ::trocar::Real>::mul_add(
+        let x53 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x9,
             x46,
-            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x41, x8 * x38),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.18298657129998708_f64,
+                x41,
+                x8 * x38,
+            ),
         );
-        let x54 = <f64 as ::trocar::Real>::mul_add(
+        let x54 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x9,
             x47,
-            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x42, x8 * x39),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.18298657129998708_f64,
+                x42,
+                x8 * x39,
+            ),
         );
-        let x55 = <f64 as ::trocar::Real>::mul_add(
+        let x55 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x9,
             x48,
-            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x43, x8 * x40),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.18298657129998708_f64,
+                x43,
+                x8 * x40,
+            ),
         );
         let x56 = 0.25_f64
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 -x9,
                 x49,
-                <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x44, x8 * x45),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    0.18298657129998708_f64,
+                    x44,
+                    x8 * x45,
+                ),
             );
-        let x57 = <f64 as ::trocar::Real>::mul_add(
+        let x57 = <f64 as ::trocar::emitted::Real>::mul_add(
             x11,
             x46,
-            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x41, x10 * x38),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.3894183423086505_f64,
+                x41,
+                x10 * x38,
+            ),
         );
-        let x58 = <f64 as ::trocar::Real>::mul_add(
+        let x58 = <f64 as ::trocar::emitted::Real>::mul_add(
             x11,
             x47,
-            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x42, x10 * x39),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.3894183423086505_f64,
+                x42,
+                x10 * x39,
+            ),
         );
-        let x59 = <f64 as ::trocar::Real>::mul_add(
+        let x59 = <f64 as ::trocar::emitted::Real>::mul_add(
             x11,
             x48,
-            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x43, x10 * x40),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.3894183423086505_f64,
+                x43,
+                x10 * x40,
+            ),
         );
         let x60 = 0.02_f64
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 x11,
                 x49,
-                <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x44, x10 * x45),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    0.3894183423086505_f64,
+                    x44,
+                    x10 * x45,
+                ),
             );
-        let x61 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x53, -(0.6_f64 * x57));
-        let x62 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x54, -(0.6_f64 * x58));
-        let x63 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x55, -(0.6_f64 * x59));
-        let x64 = <f64 as ::trocar::Real>::mul_add(0.8_f64, t.q[3], 0.08_f64)
-            + <f64 as ::trocar::Real>::mul_add(0.8_f64, x56, -(0.6_f64 * x60));
-        let x65 = <f64 as ::trocar::Real>::mul_add(
+        let x61 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x53,
+            -(0.6_f64 * x57),
+        );
+        let x62 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x54,
+            -(0.6_f64 * x58),
+        );
+        let x63 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x55,
+            -(0.6_f64 * x59),
+        );
+        let x64 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, t.q[3], 0.08_f64)
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x56, -(0.6_f64 * x60));
+        let x65 = <f64 as ::trocar::emitted::Real>::mul_add(
             x7,
             x49,
-            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x44, -(x6 * x45)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.90270109637546_f64,
+                x44,
+                -(x6 * x45),
+            ),
         ) + 0.01_f64;
-        let x66 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x53, 0.8_f64 * x57);
-        let x67 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x54, 0.8_f64 * x58);
-        let x68 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x55, 0.8_f64 * x59);
-        let x69 = <f64 as ::trocar::Real>::mul_add(0.6_f64, t.q[3], 0.06_f64)
-            + <f64 as ::trocar::Real>::mul_add(0.6_f64, x56, 0.8_f64 * x60);
-        let x70 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x50, -(t.sin[2] * x61));
-        let x71 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x51, -(t.sin[2] * x62));
-        let x72 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x52, -(t.sin[2] * x63));
-        let x73 = <f64 as ::trocar::Real>::mul_add(
+        let x66 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x53, 0.8_f64 * x57);
+        let x67 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x54, 0.8_f64 * x58);
+        let x68 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x55, 0.8_f64 * x59);
+        let x69 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, t.q[3], 0.06_f64)
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x56, 0.8_f64 * x60);
+        let x70 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x50,
+            -(t.sin[2] * x61),
+        );
+        let x71 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x51,
+            -(t.sin[2] * x62),
+        );
+        let x72 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x52,
+            -(t.sin[2] * x63),
+        );
+        let x73 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x66,
-            <f64 as ::trocar::Real>::mul_add(x2, x61, x3 * x50),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x61, x3 * x50),
         );
-        let x74 = <f64 as ::trocar::Real>::mul_add(
+        let x74 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x67,
-            <f64 as ::trocar::Real>::mul_add(x2, x62, x3 * x51),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x62, x3 * x51),
         );
-        let x75 = <f64 as ::trocar::Real>::mul_add(
+        let x75 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x68,
-            <f64 as ::trocar::Real>::mul_add(x2, x63, x3 * x52),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x63, x3 * x52),
         );
         let x76 = 0.4_f64
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 0.6_f64,
                 x69,
-                <f64 as ::trocar::Real>::mul_add(x2, x64, x3 * x65),
+                <f64 as ::trocar::emitted::Real>::mul_add(x2, x64, x3 * x65),
             );
-        let x77 = <f64 as ::trocar::Real>::mul_add(
+        let x77 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x66,
-            -<f64 as ::trocar::Real>::mul_add(x4, x61, x5 * x50),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x61, x5 * x50),
         );
-        let x78 = <f64 as ::trocar::Real>::mul_add(
+        let x78 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x67,
-            -<f64 as ::trocar::Real>::mul_add(x4, x62, x5 * x51),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x62, x5 * x51),
         );
-        let x79 = <f64 as ::trocar::Real>::mul_add(
+        let x79 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x68,
-            -<f64 as ::trocar::Real>::mul_add(x4, x63, x5 * x52),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x63, x5 * x52),
         );
-        let x80 = <f64 as ::trocar::Real>::mul_add(
+        let x80 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x69,
-            -<f64 as ::trocar::Real>::mul_add(x4, x64, x5 * x65),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x64, x5 * x65),
         ) - 0.03_f64;
         let x81 = 0.05_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[2], x65, -(t.sin[2] * x64));
-        let x82 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x76, -(x1 * x80));
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[2],
+                x65,
+                -(t.sin[2] * x64),
+            );
+        let x82 = 0.02_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(x0, x76, -(x1 * x80));
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x81,
-                    <f64 as ::trocar::Real>::mul_add(x0, x73, -(x1 * x77)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x0, x73, -(x1 * x77)),
                     -(x70 * x82),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x81,
-                    <f64 as ::trocar::Real>::mul_add(x0, x74, -(x1 * x78)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x0, x74, -(x1 * x78)),
                     -(x71 * x82),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x81,
-                    <f64 as ::trocar::Real>::mul_add(x0, x75, -(x1 * x79)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x0, x75, -(x1 * x79)),
                     -(x72 * x82),
                 ),
-                <f64 as ::trocar::Real>::mul_add(x1, x73, x0 * x77),
-                <f64 as ::trocar::Real>::mul_add(x1, x74, x0 * x78),
-                <f64 as ::trocar::Real>::mul_add(x1, x75, x0 * x79),
+                <f64 as ::trocar::emitted::Real>::mul_add(x1, x73, x0 * x77),
+                <f64 as ::trocar::emitted::Real>::mul_add(x1, x74, x0 * x78),
+                <f64 as ::trocar::emitted::Real>::mul_add(x1, x75, x0 * x79),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x76, x77, -(x73 * x80)),
-                <f64 as ::trocar::Real>::mul_add(x76, x78, -(x74 * x80)),
-                <f64 as ::trocar::Real>::mul_add(x76, x79, -(x75 * x80)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x76, x77, -(x73 * x80)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x76, x78, -(x74 * x80)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x76, x79, -(x75 * x80)),
                 x70,
                 x71,
                 x72,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x61, x65, -(x50 * x64)),
-                <f64 as ::trocar::Real>::mul_add(x62, x65, -(x51 * x64)),
-                <f64 as ::trocar::Real>::mul_add(x63, x65, -(x52 * x64)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x61, x65, -(x50 * x64)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x62, x65, -(x51 * x64)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x63, x65, -(x52 * x64)),
                 x66,
                 x67,
                 x68,
@@ -1640,46 +2016,46 @@ pub mod chain9_prismatic {
                 x53,
                 x54,
                 x55,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x45, x46, -(x38 * x49)),
-                <f64 as ::trocar::Real>::mul_add(x45, x47, -(x39 * x49)),
-                <f64 as ::trocar::Real>::mul_add(x45, x48, -(x40 * x49)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x45, x46, -(x38 * x49)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x45, x47, -(x39 * x49)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x45, x48, -(x40 * x49)),
                 x41,
                 x42,
                 x43,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x33, x34, -(x30 * x37)),
-                <f64 as ::trocar::Real>::mul_add(x33, x35, -(x31 * x37)),
-                <f64 as ::trocar::Real>::mul_add(x33, x36, -(x32 * x37)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x33, x34, -(x30 * x37)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x33, x35, -(x31 * x37)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x33, x36, -(x32 * x37)),
                 x38,
                 x39,
                 x40,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x25, x26, -(x22 * x29)),
-                <f64 as ::trocar::Real>::mul_add(x25, x27, -(x23 * x29)),
-                -<f64 as ::trocar::Real>::mul_add(x24, x29, x25 * x28),
+                <f64 as ::trocar::emitted::Real>::mul_add(x25, x26, -(x22 * x29)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x25, x27, -(x23 * x29)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x24, x29, x25 * x28),
                 x30,
                 x31,
                 x32,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     0.25_f64,
                     x16,
                     0.0023170358210041243_f64,
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.25_f64,
                     x17,
                     -0.00765140068679386_f64,
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.25_f64,
                     x18,
                     0.00029565610819700066_f64,
@@ -1689,9 +2065,9 @@ pub mod chain9_prismatic {
                 x21,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 0.28962947762551555_f64,
                 0.9564250858492325_f64,
                 -0.03695701352462508_f64,
@@ -1708,18 +2084,18 @@ pub mod chain9_prismatic {
     #[inline]
     #[must_use]
     pub fn constrained_jacobian(q: &[f64; N], p: &Params) -> [[f64; 6]; M] {
-        let ([s7, s8, s9], [c7, c8, c9]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s7, s8, s9], [c7, c8, c9]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[6], q[7], q[8]],
         );
-        let x0 = <f64 as ::trocar::Real>::mul_add(
-            <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.3778998554341936_f64,
                 c8,
                 -0.5765691862292548_f64,
             ),
             s9,
-            <f64 as ::trocar::Real>::mul_add(
-                <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.4324268896719411_f64,
                     c8,
                     0.5038664739122581_f64,
@@ -1728,25 +2104,25 @@ pub mod chain9_prismatic {
                 -(0.17377768657530934_f64 * s8),
             ),
         );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             s8,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.6298330923903226_f64,
                 s9,
                 0.7207114827865685_f64 * c9,
             ),
             0.28962947762551555_f64 * c8,
         );
-        let x2 = <f64 as ::trocar::Real>::mul_add(
+        let x2 = <f64 as ::trocar::emitted::Real>::mul_add(
             s9,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -0.09682238451014492_f64,
                 c8,
                 0.19466577951740063_f64,
             ),
-            -<f64 as ::trocar::Real>::mul_add(
+            -<f64 as ::trocar::emitted::Real>::mul_add(
                 c9,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.14599933463805048_f64,
                     c8,
                     0.12909651268019323_f64,
@@ -1755,22 +2131,22 @@ pub mod chain9_prismatic {
             ),
         );
         let x3 = s8
-            * <f64 as ::trocar::Real>::mul_add(
+            * <f64 as ::trocar::emitted::Real>::mul_add(
                 0.16137064085024153_f64,
                 s9,
                 0.24333222439675078_f64 * c9,
             );
         let x4 = 0.9564250858492325_f64 * c8;
-        let x5 = <f64 as ::trocar::Real>::mul_add(
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
             s9,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.45586963610289427_f64,
                 c8,
                 0.5193006910989217_f64,
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 c9,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.3894755183241913_f64,
                     c8,
                     0.6078261814705257_f64,
@@ -1782,7 +2158,7 @@ pub mod chain9_prismatic {
         let x7 = 0.6491258638736521_f64 * c9;
         let x8 = 0.03695701352462508_f64 * c8;
         let x9 = 0.5038664739122581_f64 * p.l_a;
-        let x10 = <f64 as ::trocar::Real>::mul_add(
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.4324268896719411_f64,
             p.l_a,
             -0.12972806690158234_f64,
@@ -1795,32 +2171,32 @@ pub mod chain9_prismatic {
         let x16 = 0.3894755183241913_f64 * p.l_a;
         let x17 = 0.5193006910989217_f64 * p.l_a;
         let x18 = 0.45586963610289427_f64 * p.l_a;
-        let x19 = <f64 as ::trocar::Real>::mul_add(
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
             s8,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -0.0015893546463604897_f64,
                 s9,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.007490346908673594_f64,
                     c9,
                     0.006951107463012373_f64,
                 ),
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 c8,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.14326369406494216_f64,
                     c9,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.12902630233994597_f64,
                         s9,
                         0.0013902214926024747_f64,
                     ),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     0.1282613813744756_f64,
                     c9,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.07141219640937821_f64,
                         s9,
                         0.0013902214926024747_f64,
@@ -1828,57 +2204,57 @@ pub mod chain9_prismatic {
                 ),
             ),
         );
-        let x20 = <f64 as ::trocar::Real>::mul_add(
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
             s8,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -0.0022007667785459493_f64,
                 c9,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.0007827471600580457_f64,
                     s9,
                     0.022954202060381578_f64,
                 ),
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 c8,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.04479354949894437_f64,
                     s9,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.03811410155557032_f64,
                         c9,
                         0.004590840412076316_f64,
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.016418964946840205_f64,
                     s9,
                     0.04166369416672035_f64 * c9,
                 ) - 0.004590840412076316_f64,
             ),
         );
-        let x21 = <f64 as ::trocar::Real>::mul_add(
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
             s8,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.007801362617614528_f64,
                 s9,
                 0.0017468053051706756_f64 * c9,
             ) - 0.0008869683245910019_f64,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -c8,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.13637752463466377_f64,
                     c9,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.1480599582188462_f64,
                         s9,
                         0.0001773936649182004_f64,
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.13473943666968044_f64,
                     s9,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.07305583232222679_f64,
                         c9,
                         0.0001773936649182004_f64,
@@ -1886,16 +2262,16 @@ pub mod chain9_prismatic {
                 ),
             ),
         );
-        let x22 = <f64 as ::trocar::Real>::mul_add(
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
             -s9,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.5038664739122581_f64,
                 c8,
                 0.4324268896719411_f64,
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 c9,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.5765691862292548_f64,
                     c8,
                     0.3778998554341936_f64,
@@ -1903,16 +2279,16 @@ pub mod chain9_prismatic {
                 0.23170358210041245_f64 * s8,
             ),
         );
-        let x23 = <f64 as ::trocar::Real>::mul_add(
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
             s9,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.12909651268019323_f64,
                 c8,
                 0.14599933463805048_f64,
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 c9,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.19466577951740063_f64,
                     c8,
                     -0.09682238451014492_f64,
@@ -1920,16 +2296,16 @@ pub mod chain9_prismatic {
                 0.765140068679386_f64 * s8,
             ),
         );
-        let x24 = <f64 as ::trocar::Real>::mul_add(
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
             s9,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -0.6078261814705257_f64,
                 c8,
                 0.3894755183241913_f64,
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 c9,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.5193006910989217_f64,
                     c8,
                     0.45586963610289427_f64,
@@ -1939,81 +2315,81 @@ pub mod chain9_prismatic {
         );
         [
             [
-                <f64 as ::trocar::Real>::mul_add(x0, s7, x1 * c7),
-                <f64 as ::trocar::Real>::mul_add(s7, x2, c7 * (x4 - x3)),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(x0, s7, x1 * c7),
+                <f64 as ::trocar::emitted::Real>::mul_add(s7, x2, c7 * (x4 - x3)),
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     s7,
                     x5,
-                    c7 * <f64 as ::trocar::Real>::mul_add(s8, x6 - x7, -x8),
+                    c7 * <f64 as ::trocar::emitted::Real>::mul_add(s8, x6 - x7, -x8),
                 ),
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     s9,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         c8,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             -0.1282613813744756_f64,
                             c7,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.0019866933079506124_f64,
                                 s7,
                                 x9,
                             ) - 0.15115994217367743_f64,
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             s8,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.18017787069664212_f64,
                                 s7,
                                 0.0011920159847703673_f64 * c7,
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.14326369406494216_f64,
                                 c7,
                                 x10,
                             ),
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         c9,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             c8,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.009362933635841992_f64,
                                 s7,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.07141219640937821_f64,
                                     c7,
                                     x11,
                                 ) - 0.17297075586877644_f64,
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -s8,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.15745827309758065_f64,
                                     s7,
                                     0.005617760181505195_f64 * c7,
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.12902630233994597_f64,
                                     c7,
                                     0.11336995663025808_f64,
                                 ) - x12,
                             ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             s8,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.23170358210041245_f64,
                                 p.l_a,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.009268143284016497_f64,
                                     c7,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.0017377768657530933_f64,
                                         s7,
                                         0.06951107463012374_f64,
@@ -2021,7 +2397,7 @@ pub mod chain9_prismatic {
                                 ),
                             ),
                             -(c7
-                                * <f64 as ::trocar::Real>::mul_add(
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.001042666119451856_f64,
                                     c8,
                                     0.0018536286568032994_f64,
@@ -2029,73 +2405,73 @@ pub mod chain9_prismatic {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     s9,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         c8,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             -0.0009784339500725572_f64,
                             s7,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.04166369416672035_f64,
                                 c7,
                                 0.03872895380405797_f64,
                             ),
                         ) - x13,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             -s8,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.060833056099187696_f64,
                                 s7,
                                 0.0005870603700435343_f64 * c7,
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.03811410155557032_f64,
                                 c7,
                                 0.04379980039141514_f64,
                             ) - x14,
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         c9,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             c8,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.19466577951740063_f64,
                                 p.l_a,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.016418964946840205_f64,
                                     c7,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.002750958473182437_f64,
                                         s7,
                                         0.05839973385522019_f64,
                                     ),
                                 ),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 s8,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.04034266021256038_f64,
                                     s7,
                                     0.0016505750839094623_f64 * c7,
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.04479354949894436_f64,
                                     c7,
                                     0.09682238451014492_f64 * p.l_a,
                                 ) - 0.029046715353043477_f64,
                             ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             s8,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.765140068679386_f64,
                                 p.l_a,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.03060560274717544_f64,
                                     c7,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.005738550515095395_f64,
                                         s7,
                                         0.2295420206038158_f64,
@@ -2103,7 +2479,7 @@ pub mod chain9_prismatic {
                                 ),
                             ),
                             -(c7
-                                * <f64 as ::trocar::Real>::mul_add(
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.003443130309057237_f64,
                                     c8,
                                     0.006121120549435088_f64,
@@ -2111,69 +2487,69 @@ pub mod chain9_prismatic {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     s9,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         c8,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             -0.00975170327201816_f64,
                             s7,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.07305583232222679_f64,
                                 c7,
                                 x15,
                             ) - 0.18234785444115773_f64,
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             -s8,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.16228146596841303_f64,
                                 s7,
                                 0.005851021963210896_f64 * c7,
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.13637752463466377_f64,
                                 c7,
                                 0.11684265549725738_f64,
                             ) - x16,
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         c9,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             c8,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.0021835066314633443_f64,
                                 s7,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.13473943666968044_f64,
                                     c7,
                                     0.15579020732967652_f64,
                                 ),
                             ) - x17,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -s8,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.1899456817095393_f64,
                                     s7,
                                     0.0013101039788780064_f64 * c7,
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.1480599582188462_f64,
                                     c7,
                                     0.1367608908308683_f64,
                                 ) - x18,
                             ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             s8,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.0011826244327880027_f64,
                                 c7,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.00022174208114775047_f64,
                                     s7,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.029565610819700064_f64,
                                         p.l_a,
                                         -0.00886968324591002_f64,
@@ -2181,7 +2557,7 @@ pub mod chain9_prismatic {
                                 ),
                             ),
                             c7
-                                * <f64 as ::trocar::Real>::mul_add(
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.00013304524868865028_f64,
                                     c8,
                                     0.0002365248865576005_f64,
@@ -2189,42 +2565,42 @@ pub mod chain9_prismatic {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(x0, c7, -(s7 * x1)),
-                <f64 as ::trocar::Real>::mul_add(c7, x2, s7 * (x3 - x4)),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(x0, c7, -(s7 * x1)),
+                <f64 as ::trocar::emitted::Real>::mul_add(c7, x2, s7 * (x3 - x4)),
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     c7,
                     x5,
-                    s7 * <f64 as ::trocar::Real>::mul_add(s8, x7 - x6, x8),
+                    s7 * <f64 as ::trocar::emitted::Real>::mul_add(s8, x7 - x6, x8),
                 ),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     c7,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         s9,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             c8,
                             x12 - 0.11336995663025808_f64,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.012596661847806452_f64,
                                 s8,
                                 0.17297075586877644_f64,
                             ) - x11,
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             c9,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 c8,
                                 x10,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.01441422965573137_f64,
                                     s8,
                                     x9,
                                 ) - 0.15115994217367743_f64,
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 s8,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.17377768657530934_f64,
                                     p.l_a,
                                     0.052133305972592796_f64,
@@ -2233,20 +2609,20 @@ pub mod chain9_prismatic {
                             ),
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         s7,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             s8,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 s9,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.6298330923903226_f64,
                                     p.l_a,
                                     0.1889499277170968_f64,
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     c9,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.7207114827865685_f64,
                                         p.l_a,
                                         0.21621344483597055_f64,
@@ -2254,22 +2630,22 @@ pub mod chain9_prismatic {
                                     -0.0034755537315061865_f64,
                                 ),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 c8,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.28962947762551555_f64,
                                     p.l_a,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.008648537793438821_f64,
                                         c9,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.007557997108683871_f64,
                                             s9,
                                             0.08688884328765467_f64,
                                         ),
                                     ),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.010077329478245162_f64,
                                     c9,
                                     -(0.011531383724585096_f64 * s9),
@@ -2279,41 +2655,41 @@ pub mod chain9_prismatic {
                         x19,
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     c7,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         s9,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             c8,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.09682238451014491_f64,
                                 p.l_a,
                                 0.029046715353043477_f64,
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.0032274128170048304_f64,
                                 s8,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.1946657795174006_f64,
                                     p.l_a,
                                     -0.05839973385522019_f64,
                                 ),
                             ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             c9,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 c8,
                                 0.04379980039141514_f64 - x14,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.004866644487935016_f64,
                                     s8,
                                     0.03872895380405797_f64,
                                 ) - x13,
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 s8,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.5738550515095395_f64,
                                     p.l_a,
                                     0.17215651545286184_f64,
@@ -2322,20 +2698,20 @@ pub mod chain9_prismatic {
                             ),
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         s7,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             s8,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 s9,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.16137064085024153_f64,
                                     p.l_a,
                                     -0.048411192255072455_f64,
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     c9,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.2433322243967508_f64,
                                         p.l_a,
                                         -0.07299966731902524_f64,
@@ -2343,22 +2719,22 @@ pub mod chain9_prismatic {
                                     -0.011477101030190789_f64,
                                 ),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 c8,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.9564250858492326_f64,
                                     p.l_a,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.00291998669276101_f64,
                                         c9,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.0019364476902028983_f64,
                                             s9,
                                             0.28692752575476976_f64,
                                         ),
                                     ),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.0038933155903480123_f64,
                                     s9,
                                     -(0.0025819302536038645_f64 * c9),
@@ -2368,33 +2744,33 @@ pub mod chain9_prismatic {
                         x20,
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     c7,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         s9,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             c8,
                             x18 - 0.1367608908308683_f64,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.015195654536763144_f64,
                                 s8,
                                 x17,
                             ) - 0.15579020732967652_f64,
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             c9,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 c8,
                                 0.11684265549725738_f64 - x16,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.012982517277473044_f64,
                                     s8,
                                     x15 - 0.18234785444115773_f64,
                                 ),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 s8,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.022174208114775048_f64,
                                     p.l_a,
                                     -0.006652262434432514_f64,
@@ -2403,20 +2779,20 @@ pub mod chain9_prismatic {
                             ),
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         s7,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             s8,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 s9,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.7597827268381572_f64,
                                     p.l_a,
                                     0.22793481805144714_f64,
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     c9,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.6491258638736521_f64,
                                         p.l_a,
                                         -0.19473775916209565_f64,
@@ -2424,18 +2800,18 @@ pub mod chain9_prismatic {
                                     0.00044348416229550094_f64,
                                 ),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 c8,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.007789510366483825_f64,
                                     c9,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.009117392722057886_f64,
                                         s9,
                                         0.03695701352462508_f64 * p.l_a,
                                     ) - 0.011087104057387524_f64,
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.010386013821978434_f64,
                                     s9,
                                     0.012156523629410514_f64 * c9,
@@ -2451,49 +2827,49 @@ pub mod chain9_prismatic {
             ],
             [x19, x20, x21, x22, x23, x24],
             [
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     0.18017787069664212_f64,
                     c9,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.15745827309758065_f64,
                         s9,
                         0.0023170358210041243_f64,
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.04034266021256038_f64,
                     s9,
                     0.060833056099187696_f64 * c9,
                 ) - 0.00765140068679386_f64,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.1899456817095393_f64,
                     s9,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.16228146596841303_f64,
                         c9,
                         0.00029565610819700066_f64,
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.6298330923903226_f64,
                     c9,
                     -(0.7207114827865685_f64 * s9),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.24333222439675078_f64,
                     s9,
                     -(0.16137064085024153_f64 * c9),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.6491258638736521_f64,
                     s9,
                     0.7597827268381572_f64 * c9,
                 ),
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 0.28962947762551555_f64,
                 0.9564250858492325_f64,
                 -0.03695701352462508_f64,
@@ -2508,15 +2884,15 @@ pub mod chain9_prismatic {
     #[inline]
     #[must_use]
     pub fn constrained_jacobian_trig(t: &JointTrig, p: &Params) -> [[f64; 6]; M] {
-        let x0 = <f64 as ::trocar::Real>::mul_add(
-            <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.3778998554341936_f64,
                 t.cos[7],
                 -0.5765691862292548_f64,
             ),
             t.sin[8],
-            <f64 as ::trocar::Real>::mul_add(
-                <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.4324268896719411_f64,
                     t.cos[7],
                     0.5038664739122581_f64,
@@ -2525,25 +2901,25 @@ pub mod chain9_prismatic {
                 -(0.17377768657530934_f64 * t.sin[7]),
             ),
         );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.6298330923903226_f64,
                 t.sin[8],
                 0.7207114827865685_f64 * t.cos[8],
             ),
             0.28962947762551555_f64 * t.cos[7],
         );
-        let x2 = <f64 as ::trocar::Real>::mul_add(
+        let x2 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -0.09682238451014492_f64,
                 t.cos[7],
                 0.19466577951740063_f64,
             ),
-            -<f64 as ::trocar::Real>::mul_add(
+            -<f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[8],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.14599933463805048_f64,
                     t.cos[7],
                     0.12909651268019323_f64,
@@ -2552,22 +2928,22 @@ pub mod chain9_prismatic {
             ),
         );
         let x3 = t.sin[7]
-            * <f64 as ::trocar::Real>::mul_add(
+            * <f64 as ::trocar::emitted::Real>::mul_add(
                 0.16137064085024153_f64,
                 t.sin[8],
                 0.24333222439675078_f64 * t.cos[8],
             );
         let x4 = 0.9564250858492325_f64 * t.cos[7];
-        let x5 = <f64 as ::trocar::Real>::mul_add(
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.45586963610289427_f64,
                 t.cos[7],
                 0.5193006910989217_f64,
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[8],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.3894755183241913_f64,
                     t.cos[7],
                     0.6078261814705257_f64,
@@ -2579,7 +2955,7 @@ pub mod chain9_prismatic {
         let x7 = 0.6491258638736521_f64 * t.cos[8];
         let x8 = 0.03695701352462508_f64 * t.cos[7];
         let x9 = 0.5038664739122581_f64 * p.l_a;
-        let x10 = <f64 as ::trocar::Real>::mul_add(
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.4324268896719411_f64,
             p.l_a,
             -0.12972806690158234_f64,
@@ -2592,32 +2968,32 @@ pub mod chain9_prismatic {
         let x16 = 0.3894755183241913_f64 * p.l_a;
         let x17 = 0.5193006910989217_f64 * p.l_a;
         let x18 = 0.45586963610289427_f64 * p.l_a;
-        let x19 = <f64 as ::trocar::Real>::mul_add(
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -0.0015893546463604897_f64,
                 t.sin[8],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.007490346908673594_f64,
                     t.cos[8],
                     0.006951107463012373_f64,
                 ),
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[7],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.14326369406494216_f64,
                     t.cos[8],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.12902630233994597_f64,
                         t.sin[8],
                         0.0013902214926024747_f64,
                     ),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     0.1282613813744756_f64,
                     t.cos[8],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.07141219640937821_f64,
                         t.sin[8],
                         0.0013902214926024747_f64,
@@ -2625,57 +3001,57 @@ pub mod chain9_prismatic {
                 ),
             ),
         );
-        let x20 = <f64 as ::trocar::Real>::mul_add(
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -0.0022007667785459493_f64,
                 t.cos[8],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.0007827471600580457_f64,
                     t.sin[8],
                     0.022954202060381578_f64,
                 ),
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[7],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.04479354949894437_f64,
                     t.sin[8],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.03811410155557032_f64,
                         t.cos[8],
                         0.004590840412076316_f64,
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.016418964946840205_f64,
                     t.sin[8],
                     0.04166369416672035_f64 * t.cos[8],
                 ) - 0.004590840412076316_f64,
             ),
         );
-        let x21 = <f64 as ::trocar::Real>::mul_add(
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.007801362617614528_f64,
                 t.sin[8],
                 0.0017468053051706756_f64 * t.cos[8],
             ) - 0.0008869683245910019_f64,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -t.cos[7],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.13637752463466377_f64,
                     t.cos[8],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.1480599582188462_f64,
                         t.sin[8],
                         0.0001773936649182004_f64,
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.13473943666968044_f64,
                     t.sin[8],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.07305583232222679_f64,
                         t.cos[8],
                         0.0001773936649182004_f64,
@@ -2683,16 +3059,16 @@ pub mod chain9_prismatic {
                 ),
             ),
         );
-        let x22 = <f64 as ::trocar::Real>::mul_add(
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
             -t.sin[8],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.5038664739122581_f64,
                 t.cos[7],
                 0.4324268896719411_f64,
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[8],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.5765691862292548_f64,
                     t.cos[7],
                     0.3778998554341936_f64,
@@ -2700,16 +3076,16 @@ pub mod chain9_prismatic {
                 0.23170358210041245_f64 * t.sin[7],
             ),
         );
-        let x23 = <f64 as ::trocar::Real>::mul_add(
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.12909651268019323_f64,
                 t.cos[7],
                 0.14599933463805048_f64,
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[8],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.19466577951740063_f64,
                     t.cos[7],
                     -0.09682238451014492_f64,
@@ -2717,16 +3093,16 @@ pub mod chain9_prismatic {
                 0.765140068679386_f64 * t.sin[7],
             ),
         );
-        let x24 = <f64 as ::trocar::Real>::mul_add(
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -0.6078261814705257_f64,
                 t.cos[7],
                 0.3894755183241913_f64,
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[8],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.5193006910989217_f64,
                     t.cos[7],
                     0.45586963610289427_f64,
@@ -2736,81 +3112,90 @@ pub mod chain9_prismatic {
         );
         [
             [
-                <f64 as ::trocar::Real>::mul_add(x0, t.sin[6], x1 * t.cos[6]),
-                <f64 as ::trocar::Real>::mul_add(t.sin[6], x2, t.cos[6] * (x4 - x3)),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(x0, t.sin[6], x1 * t.cos[6]),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[6],
+                    x2,
+                    t.cos[6] * (x4 - x3),
+                ),
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[6],
                     x5,
-                    t.cos[6] * <f64 as ::trocar::Real>::mul_add(t.sin[7], x6 - x7, -x8),
+                    t.cos[6]
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.sin[7],
+                            x6 - x7,
+                            -x8,
+                        ),
                 ),
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[8],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[7],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             -0.1282613813744756_f64,
                             t.cos[6],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.0019866933079506124_f64,
                                 t.sin[6],
                                 x9,
                             ) - 0.15115994217367743_f64,
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[7],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.18017787069664212_f64,
                                 t.sin[6],
                                 0.0011920159847703673_f64 * t.cos[6],
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.14326369406494216_f64,
                                 t.cos[6],
                                 x10,
                             ),
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[8],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[7],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.009362933635841992_f64,
                                 t.sin[6],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.07141219640937821_f64,
                                     t.cos[6],
                                     x11,
                                 ) - 0.17297075586877644_f64,
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -t.sin[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.15745827309758065_f64,
                                     t.sin[6],
                                     0.005617760181505195_f64 * t.cos[6],
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.12902630233994597_f64,
                                     t.cos[6],
                                     0.11336995663025808_f64,
                                 ) - x12,
                             ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[7],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.23170358210041245_f64,
                                 p.l_a,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.009268143284016497_f64,
                                     t.cos[6],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.0017377768657530933_f64,
                                         t.sin[6],
                                         0.06951107463012374_f64,
@@ -2818,7 +3203,7 @@ pub mod chain9_prismatic {
                                 ),
                             ),
                             -(t.cos[6]
-                                * <f64 as ::trocar::Real>::mul_add(
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.001042666119451856_f64,
                                     t.cos[7],
                                     0.0018536286568032994_f64,
@@ -2826,73 +3211,73 @@ pub mod chain9_prismatic {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[8],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[7],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             -0.0009784339500725572_f64,
                             t.sin[6],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.04166369416672035_f64,
                                 t.cos[6],
                                 0.03872895380405797_f64,
                             ),
                         ) - x13,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             -t.sin[7],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.060833056099187696_f64,
                                 t.sin[6],
                                 0.0005870603700435343_f64 * t.cos[6],
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.03811410155557032_f64,
                                 t.cos[6],
                                 0.04379980039141514_f64,
                             ) - x14,
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[8],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[7],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.19466577951740063_f64,
                                 p.l_a,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.016418964946840205_f64,
                                     t.cos[6],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.002750958473182437_f64,
                                         t.sin[6],
                                         0.05839973385522019_f64,
                                     ),
                                 ),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.04034266021256038_f64,
                                     t.sin[6],
                                     0.0016505750839094623_f64 * t.cos[6],
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.04479354949894436_f64,
                                     t.cos[6],
                                     0.09682238451014492_f64 * p.l_a,
                                 ) - 0.029046715353043477_f64,
                             ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[7],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.765140068679386_f64,
                                 p.l_a,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.03060560274717544_f64,
                                     t.cos[6],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.005738550515095395_f64,
                                         t.sin[6],
                                         0.2295420206038158_f64,
@@ -2900,7 +3285,7 @@ pub mod chain9_prismatic {
                                 ),
                             ),
                             -(t.cos[6]
-                                * <f64 as ::trocar::Real>::mul_add(
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.003443130309057237_f64,
                                     t.cos[7],
                                     0.006121120549435088_f64,
@@ -2908,69 +3293,69 @@ pub mod chain9_prismatic {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[8],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[7],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             -0.00975170327201816_f64,
                             t.sin[6],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.07305583232222679_f64,
                                 t.cos[6],
                                 x15,
                             ) - 0.18234785444115773_f64,
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             -t.sin[7],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.16228146596841303_f64,
                                 t.sin[6],
                                 0.005851021963210896_f64 * t.cos[6],
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.13637752463466377_f64,
                                 t.cos[6],
                                 0.11684265549725738_f64,
                             ) - x16,
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[8],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[7],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.0021835066314633443_f64,
                                 t.sin[6],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.13473943666968044_f64,
                                     t.cos[6],
                                     0.15579020732967652_f64,
                                 ),
                             ) - x17,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -t.sin[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.1899456817095393_f64,
                                     t.sin[6],
                                     0.0013101039788780064_f64 * t.cos[6],
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.1480599582188462_f64,
                                     t.cos[6],
                                     0.1367608908308683_f64,
                                 ) - x18,
                             ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[7],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.0011826244327880027_f64,
                                 t.cos[6],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.00022174208114775047_f64,
                                     t.sin[6],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.029565610819700064_f64,
                                         p.l_a,
                                         -0.00886968324591002_f64,
@@ -2978,7 +3363,7 @@ pub mod chain9_prismatic {
                                 ),
                             ),
                             t.cos[6]
-                                * <f64 as ::trocar::Real>::mul_add(
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.00013304524868865028_f64,
                                     t.cos[7],
                                     0.0002365248865576005_f64,
@@ -2986,42 +3371,55 @@ pub mod chain9_prismatic {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(x0, t.cos[6], -(t.sin[6] * x1)),
-                <f64 as ::trocar::Real>::mul_add(t.cos[6], x2, t.sin[6] * (x3 - x4)),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    x0,
+                    t.cos[6],
+                    -(t.sin[6] * x1),
+                ),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.cos[6],
+                    x2,
+                    t.sin[6] * (x3 - x4),
+                ),
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.cos[6],
                     x5,
-                    t.sin[6] * <f64 as ::trocar::Real>::mul_add(t.sin[7], x7 - x6, x8),
+                    t.sin[6]
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.sin[7],
+                            x7 - x6,
+                            x8,
+                        ),
                 ),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.cos[6],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[8],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[7],
                             x12 - 0.11336995663025808_f64,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.012596661847806452_f64,
                                 t.sin[7],
                                 0.17297075586877644_f64,
                             ) - x11,
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[8],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[7],
                                 x10,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.01441422965573137_f64,
                                     t.sin[7],
                                     x9,
                                 ) - 0.15115994217367743_f64,
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.17377768657530934_f64,
                                     p.l_a,
                                     0.052133305972592796_f64,
@@ -3030,20 +3428,20 @@ pub mod chain9_prismatic {
                             ),
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[6],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[7],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[8],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.6298330923903226_f64,
                                     p.l_a,
                                     0.1889499277170968_f64,
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[8],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.7207114827865685_f64,
                                         p.l_a,
                                         0.21621344483597055_f64,
@@ -3051,22 +3449,22 @@ pub mod chain9_prismatic {
                                     -0.0034755537315061865_f64,
                                 ),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.28962947762551555_f64,
                                     p.l_a,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.008648537793438821_f64,
                                         t.cos[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.007557997108683871_f64,
                                             t.sin[8],
                                             0.08688884328765467_f64,
                                         ),
                                     ),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.010077329478245162_f64,
                                     t.cos[8],
                                     -(0.011531383724585096_f64 * t.sin[8]),
@@ -3076,41 +3474,41 @@ pub mod chain9_prismatic {
                         x19,
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.cos[6],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[8],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[7],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.09682238451014491_f64,
                                 p.l_a,
                                 0.029046715353043477_f64,
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.0032274128170048304_f64,
                                 t.sin[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.1946657795174006_f64,
                                     p.l_a,
                                     -0.05839973385522019_f64,
                                 ),
                             ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[8],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[7],
                                 0.04379980039141514_f64 - x14,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.004866644487935016_f64,
                                     t.sin[7],
                                     0.03872895380405797_f64,
                                 ) - x13,
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.5738550515095395_f64,
                                     p.l_a,
                                     0.17215651545286184_f64,
@@ -3119,20 +3517,20 @@ pub mod chain9_prismatic {
                             ),
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[6],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[7],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[8],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.16137064085024153_f64,
                                     p.l_a,
                                     -0.048411192255072455_f64,
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[8],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.2433322243967508_f64,
                                         p.l_a,
                                         -0.07299966731902524_f64,
@@ -3140,22 +3538,22 @@ pub mod chain9_prismatic {
                                     -0.011477101030190789_f64,
                                 ),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.9564250858492326_f64,
                                     p.l_a,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.00291998669276101_f64,
                                         t.cos[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.0019364476902028983_f64,
                                             t.sin[8],
                                             0.28692752575476976_f64,
                                         ),
                                     ),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.0038933155903480123_f64,
                                     t.sin[8],
                                     -(0.0025819302536038645_f64 * t.cos[8]),
@@ -3165,33 +3563,33 @@ pub mod chain9_prismatic {
                         x20,
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.cos[6],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[8],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[7],
                             x18 - 0.1367608908308683_f64,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.015195654536763144_f64,
                                 t.sin[7],
                                 x17,
                             ) - 0.15579020732967652_f64,
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[8],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[7],
                                 0.11684265549725738_f64 - x16,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.012982517277473044_f64,
                                     t.sin[7],
                                     x15 - 0.18234785444115773_f64,
                                 ),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.022174208114775048_f64,
                                     p.l_a,
                                     -0.006652262434432514_f64,
@@ -3200,20 +3598,20 @@ pub mod chain9_prismatic {
                             ),
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[6],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[7],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[8],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.7597827268381572_f64,
                                     p.l_a,
                                     0.22793481805144714_f64,
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[8],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.6491258638736521_f64,
                                         p.l_a,
                                         -0.19473775916209565_f64,
@@ -3221,18 +3619,18 @@ pub mod chain9_prismatic {
                                     0.00044348416229550094_f64,
                                 ),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.007789510366483825_f64,
                                     t.cos[8],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.009117392722057886_f64,
                                         t.sin[8],
                                         0.03695701352462508_f64 * p.l_a,
                                     ) - 0.011087104057387524_f64,
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.010386013821978434_f64,
                                     t.sin[8],
                                     0.012156523629410514_f64 * t.cos[8],
@@ -3248,49 +3646,49 @@ pub mod chain9_prismatic {
             ],
             [x19, x20, x21, x22, x23, x24],
             [
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     0.18017787069664212_f64,
                     t.cos[8],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.15745827309758065_f64,
                         t.sin[8],
                         0.0023170358210041243_f64,
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.04034266021256038_f64,
                     t.sin[8],
                     0.060833056099187696_f64 * t.cos[8],
                 ) - 0.00765140068679386_f64,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.1899456817095393_f64,
                     t.sin[8],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.16228146596841303_f64,
                         t.cos[8],
                         0.00029565610819700066_f64,
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.6298330923903226_f64,
                     t.cos[8],
                     -(0.7207114827865685_f64 * t.sin[8]),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.24333222439675078_f64,
                     t.sin[8],
                     -(0.16137064085024153_f64 * t.cos[8]),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.6491258638736521_f64,
                     t.sin[8],
                     0.7597827268381572_f64 * t.cos[8],
                 ),
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 0.28962947762551555_f64,
                 0.9564250858492325_f64,
                 -0.03695701352462508_f64,
@@ -3307,25 +3705,25 @@ pub mod chain9_prismatic {
     #[inline]
     #[must_use]
     pub fn constraint_jacobian_c(q: &[f64; N], p: &Params) -> [[f64; 6]; R] {
-        let ([s7, s8, s9], [c7, c8, c9]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s7, s8, s9], [c7, c8, c9]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[6], q[7], q[8]],
         );
-        let x0 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
+            / <f64 as ::trocar::emitted::Real>::mul_add(
                 p.l_a,
                 p.l_a,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ONE,
             );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             s9,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.3778998554341936_f64,
                 c8,
                 -0.5765691862292548_f64,
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 c9,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.4324268896719411_f64,
                     c8,
                     0.5038664739122581_f64,
@@ -3333,19 +3731,19 @@ pub mod chain9_prismatic {
                 -(0.17377768657530934_f64 * s8),
             ),
         );
-        let x2 = <f64 as ::trocar::Real>::mul_add(
+        let x2 = <f64 as ::trocar::emitted::Real>::mul_add(
             s8,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.6298330923903226_f64,
                 s9,
                 0.7207114827865685_f64 * c9,
             ),
             0.28962947762551555_f64 * c8,
         );
-        let x3 = <f64 as ::trocar::Real>::mul_add(c7, x1, -(s7 * x2));
-        let x4 = <f64 as ::trocar::Real>::mul_add(
+        let x3 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x1, -(s7 * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
             c9,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.14599933463805048_f64,
                 c8,
                 0.12909651268019323_f64,
@@ -3353,16 +3751,16 @@ pub mod chain9_prismatic {
             0.5738550515095395_f64 * s8,
         );
         let x5 = 0.16137064085024153_f64 * s9;
-        let x6 = <f64 as ::trocar::Real>::mul_add(
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
             s9,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.45586963610289427_f64,
                 c8,
                 0.5193006910989217_f64,
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 c9,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.3894755183241913_f64,
                     c8,
                     0.6078261814705257_f64,
@@ -3373,13 +3771,13 @@ pub mod chain9_prismatic {
         let x7 = 0.6491258638736521_f64 * c9;
         let x8 = 0.7597827268381572_f64 * s9;
         let x9 = 0.03695701352462508_f64 * c8;
-        let x10 = <f64 as ::trocar::Real>::mul_add(
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
             c7,
             x6,
-            s7 * <f64 as ::trocar::Real>::mul_add(s8, x7 - x8, x9),
+            s7 * <f64 as ::trocar::emitted::Real>::mul_add(s8, x7 - x8, x9),
         );
         let x11 = s9
-            * <f64 as ::trocar::Real>::mul_add(
+            * <f64 as ::trocar::emitted::Real>::mul_add(
                 0.5038664739122581_f64,
                 c8,
                 0.4324268896719411_f64,
@@ -3387,7 +3785,7 @@ pub mod chain9_prismatic {
         let x12 = 0.5765691862292548_f64 * c8;
         let x13 = 0.23170358210041245_f64 * s8;
         let x14 = s9
-            * <f64 as ::trocar::Real>::mul_add(
+            * <f64 as ::trocar::emitted::Real>::mul_add(
                 0.12909651268019323_f64,
                 c8,
                 0.14599933463805048_f64,
@@ -3396,38 +3794,38 @@ pub mod chain9_prismatic {
         let x16 = 0.765140068679386_f64 * s8;
         let x17 = 0.6078261814705257_f64 * c8;
         let x18 = c9
-            * <f64 as ::trocar::Real>::mul_add(
+            * <f64 as ::trocar::emitted::Real>::mul_add(
                 0.5193006910989217_f64,
                 c8,
                 0.45586963610289427_f64,
             );
         let x19 = 0.029565610819700064_f64 * s8;
-        let x20 = <f64 as ::trocar::Real>::mul_add(
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
             s8,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -0.005617760181505195_f64,
                 c9,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.0011920159847703673_f64,
                     s9,
                     0.009268143284016497_f64,
                 ),
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 c8,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.1282613813744756_f64,
                     s9,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.07141219640937821_f64,
                         c9,
                         -0.001042666119451856_f64,
                     ),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     0.12902630233994597_f64,
                     c9,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.14326369406494216_f64,
                         s9,
                         0.0018536286568032994_f64,
@@ -3439,29 +3837,29 @@ pub mod chain9_prismatic {
         let x22 = 0.15745827309758065_f64 * c9;
         let x23 = 0.0019866933079506124_f64 * s9;
         let x24 = 0.009362933635841992_f64 * c9;
-        let x25 = <f64 as ::trocar::Real>::mul_add(
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
             s8,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -0.0005870603700435343_f64,
                 s9,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.0016505750839094623_f64,
                     c9,
                     0.03060560274717544_f64,
                 ),
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 c8,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.016418964946840205_f64,
                     c9,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.04166369416672035_f64,
                         s9,
                         -0.003443130309057237_f64,
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.03811410155557032_f64,
                     s9,
                     0.04479354949894436_f64 * c9,
@@ -3471,32 +3869,32 @@ pub mod chain9_prismatic {
         let x26 = 0.04034266021256038_f64 * c9;
         let x27 = 0.060833056099187696_f64 * s9;
         let x28 = 0.0009784339500725572_f64 * s9;
-        let x29 = <f64 as ::trocar::Real>::mul_add(
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
             -s8,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.0013101039788780064_f64,
                 c9,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.005851021963210896_f64,
                     s9,
                     0.0011826244327880027_f64,
                 ),
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 c8,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.13473943666968044_f64,
                     c9,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.07305583232222679_f64,
                         s9,
                         0.00013304524868865028_f64,
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.13637752463466377_f64,
                     s9,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.1480599582188462_f64,
                         c9,
                         0.0002365248865576005_f64,
@@ -3504,67 +3902,68 @@ pub mod chain9_prismatic {
                 ),
             ),
         );
-        let x30 = <f64 as ::trocar::Real>::mul_add(
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
             s8,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.1899456817095393_f64,
                 c9,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.16228146596841303_f64,
                     s9,
                     0.00022174208114775047_f64,
                 ),
             ),
             c8
-                * <f64 as ::trocar::Real>::mul_add(
+                * <f64 as ::trocar::emitted::Real>::mul_add(
                     0.00975170327201816_f64,
                     s9,
                     0.0021835066314633443_f64 * c9,
                 ),
         );
-        let x31 = <f64 as ::trocar::Real>::mul_add(
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
             s9,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -0.09682238451014492_f64,
                 c8,
                 0.19466577951740063_f64,
             ),
             -x4,
         );
-        let x32 = s8 * <f64 as ::trocar::Real>::mul_add(0.24333222439675078_f64, c9, x5);
+        let x32 = s8
+            * <f64 as ::trocar::emitted::Real>::mul_add(0.24333222439675078_f64, c9, x5);
         let x33 = 0.9564250858492325_f64 * c8;
         [
             [
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
-                            <f64 as ::trocar::Real>::mul_add(
-                                <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.21621344483597055_f64,
                                     c9,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.1889499277170968_f64,
                                         s9,
                                         0.0034755537315061865_f64,
                                     ),
                                 ),
                                 s7,
-                                <f64 as ::trocar::Real>::mul_add(
-                                    -<f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                    -<f64 as ::trocar::emitted::Real>::mul_add(
                                         0.01441422965573137_f64,
                                         c9,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.012596661847806452_f64,
                                             s9,
                                             0.052133305972592796_f64,
                                         ),
                                     ),
                                     c7,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.007490346908673594_f64,
                                         c9,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.0015893546463604897_f64,
                                             s9,
                                             -0.006951107463012373_f64,
@@ -3573,29 +3972,29 @@ pub mod chain9_prismatic {
                                 ),
                             ),
                             s8,
-                            <f64 as ::trocar::Real>::mul_add(
-                                <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -s7,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.008648537793438821_f64,
                                         c9,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.007557997108683871_f64,
                                             s9,
                                             0.08688884328765467_f64,
                                         ),
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         c7,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.11336995663025808_f64,
                                             s9,
                                             0.12972806690158234_f64 * c9,
                                         ) - 0.005792589552510311_f64,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.12902630233994597_f64,
                                             s9,
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.14326369406494216_f64,
                                                 c9,
                                                 -0.0013902214926024747_f64,
@@ -3604,23 +4003,23 @@ pub mod chain9_prismatic {
                                     ),
                                 ),
                                 c8,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     s9,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.17297075586877644_f64,
                                         c7,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.011531383724585096_f64,
                                             s7,
                                             0.07141219640937821_f64,
                                         ),
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         c9,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.010077329478245162_f64,
                                             s7,
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.15115994217367743_f64,
                                                 c7,
                                                 0.1282613813744756_f64,
@@ -3634,32 +4033,32 @@ pub mod chain9_prismatic {
                         x3,
                     ),
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             s8,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 s7,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.07299966731902524_f64,
                                     c9,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.048411192255072455_f64,
                                         s9,
                                         0.011477101030190789_f64,
                                     ),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     c7,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.0032274128170048304_f64,
                                         s9,
                                         0.004866644487935016_f64 * c9,
                                     ) - 0.17215651545286184_f64,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.0007827471600580457_f64,
                                         s9,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.0022007667785459493_f64,
                                             c9,
                                             -0.022954202060381578_f64,
@@ -3667,30 +4066,30 @@ pub mod chain9_prismatic {
                                     ),
                                 ),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 c8,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     s7,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.0019364476902028983_f64,
                                         s9,
                                         0.00291998669276101_f64 * c9,
                                     ) - 0.28692752575476976_f64,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -c7,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.04379980039141514_f64,
                                             c9,
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.029046715353043477_f64,
                                                 s9,
                                                 0.01912850171698465_f64,
                                             ),
                                         ),
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.03811410155557032_f64,
                                             c9,
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.04479354949894437_f64,
                                                 s9,
                                                 -0.004590840412076316_f64,
@@ -3698,23 +4097,23 @@ pub mod chain9_prismatic {
                                         ),
                                     ),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     s9,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.0038933155903480123_f64,
                                         s7,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.05839973385522019_f64,
                                             c7,
                                             -0.016418964946840205_f64,
                                         ),
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         c9,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.03872895380405797_f64,
                                             c7,
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.0025819302536038645_f64,
                                                 s7,
                                                 -0.04166369416672035_f64,
@@ -3725,11 +4124,11 @@ pub mod chain9_prismatic {
                                 ),
                             ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             c7,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 s9,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.09682238451014491_f64,
                                     c8,
                                     0.1946657795174006_f64,
@@ -3737,9 +4136,9 @@ pub mod chain9_prismatic {
                                 -x4,
                             ),
                             s7
-                                * <f64 as ::trocar::Real>::mul_add(
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
                                     s8,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.2433322243967508_f64,
                                         c9,
                                         x5,
@@ -3749,36 +4148,36 @@ pub mod chain9_prismatic {
                         ),
                     ),
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             s8,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 s7,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.22793481805144714_f64,
                                     s9,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.19473775916209565_f64,
                                         c9,
                                         -0.00044348416229550094_f64,
                                     ),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     c7,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.015195654536763144_f64,
                                         s9,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.012982517277473044_f64,
                                             c9,
                                             0.006652262434432514_f64,
                                         ),
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.0017468053051706756_f64,
                                         c9,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.007801362617614528_f64,
                                             s9,
                                             0.0008869683245910019_f64,
@@ -3786,34 +4185,34 @@ pub mod chain9_prismatic {
                                     ),
                                 ),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 c8,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     s7,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.009117392722057886_f64,
                                         s9,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.007789510366483825_f64,
                                             c9,
                                             0.011087104057387524_f64,
                                         ),
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         c7,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.11684265549725738_f64,
                                             c9,
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.1367608908308683_f64,
                                                 s9,
                                                 0.0007391402704925016_f64,
                                             ),
                                         ),
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.13637752463466377_f64,
                                             c9,
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.1480599582188462_f64,
                                                 s9,
                                                 0.0001773936649182004_f64,
@@ -3821,23 +4220,23 @@ pub mod chain9_prismatic {
                                         ),
                                     ),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     s9,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.010386013821978434_f64,
                                         s7,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.15579020732967652_f64,
                                             c7,
                                             0.13473943666968044_f64,
                                         ),
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         c9,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.012156523629410514_f64,
                                             s7,
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.18234785444115773_f64,
                                                 c7,
                                                 -0.07305583232222679_f64,
@@ -3853,21 +4252,21 @@ pub mod chain9_prismatic {
                 p.l_a
                     * (x0
                         * (x11
-                            + <f64 as ::trocar::Real>::mul_add(
+                            + <f64 as ::trocar::emitted::Real>::mul_add(
                                 c9,
                                 x12 - 0.3778998554341936_f64,
                                 -x13,
                             ))),
                 p.l_a
                     * (x0
-                        * (<f64 as ::trocar::Real>::mul_add(
+                        * (<f64 as ::trocar::emitted::Real>::mul_add(
                             c9,
                             0.09682238451014492_f64 - x15,
                             -x16,
                         ) - x14)),
                 p.l_a
                     * (x0
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             s9,
                             x17 - 0.3894755183241913_f64,
                             x19 - x18,
@@ -3875,28 +4274,28 @@ pub mod chain9_prismatic {
             ],
             [
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             c7,
                             x20,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 s7,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     s8,
                                     0.0017377768657530933_f64 + x21 - x22,
                                     c8 * (x23 - x24),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -s9,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.15115994217367743_f64,
                                         c8,
                                         0.12972806690158234_f64,
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         c9,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.17297075586877644_f64,
                                             c8,
                                             0.11336995663025808_f64,
@@ -3906,40 +4305,40 @@ pub mod chain9_prismatic {
                                 ),
                             ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             c9,
                             0.3778998554341936_f64 - x12,
                             x13,
                         ) - x11,
                     ),
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             c7,
                             x25,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 s7,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     s8,
                                     0.005738550515095395_f64 + x26 - x27,
                                     c8
-                                        * <f64 as ::trocar::Real>::mul_add(
+                                        * <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.002750958473182437_f64,
                                             c9,
                                             -x28,
                                         ),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     s9,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.03872895380405797_f64,
                                         c8,
                                         0.04379980039141514_f64,
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         c9,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.05839973385522019_f64,
                                             c8,
                                             -0.029046715353043477_f64,
@@ -3950,31 +4349,31 @@ pub mod chain9_prismatic {
                             ),
                         ),
                         x14
-                            + <f64 as ::trocar::Real>::mul_add(
+                            + <f64 as ::trocar::emitted::Real>::mul_add(
                                 c9,
                                 x15 - 0.09682238451014492_f64,
                                 x16,
                             ),
                     ),
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             c7,
                             x29,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -s7,
                                 x30,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     s9,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.18234785444115773_f64,
                                         c8,
                                         0.11684265549725738_f64,
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         c9,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.15579020732967652_f64,
                                             c8,
                                             0.1367608908308683_f64,
@@ -3984,7 +4383,7 @@ pub mod chain9_prismatic {
                                 ),
                             ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             s9,
                             0.3894755183241913_f64 - x17,
                             x18 - x19,
@@ -3992,30 +4391,35 @@ pub mod chain9_prismatic {
                     ),
                 p.l_a * (x0 * x3),
                 p.l_a
-                    * (x0 * <f64 as ::trocar::Real>::mul_add(c7, x31, s7 * (x32 - x33))),
+                    * (x0
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            c7,
+                            x31,
+                            s7 * (x32 - x33),
+                        )),
                 p.l_a * (x0 * x10),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     s7,
                     x20,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         c7,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             s8,
                             x22 - 0.0017377768657530933_f64 - x21,
                             c8 * (x24 - x23),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             s9,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.010077329478245162_f64,
                                 c8,
                                 0.008648537793438821_f64,
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 c9,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.011531383724585096_f64,
                                     c8,
                                     -0.007557997108683871_f64,
@@ -4025,31 +4429,31 @@ pub mod chain9_prismatic {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     s7,
                     x25,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         c7,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             s8,
                             x27 - 0.005738550515095395_f64 - x26,
                             c8
-                                * <f64 as ::trocar::Real>::mul_add(
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.0027509584731824368_f64,
                                     c9,
                                     x28,
                                 ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             -s9,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.0025819302536038645_f64,
                                 c8,
                                 0.0029199866927610094_f64,
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 c9,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.0038933155903480127_f64,
                                     c8,
                                     0.0019364476902028983_f64,
@@ -4059,24 +4463,24 @@ pub mod chain9_prismatic {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     s7,
                     x29,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         c7,
                         x30,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             s9,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.012156523629410514_f64,
                                 c8,
                                 -0.007789510366483825_f64,
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.0005913122163940013_f64,
                                 s8,
                                 -(c9
-                                    * <f64 as ::trocar::Real>::mul_add(
+                                    * <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.010386013821978434_f64,
                                         c8,
                                         0.009117392722057886_f64,
@@ -4085,12 +4489,12 @@ pub mod chain9_prismatic {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(s7, x1, c7 * x2),
-                <f64 as ::trocar::Real>::mul_add(s7, x31, c7 * (x33 - x32)),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(s7, x1, c7 * x2),
+                <f64 as ::trocar::emitted::Real>::mul_add(s7, x31, c7 * (x33 - x32)),
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     s7,
                     x6,
-                    c7 * <f64 as ::trocar::Real>::mul_add(s8, x8 - x7, -x9),
+                    c7 * <f64 as ::trocar::emitted::Real>::mul_add(s8, x8 - x7, -x9),
                 ),
             ],
         ]
@@ -4103,22 +4507,22 @@ pub mod chain9_prismatic {
     #[inline]
     #[must_use]
     pub fn constraint_jacobian_c_trig(t: &JointTrig, p: &Params) -> [[f64; 6]; R] {
-        let x0 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
+            / <f64 as ::trocar::emitted::Real>::mul_add(
                 p.l_a,
                 p.l_a,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ONE,
             );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.3778998554341936_f64,
                 t.cos[7],
                 -0.5765691862292548_f64,
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[8],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.4324268896719411_f64,
                     t.cos[7],
                     0.5038664739122581_f64,
@@ -4126,19 +4530,23 @@ pub mod chain9_prismatic {
                 -(0.17377768657530934_f64 * t.sin[7]),
             ),
         );
-        let x2 = <f64 as ::trocar::Real>::mul_add(
+        let x2 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.6298330923903226_f64,
                 t.sin[8],
                 0.7207114827865685_f64 * t.cos[8],
             ),
             0.28962947762551555_f64 * t.cos[7],
         );
-        let x3 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x1, -(t.sin[6] * x2));
-        let x4 = <f64 as ::trocar::Real>::mul_add(
+        let x3 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x1,
+            -(t.sin[6] * x2),
+        );
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[8],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.14599933463805048_f64,
                 t.cos[7],
                 0.12909651268019323_f64,
@@ -4146,16 +4554,16 @@ pub mod chain9_prismatic {
             0.5738550515095395_f64 * t.sin[7],
         );
         let x5 = 0.16137064085024153_f64 * t.sin[8];
-        let x6 = <f64 as ::trocar::Real>::mul_add(
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.45586963610289427_f64,
                 t.cos[7],
                 0.5193006910989217_f64,
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[8],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.3894755183241913_f64,
                     t.cos[7],
                     0.6078261814705257_f64,
@@ -4166,13 +4574,13 @@ pub mod chain9_prismatic {
         let x7 = 0.6491258638736521_f64 * t.cos[8];
         let x8 = 0.7597827268381572_f64 * t.sin[8];
         let x9 = 0.03695701352462508_f64 * t.cos[7];
-        let x10 = <f64 as ::trocar::Real>::mul_add(
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[6],
             x6,
-            t.sin[6] * <f64 as ::trocar::Real>::mul_add(t.sin[7], x7 - x8, x9),
+            t.sin[6] * <f64 as ::trocar::emitted::Real>::mul_add(t.sin[7], x7 - x8, x9),
         );
         let x11 = t.sin[8]
-            * <f64 as ::trocar::Real>::mul_add(
+            * <f64 as ::trocar::emitted::Real>::mul_add(
                 0.5038664739122581_f64,
                 t.cos[7],
                 0.4324268896719411_f64,
@@ -4180,7 +4588,7 @@ pub mod chain9_prismatic {
         let x12 = 0.5765691862292548_f64 * t.cos[7];
         let x13 = 0.23170358210041245_f64 * t.sin[7];
         let x14 = t.sin[8]
-            * <f64 as ::trocar::Real>::mul_add(
+            * <f64 as ::trocar::emitted::Real>::mul_add(
                 0.12909651268019323_f64,
                 t.cos[7],
                 0.14599933463805048_f64,
@@ -4189,38 +4597,38 @@ pub mod chain9_prismatic {
         let x16 = 0.765140068679386_f64 * t.sin[7];
         let x17 = 0.6078261814705257_f64 * t.cos[7];
         let x18 = t.cos[8]
-            * <f64 as ::trocar::Real>::mul_add(
+            * <f64 as ::trocar::emitted::Real>::mul_add(
                 0.5193006910989217_f64,
                 t.cos[7],
                 0.45586963610289427_f64,
             );
         let x19 = 0.029565610819700064_f64 * t.sin[7];
-        let x20 = <f64 as ::trocar::Real>::mul_add(
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -0.005617760181505195_f64,
                 t.cos[8],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.0011920159847703673_f64,
                     t.sin[8],
                     0.009268143284016497_f64,
                 ),
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[7],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.1282613813744756_f64,
                     t.sin[8],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.07141219640937821_f64,
                         t.cos[8],
                         -0.001042666119451856_f64,
                     ),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     0.12902630233994597_f64,
                     t.cos[8],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.14326369406494216_f64,
                         t.sin[8],
                         0.0018536286568032994_f64,
@@ -4232,29 +4640,29 @@ pub mod chain9_prismatic {
         let x22 = 0.15745827309758065_f64 * t.cos[8];
         let x23 = 0.0019866933079506124_f64 * t.sin[8];
         let x24 = 0.009362933635841992_f64 * t.cos[8];
-        let x25 = <f64 as ::trocar::Real>::mul_add(
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -0.0005870603700435343_f64,
                 t.sin[8],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.0016505750839094623_f64,
                     t.cos[8],
                     0.03060560274717544_f64,
                 ),
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[7],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.016418964946840205_f64,
                     t.cos[8],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.04166369416672035_f64,
                         t.sin[8],
                         -0.003443130309057237_f64,
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.03811410155557032_f64,
                     t.sin[8],
                     0.04479354949894436_f64 * t.cos[8],
@@ -4264,32 +4672,32 @@ pub mod chain9_prismatic {
         let x26 = 0.04034266021256038_f64 * t.cos[8];
         let x27 = 0.060833056099187696_f64 * t.sin[8];
         let x28 = 0.0009784339500725572_f64 * t.sin[8];
-        let x29 = <f64 as ::trocar::Real>::mul_add(
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
             -t.sin[7],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.0013101039788780064_f64,
                 t.cos[8],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.005851021963210896_f64,
                     t.sin[8],
                     0.0011826244327880027_f64,
                 ),
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[7],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.13473943666968044_f64,
                     t.cos[8],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.07305583232222679_f64,
                         t.sin[8],
                         0.00013304524868865028_f64,
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.13637752463466377_f64,
                     t.sin[8],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.1480599582188462_f64,
                         t.cos[8],
                         0.0002365248865576005_f64,
@@ -4297,27 +4705,27 @@ pub mod chain9_prismatic {
                 ),
             ),
         );
-        let x30 = <f64 as ::trocar::Real>::mul_add(
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.1899456817095393_f64,
                 t.cos[8],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.16228146596841303_f64,
                     t.sin[8],
                     0.00022174208114775047_f64,
                 ),
             ),
             t.cos[7]
-                * <f64 as ::trocar::Real>::mul_add(
+                * <f64 as ::trocar::emitted::Real>::mul_add(
                     0.00975170327201816_f64,
                     t.sin[8],
                     0.0021835066314633443_f64 * t.cos[8],
                 ),
         );
-        let x31 = <f64 as ::trocar::Real>::mul_add(
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -0.09682238451014492_f64,
                 t.cos[7],
                 0.19466577951740063_f64,
@@ -4325,40 +4733,44 @@ pub mod chain9_prismatic {
             -x4,
         );
         let x32 = t.sin[7]
-            * <f64 as ::trocar::Real>::mul_add(0.24333222439675078_f64, t.cos[8], x5);
+            * <f64 as ::trocar::emitted::Real>::mul_add(
+                0.24333222439675078_f64,
+                t.cos[8],
+                x5,
+            );
         let x33 = 0.9564250858492325_f64 * t.cos[7];
         [
             [
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
-                            <f64 as ::trocar::Real>::mul_add(
-                                <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.21621344483597055_f64,
                                     t.cos[8],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.1889499277170968_f64,
                                         t.sin[8],
                                         0.0034755537315061865_f64,
                                     ),
                                 ),
                                 t.sin[6],
-                                <f64 as ::trocar::Real>::mul_add(
-                                    -<f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                    -<f64 as ::trocar::emitted::Real>::mul_add(
                                         0.01441422965573137_f64,
                                         t.cos[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.012596661847806452_f64,
                                             t.sin[8],
                                             0.052133305972592796_f64,
                                         ),
                                     ),
                                     t.cos[6],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.007490346908673594_f64,
                                         t.cos[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.0015893546463604897_f64,
                                             t.sin[8],
                                             -0.006951107463012373_f64,
@@ -4367,29 +4779,29 @@ pub mod chain9_prismatic {
                                 ),
                             ),
                             t.sin[7],
-                            <f64 as ::trocar::Real>::mul_add(
-                                <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -t.sin[6],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.008648537793438821_f64,
                                         t.cos[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.007557997108683871_f64,
                                             t.sin[8],
                                             0.08688884328765467_f64,
                                         ),
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.cos[6],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.11336995663025808_f64,
                                             t.sin[8],
                                             0.12972806690158234_f64 * t.cos[8],
                                         ) - 0.005792589552510311_f64,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.12902630233994597_f64,
                                             t.sin[8],
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.14326369406494216_f64,
                                                 t.cos[8],
                                                 -0.0013902214926024747_f64,
@@ -4398,23 +4810,23 @@ pub mod chain9_prismatic {
                                     ),
                                 ),
                                 t.cos[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[8],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.17297075586877644_f64,
                                         t.cos[6],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.011531383724585096_f64,
                                             t.sin[6],
                                             0.07141219640937821_f64,
                                         ),
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.cos[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.010077329478245162_f64,
                                             t.sin[6],
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.15115994217367743_f64,
                                                 t.cos[6],
                                                 0.1282613813744756_f64,
@@ -4428,32 +4840,32 @@ pub mod chain9_prismatic {
                         x3,
                     ),
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[7],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[6],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.07299966731902524_f64,
                                     t.cos[8],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.048411192255072455_f64,
                                         t.sin[8],
                                         0.011477101030190789_f64,
                                     ),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[6],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.0032274128170048304_f64,
                                         t.sin[8],
                                         0.004866644487935016_f64 * t.cos[8],
                                     ) - 0.17215651545286184_f64,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.0007827471600580457_f64,
                                         t.sin[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.0022007667785459493_f64,
                                             t.cos[8],
                                             -0.022954202060381578_f64,
@@ -4461,30 +4873,30 @@ pub mod chain9_prismatic {
                                     ),
                                 ),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[6],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.0019364476902028983_f64,
                                         t.sin[8],
                                         0.00291998669276101_f64 * t.cos[8],
                                     ) - 0.28692752575476976_f64,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -t.cos[6],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.04379980039141514_f64,
                                             t.cos[8],
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.029046715353043477_f64,
                                                 t.sin[8],
                                                 0.01912850171698465_f64,
                                             ),
                                         ),
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.03811410155557032_f64,
                                             t.cos[8],
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.04479354949894437_f64,
                                                 t.sin[8],
                                                 -0.004590840412076316_f64,
@@ -4492,23 +4904,23 @@ pub mod chain9_prismatic {
                                         ),
                                     ),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[8],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.0038933155903480123_f64,
                                         t.sin[6],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.05839973385522019_f64,
                                             t.cos[6],
                                             -0.016418964946840205_f64,
                                         ),
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.cos[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.03872895380405797_f64,
                                             t.cos[6],
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.0025819302536038645_f64,
                                                 t.sin[6],
                                                 -0.04166369416672035_f64,
@@ -4519,11 +4931,11 @@ pub mod chain9_prismatic {
                                 ),
                             ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[6],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[8],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.09682238451014491_f64,
                                     t.cos[7],
                                     0.1946657795174006_f64,
@@ -4531,9 +4943,9 @@ pub mod chain9_prismatic {
                                 -x4,
                             ),
                             t.sin[6]
-                                * <f64 as ::trocar::Real>::mul_add(
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[7],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.2433322243967508_f64,
                                         t.cos[8],
                                         x5,
@@ -4543,36 +4955,36 @@ pub mod chain9_prismatic {
                         ),
                     ),
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[7],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[6],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.22793481805144714_f64,
                                     t.sin[8],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.19473775916209565_f64,
                                         t.cos[8],
                                         -0.00044348416229550094_f64,
                                     ),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[6],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.015195654536763144_f64,
                                         t.sin[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.012982517277473044_f64,
                                             t.cos[8],
                                             0.006652262434432514_f64,
                                         ),
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.0017468053051706756_f64,
                                         t.cos[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.007801362617614528_f64,
                                             t.sin[8],
                                             0.0008869683245910019_f64,
@@ -4580,34 +4992,34 @@ pub mod chain9_prismatic {
                                     ),
                                 ),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[6],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.009117392722057886_f64,
                                         t.sin[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.007789510366483825_f64,
                                             t.cos[8],
                                             0.011087104057387524_f64,
                                         ),
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.cos[6],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.11684265549725738_f64,
                                             t.cos[8],
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.1367608908308683_f64,
                                                 t.sin[8],
                                                 0.0007391402704925016_f64,
                                             ),
                                         ),
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.13637752463466377_f64,
                                             t.cos[8],
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.1480599582188462_f64,
                                                 t.sin[8],
                                                 0.0001773936649182004_f64,
@@ -4615,23 +5027,23 @@ pub mod chain9_prismatic {
                                         ),
                                     ),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[8],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.010386013821978434_f64,
                                         t.sin[6],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.15579020732967652_f64,
                                             t.cos[6],
                                             0.13473943666968044_f64,
                                         ),
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.cos[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.012156523629410514_f64,
                                             t.sin[6],
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.18234785444115773_f64,
                                                 t.cos[6],
                                                 -0.07305583232222679_f64,
@@ -4647,21 +5059,21 @@ pub mod chain9_prismatic {
                 p.l_a
                     * (x0
                         * (x11
-                            + <f64 as ::trocar::Real>::mul_add(
+                            + <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[8],
                                 x12 - 0.3778998554341936_f64,
                                 -x13,
                             ))),
                 p.l_a
                     * (x0
-                        * (<f64 as ::trocar::Real>::mul_add(
+                        * (<f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[8],
                             0.09682238451014492_f64 - x15,
                             -x16,
                         ) - x14)),
                 p.l_a
                     * (x0
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[8],
                             x17 - 0.3894755183241913_f64,
                             x19 - x18,
@@ -4669,28 +5081,28 @@ pub mod chain9_prismatic {
             ],
             [
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[6],
                             x20,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[6],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[7],
                                     0.0017377768657530933_f64 + x21 - x22,
                                     t.cos[7] * (x23 - x24),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -t.sin[8],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.15115994217367743_f64,
                                         t.cos[7],
                                         0.12972806690158234_f64,
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.cos[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.17297075586877644_f64,
                                             t.cos[7],
                                             0.11336995663025808_f64,
@@ -4700,40 +5112,40 @@ pub mod chain9_prismatic {
                                 ),
                             ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[8],
                             0.3778998554341936_f64 - x12,
                             x13,
                         ) - x11,
                     ),
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[6],
                             x25,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[6],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[7],
                                     0.005738550515095395_f64 + x26 - x27,
                                     t.cos[7]
-                                        * <f64 as ::trocar::Real>::mul_add(
+                                        * <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.002750958473182437_f64,
                                             t.cos[8],
                                             -x28,
                                         ),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[8],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.03872895380405797_f64,
                                         t.cos[7],
                                         0.04379980039141514_f64,
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.cos[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.05839973385522019_f64,
                                             t.cos[7],
                                             -0.029046715353043477_f64,
@@ -4744,31 +5156,31 @@ pub mod chain9_prismatic {
                             ),
                         ),
                         x14
-                            + <f64 as ::trocar::Real>::mul_add(
+                            + <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[8],
                                 x15 - 0.09682238451014492_f64,
                                 x16,
                             ),
                     ),
                 x0
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[6],
                             x29,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -t.sin[6],
                                 x30,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[8],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.18234785444115773_f64,
                                         t.cos[7],
                                         0.11684265549725738_f64,
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.cos[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.15579020732967652_f64,
                                             t.cos[7],
                                             0.1367608908308683_f64,
@@ -4778,7 +5190,7 @@ pub mod chain9_prismatic {
                                 ),
                             ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[8],
                             0.3894755183241913_f64 - x17,
                             x18 - x19,
@@ -4787,7 +5199,7 @@ pub mod chain9_prismatic {
                 p.l_a * (x0 * x3),
                 p.l_a
                     * (x0
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[6],
                             x31,
                             t.sin[6] * (x32 - x33),
@@ -4795,26 +5207,26 @@ pub mod chain9_prismatic {
                 p.l_a * (x0 * x10),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[6],
                     x20,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[6],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[7],
                             x22 - 0.0017377768657530933_f64 - x21,
                             t.cos[7] * (x24 - x23),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[8],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.010077329478245162_f64,
                                 t.cos[7],
                                 0.008648537793438821_f64,
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[8],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.011531383724585096_f64,
                                     t.cos[7],
                                     -0.007557997108683871_f64,
@@ -4824,31 +5236,31 @@ pub mod chain9_prismatic {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[6],
                     x25,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[6],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[7],
                             x27 - 0.005738550515095395_f64 - x26,
                             t.cos[7]
-                                * <f64 as ::trocar::Real>::mul_add(
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.0027509584731824368_f64,
                                     t.cos[8],
                                     x28,
                                 ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             -t.sin[8],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.0025819302536038645_f64,
                                 t.cos[7],
                                 0.0029199866927610094_f64,
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[8],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.0038933155903480127_f64,
                                     t.cos[7],
                                     0.0019364476902028983_f64,
@@ -4858,24 +5270,24 @@ pub mod chain9_prismatic {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[6],
                     x29,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[6],
                         x30,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[8],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.012156523629410514_f64,
                                 t.cos[7],
                                 -0.007789510366483825_f64,
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.0005913122163940013_f64,
                                 t.sin[7],
                                 -(t.cos[8]
-                                    * <f64 as ::trocar::Real>::mul_add(
+                                    * <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.010386013821978434_f64,
                                         t.cos[7],
                                         0.009117392722057886_f64,
@@ -4884,12 +5296,21 @@ pub mod chain9_prismatic {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(t.sin[6], x1, t.cos[6] * x2),
-                <f64 as ::trocar::Real>::mul_add(t.sin[6], x31, t.cos[6] * (x33 - x32)),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[6], x1, t.cos[6] * x2),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[6],
+                    x31,
+                    t.cos[6] * (x33 - x32),
+                ),
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[6],
                     x6,
-                    t.cos[6] * <f64 as ::trocar::Real>::mul_add(t.sin[7], x8 - x7, -x9),
+                    t.cos[6]
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.sin[7],
+                            x8 - x7,
+                            -x9,
+                        ),
                 ),
             ],
         ]
@@ -4902,15 +5323,15 @@ pub mod chain9_prismatic {
     #[inline]
     #[must_use]
     pub fn partial_body_jacobian(q: &[f64; N], _p: &Params) -> [[f64; 6]; I] {
-        let ([s2, s3, s5, s6], [c2, c3, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s2, s3, s5, s6], [c2, c3, c5, c6]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[1], q[2], q[4], q[5]],
         );
-        let x0 = <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             c2,
             -(0.29552020666133955_f64 * s2),
         );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             s2,
             0.29552020666133955_f64 * c2,
@@ -4919,145 +5340,171 @@ pub mod chain9_prismatic {
         let x3 = 0.8_f64 * s3;
         let x4 = 0.6_f64 * c3;
         let x5 = 0.6_f64 * s3;
-        let x6 = <f64 as ::trocar::Real>::mul_add(
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3816559020950483_f64,
             s5,
             0.19866933079506122_f64 * c5,
         );
-        let x7 = <f64 as ::trocar::Real>::mul_add(
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.19866933079506122_f64,
             s5,
             -(0.3816559020950483_f64 * c5),
         );
-        let x8 = <f64 as ::trocar::Real>::mul_add(
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             c5,
             -(0.07736548146578168_f64 * s5),
         );
-        let x9 = <f64 as ::trocar::Real>::mul_add(
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             s5,
             0.07736548146578168_f64 * c5,
         );
         let x10 = 0.9210609940028851_f64 * c5;
-        let x11 = <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, c6, -(x7 * s6));
-        let x12 = <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, s6, x7 * c6);
-        let x13 = <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, c6, x9 * s6);
-        let x14 = <f64 as ::trocar::Real>::mul_add(
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.90270109637546_f64,
+            c6,
+            -(x7 * s6),
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.90270109637546_f64,
+            s6,
+            x7 * c6,
+        );
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.18298657129998708_f64,
+            c6,
+            x9 * s6,
+        );
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.18298657129998708_f64,
             s6,
             -(x9 * c6),
         );
-        let x15 = <f64 as ::trocar::Real>::mul_add(0.05_f64, x8, 0.25_f64);
-        let x16 = <f64 as ::trocar::Real>::mul_add(
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(0.05_f64, x8, 0.25_f64);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3894183423086505_f64,
             c6,
             -(x10 * s6),
         );
-        let x17 = <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, s6, x10 * c6);
-        let x18 = <f64 as ::trocar::Real>::mul_add(
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.3894183423086505_f64,
+            s6,
+            x10 * c6,
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.04605304970014426_f64,
             s5,
             0.02_f64,
         );
-        let x19 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x13, -(0.6_f64 * x16));
-        let x20 = <f64 as ::trocar::Real>::mul_add(
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x13,
+            -(0.6_f64 * x16),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x8,
             -(0.552636596401731_f64 * s5),
         );
-        let x21 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x14, -(0.6_f64 * x17));
-        let x22 = <f64 as ::trocar::Real>::mul_add(0.8_f64, q[3], 0.08_f64)
-            + <f64 as ::trocar::Real>::mul_add(0.8_f64, x15, -(0.6_f64 * x18));
-        let x23 = <f64 as ::trocar::Real>::mul_add(0.05_f64, x6, -0.01_f64);
-        let x24 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x13, 0.8_f64 * x16);
-        let x25 = <f64 as ::trocar::Real>::mul_add(
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x14,
+            -(0.6_f64 * x17),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, q[3], 0.08_f64)
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x15, -(0.6_f64 * x18));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(0.05_f64, x6, -0.01_f64);
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x13, 0.8_f64 * x16);
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x8,
             0.7368487952023082_f64 * s5,
         );
-        let x26 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x14, 0.8_f64 * x17);
-        let x27 = <f64 as ::trocar::Real>::mul_add(0.6_f64, q[3], 0.06_f64)
-            + <f64 as ::trocar::Real>::mul_add(0.6_f64, x15, 0.8_f64 * x18);
-        let x28 = <f64 as ::trocar::Real>::mul_add(c3, x11, -(s3 * x19));
-        let x29 = <f64 as ::trocar::Real>::mul_add(s3, x20, c3 * x6);
-        let x30 = <f64 as ::trocar::Real>::mul_add(c3, x12, -(s3 * x21));
-        let x31 = <f64 as ::trocar::Real>::mul_add(
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x14, 0.8_f64 * x17);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, q[3], 0.06_f64)
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x15, 0.8_f64 * x18);
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x11, -(s3 * x19));
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x20, c3 * x6);
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x12, -(s3 * x21));
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x24,
-            <f64 as ::trocar::Real>::mul_add(x2, x19, x3 * x11),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x19, x3 * x11),
         );
-        let x32 = <f64 as ::trocar::Real>::mul_add(
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x25,
-            <f64 as ::trocar::Real>::mul_add(x2, x20, -(x3 * x6)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x20, -(x3 * x6)),
         );
-        let x33 = <f64 as ::trocar::Real>::mul_add(
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x26,
-            <f64 as ::trocar::Real>::mul_add(x2, x21, x3 * x12),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x21, x3 * x12),
         );
         let x34 = 0.4_f64
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 0.6_f64,
                 x27,
-                <f64 as ::trocar::Real>::mul_add(x2, x22, -(x3 * x23)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x2, x22, -(x3 * x23)),
             );
-        let x35 = <f64 as ::trocar::Real>::mul_add(
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x24,
-            -<f64 as ::trocar::Real>::mul_add(x4, x19, x5 * x11),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x19, x5 * x11),
         );
-        let x36 = <f64 as ::trocar::Real>::mul_add(
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x25,
-            <f64 as ::trocar::Real>::mul_add(x5, x6, -(x4 * x20)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x5, x6, -(x4 * x20)),
         );
-        let x37 = <f64 as ::trocar::Real>::mul_add(
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x26,
-            -<f64 as ::trocar::Real>::mul_add(x4, x21, x5 * x12),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x21, x5 * x12),
         );
-        let x38 = <f64 as ::trocar::Real>::mul_add(
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x27,
-            <f64 as ::trocar::Real>::mul_add(x5, x23, -(x4 * x22)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x5, x23, -(x4 * x22)),
         ) - 0.03_f64;
-        let x39 = 0.05_f64 - <f64 as ::trocar::Real>::mul_add(s3, x22, c3 * x23);
-        let x40 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x34, -(x1 * x38));
+        let x39 = 0.05_f64
+            - <f64 as ::trocar::emitted::Real>::mul_add(s3, x22, c3 * x23);
+        let x40 = 0.02_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(x0, x34, -(x1 * x38));
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x39,
-                    <f64 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x0, x31, -(x1 * x35)),
                     -(x28 * x40),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x29,
                     x40,
-                    x39 * <f64 as ::trocar::Real>::mul_add(x0, x32, -(x1 * x36)),
+                    x39 * <f64 as ::trocar::emitted::Real>::mul_add(x0, x32, -(x1 * x36)),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x39,
-                    <f64 as ::trocar::Real>::mul_add(x0, x33, -(x1 * x37)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x0, x33, -(x1 * x37)),
                     -(x30 * x40),
                 ),
-                <f64 as ::trocar::Real>::mul_add(x1, x31, x0 * x35),
-                <f64 as ::trocar::Real>::mul_add(x1, x32, x0 * x36),
-                <f64 as ::trocar::Real>::mul_add(x1, x33, x0 * x37),
+                <f64 as ::trocar::emitted::Real>::mul_add(x1, x31, x0 * x35),
+                <f64 as ::trocar::emitted::Real>::mul_add(x1, x32, x0 * x36),
+                <f64 as ::trocar::emitted::Real>::mul_add(x1, x33, x0 * x37),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x34, x35, -(x31 * x38)),
-                <f64 as ::trocar::Real>::mul_add(x34, x36, -(x32 * x38)),
-                <f64 as ::trocar::Real>::mul_add(x34, x37, -(x33 * x38)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x34, x35, -(x31 * x38)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x34, x36, -(x32 * x38)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x34, x37, -(x33 * x38)),
                 x28,
                 -x29,
                 x30,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(x19, x23, x11 * x22),
-                <f64 as ::trocar::Real>::mul_add(x6, x22, -(x20 * x23)),
-                -<f64 as ::trocar::Real>::mul_add(x21, x23, x12 * x22),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x19, x23, x11 * x22),
+                <f64 as ::trocar::emitted::Real>::mul_add(x6, x22, -(x20 * x23)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x21, x23, x12 * x22),
                 x24,
                 x25,
                 x26,
@@ -5066,25 +5513,25 @@ pub mod chain9_prismatic {
                 x13,
                 x8,
                 x14,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 -(0.05_f64 * s6),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 0.05_f64 * c6,
                 c6,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 s6,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -5096,12 +5543,12 @@ pub mod chain9_prismatic {
     #[inline]
     #[must_use]
     pub fn partial_body_jacobian_trig(t: &JointTrig, _p: &Params) -> [[f64; 6]; I] {
-        let x0 = <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             t.cos[1],
             -(0.29552020666133955_f64 * t.sin[1]),
         );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             t.sin[1],
             0.29552020666133955_f64 * t.cos[1],
@@ -5110,162 +5557,183 @@ pub mod chain9_prismatic {
         let x3 = 0.8_f64 * t.sin[2];
         let x4 = 0.6_f64 * t.cos[2];
         let x5 = 0.6_f64 * t.sin[2];
-        let x6 = <f64 as ::trocar::Real>::mul_add(
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3816559020950483_f64,
             t.sin[4],
             0.19866933079506122_f64 * t.cos[4],
         );
-        let x7 = <f64 as ::trocar::Real>::mul_add(
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.19866933079506122_f64,
             t.sin[4],
             -(0.3816559020950483_f64 * t.cos[4]),
         );
-        let x8 = <f64 as ::trocar::Real>::mul_add(
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             t.cos[4],
             -(0.07736548146578168_f64 * t.sin[4]),
         );
-        let x9 = <f64 as ::trocar::Real>::mul_add(
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             t.sin[4],
             0.07736548146578168_f64 * t.cos[4],
         );
         let x10 = 0.9210609940028851_f64 * t.cos[4];
-        let x11 = <f64 as ::trocar::Real>::mul_add(
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.90270109637546_f64,
             t.cos[5],
             -(x7 * t.sin[5]),
         );
-        let x12 = <f64 as ::trocar::Real>::mul_add(
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.90270109637546_f64,
             t.sin[5],
             x7 * t.cos[5],
         );
-        let x13 = <f64 as ::trocar::Real>::mul_add(
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.18298657129998708_f64,
             t.cos[5],
             x9 * t.sin[5],
         );
-        let x14 = <f64 as ::trocar::Real>::mul_add(
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.18298657129998708_f64,
             t.sin[5],
             -(x9 * t.cos[5]),
         );
-        let x15 = <f64 as ::trocar::Real>::mul_add(0.05_f64, x8, 0.25_f64);
-        let x16 = <f64 as ::trocar::Real>::mul_add(
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(0.05_f64, x8, 0.25_f64);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3894183423086505_f64,
             t.cos[5],
             -(x10 * t.sin[5]),
         );
-        let x17 = <f64 as ::trocar::Real>::mul_add(
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3894183423086505_f64,
             t.sin[5],
             x10 * t.cos[5],
         );
-        let x18 = <f64 as ::trocar::Real>::mul_add(
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.04605304970014426_f64,
             t.sin[4],
             0.02_f64,
         );
-        let x19 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x13, -(0.6_f64 * x16));
-        let x20 = <f64 as ::trocar::Real>::mul_add(
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x13,
+            -(0.6_f64 * x16),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x8,
             -(0.552636596401731_f64 * t.sin[4]),
         );
-        let x21 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x14, -(0.6_f64 * x17));
-        let x22 = <f64 as ::trocar::Real>::mul_add(0.8_f64, t.q[3], 0.08_f64)
-            + <f64 as ::trocar::Real>::mul_add(0.8_f64, x15, -(0.6_f64 * x18));
-        let x23 = <f64 as ::trocar::Real>::mul_add(0.05_f64, x6, -0.01_f64);
-        let x24 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x13, 0.8_f64 * x16);
-        let x25 = <f64 as ::trocar::Real>::mul_add(
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x14,
+            -(0.6_f64 * x17),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, t.q[3], 0.08_f64)
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x15, -(0.6_f64 * x18));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(0.05_f64, x6, -0.01_f64);
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x13, 0.8_f64 * x16);
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x8,
             0.7368487952023082_f64 * t.sin[4],
         );
-        let x26 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x14, 0.8_f64 * x17);
-        let x27 = <f64 as ::trocar::Real>::mul_add(0.6_f64, t.q[3], 0.06_f64)
-            + <f64 as ::trocar::Real>::mul_add(0.6_f64, x15, 0.8_f64 * x18);
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x11, -(t.sin[2] * x19));
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x20, t.cos[2] * x6);
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x12, -(t.sin[2] * x21));
-        let x31 = <f64 as ::trocar::Real>::mul_add(
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x14, 0.8_f64 * x17);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, t.q[3], 0.06_f64)
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x15, 0.8_f64 * x18);
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x11,
+            -(t.sin[2] * x19),
+        );
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x20,
+            t.cos[2] * x6,
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x12,
+            -(t.sin[2] * x21),
+        );
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x24,
-            <f64 as ::trocar::Real>::mul_add(x2, x19, x3 * x11),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x19, x3 * x11),
         );
-        let x32 = <f64 as ::trocar::Real>::mul_add(
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x25,
-            <f64 as ::trocar::Real>::mul_add(x2, x20, -(x3 * x6)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x20, -(x3 * x6)),
         );
-        let x33 = <f64 as ::trocar::Real>::mul_add(
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x26,
-            <f64 as ::trocar::Real>::mul_add(x2, x21, x3 * x12),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x21, x3 * x12),
         );
         let x34 = 0.4_f64
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 0.6_f64,
                 x27,
-                <f64 as ::trocar::Real>::mul_add(x2, x22, -(x3 * x23)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x2, x22, -(x3 * x23)),
             );
-        let x35 = <f64 as ::trocar::Real>::mul_add(
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x24,
-            -<f64 as ::trocar::Real>::mul_add(x4, x19, x5 * x11),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x19, x5 * x11),
         );
-        let x36 = <f64 as ::trocar::Real>::mul_add(
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x25,
-            <f64 as ::trocar::Real>::mul_add(x5, x6, -(x4 * x20)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x5, x6, -(x4 * x20)),
         );
-        let x37 = <f64 as ::trocar::Real>::mul_add(
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x26,
-            -<f64 as ::trocar::Real>::mul_add(x4, x21, x5 * x12),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x21, x5 * x12),
         );
-        let x38 = <f64 as ::trocar::Real>::mul_add(
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x27,
-            <f64 as ::trocar::Real>::mul_add(x5, x23, -(x4 * x22)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x5, x23, -(x4 * x22)),
         ) - 0.03_f64;
         let x39 = 0.05_f64
-            - <f64 as ::trocar::Real>::mul_add(t.sin[2], x22, t.cos[2] * x23);
-        let x40 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x34, -(x1 * x38));
+            - <f64 as ::trocar::emitted::Real>::mul_add(t.sin[2], x22, t.cos[2] * x23);
+        let x40 = 0.02_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(x0, x34, -(x1 * x38));
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x39,
-                    <f64 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x0, x31, -(x1 * x35)),
                     -(x28 * x40),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x29,
                     x40,
-                    x39 * <f64 as ::trocar::Real>::mul_add(x0, x32, -(x1 * x36)),
+                    x39 * <f64 as ::trocar::emitted::Real>::mul_add(x0, x32, -(x1 * x36)),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x39,
-                    <f64 as ::trocar::Real>::mul_add(x0, x33, -(x1 * x37)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x0, x33, -(x1 * x37)),
                     -(x30 * x40),
                 ),
-                <f64 as ::trocar::Real>::mul_add(x1, x31, x0 * x35),
-                <f64 as ::trocar::Real>::mul_add(x1, x32, x0 * x36),
-                <f64 as ::trocar::Real>::mul_add(x1, x33, x0 * x37),
+                <f64 as ::trocar::emitted::Real>::mul_add(x1, x31, x0 * x35),
+                <f64 as ::trocar::emitted::Real>::mul_add(x1, x32, x0 * x36),
+                <f64 as ::trocar::emitted::Real>::mul_add(x1, x33, x0 * x37),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x34, x35, -(x31 * x38)),
-                <f64 as ::trocar::Real>::mul_add(x34, x36, -(x32 * x38)),
-                <f64 as ::trocar::Real>::mul_add(x34, x37, -(x33 * x38)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x34, x35, -(x31 * x38)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x34, x36, -(x32 * x38)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x34, x37, -(x33 * x38)),
                 x28,
                 -x29,
                 x30,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(x19, x23, x11 * x22),
-                <f64 as ::trocar::Real>::mul_add(x6, x22, -(x20 * x23)),
-                -<f64 as ::trocar::Real>::mul_add(x21, x23, x12 * x22),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x19, x23, x11 * x22),
+                <f64 as ::trocar::emitted::Real>::mul_add(x6, x22, -(x20 * x23)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x21, x23, x12 * x22),
                 x24,
                 x25,
                 x26,
@@ -5274,25 +5742,25 @@ pub mod chain9_prismatic {
                 x13,
                 x8,
                 x14,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 -(0.05_f64 * t.sin[5]),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 0.05_f64 * t.cos[5],
                 t.cos[5],
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 t.sin[5],
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -5304,15 +5772,15 @@ pub mod chain9_prismatic {
     #[inline]
     #[must_use]
     pub fn forward_kinematics_i(q: &[f64; N], p: &Params) -> ([[f64; 3]; 3], [f64; 3]) {
-        let ([s1, s2, s3, s5, s6], [c1, c2, c3, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s2, s3, s5, s6], [c1, c2, c3, c5, c6]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[4], q[5]],
         );
-        let x0 = <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             c2,
             -(0.29552020666133955_f64 * s2),
         );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             s2,
             0.29552020666133955_f64 * c2,
@@ -5321,24 +5789,24 @@ pub mod chain9_prismatic {
         let x3 = 0.8_f64 * s3;
         let x4 = 0.6_f64 * c3;
         let x5 = 0.6_f64 * s3;
-        let x6 = <f64 as ::trocar::Real>::mul_add(0.8_f64, q[3], 0.08_f64);
-        let x7 = <f64 as ::trocar::Real>::mul_add(0.6_f64, q[3], 0.06_f64);
-        let x8 = <f64 as ::trocar::Real>::mul_add(
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, q[3], 0.08_f64);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, q[3], 0.06_f64);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3816559020950483_f64,
             s5,
             0.19866933079506122_f64 * c5,
         );
-        let x9 = <f64 as ::trocar::Real>::mul_add(
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.19866933079506122_f64,
             s5,
             -(0.3816559020950483_f64 * c5),
         );
-        let x10 = <f64 as ::trocar::Real>::mul_add(
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             c5,
             -(0.07736548146578168_f64 * s5),
         );
-        let x11 = <f64 as ::trocar::Real>::mul_add(
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             s5,
             0.07736548146578168_f64 * c5,
@@ -5349,144 +5817,208 @@ pub mod chain9_prismatic {
         let x15 = s1 * x1;
         let x16 = c1 * x0;
         let x17 = c1 * x1;
-        let x18 = <f64 as ::trocar::Real>::mul_add(
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
             x4,
             x15,
-            <f64 as ::trocar::Real>::mul_add(c1, s3, x2 * x14),
+            <f64 as ::trocar::emitted::Real>::mul_add(c1, s3, x2 * x14),
         );
-        let x19 = <f64 as ::trocar::Real>::mul_add(
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
             x5,
             x15,
-            <f64 as ::trocar::Real>::mul_add(x3, x14, -(c1 * c3)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x3, x14, -(c1 * c3)),
         );
-        let x20 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x15, -(0.6_f64 * x14));
-        let x21 = <f64 as ::trocar::Real>::mul_add(
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x15,
+            -(0.6_f64 * x14),
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
             x4,
             x17,
-            <f64 as ::trocar::Real>::mul_add(x2, x16, -(s1 * s3)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x16, -(s1 * s3)),
         );
-        let x22 = <f64 as ::trocar::Real>::mul_add(
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
             x5,
             x17,
-            <f64 as ::trocar::Real>::mul_add(s1, c3, x3 * x16),
+            <f64 as ::trocar::emitted::Real>::mul_add(s1, c3, x3 * x16),
         );
-        let x23 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x16, -(0.8_f64 * x17));
-        let x24 = <f64 as ::trocar::Real>::mul_add(x1, x2, -(x0 * x4));
-        let x25 = <f64 as ::trocar::Real>::mul_add(x0, x5, -(x1 * x3));
-        let x26 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x1, 0.8_f64 * x0);
-        let x27 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x20, -(0.8_f64 * x18));
-        let x28 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x18, 0.8_f64 * x20);
-        let x29 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x21, 0.6_f64 * x23);
-        let x30 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x23, -(0.6_f64 * x21));
-        let x31 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x24, 0.6_f64 * x26);
-        let x32 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x26, -(0.6_f64 * x24));
-        let x33 = <f64 as ::trocar::Real>::mul_add(
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.6_f64,
+            x16,
+            -(0.8_f64 * x17),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(x1, x2, -(x0 * x4));
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(x0, x5, -(x1 * x3));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x1, 0.8_f64 * x0);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.6_f64,
+            x20,
+            -(0.8_f64 * x18),
+        );
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x18, 0.8_f64 * x20);
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x21, 0.6_f64 * x23);
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x23,
+            -(0.6_f64 * x21),
+        );
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x24, 0.6_f64 * x26);
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x26,
+            -(0.6_f64 * x24),
+        );
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3894183423086505_f64,
             x28,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.18298657129998708_f64,
                 x27,
                 -(0.90270109637546_f64 * x19),
             ),
         );
-        let x34 = <f64 as ::trocar::Real>::mul_add(
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(
             x12,
             x28,
-            <f64 as ::trocar::Real>::mul_add(x8, x19, x10 * x27),
+            <f64 as ::trocar::emitted::Real>::mul_add(x8, x19, x10 * x27),
         );
-        let x35 = <f64 as ::trocar::Real>::mul_add(
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
             x13,
             x28,
-            -<f64 as ::trocar::Real>::mul_add(x9, x19, x11 * x27),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x9, x19, x11 * x27),
         );
-        let x36 = <f64 as ::trocar::Real>::mul_add(
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3894183423086505_f64,
             x30,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.90270109637546_f64,
                 x22,
                 0.18298657129998708_f64 * x29,
             ),
         );
-        let x37 = <f64 as ::trocar::Real>::mul_add(
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(
             x12,
             x30,
-            <f64 as ::trocar::Real>::mul_add(x10, x29, -(x8 * x22)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x10, x29, -(x8 * x22)),
         );
-        let x38 = <f64 as ::trocar::Real>::mul_add(
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(
             x13,
             x30,
-            <f64 as ::trocar::Real>::mul_add(x9, x22, -(x11 * x29)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x9, x22, -(x11 * x29)),
         );
-        let x39 = <f64 as ::trocar::Real>::mul_add(
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3894183423086505_f64,
             x32,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.18298657129998708_f64,
                 x31,
                 -(0.90270109637546_f64 * x25),
             ),
         );
-        let x40 = <f64 as ::trocar::Real>::mul_add(
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(
             x12,
             x32,
-            <f64 as ::trocar::Real>::mul_add(x8, x25, x10 * x31),
+            <f64 as ::trocar::emitted::Real>::mul_add(x8, x25, x10 * x31),
         );
-        let x41 = <f64 as ::trocar::Real>::mul_add(
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(
             x13,
             x32,
-            -<f64 as ::trocar::Real>::mul_add(x9, x25, x11 * x31),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x9, x25, x11 * x31),
         );
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(c6, x33, -(s6 * x35)),
-                    <f64 as ::trocar::Real>::mul_add(c6, x36, -(s6 * x38)),
-                    <f64 as ::trocar::Real>::mul_add(c6, x39, -(s6 * x41)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x33, -(s6 * x35)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x36, -(s6 * x38)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x39, -(s6 * x41)),
                 ],
                 [x34, x37, x40],
                 [
-                    <f64 as ::trocar::Real>::mul_add(s6, x33, c6 * x35),
-                    <f64 as ::trocar::Real>::mul_add(s6, x36, c6 * x38),
-                    <f64 as ::trocar::Real>::mul_add(s6, x39, c6 * x41),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s6, x33, c6 * x35),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s6, x36, c6 * x38),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s6, x39, c6 * x41),
                 ],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.05_f64,
                     x34,
-                    <f64 as ::trocar::Real>::mul_add(0.05_f64, c1, -(0.02_f64 * s1))
-                        - <f64 as ::trocar::Real>::mul_add(0.4_f64, x14, 0.03_f64 * x15)
-                        + <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.05_f64,
+                        c1,
+                        -(0.02_f64 * s1),
+                    )
+                        - <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.4_f64,
+                            x14,
+                            0.03_f64 * x15,
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             x7,
                             x20,
-                            -<f64 as ::trocar::Real>::mul_add(x6, x18, 0.01_f64 * x19),
+                            -<f64 as ::trocar::emitted::Real>::mul_add(
+                                x6,
+                                x18,
+                                0.01_f64 * x19,
+                            ),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(0.25_f64, x27, 0.02_f64 * x28),
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.25_f64,
+                            x27,
+                            0.02_f64 * x28,
+                        ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.05_f64,
                     x37,
-                    <f64 as ::trocar::Real>::mul_add(0.05_f64, s1, 0.02_f64 * c1)
-                        + <f64 as ::trocar::Real>::mul_add(0.4_f64, x16, 0.03_f64 * x17)
-                        + <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.05_f64,
+                        s1,
+                        0.02_f64 * c1,
+                    )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.4_f64,
+                            x16,
+                            0.03_f64 * x17,
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             x7,
                             x23,
-                            <f64 as ::trocar::Real>::mul_add(x6, x21, 0.01_f64 * x22),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x6,
+                                x21,
+                                0.01_f64 * x22,
+                            ),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(0.25_f64, x29, 0.02_f64 * x30),
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.25_f64,
+                            x29,
+                            0.02_f64 * x30,
+                        ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.05_f64,
                     x40,
                     p.d_1 + 0.1_f64
-                        + <f64 as ::trocar::Real>::mul_add(0.4_f64, x1, -(0.03_f64 * x0))
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.4_f64,
+                            x1,
+                            -(0.03_f64 * x0),
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             x7,
                             x26,
-                            <f64 as ::trocar::Real>::mul_add(x6, x24, -(0.01_f64 * x25)),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x6,
+                                x24,
+                                -(0.01_f64 * x25),
+                            ),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(0.25_f64, x31, 0.02_f64 * x32),
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.25_f64,
+                            x31,
+                            0.02_f64 * x32,
+                        ),
                 ),
             ],
         )
@@ -5502,12 +6034,12 @@ pub mod chain9_prismatic {
         t: &JointTrig,
         p: &Params,
     ) -> ([[f64; 3]; 3], [f64; 3]) {
-        let x0 = <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             t.cos[1],
             -(0.29552020666133955_f64 * t.sin[1]),
         );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             t.sin[1],
             0.29552020666133955_f64 * t.cos[1],
@@ -5516,24 +6048,24 @@ pub mod chain9_prismatic {
         let x3 = 0.8_f64 * t.sin[2];
         let x4 = 0.6_f64 * t.cos[2];
         let x5 = 0.6_f64 * t.sin[2];
-        let x6 = <f64 as ::trocar::Real>::mul_add(0.8_f64, t.q[3], 0.08_f64);
-        let x7 = <f64 as ::trocar::Real>::mul_add(0.6_f64, t.q[3], 0.06_f64);
-        let x8 = <f64 as ::trocar::Real>::mul_add(
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, t.q[3], 0.08_f64);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, t.q[3], 0.06_f64);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3816559020950483_f64,
             t.sin[4],
             0.19866933079506122_f64 * t.cos[4],
         );
-        let x9 = <f64 as ::trocar::Real>::mul_add(
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.19866933079506122_f64,
             t.sin[4],
             -(0.3816559020950483_f64 * t.cos[4]),
         );
-        let x10 = <f64 as ::trocar::Real>::mul_add(
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             t.cos[4],
             -(0.07736548146578168_f64 * t.sin[4]),
         );
-        let x11 = <f64 as ::trocar::Real>::mul_add(
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             t.sin[4],
             0.07736548146578168_f64 * t.cos[4],
@@ -5544,150 +6076,232 @@ pub mod chain9_prismatic {
         let x15 = t.sin[0] * x1;
         let x16 = t.cos[0] * x0;
         let x17 = t.cos[0] * x1;
-        let x18 = <f64 as ::trocar::Real>::mul_add(
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
             x4,
             x15,
-            <f64 as ::trocar::Real>::mul_add(t.cos[0], t.sin[2], x2 * x14),
+            <f64 as ::trocar::emitted::Real>::mul_add(t.cos[0], t.sin[2], x2 * x14),
         );
-        let x19 = <f64 as ::trocar::Real>::mul_add(
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
             x5,
             x15,
-            <f64 as ::trocar::Real>::mul_add(x3, x14, -(t.cos[0] * t.cos[2])),
+            <f64 as ::trocar::emitted::Real>::mul_add(x3, x14, -(t.cos[0] * t.cos[2])),
         );
-        let x20 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x15, -(0.6_f64 * x14));
-        let x21 = <f64 as ::trocar::Real>::mul_add(
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x15,
+            -(0.6_f64 * x14),
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
             x4,
             x17,
-            <f64 as ::trocar::Real>::mul_add(x2, x16, -(t.sin[0] * t.sin[2])),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x16, -(t.sin[0] * t.sin[2])),
         );
-        let x22 = <f64 as ::trocar::Real>::mul_add(
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
             x5,
             x17,
-            <f64 as ::trocar::Real>::mul_add(t.sin[0], t.cos[2], x3 * x16),
+            <f64 as ::trocar::emitted::Real>::mul_add(t.sin[0], t.cos[2], x3 * x16),
         );
-        let x23 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x16, -(0.8_f64 * x17));
-        let x24 = <f64 as ::trocar::Real>::mul_add(x1, x2, -(x0 * x4));
-        let x25 = <f64 as ::trocar::Real>::mul_add(x0, x5, -(x1 * x3));
-        let x26 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x1, 0.8_f64 * x0);
-        let x27 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x20, -(0.8_f64 * x18));
-        let x28 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x18, 0.8_f64 * x20);
-        let x29 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x21, 0.6_f64 * x23);
-        let x30 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x23, -(0.6_f64 * x21));
-        let x31 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x24, 0.6_f64 * x26);
-        let x32 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x26, -(0.6_f64 * x24));
-        let x33 = <f64 as ::trocar::Real>::mul_add(
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.6_f64,
+            x16,
+            -(0.8_f64 * x17),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(x1, x2, -(x0 * x4));
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(x0, x5, -(x1 * x3));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x1, 0.8_f64 * x0);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.6_f64,
+            x20,
+            -(0.8_f64 * x18),
+        );
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x18, 0.8_f64 * x20);
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x21, 0.6_f64 * x23);
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x23,
+            -(0.6_f64 * x21),
+        );
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x24, 0.6_f64 * x26);
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x26,
+            -(0.6_f64 * x24),
+        );
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3894183423086505_f64,
             x28,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.18298657129998708_f64,
                 x27,
                 -(0.90270109637546_f64 * x19),
             ),
         );
-        let x34 = <f64 as ::trocar::Real>::mul_add(
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(
             x12,
             x28,
-            <f64 as ::trocar::Real>::mul_add(x8, x19, x10 * x27),
+            <f64 as ::trocar::emitted::Real>::mul_add(x8, x19, x10 * x27),
         );
-        let x35 = <f64 as ::trocar::Real>::mul_add(
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
             x13,
             x28,
-            -<f64 as ::trocar::Real>::mul_add(x9, x19, x11 * x27),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x9, x19, x11 * x27),
         );
-        let x36 = <f64 as ::trocar::Real>::mul_add(
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3894183423086505_f64,
             x30,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.90270109637546_f64,
                 x22,
                 0.18298657129998708_f64 * x29,
             ),
         );
-        let x37 = <f64 as ::trocar::Real>::mul_add(
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(
             x12,
             x30,
-            <f64 as ::trocar::Real>::mul_add(x10, x29, -(x8 * x22)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x10, x29, -(x8 * x22)),
         );
-        let x38 = <f64 as ::trocar::Real>::mul_add(
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(
             x13,
             x30,
-            <f64 as ::trocar::Real>::mul_add(x9, x22, -(x11 * x29)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x9, x22, -(x11 * x29)),
         );
-        let x39 = <f64 as ::trocar::Real>::mul_add(
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3894183423086505_f64,
             x32,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.18298657129998708_f64,
                 x31,
                 -(0.90270109637546_f64 * x25),
             ),
         );
-        let x40 = <f64 as ::trocar::Real>::mul_add(
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(
             x12,
             x32,
-            <f64 as ::trocar::Real>::mul_add(x8, x25, x10 * x31),
+            <f64 as ::trocar::emitted::Real>::mul_add(x8, x25, x10 * x31),
         );
-        let x41 = <f64 as ::trocar::Real>::mul_add(
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(
             x13,
             x32,
-            -<f64 as ::trocar::Real>::mul_add(x9, x25, x11 * x31),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x9, x25, x11 * x31),
         );
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x33, -(t.sin[5] * x35)),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x36, -(t.sin[5] * x38)),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x39, -(t.sin[5] * x41)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x33,
+                        -(t.sin[5] * x35),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x36,
+                        -(t.sin[5] * x38),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x39,
+                        -(t.sin[5] * x41),
+                    ),
                 ],
                 [x34, x37, x40],
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.sin[5], x33, t.cos[5] * x35),
-                    <f64 as ::trocar::Real>::mul_add(t.sin[5], x36, t.cos[5] * x38),
-                    <f64 as ::trocar::Real>::mul_add(t.sin[5], x39, t.cos[5] * x41),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[5],
+                        x33,
+                        t.cos[5] * x35,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[5],
+                        x36,
+                        t.cos[5] * x38,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[5],
+                        x39,
+                        t.cos[5] * x41,
+                    ),
                 ],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.05_f64,
                     x34,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.05_f64,
                         t.cos[0],
                         -(0.02_f64 * t.sin[0]),
-                    ) - <f64 as ::trocar::Real>::mul_add(0.4_f64, x14, 0.03_f64 * x15)
-                        + <f64 as ::trocar::Real>::mul_add(
+                    )
+                        - <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.4_f64,
+                            x14,
+                            0.03_f64 * x15,
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             x7,
                             x20,
-                            -<f64 as ::trocar::Real>::mul_add(x6, x18, 0.01_f64 * x19),
+                            -<f64 as ::trocar::emitted::Real>::mul_add(
+                                x6,
+                                x18,
+                                0.01_f64 * x19,
+                            ),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(0.25_f64, x27, 0.02_f64 * x28),
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.25_f64,
+                            x27,
+                            0.02_f64 * x28,
+                        ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.05_f64,
                     x37,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.05_f64,
                         t.sin[0],
                         0.02_f64 * t.cos[0],
-                    ) + <f64 as ::trocar::Real>::mul_add(0.4_f64, x16, 0.03_f64 * x17)
-                        + <f64 as ::trocar::Real>::mul_add(
+                    )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.4_f64,
+                            x16,
+                            0.03_f64 * x17,
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             x7,
                             x23,
-                            <f64 as ::trocar::Real>::mul_add(x6, x21, 0.01_f64 * x22),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x6,
+                                x21,
+                                0.01_f64 * x22,
+                            ),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(0.25_f64, x29, 0.02_f64 * x30),
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.25_f64,
+                            x29,
+                            0.02_f64 * x30,
+                        ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.05_f64,
                     x40,
                     p.d_1 + 0.1_f64
-                        + <f64 as ::trocar::Real>::mul_add(0.4_f64, x1, -(0.03_f64 * x0))
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.4_f64,
+                            x1,
+                            -(0.03_f64 * x0),
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             x7,
                             x26,
-                            <f64 as ::trocar::Real>::mul_add(x6, x24, -(0.01_f64 * x25)),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x6,
+                                x24,
+                                -(0.01_f64 * x25),
+                            ),
                         )
-                        + <f64 as ::trocar::Real>::mul_add(0.25_f64, x31, 0.02_f64 * x32),
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.25_f64,
+                            x31,
+                            0.02_f64 * x32,
+                        ),
                 ),
             ],
         )
@@ -5700,44 +6314,50 @@ pub mod chain9_prismatic {
     #[inline]
     #[must_use]
     pub fn manipulability(q: &[f64; N], p: &Params) -> f64 {
-        let ([s7, _], [c7, c8]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
+        let ([s7, _], [c7, c8]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
+            &[q[6], q[7]],
+        );
         {
-            let w = <f64 as ::trocar::Real>::abs(
-                <f64 as ::trocar::Real>::mul_add(
-                    <f64 as ::trocar::Real>::mul_add(
+            let w = <f64 as ::trocar::emitted::Real>::abs(
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             -0.8_f64,
                             p.l_a,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.03199999999999999_f64,
                                 c7,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.003840000000000001_f64,
                                     s7,
                                     0.4800000000000001_f64,
                                 ),
                             ),
                         ),
-                        -<f64 as ::trocar::Real>::mul_add(
+                        -<f64 as ::trocar::emitted::Real>::mul_add(
                             0.009600000000000008_f64,
                             c7,
-                            <f64 as ::trocar::Real>::mul_add(0.001152_f64, s7, 0.072_f64),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                0.001152_f64,
+                                s7,
+                                0.072_f64,
+                            ),
                         ),
                     ),
                     c8,
                     s7
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             -0.003840000000000002_f64,
                             p.l_a,
                             0.0011520000000000002_f64,
                         ),
                 ),
             );
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -5750,27 +6370,27 @@ pub mod chain9_prismatic {
     #[must_use]
     pub fn manipulability_trig(t: &JointTrig, p: &Params) -> f64 {
         {
-            let w = <f64 as ::trocar::Real>::abs(
-                <f64 as ::trocar::Real>::mul_add(
-                    <f64 as ::trocar::Real>::mul_add(
+            let w = <f64 as ::trocar::emitted::Real>::abs(
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l_a,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             -0.8_f64,
                             p.l_a,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.03199999999999999_f64,
                                 t.cos[6],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.003840000000000001_f64,
                                     t.sin[6],
                                     0.4800000000000001_f64,
                                 ),
                             ),
                         ),
-                        -<f64 as ::trocar::Real>::mul_add(
+                        -<f64 as ::trocar::emitted::Real>::mul_add(
                             0.009600000000000008_f64,
                             t.cos[6],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.001152_f64,
                                 t.sin[6],
                                 0.072_f64,
@@ -5779,17 +6399,17 @@ pub mod chain9_prismatic {
                     ),
                     t.cos[7],
                     t.sin[6]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             -0.003840000000000002_f64,
                             p.l_a,
                             0.0011520000000000002_f64,
                         ),
                 ),
             );
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -5801,32 +6421,38 @@ pub mod chain9_prismatic {
     #[inline]
     #[must_use]
     pub fn manipulability_squared(q: &[f64; N], p: &Params) -> f64 {
-        let ([s7, _], [c7, c8]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
-        let x0 = <f64 as ::trocar::Real>::mul_add(
-            <f64 as ::trocar::Real>::mul_add(
+        let ([s7, _], [c7, c8]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
+            &[q[6], q[7]],
+        );
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 p.l_a,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.8_f64,
                     p.l_a,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.03199999999999999_f64,
                         c7,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.003840000000000001_f64,
                             s7,
                             0.4800000000000001_f64,
                         ),
                     ),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     0.009600000000000008_f64,
                     c7,
-                    <f64 as ::trocar::Real>::mul_add(0.001152_f64, s7, 0.072_f64),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.001152_f64,
+                        s7,
+                        0.072_f64,
+                    ),
                 ),
             ),
             c8,
             s7
-                * <f64 as ::trocar::Real>::mul_add(
+                * <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.003840000000000002_f64,
                     p.l_a,
                     0.0011520000000000002_f64,
@@ -5834,10 +6460,10 @@ pub mod chain9_prismatic {
         );
         {
             let w = x0 * x0;
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -5849,31 +6475,35 @@ pub mod chain9_prismatic {
     #[inline]
     #[must_use]
     pub fn manipulability_squared_trig(t: &JointTrig, p: &Params) -> f64 {
-        let x0 = <f64 as ::trocar::Real>::mul_add(
-            <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 p.l_a,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.8_f64,
                     p.l_a,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.03199999999999999_f64,
                         t.cos[6],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.003840000000000001_f64,
                             t.sin[6],
                             0.4800000000000001_f64,
                         ),
                     ),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     0.009600000000000008_f64,
                     t.cos[6],
-                    <f64 as ::trocar::Real>::mul_add(0.001152_f64, t.sin[6], 0.072_f64),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.001152_f64,
+                        t.sin[6],
+                        0.072_f64,
+                    ),
                 ),
             ),
             t.cos[7],
             t.sin[6]
-                * <f64 as ::trocar::Real>::mul_add(
+                * <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.003840000000000002_f64,
                     p.l_a,
                     0.0011520000000000002_f64,
@@ -5881,10 +6511,10 @@ pub mod chain9_prismatic {
         );
         {
             let w = x0 * x0;
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -5898,34 +6528,34 @@ pub mod chain9_prismatic {
     pub fn constraint_selection(_p: &Params) -> [[f64; R]; 6] {
         [
             [
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -5939,28 +6569,28 @@ pub mod chain9_prismatic {
     pub fn lambda_null_space(p: &Params) -> [[f64; 6]; K] {
         [
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -p.l_a,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 p.l_a,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -5974,33 +6604,33 @@ pub mod chain9_prismatic {
     #[inline]
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f64; 6]; R] {
-        let x0 = <f64 as ::trocar::Real>::ONE
-            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
+            / (<f64 as ::trocar::emitted::Real>::ONE + p.l_a * p.l_a);
         let x1 = p.l_a * x0;
         [
             [
                 x0,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -x1,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x0,
                 x1,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -6015,22 +6645,26 @@ pub mod chain9_prismatic {
         (
             [
                 [
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
                 ],
             ],
-            [<f64 as ::trocar::Real>::ZERO, p.l_a, <f64 as ::trocar::Real>::ZERO],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                p.l_a,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
         )
     }
     /// `g_0e`, `J^B_0e` in one program: the values of [`forward_kinematics`] and [`body_jacobian`], thesis (2.21), (2.53)–(2.55), computed together so that they share every common value.
@@ -6046,24 +6680,24 @@ pub mod chain9_prismatic {
         fk: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0e: &mut [[f64; 6]; N],
     ) {
-        jb0e[3][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[3][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[3][5] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[8][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[8][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[8][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[3][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[3][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[3][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[8][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[8][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[8][2] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0e[8][3] = 0.28962947762551555_f64;
         jb0e[8][4] = 0.9564250858492325_f64;
         jb0e[8][5] = -0.03695701352462508_f64;
-        let ([s1, s2, s3, s5, s6, s7, s8, s9], [c1, c2, c3, c5, c6, c7, c8, c9]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s2, s3, s5, s6, s7, s8, s9], [c1, c2, c3, c5, c6, c7, c8, c9]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[4], q[5], q[6], q[7], q[8]],
         );
-        let x0 = <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             c2,
             -(0.29552020666133955_f64 * s2),
         );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             s2,
             0.29552020666133955_f64 * c2,
@@ -6072,22 +6706,22 @@ pub mod chain9_prismatic {
         let x3 = 0.8_f64 * s3;
         let x4 = 0.6_f64 * c3;
         let x5 = 0.6_f64 * s3;
-        let x6 = <f64 as ::trocar::Real>::mul_add(
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3816559020950483_f64,
             s5,
             0.19866933079506122_f64 * c5,
         );
-        let x7 = <f64 as ::trocar::Real>::mul_add(
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.19866933079506122_f64,
             s5,
             -(0.3816559020950483_f64 * c5),
         );
-        let x8 = <f64 as ::trocar::Real>::mul_add(
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             c5,
             -(0.07736548146578168_f64 * s5),
         );
-        let x9 = <f64 as ::trocar::Real>::mul_add(
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             s5,
             0.07736548146578168_f64 * c5,
@@ -6096,298 +6730,389 @@ pub mod chain9_prismatic {
         let x11 = 0.9210609940028851_f64 * c5;
         let x12 = 0.6_f64 * c8;
         let x13 = 0.8_f64 * c8;
-        let x14 = <f64 as ::trocar::Real>::mul_add(0.8_f64, s9, 0.6_f64 * c9);
-        let x15 = <f64 as ::trocar::Real>::mul_add(0.8_f64, c9, -(0.6_f64 * s9));
-        let x16 = <f64 as ::trocar::Real>::mul_add(
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, s9, 0.6_f64 * c9);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            c9,
+            -(0.6_f64 * s9),
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9362933635841992_f64,
             x14,
             0.19866933079506122_f64 * x15,
         );
-        jb0e[7][0] = -<f64 as ::trocar::Real>::mul_add(
+        jb0e[7][0] = -<f64 as ::trocar::emitted::Real>::mul_add(
             0.25_f64,
             x16,
             0.0023170358210041243_f64,
         );
-        let x17 = <f64 as ::trocar::Real>::mul_add(
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.2750958473182437_f64,
             x14,
             0.09784339500725571_f64 * x15,
         );
-        jb0e[7][1] = <f64 as ::trocar::Real>::mul_add(
+        jb0e[7][1] = <f64 as ::trocar::emitted::Real>::mul_add(
             0.25_f64,
             x17,
             -0.00765140068679386_f64,
         );
-        let x18 = <f64 as ::trocar::Real>::mul_add(
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.975170327201816_f64,
             x15,
             -(0.21835066314633444_f64 * x14),
         );
-        jb0e[7][2] = <f64 as ::trocar::Real>::mul_add(
+        jb0e[7][2] = <f64 as ::trocar::emitted::Real>::mul_add(
             0.25_f64,
             x18,
             0.00029565610819700066_f64,
         );
-        let x19 = <f64 as ::trocar::Real>::mul_add(
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9362933635841992_f64,
             x15,
             -(0.19866933079506122_f64 * x14),
         );
         jb0e[7][3] = x19;
-        let x20 = <f64 as ::trocar::Real>::mul_add(
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.09784339500725571_f64,
             x14,
             -(0.2750958473182437_f64 * x15),
         );
         jb0e[7][4] = x20;
-        let x21 = <f64 as ::trocar::Real>::mul_add(
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.21835066314633444_f64,
             x15,
             0.975170327201816_f64 * x14,
         );
         jb0e[7][5] = x21;
-        let x22 = <f64 as ::trocar::Real>::mul_add(
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x19,
-            <f64 as ::trocar::Real>::mul_add(x12, x16, -(0.17377768657530931_f64 * s8)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                x12,
+                x16,
+                -(0.17377768657530931_f64 * s8),
+            ),
         );
-        let x23 = <f64 as ::trocar::Real>::mul_add(
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x20,
-            -<f64 as ::trocar::Real>::mul_add(x12, x17, 0.5738550515095394_f64 * s8),
+            -<f64 as ::trocar::emitted::Real>::mul_add(
+                x12,
+                x17,
+                0.5738550515095394_f64 * s8,
+            ),
         );
-        let x24 = <f64 as ::trocar::Real>::mul_add(
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x21,
-            <f64 as ::trocar::Real>::mul_add(0.022174208114775048_f64, s8, -(x12 * x18)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.022174208114775048_f64,
+                s8,
+                -(x12 * x18),
+            ),
         );
         let x25 = 0.0048000000000000004_f64
-            - <f64 as ::trocar::Real>::mul_add(0.0048_f64, c8, 0.15_f64 * s8);
-        let x26 = <f64 as ::trocar::Real>::mul_add(
+            - <f64 as ::trocar::emitted::Real>::mul_add(0.0048_f64, c8, 0.15_f64 * s8);
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
             s8,
             x16,
             0.28962947762551555_f64 * c8,
         );
-        let x27 = <f64 as ::trocar::Real>::mul_add(
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9564250858492325_f64,
             c8,
             -(s8 * x17),
         );
-        let x28 = <f64 as ::trocar::Real>::mul_add(
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
             s8,
             x18,
             0.03695701352462508_f64 * c8,
         );
         let x29 = 0.04_f64
-            + <f64 as ::trocar::Real>::mul_add(0.25_f64, c8, -(0.008_f64 * s8));
-        jb0e[6][0] = <f64 as ::trocar::Real>::mul_add(x25, x26, -(x22 * x29));
-        jb0e[6][1] = <f64 as ::trocar::Real>::mul_add(x25, x27, -(x23 * x29));
-        jb0e[6][2] = -<f64 as ::trocar::Real>::mul_add(x24, x29, x25 * x28);
-        let x30 = <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.25_f64, c8, -(0.008_f64 * s8));
+        jb0e[6][0] = <f64 as ::trocar::emitted::Real>::mul_add(x25, x26, -(x22 * x29));
+        jb0e[6][1] = <f64 as ::trocar::emitted::Real>::mul_add(x25, x27, -(x23 * x29));
+        jb0e[6][2] = -<f64 as ::trocar::emitted::Real>::mul_add(x24, x29, x25 * x28);
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x19,
-            <f64 as ::trocar::Real>::mul_add(0.23170358210041245_f64, s8, -(x13 * x16)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.23170358210041245_f64,
+                s8,
+                -(x13 * x16),
+            ),
         );
         jb0e[6][3] = x30;
-        let x31 = <f64 as ::trocar::Real>::mul_add(
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x20,
-            <f64 as ::trocar::Real>::mul_add(x13, x17, 0.765140068679386_f64 * s8),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                x13,
+                x17,
+                0.765140068679386_f64 * s8,
+            ),
         );
         jb0e[6][4] = x31;
-        let x32 = <f64 as ::trocar::Real>::mul_add(
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x21,
-            <f64 as ::trocar::Real>::mul_add(x13, x18, -(0.029565610819700067_f64 * s8)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                x13,
+                x18,
+                -(0.029565610819700067_f64 * s8),
+            ),
         );
         jb0e[6][5] = x32;
-        let x33 = <f64 as ::trocar::Real>::mul_add(0.0064_f64, c8, 0.2_f64 * s8)
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(0.0064_f64, c8, 0.2_f64 * s8)
             + 0.0036_f64;
-        let x34 = <f64 as ::trocar::Real>::mul_add(c7, x22, -(s7 * x26));
-        let x35 = <f64 as ::trocar::Real>::mul_add(c7, x23, -(s7 * x27));
-        let x36 = <f64 as ::trocar::Real>::mul_add(c7, x24, s7 * x28);
-        let x37 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(c7, x25, -(s7 * x29));
-        jb0e[5][0] = <f64 as ::trocar::Real>::mul_add(x33, x34, -(x30 * x37));
-        jb0e[5][1] = <f64 as ::trocar::Real>::mul_add(x33, x35, -(x31 * x37));
-        jb0e[5][2] = <f64 as ::trocar::Real>::mul_add(x33, x36, -(x32 * x37));
-        let x38 = <f64 as ::trocar::Real>::mul_add(s7, x22, c7 * x26);
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x22, -(s7 * x26));
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x23, -(s7 * x27));
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x24, s7 * x28);
+        let x37 = 0.02_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c7, x25, -(s7 * x29));
+        jb0e[5][0] = <f64 as ::trocar::emitted::Real>::mul_add(x33, x34, -(x30 * x37));
+        jb0e[5][1] = <f64 as ::trocar::emitted::Real>::mul_add(x33, x35, -(x31 * x37));
+        jb0e[5][2] = <f64 as ::trocar::emitted::Real>::mul_add(x33, x36, -(x32 * x37));
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(s7, x22, c7 * x26);
         jb0e[5][3] = x38;
-        let x39 = <f64 as ::trocar::Real>::mul_add(s7, x23, c7 * x27);
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(s7, x23, c7 * x27);
         jb0e[5][4] = x39;
-        let x40 = <f64 as ::trocar::Real>::mul_add(s7, x24, -(c7 * x28));
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(s7, x24, -(c7 * x28));
         jb0e[5][5] = x40;
-        let x41 = <f64 as ::trocar::Real>::mul_add(c6, x34, s6 * x30);
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x34, s6 * x30);
         jb0e[4][3] = x41;
-        let x42 = <f64 as ::trocar::Real>::mul_add(c6, x35, s6 * x31);
+        let x42 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x35, s6 * x31);
         jb0e[4][4] = x42;
-        let x43 = <f64 as ::trocar::Real>::mul_add(c6, x36, s6 * x32);
+        let x43 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x36, s6 * x32);
         jb0e[4][5] = x43;
-        let x44 = <f64 as ::trocar::Real>::mul_add(c6, x37, s6 * x33);
+        let x44 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x37, s6 * x33);
         let x45 = 0.05_f64
-            + (0.3_f64 + <f64 as ::trocar::Real>::mul_add(s7, x25, c7 * x29));
-        let x46 = <f64 as ::trocar::Real>::mul_add(c6, x30, -(s6 * x34));
-        let x47 = <f64 as ::trocar::Real>::mul_add(c6, x31, -(s6 * x35));
-        let x48 = <f64 as ::trocar::Real>::mul_add(c6, x32, -(s6 * x36));
-        let x49 = <f64 as ::trocar::Real>::mul_add(c6, x33, -(s6 * x37));
-        jb0e[4][0] = <f64 as ::trocar::Real>::mul_add(x45, x46, -(x38 * x49));
-        jb0e[4][1] = <f64 as ::trocar::Real>::mul_add(x45, x47, -(x39 * x49));
-        jb0e[4][2] = <f64 as ::trocar::Real>::mul_add(x45, x48, -(x40 * x49));
-        let x50 = <f64 as ::trocar::Real>::mul_add(
+            + (0.3_f64 + <f64 as ::trocar::emitted::Real>::mul_add(s7, x25, c7 * x29));
+        let x46 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x30, -(s6 * x34));
+        let x47 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x31, -(s6 * x35));
+        let x48 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x32, -(s6 * x36));
+        let x49 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x33, -(s6 * x37));
+        jb0e[4][0] = <f64 as ::trocar::emitted::Real>::mul_add(x45, x46, -(x38 * x49));
+        jb0e[4][1] = <f64 as ::trocar::emitted::Real>::mul_add(x45, x47, -(x39 * x49));
+        jb0e[4][2] = <f64 as ::trocar::emitted::Real>::mul_add(x45, x48, -(x40 * x49));
+        let x50 = <f64 as ::trocar::emitted::Real>::mul_add(
             x7,
             x46,
-            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x41, -(x6 * x38)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.90270109637546_f64,
+                x41,
+                -(x6 * x38),
+            ),
         );
-        let x51 = <f64 as ::trocar::Real>::mul_add(
+        let x51 = <f64 as ::trocar::emitted::Real>::mul_add(
             x7,
             x47,
-            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x42, -(x6 * x39)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.90270109637546_f64,
+                x42,
+                -(x6 * x39),
+            ),
         );
-        let x52 = <f64 as ::trocar::Real>::mul_add(
+        let x52 = <f64 as ::trocar::emitted::Real>::mul_add(
             x7,
             x48,
-            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x43, -(x6 * x40)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.90270109637546_f64,
+                x43,
+                -(x6 * x40),
+            ),
         );
-        let x53 = <f64 as ::trocar::Real>::mul_add(
+        let x53 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x9,
             x46,
-            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x41, x8 * x38),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.18298657129998708_f64,
+                x41,
+                x8 * x38,
+            ),
         );
         jb0e[3][0] = x53;
-        let x54 = <f64 as ::trocar::Real>::mul_add(
+        let x54 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x9,
             x47,
-            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x42, x8 * x39),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.18298657129998708_f64,
+                x42,
+                x8 * x39,
+            ),
         );
         jb0e[3][1] = x54;
-        let x55 = <f64 as ::trocar::Real>::mul_add(
+        let x55 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x9,
             x48,
-            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x43, x8 * x40),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.18298657129998708_f64,
+                x43,
+                x8 * x40,
+            ),
         );
         jb0e[3][2] = x55;
         let x56 = 0.25_f64
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 -x9,
                 x49,
-                <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x44, x8 * x45),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    0.18298657129998708_f64,
+                    x44,
+                    x8 * x45,
+                ),
             );
-        let x57 = <f64 as ::trocar::Real>::mul_add(
+        let x57 = <f64 as ::trocar::emitted::Real>::mul_add(
             x11,
             x46,
-            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x41, x10 * x38),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.3894183423086505_f64,
+                x41,
+                x10 * x38,
+            ),
         );
-        let x58 = <f64 as ::trocar::Real>::mul_add(
+        let x58 = <f64 as ::trocar::emitted::Real>::mul_add(
             x11,
             x47,
-            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x42, x10 * x39),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.3894183423086505_f64,
+                x42,
+                x10 * x39,
+            ),
         );
-        let x59 = <f64 as ::trocar::Real>::mul_add(
+        let x59 = <f64 as ::trocar::emitted::Real>::mul_add(
             x11,
             x48,
-            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x43, x10 * x40),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.3894183423086505_f64,
+                x43,
+                x10 * x40,
+            ),
         );
         let x60 = 0.02_f64
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 x11,
                 x49,
-                <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x44, x10 * x45),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    0.3894183423086505_f64,
+                    x44,
+                    x10 * x45,
+                ),
             );
-        let x61 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x53, -(0.6_f64 * x57));
-        let x62 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x54, -(0.6_f64 * x58));
-        let x63 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x55, -(0.6_f64 * x59));
-        let x64 = <f64 as ::trocar::Real>::mul_add(0.8_f64, q[3], 0.08_f64)
-            + <f64 as ::trocar::Real>::mul_add(0.8_f64, x56, -(0.6_f64 * x60));
-        let x65 = <f64 as ::trocar::Real>::mul_add(
+        let x61 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x53,
+            -(0.6_f64 * x57),
+        );
+        let x62 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x54,
+            -(0.6_f64 * x58),
+        );
+        let x63 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x55,
+            -(0.6_f64 * x59),
+        );
+        let x64 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, q[3], 0.08_f64)
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x56, -(0.6_f64 * x60));
+        let x65 = <f64 as ::trocar::emitted::Real>::mul_add(
             x7,
             x49,
-            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x44, -(x6 * x45)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.90270109637546_f64,
+                x44,
+                -(x6 * x45),
+            ),
         ) + 0.01_f64;
-        jb0e[2][0] = <f64 as ::trocar::Real>::mul_add(x61, x65, -(x50 * x64));
-        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(x62, x65, -(x51 * x64));
-        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(x63, x65, -(x52 * x64));
-        let x66 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x53, 0.8_f64 * x57);
+        jb0e[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(x61, x65, -(x50 * x64));
+        jb0e[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(x62, x65, -(x51 * x64));
+        jb0e[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(x63, x65, -(x52 * x64));
+        let x66 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x53, 0.8_f64 * x57);
         jb0e[2][3] = x66;
-        let x67 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x54, 0.8_f64 * x58);
+        let x67 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x54, 0.8_f64 * x58);
         jb0e[2][4] = x67;
-        let x68 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x55, 0.8_f64 * x59);
+        let x68 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x55, 0.8_f64 * x59);
         jb0e[2][5] = x68;
-        let x69 = <f64 as ::trocar::Real>::mul_add(0.6_f64, q[3], 0.06_f64)
-            + <f64 as ::trocar::Real>::mul_add(0.6_f64, x56, 0.8_f64 * x60);
-        let x70 = <f64 as ::trocar::Real>::mul_add(c3, x50, -(s3 * x61));
+        let x69 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, q[3], 0.06_f64)
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x56, 0.8_f64 * x60);
+        let x70 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x50, -(s3 * x61));
         jb0e[1][3] = x70;
-        let x71 = <f64 as ::trocar::Real>::mul_add(c3, x51, -(s3 * x62));
+        let x71 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x51, -(s3 * x62));
         jb0e[1][4] = x71;
-        let x72 = <f64 as ::trocar::Real>::mul_add(c3, x52, -(s3 * x63));
+        let x72 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x52, -(s3 * x63));
         jb0e[1][5] = x72;
-        let x73 = <f64 as ::trocar::Real>::mul_add(
+        let x73 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x66,
-            <f64 as ::trocar::Real>::mul_add(x2, x61, x3 * x50),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x61, x3 * x50),
         );
-        let x74 = <f64 as ::trocar::Real>::mul_add(
+        let x74 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x67,
-            <f64 as ::trocar::Real>::mul_add(x2, x62, x3 * x51),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x62, x3 * x51),
         );
-        let x75 = <f64 as ::trocar::Real>::mul_add(
+        let x75 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x68,
-            <f64 as ::trocar::Real>::mul_add(x2, x63, x3 * x52),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x63, x3 * x52),
         );
         let x76 = 0.4_f64
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 0.6_f64,
                 x69,
-                <f64 as ::trocar::Real>::mul_add(x2, x64, x3 * x65),
+                <f64 as ::trocar::emitted::Real>::mul_add(x2, x64, x3 * x65),
             );
-        let x77 = <f64 as ::trocar::Real>::mul_add(
+        let x77 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x66,
-            -<f64 as ::trocar::Real>::mul_add(x4, x61, x5 * x50),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x61, x5 * x50),
         );
-        let x78 = <f64 as ::trocar::Real>::mul_add(
+        let x78 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x67,
-            -<f64 as ::trocar::Real>::mul_add(x4, x62, x5 * x51),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x62, x5 * x51),
         );
-        let x79 = <f64 as ::trocar::Real>::mul_add(
+        let x79 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x68,
-            -<f64 as ::trocar::Real>::mul_add(x4, x63, x5 * x52),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x63, x5 * x52),
         );
-        let x80 = <f64 as ::trocar::Real>::mul_add(
+        let x80 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x69,
-            -<f64 as ::trocar::Real>::mul_add(x4, x64, x5 * x65),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x64, x5 * x65),
         ) - 0.03_f64;
         fk.1[2] = p.d_1
-            + (0.1_f64 + <f64 as ::trocar::Real>::mul_add(x1, x76, x0 * x80));
-        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x76, x77, -(x73 * x80));
-        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x76, x78, -(x74 * x80));
-        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x76, x79, -(x75 * x80));
-        let x81 = 0.05_f64 + <f64 as ::trocar::Real>::mul_add(c3, x65, -(s3 * x64));
-        let x82 = <f64 as ::trocar::Real>::mul_add(x0, x73, -(x1 * x77));
-        fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x70, -(s1 * x82));
-        fk.0[0][1] = <f64 as ::trocar::Real>::mul_add(s1, x70, c1 * x82);
-        let x83 = <f64 as ::trocar::Real>::mul_add(x0, x74, -(x1 * x78));
-        fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x71, -(s1 * x83));
-        fk.0[1][1] = <f64 as ::trocar::Real>::mul_add(s1, x71, c1 * x83);
-        let x84 = <f64 as ::trocar::Real>::mul_add(x0, x75, -(x1 * x79));
-        fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(c1, x72, -(s1 * x84));
-        fk.0[2][1] = <f64 as ::trocar::Real>::mul_add(s1, x72, c1 * x84);
-        let x85 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x76, -(x1 * x80));
-        fk.1[0] = <f64 as ::trocar::Real>::mul_add(c1, x81, -(s1 * x85));
-        fk.1[1] = <f64 as ::trocar::Real>::mul_add(s1, x81, c1 * x85);
-        jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x81, x82, -(x70 * x85));
-        jb0e[0][1] = <f64 as ::trocar::Real>::mul_add(x81, x83, -(x71 * x85));
-        jb0e[0][2] = <f64 as ::trocar::Real>::mul_add(x81, x84, -(x72 * x85));
-        let x86 = <f64 as ::trocar::Real>::mul_add(x1, x73, x0 * x77);
+            + (0.1_f64 + <f64 as ::trocar::emitted::Real>::mul_add(x1, x76, x0 * x80));
+        jb0e[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x76, x77, -(x73 * x80));
+        jb0e[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x76, x78, -(x74 * x80));
+        jb0e[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x76, x79, -(x75 * x80));
+        let x81 = 0.05_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c3, x65, -(s3 * x64));
+        let x82 = <f64 as ::trocar::emitted::Real>::mul_add(x0, x73, -(x1 * x77));
+        fk.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x70, -(s1 * x82));
+        fk.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x70, c1 * x82);
+        let x83 = <f64 as ::trocar::emitted::Real>::mul_add(x0, x74, -(x1 * x78));
+        fk.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x71, -(s1 * x83));
+        fk.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x71, c1 * x83);
+        let x84 = <f64 as ::trocar::emitted::Real>::mul_add(x0, x75, -(x1 * x79));
+        fk.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x72, -(s1 * x84));
+        fk.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x72, c1 * x84);
+        let x85 = 0.02_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(x0, x76, -(x1 * x80));
+        fk.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x81, -(s1 * x85));
+        fk.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x81, c1 * x85);
+        jb0e[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x81, x82, -(x70 * x85));
+        jb0e[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(x81, x83, -(x71 * x85));
+        jb0e[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(x81, x84, -(x72 * x85));
+        let x86 = <f64 as ::trocar::emitted::Real>::mul_add(x1, x73, x0 * x77);
         fk.0[0][2] = x86;
         jb0e[0][3] = x86;
-        let x87 = <f64 as ::trocar::Real>::mul_add(x1, x74, x0 * x78);
+        let x87 = <f64 as ::trocar::emitted::Real>::mul_add(x1, x74, x0 * x78);
         fk.0[1][2] = x87;
         jb0e[0][4] = x87;
-        let x88 = <f64 as ::trocar::Real>::mul_add(x1, x75, x0 * x79);
+        let x88 = <f64 as ::trocar::emitted::Real>::mul_add(x1, x75, x0 * x79);
         fk.0[2][2] = x88;
         jb0e[0][5] = x88;
     }
@@ -6401,21 +7126,21 @@ pub mod chain9_prismatic {
         fk: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0e: &mut [[f64; 6]; N],
     ) {
-        jb0e[3][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[3][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[3][5] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[8][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[8][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[8][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[3][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[3][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[3][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[8][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[8][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[8][2] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0e[8][3] = 0.28962947762551555_f64;
         jb0e[8][4] = 0.9564250858492325_f64;
         jb0e[8][5] = -0.03695701352462508_f64;
-        let x0 = <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             t.cos[1],
             -(0.29552020666133955_f64 * t.sin[1]),
         );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             t.sin[1],
             0.29552020666133955_f64 * t.cos[1],
@@ -6424,22 +7149,22 @@ pub mod chain9_prismatic {
         let x3 = 0.8_f64 * t.sin[2];
         let x4 = 0.6_f64 * t.cos[2];
         let x5 = 0.6_f64 * t.sin[2];
-        let x6 = <f64 as ::trocar::Real>::mul_add(
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3816559020950483_f64,
             t.sin[4],
             0.19866933079506122_f64 * t.cos[4],
         );
-        let x7 = <f64 as ::trocar::Real>::mul_add(
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.19866933079506122_f64,
             t.sin[4],
             -(0.3816559020950483_f64 * t.cos[4]),
         );
-        let x8 = <f64 as ::trocar::Real>::mul_add(
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             t.cos[4],
             -(0.07736548146578168_f64 * t.sin[4]),
         );
-        let x9 = <f64 as ::trocar::Real>::mul_add(
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             t.sin[4],
             0.07736548146578168_f64 * t.cos[4],
@@ -6448,340 +7173,517 @@ pub mod chain9_prismatic {
         let x11 = 0.9210609940028851_f64 * t.cos[4];
         let x12 = 0.6_f64 * t.cos[7];
         let x13 = 0.8_f64 * t.cos[7];
-        let x14 = <f64 as ::trocar::Real>::mul_add(
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             t.sin[8],
             0.6_f64 * t.cos[8],
         );
-        let x15 = <f64 as ::trocar::Real>::mul_add(
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             t.cos[8],
             -(0.6_f64 * t.sin[8]),
         );
-        let x16 = <f64 as ::trocar::Real>::mul_add(
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9362933635841992_f64,
             x14,
             0.19866933079506122_f64 * x15,
         );
-        jb0e[7][0] = -<f64 as ::trocar::Real>::mul_add(
+        jb0e[7][0] = -<f64 as ::trocar::emitted::Real>::mul_add(
             0.25_f64,
             x16,
             0.0023170358210041243_f64,
         );
-        let x17 = <f64 as ::trocar::Real>::mul_add(
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.2750958473182437_f64,
             x14,
             0.09784339500725571_f64 * x15,
         );
-        jb0e[7][1] = <f64 as ::trocar::Real>::mul_add(
+        jb0e[7][1] = <f64 as ::trocar::emitted::Real>::mul_add(
             0.25_f64,
             x17,
             -0.00765140068679386_f64,
         );
-        let x18 = <f64 as ::trocar::Real>::mul_add(
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.975170327201816_f64,
             x15,
             -(0.21835066314633444_f64 * x14),
         );
-        jb0e[7][2] = <f64 as ::trocar::Real>::mul_add(
+        jb0e[7][2] = <f64 as ::trocar::emitted::Real>::mul_add(
             0.25_f64,
             x18,
             0.00029565610819700066_f64,
         );
-        let x19 = <f64 as ::trocar::Real>::mul_add(
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9362933635841992_f64,
             x15,
             -(0.19866933079506122_f64 * x14),
         );
         jb0e[7][3] = x19;
-        let x20 = <f64 as ::trocar::Real>::mul_add(
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.09784339500725571_f64,
             x14,
             -(0.2750958473182437_f64 * x15),
         );
         jb0e[7][4] = x20;
-        let x21 = <f64 as ::trocar::Real>::mul_add(
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.21835066314633444_f64,
             x15,
             0.975170327201816_f64 * x14,
         );
         jb0e[7][5] = x21;
-        let x22 = <f64 as ::trocar::Real>::mul_add(
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x19,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x12,
                 x16,
                 -(0.17377768657530931_f64 * t.sin[7]),
             ),
         );
-        let x23 = <f64 as ::trocar::Real>::mul_add(
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x20,
-            -<f64 as ::trocar::Real>::mul_add(
+            -<f64 as ::trocar::emitted::Real>::mul_add(
                 x12,
                 x17,
                 0.5738550515095394_f64 * t.sin[7],
             ),
         );
-        let x24 = <f64 as ::trocar::Real>::mul_add(
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x21,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.022174208114775048_f64,
                 t.sin[7],
                 -(x12 * x18),
             ),
         );
         let x25 = 0.0048000000000000004_f64
-            - <f64 as ::trocar::Real>::mul_add(
+            - <f64 as ::trocar::emitted::Real>::mul_add(
                 0.0048_f64,
                 t.cos[7],
                 0.15_f64 * t.sin[7],
             );
-        let x26 = <f64 as ::trocar::Real>::mul_add(
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
             x16,
             0.28962947762551555_f64 * t.cos[7],
         );
-        let x27 = <f64 as ::trocar::Real>::mul_add(
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9564250858492325_f64,
             t.cos[7],
             -(t.sin[7] * x17),
         );
-        let x28 = <f64 as ::trocar::Real>::mul_add(
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
             x18,
             0.03695701352462508_f64 * t.cos[7],
         );
         let x29 = 0.04_f64
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 0.25_f64,
                 t.cos[7],
                 -(0.008_f64 * t.sin[7]),
             );
-        jb0e[6][0] = <f64 as ::trocar::Real>::mul_add(x25, x26, -(x22 * x29));
-        jb0e[6][1] = <f64 as ::trocar::Real>::mul_add(x25, x27, -(x23 * x29));
-        jb0e[6][2] = -<f64 as ::trocar::Real>::mul_add(x24, x29, x25 * x28);
-        let x30 = <f64 as ::trocar::Real>::mul_add(
+        jb0e[6][0] = <f64 as ::trocar::emitted::Real>::mul_add(x25, x26, -(x22 * x29));
+        jb0e[6][1] = <f64 as ::trocar::emitted::Real>::mul_add(x25, x27, -(x23 * x29));
+        jb0e[6][2] = -<f64 as ::trocar::emitted::Real>::mul_add(x24, x29, x25 * x28);
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x19,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.23170358210041245_f64,
                 t.sin[7],
                 -(x13 * x16),
             ),
         );
         jb0e[6][3] = x30;
-        let x31 = <f64 as ::trocar::Real>::mul_add(
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x20,
-            <f64 as ::trocar::Real>::mul_add(x13, x17, 0.765140068679386_f64 * t.sin[7]),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                x13,
+                x17,
+                0.765140068679386_f64 * t.sin[7],
+            ),
         );
         jb0e[6][4] = x31;
-        let x32 = <f64 as ::trocar::Real>::mul_add(
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x21,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 x13,
                 x18,
                 -(0.029565610819700067_f64 * t.sin[7]),
             ),
         );
         jb0e[6][5] = x32;
-        let x33 = <f64 as ::trocar::Real>::mul_add(
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.0064_f64,
             t.cos[7],
             0.2_f64 * t.sin[7],
         ) + 0.0036_f64;
-        let x34 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x22, -(t.sin[6] * x26));
-        let x35 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x23, -(t.sin[6] * x27));
-        let x36 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x24, t.sin[6] * x28);
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x22,
+            -(t.sin[6] * x26),
+        );
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x23,
+            -(t.sin[6] * x27),
+        );
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x24,
+            t.sin[6] * x28,
+        );
         let x37 = 0.02_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[6], x25, -(t.sin[6] * x29));
-        jb0e[5][0] = <f64 as ::trocar::Real>::mul_add(x33, x34, -(x30 * x37));
-        jb0e[5][1] = <f64 as ::trocar::Real>::mul_add(x33, x35, -(x31 * x37));
-        jb0e[5][2] = <f64 as ::trocar::Real>::mul_add(x33, x36, -(x32 * x37));
-        let x38 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x22, t.cos[6] * x26);
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[6],
+                x25,
+                -(t.sin[6] * x29),
+            );
+        jb0e[5][0] = <f64 as ::trocar::emitted::Real>::mul_add(x33, x34, -(x30 * x37));
+        jb0e[5][1] = <f64 as ::trocar::emitted::Real>::mul_add(x33, x35, -(x31 * x37));
+        jb0e[5][2] = <f64 as ::trocar::emitted::Real>::mul_add(x33, x36, -(x32 * x37));
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[6],
+            x22,
+            t.cos[6] * x26,
+        );
         jb0e[5][3] = x38;
-        let x39 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x23, t.cos[6] * x27);
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[6],
+            x23,
+            t.cos[6] * x27,
+        );
         jb0e[5][4] = x39;
-        let x40 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x24, -(t.cos[6] * x28));
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[6],
+            x24,
+            -(t.cos[6] * x28),
+        );
         jb0e[5][5] = x40;
-        let x41 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x34, t.sin[5] * x30);
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x34,
+            t.sin[5] * x30,
+        );
         jb0e[4][3] = x41;
-        let x42 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x35, t.sin[5] * x31);
+        let x42 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x35,
+            t.sin[5] * x31,
+        );
         jb0e[4][4] = x42;
-        let x43 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x36, t.sin[5] * x32);
+        let x43 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x36,
+            t.sin[5] * x32,
+        );
         jb0e[4][5] = x43;
-        let x44 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x37, t.sin[5] * x33);
+        let x44 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x37,
+            t.sin[5] * x33,
+        );
         let x45 = 0.05_f64
             + (0.3_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[6], x25, t.cos[6] * x29));
-        let x46 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x30, -(t.sin[5] * x34));
-        let x47 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x31, -(t.sin[5] * x35));
-        let x48 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x32, -(t.sin[5] * x36));
-        let x49 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x33, -(t.sin[5] * x37));
-        jb0e[4][0] = <f64 as ::trocar::Real>::mul_add(x45, x46, -(x38 * x49));
-        jb0e[4][1] = <f64 as ::trocar::Real>::mul_add(x45, x47, -(x39 * x49));
-        jb0e[4][2] = <f64 as ::trocar::Real>::mul_add(x45, x48, -(x40 * x49));
-        let x50 = <f64 as ::trocar::Real>::mul_add(
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[6],
+                    x25,
+                    t.cos[6] * x29,
+                ));
+        let x46 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x30,
+            -(t.sin[5] * x34),
+        );
+        let x47 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x31,
+            -(t.sin[5] * x35),
+        );
+        let x48 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x32,
+            -(t.sin[5] * x36),
+        );
+        let x49 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x33,
+            -(t.sin[5] * x37),
+        );
+        jb0e[4][0] = <f64 as ::trocar::emitted::Real>::mul_add(x45, x46, -(x38 * x49));
+        jb0e[4][1] = <f64 as ::trocar::emitted::Real>::mul_add(x45, x47, -(x39 * x49));
+        jb0e[4][2] = <f64 as ::trocar::emitted::Real>::mul_add(x45, x48, -(x40 * x49));
+        let x50 = <f64 as ::trocar::emitted::Real>::mul_add(
             x7,
             x46,
-            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x41, -(x6 * x38)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.90270109637546_f64,
+                x41,
+                -(x6 * x38),
+            ),
         );
-        let x51 = <f64 as ::trocar::Real>::mul_add(
+        let x51 = <f64 as ::trocar::emitted::Real>::mul_add(
             x7,
             x47,
-            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x42, -(x6 * x39)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.90270109637546_f64,
+                x42,
+                -(x6 * x39),
+            ),
         );
-        let x52 = <f64 as ::trocar::Real>::mul_add(
+        let x52 = <f64 as ::trocar::emitted::Real>::mul_add(
             x7,
             x48,
-            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x43, -(x6 * x40)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.90270109637546_f64,
+                x43,
+                -(x6 * x40),
+            ),
         );
-        let x53 = <f64 as ::trocar::Real>::mul_add(
+        let x53 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x9,
             x46,
-            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x41, x8 * x38),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.18298657129998708_f64,
+                x41,
+                x8 * x38,
+            ),
         );
         jb0e[3][0] = x53;
-        let x54 = <f64 as ::trocar::Real>::mul_add(
+        let x54 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x9,
             x47,
-            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x42, x8 * x39),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.18298657129998708_f64,
+                x42,
+                x8 * x39,
+            ),
         );
         jb0e[3][1] = x54;
-        let x55 = <f64 as ::trocar::Real>::mul_add(
+        let x55 = <f64 as ::trocar::emitted::Real>::mul_add(
             -x9,
             x48,
-            <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x43, x8 * x40),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.18298657129998708_f64,
+                x43,
+                x8 * x40,
+            ),
         );
         jb0e[3][2] = x55;
         let x56 = 0.25_f64
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 -x9,
                 x49,
-                <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, x44, x8 * x45),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    0.18298657129998708_f64,
+                    x44,
+                    x8 * x45,
+                ),
             );
-        let x57 = <f64 as ::trocar::Real>::mul_add(
+        let x57 = <f64 as ::trocar::emitted::Real>::mul_add(
             x11,
             x46,
-            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x41, x10 * x38),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.3894183423086505_f64,
+                x41,
+                x10 * x38,
+            ),
         );
-        let x58 = <f64 as ::trocar::Real>::mul_add(
+        let x58 = <f64 as ::trocar::emitted::Real>::mul_add(
             x11,
             x47,
-            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x42, x10 * x39),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.3894183423086505_f64,
+                x42,
+                x10 * x39,
+            ),
         );
-        let x59 = <f64 as ::trocar::Real>::mul_add(
+        let x59 = <f64 as ::trocar::emitted::Real>::mul_add(
             x11,
             x48,
-            <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x43, x10 * x40),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.3894183423086505_f64,
+                x43,
+                x10 * x40,
+            ),
         );
         let x60 = 0.02_f64
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 x11,
                 x49,
-                <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, x44, x10 * x45),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    0.3894183423086505_f64,
+                    x44,
+                    x10 * x45,
+                ),
             );
-        let x61 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x53, -(0.6_f64 * x57));
-        let x62 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x54, -(0.6_f64 * x58));
-        let x63 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x55, -(0.6_f64 * x59));
-        let x64 = <f64 as ::trocar::Real>::mul_add(0.8_f64, t.q[3], 0.08_f64)
-            + <f64 as ::trocar::Real>::mul_add(0.8_f64, x56, -(0.6_f64 * x60));
-        let x65 = <f64 as ::trocar::Real>::mul_add(
+        let x61 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x53,
+            -(0.6_f64 * x57),
+        );
+        let x62 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x54,
+            -(0.6_f64 * x58),
+        );
+        let x63 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x55,
+            -(0.6_f64 * x59),
+        );
+        let x64 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, t.q[3], 0.08_f64)
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x56, -(0.6_f64 * x60));
+        let x65 = <f64 as ::trocar::emitted::Real>::mul_add(
             x7,
             x49,
-            <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, x44, -(x6 * x45)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                0.90270109637546_f64,
+                x44,
+                -(x6 * x45),
+            ),
         ) + 0.01_f64;
-        jb0e[2][0] = <f64 as ::trocar::Real>::mul_add(x61, x65, -(x50 * x64));
-        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(x62, x65, -(x51 * x64));
-        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(x63, x65, -(x52 * x64));
-        let x66 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x53, 0.8_f64 * x57);
+        jb0e[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(x61, x65, -(x50 * x64));
+        jb0e[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(x62, x65, -(x51 * x64));
+        jb0e[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(x63, x65, -(x52 * x64));
+        let x66 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x53, 0.8_f64 * x57);
         jb0e[2][3] = x66;
-        let x67 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x54, 0.8_f64 * x58);
+        let x67 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x54, 0.8_f64 * x58);
         jb0e[2][4] = x67;
-        let x68 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x55, 0.8_f64 * x59);
+        let x68 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x55, 0.8_f64 * x59);
         jb0e[2][5] = x68;
-        let x69 = <f64 as ::trocar::Real>::mul_add(0.6_f64, t.q[3], 0.06_f64)
-            + <f64 as ::trocar::Real>::mul_add(0.6_f64, x56, 0.8_f64 * x60);
-        let x70 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x50, -(t.sin[2] * x61));
+        let x69 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, t.q[3], 0.06_f64)
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x56, 0.8_f64 * x60);
+        let x70 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x50,
+            -(t.sin[2] * x61),
+        );
         jb0e[1][3] = x70;
-        let x71 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x51, -(t.sin[2] * x62));
+        let x71 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x51,
+            -(t.sin[2] * x62),
+        );
         jb0e[1][4] = x71;
-        let x72 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x52, -(t.sin[2] * x63));
+        let x72 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x52,
+            -(t.sin[2] * x63),
+        );
         jb0e[1][5] = x72;
-        let x73 = <f64 as ::trocar::Real>::mul_add(
+        let x73 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x66,
-            <f64 as ::trocar::Real>::mul_add(x2, x61, x3 * x50),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x61, x3 * x50),
         );
-        let x74 = <f64 as ::trocar::Real>::mul_add(
+        let x74 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x67,
-            <f64 as ::trocar::Real>::mul_add(x2, x62, x3 * x51),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x62, x3 * x51),
         );
-        let x75 = <f64 as ::trocar::Real>::mul_add(
+        let x75 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x68,
-            <f64 as ::trocar::Real>::mul_add(x2, x63, x3 * x52),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x63, x3 * x52),
         );
         let x76 = 0.4_f64
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 0.6_f64,
                 x69,
-                <f64 as ::trocar::Real>::mul_add(x2, x64, x3 * x65),
+                <f64 as ::trocar::emitted::Real>::mul_add(x2, x64, x3 * x65),
             );
-        let x77 = <f64 as ::trocar::Real>::mul_add(
+        let x77 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x66,
-            -<f64 as ::trocar::Real>::mul_add(x4, x61, x5 * x50),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x61, x5 * x50),
         );
-        let x78 = <f64 as ::trocar::Real>::mul_add(
+        let x78 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x67,
-            -<f64 as ::trocar::Real>::mul_add(x4, x62, x5 * x51),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x62, x5 * x51),
         );
-        let x79 = <f64 as ::trocar::Real>::mul_add(
+        let x79 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x68,
-            -<f64 as ::trocar::Real>::mul_add(x4, x63, x5 * x52),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x63, x5 * x52),
         );
-        let x80 = <f64 as ::trocar::Real>::mul_add(
+        let x80 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x69,
-            -<f64 as ::trocar::Real>::mul_add(x4, x64, x5 * x65),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x64, x5 * x65),
         ) - 0.03_f64;
         fk.1[2] = p.d_1
-            + (0.1_f64 + <f64 as ::trocar::Real>::mul_add(x1, x76, x0 * x80));
-        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x76, x77, -(x73 * x80));
-        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x76, x78, -(x74 * x80));
-        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x76, x79, -(x75 * x80));
+            + (0.1_f64 + <f64 as ::trocar::emitted::Real>::mul_add(x1, x76, x0 * x80));
+        jb0e[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x76, x77, -(x73 * x80));
+        jb0e[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x76, x78, -(x74 * x80));
+        jb0e[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x76, x79, -(x75 * x80));
         let x81 = 0.05_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[2], x65, -(t.sin[2] * x64));
-        let x82 = <f64 as ::trocar::Real>::mul_add(x0, x73, -(x1 * x77));
-        fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x70, -(t.sin[0] * x82));
-        fk.0[0][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x70, t.cos[0] * x82);
-        let x83 = <f64 as ::trocar::Real>::mul_add(x0, x74, -(x1 * x78));
-        fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x71, -(t.sin[0] * x83));
-        fk.0[1][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x71, t.cos[0] * x83);
-        let x84 = <f64 as ::trocar::Real>::mul_add(x0, x75, -(x1 * x79));
-        fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x72, -(t.sin[0] * x84));
-        fk.0[2][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x72, t.cos[0] * x84);
-        let x85 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x76, -(x1 * x80));
-        fk.1[0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x81, -(t.sin[0] * x85));
-        fk.1[1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x81, t.cos[0] * x85);
-        jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x81, x82, -(x70 * x85));
-        jb0e[0][1] = <f64 as ::trocar::Real>::mul_add(x81, x83, -(x71 * x85));
-        jb0e[0][2] = <f64 as ::trocar::Real>::mul_add(x81, x84, -(x72 * x85));
-        let x86 = <f64 as ::trocar::Real>::mul_add(x1, x73, x0 * x77);
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[2],
+                x65,
+                -(t.sin[2] * x64),
+            );
+        let x82 = <f64 as ::trocar::emitted::Real>::mul_add(x0, x73, -(x1 * x77));
+        fk.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x70,
+            -(t.sin[0] * x82),
+        );
+        fk.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x70,
+            t.cos[0] * x82,
+        );
+        let x83 = <f64 as ::trocar::emitted::Real>::mul_add(x0, x74, -(x1 * x78));
+        fk.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x71,
+            -(t.sin[0] * x83),
+        );
+        fk.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x71,
+            t.cos[0] * x83,
+        );
+        let x84 = <f64 as ::trocar::emitted::Real>::mul_add(x0, x75, -(x1 * x79));
+        fk.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x72,
+            -(t.sin[0] * x84),
+        );
+        fk.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x72,
+            t.cos[0] * x84,
+        );
+        let x85 = 0.02_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(x0, x76, -(x1 * x80));
+        fk.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x81,
+            -(t.sin[0] * x85),
+        );
+        fk.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x81,
+            t.cos[0] * x85,
+        );
+        jb0e[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x81, x82, -(x70 * x85));
+        jb0e[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(x81, x83, -(x71 * x85));
+        jb0e[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(x81, x84, -(x72 * x85));
+        let x86 = <f64 as ::trocar::emitted::Real>::mul_add(x1, x73, x0 * x77);
         fk.0[0][2] = x86;
         jb0e[0][3] = x86;
-        let x87 = <f64 as ::trocar::Real>::mul_add(x1, x74, x0 * x78);
+        let x87 = <f64 as ::trocar::emitted::Real>::mul_add(x1, x74, x0 * x78);
         fk.0[1][2] = x87;
         jb0e[0][4] = x87;
-        let x88 = <f64 as ::trocar::Real>::mul_add(x1, x75, x0 * x79);
+        let x88 = <f64 as ::trocar::emitted::Real>::mul_add(x1, x75, x0 * x79);
         fk.0[2][2] = x88;
         jb0e[0][5] = x88;
     }
@@ -6798,30 +7700,30 @@ pub mod chain9_prismatic {
         fk0i: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0i: &mut [[f64; 6]; I],
     ) {
-        jb0i[3][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[3][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[3][5] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][4] = <f64 as ::trocar::Real>::ONE;
-        jb0i[5][5] = <f64 as ::trocar::Real>::ZERO;
-        let ([s1, s2, s3, s5, s6], [c1, c2, c3, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+        jb0i[3][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[3][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[3][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[4][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[4][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][4] = <f64 as ::trocar::emitted::Real>::ONE;
+        jb0i[5][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        let ([s1, s2, s3, s5, s6], [c1, c2, c3, c5, c6]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[4], q[5]],
         );
         jb0i[4][0] = -(0.05_f64 * s6);
         jb0i[4][2] = 0.05_f64 * c6;
         jb0i[4][3] = c6;
         jb0i[4][5] = s6;
-        let x0 = <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             c2,
             -(0.29552020666133955_f64 * s2),
         );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             s2,
             0.29552020666133955_f64 * c2,
@@ -6830,150 +7732,176 @@ pub mod chain9_prismatic {
         let x3 = 0.8_f64 * s3;
         let x4 = 0.6_f64 * c3;
         let x5 = 0.6_f64 * s3;
-        let x6 = <f64 as ::trocar::Real>::mul_add(
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3816559020950483_f64,
             s5,
             0.19866933079506122_f64 * c5,
         );
-        let x7 = <f64 as ::trocar::Real>::mul_add(
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.19866933079506122_f64,
             s5,
             -(0.3816559020950483_f64 * c5),
         );
-        let x8 = <f64 as ::trocar::Real>::mul_add(
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             c5,
             -(0.07736548146578168_f64 * s5),
         );
         jb0i[3][1] = x8;
-        let x9 = <f64 as ::trocar::Real>::mul_add(
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             s5,
             0.07736548146578168_f64 * c5,
         );
         let x10 = 0.9210609940028851_f64 * c5;
-        let x11 = <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, c6, -(x7 * s6));
-        let x12 = <f64 as ::trocar::Real>::mul_add(0.90270109637546_f64, s6, x7 * c6);
-        let x13 = <f64 as ::trocar::Real>::mul_add(0.18298657129998708_f64, c6, x9 * s6);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.90270109637546_f64,
+            c6,
+            -(x7 * s6),
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.90270109637546_f64,
+            s6,
+            x7 * c6,
+        );
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.18298657129998708_f64,
+            c6,
+            x9 * s6,
+        );
         jb0i[3][0] = x13;
-        let x14 = <f64 as ::trocar::Real>::mul_add(
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.18298657129998708_f64,
             s6,
             -(x9 * c6),
         );
         jb0i[3][2] = x14;
-        let x15 = <f64 as ::trocar::Real>::mul_add(0.05_f64, x8, 0.25_f64);
-        let x16 = <f64 as ::trocar::Real>::mul_add(
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(0.05_f64, x8, 0.25_f64);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3894183423086505_f64,
             c6,
             -(x10 * s6),
         );
-        let x17 = <f64 as ::trocar::Real>::mul_add(0.3894183423086505_f64, s6, x10 * c6);
-        let x18 = <f64 as ::trocar::Real>::mul_add(
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.3894183423086505_f64,
+            s6,
+            x10 * c6,
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.04605304970014426_f64,
             s5,
             0.02_f64,
         );
-        let x19 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x13, -(0.6_f64 * x16));
-        let x20 = <f64 as ::trocar::Real>::mul_add(
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x13,
+            -(0.6_f64 * x16),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x8,
             -(0.552636596401731_f64 * s5),
         );
-        let x21 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x14, -(0.6_f64 * x17));
-        let x22 = <f64 as ::trocar::Real>::mul_add(0.8_f64, q[3], 0.08_f64)
-            + <f64 as ::trocar::Real>::mul_add(0.8_f64, x15, -(0.6_f64 * x18));
-        let x23 = <f64 as ::trocar::Real>::mul_add(0.05_f64, x6, -0.01_f64);
-        jb0i[2][0] = -<f64 as ::trocar::Real>::mul_add(x19, x23, x11 * x22);
-        jb0i[2][1] = <f64 as ::trocar::Real>::mul_add(x6, x22, -(x20 * x23));
-        jb0i[2][2] = -<f64 as ::trocar::Real>::mul_add(x21, x23, x12 * x22);
-        let x24 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x13, 0.8_f64 * x16);
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x14,
+            -(0.6_f64 * x17),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, q[3], 0.08_f64)
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x15, -(0.6_f64 * x18));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(0.05_f64, x6, -0.01_f64);
+        jb0i[2][0] = -<f64 as ::trocar::emitted::Real>::mul_add(x19, x23, x11 * x22);
+        jb0i[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(x6, x22, -(x20 * x23));
+        jb0i[2][2] = -<f64 as ::trocar::emitted::Real>::mul_add(x21, x23, x12 * x22);
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x13, 0.8_f64 * x16);
         jb0i[2][3] = x24;
-        let x25 = <f64 as ::trocar::Real>::mul_add(
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x8,
             0.7368487952023082_f64 * s5,
         );
         jb0i[2][4] = x25;
-        let x26 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x14, 0.8_f64 * x17);
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x14, 0.8_f64 * x17);
         jb0i[2][5] = x26;
-        let x27 = <f64 as ::trocar::Real>::mul_add(0.6_f64, q[3], 0.06_f64)
-            + <f64 as ::trocar::Real>::mul_add(0.6_f64, x15, 0.8_f64 * x18);
-        let x28 = <f64 as ::trocar::Real>::mul_add(c3, x11, -(s3 * x19));
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, q[3], 0.06_f64)
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x15, 0.8_f64 * x18);
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x11, -(s3 * x19));
         jb0i[1][3] = x28;
-        let x29 = <f64 as ::trocar::Real>::mul_add(s3, x20, c3 * x6);
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x20, c3 * x6);
         jb0i[1][4] = -x29;
-        let x30 = <f64 as ::trocar::Real>::mul_add(c3, x12, -(s3 * x21));
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x12, -(s3 * x21));
         jb0i[1][5] = x30;
-        let x31 = <f64 as ::trocar::Real>::mul_add(
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x24,
-            <f64 as ::trocar::Real>::mul_add(x2, x19, x3 * x11),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x19, x3 * x11),
         );
-        let x32 = <f64 as ::trocar::Real>::mul_add(
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x25,
-            <f64 as ::trocar::Real>::mul_add(x2, x20, -(x3 * x6)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x20, -(x3 * x6)),
         );
-        let x33 = <f64 as ::trocar::Real>::mul_add(
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x26,
-            <f64 as ::trocar::Real>::mul_add(x2, x21, x3 * x12),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x21, x3 * x12),
         );
         let x34 = 0.4_f64
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 0.6_f64,
                 x27,
-                <f64 as ::trocar::Real>::mul_add(x2, x22, -(x3 * x23)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x2, x22, -(x3 * x23)),
             );
-        let x35 = <f64 as ::trocar::Real>::mul_add(
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x24,
-            -<f64 as ::trocar::Real>::mul_add(x4, x19, x5 * x11),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x19, x5 * x11),
         );
-        let x36 = <f64 as ::trocar::Real>::mul_add(
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x25,
-            <f64 as ::trocar::Real>::mul_add(x5, x6, -(x4 * x20)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x5, x6, -(x4 * x20)),
         );
-        let x37 = <f64 as ::trocar::Real>::mul_add(
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x26,
-            -<f64 as ::trocar::Real>::mul_add(x4, x21, x5 * x12),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x21, x5 * x12),
         );
-        let x38 = <f64 as ::trocar::Real>::mul_add(
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x27,
-            <f64 as ::trocar::Real>::mul_add(x5, x23, -(x4 * x22)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x5, x23, -(x4 * x22)),
         ) - 0.03_f64;
         fk0i.1[2] = p.d_1
-            + (0.1_f64 + <f64 as ::trocar::Real>::mul_add(x1, x34, x0 * x38));
-        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x34, x35, -(x31 * x38));
-        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x34, x36, -(x32 * x38));
-        jb0i[1][2] = <f64 as ::trocar::Real>::mul_add(x34, x37, -(x33 * x38));
-        let x39 = 0.05_f64 - <f64 as ::trocar::Real>::mul_add(s3, x22, c3 * x23);
-        let x40 = <f64 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35));
-        fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x28, -(s1 * x40));
-        fk0i.0[0][1] = <f64 as ::trocar::Real>::mul_add(s1, x28, c1 * x40);
-        let x41 = <f64 as ::trocar::Real>::mul_add(x0, x32, -(x1 * x36));
-        fk0i.0[1][0] = -<f64 as ::trocar::Real>::mul_add(c1, x29, s1 * x41);
-        fk0i.0[1][1] = <f64 as ::trocar::Real>::mul_add(c1, x41, -(s1 * x29));
-        let x42 = <f64 as ::trocar::Real>::mul_add(x0, x33, -(x1 * x37));
-        fk0i.0[2][0] = <f64 as ::trocar::Real>::mul_add(c1, x30, -(s1 * x42));
-        fk0i.0[2][1] = <f64 as ::trocar::Real>::mul_add(s1, x30, c1 * x42);
-        let x43 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x34, -(x1 * x38));
-        fk0i.1[0] = <f64 as ::trocar::Real>::mul_add(c1, x39, -(s1 * x43));
-        fk0i.1[1] = <f64 as ::trocar::Real>::mul_add(s1, x39, c1 * x43);
-        jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(x39, x40, -(x28 * x43));
-        jb0i[0][1] = <f64 as ::trocar::Real>::mul_add(x29, x43, x39 * x41);
-        jb0i[0][2] = <f64 as ::trocar::Real>::mul_add(x39, x42, -(x30 * x43));
-        let x44 = <f64 as ::trocar::Real>::mul_add(x1, x31, x0 * x35);
+            + (0.1_f64 + <f64 as ::trocar::emitted::Real>::mul_add(x1, x34, x0 * x38));
+        jb0i[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x34, x35, -(x31 * x38));
+        jb0i[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x34, x36, -(x32 * x38));
+        jb0i[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x34, x37, -(x33 * x38));
+        let x39 = 0.05_f64
+            - <f64 as ::trocar::emitted::Real>::mul_add(s3, x22, c3 * x23);
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(x0, x31, -(x1 * x35));
+        fk0i.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x28, -(s1 * x40));
+        fk0i.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x28, c1 * x40);
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(x0, x32, -(x1 * x36));
+        fk0i.0[1][0] = -<f64 as ::trocar::emitted::Real>::mul_add(c1, x29, s1 * x41);
+        fk0i.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x41, -(s1 * x29));
+        let x42 = <f64 as ::trocar::emitted::Real>::mul_add(x0, x33, -(x1 * x37));
+        fk0i.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x30, -(s1 * x42));
+        fk0i.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x30, c1 * x42);
+        let x43 = 0.02_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(x0, x34, -(x1 * x38));
+        fk0i.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x39, -(s1 * x43));
+        fk0i.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x39, c1 * x43);
+        jb0i[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x39, x40, -(x28 * x43));
+        jb0i[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(x29, x43, x39 * x41);
+        jb0i[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(x39, x42, -(x30 * x43));
+        let x44 = <f64 as ::trocar::emitted::Real>::mul_add(x1, x31, x0 * x35);
         fk0i.0[0][2] = x44;
         jb0i[0][3] = x44;
-        let x45 = <f64 as ::trocar::Real>::mul_add(x1, x32, x0 * x36);
+        let x45 = <f64 as ::trocar::emitted::Real>::mul_add(x1, x32, x0 * x36);
         fk0i.0[1][2] = x45;
         jb0i[0][4] = x45;
-        let x46 = <f64 as ::trocar::Real>::mul_add(x1, x33, x0 * x37);
+        let x46 = <f64 as ::trocar::emitted::Real>::mul_add(x1, x33, x0 * x37);
         fk0i.0[2][2] = x46;
         jb0i[0][5] = x46;
     }
@@ -6987,27 +7915,27 @@ pub mod chain9_prismatic {
         fk0i: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0i: &mut [[f64; 6]; I],
     ) {
-        jb0i[3][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[3][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[3][5] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[3][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[3][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[3][5] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0i[4][0] = -(0.05_f64 * t.sin[5]);
-        jb0i[4][1] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[4][1] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0i[4][2] = 0.05_f64 * t.cos[5];
         jb0i[4][3] = t.cos[5];
-        jb0i[4][4] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[4][4] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0i[4][5] = t.sin[5];
-        jb0i[5][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][4] = <f64 as ::trocar::Real>::ONE;
-        jb0i[5][5] = <f64 as ::trocar::Real>::ZERO;
-        let x0 = <f64 as ::trocar::Real>::mul_add(
+        jb0i[5][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][4] = <f64 as ::trocar::emitted::Real>::ONE;
+        jb0i[5][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             t.cos[1],
             -(0.29552020666133955_f64 * t.sin[1]),
         );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             t.sin[1],
             0.29552020666133955_f64 * t.cos[1],
@@ -7016,179 +7944,220 @@ pub mod chain9_prismatic {
         let x3 = 0.8_f64 * t.sin[2];
         let x4 = 0.6_f64 * t.cos[2];
         let x5 = 0.6_f64 * t.sin[2];
-        let x6 = <f64 as ::trocar::Real>::mul_add(
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3816559020950483_f64,
             t.sin[4],
             0.19866933079506122_f64 * t.cos[4],
         );
-        let x7 = <f64 as ::trocar::Real>::mul_add(
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.19866933079506122_f64,
             t.sin[4],
             -(0.3816559020950483_f64 * t.cos[4]),
         );
-        let x8 = <f64 as ::trocar::Real>::mul_add(
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             t.cos[4],
             -(0.07736548146578168_f64 * t.sin[4]),
         );
         jb0i[3][1] = x8;
-        let x9 = <f64 as ::trocar::Real>::mul_add(
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             t.sin[4],
             0.07736548146578168_f64 * t.cos[4],
         );
         let x10 = 0.9210609940028851_f64 * t.cos[4];
-        let x11 = <f64 as ::trocar::Real>::mul_add(
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.90270109637546_f64,
             t.cos[5],
             -(x7 * t.sin[5]),
         );
-        let x12 = <f64 as ::trocar::Real>::mul_add(
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.90270109637546_f64,
             t.sin[5],
             x7 * t.cos[5],
         );
-        let x13 = <f64 as ::trocar::Real>::mul_add(
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.18298657129998708_f64,
             t.cos[5],
             x9 * t.sin[5],
         );
         jb0i[3][0] = x13;
-        let x14 = <f64 as ::trocar::Real>::mul_add(
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.18298657129998708_f64,
             t.sin[5],
             -(x9 * t.cos[5]),
         );
         jb0i[3][2] = x14;
-        let x15 = <f64 as ::trocar::Real>::mul_add(0.05_f64, x8, 0.25_f64);
-        let x16 = <f64 as ::trocar::Real>::mul_add(
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(0.05_f64, x8, 0.25_f64);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3894183423086505_f64,
             t.cos[5],
             -(x10 * t.sin[5]),
         );
-        let x17 = <f64 as ::trocar::Real>::mul_add(
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3894183423086505_f64,
             t.sin[5],
             x10 * t.cos[5],
         );
-        let x18 = <f64 as ::trocar::Real>::mul_add(
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.04605304970014426_f64,
             t.sin[4],
             0.02_f64,
         );
-        let x19 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x13, -(0.6_f64 * x16));
-        let x20 = <f64 as ::trocar::Real>::mul_add(
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x13,
+            -(0.6_f64 * x16),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x8,
             -(0.552636596401731_f64 * t.sin[4]),
         );
-        let x21 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x14, -(0.6_f64 * x17));
-        let x22 = <f64 as ::trocar::Real>::mul_add(0.8_f64, t.q[3], 0.08_f64)
-            + <f64 as ::trocar::Real>::mul_add(0.8_f64, x15, -(0.6_f64 * x18));
-        let x23 = <f64 as ::trocar::Real>::mul_add(0.05_f64, x6, -0.01_f64);
-        jb0i[2][0] = -<f64 as ::trocar::Real>::mul_add(x19, x23, x11 * x22);
-        jb0i[2][1] = <f64 as ::trocar::Real>::mul_add(x6, x22, -(x20 * x23));
-        jb0i[2][2] = -<f64 as ::trocar::Real>::mul_add(x21, x23, x12 * x22);
-        let x24 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x13, 0.8_f64 * x16);
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x14,
+            -(0.6_f64 * x17),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, t.q[3], 0.08_f64)
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x15, -(0.6_f64 * x18));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(0.05_f64, x6, -0.01_f64);
+        jb0i[2][0] = -<f64 as ::trocar::emitted::Real>::mul_add(x19, x23, x11 * x22);
+        jb0i[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(x6, x22, -(x20 * x23));
+        jb0i[2][2] = -<f64 as ::trocar::emitted::Real>::mul_add(x21, x23, x12 * x22);
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x13, 0.8_f64 * x16);
         jb0i[2][3] = x24;
-        let x25 = <f64 as ::trocar::Real>::mul_add(
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x8,
             0.7368487952023082_f64 * t.sin[4],
         );
         jb0i[2][4] = x25;
-        let x26 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x14, 0.8_f64 * x17);
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x14, 0.8_f64 * x17);
         jb0i[2][5] = x26;
-        let x27 = <f64 as ::trocar::Real>::mul_add(0.6_f64, t.q[3], 0.06_f64)
-            + <f64 as ::trocar::Real>::mul_add(0.6_f64, x15, 0.8_f64 * x18);
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x11, -(t.sin[2] * x19));
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, t.q[3], 0.06_f64)
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x15, 0.8_f64 * x18);
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x11,
+            -(t.sin[2] * x19),
+        );
         jb0i[1][3] = x28;
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x20, t.cos[2] * x6);
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x20,
+            t.cos[2] * x6,
+        );
         jb0i[1][4] = -x29;
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x12, -(t.sin[2] * x21));
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x12,
+            -(t.sin[2] * x21),
+        );
         jb0i[1][5] = x30;
-        let x31 = <f64 as ::trocar::Real>::mul_add(
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x24,
-            <f64 as ::trocar::Real>::mul_add(x2, x19, x3 * x11),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x19, x3 * x11),
         );
-        let x32 = <f64 as ::trocar::Real>::mul_add(
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x25,
-            <f64 as ::trocar::Real>::mul_add(x2, x20, -(x3 * x6)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x20, -(x3 * x6)),
         );
-        let x33 = <f64 as ::trocar::Real>::mul_add(
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x26,
-            <f64 as ::trocar::Real>::mul_add(x2, x21, x3 * x12),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x21, x3 * x12),
         );
         let x34 = 0.4_f64
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 0.6_f64,
                 x27,
-                <f64 as ::trocar::Real>::mul_add(x2, x22, -(x3 * x23)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x2, x22, -(x3 * x23)),
             );
-        let x35 = <f64 as ::trocar::Real>::mul_add(
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x24,
-            -<f64 as ::trocar::Real>::mul_add(x4, x19, x5 * x11),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x19, x5 * x11),
         );
-        let x36 = <f64 as ::trocar::Real>::mul_add(
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x25,
-            <f64 as ::trocar::Real>::mul_add(x5, x6, -(x4 * x20)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x5, x6, -(x4 * x20)),
         );
-        let x37 = <f64 as ::trocar::Real>::mul_add(
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x26,
-            -<f64 as ::trocar::Real>::mul_add(x4, x21, x5 * x12),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x21, x5 * x12),
         );
-        let x38 = <f64 as ::trocar::Real>::mul_add(
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x27,
-            <f64 as ::trocar::Real>::mul_add(x5, x23, -(x4 * x22)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x5, x23, -(x4 * x22)),
         ) - 0.03_f64;
         fk0i.1[2] = p.d_1
-            + (0.1_f64 + <f64 as ::trocar::Real>::mul_add(x1, x34, x0 * x38));
-        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x34, x35, -(x31 * x38));
-        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x34, x36, -(x32 * x38));
-        jb0i[1][2] = <f64 as ::trocar::Real>::mul_add(x34, x37, -(x33 * x38));
+            + (0.1_f64 + <f64 as ::trocar::emitted::Real>::mul_add(x1, x34, x0 * x38));
+        jb0i[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x34, x35, -(x31 * x38));
+        jb0i[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x34, x36, -(x32 * x38));
+        jb0i[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x34, x37, -(x33 * x38));
         let x39 = 0.05_f64
-            - <f64 as ::trocar::Real>::mul_add(t.sin[2], x22, t.cos[2] * x23);
-        let x40 = <f64 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35));
-        fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(
+            - <f64 as ::trocar::emitted::Real>::mul_add(t.sin[2], x22, t.cos[2] * x23);
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(x0, x31, -(x1 * x35));
+        fk0i.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[0],
             x28,
             -(t.sin[0] * x40),
         );
-        fk0i.0[0][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x28, t.cos[0] * x40);
-        let x41 = <f64 as ::trocar::Real>::mul_add(x0, x32, -(x1 * x36));
-        fk0i.0[1][0] = -<f64 as ::trocar::Real>::mul_add(t.cos[0], x29, t.sin[0] * x41);
-        fk0i.0[1][1] = <f64 as ::trocar::Real>::mul_add(
+        fk0i.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x28,
+            t.cos[0] * x40,
+        );
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(x0, x32, -(x1 * x36));
+        fk0i.0[1][0] = -<f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x29,
+            t.sin[0] * x41,
+        );
+        fk0i.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[0],
             x41,
             -(t.sin[0] * x29),
         );
-        let x42 = <f64 as ::trocar::Real>::mul_add(x0, x33, -(x1 * x37));
-        fk0i.0[2][0] = <f64 as ::trocar::Real>::mul_add(
+        let x42 = <f64 as ::trocar::emitted::Real>::mul_add(x0, x33, -(x1 * x37));
+        fk0i.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[0],
             x30,
             -(t.sin[0] * x42),
         );
-        fk0i.0[2][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x30, t.cos[0] * x42);
-        let x43 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x34, -(x1 * x38));
-        fk0i.1[0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x39, -(t.sin[0] * x43));
-        fk0i.1[1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x39, t.cos[0] * x43);
-        jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(x39, x40, -(x28 * x43));
-        jb0i[0][1] = <f64 as ::trocar::Real>::mul_add(x29, x43, x39 * x41);
-        jb0i[0][2] = <f64 as ::trocar::Real>::mul_add(x39, x42, -(x30 * x43));
-        let x44 = <f64 as ::trocar::Real>::mul_add(x1, x31, x0 * x35);
+        fk0i.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x30,
+            t.cos[0] * x42,
+        );
+        let x43 = 0.02_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(x0, x34, -(x1 * x38));
+        fk0i.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x39,
+            -(t.sin[0] * x43),
+        );
+        fk0i.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x39,
+            t.cos[0] * x43,
+        );
+        jb0i[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x39, x40, -(x28 * x43));
+        jb0i[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(x29, x43, x39 * x41);
+        jb0i[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(x39, x42, -(x30 * x43));
+        let x44 = <f64 as ::trocar::emitted::Real>::mul_add(x1, x31, x0 * x35);
         fk0i.0[0][2] = x44;
         jb0i[0][3] = x44;
-        let x45 = <f64 as ::trocar::Real>::mul_add(x1, x32, x0 * x36);
+        let x45 = <f64 as ::trocar::emitted::Real>::mul_add(x1, x32, x0 * x36);
         fk0i.0[1][2] = x45;
         jb0i[0][4] = x45;
-        let x46 = <f64 as ::trocar::Real>::mul_add(x1, x33, x0 * x37);
+        let x46 = <f64 as ::trocar::emitted::Real>::mul_add(x1, x33, x0 * x37);
         fk0i.0[2][2] = x46;
         jb0i[0][5] = x46;
     }
@@ -7210,12 +8179,12 @@ pub mod chain9_prismatic {
     #[inline(always)]
     #[must_use]
     pub fn pose_and_jacobians_trig(t: &JointTrig, p: &Params) -> PoseAndJacobians {
-        let x0 = <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             t.cos[1],
             -(0.29552020666133955_f64 * t.sin[1]),
         );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.955336489125606_f64,
             t.sin[1],
             0.29552020666133955_f64 * t.cos[1],
@@ -7224,288 +8193,349 @@ pub mod chain9_prismatic {
         let x3 = 0.8_f64 * t.sin[2];
         let x4 = 0.6_f64 * t.cos[2];
         let x5 = 0.6_f64 * t.sin[2];
-        let x6 = <f64 as ::trocar::Real>::mul_add(
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3816559020950483_f64,
             t.sin[4],
             0.19866933079506122_f64 * t.cos[4],
         );
-        let x7 = <f64 as ::trocar::Real>::mul_add(
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.19866933079506122_f64,
             t.sin[4],
             -(0.3816559020950483_f64 * t.cos[4]),
         );
-        let x8 = <f64 as ::trocar::Real>::mul_add(
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             t.cos[4],
             -(0.07736548146578168_f64 * t.sin[4]),
         );
-        let x9 = <f64 as ::trocar::Real>::mul_add(
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.9800665778412416_f64,
             t.sin[4],
             0.07736548146578168_f64 * t.cos[4],
         );
         let x10 = 0.9210609940028851_f64 * t.cos[4];
-        let x11 = <f64 as ::trocar::Real>::mul_add(
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.90270109637546_f64,
             t.cos[5],
             -(x7 * t.sin[5]),
         );
-        let x12 = <f64 as ::trocar::Real>::mul_add(
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.90270109637546_f64,
             t.sin[5],
             x7 * t.cos[5],
         );
-        let x13 = <f64 as ::trocar::Real>::mul_add(
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.18298657129998708_f64,
             t.cos[5],
             x9 * t.sin[5],
         );
-        let x14 = <f64 as ::trocar::Real>::mul_add(
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.18298657129998708_f64,
             t.sin[5],
             -(x9 * t.cos[5]),
         );
-        let x15 = <f64 as ::trocar::Real>::mul_add(0.05_f64, x8, 0.25_f64);
-        let x16 = <f64 as ::trocar::Real>::mul_add(
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(0.05_f64, x8, 0.25_f64);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3894183423086505_f64,
             t.cos[5],
             -(x10 * t.sin[5]),
         );
-        let x17 = <f64 as ::trocar::Real>::mul_add(
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.3894183423086505_f64,
             t.sin[5],
             x10 * t.cos[5],
         );
-        let x18 = <f64 as ::trocar::Real>::mul_add(
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.04605304970014426_f64,
             t.sin[4],
             0.02_f64,
         );
-        let x19 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x13, -(0.6_f64 * x16));
-        let x20 = <f64 as ::trocar::Real>::mul_add(
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x13,
+            -(0.6_f64 * x16),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x8,
             -(0.552636596401731_f64 * t.sin[4]),
         );
-        let x21 = <f64 as ::trocar::Real>::mul_add(0.8_f64, x14, -(0.6_f64 * x17));
-        let x22 = <f64 as ::trocar::Real>::mul_add(0.8_f64, t.q[3], 0.08_f64)
-            + <f64 as ::trocar::Real>::mul_add(0.8_f64, x15, -(0.6_f64 * x18));
-        let x23 = <f64 as ::trocar::Real>::mul_add(0.05_f64, x6, -0.01_f64);
-        let x24 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x13, 0.8_f64 * x16);
-        let x25 = <f64 as ::trocar::Real>::mul_add(
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.8_f64,
+            x14,
+            -(0.6_f64 * x17),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, t.q[3], 0.08_f64)
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.8_f64, x15, -(0.6_f64 * x18));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(0.05_f64, x6, -0.01_f64);
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x13, 0.8_f64 * x16);
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x8,
             0.7368487952023082_f64 * t.sin[4],
         );
-        let x26 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x14, 0.8_f64 * x17);
-        let x27 = <f64 as ::trocar::Real>::mul_add(0.6_f64, t.q[3], 0.06_f64)
-            + <f64 as ::trocar::Real>::mul_add(0.6_f64, x15, 0.8_f64 * x18);
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x11, -(t.sin[2] * x19));
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x20, t.cos[2] * x6);
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x12, -(t.sin[2] * x21));
-        let x31 = <f64 as ::trocar::Real>::mul_add(
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x14, 0.8_f64 * x17);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, t.q[3], 0.06_f64)
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x15, 0.8_f64 * x18);
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x11,
+            -(t.sin[2] * x19),
+        );
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x20,
+            t.cos[2] * x6,
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x12,
+            -(t.sin[2] * x21),
+        );
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x24,
-            <f64 as ::trocar::Real>::mul_add(x2, x19, x3 * x11),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x19, x3 * x11),
         );
-        let x32 = <f64 as ::trocar::Real>::mul_add(
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x25,
-            <f64 as ::trocar::Real>::mul_add(x2, x20, -(x3 * x6)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x20, -(x3 * x6)),
         );
-        let x33 = <f64 as ::trocar::Real>::mul_add(
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.6_f64,
             x26,
-            <f64 as ::trocar::Real>::mul_add(x2, x21, x3 * x12),
+            <f64 as ::trocar::emitted::Real>::mul_add(x2, x21, x3 * x12),
         );
         let x34 = 0.4_f64
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 0.6_f64,
                 x27,
-                <f64 as ::trocar::Real>::mul_add(x2, x22, -(x3 * x23)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x2, x22, -(x3 * x23)),
             );
-        let x35 = <f64 as ::trocar::Real>::mul_add(
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x24,
-            -<f64 as ::trocar::Real>::mul_add(x4, x19, x5 * x11),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x19, x5 * x11),
         );
-        let x36 = <f64 as ::trocar::Real>::mul_add(
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x25,
-            <f64 as ::trocar::Real>::mul_add(x5, x6, -(x4 * x20)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x5, x6, -(x4 * x20)),
         );
-        let x37 = <f64 as ::trocar::Real>::mul_add(
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x26,
-            -<f64 as ::trocar::Real>::mul_add(x4, x21, x5 * x12),
+            -<f64 as ::trocar::emitted::Real>::mul_add(x4, x21, x5 * x12),
         );
-        let x38 = <f64 as ::trocar::Real>::mul_add(
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             x27,
-            <f64 as ::trocar::Real>::mul_add(x5, x23, -(x4 * x22)),
+            <f64 as ::trocar::emitted::Real>::mul_add(x5, x23, -(x4 * x22)),
         ) - 0.03_f64;
         let x39 = 0.05_f64
-            - <f64 as ::trocar::Real>::mul_add(t.sin[2], x22, t.cos[2] * x23);
-        let x40 = <f64 as ::trocar::Real>::mul_add(x0, x31, -(x1 * x35));
-        let x41 = <f64 as ::trocar::Real>::mul_add(x0, x32, -(x1 * x36));
-        let x42 = <f64 as ::trocar::Real>::mul_add(x0, x33, -(x1 * x37));
-        let x43 = 0.02_f64 + <f64 as ::trocar::Real>::mul_add(x0, x34, -(x1 * x38));
-        let x44 = <f64 as ::trocar::Real>::mul_add(x1, x31, x0 * x35);
-        let x45 = <f64 as ::trocar::Real>::mul_add(x1, x32, x0 * x36);
-        let x46 = <f64 as ::trocar::Real>::mul_add(x1, x33, x0 * x37);
-        let x47 = <f64 as ::trocar::Real>::mul_add(t.cos[0], x28, -(t.sin[0] * x40));
-        let x48 = <f64 as ::trocar::Real>::mul_add(t.cos[0], x29, t.sin[0] * x41);
-        let x49 = <f64 as ::trocar::Real>::mul_add(t.cos[0], x30, -(t.sin[0] * x42));
-        let x50 = <f64 as ::trocar::Real>::mul_add(t.sin[0], x28, t.cos[0] * x40);
-        let x51 = <f64 as ::trocar::Real>::mul_add(t.cos[0], x41, -(t.sin[0] * x29));
-        let x52 = <f64 as ::trocar::Real>::mul_add(t.sin[0], x30, t.cos[0] * x42);
+            - <f64 as ::trocar::emitted::Real>::mul_add(t.sin[2], x22, t.cos[2] * x23);
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(x0, x31, -(x1 * x35));
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(x0, x32, -(x1 * x36));
+        let x42 = <f64 as ::trocar::emitted::Real>::mul_add(x0, x33, -(x1 * x37));
+        let x43 = 0.02_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(x0, x34, -(x1 * x38));
+        let x44 = <f64 as ::trocar::emitted::Real>::mul_add(x1, x31, x0 * x35);
+        let x45 = <f64 as ::trocar::emitted::Real>::mul_add(x1, x32, x0 * x36);
+        let x46 = <f64 as ::trocar::emitted::Real>::mul_add(x1, x33, x0 * x37);
+        let x47 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x28,
+            -(t.sin[0] * x40),
+        );
+        let x48 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x29,
+            t.sin[0] * x41,
+        );
+        let x49 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x30,
+            -(t.sin[0] * x42),
+        );
+        let x50 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x28,
+            t.cos[0] * x40,
+        );
+        let x51 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x41,
+            -(t.sin[0] * x29),
+        );
+        let x52 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x30,
+            t.cos[0] * x42,
+        );
         let x53 = 0.6_f64 * t.cos[7];
         let x54 = 0.6_f64 * t.sin[7];
         let x55 = 0.8_f64 * t.cos[7];
-        let x56 = <f64 as ::trocar::Real>::mul_add(
+        let x56 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             t.sin[8],
             0.6_f64 * t.cos[8],
         );
-        let x57 = <f64 as ::trocar::Real>::mul_add(
+        let x57 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.8_f64,
             t.cos[8],
             -(0.6_f64 * t.sin[8]),
         );
-        let x58 = <f64 as ::trocar::Real>::mul_add(
+        let x58 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[6],
             t.sin[7],
             -(t.cos[6] * x53),
         );
-        let x59 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x54, t.sin[6] * t.cos[7]);
+        let x59 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x54,
+            t.sin[6] * t.cos[7],
+        );
         let x60 = 0.8_f64 * t.cos[6];
-        let x61 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x53, t.cos[6] * t.sin[7]);
-        let x62 = <f64 as ::trocar::Real>::mul_add(
+        let x61 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[6],
+            x53,
+            t.cos[6] * t.sin[7],
+        );
+        let x62 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[6],
             x54,
             -(t.cos[6] * t.cos[7]),
         );
         let x63 = 0.8_f64 * t.sin[6];
-        let x64 = <f64 as ::trocar::Real>::mul_add(x57, x60, -(x56 * x58));
-        let x65 = <f64 as ::trocar::Real>::mul_add(x57, x58, x56 * x60);
-        let x66 = <f64 as ::trocar::Real>::mul_add(x56, x61, x57 * x63);
-        let x67 = <f64 as ::trocar::Real>::mul_add(x56, x63, -(x57 * x61));
-        let x68 = <f64 as ::trocar::Real>::mul_add(0.6_f64, x57, -(x55 * x56));
-        let x69 = <f64 as ::trocar::Real>::mul_add(x55, x57, 0.6_f64 * x56);
-        let x70 = <f64 as ::trocar::Real>::mul_add(
+        let x64 = <f64 as ::trocar::emitted::Real>::mul_add(x57, x60, -(x56 * x58));
+        let x65 = <f64 as ::trocar::emitted::Real>::mul_add(x57, x58, x56 * x60);
+        let x66 = <f64 as ::trocar::emitted::Real>::mul_add(x56, x61, x57 * x63);
+        let x67 = <f64 as ::trocar::emitted::Real>::mul_add(x56, x63, -(x57 * x61));
+        let x68 = <f64 as ::trocar::emitted::Real>::mul_add(0.6_f64, x57, -(x55 * x56));
+        let x69 = <f64 as ::trocar::emitted::Real>::mul_add(x55, x57, 0.6_f64 * x56);
+        let x70 = <f64 as ::trocar::emitted::Real>::mul_add(
             -0.19866933079506122_f64,
             x65,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.9362933635841992_f64,
                 x64,
                 -(0.28962947762551555_f64 * x59),
             ),
         );
-        let x71 = <f64 as ::trocar::Real>::mul_add(
+        let x71 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.09784339500725571_f64,
             x65,
-            -<f64 as ::trocar::Real>::mul_add(
+            -<f64 as ::trocar::emitted::Real>::mul_add(
                 0.2750958473182437_f64,
                 x64,
                 0.9564250858492325_f64 * x59,
             ),
         );
-        let x72 = <f64 as ::trocar::Real>::mul_add(
+        let x72 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.975170327201816_f64,
             x65,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.21835066314633444_f64,
                 x64,
                 0.03695701352462508_f64 * x59,
             ),
         );
-        let x73 = <f64 as ::trocar::Real>::mul_add(
+        let x73 = <f64 as ::trocar::emitted::Real>::mul_add(
             -0.15_f64,
             x59,
-            <f64 as ::trocar::Real>::mul_add(-0.04_f64, t.sin[6], 0.02_f64)
-                + <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(-0.04_f64, t.sin[6], 0.02_f64)
+                + <f64 as ::trocar::emitted::Real>::mul_add(
                     0.0048000000000000004_f64,
                     t.cos[6],
-                    <f64 as ::trocar::Real>::mul_add(0.008_f64, x58, -(0.1_f64 * x59)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.008_f64,
+                        x58,
+                        -(0.1_f64 * x59),
+                    ),
                 ),
         );
-        let x74 = <f64 as ::trocar::Real>::mul_add(
+        let x74 = <f64 as ::trocar::emitted::Real>::mul_add(
             -0.19866933079506122_f64,
             x67,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.9362933635841992_f64,
                 x66,
                 -(0.28962947762551555_f64 * x62),
             ),
         );
-        let x75 = <f64 as ::trocar::Real>::mul_add(
+        let x75 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.09784339500725571_f64,
             x67,
-            -<f64 as ::trocar::Real>::mul_add(
+            -<f64 as ::trocar::emitted::Real>::mul_add(
                 0.2750958473182437_f64,
                 x66,
                 0.9564250858492325_f64 * x62,
             ),
         );
-        let x76 = <f64 as ::trocar::Real>::mul_add(
+        let x76 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.975170327201816_f64,
             x67,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.21835066314633444_f64,
                 x66,
                 0.03695701352462508_f64 * x62,
             ),
         );
-        let x77 = <f64 as ::trocar::Real>::mul_add(
+        let x77 = <f64 as ::trocar::emitted::Real>::mul_add(
             -0.15_f64,
             x62,
-            <f64 as ::trocar::Real>::mul_add(0.04_f64, t.cos[6], 0.3_f64)
-                + <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(0.04_f64, t.cos[6], 0.3_f64)
+                + <f64 as ::trocar::emitted::Real>::mul_add(
                     0.0048000000000000004_f64,
                     t.sin[6],
-                    -<f64 as ::trocar::Real>::mul_add(0.008_f64, x61, 0.1_f64 * x62),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        0.008_f64,
+                        x61,
+                        0.1_f64 * x62,
+                    ),
                 ),
         );
         let x78 = 0.23170358210041245_f64 * t.sin[7];
-        let x79 = <f64 as ::trocar::Real>::mul_add(
+        let x79 = <f64 as ::trocar::emitted::Real>::mul_add(
             -0.19866933079506122_f64,
             x69,
-            <f64 as ::trocar::Real>::mul_add(0.9362933635841992_f64, x68, x78),
+            <f64 as ::trocar::emitted::Real>::mul_add(0.9362933635841992_f64, x68, x78),
         );
         let x80 = 0.765140068679386_f64 * t.sin[7];
-        let x81 = <f64 as ::trocar::Real>::mul_add(
+        let x81 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.09784339500725571_f64,
             x69,
-            <f64 as ::trocar::Real>::mul_add(-0.2750958473182437_f64, x68, x80),
+            <f64 as ::trocar::emitted::Real>::mul_add(-0.2750958473182437_f64, x68, x80),
         );
-        let x82 = <f64 as ::trocar::Real>::mul_add(
+        let x82 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.975170327201816_f64,
             x69,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.21835066314633444_f64,
                 x68,
                 -(0.029565610819700067_f64 * t.sin[7]),
             ),
         );
-        let x83 = <f64 as ::trocar::Real>::mul_add(
+        let x83 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.12_f64,
             t.sin[7],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.0064_f64,
                 t.cos[7],
                 0.08000000000000002_f64 * t.sin[7],
             ) + 0.0036_f64,
         );
-        let x84 = <f64 as ::trocar::Real>::mul_add(
+        let x84 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.3778998554341936_f64,
                 t.cos[7],
                 -0.5765691862292548_f64,
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[8],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.4324268896719411_f64,
                     t.cos[7],
                     0.5038664739122581_f64,
@@ -7513,28 +8543,32 @@ pub mod chain9_prismatic {
                 -(0.17377768657530934_f64 * t.sin[7]),
             ),
         );
-        let x85 = <f64 as ::trocar::Real>::mul_add(
+        let x85 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.6298330923903226_f64,
                 t.sin[8],
                 0.7207114827865685_f64 * t.cos[8],
             ),
             0.28962947762551555_f64 * t.cos[7],
         );
-        let x86 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x84, t.cos[6] * x85);
-        let x87 = <f64 as ::trocar::Real>::mul_add(
+        let x86 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[6],
+            x84,
+            t.cos[6] * x85,
+        );
+        let x87 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[8],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.14599933463805048_f64,
                 t.cos[7],
                 0.12909651268019323_f64,
             ),
             0.5738550515095395_f64 * t.sin[7],
         );
-        let x88 = <f64 as ::trocar::Real>::mul_add(
+        let x88 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -0.09682238451014492_f64,
                 t.cos[7],
                 0.19466577951740063_f64,
@@ -7543,23 +8577,27 @@ pub mod chain9_prismatic {
         );
         let x89 = 0.16137064085024153_f64 * t.sin[8];
         let x90 = t.sin[7]
-            * <f64 as ::trocar::Real>::mul_add(0.24333222439675078_f64, t.cos[8], x89);
+            * <f64 as ::trocar::emitted::Real>::mul_add(
+                0.24333222439675078_f64,
+                t.cos[8],
+                x89,
+            );
         let x91 = 0.9564250858492325_f64 * t.cos[7];
-        let x92 = <f64 as ::trocar::Real>::mul_add(
+        let x92 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[6],
             x88,
             t.cos[6] * (x91 - x90),
         );
-        let x93 = <f64 as ::trocar::Real>::mul_add(
+        let x93 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.45586963610289427_f64,
                 t.cos[7],
                 0.5193006910989217_f64,
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[8],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.3894755183241913_f64,
                     t.cos[7],
                     0.6078261814705257_f64,
@@ -7570,13 +8608,14 @@ pub mod chain9_prismatic {
         let x94 = 0.7597827268381572_f64 * t.sin[8];
         let x95 = 0.6491258638736521_f64 * t.cos[8];
         let x96 = 0.03695701352462508_f64 * t.cos[7];
-        let x97 = <f64 as ::trocar::Real>::mul_add(
+        let x97 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[6],
             x93,
-            t.cos[6] * <f64 as ::trocar::Real>::mul_add(t.sin[7], x94 - x95, -x96),
+            t.cos[6]
+                * <f64 as ::trocar::emitted::Real>::mul_add(t.sin[7], x94 - x95, -x96),
         );
         let x98 = 0.5038664739122581_f64 * p.l_a;
-        let x99 = <f64 as ::trocar::Real>::mul_add(
+        let x99 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.4324268896719411_f64,
             p.l_a,
             -0.12972806690158234_f64,
@@ -7589,21 +8628,26 @@ pub mod chain9_prismatic {
         let x105 = 0.3894755183241913_f64 * p.l_a;
         let x106 = 0.5193006910989217_f64 * p.l_a;
         let x107 = 0.45586963610289427_f64 * p.l_a;
-        let x108 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x84, -(t.sin[6] * x85));
-        let x109 = <f64 as ::trocar::Real>::mul_add(
+        let x108 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x84,
+            -(t.sin[6] * x85),
+        );
+        let x109 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[6],
             x88,
             t.sin[6] * (x90 - x91),
         );
-        let x110 = <f64 as ::trocar::Real>::mul_add(
+        let x110 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[6],
             x93,
-            t.sin[6] * <f64 as ::trocar::Real>::mul_add(t.sin[7], x95 - x94, x96),
+            t.sin[6]
+                * <f64 as ::trocar::emitted::Real>::mul_add(t.sin[7], x95 - x94, x96),
         );
-        let x111 = <f64 as ::trocar::Real>::mul_add(
+        let x111 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.008648537793438821_f64,
             t.cos[8],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.007557997108683871_f64,
                 t.sin[8],
                 0.08688884328765467_f64,
@@ -7613,16 +8657,16 @@ pub mod chain9_prismatic {
         let x113 = 0.0015893546463604897_f64 * t.sin[8];
         let x114 = 0.12902630233994597_f64 * t.sin[8];
         let x115 = 0.14326369406494216_f64 * t.cos[8];
-        let x116 = <f64 as ::trocar::Real>::mul_add(
+        let x116 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
             0.006951107463012373_f64 + x112 - x113,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[7],
                 0.0013902214926024747_f64 + x114 - x115,
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     0.1282613813744756_f64,
                     t.cos[8],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.07141219640937821_f64,
                         t.sin[8],
                         0.0013902214926024747_f64,
@@ -7636,13 +8680,13 @@ pub mod chain9_prismatic {
         let x120 = 0.0022007667785459493_f64 * t.cos[8];
         let x121 = 0.03811410155557032_f64 * t.cos[8];
         let x122 = 0.04479354949894437_f64 * t.sin[8];
-        let x123 = <f64 as ::trocar::Real>::mul_add(
+        let x123 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
             0.022954202060381578_f64 + x119 - x120,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[7],
                 0.004590840412076316_f64 + x121 - x122,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.016418964946840205_f64,
                     t.sin[8],
                     0.04166369416672035_f64 * t.cos[8],
@@ -7653,25 +8697,25 @@ pub mod chain9_prismatic {
         let x125 = 0.007789510366483825_f64 * t.cos[8];
         let x126 = 0.007801362617614528_f64 * t.sin[8];
         let x127 = 0.0017468053051706756_f64 * t.cos[8];
-        let x128 = <f64 as ::trocar::Real>::mul_add(
+        let x128 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.13637752463466377_f64,
             t.cos[8],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.1480599582188462_f64,
                 t.sin[8],
                 0.0001773936649182004_f64,
             ),
         );
-        let x129 = <f64 as ::trocar::Real>::mul_add(
+        let x129 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
             x126 + x127 - 0.0008869683245910019_f64,
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -t.cos[7],
                 x128,
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.13473943666968044_f64,
                     t.sin[8],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.07305583232222679_f64,
                         t.cos[8],
                         0.0001773936649182004_f64,
@@ -7680,75 +8724,75 @@ pub mod chain9_prismatic {
             ),
         );
         let x130 = t.sin[8]
-            * <f64 as ::trocar::Real>::mul_add(
+            * <f64 as ::trocar::emitted::Real>::mul_add(
                 0.5038664739122581_f64,
                 t.cos[7],
                 0.4324268896719411_f64,
             );
         let x131 = 0.5765691862292548_f64 * t.cos[7];
-        let x132 = <f64 as ::trocar::Real>::mul_add(
+        let x132 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[8],
             0.3778998554341936_f64 - x131,
             x78,
         ) - x130;
         let x133 = t.sin[8]
-            * <f64 as ::trocar::Real>::mul_add(
+            * <f64 as ::trocar::emitted::Real>::mul_add(
                 0.12909651268019323_f64,
                 t.cos[7],
                 0.14599933463805048_f64,
             );
         let x134 = 0.19466577951740063_f64 * t.cos[7];
         let x135 = x133
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[8],
                 x134 - 0.09682238451014492_f64,
                 x80,
             );
         let x136 = 0.6078261814705257_f64 * t.cos[7];
         let x137 = t.cos[8]
-            * <f64 as ::trocar::Real>::mul_add(
+            * <f64 as ::trocar::emitted::Real>::mul_add(
                 0.5193006910989217_f64,
                 t.cos[7],
                 0.45586963610289427_f64,
             );
         let x138 = 0.029565610819700064_f64 * t.sin[7];
-        let x139 = <f64 as ::trocar::Real>::mul_add(
+        let x139 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
             0.3894755183241913_f64 - x136,
             x137 - x138,
         );
-        let x140 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(
+        let x140 = <f64 as ::trocar::emitted::Real>::ONE
+            / <f64 as ::trocar::emitted::Real>::mul_add(
                 p.l_a,
                 p.l_a,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ONE,
             );
-        let x141 = <f64 as ::trocar::Real>::mul_add(
+        let x141 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -0.005617760181505195_f64,
                 t.cos[8],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.0011920159847703673_f64,
                     t.sin[8],
                     0.009268143284016497_f64,
                 ),
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[7],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.1282613813744756_f64,
                     t.sin[8],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.07141219640937821_f64,
                         t.cos[8],
                         -0.001042666119451856_f64,
                     ),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     0.12902630233994597_f64,
                     t.cos[8],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.14326369406494216_f64,
                         t.sin[8],
                         0.0018536286568032994_f64,
@@ -7760,29 +8804,29 @@ pub mod chain9_prismatic {
         let x143 = 0.15745827309758065_f64 * t.cos[8];
         let x144 = 0.0019866933079506124_f64 * t.sin[8];
         let x145 = 0.009362933635841992_f64 * t.cos[8];
-        let x146 = <f64 as ::trocar::Real>::mul_add(
+        let x146 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 -0.0005870603700435343_f64,
                 t.sin[8],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.0016505750839094623_f64,
                     t.cos[8],
                     0.03060560274717544_f64,
                 ),
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[7],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.016418964946840205_f64,
                     t.cos[8],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.04166369416672035_f64,
                         t.sin[8],
                         -0.003443130309057237_f64,
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.03811410155557032_f64,
                     t.sin[8],
                     0.04479354949894436_f64 * t.cos[8],
@@ -7792,32 +8836,32 @@ pub mod chain9_prismatic {
         let x147 = 0.04034266021256038_f64 * t.cos[8];
         let x148 = 0.060833056099187696_f64 * t.sin[8];
         let x149 = 0.0009784339500725572_f64 * t.sin[8];
-        let x150 = <f64 as ::trocar::Real>::mul_add(
+        let x150 = <f64 as ::trocar::emitted::Real>::mul_add(
             -t.sin[7],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.0013101039788780064_f64,
                 t.cos[8],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.005851021963210896_f64,
                     t.sin[8],
                     0.0011826244327880027_f64,
                 ),
             ),
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[7],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.13473943666968044_f64,
                     t.cos[8],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.07305583232222679_f64,
                         t.sin[8],
                         0.00013304524868865028_f64,
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.13637752463466377_f64,
                     t.sin[8],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.1480599582188462_f64,
                         t.cos[8],
                         0.0002365248865576005_f64,
@@ -7825,19 +8869,19 @@ pub mod chain9_prismatic {
                 ),
             ),
         );
-        let x151 = <f64 as ::trocar::Real>::mul_add(
+        let x151 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[7],
-            <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
                 0.1899456817095393_f64,
                 t.cos[8],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.16228146596841303_f64,
                     t.sin[8],
                     0.00022174208114775047_f64,
                 ),
             ),
             t.cos[7]
-                * <f64 as ::trocar::Real>::mul_add(
+                * <f64 as ::trocar::emitted::Real>::mul_add(
                     0.00975170327201816_f64,
                     t.sin[8],
                     0.0021835066314633443_f64 * t.cos[8],
@@ -7847,100 +8891,161 @@ pub mod chain9_prismatic {
             (
                 [
                     [
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x49,
                             x79,
-                            <f64 as ::trocar::Real>::mul_add(x47, x70, -(x48 * x74)),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x47,
+                                x70,
+                                -(x48 * x74),
+                            ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x52,
                             x79,
-                            <f64 as ::trocar::Real>::mul_add(x50, x70, x51 * x74),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x50,
+                                x70,
+                                x51 * x74,
+                            ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x46,
                             x79,
-                            <f64 as ::trocar::Real>::mul_add(x44, x70, x45 * x74),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x44,
+                                x70,
+                                x45 * x74,
+                            ),
                         ),
                     ],
                     [
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x49,
                             x81,
-                            <f64 as ::trocar::Real>::mul_add(x47, x71, -(x48 * x75)),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x47,
+                                x71,
+                                -(x48 * x75),
+                            ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x52,
                             x81,
-                            <f64 as ::trocar::Real>::mul_add(x50, x71, x51 * x75),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x50,
+                                x71,
+                                x51 * x75,
+                            ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x46,
                             x81,
-                            <f64 as ::trocar::Real>::mul_add(x44, x71, x45 * x75),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x44,
+                                x71,
+                                x45 * x75,
+                            ),
                         ),
                     ],
                     [
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x49,
                             x82,
-                            <f64 as ::trocar::Real>::mul_add(x47, x72, -(x48 * x76)),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x47,
+                                x72,
+                                -(x48 * x76),
+                            ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x52,
                             x82,
-                            <f64 as ::trocar::Real>::mul_add(x50, x72, x51 * x76),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x50,
+                                x72,
+                                x51 * x76,
+                            ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x46,
                             x82,
-                            <f64 as ::trocar::Real>::mul_add(x44, x72, x45 * x76),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x44,
+                                x72,
+                                x45 * x76,
+                            ),
                         ),
                     ],
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[0], x39, -(t.sin[0] * x43))
-                        + <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[0],
+                        x39,
+                        -(t.sin[0] * x43),
+                    )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             x49,
                             x83,
-                            <f64 as ::trocar::Real>::mul_add(x47, x73, -(x48 * x77)),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x47,
+                                x73,
+                                -(x48 * x77),
+                            ),
                         ),
-                    <f64 as ::trocar::Real>::mul_add(t.sin[0], x39, t.cos[0] * x43)
-                        + <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[0],
+                        x39,
+                        t.cos[0] * x43,
+                    )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             x52,
                             x83,
-                            <f64 as ::trocar::Real>::mul_add(x50, x73, x51 * x77),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x50,
+                                x73,
+                                x51 * x77,
+                            ),
                         ),
                     p.d_1
-                        + (0.1_f64 + <f64 as ::trocar::Real>::mul_add(x1, x34, x0 * x38))
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + (0.1_f64
+                            + <f64 as ::trocar::emitted::Real>::mul_add(
+                                x1,
+                                x34,
+                                x0 * x38,
+                            ))
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             x46,
                             x83,
-                            <f64 as ::trocar::Real>::mul_add(x44, x73, x45 * x77),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x44,
+                                x73,
+                                x45 * x77,
+                            ),
                         ),
                 ],
             ),
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(x39, x40, -(x28 * x43)),
-                    <f64 as ::trocar::Real>::mul_add(x29, x43, x39 * x41),
-                    <f64 as ::trocar::Real>::mul_add(x39, x42, -(x30 * x43)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x39, x40, -(x28 * x43)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x29, x43, x39 * x41),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x39, x42, -(x30 * x43)),
                     x44,
                     x45,
                     x46,
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(x34, x35, -(x31 * x38)),
-                    <f64 as ::trocar::Real>::mul_add(x34, x36, -(x32 * x38)),
-                    <f64 as ::trocar::Real>::mul_add(x34, x37, -(x33 * x38)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x34, x35, -(x31 * x38)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x34, x36, -(x32 * x38)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x34, x37, -(x33 * x38)),
                     x28,
                     -x29,
                     x30,
                 ],
                 [
-                    -<f64 as ::trocar::Real>::mul_add(x19, x23, x11 * x22),
-                    <f64 as ::trocar::Real>::mul_add(x6, x22, -(x20 * x23)),
-                    -<f64 as ::trocar::Real>::mul_add(x21, x23, x12 * x22),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(x19, x23, x11 * x22),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x6, x22, -(x20 * x23)),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(x21, x23, x12 * x22),
                     x24,
                     x25,
                     x26,
@@ -7949,25 +9054,25 @@ pub mod chain9_prismatic {
                     x13,
                     x8,
                     x14,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
                     -(0.05_f64 * t.sin[5]),
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     0.05_f64 * t.cos[5],
                     t.cos[5],
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     t.sin[5],
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
             ],
             [
@@ -7975,74 +9080,74 @@ pub mod chain9_prismatic {
                     x86,
                     x92,
                     x97,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[8],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[7],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.1282613813744756_f64,
                                 t.cos[6],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.0019866933079506124_f64,
                                     t.sin[6],
                                     x98,
                                 ) - 0.15115994217367743_f64,
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.18017787069664212_f64,
                                     t.sin[6],
                                     0.0011920159847703673_f64 * t.cos[6],
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.14326369406494216_f64,
                                     t.cos[6],
                                     x99,
                                 ),
                             ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[8],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.009362933635841992_f64,
                                     t.sin[6],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.07141219640937821_f64,
                                         t.cos[6],
                                         x100,
                                     ) - 0.17297075586877644_f64,
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -t.sin[7],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.15745827309758065_f64,
                                         t.sin[6],
                                         0.005617760181505195_f64 * t.cos[6],
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.12902630233994597_f64,
                                         t.cos[6],
                                         0.11336995663025808_f64,
                                     ) - x101,
                                 ),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.23170358210041245_f64,
                                     p.l_a,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.009268143284016497_f64,
                                         t.cos[6],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.0017377768657530933_f64,
                                             t.sin[6],
                                             0.06951107463012374_f64,
@@ -8050,7 +9155,7 @@ pub mod chain9_prismatic {
                                     ),
                                 ),
                                 -(t.cos[6]
-                                    * <f64 as ::trocar::Real>::mul_add(
+                                    * <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.001042666119451856_f64,
                                         t.cos[7],
                                         0.0018536286568032994_f64,
@@ -8058,73 +9163,73 @@ pub mod chain9_prismatic {
                             ),
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[8],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[7],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.0009784339500725572_f64,
                                 t.sin[6],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.04166369416672035_f64,
                                     t.cos[6],
                                     0.03872895380405797_f64,
                                 ),
                             ) - x102,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -t.sin[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.060833056099187696_f64,
                                     t.sin[6],
                                     0.0005870603700435343_f64 * t.cos[6],
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.03811410155557032_f64,
                                     t.cos[6],
                                     0.04379980039141514_f64,
                                 ) - x103,
                             ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[8],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.19466577951740063_f64,
                                     p.l_a,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.016418964946840205_f64,
                                         t.cos[6],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.002750958473182437_f64,
                                             t.sin[6],
                                             0.05839973385522019_f64,
                                         ),
                                     ),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[7],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.04034266021256038_f64,
                                         t.sin[6],
                                         0.0016505750839094623_f64 * t.cos[6],
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.04479354949894436_f64,
                                         t.cos[6],
                                         0.09682238451014492_f64 * p.l_a,
                                     ) - 0.029046715353043477_f64,
                                 ),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.765140068679386_f64,
                                     p.l_a,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.03060560274717544_f64,
                                         t.cos[6],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.005738550515095395_f64,
                                             t.sin[6],
                                             0.2295420206038158_f64,
@@ -8132,7 +9237,7 @@ pub mod chain9_prismatic {
                                     ),
                                 ),
                                 -(t.cos[6]
-                                    * <f64 as ::trocar::Real>::mul_add(
+                                    * <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.003443130309057237_f64,
                                         t.cos[7],
                                         0.006121120549435088_f64,
@@ -8140,69 +9245,69 @@ pub mod chain9_prismatic {
                             ),
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[8],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[7],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.00975170327201816_f64,
                                 t.sin[6],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.07305583232222679_f64,
                                     t.cos[6],
                                     x104,
                                 ) - 0.18234785444115773_f64,
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -t.sin[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.16228146596841303_f64,
                                     t.sin[6],
                                     0.005851021963210896_f64 * t.cos[6],
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.13637752463466377_f64,
                                     t.cos[6],
                                     0.11684265549725738_f64,
                                 ) - x105,
                             ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[8],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.0021835066314633443_f64,
                                     t.sin[6],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.13473943666968044_f64,
                                         t.cos[6],
                                         0.15579020732967652_f64,
                                     ),
                                 ) - x106,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -t.sin[7],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.1899456817095393_f64,
                                         t.sin[6],
                                         0.0013101039788780064_f64 * t.cos[6],
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.1480599582188462_f64,
                                         t.cos[6],
                                         0.1367608908308683_f64,
                                     ) - x107,
                                 ),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.0011826244327880027_f64,
                                     t.cos[6],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.00022174208114775047_f64,
                                         t.sin[6],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.029565610819700064_f64,
                                             p.l_a,
                                             -0.00886968324591002_f64,
@@ -8210,7 +9315,7 @@ pub mod chain9_prismatic {
                                     ),
                                 ),
                                 t.cos[6]
-                                    * <f64 as ::trocar::Real>::mul_add(
+                                    * <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.00013304524868865028_f64,
                                         t.cos[7],
                                         0.0002365248865576005_f64,
@@ -8223,33 +9328,33 @@ pub mod chain9_prismatic {
                     x110,
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[6],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[8],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[7],
                                 x101 - 0.11336995663025808_f64,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.012596661847806452_f64,
                                     t.sin[7],
                                     0.17297075586877644_f64,
                                 ) - x100,
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[8],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[7],
                                     x99,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.01441422965573137_f64,
                                         t.sin[7],
                                         x98,
                                     ) - 0.15115994217367743_f64,
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[7],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.17377768657530934_f64,
                                         p.l_a,
                                         0.052133305972592796_f64,
@@ -8258,20 +9363,20 @@ pub mod chain9_prismatic {
                                 ),
                             ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[6],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[8],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.6298330923903226_f64,
                                         p.l_a,
                                         0.1889499277170968_f64,
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.cos[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.7207114827865685_f64,
                                             p.l_a,
                                             0.21621344483597055_f64,
@@ -8279,14 +9384,14 @@ pub mod chain9_prismatic {
                                         -0.0034755537315061865_f64,
                                     ),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[7],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.28962947762551555_f64,
                                         p.l_a,
                                         x111,
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.010077329478245162_f64,
                                         t.cos[8],
                                         -(0.011531383724585096_f64 * t.sin[8]),
@@ -8296,41 +9401,41 @@ pub mod chain9_prismatic {
                             x116,
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[6],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[8],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.09682238451014491_f64,
                                     p.l_a,
                                     0.029046715353043477_f64,
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -0.0032274128170048304_f64,
                                     t.sin[7],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.1946657795174006_f64,
                                         p.l_a,
                                         -0.05839973385522019_f64,
                                     ),
                                 ),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[8],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[7],
                                     0.04379980039141514_f64 - x103,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.004866644487935016_f64,
                                         t.sin[7],
                                         0.03872895380405797_f64,
                                     ) - x102,
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[7],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.5738550515095395_f64,
                                         p.l_a,
                                         0.17215651545286184_f64,
@@ -8339,20 +9444,20 @@ pub mod chain9_prismatic {
                                 ),
                             ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[6],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[8],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.16137064085024153_f64,
                                         p.l_a,
                                         -0.048411192255072455_f64,
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.cos[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.2433322243967508_f64,
                                             p.l_a,
                                             -0.07299966731902524_f64,
@@ -8360,14 +9465,14 @@ pub mod chain9_prismatic {
                                         -0.011477101030190789_f64,
                                     ),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[7],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.9564250858492326_f64,
                                         p.l_a,
                                         0.28692752575476976_f64 - x117 - x118,
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.0038933155903480123_f64,
                                         t.sin[8],
                                         -(0.0025819302536038645_f64 * t.cos[8]),
@@ -8377,33 +9482,33 @@ pub mod chain9_prismatic {
                             x123,
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[6],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[8],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[7],
                                 x107 - 0.1367608908308683_f64,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.015195654536763144_f64,
                                     t.sin[7],
                                     x106,
                                 ) - 0.15579020732967652_f64,
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[8],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[7],
                                     0.11684265549725738_f64 - x105,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.012982517277473044_f64,
                                         t.sin[7],
                                         x104 - 0.18234785444115773_f64,
                                     ),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[7],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.022174208114775048_f64,
                                         p.l_a,
                                         -0.006652262434432514_f64,
@@ -8412,20 +9517,20 @@ pub mod chain9_prismatic {
                                 ),
                             ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[6],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[8],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.7597827268381572_f64,
                                         p.l_a,
                                         0.22793481805144714_f64,
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.cos[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.6491258638736521_f64,
                                             p.l_a,
                                             -0.19473775916209565_f64,
@@ -8433,14 +9538,14 @@ pub mod chain9_prismatic {
                                         0.00044348416229550094_f64,
                                     ),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[7],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.03695701352462508_f64,
                                         p.l_a,
                                         x124,
                                     ) - 0.011087104057387524_f64 - x125,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.010386013821978434_f64,
                                         t.sin[8],
                                         0.012156523629410514_f64 * t.cos[8],
@@ -8456,49 +9561,49 @@ pub mod chain9_prismatic {
                 ],
                 [x116, x123, x129, x132, x135, x139],
                 [
-                    -<f64 as ::trocar::Real>::mul_add(
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
                         0.18017787069664212_f64,
                         t.cos[8],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.15745827309758065_f64,
                             t.sin[8],
                             0.0023170358210041243_f64,
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.04034266021256038_f64,
                         t.sin[8],
                         0.060833056099187696_f64 * t.cos[8],
                     ) - 0.00765140068679386_f64,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         -0.1899456817095393_f64,
                         t.sin[8],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.16228146596841303_f64,
                             t.cos[8],
                             0.00029565610819700066_f64,
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.6298330923903226_f64,
                         t.cos[8],
                         -(0.7207114827865685_f64 * t.sin[8]),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.24333222439675078_f64,
                         t.sin[8],
                         -(0.16137064085024153_f64 * t.cos[8]),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.6491258638736521_f64,
                         t.sin[8],
                         0.7597827268381572_f64 * t.cos[8],
                     ),
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     0.28962947762551555_f64,
                     0.9564250858492325_f64,
                     -0.03695701352462508_f64,
@@ -8507,27 +9612,27 @@ pub mod chain9_prismatic {
             [
                 [
                     x140
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l_a,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[6],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.21621344483597055_f64,
                                         t.cos[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.1889499277170968_f64,
                                             t.sin[8],
                                             0.0034755537315061865_f64,
                                         ),
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -t.cos[6],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.01441422965573137_f64,
                                             t.cos[8],
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.012596661847806452_f64,
                                                 t.sin[8],
                                                 0.052133305972592796_f64,
@@ -8536,14 +9641,14 @@ pub mod chain9_prismatic {
                                         x113 - 0.006951107463012373_f64 - x112,
                                     ),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[7],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -t.sin[6],
                                         x111,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             t.cos[6],
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.11336995663025808_f64,
                                                 t.sin[8],
                                                 0.12972806690158234_f64 * t.cos[8],
@@ -8551,23 +9656,23 @@ pub mod chain9_prismatic {
                                             x115 - 0.0013902214926024747_f64 - x114,
                                         ),
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.sin[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.17297075586877644_f64,
                                             t.cos[6],
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.011531383724585096_f64,
                                                 t.sin[6],
                                                 0.07141219640937821_f64,
                                             ),
                                         ),
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             t.cos[8],
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 -0.010077329478245162_f64,
                                                 t.sin[6],
-                                                <f64 as ::trocar::Real>::mul_add(
+                                                <f64 as ::trocar::emitted::Real>::mul_add(
                                                     0.15115994217367743_f64,
                                                     t.cos[6],
                                                     0.1282613813744756_f64,
@@ -8581,24 +9686,24 @@ pub mod chain9_prismatic {
                             x108,
                         ),
                     x140
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l_a,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[6],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.07299966731902524_f64,
                                         t.cos[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.048411192255072455_f64,
                                             t.sin[8],
                                             0.011477101030190789_f64,
                                         ),
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.cos[6],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.0032274128170048304_f64,
                                             t.sin[8],
                                             0.004866644487935016_f64 * t.cos[8],
@@ -8606,17 +9711,17 @@ pub mod chain9_prismatic {
                                         x120 - 0.022954202060381578_f64 - x119,
                                     ),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[7],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.sin[6],
                                         x117 + x118 - 0.28692752575476976_f64,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -t.cos[6],
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.04379980039141514_f64,
                                                 t.cos[8],
-                                                <f64 as ::trocar::Real>::mul_add(
+                                                <f64 as ::trocar::emitted::Real>::mul_add(
                                                     0.029046715353043477_f64,
                                                     t.sin[8],
                                                     0.01912850171698465_f64,
@@ -8625,23 +9730,23 @@ pub mod chain9_prismatic {
                                             x122 - 0.004590840412076316_f64 - x121,
                                         ),
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.sin[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.0038933155903480123_f64,
                                             t.sin[6],
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.05839973385522019_f64,
                                                 t.cos[6],
                                                 -0.016418964946840205_f64,
                                             ),
                                         ),
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             t.cos[8],
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 -0.03872895380405797_f64,
                                                 t.cos[6],
-                                                <f64 as ::trocar::Real>::mul_add(
+                                                <f64 as ::trocar::emitted::Real>::mul_add(
                                                     0.0025819302536038645_f64,
                                                     t.sin[6],
                                                     -0.04166369416672035_f64,
@@ -8652,11 +9757,11 @@ pub mod chain9_prismatic {
                                     ),
                                 ),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[6],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[8],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.09682238451014491_f64,
                                         t.cos[7],
                                         0.1946657795174006_f64,
@@ -8664,9 +9769,9 @@ pub mod chain9_prismatic {
                                     -x87,
                                 ),
                                 t.sin[6]
-                                    * <f64 as ::trocar::Real>::mul_add(
+                                    * <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.sin[7],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.2433322243967508_f64,
                                             t.cos[8],
                                             x89,
@@ -8676,27 +9781,27 @@ pub mod chain9_prismatic {
                             ),
                         ),
                     x140
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l_a,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[7],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[6],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.22793481805144714_f64,
                                         t.sin[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.19473775916209565_f64,
                                             t.cos[8],
                                             -0.00044348416229550094_f64,
                                         ),
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.cos[6],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.015195654536763144_f64,
                                             t.sin[8],
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.012982517277473044_f64,
                                                 t.cos[8],
                                                 0.006652262434432514_f64,
@@ -8705,17 +9810,17 @@ pub mod chain9_prismatic {
                                         0.0008869683245910019_f64 - x126 - x127,
                                     ),
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[7],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.sin[6],
                                         0.011087104057387524_f64 + x125 - x124,
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             t.cos[6],
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 -0.11684265549725738_f64,
                                                 t.cos[8],
-                                                <f64 as ::trocar::Real>::mul_add(
+                                                <f64 as ::trocar::emitted::Real>::mul_add(
                                                     0.1367608908308683_f64,
                                                     t.sin[8],
                                                     0.0007391402704925016_f64,
@@ -8724,23 +9829,23 @@ pub mod chain9_prismatic {
                                             x128,
                                         ),
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.sin[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.010386013821978434_f64,
                                             t.sin[6],
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.15579020732967652_f64,
                                                 t.cos[6],
                                                 0.13473943666968044_f64,
                                             ),
                                         ),
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             t.cos[8],
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 -0.012156523629410514_f64,
                                                 t.sin[6],
-                                                <f64 as ::trocar::Real>::mul_add(
+                                                <f64 as ::trocar::emitted::Real>::mul_add(
                                                     0.18234785444115773_f64,
                                                     t.cos[6],
                                                     -0.07305583232222679_f64,
@@ -8756,21 +9861,21 @@ pub mod chain9_prismatic {
                     p.l_a
                         * (x140
                             * (x130
-                                + <f64 as ::trocar::Real>::mul_add(
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[8],
                                     x131 - 0.3778998554341936_f64,
                                     -x78,
                                 ))),
                     p.l_a
                         * (x140
-                            * (<f64 as ::trocar::Real>::mul_add(
+                            * (<f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[8],
                                 0.09682238451014492_f64 - x134,
                                 -x80,
                             ) - x133)),
                     p.l_a
                         * (x140
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[8],
                                 x136 - 0.3894755183241913_f64,
                                 x138 - x137,
@@ -8778,28 +9883,28 @@ pub mod chain9_prismatic {
                 ],
                 [
                     x140
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l_a,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[6],
                                 x141,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[6],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.sin[7],
                                         0.0017377768657530933_f64 + x142 - x143,
                                         t.cos[7] * (x144 - x145),
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -t.sin[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.15115994217367743_f64,
                                             t.cos[7],
                                             0.12972806690158234_f64,
                                         ),
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             t.cos[8],
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 -0.17297075586877644_f64,
                                                 t.cos[7],
                                                 0.11336995663025808_f64,
@@ -8812,33 +9917,33 @@ pub mod chain9_prismatic {
                             x132,
                         ),
                     x140
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l_a,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[6],
                                 x146,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[6],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.sin[7],
                                         0.005738550515095395_f64 + x147 - x148,
                                         t.cos[7]
-                                            * <f64 as ::trocar::Real>::mul_add(
+                                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.002750958473182437_f64,
                                                 t.cos[8],
                                                 -x149,
                                             ),
                                     ),
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.sin[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.03872895380405797_f64,
                                             t.cos[7],
                                             0.04379980039141514_f64,
                                         ),
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             t.cos[8],
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.05839973385522019_f64,
                                                 t.cos[7],
                                                 -0.029046715353043477_f64,
@@ -8851,24 +9956,24 @@ pub mod chain9_prismatic {
                             x135,
                         ),
                     x140
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l_a,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[6],
                                 x150,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     -t.sin[6],
                                     x151,
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         t.sin[8],
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             -0.18234785444115773_f64,
                                             t.cos[7],
                                             0.11684265549725738_f64,
                                         ),
-                                        <f64 as ::trocar::Real>::mul_add(
+                                        <f64 as ::trocar::emitted::Real>::mul_add(
                                             t.cos[8],
-                                            <f64 as ::trocar::Real>::mul_add(
+                                            <f64 as ::trocar::emitted::Real>::mul_add(
                                                 0.15579020732967652_f64,
                                                 t.cos[7],
                                                 0.1367608908308683_f64,
@@ -8885,26 +9990,26 @@ pub mod chain9_prismatic {
                     p.l_a * (x110 * x140),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[6],
                         x141,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[6],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[7],
                                 x143 - 0.0017377768657530933_f64 - x142,
                                 t.cos[7] * (x145 - x144),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[8],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.010077329478245162_f64,
                                     t.cos[7],
                                     0.008648537793438821_f64,
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[8],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.011531383724585096_f64,
                                         t.cos[7],
                                         -0.007557997108683871_f64,
@@ -8914,31 +10019,31 @@ pub mod chain9_prismatic {
                             ),
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[6],
                         x146,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[6],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[7],
                                 x148 - 0.005738550515095395_f64 - x147,
                                 t.cos[7]
-                                    * <f64 as ::trocar::Real>::mul_add(
+                                    * <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.0027509584731824368_f64,
                                         t.cos[8],
                                         x149,
                                     ),
                             ),
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -t.sin[8],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.0025819302536038645_f64,
                                     t.cos[7],
                                     0.0029199866927610094_f64,
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[8],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         -0.0038933155903480127_f64,
                                         t.cos[7],
                                         0.0019364476902028983_f64,
@@ -8948,24 +10053,24 @@ pub mod chain9_prismatic {
                             ),
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[6],
                         x150,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[6],
                             x151,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[8],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.012156523629410514_f64,
                                     t.cos[7],
                                     -0.007789510366483825_f64,
                                 ),
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.0005913122163940013_f64,
                                     t.sin[7],
                                     -(t.cos[8]
-                                        * <f64 as ::trocar::Real>::mul_add(
+                                        * <f64 as ::trocar::emitted::Real>::mul_add(
                                             0.010386013821978434_f64,
                                             t.cos[7],
                                             0.009117392722057886_f64,
@@ -9008,7 +10113,7 @@ pub mod chain9_prismatic {
         #[inline]
         #[must_use]
         pub fn zeroed() -> Self {
-            let z = <f64 as ::trocar::Real>::ZERO;
+            let z = <f64 as ::trocar::emitted::Real>::ZERO;
             StepKinematics {
                 offset: z,
                 g_0e: ([[z; 3]; 3], [z; 3]),
@@ -9032,7 +10137,7 @@ pub mod chain9_prismatic {
     #[inline]
     fn step_is_finite(out: &StepKinematics) -> bool {
         let finite = |x: &[f64]| {
-            x.iter().all(|&v| <f64 as ::trocar::Real>::is_finite(v))
+            x.iter().all(|&v| <f64 as ::trocar::emitted::Real>::is_finite(v))
         };
         finite(&out.g_0e.1) && finite(&out.g_0i.1) && finite(out.g_0e.0.as_flattened())
             && finite(out.g_0i.0.as_flattened()) && finite(out.jb0i.as_flattened())
@@ -9049,13 +10154,13 @@ pub mod chain9_prismatic {
         params: &Params,
     ) -> f64 {
         let mut p = *params;
-        p.l_a = <f64 as ::trocar::Real>::ZERO;
+        p.l_a = <f64 as ::trocar::emitted::Real>::ZERO;
         let o = constraint_frame(&p).1;
-        p.l_a = <f64 as ::trocar::Real>::ONE;
+        p.l_a = <f64 as ::trocar::emitted::Real>::ONE;
         let o1 = constraint_frame(&p).1;
         let d = [o1[0] - o[0], o1[1] - o[1], o1[2] - o[2]];
         let (rot, pos) = g_0i;
-        let mut num = <f64 as ::trocar::Real>::ZERO;
+        let mut num = <f64 as ::trocar::emitted::Real>::ZERO;
         for i in 0..3 {
             let ro = rot[0][i] * o[0] + rot[1][i] * o[1] + rot[2][i] * o[2];
             let rd = rot[0][i] * d[0] + rot[1][i] * d[1] + rot[2][i] * d[2];
@@ -9076,7 +10181,7 @@ pub mod chain9_prismatic {
         out: &mut StepKinematics,
     ) -> bool {
         fill_at_trocar(t, trocar, params, out);
-        <f64 as ::trocar::Real>::is_finite(out.offset) && step_is_finite(out)
+        <f64 as ::trocar::emitted::Real>::is_finite(out.offset) && step_is_finite(out)
     }
     /// [`step_kinematics`] without the finiteness check.
     #[inline]
@@ -9147,8 +10252,10 @@ pub mod chain9_prismatic {
         let mut a5_4 = j[4usize][5usize];
         let mut a5_5 = j[5usize][5usize];
         let mut b0_5 = b[5usize];
-        let mut det = <f64 as ::trocar::Real>::ONE;
-        if <f64 as ::trocar::Real>::abs(a1_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        let mut det = <f64 as ::trocar::emitted::Real>::ONE;
+        if <f64 as ::trocar::emitted::Real>::abs(a1_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a1_0);
             ::core::mem::swap(&mut a0_1, &mut a1_1);
             ::core::mem::swap(&mut a0_2, &mut a1_2);
@@ -9158,7 +10265,9 @@ pub mod chain9_prismatic {
             ::core::mem::swap(&mut b0_0, &mut b0_1);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a2_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a2_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a2_0);
             ::core::mem::swap(&mut a0_1, &mut a2_1);
             ::core::mem::swap(&mut a0_2, &mut a2_2);
@@ -9168,7 +10277,9 @@ pub mod chain9_prismatic {
             ::core::mem::swap(&mut b0_0, &mut b0_2);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a3_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a3_0);
             ::core::mem::swap(&mut a0_1, &mut a3_1);
             ::core::mem::swap(&mut a0_2, &mut a3_2);
@@ -9178,7 +10289,9 @@ pub mod chain9_prismatic {
             ::core::mem::swap(&mut b0_0, &mut b0_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a4_0);
             ::core::mem::swap(&mut a0_1, &mut a4_1);
             ::core::mem::swap(&mut a0_2, &mut a4_2);
@@ -9188,7 +10301,9 @@ pub mod chain9_prismatic {
             ::core::mem::swap(&mut b0_0, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a5_0);
             ::core::mem::swap(&mut a0_1, &mut a5_1);
             ::core::mem::swap(&mut a0_2, &mut a5_2);
@@ -9199,7 +10314,7 @@ pub mod chain9_prismatic {
             det = -det;
         }
         det *= a0_0;
-        let inv0 = <f64 as ::trocar::Real>::ONE / a0_0;
+        let inv0 = <f64 as ::trocar::emitted::Real>::ONE / a0_0;
         let l = a1_0 * inv0;
         a1_1 -= l * a0_1;
         a1_2 -= l * a0_2;
@@ -9235,7 +10350,9 @@ pub mod chain9_prismatic {
         a5_4 -= l * a0_4;
         a5_5 -= l * a0_5;
         b0_5 -= l * b0_0;
-        if <f64 as ::trocar::Real>::abs(a2_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a2_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a2_1);
             ::core::mem::swap(&mut a1_2, &mut a2_2);
             ::core::mem::swap(&mut a1_3, &mut a2_3);
@@ -9244,7 +10361,9 @@ pub mod chain9_prismatic {
             ::core::mem::swap(&mut b0_1, &mut b0_2);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a3_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a3_1);
             ::core::mem::swap(&mut a1_2, &mut a3_2);
             ::core::mem::swap(&mut a1_3, &mut a3_3);
@@ -9253,7 +10372,9 @@ pub mod chain9_prismatic {
             ::core::mem::swap(&mut b0_1, &mut b0_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a4_1);
             ::core::mem::swap(&mut a1_2, &mut a4_2);
             ::core::mem::swap(&mut a1_3, &mut a4_3);
@@ -9262,7 +10383,9 @@ pub mod chain9_prismatic {
             ::core::mem::swap(&mut b0_1, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a5_1);
             ::core::mem::swap(&mut a1_2, &mut a5_2);
             ::core::mem::swap(&mut a1_3, &mut a5_3);
@@ -9272,7 +10395,7 @@ pub mod chain9_prismatic {
             det = -det;
         }
         det *= a1_1;
-        let inv1 = <f64 as ::trocar::Real>::ONE / a1_1;
+        let inv1 = <f64 as ::trocar::emitted::Real>::ONE / a1_1;
         let l = a2_1 * inv1;
         a2_2 -= l * a1_2;
         a2_3 -= l * a1_3;
@@ -9297,7 +10420,9 @@ pub mod chain9_prismatic {
         a5_4 -= l * a1_4;
         a5_5 -= l * a1_5;
         b0_5 -= l * b0_1;
-        if <f64 as ::trocar::Real>::abs(a3_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a3_2);
             ::core::mem::swap(&mut a2_3, &mut a3_3);
             ::core::mem::swap(&mut a2_4, &mut a3_4);
@@ -9305,7 +10430,9 @@ pub mod chain9_prismatic {
             ::core::mem::swap(&mut b0_2, &mut b0_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a4_2);
             ::core::mem::swap(&mut a2_3, &mut a4_3);
             ::core::mem::swap(&mut a2_4, &mut a4_4);
@@ -9313,7 +10440,9 @@ pub mod chain9_prismatic {
             ::core::mem::swap(&mut b0_2, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a5_2);
             ::core::mem::swap(&mut a2_3, &mut a5_3);
             ::core::mem::swap(&mut a2_4, &mut a5_4);
@@ -9322,7 +10451,7 @@ pub mod chain9_prismatic {
             det = -det;
         }
         det *= a2_2;
-        let inv2 = <f64 as ::trocar::Real>::ONE / a2_2;
+        let inv2 = <f64 as ::trocar::emitted::Real>::ONE / a2_2;
         let l = a3_2 * inv2;
         a3_3 -= l * a2_3;
         a3_4 -= l * a2_4;
@@ -9338,14 +10467,18 @@ pub mod chain9_prismatic {
         a5_4 -= l * a2_4;
         a5_5 -= l * a2_5;
         b0_5 -= l * b0_2;
-        if <f64 as ::trocar::Real>::abs(a4_3) > <f64 as ::trocar::Real>::abs(a3_3) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_3)
+            > <f64 as ::trocar::emitted::Real>::abs(a3_3)
+        {
             ::core::mem::swap(&mut a3_3, &mut a4_3);
             ::core::mem::swap(&mut a3_4, &mut a4_4);
             ::core::mem::swap(&mut a3_5, &mut a4_5);
             ::core::mem::swap(&mut b0_3, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_3) > <f64 as ::trocar::Real>::abs(a3_3) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_3)
+            > <f64 as ::trocar::emitted::Real>::abs(a3_3)
+        {
             ::core::mem::swap(&mut a3_3, &mut a5_3);
             ::core::mem::swap(&mut a3_4, &mut a5_4);
             ::core::mem::swap(&mut a3_5, &mut a5_5);
@@ -9353,7 +10486,7 @@ pub mod chain9_prismatic {
             det = -det;
         }
         det *= a3_3;
-        let inv3 = <f64 as ::trocar::Real>::ONE / a3_3;
+        let inv3 = <f64 as ::trocar::emitted::Real>::ONE / a3_3;
         let l = a4_3 * inv3;
         a4_4 -= l * a3_4;
         a4_5 -= l * a3_5;
@@ -9362,19 +10495,21 @@ pub mod chain9_prismatic {
         a5_4 -= l * a3_4;
         a5_5 -= l * a3_5;
         b0_5 -= l * b0_3;
-        if <f64 as ::trocar::Real>::abs(a5_4) > <f64 as ::trocar::Real>::abs(a4_4) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_4)
+            > <f64 as ::trocar::emitted::Real>::abs(a4_4)
+        {
             ::core::mem::swap(&mut a4_4, &mut a5_4);
             ::core::mem::swap(&mut a4_5, &mut a5_5);
             ::core::mem::swap(&mut b0_4, &mut b0_5);
             det = -det;
         }
         det *= a4_4;
-        let inv4 = <f64 as ::trocar::Real>::ONE / a4_4;
+        let inv4 = <f64 as ::trocar::emitted::Real>::ONE / a4_4;
         let l = a5_4 * inv4;
         a5_5 -= l * a4_5;
         b0_5 -= l * b0_4;
         det *= a5_5;
-        let inv5 = <f64 as ::trocar::Real>::ONE / a5_5;
+        let inv5 = <f64 as ::trocar::emitted::Real>::ONE / a5_5;
         let x5 = (b0_5) * inv5;
         let x4 = (b0_4 - a4_5 * x5) * inv4;
         let x3 = (b0_3 - a3_4 * x4 - a3_5 * x5) * inv3;
@@ -9405,13 +10540,13 @@ pub mod chain9_prismatic {
     impl Kinematics {
         /// A pose from the generated `(R column-major, p)`.
         #[inline]
-        fn pose((r, p): ([[f64; 3]; 3], [f64; 3])) -> ::trocar::se3::Se3<f64> {
-            ::trocar::se3::Se3 {
-                rotation: ::trocar::nalgebra::Matrix3::from_data(
-                    ::trocar::nalgebra::ArrayStorage(r),
+        fn pose((r, p): ([[f64; 3]; 3], [f64; 3])) -> ::trocar::emitted::Se3<f64> {
+            ::trocar::emitted::Se3 {
+                rotation: ::trocar::emitted::nalgebra::Matrix3::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(r),
                 ),
-                translation: ::trocar::nalgebra::Vector3::from_data(
-                    ::trocar::nalgebra::ArrayStorage([p]),
+                translation: ::trocar::emitted::nalgebra::Vector3::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage([p]),
                 ),
             }
         }
@@ -9419,63 +10554,65 @@ pub mod chain9_prismatic {
         #[inline]
         fn state(
             s: &StepKinematics,
-        ) -> ::trocar::control::ConstrainedState<f64, I, R, K, M> {
-            ::trocar::control::ConstrainedState {
+        ) -> ::trocar::emitted::ConstrainedState<f64, I, R, K, M> {
+            ::trocar::emitted::ConstrainedState {
                 g_0e: Self::pose(s.g_0e),
                 g_0i: Self::pose(s.g_0i),
-                jr: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jr),
+                jr: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jr),
                 ),
-                jb0i: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jb0i),
+                jb0i: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jb0i),
                 ),
-                jc: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jc),
+                jc: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jc),
                 ),
-                lambda_sharp: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.lambda_sharp),
+                lambda_sharp: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.lambda_sharp),
                 ),
-                lambda_pinv: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.lambda_pinv),
+                lambda_pinv: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.lambda_pinv),
                 ),
             }
         }
     }
-    impl ::trocar::control::ConstrainedKinematics<f64, N, I, R, K, M, 6> for Kinematics {
+    impl ::trocar::emitted::ConstrainedKinematics<f64, N, I, R, K, M, 6> for Kinematics {
         #[inline]
         fn g_0i(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
-        ) -> ::trocar::se3::Se3<f64> {
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
+        ) -> ::trocar::emitted::Se3<f64> {
             Self::pose(forward_kinematics_i(&q.data.0[0], &self.params))
         }
         #[inline]
-        fn h(&self) -> ::trocar::nalgebra::SMatrix<f64, R, 6> {
-            ::trocar::nalgebra::SMatrix::from_data(
-                ::trocar::nalgebra::ArrayStorage(constraint_selection(&self.params)),
+        fn h(&self) -> ::trocar::emitted::nalgebra::SMatrix<f64, R, 6> {
+            ::trocar::emitted::nalgebra::SMatrix::from_data(
+                ::trocar::emitted::nalgebra::ArrayStorage(
+                    constraint_selection(&self.params),
+                ),
             )
         }
         #[inline]
-        fn shaft(&self) -> ::trocar::control::Shaft<f64> {
+        fn shaft(&self) -> ::trocar::emitted::Shaft<f64> {
             let mut p = self.params;
-            p.l_a = <f64 as ::trocar::Real>::ZERO;
+            p.l_a = <f64 as ::trocar::emitted::Real>::ZERO;
             let at_zero = Self::pose(constraint_frame(&p));
-            p.l_a = <f64 as ::trocar::Real>::ONE;
+            p.l_a = <f64 as ::trocar::emitted::Real>::ONE;
             let at_one = Self::pose(constraint_frame(&p));
-            ::trocar::control::Shaft::from_frames(&at_zero, &at_one)
+            ::trocar::emitted::Shaft::from_frames(&at_zero, &at_one)
         }
         #[inline]
-        fn task_selection(&self) -> ::trocar::nalgebra::SMatrix<f64, 6, 6> {
-            ::trocar::nalgebra::SMatrix::identity()
+        fn task_selection(&self) -> ::trocar::emitted::nalgebra::SMatrix<f64, 6, 6> {
+            ::trocar::emitted::nalgebra::SMatrix::identity()
         }
         #[inline]
         fn evaluate(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
             l_a: f64,
         ) -> ::core::result::Result<
-            ::trocar::control::ConstrainedState<f64, I, R, K, M>,
-            ::trocar::control::ControlError,
+            ::trocar::emitted::ConstrainedState<f64, I, R, K, M>,
+            ::trocar::emitted::ControlError,
         > {
             let t = JointTrig::new(&q.data.0[0]);
             let mut p = self.params;
@@ -9484,9 +10621,9 @@ pub mod chain9_prismatic {
             s.g_0i = forward_kinematics_i_trig(&t, &p);
             s.offset = l_a;
             fill_step(&t, &p, &mut s);
-            if !<f64 as ::trocar::Real>::is_finite(l_a) || !step_is_finite(&s) {
+            if !<f64 as ::trocar::emitted::Real>::is_finite(l_a) || !step_is_finite(&s) {
                 return ::core::result::Result::Err(
-                    ::trocar::control::ControlError::Kinematics,
+                    ::trocar::emitted::ControlError::Kinematics,
                 );
             }
             ::core::result::Result::Ok(Self::state(&s))
@@ -9496,22 +10633,29 @@ pub mod chain9_prismatic {
         #[inline]
         fn solve_task(
             &self,
-            j: &::trocar::nalgebra::SMatrix<f64, 6, M>,
-            b: &::trocar::nalgebra::SVector<f64, 6>,
-        ) -> ::core::option::Option<(::trocar::nalgebra::SVector<f64, M>, f64)> {
+            j: &::trocar::emitted::nalgebra::SMatrix<f64, 6, M>,
+            b: &::trocar::emitted::nalgebra::SVector<f64, 6>,
+        ) -> ::core::option::Option<
+            (::trocar::emitted::nalgebra::SVector<f64, M>, f64),
+        > {
             let (x, det) = lu_solve_6(&j.data.0, &b.data.0[0]);
-            ::core::option::Option::Some((::trocar::nalgebra::SVector::from(x), det))
+            ::core::option::Option::Some((
+                ::trocar::emitted::nalgebra::SVector::from(x),
+                det,
+            ))
         }
         /// `J^B_0i` (6 × 6) solved by the straight-line elimination emitted for this size.
         #[inline]
         fn solve_jb0i(
             &self,
-            j: &::trocar::nalgebra::SMatrix<f64, 6, I>,
-            b: &::trocar::nalgebra::SVector<f64, 6>,
-        ) -> ::core::option::Option<(::trocar::nalgebra::SVector<f64, I>, f64)> {
+            j: &::trocar::emitted::nalgebra::SMatrix<f64, 6, I>,
+            b: &::trocar::emitted::nalgebra::SVector<f64, 6>,
+        ) -> ::core::option::Option<
+            (::trocar::emitted::nalgebra::SVector<f64, I>, f64),
+        > {
             let (x, det_or_w) = lu_solve_6(&j.data.0, &b.data.0[0]);
             ::core::option::Option::Some((
-                ::trocar::nalgebra::SVector::from(x),
+                ::trocar::emitted::nalgebra::SVector::from(x),
                 det_or_w,
             ))
         }
@@ -9519,18 +10663,18 @@ pub mod chain9_prismatic {
         #[inline]
         fn evaluate_at_trocar(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
-            trocar: &::trocar::nalgebra::Vector3<f64>,
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
+            trocar: &::trocar::emitted::nalgebra::Vector3<f64>,
         ) -> ::core::result::Result<
-            (f64, ::trocar::control::ConstrainedState<f64, I, R, K, M>),
-            ::trocar::control::ControlError,
+            (f64, ::trocar::emitted::ConstrainedState<f64, I, R, K, M>),
+            ::trocar::emitted::ControlError,
         > {
             let t = JointTrig::new(&q.data.0[0]);
             let mut s = StepKinematics::zeroed();
             fill_at_trocar(&t, &trocar.data.0[0], &self.params, &mut s);
-            if !<f64 as ::trocar::Real>::is_finite(s.offset) {
+            if !<f64 as ::trocar::emitted::Real>::is_finite(s.offset) {
                 return ::core::result::Result::Err(
-                    ::trocar::control::ControlError::Kinematics,
+                    ::trocar::emitted::ControlError::Kinematics,
                 );
             }
             ::core::result::Result::Ok((s.offset, Self::state(&s)))

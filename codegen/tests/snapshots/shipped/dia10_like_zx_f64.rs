@@ -56,7 +56,7 @@ pub mod dia10_like_zx {
         #[inline(always)]
         #[must_use]
         pub fn new(q: &[f64; N]) -> Self {
-            let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <f64 as ::trocar::Real>::sin_cos_array(
+            let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
                 &[q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7]],
             );
             JointTrig {
@@ -74,68 +74,68 @@ pub mod dia10_like_zx {
     #[inline]
     #[must_use]
     pub fn forward_kinematics(q: &[f64; N], _p: &Params) -> ([[f64; 3]; 3], [f64; 3]) {
-        let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7]],
         );
         let x0 = s1 * c2;
         let x1 = s1 * s2;
         let x2 = c1 * c2;
         let x3 = c1 * s2;
-        let x4 = <f64 as ::trocar::Real>::mul_add(s3, x1, -(c3 * x0));
-        let x5 = <f64 as ::trocar::Real>::mul_add(s3, x0, c3 * x1);
-        let x6 = <f64 as ::trocar::Real>::mul_add(c3, x2, -(s3 * x3));
-        let x7 = <f64 as ::trocar::Real>::mul_add(s3, x2, c3 * x3);
-        let x8 = <f64 as ::trocar::Real>::mul_add(s2, c3, c2 * s3);
-        let x9 = <f64 as ::trocar::Real>::mul_add(c2, c3, -(s2 * s3));
-        let x10 = <f64 as ::trocar::Real>::mul_add(c1, c4, -(s4 * x5));
-        let x11 = <f64 as ::trocar::Real>::mul_add(c1, s4, c4 * x5);
-        let x12 = <f64 as ::trocar::Real>::mul_add(s1, c4, s4 * x7);
-        let x13 = <f64 as ::trocar::Real>::mul_add(s1, s4, -(c4 * x7));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x1, -(c3 * x0));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x0, c3 * x1);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x2, -(s3 * x3));
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x2, c3 * x3);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(s2, c3, c2 * s3);
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(c2, c3, -(s2 * s3));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(c1, c4, -(s4 * x5));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(c1, s4, c4 * x5);
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(s1, c4, s4 * x7);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(s1, s4, -(c4 * x7));
         let x14 = s4 * x9;
         let x15 = c4 * x9;
-        let x16 = <f64 as ::trocar::Real>::mul_add(c5, x4, s5 * x11);
-        let x17 = <f64 as ::trocar::Real>::mul_add(c5, x11, -(s5 * x4));
-        let x18 = <f64 as ::trocar::Real>::mul_add(c5, x6, s5 * x13);
-        let x19 = <f64 as ::trocar::Real>::mul_add(c5, x13, -(s5 * x6));
-        let x20 = <f64 as ::trocar::Real>::mul_add(c5, x8, s5 * x15);
-        let x21 = <f64 as ::trocar::Real>::mul_add(c5, x15, -(s5 * x8));
-        let x22 = <f64 as ::trocar::Real>::mul_add(c6, x10, -(s6 * x17));
-        let x23 = <f64 as ::trocar::Real>::mul_add(s6, x10, c6 * x17);
-        let x24 = <f64 as ::trocar::Real>::mul_add(c6, x12, -(s6 * x19));
-        let x25 = <f64 as ::trocar::Real>::mul_add(s6, x12, c6 * x19);
-        let x26 = <f64 as ::trocar::Real>::mul_add(c6, x14, s6 * x21);
-        let x27 = <f64 as ::trocar::Real>::mul_add(c6, x21, -(s6 * x14));
-        let x28 = <f64 as ::trocar::Real>::mul_add(c7, x16, -(s7 * x22));
-        let x29 = <f64 as ::trocar::Real>::mul_add(c7, x18, -(s7 * x24));
-        let x30 = <f64 as ::trocar::Real>::mul_add(s7, x26, c7 * x20);
-        let x31 = <f64 as ::trocar::Real>::mul_add(c8, x28, s8 * x23);
-        let x32 = <f64 as ::trocar::Real>::mul_add(c8, x29, s8 * x25);
-        let x33 = <f64 as ::trocar::Real>::mul_add(c8, x30, s8 * x27);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x4, s5 * x11);
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x11, -(s5 * x4));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x6, s5 * x13);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x13, -(s5 * x6));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x8, s5 * x15);
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x15, -(s5 * x8));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x10, -(s6 * x17));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x10, c6 * x17);
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x12, -(s6 * x19));
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x12, c6 * x19);
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x14, s6 * x21);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x21, -(s6 * x14));
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x16, -(s7 * x22));
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x18, -(s7 * x24));
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(s7, x26, c7 * x20);
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(c8, x28, s8 * x23);
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(c8, x29, s8 * x25);
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(c8, x30, s8 * x27);
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(c7, x22, s7 * x16),
-                    <f64 as ::trocar::Real>::mul_add(c7, x24, s7 * x18),
-                    <f64 as ::trocar::Real>::mul_add(s7, x20, -(c7 * x26)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c7, x22, s7 * x16),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c7, x24, s7 * x18),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s7, x20, -(c7 * x26)),
                 ],
                 [x31, x32, x33],
                 [
-                    <f64 as ::trocar::Real>::mul_add(c8, x23, -(s8 * x28)),
-                    <f64 as ::trocar::Real>::mul_add(c8, x25, -(s8 * x29)),
-                    <f64 as ::trocar::Real>::mul_add(c8, x27, -(s8 * x30)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c8, x23, -(s8 * x28)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c8, x25, -(s8 * x29)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c8, x27, -(s8 * x30)),
                 ],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.21_f64,
                     x31,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.33_f64,
                         x16,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.39_f64,
                             x4,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.194_f64,
                                 c1,
                                 -(0.38_f64 * x0),
@@ -143,16 +143,16 @@ pub mod dia10_like_zx {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.21_f64,
                     x32,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.33_f64,
                         x18,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.39_f64,
                             x6,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.194_f64,
                                 s1,
                                 0.38_f64 * x2,
@@ -160,16 +160,20 @@ pub mod dia10_like_zx {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.21_f64,
                     x33,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.33_f64,
                         x20,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.39_f64,
                             x8,
-                            <f64 as ::trocar::Real>::mul_add(0.38_f64, s2, 1.037_f64),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                0.38_f64,
+                                s2,
+                                1.037_f64,
+                            ),
                         ),
                     ),
                 ),
@@ -191,69 +195,189 @@ pub mod dia10_like_zx {
         let x1 = t.sin[0] * t.sin[1];
         let x2 = t.cos[0] * t.cos[1];
         let x3 = t.cos[0] * t.sin[1];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x1, -(t.cos[2] * x0));
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x0, t.cos[2] * x1);
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x2, -(t.sin[2] * x3));
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x2, t.cos[2] * x3);
-        let x8 = <f64 as ::trocar::Real>::mul_add(
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x1,
+            -(t.cos[2] * x0),
+        );
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[2], x0, t.cos[2] * x1);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x2,
+            -(t.sin[2] * x3),
+        );
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[2], x2, t.cos[2] * x3);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[1],
             t.cos[2],
             t.cos[1] * t.sin[2],
         );
-        let x9 = <f64 as ::trocar::Real>::mul_add(
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[1],
             t.cos[2],
             -(t.sin[1] * t.sin[2]),
         );
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[0], t.cos[3], -(t.sin[3] * x5));
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[0], t.sin[3], t.cos[3] * x5);
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.sin[0], t.cos[3], t.sin[3] * x7);
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.sin[0], t.sin[3], -(t.cos[3] * x7));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            t.cos[3],
+            -(t.sin[3] * x5),
+        );
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            t.sin[3],
+            t.cos[3] * x5,
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            t.cos[3],
+            t.sin[3] * x7,
+        );
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            t.sin[3],
+            -(t.cos[3] * x7),
+        );
         let x14 = t.sin[3] * x9;
         let x15 = t.cos[3] * x9;
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x4, t.sin[4] * x11);
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x11, -(t.sin[4] * x4));
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x6, t.sin[4] * x13);
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x13, -(t.sin[4] * x6));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x8, t.sin[4] * x15);
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x15, -(t.sin[4] * x8));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x10, -(t.sin[5] * x17));
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x10, t.cos[5] * x17);
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x12, -(t.sin[5] * x19));
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x12, t.cos[5] * x19);
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x14, t.sin[5] * x21);
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x21, -(t.sin[5] * x14));
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x16, -(t.sin[6] * x22));
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x18, -(t.sin[6] * x24));
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x26, t.cos[6] * x20);
-        let x31 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x28, t.sin[7] * x23);
-        let x32 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x29, t.sin[7] * x25);
-        let x33 = <f64 as ::trocar::Real>::mul_add(t.cos[7], x30, t.sin[7] * x27);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x4,
+            t.sin[4] * x11,
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x11,
+            -(t.sin[4] * x4),
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x6,
+            t.sin[4] * x13,
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x13,
+            -(t.sin[4] * x6),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x8,
+            t.sin[4] * x15,
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x15,
+            -(t.sin[4] * x8),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x10,
+            -(t.sin[5] * x17),
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x10,
+            t.cos[5] * x17,
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x12,
+            -(t.sin[5] * x19),
+        );
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x12,
+            t.cos[5] * x19,
+        );
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x14,
+            t.sin[5] * x21,
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x21,
+            -(t.sin[5] * x14),
+        );
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x16,
+            -(t.sin[6] * x22),
+        );
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x18,
+            -(t.sin[6] * x24),
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[6],
+            x26,
+            t.cos[6] * x20,
+        );
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[7],
+            x28,
+            t.sin[7] * x23,
+        );
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[7],
+            x29,
+            t.sin[7] * x25,
+        );
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[7],
+            x30,
+            t.sin[7] * x27,
+        );
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[6], x22, t.sin[6] * x16),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[6], x24, t.sin[6] * x18),
-                    <f64 as ::trocar::Real>::mul_add(t.sin[6], x20, -(t.cos[6] * x26)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[6],
+                        x22,
+                        t.sin[6] * x16,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[6],
+                        x24,
+                        t.sin[6] * x18,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[6],
+                        x20,
+                        -(t.cos[6] * x26),
+                    ),
                 ],
                 [x31, x32, x33],
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[7], x23, -(t.sin[7] * x28)),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[7], x25, -(t.sin[7] * x29)),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[7], x27, -(t.sin[7] * x30)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[7],
+                        x23,
+                        -(t.sin[7] * x28),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[7],
+                        x25,
+                        -(t.sin[7] * x29),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[7],
+                        x27,
+                        -(t.sin[7] * x30),
+                    ),
                 ],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.21_f64,
                     x31,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.33_f64,
                         x16,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.39_f64,
                             x4,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.194_f64,
                                 t.cos[0],
                                 -(0.38_f64 * x0),
@@ -261,16 +385,16 @@ pub mod dia10_like_zx {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.21_f64,
                     x32,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.33_f64,
                         x18,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.39_f64,
                             x6,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.194_f64,
                                 t.sin[0],
                                 0.38_f64 * x2,
@@ -278,16 +402,16 @@ pub mod dia10_like_zx {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.21_f64,
                     x33,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.33_f64,
                         x20,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.39_f64,
                             x8,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.38_f64,
                                 t.sin[1],
                                 1.037_f64,
@@ -306,7 +430,7 @@ pub mod dia10_like_zx {
     #[inline]
     #[must_use]
     pub fn body_jacobian(q: &[f64; N], _p: &Params) -> [[f64; 6]; N] {
-        let ([s2, s3, s4, s5, s6, s7, s8], [c2, c3, c4, c5, c6, c7, c8]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s2, s3, s4, s5, s6, s7, s8], [c2, c3, c4, c5, c6, c7, c8]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[1], q[2], q[3], q[4], q[5], q[6], q[7]],
         );
         let x0 = 0.21_f64 * c8;
@@ -316,116 +440,119 @@ pub mod dia10_like_zx {
         let x4 = s7 * x0;
         let x5 = c7 * c8;
         let x6 = c7 * s8;
-        let x7 = <f64 as ::trocar::Real>::mul_add(c7, x0, 0.33_f64);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x0, 0.33_f64);
         let x8 = c6 * c7;
-        let x9 = <f64 as ::trocar::Real>::mul_add(s6, s8, -(c6 * x2));
-        let x10 = <f64 as ::trocar::Real>::mul_add(c6, x3, s6 * c8);
-        let x11 = <f64 as ::trocar::Real>::mul_add(s6, x1, -(c6 * x4));
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(s6, s8, -(c6 * x2));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x3, s6 * c8);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x1, -(c6 * x4));
         let x12 = s6 * c7;
-        let x13 = <f64 as ::trocar::Real>::mul_add(s6, x2, c6 * s8);
-        let x14 = <f64 as ::trocar::Real>::mul_add(c6, c8, -(s6 * x3));
-        let x15 = <f64 as ::trocar::Real>::mul_add(s6, x4, c6 * x1);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c5, s7, s5 * x12);
-        let x17 = <f64 as ::trocar::Real>::mul_add(c5, x5, -(s5 * x13));
-        let x18 = <f64 as ::trocar::Real>::mul_add(c5, x6, s5 * x14);
-        let x19 = 0.39_f64 + <f64 as ::trocar::Real>::mul_add(c5, x7, -(s5 * x15));
-        let x20 = <f64 as ::trocar::Real>::mul_add(s5, s7, -(c5 * x12));
-        let x21 = <f64 as ::trocar::Real>::mul_add(s5, x5, c5 * x13);
-        let x22 = <f64 as ::trocar::Real>::mul_add(c5, x14, -(s5 * x6));
-        let x23 = <f64 as ::trocar::Real>::mul_add(s5, x7, c5 * x15);
-        let x24 = <f64 as ::trocar::Real>::mul_add(c4, x8, s4 * x20);
-        let x25 = <f64 as ::trocar::Real>::mul_add(c4, x9, s4 * x21);
-        let x26 = <f64 as ::trocar::Real>::mul_add(c4, x10, s4 * x22);
-        let x27 = <f64 as ::trocar::Real>::mul_add(c4, x20, -(s4 * x8));
-        let x28 = <f64 as ::trocar::Real>::mul_add(c4, x21, -(s4 * x9));
-        let x29 = <f64 as ::trocar::Real>::mul_add(c4, x22, -(s4 * x10));
-        let x30 = <f64 as ::trocar::Real>::mul_add(c4, x23, -(s4 * x11));
-        let x31 = <f64 as ::trocar::Real>::mul_add(c3, x16, -(s3 * x27));
-        let x32 = <f64 as ::trocar::Real>::mul_add(c3, x17, -(s3 * x28));
-        let x33 = <f64 as ::trocar::Real>::mul_add(c3, x18, s3 * x29);
-        let x34 = 0.38_f64 + <f64 as ::trocar::Real>::mul_add(c3, x19, -(s3 * x30));
-        let x35 = <f64 as ::trocar::Real>::mul_add(s3, x16, c3 * x27);
-        let x36 = <f64 as ::trocar::Real>::mul_add(s3, x17, c3 * x28);
-        let x37 = <f64 as ::trocar::Real>::mul_add(c3, x29, -(s3 * x18));
-        let x38 = <f64 as ::trocar::Real>::mul_add(s3, x19, c3 * x30);
-        let x39 = 0.194_f64 + <f64 as ::trocar::Real>::mul_add(c4, x11, s4 * x23);
-        let x40 = <f64 as ::trocar::Real>::mul_add(c2, x34, -(s2 * x38));
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x2, c6 * s8);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c6, c8, -(s6 * x3));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x4, c6 * x1);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c5, s7, s5 * x12);
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x5, -(s5 * x13));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x6, s5 * x14);
+        let x19 = 0.39_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c5, x7, -(s5 * x15));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(s5, s7, -(c5 * x12));
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x5, c5 * x13);
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x14, -(s5 * x6));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x7, c5 * x15);
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x8, s4 * x20);
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x9, s4 * x21);
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x10, s4 * x22);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x20, -(s4 * x8));
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x21, -(s4 * x9));
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x22, -(s4 * x10));
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x23, -(s4 * x11));
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x16, -(s3 * x27));
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x17, -(s3 * x28));
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x18, s3 * x29);
+        let x34 = 0.38_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c3, x19, -(s3 * x30));
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x16, c3 * x27);
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x17, c3 * x28);
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x29, -(s3 * x18));
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x19, c3 * x30);
+        let x39 = 0.194_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c4, x11, s4 * x23);
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x34, -(s2 * x38));
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x39,
-                    <f64 as ::trocar::Real>::mul_add(c2, x31, -(s2 * x35)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c2, x31, -(s2 * x35)),
                     -(x24 * x40),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x39,
-                    <f64 as ::trocar::Real>::mul_add(c2, x32, -(s2 * x36)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c2, x32, -(s2 * x36)),
                     -(x25 * x40),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     x26,
                     x40,
-                    x39 * <f64 as ::trocar::Real>::mul_add(c2, x33, s2 * x37),
+                    x39 * <f64 as ::trocar::emitted::Real>::mul_add(c2, x33, s2 * x37),
                 ),
-                <f64 as ::trocar::Real>::mul_add(s2, x31, c2 * x35),
-                <f64 as ::trocar::Real>::mul_add(s2, x32, c2 * x36),
-                <f64 as ::trocar::Real>::mul_add(c2, x37, -(s2 * x33)),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x31, c2 * x35),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x32, c2 * x36),
+                <f64 as ::trocar::emitted::Real>::mul_add(c2, x37, -(s2 * x33)),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x34, x35, -(x31 * x38)),
-                <f64 as ::trocar::Real>::mul_add(x34, x36, -(x32 * x38)),
-                <f64 as ::trocar::Real>::mul_add(x33, x38, x34 * x37),
+                <f64 as ::trocar::emitted::Real>::mul_add(x34, x35, -(x31 * x38)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x34, x36, -(x32 * x38)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x33, x38, x34 * x37),
                 x24,
                 x25,
                 x26,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x19, x27, -(x16 * x30)),
-                <f64 as ::trocar::Real>::mul_add(x19, x28, -(x17 * x30)),
-                <f64 as ::trocar::Real>::mul_add(x18, x30, x19 * x29),
+                <f64 as ::trocar::emitted::Real>::mul_add(x19, x27, -(x16 * x30)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x19, x28, -(x17 * x30)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x18, x30, x19 * x29),
                 x24,
                 x25,
                 x26,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x8, x23, -(x11 * x20)),
-                <f64 as ::trocar::Real>::mul_add(x9, x23, -(x11 * x21)),
-                <f64 as ::trocar::Real>::mul_add(x10, x23, -(x11 * x22)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x8, x23, -(x11 * x20)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x9, x23, -(x11 * x21)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x10, x23, -(x11 * x22)),
                 x16,
                 x17,
                 -x18,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(s7, x15, x7 * x12),
-                <f64 as ::trocar::Real>::mul_add(x7, x13, -(x5 * x15)),
-                <f64 as ::trocar::Real>::mul_add(x6, x15, x7 * x14),
+                -<f64 as ::trocar::emitted::Real>::mul_add(s7, x15, x7 * x12),
+                <f64 as ::trocar::emitted::Real>::mul_add(x7, x13, -(x5 * x15)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x6, x15, x7 * x14),
                 x8,
                 x9,
                 x10,
             ],
             [
                 c7 * x1,
-                <f64 as ::trocar::Real>::mul_add(s8, x4, -(x1 * x2)),
-                <f64 as ::trocar::Real>::mul_add(x1, x3, c8 * x4),
+                <f64 as ::trocar::emitted::Real>::mul_add(s8, x4, -(x1 * x2)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x1, x3, c8 * x4),
                 s7,
                 x5,
                 -x6,
             ],
             [
                 -x0,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 s8,
                 c8,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 0.21_f64,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -444,123 +571,248 @@ pub mod dia10_like_zx {
         let x4 = t.sin[6] * x0;
         let x5 = t.cos[6] * t.cos[7];
         let x6 = t.cos[6] * t.sin[7];
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x0, 0.33_f64);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[6], x0, 0.33_f64);
         let x8 = t.cos[5] * t.cos[6];
-        let x9 = <f64 as ::trocar::Real>::mul_add(t.sin[5], t.sin[7], -(t.cos[5] * x2));
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x3, t.sin[5] * t.cos[7]);
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x1, -(t.cos[5] * x4));
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            t.sin[7],
+            -(t.cos[5] * x2),
+        );
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x3,
+            t.sin[5] * t.cos[7],
+        );
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x1,
+            -(t.cos[5] * x4),
+        );
         let x12 = t.sin[5] * t.cos[6];
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x2, t.cos[5] * t.sin[7]);
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[5], t.cos[7], -(t.sin[5] * x3));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x4, t.cos[5] * x1);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[4], t.sin[6], t.sin[4] * x12);
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x5, -(t.sin[4] * x13));
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x6, t.sin[4] * x14);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x2,
+            t.cos[5] * t.sin[7],
+        );
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            t.cos[7],
+            -(t.sin[5] * x3),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[5], x4, t.cos[5] * x1);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            t.sin[6],
+            t.sin[4] * x12,
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x5,
+            -(t.sin[4] * x13),
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x6,
+            t.sin[4] * x14,
+        );
         let x19 = 0.39_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[4], x7, -(t.sin[4] * x15));
-        let x20 = <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[4], x7, -(t.sin[4] * x15));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[4],
             t.sin[6],
             -(t.cos[4] * x12),
         );
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x5, t.cos[4] * x13);
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x14, -(t.sin[4] * x6));
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x7, t.cos[4] * x15);
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x8, t.sin[3] * x20);
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x9, t.sin[3] * x21);
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x10, t.sin[3] * x22);
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x20, -(t.sin[3] * x8));
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x21, -(t.sin[3] * x9));
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x22, -(t.sin[3] * x10));
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x23, -(t.sin[3] * x11));
-        let x31 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x16, -(t.sin[2] * x27));
-        let x32 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x17, -(t.sin[2] * x28));
-        let x33 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x18, t.sin[2] * x29);
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x5,
+            t.cos[4] * x13,
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x14,
+            -(t.sin[4] * x6),
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x7,
+            t.cos[4] * x15,
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x8,
+            t.sin[3] * x20,
+        );
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x9,
+            t.sin[3] * x21,
+        );
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x10,
+            t.sin[3] * x22,
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x20,
+            -(t.sin[3] * x8),
+        );
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x21,
+            -(t.sin[3] * x9),
+        );
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x22,
+            -(t.sin[3] * x10),
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x23,
+            -(t.sin[3] * x11),
+        );
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x16,
+            -(t.sin[2] * x27),
+        );
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x17,
+            -(t.sin[2] * x28),
+        );
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x18,
+            t.sin[2] * x29,
+        );
         let x34 = 0.38_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[2], x19, -(t.sin[2] * x30));
-        let x35 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x27);
-        let x36 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x28);
-        let x37 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x29, -(t.sin[2] * x18));
-        let x38 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x19, t.cos[2] * x30);
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[2],
+                x19,
+                -(t.sin[2] * x30),
+            );
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x16,
+            t.cos[2] * x27,
+        );
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x17,
+            t.cos[2] * x28,
+        );
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x29,
+            -(t.sin[2] * x18),
+        );
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x19,
+            t.cos[2] * x30,
+        );
         let x39 = 0.194_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[3], x11, t.sin[3] * x23);
-        let x40 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x34, -(t.sin[1] * x38));
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x11, t.sin[3] * x23);
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x34,
+            -(t.sin[1] * x38),
+        );
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x39,
-                    <f64 as ::trocar::Real>::mul_add(t.cos[1], x31, -(t.sin[1] * x35)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[1],
+                        x31,
+                        -(t.sin[1] * x35),
+                    ),
                     -(x24 * x40),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x39,
-                    <f64 as ::trocar::Real>::mul_add(t.cos[1], x32, -(t.sin[1] * x36)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[1],
+                        x32,
+                        -(t.sin[1] * x36),
+                    ),
                     -(x25 * x40),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     x26,
                     x40,
-                    x39 * <f64 as ::trocar::Real>::mul_add(t.cos[1], x33, t.sin[1] * x37),
+                    x39
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.cos[1],
+                            x33,
+                            t.sin[1] * x37,
+                        ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x31, t.cos[1] * x35),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x32, t.cos[1] * x36),
-                <f64 as ::trocar::Real>::mul_add(t.cos[1], x37, -(t.sin[1] * x33)),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x31, t.cos[1] * x35),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x32, t.cos[1] * x36),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.cos[1],
+                    x37,
+                    -(t.sin[1] * x33),
+                ),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x34, x35, -(x31 * x38)),
-                <f64 as ::trocar::Real>::mul_add(x34, x36, -(x32 * x38)),
-                <f64 as ::trocar::Real>::mul_add(x33, x38, x34 * x37),
+                <f64 as ::trocar::emitted::Real>::mul_add(x34, x35, -(x31 * x38)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x34, x36, -(x32 * x38)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x33, x38, x34 * x37),
                 x24,
                 x25,
                 x26,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x19, x27, -(x16 * x30)),
-                <f64 as ::trocar::Real>::mul_add(x19, x28, -(x17 * x30)),
-                <f64 as ::trocar::Real>::mul_add(x18, x30, x19 * x29),
+                <f64 as ::trocar::emitted::Real>::mul_add(x19, x27, -(x16 * x30)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x19, x28, -(x17 * x30)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x18, x30, x19 * x29),
                 x24,
                 x25,
                 x26,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x8, x23, -(x11 * x20)),
-                <f64 as ::trocar::Real>::mul_add(x9, x23, -(x11 * x21)),
-                <f64 as ::trocar::Real>::mul_add(x10, x23, -(x11 * x22)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x8, x23, -(x11 * x20)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x9, x23, -(x11 * x21)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x10, x23, -(x11 * x22)),
                 x16,
                 x17,
                 -x18,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(t.sin[6], x15, x7 * x12),
-                <f64 as ::trocar::Real>::mul_add(x7, x13, -(x5 * x15)),
-                <f64 as ::trocar::Real>::mul_add(x6, x15, x7 * x14),
+                -<f64 as ::trocar::emitted::Real>::mul_add(t.sin[6], x15, x7 * x12),
+                <f64 as ::trocar::emitted::Real>::mul_add(x7, x13, -(x5 * x15)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x6, x15, x7 * x14),
                 x8,
                 x9,
                 x10,
             ],
             [
                 t.cos[6] * x1,
-                <f64 as ::trocar::Real>::mul_add(t.sin[7], x4, -(x1 * x2)),
-                <f64 as ::trocar::Real>::mul_add(x1, x3, t.cos[7] * x4),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[7], x4, -(x1 * x2)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x1, x3, t.cos[7] * x4),
                 t.sin[6],
                 x5,
                 -x6,
             ],
             [
                 -x0,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 t.sin[7],
                 t.cos[7],
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 0.21_f64,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -576,10 +828,12 @@ pub mod dia10_like_zx {
     #[inline]
     #[must_use]
     pub fn constrained_jacobian(q: &[f64; N], p: &Params) -> [[f64; 6]; M] {
-        let ([s7, s8], [c7, c8]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
-        let x0 = <f64 as ::trocar::Real>::ONE / p.l_a;
+        let ([s7, s8], [c7, c8]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
+            &[q[6], q[7]],
+        );
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE / p.l_a;
         let x1 = 0.33_f64 * x0;
-        let x2 = <f64 as ::trocar::Real>::ONE - x1;
+        let x2 = <f64 as ::trocar::emitted::Real>::ONE - x1;
         let x3 = x0 * c8;
         let x4 = x2 * s8;
         let x5 = c7 * c8;
@@ -590,9 +844,9 @@ pub mod dia10_like_zx {
         [
             [
                 x2 * c7 - 0.21_f64 * x3,
-                c8 * (x1 - <f64 as ::trocar::Real>::ONE) * s7,
+                c8 * (x1 - <f64 as ::trocar::emitted::Real>::ONE) * s7,
                 s7 * x4,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x0 * s8,
                 x3,
             ],
@@ -600,27 +854,34 @@ pub mod dia10_like_zx {
                 s7,
                 x5,
                 x7,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [0.21_f64 * x8, x4, x2 * c8 - 0.21_f64 * x9, -x9, x0 * (c8 * s7), -x8],
-            [0.21_f64 * x6, <f64 as ::trocar::Real>::ZERO, 0.21_f64 * s7, s7, x5, x7],
+            [
+                0.21_f64 * x6,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                0.21_f64 * s7,
+                s7,
+                x5,
+                x7,
+            ],
             [
                 -(0.21_f64 * c8),
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 s8,
                 c8,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 0.21_f64,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -632,9 +893,9 @@ pub mod dia10_like_zx {
     #[inline]
     #[must_use]
     pub fn constrained_jacobian_trig(t: &JointTrig, p: &Params) -> [[f64; 6]; M] {
-        let x0 = <f64 as ::trocar::Real>::ONE / p.l_a;
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE / p.l_a;
         let x1 = 0.33_f64 * x0;
-        let x2 = <f64 as ::trocar::Real>::ONE - x1;
+        let x2 = <f64 as ::trocar::emitted::Real>::ONE - x1;
         let x3 = x0 * t.cos[7];
         let x4 = x2 * t.sin[7];
         let x5 = t.cos[6] * t.cos[7];
@@ -645,9 +906,9 @@ pub mod dia10_like_zx {
         [
             [
                 x2 * t.cos[6] - 0.21_f64 * x3,
-                t.cos[7] * (x1 - <f64 as ::trocar::Real>::ONE) * t.sin[6],
+                t.cos[7] * (x1 - <f64 as ::trocar::emitted::Real>::ONE) * t.sin[6],
                 t.sin[6] * x4,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x0 * t.sin[7],
                 x3,
             ],
@@ -655,9 +916,9 @@ pub mod dia10_like_zx {
                 t.sin[6],
                 x5,
                 x7,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 0.21_f64 * x8,
@@ -669,7 +930,7 @@ pub mod dia10_like_zx {
             ],
             [
                 0.21_f64 * x6,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 0.21_f64 * t.sin[6],
                 t.sin[6],
                 x5,
@@ -677,19 +938,19 @@ pub mod dia10_like_zx {
             ],
             [
                 -(0.21_f64 * t.cos[7]),
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 t.sin[7],
                 t.cos[7],
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 0.21_f64,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -703,17 +964,19 @@ pub mod dia10_like_zx {
     #[inline]
     #[must_use]
     pub fn constraint_jacobian_c(q: &[f64; N], p: &Params) -> [[f64; 6]; R] {
-        let ([s7, s8], [c7, c8]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
-        let x0 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(
+        let ([s7, s8], [c7, c8]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
+            &[q[6], q[7]],
+        );
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
+            / <f64 as ::trocar::emitted::Real>::mul_add(
                 p.l_a,
                 p.l_a,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ONE,
             );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.33_f64,
             p.l_a,
-            <f64 as ::trocar::Real>::ONE,
+            <f64 as ::trocar::emitted::Real>::ONE,
         );
         let x2 = p.l_a * c8;
         let x3 = x0 * x1;
@@ -722,17 +985,17 @@ pub mod dia10_like_zx {
         let x6 = p.l_a * c7;
         [
             [
-                x0 * <f64 as ::trocar::Real>::mul_add(x1, c7, 0.21_f64 * x2),
+                x0 * <f64 as ::trocar::emitted::Real>::mul_add(x1, c7, 0.21_f64 * x2),
                 -(c8 * x3 * s7),
                 s7 * x4,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -(x0 * (p.l_a * s8)),
                 -(x0 * x2),
             ],
             [
                 -(0.21_f64 * x5),
                 x4,
-                x0 * <f64 as ::trocar::Real>::mul_add(x1, c8, 0.21_f64 * x6),
+                x0 * <f64 as ::trocar::emitted::Real>::mul_add(x1, c8, 0.21_f64 * x6),
                 x0 * x6,
                 -(x0 * (p.l_a * (c8 * s7))),
                 x5,
@@ -747,16 +1010,16 @@ pub mod dia10_like_zx {
     #[inline]
     #[must_use]
     pub fn constraint_jacobian_c_trig(t: &JointTrig, p: &Params) -> [[f64; 6]; R] {
-        let x0 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
+            / <f64 as ::trocar::emitted::Real>::mul_add(
                 p.l_a,
                 p.l_a,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ONE,
             );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.33_f64,
             p.l_a,
-            <f64 as ::trocar::Real>::ONE,
+            <f64 as ::trocar::emitted::Real>::ONE,
         );
         let x2 = p.l_a * t.cos[7];
         let x3 = x0 * x1;
@@ -765,17 +1028,27 @@ pub mod dia10_like_zx {
         let x6 = p.l_a * t.cos[6];
         [
             [
-                x0 * <f64 as ::trocar::Real>::mul_add(x1, t.cos[6], 0.21_f64 * x2),
+                x0
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
+                        x1,
+                        t.cos[6],
+                        0.21_f64 * x2,
+                    ),
                 -(t.cos[7] * x3 * t.sin[6]),
                 t.sin[6] * x4,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -(x0 * (p.l_a * t.sin[7])),
                 -(x0 * x2),
             ],
             [
                 -(0.21_f64 * x5),
                 x4,
-                x0 * <f64 as ::trocar::Real>::mul_add(x1, t.cos[7], 0.21_f64 * x6),
+                x0
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
+                        x1,
+                        t.cos[7],
+                        0.21_f64 * x6,
+                    ),
                 x0 * x6,
                 -(x0 * (p.l_a * (t.cos[7] * t.sin[6]))),
                 x5,
@@ -790,81 +1063,82 @@ pub mod dia10_like_zx {
     #[inline]
     #[must_use]
     pub fn partial_body_jacobian(q: &[f64; N], _p: &Params) -> [[f64; 6]; I] {
-        let ([s2, s3, s4, s5, s6], [c2, c3, c4, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s2, s3, s4, s5, s6], [c2, c3, c4, c5, c6]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[1], q[2], q[3], q[4], q[5]],
         );
         let x0 = s5 * s6;
         let x1 = s5 * c6;
         let x2 = c5 * s6;
         let x3 = c5 * c6;
-        let x4 = <f64 as ::trocar::Real>::mul_add(c4, c6, -(s4 * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(c4, c6, -(s4 * x2));
         let x5 = s4 * s5;
-        let x6 = <f64 as ::trocar::Real>::mul_add(c4, s6, s4 * x3);
-        let x7 = <f64 as ::trocar::Real>::mul_add(s4, c6, c4 * x2);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c4, s6, s4 * x3);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(s4, c6, c4 * x2);
         let x8 = c4 * s5;
-        let x9 = <f64 as ::trocar::Real>::mul_add(c4, x3, -(s4 * s6));
-        let x10 = <f64 as ::trocar::Real>::mul_add(c3, x0, s3 * x7);
-        let x11 = <f64 as ::trocar::Real>::mul_add(c3, c5, -(s3 * x8));
-        let x12 = <f64 as ::trocar::Real>::mul_add(c3, x1, s3 * x9);
-        let x13 = <f64 as ::trocar::Real>::mul_add(0.39_f64, c3, 0.38_f64);
-        let x14 = <f64 as ::trocar::Real>::mul_add(s3, x0, -(c3 * x7));
-        let x15 = <f64 as ::trocar::Real>::mul_add(s3, c5, c3 * x8);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c3, x9, -(s3 * x1));
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x3, -(s4 * s6));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x0, s3 * x7);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(c3, c5, -(s3 * x8));
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x1, s3 * x9);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(0.39_f64, c3, 0.38_f64);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x0, -(c3 * x7));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(s3, c5, c3 * x8);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x9, -(s3 * x1));
         let x17 = 0.39_f64 * s3;
-        let x18 = <f64 as ::trocar::Real>::mul_add(c2, x13, -(s2 * x17));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x13, -(s2 * x17));
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.194_f64,
-                    <f64 as ::trocar::Real>::mul_add(c2, x10, -(s2 * x14)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c2, x10, -(s2 * x14)),
                     -(x4 * x18),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.194_f64,
-                    <f64 as ::trocar::Real>::mul_add(c2, x11, -(s2 * x15)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c2, x11, -(s2 * x15)),
                     -(x5 * x18),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     x6,
                     x18,
-                    0.194_f64 * <f64 as ::trocar::Real>::mul_add(c2, x12, s2 * x16),
+                    0.194_f64
+                        * <f64 as ::trocar::emitted::Real>::mul_add(c2, x12, s2 * x16),
                 ),
-                <f64 as ::trocar::Real>::mul_add(s2, x10, c2 * x14),
-                <f64 as ::trocar::Real>::mul_add(s2, x11, c2 * x15),
-                <f64 as ::trocar::Real>::mul_add(c2, x16, -(s2 * x12)),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x10, c2 * x14),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x11, c2 * x15),
+                <f64 as ::trocar::emitted::Real>::mul_add(c2, x16, -(s2 * x12)),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x13, x14, -(x10 * x17)),
-                <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
-                <f64 as ::trocar::Real>::mul_add(x12, x17, x13 * x16),
+                <f64 as ::trocar::emitted::Real>::mul_add(x13, x14, -(x10 * x17)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, x13 * x16),
                 x4,
                 x5,
                 x6,
             ],
             [-(0.39_f64 * x7), 0.39_f64 * x8, 0.39_f64 * x9, x4, x5, x6],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x0,
                 c5,
                 -x1,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 c6,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 s6,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -880,75 +1154,131 @@ pub mod dia10_like_zx {
         let x1 = t.sin[4] * t.cos[5];
         let x2 = t.cos[4] * t.sin[5];
         let x3 = t.cos[4] * t.cos[5];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            t.cos[5],
+            -(t.sin[3] * x2),
+        );
         let x5 = t.sin[3] * t.sin[4];
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.sin[5], t.sin[3] * x3);
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.sin[3], t.cos[5], t.cos[3] * x2);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            t.sin[5],
+            t.sin[3] * x3,
+        );
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            t.cos[5],
+            t.cos[3] * x2,
+        );
         let x8 = t.cos[3] * t.sin[4];
-        let x9 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * t.sin[5]));
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x0, t.sin[2] * x7);
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x8));
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x1, t.sin[2] * x9);
-        let x13 = <f64 as ::trocar::Real>::mul_add(0.39_f64, t.cos[2], 0.38_f64);
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x0, -(t.cos[2] * x7));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.sin[2], t.cos[4], t.cos[2] * x8);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x9, -(t.sin[2] * x1));
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x3,
+            -(t.sin[3] * t.sin[5]),
+        );
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x0, t.sin[2] * x7);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            t.cos[4],
+            -(t.sin[2] * x8),
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x1, t.sin[2] * x9);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.39_f64,
+            t.cos[2],
+            0.38_f64,
+        );
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x0,
+            -(t.cos[2] * x7),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            t.cos[4],
+            t.cos[2] * x8,
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x9,
+            -(t.sin[2] * x1),
+        );
         let x17 = 0.39_f64 * t.sin[2];
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x13, -(t.sin[1] * x17));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x13,
+            -(t.sin[1] * x17),
+        );
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.194_f64,
-                    <f64 as ::trocar::Real>::mul_add(t.cos[1], x10, -(t.sin[1] * x14)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[1],
+                        x10,
+                        -(t.sin[1] * x14),
+                    ),
                     -(x4 * x18),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.194_f64,
-                    <f64 as ::trocar::Real>::mul_add(t.cos[1], x11, -(t.sin[1] * x15)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[1],
+                        x11,
+                        -(t.sin[1] * x15),
+                    ),
                     -(x5 * x18),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     x6,
                     x18,
                     0.194_f64
-                        * <f64 as ::trocar::Real>::mul_add(t.cos[1], x12, t.sin[1] * x16),
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.cos[1],
+                            x12,
+                            t.sin[1] * x16,
+                        ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x10, t.cos[1] * x14),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x11, t.cos[1] * x15),
-                <f64 as ::trocar::Real>::mul_add(t.cos[1], x16, -(t.sin[1] * x12)),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x10, t.cos[1] * x14),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x11, t.cos[1] * x15),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.cos[1],
+                    x16,
+                    -(t.sin[1] * x12),
+                ),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x13, x14, -(x10 * x17)),
-                <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
-                <f64 as ::trocar::Real>::mul_add(x12, x17, x13 * x16),
+                <f64 as ::trocar::emitted::Real>::mul_add(x13, x14, -(x10 * x17)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, x13 * x16),
                 x4,
                 x5,
                 x6,
             ],
             [-(0.39_f64 * x7), 0.39_f64 * x8, 0.39_f64 * x9, x4, x5, x6],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x0,
                 t.cos[4],
                 -x1,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 t.cos[5],
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 t.sin[5],
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -960,61 +1290,69 @@ pub mod dia10_like_zx {
     #[inline]
     #[must_use]
     pub fn forward_kinematics_i(q: &[f64; N], _p: &Params) -> ([[f64; 3]; 3], [f64; 3]) {
-        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5]],
         );
         let x0 = s1 * c2;
         let x1 = s1 * s2;
         let x2 = c1 * c2;
         let x3 = c1 * s2;
-        let x4 = <f64 as ::trocar::Real>::mul_add(s3, x1, -(c3 * x0));
-        let x5 = <f64 as ::trocar::Real>::mul_add(s3, x0, c3 * x1);
-        let x6 = <f64 as ::trocar::Real>::mul_add(c3, x2, -(s3 * x3));
-        let x7 = <f64 as ::trocar::Real>::mul_add(s3, x2, c3 * x3);
-        let x8 = <f64 as ::trocar::Real>::mul_add(s2, c3, c2 * s3);
-        let x9 = <f64 as ::trocar::Real>::mul_add(c2, c3, -(s2 * s3));
-        let x10 = <f64 as ::trocar::Real>::mul_add(c1, c4, -(s4 * x5));
-        let x11 = <f64 as ::trocar::Real>::mul_add(c1, s4, c4 * x5);
-        let x12 = <f64 as ::trocar::Real>::mul_add(s1, c4, s4 * x7);
-        let x13 = <f64 as ::trocar::Real>::mul_add(s1, s4, -(c4 * x7));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x1, -(c3 * x0));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x0, c3 * x1);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x2, -(s3 * x3));
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x2, c3 * x3);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(s2, c3, c2 * s3);
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(c2, c3, -(s2 * s3));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(c1, c4, -(s4 * x5));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(c1, s4, c4 * x5);
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(s1, c4, s4 * x7);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(s1, s4, -(c4 * x7));
         let x14 = s4 * x9;
         let x15 = c4 * x9;
-        let x16 = <f64 as ::trocar::Real>::mul_add(c5, x11, -(s5 * x4));
-        let x17 = <f64 as ::trocar::Real>::mul_add(c5, x13, -(s5 * x6));
-        let x18 = <f64 as ::trocar::Real>::mul_add(c5, x15, -(s5 * x8));
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x11, -(s5 * x4));
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x13, -(s5 * x6));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x15, -(s5 * x8));
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(c6, x10, -(s6 * x16)),
-                    <f64 as ::trocar::Real>::mul_add(c6, x12, -(s6 * x17)),
-                    -<f64 as ::trocar::Real>::mul_add(c6, x14, s6 * x18),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x10, -(s6 * x16)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x12, -(s6 * x17)),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(c6, x14, s6 * x18),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(c5, x4, s5 * x11),
-                    <f64 as ::trocar::Real>::mul_add(c5, x6, s5 * x13),
-                    <f64 as ::trocar::Real>::mul_add(c5, x8, s5 * x15),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c5, x4, s5 * x11),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c5, x6, s5 * x13),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c5, x8, s5 * x15),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(s6, x10, c6 * x16),
-                    <f64 as ::trocar::Real>::mul_add(s6, x12, c6 * x17),
-                    <f64 as ::trocar::Real>::mul_add(c6, x18, -(s6 * x14)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s6, x10, c6 * x16),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s6, x12, c6 * x17),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x18, -(s6 * x14)),
                 ],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.39_f64,
                     x4,
-                    <f64 as ::trocar::Real>::mul_add(0.194_f64, c1, -(0.38_f64 * x0)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.194_f64,
+                        c1,
+                        -(0.38_f64 * x0),
+                    ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.39_f64,
                     x6,
-                    <f64 as ::trocar::Real>::mul_add(0.194_f64, s1, 0.38_f64 * x2),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.194_f64,
+                        s1,
+                        0.38_f64 * x2,
+                    ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.39_f64,
                     x8,
-                    <f64 as ::trocar::Real>::mul_add(0.38_f64, s2, 1.037_f64),
+                    <f64 as ::trocar::emitted::Real>::mul_add(0.38_f64, s2, 1.037_f64),
                 ),
             ],
         )
@@ -1034,66 +1372,146 @@ pub mod dia10_like_zx {
         let x1 = t.sin[0] * t.sin[1];
         let x2 = t.cos[0] * t.cos[1];
         let x3 = t.cos[0] * t.sin[1];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x1, -(t.cos[2] * x0));
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x0, t.cos[2] * x1);
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x2, -(t.sin[2] * x3));
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x2, t.cos[2] * x3);
-        let x8 = <f64 as ::trocar::Real>::mul_add(
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x1,
+            -(t.cos[2] * x0),
+        );
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[2], x0, t.cos[2] * x1);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x2,
+            -(t.sin[2] * x3),
+        );
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[2], x2, t.cos[2] * x3);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[1],
             t.cos[2],
             t.cos[1] * t.sin[2],
         );
-        let x9 = <f64 as ::trocar::Real>::mul_add(
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[1],
             t.cos[2],
             -(t.sin[1] * t.sin[2]),
         );
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[0], t.cos[3], -(t.sin[3] * x5));
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[0], t.sin[3], t.cos[3] * x5);
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.sin[0], t.cos[3], t.sin[3] * x7);
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.sin[0], t.sin[3], -(t.cos[3] * x7));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            t.cos[3],
+            -(t.sin[3] * x5),
+        );
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            t.sin[3],
+            t.cos[3] * x5,
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            t.cos[3],
+            t.sin[3] * x7,
+        );
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            t.sin[3],
+            -(t.cos[3] * x7),
+        );
         let x14 = t.sin[3] * x9;
         let x15 = t.cos[3] * x9;
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x11, -(t.sin[4] * x4));
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x13, -(t.sin[4] * x6));
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x15, -(t.sin[4] * x8));
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x11,
+            -(t.sin[4] * x4),
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x13,
+            -(t.sin[4] * x6),
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x15,
+            -(t.sin[4] * x8),
+        );
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x10, -(t.sin[5] * x16)),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x12, -(t.sin[5] * x17)),
-                    -<f64 as ::trocar::Real>::mul_add(t.cos[5], x14, t.sin[5] * x18),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x10,
+                        -(t.sin[5] * x16),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x12,
+                        -(t.sin[5] * x17),
+                    ),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x14,
+                        t.sin[5] * x18,
+                    ),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[4], x4, t.sin[4] * x11),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[4], x6, t.sin[4] * x13),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[4], x8, t.sin[4] * x15),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[4],
+                        x4,
+                        t.sin[4] * x11,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[4],
+                        x6,
+                        t.sin[4] * x13,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[4],
+                        x8,
+                        t.sin[4] * x15,
+                    ),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.sin[5], x10, t.cos[5] * x16),
-                    <f64 as ::trocar::Real>::mul_add(t.sin[5], x12, t.cos[5] * x17),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x18, -(t.sin[5] * x14)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[5],
+                        x10,
+                        t.cos[5] * x16,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[5],
+                        x12,
+                        t.cos[5] * x17,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x18,
+                        -(t.sin[5] * x14),
+                    ),
                 ],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.39_f64,
                     x4,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.194_f64,
                         t.cos[0],
                         -(0.38_f64 * x0),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.39_f64,
                     x6,
-                    <f64 as ::trocar::Real>::mul_add(0.194_f64, t.sin[0], 0.38_f64 * x2),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.194_f64,
+                        t.sin[0],
+                        0.38_f64 * x2,
+                    ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.39_f64,
                     x8,
-                    <f64 as ::trocar::Real>::mul_add(0.38_f64, t.sin[1], 1.037_f64),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.38_f64,
+                        t.sin[1],
+                        1.037_f64,
+                    ),
                 ),
             ],
         )
@@ -1106,16 +1524,17 @@ pub mod dia10_like_zx {
     #[inline]
     #[must_use]
     pub fn manipulability(q: &[f64; N], p: &Params) -> f64 {
-        let ([_], [c7]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6]]);
-        let x0 = <f64 as ::trocar::Real>::ONE / p.l_a;
+        let ([_], [c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(&[q[6]]);
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE / p.l_a;
         {
-            let w = <f64 as ::trocar::Real>::abs(
-                (<f64 as ::trocar::Real>::ONE + x0 * (0.1089_f64 * x0 - 0.66_f64)) * c7,
+            let w = <f64 as ::trocar::emitted::Real>::abs(
+                (<f64 as ::trocar::emitted::Real>::ONE
+                    + x0 * (0.1089_f64 * x0 - 0.66_f64)) * c7,
             );
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1127,16 +1546,16 @@ pub mod dia10_like_zx {
     #[inline]
     #[must_use]
     pub fn manipulability_trig(t: &JointTrig, p: &Params) -> f64 {
-        let x0 = <f64 as ::trocar::Real>::ONE / p.l_a;
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE / p.l_a;
         {
-            let w = <f64 as ::trocar::Real>::abs(
-                (<f64 as ::trocar::Real>::ONE + x0 * (0.1089_f64 * x0 - 0.66_f64))
-                    * t.cos[6],
+            let w = <f64 as ::trocar::emitted::Real>::abs(
+                (<f64 as ::trocar::emitted::Real>::ONE
+                    + x0 * (0.1089_f64 * x0 - 0.66_f64)) * t.cos[6],
             );
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1148,15 +1567,16 @@ pub mod dia10_like_zx {
     #[inline]
     #[must_use]
     pub fn manipulability_squared(q: &[f64; N], p: &Params) -> f64 {
-        let ([_], [c7]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6]]);
-        let x0 = <f64 as ::trocar::Real>::ONE / p.l_a;
-        let x1 = (<f64 as ::trocar::Real>::ONE + x0 * (0.1089_f64 * x0 - 0.66_f64)) * c7;
+        let ([_], [c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(&[q[6]]);
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE / p.l_a;
+        let x1 = (<f64 as ::trocar::emitted::Real>::ONE
+            + x0 * (0.1089_f64 * x0 - 0.66_f64)) * c7;
         {
             let w = x1 * x1;
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1168,15 +1588,15 @@ pub mod dia10_like_zx {
     #[inline]
     #[must_use]
     pub fn manipulability_squared_trig(t: &JointTrig, p: &Params) -> f64 {
-        let x0 = <f64 as ::trocar::Real>::ONE / p.l_a;
-        let x1 = (<f64 as ::trocar::Real>::ONE + x0 * (0.1089_f64 * x0 - 0.66_f64))
-            * t.cos[6];
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE / p.l_a;
+        let x1 = (<f64 as ::trocar::emitted::Real>::ONE
+            + x0 * (0.1089_f64 * x0 - 0.66_f64)) * t.cos[6];
         {
             let w = x1 * x1;
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1189,12 +1609,30 @@ pub mod dia10_like_zx {
     #[must_use]
     pub fn constraint_selection(_p: &Params) -> [[f64; R]; 6] {
         [
-            [<f64 as ::trocar::Real>::ONE, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ONE],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
+            [
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
         ]
     }
     /// Null-space basis `Λ#` of `Λ = H Ad_{g_ri}` (3.3), 6 × K: `V^B_0i = Λ# v0i`, thesis (3.6) (presets: (3.23), (3.27)).
@@ -1207,39 +1645,39 @@ pub mod dia10_like_zx {
     #[inline]
     #[must_use]
     pub fn lambda_null_space(p: &Params) -> [[f64; 6]; K] {
-        let x0 = <f64 as ::trocar::Real>::ONE / p.l_a;
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE / p.l_a;
         [
             [
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x0,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
                 -x0,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -1253,25 +1691,25 @@ pub mod dia10_like_zx {
     #[inline]
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f64; 6]; R] {
-        let x0 = <f64 as ::trocar::Real>::ONE
-            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
+            / (<f64 as ::trocar::emitted::Real>::ONE + p.l_a * p.l_a);
         let x1 = p.l_a * x0;
         [
             [
                 x0,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -x1,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x0,
                 x1,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -1286,22 +1724,26 @@ pub mod dia10_like_zx {
         (
             [
                 [
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
                 ],
             ],
-            [<f64 as ::trocar::Real>::ZERO, p.l_a, <f64 as ::trocar::Real>::ZERO],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                p.l_a,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
         )
     }
     /// `g_0e`, `J^B_0e` in one program: the values of [`forward_kinematics`] and [`body_jacobian`], thesis (2.21), (2.53)–(2.55), computed together so that they share every common value.
@@ -1317,16 +1759,16 @@ pub mod dia10_like_zx {
         fk: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0e: &mut [[f64; 6]; N],
     ) {
-        jb0e[6][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[7][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[7][1] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[6][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[7][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[7][1] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0e[7][2] = 0.21_f64;
-        jb0e[7][3] = <f64 as ::trocar::Real>::ONE;
-        jb0e[7][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[7][5] = <f64 as ::trocar::Real>::ZERO;
-        let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <f64 as ::trocar::Real>::sin_cos_array(
+        jb0e[7][3] = <f64 as ::trocar::emitted::Real>::ONE;
+        jb0e[7][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[7][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7]],
         );
         jb0e[5][3] = s7;
@@ -1339,92 +1781,96 @@ pub mod dia10_like_zx {
         let x2 = s7 * c8;
         let x3 = s7 * s8;
         let x4 = s7 * x0;
-        jb0e[5][1] = <f64 as ::trocar::Real>::mul_add(s8, x4, -(x1 * x2));
-        jb0e[5][2] = <f64 as ::trocar::Real>::mul_add(x1, x3, c8 * x4);
+        jb0e[5][1] = <f64 as ::trocar::emitted::Real>::mul_add(s8, x4, -(x1 * x2));
+        jb0e[5][2] = <f64 as ::trocar::emitted::Real>::mul_add(x1, x3, c8 * x4);
         let x5 = c7 * c8;
         jb0e[5][4] = x5;
         let x6 = c7 * s8;
         jb0e[5][5] = -x6;
-        let x7 = <f64 as ::trocar::Real>::mul_add(c7, x0, 0.33_f64);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x0, 0.33_f64);
         let x8 = c6 * c7;
         jb0e[4][3] = x8;
-        let x9 = <f64 as ::trocar::Real>::mul_add(s6, s8, -(c6 * x2));
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(s6, s8, -(c6 * x2));
         jb0e[4][4] = x9;
-        let x10 = <f64 as ::trocar::Real>::mul_add(c6, x3, s6 * c8);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x3, s6 * c8);
         jb0e[4][5] = x10;
-        let x11 = <f64 as ::trocar::Real>::mul_add(s6, x1, -(c6 * x4));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x1, -(c6 * x4));
         let x12 = s6 * c7;
-        let x13 = <f64 as ::trocar::Real>::mul_add(s6, x2, c6 * s8);
-        let x14 = <f64 as ::trocar::Real>::mul_add(c6, c8, -(s6 * x3));
-        let x15 = <f64 as ::trocar::Real>::mul_add(s6, x4, c6 * x1);
-        jb0e[4][0] = -<f64 as ::trocar::Real>::mul_add(s7, x15, x7 * x12);
-        jb0e[4][1] = <f64 as ::trocar::Real>::mul_add(x7, x13, -(x5 * x15));
-        jb0e[4][2] = <f64 as ::trocar::Real>::mul_add(x6, x15, x7 * x14);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c5, s7, s5 * x12);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x2, c6 * s8);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c6, c8, -(s6 * x3));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x4, c6 * x1);
+        jb0e[4][0] = -<f64 as ::trocar::emitted::Real>::mul_add(s7, x15, x7 * x12);
+        jb0e[4][1] = <f64 as ::trocar::emitted::Real>::mul_add(x7, x13, -(x5 * x15));
+        jb0e[4][2] = <f64 as ::trocar::emitted::Real>::mul_add(x6, x15, x7 * x14);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c5, s7, s5 * x12);
         jb0e[3][3] = x16;
-        let x17 = <f64 as ::trocar::Real>::mul_add(c5, x5, -(s5 * x13));
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x5, -(s5 * x13));
         jb0e[3][4] = x17;
-        let x18 = <f64 as ::trocar::Real>::mul_add(c5, x6, s5 * x14);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x6, s5 * x14);
         jb0e[3][5] = -x18;
-        let x19 = 0.39_f64 + <f64 as ::trocar::Real>::mul_add(c5, x7, -(s5 * x15));
-        let x20 = <f64 as ::trocar::Real>::mul_add(s5, s7, -(c5 * x12));
-        let x21 = <f64 as ::trocar::Real>::mul_add(s5, x5, c5 * x13);
-        let x22 = <f64 as ::trocar::Real>::mul_add(c5, x14, -(s5 * x6));
-        let x23 = <f64 as ::trocar::Real>::mul_add(s5, x7, c5 * x15);
-        jb0e[3][0] = <f64 as ::trocar::Real>::mul_add(x8, x23, -(x11 * x20));
-        jb0e[3][1] = <f64 as ::trocar::Real>::mul_add(x9, x23, -(x11 * x21));
-        jb0e[3][2] = <f64 as ::trocar::Real>::mul_add(x10, x23, -(x11 * x22));
-        let x24 = <f64 as ::trocar::Real>::mul_add(c4, x8, s4 * x20);
+        let x19 = 0.39_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c5, x7, -(s5 * x15));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(s5, s7, -(c5 * x12));
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x5, c5 * x13);
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x14, -(s5 * x6));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x7, c5 * x15);
+        jb0e[3][0] = <f64 as ::trocar::emitted::Real>::mul_add(x8, x23, -(x11 * x20));
+        jb0e[3][1] = <f64 as ::trocar::emitted::Real>::mul_add(x9, x23, -(x11 * x21));
+        jb0e[3][2] = <f64 as ::trocar::emitted::Real>::mul_add(x10, x23, -(x11 * x22));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x8, s4 * x20);
         jb0e[1][3] = x24;
         jb0e[2][3] = x24;
-        let x25 = <f64 as ::trocar::Real>::mul_add(c4, x9, s4 * x21);
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x9, s4 * x21);
         jb0e[1][4] = x25;
         jb0e[2][4] = x25;
-        let x26 = <f64 as ::trocar::Real>::mul_add(c4, x10, s4 * x22);
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x10, s4 * x22);
         jb0e[1][5] = x26;
         jb0e[2][5] = x26;
-        let x27 = <f64 as ::trocar::Real>::mul_add(c4, x20, -(s4 * x8));
-        let x28 = <f64 as ::trocar::Real>::mul_add(c4, x21, -(s4 * x9));
-        let x29 = <f64 as ::trocar::Real>::mul_add(c4, x22, -(s4 * x10));
-        let x30 = <f64 as ::trocar::Real>::mul_add(c4, x23, -(s4 * x11));
-        jb0e[2][0] = <f64 as ::trocar::Real>::mul_add(x19, x27, -(x16 * x30));
-        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(x19, x28, -(x17 * x30));
-        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(x18, x30, x19 * x29);
-        let x31 = <f64 as ::trocar::Real>::mul_add(c3, x16, -(s3 * x27));
-        let x32 = <f64 as ::trocar::Real>::mul_add(c3, x17, -(s3 * x28));
-        let x33 = <f64 as ::trocar::Real>::mul_add(c3, x18, s3 * x29);
-        let x34 = 0.38_f64 + <f64 as ::trocar::Real>::mul_add(c3, x19, -(s3 * x30));
-        let x35 = <f64 as ::trocar::Real>::mul_add(s3, x16, c3 * x27);
-        let x36 = <f64 as ::trocar::Real>::mul_add(s3, x17, c3 * x28);
-        let x37 = <f64 as ::trocar::Real>::mul_add(c3, x29, -(s3 * x18));
-        let x38 = <f64 as ::trocar::Real>::mul_add(s3, x19, c3 * x30);
-        fk.1[2] = 1.037_f64 + <f64 as ::trocar::Real>::mul_add(s2, x34, c2 * x38);
-        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x34, x35, -(x31 * x38));
-        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x34, x36, -(x32 * x38));
-        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x33, x38, x34 * x37);
-        let x39 = 0.194_f64 + <f64 as ::trocar::Real>::mul_add(c4, x11, s4 * x23);
-        let x40 = <f64 as ::trocar::Real>::mul_add(c2, x31, -(s2 * x35));
-        fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x24, -(s1 * x40));
-        fk.0[0][1] = <f64 as ::trocar::Real>::mul_add(s1, x24, c1 * x40);
-        let x41 = <f64 as ::trocar::Real>::mul_add(c2, x32, -(s2 * x36));
-        fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x25, -(s1 * x41));
-        fk.0[1][1] = <f64 as ::trocar::Real>::mul_add(s1, x25, c1 * x41);
-        let x42 = <f64 as ::trocar::Real>::mul_add(c2, x33, s2 * x37);
-        fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(c1, x26, s1 * x42);
-        fk.0[2][1] = <f64 as ::trocar::Real>::mul_add(s1, x26, -(c1 * x42));
-        let x43 = <f64 as ::trocar::Real>::mul_add(c2, x34, -(s2 * x38));
-        fk.1[0] = <f64 as ::trocar::Real>::mul_add(c1, x39, -(s1 * x43));
-        fk.1[1] = <f64 as ::trocar::Real>::mul_add(s1, x39, c1 * x43);
-        jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x39, x40, -(x24 * x43));
-        jb0e[0][1] = <f64 as ::trocar::Real>::mul_add(x39, x41, -(x25 * x43));
-        jb0e[0][2] = -<f64 as ::trocar::Real>::mul_add(x26, x43, x39 * x42);
-        let x44 = <f64 as ::trocar::Real>::mul_add(s2, x31, c2 * x35);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x20, -(s4 * x8));
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x21, -(s4 * x9));
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x22, -(s4 * x10));
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x23, -(s4 * x11));
+        jb0e[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(x19, x27, -(x16 * x30));
+        jb0e[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(x19, x28, -(x17 * x30));
+        jb0e[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(x18, x30, x19 * x29);
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x16, -(s3 * x27));
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x17, -(s3 * x28));
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x18, s3 * x29);
+        let x34 = 0.38_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c3, x19, -(s3 * x30));
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x16, c3 * x27);
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x17, c3 * x28);
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x29, -(s3 * x18));
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x19, c3 * x30);
+        fk.1[2] = 1.037_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(s2, x34, c2 * x38);
+        jb0e[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x34, x35, -(x31 * x38));
+        jb0e[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x34, x36, -(x32 * x38));
+        jb0e[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x33, x38, x34 * x37);
+        let x39 = 0.194_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c4, x11, s4 * x23);
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x31, -(s2 * x35));
+        fk.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x24, -(s1 * x40));
+        fk.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x24, c1 * x40);
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x32, -(s2 * x36));
+        fk.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x25, -(s1 * x41));
+        fk.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x25, c1 * x41);
+        let x42 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x33, s2 * x37);
+        fk.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x26, s1 * x42);
+        fk.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x26, -(c1 * x42));
+        let x43 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x34, -(s2 * x38));
+        fk.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x39, -(s1 * x43));
+        fk.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x39, c1 * x43);
+        jb0e[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x39, x40, -(x24 * x43));
+        jb0e[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(x39, x41, -(x25 * x43));
+        jb0e[0][2] = -<f64 as ::trocar::emitted::Real>::mul_add(x26, x43, x39 * x42);
+        let x44 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x31, c2 * x35);
         fk.0[0][2] = x44;
         jb0e[0][3] = x44;
-        let x45 = <f64 as ::trocar::Real>::mul_add(s2, x32, c2 * x36);
+        let x45 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x32, c2 * x36);
         fk.0[1][2] = x45;
         jb0e[0][4] = x45;
-        let x46 = <f64 as ::trocar::Real>::mul_add(c2, x37, -(s2 * x33));
+        let x46 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x37, -(s2 * x33));
         fk.0[2][2] = x46;
         jb0e[0][5] = x46;
     }
@@ -1439,17 +1885,17 @@ pub mod dia10_like_zx {
         jb0e: &mut [[f64; 6]; N],
     ) {
         jb0e[5][3] = t.sin[6];
-        jb0e[6][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][3] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[6][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][3] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0e[6][4] = t.sin[7];
         jb0e[6][5] = t.cos[7];
-        jb0e[7][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[7][1] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[7][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[7][1] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0e[7][2] = 0.21_f64;
-        jb0e[7][3] = <f64 as ::trocar::Real>::ONE;
-        jb0e[7][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[7][5] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[7][3] = <f64 as ::trocar::emitted::Real>::ONE;
+        jb0e[7][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[7][5] = <f64 as ::trocar::emitted::Real>::ZERO;
         let x0 = 0.21_f64 * t.cos[7];
         jb0e[6][0] = -x0;
         let x1 = 0.21_f64 * t.sin[7];
@@ -1457,100 +1903,264 @@ pub mod dia10_like_zx {
         let x2 = t.sin[6] * t.cos[7];
         let x3 = t.sin[6] * t.sin[7];
         let x4 = t.sin[6] * x0;
-        jb0e[5][1] = <f64 as ::trocar::Real>::mul_add(t.sin[7], x4, -(x1 * x2));
-        jb0e[5][2] = <f64 as ::trocar::Real>::mul_add(x1, x3, t.cos[7] * x4);
+        jb0e[5][1] = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[7], x4, -(x1 * x2));
+        jb0e[5][2] = <f64 as ::trocar::emitted::Real>::mul_add(x1, x3, t.cos[7] * x4);
         let x5 = t.cos[6] * t.cos[7];
         jb0e[5][4] = x5;
         let x6 = t.cos[6] * t.sin[7];
         jb0e[5][5] = -x6;
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x0, 0.33_f64);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[6], x0, 0.33_f64);
         let x8 = t.cos[5] * t.cos[6];
         jb0e[4][3] = x8;
-        let x9 = <f64 as ::trocar::Real>::mul_add(t.sin[5], t.sin[7], -(t.cos[5] * x2));
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            t.sin[7],
+            -(t.cos[5] * x2),
+        );
         jb0e[4][4] = x9;
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x3, t.sin[5] * t.cos[7]);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x3,
+            t.sin[5] * t.cos[7],
+        );
         jb0e[4][5] = x10;
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x1, -(t.cos[5] * x4));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x1,
+            -(t.cos[5] * x4),
+        );
         let x12 = t.sin[5] * t.cos[6];
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x2, t.cos[5] * t.sin[7]);
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[5], t.cos[7], -(t.sin[5] * x3));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x4, t.cos[5] * x1);
-        jb0e[4][0] = -<f64 as ::trocar::Real>::mul_add(t.sin[6], x15, x7 * x12);
-        jb0e[4][1] = <f64 as ::trocar::Real>::mul_add(x7, x13, -(x5 * x15));
-        jb0e[4][2] = <f64 as ::trocar::Real>::mul_add(x6, x15, x7 * x14);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[4], t.sin[6], t.sin[4] * x12);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x2,
+            t.cos[5] * t.sin[7],
+        );
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            t.cos[7],
+            -(t.sin[5] * x3),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[5], x4, t.cos[5] * x1);
+        jb0e[4][0] = -<f64 as ::trocar::emitted::Real>::mul_add(t.sin[6], x15, x7 * x12);
+        jb0e[4][1] = <f64 as ::trocar::emitted::Real>::mul_add(x7, x13, -(x5 * x15));
+        jb0e[4][2] = <f64 as ::trocar::emitted::Real>::mul_add(x6, x15, x7 * x14);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            t.sin[6],
+            t.sin[4] * x12,
+        );
         jb0e[3][3] = x16;
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x5, -(t.sin[4] * x13));
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x5,
+            -(t.sin[4] * x13),
+        );
         jb0e[3][4] = x17;
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x6, t.sin[4] * x14);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x6,
+            t.sin[4] * x14,
+        );
         jb0e[3][5] = -x18;
         let x19 = 0.39_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[4], x7, -(t.sin[4] * x15));
-        let x20 = <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[4], x7, -(t.sin[4] * x15));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[4],
             t.sin[6],
             -(t.cos[4] * x12),
         );
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x5, t.cos[4] * x13);
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x14, -(t.sin[4] * x6));
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x7, t.cos[4] * x15);
-        jb0e[3][0] = <f64 as ::trocar::Real>::mul_add(x8, x23, -(x11 * x20));
-        jb0e[3][1] = <f64 as ::trocar::Real>::mul_add(x9, x23, -(x11 * x21));
-        jb0e[3][2] = <f64 as ::trocar::Real>::mul_add(x10, x23, -(x11 * x22));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x8, t.sin[3] * x20);
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x5,
+            t.cos[4] * x13,
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x14,
+            -(t.sin[4] * x6),
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x7,
+            t.cos[4] * x15,
+        );
+        jb0e[3][0] = <f64 as ::trocar::emitted::Real>::mul_add(x8, x23, -(x11 * x20));
+        jb0e[3][1] = <f64 as ::trocar::emitted::Real>::mul_add(x9, x23, -(x11 * x21));
+        jb0e[3][2] = <f64 as ::trocar::emitted::Real>::mul_add(x10, x23, -(x11 * x22));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x8,
+            t.sin[3] * x20,
+        );
         jb0e[1][3] = x24;
         jb0e[2][3] = x24;
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x9, t.sin[3] * x21);
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x9,
+            t.sin[3] * x21,
+        );
         jb0e[1][4] = x25;
         jb0e[2][4] = x25;
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x10, t.sin[3] * x22);
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x10,
+            t.sin[3] * x22,
+        );
         jb0e[1][5] = x26;
         jb0e[2][5] = x26;
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x20, -(t.sin[3] * x8));
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x21, -(t.sin[3] * x9));
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x22, -(t.sin[3] * x10));
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x23, -(t.sin[3] * x11));
-        jb0e[2][0] = <f64 as ::trocar::Real>::mul_add(x19, x27, -(x16 * x30));
-        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(x19, x28, -(x17 * x30));
-        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(x18, x30, x19 * x29);
-        let x31 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x16, -(t.sin[2] * x27));
-        let x32 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x17, -(t.sin[2] * x28));
-        let x33 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x18, t.sin[2] * x29);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x20,
+            -(t.sin[3] * x8),
+        );
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x21,
+            -(t.sin[3] * x9),
+        );
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x22,
+            -(t.sin[3] * x10),
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x23,
+            -(t.sin[3] * x11),
+        );
+        jb0e[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(x19, x27, -(x16 * x30));
+        jb0e[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(x19, x28, -(x17 * x30));
+        jb0e[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(x18, x30, x19 * x29);
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x16,
+            -(t.sin[2] * x27),
+        );
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x17,
+            -(t.sin[2] * x28),
+        );
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x18,
+            t.sin[2] * x29,
+        );
         let x34 = 0.38_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[2], x19, -(t.sin[2] * x30));
-        let x35 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x27);
-        let x36 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x28);
-        let x37 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x29, -(t.sin[2] * x18));
-        let x38 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x19, t.cos[2] * x30);
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[2],
+                x19,
+                -(t.sin[2] * x30),
+            );
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x16,
+            t.cos[2] * x27,
+        );
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x17,
+            t.cos[2] * x28,
+        );
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x29,
+            -(t.sin[2] * x18),
+        );
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x19,
+            t.cos[2] * x30,
+        );
         fk.1[2] = 1.037_f64
-            + <f64 as ::trocar::Real>::mul_add(t.sin[1], x34, t.cos[1] * x38);
-        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x34, x35, -(x31 * x38));
-        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x34, x36, -(x32 * x38));
-        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x33, x38, x34 * x37);
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x34, t.cos[1] * x38);
+        jb0e[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x34, x35, -(x31 * x38));
+        jb0e[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x34, x36, -(x32 * x38));
+        jb0e[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x33, x38, x34 * x37);
         let x39 = 0.194_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[3], x11, t.sin[3] * x23);
-        let x40 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x31, -(t.sin[1] * x35));
-        fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x24, -(t.sin[0] * x40));
-        fk.0[0][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x24, t.cos[0] * x40);
-        let x41 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x32, -(t.sin[1] * x36));
-        fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x25, -(t.sin[0] * x41));
-        fk.0[1][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x25, t.cos[0] * x41);
-        let x42 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x33, t.sin[1] * x37);
-        fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x26, t.sin[0] * x42);
-        fk.0[2][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x26, -(t.cos[0] * x42));
-        let x43 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x34, -(t.sin[1] * x38));
-        fk.1[0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x39, -(t.sin[0] * x43));
-        fk.1[1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x39, t.cos[0] * x43);
-        jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x39, x40, -(x24 * x43));
-        jb0e[0][1] = <f64 as ::trocar::Real>::mul_add(x39, x41, -(x25 * x43));
-        jb0e[0][2] = -<f64 as ::trocar::Real>::mul_add(x26, x43, x39 * x42);
-        let x44 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x31, t.cos[1] * x35);
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x11, t.sin[3] * x23);
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x31,
+            -(t.sin[1] * x35),
+        );
+        fk.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x24,
+            -(t.sin[0] * x40),
+        );
+        fk.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x24,
+            t.cos[0] * x40,
+        );
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x32,
+            -(t.sin[1] * x36),
+        );
+        fk.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x25,
+            -(t.sin[0] * x41),
+        );
+        fk.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x25,
+            t.cos[0] * x41,
+        );
+        let x42 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x33,
+            t.sin[1] * x37,
+        );
+        fk.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x26,
+            t.sin[0] * x42,
+        );
+        fk.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x26,
+            -(t.cos[0] * x42),
+        );
+        let x43 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x34,
+            -(t.sin[1] * x38),
+        );
+        fk.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x39,
+            -(t.sin[0] * x43),
+        );
+        fk.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x39,
+            t.cos[0] * x43,
+        );
+        jb0e[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x39, x40, -(x24 * x43));
+        jb0e[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(x39, x41, -(x25 * x43));
+        jb0e[0][2] = -<f64 as ::trocar::emitted::Real>::mul_add(x26, x43, x39 * x42);
+        let x44 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x31,
+            t.cos[1] * x35,
+        );
         fk.0[0][2] = x44;
         jb0e[0][3] = x44;
-        let x45 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x32, t.cos[1] * x36);
+        let x45 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x32,
+            t.cos[1] * x36,
+        );
         fk.0[1][2] = x45;
         jb0e[0][4] = x45;
-        let x46 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x37, -(t.sin[1] * x33));
+        let x46 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x37,
+            -(t.sin[1] * x33),
+        );
         fk.0[2][2] = x46;
         jb0e[0][5] = x46;
     }
@@ -1567,20 +2177,20 @@ pub mod dia10_like_zx {
         fk0i: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0i: &mut [[f64; 6]; I],
     ) {
-        jb0i[3][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[3][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[3][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][4] = <f64 as ::trocar::Real>::ONE;
-        jb0i[5][5] = <f64 as ::trocar::Real>::ZERO;
-        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+        jb0i[3][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[3][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[3][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[4][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[4][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[4][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[4][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][4] = <f64 as ::trocar::emitted::Real>::ONE;
+        jb0i[5][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5]],
         );
         jb0i[3][4] = c5;
@@ -1592,55 +2202,72 @@ pub mod dia10_like_zx {
         jb0i[3][5] = -x1;
         let x2 = c5 * s6;
         let x3 = c5 * c6;
-        let x4 = <f64 as ::trocar::Real>::mul_add(c4, c6, -(s4 * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(c4, c6, -(s4 * x2));
         jb0i[1][3] = x4;
         jb0i[2][3] = x4;
         let x5 = s4 * s5;
         jb0i[1][4] = x5;
         jb0i[2][4] = x5;
-        let x6 = <f64 as ::trocar::Real>::mul_add(c4, s6, s4 * x3);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c4, s6, s4 * x3);
         jb0i[1][5] = x6;
         jb0i[2][5] = x6;
-        let x7 = <f64 as ::trocar::Real>::mul_add(s4, c6, c4 * x2);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(s4, c6, c4 * x2);
         jb0i[2][0] = -(0.39_f64 * x7);
         let x8 = c4 * s5;
         jb0i[2][1] = 0.39_f64 * x8;
-        let x9 = <f64 as ::trocar::Real>::mul_add(c4, x3, -(s4 * s6));
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x3, -(s4 * s6));
         jb0i[2][2] = 0.39_f64 * x9;
-        let x10 = <f64 as ::trocar::Real>::mul_add(c3, x0, s3 * x7);
-        let x11 = <f64 as ::trocar::Real>::mul_add(c3, c5, -(s3 * x8));
-        let x12 = <f64 as ::trocar::Real>::mul_add(c3, x1, s3 * x9);
-        let x13 = <f64 as ::trocar::Real>::mul_add(0.39_f64, c3, 0.38_f64);
-        let x14 = <f64 as ::trocar::Real>::mul_add(s3, x0, -(c3 * x7));
-        let x15 = <f64 as ::trocar::Real>::mul_add(s3, c5, c3 * x8);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c3, x9, -(s3 * x1));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x0, s3 * x7);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(c3, c5, -(s3 * x8));
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x1, s3 * x9);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(0.39_f64, c3, 0.38_f64);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x0, -(c3 * x7));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(s3, c5, c3 * x8);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x9, -(s3 * x1));
         let x17 = 0.39_f64 * s3;
-        fk0i.1[2] = 1.037_f64 + <f64 as ::trocar::Real>::mul_add(s2, x13, c2 * x17);
-        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x13, x14, -(x10 * x17));
-        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17));
-        jb0i[1][2] = <f64 as ::trocar::Real>::mul_add(x12, x17, x13 * x16);
-        let x18 = <f64 as ::trocar::Real>::mul_add(c2, x10, -(s2 * x14));
-        fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x4, -(s1 * x18));
-        fk0i.0[0][1] = <f64 as ::trocar::Real>::mul_add(s1, x4, c1 * x18);
-        let x19 = <f64 as ::trocar::Real>::mul_add(c2, x11, -(s2 * x15));
-        fk0i.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x5, -(s1 * x19));
-        fk0i.0[1][1] = <f64 as ::trocar::Real>::mul_add(s1, x5, c1 * x19);
-        let x20 = <f64 as ::trocar::Real>::mul_add(c2, x12, s2 * x16);
-        fk0i.0[2][0] = <f64 as ::trocar::Real>::mul_add(c1, x6, s1 * x20);
-        fk0i.0[2][1] = <f64 as ::trocar::Real>::mul_add(s1, x6, -(c1 * x20));
-        let x21 = <f64 as ::trocar::Real>::mul_add(c2, x13, -(s2 * x17));
-        fk0i.1[0] = <f64 as ::trocar::Real>::mul_add(0.194_f64, c1, -(s1 * x21));
-        fk0i.1[1] = <f64 as ::trocar::Real>::mul_add(0.194_f64, s1, c1 * x21);
-        jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(0.194_f64, x18, -(x4 * x21));
-        jb0i[0][1] = <f64 as ::trocar::Real>::mul_add(0.194_f64, x19, -(x5 * x21));
-        jb0i[0][2] = -<f64 as ::trocar::Real>::mul_add(x6, x21, 0.194_f64 * x20);
-        let x22 = <f64 as ::trocar::Real>::mul_add(s2, x10, c2 * x14);
+        fk0i.1[2] = 1.037_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(s2, x13, c2 * x17);
+        jb0i[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x13, x14, -(x10 * x17));
+        jb0i[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17));
+        jb0i[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, x13 * x16);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x10, -(s2 * x14));
+        fk0i.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x4, -(s1 * x18));
+        fk0i.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x4, c1 * x18);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x11, -(s2 * x15));
+        fk0i.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x5, -(s1 * x19));
+        fk0i.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x5, c1 * x19);
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x12, s2 * x16);
+        fk0i.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x6, s1 * x20);
+        fk0i.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x6, -(c1 * x20));
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x13, -(s2 * x17));
+        fk0i.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.194_f64,
+            c1,
+            -(s1 * x21),
+        );
+        fk0i.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(0.194_f64, s1, c1 * x21);
+        jb0i[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.194_f64,
+            x18,
+            -(x4 * x21),
+        );
+        jb0i[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.194_f64,
+            x19,
+            -(x5 * x21),
+        );
+        jb0i[0][2] = -<f64 as ::trocar::emitted::Real>::mul_add(
+            x6,
+            x21,
+            0.194_f64 * x20,
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x10, c2 * x14);
         fk0i.0[0][2] = x22;
         jb0i[0][3] = x22;
-        let x23 = <f64 as ::trocar::Real>::mul_add(s2, x11, c2 * x15);
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x11, c2 * x15);
         fk0i.0[1][2] = x23;
         jb0i[0][4] = x23;
-        let x24 = <f64 as ::trocar::Real>::mul_add(c2, x16, -(s2 * x12));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x16, -(s2 * x12));
         fk0i.0[2][2] = x24;
         jb0i[0][5] = x24;
     }
@@ -1654,86 +2281,186 @@ pub mod dia10_like_zx {
         fk0i: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0i: &mut [[f64; 6]; I],
     ) {
-        jb0i[3][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[3][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[3][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[3][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[3][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[3][2] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0i[3][4] = t.cos[4];
-        jb0i[4][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[4][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[4][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[4][2] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0i[4][3] = t.cos[5];
-        jb0i[4][4] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[4][4] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0i[4][5] = t.sin[5];
-        jb0i[5][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][4] = <f64 as ::trocar::Real>::ONE;
-        jb0i[5][5] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[5][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][4] = <f64 as ::trocar::emitted::Real>::ONE;
+        jb0i[5][5] = <f64 as ::trocar::emitted::Real>::ZERO;
         let x0 = t.sin[4] * t.sin[5];
         jb0i[3][3] = x0;
         let x1 = t.sin[4] * t.cos[5];
         jb0i[3][5] = -x1;
         let x2 = t.cos[4] * t.sin[5];
         let x3 = t.cos[4] * t.cos[5];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            t.cos[5],
+            -(t.sin[3] * x2),
+        );
         jb0i[1][3] = x4;
         jb0i[2][3] = x4;
         let x5 = t.sin[3] * t.sin[4];
         jb0i[1][4] = x5;
         jb0i[2][4] = x5;
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.sin[5], t.sin[3] * x3);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            t.sin[5],
+            t.sin[3] * x3,
+        );
         jb0i[1][5] = x6;
         jb0i[2][5] = x6;
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.sin[3], t.cos[5], t.cos[3] * x2);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            t.cos[5],
+            t.cos[3] * x2,
+        );
         jb0i[2][0] = -(0.39_f64 * x7);
         let x8 = t.cos[3] * t.sin[4];
         jb0i[2][1] = 0.39_f64 * x8;
-        let x9 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * t.sin[5]));
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x3,
+            -(t.sin[3] * t.sin[5]),
+        );
         jb0i[2][2] = 0.39_f64 * x9;
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x0, t.sin[2] * x7);
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x8));
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x1, t.sin[2] * x9);
-        let x13 = <f64 as ::trocar::Real>::mul_add(0.39_f64, t.cos[2], 0.38_f64);
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x0, -(t.cos[2] * x7));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.sin[2], t.cos[4], t.cos[2] * x8);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x9, -(t.sin[2] * x1));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x0, t.sin[2] * x7);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            t.cos[4],
+            -(t.sin[2] * x8),
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x1, t.sin[2] * x9);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.39_f64,
+            t.cos[2],
+            0.38_f64,
+        );
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x0,
+            -(t.cos[2] * x7),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            t.cos[4],
+            t.cos[2] * x8,
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x9,
+            -(t.sin[2] * x1),
+        );
         let x17 = 0.39_f64 * t.sin[2];
         fk0i.1[2] = 1.037_f64
-            + <f64 as ::trocar::Real>::mul_add(t.sin[1], x13, t.cos[1] * x17);
-        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x13, x14, -(x10 * x17));
-        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17));
-        jb0i[1][2] = <f64 as ::trocar::Real>::mul_add(x12, x17, x13 * x16);
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x10, -(t.sin[1] * x14));
-        fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x4, -(t.sin[0] * x18));
-        fk0i.0[0][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x4, t.cos[0] * x18);
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x11, -(t.sin[1] * x15));
-        fk0i.0[1][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x5, -(t.sin[0] * x19));
-        fk0i.0[1][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x5, t.cos[0] * x19);
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x12, t.sin[1] * x16);
-        fk0i.0[2][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x6, t.sin[0] * x20);
-        fk0i.0[2][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x6, -(t.cos[0] * x20));
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x13, -(t.sin[1] * x17));
-        fk0i.1[0] = <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x13, t.cos[1] * x17);
+        jb0i[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x13, x14, -(x10 * x17));
+        jb0i[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17));
+        jb0i[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, x13 * x16);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x10,
+            -(t.sin[1] * x14),
+        );
+        fk0i.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x4,
+            -(t.sin[0] * x18),
+        );
+        fk0i.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x4,
+            t.cos[0] * x18,
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x11,
+            -(t.sin[1] * x15),
+        );
+        fk0i.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x5,
+            -(t.sin[0] * x19),
+        );
+        fk0i.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x5,
+            t.cos[0] * x19,
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x12,
+            t.sin[1] * x16,
+        );
+        fk0i.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x6,
+            t.sin[0] * x20,
+        );
+        fk0i.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x6,
+            -(t.cos[0] * x20),
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x13,
+            -(t.sin[1] * x17),
+        );
+        fk0i.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(
             0.194_f64,
             t.cos[0],
             -(t.sin[0] * x21),
         );
-        fk0i.1[1] = <f64 as ::trocar::Real>::mul_add(
+        fk0i.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(
             0.194_f64,
             t.sin[0],
             t.cos[0] * x21,
         );
-        jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(0.194_f64, x18, -(x4 * x21));
-        jb0i[0][1] = <f64 as ::trocar::Real>::mul_add(0.194_f64, x19, -(x5 * x21));
-        jb0i[0][2] = -<f64 as ::trocar::Real>::mul_add(x6, x21, 0.194_f64 * x20);
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x10, t.cos[1] * x14);
+        jb0i[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.194_f64,
+            x18,
+            -(x4 * x21),
+        );
+        jb0i[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.194_f64,
+            x19,
+            -(x5 * x21),
+        );
+        jb0i[0][2] = -<f64 as ::trocar::emitted::Real>::mul_add(
+            x6,
+            x21,
+            0.194_f64 * x20,
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x10,
+            t.cos[1] * x14,
+        );
         fk0i.0[0][2] = x22;
         jb0i[0][3] = x22;
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x11, t.cos[1] * x15);
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x11,
+            t.cos[1] * x15,
+        );
         fk0i.0[1][2] = x23;
         jb0i[0][4] = x23;
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x16, -(t.sin[1] * x12));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x16,
+            -(t.sin[1] * x12),
+        );
         fk0i.0[2][2] = x24;
         jb0i[0][5] = x24;
     }
@@ -1759,58 +2486,146 @@ pub mod dia10_like_zx {
         let x1 = t.sin[4] * t.cos[5];
         let x2 = t.cos[4] * t.sin[5];
         let x3 = t.cos[4] * t.cos[5];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            t.cos[5],
+            -(t.sin[3] * x2),
+        );
         let x5 = t.sin[3] * t.sin[4];
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.sin[5], t.sin[3] * x3);
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.sin[3], t.cos[5], t.cos[3] * x2);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            t.sin[5],
+            t.sin[3] * x3,
+        );
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            t.cos[5],
+            t.cos[3] * x2,
+        );
         let x8 = t.cos[3] * t.sin[4];
-        let x9 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * t.sin[5]));
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x0, t.sin[2] * x7);
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x8));
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x1, t.sin[2] * x9);
-        let x13 = <f64 as ::trocar::Real>::mul_add(0.39_f64, t.cos[2], 0.38_f64);
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x0, -(t.cos[2] * x7));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.sin[2], t.cos[4], t.cos[2] * x8);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x9, -(t.sin[2] * x1));
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x3,
+            -(t.sin[3] * t.sin[5]),
+        );
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x0, t.sin[2] * x7);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            t.cos[4],
+            -(t.sin[2] * x8),
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x1, t.sin[2] * x9);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.39_f64,
+            t.cos[2],
+            0.38_f64,
+        );
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x0,
+            -(t.cos[2] * x7),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            t.cos[4],
+            t.cos[2] * x8,
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x9,
+            -(t.sin[2] * x1),
+        );
         let x17 = 0.39_f64 * t.sin[2];
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x10, -(t.sin[1] * x14));
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x11, -(t.sin[1] * x15));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x12, t.sin[1] * x16);
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x13, -(t.sin[1] * x17));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x10, t.cos[1] * x14);
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x11, t.cos[1] * x15);
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x16, -(t.sin[1] * x12));
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.cos[0], x4, -(t.sin[0] * x18));
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.cos[0], x5, -(t.sin[0] * x19));
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.cos[0], x6, t.sin[0] * x20);
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[0], x4, t.cos[0] * x18);
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.sin[0], x5, t.cos[0] * x19);
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.sin[0], x6, -(t.cos[0] * x20));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x10,
+            -(t.sin[1] * x14),
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x11,
+            -(t.sin[1] * x15),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x12,
+            t.sin[1] * x16,
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x13,
+            -(t.sin[1] * x17),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x10,
+            t.cos[1] * x14,
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x11,
+            t.cos[1] * x15,
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x16,
+            -(t.sin[1] * x12),
+        );
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x4,
+            -(t.sin[0] * x18),
+        );
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x5,
+            -(t.sin[0] * x19),
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x6,
+            t.sin[0] * x20,
+        );
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x4,
+            t.cos[0] * x18,
+        );
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x5,
+            t.cos[0] * x19,
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x6,
+            -(t.cos[0] * x20),
+        );
         let x31 = t.sin[6] * t.cos[7];
         let x32 = t.sin[6] * t.sin[7];
         let x33 = t.cos[6] * t.cos[7];
         let x34 = t.cos[6] * t.sin[7];
         let x35 = -x34;
         let x36 = 0.21_f64 * x31;
-        let x37 = <f64 as ::trocar::Real>::mul_add(0.21_f64, x33, 0.33_f64);
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(0.21_f64, x33, 0.33_f64);
         let x38 = 0.21_f64 * t.sin[7];
-        let x39 = <f64 as ::trocar::Real>::ONE / p.l_a;
+        let x39 = <f64 as ::trocar::emitted::Real>::ONE / p.l_a;
         let x40 = 0.33_f64 * x39;
-        let x41 = <f64 as ::trocar::Real>::ONE - x40;
+        let x41 = <f64 as ::trocar::emitted::Real>::ONE - x40;
         let x42 = t.cos[7] * x39;
         let x43 = t.sin[7] * x41;
         let x44 = x32 * x39;
         let x45 = t.cos[6] * x39;
-        let x46 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(
+        let x46 = <f64 as ::trocar::emitted::Real>::ONE
+            / <f64 as ::trocar::emitted::Real>::mul_add(
                 p.l_a,
                 p.l_a,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ONE,
             );
-        let x47 = <f64 as ::trocar::Real>::mul_add(
+        let x47 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.33_f64,
             p.l_a,
-            <f64 as ::trocar::Real>::ONE,
+            <f64 as ::trocar::emitted::Real>::ONE,
         );
         let x48 = t.cos[7] * p.l_a;
         let x49 = x46 * x47;
@@ -1821,120 +2636,189 @@ pub mod dia10_like_zx {
             (
                 [
                     [
-                        <f64 as ::trocar::Real>::mul_add(x25, t.cos[6], x26 * t.sin[6]),
-                        <f64 as ::trocar::Real>::mul_add(x28, t.cos[6], x29 * t.sin[6]),
-                        <f64 as ::trocar::Real>::mul_add(x22, t.cos[6], x23 * t.sin[6]),
-                    ],
-                    [
-                        <f64 as ::trocar::Real>::mul_add(
-                            x27,
-                            t.sin[7],
-                            <f64 as ::trocar::Real>::mul_add(x26, x33, -(x25 * x31)),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            x25,
+                            t.cos[6],
+                            x26 * t.sin[6],
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
-                            x30,
-                            t.sin[7],
-                            <f64 as ::trocar::Real>::mul_add(x29, x33, -(x28 * x31)),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            x28,
+                            t.cos[6],
+                            x29 * t.sin[6],
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
-                            x24,
-                            t.sin[7],
-                            <f64 as ::trocar::Real>::mul_add(x23, x33, -(x22 * x31)),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            x22,
+                            t.cos[6],
+                            x23 * t.sin[6],
                         ),
                     ],
                     [
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            x27,
+                            t.sin[7],
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x26,
+                                x33,
+                                -(x25 * x31),
+                            ),
+                        ),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            x30,
+                            t.sin[7],
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x29,
+                                x33,
+                                -(x28 * x31),
+                            ),
+                        ),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            x24,
+                            t.sin[7],
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x23,
+                                x33,
+                                -(x22 * x31),
+                            ),
+                        ),
+                    ],
+                    [
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x27,
                             t.cos[7],
-                            <f64 as ::trocar::Real>::mul_add(x25, x32, -(x26 * x34)),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x25,
+                                x32,
+                                -(x26 * x34),
+                            ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x30,
                             t.cos[7],
-                            <f64 as ::trocar::Real>::mul_add(x28, x32, -(x29 * x34)),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x28,
+                                x32,
+                                -(x29 * x34),
+                            ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x24,
                             t.cos[7],
-                            <f64 as ::trocar::Real>::mul_add(x22, x32, -(x23 * x34)),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x22,
+                                x32,
+                                -(x23 * x34),
+                            ),
                         ),
                     ],
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.194_f64,
                         t.cos[0],
                         -(t.sin[0] * x21),
                     )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             x27,
                             x38,
-                            <f64 as ::trocar::Real>::mul_add(x26, x37, -(x25 * x36)),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x26,
+                                x37,
+                                -(x25 * x36),
+                            ),
                         ),
-                    <f64 as ::trocar::Real>::mul_add(0.194_f64, t.sin[0], t.cos[0] * x21)
-                        + <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.194_f64,
+                        t.sin[0],
+                        t.cos[0] * x21,
+                    )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             x30,
                             x38,
-                            <f64 as ::trocar::Real>::mul_add(x29, x37, -(x28 * x36)),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x29,
+                                x37,
+                                -(x28 * x36),
+                            ),
                         ),
                     1.037_f64
-                        + <f64 as ::trocar::Real>::mul_add(t.sin[1], x13, t.cos[1] * x17)
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.sin[1],
+                            x13,
+                            t.cos[1] * x17,
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             x24,
                             x38,
-                            <f64 as ::trocar::Real>::mul_add(x23, x37, -(x22 * x36)),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x23,
+                                x37,
+                                -(x22 * x36),
+                            ),
                         ),
                 ],
             ),
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(0.194_f64, x18, -(x4 * x21)),
-                    <f64 as ::trocar::Real>::mul_add(0.194_f64, x19, -(x5 * x21)),
-                    -<f64 as ::trocar::Real>::mul_add(x6, x21, 0.194_f64 * x20),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.194_f64,
+                        x18,
+                        -(x4 * x21),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.194_f64,
+                        x19,
+                        -(x5 * x21),
+                    ),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(x6, x21, 0.194_f64 * x20),
                     x22,
                     x23,
                     x24,
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(x13, x14, -(x10 * x17)),
-                    <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
-                    <f64 as ::trocar::Real>::mul_add(x12, x17, x13 * x16),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x13, x14, -(x10 * x17)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, x13 * x16),
                     x4,
                     x5,
                     x6,
                 ],
                 [-(0.39_f64 * x7), 0.39_f64 * x8, 0.39_f64 * x9, x4, x5, x6],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     x0,
                     t.cos[4],
                     -x1,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     t.cos[5],
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     t.sin[5],
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
             ],
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[6], x41, -(0.21_f64 * x42)),
-                    t.sin[6] * (t.cos[7] * (x40 - <f64 as ::trocar::Real>::ONE)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[6],
+                        x41,
+                        -(0.21_f64 * x42),
+                    ),
+                    t.sin[6]
+                        * (t.cos[7] * (x40 - <f64 as ::trocar::emitted::Real>::ONE)),
                     t.sin[6] * x43,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     t.sin[7] * x39,
                     x42,
                 ],
@@ -1942,21 +2826,25 @@ pub mod dia10_like_zx {
                     t.sin[6],
                     x33,
                     x35,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
                     0.21_f64 * x44,
                     x43,
-                    <f64 as ::trocar::Real>::mul_add(t.cos[7], x41, -(0.21_f64 * x45)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[7],
+                        x41,
+                        -(0.21_f64 * x45),
+                    ),
                     -x45,
                     x31 * x39,
                     -x44,
                 ],
                 [
                     0.21_f64 * x34,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     0.21_f64 * t.sin[6],
                     t.sin[6],
                     x33,
@@ -1964,32 +2852,32 @@ pub mod dia10_like_zx {
                 ],
                 [
                     -(0.21_f64 * t.cos[7]),
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     t.sin[7],
                     t.cos[7],
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     0.21_f64,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
             ],
             [
                 [
                     x46
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[6],
                             x47,
                             0.21_f64 * x48,
                         ),
                     -(t.sin[6] * (t.cos[7] * x49)),
                     t.sin[6] * x50,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     -(x46 * (t.sin[7] * p.l_a)),
                     -(x46 * x48),
                 ],
@@ -1997,7 +2885,7 @@ pub mod dia10_like_zx {
                     -(0.21_f64 * x51),
                     x50,
                     x46
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[7],
                             x47,
                             0.21_f64 * x52,
@@ -2036,7 +2924,7 @@ pub mod dia10_like_zx {
         #[inline]
         #[must_use]
         pub fn zeroed() -> Self {
-            let z = <f64 as ::trocar::Real>::ZERO;
+            let z = <f64 as ::trocar::emitted::Real>::ZERO;
             StepKinematics {
                 offset: z,
                 g_0e: ([[z; 3]; 3], [z; 3]),
@@ -2060,7 +2948,7 @@ pub mod dia10_like_zx {
     #[inline]
     fn step_is_finite(out: &StepKinematics) -> bool {
         let finite = |x: &[f64]| {
-            x.iter().all(|&v| <f64 as ::trocar::Real>::is_finite(v))
+            x.iter().all(|&v| <f64 as ::trocar::emitted::Real>::is_finite(v))
         };
         finite(&out.g_0e.1) && finite(&out.g_0i.1) && finite(out.g_0e.0.as_flattened())
             && finite(out.g_0i.0.as_flattened()) && finite(out.jb0i.as_flattened())
@@ -2077,13 +2965,13 @@ pub mod dia10_like_zx {
         params: &Params,
     ) -> f64 {
         let mut p = *params;
-        p.l_a = <f64 as ::trocar::Real>::ZERO;
+        p.l_a = <f64 as ::trocar::emitted::Real>::ZERO;
         let o = constraint_frame(&p).1;
-        p.l_a = <f64 as ::trocar::Real>::ONE;
+        p.l_a = <f64 as ::trocar::emitted::Real>::ONE;
         let o1 = constraint_frame(&p).1;
         let d = [o1[0] - o[0], o1[1] - o[1], o1[2] - o[2]];
         let (rot, pos) = g_0i;
-        let mut num = <f64 as ::trocar::Real>::ZERO;
+        let mut num = <f64 as ::trocar::emitted::Real>::ZERO;
         for i in 0..3 {
             let ro = rot[0][i] * o[0] + rot[1][i] * o[1] + rot[2][i] * o[2];
             let rd = rot[0][i] * d[0] + rot[1][i] * d[1] + rot[2][i] * d[2];
@@ -2104,7 +2992,7 @@ pub mod dia10_like_zx {
         out: &mut StepKinematics,
     ) -> bool {
         fill_at_trocar(t, trocar, params, out);
-        <f64 as ::trocar::Real>::is_finite(out.offset) && step_is_finite(out)
+        <f64 as ::trocar::emitted::Real>::is_finite(out.offset) && step_is_finite(out)
     }
     /// [`step_kinematics`] without the finiteness check.
     #[inline]
@@ -2175,8 +3063,10 @@ pub mod dia10_like_zx {
         let mut a5_4 = j[4usize][5usize];
         let mut a5_5 = j[5usize][5usize];
         let mut b0_5 = b[5usize];
-        let mut det = <f64 as ::trocar::Real>::ONE;
-        if <f64 as ::trocar::Real>::abs(a1_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        let mut det = <f64 as ::trocar::emitted::Real>::ONE;
+        if <f64 as ::trocar::emitted::Real>::abs(a1_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a1_0);
             ::core::mem::swap(&mut a0_1, &mut a1_1);
             ::core::mem::swap(&mut a0_2, &mut a1_2);
@@ -2186,7 +3076,9 @@ pub mod dia10_like_zx {
             ::core::mem::swap(&mut b0_0, &mut b0_1);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a2_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a2_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a2_0);
             ::core::mem::swap(&mut a0_1, &mut a2_1);
             ::core::mem::swap(&mut a0_2, &mut a2_2);
@@ -2196,7 +3088,9 @@ pub mod dia10_like_zx {
             ::core::mem::swap(&mut b0_0, &mut b0_2);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a3_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a3_0);
             ::core::mem::swap(&mut a0_1, &mut a3_1);
             ::core::mem::swap(&mut a0_2, &mut a3_2);
@@ -2206,7 +3100,9 @@ pub mod dia10_like_zx {
             ::core::mem::swap(&mut b0_0, &mut b0_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a4_0);
             ::core::mem::swap(&mut a0_1, &mut a4_1);
             ::core::mem::swap(&mut a0_2, &mut a4_2);
@@ -2216,7 +3112,9 @@ pub mod dia10_like_zx {
             ::core::mem::swap(&mut b0_0, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a5_0);
             ::core::mem::swap(&mut a0_1, &mut a5_1);
             ::core::mem::swap(&mut a0_2, &mut a5_2);
@@ -2227,7 +3125,7 @@ pub mod dia10_like_zx {
             det = -det;
         }
         det *= a0_0;
-        let inv0 = <f64 as ::trocar::Real>::ONE / a0_0;
+        let inv0 = <f64 as ::trocar::emitted::Real>::ONE / a0_0;
         let l = a1_0 * inv0;
         a1_1 -= l * a0_1;
         a1_2 -= l * a0_2;
@@ -2263,7 +3161,9 @@ pub mod dia10_like_zx {
         a5_4 -= l * a0_4;
         a5_5 -= l * a0_5;
         b0_5 -= l * b0_0;
-        if <f64 as ::trocar::Real>::abs(a2_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a2_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a2_1);
             ::core::mem::swap(&mut a1_2, &mut a2_2);
             ::core::mem::swap(&mut a1_3, &mut a2_3);
@@ -2272,7 +3172,9 @@ pub mod dia10_like_zx {
             ::core::mem::swap(&mut b0_1, &mut b0_2);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a3_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a3_1);
             ::core::mem::swap(&mut a1_2, &mut a3_2);
             ::core::mem::swap(&mut a1_3, &mut a3_3);
@@ -2281,7 +3183,9 @@ pub mod dia10_like_zx {
             ::core::mem::swap(&mut b0_1, &mut b0_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a4_1);
             ::core::mem::swap(&mut a1_2, &mut a4_2);
             ::core::mem::swap(&mut a1_3, &mut a4_3);
@@ -2290,7 +3194,9 @@ pub mod dia10_like_zx {
             ::core::mem::swap(&mut b0_1, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a5_1);
             ::core::mem::swap(&mut a1_2, &mut a5_2);
             ::core::mem::swap(&mut a1_3, &mut a5_3);
@@ -2300,7 +3206,7 @@ pub mod dia10_like_zx {
             det = -det;
         }
         det *= a1_1;
-        let inv1 = <f64 as ::trocar::Real>::ONE / a1_1;
+        let inv1 = <f64 as ::trocar::emitted::Real>::ONE / a1_1;
         let l = a2_1 * inv1;
         a2_2 -= l * a1_2;
         a2_3 -= l * a1_3;
@@ -2325,7 +3231,9 @@ pub mod dia10_like_zx {
         a5_4 -= l * a1_4;
         a5_5 -= l * a1_5;
         b0_5 -= l * b0_1;
-        if <f64 as ::trocar::Real>::abs(a3_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a3_2);
             ::core::mem::swap(&mut a2_3, &mut a3_3);
             ::core::mem::swap(&mut a2_4, &mut a3_4);
@@ -2333,7 +3241,9 @@ pub mod dia10_like_zx {
             ::core::mem::swap(&mut b0_2, &mut b0_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a4_2);
             ::core::mem::swap(&mut a2_3, &mut a4_3);
             ::core::mem::swap(&mut a2_4, &mut a4_4);
@@ -2341,7 +3251,9 @@ pub mod dia10_like_zx {
             ::core::mem::swap(&mut b0_2, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a5_2);
             ::core::mem::swap(&mut a2_3, &mut a5_3);
             ::core::mem::swap(&mut a2_4, &mut a5_4);
@@ -2350,7 +3262,7 @@ pub mod dia10_like_zx {
             det = -det;
         }
         det *= a2_2;
-        let inv2 = <f64 as ::trocar::Real>::ONE / a2_2;
+        let inv2 = <f64 as ::trocar::emitted::Real>::ONE / a2_2;
         let l = a3_2 * inv2;
         a3_3 -= l * a2_3;
         a3_4 -= l * a2_4;
@@ -2366,14 +3278,18 @@ pub mod dia10_like_zx {
         a5_4 -= l * a2_4;
         a5_5 -= l * a2_5;
         b0_5 -= l * b0_2;
-        if <f64 as ::trocar::Real>::abs(a4_3) > <f64 as ::trocar::Real>::abs(a3_3) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_3)
+            > <f64 as ::trocar::emitted::Real>::abs(a3_3)
+        {
             ::core::mem::swap(&mut a3_3, &mut a4_3);
             ::core::mem::swap(&mut a3_4, &mut a4_4);
             ::core::mem::swap(&mut a3_5, &mut a4_5);
             ::core::mem::swap(&mut b0_3, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_3) > <f64 as ::trocar::Real>::abs(a3_3) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_3)
+            > <f64 as ::trocar::emitted::Real>::abs(a3_3)
+        {
             ::core::mem::swap(&mut a3_3, &mut a5_3);
             ::core::mem::swap(&mut a3_4, &mut a5_4);
             ::core::mem::swap(&mut a3_5, &mut a5_5);
@@ -2381,7 +3297,7 @@ pub mod dia10_like_zx {
             det = -det;
         }
         det *= a3_3;
-        let inv3 = <f64 as ::trocar::Real>::ONE / a3_3;
+        let inv3 = <f64 as ::trocar::emitted::Real>::ONE / a3_3;
         let l = a4_3 * inv3;
         a4_4 -= l * a3_4;
         a4_5 -= l * a3_5;
@@ -2390,19 +3306,21 @@ pub mod dia10_like_zx {
         a5_4 -= l * a3_4;
         a5_5 -= l * a3_5;
         b0_5 -= l * b0_3;
-        if <f64 as ::trocar::Real>::abs(a5_4) > <f64 as ::trocar::Real>::abs(a4_4) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_4)
+            > <f64 as ::trocar::emitted::Real>::abs(a4_4)
+        {
             ::core::mem::swap(&mut a4_4, &mut a5_4);
             ::core::mem::swap(&mut a4_5, &mut a5_5);
             ::core::mem::swap(&mut b0_4, &mut b0_5);
             det = -det;
         }
         det *= a4_4;
-        let inv4 = <f64 as ::trocar::Real>::ONE / a4_4;
+        let inv4 = <f64 as ::trocar::emitted::Real>::ONE / a4_4;
         let l = a5_4 * inv4;
         a5_5 -= l * a4_5;
         b0_5 -= l * b0_4;
         det *= a5_5;
-        let inv5 = <f64 as ::trocar::Real>::ONE / a5_5;
+        let inv5 = <f64 as ::trocar::emitted::Real>::ONE / a5_5;
         let x5 = (b0_5) * inv5;
         let x4 = (b0_4 - a4_5 * x5) * inv4;
         let x3 = (b0_3 - a3_4 * x4 - a3_5 * x5) * inv3;
@@ -2433,13 +3351,13 @@ pub mod dia10_like_zx {
     impl Kinematics {
         /// A pose from the generated `(R column-major, p)`.
         #[inline]
-        fn pose((r, p): ([[f64; 3]; 3], [f64; 3])) -> ::trocar::se3::Se3<f64> {
-            ::trocar::se3::Se3 {
-                rotation: ::trocar::nalgebra::Matrix3::from_data(
-                    ::trocar::nalgebra::ArrayStorage(r),
+        fn pose((r, p): ([[f64; 3]; 3], [f64; 3])) -> ::trocar::emitted::Se3<f64> {
+            ::trocar::emitted::Se3 {
+                rotation: ::trocar::emitted::nalgebra::Matrix3::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(r),
                 ),
-                translation: ::trocar::nalgebra::Vector3::from_data(
-                    ::trocar::nalgebra::ArrayStorage([p]),
+                translation: ::trocar::emitted::nalgebra::Vector3::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage([p]),
                 ),
             }
         }
@@ -2447,63 +3365,65 @@ pub mod dia10_like_zx {
         #[inline]
         fn state(
             s: &StepKinematics,
-        ) -> ::trocar::control::ConstrainedState<f64, I, R, K, M> {
-            ::trocar::control::ConstrainedState {
+        ) -> ::trocar::emitted::ConstrainedState<f64, I, R, K, M> {
+            ::trocar::emitted::ConstrainedState {
                 g_0e: Self::pose(s.g_0e),
                 g_0i: Self::pose(s.g_0i),
-                jr: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jr),
+                jr: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jr),
                 ),
-                jb0i: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jb0i),
+                jb0i: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jb0i),
                 ),
-                jc: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jc),
+                jc: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jc),
                 ),
-                lambda_sharp: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.lambda_sharp),
+                lambda_sharp: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.lambda_sharp),
                 ),
-                lambda_pinv: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.lambda_pinv),
+                lambda_pinv: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.lambda_pinv),
                 ),
             }
         }
     }
-    impl ::trocar::control::ConstrainedKinematics<f64, N, I, R, K, M, 6> for Kinematics {
+    impl ::trocar::emitted::ConstrainedKinematics<f64, N, I, R, K, M, 6> for Kinematics {
         #[inline]
         fn g_0i(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
-        ) -> ::trocar::se3::Se3<f64> {
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
+        ) -> ::trocar::emitted::Se3<f64> {
             Self::pose(forward_kinematics_i(&q.data.0[0], &self.params))
         }
         #[inline]
-        fn h(&self) -> ::trocar::nalgebra::SMatrix<f64, R, 6> {
-            ::trocar::nalgebra::SMatrix::from_data(
-                ::trocar::nalgebra::ArrayStorage(constraint_selection(&self.params)),
+        fn h(&self) -> ::trocar::emitted::nalgebra::SMatrix<f64, R, 6> {
+            ::trocar::emitted::nalgebra::SMatrix::from_data(
+                ::trocar::emitted::nalgebra::ArrayStorage(
+                    constraint_selection(&self.params),
+                ),
             )
         }
         #[inline]
-        fn shaft(&self) -> ::trocar::control::Shaft<f64> {
+        fn shaft(&self) -> ::trocar::emitted::Shaft<f64> {
             let mut p = self.params;
-            p.l_a = <f64 as ::trocar::Real>::ZERO;
+            p.l_a = <f64 as ::trocar::emitted::Real>::ZERO;
             let at_zero = Self::pose(constraint_frame(&p));
-            p.l_a = <f64 as ::trocar::Real>::ONE;
+            p.l_a = <f64 as ::trocar::emitted::Real>::ONE;
             let at_one = Self::pose(constraint_frame(&p));
-            ::trocar::control::Shaft::from_frames(&at_zero, &at_one)
+            ::trocar::emitted::Shaft::from_frames(&at_zero, &at_one)
         }
         #[inline]
-        fn task_selection(&self) -> ::trocar::nalgebra::SMatrix<f64, 6, 6> {
-            ::trocar::nalgebra::SMatrix::identity()
+        fn task_selection(&self) -> ::trocar::emitted::nalgebra::SMatrix<f64, 6, 6> {
+            ::trocar::emitted::nalgebra::SMatrix::identity()
         }
         #[inline]
         fn evaluate(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
             l_a: f64,
         ) -> ::core::result::Result<
-            ::trocar::control::ConstrainedState<f64, I, R, K, M>,
-            ::trocar::control::ControlError,
+            ::trocar::emitted::ConstrainedState<f64, I, R, K, M>,
+            ::trocar::emitted::ControlError,
         > {
             let t = JointTrig::new(&q.data.0[0]);
             let mut p = self.params;
@@ -2512,9 +3432,9 @@ pub mod dia10_like_zx {
             s.g_0i = forward_kinematics_i_trig(&t, &p);
             s.offset = l_a;
             fill_step(&t, &p, &mut s);
-            if !<f64 as ::trocar::Real>::is_finite(l_a) || !step_is_finite(&s) {
+            if !<f64 as ::trocar::emitted::Real>::is_finite(l_a) || !step_is_finite(&s) {
                 return ::core::result::Result::Err(
-                    ::trocar::control::ControlError::Kinematics,
+                    ::trocar::emitted::ControlError::Kinematics,
                 );
             }
             ::core::result::Result::Ok(Self::state(&s))
@@ -2524,22 +3444,29 @@ pub mod dia10_like_zx {
         #[inline]
         fn solve_task(
             &self,
-            j: &::trocar::nalgebra::SMatrix<f64, 6, M>,
-            b: &::trocar::nalgebra::SVector<f64, 6>,
-        ) -> ::core::option::Option<(::trocar::nalgebra::SVector<f64, M>, f64)> {
+            j: &::trocar::emitted::nalgebra::SMatrix<f64, 6, M>,
+            b: &::trocar::emitted::nalgebra::SVector<f64, 6>,
+        ) -> ::core::option::Option<
+            (::trocar::emitted::nalgebra::SVector<f64, M>, f64),
+        > {
             let (x, det) = lu_solve_6(&j.data.0, &b.data.0[0]);
-            ::core::option::Option::Some((::trocar::nalgebra::SVector::from(x), det))
+            ::core::option::Option::Some((
+                ::trocar::emitted::nalgebra::SVector::from(x),
+                det,
+            ))
         }
         /// `J^B_0i` (6 × 6) solved by the straight-line elimination emitted for this size.
         #[inline]
         fn solve_jb0i(
             &self,
-            j: &::trocar::nalgebra::SMatrix<f64, 6, I>,
-            b: &::trocar::nalgebra::SVector<f64, 6>,
-        ) -> ::core::option::Option<(::trocar::nalgebra::SVector<f64, I>, f64)> {
+            j: &::trocar::emitted::nalgebra::SMatrix<f64, 6, I>,
+            b: &::trocar::emitted::nalgebra::SVector<f64, 6>,
+        ) -> ::core::option::Option<
+            (::trocar::emitted::nalgebra::SVector<f64, I>, f64),
+        > {
             let (x, det_or_w) = lu_solve_6(&j.data.0, &b.data.0[0]);
             ::core::option::Option::Some((
-                ::trocar::nalgebra::SVector::from(x),
+                ::trocar::emitted::nalgebra::SVector::from(x),
                 det_or_w,
             ))
         }
@@ -2547,18 +3474,18 @@ pub mod dia10_like_zx {
         #[inline]
         fn evaluate_at_trocar(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
-            trocar: &::trocar::nalgebra::Vector3<f64>,
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
+            trocar: &::trocar::emitted::nalgebra::Vector3<f64>,
         ) -> ::core::result::Result<
-            (f64, ::trocar::control::ConstrainedState<f64, I, R, K, M>),
-            ::trocar::control::ControlError,
+            (f64, ::trocar::emitted::ConstrainedState<f64, I, R, K, M>),
+            ::trocar::emitted::ControlError,
         > {
             let t = JointTrig::new(&q.data.0[0]);
             let mut s = StepKinematics::zeroed();
             fill_at_trocar(&t, &trocar.data.0[0], &self.params, &mut s);
-            if !<f64 as ::trocar::Real>::is_finite(s.offset) {
+            if !<f64 as ::trocar::emitted::Real>::is_finite(s.offset) {
                 return ::core::result::Result::Err(
-                    ::trocar::control::ControlError::Kinematics,
+                    ::trocar::emitted::ControlError::Kinematics,
                 );
             }
             ::core::result::Result::Ok((s.offset, Self::state(&s)))

@@ -56,7 +56,7 @@ pub mod dia10_like_zy {
         #[inline(always)]
         #[must_use]
         pub fn new(q: &[f64; N]) -> Self {
-            let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <f64 as ::trocar::Real>::sin_cos_array(
+            let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
                 &[q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7]],
             );
             JointTrig {
@@ -74,68 +74,68 @@ pub mod dia10_like_zy {
     #[inline]
     #[must_use]
     pub fn forward_kinematics(q: &[f64; N], _p: &Params) -> ([[f64; 3]; 3], [f64; 3]) {
-        let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7]],
         );
         let x0 = s1 * c2;
         let x1 = s1 * s2;
         let x2 = c1 * c2;
         let x3 = c1 * s2;
-        let x4 = <f64 as ::trocar::Real>::mul_add(s3, x1, -(c3 * x0));
-        let x5 = <f64 as ::trocar::Real>::mul_add(s3, x0, c3 * x1);
-        let x6 = <f64 as ::trocar::Real>::mul_add(c3, x2, -(s3 * x3));
-        let x7 = <f64 as ::trocar::Real>::mul_add(s3, x2, c3 * x3);
-        let x8 = <f64 as ::trocar::Real>::mul_add(s2, c3, c2 * s3);
-        let x9 = <f64 as ::trocar::Real>::mul_add(c2, c3, -(s2 * s3));
-        let x10 = <f64 as ::trocar::Real>::mul_add(c1, c4, -(s4 * x5));
-        let x11 = <f64 as ::trocar::Real>::mul_add(c1, s4, c4 * x5);
-        let x12 = <f64 as ::trocar::Real>::mul_add(s1, c4, s4 * x7);
-        let x13 = <f64 as ::trocar::Real>::mul_add(s1, s4, -(c4 * x7));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x1, -(c3 * x0));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x0, c3 * x1);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x2, -(s3 * x3));
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x2, c3 * x3);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(s2, c3, c2 * s3);
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(c2, c3, -(s2 * s3));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(c1, c4, -(s4 * x5));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(c1, s4, c4 * x5);
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(s1, c4, s4 * x7);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(s1, s4, -(c4 * x7));
         let x14 = s4 * x9;
         let x15 = c4 * x9;
-        let x16 = <f64 as ::trocar::Real>::mul_add(c5, x4, s5 * x11);
-        let x17 = <f64 as ::trocar::Real>::mul_add(c5, x11, -(s5 * x4));
-        let x18 = <f64 as ::trocar::Real>::mul_add(c5, x6, s5 * x13);
-        let x19 = <f64 as ::trocar::Real>::mul_add(c5, x13, -(s5 * x6));
-        let x20 = <f64 as ::trocar::Real>::mul_add(c5, x8, s5 * x15);
-        let x21 = <f64 as ::trocar::Real>::mul_add(c5, x15, -(s5 * x8));
-        let x22 = <f64 as ::trocar::Real>::mul_add(c6, x10, -(s6 * x17));
-        let x23 = <f64 as ::trocar::Real>::mul_add(s6, x10, c6 * x17);
-        let x24 = <f64 as ::trocar::Real>::mul_add(c6, x12, -(s6 * x19));
-        let x25 = <f64 as ::trocar::Real>::mul_add(s6, x12, c6 * x19);
-        let x26 = <f64 as ::trocar::Real>::mul_add(c6, x14, s6 * x21);
-        let x27 = <f64 as ::trocar::Real>::mul_add(c6, x21, -(s6 * x14));
-        let x28 = <f64 as ::trocar::Real>::mul_add(c7, x22, s7 * x16);
-        let x29 = <f64 as ::trocar::Real>::mul_add(c7, x16, -(s7 * x22));
-        let x30 = <f64 as ::trocar::Real>::mul_add(c7, x24, s7 * x18);
-        let x31 = <f64 as ::trocar::Real>::mul_add(c7, x18, -(s7 * x24));
-        let x32 = <f64 as ::trocar::Real>::mul_add(s7, x20, -(c7 * x26));
-        let x33 = <f64 as ::trocar::Real>::mul_add(s7, x26, c7 * x20);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x4, s5 * x11);
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x11, -(s5 * x4));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x6, s5 * x13);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x13, -(s5 * x6));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x8, s5 * x15);
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x15, -(s5 * x8));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x10, -(s6 * x17));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x10, c6 * x17);
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x12, -(s6 * x19));
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x12, c6 * x19);
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x14, s6 * x21);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x21, -(s6 * x14));
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x22, s7 * x16);
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x16, -(s7 * x22));
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x24, s7 * x18);
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(c7, x18, -(s7 * x24));
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(s7, x20, -(c7 * x26));
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(s7, x26, c7 * x20);
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(c8, x28, -(s8 * x23)),
-                    <f64 as ::trocar::Real>::mul_add(c8, x30, -(s8 * x25)),
-                    <f64 as ::trocar::Real>::mul_add(c8, x32, -(s8 * x27)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c8, x28, -(s8 * x23)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c8, x30, -(s8 * x25)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c8, x32, -(s8 * x27)),
                 ],
                 [x29, x31, x33],
                 [
-                    <f64 as ::trocar::Real>::mul_add(s8, x28, c8 * x23),
-                    <f64 as ::trocar::Real>::mul_add(s8, x30, c8 * x25),
-                    <f64 as ::trocar::Real>::mul_add(s8, x32, c8 * x27),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s8, x28, c8 * x23),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s8, x30, c8 * x25),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s8, x32, c8 * x27),
                 ],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.21_f64,
                     x29,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.33_f64,
                         x16,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.39_f64,
                             x4,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.194_f64,
                                 c1,
                                 -(0.38_f64 * x0),
@@ -143,16 +143,16 @@ pub mod dia10_like_zy {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.21_f64,
                     x31,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.33_f64,
                         x18,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.39_f64,
                             x6,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.194_f64,
                                 s1,
                                 0.38_f64 * x2,
@@ -160,16 +160,20 @@ pub mod dia10_like_zy {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.21_f64,
                     x33,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.33_f64,
                         x20,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.39_f64,
                             x8,
-                            <f64 as ::trocar::Real>::mul_add(0.38_f64, s2, 1.037_f64),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                0.38_f64,
+                                s2,
+                                1.037_f64,
+                            ),
                         ),
                     ),
                 ),
@@ -191,69 +195,189 @@ pub mod dia10_like_zy {
         let x1 = t.sin[0] * t.sin[1];
         let x2 = t.cos[0] * t.cos[1];
         let x3 = t.cos[0] * t.sin[1];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x1, -(t.cos[2] * x0));
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x0, t.cos[2] * x1);
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x2, -(t.sin[2] * x3));
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x2, t.cos[2] * x3);
-        let x8 = <f64 as ::trocar::Real>::mul_add(
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x1,
+            -(t.cos[2] * x0),
+        );
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[2], x0, t.cos[2] * x1);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x2,
+            -(t.sin[2] * x3),
+        );
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[2], x2, t.cos[2] * x3);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[1],
             t.cos[2],
             t.cos[1] * t.sin[2],
         );
-        let x9 = <f64 as ::trocar::Real>::mul_add(
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[1],
             t.cos[2],
             -(t.sin[1] * t.sin[2]),
         );
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[0], t.cos[3], -(t.sin[3] * x5));
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[0], t.sin[3], t.cos[3] * x5);
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.sin[0], t.cos[3], t.sin[3] * x7);
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.sin[0], t.sin[3], -(t.cos[3] * x7));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            t.cos[3],
+            -(t.sin[3] * x5),
+        );
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            t.sin[3],
+            t.cos[3] * x5,
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            t.cos[3],
+            t.sin[3] * x7,
+        );
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            t.sin[3],
+            -(t.cos[3] * x7),
+        );
         let x14 = t.sin[3] * x9;
         let x15 = t.cos[3] * x9;
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x4, t.sin[4] * x11);
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x11, -(t.sin[4] * x4));
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x6, t.sin[4] * x13);
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x13, -(t.sin[4] * x6));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x8, t.sin[4] * x15);
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x15, -(t.sin[4] * x8));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x10, -(t.sin[5] * x17));
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x10, t.cos[5] * x17);
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x12, -(t.sin[5] * x19));
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x12, t.cos[5] * x19);
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x14, t.sin[5] * x21);
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x21, -(t.sin[5] * x14));
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x22, t.sin[6] * x16);
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x16, -(t.sin[6] * x22));
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x24, t.sin[6] * x18);
-        let x31 = <f64 as ::trocar::Real>::mul_add(t.cos[6], x18, -(t.sin[6] * x24));
-        let x32 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x20, -(t.cos[6] * x26));
-        let x33 = <f64 as ::trocar::Real>::mul_add(t.sin[6], x26, t.cos[6] * x20);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x4,
+            t.sin[4] * x11,
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x11,
+            -(t.sin[4] * x4),
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x6,
+            t.sin[4] * x13,
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x13,
+            -(t.sin[4] * x6),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x8,
+            t.sin[4] * x15,
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x15,
+            -(t.sin[4] * x8),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x10,
+            -(t.sin[5] * x17),
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x10,
+            t.cos[5] * x17,
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x12,
+            -(t.sin[5] * x19),
+        );
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x12,
+            t.cos[5] * x19,
+        );
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x14,
+            t.sin[5] * x21,
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x21,
+            -(t.sin[5] * x14),
+        );
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x22,
+            t.sin[6] * x16,
+        );
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x16,
+            -(t.sin[6] * x22),
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x24,
+            t.sin[6] * x18,
+        );
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            x18,
+            -(t.sin[6] * x24),
+        );
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[6],
+            x20,
+            -(t.cos[6] * x26),
+        );
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[6],
+            x26,
+            t.cos[6] * x20,
+        );
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[7], x28, -(t.sin[7] * x23)),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[7], x30, -(t.sin[7] * x25)),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[7], x32, -(t.sin[7] * x27)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[7],
+                        x28,
+                        -(t.sin[7] * x23),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[7],
+                        x30,
+                        -(t.sin[7] * x25),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[7],
+                        x32,
+                        -(t.sin[7] * x27),
+                    ),
                 ],
                 [x29, x31, x33],
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.sin[7], x28, t.cos[7] * x23),
-                    <f64 as ::trocar::Real>::mul_add(t.sin[7], x30, t.cos[7] * x25),
-                    <f64 as ::trocar::Real>::mul_add(t.sin[7], x32, t.cos[7] * x27),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[7],
+                        x28,
+                        t.cos[7] * x23,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[7],
+                        x30,
+                        t.cos[7] * x25,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[7],
+                        x32,
+                        t.cos[7] * x27,
+                    ),
                 ],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.21_f64,
                     x29,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.33_f64,
                         x16,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.39_f64,
                             x4,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.194_f64,
                                 t.cos[0],
                                 -(0.38_f64 * x0),
@@ -261,16 +385,16 @@ pub mod dia10_like_zy {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.21_f64,
                     x31,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.33_f64,
                         x18,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.39_f64,
                             x6,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.194_f64,
                                 t.sin[0],
                                 0.38_f64 * x2,
@@ -278,16 +402,16 @@ pub mod dia10_like_zy {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.21_f64,
                     x33,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.33_f64,
                         x20,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.39_f64,
                             x8,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.38_f64,
                                 t.sin[1],
                                 1.037_f64,
@@ -306,7 +430,7 @@ pub mod dia10_like_zy {
     #[inline]
     #[must_use]
     pub fn body_jacobian(q: &[f64; N], _p: &Params) -> [[f64; 6]; N] {
-        let ([s2, s3, s4, s5, s6, s7, s8], [c2, c3, c4, c5, c6, c7, c8]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s2, s3, s4, s5, s6, s7, s8], [c2, c3, c4, c5, c6, c7, c8]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[1], q[2], q[3], q[4], q[5], q[6], q[7]],
         );
         let x0 = c7 * c8;
@@ -314,109 +438,112 @@ pub mod dia10_like_zy {
         let x2 = 0.21_f64 * s7;
         let x3 = s7 * c8;
         let x4 = s7 * s8;
-        let x5 = <f64 as ::trocar::Real>::mul_add(0.21_f64, c7, 0.33_f64);
-        let x6 = <f64 as ::trocar::Real>::mul_add(c6, x0, -(s6 * s8));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(0.21_f64, c7, 0.33_f64);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x0, -(s6 * s8));
         let x7 = c6 * s7;
-        let x8 = <f64 as ::trocar::Real>::mul_add(c6, x1, s6 * c8);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x1, s6 * c8);
         let x9 = c6 * x2;
-        let x10 = <f64 as ::trocar::Real>::mul_add(s6, x0, c6 * s8);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x0, c6 * s8);
         let x11 = s6 * s7;
-        let x12 = <f64 as ::trocar::Real>::mul_add(c6, c8, -(s6 * x1));
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(c6, c8, -(s6 * x1));
         let x13 = s6 * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(c5, x3, s5 * x10);
-        let x15 = <f64 as ::trocar::Real>::mul_add(c5, c7, -(s5 * x11));
-        let x16 = <f64 as ::trocar::Real>::mul_add(c5, x4, -(s5 * x12));
-        let x17 = 0.39_f64 + <f64 as ::trocar::Real>::mul_add(c5, x5, -(s5 * x13));
-        let x18 = <f64 as ::trocar::Real>::mul_add(s5, x3, -(c5 * x10));
-        let x19 = <f64 as ::trocar::Real>::mul_add(s5, c7, c5 * x11);
-        let x20 = <f64 as ::trocar::Real>::mul_add(s5, x4, c5 * x12);
-        let x21 = <f64 as ::trocar::Real>::mul_add(s5, x5, c5 * x13);
-        let x22 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x18);
-        let x23 = <f64 as ::trocar::Real>::mul_add(s4, x19, -(c4 * x7));
-        let x24 = <f64 as ::trocar::Real>::mul_add(c4, x8, s4 * x20);
-        let x25 = <f64 as ::trocar::Real>::mul_add(c4, x18, -(s4 * x6));
-        let x26 = <f64 as ::trocar::Real>::mul_add(s4, x7, c4 * x19);
-        let x27 = <f64 as ::trocar::Real>::mul_add(c4, x20, -(s4 * x8));
-        let x28 = <f64 as ::trocar::Real>::mul_add(s4, x9, c4 * x21);
-        let x29 = <f64 as ::trocar::Real>::mul_add(c3, x14, -(s3 * x25));
-        let x30 = <f64 as ::trocar::Real>::mul_add(c3, x15, -(s3 * x26));
-        let x31 = <f64 as ::trocar::Real>::mul_add(c3, x16, -(s3 * x27));
-        let x32 = 0.38_f64 + <f64 as ::trocar::Real>::mul_add(c3, x17, -(s3 * x28));
-        let x33 = <f64 as ::trocar::Real>::mul_add(s3, x14, c3 * x25);
-        let x34 = <f64 as ::trocar::Real>::mul_add(s3, x15, c3 * x26);
-        let x35 = <f64 as ::trocar::Real>::mul_add(s3, x16, c3 * x27);
-        let x36 = <f64 as ::trocar::Real>::mul_add(s3, x17, c3 * x28);
-        let x37 = 0.194_f64 + <f64 as ::trocar::Real>::mul_add(s4, x21, -(c4 * x9));
-        let x38 = <f64 as ::trocar::Real>::mul_add(c2, x32, -(s2 * x36));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x3, s5 * x10);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c5, c7, -(s5 * x11));
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x4, -(s5 * x12));
+        let x17 = 0.39_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c5, x5, -(s5 * x13));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x3, -(c5 * x10));
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(s5, c7, c5 * x11);
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x4, c5 * x12);
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x5, c5 * x13);
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x6, s4 * x18);
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x19, -(c4 * x7));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x8, s4 * x20);
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x18, -(s4 * x6));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x7, c4 * x19);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x20, -(s4 * x8));
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x9, c4 * x21);
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x14, -(s3 * x25));
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x15, -(s3 * x26));
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x16, -(s3 * x27));
+        let x32 = 0.38_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c3, x17, -(s3 * x28));
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x14, c3 * x25);
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x15, c3 * x26);
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x16, c3 * x27);
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x17, c3 * x28);
+        let x37 = 0.194_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(s4, x21, -(c4 * x9));
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x32, -(s2 * x36));
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x37,
-                    <f64 as ::trocar::Real>::mul_add(c2, x29, -(s2 * x33)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c2, x29, -(s2 * x33)),
                     -(x22 * x38),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x37,
-                    <f64 as ::trocar::Real>::mul_add(c2, x30, -(s2 * x34)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c2, x30, -(s2 * x34)),
                     -(x23 * x38),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x37,
-                    <f64 as ::trocar::Real>::mul_add(c2, x31, -(s2 * x35)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c2, x31, -(s2 * x35)),
                     -(x24 * x38),
                 ),
-                <f64 as ::trocar::Real>::mul_add(s2, x29, c2 * x33),
-                <f64 as ::trocar::Real>::mul_add(s2, x30, c2 * x34),
-                <f64 as ::trocar::Real>::mul_add(s2, x31, c2 * x35),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x29, c2 * x33),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x30, c2 * x34),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x31, c2 * x35),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x32, x33, -(x29 * x36)),
-                <f64 as ::trocar::Real>::mul_add(x32, x34, -(x30 * x36)),
-                <f64 as ::trocar::Real>::mul_add(x32, x35, -(x31 * x36)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x32, x33, -(x29 * x36)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x32, x34, -(x30 * x36)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x32, x35, -(x31 * x36)),
                 x22,
                 x23,
                 x24,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x17, x25, -(x14 * x28)),
-                <f64 as ::trocar::Real>::mul_add(x17, x26, -(x15 * x28)),
-                <f64 as ::trocar::Real>::mul_add(x17, x27, -(x16 * x28)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x17, x25, -(x14 * x28)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x17, x26, -(x15 * x28)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x17, x27, -(x16 * x28)),
                 x22,
                 x23,
                 x24,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x6, x21, x9 * x18),
-                <f64 as ::trocar::Real>::mul_add(x9, x19, -(x7 * x21)),
-                <f64 as ::trocar::Real>::mul_add(x8, x21, x9 * x20),
+                <f64 as ::trocar::emitted::Real>::mul_add(x6, x21, x9 * x18),
+                <f64 as ::trocar::emitted::Real>::mul_add(x9, x19, -(x7 * x21)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x8, x21, x9 * x20),
                 x14,
                 x15,
                 x16,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(x3, x13, x5 * x10),
-                <f64 as ::trocar::Real>::mul_add(x5, x11, -(c7 * x13)),
-                <f64 as ::trocar::Real>::mul_add(x5, x12, -(x4 * x13)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x3, x13, x5 * x10),
+                <f64 as ::trocar::emitted::Real>::mul_add(x5, x11, -(c7 * x13)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x5, x12, -(x4 * x13)),
                 x6,
                 -x7,
                 x8,
             ],
-            [-(s8 * x2), <f64 as ::trocar::Real>::ZERO, c8 * x2, x3, c7, x4],
+            [-(s8 * x2), <f64 as ::trocar::emitted::Real>::ZERO, c8 * x2, x3, c7, x4],
             [
                 -(0.21_f64 * c8),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -(0.21_f64 * s8),
                 -s8,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 c8,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -433,103 +560,219 @@ pub mod dia10_like_zy {
         let x2 = 0.21_f64 * t.sin[6];
         let x3 = t.sin[6] * t.cos[7];
         let x4 = t.sin[6] * t.sin[7];
-        let x5 = <f64 as ::trocar::Real>::mul_add(0.21_f64, t.cos[6], 0.33_f64);
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x0, -(t.sin[5] * t.sin[7]));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(0.21_f64, t.cos[6], 0.33_f64);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x0,
+            -(t.sin[5] * t.sin[7]),
+        );
         let x7 = t.cos[5] * t.sin[6];
-        let x8 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x1, t.sin[5] * t.cos[7]);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x1,
+            t.sin[5] * t.cos[7],
+        );
         let x9 = t.cos[5] * x2;
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x0, t.cos[5] * t.sin[7]);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x0,
+            t.cos[5] * t.sin[7],
+        );
         let x11 = t.sin[5] * t.sin[6];
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.cos[5], t.cos[7], -(t.sin[5] * x1));
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            t.cos[7],
+            -(t.sin[5] * x1),
+        );
         let x13 = t.sin[5] * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x3, t.sin[4] * x10);
-        let x15 = <f64 as ::trocar::Real>::mul_add(
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x3,
+            t.sin[4] * x10,
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[4],
             t.cos[6],
             -(t.sin[4] * x11),
         );
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x4, -(t.sin[4] * x12));
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x4,
+            -(t.sin[4] * x12),
+        );
         let x17 = 0.39_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[4], x5, -(t.sin[4] * x13));
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x3, -(t.cos[4] * x10));
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.sin[4], t.cos[6], t.cos[4] * x11);
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x4, t.cos[4] * x12);
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x5, t.cos[4] * x13);
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x18);
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x19, -(t.cos[3] * x7));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x8, t.sin[3] * x20);
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x18, -(t.sin[3] * x6));
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x7, t.cos[3] * x19);
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x20, -(t.sin[3] * x8));
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x9, t.cos[3] * x21);
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x14, -(t.sin[2] * x25));
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x15, -(t.sin[2] * x26));
-        let x31 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x16, -(t.sin[2] * x27));
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[4], x5, -(t.sin[4] * x13));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x3,
+            -(t.cos[4] * x10),
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            t.cos[6],
+            t.cos[4] * x11,
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x4,
+            t.cos[4] * x12,
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x5,
+            t.cos[4] * x13,
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x6,
+            t.sin[3] * x18,
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x19,
+            -(t.cos[3] * x7),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x8,
+            t.sin[3] * x20,
+        );
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x18,
+            -(t.sin[3] * x6),
+        );
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x7,
+            t.cos[3] * x19,
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x20,
+            -(t.sin[3] * x8),
+        );
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x9,
+            t.cos[3] * x21,
+        );
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x14,
+            -(t.sin[2] * x25),
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x15,
+            -(t.sin[2] * x26),
+        );
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x16,
+            -(t.sin[2] * x27),
+        );
         let x32 = 0.38_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[2], x17, -(t.sin[2] * x28));
-        let x33 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x14, t.cos[2] * x25);
-        let x34 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x15, t.cos[2] * x26);
-        let x35 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x27);
-        let x36 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x28);
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[2],
+                x17,
+                -(t.sin[2] * x28),
+            );
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x14,
+            t.cos[2] * x25,
+        );
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x15,
+            t.cos[2] * x26,
+        );
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x16,
+            t.cos[2] * x27,
+        );
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x17,
+            t.cos[2] * x28,
+        );
         let x37 = 0.194_f64
-            + <f64 as ::trocar::Real>::mul_add(t.sin[3], x21, -(t.cos[3] * x9));
-        let x38 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x32, -(t.sin[1] * x36));
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.sin[3], x21, -(t.cos[3] * x9));
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x32,
+            -(t.sin[1] * x36),
+        );
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x37,
-                    <f64 as ::trocar::Real>::mul_add(t.cos[1], x29, -(t.sin[1] * x33)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[1],
+                        x29,
+                        -(t.sin[1] * x33),
+                    ),
                     -(x22 * x38),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x37,
-                    <f64 as ::trocar::Real>::mul_add(t.cos[1], x30, -(t.sin[1] * x34)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[1],
+                        x30,
+                        -(t.sin[1] * x34),
+                    ),
                     -(x23 * x38),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x37,
-                    <f64 as ::trocar::Real>::mul_add(t.cos[1], x31, -(t.sin[1] * x35)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[1],
+                        x31,
+                        -(t.sin[1] * x35),
+                    ),
                     -(x24 * x38),
                 ),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x29, t.cos[1] * x33),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x30, t.cos[1] * x34),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x31, t.cos[1] * x35),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x29, t.cos[1] * x33),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x30, t.cos[1] * x34),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x31, t.cos[1] * x35),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x32, x33, -(x29 * x36)),
-                <f64 as ::trocar::Real>::mul_add(x32, x34, -(x30 * x36)),
-                <f64 as ::trocar::Real>::mul_add(x32, x35, -(x31 * x36)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x32, x33, -(x29 * x36)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x32, x34, -(x30 * x36)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x32, x35, -(x31 * x36)),
                 x22,
                 x23,
                 x24,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x17, x25, -(x14 * x28)),
-                <f64 as ::trocar::Real>::mul_add(x17, x26, -(x15 * x28)),
-                <f64 as ::trocar::Real>::mul_add(x17, x27, -(x16 * x28)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x17, x25, -(x14 * x28)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x17, x26, -(x15 * x28)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x17, x27, -(x16 * x28)),
                 x22,
                 x23,
                 x24,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x6, x21, x9 * x18),
-                <f64 as ::trocar::Real>::mul_add(x9, x19, -(x7 * x21)),
-                <f64 as ::trocar::Real>::mul_add(x8, x21, x9 * x20),
+                <f64 as ::trocar::emitted::Real>::mul_add(x6, x21, x9 * x18),
+                <f64 as ::trocar::emitted::Real>::mul_add(x9, x19, -(x7 * x21)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x8, x21, x9 * x20),
                 x14,
                 x15,
                 x16,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(x3, x13, x5 * x10),
-                <f64 as ::trocar::Real>::mul_add(x5, x11, -(t.cos[6] * x13)),
-                <f64 as ::trocar::Real>::mul_add(x5, x12, -(x4 * x13)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x3, x13, x5 * x10),
+                <f64 as ::trocar::emitted::Real>::mul_add(x5, x11, -(t.cos[6] * x13)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x5, x12, -(x4 * x13)),
                 x6,
                 -x7,
                 x8,
             ],
             [
                 -(t.sin[7] * x2),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 t.cos[7] * x2,
                 x3,
                 t.cos[6],
@@ -537,19 +780,19 @@ pub mod dia10_like_zy {
             ],
             [
                 -(0.21_f64 * t.cos[7]),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -(0.21_f64 * t.sin[7]),
                 -t.sin[7],
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 t.cos[7],
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -565,54 +808,63 @@ pub mod dia10_like_zy {
     #[inline]
     #[must_use]
     pub fn constrained_jacobian(q: &[f64; N], p: &Params) -> [[f64; 6]; M] {
-        let ([s7, s8], [c7, c8]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
-        let x0 = <f64 as ::trocar::Real>::ONE / p.l_a;
+        let ([s7, s8], [c7, c8]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
+            &[q[6], q[7]],
+        );
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE / p.l_a;
         let x1 = 0.33_f64 * x0;
-        let x2 = (<f64 as ::trocar::Real>::ONE - x1) * c7 - 0.21_f64 * x0;
+        let x2 = (<f64 as ::trocar::emitted::Real>::ONE - x1) * c7 - 0.21_f64 * x0;
         let x3 = c8 * s7;
         let x4 = s7 * s8;
         let x5 = x0 * (0.33_f64 + 0.21_f64 * c7);
         [
             [
                 x2 * c8,
-                (x1 - <f64 as ::trocar::Real>::ONE) * s7,
+                (x1 - <f64 as ::trocar::emitted::Real>::ONE) * s7,
                 x2 * s8,
                 -(x0 * s8),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x0 * c8,
             ],
             [
                 x3,
                 c7,
                 x4,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                s8 * (x5 - <f64 as ::trocar::Real>::ONE),
-                <f64 as ::trocar::Real>::ZERO,
-                c8 * (<f64 as ::trocar::Real>::ONE - x5),
+                s8 * (x5 - <f64 as ::trocar::emitted::Real>::ONE),
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                c8 * (<f64 as ::trocar::emitted::Real>::ONE - x5),
                 -(x0 * (c7 * c8)),
                 x0 * s7,
                 -(x0 * (c7 * s8)),
             ],
-            [-(0.21_f64 * x4), <f64 as ::trocar::Real>::ZERO, 0.21_f64 * x3, x3, c7, x4],
+            [
+                -(0.21_f64 * x4),
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                0.21_f64 * x3,
+                x3,
+                c7,
+                x4,
+            ],
             [
                 -(0.21_f64 * c8),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -(0.21_f64 * s8),
                 -s8,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 c8,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -624,40 +876,40 @@ pub mod dia10_like_zy {
     #[inline]
     #[must_use]
     pub fn constrained_jacobian_trig(t: &JointTrig, p: &Params) -> [[f64; 6]; M] {
-        let x0 = <f64 as ::trocar::Real>::ONE / p.l_a;
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE / p.l_a;
         let x1 = 0.33_f64 * x0;
-        let x2 = (<f64 as ::trocar::Real>::ONE - x1) * t.cos[6] - 0.21_f64 * x0;
+        let x2 = (<f64 as ::trocar::emitted::Real>::ONE - x1) * t.cos[6] - 0.21_f64 * x0;
         let x3 = t.cos[7] * t.sin[6];
         let x4 = t.sin[6] * t.sin[7];
         let x5 = x0 * (0.33_f64 + 0.21_f64 * t.cos[6]);
         [
             [
                 x2 * t.cos[7],
-                (x1 - <f64 as ::trocar::Real>::ONE) * t.sin[6],
+                (x1 - <f64 as ::trocar::emitted::Real>::ONE) * t.sin[6],
                 x2 * t.sin[7],
                 -(x0 * t.sin[7]),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x0 * t.cos[7],
             ],
             [
                 x3,
                 t.cos[6],
                 x4,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                t.sin[7] * (x5 - <f64 as ::trocar::Real>::ONE),
-                <f64 as ::trocar::Real>::ZERO,
-                t.cos[7] * (<f64 as ::trocar::Real>::ONE - x5),
+                t.sin[7] * (x5 - <f64 as ::trocar::emitted::Real>::ONE),
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                t.cos[7] * (<f64 as ::trocar::emitted::Real>::ONE - x5),
                 -(x0 * (t.cos[6] * t.cos[7])),
                 x0 * t.sin[6],
                 -(x0 * (t.cos[6] * t.sin[7])),
             ],
             [
                 -(0.21_f64 * x4),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 0.21_f64 * x3,
                 x3,
                 t.cos[6],
@@ -665,19 +917,19 @@ pub mod dia10_like_zy {
             ],
             [
                 -(0.21_f64 * t.cos[7]),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -(0.21_f64 * t.sin[7]),
                 -t.sin[7],
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 t.cos[7],
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -691,24 +943,27 @@ pub mod dia10_like_zy {
     #[inline]
     #[must_use]
     pub fn constraint_jacobian_c(q: &[f64; N], p: &Params) -> [[f64; 6]; R] {
-        let ([s7, s8], [c7, c8]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6], q[7]]);
-        let x0 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(
+        let ([s7, s8], [c7, c8]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
+            &[q[6], q[7]],
+        );
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
+            / <f64 as ::trocar::emitted::Real>::mul_add(
                 p.l_a,
                 p.l_a,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ONE,
             );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.33_f64,
             p.l_a,
-            <f64 as ::trocar::Real>::ONE,
+            <f64 as ::trocar::emitted::Real>::ONE,
         );
-        let x2 = x0 * <f64 as ::trocar::Real>::mul_add(x1, c7, 0.21_f64 * p.l_a);
+        let x2 = x0
+            * <f64 as ::trocar::emitted::Real>::mul_add(x1, c7, 0.21_f64 * p.l_a);
         let x3 = x0
-            * <f64 as ::trocar::Real>::mul_add(
+            * <f64 as ::trocar::emitted::Real>::mul_add(
                 p.l_a,
-                <f64 as ::trocar::Real>::mul_add(0.21_f64, c7, 0.33_f64),
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::mul_add(0.21_f64, c7, 0.33_f64),
+                <f64 as ::trocar::emitted::Real>::ONE,
             );
         [
             [
@@ -716,12 +971,12 @@ pub mod dia10_like_zy {
                 -(x0 * x1 * s7),
                 x2 * s8,
                 x0 * (p.l_a * s8),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -(x0 * (p.l_a * c8)),
             ],
             [
                 -(s8 * x3),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 c8 * x3,
                 x0 * (p.l_a * (c7 * c8)),
                 -(x0 * (p.l_a * s7)),
@@ -737,23 +992,24 @@ pub mod dia10_like_zy {
     #[inline]
     #[must_use]
     pub fn constraint_jacobian_c_trig(t: &JointTrig, p: &Params) -> [[f64; 6]; R] {
-        let x0 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
+            / <f64 as ::trocar::emitted::Real>::mul_add(
                 p.l_a,
                 p.l_a,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ONE,
             );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.33_f64,
             p.l_a,
-            <f64 as ::trocar::Real>::ONE,
+            <f64 as ::trocar::emitted::Real>::ONE,
         );
-        let x2 = x0 * <f64 as ::trocar::Real>::mul_add(x1, t.cos[6], 0.21_f64 * p.l_a);
+        let x2 = x0
+            * <f64 as ::trocar::emitted::Real>::mul_add(x1, t.cos[6], 0.21_f64 * p.l_a);
         let x3 = x0
-            * <f64 as ::trocar::Real>::mul_add(
+            * <f64 as ::trocar::emitted::Real>::mul_add(
                 p.l_a,
-                <f64 as ::trocar::Real>::mul_add(0.21_f64, t.cos[6], 0.33_f64),
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::mul_add(0.21_f64, t.cos[6], 0.33_f64),
+                <f64 as ::trocar::emitted::Real>::ONE,
             );
         [
             [
@@ -761,12 +1017,12 @@ pub mod dia10_like_zy {
                 -(x0 * x1 * t.sin[6]),
                 x2 * t.sin[7],
                 x0 * (p.l_a * t.sin[7]),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -(x0 * (p.l_a * t.cos[7])),
             ],
             [
                 -(t.sin[7] * x3),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 t.cos[7] * x3,
                 x0 * (p.l_a * (t.cos[6] * t.cos[7])),
                 -(x0 * (p.l_a * t.sin[6])),
@@ -782,81 +1038,82 @@ pub mod dia10_like_zy {
     #[inline]
     #[must_use]
     pub fn partial_body_jacobian(q: &[f64; N], _p: &Params) -> [[f64; 6]; I] {
-        let ([s2, s3, s4, s5, s6], [c2, c3, c4, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s2, s3, s4, s5, s6], [c2, c3, c4, c5, c6]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[1], q[2], q[3], q[4], q[5]],
         );
         let x0 = s5 * s6;
         let x1 = s5 * c6;
         let x2 = c5 * s6;
         let x3 = c5 * c6;
-        let x4 = <f64 as ::trocar::Real>::mul_add(c4, c6, -(s4 * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(c4, c6, -(s4 * x2));
         let x5 = s4 * s5;
-        let x6 = <f64 as ::trocar::Real>::mul_add(c4, s6, s4 * x3);
-        let x7 = <f64 as ::trocar::Real>::mul_add(s4, c6, c4 * x2);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c4, s6, s4 * x3);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(s4, c6, c4 * x2);
         let x8 = c4 * s5;
-        let x9 = <f64 as ::trocar::Real>::mul_add(c4, x3, -(s4 * s6));
-        let x10 = <f64 as ::trocar::Real>::mul_add(c3, x0, s3 * x7);
-        let x11 = <f64 as ::trocar::Real>::mul_add(c3, c5, -(s3 * x8));
-        let x12 = <f64 as ::trocar::Real>::mul_add(c3, x1, s3 * x9);
-        let x13 = <f64 as ::trocar::Real>::mul_add(0.39_f64, c3, 0.38_f64);
-        let x14 = <f64 as ::trocar::Real>::mul_add(s3, x0, -(c3 * x7));
-        let x15 = <f64 as ::trocar::Real>::mul_add(s3, c5, c3 * x8);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c3, x9, -(s3 * x1));
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x3, -(s4 * s6));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x0, s3 * x7);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(c3, c5, -(s3 * x8));
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x1, s3 * x9);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(0.39_f64, c3, 0.38_f64);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x0, -(c3 * x7));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(s3, c5, c3 * x8);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x9, -(s3 * x1));
         let x17 = 0.39_f64 * s3;
-        let x18 = <f64 as ::trocar::Real>::mul_add(c2, x13, -(s2 * x17));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x13, -(s2 * x17));
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.194_f64,
-                    <f64 as ::trocar::Real>::mul_add(c2, x10, -(s2 * x14)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c2, x10, -(s2 * x14)),
                     -(x4 * x18),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.194_f64,
-                    <f64 as ::trocar::Real>::mul_add(c2, x11, -(s2 * x15)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c2, x11, -(s2 * x15)),
                     -(x5 * x18),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     x6,
                     x18,
-                    0.194_f64 * <f64 as ::trocar::Real>::mul_add(c2, x12, s2 * x16),
+                    0.194_f64
+                        * <f64 as ::trocar::emitted::Real>::mul_add(c2, x12, s2 * x16),
                 ),
-                <f64 as ::trocar::Real>::mul_add(s2, x10, c2 * x14),
-                <f64 as ::trocar::Real>::mul_add(s2, x11, c2 * x15),
-                <f64 as ::trocar::Real>::mul_add(c2, x16, -(s2 * x12)),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x10, c2 * x14),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x11, c2 * x15),
+                <f64 as ::trocar::emitted::Real>::mul_add(c2, x16, -(s2 * x12)),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x13, x14, -(x10 * x17)),
-                <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
-                <f64 as ::trocar::Real>::mul_add(x12, x17, x13 * x16),
+                <f64 as ::trocar::emitted::Real>::mul_add(x13, x14, -(x10 * x17)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, x13 * x16),
                 x4,
                 x5,
                 x6,
             ],
             [-(0.39_f64 * x7), 0.39_f64 * x8, 0.39_f64 * x9, x4, x5, x6],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x0,
                 c5,
                 -x1,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 c6,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 s6,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -872,75 +1129,131 @@ pub mod dia10_like_zy {
         let x1 = t.sin[4] * t.cos[5];
         let x2 = t.cos[4] * t.sin[5];
         let x3 = t.cos[4] * t.cos[5];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            t.cos[5],
+            -(t.sin[3] * x2),
+        );
         let x5 = t.sin[3] * t.sin[4];
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.sin[5], t.sin[3] * x3);
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.sin[3], t.cos[5], t.cos[3] * x2);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            t.sin[5],
+            t.sin[3] * x3,
+        );
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            t.cos[5],
+            t.cos[3] * x2,
+        );
         let x8 = t.cos[3] * t.sin[4];
-        let x9 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * t.sin[5]));
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x0, t.sin[2] * x7);
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x8));
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x1, t.sin[2] * x9);
-        let x13 = <f64 as ::trocar::Real>::mul_add(0.39_f64, t.cos[2], 0.38_f64);
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x0, -(t.cos[2] * x7));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.sin[2], t.cos[4], t.cos[2] * x8);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x9, -(t.sin[2] * x1));
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x3,
+            -(t.sin[3] * t.sin[5]),
+        );
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x0, t.sin[2] * x7);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            t.cos[4],
+            -(t.sin[2] * x8),
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x1, t.sin[2] * x9);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.39_f64,
+            t.cos[2],
+            0.38_f64,
+        );
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x0,
+            -(t.cos[2] * x7),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            t.cos[4],
+            t.cos[2] * x8,
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x9,
+            -(t.sin[2] * x1),
+        );
         let x17 = 0.39_f64 * t.sin[2];
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x13, -(t.sin[1] * x17));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x13,
+            -(t.sin[1] * x17),
+        );
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.194_f64,
-                    <f64 as ::trocar::Real>::mul_add(t.cos[1], x10, -(t.sin[1] * x14)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[1],
+                        x10,
+                        -(t.sin[1] * x14),
+                    ),
                     -(x4 * x18),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.194_f64,
-                    <f64 as ::trocar::Real>::mul_add(t.cos[1], x11, -(t.sin[1] * x15)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[1],
+                        x11,
+                        -(t.sin[1] * x15),
+                    ),
                     -(x5 * x18),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     x6,
                     x18,
                     0.194_f64
-                        * <f64 as ::trocar::Real>::mul_add(t.cos[1], x12, t.sin[1] * x16),
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.cos[1],
+                            x12,
+                            t.sin[1] * x16,
+                        ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x10, t.cos[1] * x14),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x11, t.cos[1] * x15),
-                <f64 as ::trocar::Real>::mul_add(t.cos[1], x16, -(t.sin[1] * x12)),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x10, t.cos[1] * x14),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x11, t.cos[1] * x15),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.cos[1],
+                    x16,
+                    -(t.sin[1] * x12),
+                ),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x13, x14, -(x10 * x17)),
-                <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
-                <f64 as ::trocar::Real>::mul_add(x12, x17, x13 * x16),
+                <f64 as ::trocar::emitted::Real>::mul_add(x13, x14, -(x10 * x17)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, x13 * x16),
                 x4,
                 x5,
                 x6,
             ],
             [-(0.39_f64 * x7), 0.39_f64 * x8, 0.39_f64 * x9, x4, x5, x6],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x0,
                 t.cos[4],
                 -x1,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 t.cos[5],
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 t.sin[5],
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -952,61 +1265,69 @@ pub mod dia10_like_zy {
     #[inline]
     #[must_use]
     pub fn forward_kinematics_i(q: &[f64; N], _p: &Params) -> ([[f64; 3]; 3], [f64; 3]) {
-        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5]],
         );
         let x0 = s1 * c2;
         let x1 = s1 * s2;
         let x2 = c1 * c2;
         let x3 = c1 * s2;
-        let x4 = <f64 as ::trocar::Real>::mul_add(s3, x1, -(c3 * x0));
-        let x5 = <f64 as ::trocar::Real>::mul_add(s3, x0, c3 * x1);
-        let x6 = <f64 as ::trocar::Real>::mul_add(c3, x2, -(s3 * x3));
-        let x7 = <f64 as ::trocar::Real>::mul_add(s3, x2, c3 * x3);
-        let x8 = <f64 as ::trocar::Real>::mul_add(s2, c3, c2 * s3);
-        let x9 = <f64 as ::trocar::Real>::mul_add(c2, c3, -(s2 * s3));
-        let x10 = <f64 as ::trocar::Real>::mul_add(c1, c4, -(s4 * x5));
-        let x11 = <f64 as ::trocar::Real>::mul_add(c1, s4, c4 * x5);
-        let x12 = <f64 as ::trocar::Real>::mul_add(s1, c4, s4 * x7);
-        let x13 = <f64 as ::trocar::Real>::mul_add(s1, s4, -(c4 * x7));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x1, -(c3 * x0));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x0, c3 * x1);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x2, -(s3 * x3));
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x2, c3 * x3);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(s2, c3, c2 * s3);
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(c2, c3, -(s2 * s3));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(c1, c4, -(s4 * x5));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(c1, s4, c4 * x5);
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(s1, c4, s4 * x7);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(s1, s4, -(c4 * x7));
         let x14 = s4 * x9;
         let x15 = c4 * x9;
-        let x16 = <f64 as ::trocar::Real>::mul_add(c5, x11, -(s5 * x4));
-        let x17 = <f64 as ::trocar::Real>::mul_add(c5, x13, -(s5 * x6));
-        let x18 = <f64 as ::trocar::Real>::mul_add(c5, x15, -(s5 * x8));
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x11, -(s5 * x4));
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x13, -(s5 * x6));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x15, -(s5 * x8));
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(c6, x10, -(s6 * x16)),
-                    <f64 as ::trocar::Real>::mul_add(c6, x12, -(s6 * x17)),
-                    -<f64 as ::trocar::Real>::mul_add(c6, x14, s6 * x18),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x10, -(s6 * x16)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x12, -(s6 * x17)),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(c6, x14, s6 * x18),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(c5, x4, s5 * x11),
-                    <f64 as ::trocar::Real>::mul_add(c5, x6, s5 * x13),
-                    <f64 as ::trocar::Real>::mul_add(c5, x8, s5 * x15),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c5, x4, s5 * x11),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c5, x6, s5 * x13),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c5, x8, s5 * x15),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(s6, x10, c6 * x16),
-                    <f64 as ::trocar::Real>::mul_add(s6, x12, c6 * x17),
-                    <f64 as ::trocar::Real>::mul_add(c6, x18, -(s6 * x14)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s6, x10, c6 * x16),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s6, x12, c6 * x17),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x18, -(s6 * x14)),
                 ],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.39_f64,
                     x4,
-                    <f64 as ::trocar::Real>::mul_add(0.194_f64, c1, -(0.38_f64 * x0)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.194_f64,
+                        c1,
+                        -(0.38_f64 * x0),
+                    ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.39_f64,
                     x6,
-                    <f64 as ::trocar::Real>::mul_add(0.194_f64, s1, 0.38_f64 * x2),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.194_f64,
+                        s1,
+                        0.38_f64 * x2,
+                    ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.39_f64,
                     x8,
-                    <f64 as ::trocar::Real>::mul_add(0.38_f64, s2, 1.037_f64),
+                    <f64 as ::trocar::emitted::Real>::mul_add(0.38_f64, s2, 1.037_f64),
                 ),
             ],
         )
@@ -1026,66 +1347,146 @@ pub mod dia10_like_zy {
         let x1 = t.sin[0] * t.sin[1];
         let x2 = t.cos[0] * t.cos[1];
         let x3 = t.cos[0] * t.sin[1];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x1, -(t.cos[2] * x0));
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x0, t.cos[2] * x1);
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x2, -(t.sin[2] * x3));
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x2, t.cos[2] * x3);
-        let x8 = <f64 as ::trocar::Real>::mul_add(
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x1,
+            -(t.cos[2] * x0),
+        );
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[2], x0, t.cos[2] * x1);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x2,
+            -(t.sin[2] * x3),
+        );
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[2], x2, t.cos[2] * x3);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[1],
             t.cos[2],
             t.cos[1] * t.sin[2],
         );
-        let x9 = <f64 as ::trocar::Real>::mul_add(
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[1],
             t.cos[2],
             -(t.sin[1] * t.sin[2]),
         );
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[0], t.cos[3], -(t.sin[3] * x5));
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[0], t.sin[3], t.cos[3] * x5);
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.sin[0], t.cos[3], t.sin[3] * x7);
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.sin[0], t.sin[3], -(t.cos[3] * x7));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            t.cos[3],
+            -(t.sin[3] * x5),
+        );
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            t.sin[3],
+            t.cos[3] * x5,
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            t.cos[3],
+            t.sin[3] * x7,
+        );
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            t.sin[3],
+            -(t.cos[3] * x7),
+        );
         let x14 = t.sin[3] * x9;
         let x15 = t.cos[3] * x9;
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x11, -(t.sin[4] * x4));
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x13, -(t.sin[4] * x6));
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x15, -(t.sin[4] * x8));
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x11,
+            -(t.sin[4] * x4),
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x13,
+            -(t.sin[4] * x6),
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x15,
+            -(t.sin[4] * x8),
+        );
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x10, -(t.sin[5] * x16)),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x12, -(t.sin[5] * x17)),
-                    -<f64 as ::trocar::Real>::mul_add(t.cos[5], x14, t.sin[5] * x18),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x10,
+                        -(t.sin[5] * x16),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x12,
+                        -(t.sin[5] * x17),
+                    ),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x14,
+                        t.sin[5] * x18,
+                    ),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[4], x4, t.sin[4] * x11),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[4], x6, t.sin[4] * x13),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[4], x8, t.sin[4] * x15),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[4],
+                        x4,
+                        t.sin[4] * x11,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[4],
+                        x6,
+                        t.sin[4] * x13,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[4],
+                        x8,
+                        t.sin[4] * x15,
+                    ),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.sin[5], x10, t.cos[5] * x16),
-                    <f64 as ::trocar::Real>::mul_add(t.sin[5], x12, t.cos[5] * x17),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x18, -(t.sin[5] * x14)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[5],
+                        x10,
+                        t.cos[5] * x16,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[5],
+                        x12,
+                        t.cos[5] * x17,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x18,
+                        -(t.sin[5] * x14),
+                    ),
                 ],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.39_f64,
                     x4,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.194_f64,
                         t.cos[0],
                         -(0.38_f64 * x0),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.39_f64,
                     x6,
-                    <f64 as ::trocar::Real>::mul_add(0.194_f64, t.sin[0], 0.38_f64 * x2),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.194_f64,
+                        t.sin[0],
+                        0.38_f64 * x2,
+                    ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.39_f64,
                     x8,
-                    <f64 as ::trocar::Real>::mul_add(0.38_f64, t.sin[1], 1.037_f64),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.38_f64,
+                        t.sin[1],
+                        1.037_f64,
+                    ),
                 ),
             ],
         )
@@ -1098,16 +1499,17 @@ pub mod dia10_like_zy {
     #[inline]
     #[must_use]
     pub fn manipulability(q: &[f64; N], p: &Params) -> f64 {
-        let ([s7], [_]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6]]);
-        let x0 = <f64 as ::trocar::Real>::ONE / p.l_a;
+        let ([s7], [_]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(&[q[6]]);
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE / p.l_a;
         {
-            let w = <f64 as ::trocar::Real>::abs(
-                (x0 * (0.66_f64 - 0.1089_f64 * x0) - <f64 as ::trocar::Real>::ONE) * s7,
+            let w = <f64 as ::trocar::emitted::Real>::abs(
+                (x0 * (0.66_f64 - 0.1089_f64 * x0)
+                    - <f64 as ::trocar::emitted::Real>::ONE) * s7,
             );
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1119,16 +1521,16 @@ pub mod dia10_like_zy {
     #[inline]
     #[must_use]
     pub fn manipulability_trig(t: &JointTrig, p: &Params) -> f64 {
-        let x0 = <f64 as ::trocar::Real>::ONE / p.l_a;
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE / p.l_a;
         {
-            let w = <f64 as ::trocar::Real>::abs(
-                (x0 * (0.66_f64 - 0.1089_f64 * x0) - <f64 as ::trocar::Real>::ONE)
-                    * t.sin[6],
+            let w = <f64 as ::trocar::emitted::Real>::abs(
+                (x0 * (0.66_f64 - 0.1089_f64 * x0)
+                    - <f64 as ::trocar::emitted::Real>::ONE) * t.sin[6],
             );
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1140,15 +1542,16 @@ pub mod dia10_like_zy {
     #[inline]
     #[must_use]
     pub fn manipulability_squared(q: &[f64; N], p: &Params) -> f64 {
-        let ([s7], [_]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6]]);
-        let x0 = <f64 as ::trocar::Real>::ONE / p.l_a;
-        let x1 = (x0 * (0.66_f64 - 0.1089_f64 * x0) - <f64 as ::trocar::Real>::ONE) * s7;
+        let ([s7], [_]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(&[q[6]]);
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE / p.l_a;
+        let x1 = (x0 * (0.66_f64 - 0.1089_f64 * x0)
+            - <f64 as ::trocar::emitted::Real>::ONE) * s7;
         {
             let w = x1 * x1;
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1160,15 +1563,15 @@ pub mod dia10_like_zy {
     #[inline]
     #[must_use]
     pub fn manipulability_squared_trig(t: &JointTrig, p: &Params) -> f64 {
-        let x0 = <f64 as ::trocar::Real>::ONE / p.l_a;
-        let x1 = (x0 * (0.66_f64 - 0.1089_f64 * x0) - <f64 as ::trocar::Real>::ONE)
-            * t.sin[6];
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE / p.l_a;
+        let x1 = (x0 * (0.66_f64 - 0.1089_f64 * x0)
+            - <f64 as ::trocar::emitted::Real>::ONE) * t.sin[6];
         {
             let w = x1 * x1;
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1181,12 +1584,30 @@ pub mod dia10_like_zy {
     #[must_use]
     pub fn constraint_selection(_p: &Params) -> [[f64; R]; 6] {
         [
-            [<f64 as ::trocar::Real>::ONE, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ONE],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
+            [
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
         ]
     }
     /// Null-space basis `Λ#` of `Λ = H Ad_{g_ri}` (3.3), 6 × K: `V^B_0i = Λ# v0i`, thesis (3.6) (presets: (3.23), (3.27)).
@@ -1199,39 +1620,39 @@ pub mod dia10_like_zy {
     #[inline]
     #[must_use]
     pub fn lambda_null_space(p: &Params) -> [[f64; 6]; K] {
-        let x0 = <f64 as ::trocar::Real>::ONE / p.l_a;
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE / p.l_a;
         [
             [
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x0,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
                 -x0,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -1245,25 +1666,25 @@ pub mod dia10_like_zy {
     #[inline]
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f64; 6]; R] {
-        let x0 = <f64 as ::trocar::Real>::ONE
-            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
+            / (<f64 as ::trocar::emitted::Real>::ONE + p.l_a * p.l_a);
         let x1 = p.l_a * x0;
         [
             [
                 x0,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -x1,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x0,
                 x1,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -1278,22 +1699,26 @@ pub mod dia10_like_zy {
         (
             [
                 [
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
                 ],
             ],
-            [<f64 as ::trocar::Real>::ZERO, p.l_a, <f64 as ::trocar::Real>::ZERO],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                p.l_a,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
         )
     }
     /// `g_0e`, `J^B_0e` in one program: the values of [`forward_kinematics`] and [`body_jacobian`], thesis (2.21), (2.53)–(2.55), computed together so that they share every common value.
@@ -1309,16 +1734,16 @@ pub mod dia10_like_zy {
         fk: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0e: &mut [[f64; 6]; N],
     ) {
-        jb0e[5][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[7][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[7][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[7][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[7][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[7][4] = <f64 as ::trocar::Real>::ONE;
-        jb0e[7][5] = <f64 as ::trocar::Real>::ZERO;
-        let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <f64 as ::trocar::Real>::sin_cos_array(
+        jb0e[5][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[7][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[7][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[7][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[7][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[7][4] = <f64 as ::trocar::emitted::Real>::ONE;
+        jb0e[7][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        let ([s1, s2, s3, s4, s5, s6, s7, s8], [c1, c2, c3, c4, c5, c6, c7, c8]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5], q[6], q[7]],
         );
         jb0e[5][4] = c7;
@@ -1335,86 +1760,90 @@ pub mod dia10_like_zy {
         jb0e[5][3] = x3;
         let x4 = s7 * s8;
         jb0e[5][5] = x4;
-        let x5 = <f64 as ::trocar::Real>::mul_add(0.21_f64, c7, 0.33_f64);
-        let x6 = <f64 as ::trocar::Real>::mul_add(c6, x0, -(s6 * s8));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(0.21_f64, c7, 0.33_f64);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x0, -(s6 * s8));
         jb0e[4][3] = x6;
         let x7 = c6 * s7;
         jb0e[4][4] = -x7;
-        let x8 = <f64 as ::trocar::Real>::mul_add(c6, x1, s6 * c8);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x1, s6 * c8);
         jb0e[4][5] = x8;
         let x9 = c6 * x2;
-        let x10 = <f64 as ::trocar::Real>::mul_add(s6, x0, c6 * s8);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x0, c6 * s8);
         let x11 = s6 * s7;
-        let x12 = <f64 as ::trocar::Real>::mul_add(c6, c8, -(s6 * x1));
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(c6, c8, -(s6 * x1));
         let x13 = s6 * x2;
-        jb0e[4][0] = -<f64 as ::trocar::Real>::mul_add(x3, x13, x5 * x10);
-        jb0e[4][1] = <f64 as ::trocar::Real>::mul_add(x5, x11, -(c7 * x13));
-        jb0e[4][2] = <f64 as ::trocar::Real>::mul_add(x5, x12, -(x4 * x13));
-        let x14 = <f64 as ::trocar::Real>::mul_add(c5, x3, s5 * x10);
+        jb0e[4][0] = -<f64 as ::trocar::emitted::Real>::mul_add(x3, x13, x5 * x10);
+        jb0e[4][1] = <f64 as ::trocar::emitted::Real>::mul_add(x5, x11, -(c7 * x13));
+        jb0e[4][2] = <f64 as ::trocar::emitted::Real>::mul_add(x5, x12, -(x4 * x13));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x3, s5 * x10);
         jb0e[3][3] = x14;
-        let x15 = <f64 as ::trocar::Real>::mul_add(c5, c7, -(s5 * x11));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c5, c7, -(s5 * x11));
         jb0e[3][4] = x15;
-        let x16 = <f64 as ::trocar::Real>::mul_add(c5, x4, -(s5 * x12));
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x4, -(s5 * x12));
         jb0e[3][5] = x16;
-        let x17 = 0.39_f64 + <f64 as ::trocar::Real>::mul_add(c5, x5, -(s5 * x13));
-        let x18 = <f64 as ::trocar::Real>::mul_add(s5, x3, -(c5 * x10));
-        let x19 = <f64 as ::trocar::Real>::mul_add(s5, c7, c5 * x11);
-        let x20 = <f64 as ::trocar::Real>::mul_add(s5, x4, c5 * x12);
-        let x21 = <f64 as ::trocar::Real>::mul_add(s5, x5, c5 * x13);
-        jb0e[3][0] = <f64 as ::trocar::Real>::mul_add(x6, x21, x9 * x18);
-        jb0e[3][1] = <f64 as ::trocar::Real>::mul_add(x9, x19, -(x7 * x21));
-        jb0e[3][2] = <f64 as ::trocar::Real>::mul_add(x8, x21, x9 * x20);
-        let x22 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x18);
+        let x17 = 0.39_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c5, x5, -(s5 * x13));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x3, -(c5 * x10));
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(s5, c7, c5 * x11);
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x4, c5 * x12);
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x5, c5 * x13);
+        jb0e[3][0] = <f64 as ::trocar::emitted::Real>::mul_add(x6, x21, x9 * x18);
+        jb0e[3][1] = <f64 as ::trocar::emitted::Real>::mul_add(x9, x19, -(x7 * x21));
+        jb0e[3][2] = <f64 as ::trocar::emitted::Real>::mul_add(x8, x21, x9 * x20);
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x6, s4 * x18);
         jb0e[1][3] = x22;
         jb0e[2][3] = x22;
-        let x23 = <f64 as ::trocar::Real>::mul_add(s4, x19, -(c4 * x7));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x19, -(c4 * x7));
         jb0e[1][4] = x23;
         jb0e[2][4] = x23;
-        let x24 = <f64 as ::trocar::Real>::mul_add(c4, x8, s4 * x20);
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x8, s4 * x20);
         jb0e[1][5] = x24;
         jb0e[2][5] = x24;
-        let x25 = <f64 as ::trocar::Real>::mul_add(c4, x18, -(s4 * x6));
-        let x26 = <f64 as ::trocar::Real>::mul_add(s4, x7, c4 * x19);
-        let x27 = <f64 as ::trocar::Real>::mul_add(c4, x20, -(s4 * x8));
-        let x28 = <f64 as ::trocar::Real>::mul_add(s4, x9, c4 * x21);
-        jb0e[2][0] = <f64 as ::trocar::Real>::mul_add(x17, x25, -(x14 * x28));
-        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(x17, x26, -(x15 * x28));
-        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(x17, x27, -(x16 * x28));
-        let x29 = <f64 as ::trocar::Real>::mul_add(c3, x14, -(s3 * x25));
-        let x30 = <f64 as ::trocar::Real>::mul_add(c3, x15, -(s3 * x26));
-        let x31 = <f64 as ::trocar::Real>::mul_add(c3, x16, -(s3 * x27));
-        let x32 = 0.38_f64 + <f64 as ::trocar::Real>::mul_add(c3, x17, -(s3 * x28));
-        let x33 = <f64 as ::trocar::Real>::mul_add(s3, x14, c3 * x25);
-        let x34 = <f64 as ::trocar::Real>::mul_add(s3, x15, c3 * x26);
-        let x35 = <f64 as ::trocar::Real>::mul_add(s3, x16, c3 * x27);
-        let x36 = <f64 as ::trocar::Real>::mul_add(s3, x17, c3 * x28);
-        fk.1[2] = 1.037_f64 + <f64 as ::trocar::Real>::mul_add(s2, x32, c2 * x36);
-        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x32, x33, -(x29 * x36));
-        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x32, x34, -(x30 * x36));
-        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x32, x35, -(x31 * x36));
-        let x37 = 0.194_f64 + <f64 as ::trocar::Real>::mul_add(s4, x21, -(c4 * x9));
-        let x38 = <f64 as ::trocar::Real>::mul_add(c2, x29, -(s2 * x33));
-        fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x22, -(s1 * x38));
-        fk.0[0][1] = <f64 as ::trocar::Real>::mul_add(s1, x22, c1 * x38);
-        let x39 = <f64 as ::trocar::Real>::mul_add(c2, x30, -(s2 * x34));
-        fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x23, -(s1 * x39));
-        fk.0[1][1] = <f64 as ::trocar::Real>::mul_add(s1, x23, c1 * x39);
-        let x40 = <f64 as ::trocar::Real>::mul_add(c2, x31, -(s2 * x35));
-        fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(c1, x24, -(s1 * x40));
-        fk.0[2][1] = <f64 as ::trocar::Real>::mul_add(s1, x24, c1 * x40);
-        let x41 = <f64 as ::trocar::Real>::mul_add(c2, x32, -(s2 * x36));
-        fk.1[0] = <f64 as ::trocar::Real>::mul_add(c1, x37, -(s1 * x41));
-        fk.1[1] = <f64 as ::trocar::Real>::mul_add(s1, x37, c1 * x41);
-        jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x37, x38, -(x22 * x41));
-        jb0e[0][1] = <f64 as ::trocar::Real>::mul_add(x37, x39, -(x23 * x41));
-        jb0e[0][2] = <f64 as ::trocar::Real>::mul_add(x37, x40, -(x24 * x41));
-        let x42 = <f64 as ::trocar::Real>::mul_add(s2, x29, c2 * x33);
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x18, -(s4 * x6));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x7, c4 * x19);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x20, -(s4 * x8));
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x9, c4 * x21);
+        jb0e[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(x17, x25, -(x14 * x28));
+        jb0e[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(x17, x26, -(x15 * x28));
+        jb0e[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(x17, x27, -(x16 * x28));
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x14, -(s3 * x25));
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x15, -(s3 * x26));
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x16, -(s3 * x27));
+        let x32 = 0.38_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c3, x17, -(s3 * x28));
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x14, c3 * x25);
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x15, c3 * x26);
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x16, c3 * x27);
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x17, c3 * x28);
+        fk.1[2] = 1.037_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(s2, x32, c2 * x36);
+        jb0e[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x32, x33, -(x29 * x36));
+        jb0e[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x32, x34, -(x30 * x36));
+        jb0e[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x32, x35, -(x31 * x36));
+        let x37 = 0.194_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(s4, x21, -(c4 * x9));
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x29, -(s2 * x33));
+        fk.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x22, -(s1 * x38));
+        fk.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x22, c1 * x38);
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x30, -(s2 * x34));
+        fk.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x23, -(s1 * x39));
+        fk.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x23, c1 * x39);
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x31, -(s2 * x35));
+        fk.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x24, -(s1 * x40));
+        fk.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x24, c1 * x40);
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x32, -(s2 * x36));
+        fk.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x37, -(s1 * x41));
+        fk.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x37, c1 * x41);
+        jb0e[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x37, x38, -(x22 * x41));
+        jb0e[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(x37, x39, -(x23 * x41));
+        jb0e[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(x37, x40, -(x24 * x41));
+        let x42 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x29, c2 * x33);
         fk.0[0][2] = x42;
         jb0e[0][3] = x42;
-        let x43 = <f64 as ::trocar::Real>::mul_add(s2, x30, c2 * x34);
+        let x43 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x30, c2 * x34);
         fk.0[1][2] = x43;
         jb0e[0][4] = x43;
-        let x44 = <f64 as ::trocar::Real>::mul_add(s2, x31, c2 * x35);
+        let x44 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x31, c2 * x35);
         fk.0[2][2] = x44;
         jb0e[0][5] = x44;
     }
@@ -1428,20 +1857,20 @@ pub mod dia10_like_zy {
         fk: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0e: &mut [[f64; 6]; N],
     ) {
-        jb0e[5][1] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[5][1] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0e[5][4] = t.cos[6];
         jb0e[6][0] = -(0.21_f64 * t.cos[7]);
-        jb0e[6][1] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[6][1] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0e[6][2] = -(0.21_f64 * t.sin[7]);
         jb0e[6][3] = -t.sin[7];
-        jb0e[6][4] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[6][4] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0e[6][5] = t.cos[7];
-        jb0e[7][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[7][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[7][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[7][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[7][4] = <f64 as ::trocar::Real>::ONE;
-        jb0e[7][5] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[7][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[7][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[7][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[7][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[7][4] = <f64 as ::trocar::emitted::Real>::ONE;
+        jb0e[7][5] = <f64 as ::trocar::emitted::Real>::ZERO;
         let x0 = t.cos[6] * t.cos[7];
         let x1 = t.cos[6] * t.sin[7];
         let x2 = 0.21_f64 * t.sin[6];
@@ -1451,94 +1880,258 @@ pub mod dia10_like_zy {
         jb0e[5][3] = x3;
         let x4 = t.sin[6] * t.sin[7];
         jb0e[5][5] = x4;
-        let x5 = <f64 as ::trocar::Real>::mul_add(0.21_f64, t.cos[6], 0.33_f64);
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x0, -(t.sin[5] * t.sin[7]));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(0.21_f64, t.cos[6], 0.33_f64);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x0,
+            -(t.sin[5] * t.sin[7]),
+        );
         jb0e[4][3] = x6;
         let x7 = t.cos[5] * t.sin[6];
         jb0e[4][4] = -x7;
-        let x8 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x1, t.sin[5] * t.cos[7]);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x1,
+            t.sin[5] * t.cos[7],
+        );
         jb0e[4][5] = x8;
         let x9 = t.cos[5] * x2;
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x0, t.cos[5] * t.sin[7]);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x0,
+            t.cos[5] * t.sin[7],
+        );
         let x11 = t.sin[5] * t.sin[6];
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.cos[5], t.cos[7], -(t.sin[5] * x1));
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            t.cos[7],
+            -(t.sin[5] * x1),
+        );
         let x13 = t.sin[5] * x2;
-        jb0e[4][0] = -<f64 as ::trocar::Real>::mul_add(x3, x13, x5 * x10);
-        jb0e[4][1] = <f64 as ::trocar::Real>::mul_add(x5, x11, -(t.cos[6] * x13));
-        jb0e[4][2] = <f64 as ::trocar::Real>::mul_add(x5, x12, -(x4 * x13));
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x3, t.sin[4] * x10);
+        jb0e[4][0] = -<f64 as ::trocar::emitted::Real>::mul_add(x3, x13, x5 * x10);
+        jb0e[4][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            x5,
+            x11,
+            -(t.cos[6] * x13),
+        );
+        jb0e[4][2] = <f64 as ::trocar::emitted::Real>::mul_add(x5, x12, -(x4 * x13));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x3,
+            t.sin[4] * x10,
+        );
         jb0e[3][3] = x14;
-        let x15 = <f64 as ::trocar::Real>::mul_add(
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[4],
             t.cos[6],
             -(t.sin[4] * x11),
         );
         jb0e[3][4] = x15;
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x4, -(t.sin[4] * x12));
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x4,
+            -(t.sin[4] * x12),
+        );
         jb0e[3][5] = x16;
         let x17 = 0.39_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[4], x5, -(t.sin[4] * x13));
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x3, -(t.cos[4] * x10));
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.sin[4], t.cos[6], t.cos[4] * x11);
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x4, t.cos[4] * x12);
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x5, t.cos[4] * x13);
-        jb0e[3][0] = <f64 as ::trocar::Real>::mul_add(x6, x21, x9 * x18);
-        jb0e[3][1] = <f64 as ::trocar::Real>::mul_add(x9, x19, -(x7 * x21));
-        jb0e[3][2] = <f64 as ::trocar::Real>::mul_add(x8, x21, x9 * x20);
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x18);
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[4], x5, -(t.sin[4] * x13));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x3,
+            -(t.cos[4] * x10),
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            t.cos[6],
+            t.cos[4] * x11,
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x4,
+            t.cos[4] * x12,
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x5,
+            t.cos[4] * x13,
+        );
+        jb0e[3][0] = <f64 as ::trocar::emitted::Real>::mul_add(x6, x21, x9 * x18);
+        jb0e[3][1] = <f64 as ::trocar::emitted::Real>::mul_add(x9, x19, -(x7 * x21));
+        jb0e[3][2] = <f64 as ::trocar::emitted::Real>::mul_add(x8, x21, x9 * x20);
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x6,
+            t.sin[3] * x18,
+        );
         jb0e[1][3] = x22;
         jb0e[2][3] = x22;
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x19, -(t.cos[3] * x7));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x19,
+            -(t.cos[3] * x7),
+        );
         jb0e[1][4] = x23;
         jb0e[2][4] = x23;
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x8, t.sin[3] * x20);
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x8,
+            t.sin[3] * x20,
+        );
         jb0e[1][5] = x24;
         jb0e[2][5] = x24;
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x18, -(t.sin[3] * x6));
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x7, t.cos[3] * x19);
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x20, -(t.sin[3] * x8));
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x9, t.cos[3] * x21);
-        jb0e[2][0] = <f64 as ::trocar::Real>::mul_add(x17, x25, -(x14 * x28));
-        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(x17, x26, -(x15 * x28));
-        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(x17, x27, -(x16 * x28));
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x14, -(t.sin[2] * x25));
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x15, -(t.sin[2] * x26));
-        let x31 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x16, -(t.sin[2] * x27));
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x18,
+            -(t.sin[3] * x6),
+        );
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x7,
+            t.cos[3] * x19,
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x20,
+            -(t.sin[3] * x8),
+        );
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x9,
+            t.cos[3] * x21,
+        );
+        jb0e[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(x17, x25, -(x14 * x28));
+        jb0e[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(x17, x26, -(x15 * x28));
+        jb0e[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(x17, x27, -(x16 * x28));
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x14,
+            -(t.sin[2] * x25),
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x15,
+            -(t.sin[2] * x26),
+        );
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x16,
+            -(t.sin[2] * x27),
+        );
         let x32 = 0.38_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[2], x17, -(t.sin[2] * x28));
-        let x33 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x14, t.cos[2] * x25);
-        let x34 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x15, t.cos[2] * x26);
-        let x35 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x27);
-        let x36 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x28);
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[2],
+                x17,
+                -(t.sin[2] * x28),
+            );
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x14,
+            t.cos[2] * x25,
+        );
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x15,
+            t.cos[2] * x26,
+        );
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x16,
+            t.cos[2] * x27,
+        );
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x17,
+            t.cos[2] * x28,
+        );
         fk.1[2] = 1.037_f64
-            + <f64 as ::trocar::Real>::mul_add(t.sin[1], x32, t.cos[1] * x36);
-        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x32, x33, -(x29 * x36));
-        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x32, x34, -(x30 * x36));
-        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x32, x35, -(x31 * x36));
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x32, t.cos[1] * x36);
+        jb0e[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x32, x33, -(x29 * x36));
+        jb0e[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x32, x34, -(x30 * x36));
+        jb0e[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x32, x35, -(x31 * x36));
         let x37 = 0.194_f64
-            + <f64 as ::trocar::Real>::mul_add(t.sin[3], x21, -(t.cos[3] * x9));
-        let x38 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x29, -(t.sin[1] * x33));
-        fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x22, -(t.sin[0] * x38));
-        fk.0[0][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x22, t.cos[0] * x38);
-        let x39 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x30, -(t.sin[1] * x34));
-        fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x23, -(t.sin[0] * x39));
-        fk.0[1][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x23, t.cos[0] * x39);
-        let x40 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x31, -(t.sin[1] * x35));
-        fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x24, -(t.sin[0] * x40));
-        fk.0[2][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x24, t.cos[0] * x40);
-        let x41 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x32, -(t.sin[1] * x36));
-        fk.1[0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x37, -(t.sin[0] * x41));
-        fk.1[1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x37, t.cos[0] * x41);
-        jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x37, x38, -(x22 * x41));
-        jb0e[0][1] = <f64 as ::trocar::Real>::mul_add(x37, x39, -(x23 * x41));
-        jb0e[0][2] = <f64 as ::trocar::Real>::mul_add(x37, x40, -(x24 * x41));
-        let x42 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x29, t.cos[1] * x33);
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.sin[3], x21, -(t.cos[3] * x9));
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x29,
+            -(t.sin[1] * x33),
+        );
+        fk.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x22,
+            -(t.sin[0] * x38),
+        );
+        fk.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x22,
+            t.cos[0] * x38,
+        );
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x30,
+            -(t.sin[1] * x34),
+        );
+        fk.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x23,
+            -(t.sin[0] * x39),
+        );
+        fk.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x23,
+            t.cos[0] * x39,
+        );
+        let x40 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x31,
+            -(t.sin[1] * x35),
+        );
+        fk.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x24,
+            -(t.sin[0] * x40),
+        );
+        fk.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x24,
+            t.cos[0] * x40,
+        );
+        let x41 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x32,
+            -(t.sin[1] * x36),
+        );
+        fk.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x37,
+            -(t.sin[0] * x41),
+        );
+        fk.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x37,
+            t.cos[0] * x41,
+        );
+        jb0e[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x37, x38, -(x22 * x41));
+        jb0e[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(x37, x39, -(x23 * x41));
+        jb0e[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(x37, x40, -(x24 * x41));
+        let x42 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x29,
+            t.cos[1] * x33,
+        );
         fk.0[0][2] = x42;
         jb0e[0][3] = x42;
-        let x43 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x30, t.cos[1] * x34);
+        let x43 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x30,
+            t.cos[1] * x34,
+        );
         fk.0[1][2] = x43;
         jb0e[0][4] = x43;
-        let x44 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x31, t.cos[1] * x35);
+        let x44 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x31,
+            t.cos[1] * x35,
+        );
         fk.0[2][2] = x44;
         jb0e[0][5] = x44;
     }
@@ -1555,20 +2148,20 @@ pub mod dia10_like_zy {
         fk0i: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0i: &mut [[f64; 6]; I],
     ) {
-        jb0i[3][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[3][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[3][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][4] = <f64 as ::trocar::Real>::ONE;
-        jb0i[5][5] = <f64 as ::trocar::Real>::ZERO;
-        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+        jb0i[3][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[3][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[3][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[4][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[4][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[4][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[4][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][4] = <f64 as ::trocar::emitted::Real>::ONE;
+        jb0i[5][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5]],
         );
         jb0i[3][4] = c5;
@@ -1580,55 +2173,72 @@ pub mod dia10_like_zy {
         jb0i[3][5] = -x1;
         let x2 = c5 * s6;
         let x3 = c5 * c6;
-        let x4 = <f64 as ::trocar::Real>::mul_add(c4, c6, -(s4 * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(c4, c6, -(s4 * x2));
         jb0i[1][3] = x4;
         jb0i[2][3] = x4;
         let x5 = s4 * s5;
         jb0i[1][4] = x5;
         jb0i[2][4] = x5;
-        let x6 = <f64 as ::trocar::Real>::mul_add(c4, s6, s4 * x3);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c4, s6, s4 * x3);
         jb0i[1][5] = x6;
         jb0i[2][5] = x6;
-        let x7 = <f64 as ::trocar::Real>::mul_add(s4, c6, c4 * x2);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(s4, c6, c4 * x2);
         jb0i[2][0] = -(0.39_f64 * x7);
         let x8 = c4 * s5;
         jb0i[2][1] = 0.39_f64 * x8;
-        let x9 = <f64 as ::trocar::Real>::mul_add(c4, x3, -(s4 * s6));
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x3, -(s4 * s6));
         jb0i[2][2] = 0.39_f64 * x9;
-        let x10 = <f64 as ::trocar::Real>::mul_add(c3, x0, s3 * x7);
-        let x11 = <f64 as ::trocar::Real>::mul_add(c3, c5, -(s3 * x8));
-        let x12 = <f64 as ::trocar::Real>::mul_add(c3, x1, s3 * x9);
-        let x13 = <f64 as ::trocar::Real>::mul_add(0.39_f64, c3, 0.38_f64);
-        let x14 = <f64 as ::trocar::Real>::mul_add(s3, x0, -(c3 * x7));
-        let x15 = <f64 as ::trocar::Real>::mul_add(s3, c5, c3 * x8);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c3, x9, -(s3 * x1));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x0, s3 * x7);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(c3, c5, -(s3 * x8));
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x1, s3 * x9);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(0.39_f64, c3, 0.38_f64);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x0, -(c3 * x7));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(s3, c5, c3 * x8);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x9, -(s3 * x1));
         let x17 = 0.39_f64 * s3;
-        fk0i.1[2] = 1.037_f64 + <f64 as ::trocar::Real>::mul_add(s2, x13, c2 * x17);
-        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x13, x14, -(x10 * x17));
-        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17));
-        jb0i[1][2] = <f64 as ::trocar::Real>::mul_add(x12, x17, x13 * x16);
-        let x18 = <f64 as ::trocar::Real>::mul_add(c2, x10, -(s2 * x14));
-        fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x4, -(s1 * x18));
-        fk0i.0[0][1] = <f64 as ::trocar::Real>::mul_add(s1, x4, c1 * x18);
-        let x19 = <f64 as ::trocar::Real>::mul_add(c2, x11, -(s2 * x15));
-        fk0i.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x5, -(s1 * x19));
-        fk0i.0[1][1] = <f64 as ::trocar::Real>::mul_add(s1, x5, c1 * x19);
-        let x20 = <f64 as ::trocar::Real>::mul_add(c2, x12, s2 * x16);
-        fk0i.0[2][0] = <f64 as ::trocar::Real>::mul_add(c1, x6, s1 * x20);
-        fk0i.0[2][1] = <f64 as ::trocar::Real>::mul_add(s1, x6, -(c1 * x20));
-        let x21 = <f64 as ::trocar::Real>::mul_add(c2, x13, -(s2 * x17));
-        fk0i.1[0] = <f64 as ::trocar::Real>::mul_add(0.194_f64, c1, -(s1 * x21));
-        fk0i.1[1] = <f64 as ::trocar::Real>::mul_add(0.194_f64, s1, c1 * x21);
-        jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(0.194_f64, x18, -(x4 * x21));
-        jb0i[0][1] = <f64 as ::trocar::Real>::mul_add(0.194_f64, x19, -(x5 * x21));
-        jb0i[0][2] = -<f64 as ::trocar::Real>::mul_add(x6, x21, 0.194_f64 * x20);
-        let x22 = <f64 as ::trocar::Real>::mul_add(s2, x10, c2 * x14);
+        fk0i.1[2] = 1.037_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(s2, x13, c2 * x17);
+        jb0i[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x13, x14, -(x10 * x17));
+        jb0i[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17));
+        jb0i[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, x13 * x16);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x10, -(s2 * x14));
+        fk0i.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x4, -(s1 * x18));
+        fk0i.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x4, c1 * x18);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x11, -(s2 * x15));
+        fk0i.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x5, -(s1 * x19));
+        fk0i.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x5, c1 * x19);
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x12, s2 * x16);
+        fk0i.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x6, s1 * x20);
+        fk0i.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x6, -(c1 * x20));
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x13, -(s2 * x17));
+        fk0i.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.194_f64,
+            c1,
+            -(s1 * x21),
+        );
+        fk0i.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(0.194_f64, s1, c1 * x21);
+        jb0i[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.194_f64,
+            x18,
+            -(x4 * x21),
+        );
+        jb0i[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.194_f64,
+            x19,
+            -(x5 * x21),
+        );
+        jb0i[0][2] = -<f64 as ::trocar::emitted::Real>::mul_add(
+            x6,
+            x21,
+            0.194_f64 * x20,
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x10, c2 * x14);
         fk0i.0[0][2] = x22;
         jb0i[0][3] = x22;
-        let x23 = <f64 as ::trocar::Real>::mul_add(s2, x11, c2 * x15);
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x11, c2 * x15);
         fk0i.0[1][2] = x23;
         jb0i[0][4] = x23;
-        let x24 = <f64 as ::trocar::Real>::mul_add(c2, x16, -(s2 * x12));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x16, -(s2 * x12));
         fk0i.0[2][2] = x24;
         jb0i[0][5] = x24;
     }
@@ -1642,86 +2252,186 @@ pub mod dia10_like_zy {
         fk0i: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0i: &mut [[f64; 6]; I],
     ) {
-        jb0i[3][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[3][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[3][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[3][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[3][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[3][2] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0i[3][4] = t.cos[4];
-        jb0i[4][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[4][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[4][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[4][2] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0i[4][3] = t.cos[5];
-        jb0i[4][4] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[4][4] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0i[4][5] = t.sin[5];
-        jb0i[5][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][4] = <f64 as ::trocar::Real>::ONE;
-        jb0i[5][5] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[5][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][4] = <f64 as ::trocar::emitted::Real>::ONE;
+        jb0i[5][5] = <f64 as ::trocar::emitted::Real>::ZERO;
         let x0 = t.sin[4] * t.sin[5];
         jb0i[3][3] = x0;
         let x1 = t.sin[4] * t.cos[5];
         jb0i[3][5] = -x1;
         let x2 = t.cos[4] * t.sin[5];
         let x3 = t.cos[4] * t.cos[5];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            t.cos[5],
+            -(t.sin[3] * x2),
+        );
         jb0i[1][3] = x4;
         jb0i[2][3] = x4;
         let x5 = t.sin[3] * t.sin[4];
         jb0i[1][4] = x5;
         jb0i[2][4] = x5;
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.sin[5], t.sin[3] * x3);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            t.sin[5],
+            t.sin[3] * x3,
+        );
         jb0i[1][5] = x6;
         jb0i[2][5] = x6;
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.sin[3], t.cos[5], t.cos[3] * x2);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            t.cos[5],
+            t.cos[3] * x2,
+        );
         jb0i[2][0] = -(0.39_f64 * x7);
         let x8 = t.cos[3] * t.sin[4];
         jb0i[2][1] = 0.39_f64 * x8;
-        let x9 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * t.sin[5]));
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x3,
+            -(t.sin[3] * t.sin[5]),
+        );
         jb0i[2][2] = 0.39_f64 * x9;
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x0, t.sin[2] * x7);
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x8));
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x1, t.sin[2] * x9);
-        let x13 = <f64 as ::trocar::Real>::mul_add(0.39_f64, t.cos[2], 0.38_f64);
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x0, -(t.cos[2] * x7));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.sin[2], t.cos[4], t.cos[2] * x8);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x9, -(t.sin[2] * x1));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x0, t.sin[2] * x7);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            t.cos[4],
+            -(t.sin[2] * x8),
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x1, t.sin[2] * x9);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.39_f64,
+            t.cos[2],
+            0.38_f64,
+        );
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x0,
+            -(t.cos[2] * x7),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            t.cos[4],
+            t.cos[2] * x8,
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x9,
+            -(t.sin[2] * x1),
+        );
         let x17 = 0.39_f64 * t.sin[2];
         fk0i.1[2] = 1.037_f64
-            + <f64 as ::trocar::Real>::mul_add(t.sin[1], x13, t.cos[1] * x17);
-        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x13, x14, -(x10 * x17));
-        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17));
-        jb0i[1][2] = <f64 as ::trocar::Real>::mul_add(x12, x17, x13 * x16);
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x10, -(t.sin[1] * x14));
-        fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x4, -(t.sin[0] * x18));
-        fk0i.0[0][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x4, t.cos[0] * x18);
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x11, -(t.sin[1] * x15));
-        fk0i.0[1][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x5, -(t.sin[0] * x19));
-        fk0i.0[1][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x5, t.cos[0] * x19);
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x12, t.sin[1] * x16);
-        fk0i.0[2][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x6, t.sin[0] * x20);
-        fk0i.0[2][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x6, -(t.cos[0] * x20));
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x13, -(t.sin[1] * x17));
-        fk0i.1[0] = <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x13, t.cos[1] * x17);
+        jb0i[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x13, x14, -(x10 * x17));
+        jb0i[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17));
+        jb0i[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, x13 * x16);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x10,
+            -(t.sin[1] * x14),
+        );
+        fk0i.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x4,
+            -(t.sin[0] * x18),
+        );
+        fk0i.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x4,
+            t.cos[0] * x18,
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x11,
+            -(t.sin[1] * x15),
+        );
+        fk0i.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x5,
+            -(t.sin[0] * x19),
+        );
+        fk0i.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x5,
+            t.cos[0] * x19,
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x12,
+            t.sin[1] * x16,
+        );
+        fk0i.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x6,
+            t.sin[0] * x20,
+        );
+        fk0i.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x6,
+            -(t.cos[0] * x20),
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x13,
+            -(t.sin[1] * x17),
+        );
+        fk0i.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(
             0.194_f64,
             t.cos[0],
             -(t.sin[0] * x21),
         );
-        fk0i.1[1] = <f64 as ::trocar::Real>::mul_add(
+        fk0i.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(
             0.194_f64,
             t.sin[0],
             t.cos[0] * x21,
         );
-        jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(0.194_f64, x18, -(x4 * x21));
-        jb0i[0][1] = <f64 as ::trocar::Real>::mul_add(0.194_f64, x19, -(x5 * x21));
-        jb0i[0][2] = -<f64 as ::trocar::Real>::mul_add(x6, x21, 0.194_f64 * x20);
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x10, t.cos[1] * x14);
+        jb0i[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.194_f64,
+            x18,
+            -(x4 * x21),
+        );
+        jb0i[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.194_f64,
+            x19,
+            -(x5 * x21),
+        );
+        jb0i[0][2] = -<f64 as ::trocar::emitted::Real>::mul_add(
+            x6,
+            x21,
+            0.194_f64 * x20,
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x10,
+            t.cos[1] * x14,
+        );
         fk0i.0[0][2] = x22;
         jb0i[0][3] = x22;
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x11, t.cos[1] * x15);
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x11,
+            t.cos[1] * x15,
+        );
         fk0i.0[1][2] = x23;
         jb0i[0][4] = x23;
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x16, -(t.sin[1] * x12));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x16,
+            -(t.sin[1] * x12),
+        );
         fk0i.0[2][2] = x24;
         jb0i[0][5] = x24;
     }
@@ -1747,201 +2457,350 @@ pub mod dia10_like_zy {
         let x1 = t.sin[4] * t.cos[5];
         let x2 = t.cos[4] * t.sin[5];
         let x3 = t.cos[4] * t.cos[5];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.cos[5], -(t.sin[3] * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            t.cos[5],
+            -(t.sin[3] * x2),
+        );
         let x5 = t.sin[3] * t.sin[4];
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.sin[5], t.sin[3] * x3);
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.sin[3], t.cos[5], t.cos[3] * x2);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            t.sin[5],
+            t.sin[3] * x3,
+        );
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            t.cos[5],
+            t.cos[3] * x2,
+        );
         let x8 = t.cos[3] * t.sin[4];
-        let x9 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * t.sin[5]));
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x0, t.sin[2] * x7);
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x8));
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x1, t.sin[2] * x9);
-        let x13 = <f64 as ::trocar::Real>::mul_add(0.39_f64, t.cos[2], 0.38_f64);
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x0, -(t.cos[2] * x7));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.sin[2], t.cos[4], t.cos[2] * x8);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x9, -(t.sin[2] * x1));
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x3,
+            -(t.sin[3] * t.sin[5]),
+        );
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x0, t.sin[2] * x7);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            t.cos[4],
+            -(t.sin[2] * x8),
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x1, t.sin[2] * x9);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.39_f64,
+            t.cos[2],
+            0.38_f64,
+        );
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x0,
+            -(t.cos[2] * x7),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            t.cos[4],
+            t.cos[2] * x8,
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x9,
+            -(t.sin[2] * x1),
+        );
         let x17 = 0.39_f64 * t.sin[2];
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x10, -(t.sin[1] * x14));
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x11, -(t.sin[1] * x15));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x12, t.sin[1] * x16);
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x13, -(t.sin[1] * x17));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x10, t.cos[1] * x14);
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x11, t.cos[1] * x15);
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x16, -(t.sin[1] * x12));
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.cos[0], x4, -(t.sin[0] * x18));
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.cos[0], x5, -(t.sin[0] * x19));
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.cos[0], x6, t.sin[0] * x20);
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[0], x4, t.cos[0] * x18);
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.sin[0], x5, t.cos[0] * x19);
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.sin[0], x6, -(t.cos[0] * x20));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x10,
+            -(t.sin[1] * x14),
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x11,
+            -(t.sin[1] * x15),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x12,
+            t.sin[1] * x16,
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x13,
+            -(t.sin[1] * x17),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x10,
+            t.cos[1] * x14,
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x11,
+            t.cos[1] * x15,
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x16,
+            -(t.sin[1] * x12),
+        );
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x4,
+            -(t.sin[0] * x18),
+        );
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x5,
+            -(t.sin[0] * x19),
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x6,
+            t.sin[0] * x20,
+        );
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x4,
+            t.cos[0] * x18,
+        );
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x5,
+            t.cos[0] * x19,
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x6,
+            -(t.cos[0] * x20),
+        );
         let x31 = t.cos[6] * t.cos[7];
         let x32 = t.cos[6] * t.sin[7];
         let x33 = t.sin[6] * t.cos[7];
         let x34 = t.sin[6] * t.sin[7];
         let x35 = 0.21_f64 * t.sin[6];
-        let x36 = <f64 as ::trocar::Real>::mul_add(0.21_f64, t.cos[6], 0.33_f64);
-        let x37 = <f64 as ::trocar::Real>::ONE / p.l_a;
-        let x38 = 0.33_f64 * x37;
-        let x39 = <f64 as ::trocar::Real>::mul_add(
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.21_f64,
             t.cos[6],
-            <f64 as ::trocar::Real>::ONE - x38,
+            0.33_f64,
+        );
+        let x37 = <f64 as ::trocar::emitted::Real>::ONE / p.l_a;
+        let x38 = 0.33_f64 * x37;
+        let x39 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[6],
+            <f64 as ::trocar::emitted::Real>::ONE - x38,
             -(0.21_f64 * x37),
         );
         let x40 = x36 * x37;
-        let x41 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(
+        let x41 = <f64 as ::trocar::emitted::Real>::ONE
+            / <f64 as ::trocar::emitted::Real>::mul_add(
                 p.l_a,
                 p.l_a,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ONE,
             );
-        let x42 = <f64 as ::trocar::Real>::mul_add(
+        let x42 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.33_f64,
             p.l_a,
-            <f64 as ::trocar::Real>::ONE,
+            <f64 as ::trocar::emitted::Real>::ONE,
         );
         let x43 = x41
-            * <f64 as ::trocar::Real>::mul_add(t.cos[6], x42, 0.21_f64 * p.l_a);
+            * <f64 as ::trocar::emitted::Real>::mul_add(t.cos[6], x42, 0.21_f64 * p.l_a);
         let x44 = x41
-            * <f64 as ::trocar::Real>::mul_add(x36, p.l_a, <f64 as ::trocar::Real>::ONE);
+            * <f64 as ::trocar::emitted::Real>::mul_add(
+                x36,
+                p.l_a,
+                <f64 as ::trocar::emitted::Real>::ONE,
+            );
         (
             (
                 [
                     [
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             -x27,
                             t.sin[7],
-                            <f64 as ::trocar::Real>::mul_add(x25, x31, x26 * x33),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x25,
+                                x31,
+                                x26 * x33,
+                            ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             -x30,
                             t.sin[7],
-                            <f64 as ::trocar::Real>::mul_add(x28, x31, x29 * x33),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x28,
+                                x31,
+                                x29 * x33,
+                            ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             -x24,
                             t.sin[7],
-                            <f64 as ::trocar::Real>::mul_add(x22, x31, x23 * x33),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x22,
+                                x31,
+                                x23 * x33,
+                            ),
                         ),
                     ],
                     [
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x26,
                             t.cos[6],
                             -(x25 * t.sin[6]),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x29,
                             t.cos[6],
                             -(x28 * t.sin[6]),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x23,
                             t.cos[6],
                             -(x22 * t.sin[6]),
                         ),
                     ],
                     [
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x27,
                             t.cos[7],
-                            <f64 as ::trocar::Real>::mul_add(x25, x32, x26 * x34),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x25,
+                                x32,
+                                x26 * x34,
+                            ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x30,
                             t.cos[7],
-                            <f64 as ::trocar::Real>::mul_add(x28, x32, x29 * x34),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x28,
+                                x32,
+                                x29 * x34,
+                            ),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x24,
                             t.cos[7],
-                            <f64 as ::trocar::Real>::mul_add(x22, x32, x23 * x34),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                x22,
+                                x32,
+                                x23 * x34,
+                            ),
                         ),
                     ],
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.194_f64,
                         t.cos[0],
                         -(t.sin[0] * x21),
-                    ) + <f64 as ::trocar::Real>::mul_add(x26, x36, -(x25 * x35)),
-                    <f64 as ::trocar::Real>::mul_add(0.194_f64, t.sin[0], t.cos[0] * x21)
-                        + <f64 as ::trocar::Real>::mul_add(x29, x36, -(x28 * x35)),
+                    )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            x26,
+                            x36,
+                            -(x25 * x35),
+                        ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.194_f64,
+                        t.sin[0],
+                        t.cos[0] * x21,
+                    )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            x29,
+                            x36,
+                            -(x28 * x35),
+                        ),
                     1.037_f64
-                        + <f64 as ::trocar::Real>::mul_add(t.sin[1], x13, t.cos[1] * x17)
-                        + <f64 as ::trocar::Real>::mul_add(x23, x36, -(x22 * x35)),
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.sin[1],
+                            x13,
+                            t.cos[1] * x17,
+                        )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
+                            x23,
+                            x36,
+                            -(x22 * x35),
+                        ),
                 ],
             ),
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(0.194_f64, x18, -(x4 * x21)),
-                    <f64 as ::trocar::Real>::mul_add(0.194_f64, x19, -(x5 * x21)),
-                    -<f64 as ::trocar::Real>::mul_add(x6, x21, 0.194_f64 * x20),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.194_f64,
+                        x18,
+                        -(x4 * x21),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.194_f64,
+                        x19,
+                        -(x5 * x21),
+                    ),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(x6, x21, 0.194_f64 * x20),
                     x22,
                     x23,
                     x24,
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(x13, x14, -(x10 * x17)),
-                    <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
-                    <f64 as ::trocar::Real>::mul_add(x12, x17, x13 * x16),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x13, x14, -(x10 * x17)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, x13 * x16),
                     x4,
                     x5,
                     x6,
                 ],
                 [-(0.39_f64 * x7), 0.39_f64 * x8, 0.39_f64 * x9, x4, x5, x6],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     x0,
                     t.cos[4],
                     -x1,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     t.cos[5],
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     t.sin[5],
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
             ],
             [
                 [
                     t.cos[7] * x39,
-                    t.sin[6] * (x38 - <f64 as ::trocar::Real>::ONE),
+                    t.sin[6] * (x38 - <f64 as ::trocar::emitted::Real>::ONE),
                     t.sin[7] * x39,
                     -(t.sin[7] * x37),
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     t.cos[7] * x37,
                 ],
                 [
                     x33,
                     t.cos[6],
                     x34,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    t.sin[7] * (x40 - <f64 as ::trocar::Real>::ONE),
-                    <f64 as ::trocar::Real>::ZERO,
-                    t.cos[7] * (<f64 as ::trocar::Real>::ONE - x40),
+                    t.sin[7] * (x40 - <f64 as ::trocar::emitted::Real>::ONE),
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    t.cos[7] * (<f64 as ::trocar::emitted::Real>::ONE - x40),
                     -(x31 * x37),
                     t.sin[6] * x37,
                     -(x32 * x37),
                 ],
                 [
                     -(0.21_f64 * x34),
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     0.21_f64 * x33,
                     x33,
                     t.cos[6],
@@ -1949,19 +2808,19 @@ pub mod dia10_like_zy {
                 ],
                 [
                     -(0.21_f64 * t.cos[7]),
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     -(0.21_f64 * t.sin[7]),
                     -t.sin[7],
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     t.cos[7],
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
             ],
             [
@@ -1970,12 +2829,12 @@ pub mod dia10_like_zy {
                     -(t.sin[6] * (x41 * x42)),
                     t.sin[7] * x43,
                     x41 * (t.sin[7] * p.l_a),
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     -(x41 * (t.cos[7] * p.l_a)),
                 ],
                 [
                     -(t.sin[7] * x44),
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     t.cos[7] * x44,
                     x41 * (x31 * p.l_a),
                     -(x41 * (t.sin[6] * p.l_a)),
@@ -2011,7 +2870,7 @@ pub mod dia10_like_zy {
         #[inline]
         #[must_use]
         pub fn zeroed() -> Self {
-            let z = <f64 as ::trocar::Real>::ZERO;
+            let z = <f64 as ::trocar::emitted::Real>::ZERO;
             StepKinematics {
                 offset: z,
                 g_0e: ([[z; 3]; 3], [z; 3]),
@@ -2035,7 +2894,7 @@ pub mod dia10_like_zy {
     #[inline]
     fn step_is_finite(out: &StepKinematics) -> bool {
         let finite = |x: &[f64]| {
-            x.iter().all(|&v| <f64 as ::trocar::Real>::is_finite(v))
+            x.iter().all(|&v| <f64 as ::trocar::emitted::Real>::is_finite(v))
         };
         finite(&out.g_0e.1) && finite(&out.g_0i.1) && finite(out.g_0e.0.as_flattened())
             && finite(out.g_0i.0.as_flattened()) && finite(out.jb0i.as_flattened())
@@ -2052,13 +2911,13 @@ pub mod dia10_like_zy {
         params: &Params,
     ) -> f64 {
         let mut p = *params;
-        p.l_a = <f64 as ::trocar::Real>::ZERO;
+        p.l_a = <f64 as ::trocar::emitted::Real>::ZERO;
         let o = constraint_frame(&p).1;
-        p.l_a = <f64 as ::trocar::Real>::ONE;
+        p.l_a = <f64 as ::trocar::emitted::Real>::ONE;
         let o1 = constraint_frame(&p).1;
         let d = [o1[0] - o[0], o1[1] - o[1], o1[2] - o[2]];
         let (rot, pos) = g_0i;
-        let mut num = <f64 as ::trocar::Real>::ZERO;
+        let mut num = <f64 as ::trocar::emitted::Real>::ZERO;
         for i in 0..3 {
             let ro = rot[0][i] * o[0] + rot[1][i] * o[1] + rot[2][i] * o[2];
             let rd = rot[0][i] * d[0] + rot[1][i] * d[1] + rot[2][i] * d[2];
@@ -2079,7 +2938,7 @@ pub mod dia10_like_zy {
         out: &mut StepKinematics,
     ) -> bool {
         fill_at_trocar(t, trocar, params, out);
-        <f64 as ::trocar::Real>::is_finite(out.offset) && step_is_finite(out)
+        <f64 as ::trocar::emitted::Real>::is_finite(out.offset) && step_is_finite(out)
     }
     /// [`step_kinematics`] without the finiteness check.
     #[inline]
@@ -2150,8 +3009,10 @@ pub mod dia10_like_zy {
         let mut a5_4 = j[4usize][5usize];
         let mut a5_5 = j[5usize][5usize];
         let mut b0_5 = b[5usize];
-        let mut det = <f64 as ::trocar::Real>::ONE;
-        if <f64 as ::trocar::Real>::abs(a1_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        let mut det = <f64 as ::trocar::emitted::Real>::ONE;
+        if <f64 as ::trocar::emitted::Real>::abs(a1_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a1_0);
             ::core::mem::swap(&mut a0_1, &mut a1_1);
             ::core::mem::swap(&mut a0_2, &mut a1_2);
@@ -2161,7 +3022,9 @@ pub mod dia10_like_zy {
             ::core::mem::swap(&mut b0_0, &mut b0_1);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a2_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a2_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a2_0);
             ::core::mem::swap(&mut a0_1, &mut a2_1);
             ::core::mem::swap(&mut a0_2, &mut a2_2);
@@ -2171,7 +3034,9 @@ pub mod dia10_like_zy {
             ::core::mem::swap(&mut b0_0, &mut b0_2);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a3_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a3_0);
             ::core::mem::swap(&mut a0_1, &mut a3_1);
             ::core::mem::swap(&mut a0_2, &mut a3_2);
@@ -2181,7 +3046,9 @@ pub mod dia10_like_zy {
             ::core::mem::swap(&mut b0_0, &mut b0_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a4_0);
             ::core::mem::swap(&mut a0_1, &mut a4_1);
             ::core::mem::swap(&mut a0_2, &mut a4_2);
@@ -2191,7 +3058,9 @@ pub mod dia10_like_zy {
             ::core::mem::swap(&mut b0_0, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a5_0);
             ::core::mem::swap(&mut a0_1, &mut a5_1);
             ::core::mem::swap(&mut a0_2, &mut a5_2);
@@ -2202,7 +3071,7 @@ pub mod dia10_like_zy {
             det = -det;
         }
         det *= a0_0;
-        let inv0 = <f64 as ::trocar::Real>::ONE / a0_0;
+        let inv0 = <f64 as ::trocar::emitted::Real>::ONE / a0_0;
         let l = a1_0 * inv0;
         a1_1 -= l * a0_1;
         a1_2 -= l * a0_2;
@@ -2238,7 +3107,9 @@ pub mod dia10_like_zy {
         a5_4 -= l * a0_4;
         a5_5 -= l * a0_5;
         b0_5 -= l * b0_0;
-        if <f64 as ::trocar::Real>::abs(a2_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a2_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a2_1);
             ::core::mem::swap(&mut a1_2, &mut a2_2);
             ::core::mem::swap(&mut a1_3, &mut a2_3);
@@ -2247,7 +3118,9 @@ pub mod dia10_like_zy {
             ::core::mem::swap(&mut b0_1, &mut b0_2);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a3_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a3_1);
             ::core::mem::swap(&mut a1_2, &mut a3_2);
             ::core::mem::swap(&mut a1_3, &mut a3_3);
@@ -2256,7 +3129,9 @@ pub mod dia10_like_zy {
             ::core::mem::swap(&mut b0_1, &mut b0_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a4_1);
             ::core::mem::swap(&mut a1_2, &mut a4_2);
             ::core::mem::swap(&mut a1_3, &mut a4_3);
@@ -2265,7 +3140,9 @@ pub mod dia10_like_zy {
             ::core::mem::swap(&mut b0_1, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a5_1);
             ::core::mem::swap(&mut a1_2, &mut a5_2);
             ::core::mem::swap(&mut a1_3, &mut a5_3);
@@ -2275,7 +3152,7 @@ pub mod dia10_like_zy {
             det = -det;
         }
         det *= a1_1;
-        let inv1 = <f64 as ::trocar::Real>::ONE / a1_1;
+        let inv1 = <f64 as ::trocar::emitted::Real>::ONE / a1_1;
         let l = a2_1 * inv1;
         a2_2 -= l * a1_2;
         a2_3 -= l * a1_3;
@@ -2300,7 +3177,9 @@ pub mod dia10_like_zy {
         a5_4 -= l * a1_4;
         a5_5 -= l * a1_5;
         b0_5 -= l * b0_1;
-        if <f64 as ::trocar::Real>::abs(a3_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a3_2);
             ::core::mem::swap(&mut a2_3, &mut a3_3);
             ::core::mem::swap(&mut a2_4, &mut a3_4);
@@ -2308,7 +3187,9 @@ pub mod dia10_like_zy {
             ::core::mem::swap(&mut b0_2, &mut b0_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a4_2);
             ::core::mem::swap(&mut a2_3, &mut a4_3);
             ::core::mem::swap(&mut a2_4, &mut a4_4);
@@ -2316,7 +3197,9 @@ pub mod dia10_like_zy {
             ::core::mem::swap(&mut b0_2, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a5_2);
             ::core::mem::swap(&mut a2_3, &mut a5_3);
             ::core::mem::swap(&mut a2_4, &mut a5_4);
@@ -2325,7 +3208,7 @@ pub mod dia10_like_zy {
             det = -det;
         }
         det *= a2_2;
-        let inv2 = <f64 as ::trocar::Real>::ONE / a2_2;
+        let inv2 = <f64 as ::trocar::emitted::Real>::ONE / a2_2;
         let l = a3_2 * inv2;
         a3_3 -= l * a2_3;
         a3_4 -= l * a2_4;
@@ -2341,14 +3224,18 @@ pub mod dia10_like_zy {
         a5_4 -= l * a2_4;
         a5_5 -= l * a2_5;
         b0_5 -= l * b0_2;
-        if <f64 as ::trocar::Real>::abs(a4_3) > <f64 as ::trocar::Real>::abs(a3_3) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_3)
+            > <f64 as ::trocar::emitted::Real>::abs(a3_3)
+        {
             ::core::mem::swap(&mut a3_3, &mut a4_3);
             ::core::mem::swap(&mut a3_4, &mut a4_4);
             ::core::mem::swap(&mut a3_5, &mut a4_5);
             ::core::mem::swap(&mut b0_3, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_3) > <f64 as ::trocar::Real>::abs(a3_3) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_3)
+            > <f64 as ::trocar::emitted::Real>::abs(a3_3)
+        {
             ::core::mem::swap(&mut a3_3, &mut a5_3);
             ::core::mem::swap(&mut a3_4, &mut a5_4);
             ::core::mem::swap(&mut a3_5, &mut a5_5);
@@ -2356,7 +3243,7 @@ pub mod dia10_like_zy {
             det = -det;
         }
         det *= a3_3;
-        let inv3 = <f64 as ::trocar::Real>::ONE / a3_3;
+        let inv3 = <f64 as ::trocar::emitted::Real>::ONE / a3_3;
         let l = a4_3 * inv3;
         a4_4 -= l * a3_4;
         a4_5 -= l * a3_5;
@@ -2365,19 +3252,21 @@ pub mod dia10_like_zy {
         a5_4 -= l * a3_4;
         a5_5 -= l * a3_5;
         b0_5 -= l * b0_3;
-        if <f64 as ::trocar::Real>::abs(a5_4) > <f64 as ::trocar::Real>::abs(a4_4) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_4)
+            > <f64 as ::trocar::emitted::Real>::abs(a4_4)
+        {
             ::core::mem::swap(&mut a4_4, &mut a5_4);
             ::core::mem::swap(&mut a4_5, &mut a5_5);
             ::core::mem::swap(&mut b0_4, &mut b0_5);
             det = -det;
         }
         det *= a4_4;
-        let inv4 = <f64 as ::trocar::Real>::ONE / a4_4;
+        let inv4 = <f64 as ::trocar::emitted::Real>::ONE / a4_4;
         let l = a5_4 * inv4;
         a5_5 -= l * a4_5;
         b0_5 -= l * b0_4;
         det *= a5_5;
-        let inv5 = <f64 as ::trocar::Real>::ONE / a5_5;
+        let inv5 = <f64 as ::trocar::emitted::Real>::ONE / a5_5;
         let x5 = (b0_5) * inv5;
         let x4 = (b0_4 - a4_5 * x5) * inv4;
         let x3 = (b0_3 - a3_4 * x4 - a3_5 * x5) * inv3;
@@ -2408,13 +3297,13 @@ pub mod dia10_like_zy {
     impl Kinematics {
         /// A pose from the generated `(R column-major, p)`.
         #[inline]
-        fn pose((r, p): ([[f64; 3]; 3], [f64; 3])) -> ::trocar::se3::Se3<f64> {
-            ::trocar::se3::Se3 {
-                rotation: ::trocar::nalgebra::Matrix3::from_data(
-                    ::trocar::nalgebra::ArrayStorage(r),
+        fn pose((r, p): ([[f64; 3]; 3], [f64; 3])) -> ::trocar::emitted::Se3<f64> {
+            ::trocar::emitted::Se3 {
+                rotation: ::trocar::emitted::nalgebra::Matrix3::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(r),
                 ),
-                translation: ::trocar::nalgebra::Vector3::from_data(
-                    ::trocar::nalgebra::ArrayStorage([p]),
+                translation: ::trocar::emitted::nalgebra::Vector3::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage([p]),
                 ),
             }
         }
@@ -2422,63 +3311,65 @@ pub mod dia10_like_zy {
         #[inline]
         fn state(
             s: &StepKinematics,
-        ) -> ::trocar::control::ConstrainedState<f64, I, R, K, M> {
-            ::trocar::control::ConstrainedState {
+        ) -> ::trocar::emitted::ConstrainedState<f64, I, R, K, M> {
+            ::trocar::emitted::ConstrainedState {
                 g_0e: Self::pose(s.g_0e),
                 g_0i: Self::pose(s.g_0i),
-                jr: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jr),
+                jr: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jr),
                 ),
-                jb0i: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jb0i),
+                jb0i: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jb0i),
                 ),
-                jc: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jc),
+                jc: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jc),
                 ),
-                lambda_sharp: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.lambda_sharp),
+                lambda_sharp: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.lambda_sharp),
                 ),
-                lambda_pinv: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.lambda_pinv),
+                lambda_pinv: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.lambda_pinv),
                 ),
             }
         }
     }
-    impl ::trocar::control::ConstrainedKinematics<f64, N, I, R, K, M, 6> for Kinematics {
+    impl ::trocar::emitted::ConstrainedKinematics<f64, N, I, R, K, M, 6> for Kinematics {
         #[inline]
         fn g_0i(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
-        ) -> ::trocar::se3::Se3<f64> {
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
+        ) -> ::trocar::emitted::Se3<f64> {
             Self::pose(forward_kinematics_i(&q.data.0[0], &self.params))
         }
         #[inline]
-        fn h(&self) -> ::trocar::nalgebra::SMatrix<f64, R, 6> {
-            ::trocar::nalgebra::SMatrix::from_data(
-                ::trocar::nalgebra::ArrayStorage(constraint_selection(&self.params)),
+        fn h(&self) -> ::trocar::emitted::nalgebra::SMatrix<f64, R, 6> {
+            ::trocar::emitted::nalgebra::SMatrix::from_data(
+                ::trocar::emitted::nalgebra::ArrayStorage(
+                    constraint_selection(&self.params),
+                ),
             )
         }
         #[inline]
-        fn shaft(&self) -> ::trocar::control::Shaft<f64> {
+        fn shaft(&self) -> ::trocar::emitted::Shaft<f64> {
             let mut p = self.params;
-            p.l_a = <f64 as ::trocar::Real>::ZERO;
+            p.l_a = <f64 as ::trocar::emitted::Real>::ZERO;
             let at_zero = Self::pose(constraint_frame(&p));
-            p.l_a = <f64 as ::trocar::Real>::ONE;
+            p.l_a = <f64 as ::trocar::emitted::Real>::ONE;
             let at_one = Self::pose(constraint_frame(&p));
-            ::trocar::control::Shaft::from_frames(&at_zero, &at_one)
+            ::trocar::emitted::Shaft::from_frames(&at_zero, &at_one)
         }
         #[inline]
-        fn task_selection(&self) -> ::trocar::nalgebra::SMatrix<f64, 6, 6> {
-            ::trocar::nalgebra::SMatrix::identity()
+        fn task_selection(&self) -> ::trocar::emitted::nalgebra::SMatrix<f64, 6, 6> {
+            ::trocar::emitted::nalgebra::SMatrix::identity()
         }
         #[inline]
         fn evaluate(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
             l_a: f64,
         ) -> ::core::result::Result<
-            ::trocar::control::ConstrainedState<f64, I, R, K, M>,
-            ::trocar::control::ControlError,
+            ::trocar::emitted::ConstrainedState<f64, I, R, K, M>,
+            ::trocar::emitted::ControlError,
         > {
             let t = JointTrig::new(&q.data.0[0]);
             let mut p = self.params;
@@ -2487,9 +3378,9 @@ pub mod dia10_like_zy {
             s.g_0i = forward_kinematics_i_trig(&t, &p);
             s.offset = l_a;
             fill_step(&t, &p, &mut s);
-            if !<f64 as ::trocar::Real>::is_finite(l_a) || !step_is_finite(&s) {
+            if !<f64 as ::trocar::emitted::Real>::is_finite(l_a) || !step_is_finite(&s) {
                 return ::core::result::Result::Err(
-                    ::trocar::control::ControlError::Kinematics,
+                    ::trocar::emitted::ControlError::Kinematics,
                 );
             }
             ::core::result::Result::Ok(Self::state(&s))
@@ -2499,22 +3390,29 @@ pub mod dia10_like_zy {
         #[inline]
         fn solve_task(
             &self,
-            j: &::trocar::nalgebra::SMatrix<f64, 6, M>,
-            b: &::trocar::nalgebra::SVector<f64, 6>,
-        ) -> ::core::option::Option<(::trocar::nalgebra::SVector<f64, M>, f64)> {
+            j: &::trocar::emitted::nalgebra::SMatrix<f64, 6, M>,
+            b: &::trocar::emitted::nalgebra::SVector<f64, 6>,
+        ) -> ::core::option::Option<
+            (::trocar::emitted::nalgebra::SVector<f64, M>, f64),
+        > {
             let (x, det) = lu_solve_6(&j.data.0, &b.data.0[0]);
-            ::core::option::Option::Some((::trocar::nalgebra::SVector::from(x), det))
+            ::core::option::Option::Some((
+                ::trocar::emitted::nalgebra::SVector::from(x),
+                det,
+            ))
         }
         /// `J^B_0i` (6 × 6) solved by the straight-line elimination emitted for this size.
         #[inline]
         fn solve_jb0i(
             &self,
-            j: &::trocar::nalgebra::SMatrix<f64, 6, I>,
-            b: &::trocar::nalgebra::SVector<f64, 6>,
-        ) -> ::core::option::Option<(::trocar::nalgebra::SVector<f64, I>, f64)> {
+            j: &::trocar::emitted::nalgebra::SMatrix<f64, 6, I>,
+            b: &::trocar::emitted::nalgebra::SVector<f64, 6>,
+        ) -> ::core::option::Option<
+            (::trocar::emitted::nalgebra::SVector<f64, I>, f64),
+        > {
             let (x, det_or_w) = lu_solve_6(&j.data.0, &b.data.0[0]);
             ::core::option::Option::Some((
-                ::trocar::nalgebra::SVector::from(x),
+                ::trocar::emitted::nalgebra::SVector::from(x),
                 det_or_w,
             ))
         }
@@ -2522,18 +3420,18 @@ pub mod dia10_like_zy {
         #[inline]
         fn evaluate_at_trocar(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
-            trocar: &::trocar::nalgebra::Vector3<f64>,
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
+            trocar: &::trocar::emitted::nalgebra::Vector3<f64>,
         ) -> ::core::result::Result<
-            (f64, ::trocar::control::ConstrainedState<f64, I, R, K, M>),
-            ::trocar::control::ControlError,
+            (f64, ::trocar::emitted::ConstrainedState<f64, I, R, K, M>),
+            ::trocar::emitted::ControlError,
         > {
             let t = JointTrig::new(&q.data.0[0]);
             let mut s = StepKinematics::zeroed();
             fill_at_trocar(&t, &trocar.data.0[0], &self.params, &mut s);
-            if !<f64 as ::trocar::Real>::is_finite(s.offset) {
+            if !<f64 as ::trocar::emitted::Real>::is_finite(s.offset) {
                 return ::core::result::Result::Err(
-                    ::trocar::control::ControlError::Kinematics,
+                    ::trocar::emitted::ControlError::Kinematics,
                 );
             }
             ::core::result::Result::Ok((s.offset, Self::state(&s)))

@@ -50,7 +50,7 @@ pub mod four_bar {
         #[must_use]
         pub fn nominal() -> Self {
             Params {
-                l0: <f64 as ::trocar::Real>::ONE,
+                l0: <f64 as ::trocar::emitted::Real>::ONE,
                 l1: 1.2_f64,
                 l2: 1.4_f64,
                 l3: 0.6_f64,
@@ -75,7 +75,7 @@ pub mod four_bar {
         #[inline(always)]
         #[must_use]
         pub fn new(q: &[f64; N]) -> Self {
-            let ([s1, s2, s3, s4], [c1, c2, c3, c4]) = <f64 as ::trocar::Real>::sin_cos_array(
+            let ([s1, s2, s3, s4], [c1, c2, c3, c4]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
                 &[q[0], q[1], q[2], q[3]],
             );
             JointTrig {
@@ -93,7 +93,7 @@ pub mod four_bar {
     #[inline]
     #[must_use]
     pub fn constraint_jacobian(q: &[f64; N], p: &Params) -> [[f64; R]; N] {
-        let ([s1, s2, s3, s4], [c1, c2, c3, c4]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s2, s3, s4], [c1, c2, c3, c4]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3]],
         );
         let x0 = p.l3 + p.l4;
@@ -101,29 +101,29 @@ pub mod four_bar {
         let x2 = x1 + p.l1;
         let x3 = x0 * c1 * s2;
         let x4 = s1 * (x0 * s2);
-        let x5 = <f64 as ::trocar::Real>::mul_add(p.l4, c4, p.l2);
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(p.l4, c4, p.l2);
         let x6 = s4 * c3;
         let x7 = s3 * s4;
         [
             [
-                -<f64 as ::trocar::Real>::mul_add(x2, s1, x3),
-                <f64 as ::trocar::Real>::mul_add(x2, c1, -x4),
-                <f64 as ::trocar::Real>::ONE,
+                -<f64 as ::trocar::emitted::Real>::mul_add(x2, s1, x3),
+                <f64 as ::trocar::emitted::Real>::mul_add(x2, c1, -x4),
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(x1, s1, x3),
-                <f64 as ::trocar::Real>::mul_add(x1, c1, -x4),
-                <f64 as ::trocar::Real>::ONE,
+                -<f64 as ::trocar::emitted::Real>::mul_add(x1, s1, x3),
+                <f64 as ::trocar::emitted::Real>::mul_add(x1, c1, -x4),
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x5, s3, p.l4 * x6),
-                <f64 as ::trocar::Real>::mul_add(p.l4, x7, -(x5 * c3)),
-                -<f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::mul_add(x5, s3, p.l4 * x6),
+                <f64 as ::trocar::emitted::Real>::mul_add(p.l4, x7, -(x5 * c3)),
+                -<f64 as ::trocar::emitted::Real>::ONE,
             ],
             [
-                p.l4 * <f64 as ::trocar::Real>::mul_add(c4, s3, x6),
-                p.l4 * <f64 as ::trocar::Real>::mul_add(-c4, c3, x7),
-                -<f64 as ::trocar::Real>::ONE,
+                p.l4 * <f64 as ::trocar::emitted::Real>::mul_add(c4, s3, x6),
+                p.l4 * <f64 as ::trocar::emitted::Real>::mul_add(-c4, c3, x7),
+                -<f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -140,29 +140,30 @@ pub mod four_bar {
         let x2 = x1 + p.l1;
         let x3 = x0 * t.cos[0] * t.sin[1];
         let x4 = t.sin[0] * (x0 * t.sin[1]);
-        let x5 = <f64 as ::trocar::Real>::mul_add(p.l4, t.cos[3], p.l2);
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(p.l4, t.cos[3], p.l2);
         let x6 = t.sin[3] * t.cos[2];
         let x7 = t.sin[2] * t.sin[3];
         [
             [
-                -<f64 as ::trocar::Real>::mul_add(x2, t.sin[0], x3),
-                <f64 as ::trocar::Real>::mul_add(x2, t.cos[0], -x4),
-                <f64 as ::trocar::Real>::ONE,
+                -<f64 as ::trocar::emitted::Real>::mul_add(x2, t.sin[0], x3),
+                <f64 as ::trocar::emitted::Real>::mul_add(x2, t.cos[0], -x4),
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(x1, t.sin[0], x3),
-                <f64 as ::trocar::Real>::mul_add(x1, t.cos[0], -x4),
-                <f64 as ::trocar::Real>::ONE,
+                -<f64 as ::trocar::emitted::Real>::mul_add(x1, t.sin[0], x3),
+                <f64 as ::trocar::emitted::Real>::mul_add(x1, t.cos[0], -x4),
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x5, t.sin[2], p.l4 * x6),
-                <f64 as ::trocar::Real>::mul_add(p.l4, x7, -(x5 * t.cos[2])),
-                -<f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::mul_add(x5, t.sin[2], p.l4 * x6),
+                <f64 as ::trocar::emitted::Real>::mul_add(p.l4, x7, -(x5 * t.cos[2])),
+                -<f64 as ::trocar::emitted::Real>::ONE,
             ],
             [
-                p.l4 * <f64 as ::trocar::Real>::mul_add(t.cos[3], t.sin[2], x6),
-                p.l4 * <f64 as ::trocar::Real>::mul_add(-t.cos[3], t.cos[2], x7),
-                -<f64 as ::trocar::Real>::ONE,
+                p.l4 * <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], t.sin[2], x6),
+                p.l4
+                    * <f64 as ::trocar::emitted::Real>::mul_add(-t.cos[3], t.cos[2], x7),
+                -<f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -192,7 +193,7 @@ pub mod four_bar {
     #[inline]
     #[must_use]
     pub fn constraint_determinant(q: &[f64; N], p: &Params) -> f64 {
-        let ([s1, s2, s3, s4], [c1, c2, c3, _]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s2, s3, s4], [c1, c2, c3, _]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3]],
         );
         let x0 = (s2 * s3 + c2 * c3) * s1;
@@ -222,16 +223,20 @@ pub mod four_bar {
         q: &[f64; N],
         p: &Params,
     ) -> [[f64; 1 + N_OUTPUTS]; N_ACTIVE] {
-        let ([s1, s2, s3, s4], [c1, c2, c3, _]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s2, s3, s4], [c1, c2, c3, _]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3]],
         );
-        let x0 = <f64 as ::trocar::Real>::mul_add(s2, s3, c2 * c3) * s1;
-        let x1 = <f64 as ::trocar::Real>::mul_add(s3, c2, -(s2 * c3)) * c1;
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(s2, s3, c2 * c3) * s1;
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(s3, c2, -(s2 * c3)) * c1;
         [
             [
-                <f64 as ::trocar::Real>::mul_add(x1 + s4 - x0, p.l4, (x1 - x0) * p.l3)
-                    * p.l2,
-                p.l2 * <f64 as ::trocar::Real>::mul_add(c3, s1, -(s3 * c1)) * p.l1,
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    x1 + s4 - x0,
+                    p.l4,
+                    (x1 - x0) * p.l3,
+                ) * p.l2,
+                p.l2 * <f64 as ::trocar::emitted::Real>::mul_add(c3, s1, -(s3 * c1))
+                    * p.l1,
             ],
         ]
     }
@@ -246,25 +251,25 @@ pub mod four_bar {
         t: &JointTrig,
         p: &Params,
     ) -> [[f64; 1 + N_OUTPUTS]; N_ACTIVE] {
-        let x0 = <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[1],
             t.sin[2],
             t.cos[1] * t.cos[2],
         ) * t.sin[0];
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[2],
             t.cos[1],
             -(t.sin[1] * t.cos[2]),
         ) * t.cos[0];
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x1 + t.sin[3] - x0,
                     p.l4,
                     (x1 - x0) * p.l3,
                 ) * p.l2,
                 p.l2
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         t.cos[2],
                         t.sin[0],
                         -(t.sin[2] * t.cos[0]),
@@ -285,44 +290,59 @@ pub mod four_bar {
         q: &[f64; N],
         p: &Params,
     ) -> [[f64; 1 + N_PASSIVE]; N_ACTIVE] {
-        let ([s1, s2, s3, s4], [c1, c2, c3, c4]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s2, s3, s4], [c1, c2, c3, c4]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3]],
         );
-        let x0 = <f64 as ::trocar::Real>::mul_add(s2, s3, c2 * c3) * s1;
-        let x1 = <f64 as ::trocar::Real>::mul_add(s3, c2, -(s2 * c3)) * c1;
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(s2, s3, c2 * c3) * s1;
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(s3, c2, -(s2 * c3)) * c1;
         let x2 = p.l4 + p.l3;
-        let x3 = <f64 as ::trocar::Real>::mul_add(c2, x2, p.l1);
+        let x3 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x2, p.l1);
         let x4 = s3 * s4;
         let x5 = c3 * c4;
-        let x6 = c1 * <f64 as ::trocar::Real>::mul_add(s3, c4, c3 * s4);
+        let x6 = c1 * <f64 as ::trocar::emitted::Real>::mul_add(s3, c4, c3 * s4);
         let x7 = s2 * p.l3;
         [
             [
-                <f64 as ::trocar::Real>::mul_add(x1 + s4 - x0, p.l4, (x1 - x0) * p.l3)
-                    * p.l2,
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    x1 + s4 - x0,
+                    p.l4,
+                    (x1 - x0) * p.l3,
+                ) * p.l2,
                 p.l2
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         s1,
-                        <f64 as ::trocar::Real>::mul_add(c3, x3, s2 * (s3 * x2)),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            c3,
+                            x3,
+                            s2 * (s3 * x2),
+                        ),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             c1,
-                            <f64 as ::trocar::Real>::mul_add(s2, c3 * x2, -(s3 * x3)),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                s2,
+                                c3 * x2,
+                                -(s3 * x3),
+                            ),
                             -(s4 * p.l4),
                         ),
                     ),
                 p.l1
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l4,
-                        <f64 as ::trocar::Real>::mul_add(s1, x4 - x5, x6 - s2),
+                        <f64 as ::trocar::emitted::Real>::mul_add(s1, x4 - x5, x6 - s2),
                         -x7,
                     ),
                 p.l1
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l4,
-                        <f64 as ::trocar::Real>::mul_add(s1, x5 - x4, s2 - x6),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(s1, x5 - x4, s2 - x6),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l2,
-                            <f64 as ::trocar::Real>::mul_add(c3, s1, -(s3 * c1)),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                c3,
+                                s1,
+                                -(s3 * c1),
+                            ),
                             x7,
                         ),
                     ),
@@ -340,41 +360,45 @@ pub mod four_bar {
         t: &JointTrig,
         p: &Params,
     ) -> [[f64; 1 + N_PASSIVE]; N_ACTIVE] {
-        let x0 = <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[1],
             t.sin[2],
             t.cos[1] * t.cos[2],
         ) * t.sin[0];
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[2],
             t.cos[1],
             -(t.sin[1] * t.cos[2]),
         ) * t.cos[0];
         let x2 = p.l4 + p.l3;
-        let x3 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x2, p.l1);
+        let x3 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[1], x2, p.l1);
         let x4 = t.sin[2] * t.sin[3];
         let x5 = t.cos[2] * t.cos[3];
         let x6 = t.cos[0]
-            * <f64 as ::trocar::Real>::mul_add(t.sin[2], t.cos[3], t.cos[2] * t.sin[3]);
+            * <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[2],
+                t.cos[3],
+                t.cos[2] * t.sin[3],
+            );
         let x7 = t.sin[1] * p.l3;
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x1 + t.sin[3] - x0,
                     p.l4,
                     (x1 - x0) * p.l3,
                 ) * p.l2,
                 p.l2
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         t.sin[0],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[2],
                             x3,
                             t.sin[1] * (t.sin[2] * x2),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[0],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[1],
                                 t.cos[2] * x2,
                                 -(t.sin[2] * x3),
@@ -383,9 +407,9 @@ pub mod four_bar {
                         ),
                     ),
                 p.l1
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l4,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[0],
                             x4 - x5,
                             x6 - t.sin[1],
@@ -393,16 +417,16 @@ pub mod four_bar {
                         -x7,
                     ),
                 p.l1
-                    * <f64 as ::trocar::Real>::mul_add(
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
                         p.l4,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[0],
                             x5 - x4,
                             t.sin[1] - x6,
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l2,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[2],
                                 t.sin[0],
                                 -(t.sin[2] * t.cos[0]),
@@ -423,17 +447,17 @@ pub mod four_bar {
     fn quotient<const IN: usize, const OUT: usize>(
         a: &[[f64; IN]; N_ACTIVE],
     ) -> Option<[[f64; OUT]; N_ACTIVE]> {
-        let mut out = [[<f64 as ::trocar::Real>::ZERO; OUT]; N_ACTIVE];
+        let mut out = [[<f64 as ::trocar::emitted::Real>::ZERO; OUT]; N_ACTIVE];
         for (o, col) in out.iter_mut().zip(a.iter()) {
             let det = col[0];
-            if !(<f64 as ::trocar::Real>::is_finite(det)
-                && det != <f64 as ::trocar::Real>::ZERO)
+            if !(<f64 as ::trocar::emitted::Real>::is_finite(det)
+                && det != <f64 as ::trocar::emitted::Real>::ZERO)
             {
                 return None;
             }
             for (x, v) in o.iter_mut().zip(col.iter().skip(1)) {
                 let y = *v / det;
-                if !<f64 as ::trocar::Real>::is_finite(y) {
+                if !<f64 as ::trocar::emitted::Real>::is_finite(y) {
                     return None;
                 }
                 *x = y;
@@ -496,13 +520,13 @@ pub mod four_bar {
         p: &Params,
     ) -> Option<[f64; N_PASSIVE]> {
         let m = passive_map(q, p)?;
-        let mut v = [<f64 as ::trocar::Real>::ZERO; N_PASSIVE];
+        let mut v = [<f64 as ::trocar::emitted::Real>::ZERO; N_PASSIVE];
         for (col, w) in m.iter().zip(qd_active.iter()) {
             for (x, e) in v.iter_mut().zip(col.iter()) {
                 *x += *e * *w;
             }
         }
-        if v.iter().all(|x| <f64 as ::trocar::Real>::is_finite(*x)) {
+        if v.iter().all(|x| <f64 as ::trocar::emitted::Real>::is_finite(*x)) {
             Some(v)
         } else {
             None

@@ -69,7 +69,7 @@ pub mod iiwa_endoscope {
         #[inline(always)]
         #[must_use]
         pub fn new(q: &[f64; N]) -> Self {
-            let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::Real>::sin_cos_array(
+            let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
                 &[q[0], q[1], q[2], q[3], q[4], q[5], q[6]],
             );
             JointTrig {
@@ -87,65 +87,65 @@ pub mod iiwa_endoscope {
     #[inline]
     #[must_use]
     pub fn forward_kinematics(q: &[f64; N], _p: &Params) -> ([[f64; 3]; 3], [f64; 3]) {
-        let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5], q[6]],
         );
         let x0 = c1 * c2;
         let x1 = c1 * s2;
         let x2 = s1 * c2;
         let x3 = s1 * s2;
-        let x4 = <f64 as ::trocar::Real>::mul_add(c3, x0, -(s1 * s3));
-        let x5 = <f64 as ::trocar::Real>::mul_add(s3, x0, s1 * c3);
-        let x6 = <f64 as ::trocar::Real>::mul_add(c3, x2, c1 * s3);
-        let x7 = <f64 as ::trocar::Real>::mul_add(c1, c3, -(s3 * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x0, -(s1 * s3));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x0, s1 * c3);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x2, c1 * s3);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(c1, c3, -(s3 * x2));
         let x8 = s2 * c3;
         let x9 = s2 * s3;
-        let x10 = <f64 as ::trocar::Real>::mul_add(c4, x4, s4 * x1);
-        let x11 = <f64 as ::trocar::Real>::mul_add(c4, x1, -(s4 * x4));
-        let x12 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x3);
-        let x13 = <f64 as ::trocar::Real>::mul_add(c4, x3, -(s4 * x6));
-        let x14 = <f64 as ::trocar::Real>::mul_add(c2, s4, -(c4 * x8));
-        let x15 = <f64 as ::trocar::Real>::mul_add(s4, x8, c2 * c4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(s5, x5, -(c5 * x10));
-        let x17 = <f64 as ::trocar::Real>::mul_add(s5, x10, c5 * x5);
-        let x18 = <f64 as ::trocar::Real>::mul_add(c5, x12, s5 * x7);
-        let x19 = <f64 as ::trocar::Real>::mul_add(s5, x12, -(c5 * x7));
-        let x20 = <f64 as ::trocar::Real>::mul_add(c5, x14, s5 * x9);
-        let x21 = <f64 as ::trocar::Real>::mul_add(s5, x14, -(c5 * x9));
-        let x22 = <f64 as ::trocar::Real>::mul_add(c6, x16, s6 * x11);
-        let x23 = <f64 as ::trocar::Real>::mul_add(c6, x11, -(s6 * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(s6, x13, -(c6 * x18));
-        let x25 = <f64 as ::trocar::Real>::mul_add(s6, x18, c6 * x13);
-        let x26 = <f64 as ::trocar::Real>::mul_add(s6, x15, -(c6 * x20));
-        let x27 = <f64 as ::trocar::Real>::mul_add(s6, x20, c6 * x15);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x4, s4 * x1);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x1, -(s4 * x4));
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x6, s4 * x3);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x3, -(s4 * x6));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c2, s4, -(c4 * x8));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x8, c2 * c4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x5, -(c5 * x10));
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x10, c5 * x5);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x12, s5 * x7);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x12, -(c5 * x7));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x14, s5 * x9);
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x14, -(c5 * x9));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x16, s6 * x11);
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x11, -(s6 * x16));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x13, -(c6 * x18));
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x18, c6 * x13);
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x15, -(c6 * x20));
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x20, c6 * x15);
         (
             [
                 [
-                    -<f64 as ::trocar::Real>::mul_add(c7, x22, s7 * x17),
-                    -<f64 as ::trocar::Real>::mul_add(c7, x24, s7 * x19),
-                    -<f64 as ::trocar::Real>::mul_add(c7, x26, s7 * x21),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(c7, x22, s7 * x17),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(c7, x24, s7 * x19),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(c7, x26, s7 * x21),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(s7, x22, -(c7 * x17)),
-                    <f64 as ::trocar::Real>::mul_add(s7, x24, -(c7 * x19)),
-                    <f64 as ::trocar::Real>::mul_add(s7, x26, -(c7 * x21)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s7, x22, -(c7 * x17)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s7, x24, -(c7 * x19)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s7, x26, -(c7 * x21)),
                 ],
                 [x23, x25, x27],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.3_f64,
                     x23,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.126_f64,
                         x23,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.2155_f64,
                             x11,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.1845_f64,
                                 x11,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.2045_f64,
                                     x1,
                                     0.2155_f64 * x1,
@@ -154,19 +154,19 @@ pub mod iiwa_endoscope {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.3_f64,
                     x25,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.126_f64,
                         x25,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.2155_f64,
                             x13,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.1845_f64,
                                 x13,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.2045_f64,
                                     x3,
                                     0.2155_f64 * x3,
@@ -175,22 +175,26 @@ pub mod iiwa_endoscope {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.3_f64,
                     x27,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.126_f64,
                         x27,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.2155_f64,
                             x15,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.1845_f64,
                                 x15,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.2155_f64,
                                     c2,
-                                    <f64 as ::trocar::Real>::mul_add(0.2045_f64, c2, 0.36_f64),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        0.2045_f64,
+                                        c2,
+                                        0.36_f64,
+                                    ),
                                 ),
                             ),
                         ),
@@ -214,58 +218,162 @@ pub mod iiwa_endoscope {
         let x1 = t.cos[0] * t.sin[1];
         let x2 = t.sin[0] * t.cos[1];
         let x3 = t.sin[0] * t.sin[1];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x0, -(t.sin[0] * t.sin[2]));
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x0, t.sin[0] * t.cos[2]);
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x2, t.cos[0] * t.sin[2]);
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.cos[0], t.cos[2], -(t.sin[2] * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x0,
+            -(t.sin[0] * t.sin[2]),
+        );
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x0,
+            t.sin[0] * t.cos[2],
+        );
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x2,
+            t.cos[0] * t.sin[2],
+        );
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            t.cos[2],
+            -(t.sin[2] * x2),
+        );
         let x8 = t.sin[1] * t.cos[2];
         let x9 = t.sin[1] * t.sin[2];
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x4, t.sin[3] * x1);
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x1, -(t.sin[3] * x4));
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x3);
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * x6));
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[1], t.sin[3], -(t.cos[3] * x8));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[1] * t.cos[3]);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x5, -(t.cos[4] * x10));
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x10, t.cos[4] * x5);
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x12, t.sin[4] * x7);
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x12, -(t.cos[4] * x7));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x14, t.sin[4] * x9);
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x14, -(t.cos[4] * x9));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x16, t.sin[5] * x11);
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x11, -(t.sin[5] * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x13, -(t.cos[5] * x18));
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x18, t.cos[5] * x13);
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x15, -(t.cos[5] * x20));
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x20, t.cos[5] * x15);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x4, t.sin[3] * x1);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x1,
+            -(t.sin[3] * x4),
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x6, t.sin[3] * x3);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x3,
+            -(t.sin[3] * x6),
+        );
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            t.sin[3],
+            -(t.cos[3] * x8),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x8,
+            t.cos[1] * t.cos[3],
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x5,
+            -(t.cos[4] * x10),
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x10,
+            t.cos[4] * x5,
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x12,
+            t.sin[4] * x7,
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x12,
+            -(t.cos[4] * x7),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x14,
+            t.sin[4] * x9,
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x14,
+            -(t.cos[4] * x9),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x16,
+            t.sin[5] * x11,
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x11,
+            -(t.sin[5] * x16),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x13,
+            -(t.cos[5] * x18),
+        );
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x18,
+            t.cos[5] * x13,
+        );
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x15,
+            -(t.cos[5] * x20),
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x20,
+            t.cos[5] * x15,
+        );
         (
             [
                 [
-                    -<f64 as ::trocar::Real>::mul_add(t.cos[6], x22, t.sin[6] * x17),
-                    -<f64 as ::trocar::Real>::mul_add(t.cos[6], x24, t.sin[6] * x19),
-                    -<f64 as ::trocar::Real>::mul_add(t.cos[6], x26, t.sin[6] * x21),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[6],
+                        x22,
+                        t.sin[6] * x17,
+                    ),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[6],
+                        x24,
+                        t.sin[6] * x19,
+                    ),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[6],
+                        x26,
+                        t.sin[6] * x21,
+                    ),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.sin[6], x22, -(t.cos[6] * x17)),
-                    <f64 as ::trocar::Real>::mul_add(t.sin[6], x24, -(t.cos[6] * x19)),
-                    <f64 as ::trocar::Real>::mul_add(t.sin[6], x26, -(t.cos[6] * x21)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[6],
+                        x22,
+                        -(t.cos[6] * x17),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[6],
+                        x24,
+                        -(t.cos[6] * x19),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[6],
+                        x26,
+                        -(t.cos[6] * x21),
+                    ),
                 ],
                 [x23, x25, x27],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.3_f64,
                     x23,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.126_f64,
                         x23,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.2155_f64,
                             x11,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.1845_f64,
                                 x11,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.2045_f64,
                                     x1,
                                     0.2155_f64 * x1,
@@ -274,19 +382,19 @@ pub mod iiwa_endoscope {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.3_f64,
                     x25,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.126_f64,
                         x25,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.2155_f64,
                             x13,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.1845_f64,
                                 x13,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.2045_f64,
                                     x3,
                                     0.2155_f64 * x3,
@@ -295,22 +403,22 @@ pub mod iiwa_endoscope {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.3_f64,
                     x27,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.126_f64,
                         x27,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.2155_f64,
                             x15,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.1845_f64,
                                 x15,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.2155_f64,
                                     t.cos[1],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.2045_f64,
                                         t.cos[1],
                                         0.36_f64,
@@ -331,7 +439,7 @@ pub mod iiwa_endoscope {
     #[inline]
     #[must_use]
     pub fn body_jacobian(q: &[f64; N], _p: &Params) -> [[f64; 6]; N] {
-        let ([s2, s3, s4, s5, s6, s7], [c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s2, s3, s4, s5, s6, s7], [c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[1], q[2], q[3], q[4], q[5], q[6]],
         );
         let x0 = c6 * c7;
@@ -339,95 +447,105 @@ pub mod iiwa_endoscope {
         let x2 = 0.426_f64 * s6;
         let x3 = s6 * c7;
         let x4 = s6 * s7;
-        let x5 = <f64 as ::trocar::Real>::mul_add(c5, x0, -(s5 * s7));
-        let x6 = <f64 as ::trocar::Real>::mul_add(c5, x1, s5 * c7);
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x0, -(s5 * s7));
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x1, s5 * c7);
         let x7 = c5 * s6;
         let x8 = c5 * x2;
         let x9 = 0.1845_f64
-            + <f64 as ::trocar::Real>::mul_add(0.426_f64, c6, 0.2155_f64);
-        let x10 = <f64 as ::trocar::Real>::mul_add(s5, x0, c5 * s7);
-        let x11 = <f64 as ::trocar::Real>::mul_add(s5, x1, -(c5 * c7));
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.426_f64, c6, 0.2155_f64);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x0, c5 * s7);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x1, -(c5 * c7));
         let x12 = s5 * s6;
         let x13 = s5 * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(c4, x5, s4 * x3);
-        let x15 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c4, x7, -(s4 * c6));
-        let x17 = <f64 as ::trocar::Real>::mul_add(c4, x8, -(s4 * x9));
-        let x18 = <f64 as ::trocar::Real>::mul_add(s4, x5, -(c4 * x3));
-        let x19 = <f64 as ::trocar::Real>::mul_add(c4, x4, -(s4 * x6));
-        let x20 = <f64 as ::trocar::Real>::mul_add(s4, x7, c4 * c6);
-        let x21 = <f64 as ::trocar::Real>::mul_add(s3, x10, -(c3 * x14));
-        let x22 = <f64 as ::trocar::Real>::mul_add(c3, x15, -(s3 * x11));
-        let x23 = <f64 as ::trocar::Real>::mul_add(s3, x12, -(c3 * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(s3, x13, -(c3 * x17));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x5, s4 * x3);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x6, s4 * x4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x7, -(s4 * c6));
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x8, -(s4 * x9));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x5, -(c4 * x3));
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x4, -(s4 * x6));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x7, c4 * c6);
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x10, -(c3 * x14));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x15, -(s3 * x11));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x12, -(c3 * x16));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x13, -(c3 * x17));
         let x25 = 0.2045_f64
-            + (0.2155_f64 + <f64 as ::trocar::Real>::mul_add(s4, x8, c4 * x9));
-        let x26 = <f64 as ::trocar::Real>::mul_add(s3, x14, c3 * x10);
-        let x27 = <f64 as ::trocar::Real>::mul_add(s3, x15, c3 * x11);
-        let x28 = <f64 as ::trocar::Real>::mul_add(s3, x16, c3 * x12);
-        let x29 = <f64 as ::trocar::Real>::mul_add(s3, x17, c3 * x13);
-        let x30 = <f64 as ::trocar::Real>::mul_add(s2, x25, -(c2 * x24));
+            + (0.2155_f64 + <f64 as ::trocar::emitted::Real>::mul_add(s4, x8, c4 * x9));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x14, c3 * x10);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x15, c3 * x11);
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x16, c3 * x12);
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x17, c3 * x13);
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x25, -(c2 * x24));
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x26,
                     x30,
-                    -(x29 * <f64 as ::trocar::Real>::mul_add(s2, x18, -(c2 * x21))),
+                    -(x29
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            s2,
+                            x18,
+                            -(c2 * x21),
+                        )),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     x29,
-                    <f64 as ::trocar::Real>::mul_add(s2, x19, -(c2 * x22)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s2, x19, -(c2 * x22)),
                     x27 * x30,
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x28,
                     x30,
-                    -(x29 * <f64 as ::trocar::Real>::mul_add(s2, x20, -(c2 * x23))),
+                    -(x29
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            s2,
+                            x20,
+                            -(c2 * x23),
+                        )),
                 ),
-                <f64 as ::trocar::Real>::mul_add(s2, x21, c2 * x18),
-                <f64 as ::trocar::Real>::mul_add(s2, x22, c2 * x19),
-                <f64 as ::trocar::Real>::mul_add(s2, x23, c2 * x20),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x21, c2 * x18),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x22, c2 * x19),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x23, c2 * x20),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25)),
-                <f64 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25)),
-                <f64 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x18, x24, -(x21 * x25)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x19, x24, -(x22 * x25)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x20, x24, -(x23 * x25)),
                 x26,
                 -x27,
                 x28,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14)),
-                <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
-                <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x10, x17, -(x13 * x14)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, -(x13 * x16)),
                 x18,
                 x19,
                 x20,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(x5, x9, x3 * x8),
-                <f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8),
-                <f64 as ::trocar::Real>::mul_add(c6, x8, -(x7 * x9)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x5, x9, x3 * x8),
+                <f64 as ::trocar::emitted::Real>::mul_add(x6, x9, x4 * x8),
+                <f64 as ::trocar::emitted::Real>::mul_add(c6, x8, -(x7 * x9)),
                 -x10,
                 x11,
                 -x12,
             ],
-            [s7 * x2, c7 * x2, <f64 as ::trocar::Real>::ZERO, -x3, x4, c6],
+            [s7 * x2, c7 * x2, <f64 as ::trocar::emitted::Real>::ZERO, -x3, x4, c6],
             [
                 0.426_f64 * c7,
                 -(0.426_f64 * s7),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 s7,
                 c7,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -444,86 +562,166 @@ pub mod iiwa_endoscope {
         let x2 = 0.426_f64 * t.sin[5];
         let x3 = t.sin[5] * t.cos[6];
         let x4 = t.sin[5] * t.sin[6];
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x0, -(t.sin[4] * t.sin[6]));
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x1, t.sin[4] * t.cos[6]);
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x0,
+            -(t.sin[4] * t.sin[6]),
+        );
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x1,
+            t.sin[4] * t.cos[6],
+        );
         let x7 = t.cos[4] * t.sin[5];
         let x8 = t.cos[4] * x2;
         let x9 = 0.1845_f64
-            + <f64 as ::trocar::Real>::mul_add(0.426_f64, t.cos[5], 0.2155_f64);
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x0, t.cos[4] * t.sin[6]);
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x1, -(t.cos[4] * t.cos[6]));
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.426_f64, t.cos[5], 0.2155_f64);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x0,
+            t.cos[4] * t.sin[6],
+        );
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x1,
+            -(t.cos[4] * t.cos[6]),
+        );
         let x12 = t.sin[4] * t.sin[5];
         let x13 = t.sin[4] * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x5, t.sin[3] * x3);
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x7, -(t.sin[3] * t.cos[5]));
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x5, -(t.cos[3] * x3));
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x4, -(t.sin[3] * x6));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x7, t.cos[3] * t.cos[5]);
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x10, -(t.cos[2] * x14));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x15, -(t.sin[2] * x11));
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x12, -(t.cos[2] * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x13, -(t.cos[2] * x17));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x5, t.sin[3] * x3);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x7,
+            -(t.sin[3] * t.cos[5]),
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x8,
+            -(t.sin[3] * x9),
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x5,
+            -(t.cos[3] * x3),
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x4,
+            -(t.sin[3] * x6),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x7,
+            t.cos[3] * t.cos[5],
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x10,
+            -(t.cos[2] * x14),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x15,
+            -(t.sin[2] * x11),
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x12,
+            -(t.cos[2] * x16),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x13,
+            -(t.cos[2] * x17),
+        );
         let x25 = 0.2045_f64
             + (0.2155_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9));
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x14, t.cos[2] * x10);
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x15, t.cos[2] * x11);
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x12);
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x13);
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x25, -(t.cos[1] * x24));
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[3],
+                    x8,
+                    t.cos[3] * x9,
+                ));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x14,
+            t.cos[2] * x10,
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x15,
+            t.cos[2] * x11,
+        );
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x16,
+            t.cos[2] * x12,
+        );
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x17,
+            t.cos[2] * x13,
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x25,
+            -(t.cos[1] * x24),
+        );
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x26,
                     x30,
                     -(x29
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[1],
                             x18,
                             -(t.cos[1] * x21),
                         )),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     x29,
-                    <f64 as ::trocar::Real>::mul_add(t.sin[1], x19, -(t.cos[1] * x22)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[1],
+                        x19,
+                        -(t.cos[1] * x22),
+                    ),
                     x27 * x30,
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x28,
                     x30,
                     -(x29
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[1],
                             x20,
                             -(t.cos[1] * x23),
                         )),
                 ),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x21, t.cos[1] * x18),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x22, t.cos[1] * x19),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x23, t.cos[1] * x20),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x21, t.cos[1] * x18),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x22, t.cos[1] * x19),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x23, t.cos[1] * x20),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25)),
-                <f64 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25)),
-                <f64 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x18, x24, -(x21 * x25)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x19, x24, -(x22 * x25)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x20, x24, -(x23 * x25)),
                 x26,
                 -x27,
                 x28,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14)),
-                <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
-                <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x10, x17, -(x13 * x14)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, -(x13 * x16)),
                 x18,
                 x19,
                 x20,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(x5, x9, x3 * x8),
-                <f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8),
-                <f64 as ::trocar::Real>::mul_add(t.cos[5], x8, -(x7 * x9)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x5, x9, x3 * x8),
+                <f64 as ::trocar::emitted::Real>::mul_add(x6, x9, x4 * x8),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.cos[5], x8, -(x7 * x9)),
                 -x10,
                 x11,
                 -x12,
@@ -531,7 +729,7 @@ pub mod iiwa_endoscope {
             [
                 t.sin[6] * x2,
                 t.cos[6] * x2,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -x3,
                 x4,
                 t.cos[5],
@@ -539,18 +737,18 @@ pub mod iiwa_endoscope {
             [
                 0.426_f64 * t.cos[6],
                 -(0.426_f64 * t.sin[6]),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 t.sin[6],
                 t.cos[6],
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -566,36 +764,36 @@ pub mod iiwa_endoscope {
     pub fn constrained_jacobian(_q: &[f64; N], p: &Params) -> [[f64; 6]; M] {
         [
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 p.l_a - 0.3_f64,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 0.3_f64 - p.l_a,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -609,36 +807,36 @@ pub mod iiwa_endoscope {
     pub fn constrained_jacobian_trig(_t: &JointTrig, p: &Params) -> [[f64; 6]; M] {
         [
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 p.l_a - 0.3_f64,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 0.3_f64 - p.l_a,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -652,26 +850,26 @@ pub mod iiwa_endoscope {
     #[inline]
     #[must_use]
     pub fn constraint_jacobian_c(_q: &[f64; N], p: &Params) -> [[f64; 6]; R] {
-        let x0 = <f64 as ::trocar::Real>::ONE
-            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
-        let x1 = x0 * (<f64 as ::trocar::Real>::ONE + 0.3_f64 * p.l_a);
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
+            / (<f64 as ::trocar::emitted::Real>::ONE + p.l_a * p.l_a);
+        let x1 = x0 * (<f64 as ::trocar::emitted::Real>::ONE + 0.3_f64 * p.l_a);
         let x2 = p.l_a * x0;
         [
             [
                 x1,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x2,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x1,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -x2,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -683,26 +881,26 @@ pub mod iiwa_endoscope {
     #[inline]
     #[must_use]
     pub fn constraint_jacobian_c_trig(_t: &JointTrig, p: &Params) -> [[f64; 6]; R] {
-        let x0 = <f64 as ::trocar::Real>::ONE
-            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
-        let x1 = x0 * (<f64 as ::trocar::Real>::ONE + 0.3_f64 * p.l_a);
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
+            / (<f64 as ::trocar::emitted::Real>::ONE + p.l_a * p.l_a);
+        let x1 = x0 * (<f64 as ::trocar::emitted::Real>::ONE + 0.3_f64 * p.l_a);
         let x2 = p.l_a * x0;
         [
             [
                 x1,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x2,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x1,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -x2,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -714,7 +912,7 @@ pub mod iiwa_endoscope {
     #[inline]
     #[must_use]
     pub fn partial_body_jacobian(q: &[f64; N], _p: &Params) -> [[f64; 6]; I] {
-        let ([s2, s3, s4, s5, s6, s7], [c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s2, s3, s4, s5, s6, s7], [c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[1], q[2], q[3], q[4], q[5], q[6]],
         );
         let x0 = c6 * c7;
@@ -722,95 +920,105 @@ pub mod iiwa_endoscope {
         let x2 = 0.126_f64 * s6;
         let x3 = s6 * c7;
         let x4 = s6 * s7;
-        let x5 = <f64 as ::trocar::Real>::mul_add(c5, x0, -(s5 * s7));
-        let x6 = <f64 as ::trocar::Real>::mul_add(c5, x1, s5 * c7);
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x0, -(s5 * s7));
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x1, s5 * c7);
         let x7 = c5 * s6;
         let x8 = c5 * x2;
         let x9 = 0.1845_f64
-            + <f64 as ::trocar::Real>::mul_add(0.126_f64, c6, 0.2155_f64);
-        let x10 = <f64 as ::trocar::Real>::mul_add(s5, x0, c5 * s7);
-        let x11 = <f64 as ::trocar::Real>::mul_add(s5, x1, -(c5 * c7));
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.126_f64, c6, 0.2155_f64);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x0, c5 * s7);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x1, -(c5 * c7));
         let x12 = s5 * s6;
         let x13 = s5 * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(c4, x5, s4 * x3);
-        let x15 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c4, x7, -(s4 * c6));
-        let x17 = <f64 as ::trocar::Real>::mul_add(c4, x8, -(s4 * x9));
-        let x18 = <f64 as ::trocar::Real>::mul_add(s4, x5, -(c4 * x3));
-        let x19 = <f64 as ::trocar::Real>::mul_add(c4, x4, -(s4 * x6));
-        let x20 = <f64 as ::trocar::Real>::mul_add(s4, x7, c4 * c6);
-        let x21 = <f64 as ::trocar::Real>::mul_add(s3, x10, -(c3 * x14));
-        let x22 = <f64 as ::trocar::Real>::mul_add(c3, x15, -(s3 * x11));
-        let x23 = <f64 as ::trocar::Real>::mul_add(s3, x12, -(c3 * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(s3, x13, -(c3 * x17));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x5, s4 * x3);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x6, s4 * x4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x7, -(s4 * c6));
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x8, -(s4 * x9));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x5, -(c4 * x3));
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x4, -(s4 * x6));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x7, c4 * c6);
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x10, -(c3 * x14));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x15, -(s3 * x11));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x12, -(c3 * x16));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x13, -(c3 * x17));
         let x25 = 0.2045_f64
-            + (0.2155_f64 + <f64 as ::trocar::Real>::mul_add(s4, x8, c4 * x9));
-        let x26 = <f64 as ::trocar::Real>::mul_add(s3, x14, c3 * x10);
-        let x27 = <f64 as ::trocar::Real>::mul_add(s3, x15, c3 * x11);
-        let x28 = <f64 as ::trocar::Real>::mul_add(s3, x16, c3 * x12);
-        let x29 = <f64 as ::trocar::Real>::mul_add(s3, x17, c3 * x13);
-        let x30 = <f64 as ::trocar::Real>::mul_add(s2, x25, -(c2 * x24));
+            + (0.2155_f64 + <f64 as ::trocar::emitted::Real>::mul_add(s4, x8, c4 * x9));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x14, c3 * x10);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x15, c3 * x11);
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x16, c3 * x12);
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x17, c3 * x13);
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x25, -(c2 * x24));
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x26,
                     x30,
-                    -(x29 * <f64 as ::trocar::Real>::mul_add(s2, x18, -(c2 * x21))),
+                    -(x29
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            s2,
+                            x18,
+                            -(c2 * x21),
+                        )),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     x29,
-                    <f64 as ::trocar::Real>::mul_add(s2, x19, -(c2 * x22)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s2, x19, -(c2 * x22)),
                     x27 * x30,
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x28,
                     x30,
-                    -(x29 * <f64 as ::trocar::Real>::mul_add(s2, x20, -(c2 * x23))),
+                    -(x29
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            s2,
+                            x20,
+                            -(c2 * x23),
+                        )),
                 ),
-                <f64 as ::trocar::Real>::mul_add(s2, x21, c2 * x18),
-                <f64 as ::trocar::Real>::mul_add(s2, x22, c2 * x19),
-                <f64 as ::trocar::Real>::mul_add(s2, x23, c2 * x20),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x21, c2 * x18),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x22, c2 * x19),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x23, c2 * x20),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25)),
-                <f64 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25)),
-                <f64 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x18, x24, -(x21 * x25)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x19, x24, -(x22 * x25)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x20, x24, -(x23 * x25)),
                 x26,
                 -x27,
                 x28,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14)),
-                <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
-                <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x10, x17, -(x13 * x14)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, -(x13 * x16)),
                 x18,
                 x19,
                 x20,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(x5, x9, x3 * x8),
-                <f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8),
-                <f64 as ::trocar::Real>::mul_add(c6, x8, -(x7 * x9)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x5, x9, x3 * x8),
+                <f64 as ::trocar::emitted::Real>::mul_add(x6, x9, x4 * x8),
+                <f64 as ::trocar::emitted::Real>::mul_add(c6, x8, -(x7 * x9)),
                 -x10,
                 x11,
                 -x12,
             ],
-            [s7 * x2, c7 * x2, <f64 as ::trocar::Real>::ZERO, -x3, x4, c6],
+            [s7 * x2, c7 * x2, <f64 as ::trocar::emitted::Real>::ZERO, -x3, x4, c6],
             [
                 0.126_f64 * c7,
                 -(0.126_f64 * s7),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 s7,
                 c7,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -827,86 +1035,166 @@ pub mod iiwa_endoscope {
         let x2 = 0.126_f64 * t.sin[5];
         let x3 = t.sin[5] * t.cos[6];
         let x4 = t.sin[5] * t.sin[6];
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x0, -(t.sin[4] * t.sin[6]));
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x1, t.sin[4] * t.cos[6]);
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x0,
+            -(t.sin[4] * t.sin[6]),
+        );
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x1,
+            t.sin[4] * t.cos[6],
+        );
         let x7 = t.cos[4] * t.sin[5];
         let x8 = t.cos[4] * x2;
         let x9 = 0.1845_f64
-            + <f64 as ::trocar::Real>::mul_add(0.126_f64, t.cos[5], 0.2155_f64);
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x0, t.cos[4] * t.sin[6]);
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x1, -(t.cos[4] * t.cos[6]));
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.126_f64, t.cos[5], 0.2155_f64);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x0,
+            t.cos[4] * t.sin[6],
+        );
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x1,
+            -(t.cos[4] * t.cos[6]),
+        );
         let x12 = t.sin[4] * t.sin[5];
         let x13 = t.sin[4] * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x5, t.sin[3] * x3);
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x7, -(t.sin[3] * t.cos[5]));
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x5, -(t.cos[3] * x3));
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x4, -(t.sin[3] * x6));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x7, t.cos[3] * t.cos[5]);
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x10, -(t.cos[2] * x14));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x15, -(t.sin[2] * x11));
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x12, -(t.cos[2] * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x13, -(t.cos[2] * x17));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x5, t.sin[3] * x3);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x7,
+            -(t.sin[3] * t.cos[5]),
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x8,
+            -(t.sin[3] * x9),
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x5,
+            -(t.cos[3] * x3),
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x4,
+            -(t.sin[3] * x6),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x7,
+            t.cos[3] * t.cos[5],
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x10,
+            -(t.cos[2] * x14),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x15,
+            -(t.sin[2] * x11),
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x12,
+            -(t.cos[2] * x16),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x13,
+            -(t.cos[2] * x17),
+        );
         let x25 = 0.2045_f64
             + (0.2155_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9));
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x14, t.cos[2] * x10);
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x15, t.cos[2] * x11);
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x12);
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x13);
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x25, -(t.cos[1] * x24));
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[3],
+                    x8,
+                    t.cos[3] * x9,
+                ));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x14,
+            t.cos[2] * x10,
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x15,
+            t.cos[2] * x11,
+        );
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x16,
+            t.cos[2] * x12,
+        );
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x17,
+            t.cos[2] * x13,
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x25,
+            -(t.cos[1] * x24),
+        );
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x26,
                     x30,
                     -(x29
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[1],
                             x18,
                             -(t.cos[1] * x21),
                         )),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     x29,
-                    <f64 as ::trocar::Real>::mul_add(t.sin[1], x19, -(t.cos[1] * x22)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[1],
+                        x19,
+                        -(t.cos[1] * x22),
+                    ),
                     x27 * x30,
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x28,
                     x30,
                     -(x29
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[1],
                             x20,
                             -(t.cos[1] * x23),
                         )),
                 ),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x21, t.cos[1] * x18),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x22, t.cos[1] * x19),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x23, t.cos[1] * x20),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x21, t.cos[1] * x18),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x22, t.cos[1] * x19),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x23, t.cos[1] * x20),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25)),
-                <f64 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25)),
-                <f64 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x18, x24, -(x21 * x25)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x19, x24, -(x22 * x25)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x20, x24, -(x23 * x25)),
                 x26,
                 -x27,
                 x28,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14)),
-                <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
-                <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x10, x17, -(x13 * x14)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, -(x13 * x16)),
                 x18,
                 x19,
                 x20,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(x5, x9, x3 * x8),
-                <f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8),
-                <f64 as ::trocar::Real>::mul_add(t.cos[5], x8, -(x7 * x9)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x5, x9, x3 * x8),
+                <f64 as ::trocar::emitted::Real>::mul_add(x6, x9, x4 * x8),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.cos[5], x8, -(x7 * x9)),
                 -x10,
                 x11,
                 -x12,
@@ -914,7 +1202,7 @@ pub mod iiwa_endoscope {
             [
                 t.sin[6] * x2,
                 t.cos[6] * x2,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -x3,
                 x4,
                 t.cos[5],
@@ -922,18 +1210,18 @@ pub mod iiwa_endoscope {
             [
                 0.126_f64 * t.cos[6],
                 -(0.126_f64 * t.sin[6]),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 t.sin[6],
                 t.cos[6],
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -945,62 +1233,62 @@ pub mod iiwa_endoscope {
     #[inline]
     #[must_use]
     pub fn forward_kinematics_i(q: &[f64; N], _p: &Params) -> ([[f64; 3]; 3], [f64; 3]) {
-        let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5], q[6]],
         );
         let x0 = c1 * c2;
         let x1 = c1 * s2;
         let x2 = s1 * c2;
         let x3 = s1 * s2;
-        let x4 = <f64 as ::trocar::Real>::mul_add(c3, x0, -(s1 * s3));
-        let x5 = <f64 as ::trocar::Real>::mul_add(s3, x0, s1 * c3);
-        let x6 = <f64 as ::trocar::Real>::mul_add(c3, x2, c1 * s3);
-        let x7 = <f64 as ::trocar::Real>::mul_add(c1, c3, -(s3 * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x0, -(s1 * s3));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x0, s1 * c3);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x2, c1 * s3);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(c1, c3, -(s3 * x2));
         let x8 = s2 * c3;
         let x9 = s2 * s3;
-        let x10 = <f64 as ::trocar::Real>::mul_add(c4, x4, s4 * x1);
-        let x11 = <f64 as ::trocar::Real>::mul_add(c4, x1, -(s4 * x4));
-        let x12 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x3);
-        let x13 = <f64 as ::trocar::Real>::mul_add(c4, x3, -(s4 * x6));
-        let x14 = <f64 as ::trocar::Real>::mul_add(c2, s4, -(c4 * x8));
-        let x15 = <f64 as ::trocar::Real>::mul_add(s4, x8, c2 * c4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(s5, x5, -(c5 * x10));
-        let x17 = <f64 as ::trocar::Real>::mul_add(s5, x10, c5 * x5);
-        let x18 = <f64 as ::trocar::Real>::mul_add(c5, x12, s5 * x7);
-        let x19 = <f64 as ::trocar::Real>::mul_add(s5, x12, -(c5 * x7));
-        let x20 = <f64 as ::trocar::Real>::mul_add(c5, x14, s5 * x9);
-        let x21 = <f64 as ::trocar::Real>::mul_add(s5, x14, -(c5 * x9));
-        let x22 = <f64 as ::trocar::Real>::mul_add(c6, x16, s6 * x11);
-        let x23 = <f64 as ::trocar::Real>::mul_add(c6, x11, -(s6 * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(s6, x13, -(c6 * x18));
-        let x25 = <f64 as ::trocar::Real>::mul_add(s6, x18, c6 * x13);
-        let x26 = <f64 as ::trocar::Real>::mul_add(s6, x15, -(c6 * x20));
-        let x27 = <f64 as ::trocar::Real>::mul_add(s6, x20, c6 * x15);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x4, s4 * x1);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x1, -(s4 * x4));
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x6, s4 * x3);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x3, -(s4 * x6));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c2, s4, -(c4 * x8));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x8, c2 * c4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x5, -(c5 * x10));
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x10, c5 * x5);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x12, s5 * x7);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x12, -(c5 * x7));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x14, s5 * x9);
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x14, -(c5 * x9));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x16, s6 * x11);
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x11, -(s6 * x16));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x13, -(c6 * x18));
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x18, c6 * x13);
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x15, -(c6 * x20));
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x20, c6 * x15);
         (
             [
                 [
-                    -<f64 as ::trocar::Real>::mul_add(c7, x22, s7 * x17),
-                    -<f64 as ::trocar::Real>::mul_add(c7, x24, s7 * x19),
-                    -<f64 as ::trocar::Real>::mul_add(c7, x26, s7 * x21),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(c7, x22, s7 * x17),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(c7, x24, s7 * x19),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(c7, x26, s7 * x21),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(s7, x22, -(c7 * x17)),
-                    <f64 as ::trocar::Real>::mul_add(s7, x24, -(c7 * x19)),
-                    <f64 as ::trocar::Real>::mul_add(s7, x26, -(c7 * x21)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s7, x22, -(c7 * x17)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s7, x24, -(c7 * x19)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s7, x26, -(c7 * x21)),
                 ],
                 [x23, x25, x27],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.126_f64,
                     x23,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.2155_f64,
                         x11,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.1845_f64,
                             x11,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.2045_f64,
                                 x1,
                                 0.2155_f64 * x1,
@@ -1008,16 +1296,16 @@ pub mod iiwa_endoscope {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.126_f64,
                     x25,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.2155_f64,
                         x13,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.1845_f64,
                             x13,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.2045_f64,
                                 x3,
                                 0.2155_f64 * x3,
@@ -1025,19 +1313,23 @@ pub mod iiwa_endoscope {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.126_f64,
                     x27,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.2155_f64,
                         x15,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.1845_f64,
                             x15,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.2155_f64,
                                 c2,
-                                <f64 as ::trocar::Real>::mul_add(0.2045_f64, c2, 0.36_f64),
+                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                    0.2045_f64,
+                                    c2,
+                                    0.36_f64,
+                                ),
                             ),
                         ),
                     ),
@@ -1060,55 +1352,159 @@ pub mod iiwa_endoscope {
         let x1 = t.cos[0] * t.sin[1];
         let x2 = t.sin[0] * t.cos[1];
         let x3 = t.sin[0] * t.sin[1];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x0, -(t.sin[0] * t.sin[2]));
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x0, t.sin[0] * t.cos[2]);
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x2, t.cos[0] * t.sin[2]);
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.cos[0], t.cos[2], -(t.sin[2] * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x0,
+            -(t.sin[0] * t.sin[2]),
+        );
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x0,
+            t.sin[0] * t.cos[2],
+        );
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x2,
+            t.cos[0] * t.sin[2],
+        );
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            t.cos[2],
+            -(t.sin[2] * x2),
+        );
         let x8 = t.sin[1] * t.cos[2];
         let x9 = t.sin[1] * t.sin[2];
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x4, t.sin[3] * x1);
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x1, -(t.sin[3] * x4));
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x3);
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * x6));
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[1], t.sin[3], -(t.cos[3] * x8));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[1] * t.cos[3]);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x5, -(t.cos[4] * x10));
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x10, t.cos[4] * x5);
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x12, t.sin[4] * x7);
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x12, -(t.cos[4] * x7));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x14, t.sin[4] * x9);
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x14, -(t.cos[4] * x9));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x16, t.sin[5] * x11);
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x11, -(t.sin[5] * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x13, -(t.cos[5] * x18));
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x18, t.cos[5] * x13);
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x15, -(t.cos[5] * x20));
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x20, t.cos[5] * x15);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x4, t.sin[3] * x1);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x1,
+            -(t.sin[3] * x4),
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x6, t.sin[3] * x3);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x3,
+            -(t.sin[3] * x6),
+        );
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            t.sin[3],
+            -(t.cos[3] * x8),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x8,
+            t.cos[1] * t.cos[3],
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x5,
+            -(t.cos[4] * x10),
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x10,
+            t.cos[4] * x5,
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x12,
+            t.sin[4] * x7,
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x12,
+            -(t.cos[4] * x7),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x14,
+            t.sin[4] * x9,
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x14,
+            -(t.cos[4] * x9),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x16,
+            t.sin[5] * x11,
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x11,
+            -(t.sin[5] * x16),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x13,
+            -(t.cos[5] * x18),
+        );
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x18,
+            t.cos[5] * x13,
+        );
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x15,
+            -(t.cos[5] * x20),
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x20,
+            t.cos[5] * x15,
+        );
         (
             [
                 [
-                    -<f64 as ::trocar::Real>::mul_add(t.cos[6], x22, t.sin[6] * x17),
-                    -<f64 as ::trocar::Real>::mul_add(t.cos[6], x24, t.sin[6] * x19),
-                    -<f64 as ::trocar::Real>::mul_add(t.cos[6], x26, t.sin[6] * x21),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[6],
+                        x22,
+                        t.sin[6] * x17,
+                    ),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[6],
+                        x24,
+                        t.sin[6] * x19,
+                    ),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[6],
+                        x26,
+                        t.sin[6] * x21,
+                    ),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.sin[6], x22, -(t.cos[6] * x17)),
-                    <f64 as ::trocar::Real>::mul_add(t.sin[6], x24, -(t.cos[6] * x19)),
-                    <f64 as ::trocar::Real>::mul_add(t.sin[6], x26, -(t.cos[6] * x21)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[6],
+                        x22,
+                        -(t.cos[6] * x17),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[6],
+                        x24,
+                        -(t.cos[6] * x19),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[6],
+                        x26,
+                        -(t.cos[6] * x21),
+                    ),
                 ],
                 [x23, x25, x27],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.126_f64,
                     x23,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.2155_f64,
                         x11,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.1845_f64,
                             x11,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.2045_f64,
                                 x1,
                                 0.2155_f64 * x1,
@@ -1116,16 +1512,16 @@ pub mod iiwa_endoscope {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.126_f64,
                     x25,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.2155_f64,
                         x13,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.1845_f64,
                             x13,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.2045_f64,
                                 x3,
                                 0.2155_f64 * x3,
@@ -1133,19 +1529,19 @@ pub mod iiwa_endoscope {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.126_f64,
                     x27,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.2155_f64,
                         x15,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.1845_f64,
                             x15,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.2155_f64,
                                 t.cos[1],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.2045_f64,
                                     t.cos[1],
                                     0.36_f64,
@@ -1166,11 +1562,13 @@ pub mod iiwa_endoscope {
     #[must_use]
     pub fn manipulability(_q: &[f64; N], p: &Params) -> f64 {
         {
-            let w = <f64 as ::trocar::Real>::abs(p.l_a * (p.l_a - 0.6_f64) + 0.09_f64);
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            let w = <f64 as ::trocar::emitted::Real>::abs(
+                p.l_a * (p.l_a - 0.6_f64) + 0.09_f64,
+            );
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1183,11 +1581,13 @@ pub mod iiwa_endoscope {
     #[must_use]
     pub fn manipulability_trig(_t: &JointTrig, p: &Params) -> f64 {
         {
-            let w = <f64 as ::trocar::Real>::abs(p.l_a * (p.l_a - 0.6_f64) + 0.09_f64);
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            let w = <f64 as ::trocar::emitted::Real>::abs(
+                p.l_a * (p.l_a - 0.6_f64) + 0.09_f64,
+            );
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1202,10 +1602,10 @@ pub mod iiwa_endoscope {
         let x0 = p.l_a * (p.l_a - 0.6_f64) + 0.09_f64;
         {
             let w = x0 * x0;
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1220,10 +1620,10 @@ pub mod iiwa_endoscope {
         let x0 = p.l_a * (p.l_a - 0.6_f64) + 0.09_f64;
         {
             let w = x0 * x0;
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1236,12 +1636,30 @@ pub mod iiwa_endoscope {
     #[must_use]
     pub fn constraint_selection(_p: &Params) -> [[f64; R]; 6] {
         [
-            [<f64 as ::trocar::Real>::ONE, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ONE],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
+            [
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
         ]
     }
     /// Null-space basis `Λ#` of `Λ = H Ad_{g_ri}` (3.3), 6 × K: `V^B_0i = Λ# v0i`, thesis (3.6) (presets: (3.23), (3.27)).
@@ -1254,36 +1672,36 @@ pub mod iiwa_endoscope {
     pub fn lambda_null_space(p: &Params) -> [[f64; 6]; K] {
         [
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 p.l_a,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 -p.l_a,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -1297,25 +1715,25 @@ pub mod iiwa_endoscope {
     #[inline]
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f64; 6]; R] {
-        let x0 = <f64 as ::trocar::Real>::ONE
-            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
+            / (<f64 as ::trocar::emitted::Real>::ONE + p.l_a * p.l_a);
         let x1 = p.l_a * x0;
         [
             [
                 x0,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x1,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x0,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -x1,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -1330,22 +1748,26 @@ pub mod iiwa_endoscope {
         (
             [
                 [
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
                 ],
             ],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO, p.l_a],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                p.l_a,
+            ],
         )
     }
     /// The task selection `S`, TASK_ROWS × 6: the rows of the end-effector body twist `V^B_0e = (v, ω)` (components in the end-effector frame) that the task commands, thesis (3.15).
@@ -1358,40 +1780,40 @@ pub mod iiwa_endoscope {
     pub fn task_selection(_p: &Params) -> [[f64; TASK_ROWS]; 6] {
         [
             [
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -1408,28 +1830,28 @@ pub mod iiwa_endoscope {
     ) -> [[f64; TASK_ROWS]; M] {
         [
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 p.l_a - 0.3_f64,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 0.3_f64 - p.l_a,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -1446,28 +1868,28 @@ pub mod iiwa_endoscope {
     ) -> [[f64; TASK_ROWS]; M] {
         [
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 p.l_a - 0.3_f64,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 0.3_f64 - p.l_a,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -1484,16 +1906,16 @@ pub mod iiwa_endoscope {
         fk: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0e: &mut [[f64; 6]; N],
     ) {
-        jb0e[4][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[5][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[5][5] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][5] = <f64 as ::trocar::Real>::ONE;
-        let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::Real>::sin_cos_array(
+        jb0e[4][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[5][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[5][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][5] = <f64 as ::trocar::emitted::Real>::ONE;
+        let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5], q[6]],
         );
         jb0e[4][5] = c6;
@@ -1510,75 +1932,76 @@ pub mod iiwa_endoscope {
         jb0e[4][3] = -x3;
         let x4 = s6 * s7;
         jb0e[4][4] = x4;
-        let x5 = <f64 as ::trocar::Real>::mul_add(c5, x0, -(s5 * s7));
-        let x6 = <f64 as ::trocar::Real>::mul_add(c5, x1, s5 * c7);
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x0, -(s5 * s7));
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x1, s5 * c7);
         let x7 = c5 * s6;
         let x8 = c5 * x2;
         let x9 = 0.1845_f64
-            + <f64 as ::trocar::Real>::mul_add(0.426_f64, c6, 0.2155_f64);
-        jb0e[3][0] = -<f64 as ::trocar::Real>::mul_add(x5, x9, x3 * x8);
-        jb0e[3][1] = <f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8);
-        jb0e[3][2] = <f64 as ::trocar::Real>::mul_add(c6, x8, -(x7 * x9));
-        let x10 = <f64 as ::trocar::Real>::mul_add(s5, x0, c5 * s7);
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.426_f64, c6, 0.2155_f64);
+        jb0e[3][0] = -<f64 as ::trocar::emitted::Real>::mul_add(x5, x9, x3 * x8);
+        jb0e[3][1] = <f64 as ::trocar::emitted::Real>::mul_add(x6, x9, x4 * x8);
+        jb0e[3][2] = <f64 as ::trocar::emitted::Real>::mul_add(c6, x8, -(x7 * x9));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x0, c5 * s7);
         jb0e[3][3] = -x10;
-        let x11 = <f64 as ::trocar::Real>::mul_add(s5, x1, -(c5 * c7));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x1, -(c5 * c7));
         jb0e[3][4] = x11;
         let x12 = s5 * s6;
         jb0e[3][5] = -x12;
         let x13 = s5 * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(c4, x5, s4 * x3);
-        let x15 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c4, x7, -(s4 * c6));
-        let x17 = <f64 as ::trocar::Real>::mul_add(c4, x8, -(s4 * x9));
-        jb0e[2][0] = <f64 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14));
-        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17));
-        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16));
-        let x18 = <f64 as ::trocar::Real>::mul_add(s4, x5, -(c4 * x3));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x5, s4 * x3);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x6, s4 * x4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x7, -(s4 * c6));
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x8, -(s4 * x9));
+        jb0e[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(x10, x17, -(x13 * x14));
+        jb0e[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17));
+        jb0e[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, -(x13 * x16));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x5, -(c4 * x3));
         jb0e[2][3] = x18;
-        let x19 = <f64 as ::trocar::Real>::mul_add(c4, x4, -(s4 * x6));
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x4, -(s4 * x6));
         jb0e[2][4] = x19;
-        let x20 = <f64 as ::trocar::Real>::mul_add(s4, x7, c4 * c6);
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x7, c4 * c6);
         jb0e[2][5] = x20;
-        let x21 = <f64 as ::trocar::Real>::mul_add(s3, x10, -(c3 * x14));
-        let x22 = <f64 as ::trocar::Real>::mul_add(c3, x15, -(s3 * x11));
-        let x23 = <f64 as ::trocar::Real>::mul_add(s3, x12, -(c3 * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(s3, x13, -(c3 * x17));
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x10, -(c3 * x14));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x15, -(s3 * x11));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x12, -(c3 * x16));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x13, -(c3 * x17));
         let x25 = 0.2045_f64
-            + (0.2155_f64 + <f64 as ::trocar::Real>::mul_add(s4, x8, c4 * x9));
+            + (0.2155_f64 + <f64 as ::trocar::emitted::Real>::mul_add(s4, x8, c4 * x9));
         fk.1[2] = 0.1575_f64
-            + (0.2025_f64 + <f64 as ::trocar::Real>::mul_add(s2, x24, c2 * x25));
-        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25));
-        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25));
-        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25));
-        let x26 = <f64 as ::trocar::Real>::mul_add(s3, x14, c3 * x10);
+            + (0.2025_f64
+                + <f64 as ::trocar::emitted::Real>::mul_add(s2, x24, c2 * x25));
+        jb0e[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x18, x24, -(x21 * x25));
+        jb0e[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x19, x24, -(x22 * x25));
+        jb0e[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x20, x24, -(x23 * x25));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x14, c3 * x10);
         jb0e[1][3] = x26;
-        let x27 = <f64 as ::trocar::Real>::mul_add(s3, x15, c3 * x11);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x15, c3 * x11);
         jb0e[1][4] = -x27;
-        let x28 = <f64 as ::trocar::Real>::mul_add(s3, x16, c3 * x12);
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x16, c3 * x12);
         jb0e[1][5] = x28;
-        let x29 = <f64 as ::trocar::Real>::mul_add(s3, x17, c3 * x13);
-        let x30 = <f64 as ::trocar::Real>::mul_add(s2, x18, -(c2 * x21));
-        fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x30, -(s1 * x26));
-        fk.0[0][1] = <f64 as ::trocar::Real>::mul_add(s1, x30, c1 * x26);
-        let x31 = <f64 as ::trocar::Real>::mul_add(s2, x19, -(c2 * x22));
-        fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x31, s1 * x27);
-        fk.0[1][1] = <f64 as ::trocar::Real>::mul_add(s1, x31, -(c1 * x27));
-        let x32 = <f64 as ::trocar::Real>::mul_add(s2, x20, -(c2 * x23));
-        fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(c1, x32, -(s1 * x28));
-        fk.0[2][1] = <f64 as ::trocar::Real>::mul_add(s1, x32, c1 * x28);
-        let x33 = <f64 as ::trocar::Real>::mul_add(s2, x25, -(c2 * x24));
-        fk.1[0] = <f64 as ::trocar::Real>::mul_add(c1, x33, -(s1 * x29));
-        fk.1[1] = <f64 as ::trocar::Real>::mul_add(s1, x33, c1 * x29);
-        jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x26, x33, -(x29 * x30));
-        jb0e[0][1] = -<f64 as ::trocar::Real>::mul_add(x29, x31, x27 * x33);
-        jb0e[0][2] = <f64 as ::trocar::Real>::mul_add(x28, x33, -(x29 * x32));
-        let x34 = <f64 as ::trocar::Real>::mul_add(s2, x21, c2 * x18);
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x17, c3 * x13);
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x18, -(c2 * x21));
+        fk.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x30, -(s1 * x26));
+        fk.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x30, c1 * x26);
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x19, -(c2 * x22));
+        fk.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x31, s1 * x27);
+        fk.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x31, -(c1 * x27));
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x20, -(c2 * x23));
+        fk.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x32, -(s1 * x28));
+        fk.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x32, c1 * x28);
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x25, -(c2 * x24));
+        fk.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x33, -(s1 * x29));
+        fk.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x33, c1 * x29);
+        jb0e[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x26, x33, -(x29 * x30));
+        jb0e[0][1] = -<f64 as ::trocar::emitted::Real>::mul_add(x29, x31, x27 * x33);
+        jb0e[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(x28, x33, -(x29 * x32));
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x21, c2 * x18);
         fk.0[0][2] = x34;
         jb0e[0][3] = x34;
-        let x35 = <f64 as ::trocar::Real>::mul_add(s2, x22, c2 * x19);
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x22, c2 * x19);
         fk.0[1][2] = x35;
         jb0e[0][4] = x35;
-        let x36 = <f64 as ::trocar::Real>::mul_add(s2, x23, c2 * x20);
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x23, c2 * x20);
         fk.0[2][2] = x36;
         jb0e[0][5] = x36;
     }
@@ -1592,20 +2015,20 @@ pub mod iiwa_endoscope {
         fk: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0e: &mut [[f64; 6]; N],
     ) {
-        jb0e[4][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[4][2] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0e[4][5] = t.cos[5];
         jb0e[5][0] = 0.426_f64 * t.cos[6];
         jb0e[5][1] = -(0.426_f64 * t.sin[6]);
-        jb0e[5][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[5][2] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0e[5][3] = t.sin[6];
         jb0e[5][4] = t.cos[6];
-        jb0e[5][5] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][5] = <f64 as ::trocar::Real>::ONE;
+        jb0e[5][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][5] = <f64 as ::trocar::emitted::Real>::ONE;
         let x0 = t.cos[5] * t.cos[6];
         let x1 = t.cos[5] * t.sin[6];
         let x2 = 0.426_f64 * t.sin[5];
@@ -1615,77 +2038,213 @@ pub mod iiwa_endoscope {
         jb0e[4][3] = -x3;
         let x4 = t.sin[5] * t.sin[6];
         jb0e[4][4] = x4;
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x0, -(t.sin[4] * t.sin[6]));
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x1, t.sin[4] * t.cos[6]);
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x0,
+            -(t.sin[4] * t.sin[6]),
+        );
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x1,
+            t.sin[4] * t.cos[6],
+        );
         let x7 = t.cos[4] * t.sin[5];
         let x8 = t.cos[4] * x2;
         let x9 = 0.1845_f64
-            + <f64 as ::trocar::Real>::mul_add(0.426_f64, t.cos[5], 0.2155_f64);
-        jb0e[3][0] = -<f64 as ::trocar::Real>::mul_add(x5, x9, x3 * x8);
-        jb0e[3][1] = <f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8);
-        jb0e[3][2] = <f64 as ::trocar::Real>::mul_add(t.cos[5], x8, -(x7 * x9));
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x0, t.cos[4] * t.sin[6]);
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.426_f64, t.cos[5], 0.2155_f64);
+        jb0e[3][0] = -<f64 as ::trocar::emitted::Real>::mul_add(x5, x9, x3 * x8);
+        jb0e[3][1] = <f64 as ::trocar::emitted::Real>::mul_add(x6, x9, x4 * x8);
+        jb0e[3][2] = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[5], x8, -(x7 * x9));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x0,
+            t.cos[4] * t.sin[6],
+        );
         jb0e[3][3] = -x10;
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x1, -(t.cos[4] * t.cos[6]));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x1,
+            -(t.cos[4] * t.cos[6]),
+        );
         jb0e[3][4] = x11;
         let x12 = t.sin[4] * t.sin[5];
         jb0e[3][5] = -x12;
         let x13 = t.sin[4] * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x5, t.sin[3] * x3);
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x7, -(t.sin[3] * t.cos[5]));
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
-        jb0e[2][0] = <f64 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14));
-        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17));
-        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16));
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x5, -(t.cos[3] * x3));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x5, t.sin[3] * x3);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x7,
+            -(t.sin[3] * t.cos[5]),
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x8,
+            -(t.sin[3] * x9),
+        );
+        jb0e[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(x10, x17, -(x13 * x14));
+        jb0e[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17));
+        jb0e[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, -(x13 * x16));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x5,
+            -(t.cos[3] * x3),
+        );
         jb0e[2][3] = x18;
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x4, -(t.sin[3] * x6));
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x4,
+            -(t.sin[3] * x6),
+        );
         jb0e[2][4] = x19;
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x7, t.cos[3] * t.cos[5]);
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x7,
+            t.cos[3] * t.cos[5],
+        );
         jb0e[2][5] = x20;
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x10, -(t.cos[2] * x14));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x15, -(t.sin[2] * x11));
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x12, -(t.cos[2] * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x13, -(t.cos[2] * x17));
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x10,
+            -(t.cos[2] * x14),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x15,
+            -(t.sin[2] * x11),
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x12,
+            -(t.cos[2] * x16),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x13,
+            -(t.cos[2] * x17),
+        );
         let x25 = 0.2045_f64
             + (0.2155_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9));
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[3],
+                    x8,
+                    t.cos[3] * x9,
+                ));
         fk.1[2] = 0.1575_f64
             + (0.2025_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[1], x24, t.cos[1] * x25));
-        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25));
-        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25));
-        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25));
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x14, t.cos[2] * x10);
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[1],
+                    x24,
+                    t.cos[1] * x25,
+                ));
+        jb0e[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x18, x24, -(x21 * x25));
+        jb0e[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x19, x24, -(x22 * x25));
+        jb0e[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x20, x24, -(x23 * x25));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x14,
+            t.cos[2] * x10,
+        );
         jb0e[1][3] = x26;
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x15, t.cos[2] * x11);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x15,
+            t.cos[2] * x11,
+        );
         jb0e[1][4] = -x27;
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x12);
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x16,
+            t.cos[2] * x12,
+        );
         jb0e[1][5] = x28;
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x13);
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x18, -(t.cos[1] * x21));
-        fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x30, -(t.sin[0] * x26));
-        fk.0[0][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x30, t.cos[0] * x26);
-        let x31 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x19, -(t.cos[1] * x22));
-        fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x31, t.sin[0] * x27);
-        fk.0[1][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x31, -(t.cos[0] * x27));
-        let x32 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x20, -(t.cos[1] * x23));
-        fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x32, -(t.sin[0] * x28));
-        fk.0[2][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x32, t.cos[0] * x28);
-        let x33 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x25, -(t.cos[1] * x24));
-        fk.1[0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x33, -(t.sin[0] * x29));
-        fk.1[1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x33, t.cos[0] * x29);
-        jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x26, x33, -(x29 * x30));
-        jb0e[0][1] = -<f64 as ::trocar::Real>::mul_add(x29, x31, x27 * x33);
-        jb0e[0][2] = <f64 as ::trocar::Real>::mul_add(x28, x33, -(x29 * x32));
-        let x34 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x21, t.cos[1] * x18);
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x17,
+            t.cos[2] * x13,
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x18,
+            -(t.cos[1] * x21),
+        );
+        fk.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x30,
+            -(t.sin[0] * x26),
+        );
+        fk.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x30,
+            t.cos[0] * x26,
+        );
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x19,
+            -(t.cos[1] * x22),
+        );
+        fk.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x31,
+            t.sin[0] * x27,
+        );
+        fk.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x31,
+            -(t.cos[0] * x27),
+        );
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x20,
+            -(t.cos[1] * x23),
+        );
+        fk.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x32,
+            -(t.sin[0] * x28),
+        );
+        fk.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x32,
+            t.cos[0] * x28,
+        );
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x25,
+            -(t.cos[1] * x24),
+        );
+        fk.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x33,
+            -(t.sin[0] * x29),
+        );
+        fk.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x33,
+            t.cos[0] * x29,
+        );
+        jb0e[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x26, x33, -(x29 * x30));
+        jb0e[0][1] = -<f64 as ::trocar::emitted::Real>::mul_add(x29, x31, x27 * x33);
+        jb0e[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(x28, x33, -(x29 * x32));
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x21,
+            t.cos[1] * x18,
+        );
         fk.0[0][2] = x34;
         jb0e[0][3] = x34;
-        let x35 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x22, t.cos[1] * x19);
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x22,
+            t.cos[1] * x19,
+        );
         fk.0[1][2] = x35;
         jb0e[0][4] = x35;
-        let x36 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x23, t.cos[1] * x20);
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x23,
+            t.cos[1] * x20,
+        );
         fk.0[2][2] = x36;
         jb0e[0][5] = x36;
     }
@@ -1702,16 +2261,16 @@ pub mod iiwa_endoscope {
         fk0i: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0i: &mut [[f64; 6]; I],
     ) {
-        jb0i[4][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][5] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[6][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[6][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[6][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[6][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[6][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[6][5] = <f64 as ::trocar::Real>::ONE;
-        let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::Real>::sin_cos_array(
+        jb0i[4][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[6][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[6][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[6][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[6][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[6][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[6][5] = <f64 as ::trocar::emitted::Real>::ONE;
+        let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5], q[6]],
         );
         jb0i[4][5] = c6;
@@ -1728,75 +2287,76 @@ pub mod iiwa_endoscope {
         jb0i[4][3] = -x3;
         let x4 = s6 * s7;
         jb0i[4][4] = x4;
-        let x5 = <f64 as ::trocar::Real>::mul_add(c5, x0, -(s5 * s7));
-        let x6 = <f64 as ::trocar::Real>::mul_add(c5, x1, s5 * c7);
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x0, -(s5 * s7));
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x1, s5 * c7);
         let x7 = c5 * s6;
         let x8 = c5 * x2;
         let x9 = 0.1845_f64
-            + <f64 as ::trocar::Real>::mul_add(0.126_f64, c6, 0.2155_f64);
-        jb0i[3][0] = -<f64 as ::trocar::Real>::mul_add(x5, x9, x3 * x8);
-        jb0i[3][1] = <f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8);
-        jb0i[3][2] = <f64 as ::trocar::Real>::mul_add(c6, x8, -(x7 * x9));
-        let x10 = <f64 as ::trocar::Real>::mul_add(s5, x0, c5 * s7);
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.126_f64, c6, 0.2155_f64);
+        jb0i[3][0] = -<f64 as ::trocar::emitted::Real>::mul_add(x5, x9, x3 * x8);
+        jb0i[3][1] = <f64 as ::trocar::emitted::Real>::mul_add(x6, x9, x4 * x8);
+        jb0i[3][2] = <f64 as ::trocar::emitted::Real>::mul_add(c6, x8, -(x7 * x9));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x0, c5 * s7);
         jb0i[3][3] = -x10;
-        let x11 = <f64 as ::trocar::Real>::mul_add(s5, x1, -(c5 * c7));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x1, -(c5 * c7));
         jb0i[3][4] = x11;
         let x12 = s5 * s6;
         jb0i[3][5] = -x12;
         let x13 = s5 * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(c4, x5, s4 * x3);
-        let x15 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c4, x7, -(s4 * c6));
-        let x17 = <f64 as ::trocar::Real>::mul_add(c4, x8, -(s4 * x9));
-        jb0i[2][0] = <f64 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14));
-        jb0i[2][1] = <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17));
-        jb0i[2][2] = <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16));
-        let x18 = <f64 as ::trocar::Real>::mul_add(s4, x5, -(c4 * x3));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x5, s4 * x3);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x6, s4 * x4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x7, -(s4 * c6));
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x8, -(s4 * x9));
+        jb0i[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(x10, x17, -(x13 * x14));
+        jb0i[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17));
+        jb0i[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, -(x13 * x16));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x5, -(c4 * x3));
         jb0i[2][3] = x18;
-        let x19 = <f64 as ::trocar::Real>::mul_add(c4, x4, -(s4 * x6));
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x4, -(s4 * x6));
         jb0i[2][4] = x19;
-        let x20 = <f64 as ::trocar::Real>::mul_add(s4, x7, c4 * c6);
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x7, c4 * c6);
         jb0i[2][5] = x20;
-        let x21 = <f64 as ::trocar::Real>::mul_add(s3, x10, -(c3 * x14));
-        let x22 = <f64 as ::trocar::Real>::mul_add(c3, x15, -(s3 * x11));
-        let x23 = <f64 as ::trocar::Real>::mul_add(s3, x12, -(c3 * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(s3, x13, -(c3 * x17));
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x10, -(c3 * x14));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x15, -(s3 * x11));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x12, -(c3 * x16));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x13, -(c3 * x17));
         let x25 = 0.2045_f64
-            + (0.2155_f64 + <f64 as ::trocar::Real>::mul_add(s4, x8, c4 * x9));
+            + (0.2155_f64 + <f64 as ::trocar::emitted::Real>::mul_add(s4, x8, c4 * x9));
         fk0i.1[2] = 0.1575_f64
-            + (0.2025_f64 + <f64 as ::trocar::Real>::mul_add(s2, x24, c2 * x25));
-        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25));
-        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25));
-        jb0i[1][2] = <f64 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25));
-        let x26 = <f64 as ::trocar::Real>::mul_add(s3, x14, c3 * x10);
+            + (0.2025_f64
+                + <f64 as ::trocar::emitted::Real>::mul_add(s2, x24, c2 * x25));
+        jb0i[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x18, x24, -(x21 * x25));
+        jb0i[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x19, x24, -(x22 * x25));
+        jb0i[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x20, x24, -(x23 * x25));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x14, c3 * x10);
         jb0i[1][3] = x26;
-        let x27 = <f64 as ::trocar::Real>::mul_add(s3, x15, c3 * x11);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x15, c3 * x11);
         jb0i[1][4] = -x27;
-        let x28 = <f64 as ::trocar::Real>::mul_add(s3, x16, c3 * x12);
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x16, c3 * x12);
         jb0i[1][5] = x28;
-        let x29 = <f64 as ::trocar::Real>::mul_add(s3, x17, c3 * x13);
-        let x30 = <f64 as ::trocar::Real>::mul_add(s2, x18, -(c2 * x21));
-        fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x30, -(s1 * x26));
-        fk0i.0[0][1] = <f64 as ::trocar::Real>::mul_add(s1, x30, c1 * x26);
-        let x31 = <f64 as ::trocar::Real>::mul_add(s2, x19, -(c2 * x22));
-        fk0i.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x31, s1 * x27);
-        fk0i.0[1][1] = <f64 as ::trocar::Real>::mul_add(s1, x31, -(c1 * x27));
-        let x32 = <f64 as ::trocar::Real>::mul_add(s2, x20, -(c2 * x23));
-        fk0i.0[2][0] = <f64 as ::trocar::Real>::mul_add(c1, x32, -(s1 * x28));
-        fk0i.0[2][1] = <f64 as ::trocar::Real>::mul_add(s1, x32, c1 * x28);
-        let x33 = <f64 as ::trocar::Real>::mul_add(s2, x25, -(c2 * x24));
-        fk0i.1[0] = <f64 as ::trocar::Real>::mul_add(c1, x33, -(s1 * x29));
-        fk0i.1[1] = <f64 as ::trocar::Real>::mul_add(s1, x33, c1 * x29);
-        jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(x26, x33, -(x29 * x30));
-        jb0i[0][1] = -<f64 as ::trocar::Real>::mul_add(x29, x31, x27 * x33);
-        jb0i[0][2] = <f64 as ::trocar::Real>::mul_add(x28, x33, -(x29 * x32));
-        let x34 = <f64 as ::trocar::Real>::mul_add(s2, x21, c2 * x18);
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x17, c3 * x13);
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x18, -(c2 * x21));
+        fk0i.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x30, -(s1 * x26));
+        fk0i.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x30, c1 * x26);
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x19, -(c2 * x22));
+        fk0i.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x31, s1 * x27);
+        fk0i.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x31, -(c1 * x27));
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x20, -(c2 * x23));
+        fk0i.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x32, -(s1 * x28));
+        fk0i.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x32, c1 * x28);
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x25, -(c2 * x24));
+        fk0i.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x33, -(s1 * x29));
+        fk0i.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x33, c1 * x29);
+        jb0i[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x26, x33, -(x29 * x30));
+        jb0i[0][1] = -<f64 as ::trocar::emitted::Real>::mul_add(x29, x31, x27 * x33);
+        jb0i[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(x28, x33, -(x29 * x32));
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x21, c2 * x18);
         fk0i.0[0][2] = x34;
         jb0i[0][3] = x34;
-        let x35 = <f64 as ::trocar::Real>::mul_add(s2, x22, c2 * x19);
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x22, c2 * x19);
         fk0i.0[1][2] = x35;
         jb0i[0][4] = x35;
-        let x36 = <f64 as ::trocar::Real>::mul_add(s2, x23, c2 * x20);
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x23, c2 * x20);
         fk0i.0[2][2] = x36;
         jb0i[0][5] = x36;
     }
@@ -1810,20 +2370,20 @@ pub mod iiwa_endoscope {
         fk0i: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0i: &mut [[f64; 6]; I],
     ) {
-        jb0i[4][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[4][2] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0i[4][5] = t.cos[5];
         jb0i[5][0] = 0.126_f64 * t.cos[6];
         jb0i[5][1] = -(0.126_f64 * t.sin[6]);
-        jb0i[5][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[5][2] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0i[5][3] = t.sin[6];
         jb0i[5][4] = t.cos[6];
-        jb0i[5][5] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[6][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[6][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[6][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[6][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[6][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[6][5] = <f64 as ::trocar::Real>::ONE;
+        jb0i[5][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[6][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[6][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[6][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[6][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[6][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[6][5] = <f64 as ::trocar::emitted::Real>::ONE;
         let x0 = t.cos[5] * t.cos[6];
         let x1 = t.cos[5] * t.sin[6];
         let x2 = 0.126_f64 * t.sin[5];
@@ -1833,89 +2393,213 @@ pub mod iiwa_endoscope {
         jb0i[4][3] = -x3;
         let x4 = t.sin[5] * t.sin[6];
         jb0i[4][4] = x4;
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x0, -(t.sin[4] * t.sin[6]));
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x1, t.sin[4] * t.cos[6]);
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x0,
+            -(t.sin[4] * t.sin[6]),
+        );
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x1,
+            t.sin[4] * t.cos[6],
+        );
         let x7 = t.cos[4] * t.sin[5];
         let x8 = t.cos[4] * x2;
         let x9 = 0.1845_f64
-            + <f64 as ::trocar::Real>::mul_add(0.126_f64, t.cos[5], 0.2155_f64);
-        jb0i[3][0] = -<f64 as ::trocar::Real>::mul_add(x5, x9, x3 * x8);
-        jb0i[3][1] = <f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8);
-        jb0i[3][2] = <f64 as ::trocar::Real>::mul_add(t.cos[5], x8, -(x7 * x9));
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x0, t.cos[4] * t.sin[6]);
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.126_f64, t.cos[5], 0.2155_f64);
+        jb0i[3][0] = -<f64 as ::trocar::emitted::Real>::mul_add(x5, x9, x3 * x8);
+        jb0i[3][1] = <f64 as ::trocar::emitted::Real>::mul_add(x6, x9, x4 * x8);
+        jb0i[3][2] = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[5], x8, -(x7 * x9));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x0,
+            t.cos[4] * t.sin[6],
+        );
         jb0i[3][3] = -x10;
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x1, -(t.cos[4] * t.cos[6]));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x1,
+            -(t.cos[4] * t.cos[6]),
+        );
         jb0i[3][4] = x11;
         let x12 = t.sin[4] * t.sin[5];
         jb0i[3][5] = -x12;
         let x13 = t.sin[4] * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x5, t.sin[3] * x3);
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x7, -(t.sin[3] * t.cos[5]));
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
-        jb0i[2][0] = <f64 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14));
-        jb0i[2][1] = <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17));
-        jb0i[2][2] = <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16));
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x5, -(t.cos[3] * x3));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x5, t.sin[3] * x3);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x7,
+            -(t.sin[3] * t.cos[5]),
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x8,
+            -(t.sin[3] * x9),
+        );
+        jb0i[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(x10, x17, -(x13 * x14));
+        jb0i[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17));
+        jb0i[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, -(x13 * x16));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x5,
+            -(t.cos[3] * x3),
+        );
         jb0i[2][3] = x18;
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x4, -(t.sin[3] * x6));
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x4,
+            -(t.sin[3] * x6),
+        );
         jb0i[2][4] = x19;
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x7, t.cos[3] * t.cos[5]);
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x7,
+            t.cos[3] * t.cos[5],
+        );
         jb0i[2][5] = x20;
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x10, -(t.cos[2] * x14));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x15, -(t.sin[2] * x11));
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x12, -(t.cos[2] * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x13, -(t.cos[2] * x17));
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x10,
+            -(t.cos[2] * x14),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x15,
+            -(t.sin[2] * x11),
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x12,
+            -(t.cos[2] * x16),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x13,
+            -(t.cos[2] * x17),
+        );
         let x25 = 0.2045_f64
             + (0.2155_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9));
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[3],
+                    x8,
+                    t.cos[3] * x9,
+                ));
         fk0i.1[2] = 0.1575_f64
             + (0.2025_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[1], x24, t.cos[1] * x25));
-        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25));
-        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25));
-        jb0i[1][2] = <f64 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25));
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x14, t.cos[2] * x10);
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[1],
+                    x24,
+                    t.cos[1] * x25,
+                ));
+        jb0i[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x18, x24, -(x21 * x25));
+        jb0i[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x19, x24, -(x22 * x25));
+        jb0i[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x20, x24, -(x23 * x25));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x14,
+            t.cos[2] * x10,
+        );
         jb0i[1][3] = x26;
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x15, t.cos[2] * x11);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x15,
+            t.cos[2] * x11,
+        );
         jb0i[1][4] = -x27;
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x12);
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x16,
+            t.cos[2] * x12,
+        );
         jb0i[1][5] = x28;
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x13);
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x18, -(t.cos[1] * x21));
-        fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x17,
+            t.cos[2] * x13,
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x18,
+            -(t.cos[1] * x21),
+        );
+        fk0i.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[0],
             x30,
             -(t.sin[0] * x26),
         );
-        fk0i.0[0][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x30, t.cos[0] * x26);
-        let x31 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x19, -(t.cos[1] * x22));
-        fk0i.0[1][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x31, t.sin[0] * x27);
-        fk0i.0[1][1] = <f64 as ::trocar::Real>::mul_add(
+        fk0i.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x30,
+            t.cos[0] * x26,
+        );
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x19,
+            -(t.cos[1] * x22),
+        );
+        fk0i.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x31,
+            t.sin[0] * x27,
+        );
+        fk0i.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[0],
             x31,
             -(t.cos[0] * x27),
         );
-        let x32 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x20, -(t.cos[1] * x23));
-        fk0i.0[2][0] = <f64 as ::trocar::Real>::mul_add(
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x20,
+            -(t.cos[1] * x23),
+        );
+        fk0i.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[0],
             x32,
             -(t.sin[0] * x28),
         );
-        fk0i.0[2][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x32, t.cos[0] * x28);
-        let x33 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x25, -(t.cos[1] * x24));
-        fk0i.1[0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x33, -(t.sin[0] * x29));
-        fk0i.1[1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x33, t.cos[0] * x29);
-        jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(x26, x33, -(x29 * x30));
-        jb0i[0][1] = -<f64 as ::trocar::Real>::mul_add(x29, x31, x27 * x33);
-        jb0i[0][2] = <f64 as ::trocar::Real>::mul_add(x28, x33, -(x29 * x32));
-        let x34 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x21, t.cos[1] * x18);
+        fk0i.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x32,
+            t.cos[0] * x28,
+        );
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x25,
+            -(t.cos[1] * x24),
+        );
+        fk0i.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x33,
+            -(t.sin[0] * x29),
+        );
+        fk0i.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x33,
+            t.cos[0] * x29,
+        );
+        jb0i[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x26, x33, -(x29 * x30));
+        jb0i[0][1] = -<f64 as ::trocar::emitted::Real>::mul_add(x29, x31, x27 * x33);
+        jb0i[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(x28, x33, -(x29 * x32));
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x21,
+            t.cos[1] * x18,
+        );
         fk0i.0[0][2] = x34;
         jb0i[0][3] = x34;
-        let x35 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x22, t.cos[1] * x19);
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x22,
+            t.cos[1] * x19,
+        );
         fk0i.0[1][2] = x35;
         jb0i[0][4] = x35;
-        let x36 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x23, t.cos[1] * x20);
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x23,
+            t.cos[1] * x20,
+        );
         fk0i.0[2][2] = x36;
         jb0i[0][5] = x36;
     }
@@ -1942,71 +2626,187 @@ pub mod iiwa_endoscope {
         let x2 = 0.126_f64 * t.sin[5];
         let x3 = t.sin[5] * t.cos[6];
         let x4 = t.sin[5] * t.sin[6];
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x0, -(t.sin[4] * t.sin[6]));
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x1, t.sin[4] * t.cos[6]);
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x0,
+            -(t.sin[4] * t.sin[6]),
+        );
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x1,
+            t.sin[4] * t.cos[6],
+        );
         let x7 = t.cos[4] * t.sin[5];
         let x8 = t.cos[4] * x2;
         let x9 = 0.1845_f64
-            + <f64 as ::trocar::Real>::mul_add(0.126_f64, t.cos[5], 0.2155_f64);
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x0, t.cos[4] * t.sin[6]);
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x1, -(t.cos[4] * t.cos[6]));
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.126_f64, t.cos[5], 0.2155_f64);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x0,
+            t.cos[4] * t.sin[6],
+        );
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x1,
+            -(t.cos[4] * t.cos[6]),
+        );
         let x12 = t.sin[4] * t.sin[5];
         let x13 = t.sin[4] * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x5, t.sin[3] * x3);
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x7, -(t.sin[3] * t.cos[5]));
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x5, -(t.cos[3] * x3));
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x4, -(t.sin[3] * x6));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x7, t.cos[3] * t.cos[5]);
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x10, -(t.cos[2] * x14));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x15, -(t.sin[2] * x11));
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x12, -(t.cos[2] * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x13, -(t.cos[2] * x17));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x5, t.sin[3] * x3);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x7,
+            -(t.sin[3] * t.cos[5]),
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x8,
+            -(t.sin[3] * x9),
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x5,
+            -(t.cos[3] * x3),
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x4,
+            -(t.sin[3] * x6),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x7,
+            t.cos[3] * t.cos[5],
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x10,
+            -(t.cos[2] * x14),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x15,
+            -(t.sin[2] * x11),
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x12,
+            -(t.cos[2] * x16),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x13,
+            -(t.cos[2] * x17),
+        );
         let x25 = 0.2045_f64
             + (0.2155_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9));
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x14, t.cos[2] * x10);
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x15, t.cos[2] * x11);
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x12);
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x13);
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x18, -(t.cos[1] * x21));
-        let x31 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x19, -(t.cos[1] * x22));
-        let x32 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x20, -(t.cos[1] * x23));
-        let x33 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x25, -(t.cos[1] * x24));
-        let x34 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x21, t.cos[1] * x18);
-        let x35 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x22, t.cos[1] * x19);
-        let x36 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x23, t.cos[1] * x20);
-        let x37 = <f64 as ::trocar::Real>::mul_add(t.cos[0], x32, -(t.sin[0] * x28));
-        let x38 = <f64 as ::trocar::Real>::mul_add(t.sin[0], x32, t.cos[0] * x28);
-        let x39 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[3],
+                    x8,
+                    t.cos[3] * x9,
+                ));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x14,
+            t.cos[2] * x10,
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x15,
+            t.cos[2] * x11,
+        );
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x16,
+            t.cos[2] * x12,
+        );
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x17,
+            t.cos[2] * x13,
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x18,
+            -(t.cos[1] * x21),
+        );
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x19,
+            -(t.cos[1] * x22),
+        );
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x20,
+            -(t.cos[1] * x23),
+        );
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x25,
+            -(t.cos[1] * x24),
+        );
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x21,
+            t.cos[1] * x18,
+        );
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x22,
+            t.cos[1] * x19,
+        );
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x23,
+            t.cos[1] * x20,
+        );
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x32,
+            -(t.sin[0] * x28),
+        );
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x32,
+            t.cos[0] * x28,
+        );
+        let x39 = <f64 as ::trocar::emitted::Real>::ONE
+            / <f64 as ::trocar::emitted::Real>::mul_add(
                 p.l_a,
                 p.l_a,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ONE,
             );
         let x40 = x39
-            * <f64 as ::trocar::Real>::mul_add(
+            * <f64 as ::trocar::emitted::Real>::mul_add(
                 0.3_f64,
                 p.l_a,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ONE,
             );
         let x41 = p.l_a * x39;
         (
             (
                 [
                     [
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[0],
                             x30,
                             -(t.sin[0] * x26),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(t.sin[0], x30, t.cos[0] * x26),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.sin[0],
+                            x30,
+                            t.cos[0] * x26,
+                        ),
                         x34,
                     ],
                     [
-                        <f64 as ::trocar::Real>::mul_add(t.cos[0], x31, t.sin[0] * x27),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.cos[0],
+                            x31,
+                            t.sin[0] * x27,
+                        ),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[0],
                             x31,
                             -(t.cos[0] * x27),
@@ -2016,26 +2816,30 @@ pub mod iiwa_endoscope {
                     [x37, x38, x36],
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.3_f64,
                         x37,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[0],
                             x33,
                             -(t.sin[0] * x29),
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.3_f64,
                         x38,
-                        <f64 as ::trocar::Real>::mul_add(t.sin[0], x33, t.cos[0] * x29),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.sin[0],
+                            x33,
+                            t.cos[0] * x29,
+                        ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.3_f64,
                         x36,
                         0.1575_f64
                             + (0.2025_f64
-                                + <f64 as ::trocar::Real>::mul_add(
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[1],
                                     x24,
                                     t.cos[1] * x25,
@@ -2045,33 +2849,33 @@ pub mod iiwa_endoscope {
             ),
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(x26, x33, -(x29 * x30)),
-                    -<f64 as ::trocar::Real>::mul_add(x29, x31, x27 * x33),
-                    <f64 as ::trocar::Real>::mul_add(x28, x33, -(x29 * x32)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x26, x33, -(x29 * x30)),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(x29, x31, x27 * x33),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x28, x33, -(x29 * x32)),
                     x34,
                     x35,
                     x36,
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25)),
-                    <f64 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25)),
-                    <f64 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x18, x24, -(x21 * x25)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x19, x24, -(x22 * x25)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x20, x24, -(x23 * x25)),
                     x26,
                     -x27,
                     x28,
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14)),
-                    <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
-                    <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x10, x17, -(x13 * x14)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, -(x13 * x16)),
                     x18,
                     x19,
                     x20,
                 ],
                 [
-                    -<f64 as ::trocar::Real>::mul_add(x5, x9, x3 * x8),
-                    <f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x8, -(x7 * x9)),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(x5, x9, x3 * x8),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x6, x9, x4 * x8),
+                    <f64 as ::trocar::emitted::Real>::mul_add(t.cos[5], x8, -(x7 * x9)),
                     -x10,
                     x11,
                     -x12,
@@ -2079,7 +2883,7 @@ pub mod iiwa_endoscope {
                 [
                     t.sin[6] * x2,
                     t.cos[6] * x2,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     -x3,
                     x4,
                     t.cos[5],
@@ -2087,70 +2891,70 @@ pub mod iiwa_endoscope {
                 [
                     0.126_f64 * t.cos[6],
                     -(0.126_f64 * t.sin[6]),
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     t.sin[6],
                     t.cos[6],
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
                 ],
             ],
             [
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     p.l_a - 0.3_f64,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
                     0.3_f64 - p.l_a,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
                 ],
             ],
             [
                 [
                     x40,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     x41,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     x40,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     -x41,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
             ],
         )
@@ -2184,7 +2988,7 @@ pub mod iiwa_endoscope {
         #[inline]
         #[must_use]
         pub fn zeroed() -> Self {
-            let z = <f64 as ::trocar::Real>::ZERO;
+            let z = <f64 as ::trocar::emitted::Real>::ZERO;
             StepKinematics {
                 offset: z,
                 g_0e: ([[z; 3]; 3], [z; 3]),
@@ -2210,7 +3014,7 @@ pub mod iiwa_endoscope {
     #[inline]
     fn step_is_finite(out: &StepKinematics) -> bool {
         let finite = |x: &[f64]| {
-            x.iter().all(|&v| <f64 as ::trocar::Real>::is_finite(v))
+            x.iter().all(|&v| <f64 as ::trocar::emitted::Real>::is_finite(v))
         };
         finite(&out.g_0e.1) && finite(&out.g_0i.1) && finite(out.g_0e.0.as_flattened())
             && finite(out.g_0i.0.as_flattened()) && finite(out.jb0i.as_flattened())
@@ -2228,13 +3032,13 @@ pub mod iiwa_endoscope {
         params: &Params,
     ) -> f64 {
         let mut p = *params;
-        p.l_a = <f64 as ::trocar::Real>::ZERO;
+        p.l_a = <f64 as ::trocar::emitted::Real>::ZERO;
         let o = constraint_frame(&p).1;
-        p.l_a = <f64 as ::trocar::Real>::ONE;
+        p.l_a = <f64 as ::trocar::emitted::Real>::ONE;
         let o1 = constraint_frame(&p).1;
         let d = [o1[0] - o[0], o1[1] - o[1], o1[2] - o[2]];
         let (rot, pos) = g_0i;
-        let mut num = <f64 as ::trocar::Real>::ZERO;
+        let mut num = <f64 as ::trocar::emitted::Real>::ZERO;
         for i in 0..3 {
             let ro = rot[0][i] * o[0] + rot[1][i] * o[1] + rot[2][i] * o[2];
             let rd = rot[0][i] * d[0] + rot[1][i] * d[1] + rot[2][i] * d[2];
@@ -2255,7 +3059,7 @@ pub mod iiwa_endoscope {
         out: &mut StepKinematics,
     ) -> bool {
         fill_at_trocar(t, trocar, params, out);
-        <f64 as ::trocar::Real>::is_finite(out.offset) && step_is_finite(out)
+        <f64 as ::trocar::emitted::Real>::is_finite(out.offset) && step_is_finite(out)
     }
     /// [`step_kinematics`] without the finiteness check.
     #[inline]
@@ -2304,8 +3108,10 @@ pub mod iiwa_endoscope {
         let mut a3_2 = j[2usize][3usize];
         let mut a3_3 = j[3usize][3usize];
         let mut b0_3 = b[3usize];
-        let mut det = <f64 as ::trocar::Real>::ONE;
-        if <f64 as ::trocar::Real>::abs(a1_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        let mut det = <f64 as ::trocar::emitted::Real>::ONE;
+        if <f64 as ::trocar::emitted::Real>::abs(a1_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a1_0);
             ::core::mem::swap(&mut a0_1, &mut a1_1);
             ::core::mem::swap(&mut a0_2, &mut a1_2);
@@ -2313,7 +3119,9 @@ pub mod iiwa_endoscope {
             ::core::mem::swap(&mut b0_0, &mut b0_1);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a2_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a2_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a2_0);
             ::core::mem::swap(&mut a0_1, &mut a2_1);
             ::core::mem::swap(&mut a0_2, &mut a2_2);
@@ -2321,7 +3129,9 @@ pub mod iiwa_endoscope {
             ::core::mem::swap(&mut b0_0, &mut b0_2);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a3_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a3_0);
             ::core::mem::swap(&mut a0_1, &mut a3_1);
             ::core::mem::swap(&mut a0_2, &mut a3_2);
@@ -2330,7 +3140,7 @@ pub mod iiwa_endoscope {
             det = -det;
         }
         det *= a0_0;
-        let inv0 = <f64 as ::trocar::Real>::ONE / a0_0;
+        let inv0 = <f64 as ::trocar::emitted::Real>::ONE / a0_0;
         let l = a1_0 * inv0;
         a1_1 -= l * a0_1;
         a1_2 -= l * a0_2;
@@ -2346,14 +3156,18 @@ pub mod iiwa_endoscope {
         a3_2 -= l * a0_2;
         a3_3 -= l * a0_3;
         b0_3 -= l * b0_0;
-        if <f64 as ::trocar::Real>::abs(a2_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a2_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a2_1);
             ::core::mem::swap(&mut a1_2, &mut a2_2);
             ::core::mem::swap(&mut a1_3, &mut a2_3);
             ::core::mem::swap(&mut b0_1, &mut b0_2);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a3_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a3_1);
             ::core::mem::swap(&mut a1_2, &mut a3_2);
             ::core::mem::swap(&mut a1_3, &mut a3_3);
@@ -2361,7 +3175,7 @@ pub mod iiwa_endoscope {
             det = -det;
         }
         det *= a1_1;
-        let inv1 = <f64 as ::trocar::Real>::ONE / a1_1;
+        let inv1 = <f64 as ::trocar::emitted::Real>::ONE / a1_1;
         let l = a2_1 * inv1;
         a2_2 -= l * a1_2;
         a2_3 -= l * a1_3;
@@ -2370,19 +3184,21 @@ pub mod iiwa_endoscope {
         a3_2 -= l * a1_2;
         a3_3 -= l * a1_3;
         b0_3 -= l * b0_1;
-        if <f64 as ::trocar::Real>::abs(a3_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a3_2);
             ::core::mem::swap(&mut a2_3, &mut a3_3);
             ::core::mem::swap(&mut b0_2, &mut b0_3);
             det = -det;
         }
         det *= a2_2;
-        let inv2 = <f64 as ::trocar::Real>::ONE / a2_2;
+        let inv2 = <f64 as ::trocar::emitted::Real>::ONE / a2_2;
         let l = a3_2 * inv2;
         a3_3 -= l * a2_3;
         b0_3 -= l * b0_2;
         det *= a3_3;
-        let inv3 = <f64 as ::trocar::Real>::ONE / a3_3;
+        let inv3 = <f64 as ::trocar::emitted::Real>::ONE / a3_3;
         let x3 = (b0_3) * inv3;
         let x2 = (b0_2 - a2_3 * x3) * inv2;
         let x1 = (b0_1 - a1_2 * x2 - a1_3 * x3) * inv1;
@@ -2450,8 +3266,10 @@ pub mod iiwa_endoscope {
         let mut a5_5 = j[5usize][5usize];
         let mut b0_5 = b[5usize];
         let mut b1_5 = j[6usize][5usize];
-        let mut det = <f64 as ::trocar::Real>::ONE;
-        if <f64 as ::trocar::Real>::abs(a1_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        let mut det = <f64 as ::trocar::emitted::Real>::ONE;
+        if <f64 as ::trocar::emitted::Real>::abs(a1_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a1_0);
             ::core::mem::swap(&mut a0_1, &mut a1_1);
             ::core::mem::swap(&mut a0_2, &mut a1_2);
@@ -2462,7 +3280,9 @@ pub mod iiwa_endoscope {
             ::core::mem::swap(&mut b1_0, &mut b1_1);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a2_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a2_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a2_0);
             ::core::mem::swap(&mut a0_1, &mut a2_1);
             ::core::mem::swap(&mut a0_2, &mut a2_2);
@@ -2473,7 +3293,9 @@ pub mod iiwa_endoscope {
             ::core::mem::swap(&mut b1_0, &mut b1_2);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a3_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a3_0);
             ::core::mem::swap(&mut a0_1, &mut a3_1);
             ::core::mem::swap(&mut a0_2, &mut a3_2);
@@ -2484,7 +3306,9 @@ pub mod iiwa_endoscope {
             ::core::mem::swap(&mut b1_0, &mut b1_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a4_0);
             ::core::mem::swap(&mut a0_1, &mut a4_1);
             ::core::mem::swap(&mut a0_2, &mut a4_2);
@@ -2495,7 +3319,9 @@ pub mod iiwa_endoscope {
             ::core::mem::swap(&mut b1_0, &mut b1_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a5_0);
             ::core::mem::swap(&mut a0_1, &mut a5_1);
             ::core::mem::swap(&mut a0_2, &mut a5_2);
@@ -2507,7 +3333,7 @@ pub mod iiwa_endoscope {
             det = -det;
         }
         det *= a0_0;
-        let inv0 = <f64 as ::trocar::Real>::ONE / a0_0;
+        let inv0 = <f64 as ::trocar::emitted::Real>::ONE / a0_0;
         let l = a1_0 * inv0;
         a1_1 -= l * a0_1;
         a1_2 -= l * a0_2;
@@ -2548,7 +3374,9 @@ pub mod iiwa_endoscope {
         a5_5 -= l * a0_5;
         b0_5 -= l * b0_0;
         b1_5 -= l * b1_0;
-        if <f64 as ::trocar::Real>::abs(a2_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a2_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a2_1);
             ::core::mem::swap(&mut a1_2, &mut a2_2);
             ::core::mem::swap(&mut a1_3, &mut a2_3);
@@ -2558,7 +3386,9 @@ pub mod iiwa_endoscope {
             ::core::mem::swap(&mut b1_1, &mut b1_2);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a3_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a3_1);
             ::core::mem::swap(&mut a1_2, &mut a3_2);
             ::core::mem::swap(&mut a1_3, &mut a3_3);
@@ -2568,7 +3398,9 @@ pub mod iiwa_endoscope {
             ::core::mem::swap(&mut b1_1, &mut b1_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a4_1);
             ::core::mem::swap(&mut a1_2, &mut a4_2);
             ::core::mem::swap(&mut a1_3, &mut a4_3);
@@ -2578,7 +3410,9 @@ pub mod iiwa_endoscope {
             ::core::mem::swap(&mut b1_1, &mut b1_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a5_1);
             ::core::mem::swap(&mut a1_2, &mut a5_2);
             ::core::mem::swap(&mut a1_3, &mut a5_3);
@@ -2589,7 +3423,7 @@ pub mod iiwa_endoscope {
             det = -det;
         }
         det *= a1_1;
-        let inv1 = <f64 as ::trocar::Real>::ONE / a1_1;
+        let inv1 = <f64 as ::trocar::emitted::Real>::ONE / a1_1;
         let l = a2_1 * inv1;
         a2_2 -= l * a1_2;
         a2_3 -= l * a1_3;
@@ -2618,7 +3452,9 @@ pub mod iiwa_endoscope {
         a5_5 -= l * a1_5;
         b0_5 -= l * b0_1;
         b1_5 -= l * b1_1;
-        if <f64 as ::trocar::Real>::abs(a3_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a3_2);
             ::core::mem::swap(&mut a2_3, &mut a3_3);
             ::core::mem::swap(&mut a2_4, &mut a3_4);
@@ -2627,7 +3463,9 @@ pub mod iiwa_endoscope {
             ::core::mem::swap(&mut b1_2, &mut b1_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a4_2);
             ::core::mem::swap(&mut a2_3, &mut a4_3);
             ::core::mem::swap(&mut a2_4, &mut a4_4);
@@ -2636,7 +3474,9 @@ pub mod iiwa_endoscope {
             ::core::mem::swap(&mut b1_2, &mut b1_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a5_2);
             ::core::mem::swap(&mut a2_3, &mut a5_3);
             ::core::mem::swap(&mut a2_4, &mut a5_4);
@@ -2646,7 +3486,7 @@ pub mod iiwa_endoscope {
             det = -det;
         }
         det *= a2_2;
-        let inv2 = <f64 as ::trocar::Real>::ONE / a2_2;
+        let inv2 = <f64 as ::trocar::emitted::Real>::ONE / a2_2;
         let l = a3_2 * inv2;
         a3_3 -= l * a2_3;
         a3_4 -= l * a2_4;
@@ -2665,7 +3505,9 @@ pub mod iiwa_endoscope {
         a5_5 -= l * a2_5;
         b0_5 -= l * b0_2;
         b1_5 -= l * b1_2;
-        if <f64 as ::trocar::Real>::abs(a4_3) > <f64 as ::trocar::Real>::abs(a3_3) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_3)
+            > <f64 as ::trocar::emitted::Real>::abs(a3_3)
+        {
             ::core::mem::swap(&mut a3_3, &mut a4_3);
             ::core::mem::swap(&mut a3_4, &mut a4_4);
             ::core::mem::swap(&mut a3_5, &mut a4_5);
@@ -2673,7 +3515,9 @@ pub mod iiwa_endoscope {
             ::core::mem::swap(&mut b1_3, &mut b1_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_3) > <f64 as ::trocar::Real>::abs(a3_3) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_3)
+            > <f64 as ::trocar::emitted::Real>::abs(a3_3)
+        {
             ::core::mem::swap(&mut a3_3, &mut a5_3);
             ::core::mem::swap(&mut a3_4, &mut a5_4);
             ::core::mem::swap(&mut a3_5, &mut a5_5);
@@ -2682,7 +3526,7 @@ pub mod iiwa_endoscope {
             det = -det;
         }
         det *= a3_3;
-        let inv3 = <f64 as ::trocar::Real>::ONE / a3_3;
+        let inv3 = <f64 as ::trocar::emitted::Real>::ONE / a3_3;
         let l = a4_3 * inv3;
         a4_4 -= l * a3_4;
         a4_5 -= l * a3_5;
@@ -2693,7 +3537,9 @@ pub mod iiwa_endoscope {
         a5_5 -= l * a3_5;
         b0_5 -= l * b0_3;
         b1_5 -= l * b1_3;
-        if <f64 as ::trocar::Real>::abs(a5_4) > <f64 as ::trocar::Real>::abs(a4_4) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_4)
+            > <f64 as ::trocar::emitted::Real>::abs(a4_4)
+        {
             ::core::mem::swap(&mut a4_4, &mut a5_4);
             ::core::mem::swap(&mut a4_5, &mut a5_5);
             ::core::mem::swap(&mut b0_4, &mut b0_5);
@@ -2701,13 +3547,13 @@ pub mod iiwa_endoscope {
             det = -det;
         }
         det *= a4_4;
-        let inv4 = <f64 as ::trocar::Real>::ONE / a4_4;
+        let inv4 = <f64 as ::trocar::emitted::Real>::ONE / a4_4;
         let l = a5_4 * inv4;
         a5_5 -= l * a4_5;
         b0_5 -= l * b0_4;
         b1_5 -= l * b1_4;
         det *= a5_5;
-        let inv5 = <f64 as ::trocar::Real>::ONE / a5_5;
+        let inv5 = <f64 as ::trocar::emitted::Real>::ONE / a5_5;
         let x5 = (b0_5) * inv5;
         let x4 = (b0_4 - a4_5 * x5) * inv4;
         let x3 = (b0_3 - a3_4 * x4 - a3_5 * x5) * inv3;
@@ -2722,14 +3568,15 @@ pub mod iiwa_endoscope {
         let x1_1 = (b1_1 - a1_2 * x1_2 - a1_3 * x1_3 - a1_4 * x1_4 - a1_5 * x1_5) * inv1;
         let x1_0 = (b1_0 - a0_1 * x1_1 - a0_2 * x1_2 - a0_3 * x1_3 - a0_4 * x1_4
             - a0_5 * x1_5) * inv0;
-        let nn = <f64 as ::trocar::Real>::ONE + x1_0 * x1_0 + x1_1 * x1_1 + x1_2 * x1_2
-            + x1_3 * x1_3 + x1_4 * x1_4 + x1_5 * x1_5;
+        let nn = <f64 as ::trocar::emitted::Real>::ONE + x1_0 * x1_0 + x1_1 * x1_1
+            + x1_2 * x1_2 + x1_3 * x1_3 + x1_4 * x1_4 + x1_5 * x1_5;
         let s = (x1_0 * x0 + x1_1 * x1 + x1_2 * x2 + x1_3 * x3 + x1_4 * x4 + x1_5 * x5)
             / nn;
-        let w = if nn <= <f64 as ::trocar::Real>::lit(10000f64) {
-            <f64 as ::trocar::Real>::abs(det) * <f64 as ::trocar::Real>::sqrt(nn)
+        let w = if nn <= <f64 as ::trocar::emitted::Real>::lit(10000f64) {
+            <f64 as ::trocar::emitted::Real>::abs(det)
+                * <f64 as ::trocar::emitted::Real>::sqrt(nn)
         } else {
-            <f64 as ::trocar::Real>::ZERO
+            <f64 as ::trocar::emitted::Real>::ZERO
         };
         (
             [
@@ -2765,13 +3612,13 @@ pub mod iiwa_endoscope {
     impl Kinematics {
         /// A pose from the generated `(R column-major, p)`.
         #[inline]
-        fn pose((r, p): ([[f64; 3]; 3], [f64; 3])) -> ::trocar::se3::Se3<f64> {
-            ::trocar::se3::Se3 {
-                rotation: ::trocar::nalgebra::Matrix3::from_data(
-                    ::trocar::nalgebra::ArrayStorage(r),
+        fn pose((r, p): ([[f64; 3]; 3], [f64; 3])) -> ::trocar::emitted::Se3<f64> {
+            ::trocar::emitted::Se3 {
+                rotation: ::trocar::emitted::nalgebra::Matrix3::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(r),
                 ),
-                translation: ::trocar::nalgebra::Vector3::from_data(
-                    ::trocar::nalgebra::ArrayStorage([p]),
+                translation: ::trocar::emitted::nalgebra::Vector3::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage([p]),
                 ),
             }
         }
@@ -2779,66 +3626,70 @@ pub mod iiwa_endoscope {
         #[inline]
         fn state(
             s: &StepKinematics,
-        ) -> ::trocar::control::ConstrainedState<f64, I, R, K, M> {
-            ::trocar::control::ConstrainedState {
+        ) -> ::trocar::emitted::ConstrainedState<f64, I, R, K, M> {
+            ::trocar::emitted::ConstrainedState {
                 g_0e: Self::pose(s.g_0e),
                 g_0i: Self::pose(s.g_0i),
-                jr: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jr),
+                jr: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jr),
                 ),
-                jb0i: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jb0i),
+                jb0i: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jb0i),
                 ),
-                jc: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jc),
+                jc: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jc),
                 ),
-                lambda_sharp: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.lambda_sharp),
+                lambda_sharp: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.lambda_sharp),
                 ),
-                lambda_pinv: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.lambda_pinv),
+                lambda_pinv: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.lambda_pinv),
                 ),
             }
         }
     }
-    impl ::trocar::control::ConstrainedKinematics<f64, N, I, R, K, M, TASK_ROWS>
+    impl ::trocar::emitted::ConstrainedKinematics<f64, N, I, R, K, M, TASK_ROWS>
     for Kinematics {
         #[inline]
         fn g_0i(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
-        ) -> ::trocar::se3::Se3<f64> {
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
+        ) -> ::trocar::emitted::Se3<f64> {
             Self::pose(forward_kinematics_i(&q.data.0[0], &self.params))
         }
         #[inline]
-        fn h(&self) -> ::trocar::nalgebra::SMatrix<f64, R, 6> {
-            ::trocar::nalgebra::SMatrix::from_data(
-                ::trocar::nalgebra::ArrayStorage(constraint_selection(&self.params)),
+        fn h(&self) -> ::trocar::emitted::nalgebra::SMatrix<f64, R, 6> {
+            ::trocar::emitted::nalgebra::SMatrix::from_data(
+                ::trocar::emitted::nalgebra::ArrayStorage(
+                    constraint_selection(&self.params),
+                ),
             )
         }
         #[inline]
-        fn shaft(&self) -> ::trocar::control::Shaft<f64> {
+        fn shaft(&self) -> ::trocar::emitted::Shaft<f64> {
             let mut p = self.params;
-            p.l_a = <f64 as ::trocar::Real>::ZERO;
+            p.l_a = <f64 as ::trocar::emitted::Real>::ZERO;
             let at_zero = Self::pose(constraint_frame(&p));
-            p.l_a = <f64 as ::trocar::Real>::ONE;
+            p.l_a = <f64 as ::trocar::emitted::Real>::ONE;
             let at_one = Self::pose(constraint_frame(&p));
-            ::trocar::control::Shaft::from_frames(&at_zero, &at_one)
+            ::trocar::emitted::Shaft::from_frames(&at_zero, &at_one)
         }
         #[inline]
-        fn task_selection(&self) -> ::trocar::nalgebra::SMatrix<f64, TASK_ROWS, 6> {
-            ::trocar::nalgebra::SMatrix::from_data(
-                ::trocar::nalgebra::ArrayStorage(task_selection(&self.params)),
+        fn task_selection(
+            &self,
+        ) -> ::trocar::emitted::nalgebra::SMatrix<f64, TASK_ROWS, 6> {
+            ::trocar::emitted::nalgebra::SMatrix::from_data(
+                ::trocar::emitted::nalgebra::ArrayStorage(task_selection(&self.params)),
             )
         }
         #[inline]
         fn evaluate(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
             l_a: f64,
         ) -> ::core::result::Result<
-            ::trocar::control::ConstrainedState<f64, I, R, K, M>,
-            ::trocar::control::ControlError,
+            ::trocar::emitted::ConstrainedState<f64, I, R, K, M>,
+            ::trocar::emitted::ControlError,
         > {
             let t = JointTrig::new(&q.data.0[0]);
             let mut p = self.params;
@@ -2847,9 +3698,9 @@ pub mod iiwa_endoscope {
             s.g_0i = forward_kinematics_i_trig(&t, &p);
             s.offset = l_a;
             fill_step(&t, &p, &mut s);
-            if !<f64 as ::trocar::Real>::is_finite(l_a) || !step_is_finite(&s) {
+            if !<f64 as ::trocar::emitted::Real>::is_finite(l_a) || !step_is_finite(&s) {
                 return ::core::result::Result::Err(
-                    ::trocar::control::ControlError::Kinematics,
+                    ::trocar::emitted::ControlError::Kinematics,
                 );
             }
             ::core::result::Result::Ok(Self::state(&s))
@@ -2859,22 +3710,29 @@ pub mod iiwa_endoscope {
         #[inline]
         fn solve_task(
             &self,
-            j: &::trocar::nalgebra::SMatrix<f64, TASK_ROWS, M>,
-            b: &::trocar::nalgebra::SVector<f64, TASK_ROWS>,
-        ) -> ::core::option::Option<(::trocar::nalgebra::SVector<f64, M>, f64)> {
+            j: &::trocar::emitted::nalgebra::SMatrix<f64, TASK_ROWS, M>,
+            b: &::trocar::emitted::nalgebra::SVector<f64, TASK_ROWS>,
+        ) -> ::core::option::Option<
+            (::trocar::emitted::nalgebra::SVector<f64, M>, f64),
+        > {
             let (x, det) = lu_solve_4(&j.data.0, &b.data.0[0]);
-            ::core::option::Option::Some((::trocar::nalgebra::SVector::from(x), det))
+            ::core::option::Option::Some((
+                ::trocar::emitted::nalgebra::SVector::from(x),
+                det,
+            ))
         }
         /// `J^B_0i` (6 × 7, one redundant joint): the minimum-norm solution and `w = sqrt(det(J Jᵀ))` from the straight-line solve emitted for this size (`w = 0` where it does not apply; the controller then factors `J` itself).
         #[inline]
         fn solve_jb0i(
             &self,
-            j: &::trocar::nalgebra::SMatrix<f64, 6, I>,
-            b: &::trocar::nalgebra::SVector<f64, 6>,
-        ) -> ::core::option::Option<(::trocar::nalgebra::SVector<f64, I>, f64)> {
+            j: &::trocar::emitted::nalgebra::SMatrix<f64, 6, I>,
+            b: &::trocar::emitted::nalgebra::SVector<f64, 6>,
+        ) -> ::core::option::Option<
+            (::trocar::emitted::nalgebra::SVector<f64, I>, f64),
+        > {
             let (x, det_or_w) = min_norm_solve_6(&j.data.0, &b.data.0[0]);
             ::core::option::Option::Some((
-                ::trocar::nalgebra::SVector::from(x),
+                ::trocar::emitted::nalgebra::SVector::from(x),
                 det_or_w,
             ))
         }
@@ -2882,18 +3740,18 @@ pub mod iiwa_endoscope {
         #[inline]
         fn evaluate_at_trocar(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
-            trocar: &::trocar::nalgebra::Vector3<f64>,
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
+            trocar: &::trocar::emitted::nalgebra::Vector3<f64>,
         ) -> ::core::result::Result<
-            (f64, ::trocar::control::ConstrainedState<f64, I, R, K, M>),
-            ::trocar::control::ControlError,
+            (f64, ::trocar::emitted::ConstrainedState<f64, I, R, K, M>),
+            ::trocar::emitted::ControlError,
         > {
             let t = JointTrig::new(&q.data.0[0]);
             let mut s = StepKinematics::zeroed();
             fill_at_trocar(&t, &trocar.data.0[0], &self.params, &mut s);
-            if !<f64 as ::trocar::Real>::is_finite(s.offset) {
+            if !<f64 as ::trocar::emitted::Real>::is_finite(s.offset) {
                 return ::core::result::Result::Err(
-                    ::trocar::control::ControlError::Kinematics,
+                    ::trocar::emitted::ControlError::Kinematics,
                 );
             }
             ::core::result::Result::Ok((s.offset, Self::state(&s)))

@@ -67,7 +67,7 @@ pub mod iiwa_link6 {
         #[inline(always)]
         #[must_use]
         pub fn new(q: &[f64; N]) -> Self {
-            let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::Real>::sin_cos_array(
+            let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
                 &[q[0], q[1], q[2], q[3], q[4], q[5], q[6]],
             );
             JointTrig {
@@ -85,65 +85,65 @@ pub mod iiwa_link6 {
     #[inline]
     #[must_use]
     pub fn forward_kinematics(q: &[f64; N], _p: &Params) -> ([[f64; 3]; 3], [f64; 3]) {
-        let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5], q[6]],
         );
         let x0 = c1 * c2;
         let x1 = c1 * s2;
         let x2 = s1 * c2;
         let x3 = s1 * s2;
-        let x4 = <f64 as ::trocar::Real>::mul_add(c3, x0, -(s1 * s3));
-        let x5 = <f64 as ::trocar::Real>::mul_add(s3, x0, s1 * c3);
-        let x6 = <f64 as ::trocar::Real>::mul_add(c3, x2, c1 * s3);
-        let x7 = <f64 as ::trocar::Real>::mul_add(c1, c3, -(s3 * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x0, -(s1 * s3));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x0, s1 * c3);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x2, c1 * s3);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(c1, c3, -(s3 * x2));
         let x8 = s2 * c3;
         let x9 = s2 * s3;
-        let x10 = <f64 as ::trocar::Real>::mul_add(c4, x4, s4 * x1);
-        let x11 = <f64 as ::trocar::Real>::mul_add(c4, x1, -(s4 * x4));
-        let x12 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x3);
-        let x13 = <f64 as ::trocar::Real>::mul_add(c4, x3, -(s4 * x6));
-        let x14 = <f64 as ::trocar::Real>::mul_add(c2, s4, -(c4 * x8));
-        let x15 = <f64 as ::trocar::Real>::mul_add(s4, x8, c2 * c4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(s5, x5, -(c5 * x10));
-        let x17 = <f64 as ::trocar::Real>::mul_add(s5, x10, c5 * x5);
-        let x18 = <f64 as ::trocar::Real>::mul_add(c5, x12, s5 * x7);
-        let x19 = <f64 as ::trocar::Real>::mul_add(s5, x12, -(c5 * x7));
-        let x20 = <f64 as ::trocar::Real>::mul_add(c5, x14, s5 * x9);
-        let x21 = <f64 as ::trocar::Real>::mul_add(s5, x14, -(c5 * x9));
-        let x22 = <f64 as ::trocar::Real>::mul_add(c6, x16, s6 * x11);
-        let x23 = <f64 as ::trocar::Real>::mul_add(c6, x11, -(s6 * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(s6, x13, -(c6 * x18));
-        let x25 = <f64 as ::trocar::Real>::mul_add(s6, x18, c6 * x13);
-        let x26 = <f64 as ::trocar::Real>::mul_add(s6, x15, -(c6 * x20));
-        let x27 = <f64 as ::trocar::Real>::mul_add(s6, x20, c6 * x15);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x4, s4 * x1);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x1, -(s4 * x4));
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x6, s4 * x3);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x3, -(s4 * x6));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c2, s4, -(c4 * x8));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x8, c2 * c4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x5, -(c5 * x10));
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x10, c5 * x5);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x12, s5 * x7);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x12, -(c5 * x7));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x14, s5 * x9);
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x14, -(c5 * x9));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x16, s6 * x11);
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x11, -(s6 * x16));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x13, -(c6 * x18));
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x18, c6 * x13);
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x15, -(c6 * x20));
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(s6, x20, c6 * x15);
         (
             [
                 [
-                    -<f64 as ::trocar::Real>::mul_add(c7, x22, s7 * x17),
-                    -<f64 as ::trocar::Real>::mul_add(c7, x24, s7 * x19),
-                    -<f64 as ::trocar::Real>::mul_add(c7, x26, s7 * x21),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(c7, x22, s7 * x17),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(c7, x24, s7 * x19),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(c7, x26, s7 * x21),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(s7, x22, -(c7 * x17)),
-                    <f64 as ::trocar::Real>::mul_add(s7, x24, -(c7 * x19)),
-                    <f64 as ::trocar::Real>::mul_add(s7, x26, -(c7 * x21)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s7, x22, -(c7 * x17)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s7, x24, -(c7 * x19)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s7, x26, -(c7 * x21)),
                 ],
                 [x23, x25, x27],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.045_f64,
                     x23,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.081_f64,
                         x23,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.2155_f64,
                             x11,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.1845_f64,
                                 x11,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.2045_f64,
                                     x1,
                                     0.2155_f64 * x1,
@@ -152,19 +152,19 @@ pub mod iiwa_link6 {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.045_f64,
                     x25,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.081_f64,
                         x25,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.2155_f64,
                             x13,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.1845_f64,
                                 x13,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.2045_f64,
                                     x3,
                                     0.2155_f64 * x3,
@@ -173,22 +173,26 @@ pub mod iiwa_link6 {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.045_f64,
                     x27,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.081_f64,
                         x27,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.2155_f64,
                             x15,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.1845_f64,
                                 x15,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.2155_f64,
                                     c2,
-                                    <f64 as ::trocar::Real>::mul_add(0.2045_f64, c2, 0.36_f64),
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
+                                        0.2045_f64,
+                                        c2,
+                                        0.36_f64,
+                                    ),
                                 ),
                             ),
                         ),
@@ -212,58 +216,162 @@ pub mod iiwa_link6 {
         let x1 = t.cos[0] * t.sin[1];
         let x2 = t.sin[0] * t.cos[1];
         let x3 = t.sin[0] * t.sin[1];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x0, -(t.sin[0] * t.sin[2]));
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x0, t.sin[0] * t.cos[2]);
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x2, t.cos[0] * t.sin[2]);
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.cos[0], t.cos[2], -(t.sin[2] * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x0,
+            -(t.sin[0] * t.sin[2]),
+        );
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x0,
+            t.sin[0] * t.cos[2],
+        );
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x2,
+            t.cos[0] * t.sin[2],
+        );
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            t.cos[2],
+            -(t.sin[2] * x2),
+        );
         let x8 = t.sin[1] * t.cos[2];
         let x9 = t.sin[1] * t.sin[2];
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x4, t.sin[3] * x1);
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x1, -(t.sin[3] * x4));
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x3);
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * x6));
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[1], t.sin[3], -(t.cos[3] * x8));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[1] * t.cos[3]);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x5, -(t.cos[4] * x10));
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x10, t.cos[4] * x5);
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x12, t.sin[4] * x7);
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x12, -(t.cos[4] * x7));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x14, t.sin[4] * x9);
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x14, -(t.cos[4] * x9));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x16, t.sin[5] * x11);
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x11, -(t.sin[5] * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x13, -(t.cos[5] * x18));
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x18, t.cos[5] * x13);
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x15, -(t.cos[5] * x20));
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.sin[5], x20, t.cos[5] * x15);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x4, t.sin[3] * x1);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x1,
+            -(t.sin[3] * x4),
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x6, t.sin[3] * x3);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x3,
+            -(t.sin[3] * x6),
+        );
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            t.sin[3],
+            -(t.cos[3] * x8),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x8,
+            t.cos[1] * t.cos[3],
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x5,
+            -(t.cos[4] * x10),
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x10,
+            t.cos[4] * x5,
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x12,
+            t.sin[4] * x7,
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x12,
+            -(t.cos[4] * x7),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x14,
+            t.sin[4] * x9,
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x14,
+            -(t.cos[4] * x9),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x16,
+            t.sin[5] * x11,
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x11,
+            -(t.sin[5] * x16),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x13,
+            -(t.cos[5] * x18),
+        );
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x18,
+            t.cos[5] * x13,
+        );
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x15,
+            -(t.cos[5] * x20),
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[5],
+            x20,
+            t.cos[5] * x15,
+        );
         (
             [
                 [
-                    -<f64 as ::trocar::Real>::mul_add(t.cos[6], x22, t.sin[6] * x17),
-                    -<f64 as ::trocar::Real>::mul_add(t.cos[6], x24, t.sin[6] * x19),
-                    -<f64 as ::trocar::Real>::mul_add(t.cos[6], x26, t.sin[6] * x21),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[6],
+                        x22,
+                        t.sin[6] * x17,
+                    ),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[6],
+                        x24,
+                        t.sin[6] * x19,
+                    ),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[6],
+                        x26,
+                        t.sin[6] * x21,
+                    ),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.sin[6], x22, -(t.cos[6] * x17)),
-                    <f64 as ::trocar::Real>::mul_add(t.sin[6], x24, -(t.cos[6] * x19)),
-                    <f64 as ::trocar::Real>::mul_add(t.sin[6], x26, -(t.cos[6] * x21)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[6],
+                        x22,
+                        -(t.cos[6] * x17),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[6],
+                        x24,
+                        -(t.cos[6] * x19),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[6],
+                        x26,
+                        -(t.cos[6] * x21),
+                    ),
                 ],
                 [x23, x25, x27],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.045_f64,
                     x23,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.081_f64,
                         x23,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.2155_f64,
                             x11,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.1845_f64,
                                 x11,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.2045_f64,
                                     x1,
                                     0.2155_f64 * x1,
@@ -272,19 +380,19 @@ pub mod iiwa_link6 {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.045_f64,
                     x25,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.081_f64,
                         x25,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.2155_f64,
                             x13,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.1845_f64,
                                 x13,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.2045_f64,
                                     x3,
                                     0.2155_f64 * x3,
@@ -293,22 +401,22 @@ pub mod iiwa_link6 {
                         ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.045_f64,
                     x27,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.081_f64,
                         x27,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.2155_f64,
                             x15,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.1845_f64,
                                 x15,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.2155_f64,
                                     t.cos[1],
-                                    <f64 as ::trocar::Real>::mul_add(
+                                    <f64 as ::trocar::emitted::Real>::mul_add(
                                         0.2045_f64,
                                         t.cos[1],
                                         0.36_f64,
@@ -329,7 +437,7 @@ pub mod iiwa_link6 {
     #[inline]
     #[must_use]
     pub fn body_jacobian(q: &[f64; N], _p: &Params) -> [[f64; 6]; N] {
-        let ([s2, s3, s4, s5, s6, s7], [c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s2, s3, s4, s5, s6, s7], [c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[1], q[2], q[3], q[4], q[5], q[6]],
         );
         let x0 = c6 * c7;
@@ -337,95 +445,105 @@ pub mod iiwa_link6 {
         let x2 = 0.126_f64 * s6;
         let x3 = s6 * c7;
         let x4 = s6 * s7;
-        let x5 = <f64 as ::trocar::Real>::mul_add(c5, x0, -(s5 * s7));
-        let x6 = <f64 as ::trocar::Real>::mul_add(c5, x1, s5 * c7);
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x0, -(s5 * s7));
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x1, s5 * c7);
         let x7 = c5 * s6;
         let x8 = c5 * x2;
         let x9 = 0.1845_f64
-            + <f64 as ::trocar::Real>::mul_add(0.126_f64, c6, 0.2155_f64);
-        let x10 = <f64 as ::trocar::Real>::mul_add(s5, x0, c5 * s7);
-        let x11 = <f64 as ::trocar::Real>::mul_add(s5, x1, -(c5 * c7));
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.126_f64, c6, 0.2155_f64);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x0, c5 * s7);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x1, -(c5 * c7));
         let x12 = s5 * s6;
         let x13 = s5 * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(c4, x5, s4 * x3);
-        let x15 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c4, x7, -(s4 * c6));
-        let x17 = <f64 as ::trocar::Real>::mul_add(c4, x8, -(s4 * x9));
-        let x18 = <f64 as ::trocar::Real>::mul_add(s4, x5, -(c4 * x3));
-        let x19 = <f64 as ::trocar::Real>::mul_add(c4, x4, -(s4 * x6));
-        let x20 = <f64 as ::trocar::Real>::mul_add(s4, x7, c4 * c6);
-        let x21 = <f64 as ::trocar::Real>::mul_add(s3, x10, -(c3 * x14));
-        let x22 = <f64 as ::trocar::Real>::mul_add(c3, x15, -(s3 * x11));
-        let x23 = <f64 as ::trocar::Real>::mul_add(s3, x12, -(c3 * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(s3, x13, -(c3 * x17));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x5, s4 * x3);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x6, s4 * x4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x7, -(s4 * c6));
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x8, -(s4 * x9));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x5, -(c4 * x3));
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x4, -(s4 * x6));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x7, c4 * c6);
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x10, -(c3 * x14));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x15, -(s3 * x11));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x12, -(c3 * x16));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x13, -(c3 * x17));
         let x25 = 0.2045_f64
-            + (0.2155_f64 + <f64 as ::trocar::Real>::mul_add(s4, x8, c4 * x9));
-        let x26 = <f64 as ::trocar::Real>::mul_add(s3, x14, c3 * x10);
-        let x27 = <f64 as ::trocar::Real>::mul_add(s3, x15, c3 * x11);
-        let x28 = <f64 as ::trocar::Real>::mul_add(s3, x16, c3 * x12);
-        let x29 = <f64 as ::trocar::Real>::mul_add(s3, x17, c3 * x13);
-        let x30 = <f64 as ::trocar::Real>::mul_add(s2, x25, -(c2 * x24));
+            + (0.2155_f64 + <f64 as ::trocar::emitted::Real>::mul_add(s4, x8, c4 * x9));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x14, c3 * x10);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x15, c3 * x11);
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x16, c3 * x12);
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x17, c3 * x13);
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x25, -(c2 * x24));
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x26,
                     x30,
-                    -(x29 * <f64 as ::trocar::Real>::mul_add(s2, x18, -(c2 * x21))),
+                    -(x29
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            s2,
+                            x18,
+                            -(c2 * x21),
+                        )),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     x29,
-                    <f64 as ::trocar::Real>::mul_add(s2, x19, -(c2 * x22)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s2, x19, -(c2 * x22)),
                     x27 * x30,
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x28,
                     x30,
-                    -(x29 * <f64 as ::trocar::Real>::mul_add(s2, x20, -(c2 * x23))),
+                    -(x29
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            s2,
+                            x20,
+                            -(c2 * x23),
+                        )),
                 ),
-                <f64 as ::trocar::Real>::mul_add(s2, x21, c2 * x18),
-                <f64 as ::trocar::Real>::mul_add(s2, x22, c2 * x19),
-                <f64 as ::trocar::Real>::mul_add(s2, x23, c2 * x20),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x21, c2 * x18),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x22, c2 * x19),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x23, c2 * x20),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25)),
-                <f64 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25)),
-                <f64 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x18, x24, -(x21 * x25)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x19, x24, -(x22 * x25)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x20, x24, -(x23 * x25)),
                 x26,
                 -x27,
                 x28,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14)),
-                <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
-                <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x10, x17, -(x13 * x14)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, -(x13 * x16)),
                 x18,
                 x19,
                 x20,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(x5, x9, x3 * x8),
-                <f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8),
-                <f64 as ::trocar::Real>::mul_add(c6, x8, -(x7 * x9)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x5, x9, x3 * x8),
+                <f64 as ::trocar::emitted::Real>::mul_add(x6, x9, x4 * x8),
+                <f64 as ::trocar::emitted::Real>::mul_add(c6, x8, -(x7 * x9)),
                 -x10,
                 x11,
                 -x12,
             ],
-            [s7 * x2, c7 * x2, <f64 as ::trocar::Real>::ZERO, -x3, x4, c6],
+            [s7 * x2, c7 * x2, <f64 as ::trocar::emitted::Real>::ZERO, -x3, x4, c6],
             [
                 0.126_f64 * c7,
                 -(0.126_f64 * s7),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 s7,
                 c7,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -442,86 +560,166 @@ pub mod iiwa_link6 {
         let x2 = 0.126_f64 * t.sin[5];
         let x3 = t.sin[5] * t.cos[6];
         let x4 = t.sin[5] * t.sin[6];
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x0, -(t.sin[4] * t.sin[6]));
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x1, t.sin[4] * t.cos[6]);
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x0,
+            -(t.sin[4] * t.sin[6]),
+        );
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x1,
+            t.sin[4] * t.cos[6],
+        );
         let x7 = t.cos[4] * t.sin[5];
         let x8 = t.cos[4] * x2;
         let x9 = 0.1845_f64
-            + <f64 as ::trocar::Real>::mul_add(0.126_f64, t.cos[5], 0.2155_f64);
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x0, t.cos[4] * t.sin[6]);
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x1, -(t.cos[4] * t.cos[6]));
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.126_f64, t.cos[5], 0.2155_f64);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x0,
+            t.cos[4] * t.sin[6],
+        );
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x1,
+            -(t.cos[4] * t.cos[6]),
+        );
         let x12 = t.sin[4] * t.sin[5];
         let x13 = t.sin[4] * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x5, t.sin[3] * x3);
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x7, -(t.sin[3] * t.cos[5]));
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x5, -(t.cos[3] * x3));
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x4, -(t.sin[3] * x6));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x7, t.cos[3] * t.cos[5]);
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x10, -(t.cos[2] * x14));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x15, -(t.sin[2] * x11));
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x12, -(t.cos[2] * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x13, -(t.cos[2] * x17));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x5, t.sin[3] * x3);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x7,
+            -(t.sin[3] * t.cos[5]),
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x8,
+            -(t.sin[3] * x9),
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x5,
+            -(t.cos[3] * x3),
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x4,
+            -(t.sin[3] * x6),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x7,
+            t.cos[3] * t.cos[5],
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x10,
+            -(t.cos[2] * x14),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x15,
+            -(t.sin[2] * x11),
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x12,
+            -(t.cos[2] * x16),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x13,
+            -(t.cos[2] * x17),
+        );
         let x25 = 0.2045_f64
             + (0.2155_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9));
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x14, t.cos[2] * x10);
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x15, t.cos[2] * x11);
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x12);
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x13);
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x25, -(t.cos[1] * x24));
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[3],
+                    x8,
+                    t.cos[3] * x9,
+                ));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x14,
+            t.cos[2] * x10,
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x15,
+            t.cos[2] * x11,
+        );
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x16,
+            t.cos[2] * x12,
+        );
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x17,
+            t.cos[2] * x13,
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x25,
+            -(t.cos[1] * x24),
+        );
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x26,
                     x30,
                     -(x29
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[1],
                             x18,
                             -(t.cos[1] * x21),
                         )),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
+                -<f64 as ::trocar::emitted::Real>::mul_add(
                     x29,
-                    <f64 as ::trocar::Real>::mul_add(t.sin[1], x19, -(t.cos[1] * x22)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[1],
+                        x19,
+                        -(t.cos[1] * x22),
+                    ),
                     x27 * x30,
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x28,
                     x30,
                     -(x29
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[1],
                             x20,
                             -(t.cos[1] * x23),
                         )),
                 ),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x21, t.cos[1] * x18),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x22, t.cos[1] * x19),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x23, t.cos[1] * x20),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x21, t.cos[1] * x18),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x22, t.cos[1] * x19),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x23, t.cos[1] * x20),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25)),
-                <f64 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25)),
-                <f64 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x18, x24, -(x21 * x25)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x19, x24, -(x22 * x25)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x20, x24, -(x23 * x25)),
                 x26,
                 -x27,
                 x28,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14)),
-                <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17)),
-                <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x10, x17, -(x13 * x14)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, -(x13 * x16)),
                 x18,
                 x19,
                 x20,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(x5, x9, x3 * x8),
-                <f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8),
-                <f64 as ::trocar::Real>::mul_add(t.cos[5], x8, -(x7 * x9)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x5, x9, x3 * x8),
+                <f64 as ::trocar::emitted::Real>::mul_add(x6, x9, x4 * x8),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.cos[5], x8, -(x7 * x9)),
                 -x10,
                 x11,
                 -x12,
@@ -529,7 +727,7 @@ pub mod iiwa_link6 {
             [
                 t.sin[6] * x2,
                 t.cos[6] * x2,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -x3,
                 x4,
                 t.cos[5],
@@ -537,18 +735,18 @@ pub mod iiwa_link6 {
             [
                 0.126_f64 * t.cos[6],
                 -(0.126_f64 * t.sin[6]),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 t.sin[6],
                 t.cos[6],
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -562,50 +760,50 @@ pub mod iiwa_link6 {
     #[inline]
     #[must_use]
     pub fn constrained_jacobian(q: &[f64; N], p: &Params) -> [[f64; 6]; M] {
-        let ([s7], [c7]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6]]);
+        let ([s7], [c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(&[q[6]]);
         let x0 = 0.126_f64 * s7;
         let x1 = 0.126_f64 * c7;
         [
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 s7,
                 c7,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
-            [x0, x1, p.l_a, -c7, s7, <f64 as ::trocar::Real>::ZERO],
+            [x0, x1, p.l_a, -c7, s7, <f64 as ::trocar::emitted::Real>::ZERO],
             [
                 c7 * p.l_a,
                 -(s7 * p.l_a),
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
             [
                 x1,
                 -x0,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 s7,
                 c7,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -621,45 +819,45 @@ pub mod iiwa_link6 {
         let x1 = 0.126_f64 * t.cos[6];
         [
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 t.sin[6],
                 t.cos[6],
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
-            [x0, x1, p.l_a, -t.cos[6], t.sin[6], <f64 as ::trocar::Real>::ZERO],
+            [x0, x1, p.l_a, -t.cos[6], t.sin[6], <f64 as ::trocar::emitted::Real>::ZERO],
             [
                 t.cos[6] * p.l_a,
                 -(t.sin[6] * p.l_a),
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
             [
                 x1,
                 -x0,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 t.sin[6],
                 t.cos[6],
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -673,16 +871,16 @@ pub mod iiwa_link6 {
     #[inline]
     #[must_use]
     pub fn constraint_jacobian_c(q: &[f64; N], p: &Params) -> [[f64; 6]; R] {
-        let ([s7], [c7]) = <f64 as ::trocar::Real>::sin_cos_array(&[q[6]]);
-        let x0 = <f64 as ::trocar::Real>::ONE
-            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+        let ([s7], [c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(&[q[6]]);
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
+            / (<f64 as ::trocar::emitted::Real>::ONE + p.l_a * p.l_a);
         [
             [
                 -(x0 * c7),
                 x0 * s7,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 p.l_a * x0,
             ],
         ]
@@ -695,15 +893,15 @@ pub mod iiwa_link6 {
     #[inline]
     #[must_use]
     pub fn constraint_jacobian_c_trig(t: &JointTrig, p: &Params) -> [[f64; 6]; R] {
-        let x0 = <f64 as ::trocar::Real>::ONE
-            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
+            / (<f64 as ::trocar::emitted::Real>::ONE + p.l_a * p.l_a);
         [
             [
                 -(x0 * t.cos[6]),
                 x0 * t.sin[6],
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 p.l_a * x0,
             ],
         ]
@@ -716,55 +914,56 @@ pub mod iiwa_link6 {
     #[inline]
     #[must_use]
     pub fn partial_body_jacobian(q: &[f64; N], _p: &Params) -> [[f64; 6]; I] {
-        let ([s2, s3, s4, s5, s6], [c2, c3, c4, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s2, s3, s4, s5, s6], [c2, c3, c4, c5, c6]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[1], q[2], q[3], q[4], q[5]],
         );
         let x0 = c5 * c6;
         let x1 = c5 * s6;
         let x2 = s5 * c6;
         let x3 = s5 * s6;
-        let x4 = <f64 as ::trocar::Real>::mul_add(c4, x0, s4 * s6);
-        let x5 = <f64 as ::trocar::Real>::mul_add(c4, x1, -(s4 * c6));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x0, s4 * s6);
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x1, -(s4 * c6));
         let x6 = c4 * s5;
         let x7 = 0.4_f64 * s4;
-        let x8 = <f64 as ::trocar::Real>::mul_add(c4, s6, -(s4 * x0));
-        let x9 = <f64 as ::trocar::Real>::mul_add(s4, x1, c4 * c6);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(c4, s6, -(s4 * x0));
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x1, c4 * c6);
         let x10 = s4 * s5;
-        let x11 = <f64 as ::trocar::Real>::mul_add(c3, x4, -(s3 * x2));
-        let x12 = <f64 as ::trocar::Real>::mul_add(s3, x3, -(c3 * x5));
-        let x13 = <f64 as ::trocar::Real>::mul_add(c3, x6, s3 * c5);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x4, -(s3 * x2));
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x3, -(c3 * x5));
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x6, s3 * c5);
         let x14 = c3 * x7;
-        let x15 = 0.2045_f64 + <f64 as ::trocar::Real>::mul_add(0.4_f64, c4, 0.2155_f64);
-        let x16 = <f64 as ::trocar::Real>::mul_add(s3, x4, c3 * x2);
-        let x17 = <f64 as ::trocar::Real>::mul_add(s3, x5, c3 * x3);
-        let x18 = <f64 as ::trocar::Real>::mul_add(c3, c5, -(s3 * x6));
+        let x15 = 0.2045_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.4_f64, c4, 0.2155_f64);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x4, c3 * x2);
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x5, c3 * x3);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c3, c5, -(s3 * x6));
         let x19 = s3 * x7;
-        let x20 = <f64 as ::trocar::Real>::mul_add(s2, x15, -(c2 * x14));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x15, -(c2 * x14));
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x19,
-                    <f64 as ::trocar::Real>::mul_add(s2, x8, -(c2 * x11)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s2, x8, -(c2 * x11)),
                     -(x16 * x20),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x19,
-                    <f64 as ::trocar::Real>::mul_add(s2, x9, -(c2 * x12)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s2, x9, -(c2 * x12)),
                     x17 * x20,
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x18,
                     x20,
-                    -(x19 * <f64 as ::trocar::Real>::mul_add(c2, x13, s2 * x10)),
+                    -(x19 * <f64 as ::trocar::emitted::Real>::mul_add(c2, x13, s2 * x10)),
                 ),
-                <f64 as ::trocar::Real>::mul_add(s2, x11, c2 * x8),
-                <f64 as ::trocar::Real>::mul_add(s2, x12, c2 * x9),
-                <f64 as ::trocar::Real>::mul_add(s2, x13, -(c2 * x10)),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x11, c2 * x8),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x12, c2 * x9),
+                <f64 as ::trocar::emitted::Real>::mul_add(s2, x13, -(c2 * x10)),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x8, x14, -(x11 * x15)),
-                <f64 as ::trocar::Real>::mul_add(x9, x14, -(x12 * x15)),
-                -<f64 as ::trocar::Real>::mul_add(x13, x15, x10 * x14),
+                <f64 as ::trocar::emitted::Real>::mul_add(x8, x14, -(x11 * x15)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x9, x14, -(x12 * x15)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x13, x15, x10 * x14),
                 -x16,
                 x17,
                 x18,
@@ -772,20 +971,20 @@ pub mod iiwa_link6 {
             [x2 * x7, -(x3 * x7), -(c5 * x7), x8, x9, -x10],
             [0.4_f64 * x0, -(0.4_f64 * x1), 0.4_f64 * s5, x2, -x3, -c5],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 s6,
                 c6,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -801,54 +1000,102 @@ pub mod iiwa_link6 {
         let x1 = t.cos[4] * t.sin[5];
         let x2 = t.sin[4] * t.cos[5];
         let x3 = t.sin[4] * t.sin[5];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x0, t.sin[3] * t.sin[5]);
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x1, -(t.sin[3] * t.cos[5]));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x0,
+            t.sin[3] * t.sin[5],
+        );
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x1,
+            -(t.sin[3] * t.cos[5]),
+        );
         let x6 = t.cos[3] * t.sin[4];
         let x7 = 0.4_f64 * t.sin[3];
-        let x8 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.sin[5], -(t.sin[3] * x0));
-        let x9 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x1, t.cos[3] * t.cos[5]);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            t.sin[5],
+            -(t.sin[3] * x0),
+        );
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x1,
+            t.cos[3] * t.cos[5],
+        );
         let x10 = t.sin[3] * t.sin[4];
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x4, -(t.sin[2] * x2));
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x3, -(t.cos[2] * x5));
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x6, t.sin[2] * t.cos[4]);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x4,
+            -(t.sin[2] * x2),
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x3,
+            -(t.cos[2] * x5),
+        );
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x6,
+            t.sin[2] * t.cos[4],
+        );
         let x14 = t.cos[2] * x7;
         let x15 = 0.2045_f64
-            + <f64 as ::trocar::Real>::mul_add(0.4_f64, t.cos[3], 0.2155_f64);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x4, t.cos[2] * x2);
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x5, t.cos[2] * x3);
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x6));
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.4_f64, t.cos[3], 0.2155_f64);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[2], x4, t.cos[2] * x2);
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[2], x5, t.cos[2] * x3);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            t.cos[4],
+            -(t.sin[2] * x6),
+        );
         let x19 = t.sin[2] * x7;
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x15, -(t.cos[1] * x14));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x15,
+            -(t.cos[1] * x14),
+        );
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x19,
-                    <f64 as ::trocar::Real>::mul_add(t.sin[1], x8, -(t.cos[1] * x11)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[1],
+                        x8,
+                        -(t.cos[1] * x11),
+                    ),
                     -(x16 * x20),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x19,
-                    <f64 as ::trocar::Real>::mul_add(t.sin[1], x9, -(t.cos[1] * x12)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[1],
+                        x9,
+                        -(t.cos[1] * x12),
+                    ),
                     x17 * x20,
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x18,
                     x20,
                     -(x19
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[1],
                             x13,
                             t.sin[1] * x10,
                         )),
                 ),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x11, t.cos[1] * x8),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x12, t.cos[1] * x9),
-                <f64 as ::trocar::Real>::mul_add(t.sin[1], x13, -(t.cos[1] * x10)),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x11, t.cos[1] * x8),
+                <f64 as ::trocar::emitted::Real>::mul_add(t.sin[1], x12, t.cos[1] * x9),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[1],
+                    x13,
+                    -(t.cos[1] * x10),
+                ),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x8, x14, -(x11 * x15)),
-                <f64 as ::trocar::Real>::mul_add(x9, x14, -(x12 * x15)),
-                -<f64 as ::trocar::Real>::mul_add(x13, x15, x10 * x14),
+                <f64 as ::trocar::emitted::Real>::mul_add(x8, x14, -(x11 * x15)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x9, x14, -(x12 * x15)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x13, x15, x10 * x14),
                 -x16,
                 x17,
                 x18,
@@ -856,20 +1103,20 @@ pub mod iiwa_link6 {
             [x2 * x7, -(x3 * x7), -(t.cos[4] * x7), x8, x9, -x10],
             [0.4_f64 * x0, -(0.4_f64 * x1), 0.4_f64 * t.sin[4], x2, -x3, -t.cos[4]],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 t.sin[5],
                 t.cos[5],
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -881,75 +1128,87 @@ pub mod iiwa_link6 {
     #[inline]
     #[must_use]
     pub fn forward_kinematics_i(q: &[f64; N], _p: &Params) -> ([[f64; 3]; 3], [f64; 3]) {
-        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5]],
         );
         let x0 = c1 * c2;
         let x1 = c1 * s2;
         let x2 = s1 * c2;
         let x3 = s1 * s2;
-        let x4 = <f64 as ::trocar::Real>::mul_add(c3, x0, -(s1 * s3));
-        let x5 = <f64 as ::trocar::Real>::mul_add(s3, x0, s1 * c3);
-        let x6 = <f64 as ::trocar::Real>::mul_add(c3, x2, c1 * s3);
-        let x7 = <f64 as ::trocar::Real>::mul_add(c1, c3, -(s3 * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x0, -(s1 * s3));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x0, s1 * c3);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x2, c1 * s3);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(c1, c3, -(s3 * x2));
         let x8 = s2 * c3;
         let x9 = s2 * s3;
-        let x10 = <f64 as ::trocar::Real>::mul_add(c4, x4, s4 * x1);
-        let x11 = <f64 as ::trocar::Real>::mul_add(c4, x1, -(s4 * x4));
-        let x12 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x3);
-        let x13 = <f64 as ::trocar::Real>::mul_add(c4, x3, -(s4 * x6));
-        let x14 = <f64 as ::trocar::Real>::mul_add(c2, s4, -(c4 * x8));
-        let x15 = <f64 as ::trocar::Real>::mul_add(s4, x8, c2 * c4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(s5, x5, -(c5 * x10));
-        let x17 = <f64 as ::trocar::Real>::mul_add(c5, x12, s5 * x7);
-        let x18 = <f64 as ::trocar::Real>::mul_add(c5, x14, s5 * x9);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x4, s4 * x1);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x1, -(s4 * x4));
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x6, s4 * x3);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x3, -(s4 * x6));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c2, s4, -(c4 * x8));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x8, c2 * c4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x5, -(c5 * x10));
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x12, s5 * x7);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x14, s5 * x9);
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(c6, x16, s6 * x11),
-                    <f64 as ::trocar::Real>::mul_add(s6, x13, -(c6 * x17)),
-                    <f64 as ::trocar::Real>::mul_add(s6, x15, -(c6 * x18)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x16, s6 * x11),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s6, x13, -(c6 * x17)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s6, x15, -(c6 * x18)),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(c6, x11, -(s6 * x16)),
-                    <f64 as ::trocar::Real>::mul_add(s6, x17, c6 * x13),
-                    <f64 as ::trocar::Real>::mul_add(s6, x18, c6 * x15),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x11, -(s6 * x16)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s6, x17, c6 * x13),
+                    <f64 as ::trocar::emitted::Real>::mul_add(s6, x18, c6 * x15),
                 ],
                 [
-                    -<f64 as ::trocar::Real>::mul_add(s5, x10, c5 * x5),
-                    -<f64 as ::trocar::Real>::mul_add(s5, x12, -(c5 * x7)),
-                    -<f64 as ::trocar::Real>::mul_add(s5, x14, -(c5 * x9)),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(s5, x10, c5 * x5),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(s5, x12, -(c5 * x7)),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(s5, x14, -(c5 * x9)),
                 ],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.2155_f64,
                     x11,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.1845_f64,
                         x11,
-                        <f64 as ::trocar::Real>::mul_add(0.2045_f64, x1, 0.2155_f64 * x1),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.2045_f64,
+                            x1,
+                            0.2155_f64 * x1,
+                        ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.2155_f64,
                     x13,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.1845_f64,
                         x13,
-                        <f64 as ::trocar::Real>::mul_add(0.2045_f64, x3, 0.2155_f64 * x3),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.2045_f64,
+                            x3,
+                            0.2155_f64 * x3,
+                        ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.2155_f64,
                     x15,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.1845_f64,
                         x15,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.2155_f64,
                             c2,
-                            <f64 as ::trocar::Real>::mul_add(0.2045_f64, c2, 0.36_f64),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                0.2045_f64,
+                                c2,
+                                0.36_f64,
+                            ),
                         ),
                     ),
                 ),
@@ -971,68 +1230,156 @@ pub mod iiwa_link6 {
         let x1 = t.cos[0] * t.sin[1];
         let x2 = t.sin[0] * t.cos[1];
         let x3 = t.sin[0] * t.sin[1];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x0, -(t.sin[0] * t.sin[2]));
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x0, t.sin[0] * t.cos[2]);
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x2, t.cos[0] * t.sin[2]);
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.cos[0], t.cos[2], -(t.sin[2] * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x0,
+            -(t.sin[0] * t.sin[2]),
+        );
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x0,
+            t.sin[0] * t.cos[2],
+        );
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x2,
+            t.cos[0] * t.sin[2],
+        );
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            t.cos[2],
+            -(t.sin[2] * x2),
+        );
         let x8 = t.sin[1] * t.cos[2];
         let x9 = t.sin[1] * t.sin[2];
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x4, t.sin[3] * x1);
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x1, -(t.sin[3] * x4));
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x3);
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * x6));
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[1], t.sin[3], -(t.cos[3] * x8));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[1] * t.cos[3]);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x5, -(t.cos[4] * x10));
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x12, t.sin[4] * x7);
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x14, t.sin[4] * x9);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x4, t.sin[3] * x1);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x1,
+            -(t.sin[3] * x4),
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x6, t.sin[3] * x3);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x3,
+            -(t.sin[3] * x6),
+        );
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            t.sin[3],
+            -(t.cos[3] * x8),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x8,
+            t.cos[1] * t.cos[3],
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x5,
+            -(t.cos[4] * x10),
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x12,
+            t.sin[4] * x7,
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x14,
+            t.sin[4] * x9,
+        );
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x16, t.sin[5] * x11),
-                    <f64 as ::trocar::Real>::mul_add(t.sin[5], x13, -(t.cos[5] * x17)),
-                    <f64 as ::trocar::Real>::mul_add(t.sin[5], x15, -(t.cos[5] * x18)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x16,
+                        t.sin[5] * x11,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[5],
+                        x13,
+                        -(t.cos[5] * x17),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[5],
+                        x15,
+                        -(t.cos[5] * x18),
+                    ),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x11, -(t.sin[5] * x16)),
-                    <f64 as ::trocar::Real>::mul_add(t.sin[5], x17, t.cos[5] * x13),
-                    <f64 as ::trocar::Real>::mul_add(t.sin[5], x18, t.cos[5] * x15),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x11,
+                        -(t.sin[5] * x16),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[5],
+                        x17,
+                        t.cos[5] * x13,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[5],
+                        x18,
+                        t.cos[5] * x15,
+                    ),
                 ],
                 [
-                    -<f64 as ::trocar::Real>::mul_add(t.sin[4], x10, t.cos[4] * x5),
-                    -<f64 as ::trocar::Real>::mul_add(t.sin[4], x12, -(t.cos[4] * x7)),
-                    -<f64 as ::trocar::Real>::mul_add(t.sin[4], x14, -(t.cos[4] * x9)),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[4],
+                        x10,
+                        t.cos[4] * x5,
+                    ),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[4],
+                        x12,
+                        -(t.cos[4] * x7),
+                    ),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[4],
+                        x14,
+                        -(t.cos[4] * x9),
+                    ),
                 ],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.2155_f64,
                     x11,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.1845_f64,
                         x11,
-                        <f64 as ::trocar::Real>::mul_add(0.2045_f64, x1, 0.2155_f64 * x1),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.2045_f64,
+                            x1,
+                            0.2155_f64 * x1,
+                        ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.2155_f64,
                     x13,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.1845_f64,
                         x13,
-                        <f64 as ::trocar::Real>::mul_add(0.2045_f64, x3, 0.2155_f64 * x3),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.2045_f64,
+                            x3,
+                            0.2155_f64 * x3,
+                        ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.2155_f64,
                     x15,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.1845_f64,
                         x15,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.2155_f64,
                             t.cos[1],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.2045_f64,
                                 t.cos[1],
                                 0.36_f64,
@@ -1052,11 +1399,11 @@ pub mod iiwa_link6 {
     #[must_use]
     pub fn manipulability(_q: &[f64; N], p: &Params) -> f64 {
         {
-            let w = <f64 as ::trocar::Real>::abs(p.l_a);
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            let w = <f64 as ::trocar::emitted::Real>::abs(p.l_a);
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1069,11 +1416,11 @@ pub mod iiwa_link6 {
     #[must_use]
     pub fn manipulability_trig(_t: &JointTrig, p: &Params) -> f64 {
         {
-            let w = <f64 as ::trocar::Real>::abs(p.l_a);
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            let w = <f64 as ::trocar::emitted::Real>::abs(p.l_a);
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1087,10 +1434,10 @@ pub mod iiwa_link6 {
     pub fn manipulability_squared(_q: &[f64; N], p: &Params) -> f64 {
         {
             let w = p.l_a * p.l_a;
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1104,10 +1451,10 @@ pub mod iiwa_link6 {
     pub fn manipulability_squared_trig(_t: &JointTrig, p: &Params) -> f64 {
         {
             let w = p.l_a * p.l_a;
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1120,12 +1467,12 @@ pub mod iiwa_link6 {
     #[must_use]
     pub fn constraint_selection(_p: &Params) -> [[f64; R]; 6] {
         [
-            [<f64 as ::trocar::Real>::ONE],
-            [<f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO],
+            [<f64 as ::trocar::emitted::Real>::ONE],
+            [<f64 as ::trocar::emitted::Real>::ZERO],
+            [<f64 as ::trocar::emitted::Real>::ZERO],
+            [<f64 as ::trocar::emitted::Real>::ZERO],
+            [<f64 as ::trocar::emitted::Real>::ZERO],
+            [<f64 as ::trocar::emitted::Real>::ZERO],
         ]
     }
     /// Null-space basis `Λ#` of `Λ = H Ad_{g_ri}` (3.3), 6 × K: `V^B_0i = Λ# v0i`, thesis (3.6) (presets: (3.23), (3.27)).
@@ -1138,44 +1485,44 @@ pub mod iiwa_link6 {
     pub fn lambda_null_space(p: &Params) -> [[f64; 6]; K] {
         [
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 p.l_a,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 -p.l_a,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -1189,16 +1536,16 @@ pub mod iiwa_link6 {
     #[inline]
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f64; 6]; R] {
-        let x0 = <f64 as ::trocar::Real>::ONE
-            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
+            / (<f64 as ::trocar::emitted::Real>::ONE + p.l_a * p.l_a);
         [
             [
                 x0,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 p.l_a * x0,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -1213,22 +1560,26 @@ pub mod iiwa_link6 {
         (
             [
                 [
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
                 ],
             ],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO, p.l_a],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                p.l_a,
+            ],
         )
     }
     /// `g_0e`, `J^B_0e` in one program: the values of [`forward_kinematics`] and [`body_jacobian`], thesis (2.21), (2.53)–(2.55), computed together so that they share every common value.
@@ -1244,16 +1595,16 @@ pub mod iiwa_link6 {
         fk: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0e: &mut [[f64; 6]; N],
     ) {
-        jb0e[4][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[5][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[5][5] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][5] = <f64 as ::trocar::Real>::ONE;
-        let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::Real>::sin_cos_array(
+        jb0e[4][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[5][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[5][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][5] = <f64 as ::trocar::emitted::Real>::ONE;
+        let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5], q[6]],
         );
         jb0e[4][5] = c6;
@@ -1270,75 +1621,76 @@ pub mod iiwa_link6 {
         jb0e[4][3] = -x3;
         let x4 = s6 * s7;
         jb0e[4][4] = x4;
-        let x5 = <f64 as ::trocar::Real>::mul_add(c5, x0, -(s5 * s7));
-        let x6 = <f64 as ::trocar::Real>::mul_add(c5, x1, s5 * c7);
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x0, -(s5 * s7));
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x1, s5 * c7);
         let x7 = c5 * s6;
         let x8 = c5 * x2;
         let x9 = 0.1845_f64
-            + <f64 as ::trocar::Real>::mul_add(0.126_f64, c6, 0.2155_f64);
-        jb0e[3][0] = -<f64 as ::trocar::Real>::mul_add(x5, x9, x3 * x8);
-        jb0e[3][1] = <f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8);
-        jb0e[3][2] = <f64 as ::trocar::Real>::mul_add(c6, x8, -(x7 * x9));
-        let x10 = <f64 as ::trocar::Real>::mul_add(s5, x0, c5 * s7);
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.126_f64, c6, 0.2155_f64);
+        jb0e[3][0] = -<f64 as ::trocar::emitted::Real>::mul_add(x5, x9, x3 * x8);
+        jb0e[3][1] = <f64 as ::trocar::emitted::Real>::mul_add(x6, x9, x4 * x8);
+        jb0e[3][2] = <f64 as ::trocar::emitted::Real>::mul_add(c6, x8, -(x7 * x9));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x0, c5 * s7);
         jb0e[3][3] = -x10;
-        let x11 = <f64 as ::trocar::Real>::mul_add(s5, x1, -(c5 * c7));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x1, -(c5 * c7));
         jb0e[3][4] = x11;
         let x12 = s5 * s6;
         jb0e[3][5] = -x12;
         let x13 = s5 * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(c4, x5, s4 * x3);
-        let x15 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c4, x7, -(s4 * c6));
-        let x17 = <f64 as ::trocar::Real>::mul_add(c4, x8, -(s4 * x9));
-        jb0e[2][0] = <f64 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14));
-        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17));
-        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16));
-        let x18 = <f64 as ::trocar::Real>::mul_add(s4, x5, -(c4 * x3));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x5, s4 * x3);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x6, s4 * x4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x7, -(s4 * c6));
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x8, -(s4 * x9));
+        jb0e[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(x10, x17, -(x13 * x14));
+        jb0e[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17));
+        jb0e[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, -(x13 * x16));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x5, -(c4 * x3));
         jb0e[2][3] = x18;
-        let x19 = <f64 as ::trocar::Real>::mul_add(c4, x4, -(s4 * x6));
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x4, -(s4 * x6));
         jb0e[2][4] = x19;
-        let x20 = <f64 as ::trocar::Real>::mul_add(s4, x7, c4 * c6);
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x7, c4 * c6);
         jb0e[2][5] = x20;
-        let x21 = <f64 as ::trocar::Real>::mul_add(s3, x10, -(c3 * x14));
-        let x22 = <f64 as ::trocar::Real>::mul_add(c3, x15, -(s3 * x11));
-        let x23 = <f64 as ::trocar::Real>::mul_add(s3, x12, -(c3 * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(s3, x13, -(c3 * x17));
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x10, -(c3 * x14));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x15, -(s3 * x11));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x12, -(c3 * x16));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x13, -(c3 * x17));
         let x25 = 0.2045_f64
-            + (0.2155_f64 + <f64 as ::trocar::Real>::mul_add(s4, x8, c4 * x9));
+            + (0.2155_f64 + <f64 as ::trocar::emitted::Real>::mul_add(s4, x8, c4 * x9));
         fk.1[2] = 0.1575_f64
-            + (0.2025_f64 + <f64 as ::trocar::Real>::mul_add(s2, x24, c2 * x25));
-        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25));
-        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25));
-        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25));
-        let x26 = <f64 as ::trocar::Real>::mul_add(s3, x14, c3 * x10);
+            + (0.2025_f64
+                + <f64 as ::trocar::emitted::Real>::mul_add(s2, x24, c2 * x25));
+        jb0e[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x18, x24, -(x21 * x25));
+        jb0e[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x19, x24, -(x22 * x25));
+        jb0e[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x20, x24, -(x23 * x25));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x14, c3 * x10);
         jb0e[1][3] = x26;
-        let x27 = <f64 as ::trocar::Real>::mul_add(s3, x15, c3 * x11);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x15, c3 * x11);
         jb0e[1][4] = -x27;
-        let x28 = <f64 as ::trocar::Real>::mul_add(s3, x16, c3 * x12);
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x16, c3 * x12);
         jb0e[1][5] = x28;
-        let x29 = <f64 as ::trocar::Real>::mul_add(s3, x17, c3 * x13);
-        let x30 = <f64 as ::trocar::Real>::mul_add(s2, x18, -(c2 * x21));
-        fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x30, -(s1 * x26));
-        fk.0[0][1] = <f64 as ::trocar::Real>::mul_add(s1, x30, c1 * x26);
-        let x31 = <f64 as ::trocar::Real>::mul_add(s2, x19, -(c2 * x22));
-        fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x31, s1 * x27);
-        fk.0[1][1] = <f64 as ::trocar::Real>::mul_add(s1, x31, -(c1 * x27));
-        let x32 = <f64 as ::trocar::Real>::mul_add(s2, x20, -(c2 * x23));
-        fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(c1, x32, -(s1 * x28));
-        fk.0[2][1] = <f64 as ::trocar::Real>::mul_add(s1, x32, c1 * x28);
-        let x33 = <f64 as ::trocar::Real>::mul_add(s2, x25, -(c2 * x24));
-        fk.1[0] = <f64 as ::trocar::Real>::mul_add(c1, x33, -(s1 * x29));
-        fk.1[1] = <f64 as ::trocar::Real>::mul_add(s1, x33, c1 * x29);
-        jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x26, x33, -(x29 * x30));
-        jb0e[0][1] = -<f64 as ::trocar::Real>::mul_add(x29, x31, x27 * x33);
-        jb0e[0][2] = <f64 as ::trocar::Real>::mul_add(x28, x33, -(x29 * x32));
-        let x34 = <f64 as ::trocar::Real>::mul_add(s2, x21, c2 * x18);
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x17, c3 * x13);
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x18, -(c2 * x21));
+        fk.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x30, -(s1 * x26));
+        fk.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x30, c1 * x26);
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x19, -(c2 * x22));
+        fk.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x31, s1 * x27);
+        fk.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x31, -(c1 * x27));
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x20, -(c2 * x23));
+        fk.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x32, -(s1 * x28));
+        fk.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x32, c1 * x28);
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x25, -(c2 * x24));
+        fk.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x33, -(s1 * x29));
+        fk.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x33, c1 * x29);
+        jb0e[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x26, x33, -(x29 * x30));
+        jb0e[0][1] = -<f64 as ::trocar::emitted::Real>::mul_add(x29, x31, x27 * x33);
+        jb0e[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(x28, x33, -(x29 * x32));
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x21, c2 * x18);
         fk.0[0][2] = x34;
         jb0e[0][3] = x34;
-        let x35 = <f64 as ::trocar::Real>::mul_add(s2, x22, c2 * x19);
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x22, c2 * x19);
         fk.0[1][2] = x35;
         jb0e[0][4] = x35;
-        let x36 = <f64 as ::trocar::Real>::mul_add(s2, x23, c2 * x20);
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x23, c2 * x20);
         fk.0[2][2] = x36;
         jb0e[0][5] = x36;
     }
@@ -1352,20 +1704,20 @@ pub mod iiwa_link6 {
         fk: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0e: &mut [[f64; 6]; N],
     ) {
-        jb0e[4][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[4][2] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0e[4][5] = t.cos[5];
         jb0e[5][0] = 0.126_f64 * t.cos[6];
         jb0e[5][1] = -(0.126_f64 * t.sin[6]);
-        jb0e[5][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[5][2] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0e[5][3] = t.sin[6];
         jb0e[5][4] = t.cos[6];
-        jb0e[5][5] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][5] = <f64 as ::trocar::Real>::ONE;
+        jb0e[5][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][5] = <f64 as ::trocar::emitted::Real>::ONE;
         let x0 = t.cos[5] * t.cos[6];
         let x1 = t.cos[5] * t.sin[6];
         let x2 = 0.126_f64 * t.sin[5];
@@ -1375,77 +1727,213 @@ pub mod iiwa_link6 {
         jb0e[4][3] = -x3;
         let x4 = t.sin[5] * t.sin[6];
         jb0e[4][4] = x4;
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x0, -(t.sin[4] * t.sin[6]));
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x1, t.sin[4] * t.cos[6]);
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x0,
+            -(t.sin[4] * t.sin[6]),
+        );
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x1,
+            t.sin[4] * t.cos[6],
+        );
         let x7 = t.cos[4] * t.sin[5];
         let x8 = t.cos[4] * x2;
         let x9 = 0.1845_f64
-            + <f64 as ::trocar::Real>::mul_add(0.126_f64, t.cos[5], 0.2155_f64);
-        jb0e[3][0] = -<f64 as ::trocar::Real>::mul_add(x5, x9, x3 * x8);
-        jb0e[3][1] = <f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8);
-        jb0e[3][2] = <f64 as ::trocar::Real>::mul_add(t.cos[5], x8, -(x7 * x9));
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x0, t.cos[4] * t.sin[6]);
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.126_f64, t.cos[5], 0.2155_f64);
+        jb0e[3][0] = -<f64 as ::trocar::emitted::Real>::mul_add(x5, x9, x3 * x8);
+        jb0e[3][1] = <f64 as ::trocar::emitted::Real>::mul_add(x6, x9, x4 * x8);
+        jb0e[3][2] = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[5], x8, -(x7 * x9));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x0,
+            t.cos[4] * t.sin[6],
+        );
         jb0e[3][3] = -x10;
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x1, -(t.cos[4] * t.cos[6]));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x1,
+            -(t.cos[4] * t.cos[6]),
+        );
         jb0e[3][4] = x11;
         let x12 = t.sin[4] * t.sin[5];
         jb0e[3][5] = -x12;
         let x13 = t.sin[4] * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x5, t.sin[3] * x3);
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x7, -(t.sin[3] * t.cos[5]));
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
-        jb0e[2][0] = <f64 as ::trocar::Real>::mul_add(x10, x17, -(x13 * x14));
-        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(x13, x15, -(x11 * x17));
-        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16));
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x5, -(t.cos[3] * x3));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x5, t.sin[3] * x3);
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x7,
+            -(t.sin[3] * t.cos[5]),
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x8,
+            -(t.sin[3] * x9),
+        );
+        jb0e[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(x10, x17, -(x13 * x14));
+        jb0e[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(x13, x15, -(x11 * x17));
+        jb0e[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, -(x13 * x16));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x5,
+            -(t.cos[3] * x3),
+        );
         jb0e[2][3] = x18;
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x4, -(t.sin[3] * x6));
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x4,
+            -(t.sin[3] * x6),
+        );
         jb0e[2][4] = x19;
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x7, t.cos[3] * t.cos[5]);
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x7,
+            t.cos[3] * t.cos[5],
+        );
         jb0e[2][5] = x20;
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x10, -(t.cos[2] * x14));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x15, -(t.sin[2] * x11));
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x12, -(t.cos[2] * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x13, -(t.cos[2] * x17));
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x10,
+            -(t.cos[2] * x14),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x15,
+            -(t.sin[2] * x11),
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x12,
+            -(t.cos[2] * x16),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x13,
+            -(t.cos[2] * x17),
+        );
         let x25 = 0.2045_f64
             + (0.2155_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9));
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[3],
+                    x8,
+                    t.cos[3] * x9,
+                ));
         fk.1[2] = 0.1575_f64
             + (0.2025_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[1], x24, t.cos[1] * x25));
-        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x18, x24, -(x21 * x25));
-        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x19, x24, -(x22 * x25));
-        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x20, x24, -(x23 * x25));
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x14, t.cos[2] * x10);
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[1],
+                    x24,
+                    t.cos[1] * x25,
+                ));
+        jb0e[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x18, x24, -(x21 * x25));
+        jb0e[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x19, x24, -(x22 * x25));
+        jb0e[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x20, x24, -(x23 * x25));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x14,
+            t.cos[2] * x10,
+        );
         jb0e[1][3] = x26;
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x15, t.cos[2] * x11);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x15,
+            t.cos[2] * x11,
+        );
         jb0e[1][4] = -x27;
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x12);
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x16,
+            t.cos[2] * x12,
+        );
         jb0e[1][5] = x28;
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x13);
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x18, -(t.cos[1] * x21));
-        fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x30, -(t.sin[0] * x26));
-        fk.0[0][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x30, t.cos[0] * x26);
-        let x31 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x19, -(t.cos[1] * x22));
-        fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x31, t.sin[0] * x27);
-        fk.0[1][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x31, -(t.cos[0] * x27));
-        let x32 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x20, -(t.cos[1] * x23));
-        fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x32, -(t.sin[0] * x28));
-        fk.0[2][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x32, t.cos[0] * x28);
-        let x33 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x25, -(t.cos[1] * x24));
-        fk.1[0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x33, -(t.sin[0] * x29));
-        fk.1[1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x33, t.cos[0] * x29);
-        jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x26, x33, -(x29 * x30));
-        jb0e[0][1] = -<f64 as ::trocar::Real>::mul_add(x29, x31, x27 * x33);
-        jb0e[0][2] = <f64 as ::trocar::Real>::mul_add(x28, x33, -(x29 * x32));
-        let x34 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x21, t.cos[1] * x18);
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x17,
+            t.cos[2] * x13,
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x18,
+            -(t.cos[1] * x21),
+        );
+        fk.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x30,
+            -(t.sin[0] * x26),
+        );
+        fk.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x30,
+            t.cos[0] * x26,
+        );
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x19,
+            -(t.cos[1] * x22),
+        );
+        fk.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x31,
+            t.sin[0] * x27,
+        );
+        fk.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x31,
+            -(t.cos[0] * x27),
+        );
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x20,
+            -(t.cos[1] * x23),
+        );
+        fk.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x32,
+            -(t.sin[0] * x28),
+        );
+        fk.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x32,
+            t.cos[0] * x28,
+        );
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x25,
+            -(t.cos[1] * x24),
+        );
+        fk.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x33,
+            -(t.sin[0] * x29),
+        );
+        fk.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x33,
+            t.cos[0] * x29,
+        );
+        jb0e[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x26, x33, -(x29 * x30));
+        jb0e[0][1] = -<f64 as ::trocar::emitted::Real>::mul_add(x29, x31, x27 * x33);
+        jb0e[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(x28, x33, -(x29 * x32));
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x21,
+            t.cos[1] * x18,
+        );
         fk.0[0][2] = x34;
         jb0e[0][3] = x34;
-        let x35 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x22, t.cos[1] * x19);
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x22,
+            t.cos[1] * x19,
+        );
         fk.0[1][2] = x35;
         jb0e[0][4] = x35;
-        let x36 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x23, t.cos[1] * x20);
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x23,
+            t.cos[1] * x20,
+        );
         fk.0[2][2] = x36;
         jb0e[0][5] = x36;
     }
@@ -1462,17 +1950,17 @@ pub mod iiwa_link6 {
         fk0i: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0i: &mut [[f64; 6]; I],
     ) {
-        jb0i[4][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][5] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][5] = <f64 as ::trocar::Real>::ONE;
-        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+        jb0i[4][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[4][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[4][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[4][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][5] = <f64 as ::trocar::emitted::Real>::ONE;
+        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5]],
         );
         jb0i[3][2] = 0.4_f64 * s5;
@@ -1487,58 +1975,60 @@ pub mod iiwa_link6 {
         jb0i[3][3] = x2;
         let x3 = s5 * s6;
         jb0i[3][4] = -x3;
-        let x4 = <f64 as ::trocar::Real>::mul_add(c4, x0, s4 * s6);
-        let x5 = <f64 as ::trocar::Real>::mul_add(c4, x1, -(s4 * c6));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x0, s4 * s6);
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x1, -(s4 * c6));
         let x6 = c4 * s5;
         let x7 = 0.4_f64 * s4;
         jb0i[2][0] = x2 * x7;
         jb0i[2][1] = -(x3 * x7);
         jb0i[2][2] = -(c5 * x7);
-        let x8 = <f64 as ::trocar::Real>::mul_add(c4, s6, -(s4 * x0));
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(c4, s6, -(s4 * x0));
         jb0i[2][3] = x8;
-        let x9 = <f64 as ::trocar::Real>::mul_add(s4, x1, c4 * c6);
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x1, c4 * c6);
         jb0i[2][4] = x9;
         let x10 = s4 * s5;
         jb0i[2][5] = -x10;
-        let x11 = <f64 as ::trocar::Real>::mul_add(c3, x4, -(s3 * x2));
-        let x12 = <f64 as ::trocar::Real>::mul_add(s3, x3, -(c3 * x5));
-        let x13 = <f64 as ::trocar::Real>::mul_add(c3, x6, s3 * c5);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x4, -(s3 * x2));
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x3, -(c3 * x5));
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x6, s3 * c5);
         let x14 = c3 * x7;
-        let x15 = 0.2045_f64 + <f64 as ::trocar::Real>::mul_add(0.4_f64, c4, 0.2155_f64);
+        let x15 = 0.2045_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.4_f64, c4, 0.2155_f64);
         fk0i.1[2] = 0.1575_f64
-            + (0.2025_f64 + <f64 as ::trocar::Real>::mul_add(s2, x14, c2 * x15));
-        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x8, x14, -(x11 * x15));
-        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x9, x14, -(x12 * x15));
-        jb0i[1][2] = -<f64 as ::trocar::Real>::mul_add(x13, x15, x10 * x14);
-        let x16 = <f64 as ::trocar::Real>::mul_add(s3, x4, c3 * x2);
+            + (0.2025_f64
+                + <f64 as ::trocar::emitted::Real>::mul_add(s2, x14, c2 * x15));
+        jb0i[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x8, x14, -(x11 * x15));
+        jb0i[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x9, x14, -(x12 * x15));
+        jb0i[1][2] = -<f64 as ::trocar::emitted::Real>::mul_add(x13, x15, x10 * x14);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x4, c3 * x2);
         jb0i[1][3] = -x16;
-        let x17 = <f64 as ::trocar::Real>::mul_add(s3, x5, c3 * x3);
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x5, c3 * x3);
         jb0i[1][4] = x17;
-        let x18 = <f64 as ::trocar::Real>::mul_add(c3, c5, -(s3 * x6));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c3, c5, -(s3 * x6));
         jb0i[1][5] = x18;
         let x19 = s3 * x7;
-        let x20 = <f64 as ::trocar::Real>::mul_add(s2, x8, -(c2 * x11));
-        fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x20, s1 * x16);
-        fk0i.0[0][1] = <f64 as ::trocar::Real>::mul_add(s1, x20, -(c1 * x16));
-        let x21 = <f64 as ::trocar::Real>::mul_add(s2, x9, -(c2 * x12));
-        fk0i.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x21, -(s1 * x17));
-        fk0i.0[1][1] = <f64 as ::trocar::Real>::mul_add(s1, x21, c1 * x17);
-        let x22 = <f64 as ::trocar::Real>::mul_add(c2, x13, s2 * x10);
-        fk0i.0[2][0] = -<f64 as ::trocar::Real>::mul_add(c1, x22, s1 * x18);
-        fk0i.0[2][1] = <f64 as ::trocar::Real>::mul_add(c1, x18, -(s1 * x22));
-        let x23 = <f64 as ::trocar::Real>::mul_add(s2, x15, -(c2 * x14));
-        fk0i.1[0] = <f64 as ::trocar::Real>::mul_add(c1, x23, s1 * x19);
-        fk0i.1[1] = <f64 as ::trocar::Real>::mul_add(s1, x23, -(c1 * x19));
-        jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(x19, x20, -(x16 * x23));
-        jb0i[0][1] = <f64 as ::trocar::Real>::mul_add(x19, x21, x17 * x23);
-        jb0i[0][2] = <f64 as ::trocar::Real>::mul_add(x18, x23, -(x19 * x22));
-        let x24 = <f64 as ::trocar::Real>::mul_add(s2, x11, c2 * x8);
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x8, -(c2 * x11));
+        fk0i.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x20, s1 * x16);
+        fk0i.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x20, -(c1 * x16));
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x9, -(c2 * x12));
+        fk0i.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x21, -(s1 * x17));
+        fk0i.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x21, c1 * x17);
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x13, s2 * x10);
+        fk0i.0[2][0] = -<f64 as ::trocar::emitted::Real>::mul_add(c1, x22, s1 * x18);
+        fk0i.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x18, -(s1 * x22));
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x15, -(c2 * x14));
+        fk0i.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x23, s1 * x19);
+        fk0i.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x23, -(c1 * x19));
+        jb0i[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x19, x20, -(x16 * x23));
+        jb0i[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(x19, x21, x17 * x23);
+        jb0i[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(x18, x23, -(x19 * x22));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x11, c2 * x8);
         fk0i.0[0][2] = x24;
         jb0i[0][3] = x24;
-        let x25 = <f64 as ::trocar::Real>::mul_add(s2, x12, c2 * x9);
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x12, c2 * x9);
         fk0i.0[1][2] = x25;
         jb0i[0][4] = x25;
-        let x26 = <f64 as ::trocar::Real>::mul_add(s2, x13, -(c2 * x10));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(s2, x13, -(c2 * x10));
         fk0i.0[2][2] = x26;
         jb0i[0][5] = x26;
     }
@@ -1554,18 +2044,18 @@ pub mod iiwa_link6 {
     ) {
         jb0i[3][2] = 0.4_f64 * t.sin[4];
         jb0i[3][5] = -t.cos[4];
-        jb0i[4][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[4][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[4][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[4][2] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0i[4][3] = t.sin[5];
         jb0i[4][4] = t.cos[5];
-        jb0i[4][5] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][5] = <f64 as ::trocar::Real>::ONE;
+        jb0i[4][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][5] = <f64 as ::trocar::emitted::Real>::ONE;
         let x0 = t.cos[4] * t.cos[5];
         jb0i[3][0] = 0.4_f64 * x0;
         let x1 = t.cos[4] * t.sin[5];
@@ -1574,72 +2064,156 @@ pub mod iiwa_link6 {
         jb0i[3][3] = x2;
         let x3 = t.sin[4] * t.sin[5];
         jb0i[3][4] = -x3;
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x0, t.sin[3] * t.sin[5]);
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x1, -(t.sin[3] * t.cos[5]));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x0,
+            t.sin[3] * t.sin[5],
+        );
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x1,
+            -(t.sin[3] * t.cos[5]),
+        );
         let x6 = t.cos[3] * t.sin[4];
         let x7 = 0.4_f64 * t.sin[3];
         jb0i[2][0] = x2 * x7;
         jb0i[2][1] = -(x3 * x7);
         jb0i[2][2] = -(t.cos[4] * x7);
-        let x8 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.sin[5], -(t.sin[3] * x0));
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            t.sin[5],
+            -(t.sin[3] * x0),
+        );
         jb0i[2][3] = x8;
-        let x9 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x1, t.cos[3] * t.cos[5]);
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x1,
+            t.cos[3] * t.cos[5],
+        );
         jb0i[2][4] = x9;
         let x10 = t.sin[3] * t.sin[4];
         jb0i[2][5] = -x10;
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x4, -(t.sin[2] * x2));
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x3, -(t.cos[2] * x5));
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x6, t.sin[2] * t.cos[4]);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x4,
+            -(t.sin[2] * x2),
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x3,
+            -(t.cos[2] * x5),
+        );
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x6,
+            t.sin[2] * t.cos[4],
+        );
         let x14 = t.cos[2] * x7;
         let x15 = 0.2045_f64
-            + <f64 as ::trocar::Real>::mul_add(0.4_f64, t.cos[3], 0.2155_f64);
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.4_f64, t.cos[3], 0.2155_f64);
         fk0i.1[2] = 0.1575_f64
             + (0.2025_f64
-                + <f64 as ::trocar::Real>::mul_add(t.sin[1], x14, t.cos[1] * x15));
-        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x8, x14, -(x11 * x15));
-        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x9, x14, -(x12 * x15));
-        jb0i[1][2] = -<f64 as ::trocar::Real>::mul_add(x13, x15, x10 * x14);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x4, t.cos[2] * x2);
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.sin[1],
+                    x14,
+                    t.cos[1] * x15,
+                ));
+        jb0i[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x8, x14, -(x11 * x15));
+        jb0i[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x9, x14, -(x12 * x15));
+        jb0i[1][2] = -<f64 as ::trocar::emitted::Real>::mul_add(x13, x15, x10 * x14);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[2], x4, t.cos[2] * x2);
         jb0i[1][3] = -x16;
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x5, t.cos[2] * x3);
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[2], x5, t.cos[2] * x3);
         jb0i[1][4] = x17;
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x6));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            t.cos[4],
+            -(t.sin[2] * x6),
+        );
         jb0i[1][5] = x18;
         let x19 = t.sin[2] * x7;
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x8, -(t.cos[1] * x11));
-        fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x20, t.sin[0] * x16);
-        fk0i.0[0][1] = <f64 as ::trocar::Real>::mul_add(
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x8,
+            -(t.cos[1] * x11),
+        );
+        fk0i.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x20,
+            t.sin[0] * x16,
+        );
+        fk0i.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[0],
             x20,
             -(t.cos[0] * x16),
         );
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x9, -(t.cos[1] * x12));
-        fk0i.0[1][0] = <f64 as ::trocar::Real>::mul_add(
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x9,
+            -(t.cos[1] * x12),
+        );
+        fk0i.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[0],
             x21,
             -(t.sin[0] * x17),
         );
-        fk0i.0[1][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x21, t.cos[0] * x17);
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x13, t.sin[1] * x10);
-        fk0i.0[2][0] = -<f64 as ::trocar::Real>::mul_add(t.cos[0], x22, t.sin[0] * x18);
-        fk0i.0[2][1] = <f64 as ::trocar::Real>::mul_add(
+        fk0i.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x21,
+            t.cos[0] * x17,
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x13,
+            t.sin[1] * x10,
+        );
+        fk0i.0[2][0] = -<f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x22,
+            t.sin[0] * x18,
+        );
+        fk0i.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[0],
             x18,
             -(t.sin[0] * x22),
         );
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x15, -(t.cos[1] * x14));
-        fk0i.1[0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x23, t.sin[0] * x19);
-        fk0i.1[1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x23, -(t.cos[0] * x19));
-        jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(x19, x20, -(x16 * x23));
-        jb0i[0][1] = <f64 as ::trocar::Real>::mul_add(x19, x21, x17 * x23);
-        jb0i[0][2] = <f64 as ::trocar::Real>::mul_add(x18, x23, -(x19 * x22));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x11, t.cos[1] * x8);
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x15,
+            -(t.cos[1] * x14),
+        );
+        fk0i.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x23,
+            t.sin[0] * x19,
+        );
+        fk0i.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x23,
+            -(t.cos[0] * x19),
+        );
+        jb0i[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x19, x20, -(x16 * x23));
+        jb0i[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(x19, x21, x17 * x23);
+        jb0i[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(x18, x23, -(x19 * x22));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x11,
+            t.cos[1] * x8,
+        );
         fk0i.0[0][2] = x24;
         jb0i[0][3] = x24;
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x12, t.cos[1] * x9);
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x12,
+            t.cos[1] * x9,
+        );
         fk0i.0[1][2] = x25;
         jb0i[0][4] = x25;
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x13, -(t.cos[1] * x10));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x13,
+            -(t.cos[1] * x10),
+        );
         fk0i.0[2][2] = x26;
         jb0i[0][5] = x26;
     }
@@ -1665,92 +2239,192 @@ pub mod iiwa_link6 {
         let x1 = t.cos[4] * t.sin[5];
         let x2 = t.sin[4] * t.cos[5];
         let x3 = t.sin[4] * t.sin[5];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x0, t.sin[3] * t.sin[5]);
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x1, -(t.sin[3] * t.cos[5]));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x0,
+            t.sin[3] * t.sin[5],
+        );
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x1,
+            -(t.sin[3] * t.cos[5]),
+        );
         let x6 = t.cos[3] * t.sin[4];
         let x7 = 0.4_f64 * t.sin[3];
-        let x8 = <f64 as ::trocar::Real>::mul_add(t.cos[3], t.sin[5], -(t.sin[3] * x0));
-        let x9 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x1, t.cos[3] * t.cos[5]);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            t.sin[5],
+            -(t.sin[3] * x0),
+        );
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x1,
+            t.cos[3] * t.cos[5],
+        );
         let x10 = t.sin[3] * t.sin[4];
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x4, -(t.sin[2] * x2));
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x3, -(t.cos[2] * x5));
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x6, t.sin[2] * t.cos[4]);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x4,
+            -(t.sin[2] * x2),
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x3,
+            -(t.cos[2] * x5),
+        );
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x6,
+            t.sin[2] * t.cos[4],
+        );
         let x14 = t.cos[2] * x7;
         let x15 = 0.2045_f64
-            + <f64 as ::trocar::Real>::mul_add(0.4_f64, t.cos[3], 0.2155_f64);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x4, t.cos[2] * x2);
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x5, t.cos[2] * x3);
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[2], t.cos[4], -(t.sin[2] * x6));
+            + <f64 as ::trocar::emitted::Real>::mul_add(0.4_f64, t.cos[3], 0.2155_f64);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[2], x4, t.cos[2] * x2);
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[2], x5, t.cos[2] * x3);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            t.cos[4],
+            -(t.sin[2] * x6),
+        );
         let x19 = t.sin[2] * x7;
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x8, -(t.cos[1] * x11));
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x9, -(t.cos[1] * x12));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x13, t.sin[1] * x10);
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x15, -(t.cos[1] * x14));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x11, t.cos[1] * x8);
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x12, t.cos[1] * x9);
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[1], x13, -(t.cos[1] * x10));
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.cos[0], x20, t.sin[0] * x16);
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.cos[0], x21, -(t.sin[0] * x17));
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.cos[0], x22, t.sin[0] * x18);
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.sin[0], x20, -(t.cos[0] * x16));
-        let x31 = <f64 as ::trocar::Real>::mul_add(t.sin[0], x21, t.cos[0] * x17);
-        let x32 = <f64 as ::trocar::Real>::mul_add(t.cos[0], x18, -(t.sin[0] * x22));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x8,
+            -(t.cos[1] * x11),
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x9,
+            -(t.cos[1] * x12),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x13,
+            t.sin[1] * x10,
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x15,
+            -(t.cos[1] * x14),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x11,
+            t.cos[1] * x8,
+        );
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x12,
+            t.cos[1] * x9,
+        );
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[1],
+            x13,
+            -(t.cos[1] * x10),
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x20,
+            t.sin[0] * x16,
+        );
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x21,
+            -(t.sin[0] * x17),
+        );
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x22,
+            t.sin[0] * x18,
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x20,
+            -(t.cos[0] * x16),
+        );
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x21,
+            t.cos[0] * x17,
+        );
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x18,
+            -(t.sin[0] * x22),
+        );
         let x33 = 0.126_f64 * t.sin[6];
         let x34 = 0.126_f64 * t.cos[6];
-        let x35 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(
+        let x35 = <f64 as ::trocar::emitted::Real>::ONE
+            / <f64 as ::trocar::emitted::Real>::mul_add(
                 p.l_a,
                 p.l_a,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ONE,
             );
         (
             (
                 [
                     [
-                        -<f64 as ::trocar::Real>::mul_add(x27, t.cos[6], x29 * t.sin[6]),
-                        <f64 as ::trocar::Real>::mul_add(
+                        -<f64 as ::trocar::emitted::Real>::mul_add(
+                            x27,
+                            t.cos[6],
+                            x29 * t.sin[6],
+                        ),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x32,
                             t.sin[6],
                             -(x30 * t.cos[6]),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x26,
                             t.sin[6],
                             -(x24 * t.cos[6]),
                         ),
                     ],
                     [
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             x27,
                             t.sin[6],
                             -(x29 * t.cos[6]),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(x30, t.sin[6], x32 * t.cos[6]),
-                        <f64 as ::trocar::Real>::mul_add(x24, t.sin[6], x26 * t.cos[6]),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            x30,
+                            t.sin[6],
+                            x32 * t.cos[6],
+                        ),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            x24,
+                            t.sin[6],
+                            x26 * t.cos[6],
+                        ),
                     ],
                     [x28, x31, x25],
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.126_f64,
                         x28,
-                        <f64 as ::trocar::Real>::mul_add(t.cos[0], x23, t.sin[0] * x19),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.cos[0],
+                            x23,
+                            t.sin[0] * x19,
+                        ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.126_f64,
                         x31,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[0],
                             x23,
                             -(t.cos[0] * x19),
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.126_f64,
                         x25,
                         0.1575_f64
                             + (0.2025_f64
-                                + <f64 as ::trocar::Real>::mul_add(
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[1],
                                     x14,
                                     t.cos[1] * x15,
@@ -1760,17 +2434,17 @@ pub mod iiwa_link6 {
             ),
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(x19, x20, -(x16 * x23)),
-                    <f64 as ::trocar::Real>::mul_add(x19, x21, x17 * x23),
-                    <f64 as ::trocar::Real>::mul_add(x18, x23, -(x19 * x22)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x19, x20, -(x16 * x23)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x19, x21, x17 * x23),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x18, x23, -(x19 * x22)),
                     x24,
                     x25,
                     x26,
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(x8, x14, -(x11 * x15)),
-                    <f64 as ::trocar::Real>::mul_add(x9, x14, -(x12 * x15)),
-                    -<f64 as ::trocar::Real>::mul_add(x13, x15, x10 * x14),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x8, x14, -(x11 * x15)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x9, x14, -(x12 * x15)),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(x13, x15, x10 * x14),
                     -x16,
                     x17,
                     x18,
@@ -1778,72 +2452,79 @@ pub mod iiwa_link6 {
                 [x2 * x7, -(x3 * x7), -(t.cos[4] * x7), x8, x9, -x10],
                 [0.4_f64 * x0, -(0.4_f64 * x1), 0.4_f64 * t.sin[4], x2, -x3, -t.cos[4]],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     t.sin[5],
                     t.cos[5],
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
                 ],
             ],
             [
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
                     t.sin[6],
                     t.cos[6],
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
-                [x33, x34, p.l_a, -t.cos[6], t.sin[6], <f64 as ::trocar::Real>::ZERO],
+                [
+                    x33,
+                    x34,
+                    p.l_a,
+                    -t.cos[6],
+                    t.sin[6],
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                ],
                 [
                     t.cos[6] * p.l_a,
                     -(t.sin[6] * p.l_a),
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
                 ],
                 [
                     x34,
                     -x33,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     t.sin[6],
                     t.cos[6],
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
                 ],
             ],
             [
                 [
                     -(t.cos[6] * x35),
                     t.sin[6] * x35,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     p.l_a * x35,
                 ],
             ],
@@ -1876,7 +2557,7 @@ pub mod iiwa_link6 {
         #[inline]
         #[must_use]
         pub fn zeroed() -> Self {
-            let z = <f64 as ::trocar::Real>::ZERO;
+            let z = <f64 as ::trocar::emitted::Real>::ZERO;
             StepKinematics {
                 offset: z,
                 g_0e: ([[z; 3]; 3], [z; 3]),
@@ -1900,7 +2581,7 @@ pub mod iiwa_link6 {
     #[inline]
     fn step_is_finite(out: &StepKinematics) -> bool {
         let finite = |x: &[f64]| {
-            x.iter().all(|&v| <f64 as ::trocar::Real>::is_finite(v))
+            x.iter().all(|&v| <f64 as ::trocar::emitted::Real>::is_finite(v))
         };
         finite(&out.g_0e.1) && finite(&out.g_0i.1) && finite(out.g_0e.0.as_flattened())
             && finite(out.g_0i.0.as_flattened()) && finite(out.jb0i.as_flattened())
@@ -1917,13 +2598,13 @@ pub mod iiwa_link6 {
         params: &Params,
     ) -> f64 {
         let mut p = *params;
-        p.l_a = <f64 as ::trocar::Real>::ZERO;
+        p.l_a = <f64 as ::trocar::emitted::Real>::ZERO;
         let o = constraint_frame(&p).1;
-        p.l_a = <f64 as ::trocar::Real>::ONE;
+        p.l_a = <f64 as ::trocar::emitted::Real>::ONE;
         let o1 = constraint_frame(&p).1;
         let d = [o1[0] - o[0], o1[1] - o[1], o1[2] - o[2]];
         let (rot, pos) = g_0i;
-        let mut num = <f64 as ::trocar::Real>::ZERO;
+        let mut num = <f64 as ::trocar::emitted::Real>::ZERO;
         for i in 0..3 {
             let ro = rot[0][i] * o[0] + rot[1][i] * o[1] + rot[2][i] * o[2];
             let rd = rot[0][i] * d[0] + rot[1][i] * d[1] + rot[2][i] * d[2];
@@ -1944,7 +2625,7 @@ pub mod iiwa_link6 {
         out: &mut StepKinematics,
     ) -> bool {
         fill_at_trocar(t, trocar, params, out);
-        <f64 as ::trocar::Real>::is_finite(out.offset) && step_is_finite(out)
+        <f64 as ::trocar::emitted::Real>::is_finite(out.offset) && step_is_finite(out)
     }
     /// [`step_kinematics`] without the finiteness check.
     #[inline]
@@ -2015,8 +2696,10 @@ pub mod iiwa_link6 {
         let mut a5_4 = j[4usize][5usize];
         let mut a5_5 = j[5usize][5usize];
         let mut b0_5 = b[5usize];
-        let mut det = <f64 as ::trocar::Real>::ONE;
-        if <f64 as ::trocar::Real>::abs(a1_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        let mut det = <f64 as ::trocar::emitted::Real>::ONE;
+        if <f64 as ::trocar::emitted::Real>::abs(a1_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a1_0);
             ::core::mem::swap(&mut a0_1, &mut a1_1);
             ::core::mem::swap(&mut a0_2, &mut a1_2);
@@ -2026,7 +2709,9 @@ pub mod iiwa_link6 {
             ::core::mem::swap(&mut b0_0, &mut b0_1);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a2_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a2_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a2_0);
             ::core::mem::swap(&mut a0_1, &mut a2_1);
             ::core::mem::swap(&mut a0_2, &mut a2_2);
@@ -2036,7 +2721,9 @@ pub mod iiwa_link6 {
             ::core::mem::swap(&mut b0_0, &mut b0_2);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a3_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a3_0);
             ::core::mem::swap(&mut a0_1, &mut a3_1);
             ::core::mem::swap(&mut a0_2, &mut a3_2);
@@ -2046,7 +2733,9 @@ pub mod iiwa_link6 {
             ::core::mem::swap(&mut b0_0, &mut b0_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a4_0);
             ::core::mem::swap(&mut a0_1, &mut a4_1);
             ::core::mem::swap(&mut a0_2, &mut a4_2);
@@ -2056,7 +2745,9 @@ pub mod iiwa_link6 {
             ::core::mem::swap(&mut b0_0, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a5_0);
             ::core::mem::swap(&mut a0_1, &mut a5_1);
             ::core::mem::swap(&mut a0_2, &mut a5_2);
@@ -2067,7 +2758,7 @@ pub mod iiwa_link6 {
             det = -det;
         }
         det *= a0_0;
-        let inv0 = <f64 as ::trocar::Real>::ONE / a0_0;
+        let inv0 = <f64 as ::trocar::emitted::Real>::ONE / a0_0;
         let l = a1_0 * inv0;
         a1_1 -= l * a0_1;
         a1_2 -= l * a0_2;
@@ -2103,7 +2794,9 @@ pub mod iiwa_link6 {
         a5_4 -= l * a0_4;
         a5_5 -= l * a0_5;
         b0_5 -= l * b0_0;
-        if <f64 as ::trocar::Real>::abs(a2_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a2_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a2_1);
             ::core::mem::swap(&mut a1_2, &mut a2_2);
             ::core::mem::swap(&mut a1_3, &mut a2_3);
@@ -2112,7 +2805,9 @@ pub mod iiwa_link6 {
             ::core::mem::swap(&mut b0_1, &mut b0_2);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a3_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a3_1);
             ::core::mem::swap(&mut a1_2, &mut a3_2);
             ::core::mem::swap(&mut a1_3, &mut a3_3);
@@ -2121,7 +2816,9 @@ pub mod iiwa_link6 {
             ::core::mem::swap(&mut b0_1, &mut b0_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a4_1);
             ::core::mem::swap(&mut a1_2, &mut a4_2);
             ::core::mem::swap(&mut a1_3, &mut a4_3);
@@ -2130,7 +2827,9 @@ pub mod iiwa_link6 {
             ::core::mem::swap(&mut b0_1, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a5_1);
             ::core::mem::swap(&mut a1_2, &mut a5_2);
             ::core::mem::swap(&mut a1_3, &mut a5_3);
@@ -2140,7 +2839,7 @@ pub mod iiwa_link6 {
             det = -det;
         }
         det *= a1_1;
-        let inv1 = <f64 as ::trocar::Real>::ONE / a1_1;
+        let inv1 = <f64 as ::trocar::emitted::Real>::ONE / a1_1;
         let l = a2_1 * inv1;
         a2_2 -= l * a1_2;
         a2_3 -= l * a1_3;
@@ -2165,7 +2864,9 @@ pub mod iiwa_link6 {
         a5_4 -= l * a1_4;
         a5_5 -= l * a1_5;
         b0_5 -= l * b0_1;
-        if <f64 as ::trocar::Real>::abs(a3_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a3_2);
             ::core::mem::swap(&mut a2_3, &mut a3_3);
             ::core::mem::swap(&mut a2_4, &mut a3_4);
@@ -2173,7 +2874,9 @@ pub mod iiwa_link6 {
             ::core::mem::swap(&mut b0_2, &mut b0_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a4_2);
             ::core::mem::swap(&mut a2_3, &mut a4_3);
             ::core::mem::swap(&mut a2_4, &mut a4_4);
@@ -2181,7 +2884,9 @@ pub mod iiwa_link6 {
             ::core::mem::swap(&mut b0_2, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a5_2);
             ::core::mem::swap(&mut a2_3, &mut a5_3);
             ::core::mem::swap(&mut a2_4, &mut a5_4);
@@ -2190,7 +2895,7 @@ pub mod iiwa_link6 {
             det = -det;
         }
         det *= a2_2;
-        let inv2 = <f64 as ::trocar::Real>::ONE / a2_2;
+        let inv2 = <f64 as ::trocar::emitted::Real>::ONE / a2_2;
         let l = a3_2 * inv2;
         a3_3 -= l * a2_3;
         a3_4 -= l * a2_4;
@@ -2206,14 +2911,18 @@ pub mod iiwa_link6 {
         a5_4 -= l * a2_4;
         a5_5 -= l * a2_5;
         b0_5 -= l * b0_2;
-        if <f64 as ::trocar::Real>::abs(a4_3) > <f64 as ::trocar::Real>::abs(a3_3) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_3)
+            > <f64 as ::trocar::emitted::Real>::abs(a3_3)
+        {
             ::core::mem::swap(&mut a3_3, &mut a4_3);
             ::core::mem::swap(&mut a3_4, &mut a4_4);
             ::core::mem::swap(&mut a3_5, &mut a4_5);
             ::core::mem::swap(&mut b0_3, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_3) > <f64 as ::trocar::Real>::abs(a3_3) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_3)
+            > <f64 as ::trocar::emitted::Real>::abs(a3_3)
+        {
             ::core::mem::swap(&mut a3_3, &mut a5_3);
             ::core::mem::swap(&mut a3_4, &mut a5_4);
             ::core::mem::swap(&mut a3_5, &mut a5_5);
@@ -2221,7 +2930,7 @@ pub mod iiwa_link6 {
             det = -det;
         }
         det *= a3_3;
-        let inv3 = <f64 as ::trocar::Real>::ONE / a3_3;
+        let inv3 = <f64 as ::trocar::emitted::Real>::ONE / a3_3;
         let l = a4_3 * inv3;
         a4_4 -= l * a3_4;
         a4_5 -= l * a3_5;
@@ -2230,19 +2939,21 @@ pub mod iiwa_link6 {
         a5_4 -= l * a3_4;
         a5_5 -= l * a3_5;
         b0_5 -= l * b0_3;
-        if <f64 as ::trocar::Real>::abs(a5_4) > <f64 as ::trocar::Real>::abs(a4_4) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_4)
+            > <f64 as ::trocar::emitted::Real>::abs(a4_4)
+        {
             ::core::mem::swap(&mut a4_4, &mut a5_4);
             ::core::mem::swap(&mut a4_5, &mut a5_5);
             ::core::mem::swap(&mut b0_4, &mut b0_5);
             det = -det;
         }
         det *= a4_4;
-        let inv4 = <f64 as ::trocar::Real>::ONE / a4_4;
+        let inv4 = <f64 as ::trocar::emitted::Real>::ONE / a4_4;
         let l = a5_4 * inv4;
         a5_5 -= l * a4_5;
         b0_5 -= l * b0_4;
         det *= a5_5;
-        let inv5 = <f64 as ::trocar::Real>::ONE / a5_5;
+        let inv5 = <f64 as ::trocar::emitted::Real>::ONE / a5_5;
         let x5 = (b0_5) * inv5;
         let x4 = (b0_4 - a4_5 * x5) * inv4;
         let x3 = (b0_3 - a3_4 * x4 - a3_5 * x5) * inv3;
@@ -2273,13 +2984,13 @@ pub mod iiwa_link6 {
     impl Kinematics {
         /// A pose from the generated `(R column-major, p)`.
         #[inline]
-        fn pose((r, p): ([[f64; 3]; 3], [f64; 3])) -> ::trocar::se3::Se3<f64> {
-            ::trocar::se3::Se3 {
-                rotation: ::trocar::nalgebra::Matrix3::from_data(
-                    ::trocar::nalgebra::ArrayStorage(r),
+        fn pose((r, p): ([[f64; 3]; 3], [f64; 3])) -> ::trocar::emitted::Se3<f64> {
+            ::trocar::emitted::Se3 {
+                rotation: ::trocar::emitted::nalgebra::Matrix3::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(r),
                 ),
-                translation: ::trocar::nalgebra::Vector3::from_data(
-                    ::trocar::nalgebra::ArrayStorage([p]),
+                translation: ::trocar::emitted::nalgebra::Vector3::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage([p]),
                 ),
             }
         }
@@ -2287,63 +2998,65 @@ pub mod iiwa_link6 {
         #[inline]
         fn state(
             s: &StepKinematics,
-        ) -> ::trocar::control::ConstrainedState<f64, I, R, K, M> {
-            ::trocar::control::ConstrainedState {
+        ) -> ::trocar::emitted::ConstrainedState<f64, I, R, K, M> {
+            ::trocar::emitted::ConstrainedState {
                 g_0e: Self::pose(s.g_0e),
                 g_0i: Self::pose(s.g_0i),
-                jr: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jr),
+                jr: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jr),
                 ),
-                jb0i: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jb0i),
+                jb0i: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jb0i),
                 ),
-                jc: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jc),
+                jc: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jc),
                 ),
-                lambda_sharp: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.lambda_sharp),
+                lambda_sharp: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.lambda_sharp),
                 ),
-                lambda_pinv: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.lambda_pinv),
+                lambda_pinv: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.lambda_pinv),
                 ),
             }
         }
     }
-    impl ::trocar::control::ConstrainedKinematics<f64, N, I, R, K, M, 6> for Kinematics {
+    impl ::trocar::emitted::ConstrainedKinematics<f64, N, I, R, K, M, 6> for Kinematics {
         #[inline]
         fn g_0i(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
-        ) -> ::trocar::se3::Se3<f64> {
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
+        ) -> ::trocar::emitted::Se3<f64> {
             Self::pose(forward_kinematics_i(&q.data.0[0], &self.params))
         }
         #[inline]
-        fn h(&self) -> ::trocar::nalgebra::SMatrix<f64, R, 6> {
-            ::trocar::nalgebra::SMatrix::from_data(
-                ::trocar::nalgebra::ArrayStorage(constraint_selection(&self.params)),
+        fn h(&self) -> ::trocar::emitted::nalgebra::SMatrix<f64, R, 6> {
+            ::trocar::emitted::nalgebra::SMatrix::from_data(
+                ::trocar::emitted::nalgebra::ArrayStorage(
+                    constraint_selection(&self.params),
+                ),
             )
         }
         #[inline]
-        fn shaft(&self) -> ::trocar::control::Shaft<f64> {
+        fn shaft(&self) -> ::trocar::emitted::Shaft<f64> {
             let mut p = self.params;
-            p.l_a = <f64 as ::trocar::Real>::ZERO;
+            p.l_a = <f64 as ::trocar::emitted::Real>::ZERO;
             let at_zero = Self::pose(constraint_frame(&p));
-            p.l_a = <f64 as ::trocar::Real>::ONE;
+            p.l_a = <f64 as ::trocar::emitted::Real>::ONE;
             let at_one = Self::pose(constraint_frame(&p));
-            ::trocar::control::Shaft::from_frames(&at_zero, &at_one)
+            ::trocar::emitted::Shaft::from_frames(&at_zero, &at_one)
         }
         #[inline]
-        fn task_selection(&self) -> ::trocar::nalgebra::SMatrix<f64, 6, 6> {
-            ::trocar::nalgebra::SMatrix::identity()
+        fn task_selection(&self) -> ::trocar::emitted::nalgebra::SMatrix<f64, 6, 6> {
+            ::trocar::emitted::nalgebra::SMatrix::identity()
         }
         #[inline]
         fn evaluate(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
             l_a: f64,
         ) -> ::core::result::Result<
-            ::trocar::control::ConstrainedState<f64, I, R, K, M>,
-            ::trocar::control::ControlError,
+            ::trocar::emitted::ConstrainedState<f64, I, R, K, M>,
+            ::trocar::emitted::ControlError,
         > {
             let t = JointTrig::new(&q.data.0[0]);
             let mut p = self.params;
@@ -2352,9 +3065,9 @@ pub mod iiwa_link6 {
             s.g_0i = forward_kinematics_i_trig(&t, &p);
             s.offset = l_a;
             fill_step(&t, &p, &mut s);
-            if !<f64 as ::trocar::Real>::is_finite(l_a) || !step_is_finite(&s) {
+            if !<f64 as ::trocar::emitted::Real>::is_finite(l_a) || !step_is_finite(&s) {
                 return ::core::result::Result::Err(
-                    ::trocar::control::ControlError::Kinematics,
+                    ::trocar::emitted::ControlError::Kinematics,
                 );
             }
             ::core::result::Result::Ok(Self::state(&s))
@@ -2364,22 +3077,29 @@ pub mod iiwa_link6 {
         #[inline]
         fn solve_task(
             &self,
-            j: &::trocar::nalgebra::SMatrix<f64, 6, M>,
-            b: &::trocar::nalgebra::SVector<f64, 6>,
-        ) -> ::core::option::Option<(::trocar::nalgebra::SVector<f64, M>, f64)> {
+            j: &::trocar::emitted::nalgebra::SMatrix<f64, 6, M>,
+            b: &::trocar::emitted::nalgebra::SVector<f64, 6>,
+        ) -> ::core::option::Option<
+            (::trocar::emitted::nalgebra::SVector<f64, M>, f64),
+        > {
             let (x, det) = lu_solve_6(&j.data.0, &b.data.0[0]);
-            ::core::option::Option::Some((::trocar::nalgebra::SVector::from(x), det))
+            ::core::option::Option::Some((
+                ::trocar::emitted::nalgebra::SVector::from(x),
+                det,
+            ))
         }
         /// `J^B_0i` (6 × 6) solved by the straight-line elimination emitted for this size.
         #[inline]
         fn solve_jb0i(
             &self,
-            j: &::trocar::nalgebra::SMatrix<f64, 6, I>,
-            b: &::trocar::nalgebra::SVector<f64, 6>,
-        ) -> ::core::option::Option<(::trocar::nalgebra::SVector<f64, I>, f64)> {
+            j: &::trocar::emitted::nalgebra::SMatrix<f64, 6, I>,
+            b: &::trocar::emitted::nalgebra::SVector<f64, 6>,
+        ) -> ::core::option::Option<
+            (::trocar::emitted::nalgebra::SVector<f64, I>, f64),
+        > {
             let (x, det_or_w) = lu_solve_6(&j.data.0, &b.data.0[0]);
             ::core::option::Option::Some((
-                ::trocar::nalgebra::SVector::from(x),
+                ::trocar::emitted::nalgebra::SVector::from(x),
                 det_or_w,
             ))
         }
@@ -2387,18 +3107,18 @@ pub mod iiwa_link6 {
         #[inline]
         fn evaluate_at_trocar(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
-            trocar: &::trocar::nalgebra::Vector3<f64>,
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
+            trocar: &::trocar::emitted::nalgebra::Vector3<f64>,
         ) -> ::core::result::Result<
-            (f64, ::trocar::control::ConstrainedState<f64, I, R, K, M>),
-            ::trocar::control::ControlError,
+            (f64, ::trocar::emitted::ConstrainedState<f64, I, R, K, M>),
+            ::trocar::emitted::ControlError,
         > {
             let t = JointTrig::new(&q.data.0[0]);
             let mut s = StepKinematics::zeroed();
             fill_at_trocar(&t, &trocar.data.0[0], &self.params, &mut s);
-            if !<f64 as ::trocar::Real>::is_finite(s.offset) {
+            if !<f64 as ::trocar::emitted::Real>::is_finite(s.offset) {
                 return ::core::result::Result::Err(
-                    ::trocar::control::ControlError::Kinematics,
+                    ::trocar::emitted::ControlError::Kinematics,
                 );
             }
             ::core::result::Result::Ok((s.offset, Self::state(&s)))

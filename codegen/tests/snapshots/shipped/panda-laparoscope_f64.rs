@@ -69,7 +69,7 @@ pub mod panda_laparoscope {
         #[inline(always)]
         #[must_use]
         pub fn new(q: &[f64; N]) -> Self {
-            let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::Real>::sin_cos_array(
+            let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
                 &[q[0], q[1], q[2], q[3], q[4], q[5], q[6]],
             );
             JointTrig {
@@ -87,92 +87,104 @@ pub mod panda_laparoscope {
     #[inline]
     #[must_use]
     pub fn forward_kinematics(q: &[f64; N], _p: &Params) -> ([[f64; 3]; 3], [f64; 3]) {
-        let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5], q[6]],
         );
         let x0 = c1 * c2;
         let x1 = c1 * s2;
         let x2 = s1 * c2;
         let x3 = s1 * s2;
-        let x4 = <f64 as ::trocar::Real>::mul_add(c3, x0, -(s1 * s3));
-        let x5 = <f64 as ::trocar::Real>::mul_add(s3, x0, s1 * c3);
-        let x6 = <f64 as ::trocar::Real>::mul_add(c3, x2, c1 * s3);
-        let x7 = <f64 as ::trocar::Real>::mul_add(c1, c3, -(s3 * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x0, -(s1 * s3));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x0, s1 * c3);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x2, c1 * s3);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(c1, c3, -(s3 * x2));
         let x8 = s2 * c3;
         let x9 = s2 * s3;
-        let x10 = <f64 as ::trocar::Real>::mul_add(c4, x4, s4 * x1);
-        let x11 = <f64 as ::trocar::Real>::mul_add(c4, x1, -(s4 * x4));
-        let x12 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x3);
-        let x13 = <f64 as ::trocar::Real>::mul_add(c4, x3, -(s4 * x6));
-        let x14 = <f64 as ::trocar::Real>::mul_add(c2, s4, -(c4 * x8));
-        let x15 = <f64 as ::trocar::Real>::mul_add(s4, x8, c2 * c4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c5, x10, -(s5 * x5));
-        let x17 = <f64 as ::trocar::Real>::mul_add(s5, x10, c5 * x5);
-        let x18 = <f64 as ::trocar::Real>::mul_add(c5, x12, s5 * x7);
-        let x19 = <f64 as ::trocar::Real>::mul_add(c5, x7, -(s5 * x12));
-        let x20 = <f64 as ::trocar::Real>::mul_add(c5, x14, s5 * x9);
-        let x21 = <f64 as ::trocar::Real>::mul_add(c5, x9, -(s5 * x14));
-        let x22 = <f64 as ::trocar::Real>::mul_add(c6, x16, s6 * x11);
-        let x23 = <f64 as ::trocar::Real>::mul_add(c6, x11, -(s6 * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(c6, x18, s6 * x13);
-        let x25 = <f64 as ::trocar::Real>::mul_add(c6, x13, -(s6 * x18));
-        let x26 = <f64 as ::trocar::Real>::mul_add(c6, x20, s6 * x15);
-        let x27 = <f64 as ::trocar::Real>::mul_add(c6, x15, -(s6 * x20));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x4, s4 * x1);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x1, -(s4 * x4));
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x6, s4 * x3);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x3, -(s4 * x6));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c2, s4, -(c4 * x8));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x8, c2 * c4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x10, -(s5 * x5));
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x10, c5 * x5);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x12, s5 * x7);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x7, -(s5 * x12));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x14, s5 * x9);
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x9, -(s5 * x14));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x16, s6 * x11);
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x11, -(s6 * x16));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x18, s6 * x13);
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x13, -(s6 * x18));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x20, s6 * x15);
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x15, -(s6 * x20));
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(c7, x22, s7 * x17),
-                    <f64 as ::trocar::Real>::mul_add(c7, x24, -(s7 * x19)),
-                    <f64 as ::trocar::Real>::mul_add(c7, x26, -(s7 * x21)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c7, x22, s7 * x17),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c7, x24, -(s7 * x19)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c7, x26, -(s7 * x21)),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(c7, x17, -(s7 * x22)),
-                    -<f64 as ::trocar::Real>::mul_add(s7, x24, c7 * x19),
-                    -<f64 as ::trocar::Real>::mul_add(s7, x26, c7 * x21),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c7, x17, -(s7 * x22)),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(s7, x24, c7 * x19),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(s7, x26, c7 * x21),
                 ],
                 [-x23, -x25, -x27],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.507_f64,
                     x23,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.088_f64,
                         x22,
-                        <f64 as ::trocar::Real>::mul_add(0.316_f64, x1, 0.0825_f64 * x4)
-                            + <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.316_f64,
+                            x1,
+                            0.0825_f64 * x4,
+                        )
+                            + <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.384_f64,
                                 x11,
                                 -(0.0825_f64 * x10),
                             ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.507_f64,
                     x25,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.088_f64,
                         x24,
-                        <f64 as ::trocar::Real>::mul_add(0.316_f64, x3, 0.0825_f64 * x6)
-                            + <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.316_f64,
+                            x3,
+                            0.0825_f64 * x6,
+                        )
+                            + <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.384_f64,
                                 x13,
                                 -(0.0825_f64 * x12),
                             ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.507_f64,
                     x27,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.088_f64,
                         x26,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             -0.0825_f64,
                             x8,
-                            <f64 as ::trocar::Real>::mul_add(0.316_f64, c2, 0.333_f64),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                0.316_f64,
+                                c2,
+                                0.333_f64,
+                            ),
                         )
-                            + <f64 as ::trocar::Real>::mul_add(
+                            + <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.384_f64,
                                 x15,
                                 -(0.0825_f64 * x14),
@@ -197,89 +209,201 @@ pub mod panda_laparoscope {
         let x1 = t.cos[0] * t.sin[1];
         let x2 = t.sin[0] * t.cos[1];
         let x3 = t.sin[0] * t.sin[1];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x0, -(t.sin[0] * t.sin[2]));
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x0, t.sin[0] * t.cos[2]);
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x2, t.cos[0] * t.sin[2]);
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.cos[0], t.cos[2], -(t.sin[2] * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x0,
+            -(t.sin[0] * t.sin[2]),
+        );
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x0,
+            t.sin[0] * t.cos[2],
+        );
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x2,
+            t.cos[0] * t.sin[2],
+        );
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            t.cos[2],
+            -(t.sin[2] * x2),
+        );
         let x8 = t.sin[1] * t.cos[2];
         let x9 = t.sin[1] * t.sin[2];
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x4, t.sin[3] * x1);
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x1, -(t.sin[3] * x4));
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x3);
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * x6));
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[1], t.sin[3], -(t.cos[3] * x8));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[1] * t.cos[3]);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x10, -(t.sin[4] * x5));
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x10, t.cos[4] * x5);
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x12, t.sin[4] * x7);
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x7, -(t.sin[4] * x12));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x14, t.sin[4] * x9);
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x9, -(t.sin[4] * x14));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x16, t.sin[5] * x11);
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x11, -(t.sin[5] * x16));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x18, t.sin[5] * x13);
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x13, -(t.sin[5] * x18));
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x20, t.sin[5] * x15);
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x15, -(t.sin[5] * x20));
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x4, t.sin[3] * x1);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x1,
+            -(t.sin[3] * x4),
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x6, t.sin[3] * x3);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x3,
+            -(t.sin[3] * x6),
+        );
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            t.sin[3],
+            -(t.cos[3] * x8),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x8,
+            t.cos[1] * t.cos[3],
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x10,
+            -(t.sin[4] * x5),
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x10,
+            t.cos[4] * x5,
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x12,
+            t.sin[4] * x7,
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x7,
+            -(t.sin[4] * x12),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x14,
+            t.sin[4] * x9,
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x9,
+            -(t.sin[4] * x14),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x16,
+            t.sin[5] * x11,
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x11,
+            -(t.sin[5] * x16),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x18,
+            t.sin[5] * x13,
+        );
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x13,
+            -(t.sin[5] * x18),
+        );
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x20,
+            t.sin[5] * x15,
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x15,
+            -(t.sin[5] * x20),
+        );
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[6], x22, t.sin[6] * x17),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[6], x24, -(t.sin[6] * x19)),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[6], x26, -(t.sin[6] * x21)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[6],
+                        x22,
+                        t.sin[6] * x17,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[6],
+                        x24,
+                        -(t.sin[6] * x19),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[6],
+                        x26,
+                        -(t.sin[6] * x21),
+                    ),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[6], x17, -(t.sin[6] * x22)),
-                    -<f64 as ::trocar::Real>::mul_add(t.sin[6], x24, t.cos[6] * x19),
-                    -<f64 as ::trocar::Real>::mul_add(t.sin[6], x26, t.cos[6] * x21),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[6],
+                        x17,
+                        -(t.sin[6] * x22),
+                    ),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[6],
+                        x24,
+                        t.cos[6] * x19,
+                    ),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[6],
+                        x26,
+                        t.cos[6] * x21,
+                    ),
                 ],
                 [-x23, -x25, -x27],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.507_f64,
                     x23,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.088_f64,
                         x22,
-                        <f64 as ::trocar::Real>::mul_add(0.316_f64, x1, 0.0825_f64 * x4)
-                            + <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.316_f64,
+                            x1,
+                            0.0825_f64 * x4,
+                        )
+                            + <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.384_f64,
                                 x11,
                                 -(0.0825_f64 * x10),
                             ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.507_f64,
                     x25,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.088_f64,
                         x24,
-                        <f64 as ::trocar::Real>::mul_add(0.316_f64, x3, 0.0825_f64 * x6)
-                            + <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.316_f64,
+                            x3,
+                            0.0825_f64 * x6,
+                        )
+                            + <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.384_f64,
                                 x13,
                                 -(0.0825_f64 * x12),
                             ),
                     ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.507_f64,
                     x27,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.088_f64,
                         x26,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             -0.0825_f64,
                             x8,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.316_f64,
                                 t.cos[1],
                                 0.333_f64,
                             ),
                         )
-                            + <f64 as ::trocar::Real>::mul_add(
+                            + <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.384_f64,
                                 x15,
                                 -(0.0825_f64 * x14),
@@ -297,102 +421,118 @@ pub mod panda_laparoscope {
     #[inline]
     #[must_use]
     pub fn body_jacobian(q: &[f64; N], _p: &Params) -> [[f64; 6]; N] {
-        let ([s2, s3, s4, s5, s6, s7], [c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s2, s3, s4, s5, s6, s7], [c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[1], q[2], q[3], q[4], q[5], q[6]],
         );
         let x0 = c6 * c7;
         let x1 = c6 * s7;
-        let x2 = <f64 as ::trocar::Real>::mul_add(0.088_f64, c6, 0.507_f64 * s6);
+        let x2 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.088_f64,
+            c6,
+            0.507_f64 * s6,
+        );
         let x3 = s6 * c7;
         let x4 = s6 * s7;
-        let x5 = <f64 as ::trocar::Real>::mul_add(c5, x0, s5 * s7);
-        let x6 = <f64 as ::trocar::Real>::mul_add(s5, c7, -(c5 * x1));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x0, s5 * s7);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(s5, c7, -(c5 * x1));
         let x7 = c5 * s6;
-        let x8 = <f64 as ::trocar::Real>::mul_add(c5, x2, -0.0825_f64);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x2, -0.0825_f64);
         let x9 = 0.384_f64
-            + <f64 as ::trocar::Real>::mul_add(0.088_f64, s6, -(0.507_f64 * c6));
-        let x10 = <f64 as ::trocar::Real>::mul_add(c5, s7, -(s5 * x0));
-        let x11 = <f64 as ::trocar::Real>::mul_add(s5, x1, c5 * c7);
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                0.088_f64,
+                s6,
+                -(0.507_f64 * c6),
+            );
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(c5, s7, -(s5 * x0));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x1, c5 * c7);
         let x12 = s5 * s6;
         let x13 = s5 * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(c4, x5, -(s4 * x3));
-        let x15 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c4, x7, s4 * c6);
-        let x17 = 0.0825_f64 + <f64 as ::trocar::Real>::mul_add(c4, x8, -(s4 * x9));
-        let x18 = <f64 as ::trocar::Real>::mul_add(s4, x5, c4 * x3);
-        let x19 = <f64 as ::trocar::Real>::mul_add(s4, x6, -(c4 * x4));
-        let x20 = <f64 as ::trocar::Real>::mul_add(s4, x7, -(c4 * c6));
-        let x21 = <f64 as ::trocar::Real>::mul_add(c3, x14, s3 * x10);
-        let x22 = <f64 as ::trocar::Real>::mul_add(c3, x15, s3 * x11);
-        let x23 = <f64 as ::trocar::Real>::mul_add(c3, x16, -(s3 * x12));
-        let x24 = <f64 as ::trocar::Real>::mul_add(c3, x17, -(s3 * x13));
-        let x25 = <f64 as ::trocar::Real>::mul_add(s4, x8, c4 * x9) + 0.316_f64;
-        let x26 = <f64 as ::trocar::Real>::mul_add(s3, x14, -(c3 * x10));
-        let x27 = <f64 as ::trocar::Real>::mul_add(s3, x15, -(c3 * x11));
-        let x28 = <f64 as ::trocar::Real>::mul_add(s3, x16, c3 * x12);
-        let x29 = <f64 as ::trocar::Real>::mul_add(s3, x17, c3 * x13);
-        let x30 = <f64 as ::trocar::Real>::mul_add(c2, x24, s2 * x25);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x5, -(s4 * x3));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x6, s4 * x4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x7, s4 * c6);
+        let x17 = 0.0825_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c4, x8, -(s4 * x9));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x5, c4 * x3);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x6, -(c4 * x4));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x7, -(c4 * c6));
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x14, s3 * x10);
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x15, s3 * x11);
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x16, -(s3 * x12));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x17, -(s3 * x13));
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x8, c4 * x9) + 0.316_f64;
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x14, -(c3 * x10));
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x15, -(c3 * x11));
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x16, c3 * x12);
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x17, c3 * x13);
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x24, s2 * x25);
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x26,
                     x30,
-                    -(x29 * <f64 as ::trocar::Real>::mul_add(c2, x21, s2 * x18)),
+                    -(x29 * <f64 as ::trocar::emitted::Real>::mul_add(c2, x21, s2 * x18)),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x27,
                     x30,
-                    -(x29 * <f64 as ::trocar::Real>::mul_add(c2, x22, s2 * x19)),
+                    -(x29 * <f64 as ::trocar::emitted::Real>::mul_add(c2, x22, s2 * x19)),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x28,
                     x30,
-                    -(x29 * <f64 as ::trocar::Real>::mul_add(c2, x23, s2 * x20)),
+                    -(x29 * <f64 as ::trocar::emitted::Real>::mul_add(c2, x23, s2 * x20)),
                 ),
-                <f64 as ::trocar::Real>::mul_add(c2, x18, -(s2 * x21)),
-                <f64 as ::trocar::Real>::mul_add(c2, x19, -(s2 * x22)),
-                <f64 as ::trocar::Real>::mul_add(c2, x20, -(s2 * x23)),
+                <f64 as ::trocar::emitted::Real>::mul_add(c2, x18, -(s2 * x21)),
+                <f64 as ::trocar::emitted::Real>::mul_add(c2, x19, -(s2 * x22)),
+                <f64 as ::trocar::emitted::Real>::mul_add(c2, x20, -(s2 * x23)),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x21, x25, -(x18 * x24)),
-                <f64 as ::trocar::Real>::mul_add(x22, x25, -(x19 * x24)),
-                <f64 as ::trocar::Real>::mul_add(x23, x25, -(x20 * x24)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x21, x25, -(x18 * x24)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x22, x25, -(x19 * x24)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x23, x25, -(x20 * x24)),
                 x26,
                 x27,
                 x28,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(x13, x14, x10 * x17),
-                -<f64 as ::trocar::Real>::mul_add(x13, x15, x11 * x17),
-                <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x13, x14, x10 * x17),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x13, x15, x11 * x17),
+                <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, -(x13 * x16)),
                 x18,
                 x19,
                 x20,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x3, x8, -(x5 * x9)),
-                -<f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8),
-                -<f64 as ::trocar::Real>::mul_add(x7, x9, c6 * x8),
+                <f64 as ::trocar::emitted::Real>::mul_add(x3, x8, -(x5 * x9)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x6, x9, x4 * x8),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x7, x9, c6 * x8),
                 x10,
                 x11,
                 -x12,
             ],
-            [-(s7 * x2), -(c7 * x2), <f64 as ::trocar::Real>::ZERO, x3, -x4, -c6],
+            [
+                -(s7 * x2),
+                -(c7 * x2),
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                x3,
+                -x4,
+                -c6,
+            ],
             [
                 0.507_f64 * c7,
                 -(0.507_f64 * s7),
                 -0.088_f64,
                 s7,
                 c7,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -406,102 +546,182 @@ pub mod panda_laparoscope {
     pub fn body_jacobian_trig(t: &JointTrig, _p: &Params) -> [[f64; 6]; N] {
         let x0 = t.cos[5] * t.cos[6];
         let x1 = t.cos[5] * t.sin[6];
-        let x2 = <f64 as ::trocar::Real>::mul_add(
+        let x2 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.088_f64,
             t.cos[5],
             0.507_f64 * t.sin[5],
         );
         let x3 = t.sin[5] * t.cos[6];
         let x4 = t.sin[5] * t.sin[6];
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x0, t.sin[4] * t.sin[6]);
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.sin[4], t.cos[6], -(t.cos[4] * x1));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x0,
+            t.sin[4] * t.sin[6],
+        );
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            t.cos[6],
+            -(t.cos[4] * x1),
+        );
         let x7 = t.cos[4] * t.sin[5];
-        let x8 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x2, -0.0825_f64);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[4], x2, -0.0825_f64);
         let x9 = 0.384_f64
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 0.088_f64,
                 t.sin[5],
                 -(0.507_f64 * t.cos[5]),
             );
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[4], t.sin[6], -(t.sin[4] * x0));
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x1, t.cos[4] * t.cos[6]);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            t.sin[6],
+            -(t.sin[4] * x0),
+        );
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x1,
+            t.cos[4] * t.cos[6],
+        );
         let x12 = t.sin[4] * t.sin[5];
         let x13 = t.sin[4] * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x5, -(t.sin[3] * x3));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x7, t.sin[3] * t.cos[5]);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x5,
+            -(t.sin[3] * x3),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x7,
+            t.sin[3] * t.cos[5],
+        );
         let x17 = 0.0825_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x5, t.cos[3] * x3);
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x6, -(t.cos[3] * x4));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x7, -(t.cos[3] * t.cos[5]));
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x14, t.sin[2] * x10);
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x15, t.sin[2] * x11);
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x16, -(t.sin[2] * x12));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x17, -(t.sin[2] * x13));
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9)
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[3], x5, t.cos[3] * x3);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x6,
+            -(t.cos[3] * x4),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x7,
+            -(t.cos[3] * t.cos[5]),
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x14,
+            t.sin[2] * x10,
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x15,
+            t.sin[2] * x11,
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x16,
+            -(t.sin[2] * x12),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x17,
+            -(t.sin[2] * x13),
+        );
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9)
             + 0.316_f64;
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x14, -(t.cos[2] * x10));
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x15, -(t.cos[2] * x11));
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x12);
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x13);
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x24, t.sin[1] * x25);
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x14,
+            -(t.cos[2] * x10),
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x15,
+            -(t.cos[2] * x11),
+        );
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x16,
+            t.cos[2] * x12,
+        );
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x17,
+            t.cos[2] * x13,
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x24,
+            t.sin[1] * x25,
+        );
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x26,
                     x30,
                     -(x29
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[1],
                             x21,
                             t.sin[1] * x18,
                         )),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x27,
                     x30,
                     -(x29
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[1],
                             x22,
                             t.sin[1] * x19,
                         )),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x28,
                     x30,
                     -(x29
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[1],
                             x23,
                             t.sin[1] * x20,
                         )),
                 ),
-                <f64 as ::trocar::Real>::mul_add(t.cos[1], x18, -(t.sin[1] * x21)),
-                <f64 as ::trocar::Real>::mul_add(t.cos[1], x19, -(t.sin[1] * x22)),
-                <f64 as ::trocar::Real>::mul_add(t.cos[1], x20, -(t.sin[1] * x23)),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.cos[1],
+                    x18,
+                    -(t.sin[1] * x21),
+                ),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.cos[1],
+                    x19,
+                    -(t.sin[1] * x22),
+                ),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.cos[1],
+                    x20,
+                    -(t.sin[1] * x23),
+                ),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x21, x25, -(x18 * x24)),
-                <f64 as ::trocar::Real>::mul_add(x22, x25, -(x19 * x24)),
-                <f64 as ::trocar::Real>::mul_add(x23, x25, -(x20 * x24)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x21, x25, -(x18 * x24)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x22, x25, -(x19 * x24)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x23, x25, -(x20 * x24)),
                 x26,
                 x27,
                 x28,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(x13, x14, x10 * x17),
-                -<f64 as ::trocar::Real>::mul_add(x13, x15, x11 * x17),
-                <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x13, x14, x10 * x17),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x13, x15, x11 * x17),
+                <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, -(x13 * x16)),
                 x18,
                 x19,
                 x20,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x3, x8, -(x5 * x9)),
-                -<f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8),
-                -<f64 as ::trocar::Real>::mul_add(x7, x9, t.cos[5] * x8),
+                <f64 as ::trocar::emitted::Real>::mul_add(x3, x8, -(x5 * x9)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x6, x9, x4 * x8),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x7, x9, t.cos[5] * x8),
                 x10,
                 x11,
                 -x12,
@@ -509,7 +729,7 @@ pub mod panda_laparoscope {
             [
                 -(t.sin[6] * x2),
                 -(t.cos[6] * x2),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x3,
                 -x4,
                 -t.cos[5],
@@ -520,15 +740,15 @@ pub mod panda_laparoscope {
                 -0.088_f64,
                 t.sin[6],
                 t.cos[6],
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -544,36 +764,36 @@ pub mod panda_laparoscope {
     pub fn constrained_jacobian(_q: &[f64; N], p: &Params) -> [[f64; 6]; M] {
         [
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 p.l_a - 0.4_f64,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 0.4_f64 - p.l_a,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -587,36 +807,36 @@ pub mod panda_laparoscope {
     pub fn constrained_jacobian_trig(_t: &JointTrig, p: &Params) -> [[f64; 6]; M] {
         [
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 p.l_a - 0.4_f64,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 0.4_f64 - p.l_a,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -630,26 +850,26 @@ pub mod panda_laparoscope {
     #[inline]
     #[must_use]
     pub fn constraint_jacobian_c(_q: &[f64; N], p: &Params) -> [[f64; 6]; R] {
-        let x0 = <f64 as ::trocar::Real>::ONE
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
             / (p.l_a * (0.214_f64 + p.l_a) + 1.011449_f64);
         let x1 = x0 * (1.054249_f64 + 0.507_f64 * p.l_a);
         let x2 = x0 * (p.l_a + 0.107_f64);
         [
             [
                 x1,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x2,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x1,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -x2,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -661,26 +881,26 @@ pub mod panda_laparoscope {
     #[inline]
     #[must_use]
     pub fn constraint_jacobian_c_trig(_t: &JointTrig, p: &Params) -> [[f64; 6]; R] {
-        let x0 = <f64 as ::trocar::Real>::ONE
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
             / (p.l_a * (0.214_f64 + p.l_a) + 1.011449_f64);
         let x1 = x0 * (1.054249_f64 + 0.507_f64 * p.l_a);
         let x2 = x0 * (p.l_a + 0.107_f64);
         [
             [
                 x1,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x2,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x1,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -x2,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -692,7 +912,7 @@ pub mod panda_laparoscope {
     #[inline]
     #[must_use]
     pub fn partial_body_jacobian(q: &[f64; N], _p: &Params) -> [[f64; 6]; I] {
-        let ([s2, s3, s4, s5, s6, s7], [c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s2, s3, s4, s5, s6, s7], [c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[1], q[2], q[3], q[4], q[5], q[6]],
         );
         let x0 = c6 * c7;
@@ -700,93 +920,101 @@ pub mod panda_laparoscope {
         let x2 = 0.088_f64 * c6;
         let x3 = s6 * c7;
         let x4 = s6 * s7;
-        let x5 = <f64 as ::trocar::Real>::mul_add(c5, x0, s5 * s7);
-        let x6 = <f64 as ::trocar::Real>::mul_add(s5, c7, -(c5 * x1));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x0, s5 * s7);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(s5, c7, -(c5 * x1));
         let x7 = c5 * s6;
-        let x8 = <f64 as ::trocar::Real>::mul_add(c5, x2, -0.0825_f64);
-        let x9 = <f64 as ::trocar::Real>::mul_add(0.088_f64, s6, 0.384_f64);
-        let x10 = <f64 as ::trocar::Real>::mul_add(c5, s7, -(s5 * x0));
-        let x11 = <f64 as ::trocar::Real>::mul_add(s5, x1, c5 * c7);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x2, -0.0825_f64);
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(0.088_f64, s6, 0.384_f64);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(c5, s7, -(s5 * x0));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x1, c5 * c7);
         let x12 = s5 * s6;
         let x13 = s5 * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(c4, x5, -(s4 * x3));
-        let x15 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c4, x7, s4 * c6);
-        let x17 = 0.0825_f64 + <f64 as ::trocar::Real>::mul_add(c4, x8, -(s4 * x9));
-        let x18 = <f64 as ::trocar::Real>::mul_add(s4, x5, c4 * x3);
-        let x19 = <f64 as ::trocar::Real>::mul_add(s4, x6, -(c4 * x4));
-        let x20 = <f64 as ::trocar::Real>::mul_add(s4, x7, -(c4 * c6));
-        let x21 = <f64 as ::trocar::Real>::mul_add(c3, x14, s3 * x10);
-        let x22 = <f64 as ::trocar::Real>::mul_add(c3, x15, s3 * x11);
-        let x23 = <f64 as ::trocar::Real>::mul_add(c3, x16, -(s3 * x12));
-        let x24 = <f64 as ::trocar::Real>::mul_add(c3, x17, -(s3 * x13));
-        let x25 = <f64 as ::trocar::Real>::mul_add(s4, x8, c4 * x9) + 0.316_f64;
-        let x26 = <f64 as ::trocar::Real>::mul_add(s3, x14, -(c3 * x10));
-        let x27 = <f64 as ::trocar::Real>::mul_add(s3, x15, -(c3 * x11));
-        let x28 = <f64 as ::trocar::Real>::mul_add(s3, x16, c3 * x12);
-        let x29 = <f64 as ::trocar::Real>::mul_add(s3, x17, c3 * x13);
-        let x30 = <f64 as ::trocar::Real>::mul_add(c2, x24, s2 * x25);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x5, -(s4 * x3));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x6, s4 * x4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x7, s4 * c6);
+        let x17 = 0.0825_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c4, x8, -(s4 * x9));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x5, c4 * x3);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x6, -(c4 * x4));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x7, -(c4 * c6));
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x14, s3 * x10);
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x15, s3 * x11);
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x16, -(s3 * x12));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x17, -(s3 * x13));
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x8, c4 * x9) + 0.316_f64;
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x14, -(c3 * x10));
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x15, -(c3 * x11));
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x16, c3 * x12);
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x17, c3 * x13);
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x24, s2 * x25);
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x26,
                     x30,
-                    -(x29 * <f64 as ::trocar::Real>::mul_add(c2, x21, s2 * x18)),
+                    -(x29 * <f64 as ::trocar::emitted::Real>::mul_add(c2, x21, s2 * x18)),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x27,
                     x30,
-                    -(x29 * <f64 as ::trocar::Real>::mul_add(c2, x22, s2 * x19)),
+                    -(x29 * <f64 as ::trocar::emitted::Real>::mul_add(c2, x22, s2 * x19)),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x28,
                     x30,
-                    -(x29 * <f64 as ::trocar::Real>::mul_add(c2, x23, s2 * x20)),
+                    -(x29 * <f64 as ::trocar::emitted::Real>::mul_add(c2, x23, s2 * x20)),
                 ),
-                <f64 as ::trocar::Real>::mul_add(c2, x18, -(s2 * x21)),
-                <f64 as ::trocar::Real>::mul_add(c2, x19, -(s2 * x22)),
-                <f64 as ::trocar::Real>::mul_add(c2, x20, -(s2 * x23)),
+                <f64 as ::trocar::emitted::Real>::mul_add(c2, x18, -(s2 * x21)),
+                <f64 as ::trocar::emitted::Real>::mul_add(c2, x19, -(s2 * x22)),
+                <f64 as ::trocar::emitted::Real>::mul_add(c2, x20, -(s2 * x23)),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x21, x25, -(x18 * x24)),
-                <f64 as ::trocar::Real>::mul_add(x22, x25, -(x19 * x24)),
-                <f64 as ::trocar::Real>::mul_add(x23, x25, -(x20 * x24)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x21, x25, -(x18 * x24)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x22, x25, -(x19 * x24)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x23, x25, -(x20 * x24)),
                 x26,
                 x27,
                 x28,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(x13, x14, x10 * x17),
-                -<f64 as ::trocar::Real>::mul_add(x13, x15, x11 * x17),
-                <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x13, x14, x10 * x17),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x13, x15, x11 * x17),
+                <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, -(x13 * x16)),
                 x18,
                 x19,
                 x20,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x3, x8, -(x5 * x9)),
-                -<f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8),
-                -<f64 as ::trocar::Real>::mul_add(x7, x9, c6 * x8),
+                <f64 as ::trocar::emitted::Real>::mul_add(x3, x8, -(x5 * x9)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x6, x9, x4 * x8),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x7, x9, c6 * x8),
                 x10,
                 x11,
                 -x12,
             ],
-            [-(s7 * x2), -(c7 * x2), <f64 as ::trocar::Real>::ZERO, x3, -x4, -c6],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                -(s7 * x2),
+                -(c7 * x2),
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                x3,
+                -x4,
+                -c6,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -0.088_f64,
                 s7,
                 c7,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -803,90 +1031,174 @@ pub mod panda_laparoscope {
         let x2 = 0.088_f64 * t.cos[5];
         let x3 = t.sin[5] * t.cos[6];
         let x4 = t.sin[5] * t.sin[6];
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x0, t.sin[4] * t.sin[6]);
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.sin[4], t.cos[6], -(t.cos[4] * x1));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x0,
+            t.sin[4] * t.sin[6],
+        );
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            t.cos[6],
+            -(t.cos[4] * x1),
+        );
         let x7 = t.cos[4] * t.sin[5];
-        let x8 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x2, -0.0825_f64);
-        let x9 = <f64 as ::trocar::Real>::mul_add(0.088_f64, t.sin[5], 0.384_f64);
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[4], t.sin[6], -(t.sin[4] * x0));
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x1, t.cos[4] * t.cos[6]);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[4], x2, -0.0825_f64);
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.088_f64,
+            t.sin[5],
+            0.384_f64,
+        );
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            t.sin[6],
+            -(t.sin[4] * x0),
+        );
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x1,
+            t.cos[4] * t.cos[6],
+        );
         let x12 = t.sin[4] * t.sin[5];
         let x13 = t.sin[4] * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x5, -(t.sin[3] * x3));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x7, t.sin[3] * t.cos[5]);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x5,
+            -(t.sin[3] * x3),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x7,
+            t.sin[3] * t.cos[5],
+        );
         let x17 = 0.0825_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x5, t.cos[3] * x3);
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x6, -(t.cos[3] * x4));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x7, -(t.cos[3] * t.cos[5]));
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x14, t.sin[2] * x10);
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x15, t.sin[2] * x11);
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x16, -(t.sin[2] * x12));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x17, -(t.sin[2] * x13));
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9)
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[3], x5, t.cos[3] * x3);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x6,
+            -(t.cos[3] * x4),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x7,
+            -(t.cos[3] * t.cos[5]),
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x14,
+            t.sin[2] * x10,
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x15,
+            t.sin[2] * x11,
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x16,
+            -(t.sin[2] * x12),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x17,
+            -(t.sin[2] * x13),
+        );
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9)
             + 0.316_f64;
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x14, -(t.cos[2] * x10));
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x15, -(t.cos[2] * x11));
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x12);
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x13);
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x24, t.sin[1] * x25);
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x14,
+            -(t.cos[2] * x10),
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x15,
+            -(t.cos[2] * x11),
+        );
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x16,
+            t.cos[2] * x12,
+        );
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x17,
+            t.cos[2] * x13,
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x24,
+            t.sin[1] * x25,
+        );
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x26,
                     x30,
                     -(x29
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[1],
                             x21,
                             t.sin[1] * x18,
                         )),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x27,
                     x30,
                     -(x29
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[1],
                             x22,
                             t.sin[1] * x19,
                         )),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x28,
                     x30,
                     -(x29
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[1],
                             x23,
                             t.sin[1] * x20,
                         )),
                 ),
-                <f64 as ::trocar::Real>::mul_add(t.cos[1], x18, -(t.sin[1] * x21)),
-                <f64 as ::trocar::Real>::mul_add(t.cos[1], x19, -(t.sin[1] * x22)),
-                <f64 as ::trocar::Real>::mul_add(t.cos[1], x20, -(t.sin[1] * x23)),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.cos[1],
+                    x18,
+                    -(t.sin[1] * x21),
+                ),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.cos[1],
+                    x19,
+                    -(t.sin[1] * x22),
+                ),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.cos[1],
+                    x20,
+                    -(t.sin[1] * x23),
+                ),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x21, x25, -(x18 * x24)),
-                <f64 as ::trocar::Real>::mul_add(x22, x25, -(x19 * x24)),
-                <f64 as ::trocar::Real>::mul_add(x23, x25, -(x20 * x24)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x21, x25, -(x18 * x24)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x22, x25, -(x19 * x24)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x23, x25, -(x20 * x24)),
                 x26,
                 x27,
                 x28,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(x13, x14, x10 * x17),
-                -<f64 as ::trocar::Real>::mul_add(x13, x15, x11 * x17),
-                <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x13, x14, x10 * x17),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x13, x15, x11 * x17),
+                <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, -(x13 * x16)),
                 x18,
                 x19,
                 x20,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x3, x8, -(x5 * x9)),
-                -<f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8),
-                -<f64 as ::trocar::Real>::mul_add(x7, x9, t.cos[5] * x8),
+                <f64 as ::trocar::emitted::Real>::mul_add(x3, x8, -(x5 * x9)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x6, x9, x4 * x8),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x7, x9, t.cos[5] * x8),
                 x10,
                 x11,
                 -x12,
@@ -894,26 +1206,26 @@ pub mod panda_laparoscope {
             [
                 -(t.sin[6] * x2),
                 -(t.cos[6] * x2),
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x3,
                 -x4,
                 -t.cos[5],
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -0.088_f64,
                 t.sin[6],
                 t.cos[6],
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -925,82 +1237,94 @@ pub mod panda_laparoscope {
     #[inline]
     #[must_use]
     pub fn forward_kinematics_i(q: &[f64; N], _p: &Params) -> ([[f64; 3]; 3], [f64; 3]) {
-        let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5], q[6]],
         );
         let x0 = c1 * c2;
         let x1 = c1 * s2;
         let x2 = s1 * c2;
         let x3 = s1 * s2;
-        let x4 = <f64 as ::trocar::Real>::mul_add(c3, x0, -(s1 * s3));
-        let x5 = <f64 as ::trocar::Real>::mul_add(s3, x0, s1 * c3);
-        let x6 = <f64 as ::trocar::Real>::mul_add(c3, x2, c1 * s3);
-        let x7 = <f64 as ::trocar::Real>::mul_add(c1, c3, -(s3 * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x0, -(s1 * s3));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x0, s1 * c3);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x2, c1 * s3);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(c1, c3, -(s3 * x2));
         let x8 = s2 * c3;
         let x9 = s2 * s3;
-        let x10 = <f64 as ::trocar::Real>::mul_add(c4, x4, s4 * x1);
-        let x11 = <f64 as ::trocar::Real>::mul_add(c4, x1, -(s4 * x4));
-        let x12 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x3);
-        let x13 = <f64 as ::trocar::Real>::mul_add(c4, x3, -(s4 * x6));
-        let x14 = <f64 as ::trocar::Real>::mul_add(c2, s4, -(c4 * x8));
-        let x15 = <f64 as ::trocar::Real>::mul_add(s4, x8, c2 * c4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c5, x10, -(s5 * x5));
-        let x17 = <f64 as ::trocar::Real>::mul_add(s5, x10, c5 * x5);
-        let x18 = <f64 as ::trocar::Real>::mul_add(c5, x12, s5 * x7);
-        let x19 = <f64 as ::trocar::Real>::mul_add(c5, x7, -(s5 * x12));
-        let x20 = <f64 as ::trocar::Real>::mul_add(c5, x14, s5 * x9);
-        let x21 = <f64 as ::trocar::Real>::mul_add(c5, x9, -(s5 * x14));
-        let x22 = <f64 as ::trocar::Real>::mul_add(c6, x16, s6 * x11);
-        let x23 = <f64 as ::trocar::Real>::mul_add(c6, x18, s6 * x13);
-        let x24 = <f64 as ::trocar::Real>::mul_add(c6, x20, s6 * x15);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x4, s4 * x1);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x1, -(s4 * x4));
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x6, s4 * x3);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x3, -(s4 * x6));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c2, s4, -(c4 * x8));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x8, c2 * c4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x10, -(s5 * x5));
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x10, c5 * x5);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x12, s5 * x7);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x7, -(s5 * x12));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x14, s5 * x9);
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x9, -(s5 * x14));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x16, s6 * x11);
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x18, s6 * x13);
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(c6, x20, s6 * x15);
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(c7, x22, s7 * x17),
-                    <f64 as ::trocar::Real>::mul_add(c7, x23, -(s7 * x19)),
-                    <f64 as ::trocar::Real>::mul_add(c7, x24, -(s7 * x21)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c7, x22, s7 * x17),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c7, x23, -(s7 * x19)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c7, x24, -(s7 * x21)),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(c7, x17, -(s7 * x22)),
-                    -<f64 as ::trocar::Real>::mul_add(s7, x23, c7 * x19),
-                    -<f64 as ::trocar::Real>::mul_add(s7, x24, c7 * x21),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c7, x17, -(s7 * x22)),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(s7, x23, c7 * x19),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(s7, x24, c7 * x21),
                 ],
                 [
-                    -<f64 as ::trocar::Real>::mul_add(c6, x11, -(s6 * x16)),
-                    -<f64 as ::trocar::Real>::mul_add(c6, x13, -(s6 * x18)),
-                    -<f64 as ::trocar::Real>::mul_add(c6, x15, -(s6 * x20)),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(c6, x11, -(s6 * x16)),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(c6, x13, -(s6 * x18)),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(c6, x15, -(s6 * x20)),
                 ],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.088_f64,
                     x22,
-                    <f64 as ::trocar::Real>::mul_add(0.316_f64, x1, 0.0825_f64 * x4)
-                        + <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.316_f64,
+                        x1,
+                        0.0825_f64 * x4,
+                    )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.384_f64,
                             x11,
                             -(0.0825_f64 * x10),
                         ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.088_f64,
                     x23,
-                    <f64 as ::trocar::Real>::mul_add(0.316_f64, x3, 0.0825_f64 * x6)
-                        + <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.316_f64,
+                        x3,
+                        0.0825_f64 * x6,
+                    )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.384_f64,
                             x13,
                             -(0.0825_f64 * x12),
                         ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.088_f64,
                     x24,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         -0.0825_f64,
                         x8,
-                        <f64 as ::trocar::Real>::mul_add(0.316_f64, c2, 0.333_f64),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.316_f64,
+                            c2,
+                            0.333_f64,
+                        ),
                     )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.384_f64,
                             x15,
                             -(0.0825_f64 * x14),
@@ -1024,75 +1348,191 @@ pub mod panda_laparoscope {
         let x1 = t.cos[0] * t.sin[1];
         let x2 = t.sin[0] * t.cos[1];
         let x3 = t.sin[0] * t.sin[1];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x0, -(t.sin[0] * t.sin[2]));
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x0, t.sin[0] * t.cos[2]);
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x2, t.cos[0] * t.sin[2]);
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.cos[0], t.cos[2], -(t.sin[2] * x2));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x0,
+            -(t.sin[0] * t.sin[2]),
+        );
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x0,
+            t.sin[0] * t.cos[2],
+        );
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x2,
+            t.cos[0] * t.sin[2],
+        );
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            t.cos[2],
+            -(t.sin[2] * x2),
+        );
         let x8 = t.sin[1] * t.cos[2];
         let x9 = t.sin[1] * t.sin[2];
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x4, t.sin[3] * x1);
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x1, -(t.sin[3] * x4));
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x3);
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x3, -(t.sin[3] * x6));
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[1], t.sin[3], -(t.cos[3] * x8));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[1] * t.cos[3]);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x10, -(t.sin[4] * x5));
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x10, t.cos[4] * x5);
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x12, t.sin[4] * x7);
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x7, -(t.sin[4] * x12));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x14, t.sin[4] * x9);
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x9, -(t.sin[4] * x14));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x16, t.sin[5] * x11);
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x18, t.sin[5] * x13);
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[5], x20, t.sin[5] * x15);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x4, t.sin[3] * x1);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x1,
+            -(t.sin[3] * x4),
+        );
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x6, t.sin[3] * x3);
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x3,
+            -(t.sin[3] * x6),
+        );
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            t.sin[3],
+            -(t.cos[3] * x8),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x8,
+            t.cos[1] * t.cos[3],
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x10,
+            -(t.sin[4] * x5),
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x10,
+            t.cos[4] * x5,
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x12,
+            t.sin[4] * x7,
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x7,
+            -(t.sin[4] * x12),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x14,
+            t.sin[4] * x9,
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x9,
+            -(t.sin[4] * x14),
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x16,
+            t.sin[5] * x11,
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x18,
+            t.sin[5] * x13,
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[5],
+            x20,
+            t.sin[5] * x15,
+        );
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[6], x22, t.sin[6] * x17),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[6], x23, -(t.sin[6] * x19)),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[6], x24, -(t.sin[6] * x21)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[6],
+                        x22,
+                        t.sin[6] * x17,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[6],
+                        x23,
+                        -(t.sin[6] * x19),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[6],
+                        x24,
+                        -(t.sin[6] * x21),
+                    ),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[6], x17, -(t.sin[6] * x22)),
-                    -<f64 as ::trocar::Real>::mul_add(t.sin[6], x23, t.cos[6] * x19),
-                    -<f64 as ::trocar::Real>::mul_add(t.sin[6], x24, t.cos[6] * x21),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[6],
+                        x17,
+                        -(t.sin[6] * x22),
+                    ),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[6],
+                        x23,
+                        t.cos[6] * x19,
+                    ),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[6],
+                        x24,
+                        t.cos[6] * x21,
+                    ),
                 ],
                 [
-                    -<f64 as ::trocar::Real>::mul_add(t.cos[5], x11, -(t.sin[5] * x16)),
-                    -<f64 as ::trocar::Real>::mul_add(t.cos[5], x13, -(t.sin[5] * x18)),
-                    -<f64 as ::trocar::Real>::mul_add(t.cos[5], x15, -(t.sin[5] * x20)),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x11,
+                        -(t.sin[5] * x16),
+                    ),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x13,
+                        -(t.sin[5] * x18),
+                    ),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x15,
+                        -(t.sin[5] * x20),
+                    ),
                 ],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.088_f64,
                     x22,
-                    <f64 as ::trocar::Real>::mul_add(0.316_f64, x1, 0.0825_f64 * x4)
-                        + <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.316_f64,
+                        x1,
+                        0.0825_f64 * x4,
+                    )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.384_f64,
                             x11,
                             -(0.0825_f64 * x10),
                         ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.088_f64,
                     x23,
-                    <f64 as ::trocar::Real>::mul_add(0.316_f64, x3, 0.0825_f64 * x6)
-                        + <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.316_f64,
+                        x3,
+                        0.0825_f64 * x6,
+                    )
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.384_f64,
                             x13,
                             -(0.0825_f64 * x12),
                         ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.088_f64,
                     x24,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         -0.0825_f64,
                         x8,
-                        <f64 as ::trocar::Real>::mul_add(0.316_f64, t.cos[1], 0.333_f64),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            0.316_f64,
+                            t.cos[1],
+                            0.333_f64,
+                        ),
                     )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.384_f64,
                             x15,
                             -(0.0825_f64 * x14),
@@ -1110,11 +1550,13 @@ pub mod panda_laparoscope {
     #[must_use]
     pub fn manipulability(_q: &[f64; N], p: &Params) -> f64 {
         {
-            let w = <f64 as ::trocar::Real>::abs(p.l_a * (p.l_a - 0.8_f64) + 0.16_f64);
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            let w = <f64 as ::trocar::emitted::Real>::abs(
+                p.l_a * (p.l_a - 0.8_f64) + 0.16_f64,
+            );
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1127,11 +1569,13 @@ pub mod panda_laparoscope {
     #[must_use]
     pub fn manipulability_trig(_t: &JointTrig, p: &Params) -> f64 {
         {
-            let w = <f64 as ::trocar::Real>::abs(p.l_a * (p.l_a - 0.8_f64) + 0.16_f64);
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            let w = <f64 as ::trocar::emitted::Real>::abs(
+                p.l_a * (p.l_a - 0.8_f64) + 0.16_f64,
+            );
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1146,10 +1590,10 @@ pub mod panda_laparoscope {
         let x0 = p.l_a * (p.l_a - 0.8_f64) + 0.16_f64;
         {
             let w = x0 * x0;
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1164,10 +1608,10 @@ pub mod panda_laparoscope {
         let x0 = p.l_a * (p.l_a - 0.8_f64) + 0.16_f64;
         {
             let w = x0 * x0;
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1180,12 +1624,30 @@ pub mod panda_laparoscope {
     #[must_use]
     pub fn constraint_selection(_p: &Params) -> [[f64; R]; 6] {
         [
-            [<f64 as ::trocar::Real>::ONE, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ONE],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
+            [
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
         ]
     }
     /// Null-space basis `Λ#` of `Λ = H Ad_{g_ri}` (3.3), 6 × K: `V^B_0i = Λ# v0i`, thesis (3.6) (presets: (3.23), (3.27)).
@@ -1199,36 +1661,36 @@ pub mod panda_laparoscope {
         let x0 = 0.107_f64 + p.l_a;
         [
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x0,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 -x0,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -1242,25 +1704,25 @@ pub mod panda_laparoscope {
     #[inline]
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f64; 6]; R] {
-        let x0 = <f64 as ::trocar::Real>::ONE
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
             / (p.l_a * (0.214_f64 + p.l_a) + 1.011449_f64);
         let x1 = x0 * (p.l_a + 0.107_f64);
         [
             [
                 x0,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x1,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x0,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -x1,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -1275,24 +1737,24 @@ pub mod panda_laparoscope {
         (
             [
                 [
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
                 ],
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 0.107_f64 + p.l_a,
             ],
         )
@@ -1307,40 +1769,40 @@ pub mod panda_laparoscope {
     pub fn task_selection(_p: &Params) -> [[f64; TASK_ROWS]; 6] {
         [
             [
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -1357,28 +1819,28 @@ pub mod panda_laparoscope {
     ) -> [[f64; TASK_ROWS]; M] {
         [
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 p.l_a - 0.4_f64,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 0.4_f64 - p.l_a,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -1395,28 +1857,28 @@ pub mod panda_laparoscope {
     ) -> [[f64; TASK_ROWS]; M] {
         [
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 p.l_a - 0.4_f64,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 0.4_f64 - p.l_a,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -1433,16 +1895,16 @@ pub mod panda_laparoscope {
         fk: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0e: &mut [[f64; 6]; N],
     ) {
-        jb0e[4][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[4][2] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0e[5][2] = -0.088_f64;
-        jb0e[5][5] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][5] = <f64 as ::trocar::Real>::ONE;
-        let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::Real>::sin_cos_array(
+        jb0e[5][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][5] = <f64 as ::trocar::emitted::Real>::ONE;
+        let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5], q[6]],
         );
         jb0e[4][5] = -c6;
@@ -1452,80 +1914,90 @@ pub mod panda_laparoscope {
         jb0e[5][4] = c7;
         let x0 = c6 * c7;
         let x1 = c6 * s7;
-        let x2 = <f64 as ::trocar::Real>::mul_add(0.088_f64, c6, 0.507_f64 * s6);
+        let x2 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.088_f64,
+            c6,
+            0.507_f64 * s6,
+        );
         jb0e[4][0] = -(s7 * x2);
         jb0e[4][1] = -(c7 * x2);
         let x3 = s6 * c7;
         jb0e[4][3] = x3;
         let x4 = s6 * s7;
         jb0e[4][4] = -x4;
-        let x5 = <f64 as ::trocar::Real>::mul_add(c5, x0, s5 * s7);
-        let x6 = <f64 as ::trocar::Real>::mul_add(s5, c7, -(c5 * x1));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x0, s5 * s7);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(s5, c7, -(c5 * x1));
         let x7 = c5 * s6;
-        let x8 = <f64 as ::trocar::Real>::mul_add(c5, x2, -0.0825_f64);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x2, -0.0825_f64);
         let x9 = 0.384_f64
-            + <f64 as ::trocar::Real>::mul_add(0.088_f64, s6, -(0.507_f64 * c6));
-        jb0e[3][0] = <f64 as ::trocar::Real>::mul_add(x3, x8, -(x5 * x9));
-        jb0e[3][1] = -<f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8);
-        jb0e[3][2] = -<f64 as ::trocar::Real>::mul_add(x7, x9, c6 * x8);
-        let x10 = <f64 as ::trocar::Real>::mul_add(c5, s7, -(s5 * x0));
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                0.088_f64,
+                s6,
+                -(0.507_f64 * c6),
+            );
+        jb0e[3][0] = <f64 as ::trocar::emitted::Real>::mul_add(x3, x8, -(x5 * x9));
+        jb0e[3][1] = -<f64 as ::trocar::emitted::Real>::mul_add(x6, x9, x4 * x8);
+        jb0e[3][2] = -<f64 as ::trocar::emitted::Real>::mul_add(x7, x9, c6 * x8);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(c5, s7, -(s5 * x0));
         jb0e[3][3] = x10;
-        let x11 = <f64 as ::trocar::Real>::mul_add(s5, x1, c5 * c7);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x1, c5 * c7);
         jb0e[3][4] = x11;
         let x12 = s5 * s6;
         jb0e[3][5] = -x12;
         let x13 = s5 * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(c4, x5, -(s4 * x3));
-        let x15 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c4, x7, s4 * c6);
-        let x17 = 0.0825_f64 + <f64 as ::trocar::Real>::mul_add(c4, x8, -(s4 * x9));
-        jb0e[2][0] = -<f64 as ::trocar::Real>::mul_add(x13, x14, x10 * x17);
-        jb0e[2][1] = -<f64 as ::trocar::Real>::mul_add(x13, x15, x11 * x17);
-        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16));
-        let x18 = <f64 as ::trocar::Real>::mul_add(s4, x5, c4 * x3);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x5, -(s4 * x3));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x6, s4 * x4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x7, s4 * c6);
+        let x17 = 0.0825_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c4, x8, -(s4 * x9));
+        jb0e[2][0] = -<f64 as ::trocar::emitted::Real>::mul_add(x13, x14, x10 * x17);
+        jb0e[2][1] = -<f64 as ::trocar::emitted::Real>::mul_add(x13, x15, x11 * x17);
+        jb0e[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, -(x13 * x16));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x5, c4 * x3);
         jb0e[2][3] = x18;
-        let x19 = <f64 as ::trocar::Real>::mul_add(s4, x6, -(c4 * x4));
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x6, -(c4 * x4));
         jb0e[2][4] = x19;
-        let x20 = <f64 as ::trocar::Real>::mul_add(s4, x7, -(c4 * c6));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x7, -(c4 * c6));
         jb0e[2][5] = x20;
-        let x21 = <f64 as ::trocar::Real>::mul_add(c3, x14, s3 * x10);
-        let x22 = <f64 as ::trocar::Real>::mul_add(c3, x15, s3 * x11);
-        let x23 = <f64 as ::trocar::Real>::mul_add(c3, x16, -(s3 * x12));
-        let x24 = <f64 as ::trocar::Real>::mul_add(c3, x17, -(s3 * x13));
-        let x25 = <f64 as ::trocar::Real>::mul_add(s4, x8, c4 * x9) + 0.316_f64;
-        fk.1[2] = 0.333_f64 + <f64 as ::trocar::Real>::mul_add(c2, x25, -(s2 * x24));
-        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x21, x25, -(x18 * x24));
-        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x22, x25, -(x19 * x24));
-        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x23, x25, -(x20 * x24));
-        let x26 = <f64 as ::trocar::Real>::mul_add(s3, x14, -(c3 * x10));
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x14, s3 * x10);
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x15, s3 * x11);
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x16, -(s3 * x12));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x17, -(s3 * x13));
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x8, c4 * x9) + 0.316_f64;
+        fk.1[2] = 0.333_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c2, x25, -(s2 * x24));
+        jb0e[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x21, x25, -(x18 * x24));
+        jb0e[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x22, x25, -(x19 * x24));
+        jb0e[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x23, x25, -(x20 * x24));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x14, -(c3 * x10));
         jb0e[1][3] = x26;
-        let x27 = <f64 as ::trocar::Real>::mul_add(s3, x15, -(c3 * x11));
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x15, -(c3 * x11));
         jb0e[1][4] = x27;
-        let x28 = <f64 as ::trocar::Real>::mul_add(s3, x16, c3 * x12);
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x16, c3 * x12);
         jb0e[1][5] = x28;
-        let x29 = <f64 as ::trocar::Real>::mul_add(s3, x17, c3 * x13);
-        let x30 = <f64 as ::trocar::Real>::mul_add(c2, x21, s2 * x18);
-        fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x30, -(s1 * x26));
-        fk.0[0][1] = <f64 as ::trocar::Real>::mul_add(s1, x30, c1 * x26);
-        let x31 = <f64 as ::trocar::Real>::mul_add(c2, x22, s2 * x19);
-        fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x31, -(s1 * x27));
-        fk.0[1][1] = <f64 as ::trocar::Real>::mul_add(s1, x31, c1 * x27);
-        let x32 = <f64 as ::trocar::Real>::mul_add(c2, x23, s2 * x20);
-        fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(c1, x32, -(s1 * x28));
-        fk.0[2][1] = <f64 as ::trocar::Real>::mul_add(s1, x32, c1 * x28);
-        let x33 = <f64 as ::trocar::Real>::mul_add(c2, x24, s2 * x25);
-        fk.1[0] = <f64 as ::trocar::Real>::mul_add(c1, x33, -(s1 * x29));
-        fk.1[1] = <f64 as ::trocar::Real>::mul_add(s1, x33, c1 * x29);
-        jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x26, x33, -(x29 * x30));
-        jb0e[0][1] = <f64 as ::trocar::Real>::mul_add(x27, x33, -(x29 * x31));
-        jb0e[0][2] = <f64 as ::trocar::Real>::mul_add(x28, x33, -(x29 * x32));
-        let x34 = <f64 as ::trocar::Real>::mul_add(c2, x18, -(s2 * x21));
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x17, c3 * x13);
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x21, s2 * x18);
+        fk.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x30, -(s1 * x26));
+        fk.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x30, c1 * x26);
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x22, s2 * x19);
+        fk.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x31, -(s1 * x27));
+        fk.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x31, c1 * x27);
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x23, s2 * x20);
+        fk.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x32, -(s1 * x28));
+        fk.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x32, c1 * x28);
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x24, s2 * x25);
+        fk.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x33, -(s1 * x29));
+        fk.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x33, c1 * x29);
+        jb0e[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x26, x33, -(x29 * x30));
+        jb0e[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(x27, x33, -(x29 * x31));
+        jb0e[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(x28, x33, -(x29 * x32));
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x18, -(s2 * x21));
         fk.0[0][2] = x34;
         jb0e[0][3] = x34;
-        let x35 = <f64 as ::trocar::Real>::mul_add(c2, x19, -(s2 * x22));
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x19, -(s2 * x22));
         fk.0[1][2] = x35;
         jb0e[0][4] = x35;
-        let x36 = <f64 as ::trocar::Real>::mul_add(c2, x20, -(s2 * x23));
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x20, -(s2 * x23));
         fk.0[2][2] = x36;
         jb0e[0][5] = x36;
     }
@@ -1539,23 +2011,23 @@ pub mod panda_laparoscope {
         fk: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0e: &mut [[f64; 6]; N],
     ) {
-        jb0e[4][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[4][2] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0e[4][5] = -t.cos[5];
         jb0e[5][0] = 0.507_f64 * t.cos[6];
         jb0e[5][1] = -(0.507_f64 * t.sin[6]);
         jb0e[5][2] = -0.088_f64;
         jb0e[5][3] = t.sin[6];
         jb0e[5][4] = t.cos[6];
-        jb0e[5][5] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[6][5] = <f64 as ::trocar::Real>::ONE;
+        jb0e[5][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[6][5] = <f64 as ::trocar::emitted::Real>::ONE;
         let x0 = t.cos[5] * t.cos[6];
         let x1 = t.cos[5] * t.sin[6];
-        let x2 = <f64 as ::trocar::Real>::mul_add(
+        let x2 = <f64 as ::trocar::emitted::Real>::mul_add(
             0.088_f64,
             t.cos[5],
             0.507_f64 * t.sin[5],
@@ -1566,80 +2038,208 @@ pub mod panda_laparoscope {
         jb0e[4][3] = x3;
         let x4 = t.sin[5] * t.sin[6];
         jb0e[4][4] = -x4;
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x0, t.sin[4] * t.sin[6]);
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.sin[4], t.cos[6], -(t.cos[4] * x1));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x0,
+            t.sin[4] * t.sin[6],
+        );
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            t.cos[6],
+            -(t.cos[4] * x1),
+        );
         let x7 = t.cos[4] * t.sin[5];
-        let x8 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x2, -0.0825_f64);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[4], x2, -0.0825_f64);
         let x9 = 0.384_f64
-            + <f64 as ::trocar::Real>::mul_add(
+            + <f64 as ::trocar::emitted::Real>::mul_add(
                 0.088_f64,
                 t.sin[5],
                 -(0.507_f64 * t.cos[5]),
             );
-        jb0e[3][0] = <f64 as ::trocar::Real>::mul_add(x3, x8, -(x5 * x9));
-        jb0e[3][1] = -<f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8);
-        jb0e[3][2] = -<f64 as ::trocar::Real>::mul_add(x7, x9, t.cos[5] * x8);
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[4], t.sin[6], -(t.sin[4] * x0));
+        jb0e[3][0] = <f64 as ::trocar::emitted::Real>::mul_add(x3, x8, -(x5 * x9));
+        jb0e[3][1] = -<f64 as ::trocar::emitted::Real>::mul_add(x6, x9, x4 * x8);
+        jb0e[3][2] = -<f64 as ::trocar::emitted::Real>::mul_add(x7, x9, t.cos[5] * x8);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            t.sin[6],
+            -(t.sin[4] * x0),
+        );
         jb0e[3][3] = x10;
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x1, t.cos[4] * t.cos[6]);
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x1,
+            t.cos[4] * t.cos[6],
+        );
         jb0e[3][4] = x11;
         let x12 = t.sin[4] * t.sin[5];
         jb0e[3][5] = -x12;
         let x13 = t.sin[4] * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x5, -(t.sin[3] * x3));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x7, t.sin[3] * t.cos[5]);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x5,
+            -(t.sin[3] * x3),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x7,
+            t.sin[3] * t.cos[5],
+        );
         let x17 = 0.0825_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
-        jb0e[2][0] = -<f64 as ::trocar::Real>::mul_add(x13, x14, x10 * x17);
-        jb0e[2][1] = -<f64 as ::trocar::Real>::mul_add(x13, x15, x11 * x17);
-        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16));
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x5, t.cos[3] * x3);
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
+        jb0e[2][0] = -<f64 as ::trocar::emitted::Real>::mul_add(x13, x14, x10 * x17);
+        jb0e[2][1] = -<f64 as ::trocar::emitted::Real>::mul_add(x13, x15, x11 * x17);
+        jb0e[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, -(x13 * x16));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[3], x5, t.cos[3] * x3);
         jb0e[2][3] = x18;
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x6, -(t.cos[3] * x4));
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x6,
+            -(t.cos[3] * x4),
+        );
         jb0e[2][4] = x19;
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x7, -(t.cos[3] * t.cos[5]));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x7,
+            -(t.cos[3] * t.cos[5]),
+        );
         jb0e[2][5] = x20;
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x14, t.sin[2] * x10);
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x15, t.sin[2] * x11);
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x16, -(t.sin[2] * x12));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x17, -(t.sin[2] * x13));
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9)
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x14,
+            t.sin[2] * x10,
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x15,
+            t.sin[2] * x11,
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x16,
+            -(t.sin[2] * x12),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x17,
+            -(t.sin[2] * x13),
+        );
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9)
             + 0.316_f64;
         fk.1[2] = 0.333_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[1], x25, -(t.sin[1] * x24));
-        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x21, x25, -(x18 * x24));
-        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x22, x25, -(x19 * x24));
-        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x23, x25, -(x20 * x24));
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x14, -(t.cos[2] * x10));
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[1],
+                x25,
+                -(t.sin[1] * x24),
+            );
+        jb0e[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x21, x25, -(x18 * x24));
+        jb0e[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x22, x25, -(x19 * x24));
+        jb0e[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x23, x25, -(x20 * x24));
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x14,
+            -(t.cos[2] * x10),
+        );
         jb0e[1][3] = x26;
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x15, -(t.cos[2] * x11));
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x15,
+            -(t.cos[2] * x11),
+        );
         jb0e[1][4] = x27;
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x12);
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x16,
+            t.cos[2] * x12,
+        );
         jb0e[1][5] = x28;
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x13);
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x21, t.sin[1] * x18);
-        fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x30, -(t.sin[0] * x26));
-        fk.0[0][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x30, t.cos[0] * x26);
-        let x31 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x22, t.sin[1] * x19);
-        fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x31, -(t.sin[0] * x27));
-        fk.0[1][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x31, t.cos[0] * x27);
-        let x32 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x23, t.sin[1] * x20);
-        fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x32, -(t.sin[0] * x28));
-        fk.0[2][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x32, t.cos[0] * x28);
-        let x33 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x24, t.sin[1] * x25);
-        fk.1[0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x33, -(t.sin[0] * x29));
-        fk.1[1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x33, t.cos[0] * x29);
-        jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x26, x33, -(x29 * x30));
-        jb0e[0][1] = <f64 as ::trocar::Real>::mul_add(x27, x33, -(x29 * x31));
-        jb0e[0][2] = <f64 as ::trocar::Real>::mul_add(x28, x33, -(x29 * x32));
-        let x34 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x18, -(t.sin[1] * x21));
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x17,
+            t.cos[2] * x13,
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x21,
+            t.sin[1] * x18,
+        );
+        fk.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x30,
+            -(t.sin[0] * x26),
+        );
+        fk.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x30,
+            t.cos[0] * x26,
+        );
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x22,
+            t.sin[1] * x19,
+        );
+        fk.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x31,
+            -(t.sin[0] * x27),
+        );
+        fk.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x31,
+            t.cos[0] * x27,
+        );
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x23,
+            t.sin[1] * x20,
+        );
+        fk.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x32,
+            -(t.sin[0] * x28),
+        );
+        fk.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x32,
+            t.cos[0] * x28,
+        );
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x24,
+            t.sin[1] * x25,
+        );
+        fk.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x33,
+            -(t.sin[0] * x29),
+        );
+        fk.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x33,
+            t.cos[0] * x29,
+        );
+        jb0e[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x26, x33, -(x29 * x30));
+        jb0e[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(x27, x33, -(x29 * x31));
+        jb0e[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(x28, x33, -(x29 * x32));
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x18,
+            -(t.sin[1] * x21),
+        );
         fk.0[0][2] = x34;
         jb0e[0][3] = x34;
-        let x35 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x19, -(t.sin[1] * x22));
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x19,
+            -(t.sin[1] * x22),
+        );
         fk.0[1][2] = x35;
         jb0e[0][4] = x35;
-        let x36 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x20, -(t.sin[1] * x23));
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x20,
+            -(t.sin[1] * x23),
+        );
         fk.0[2][2] = x36;
         jb0e[0][5] = x36;
     }
@@ -1650,7 +2250,7 @@ pub mod panda_laparoscope {
     ///
     /// Operations: 53 add, 108 mul, 0 div, 0 sqrt, 7 trig (sin_cos), 9 neg, 0 abs.
     ///
-    /// On x86-64 with SSE2 and without AVX (the default target), the chain is walked instead with the rows of the homogeneous transform as pairs (`::trocar::paired_rows`): one SSE2 register per pair for `f64` and `f32`, one operation per lane for the lane types (so that they stay, lane by lane, the scalar walk); the same values to rounding. The operation counts above are the program's.
+    /// On x86-64 with SSE2 and without AVX (the default target), the chain is walked instead with the rows of the homogeneous transform as pairs (`::trocar::emitted::paired_rows`): one SSE2 register per pair for `f64` and `f32`, one operation per lane for the lane types (so that they stay, lane by lane, the scalar walk); the same values to rounding. The operation counts above are the program's.
     #[inline]
     pub fn link_pose_and_jacobian(
         q: &[f64; N],
@@ -1662,65 +2262,85 @@ pub mod panda_laparoscope {
             all(target_arch = "x86_64", target_feature = "sse2", not(target_feature =
             "avx"))
         ) {
-            let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::Real>::sin_cos_array(
+            let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
                 &[q[0], q[1], q[2], q[3], q[4], q[5], q[6]],
             );
             jb0i[6] = [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ];
-            let rows = ::trocar::paired_rows::Rows::first(
+            let rows = ::trocar::emitted::paired_rows::Rows::first(
                 s7,
                 c7,
-                ::trocar::paired_rows::Roll::Quarter,
+                ::trocar::emitted::paired_rows::Roll::Quarter,
                 [0.088, 0.0, 0.0],
             );
             rows.column(&mut jb0i[5]);
             let rows = rows
-                .joint(s6, c6, ::trocar::paired_rows::Roll::Quarter, [0.0, 0.0, 0.0]);
+                .joint(
+                    s6,
+                    c6,
+                    ::trocar::emitted::paired_rows::Roll::Quarter,
+                    [0.0, 0.0, 0.0],
+                );
             rows.column(&mut jb0i[4]);
             let rows = rows
                 .joint(
                     s5,
                     c5,
-                    ::trocar::paired_rows::Roll::MinusQuarter,
+                    ::trocar::emitted::paired_rows::Roll::MinusQuarter,
                     [-0.0825, 0.384, 0.0],
                 );
             rows.column(&mut jb0i[3]);
             let rows = rows
-                .joint(s4, c4, ::trocar::paired_rows::Roll::Quarter, [0.0825, 0.0, 0.0]);
+                .joint(
+                    s4,
+                    c4,
+                    ::trocar::emitted::paired_rows::Roll::Quarter,
+                    [0.0825, 0.0, 0.0],
+                );
             rows.column(&mut jb0i[2]);
             let rows = rows
-                .joint(s3, c3, ::trocar::paired_rows::Roll::Quarter, [0.0, -0.316, 0.0]);
+                .joint(
+                    s3,
+                    c3,
+                    ::trocar::emitted::paired_rows::Roll::Quarter,
+                    [0.0, -0.316, 0.0],
+                );
             rows.column(&mut jb0i[1]);
             let rows = rows
                 .joint(
                     s2,
                     c2,
-                    ::trocar::paired_rows::Roll::MinusQuarter,
+                    ::trocar::emitted::paired_rows::Roll::MinusQuarter,
                     [0.0, 0.0, 0.0],
                 );
             rows.column(&mut jb0i[0]);
             let rows = rows
-                .joint(s1, c1, ::trocar::paired_rows::Roll::Zero, [0.0, 0.0, 0.333]);
+                .joint(
+                    s1,
+                    c1,
+                    ::trocar::emitted::paired_rows::Roll::Zero,
+                    [0.0, 0.0, 0.333],
+                );
             rows.pose(fk0i);
         } else {
-            jb0i[4][2] = <f64 as ::trocar::Real>::ZERO;
-            jb0i[5][0] = <f64 as ::trocar::Real>::ZERO;
-            jb0i[5][1] = <f64 as ::trocar::Real>::ZERO;
+            jb0i[4][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+            jb0i[5][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+            jb0i[5][1] = <f64 as ::trocar::emitted::Real>::ZERO;
             jb0i[5][2] = -0.088_f64;
-            jb0i[5][5] = <f64 as ::trocar::Real>::ZERO;
-            jb0i[6][0] = <f64 as ::trocar::Real>::ZERO;
-            jb0i[6][1] = <f64 as ::trocar::Real>::ZERO;
-            jb0i[6][2] = <f64 as ::trocar::Real>::ZERO;
-            jb0i[6][3] = <f64 as ::trocar::Real>::ZERO;
-            jb0i[6][4] = <f64 as ::trocar::Real>::ZERO;
-            jb0i[6][5] = <f64 as ::trocar::Real>::ONE;
-            let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::Real>::sin_cos_array(
+            jb0i[5][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+            jb0i[6][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+            jb0i[6][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+            jb0i[6][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+            jb0i[6][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+            jb0i[6][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+            jb0i[6][5] = <f64 as ::trocar::emitted::Real>::ONE;
+            let ([s1, s2, s3, s4, s5, s6, s7], [c1, c2, c3, c4, c5, c6, c7]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
                 &[q[0], q[1], q[2], q[3], q[4], q[5], q[6]],
             );
             jb0i[4][5] = -c6;
@@ -1735,73 +2355,115 @@ pub mod panda_laparoscope {
             jb0i[4][3] = x3;
             let x4 = s6 * s7;
             jb0i[4][4] = -x4;
-            let x5 = <f64 as ::trocar::Real>::mul_add(c5, x0, s5 * s7);
-            let x6 = <f64 as ::trocar::Real>::mul_add(s5, c7, -(c5 * x1));
+            let x5 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x0, s5 * s7);
+            let x6 = <f64 as ::trocar::emitted::Real>::mul_add(s5, c7, -(c5 * x1));
             let x7 = c5 * s6;
-            let x8 = <f64 as ::trocar::Real>::mul_add(c5, x2, -0.0825_f64);
-            let x9 = <f64 as ::trocar::Real>::mul_add(0.088_f64, s6, 0.384_f64);
-            jb0i[3][0] = <f64 as ::trocar::Real>::mul_add(x3, x8, -(x5 * x9));
-            jb0i[3][1] = -<f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8);
-            jb0i[3][2] = -<f64 as ::trocar::Real>::mul_add(x7, x9, c6 * x8);
-            let x10 = <f64 as ::trocar::Real>::mul_add(c5, s7, -(s5 * x0));
+            let x8 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x2, -0.0825_f64);
+            let x9 = <f64 as ::trocar::emitted::Real>::mul_add(0.088_f64, s6, 0.384_f64);
+            jb0i[3][0] = <f64 as ::trocar::emitted::Real>::mul_add(x3, x8, -(x5 * x9));
+            jb0i[3][1] = -<f64 as ::trocar::emitted::Real>::mul_add(x6, x9, x4 * x8);
+            jb0i[3][2] = -<f64 as ::trocar::emitted::Real>::mul_add(x7, x9, c6 * x8);
+            let x10 = <f64 as ::trocar::emitted::Real>::mul_add(c5, s7, -(s5 * x0));
             jb0i[3][3] = x10;
-            let x11 = <f64 as ::trocar::Real>::mul_add(s5, x1, c5 * c7);
+            let x11 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x1, c5 * c7);
             jb0i[3][4] = x11;
             let x12 = s5 * s6;
             jb0i[3][5] = -x12;
             let x13 = s5 * x2;
-            let x14 = <f64 as ::trocar::Real>::mul_add(c4, x5, -(s4 * x3));
-            let x15 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x4);
-            let x16 = <f64 as ::trocar::Real>::mul_add(c4, x7, s4 * c6);
-            let x17 = 0.0825_f64 + <f64 as ::trocar::Real>::mul_add(c4, x8, -(s4 * x9));
-            jb0i[2][0] = -<f64 as ::trocar::Real>::mul_add(x13, x14, x10 * x17);
-            jb0i[2][1] = -<f64 as ::trocar::Real>::mul_add(x13, x15, x11 * x17);
-            jb0i[2][2] = <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16));
-            let x18 = <f64 as ::trocar::Real>::mul_add(s4, x5, c4 * x3);
+            let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x5, -(s4 * x3));
+            let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x6, s4 * x4);
+            let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x7, s4 * c6);
+            let x17 = 0.0825_f64
+                + <f64 as ::trocar::emitted::Real>::mul_add(c4, x8, -(s4 * x9));
+            jb0i[2][0] = -<f64 as ::trocar::emitted::Real>::mul_add(x13, x14, x10 * x17);
+            jb0i[2][1] = -<f64 as ::trocar::emitted::Real>::mul_add(x13, x15, x11 * x17);
+            jb0i[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(
+                x12,
+                x17,
+                -(x13 * x16),
+            );
+            let x18 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x5, c4 * x3);
             jb0i[2][3] = x18;
-            let x19 = <f64 as ::trocar::Real>::mul_add(s4, x6, -(c4 * x4));
+            let x19 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x6, -(c4 * x4));
             jb0i[2][4] = x19;
-            let x20 = <f64 as ::trocar::Real>::mul_add(s4, x7, -(c4 * c6));
+            let x20 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x7, -(c4 * c6));
             jb0i[2][5] = x20;
-            let x21 = <f64 as ::trocar::Real>::mul_add(c3, x14, s3 * x10);
-            let x22 = <f64 as ::trocar::Real>::mul_add(c3, x15, s3 * x11);
-            let x23 = <f64 as ::trocar::Real>::mul_add(c3, x16, -(s3 * x12));
-            let x24 = <f64 as ::trocar::Real>::mul_add(c3, x17, -(s3 * x13));
-            let x25 = <f64 as ::trocar::Real>::mul_add(s4, x8, c4 * x9) + 0.316_f64;
+            let x21 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x14, s3 * x10);
+            let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x15, s3 * x11);
+            let x23 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x16, -(s3 * x12));
+            let x24 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x17, -(s3 * x13));
+            let x25 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x8, c4 * x9)
+                + 0.316_f64;
             fk0i.1[2] = 0.333_f64
-                + <f64 as ::trocar::Real>::mul_add(c2, x25, -(s2 * x24));
-            jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x21, x25, -(x18 * x24));
-            jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x22, x25, -(x19 * x24));
-            jb0i[1][2] = <f64 as ::trocar::Real>::mul_add(x23, x25, -(x20 * x24));
-            let x26 = <f64 as ::trocar::Real>::mul_add(s3, x14, -(c3 * x10));
+                + <f64 as ::trocar::emitted::Real>::mul_add(c2, x25, -(s2 * x24));
+            jb0i[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+                x21,
+                x25,
+                -(x18 * x24),
+            );
+            jb0i[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+                x22,
+                x25,
+                -(x19 * x24),
+            );
+            jb0i[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(
+                x23,
+                x25,
+                -(x20 * x24),
+            );
+            let x26 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x14, -(c3 * x10));
             jb0i[1][3] = x26;
-            let x27 = <f64 as ::trocar::Real>::mul_add(s3, x15, -(c3 * x11));
+            let x27 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x15, -(c3 * x11));
             jb0i[1][4] = x27;
-            let x28 = <f64 as ::trocar::Real>::mul_add(s3, x16, c3 * x12);
+            let x28 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x16, c3 * x12);
             jb0i[1][5] = x28;
-            let x29 = <f64 as ::trocar::Real>::mul_add(s3, x17, c3 * x13);
-            let x30 = <f64 as ::trocar::Real>::mul_add(c2, x21, s2 * x18);
-            fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x30, -(s1 * x26));
-            fk0i.0[0][1] = <f64 as ::trocar::Real>::mul_add(s1, x30, c1 * x26);
-            let x31 = <f64 as ::trocar::Real>::mul_add(c2, x22, s2 * x19);
-            fk0i.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x31, -(s1 * x27));
-            fk0i.0[1][1] = <f64 as ::trocar::Real>::mul_add(s1, x31, c1 * x27);
-            let x32 = <f64 as ::trocar::Real>::mul_add(c2, x23, s2 * x20);
-            fk0i.0[2][0] = <f64 as ::trocar::Real>::mul_add(c1, x32, -(s1 * x28));
-            fk0i.0[2][1] = <f64 as ::trocar::Real>::mul_add(s1, x32, c1 * x28);
-            let x33 = <f64 as ::trocar::Real>::mul_add(c2, x24, s2 * x25);
-            fk0i.1[0] = <f64 as ::trocar::Real>::mul_add(c1, x33, -(s1 * x29));
-            fk0i.1[1] = <f64 as ::trocar::Real>::mul_add(s1, x33, c1 * x29);
-            jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(x26, x33, -(x29 * x30));
-            jb0i[0][1] = <f64 as ::trocar::Real>::mul_add(x27, x33, -(x29 * x31));
-            jb0i[0][2] = <f64 as ::trocar::Real>::mul_add(x28, x33, -(x29 * x32));
-            let x34 = <f64 as ::trocar::Real>::mul_add(c2, x18, -(s2 * x21));
+            let x29 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x17, c3 * x13);
+            let x30 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x21, s2 * x18);
+            fk0i.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+                c1,
+                x30,
+                -(s1 * x26),
+            );
+            fk0i.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x30, c1 * x26);
+            let x31 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x22, s2 * x19);
+            fk0i.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+                c1,
+                x31,
+                -(s1 * x27),
+            );
+            fk0i.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x31, c1 * x27);
+            let x32 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x23, s2 * x20);
+            fk0i.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+                c1,
+                x32,
+                -(s1 * x28),
+            );
+            fk0i.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x32, c1 * x28);
+            let x33 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x24, s2 * x25);
+            fk0i.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x33, -(s1 * x29));
+            fk0i.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x33, c1 * x29);
+            jb0i[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+                x26,
+                x33,
+                -(x29 * x30),
+            );
+            jb0i[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+                x27,
+                x33,
+                -(x29 * x31),
+            );
+            jb0i[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(
+                x28,
+                x33,
+                -(x29 * x32),
+            );
+            let x34 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x18, -(s2 * x21));
             fk0i.0[0][2] = x34;
             jb0i[0][3] = x34;
-            let x35 = <f64 as ::trocar::Real>::mul_add(c2, x19, -(s2 * x22));
+            let x35 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x19, -(s2 * x22));
             fk0i.0[1][2] = x35;
             jb0i[0][4] = x35;
-            let x36 = <f64 as ::trocar::Real>::mul_add(c2, x20, -(s2 * x23));
+            let x36 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x20, -(s2 * x23));
             fk0i.0[2][2] = x36;
             jb0i[0][5] = x36;
         }
@@ -1810,7 +2472,7 @@ pub mod panda_laparoscope {
     ///
     /// Operations: 53 add, 108 mul, 0 div, 0 sqrt, 0 trig (sin_cos), 9 neg, 0 abs (the `sin_cos` calls are done once in [`JointTrig::new`]).
     ///
-    /// On x86-64 with SSE2 and without AVX (the default target), the chain is walked instead with the rows of the homogeneous transform as pairs (`::trocar::paired_rows`): one SSE2 register per pair for `f64` and `f32`, one operation per lane for the lane types (so that they stay, lane by lane, the scalar walk); the same values to rounding. The operation counts above are the program's.
+    /// On x86-64 with SSE2 and without AVX (the default target), the chain is walked instead with the rows of the homogeneous transform as pairs (`::trocar::emitted::paired_rows`): one SSE2 register per pair for `f64` and `f32`, one operation per lane for the lane types (so that they stay, lane by lane, the scalar walk); the same values to rounding. The operation counts above are the program's.
     #[inline]
     pub fn link_pose_and_jacobian_trig(
         t: &JointTrig,
@@ -1823,17 +2485,17 @@ pub mod panda_laparoscope {
             "avx"))
         ) {
             jb0i[6] = [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ];
-            let rows = ::trocar::paired_rows::Rows::first(
+            let rows = ::trocar::emitted::paired_rows::Rows::first(
                 t.sin[6],
                 t.cos[6],
-                ::trocar::paired_rows::Roll::Quarter,
+                ::trocar::emitted::paired_rows::Roll::Quarter,
                 [0.088, 0.0, 0.0],
             );
             rows.column(&mut jb0i[5]);
@@ -1841,7 +2503,7 @@ pub mod panda_laparoscope {
                 .joint(
                     t.sin[5],
                     t.cos[5],
-                    ::trocar::paired_rows::Roll::Quarter,
+                    ::trocar::emitted::paired_rows::Roll::Quarter,
                     [0.0, 0.0, 0.0],
                 );
             rows.column(&mut jb0i[4]);
@@ -1849,7 +2511,7 @@ pub mod panda_laparoscope {
                 .joint(
                     t.sin[4],
                     t.cos[4],
-                    ::trocar::paired_rows::Roll::MinusQuarter,
+                    ::trocar::emitted::paired_rows::Roll::MinusQuarter,
                     [-0.0825, 0.384, 0.0],
                 );
             rows.column(&mut jb0i[3]);
@@ -1857,7 +2519,7 @@ pub mod panda_laparoscope {
                 .joint(
                     t.sin[3],
                     t.cos[3],
-                    ::trocar::paired_rows::Roll::Quarter,
+                    ::trocar::emitted::paired_rows::Roll::Quarter,
                     [0.0825, 0.0, 0.0],
                 );
             rows.column(&mut jb0i[2]);
@@ -1865,7 +2527,7 @@ pub mod panda_laparoscope {
                 .joint(
                     t.sin[2],
                     t.cos[2],
-                    ::trocar::paired_rows::Roll::Quarter,
+                    ::trocar::emitted::paired_rows::Roll::Quarter,
                     [0.0, -0.316, 0.0],
                 );
             rows.column(&mut jb0i[1]);
@@ -1873,7 +2535,7 @@ pub mod panda_laparoscope {
                 .joint(
                     t.sin[1],
                     t.cos[1],
-                    ::trocar::paired_rows::Roll::MinusQuarter,
+                    ::trocar::emitted::paired_rows::Roll::MinusQuarter,
                     [0.0, 0.0, 0.0],
                 );
             rows.column(&mut jb0i[0]);
@@ -1881,25 +2543,25 @@ pub mod panda_laparoscope {
                 .joint(
                     t.sin[0],
                     t.cos[0],
-                    ::trocar::paired_rows::Roll::Zero,
+                    ::trocar::emitted::paired_rows::Roll::Zero,
                     [0.0, 0.0, 0.333],
                 );
             rows.pose(fk0i);
         } else {
-            jb0i[4][2] = <f64 as ::trocar::Real>::ZERO;
+            jb0i[4][2] = <f64 as ::trocar::emitted::Real>::ZERO;
             jb0i[4][5] = -t.cos[5];
-            jb0i[5][0] = <f64 as ::trocar::Real>::ZERO;
-            jb0i[5][1] = <f64 as ::trocar::Real>::ZERO;
+            jb0i[5][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+            jb0i[5][1] = <f64 as ::trocar::emitted::Real>::ZERO;
             jb0i[5][2] = -0.088_f64;
             jb0i[5][3] = t.sin[6];
             jb0i[5][4] = t.cos[6];
-            jb0i[5][5] = <f64 as ::trocar::Real>::ZERO;
-            jb0i[6][0] = <f64 as ::trocar::Real>::ZERO;
-            jb0i[6][1] = <f64 as ::trocar::Real>::ZERO;
-            jb0i[6][2] = <f64 as ::trocar::Real>::ZERO;
-            jb0i[6][3] = <f64 as ::trocar::Real>::ZERO;
-            jb0i[6][4] = <f64 as ::trocar::Real>::ZERO;
-            jb0i[6][5] = <f64 as ::trocar::Real>::ONE;
+            jb0i[5][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+            jb0i[6][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+            jb0i[6][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+            jb0i[6][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+            jb0i[6][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+            jb0i[6][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+            jb0i[6][5] = <f64 as ::trocar::emitted::Real>::ONE;
             let x0 = t.cos[5] * t.cos[6];
             let x1 = t.cos[5] * t.sin[6];
             let x2 = 0.088_f64 * t.cos[5];
@@ -1909,25 +2571,41 @@ pub mod panda_laparoscope {
             jb0i[4][3] = x3;
             let x4 = t.sin[5] * t.sin[6];
             jb0i[4][4] = -x4;
-            let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x0, t.sin[4] * t.sin[6]);
-            let x6 = <f64 as ::trocar::Real>::mul_add(
+            let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[4],
+                x0,
+                t.sin[4] * t.sin[6],
+            );
+            let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[4],
                 t.cos[6],
                 -(t.cos[4] * x1),
             );
             let x7 = t.cos[4] * t.sin[5];
-            let x8 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x2, -0.0825_f64);
-            let x9 = <f64 as ::trocar::Real>::mul_add(0.088_f64, t.sin[5], 0.384_f64);
-            jb0i[3][0] = <f64 as ::trocar::Real>::mul_add(x3, x8, -(x5 * x9));
-            jb0i[3][1] = -<f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8);
-            jb0i[3][2] = -<f64 as ::trocar::Real>::mul_add(x7, x9, t.cos[5] * x8);
-            let x10 = <f64 as ::trocar::Real>::mul_add(
+            let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[4],
+                x2,
+                -0.0825_f64,
+            );
+            let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+                0.088_f64,
+                t.sin[5],
+                0.384_f64,
+            );
+            jb0i[3][0] = <f64 as ::trocar::emitted::Real>::mul_add(x3, x8, -(x5 * x9));
+            jb0i[3][1] = -<f64 as ::trocar::emitted::Real>::mul_add(x6, x9, x4 * x8);
+            jb0i[3][2] = -<f64 as ::trocar::emitted::Real>::mul_add(
+                x7,
+                x9,
+                t.cos[5] * x8,
+            );
+            let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[4],
                 t.sin[6],
                 -(t.sin[4] * x0),
             );
             jb0i[3][3] = x10;
-            let x11 = <f64 as ::trocar::Real>::mul_add(
+            let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[4],
                 x1,
                 t.cos[4] * t.cos[6],
@@ -1936,96 +2614,215 @@ pub mod panda_laparoscope {
             let x12 = t.sin[4] * t.sin[5];
             jb0i[3][5] = -x12;
             let x13 = t.sin[4] * x2;
-            let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x5, -(t.sin[3] * x3));
-            let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
-            let x16 = <f64 as ::trocar::Real>::mul_add(
+            let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[3],
+                x5,
+                -(t.sin[3] * x3),
+            );
+            let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[3],
+                x6,
+                t.sin[3] * x4,
+            );
+            let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[3],
                 x7,
                 t.sin[3] * t.cos[5],
             );
             let x17 = 0.0825_f64
-                + <f64 as ::trocar::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
-            jb0i[2][0] = -<f64 as ::trocar::Real>::mul_add(x13, x14, x10 * x17);
-            jb0i[2][1] = -<f64 as ::trocar::Real>::mul_add(x13, x15, x11 * x17);
-            jb0i[2][2] = <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16));
-            let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x5, t.cos[3] * x3);
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.cos[3],
+                    x8,
+                    -(t.sin[3] * x9),
+                );
+            jb0i[2][0] = -<f64 as ::trocar::emitted::Real>::mul_add(x13, x14, x10 * x17);
+            jb0i[2][1] = -<f64 as ::trocar::emitted::Real>::mul_add(x13, x15, x11 * x17);
+            jb0i[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(
+                x12,
+                x17,
+                -(x13 * x16),
+            );
+            let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[3],
+                x5,
+                t.cos[3] * x3,
+            );
             jb0i[2][3] = x18;
-            let x19 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x6, -(t.cos[3] * x4));
+            let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[3],
+                x6,
+                -(t.cos[3] * x4),
+            );
             jb0i[2][4] = x19;
-            let x20 = <f64 as ::trocar::Real>::mul_add(
+            let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[3],
                 x7,
                 -(t.cos[3] * t.cos[5]),
             );
             jb0i[2][5] = x20;
-            let x21 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x14, t.sin[2] * x10);
-            let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x15, t.sin[2] * x11);
-            let x23 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x16, -(t.sin[2] * x12));
-            let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x17, -(t.sin[2] * x13));
-            let x25 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9)
-                + 0.316_f64;
+            let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[2],
+                x14,
+                t.sin[2] * x10,
+            );
+            let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[2],
+                x15,
+                t.sin[2] * x11,
+            );
+            let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[2],
+                x16,
+                -(t.sin[2] * x12),
+            );
+            let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[2],
+                x17,
+                -(t.sin[2] * x13),
+            );
+            let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[3],
+                x8,
+                t.cos[3] * x9,
+            ) + 0.316_f64;
             fk0i.1[2] = 0.333_f64
-                + <f64 as ::trocar::Real>::mul_add(t.cos[1], x25, -(t.sin[1] * x24));
-            jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x21, x25, -(x18 * x24));
-            jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x22, x25, -(x19 * x24));
-            jb0i[1][2] = <f64 as ::trocar::Real>::mul_add(x23, x25, -(x20 * x24));
-            let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x14, -(t.cos[2] * x10));
+                + <f64 as ::trocar::emitted::Real>::mul_add(
+                    t.cos[1],
+                    x25,
+                    -(t.sin[1] * x24),
+                );
+            jb0i[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+                x21,
+                x25,
+                -(x18 * x24),
+            );
+            jb0i[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+                x22,
+                x25,
+                -(x19 * x24),
+            );
+            jb0i[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(
+                x23,
+                x25,
+                -(x20 * x24),
+            );
+            let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[2],
+                x14,
+                -(t.cos[2] * x10),
+            );
             jb0i[1][3] = x26;
-            let x27 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x15, -(t.cos[2] * x11));
+            let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[2],
+                x15,
+                -(t.cos[2] * x11),
+            );
             jb0i[1][4] = x27;
-            let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x12);
+            let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[2],
+                x16,
+                t.cos[2] * x12,
+            );
             jb0i[1][5] = x28;
-            let x29 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x13);
-            let x30 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x21, t.sin[1] * x18);
-            fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(
+            let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[2],
+                x17,
+                t.cos[2] * x13,
+            );
+            let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[1],
+                x21,
+                t.sin[1] * x18,
+            );
+            fk0i.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[0],
                 x30,
                 -(t.sin[0] * x26),
             );
-            fk0i.0[0][1] = <f64 as ::trocar::Real>::mul_add(
+            fk0i.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[0],
                 x30,
                 t.cos[0] * x26,
             );
-            let x31 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x22, t.sin[1] * x19);
-            fk0i.0[1][0] = <f64 as ::trocar::Real>::mul_add(
+            let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[1],
+                x22,
+                t.sin[1] * x19,
+            );
+            fk0i.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[0],
                 x31,
                 -(t.sin[0] * x27),
             );
-            fk0i.0[1][1] = <f64 as ::trocar::Real>::mul_add(
+            fk0i.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[0],
                 x31,
                 t.cos[0] * x27,
             );
-            let x32 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x23, t.sin[1] * x20);
-            fk0i.0[2][0] = <f64 as ::trocar::Real>::mul_add(
+            let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[1],
+                x23,
+                t.sin[1] * x20,
+            );
+            fk0i.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[0],
                 x32,
                 -(t.sin[0] * x28),
             );
-            fk0i.0[2][1] = <f64 as ::trocar::Real>::mul_add(
+            fk0i.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(
                 t.sin[0],
                 x32,
                 t.cos[0] * x28,
             );
-            let x33 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x24, t.sin[1] * x25);
-            fk0i.1[0] = <f64 as ::trocar::Real>::mul_add(
+            let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[1],
+                x24,
+                t.sin[1] * x25,
+            );
+            fk0i.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(
                 t.cos[0],
                 x33,
                 -(t.sin[0] * x29),
             );
-            fk0i.1[1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x33, t.cos[0] * x29);
-            jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(x26, x33, -(x29 * x30));
-            jb0i[0][1] = <f64 as ::trocar::Real>::mul_add(x27, x33, -(x29 * x31));
-            jb0i[0][2] = <f64 as ::trocar::Real>::mul_add(x28, x33, -(x29 * x32));
-            let x34 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x18, -(t.sin[1] * x21));
+            fk0i.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[0],
+                x33,
+                t.cos[0] * x29,
+            );
+            jb0i[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+                x26,
+                x33,
+                -(x29 * x30),
+            );
+            jb0i[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+                x27,
+                x33,
+                -(x29 * x31),
+            );
+            jb0i[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(
+                x28,
+                x33,
+                -(x29 * x32),
+            );
+            let x34 = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[1],
+                x18,
+                -(t.sin[1] * x21),
+            );
             fk0i.0[0][2] = x34;
             jb0i[0][3] = x34;
-            let x35 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x19, -(t.sin[1] * x22));
+            let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[1],
+                x19,
+                -(t.sin[1] * x22),
+            );
             fk0i.0[1][2] = x35;
             jb0i[0][4] = x35;
-            let x36 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x20, -(t.sin[1] * x23));
+            let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[1],
+                x20,
+                -(t.sin[1] * x23),
+            );
             fk0i.0[2][2] = x36;
             jb0i[0][5] = x36;
         }
@@ -2053,89 +2850,210 @@ pub mod panda_laparoscope {
         let x2 = 0.088_f64 * t.cos[5];
         let x3 = t.sin[5] * t.cos[6];
         let x4 = t.sin[5] * t.sin[6];
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x0, t.sin[4] * t.sin[6]);
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.sin[4], t.cos[6], -(t.cos[4] * x1));
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x0,
+            t.sin[4] * t.sin[6],
+        );
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            t.cos[6],
+            -(t.cos[4] * x1),
+        );
         let x7 = t.cos[4] * t.sin[5];
-        let x8 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x2, -0.0825_f64);
-        let x9 = <f64 as ::trocar::Real>::mul_add(0.088_f64, t.sin[5], 0.384_f64);
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.cos[4], t.sin[6], -(t.sin[4] * x0));
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x1, t.cos[4] * t.cos[6]);
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[4], x2, -0.0825_f64);
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.088_f64,
+            t.sin[5],
+            0.384_f64,
+        );
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            t.sin[6],
+            -(t.sin[4] * x0),
+        );
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x1,
+            t.cos[4] * t.cos[6],
+        );
         let x12 = t.sin[4] * t.sin[5];
         let x13 = t.sin[4] * x2;
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x5, -(t.sin[3] * x3));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x7, t.sin[3] * t.cos[5]);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x5,
+            -(t.sin[3] * x3),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x6, t.sin[3] * x4);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x7,
+            t.sin[3] * t.cos[5],
+        );
         let x17 = 0.0825_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x5, t.cos[3] * x3);
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x6, -(t.cos[3] * x4));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x7, -(t.cos[3] * t.cos[5]));
-        let x21 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x14, t.sin[2] * x10);
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x15, t.sin[2] * x11);
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x16, -(t.sin[2] * x12));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x17, -(t.sin[2] * x13));
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9)
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x8, -(t.sin[3] * x9));
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[3], x5, t.cos[3] * x3);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x6,
+            -(t.cos[3] * x4),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x7,
+            -(t.cos[3] * t.cos[5]),
+        );
+        let x21 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x14,
+            t.sin[2] * x10,
+        );
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x15,
+            t.sin[2] * x11,
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x16,
+            -(t.sin[2] * x12),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x17,
+            -(t.sin[2] * x13),
+        );
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(t.sin[3], x8, t.cos[3] * x9)
             + 0.316_f64;
-        let x26 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x14, -(t.cos[2] * x10));
-        let x27 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x15, -(t.cos[2] * x11));
-        let x28 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x16, t.cos[2] * x12);
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x17, t.cos[2] * x13);
-        let x30 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x21, t.sin[1] * x18);
-        let x31 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x22, t.sin[1] * x19);
-        let x32 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x23, t.sin[1] * x20);
-        let x33 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x24, t.sin[1] * x25);
-        let x34 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x18, -(t.sin[1] * x21));
-        let x35 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x19, -(t.sin[1] * x22));
-        let x36 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x20, -(t.sin[1] * x23));
-        let x37 = <f64 as ::trocar::Real>::mul_add(t.cos[0], x32, -(t.sin[0] * x28));
-        let x38 = <f64 as ::trocar::Real>::mul_add(t.sin[0], x32, t.cos[0] * x28);
-        let x39 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(p.l_a, p.l_a + 0.214_f64, 1.011449_f64);
-        let x40 = x39 * <f64 as ::trocar::Real>::mul_add(0.507_f64, p.l_a, 1.054249_f64);
+        let x26 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x14,
+            -(t.cos[2] * x10),
+        );
+        let x27 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x15,
+            -(t.cos[2] * x11),
+        );
+        let x28 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x16,
+            t.cos[2] * x12,
+        );
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x17,
+            t.cos[2] * x13,
+        );
+        let x30 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x21,
+            t.sin[1] * x18,
+        );
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x22,
+            t.sin[1] * x19,
+        );
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x23,
+            t.sin[1] * x20,
+        );
+        let x33 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x24,
+            t.sin[1] * x25,
+        );
+        let x34 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x18,
+            -(t.sin[1] * x21),
+        );
+        let x35 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x19,
+            -(t.sin[1] * x22),
+        );
+        let x36 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x20,
+            -(t.sin[1] * x23),
+        );
+        let x37 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x32,
+            -(t.sin[0] * x28),
+        );
+        let x38 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x32,
+            t.cos[0] * x28,
+        );
+        let x39 = <f64 as ::trocar::emitted::Real>::ONE
+            / <f64 as ::trocar::emitted::Real>::mul_add(
+                p.l_a,
+                p.l_a + 0.214_f64,
+                1.011449_f64,
+            );
+        let x40 = x39
+            * <f64 as ::trocar::emitted::Real>::mul_add(0.507_f64, p.l_a, 1.054249_f64);
         let x41 = x39 * (p.l_a + 0.107_f64);
         (
             (
                 [
                     [
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[0],
                             x30,
                             -(t.sin[0] * x26),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(t.sin[0], x30, t.cos[0] * x26),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.sin[0],
+                            x30,
+                            t.cos[0] * x26,
+                        ),
                         x34,
                     ],
                     [
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[0],
                             x31,
                             -(t.sin[0] * x27),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(t.sin[0], x31, t.cos[0] * x27),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.sin[0],
+                            x31,
+                            t.cos[0] * x27,
+                        ),
                         x35,
                     ],
                     [x37, x38, x36],
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.507_f64,
                         x37,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[0],
                             x33,
                             -(t.sin[0] * x29),
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.507_f64,
                         x38,
-                        <f64 as ::trocar::Real>::mul_add(t.sin[0], x33, t.cos[0] * x29),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.sin[0],
+                            x33,
+                            t.cos[0] * x29,
+                        ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.507_f64,
                         x36,
                         0.333_f64
-                            + <f64 as ::trocar::Real>::mul_add(
+                            + <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[1],
                                 x25,
                                 -(t.sin[1] * x24),
@@ -2145,33 +3063,33 @@ pub mod panda_laparoscope {
             ),
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(x26, x33, -(x29 * x30)),
-                    <f64 as ::trocar::Real>::mul_add(x27, x33, -(x29 * x31)),
-                    <f64 as ::trocar::Real>::mul_add(x28, x33, -(x29 * x32)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x26, x33, -(x29 * x30)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x27, x33, -(x29 * x31)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x28, x33, -(x29 * x32)),
                     x34,
                     x35,
                     x36,
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(x21, x25, -(x18 * x24)),
-                    <f64 as ::trocar::Real>::mul_add(x22, x25, -(x19 * x24)),
-                    <f64 as ::trocar::Real>::mul_add(x23, x25, -(x20 * x24)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x21, x25, -(x18 * x24)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x22, x25, -(x19 * x24)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x23, x25, -(x20 * x24)),
                     x26,
                     x27,
                     x28,
                 ],
                 [
-                    -<f64 as ::trocar::Real>::mul_add(x13, x14, x10 * x17),
-                    -<f64 as ::trocar::Real>::mul_add(x13, x15, x11 * x17),
-                    <f64 as ::trocar::Real>::mul_add(x12, x17, -(x13 * x16)),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(x13, x14, x10 * x17),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(x13, x15, x11 * x17),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x12, x17, -(x13 * x16)),
                     x18,
                     x19,
                     x20,
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(x3, x8, -(x5 * x9)),
-                    -<f64 as ::trocar::Real>::mul_add(x6, x9, x4 * x8),
-                    -<f64 as ::trocar::Real>::mul_add(x7, x9, t.cos[5] * x8),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x3, x8, -(x5 * x9)),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(x6, x9, x4 * x8),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(x7, x9, t.cos[5] * x8),
                     x10,
                     x11,
                     -x12,
@@ -2179,78 +3097,78 @@ pub mod panda_laparoscope {
                 [
                     -(t.sin[6] * x2),
                     -(t.cos[6] * x2),
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     x3,
                     -x4,
                     -t.cos[5],
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     -0.088_f64,
                     t.sin[6],
                     t.cos[6],
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
                 ],
             ],
             [
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     p.l_a - 0.4_f64,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
                     0.4_f64 - p.l_a,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
                 ],
             ],
             [
                 [
                     x40,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     x41,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     x40,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     -x41,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
             ],
         )
@@ -2284,7 +3202,7 @@ pub mod panda_laparoscope {
         #[inline]
         #[must_use]
         pub fn zeroed() -> Self {
-            let z = <f64 as ::trocar::Real>::ZERO;
+            let z = <f64 as ::trocar::emitted::Real>::ZERO;
             StepKinematics {
                 offset: z,
                 g_0e: ([[z; 3]; 3], [z; 3]),
@@ -2310,7 +3228,7 @@ pub mod panda_laparoscope {
     #[inline]
     fn step_is_finite(out: &StepKinematics) -> bool {
         let finite = |x: &[f64]| {
-            x.iter().all(|&v| <f64 as ::trocar::Real>::is_finite(v))
+            x.iter().all(|&v| <f64 as ::trocar::emitted::Real>::is_finite(v))
         };
         finite(&out.g_0e.1) && finite(&out.g_0i.1) && finite(out.g_0e.0.as_flattened())
             && finite(out.g_0i.0.as_flattened()) && finite(out.jb0i.as_flattened())
@@ -2328,13 +3246,13 @@ pub mod panda_laparoscope {
         params: &Params,
     ) -> f64 {
         let mut p = *params;
-        p.l_a = <f64 as ::trocar::Real>::ZERO;
+        p.l_a = <f64 as ::trocar::emitted::Real>::ZERO;
         let o = constraint_frame(&p).1;
-        p.l_a = <f64 as ::trocar::Real>::ONE;
+        p.l_a = <f64 as ::trocar::emitted::Real>::ONE;
         let o1 = constraint_frame(&p).1;
         let d = [o1[0] - o[0], o1[1] - o[1], o1[2] - o[2]];
         let (rot, pos) = g_0i;
-        let mut num = <f64 as ::trocar::Real>::ZERO;
+        let mut num = <f64 as ::trocar::emitted::Real>::ZERO;
         for i in 0..3 {
             let ro = rot[0][i] * o[0] + rot[1][i] * o[1] + rot[2][i] * o[2];
             let rd = rot[0][i] * d[0] + rot[1][i] * d[1] + rot[2][i] * d[2];
@@ -2355,7 +3273,7 @@ pub mod panda_laparoscope {
         out: &mut StepKinematics,
     ) -> bool {
         fill_at_trocar(t, trocar, params, out);
-        <f64 as ::trocar::Real>::is_finite(out.offset) && step_is_finite(out)
+        <f64 as ::trocar::emitted::Real>::is_finite(out.offset) && step_is_finite(out)
     }
     /// [`step_kinematics`] without the finiteness check.
     #[inline]
@@ -2404,8 +3322,10 @@ pub mod panda_laparoscope {
         let mut a3_2 = j[2usize][3usize];
         let mut a3_3 = j[3usize][3usize];
         let mut b0_3 = b[3usize];
-        let mut det = <f64 as ::trocar::Real>::ONE;
-        if <f64 as ::trocar::Real>::abs(a1_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        let mut det = <f64 as ::trocar::emitted::Real>::ONE;
+        if <f64 as ::trocar::emitted::Real>::abs(a1_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a1_0);
             ::core::mem::swap(&mut a0_1, &mut a1_1);
             ::core::mem::swap(&mut a0_2, &mut a1_2);
@@ -2413,7 +3333,9 @@ pub mod panda_laparoscope {
             ::core::mem::swap(&mut b0_0, &mut b0_1);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a2_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a2_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a2_0);
             ::core::mem::swap(&mut a0_1, &mut a2_1);
             ::core::mem::swap(&mut a0_2, &mut a2_2);
@@ -2421,7 +3343,9 @@ pub mod panda_laparoscope {
             ::core::mem::swap(&mut b0_0, &mut b0_2);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a3_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a3_0);
             ::core::mem::swap(&mut a0_1, &mut a3_1);
             ::core::mem::swap(&mut a0_2, &mut a3_2);
@@ -2430,7 +3354,7 @@ pub mod panda_laparoscope {
             det = -det;
         }
         det *= a0_0;
-        let inv0 = <f64 as ::trocar::Real>::ONE / a0_0;
+        let inv0 = <f64 as ::trocar::emitted::Real>::ONE / a0_0;
         let l = a1_0 * inv0;
         a1_1 -= l * a0_1;
         a1_2 -= l * a0_2;
@@ -2446,14 +3370,18 @@ pub mod panda_laparoscope {
         a3_2 -= l * a0_2;
         a3_3 -= l * a0_3;
         b0_3 -= l * b0_0;
-        if <f64 as ::trocar::Real>::abs(a2_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a2_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a2_1);
             ::core::mem::swap(&mut a1_2, &mut a2_2);
             ::core::mem::swap(&mut a1_3, &mut a2_3);
             ::core::mem::swap(&mut b0_1, &mut b0_2);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a3_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a3_1);
             ::core::mem::swap(&mut a1_2, &mut a3_2);
             ::core::mem::swap(&mut a1_3, &mut a3_3);
@@ -2461,7 +3389,7 @@ pub mod panda_laparoscope {
             det = -det;
         }
         det *= a1_1;
-        let inv1 = <f64 as ::trocar::Real>::ONE / a1_1;
+        let inv1 = <f64 as ::trocar::emitted::Real>::ONE / a1_1;
         let l = a2_1 * inv1;
         a2_2 -= l * a1_2;
         a2_3 -= l * a1_3;
@@ -2470,19 +3398,21 @@ pub mod panda_laparoscope {
         a3_2 -= l * a1_2;
         a3_3 -= l * a1_3;
         b0_3 -= l * b0_1;
-        if <f64 as ::trocar::Real>::abs(a3_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a3_2);
             ::core::mem::swap(&mut a2_3, &mut a3_3);
             ::core::mem::swap(&mut b0_2, &mut b0_3);
             det = -det;
         }
         det *= a2_2;
-        let inv2 = <f64 as ::trocar::Real>::ONE / a2_2;
+        let inv2 = <f64 as ::trocar::emitted::Real>::ONE / a2_2;
         let l = a3_2 * inv2;
         a3_3 -= l * a2_3;
         b0_3 -= l * b0_2;
         det *= a3_3;
-        let inv3 = <f64 as ::trocar::Real>::ONE / a3_3;
+        let inv3 = <f64 as ::trocar::emitted::Real>::ONE / a3_3;
         let x3 = (b0_3) * inv3;
         let x2 = (b0_2 - a2_3 * x3) * inv2;
         let x1 = (b0_1 - a1_2 * x2 - a1_3 * x3) * inv1;
@@ -2550,8 +3480,10 @@ pub mod panda_laparoscope {
         let mut a5_5 = j[5usize][5usize];
         let mut b0_5 = b[5usize];
         let mut b1_5 = j[6usize][5usize];
-        let mut det = <f64 as ::trocar::Real>::ONE;
-        if <f64 as ::trocar::Real>::abs(a1_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        let mut det = <f64 as ::trocar::emitted::Real>::ONE;
+        if <f64 as ::trocar::emitted::Real>::abs(a1_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a1_0);
             ::core::mem::swap(&mut a0_1, &mut a1_1);
             ::core::mem::swap(&mut a0_2, &mut a1_2);
@@ -2562,7 +3494,9 @@ pub mod panda_laparoscope {
             ::core::mem::swap(&mut b1_0, &mut b1_1);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a2_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a2_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a2_0);
             ::core::mem::swap(&mut a0_1, &mut a2_1);
             ::core::mem::swap(&mut a0_2, &mut a2_2);
@@ -2573,7 +3507,9 @@ pub mod panda_laparoscope {
             ::core::mem::swap(&mut b1_0, &mut b1_2);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a3_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a3_0);
             ::core::mem::swap(&mut a0_1, &mut a3_1);
             ::core::mem::swap(&mut a0_2, &mut a3_2);
@@ -2584,7 +3520,9 @@ pub mod panda_laparoscope {
             ::core::mem::swap(&mut b1_0, &mut b1_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a4_0);
             ::core::mem::swap(&mut a0_1, &mut a4_1);
             ::core::mem::swap(&mut a0_2, &mut a4_2);
@@ -2595,7 +3533,9 @@ pub mod panda_laparoscope {
             ::core::mem::swap(&mut b1_0, &mut b1_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a5_0);
             ::core::mem::swap(&mut a0_1, &mut a5_1);
             ::core::mem::swap(&mut a0_2, &mut a5_2);
@@ -2607,7 +3547,7 @@ pub mod panda_laparoscope {
             det = -det;
         }
         det *= a0_0;
-        let inv0 = <f64 as ::trocar::Real>::ONE / a0_0;
+        let inv0 = <f64 as ::trocar::emitted::Real>::ONE / a0_0;
         let l = a1_0 * inv0;
         a1_1 -= l * a0_1;
         a1_2 -= l * a0_2;
@@ -2648,7 +3588,9 @@ pub mod panda_laparoscope {
         a5_5 -= l * a0_5;
         b0_5 -= l * b0_0;
         b1_5 -= l * b1_0;
-        if <f64 as ::trocar::Real>::abs(a2_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a2_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a2_1);
             ::core::mem::swap(&mut a1_2, &mut a2_2);
             ::core::mem::swap(&mut a1_3, &mut a2_3);
@@ -2658,7 +3600,9 @@ pub mod panda_laparoscope {
             ::core::mem::swap(&mut b1_1, &mut b1_2);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a3_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a3_1);
             ::core::mem::swap(&mut a1_2, &mut a3_2);
             ::core::mem::swap(&mut a1_3, &mut a3_3);
@@ -2668,7 +3612,9 @@ pub mod panda_laparoscope {
             ::core::mem::swap(&mut b1_1, &mut b1_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a4_1);
             ::core::mem::swap(&mut a1_2, &mut a4_2);
             ::core::mem::swap(&mut a1_3, &mut a4_3);
@@ -2678,7 +3624,9 @@ pub mod panda_laparoscope {
             ::core::mem::swap(&mut b1_1, &mut b1_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a5_1);
             ::core::mem::swap(&mut a1_2, &mut a5_2);
             ::core::mem::swap(&mut a1_3, &mut a5_3);
@@ -2689,7 +3637,7 @@ pub mod panda_laparoscope {
             det = -det;
         }
         det *= a1_1;
-        let inv1 = <f64 as ::trocar::Real>::ONE / a1_1;
+        let inv1 = <f64 as ::trocar::emitted::Real>::ONE / a1_1;
         let l = a2_1 * inv1;
         a2_2 -= l * a1_2;
         a2_3 -= l * a1_3;
@@ -2718,7 +3666,9 @@ pub mod panda_laparoscope {
         a5_5 -= l * a1_5;
         b0_5 -= l * b0_1;
         b1_5 -= l * b1_1;
-        if <f64 as ::trocar::Real>::abs(a3_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a3_2);
             ::core::mem::swap(&mut a2_3, &mut a3_3);
             ::core::mem::swap(&mut a2_4, &mut a3_4);
@@ -2727,7 +3677,9 @@ pub mod panda_laparoscope {
             ::core::mem::swap(&mut b1_2, &mut b1_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a4_2);
             ::core::mem::swap(&mut a2_3, &mut a4_3);
             ::core::mem::swap(&mut a2_4, &mut a4_4);
@@ -2736,7 +3688,9 @@ pub mod panda_laparoscope {
             ::core::mem::swap(&mut b1_2, &mut b1_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a5_2);
             ::core::mem::swap(&mut a2_3, &mut a5_3);
             ::core::mem::swap(&mut a2_4, &mut a5_4);
@@ -2746,7 +3700,7 @@ pub mod panda_laparoscope {
             det = -det;
         }
         det *= a2_2;
-        let inv2 = <f64 as ::trocar::Real>::ONE / a2_2;
+        let inv2 = <f64 as ::trocar::emitted::Real>::ONE / a2_2;
         let l = a3_2 * inv2;
         a3_3 -= l * a2_3;
         a3_4 -= l * a2_4;
@@ -2765,7 +3719,9 @@ pub mod panda_laparoscope {
         a5_5 -= l * a2_5;
         b0_5 -= l * b0_2;
         b1_5 -= l * b1_2;
-        if <f64 as ::trocar::Real>::abs(a4_3) > <f64 as ::trocar::Real>::abs(a3_3) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_3)
+            > <f64 as ::trocar::emitted::Real>::abs(a3_3)
+        {
             ::core::mem::swap(&mut a3_3, &mut a4_3);
             ::core::mem::swap(&mut a3_4, &mut a4_4);
             ::core::mem::swap(&mut a3_5, &mut a4_5);
@@ -2773,7 +3729,9 @@ pub mod panda_laparoscope {
             ::core::mem::swap(&mut b1_3, &mut b1_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_3) > <f64 as ::trocar::Real>::abs(a3_3) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_3)
+            > <f64 as ::trocar::emitted::Real>::abs(a3_3)
+        {
             ::core::mem::swap(&mut a3_3, &mut a5_3);
             ::core::mem::swap(&mut a3_4, &mut a5_4);
             ::core::mem::swap(&mut a3_5, &mut a5_5);
@@ -2782,7 +3740,7 @@ pub mod panda_laparoscope {
             det = -det;
         }
         det *= a3_3;
-        let inv3 = <f64 as ::trocar::Real>::ONE / a3_3;
+        let inv3 = <f64 as ::trocar::emitted::Real>::ONE / a3_3;
         let l = a4_3 * inv3;
         a4_4 -= l * a3_4;
         a4_5 -= l * a3_5;
@@ -2793,7 +3751,9 @@ pub mod panda_laparoscope {
         a5_5 -= l * a3_5;
         b0_5 -= l * b0_3;
         b1_5 -= l * b1_3;
-        if <f64 as ::trocar::Real>::abs(a5_4) > <f64 as ::trocar::Real>::abs(a4_4) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_4)
+            > <f64 as ::trocar::emitted::Real>::abs(a4_4)
+        {
             ::core::mem::swap(&mut a4_4, &mut a5_4);
             ::core::mem::swap(&mut a4_5, &mut a5_5);
             ::core::mem::swap(&mut b0_4, &mut b0_5);
@@ -2801,13 +3761,13 @@ pub mod panda_laparoscope {
             det = -det;
         }
         det *= a4_4;
-        let inv4 = <f64 as ::trocar::Real>::ONE / a4_4;
+        let inv4 = <f64 as ::trocar::emitted::Real>::ONE / a4_4;
         let l = a5_4 * inv4;
         a5_5 -= l * a4_5;
         b0_5 -= l * b0_4;
         b1_5 -= l * b1_4;
         det *= a5_5;
-        let inv5 = <f64 as ::trocar::Real>::ONE / a5_5;
+        let inv5 = <f64 as ::trocar::emitted::Real>::ONE / a5_5;
         let x5 = (b0_5) * inv5;
         let x4 = (b0_4 - a4_5 * x5) * inv4;
         let x3 = (b0_3 - a3_4 * x4 - a3_5 * x5) * inv3;
@@ -2822,14 +3782,15 @@ pub mod panda_laparoscope {
         let x1_1 = (b1_1 - a1_2 * x1_2 - a1_3 * x1_3 - a1_4 * x1_4 - a1_5 * x1_5) * inv1;
         let x1_0 = (b1_0 - a0_1 * x1_1 - a0_2 * x1_2 - a0_3 * x1_3 - a0_4 * x1_4
             - a0_5 * x1_5) * inv0;
-        let nn = <f64 as ::trocar::Real>::ONE + x1_0 * x1_0 + x1_1 * x1_1 + x1_2 * x1_2
-            + x1_3 * x1_3 + x1_4 * x1_4 + x1_5 * x1_5;
+        let nn = <f64 as ::trocar::emitted::Real>::ONE + x1_0 * x1_0 + x1_1 * x1_1
+            + x1_2 * x1_2 + x1_3 * x1_3 + x1_4 * x1_4 + x1_5 * x1_5;
         let s = (x1_0 * x0 + x1_1 * x1 + x1_2 * x2 + x1_3 * x3 + x1_4 * x4 + x1_5 * x5)
             / nn;
-        let w = if nn <= <f64 as ::trocar::Real>::lit(10000f64) {
-            <f64 as ::trocar::Real>::abs(det) * <f64 as ::trocar::Real>::sqrt(nn)
+        let w = if nn <= <f64 as ::trocar::emitted::Real>::lit(10000f64) {
+            <f64 as ::trocar::emitted::Real>::abs(det)
+                * <f64 as ::trocar::emitted::Real>::sqrt(nn)
         } else {
-            <f64 as ::trocar::Real>::ZERO
+            <f64 as ::trocar::emitted::Real>::ZERO
         };
         (
             [
@@ -2865,13 +3826,13 @@ pub mod panda_laparoscope {
     impl Kinematics {
         /// A pose from the generated `(R column-major, p)`.
         #[inline]
-        fn pose((r, p): ([[f64; 3]; 3], [f64; 3])) -> ::trocar::se3::Se3<f64> {
-            ::trocar::se3::Se3 {
-                rotation: ::trocar::nalgebra::Matrix3::from_data(
-                    ::trocar::nalgebra::ArrayStorage(r),
+        fn pose((r, p): ([[f64; 3]; 3], [f64; 3])) -> ::trocar::emitted::Se3<f64> {
+            ::trocar::emitted::Se3 {
+                rotation: ::trocar::emitted::nalgebra::Matrix3::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(r),
                 ),
-                translation: ::trocar::nalgebra::Vector3::from_data(
-                    ::trocar::nalgebra::ArrayStorage([p]),
+                translation: ::trocar::emitted::nalgebra::Vector3::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage([p]),
                 ),
             }
         }
@@ -2879,66 +3840,70 @@ pub mod panda_laparoscope {
         #[inline]
         fn state(
             s: &StepKinematics,
-        ) -> ::trocar::control::ConstrainedState<f64, I, R, K, M> {
-            ::trocar::control::ConstrainedState {
+        ) -> ::trocar::emitted::ConstrainedState<f64, I, R, K, M> {
+            ::trocar::emitted::ConstrainedState {
                 g_0e: Self::pose(s.g_0e),
                 g_0i: Self::pose(s.g_0i),
-                jr: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jr),
+                jr: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jr),
                 ),
-                jb0i: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jb0i),
+                jb0i: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jb0i),
                 ),
-                jc: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jc),
+                jc: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jc),
                 ),
-                lambda_sharp: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.lambda_sharp),
+                lambda_sharp: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.lambda_sharp),
                 ),
-                lambda_pinv: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.lambda_pinv),
+                lambda_pinv: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.lambda_pinv),
                 ),
             }
         }
     }
-    impl ::trocar::control::ConstrainedKinematics<f64, N, I, R, K, M, TASK_ROWS>
+    impl ::trocar::emitted::ConstrainedKinematics<f64, N, I, R, K, M, TASK_ROWS>
     for Kinematics {
         #[inline]
         fn g_0i(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
-        ) -> ::trocar::se3::Se3<f64> {
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
+        ) -> ::trocar::emitted::Se3<f64> {
             Self::pose(forward_kinematics_i(&q.data.0[0], &self.params))
         }
         #[inline]
-        fn h(&self) -> ::trocar::nalgebra::SMatrix<f64, R, 6> {
-            ::trocar::nalgebra::SMatrix::from_data(
-                ::trocar::nalgebra::ArrayStorage(constraint_selection(&self.params)),
+        fn h(&self) -> ::trocar::emitted::nalgebra::SMatrix<f64, R, 6> {
+            ::trocar::emitted::nalgebra::SMatrix::from_data(
+                ::trocar::emitted::nalgebra::ArrayStorage(
+                    constraint_selection(&self.params),
+                ),
             )
         }
         #[inline]
-        fn shaft(&self) -> ::trocar::control::Shaft<f64> {
+        fn shaft(&self) -> ::trocar::emitted::Shaft<f64> {
             let mut p = self.params;
-            p.l_a = <f64 as ::trocar::Real>::ZERO;
+            p.l_a = <f64 as ::trocar::emitted::Real>::ZERO;
             let at_zero = Self::pose(constraint_frame(&p));
-            p.l_a = <f64 as ::trocar::Real>::ONE;
+            p.l_a = <f64 as ::trocar::emitted::Real>::ONE;
             let at_one = Self::pose(constraint_frame(&p));
-            ::trocar::control::Shaft::from_frames(&at_zero, &at_one)
+            ::trocar::emitted::Shaft::from_frames(&at_zero, &at_one)
         }
         #[inline]
-        fn task_selection(&self) -> ::trocar::nalgebra::SMatrix<f64, TASK_ROWS, 6> {
-            ::trocar::nalgebra::SMatrix::from_data(
-                ::trocar::nalgebra::ArrayStorage(task_selection(&self.params)),
+        fn task_selection(
+            &self,
+        ) -> ::trocar::emitted::nalgebra::SMatrix<f64, TASK_ROWS, 6> {
+            ::trocar::emitted::nalgebra::SMatrix::from_data(
+                ::trocar::emitted::nalgebra::ArrayStorage(task_selection(&self.params)),
             )
         }
         #[inline]
         fn evaluate(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
             l_a: f64,
         ) -> ::core::result::Result<
-            ::trocar::control::ConstrainedState<f64, I, R, K, M>,
-            ::trocar::control::ControlError,
+            ::trocar::emitted::ConstrainedState<f64, I, R, K, M>,
+            ::trocar::emitted::ControlError,
         > {
             let t = JointTrig::new(&q.data.0[0]);
             let mut p = self.params;
@@ -2947,9 +3912,9 @@ pub mod panda_laparoscope {
             s.g_0i = forward_kinematics_i_trig(&t, &p);
             s.offset = l_a;
             fill_step(&t, &p, &mut s);
-            if !<f64 as ::trocar::Real>::is_finite(l_a) || !step_is_finite(&s) {
+            if !<f64 as ::trocar::emitted::Real>::is_finite(l_a) || !step_is_finite(&s) {
                 return ::core::result::Result::Err(
-                    ::trocar::control::ControlError::Kinematics,
+                    ::trocar::emitted::ControlError::Kinematics,
                 );
             }
             ::core::result::Result::Ok(Self::state(&s))
@@ -2959,22 +3924,29 @@ pub mod panda_laparoscope {
         #[inline]
         fn solve_task(
             &self,
-            j: &::trocar::nalgebra::SMatrix<f64, TASK_ROWS, M>,
-            b: &::trocar::nalgebra::SVector<f64, TASK_ROWS>,
-        ) -> ::core::option::Option<(::trocar::nalgebra::SVector<f64, M>, f64)> {
+            j: &::trocar::emitted::nalgebra::SMatrix<f64, TASK_ROWS, M>,
+            b: &::trocar::emitted::nalgebra::SVector<f64, TASK_ROWS>,
+        ) -> ::core::option::Option<
+            (::trocar::emitted::nalgebra::SVector<f64, M>, f64),
+        > {
             let (x, det) = lu_solve_4(&j.data.0, &b.data.0[0]);
-            ::core::option::Option::Some((::trocar::nalgebra::SVector::from(x), det))
+            ::core::option::Option::Some((
+                ::trocar::emitted::nalgebra::SVector::from(x),
+                det,
+            ))
         }
         /// `J^B_0i` (6 × 7, one redundant joint): the minimum-norm solution and `w = sqrt(det(J Jᵀ))` from the straight-line solve emitted for this size (`w = 0` where it does not apply; the controller then factors `J` itself).
         #[inline]
         fn solve_jb0i(
             &self,
-            j: &::trocar::nalgebra::SMatrix<f64, 6, I>,
-            b: &::trocar::nalgebra::SVector<f64, 6>,
-        ) -> ::core::option::Option<(::trocar::nalgebra::SVector<f64, I>, f64)> {
+            j: &::trocar::emitted::nalgebra::SMatrix<f64, 6, I>,
+            b: &::trocar::emitted::nalgebra::SVector<f64, 6>,
+        ) -> ::core::option::Option<
+            (::trocar::emitted::nalgebra::SVector<f64, I>, f64),
+        > {
             let (x, det_or_w) = min_norm_solve_6(&j.data.0, &b.data.0[0]);
             ::core::option::Option::Some((
-                ::trocar::nalgebra::SVector::from(x),
+                ::trocar::emitted::nalgebra::SVector::from(x),
                 det_or_w,
             ))
         }
@@ -2982,18 +3954,18 @@ pub mod panda_laparoscope {
         #[inline]
         fn evaluate_at_trocar(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
-            trocar: &::trocar::nalgebra::Vector3<f64>,
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
+            trocar: &::trocar::emitted::nalgebra::Vector3<f64>,
         ) -> ::core::result::Result<
-            (f64, ::trocar::control::ConstrainedState<f64, I, R, K, M>),
-            ::trocar::control::ControlError,
+            (f64, ::trocar::emitted::ConstrainedState<f64, I, R, K, M>),
+            ::trocar::emitted::ControlError,
         > {
             let t = JointTrig::new(&q.data.0[0]);
             let mut s = StepKinematics::zeroed();
             fill_at_trocar(&t, &trocar.data.0[0], &self.params, &mut s);
-            if !<f64 as ::trocar::Real>::is_finite(s.offset) {
+            if !<f64 as ::trocar::emitted::Real>::is_finite(s.offset) {
                 return ::core::result::Result::Err(
-                    ::trocar::control::ControlError::Kinematics,
+                    ::trocar::emitted::ControlError::Kinematics,
                 );
             }
             ::core::result::Result::Ok((s.offset, Self::state(&s)))

@@ -72,31 +72,31 @@ pub mod planar_stewart {
         #[inline(always)]
         #[must_use]
         pub fn new(q: &[f64; N]) -> Self {
-            let ([s1, s3, s4, s6, s7, s9], [c1, c3, c4, c6, c7, c9]) = <f64 as ::trocar::Real>::sin_cos_array(
+            let ([s1, s3, s4, s6, s7, s9], [c1, c3, c4, c6, c7, c9]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
                 &[q[0], q[2], q[3], q[5], q[6], q[8]],
             );
             JointTrig {
                 q: *q,
                 sin: [
                     s1,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     s3,
                     s4,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     s6,
                     s7,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     s9,
                 ],
                 cos: [
                     c1,
-                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ONE,
                     c3,
                     c4,
-                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ONE,
                     c6,
                     c7,
-                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ONE,
                     c9,
                 ],
             }
@@ -110,80 +110,94 @@ pub mod planar_stewart {
     #[inline]
     #[must_use]
     pub fn constraint_jacobian(q: &[f64; N], p: &Params) -> [[f64; R]; N] {
-        let ([s1, s3, s4, s6, s7, s9], [c1, c3, c4, c6, c7, c9]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s3, s4, s6, s7, s9], [c1, c3, c4, c6, c7, c9]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[2], q[3], q[5], q[6], q[8]],
         );
-        let x0 = <f64 as ::trocar::Real>::mul_add(c3, p.l, q[1]);
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(c3, p.l, q[1]);
         let x1 = s3 * c1;
-        let x2 = -<f64 as ::trocar::Real>::mul_add(x0, s1, p.l * x1);
+        let x2 = -<f64 as ::trocar::emitted::Real>::mul_add(x0, s1, p.l * x1);
         let x3 = s1 * s3;
-        let x4 = <f64 as ::trocar::Real>::mul_add(x0, c1, -(p.l * x3));
-        let x5 = -(p.l * <f64 as ::trocar::Real>::mul_add(c3, s1, x1));
-        let x6 = p.l * <f64 as ::trocar::Real>::mul_add(c3, c1, -x3);
-        let x7 = <f64 as ::trocar::Real>::mul_add(p.l, c6, q[4]);
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(x0, c1, -(p.l * x3));
+        let x5 = -(p.l * <f64 as ::trocar::emitted::Real>::mul_add(c3, s1, x1));
+        let x6 = p.l * <f64 as ::trocar::emitted::Real>::mul_add(c3, c1, -x3);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(p.l, c6, q[4]);
         let x8 = s6 * c4;
         let x9 = s4 * s6;
-        let x10 = <f64 as ::trocar::Real>::mul_add(p.l, c9, q[7]);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(p.l, c9, q[7]);
         let x11 = s9 * c7;
         let x12 = s7 * s9;
         [
-            [x2, x4, <f64 as ::trocar::Real>::ONE, x2, x4, <f64 as ::trocar::Real>::ONE],
             [
-                c1,
-                s1,
-                <f64 as ::trocar::Real>::ZERO,
-                c1,
-                s1,
-                <f64 as ::trocar::Real>::ZERO,
+                x2,
+                x4,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                x2,
+                x4,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
-            [x5, x6, <f64 as ::trocar::Real>::ONE, x5, x6, <f64 as ::trocar::Real>::ONE],
             [
-                <f64 as ::trocar::Real>::mul_add(x7, s4, p.l * x8),
-                <f64 as ::trocar::Real>::mul_add(p.l, x9, -(x7 * c4)),
-                -<f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                c1,
+                s1,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                c1,
+                s1,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                x5,
+                x6,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                x5,
+                x6,
+                <f64 as ::trocar::emitted::Real>::ONE,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::mul_add(x7, s4, p.l * x8),
+                <f64 as ::trocar::emitted::Real>::mul_add(p.l, x9, -(x7 * c4)),
+                -<f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 -c4,
                 -s4,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                p.l * <f64 as ::trocar::Real>::mul_add(c6, s4, x8),
-                p.l * <f64 as ::trocar::Real>::mul_add(-c6, c4, x9),
-                -<f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                p.l * <f64 as ::trocar::emitted::Real>::mul_add(c6, s4, x8),
+                p.l * <f64 as ::trocar::emitted::Real>::mul_add(-c6, c4, x9),
+                -<f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::mul_add(x10, s7, p.l * x11),
-                <f64 as ::trocar::Real>::mul_add(p.l, x12, -(x10 * c7)),
-                -<f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::mul_add(x10, s7, p.l * x11),
+                <f64 as ::trocar::emitted::Real>::mul_add(p.l, x12, -(x10 * c7)),
+                -<f64 as ::trocar::emitted::Real>::ONE,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -c7,
                 -s7,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                p.l * <f64 as ::trocar::Real>::mul_add(c9, s7, x11),
-                p.l * <f64 as ::trocar::Real>::mul_add(-c9, c7, x12),
-                -<f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                p.l * <f64 as ::trocar::emitted::Real>::mul_add(c9, s7, x11),
+                p.l * <f64 as ::trocar::emitted::Real>::mul_add(-c9, c7, x12),
+                -<f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -195,77 +209,98 @@ pub mod planar_stewart {
     #[inline]
     #[must_use]
     pub fn constraint_jacobian_trig(t: &JointTrig, p: &Params) -> [[f64; R]; N] {
-        let x0 = <f64 as ::trocar::Real>::mul_add(t.cos[2], p.l, t.q[1]);
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], p.l, t.q[1]);
         let x1 = t.sin[2] * t.cos[0];
-        let x2 = -<f64 as ::trocar::Real>::mul_add(x0, t.sin[0], p.l * x1);
+        let x2 = -<f64 as ::trocar::emitted::Real>::mul_add(x0, t.sin[0], p.l * x1);
         let x3 = t.sin[0] * t.sin[2];
-        let x4 = <f64 as ::trocar::Real>::mul_add(x0, t.cos[0], -(p.l * x3));
-        let x5 = -(p.l * <f64 as ::trocar::Real>::mul_add(t.cos[2], t.sin[0], x1));
-        let x6 = p.l * <f64 as ::trocar::Real>::mul_add(t.cos[2], t.cos[0], -x3);
-        let x7 = <f64 as ::trocar::Real>::mul_add(p.l, t.cos[5], t.q[4]);
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(x0, t.cos[0], -(p.l * x3));
+        let x5 = -(p.l
+            * <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], t.sin[0], x1));
+        let x6 = p.l
+            * <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], t.cos[0], -x3);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(p.l, t.cos[5], t.q[4]);
         let x8 = t.sin[5] * t.cos[3];
         let x9 = t.sin[3] * t.sin[5];
-        let x10 = <f64 as ::trocar::Real>::mul_add(p.l, t.cos[8], t.q[7]);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(p.l, t.cos[8], t.q[7]);
         let x11 = t.sin[8] * t.cos[6];
         let x12 = t.sin[6] * t.sin[8];
         [
-            [x2, x4, <f64 as ::trocar::Real>::ONE, x2, x4, <f64 as ::trocar::Real>::ONE],
             [
-                t.cos[0],
-                t.sin[0],
-                <f64 as ::trocar::Real>::ZERO,
-                t.cos[0],
-                t.sin[0],
-                <f64 as ::trocar::Real>::ZERO,
+                x2,
+                x4,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                x2,
+                x4,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
-            [x5, x6, <f64 as ::trocar::Real>::ONE, x5, x6, <f64 as ::trocar::Real>::ONE],
             [
-                <f64 as ::trocar::Real>::mul_add(x7, t.sin[3], p.l * x8),
-                <f64 as ::trocar::Real>::mul_add(p.l, x9, -(x7 * t.cos[3])),
-                -<f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                t.cos[0],
+                t.sin[0],
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                t.cos[0],
+                t.sin[0],
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                x5,
+                x6,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                x5,
+                x6,
+                <f64 as ::trocar::emitted::Real>::ONE,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::mul_add(x7, t.sin[3], p.l * x8),
+                <f64 as ::trocar::emitted::Real>::mul_add(p.l, x9, -(x7 * t.cos[3])),
+                -<f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 -t.cos[3],
                 -t.sin[3],
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                p.l * <f64 as ::trocar::Real>::mul_add(t.cos[5], t.sin[3], x8),
-                p.l * <f64 as ::trocar::Real>::mul_add(-t.cos[5], t.cos[3], x9),
-                -<f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                p.l * <f64 as ::trocar::emitted::Real>::mul_add(t.cos[5], t.sin[3], x8),
+                p.l * <f64 as ::trocar::emitted::Real>::mul_add(-t.cos[5], t.cos[3], x9),
+                -<f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::mul_add(x10, t.sin[6], p.l * x11),
-                <f64 as ::trocar::Real>::mul_add(p.l, x12, -(x10 * t.cos[6])),
-                -<f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::mul_add(x10, t.sin[6], p.l * x11),
+                <f64 as ::trocar::emitted::Real>::mul_add(p.l, x12, -(x10 * t.cos[6])),
+                -<f64 as ::trocar::emitted::Real>::ONE,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -t.cos[6],
                 -t.sin[6],
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                p.l * <f64 as ::trocar::Real>::mul_add(t.cos[8], t.sin[6], x11),
-                p.l * <f64 as ::trocar::Real>::mul_add(-t.cos[8], t.cos[6], x12),
-                -<f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                p.l * <f64 as ::trocar::emitted::Real>::mul_add(t.cos[8], t.sin[6], x11),
+                p.l
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
+                        -t.cos[8],
+                        t.cos[6],
+                        x12,
+                    ),
+                -<f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -277,74 +312,74 @@ pub mod planar_stewart {
     #[inline]
     #[must_use]
     pub fn task_jacobian(q: &[f64; N], p: &Params) -> [[f64; N_OUTPUTS]; N] {
-        let ([s1, s3, s4, s6, s7, s9], [c1, c3, c4, c6, c7, c9]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s3, s4, s6, s7, s9], [c1, c3, c4, c6, c7, c9]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[2], q[3], q[5], q[6], q[8]],
         );
-        let x0 = <f64 as ::trocar::Real>::mul_add(c3, p.l, q[1]);
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(c3, p.l, q[1]);
         let x1 = s3 * c1;
         let x2 = s1 * s3;
-        let x3 = <f64 as ::trocar::Real>::mul_add(p.l, c6, q[4]);
+        let x3 = <f64 as ::trocar::emitted::Real>::mul_add(p.l, c6, q[4]);
         let x4 = s6 * c4;
         let x5 = s4 * s6;
-        let x6 = <f64 as ::trocar::Real>::mul_add(p.l, c9, q[7]);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(p.l, c9, q[7]);
         let x7 = s9 * c7;
         let x8 = s7 * s9;
         [
             [
                 -(0.3333333333333333_f64
-                    * <f64 as ::trocar::Real>::mul_add(x0, s1, p.l * x1)),
+                    * <f64 as ::trocar::emitted::Real>::mul_add(x0, s1, p.l * x1)),
                 0.3333333333333333_f64
-                    * <f64 as ::trocar::Real>::mul_add(x0, c1, -(p.l * x2)),
+                    * <f64 as ::trocar::emitted::Real>::mul_add(x0, c1, -(p.l * x2)),
                 0.3333333333333333_f64,
             ],
             [
                 0.3333333333333333_f64 * c1,
                 0.3333333333333333_f64 * s1,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 -(0.3333333333333333_f64
-                    * (p.l * <f64 as ::trocar::Real>::mul_add(c3, s1, x1))),
+                    * (p.l * <f64 as ::trocar::emitted::Real>::mul_add(c3, s1, x1))),
                 0.3333333333333333_f64
-                    * (p.l * <f64 as ::trocar::Real>::mul_add(c3, c1, -x2)),
+                    * (p.l * <f64 as ::trocar::emitted::Real>::mul_add(c3, c1, -x2)),
                 0.3333333333333333_f64,
             ],
             [
                 -(0.3333333333333333_f64
-                    * <f64 as ::trocar::Real>::mul_add(x3, s4, p.l * x4)),
+                    * <f64 as ::trocar::emitted::Real>::mul_add(x3, s4, p.l * x4)),
                 0.3333333333333333_f64
-                    * <f64 as ::trocar::Real>::mul_add(x3, c4, -(p.l * x5)),
+                    * <f64 as ::trocar::emitted::Real>::mul_add(x3, c4, -(p.l * x5)),
                 0.3333333333333333_f64,
             ],
             [
                 0.3333333333333333_f64 * c4,
                 0.3333333333333333_f64 * s4,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 -(0.3333333333333333_f64
-                    * (p.l * <f64 as ::trocar::Real>::mul_add(c6, s4, x4))),
+                    * (p.l * <f64 as ::trocar::emitted::Real>::mul_add(c6, s4, x4))),
                 0.3333333333333333_f64
-                    * (p.l * <f64 as ::trocar::Real>::mul_add(c6, c4, -x5)),
+                    * (p.l * <f64 as ::trocar::emitted::Real>::mul_add(c6, c4, -x5)),
                 0.3333333333333333_f64,
             ],
             [
                 -(0.3333333333333333_f64
-                    * <f64 as ::trocar::Real>::mul_add(x6, s7, p.l * x7)),
+                    * <f64 as ::trocar::emitted::Real>::mul_add(x6, s7, p.l * x7)),
                 0.3333333333333333_f64
-                    * <f64 as ::trocar::Real>::mul_add(x6, c7, -(p.l * x8)),
+                    * <f64 as ::trocar::emitted::Real>::mul_add(x6, c7, -(p.l * x8)),
                 0.3333333333333333_f64,
             ],
             [
                 0.3333333333333333_f64 * c7,
                 0.3333333333333333_f64 * s7,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 -(0.3333333333333333_f64
-                    * (p.l * <f64 as ::trocar::Real>::mul_add(c9, s7, x7))),
+                    * (p.l * <f64 as ::trocar::emitted::Real>::mul_add(c9, s7, x7))),
                 0.3333333333333333_f64
-                    * (p.l * <f64 as ::trocar::Real>::mul_add(c9, c7, -x8)),
+                    * (p.l * <f64 as ::trocar::emitted::Real>::mul_add(c9, c7, -x8)),
                 0.3333333333333333_f64,
             ],
         ]
@@ -357,71 +392,113 @@ pub mod planar_stewart {
     #[inline]
     #[must_use]
     pub fn task_jacobian_trig(t: &JointTrig, p: &Params) -> [[f64; N_OUTPUTS]; N] {
-        let x0 = <f64 as ::trocar::Real>::mul_add(t.cos[2], p.l, t.q[1]);
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], p.l, t.q[1]);
         let x1 = t.sin[2] * t.cos[0];
         let x2 = t.sin[0] * t.sin[2];
-        let x3 = <f64 as ::trocar::Real>::mul_add(p.l, t.cos[5], t.q[4]);
+        let x3 = <f64 as ::trocar::emitted::Real>::mul_add(p.l, t.cos[5], t.q[4]);
         let x4 = t.sin[5] * t.cos[3];
         let x5 = t.sin[3] * t.sin[5];
-        let x6 = <f64 as ::trocar::Real>::mul_add(p.l, t.cos[8], t.q[7]);
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(p.l, t.cos[8], t.q[7]);
         let x7 = t.sin[8] * t.cos[6];
         let x8 = t.sin[6] * t.sin[8];
         [
             [
                 -(0.3333333333333333_f64
-                    * <f64 as ::trocar::Real>::mul_add(x0, t.sin[0], p.l * x1)),
+                    * <f64 as ::trocar::emitted::Real>::mul_add(x0, t.sin[0], p.l * x1)),
                 0.3333333333333333_f64
-                    * <f64 as ::trocar::Real>::mul_add(x0, t.cos[0], -(p.l * x2)),
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
+                        x0,
+                        t.cos[0],
+                        -(p.l * x2),
+                    ),
                 0.3333333333333333_f64,
             ],
             [
                 0.3333333333333333_f64 * t.cos[0],
                 0.3333333333333333_f64 * t.sin[0],
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 -(0.3333333333333333_f64
-                    * (p.l * <f64 as ::trocar::Real>::mul_add(t.cos[2], t.sin[0], x1))),
+                    * (p.l
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.cos[2],
+                            t.sin[0],
+                            x1,
+                        ))),
                 0.3333333333333333_f64
-                    * (p.l * <f64 as ::trocar::Real>::mul_add(t.cos[2], t.cos[0], -x2)),
+                    * (p.l
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.cos[2],
+                            t.cos[0],
+                            -x2,
+                        )),
                 0.3333333333333333_f64,
             ],
             [
                 -(0.3333333333333333_f64
-                    * <f64 as ::trocar::Real>::mul_add(x3, t.sin[3], p.l * x4)),
+                    * <f64 as ::trocar::emitted::Real>::mul_add(x3, t.sin[3], p.l * x4)),
                 0.3333333333333333_f64
-                    * <f64 as ::trocar::Real>::mul_add(x3, t.cos[3], -(p.l * x5)),
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
+                        x3,
+                        t.cos[3],
+                        -(p.l * x5),
+                    ),
                 0.3333333333333333_f64,
             ],
             [
                 0.3333333333333333_f64 * t.cos[3],
                 0.3333333333333333_f64 * t.sin[3],
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 -(0.3333333333333333_f64
-                    * (p.l * <f64 as ::trocar::Real>::mul_add(t.cos[5], t.sin[3], x4))),
+                    * (p.l
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.cos[5],
+                            t.sin[3],
+                            x4,
+                        ))),
                 0.3333333333333333_f64
-                    * (p.l * <f64 as ::trocar::Real>::mul_add(t.cos[5], t.cos[3], -x5)),
+                    * (p.l
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.cos[5],
+                            t.cos[3],
+                            -x5,
+                        )),
                 0.3333333333333333_f64,
             ],
             [
                 -(0.3333333333333333_f64
-                    * <f64 as ::trocar::Real>::mul_add(x6, t.sin[6], p.l * x7)),
+                    * <f64 as ::trocar::emitted::Real>::mul_add(x6, t.sin[6], p.l * x7)),
                 0.3333333333333333_f64
-                    * <f64 as ::trocar::Real>::mul_add(x6, t.cos[6], -(p.l * x8)),
+                    * <f64 as ::trocar::emitted::Real>::mul_add(
+                        x6,
+                        t.cos[6],
+                        -(p.l * x8),
+                    ),
                 0.3333333333333333_f64,
             ],
             [
                 0.3333333333333333_f64 * t.cos[6],
                 0.3333333333333333_f64 * t.sin[6],
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 -(0.3333333333333333_f64
-                    * (p.l * <f64 as ::trocar::Real>::mul_add(t.cos[8], t.sin[6], x7))),
+                    * (p.l
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.cos[8],
+                            t.sin[6],
+                            x7,
+                        ))),
                 0.3333333333333333_f64
-                    * (p.l * <f64 as ::trocar::Real>::mul_add(t.cos[8], t.cos[6], -x8)),
+                    * (p.l
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.cos[8],
+                            t.cos[6],
+                            -x8,
+                        )),
                 0.3333333333333333_f64,
             ],
         ]
@@ -432,16 +509,16 @@ pub mod planar_stewart {
     #[inline]
     #[must_use]
     pub fn constraint_determinant(q: &[f64; N], p: &Params) -> f64 {
-        let ([s1, s3, s4, s6, s7, s9], [c1, _, c4, _, c7, _]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s3, s4, s6, s7, s9], [c1, _, c4, _, c7, _]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[2], q[3], q[5], q[6], q[8]],
         );
-        <f64 as ::trocar::Real>::mul_add(
-            <f64 as ::trocar::Real>::mul_add(s6, c7, -(s9 * c4)),
+        <f64 as ::trocar::emitted::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(s6, c7, -(s9 * c4)),
             s1,
-            <f64 as ::trocar::Real>::mul_add(
-                <f64 as ::trocar::Real>::mul_add(c4, s7, -(c7 * s4)),
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(c4, s7, -(c7 * s4)),
                 s3,
-                <f64 as ::trocar::Real>::mul_add(s9, s4, -(s6 * s7)) * c1,
+                <f64 as ::trocar::emitted::Real>::mul_add(s9, s4, -(s6 * s7)) * c1,
             ),
         ) * p.l * q[7] * q[4] * q[1]
     }
@@ -451,17 +528,21 @@ pub mod planar_stewart {
     #[inline]
     #[must_use]
     pub fn constraint_determinant_trig(t: &JointTrig, p: &Params) -> f64 {
-        <f64 as ::trocar::Real>::mul_add(
-            <f64 as ::trocar::Real>::mul_add(t.sin[5], t.cos[6], -(t.sin[8] * t.cos[3])),
+        <f64 as ::trocar::emitted::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[5],
+                t.cos[6],
+                -(t.sin[8] * t.cos[3]),
+            ),
             t.sin[0],
-            <f64 as ::trocar::Real>::mul_add(
-                <f64 as ::trocar::Real>::mul_add(
+            <f64 as ::trocar::emitted::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.cos[3],
                     t.sin[6],
                     -(t.cos[6] * t.sin[3]),
                 ),
                 t.sin[2],
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.sin[8],
                     t.sin[3],
                     -(t.sin[5] * t.sin[6]),
@@ -482,16 +563,16 @@ pub mod planar_stewart {
         q: &[f64; N],
         p: &Params,
     ) -> [[f64; 1 + N_OUTPUTS]; N_ACTIVE] {
-        let ([s1, s3, s4, s6, s7, s9], [c1, _, c4, _, c7, _]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s3, s4, s6, s7, s9], [c1, _, c4, _, c7, _]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[2], q[3], q[5], q[6], q[8]],
         );
-        let x0 = <f64 as ::trocar::Real>::mul_add(s6, c7, -(s9 * c4));
-        let x1 = <f64 as ::trocar::Real>::mul_add(c4, s7, -(c7 * s4));
-        let x2 = <f64 as ::trocar::Real>::mul_add(s9, s4, -(s6 * s7));
-        let x3 = <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(s6, c7, -(s9 * c4));
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(c4, s7, -(c7 * s4));
+        let x2 = <f64 as ::trocar::emitted::Real>::mul_add(s9, s4, -(s6 * s7));
+        let x3 = <f64 as ::trocar::emitted::Real>::mul_add(
             x0,
             s1,
-            <f64 as ::trocar::Real>::mul_add(x1, s3, x2 * c1),
+            <f64 as ::trocar::emitted::Real>::mul_add(x1, s3, x2 * c1),
         ) * p.l * q[7] * q[4] * q[1];
         [
             [
@@ -506,15 +587,28 @@ pub mod planar_stewart {
                     * (q[4]
                         * (q[7]
                             * (p.l
-                                * <f64 as ::trocar::Real>::mul_add(s7, s3, -(s9 * s1))))),
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
+                                    s7,
+                                    s3,
+                                    -(s9 * s1),
+                                )))),
                 q[1]
                     * (q[4]
                         * (q[7]
                             * (p.l
-                                * <f64 as ::trocar::Real>::mul_add(s9, c1, -(c7 * s3))))),
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
+                                    s9,
+                                    c1,
+                                    -(c7 * s3),
+                                )))),
                 q[1]
                     * (q[4]
-                        * (q[7] * <f64 as ::trocar::Real>::mul_add(c7, s1, -(s7 * c1)))),
+                        * (q[7]
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
+                                c7,
+                                s1,
+                                -(s7 * c1),
+                            ))),
             ],
             [
                 x3,
@@ -522,15 +616,28 @@ pub mod planar_stewart {
                     * (q[4]
                         * (q[7]
                             * (p.l
-                                * <f64 as ::trocar::Real>::mul_add(s6, s1, -(s4 * s3))))),
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
+                                    s6,
+                                    s1,
+                                    -(s4 * s3),
+                                )))),
                 q[1]
                     * (q[4]
                         * (q[7]
                             * (p.l
-                                * <f64 as ::trocar::Real>::mul_add(c4, s3, -(s6 * c1))))),
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
+                                    c4,
+                                    s3,
+                                    -(s6 * c1),
+                                )))),
                 q[1]
                     * (q[4]
-                        * (q[7] * <f64 as ::trocar::Real>::mul_add(s4, c1, -(c4 * s1)))),
+                        * (q[7]
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
+                                s4,
+                                c1,
+                                -(c4 * s1),
+                            ))),
             ],
         ]
     }
@@ -545,25 +652,25 @@ pub mod planar_stewart {
         t: &JointTrig,
         p: &Params,
     ) -> [[f64; 1 + N_OUTPUTS]; N_ACTIVE] {
-        let x0 = <f64 as ::trocar::Real>::mul_add(
+        let x0 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[5],
             t.cos[6],
             -(t.sin[8] * t.cos[3]),
         );
-        let x1 = <f64 as ::trocar::Real>::mul_add(
+        let x1 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[3],
             t.sin[6],
             -(t.cos[6] * t.sin[3]),
         );
-        let x2 = <f64 as ::trocar::Real>::mul_add(
+        let x2 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[8],
             t.sin[3],
             -(t.sin[5] * t.sin[6]),
         );
-        let x3 = <f64 as ::trocar::Real>::mul_add(
+        let x3 = <f64 as ::trocar::emitted::Real>::mul_add(
             x0,
             t.sin[0],
-            <f64 as ::trocar::Real>::mul_add(x1, t.sin[2], x2 * t.cos[0]),
+            <f64 as ::trocar::emitted::Real>::mul_add(x1, t.sin[2], x2 * t.cos[0]),
         ) * p.l * t.q[7] * t.q[4] * t.q[1];
         [
             [
@@ -578,7 +685,7 @@ pub mod planar_stewart {
                     * (t.q[4]
                         * (t.q[7]
                             * (p.l
-                                * <f64 as ::trocar::Real>::mul_add(
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[6],
                                     t.sin[2],
                                     -(t.sin[8] * t.sin[0]),
@@ -587,7 +694,7 @@ pub mod planar_stewart {
                     * (t.q[4]
                         * (t.q[7]
                             * (p.l
-                                * <f64 as ::trocar::Real>::mul_add(
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[8],
                                     t.cos[0],
                                     -(t.cos[6] * t.sin[2]),
@@ -595,7 +702,7 @@ pub mod planar_stewart {
                 t.q[1]
                     * (t.q[4]
                         * (t.q[7]
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[6],
                                 t.sin[0],
                                 -(t.sin[6] * t.cos[0]),
@@ -607,7 +714,7 @@ pub mod planar_stewart {
                     * (t.q[4]
                         * (t.q[7]
                             * (p.l
-                                * <f64 as ::trocar::Real>::mul_add(
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.sin[5],
                                     t.sin[0],
                                     -(t.sin[3] * t.sin[2]),
@@ -616,7 +723,7 @@ pub mod planar_stewart {
                     * (t.q[4]
                         * (t.q[7]
                             * (p.l
-                                * <f64 as ::trocar::Real>::mul_add(
+                                * <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[3],
                                     t.sin[2],
                                     -(t.sin[5] * t.cos[0]),
@@ -624,7 +731,7 @@ pub mod planar_stewart {
                 t.q[1]
                     * (t.q[4]
                         * (t.q[7]
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[3],
                                 t.cos[0],
                                 -(t.cos[3] * t.sin[0]),
@@ -645,7 +752,7 @@ pub mod planar_stewart {
         q: &[f64; N],
         p: &Params,
     ) -> [[f64; 1 + N_PASSIVE]; N_ACTIVE] {
-        let ([s1, s3, s4, s6, s7, s9], [c1, c3, c4, c6, c7, c9]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s3, s4, s6, s7, s9], [c1, c3, c4, c6, c7, c9]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[2], q[3], q[5], q[6], q[8]],
         );
         let x0 = s6 * c7;
@@ -657,10 +764,10 @@ pub mod planar_stewart {
         let x6 = s9 * s4;
         let x7 = s6 * s7;
         let x8 = x6 - x7;
-        let x9 = <f64 as ::trocar::Real>::mul_add(
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
             x2,
             s1,
-            <f64 as ::trocar::Real>::mul_add(x5, s3, x8 * c1),
+            <f64 as ::trocar::emitted::Real>::mul_add(x5, s3, x8 * c1),
         ) * p.l * q[7] * q[4] * q[1];
         let x10 = c7 * c6;
         let x11 = s4 * (x7 + x10);
@@ -668,44 +775,52 @@ pub mod planar_stewart {
         let x13 = c7 * c9;
         let x14 = s9 * s7;
         let x15 = x13 - x14;
-        let x16 = <f64 as ::trocar::Real>::mul_add(s7, c9, c7 * s9);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(s7, c9, c7 * s9);
         let x17 = c4 * x16;
         let x18 = x14 - x13;
-        let x19 = s1 * <f64 as ::trocar::Real>::mul_add(s7, s3, c7 * c3);
+        let x19 = s1 * <f64 as ::trocar::emitted::Real>::mul_add(s7, s3, c7 * c3);
         let x20 = s7 * c3;
         let x21 = c7 * s3;
-        let x22 = <f64 as ::trocar::Real>::mul_add(c7, s1, -(s7 * c1));
-        let x23 = s3 * <f64 as ::trocar::Real>::mul_add(s7, s4, c7 * c4);
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c7, s1, -(s7 * c1));
+        let x23 = s3 * <f64 as ::trocar::emitted::Real>::mul_add(s7, s4, c7 * c4);
         let x24 = c1 * (x1 + x12);
         let x25 = c1 * x16;
-        let x26 = s1 * <f64 as ::trocar::Real>::mul_add(s4, s3, c4 * c3);
+        let x26 = s1 * <f64 as ::trocar::emitted::Real>::mul_add(s4, s3, c4 * c3);
         let x27 = c4 * s3;
         let x28 = s4 * c3;
-        let x29 = <f64 as ::trocar::Real>::mul_add(s4, c1, -(c4 * s1));
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(s4, c1, -(c4 * s1));
         let x30 = c4 * c6;
         let x31 = s6 * s4;
-        let x32 = c1 * <f64 as ::trocar::Real>::mul_add(s4, c6, s6 * c4);
+        let x32 = c1 * <f64 as ::trocar::emitted::Real>::mul_add(s4, c6, s6 * c4);
         let x33 = c4 * c9;
-        let x34 = c1 * <f64 as ::trocar::Real>::mul_add(s4, c9, x0);
+        let x34 = c1 * <f64 as ::trocar::emitted::Real>::mul_add(s4, c9, x0);
         [
             [
                 x9,
                 q[4]
                     * (q[7]
                         * (p.l
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 s1,
                                 x7 - x6,
-                                <f64 as ::trocar::Real>::mul_add(x2, c1, (x4 - x3) * c3),
+                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                    x2,
+                                    c1,
+                                    (x4 - x3) * c3,
+                                ),
                             ))),
                 q[4]
                     * (q[7]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 s1,
                                 x8,
-                                <f64 as ::trocar::Real>::mul_add(c1, x1 - x0, x5 * c3),
+                                <f64 as ::trocar::emitted::Real>::mul_add(
+                                    c1,
+                                    x1 - x0,
+                                    x5 * c3,
+                                ),
                             ),
                             x5 * q[1],
                         )),
@@ -713,22 +828,32 @@ pub mod planar_stewart {
                     * (q[7]
                         * (p.l
                             * (x11
-                                + <f64 as ::trocar::Real>::mul_add(c4, x0 - x12, -s9)))),
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
+                                    c4,
+                                    x0 - x12,
+                                    -s9,
+                                )))),
                 q[1]
                     * (q[7]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l,
-                            <f64 as ::trocar::Real>::mul_add(c4, x12 - x0, s9) - x11,
+                            <f64 as ::trocar::emitted::Real>::mul_add(c4, x12 - x0, s9)
+                                - x11,
                             x5 * q[4],
                         )),
                 q[1]
                     * (q[4]
-                        * (p.l * <f64 as ::trocar::Real>::mul_add(s4, x15, s6 - x17))),
+                        * (p.l
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
+                                s4,
+                                x15,
+                                s6 - x17,
+                            ))),
                 q[1]
                     * (q[4]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l,
-                            <f64 as ::trocar::Real>::mul_add(s4, x18, x17 - s6),
+                            <f64 as ::trocar::emitted::Real>::mul_add(s4, x18, x17 - s6),
                             x5 * q[7],
                         )),
             ],
@@ -737,38 +862,55 @@ pub mod planar_stewart {
                 q[4]
                     * (q[7]
                         * (p.l
-                            * (<f64 as ::trocar::Real>::mul_add(c1, x20 - x21, s9)
-                                - x19))),
+                            * (<f64 as ::trocar::emitted::Real>::mul_add(
+                                c1,
+                                x20 - x21,
+                                s9,
+                            ) - x19))),
                 q[4]
                     * (q[7]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l,
-                            x19 + <f64 as ::trocar::Real>::mul_add(c1, x21 - x20, -s9),
+                            x19
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
+                                    c1,
+                                    x21 - x20,
+                                    -s9,
+                                ),
                             q[1] * x22,
                         )),
                 q[1]
                     * (q[7]
                         * (p.l
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 s1,
                                 x6 - x10,
                                 x24 - x23,
                             ))),
                 q[1]
                     * (q[7]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l,
-                            <f64 as ::trocar::Real>::mul_add(s1, x10 - x6, x23 - x24),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                s1,
+                                x10 - x6,
+                                x23 - x24,
+                            ),
                             q[4] * x22,
                         )),
                 q[1]
                     * (q[4]
-                        * (p.l * <f64 as ::trocar::Real>::mul_add(s1, x18, x25 - s3))),
+                        * (p.l
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
+                                s1,
+                                x18,
+                                x25 - s3,
+                            ))),
                 q[1]
                     * (q[4]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l,
-                            <f64 as ::trocar::Real>::mul_add(s1, x15, s3 - x25),
+                            <f64 as ::trocar::emitted::Real>::mul_add(s1, x15, s3 - x25),
                             q[7] * x22,
                         )),
             ],
@@ -778,42 +920,55 @@ pub mod planar_stewart {
                     * (q[7]
                         * (p.l
                             * (x26
-                                + <f64 as ::trocar::Real>::mul_add(c1, x27 - x28, -s6)))),
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
+                                    c1,
+                                    x27 - x28,
+                                    -s6,
+                                )))),
                 q[4]
                     * (q[7]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l,
-                            <f64 as ::trocar::Real>::mul_add(c1, x28 - x27, s6) - x26,
+                            <f64 as ::trocar::emitted::Real>::mul_add(c1, x28 - x27, s6)
+                                - x26,
                             q[1] * x29,
                         )),
                 q[1]
                     * (q[7]
                         * (p.l
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 s1,
                                 x30 - x31,
                                 s3 - x32,
                             ))),
                 q[1]
                     * (q[7]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l,
-                            <f64 as ::trocar::Real>::mul_add(s1, x31 - x30, x32 - s3),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                s1,
+                                x31 - x30,
+                                x32 - s3,
+                            ),
                             q[4] * x29,
                         )),
                 q[1]
                     * (q[4]
                         * (p.l
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 s1,
                                 x33 - x7,
                                 x23 - x34,
                             ))),
                 q[1]
                     * (q[4]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l,
-                            <f64 as ::trocar::Real>::mul_add(s1, x7 - x33, x34 - x23),
+                            <f64 as ::trocar::emitted::Real>::mul_add(
+                                s1,
+                                x7 - x33,
+                                x34 - x23,
+                            ),
                             q[7] * x29,
                         )),
             ],
@@ -839,10 +994,10 @@ pub mod planar_stewart {
         let x6 = t.sin[8] * t.sin[3];
         let x7 = t.sin[5] * t.sin[6];
         let x8 = x6 - x7;
-        let x9 = <f64 as ::trocar::Real>::mul_add(
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
             x2,
             t.sin[0],
-            <f64 as ::trocar::Real>::mul_add(x5, t.sin[2], x8 * t.cos[0]),
+            <f64 as ::trocar::emitted::Real>::mul_add(x5, t.sin[2], x8 * t.cos[0]),
         ) * p.l * t.q[7] * t.q[4] * t.q[1];
         let x10 = t.cos[6] * t.cos[5];
         let x11 = t.sin[3] * (x7 + x10);
@@ -850,7 +1005,7 @@ pub mod planar_stewart {
         let x13 = t.cos[6] * t.cos[8];
         let x14 = t.sin[8] * t.sin[6];
         let x15 = x13 - x14;
-        let x16 = <f64 as ::trocar::Real>::mul_add(
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[6],
             t.cos[8],
             t.cos[6] * t.sin[8],
@@ -858,23 +1013,35 @@ pub mod planar_stewart {
         let x17 = t.cos[3] * x16;
         let x18 = x14 - x13;
         let x19 = t.sin[0]
-            * <f64 as ::trocar::Real>::mul_add(t.sin[6], t.sin[2], t.cos[6] * t.cos[2]);
+            * <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[6],
+                t.sin[2],
+                t.cos[6] * t.cos[2],
+            );
         let x20 = t.sin[6] * t.cos[2];
         let x21 = t.cos[6] * t.sin[2];
-        let x22 = <f64 as ::trocar::Real>::mul_add(
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[6],
             t.sin[0],
             -(t.sin[6] * t.cos[0]),
         );
         let x23 = t.sin[2]
-            * <f64 as ::trocar::Real>::mul_add(t.sin[6], t.sin[3], t.cos[6] * t.cos[3]);
+            * <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[6],
+                t.sin[3],
+                t.cos[6] * t.cos[3],
+            );
         let x24 = t.cos[0] * (x1 + x12);
         let x25 = t.cos[0] * x16;
         let x26 = t.sin[0]
-            * <f64 as ::trocar::Real>::mul_add(t.sin[3], t.sin[2], t.cos[3] * t.cos[2]);
+            * <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[3],
+                t.sin[2],
+                t.cos[3] * t.cos[2],
+            );
         let x27 = t.cos[3] * t.sin[2];
         let x28 = t.sin[3] * t.cos[2];
-        let x29 = <f64 as ::trocar::Real>::mul_add(
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[3],
             t.cos[0],
             -(t.cos[3] * t.sin[0]),
@@ -882,19 +1049,24 @@ pub mod planar_stewart {
         let x30 = t.cos[3] * t.cos[5];
         let x31 = t.sin[5] * t.sin[3];
         let x32 = t.cos[0]
-            * <f64 as ::trocar::Real>::mul_add(t.sin[3], t.cos[5], t.sin[5] * t.cos[3]);
+            * <f64 as ::trocar::emitted::Real>::mul_add(
+                t.sin[3],
+                t.cos[5],
+                t.sin[5] * t.cos[3],
+            );
         let x33 = t.cos[3] * t.cos[8];
-        let x34 = t.cos[0] * <f64 as ::trocar::Real>::mul_add(t.sin[3], t.cos[8], x0);
+        let x34 = t.cos[0]
+            * <f64 as ::trocar::emitted::Real>::mul_add(t.sin[3], t.cos[8], x0);
         [
             [
                 x9,
                 t.q[4]
                     * (t.q[7]
                         * (p.l
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[0],
                                 x7 - x6,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     x2,
                                     t.cos[0],
                                     (x4 - x3) * t.cos[2],
@@ -902,12 +1074,12 @@ pub mod planar_stewart {
                             ))),
                 t.q[4]
                     * (t.q[7]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[0],
                                 x8,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[0],
                                     x1 - x0,
                                     x5 * t.cos[2],
@@ -919,16 +1091,16 @@ pub mod planar_stewart {
                     * (t.q[7]
                         * (p.l
                             * (x11
-                                + <f64 as ::trocar::Real>::mul_add(
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[3],
                                     x0 - x12,
                                     -t.sin[8],
                                 )))),
                 t.q[1]
                     * (t.q[7]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[3],
                                 x12 - x0,
                                 t.sin[8],
@@ -938,16 +1110,16 @@ pub mod planar_stewart {
                 t.q[1]
                     * (t.q[4]
                         * (p.l
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[3],
                                 x15,
                                 t.sin[5] - x17,
                             ))),
                 t.q[1]
                     * (t.q[4]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[3],
                                 x18,
                                 x17 - t.sin[5],
@@ -960,17 +1132,17 @@ pub mod planar_stewart {
                 t.q[4]
                     * (t.q[7]
                         * (p.l
-                            * (<f64 as ::trocar::Real>::mul_add(
+                            * (<f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[0],
                                 x20 - x21,
                                 t.sin[8],
                             ) - x19))),
                 t.q[4]
                     * (t.q[7]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l,
                             x19
-                                + <f64 as ::trocar::Real>::mul_add(
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[0],
                                     x21 - x20,
                                     -t.sin[8],
@@ -980,16 +1152,16 @@ pub mod planar_stewart {
                 t.q[1]
                     * (t.q[7]
                         * (p.l
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[0],
                                 x6 - x10,
                                 x24 - x23,
                             ))),
                 t.q[1]
                     * (t.q[7]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[0],
                                 x10 - x6,
                                 x23 - x24,
@@ -999,16 +1171,16 @@ pub mod planar_stewart {
                 t.q[1]
                     * (t.q[4]
                         * (p.l
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[0],
                                 x18,
                                 x25 - t.sin[2],
                             ))),
                 t.q[1]
                     * (t.q[4]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[0],
                                 x15,
                                 t.sin[2] - x25,
@@ -1022,16 +1194,16 @@ pub mod planar_stewart {
                     * (t.q[7]
                         * (p.l
                             * (x26
-                                + <f64 as ::trocar::Real>::mul_add(
+                                + <f64 as ::trocar::emitted::Real>::mul_add(
                                     t.cos[0],
                                     x27 - x28,
                                     -t.sin[5],
                                 )))),
                 t.q[4]
                     * (t.q[7]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[0],
                                 x28 - x27,
                                 t.sin[5],
@@ -1041,16 +1213,16 @@ pub mod planar_stewart {
                 t.q[1]
                     * (t.q[7]
                         * (p.l
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[0],
                                 x30 - x31,
                                 t.sin[2] - x32,
                             ))),
                 t.q[1]
                     * (t.q[7]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[0],
                                 x31 - x30,
                                 x32 - t.sin[2],
@@ -1060,16 +1232,16 @@ pub mod planar_stewart {
                 t.q[1]
                     * (t.q[4]
                         * (p.l
-                            * <f64 as ::trocar::Real>::mul_add(
+                            * <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[0],
                                 x33 - x7,
                                 x23 - x34,
                             ))),
                 t.q[1]
                     * (t.q[4]
-                        * <f64 as ::trocar::Real>::mul_add(
+                        * <f64 as ::trocar::emitted::Real>::mul_add(
                             p.l,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.sin[0],
                                 x7 - x33,
                                 x34 - x23,
@@ -1089,17 +1261,17 @@ pub mod planar_stewart {
     fn quotient<const IN: usize, const OUT: usize>(
         a: &[[f64; IN]; N_ACTIVE],
     ) -> Option<[[f64; OUT]; N_ACTIVE]> {
-        let mut out = [[<f64 as ::trocar::Real>::ZERO; OUT]; N_ACTIVE];
+        let mut out = [[<f64 as ::trocar::emitted::Real>::ZERO; OUT]; N_ACTIVE];
         for (o, col) in out.iter_mut().zip(a.iter()) {
             let det = col[0];
-            if !(<f64 as ::trocar::Real>::is_finite(det)
-                && det != <f64 as ::trocar::Real>::ZERO)
+            if !(<f64 as ::trocar::emitted::Real>::is_finite(det)
+                && det != <f64 as ::trocar::emitted::Real>::ZERO)
             {
                 return None;
             }
             for (x, v) in o.iter_mut().zip(col.iter().skip(1)) {
                 let y = *v / det;
-                if !<f64 as ::trocar::Real>::is_finite(y) {
+                if !<f64 as ::trocar::emitted::Real>::is_finite(y) {
                     return None;
                 }
                 *x = y;
@@ -1162,13 +1334,13 @@ pub mod planar_stewart {
         p: &Params,
     ) -> Option<[f64; N_PASSIVE]> {
         let m = passive_map(q, p)?;
-        let mut v = [<f64 as ::trocar::Real>::ZERO; N_PASSIVE];
+        let mut v = [<f64 as ::trocar::emitted::Real>::ZERO; N_PASSIVE];
         for (col, w) in m.iter().zip(qd_active.iter()) {
             for (x, e) in v.iter_mut().zip(col.iter()) {
                 *x += *e * *w;
             }
         }
-        if v.iter().all(|x| <f64 as ::trocar::Real>::is_finite(*x)) {
+        if v.iter().all(|x| <f64 as ::trocar::emitted::Real>::is_finite(*x)) {
             Some(v)
         } else {
             None

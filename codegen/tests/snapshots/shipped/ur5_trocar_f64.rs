@@ -68,7 +68,7 @@ pub mod ur5_trocar {
         #[inline(always)]
         #[must_use]
         pub fn new(q: &[f64; N]) -> Self {
-            let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+            let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
                 &[q[0], q[1], q[2], q[3], q[4], q[5]],
             );
             JointTrig {
@@ -86,59 +86,59 @@ pub mod ur5_trocar {
     #[inline]
     #[must_use]
     pub fn forward_kinematics(q: &[f64; N], _p: &Params) -> ([[f64; 3]; 3], [f64; 3]) {
-        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5]],
         );
         let x0 = c1 * s2;
         let x1 = c1 * c2;
         let x2 = s1 * s2;
         let x3 = s1 * c2;
-        let x4 = <f64 as ::trocar::Real>::mul_add(c3, x0, s3 * x1);
-        let x5 = <f64 as ::trocar::Real>::mul_add(c3, x1, -(s3 * x0));
-        let x6 = <f64 as ::trocar::Real>::mul_add(c3, x2, s3 * x3);
-        let x7 = <f64 as ::trocar::Real>::mul_add(c3, x3, -(s3 * x2));
-        let x8 = <f64 as ::trocar::Real>::mul_add(s2, s3, -(c2 * c3));
-        let x9 = <f64 as ::trocar::Real>::mul_add(c2, s3, s2 * c3);
-        let x10 = <f64 as ::trocar::Real>::mul_add(s4, x4, -(c4 * x5));
-        let x11 = <f64 as ::trocar::Real>::mul_add(c4, x4, s4 * x5);
-        let x12 = <f64 as ::trocar::Real>::mul_add(s4, x6, -(c4 * x7));
-        let x13 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x7);
-        let x14 = <f64 as ::trocar::Real>::mul_add(c4, x9, -(s4 * x8));
-        let x15 = <f64 as ::trocar::Real>::mul_add(c4, x8, s4 * x9);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c5, x10, -(s1 * s5));
-        let x17 = <f64 as ::trocar::Real>::mul_add(s5, x10, s1 * c5);
-        let x18 = <f64 as ::trocar::Real>::mul_add(c5, x12, c1 * s5);
-        let x19 = <f64 as ::trocar::Real>::mul_add(c1, c5, -(s5 * x12));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x0, s3 * x1);
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x1, -(s3 * x0));
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x2, s3 * x3);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x3, -(s3 * x2));
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(s2, s3, -(c2 * c3));
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(c2, s3, s2 * c3);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x4, -(c4 * x5));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x4, s4 * x5);
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x6, -(c4 * x7));
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x6, s4 * x7);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x9, -(s4 * x8));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x8, s4 * x9);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x10, -(s1 * s5));
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x10, s1 * c5);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x12, c1 * s5);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(c1, c5, -(s5 * x12));
         let x20 = c5 * x14;
         let x21 = s5 * x14;
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(c6, x16, s6 * x11),
-                    <f64 as ::trocar::Real>::mul_add(c6, x18, s6 * x13),
-                    <f64 as ::trocar::Real>::mul_add(c6, x20, -(s6 * x15)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x16, s6 * x11),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x18, s6 * x13),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x20, -(s6 * x15)),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(c6, x11, -(s6 * x16)),
-                    <f64 as ::trocar::Real>::mul_add(c6, x13, -(s6 * x18)),
-                    -<f64 as ::trocar::Real>::mul_add(s6, x20, c6 * x15),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x11, -(s6 * x16)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x13, -(s6 * x18)),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(s6, x20, c6 * x15),
                 ],
                 [-x17, x19, -x21],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.35_f64,
                     x17,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         -0.093_f64,
                         s1,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.39225_f64,
                             x5,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.13585_f64,
                                 s1,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.1197_f64,
                                     s1,
                                     0.425_f64 * x1,
@@ -146,25 +146,25 @@ pub mod ur5_trocar {
                             ),
                         ),
                     )
-                        - <f64 as ::trocar::Real>::mul_add(
+                        - <f64 as ::trocar::emitted::Real>::mul_add(
                             0.0823_f64,
                             x17,
                             0.09465_f64 * x11,
                         ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.35_f64,
                     x19,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.093_f64,
                         c1,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.39225_f64,
                             x7,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.13585_f64,
                                 c1,
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.425_f64,
                                     x3,
                                     -(0.1197_f64 * c1),
@@ -172,21 +172,25 @@ pub mod ur5_trocar {
                             ),
                         ),
                     )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.0823_f64,
                             x19,
                             -(0.09465_f64 * x13),
                         ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.35_f64,
                     x21,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         -0.39225_f64,
                         x9,
-                        <f64 as ::trocar::Real>::mul_add(-0.425_f64, s2, 0.089159_f64),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            -0.425_f64,
+                            s2,
+                            0.089159_f64,
+                        ),
                     )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.09465_f64,
                             x15,
                             -(0.0823_f64 * x21),
@@ -210,34 +214,62 @@ pub mod ur5_trocar {
         let x1 = t.cos[0] * t.cos[1];
         let x2 = t.sin[0] * t.sin[1];
         let x3 = t.sin[0] * t.cos[1];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x0, t.sin[2] * x1);
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x1, -(t.sin[2] * x0));
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x2, t.sin[2] * x3);
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x3, -(t.sin[2] * x2));
-        let x8 = <f64 as ::trocar::Real>::mul_add(
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x0, t.sin[2] * x1);
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x1,
+            -(t.sin[2] * x0),
+        );
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x2, t.sin[2] * x3);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x3,
+            -(t.sin[2] * x2),
+        );
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[1],
             t.sin[2],
             -(t.cos[1] * t.cos[2]),
         );
-        let x9 = <f64 as ::trocar::Real>::mul_add(
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[1],
             t.sin[2],
             t.sin[1] * t.cos[2],
         );
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x4, -(t.cos[3] * x5));
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x4, t.sin[3] * x5);
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x6, -(t.cos[3] * x7));
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x7);
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x9, -(t.sin[3] * x8));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x8, t.sin[3] * x9);
-        let x16 = <f64 as ::trocar::Real>::mul_add(
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x4,
+            -(t.cos[3] * x5),
+        );
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x4, t.sin[3] * x5);
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x6,
+            -(t.cos[3] * x7),
+        );
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x6, t.sin[3] * x7);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x9,
+            -(t.sin[3] * x8),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x8, t.sin[3] * x9);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[4],
             x10,
             -(t.sin[0] * t.sin[4]),
         );
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x10, t.sin[0] * t.cos[4]);
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x12, t.cos[0] * t.sin[4]);
-        let x19 = <f64 as ::trocar::Real>::mul_add(
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x10,
+            t.sin[0] * t.cos[4],
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x12,
+            t.cos[0] * t.sin[4],
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[0],
             t.cos[4],
             -(t.sin[4] * x12),
@@ -247,31 +279,55 @@ pub mod ur5_trocar {
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x16, t.sin[5] * x11),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x18, t.sin[5] * x13),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x20, -(t.sin[5] * x15)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x16,
+                        t.sin[5] * x11,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x18,
+                        t.sin[5] * x13,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x20,
+                        -(t.sin[5] * x15),
+                    ),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x11, -(t.sin[5] * x16)),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x13, -(t.sin[5] * x18)),
-                    -<f64 as ::trocar::Real>::mul_add(t.sin[5], x20, t.cos[5] * x15),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x11,
+                        -(t.sin[5] * x16),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x13,
+                        -(t.sin[5] * x18),
+                    ),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[5],
+                        x20,
+                        t.cos[5] * x15,
+                    ),
                 ],
                 [-x17, x19, -x21],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.35_f64,
                     x17,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         -0.093_f64,
                         t.sin[0],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.39225_f64,
                             x5,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 -0.13585_f64,
                                 t.sin[0],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.1197_f64,
                                     t.sin[0],
                                     0.425_f64 * x1,
@@ -279,25 +335,25 @@ pub mod ur5_trocar {
                             ),
                         ),
                     )
-                        - <f64 as ::trocar::Real>::mul_add(
+                        - <f64 as ::trocar::emitted::Real>::mul_add(
                             0.0823_f64,
                             x17,
                             0.09465_f64 * x11,
                         ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.35_f64,
                     x19,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.093_f64,
                         t.cos[0],
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.39225_f64,
                             x7,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.13585_f64,
                                 t.cos[0],
-                                <f64 as ::trocar::Real>::mul_add(
+                                <f64 as ::trocar::emitted::Real>::mul_add(
                                     0.425_f64,
                                     x3,
                                     -(0.1197_f64 * t.cos[0]),
@@ -305,25 +361,25 @@ pub mod ur5_trocar {
                             ),
                         ),
                     )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.0823_f64,
                             x19,
                             -(0.09465_f64 * x13),
                         ),
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.35_f64,
                     x21,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         -0.39225_f64,
                         x9,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             -0.425_f64,
                             t.sin[1],
                             0.089159_f64,
                         ),
                     )
-                        + <f64 as ::trocar::Real>::mul_add(
+                        + <f64 as ::trocar::emitted::Real>::mul_add(
                             0.09465_f64,
                             x15,
                             -(0.0823_f64 * x21),
@@ -340,7 +396,7 @@ pub mod ur5_trocar {
     #[inline]
     #[must_use]
     pub fn body_jacobian(q: &[f64; N], _p: &Params) -> [[f64; 6]; N] {
-        let ([s2, s3, s4, s5, s6], [c2, c3, c4, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s2, s3, s4, s5, s6], [c2, c3, c4, c5, c6]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[1], q[2], q[3], q[4], q[5]],
         );
         let x0 = c5 * c6;
@@ -349,67 +405,73 @@ pub mod ur5_trocar {
         let x3 = s5 * c6;
         let x4 = s5 * s6;
         let x5 = -x4;
-        let x6 = <f64 as ::trocar::Real>::mul_add(s4, x0, c4 * s6);
-        let x7 = <f64 as ::trocar::Real>::mul_add(s4, x1, -(c4 * c6));
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x0, c4 * s6);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x1, -(c4 * c6));
         let x8 = s4 * s5;
-        let x9 = <f64 as ::trocar::Real>::mul_add(s4, x2, 0.09465_f64 * c4);
-        let x10 = <f64 as ::trocar::Real>::mul_add(s4, s6, -(c4 * x0));
-        let x11 = <f64 as ::trocar::Real>::mul_add(c4, x1, s4 * c6);
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x2, 0.09465_f64 * c4);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(s4, s6, -(c4 * x0));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x1, s4 * c6);
         let x12 = c4 * s5;
         let x13 = 0.39225_f64
-            + <f64 as ::trocar::Real>::mul_add(c4, x2, -(0.09465_f64 * s4));
-        let x14 = <f64 as ::trocar::Real>::mul_add(s3, x10, -(c3 * x6));
-        let x15 = <f64 as ::trocar::Real>::mul_add(c3, x7, s3 * x11);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c3, x8, s3 * x12);
-        let x17 = <f64 as ::trocar::Real>::mul_add(c3, x9, s3 * x13);
-        let x18 = <f64 as ::trocar::Real>::mul_add(s3, x6, c3 * x10);
-        let x19 = <f64 as ::trocar::Real>::mul_add(c3, x11, -(s3 * x7));
-        let x20 = <f64 as ::trocar::Real>::mul_add(c3, x12, -(s3 * x8));
-        let x21 = 0.425_f64 + <f64 as ::trocar::Real>::mul_add(c3, x13, -(s3 * x9));
-        let x22 = <f64 as ::trocar::Real>::mul_add(c2, x21, -(s2 * x17));
+            + <f64 as ::trocar::emitted::Real>::mul_add(c4, x2, -(0.09465_f64 * s4));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x10, -(c3 * x6));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x7, s3 * x11);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x8, s3 * x12);
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x9, s3 * x13);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x6, c3 * x10);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x11, -(s3 * x7));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x12, -(s3 * x8));
+        let x21 = 0.425_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c3, x13, -(s3 * x9));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x21, -(s2 * x17));
         let x23 = 0.13585_f64
-            + (<f64 as ::trocar::Real>::mul_add(0.43229999999999996_f64, c5, 0.093_f64)
-                - 0.1197_f64);
+            + (<f64 as ::trocar::emitted::Real>::mul_add(
+                0.43229999999999996_f64,
+                c5,
+                0.093_f64,
+            ) - 0.1197_f64);
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x3,
                     x22,
-                    -(<f64 as ::trocar::Real>::mul_add(c2, x18, -(s2 * x14)) * x23),
+                    -(<f64 as ::trocar::emitted::Real>::mul_add(c2, x18, -(s2 * x14))
+                        * x23),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
-                    <f64 as ::trocar::Real>::mul_add(c2, x19, -(s2 * x15)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(c2, x19, -(s2 * x15)),
                     x23,
                     x4 * x22,
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     c5,
                     x22,
-                    -(<f64 as ::trocar::Real>::mul_add(c2, x20, -(s2 * x16)) * x23),
+                    -(<f64 as ::trocar::emitted::Real>::mul_add(c2, x20, -(s2 * x16))
+                        * x23),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(c2, x14, s2 * x18),
-                -<f64 as ::trocar::Real>::mul_add(c2, x15, s2 * x19),
-                -<f64 as ::trocar::Real>::mul_add(c2, x16, s2 * x20),
+                -<f64 as ::trocar::emitted::Real>::mul_add(c2, x14, s2 * x18),
+                -<f64 as ::trocar::emitted::Real>::mul_add(c2, x15, s2 * x19),
+                -<f64 as ::trocar::emitted::Real>::mul_add(c2, x16, s2 * x20),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x14, x21, -(x17 * x18)),
-                <f64 as ::trocar::Real>::mul_add(x15, x21, -(x17 * x19)),
-                <f64 as ::trocar::Real>::mul_add(x16, x21, -(x17 * x20)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x14, x21, -(x17 * x18)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x15, x21, -(x17 * x19)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x16, x21, -(x17 * x20)),
                 x3,
                 x5,
                 c5,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(x6, x13, x9 * x10),
-                <f64 as ::trocar::Real>::mul_add(x7, x13, -(x9 * x11)),
-                <f64 as ::trocar::Real>::mul_add(x8, x13, -(x9 * x12)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x6, x13, x9 * x10),
+                <f64 as ::trocar::emitted::Real>::mul_add(x7, x13, -(x9 * x11)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x8, x13, -(x9 * x12)),
                 x3,
                 x5,
                 c5,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(0.09465_f64, x0, -(s6 * x2)),
-                -<f64 as ::trocar::Real>::mul_add(0.09465_f64, x1, c6 * x2),
+                <f64 as ::trocar::emitted::Real>::mul_add(0.09465_f64, x0, -(s6 * x2)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(0.09465_f64, x1, c6 * x2),
                 -(0.09465_f64 * s5),
                 x3,
                 x5,
@@ -418,18 +480,18 @@ pub mod ur5_trocar {
             [
                 -(0.43229999999999996_f64 * c6),
                 0.43229999999999996_f64 * s6,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -s6,
                 -c6,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -447,73 +509,155 @@ pub mod ur5_trocar {
         let x3 = t.sin[4] * t.cos[5];
         let x4 = t.sin[4] * t.sin[5];
         let x5 = -x4;
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x0, t.cos[3] * t.sin[5]);
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x1, -(t.cos[3] * t.cos[5]));
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x0,
+            t.cos[3] * t.sin[5],
+        );
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x1,
+            -(t.cos[3] * t.cos[5]),
+        );
         let x8 = t.sin[3] * t.sin[4];
-        let x9 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x2, 0.09465_f64 * t.cos[3]);
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.sin[3], t.sin[5], -(t.cos[3] * x0));
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x1, t.sin[3] * t.cos[5]);
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x2,
+            0.09465_f64 * t.cos[3],
+        );
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            t.sin[5],
+            -(t.cos[3] * x0),
+        );
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x1,
+            t.sin[3] * t.cos[5],
+        );
         let x12 = t.cos[3] * t.sin[4];
         let x13 = 0.39225_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[3], x2, -(0.09465_f64 * t.sin[3]));
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x10, -(t.cos[2] * x6));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x7, t.sin[2] * x11);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x8, t.sin[2] * x12);
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x9, t.sin[2] * x13);
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x6, t.cos[2] * x10);
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x11, -(t.sin[2] * x7));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x12, -(t.sin[2] * x8));
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[3],
+                x2,
+                -(0.09465_f64 * t.sin[3]),
+            );
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x10,
+            -(t.cos[2] * x6),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x7,
+            t.sin[2] * x11,
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x8,
+            t.sin[2] * x12,
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x9,
+            t.sin[2] * x13,
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x6,
+            t.cos[2] * x10,
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x11,
+            -(t.sin[2] * x7),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x12,
+            -(t.sin[2] * x8),
+        );
         let x21 = 0.425_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[2], x13, -(t.sin[2] * x9));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x21, -(t.sin[1] * x17));
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x13, -(t.sin[2] * x9));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x21,
+            -(t.sin[1] * x17),
+        );
         let x23 = 0.13585_f64
-            + (<f64 as ::trocar::Real>::mul_add(
+            + (<f64 as ::trocar::emitted::Real>::mul_add(
                 0.43229999999999996_f64,
                 t.cos[4],
                 0.093_f64,
             ) - 0.1197_f64);
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x3,
                     x22,
-                    -(<f64 as ::trocar::Real>::mul_add(t.cos[1], x18, -(t.sin[1] * x14))
-                        * x23),
+                    -(<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[1],
+                        x18,
+                        -(t.sin[1] * x14),
+                    ) * x23),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
-                    <f64 as ::trocar::Real>::mul_add(t.cos[1], x19, -(t.sin[1] * x15)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[1],
+                        x19,
+                        -(t.sin[1] * x15),
+                    ),
                     x23,
                     x4 * x22,
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.cos[4],
                     x22,
-                    -(<f64 as ::trocar::Real>::mul_add(t.cos[1], x20, -(t.sin[1] * x16))
-                        * x23),
+                    -(<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[1],
+                        x20,
+                        -(t.sin[1] * x16),
+                    ) * x23),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(t.cos[1], x14, t.sin[1] * x18),
-                -<f64 as ::trocar::Real>::mul_add(t.cos[1], x15, t.sin[1] * x19),
-                -<f64 as ::trocar::Real>::mul_add(t.cos[1], x16, t.sin[1] * x20),
+                -<f64 as ::trocar::emitted::Real>::mul_add(
+                    t.cos[1],
+                    x14,
+                    t.sin[1] * x18,
+                ),
+                -<f64 as ::trocar::emitted::Real>::mul_add(
+                    t.cos[1],
+                    x15,
+                    t.sin[1] * x19,
+                ),
+                -<f64 as ::trocar::emitted::Real>::mul_add(t.cos[1], x16, t.sin[1] * x20),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x14, x21, -(x17 * x18)),
-                <f64 as ::trocar::Real>::mul_add(x15, x21, -(x17 * x19)),
-                <f64 as ::trocar::Real>::mul_add(x16, x21, -(x17 * x20)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x14, x21, -(x17 * x18)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x15, x21, -(x17 * x19)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x16, x21, -(x17 * x20)),
                 x3,
                 x5,
                 t.cos[4],
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(x6, x13, x9 * x10),
-                <f64 as ::trocar::Real>::mul_add(x7, x13, -(x9 * x11)),
-                <f64 as ::trocar::Real>::mul_add(x8, x13, -(x9 * x12)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x6, x13, x9 * x10),
+                <f64 as ::trocar::emitted::Real>::mul_add(x7, x13, -(x9 * x11)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x8, x13, -(x9 * x12)),
                 x3,
                 x5,
                 t.cos[4],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(0.09465_f64, x0, -(t.sin[5] * x2)),
-                -<f64 as ::trocar::Real>::mul_add(0.09465_f64, x1, t.cos[5] * x2),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    0.09465_f64,
+                    x0,
+                    -(t.sin[5] * x2),
+                ),
+                -<f64 as ::trocar::emitted::Real>::mul_add(
+                    0.09465_f64,
+                    x1,
+                    t.cos[5] * x2,
+                ),
                 -(0.09465_f64 * t.sin[4]),
                 x3,
                 x5,
@@ -522,18 +666,18 @@ pub mod ur5_trocar {
             [
                 -(0.43229999999999996_f64 * t.cos[5]),
                 0.43229999999999996_f64 * t.sin[5],
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -t.sin[5],
                 -t.cos[5],
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -549,36 +693,36 @@ pub mod ur5_trocar {
     pub fn constrained_jacobian(_q: &[f64; N], p: &Params) -> [[f64; 6]; M] {
         [
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 p.l_a - 0.35_f64,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 0.35_f64 - p.l_a,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -592,36 +736,36 @@ pub mod ur5_trocar {
     pub fn constrained_jacobian_trig(_t: &JointTrig, p: &Params) -> [[f64; 6]; M] {
         [
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 p.l_a - 0.35_f64,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 0.35_f64 - p.l_a,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -635,26 +779,26 @@ pub mod ur5_trocar {
     #[inline]
     #[must_use]
     pub fn constraint_jacobian_c(_q: &[f64; N], p: &Params) -> [[f64; 6]; R] {
-        let x0 = <f64 as ::trocar::Real>::ONE
-            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
-        let x1 = x0 * (<f64 as ::trocar::Real>::ONE + 0.35_f64 * p.l_a);
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
+            / (<f64 as ::trocar::emitted::Real>::ONE + p.l_a * p.l_a);
+        let x1 = x0 * (<f64 as ::trocar::emitted::Real>::ONE + 0.35_f64 * p.l_a);
         let x2 = p.l_a * x0;
         [
             [
                 x1,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x2,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x1,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -x2,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -666,26 +810,26 @@ pub mod ur5_trocar {
     #[inline]
     #[must_use]
     pub fn constraint_jacobian_c_trig(_t: &JointTrig, p: &Params) -> [[f64; 6]; R] {
-        let x0 = <f64 as ::trocar::Real>::ONE
-            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
-        let x1 = x0 * (<f64 as ::trocar::Real>::ONE + 0.35_f64 * p.l_a);
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
+            / (<f64 as ::trocar::emitted::Real>::ONE + p.l_a * p.l_a);
+        let x1 = x0 * (<f64 as ::trocar::emitted::Real>::ONE + 0.35_f64 * p.l_a);
         let x2 = p.l_a * x0;
         [
             [
                 x1,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x2,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x1,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -x2,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -697,7 +841,7 @@ pub mod ur5_trocar {
     #[inline]
     #[must_use]
     pub fn partial_body_jacobian(q: &[f64; N], _p: &Params) -> [[f64; 6]; I] {
-        let ([s2, s3, s4, s5, s6], [c2, c3, c4, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s2, s3, s4, s5, s6], [c2, c3, c4, c5, c6]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[1], q[2], q[3], q[4], q[5]],
         );
         let x0 = c5 * c6;
@@ -706,66 +850,70 @@ pub mod ur5_trocar {
         let x3 = s5 * c6;
         let x4 = s5 * s6;
         let x5 = -x4;
-        let x6 = <f64 as ::trocar::Real>::mul_add(s4, x0, c4 * s6);
-        let x7 = <f64 as ::trocar::Real>::mul_add(s4, x1, -(c4 * c6));
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x0, c4 * s6);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x1, -(c4 * c6));
         let x8 = s4 * s5;
-        let x9 = <f64 as ::trocar::Real>::mul_add(s4, x2, 0.09465_f64 * c4);
-        let x10 = <f64 as ::trocar::Real>::mul_add(s4, s6, -(c4 * x0));
-        let x11 = <f64 as ::trocar::Real>::mul_add(c4, x1, s4 * c6);
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x2, 0.09465_f64 * c4);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(s4, s6, -(c4 * x0));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x1, s4 * c6);
         let x12 = c4 * s5;
         let x13 = 0.39225_f64
-            + <f64 as ::trocar::Real>::mul_add(c4, x2, -(0.09465_f64 * s4));
-        let x14 = <f64 as ::trocar::Real>::mul_add(s3, x10, -(c3 * x6));
-        let x15 = <f64 as ::trocar::Real>::mul_add(c3, x7, s3 * x11);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c3, x8, s3 * x12);
-        let x17 = <f64 as ::trocar::Real>::mul_add(c3, x9, s3 * x13);
-        let x18 = <f64 as ::trocar::Real>::mul_add(s3, x6, c3 * x10);
-        let x19 = <f64 as ::trocar::Real>::mul_add(c3, x11, -(s3 * x7));
-        let x20 = <f64 as ::trocar::Real>::mul_add(c3, x12, -(s3 * x8));
-        let x21 = 0.425_f64 + <f64 as ::trocar::Real>::mul_add(c3, x13, -(s3 * x9));
-        let x22 = <f64 as ::trocar::Real>::mul_add(c2, x21, -(s2 * x17));
+            + <f64 as ::trocar::emitted::Real>::mul_add(c4, x2, -(0.09465_f64 * s4));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x10, -(c3 * x6));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x7, s3 * x11);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x8, s3 * x12);
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x9, s3 * x13);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x6, c3 * x10);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x11, -(s3 * x7));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x12, -(s3 * x8));
+        let x21 = 0.425_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c3, x13, -(s3 * x9));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x21, -(s2 * x17));
         let x23 = 0.13585_f64
-            + (<f64 as ::trocar::Real>::mul_add(0.0823_f64, c5, 0.093_f64) - 0.1197_f64);
+            + (<f64 as ::trocar::emitted::Real>::mul_add(0.0823_f64, c5, 0.093_f64)
+                - 0.1197_f64);
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x3,
                     x22,
-                    -(<f64 as ::trocar::Real>::mul_add(c2, x18, -(s2 * x14)) * x23),
+                    -(<f64 as ::trocar::emitted::Real>::mul_add(c2, x18, -(s2 * x14))
+                        * x23),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
-                    <f64 as ::trocar::Real>::mul_add(c2, x19, -(s2 * x15)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(c2, x19, -(s2 * x15)),
                     x23,
                     x4 * x22,
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     c5,
                     x22,
-                    -(<f64 as ::trocar::Real>::mul_add(c2, x20, -(s2 * x16)) * x23),
+                    -(<f64 as ::trocar::emitted::Real>::mul_add(c2, x20, -(s2 * x16))
+                        * x23),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(c2, x14, s2 * x18),
-                -<f64 as ::trocar::Real>::mul_add(c2, x15, s2 * x19),
-                -<f64 as ::trocar::Real>::mul_add(c2, x16, s2 * x20),
+                -<f64 as ::trocar::emitted::Real>::mul_add(c2, x14, s2 * x18),
+                -<f64 as ::trocar::emitted::Real>::mul_add(c2, x15, s2 * x19),
+                -<f64 as ::trocar::emitted::Real>::mul_add(c2, x16, s2 * x20),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x14, x21, -(x17 * x18)),
-                <f64 as ::trocar::Real>::mul_add(x15, x21, -(x17 * x19)),
-                <f64 as ::trocar::Real>::mul_add(x16, x21, -(x17 * x20)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x14, x21, -(x17 * x18)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x15, x21, -(x17 * x19)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x16, x21, -(x17 * x20)),
                 x3,
                 x5,
                 c5,
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(x6, x13, x9 * x10),
-                <f64 as ::trocar::Real>::mul_add(x7, x13, -(x9 * x11)),
-                <f64 as ::trocar::Real>::mul_add(x8, x13, -(x9 * x12)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x6, x13, x9 * x10),
+                <f64 as ::trocar::emitted::Real>::mul_add(x7, x13, -(x9 * x11)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x8, x13, -(x9 * x12)),
                 x3,
                 x5,
                 c5,
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(0.09465_f64, x0, -(s6 * x2)),
-                -<f64 as ::trocar::Real>::mul_add(0.09465_f64, x1, c6 * x2),
+                <f64 as ::trocar::emitted::Real>::mul_add(0.09465_f64, x0, -(s6 * x2)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(0.09465_f64, x1, c6 * x2),
                 -(0.09465_f64 * s5),
                 x3,
                 x5,
@@ -774,18 +922,18 @@ pub mod ur5_trocar {
             [
                 -(0.0823_f64 * c6),
                 0.0823_f64 * s6,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -s6,
                 -c6,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -803,70 +951,152 @@ pub mod ur5_trocar {
         let x3 = t.sin[4] * t.cos[5];
         let x4 = t.sin[4] * t.sin[5];
         let x5 = -x4;
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x0, t.cos[3] * t.sin[5]);
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x1, -(t.cos[3] * t.cos[5]));
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x0,
+            t.cos[3] * t.sin[5],
+        );
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x1,
+            -(t.cos[3] * t.cos[5]),
+        );
         let x8 = t.sin[3] * t.sin[4];
-        let x9 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x2, 0.09465_f64 * t.cos[3]);
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.sin[3], t.sin[5], -(t.cos[3] * x0));
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x1, t.sin[3] * t.cos[5]);
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x2,
+            0.09465_f64 * t.cos[3],
+        );
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            t.sin[5],
+            -(t.cos[3] * x0),
+        );
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x1,
+            t.sin[3] * t.cos[5],
+        );
         let x12 = t.cos[3] * t.sin[4];
         let x13 = 0.39225_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[3], x2, -(0.09465_f64 * t.sin[3]));
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x10, -(t.cos[2] * x6));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x7, t.sin[2] * x11);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x8, t.sin[2] * x12);
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x9, t.sin[2] * x13);
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x6, t.cos[2] * x10);
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x11, -(t.sin[2] * x7));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x12, -(t.sin[2] * x8));
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[3],
+                x2,
+                -(0.09465_f64 * t.sin[3]),
+            );
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x10,
+            -(t.cos[2] * x6),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x7,
+            t.sin[2] * x11,
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x8,
+            t.sin[2] * x12,
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x9,
+            t.sin[2] * x13,
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x6,
+            t.cos[2] * x10,
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x11,
+            -(t.sin[2] * x7),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x12,
+            -(t.sin[2] * x8),
+        );
         let x21 = 0.425_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[2], x13, -(t.sin[2] * x9));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x21, -(t.sin[1] * x17));
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x13, -(t.sin[2] * x9));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x21,
+            -(t.sin[1] * x17),
+        );
         let x23 = 0.13585_f64
-            + (<f64 as ::trocar::Real>::mul_add(0.0823_f64, t.cos[4], 0.093_f64)
+            + (<f64 as ::trocar::emitted::Real>::mul_add(0.0823_f64, t.cos[4], 0.093_f64)
                 - 0.1197_f64);
         [
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     x3,
                     x22,
-                    -(<f64 as ::trocar::Real>::mul_add(t.cos[1], x18, -(t.sin[1] * x14))
-                        * x23),
+                    -(<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[1],
+                        x18,
+                        -(t.sin[1] * x14),
+                    ) * x23),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(
-                    <f64 as ::trocar::Real>::mul_add(t.cos[1], x19, -(t.sin[1] * x15)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[1],
+                        x19,
+                        -(t.sin[1] * x15),
+                    ),
                     x23,
                     x4 * x22,
                 ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     t.cos[4],
                     x22,
-                    -(<f64 as ::trocar::Real>::mul_add(t.cos[1], x20, -(t.sin[1] * x16))
-                        * x23),
+                    -(<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[1],
+                        x20,
+                        -(t.sin[1] * x16),
+                    ) * x23),
                 ),
-                -<f64 as ::trocar::Real>::mul_add(t.cos[1], x14, t.sin[1] * x18),
-                -<f64 as ::trocar::Real>::mul_add(t.cos[1], x15, t.sin[1] * x19),
-                -<f64 as ::trocar::Real>::mul_add(t.cos[1], x16, t.sin[1] * x20),
+                -<f64 as ::trocar::emitted::Real>::mul_add(
+                    t.cos[1],
+                    x14,
+                    t.sin[1] * x18,
+                ),
+                -<f64 as ::trocar::emitted::Real>::mul_add(
+                    t.cos[1],
+                    x15,
+                    t.sin[1] * x19,
+                ),
+                -<f64 as ::trocar::emitted::Real>::mul_add(t.cos[1], x16, t.sin[1] * x20),
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(x14, x21, -(x17 * x18)),
-                <f64 as ::trocar::Real>::mul_add(x15, x21, -(x17 * x19)),
-                <f64 as ::trocar::Real>::mul_add(x16, x21, -(x17 * x20)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x14, x21, -(x17 * x18)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x15, x21, -(x17 * x19)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x16, x21, -(x17 * x20)),
                 x3,
                 x5,
                 t.cos[4],
             ],
             [
-                -<f64 as ::trocar::Real>::mul_add(x6, x13, x9 * x10),
-                <f64 as ::trocar::Real>::mul_add(x7, x13, -(x9 * x11)),
-                <f64 as ::trocar::Real>::mul_add(x8, x13, -(x9 * x12)),
+                -<f64 as ::trocar::emitted::Real>::mul_add(x6, x13, x9 * x10),
+                <f64 as ::trocar::emitted::Real>::mul_add(x7, x13, -(x9 * x11)),
+                <f64 as ::trocar::emitted::Real>::mul_add(x8, x13, -(x9 * x12)),
                 x3,
                 x5,
                 t.cos[4],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(0.09465_f64, x0, -(t.sin[5] * x2)),
-                -<f64 as ::trocar::Real>::mul_add(0.09465_f64, x1, t.cos[5] * x2),
+                <f64 as ::trocar::emitted::Real>::mul_add(
+                    0.09465_f64,
+                    x0,
+                    -(t.sin[5] * x2),
+                ),
+                -<f64 as ::trocar::emitted::Real>::mul_add(
+                    0.09465_f64,
+                    x1,
+                    t.cos[5] * x2,
+                ),
                 -(0.09465_f64 * t.sin[4]),
                 x3,
                 x5,
@@ -875,18 +1105,18 @@ pub mod ur5_trocar {
             [
                 -(0.0823_f64 * t.cos[5]),
                 0.0823_f64 * t.sin[5],
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -t.sin[5],
                 -t.cos[5],
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -898,73 +1128,78 @@ pub mod ur5_trocar {
     #[inline]
     #[must_use]
     pub fn forward_kinematics_i(q: &[f64; N], _p: &Params) -> ([[f64; 3]; 3], [f64; 3]) {
-        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5]],
         );
         let x0 = c1 * s2;
         let x1 = c1 * c2;
         let x2 = s1 * s2;
         let x3 = s1 * c2;
-        let x4 = <f64 as ::trocar::Real>::mul_add(c3, x0, s3 * x1);
-        let x5 = <f64 as ::trocar::Real>::mul_add(c3, x1, -(s3 * x0));
-        let x6 = <f64 as ::trocar::Real>::mul_add(c3, x2, s3 * x3);
-        let x7 = <f64 as ::trocar::Real>::mul_add(c3, x3, -(s3 * x2));
-        let x8 = <f64 as ::trocar::Real>::mul_add(s2, s3, -(c2 * c3));
-        let x9 = <f64 as ::trocar::Real>::mul_add(c2, s3, s2 * c3);
-        let x10 = <f64 as ::trocar::Real>::mul_add(s4, x4, -(c4 * x5));
-        let x11 = <f64 as ::trocar::Real>::mul_add(c4, x4, s4 * x5);
-        let x12 = <f64 as ::trocar::Real>::mul_add(s4, x6, -(c4 * x7));
-        let x13 = <f64 as ::trocar::Real>::mul_add(c4, x6, s4 * x7);
-        let x14 = <f64 as ::trocar::Real>::mul_add(c4, x9, -(s4 * x8));
-        let x15 = <f64 as ::trocar::Real>::mul_add(c4, x8, s4 * x9);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c5, x10, -(s1 * s5));
-        let x17 = <f64 as ::trocar::Real>::mul_add(s5, x10, s1 * c5);
-        let x18 = <f64 as ::trocar::Real>::mul_add(c5, x12, c1 * s5);
-        let x19 = <f64 as ::trocar::Real>::mul_add(c1, c5, -(s5 * x12));
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x0, s3 * x1);
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x1, -(s3 * x0));
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x2, s3 * x3);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x3, -(s3 * x2));
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(s2, s3, -(c2 * c3));
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(c2, s3, s2 * c3);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x4, -(c4 * x5));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x4, s4 * x5);
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x6, -(c4 * x7));
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x6, s4 * x7);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x9, -(s4 * x8));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x8, s4 * x9);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x10, -(s1 * s5));
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(s5, x10, s1 * c5);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(c5, x12, c1 * s5);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(c1, c5, -(s5 * x12));
         let x20 = c5 * x14;
         let x21 = s5 * x14;
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(c6, x16, s6 * x11),
-                    <f64 as ::trocar::Real>::mul_add(c6, x18, s6 * x13),
-                    <f64 as ::trocar::Real>::mul_add(c6, x20, -(s6 * x15)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x16, s6 * x11),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x18, s6 * x13),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x20, -(s6 * x15)),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(c6, x11, -(s6 * x16)),
-                    <f64 as ::trocar::Real>::mul_add(c6, x13, -(s6 * x18)),
-                    -<f64 as ::trocar::Real>::mul_add(s6, x20, c6 * x15),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x11, -(s6 * x16)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(c6, x13, -(s6 * x18)),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(s6, x20, c6 * x15),
                 ],
                 [-x17, x19, -x21],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.093_f64,
                     s1,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.39225_f64,
                         x5,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             -0.13585_f64,
                             s1,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.1197_f64,
                                 s1,
                                 0.425_f64 * x1,
                             ),
                         ),
                     ),
-                ) - <f64 as ::trocar::Real>::mul_add(0.0823_f64, x17, 0.09465_f64 * x11),
-                <f64 as ::trocar::Real>::mul_add(
+                )
+                    - <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.0823_f64,
+                        x17,
+                        0.09465_f64 * x11,
+                    ),
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.093_f64,
                     c1,
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.39225_f64,
                         x7,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.13585_f64,
                             c1,
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.425_f64,
                                 x3,
                                 -(0.1197_f64 * c1),
@@ -972,17 +1207,21 @@ pub mod ur5_trocar {
                         ),
                     ),
                 )
-                    + <f64 as ::trocar::Real>::mul_add(
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
                         0.0823_f64,
                         x19,
                         -(0.09465_f64 * x13),
                     ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.39225_f64,
                     x9,
-                    <f64 as ::trocar::Real>::mul_add(-0.425_f64, s2, 0.089159_f64),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        -0.425_f64,
+                        s2,
+                        0.089159_f64,
+                    ),
                 )
-                    + <f64 as ::trocar::Real>::mul_add(
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
                         0.09465_f64,
                         x15,
                         -(0.0823_f64 * x21),
@@ -1005,34 +1244,62 @@ pub mod ur5_trocar {
         let x1 = t.cos[0] * t.cos[1];
         let x2 = t.sin[0] * t.sin[1];
         let x3 = t.sin[0] * t.cos[1];
-        let x4 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x0, t.sin[2] * x1);
-        let x5 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x1, -(t.sin[2] * x0));
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x2, t.sin[2] * x3);
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x3, -(t.sin[2] * x2));
-        let x8 = <f64 as ::trocar::Real>::mul_add(
+        let x4 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x0, t.sin[2] * x1);
+        let x5 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x1,
+            -(t.sin[2] * x0),
+        );
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x2, t.sin[2] * x3);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x3,
+            -(t.sin[2] * x2),
+        );
+        let x8 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[1],
             t.sin[2],
             -(t.cos[1] * t.cos[2]),
         );
-        let x9 = <f64 as ::trocar::Real>::mul_add(
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[1],
             t.sin[2],
             t.sin[1] * t.cos[2],
         );
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x4, -(t.cos[3] * x5));
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x4, t.sin[3] * x5);
-        let x12 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x6, -(t.cos[3] * x7));
-        let x13 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x6, t.sin[3] * x7);
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x9, -(t.sin[3] * x8));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x8, t.sin[3] * x9);
-        let x16 = <f64 as ::trocar::Real>::mul_add(
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x4,
+            -(t.cos[3] * x5),
+        );
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x4, t.sin[3] * x5);
+        let x12 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x6,
+            -(t.cos[3] * x7),
+        );
+        let x13 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x6, t.sin[3] * x7);
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x9,
+            -(t.sin[3] * x8),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(t.cos[3], x8, t.sin[3] * x9);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[4],
             x10,
             -(t.sin[0] * t.sin[4]),
         );
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.sin[4], x10, t.sin[0] * t.cos[4]);
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.cos[4], x12, t.cos[0] * t.sin[4]);
-        let x19 = <f64 as ::trocar::Real>::mul_add(
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[4],
+            x10,
+            t.sin[0] * t.cos[4],
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x12,
+            t.cos[0] * t.sin[4],
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[0],
             t.cos[4],
             -(t.sin[4] * x12),
@@ -1042,45 +1309,74 @@ pub mod ur5_trocar {
         (
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x16, t.sin[5] * x11),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x18, t.sin[5] * x13),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x20, -(t.sin[5] * x15)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x16,
+                        t.sin[5] * x11,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x18,
+                        t.sin[5] * x13,
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x20,
+                        -(t.sin[5] * x15),
+                    ),
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x11, -(t.sin[5] * x16)),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[5], x13, -(t.sin[5] * x18)),
-                    -<f64 as ::trocar::Real>::mul_add(t.sin[5], x20, t.cos[5] * x15),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x11,
+                        -(t.sin[5] * x16),
+                    ),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[5],
+                        x13,
+                        -(t.sin[5] * x18),
+                    ),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        t.sin[5],
+                        x20,
+                        t.cos[5] * x15,
+                    ),
                 ],
                 [-x17, x19, -x21],
             ],
             [
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.093_f64,
                     t.sin[0],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.39225_f64,
                         x5,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             -0.13585_f64,
                             t.sin[0],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.1197_f64,
                                 t.sin[0],
                                 0.425_f64 * x1,
                             ),
                         ),
                     ),
-                ) - <f64 as ::trocar::Real>::mul_add(0.0823_f64, x17, 0.09465_f64 * x11),
-                <f64 as ::trocar::Real>::mul_add(
+                )
+                    - <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.0823_f64,
+                        x17,
+                        0.09465_f64 * x11,
+                    ),
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     0.093_f64,
                     t.cos[0],
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.39225_f64,
                         x7,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             0.13585_f64,
                             t.cos[0],
-                            <f64 as ::trocar::Real>::mul_add(
+                            <f64 as ::trocar::emitted::Real>::mul_add(
                                 0.425_f64,
                                 x3,
                                 -(0.1197_f64 * t.cos[0]),
@@ -1088,17 +1384,21 @@ pub mod ur5_trocar {
                         ),
                     ),
                 )
-                    + <f64 as ::trocar::Real>::mul_add(
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
                         0.0823_f64,
                         x19,
                         -(0.09465_f64 * x13),
                     ),
-                <f64 as ::trocar::Real>::mul_add(
+                <f64 as ::trocar::emitted::Real>::mul_add(
                     -0.39225_f64,
                     x9,
-                    <f64 as ::trocar::Real>::mul_add(-0.425_f64, t.sin[1], 0.089159_f64),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        -0.425_f64,
+                        t.sin[1],
+                        0.089159_f64,
+                    ),
                 )
-                    + <f64 as ::trocar::Real>::mul_add(
+                    + <f64 as ::trocar::emitted::Real>::mul_add(
                         0.09465_f64,
                         x15,
                         -(0.0823_f64 * x21),
@@ -1115,11 +1415,13 @@ pub mod ur5_trocar {
     #[must_use]
     pub fn manipulability(_q: &[f64; N], p: &Params) -> f64 {
         {
-            let w = <f64 as ::trocar::Real>::abs(p.l_a * (p.l_a - 0.7_f64) + 0.1225_f64);
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            let w = <f64 as ::trocar::emitted::Real>::abs(
+                p.l_a * (p.l_a - 0.7_f64) + 0.1225_f64,
+            );
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1132,11 +1434,13 @@ pub mod ur5_trocar {
     #[must_use]
     pub fn manipulability_trig(_t: &JointTrig, p: &Params) -> f64 {
         {
-            let w = <f64 as ::trocar::Real>::abs(p.l_a * (p.l_a - 0.7_f64) + 0.1225_f64);
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            let w = <f64 as ::trocar::emitted::Real>::abs(
+                p.l_a * (p.l_a - 0.7_f64) + 0.1225_f64,
+            );
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1151,10 +1455,10 @@ pub mod ur5_trocar {
         let x0 = p.l_a * (p.l_a - 0.7_f64) + 0.1225_f64;
         {
             let w = x0 * x0;
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1169,10 +1473,10 @@ pub mod ur5_trocar {
         let x0 = p.l_a * (p.l_a - 0.7_f64) + 0.1225_f64;
         {
             let w = x0 * x0;
-            if <f64 as ::trocar::Real>::is_finite(w) {
+            if <f64 as ::trocar::emitted::Real>::is_finite(w) {
                 w
             } else {
-                <f64 as ::trocar::Real>::ZERO
+                <f64 as ::trocar::emitted::Real>::ZERO
             }
         }
     }
@@ -1185,12 +1489,30 @@ pub mod ur5_trocar {
     #[must_use]
     pub fn constraint_selection(_p: &Params) -> [[f64; R]; 6] {
         [
-            [<f64 as ::trocar::Real>::ONE, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ONE],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO],
+            [
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+            ],
         ]
     }
     /// Null-space basis `Λ#` of `Λ = H Ad_{g_ri}` (3.3), 6 × K: `V^B_0i = Λ# v0i`, thesis (3.6) (presets: (3.23), (3.27)).
@@ -1203,36 +1525,36 @@ pub mod ur5_trocar {
     pub fn lambda_null_space(p: &Params) -> [[f64; 6]; K] {
         [
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 p.l_a,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 -p.l_a,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -1246,25 +1568,25 @@ pub mod ur5_trocar {
     #[inline]
     #[must_use]
     pub fn lambda_pinv(p: &Params) -> [[f64; 6]; R] {
-        let x0 = <f64 as ::trocar::Real>::ONE
-            / (<f64 as ::trocar::Real>::ONE + p.l_a * p.l_a);
+        let x0 = <f64 as ::trocar::emitted::Real>::ONE
+            / (<f64 as ::trocar::emitted::Real>::ONE + p.l_a * p.l_a);
         let x1 = p.l_a * x0;
         [
             [
                 x0,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x1,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 x0,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 -x1,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
         ]
     }
@@ -1279,22 +1601,26 @@ pub mod ur5_trocar {
         (
             [
                 [
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
                 ],
             ],
-            [<f64 as ::trocar::Real>::ZERO, <f64 as ::trocar::Real>::ZERO, p.l_a],
+            [
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                p.l_a,
+            ],
         )
     }
     /// The task selection `S`, TASK_ROWS × 6: the rows of the end-effector body twist `V^B_0e = (v, ω)` (components in the end-effector frame) that the task commands, thesis (3.15).
@@ -1307,40 +1633,40 @@ pub mod ur5_trocar {
     pub fn task_selection(_p: &Params) -> [[f64; TASK_ROWS]; 6] {
         [
             [
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -1357,28 +1683,28 @@ pub mod ur5_trocar {
     ) -> [[f64; TASK_ROWS]; M] {
         [
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 p.l_a - 0.35_f64,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 0.35_f64 - p.l_a,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -1395,28 +1721,28 @@ pub mod ur5_trocar {
     ) -> [[f64; TASK_ROWS]; M] {
         [
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
                 p.l_a - 0.35_f64,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
                 0.35_f64 - p.l_a,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
             ],
             [
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ZERO,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ZERO,
+                <f64 as ::trocar::emitted::Real>::ONE,
             ],
         ]
     }
@@ -1433,15 +1759,15 @@ pub mod ur5_trocar {
         fk: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0e: &mut [[f64; 6]; N],
     ) {
-        jb0e[4][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[4][5] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[5][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[5][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[5][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[5][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[5][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[5][5] = <f64 as ::trocar::Real>::ONE;
-        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+        jb0e[4][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[4][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[5][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[5][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[5][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[5][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[5][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[5][5] = <f64 as ::trocar::emitted::Real>::ONE;
+        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5]],
         );
         jb0e[1][5] = c5;
@@ -1455,8 +1781,16 @@ pub mod ur5_trocar {
         let x0 = c5 * c6;
         let x1 = c5 * s6;
         let x2 = 0.43229999999999996_f64 * s5;
-        jb0e[3][0] = <f64 as ::trocar::Real>::mul_add(0.09465_f64, x0, -(s6 * x2));
-        jb0e[3][1] = -<f64 as ::trocar::Real>::mul_add(0.09465_f64, x1, c6 * x2);
+        jb0e[3][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.09465_f64,
+            x0,
+            -(s6 * x2),
+        );
+        jb0e[3][1] = -<f64 as ::trocar::emitted::Real>::mul_add(
+            0.09465_f64,
+            x1,
+            c6 * x2,
+        );
         let x3 = s5 * c6;
         jb0e[1][3] = x3;
         jb0e[2][3] = x3;
@@ -1466,55 +1800,60 @@ pub mod ur5_trocar {
         jb0e[1][4] = x5;
         jb0e[2][4] = x5;
         jb0e[3][4] = x5;
-        let x6 = <f64 as ::trocar::Real>::mul_add(s4, x0, c4 * s6);
-        let x7 = <f64 as ::trocar::Real>::mul_add(s4, x1, -(c4 * c6));
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x0, c4 * s6);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x1, -(c4 * c6));
         let x8 = s4 * s5;
-        let x9 = <f64 as ::trocar::Real>::mul_add(s4, x2, 0.09465_f64 * c4);
-        let x10 = <f64 as ::trocar::Real>::mul_add(s4, s6, -(c4 * x0));
-        let x11 = <f64 as ::trocar::Real>::mul_add(c4, x1, s4 * c6);
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x2, 0.09465_f64 * c4);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(s4, s6, -(c4 * x0));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x1, s4 * c6);
         let x12 = c4 * s5;
         let x13 = 0.39225_f64
-            + <f64 as ::trocar::Real>::mul_add(c4, x2, -(0.09465_f64 * s4));
-        jb0e[2][0] = -<f64 as ::trocar::Real>::mul_add(x6, x13, x9 * x10);
-        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(x7, x13, -(x9 * x11));
-        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(x8, x13, -(x9 * x12));
-        let x14 = <f64 as ::trocar::Real>::mul_add(s3, x10, -(c3 * x6));
-        let x15 = <f64 as ::trocar::Real>::mul_add(c3, x7, s3 * x11);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c3, x8, s3 * x12);
-        let x17 = <f64 as ::trocar::Real>::mul_add(c3, x9, s3 * x13);
-        let x18 = <f64 as ::trocar::Real>::mul_add(s3, x6, c3 * x10);
-        let x19 = <f64 as ::trocar::Real>::mul_add(c3, x11, -(s3 * x7));
-        let x20 = <f64 as ::trocar::Real>::mul_add(c3, x12, -(s3 * x8));
-        let x21 = 0.425_f64 + <f64 as ::trocar::Real>::mul_add(c3, x13, -(s3 * x9));
-        fk.1[2] = 0.089159_f64 - <f64 as ::trocar::Real>::mul_add(c2, x17, s2 * x21);
-        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x14, x21, -(x17 * x18));
-        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x15, x21, -(x17 * x19));
-        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x16, x21, -(x17 * x20));
-        let x22 = <f64 as ::trocar::Real>::mul_add(c2, x18, -(s2 * x14));
-        fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x22, -(s1 * x3));
-        fk.0[0][1] = <f64 as ::trocar::Real>::mul_add(s1, x22, c1 * x3);
-        let x23 = <f64 as ::trocar::Real>::mul_add(c2, x19, -(s2 * x15));
-        fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x23, s1 * x4);
-        fk.0[1][1] = <f64 as ::trocar::Real>::mul_add(s1, x23, -(c1 * x4));
-        let x24 = <f64 as ::trocar::Real>::mul_add(c2, x20, -(s2 * x16));
-        fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(c1, x24, -(s1 * c5));
-        fk.0[2][1] = <f64 as ::trocar::Real>::mul_add(s1, x24, c1 * c5);
-        let x25 = <f64 as ::trocar::Real>::mul_add(c2, x21, -(s2 * x17));
+            + <f64 as ::trocar::emitted::Real>::mul_add(c4, x2, -(0.09465_f64 * s4));
+        jb0e[2][0] = -<f64 as ::trocar::emitted::Real>::mul_add(x6, x13, x9 * x10);
+        jb0e[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(x7, x13, -(x9 * x11));
+        jb0e[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(x8, x13, -(x9 * x12));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x10, -(c3 * x6));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x7, s3 * x11);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x8, s3 * x12);
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x9, s3 * x13);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x6, c3 * x10);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x11, -(s3 * x7));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x12, -(s3 * x8));
+        let x21 = 0.425_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c3, x13, -(s3 * x9));
+        fk.1[2] = 0.089159_f64
+            - <f64 as ::trocar::emitted::Real>::mul_add(c2, x17, s2 * x21);
+        jb0e[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x14, x21, -(x17 * x18));
+        jb0e[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x15, x21, -(x17 * x19));
+        jb0e[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x16, x21, -(x17 * x20));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x18, -(s2 * x14));
+        fk.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x22, -(s1 * x3));
+        fk.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x22, c1 * x3);
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x19, -(s2 * x15));
+        fk.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x23, s1 * x4);
+        fk.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x23, -(c1 * x4));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x20, -(s2 * x16));
+        fk.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x24, -(s1 * c5));
+        fk.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x24, c1 * c5);
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x21, -(s2 * x17));
         let x26 = 0.13585_f64
-            + (<f64 as ::trocar::Real>::mul_add(0.43229999999999996_f64, c5, 0.093_f64)
-                - 0.1197_f64);
-        fk.1[0] = <f64 as ::trocar::Real>::mul_add(c1, x25, -(s1 * x26));
-        fk.1[1] = <f64 as ::trocar::Real>::mul_add(s1, x25, c1 * x26);
-        jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x3, x25, -(x22 * x26));
-        jb0e[0][1] = -<f64 as ::trocar::Real>::mul_add(x23, x26, x4 * x25);
-        jb0e[0][2] = <f64 as ::trocar::Real>::mul_add(c5, x25, -(x24 * x26));
-        let x27 = -<f64 as ::trocar::Real>::mul_add(c2, x14, s2 * x18);
+            + (<f64 as ::trocar::emitted::Real>::mul_add(
+                0.43229999999999996_f64,
+                c5,
+                0.093_f64,
+            ) - 0.1197_f64);
+        fk.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x25, -(s1 * x26));
+        fk.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x25, c1 * x26);
+        jb0e[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x3, x25, -(x22 * x26));
+        jb0e[0][1] = -<f64 as ::trocar::emitted::Real>::mul_add(x23, x26, x4 * x25);
+        jb0e[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(c5, x25, -(x24 * x26));
+        let x27 = -<f64 as ::trocar::emitted::Real>::mul_add(c2, x14, s2 * x18);
         fk.0[0][2] = x27;
         jb0e[0][3] = x27;
-        let x28 = -<f64 as ::trocar::Real>::mul_add(c2, x15, s2 * x19);
+        let x28 = -<f64 as ::trocar::emitted::Real>::mul_add(c2, x15, s2 * x19);
         fk.0[1][2] = x28;
         jb0e[0][4] = x28;
-        let x29 = -<f64 as ::trocar::Real>::mul_add(c2, x16, s2 * x20);
+        let x29 = -<f64 as ::trocar::emitted::Real>::mul_add(c2, x16, s2 * x20);
         fk.0[2][2] = x29;
         jb0e[0][5] = x29;
     }
@@ -1534,21 +1873,29 @@ pub mod ur5_trocar {
         jb0e[3][5] = t.cos[4];
         jb0e[4][0] = -(0.43229999999999996_f64 * t.cos[5]);
         jb0e[4][1] = 0.43229999999999996_f64 * t.sin[5];
-        jb0e[4][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0e[4][2] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0e[4][3] = -t.sin[5];
         jb0e[4][4] = -t.cos[5];
-        jb0e[4][5] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[5][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[5][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[5][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[5][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[5][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0e[5][5] = <f64 as ::trocar::Real>::ONE;
+        jb0e[4][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[5][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[5][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[5][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[5][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[5][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0e[5][5] = <f64 as ::trocar::emitted::Real>::ONE;
         let x0 = t.cos[4] * t.cos[5];
         let x1 = t.cos[4] * t.sin[5];
         let x2 = 0.43229999999999996_f64 * t.sin[4];
-        jb0e[3][0] = <f64 as ::trocar::Real>::mul_add(0.09465_f64, x0, -(t.sin[5] * x2));
-        jb0e[3][1] = -<f64 as ::trocar::Real>::mul_add(0.09465_f64, x1, t.cos[5] * x2);
+        jb0e[3][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.09465_f64,
+            x0,
+            -(t.sin[5] * x2),
+        );
+        jb0e[3][1] = -<f64 as ::trocar::emitted::Real>::mul_add(
+            0.09465_f64,
+            x1,
+            t.cos[5] * x2,
+        );
         let x3 = t.sin[4] * t.cos[5];
         jb0e[1][3] = x3;
         jb0e[2][3] = x3;
@@ -1558,68 +1905,176 @@ pub mod ur5_trocar {
         jb0e[1][4] = x5;
         jb0e[2][4] = x5;
         jb0e[3][4] = x5;
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x0, t.cos[3] * t.sin[5]);
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x1, -(t.cos[3] * t.cos[5]));
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x0,
+            t.cos[3] * t.sin[5],
+        );
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x1,
+            -(t.cos[3] * t.cos[5]),
+        );
         let x8 = t.sin[3] * t.sin[4];
-        let x9 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x2, 0.09465_f64 * t.cos[3]);
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.sin[3], t.sin[5], -(t.cos[3] * x0));
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x1, t.sin[3] * t.cos[5]);
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x2,
+            0.09465_f64 * t.cos[3],
+        );
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            t.sin[5],
+            -(t.cos[3] * x0),
+        );
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x1,
+            t.sin[3] * t.cos[5],
+        );
         let x12 = t.cos[3] * t.sin[4];
         let x13 = 0.39225_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[3], x2, -(0.09465_f64 * t.sin[3]));
-        jb0e[2][0] = -<f64 as ::trocar::Real>::mul_add(x6, x13, x9 * x10);
-        jb0e[2][1] = <f64 as ::trocar::Real>::mul_add(x7, x13, -(x9 * x11));
-        jb0e[2][2] = <f64 as ::trocar::Real>::mul_add(x8, x13, -(x9 * x12));
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x10, -(t.cos[2] * x6));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x7, t.sin[2] * x11);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x8, t.sin[2] * x12);
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x9, t.sin[2] * x13);
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x6, t.cos[2] * x10);
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x11, -(t.sin[2] * x7));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x12, -(t.sin[2] * x8));
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[3],
+                x2,
+                -(0.09465_f64 * t.sin[3]),
+            );
+        jb0e[2][0] = -<f64 as ::trocar::emitted::Real>::mul_add(x6, x13, x9 * x10);
+        jb0e[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(x7, x13, -(x9 * x11));
+        jb0e[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(x8, x13, -(x9 * x12));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x10,
+            -(t.cos[2] * x6),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x7,
+            t.sin[2] * x11,
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x8,
+            t.sin[2] * x12,
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x9,
+            t.sin[2] * x13,
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x6,
+            t.cos[2] * x10,
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x11,
+            -(t.sin[2] * x7),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x12,
+            -(t.sin[2] * x8),
+        );
         let x21 = 0.425_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[2], x13, -(t.sin[2] * x9));
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x13, -(t.sin[2] * x9));
         fk.1[2] = 0.089159_f64
-            - <f64 as ::trocar::Real>::mul_add(t.cos[1], x17, t.sin[1] * x21);
-        jb0e[1][0] = <f64 as ::trocar::Real>::mul_add(x14, x21, -(x17 * x18));
-        jb0e[1][1] = <f64 as ::trocar::Real>::mul_add(x15, x21, -(x17 * x19));
-        jb0e[1][2] = <f64 as ::trocar::Real>::mul_add(x16, x21, -(x17 * x20));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x18, -(t.sin[1] * x14));
-        fk.0[0][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x22, -(t.sin[0] * x3));
-        fk.0[0][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x22, t.cos[0] * x3);
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x19, -(t.sin[1] * x15));
-        fk.0[1][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x23, t.sin[0] * x4);
-        fk.0[1][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x23, -(t.cos[0] * x4));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x20, -(t.sin[1] * x16));
-        fk.0[2][0] = <f64 as ::trocar::Real>::mul_add(
+            - <f64 as ::trocar::emitted::Real>::mul_add(t.cos[1], x17, t.sin[1] * x21);
+        jb0e[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x14, x21, -(x17 * x18));
+        jb0e[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x15, x21, -(x17 * x19));
+        jb0e[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x16, x21, -(x17 * x20));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x18,
+            -(t.sin[1] * x14),
+        );
+        fk.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x22,
+            -(t.sin[0] * x3),
+        );
+        fk.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x22,
+            t.cos[0] * x3,
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x19,
+            -(t.sin[1] * x15),
+        );
+        fk.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x23,
+            t.sin[0] * x4,
+        );
+        fk.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x23,
+            -(t.cos[0] * x4),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x20,
+            -(t.sin[1] * x16),
+        );
+        fk.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[0],
             x24,
             -(t.sin[0] * t.cos[4]),
         );
-        fk.0[2][1] = <f64 as ::trocar::Real>::mul_add(
+        fk.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[0],
             x24,
             t.cos[0] * t.cos[4],
         );
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x21, -(t.sin[1] * x17));
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x21,
+            -(t.sin[1] * x17),
+        );
         let x26 = 0.13585_f64
-            + (<f64 as ::trocar::Real>::mul_add(
+            + (<f64 as ::trocar::emitted::Real>::mul_add(
                 0.43229999999999996_f64,
                 t.cos[4],
                 0.093_f64,
             ) - 0.1197_f64);
-        fk.1[0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x25, -(t.sin[0] * x26));
-        fk.1[1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x25, t.cos[0] * x26);
-        jb0e[0][0] = <f64 as ::trocar::Real>::mul_add(x3, x25, -(x22 * x26));
-        jb0e[0][1] = -<f64 as ::trocar::Real>::mul_add(x23, x26, x4 * x25);
-        jb0e[0][2] = <f64 as ::trocar::Real>::mul_add(t.cos[4], x25, -(x24 * x26));
-        let x27 = -<f64 as ::trocar::Real>::mul_add(t.cos[1], x14, t.sin[1] * x18);
+        fk.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x25,
+            -(t.sin[0] * x26),
+        );
+        fk.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x25,
+            t.cos[0] * x26,
+        );
+        jb0e[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x3, x25, -(x22 * x26));
+        jb0e[0][1] = -<f64 as ::trocar::emitted::Real>::mul_add(x23, x26, x4 * x25);
+        jb0e[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x25,
+            -(x24 * x26),
+        );
+        let x27 = -<f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x14,
+            t.sin[1] * x18,
+        );
         fk.0[0][2] = x27;
         jb0e[0][3] = x27;
-        let x28 = -<f64 as ::trocar::Real>::mul_add(t.cos[1], x15, t.sin[1] * x19);
+        let x28 = -<f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x15,
+            t.sin[1] * x19,
+        );
         fk.0[1][2] = x28;
         jb0e[0][4] = x28;
-        let x29 = -<f64 as ::trocar::Real>::mul_add(t.cos[1], x16, t.sin[1] * x20);
+        let x29 = -<f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x16,
+            t.sin[1] * x20,
+        );
         fk.0[2][2] = x29;
         jb0e[0][5] = x29;
     }
@@ -1636,15 +2091,15 @@ pub mod ur5_trocar {
         fk0i: &mut ([[f64; 3]; 3], [f64; 3]),
         jb0i: &mut [[f64; 6]; I],
     ) {
-        jb0i[4][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[4][5] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][5] = <f64 as ::trocar::Real>::ONE;
-        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::Real>::sin_cos_array(
+        jb0i[4][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[4][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][5] = <f64 as ::trocar::emitted::Real>::ONE;
+        let ([s1, s2, s3, s4, s5, s6], [c1, c2, c3, c4, c5, c6]) = <f64 as ::trocar::emitted::Real>::sin_cos_array(
             &[q[0], q[1], q[2], q[3], q[4], q[5]],
         );
         jb0i[1][5] = c5;
@@ -1658,8 +2113,16 @@ pub mod ur5_trocar {
         let x0 = c5 * c6;
         let x1 = c5 * s6;
         let x2 = 0.0823_f64 * s5;
-        jb0i[3][0] = <f64 as ::trocar::Real>::mul_add(0.09465_f64, x0, -(s6 * x2));
-        jb0i[3][1] = -<f64 as ::trocar::Real>::mul_add(0.09465_f64, x1, c6 * x2);
+        jb0i[3][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.09465_f64,
+            x0,
+            -(s6 * x2),
+        );
+        jb0i[3][1] = -<f64 as ::trocar::emitted::Real>::mul_add(
+            0.09465_f64,
+            x1,
+            c6 * x2,
+        );
         let x3 = s5 * c6;
         jb0i[1][3] = x3;
         jb0i[2][3] = x3;
@@ -1669,54 +2132,57 @@ pub mod ur5_trocar {
         jb0i[1][4] = x5;
         jb0i[2][4] = x5;
         jb0i[3][4] = x5;
-        let x6 = <f64 as ::trocar::Real>::mul_add(s4, x0, c4 * s6);
-        let x7 = <f64 as ::trocar::Real>::mul_add(s4, x1, -(c4 * c6));
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x0, c4 * s6);
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x1, -(c4 * c6));
         let x8 = s4 * s5;
-        let x9 = <f64 as ::trocar::Real>::mul_add(s4, x2, 0.09465_f64 * c4);
-        let x10 = <f64 as ::trocar::Real>::mul_add(s4, s6, -(c4 * x0));
-        let x11 = <f64 as ::trocar::Real>::mul_add(c4, x1, s4 * c6);
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(s4, x2, 0.09465_f64 * c4);
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(s4, s6, -(c4 * x0));
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(c4, x1, s4 * c6);
         let x12 = c4 * s5;
         let x13 = 0.39225_f64
-            + <f64 as ::trocar::Real>::mul_add(c4, x2, -(0.09465_f64 * s4));
-        jb0i[2][0] = -<f64 as ::trocar::Real>::mul_add(x6, x13, x9 * x10);
-        jb0i[2][1] = <f64 as ::trocar::Real>::mul_add(x7, x13, -(x9 * x11));
-        jb0i[2][2] = <f64 as ::trocar::Real>::mul_add(x8, x13, -(x9 * x12));
-        let x14 = <f64 as ::trocar::Real>::mul_add(s3, x10, -(c3 * x6));
-        let x15 = <f64 as ::trocar::Real>::mul_add(c3, x7, s3 * x11);
-        let x16 = <f64 as ::trocar::Real>::mul_add(c3, x8, s3 * x12);
-        let x17 = <f64 as ::trocar::Real>::mul_add(c3, x9, s3 * x13);
-        let x18 = <f64 as ::trocar::Real>::mul_add(s3, x6, c3 * x10);
-        let x19 = <f64 as ::trocar::Real>::mul_add(c3, x11, -(s3 * x7));
-        let x20 = <f64 as ::trocar::Real>::mul_add(c3, x12, -(s3 * x8));
-        let x21 = 0.425_f64 + <f64 as ::trocar::Real>::mul_add(c3, x13, -(s3 * x9));
-        fk0i.1[2] = 0.089159_f64 - <f64 as ::trocar::Real>::mul_add(c2, x17, s2 * x21);
-        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x14, x21, -(x17 * x18));
-        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x15, x21, -(x17 * x19));
-        jb0i[1][2] = <f64 as ::trocar::Real>::mul_add(x16, x21, -(x17 * x20));
-        let x22 = <f64 as ::trocar::Real>::mul_add(c2, x18, -(s2 * x14));
-        fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(c1, x22, -(s1 * x3));
-        fk0i.0[0][1] = <f64 as ::trocar::Real>::mul_add(s1, x22, c1 * x3);
-        let x23 = <f64 as ::trocar::Real>::mul_add(c2, x19, -(s2 * x15));
-        fk0i.0[1][0] = <f64 as ::trocar::Real>::mul_add(c1, x23, s1 * x4);
-        fk0i.0[1][1] = <f64 as ::trocar::Real>::mul_add(s1, x23, -(c1 * x4));
-        let x24 = <f64 as ::trocar::Real>::mul_add(c2, x20, -(s2 * x16));
-        fk0i.0[2][0] = <f64 as ::trocar::Real>::mul_add(c1, x24, -(s1 * c5));
-        fk0i.0[2][1] = <f64 as ::trocar::Real>::mul_add(s1, x24, c1 * c5);
-        let x25 = <f64 as ::trocar::Real>::mul_add(c2, x21, -(s2 * x17));
+            + <f64 as ::trocar::emitted::Real>::mul_add(c4, x2, -(0.09465_f64 * s4));
+        jb0i[2][0] = -<f64 as ::trocar::emitted::Real>::mul_add(x6, x13, x9 * x10);
+        jb0i[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(x7, x13, -(x9 * x11));
+        jb0i[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(x8, x13, -(x9 * x12));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x10, -(c3 * x6));
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x7, s3 * x11);
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x8, s3 * x12);
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x9, s3 * x13);
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(s3, x6, c3 * x10);
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x11, -(s3 * x7));
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(c3, x12, -(s3 * x8));
+        let x21 = 0.425_f64
+            + <f64 as ::trocar::emitted::Real>::mul_add(c3, x13, -(s3 * x9));
+        fk0i.1[2] = 0.089159_f64
+            - <f64 as ::trocar::emitted::Real>::mul_add(c2, x17, s2 * x21);
+        jb0i[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x14, x21, -(x17 * x18));
+        jb0i[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x15, x21, -(x17 * x19));
+        jb0i[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x16, x21, -(x17 * x20));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x18, -(s2 * x14));
+        fk0i.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x22, -(s1 * x3));
+        fk0i.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x22, c1 * x3);
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x19, -(s2 * x15));
+        fk0i.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x23, s1 * x4);
+        fk0i.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x23, -(c1 * x4));
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x20, -(s2 * x16));
+        fk0i.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x24, -(s1 * c5));
+        fk0i.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x24, c1 * c5);
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(c2, x21, -(s2 * x17));
         let x26 = 0.13585_f64
-            + (<f64 as ::trocar::Real>::mul_add(0.0823_f64, c5, 0.093_f64) - 0.1197_f64);
-        fk0i.1[0] = <f64 as ::trocar::Real>::mul_add(c1, x25, -(s1 * x26));
-        fk0i.1[1] = <f64 as ::trocar::Real>::mul_add(s1, x25, c1 * x26);
-        jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(x3, x25, -(x22 * x26));
-        jb0i[0][1] = -<f64 as ::trocar::Real>::mul_add(x23, x26, x4 * x25);
-        jb0i[0][2] = <f64 as ::trocar::Real>::mul_add(c5, x25, -(x24 * x26));
-        let x27 = -<f64 as ::trocar::Real>::mul_add(c2, x14, s2 * x18);
+            + (<f64 as ::trocar::emitted::Real>::mul_add(0.0823_f64, c5, 0.093_f64)
+                - 0.1197_f64);
+        fk0i.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(c1, x25, -(s1 * x26));
+        fk0i.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(s1, x25, c1 * x26);
+        jb0i[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x3, x25, -(x22 * x26));
+        jb0i[0][1] = -<f64 as ::trocar::emitted::Real>::mul_add(x23, x26, x4 * x25);
+        jb0i[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(c5, x25, -(x24 * x26));
+        let x27 = -<f64 as ::trocar::emitted::Real>::mul_add(c2, x14, s2 * x18);
         fk0i.0[0][2] = x27;
         jb0i[0][3] = x27;
-        let x28 = -<f64 as ::trocar::Real>::mul_add(c2, x15, s2 * x19);
+        let x28 = -<f64 as ::trocar::emitted::Real>::mul_add(c2, x15, s2 * x19);
         fk0i.0[1][2] = x28;
         jb0i[0][4] = x28;
-        let x29 = -<f64 as ::trocar::Real>::mul_add(c2, x16, s2 * x20);
+        let x29 = -<f64 as ::trocar::emitted::Real>::mul_add(c2, x16, s2 * x20);
         fk0i.0[2][2] = x29;
         jb0i[0][5] = x29;
     }
@@ -1736,21 +2202,29 @@ pub mod ur5_trocar {
         jb0i[3][5] = t.cos[4];
         jb0i[4][0] = -(0.0823_f64 * t.cos[5]);
         jb0i[4][1] = 0.0823_f64 * t.sin[5];
-        jb0i[4][2] = <f64 as ::trocar::Real>::ZERO;
+        jb0i[4][2] = <f64 as ::trocar::emitted::Real>::ZERO;
         jb0i[4][3] = -t.sin[5];
         jb0i[4][4] = -t.cos[5];
-        jb0i[4][5] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][0] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][1] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][2] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][3] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][4] = <f64 as ::trocar::Real>::ZERO;
-        jb0i[5][5] = <f64 as ::trocar::Real>::ONE;
+        jb0i[4][5] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][0] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][1] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][2] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][3] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][4] = <f64 as ::trocar::emitted::Real>::ZERO;
+        jb0i[5][5] = <f64 as ::trocar::emitted::Real>::ONE;
         let x0 = t.cos[4] * t.cos[5];
         let x1 = t.cos[4] * t.sin[5];
         let x2 = 0.0823_f64 * t.sin[4];
-        jb0i[3][0] = <f64 as ::trocar::Real>::mul_add(0.09465_f64, x0, -(t.sin[5] * x2));
-        jb0i[3][1] = -<f64 as ::trocar::Real>::mul_add(0.09465_f64, x1, t.cos[5] * x2);
+        jb0i[3][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            0.09465_f64,
+            x0,
+            -(t.sin[5] * x2),
+        );
+        jb0i[3][1] = -<f64 as ::trocar::emitted::Real>::mul_add(
+            0.09465_f64,
+            x1,
+            t.cos[5] * x2,
+        );
         let x3 = t.sin[4] * t.cos[5];
         jb0i[1][3] = x3;
         jb0i[2][3] = x3;
@@ -1760,65 +2234,173 @@ pub mod ur5_trocar {
         jb0i[1][4] = x5;
         jb0i[2][4] = x5;
         jb0i[3][4] = x5;
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x0, t.cos[3] * t.sin[5]);
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x1, -(t.cos[3] * t.cos[5]));
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x0,
+            t.cos[3] * t.sin[5],
+        );
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x1,
+            -(t.cos[3] * t.cos[5]),
+        );
         let x8 = t.sin[3] * t.sin[4];
-        let x9 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x2, 0.09465_f64 * t.cos[3]);
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.sin[3], t.sin[5], -(t.cos[3] * x0));
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x1, t.sin[3] * t.cos[5]);
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x2,
+            0.09465_f64 * t.cos[3],
+        );
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            t.sin[5],
+            -(t.cos[3] * x0),
+        );
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x1,
+            t.sin[3] * t.cos[5],
+        );
         let x12 = t.cos[3] * t.sin[4];
         let x13 = 0.39225_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[3], x2, -(0.09465_f64 * t.sin[3]));
-        jb0i[2][0] = -<f64 as ::trocar::Real>::mul_add(x6, x13, x9 * x10);
-        jb0i[2][1] = <f64 as ::trocar::Real>::mul_add(x7, x13, -(x9 * x11));
-        jb0i[2][2] = <f64 as ::trocar::Real>::mul_add(x8, x13, -(x9 * x12));
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x10, -(t.cos[2] * x6));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x7, t.sin[2] * x11);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x8, t.sin[2] * x12);
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x9, t.sin[2] * x13);
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x6, t.cos[2] * x10);
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x11, -(t.sin[2] * x7));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x12, -(t.sin[2] * x8));
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[3],
+                x2,
+                -(0.09465_f64 * t.sin[3]),
+            );
+        jb0i[2][0] = -<f64 as ::trocar::emitted::Real>::mul_add(x6, x13, x9 * x10);
+        jb0i[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(x7, x13, -(x9 * x11));
+        jb0i[2][2] = <f64 as ::trocar::emitted::Real>::mul_add(x8, x13, -(x9 * x12));
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x10,
+            -(t.cos[2] * x6),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x7,
+            t.sin[2] * x11,
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x8,
+            t.sin[2] * x12,
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x9,
+            t.sin[2] * x13,
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x6,
+            t.cos[2] * x10,
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x11,
+            -(t.sin[2] * x7),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x12,
+            -(t.sin[2] * x8),
+        );
         let x21 = 0.425_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[2], x13, -(t.sin[2] * x9));
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x13, -(t.sin[2] * x9));
         fk0i.1[2] = 0.089159_f64
-            - <f64 as ::trocar::Real>::mul_add(t.cos[1], x17, t.sin[1] * x21);
-        jb0i[1][0] = <f64 as ::trocar::Real>::mul_add(x14, x21, -(x17 * x18));
-        jb0i[1][1] = <f64 as ::trocar::Real>::mul_add(x15, x21, -(x17 * x19));
-        jb0i[1][2] = <f64 as ::trocar::Real>::mul_add(x16, x21, -(x17 * x20));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x18, -(t.sin[1] * x14));
-        fk0i.0[0][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x22, -(t.sin[0] * x3));
-        fk0i.0[0][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x22, t.cos[0] * x3);
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x19, -(t.sin[1] * x15));
-        fk0i.0[1][0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x23, t.sin[0] * x4);
-        fk0i.0[1][1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x23, -(t.cos[0] * x4));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x20, -(t.sin[1] * x16));
-        fk0i.0[2][0] = <f64 as ::trocar::Real>::mul_add(
+            - <f64 as ::trocar::emitted::Real>::mul_add(t.cos[1], x17, t.sin[1] * x21);
+        jb0i[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(x14, x21, -(x17 * x18));
+        jb0i[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(x15, x21, -(x17 * x19));
+        jb0i[1][2] = <f64 as ::trocar::emitted::Real>::mul_add(x16, x21, -(x17 * x20));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x18,
+            -(t.sin[1] * x14),
+        );
+        fk0i.0[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x22,
+            -(t.sin[0] * x3),
+        );
+        fk0i.0[0][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x22,
+            t.cos[0] * x3,
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x19,
+            -(t.sin[1] * x15),
+        );
+        fk0i.0[1][0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x23,
+            t.sin[0] * x4,
+        );
+        fk0i.0[1][1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x23,
+            -(t.cos[0] * x4),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x20,
+            -(t.sin[1] * x16),
+        );
+        fk0i.0[2][0] = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[0],
             x24,
             -(t.sin[0] * t.cos[4]),
         );
-        fk0i.0[2][1] = <f64 as ::trocar::Real>::mul_add(
+        fk0i.0[2][1] = <f64 as ::trocar::emitted::Real>::mul_add(
             t.sin[0],
             x24,
             t.cos[0] * t.cos[4],
         );
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x21, -(t.sin[1] * x17));
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x21,
+            -(t.sin[1] * x17),
+        );
         let x26 = 0.13585_f64
-            + (<f64 as ::trocar::Real>::mul_add(0.0823_f64, t.cos[4], 0.093_f64)
+            + (<f64 as ::trocar::emitted::Real>::mul_add(0.0823_f64, t.cos[4], 0.093_f64)
                 - 0.1197_f64);
-        fk0i.1[0] = <f64 as ::trocar::Real>::mul_add(t.cos[0], x25, -(t.sin[0] * x26));
-        fk0i.1[1] = <f64 as ::trocar::Real>::mul_add(t.sin[0], x25, t.cos[0] * x26);
-        jb0i[0][0] = <f64 as ::trocar::Real>::mul_add(x3, x25, -(x22 * x26));
-        jb0i[0][1] = -<f64 as ::trocar::Real>::mul_add(x23, x26, x4 * x25);
-        jb0i[0][2] = <f64 as ::trocar::Real>::mul_add(t.cos[4], x25, -(x24 * x26));
-        let x27 = -<f64 as ::trocar::Real>::mul_add(t.cos[1], x14, t.sin[1] * x18);
+        fk0i.1[0] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[0],
+            x25,
+            -(t.sin[0] * x26),
+        );
+        fk0i.1[1] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x25,
+            t.cos[0] * x26,
+        );
+        jb0i[0][0] = <f64 as ::trocar::emitted::Real>::mul_add(x3, x25, -(x22 * x26));
+        jb0i[0][1] = -<f64 as ::trocar::emitted::Real>::mul_add(x23, x26, x4 * x25);
+        jb0i[0][2] = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[4],
+            x25,
+            -(x24 * x26),
+        );
+        let x27 = -<f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x14,
+            t.sin[1] * x18,
+        );
         fk0i.0[0][2] = x27;
         jb0i[0][3] = x27;
-        let x28 = -<f64 as ::trocar::Real>::mul_add(t.cos[1], x15, t.sin[1] * x19);
+        let x28 = -<f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x15,
+            t.sin[1] * x19,
+        );
         fk0i.0[1][2] = x28;
         jb0i[0][4] = x28;
-        let x29 = -<f64 as ::trocar::Real>::mul_add(t.cos[1], x16, t.sin[1] * x20);
+        let x29 = -<f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x16,
+            t.sin[1] * x20,
+        );
         fk0i.0[2][2] = x29;
         jb0i[0][5] = x29;
     }
@@ -1846,69 +2428,161 @@ pub mod ur5_trocar {
         let x3 = t.sin[4] * t.cos[5];
         let x4 = t.sin[4] * t.sin[5];
         let x5 = -x4;
-        let x6 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x0, t.cos[3] * t.sin[5]);
-        let x7 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x1, -(t.cos[3] * t.cos[5]));
+        let x6 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x0,
+            t.cos[3] * t.sin[5],
+        );
+        let x7 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x1,
+            -(t.cos[3] * t.cos[5]),
+        );
         let x8 = t.sin[3] * t.sin[4];
-        let x9 = <f64 as ::trocar::Real>::mul_add(t.sin[3], x2, 0.09465_f64 * t.cos[3]);
-        let x10 = <f64 as ::trocar::Real>::mul_add(t.sin[3], t.sin[5], -(t.cos[3] * x0));
-        let x11 = <f64 as ::trocar::Real>::mul_add(t.cos[3], x1, t.sin[3] * t.cos[5]);
+        let x9 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            x2,
+            0.09465_f64 * t.cos[3],
+        );
+        let x10 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[3],
+            t.sin[5],
+            -(t.cos[3] * x0),
+        );
+        let x11 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[3],
+            x1,
+            t.sin[3] * t.cos[5],
+        );
         let x12 = t.cos[3] * t.sin[4];
         let x13 = 0.39225_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[3], x2, -(0.09465_f64 * t.sin[3]));
-        let x14 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x10, -(t.cos[2] * x6));
-        let x15 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x7, t.sin[2] * x11);
-        let x16 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x8, t.sin[2] * x12);
-        let x17 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x9, t.sin[2] * x13);
-        let x18 = <f64 as ::trocar::Real>::mul_add(t.sin[2], x6, t.cos[2] * x10);
-        let x19 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x11, -(t.sin[2] * x7));
-        let x20 = <f64 as ::trocar::Real>::mul_add(t.cos[2], x12, -(t.sin[2] * x8));
+            + <f64 as ::trocar::emitted::Real>::mul_add(
+                t.cos[3],
+                x2,
+                -(0.09465_f64 * t.sin[3]),
+            );
+        let x14 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x10,
+            -(t.cos[2] * x6),
+        );
+        let x15 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x7,
+            t.sin[2] * x11,
+        );
+        let x16 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x8,
+            t.sin[2] * x12,
+        );
+        let x17 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x9,
+            t.sin[2] * x13,
+        );
+        let x18 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[2],
+            x6,
+            t.cos[2] * x10,
+        );
+        let x19 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x11,
+            -(t.sin[2] * x7),
+        );
+        let x20 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[2],
+            x12,
+            -(t.sin[2] * x8),
+        );
         let x21 = 0.425_f64
-            + <f64 as ::trocar::Real>::mul_add(t.cos[2], x13, -(t.sin[2] * x9));
-        let x22 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x18, -(t.sin[1] * x14));
-        let x23 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x19, -(t.sin[1] * x15));
-        let x24 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x20, -(t.sin[1] * x16));
-        let x25 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x21, -(t.sin[1] * x17));
+            + <f64 as ::trocar::emitted::Real>::mul_add(t.cos[2], x13, -(t.sin[2] * x9));
+        let x22 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x18,
+            -(t.sin[1] * x14),
+        );
+        let x23 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x19,
+            -(t.sin[1] * x15),
+        );
+        let x24 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x20,
+            -(t.sin[1] * x16),
+        );
+        let x25 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x21,
+            -(t.sin[1] * x17),
+        );
         let x26 = 0.13585_f64
-            + (<f64 as ::trocar::Real>::mul_add(0.0823_f64, t.cos[4], 0.093_f64)
+            + (<f64 as ::trocar::emitted::Real>::mul_add(0.0823_f64, t.cos[4], 0.093_f64)
                 - 0.1197_f64);
-        let x27 = -<f64 as ::trocar::Real>::mul_add(t.cos[1], x14, t.sin[1] * x18);
-        let x28 = -<f64 as ::trocar::Real>::mul_add(t.cos[1], x15, t.sin[1] * x19);
-        let x29 = <f64 as ::trocar::Real>::mul_add(t.cos[1], x16, t.sin[1] * x20);
+        let x27 = -<f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x14,
+            t.sin[1] * x18,
+        );
+        let x28 = -<f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x15,
+            t.sin[1] * x19,
+        );
+        let x29 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.cos[1],
+            x16,
+            t.sin[1] * x20,
+        );
         let x30 = -x29;
-        let x31 = <f64 as ::trocar::Real>::mul_add(
+        let x31 = <f64 as ::trocar::emitted::Real>::mul_add(
             t.cos[0],
             x24,
             -(t.sin[0] * t.cos[4]),
         );
-        let x32 = <f64 as ::trocar::Real>::mul_add(t.sin[0], x24, t.cos[0] * t.cos[4]);
-        let x33 = <f64 as ::trocar::Real>::ONE
-            / <f64 as ::trocar::Real>::mul_add(
+        let x32 = <f64 as ::trocar::emitted::Real>::mul_add(
+            t.sin[0],
+            x24,
+            t.cos[0] * t.cos[4],
+        );
+        let x33 = <f64 as ::trocar::emitted::Real>::ONE
+            / <f64 as ::trocar::emitted::Real>::mul_add(
                 p.l_a,
                 p.l_a,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ONE,
             );
         let x34 = x33
-            * <f64 as ::trocar::Real>::mul_add(
+            * <f64 as ::trocar::emitted::Real>::mul_add(
                 0.35_f64,
                 p.l_a,
-                <f64 as ::trocar::Real>::ONE,
+                <f64 as ::trocar::emitted::Real>::ONE,
             );
         let x35 = p.l_a * x33;
         (
             (
                 [
                     [
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[0],
                             x22,
                             -(t.sin[0] * x3),
                         ),
-                        <f64 as ::trocar::Real>::mul_add(t.sin[0], x22, t.cos[0] * x3),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.sin[0],
+                            x22,
+                            t.cos[0] * x3,
+                        ),
                         x27,
                     ],
                     [
-                        <f64 as ::trocar::Real>::mul_add(t.cos[0], x23, t.sin[0] * x4),
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.cos[0],
+                            x23,
+                            t.sin[0] * x4,
+                        ),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.sin[0],
                             x23,
                             -(t.cos[0] * x4),
@@ -1918,25 +2592,29 @@ pub mod ur5_trocar {
                     [x31, x32, x30],
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.35_f64,
                         x31,
-                        <f64 as ::trocar::Real>::mul_add(
+                        <f64 as ::trocar::emitted::Real>::mul_add(
                             t.cos[0],
                             x25,
                             -(t.sin[0] * x26),
                         ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         0.35_f64,
                         x32,
-                        <f64 as ::trocar::Real>::mul_add(t.sin[0], x25, t.cos[0] * x26),
+                        <f64 as ::trocar::emitted::Real>::mul_add(
+                            t.sin[0],
+                            x25,
+                            t.cos[0] * x26,
+                        ),
                     ),
-                    <f64 as ::trocar::Real>::mul_add(
+                    <f64 as ::trocar::emitted::Real>::mul_add(
                         -0.35_f64,
                         x29,
                         0.089159_f64
-                            - <f64 as ::trocar::Real>::mul_add(
+                            - <f64 as ::trocar::emitted::Real>::mul_add(
                                 t.cos[1],
                                 x17,
                                 t.sin[1] * x21,
@@ -1946,32 +2624,44 @@ pub mod ur5_trocar {
             ),
             [
                 [
-                    <f64 as ::trocar::Real>::mul_add(x3, x25, -(x22 * x26)),
-                    -<f64 as ::trocar::Real>::mul_add(x23, x26, x4 * x25),
-                    <f64 as ::trocar::Real>::mul_add(t.cos[4], x25, -(x24 * x26)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x3, x25, -(x22 * x26)),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(x23, x26, x4 * x25),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        t.cos[4],
+                        x25,
+                        -(x24 * x26),
+                    ),
                     x27,
                     x28,
                     x30,
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(x14, x21, -(x17 * x18)),
-                    <f64 as ::trocar::Real>::mul_add(x15, x21, -(x17 * x19)),
-                    <f64 as ::trocar::Real>::mul_add(x16, x21, -(x17 * x20)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x14, x21, -(x17 * x18)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x15, x21, -(x17 * x19)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x16, x21, -(x17 * x20)),
                     x3,
                     x5,
                     t.cos[4],
                 ],
                 [
-                    -<f64 as ::trocar::Real>::mul_add(x6, x13, x9 * x10),
-                    <f64 as ::trocar::Real>::mul_add(x7, x13, -(x9 * x11)),
-                    <f64 as ::trocar::Real>::mul_add(x8, x13, -(x9 * x12)),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(x6, x13, x9 * x10),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x7, x13, -(x9 * x11)),
+                    <f64 as ::trocar::emitted::Real>::mul_add(x8, x13, -(x9 * x12)),
                     x3,
                     x5,
                     t.cos[4],
                 ],
                 [
-                    <f64 as ::trocar::Real>::mul_add(0.09465_f64, x0, -(t.sin[5] * x2)),
-                    -<f64 as ::trocar::Real>::mul_add(0.09465_f64, x1, t.cos[5] * x2),
+                    <f64 as ::trocar::emitted::Real>::mul_add(
+                        0.09465_f64,
+                        x0,
+                        -(t.sin[5] * x2),
+                    ),
+                    -<f64 as ::trocar::emitted::Real>::mul_add(
+                        0.09465_f64,
+                        x1,
+                        t.cos[5] * x2,
+                    ),
                     -(0.09465_f64 * t.sin[4]),
                     x3,
                     x5,
@@ -1980,70 +2670,70 @@ pub mod ur5_trocar {
                 [
                     -(0.0823_f64 * t.cos[5]),
                     0.0823_f64 * t.sin[5],
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     -t.sin[5],
                     -t.cos[5],
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
                 ],
             ],
             [
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     p.l_a - 0.35_f64,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
                     0.35_f64 - p.l_a,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ONE,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ONE,
                 ],
             ],
             [
                 [
                     x34,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     x35,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
                 [
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     x34,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                     -x35,
-                    <f64 as ::trocar::Real>::ZERO,
-                    <f64 as ::trocar::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
+                    <f64 as ::trocar::emitted::Real>::ZERO,
                 ],
             ],
         )
@@ -2077,7 +2767,7 @@ pub mod ur5_trocar {
         #[inline]
         #[must_use]
         pub fn zeroed() -> Self {
-            let z = <f64 as ::trocar::Real>::ZERO;
+            let z = <f64 as ::trocar::emitted::Real>::ZERO;
             StepKinematics {
                 offset: z,
                 g_0e: ([[z; 3]; 3], [z; 3]),
@@ -2103,7 +2793,7 @@ pub mod ur5_trocar {
     #[inline]
     fn step_is_finite(out: &StepKinematics) -> bool {
         let finite = |x: &[f64]| {
-            x.iter().all(|&v| <f64 as ::trocar::Real>::is_finite(v))
+            x.iter().all(|&v| <f64 as ::trocar::emitted::Real>::is_finite(v))
         };
         finite(&out.g_0e.1) && finite(&out.g_0i.1) && finite(out.g_0e.0.as_flattened())
             && finite(out.g_0i.0.as_flattened()) && finite(out.jb0i.as_flattened())
@@ -2121,13 +2811,13 @@ pub mod ur5_trocar {
         params: &Params,
     ) -> f64 {
         let mut p = *params;
-        p.l_a = <f64 as ::trocar::Real>::ZERO;
+        p.l_a = <f64 as ::trocar::emitted::Real>::ZERO;
         let o = constraint_frame(&p).1;
-        p.l_a = <f64 as ::trocar::Real>::ONE;
+        p.l_a = <f64 as ::trocar::emitted::Real>::ONE;
         let o1 = constraint_frame(&p).1;
         let d = [o1[0] - o[0], o1[1] - o[1], o1[2] - o[2]];
         let (rot, pos) = g_0i;
-        let mut num = <f64 as ::trocar::Real>::ZERO;
+        let mut num = <f64 as ::trocar::emitted::Real>::ZERO;
         for i in 0..3 {
             let ro = rot[0][i] * o[0] + rot[1][i] * o[1] + rot[2][i] * o[2];
             let rd = rot[0][i] * d[0] + rot[1][i] * d[1] + rot[2][i] * d[2];
@@ -2148,7 +2838,7 @@ pub mod ur5_trocar {
         out: &mut StepKinematics,
     ) -> bool {
         fill_at_trocar(t, trocar, params, out);
-        <f64 as ::trocar::Real>::is_finite(out.offset) && step_is_finite(out)
+        <f64 as ::trocar::emitted::Real>::is_finite(out.offset) && step_is_finite(out)
     }
     /// [`step_kinematics`] without the finiteness check.
     #[inline]
@@ -2197,8 +2887,10 @@ pub mod ur5_trocar {
         let mut a3_2 = j[2usize][3usize];
         let mut a3_3 = j[3usize][3usize];
         let mut b0_3 = b[3usize];
-        let mut det = <f64 as ::trocar::Real>::ONE;
-        if <f64 as ::trocar::Real>::abs(a1_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        let mut det = <f64 as ::trocar::emitted::Real>::ONE;
+        if <f64 as ::trocar::emitted::Real>::abs(a1_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a1_0);
             ::core::mem::swap(&mut a0_1, &mut a1_1);
             ::core::mem::swap(&mut a0_2, &mut a1_2);
@@ -2206,7 +2898,9 @@ pub mod ur5_trocar {
             ::core::mem::swap(&mut b0_0, &mut b0_1);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a2_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a2_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a2_0);
             ::core::mem::swap(&mut a0_1, &mut a2_1);
             ::core::mem::swap(&mut a0_2, &mut a2_2);
@@ -2214,7 +2908,9 @@ pub mod ur5_trocar {
             ::core::mem::swap(&mut b0_0, &mut b0_2);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a3_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a3_0);
             ::core::mem::swap(&mut a0_1, &mut a3_1);
             ::core::mem::swap(&mut a0_2, &mut a3_2);
@@ -2223,7 +2919,7 @@ pub mod ur5_trocar {
             det = -det;
         }
         det *= a0_0;
-        let inv0 = <f64 as ::trocar::Real>::ONE / a0_0;
+        let inv0 = <f64 as ::trocar::emitted::Real>::ONE / a0_0;
         let l = a1_0 * inv0;
         a1_1 -= l * a0_1;
         a1_2 -= l * a0_2;
@@ -2239,14 +2935,18 @@ pub mod ur5_trocar {
         a3_2 -= l * a0_2;
         a3_3 -= l * a0_3;
         b0_3 -= l * b0_0;
-        if <f64 as ::trocar::Real>::abs(a2_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a2_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a2_1);
             ::core::mem::swap(&mut a1_2, &mut a2_2);
             ::core::mem::swap(&mut a1_3, &mut a2_3);
             ::core::mem::swap(&mut b0_1, &mut b0_2);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a3_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a3_1);
             ::core::mem::swap(&mut a1_2, &mut a3_2);
             ::core::mem::swap(&mut a1_3, &mut a3_3);
@@ -2254,7 +2954,7 @@ pub mod ur5_trocar {
             det = -det;
         }
         det *= a1_1;
-        let inv1 = <f64 as ::trocar::Real>::ONE / a1_1;
+        let inv1 = <f64 as ::trocar::emitted::Real>::ONE / a1_1;
         let l = a2_1 * inv1;
         a2_2 -= l * a1_2;
         a2_3 -= l * a1_3;
@@ -2263,19 +2963,21 @@ pub mod ur5_trocar {
         a3_2 -= l * a1_2;
         a3_3 -= l * a1_3;
         b0_3 -= l * b0_1;
-        if <f64 as ::trocar::Real>::abs(a3_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a3_2);
             ::core::mem::swap(&mut a2_3, &mut a3_3);
             ::core::mem::swap(&mut b0_2, &mut b0_3);
             det = -det;
         }
         det *= a2_2;
-        let inv2 = <f64 as ::trocar::Real>::ONE / a2_2;
+        let inv2 = <f64 as ::trocar::emitted::Real>::ONE / a2_2;
         let l = a3_2 * inv2;
         a3_3 -= l * a2_3;
         b0_3 -= l * b0_2;
         det *= a3_3;
-        let inv3 = <f64 as ::trocar::Real>::ONE / a3_3;
+        let inv3 = <f64 as ::trocar::emitted::Real>::ONE / a3_3;
         let x3 = (b0_3) * inv3;
         let x2 = (b0_2 - a2_3 * x3) * inv2;
         let x1 = (b0_1 - a1_2 * x2 - a1_3 * x3) * inv1;
@@ -2337,8 +3039,10 @@ pub mod ur5_trocar {
         let mut a5_4 = j[4usize][5usize];
         let mut a5_5 = j[5usize][5usize];
         let mut b0_5 = b[5usize];
-        let mut det = <f64 as ::trocar::Real>::ONE;
-        if <f64 as ::trocar::Real>::abs(a1_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        let mut det = <f64 as ::trocar::emitted::Real>::ONE;
+        if <f64 as ::trocar::emitted::Real>::abs(a1_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a1_0);
             ::core::mem::swap(&mut a0_1, &mut a1_1);
             ::core::mem::swap(&mut a0_2, &mut a1_2);
@@ -2348,7 +3052,9 @@ pub mod ur5_trocar {
             ::core::mem::swap(&mut b0_0, &mut b0_1);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a2_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a2_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a2_0);
             ::core::mem::swap(&mut a0_1, &mut a2_1);
             ::core::mem::swap(&mut a0_2, &mut a2_2);
@@ -2358,7 +3064,9 @@ pub mod ur5_trocar {
             ::core::mem::swap(&mut b0_0, &mut b0_2);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a3_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a3_0);
             ::core::mem::swap(&mut a0_1, &mut a3_1);
             ::core::mem::swap(&mut a0_2, &mut a3_2);
@@ -2368,7 +3076,9 @@ pub mod ur5_trocar {
             ::core::mem::swap(&mut b0_0, &mut b0_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a4_0);
             ::core::mem::swap(&mut a0_1, &mut a4_1);
             ::core::mem::swap(&mut a0_2, &mut a4_2);
@@ -2378,7 +3088,9 @@ pub mod ur5_trocar {
             ::core::mem::swap(&mut b0_0, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_0) > <f64 as ::trocar::Real>::abs(a0_0) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_0)
+            > <f64 as ::trocar::emitted::Real>::abs(a0_0)
+        {
             ::core::mem::swap(&mut a0_0, &mut a5_0);
             ::core::mem::swap(&mut a0_1, &mut a5_1);
             ::core::mem::swap(&mut a0_2, &mut a5_2);
@@ -2389,7 +3101,7 @@ pub mod ur5_trocar {
             det = -det;
         }
         det *= a0_0;
-        let inv0 = <f64 as ::trocar::Real>::ONE / a0_0;
+        let inv0 = <f64 as ::trocar::emitted::Real>::ONE / a0_0;
         let l = a1_0 * inv0;
         a1_1 -= l * a0_1;
         a1_2 -= l * a0_2;
@@ -2425,7 +3137,9 @@ pub mod ur5_trocar {
         a5_4 -= l * a0_4;
         a5_5 -= l * a0_5;
         b0_5 -= l * b0_0;
-        if <f64 as ::trocar::Real>::abs(a2_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a2_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a2_1);
             ::core::mem::swap(&mut a1_2, &mut a2_2);
             ::core::mem::swap(&mut a1_3, &mut a2_3);
@@ -2434,7 +3148,9 @@ pub mod ur5_trocar {
             ::core::mem::swap(&mut b0_1, &mut b0_2);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a3_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a3_1);
             ::core::mem::swap(&mut a1_2, &mut a3_2);
             ::core::mem::swap(&mut a1_3, &mut a3_3);
@@ -2443,7 +3159,9 @@ pub mod ur5_trocar {
             ::core::mem::swap(&mut b0_1, &mut b0_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a4_1);
             ::core::mem::swap(&mut a1_2, &mut a4_2);
             ::core::mem::swap(&mut a1_3, &mut a4_3);
@@ -2452,7 +3170,9 @@ pub mod ur5_trocar {
             ::core::mem::swap(&mut b0_1, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_1) > <f64 as ::trocar::Real>::abs(a1_1) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_1)
+            > <f64 as ::trocar::emitted::Real>::abs(a1_1)
+        {
             ::core::mem::swap(&mut a1_1, &mut a5_1);
             ::core::mem::swap(&mut a1_2, &mut a5_2);
             ::core::mem::swap(&mut a1_3, &mut a5_3);
@@ -2462,7 +3182,7 @@ pub mod ur5_trocar {
             det = -det;
         }
         det *= a1_1;
-        let inv1 = <f64 as ::trocar::Real>::ONE / a1_1;
+        let inv1 = <f64 as ::trocar::emitted::Real>::ONE / a1_1;
         let l = a2_1 * inv1;
         a2_2 -= l * a1_2;
         a2_3 -= l * a1_3;
@@ -2487,7 +3207,9 @@ pub mod ur5_trocar {
         a5_4 -= l * a1_4;
         a5_5 -= l * a1_5;
         b0_5 -= l * b0_1;
-        if <f64 as ::trocar::Real>::abs(a3_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a3_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a3_2);
             ::core::mem::swap(&mut a2_3, &mut a3_3);
             ::core::mem::swap(&mut a2_4, &mut a3_4);
@@ -2495,7 +3217,9 @@ pub mod ur5_trocar {
             ::core::mem::swap(&mut b0_2, &mut b0_3);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a4_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a4_2);
             ::core::mem::swap(&mut a2_3, &mut a4_3);
             ::core::mem::swap(&mut a2_4, &mut a4_4);
@@ -2503,7 +3227,9 @@ pub mod ur5_trocar {
             ::core::mem::swap(&mut b0_2, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_2) > <f64 as ::trocar::Real>::abs(a2_2) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_2)
+            > <f64 as ::trocar::emitted::Real>::abs(a2_2)
+        {
             ::core::mem::swap(&mut a2_2, &mut a5_2);
             ::core::mem::swap(&mut a2_3, &mut a5_3);
             ::core::mem::swap(&mut a2_4, &mut a5_4);
@@ -2512,7 +3238,7 @@ pub mod ur5_trocar {
             det = -det;
         }
         det *= a2_2;
-        let inv2 = <f64 as ::trocar::Real>::ONE / a2_2;
+        let inv2 = <f64 as ::trocar::emitted::Real>::ONE / a2_2;
         let l = a3_2 * inv2;
         a3_3 -= l * a2_3;
         a3_4 -= l * a2_4;
@@ -2528,14 +3254,18 @@ pub mod ur5_trocar {
         a5_4 -= l * a2_4;
         a5_5 -= l * a2_5;
         b0_5 -= l * b0_2;
-        if <f64 as ::trocar::Real>::abs(a4_3) > <f64 as ::trocar::Real>::abs(a3_3) {
+        if <f64 as ::trocar::emitted::Real>::abs(a4_3)
+            > <f64 as ::trocar::emitted::Real>::abs(a3_3)
+        {
             ::core::mem::swap(&mut a3_3, &mut a4_3);
             ::core::mem::swap(&mut a3_4, &mut a4_4);
             ::core::mem::swap(&mut a3_5, &mut a4_5);
             ::core::mem::swap(&mut b0_3, &mut b0_4);
             det = -det;
         }
-        if <f64 as ::trocar::Real>::abs(a5_3) > <f64 as ::trocar::Real>::abs(a3_3) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_3)
+            > <f64 as ::trocar::emitted::Real>::abs(a3_3)
+        {
             ::core::mem::swap(&mut a3_3, &mut a5_3);
             ::core::mem::swap(&mut a3_4, &mut a5_4);
             ::core::mem::swap(&mut a3_5, &mut a5_5);
@@ -2543,7 +3273,7 @@ pub mod ur5_trocar {
             det = -det;
         }
         det *= a3_3;
-        let inv3 = <f64 as ::trocar::Real>::ONE / a3_3;
+        let inv3 = <f64 as ::trocar::emitted::Real>::ONE / a3_3;
         let l = a4_3 * inv3;
         a4_4 -= l * a3_4;
         a4_5 -= l * a3_5;
@@ -2552,19 +3282,21 @@ pub mod ur5_trocar {
         a5_4 -= l * a3_4;
         a5_5 -= l * a3_5;
         b0_5 -= l * b0_3;
-        if <f64 as ::trocar::Real>::abs(a5_4) > <f64 as ::trocar::Real>::abs(a4_4) {
+        if <f64 as ::trocar::emitted::Real>::abs(a5_4)
+            > <f64 as ::trocar::emitted::Real>::abs(a4_4)
+        {
             ::core::mem::swap(&mut a4_4, &mut a5_4);
             ::core::mem::swap(&mut a4_5, &mut a5_5);
             ::core::mem::swap(&mut b0_4, &mut b0_5);
             det = -det;
         }
         det *= a4_4;
-        let inv4 = <f64 as ::trocar::Real>::ONE / a4_4;
+        let inv4 = <f64 as ::trocar::emitted::Real>::ONE / a4_4;
         let l = a5_4 * inv4;
         a5_5 -= l * a4_5;
         b0_5 -= l * b0_4;
         det *= a5_5;
-        let inv5 = <f64 as ::trocar::Real>::ONE / a5_5;
+        let inv5 = <f64 as ::trocar::emitted::Real>::ONE / a5_5;
         let x5 = (b0_5) * inv5;
         let x4 = (b0_4 - a4_5 * x5) * inv4;
         let x3 = (b0_3 - a3_4 * x4 - a3_5 * x5) * inv3;
@@ -2595,13 +3327,13 @@ pub mod ur5_trocar {
     impl Kinematics {
         /// A pose from the generated `(R column-major, p)`.
         #[inline]
-        fn pose((r, p): ([[f64; 3]; 3], [f64; 3])) -> ::trocar::se3::Se3<f64> {
-            ::trocar::se3::Se3 {
-                rotation: ::trocar::nalgebra::Matrix3::from_data(
-                    ::trocar::nalgebra::ArrayStorage(r),
+        fn pose((r, p): ([[f64; 3]; 3], [f64; 3])) -> ::trocar::emitted::Se3<f64> {
+            ::trocar::emitted::Se3 {
+                rotation: ::trocar::emitted::nalgebra::Matrix3::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(r),
                 ),
-                translation: ::trocar::nalgebra::Vector3::from_data(
-                    ::trocar::nalgebra::ArrayStorage([p]),
+                translation: ::trocar::emitted::nalgebra::Vector3::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage([p]),
                 ),
             }
         }
@@ -2609,66 +3341,70 @@ pub mod ur5_trocar {
         #[inline]
         fn state(
             s: &StepKinematics,
-        ) -> ::trocar::control::ConstrainedState<f64, I, R, K, M> {
-            ::trocar::control::ConstrainedState {
+        ) -> ::trocar::emitted::ConstrainedState<f64, I, R, K, M> {
+            ::trocar::emitted::ConstrainedState {
                 g_0e: Self::pose(s.g_0e),
                 g_0i: Self::pose(s.g_0i),
-                jr: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jr),
+                jr: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jr),
                 ),
-                jb0i: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jb0i),
+                jb0i: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jb0i),
                 ),
-                jc: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.jc),
+                jc: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.jc),
                 ),
-                lambda_sharp: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.lambda_sharp),
+                lambda_sharp: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.lambda_sharp),
                 ),
-                lambda_pinv: ::trocar::nalgebra::SMatrix::from_data(
-                    ::trocar::nalgebra::ArrayStorage(s.lambda_pinv),
+                lambda_pinv: ::trocar::emitted::nalgebra::SMatrix::from_data(
+                    ::trocar::emitted::nalgebra::ArrayStorage(s.lambda_pinv),
                 ),
             }
         }
     }
-    impl ::trocar::control::ConstrainedKinematics<f64, N, I, R, K, M, TASK_ROWS>
+    impl ::trocar::emitted::ConstrainedKinematics<f64, N, I, R, K, M, TASK_ROWS>
     for Kinematics {
         #[inline]
         fn g_0i(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
-        ) -> ::trocar::se3::Se3<f64> {
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
+        ) -> ::trocar::emitted::Se3<f64> {
             Self::pose(forward_kinematics_i(&q.data.0[0], &self.params))
         }
         #[inline]
-        fn h(&self) -> ::trocar::nalgebra::SMatrix<f64, R, 6> {
-            ::trocar::nalgebra::SMatrix::from_data(
-                ::trocar::nalgebra::ArrayStorage(constraint_selection(&self.params)),
+        fn h(&self) -> ::trocar::emitted::nalgebra::SMatrix<f64, R, 6> {
+            ::trocar::emitted::nalgebra::SMatrix::from_data(
+                ::trocar::emitted::nalgebra::ArrayStorage(
+                    constraint_selection(&self.params),
+                ),
             )
         }
         #[inline]
-        fn shaft(&self) -> ::trocar::control::Shaft<f64> {
+        fn shaft(&self) -> ::trocar::emitted::Shaft<f64> {
             let mut p = self.params;
-            p.l_a = <f64 as ::trocar::Real>::ZERO;
+            p.l_a = <f64 as ::trocar::emitted::Real>::ZERO;
             let at_zero = Self::pose(constraint_frame(&p));
-            p.l_a = <f64 as ::trocar::Real>::ONE;
+            p.l_a = <f64 as ::trocar::emitted::Real>::ONE;
             let at_one = Self::pose(constraint_frame(&p));
-            ::trocar::control::Shaft::from_frames(&at_zero, &at_one)
+            ::trocar::emitted::Shaft::from_frames(&at_zero, &at_one)
         }
         #[inline]
-        fn task_selection(&self) -> ::trocar::nalgebra::SMatrix<f64, TASK_ROWS, 6> {
-            ::trocar::nalgebra::SMatrix::from_data(
-                ::trocar::nalgebra::ArrayStorage(task_selection(&self.params)),
+        fn task_selection(
+            &self,
+        ) -> ::trocar::emitted::nalgebra::SMatrix<f64, TASK_ROWS, 6> {
+            ::trocar::emitted::nalgebra::SMatrix::from_data(
+                ::trocar::emitted::nalgebra::ArrayStorage(task_selection(&self.params)),
             )
         }
         #[inline]
         fn evaluate(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
             l_a: f64,
         ) -> ::core::result::Result<
-            ::trocar::control::ConstrainedState<f64, I, R, K, M>,
-            ::trocar::control::ControlError,
+            ::trocar::emitted::ConstrainedState<f64, I, R, K, M>,
+            ::trocar::emitted::ControlError,
         > {
             let t = JointTrig::new(&q.data.0[0]);
             let mut p = self.params;
@@ -2677,9 +3413,9 @@ pub mod ur5_trocar {
             s.g_0i = forward_kinematics_i_trig(&t, &p);
             s.offset = l_a;
             fill_step(&t, &p, &mut s);
-            if !<f64 as ::trocar::Real>::is_finite(l_a) || !step_is_finite(&s) {
+            if !<f64 as ::trocar::emitted::Real>::is_finite(l_a) || !step_is_finite(&s) {
                 return ::core::result::Result::Err(
-                    ::trocar::control::ControlError::Kinematics,
+                    ::trocar::emitted::ControlError::Kinematics,
                 );
             }
             ::core::result::Result::Ok(Self::state(&s))
@@ -2689,22 +3425,29 @@ pub mod ur5_trocar {
         #[inline]
         fn solve_task(
             &self,
-            j: &::trocar::nalgebra::SMatrix<f64, TASK_ROWS, M>,
-            b: &::trocar::nalgebra::SVector<f64, TASK_ROWS>,
-        ) -> ::core::option::Option<(::trocar::nalgebra::SVector<f64, M>, f64)> {
+            j: &::trocar::emitted::nalgebra::SMatrix<f64, TASK_ROWS, M>,
+            b: &::trocar::emitted::nalgebra::SVector<f64, TASK_ROWS>,
+        ) -> ::core::option::Option<
+            (::trocar::emitted::nalgebra::SVector<f64, M>, f64),
+        > {
             let (x, det) = lu_solve_4(&j.data.0, &b.data.0[0]);
-            ::core::option::Option::Some((::trocar::nalgebra::SVector::from(x), det))
+            ::core::option::Option::Some((
+                ::trocar::emitted::nalgebra::SVector::from(x),
+                det,
+            ))
         }
         /// `J^B_0i` (6 × 6) solved by the straight-line elimination emitted for this size.
         #[inline]
         fn solve_jb0i(
             &self,
-            j: &::trocar::nalgebra::SMatrix<f64, 6, I>,
-            b: &::trocar::nalgebra::SVector<f64, 6>,
-        ) -> ::core::option::Option<(::trocar::nalgebra::SVector<f64, I>, f64)> {
+            j: &::trocar::emitted::nalgebra::SMatrix<f64, 6, I>,
+            b: &::trocar::emitted::nalgebra::SVector<f64, 6>,
+        ) -> ::core::option::Option<
+            (::trocar::emitted::nalgebra::SVector<f64, I>, f64),
+        > {
             let (x, det_or_w) = lu_solve_6(&j.data.0, &b.data.0[0]);
             ::core::option::Option::Some((
-                ::trocar::nalgebra::SVector::from(x),
+                ::trocar::emitted::nalgebra::SVector::from(x),
                 det_or_w,
             ))
         }
@@ -2712,18 +3455,18 @@ pub mod ur5_trocar {
         #[inline]
         fn evaluate_at_trocar(
             &self,
-            q: &::trocar::nalgebra::SVector<f64, N>,
-            trocar: &::trocar::nalgebra::Vector3<f64>,
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
+            trocar: &::trocar::emitted::nalgebra::Vector3<f64>,
         ) -> ::core::result::Result<
-            (f64, ::trocar::control::ConstrainedState<f64, I, R, K, M>),
-            ::trocar::control::ControlError,
+            (f64, ::trocar::emitted::ConstrainedState<f64, I, R, K, M>),
+            ::trocar::emitted::ControlError,
         > {
             let t = JointTrig::new(&q.data.0[0]);
             let mut s = StepKinematics::zeroed();
             fill_at_trocar(&t, &trocar.data.0[0], &self.params, &mut s);
-            if !<f64 as ::trocar::Real>::is_finite(s.offset) {
+            if !<f64 as ::trocar::emitted::Real>::is_finite(s.offset) {
                 return ::core::result::Result::Err(
-                    ::trocar::control::ControlError::Kinematics,
+                    ::trocar::emitted::ControlError::Kinematics,
                 );
             }
             ::core::result::Result::Ok((s.offset, Self::state(&s)))

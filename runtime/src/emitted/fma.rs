@@ -25,19 +25,16 @@
 //! `x·a + b` is rounded once, the two operations twice. On a CPU with AVX2 and FMA they are bit
 //! for bit those of the same module built with `-C target-feature=+fma` (or any `target-cpu`
 //! with FMA); elsewhere bit for bit those of `name::<f64>`. Use `name::<f64>` itself where the
-//! same binary must give the same bits everywhere; the lane types of `trocar::lanes` (feature
+//! same binary must give the same bits everywhere; the lane types of `trocar::emitted::lanes` (feature
 //! `lanes`) are bit for bit `name::<f64>`, not `name_f64`.
 //!
-//! The Panda's pose and body Jacobian given the sines and cosines: about 18 ns instead of 23 ns
-//! at the default target on an Intel Xeon (BENCHMARKS.md, "FMA chosen at run time"); 14 ns with
-//! AVX-512 instead of 17.5 with AVX2 and 18.5 without the option on an AMD EPYC (section "The
-//! fused functions on AVX-512, given the sines and cosines"). Only optimised code gains:
-//! at opt-level 0 (a debug build) `f64::mul_add` is not inlined into the `_fma` function, and
-//! every `mul_add` is a call (a module's `pose_and_jacobian_trig_f64` in a debug build: 631 ns
-//! against 207 ns for `pose_and_jacobian_trig::<f64>`).
+//! What it gains is measured in BENCHMARKS.md ("FMA chosen at run time", "The fused functions
+//! on AVX-512, given the sines and cosines"). Only optimised code gains: at opt-level 0 (a
+//! debug build) `f64::mul_add` is not inlined into the `_fma` function, and every `mul_add` is
+//! a call, slower than `pose_and_jacobian_trig::<f64>` itself.
 //!
 //! ```
-//! use trocar::fma::FusedF64;
+//! use trocar::emitted::fma::FusedF64;
 //! use trocar::Real;
 //!
 //! // `mul_add` of a `FusedF64` is always rounded once.
@@ -47,7 +44,7 @@
 //! assert_eq!(fused, 5.551115123125783e-17); // 0.1 · 10 − 1 before rounding
 //! ```
 
-use crate::real::{fast, Real};
+use super::{fast, Real};
 use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
 
 /// An `f64` whose [`Real::mul_add`] is always fused (one rounding), whatever the build target:
@@ -189,10 +186,9 @@ pub enum Path {
     /// As [`Path::Fma`], and the CPU also has AVX-512F and AVX-512VL: `name_trig_f64` (given the
     /// sines and cosines) takes the same program compiled for those too, with the same bits
     /// (every operation the same IEEE operation, every `mul_add` rounded once) and thirty-two
-    /// vector registers instead of sixteen. On an AMD EPYC (Zen 4), default target, the Panda's
-    /// pose and body Jacobian given the sines and cosines: 14 ns instead of 17.5 (BENCHMARKS.md,
-    /// "The fused functions on AVX-512, given the sines and cosines"). The entry points from
-    /// `q` keep the AVX2 + FMA function, faster there from `q` (40 ns against 46).
+    /// vector registers instead of sixteen, faster given the sines and cosines (see
+    /// BENCHMARKS.md, "The fused functions on AVX-512, given the sines and cosines"). The entry
+    /// points from `q` keep the AVX2 + FMA function, faster there from `q`.
     Avx512 = 3,
 }
 
@@ -222,7 +218,7 @@ static ANSWER: core::sync::atomic::AtomicU8 = core::sync::atomic::AtomicU8::new(
 
 /// The first call of [`path`]: `std`'s detection under `TROCAR_FMA_PATH`'s cap, kept in
 /// [`ANSWER`]. Out of line, so that [`path`] stays one load and a test where it is inlined (in
-/// line, the environment's reading made it a call: 18 instructions more per evaluation).
+/// line, the environment's reading made it a call, more instructions per evaluation).
 #[cfg(all(feature = "std", target_arch = "x86_64", not(target_feature = "fma")))]
 #[cold]
 #[inline(never)]

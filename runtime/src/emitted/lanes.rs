@@ -16,20 +16,17 @@
 //!   once (`F64x4` on `wide::f64x4` itself, the same arithmetic text as the scalar function;
 //!   `F32x8` through [`fast::sin_cos_f32_lanes`]); when a lane needs the careful reduction,
 //!   `F64x4` recomputes its four lanes with the scalar function and `F32x8` recomputes its lanes
-//!   side by side, each with the reduction the scalar function would choose. `F64x4` on its
-//!   vector type: the Panda's pose and body Jacobian for four configurations 11 % faster with
-//!   AVX-512 than through arrays of four (BENCHMARKS.md, "`F64x4`'s sines and cosines on its
-//!   vector type").
+//!   side by side, each with the reduction the scalar function would choose (`F64x4` on its
+//!   vector type is faster with AVX-512 than through arrays of four: BENCHMARKS.md, "`F64x4`'s
+//!   sines and cosines on its vector type").
 //!   `sin_cos_array` (a chain's joints at once) on `F64x4`, where the target has AVX2 or
 //!   AVX-512, takes the joints four, then two at a time as sixteen or eight `f64` through
 //!   [`fast::sin_cos_f64_lanes`], the scalar code's group kernel, and on `F32x8` two at a time
-//!   as sixteen `f32` through [`fast::sin_cos_f32_lanes`]: the Panda's pose and body Jacobian
-//!   0.46× a scalar evaluation with `F64x4` instead of 0.57×, and 0.33–0.34× of a scalar `f32`
-//!   one with `F32x8` instead of 0.51× (BENCHMARKS.md, "Slices of configurations written in
-//!   place" and "`f32` joints in groups of eight").
+//!   as sixteen `f32` through [`fast::sin_cos_f32_lanes`] (see BENCHMARKS.md, "Slices of
+//!   configurations written in place" and "`f32` joints in groups of eight").
 //!
 //! ```
-//! use trocar::lanes::{F64x4, Lanes};
+//! use trocar::emitted::lanes::{F64x4, Lanes};
 //! use trocar::Arith;
 //!
 //! // Any function generic over `Arith`, as generated code is.
@@ -49,7 +46,7 @@
 //! [`for_each_f64x4`] and [`for_each_f32x8`] run such a function over a slice of any length (the
 //! last group padded) into a slice of results.
 
-use crate::real::{fast, Arith, Real};
+use super::{fast, Arith, Real};
 use core::marker::PhantomData;
 use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
 
@@ -621,7 +618,7 @@ for_each!(
     /// If `out` and `configs` differ in length.
     ///
     /// ```
-    /// use trocar::lanes::for_each_f64x4;
+    /// use trocar::emitted::lanes::for_each_f64x4;
     /// use trocar::Arith;
     ///
     /// fn norm2<T: Arith>(q: &[T; 3]) -> T {
@@ -646,8 +643,8 @@ for_each!(
 
 #[cfg(test)]
 mod tests {
+    use super::fast::{sin_cos_f32, sin_cos_f64};
     use super::*;
-    use crate::real::fast::{sin_cos_f32, sin_cos_f64};
 
     /// splitmix64: reproducible pseudo-random bits.
     struct Bits(u64);

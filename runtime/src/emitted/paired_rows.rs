@@ -14,14 +14,14 @@
 //! only renames rows (their signs are carried with the rows and folded into the next addition
 //! or subtraction), and `Trans(o)` adds to the `p` lanes. On x86-64 a `Pair<f64>` (or
 //! `Pair<f32>`) is one SSE2 register: at the default target, where SSE2 is the widest unit,
-//! the Panda's generated `link_pose_and_jacobian_trig` takes 287 instructions through this
-//! walk instead of the 377 of the same values written out as scalar expressions
-//! (BENCHMARKS.md, "Rows as SSE2 pairs").
+//! the Panda's generated `link_pose_and_jacobian_trig` takes fewer instructions through this
+//! walk than the same values written out as scalar expressions (see BENCHMARKS.md, "Rows as
+//! SSE2 pairs").
 //!
 //! Every operation is one IEEE operation per lane, so a [`Pair`] of lane types gives, lane by
 //! lane, the bits of the scalar walk.
 
-use crate::Arith;
+use super::Arith;
 use core::ops::{Add, Mul, Neg, Sub};
 
 /// Two values side by side, `[lo, hi]`. For `f64` and `f32` on x86-64 (with SSE2, as every
