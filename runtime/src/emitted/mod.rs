@@ -2,7 +2,8 @@
 //! `trocar-codegen` (a build script, `#[trocar::kinematics]`, `trocar generate`) may call.
 //!
 //! The generator writes every runtime path as `::trocar::emitted::…` (or `<runtime>::emitted::…`
-//! for a crate that reaches `trocar` through a re-export), and names nothing else of this crate.
+//! for a crate that reaches `trocar` through a re-export), and names nothing else of this crate
+//! in code (its doc comments still point readers at the public API, e.g. `trocar::control`).
 //! What is here:
 //!
 //! - the scalar traits generated functions are generic over, [`Real`] and [`Arith`] (also at the
