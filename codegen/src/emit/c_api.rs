@@ -493,7 +493,7 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
             report: *mut #t,
         ) -> i32 {
             use #rt::emitted::{
-                ControlError, Controller, ControllerConfig, Damping, Inverse, Rcm, Reference,
+                ControlError, Controller, ControllerConfig, Damping, Method, Rcm, Reference,
                 StepStatus,
             };
             use #rt::emitted::nalgebra::{Matrix3, SVector, Vector3};
@@ -536,7 +536,7 @@ fn controller_step(spec: &ModuleSpec, t: &TokenStream, rt: &TokenStream) -> Toke
             let config = ControllerConfig {
                 kp: gains[0],
                 ko: gains[1],
-                inverse: Inverse::Dls(Damping::Variable { alpha0: gains[3], w0: gains[4] }),
+                method: Method::Dls(Damping::Variable { alpha0: gains[3], w0: gains[4] }),
                 jb0i_damping: Some(Damping::Variable { alpha0: gains[3], w0: gains[5] }),
                 kr: gains[2],
                 max_joint_speed: if gains[6] > 0.0 { Some(gains[6]) } else { None },

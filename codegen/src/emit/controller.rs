@@ -291,6 +291,12 @@ fn glue_tokens(rt: &TokenStream, real: Scalar, offset: &str, spec: &ControllerSp
         offset = offset,
     );
     let struct_doc = doc_lines(&struct_doc);
+    let controller_doc = doc_lines(&format!(
+        "The runtime controller sized for this robot: `{rt}::control::Controller` with this \
+         module's sizes `<_, N, I, R, K, M, {p}>` in one name, run on [`Kinematics`].",
+        rt = rt.to_string().replace(' ', ""),
+        p = if task { "TASK_ROWS" } else { "6" },
+    ));
     let state_ty = quote!(#rt::emitted::ConstrainedState<#t, I, R, K, M>);
     let solve_task = (spec.task_rows == spec.m).then(|| {
         let name = format_ident!("lu_solve_{}", spec.m);
@@ -344,6 +350,9 @@ fn glue_tokens(rt: &TokenStream, real: Scalar, offset: &str, spec: &ControllerSp
             /// The parameters; the trocar offset is overwritten at every evaluation.
             pub params: Params #args,
         }
+
+        #controller_doc
+        pub type Controller #args = #rt::emitted::Controller<#t, N, I, R, K, M, #p_const>;
 
         impl #generics Kinematics #args {
             /// With the description's nominal parameters.

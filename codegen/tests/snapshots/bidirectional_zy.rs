@@ -3260,6 +3260,8 @@ pub mod bidirectional_zy {
         /// The parameters; the trocar offset is overwritten at every evaluation.
         pub params: Params<T>,
     }
+    /// The runtime controller sized for this robot: `::trocar::control::Controller` with this module's sizes `<_, N, I, R, K, M, 6>` in one name, run on [`Kinematics`].
+    pub type Controller<T> = ::trocar::emitted::Controller<T, N, I, R, K, M, 6>;
     impl<T: ::trocar::emitted::Real> Kinematics<T> {
         /// With the description's nominal parameters.
         #[inline]

@@ -1,6 +1,6 @@
 //! A URDF-based description through the attribute: the Panda laparoscope's module has the joint
 //! limits, the step function and the controller glue, and the runtime controller runs on it.
-use trocar::control::{Controller, ControllerConfig, Damping, Inverse, NullSpaceObjective, Rcm};
+use trocar::control::{Controller, ControllerConfig, Damping, Method, NullSpaceObjective, Rcm};
 use trocar::nalgebra::{SVector, Vector3};
 use trocar_derive::constrained_robot;
 
@@ -20,7 +20,7 @@ fn main() {
     let mut ctrl = Controller::<f64, 7, 7, 2, 4, 4, 4>::new(ControllerConfig {
         kp: 5.0,
         ko: 10.0,
-        inverse: Inverse::Pinv,
+        method: Method::Pinv,
         jb0i_damping: Some(Damping::Constant(0.0)),
         kr: 20.0,
         max_joint_speed: None,

@@ -2,7 +2,7 @@
 //! loop written in Rust on the generated module and `trocar::control::Controller`.
 
 use trocar::control::{
-    Controller, ControllerConfig, Damping, HardLimits, Inverse, NullSpaceObjective, Rcm, Reference,
+    Controller, ControllerConfig, Damping, HardLimits, Method, NullSpaceObjective, Rcm, Reference,
 };
 use trocar::nalgebra::{Matrix3, SVector, Vector3};
 use trocar_cpp_example::panda_laparoscope as m;
@@ -85,7 +85,7 @@ fn rust_loop() -> Vec<Vec<f64>> {
     let config = ControllerConfig {
         kp: 5.0,
         ko: 10.0,
-        inverse: Inverse::Dls(Damping::Variable {
+        method: Method::Dls(Damping::Variable {
             alpha0: 0.05,
             w0: 1e-3,
         }),

@@ -17,7 +17,7 @@
 //!    ([`panda::JOINT_LIMITS`]).
 //!
 //! [`qp_controller`] is the same controller with the control step as a quadratic program
-//! ([`trocar::control::Inverse::Qp`], (Q1)–(Q7) of `trocar::control::hard_limits`): the trocar
+//! ([`trocar::control::Method::Qp`], (Q1)–(Q7) of `trocar::control::hard_limits`): the trocar
 //! as equality rows, the URDF's joint ranges ([`panda::JOINT_LIMITS`]) and speeds
 //! ([`SPEED_LIMITS`]) and the insertion bounds ([`DEPTH_LIMITS`]) as hard inequalities, solved
 //! in `f32` by the runtime's fixed-size QP solver.
@@ -31,22 +31,15 @@
 include!(concat!(env!("OUT_DIR"), "/panda.rs"));
 
 use trocar::control::{
-    ControlError, Controller, ControllerConfig, Damping, HardLimits, Inverse, NullSpaceObjective,
-    QpWeights, Rcm, Reference, StepOutput,
+    ControlError, ControllerConfig, Damping, HardLimits, Method, NullSpaceObjective, QpWeights,
+    Rcm, Reference, StepOutput,
 };
 use trocar::nalgebra::{SVector, Vector3};
 
-/// The runtime controller sized for the Panda laparoscope: 7 joints, constraint on link 7, 2
-/// constrained directions, 4 columns of `Λ#` and of `J^r`, 4 task rows.
-pub type PandaController = Controller<
-    f32,
-    { panda::N },
-    { panda::I },
-    { panda::R },
-    { panda::K },
-    { panda::M },
-    { panda::TASK_ROWS },
->;
+/// The runtime controller sized for the Panda laparoscope (the generated module's
+/// `Controller`: 7 joints, constraint on link 7, 2 constrained directions, 4 columns of `Λ#` and
+/// of `J^r`, 4 task rows).
+pub type PandaController = panda::Controller;
 
 /// The start configuration `(0, −π/4, 0, −3π/4, 0, π/2, π/4)` (rad).
 pub const Q0: [f32; panda::N] = [
@@ -68,7 +61,7 @@ pub fn controller() -> PandaController {
     PandaController::new(ControllerConfig {
         kp: 5.0,
         ko: 10.0,
-        inverse: Inverse::Dls(Damping::Variable {
+        method: Method::Dls(Damping::Variable {
             alpha0: 0.05,
             w0: 1e-3,
         }),
@@ -103,7 +96,7 @@ pub fn qp_controller() -> PandaController {
     let lower = SVector::from_fn(|k, _| limits[k][0] as f32);
     let upper = SVector::from_fn(|k, _| limits[k][1] as f32);
     let mut ctrl = controller();
-    ctrl.config.inverse = Inverse::Qp(QpWeights::with_kappa(0.01));
+    ctrl.config.method = Method::Qp(QpWeights::with_kappa(0.01));
     ctrl.with_limits(
         HardLimits::none()
             .with_joint_limits(lower, upper)

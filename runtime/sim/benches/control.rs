@@ -4,7 +4,7 @@
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use trocar::constraint::Constraint;
 use trocar::control::{
-    ChainKinematics, ConstrainedKinematics, Controller, ControllerConfig, Damping, Inverse, Rcm,
+    ChainKinematics, ConstrainedKinematics, Controller, ControllerConfig, Damping, Method, Rcm,
     Reference,
 };
 use trocar::kinematics::Chain;
@@ -43,17 +43,17 @@ fn bench_path(
         dv: Vector2::zeros(),
     };
     for (name, inverse) in [
-        ("pinv", Inverse::Pinv),
+        ("pinv", Method::Pinv),
         (
             "dls",
-            Inverse::Dls(Damping::Variable {
+            Method::Dls(Damping::Variable {
                 alpha0: 0.05,
                 w0: 0.1,
             }),
         ),
         (
             "fi",
-            Inverse::Fi {
+            Method::Fi {
                 gamma_r: 5.0,
                 gamma_l: 5.0,
             },
@@ -62,7 +62,7 @@ fn bench_path(
         let mut ctrl = Controller::<f64, 8, 6, 2, 4, 6>::new(ControllerConfig {
             kp: 5.0,
             ko: 10.0,
-            inverse,
+            method: inverse,
             jb0i_damping: Some(Damping::Variable {
                 alpha0: 0.05,
                 w0: 0.01,

@@ -5,7 +5,7 @@ use std::cell::Cell;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use trocar::constraint::Constraint;
 use trocar::control::{
-    ChainKinematics, ConstrainedKinematics, Controller, ControllerConfig, Damping, Inverse, Rcm,
+    ChainKinematics, ConstrainedKinematics, Controller, ControllerConfig, Damping, Method, Rcm,
     Reference,
 };
 use trocar::kinematics::Chain;
@@ -73,12 +73,12 @@ fn run(kin: &impl ConstrainedKinematics<f64, 8, 6, 2, 4, 6>, chain: &Chain<f64, 
     let (frames, g0) = (chain.link_frames(&q0), chain.forward_kinematics(&q0));
     let trocar = frames[5].translation + frames[5].rotation.column(1) * 0.15;
     let inverses = [
-        Inverse::Pinv,
-        Inverse::Dls(Damping::Variable {
+        Method::Pinv,
+        Method::Dls(Damping::Variable {
             alpha0: 0.05,
             w0: 0.1,
         }),
-        Inverse::Fi {
+        Method::Fi {
             gamma_r: 5.0,
             gamma_l: 5.0,
         },
@@ -90,7 +90,7 @@ fn run(kin: &impl ConstrainedKinematics<f64, 8, 6, 2, 4, 6>, chain: &Chain<f64, 
         let mut ctrl = Controller::<f64, 8, 6, 2, 4, 6>::new(ControllerConfig {
             kp: 5.0,
             ko: 10.0,
-            inverse,
+            method: inverse,
             jb0i_damping: Some(Damping::Variable {
                 alpha0: 0.05,
                 w0: 0.01,

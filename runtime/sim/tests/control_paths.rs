@@ -8,7 +8,7 @@ use rand::{rngs::StdRng, Rng, SeedableRng};
 use trocar::constraint::Constraint;
 use trocar::control::{
     ChainKinematics, ConstrainedKinematics, ConstrainedState, ControlError, Controller,
-    ControllerConfig, Damping, Inverse, Rcm, Reference, Shaft,
+    ControllerConfig, Damping, Method, Rcm, Reference, Shaft,
 };
 use trocar::kinematics::Chain;
 use trocar::linalg::SquareDim;
@@ -152,7 +152,7 @@ where
         let config = ControllerConfig {
             kp: 5.0,
             ko: 10.0,
-            inverse: Inverse::Dls(Damping::Variable {
+            method: Method::Dls(Damping::Variable {
                 alpha0: 0.05,
                 w0: 0.1,
             }),
@@ -198,7 +198,7 @@ fn step_realises_the_cartesian_command_and_the_rcm_velocity() {
     let mut c = Controller::<f64, 8, 6, 2, 4, 6>::new(ControllerConfig {
         kp: 5.0,
         ko: 10.0,
-        inverse: Inverse::Pinv,
+        method: Method::Pinv,
         jb0i_damping: None,
         kr: 0.0,
         max_joint_speed: None,
@@ -275,7 +275,7 @@ fn f32_controller_tracks_like_f64() {
     let cfg64 = ControllerConfig {
         kp: 5.0,
         ko: 10.0,
-        inverse: Inverse::Dls(Damping::Variable {
+        method: Method::Dls(Damping::Variable {
             alpha0: 0.05,
             w0: 0.1,
         }),
@@ -286,7 +286,7 @@ fn f32_controller_tracks_like_f64() {
     let cfg32 = ControllerConfig {
         kp: 5.0f32,
         ko: 10.0,
-        inverse: Inverse::Dls(Damping::Variable {
+        method: Method::Dls(Damping::Variable {
             alpha0: 0.05,
             w0: 0.1,
         }),

@@ -24,7 +24,7 @@
 use nalgebra::{SMatrix, SVector, Vector3};
 use proptest::prelude::*;
 use trocar::control::{
-    gain_bound, ChainKinematics, Controller, ControllerConfig, Damping, HardLimits, Inverse,
+    gain_bound, ChainKinematics, Controller, ControllerConfig, Damping, HardLimits, Method,
     QpWeights, Rcm, Reference, StepStatus,
 };
 use trocar_model::description::RobotDescription;
@@ -160,10 +160,10 @@ fn build(kin: &Kin, ranges: &[[f64; 2]], speeds: &[f64], s: &Scene) -> Built {
         w0: 1e-3,
     };
     let inverse = match s.method {
-        0 => Inverse::Qp(QpWeights::with_kappa(0.01)),
-        1 => Inverse::Dls(damping),
-        2 => Inverse::Pinv,
-        _ => Inverse::Fi {
+        0 => Method::Qp(QpWeights::with_kappa(0.01)),
+        1 => Method::Dls(damping),
+        2 => Method::Pinv,
+        _ => Method::Fi {
             gamma_r: 5.0,
             gamma_l: 5.0,
         },
@@ -171,7 +171,7 @@ fn build(kin: &Kin, ranges: &[[f64; 2]], speeds: &[f64], s: &Scene) -> Built {
     let config = ControllerConfig {
         kp,
         ko,
-        inverse,
+        method: inverse,
         jb0i_damping: (s.method != 0).then_some(Damping::Variable {
             alpha0: 0.05,
             w0: 0.01,

@@ -1,4 +1,4 @@
-//! The QP control step (`Inverse::Qp`) on the Panda laparoscope's numeric kinematics, against
+//! The QP control step (`Method::Qp`) on the Panda laparoscope's numeric kinematics, against
 //! independent computations:
 //!
 //! - the depth row `g_l` (Q6) against central differences of `l_a` along `θ̇` from forward
@@ -12,7 +12,7 @@
 use nalgebra::{SMatrix, SVector, Vector3};
 use trocar::control::hard_limits::depth_rate_row;
 use trocar::control::{
-    ChordCheck, Controller, ControllerConfig, HardLimits, Inverse, QpWeights, Rcm, Reference,
+    ChordCheck, Controller, ControllerConfig, HardLimits, Method, QpWeights, Rcm, Reference,
 };
 use trocar::qp::Status;
 use trocar_model::description::RobotDescription;
@@ -36,7 +36,7 @@ fn config(kappa: f64, chord: bool) -> ControllerConfig<f64> {
     ControllerConfig {
         kp: 5.0,
         ko: 10.0,
-        inverse: Inverse::Qp(w),
+        method: Method::Qp(w),
         jb0i_damping: None,
         kr: 20.0,
         max_joint_speed: None,

@@ -393,7 +393,7 @@ what the correction removes.
 
 const HARD_LIMITS: &str = r#"## Hard limits: the QP step (`--method qp`, `trocar simulate panda-laparoscope-limits`)
 
-With `Inverse::Qp` (`trocar::control::hard_limits`) the control step is one quadratic program
+With `Method::Qp` (`trocar::control::hard_limits`) the control step is one quadratic program
 in the joint rates `θ̇ ∈ Rⁿ`, solved by `trocar::qp` (dense, fixed size, allocation-free,
 warm-started from the previous step's active set):
 

@@ -1,9 +1,9 @@
-//! The control step as a quadratic program with hard limits ([`super::Inverse::Qp`]): the trocar,
+//! The control step as a quadratic program with hard limits ([`super::Method::Qp`]): the trocar,
 //! the joint position limits, the joint speed limits and the insertion depth held at once, by
 //! the dense solver of [`crate::qp`] (no allocation, bounded time, warm-started from the previous
 //! step's active set).
 //!
-//! # The problem of one step (`runtime/sim/CONTROL.md`, section "Hard limits: the QP step")
+//! # The problem of one step (`docs/CONTROL.md`, section "Hard limits: the QP step")
 //!
 //! In the joint rates `θ̇ ∈ Rⁿ`, with `J = S J^B_0e` the task rows of the end effector's body
 //! Jacobian, `v_t = S u` the task command of the other inverses (`u` of (2.66), reference
@@ -138,7 +138,7 @@ use crate::qp::{self, ActiveSet, Problem, Settings, Status};
 use crate::se3::Se3;
 use nalgebra::{RealField, SMatrix, SVector, Vector3};
 
-/// The weights of the QP step (Q1) ([`super::Inverse::Qp`]).
+/// The weights of the QP step (Q1) ([`super::Method::Qp`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct QpWeights<T> {
     /// `κ` of (Q1): the weight of the joint rates' norm (m/rad for a 6-D task's linear rows).
@@ -150,7 +150,7 @@ pub struct QpWeights<T> {
     pub gamma: T,
     /// The damping rule of the task: with it, `κ` of a step is the larger of
     /// [`QpWeights::kappa`] and the rule's `κ(w_r)` at the task Jacobian's manipulability — the
-    /// damping of [`super::Inverse::Dls`] (3.44) — and `γ` is scaled by `(κ / QpWeights::kappa)²`
+    /// damping of [`super::Method::Dls`] (3.44) — and `γ` is scaled by `(κ / QpWeights::kappa)²`
     /// with it, so that the spare freedom still moves at `u0`. Away from singularities `κ` is
     /// then the small floor `kappa`, and with no limit active the step tracks the task as the
     /// DLS step does. `None`: `κ` is `kappa` at every step.

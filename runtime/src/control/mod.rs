@@ -37,7 +37,7 @@
 //!    ([`NullSpaceObjective`], (44)–(46) of Freitas, Leite & Lizarralde 2010):
 //!    `θ̇_{1..i} = u0 + J^B_0i^{inv} (V^B_0i − J^B_0i u0)`.
 //!
-//! With [`Inverse::Qp`] steps 4–5 are one quadratic program instead ([`hard_limits`]): the
+//! With [`Method::Qp`] steps 4–5 are one quadratic program instead ([`hard_limits`]): the
 //! task `S u` tracked in least squares, the trocar `Λ J^B_0i θ̇ = dv_0r` as equality rows, the
 //! joint position limits (velocity dampers), the joint speed limits and the insertion depth
 //! ([`HardLimits`], [`Controller::with_limits`]) as hard inequalities, solved by [`crate::qp`]
@@ -248,9 +248,11 @@ where
     }
 }
 
-/// How the task Jacobian `S J^r_0e` (`J^r_0e` for a 6-D task) is inverted (Table 4.1).
+/// The method of a control step with its parameters: how the task Jacobian `S J^r_0e`
+/// (`J^r_0e` for a 6-D task) is inverted (Table 4.1), or the quadratic program that replaces the
+/// inverse.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Inverse<T> {
+pub enum Method<T> {
     /// The pseudo-inverse `(J^r)† = J^rᵀ (J^r J^rᵀ)⁻¹` (the inverse when square).
     Pinv,
     /// Damped least squares (3.46) on `J^r`.
@@ -277,8 +279,8 @@ pub struct ControllerConfig<T> {
     pub kp: T,
     /// Orientation gain `K_o` (1/s).
     pub ko: T,
-    /// Inverse of the task Jacobian `S J^r_0e`.
-    pub inverse: Inverse<T>,
+    /// The method: the inverse of the task Jacobian `S J^r_0e`, or the QP.
+    pub method: Method<T>,
     /// Damping of the inverse of `J^B_0i`; `None` for the pseudo-inverse.
     pub jb0i_damping: Option<Damping<T>>,
     /// Gain `K_r` (1/s) of the RCM drift correction; `0` reproduces the thesis.
@@ -346,7 +348,7 @@ pub struct StepOutput<T: RealField + Copy, const N: usize, const R: usize> {
     pub kappa_r: T,
     /// Damping applied to `J^B_0i`.
     pub kappa_i: T,
-    /// The QP's outcome with [`Inverse::Qp`] (`None` for the other inverses).
+    /// The QP's outcome with [`Method::Qp`] (`None` for the other inverses).
     pub qp: Option<QpReport>,
     /// Whether the step held every constraint, or which gave way ([`StepStatus`]).
     pub status: StepStatus,
@@ -467,14 +469,14 @@ impl<T: RealField + Copy> ControllerConfig<T> {
             }
             _ => Ok(()),
         };
-        match self.inverse {
-            Inverse::Dls(d) => damping(&d, "the damping of J^r")?,
-            Inverse::Fi { gamma_r, gamma_l } => {
+        match self.method {
+            Method::Dls(d) => damping(&d, "the damping of J^r")?,
+            Method::Fi { gamma_r, gamma_l } => {
                 if !(finite(gamma_r) && finite(gamma_l)) {
                     return Err(ConfigError::Gain("the filtered inverse's gain"));
                 }
             }
-            Inverse::Qp(w) => {
+            Method::Qp(w) => {
                 if !(finite(w.kappa) && finite(w.gamma)) {
                     return Err(ConfigError::Gain("the QP weight kappa"));
                 }
@@ -487,7 +489,7 @@ impl<T: RealField + Copy> ControllerConfig<T> {
                     ));
                 }
             }
-            Inverse::Pinv => {}
+            Method::Pinv => {}
         }
         if let Some(d) = &self.jb0i_damping {
             damping(d, "the damping of J^B_0i")?;
@@ -555,7 +557,7 @@ pub struct Controller<
     pub objective: NullSpaceObjective<T, N>,
     /// The hard limits ([`HardLimits::none`] by default): the joint ranges and speeds bound
     /// every inverse's rates ([`rate_box`]); the dampers and the insertion depth are the QP's
-    /// ([`Inverse::Qp`]).
+    /// ([`Method::Qp`]).
     pub limits: HardLimits<T, N>,
     fi: FilteredInverse<T, P, M>,
     fi_started: bool,
@@ -731,7 +733,7 @@ impl<
     const SIZES_OK: () =
         assert!(K + R == 6 && M == K + N - I && I <= N && R >= 1 && P >= 1 && P <= M);
 
-    /// A controller; with [`Inverse::Fi`], `Θ` starts at `(S J^r_0e)†` on the first step.
+    /// A controller; with [`Method::Fi`], `Θ` starts at `(S J^r_0e)†` on the first step.
     pub fn new(config: ControllerConfig<T>) -> Self {
         #[allow(clippy::let_unit_value)]
         let () = Self::SIZES_OK;
@@ -747,14 +749,14 @@ impl<
     }
 
     /// The same controller with hard limits: the joint ranges and speeds for every inverse,
-    /// the dampers and the insertion depth for [`Inverse::Qp`].
+    /// the dampers and the insertion depth for [`Method::Qp`].
     #[must_use]
     pub fn with_limits(mut self, limits: HardLimits<T, N>) -> Self {
         self.limits = limits;
         self
     }
 
-    /// The QP's active set of the last step: the next step's warm start ([`Inverse::Qp`]).
+    /// The QP's active set of the last step: the next step's warm start ([`Method::Qp`]).
     pub fn qp_active_set(&self) -> &crate::qp::ActiveSet<N, 1> {
         &self.qp_active
     }
@@ -825,7 +827,7 @@ impl<
         let whole = P == 6
             && (0..P)
                 .all(|r| (0..6).all(|c| sel[(r, c)] == if r == c { T::one() } else { T::zero() }));
-        if let Inverse::Qp(weights) = c.inverse {
+        if let Method::Qp(weights) = c.method {
             return self.qp_step(
                 kin,
                 q,
@@ -852,8 +854,8 @@ impl<
             (sel * s.jr, sel * rhs)
         };
         // The robot's own square solves when it has them.
-        let direct_r = match c.inverse {
-            Inverse::Fi { .. } => None,
+        let direct_r = match c.method {
+            Method::Fi { .. } => None,
             _ => regular(kin.solve_task(&task_jr, &dv_e)),
         };
         let jr = match direct_r {
@@ -872,14 +874,14 @@ impl<
                 _ => damped_solve(&task_jr, kappa, &dv_e),
             }
         };
-        let x: SVector<T, M> = match c.inverse {
-            // `Inverse::Qp` returned above.
-            Inverse::Pinv | Inverse::Qp(_) => solve_r(T::zero()).ok_or(ControlError::SingularJr)?,
-            Inverse::Dls(d) => {
+        let x: SVector<T, M> = match c.method {
+            // `Method::Qp` returned above.
+            Method::Pinv | Method::Qp(_) => solve_r(T::zero()).ok_or(ControlError::SingularJr)?,
+            Method::Dls(d) => {
                 kappa_r = d.kappa(w_r);
                 solve_r(kappa_r).ok_or(ControlError::SingularJr)?
             }
-            Inverse::Fi { gamma_r, gamma_l } => {
+            Method::Fi { gamma_r, gamma_l } => {
                 if !self.fi_started {
                     self.fi = FilteredInverse::new(
                         pseudo_inverse(&task_jr).ok_or(ControlError::SingularJr)?,

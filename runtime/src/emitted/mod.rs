@@ -1,8 +1,9 @@
 //! What emitted code runs on: the one module of this crate that code written by
-//! `trocar-codegen` (a build script, `#[trocar::kinematics]`, `trocar generate`) may call.
+//! `trocar-codegen` (a build script, the attribute `#[constrained_robot]`, `trocar generate`) may call.
 //!
 //! The generator writes every runtime path as `::trocar::emitted::…` (or `<runtime>::emitted::…`
-//! for a crate that reaches `trocar` through a re-export), and names nothing else of this crate.
+//! for a crate that reaches `trocar` through a re-export), and names nothing else of this crate
+//! in code (its doc comments still point readers at the public API, e.g. `trocar::control`).
 //! What is here:
 //!
 //! - the scalar traits generated functions are generic over, [`Real`] and [`Arith`] (also at the
@@ -33,7 +34,7 @@ pub use real::{Arith, Real};
 
 pub use crate::control::{
     ConstrainedKinematics, ConstrainedState, ControlError, Controller, ControllerConfig, Damping,
-    HardLimits, Inverse, NullSpaceObjective, Rcm, Reference, Shaft, StepStatus,
+    HardLimits, Method, NullSpaceObjective, Rcm, Reference, Shaft, StepStatus,
 };
 pub use crate::se3::Se3;
 

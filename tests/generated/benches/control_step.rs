@@ -33,7 +33,7 @@ use trocar_tests_generated::control::{GeneratedKinematics, PandaLaparoscope};
 mod baseline {
     use trocar::control::{trocar_offset, ConstrainedState, ControlError, Shaft};
     use trocar::control::{
-        ConstrainedKinematics, ControllerConfig, Inverse, NullSpaceObjective, Quaternion, Rcm,
+        ConstrainedKinematics, ControllerConfig, Method, NullSpaceObjective, Quaternion, Rcm,
         Reference,
     };
     use trocar::nalgebra::{
@@ -222,8 +222,8 @@ mod baseline {
             } else {
                 (sel * s.jr, sel * rhs)
             };
-        let damping_r = match c.inverse {
-            Inverse::Dls(d) => Some(d),
+        let damping_r = match c.method {
+            Method::Dls(d) => Some(d),
             _ => None,
         };
         let (x, _) = prepared(&task_jr, |w| damping_r.map_or(0.0, |d| d.kappa(w)), &dv_e)?;

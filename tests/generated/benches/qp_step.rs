@@ -1,4 +1,4 @@
-//! The QP control step (`Inverse::Qp`, f64) on the Panda laparoscope's generated kinematics:
+//! The QP control step (`Method::Qp`, f64) on the Panda laparoscope's generated kinematics:
 //! `n = 7` joint rates, 4 task rows, 2 trocar rows, 14 joint bounds and the two-sided
 //! insertion-depth row, warm-started from the previous step's active set.
 //!

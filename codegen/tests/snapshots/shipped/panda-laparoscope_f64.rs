@@ -3813,6 +3813,8 @@ pub mod panda_laparoscope {
         /// The parameters; the trocar offset is overwritten at every evaluation.
         pub params: Params,
     }
+    /// The runtime controller sized for this robot: `::trocar::control::Controller` with this module's sizes `<_, N, I, R, K, M, TASK_ROWS>` in one name, run on [`Kinematics`].
+    pub type Controller = ::trocar::emitted::Controller<f64, N, I, R, K, M, TASK_ROWS>;
     impl Kinematics {
         /// With the description's nominal parameters.
         #[inline]

@@ -3,7 +3,7 @@
 use core::f64::consts::PI;
 use nalgebra::{Matrix3, Rotation3, Vector3};
 use trocar::control::{
-    ChordCheck, ControlError, ControllerConfig, Damping, Inverse, QpWeights, Reference,
+    self, ChordCheck, ControlError, ControllerConfig, Damping, QpWeights, Reference,
 };
 use trocar::se3::Se3;
 
@@ -34,7 +34,7 @@ pub enum Scenario {
     /// insertion limit ([`PANDA_DEPTH_LIMITS`]), then to roll the shaft by
     /// [`PANDA_LIMITS_ROLL`] — past joint 7's URDF limit, faster than its URDF speed limit —
     /// and back; see [`panda_limits_reference`]. No joint speed limit of the controller's own
-    /// (the URDF's bind with [`Method::Qp`]).
+    /// (the URDF's bind with [`control::Method::Qp`]).
     PandaLimits,
 }
 
@@ -73,11 +73,13 @@ pub const PANDA_Q0: [f64; 7] = [
     PI / 4.0,
 ];
 
-/// How `J^r_0e` (and `J^B_0i`) are inverted.
+/// The controller's method by name: the [`control::Method`] a scenario runs, whose parameters
+/// (damping, gains of the filtered inverse, the QP's weights) come from its
+/// [`ScenarioConfig`] ([`ScenarioConfig::controller_config`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Method {
     /// No inverse: one quadratic program per step with the trocar, the joint limits, the joint
-    /// speed limits and the insertion depth as hard constraints ([`Inverse::Qp`]).
+    /// speed limits and the insertion depth as hard constraints ([`control::Method::Qp`]).
     Qp,
     /// Pseudo-inverses of `J^r_0e` and `J^B_0i`.
     Pinv,
@@ -654,19 +656,19 @@ impl ScenarioConfig {
             alpha0: self.dls_alpha0,
             w0: self.dls_w0_i,
         };
-        let (inverse, jb0i_damping) = match self.method {
-            Method::Pinv => (Inverse::Pinv, None),
+        let (method, jb0i_damping) = match self.method {
+            Method::Pinv => (control::Method::Pinv, None),
             Method::Qp => (
-                Inverse::Qp(QpWeights {
+                control::Method::Qp(QpWeights {
                     chord_check: self.qp_chord_check,
                     damping: Some(dls_r),
                     ..QpWeights::with_kappa(self.qp_kappa)
                 }),
                 None,
             ),
-            Method::Dls => (Inverse::Dls(dls_r), Some(dls_i)),
+            Method::Dls => (control::Method::Dls(dls_r), Some(dls_i)),
             Method::Fi => (
-                Inverse::Fi {
+                control::Method::Fi {
                     gamma_r: self.fi_gamma,
                     gamma_l: self.fi_gamma,
                 },
@@ -676,7 +678,7 @@ impl ScenarioConfig {
         ControllerConfig {
             kp: self.kp,
             ko: self.ko,
-            inverse,
+            method,
             jb0i_damping,
             kr: if self.drift_correction { self.kr } else { 0.0 },
             max_joint_speed: self.max_joint_speed,
