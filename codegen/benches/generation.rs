@@ -10,7 +10,7 @@ use quote::quote;
 use trocar_codegen::derivation::derive;
 use trocar_codegen::emit::{format_file, module_tokens};
 use trocar_codegen::lower::module_spec;
-use trocar_codegen::Scalar;
+use trocar_codegen::Real;
 use trocar_codegen::{attribute, generate_module_string, ModuleOptions};
 use trocar_model::description::{preset_names, RobotDescription};
 
@@ -29,14 +29,14 @@ fn stages(c: &mut Criterion) {
     let desc = RobotDescription::preset("dia10_like_zy").unwrap();
     let d = derive(&desc).unwrap();
     let spec = module_spec(&d, "dia10_like_zy");
-    let tokens = module_tokens(&spec, Scalar::Generic);
+    let tokens = module_tokens(&spec, Real::Generic);
     let mut g = c.benchmark_group("dia10_like_zy");
     g.bench_function("derive", |b| b.iter(|| derive(black_box(&desc)).unwrap()));
     g.bench_function("programs", |b| {
         b.iter(|| module_spec(black_box(&d), "dia10_like_zy"))
     });
     g.bench_function("tokens", |b| {
-        b.iter(|| module_tokens(black_box(&spec), Scalar::Generic))
+        b.iter(|| module_tokens(black_box(&spec), Real::Generic))
     });
     g.bench_function("format", |b| {
         b.iter(|| format_file(black_box(tokens.clone())).unwrap())

@@ -5,7 +5,7 @@
 //! fn main() -> Result<(), trocar_codegen::Error> {
 //!     trocar_codegen::Builder::new()
 //!         .robot("robots/arm.toml")
-//!         .real(trocar_codegen::Scalar::F64)
+//!         .real(trocar_codegen::Real::F64)
 //!         .compile()?;
 //!     Ok(())
 //! }
@@ -26,7 +26,7 @@ use crate::derivation;
 use crate::emit::checks::{self, ChecksGate};
 use crate::emit::{self, Runtime};
 use crate::error::Error;
-use crate::ir::{ModuleSpec, Scalar};
+use crate::ir::{ModuleSpec, Real};
 use crate::lower;
 use crate::naming::checked_module_name;
 use proc_macro2::TokenStream;
@@ -39,8 +39,8 @@ use trocar_model::description::{DescriptionError, RobotDescription};
 /// Options of one generated module.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct ModuleOptions {
-    /// Scalar type of the generated code.
-    pub real: Scalar,
+    /// Real type of the generated code.
+    pub real: Real,
     /// Module name; default: the robot's name, snake-cased ([`crate::module_name`]).
     pub module_name: Option<String>,
     /// The path through which the generated code names the runtime crate `trocar`; default
@@ -83,7 +83,7 @@ fn spec_for(desc: &RobotDescription, options: &ModuleOptions) -> Result<ModuleSp
         derivation::derive(desc).map_err(|e| Error::Description(e.into_description_error(desc)))?;
     let mut spec = lower::module_spec_with(&d, &name, &options.functions)?;
     if options.fma_at_run_time {
-        if options.real != Scalar::Generic {
+        if options.real != Real::Generic {
             return Err(Error::FmaNeedsGeneric(options.real.to_string()));
         }
         spec.fma_at_run_time = true;
@@ -275,7 +275,7 @@ enum Source {
 pub struct Builder {
     robots: Vec<(Source, Option<String>)>,
     mechanisms: Vec<(PathBuf, Option<String>)>,
-    real: Scalar,
+    real: Real,
     runtime_path: Option<String>,
     out_dir: Option<PathBuf>,
     emit_rerun: bool,
@@ -287,7 +287,7 @@ pub struct Builder {
 }
 
 impl Builder {
-    /// A builder with no robots, generic scalar type, output to `OUT_DIR`.
+    /// A builder with no robots, generic real type, output to `OUT_DIR`.
     pub fn new() -> Self {
         Builder {
             emit_rerun: true,
@@ -333,8 +333,8 @@ impl Builder {
         self
     }
 
-    /// Scalar type of the generated code (default [`Scalar::Generic`]).
-    pub fn real(&mut self, real: Scalar) -> &mut Self {
+    /// Real type of the generated code (default [`Real::Generic`]).
+    pub fn real(&mut self, real: Real) -> &mut Self {
         self.real = real;
         self
     }
@@ -370,7 +370,7 @@ impl Builder {
     /// bits then depend on the CPU. The fused functions become `#[inline(always)]`. The
     /// AVX-512 function needs Rust 1.89 or later (the AVX-512 target features became stable
     /// there) to compile the generated module; the rest of trocar needs 1.85. Needs the
-    /// generic scalar ([`Scalar::Generic`], the default); [`Builder::generate`] fails with
+    /// generic scalar ([`Real::Generic`], the default); [`Builder::generate`] fails with
     /// [`Error::FmaNeedsGeneric`] otherwise.
     pub fn fma_at_run_time(&mut self, on: bool) -> &mut Self {
         self.fma_at_run_time = on;

@@ -18,7 +18,7 @@
 //! fn main() -> Result<(), trocar_codegen::Error> {
 //!     trocar_codegen::Builder::new()
 //!         .robot("robots/arm.toml")
-//!         .real(trocar_codegen::Scalar::F64)
+//!         .real(trocar_codegen::Real::F64)
 //!         .compile()?;
 //!     Ok(())
 //! }
@@ -78,6 +78,6 @@ pub use builder::{
 };
 pub use emit::checks::ChecksGate;
 pub use error::Error;
-pub use ir::Scalar;
+pub use ir::Real;
 pub use naming::module_name;
 pub use trocar_model::catalogue;

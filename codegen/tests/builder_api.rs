@@ -2,7 +2,7 @@
 //! file, line and field, and the golden snapshot of one generated module.
 
 use std::path::PathBuf;
-use trocar_codegen::Scalar;
+use trocar_codegen::Real;
 use trocar_codegen::{
     generate_module, generate_module_string, module_name, Builder, Error, ModuleOptions,
 };
@@ -24,7 +24,7 @@ fn generate_returns_code_without_writing() {
     let files = Builder::new()
         .robot(robots().join("bidirectional-zy.toml"))
         .robot(robots().join("unidirectional.toml"))
-        .real(Scalar::F64)
+        .real(Real::F64)
         .generate()
         .unwrap();
     let names: Vec<&str> = files.keys().map(String::as_str).collect();
@@ -114,7 +114,7 @@ fn module_names_are_identifiers() {
 fn generate_module_tokens_and_string_agree() {
     let desc = RobotDescription::preset("unidirectional").unwrap();
     let options = ModuleOptions {
-        real: Scalar::Generic,
+        real: Real::Generic,
         module_name: Some("uni".into()),
         ..ModuleOptions::default()
     };
@@ -266,7 +266,7 @@ fn fused_functions_on_request() {
     use trocar_codegen::catalogue::Function as F;
     let files = Builder::new()
         .robot(robots().join("bidirectional-zy.toml"))
-        .real(Scalar::F64)
+        .real(Real::F64)
         .function("step", [F::ConstrainedJacobian, F::ForwardKinematics])
         .generate()
         .unwrap();
@@ -357,7 +357,7 @@ fn fma_at_run_time_emits_f64_entry_points_for_generic_modules() {
     // Without the option nothing of it is emitted.
     let plain = generate_module_string(&desc, &ModuleOptions::default()).unwrap();
     assert!(!plain.contains("_f64(") && !plain.contains("target_feature"));
-    for (real, name) in [(Scalar::F64, "f64"), (Scalar::F32, "f32")] {
+    for (real, name) in [(Real::F64, "f64"), (Real::F32, "f32")] {
         let err = generate_module_string(
             &desc,
             &ModuleOptions {
@@ -446,11 +446,11 @@ fn c_symbols_clashing_across_modules_are_rejected() {
 
 #[test]
 fn scalar_names_read_back() {
-    for s in [Scalar::Generic, Scalar::F32, Scalar::F64] {
-        assert_eq!(s.to_string().parse::<Scalar>(), Ok(s));
+    for s in [Real::Generic, Real::F32, Real::F64] {
+        assert_eq!(s.to_string().parse::<Real>(), Ok(s));
     }
-    assert_eq!(Scalar::F32.to_string(), "f32");
-    assert!("f16".parse::<Scalar>().unwrap_err().contains("f16"));
+    assert_eq!(Real::F32.to_string(), "f32");
+    assert!("f16".parse::<Real>().unwrap_err().contains("f16"));
 }
 
 /// The shipped `unidirectional` description with a second parameter `L_B` beside its `l_b`

@@ -2,7 +2,7 @@
 //! (file and field), and the golden snapshot of the four-bar module.
 
 use std::path::PathBuf;
-use trocar_codegen::{generate_mechanism_string, Builder, Error, ModuleOptions, Scalar};
+use trocar_codegen::{generate_mechanism_string, Builder, Error, ModuleOptions, Real};
 use trocar_model::closed_chain::{MechanismModel, FOUR_BAR_TOML};
 
 fn mechanisms() -> PathBuf {
@@ -14,7 +14,7 @@ fn builder_generates_mechanism_modules() {
     let files = Builder::new()
         .mechanism(mechanisms().join("four-bar.toml"))
         .mechanism_as(mechanisms().join("planar-stewart.toml"), "stewart")
-        .real(Scalar::F64)
+        .real(Real::F64)
         .generate()
         .unwrap();
     let names: Vec<&str> = files.keys().map(String::as_str).collect();

@@ -109,7 +109,7 @@ fn programs_agree_with_expanded_polynomials() {
 #[test]
 fn pose_and_jacobians_is_one_program_or_the_four_functions() {
     use trocar_codegen::emit::{format_file, module_tokens};
-    use trocar_codegen::Scalar;
+    use trocar_codegen::Real;
     for name in preset_names() {
         let desc = RobotDescription::preset(name).unwrap();
         let d = derive(&desc).unwrap();
@@ -132,7 +132,7 @@ fn pose_and_jacobians_is_one_program_or_the_four_functions() {
             "{name}"
         );
         spec.pose_and_jacobians = None;
-        let text = format_file(module_tokens(&spec, Scalar::Generic)).unwrap();
+        let text = format_file(module_tokens(&spec, Real::Generic)).unwrap();
         let body = &text[text.find("pub fn pose_and_jacobians_trig").unwrap()..];
         let body = &body[..body.find("\n    }\n").unwrap()];
         for f in [

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use trocar_codegen::catalogue::Function;
 use trocar_codegen::derivation::derive;
 use trocar_codegen::lower::paired_heads;
-use trocar_codegen::{Builder, Scalar};
+use trocar_codegen::{Builder, Real};
 use trocar_model::description::RobotDescription;
 
 fn root() -> PathBuf {
@@ -65,7 +65,7 @@ fn the_walk_is_emitted_for_link_pose_and_jacobian_only() {
     let generate = |fma: bool| {
         let modules = Builder::new()
             .robot(&robot)
-            .real(Scalar::Generic)
+            .real(Real::Generic)
             .fma_at_run_time(fma)
             .function(
                 "pose_and_jacobian_i",

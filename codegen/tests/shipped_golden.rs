@@ -24,7 +24,7 @@
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
-use trocar_codegen::{Builder, Scalar};
+use trocar_codegen::{Builder, Real};
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
@@ -65,7 +65,7 @@ fn sources() -> Vec<(String, PathBuf, bool)> {
 }
 
 /// The one module generated from a description.
-fn generate(path: &Path, mechanism: bool, real: Scalar) -> String {
+fn generate(path: &Path, mechanism: bool, real: Real) -> String {
     let mut b = Builder::new();
     if mechanism {
         b.mechanism(path);
@@ -275,8 +275,8 @@ fn every_shipped_module_matches_its_golden_file() {
     let mut problems = Vec::new();
     let mut kept = BTreeSet::new();
     for (stem, path, mechanism) in sources() {
-        let f64_module = generate(&path, mechanism, Scalar::F64);
-        let f32_module = generate(&path, mechanism, Scalar::F32);
+        let f64_module = generate(&path, mechanism, Real::F64);
+        let f32_module = generate(&path, mechanism, Real::F32);
         let (golden_name, diff_name) = (format!("{stem}_f64.rs"), format!("{stem}_f32.diff"));
         let found = check(
             &stem,
@@ -328,8 +328,8 @@ fn every_shipped_module_matches_its_golden_file() {
 #[test]
 fn a_changed_line_of_either_module_fails_the_check() {
     let path = root().join("examples/robots/ur5_trocar.toml");
-    let f64_module = generate(&path, false, Scalar::F64);
-    let f32_module = generate(&path, false, Scalar::F32);
+    let f64_module = generate(&path, false, Real::F64);
+    let f32_module = generate(&path, false, Real::F32);
     let diff = f32_record("ur5", &f64_module, &f32_module);
     assert!(diff.contains("JOINT_LIMITS"), "{diff}");
     assert_eq!(

@@ -4,13 +4,13 @@
 //! written `(x1 * c8)`), which the checks must reject.
 
 use std::path::PathBuf;
-use trocar_codegen::{Builder, Scalar};
+use trocar_codegen::{Builder, Real};
 
 const ROBOT: &str = "../../runtime/model/robots/bidirectional-zy.toml";
 
 fn main() {
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("OUT_DIR"));
-    for (real, suffix) in [(Scalar::F64, "f64"), (Scalar::F32, "f32")] {
+    for (real, suffix) in [(Real::F64, "f64"), (Real::F32, "f32")] {
         let module = format!("arm_{suffix}");
         let files = Builder::new()
             .robot_as(ROBOT, &module)

@@ -1,11 +1,11 @@
 //! Generates the Panda laparoscope's kinematics (f64) with their C ABI into
 //! `OUT_DIR/panda_laparoscope.rs`, and the C header `panda_laparoscope.h` beside it.
-use trocar_codegen::{Builder, Scalar};
+use trocar_codegen::{Builder, Real};
 
 fn main() {
     if let Err(e) = Builder::new()
         .robot("../../runtime/model/robots/panda-laparoscope.toml")
-        .real(Scalar::F64)
+        .real(Real::F64)
         .c_api(true)
         .compile()
     {

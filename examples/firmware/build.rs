@@ -1,10 +1,10 @@
 //! Generates the arm's closed-form kinematics (f32) into `OUT_DIR/dia10.rs`.
-use trocar_codegen::{Builder, Scalar};
+use trocar_codegen::{Builder, Real};
 
 fn main() {
     if let Err(e) = Builder::new()
         .robot_as("robots/dia10_like_zy.toml", "dia10")
-        .real(Scalar::F32)
+        .real(Real::F32)
         .compile()
     {
         // The description's own message: file, line and field.

@@ -2,7 +2,7 @@
 
 use trocar_codegen::catalogue::Function;
 use trocar_codegen::Builder;
-use trocar_codegen::Scalar;
+use trocar_codegen::Real;
 
 /// The outputs of the fused function `step_outputs` of the constrained modules.
 const STEP_OUTPUTS: [Function; 5] = [
@@ -56,13 +56,13 @@ fn main() {
     )
     .robot_as("robots/rotated_rcm.toml", "rotated_rcm_f32")
     .function("step_outputs", STEP_OUTPUTS)
-    .real(Scalar::F32);
+    .real(Real::F32);
     if let Err(e) = f32b.compile() {
         panic!("trocar-codegen: {e}");
     }
     let mut f64b = Builder::new();
     f64b.robot_as(format!("{robots}/dia10_like_zx.toml"), "dia10_like_zx_f64")
-        .real(Scalar::F64);
+        .real(Real::F64);
     if let Err(e) = f64b.compile() {
         panic!("trocar-codegen: {e}");
     }
@@ -76,7 +76,7 @@ fn main() {
     }
     let mut mb32 = Builder::new();
     mb32.mechanism_as(format!("{mechanisms}/four-bar.toml"), "four_bar_f32")
-        .real(Scalar::F32);
+        .real(Real::F32);
     if let Err(e) = mb32.compile() {
         panic!("trocar-codegen: {e}");
     }
@@ -98,7 +98,7 @@ fn main() {
     spec.pose_and_jacobians = None;
     let text = trocar_codegen::emit::format_file(trocar_codegen::emit::module_tokens(
         &spec,
-        Scalar::Generic,
+        Real::Generic,
     ))
     .unwrap_or_else(|e| panic!("{e}"));
     let out = std::path::PathBuf::from(std::env::var("OUT_DIR").expect("OUT_DIR"));
@@ -122,7 +122,7 @@ fn main() {
     // controller step where the module has `Kinematics`.
     let mut c32 = Builder::new();
     c32.robot_as(format!("{robots}/panda-laparoscope.toml"), "panda_capi_f32")
-        .real(Scalar::F32)
+        .real(Real::F32)
         .c_api(true);
     if let Err(e) = c32.compile() {
         panic!("trocar-codegen: {e}");

@@ -12,8 +12,8 @@
 //! This crate is the one door to trocar for programs: the `trocar` command line maps its flags
 //! onto it and the Python package its keyword arguments, and neither reaches below it. The
 //! quantities are the catalogue's [`Function`]s (`constrained_jacobian`, …, with short names
-//! such as `jr` resolved by [`Robot::function`]); the scalar type of generated code is
-//! [`Scalar`]; the controller's method is [`Method`].
+//! such as `jr` resolved by [`Robot::function`]); the real type of generated code is
+//! [`Real`]; the controller's method is [`Method`].
 //!
 //! ```no_run
 //! use trocar_api::{Function, Robot};
@@ -47,7 +47,7 @@ pub use trajectory::{
     TrajectoryRun, MAX_TRAJECTORY_BYTES, MAX_TRAJECTORY_STEPS, START_TOLERANCE,
 };
 pub use trocar::control::StepStatus;
-pub use trocar_codegen::{ModuleOptions, Scalar};
+pub use trocar_codegen::{ModuleOptions, Real};
 pub use trocar_model::catalogue::{Function, Fused};
 pub use trocar_model::description::SimulationDesc;
 /// The number rule every value given to the library obeys (finite, not subnormal, at most
@@ -100,8 +100,8 @@ pub fn preset(name: &str) -> Result<&'static str> {
         })
 }
 
-/// The generated Rust module of `robot` (a shipped name or a file) for the scalar type `real`.
-pub fn generate(robot: &str, real: Scalar) -> Result<String> {
+/// The generated Rust module of `robot` (a shipped name or a file) for the real type `real`.
+pub fn generate(robot: &str, real: Real) -> Result<String> {
     Robot::load(robot)?.generate(&ModuleOptions {
         real,
         ..Default::default()

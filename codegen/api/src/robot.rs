@@ -831,7 +831,7 @@ impl Robot {
     }
 
     /// The generated Rust module: a serial robot's closed forms, or a mechanism's reduced
-    /// kinematics, with `options` (the scalar type, the runtime path).
+    /// kinematics, with `options` (the real type, the runtime path).
     pub fn generate(&self, options: &trocar_codegen::ModuleOptions) -> Result<String> {
         if options.c_api && self.is_mechanism() {
             return Err(Error::Unsupported(format!(

@@ -3,7 +3,7 @@
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
-use trocar_api::{Method, Scalar, SpeedLimit};
+use trocar_api::{Method, Real, SpeedLimit};
 
 /// Command-line arguments of `trocar`.
 #[derive(Debug, Parser)]
@@ -28,9 +28,9 @@ pub enum Command {
         /// Output file (stdout when absent).
         #[arg(short, long)]
         output: Option<PathBuf>,
-        /// Scalar type of the generated code.
+        /// Real type of the generated code.
         #[arg(long, default_value = "generic", value_parser = real_values())]
-        real: Scalar,
+        real: Real,
         /// Also emit the C ABI: `extern "C"` functions `<module>_<function>(q, params, out)`
         /// (matrices column-major) and `<module>_controller_step` (serial robots).
         #[arg(long)]
@@ -201,8 +201,8 @@ pub enum Command {
     List,
 }
 
-/// `--real`'s values: the scalar type of generated code ([`Scalar`]) by its name.
-fn real_values() -> impl TypedValueParser<Value = Scalar> {
+/// `--real`'s values: the real type of generated code ([`Real`]) by its name.
+fn real_values() -> impl TypedValueParser<Value = Real> {
     PossibleValuesParser::new([
         PossibleValue::new("generic").help(
             "generic over `T: trocar::Arith` (straight-line functions, which also run on \
@@ -211,7 +211,7 @@ fn real_values() -> impl TypedValueParser<Value = Scalar> {
         PossibleValue::new("f32"),
         PossibleValue::new("f64"),
     ])
-    .try_map(|s| s.parse::<Scalar>())
+    .try_map(|s| s.parse::<Real>())
 }
 
 /// Frame of `trocar jacobian`.

@@ -580,7 +580,7 @@ impl Robot {
     /// (`real="generic"`) or for `"f64"` / `"f32"`.
     #[pyo3(signature = (real = "f64"))]
     fn generate(&self, py: Python<'_>, real: &str) -> PyResult<String> {
-        let real: trocar_api::Scalar = real.parse().map_err(PyValueError::new_err)?;
+        let real: trocar_api::Real = real.parse().map_err(PyValueError::new_err)?;
         let options = trocar_api::ModuleOptions {
             real,
             ..Default::default()

@@ -2,7 +2,7 @@
 
 use super::errors::Errors;
 use crate::emit::checks::ChecksGate;
-use crate::ir::Scalar;
+use crate::ir::Real;
 use proc_macro2::{Span, TokenStream};
 use syn::parse::Parser;
 use syn::punctuated::Punctuated;
@@ -38,7 +38,7 @@ pub(crate) struct InlineLists {
 /// The parsed attribute.
 pub(crate) struct Attr {
     pub source: Source,
-    pub real: Scalar,
+    pub real: Real,
     pub module: Option<syn::Ident>,
     /// `checks` (behind `#[cfg(test)]`) or `checks = "feature"`.
     pub checks: Option<ChecksGate>,
@@ -145,7 +145,7 @@ pub(crate) fn parse(tokens: TokenStream) -> syn::Result<Attr> {
     let mut errors = Errors::default();
     let mut source: Option<(String, Span, Source)> = None;
     let mut inline = InlineLists::default();
-    let mut real = Scalar::Generic;
+    let mut real = Real::Generic;
     let mut module = None;
     let mut checks = None;
     let mut fused = Vec::new();
@@ -200,9 +200,9 @@ pub(crate) fn parse(tokens: TokenStream) -> syn::Result<Attr> {
             "real" => {
                 if let Some(s) = string(meta, &mut errors) {
                     match s.value().as_str() {
-                        "f32" => real = Scalar::F32,
-                        "f64" => real = Scalar::F64,
-                        "generic" => real = Scalar::Generic,
+                        "f32" => real = Real::F32,
+                        "f64" => real = Real::F64,
+                        "generic" => real = Real::Generic,
                         other => errors.at(
                             s.span(),
                             format_args!(

@@ -37,7 +37,7 @@
 //! (a parameter's, a function's): [`check_names`] refuses a module in which two of them would
 //! be the same macro (parameters `l_b` and `L_B`).
 
-use crate::ir::{FusedFunction, Layout, ModuleSpec, Scalar};
+use crate::ir::{FusedFunction, Layout, ModuleSpec, Real};
 use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
 use std::fmt::Write as _;
@@ -112,11 +112,11 @@ fn has_controller(spec: &ModuleSpec) -> bool {
     spec.controller.as_ref().is_some_and(|c| c.offset.is_some())
 }
 
-/// The `extern "C"` items inside the module, for the scalar type `real`.
-pub fn items(spec: &ModuleSpec, real: Scalar, rt: &TokenStream) -> TokenStream {
+/// The `extern "C"` items inside the module, for the real type `real`.
+pub fn items(spec: &ModuleSpec, real: Real, rt: &TokenStream) -> TokenStream {
     let t = match real {
-        Scalar::F32 => quote!(f32),
-        Scalar::F64 | Scalar::Generic => quote!(f64),
+        Real::F32 => quote!(f32),
+        Real::F64 | Real::Generic => quote!(f64),
     };
     let p_count = spec.params.len();
     let params_init = if spec.params.is_empty() {
@@ -131,7 +131,7 @@ pub fn items(spec: &ModuleSpec, real: Scalar, rt: &TokenStream) -> TokenStream {
     };
     let p_len = Literal::usize_unsuffixed(p_count);
     let params_ty = match real {
-        Scalar::Generic => quote!(Params<f64>),
+        Real::Generic => quote!(Params<f64>),
         _ => quote!(Params),
     };
     let read_params = quote! {
@@ -189,7 +189,7 @@ pub fn items(spec: &ModuleSpec, real: Scalar, rt: &TokenStream) -> TokenStream {
              read or written is not finite) or `C_NULL_ARGUMENT` (2); see the C header \
              (`trocar generate --c-header`).",
             name = f.name,
-            ct = if matches!(real, Scalar::F32) { "float" } else { "double" },
+            ct = if matches!(real, Real::F32) { "float" } else { "double" },
             n = f.layout.len(),
         );
         let q_check = if f.takes_joints {
@@ -280,7 +280,7 @@ fn fused_offsets(f: &FusedFunction) -> (Vec<usize>, usize) {
 /// `<module>_<name>` of a fused function: its outputs one after the other in `out`, matrices in
 /// place, a pose and a scalar through locals; `name_f64` where the module has
 /// `fma_at_run_time`.
-fn fused_c(spec: &ModuleSpec, f: &FusedFunction, real: Scalar, t: &TokenStream) -> TokenStream {
+fn fused_c(spec: &ModuleSpec, f: &FusedFunction, real: Real, t: &TokenStream) -> TokenStream {
     let c_name = format_ident!("{}", symbol(spec, &f.name));
     // `fma_at_run_time` holds for generic modules only (the builder refuses the others). Called
     // through `self::`: the wrapper's own names (`q`, `p`, `out`, `o0`, ...) would shadow a
@@ -330,7 +330,7 @@ fn fused_c(spec: &ModuleSpec, f: &FusedFunction, real: Scalar, t: &TokenStream) 
         }
     }
     let total_lit = Literal::usize_unsuffixed(total);
-    let ct = if matches!(real, Scalar::F32) {
+    let ct = if matches!(real, Real::F32) {
         "float"
     } else {
         "double"
@@ -700,8 +700,8 @@ pub fn check_names(spec: &ModuleSpec) -> Result<(), crate::error::Error> {
 
 /// The C header of a module's C ABI ([`items`]), with its sizes as `#define`s (the macros of
 /// [`macros`]; [`check_names`] refuses a module in which two of them are the same).
-pub fn header(spec: &ModuleSpec, real: Scalar) -> String {
-    let ct = if matches!(real, Scalar::F32) {
+pub fn header(spec: &ModuleSpec, real: Real) -> String {
+    let ct = if matches!(real, Real::F32) {
         "float"
     } else {
         "double"

@@ -10,7 +10,7 @@
 //!   file(s) still hash to it, so that a module whose description changed fails to build.
 //! - [`evidence_doc`]: the module documentation's section with the generation-time check.
 
-use crate::ir::{Layout, ModuleSpec, Scalar};
+use crate::ir::{Layout, ModuleSpec, Real};
 use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
 use std::path::{Path, PathBuf};
@@ -55,19 +55,19 @@ pub fn description_hash(files: &[PathBuf]) -> std::io::Result<Option<u64>> {
 /// [`description_hash`] of its description file(s).
 pub fn items(
     spec: &ModuleSpec,
-    real: Scalar,
+    real: Real,
     gate: &ChecksGate,
     robot: &str,
     hash: Option<u64>,
 ) -> TokenStream {
     let cfg = gate.attribute();
     let (params_ty, scalar) = match real {
-        Scalar::F32 => (quote!(Params), quote!(F32)),
-        Scalar::F64 => (quote!(Params), quote!(F64)),
-        Scalar::Generic => (quote!(Params::<f64>), quote!(F64)),
+        Real::F32 => (quote!(Params), quote!(F32)),
+        Real::F64 => (quote!(Params), quote!(F64)),
+        Real::Generic => (quote!(Params::<f64>), quote!(F64)),
     };
     // The inputs rounded to `f32` for an `f32` module, as they are for `f64` ones.
-    let (q_init, cast) = if real == Scalar::F32 {
+    let (q_init, cast) = if real == Real::F32 {
         (
             quote!(let q: [f32; N] = ::core::array::from_fn(|k| q[k] as f32);),
             quote!(as f32),
@@ -109,7 +109,7 @@ pub fn items(
         Some(quote!(::trocar_check::Function::#variant => #convert,))
     });
     // The fused functions: each output into a zeroed out-parameter, then converted as above.
-    let float = if real == Scalar::F32 {
+    let float = if real == Real::F32 {
         quote!(f32)
     } else {
         quote!(f64)
@@ -169,7 +169,7 @@ pub fn items(
         " The checks of this module: `trocar_check::assert_matches_numeric::<Checks>(description, \
          samples)` compares every function of the module, as compiled (in `{}`), with the numeric \
          runtime and finite differences.",
-        if real == Scalar::F32 { "f32" } else { "f64" }
+        if real == Real::F32 { "f32" } else { "f64" }
     );
     quote! {
         #[doc = #doc]
@@ -290,7 +290,7 @@ pub fn staleness_guard(files: &[PathBuf], hash: u64) -> TokenStream {
 /// against the numeric runtime, the Jacobians against finite differences).
 pub fn evidence_doc(
     report: &trocar_check::Report,
-    real: Scalar,
+    real: Real,
     source: Option<&Path>,
     hash: Option<u64>,
 ) -> String {
@@ -306,7 +306,7 @@ pub fn evidence_doc(
          central differences of the generated poses.",
         report.samples, report.seed
     );
-    if real == Scalar::F32 {
+    if real == Real::F32 {
         out += " This module computes the same programs in `f32`, within `2e-6` of them.";
     }
     out += "\n\n| check | function | largest error | tolerance |\n|---|---|---|---|\n";

@@ -15,17 +15,17 @@
 //! puts `F_r` at the point of that line nearest to the trocar,
 //! `l_a = ((p_t − p_0i − R_0i o) · R_0i d) / |d|²`.
 
-use crate::ir::{ControllerSpec, Scalar};
+use crate::ir::{ControllerSpec, Real};
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 
 /// The step storage, the step function and, with a sliding constraint frame, the controller
 /// glue. `rt` is the path of the runtime crate in emitted code (`::trocar`).
-pub(crate) fn tokens(rt: &TokenStream, real: Scalar, spec: &ControllerSpec) -> TokenStream {
+pub(crate) fn tokens(rt: &TokenStream, real: Real, spec: &ControllerSpec) -> TokenStream {
     let (t, generics, args) = match real {
-        Scalar::Generic => (quote!(T), quote!(<T: #rt::emitted::Real>), quote!(<T>)),
-        Scalar::F32 => (quote!(f32), quote!(), quote!()),
-        Scalar::F64 => (quote!(f64), quote!(), quote!()),
+        Real::Generic => (quote!(T), quote!(<T: #rt::emitted::Real>), quote!(<T>)),
+        Real::F32 => (quote!(f32), quote!(), quote!()),
+        Real::F64 => (quote!(f64), quote!(), quote!()),
     };
     let r = quote!(<#t as #rt::emitted::Real>);
     let (task_field, task_zero, task_fill, task_check) = if spec.task {
@@ -246,19 +246,19 @@ pub(crate) fn tokens(rt: &TokenStream, real: Scalar, spec: &ControllerSpec) -> T
 
 /// `Kinematics<T>` and its `ConstrainedKinematics` implementation, for a module whose
 /// constraint frame slides along the link with the parameter `offset`.
-fn glue_tokens(rt: &TokenStream, real: Scalar, offset: &str, spec: &ControllerSpec) -> TokenStream {
+fn glue_tokens(rt: &TokenStream, real: Real, offset: &str, spec: &ControllerSpec) -> TokenStream {
     let task = spec.task;
     let offset = format_ident!("{}", offset);
     let (t, generics, args, impl_generics, ty_args) = match real {
-        Scalar::Generic => (
+        Real::Generic => (
             quote!(T),
             quote!(<T: #rt::emitted::Real>),
             quote!(<T>),
             quote!(<T: #rt::emitted::Real + #rt::emitted::nalgebra::RealField>),
             quote!(<T>),
         ),
-        Scalar::F32 => (quote!(f32), quote!(), quote!(), quote!(), quote!()),
-        Scalar::F64 => (quote!(f64), quote!(), quote!(), quote!(), quote!()),
+        Real::F32 => (quote!(f32), quote!(), quote!(), quote!(), quote!()),
+        Real::F64 => (quote!(f64), quote!(), quote!(), quote!(), quote!()),
     };
     let real = quote!(<#t as #rt::emitted::Real>);
     let (p_const, selection) = if task {
@@ -485,7 +485,7 @@ fn doc_lines(text: &str) -> TokenStream {
 /// matrices pivot alike: dia10_like's control step measured 298 ns against 391 ns with the
 /// exchanges as selects), `b` eliminated alongside. Returns `x` and
 /// `det J` (`x` is not meaningful when `det J` is 0 or not finite).
-pub(crate) fn lu_solve_tokens(rt: &TokenStream, real: Scalar, d: usize) -> TokenStream {
+pub(crate) fn lu_solve_tokens(rt: &TokenStream, real: Real, d: usize) -> TokenStream {
     let (t, generics) = real_generics(rt, real);
     let name = format_ident!("lu_solve_{}", d);
     let mut body = elimination_tokens(rt, real, d, 1);
@@ -523,7 +523,7 @@ const MIN_NORM_MAX_NN: f64 = 1e4;
 /// `A` is conditioned like `J` unless the last column carries `J`'s rank (`A` nearly singular,
 /// `a` large): the function then returns `w = 0` (`1 + a·a > 10⁴`, or `det A` zero or not
 /// finite) and the controller factors `J` itself.
-pub(crate) fn min_norm_solve_tokens(rt: &TokenStream, real: Scalar, d: usize) -> TokenStream {
+pub(crate) fn min_norm_solve_tokens(rt: &TokenStream, real: Real, d: usize) -> TokenStream {
     let (t, generics) = real_generics(rt, real);
     let r = quote!(<#t as #rt::emitted::Real>);
     let name = format_ident!("min_norm_solve_{}", d);
@@ -560,11 +560,11 @@ pub(crate) fn min_norm_solve_tokens(rt: &TokenStream, real: Scalar, d: usize) ->
 }
 
 /// The element type and generics of an emitted solve.
-fn real_generics(rt: &TokenStream, real: Scalar) -> (TokenStream, TokenStream) {
+fn real_generics(rt: &TokenStream, real: Real) -> (TokenStream, TokenStream) {
     match real {
-        Scalar::Generic => (quote!(T), quote!(<T: #rt::emitted::Real>)),
-        Scalar::F32 => (quote!(f32), quote!()),
-        Scalar::F64 => (quote!(f64), quote!()),
+        Real::Generic => (quote!(T), quote!(<T: #rt::emitted::Real>)),
+        Real::F32 => (quote!(f32), quote!()),
+        Real::F64 => (quote!(f64), quote!()),
     }
 }
 
@@ -583,7 +583,7 @@ fn elim_b(rhs: usize, row: usize) -> proc_macro2::Ident {
 /// carrying `rhs` right-hand sides: `b`, then (if 2) column `d` of `j`. Leaves `U` in the `a`
 /// variables, the eliminated right-hand sides in the `b` variables, `1 / U_cc` in `inv{c}` and
 /// `det` = the block's determinant.
-fn elimination_tokens(rt: &TokenStream, real: Scalar, d: usize, rhs: usize) -> Vec<TokenStream> {
+fn elimination_tokens(rt: &TokenStream, real: Real, d: usize, rhs: usize) -> Vec<TokenStream> {
     let (t, _) = real_generics(rt, real);
     let r = quote!(<#t as #rt::emitted::Real>);
     let a = elim_a;

@@ -8,7 +8,7 @@
 
 use super::rust::{module_items_in, wrap_module, Runtime, Ty};
 use crate::closed_chain::MechanismDerivation;
-use crate::ir::{ModuleSpec, Scalar};
+use crate::ir::{ModuleSpec, Real};
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 use trocar_model::catalogue::Function as F;
@@ -37,7 +37,7 @@ fn wrapper_tokens(d: &MechanismDerivation, ty: &Ty) -> TokenStream {
         })
         .collect();
     let quotient_generics = match ty.real {
-        Scalar::Generic => quote!(<T: #rt::emitted::Real, const IN: usize, const OUT: usize>),
+        Real::Generic => quote!(<T: #rt::emitted::Real, const IN: usize, const OUT: usize>),
         _ => quote!(<const IN: usize, const OUT: usize>),
     };
     let reduced = format_ident!("{}", F::ReducedJacobian.name());
@@ -156,7 +156,7 @@ fn wrapper_tokens(d: &MechanismDerivation, ty: &Ty) -> TokenStream {
 pub fn module_items(
     d: &MechanismDerivation,
     spec: &ModuleSpec,
-    real: Scalar,
+    real: Real,
     runtime: &Runtime,
 ) -> TokenStream {
     let items = module_items_in(spec, real, runtime);
@@ -172,7 +172,7 @@ pub fn module_items(
 pub fn module_tokens(
     d: &MechanismDerivation,
     spec: &ModuleSpec,
-    real: Scalar,
+    real: Real,
     runtime: &Runtime,
 ) -> TokenStream {
     wrap_module(&spec.name, &spec.doc, module_items(d, spec, real, runtime))

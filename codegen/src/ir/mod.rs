@@ -17,5 +17,5 @@ pub mod spec;
 pub use program::{Const, Factor, Op, OpCounts, Program, Term, ValueId};
 pub use spec::{
     ConstItem, ControllerSpec, EmittedFunction, FusedFunction, FusedOutput, Layout, ModuleSpec,
-    Scalar,
+    Real,
 };

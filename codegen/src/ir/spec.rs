@@ -9,9 +9,11 @@
 use super::program::Program;
 use trocar_model::catalogue;
 
-/// The scalar type of generated code.
+/// The real type of generated code, as `Builder::real`, `ModuleOptions::real`, the command
+/// line's `--real` and the attribute's `real = "..."` name it: generic over the runtime's
+/// `trocar::Real`, or one of `f32`, `f64`.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Default, Hash)]
-pub enum Scalar {
+pub enum Real {
     /// Generic over `T: ::trocar::emitted::Real` (works for `f32` and `f64`).
     #[default]
     Generic,
@@ -21,13 +23,13 @@ pub enum Scalar {
     F64,
 }
 
-impl std::str::FromStr for Scalar {
+impl std::str::FromStr for Real {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
         match s {
-            "generic" | "T" => Ok(Scalar::Generic),
-            "f32" => Ok(Scalar::F32),
-            "f64" => Ok(Scalar::F64),
+            "generic" | "T" => Ok(Real::Generic),
+            "f32" => Ok(Real::F32),
+            "f64" => Ok(Real::F64),
             other => Err(format!(
                 "unknown real type `{other}` (expected f32, f64 or generic)"
             )),
@@ -36,12 +38,12 @@ impl std::str::FromStr for Scalar {
 }
 
 /// The name [`FromStr`](std::str::FromStr) reads: `generic`, `f32` or `f64`.
-impl std::fmt::Display for Scalar {
+impl std::fmt::Display for Real {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {
-            Scalar::Generic => "generic",
-            Scalar::F32 => "f32",
-            Scalar::F64 => "f64",
+            Real::Generic => "generic",
+            Real::F32 => "f32",
+            Real::F64 => "f64",
         })
     }
 }

@@ -13,7 +13,7 @@ use trocar_api::{Error, Robot};
 pub(crate) fn run(
     robot: &str,
     output: Option<&Path>,
-    real: trocar_api::Scalar,
+    real: trocar_api::Real,
     c_api: bool,
     c_header: Option<&Path>,
     functions: Vec<trocar_api::Fused>,

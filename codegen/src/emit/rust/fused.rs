@@ -6,7 +6,7 @@
 use super::body::{body, trig_statement, uses, Access};
 use super::function::{divides_by, divisors, doc_attrs};
 use super::ty::Ty;
-use crate::ir::{FusedFunction, FusedOutput, Layout, ModuleSpec, Op, Scalar};
+use crate::ir::{FusedFunction, FusedOutput, Layout, ModuleSpec, Op, Real};
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
 use std::fmt::Write as _;
@@ -337,7 +337,7 @@ pub(super) fn paired_walk(
 pub(super) fn fma_entry_points(f: &FusedFunction, spec: &ModuleSpec, ty: &Ty) -> TokenStream {
     let rt = ty.runtime();
     let f64_ty = Ty {
-        real: Scalar::F64,
+        real: Real::F64,
         runtime: rt.clone(),
     };
     let n_ty = if spec.joints > 0 {

@@ -4,7 +4,7 @@
 //! points, the controller glue of [`super::controller`]), naming the runtime crate by
 //! [`Runtime`], formatted with prettyplease ([`format_file`]).
 //!
-//! - `ty`: the scalar type and the runtime path ([`Runtime`]).
+//! - `ty`: the real type and the runtime path ([`Runtime`]).
 //! - `body`: a program as Rust statements.
 //! - `function`: one function and its `_trig` variant.
 //! - `fused`: fused functions, the paired-rows walk and the FMA entry points.
@@ -18,7 +18,7 @@ mod ty;
 pub(crate) use ty::Ty;
 pub use ty::{Runtime, DEFAULT_RUNTIME_PATH};
 
-use crate::ir::{Layout, ModuleSpec, Op, Scalar};
+use crate::ir::{Layout, ModuleSpec, Op, Real};
 use body::{body, trig_statement, uses, Access, Body};
 use function::{divides_by, divisors, doc_attrs, function_tokens, layout_tokens};
 use fused::{fma_entry_points, fused_tokens, repr_c};
@@ -133,7 +133,7 @@ fn params_tokens(spec: &ModuleSpec, ty: &Ty) -> TokenStream {
     let repr = repr_c(spec);
     if spec.params.is_empty() {
         return match ty.real {
-            Scalar::Generic => quote! {
+            Real::Generic => quote! {
                 #doc_struct
                 #[derive(Clone, Copy, Debug, Default, PartialEq)]
                 #repr
@@ -265,12 +265,12 @@ fn trig_tokens(spec: &ModuleSpec, ty: &Ty) -> TokenStream {
 }
 
 /// The items of a robot module (without the `mod` wrapper), naming the runtime `::trocar`.
-pub fn module_items(spec: &ModuleSpec, real: Scalar) -> TokenStream {
+pub fn module_items(spec: &ModuleSpec, real: Real) -> TokenStream {
     module_items_in(spec, real, &Runtime::default())
 }
 
 /// The items of a robot module (without the `mod` wrapper), naming the runtime by `runtime`.
-pub fn module_items_in(spec: &ModuleSpec, real: Scalar, runtime: &Runtime) -> TokenStream {
+pub fn module_items_in(spec: &ModuleSpec, real: Real, runtime: &Runtime) -> TokenStream {
     let ty = Ty::new(real, runtime);
     let consts = spec.consts.iter().map(|c| {
         let id = format_ident!("{}", c.name);
@@ -336,12 +336,12 @@ pub fn module_items_in(spec: &ModuleSpec, real: Scalar, runtime: &Runtime) -> To
 
 /// The whole module `pub mod <name> { ... }`, with its documentation and lint attributes, naming
 /// the runtime `::trocar`.
-pub fn module_tokens(spec: &ModuleSpec, real: Scalar) -> TokenStream {
+pub fn module_tokens(spec: &ModuleSpec, real: Real) -> TokenStream {
     module_tokens_in(spec, real, &Runtime::default())
 }
 
 /// The whole module `pub mod <name> { ... }`, naming the runtime by `runtime`.
-pub fn module_tokens_in(spec: &ModuleSpec, real: Scalar, runtime: &Runtime) -> TokenStream {
+pub fn module_tokens_in(spec: &ModuleSpec, real: Real, runtime: &Runtime) -> TokenStream {
     wrap_module(&spec.name, &spec.doc, module_items_in(spec, real, runtime))
 }
 

@@ -1,8 +1,8 @@
-//! The scalar type and the runtime path of emitted code: [`Runtime`] (the path through which
+//! The real type and the runtime path of emitted code: [`Runtime`] (the path through which
 //! generated code names the runtime crate) and `Ty`, the token fragments built from both
 //! (`T` or `f64`, generics, literals).
 
-use crate::ir::Scalar;
+use crate::ir::Real;
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
@@ -54,15 +54,15 @@ impl Default for Runtime {
     }
 }
 
-/// The scalar type and the runtime path of emitted code, with the token fragments built from
+/// The real type and the runtime path of emitted code, with the token fragments built from
 /// them.
 pub(crate) struct Ty {
-    pub(crate) real: Scalar,
+    pub(crate) real: Real,
     pub(super) runtime: TokenStream,
 }
 
 impl Ty {
-    pub(crate) fn new(real: Scalar, runtime: &Runtime) -> Self {
+    pub(crate) fn new(real: Real, runtime: &Runtime) -> Self {
         Ty {
             real,
             runtime: runtime.tokens.clone(),
@@ -76,9 +76,9 @@ impl Ty {
 
     pub(crate) fn t(&self) -> TokenStream {
         match self.real {
-            Scalar::Generic => quote!(T),
-            Scalar::F32 => quote!(f32),
-            Scalar::F64 => quote!(f64),
+            Real::Generic => quote!(T),
+            Real::F32 => quote!(f32),
+            Real::F64 => quote!(f64),
         }
     }
     /// The generic parameter of a straight-line function: `<T: Arith>` (the part of `Real` that
@@ -86,7 +86,7 @@ impl Ty {
     pub(crate) fn generics(&self) -> TokenStream {
         let rt = &self.runtime;
         match self.real {
-            Scalar::Generic => quote!(<T: #rt::emitted::Arith>),
+            Real::Generic => quote!(<T: #rt::emitted::Arith>),
             _ => quote!(),
         }
     }
@@ -95,13 +95,13 @@ impl Ty {
     pub(crate) fn real_generics(&self) -> TokenStream {
         let rt = &self.runtime;
         match self.real {
-            Scalar::Generic => quote!(<T: #rt::emitted::Real>),
+            Real::Generic => quote!(<T: #rt::emitted::Real>),
             _ => quote!(),
         }
     }
     pub(crate) fn args(&self) -> TokenStream {
         match self.real {
-            Scalar::Generic => quote!(<T>),
+            Real::Generic => quote!(<T>),
             _ => quote!(),
         }
     }
@@ -111,8 +111,8 @@ impl Ty {
         let t = self.t();
         let rt = &self.runtime;
         match self.real {
-            Scalar::Generic => quote!(<#t as #rt::emitted::Arith>),
-            Scalar::F32 | Scalar::F64 => quote!(<#t as #rt::emitted::Real>),
+            Real::Generic => quote!(<#t as #rt::emitted::Arith>),
+            Real::F32 | Real::F64 => quote!(<#t as #rt::emitted::Real>),
         }
     }
     /// The path of `Real`'s own functions (`is_finite`, `to_f64`): `<T as Real>`.
@@ -130,18 +130,18 @@ impl Ty {
             return quote!(#r::ONE);
         }
         match self.real {
-            Scalar::Generic => {
+            Real::Generic => {
                 let l = Literal::f64_unsuffixed(x);
                 quote!(#r::lit(#l))
             }
-            Scalar::F32 | Scalar::F64 => {
+            Real::F32 | Real::F64 => {
                 // The f64's shortest round-trip decimal with the target suffix: rustc rounds the
                 // decimal directly to the target type (correct rounding for f32).
                 let mut s = format!("{x:?}");
                 if !s.contains('.') && !s.contains('e') {
                     s.push_str(".0");
                 }
-                s.push_str(if self.real == Scalar::F32 {
+                s.push_str(if self.real == Real::F32 {
                     "_f32"
                 } else {
                     "_f64"
