@@ -10,8 +10,8 @@ use trocar_model::description::DescriptionError;
 #[derive(Debug)]
 #[non_exhaustive]
 pub enum Error {
-    /// A description that cannot be read or is not valid: `robot.toml:23:1: field
-    /// \`joints[3].axis\`: ...`.
+    /// A description that cannot be read or is not valid; the message names the file, the line
+    /// and the field (`robot.toml:23:1: field joints[3].axis: ...`).
     Description(DescriptionError),
     /// The closed forms could not be derived or emitted.
     Generation(trocar_codegen::Error),

@@ -44,7 +44,8 @@ pub use robot::{urdf_jacobian, Evaluator, FusedEvaluator, Robot, MAX_SAMPLES, TW
 pub use simulate::{simulate, RcmOptions, SimulationRun, SpeedLimit};
 pub use trajectory::{
     simulate_robot, simulate_trajectory, Orientation, RunRequest, Trajectory, TrajectoryOptions,
-    TrajectoryRun, MAX_TRAJECTORY_BYTES, MAX_TRAJECTORY_STEPS, START_TOLERANCE,
+    TrajectoryRun, MAX_REFERENCE_ANGULAR_SPEED, MAX_REFERENCE_SPEED, MAX_TRAJECTORY_BYTES,
+    MAX_TRAJECTORY_STEPS, START_TOLERANCE,
 };
 pub use trocar::control::StepStatus;
 pub use trocar_codegen::{ModuleOptions, Real};

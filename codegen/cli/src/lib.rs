@@ -13,7 +13,7 @@
 //!
 //! `ROBOT.toml` may also be the name of a shipped description (`bidirectional-zy`, `dia10_like_zy`, ...),
 //! or a closed mechanism (a TOML file with `[[chains]]`, or `four-bar`, `planar-stewart`): then
-//! `generate` emits its closed-form reduced kinematics ([`trocar_codegen::closed_chain`]) and `eval` takes
+//! `generate` emits its closed-form reduced kinematics (the generator's `closed_chain`) and `eval` takes
 //! all joint values with `--what jr|jc|passive|det`.
 //! Matrices print as JSON `{"rows": R, "cols": C, "data": [[row], ...]}` with `--json`, as aligned
 //! text otherwise. Errors go to stderr with a non-zero exit code and say what is wrong and where.

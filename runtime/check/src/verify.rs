@@ -3,10 +3,10 @@
 //! A [`Candidate`] is any implementation of the robot's kinematics: the generator's closed forms
 //! evaluated as emitted (`trocar verify`), or a compiled generated module (its `Checks`, emitted
 //! by `Builder::checks`). [`verify`] draws random configurations and parameter values
-//! ([`crate::ranges`]) and compares, for every function of the catalogue the candidate offers
+//! ([`crate::Ranges`]) and compares, for every function of the catalogue the candidate offers
 //! ([`CHECKED`]):
 //!
-//! - candidate vs the numeric runtime ([`crate::reference`]: the typed kernels of `trocar` on the
+//! - candidate vs the numeric runtime ([`trocar_model::reference`]: the typed kernels of `trocar` on the
 //!   description's [`NumericModel`]), relative to the matrix norm;
 //! - the candidate's `J^B_0i` vs central differences of the candidate's own `g_0i`, its `J^B_0e`
 //!   vs central differences of its own `g_0e`, and the numeric body Jacobian vs central
@@ -559,7 +559,7 @@ impl FusedTallies {
 }
 
 /// Compares `candidate` with the numeric runtime and with finite differences at `samples` random
-/// configurations drawn from `seed` over [`crate::ranges`] of the description (joints within
+/// configurations drawn from `seed` over [`crate::Ranges`] of the description (joints within
 /// their limits, else `[−π, π]` or `[−0.5, 0.5]` m; parameters within ±20 % of their nominal
 /// values). `progress` is called with the fraction done.
 pub fn verify(

@@ -2,7 +2,7 @@
 //!
 //! Serial robots (TOML, URDF) and closed planar mechanisms (TOML) are read into one validated
 //! model, and converted to the numeric types of [`trocar`] ([`numeric::NumericModel`]), whose
-//! numeric reference of the catalogue ([`reference`]) `trocar-check` and `trocar-sim` share.
+//! numeric reference of the catalogue ([`reference`](mod@reference)) `trocar-check` and `trocar-sim` share.
 //! [`Description::load`] decides which reader a file or a shipped name goes to.
 #![warn(missing_docs)]
 

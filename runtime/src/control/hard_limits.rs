@@ -119,7 +119,7 @@
 //! ([`Status::InequalitiesRelaxed`]); the step does not take those rates. Joint position and
 //! speed limits are physical — the robot faults or breaks beyond them — so the limits hold and
 //! the trocar gives way: the rates within the limits nearest to the trocar rows, then the task
-//! within both ([`trocar_within_limits`]), reported as [`Status::EqualitiesInconsistent`] in
+//! within both (`trocar_within_limits`), reported as [`Status::EqualitiesInconsistent`] in
 //! [`super::StepOutput::qp`] and as [`super::StepStatus::TrocarYielded`] in
 //! [`super::StepOutput::status`]. Whether the trocar held is judged from the rates commanded:
 //! the rows asked of the step met to `√ε (1 + |b|)` (a relaxation the solver reports can be of

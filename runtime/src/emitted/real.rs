@@ -72,7 +72,7 @@ pub trait Real:
 ///
 /// Generated functions whose body is one straight-line program (forward kinematics, the
 /// Jacobians, `pose_and_jacobians_trig`, the `Params` and `JointTrig` structs) are generic over
-/// `T: Arith`, so they run on `f32` and `f64` and on the lane types of [`lanes`](super::lanes)
+/// `T: Arith`, so they run on `f32` and `f64` and on the lane types of `lanes`
 /// (feature `lanes`: four `f64` or eight `f32` configurations side by side, each lane bit for
 /// bit the scalar code's result). Functions that branch on a value
 /// (`manipulability`'s finiteness guard, the pivoting solves, the controller) stay `T: Real`.

@@ -15,7 +15,7 @@
 //!
 //! The controller is driven by the numeric runtime ([`ChainKinematics`]: [`trocar::kinematics`],
 //! [`trocar::constraint`]); the measurements are taken from forward kinematics of the same chain
-//! ([`Chain::forward_kinematics`], [`Chain::link_frame`]), independently of the controller's
+//! ([`trocar::kinematics::Chain::forward_kinematics`], [`trocar::kinematics::Chain::link_frame`]), independently of the controller's
 //! Jacobians.
 //!
 //! # Measurements (independent of the controller; from forward kinematics only)
