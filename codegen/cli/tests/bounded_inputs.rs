@@ -4,17 +4,14 @@
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-use std::time::{Duration, Instant};
 
-/// Runs `trocar args…` in `dir`; returns its output and how long it took.
-fn trocar(args: &[&str], dir: &Path) -> (Output, Duration) {
-    let start = Instant::now();
-    let out = Command::new(env!("CARGO_BIN_EXE_trocar"))
+/// Runs `trocar args…` in `dir`; returns its output.
+fn trocar(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_trocar"))
         .args(args)
         .current_dir(dir)
         .output()
-        .expect("the trocar binary runs");
-    (out, start.elapsed())
+        .expect("the trocar binary runs")
 }
 
 /// A fresh empty directory under the target directory.
@@ -29,17 +26,17 @@ fn robots() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../runtime/model/robots")
 }
 
-/// The command fails with exit code 1 within `secs` seconds and a message containing every
-/// one of `expected`.
-fn refused(args: &[&str], dir: &Path, secs: u64, expected: &[&str]) {
-    let (out, took) = trocar(args, dir);
+/// The command fails with exit code 1 and a message containing every one of `expected`. (That
+/// the refusal does no unbounded work first is shown by the inputs: each used to run for minutes
+/// or crash; how long the refusal takes is not asserted here.)
+fn refused(args: &[&str], dir: &Path, expected: &[&str]) {
+    let out = trocar(args, dir);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{args:?}: {out:?}");
     assert!(!err.contains("panicked"), "{err}");
     for e in expected {
         assert!(err.contains(e), "{args:?}: `{e}` not in: {err}");
     }
-    assert!(took.as_secs() < secs, "{args:?} took {took:?}");
 }
 
 /// The four-bar linkage with its first chain's tip at `x`.
@@ -74,14 +71,13 @@ fn large_exponents_are_refused_where_written() {
             refused(
                 cmd,
                 &dir,
-                10,
                 &["m.toml:", "chains[0].tip.x", "exponent", "at most 64"],
             );
         }
     }
     // The largest exponent allowed works.
     let m = four_bar_tip(&dir, "l3^64 + l4");
-    let (out, _) = trocar(&["generate", m], &dir);
+    let out = trocar(&["generate", m], &dir);
     assert!(out.status.success(), "{out:?}");
 }
 
@@ -94,7 +90,6 @@ fn lengths_of_many_terms_are_refused() {
     refused(
         &["generate", m],
         &dir,
-        20,
         &["chains[0].tip.x", "5456 terms", "at most 64"],
     );
 }
@@ -128,7 +123,7 @@ fn platform(legs: usize) -> String {
 fn large_mechanisms_are_refused_quickly() {
     let dir = scratch("legs");
     std::fs::write(dir.join("p4.toml"), platform(4)).unwrap();
-    let (out, _) = trocar(&["generate", "p4.toml"], &dir);
+    let out = trocar(&["generate", "p4.toml"], &dir);
     assert!(out.status.success(), "{out:?}");
     for legs in [7, 8] {
         let file = format!("p{legs}.toml");
@@ -137,7 +132,6 @@ fn large_mechanisms_are_refused_quickly() {
         refused(
             &["generate", &file],
             &dir,
-            10,
             &[&file, "`chains`", &size, "at most 15"],
         );
     }
@@ -151,7 +145,6 @@ fn input_files_are_read_up_to_16_mib() {
     refused(
         &["eval", "/dev/zero", "--q", "0"],
         &dir,
-        10,
         &["/dev/zero", "larger than 16 MiB"],
     );
     let mut big = std::fs::read_to_string(robots().join("unidirectional.toml")).unwrap();
@@ -160,7 +153,6 @@ fn input_files_are_read_up_to_16_mib() {
     refused(
         &["generate", "big.toml"],
         &dir,
-        10,
         &["big.toml", "larger than 16 MiB"],
     );
 }
@@ -177,7 +169,6 @@ fn at_most_64_joints() {
     refused(
         &["generate", "many.toml"],
         &dir,
-        10,
         &["many.toml", "joints[64]", "68 joints", "at most 64"],
     );
     let mut chain = String::from("name = \"long\"\noutputs = []\n[[chains]]\nname = \"c\"\n");
@@ -188,7 +179,6 @@ fn at_most_64_joints() {
     refused(
         &["eval", "long.toml", "--q", "0", "--numeric"],
         &dir,
-        10,
         &["long.toml", "chains[0].joints[64]", "at most 64"],
     );
 }
@@ -200,7 +190,6 @@ fn verify_samples_are_bounded() {
     refused(
         &["verify", "no-such-robot", "--samples", "10000001"],
         &dir,
-        10,
         &["--samples: 10000001", "at most 10000000"],
     );
 }
@@ -217,10 +206,9 @@ fn ambiguous_names_and_options_are_refused() {
     refused(
         &["eval", "pi.toml", "--q", "0,0,0,0,0,0,0,0", "--numeric"],
         &dir,
-        10,
         &["pi.toml:", "parameters.pi", "constant π"],
     );
-    let (out, _) = trocar(
+    let out = trocar(
         &[
             "eval",
             "unidirectional",
@@ -247,7 +235,6 @@ fn ambiguous_names_and_options_are_refused() {
             "l_a=0.2",
         ],
         &dir,
-        10,
         &["l_a", "given twice"],
     );
 }
@@ -287,7 +274,6 @@ fn mechanism_numbers_follow_the_number_rule() {
         refused(
             &["generate", "m.toml", "--real", "f32"],
             &dir,
-            10,
             &["m.toml:", field],
         );
     }
@@ -313,11 +299,10 @@ fn a_bad_urdf_limit_is_an_error() {
         refused(
             &["generate", "panda-laparoscope.toml"],
             &dir,
-            20,
             &["panda.urdf", "limit"],
         );
     }
     std::fs::write(dir.join("urdf/panda.urdf"), urdf).unwrap();
-    let (out, _) = trocar(&["generate", "panda-laparoscope.toml"], &dir);
+    let out = trocar(&["generate", "panda-laparoscope.toml"], &dir);
     assert!(out.status.success(), "{out:?}");
 }
