@@ -346,10 +346,16 @@ impl Robot {
 
     /// Checks that `q` has one finite value per joint, within the number rule.
     pub fn check_q(&self, q: &[f64]) -> Result<()> {
+        self.check_joints("q", q)
+    }
+
+    /// [`Robot::check_q`] for joint values given as the argument `argument` (`q0`, the start of
+    /// a run, names itself in the error).
+    pub(crate) fn check_joints(&self, argument: &'static str, q: &[f64]) -> Result<()> {
         let n = self.dof();
         if q.len() != n {
             return Err(Error::argument(
-                "q",
+                argument,
                 match &self.kind {
                     Kind::Serial(s) => format!(
                         "{} values given, `{}` has {} joints (give all joint values, base first)",
@@ -369,7 +375,7 @@ impl Robot {
         if let Err((k, problem)) = trocar_model::validity::check_all(q) {
             let names = self.joint_names();
             return Err(Error::argument(
-                "q",
+                argument,
                 if self.is_mechanism() {
                     format!("value {} ({}, {:e}) {problem}", k + 1, names[k], q[k])
                 } else {

@@ -466,17 +466,7 @@ pub fn simulate_trajectory(
         .map_or_else(|| "the trajectory".to_string(), |p| p.display().to_string());
     trajectory.check(&source)?;
     let n = desc.joints.len();
-    robot.check_q(&options.q0).map_err(|e| match e {
-        // The start configuration is `q0` here.
-        Error::Argument {
-            argument: "q",
-            problem,
-        } => Error::Argument {
-            argument: "q0",
-            problem,
-        },
-        e => e,
-    })?;
+    robot.check_joints("q0", &options.q0)?;
     if !(options.dt.is_finite() && options.dt > 0.0 && options.dt <= 0.1) {
         return Err(Error::Input(format!(
             "dt = {}: must be in (0, 0.1] s",
