@@ -15,6 +15,7 @@
 //! puts `F_r` at the point of that line nearest to the trocar,
 //! `l_a = ((p_t − p_0i − R_0i o) · R_0i d) / |d|²`.
 
+use crate::emit::doc::doc_attrs;
 use crate::ir::{ControllerSpec, Real};
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
@@ -61,7 +62,7 @@ pub(crate) fn tokens(rt: &TokenStream, real: Real, spec: &ControllerSpec) -> Tok
         ),
         None => (quote!(), quote!(), String::new()),
     };
-    let struct_doc = doc_lines(&format!(
+    let struct_doc = doc_attrs(&format!(
         "What one control step needs, in storage the caller owns (matrices column-major): \
          filled by [`step_kinematics`].{offset_doc}"
     ));
@@ -290,8 +291,8 @@ fn glue_tokens(rt: &TokenStream, real: Real, offset: &str, spec: &ControllerSpec
         p = if task { "TASK_ROWS" } else { "6" },
         offset = offset,
     );
-    let struct_doc = doc_lines(&struct_doc);
-    let controller_doc = doc_lines(&format!(
+    let struct_doc = doc_attrs(&struct_doc);
+    let controller_doc = doc_attrs(&format!(
         "The runtime controller sized for this robot: `{rt}::control::Controller` with this \
          module's sizes `<_, N, I, R, K, M, {p}>` in one name, run on [`Kinematics`].",
         rt = rt.to_string().replace(' ', ""),
@@ -464,19 +465,6 @@ fn glue_tokens(rt: &TokenStream, real: Real, offset: &str, spec: &ControllerSpec
         }
 
     }
-}
-
-/// `#[doc]` attributes, one a line (paragraphs separated by empty lines).
-fn doc_lines(text: &str) -> TokenStream {
-    let lines = text.lines().map(|l| {
-        let l = if l.is_empty() {
-            String::new()
-        } else {
-            format!(" {l}")
-        };
-        quote!(#[doc = #l])
-    });
-    quote!(#(#lines)*)
 }
 
 /// `lu_solve_{d}`: `J x = b` for a square `d × d` matrix (column-major `[col][row]`) by Gaussian

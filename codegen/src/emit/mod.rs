@@ -8,9 +8,11 @@
 //! - [`mechanism`]: a closed mechanism's module, the functions that divide by `det J_Cp`
 //!   wrapped around the polynomial ones.
 //! - [`controller`]: the control step's items in a constrained robot's module
-//!   (`StepKinematics`, `step_kinematics`, `Kinematics`), written by [`rust`].
+//!   (`StepKinematics`, `step_kinematics`, `Kinematics`, `Controller`), written by [`rust`].
 //! - [`c_api`]: the C ABI (`extern "C"` functions) and its header.
 //! - [`checks`]: the module's checks and its evidence.
+//! - `doc`: the `#[doc]` attributes of emitted items, written alike by the Rust backend and the
+//!   controller glue.
 //!
 //! # Array order
 //! Every matrix is returned **column-major**: a `rows × cols` matrix is `[[T; rows]; cols]`
@@ -20,6 +22,7 @@
 pub mod c_api;
 pub mod checks;
 pub mod controller;
+mod doc;
 pub mod mechanism;
 pub mod rust;
 

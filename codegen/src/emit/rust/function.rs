@@ -4,6 +4,7 @@
 
 use super::body::{body, uses, Access, Body};
 use super::ty::Ty;
+use crate::emit::doc::doc_attrs;
 use crate::ir::{EmittedFunction, Layout, Op, Program};
 use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
@@ -62,18 +63,6 @@ pub(super) fn layout_doc(layout: Layout, dims: Option<&(String, String)>, t: &st
              nalgebra: `Matrix3::from_data(ArrayStorage(r))`) and the position."
             .to_string(),
     }
-}
-
-pub(super) fn doc_attrs(text: &str) -> TokenStream {
-    let lines = text.lines().map(|l| {
-        let l = if l.is_empty() {
-            String::new()
-        } else {
-            format!(" {l}")
-        };
-        quote!(#[doc = #l])
-    });
-    quote!(#(#lines)*)
 }
 
 /// The parameters `prog` divides by, as "`a`, `b`" (empty when none).

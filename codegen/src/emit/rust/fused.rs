@@ -4,8 +4,9 @@
 //! time (`trocar::emitted::fma`).
 
 use super::body::{body, trig_statement, uses, Access};
-use super::function::{divides_by, divisors, doc_attrs};
+use super::function::{divides_by, divisors};
 use super::ty::Ty;
+use crate::emit::doc::doc_attrs;
 use crate::ir::{FusedFunction, FusedOutput, Layout, ModuleSpec, Op, Real};
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};

@@ -18,9 +18,10 @@ mod ty;
 pub(crate) use ty::Ty;
 pub use ty::{Runtime, DEFAULT_RUNTIME_PATH};
 
+use crate::emit::doc::doc_attrs;
 use crate::ir::{Layout, ModuleSpec, Op, Real};
 use body::{body, trig_statement, uses, Access, Body};
-use function::{divides_by, divisors, doc_attrs, function_tokens, layout_tokens};
+use function::{divides_by, divisors, function_tokens, layout_tokens};
 use fused::{fma_entry_points, fused_tokens, repr_c};
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
