@@ -30,6 +30,7 @@
 mod controller;
 mod error;
 mod evaluation;
+pub mod plant;
 mod robot;
 pub mod simulate;
 mod trajectory;
@@ -54,7 +55,7 @@ pub use trocar_model::description::SimulationDesc;
 /// The number rule every value given to the library obeys (finite, not subnormal, at most
 /// 1e6 in magnitude), for callers that check their own inputs the same way.
 pub use trocar_model::validity;
-pub use trocar_sim::plot::{write_comparison, ImageFormat};
+pub use trocar_sim::plot::{write_comparison, write_time_panels, ImageFormat, TimePanel};
 pub use trocar_sim::simulation::{CsvRows, Method, Scenario, Trace};
 
 /// The files a description at `path` is read from: `path` itself and, when its chain comes from

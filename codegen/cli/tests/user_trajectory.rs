@@ -419,34 +419,49 @@ fn a_description_carries_its_own_scenario() {
         "{err}"
     );
 
-    // Bad entries: the file, the line (its first entry is on line 31) and the field.
+    // Bad entries: the file, the line (the section's first entry, the line after its header)
+    // and the field.
+    let example = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/robots/ur5_trocar.toml"
+    ))
+    .unwrap();
+    let first = example[..example.find("[simulation]").unwrap()]
+        .lines()
+        .count()
+        + 2;
     let cases = [
         (
             "q0 = [0, 1]\n",
-            31,
+            first,
             "simulation.q0",
             "2 values; the robot has 6 joints",
         ),
         (
             "trajectory = \"circle.csv\"\nq0 = [0, nan, 0, 0, 0, 0]\n",
-            32,
+            first + 1,
             "simulation.q0[1]",
             "not finite",
         ),
-        ("kp = -5\n", 31, "simulation.kp", "must be ≥ 0"),
+        ("kp = -5\n", first, "simulation.kp", "must be ≥ 0"),
         (
             "method = \"fast\"\n",
-            31,
+            first,
             "simulation.method",
             "unknown method `fast`",
         ),
         (
             "trocar = [0, 0, 2e6]\n",
-            31,
+            first,
             "simulation.trocar[2]",
             "beyond",
         ),
-        ("speed = 1\n", 31, "simulation.speed", "unknown key `speed`"),
+        (
+            "speed = 1\n",
+            first,
+            "simulation.speed",
+            "unknown key `speed`",
+        ),
     ];
     for (k, (section, line, field, words)) in cases.into_iter().enumerate() {
         let arm = ur5_with_section(&d.join(format!("bad{k}")), section);

@@ -166,6 +166,23 @@ struct Robot {
 }
 
 impl Robot {
+    /// A loaded robot with its nominal parameters and the names of its quantities.
+    fn wrap(inner: trocar_api::Robot) -> PyResult<Self> {
+        let nominal = inner.params().into_iter().map(|(_, v)| v).collect();
+        let mut names: Vec<(String, Function)> = inner
+            .quantities()
+            .into_iter()
+            .flat_map(|f| [(f.name().to_string(), f), (f.short_name().to_string(), f)])
+            .collect();
+        names.sort();
+        names.dedup();
+        Ok(Robot {
+            inner,
+            nominal,
+            names,
+        })
+    }
+
     fn values(&self, params: Option<BTreeMap<String, f64>>) -> PyResult<Vec<f64>> {
         match params {
             None => Ok(self.nominal.clone()),
@@ -323,19 +340,7 @@ impl Robot {
                 Ok::<_, trocar_api::Error>(r)
             })
             .map_err(value_error)?;
-        let nominal = inner.params().into_iter().map(|(_, v)| v).collect();
-        let mut names: Vec<(String, Function)> = inner
-            .quantities()
-            .into_iter()
-            .flat_map(|f| [(f.name().to_string(), f), (f.short_name().to_string(), f)])
-            .collect();
-        names.sort();
-        names.dedup();
-        Ok(Robot {
-            inner,
-            nominal,
-            names,
-        })
+        Robot::wrap(inner)
     }
 
     /// The robot's name (`[robot] name`).
@@ -589,6 +594,37 @@ impl Robot {
             .map_err(value_error)
     }
 
+    /// The robot as a physics plant: MuJoCo's XML (MJCF) with the links' mass properties,
+    /// joint damping and friction, torque limits, gravity compensated by the actuators, one
+    /// velocity actuator per joint and the instrument's shaft with a `wrist` force/torque sensor
+    /// (`trocar_api::plant`). `params` overrides parameters' nominal values. Raises
+    /// `ValueError` when a link has no mass properties.
+    #[pyo3(signature = (params = None))]
+    fn mjcf(&self, params: Option<BTreeMap<String, f64>>) -> PyResult<String> {
+        let params: Vec<(String, f64)> = params.unwrap_or_default().into_iter().collect();
+        trocar_api::plant::mjcf(&self.inner, &params).map_err(value_error)
+    }
+
+    /// The instrument as the plant places it, in the last link's frame: a dict with `start`
+    /// (the shaft's origin, m), `direction` (unit, toward the tip), `length` (m), `radius` (m)
+    /// and `mass` (kg); `None` without `[instrument]`.
+    fn shaft<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(d) = self.inner.description() else {
+            return Ok(None);
+        };
+        let Some(s) = trocar_api::plant::shaft(d, &self.inner.params()).map_err(value_error)?
+        else {
+            return Ok(None);
+        };
+        let out = PyDict::new(py);
+        out.set_item("start", s.start.to_vec())?;
+        out.set_item("direction", s.direction.to_vec())?;
+        out.set_item("length", s.length)?;
+        out.set_item("radius", s.radius)?;
+        out.set_item("mass", s.mass)?;
+        Ok(Some(out))
+    }
+
     fn __repr__(&self) -> String {
         format!("trocar.Robot.load({:?})", self.inner.source())
     }
@@ -770,6 +806,143 @@ impl Controller {
     }
 }
 
+/// What a control loop of one's own needs to replay a run (`trocar_api::plant::RunSetup`): a
+/// shipped Panda scenario's (`RunSetup("panda-laparoscope")`) or a robot's along its own
+/// trajectory (`RunSetup(robot_or_path, trajectory=..., q0=..., trocar=..., method=...)`, what is
+/// not given taken from its description's `[simulation]` section). Attributes: `robot`, `q0`,
+/// `trocar` (m, base frame), `duration` (s), `controller` (the keyword arguments of
+/// `Controller`); `reference(t)` is the reference at time `t` as `Controller.step` takes it.
+#[pyclass(module = "trocar", frozen)]
+struct RunSetup {
+    inner: trocar_api::plant::RunSetup,
+    robot: Py<Robot>,
+}
+
+#[pymethods]
+impl RunSetup {
+    #[new]
+    #[pyo3(signature = (scenario, trajectory = None, q0 = None, trocar = None, method = None))]
+    fn new(
+        py: Python<'_>,
+        scenario: &Bound<'_, PyAny>,
+        trajectory: Option<PathBuf>,
+        q0: Option<Vec<f64>>,
+        trocar: Option<[f64; 3]>,
+        method: Option<&str>,
+    ) -> PyResult<Self> {
+        let given: Option<Py<Robot>> = scenario.cast::<Robot>().ok().map(|r| r.clone().unbind());
+        let name: Option<PathBuf> = match given {
+            Some(_) => None,
+            None => Some(scenario.extract().map_err(|_| {
+                PyTypeError::new_err(
+                    "scenario: a Panda scenario's name, a Robot, or a description's path",
+                )
+            })?),
+        };
+        let scenario_name = name
+            .as_deref()
+            .and_then(std::path::Path::to_str)
+            .filter(|n| trocar_api::simulate::scenario_names().contains(n));
+        let (robot, mut inner) = match (scenario_name, &given) {
+            (Some(n), None) if trajectory.is_none() => {
+                if q0.is_some() || trocar.is_some() {
+                    return Err(PyValueError::new_err(
+                        "q0 and trocar apply to a robot's own trajectory, not to a shipped scenario",
+                    ));
+                }
+                let (robot, setup) =
+                    trocar_api::plant::RunSetup::scenario(n).map_err(value_error)?;
+                (Py::new(py, Robot::wrap(robot)?)?, setup)
+            }
+            _ => {
+                let robot: Py<Robot> = match given {
+                    Some(r) => r,
+                    None => {
+                        let path = name.as_deref().unwrap_or(std::path::Path::new(""));
+                        Py::new(py, Robot::load(py, path.to_path_buf())?)?
+                    }
+                };
+                let request = trocar_api::RunRequest {
+                    trajectory,
+                    q0,
+                    trocar,
+                    ..Default::default()
+                };
+                let setup = trocar_api::plant::RunSetup::trajectory(&robot.get().inner, &request)
+                    .map_err(value_error)?;
+                (robot, setup)
+            }
+        };
+        if let Some(m) = method {
+            inner.controller.method = self::method(m)?;
+        }
+        Ok(RunSetup { inner, robot })
+    }
+
+    /// The robot.
+    #[getter]
+    fn robot(&self, py: Python<'_>) -> Py<Robot> {
+        self.robot.clone_ref(py)
+    }
+
+    /// The start configuration.
+    #[getter]
+    fn q0(&self) -> Vec<f64> {
+        self.inner.q0.clone()
+    }
+
+    /// The trocar (m, base frame).
+    #[getter]
+    fn trocar(&self) -> [f64; 3] {
+        self.inner.trocar
+    }
+
+    /// How long the run lasts (s).
+    #[getter]
+    fn duration(&self) -> f64 {
+        self.inner.duration
+    }
+
+    /// The keyword arguments of `Controller` the run uses.
+    #[getter]
+    fn controller<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let c = &self.inner.controller;
+        let out = PyDict::new(py);
+        out.set_item("method", c.method.name())?;
+        out.set_item("kp", c.kp)?;
+        out.set_item("ko", c.ko)?;
+        out.set_item("kr", c.kr)?;
+        out.set_item("max_joint_speed", c.max_joint_speed)?;
+        out.set_item("null_space_gain", c.null_space_gain)?;
+        out.set_item("dls_alpha0", c.dls_alpha0)?;
+        out.set_item("fi_gamma", c.fi_gamma)?;
+        out.set_item("qp_kappa", c.qp_kappa)?;
+        out.set_item("depth_limits", c.depth_limits.map(|d| d.to_vec()))?;
+        Ok(out)
+    }
+
+    /// The reference at time `t` (s): `position`, `rotation` (3 × 3 or `None`), `velocity`,
+    /// `angular_velocity` (base frame), as `Controller.step` takes it.
+    fn reference<'py>(&self, py: Python<'py>, t: f64) -> PyResult<Bound<'py, PyDict>> {
+        let r = self.inner.reference(t).map_err(value_error)?;
+        let out = PyDict::new(py);
+        out.set_item("position", PyArray1::from_slice(py, &r.position))?;
+        match r.rotation {
+            Some(rot) => {
+                let rot = Array2::from_shape_fn((3, 3), |(i, j)| rot[i][j]);
+                out.set_item("rotation", rot.into_pyarray(py))?;
+            }
+            None => out.set_item("rotation", py.None())?,
+        }
+        out.set_item("velocity", PyArray1::from_slice(py, &r.velocity))?;
+        out.set_item(
+            "angular_velocity",
+            PyArray1::from_slice(py, &r.angular_velocity),
+        )?;
+        Ok(out)
+    }
+}
+
 /// The keys a reference dict of `Controller.step` may have.
 const REFERENCE_KEYS: [&str; 4] = ["position", "rotation", "velocity", "angular_velocity"];
 
@@ -919,6 +1092,41 @@ impl<'a, 'py> FromPyObject<'a, 'py> for MaybeLimit {
     }
 }
 
+/// Writes a figure of panels of lines over time (SVG or PNG by the extension of `path`), two
+/// panels a row under `title`: `panels` is a list of dicts with `title`, `y_label`, `lines` (a
+/// list of `(legend, t, y)`) and optionally `non_negative` (the y axis from 0). The figures of
+/// `trocar.physics` are drawn with it.
+#[pyfunction]
+fn write_figure(path: PathBuf, title: &str, panels: &Bound<'_, PyAny>) -> PyResult<()> {
+    let mut out = Vec::new();
+    for p in panels.try_iter()? {
+        let p = p?;
+        let d = p
+            .cast::<PyDict>()
+            .map_err(|_| PyTypeError::new_err("panels: a list of dicts"))?;
+        let get = |k: &str| -> PyResult<Bound<'_, PyAny>> {
+            d.get_item(k)?
+                .ok_or_else(|| PyValueError::new_err(format!("panels: a panel without \"{k}\"")))
+        };
+        let mut lines = Vec::new();
+        for line in get("lines")?.try_iter()? {
+            let (label, t, y): (String, Vec<f64>, Vec<f64>) = line?.extract()?;
+            lines.push((label, t, y));
+        }
+        out.push(trocar_api::TimePanel {
+            title: get("title")?.extract()?,
+            y_label: get("y_label")?.extract()?,
+            lines,
+            non_negative: match d.get_item("non_negative")? {
+                Some(v) => v.extract()?,
+                None => false,
+            },
+        });
+    }
+    trocar_api::write_time_panels(&path, title, &out)
+        .map_err(|e| PyValueError::new_err(format!("{}: {e}", path.display())))
+}
+
 /// The names of the shipped robots, mechanisms and simulation scenarios, as `trocar list`
 /// prints them: `{"robots": [...], "mechanisms": [...], "scenarios": [...]}`.
 #[pyfunction]
@@ -947,6 +1155,8 @@ fn quantities() -> Vec<(&'static str, &'static str)> {
 fn _trocar(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Robot>()?;
     m.add_class::<Controller>()?;
+    m.add_class::<RunSetup>()?;
+    m.add_function(wrap_pyfunction!(write_figure, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(shipped, m)?)?;
     m.add_function(wrap_pyfunction!(quantities, m)?)?;

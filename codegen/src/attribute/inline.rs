@@ -321,6 +321,9 @@ fn joint(k: usize, item: &JointItem, spans: &mut Spans, errors: &mut Errors) -> 
         kind,
         limits: None,
         speed_limit: None,
+        acceleration_limit: None,
+        jerk_limit: None,
+        dynamics: Default::default(),
         location: None,
     }
 }
@@ -540,6 +543,7 @@ pub(crate) fn build(lists: &InlineLists, default_name: &str) -> syn::Result<Robo
         end_effector,
         constraint,
         task: None,
+        instrument: None,
         source: None,
     };
     let mut errors = Errors::default();

@@ -39,6 +39,9 @@ pub fn revolute(name: &str, xyz: [Linear; 3], axis: [f64; 3]) -> JointDesc {
         kind: JointKind::Revolute { axis },
         limits: None,
         speed_limit: None,
+        acceleration_limit: None,
+        jerk_limit: None,
+        dynamics: Default::default(),
         location: None,
     }
 }
@@ -96,6 +99,7 @@ fn robot(
             wrist,
         }),
         task: None,
+        instrument: None,
         source: None,
     }
 }
@@ -471,6 +475,9 @@ pub fn random_chain(seed: u64) -> RobotDescription {
             kind,
             limits: None,
             speed_limit: None,
+            acceleration_limit: None,
+            jerk_limit: None,
+            dynamics: Default::default(),
             location: None,
         });
     }
@@ -513,6 +520,7 @@ pub fn random_chain(seed: u64) -> RobotDescription {
             wrist: None,
         }),
         task: None,
+        instrument: None,
         source: None,
     }
 }

@@ -2,8 +2,8 @@
 
 use proptest::prelude::*;
 use trocar_model::description::{
-    preset_names, ConstraintDesc, EndEffector, JointDesc, JointKind, Linear, Origin, Parameter,
-    RobotDescription, Rotation, Wrist,
+    preset_names, ConstraintDesc, EndEffector, Inertia, Instrument, JointDesc, JointDynamics,
+    JointKind, Linear, Origin, Parameter, RobotDescription, Rotation, Wrist,
 };
 
 /// The description without what depends on where it was read from.
@@ -146,8 +146,13 @@ prop_compose! {
         values in [finite(), finite(), finite()],
         joints in proptest::collection::vec(
             (origin(PARAMS), 0..3usize, [finite(), finite(), finite()],
-             [scalar(PARAMS), scalar(PARAMS), scalar(PARAMS)], "[a-z\"\\\\ ]{1,6}"),
+             [scalar(PARAMS), scalar(PARAMS), scalar(PARAMS)], "[a-z\"\\\\ ]{1,6}",
+             (proptest::option::of(finite()), proptest::option::of(finite()), proptest::option::of(finite()),
+              proptest::option::of(finite()), proptest::option::of(finite()),
+              proptest::option::of((finite(), [finite(), finite(), finite()],
+                  [finite(), finite(), finite(), finite(), finite(), finite()])))),
             1..9),
+        instrument in proptest::option::of((finite(), finite())),
         ee in origin(PARAMS),
         constraint in proptest::option::of((
             0..10usize,
@@ -159,7 +164,7 @@ prop_compose! {
         RobotDescription {
             name,
             parameters: PARAMS.iter().zip(values).map(|(n, value)| Parameter { name: n.to_string(), value }).collect(),
-            joints: joints.into_iter().enumerate().map(|(k, (origin, kind, axis, v, name))| JointDesc {
+            joints: joints.into_iter().enumerate().map(|(k, (origin, kind, axis, v, name, (acceleration, jerk, effort, damping, friction, inertia)))| JointDesc {
                 name: format!("{name}{k}"),
                 origin,
                 kind: match kind {
@@ -169,11 +174,20 @@ prop_compose! {
                 },
                 limits: None,
                 speed_limit: None,
+                acceleration_limit: acceleration,
+                jerk_limit: jerk,
+                dynamics: JointDynamics {
+                    effort_limit: effort,
+                    damping,
+                    friction,
+                    inertia: inertia.map(|(mass, com, inertia)| Inertia { mass, com, inertia }),
+                },
                 location: None,
             }).collect(),
             end_effector: EndEffector { name: "tool".into(), origin: ee },
             constraint: constraint.map(|(link, origin, h, wrist)| ConstraintDesc { link, origin, h, wrist }),
             task: None,
+            instrument: instrument.map(|(mass, radius)| Instrument { mass, radius }),
             source: None,
         }
     }

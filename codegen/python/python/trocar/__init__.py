@@ -3,23 +3,29 @@
 The same library as the ``trocar`` command line: :class:`Robot` loads a shipped description or a
 TOML file and evaluates, verifies and generates its closed-form constrained kinematics;
 :class:`Controller` runs the constrained controller on a robot, step by step;
-:func:`simulate` runs the shipped scenarios. Errors raise :class:`ValueError`
+:func:`simulate` runs the shipped scenarios; :class:`RunSetup` gives what a loop of one's own
+needs to replay one; :mod:`trocar.physics` runs the controller on a robot with dynamics (MuJoCo,
+``pip install trocar[physics]``). Errors raise :class:`ValueError`
 with the command line's message.
 """
 
 from ._trocar import (
     Controller,
     Robot,
+    RunSetup,
     __version__,
     panda_reference,
     quantities,
     shipped,
     simulate,
+    write_figure,
 )
 
 __all__ = [
     "Robot",
     "Controller",
+    "RunSetup",
+    "write_figure",
     "simulate",
     "panda_reference",
     "shipped",

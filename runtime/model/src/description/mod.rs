@@ -122,9 +122,118 @@ pub struct JointDesc {
     /// The joint's speed limit `|q̇| ≤ v` (rad/s or m/s), when known: `speed_limit = v` in TOML,
     /// the `velocity` of a URDF joint's `<limit>`; the QP control step keeps it.
     pub speed_limit: Option<f64>,
+    /// The joint's acceleration limit `|q̈| ≤ a` (rad/s² or m/s²), when known:
+    /// `acceleration_limit = a` in TOML, the `acceleration` of a URDF 1.2 joint's `<limit>`; the
+    /// control step keeps its commands' changes within it.
+    pub acceleration_limit: Option<f64>,
+    /// The joint's jerk limit `|q⃛| ≤ j` (rad/s³ or m/s³), when known: `jerk_limit = j` in TOML,
+    /// the `jerk` of a URDF 1.2 joint's `<limit>`.
+    pub jerk_limit: Option<f64>,
+    /// What a physics plant needs of the joint and of the link it moves (effort limit,
+    /// damping, friction, mass properties); empty for a purely kinematic description.
+    pub dynamics: JointDynamics,
     /// Where the joint was written (its `[[joints]]` header, or its `<joint>` element in a URDF),
     /// when read from text; [`RobotDescription::validate`] uses it for joint errors.
     pub location: Option<Location>,
+}
+
+/// The mass properties of a rigid body: its mass, its centre of mass and its inertia tensor
+/// about the centre of mass, both in the frame of the link the body is fixed in.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Inertia {
+    /// Mass (kg).
+    pub mass: f64,
+    /// Centre of mass in the link's frame (m).
+    pub com: [f64; 3],
+    /// Inertia tensor about the centre of mass, in the axes of the link's frame (kg m²):
+    /// `[ixx, iyy, izz, ixy, ixz, iyz]`.
+    pub inertia: [f64; 6],
+}
+
+impl Inertia {
+    /// The tensor as a symmetric 3 × 3 matrix (row-major).
+    pub fn matrix(&self) -> [[f64; 3]; 3] {
+        let [xx, yy, zz, xy, xz, yz] = self.inertia;
+        [[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]
+    }
+
+    /// The same body seen from a frame in which the link's frame sits at rotation `r` (row-major)
+    /// and translation `p`: centre of mass `p + R c`, tensor `R I Rᵀ`.
+    pub fn transformed(&self, r: &[[f64; 3]; 3], p: &[f64; 3]) -> Inertia {
+        let i = self.matrix();
+        let com = [0, 1, 2].map(|a| p[a] + (0..3).map(|k| r[a][k] * self.com[k]).sum::<f64>());
+        let ri: [[f64; 3]; 3] =
+            [0, 1, 2].map(|a| [0, 1, 2].map(|b| (0..3).map(|k| r[a][k] * i[k][b]).sum()));
+        let m: [[f64; 3]; 3] =
+            [0, 1, 2].map(|a| [0, 1, 2].map(|b| (0..3).map(|k| ri[a][k] * r[b][k]).sum()));
+        Inertia {
+            mass: self.mass,
+            com,
+            inertia: [m[0][0], m[1][1], m[2][2], m[0][1], m[0][2], m[1][2]],
+        }
+    }
+
+    /// Two bodies in the same frame as one (masses added, the tensors moved to the common centre
+    /// of mass by the parallel-axis theorem). Massless bodies add nothing.
+    pub fn combined(&self, other: &Inertia) -> Inertia {
+        if other.mass <= 0.0 {
+            return *self;
+        }
+        if self.mass <= 0.0 {
+            return *other;
+        }
+        let mass = self.mass + other.mass;
+        let com = [0, 1, 2].map(|a| (self.mass * self.com[a] + other.mass * other.com[a]) / mass);
+        let mut out = [0.0; 6];
+        for body in [self, other] {
+            let d = [0, 1, 2].map(|a| body.com[a] - com[a]);
+            let dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+            let shift = [
+                dd - d[0] * d[0],
+                dd - d[1] * d[1],
+                dd - d[2] * d[2],
+                -d[0] * d[1],
+                -d[0] * d[2],
+                -d[1] * d[2],
+            ];
+            for k in 0..6 {
+                out[k] += body.inertia[k] + body.mass * shift[k];
+            }
+        }
+        Inertia {
+            mass,
+            com,
+            inertia: out,
+        }
+    }
+}
+
+/// What a physics plant needs of a joint beyond its kinematics: its torque (force) limit, its
+/// viscous damping and dry friction, and the mass properties of the link it moves (every link
+/// that fixed joints attach to it folded in). Every entry is `None` where the description does
+/// not give it.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct JointDynamics {
+    /// Torque (N m) or force (N) limit: `effort_limit` in TOML, a URDF `<limit effort>`.
+    pub effort_limit: Option<f64>,
+    /// Viscous damping (N m s/rad): `damping` in TOML, a URDF `<dynamics damping>`.
+    pub damping: Option<f64>,
+    /// Dry (Coulomb) friction (N m): `friction` in TOML, a URDF `<dynamics friction>`.
+    pub friction: Option<f64>,
+    /// Mass properties of the link the joint moves, in the joint's frame: `mass`, `com` and
+    /// `inertia = [ixx, iyy, izz, ixy, ixz, iyz]` in TOML, the URDF `<inertial>` of the link
+    /// and of every link fixed to it on the path to the tip.
+    pub inertia: Option<Inertia>,
+}
+
+/// The instrument the robot holds: a straight rigid shaft from the tip link's frame to the end
+/// effector's, for a physics plant (`[instrument]` in TOML).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Instrument {
+    /// The shaft's mass (kg), spread evenly along it.
+    pub mass: f64,
+    /// The shaft's radius (m).
+    pub radius: f64,
 }
 
 /// The end-effector frame `F_e`, fixed in the last link.
@@ -225,6 +334,8 @@ pub struct RobotDescription {
     pub constraint: Option<ConstraintDesc>,
     /// The task selection, if any (default: all six rows of the twist).
     pub task: Option<TaskDesc>,
+    /// The instrument's mass and radius, if given (`[instrument]`; used by a physics plant).
+    pub instrument: Option<Instrument>,
     /// The file the description was read from, if any (for error messages).
     pub source: Option<std::path::PathBuf>,
 }

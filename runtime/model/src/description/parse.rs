@@ -35,8 +35,8 @@
 use super::locate::{location_of, Locator};
 use super::urdf::{import_chain, move_joint_frame, UrdfChain};
 use super::{
-    ConstraintDesc, DescriptionError, EndEffector, JointDesc, JointKind, Linear, Origin, Parameter,
-    RobotDescription, Rotation, TaskDesc, Wrist,
+    ConstraintDesc, DescriptionError, EndEffector, Inertia, Instrument, JointDesc, JointDynamics,
+    JointKind, Linear, Origin, Parameter, RobotDescription, Rotation, TaskDesc, Wrist,
 };
 use serde::Deserialize;
 use std::path::Path;
@@ -52,6 +52,7 @@ struct RawRobot {
     end_effector: Option<RawFrame>,
     constraint: Option<RawConstraint>,
     task: Option<RawTask>,
+    instrument: Option<RawInstrument>,
     /// Read on its own ([`super::SimulationDesc`]); a table here.
     #[allow(dead_code)]
     simulation: Option<toml::Table>,
@@ -100,6 +101,21 @@ struct RawJoint {
     w: Option<[f64; 3]>,
     limits: Option<[f64; 2]>,
     speed_limit: Option<f64>,
+    acceleration_limit: Option<f64>,
+    jerk_limit: Option<f64>,
+    effort_limit: Option<f64>,
+    damping: Option<f64>,
+    friction: Option<f64>,
+    mass: Option<f64>,
+    com: Option<[f64; 3]>,
+    inertia: Option<[f64; 6]>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawInstrument {
+    mass: f64,
+    radius: f64,
 }
 
 #[derive(Deserialize)]
@@ -565,6 +581,33 @@ impl RobotDescription {
                 kind,
                 limits: j.limits,
                 speed_limit: j.speed_limit,
+                acceleration_limit: j.acceleration_limit,
+                jerk_limit: j.jerk_limit,
+                dynamics: JointDynamics {
+                    effort_limit: j.effort_limit,
+                    damping: j.damping,
+                    friction: j.friction,
+                    inertia: match (j.mass, j.com, j.inertia) {
+                        (None, None, None) => None,
+                        (Some(mass), com, Some(inertia)) => Some(Inertia {
+                            mass,
+                            com: com.unwrap_or([0.0; 3]),
+                            inertia,
+                        }),
+                        (None, ..) => {
+                            return Err(ctx.err(
+                                &format!("{field}.mass"),
+                                "`com` and `inertia` need the link's `mass` (kg)",
+                            ))
+                        }
+                        (Some(_), _, None) => {
+                            return Err(ctx.err(
+                                &format!("{field}.inertia"),
+                                "`mass` needs the link's `inertia = [ixx, iyy, izz, ixy, ixz, iyz]` (kg m², about the centre of mass `com`)",
+                            ))
+                        }
+                    },
+                },
                 location: loc,
             });
         }
@@ -665,6 +708,10 @@ impl RobotDescription {
                 }),
                 None => None,
             },
+            instrument: raw.instrument.as_ref().map(|i| Instrument {
+                mass: i.mass,
+                radius: i.radius,
+            }),
             source: file.map(Path::to_path_buf),
         })
     }

@@ -150,8 +150,21 @@ impl RobotDescription {
             if let Some([lo, hi]) = j.limits {
                 let _ = writeln!(out, "limits = [{}, {}]", number(lo), number(hi));
             }
-            if let Some(v) = j.speed_limit {
-                let _ = writeln!(out, "speed_limit = {}", number(v));
+            for (name, value) in [
+                ("speed_limit", j.speed_limit),
+                ("acceleration_limit", j.acceleration_limit),
+                ("jerk_limit", j.jerk_limit),
+                ("effort_limit", j.dynamics.effort_limit),
+                ("damping", j.dynamics.damping),
+                ("friction", j.dynamics.friction),
+            ] {
+                if let Some(v) = value {
+                    let _ = writeln!(out, "{name} = {}", number(v));
+                }
+            }
+            if let Some(i) = &j.dynamics.inertia {
+                let _ = writeln!(out, "mass = {}\ncom = {}", number(i.mass), array3(&i.com));
+                let _ = writeln!(out, "inertia = [{}]", i.inertia.map(number).join(", "));
             }
             match &j.kind {
                 JointKind::Revolute { axis } | JointKind::Prismatic { axis } => {
@@ -176,6 +189,14 @@ impl RobotDescription {
             string(&self.end_effector.name)
         );
         origin(&mut out, &self.end_effector.origin);
+        if let Some(i) = &self.instrument {
+            let _ = writeln!(
+                out,
+                "\n[instrument]\nmass = {}\nradius = {}",
+                number(i.mass),
+                number(i.radius)
+            );
+        }
         if let Some(c) = &self.constraint {
             let _ = writeln!(out, "\n[constraint]\nlink = {}", c.link);
             origin(&mut out, &c.origin);

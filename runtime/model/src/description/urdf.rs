@@ -33,8 +33,8 @@
 
 use super::locate::location_of;
 use super::{
-    ConstraintDesc, DescriptionError, EndEffector, JointDesc, JointKind, Linear, Location, Origin,
-    RobotDescription, Rotation,
+    ConstraintDesc, DescriptionError, EndEffector, Inertia, JointDesc, JointDynamics, JointKind,
+    Linear, Location, Origin, RobotDescription, Rotation,
 };
 use std::path::Path;
 use urdf_rs::JointType;
@@ -234,6 +234,10 @@ pub(crate) fn move_joint_frame(
     let joint = &mut joints[k - 1];
     joint.origin = origin.then(to).to_origin();
     joint.kind = kind;
+    // The link's mass properties, from the old frame into the new one.
+    if let Some(i) = &mut joint.dynamics.inertia {
+        *i = i.transformed(&back.r, &back.p);
+    }
     match joints.get_mut(k) {
         Some(next) => next.origin = back.compose(&next.origin),
         None => end_effector.origin = back.compose(&end_effector.origin),
@@ -458,6 +462,7 @@ impl RobotDescription {
             end_effector,
             constraint: None,
             task: None,
+            instrument: None,
             source: file.map(Path::to_path_buf),
         };
         description.validate()?;
@@ -491,6 +496,34 @@ pub(crate) fn import_chain(
     })?;
     let robot = urdf_rs::read_from_string(text).map_err(|e| {
         let message = e.to_string();
+        // URDF 1.2's limit checks name the joint ("joint [NAME]: lower value (nan) is ..."):
+        // the error goes to that joint's `<limit>`.
+        let joint_limit = message.strip_prefix("joint [").and_then(|rest| {
+            let name = &rest[..rest.find("]: ")?];
+            let limit = [
+                "lower",
+                "upper",
+                "effort",
+                "velocity",
+                "acceleration",
+                "deceleration",
+                "jerk",
+            ]
+            .iter()
+            .any(|a| {
+                rest.contains(&format!("{a} value"))
+                    || rest.contains(&format!("{a} position limit"))
+            });
+            limit.then(|| name.to_string())
+        });
+        if let Some(name) = joint_limit {
+            let at = joint_locations(text).get(name.as_str()).copied();
+            return err(
+                &format!("joint[{name}].limit"),
+                at,
+                format!("not a valid URDF: {message}"),
+            );
+        }
         let at = locate_message(text, &message).or(Some(Location { line: 1, column: 1 }));
         err("(document)", at, format!("not a valid URDF: {message}"))
     })?;
@@ -663,7 +696,11 @@ pub(crate) fn import_chain(
             pending.then(&here).to_origin()
         };
         pending = Pose::identity();
-        let (lower, upper) = (j.limit.lower, j.limit.upper);
+        let (mut lower, mut upper) = (j.limit.lower, j.limit.upper);
+        // URDF 1.2 reads an omitted bound as infinite: no limit.
+        if lower == f64::NEG_INFINITY && upper == f64::INFINITY {
+            (lower, upper) = (0.0, 0.0);
+        }
         if j.joint_type != JointType::Continuous {
             // A bad limit is an error: dropping it silently dropped the robot's joint limits.
             for (side, v) in [("lower", lower), ("upper", upper)] {
@@ -689,6 +726,28 @@ pub(crate) fn import_chain(
             _ if lower < upper => Some([lower, upper]),
             _ => None,
         };
+        // URDF 1.2 `acceleration`/`jerk` (absent: infinite) and the dynamics: a bad number is
+        // an error, as for the position limits.
+        let positive = |name: &str, v: f64| -> Result<Option<f64>, DescriptionError> {
+            if v.is_nan() || v < 0.0 {
+                return Err(err(
+                    &format!("{field}.{name}"),
+                    line,
+                    format!("{name} {v} must be a non-negative number"),
+                ));
+            }
+            Ok((v > 0.0 && v.is_finite()).then_some(v))
+        };
+        let acceleration_limit = positive("limit.acceleration", j.limit.acceleration)?;
+        let jerk_limit = positive("limit.jerk", j.limit.jerk)?;
+        let effort_limit = positive("limit.effort", j.limit.effort)?;
+        let (damping, friction) = match &j.dynamics {
+            Some(d) => (
+                positive("dynamics.damping", d.damping)?.or(Some(0.0)),
+                positive("dynamics.friction", d.friction)?.or(Some(0.0)),
+            ),
+            None => (None, None),
+        };
         joints.push(JointDesc {
             name: j.name.clone(),
             origin,
@@ -700,6 +759,14 @@ pub(crate) fn import_chain(
             limits,
             speed_limit: (j.limit.velocity > 0.0 && j.limit.velocity.is_finite())
                 .then_some(j.limit.velocity),
+            acceleration_limit,
+            jerk_limit,
+            dynamics: JointDynamics {
+                effort_limit,
+                damping,
+                friction,
+                inertia: None,
+            },
             location: line,
         });
         links.push((j.child.link.clone(), joints.len(), Pose::identity()));
@@ -714,6 +781,56 @@ pub(crate) fn import_chain(
                 capped_list(&path)
             ),
         ));
+    }
+    // The mass properties of every link on the path, folded onto the joint that moves it.
+    for (name, k, pose) in &links {
+        let Some(link) = robot.links.iter().find(|l| &l.name == name) else {
+            continue;
+        };
+        let Some(joint) = k.checked_sub(1).and_then(|k| joints.get_mut(k)) else {
+            continue;
+        };
+        let inertial = &link.inertial;
+        let i = &inertial.inertia;
+        let values = [
+            inertial.mass.value,
+            i.ixx,
+            i.iyy,
+            i.izz,
+            i.ixy,
+            i.ixz,
+            i.iyz,
+        ];
+        if values
+            .iter()
+            .chain(inertial.origin.xyz.0.iter())
+            .chain(inertial.origin.rpy.0.iter())
+            .any(|v| !v.is_finite())
+            || inertial.mass.value < 0.0
+        {
+            let at = text
+                .find(&format!("name=\"{name}\""))
+                .map(|offset| location_of(text, offset));
+            return Err(err(
+                &format!("link[{name}].inertial"),
+                at,
+                "mass, origin and inertia must be finite numbers, the mass non-negative".into(),
+            ));
+        }
+        if inertial.mass.value == 0.0 {
+            continue;
+        }
+        let own = Inertia {
+            mass: inertial.mass.value,
+            com: [0.0; 3],
+            inertia: [i.ixx, i.iyy, i.izz, i.ixy, i.ixz, i.iyz],
+        };
+        let at = pose.then(&Pose::from_urdf(&inertial.origin));
+        let here = own.transformed(&at.r, &at.p);
+        joint.dynamics.inertia = Some(match joint.dynamics.inertia {
+            Some(before) => before.combined(&here),
+            None => here,
+        });
     }
     Ok(UrdfChain {
         name: robot.name.clone(),

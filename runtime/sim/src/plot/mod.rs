@@ -187,6 +187,72 @@ pub fn write_comparison(traces: &[&Trace], path: impl AsRef<Path>) -> Result<(),
     write_image(path.as_ref(), COMPARISON_SIZE, &Comparison(traces))
 }
 
+/// One panel of [`write_time_panels`]: lines over the time `t (s)`, each
+/// `(legend, t, y)` with as many `y` as `t`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TimePanel {
+    /// Title above the panel.
+    pub title: String,
+    /// y-axis label, with its unit.
+    pub y_label: String,
+    /// `(legend, t, y)` of each line.
+    pub lines: Vec<(String, Vec<f64>, Vec<f64>)>,
+    /// Whether the y axis starts at 0.
+    pub non_negative: bool,
+}
+
+/// Writes `panels` in two columns under `title`, as SVG or PNG by the extension of `path`
+/// (the figures of runs whose columns come from elsewhere, such as a physics plant's).
+pub fn write_time_panels(
+    path: impl AsRef<Path>,
+    title: &str,
+    panels: &[TimePanel],
+) -> Result<(), PlotError> {
+    if panels.is_empty() {
+        return Err(PlotError("a figure needs at least one panel".into()));
+    }
+    for p in panels {
+        if let Some((label, ..)) = p.lines.iter().find(|(_, t, y)| t.len() != y.len()) {
+            return Err(PlotError(format!(
+                "panel `{}`, line `{label}`: as many values as times",
+                p.title
+            )));
+        }
+    }
+    let rows = panels.len().div_ceil(2);
+    let size = (1600, 80 + 520 * rows as u32);
+    write_image(path.as_ref(), size, &Panels { title, panels })
+}
+
+/// The figure of [`write_time_panels`].
+struct Panels<'a> {
+    title: &'a str,
+    panels: &'a [TimePanel],
+}
+
+impl Figure for Panels<'_> {
+    fn draw_on<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
+        register_font()?;
+        root.fill(&WHITE).map_err(err)?;
+        let root = root.titled(self.title, ("sans-serif", 28)).map_err(err)?;
+        let rows = self.panels.len().div_ceil(2);
+        let areas = root.split_evenly((rows, 2));
+        for (area, p) in areas.iter().zip(self.panels) {
+            let lines = p
+                .lines
+                .iter()
+                .map(|(label, t, y)| Line {
+                    label: label.clone(),
+                    x: t.clone(),
+                    y: y.clone(),
+                })
+                .collect();
+            time_panel(area, &p.title, &p.y_label, p.non_negative, lines)?;
+        }
+        Ok(())
+    }
+}
+
 /// The comparison figure of several runs ([`draw_comparison`]).
 struct Comparison<'a>(&'a [&'a Trace]);
 
