@@ -26,8 +26,8 @@
 //!   and a `wrist` site with force and torque sensors (what a wrist force/torque sensor
 //!   measures of the instrument).
 //!
-//! Contacts are off (no geometry collides): the arm's links are drawn as thin capsules between
-//! joint origins for pictures only.
+//! Contacts are off (no geometry collides): the arm's links are drawn as capsules between joint
+//! origins for pictures only, and a `port` site marks the trocar (placed by the loop).
 
 use crate::{Error, Result, Robot};
 use std::fmt::Write as _;
@@ -203,6 +203,21 @@ pub fn mjcf(robot: &Robot, params: &[(String, f64)]) -> Result<String> {
         out,
         "<mujoco model=\"{name}\">\n  <!-- Written by trocar from the description of {name}. -->\n  <compiler angle=\"radian\" balanceinertia=\"true\" autolimits=\"true\"/>\n  <option timestep=\"{PLANT_TIMESTEP:?}\" integrator=\"implicitfast\" gravity=\"0 0 -9.81\"/>\n  <visual><global offwidth=\"800\" offheight=\"600\"/></visual>\n  <default>\n    <geom contype=\"0\" conaffinity=\"0\" rgba=\"0.8 0.8 0.85 1\"/>\n  </default>\n  <worldbody>\n    <light pos=\"0 0 3\" dir=\"0 0 -1\"/>\n    <geom name=\"floor\" type=\"plane\" size=\"1.5 1.5 0.01\" rgba=\"0.3 0.3 0.35 1\"/>"
     );
+    // The port (moved to the trocar by the loop) and the base column up to the first joint.
+    let _ = writeln!(
+        out,
+        "    <site name=\"port\" type=\"sphere\" size=\"0.02\" rgba=\"1 0.5 0 0.8\"/>"
+    );
+    if let Some(first) = d.joints.first() {
+        let p = origin(&first.origin, &values).0;
+        if norm(&p) > 1e-9 {
+            let _ = writeln!(
+                out,
+                "    <geom type=\"capsule\" fromto=\"0 0 0 {}\" size=\"0.04\" mass=\"0\"/>",
+                numbers(&p)
+            );
+        }
+    }
     let mut depth = 2;
     for (k, j) in d.joints.iter().enumerate() {
         let (p, r) = origin(&j.origin, &values);
@@ -266,12 +281,14 @@ pub fn mjcf(robot: &Robot, params: &[(String, f64)]) -> Result<String> {
             i.mass,
             numbers(&i.inertia)
         );
-        // The link drawn from its joint to the next joint's origin (or the end effector).
-        let next = match d.joints.get(k + 1) {
-            Some(n) => origin(&n.origin, &values).0,
-            None => origin(&d.end_effector.origin, &values).0,
+        // The link drawn from its joint to the next joint's origin (the last one to where the
+        // shaft starts, or to the end effector).
+        let next = match (d.joints.get(k + 1), &shaft) {
+            (Some(n), _) => origin(&n.origin, &values).0,
+            (None, Some(s)) => s.start,
+            (None, None) => origin(&d.end_effector.origin, &values).0,
         };
-        if norm(&next) > 1e-9 && (k + 1 < d.joints.len() || shaft.is_none()) {
+        if norm(&next) > 1e-9 {
             let _ = writeln!(
                 out,
                 "{inner}<geom type=\"capsule\" fromto=\"0 0 0 {}\" size=\"0.03\" mass=\"0\"/>",

@@ -372,6 +372,23 @@ impl Robot {
             .collect()
     }
 
+    /// Each joint's speed limit (rad/s or m/s; `None` where the description has none).
+    #[getter]
+    fn speed_limits(&self) -> Vec<Option<f64>> {
+        self.inner
+            .description()
+            .map_or_else(Vec::new, |d| d.joints.iter().map(|j| j.speed_limit).collect())
+    }
+
+    /// Each joint's acceleration limit (rad/s² or m/s²; `None` where the description has none:
+    /// a URDF 1.2 `<limit acceleration>` or `acceleration_limit` in TOML).
+    #[getter]
+    fn acceleration_limits(&self) -> Vec<Option<f64>> {
+        self.inner.description().map_or_else(Vec::new, |d| {
+            d.joints.iter().map(|j| j.acceleration_limit).collect()
+        })
+    }
+
     /// Whether this is a closed mechanism (`eval` then takes `what` in jr, jc, passive, det).
     #[getter]
     fn is_mechanism(&self) -> bool {
