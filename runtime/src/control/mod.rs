@@ -56,7 +56,10 @@ mod shaft;
 
 pub use crate::linalg::determinant;
 pub use crate::manipulability::manipulability;
-pub use hard_limits::{rate_box, ChordCheck, Damper, HardLimits, QpReport, QpWeights};
+pub use hard_limits::{
+    braking_speed, rate_box, ChordCheck, Damper, HardLimits, PreviousCommand, QpReport, QpWeights,
+    RateBox, RateRelaxation,
+};
 pub use inverse::{Damping, FilteredInverse, PreparedJacobian};
 pub use quaternion::{orientation_error, Quaternion};
 pub use redundancy::{
@@ -352,6 +355,10 @@ pub struct StepOutput<T: RealField + Copy, const N: usize, const R: usize> {
     pub qp: Option<QpReport>,
     /// Whether the step held every constraint, or which gave way ([`StepStatus`]).
     pub status: StepStatus,
+    /// Which bound of the rate box (B1)–(B4) gave way at some joint ([`rate_box`],
+    /// [`RateRelaxation`]): [`RateRelaxation::Nothing`] when the rates keep every speed, range,
+    /// acceleration, braking and jerk bound.
+    pub relaxed: RateRelaxation,
 }
 
 /// Whether a step held the trocar and every limit. The joint limits never give way: the rates
@@ -563,6 +570,7 @@ pub struct Controller<
     fi_started: bool,
     qp_active: crate::qp::ActiveSet<N, 1>,
     qp_previous: Option<hard_limits::Previous<T, N, I, R>>,
+    previous: PreviousCommand<T, N>,
 }
 
 /// `A = Λ J^B_0i`, the constrained directions of the link's twist as functions of `θ̇_{1..i}`,
@@ -580,10 +588,16 @@ fn constrained_rows<T: RealField + Copy, const I: usize, const R: usize>(
 /// `θ̇_c + α (θ̇ − θ̇_c)` within the joint limits' box `[lb, ub]` ([`hard_limits::rate_box`]):
 /// `θ̇_c = A† dv_0r` on the joints up to the constrained link (zero after it), `A = Λ J^B_0i`,
 /// and the largest `α ∈ [0, 1]` that keeps every entry within the box, so `Λ J^B_0i θ̇ = dv_0r`
-/// still holds and the link keeps to the trocar while the end effector slows down. When `θ̇_c`
-/// alone leaves the box, the rates nearest to `θ̇` that meet the rows within it (a small QP);
-/// where none do, the rates within the limits nearest to the rows, and `true` (the trocar
-/// yields). `None` if `A Aᵀ` is singular.
+/// still holds and the link keeps to the trocar while the end effector slows down.
+///
+/// When `θ̇_c` alone leaves the box (a box without `0`, as when the joints already move and may
+/// change their rates by `a_max dt` only, or a joint at its range that the constraint would move
+/// on), other rates `θ̇_c + null(A)` may meet the rows within it: with `anchor` (the previous
+/// command, where the rates' change is bounded) the rates `x` meeting the rows within the box
+/// nearest to it, then `x + α (θ̇ − x)` with the largest `α ∈ [0, 1]` within the box — the task's
+/// share scaled as above, from the motion the joints have; without, the rates meeting the rows
+/// within the box nearest to `θ̇` (a small QP). Where none do, the rates within the limits
+/// nearest to the rows, and `true` (the trocar yields). `None` if `A Aᵀ` is singular.
 fn within_box<T: RealField + Copy, const N: usize, const I: usize, const R: usize>(
     qd: &SVector<T, N>,
     j: &SMatrix<T, 6, I>,
@@ -591,6 +605,7 @@ fn within_box<T: RealField + Copy, const N: usize, const I: usize, const R: usiz
     dv_0r: &SVector<T, R>,
     lb: &SVector<T, N>,
     ub: &SVector<T, N>,
+    anchor: Option<&SVector<T, N>>,
 ) -> Option<(SVector<T, N>, bool)> {
     let a = constrained_rows(j, lambda_pinv)?;
     let c_i: SVector<T, I> = a.tr_mul(&Cholesky::new(&(a * a.transpose()))?.solve(dv_0r));
@@ -602,40 +617,48 @@ fn within_box<T: RealField + Copy, const N: usize, const I: usize, const R: usiz
         let alpha = largest_step_within(&c, &(qd - c), lb, ub);
         return Some((c + (qd - c) * alpha, false));
     }
-    // `θ̇_c` leaves the box, but other rates `θ̇_c + null(A)` may meet the rows within it: the
-    // rates nearest to `θ̇` that do, `argmin ½ ‖x − θ̇‖²` subject to `A x = dv_0r` and the box;
-    // where none do, the limits hold and the trocar gives way ([`hard_limits::trocar_within_limits`]).
+    // `θ̇_c` leaves the box, but other rates `θ̇_c + null(A)` may meet the rows within it: those
+    // nearest to the anchor (or to `θ̇`), `argmin ½ ‖x − r‖²` subject to `A x = dv_0r` and the
+    // box; where none do, the limits hold and the trocar gives way
+    // ([`hard_limits::trocar_within_limits`]).
     let big = hard_limits::big::<T>();
     let problem = crate::qp::Problem::<T, N, R, 1> {
         h: SMatrix::identity(),
-        f: -qd,
+        f: -anchor.unwrap_or(qd),
         a_eq: SMatrix::from_fn(|r, k| if k < I { a[(r, k)] } else { T::zero() }),
         b_eq: *dv_0r,
         g: SMatrix::zeros(),
         lo: SVector::from_element(-T::one()),
         hi: SVector::from_element(T::one()),
-        lb: lb.map(|v| v.max(-big).min(T::zero())),
-        ub: ub.map(|v| v.min(big).max(T::zero())),
+        lb: lb.map(|v| v.max(-big).min(big)),
+        ub: ub.map(|v| v.max(-big).min(big)),
     };
     let settings = crate::qp::Settings::DEFAULT;
     let solution = crate::qp::solve(&problem, &crate::qp::ActiveSet::EMPTY, &settings);
     // Whether rates give way: the rows' residual, not the solver's word alone.
     let gives_way = |x: &SVector<T, N>| !hard_limits::trocar_rows_met(&problem, x);
     match solution.status {
-        crate::qp::Status::Optimal => Some((solution.x, gives_way(&solution.x))),
+        crate::qp::Status::Optimal => {
+            let x = clipped(&solution.x, lb, ub);
+            let x = match anchor {
+                // `A θ̇ = dv_0r` and `A x = dv_0r`: every rate between them meets the rows.
+                Some(_) if !gives_way(qd) => {
+                    let alpha = largest_step_within(&x, &(qd - x), lb, ub);
+                    x + (qd - x) * alpha
+                }
+                _ => x,
+            };
+            Some((x, gives_way(&x)))
+        }
         crate::qp::Status::NonFinite | crate::qp::Status::InvalidBounds => {
-            let beta = largest_step_within(&SVector::zeros(), &c, lb, ub);
-            Some((c * beta, true))
+            Some((clipped(&c, lb, ub), true))
         }
         _ => {
             let weights = QpWeights::with_kappa(T::zero());
             let mut warm = crate::qp::ActiveSet::EMPTY;
             match hard_limits::trocar_within_limits(&problem, &weights, &mut warm) {
                 Some((x, _)) => Some((x, gives_way(&x))),
-                None => {
-                    let beta = largest_step_within(&SVector::zeros(), &c, lb, ub);
-                    Some((c * beta, true))
-                }
+                None => Some((clipped(&c, lb, ub), true)),
             }
         }
     }
@@ -745,6 +768,7 @@ impl<
             fi_started: false,
             qp_active: crate::qp::ActiveSet::EMPTY,
             qp_previous: None,
+            previous: PreviousCommand::rest(),
         }
     }
 
@@ -774,11 +798,35 @@ impl<
     }
 
     /// Restarts the filtered inverse (it re-initialises on the next step) and the QP's warm
-    /// start (the next solve starts from the empty active set).
+    /// start (the next solve starts from the empty active set), and takes the arm to be at rest:
+    /// the previous command is `θ̇⁻ = 0` with `a⁻ = 0` ([`PreviousCommand::rest`]), so with
+    /// acceleration limits ([`HardLimits::acceleration`]) the next rates start from zero. A
+    /// controller taking over a moving arm says how it moves with
+    /// [`Controller::set_previous_rates`] after the reset.
     pub fn reset(&mut self) {
         self.fi_started = false;
         self.qp_active = crate::qp::ActiveSet::EMPTY;
         self.qp_previous = None;
+        self.previous = PreviousCommand::rest();
+    }
+
+    /// Starts from a known motion: the previous command was `rates` (`θ̇⁻`) with the acceleration
+    /// `acceleration` (`a⁻ = (θ̇⁻ − θ̇⁻⁻)/dt`, zero for a steady motion). The next step's
+    /// acceleration (B2) and jerk (B4) bounds ([`rate_box`]) are measured from them, so a
+    /// controller that takes over an arm already moving (another controller's last command, or
+    /// the robot's own state) continues from that motion instead of from rest. Every step sets
+    /// them to its own command; [`Controller::reset`] sets them to rest.
+    pub fn set_previous_rates(&mut self, rates: SVector<T, N>, acceleration: SVector<T, N>) {
+        self.previous = PreviousCommand {
+            rates,
+            acceleration,
+        };
+    }
+
+    /// The previous command: the rates of the last step and their acceleration
+    /// ([`Controller::set_previous_rates`]).
+    pub fn previous_command(&self) -> &PreviousCommand<T, N> {
+        &self.previous
     }
 
     /// One control step at joints `q`; `dt` is the sample time (the filtered inverse integrates
@@ -944,12 +992,18 @@ impl<
         if !qd.iter().all(|v| v.is_finite()) {
             return Err(ControlError::NonFinite);
         }
-        // The joint limits: speed, and range over the sample time.
-        let (lb, ub) = hard_limits::rate_box(q, dt, &self.limits, c.max_joint_speed);
+        // The joint limits: speed, range over the sample time, acceleration, braking, jerk.
+        let rates = hard_limits::rate_box(q, dt, &self.limits, c.max_joint_speed, &self.previous);
+        let (lb, ub) = (rates.lower, rates.upper);
         let mut status = StepStatus::Held;
         if (0..N).any(|k| !(qd[k] >= lb[k] && qd[k] <= ub[k])) {
-            let (within, yielded) = within_box(&qd, &s.jb0i, &s.lambda_pinv, &dv_0r, &lb, &ub)
-                .ok_or(ControlError::SingularJb0i)?;
+            // With an acceleration limit, the rates nearest to the previous command are the
+            // ones to scale from where the constraint's own are not within the box.
+            let accelerating = self.limits.acceleration.iter().any(|a| a.is_finite());
+            let anchor = accelerating.then_some(&self.previous.rates);
+            let (within, yielded) =
+                within_box(&qd, &s.jb0i, &s.lambda_pinv, &dv_0r, &lb, &ub, anchor)
+                    .ok_or(ControlError::SingularJb0i)?;
             qd = clipped(&within, &lb, &ub);
             if yielded {
                 status = StepStatus::TrocarYielded;
@@ -958,6 +1012,7 @@ impl<
         if status.held() && hard_limits::joint_outside(q, &self.limits) {
             status = StepStatus::JointOutside;
         }
+        self.previous = self.previous.then(&qd, dt);
         Ok(StepOutput {
             qd,
             l_a,
@@ -972,6 +1027,7 @@ impl<
             kappa_i,
             qp: None,
             status,
+            relaxed: rates.relaxed,
         })
     }
 
@@ -1010,6 +1066,13 @@ impl<
         };
         let mut a = constrained_rows(&s.jb0i, &s.lambda_pinv).ok_or(ControlError::SingularJb0i)?;
         let shaft = kin.shaft();
+        let rates = hard_limits::rate_box(
+            q,
+            dt,
+            &self.limits,
+            self.config.max_joint_speed,
+            &self.previous,
+        );
         // (Q7): the trocar rows over the whole sample time, to second order.
         let point = shaft.origin + shaft.direction * l_a;
         let r_0r = s.g_0i.rotation * shaft.rotation;
@@ -1049,8 +1112,7 @@ impl<
             shaft_direction: shaft.direction,
             trocar: &rcm.trocar,
             l_a,
-            max_joint_speed: self.config.max_joint_speed,
-            dt,
+            rate_box: &rates,
         };
         let task_jr: SMatrix<T, P, M> = if whole {
             SMatrix::from_fn(|r, c| s.jr[(r, c)])
@@ -1121,6 +1183,7 @@ impl<
         }
         // Rounding must not take a joint past a limit either.
         let qd = clipped(&qd, &problem.lb, &problem.ub);
+        self.previous = self.previous.then(&qd, dt);
         // Whether the trocar held: the rows asked of the step ((Q2), with (Q7)–(Q9) when on) met
         // by the rates commanded, to a tolerance of the rounding's order.
         yielded = !hard_limits::trocar_rows_met(&problem, &qd);
@@ -1165,6 +1228,7 @@ impl<
             kappa_i: T::zero(),
             qp: Some(report),
             status,
+            relaxed: rates.relaxed,
         })
     }
 }
