@@ -723,6 +723,30 @@ pub fn rate_box<T: RealField + Copy, const N: usize>(
     max_joint_speed: Option<T>,
     previous: &PreviousCommand<T, N>,
 ) -> RateBox<T, N> {
+    bounds(q, dt, limits, max_joint_speed, Some(previous))
+}
+
+/// The bounds (B1) and (B3) of [`rate_box`]: those of the joints' place (speed, range over the
+/// sample time, braking), without the previous command's (B2), (B4). They always hold `θ̇ = 0`.
+/// The inverses scale the task's share into them first ([`super::ControllerConfig::max_joint_speed`]).
+pub(super) fn place_box<T: RealField + Copy, const N: usize>(
+    q: &SVector<T, N>,
+    dt: T,
+    limits: &HardLimits<T, N>,
+    max_joint_speed: Option<T>,
+) -> (SVector<T, N>, SVector<T, N>) {
+    let b = bounds(q, dt, limits, max_joint_speed, None);
+    (b.lower, b.upper)
+}
+
+/// [`rate_box`], with (B2) and (B4) only when there is a previous command.
+fn bounds<T: RealField + Copy, const N: usize>(
+    q: &SVector<T, N>,
+    dt: T,
+    limits: &HardLimits<T, N>,
+    max_joint_speed: Option<T>,
+    previous: Option<&PreviousCommand<T, N>>,
+) -> RateBox<T, N> {
     let inf = T::one() / T::zero();
     let mut out = RateBox {
         lower: SVector::zeros(),
@@ -788,18 +812,20 @@ pub fn rate_box<T: RealField + Copy, const N: usize>(
                 relaxed = what;
             }
         };
-        let rate = previous.rates[k];
+        let (rate, acceleration) = previous.map_or((inf, inf), |p| (p.rates[k], p.acceleration[k]));
         let a = limit_of(limits.acceleration[k]);
-        if a < inf && rate.is_finite() {
-            // (B2).
-            let change = a * dt;
-            apply(
-                &mut lo,
-                &mut hi,
-                rate - change,
-                rate + change,
-                RateRelaxation::Acceleration,
-            );
+        if a < inf {
+            if rate.is_finite() {
+                // (B2).
+                let change = a * dt;
+                apply(
+                    &mut lo,
+                    &mut hi,
+                    rate - change,
+                    rate + change,
+                    RateRelaxation::Acceleration,
+                );
+            }
             // (B3), (B5).
             let up = if limits.upper[k].is_finite() {
                 braking_speed(limits.upper[k] - q[k], a, dt)
@@ -814,7 +840,6 @@ pub fn rate_box<T: RealField + Copy, const N: usize>(
             apply(&mut lo, &mut hi, down, up, RateRelaxation::Braking);
         }
         let j = limit_of(limits.jerk[k]);
-        let acceleration = previous.acceleration[k];
         if j < inf && rate.is_finite() && acceleration.is_finite() {
             // (B4).
             let centre = rate + dt * acceleration;

@@ -585,47 +585,51 @@ fn constrained_rows<T: RealField + Copy, const I: usize, const R: usize>(
     Some(lambda * j)
 }
 
-/// `θ̇_c + α (θ̇ − θ̇_c)` within the joint limits' box `[lb, ub]` ([`hard_limits::rate_box`]):
-/// `θ̇_c = A† dv_0r` on the joints up to the constrained link (zero after it), `A = Λ J^B_0i`,
-/// and the largest `α ∈ [0, 1]` that keeps every entry within the box, so `Λ J^B_0i θ̇ = dv_0r`
-/// still holds and the link keeps to the trocar while the end effector slows down.
-///
-/// When `θ̇_c` alone leaves the box (a box without `0`, as when the joints already move and may
-/// change their rates by `a_max dt` only, or a joint at its range that the constraint would move
-/// on), other rates `θ̇_c + null(A)` may meet the rows within it: with `anchor` (the previous
-/// command, where the rates' change is bounded) the rates `x` meeting the rows within the box
-/// nearest to it, then `x + α (θ̇ − x)` with the largest `α ∈ [0, 1]` within the box — the task's
-/// share scaled as above, from the motion the joints have; without, the rates meeting the rows
-/// within the box nearest to `θ̇` (a small QP). Where none do, the rates within the limits
-/// nearest to the rows, and `true` (the trocar yields). `None` if `A Aᵀ` is singular.
+/// `θ̇_c + α (θ̇ − θ̇_c)` within the joint limits' box `[lb, ub]` (the speed, range and braking
+/// bounds (B1), (B3) of [`hard_limits::rate_box`], which hold `0`): `θ̇_c = A† dv_0r` on the
+/// joints up to the constrained link (zero after it), `A = Λ J^B_0i`, and the largest
+/// `α ∈ [0, 1]` that keeps every entry within the box, so `Λ J^B_0i θ̇ = dv_0r` still holds and
+/// the link keeps to the trocar while the end effector slows down. When `θ̇_c` alone leaves the
+/// box, the rates nearest to `θ̇` that meet the rows within it (a small QP); where none do, the
+/// rates within the limits nearest to the rows, and `true` (the trocar yields). `None` if
+/// `A Aᵀ` is singular.
 fn within_box<T: RealField + Copy, const N: usize, const I: usize, const R: usize>(
     qd: &SVector<T, N>,
-    j: &SMatrix<T, 6, I>,
-    lambda_pinv: &SMatrix<T, 6, R>,
+    a: &SMatrix<T, R, I>,
     dv_0r: &SVector<T, R>,
     lb: &SVector<T, N>,
     ub: &SVector<T, N>,
-    anchor: Option<&SVector<T, N>>,
 ) -> Option<(SVector<T, N>, bool)> {
-    let a = constrained_rows(j, lambda_pinv)?;
     let c_i: SVector<T, I> = a.tr_mul(&Cholesky::new(&(a * a.transpose()))?.solve(dv_0r));
     let c = SVector::<T, N>::from_fn(|k, _| if k < I { c_i[k] } else { T::zero() });
     if !c.iter().all(|v| v.is_finite()) {
         return None;
     }
-    if (0..N).all(|k| c[k] >= lb[k] && c[k] <= ub[k]) {
+    if within(&c, lb, ub) {
         let alpha = largest_step_within(&c, &(qd - c), lb, ub);
         return Some((c + (qd - c) * alpha, false));
     }
-    // `θ̇_c` leaves the box, but other rates `θ̇_c + null(A)` may meet the rows within it: those
-    // nearest to the anchor (or to `θ̇`), `argmin ½ ‖x − r‖²` subject to `A x = dv_0r` and the
-    // box; where none do, the limits hold and the trocar gives way
-    // ([`hard_limits::trocar_within_limits`]).
+    // `θ̇_c` leaves the box, but other rates `θ̇_c + null(A)` may meet the rows within it: the
+    // rates nearest to `θ̇` that do; where none do, the limits hold and the trocar gives way.
+    Some(nearest_meeting_rows(qd, a, dv_0r, lb, ub).unwrap_or_else(|| (clipped(&c, lb, ub), true)))
+}
+
+/// The rates within `[lb, ub]` nearest to `r` that meet the trocar rows `A x = dv_0r`,
+/// `argmin ½ ‖x − r‖²` (a small QP), and `false`; where no rates within the box meet them, the
+/// rates within it nearest to the rows ([`hard_limits::trocar_within_limits`]) and `true` (the
+/// trocar yields). `None` when the solver gives no finite rates.
+fn nearest_meeting_rows<T: RealField + Copy, const N: usize, const I: usize, const R: usize>(
+    r: &SVector<T, N>,
+    a: &SMatrix<T, R, I>,
+    dv_0r: &SVector<T, R>,
+    lb: &SVector<T, N>,
+    ub: &SVector<T, N>,
+) -> Option<(SVector<T, N>, bool)> {
     let big = hard_limits::big::<T>();
     let problem = crate::qp::Problem::<T, N, R, 1> {
         h: SMatrix::identity(),
-        f: -anchor.unwrap_or(qd),
-        a_eq: SMatrix::from_fn(|r, k| if k < I { a[(r, k)] } else { T::zero() }),
+        f: -r,
+        a_eq: SMatrix::from_fn(|row, k| if k < I { a[(row, k)] } else { T::zero() }),
         b_eq: *dv_0r,
         g: SMatrix::zeros(),
         lo: SVector::from_element(-T::one()),
@@ -640,28 +644,61 @@ fn within_box<T: RealField + Copy, const N: usize, const I: usize, const R: usiz
     match solution.status {
         crate::qp::Status::Optimal => {
             let x = clipped(&solution.x, lb, ub);
-            let x = match anchor {
-                // `A θ̇ = dv_0r` and `A x = dv_0r`: every rate between them meets the rows.
-                Some(_) if !gives_way(qd) => {
-                    let alpha = largest_step_within(&x, &(qd - x), lb, ub);
-                    x + (qd - x) * alpha
-                }
-                _ => x,
-            };
             Some((x, gives_way(&x)))
         }
-        crate::qp::Status::NonFinite | crate::qp::Status::InvalidBounds => {
-            Some((clipped(&c, lb, ub), true))
-        }
+        crate::qp::Status::NonFinite | crate::qp::Status::InvalidBounds => None,
         _ => {
             let weights = QpWeights::with_kappa(T::zero());
             let mut warm = crate::qp::ActiveSet::EMPTY;
-            match hard_limits::trocar_within_limits(&problem, &weights, &mut warm) {
-                Some((x, _)) => Some((x, gives_way(&x))),
-                None => Some((clipped(&c, lb, ub), true)),
-            }
+            let (x, _) = hard_limits::trocar_within_limits(&problem, &weights, &mut warm)?;
+            let x = clipped(&x, lb, ub);
+            Some((x, gives_way(&x)))
         }
     }
+}
+
+/// The second stage of the rate limits of the inverses: from the previous command toward
+/// `target` (the rates the speed, range and braking bounds allow, [`within_box`]) within the whole
+/// box `[lb, ub]` of [`hard_limits::rate_box`] (with the acceleration and jerk bounds). From
+/// `x⁻`, the previous command `θ̇⁻` where it is within the box and meets the trocar rows, else the
+/// rates that do nearest to it, the rates `x⁻ + β (target − x⁻)` with the largest `β ∈ [0, 1]`
+/// within the box: every joint's rate moves toward the target in the same proportion, so the
+/// joints keep their coordination (the end effector keeps its path and lags) and, where the
+/// target stops the task, they slow down together. Both ends meet the rows, so the rates between
+/// them do. Where no rates within the box meet the rows, those within it nearest to them and
+/// `true` (the trocar yields). `None` when no finite rates are found.
+fn toward_within_box<T: RealField + Copy, const N: usize, const I: usize, const R: usize>(
+    target: &SVector<T, N>,
+    previous: &SVector<T, N>,
+    a: &SMatrix<T, R, I>,
+    dv_0r: &SVector<T, R>,
+    lb: &SVector<T, N>,
+    ub: &SVector<T, N>,
+) -> Option<(SVector<T, N>, bool)> {
+    let a_n = SMatrix::<T, R, N>::from_fn(|row, k| if k < I { a[(row, k)] } else { T::zero() });
+    let tolerance = T::default_epsilon().sqrt() * (T::one() + dv_0r.amax());
+    let meets = |x: &SVector<T, N>| (a_n * x - dv_0r).amax() <= tolerance;
+    let start = if within(previous, lb, ub) && meets(previous) {
+        *previous
+    } else {
+        let (x, yielded) = nearest_meeting_rows(previous, a, dv_0r, lb, ub)?;
+        if yielded {
+            return Some((x, true));
+        }
+        x
+    };
+    let beta = largest_step_within(&start, &(target - start), lb, ub);
+    let x = clipped(&(start + (target - start) * beta), lb, ub);
+    Some((x, !meets(&x)))
+}
+
+/// `true` when every entry of `x` is within `[lb, ub]` (false for a NaN).
+fn within<T: RealField + Copy, const N: usize>(
+    x: &SVector<T, N>,
+    lb: &SVector<T, N>,
+    ub: &SVector<T, N>,
+) -> bool {
+    (0..N).all(|k| x[k] >= lb[k] && x[k] <= ub[k])
 }
 
 /// The largest `s ∈ [0, 1]` with `lb ≤ x + s d ≤ ub`, for `x` within the box.
@@ -994,17 +1031,30 @@ impl<
         }
         // The joint limits: speed, range over the sample time, acceleration, braking, jerk.
         let rates = hard_limits::rate_box(q, dt, &self.limits, c.max_joint_speed, &self.previous);
-        let (lb, ub) = (rates.lower, rates.upper);
         let mut status = StepStatus::Held;
-        if (0..N).any(|k| !(qd[k] >= lb[k] && qd[k] <= ub[k])) {
-            // With an acceleration limit, the rates nearest to the previous command are the
-            // ones to scale from where the constraint's own are not within the box.
-            let accelerating = self.limits.acceleration.iter().any(|a| a.is_finite());
-            let anchor = accelerating.then_some(&self.previous.rates);
-            let (within, yielded) =
-                within_box(&qd, &s.jb0i, &s.lambda_pinv, &dv_0r, &lb, &ub, anchor)
-                    .ok_or(ControlError::SingularJb0i)?;
-            qd = clipped(&within, &lb, &ub);
+        if !within(&qd, &rates.lower, &rates.upper) {
+            let a = constrained_rows(&s.jb0i, &s.lambda_pinv).ok_or(ControlError::SingularJb0i)?;
+            // First the task's share scaled into the bounds of the joints' place (speed, range,
+            // braking: the box without the previous command's, which holds `0`)...
+            let (lb, ub) = hard_limits::place_box(q, dt, &self.limits, c.max_joint_speed);
+            let (target, yielded) = if within(&qd, &lb, &ub) {
+                (qd, false)
+            } else {
+                let (x, yielded) =
+                    within_box(&qd, &a, &dv_0r, &lb, &ub).ok_or(ControlError::SingularJb0i)?;
+                (clipped(&x, &lb, &ub), yielded)
+            };
+            // ... then, with acceleration or jerk bounds, from the previous command toward it.
+            let (lb, ub) = (rates.lower, rates.upper);
+            let (within_all, yielded) = if within(&target, &lb, &ub) {
+                (target, yielded)
+            } else {
+                let (x, gave_way) =
+                    toward_within_box(&target, &self.previous.rates, &a, &dv_0r, &lb, &ub)
+                        .ok_or(ControlError::NonFinite)?;
+                (x, yielded || gave_way)
+            };
+            qd = clipped(&within_all, &lb, &ub);
             if yielded {
                 status = StepStatus::TrocarYielded;
             }
