@@ -43,6 +43,12 @@
 //! ([`HardLimits`], [`Controller::with_limits`]) as hard inequalities, solved by [`crate::qp`]
 //! from the previous step's active set.
 //!
+//! Every method's rates stay within the rate box of [`rate_box`] ((B1)–(B5)): the speed limits,
+//! the ranges over the sample time and, from the previous command that the controller keeps
+//! ([`Controller::set_previous_rates`], [`Controller::reset`]), the acceleration, braking and
+//! jerk limits, which give way in that order only where they cannot all hold
+//! ([`StepOutput::relaxed`]).
+//!
 //! With the constraint on the last link (`i = n`) there are no joints after it: `J^r_0e =
 //! Ad_{g_ei} Λ#` does not depend on `q`, so the arm's closeness to a singularity is that of
 //! `J^B_0i` (`w_i` of [`StepOutput`]), and the damping of [`ControllerConfig::jb0i_damping`] is
@@ -294,8 +300,15 @@ pub struct ControllerConfig<T> {
     /// sample time), the task's share of `θ̇` is scaled down and the constraint's is kept:
     /// `θ̇ = θ̇_c + α (θ̇ − θ̇_c)` with `θ̇_c = A† dv_0r` (`A = Λ J^B_0i`) and the largest
     /// `α ∈ [0, 1]` within the limits, so `Λ J^B_0i θ̇ = dv_0r` still holds and the link keeps
-    /// to the trocar while the end effector slows down; where `θ̇_c` alone leaves them, it is
-    /// scaled into them and the step reports [`StepStatus::TrocarYielded`]. Over a sample time
+    /// to the trocar while the end effector slows down; where `θ̇_c` alone leaves them, the rates
+    /// nearest to `θ̇` that meet the trocar rows within them, and where none do the step reports
+    /// [`StepStatus::TrocarYielded`]. With acceleration or jerk limits
+    /// ([`HardLimits::acceleration`], [`HardLimits::jerk`]) these are the limits of the joints'
+    /// place (speed, range, braking), and the rates then move from the previous command `θ̇⁻`
+    /// toward them, `θ̇⁻ + β (θ̇* − θ̇⁻)` with the largest `β ∈ [0, 1]` within the whole box of
+    /// [`rate_box`]: every joint changes its rate in the same proportion, so the end effector
+    /// keeps its path and lags behind, and where the task stops the joints slow down together.
+    /// Over a sample time
     /// `dt` the joints move along a straight line, which leaves the link off the trocar by a
     /// second-order term (≈ ½ l (|θ̇| dt)² per step for a lever `l`); bounding `|θ̇|` bounds that
     /// drift.
