@@ -136,10 +136,13 @@
 //! - [`Status::IterationLimit`] in phase 2: `x` meets every (relaxed) inequality and its
 //!   objective is no higher than that of the first feasible point; in phase 1: `x` meets the
 //!   equalities and its total violation is no higher than at the start.
-//! - *When `x = 0` meets the inequalities* (the controller keeps `lb ≤ 0 ≤ ub` and `lo ≤ 0 ≤
-//!   hi`): the inequality rows are consistent on their own, so a relaxation can only come from
-//!   the equalities. Without equality rows (or with `b = 0`, which `x = 0` meets), the status
-//!   is [`Status::Optimal`] unless the iteration limit is reached. With them,
+//! - *When the inequalities have a common point* (the controller's always do: its box need not
+//!   hold `x = 0` — with acceleration limits the rates stay near the previous step's — but the
+//!   depth row is clipped to its range over the box, `trocar::control::hard_limits` (Q4')): the
+//!   inequality rows are consistent on their own, so a relaxation can only come from the
+//!   equalities. The start need not be feasible: phase 1 reaches the inequalities from the
+//!   minimiser of the warm start's working set, wherever that is. Without equality rows, the
+//!   status is [`Status::Optimal`] unless the iteration limit is reached. With them,
 //!   [`Status::InequalitiesRelaxed`] says that no joint rates keep the trocar and every limit;
 //!   the trocar is kept and the limits are exceeded by the least total amount.
 //! - A relaxation is minimal in total (`ℓ₁`) violation over the (least-squares) equality set;
@@ -1561,6 +1564,61 @@ mod tests {
             p.meets_inequalities(&Vector2::new(2.0 + 1e-15, 0.0)),
             "within rounding"
         );
+    }
+
+    /// A box away from `x = 0` (a controller's rates when the joints move and may change only a
+    /// little: acceleration limits): the start is outside it, and phase 1 finds it from any warm
+    /// start; with an equality row whose solutions meet the box at one corner, and with a box of
+    /// one point.
+    #[test]
+    fn a_box_away_from_zero_is_found_from_any_start() {
+        // ½‖x‖² on [1, 2] × [−3, −2]: the corner (1, −2).
+        let mut p = boxed(Matrix2::identity(), Vector2::zeros(), 0.0, 0.0);
+        p.lb = Vector2::new(1.0, -3.0);
+        p.ub = Vector2::new(2.0, -2.0);
+        let sides = [Side::Inactive, Side::Lower, Side::Upper];
+        for a in sides {
+            for b in sides {
+                let warm = ActiveSet {
+                    general: [],
+                    bounds: [a, b],
+                };
+                let s = p.solve(&warm, &S);
+                assert_eq!(s.status, Status::Optimal, "{warm:?}");
+                assert!(close(s.x, [1.0, -2.0]), "{warm:?}: {:?}", s.x);
+            }
+        }
+        // With x₁ + x₂ = 0: only (2, −2) is within the box.
+        let mut q = with_eq([1.0, 1.0], 0.0);
+        q.lb = p.lb;
+        q.ub = p.ub;
+        for warm in [ActiveSet::EMPTY, s_upper_lower()] {
+            let s = q.solve(&warm, &S);
+            assert_eq!(s.status, Status::Optimal);
+            assert!(close(s.x, [2.0, -2.0]), "{:?}", s.x);
+        }
+        // A box of one point in x₁, and x₁ − x₂ = 0: (½, ½).
+        let mut r = with_eq([1.0, -1.0], 0.0);
+        r.lb = Vector2::new(0.5, -1.0);
+        r.ub = Vector2::new(0.5, 1.0);
+        let s = r.solve(&ActiveSet::EMPTY, &S);
+        assert_eq!(s.status, Status::Optimal);
+        assert!(close(s.x, [0.5, 0.5]), "{:?}", s.x);
+        // Past the box: the equalities hold and the box is exceeded least (x₁ + x₂ = 2 needs
+        // x₂ = 1.5 at x₁ = ½).
+        r.a_eq = SMatrix::<f64, 1, 2>::new(1.0, 1.0);
+        r.b_eq = SVector::<f64, 1>::new(2.0);
+        let s = r.solve(&ActiveSet::EMPTY, &S);
+        assert_eq!(s.status, Status::InequalitiesRelaxed);
+        assert!((s.x[0] + s.x[1] - 2.0).abs() < 1e-12);
+        assert!((s.violation - 0.5).abs() < 1e-12, "{}", s.violation);
+    }
+
+    fn s_upper_lower() -> ActiveSet<2, 0> {
+        ActiveSet {
+            general: [],
+            bounds: [Side::Upper, Side::Lower],
+        }
     }
 
     #[test]

@@ -16,8 +16,8 @@ use crate::error::{Error, Result};
 use crate::robot::Robot;
 use nalgebra::{Const, Matrix3, SVector, Vector3};
 use trocar::control::{
-    self, ChainKinematics, Controller as Typed, HardLimits, NullSpaceObjective, QpReport, Rcm,
-    Reference, StepStatus,
+    self, ChainKinematics, Controller as Typed, HardLimits, NullSpaceObjective, QpReport,
+    RateRelaxation, Rcm, Reference, StepStatus,
 };
 use trocar::linalg::SquareDim;
 use trocar_model::numeric::NumericModel;
@@ -46,6 +46,13 @@ pub struct ControllerOptions {
     pub fi_gamma: f64,
     /// Joint speed limit (rad/s), `None` for none.
     pub max_joint_speed: Option<f64>,
+    /// Joint acceleration limit (rad/s²) on every joint, with the description's own
+    /// (`acceleration_limit`, a URDF 1.2 `<limit acceleration=...>`) the smaller of the two;
+    /// `None`: the description's alone. With either, each step's rates change by at most
+    /// `a_max dt` from the last step's and brake in time for the joint ranges
+    /// (`trocar::control::rate_box`); the controller starts from rest
+    /// ([`RobotController::reset`]).
+    pub max_joint_acceleration: Option<f64>,
     /// Gain `K` (1/s) of the joint-limit objective (46) on the spare freedom of `J^B_0i` when
     /// the robot has joint limits and `i > 6`; 0 for none.
     pub null_space_gain: f64,
@@ -70,6 +77,7 @@ impl Default for ControllerOptions {
             dls_w0_jb0i: s.dls_w0_i,
             fi_gamma: s.fi_gamma,
             max_joint_speed: s.max_joint_speed,
+            max_joint_acceleration: None,
             null_space_gain: s.null_space_gain,
             qp_kappa: s.qp_kappa,
             depth_limits: None,
@@ -134,6 +142,13 @@ impl ControllerOptions {
             if !(v.is_finite() && v > 0.0) {
                 return Err(Error::Input(format!(
                     "max_joint_speed = {v}: must be a positive number (or none)"
+                )));
+            }
+        }
+        if let Some(v) = self.max_joint_acceleration {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(Error::Input(format!(
+                    "max_joint_acceleration = {v}: must be a positive number (rad/s², or none)"
                 )));
             }
         }
@@ -236,6 +251,10 @@ pub struct Step {
     /// Whether every constraint held, or which gave way: the joint limits never do (every
     /// method's rates keep each joint within its speed limit and, over `dt`, its range).
     pub status: StepStatus,
+    /// Which of the rate limits that depend on the previous step (acceleration, braking, jerk)
+    /// gave way at some joint, because no rates met it with the more important ones
+    /// ([`RateRelaxation`]: `Nothing` when all held).
+    pub relaxed: RateRelaxation,
 }
 
 /// One instantiation of the typed controller, behind the sizes known at run time.
@@ -315,6 +334,7 @@ where
             kappa_i: out.kappa_i,
             qp: out.qp,
             status: out.status,
+            relaxed: out.relaxed,
         })
     }
 
@@ -354,11 +374,13 @@ macro_rules! dispatch {
     }};
 }
 
-/// The hard limits of the QP step, sized at run time: each joint's range and speed limit
-/// (infinite where the description has none) and the depth bounds.
+/// The hard limits, sized at run time: each joint's range, speed, acceleration and jerk limit
+/// (infinite where the description has none) and the depth bounds (the QP's).
 struct Hard {
     ranges: Vec<[f64; 2]>,
     speeds: Vec<f64>,
+    accelerations: Vec<f64>,
+    jerks: Vec<f64>,
     depth: Option<[f64; 2]>,
 }
 
@@ -369,7 +391,9 @@ impl Hard {
                 SVector::from_fn(|k, _| self.ranges[k][0]),
                 SVector::from_fn(|k, _| self.ranges[k][1]),
             )
-            .with_speed_limits(SVector::from_fn(|k, _| self.speeds[k]));
+            .with_speed_limits(SVector::from_fn(|k, _| self.speeds[k]))
+            .with_acceleration_limits(SVector::from_fn(|k, _| self.accelerations[k]))
+            .with_jerk_limits(SVector::from_fn(|k, _| self.jerks[k]));
         if let Some([lo, hi]) = self.depth {
             h = h.with_depth(lo, hi);
         }
@@ -461,6 +485,19 @@ impl RobotController {
                 .joints
                 .iter()
                 .map(|j| j.speed_limit.unwrap_or(f64::INFINITY))
+                .collect(),
+            accelerations: desc
+                .joints
+                .iter()
+                .map(|j| {
+                    let own = joint_acceleration_limit(j).unwrap_or(f64::INFINITY);
+                    options.max_joint_acceleration.map_or(own, |v| v.min(own))
+                })
+                .collect(),
+            jerks: desc
+                .joints
+                .iter()
+                .map(|j| joint_jerk_limit(j).unwrap_or(f64::INFINITY))
                 .collect(),
             depth: options.depth_limits,
         };
@@ -554,7 +591,8 @@ impl RobotController {
     }
 
     /// Restarts the filtered inverse (it re-initialises on the next step) and the QP's warm
-    /// start.
+    /// start, and takes the arm to be at rest: with acceleration limits the next rates start
+    /// from zero (`trocar::control::Controller::reset`).
     pub fn reset(&mut self) {
         self.inner.reset();
     }
@@ -568,4 +606,14 @@ impl RobotController {
     pub fn constrained_directions(&self) -> usize {
         self.rows
     }
+}
+
+/// A joint's acceleration limit from its description (rad/s², m/s² for a prismatic joint).
+fn joint_acceleration_limit(_joint: &trocar_model::description::JointDesc) -> Option<f64> {
+    None
+}
+
+/// A joint's jerk limit from its description (rad/s³).
+fn joint_jerk_limit(_joint: &trocar_model::description::JointDesc) -> Option<f64> {
+    None
 }

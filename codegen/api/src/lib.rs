@@ -48,7 +48,7 @@ pub use trajectory::{
     TrajectoryRun, MAX_REFERENCE_ANGULAR_SPEED, MAX_REFERENCE_SPEED, MAX_TRAJECTORY_BYTES,
     MAX_TRAJECTORY_STEPS, START_TOLERANCE,
 };
-pub use trocar::control::StepStatus;
+pub use trocar::control::{RateRelaxation, StepStatus};
 pub use trocar_codegen::{ModuleOptions, Real};
 pub use trocar_model::catalogue::{Function, Fused};
 pub use trocar_model::description::SimulationDesc;

@@ -663,9 +663,13 @@ impl Controller {
     /// position and orientation gains, `kr` (1/s) the drift correction on the trocar (0: none),
     /// `max_joint_speed` (rad/s, `None`: none), `null_space_gain` (1/s) the joint-limit
     /// objective's gain on a redundant arm, `qp_kappa` the QP's weight on the joint rates,
-    /// `depth_limits` `(l_min, l_max)` (m) of the trocar's offset along the shaft (QP only).
+    /// `depth_limits` `(l_min, l_max)` (m) of the trocar's offset along the shaft (QP only),
+    /// `max_joint_acceleration` (rad/s²) a limit on every joint's acceleration, the smaller with
+    /// the robot's own (URDF `<limit acceleration=...>`, `acceleration_limit`; `None`, the
+    /// default: the robot's alone): each step's rates then change by at most `a_max dt` from the
+    /// last step's, starting from rest, and brake in time for the joint ranges.
     #[new]
-    #[pyo3(signature = (robot, method = "dls", kp = None, ko = None, kr = None, max_joint_speed = MaybeLimit::Default, null_space_gain = None, dls_alpha0 = None, fi_gamma = None, qp_kappa = None, depth_limits = None))]
+    #[pyo3(signature = (robot, method = "dls", kp = None, ko = None, kr = None, max_joint_speed = MaybeLimit::Default, null_space_gain = None, dls_alpha0 = None, fi_gamma = None, qp_kappa = None, depth_limits = None, max_joint_acceleration = None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         robot: &Robot,
@@ -679,6 +683,7 @@ impl Controller {
         fi_gamma: Option<f64>,
         qp_kappa: Option<f64>,
         depth_limits: Option<[f64; 2]>,
+        max_joint_acceleration: Option<f64>,
     ) -> PyResult<Self> {
         let d = ControllerOptions::default();
         let options = ControllerOptions {
@@ -696,6 +701,7 @@ impl Controller {
             fi_gamma: fi_gamma.unwrap_or(d.fi_gamma),
             qp_kappa: qp_kappa.unwrap_or(d.qp_kappa),
             depth_limits,
+            max_joint_acceleration,
             ..d
         };
         let inner = trocar_api::RobotController::new(&robot.inner, options).map_err(value_error)?;
@@ -709,7 +715,9 @@ impl Controller {
     /// `l_a`, `position_error`, `orientation_error`, `lateral_error`, `dv_0r`, `w_r`, `w_i`,
     /// `kappa_r`, `kappa_i`, `status` (`"Held"`; `"TrocarYielded"` when the trocar could not be
     /// held within the joint limits, which hold in every step; `"JointOutside"`,
-    /// `"DepthOutside"`), and with `method="qp"` `qp_status` (`"Optimal"`,
+    /// `"DepthOutside"`), `relaxed` (`"Nothing"`; `"Jerk"`, `"Braking"` or `"Acceleration"`: the
+    /// most important of those rate limits that could not be met with the ones before it at some
+    /// joint), and with `method="qp"` `qp_status` (`"Optimal"`,
     /// `"EqualitiesInconsistent"` when the trocar rows were met in least squares, ...),
     /// `qp_iterations`, `qp_active` (the number of limits reached) and `qp_resolved` (the step
     /// measured its own chord over `dt` and solved again); `None` otherwise. A dict with another
@@ -810,6 +818,7 @@ impl Controller {
         out.set_item("kappa_r", s.kappa_r)?;
         out.set_item("kappa_i", s.kappa_i)?;
         out.set_item("status", format!("{:?}", s.status))?;
+        out.set_item("relaxed", format!("{:?}", s.relaxed))?;
         out.set_item("qp_status", s.qp.map(|r| format!("{:?}", r.status)))?;
         out.set_item("qp_iterations", s.qp.map(|r| r.iterations))?;
         out.set_item("qp_active", s.qp.map(|r| r.active))?;
@@ -817,7 +826,8 @@ impl Controller {
         Ok(out)
     }
 
-    /// Restarts the filtered inverse and the QP's warm start.
+    /// Restarts the filtered inverse and the QP's warm start, and takes the arm to be at rest
+    /// (with acceleration limits the next rates start from zero).
     fn reset(&mut self) {
         self.inner.reset();
     }

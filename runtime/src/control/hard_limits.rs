@@ -20,15 +20,21 @@
 //! - `u0 = K ∂f/∂θ` is the null-space objective's gradient ((44)–(46) of Freitas, Leite &
 //!   Lizarralde 2010, [`super::NullSpaceObjective`]); with `γ = κ²` the motion (Q1) gives the
 //!   spare freedom where nothing else acts is `u0`, as in the projected-gradient law (45).
-//! - (Q3): `lb_k = max(−θ̇max_k, d⁻_k)`, `ub_k = min(θ̇max_k, d⁺_k)` with the velocity dampers
-//!   of the joint position limits (influence distance `ρ_i`, safety distance `ρ_s`, gain `ξ`):
+//! - (Q3): `[lb_k, ub_k]` is the rate box (B1)–(B4) of [`rate_box`] (speed limit `θ̇max_k`,
+//!   range over the sample time, acceleration, braking and jerk from the previous command)
+//!   within which the velocity dampers of the joint position limits hold (influence distance
+//!   `ρ_i`, safety distance `ρ_s`, gain `ξ`):
 //!
 //!   ```text
 //!   d⁻_k = −ξ (θ_k − θ_min,k − ρ_s)/(ρ_i − ρ_s)   when θ_k − θ_min,k < ρ_i, else −∞     (Q5)
 //!   d⁺_k =  ξ (θ_max,k − θ_k − ρ_s)/(ρ_i − ρ_s)   when θ_max,k − θ_k < ρ_i, else +∞
 //!   ```
 //!
-//!   clipped so that `θ̇ = 0` satisfies them: `d⁻_k ≤ 0 ≤ d⁺_k`. Integrated by explicit Euler
+//!   clipped so that `θ̇ = 0` satisfies them: `d⁻_k ≤ 0 ≤ d⁺_k`. Where the damper has no rate in
+//!   common with the box (a joint too fast to slow down to the damper's rate at its
+//!   acceleration limit), the box holds and the damper gives way: the braking bound (B3) still
+//!   keeps the joint within its range. With the box, `θ̇ = 0` need not be within (Q3): the
+//!   solver starts from any point ([`crate::qp`]'s phase 1). Integrated by explicit Euler
 //!   over `dt`, `θ_k − θ_min,k − ρ_s` shrinks by at most the factor `1 − ξ dt/(ρ_i − ρ_s)` a
 //!   step, so a joint that starts at least `ρ_s` inside its range stays there when
 //!   `ξ dt ≤ ρ_i − ρ_s`.
@@ -41,6 +47,10 @@
 //!   ```
 //!
 //!   and `l̇_lo`, `l̇_hi` are the dampers (Q5) of `l_min ≤ l_a ≤ l_max`, clipped the same way.
+//!   Where no rate of the box (Q3) meets them (Q4'), the nearer of `Σ_k min(g_k lb_k, g_k ub_k)`
+//!   and `Σ_k max(g_k lb_k, g_k ub_k)`, the range of `g_lᵀ θ̇` over the box, stands in for the
+//!   bound it passes: the joint limits come first, and the inequalities always have a common
+//!   point.
 //!   (The insertion depth of an instrument of length `L` past the flange is `L − l_a`.)
 //!
 //! # Over a sample time (Q7)
@@ -264,6 +274,13 @@ pub struct HardLimits<T: RealField + Copy, const N: usize> {
     /// `θ̇max_k > 0`; `+∞` for none ([`super::ControllerConfig::max_joint_speed`] applies as
     /// well, the smaller of the two).
     pub speed: SVector<T, N>,
+    /// `a_max,k > 0` (rad/s², m/s² for a prismatic joint): the largest change of a joint's
+    /// rate from one command to the next is `a_max,k dt` ([`rate_box`], (B2)), and the joint
+    /// brakes in time for its range (B3); `+∞` for none.
+    pub acceleration: SVector<T, N>,
+    /// `j_max,k > 0` (rad/s³): the largest change of the commanded acceleration from one step
+    /// to the next is `j_max,k dt` ([`rate_box`], (B4)); `+∞` for none.
+    pub jerk: SVector<T, N>,
     /// The damper (Q5) of the joint position limits.
     pub joint_damper: Damper<T>,
     /// `[l_min, l_max]` of `l_a` (m); infinite entries for none.
@@ -285,6 +302,8 @@ impl<T: RealField + Copy, const N: usize> HardLimits<T, N> {
             lower: SVector::repeat(c(f64::NEG_INFINITY)),
             upper: SVector::repeat(c(f64::INFINITY)),
             speed: SVector::repeat(c(f64::INFINITY)),
+            acceleration: SVector::repeat(c(f64::INFINITY)),
+            jerk: SVector::repeat(c(f64::INFINITY)),
             joint_damper: Damper {
                 influence: c(0.2),
                 safety: c(0.02),
@@ -311,6 +330,20 @@ impl<T: RealField + Copy, const N: usize> HardLimits<T, N> {
     #[must_use]
     pub fn with_speed_limits(mut self, speed: SVector<T, N>) -> Self {
         self.speed = speed;
+        self
+    }
+
+    /// The same with joint acceleration limits `a_max,k` ((B2)–(B3) of [`rate_box`]).
+    #[must_use]
+    pub fn with_acceleration_limits(mut self, acceleration: SVector<T, N>) -> Self {
+        self.acceleration = acceleration;
+        self
+    }
+
+    /// The same with joint jerk limits `j_max,k` ((B4) of [`rate_box`]).
+    #[must_use]
+    pub fn with_jerk_limits(mut self, jerk: SVector<T, N>) -> Self {
+        self.jerk = jerk;
         self
     }
 
@@ -358,9 +391,8 @@ pub(super) struct QpInputs<'a, T: RealField + Copy, const N: usize, const I: usi
     pub shaft_direction: Vector3<T>,
     pub trocar: &'a Vector3<T>,
     pub l_a: T,
-    pub max_joint_speed: Option<T>,
-    /// The sample time: a joint's range bounds its rate over it ([`rate_box`]).
-    pub dt: T,
+    /// The rates every method may command ([`rate_box`]): (Q3) within them.
+    pub rate_box: &'a RateBox<T, N>,
 }
 
 /// What (Q7) keeps of the previous step.
@@ -446,8 +478,9 @@ pub(super) fn step_problem<
     }
     // (Q2): A [I 0] θ̇ = dv_0r.
     let a_eq = SMatrix::<T, R, N>::from_fn(|r, c| if c < I { inputs.a[(r, c)] } else { T::zero() });
-    // (Q3), (Q5), and the joints' ranges over the sample time ([`rate_box`]).
-    let (box_lo, box_hi) = rate_box(inputs.q, inputs.dt, limits, inputs.max_joint_speed);
+    // (Q3), (Q5) within the box (B1)–(B4) of [`rate_box`]: where a damper has no rates in
+    // common with the box, the box holds and the damper gives way.
+    let rates = inputs.rate_box;
     let mut lb = SVector::<T, N>::zeros();
     let mut ub = SVector::<T, N>::zeros();
     for k in 0..N {
@@ -455,8 +488,9 @@ pub(super) fn step_problem<
             limits
                 .joint_damper
                 .rate_bounds(inputs.q[k], limits.lower[k], limits.upper[k], big);
-        lb[k] = lo.max(box_lo[k]).max(-big).min(T::zero());
-        ub[k] = hi.min(box_hi[k]).min(big).max(T::zero());
+        let (lo, hi, _) = restrict(rates.lower[k], rates.upper[k], lo, hi, T::zero());
+        lb[k] = lo.max(-big).min(big);
+        ub[k] = hi.max(-big).min(big);
     }
     // (Q4), (Q6): l̇_a = g_lᵀ θ̇.
     let g_i = depth_rate_row(
@@ -470,6 +504,22 @@ pub(super) fn step_problem<
         limits
             .depth_damper
             .rate_bounds(inputs.l_a, limits.depth[0], limits.depth[1], big);
+    // The box first: `g_lᵀ θ̇` over the box spans `[Σ min(g_k lb_k, g_k ub_k), Σ max(…)]`; where
+    // the depth's rows have no rate in common with it (a box away from 0: the shaft moving
+    // too fast to be stopped in one step), they give way to its nearest end (Q4').
+    let (mut reach_lo, mut reach_hi) = (T::zero(), T::zero());
+    for k in 0..N {
+        let (a, b) = (g[k] * lb[k], g[k] * ub[k]);
+        reach_lo += a.min(b);
+        reach_hi += a.max(b);
+    }
+    let (lo, hi) = if hi < reach_lo {
+        (lo, reach_lo)
+    } else if lo > reach_hi {
+        (reach_hi, hi)
+    } else {
+        (lo, hi)
+    };
     Problem {
         h,
         f,
@@ -483,28 +533,229 @@ pub(super) fn step_problem<
     }
 }
 
-/// The joint rates every inverse may command at `q` over the sample time `dt`: within the
-/// speed limit `θ̇max_k` (and [`super::ControllerConfig::max_joint_speed`], the smaller), and
-/// such that `q_k + dt θ̇_k` stays within `[θ_min,k, θ_max,k]`; a joint already beyond a bound
-/// may only move back (its bound on that side is 0). Always `lb_k ≤ 0 ≤ ub_k`, so `θ̇ = 0` is
-/// within; infinite where there is no limit (a NaN limit is taken as none:
+/// The previous command of a [`super::Controller`]: the rates `θ̇⁻` it commanded last and the
+/// acceleration `a⁻ = (θ̇⁻ − θ̇⁻⁻)/dt` of that command, from which the acceleration (B2) and jerk
+/// (B4) bounds of [`rate_box`] are measured. [`PreviousCommand::rest`] after
+/// [`super::Controller::reset`]; [`super::Controller::set_previous_rates`] to start from a known
+/// motion.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PreviousCommand<T: RealField + Copy, const N: usize> {
+    /// `θ̇⁻` (rad/s, m/s for a prismatic joint).
+    pub rates: SVector<T, N>,
+    /// `a⁻ = (θ̇⁻ − θ̇⁻⁻)/dt` (rad/s²).
+    pub acceleration: SVector<T, N>,
+}
+
+impl<T: RealField + Copy, const N: usize> PreviousCommand<T, N> {
+    /// At rest: `θ̇⁻ = 0`, `a⁻ = 0`.
+    pub fn rest() -> Self {
+        PreviousCommand {
+            rates: SVector::zeros(),
+            acceleration: SVector::zeros(),
+        }
+    }
+
+    /// The command after this one, `θ̇` at the sample time `dt`: `θ̇⁻ ← θ̇`, `a⁻ ← (θ̇ − θ̇⁻)/dt`.
+    #[must_use]
+    pub fn then(&self, rates: &SVector<T, N>, dt: T) -> Self {
+        PreviousCommand {
+            rates: *rates,
+            acceleration: (rates - self.rates) / dt,
+        }
+    }
+}
+
+impl<T: RealField + Copy, const N: usize> Default for PreviousCommand<T, N> {
+    fn default() -> Self {
+        Self::rest()
+    }
+}
+
+/// Which bounds of the rate box (B1)–(B4) of [`rate_box`] gave way at some joint, the most
+/// important first ([`super::StepOutput::relaxed`]). The order of the variants is that of their
+/// priority: a later one gives way only where no rates meet it together with those before it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum RateRelaxation {
+    /// Every bound held.
+    #[default]
+    Nothing,
+    /// The jerk bound (B4) gave way to the speed, range, acceleration or braking bounds (a joint
+    /// braking for its range, or starting from a motion given by
+    /// [`super::Controller::set_previous_rates`], changes its acceleration faster than `j_max`).
+    Jerk,
+    /// The braking bound (B3) gave way to the acceleration bound: the joint moves toward a bound
+    /// of its range faster than it can stop at `a_max` (only from a motion that this
+    /// controller did not command, or after the limits or the sample time changed); it
+    /// decelerates at `a_max`.
+    Braking,
+    /// The acceleration bound (B2) gave way to the speed and range bounds (B1): no rate within
+    /// them was within `a_max dt` of the previous command (a joint faster than its speed limit,
+    /// or too close to its range to stop, when the motion was not commanded by this
+    /// controller). The rate is the one within (B1) nearest to the acceleration bound.
+    Acceleration,
+}
+
+/// The rates every method may command at one step ([`rate_box`]): `lower ≤ θ̇ ≤ upper`, and what
+/// gave way to make it non-empty.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RateBox<T: RealField + Copy, const N: usize> {
+    /// The lower bounds of the joint rates.
+    pub lower: SVector<T, N>,
+    /// The upper bounds (`lower ≤ upper`).
+    pub upper: SVector<T, N>,
+    /// The most important bound that gave way at some joint.
+    pub relaxed: RateRelaxation,
+}
+
+/// The braking speed `b(d)` of (B3): the largest rate `v ≥ 0` toward a bound at distance `d` from
+/// which a joint whose rate may change by at most `u = a dt` a step stops before the bound,
+/// commanding `v, v − u, v − 2u, …` for a sample time `dt` each:
+///
+/// ```text
+/// dt Σ_{k ≥ 0} max(0, v − k u) ≤ d   ⇔   v ≤ b(d) = (D + u n(n+1)/2) / (n + 1),            (B5)
+/// ```
+///
+/// with `D = d/dt` and `n` the largest integer with `u n(n+1)/2 ≤ D` (the number of whole
+/// decelerations the distance allows). `b` is exact in discrete time: the sum is `S(v)` and
+/// `S(v) = v + S(v − u)`, so a rate `v ≤ b(d)` leaves `v − u ≤ b(d − v dt)` at the next step,
+/// and braking at `a` is always allowed. (The continuous bound `−u/2 + sqrt(u²/4 + 2 a d)` is
+/// `b` where `v` is a whole multiple of `u` and up to `u/8` above it in between, which overruns
+/// the bound by up to `u dt/8`.) `0` for `d ≤ 0` or `a dt = 0`; `+∞` for no acceleration limit.
+pub fn braking_speed<T: RealField + Copy>(d: T, a: T, dt: T) -> T {
+    if !(d > T::zero()) {
+        return T::zero();
+    }
+    if !(a < T::one() / T::zero()) {
+        return T::one() / T::zero();
+    }
+    let u = a.abs() * dt;
+    if !(u > T::zero()) {
+        return T::zero();
+    }
+    let distance = d / dt;
+    let two: T = nalgebra::convert(2.0);
+    let eight: T = nalgebra::convert(8.0);
+    let travel = |n: T| u * n * (n + T::one()) / two;
+    let mut n = ((T::one() + eight * distance / u).sqrt() - T::one()) / two;
+    if !(n.is_finite() && n < nalgebra::convert(1e12)) {
+        // So many steps of braking that the discrete sum is its integral: the continuous bound,
+        // less the largest step u/2 (safe by `(v + u/2)² / (2a) ≥ dt S(v)`).
+        return ((two * a.abs() * d).sqrt() - u / two).max(T::zero());
+    }
+    n = n.floor().max(T::zero());
+    // Rounding of the square root: the largest n with travel(n) ≤ D.
+    for _ in 0..3 {
+        if n > T::zero() && travel(n) > distance {
+            n -= T::one();
+        }
+    }
+    for _ in 0..3 {
+        if travel(n + T::one()) <= distance {
+            n += T::one();
+        }
+    }
+    (distance + travel(n)) / (n + T::one())
+}
+
+/// `[lo, hi] ∩ [lo2, hi2]` where it is not empty; else the point of `[lo, hi]` nearest to
+/// `[lo2, hi2]` and `true` (the second set gave way) when the gap is beyond the rounding of the
+/// bounds, `64 ε (1 + |ends|)`, plus `rounding` (that of the positions the bounds come from).
+fn restrict<T: RealField + Copy>(lo: T, hi: T, lo2: T, hi2: T, rounding: T) -> (T, T, bool) {
+    let (l, h) = (lo.max(lo2), hi.min(hi2));
+    if l <= h {
+        return (l, h, false);
+    }
+    // The sets are disjoint, so the nearer end of the second is finite.
+    let (point, near) = if hi2 < lo { (lo, hi2) } else { (hi, lo2) };
+    let gap = (point - near).abs();
+    let tolerance = T::default_epsilon()
+        * nalgebra::convert::<f64, T>(64.0)
+        * (T::one() + point.abs() + near.abs())
+        + rounding;
+    (point, point, gap > tolerance)
+}
+
+/// A limit of [`HardLimits`] as a positive number: `|v|`, `+∞` for a NaN (taken as none:
 /// [`super::ControllerConfig::check`] and the callers refuse them).
+fn limit_of<T: RealField + Copy>(v: T) -> T {
+    #[allow(clippy::eq_op)]
+    let nan = v != v;
+    if nan {
+        T::one() / T::zero()
+    } else {
+        v.abs()
+    }
+}
+
+/// The joint rates every method may command at `q` over the sample time `dt`, after the
+/// command `previous`: for each joint the intersection of
+///
+/// ```text
+/// (B1)  |θ̇| ≤ θ̇max,   θ_min ≤ q + dt θ̇ ≤ θ_max                speed, range over dt
+/// (B2)  |θ̇ − θ̇⁻| ≤ a_max dt                                    acceleration
+/// (B3)  −b(q − θ_min) ≤ θ̇ ≤ b(θ_max − q)                        braking (B5)
+/// (B4)  |θ̇ − θ̇⁻ − dt a⁻| ≤ j_max dt²                            jerk
+/// ```
+///
+/// `θ̇max` is the smaller of [`HardLimits::speed`] and
+/// [`super::ControllerConfig::max_joint_speed`]; a joint already beyond a bound of its range may
+/// only move back (its bound on that side of (B1) is 0), and `q + dt θ̇` is kept within the range
+/// as the caller rounds it. (B1) always holds `θ̇ = 0`; with (B2)–(B4) the box may not: a joint
+/// moving fast cannot stop in one step.
+///
+/// **Priority.** (B1) is physical and always holds; (B2) is applied within it, (B3) within both,
+/// (B4) last. Where a bound has no rates in common with those before it, it gives way: the box
+/// of that joint becomes the one rate of the box so far nearest to it, and
+/// [`RateBox::relaxed`] names the most important bound that did so ([`RateRelaxation`]). So no
+/// rate past a speed, range or acceleration limit is allowed when one within them exists, and
+/// the jerk bound yields to braking. Braking (B3) keeps (B1) and (B2) compatible: from a command
+/// within (B1)–(B3) the joint can always brake at `a_max` without passing its range, so with
+/// a constant `dt` and limits, and from rest or a motion this controller commanded, only the jerk
+/// bound can give way.
+///
+/// Infinite where there is no limit; a joint without an acceleration limit has no braking
+/// bound, and one without a jerk limit no (B4), so with neither the box is (B1) alone. A NaN
+/// limit is taken as none.
 pub fn rate_box<T: RealField + Copy, const N: usize>(
     q: &SVector<T, N>,
     dt: T,
     limits: &HardLimits<T, N>,
     max_joint_speed: Option<T>,
+    previous: &PreviousCommand<T, N>,
+) -> RateBox<T, N> {
+    bounds(q, dt, limits, max_joint_speed, Some(previous))
+}
+
+/// The bounds (B1) and (B3) of [`rate_box`]: those of the joints' place (speed, range over the
+/// sample time, braking), without the previous command's (B2), (B4). They always hold `θ̇ = 0`.
+/// The inverses scale the task's share into them first ([`super::ControllerConfig::max_joint_speed`]).
+pub(super) fn place_box<T: RealField + Copy, const N: usize>(
+    q: &SVector<T, N>,
+    dt: T,
+    limits: &HardLimits<T, N>,
+    max_joint_speed: Option<T>,
 ) -> (SVector<T, N>, SVector<T, N>) {
+    let b = bounds(q, dt, limits, max_joint_speed, None);
+    (b.lower, b.upper)
+}
+
+/// [`rate_box`], with (B2) and (B4) only when there is a previous command.
+fn bounds<T: RealField + Copy, const N: usize>(
+    q: &SVector<T, N>,
+    dt: T,
+    limits: &HardLimits<T, N>,
+    max_joint_speed: Option<T>,
+    previous: Option<&PreviousCommand<T, N>>,
+) -> RateBox<T, N> {
     let inf = T::one() / T::zero();
-    let mut lb = SVector::<T, N>::zeros();
-    let mut ub = SVector::<T, N>::zeros();
+    let mut out = RateBox {
+        lower: SVector::zeros(),
+        upper: SVector::zeros(),
+        relaxed: RateRelaxation::Nothing,
+    };
     for k in 0..N {
-        // `!(x > y)` is false for a NaN `y`: a NaN limit is taken as none.
-        let mut speed = inf;
-        let own = limits.speed[k].abs();
-        if own < speed {
-            speed = own;
-        }
+        // (B1). `!(x > y)` is false for a NaN `y`: a NaN limit is taken as none.
+        let mut speed = limit_of(limits.speed[k]);
         if let Some(s) = max_joint_speed {
             if s.abs() < speed {
                 speed = s.abs();
@@ -539,10 +790,75 @@ pub fn rate_box<T: RealField + Copy, const N: usize>(
             }
             lo += lo.abs() * T::default_epsilon();
         }
-        lb[k] = lo.min(T::zero());
-        ub[k] = hi.max(T::zero());
+        lo = lo.min(T::zero());
+        hi = hi.max(T::zero());
+        let mut relaxed = RateRelaxation::Nothing;
+        // The bounds from the range are rates of `(θ − q)/dt`: a joint that rides its braking
+        // curve (B3) to its range meets them to the rounding of the positions over `dt`, which is
+        // not a bound giving way.
+        let mut position = q[k].abs();
+        for bound in [limits.lower[k], limits.upper[k]] {
+            if bound.is_finite() {
+                position = position.max(bound.abs());
+            }
+        }
+        let rounding = T::default_epsilon() * nalgebra::convert::<f64, T>(16.0) * (T::one() + position)
+            / dt;
+        let mut apply = |lo: &mut T, hi: &mut T, lo2: T, hi2: T, what: RateRelaxation| {
+            let (l, h, gave_way) = restrict(*lo, *hi, lo2, hi2, rounding);
+            *lo = l;
+            *hi = h;
+            if gave_way && what > relaxed {
+                relaxed = what;
+            }
+        };
+        let (rate, acceleration) = previous.map_or((inf, inf), |p| (p.rates[k], p.acceleration[k]));
+        let a = limit_of(limits.acceleration[k]);
+        if a < inf {
+            if rate.is_finite() {
+                // (B2).
+                let change = a * dt;
+                apply(
+                    &mut lo,
+                    &mut hi,
+                    rate - change,
+                    rate + change,
+                    RateRelaxation::Acceleration,
+                );
+            }
+            // (B3), (B5).
+            let up = if limits.upper[k].is_finite() {
+                braking_speed(limits.upper[k] - q[k], a, dt)
+            } else {
+                inf
+            };
+            let down = if limits.lower[k].is_finite() {
+                -braking_speed(q[k] - limits.lower[k], a, dt)
+            } else {
+                -inf
+            };
+            apply(&mut lo, &mut hi, down, up, RateRelaxation::Braking);
+        }
+        let j = limit_of(limits.jerk[k]);
+        if j < inf && rate.is_finite() && acceleration.is_finite() {
+            // (B4).
+            let centre = rate + dt * acceleration;
+            let change = j * dt * dt;
+            apply(
+                &mut lo,
+                &mut hi,
+                centre - change,
+                centre + change,
+                RateRelaxation::Jerk,
+            );
+        }
+        out.lower[k] = lo;
+        out.upper[k] = hi;
+        if relaxed > out.relaxed {
+            out.relaxed = relaxed;
+        }
     }
-    (lb, ub)
+    out
 }
 
 /// Whether the rates `x` meet the trocar rows `A x = b` of `problem` to `√ε (1 + |b|∞)`: the one

@@ -43,6 +43,12 @@
 //! ([`HardLimits`], [`Controller::with_limits`]) as hard inequalities, solved by [`crate::qp`]
 //! from the previous step's active set.
 //!
+//! Every method's rates stay within the rate box of [`rate_box`] ((B1)–(B5)): the speed limits,
+//! the ranges over the sample time and, from the previous command that the controller keeps
+//! ([`Controller::set_previous_rates`], [`Controller::reset`]), the acceleration, braking and
+//! jerk limits, which give way in that order only where they cannot all hold
+//! ([`StepOutput::relaxed`]).
+//!
 //! With the constraint on the last link (`i = n`) there are no joints after it: `J^r_0e =
 //! Ad_{g_ei} Λ#` does not depend on `q`, so the arm's closeness to a singularity is that of
 //! `J^B_0i` (`w_i` of [`StepOutput`]), and the damping of [`ControllerConfig::jb0i_damping`] is
@@ -56,7 +62,10 @@ mod shaft;
 
 pub use crate::linalg::determinant;
 pub use crate::manipulability::manipulability;
-pub use hard_limits::{rate_box, ChordCheck, Damper, HardLimits, QpReport, QpWeights};
+pub use hard_limits::{
+    braking_speed, rate_box, ChordCheck, Damper, HardLimits, PreviousCommand, QpReport, QpWeights,
+    RateBox, RateRelaxation,
+};
 pub use inverse::{Damping, FilteredInverse, PreparedJacobian};
 pub use quaternion::{orientation_error, Quaternion};
 pub use redundancy::{
@@ -291,8 +300,15 @@ pub struct ControllerConfig<T> {
     /// sample time), the task's share of `θ̇` is scaled down and the constraint's is kept:
     /// `θ̇ = θ̇_c + α (θ̇ − θ̇_c)` with `θ̇_c = A† dv_0r` (`A = Λ J^B_0i`) and the largest
     /// `α ∈ [0, 1]` within the limits, so `Λ J^B_0i θ̇ = dv_0r` still holds and the link keeps
-    /// to the trocar while the end effector slows down; where `θ̇_c` alone leaves them, it is
-    /// scaled into them and the step reports [`StepStatus::TrocarYielded`]. Over a sample time
+    /// to the trocar while the end effector slows down; where `θ̇_c` alone leaves them, the rates
+    /// nearest to `θ̇` that meet the trocar rows within them, and where none do the step reports
+    /// [`StepStatus::TrocarYielded`]. With acceleration or jerk limits
+    /// ([`HardLimits::acceleration`], [`HardLimits::jerk`]) these are the limits of the joints'
+    /// place (speed, range, braking), and the rates then move from the previous command `θ̇⁻`
+    /// toward them, `θ̇⁻ + β (θ̇* − θ̇⁻)` with the largest `β ∈ [0, 1]` within the whole box of
+    /// [`rate_box`]: every joint changes its rate in the same proportion, so the end effector
+    /// keeps its path and lags behind, and where the task stops the joints slow down together.
+    /// Over a sample time
     /// `dt` the joints move along a straight line, which leaves the link off the trocar by a
     /// second-order term (≈ ½ l (|θ̇| dt)² per step for a lever `l`); bounding `|θ̇|` bounds that
     /// drift.
@@ -352,6 +368,10 @@ pub struct StepOutput<T: RealField + Copy, const N: usize, const R: usize> {
     pub qp: Option<QpReport>,
     /// Whether the step held every constraint, or which gave way ([`StepStatus`]).
     pub status: StepStatus,
+    /// Which bound of the rate box (B1)–(B4) gave way at some joint ([`rate_box`],
+    /// [`RateRelaxation`]): [`RateRelaxation::Nothing`] when the rates keep every speed, range,
+    /// acceleration, braking and jerk bound.
+    pub relaxed: RateRelaxation,
 }
 
 /// Whether a step held the trocar and every limit. The joint limits never give way: the rates
@@ -563,6 +583,7 @@ pub struct Controller<
     fi_started: bool,
     qp_active: crate::qp::ActiveSet<N, 1>,
     qp_previous: Option<hard_limits::Previous<T, N, I, R>>,
+    previous: PreviousCommand<T, N>,
 }
 
 /// `A = Λ J^B_0i`, the constrained directions of the link's twist as functions of `θ̇_{1..i}`,
@@ -577,68 +598,120 @@ fn constrained_rows<T: RealField + Copy, const I: usize, const R: usize>(
     Some(lambda * j)
 }
 
-/// `θ̇_c + α (θ̇ − θ̇_c)` within the joint limits' box `[lb, ub]` ([`hard_limits::rate_box`]):
-/// `θ̇_c = A† dv_0r` on the joints up to the constrained link (zero after it), `A = Λ J^B_0i`,
-/// and the largest `α ∈ [0, 1]` that keeps every entry within the box, so `Λ J^B_0i θ̇ = dv_0r`
-/// still holds and the link keeps to the trocar while the end effector slows down. When `θ̇_c`
-/// alone leaves the box, the rates nearest to `θ̇` that meet the rows within it (a small QP);
-/// where none do, the rates within the limits nearest to the rows, and `true` (the trocar
-/// yields). `None` if `A Aᵀ` is singular.
+/// `θ̇_c + α (θ̇ − θ̇_c)` within the joint limits' box `[lb, ub]` (the speed, range and braking
+/// bounds (B1), (B3) of [`hard_limits::rate_box`], which hold `0`): `θ̇_c = A† dv_0r` on the
+/// joints up to the constrained link (zero after it), `A = Λ J^B_0i`, and the largest
+/// `α ∈ [0, 1]` that keeps every entry within the box, so `Λ J^B_0i θ̇ = dv_0r` still holds and
+/// the link keeps to the trocar while the end effector slows down. When `θ̇_c` alone leaves the
+/// box, the rates nearest to `θ̇` that meet the rows within it (a small QP); where none do, the
+/// rates within the limits nearest to the rows, and `true` (the trocar yields). `None` if
+/// `A Aᵀ` is singular.
 fn within_box<T: RealField + Copy, const N: usize, const I: usize, const R: usize>(
     qd: &SVector<T, N>,
-    j: &SMatrix<T, 6, I>,
-    lambda_pinv: &SMatrix<T, 6, R>,
+    a: &SMatrix<T, R, I>,
     dv_0r: &SVector<T, R>,
     lb: &SVector<T, N>,
     ub: &SVector<T, N>,
 ) -> Option<(SVector<T, N>, bool)> {
-    let a = constrained_rows(j, lambda_pinv)?;
     let c_i: SVector<T, I> = a.tr_mul(&Cholesky::new(&(a * a.transpose()))?.solve(dv_0r));
     let c = SVector::<T, N>::from_fn(|k, _| if k < I { c_i[k] } else { T::zero() });
     if !c.iter().all(|v| v.is_finite()) {
         return None;
     }
-    if (0..N).all(|k| c[k] >= lb[k] && c[k] <= ub[k]) {
+    if within(&c, lb, ub) {
         let alpha = largest_step_within(&c, &(qd - c), lb, ub);
         return Some((c + (qd - c) * alpha, false));
     }
     // `θ̇_c` leaves the box, but other rates `θ̇_c + null(A)` may meet the rows within it: the
-    // rates nearest to `θ̇` that do, `argmin ½ ‖x − θ̇‖²` subject to `A x = dv_0r` and the box;
-    // where none do, the limits hold and the trocar gives way ([`hard_limits::trocar_within_limits`]).
+    // rates nearest to `θ̇` that do; where none do, the limits hold and the trocar gives way.
+    Some(nearest_meeting_rows(qd, a, dv_0r, lb, ub).unwrap_or_else(|| (clipped(&c, lb, ub), true)))
+}
+
+/// The rates within `[lb, ub]` nearest to `r` that meet the trocar rows `A x = dv_0r`,
+/// `argmin ½ ‖x − r‖²` (a small QP), and `false`; where no rates within the box meet them, the
+/// rates within it nearest to the rows ([`hard_limits::trocar_within_limits`]) and `true` (the
+/// trocar yields). `None` when the solver gives no finite rates.
+fn nearest_meeting_rows<T: RealField + Copy, const N: usize, const I: usize, const R: usize>(
+    r: &SVector<T, N>,
+    a: &SMatrix<T, R, I>,
+    dv_0r: &SVector<T, R>,
+    lb: &SVector<T, N>,
+    ub: &SVector<T, N>,
+) -> Option<(SVector<T, N>, bool)> {
     let big = hard_limits::big::<T>();
     let problem = crate::qp::Problem::<T, N, R, 1> {
         h: SMatrix::identity(),
-        f: -qd,
-        a_eq: SMatrix::from_fn(|r, k| if k < I { a[(r, k)] } else { T::zero() }),
+        f: -r,
+        a_eq: SMatrix::from_fn(|row, k| if k < I { a[(row, k)] } else { T::zero() }),
         b_eq: *dv_0r,
         g: SMatrix::zeros(),
         lo: SVector::from_element(-T::one()),
         hi: SVector::from_element(T::one()),
-        lb: lb.map(|v| v.max(-big).min(T::zero())),
-        ub: ub.map(|v| v.min(big).max(T::zero())),
+        lb: lb.map(|v| v.max(-big).min(big)),
+        ub: ub.map(|v| v.max(-big).min(big)),
     };
     let settings = crate::qp::Settings::DEFAULT;
     let solution = crate::qp::solve(&problem, &crate::qp::ActiveSet::EMPTY, &settings);
     // Whether rates give way: the rows' residual, not the solver's word alone.
     let gives_way = |x: &SVector<T, N>| !hard_limits::trocar_rows_met(&problem, x);
     match solution.status {
-        crate::qp::Status::Optimal => Some((solution.x, gives_way(&solution.x))),
-        crate::qp::Status::NonFinite | crate::qp::Status::InvalidBounds => {
-            let beta = largest_step_within(&SVector::zeros(), &c, lb, ub);
-            Some((c * beta, true))
+        crate::qp::Status::Optimal => {
+            let x = clipped(&solution.x, lb, ub);
+            Some((x, gives_way(&x)))
         }
+        crate::qp::Status::NonFinite | crate::qp::Status::InvalidBounds => None,
         _ => {
             let weights = QpWeights::with_kappa(T::zero());
             let mut warm = crate::qp::ActiveSet::EMPTY;
-            match hard_limits::trocar_within_limits(&problem, &weights, &mut warm) {
-                Some((x, _)) => Some((x, gives_way(&x))),
-                None => {
-                    let beta = largest_step_within(&SVector::zeros(), &c, lb, ub);
-                    Some((c * beta, true))
-                }
-            }
+            let (x, _) = hard_limits::trocar_within_limits(&problem, &weights, &mut warm)?;
+            let x = clipped(&x, lb, ub);
+            Some((x, gives_way(&x)))
         }
     }
+}
+
+/// The second stage of the rate limits of the inverses: from the previous command toward
+/// `target` (the rates the speed, range and braking bounds allow, [`within_box`]) within the whole
+/// box `[lb, ub]` of [`hard_limits::rate_box`] (with the acceleration and jerk bounds). From
+/// `x⁻`, the previous command `θ̇⁻` where it is within the box and meets the trocar rows, else the
+/// rates that do nearest to it, the rates `x⁻ + β (target − x⁻)` with the largest `β ∈ [0, 1]`
+/// within the box: every joint's rate moves toward the target in the same proportion, so the
+/// joints keep their coordination (the end effector keeps its path and lags) and, where the
+/// target stops the task, they slow down together. Both ends meet the rows, so the rates between
+/// them do. Where no rates within the box meet the rows, those within it nearest to them and
+/// `true` (the trocar yields). `None` when no finite rates are found.
+fn toward_within_box<T: RealField + Copy, const N: usize, const I: usize, const R: usize>(
+    target: &SVector<T, N>,
+    previous: &SVector<T, N>,
+    a: &SMatrix<T, R, I>,
+    dv_0r: &SVector<T, R>,
+    lb: &SVector<T, N>,
+    ub: &SVector<T, N>,
+) -> Option<(SVector<T, N>, bool)> {
+    let a_n = SMatrix::<T, R, N>::from_fn(|row, k| if k < I { a[(row, k)] } else { T::zero() });
+    let tolerance = T::default_epsilon().sqrt() * (T::one() + dv_0r.amax());
+    let meets = |x: &SVector<T, N>| (a_n * x - dv_0r).amax() <= tolerance;
+    let start = if within(previous, lb, ub) && meets(previous) {
+        *previous
+    } else {
+        let (x, yielded) = nearest_meeting_rows(previous, a, dv_0r, lb, ub)?;
+        if yielded {
+            return Some((x, true));
+        }
+        x
+    };
+    let beta = largest_step_within(&start, &(target - start), lb, ub);
+    let x = clipped(&(start + (target - start) * beta), lb, ub);
+    Some((x, !meets(&x)))
+}
+
+/// `true` when every entry of `x` is within `[lb, ub]` (false for a NaN).
+fn within<T: RealField + Copy, const N: usize>(
+    x: &SVector<T, N>,
+    lb: &SVector<T, N>,
+    ub: &SVector<T, N>,
+) -> bool {
+    (0..N).all(|k| x[k] >= lb[k] && x[k] <= ub[k])
 }
 
 /// The largest `s ∈ [0, 1]` with `lb ≤ x + s d ≤ ub`, for `x` within the box.
@@ -745,6 +818,7 @@ impl<
             fi_started: false,
             qp_active: crate::qp::ActiveSet::EMPTY,
             qp_previous: None,
+            previous: PreviousCommand::rest(),
         }
     }
 
@@ -774,11 +848,35 @@ impl<
     }
 
     /// Restarts the filtered inverse (it re-initialises on the next step) and the QP's warm
-    /// start (the next solve starts from the empty active set).
+    /// start (the next solve starts from the empty active set), and takes the arm to be at rest:
+    /// the previous command is `θ̇⁻ = 0` with `a⁻ = 0` ([`PreviousCommand::rest`]), so with
+    /// acceleration limits ([`HardLimits::acceleration`]) the next rates start from zero. A
+    /// controller taking over a moving arm says how it moves with
+    /// [`Controller::set_previous_rates`] after the reset.
     pub fn reset(&mut self) {
         self.fi_started = false;
         self.qp_active = crate::qp::ActiveSet::EMPTY;
         self.qp_previous = None;
+        self.previous = PreviousCommand::rest();
+    }
+
+    /// Starts from a known motion: the previous command was `rates` (`θ̇⁻`) with the acceleration
+    /// `acceleration` (`a⁻ = (θ̇⁻ − θ̇⁻⁻)/dt`, zero for a steady motion). The next step's
+    /// acceleration (B2) and jerk (B4) bounds ([`rate_box`]) are measured from them, so a
+    /// controller that takes over an arm already moving (another controller's last command, or
+    /// the robot's own state) continues from that motion instead of from rest. Every step sets
+    /// them to its own command; [`Controller::reset`] sets them to rest.
+    pub fn set_previous_rates(&mut self, rates: SVector<T, N>, acceleration: SVector<T, N>) {
+        self.previous = PreviousCommand {
+            rates,
+            acceleration,
+        };
+    }
+
+    /// The previous command: the rates of the last step and their acceleration
+    /// ([`Controller::set_previous_rates`]).
+    pub fn previous_command(&self) -> &PreviousCommand<T, N> {
+        &self.previous
     }
 
     /// One control step at joints `q`; `dt` is the sample time (the filtered inverse integrates
@@ -944,13 +1042,32 @@ impl<
         if !qd.iter().all(|v| v.is_finite()) {
             return Err(ControlError::NonFinite);
         }
-        // The joint limits: speed, and range over the sample time.
-        let (lb, ub) = hard_limits::rate_box(q, dt, &self.limits, c.max_joint_speed);
+        // The joint limits: speed, range over the sample time, acceleration, braking, jerk.
+        let rates = hard_limits::rate_box(q, dt, &self.limits, c.max_joint_speed, &self.previous);
         let mut status = StepStatus::Held;
-        if (0..N).any(|k| !(qd[k] >= lb[k] && qd[k] <= ub[k])) {
-            let (within, yielded) = within_box(&qd, &s.jb0i, &s.lambda_pinv, &dv_0r, &lb, &ub)
-                .ok_or(ControlError::SingularJb0i)?;
-            qd = clipped(&within, &lb, &ub);
+        if !within(&qd, &rates.lower, &rates.upper) {
+            let a = constrained_rows(&s.jb0i, &s.lambda_pinv).ok_or(ControlError::SingularJb0i)?;
+            // First the task's share scaled into the bounds of the joints' place (speed, range,
+            // braking: the box without the previous command's, which holds `0`)...
+            let (lb, ub) = hard_limits::place_box(q, dt, &self.limits, c.max_joint_speed);
+            let (target, yielded) = if within(&qd, &lb, &ub) {
+                (qd, false)
+            } else {
+                let (x, yielded) =
+                    within_box(&qd, &a, &dv_0r, &lb, &ub).ok_or(ControlError::SingularJb0i)?;
+                (clipped(&x, &lb, &ub), yielded)
+            };
+            // ... then, with acceleration or jerk bounds, from the previous command toward it.
+            let (lb, ub) = (rates.lower, rates.upper);
+            let (within_all, yielded) = if within(&target, &lb, &ub) {
+                (target, yielded)
+            } else {
+                let (x, gave_way) =
+                    toward_within_box(&target, &self.previous.rates, &a, &dv_0r, &lb, &ub)
+                        .ok_or(ControlError::NonFinite)?;
+                (x, yielded || gave_way)
+            };
+            qd = clipped(&within_all, &lb, &ub);
             if yielded {
                 status = StepStatus::TrocarYielded;
             }
@@ -958,6 +1075,7 @@ impl<
         if status.held() && hard_limits::joint_outside(q, &self.limits) {
             status = StepStatus::JointOutside;
         }
+        self.previous = self.previous.then(&qd, dt);
         Ok(StepOutput {
             qd,
             l_a,
@@ -972,6 +1090,7 @@ impl<
             kappa_i,
             qp: None,
             status,
+            relaxed: rates.relaxed,
         })
     }
 
@@ -1010,6 +1129,13 @@ impl<
         };
         let mut a = constrained_rows(&s.jb0i, &s.lambda_pinv).ok_or(ControlError::SingularJb0i)?;
         let shaft = kin.shaft();
+        let rates = hard_limits::rate_box(
+            q,
+            dt,
+            &self.limits,
+            self.config.max_joint_speed,
+            &self.previous,
+        );
         // (Q7): the trocar rows over the whole sample time, to second order.
         let point = shaft.origin + shaft.direction * l_a;
         let r_0r = s.g_0i.rotation * shaft.rotation;
@@ -1049,8 +1175,7 @@ impl<
             shaft_direction: shaft.direction,
             trocar: &rcm.trocar,
             l_a,
-            max_joint_speed: self.config.max_joint_speed,
-            dt,
+            rate_box: &rates,
         };
         let task_jr: SMatrix<T, P, M> = if whole {
             SMatrix::from_fn(|r, c| s.jr[(r, c)])
@@ -1121,6 +1246,7 @@ impl<
         }
         // Rounding must not take a joint past a limit either.
         let qd = clipped(&qd, &problem.lb, &problem.ub);
+        self.previous = self.previous.then(&qd, dt);
         // Whether the trocar held: the rows asked of the step ((Q2), with (Q7)–(Q9) when on) met
         // by the rates commanded, to a tolerance of the rounding's order.
         yielded = !hard_limits::trocar_rows_met(&problem, &qd);
@@ -1165,6 +1291,7 @@ impl<
             kappa_i: T::zero(),
             qp: Some(report),
             status,
+            relaxed: rates.relaxed,
         })
     }
 }

@@ -132,6 +132,7 @@ class Controller:
         fi_gamma: Optional[float] = None,
         qp_kappa: Optional[float] = None,
         depth_limits: Optional[Tuple[float, float]] = None,
+        max_joint_acceleration: Optional[float] = None,
     ) -> None: ...
     def step(
         self,
