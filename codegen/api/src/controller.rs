@@ -609,11 +609,11 @@ impl RobotController {
 }
 
 /// A joint's acceleration limit from its description (rad/s², m/s² for a prismatic joint).
-fn joint_acceleration_limit(_joint: &trocar_model::description::JointDesc) -> Option<f64> {
-    None
+fn joint_acceleration_limit(joint: &trocar_model::description::JointDesc) -> Option<f64> {
+    joint.acceleration_limit
 }
 
 /// A joint's jerk limit from its description (rad/s³).
-fn joint_jerk_limit(_joint: &trocar_model::description::JointDesc) -> Option<f64> {
-    None
+fn joint_jerk_limit(joint: &trocar_model::description::JointDesc) -> Option<f64> {
+    joint.jerk_limit
 }
