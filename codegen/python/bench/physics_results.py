@@ -37,9 +37,16 @@ def cpu():
 
 
 def row(name, method, conditions, s):
-    limits = max(s["position_limit_excess"], s["speed_limit_excess"], s["acceleration_limit_excess"],
-                 s["measured_speed_excess"], s["measured_acceleration_excess"])
-    held = "yes" if limits <= 0.0 and s["yielded_steps"] == 0 else f"no ({limits:.2g})"
+    # An excess within rounding (1e-9 of the limit, at most 1e-8) is no excess.
+    excess = {
+        "position": s["position_limit_excess"],
+        "speed": max(s["speed_limit_excess"], s["measured_speed_excess"]),
+        "acceleration": max(s["acceleration_limit_excess"], s["measured_acceleration_excess"]),
+    }
+    over = [f"{k} +{v:.2g}" for k, v in excess.items() if v > 1e-8]
+    if s["yielded_steps"]:
+        over.append(f"trocar gave way in {s['yielded_steps']} steps")
+    held = "yes" if not over else "no: " + ", ".join(over)
     return (
         f"| {name} | {method} | {conditions} | {1e3 * s['max_drift']:.3f} | {1e3 * s['rms_drift']:.3f} "
         f"| {s['peak_port_force']:.3f} | {s['rms_port_force']:.3f} | {1e3 * s['max_tip_error']:.2f} "
