@@ -34,9 +34,15 @@ fn the_braking_speed_is_the_discrete_one() {
     // larger than the discrete one and overruns.
     for d in [0.0, 1e-6, 1e-4, 0.01, 0.0123, 0.1, 0.5, 3.0] {
         let b = braking_speed(d, a, dt);
-        assert!(braking_distance(b, a, dt) <= d * (1.0 + 1e-12) + 1e-15, "d = {d}");
+        assert!(
+            braking_distance(b, a, dt) <= d * (1.0 + 1e-12) + 1e-15,
+            "d = {d}"
+        );
         if d > 0.0 {
-            assert!(braking_distance(b * (1.0 + 1e-9) + 1e-15, a, dt) > d, "d = {d}");
+            assert!(
+                braking_distance(b * (1.0 + 1e-9) + 1e-15, a, dt) > d,
+                "d = {d}"
+            );
         }
         let continuous = -u / 2.0 + ((u / 2.0) * (u / 2.0) + 2.0 * a * d).sqrt();
         assert!(b <= continuous + 1e-12, "d = {d}: {b} > {continuous}");

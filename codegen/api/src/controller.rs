@@ -6,6 +6,10 @@
 //! With [`Method::Qp`] the step is the quadratic program of `trocar::control::hard_limits`:
 //! the trocar as equality rows, the description's joint ranges and speed limits (the URDF's
 //! `<limit lower upper velocity>`) and [`ControllerOptions::depth_limits`] as hard limits.
+//! Every method keeps the description's acceleration and jerk limits (a URDF 1.2 `<limit
+//! acceleration jerk>`, `acceleration_limit` and `jerk_limit` in TOML) and
+//! [`ControllerOptions::max_joint_acceleration`] from one step's rates to the next
+//! (`trocar::control::rate_box`).
 //!
 //! The kinematics are the numeric runtime's ([`trocar::control::ChainKinematics`]). The sizes
 //! the controller is instantiated for are listed in [`SUPPORTED`]: `n` joints 6–8, the
@@ -490,14 +494,14 @@ impl RobotController {
                 .joints
                 .iter()
                 .map(|j| {
-                    let own = joint_acceleration_limit(j).unwrap_or(f64::INFINITY);
+                    let own = j.acceleration_limit.unwrap_or(f64::INFINITY);
                     options.max_joint_acceleration.map_or(own, |v| v.min(own))
                 })
                 .collect(),
             jerks: desc
                 .joints
                 .iter()
-                .map(|j| joint_jerk_limit(j).unwrap_or(f64::INFINITY))
+                .map(|j| j.jerk_limit.unwrap_or(f64::INFINITY))
                 .collect(),
             depth: options.depth_limits,
         };
@@ -606,14 +610,4 @@ impl RobotController {
     pub fn constrained_directions(&self) -> usize {
         self.rows
     }
-}
-
-/// A joint's acceleration limit from its description (rad/s², m/s² for a prismatic joint).
-fn joint_acceleration_limit(joint: &trocar_model::description::JointDesc) -> Option<f64> {
-    joint.acceleration_limit
-}
-
-/// A joint's jerk limit from its description (rad/s³).
-fn joint_jerk_limit(joint: &trocar_model::description::JointDesc) -> Option<f64> {
-    joint.jerk_limit
 }

@@ -12,13 +12,14 @@ use std::process::Command;
 /// `[l_min, l_max]` of the scenario (m), as documented in `docs/CONTROL.md`.
 const DEPTH: [f64; 2] = [0.05, 0.30];
 
-/// `(lower, upper, velocity)` of the Panda's seven joints, parsed from the shipped URDF.
-fn urdf_limits() -> Vec<(f64, f64, f64)> {
+/// The attributes `names` of each `<limit>` of the Panda's seven joints, parsed from the shipped
+/// URDF.
+fn urdf_limit_attributes<const K: usize>(names: [&str; K]) -> Vec<[f64; K]> {
     let path =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../../runtime/model/robots/urdf/panda.urdf");
     let text = std::fs::read_to_string(&path).expect("the Panda URDF is readable");
     let attr = |tag: &str, name: &str| -> f64 {
-        let key = format!("{name}=\"");
+        let key = format!(" {name}=\"");
         let start = tag.find(&key).unwrap_or_else(|| panic!("{name} in {tag}")) + key.len();
         let end = start + tag[start..].find('"').unwrap();
         tag[start..end].parse().unwrap()
@@ -26,10 +27,18 @@ fn urdf_limits() -> Vec<(f64, f64, f64)> {
     let limits: Vec<_> = text
         .lines()
         .filter(|l| l.trim_start().starts_with("<limit "))
-        .map(|l| (attr(l, "lower"), attr(l, "upper"), attr(l, "velocity")))
+        .map(|l| names.map(|name| attr(l, name)))
         .collect();
     assert_eq!(limits.len(), 7, "seven revolute joints with limits");
     limits
+}
+
+/// `(lower, upper, velocity)` of the Panda's seven joints, from the shipped URDF.
+fn urdf_limits() -> Vec<(f64, f64, f64)> {
+    urdf_limit_attributes(["lower", "upper", "velocity"])
+        .into_iter()
+        .map(|[l, u, v]| (l, u, v))
+        .collect()
 }
 
 /// The CSV of one run: the header's columns and the rows.
@@ -155,8 +164,9 @@ fn dls_keeps_the_joint_limits_and_the_qp_every_limit() {
     // With the residual asked back (Q8) and, after a working-set change, the step's own chord
     // (Q9), the trocar keeps far closer: measured 9.8e-9 m.
     assert!(max_drift <= 1e-7, "drift {max_drift} m");
-    // Measured: 1.2e-6 m/s, at the working-set changes, with the QP's `κ` floor of 1e-3 (6.3e-7
-    // with a fixed `κ = 0.01`, which tracked the task 40 times worse where no limit acts).
+    // Measured: 4.3e-7 m/s with the URDF's acceleration and jerk limits; before them 1.2e-6 m/s,
+    // at the working-set changes, with the QP's `κ` floor of 1e-3 (6.3e-7 with a fixed
+    // `κ = 0.01`, which tracked the task 40 times worse where no limit acts).
     assert!(max_lateral <= 2e-6, "lateral velocity {max_lateral} m/s");
     let (t, ep) = (qp.col("t"), qp.col("ep_norm"));
 
@@ -202,10 +212,64 @@ fn without_the_drift_correction_the_trocar_moves_under_2e_6_m_per_s_over_the_who
         .map(|r| r[vx].hypot(r[vy]))
         .fold(0.0, f64::max);
     let max_drift = qp.rows.iter().map(|r| r[drift]).fold(0.0, f64::max);
-    // Measured: 1.2e-6 m/s (5.1e-7 with a fixed `κ = 0.01`) and 4.6e-8 m.
+    // Measured: 3.1e-7 m/s with the URDF's acceleration and jerk limits (1.2e-6 before them,
+    // 5.1e-7 with a fixed `κ = 0.01`) and 4.6e-8 m.
     assert!(max_lateral <= 2e-6, "lateral velocity {max_lateral} m/s");
     assert!(max_drift <= 1e-7, "drift {max_drift} m");
     let (joint, speed, depth) = excesses(&qp, &urdf_limits());
     assert!(joint <= 0.0 && speed <= 1e-9 && depth <= 0.0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `(acceleration, jerk)` of the Panda's seven joints, from the shipped URDF (URDF 1.2
+/// `<limit acceleration jerk>`, libfranka's values).
+fn urdf_acceleration_limits() -> Vec<(f64, f64)> {
+    urdf_limit_attributes(["acceleration", "jerk"])
+        .into_iter()
+        .map(|[a, j]| (a, j))
+        .collect()
+}
+
+/// Every method ramps up from rest and brakes in time: between every pair of rows (and from
+/// rest to the first) each joint's rate changes by at most its acceleration limit times the
+/// sample time, and, at the scenario's 2 ms, the acceleration by at most its jerk limit times
+/// the sample time; the trocar is held as before the limits (measured: 5.2e-6 m with DLS, the
+/// pseudo-inverse and FI, 9.8e-9 m with the QP).
+#[test]
+fn every_method_keeps_the_acceleration_and_jerk_limits() {
+    let limits = urdf_acceleration_limits();
+    let ranges = urdf_limits();
+    let dir = temp_dir("acceleration");
+    for method in ["dls", "pinv", "fi", "qp"] {
+        let csv = run(method, &dir);
+        let (t, drift) = (csv.col("t"), csv.col("rcm_drift"));
+        let dt = csv.rows[1][t] - csv.rows[0][t];
+        let qd: Vec<usize> = (1..=7).map(|k| csv.col(&format!("qd{k}"))).collect();
+        let mut rates = [0.0; 7];
+        let mut accelerations = [0.0; 7];
+        let (mut worst_a, mut worst_j) = (0.0f64, 0.0f64);
+        for row in &csv.rows {
+            for (k, &(a, j)) in limits.iter().enumerate() {
+                let acceleration = (row[qd[k]] - rates[k]) / dt;
+                worst_a = worst_a.max(acceleration.abs() / a);
+                worst_j = worst_j.max((acceleration - accelerations[k]).abs() / dt / j);
+                rates[k] = row[qd[k]];
+                accelerations[k] = acceleration;
+            }
+        }
+        // To the rounding of positions over a sample time, 1e-9 of the limit.
+        assert!(worst_a <= 1.0 + 1e-9, "{method}: |Δθ̇|/dt = {worst_a} a_max");
+        assert!(worst_j <= 1.0 + 1e-6, "{method}: jerk {worst_j} j_max");
+        // It still uses what it may: joint 7 reaches its acceleration limit.
+        assert!(worst_a > 0.99, "{method}: {worst_a}");
+        let max_drift = csv.rows.iter().map(|r| r[drift]).fold(0.0, f64::max);
+        let bound = if method == "qp" { 1e-7 } else { 1e-5 };
+        assert!(max_drift <= bound, "{method}: drift {max_drift} m");
+        let (joint, speed, _) = excesses(&csv, &ranges);
+        assert!(
+            joint <= 0.0 && speed <= 1e-9,
+            "{method}: {joint} rad, {speed} rad/s"
+        );
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

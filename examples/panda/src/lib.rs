@@ -18,8 +18,8 @@
 //!
 //! [`qp_controller`] is the same controller with the control step as a quadratic program
 //! ([`trocar::control::Method::Qp`], (Q1)–(Q7) of `trocar::control::hard_limits`): the trocar
-//! as equality rows, the URDF's joint ranges ([`panda::JOINT_LIMITS`]) and speeds
-//! ([`SPEED_LIMITS`]) and the insertion bounds ([`DEPTH_LIMITS`]) as hard inequalities, solved
+//! as equality rows, the URDF's joint ranges ([`panda::JOINT_LIMITS`]), speeds
+//! ([`SPEED_LIMITS`]), accelerations ([`ACCELERATION_LIMITS`]), jerks ([`JERK_LIMITS`]) and the insertion bounds ([`DEPTH_LIMITS`]) as hard inequalities, solved
 //! in `f32` by the runtime's fixed-size QP solver.
 //!
 //! **No allocation, no `alloc`:** the crate is `#![no_std]`; `trocar` is built with
@@ -83,13 +83,20 @@ pub fn controller() -> PandaController {
 /// Franka's URDF (`runtime/model/robots/urdf/panda.urdf`).
 pub const SPEED_LIMITS: [f32; panda::N] = [2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61];
 
+/// The Panda's joint acceleration limits (rad/s²): libfranka's, the `acceleration` of the URDF
+/// 1.2 `<limit>` of each joint in `runtime/model/robots/urdf/panda.urdf`.
+pub const ACCELERATION_LIMITS: [f32; panda::N] = [15.0, 7.5, 10.0, 12.5, 15.0, 20.0, 20.0];
+
+/// The Panda's joint jerk limits (rad/s³): libfranka's, the `jerk` of the same `<limit>`s.
+pub const JERK_LIMITS: [f32; panda::N] = [7500.0, 3750.0, 5000.0, 6250.0, 7500.0, 10000.0, 10000.0];
+
 /// The insertion bounds `[l_min, l_max]` of the trocar's offset `l_a` along the shaft (m): the
 /// tip between 0.10 m and 0.35 m below the trocar (those of the scenario
 /// `panda-laparoscope-limits`).
 pub const DEPTH_LIMITS: [f32; 2] = [0.05, 0.30];
 
 /// [`controller`] with the QP step: `κ = 0.01`, `γ = κ²`, the second-order trocar rows (Q7),
-/// the URDF's joint ranges and speeds and [`DEPTH_LIMITS`] as hard limits (with the default
+/// the URDF's joint ranges, speeds, accelerations and jerks and [`DEPTH_LIMITS`] as hard limits (with the default
 /// dampers of [`HardLimits::none`]).
 pub fn qp_controller() -> PandaController {
     let limits = panda::JOINT_LIMITS;
@@ -101,6 +108,8 @@ pub fn qp_controller() -> PandaController {
         HardLimits::none()
             .with_joint_limits(lower, upper)
             .with_speed_limits(SVector::from(SPEED_LIMITS))
+            .with_acceleration_limits(SVector::from(ACCELERATION_LIMITS))
+            .with_jerk_limits(SVector::from(JERK_LIMITS))
             .with_depth(DEPTH_LIMITS[0], DEPTH_LIMITS[1]),
     )
 }

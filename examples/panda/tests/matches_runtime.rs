@@ -70,7 +70,9 @@ fn f32_generated_controller_tracks_like_the_f64_numeric_run() {
 /// read here from the description, and the depth bounds), the trocar held.
 #[test]
 fn f32_qp_step_keeps_the_limits_like_the_f64_run() {
-    use trocar_panda::{qp_controller, DEPTH_LIMITS, SPEED_LIMITS};
+    use trocar_panda::{
+        qp_controller, ACCELERATION_LIMITS, DEPTH_LIMITS, JERK_LIMITS, SPEED_LIMITS,
+    };
     use trocar_sim::simulation::{panda_limits_reference, Method};
     let steps = 4000; // 8 s of the 12 s scenario: the withdrawal, the roll and its return
     let dt = 0.002;
@@ -90,6 +92,11 @@ fn f32_qp_step_keeps_the_limits_like_the_f64_run() {
             (urdf - f64::from(SPEED_LIMITS[k])).abs() < 1e-6,
             "joint {k}"
         );
+        assert_eq!(
+            j.acceleration_limit,
+            Some(f64::from(ACCELERATION_LIMITS[k]))
+        );
+        assert_eq!(j.jerk_limit, Some(f64::from(JERK_LIMITS[k])));
     }
     let chain = NumericModel::<f64>::from_description(&d, &[])
         .unwrap()
@@ -141,6 +148,10 @@ fn f32_qp_step_keeps_the_limits_like_the_f64_run() {
         }
     }
     println!("f32 QP vs f64 QP joints {worst:.2e} rad, drift {drift:.2e} m");
-    assert!(worst < 1e-3, "f32 joints differ from f64 by {worst}");
+    // Measured: 1.4e-3 rad, reached during the roll into joint 7's speed limit (4.2-5.2 s),
+    // where the acceleration bounds change the working set at nearly every step and the
+    // redundant motion that rolls the flange is not pulled back (2.1e-4 rad before the URDF's
+    // acceleration and jerk limits); 1.4e-5 rad until then.
+    assert!(worst < 2e-3, "f32 joints differ from f64 by {worst}");
     assert!(drift < 1e-4, "the trocar moved off the shaft by {drift} m");
 }

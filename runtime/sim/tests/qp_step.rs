@@ -184,8 +184,9 @@ fn limits_are_kept_and_the_warm_start_settles() {
 fn with_its_own_chord_at_every_step_the_shaft_keeps_to_the_trocar_to_the_rounding() {
     // (Q9) at every step: the step measures its chord over dt at the rates found (forward
     // kinematics of the link) and solves again; measured from the trace's forward kinematics,
-    // independently of the controller. Without (Q9) the same run reaches 1.3e-6 m/s at the
-    // step after joint 1 leaves its speed limit.
+    // independently of the controller. Without (Q9) the same run reached 1.3e-6 m/s at the
+    // step after joint 1 leaves its speed limit, before the URDF's acceleration limits (3.1e-7
+    // m/s with them).
     let mut config =
         trocar_sim::simulation::ScenarioConfig::new(trocar_sim::simulation::Scenario::PandaLimits);
     config.method = trocar_sim::simulation::Method::Qp;

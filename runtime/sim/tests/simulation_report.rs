@@ -434,7 +434,12 @@ subject to  (A + H_v R_0rᵀ E) θ̇ = dv_0r + ½ H_v R_0rᵀ E θ̇⁻         
   `ξ = 0.1` m/s) on `l̇_a = g_lᵀ θ̇`, `g_lᵀ = −[dᵀ, (r × d)ᵀ] J^B_0i [I 0] / |d|²` for the shaft
   `o + l d` in `F_i` and the trocar `r = R_0iᵀ (p_t − p_0i)` in `F_i` (from
   `l_a = (r − o)·d / |d|²`, `ṙ = −v − ω × r`; a general inequality row of the QP).
-- Every damper is clipped so that `θ̇ = 0` satisfies it (`lb ≤ 0 ≤ ub`). On conflict the trocar
+- Every damper is clipped so that `θ̇ = 0` satisfies it (`lb ≤ 0 ≤ ub`), and (Q3) is the damper
+  within the rate box of every method (`trocar::control::rate_box`: the speed limit, the range
+  over the sample time and, from the previous step's rates, the acceleration, braking and jerk
+  limits — the Panda's URDF carries libfranka's), which need not hold `θ̇ = 0`: a moving joint
+  changes its rate by at most `a_max dt` a step. Where a damper has no rate in common with the
+  box, the box holds. On conflict the trocar
   comes first: equality rows with no common solution are met in least squares
   (`EqualitiesInconsistent`). The joint limits are physical and never give way: if no rates
   keep the trocar within every limit, the step takes the rates within the limits nearest to the
@@ -451,21 +456,23 @@ previous section; the shaft keeps its direction while the tip is asked to withdr
 to roll the shaft by 2.6 rad between 4 and 5 s (peak 4.9 rad/s, above joint 7's 2.61 rad/s;
 from `q7 = π/4` it would take joint 7 to 3.39 rad, past its limit 2.8973) and back between 6 and
 8 s, and to go back in between 8 and 10 s. Measured from the CSVs of `trocar simulate
-panda-laparoscope-limits --method M --csv` (joint limits and speeds from the URDF;
-`codegen/cli/tests/hard_limits.rs` checks the same on every row):
+panda-laparoscope-limits --method M --csv` (joint limits, speeds, accelerations and jerks from
+the URDF; `codegen/cli/tests/hard_limits.rs` checks the same on every row, and every pair of
+rows against the accelerations and jerks, with every method):
 
-| method | closest approach to a URDF joint limit | largest \|q̇_k\| − q̇max_k | `l_a` range (m) | max drift (m) | max lateral velocity (m/s) | tip error where no limit holds (m) |
-|---|---:|---:|---|---:|---:|---:|
-| dls | 0 rad (q7 stops at its limit) | 0 (q̇7 = 2.61 at its limit) | [0.250, 0.330] (beyond `l_max`, the QP's bound) | 5.2e-6 | 3.4e-5 | 1.0e-6 |
-| qp | 0.2455 rad | 0 (q̇7 = 2.61 at its limit) | [0.250, 0.298] | 1.0e-8 | 9.9e-7 | 2.5e-6 |
+| method | closest approach to a URDF joint limit | largest \|q̇_k\| − q̇max_k | largest \|Δq̇_k\| / (a_max,k dt) | `l_a` range (m) | max drift (m) | max lateral velocity (m/s) | tip error where no limit holds (m) |
+|---|---:|---:|---:|---|---:|---:|---:|
+| dls | 0 rad (q7 brakes at 20 rad/s² and stops at its limit) | 0 (q̇7 = 2.61 at its limit) | 1 (6.2 without the acceleration limits) | [0.250, 0.330] (beyond `l_max`, the QP's bound) | 5.2e-6 | 3.4e-5 | 1.0e-6 |
+| qp | 0.3423 rad (0.2455 without) | 0 (q̇7 = 2.61 at its limit) | 1 (2.6 without) | [0.250, 0.298] | 9.8e-9 (1.0e-8 without) | 4.3e-7 (1.2e-6 without) | 2.6e-6 |
 
 With DLS the joint ranges and speeds hold (every method's rates keep them, judged over the
-sample time: joint 7 stops at its range and the task slows there) and the depth bound, which is
+sample time: joint 7 brakes at its acceleration limit in time to stop at its range, and the task
+slows there; without the acceleration limits it stopped from 2.61 rad/s in one step) and the depth bound, which is
 the QP's alone, is passed. With the QP no limit is reached: `l_a` stops at 0.298 m
 (`l_max − ρ_s`), the tip short of the reference by the 3.2 cm asked beyond it; joint 7 runs at
 its 2.61 rad/s and the rest of the arm rolls the flange for the remainder, the roll and the tip
-lagging (tip error up to 4.5 cm, `‖ε̃‖` up to 0.19 while the limits hold), and q7 peaks at
-2.65 rad. Where no limit holds (before 1 s and after 10.5 s) the tip is within 2.5e-6 m of the
+lagging (tip error up to 4.6 cm, `‖ε̃‖` up to 0.20 while the limits hold), and q7 peaks at
+2.44 rad. Where no limit holds (before 1 s and after 10.5 s) the tip is within 2.6e-6 m of the
 reference (`κ` follows the DLS damping rule with a floor of 1e-3; with a fixed `κ = 0.01` it was
 2.7e-5 m). The trocar holds to 10 nm.
 
@@ -480,12 +487,14 @@ in `runtime/src/control/hard_limits.rs`). What remains is its change over one st
 where the working set changes and the rates with it: at t = 4.730 s, the step after joint 1
 leaves its speed limit while joint 5 brakes by 0.27 rad/s a step, the residual of the step before
 did not foresee the step's own, and the lateral velocity reached 1.3e-6 m/s (6.5e-7 at every
-other step). There the step now measures its own chord (Q9, `QpWeights::chord_check`): the
+other step; that was before the acceleration limits, which now keep every rate within
+`a_max dt`, 0.015–0.04 rad/s, of the step before's). There the step now measures its own chord (Q9, `QpWeights::chord_check`): the
 link's pose at `q + dt θ̇⁰` for the rates `θ̇⁰` found gives the chord over the step exactly, and
 the step solves once more with the chord linearised about `θ̇⁰` (keeping the first solve's
 working set: the KKT system of the small change alone, unless a limit would be crossed). By
 default it does so at the
-step after a working-set change (4 steps of the scenario's 6,001); `ChordCheck::Always` does so
+step after a working-set change (4 steps of the scenario's 6,001 without the acceleration
+limits); `ChordCheck::Always` does so
 at every step, for one more forward kinematics of the link and one more solve.
 
 The lateral velocity of the trace is measured the same way, from forward kinematics only: the
@@ -501,16 +510,20 @@ drift (m)):
 
 | (Q9), the step's own chord | sample time | drift correction on | off |
 |---|---:|---:|---:|
-| after a working-set change (the default) | 2 ms (the scenario's) | **6.3e-7**, 9.8e-9 | 5.1e-7, 4.6e-8 |
-| | 1 ms | 1.2e-7, 1.2e-9 | 1.2e-7, 5.7e-9 |
-| | 0.5 ms | 1.4e-8, 1.5e-10 | 1.4e-8, 7.2e-10 |
-| at every step | 2 ms | 2.9e-10, 2.9e-12 | 2.5e-10, 8.1e-12 |
-| | 1 ms | 7.3e-12, 9.5e-14 | 6.5e-12, 3.1e-13 |
-| never | 2 ms | 1.3e-6, 9.8e-9 | 1.3e-6, 4.6e-8 |
-| | 1 ms | 1.2e-7, 1.2e-9 | 1.2e-7, 5.8e-9 |
+| after a working-set change (the default) | 2 ms (the scenario's) | **4.3e-7**, 9.8e-9 | 3.1e-7, 4.6e-8 |
+| | 1 ms | 2.4e-7, 1.3e-9 | 2.5e-7, 5.8e-9 |
+| | 0.5 ms | 3.3e-9, 1.5e-10 | 4.7e-9, 7.3e-10 |
+| at every step | 2 ms | 1.9e-11, 5.2e-13 | 2.6e-11, 2.9e-12 |
+| | 1 ms | 1.2e-9, 1.2e-12 | 1.2e-9, 1.2e-12 |
+| never | 2 ms | 4.4e-7, 1.0e-8 | 3.1e-7, 4.8e-8 |
+| | 1 ms | 2.5e-7, 1.3e-9 | 2.5e-7, 6.0e-9 |
+
+(With the URDF's acceleration and jerk limits, which the table's runs keep. Without them, at the
+default: 6.3e-7 m/s and 9.8e-9 m at 2 ms with the correction, 5.1e-7 m/s and 4.6e-8 m without;
+at every step 2.9e-10 m/s; never 1.3e-6 m/s.)
 
 **The 1e-6 m/s target holds over the whole run at the scenario's 2 ms**, with the drift
-correction on (6.3e-7 m/s) and off (5.1e-7 m/s); `codegen/cli/tests/hard_limits.rs` checks both on
+correction on (4.3e-7 m/s) and off (3.1e-7 m/s); `codegen/cli/tests/hard_limits.rs` checks both on
 the CLI's CSV, and `runtime/sim/tests/qp_step.rs` the run with (Q9) at every step (≤ 1e-8 m/s).
 Estimates of the third-order term from the steps before did worse than (Q9):
 `W(q) − 2W(q⁻) + W(q⁻⁻)` (1.8e-5 m/s, since while the rates change by several per cent a step

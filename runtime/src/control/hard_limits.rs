@@ -488,7 +488,7 @@ pub(super) fn step_problem<
             limits
                 .joint_damper
                 .rate_bounds(inputs.q[k], limits.lower[k], limits.upper[k], big);
-        let (lo, hi, _) = restrict(rates.lower[k], rates.upper[k], lo, hi, T::zero());
+        let (lo, hi, _) = restrict(rates.lower[k], rates.upper[k], lo, hi, T::zero(), false);
         lb[k] = lo.max(-big).min(big);
         ub[k] = hi.max(-big).min(big);
     }
@@ -581,7 +581,9 @@ pub enum RateRelaxation {
     Nothing,
     /// The jerk bound (B4) gave way to the speed, range, acceleration or braking bounds (a joint
     /// braking for its range, or starting from a motion given by
-    /// [`super::Controller::set_previous_rates`], changes its acceleration faster than `j_max`).
+    /// [`super::Controller::set_previous_rates`], changes its acceleration faster than `j_max`),
+    /// or to the trocar rows: a step whose trocar rows have no rates in common with the whole box
+    /// asks them within the box without (B4), and reports this where its rates then pass (B4).
     Jerk,
     /// The braking bound (B3) gave way to the acceleration bound: the joint moves toward a bound
     /// of its range faster than it can stop at `a_max` (only from a motion that this
@@ -660,7 +662,20 @@ pub fn braking_speed<T: RealField + Copy>(d: T, a: T, dt: T) -> T {
 /// `[lo, hi] ∩ [lo2, hi2]` where it is not empty; else the point of `[lo, hi]` nearest to
 /// `[lo2, hi2]` and `true` (the second set gave way) when the gap is beyond the rounding of the
 /// bounds, `64 ε (1 + |ends|)`, plus `rounding` (that of the positions the bounds come from).
-fn restrict<T: RealField + Copy>(lo: T, hi: T, lo2: T, hi2: T, rounding: T) -> (T, T, bool) {
+///
+/// Within that rounding nothing gave way, and the point is the nearer end of `[lo2, hi2]` when
+/// `second_within_rounding` (a bound from the joint's place, the braking bound: a joint riding
+/// its braking curve that kept the acceleration bound's end instead would pass the curve by the
+/// rounding at every step, and the next step's braking speed lower by that much again, a gap
+/// that grows with the number of steps to the stop).
+fn restrict<T: RealField + Copy>(
+    lo: T,
+    hi: T,
+    lo2: T,
+    hi2: T,
+    rounding: T,
+    second_within_rounding: bool,
+) -> (T, T, bool) {
     let (l, h) = (lo.max(lo2), hi.min(hi2));
     if l <= h {
         return (l, h, false);
@@ -672,7 +687,12 @@ fn restrict<T: RealField + Copy>(lo: T, hi: T, lo2: T, hi2: T, rounding: T) -> (
         * nalgebra::convert::<f64, T>(64.0)
         * (T::one() + point.abs() + near.abs())
         + rounding;
-    (point, point, gap > tolerance)
+    let gave_way = gap > tolerance;
+    if second_within_rounding && !gave_way {
+        (near, near, false)
+    } else {
+        (point, point, gave_way)
+    }
 }
 
 /// A limit of [`HardLimits`] as a positive number: `|v|`, `+∞` for a NaN (taken as none:
@@ -708,10 +728,12 @@ fn limit_of<T: RealField + Copy>(v: T) -> T {
 /// of that joint becomes the one rate of the box so far nearest to it, and
 /// [`RateBox::relaxed`] names the most important bound that did so ([`RateRelaxation`]). So no
 /// rate past a speed, range or acceleration limit is allowed when one within them exists, and
-/// the jerk bound yields to braking. Braking (B3) keeps (B1) and (B2) compatible: from a command
-/// within (B1)–(B3) the joint can always brake at `a_max` without passing its range, so with
-/// a constant `dt` and limits, and from rest or a motion this controller commanded, only the jerk
-/// bound can give way.
+/// the jerk bound yields to braking. The controller puts the trocar rows between (B3) and (B4):
+/// where no rates of the box meet them, it asks them within the box without (B4). Braking (B3)
+/// keeps (B1) and (B2) compatible: from a command within (B1)–(B3) the joint can always brake at
+/// `a_max` without passing its range, so with a constant `dt` and limits, and from rest or a
+/// motion this controller commanded, only the jerk bound can give way (to the rounding of the
+/// positions over `dt`, `16 ε (1 + |θ|)/dt`, within which a bound is not reported as given way).
 ///
 /// Infinite where there is no limit; a joint without an acceleration limit has no braking
 /// bound, and one without a jerk limit no (B4), so with neither the box is (B1) alone. A NaN
@@ -723,7 +745,20 @@ pub fn rate_box<T: RealField + Copy, const N: usize>(
     max_joint_speed: Option<T>,
     previous: &PreviousCommand<T, N>,
 ) -> RateBox<T, N> {
-    bounds(q, dt, limits, max_joint_speed, Some(previous))
+    bounds(q, dt, limits, max_joint_speed, Some(previous), true)
+}
+
+/// [`rate_box`] without the jerk bound (B4): where the trocar rows have no rates in common with
+/// the whole box, the step asks them within this one, and the jerk bound gives way to the trocar
+/// ([`RateRelaxation::Jerk`]).
+pub(super) fn rate_box_without_jerk<T: RealField + Copy, const N: usize>(
+    q: &SVector<T, N>,
+    dt: T,
+    limits: &HardLimits<T, N>,
+    max_joint_speed: Option<T>,
+    previous: &PreviousCommand<T, N>,
+) -> RateBox<T, N> {
+    bounds(q, dt, limits, max_joint_speed, Some(previous), false)
 }
 
 /// The bounds (B1) and (B3) of [`rate_box`]: those of the joints' place (speed, range over the
@@ -735,17 +770,19 @@ pub(super) fn place_box<T: RealField + Copy, const N: usize>(
     limits: &HardLimits<T, N>,
     max_joint_speed: Option<T>,
 ) -> (SVector<T, N>, SVector<T, N>) {
-    let b = bounds(q, dt, limits, max_joint_speed, None);
+    let b = bounds(q, dt, limits, max_joint_speed, None, false);
     (b.lower, b.upper)
 }
 
-/// [`rate_box`], with (B2) and (B4) only when there is a previous command.
+/// [`rate_box`], with (B2) and (B4) only when there is a previous command, and (B4) only with
+/// `jerk`.
 fn bounds<T: RealField + Copy, const N: usize>(
     q: &SVector<T, N>,
     dt: T,
     limits: &HardLimits<T, N>,
     max_joint_speed: Option<T>,
     previous: Option<&PreviousCommand<T, N>>,
+    jerk: bool,
 ) -> RateBox<T, N> {
     let inf = T::one() / T::zero();
     let mut out = RateBox {
@@ -802,10 +839,18 @@ fn bounds<T: RealField + Copy, const N: usize>(
                 position = position.max(bound.abs());
             }
         }
-        let rounding = T::default_epsilon() * nalgebra::convert::<f64, T>(16.0) * (T::one() + position)
-            / dt;
+        let rounding =
+            T::default_epsilon() * nalgebra::convert::<f64, T>(16.0) * (T::one() + position) / dt;
+        let (place_lo, place_hi) = (lo, hi);
         let mut apply = |lo: &mut T, hi: &mut T, lo2: T, hi2: T, what: RateRelaxation| {
-            let (l, h, gave_way) = restrict(*lo, *hi, lo2, hi2, rounding);
+            let (l, h, gave_way) = restrict(
+                *lo,
+                *hi,
+                lo2,
+                hi2,
+                rounding,
+                what == RateRelaxation::Braking,
+            );
             *lo = l;
             *hi = h;
             if gave_way && what > relaxed {
@@ -840,7 +885,7 @@ fn bounds<T: RealField + Copy, const N: usize>(
             apply(&mut lo, &mut hi, down, up, RateRelaxation::Braking);
         }
         let j = limit_of(limits.jerk[k]);
-        if j < inf && rate.is_finite() && acceleration.is_finite() {
+        if jerk && j < inf && rate.is_finite() && acceleration.is_finite() {
             // (B4).
             let centre = rate + dt * acceleration;
             let change = j * dt * dt;
@@ -852,8 +897,9 @@ fn bounds<T: RealField + Copy, const N: usize>(
                 RateRelaxation::Jerk,
             );
         }
-        out.lower[k] = lo;
-        out.upper[k] = hi;
+        // (B1) holds exactly, whatever the rounding of the bounds after it.
+        out.lower[k] = lo.max(place_lo).min(place_hi);
+        out.upper[k] = hi.min(place_hi).max(place_lo);
         if relaxed > out.relaxed {
             out.relaxed = relaxed;
         }

@@ -705,6 +705,18 @@ fn toward_within_box<T: RealField + Copy, const N: usize, const I: usize, const 
     Some((x, !meets(&x)))
 }
 
+/// `true` when some rate of `x` is outside `rates` beyond the rounding of its bounds: where the
+/// step took the rates within the box without the jerk bound (the trocar before (B4)), whether
+/// the jerk bound gave way.
+fn past<T: RealField + Copy, const N: usize>(x: &SVector<T, N>, rates: &RateBox<T, N>) -> bool {
+    let slack =
+        |b: T| T::default_epsilon() * nalgebra::convert::<f64, T>(64.0) * (T::one() + b.abs());
+    (0..N).any(|k| {
+        x[k] < rates.lower[k] - slack(rates.lower[k])
+            || x[k] > rates.upper[k] + slack(rates.upper[k])
+    })
+}
+
 /// `true` when every entry of `x` is within `[lb, ub]` (false for a NaN).
 fn within<T: RealField + Copy, const N: usize>(
     x: &SVector<T, N>,
@@ -1044,6 +1056,7 @@ impl<
         }
         // The joint limits: speed, range over the sample time, acceleration, braking, jerk.
         let rates = hard_limits::rate_box(q, dt, &self.limits, c.max_joint_speed, &self.previous);
+        let mut relaxed_rates = rates.relaxed;
         let mut status = StepStatus::Held;
         if !within(&qd, &rates.lower, &rates.upper) {
             let a = constrained_rows(&s.jb0i, &s.lambda_pinv).ok_or(ControlError::SingularJb0i)?;
@@ -1058,16 +1071,38 @@ impl<
                 (clipped(&x, &lb, &ub), yielded)
             };
             // ... then, with acceleration or jerk bounds, from the previous command toward it.
-            let (lb, ub) = (rates.lower, rates.upper);
+            let (mut lb, mut ub) = (rates.lower, rates.upper);
             let (within_all, yielded) = if within(&target, &lb, &ub) {
                 (target, yielded)
             } else {
-                let (x, gave_way) =
-                    toward_within_box(&target, &self.previous.rates, &a, &dv_0r, &lb, &ub)
-                        .ok_or(ControlError::NonFinite)?;
+                let toward = |lb: &SVector<T, N>, ub: &SVector<T, N>| {
+                    toward_within_box(&target, &self.previous.rates, &a, &dv_0r, lb, ub)
+                        .ok_or(ControlError::NonFinite)
+                };
+                let (mut x, mut gave_way) = toward(&lb, &ub)?;
+                if gave_way && !yielded {
+                    // The trocar before the jerk bound: the box without (B4).
+                    let loose = hard_limits::rate_box_without_jerk(
+                        q,
+                        dt,
+                        &self.limits,
+                        c.max_joint_speed,
+                        &self.previous,
+                    );
+                    if loose != rates {
+                        let (y, still) = toward(&loose.lower, &loose.upper)?;
+                        if !still {
+                            (x, gave_way) = (y, false);
+                            (lb, ub) = (loose.lower, loose.upper);
+                        }
+                    }
+                }
                 (x, yielded || gave_way)
             };
             qd = clipped(&within_all, &lb, &ub);
+            if past(&qd, &rates) {
+                relaxed_rates = relaxed_rates.max(RateRelaxation::Jerk);
+            }
             if yielded {
                 status = StepStatus::TrocarYielded;
             }
@@ -1090,7 +1125,7 @@ impl<
             kappa_i,
             qp: None,
             status,
-            relaxed: rates.relaxed,
+            relaxed: relaxed_rates,
         })
     }
 
@@ -1166,7 +1201,7 @@ impl<
                 }
             }
         }
-        let inputs = hard_limits::QpInputs {
+        let mut inputs = hard_limits::QpInputs {
             q,
             g_0i: &s.g_0i,
             jb0i: &s.jb0i,
@@ -1203,11 +1238,38 @@ impl<
             hard_limits::step_problem(&inputs, &task, &v_t, weights, &self.objective, &self.limits);
         let (mut qd, mut report) =
             hard_limits::solve_problem(&problem, weights, &mut self.qp_active)?;
-        let relaxed = report.status == crate::qp::Status::InequalitiesRelaxed
-            || (report.status == crate::qp::Status::IterationLimit
-                && !problem.meets_inequalities(&qd));
+        let infeasible =
+            |problem: &crate::qp::Problem<T, N, R, 1>, qd: &SVector<T, N>, report: &QpReport| {
+                report.status == crate::qp::Status::InequalitiesRelaxed
+                    || (report.status == crate::qp::Status::IterationLimit
+                        && !problem.meets_inequalities(qd))
+            };
+        let mut relaxed_rates = rates.relaxed;
+        let loose = hard_limits::rate_box_without_jerk(
+            q,
+            dt,
+            &self.limits,
+            self.config.max_joint_speed,
+            &self.previous,
+        );
+        if infeasible(&problem, &qd, &report) && loose != rates {
+            // The trocar before the jerk bound: the rows within the box without (B4).
+            inputs.rate_box = &loose;
+            let without = hard_limits::step_problem(
+                &inputs,
+                &task,
+                &v_t,
+                weights,
+                &self.objective,
+                &self.limits,
+            );
+            let mut warm = self.qp_active;
+            let (x, r) = hard_limits::solve_problem(&without, weights, &mut warm)?;
+            self.qp_active = warm;
+            (problem, qd, report) = (without, x, r);
+        }
         let mut yielded = false;
-        if relaxed {
+        if infeasible(&problem, &qd, &report) {
             // The limits hold; the trocar gives way ("On conflict" in [`hard_limits`]).
             (qd, report) =
                 hard_limits::trocar_within_limits(&problem, weights, &mut self.qp_active)
@@ -1246,6 +1308,9 @@ impl<
         }
         // Rounding must not take a joint past a limit either.
         let qd = clipped(&qd, &problem.lb, &problem.ub);
+        if past(&qd, &rates) {
+            relaxed_rates = relaxed_rates.max(RateRelaxation::Jerk);
+        }
         self.previous = self.previous.then(&qd, dt);
         // Whether the trocar held: the rows asked of the step ((Q2), with (Q7)–(Q9) when on) met
         // by the rates commanded, to a tolerance of the rounding's order.
@@ -1291,7 +1356,7 @@ impl<
             kappa_i: T::zero(),
             qp: Some(report),
             status,
-            relaxed: rates.relaxed,
+            relaxed: relaxed_rates,
         })
     }
 }

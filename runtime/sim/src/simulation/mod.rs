@@ -265,12 +265,20 @@ fn run_panda(
         .iter()
         .map(|j| j.speed_limit.unwrap_or(f64::INFINITY))
         .collect();
+    // The URDF's acceleration and jerk limits (libfranka's): the rates ramp up from rest and
+    // brake in time for the ranges.
+    let joints = &robot.description().joints;
+    let accelerations =
+        SVector::<f64, 7>::from_fn(|k, _| joints[k].acceleration_limit.unwrap_or(f64::INFINITY));
+    let jerks = SVector::<f64, 7>::from_fn(|k, _| joints[k].jerk_limit.unwrap_or(f64::INFINITY));
     let mut hard = HardLimits::none()
         .with_joint_limits(
             SVector::from_fn(|k, _| limits[k][0]),
             SVector::from_fn(|k, _| limits[k][1]),
         )
-        .with_speed_limits(SVector::from_fn(|k, _| speeds[k]));
+        .with_speed_limits(SVector::from_fn(|k, _| speeds[k]))
+        .with_acceleration_limits(accelerations)
+        .with_jerk_limits(jerks);
     if config.scenario == Scenario::PandaLimits {
         hard = hard.with_depth(PANDA_DEPTH_LIMITS[0], PANDA_DEPTH_LIMITS[1]);
     }
