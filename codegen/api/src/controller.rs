@@ -272,6 +272,7 @@ trait Stepper: Send + Sync + std::fmt::Debug {
         dt: f64,
     ) -> std::result::Result<Step, control::ControlError>;
     fn reset(&mut self);
+    fn set_previous_rates(&mut self, rates: &[f64], acceleration: &[f64]);
 }
 
 #[derive(Debug)]
@@ -340,6 +341,13 @@ where
             status: out.status,
             relaxed: out.relaxed,
         })
+    }
+
+    fn set_previous_rates(&mut self, rates: &[f64], acceleration: &[f64]) {
+        self.ctrl.set_previous_rates(
+            SVector::from_column_slice(rates),
+            SVector::from_column_slice(acceleration),
+        );
     }
 
     fn reset(&mut self) {
@@ -599,6 +607,31 @@ impl RobotController {
     /// from zero (`trocar::control::Controller::reset`).
     pub fn reset(&mut self) {
         self.inner.reset();
+    }
+
+    /// Continues from a known motion: the previous command was `rates` (rad/s, m/s) with the
+    /// acceleration `acceleration` (`(θ̇⁻ − θ̇⁻⁻)/dt`, zeros for a steady motion); the next step's
+    /// acceleration and jerk bounds are measured from them
+    /// (`trocar::control::Controller::set_previous_rates`). Refused unless both have
+    /// [`RobotController::dof`] finite values.
+    pub fn set_previous_rates(&mut self, rates: &[f64], acceleration: &[f64]) -> Result<()> {
+        for (name, v) in [("rates", rates), ("acceleration", acceleration)] {
+            if v.len() != self.dof {
+                return Err(Error::Input(format!(
+                    "{name}: {} values given, the robot has {} joints",
+                    v.len(),
+                    self.dof
+                )));
+            }
+            if let Some(k) = v.iter().position(|x| !x.is_finite()) {
+                return Err(Error::Input(format!(
+                    "{name}[{k}] = {}: must be finite",
+                    v[k]
+                )));
+            }
+        }
+        self.inner.set_previous_rates(rates, acceleration);
+        Ok(())
     }
 
     /// Number of joints.

@@ -375,9 +375,9 @@ impl Robot {
     /// Each joint's speed limit (rad/s or m/s; `None` where the description has none).
     #[getter]
     fn speed_limits(&self) -> Vec<Option<f64>> {
-        self.inner
-            .description()
-            .map_or_else(Vec::new, |d| d.joints.iter().map(|j| j.speed_limit).collect())
+        self.inner.description().map_or_else(Vec::new, |d| {
+            d.joints.iter().map(|j| j.speed_limit).collect()
+        })
     }
 
     /// Each joint's acceleration limit (rad/s² or m/s²; `None` where the description has none:
@@ -830,6 +830,26 @@ impl Controller {
     /// (with acceleration limits the next rates start from zero).
     fn reset(&mut self) {
         self.inner.reset();
+    }
+
+    /// Continues from a known motion: the previous command was `rates` (rad/s) with the
+    /// acceleration `acceleration` (rad/s², `(θ̇⁻ − θ̇⁻⁻)/dt`; zeros when not given). The next
+    /// step's acceleration and jerk bounds are measured from them, as if this controller had
+    /// commanded them: a controller taking over a moving arm, or replaying a run from its rows.
+    #[pyo3(signature = (rates, acceleration=None))]
+    fn set_previous_rates(
+        &mut self,
+        rates: &Bound<'_, PyAny>,
+        acceleration: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let rates = joints(rates)?;
+        let acceleration = match acceleration {
+            Some(a) => joints(a)?,
+            None => vec![0.0; rates.len()],
+        };
+        self.inner
+            .set_previous_rates(&rates, &acceleration)
+            .map_err(value_error)
     }
 }
 

@@ -315,13 +315,20 @@ def test_controller_step_is_the_rust_controllers_step():
     gir = robot.eval(q0, what="constraint_frame")
     trocar_point = (g0i @ gir)[:3, 3]
     ctrl = trocar.Controller(robot, method="dls")
+    rates = lambda k: np.array([trace[f"qd{j}"][k] if k >= 0 else 0.0 for j in range(1, 8)])
     for k in [0, 1, 250, 2500, 7000, len(trace["t"]) - 1]:
         q = np.array([trace[f"q{j}"][k] for j in range(1, 8)])
-        want = np.array([trace[f"qd{j}"][k] for j in range(1, 8)])
+        want = rates(k)
+        # The acceleration and jerk limits are measured from the rows before.
+        ctrl.set_previous_rates(rates(k - 1), (rates(k - 1) - rates(k - 2)) / 0.002)
         out = ctrl.step(q, trocar.panda_reference(trace["t"][k]), trocar_point, 0.002)
         np.testing.assert_allclose(out["qd"], want, rtol=1e-9, atol=1e-12)
         assert out["l_a"] == pytest.approx(trace["l_a"][k], abs=1e-12)
         assert out["w_r"] == pytest.approx(trace["w_r"][k], rel=1e-9)
+    with pytest.raises(ValueError, match=r"rates: 6 values given, the robot has 7 joints"):
+        ctrl.set_previous_rates(np.zeros(6))
+    with pytest.raises(ValueError, match=r"acceleration\[2\] = NaN: must be finite"):
+        ctrl.set_previous_rates(np.zeros(7), [0, 0, np.nan, 0, 0, 0, 0])
     with pytest.raises(ValueError, match="method"):
         trocar.Controller(robot, method="newton")
     with pytest.raises(ValueError, match="7 joints"):

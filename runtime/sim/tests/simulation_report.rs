@@ -431,7 +431,8 @@ subject to  (A + H_v R_0rᵀ E) θ̇ = dv_0r + ½ H_v R_0rᵀ E θ̇⁻         
   of the rates (with `ξ = 1` the rates jumped where a joint entered `ρ_i` at its speed limit).
 - (Q4), (Q6): the insertion depth `l_min ≤ l_a ≤ l_max` (`[0.05, 0.30]` m here: the tip between
   0.10 m and 0.35 m below the trocar) as a damper (`ρ_i = 0.02` m, `ρ_s = 0.002` m,
-  `ξ = 0.1` m/s) on `l̇_a = g_lᵀ θ̇`, `g_lᵀ = −[dᵀ, (r × d)ᵀ] J^B_0i [I 0] / |d|²` for the shaft
+  `ξ = 0.1` m/s, and `|l̇_a| ≤ ξ` toward a bound outside `ρ_i`, so that a shaft never enters the
+  damper faster than the joints' acceleration limits can slow it) on `l̇_a = g_lᵀ θ̇`, `g_lᵀ = −[dᵀ, (r × d)ᵀ] J^B_0i [I 0] / |d|²` for the shaft
   `o + l d` in `F_i` and the trocar `r = R_0iᵀ (p_t − p_0i)` in `F_i` (from
   `l_a = (r − o)·d / |d|²`, `ṙ = −v − ω × r`; a general inequality row of the QP).
 - Every damper is clipped so that `θ̇ = 0` satisfies it (`lb ≤ 0 ≤ ub`), and (Q3) is the damper
@@ -440,6 +441,9 @@ subject to  (A + H_v R_0rᵀ E) θ̇ = dv_0r + ½ H_v R_0rᵀ E θ̇⁻         
   limits — the Panda's URDF carries libfranka's), which need not hold `θ̇ = 0`: a moving joint
   changes its rate by at most `a_max dt` a step. Where a damper has no rate in common with the
   box, the box holds. On conflict the trocar
+  comes before the lesser bounds: where its rows have no rates in common with everything, the
+  step asks them within the box without the jerk bound, then with the dampers opened to their
+  safety distance over one sample time (Q10). Then it
   comes first: equality rows with no common solution are met in least squares
   (`EqualitiesInconsistent`). The joint limits are physical and never give way: if no rates
   keep the trocar within every limit, the step takes the rates within the limits nearest to the

@@ -46,7 +46,10 @@
 //!   l̇_a = g_lᵀ θ̇,   g_lᵀ = −[dᵀ, (r × d)ᵀ] J^B_0i [I 0] / |d|²                    (Q6)
 //!   ```
 //!
-//!   and `l̇_lo`, `l̇_hi` are the dampers (Q5) of `l_min ≤ l_a ≤ l_max`, clipped the same way.
+//!   and `l̇_lo`, `l̇_hi` are the dampers (Q5) of `l_min ≤ l_a ≤ l_max`, clipped the same way,
+//!   and outside the influence distance `|l̇_a| ≤ ξ` toward a bound (Q4''): a shaft entering the
+//!   damper faster than `ξ` would have to slow down in one step, which the joints' acceleration
+//!   limits do not allow.
 //!   Where no rate of the box (Q3) meets them (Q4'), the nearer of `Σ_k min(g_k lb_k, g_k ub_k)`
 //!   and `Σ_k max(g_k lb_k, g_k ub_k)`, the range of `g_lᵀ θ̇` over the box, stands in for the
 //!   bound it passes: the joint limits come first, and the inequalities always have a common
@@ -128,7 +131,11 @@
 //! shaft, a speed limit too small for the motion commanded), the solver would exceed the limits
 //! ([`Status::InequalitiesRelaxed`]); the step does not take those rates. Joint position and
 //! speed limits are physical — the robot faults or breaks beyond them — so the limits hold and
-//! the trocar gives way: the rates within the limits nearest to the trocar rows, then the task
+//! the trocar gives way, after two lesser bounds have given way to it: the jerk bound (the rows
+//! asked within the box without (B4)) and the dampers (Q5), (Q4) (the rows asked with both
+//! dampers opened to their safety distance over one sample time (Q10),
+//! `HardLimits::dampers_opened`: a damper is a way of approaching a bound, the safety distance
+//! is the bound). Then: the rates within the limits nearest to the trocar rows, then the task
 //! within both (`trocar_within_limits`), reported as [`Status::EqualitiesInconsistent`] in
 //! [`super::StepOutput::qp`] and as [`super::StepStatus::TrocarYielded`] in
 //! [`super::StepOutput::status`]. Whether the trocar held is judged from the rates commanded:
@@ -353,6 +360,24 @@ impl<T: RealField + Copy, const N: usize> HardLimits<T, N> {
         self.depth = [l_min, l_max];
         self
     }
+
+    /// These limits with both dampers (Q5) opened to the safety distance over one sample time
+    /// (Q10): within `ρ_i` of a bound the rate toward it is at most `(distance − ρ_s)/dt` (the
+    /// gain `(ρ_i − ρ_s)/dt` where that is larger). The step asks the trocar within these where
+    /// it has no rates in common with the dampers: a damper is a way of approaching a bound, the
+    /// safety distance is the bound.
+    pub(super) fn dampers_opened(mut self, dt: T) -> Self {
+        for damper in [&mut self.joint_damper, &mut self.depth_damper] {
+            let span = damper.influence - damper.safety;
+            if span > T::zero() && span.is_finite() && dt > T::zero() {
+                let gain = span / dt;
+                if gain > damper.gain {
+                    damper.gain = gain;
+                }
+            }
+        }
+        self
+    }
 }
 
 impl<T: RealField + Copy, const N: usize> Default for HardLimits<T, N> {
@@ -500,10 +525,22 @@ pub(super) fn step_problem<
         inputs.trocar,
     );
     let g = SMatrix::<T, 1, N>::from_fn(|_, c| if c < I { g_i[c] } else { T::zero() });
-    let (lo, hi) =
+    let (mut lo, mut hi) =
         limits
             .depth_damper
             .rate_bounds(inputs.l_a, limits.depth[0], limits.depth[1], big);
+    // Outside its influence distance the damper's rate `ξ` bounds the shaft's speed toward a
+    // bound, so that the damper takes over without a jump of the rates: the joints' acceleration
+    // limits could not slow a shaft that enters it faster (Q4'').
+    let xi = limits.depth_damper.gain;
+    if xi > T::zero() && xi.is_finite() {
+        if limits.depth[1].is_finite() {
+            hi = hi.min(xi);
+        }
+        if limits.depth[0].is_finite() {
+            lo = lo.max(-xi);
+        }
+    }
     // The box first: `g_lᵀ θ̇` over the box spans `[Σ min(g_k lb_k, g_k ub_k), Σ max(…)]`; where
     // the depth's rows have no rate in common with it (a box away from 0: the shaft moving
     // too fast to be stopped in one step), they give way to its nearest end (Q4').

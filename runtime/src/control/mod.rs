@@ -1268,6 +1268,28 @@ impl<
             self.qp_active = warm;
             (problem, qd, report) = (without, x, r);
         }
+        if infeasible(&problem, &qd, &report) {
+            // The trocar before the dampers (Q10): a shaft or a joint approaching a bound faster
+            // than its acceleration limits let it slow to the damper's rate comes as close as
+            // the safety distance over this step.
+            let opened = self.limits.dampers_opened(dt);
+            if opened != self.limits {
+                let wide = hard_limits::step_problem(
+                    &inputs,
+                    &task,
+                    &v_t,
+                    weights,
+                    &self.objective,
+                    &opened,
+                );
+                let mut warm = self.qp_active;
+                let (x, r) = hard_limits::solve_problem(&wide, weights, &mut warm)?;
+                if !infeasible(&wide, &x, &r) {
+                    self.qp_active = warm;
+                    (problem, qd, report) = (wide, x, r);
+                }
+            }
+        }
         let mut yielded = false;
         if infeasible(&problem, &qd, &report) {
             // The limits hold; the trocar gives way ("On conflict" in [`hard_limits`]).

@@ -434,7 +434,15 @@ def _write_csv(path, columns):
 
 def figure(path, runs, title):
     """Writes the figure of one or several runs (``{label: columns}``): drift, port force, tip
-    error and the largest joint rate over time."""
+    error and the largest joint rate over time. Drift and force are drawn from their first sample
+    above 1e-4 of their largest: the shaft starts on the port exactly, and a logarithmic axis
+    would otherwise reach down to the rounding of the first milliseconds."""
+
+    def rise(c, key):
+        values = np.asarray(c[key])
+        above = np.nonzero(values >= 1e-4 * np.max(values))[0]
+        return int(above[0]) if above.size else 0
+
     panels = [
         ("distance port centre - shaft axis (rcm_drift)", "drift (mm)", "rcm_drift", 1e3),
         ("the wall's lateral force on the shaft (port_force)", "force (N)", "port_force", 1.0),
@@ -448,7 +456,9 @@ def figure(path, runs, title):
                 "y_label": label,
                 "non_negative": True,
                 "lines": [
-                    (name, list(c["t"]), list(c[key] * scale)) for name, c in runs.items()
+                    (name, list(c["t"][start:]), list(c[key][start:] * scale))
+                    for name, c in runs.items()
+                    for start in [rise(c, key) if key != "ep_norm" else 0]
                 ],
             }
         )
