@@ -3,7 +3,8 @@
 //! The numeric runtime of trocar: rigid motions and twists ([`se3`]), serial-chain kinematics
 //! ([`kinematics`]), the constrained Jacobian of a remote centre of motion ([`constraint`]),
 //! fixed-size dense linear algebra ([`linalg`]), manipulability ([`manipulability`]), finite-difference references ([`finite_diff`]), the
-//! constrained kinematic controller ([`control`]) and the dense QP solver for its hard limits
+//! constrained kinematic controller ([`control`]), the distance between two instruments' shafts and its
+//! rate ([`distance`]) and the dense QP solver for its hard limits
 //! ([`qp`]). Generated code runs on [`emitted`], the one module it may call: the scalar traits
 //! [`Real`] (one number) and [`Arith`] (also the lane types of `emitted::lanes`, feature
 //! `lanes`), the kernels only it uses (its `sin_cos`, the chain walked as SSE2 pairs, fused
@@ -19,6 +20,7 @@
 
 pub mod constraint;
 pub mod control;
+pub mod distance;
 pub mod emitted;
 pub mod finite_diff;
 pub mod kinematics;
