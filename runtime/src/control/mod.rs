@@ -58,6 +58,7 @@ pub mod hard_limits;
 mod inverse;
 mod quaternion;
 mod redundancy;
+pub mod scene;
 mod shaft;
 
 pub use crate::linalg::determinant;

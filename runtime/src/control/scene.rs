@@ -1,0 +1,322 @@
+//! Several arms in one scene, each through its own port (the thesis's §5.2: "both arms, a
+//! kinematic constraint on each"), whose instruments' shafts must not touch inside the body.
+//!
+//! Each arm keeps its own [`Controller`]: its step holds its port, its joint limits (the rate box
+//! of [`rate_box`], and with [`super::Method::Qp`] the dampers and the depth) and follows its task,
+//! as it does alone. The scene's step then changes the arms' rates `θ̇*` as little as it can so
+//! that every coupling holds, solving one QP over the `NS` rates of all the arms:
+//!
+//! ```text
+//! minimise    ½ ‖θ̇ − θ̇*‖²                                                       (S1)
+//! subject to  L_k θ̇_k = L_k θ̇*_k         each arm's port: the lateral velocity   (S2)
+//!                                        of its shaft at the port, as its step
+//!                                        commanded it
+//!             lb_k ≤ θ̇_k ≤ ub_k          each arm's rate box (B1)–(B4)           (S3)
+//!             row_w θ̇ ≥ −ξ (d − d_s)/(d_i − d_s)   each coupling, at each of its  (S4)
+//!                                        distance's witnesses, within `d_i`
+//! ```
+//!
+//! `L_k = H_v R_0rᵀ W_k`, `W_k` the velocity Jacobian of the shaft's point at the port (the rows
+//! (Q2) of [`super::hard_limits`] in the base frame); the box holds `θ̇*_k` (widened to it where
+//! the arm's own step let a lesser bound give way). (S4) is the velocity damper of the joint
+//! ranges ([`Damper`], range `[0, ∞)`) on the distance `d` between two instruments inside the
+//! body, the segments from their ports to their tips, with its rows `ḋ = row θ̇` from
+//! [`crate::distance`] (both ends of a parallel overlap; the ports fixed, the tips moving with
+//! their arms' end-effector Jacobians). Where no coupling is within its influence distance the
+//! arms' rates are unchanged: a scene of one arm steps exactly as its controller does.
+//!
+//! On conflict the ports and the joint limits come first: if no rates keep every coupling
+//! within the ports and the boxes, the solver relaxes the couplings' rows as little as it can
+//! and [`SceneOutput::coupling_held`] is `false`. After the step every arm's controller takes
+//! the scene's rates as its previous command ([`Controller::set_previous_rates`]), so its
+//! acceleration and jerk bounds continue from what was commanded.
+
+use super::hard_limits::{point_velocity_jacobian, rate_box, task_body_jacobian, Damper};
+use super::{ConstrainedKinematics, ControlError, Controller, Rcm, Reference, StepOutput};
+use crate::distance::segment_distance;
+use crate::linalg::SquareDim;
+use crate::qp::{ActiveSet, Problem, Settings, Status};
+use crate::se3::Se3;
+use nalgebra::{Const, RealField, SMatrix, SVector, Vector3};
+
+/// A coupling between two arms of a scene: the distance between their instruments' shafts inside
+/// the body (port to tip) kept at least `damper.safety` by the velocity damper (S4).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Coupling<T> {
+    /// The two arms, by their index in the scene.
+    pub arms: (usize, usize),
+    /// `d_i` ([`Damper::influence`]), `d_s` ([`Damper::safety`], m) and `ξ` ([`Damper::gain`],
+    /// m/s).
+    pub damper: Damper<T>,
+}
+
+/// Why a scene step was refused.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SceneError {
+    /// The scene's sizes do not add up: `NS` must be the arms' joints (`A·N`), `ES` their port
+    /// rows (`A·R`), `C` two rows per coupling; or a coupling names an arm that is not there or
+    /// the same arm twice.
+    Sizes,
+    /// An arm's own step failed (the arm's index and its error).
+    Arm(usize, ControlError),
+    /// A NaN or infinity appeared in the scene's rows.
+    NonFinite,
+}
+
+impl core::fmt::Display for SceneError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            SceneError::Sizes => f.write_str(
+                "the scene's sizes do not add up (NS = arms × joints, ES = arms × port rows, \
+                 C = 2 × couplings, couplings between two different arms of the scene)",
+            ),
+            SceneError::Arm(k, e) => write!(f, "arm {k}: {e}"),
+            SceneError::NonFinite => f.write_str("a non-finite value appeared in the scene step"),
+        }
+    }
+}
+
+#[cfg(feature = "std")]
+impl std::error::Error for SceneError {}
+
+/// What one scene step commanded and measured.
+#[derive(Clone, Copy, Debug)]
+pub struct SceneOutput<
+    T: RealField + Copy,
+    const A: usize,
+    const N: usize,
+    const R: usize,
+    const P: usize,
+> {
+    /// Each arm's rates, as the scene commands them.
+    pub qd: [SVector<T, N>; A],
+    /// Each arm's own step (its rates `θ̇*` before the couplings, its errors and statuses).
+    pub arms: [StepOutput<T, N, R>; A],
+    /// Each coupling's distance at the step (m).
+    pub distances: [T; P],
+    /// `false` where some coupling's row could not hold within the ports and the boxes.
+    pub coupling_held: bool,
+    /// Whether any coupling changed the arms' rates (some row active).
+    pub coupling_active: bool,
+    /// How the scene's QP ended.
+    pub status: Status,
+}
+
+/// The scene's step: its couplings and the warm start of its QP. `A` arms of `N` joints and
+/// `R` port rows each, `P` couplings; the QP has `NS = A·N` rates, `ES = A·R` equality rows and
+/// `C = 2·P` coupling rows (the sizes are checked at each step: [`SceneError::Sizes`]).
+#[derive(Clone, Debug)]
+pub struct Scene<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> {
+    /// The couplings.
+    pub couplings: [Coupling<T>; P],
+    /// The QP solver's settings.
+    pub settings: Settings,
+    active: ActiveSet<NS, C>,
+}
+
+impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene<T, P, NS, C> {
+    /// A scene with these couplings.
+    pub fn new(couplings: [Coupling<T>; P]) -> Self {
+        Scene {
+            couplings,
+            settings: Settings::DEFAULT,
+            active: ActiveSet::EMPTY,
+        }
+    }
+
+    /// Forgets the QP's warm start (the arms' controllers are reset on their own).
+    pub fn reset(&mut self) {
+        self.active = ActiveSet::EMPTY;
+    }
+
+    /// One step of the scene: each arm's own step, then (S1)–(S4). `kins[k]`, `q[k]`,
+    /// `references[k]` and `rcms[k]` are arm `k`'s, in its own base frame, as for
+    /// [`Controller::step`]; the ports are the `rcms`' trocars; `bases[k]` places arm `k`'s base
+    /// in the scene's frame, where the distances are measured. Where no coupling is within its
+    /// influence distance the QP is not solved: every arm's rates are its own step's, exactly.
+    #[allow(clippy::too_many_arguments)]
+    pub fn step<
+        Kin: ConstrainedKinematics<T, N, I, R, K, M, Q>,
+        const A: usize,
+        const N: usize,
+        const I: usize,
+        const R: usize,
+        const K: usize,
+        const M: usize,
+        const Q: usize,
+        const ES: usize,
+    >(
+        &mut self,
+        arms: &mut [Controller<T, N, I, R, K, M, Q>; A],
+        kins: &[Kin; A],
+        q: &[SVector<T, N>; A],
+        references: &[Reference<T>; A],
+        rcms: &[Rcm<T, R>; A],
+        bases: &[Se3<T>; A],
+        dt: T,
+    ) -> Result<SceneOutput<T, A, N, R, P>, SceneError>
+    where
+        Const<R>: SquareDim,
+        Const<I>: SquareDim,
+        Const<M>: SquareDim,
+        Const<Q>: SquareDim,
+    {
+        if A * N != NS
+            || A * R != ES
+            || 2 * P != C
+            || self
+                .couplings
+                .iter()
+                .any(|c| c.arms.0 >= A || c.arms.1 >= A || c.arms.0 == c.arms.1)
+        {
+            return Err(SceneError::Sizes);
+        }
+        let big = super::hard_limits::big::<T>();
+        let mut problem = Problem::<T, NS, ES, C> {
+            h: SMatrix::identity(),
+            f: SVector::zeros(),
+            a_eq: SMatrix::zeros(),
+            b_eq: SVector::zeros(),
+            g: SMatrix::zeros(),
+            lo: SVector::from_element(-big),
+            hi: SVector::from_element(big),
+            lb: SVector::zeros(),
+            ub: SVector::zeros(),
+        };
+        let mut outputs: [Option<StepOutput<T, N, R>>; A] = [None; A];
+        let mut tips = [Vector3::zeros(); A];
+        let mut ports = [Vector3::zeros(); A];
+        let mut tip_jacobians = [SMatrix::<T, 3, N>::zeros(); A];
+        let mut previous = [SVector::<T, N>::zeros(); A];
+        for k in 0..A {
+            let before = *arms[k].previous_command();
+            previous[k] = before.rates;
+            let out = arms[k]
+                .step(&kins[k], &q[k], &references[k], &rcms[k], dt)
+                .map_err(|e| SceneError::Arm(k, e))?;
+            let (l_a, s) = kins[k]
+                .evaluate_at_trocar(&q[k], &rcms[k].trocar)
+                .map_err(|e| SceneError::Arm(k, e))?;
+            // (S2): the lateral velocity of the shaft's point at the port.
+            let shaft = kins[k].shaft();
+            let point = shaft.origin + shaft.direction * l_a;
+            let w = point_velocity_jacobian(&s.g_0i.rotation, &s.jb0i, &point);
+            let r_0r = s.g_0i.rotation * shaft.rotation;
+            let directions = kins[k].h().fixed_columns::<3>(0).into_owned() * r_0r.transpose();
+            let l = directions * w;
+            for r in 0..R {
+                for c in 0..I {
+                    problem.a_eq[(k * R + r, k * N + c)] = l[(r, c)];
+                }
+                let mut b = T::zero();
+                for c in 0..I {
+                    b += l[(r, c)] * out.qd[c];
+                }
+                problem.b_eq[k * R + r] = b;
+            }
+            // (S3), and (S1)'s linear term.
+            let rates = rate_box(
+                &q[k],
+                dt,
+                &arms[k].limits,
+                arms[k].config.max_joint_speed,
+                &before,
+            );
+            for c in 0..N {
+                let x = out.qd[c];
+                problem.lb[k * N + c] = rates.lower[c].min(x).max(-big);
+                problem.ub[k * N + c] = rates.upper[c].max(x).min(big);
+                problem.f[k * N + c] = -x;
+            }
+            // The tip and its velocity Jacobian in the base frame, for (S4).
+            let je = task_body_jacobian::<T, N, I, K, M, 6>(
+                &SMatrix::identity(),
+                true,
+                &s.g_0e,
+                &s.g_0i,
+                &s.jb0i,
+                &s.jr,
+            );
+            tips[k] = bases[k].transform_point(&s.g_0e.translation);
+            tip_jacobians[k] = bases[k].rotation * s.g_0e.rotation * je.fixed_rows::<3>(0);
+            ports[k] = bases[k].transform_point(&rcms[k].trocar);
+            outputs[k] = Some(out);
+        }
+        // (S4).
+        let mut distances = [T::zero(); P];
+        let mut rows_in = false;
+        for (p, coupling) in self.couplings.iter().enumerate() {
+            let (a, b) = coupling.arms;
+            let d = segment_distance(&ports[a], &tips[a], &ports[b], &tips[b]);
+            distances[p] = d.distance;
+            let (lower, _) =
+                coupling
+                    .damper
+                    .rate_bounds(d.distance, T::zero(), T::one() / T::zero(), big);
+            if lower <= -big {
+                continue;
+            }
+            let mut ja = SMatrix::<T, 3, NS>::zeros();
+            let mut jb = SMatrix::<T, 3, NS>::zeros();
+            for c in 0..N {
+                ja.set_column(a * N + c, &tip_jacobians[a].column(c));
+                jb.set_column(b * N + c, &tip_jacobians[b].column(c));
+            }
+            let zero = SMatrix::<T, 3, NS>::zeros();
+            // Touching shafts without a normal have no row: the damper held them apart before.
+            if let Some(rows) = d.rate_row(&[zero, ja, zero, jb]) {
+                // One row per witness (a second, equal row would be a dependent one).
+                for (w, row) in rows.iter().enumerate().take(d.count) {
+                    problem.g.set_row(2 * p + w, row);
+                    problem.lo[2 * p + w] = lower;
+                }
+                rows_in = true;
+            }
+        }
+        if !(problem
+            .a_eq
+            .iter()
+            .chain(problem.g.iter())
+            .chain(problem.f.iter()))
+        .all(|v| v.is_finite())
+        {
+            return Err(SceneError::NonFinite);
+        }
+        let outputs = outputs.map(|o| o.expect("every arm stepped"));
+        if !rows_in {
+            return Ok(SceneOutput {
+                qd: outputs.map(|o| o.qd),
+                arms: outputs,
+                distances,
+                coupling_held: true,
+                coupling_active: false,
+                status: Status::Optimal,
+            });
+        }
+        let solution = problem.solve(&self.active, &self.settings);
+        if solution.status == Status::NonFinite || solution.status == Status::InvalidBounds {
+            return Err(SceneError::NonFinite);
+        }
+        self.active = solution.active;
+        let held = solution.status != Status::InequalitiesRelaxed;
+        let coupling_active = solution.z_general.iter().any(|z| *z != T::zero());
+        let mut qd = [SVector::<T, N>::zeros(); A];
+        for k in 0..A {
+            // The boxes hold whatever the rounding: clipped.
+            qd[k] = SVector::from_fn(|c, _| {
+                let i = k * N + c;
+                solution.x[i].max(problem.lb[i]).min(problem.ub[i])
+            });
+            let acceleration = (qd[k] - previous[k]) / dt;
+            arms[k].set_previous_rates(qd[k], acceleration);
+        }
+        Ok(SceneOutput {
+            qd,
+            arms: outputs,
+            distances,
+            coupling_held: held,
+            coupling_active,
+            status: solution.status,
+        })
+    }
+}
