@@ -5,7 +5,7 @@ use crate::error::{Error, Result};
 use std::path::Path;
 use trocar_sim::plot::view3d;
 use trocar_sim::simulation::{self, CsvRows, Method};
-use trocar_sim::{closed_chain, plot};
+use trocar_sim::{closed_chain, plot, scene};
 
 /// A joint speed limit for the RCM scenarios' controller.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -59,7 +59,14 @@ impl Default for RcmOptions {
 pub fn scenario_names() -> Vec<&'static str> {
     let mut names: Vec<&'static str> = simulation::Scenario::ALL.iter().map(|s| s.name()).collect();
     names.extend_from_slice(closed_chain::scenario_names());
+    names.extend_from_slice(scene::scenario_names());
     names
+}
+
+/// Whether `scenario` is a scene of several arms, each through its own port
+/// ([`trocar_sim::scene`]).
+pub fn is_scene(scenario: &str) -> bool {
+    scene::is_scene(scenario)
 }
 
 /// Whether `scenario` is one of the closed-chain simulations.
@@ -161,16 +168,17 @@ impl SimulationRun {
 /// Refuses a closed-chain `scenario` for `argument` (the library's name of an option), which
 /// does `what` only on the serial scenarios (named from [`simulation::Scenario::ALL`]).
 pub fn serial_only(argument: &'static str, scenario: &str, what: &str) -> Result<()> {
-    if !is_closed_chain(scenario) {
+    let kind = if is_closed_chain(scenario) {
+        "a closed-chain scenario"
+    } else if is_scene(scenario) {
+        "a scene of several arms"
+    } else {
         return Ok(());
-    }
+    };
     let names: Vec<&str> = simulation::Scenario::ALL.iter().map(|s| s.name()).collect();
     Err(Error::argument(
         argument,
-        format!(
-            "`{scenario}` is a closed-chain scenario; {what} only ({})",
-            names.join(", ")
-        ),
+        format!("`{scenario}` is {kind}; {what} only ({})", names.join(", ")),
     ))
 }
 
@@ -184,6 +192,8 @@ pub fn simulate(
 ) -> Result<SimulationRun> {
     if is_closed_chain(scenario) {
         closed_chain_scenario(scenario, options, progress)
+    } else if is_scene(scenario) {
+        scene_scenario(scenario, options, progress)
     } else {
         rcm_scenario(scenario, options, progress)
     }
@@ -245,6 +255,57 @@ fn closed_chain_scenario(
     })
 }
 
+fn scene_scenario(
+    scenario: &str,
+    options: &RcmOptions,
+    progress: &mut dyn FnMut(f64),
+) -> Result<SimulationRun> {
+    let qp_only = RcmOptions {
+        method: Some(Method::Qp),
+        ..RcmOptions::default()
+    };
+    if *options != RcmOptions::default() && *options != qp_only {
+        return Err(Error::Input(format!(
+            "`{scenario}` is a scene of several arms: it runs the QP step with the drift \
+             correction and the URDF's limits (--method qp or none; no other option)"
+        )));
+    }
+    let trace =
+        scene::simulate(scenario, true, progress).map_err(|e| Error::Simulation(e.to_string()))?;
+    let column = |name: &str| trace.column(name).unwrap_or_default();
+    let max = |v: Vec<f64>| v.into_iter().fold(0.0, f64::max);
+    let min_distance = column("min_shaft_distance")
+        .into_iter()
+        .fold(f64::INFINITY, f64::min);
+    let active = column("coupling_active")
+        .iter()
+        .filter(|v| **v > 0.0)
+        .count();
+    let mut summary = format!(
+        "scene {scenario} (qp, drift correction on, the URDF's limits, {} arms):\n  \
+         min shaft distance {min_distance:.3e} m (safety {:.3e} m), the couplings active in \
+         {active} of {} rows",
+        scene::ARMS.len(),
+        scene::SAFETY,
+        trace.rows.len()
+    );
+    for arm in scene::ARMS {
+        summary += &format!(
+            "\n  {arm}: max drift {:.3e} m, max tip error {:.3e} m (final {:.3e} m)",
+            max(column(&format!("{arm}.rcm_drift"))),
+            max(column(&format!("{arm}.ep_norm"))),
+            column(&format!("{arm}.ep_norm"))
+                .last()
+                .copied()
+                .unwrap_or(f64::NAN)
+        );
+    }
+    Ok(SimulationRun {
+        summary,
+        trace: AnyTrace::ClosedChain(trace),
+    })
+}
+
 fn rcm_scenario(
     scenario: &str,
     options: &RcmOptions,
@@ -252,8 +313,9 @@ fn rcm_scenario(
 ) -> Result<SimulationRun> {
     let Ok(which) = simulation::Scenario::from_name(scenario) else {
         return Err(Error::Input(format!(
-            "unknown scenario `{scenario}` (expected 1, 2, 3, 4, exp421, panda-laparoscope, or one of: {})",
-            closed_chain::scenario_names().join(", ")
+            "unknown scenario `{scenario}` (expected 1, 2, 3, 4, exp421, panda-laparoscope, or one of: {}, {})",
+            closed_chain::scenario_names().join(", "),
+            scene::scenario_names().join(", ")
         )));
     };
     let method = options.method.unwrap_or_else(|| which.default_method());

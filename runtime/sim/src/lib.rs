@@ -11,4 +11,5 @@ pub mod closed_chain;
 pub mod linalg;
 pub mod plot;
 pub mod robot;
+pub mod scene;
 pub mod simulation;

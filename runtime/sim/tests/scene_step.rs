@@ -9,69 +9,17 @@
 
 use nalgebra::{SVector, Vector3};
 use trocar::control::scene::{Coupling, Scene};
-use trocar::control::{
-    ChainKinematics, Controller, ControllerConfig, Damper, HardLimits, Method, QpWeights, Rcm,
-    Reference,
-};
+use trocar::control::{Damper, HardLimits, Rcm};
 use trocar::distance::segment_distance;
 use trocar::se3::Se3;
-use trocar_model::description::RobotDescription;
-use trocar_model::numeric::NumericModel;
-
-type Kin = ChainKinematics<f64, 7, 2, 4>;
-type Ctrl = Controller<f64, 7, 7, 2, 4, 4, 4>;
+use trocar_sim::scene::{controller, reference, Kin};
 
 const Q0: [f64; 7] = [0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785];
 const DT: f64 = 0.002;
 const SAFETY: f64 = 0.005;
 
 fn panda() -> (Kin, HardLimits<f64, 7>) {
-    let d = RobotDescription::preset("panda-laparoscope").unwrap();
-    let kin = NumericModel::<f64>::from_description(&d, &[])
-        .unwrap()
-        .to_kinematics::<7, 2, 4>()
-        .unwrap();
-    let j = &d.joints;
-    let limits = HardLimits::none()
-        .with_joint_limits(
-            SVector::from_fn(|k, _| j[k].limits.unwrap()[0]),
-            SVector::from_fn(|k, _| j[k].limits.unwrap()[1]),
-        )
-        .with_speed_limits(SVector::from_fn(|k, _| j[k].speed_limit.unwrap()))
-        .with_acceleration_limits(SVector::from_fn(|k, _| j[k].acceleration_limit.unwrap()))
-        .with_jerk_limits(SVector::from_fn(|k, _| j[k].jerk_limit.unwrap()));
-    (kin, limits)
-}
-
-fn controller(limits: HardLimits<f64, 7>) -> Ctrl {
-    Ctrl::new(ControllerConfig {
-        kp: 10.0,
-        ko: 10.0,
-        method: Method::Qp(QpWeights::with_kappa(0.01)),
-        jb0i_damping: None,
-        kr: 10.0,
-        max_joint_speed: None,
-    })
-    .with_limits(limits)
-}
-
-/// The tip's reference: from its start by `shift` (arm frame) along a smooth step over 2 s.
-fn reference(start: &Se3<f64>, shift: Vector3<f64>, t: f64) -> Reference<f64> {
-    let s = (t / 2.0).min(1.0);
-    let (p, v) = (
-        s * s * s * (10.0 - 15.0 * s + 6.0 * s * s),
-        if t < 2.0 {
-            30.0 * s * s * (1.0 - s) * (1.0 - s) / 2.0
-        } else {
-            0.0
-        },
-    );
-    Reference {
-        position: start.translation + shift * p,
-        rotation: start.rotation,
-        velocity: shift * v,
-        angular_velocity: Vector3::zeros(),
-    }
+    trocar_sim::scene::panda().unwrap()
 }
 
 struct Run {
@@ -215,7 +163,7 @@ fn one_arm_steps_as_its_controller() {
     let mut arms = [controller(limits)];
     let mut scene = Scene::<f64, 0, 7, 0>::new([]);
     let (mut qa, mut qs) = (q0, q0);
-    for step in 0..500 {
+    for step in 0..1000 {
         let r = reference(&g_0e, Vector3::new(0.05, -0.03, 0.02), step as f64 * DT);
         let a = alone.step(&kin, &qa, &r, &rcm, DT).unwrap();
         let s = scene

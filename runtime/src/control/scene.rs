@@ -25,6 +25,11 @@
 //! their arms' end-effector Jacobians). Where no coupling is within its influence distance the
 //! arms' rates are unchanged: a scene of one arm steps exactly as its controller does.
 //!
+//! Over a sample time the shafts' motion curves their distance, which (S4) sees to first order
+//! only: the step measures each coupling's distance at `q + dt θ̇` (forward kinematics) and,
+//! where it fell short of `d + dt ḋ`, raises that coupling's bound by the shortfall over `dt` and
+//! solves once more (S5), so that the distance keeps its safety to second order in `dt`.
+//!
 //! On conflict the ports and the joint limits come first: if no rates keep every coupling
 //! within the ports and the boxes, the solver relaxes the couplings' rows as little as it can
 //! and [`SceneOutput::coupling_held`] is `false`. After the step every arm's controller takes
@@ -293,9 +298,50 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
                 status: Status::Optimal,
             });
         }
-        let solution = problem.solve(&self.active, &self.settings);
+        let mut solution = problem.solve(&self.active, &self.settings);
         if solution.status == Status::NonFinite || solution.status == Status::InvalidBounds {
             return Err(SceneError::NonFinite);
+        }
+        // (S5): each coupling's distance after the step, measured at `q + dt θ̇`; where it fell
+        // short of what its rows foresaw (the shafts' motion curves their distance), the rows
+        // ask that much more and the QP is solved once more.
+        let mut again = false;
+        for (p, coupling) in self.couplings.iter().enumerate() {
+            if problem.lo[2 * p] <= -big {
+                continue;
+            }
+            let (a, b) = coupling.arms;
+            let next = |k: usize| -> Result<Vector3<T>, SceneError> {
+                let qk = SVector::<T, N>::from_fn(|c, _| q[k][c] + solution.x[k * N + c] * dt);
+                let (_, s) = kins[k]
+                    .evaluate_at_trocar(&qk, &rcms[k].trocar)
+                    .map_err(|e| SceneError::Arm(k, e))?;
+                Ok(bases[k].transform_point(&s.g_0e.translation))
+            };
+            let after = segment_distance(&ports[a], &next(a)?, &ports[b], &next(b)?).distance;
+            let rows = [2 * p, 2 * p + 1];
+            let foreseen = rows
+                .iter()
+                .filter(|&&r| problem.lo[r] > -big)
+                .map(|&r| (problem.g.row(r) * solution.x)[0])
+                .fold(T::one() / T::zero(), |x, y| x.min(y));
+            let shortfall = distances[p] + dt * foreseen - after;
+            if shortfall > T::zero() && shortfall.is_finite() {
+                for r in rows {
+                    if problem.lo[r] > -big {
+                        problem.lo[r] += shortfall / dt;
+                    }
+                }
+                again = true;
+            }
+        }
+        if again {
+            let warm = solution.active;
+            let second = problem.solve(&warm, &self.settings);
+            if second.status == Status::NonFinite || second.status == Status::InvalidBounds {
+                return Err(SceneError::NonFinite);
+            }
+            solution = second;
         }
         self.active = solution.active;
         let held = solution.status != Status::InequalitiesRelaxed;

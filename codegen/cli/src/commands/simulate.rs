@@ -100,6 +100,8 @@ pub(crate) fn run(
     } else {
         let label = if sim::is_closed_chain(scenario) {
             scenario.to_string()
+        } else if sim::is_scene(scenario) {
+            format!("scene {scenario}")
         } else {
             format!("scenario {scenario}")
         };

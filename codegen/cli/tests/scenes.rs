@@ -1,0 +1,115 @@
+//! `trocar simulate three-ports`: the scene of two instruments and an endoscope, each arm
+//! through its own port. From the CSV: the shafts keep their safety distance at every row, every
+//! port holds, every joint keeps its range and speed (the Panda's URDF, read here), and every
+//! joint's rate changes by at most its acceleration limit a step; options that do not apply to
+//! a scene are refused, and so are the views of the arm.
+
+use std::path::Path;
+use std::process::Command;
+
+fn trocar(args: &[&str]) -> (Option<i32>, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_trocar"))
+        .args(args)
+        .output()
+        .expect("the trocar binary runs");
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn three_ports_from_the_command_line() {
+    let dir = std::env::temp_dir().join(format!("trocar-scenes-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("three-ports.csv");
+    let (code, stderr) = trocar(&[
+        "simulate",
+        "three-ports",
+        "--method",
+        "qp",
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(stderr.contains("min shaft distance"), "{stderr}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    let columns: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    let col = |name: &str| {
+        columns
+            .iter()
+            .position(|c| *c == name)
+            .unwrap_or_else(|| panic!("{name}"))
+    };
+    assert_eq!(&columns[..3], &["t", "q1", "q2"]);
+    assert_eq!(columns[22], "qd1");
+    // The Panda's limits from its URDF.
+    let urdf = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../runtime/model/robots/urdf/panda.urdf"),
+    )
+    .unwrap();
+    let attr = |tag: &str, name: &str| -> f64 {
+        let key = format!(" {name}=\"");
+        let start = tag.find(&key).unwrap() + key.len();
+        tag[start..start + tag[start..].find('"').unwrap()]
+            .parse()
+            .unwrap()
+    };
+    let limits: Vec<[f64; 4]> = urdf
+        .lines()
+        .filter(|l| l.trim_start().starts_with("<limit "))
+        .map(|l| ["lower", "upper", "velocity", "acceleration"].map(|n| attr(l, n)))
+        .collect();
+    assert_eq!(limits.len(), 7);
+    let dt = rows[1][0] - rows[0][0];
+    for (i, row) in rows.iter().enumerate() {
+        assert!(
+            row[col("min_shaft_distance")] >= 0.005 * (1.0 - 1e-6),
+            "row {i}"
+        );
+        for arm in ["left", "right", "endoscope"] {
+            assert!(
+                row[col(&format!("{arm}.rcm_drift"))] <= 1e-4,
+                "row {i}: {arm}"
+            );
+        }
+        for k in 0..21 {
+            let [lo, hi, speed, acceleration] = limits[k % 7];
+            let q = row[col(&format!("q{}", k + 1))];
+            let qd = row[col(&format!("qd{}", k + 1))];
+            assert!(q >= lo && q <= hi, "row {i}: q{} = {q}", k + 1);
+            assert!(qd.abs() <= speed, "row {i}: qd{} = {qd}", k + 1);
+            if i > 0 && i + 1 < rows.len() {
+                let before = rows[i - 1][col(&format!("qd{}", k + 1))];
+                assert!(
+                    (qd - before).abs() <= acceleration * dt * (1.0 + 1e-9),
+                    "row {i}: joint {} changes its rate by {}",
+                    k + 1,
+                    qd - before
+                );
+            }
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn what_does_not_apply_to_a_scene_is_refused() {
+    let (code, stderr) = trocar(&["simulate", "three-ports", "--method", "dls"]);
+    assert_eq!(code, Some(1));
+    assert!(stderr.contains("is a scene of several arms"), "{stderr}");
+    let gif = std::env::temp_dir().join(format!("trocar-scenes-{}.gif", std::process::id()));
+    let (code, stderr) = trocar(&[
+        "simulate",
+        "three-ports",
+        "--animate",
+        gif.to_str().unwrap(),
+    ]);
+    assert_ne!(code, Some(0));
+    assert!(stderr.contains("a scene of several arms"), "{stderr}");
+    assert!(!gif.exists());
+}

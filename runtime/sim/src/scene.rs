@@ -1,0 +1,339 @@
+//! Scenes of several arms, each through its own port, run by one step
+//! ([`trocar::control::scene`]): `three-ports`, two instrument arms and an endoscope arm on
+//! separate bases around the patient, the three ports 6.9 cm apart on a circle of 4 cm, the
+//! instruments' tips sent past the circle's centre, where their shafts would meet.
+//!
+//! The arms are Franka Pandas with the laparoscope of `panda-laparoscope` (its URDF's ranges,
+//! speeds, accelerations and jerks as hard limits, the QP step), their shafts 0.25 m into the
+//! body at the start; the endoscope holds its tip still. Every pair of shafts is kept at least
+//! [`SAFETY`] apart by a velocity damper (influence [`INFLUENCE`], gain 0.1 m/s).
+//!
+//! The trace's columns: `t`, the scene's joints `q1..q21` and rates `qd1..qd21` (the arms in the
+//! order of [`ARMS`]), each arm's `NAME.rcm_drift` (m, the distance from its port to its shaft's
+//! axis, from forward kinematics) and `NAME.ep_norm` (m, its tip's distance from its reference),
+//! `min_shaft_distance` (m, the smallest distance between two shafts inside the body, port to
+//! tip, from forward kinematics) and `coupling_active` (1 where a coupling changed the rates).
+
+use crate::closed_chain::{MechanismTrace, Panel};
+use nalgebra::{Matrix3, SVector, Vector3};
+use trocar::control::scene::{Coupling, Scene};
+use trocar::control::{
+    ChainKinematics, Controller, ControllerConfig, Damper, HardLimits, Method, QpWeights, Rcm,
+    Reference,
+};
+use trocar::distance::segment_distance;
+use trocar::se3::Se3;
+use trocar_model::description::RobotDescription;
+use trocar_model::numeric::NumericModel;
+
+/// The Panda laparoscope's kinematics, as the scene's arms use them.
+pub type Kin = ChainKinematics<f64, 7, 2, 4>;
+/// The Panda laparoscope's controller, as the scene's arms use it.
+pub type Ctrl = Controller<f64, 7, 7, 2, 4, 4, 4>;
+
+/// The Panda laparoscope's kinematics and its URDF's ranges, speeds, accelerations and jerks as
+/// hard limits.
+pub fn panda() -> Result<(Kin, HardLimits<f64, 7>), SceneRunError> {
+    let description =
+        RobotDescription::preset("panda-laparoscope").map_err(|e| model_error(&e.to_string()))?;
+    let kin: Kin = NumericModel::<f64>::from_description(&description, &[])
+        .and_then(|m| m.to_kinematics::<7, 2, 4>())
+        .map_err(|e| model_error(&e.to_string()))?;
+    let j = &description.joints;
+    let limit = |k: usize, what: &str, v: Option<f64>| {
+        v.ok_or_else(|| model_error(&format!("joint {} has no {what}", k + 1)))
+    };
+    let mut lower = SVector::<f64, 7>::zeros();
+    let mut upper = SVector::<f64, 7>::zeros();
+    let mut speed = SVector::<f64, 7>::zeros();
+    let mut acceleration = SVector::<f64, 7>::zeros();
+    let mut jerk = SVector::<f64, 7>::zeros();
+    for k in 0..7 {
+        let [lo, hi] = j[k]
+            .limits
+            .ok_or_else(|| model_error(&format!("joint {} has no range", k + 1)))?;
+        lower[k] = lo;
+        upper[k] = hi;
+        speed[k] = limit(k, "speed limit", j[k].speed_limit)?;
+        acceleration[k] = limit(k, "acceleration limit", j[k].acceleration_limit)?;
+        jerk[k] = limit(k, "jerk limit", j[k].jerk_limit)?;
+    }
+    let limits = HardLimits::none()
+        .with_joint_limits(lower, upper)
+        .with_speed_limits(speed)
+        .with_acceleration_limits(acceleration)
+        .with_jerk_limits(jerk);
+    Ok((kin, limits))
+}
+
+/// The scene's controller of one arm: the QP step (`κ = 0.01`) with `K_p = K_o = K_r = 10`
+/// and `limits`.
+pub fn controller(limits: HardLimits<f64, 7>) -> Ctrl {
+    Ctrl::new(ControllerConfig {
+        kp: 10.0,
+        ko: 10.0,
+        method: Method::Qp(QpWeights::with_kappa(0.01)),
+        jb0i_damping: None,
+        kr: 10.0,
+        max_joint_speed: None,
+    })
+    .with_limits(limits)
+}
+
+/// The names of the scenes.
+pub fn scenario_names() -> &'static [&'static str] {
+    &["three-ports"]
+}
+
+/// Whether `name` is a scene.
+pub fn is_scene(name: &str) -> bool {
+    scenario_names().contains(&name)
+}
+
+/// The arms of `three-ports`, in the scene's order.
+pub const ARMS: [&str; 3] = ["left", "right", "endoscope"];
+
+/// The shafts' safety distance (m).
+pub const SAFETY: f64 = 0.005;
+
+/// The distance within which the couplings' dampers act (m).
+pub const INFLUENCE: f64 = 0.03;
+
+/// The sample time (s) and the duration (s) of `three-ports`.
+pub const DT: f64 = 0.002;
+/// The duration of `three-ports` (s).
+pub const DURATION: f64 = 4.0;
+
+/// The Panda's start: the shaft vertical below the flange.
+const Q0: [f64; 7] = [0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785];
+
+/// The insertion at the start: the port 0.25 m along the shaft from the flange's frame.
+const L_A: f64 = 0.25;
+
+/// Runs the scene `name`, with its couplings (`coupled`) or without them (to see what they
+/// prevent); `progress` gets the fraction done.
+pub fn simulate(
+    name: &str,
+    coupled: bool,
+    mut progress: impl FnMut(f64),
+) -> Result<MechanismTrace, SceneRunError> {
+    if !is_scene(name) {
+        return Err(SceneRunError(format!(
+            "unknown scene `{name}` (expected one of: {})",
+            scenario_names().join(", ")
+        )));
+    }
+    let (kin, limits) = panda()?;
+    let controller = || controller(limits);
+    let q0 = SVector::<f64, 7>::from(Q0);
+    let g_0e = kin.chain.forward_kinematics(&q0);
+    let trocar = kin
+        .shaft
+        .constraint_pose(&kin.chain.link_frame(7, &q0), L_A)
+        .translation;
+    // The ports on a circle of 4 cm about the origin of the scene, at 90°, 210° and 330°; each
+    // arm's base outside, facing the centre (its own +x toward it).
+    let angles = [90.0f64, 210.0, 330.0].map(f64::to_radians);
+    let bases = angles.map(|a| {
+        let radial = Vector3::new(a.cos(), a.sin(), 0.0);
+        let port = radial * 0.04;
+        let facing = a + core::f64::consts::PI;
+        let rotation = Matrix3::new(
+            facing.cos(),
+            -facing.sin(),
+            0.0,
+            facing.sin(),
+            facing.cos(),
+            0.0,
+            0.0,
+            0.0,
+            1.0,
+        );
+        Se3::new(rotation, port - rotation * trocar)
+    });
+    // The instruments' tips 6 cm toward the centre and past it (2 cm beyond), 5 mm to their
+    // left so that the shafts would pass close rather than through each other; the endoscope
+    // still.
+    let shifts = [
+        Vector3::new(0.07, 0.001, 0.0),
+        Vector3::new(0.07, 0.001, 0.0),
+        Vector3::zeros(),
+    ];
+    let damper = if coupled {
+        Damper {
+            influence: INFLUENCE,
+            safety: SAFETY,
+            gain: 0.1,
+        }
+    } else {
+        // An influence of zero: the damper never acts.
+        Damper {
+            influence: 0.0,
+            safety: 0.0,
+            gain: 0.0,
+        }
+    };
+    let couplings = [(0, 1), (0, 2), (1, 2)].map(|arms| Coupling { arms, damper });
+    let mut scene = Scene::<f64, 3, 21, 6>::new(couplings);
+    let mut arms = [controller(), controller(), controller()];
+    let kins = [kin; 3];
+    let rcm = Rcm {
+        trocar,
+        dv: SVector::zeros(),
+    };
+    let rcms = [rcm; 3];
+    let mut q = [q0; 3];
+    let mut columns = vec!["t".to_string()];
+    columns.extend((1..=21).map(|k| format!("q{k}")));
+    columns.extend((1..=21).map(|k| format!("qd{k}")));
+    for arm in ARMS {
+        columns.push(format!("{arm}.rcm_drift"));
+        columns.push(format!("{arm}.ep_norm"));
+    }
+    columns.push("min_shaft_distance".into());
+    columns.push("coupling_active".into());
+    let steps = (DURATION / DT).round() as usize;
+    let mut rows = Vec::with_capacity(steps + 1);
+    for step in 0..=steps {
+        let t = step as f64 * DT;
+        let references = shifts.map(|s| reference(&g_0e, s, t));
+        // The row at t: the joints, the rates commanded at t (none after the last step).
+        let mut row = vec![t];
+        row.extend(q.iter().flat_map(|x| x.iter().copied()));
+        let (qd, coupling_active) = if step < steps {
+            let o = scene
+                .step::<Kin, 3, 7, 7, 2, 4, 4, 4, 6>(
+                    &mut arms,
+                    &kins,
+                    &q,
+                    &references,
+                    &rcms,
+                    &bases,
+                    DT,
+                )
+                .map_err(|e| SceneRunError(format!("t = {t:.3} s: {e}")))?;
+            if !o.coupling_held {
+                return Err(SceneRunError(format!(
+                    "t = {t:.3} s: the couplings could not hold within the ports and the joint limits"
+                )));
+            }
+            if let Some(k) = o
+                .arms
+                .iter()
+                .position(|a| a.status == trocar::control::StepStatus::TrocarYielded)
+            {
+                return Err(SceneRunError(format!(
+                    "t = {t:.3} s: the {} arm's port gave way to its joint limits",
+                    ARMS[k]
+                )));
+            }
+            (o.qd, o.coupling_active)
+        } else {
+            ([SVector::<f64, 7>::zeros(); 3], false)
+        };
+        row.extend(qd.iter().flat_map(|x| x.iter().copied()));
+        let mut ends = [Vector3::zeros(); 6];
+        for k in 0..3 {
+            let tip = kin.chain.forward_kinematics(&q[k]);
+            let flange = kin.chain.link_frame(7, &q[k]);
+            let axis: Vector3<f64> = flange.rotation.column(2).into_owned();
+            let rel = trocar - flange.translation;
+            row.push((rel - axis * rel.dot(&axis)).norm());
+            row.push((references[k].position - tip.translation).norm());
+            ends[2 * k] = bases[k].transform_point(&trocar);
+            ends[2 * k + 1] = bases[k].transform_point(&tip.translation);
+        }
+        let min = [(0, 1), (0, 2), (1, 2)]
+            .iter()
+            .map(|&(a, b)| {
+                segment_distance(
+                    &ends[2 * a],
+                    &ends[2 * a + 1],
+                    &ends[2 * b],
+                    &ends[2 * b + 1],
+                )
+                .distance
+            })
+            .fold(f64::INFINITY, f64::min);
+        row.push(min);
+        row.push(if coupling_active { 1.0 } else { 0.0 });
+        if row.iter().any(|v| !v.is_finite()) {
+            return Err(SceneRunError(format!("t = {t:.3} s: a non-finite value")));
+        }
+        rows.push(row);
+        for k in 0..3 {
+            q[k] += qd[k] * DT;
+        }
+        progress(step as f64 / steps as f64);
+    }
+    let line = |y: String, legend: &str| ("t".to_string(), y, legend.to_string());
+    let panels = vec![
+        Panel {
+            title: "smallest distance between two shafts inside the body".into(),
+            x_label: "t (s)".into(),
+            y_label: "distance (m)".into(),
+            lines: vec![line("min_shaft_distance".into(), "min_shaft_distance")],
+            non_negative: true,
+        },
+        Panel {
+            title: "each port's drift".into(),
+            x_label: "t (s)".into(),
+            y_label: "drift (m)".into(),
+            lines: ARMS
+                .iter()
+                .map(|a| line(format!("{a}.rcm_drift"), a))
+                .collect(),
+            non_negative: true,
+        },
+        Panel {
+            title: "each tip's error".into(),
+            x_label: "t (s)".into(),
+            y_label: "|dp - p| (m)".into(),
+            lines: ARMS
+                .iter()
+                .map(|a| line(format!("{a}.ep_norm"), a))
+                .collect(),
+            non_negative: true,
+        },
+    ];
+    Ok(MechanismTrace {
+        name: name.to_string(),
+        columns,
+        rows,
+        panels,
+    })
+}
+
+/// Why a scene's run failed: the message names the time and what gave way.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneRunError(pub String);
+
+impl core::fmt::Display for SceneRunError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for SceneRunError {}
+
+fn model_error(message: &str) -> SceneRunError {
+    SceneRunError(format!("the Panda's description: {message}"))
+}
+
+/// The tip's reference: from its start by `shift` (arm frame) along a smooth step over 2 s,
+/// starting at 0.5 s.
+pub fn reference(start: &Se3<f64>, shift: Vector3<f64>, t: f64) -> Reference<f64> {
+    let s = ((t - 0.5) / 2.0).clamp(0.0, 1.0);
+    let p = s * s * s * (10.0 - 15.0 * s + 6.0 * s * s);
+    let v = if s > 0.0 && s < 1.0 {
+        30.0 * s * s * (1.0 - s) * (1.0 - s) / 2.0
+    } else {
+        0.0
+    };
+    Reference {
+        position: start.translation + shift * p,
+        rotation: start.rotation,
+        velocity: shift * v,
+        angular_velocity: Vector3::zeros(),
+    }
+}

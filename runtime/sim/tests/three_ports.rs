@@ -1,0 +1,63 @@
+//! The scene `three-ports` (`trocar_sim::scene`): with its couplings every pair of shafts keeps
+//! its safety distance at every row (measured from forward kinematics), every port holds and
+//! every joint keeps its URDF range; without them the instruments' shafts come closer than the
+//! safety distance, so the scene tests what the couplings do.
+
+use trocar_sim::closed_chain::MechanismTrace;
+use trocar_sim::scene::{simulate, ARMS, SAFETY};
+
+fn column(trace: &MechanismTrace, name: &str) -> Vec<f64> {
+    trace
+        .column(name)
+        .unwrap_or_else(|| panic!("column {name}"))
+}
+
+#[test]
+fn three_ports_keeps_the_shafts_apart_and_the_ports_held() {
+    let coupled = simulate("three-ports", true, |_| {}).unwrap();
+    let free = simulate("three-ports", false, |_| {}).unwrap();
+    let min = |t: &MechanismTrace| {
+        column(t, "min_shaft_distance")
+            .into_iter()
+            .fold(f64::INFINITY, f64::min)
+    };
+    let (with, without) = (min(&coupled), min(&free));
+    let active = column(&coupled, "coupling_active")
+        .iter()
+        .filter(|v| **v > 0.0)
+        .count();
+    let drift = ARMS
+        .iter()
+        .flat_map(|a| column(&coupled, &format!("{a}.rcm_drift")))
+        .fold(0.0, f64::max);
+    let tip = column(&coupled, "left.ep_norm");
+    println!(
+        "min shaft distance {with:.3e} m coupled ({active} rows active), {without:.3e} m without; \
+         max drift {drift:.2e} m; left tip error at the end {:.2e} m",
+        tip.last().unwrap()
+    );
+    assert!(without < SAFETY, "without the couplings: {without} m");
+    assert!(
+        with >= SAFETY * (1.0 - 1e-6),
+        "with the couplings: {with} m"
+    );
+    assert!(active > 0);
+    assert!(drift <= 1e-4, "drift {drift} m");
+    // 21 joints and their rates, in the scene's order.
+    assert_eq!(coupled.columns[1], "q1");
+    assert_eq!(coupled.columns[43], "left.rcm_drift");
+    // Every joint within the Panda's URDF ranges.
+    let d = trocar_model::description::RobotDescription::preset("panda-laparoscope").unwrap();
+    for k in 0..21 {
+        let [lo, hi] = d.joints[k % 7].limits.unwrap();
+        for v in column(&coupled, &format!("q{}", k + 1)) {
+            assert!(v >= lo && v <= hi, "q{} = {v}", k + 1);
+        }
+    }
+}
+
+#[test]
+fn an_unknown_scene_is_named() {
+    let e = simulate("four-ports", true, |_| {}).unwrap_err();
+    assert!(e.to_string().contains("unknown scene `four-ports`"), "{e}");
+}
