@@ -1001,7 +1001,8 @@ fn check_rotation(r: &[[f64; 3]; 3]) -> PyResult<()> {
 }
 
 /// `trocar simulate`: runs a scenario (`"1"`–`"4"`, `"exp421"`, `"panda-laparoscope"`,
-/// `"panda-laparoscope-limits"`, or a closed-chain scenario such as `"four-bar"`) and returns its
+/// `"panda-laparoscope-limits"`, a closed-chain scenario such as `"four-bar"`, or the scene of
+/// several arms `"three-ports"`) and returns its
 /// trace as named columns (`t` first), the columns of the command line's CSV. `method`
 /// (`"pinv"`, `"dls"`, `"fi"`, `"qp"`; default:
 /// the scenario's), `drift_correction` and `max_joint_speed` (rad/s; `None` for no limit; default:

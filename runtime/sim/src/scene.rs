@@ -16,7 +16,7 @@
 
 use crate::closed_chain::{MechanismTrace, Panel};
 use nalgebra::{Matrix3, SVector, Vector3};
-use trocar::control::scene::{Coupling, Scene};
+use trocar::control::scene::{Coupling, Scene, SceneError, SceneOutput};
 use trocar::control::{
     ChainKinematics, Controller, ControllerConfig, Damper, HardLimits, Method, QpWeights, Rcm,
     Reference,
@@ -110,6 +110,124 @@ const Q0: [f64; 7] = [0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785];
 /// The insertion at the start: the port 0.25 m along the shaft from the flange's frame.
 const L_A: f64 = 0.25;
 
+/// The scene `three-ports` ready to step: its arms' kinematics and controllers, their bases,
+/// ports and references, and the scene's couplings.
+#[derive(Clone, Debug)]
+pub struct ThreePorts {
+    /// Each arm's kinematics (in its own base frame).
+    pub kins: [Kin; 3],
+    /// Each arm's controller.
+    pub arms: [Ctrl; 3],
+    /// The scene's step and its couplings.
+    pub scene: Scene<f64, 3, 21, 6>,
+    /// Each arm's base in the scene's frame.
+    pub bases: [Se3<f64>; 3],
+    /// Each arm's port (in its own base frame).
+    pub rcms: [Rcm<f64, 2>; 3],
+    /// Each arm's start.
+    pub q0: [SVector<f64, 7>; 3],
+    /// Each tip's pose at the start, and how far its reference moves it (arm frame).
+    start: Se3<f64>,
+    shifts: [Vector3<f64>; 3],
+}
+
+impl ThreePorts {
+    /// The scene at its start, with its couplings (`coupled`) or without them.
+    pub fn new(coupled: bool) -> Result<Self, SceneRunError> {
+        let (kin, limits) = panda()?;
+        let q0 = SVector::<f64, 7>::from(Q0);
+        let g_0e = kin.chain.forward_kinematics(&q0);
+        let trocar = kin
+            .shaft
+            .constraint_pose(&kin.chain.link_frame(7, &q0), L_A)
+            .translation;
+        // The ports on a circle of 4 cm about the origin of the scene, at 90°, 210° and 330°; each
+        // arm's base outside, facing the centre (its own +x toward it).
+        let angles = [90.0f64, 210.0, 330.0].map(f64::to_radians);
+        let bases = angles.map(|a| {
+            let radial = Vector3::new(a.cos(), a.sin(), 0.0);
+            let port = radial * 0.04;
+            let facing = a + core::f64::consts::PI;
+            let rotation = Matrix3::new(
+                facing.cos(),
+                -facing.sin(),
+                0.0,
+                facing.sin(),
+                facing.cos(),
+                0.0,
+                0.0,
+                0.0,
+                1.0,
+            );
+            Se3::new(rotation, port - rotation * trocar)
+        });
+        // The instruments' tips 6 cm toward the centre and past it (2 cm beyond), 5 mm to their
+        // left so that the shafts would pass close rather than through each other; the endoscope
+        // still.
+        let shifts = [
+            Vector3::new(0.07, 0.001, 0.0),
+            Vector3::new(0.07, 0.001, 0.0),
+            Vector3::zeros(),
+        ];
+        let damper = if coupled {
+            Damper {
+                influence: INFLUENCE,
+                safety: SAFETY,
+                gain: 0.1,
+            }
+        } else {
+            // An influence of zero: the damper never acts.
+            Damper {
+                influence: 0.0,
+                safety: 0.0,
+                gain: 0.0,
+            }
+        };
+        let couplings = [(0, 1), (0, 2), (1, 2)].map(|arms| Coupling { arms, damper });
+        let scene = Scene::<f64, 3, 21, 6>::new(couplings);
+        let arms = [controller(limits); 3];
+        let kins = [kin; 3];
+        let rcm = Rcm {
+            trocar,
+            dv: SVector::zeros(),
+        };
+        let rcms = [rcm; 3];
+        Ok(ThreePorts {
+            kins,
+            arms,
+            scene,
+            bases,
+            rcms,
+            q0: [q0; 3],
+            start: g_0e,
+            shifts,
+        })
+    }
+
+    /// Each arm's reference at `t` (s).
+    pub fn references(&self, t: f64) -> [Reference<f64>; 3] {
+        self.shifts.map(|s| reference(&self.start, s, t))
+    }
+
+    /// One step of the scene at the arms' joints `q`, time `t` (s).
+    pub fn step(
+        &mut self,
+        q: &[SVector<f64, 7>; 3],
+        t: f64,
+    ) -> Result<SceneOutput<f64, 3, 7, 2, 3>, SceneError> {
+        let references = self.references(t);
+        self.scene.step::<Kin, 3, 7, 7, 2, 4, 4, 4, 6>(
+            &mut self.arms,
+            &self.kins,
+            q,
+            &references,
+            &self.rcms,
+            &self.bases,
+            DT,
+        )
+    }
+}
+
 /// Runs the scene `name`, with its couplings (`coupled`) or without them (to see what they
 /// prevent); `progress` gets the fraction done.
 pub fn simulate(
@@ -123,66 +241,9 @@ pub fn simulate(
             scenario_names().join(", ")
         )));
     }
-    let (kin, limits) = panda()?;
-    let controller = || controller(limits);
-    let q0 = SVector::<f64, 7>::from(Q0);
-    let g_0e = kin.chain.forward_kinematics(&q0);
-    let trocar = kin
-        .shaft
-        .constraint_pose(&kin.chain.link_frame(7, &q0), L_A)
-        .translation;
-    // The ports on a circle of 4 cm about the origin of the scene, at 90°, 210° and 330°; each
-    // arm's base outside, facing the centre (its own +x toward it).
-    let angles = [90.0f64, 210.0, 330.0].map(f64::to_radians);
-    let bases = angles.map(|a| {
-        let radial = Vector3::new(a.cos(), a.sin(), 0.0);
-        let port = radial * 0.04;
-        let facing = a + core::f64::consts::PI;
-        let rotation = Matrix3::new(
-            facing.cos(),
-            -facing.sin(),
-            0.0,
-            facing.sin(),
-            facing.cos(),
-            0.0,
-            0.0,
-            0.0,
-            1.0,
-        );
-        Se3::new(rotation, port - rotation * trocar)
-    });
-    // The instruments' tips 6 cm toward the centre and past it (2 cm beyond), 5 mm to their
-    // left so that the shafts would pass close rather than through each other; the endoscope
-    // still.
-    let shifts = [
-        Vector3::new(0.07, 0.001, 0.0),
-        Vector3::new(0.07, 0.001, 0.0),
-        Vector3::zeros(),
-    ];
-    let damper = if coupled {
-        Damper {
-            influence: INFLUENCE,
-            safety: SAFETY,
-            gain: 0.1,
-        }
-    } else {
-        // An influence of zero: the damper never acts.
-        Damper {
-            influence: 0.0,
-            safety: 0.0,
-            gain: 0.0,
-        }
-    };
-    let couplings = [(0, 1), (0, 2), (1, 2)].map(|arms| Coupling { arms, damper });
-    let mut scene = Scene::<f64, 3, 21, 6>::new(couplings);
-    let mut arms = [controller(), controller(), controller()];
-    let kins = [kin; 3];
-    let rcm = Rcm {
-        trocar,
-        dv: SVector::zeros(),
-    };
-    let rcms = [rcm; 3];
-    let mut q = [q0; 3];
+    let mut setup = ThreePorts::new(coupled)?;
+    let (kin, trocar, bases) = (setup.kins[0], setup.rcms[0].trocar, setup.bases);
+    let mut q = setup.q0;
     let mut columns = vec!["t".to_string()];
     columns.extend((1..=21).map(|k| format!("q{k}")));
     columns.extend((1..=21).map(|k| format!("qd{k}")));
@@ -196,21 +257,13 @@ pub fn simulate(
     let mut rows = Vec::with_capacity(steps + 1);
     for step in 0..=steps {
         let t = step as f64 * DT;
-        let references = shifts.map(|s| reference(&g_0e, s, t));
+        let references = setup.references(t);
         // The row at t: the joints, the rates commanded at t (none after the last step).
         let mut row = vec![t];
         row.extend(q.iter().flat_map(|x| x.iter().copied()));
         let (qd, coupling_active) = if step < steps {
-            let o = scene
-                .step::<Kin, 3, 7, 7, 2, 4, 4, 4, 6>(
-                    &mut arms,
-                    &kins,
-                    &q,
-                    &references,
-                    &rcms,
-                    &bases,
-                    DT,
-                )
+            let o = setup
+                .step(&q, t)
                 .map_err(|e| SceneRunError(format!("t = {t:.3} s: {e}")))?;
             if !o.coupling_held {
                 return Err(SceneRunError(format!(
