@@ -26,7 +26,11 @@ fn bench(c: &mut Criterion) {
         let (setup, q) = at(step);
         let t = step as f64 * DT;
         let active = setup.clone().step(&q, t).unwrap().coupling_active;
-        assert_eq!(active, name == "coupled", "{name}: couplings active {active}");
+        assert_eq!(
+            active,
+            name == "coupled",
+            "{name}: couplings active {active}"
+        );
         c.bench_function(&format!("scene_step_three_ports_{name}"), |b| {
             b.iter_batched(
                 || setup.clone(),

@@ -9,7 +9,7 @@
 
 use nalgebra::{SVector, Vector3};
 use trocar::control::scene::{Coupling, Scene};
-use trocar::control::{Damper, HardLimits, Rcm};
+use trocar::control::{Damper, Damping, HardLimits, Method, Rcm};
 use trocar::distance::segment_distance;
 use trocar::se3::Se3;
 use trocar_sim::scene::{controller, reference, Kin};
@@ -31,6 +31,11 @@ struct Run {
 
 /// Both arms for 3 s, with the coupling or without it.
 fn run(coupled: bool) -> Run {
+    run_with(coupled, None)
+}
+
+/// [`run`] with each arm's step by `method` (the scene's QP step by default).
+fn run_with(coupled: bool, method: Option<Method<f64>>) -> Run {
     let (kin, limits) = panda();
     let q0 = SVector::<f64, 7>::from(Q0);
     let g_0e = kin.chain.forward_kinematics(&q0);
@@ -44,7 +49,11 @@ fn run(coupled: bool) -> Run {
         Se3::new(turn, Vector3::new(2.0 * trocar.x + 0.07, 0.0, 0.0)),
     ];
     let kins = [kin, kin];
-    let mut arms = [controller(limits), controller(limits)];
+    let mut one = controller(limits);
+    if let Some(m) = method {
+        one.config.method = m;
+    }
+    let mut arms = [one, one];
     let damper = Damper {
         influence: 0.03,
         safety: SAFETY,
@@ -143,6 +152,34 @@ fn the_coupling_keeps_two_shafts_apart() {
     );
     assert!(coupled.max_drift <= 1e-4, "drift {} m", coupled.max_drift);
     assert!(coupled.joints_within && free.joints_within);
+}
+
+/// The arms' own steps by the inverses instead of the QP: the scene's step keeps the couplings
+/// all the same (the arms' own steps hold their ports and rate boxes; the couplings are the
+/// scene's).
+#[test]
+fn every_method_keeps_the_shafts_apart() {
+    let methods = [
+        Method::Pinv,
+        Method::Dls(Damping::Variable {
+            alpha0: 0.05,
+            w0: 1e-3,
+        }),
+        Method::Fi {
+            gamma_r: 5.0,
+            gamma_l: 5.0,
+        },
+    ];
+    for method in methods {
+        let r = run_with(true, Some(method));
+        assert!(
+            r.min_distance >= SAFETY * (1.0 - 1e-6),
+            "{method:?}: {} m",
+            r.min_distance
+        );
+        assert!(r.max_drift <= 1e-4, "{method:?}: drift {} m", r.max_drift);
+        assert!(r.joints_within && r.coupling_active_steps > 0, "{method:?}");
+    }
 }
 
 /// A scene of one arm, without couplings, steps exactly as its controller does alone.
