@@ -274,30 +274,38 @@ fn scene_scenario(
         scene::simulate(scenario, true, progress).map_err(|e| Error::Simulation(e.to_string()))?;
     let column = |name: &str| trace.column(name).unwrap_or_default();
     let max = |v: Vec<f64>| v.into_iter().fold(0.0, f64::max);
-    let min_distance = column("min_shaft_distance")
-        .into_iter()
-        .fold(f64::INFINITY, f64::min);
-    let active = column("coupling_active")
+    let arms: Vec<&str> = trace
+        .columns
         .iter()
-        .filter(|v| **v > 0.0)
-        .count();
+        .filter_map(|c| c.strip_suffix(".rcm_drift"))
+        .collect();
     let mut summary = format!(
-        "scene {scenario} (qp, drift correction on, the URDF's limits, {} arms):\n  \
-         min shaft distance {min_distance:.3e} m (safety {:.3e} m), the couplings active in \
-         {active} of {} rows",
-        scene::ARMS.len(),
-        scene::SAFETY,
-        trace.rows.len()
+        "scene {scenario} (qp, drift correction on, {} arms: {}):",
+        arms.len(),
+        arms.join(", ")
     );
-    for arm in scene::ARMS {
+    if trace.columns.iter().any(|c| c == "min_shaft_distance") {
+        let min_distance = column("min_shaft_distance")
+            .into_iter()
+            .fold(f64::INFINITY, f64::min);
+        let active = column("coupling_active")
+            .iter()
+            .filter(|v| **v > 0.0)
+            .count();
+        summary += &format!(
+            "\n  min shaft distance {min_distance:.3e} m (safety {:.3e} m), the couplings \
+             active in {active} of {} rows",
+            scene::SAFETY,
+            trace.rows.len()
+        );
+    }
+    for arm in &arms {
+        let tip = column(&format!("{arm}.ep_norm"));
         summary += &format!(
             "\n  {arm}: max drift {:.3e} m, max tip error {:.3e} m (final {:.3e} m)",
             max(column(&format!("{arm}.rcm_drift"))),
-            max(column(&format!("{arm}.ep_norm"))),
-            column(&format!("{arm}.ep_norm"))
-                .last()
-                .copied()
-                .unwrap_or(f64::NAN)
+            max(tip.clone()),
+            tip.last().copied().unwrap_or(f64::NAN)
         );
     }
     Ok(SimulationRun {

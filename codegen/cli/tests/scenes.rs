@@ -18,27 +18,39 @@ fn trocar(args: &[&str]) -> (Option<i32>, String) {
     )
 }
 
-#[test]
-fn three_ports_from_the_command_line() {
-    let dir = std::env::temp_dir().join(format!("trocar-scenes-{}", std::process::id()));
+/// Runs `trocar simulate SCENE --method qp --csv` and reads the CSV: its columns and rows.
+fn run_csv(scene: &str) -> (Vec<String>, Vec<Vec<f64>>, String) {
+    let dir = std::env::temp_dir().join(format!("trocar-scenes-{scene}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let csv = dir.join("three-ports.csv");
+    let csv = dir.join("run.csv");
     let (code, stderr) = trocar(&[
         "simulate",
-        "three-ports",
+        scene,
         "--method",
         "qp",
         "--csv",
         csv.to_str().unwrap(),
     ]);
     assert_eq!(code, Some(0), "{stderr}");
-    assert!(stderr.contains("min shaft distance"), "{stderr}");
     let text = std::fs::read_to_string(&csv).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
     let mut lines = text.lines();
-    let columns: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let rows: Vec<Vec<f64>> = lines
+    let columns = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    let rows = lines
         .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
         .collect();
+    (columns, rows, stderr)
+}
+
+#[test]
+fn three_ports_from_the_command_line() {
+    let (columns, rows, stderr) = run_csv("three-ports");
+    assert!(stderr.contains("min shaft distance"), "{stderr}");
     let col = |name: &str| {
         columns
             .iter()
@@ -94,7 +106,27 @@ fn three_ports_from_the_command_line() {
             }
         }
     }
-    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `trocar simulate dia10-dual`: both drifts within 1e-4 m, the holding tip within 1e-4 m of
+/// its start, the cutting tip within 1 mm of its path after 1 s; one torso (its rate in both
+/// arms is the one column `qd1`).
+#[test]
+fn dia10_dual_from_the_command_line() {
+    let (columns, rows, _) = run_csv("dia10-dual");
+    let col = |name: &str| columns.iter().position(|c| *c == name).unwrap();
+    assert_eq!(
+        columns.len(),
+        35,
+        "t, 15 joints, 15 rates, two columns per arm"
+    );
+    for row in &rows {
+        assert!(row[col("left.rcm_drift")] <= 1e-4 && row[col("right.rcm_drift")] <= 1e-4);
+        assert!(row[col("left.ep_norm")] <= 1e-4, "t = {}", row[0]);
+        if row[0] >= 1.0 {
+            assert!(row[col("right.ep_norm")] <= 1e-3, "t = {}", row[0]);
+        }
+    }
 }
 
 #[test]

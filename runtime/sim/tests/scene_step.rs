@@ -100,6 +100,7 @@ fn run_with(coupled: bool, method: Option<Method<f64>>) -> Run {
                 &references,
                 &[rcm, rcm],
                 &bases,
+                &[],
                 DT,
             )
             .unwrap();
@@ -211,6 +212,7 @@ fn one_arm_steps_as_its_controller() {
                 &[r],
                 &[rcm],
                 &[Se3::identity()],
+                &[],
                 DT,
             )
             .unwrap();
@@ -243,6 +245,7 @@ fn sizes_are_checked() {
             &[r],
             &[rcm],
             &[Se3::identity()],
+            &[],
             DT,
         )
         .unwrap_err();

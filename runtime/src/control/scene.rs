@@ -3,11 +3,12 @@
 //!
 //! Each arm keeps its own [`Controller`]: its step holds its port, its joint limits (the rate box
 //! of [`rate_box`], and with [`super::Method::Qp`] the dampers and the depth) and follows its task,
-//! as it does alone. The scene's step then changes the arms' rates `θ̇*` as little as it can so
-//! that every coupling holds, solving one QP over the `NS` rates of all the arms:
+//! as it does alone. The scene's step then changes the arms' rates `θ̇*` so that every coupling
+//! holds with the least change of the arms' task velocities, solving one QP over the `NS` rates
+//! of all the arms:
 //!
 //! ```text
-//! minimise    ½ ‖θ̇ − θ̇*‖²                                                       (S1)
+//! minimise    ½ Σ_k ‖D S_k J_k (θ̇_k − θ̇*_k)‖² + ½ ε² ‖θ̇ − θ̇*‖²                     (S1)
 //! subject to  L_k θ̇_k = L_k θ̇*_k         each arm's port: the lateral velocity   (S2)
 //!                                        of its shaft at the port, as its step
 //!                                        commanded it
@@ -16,7 +17,10 @@
 //!                                        distance's witnesses, within `d_i`
 //! ```
 //!
-//! `L_k = H_v R_0rᵀ W_k`, `W_k` the velocity Jacobian of the shaft's point at the port (the rows
+//! (S1) keeps each arm's task velocity `S_k J_k θ̇*_k` (its task rows of the end effector's body
+//! Jacobian `J_k`, the angular rows weighted by [`Scene::orientation_weight`] in `D`: a tip's
+//! place before its orientation), and with the weight [`Scene::rate_weight`] `ε` the rates
+//! themselves. `L_k = H_v R_0rᵀ W_k`, `W_k` the velocity Jacobian of the shaft's point at the port (the rows
 //! (Q2) of [`super::hard_limits`] in the base frame); the box holds `θ̇*_k` (widened to it where
 //! the arm's own step let a lesser bound give way). (S4) is the velocity damper of the joint
 //! ranges ([`Damper`], range `[0, ∞)`) on the distance `d` between two instruments inside the
@@ -29,6 +33,11 @@
 //! only: the step measures each coupling's distance at `q + dt θ̇` (forward kinematics) and,
 //! where it fell short of `d + dt ḋ`, raises that coupling's bound by the shortfall over `dt` and
 //! solves once more (S5), so that the distance keeps its safety to second order in `dt`.
+//!
+//! Arms that share a joint (a torso on which two arms are mounted) are two chains that both
+//! hold it; the scene asks its rate to be the same in both (S6), `θ̇_a,j = θ̇_b,j'`
+//! ([`SharedJoint`]), so the arms' own steps, each of which chose the torso's rate for its own
+//! task, are reconciled by the least change, and each arm's other joints keep its port.
 //!
 //! On conflict the ports and the joint limits come first: if no rates keep every coupling
 //! within the ports and the boxes, the solver relaxes the couplings' rows as little as it can
@@ -55,12 +64,21 @@ pub struct Coupling<T> {
     pub damper: Damper<T>,
 }
 
+/// A joint two arms share (a torso, a column): its rate must be the same in both (S6).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SharedJoint {
+    /// The two arms, by their index in the scene.
+    pub arms: (usize, usize),
+    /// The joint's index in each arm's chain.
+    pub joints: (usize, usize),
+}
+
 /// Why a scene step was refused.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SceneError {
     /// The scene's sizes do not add up: `NS` must be the arms' joints (`A·N`), `ES` their port
-    /// rows (`A·R`), `C` two rows per coupling; or a coupling names an arm that is not there or
-    /// the same arm twice.
+    /// rows and shared joints (`A·R + shared`), `C` two rows per coupling; or a coupling or a
+    /// shared joint names an arm or a joint that is not there, or the same arm twice.
     Sizes,
     /// An arm's own step failed (the arm's index and its error).
     Arm(usize, ControlError),
@@ -72,8 +90,9 @@ impl core::fmt::Display for SceneError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
             SceneError::Sizes => f.write_str(
-                "the scene's sizes do not add up (NS = arms × joints, ES = arms × port rows, \
-                 C = 2 × couplings, couplings between two different arms of the scene)",
+                "the scene's sizes do not add up (NS = arms × joints, ES = arms × port rows + \
+                 shared joints, C = 2 × couplings, couplings and shared joints between two \
+                 different arms of the scene)",
             ),
             SceneError::Arm(k, e) => write!(f, "arm {k}: {e}"),
             SceneError::NonFinite => f.write_str("a non-finite value appeared in the scene step"),
@@ -116,6 +135,12 @@ pub struct Scene<T: RealField + Copy, const P: usize, const NS: usize, const C: 
     pub couplings: [Coupling<T>; P],
     /// The QP solver's settings.
     pub settings: Settings,
+    /// The weight of the tasks' angular rows against their linear ones in (S1) (0.1 by
+    /// default: a tip's place before its orientation).
+    pub orientation_weight: T,
+    /// The weight `ε` of the change of the rates themselves in (S1) (1e-3 by default), which
+    /// makes the objective definite where the tasks leave joints free.
+    pub rate_weight: T,
     active: ActiveSet<NS, C>,
 }
 
@@ -125,6 +150,8 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
         Scene {
             couplings,
             settings: Settings::DEFAULT,
+            orientation_weight: nalgebra::convert(0.1),
+            rate_weight: nalgebra::convert(1e-3),
             active: ActiveSet::EMPTY,
         }
     }
@@ -138,7 +165,8 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
     /// `references[k]` and `rcms[k]` are arm `k`'s, in its own base frame, as for
     /// [`Controller::step`]; the ports are the `rcms`' trocars; `bases[k]` places arm `k`'s base
     /// in the scene's frame, where the distances are measured. Where no coupling is within its
-    /// influence distance the QP is not solved: every arm's rates are its own step's, exactly.
+    /// influence distance and no joint is shared (`shared`, (S6)) the QP is not solved: every
+    /// arm's rates are its own step's, exactly.
     #[allow(clippy::too_many_arguments)]
     pub fn step<
         Kin: ConstrainedKinematics<T, N, I, R, K, M, Q>,
@@ -158,6 +186,7 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
         references: &[Reference<T>; A],
         rcms: &[Rcm<T, R>; A],
         bases: &[Se3<T>; A],
+        shared: &[SharedJoint],
         dt: T,
     ) -> Result<SceneOutput<T, A, N, R, P>, SceneError>
     where
@@ -167,8 +196,15 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
         Const<Q>: SquareDim,
     {
         if A * N != NS
-            || A * R != ES
+            || A * R + shared.len() != ES
             || 2 * P != C
+            || shared.iter().any(|s| {
+                s.arms.0 >= A
+                    || s.arms.1 >= A
+                    || s.arms.0 == s.arms.1
+                    || s.joints.0 >= N
+                    || s.joints.1 >= N
+            })
             || self
                 .couplings
                 .iter()
@@ -178,7 +214,7 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
         }
         let big = super::hard_limits::big::<T>();
         let mut problem = Problem::<T, NS, ES, C> {
-            h: SMatrix::identity(),
+            h: SMatrix::zeros(),
             f: SVector::zeros(),
             a_eq: SMatrix::zeros(),
             b_eq: SVector::zeros(),
@@ -231,7 +267,6 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
                 let x = out.qd[c];
                 problem.lb[k * N + c] = rates.lower[c].min(x).max(-big);
                 problem.ub[k * N + c] = rates.upper[c].max(x).min(big);
-                problem.f[k * N + c] = -x;
             }
             // The tip and its velocity Jacobian in the base frame, for (S4).
             let je = task_body_jacobian::<T, N, I, K, M, 6>(
@@ -242,6 +277,26 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
                 &s.jb0i,
                 &s.jr,
             );
+            // (S1): the arm's task rows, the angular ones weighted.
+            let mut weighted = je;
+            for r in 3..6 {
+                for c in 0..N {
+                    weighted[(r, c)] *= self.orientation_weight;
+                }
+            }
+            let task = kins[k].task_selection() * weighted;
+            let mut h = task.tr_mul(&task);
+            let eps2 = self.rate_weight * self.rate_weight;
+            for c in 0..N {
+                h[(c, c)] += eps2;
+            }
+            let f = -(h * out.qd);
+            for r in 0..N {
+                problem.f[k * N + r] = f[r];
+                for c in 0..N {
+                    problem.h[(k * N + r, k * N + c)] = h[(r, c)];
+                }
+            }
             tips[k] = bases[k].transform_point(&s.g_0e.translation);
             tip_jacobians[k] = bases[k].rotation * s.g_0e.rotation * je.fixed_rows::<3>(0);
             ports[k] = bases[k].transform_point(&rcms[k].trocar);
@@ -277,6 +332,13 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
                 }
                 rows_in = true;
             }
+        }
+        // (S6): a shared joint's rate is the same in both arms.
+        for (e, joint) in shared.iter().enumerate() {
+            let row = A * R + e;
+            problem.a_eq[(row, joint.arms.0 * N + joint.joints.0)] = T::one();
+            problem.a_eq[(row, joint.arms.1 * N + joint.joints.1)] = -T::one();
+            rows_in = true;
         }
         if !(problem
             .a_eq

@@ -26,6 +26,8 @@ use trocar::se3::Se3;
 use trocar_model::description::RobotDescription;
 use trocar_model::numeric::NumericModel;
 
+pub mod dual;
+
 /// The Panda laparoscope's kinematics, as the scene's arms use them.
 pub type Kin = ChainKinematics<f64, 7, 2, 4>;
 /// The Panda laparoscope's controller, as the scene's arms use it.
@@ -82,7 +84,7 @@ pub fn controller(limits: HardLimits<f64, 7>) -> Ctrl {
 
 /// The names of the scenes.
 pub fn scenario_names() -> &'static [&'static str] {
-    &["three-ports"]
+    &["three-ports", "dia10-dual"]
 }
 
 /// Whether `name` is a scene.
@@ -223,6 +225,7 @@ impl ThreePorts {
             &references,
             &self.rcms,
             &self.bases,
+            &[],
             DT,
         )
     }
@@ -240,6 +243,9 @@ pub fn simulate(
             "unknown scene `{name}` (expected one of: {})",
             scenario_names().join(", ")
         )));
+    }
+    if name == "dia10-dual" {
+        return dual::simulate(progress);
     }
     let mut setup = ThreePorts::new(coupled)?;
     let (kin, trocar, bases) = (setup.kins[0], setup.rcms[0].trocar, setup.bases);
@@ -319,36 +325,14 @@ pub fn simulate(
         }
         progress(step as f64 / steps as f64);
     }
-    let line = |y: String, legend: &str| ("t".to_string(), y, legend.to_string());
-    let panels = vec![
-        Panel {
-            title: "smallest distance between two shafts inside the body".into(),
-            x_label: "t (s)".into(),
-            y_label: "distance (m)".into(),
-            lines: vec![line("min_shaft_distance".into(), "min_shaft_distance")],
-            non_negative: true,
-        },
-        Panel {
-            title: "each port's drift".into(),
-            x_label: "t (s)".into(),
-            y_label: "drift (m)".into(),
-            lines: ARMS
-                .iter()
-                .map(|a| line(format!("{a}.rcm_drift"), a))
-                .collect(),
-            non_negative: true,
-        },
-        Panel {
-            title: "each tip's error".into(),
-            x_label: "t (s)".into(),
-            y_label: "|dp - p| (m)".into(),
-            lines: ARMS
-                .iter()
-                .map(|a| line(format!("{a}.ep_norm"), a))
-                .collect(),
-            non_negative: true,
-        },
-    ];
+    let mut panels = vec![Panel {
+        title: "smallest distance between two shafts inside the body".into(),
+        x_label: "t (s)".into(),
+        y_label: "distance (m)".into(),
+        lines: vec![line("min_shaft_distance", "min_shaft_distance")],
+        non_negative: true,
+    }];
+    panels.extend(arm_panels(&ARMS, "each tip's error"));
     Ok(MechanismTrace {
         name: name.to_string(),
         columns,
@@ -368,6 +352,29 @@ impl core::fmt::Display for SceneRunError {
 }
 
 impl std::error::Error for SceneRunError {}
+
+/// A line of a panel: `column` over `t`.
+fn line(column: &str, legend: &str) -> (String, String, String) {
+    ("t".to_string(), column.to_string(), legend.to_string())
+}
+
+/// The panels every scene draws: each arm's drift and each tip's error.
+fn arm_panels(arms: &[&str], tip_title: &str) -> [Panel; 2] {
+    let panel = |title: &str, y_label: &str, suffix: &str| Panel {
+        title: title.into(),
+        x_label: "t (s)".into(),
+        y_label: y_label.into(),
+        lines: arms
+            .iter()
+            .map(|a| line(&format!("{a}.{suffix}"), a))
+            .collect(),
+        non_negative: true,
+    };
+    [
+        panel("each port's drift", "drift (m)", "rcm_drift"),
+        panel(tip_title, "|dp - p| (m)", "ep_norm"),
+    ]
+}
 
 fn model_error(message: &str) -> SceneRunError {
     SceneRunError(format!("the Panda's description: {message}"))
