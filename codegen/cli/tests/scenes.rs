@@ -4,26 +4,16 @@
 //! joint's rate changes by at most its acceleration limit a step; options that do not apply to
 //! a scene are refused, and so are the views of the arm.
 
-use std::path::Path;
-use std::process::Command;
+mod common;
 
-fn trocar(args: &[&str]) -> (Option<i32>, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_trocar"))
-        .args(args)
-        .output()
-        .expect("the trocar binary runs");
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::{fresh_dir, trocar};
+use std::path::Path;
 
 /// Runs `trocar simulate SCENE --method qp --csv` and reads the CSV: its columns and rows.
 fn run_csv(scene: &str) -> (Vec<String>, Vec<Vec<f64>>, String) {
-    let dir = std::env::temp_dir().join(format!("trocar-scenes-{scene}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = fresh_dir("scenes", scene);
     let csv = dir.join("run.csv");
-    let (code, stderr) = trocar(&[
+    let (code, _, stderr) = trocar(&[
         "simulate",
         scene,
         "--method",
@@ -31,7 +21,7 @@ fn run_csv(scene: &str) -> (Vec<String>, Vec<Vec<f64>>, String) {
         "--csv",
         csv.to_str().unwrap(),
     ]);
-    assert_eq!(code, Some(0), "{stderr}");
+    assert_eq!(code, 0, "{stderr}");
     let text = std::fs::read_to_string(&csv).unwrap();
     let _ = std::fs::remove_dir_all(&dir);
     let mut lines = text.lines();
@@ -131,17 +121,17 @@ fn dia10_dual_from_the_command_line() {
 
 #[test]
 fn what_does_not_apply_to_a_scene_is_refused() {
-    let (code, stderr) = trocar(&["simulate", "three-ports", "--method", "dls"]);
-    assert_eq!(code, Some(1));
+    let (code, _, stderr) = trocar(&["simulate", "three-ports", "--method", "dls"]);
+    assert_eq!(code, 1);
     assert!(stderr.contains("is a scene of several arms"), "{stderr}");
     let gif = std::env::temp_dir().join(format!("trocar-scenes-{}.gif", std::process::id()));
-    let (code, stderr) = trocar(&[
+    let (code, _, stderr) = trocar(&[
         "simulate",
         "three-ports",
         "--animate",
         gif.to_str().unwrap(),
     ]);
-    assert_ne!(code, Some(0));
+    assert_ne!(code, 0);
     assert!(stderr.contains("a scene of several arms"), "{stderr}");
     assert!(!gif.exists());
 }

@@ -1246,16 +1246,19 @@ impl<
                         && !problem.meets_inequalities(qd))
             };
         let mut relaxed_rates = rates.relaxed;
-        let loose = hard_limits::rate_box_without_jerk(
-            q,
-            dt,
-            &self.limits,
-            self.config.max_joint_speed,
-            &self.previous,
-        );
-        if infeasible(&problem, &qd, &report) && loose != rates {
+        // Only where the rows do not hold within the whole box: the box without (B4).
+        let loose = infeasible(&problem, &qd, &report).then(|| {
+            hard_limits::rate_box_without_jerk(
+                q,
+                dt,
+                &self.limits,
+                self.config.max_joint_speed,
+                &self.previous,
+            )
+        });
+        if let Some(loose) = loose.as_ref().filter(|loose| **loose != rates) {
             // The trocar before the jerk bound: the rows within the box without (B4).
-            inputs.rate_box = &loose;
+            inputs.rate_box = loose;
             let without = hard_limits::step_problem(
                 &inputs,
                 &task,
