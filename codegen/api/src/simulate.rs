@@ -308,6 +308,14 @@ fn scene_scenario(
             tip.last().copied().unwrap_or(f64::NAN)
         );
     }
+    if trace.columns.iter().any(|c| c == "endoscope.view_error") {
+        summary += &format!(
+            "\n  endoscope's view axis off the instruments' midpoint: max {:.3e} rad \
+             (tolerance {:.3e} rad)",
+            max(column("endoscope.view_error")),
+            scene::VIEW_TOLERANCE
+        );
+    }
     Ok(SimulationRun {
         summary,
         trace: AnyTrace::ClosedChain(trace),

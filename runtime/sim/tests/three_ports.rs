@@ -4,7 +4,7 @@
 //! safety distance, so the scene tests what the couplings do.
 
 use trocar_sim::closed_chain::MechanismTrace;
-use trocar_sim::scene::{simulate, ARMS, SAFETY};
+use trocar_sim::scene::{simulate, ARMS, SAFETY, VIEW_TOLERANCE};
 
 fn column(trace: &MechanismTrace, name: &str) -> Vec<f64> {
     trace
@@ -31,9 +31,14 @@ fn three_ports_keeps_the_shafts_apart_and_the_ports_held() {
         .flat_map(|a| column(&coupled, &format!("{a}.rcm_drift")))
         .fold(0.0, f64::max);
     let tip = column(&coupled, "left.ep_norm");
+    // The endoscope's camera keeps the instruments' midpoint on its view axis.
+    let view = column(&coupled, "endoscope.view_error")
+        .into_iter()
+        .fold(0.0, f64::max);
+    assert!(view <= VIEW_TOLERANCE, "view error {view} rad");
     println!(
         "min shaft distance {with:.3e} m coupled ({active} rows active), {without:.3e} m without; \
-         max drift {drift:.2e} m; left tip error at the end {:.2e} m",
+         max drift {drift:.2e} m; view error {view:.2e} rad; left tip error at the end {:.2e} m",
         tip.last().unwrap()
     );
     assert!(without < SAFETY, "without the couplings: {without} m");

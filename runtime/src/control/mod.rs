@@ -159,6 +159,12 @@ pub trait ConstrainedKinematics<
         None
     }
 
+    /// The pose `g_0e(q)` of the end effector (2.21). The default takes it from
+    /// [`Self::evaluate`]; an implementation with the forward kinematics alone overrides it.
+    fn g_0e(&self, q: &SVector<T, N>) -> Result<Se3<T>, ControlError> {
+        self.evaluate(q, T::zero()).map(|s| s.g_0e)
+    }
+
     /// `l_a` of the point of the shaft nearest to the trocar at joints `q`
     /// ([`Shaft::offset`]) and [`Self::evaluate`] there: what a control step asks of the
     /// kinematics. The default calls [`Self::g_0i`], then [`Self::evaluate`]; an implementation
@@ -221,6 +227,10 @@ where
 {
     fn g_0i(&self, q: &SVector<T, N>) -> Se3<T> {
         self.chain.link_frame(I, q)
+    }
+
+    fn g_0e(&self, q: &SVector<T, N>) -> Result<Se3<T>, ControlError> {
+        Ok(self.chain.forward_kinematics(q))
     }
 
     fn h(&self) -> SMatrix<T, R, 6> {
@@ -911,10 +921,54 @@ impl<
         Const<M>: SquareDim,
         Const<P>: SquareDim,
     {
+        self.step_with_state(kin, q, reference, rcm, dt)
+            .map(|(out, _)| out)
+    }
+
+    /// [`Controller::step`], and the kinematics it evaluated at the trocar (`l_a` is
+    /// [`StepOutput::l_a`]): what a caller that builds on the step (a scene of several arms,
+    /// [`scene`]) needs without evaluating them again.
+    pub fn step_with_state<Kin: ConstrainedKinematics<T, N, I, R, K, M, P>>(
+        &mut self,
+        kin: &Kin,
+        q: &SVector<T, N>,
+        reference: &Reference<T>,
+        rcm: &Rcm<T, R>,
+        dt: T,
+    ) -> Result<(StepOutput<T, N, R>, ConstrainedState<T, I, R, K, M>), ControlError>
+    where
+        Const<R>: SquareDim,
+        Const<I>: SquareDim,
+        Const<M>: SquareDim,
+        Const<P>: SquareDim,
+    {
         let c = self.config;
         c.check(dt).map_err(ControlError::Config)?;
         // 1. l_a from the trocar point, and the kinematics there.
         let (l_a, s) = kin.evaluate_at_trocar(q, &rcm.trocar)?;
+        self.step_from(kin, q, reference, rcm, dt, l_a, &s)
+            .map(|out| (out, s))
+    }
+
+    /// Steps 2–5 of [`Controller::step`] from the kinematics at the trocar.
+    #[allow(clippy::too_many_arguments)]
+    fn step_from<Kin: ConstrainedKinematics<T, N, I, R, K, M, P>>(
+        &mut self,
+        kin: &Kin,
+        q: &SVector<T, N>,
+        reference: &Reference<T>,
+        rcm: &Rcm<T, R>,
+        dt: T,
+        l_a: T,
+        s: &ConstrainedState<T, I, R, K, M>,
+    ) -> Result<StepOutput<T, N, R>, ControlError>
+    where
+        Const<R>: SquareDim,
+        Const<I>: SquareDim,
+        Const<M>: SquareDim,
+        Const<P>: SquareDim,
+    {
+        let c = self.config;
         let h = kin.h();
         let shaft = kin.shaft();
 
@@ -943,7 +997,7 @@ impl<
                 kin,
                 q,
                 rcm,
-                &s,
+                s,
                 l_a,
                 &sel,
                 whole,

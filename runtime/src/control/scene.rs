@@ -73,6 +73,77 @@ pub struct SharedJoint {
     pub joints: (usize, usize),
 }
 
+/// A camera task for an endoscope arm through its port: its view axis, the line from its port
+/// through its tip, kept on a point (the midpoint of the instruments' tips, say) with the tip at a
+/// fixed depth below the port. It gives the arm's [`Reference`] at each step, so that the arm's
+/// own step follows it as any task; the port constraint keeps the shaft through the port, so the
+/// tip on the view axis is the whole of the task's position.
+///
+/// With `u = (t − p_r)/‖t − p_r‖` the unit vector from the port `p_r` to the point `t`:
+///
+/// ```text
+/// dp = p_r + l u,   dṗ = l u̇,   u̇ = (I − u uᵀ) ṫ / ‖t − p_r‖
+/// dR = R(u₀ → u) R₀,  dω = u × u̇
+/// ```
+///
+/// `R(u₀ → u)` the least rotation taking the view axis at the start `u₀` to `u`, `R₀` the tip's
+/// orientation at the start (so the roll about the shaft is the start's), `l` the depth.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera<T: RealField + Copy> {
+    /// The port (the arm's base frame).
+    pub port: Vector3<T>,
+    /// The tip's depth below the port along the view axis (m).
+    pub depth: T,
+    /// The view axis at the start (unit).
+    pub start_axis: Vector3<T>,
+    /// The tip's orientation at the start.
+    pub start_rotation: nalgebra::Matrix3<T>,
+}
+
+impl<T: RealField + Copy> Camera<T> {
+    /// The camera of an arm whose tip is at `tip` (its pose, the arm's base frame) and whose
+    /// port is at `port`: the depth and the view axis are the start's. `None` when the tip is at
+    /// the port (no view axis).
+    pub fn at_start(port: Vector3<T>, tip: &Se3<T>) -> Option<Self> {
+        let axis = tip.translation - port;
+        let depth = axis.norm();
+        (depth > T::zero() && depth.is_finite()).then(|| Camera {
+            port,
+            depth,
+            start_axis: axis / depth,
+            start_rotation: tip.rotation,
+        })
+    }
+
+    /// The tip's reference that puts `point` on the view axis (`point` and its velocity
+    /// `velocity` in the arm's base frame). `None` when the point is at the port or opposite the
+    /// start's view axis (no least rotation).
+    pub fn reference(&self, point: &Vector3<T>, velocity: &Vector3<T>) -> Option<Reference<T>> {
+        let to = point - self.port;
+        let distance = to.norm();
+        if !(distance > T::zero() && distance.is_finite()) {
+            return None;
+        }
+        let u = to / distance;
+        let u_dot = (velocity - u * u.dot(velocity)) / distance;
+        let turn = nalgebra::Rotation3::rotation_between(&self.start_axis, &u)?;
+        Some(Reference {
+            position: self.port + u * self.depth,
+            rotation: turn.matrix() * self.start_rotation,
+            velocity: u_dot * self.depth,
+            angular_velocity: u.cross(&u_dot),
+        })
+    }
+
+    /// The angle (rad) between the view axis of a tip at `tip` and the direction from the port
+    /// to `point`: how far the camera looks off its point.
+    pub fn view_error(&self, tip: &Vector3<T>, point: &Vector3<T>) -> T {
+        let a = tip - self.port;
+        let b = point - self.port;
+        a.cross(&b).norm().atan2(a.dot(&b))
+    }
+}
+
 /// Why a scene step was refused.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SceneError {
@@ -232,12 +303,10 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
         for k in 0..A {
             let before = *arms[k].previous_command();
             previous[k] = before.rates;
-            let out = arms[k]
-                .step(&kins[k], &q[k], &references[k], &rcms[k], dt)
+            let (out, s) = arms[k]
+                .step_with_state(&kins[k], &q[k], &references[k], &rcms[k], dt)
                 .map_err(|e| SceneError::Arm(k, e))?;
-            let (l_a, s) = kins[k]
-                .evaluate_at_trocar(&q[k], &rcms[k].trocar)
-                .map_err(|e| SceneError::Arm(k, e))?;
+            let l_a = out.l_a;
             // (S2): the lateral velocity of the shaft's point at the port.
             let shaft = kins[k].shaft();
             let point = shaft.origin + shaft.direction * l_a;
@@ -368,19 +437,22 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
         // short of what its rows foresaw (the shafts' motion curves their distance), the rows
         // ask that much more and the QP is solved once more.
         let mut again = false;
+        // Each arm's tip at `q + dt θ̇`, once for all its couplings.
+        let mut next: [Option<Vector3<T>>; A] = [None; A];
         for (p, coupling) in self.couplings.iter().enumerate() {
             if problem.lo[2 * p] <= -big {
                 continue;
             }
             let (a, b) = coupling.arms;
-            let next = |k: usize| -> Result<Vector3<T>, SceneError> {
-                let qk = SVector::<T, N>::from_fn(|c, _| q[k][c] + solution.x[k * N + c] * dt);
-                let (_, s) = kins[k]
-                    .evaluate_at_trocar(&qk, &rcms[k].trocar)
-                    .map_err(|e| SceneError::Arm(k, e))?;
-                Ok(bases[k].transform_point(&s.g_0e.translation))
-            };
-            let after = segment_distance(&ports[a], &next(a)?, &ports[b], &next(b)?).distance;
+            for k in [a, b] {
+                if next[k].is_none() {
+                    let qk = SVector::<T, N>::from_fn(|c, _| q[k][c] + solution.x[k * N + c] * dt);
+                    let g = kins[k].g_0e(&qk).map_err(|e| SceneError::Arm(k, e))?;
+                    next[k] = Some(bases[k].transform_point(&g.translation));
+                }
+            }
+            let tip = |k: usize| next[k].unwrap_or(tips[k]);
+            let after = segment_distance(&ports[a], &tip(a), &ports[b], &tip(b)).distance;
             let rows = [2 * p, 2 * p + 1];
             let foreseen = rows
                 .iter()

@@ -5,21 +5,26 @@
 //!
 //! The arms are Franka Pandas with the laparoscope of `panda-laparoscope` (its URDF's ranges,
 //! speeds, accelerations and jerks as hard limits, the QP step), their shafts 0.25 m into the
-//! body at the start; the endoscope holds its tip still. Every pair of shafts is kept at least
-//! [`SAFETY`] apart by a velocity damper (influence [`INFLUENCE`], gain 0.1 m/s).
+//! body at the start. The endoscope is a camera ([`Camera`]): its view axis, from its port
+//! through its tip, kept on the midpoint of the instruments' tips, its tip [`CAMERA_DEPTH`] below
+//! its port (above the instruments' tips, which are 0.15 m deep); the scene starts with the camera
+//! on its point (the endoscope's arm brought there alone before the scene's first step). Every pair
+//! of shafts is kept at least [`SAFETY`] apart by a velocity damper (influence [`INFLUENCE`], gain
+//! 0.1 m/s).
 //!
 //! The trace's columns: `t`, the scene's joints `q1..q21` and rates `qd1..qd21` (the arms in the
 //! order of [`ARMS`]), each arm's `NAME.rcm_drift` (m, the distance from its port to its shaft's
 //! axis, from forward kinematics) and `NAME.ep_norm` (m, its tip's distance from its reference),
-//! `min_shaft_distance` (m, the smallest distance between two shafts inside the body, port to
+//! `endoscope.view_error` (rad, the angle between the endoscope's view axis and the direction
+//! from its port to the instruments' midpoint), `min_shaft_distance` (m, the smallest distance between two shafts inside the body, port to
 //! tip, from forward kinematics) and `coupling_active` (1 where a coupling changed the rates).
 
 use crate::closed_chain::{MechanismTrace, Panel};
 use nalgebra::{Matrix3, SVector, Vector3};
-use trocar::control::scene::{Coupling, Scene, SceneError, SceneOutput};
+use trocar::control::scene::{Camera, Coupling, Scene, SceneError, SceneOutput};
 use trocar::control::{
-    ChainKinematics, Controller, ControllerConfig, Damper, HardLimits, Method, QpWeights, Rcm,
-    Reference,
+    ChainKinematics, ConstrainedKinematics, Controller, ControllerConfig, Damper, HardLimits,
+    Method, QpWeights, Rcm, Reference,
 };
 use trocar::distance::segment_distance;
 use trocar::se3::Se3;
@@ -101,6 +106,12 @@ pub const SAFETY: f64 = 0.005;
 /// The distance within which the couplings' dampers act (m).
 pub const INFLUENCE: f64 = 0.03;
 
+/// How far the endoscope may look off the instruments' midpoint (rad): 0.5°.
+pub const VIEW_TOLERANCE: f64 = 0.5 * core::f64::consts::PI / 180.0;
+
+/// The endoscope's tip below its port (m).
+pub const CAMERA_DEPTH: f64 = 0.08;
+
 /// The sample time (s) and the duration (s) of `three-ports`.
 pub const DT: f64 = 0.002;
 /// The duration of `three-ports` (s).
@@ -128,9 +139,13 @@ pub struct ThreePorts {
     pub rcms: [Rcm<f64, 2>; 3],
     /// Each arm's start.
     pub q0: [SVector<f64, 7>; 3],
+    /// The endoscope's camera task (its base frame).
+    pub camera: Camera<f64>,
     /// Each tip's pose at the start, and how far its reference moves it (arm frame).
     start: Se3<f64>,
     shifts: [Vector3<f64>; 3],
+    /// The camera's point at the last step and its time, for the point's velocity.
+    last_look: Option<(f64, Vector3<f64>)>,
 }
 
 impl ThreePorts {
@@ -194,7 +209,12 @@ impl ThreePorts {
             dv: SVector::zeros(),
         };
         let rcms = [rcm; 3];
-        Ok(ThreePorts {
+        let mut camera = Camera::at_start(trocar, &g_0e)
+            .ok_or_else(|| model_error("the endoscope's tip is at its port"))?;
+        camera.depth = CAMERA_DEPTH;
+        let mut setup = ThreePorts {
+            camera,
+            last_look: None,
             kins,
             arms,
             scene,
@@ -203,26 +223,97 @@ impl ThreePorts {
             q0: [q0; 3],
             start: g_0e,
             shifts,
-        })
+        };
+        setup.aim_camera()?;
+        Ok(setup)
     }
 
-    /// Each arm's reference at `t` (s).
-    pub fn references(&self, t: f64) -> [Reference<f64>; 3] {
-        self.shifts.map(|s| reference(&self.start, s, t))
+    /// Brings the endoscope's arm alone (the instruments still) until its camera is on its point,
+    /// at most 3 s of its own steps; its controller then starts again from rest.
+    fn aim_camera(&mut self) -> Result<(), SceneRunError> {
+        let mut q = self.q0;
+        for step in 0..1500 {
+            let reference = self
+                .references(&q, 0.0)
+                .map_err(|e| SceneRunError(format!("aiming the endoscope, step {step}: {e}")))?[2];
+            let o = self.arms[2]
+                .step(&self.kins[2], &q[2], &reference, &self.rcms[2], DT)
+                .map_err(|e| SceneRunError(format!("aiming the endoscope, step {step}: {e}")))?;
+            if o.qd.norm() < 1e-9 {
+                break;
+            }
+            q[2] += o.qd * DT;
+        }
+        let tip = self.kins[2].chain.forward_kinematics(&q[2]).translation;
+        let error = self.camera.view_error(&tip, &self.look_at(&q));
+        if error.is_nan() || error >= 1e-6 {
+            return Err(SceneRunError(format!(
+                "the endoscope could not be aimed at the instruments' midpoint ({error:.2e} rad off)"
+            )));
+        }
+        self.arms[2].reset();
+        self.last_look = None;
+        self.q0 = q;
+        Ok(())
     }
 
-    /// One step of the scene at the arms' joints `q`, time `t` (s).
+    /// The camera's point: the midpoint of the instruments' tips at `q`, in the endoscope's
+    /// base frame.
+    pub fn look_at(&self, q: &[SVector<f64, 7>; 3]) -> Vector3<f64> {
+        let tip = |k: usize| {
+            self.bases[k].transform_point(&self.kins[k].chain.forward_kinematics(&q[k]).translation)
+        };
+        let midpoint = (tip(0) + tip(1)) / 2.0;
+        self.bases[2].inverse().transform_point(&midpoint)
+    }
+
+    /// Each arm's reference at `t` (s) and joints `q`: the instruments' along their paths, the
+    /// endoscope's from its camera looking at [`Self::look_at`] (the point's velocity from its
+    /// place at the last call, which this call records: call it once a step).
+    pub fn references(
+        &mut self,
+        q: &[SVector<f64, 7>; 3],
+        t: f64,
+    ) -> Result<[Reference<f64>; 3], SceneError> {
+        let mut references = self.shifts.map(|s| reference(&self.start, s, t));
+        let point = self.look_at(q);
+        let velocity = match self.last_look {
+            Some((t0, p0)) if t > t0 => (point - p0) / (t - t0),
+            _ => Vector3::zeros(),
+        };
+        references[2] = self
+            .camera
+            .reference(&point, &velocity)
+            .ok_or(SceneError::NonFinite)?;
+        self.last_look = Some((t, point));
+        Ok(references)
+    }
+
+    /// One step of the scene at the arms' joints `q`, time `t` (s): [`Self::references`], then
+    /// [`Self::step_to`] with the scene's own kinematics.
     pub fn step(
         &mut self,
         q: &[SVector<f64, 7>; 3],
         t: f64,
     ) -> Result<SceneOutput<f64, 3, 7, 2, 3>, SceneError> {
-        let references = self.references(t);
-        self.scene.step::<Kin, 3, 7, 7, 2, 4, 4, 4, 6>(
+        let references = self.references(q, t)?;
+        let kins = self.kins;
+        self.step_to(&kins, q, &references)
+    }
+
+    /// The scene's step ([`Scene::step`]) toward `references` with the arms' kinematics `kins`
+    /// (the same Panda's, from the numeric model or generated).
+    pub fn step_to<K: ConstrainedKinematics<f64, 7, 7, 2, 4, 4, 4>>(
+        &mut self,
+        kins: &[K; 3],
+        q: &[SVector<f64, 7>; 3],
+        references: &[Reference<f64>; 3],
+    ) -> Result<SceneOutput<f64, 3, 7, 2, 3>, SceneError> {
+        self.scene.step::<K, 3, 7, 7, 2, 4, 4, 4, 6>(
             &mut self.arms,
-            &self.kins,
+            kins,
             q,
-            &references,
+            references,
             &self.rcms,
             &self.bases,
             &[],
@@ -257,19 +348,23 @@ pub fn simulate(
         columns.push(format!("{arm}.rcm_drift"));
         columns.push(format!("{arm}.ep_norm"));
     }
+    columns.push("endoscope.view_error".into());
     columns.push("min_shaft_distance".into());
     columns.push("coupling_active".into());
     let steps = (DURATION / DT).round() as usize;
     let mut rows = Vec::with_capacity(steps + 1);
     for step in 0..=steps {
         let t = step as f64 * DT;
-        let references = setup.references(t);
+        let references = setup
+            .references(&q, t)
+            .map_err(|e| SceneRunError(format!("t = {t:.3} s: {e}")))?;
         // The row at t: the joints, the rates commanded at t (none after the last step).
         let mut row = vec![t];
         row.extend(q.iter().flat_map(|x| x.iter().copied()));
         let (qd, coupling_active) = if step < steps {
+            let kins = setup.kins;
             let o = setup
-                .step(&q, t)
+                .step_to(&kins, &q, &references)
                 .map_err(|e| SceneRunError(format!("t = {t:.3} s: {e}")))?;
             if !o.coupling_held {
                 return Err(SceneRunError(format!(
@@ -302,6 +397,8 @@ pub fn simulate(
             ends[2 * k] = bases[k].transform_point(&trocar);
             ends[2 * k + 1] = bases[k].transform_point(&tip.translation);
         }
+        let endoscope_tip = kin.chain.forward_kinematics(&q[2]).translation;
+        row.push(setup.camera.view_error(&endoscope_tip, &setup.look_at(&q)));
         let min = [(0, 1), (0, 2), (1, 2)]
             .iter()
             .map(|&(a, b)| {
@@ -333,6 +430,13 @@ pub fn simulate(
         non_negative: true,
     }];
     panels.extend(arm_panels(&ARMS, "each tip's error"));
+    panels.push(Panel {
+        title: "the endoscope's view axis off the instruments' midpoint".into(),
+        x_label: "t (s)".into(),
+        y_label: "angle (rad)".into(),
+        lines: vec![line("endoscope.view_error", "endoscope")],
+        non_negative: true,
+    });
     Ok(MechanismTrace {
         name: name.to_string(),
         columns,
