@@ -32,6 +32,7 @@ mod error;
 mod evaluation;
 pub mod plant;
 mod robot;
+pub mod scene;
 pub mod simulate;
 mod trajectory;
 
@@ -42,6 +43,7 @@ pub use controller::{
 pub use error::{Error, Result};
 pub use evaluation::Evaluation;
 pub use robot::{urdf_jacobian, Evaluator, FusedEvaluator, Robot, MAX_SAMPLES, TWIST};
+pub use scene::{SceneStep, SceneStepper};
 pub use simulate::{simulate, RcmOptions, SimulationRun, SpeedLimit};
 pub use trajectory::{
     simulate_robot, simulate_trajectory, Orientation, RunRequest, Trajectory, TrajectoryOptions,

@@ -1198,12 +1198,123 @@ fn quantities() -> Vec<(&'static str, &'static str)> {
         .collect()
 }
 
+/// A shipped scene of several arms, each through its own port, stepped by a loop of one's own
+/// (a physics plant, a robot): `three-ports`, three Pandas whose instruments' shafts are kept
+/// `safety` apart and whose endoscope's view axis follows the instruments' midpoint. Each step
+/// runs every arm's own QP step (its port, its URDF's limits, its path), then the scene's QP
+/// over all the rates (the couplings between the shafts).
+#[pyclass(module = "trocar")]
+struct Scene {
+    inner: trocar_api::SceneStepper,
+}
+
+#[pymethods]
+impl Scene {
+    /// The scene `name` (`"three-ports"`) at its start, with its couplings (`coupled=True`) or
+    /// without them (to see what they prevent).
+    #[new]
+    #[pyo3(signature = (name, coupled = true))]
+    fn new(name: &str, coupled: bool) -> PyResult<Self> {
+        Ok(Scene {
+            inner: trocar_api::SceneStepper::new(name, coupled).map_err(value_error)?,
+        })
+    }
+
+    /// The scene's name.
+    #[getter]
+    fn name(&self) -> String {
+        self.inner.name().to_string()
+    }
+
+    /// The arms' names, in the scene's order (its joints are theirs in this order).
+    #[getter]
+    fn arms(&self) -> Vec<String> {
+        self.inner.arms()
+    }
+
+    /// The couplings, as pairs of arms' names (the order of a step's `distances`).
+    #[getter]
+    fn couplings(&self) -> Vec<(String, String)> {
+        self.inner.couplings()
+    }
+
+    /// The number of the scene's joints.
+    #[getter]
+    fn joints(&self) -> usize {
+        self.inner.joints()
+    }
+
+    /// The sample time (s) the scene's limits are for.
+    #[getter]
+    fn dt(&self) -> f64 {
+        self.inner.dt()
+    }
+
+    /// The shafts' safety distance (m).
+    #[getter]
+    fn safety(&self) -> f64 {
+        self.inner.safety()
+    }
+
+    /// The scene's joints at its start.
+    #[getter]
+    fn q0<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.inner.q0().into_pyarray(py)
+    }
+
+    /// Every arm's port in the scene's frame (m), one row per arm.
+    #[getter]
+    fn ports(&self) -> Vec<[f64; 3]> {
+        self.inner.ports()
+    }
+
+    /// Back to the start: the controllers at rest, the warm starts forgotten.
+    fn reset(&mut self) {
+        self.inner.reset()
+    }
+
+    /// One step at the scene's joints `q` (all arms, in order) and time `t` (s; once per
+    /// sample, `t` increasing by `dt`). Returns a dict: `qd` (every joint's rate, rad/s),
+    /// `distances` (each coupling's distance between two shafts, m), `coupling_held` (`False`
+    /// where a coupling could not hold within the ports and the joint limits),
+    /// `coupling_active` (a coupling changed the rates) and `statuses` (each arm's step:
+    /// `"Held"`, or what gave way). A `q` of the wrong length or with a NaN, or a time that is
+    /// not finite, raises `ValueError`.
+    fn step<'py>(
+        &mut self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        t: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let q = joints(q)?;
+        let s = self.inner.step(&q, t).map_err(value_error)?;
+        let out = PyDict::new(py);
+        out.set_item("qd", s.qd.into_pyarray(py))?;
+        out.set_item("distances", s.distances.into_pyarray(py))?;
+        out.set_item("coupling_held", s.coupling_held)?;
+        out.set_item("coupling_active", s.coupling_active)?;
+        out.set_item(
+            "statuses",
+            s.statuses
+                .iter()
+                .map(|s| format!("{s:?}"))
+                .collect::<Vec<_>>(),
+        )?;
+        Ok(out)
+    }
+
+    fn __repr__(&self) -> String {
+        format!("trocar.Scene({:?})", self.inner.name())
+    }
+}
+
 /// trocar: constrained kinematics of robots with a remote centre of motion.
 #[pymodule]
 fn _trocar(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Robot>()?;
     m.add_class::<Controller>()?;
     m.add_class::<RunSetup>()?;
+    m.add_class::<Scene>()?;
     m.add_function(wrap_pyfunction!(write_figure, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(shipped, m)?)?;

@@ -495,3 +495,30 @@ def test_the_three_ports_scene_keeps_the_shafts_apart():
         assert np.max(trace[f"{arm}.rcm_drift"]) <= 1e-4
     with pytest.raises(ValueError, match="is a scene of several arms"):
         trocar.simulate("three-ports", method="dls")
+
+
+def test_a_scene_stepped_in_a_loop_of_ones_own_gives_the_shipped_run():
+    """trocar.Scene("three-ports") stepped with Euler at its dt gives the joints of
+    trocar.simulate's run row by row; its distances keep the safety distance; bad input is
+    refused with the argument named."""
+    trace = trocar.simulate("three-ports")
+    scene = trocar.Scene("three-ports")
+    assert scene.arms == ["left", "right", "endoscope"] and scene.joints == 21
+    assert len(scene.couplings) == 3 and len(scene.ports) == 3
+    q = scene.q0.copy()
+    columns = [f"q{k + 1}" for k in range(21)]
+    least = np.inf
+    for row in range(400):
+        expected = np.array([trace[c][row] for c in columns])
+        assert np.array_equal(q, expected), row
+        out = scene.step(q, row * scene.dt)
+        assert out["coupling_held"] and out["statuses"] == ["Held"] * 3
+        least = min(least, np.min(out["distances"]))
+        q = q + out["qd"] * scene.dt
+    assert least >= scene.safety
+    with pytest.raises(ValueError, match="q: 20 values given"):
+        scene.step(q[:20], 0.0)
+    with pytest.raises(ValueError, match="is not a scene that can be stepped"):
+        trocar.Scene("dia10-dual")
+    scene.reset()
+    assert np.array_equal(scene.step(scene.q0, 0.0)["qd"], trocar.Scene("three-ports").step(scene.q0, 0.0)["qd"])

@@ -4,7 +4,8 @@ The same library as the ``trocar`` command line: :class:`Robot` loads a shipped 
 TOML file and evaluates, verifies and generates its closed-form constrained kinematics;
 :class:`Controller` runs the constrained controller on a robot, step by step;
 :func:`simulate` runs the shipped scenarios; :class:`RunSetup` gives what a loop of one's own
-needs to replay one; :mod:`trocar.physics` runs the controller on a robot with dynamics (MuJoCo,
+needs to replay one; :class:`Scene` steps a shipped scene of several arms in a loop of one's
+own; :mod:`trocar.physics` runs the controller on a robot with dynamics (MuJoCo,
 ``pip install trocar[physics]``). Errors raise :class:`ValueError`
 with the command line's message.
 """
@@ -13,6 +14,7 @@ from ._trocar import (
     Controller,
     Robot,
     RunSetup,
+    Scene,
     __version__,
     panda_reference,
     quantities,
@@ -25,6 +27,7 @@ __all__ = [
     "Robot",
     "Controller",
     "RunSetup",
+    "Scene",
     "write_figure",
     "simulate",
     "panda_reference",
