@@ -49,7 +49,7 @@ use super::hard_limits::{point_velocity_jacobian, rate_box, task_body_jacobian, 
 use super::{ConstrainedKinematics, ControlError, Controller, Rcm, Reference, StepOutput};
 use crate::distance::segment_distance;
 use crate::linalg::SquareDim;
-use crate::qp::{ActiveSet, Problem, Settings, Status};
+use crate::qp::{ActiveSet, Problem, Settings, Solution, Status};
 use crate::se3::Se3;
 use nalgebra::{Const, RealField, SMatrix, SVector, Vector3};
 
@@ -266,6 +266,51 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
         Const<M>: SquareDim,
         Const<Q>: SquareDim,
     {
+        self.step_observed(
+            arms,
+            kins,
+            q,
+            references,
+            rcms,
+            bases,
+            shared,
+            dt,
+            |_: &Problem<T, NS, ES, C>, _: &ActiveSet<NS, C>, _: &Solution<T, NS, ES, C>| {},
+        )
+    }
+
+    /// [`Scene::step`], showing `observe` every QP it solves: the problem, the warm start it
+    /// was solved from and its solution (a benchmark replays them with other solvers).
+    #[allow(clippy::too_many_arguments)]
+    pub fn step_observed<
+        Kin: ConstrainedKinematics<T, N, I, R, K, M, Q>,
+        const A: usize,
+        const N: usize,
+        const I: usize,
+        const R: usize,
+        const K: usize,
+        const M: usize,
+        const Q: usize,
+        const ES: usize,
+        F: FnMut(&Problem<T, NS, ES, C>, &ActiveSet<NS, C>, &Solution<T, NS, ES, C>),
+    >(
+        &mut self,
+        arms: &mut [Controller<T, N, I, R, K, M, Q>; A],
+        kins: &[Kin; A],
+        q: &[SVector<T, N>; A],
+        references: &[Reference<T>; A],
+        rcms: &[Rcm<T, R>; A],
+        bases: &[Se3<T>; A],
+        shared: &[SharedJoint],
+        dt: T,
+        mut observe: F,
+    ) -> Result<SceneOutput<T, A, N, R, P>, SceneError>
+    where
+        Const<R>: SquareDim,
+        Const<I>: SquareDim,
+        Const<M>: SquareDim,
+        Const<Q>: SquareDim,
+    {
         if A * N != NS
             || A * R + shared.len() != ES
             || 2 * P != C
@@ -430,6 +475,7 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
             });
         }
         let mut solution = problem.solve(&self.active, &self.settings);
+        observe(&problem, &self.active, &solution);
         if solution.status == Status::NonFinite || solution.status == Status::InvalidBounds {
             return Err(SceneError::NonFinite);
         }
@@ -472,6 +518,7 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
         if again {
             let warm = solution.active;
             let second = problem.solve(&warm, &self.settings);
+            observe(&problem, &warm, &second);
             if second.status == Status::NonFinite || second.status == Status::InvalidBounds {
                 return Err(SceneError::NonFinite);
             }
