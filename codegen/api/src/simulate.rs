@@ -148,12 +148,26 @@ impl SimulationRun {
         view3d::write_snapshot(trace, path, &times).map_err(|e| e.to_string())
     }
 
-    /// Animates the arm over the run into the GIF `path`; `progress` gets the fraction done.
+    /// Animates the arm over the run into the GIF `path` (a scene: all its arms, their shafts,
+    /// ports and the closest shafts); `progress` gets the fraction done.
     pub fn write_animation(
         &self,
         path: &Path,
         progress: &mut dyn FnMut(f64),
     ) -> Result<(), String> {
+        if let AnyTrace::ClosedChain(t) = &self.trace {
+            if is_scene(&t.name) {
+                let geometry = scene::geometry(&t.name).map_err(|e| e.to_string())?;
+                return trocar_sim::plot::scene_view::write_scene_animation(
+                    t,
+                    &geometry,
+                    path,
+                    trocar_sim::plot::scene_view::SCENE_FRAMES,
+                    progress,
+                )
+                .map_err(|e| e.to_string());
+            }
+        }
         let trace = self.arm_trace()?;
         view3d::write_animation(trace, path, view3d::ANIMATION_FRAMES, progress)
             .map_err(|e| e.to_string())

@@ -160,10 +160,11 @@ pub enum Command {
         #[arg(long)]
         plot: Option<PathBuf>,
         /// Write an animated `.gif` of the arm (stick figure, instrument shaft, trocar, tip
-        /// path; two viewpoints) over the run. Serial arms only.
+        /// path; two viewpoints) over the run; of a scene, every arm, shaft and port and the
+        /// closest shafts. Not for closed chains.
         #[arg(long, value_name = "GIF")]
         animate: Option<PathBuf>,
-        /// Write a still `.png` or `.svg` of the arm at --snapshot-times. Serial arms only.
+        /// Write a still `.png` or `.svg` of the arm at --snapshot-times. One serial arm only.
         #[arg(long)]
         snapshot: Option<PathBuf>,
         /// Drive the robot SCENARIO names (a shipped robot or a TOML description) along this

@@ -2,7 +2,7 @@
 //! through its own port. From the CSV: the shafts keep their safety distance at every row, every
 //! port holds, every joint keeps its range and speed (the Panda's URDF, read here), and every
 //! joint's rate changes by at most its acceleration limit a step; options that do not apply to
-//! a scene are refused, and so are the views of the arm.
+//! a scene are refused, and so is a still of one arm; `--animate` draws every arm.
 
 mod common;
 
@@ -124,14 +124,37 @@ fn what_does_not_apply_to_a_scene_is_refused() {
     let (code, _, stderr) = trocar(&["simulate", "three-ports", "--method", "dls"]);
     assert_eq!(code, 1);
     assert!(stderr.contains("is a scene of several arms"), "{stderr}");
-    let gif = std::env::temp_dir().join(format!("trocar-scenes-{}.gif", std::process::id()));
+    let png = std::env::temp_dir().join(format!("trocar-scenes-{}.png", std::process::id()));
     let (code, _, stderr) = trocar(&[
         "simulate",
         "three-ports",
-        "--animate",
-        gif.to_str().unwrap(),
+        "--snapshot",
+        png.to_str().unwrap(),
     ]);
     assert_ne!(code, 0);
-    assert!(stderr.contains("a scene of several arms"), "{stderr}");
-    assert!(!gif.exists());
+    assert!(
+        stderr.contains("is a scene of several arms: --animate draws it"),
+        "{stderr}"
+    );
+    assert!(!png.exists());
+}
+
+/// `--animate` draws every arm of a scene: a GIF of the run's frames.
+#[test]
+fn a_scene_is_animated() {
+    let dir = fresh_dir("scenes", "animate");
+    for scene in ["three-ports", "dia10-dual"] {
+        let gif = dir.join(format!("{scene}.gif"));
+        let (code, _, stderr) = trocar(&["simulate", scene, "--animate", gif.to_str().unwrap()]);
+        assert_eq!(code, 0, "{stderr}");
+        let bytes = std::fs::read(&gif).unwrap();
+        assert!(bytes.starts_with(b"GIF89a"), "{scene}");
+        // Each frame has its graphic control extension (0x21 0xF9 0x04).
+        let frames = bytes
+            .windows(3)
+            .filter(|w| *w == [0x21, 0xF9, 0x04])
+            .count();
+        assert!(frames >= 50, "{scene}: {frames} frames");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }

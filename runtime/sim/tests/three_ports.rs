@@ -66,3 +66,27 @@ fn an_unknown_scene_is_named() {
     let e = simulate("four-ports", true, |_| {}).unwrap_err();
     assert!(e.to_string().contains("unknown scene `four-ports`"), "{e}");
 }
+
+/// The drawn scene (`scene::geometry`) is the run's: at every 50th row each arm's drawn shaft
+/// passes its port at the distance the trace measured as its drift, for both scenes (the
+/// torso of `dia10-dual` in both arms).
+#[test]
+fn the_drawn_scene_is_the_run() {
+    for name in trocar_sim::scene::scenario_names() {
+        let trace = simulate(name, true, |_| {}).unwrap();
+        let geometry = trocar_sim::scene::geometry(name).unwrap();
+        for arm in &geometry.arms {
+            let drift = column(&trace, &format!("{}.rcm_drift", arm.name));
+            for (k, row) in trace.rows.iter().enumerate().step_by(50) {
+                let pose = arm.pose(row);
+                let off = (pose.trocar - arm.port_in_scene()).norm();
+                assert!(
+                    (off - drift[k]).abs() < 1e-9,
+                    "{name} {} row {k}: drawn {off}, measured {}",
+                    arm.name,
+                    drift[k]
+                );
+            }
+        }
+    }
+}

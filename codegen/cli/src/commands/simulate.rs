@@ -31,6 +31,19 @@ fn check_views(scenario: &str, views: &ArmViews) -> Result<(), CliError> {
     if !views.any() {
         return Ok(());
     }
+    if sim::is_scene(scenario) {
+        // A scene is animated (all its arms); its stills are not drawn.
+        if views.snapshot.is_some() {
+            return Err(Error::argument(
+                "snapshot",
+                format!(
+                    "`{scenario}` is a scene of several arms: --animate draws it, --snapshot \
+                     draws one serial arm"
+                ),
+            ));
+        }
+        return Ok(());
+    }
     let option = if views.animate.is_some() {
         "animate"
     } else {

@@ -3,6 +3,7 @@
 //! and `J^B_0i`, `l_a` and `q7`, joint velocities, and the distance of the trocar from the link.
 
 pub mod axis;
+pub mod scene_view;
 pub mod view3d;
 
 use crate::simulation::Trace;

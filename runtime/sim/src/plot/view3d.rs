@@ -15,6 +15,8 @@ use super::{err, register_font, write_image, Figure, PlotError};
 pub use crate::simulation::ArmModel;
 use crate::simulation::{Trace, TraceRow};
 use nalgebra::Vector3;
+use plotters::coord::ranged3d::Cartesian3d;
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
@@ -296,48 +298,8 @@ fn oblique<DB: DrawingBackend>(
     paths: &Paths,
     area: &DrawingArea<DB, Shift>,
 ) -> Result<(), PlotError> {
-    let [xr, yr, zr] = scene.cube;
     let c = |p: &Vector3<f64>| (p.x, p.z, p.y);
-    let mut chart = ChartBuilder::on(area)
-        .caption("oblique view (m)", ("sans-serif", 15))
-        .margin(8)
-        .build_cartesian_3d(xr.0..xr.1, zr.0..zr.1, yr.0..yr.1)
-        .map_err(err)?;
-    chart.with_projection(|mut p| {
-        p.yaw = 0.75;
-        p.pitch = 0.3;
-        p.scale = 0.86;
-        p.into_matrix()
-    });
-    let fmt = |v: &f64| format!("{v:.1}");
-    chart
-        .configure_axes()
-        .label_style(("sans-serif", 11))
-        .x_formatter(&fmt)
-        .y_formatter(&fmt)
-        .z_formatter(&fmt)
-        .x_labels(4)
-        .y_labels(4)
-        .z_labels(4)
-        .max_light_lines(1)
-        .light_grid_style(RGBColor(235, 235, 235))
-        // Opaque (plotters' default is translucent black, which some SVG renderers draw black).
-        .axis_panel_style(RGBColor(236, 236, 236))
-        .draw()
-        .map_err(err)?;
-    // Axis names beside the edges that carry the tick labels (with this projection: `x` along
-    // the far left edge, `y` along the right edge, `z` up the left edge).
-    let name = ("sans-serif", 13).into_font().color(&BLACK);
-    let (span, mid) = (xr.1 - xr.0, |r: (f64, f64)| (r.0 + r.1) / 2.0);
-    for (label, at) in [
-        ("x (m)", (mid(xr), zr.0 - 0.1 * span, yr.1 + 0.2 * span)),
-        ("y (m)", (xr.1 + 0.2 * span, zr.0 - 0.1 * span, mid(yr))),
-        ("z (m)", (xr.0, zr.1 + 0.12 * span, yr.1)),
-    ] {
-        chart
-            .draw_series(std::iter::once(Text::new(label, at, name.clone())))
-            .map_err(err)?;
-    }
+    let mut chart = oblique_chart(area, "oblique view (m)", scene.cube, 1)?;
     // The reference over the tip's path, thinner: where the tip follows it, a line within.
     chart
         .draw_series(LineSeries::new(
@@ -380,6 +342,62 @@ fn oblique<DB: DrawingBackend>(
             .map_err(err)?;
     }
     Ok(())
+}
+
+/// An oblique 3-D chart of `cube` (ranges of `x`, `y`, `z`, m) with its axes, their tick labels
+/// (`digits` decimals) and names drawn. Plotters' 3-D charts have `y` up: the chart's
+/// `(x, y, z)` is the drawn frame's `(x, z, y)`.
+pub(super) fn oblique_chart<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    caption: &str,
+    cube: [(f64, f64); 3],
+    digits: usize,
+) -> Result<
+    ChartContext<'a, DB, Cartesian3d<RangedCoordf64, RangedCoordf64, RangedCoordf64>>,
+    PlotError,
+> {
+    let [xr, yr, zr] = cube;
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", 15))
+        .margin(8)
+        .build_cartesian_3d(xr.0..xr.1, zr.0..zr.1, yr.0..yr.1)
+        .map_err(err)?;
+    chart.with_projection(|mut p| {
+        p.yaw = 0.75;
+        p.pitch = 0.3;
+        p.scale = 0.86;
+        p.into_matrix()
+    });
+    let fmt = move |v: &f64| format!("{v:.digits$}");
+    chart
+        .configure_axes()
+        .label_style(("sans-serif", 11))
+        .x_formatter(&fmt)
+        .y_formatter(&fmt)
+        .z_formatter(&fmt)
+        .x_labels(4)
+        .y_labels(4)
+        .z_labels(4)
+        .max_light_lines(1)
+        .light_grid_style(RGBColor(235, 235, 235))
+        // Opaque (plotters' default is translucent black, which some SVG renderers draw black).
+        .axis_panel_style(RGBColor(236, 236, 236))
+        .draw()
+        .map_err(err)?;
+    // Axis names beside the edges that carry the tick labels (with this projection: `x` along
+    // the far left edge, `y` along the right edge, `z` up the left edge).
+    let name = ("sans-serif", 13).into_font().color(&BLACK);
+    let (span, mid) = (xr.1 - xr.0, |r: (f64, f64)| (r.0 + r.1) / 2.0);
+    for (label, at) in [
+        ("x (m)", (mid(xr), zr.0 - 0.1 * span, yr.1 + 0.2 * span)),
+        ("y (m)", (xr.1 + 0.2 * span, zr.0 - 0.1 * span, mid(yr))),
+        ("z (m)", (xr.0, zr.1 + 0.12 * span, yr.1)),
+    ] {
+        chart
+            .draw_series(std::iter::once(Text::new(label, at, name.clone())))
+            .map_err(err)?;
+    }
+    Ok(chart)
 }
 
 /// The top view (`x`–`y`, equal scales) close to the trocar.

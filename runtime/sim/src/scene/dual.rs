@@ -16,8 +16,9 @@
 //! the distance from its port to its shaft's axis, from forward kinematics) and `NAME.ep_norm`
 //! (m, its tip's distance from its reference).
 
-use super::{arm_panels, line, reference, SceneRunError};
+use super::{arm_panels, line, reference, SceneArm, SceneGeometry, SceneRunError};
 use crate::closed_chain::{MechanismTrace, Panel};
+use crate::plot::view3d::ArmModel;
 use crate::simulation::{Method, Scenario, ScenarioConfig, L_A0, Q0};
 use nalgebra::{Matrix3, SVector, Vector3};
 use trocar::constraint::Constraint;
@@ -38,17 +39,59 @@ pub const DURATION: f64 = 3.0;
 type Kin = ChainKinematics<f64, 8, 2>;
 type Ctrl = Controller<f64, 8, 6, 2, 4, 6>;
 
-/// Runs `dia10-dual`; `progress` gets the fraction done.
-pub fn simulate(mut progress: impl FnMut(f64)) -> Result<MechanismTrace, SceneRunError> {
+/// The reference arm, its constraint on link 6 at `l_a` = 0.15 m, and its port at the start.
+fn arm() -> Result<(Kin, NumericModel<f64>, Vector3<f64>), SceneRunError> {
     let model = |e: &dyn std::fmt::Display| SceneRunError(format!("the reference arm: {e}"));
     let d = RobotDescription::preset("dia10_like_zy").map_err(|e| model(&e))?;
-    let chain = NumericModel::<f64>::from_description(&d, &[])
-        .and_then(|m| m.to_chain::<8>())
-        .map_err(|e| model(&e))?;
+    let numeric = NumericModel::<f64>::from_description(&d, &[]).map_err(|e| model(&e))?;
+    let chain = numeric.to_chain::<8>().map_err(|e| model(&e))?;
     let kin: Kin = ChainKinematics::thesis(
         chain,
         Constraint::<f64, 2>::thesis(6, L_A0).map_err(|e| model(&e))?,
     );
+    let q0 = SVector::<f64, 8>::from(Q0);
+    let g_0i = kin.chain.link_frame(6, &q0);
+    let trocar = g_0i.translation + g_0i.rotation.column(1) * L_A0;
+    Ok((kin, numeric, trocar))
+}
+
+/// The bases of the two arms: the copy turned half a turn about the torso's axis.
+fn bases() -> [Se3<f64>; 2] {
+    let turn = Matrix3::new(-1.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 1.0);
+    [Se3::identity(), Se3::new(turn, Vector3::zeros())]
+}
+
+/// How `dia10-dual` is drawn: the torso (the trace's `q1`) in both arms, then each arm's 7.
+pub(super) fn geometry() -> Result<SceneGeometry, SceneRunError> {
+    let (_, numeric, trocar) = arm()?;
+    let model = ArmModel::from_model(&numeric)
+        .map_err(|e| SceneRunError(format!("the reference arm: {e}")))?;
+    let bases = bases();
+    let arms = (0..2)
+        .map(|k| {
+            let mut joints = vec![1];
+            joints.extend(2 + 7 * k..2 + 7 * k + 7);
+            SceneArm {
+                name: ARMS[k].to_string(),
+                model: model.clone(),
+                base: bases[k],
+                port: trocar,
+                joints,
+            }
+        })
+        .collect();
+    Ok(SceneGeometry {
+        name: "dia10-dual".into(),
+        arms,
+        couplings: Vec::new(),
+        safety: None,
+    })
+}
+
+/// Runs `dia10-dual`; `progress` gets the fraction done.
+pub fn simulate(mut progress: impl FnMut(f64)) -> Result<MechanismTrace, SceneRunError> {
+    let model = |e: &dyn std::fmt::Display| SceneRunError(format!("the reference arm: {e}"));
+    let (kin, _, trocar) = arm()?;
     let scenario = Scenario::from_name("1").map_err(|e| model(&e))?;
     let config = ScenarioConfig::new(scenario)
         .with_method(Method::Qp)
@@ -56,14 +99,11 @@ pub fn simulate(mut progress: impl FnMut(f64)) -> Result<MechanismTrace, SceneRu
     let mut arms = [Ctrl::new(config); 2];
     let q0 = SVector::<f64, 8>::from(Q0);
     let g_0e = kin.chain.forward_kinematics(&q0);
-    let g_0i = kin.chain.link_frame(6, &q0);
-    let trocar = g_0i.translation + g_0i.rotation.column(1) * L_A0;
     let rcms = [Rcm {
         trocar,
         dv: SVector::zeros(),
     }; 2];
-    let turn = Matrix3::new(-1.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 1.0);
-    let bases = [Se3::identity(), Se3::new(turn, Vector3::zeros())];
+    let bases = bases();
     let shared = [SharedJoint {
         arms: (0, 1),
         joints: (0, 0),

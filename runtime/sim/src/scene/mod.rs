@@ -20,6 +20,7 @@
 //! tip, from forward kinematics) and `coupling_active` (1 where a coupling changed the rates).
 
 use crate::closed_chain::{MechanismTrace, Panel};
+use crate::plot::view3d::{ArmModel, ArmPose};
 use nalgebra::{Matrix3, SVector, Vector3};
 use trocar::control::scene::{Camera, Coupling, Scene, SceneError, SceneOutput};
 use trocar::control::{
@@ -443,6 +444,95 @@ pub fn simulate(
         rows,
         panels,
     })
+}
+
+/// One arm of a scene as it is drawn: its model, its base in the scene's frame, its port (its
+/// own base frame) and where its joints are in a row of the scene's trace.
+#[derive(Clone, Debug)]
+pub struct SceneArm {
+    /// The arm's name (its columns' prefix).
+    pub name: String,
+    /// The arm's kinematics.
+    pub model: ArmModel,
+    /// The arm's base in the scene's frame.
+    pub base: Se3<f64>,
+    /// The arm's port in its own base frame (m).
+    pub port: Vector3<f64>,
+    /// The indices in a trace row of the arm's joints, in its chain's order (a shared joint
+    /// appears in every arm that holds it).
+    pub joints: Vec<usize>,
+}
+
+impl SceneArm {
+    /// The arm at the row `row` of the scene's trace, in the scene's frame: its stick figure,
+    /// its shaft, its port (the point of the shaft nearest the port) and its tip.
+    pub fn pose(&self, row: &[f64]) -> ArmPose {
+        let q: Vec<f64> = self.joints.iter().map(|&j| row[j]).collect();
+        let l_a = self
+            .model
+            .shaft()
+            .offset(&self.model.link_frame(&q), &self.port);
+        let pose = self.model.pose(&q, l_a);
+        let to = |p: &Vector3<f64>| self.base.transform_point(p);
+        ArmPose {
+            points: pose.points.iter().map(to).collect(),
+            shaft: pose.shaft.map(|p| to(&p)),
+            trocar: to(&pose.trocar),
+            tip: to(&pose.tip),
+        }
+    }
+
+    /// The arm's port in the scene's frame.
+    pub fn port_in_scene(&self) -> Vector3<f64> {
+        self.base.transform_point(&self.port)
+    }
+}
+
+/// How a scene is drawn: its arms and the pairs whose shafts its couplings keep apart.
+#[derive(Clone, Debug)]
+pub struct SceneGeometry {
+    /// The scene's name.
+    pub name: String,
+    /// Its arms, in the scene's order.
+    pub arms: Vec<SceneArm>,
+    /// The coupled pairs of arms, and the safety distance between their shafts (m).
+    pub couplings: Vec<(usize, usize)>,
+    /// The couplings' safety distance (m), where there are couplings.
+    pub safety: Option<f64>,
+}
+
+/// The geometry of the scene `name` ([`scenario_names`]).
+pub fn geometry(name: &str) -> Result<SceneGeometry, SceneRunError> {
+    match name {
+        "three-ports" => {
+            let setup = ThreePorts::new(true)?;
+            let description = RobotDescription::preset("panda-laparoscope")
+                .map_err(|e| model_error(&e.to_string()))?;
+            let model = NumericModel::<f64>::from_description(&description, &[])
+                .map_err(|e| model_error(&e.to_string()))
+                .and_then(|m| ArmModel::from_model(&m).map_err(|e| model_error(&e)))?;
+            let arms = (0..3)
+                .map(|k| SceneArm {
+                    name: ARMS[k].to_string(),
+                    model: model.clone(),
+                    base: setup.bases[k],
+                    port: setup.rcms[k].trocar,
+                    joints: (1 + 7 * k..1 + 7 * k + 7).collect(),
+                })
+                .collect();
+            Ok(SceneGeometry {
+                name: name.into(),
+                arms,
+                couplings: setup.scene.couplings.iter().map(|c| c.arms).collect(),
+                safety: Some(SAFETY),
+            })
+        }
+        "dia10-dual" => dual::geometry(),
+        other => Err(SceneRunError(format!(
+            "unknown scene `{other}` (expected one of: {})",
+            scenario_names().join(", ")
+        ))),
+    }
 }
 
 /// Why a scene's run failed: the message names the time and what gave way.
