@@ -70,7 +70,7 @@ fn three_ports_from_the_command_line() {
     let dt = rows[1][0] - rows[0][0];
     for (i, row) in rows.iter().enumerate() {
         assert!(
-            row[col("min_shaft_distance")] >= 0.005 * (1.0 - 1e-6),
+            row[col("min_shaft_distance")] >= 0.010 * (1.0 - 1e-6),
             "row {i}"
         );
         for arm in ["left", "right", "endoscope"] {

@@ -101,8 +101,9 @@ pub fn is_scene(name: &str) -> bool {
 /// The arms of `three-ports`, in the scene's order.
 pub const ARMS: [&str; 3] = ["left", "right", "endoscope"];
 
-/// The shafts' safety distance (m).
-pub const SAFETY: f64 = 0.005;
+/// The shafts' safety distance between their axes (m): two 5 mm instruments and a 10 mm
+/// endoscope, their surfaces at least 2.5 mm apart.
+pub const SAFETY: f64 = 0.010;
 
 /// The distance within which the couplings' dampers act (m).
 pub const INFLUENCE: f64 = 0.03;
