@@ -309,7 +309,11 @@ fn scene_scenario(
         summary += &format!(
             "\n  min shaft distance {min_distance:.3e} m (safety {:.3e} m), the couplings \
              active in {active} of {} rows",
-            scene::SAFETY,
+            if scenario == "dia10-dual" {
+                scene::dual::SAFETY
+            } else {
+                scene::SAFETY
+            },
             trace.rows.len()
         );
     }

@@ -1,30 +1,38 @@
-//! `dia10-dual`: two arms on one torso, each through its own port (the thesis's §5.2: the
-//! DIA10's two arms, a kinematic constraint on each, one holding tissue while the other cuts).
+//! `dia10-dual`: the two arms of the thesis's robot on one torso, each through its own port (the
+//! thesis's §5.2: the DIA10's two arms, a kinematic constraint on each, one holding tissue while
+//! the other cuts).
 //!
-//! The reference arm (`dia10_like_zy`: the torso joint, then 7 joints, the port on link 6 at
-//! `l_a` = 0.15 m) and a copy of it turned half a turn about the torso's axis (not its mirror
-//! image) share the torso joint (S6 of [`trocar::control::scene`]). The left instrument holds
-//! its tip still; the right one cuts: its tip moves 4 cm along its arm's `x` and 2 cm down over
-//! 2 s (a smooth step starting at 0.5 s). Each arm's own step is the QP with the reference
-//! arm's gains (those of scenario 1); the torso's rate each arm's step chooses for its own task
-//! is reconciled by the scene, and each arm's other joints keep its port and its task. With one
+//! The right arm is the reference arm (`dia10_like_zy`: the torso joint, then 7 joints, the
+//! shoulder at `x = +0.194` m, the port on link 6 at `l_a` = 0.15 m); the left arm is its mirror
+//! image in the plane `x = 0` (the shoulder at `x = −0.194` m, both arms reaching along `+y`,
+//! [`mirrored`]); they share the torso joint (S6 of [`trocar::control::scene`]). Both start at
+//! `q = (0, −0.3, 0.9, 0.28, −0.62, 0.1, 0.5, 0.3)` ([`Q_DUAL`]: the reference arm's start
+//! with its forearm rolled and its wrist pitched inward), mirror images of each other, their tips
+//! 3.5 cm apart and their ports 34 cm apart; a coupling keeps their shafts [`SAFETY`] apart. The
+//! left instrument holds its tip still; the right one cuts: its tip moves 4 cm along `+x` over 4
+//! s and back over 4 s (smooth steps from 0.5 s). Each arm's own step is the QP with the reference
+//! arm's gains (those of scenario 1); the torso's rate each arm's step chooses for its own task is
+//! reconciled by the scene, and each arm's other joints keep its port and its task. With one
 //! torso the scene has one joint fewer than the two ports and the two full poses ask: the tips'
 //! orientations give way first (orientation weight 0.01).
 //!
 //! The trace's columns: `t`, the scene's 15 joints `q1..q15` (the torso, then the left arm's 7,
-//! then the right arm's 7) and their rates `qd1..qd15`, and for each arm `NAME.rcm_drift` (m,
-//! the distance from its port to its shaft's axis, from forward kinematics) and `NAME.ep_norm`
-//! (m, its tip's distance from its reference).
+//! then the right arm's 7) and their rates `qd1..qd15`, for each arm `NAME.rcm_drift` (m, the
+//! distance from its port to its shaft's axis, from forward kinematics) and `NAME.ep_norm` (m,
+//! its tip's distance from its reference), and `min_shaft_distance` (m, between the shafts inside
+//! the body, port to tip).
 
-use super::{arm_panels, line, reference, SceneArm, SceneGeometry, SceneRunError};
+use super::{arm_panels, line, SceneArm, SceneGeometry, SceneRunError};
 use crate::closed_chain::{MechanismTrace, Panel};
 use crate::plot::view3d::ArmModel;
-use crate::simulation::{Method, Scenario, ScenarioConfig, L_A0, Q0};
+use crate::simulation::{Method, Scenario, ScenarioConfig, L_A0};
 use nalgebra::{Matrix3, SVector, Vector3};
 use trocar::constraint::Constraint;
-use trocar::control::scene::{Scene, SharedJoint};
-use trocar::control::{ChainKinematics, Controller, Rcm, StepStatus};
-use trocar::se3::Se3;
+use trocar::control::scene::{Coupling, Scene, SharedJoint};
+use trocar::control::{ChainKinematics, Controller, Damper, Rcm, Reference, StepStatus};
+use trocar::distance::segment_distance;
+use trocar::kinematics::{Chain, Joint};
+use trocar::se3::{angular, linear, twist, Se3};
 use trocar_model::description::RobotDescription;
 use trocar_model::numeric::NumericModel;
 
@@ -34,48 +42,85 @@ pub const ARMS: [&str; 2] = ["left", "right"];
 /// The sample time (s) of `dia10-dual`.
 pub const DT: f64 = 0.002;
 /// The duration of `dia10-dual` (s).
-pub const DURATION: f64 = 3.0;
+pub const DURATION: f64 = 9.0;
+
+/// Both arms' start (the left arm's the mirror image of the right one's).
+pub const Q_DUAL: [f64; 8] = [0.0, -0.3, 0.9, 0.28, -0.62, 0.1, 0.5, 0.3];
+
+/// The shafts' safety distance between their axes (m).
+pub const SAFETY: f64 = 0.010;
+
+/// `M = diag(−1, 1, 1)`, the mirror in the plane `x = 0`.
+fn mirror_matrix() -> Matrix3<f64> {
+    Matrix3::from_diagonal(&Vector3::new(-1.0, 1.0, 1.0))
+}
+
+/// The mirror image of a pose: `M g M` (a proper rotation `M R M`, the point `M p`).
+fn mirror_pose(g: &Se3<f64>) -> Se3<f64> {
+    let m = mirror_matrix();
+    Se3::new(m * g.rotation * m, m * g.translation)
+}
+
+/// The mirror image in the plane `x = 0` of a chain that starts with a joint about `z` through
+/// the origin (the torso): that joint is kept (a torso turning by `θ₁` turns both arms alike),
+/// every later joint `(origin, ξ = (v, ω))` becomes `(M origin M, (M v, −M ω))` and the tool
+/// `M tool M`, so that `exp(ξ' θ) = M exp(ξ θ) M` and the chain at `q` is the mirror image of
+/// the original at `(−θ₁, θ₂, …)`: `g'(q) = M g(−θ₁, θ₂, …) M`.
+pub fn mirrored<const N: usize>(chain: &Chain<f64, N>) -> Chain<f64, N> {
+    let m = mirror_matrix();
+    let mut joints = chain.joints;
+    for j in joints.iter_mut().skip(1) {
+        *j = Joint {
+            origin: mirror_pose(&j.origin),
+            twist: twist(&(m * linear(&j.twist)), &(-(m * angular(&j.twist)))),
+        };
+    }
+    Chain::new(joints, mirror_pose(&chain.tool))
+}
 
 type Kin = ChainKinematics<f64, 8, 2>;
 type Ctrl = Controller<f64, 8, 6, 2, 4, 6>;
 
-/// The reference arm, its constraint on link 6 at `l_a` = 0.15 m, and its port at the start.
-fn arm() -> Result<(Kin, NumericModel<f64>, Vector3<f64>), SceneRunError> {
+/// The two arms (left: the mirror image, right: the reference arm), each with its constraint on
+/// link 6 at `l_a` = 0.15 m and its port at [`Q_DUAL`], and the reference arm's model.
+#[allow(clippy::type_complexity)]
+fn arms() -> Result<([Kin; 2], [Vector3<f64>; 2], NumericModel<f64>), SceneRunError> {
     let model = |e: &dyn std::fmt::Display| SceneRunError(format!("the reference arm: {e}"));
     let d = RobotDescription::preset("dia10_like_zy").map_err(|e| model(&e))?;
     let numeric = NumericModel::<f64>::from_description(&d, &[]).map_err(|e| model(&e))?;
     let chain = numeric.to_chain::<8>().map_err(|e| model(&e))?;
-    let kin: Kin = ChainKinematics::thesis(
-        chain,
-        Constraint::<f64, 2>::thesis(6, L_A0).map_err(|e| model(&e))?,
-    );
-    let q0 = SVector::<f64, 8>::from(Q0);
-    let g_0i = kin.chain.link_frame(6, &q0);
-    let trocar = g_0i.translation + g_0i.rotation.column(1) * L_A0;
-    Ok((kin, numeric, trocar))
-}
-
-/// The bases of the two arms: the copy turned half a turn about the torso's axis.
-fn bases() -> [Se3<f64>; 2] {
-    let turn = Matrix3::new(-1.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 1.0);
-    [Se3::identity(), Se3::new(turn, Vector3::zeros())]
+    let constraint = Constraint::<f64, 2>::thesis(6, L_A0).map_err(|e| model(&e))?;
+    // The thesis's constraint frame moves along `y_6`; a mirrored link frame `M R M` has the
+    // mirrored `y` axis, so the same constraint holds the mirrored shaft.
+    let kins = [
+        ChainKinematics::thesis(mirrored(&chain), constraint),
+        ChainKinematics::thesis(chain, constraint),
+    ];
+    let q0 = SVector::<f64, 8>::from(Q_DUAL);
+    let ports = kins.map(|k: Kin| {
+        let g_0i = k.chain.link_frame(6, &q0);
+        g_0i.translation + g_0i.rotation.column(1) * L_A0
+    });
+    Ok((kins, ports, numeric))
 }
 
 /// How `dia10-dual` is drawn: the torso (the trace's `q1`) in both arms, then each arm's 7.
 pub(super) fn geometry() -> Result<SceneGeometry, SceneRunError> {
-    let (_, numeric, trocar) = arm()?;
+    let (kins, ports, numeric) = arms()?;
     let model = ArmModel::from_model(&numeric)
         .map_err(|e| SceneRunError(format!("the reference arm: {e}")))?;
-    let bases = bases();
     let arms = (0..2)
         .map(|k| {
             let mut joints = vec![1];
             joints.extend(2 + 7 * k..2 + 7 * k + 7);
+            let mut model = model.clone();
+            model.joints = kins[k].chain.joints.to_vec();
+            model.tool = kins[k].chain.tool;
             SceneArm {
                 name: ARMS[k].to_string(),
-                model: model.clone(),
-                base: bases[k],
-                port: trocar,
+                model,
+                base: Se3::identity(),
+                port: ports[k],
                 joints,
             }
         })
@@ -83,38 +128,79 @@ pub(super) fn geometry() -> Result<SceneGeometry, SceneRunError> {
     Ok(SceneGeometry {
         name: "dia10-dual".into(),
         arms,
-        couplings: Vec::new(),
-        safety: None,
+        couplings: vec![(0, 1)],
+        safety: Some(SAFETY),
     })
+}
+
+/// The cutting path's progress at `t` (s) and its rate: out over 4 s from 0.5 s, back over 4 s
+/// (smooth steps).
+fn cut(t: f64) -> (f64, f64) {
+    let step = |t0: f64| {
+        let s = ((t - t0) / 4.0).clamp(0.0, 1.0);
+        let p = s * s * s * (10.0 - 15.0 * s + 6.0 * s * s);
+        let v = if s > 0.0 && s < 1.0 {
+            30.0 * s * s * (1.0 - s) * (1.0 - s) / 4.0
+        } else {
+            0.0
+        };
+        (p, v)
+    };
+    let (out, back) = (step(0.5), step(4.5));
+    (out.0 - back.0, out.1 - back.1)
 }
 
 /// Runs `dia10-dual`; `progress` gets the fraction done.
 pub fn simulate(mut progress: impl FnMut(f64)) -> Result<MechanismTrace, SceneRunError> {
     let model = |e: &dyn std::fmt::Display| SceneRunError(format!("the reference arm: {e}"));
-    let (kin, _, trocar) = arm()?;
+    let (kins, ports, _) = arms()?;
     let scenario = Scenario::from_name("1").map_err(|e| model(&e))?;
     let config = ScenarioConfig::new(scenario)
         .with_method(Method::Qp)
         .controller_config();
     let mut arms = [Ctrl::new(config); 2];
-    let q0 = SVector::<f64, 8>::from(Q0);
-    let g_0e = kin.chain.forward_kinematics(&q0);
-    let rcms = [Rcm {
+    let q0 = SVector::<f64, 8>::from(Q_DUAL);
+    let starts = kins.map(|k| k.chain.forward_kinematics(&q0));
+    let rcms = ports.map(|trocar| Rcm {
         trocar,
         dv: SVector::zeros(),
-    }; 2];
-    let bases = bases();
+    });
+    let bases = [Se3::identity(); 2];
     let shared = [SharedJoint {
         arms: (0, 1),
         joints: (0, 0),
     }];
-    let shifts = [Vector3::zeros(), Vector3::new(0.04, 0.0, -0.02)];
-    let mut scene = Scene::<f64, 0, 16, 0>::new([]);
+    let damper = Damper {
+        influence: 0.03,
+        safety: SAFETY,
+        gain: 0.1,
+    };
+    let mut scene = Scene::<f64, 1, 16, 2>::new([Coupling {
+        arms: (0, 1),
+        damper,
+    }]);
     // With the torso shared the scene has one joint fewer than the two arms' ports and full
     // poses ask: the tips' orientations give way first (with 0.1 the tips' places drifted by
     // 4–5 mm; with 0.01 by 60–80 µm).
     scene.orientation_weight = 0.01;
-    let kins = [kin; 2];
+    let references = |t: f64| -> [Reference<f64>; 2] {
+        let (p, v) = cut(t);
+        let shift = Vector3::new(0.04, 0.0, 0.0);
+        [
+            Reference {
+                position: starts[0].translation,
+                rotation: starts[0].rotation,
+                velocity: Vector3::zeros(),
+                angular_velocity: Vector3::zeros(),
+            },
+            Reference {
+                position: starts[1].translation + shift * p,
+                rotation: starts[1].rotation,
+                velocity: shift * v,
+                angular_velocity: Vector3::zeros(),
+            },
+        ]
+    };
     let mut q = [q0; 2];
     let mut columns = vec!["t".to_string()];
     columns.extend((1..=15).map(|k| format!("q{k}")));
@@ -123,6 +209,7 @@ pub fn simulate(mut progress: impl FnMut(f64)) -> Result<MechanismTrace, SceneRu
         columns.push(format!("{arm}.rcm_drift"));
         columns.push(format!("{arm}.ep_norm"));
     }
+    columns.push("min_shaft_distance".into());
     // The scene's joints: the torso once, then each arm's own.
     let scene_joints = |x: &[SVector<f64, 8>; 2]| {
         let mut v = vec![x[0][0]];
@@ -134,7 +221,7 @@ pub fn simulate(mut progress: impl FnMut(f64)) -> Result<MechanismTrace, SceneRu
     let mut rows = Vec::with_capacity(steps + 1);
     for step in 0..=steps {
         let t = step as f64 * DT;
-        let references = shifts.map(|s| reference(&g_0e, s, t));
+        let references = references(t);
         let mut row = vec![t];
         row.extend(scene_joints(&q));
         let qd = if step < steps {
@@ -160,6 +247,11 @@ pub fn simulate(mut progress: impl FnMut(f64)) -> Result<MechanismTrace, SceneRu
                     ARMS[k]
                 )));
             }
+            if !o.coupling_held {
+                return Err(SceneRunError(format!(
+                    "t = {t:.3} s: the shafts' coupling could not hold within the ports"
+                )));
+            }
             if (o.qd[0][0] - o.qd[1][0]).abs() > 1e-9 * (1.0 + o.qd[0][0].abs()) {
                 return Err(SceneRunError(format!(
                     "t = {t:.3} s: the arms disagree on the torso's rate ({} and {} rad/s)",
@@ -174,14 +266,18 @@ pub fn simulate(mut progress: impl FnMut(f64)) -> Result<MechanismTrace, SceneRu
             [SVector::zeros(); 2]
         };
         row.extend(scene_joints(&qd));
+        let mut ends = [Vector3::zeros(); 4];
         for k in 0..2 {
-            let g_0i = kin.chain.link_frame(6, &q[k]);
+            let g_0i = kins[k].chain.link_frame(6, &q[k]);
             let axis: Vector3<f64> = g_0i.rotation.column(1).into_owned();
-            let rel = trocar - g_0i.translation;
+            let rel = ports[k] - g_0i.translation;
             row.push((rel - axis * rel.dot(&axis)).norm());
-            let tip = kin.chain.forward_kinematics(&q[k]).translation;
+            let tip = kins[k].chain.forward_kinematics(&q[k]).translation;
             row.push((references[k].position - tip).norm());
+            ends[2 * k] = ports[k];
+            ends[2 * k + 1] = tip;
         }
+        row.push(segment_distance(&ends[0], &ends[1], &ends[2], &ends[3]).distance);
         if row.iter().any(|v| !v.is_finite()) {
             return Err(SceneRunError(format!("t = {t:.3} s: a non-finite value")));
         }
@@ -191,7 +287,17 @@ pub fn simulate(mut progress: impl FnMut(f64)) -> Result<MechanismTrace, SceneRu
         }
         progress(step as f64 / steps as f64);
     }
-    let mut panels = arm_panels(&ARMS, "each tip's error (left holds, right cuts)").to_vec();
+    let mut panels = vec![Panel {
+        title: "the distance between the shafts inside the body".into(),
+        x_label: "t (s)".into(),
+        y_label: "distance (m)".into(),
+        lines: vec![line("min_shaft_distance", "min_shaft_distance")],
+        non_negative: true,
+    }];
+    panels.extend(arm_panels(
+        &ARMS,
+        "each tip's error (left holds, right cuts)",
+    ));
     panels.push(Panel {
         title: "the shared torso's rate".into(),
         x_label: "t (s)".into(),
