@@ -5,20 +5,30 @@
 use crate::error::{Error, Result};
 use trocar::control::StepStatus;
 use trocar::nalgebra::SVector;
+use trocar_sim::scene::dual::{self, Dia10Dual};
 use trocar_sim::scene::{ThreePorts, ARMS, DT, SAFETY};
 
 /// The scenes a loop of one's own can step.
-pub const STEPPABLE: [&str; 1] = ["three-ports"];
+pub const STEPPABLE: [&str; 2] = ["three-ports", "dia10-dual"];
 
-/// `three-ports` (three Pandas, each through its own port; two instruments whose shafts are
-/// kept [`SAFETY`] apart, an endoscope whose view axis follows the instruments' midpoint) ready
-/// to be stepped: the scene's step over all arms (`trocar::control::scene`) with each arm's own
-/// QP step, warm-started from the last call.
+/// A shipped scene ready to be stepped: the scene's step over all arms
+/// (`trocar::control::scene`) with each arm's own QP step, warm-started from the last call.
+/// `three-ports`: three Pandas, each through its own port, two instruments and an endoscope whose
+/// shafts are kept [`SAFETY`] apart, the endoscope's view axis on the instruments' midpoint.
+/// `dia10-dual`: the reference arm and its mirror image on one torso (15 joints: the torso, the
+/// left arm's 7, the right arm's 7), the left tip held while the right one cuts.
 #[derive(Clone, Debug)]
 pub struct SceneStepper {
     name: &'static str,
-    inner: ThreePorts,
-    fresh: ThreePorts,
+    inner: Setup,
+    fresh: Setup,
+}
+
+/// The scenes' own setups.
+#[derive(Clone, Debug)]
+enum Setup {
+    ThreePorts(Box<ThreePorts>),
+    Dia10Dual(Box<Dia10Dual>),
 }
 
 /// What one scene step commanded.
@@ -39,7 +49,8 @@ pub struct SceneStep {
 }
 
 impl SceneStepper {
-    /// The shipped scene `name` at its start, with its couplings (`coupled`) or without them.
+    /// The shipped scene `name` ([`STEPPABLE`]) at its start, with its couplings (`coupled`) or
+    /// without them (`three-ports` only; `dia10-dual` keeps its coupling).
     pub fn new(name: &str, coupled: bool) -> Result<Self> {
         let Some(name) = STEPPABLE.iter().copied().find(|n| *n == name) else {
             return Err(Error::Argument {
@@ -51,7 +62,11 @@ impl SceneStepper {
                 ),
             });
         };
-        let inner = ThreePorts::new(coupled).map_err(|e| Error::Simulation(e.to_string()))?;
+        let simulation = |e: trocar_sim::scene::SceneRunError| Error::Simulation(e.to_string());
+        let inner = match name {
+            "dia10-dual" => Setup::Dia10Dual(Box::new(Dia10Dual::new().map_err(simulation)?)),
+            _ => Setup::ThreePorts(Box::new(ThreePorts::new(coupled).map_err(simulation)?)),
+        };
         Ok(SceneStepper {
             name,
             fresh: inner.clone(),
@@ -66,52 +81,77 @@ impl SceneStepper {
 
     /// The arms' names, in the scene's order.
     pub fn arms(&self) -> Vec<String> {
-        ARMS.iter().map(|s| s.to_string()).collect()
+        self.names().iter().map(|s| s.to_string()).collect()
+    }
+
+    fn names(&self) -> &'static [&'static str] {
+        match &self.inner {
+            Setup::ThreePorts(_) => &ARMS,
+            Setup::Dia10Dual(_) => &dual::ARMS,
+        }
     }
 
     /// The couplings, as pairs of arms' names.
     pub fn couplings(&self) -> Vec<(String, String)> {
-        self.inner
-            .scene
-            .couplings
-            .iter()
-            .map(|c| (ARMS[c.arms.0].to_string(), ARMS[c.arms.1].to_string()))
+        let pairs: Vec<(usize, usize)> = match &self.inner {
+            Setup::ThreePorts(s) => s.scene.couplings.iter().map(|c| c.arms).collect(),
+            Setup::Dia10Dual(s) => s.scene.couplings.iter().map(|c| c.arms).collect(),
+        };
+        let names = self.names();
+        pairs
+            .into_iter()
+            .map(|(a, b)| (names[a].to_string(), names[b].to_string()))
             .collect()
     }
 
-    /// The number of the scene's joints.
+    /// The number of the scene's joints (a shared torso counted once).
     pub fn joints(&self) -> usize {
-        7 * ARMS.len()
+        match &self.inner {
+            Setup::ThreePorts(_) => 21,
+            Setup::Dia10Dual(_) => 15,
+        }
     }
 
     /// The scene's sample time (s): the rates' limits (acceleration, jerk, the ranges over a
     /// step) are for this `dt`.
     pub fn dt(&self) -> f64 {
-        DT
+        match &self.inner {
+            Setup::ThreePorts(_) => DT,
+            Setup::Dia10Dual(_) => dual::DT,
+        }
     }
 
     /// The shafts' safety distance (m).
     pub fn safety(&self) -> f64 {
-        SAFETY
+        match &self.inner {
+            Setup::ThreePorts(_) => SAFETY,
+            Setup::Dia10Dual(_) => dual::SAFETY,
+        }
     }
 
     /// The scene's joints at its start.
     pub fn q0(&self) -> Vec<f64> {
-        self.fresh
-            .q0
-            .iter()
-            .flat_map(|q| q.iter().copied())
-            .collect()
+        match &self.fresh {
+            Setup::ThreePorts(s) => s.q0.iter().flat_map(|q| q.iter().copied()).collect(),
+            Setup::Dia10Dual(s) => torso_once(&s.q0),
+        }
     }
 
     /// Every arm's port in the scene's frame (m).
     pub fn ports(&self) -> Vec<[f64; 3]> {
-        (0..ARMS.len())
-            .map(|k| {
-                let p = self.inner.bases[k].transform_point(&self.inner.rcms[k].trocar);
-                [p.x, p.y, p.z]
-            })
-            .collect()
+        match &self.inner {
+            Setup::ThreePorts(s) => (0..ARMS.len())
+                .map(|k| {
+                    let p = s.bases[k].transform_point(&s.rcms[k].trocar);
+                    [p.x, p.y, p.z]
+                })
+                .collect(),
+            Setup::Dia10Dual(s) => s
+                .rcms
+                .iter()
+                .map(|r| [r.trocar.x, r.trocar.y, r.trocar.z])
+                .collect(),
+        }
     }
 
     /// Back to the start: the controllers at rest, the warm starts and the camera's last point
@@ -120,8 +160,9 @@ impl SceneStepper {
         self.inner = self.fresh.clone();
     }
 
-    /// One step at the scene's joints `q` (all arms, in order) and time `t` (s, the arms' paths
-    /// are functions of it; call once per sample, `t` increasing by [`Self::dt`]).
+    /// One step at the scene's joints `q` (all arms, in order; a shared torso once) and time `t`
+    /// (s, the arms' paths are functions of it; call once per sample, `t` increasing by
+    /// [`Self::dt`]).
     pub fn step(&mut self, q: &[f64], t: f64) -> Result<SceneStep> {
         if q.len() != self.joints() {
             return Err(Error::Argument {
@@ -145,22 +186,50 @@ impl SceneStepper {
                 problem: format!("{t} is not a time"),
             });
         }
-        let q: [SVector<f64, 7>; 3] =
-            std::array::from_fn(|k| SVector::from_column_slice(&q[7 * k..7 * k + 7]));
-        let out = self
-            .inner
-            .step(&q, t)
-            .map_err(|e| Error::Simulation(format!("t = {t} s: {e}")))?;
-        let qd: Vec<f64> = out.qd.iter().flat_map(|x| x.iter().copied()).collect();
-        if qd.iter().any(|v| !v.is_finite()) {
+        let step = match &mut self.inner {
+            Setup::ThreePorts(s) => {
+                let q: [SVector<f64, 7>; 3] =
+                    std::array::from_fn(|k| SVector::from_column_slice(&q[7 * k..7 * k + 7]));
+                let out = s
+                    .step(&q, t)
+                    .map_err(|e| Error::Simulation(format!("t = {t} s: {e}")))?;
+                SceneStep {
+                    qd: out.qd.iter().flat_map(|x| x.iter().copied()).collect(),
+                    distances: out.distances.to_vec(),
+                    coupling_held: out.coupling_held,
+                    coupling_active: out.coupling_active,
+                    statuses: out.arms.iter().map(|a| a.status).collect(),
+                }
+            }
+            Setup::Dia10Dual(s) => {
+                // Each arm's chain: the torso, then its own 7.
+                let arm = |k: usize| {
+                    SVector::<f64, 8>::from_fn(|j, _| if j == 0 { q[0] } else { q[7 * k + j] })
+                };
+                let out = s
+                    .step(&[arm(0), arm(1)], t)
+                    .map_err(|e| Error::Simulation(e.to_string()))?;
+                SceneStep {
+                    qd: torso_once(&out.qd),
+                    distances: out.distances.to_vec(),
+                    coupling_held: out.coupling_held,
+                    coupling_active: out.coupling_active,
+                    statuses: out.arms.iter().map(|a| a.status).collect(),
+                }
+            }
+        };
+        if step.qd.iter().any(|v| !v.is_finite()) {
             return Err(Error::NotFinite(format!("t = {t} s: the scene's rates")));
         }
-        Ok(SceneStep {
-            qd,
-            distances: out.distances.to_vec(),
-            coupling_held: out.coupling_held,
-            coupling_active: out.coupling_active,
-            statuses: out.arms.iter().map(|a| a.status).collect(),
-        })
+        Ok(step)
     }
+}
+
+/// Two chains that share their first joint (a torso) as the scene's joints: the torso once,
+/// then each chain's own.
+fn torso_once(x: &[SVector<f64, 8>; 2]) -> Vec<f64> {
+    let mut v = vec![x[0][0]];
+    v.extend(x[0].iter().skip(1));
+    v.extend(x[1].iter().skip(1));
+    v
 }

@@ -1200,9 +1200,11 @@ fn quantities() -> Vec<(&'static str, &'static str)> {
 
 /// A shipped scene of several arms, each through its own port, stepped by a loop of one's own
 /// (a physics plant, a robot): `three-ports`, three Pandas whose instruments' shafts are kept
-/// `safety` apart and whose endoscope's view axis follows the instruments' midpoint. Each step
-/// runs every arm's own QP step (its port, its URDF's limits, its path), then the scene's QP
-/// over all the rates (the couplings between the shafts).
+/// `safety` apart and whose endoscope's view axis follows the instruments' midpoint (21 joints);
+/// `dia10-dual`, the reference arm and its mirror image on one torso, the left tip held while the
+/// right one cuts (15 joints: the torso once). Each step runs every arm's own QP step (its port,
+/// its limits, its path), then the scene's QP over all the rates (the couplings between the
+/// shafts, the shared torso).
 #[pyclass(module = "trocar")]
 struct Scene {
     inner: trocar_api::SceneStepper,
@@ -1210,8 +1212,8 @@ struct Scene {
 
 #[pymethods]
 impl Scene {
-    /// The scene `name` (`"three-ports"`) at its start, with its couplings (`coupled=True`) or
-    /// without them (to see what they prevent).
+    /// The scene `name` (`"three-ports"` or `"dia10-dual"`) at its start, with its couplings
+    /// (`coupled=True`) or without them (`three-ports` only: to see what they prevent).
     #[new]
     #[pyo3(signature = (name, coupled = true))]
     fn new(name: &str, coupled: bool) -> PyResult<Self> {

@@ -519,6 +519,8 @@ def test_a_scene_stepped_in_a_loop_of_ones_own_gives_the_shipped_run():
     with pytest.raises(ValueError, match="q: 20 values given"):
         scene.step(q[:20], 0.0)
     with pytest.raises(ValueError, match="is not a scene that can be stepped"):
-        trocar.Scene("dia10-dual")
+        trocar.Scene("four-bar")
+    dual = trocar.Scene("dia10-dual")
+    assert dual.arms == ["left", "right"] and dual.joints == 15 and len(dual.q0) == 15
     scene.reset()
     assert np.array_equal(scene.step(scene.q0, 0.0)["qd"], trocar.Scene("three-ports").step(scene.q0, 0.0)["qd"])

@@ -168,7 +168,8 @@ def quantities() -> List[Tuple[str, str]]:
 class Scene:
     """A shipped scene of several arms, each through its own port, stepped by a loop of one's own:
     ``"three-ports"`` (three Pandas; the instruments' shafts kept ``safety`` apart, the
-    endoscope's view axis on the instruments' midpoint)."""
+    endoscope's view axis on the instruments' midpoint) or ``"dia10-dual"`` (the reference arm
+    and its mirror image on one torso)."""
 
     def __init__(self, name: str, coupled: bool = True) -> None: ...
     @property

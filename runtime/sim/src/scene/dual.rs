@@ -28,7 +28,7 @@ use crate::plot::view3d::ArmModel;
 use crate::simulation::{Method, Scenario, ScenarioConfig, L_A0};
 use nalgebra::{Matrix3, SVector, Vector3};
 use trocar::constraint::Constraint;
-use trocar::control::scene::{Coupling, Scene, SharedJoint};
+use trocar::control::scene::{Coupling, Scene, SceneError, SceneOutput, SharedJoint};
 use trocar::control::{ChainKinematics, Controller, Damper, Rcm, Reference, StepStatus};
 use trocar::distance::segment_distance;
 use trocar::kinematics::{Chain, Joint};
@@ -78,8 +78,10 @@ pub fn mirrored<const N: usize>(chain: &Chain<f64, N>) -> Chain<f64, N> {
     Chain::new(joints, mirror_pose(&chain.tool))
 }
 
-type Kin = ChainKinematics<f64, 8, 2>;
-type Ctrl = Controller<f64, 8, 6, 2, 4, 6>;
+/// The reference arm's kinematics, as the scene's arms use them.
+pub type Kin = ChainKinematics<f64, 8, 2>;
+/// The reference arm's controller, as the scene's arms use it.
+pub type Ctrl = Controller<f64, 8, 6, 2, 4, 6>;
 
 /// The two arms (left: the mirror image, right: the reference arm), each with its constraint on
 /// link 6 at `l_a` = 0.15 m and its port at [`Q_DUAL`], and the reference arm's model.
@@ -150,57 +152,127 @@ fn cut(t: f64) -> (f64, f64) {
     (out.0 - back.0, out.1 - back.1)
 }
 
-/// Runs `dia10-dual`; `progress` gets the fraction done.
-pub fn simulate(mut progress: impl FnMut(f64)) -> Result<MechanismTrace, SceneRunError> {
-    let model = |e: &dyn std::fmt::Display| SceneRunError(format!("the reference arm: {e}"));
-    let (kins, ports, _) = arms()?;
-    let scenario = Scenario::from_name("1").map_err(|e| model(&e))?;
-    let config = ScenarioConfig::new(scenario)
-        .with_method(Method::Qp)
-        .controller_config();
-    let mut arms = [Ctrl::new(config); 2];
-    let q0 = SVector::<f64, 8>::from(Q_DUAL);
-    let starts = kins.map(|k| k.chain.forward_kinematics(&q0));
-    let rcms = ports.map(|trocar| Rcm {
-        trocar,
-        dv: SVector::zeros(),
-    });
-    let bases = [Se3::identity(); 2];
-    let shared = [SharedJoint {
-        arms: (0, 1),
-        joints: (0, 0),
-    }];
-    let damper = Damper {
-        influence: 0.03,
-        safety: SAFETY,
-        gain: 0.1,
-    };
-    let mut scene = Scene::<f64, 1, 16, 2>::new([Coupling {
-        arms: (0, 1),
-        damper,
-    }]);
-    // With the torso shared the scene has one joint fewer than the two arms' ports and full
-    // poses ask: the tips' orientations give way first (with 0.1 the tips' places drifted by
-    // 4–5 mm; with 0.01 by 60–80 µm).
-    scene.orientation_weight = 0.01;
-    let references = |t: f64| -> [Reference<f64>; 2] {
+/// The scene `dia10-dual` ready to step: its arms' kinematics and controllers, their ports and
+/// starts, and the scene's coupling and shared torso.
+#[derive(Clone, Debug)]
+pub struct Dia10Dual {
+    /// Each arm's kinematics (left: the mirror image, right: the reference arm).
+    pub kins: [Kin; 2],
+    /// Each arm's controller.
+    pub arms: [Ctrl; 2],
+    /// The scene's step, its coupling between the shafts.
+    pub scene: Scene<f64, 1, 16, 2>,
+    /// Each arm's port.
+    pub rcms: [Rcm<f64, 2>; 2],
+    /// Each arm's start ([`Q_DUAL`]).
+    pub q0: [SVector<f64, 8>; 2],
+    /// Each tip's pose at the start.
+    starts: [Se3<f64>; 2],
+}
+
+/// The torso, shared: joint 1 of both arms.
+const SHARED: [SharedJoint; 1] = [SharedJoint {
+    arms: (0, 1),
+    joints: (0, 0),
+}];
+
+impl Dia10Dual {
+    /// The scene at its start.
+    pub fn new() -> Result<Self, SceneRunError> {
+        let model = |e: &dyn std::fmt::Display| SceneRunError(format!("the reference arm: {e}"));
+        let (kins, ports, _) = arms()?;
+        let scenario = Scenario::from_name("1").map_err(|e| model(&e))?;
+        let config = ScenarioConfig::new(scenario)
+            .with_method(Method::Qp)
+            .controller_config();
+        let q0 = SVector::<f64, 8>::from(Q_DUAL);
+        let damper = Damper {
+            influence: 0.03,
+            safety: SAFETY,
+            gain: 0.1,
+        };
+        let mut scene = Scene::<f64, 1, 16, 2>::new([Coupling {
+            arms: (0, 1),
+            damper,
+        }]);
+        // With the torso shared the scene has one joint fewer than the two arms' ports and full
+        // poses ask: the tips' orientations give way first (with 0.1 the tips' places drifted by
+        // 4–5 mm; with 0.01 by 60–80 µm).
+        scene.orientation_weight = 0.01;
+        Ok(Dia10Dual {
+            starts: kins.map(|k| k.chain.forward_kinematics(&q0)),
+            kins,
+            arms: [Ctrl::new(config); 2],
+            scene,
+            rcms: ports.map(|trocar| Rcm {
+                trocar,
+                dv: SVector::zeros(),
+            }),
+            q0: [q0; 2],
+        })
+    }
+
+    /// Each arm's reference at `t` (s): the left tip held at its start, the right one cutting
+    /// 4 cm along `+x` and back.
+    pub fn references(&self, t: f64) -> [Reference<f64>; 2] {
         let (p, v) = cut(t);
         let shift = Vector3::new(0.04, 0.0, 0.0);
         [
             Reference {
-                position: starts[0].translation,
-                rotation: starts[0].rotation,
+                position: self.starts[0].translation,
+                rotation: self.starts[0].rotation,
                 velocity: Vector3::zeros(),
                 angular_velocity: Vector3::zeros(),
             },
             Reference {
-                position: starts[1].translation + shift * p,
-                rotation: starts[1].rotation,
+                position: self.starts[1].translation + shift * p,
+                rotation: self.starts[1].rotation,
                 velocity: shift * v,
                 angular_velocity: Vector3::zeros(),
             },
         ]
-    };
+    }
+
+    /// One step of the scene at the arms' joints `q` (the torso the same in both) and time `t`
+    /// (s): the rates of both arms, the torso's the same in both. The message of an error names
+    /// the time.
+    pub fn step(
+        &mut self,
+        q: &[SVector<f64, 8>; 2],
+        t: f64,
+    ) -> Result<SceneOutput<f64, 2, 8, 2, 1>, SceneRunError> {
+        let references = self.references(t);
+        let kins = self.kins;
+        let mut o = self
+            .scene
+            .step::<Kin, 2, 8, 6, 2, 4, 6, 6, 5>(
+                &mut self.arms,
+                &kins,
+                q,
+                &references,
+                &self.rcms,
+                &[Se3::identity(); 2],
+                &SHARED,
+                DT,
+            )
+            .map_err(|e: SceneError| SceneRunError(format!("t = {t:.3} s: {e}")))?;
+        if (o.qd[0][0] - o.qd[1][0]).abs() > 1e-9 * (1.0 + o.qd[0][0].abs()) {
+            return Err(SceneRunError(format!(
+                "t = {t:.3} s: the arms disagree on the torso's rate ({} and {} rad/s)",
+                o.qd[0][0], o.qd[1][0]
+            )));
+        }
+        // One torso: both arms take the same rate (equal to rounding, (S6)).
+        o.qd[1][0] = o.qd[0][0];
+        Ok(o)
+    }
+}
+
+/// Runs `dia10-dual`; `progress` gets the fraction done.
+pub fn simulate(mut progress: impl FnMut(f64)) -> Result<MechanismTrace, SceneRunError> {
+    let mut setup = Dia10Dual::new()?;
+    let (kins, ports) = (setup.kins, setup.rcms.map(|r| r.trocar));
+    let q0 = setup.q0[0];
     let mut q = [q0; 2];
     let mut columns = vec!["t".to_string()];
     columns.extend((1..=15).map(|k| format!("q{k}")));
@@ -221,22 +293,11 @@ pub fn simulate(mut progress: impl FnMut(f64)) -> Result<MechanismTrace, SceneRu
     let mut rows = Vec::with_capacity(steps + 1);
     for step in 0..=steps {
         let t = step as f64 * DT;
-        let references = references(t);
+        let references = setup.references(t);
         let mut row = vec![t];
         row.extend(scene_joints(&q));
         let qd = if step < steps {
-            let o = scene
-                .step::<Kin, 2, 8, 6, 2, 4, 6, 6, 5>(
-                    &mut arms,
-                    &kins,
-                    &q,
-                    &references,
-                    &rcms,
-                    &bases,
-                    &shared,
-                    DT,
-                )
-                .map_err(|e| SceneRunError(format!("t = {t:.3} s: {e}")))?;
+            let o = setup.step(&q, t)?;
             if let Some(k) = o
                 .arms
                 .iter()
@@ -252,16 +313,7 @@ pub fn simulate(mut progress: impl FnMut(f64)) -> Result<MechanismTrace, SceneRu
                     "t = {t:.3} s: the shafts' coupling could not hold within the ports"
                 )));
             }
-            if (o.qd[0][0] - o.qd[1][0]).abs() > 1e-9 * (1.0 + o.qd[0][0].abs()) {
-                return Err(SceneRunError(format!(
-                    "t = {t:.3} s: the arms disagree on the torso's rate ({} and {} rad/s)",
-                    o.qd[0][0], o.qd[1][0]
-                )));
-            }
-            // One torso: both arms take the same rate.
-            let mut qd = o.qd;
-            qd[1][0] = qd[0][0];
-            qd
+            o.qd
         } else {
             [SVector::zeros(); 2]
         };
