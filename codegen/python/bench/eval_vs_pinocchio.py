@@ -28,19 +28,10 @@ import numpy as np
 import pinocchio as pin
 
 import trocar
+from machine import cpu
 
 ROOT = pathlib.Path(__file__).resolve().parents[3]
 URDF = ROOT / "runtime" / "model" / "robots" / "urdf" / "panda.urdf"
-
-
-def cpu():
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor()
 
 
 def per_call(fn, number, repeat=7):

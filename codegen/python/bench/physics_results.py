@@ -15,6 +15,7 @@ import sys
 import numpy as np
 
 import trocar
+from machine import cpu
 from trocar import physics
 
 ROOT = pathlib.Path(__file__).resolve().parents[3]
@@ -24,16 +25,6 @@ RUNS = [
     (str(ROOT / "examples" / "robots" / "ur5_trocar.toml"), "ur5_trocar"),
 ]
 METHODS = ["pinv", "dls", "fi", "qp"]
-
-
-def cpu():
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown CPU"
 
 
 def row(name, method, conditions, s):
