@@ -27,6 +27,13 @@ peer_daqp *peer_daqp_new(int n, int m, int ms) {
     p->res.x = calloc(n, sizeof(c_float));
     p->res.lam = calloc(m, sizeof(c_float));
     p->work.settings = NULL;
+    if (!p->qp.H || !p->qp.f || !p->qp.A || !p->qp.bupper || !p->qp.blower || !p->qp.sense ||
+        !p->res.x || !p->res.lam) {
+        free(p->qp.H); free(p->qp.f); free(p->qp.A); free(p->qp.bupper); free(p->qp.blower);
+        free(p->qp.sense); free(p->res.x); free(p->res.lam);
+        free(p);
+        return NULL;
+    }
     return p;
 }
 

@@ -6,7 +6,7 @@
 //! the recorded sequence in order, warm-started as a controller would use it:
 //!
 //! - trocar: `Problem::solve` from the recorded warm start (the previous solve's active set);
-//! - DAQP 0.11 (dual active set, C, `-O3 -march=native`): one workspace for the whole
+//! - DAQP 0.11 (dual active set, C, `-O3`, `-march=native` with `QP_PEERS_NATIVE`): one workspace for the whole
 //!   sequence, the data of each problem written into it (`daqp_update_ldp`), its working set
 //!   the warm start;
 //! - OSQP 0.6 (ADMM, the `osqp` crate): one solver for the whole sequence, the data updated,

@@ -99,8 +99,8 @@ fn three_ports_from_the_command_line() {
 }
 
 /// `trocar simulate dia10-dual`: both drifts within 1e-4 m, the holding tip within 1e-4 m of
-/// its start, the cutting tip within 1 mm of its path after 1 s, the shafts 10 mm apart; one
-/// torso (its rate in both arms is the one column `qd1`).
+/// its start, the cutting tip within 1 mm of its path after 1 s, the shafts beyond the coupling's
+/// influence; one torso (its rate in both arms is the one column `qd1`).
 #[test]
 fn dia10_dual_from_the_command_line() {
     let (columns, rows, _) = run_csv("dia10-dual");
@@ -111,7 +111,8 @@ fn dia10_dual_from_the_command_line() {
         "t, 15 joints, 15 rates, two columns per arm, min_shaft_distance"
     );
     for row in &rows {
-        assert!(row[col("min_shaft_distance")] >= 0.010, "t = {}", row[0]);
+        // The shafts stay beyond the coupling's influence (30 mm): the cut leads away.
+        assert!(row[col("min_shaft_distance")] > 0.03, "t = {}", row[0]);
         assert!(row[col("left.rcm_drift")] <= 1e-4 && row[col("right.rcm_drift")] <= 1e-4);
         assert!(row[col("left.ep_norm")] <= 1e-4, "t = {}", row[0]);
         if row[0] >= 1.0 {

@@ -508,14 +508,17 @@ def test_a_scene_stepped_in_a_loop_of_ones_own_gives_the_shipped_run():
     q = scene.q0.copy()
     columns = [f"q{k + 1}" for k in range(21)]
     least = np.inf
-    for row in range(400):
+    acted = False
+    for row in range(len(trace["t"]) - 1):
         expected = np.array([trace[c][row] for c in columns])
         assert np.array_equal(q, expected), row
         out = scene.step(q, row * scene.dt)
         assert out["coupling_held"] and out["statuses"] == ["Held"] * 3
         least = min(least, np.min(out["distances"]))
+        acted = acted or out["coupling_active"]
         q = q + out["qd"] * scene.dt
-    assert least >= scene.safety
+    # The whole run: the couplings acted, and the distances kept the safety distance.
+    assert acted and least >= scene.safety * (1 - 1e-6)
     with pytest.raises(ValueError, match="q: 20 values given"):
         scene.step(q[:20], 0.0)
     with pytest.raises(ValueError, match="is not a scene that can be stepped"):

@@ -83,7 +83,7 @@ pub struct SharedJoint {
 ///
 /// ```text
 /// dp = p_r + l u,   dṗ = l u̇,   u̇ = (I − u uᵀ) ṫ / ‖t − p_r‖
-/// dR = R(u₀ → u) R₀,  dω = u × u̇
+/// dR = R(u₀ → u) R₀,  dω = vee(Ṙ(u₀ → u) R(u₀ → u)ᵀ)
 /// ```
 ///
 /// `R(u₀ → u)` the least rotation taking the view axis at the start `u₀` to `u`, `R₀` the tip's
@@ -116,8 +116,9 @@ impl<T: RealField + Copy> Camera<T> {
     }
 
     /// The tip's reference that puts `point` on the view axis (`point` and its velocity
-    /// `velocity` in the arm's base frame). `None` when the point is at the port or opposite the
-    /// start's view axis (no least rotation).
+    /// `velocity` in the arm's base frame). `None` when the point is at the port, within about
+    /// a millionth of a radian of opposite the start's view axis (no least rotation), or not
+    /// finite.
     pub fn reference(&self, point: &Vector3<T>, velocity: &Vector3<T>) -> Option<Reference<T>> {
         let to = point - self.port;
         let distance = to.norm();
@@ -126,13 +127,38 @@ impl<T: RealField + Copy> Camera<T> {
         }
         let u = to / distance;
         let u_dot = (velocity - u * u.dot(velocity)) / distance;
-        let turn = nalgebra::Rotation3::rotation_between(&self.start_axis, &u)?;
-        Some(Reference {
+        // The least rotation taking u₀ to u, `R = I + [v]× + [v]×² / (1 + c)` with `v = u₀ × u`,
+        // `c = u₀ · u` (no arc cosine: exact as u nears u₀), and its rate from `v̇ = u₀ × u̇`,
+        // `ċ = u₀ · u̇`; the angular velocity is `Ṙ Rᵀ`'s, roll about u included.
+        let (v, c) = (self.start_axis.cross(&u), self.start_axis.dot(&u));
+        let one_c = T::one() + c;
+        let tiny: T = nalgebra::convert(1e-12);
+        if !one_c.is_finite() || one_c <= tiny {
+            return None;
+        }
+        let (v_dot, c_dot) = (self.start_axis.cross(&u_dot), self.start_axis.dot(&u_dot));
+        let (vx, vx_dot) = (v.cross_matrix(), v_dot.cross_matrix());
+        let turn = nalgebra::Matrix3::identity() + vx + vx * vx / one_c;
+        let turn_dot =
+            vx_dot + (vx_dot * vx + vx * vx_dot) / one_c - vx * vx * (c_dot / (one_c * one_c));
+        let w = turn_dot * turn.transpose();
+        let half: T = nalgebra::convert(0.5);
+        let omega = Vector3::new(
+            w[(2, 1)] - w[(1, 2)],
+            w[(0, 2)] - w[(2, 0)],
+            w[(1, 0)] - w[(0, 1)],
+        ) * half;
+        let out = Reference {
             position: self.port + u * self.depth,
-            rotation: turn.matrix() * self.start_rotation,
+            rotation: turn * self.start_rotation,
             velocity: u_dot * self.depth,
-            angular_velocity: u.cross(&u_dot),
-        })
+            angular_velocity: omega,
+        };
+        (out.rotation
+            .iter()
+            .chain(out.angular_velocity.iter())
+            .all(|x| x.is_finite()))
+        .then_some(out)
     }
 
     /// The angle (rad) between the view axis of a tip at `tip` and the direction from the port

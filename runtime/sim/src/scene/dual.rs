@@ -8,7 +8,8 @@
 //! [`mirrored`]); they share the torso joint (S6 of [`trocar::control::scene`]). Both start at
 //! `q = (0, −0.3, 0.9, 0.28, −0.62, 0.1, 0.5, 0.3)` ([`Q_DUAL`]: the reference arm's start
 //! with its forearm rolled and its wrist pitched inward), mirror images of each other, their tips
-//! 3.5 cm apart and their ports 34 cm apart; a coupling keeps their shafts [`SAFETY`] apart. The
+//! 3.5 cm apart and their ports 34 cm apart; a coupling would keep their shafts [`SAFETY`] apart
+//! (in this run they stay beyond its 30 mm influence: the cut leads away from the other tip). The
 //! left instrument holds its tip still; the right one cuts: its tip moves 4 cm along `+x` over 4
 //! s and back over 4 s (smooth steps from 0.5 s). Each arm's own step is the QP with the reference
 //! arm's gains (those of scenario 1); the torso's rate each arm's step chooses for its own task is
@@ -62,7 +63,7 @@ fn mirror_pose(g: &Se3<f64>) -> Se3<f64> {
 }
 
 /// The mirror image in the plane `x = 0` of a chain that starts with a joint about `z` through
-/// the origin (the torso): that joint is kept (a torso turning by `θ₁` turns both arms alike),
+/// the origin at the identity (the torso, as the reference arm's): that joint is kept (a torso turning by `θ₁` turns both arms alike),
 /// every later joint `(origin, ξ = (v, ω))` becomes `(M origin M, (M v, −M ω))` and the tool
 /// `M tool M`, so that `exp(ξ' θ) = M exp(ξ θ) M` and the chain at `q` is the mirror image of
 /// the original at `(−θ₁, θ₂, …)`: `g'(q) = M g(−θ₁, θ₂, …) M`.

@@ -4,8 +4,8 @@
 //! instruments' tips sent past the circle's centre, where their shafts would meet.
 //!
 //! The arms are Franka Pandas with the laparoscope of `panda-laparoscope` (its URDF's ranges,
-//! speeds, accelerations and jerks as hard limits, the QP step), their shafts 0.25 m into the
-//! body at the start. The endoscope is a camera ([`Camera`]): its view axis, from its port
+//! speeds, accelerations and jerks as hard limits, the QP step), each port 0.25 m along the shaft
+//! from the flange and the tips 0.15 m below the ports at the start. The endoscope is a camera ([`Camera`]): its view axis, from its port
 //! through its tip, kept on the midpoint of the instruments' tips, its tip [`CAMERA_DEPTH`] below
 //! its port (above the instruments' tips, which are 0.15 m deep); the scene starts with the camera
 //! on its point (the endoscope's arm brought there alone before the scene's first step). Every pair
@@ -496,7 +496,7 @@ pub struct SceneGeometry {
     pub name: String,
     /// Its arms, in the scene's order.
     pub arms: Vec<SceneArm>,
-    /// The coupled pairs of arms, and the safety distance between their shafts (m).
+    /// The coupled pairs of arms (their shafts kept [`SceneGeometry::safety`] apart).
     pub couplings: Vec<(usize, usize)>,
     /// The couplings' safety distance (m), where there are couplings.
     pub safety: Option<f64>,
