@@ -5,7 +5,7 @@
 use crate::error::{Error, Result};
 use trocar::control::StepStatus;
 use trocar::nalgebra::SVector;
-use trocar_sim::scene::dual::{self, Dia10Dual};
+use trocar_sim::scene::dual::{self, torso_once, Dia10Dual};
 use trocar_sim::scene::{ThreePorts, ARMS, DT, SAFETY};
 
 /// The scenes a loop of one's own can step.
@@ -223,13 +223,4 @@ impl SceneStepper {
         }
         Ok(step)
     }
-}
-
-/// Two chains that share their first joint (a torso) as the scene's joints: the torso once,
-/// then each chain's own.
-fn torso_once(x: &[SVector<f64, 8>; 2]) -> Vec<f64> {
-    let mut v = vec![x[0][0]];
-    v.extend(x[0].iter().skip(1));
-    v.extend(x[1].iter().skip(1));
-    v
 }

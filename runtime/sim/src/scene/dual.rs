@@ -269,6 +269,14 @@ impl Dia10Dual {
     }
 }
 
+/// The two arms' joints (or rates) as the scene's: the shared torso once, then each arm's own 7.
+pub fn torso_once(x: &[SVector<f64, 8>; 2]) -> Vec<f64> {
+    let mut v = vec![x[0][0]];
+    v.extend(x[0].iter().skip(1));
+    v.extend(x[1].iter().skip(1));
+    v
+}
+
 /// Runs `dia10-dual`; `progress` gets the fraction done.
 pub fn simulate(mut progress: impl FnMut(f64)) -> Result<MechanismTrace, SceneRunError> {
     let mut setup = Dia10Dual::new()?;
@@ -283,20 +291,13 @@ pub fn simulate(mut progress: impl FnMut(f64)) -> Result<MechanismTrace, SceneRu
         columns.push(format!("{arm}.ep_norm"));
     }
     columns.push("min_shaft_distance".into());
-    // The scene's joints: the torso once, then each arm's own.
-    let scene_joints = |x: &[SVector<f64, 8>; 2]| {
-        let mut v = vec![x[0][0]];
-        v.extend(x[0].iter().skip(1));
-        v.extend(x[1].iter().skip(1));
-        v
-    };
     let steps = (DURATION / DT).round() as usize;
     let mut rows = Vec::with_capacity(steps + 1);
     for step in 0..=steps {
         let t = step as f64 * DT;
         let references = setup.references(t);
         let mut row = vec![t];
-        row.extend(scene_joints(&q));
+        row.extend(torso_once(&q));
         let qd = if step < steps {
             let o = setup.step(&q, t)?;
             if let Some(k) = o
@@ -318,7 +319,7 @@ pub fn simulate(mut progress: impl FnMut(f64)) -> Result<MechanismTrace, SceneRu
         } else {
             [SVector::zeros(); 2]
         };
-        row.extend(scene_joints(&qd));
+        row.extend(torso_once(&qd));
         let mut ends = [Vector3::zeros(); 4];
         for k in 0..2 {
             let g_0i = kins[k].chain.link_frame(6, &q[k]);
