@@ -8,7 +8,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use nalgebra::{SVector, Vector3};
-use trocar::control::scene::{Coupling, Scene};
+use trocar::control::scene::{Between, Coupling, Scene};
 use trocar::control::{Damper, Damping, HardLimits, Method, Rcm};
 use trocar::distance::segment_distance;
 use trocar::se3::Se3;
@@ -24,6 +24,7 @@ fn panda() -> (Kin, HardLimits<f64, 7>) {
 
 struct Run {
     min_distance: f64,
+    min_tip_distance: f64,
     max_drift: f64,
     joints_within: bool,
     coupling_active_steps: usize,
@@ -31,11 +32,12 @@ struct Run {
 
 /// Both arms for 3 s, with the coupling or without it.
 fn run(coupled: bool) -> Run {
-    run_with(coupled, None)
+    run_with(coupled, None, Between::Shafts, SAFETY)
 }
 
-/// [`run`] with each arm's step by `method` (the scene's QP step by default).
-fn run_with(coupled: bool, method: Option<Method<f64>>) -> Run {
+/// [`run`] with each arm's step by `method` (the scene's QP step by default), the coupling
+/// `between` the shafts or the tips with its safety distance `safety`.
+fn run_with(coupled: bool, method: Option<Method<f64>>, between: Between, safety: f64) -> Run {
     let (kin, limits) = panda();
     let q0 = SVector::<f64, 7>::from(Q0);
     let g_0e = kin.chain.forward_kinematics(&q0);
@@ -56,11 +58,12 @@ fn run_with(coupled: bool, method: Option<Method<f64>>) -> Run {
     let mut arms = [one, one];
     let damper = Damper {
         influence: 0.03,
-        safety: SAFETY,
+        safety,
         gain: 0.1,
     };
     let couplings = [Coupling {
         arms: (0, 1),
+        between,
         damper: if coupled {
             damper
         } else {
@@ -85,6 +88,7 @@ fn run_with(coupled: bool, method: Option<Method<f64>>) -> Run {
     let mut q = [q0, q0];
     let mut out = Run {
         min_distance: f64::INFINITY,
+        min_tip_distance: f64::INFINITY,
         max_drift: 0.0,
         joints_within: true,
         coupling_active_steps: 0,
@@ -125,6 +129,7 @@ fn run_with(coupled: bool, method: Option<Method<f64>>) -> Run {
         }
         let d = segment_distance(&ends[0], &ends[1], &ends[2], &ends[3]).distance;
         out.min_distance = out.min_distance.min(d);
+        out.min_tip_distance = out.min_tip_distance.min((ends[1] - ends[3]).norm());
     }
     out
 }
@@ -155,6 +160,35 @@ fn the_coupling_keeps_two_shafts_apart() {
     assert!(coupled.joints_within && free.joints_within);
 }
 
+/// A coupling between the tips (their paths cross 1 cm apart): alone they come within 1 cm of
+/// each other, coupled they keep 1.5 cm, measured from forward kinematics; the ports hold.
+#[test]
+fn the_tip_coupling_keeps_two_tips_apart() {
+    let tip_safety = 0.015;
+    let free = run_with(false, None, Between::Tips, tip_safety);
+    assert!(
+        free.min_tip_distance < tip_safety,
+        "uncoupled: {} m",
+        free.min_tip_distance
+    );
+    let coupled = run_with(true, None, Between::Tips, tip_safety);
+    println!(
+        "min tip distance: {:.2e} m uncoupled, {:.2e} m coupled ({} steps active); drift {:.2e} m",
+        free.min_tip_distance,
+        coupled.min_tip_distance,
+        coupled.coupling_active_steps,
+        coupled.max_drift
+    );
+    assert!(coupled.coupling_active_steps > 0);
+    assert!(
+        coupled.min_tip_distance >= tip_safety * (1.0 - 1e-6),
+        "{} m",
+        coupled.min_tip_distance
+    );
+    assert!(coupled.max_drift <= 1e-4, "drift {} m", coupled.max_drift);
+    assert!(coupled.joints_within);
+}
+
 /// The arms' own steps by the inverses instead of the QP: the scene's step keeps the couplings
 /// all the same (the arms' own steps hold their ports and rate boxes; the couplings are the
 /// scene's).
@@ -172,7 +206,7 @@ fn every_method_keeps_the_shafts_apart() {
         },
     ];
     for method in methods {
-        let r = run_with(true, Some(method));
+        let r = run_with(true, Some(method), Between::Shafts, SAFETY);
         assert!(
             r.min_distance >= SAFETY * (1.0 - 1e-6),
             "{method:?}: {} m",

@@ -47,18 +47,31 @@
 
 use super::hard_limits::{point_velocity_jacobian, rate_box, task_body_jacobian, Damper};
 use super::{ConstrainedKinematics, ControlError, Controller, Rcm, Reference, StepOutput};
-use crate::distance::segment_distance;
+use crate::distance::{segment_distance, SegmentDistance};
 use crate::linalg::SquareDim;
 use crate::qp::{ActiveSet, Problem, Settings, Solution, Status};
 use crate::se3::Se3;
 use nalgebra::{Const, RealField, SMatrix, SVector, Vector3};
 
+/// What a [`Coupling`] keeps apart.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Between {
+    /// The instruments' shafts inside the body: the segments from their ports to their tips.
+    #[default]
+    Shafts,
+    /// The instruments' tips (points).
+    Tips,
+}
+
 /// A coupling between two arms of a scene: the distance between their instruments' shafts inside
-/// the body (port to tip) kept at least `damper.safety` by the velocity damper (S4).
+/// the body (port to tip), or between their tips, kept at least `damper.safety` by the velocity
+/// damper (S4).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Coupling<T> {
     /// The two arms, by their index in the scene.
     pub arms: (usize, usize),
+    /// Whether the shafts or the tips are kept apart.
+    pub between: Between,
     /// `d_i` ([`Damper::influence`]), `d_s` ([`Damper::safety`], m) and `ξ` ([`Damper::gain`],
     /// m/s).
     pub damper: Damper<T>,
@@ -447,7 +460,7 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
         let mut rows_in = false;
         for (p, coupling) in self.couplings.iter().enumerate() {
             let (a, b) = coupling.arms;
-            let d = segment_distance(&ports[a], &tips[a], &ports[b], &tips[b]);
+            let d = coupling_distance(coupling.between, &ports, &tips, a, b);
             distances[p] = d.distance;
             let (lower, _) =
                 coupling
@@ -462,9 +475,15 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
                 ja.set_column(a * N + c, &tip_jacobians[a].column(c));
                 jb.set_column(b * N + c, &tip_jacobians[b].column(c));
             }
+            // The ports are still; a tip is both ends of its segment of no length.
             let zero = SMatrix::<T, 3, NS>::zeros();
-            // Touching shafts without a normal have no row: the damper held them apart before.
-            if let Some(rows) = d.rate_row(&[zero, ja, zero, jb]) {
+            let ends = match coupling.between {
+                Between::Shafts => [zero, ja, zero, jb],
+                Between::Tips => [ja, ja, jb, jb],
+            };
+            // Touching shafts (or tips) without a normal have no row: the damper held them apart
+            // before.
+            if let Some(rows) = d.rate_row(&ends) {
                 // One row per witness (a second, equal row would be a dependent one).
                 for (w, row) in rows.iter().enumerate().take(d.count) {
                     problem.g.set_row(2 * p + w, row);
@@ -523,8 +542,13 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
                     next[k] = Some(bases[k].transform_point(&g.translation));
                 }
             }
-            let tip = |k: usize| next[k].unwrap_or(tips[k]);
-            let after = segment_distance(&ports[a], &tip(a), &ports[b], &tip(b)).distance;
+            let moved = [a, b].map(|k| next[k].unwrap_or(tips[k]));
+            let after = match coupling.between {
+                Between::Shafts => {
+                    segment_distance(&ports[a], &moved[0], &ports[b], &moved[1]).distance
+                }
+                Between::Tips => (moved[0] - moved[1]).norm(),
+            };
             let rows = [2 * p, 2 * p + 1];
             let foreseen = rows
                 .iter()
@@ -571,5 +595,21 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
             coupling_active,
             status: solution.status,
         })
+    }
+}
+
+/// The distance of a coupling between arms `a` and `b` with its witnesses: the segments from
+/// their ports to their tips ([`segment_distance`]), or their tips alone (the segments of no
+/// length at the tips: one witness, its normal along `t_a − t_b`).
+fn coupling_distance<T: RealField + Copy, const A: usize>(
+    between: Between,
+    ports: &[Vector3<T>; A],
+    tips: &[Vector3<T>; A],
+    a: usize,
+    b: usize,
+) -> SegmentDistance<T> {
+    match between {
+        Between::Shafts => segment_distance(&ports[a], &tips[a], &ports[b], &tips[b]),
+        Between::Tips => segment_distance(&tips[a], &tips[a], &tips[b], &tips[b]),
     }
 }

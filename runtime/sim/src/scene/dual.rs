@@ -29,7 +29,7 @@ use crate::plot::view3d::ArmModel;
 use crate::simulation::{Method, Scenario, ScenarioConfig, L_A0};
 use nalgebra::{Matrix3, SVector, Vector3};
 use trocar::constraint::Constraint;
-use trocar::control::scene::{Coupling, Scene, SceneError, SceneOutput, SharedJoint};
+use trocar::control::scene::{Between, Coupling, Scene, SceneError, SceneOutput, SharedJoint};
 use trocar::control::{ChainKinematics, Controller, Damper, Rcm, Reference, StepStatus};
 use trocar::distance::segment_distance;
 use trocar::kinematics::{Chain, Joint};
@@ -194,6 +194,7 @@ impl Dia10Dual {
         };
         let mut scene = Scene::<f64, 1, 16, 2>::new([Coupling {
             arms: (0, 1),
+            between: Between::Shafts,
             damper,
         }]);
         // With the torso shared the scene has one joint fewer than the two arms' ports and full

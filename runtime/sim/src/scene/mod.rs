@@ -22,7 +22,7 @@
 use crate::closed_chain::{MechanismTrace, Panel};
 use crate::plot::view3d::{ArmModel, ArmPose};
 use nalgebra::{Matrix3, SVector, Vector3};
-use trocar::control::scene::{Camera, Coupling, Scene, SceneError, SceneOutput};
+use trocar::control::scene::{Between, Camera, Coupling, Scene, SceneError, SceneOutput};
 use trocar::control::{
     ChainKinematics, ConstrainedKinematics, Controller, ControllerConfig, Damper, HardLimits,
     Method, QpWeights, Rcm, Reference,
@@ -202,7 +202,11 @@ impl ThreePorts {
                 gain: 0.0,
             }
         };
-        let couplings = [(0, 1), (0, 2), (1, 2)].map(|arms| Coupling { arms, damper });
+        let couplings = [(0, 1), (0, 2), (1, 2)].map(|arms| Coupling {
+            arms,
+            between: Between::Shafts,
+            damper,
+        });
         let scene = Scene::<f64, 3, 21, 6>::new(couplings);
         let arms = [controller(limits); 3];
         let kins = [kin; 3];
