@@ -6,7 +6,7 @@ use crate::error::{Error, Result};
 use trocar::control::StepStatus;
 use trocar::nalgebra::SVector;
 use trocar_sim::scene::dual::{self, torso_once, Dia10Dual};
-use trocar_sim::scene::{ThreePorts, ARMS, DT, SAFETY};
+use trocar_sim::scene::{ThreePorts, ARMS, DT};
 
 /// The scenes a loop of one's own can step.
 pub const STEPPABLE: [&str; 2] = ["three-ports", "dia10-dual"];
@@ -14,12 +14,13 @@ pub const STEPPABLE: [&str; 2] = ["three-ports", "dia10-dual"];
 /// A shipped scene ready to be stepped: the scene's step over all arms
 /// (`trocar::control::scene`) with each arm's own QP step, warm-started from the last call.
 /// `three-ports`: three Pandas, each through its own port, two instruments and an endoscope whose
-/// shafts are kept [`SAFETY`] apart, the endoscope's view axis on the instruments' midpoint.
+/// shafts are kept their scene file's safety distance apart, the endoscope's view axis on the instruments' midpoint.
 /// `dia10-dual`: the reference arm and its mirror image on one torso (15 joints: the torso, the
 /// left arm's 7, the right arm's 7), the left tip held while the right one cuts.
 #[derive(Clone, Debug)]
 pub struct SceneStepper {
     name: &'static str,
+    safety: f64,
     inner: Setup,
     fresh: Setup,
 }
@@ -67,8 +68,10 @@ impl SceneStepper {
             "dia10-dual" => Setup::Dia10Dual(Box::new(Dia10Dual::new().map_err(simulation)?)),
             _ => Setup::ThreePorts(Box::new(ThreePorts::new(coupled).map_err(simulation)?)),
         };
+        let safety = trocar_sim::scene::safety(name).map_err(simulation)?;
         Ok(SceneStepper {
             name,
+            safety,
             fresh: inner.clone(),
             inner,
         })
@@ -123,10 +126,7 @@ impl SceneStepper {
 
     /// The shafts' safety distance (m).
     pub fn safety(&self) -> f64 {
-        match &self.inner {
-            Setup::ThreePorts(_) => SAFETY,
-            Setup::Dia10Dual(_) => dual::SAFETY,
-        }
+        self.safety
     }
 
     /// The scene's joints at its start.

@@ -309,11 +309,7 @@ fn scene_scenario(
         summary += &format!(
             "\n  min shaft distance {min_distance:.3e} m (safety {:.3e} m), the couplings \
              active in {active} of {} rows",
-            if scenario == "dia10-dual" {
-                scene::dual::SAFETY
-            } else {
-                scene::SAFETY
-            },
+            scene::safety(scenario).map_err(|e| Error::Simulation(e.to_string()))?,
             trace.rows.len()
         );
     }
@@ -331,7 +327,7 @@ fn scene_scenario(
             "\n  endoscope's view axis off the instruments' midpoint: max {:.3e} rad \
              (tolerance {:.3e} rad)",
             max(column("endoscope.view_error")),
-            scene::VIEW_TOLERANCE
+            scene::view_tolerance().map_err(|e| Error::Simulation(e.to_string()))?
         );
     }
     Ok(SimulationRun {

@@ -13,6 +13,7 @@ pub mod expr;
 mod load;
 pub mod numeric;
 pub mod reference;
+pub mod scene;
 pub mod singularity;
 pub mod validity;
 

@@ -4,7 +4,7 @@
 //! safety distance, so the scene tests what the couplings do.
 
 use trocar_sim::closed_chain::MechanismTrace;
-use trocar_sim::scene::{simulate, ARMS, SAFETY, VIEW_TOLERANCE};
+use trocar_sim::scene::{safety, simulate, view_tolerance, ARMS};
 
 fn column(trace: &MechanismTrace, name: &str) -> Vec<f64> {
     trace
@@ -35,15 +35,18 @@ fn three_ports_keeps_the_shafts_apart_and_the_ports_held() {
     let view = column(&coupled, "endoscope.view_error")
         .into_iter()
         .fold(0.0, f64::max);
-    assert!(view <= VIEW_TOLERANCE, "view error {view} rad");
+    assert!(view <= view_tolerance().unwrap(), "view error {view} rad");
     println!(
         "min shaft distance {with:.3e} m coupled ({active} rows active), {without:.3e} m without; \
          max drift {drift:.2e} m; view error {view:.2e} rad; left tip error at the end {:.2e} m",
         tip.last().unwrap()
     );
-    assert!(without < SAFETY, "without the couplings: {without} m");
+    // The scene file's safety distance: 10 mm between the axes.
+    let safety = safety("three-ports").unwrap();
+    assert_eq!(safety, 0.010);
+    assert!(without < safety, "without the couplings: {without} m");
     assert!(
-        with >= SAFETY * (1.0 - 1e-6),
+        with >= safety * (1.0 - 1e-6),
         "with the couplings: {with} m"
     );
     assert!(active > 0);

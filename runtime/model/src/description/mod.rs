@@ -29,8 +29,8 @@
 //! ```
 
 mod error;
-mod locate;
-mod parse;
+pub(crate) mod locate;
+pub(crate) mod parse;
 mod presets;
 mod serialize;
 mod simulation;

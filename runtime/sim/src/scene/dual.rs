@@ -5,10 +5,11 @@
 //! The right arm is the reference arm (`dia10_like_zy`: the torso joint, then 7 joints, the
 //! shoulder at `x = +0.194` m, the port on link 6 at `l_a` = 0.15 m); the left arm is its mirror
 //! image in the plane `x = 0` (the shoulder at `x = −0.194` m, both arms reaching along `+y`,
-//! [`mirrored`]); they share the torso joint (S6 of [`trocar::control::scene`]). Both start at
-//! `q = (0, −0.3, 0.9, 0.28, −0.62, 0.1, 0.5, 0.3)` ([`Q_DUAL`]: the reference arm's start
-//! with its forearm rolled and its wrist pitched inward), mirror images of each other, their tips
-//! 3.5 cm apart and their ports 34 cm apart; a coupling would keep their shafts [`SAFETY`] apart
+//! [`trocar_model::scene::mirrored`]: its angles count the other way); they share the torso joint
+//! (S6 of [`trocar::control::scene`]). The right arm starts at
+//! `q = (0, −0.3, 0.9, 0.28, −0.62, 0.1, 0.5, 0.3)` (the reference arm's start with its forearm
+//! rolled and its wrist pitched inward), the left one at its negation, its mirror image; their
+//! tips 3.5 cm apart and their ports 34 cm apart; a coupling would keep their shafts 10 mm apart
 //! (in this run they stay beyond its 30 mm influence: the cut leads away from the other tip). The
 //! left instrument holds its tip still; the right one cuts: its tip moves 4 cm along `+x` over 4
 //! s and back over 4 s (smooth steps from 0.5 s). Each arm's own step is the QP with the reference
@@ -16,6 +17,9 @@
 //! reconciled by the scene, and each arm's other joints keep its port and its task. With one
 //! torso the scene has one joint fewer than the two ports and the two full poses ask: the tips'
 //! orientations give way first (orientation weight 0.01).
+//!
+//! The arms, their starts and the coupling are the scene file's
+//! (`runtime/model/scenes/dia10-dual.toml`, [`super::description`]); the paths are this module's.
 //!
 //! The trace's columns: `t`, the scene's 15 joints `q1..q15` (the torso, then the left arm's 7,
 //! then the right arm's 7) and their rates `qd1..qd15`, for each arm `NAME.rcm_drift` (m, the
@@ -26,15 +30,13 @@
 use super::{arm_panels, line, SceneArm, SceneGeometry, SceneRunError};
 use crate::closed_chain::{MechanismTrace, Panel};
 use crate::plot::view3d::ArmModel;
-use crate::simulation::{Method, Scenario, ScenarioConfig, L_A0};
-use nalgebra::{Matrix3, SVector, Vector3};
+use crate::simulation::{Method, Scenario, ScenarioConfig};
+use nalgebra::{SVector, Vector3};
 use trocar::constraint::Constraint;
 use trocar::control::scene::{Between, Coupling, Scene, SceneError, SceneOutput, SharedJoint};
 use trocar::control::{ChainKinematics, Controller, Damper, Rcm, Reference, StepStatus};
 use trocar::distance::segment_distance;
-use trocar::kinematics::{Chain, Joint};
-use trocar::se3::{angular, linear, twist, Se3};
-use trocar_model::description::RobotDescription;
+use trocar::se3::Se3;
 use trocar_model::numeric::NumericModel;
 
 /// The arms of `dia10-dual`, in the scene's order.
@@ -45,71 +47,54 @@ pub const DT: f64 = 0.002;
 /// The duration of `dia10-dual` (s).
 pub const DURATION: f64 = 9.0;
 
-/// Both arms' start (the left arm's the mirror image of the right one's).
-pub const Q_DUAL: [f64; 8] = [0.0, -0.3, 0.9, 0.28, -0.62, 0.1, 0.5, 0.3];
-
-/// The shafts' safety distance between their axes (m).
-pub const SAFETY: f64 = 0.010;
-
-/// `M = diag(−1, 1, 1)`, the mirror in the plane `x = 0`.
-fn mirror_matrix() -> Matrix3<f64> {
-    Matrix3::from_diagonal(&Vector3::new(-1.0, 1.0, 1.0))
-}
-
-/// The mirror image of a pose: `M g M` (a proper rotation `M R M`, the point `M p`).
-fn mirror_pose(g: &Se3<f64>) -> Se3<f64> {
-    let m = mirror_matrix();
-    Se3::new(m * g.rotation * m, m * g.translation)
-}
-
-/// The mirror image in the plane `x = 0` of a chain that starts with a joint about `z` through
-/// the origin at the identity (the torso, as the reference arm's): that joint is kept (a torso turning by `θ₁` turns both arms alike),
-/// every later joint `(origin, ξ = (v, ω))` becomes `(M origin M, (M v, −M ω))` and the tool
-/// `M tool M`, so that `exp(ξ' θ) = M exp(ξ θ) M` and the chain at `q` is the mirror image of
-/// the original at `(−θ₁, θ₂, …)`: `g'(q) = M g(−θ₁, θ₂, …) M`.
-pub fn mirrored<const N: usize>(chain: &Chain<f64, N>) -> Chain<f64, N> {
-    let m = mirror_matrix();
-    let mut joints = chain.joints;
-    for j in joints.iter_mut().skip(1) {
-        *j = Joint {
-            origin: mirror_pose(&j.origin),
-            twist: twist(&(m * linear(&j.twist)), &(-(m * angular(&j.twist)))),
-        };
-    }
-    Chain::new(joints, mirror_pose(&chain.tool))
-}
-
 /// The reference arm's kinematics, as the scene's arms use them.
 pub type Kin = ChainKinematics<f64, 8, 2>;
 /// The reference arm's controller, as the scene's arms use it.
 pub type Ctrl = Controller<f64, 8, 6, 2, 4, 6>;
 
-/// The two arms (left: the mirror image, right: the reference arm), each with its constraint on
-/// link 6 at `l_a` = 0.15 m and its port at [`Q_DUAL`], and the reference arm's model.
+/// The scene's arms as its file describes them (left: the mirror image, right: the reference
+/// arm), each with the thesis's constraint on link 6 at its `l_a`: their kinematics, their ports
+/// and starts, the reference arm's model, and the coupling's damper.
 #[allow(clippy::type_complexity)]
-fn arms() -> Result<([Kin; 2], [Vector3<f64>; 2], NumericModel<f64>), SceneRunError> {
-    let model = |e: &dyn std::fmt::Display| SceneRunError(format!("the reference arm: {e}"));
-    let d = RobotDescription::preset("dia10_like_zy").map_err(|e| model(&e))?;
-    let numeric = NumericModel::<f64>::from_description(&d, &[]).map_err(|e| model(&e))?;
-    let chain = numeric.to_chain::<8>().map_err(|e| model(&e))?;
-    let constraint = Constraint::<f64, 2>::thesis(6, L_A0).map_err(|e| model(&e))?;
-    // The thesis's constraint frame moves along `y_6`; a mirrored link frame `M R M` has the
-    // mirrored `y` axis, so the same constraint holds the mirrored shaft.
-    let kins = [
-        ChainKinematics::thesis(mirrored(&chain), constraint),
-        ChainKinematics::thesis(chain, constraint),
-    ];
-    let q0 = SVector::<f64, 8>::from(Q_DUAL);
-    let ports = kins.map(|k: Kin| {
-        let g_0i = k.chain.link_frame(6, &q0);
-        g_0i.translation + g_0i.rotation.column(1) * L_A0
-    });
-    Ok((kins, ports, numeric))
+fn arms() -> Result<
+    (
+        [Kin; 2],
+        [Vector3<f64>; 2],
+        [SVector<f64, 8>; 2],
+        NumericModel<f64>,
+        Damper<f64>,
+    ),
+    SceneRunError,
+> {
+    let model = |e: &dyn std::fmt::Display| SceneRunError(format!("dia10-dual: {e}"));
+    let d = super::description("dia10-dual")?;
+    let models = d.numeric_models().map_err(|e| model(&e))?;
+    let ports = d.ports().map_err(|e| model(&e))?;
+    let kin = |k: usize| -> Result<Kin, SceneRunError> {
+        let l_a = d.arms[k]
+            .robot
+            .parameter("l_a")
+            .ok_or_else(|| model(&"an arm without `l_a`"))?;
+        // The thesis's constraint frame moves along `y_6`; the mirrored link frame `M R M` has
+        // the mirrored `y` axis, so the same constraint holds the mirrored shaft.
+        let constraint = Constraint::<f64, 2>::thesis(6, l_a).map_err(|e| model(&e))?;
+        let chain = models[k].to_chain::<8>().map_err(|e| model(&e))?;
+        Ok(ChainKinematics::thesis(chain, constraint))
+    };
+    let kins = [kin(0)?, kin(1)?];
+    let q0 = [0, 1].map(|k| SVector::<f64, 8>::from_column_slice(&d.arms[k].q0));
+    let c = d.couplings.first().ok_or_else(|| model(&"no coupling"))?;
+    let damper = Damper {
+        influence: c.influence,
+        safety: c.safety,
+        gain: c.gain,
+    };
+    Ok((kins, [ports[0], ports[1]], q0, models[1].clone(), damper))
 }
 
 /// How `dia10-dual` is drawn: the torso (the trace's `q1`) in both arms, then each arm's 7.
 pub(super) fn geometry() -> Result<SceneGeometry, SceneRunError> {
-    let (kins, ports, numeric) = arms()?;
+    let (kins, ports, _, numeric, _) = arms()?;
     let model = ArmModel::from_model(&numeric)
         .map_err(|e| SceneRunError(format!("the reference arm: {e}")))?;
     let arms = (0..2)
@@ -132,7 +117,7 @@ pub(super) fn geometry() -> Result<SceneGeometry, SceneRunError> {
         name: "dia10-dual".into(),
         arms,
         couplings: vec![(0, 1)],
-        safety: Some(SAFETY),
+        safety: Some(super::safety("dia10-dual")?),
     })
 }
 
@@ -165,7 +150,7 @@ pub struct Dia10Dual {
     pub scene: Scene<f64, 1, 16, 2>,
     /// Each arm's port.
     pub rcms: [Rcm<f64, 2>; 2],
-    /// Each arm's start ([`Q_DUAL`]).
+    /// Each arm's start (the left arm's the right one's negated: its mirror image).
     pub q0: [SVector<f64, 8>; 2],
     /// Each tip's pose at the start.
     starts: [Se3<f64>; 2],
@@ -181,17 +166,11 @@ impl Dia10Dual {
     /// The scene at its start.
     pub fn new() -> Result<Self, SceneRunError> {
         let model = |e: &dyn std::fmt::Display| SceneRunError(format!("the reference arm: {e}"));
-        let (kins, ports, _) = arms()?;
+        let (kins, ports, q0, _, damper) = arms()?;
         let scenario = Scenario::from_name("1").map_err(|e| model(&e))?;
         let config = ScenarioConfig::new(scenario)
             .with_method(Method::Qp)
             .controller_config();
-        let q0 = SVector::<f64, 8>::from(Q_DUAL);
-        let damper = Damper {
-            influence: 0.03,
-            safety: SAFETY,
-            gain: 0.1,
-        };
         let mut scene = Scene::<f64, 1, 16, 2>::new([Coupling {
             arms: (0, 1),
             between: Between::Shafts,
@@ -202,7 +181,7 @@ impl Dia10Dual {
         // 4–5 mm; with 0.01 by 60–80 µm).
         scene.orientation_weight = 0.01;
         Ok(Dia10Dual {
-            starts: kins.map(|k| k.chain.forward_kinematics(&q0)),
+            starts: [0, 1].map(|k| kins[k].chain.forward_kinematics(&q0[k])),
             kins,
             arms: [Ctrl::new(config); 2],
             scene,
@@ -210,7 +189,7 @@ impl Dia10Dual {
                 trocar,
                 dv: SVector::zeros(),
             }),
-            q0: [q0; 2],
+            q0,
         })
     }
 
@@ -282,8 +261,7 @@ pub fn torso_once(x: &[SVector<f64, 8>; 2]) -> Vec<f64> {
 pub fn simulate(mut progress: impl FnMut(f64)) -> Result<MechanismTrace, SceneRunError> {
     let mut setup = Dia10Dual::new()?;
     let (kins, ports) = (setup.kins, setup.rcms.map(|r| r.trocar));
-    let q0 = setup.q0[0];
-    let mut q = [q0; 2];
+    let mut q = setup.q0;
     let mut columns = vec!["t".to_string()];
     columns.extend((1..=15).map(|k| format!("q{k}")));
     columns.extend((1..=15).map(|k| format!("qd{k}")));

@@ -6,11 +6,12 @@
 //! The arms are Franka Pandas with the laparoscope of `panda-laparoscope` (its URDF's ranges,
 //! speeds, accelerations and jerks as hard limits, the QP step), each port 0.25 m along the shaft
 //! from the flange and the tips 0.15 m below the ports at the start. The endoscope is a camera ([`Camera`]): its view axis, from its port
-//! through its tip, kept on the midpoint of the instruments' tips, its tip [`CAMERA_DEPTH`] below
+//! through its tip, kept on the midpoint of the instruments' tips, its tip 8 cm below
 //! its port (above the instruments' tips, which are 0.15 m deep); the scene starts with the camera
 //! on its point (the endoscope's arm brought there alone before the scene's first step). Every pair
-//! of shafts is kept at least [`SAFETY`] apart by a velocity damper (influence [`INFLUENCE`], gain
-//! 0.1 m/s).
+//! of shafts is kept at least 10 mm apart by a velocity damper (influence 30 mm, gain
+//! 0.1 m/s). The arms, their bases, starts and couplings and the camera are the scene file's
+//! ([`description`]); the paths are this module's.
 //!
 //! The trace's columns: `t`, the scene's joints `q1..q21` and rates `qd1..qd21` (the arms in the
 //! order of [`ARMS`]), each arm's `NAME.rcm_drift` (m, the distance from its port to its shaft's
@@ -21,8 +22,8 @@
 
 use crate::closed_chain::{MechanismTrace, Panel};
 use crate::plot::view3d::{ArmModel, ArmPose};
-use nalgebra::{Matrix3, SVector, Vector3};
-use trocar::control::scene::{Between, Camera, Coupling, Scene, SceneError, SceneOutput};
+use nalgebra::{SVector, Vector3};
+use trocar::control::scene::{Camera, Coupling, Scene, SceneError, SceneOutput};
 use trocar::control::{
     ChainKinematics, ConstrainedKinematics, Controller, ControllerConfig, Damper, HardLimits,
     Method, QpWeights, Rcm, Reference,
@@ -31,6 +32,7 @@ use trocar::distance::segment_distance;
 use trocar::se3::Se3;
 use trocar_model::description::RobotDescription;
 use trocar_model::numeric::NumericModel;
+use trocar_model::scene::SceneDescription;
 
 pub mod dual;
 
@@ -101,29 +103,35 @@ pub fn is_scene(name: &str) -> bool {
 /// The arms of `three-ports`, in the scene's order.
 pub const ARMS: [&str; 3] = ["left", "right", "endoscope"];
 
-/// The shafts' safety distance between their axes (m): two 5 mm instruments and a 10 mm
-/// endoscope, their surfaces at least 2.5 mm apart.
-pub const SAFETY: f64 = 0.010;
+/// The shipped scene `name` as its file describes it (`runtime/model/scenes/NAME.toml`: its arms,
+/// their bases and starts, its couplings, the endoscope's camera).
+pub fn description(name: &str) -> Result<SceneDescription, SceneRunError> {
+    SceneDescription::shipped(name).map_err(|e| model_error(&e.to_string()))
+}
 
-/// The distance within which the couplings' dampers act (m).
-pub const INFLUENCE: f64 = 0.03;
+/// The smallest safety distance of the scene `name`'s couplings (m).
+pub fn safety(name: &str) -> Result<f64, SceneRunError> {
+    let d = description(name)?;
+    Ok(d.couplings
+        .iter()
+        .map(|c| c.safety)
+        .fold(f64::INFINITY, f64::min))
+}
 
-/// How far the endoscope may look off the instruments' midpoint (rad): 0.5°.
-pub const VIEW_TOLERANCE: f64 = 0.5 * core::f64::consts::PI / 180.0;
-
-/// The endoscope's tip below its port (m).
-pub const CAMERA_DEPTH: f64 = 0.08;
+/// How far the endoscope of `three-ports` may look off the instruments' midpoint (rad), from
+/// its file.
+pub fn view_tolerance() -> Result<f64, SceneRunError> {
+    description("three-ports")?
+        .arms
+        .iter()
+        .find_map(|a| a.camera.as_ref().map(|c| c.tolerance))
+        .ok_or_else(|| model_error("three-ports has no camera"))
+}
 
 /// The sample time (s) and the duration (s) of `three-ports`.
 pub const DT: f64 = 0.002;
 /// The duration of `three-ports` (s).
 pub const DURATION: f64 = 4.0;
-
-/// The Panda's start: the shaft vertical below the flange.
-const Q0: [f64; 7] = [0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785];
-
-/// The insertion at the start: the port 0.25 m along the shaft from the flange's frame.
-const L_A: f64 = 0.25;
 
 /// The scene `three-ports` ready to step: its arms' kinematics and controllers, their bases,
 /// ports and references, and the scene's couplings.
@@ -154,32 +162,16 @@ impl ThreePorts {
     /// The scene at its start, with its couplings (`coupled`) or without them.
     pub fn new(coupled: bool) -> Result<Self, SceneRunError> {
         let (kin, limits) = panda()?;
-        let q0 = SVector::<f64, 7>::from(Q0);
+        let description = description("three-ports")?;
+        let q0 = SVector::<f64, 7>::from_column_slice(&description.arms[0].q0);
         let g_0e = kin.chain.forward_kinematics(&q0);
-        let trocar = kin
-            .shaft
-            .constraint_pose(&kin.chain.link_frame(7, &q0), L_A)
-            .translation;
-        // The ports on a circle of 4 cm about the origin of the scene, at 90°, 210° and 330°; each
-        // arm's base outside, facing the centre (its own +x toward it).
-        let angles = [90.0f64, 210.0, 330.0].map(f64::to_radians);
-        let bases = angles.map(|a| {
-            let radial = Vector3::new(a.cos(), a.sin(), 0.0);
-            let port = radial * 0.04;
-            let facing = a + core::f64::consts::PI;
-            let rotation = Matrix3::new(
-                facing.cos(),
-                -facing.sin(),
-                0.0,
-                facing.sin(),
-                facing.cos(),
-                0.0,
-                0.0,
-                0.0,
-                1.0,
-            );
-            Se3::new(rotation, port - rotation * trocar)
-        });
+        // The port: the constraint frame at the start (the shaft's point at `l_a`).
+        let trocar = description
+            .ports()
+            .map_err(|e| model_error(&e.to_string()))?[0];
+        // The ports on a circle of 4 cm about the origin of the scene, each arm's base outside,
+        // facing the centre: the scene file's.
+        let bases: [Se3<f64>; 3] = core::array::from_fn(|k| description.arms[k].base);
         // The instruments' tips 6 cm toward the centre and past it (2 cm beyond), 5 mm to their
         // left so that the shafts would pass close rather than through each other; the endoscope
         // still.
@@ -188,24 +180,26 @@ impl ThreePorts {
             Vector3::new(0.07, 0.001, 0.0),
             Vector3::zeros(),
         ];
-        let damper = if coupled {
-            Damper {
-                influence: INFLUENCE,
-                safety: SAFETY,
-                gain: 0.1,
+        let couplings: [Coupling<f64>; 3] = core::array::from_fn(|p| {
+            let c = &description.couplings[p];
+            Coupling {
+                arms: c.arms,
+                between: c.between,
+                damper: if coupled {
+                    Damper {
+                        influence: c.influence,
+                        safety: c.safety,
+                        gain: c.gain,
+                    }
+                } else {
+                    // An influence of zero: the damper never acts.
+                    Damper {
+                        influence: 0.0,
+                        safety: 0.0,
+                        gain: 0.0,
+                    }
+                },
             }
-        } else {
-            // An influence of zero: the damper never acts.
-            Damper {
-                influence: 0.0,
-                safety: 0.0,
-                gain: 0.0,
-            }
-        };
-        let couplings = [(0, 1), (0, 2), (1, 2)].map(|arms| Coupling {
-            arms,
-            between: Between::Shafts,
-            damper,
         });
         let scene = Scene::<f64, 3, 21, 6>::new(couplings);
         let arms = [controller(limits); 3];
@@ -217,7 +211,9 @@ impl ThreePorts {
         let rcms = [rcm; 3];
         let mut camera = Camera::at_start(trocar, &g_0e)
             .ok_or_else(|| model_error("the endoscope's tip is at its port"))?;
-        camera.depth = CAMERA_DEPTH;
+        if let Some(depth) = description.arms[2].camera.as_ref().and_then(|c| c.depth) {
+            camera.depth = depth;
+        }
         let mut setup = ThreePorts {
             camera,
             last_look: None,
@@ -529,7 +525,7 @@ pub fn geometry(name: &str) -> Result<SceneGeometry, SceneRunError> {
                 name: name.into(),
                 arms,
                 couplings: setup.scene.couplings.iter().map(|c| c.arms).collect(),
-                safety: Some(SAFETY),
+                safety: Some(safety("three-ports")?),
             })
         }
         "dia10-dual" => dual::geometry(),
