@@ -401,6 +401,22 @@ fn glue_tokens(rt: &TokenStream, real: Real, offset: &str, spec: &ControllerSpec
                 Self::pose(forward_kinematics_i(&q.data.0[0], &self.params))
             }
 
+            /// The forward kinematics alone, at the offset 0 as the trait's default takes it
+            /// from `evaluate`.
+            #[inline]
+            fn g_0e(
+                &self,
+                q: &#rt::emitted::nalgebra::SVector<#t, N>,
+            ) -> ::core::result::Result<#rt::emitted::Se3<#t>, #rt::emitted::ControlError> {
+                let mut p = self.params;
+                p.#offset = #real::ZERO;
+                let (r, x) = forward_kinematics(&q.data.0[0], &p);
+                if !r.as_flattened().iter().chain(&x).all(|&v| #real::is_finite(v)) {
+                    return ::core::result::Result::Err(#rt::emitted::ControlError::Kinematics);
+                }
+                ::core::result::Result::Ok(Self::pose((r, x)))
+            }
+
             #[inline]
             fn h(&self) -> #rt::emitted::nalgebra::SMatrix<#t, R, 6> {
                 #rt::emitted::nalgebra::SMatrix::from_data(#rt::emitted::nalgebra::ArrayStorage(

@@ -116,6 +116,11 @@ fn check_states<G: ConstrainedKinematics<f64, 8, 6, 2, 4, 6>>(gen: &G, name: &st
         let g_num = ConstrainedKinematics::<f64, 8, 6, 2, 4, 6>::g_0i(&num, &q);
         assert!((g_gen.rotation - g_num.rotation).amax() <= 1e-12);
         assert!((g_gen.translation - g_num.translation).amax() <= 1e-12);
+        // The forward kinematics alone (the scene's step takes it after each step).
+        let e_gen = gen.g_0e(&q).unwrap();
+        let e_num = ConstrainedKinematics::<f64, 8, 6, 2, 4, 6>::g_0e(&num, &q).unwrap();
+        assert!((e_gen.rotation - e_num.rotation).amax() <= 1e-12);
+        assert!((e_gen.translation - e_num.translation).amax() <= 1e-12);
         worst = worst.max((a.jr - b.jr).amax());
     }
     println!("{name}: worst |J^r generated − numeric| = {worst:.2e}");
