@@ -35,6 +35,7 @@ use std::path::{Path, PathBuf};
 use trocar_model::catalogue::{Function, Fused};
 use trocar_model::closed_chain::MechanismModel;
 use trocar_model::description::{DescriptionError, RobotDescription};
+use trocar_model::scene::SceneDescription;
 
 /// Options of one generated module.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -77,7 +78,10 @@ impl ModuleOptions {
     }
 }
 
-fn spec_for(desc: &RobotDescription, options: &ModuleOptions) -> Result<ModuleSpec, Error> {
+pub(crate) fn spec_for(
+    desc: &RobotDescription,
+    options: &ModuleOptions,
+) -> Result<ModuleSpec, Error> {
     let name = checked_module_name(&desc.name, options.module_name.as_deref())?;
     let d =
         derivation::derive(desc).map_err(|e| Error::Description(e.into_description_error(desc)))?;
@@ -100,7 +104,7 @@ pub fn generate_module(
 }
 
 /// [`generate_module`] of the description's derived module `spec`.
-fn module_tokens(
+pub(crate) fn module_tokens(
     desc: &RobotDescription,
     options: &ModuleOptions,
     spec: ModuleSpec,
@@ -265,6 +269,12 @@ pub fn generate_mechanism_string(
 }
 
 #[derive(Clone, Debug)]
+enum SceneSource {
+    File(PathBuf),
+    Description(Box<SceneDescription>),
+}
+
+#[derive(Clone, Debug)]
 enum Source {
     File(PathBuf),
     Description(Box<RobotDescription>),
@@ -274,6 +284,7 @@ enum Source {
 #[derive(Clone, Debug, Default)]
 pub struct Builder {
     robots: Vec<(Source, Option<String>)>,
+    scenes: Vec<(SceneSource, Option<String>)>,
     mechanisms: Vec<(PathBuf, Option<String>)>,
     real: Real,
     runtime_path: Option<String>,
@@ -315,6 +326,31 @@ impl Builder {
     pub fn description(&mut self, desc: RobotDescription) -> &mut Self {
         self.robots
             .push((Source::Description(Box::new(desc)), None));
+        self
+    }
+
+    /// Adds a scene file (TOML with a `[scene]` table, [`trocar_model::scene`]): its module
+    /// (named after the scene) holds every arm's closed forms and the scene's step kinematics
+    /// ([`crate::scene`]); may be called several times.
+    pub fn scene(&mut self, path: impl AsRef<Path>) -> &mut Self {
+        self.scenes
+            .push((SceneSource::File(path.as_ref().to_path_buf()), None));
+        self
+    }
+
+    /// Adds a scene file and names its module.
+    pub fn scene_as(&mut self, path: impl AsRef<Path>, module: &str) -> &mut Self {
+        self.scenes.push((
+            SceneSource::File(path.as_ref().to_path_buf()),
+            Some(module.to_string()),
+        ));
+        self
+    }
+
+    /// Adds an already-read scene (e.g. a shipped one, `SceneDescription::shipped`).
+    pub fn scene_description(&mut self, scene: SceneDescription) -> &mut Self {
+        self.scenes
+            .push((SceneSource::Description(Box::new(scene)), None));
         self
     }
 
@@ -506,6 +542,23 @@ impl Builder {
                 out.insert(format!("{module}.h"), header);
             }
         }
+        for (src, name) in &self.scenes {
+            let scene = match src {
+                SceneSource::File(p) => SceneDescription::from_toml_file(p)?,
+                SceneSource::Description(d) => (**d).clone(),
+            };
+            let module = checked_module_name(&scene.name, name.as_deref())?;
+            let options = ModuleOptions {
+                real: self.real,
+                module_name: Some(module.clone()),
+                runtime_path: self.runtime_path.clone(),
+                ..ModuleOptions::default()
+            };
+            let code = crate::scene::generate_scene_string(&scene, &options)?;
+            if out.insert(format!("{module}.rs"), code).is_some() {
+                return Err(Error::DuplicateModule(module));
+            }
+        }
         for (path, name) in &self.mechanisms {
             let src = MechanismModel::from_toml_file(path)?;
             let module = checked_module_name(&src.name, name.as_deref())?;
@@ -524,7 +577,7 @@ impl Builder {
         Ok(out)
     }
 
-    /// Generates and writes `<module>.rs` for every robot into the output directory, only the
+    /// Generates and writes `<module>.rs` for every robot and scene into the output directory, only the
     /// files whose content changed; prints `cargo:rerun-if-changed=<file>` for each description
     /// file. Returns the paths of the generated files.
     pub fn compile(&self) -> Result<Vec<PathBuf>, Error> {
@@ -545,6 +598,13 @@ impl Builder {
             }
             for (p, _) in &self.mechanisms {
                 println!("cargo:rerun-if-changed={}", p.display());
+            }
+            for (src, _) in &self.scenes {
+                if let SceneSource::File(p) = src {
+                    for f in SceneDescription::files_read(p) {
+                        println!("cargo:rerun-if-changed={}", f.display());
+                    }
+                }
             }
         }
         let files = self.generate()?;

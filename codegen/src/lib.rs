@@ -70,6 +70,7 @@ pub mod ir;
 #[doc(hidden)]
 pub mod lower;
 mod naming;
+pub mod scene;
 pub mod symbolic;
 
 pub use builder::{

@@ -60,6 +60,20 @@ fn main() {
     if let Err(e) = f32b.compile() {
         panic!("trocar-codegen: {e}");
     }
+    // The shipped scenes (`Builder::scene`): generic, and `three-ports` in f32.
+    let scenes = "../../runtime/model/scenes";
+    let mut sb = Builder::new();
+    sb.scene(format!("{scenes}/three-ports.toml"))
+        .scene(format!("{scenes}/dia10-dual.toml"));
+    if let Err(e) = sb.compile() {
+        panic!("trocar-codegen: {e}");
+    }
+    let mut sb32 = Builder::new();
+    sb32.scene_as(format!("{scenes}/three-ports.toml"), "three_ports_f32")
+        .real(Real::F32);
+    if let Err(e) = sb32.compile() {
+        panic!("trocar-codegen: {e}");
+    }
     let mut f64b = Builder::new();
     f64b.robot_as(format!("{robots}/dia10_like_zx.toml"), "dia10_like_zx_f64")
         .real(Real::F64);

@@ -43,7 +43,7 @@ pub use controller::{
 pub use error::{Error, Result};
 pub use evaluation::Evaluation;
 pub use robot::{urdf_jacobian, Evaluator, FusedEvaluator, Robot, MAX_SAMPLES, TWIST};
-pub use scene::{SceneStep, SceneStepper};
+pub use scene::{generate_scene, load_scene, SceneStep, SceneStepper};
 pub use simulate::{simulate, RcmOptions, SimulationRun, SpeedLimit};
 pub use trajectory::{
     simulate_robot, simulate_trajectory, Orientation, RunRequest, Trajectory, TrajectoryOptions,
@@ -61,9 +61,17 @@ pub use trocar_sim::plot::{write_comparison, write_time_panels, ImageFormat, Tim
 pub use trocar_sim::simulation::{CsvRows, Method, Scenario, Trace};
 
 /// The files a description at `path` is read from: `path` itself and, when its chain comes from
-/// a URDF (`[robot] urdf = "…"`), that URDF. Unreadable files are listed all the same.
+/// a URDF (`[robot] urdf = "…"`), that URDF; for a scene, its arms' description files and their
+/// URDFs too. Unreadable files are listed all the same.
 pub fn files_read(path: impl AsRef<std::path::Path>) -> Vec<std::path::PathBuf> {
-    trocar_model::description::RobotDescription::files_read(path)
+    let path = path.as_ref();
+    let scene = std::fs::read_to_string(path)
+        .is_ok_and(|t| trocar_model::scene::SceneDescription::is_scene_text(&t));
+    if scene {
+        trocar_model::scene::SceneDescription::files_read(path)
+    } else {
+        trocar_model::description::RobotDescription::files_read(path)
+    }
 }
 
 /// The names of everything shipped, as the library and the command line accept them.

@@ -224,3 +224,44 @@ impl SceneStepper {
         Ok(step)
     }
 }
+
+/// The scene `name_or_path`: a scene file (TOML with a `[scene]` table), or a shipped scene
+/// (`three-ports`, `dia10-dual`) where no such file exists. `None` when it is neither (a robot,
+/// a mechanism, or nothing). Errors name the file, line and field.
+pub fn load_scene(name_or_path: &str) -> Result<Option<trocar_model::scene::SceneDescription>> {
+    use trocar_model::scene::{shipped_scene_names, SceneDescription};
+    let path = std::path::Path::new(name_or_path);
+    if path.is_file() {
+        let text =
+            trocar_model::description::DescriptionError::read_file(path).map_err(Error::from)?;
+        if !SceneDescription::is_scene_text(&text) {
+            return Ok(None);
+        }
+        return Ok(Some(
+            SceneDescription::from_toml_str(&text, Some(path)).map_err(Error::from)?,
+        ));
+    }
+    if shipped_scene_names().any(|n| n == name_or_path) {
+        return Ok(Some(
+            SceneDescription::shipped(name_or_path).map_err(Error::from)?,
+        ));
+    }
+    Ok(None)
+}
+
+/// The generated module of a scene (`trocar_codegen::scene`): every arm's closed forms and the
+/// scene's step kinematics, `no_std`, for `options.real`. The C ABI and fused functions are
+/// emitted for single robots only.
+pub fn generate_scene(
+    scene: &trocar_model::scene::SceneDescription,
+    options: &trocar_codegen::ModuleOptions,
+) -> Result<String> {
+    if options.c_api || !options.functions.is_empty() || options.fma_at_run_time {
+        return Err(Error::Unsupported(format!(
+            "`{}` is a scene: the C ABI, fused functions and FMA at run time are emitted for \
+             single robots (generate an arm's description for them)",
+            scene.name
+        )));
+    }
+    trocar_codegen::scene::generate_scene_string(scene, options).map_err(Error::from)
+}

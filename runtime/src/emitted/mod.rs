@@ -32,9 +32,12 @@ pub mod paired_rows;
 
 pub use real::{Arith, Real};
 
+pub use crate::control::scene::{
+    Between, Camera, Coupling, Scene, SceneError, SceneOutput, SharedJoint,
+};
 pub use crate::control::{
-    ConstrainedKinematics, ConstrainedState, ControlError, Controller, ControllerConfig, Damping,
-    HardLimits, Method, NullSpaceObjective, Rcm, Reference, Shaft, StepStatus,
+    ConstrainedKinematics, ConstrainedState, ControlError, Controller, ControllerConfig, Damper,
+    Damping, HardLimits, Method, NullSpaceObjective, Rcm, Reference, Shaft, StepStatus,
 };
 pub use crate::se3::Se3;
 

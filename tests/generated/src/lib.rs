@@ -33,6 +33,9 @@ generated!(
 // `f64` entry points with FMA chosen at run time (`Builder::fma_at_run_time`).
 generated!("panda_fma.rs", "dia10_fma.rs");
 
+// Scenes of several arms (`Builder::scene`): each arm's closed forms and the scene's step.
+generated!("three_ports.rs", "dia10_dual.rs", "three_ports_f32.rs");
+
 // Closed mechanisms (four-bar linkage, planar Gough–Stewart platform).
 generated!("four_bar.rs", "planar_stewart.rs", "four_bar_f32.rs");
 

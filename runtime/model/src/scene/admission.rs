@@ -2,8 +2,8 @@
 //! it was read):
 //!
 //! 1. every arm has a constraint (its port);
-//! 2. the arms are of one kind: the same number of joints, port rows and task rows (the scene's
-//!    step drives them all alike);
+//! 2. the arms are of one kind: the same number of joints, port rows and task rows, the port on
+//!    the same link (the scene's step drives them all alike);
 //! 3. shared joints are one joint: at the start their spatial twists in the scene's frame are
 //!    equal (within 1e-9) and so are their values in `q0`;
 //! 4. no coupling starts inside its safety distance;
@@ -65,16 +65,17 @@ pub(super) fn admit(
             d.joints.len(),
             d.constraint.as_ref().map_or(0, |c| c.h.len()),
             d.task_rows(),
+            d.constraint.as_ref().map_or(0, |c| c.link),
         )
     };
     for k in 1..scene.arms.len() {
         if kind(k) != kind(0) {
-            let ((n, r, t), (n0, r0, t0)) = (kind(k), kind(0));
+            let ((n, r, t, i), (n0, r0, t0, i0)) = (kind(k), kind(0));
             return Err(err(
                 &format!("arms[{k}].robot"),
                 format!(
-                    "`{}` has {n} joints, {r} port rows and {t} task rows, `{}` {n0}, {r0} and \
-                     {t0}: the scene's step drives arms of one kind",
+                    "`{}` has {n} joints, {r} port rows, {t} task rows and its port on link {i}, \
+                     `{}` {n0}, {r0}, {t0} and link {i0}: the scene's step drives arms of one kind",
                     scene.arms[k].name, scene.arms[0].name
                 ),
             ));

@@ -8,6 +8,8 @@
 //! ```toml
 //! [scene]
 //! name = "three_ports"
+//! orientation_weight = 0.1            # the tasks' angular rows against their linear ones (S1)
+//! rate_weight = 0.001                 # the change of the rates themselves (S1)
 //!
 //! [[arms]]
 //! name = "left"                       # unique, a Rust identifier (its module's name)
@@ -135,6 +137,11 @@ pub struct SceneDescription {
     pub arms: Vec<SceneArmDescription>,
     /// The couplings.
     pub couplings: Vec<CouplingDescription>,
+    /// The weight of the tasks' angular rows against their linear ones in the scene's step
+    /// (0.1 by default).
+    pub orientation_weight: f64,
+    /// The weight of the change of the rates themselves in the scene's step (1e-3 by default).
+    pub rate_weight: f64,
     /// The file the scene was read from.
     pub source: Option<PathBuf>,
 }

@@ -28,6 +28,8 @@ struct RawScene {
 #[serde(deny_unknown_fields)]
 struct RawMeta {
     name: String,
+    orientation_weight: Option<f64>,
+    rate_weight: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -392,8 +394,23 @@ pub(super) fn read(text: &str, file: Option<&Path>) -> Result<SceneDescription, 
             gain,
         });
     }
+    let weight = |field: &str, v: Option<f64>, default: f64| -> Result<f64, DescriptionError> {
+        let v = number(&ctx, field, v.unwrap_or(default))?;
+        if v <= 0.0 {
+            return Err(ctx.err(field, "a weight must be positive"));
+        }
+        Ok(v)
+    };
+    let orientation_weight = weight(
+        "scene.orientation_weight",
+        raw.scene.orientation_weight,
+        0.1,
+    )?;
+    let rate_weight = weight("scene.rate_weight", raw.scene.rate_weight, 1e-3)?;
     let scene = SceneDescription {
         name: raw.scene.name,
+        orientation_weight,
+        rate_weight,
         arms,
         couplings,
         source: file.map(Path::to_path_buf),

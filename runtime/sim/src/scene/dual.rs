@@ -167,6 +167,7 @@ impl Dia10Dual {
     pub fn new() -> Result<Self, SceneRunError> {
         let model = |e: &dyn std::fmt::Display| SceneRunError(format!("the reference arm: {e}"));
         let (kins, ports, q0, _, damper) = arms()?;
+        let weight = super::description("dia10-dual")?.orientation_weight;
         let scenario = Scenario::from_name("1").map_err(|e| model(&e))?;
         let config = ScenarioConfig::new(scenario)
             .with_method(Method::Qp)
@@ -176,10 +177,8 @@ impl Dia10Dual {
             between: Between::Shafts,
             damper,
         }]);
-        // With the torso shared the scene has one joint fewer than the two arms' ports and full
-        // poses ask: the tips' orientations give way first (with 0.1 the tips' places drifted by
-        // 4–5 mm; with 0.01 by 60–80 µm).
-        scene.orientation_weight = 0.01;
+        // With the torso shared the tips' orientations give way first: the scene file's weight.
+        scene.orientation_weight = weight;
         Ok(Dia10Dual {
             starts: [0, 1].map(|k| kins[k].chain.forward_kinematics(&q0[k])),
             kins,

@@ -1,0 +1,508 @@
+//! A scene's step kinematics in one module (`trocar generate SCENE`, [`crate::Builder::scene`],
+//! the attribute's `scene = "…"`): every arm's closed forms generated as for one robot (one
+//! module per distinct description: the arms of `three-ports` share one, the mirror image of
+//! `dia10-dual` has its own), and around them what the runtime's scene step
+//! (`trocar::control::scene::Scene::step`) takes, fixed at generation time from the scene file:
+//!
+//! - `ARMS`, the sizes `A`, `NS = A·N` (the QP's rates), `P` couplings, `C = 2P` coupling rows,
+//!   `ES = A·R + shared` equality rows, `SCENE_JOINTS` and `JOINT_MAP` (each arm's joints among
+//!   the scene's, a shared joint once), `SHARED`;
+//! - `ArmKinematics` (the one module's `Kinematics`, or an enum over the modules that forwards
+//!   `ConstrainedKinematics` to each), `ArmController`, `Scene`, `Output`;
+//! - `kinematics()`, `bases()`, `rcms()` (each arm's port at its start, its base frame),
+//!   `q0()`, `couplings()`, `scene()`, and `step(…)`, one call of the scene's step with them;
+//! - with an endoscope, `CAMERA_ARM`, `CAMERA_LOOKS_AT` and `camera()`, its camera task at the
+//!   start (`trocar::control::scene::Camera`).
+//!
+//! Everything is `no_std` and allocation-free: the module uses `core` and the runtime's
+//! `emitted` surface only.
+
+use crate::builder::{module_tokens, spec_for, ModuleOptions};
+use crate::emit::Runtime;
+use crate::error::Error;
+use crate::ir::Real;
+use crate::naming::module_name;
+use proc_macro2::{Literal, TokenStream};
+use quote::{format_ident, quote};
+use trocar::control::scene::Between;
+use trocar_model::description::{DescriptionError, RobotDescription};
+use trocar_model::reference;
+use trocar_model::scene::SceneDescription;
+
+/// The scene's module as tokens: `pub mod <scene> { … }`.
+pub fn generate_scene(
+    scene: &SceneDescription,
+    options: &ModuleOptions,
+) -> Result<TokenStream, Error> {
+    let runtime = match &options.runtime_path {
+        None => Runtime::default(),
+        Some(p) => Runtime::new(p).ok_or_else(|| Error::BadRuntimePath(p.clone()))?,
+    };
+    let rt = runtime.tokens();
+    let scene_error = |field: &str, message: String| {
+        Error::Description(DescriptionError {
+            file: scene.source.clone(),
+            line: None,
+            column: None,
+            field: field.into(),
+            message,
+        })
+    };
+    // One module per distinct description, named after its robot (`_mirror` for a mirror
+    // image), or after its first arm where that name is taken.
+    let mut modules: Vec<(String, &RobotDescription)> = Vec::new();
+    let mut arm_module = Vec::with_capacity(scene.arms.len());
+    for arm in &scene.arms {
+        if let Some(k) = modules.iter().position(|(_, d)| **d == arm.robot) {
+            arm_module.push(k);
+            continue;
+        }
+        let mut name = module_name(&arm.robot.name);
+        if arm.mirror {
+            name += "_mirror";
+        }
+        if modules.iter().any(|(n, _)| *n == name) {
+            name = arm.name.clone();
+        }
+        arm_module.push(modules.len());
+        modules.push((name, &arm.robot));
+    }
+    let mut items = Vec::new();
+    for (name, desc) in &modules {
+        let arm_options = ModuleOptions {
+            module_name: Some(name.clone()),
+            description_files: Vec::new(),
+            evidence: None,
+            checks: None,
+            c_api: false,
+            ..options.clone()
+        };
+        let spec = spec_for(desc, &arm_options)?;
+        if spec
+            .controller
+            .as_ref()
+            .and_then(|c| c.offset.as_ref())
+            .is_none()
+        {
+            let k = scene
+                .arms
+                .iter()
+                .position(|a| a.robot == **desc)
+                .unwrap_or(0);
+            return Err(scene_error(
+                &format!("arms[{k}].robot"),
+                format!(
+                    "`{}`'s constraint frame does not slide along its link with one parameter \
+                     (`g_ir = (R_ir, o + l_a d)`): the scene's step needs the controller's \
+                     kinematics, which only such a constraint has",
+                    scene.arms[k].robot_source
+                ),
+            ));
+        }
+        items.push(module_tokens(desc, &arm_options, spec)?);
+    }
+    let first = format_ident!("{}", modules[0].0);
+    let (t, generics, args) = match options.real {
+        Real::Generic => (
+            quote!(T),
+            quote!(<T: #rt::emitted::Real + #rt::emitted::nalgebra::RealField>),
+            quote!(<T>),
+        ),
+        Real::F32 => (quote!(f32), quote!(), quote!()),
+        Real::F64 => (quote!(f64), quote!(), quote!()),
+    };
+    let lit = |v: f64| -> TokenStream {
+        match options.real {
+            Real::Generic => {
+                let v = Literal::f64_unsuffixed(v);
+                quote!(<T as #rt::emitted::Arith>::lit(#v))
+            }
+            Real::F32 => {
+                let v = Literal::f32_suffixed(v as f32);
+                quote!(#v)
+            }
+            Real::F64 => {
+                let v = Literal::f64_suffixed(v);
+                quote!(#v)
+            }
+        }
+    };
+    let vector = |v: &[f64]| {
+        let entries = v.iter().map(|x| lit(*x));
+        quote!(#rt::emitted::nalgebra::SVector::from([#(#entries),*]))
+    };
+    let matrix3 = |m: &trocar::nalgebra::Matrix3<f64>| {
+        // Column-major, as nalgebra's `ArrayStorage`.
+        let cols = (0..3).map(|c| {
+            let e = (0..3).map(|r| lit(m[(r, c)]));
+            quote!([#(#e),*])
+        });
+        quote!(#rt::emitted::nalgebra::Matrix3::from_data(#rt::emitted::nalgebra::ArrayStorage([#(#cols),*])))
+    };
+    let vector3 = |v: &trocar::nalgebra::Vector3<f64>| {
+        let e = v.iter().map(|x| lit(*x));
+        quote!(#rt::emitted::nalgebra::Vector3::new(#(#e),*))
+    };
+    let a = scene.arms.len();
+    let p = scene.couplings.len();
+    let task_rows = scene.arms[0].robot.task_rows();
+    let q_rows = Literal::usize_unsuffixed(task_rows);
+    let shared = scene.shared_joints();
+    let names = scene.arms.iter().map(|arm| arm.name.as_str());
+    let a_lit = Literal::usize_unsuffixed(a);
+    let p_lit = Literal::usize_unsuffixed(p);
+    let s_lit = Literal::usize_unsuffixed(shared.len());
+    let scene_joints = Literal::usize_unsuffixed(scene.scene_joints());
+    let map = scene.joint_map().into_iter().map(|row| {
+        let row = row.into_iter().map(Literal::usize_unsuffixed);
+        quote!([#(#row),*])
+    });
+    let shared_items = shared.iter().map(|&(a0, j0, a1, j1)| {
+        let (a0, j0, a1, j1) = (
+            Literal::usize_unsuffixed(a0),
+            Literal::usize_unsuffixed(j0),
+            Literal::usize_unsuffixed(a1),
+            Literal::usize_unsuffixed(j1),
+        );
+        quote!(#rt::emitted::SharedJoint { arms: (#a0, #a1), joints: (#j0, #j1) })
+    });
+    // Each arm's kinematics: the module's type, or the enum over the modules.
+    let (kin_items, kin_values) = if modules.len() == 1 {
+        (
+            quote! {
+                /// One arm's kinematics: the arms' module's (every arm has the same description).
+                pub type ArmKinematics #args = #first::Kinematics #args;
+            },
+            (0..a)
+                .map(|_| quote!(#first::Kinematics::nominal()))
+                .collect::<Vec<_>>(),
+        )
+    } else {
+        let variants: Vec<_> = modules
+            .iter()
+            .map(|(n, _)| format_ident!("{}", upper_camel(n)))
+            .collect();
+        let mods: Vec<_> = modules
+            .iter()
+            .map(|(n, _)| format_ident!("{}", n))
+            .collect();
+        let docs = modules
+            .iter()
+            .map(|(n, _)| format!(" The kinematics of module [`{n}`]."));
+        let ck = quote!(#rt::emitted::ConstrainedKinematics<#t, N, I, R, K, M, #q_rows>);
+        let forward = |call: TokenStream| {
+            let arms = variants
+                .iter()
+                .map(|v| quote!(ArmKinematics::#v(k) => k.#call));
+            quote!(match self { #(#arms),* })
+        };
+        let g_0i = forward(quote!(g_0i(q)));
+        let g_0e = forward(quote!(g_0e(q)));
+        let h = forward(quote!(h()));
+        let shaft = forward(quote!(shaft()));
+        let task = forward(quote!(task_selection()));
+        let evaluate = forward(quote!(evaluate(q, l_a)));
+        let solve_task = forward(quote!(solve_task(j, b)));
+        let solve_jb0i = forward(quote!(solve_jb0i(j, b)));
+        let at_trocar = forward(quote!(evaluate_at_trocar(q, trocar)));
+        let na = quote!(#rt::emitted::nalgebra);
+        let state = quote!(#rt::emitted::ConstrainedState<#t, I, R, K, M>);
+        let kin_items = quote! {
+            /// One arm's kinematics: the module of its description, each forwarding
+            /// `ConstrainedKinematics` to it (the arms differ in their description).
+            #[derive(Clone, Copy, Debug, PartialEq)]
+            pub enum ArmKinematics #generics {
+                #(#[doc = #docs] #variants(#mods::Kinematics #args)),*
+            }
+
+            impl #generics #ck for ArmKinematics #args {
+                #[inline]
+                fn g_0i(&self, q: &#na::SVector<#t, N>) -> #rt::emitted::Se3<#t> { #g_0i }
+                #[inline]
+                fn g_0e(&self, q: &#na::SVector<#t, N>) -> ::core::result::Result<#rt::emitted::Se3<#t>, #rt::emitted::ControlError> { #g_0e }
+                #[inline]
+                fn h(&self) -> #na::SMatrix<#t, R, 6> { #h }
+                #[inline]
+                fn shaft(&self) -> #rt::emitted::Shaft<#t> { #shaft }
+                #[inline]
+                fn task_selection(&self) -> #na::SMatrix<#t, #q_rows, 6> { #task }
+                #[inline]
+                fn evaluate(&self, q: &#na::SVector<#t, N>, l_a: #t) -> ::core::result::Result<#state, #rt::emitted::ControlError> { #evaluate }
+                #[inline]
+                fn solve_task(&self, j: &#na::SMatrix<#t, #q_rows, M>, b: &#na::SVector<#t, #q_rows>) -> ::core::option::Option<(#na::SVector<#t, M>, #t)> { #solve_task }
+                #[inline]
+                fn solve_jb0i(&self, j: &#na::SMatrix<#t, 6, I>, b: &#na::SVector<#t, 6>) -> ::core::option::Option<(#na::SVector<#t, I>, #t)> { #solve_jb0i }
+                #[inline]
+                fn evaluate_at_trocar(&self, q: &#na::SVector<#t, N>, trocar: &#na::Vector3<#t>) -> ::core::result::Result<(#t, #state), #rt::emitted::ControlError> { #at_trocar }
+            }
+        };
+        let values = arm_module
+            .iter()
+            .map(|&m| {
+                let v = &variants[m];
+                let md = &mods[m];
+                quote!(ArmKinematics::#v(#md::Kinematics::nominal()))
+            })
+            .collect();
+        (kin_items, values)
+    };
+    // Placements, ports and starts at generation time, from the numeric models.
+    let models = scene.numeric_models()?;
+    let ports = scene.ports()?;
+    let bases = scene.arms.iter().map(|arm| {
+        let r = matrix3(&arm.base.rotation);
+        let x = vector3(&arm.base.translation);
+        quote!(#rt::emitted::Se3 { rotation: #r, translation: #x })
+    });
+    let rcms = ports.iter().map(|port| {
+        let x = vector3(port);
+        quote!(#rt::emitted::Rcm { trocar: #x, dv: #rt::emitted::nalgebra::SVector::zeros() })
+    });
+    let q0 = scene.arms.iter().map(|arm| vector(&arm.q0));
+    let couplings = scene.couplings.iter().map(|c| {
+        let (a0, a1) = (
+            Literal::usize_unsuffixed(c.arms.0),
+            Literal::usize_unsuffixed(c.arms.1),
+        );
+        let between = match c.between {
+            Between::Shafts => quote!(#rt::emitted::Between::Shafts),
+            Between::Tips => quote!(#rt::emitted::Between::Tips),
+        };
+        let (influence, safety, gain) = (lit(c.influence), lit(c.safety), lit(c.gain));
+        quote! {
+            #rt::emitted::Coupling {
+                arms: (#a0, #a1),
+                between: #between,
+                damper: #rt::emitted::Damper { influence: #influence, safety: #safety, gain: #gain },
+            }
+        }
+    });
+    let camera = match scene
+        .arms
+        .iter()
+        .enumerate()
+        .find_map(|(k, arm)| arm.camera.as_ref().map(|c| (k, c)))
+    {
+        None => quote!(),
+        Some((k, c)) => {
+            let tip = reference::forward_kinematics(&models[k], &scene.arms[k].q0)
+                .map_err(|e| scene_error(&format!("arms[{k}].q0"), e.to_string()))?;
+            let axis = tip.translation - ports[k];
+            let depth = c.depth.unwrap_or_else(|| axis.norm());
+            if axis.norm() <= 0.0 || !axis.norm().is_finite() {
+                return Err(scene_error(
+                    &format!("arms[{k}].camera"),
+                    "the endoscope's tip is at its port at the start: no view axis".into(),
+                ));
+            }
+            let (port, start_axis, rotation) = (
+                vector3(&ports[k]),
+                vector3(&axis.normalize()),
+                matrix3(&tip.rotation),
+            );
+            let depth = lit(depth);
+            let looks = c.looks_at.iter().map(|i| Literal::usize_unsuffixed(*i));
+            let count = Literal::usize_unsuffixed(c.looks_at.len());
+            let arm = Literal::usize_unsuffixed(k);
+            let tolerance = Literal::f64_suffixed(c.tolerance);
+            quote! {
+                /// The endoscope's arm (its index in [`ARMS`]).
+                pub const CAMERA_ARM: usize = #arm;
+                /// The arms whose tips' midpoint the endoscope looks at.
+                pub const CAMERA_LOOKS_AT: [usize; #count] = [#(#looks),*];
+                /// How far the view axis may be off its point (rad).
+                pub const CAMERA_TOLERANCE: f64 = #tolerance;
+                /// The endoscope's camera task at the start (its base frame): its port, depth,
+                /// view axis and tip orientation there.
+                #[must_use]
+                pub fn camera #generics () -> #rt::emitted::Camera<#t> {
+                    #rt::emitted::Camera {
+                        port: #port,
+                        depth: #depth,
+                        start_axis: #start_axis,
+                        start_rotation: #rotation,
+                    }
+                }
+            }
+        }
+    };
+    let (orientation_weight, rate_weight) = (lit(scene.orientation_weight), lit(scene.rate_weight));
+    let doc = scene_doc(scene, &modules);
+    let kin_values = &kin_values;
+    let body = quote! {
+        #(#items)*
+
+        /// The arms, in the scene's order.
+        pub const ARMS: [&str; #a_lit] = [#(#names),*];
+        /// The number of arms.
+        pub const A: usize = #a_lit;
+        /// The joints of one arm.
+        pub const N: usize = #first::N;
+        /// The constrained link of every arm.
+        pub const I: usize = #first::I;
+        /// The port rows of one arm.
+        pub const R: usize = #first::R;
+        /// The columns of one arm's `Λ#`: `k = 6 − r`.
+        pub const K: usize = #first::K;
+        /// The columns of one arm's `J^r_0e`: `m = 6 − r + n − i`.
+        pub const M: usize = #first::M;
+        /// The rates of the scene's QP: every arm's joints (`A·N`).
+        pub const NS: usize = A * N;
+        /// The number of couplings.
+        pub const P: usize = #p_lit;
+        /// The coupling rows of the scene's QP (two per coupling).
+        pub const C: usize = 2 * P;
+        /// The joints the arms share (a torso), each pair once.
+        pub const SHARED: [#rt::emitted::SharedJoint; #s_lit] = [#(#shared_items),*];
+        /// The equality rows of the scene's QP: every arm's port rows and the shared joints.
+        pub const ES: usize = A * R + SHARED.len();
+        /// The scene's joints (a shared joint once).
+        pub const SCENE_JOINTS: usize = #scene_joints;
+        /// Each arm's joints among the scene's joints (0-based).
+        pub const JOINT_MAP: [[usize; N]; A] = [#(#map),*];
+
+        #kin_items
+
+        /// One arm's controller (every arm's the same sizes).
+        pub type ArmController #args = #rt::emitted::Controller<#t, N, I, R, K, M, #q_rows>;
+        /// The scene's step: its couplings and its QP's warm start.
+        pub type Scene #args = #rt::emitted::Scene<#t, P, NS, C>;
+        /// What one scene step commands and measures.
+        pub type Output #args = #rt::emitted::SceneOutput<#t, A, N, R, P>;
+
+        /// Each arm's kinematics, at the scene's parameters.
+        #[must_use]
+        pub fn kinematics #generics () -> [ArmKinematics #args; A] {
+            [#(#kin_values),*]
+        }
+
+        /// Each arm's base in the scene's frame.
+        #[must_use]
+        pub fn bases #generics () -> [#rt::emitted::Se3<#t>; A] {
+            [#(#bases),*]
+        }
+
+        /// Each arm's port (its constraint frame's origin at the start, its base frame), held
+        /// still.
+        #[must_use]
+        pub fn rcms #generics () -> [#rt::emitted::Rcm<#t, R>; A] {
+            [#(#rcms),*]
+        }
+
+        /// Each arm's joints at the start.
+        #[must_use]
+        pub fn q0 #generics () -> [#rt::emitted::nalgebra::SVector<#t, N>; A] {
+            [#(#q0),*]
+        }
+
+        /// The couplings: which arms, shafts or tips, and their dampers.
+        #[must_use]
+        pub fn couplings #generics () -> [#rt::emitted::Coupling<#t>; P] {
+            [#(#couplings),*]
+        }
+
+        /// The scene's step with its couplings and its weights.
+        #[must_use]
+        pub fn scene #generics () -> Scene #args {
+            let mut scene = #rt::emitted::Scene::new(couplings());
+            scene.orientation_weight = #orientation_weight;
+            scene.rate_weight = #rate_weight;
+            scene
+        }
+
+        /// One step of the scene: each arm's own step toward its reference, then the couplings
+        /// and the shared joints (`Scene::step` with [`rcms`], [`bases`] and [`SHARED`]).
+        ///
+        /// # Errors
+        /// As `Scene::step`: an arm's step failed, or a non-finite value appeared.
+        pub fn step #generics (
+            scene: &mut Scene #args,
+            arms: &mut [ArmController #args; A],
+            kins: &[ArmKinematics #args; A],
+            q: &[#rt::emitted::nalgebra::SVector<#t, N>; A],
+            references: &[#rt::emitted::Reference<#t>; A],
+            dt: #t,
+        ) -> ::core::result::Result<Output #args, #rt::emitted::SceneError> {
+            scene.step::<ArmKinematics #args, A, N, I, R, K, M, #q_rows, ES>(
+                arms,
+                kins,
+                q,
+                references,
+                &rcms(),
+                &bases(),
+                &SHARED,
+                dt,
+            )
+        }
+
+        #camera
+    };
+    let name = crate::naming::checked_module_name(&scene.name, options.module_name.as_deref())?;
+    Ok(crate::emit::wrap_module(&name, &doc, body))
+}
+
+/// [`generate_scene`] as a formatted file (prettyplease, headed by the `@generated` line).
+pub fn generate_scene_string(
+    scene: &SceneDescription,
+    options: &ModuleOptions,
+) -> Result<String, Error> {
+    crate::emit::format_file(generate_scene(scene, options)?)
+        .map_err(|e| Error::Internal(e.to_string()))
+}
+
+/// `three_ports` → `ThreePorts`.
+fn upper_camel(name: &str) -> String {
+    name.split('_')
+        .filter(|s| !s.is_empty())
+        .map(|s| {
+            let mut c = s.chars();
+            c.next()
+                .map(|f| f.to_ascii_uppercase().to_string() + c.as_str())
+                .unwrap_or_default()
+        })
+        .collect()
+}
+
+fn scene_doc(scene: &SceneDescription, modules: &[(String, &RobotDescription)]) -> String {
+    let mut doc = format!(
+        "The scene `{}`: {} arms, each through its own port (the thesis's §5.2), {} couplings.\n\n",
+        scene.name,
+        scene.arms.len(),
+        scene.couplings.len()
+    );
+    for (k, arm) in scene.arms.iter().enumerate() {
+        let module = modules
+            .iter()
+            .find(|(_, d)| **d == arm.robot)
+            .map_or("", |(n, _)| n.as_str());
+        doc += &format!(
+            "- arm {k} `{}`: `{}`{} (module [`{module}`]){}\n",
+            arm.name,
+            arm.robot_source,
+            if arm.mirror { ", mirrored" } else { "" },
+            match arm.shares {
+                Some((other, count)) => format!(
+                    ", its first {count} joint(s) shared with `{}`",
+                    scene.arms[other].name
+                ),
+                None => String::new(),
+            }
+        );
+    }
+    for c in &scene.couplings {
+        doc += &format!(
+            "- coupling `{}`–`{}` between their {}: safety {} m, influence {} m\n",
+            scene.arms[c.arms.0].name,
+            scene.arms[c.arms.1].name,
+            match c.between {
+                Between::Shafts => "shafts",
+                Between::Tips => "tips",
+            },
+            c.safety,
+            c.influence
+        );
+    }
+    doc += "\nThe step: [`step`] with [`scene`], [`kinematics`], one [`ArmController`] per arm \
+            and each arm's reference; the arms' constants and closed forms are in their modules.";
+    doc
+}
