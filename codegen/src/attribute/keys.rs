@@ -11,7 +11,7 @@ use syn::{Expr, ExprLit, Lit, LitStr, Meta, MetaList, Token};
 use trocar_model::catalogue::{Function, Fused};
 
 /// Every key the attribute accepts (for "unknown key" messages).
-pub(crate) const KEYS: &str = "preset, file, toml, real, module, checks, function, \
+pub(crate) const KEYS: &str = "preset, file, toml, scene, real, module, checks, function, \
      fma_at_run_time, name, params, joints, end_effector, constraint";
 
 /// Where the description comes from.
@@ -19,6 +19,8 @@ pub(crate) enum Source {
     Preset(LitStr),
     File(LitStr),
     Toml(LitStr),
+    /// A scene file, or a shipped scene's name.
+    Scene(LitStr),
     /// The structured form: the lists, by key.
     Inline(Box<InlineLists>),
 }
@@ -163,7 +165,7 @@ pub(crate) fn parse(tokens: TokenStream) -> syn::Result<Attr> {
                 span,
                 format_args!(
                     "`{key}` conflicts with `{prev}`: give exactly one description source \
-                     (preset, file, toml, or the inline joints(...))"
+                     (preset, file, toml, scene, or the inline joints(...))"
                 ),
             );
         } else {
@@ -195,6 +197,11 @@ pub(crate) fn parse(tokens: TokenStream) -> syn::Result<Attr> {
             "toml" => {
                 if let Some(s) = string(meta, &mut errors) {
                     set_source(&mut source, &mut errors, &key, span, Source::Toml(s));
+                }
+            }
+            "scene" => {
+                if let Some(s) = string(meta, &mut errors) {
+                    set_source(&mut source, &mut errors, &key, span, Source::Scene(s));
                 }
             }
             "real" => {

@@ -62,6 +62,9 @@ fn try_expand(attr: TokenStream, item: TokenStream) -> syn::Result<TokenStream> 
     };
 
     let ident = &strukt.ident;
+    if let Source::Scene(lit) = &attr.source {
+        return expand_scene(&strukt, &attr, lit);
+    }
     let (desc, tracked, source_span) = load(&attr.source, &ident.to_string())?;
 
     let module = attr.module.clone().unwrap_or_else(|| {
@@ -133,6 +136,84 @@ fn try_expand(attr: TokenStream, item: TokenStream) -> syn::Result<TokenStream> 
     })
 }
 
+/// `#[constrained_robot(scene = "…")] struct S;`: the struct and the scene's module
+/// ([`crate::scene`]) beside it, named after the struct (snake case) or `module`; the scene file
+/// (relative to the calling crate's `CARGO_MANIFEST_DIR`, else a shipped scene's name) and its
+/// arms' descriptions tracked.
+fn expand_scene(strukt: &ItemStruct, attr: &keys::Attr, lit: &LitStr) -> syn::Result<TokenStream> {
+    use trocar_model::scene::{shipped_scene_names, SceneDescription};
+    if attr.checks.is_some() || !attr.functions.is_empty() || attr.fma_at_run_time.is_some() {
+        return Err(syn::Error::new(
+            lit.span(),
+            "`checks`, `function` and `fma_at_run_time` apply to one robot: a scene's module has \
+             its arms' closed forms and its step",
+        ));
+    }
+    let base = std::env::var_os("CARGO_MANIFEST_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_default();
+    let path = base.join(lit.value());
+    let (scene, tracked) = if path.is_file() {
+        let path = std::fs::canonicalize(&path).unwrap_or(path);
+        let scene = SceneDescription::from_toml_file(&path)
+            .map_err(|e| syn::Error::new(lit.span(), format_args!("invalid scene: {e}")))?;
+        (scene, SceneDescription::files_read(&path))
+    } else if shipped_scene_names().any(|n| n == lit.value()) {
+        let scene = SceneDescription::shipped(&lit.value())
+            .map_err(|e| syn::Error::new(lit.span(), format_args!("invalid scene: {e}")))?;
+        (scene, Vec::new())
+    } else {
+        return Err(syn::Error::new(
+            lit.span(),
+            format_args!(
+                "no scene file `{}` (resolved to `{}`, relative to the calling crate's \
+                 CARGO_MANIFEST_DIR) and no shipped scene of that name ({})",
+                lit.value(),
+                path.display(),
+                shipped_scene_names().collect::<Vec<_>>().join(", ")
+            ),
+        ));
+    };
+    let ident = &strukt.ident;
+    let module = attr.module.clone().unwrap_or_else(|| {
+        let mut m = module_name(&ident.to_string());
+        if *ident == m {
+            m.push_str("_scene");
+        }
+        Ident::new(&m, ident.span())
+    });
+    let options = ModuleOptions {
+        real: attr.real,
+        module_name: Some(module.to_string()),
+        ..ModuleOptions::default()
+    };
+    let tokens = crate::scene::generate_scene(&scene, &options)
+        .map_err(|e| syn::Error::new(lit.span(), format_args!("trocar-codegen: {e}")))?;
+    let mut module_item: syn::ItemMod = syn::parse2(tokens).map_err(|e| {
+        syn::Error::new(
+            lit.span(),
+            format_args!("trocar-codegen produced tokens that do not parse (a bug): {e}"),
+        )
+    })?;
+    module_item.vis = strukt.vis.clone();
+    module_item
+        .attrs
+        .push(syn::parse_quote!(#[allow(clippy::possible_missing_comma)]));
+    let tracked = tracked.into_iter().map(|path| {
+        let path = std::fs::canonicalize(&path).unwrap_or(path);
+        let lit = LitStr::new(&path.display().to_string(), lit.span());
+        quote! {
+            // Rebuild when the scene or an arm's description changes.
+            const _: &[u8] = ::core::include_bytes!(#lit);
+        }
+    });
+    Ok(quote! {
+        #strukt
+        #module_item
+        #(#tracked)*
+    })
+}
+
 /// The description, the file to track (if any) and the span of the source key.
 fn load(
     source: &Source,
@@ -187,6 +268,10 @@ fn load(
             })?;
             Ok((d, None, lit.span()))
         }
+        Source::Scene(lit) => Err(syn::Error::new(
+            lit.span(),
+            "a scene is expanded on its own (a bug: it reached the robot's loader)",
+        )),
         Source::Inline(lists) => {
             let d = inline::build(lists, default_name)?;
             Ok((d, None, lists.first.unwrap_or_else(Span::call_site)))

@@ -35,6 +35,18 @@ impl Description {
             return RobotDescription::from_toml_file(path).map(Description::Serial);
         }
         let text = DescriptionError::read_file(path)?;
+        if crate::scene::SceneDescription::is_scene_text(&text) {
+            return Err(DescriptionError {
+                file: Some(path.to_path_buf()),
+                line: Some(1),
+                column: None,
+                field: "scene".into(),
+                message: "this is a scene of several arms, not one robot: `trocar generate` \
+                          and the builder's `scene` take it (or name one of its arms' \
+                          descriptions)"
+                    .into(),
+            });
+        }
         match closed_chain::parse_table(&text) {
             Ok(table) if table.contains_key("chains") => {
                 MechanismModel::from_table(&table, &text, Some(path)).map(Description::Mechanism)
