@@ -3323,6 +3323,31 @@ pub mod bidirectional_zy {
         ) -> ::trocar::emitted::Se3<T> {
             Self::pose(forward_kinematics_i(&q.data.0[0], &self.params))
         }
+        /// The forward kinematics alone, at the offset 0 as the trait's default takes it
+        /// from `evaluate`.
+        #[inline]
+        fn g_0e(
+            &self,
+            q: &::trocar::emitted::nalgebra::SVector<T, N>,
+        ) -> ::core::result::Result<
+            ::trocar::emitted::Se3<T>,
+            ::trocar::emitted::ControlError,
+        > {
+            let mut p = self.params;
+            p.l_a = <T as ::trocar::emitted::Real>::ZERO;
+            let (r, x) = forward_kinematics(&q.data.0[0], &p);
+            if !r
+                .as_flattened()
+                .iter()
+                .chain(&x)
+                .all(|&v| <T as ::trocar::emitted::Real>::is_finite(v))
+            {
+                return ::core::result::Result::Err(
+                    ::trocar::emitted::ControlError::Kinematics,
+                );
+            }
+            ::core::result::Result::Ok(Self::pose((r, x)))
+        }
         #[inline]
         fn h(&self) -> ::trocar::emitted::nalgebra::SMatrix<T, R, 6> {
             ::trocar::emitted::nalgebra::SMatrix::from_data(

@@ -3873,6 +3873,31 @@ pub mod panda_laparoscope {
         ) -> ::trocar::emitted::Se3<f64> {
             Self::pose(forward_kinematics_i(&q.data.0[0], &self.params))
         }
+        /// The forward kinematics alone, at the offset 0 as the trait's default takes it
+        /// from `evaluate`.
+        #[inline]
+        fn g_0e(
+            &self,
+            q: &::trocar::emitted::nalgebra::SVector<f64, N>,
+        ) -> ::core::result::Result<
+            ::trocar::emitted::Se3<f64>,
+            ::trocar::emitted::ControlError,
+        > {
+            let mut p = self.params;
+            p.l_a = <f64 as ::trocar::emitted::Real>::ZERO;
+            let (r, x) = forward_kinematics(&q.data.0[0], &p);
+            if !r
+                .as_flattened()
+                .iter()
+                .chain(&x)
+                .all(|&v| <f64 as ::trocar::emitted::Real>::is_finite(v))
+            {
+                return ::core::result::Result::Err(
+                    ::trocar::emitted::ControlError::Kinematics,
+                );
+            }
+            ::core::result::Result::Ok(Self::pose((r, x)))
+        }
         #[inline]
         fn h(&self) -> ::trocar::emitted::nalgebra::SMatrix<f64, R, 6> {
             ::trocar::emitted::nalgebra::SMatrix::from_data(
