@@ -3,6 +3,10 @@
 //! and the `#[constrained_robot]` attribute's expansion of dia10_like_zy in `f32`. The target is
 //! each dia10_like module within 200 ms in a release build.
 //!
+//! Scenes (`scenes/<scene>/scene`): a shipped scene's whole module (`generate_scene_string`)
+//! against `scenes/<scene>/arms_alone`, every arm's description generated alone, one after the
+//! other (the sum of its branches): the scene may be no slower.
+//!
 //! `cargo bench -p trocar-codegen --bench generation`; `-- --test` runs each case once.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
@@ -54,9 +58,35 @@ fn stages(c: &mut Criterion) {
     g.finish();
 }
 
+fn scenes(c: &mut Criterion) {
+    use trocar_model::scene::SceneDescription;
+    for name in ["three-ports", "dia10-dual"] {
+        let scene = SceneDescription::shipped(name).unwrap();
+        let mut g = c.benchmark_group(format!("scenes/{name}"));
+        g.bench_function("scene", |b| {
+            b.iter(|| {
+                trocar_codegen::scene::generate_scene_string(
+                    black_box(&scene),
+                    &ModuleOptions::default(),
+                )
+                .unwrap()
+            })
+        });
+        g.bench_function("arms_alone", |b| {
+            b.iter(|| {
+                for arm in &scene.arms {
+                    generate_module_string(black_box(&arm.robot), &ModuleOptions::default())
+                        .unwrap();
+                }
+            })
+        });
+        g.finish();
+    }
+}
+
 criterion_group! {
     name = generation;
     config = Criterion::default().sample_size(10);
-    targets = modules, stages
+    targets = modules, stages, scenes
 }
 criterion_main!(generation);

@@ -34,6 +34,24 @@ pub fn generate_scene(
     scene: &SceneDescription,
     options: &ModuleOptions,
 ) -> Result<TokenStream, Error> {
+    let parts = parts(scene, options)?;
+    let (items, rest) = (&parts.arms, &parts.rest);
+    Ok(crate::emit::wrap_module(
+        &parts.name,
+        &parts.doc,
+        quote!(#(#items)* #rest),
+    ))
+}
+
+/// The scene's module in pieces: each distinct arm's module, and the rest of the scene's items.
+struct Parts {
+    name: String,
+    doc: String,
+    arms: Vec<TokenStream>,
+    rest: TokenStream,
+}
+
+fn parts(scene: &SceneDescription, options: &ModuleOptions) -> Result<Parts, Error> {
     let runtime = match &options.runtime_path {
         None => Runtime::default(),
         Some(p) => Runtime::new(p).ok_or_else(|| Error::BadRuntimePath(p.clone()))?,
@@ -67,17 +85,30 @@ pub fn generate_scene(
         arm_module.push(modules.len());
         modules.push((name, &arm.robot));
     }
-    let mut items = Vec::new();
-    for (name, desc) in &modules {
-        let arm_options = ModuleOptions {
-            module_name: Some(name.clone()),
-            description_files: Vec::new(),
-            evidence: None,
-            checks: None,
-            c_api: false,
-            ..options.clone()
-        };
-        let spec = spec_for(desc, &arm_options)?;
+    // Every distinct arm derived on a thread of its own (they are independent), then emitted.
+    let arm_options = |name: &String| ModuleOptions {
+        module_name: Some(name.clone()),
+        description_files: Vec::new(),
+        evidence: None,
+        checks: None,
+        c_api: false,
+        ..options.clone()
+    };
+    let specs = std::thread::scope(|s| {
+        let handles: Vec<_> = modules
+            .iter()
+            .map(|(name, desc)| s.spawn(move || spec_for(desc, &arm_options(name))))
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| {
+                h.join()
+                    .unwrap_or_else(|_| Err(Error::Internal("an arm's derivation panicked".into())))
+            })
+            .collect::<Result<Vec<_>, Error>>()
+    })?;
+    let mut items = Vec::with_capacity(modules.len());
+    for ((name, desc), spec) in modules.iter().zip(specs) {
         if spec
             .controller
             .as_ref()
@@ -99,7 +130,7 @@ pub fn generate_scene(
                 ),
             ));
         }
-        items.push(module_tokens(desc, &arm_options, spec)?);
+        items.push(module_tokens(desc, &arm_options(name), spec)?);
     }
     let first = format_ident!("{}", modules[0].0);
     let (t, generics, args) = match options.real {
@@ -329,9 +360,7 @@ pub fn generate_scene(
     let (orientation_weight, rate_weight) = (lit(scene.orientation_weight), lit(scene.rate_weight));
     let doc = scene_doc(scene, &modules);
     let kin_values = &kin_values;
-    let body = quote! {
-        #(#items)*
-
+    let rest = quote! {
         /// The arms, in the scene's order.
         pub const ARMS: [&str; #a_lit] = [#(#names),*];
         /// The number of arms.
@@ -438,16 +467,95 @@ pub fn generate_scene(
         #camera
     };
     let name = crate::naming::checked_module_name(&scene.name, options.module_name.as_deref())?;
-    Ok(crate::emit::wrap_module(&name, &doc, body))
+    Ok(Parts {
+        name,
+        doc,
+        arms: items,
+        rest,
+    })
 }
 
 /// [`generate_scene`] as a formatted file (prettyplease, headed by the `@generated` line).
+///
+/// With several arm modules, each is formatted on a thread of its own and set into the formatted
+/// scene module, indented one level (formatting, mostly parsing the tokens again, is most of a
+/// module's generation; the arms' modules are independent).
 pub fn generate_scene_string(
     scene: &SceneDescription,
     options: &ModuleOptions,
 ) -> Result<String, Error> {
-    crate::emit::format_file(generate_scene(scene, options)?)
-        .map_err(|e| Error::Internal(e.to_string()))
+    const MARK: &str = "const TROCAR_ARM_MODULES: () = ();";
+    let parts = parts(scene, options)?;
+    if parts.arms.len() == 1 {
+        // One arm module: formatted whole (no thread to share it with).
+        let (items, rest) = (&parts.arms, &parts.rest);
+        return crate::emit::format_file(crate::emit::wrap_module(
+            &parts.name,
+            &parts.doc,
+            quote!(#(#items)* #rest),
+        ))
+        .map_err(|e| Error::Internal(e.to_string()));
+    }
+    let mark: TokenStream = MARK.parse().map_err(|e| Error::Internal(format!("{e}")))?;
+    let rest = &parts.rest;
+    let skeleton = crate::emit::format_file(crate::emit::wrap_module(
+        &parts.name,
+        &parts.doc,
+        quote!(#mark #rest),
+    ))
+    .map_err(|e| Error::Internal(e.to_string()))?;
+    // Token streams are not `Send`: their text is.
+    let texts: Vec<String> = parts.arms.iter().map(ToString::to_string).collect();
+    let arms = std::thread::scope(|s| {
+        let handles: Vec<_> = texts
+            .iter()
+            .map(|t| {
+                s.spawn(move || {
+                    syn::parse_str::<syn::File>(t)
+                        .map(|f| prettyplease::unparse(&f))
+                        .map_err(|e| e.to_string())
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| {
+                h.join()
+                    .unwrap_or_else(|_| Err("an arm's formatting panicked".into()))
+                    .map_err(Error::Internal)
+            })
+            .collect::<Result<Vec<_>, Error>>()
+    })?;
+    let mut out =
+        String::with_capacity(skeleton.len() + arms.iter().map(String::len).sum::<usize>());
+    let mut placed = false;
+    for line in skeleton.lines() {
+        if line.trim() == MARK {
+            let indent = &line[..line.len() - line.trim_start().len()];
+            for (k, arm) in arms.iter().enumerate() {
+                if k > 0 {
+                    out.push('\n');
+                }
+                for l in arm.lines() {
+                    if !l.is_empty() {
+                        out.push_str(indent);
+                        out.push_str(l);
+                    }
+                    out.push('\n');
+                }
+            }
+            placed = true;
+        } else {
+            out.push_str(line);
+            out.push('\n');
+        }
+    }
+    if !placed {
+        return Err(Error::Internal(
+            "the scene module's place for its arms was not found".into(),
+        ));
+    }
+    Ok(out)
 }
 
 /// `three_ports` → `ThreePorts`.
