@@ -21,9 +21,10 @@ pub struct Cli {
 /// The subcommands of `trocar`.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Emit the generated Rust module for a robot description or a closed mechanism.
+    /// Emit the generated Rust module for a robot description, a closed mechanism or a scene.
     Generate {
-        /// Robot or mechanism description (TOML file or shipped name).
+        /// Robot, mechanism or scene description (TOML file or shipped name: a scene file has a
+        /// `[scene]` table; `three-ports`, `dia10-dual`).
         robot: String,
         /// Output file (stdout when absent).
         #[arg(short, long)]
