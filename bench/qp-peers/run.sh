@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# trocar's QP solver against DAQP and OSQP on the QPs of the scene `three-ports` (not part of CI):
+# trocar's QP solver against DAQP and OSQP on the QPs of the scene `three-ports` and of the
+# Panda's QP control step in `panda-laparoscope-limits` (not part of CI):
 #
 #   bench/qp-peers/run.sh              # the default x86-64 instruction set for both
 #   QP_PEERS_NATIVE=1 bench/qp-peers/run.sh   # -C target-cpu=native and -march=native

@@ -345,8 +345,21 @@ fn row_tolerance<T: RealField + Copy>(feas: T, l: T, u: T, mag: T) -> T {
 }
 
 /// Solves `problem` from the warm start `warm` (see the [module docs](self) for the method and
-/// what each [`Status`] guarantees). Allocates nothing and does not panic.
+/// what each [`Status`] guarantees). Allocates nothing and does not panic (with the bench-only
+/// feature `qp-record`, [`record`] keeps a copy of every problem while it records).
 pub fn solve<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
+    problem: &Problem<T, N, E, C>,
+    warm: &ActiveSet<N, C>,
+    settings: &Settings,
+) -> Solution<T, N, E, C> {
+    let out = solve_from(problem, warm, settings);
+    #[cfg(feature = "qp-record")]
+    record::push(problem, warm, &out);
+    out
+}
+
+/// [`solve`]'s work.
+fn solve_from<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
     problem: &Problem<T, N, E, C>,
     warm: &ActiveSet<N, C>,
     settings: &Settings,
@@ -1876,5 +1889,129 @@ mod tests {
         let s = p.solve(&ActiveSet::EMPTY, &S);
         assert_eq!(s.status, Status::Optimal);
         assert!((s.x - Vector2::new(0.2, 0.8)).amax() < 1e-6, "{:?}", s.x);
+    }
+}
+
+/// Every QP [`solve`] is given, recorded in `f64` between [`record::start`] and
+/// [`record::take`] — for a benchmark that replays a controller's QPs with other solvers. The
+/// feature `qp-record` (bench only, needs `std`) adds it; without it nothing is recorded and
+/// [`solve`] allocates nothing.
+#[cfg(feature = "qp-record")]
+pub mod record {
+    extern crate std;
+    use super::{ActiveSet, Problem, Side, Solution, Status};
+    use nalgebra::RealField;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Mutex;
+    use std::vec::Vec;
+
+    /// One recorded QP: its sizes, its data (matrices column-major), the warm start it was
+    /// solved from and trocar's solution.
+    #[derive(Clone, Debug, PartialEq)]
+    pub struct Recorded {
+        /// Variables, equality rows, general rows.
+        pub sizes: (usize, usize, usize),
+        /// `H`, `n × n`.
+        pub h: Vec<f64>,
+        /// `f`.
+        pub f: Vec<f64>,
+        /// `A`, `e × n`.
+        pub a_eq: Vec<f64>,
+        /// `b`.
+        pub b_eq: Vec<f64>,
+        /// `G`, `c × n`.
+        pub g: Vec<f64>,
+        /// `lo`, `hi`.
+        pub lo: Vec<f64>,
+        /// `hi`.
+        pub hi: Vec<f64>,
+        /// `lb`.
+        pub lb: Vec<f64>,
+        /// `ub`.
+        pub ub: Vec<f64>,
+        /// The warm start's general rows and bounds.
+        pub warm: (Vec<Side>, Vec<Side>),
+        /// trocar's solution and its status.
+        pub x: Vec<f64>,
+        /// How the solve ended.
+        pub status: Status,
+    }
+
+    impl Recorded {
+        /// The problem with its sizes checked (`None` for other sizes) and the warm start.
+        pub fn problem<const N: usize, const E: usize, const C: usize>(
+            &self,
+        ) -> Option<(Problem<f64, N, E, C>, ActiveSet<N, C>)> {
+            if self.sizes != (N, E, C) {
+                return None;
+            }
+            let mut warm = ActiveSet::<N, C>::EMPTY;
+            warm.general.copy_from_slice(&self.warm.0);
+            warm.bounds.copy_from_slice(&self.warm.1);
+            Some((
+                Problem {
+                    h: nalgebra::SMatrix::from_column_slice(&self.h),
+                    f: nalgebra::SVector::from_column_slice(&self.f),
+                    a_eq: nalgebra::SMatrix::from_column_slice(&self.a_eq),
+                    b_eq: nalgebra::SVector::from_column_slice(&self.b_eq),
+                    g: nalgebra::SMatrix::from_column_slice(&self.g),
+                    lo: nalgebra::SVector::from_column_slice(&self.lo),
+                    hi: nalgebra::SVector::from_column_slice(&self.hi),
+                    lb: nalgebra::SVector::from_column_slice(&self.lb),
+                    ub: nalgebra::SVector::from_column_slice(&self.ub),
+                },
+                warm,
+            ))
+        }
+    }
+
+    static ON: AtomicBool = AtomicBool::new(false);
+    static LOG: Mutex<Vec<Recorded>> = Mutex::new(Vec::new());
+
+    /// Starts recording (what was recorded before is dropped).
+    pub fn start() {
+        if let Ok(mut log) = LOG.lock() {
+            log.clear();
+        }
+        ON.store(true, Ordering::SeqCst);
+    }
+
+    /// Stops recording and returns every QP solved since [`start`], in order.
+    pub fn take() -> Vec<Recorded> {
+        ON.store(false, Ordering::SeqCst);
+        LOG.lock()
+            .map(|mut l| std::mem::take(&mut *l))
+            .unwrap_or_default()
+    }
+
+    pub(super) fn push<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
+        p: &Problem<T, N, E, C>,
+        warm: &ActiveSet<N, C>,
+        s: &Solution<T, N, E, C>,
+    ) {
+        if !ON.load(Ordering::SeqCst) {
+            return;
+        }
+        let v = |it: &mut dyn Iterator<Item = &T>| -> Vec<f64> {
+            it.map(|x| x.to_subset().unwrap_or(f64::NAN)).collect()
+        };
+        let r = Recorded {
+            sizes: (N, E, C),
+            h: v(&mut p.h.iter()),
+            f: v(&mut p.f.iter()),
+            a_eq: v(&mut p.a_eq.iter()),
+            b_eq: v(&mut p.b_eq.iter()),
+            g: v(&mut p.g.iter()),
+            lo: v(&mut p.lo.iter()),
+            hi: v(&mut p.hi.iter()),
+            lb: v(&mut p.lb.iter()),
+            ub: v(&mut p.ub.iter()),
+            warm: (warm.general.to_vec(), warm.bounds.to_vec()),
+            x: v(&mut s.x.iter()),
+            status: s.status,
+        };
+        if let Ok(mut log) = LOG.lock() {
+            log.push(r);
+        }
     }
 }

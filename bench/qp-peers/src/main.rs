@@ -1,9 +1,15 @@
-//! trocar's QP solver against DAQP and OSQP on the QPs of the scene `three-ports`.
+//! trocar's QP solver against DAQP and OSQP on the QPs of two runs:
 //!
-//! The scene runs its 4 s (2,000 steps) and records every QP its step solves
-//! (`Scene::step_observed`: 21 joint rates, 6 port rows, 6 coupling rows and the 21 rates' box;
-//! the problem, the warm start it was solved from and trocar's solution). Each solver then solves
-//! the recorded sequence in order, warm-started as a controller would use it:
+//! - the scene `three-ports`: it runs its 4 s (2,000 steps) and records every QP its step solves
+//!   (`Scene::step_observed`: 21 joint rates, 6 port rows, 6 coupling rows and the 21 rates' box;
+//!   the problem, the warm start it was solved from and trocar's solution);
+//! - the single-arm Panda's QP control step in the scenario `panda-laparoscope-limits` (12 s at
+//!   2 ms, `trocar_sim::simulation::run` with `Method::Qp`): every QP the controller solves
+//!   (7 joint rates, 2 trocar rows, the insertion-depth row and the box), recorded by
+//!   `trocar::qp::record` (the feature `qp-record`, on in this bench only).
+//!
+//! Each solver then solves the recorded sequence in order, warm-started as a controller would use
+//! it:
 //!
 //! - trocar: `Problem::solve` from the recorded warm start (the previous solve's active set);
 //! - DAQP 0.11 (dual active set, C, `-O3`, `-march=native` with `QP_PEERS_NATIVE`): one workspace for the whole
@@ -23,13 +29,13 @@ use std::time::Instant;
 use trocar::qp::{ActiveSet, Problem, Settings, Side, Solution, Status};
 use trocar_sim::scene::{Kin, ThreePorts, DT, DURATION};
 
-const N: usize = 21;
-const E: usize = 6;
-const C: usize = 6;
-type Qp = Problem<f64, N, E, C>;
-
-/// Every QP of the run, with the warm start it was solved from and trocar's solution.
-fn record() -> Vec<(Qp, ActiveSet<N, C>, Solution<f64, N, E, C>)> {
+/// Every QP of `three-ports`, with the warm start it was solved from and trocar's solution.
+#[allow(clippy::type_complexity)]
+fn record_scene() -> Vec<(
+    Problem<f64, 21, 6, 6>,
+    ActiveSet<21, 6>,
+    Solution<f64, 21, 6, 6>,
+)> {
     let mut setup = ThreePorts::new(true).expect("the scene");
     let mut q = setup.q0;
     let mut out = Vec::new();
@@ -57,6 +63,34 @@ fn record() -> Vec<(Qp, ActiveSet<N, C>, Solution<f64, N, E, C>)> {
         }
     }
     out
+}
+
+/// Every QP of the Panda's QP control step in `panda-laparoscope-limits`, with the warm start it
+/// was solved from and trocar's solution (solved again here: the recorder keeps the solution's
+/// `x` only).
+#[allow(clippy::type_complexity)]
+fn record_panda() -> Vec<(
+    Problem<f64, 7, 2, 1>,
+    ActiveSet<7, 1>,
+    Solution<f64, 7, 2, 1>,
+)> {
+    use trocar_sim::simulation::{run, Method, Scenario, ScenarioConfig};
+    let config = ScenarioConfig::new(Scenario::PandaLimits)
+        .with_method(Method::Qp)
+        .with_drift_correction(true);
+    trocar::qp::record::start();
+    let trace = run(&config, |_| {});
+    let recorded = trocar::qp::record::take();
+    trace.expect("the Panda's limits scenario");
+    let settings = Settings::default();
+    recorded
+        .iter()
+        .filter_map(|r| r.problem::<7, 2, 1>())
+        .map(|(p, w)| {
+            let s = p.solve(&w, &settings);
+            (p, w, s)
+        })
+        .collect()
 }
 
 fn percentile(sorted: &[f64], p: f64) -> f64 {
@@ -119,7 +153,9 @@ struct DaqpData {
     sense: Vec<i32>,
 }
 
-fn daqp_data(p: &Qp) -> DaqpData {
+fn daqp_data<const N: usize, const E: usize, const C: usize>(
+    p: &Problem<f64, N, E, C>,
+) -> DaqpData {
     let h = (0..N * N).map(|i| p.h[(i / N, i % N)]).collect();
     let f = p.f.iter().copied().collect();
     let mut a = Vec::with_capacity((E + C) * N);
@@ -153,9 +189,6 @@ fn daqp_data(p: &Qp) -> DaqpData {
 }
 
 fn main() {
-    let recorded = record();
-    let settings = Settings::default();
-    let count = recorded.len();
     let cpu = std::fs::read_to_string("/proc/cpuinfo")
         .ok()
         .and_then(|s| {
@@ -164,14 +197,31 @@ fn main() {
                 .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
         })
         .unwrap_or_else(|| "unknown CPU".into());
-    println!(
-        "{count} QPs of three-ports (n = {N}, {E} equality rows, {C} general rows, {N} bounds) on {cpu}"
-    );
+    println!("on {cpu}");
+    compare("three-ports", &record_scene());
+    println!();
+    compare("panda-laparoscope-limits", &record_panda());
+}
+
+/// Solves the recorded sequence with trocar, DAQP and OSQP and prints their times and optima.
+#[allow(clippy::type_complexity)]
+fn compare<const N: usize, const E: usize, const C: usize>(
+    name: &str,
+    recorded: &[(
+        Problem<f64, N, E, C>,
+        ActiveSet<N, C>,
+        Solution<f64, N, E, C>,
+    )],
+) {
+    type Qp<const N: usize, const E: usize, const C: usize> = Problem<f64, N, E, C>;
+    let settings = Settings::default();
+    let count = recorded.len();
+    println!("{count} QPs of {name} (n = {N}, {E} equality rows, {C} general rows, {N} bounds)");
 
     // trocar, from the recorded warm starts.
     let mut ours = Vec::with_capacity(count);
     let mut iterations = 0usize;
-    for (p, warm, s) in &recorded {
+    for (p, warm, s) in recorded {
         let mut least = f64::INFINITY;
         for _ in 0..5 {
             let start = Instant::now();
@@ -191,7 +241,7 @@ fn main() {
     };
     println!(
         "trocar: {optimal} of {count} optimal, {:.2} working-set changes per solve; at the optimum \
-         {:.1} bounds and {:.1} coupling rows active on average (and the {E} port rows)",
+         {:.1} bounds and {:.1} general rows active on average (and the {E} port rows)",
         iterations as f64 / count as f64,
         active(&|a| a.bounds.iter().filter(|s| **s != Side::Inactive).count()),
         active(&|a| a.general.iter().filter(|s| **s != Side::Inactive).count()),
@@ -207,7 +257,7 @@ fn main() {
     unsafe {
         let handle = daqp::peer_daqp_new(N as i32, (N + E + C) as i32, N as i32);
         assert!(!handle.is_null());
-        for (p, _, s) in &recorded {
+        for (p, _, s) in recorded {
             let d = daqp_data(p);
             let mut x = [0.0f64; N];
             let mut iter = 0;
@@ -250,7 +300,7 @@ fn main() {
         .warm_start(true)
         .max_iter(100_000)
         .verbose(false);
-    let matrices = |p: &Qp| {
+    let matrices = |p: &Qp<N, E, C>| {
         let h = osqp::CscMatrix::from_column_iter_dense(N, N, p.h.iter().copied()).into_upper_tri();
         let rows = N + E + C;
         let a = osqp::CscMatrix::from_row_iter_dense(
@@ -289,7 +339,7 @@ fn main() {
     let mut osqp_failed = 0usize;
     let mut osqp_unpolished = 0usize;
     let mut osqp_unpolished_differs = 0.0f64;
-    for (p, _, s) in &recorded {
+    for (p, _, s) in recorded {
         let (h, a, l, u) = matrices(p);
         let f: Vec<f64> = p.f.iter().copied().collect();
         let start = Instant::now();
