@@ -358,6 +358,301 @@ pub fn solve<T: RealField + Copy, const N: usize, const E: usize, const C: usize
     out
 }
 
+/// [`solve`] for a positive definite `H`, trying the warm start's working set first in the
+/// range space: with `H = L Lᵀ` (Cholesky) and `C` the working set's rows (the equalities, then
+/// the warm start's active general rows and bounds) held at their targets `r`,
+///
+/// ```text
+/// Y = L⁻¹ Cᵀ = Q R,   Rᵀ R λ = r + Yᵀ L⁻¹ f,   x = L⁻ᵀ (Y λ − L⁻¹ f)           (11)
+/// ```
+///
+/// the minimiser of (1) on the working set and its multipliers (`H x + f = Cᵀ λ`). When `x`
+/// meets every row within the solver's tolerances and every inequality multiplier has its sign,
+/// `x` satisfies the Karush–Kuhn–Tucker conditions of (1)–(4) and is the optimum; it is returned
+/// with the warm start as its active set ([`Status::Optimal`], no iteration). Otherwise — `H` not
+/// positive definite to `√ε` of its largest diagonal entry, dependent rows, a row violated or a
+/// multiplier of the wrong sign — [`solve`] solves the problem. The working set of a controller's
+/// warm start is usually right, and the range space costs one Cholesky of `H` and one QR of `Y`
+/// where the primal method orthogonalises the working set and factors the reduced Hessian; its
+/// accuracy is that of `H`'s conditioning (which the threshold bounds by `1/√ε`). Allocates
+/// nothing and does not panic.
+pub fn solve_definite<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
+    problem: &Problem<T, N, E, C>,
+    warm: &ActiveSet<N, C>,
+    settings: &Settings,
+) -> Solution<T, N, E, C> {
+    match solve_range_space(problem, warm) {
+        Some(out) => {
+            #[cfg(feature = "qp-record")]
+            record::push(problem, warm, &out);
+            out
+        }
+        None => solve(problem, warm, settings),
+    }
+}
+
+/// (11) on the warm start's working set: the optimum with its multipliers where the working set
+/// is the optimum's, `None` where it is not (or `H` is not positive definite to `√ε`, or the
+/// rows are dependent). [`solve_definite`] falls back on [`solve`] then.
+pub fn solve_range_space<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
+    p: &Problem<T, N, E, C>,
+    warm: &ActiveSet<N, C>,
+) -> Option<Solution<T, N, E, C>> {
+    let eps = T::default_epsilon();
+    let tiny = eps.powf(nalgebra::convert(2.0 / 3.0));
+    let limit: T = nalgebra::convert(1e15);
+    let all_finite =
+        p.h.iter()
+            .chain(p.f.iter())
+            .chain(p.a_eq.iter())
+            .chain(p.b_eq.iter());
+    if !all_finite.chain(p.g.iter()).all(|v| v.is_finite()) {
+        return None;
+    }
+    let half = nalgebra::convert::<f64, T>(0.5);
+    // `(H + Hᵀ)/2`, read where it is needed.
+    let h = |i: usize, j: usize| (p.h[(i, j)] + p.h[(j, i)]) * half;
+    // H = L Lᵀ within H's envelope: row i of L starts where row i of H does (`first[i]`, its
+    // first nonzero), and so do the substitutions below — a scene's H, one block per arm, costs
+    // its blocks' work.
+    let mut first = [0usize; N];
+    for (i, f) in first.iter_mut().enumerate() {
+        *f = (0..i).find(|&j| h(i, j) != T::zero()).unwrap_or(i);
+    }
+    let mut l = SMatrix::<T, N, N>::zeros();
+    for i in 0..N {
+        for j in first[i]..=i {
+            let mut v = h(i, j);
+            for k in first[i].max(first[j])..j {
+                v -= l[(i, k)] * l[(j, k)];
+            }
+            if i == j {
+                if v <= T::zero() || !v.is_finite() {
+                    return None;
+                }
+                l[(i, i)] = v.sqrt();
+            } else {
+                l[(i, j)] = v / l[(j, j)];
+            }
+        }
+    }
+    // L y = c and Lᵀ x = v within the envelope.
+    let forward = |c: &SVector<T, N>| {
+        let mut y = *c;
+        for i in 0..N {
+            let mut v = y[i];
+            for k in first[i]..i {
+                v -= l[(i, k)] * y[k];
+            }
+            y[i] = v / l[(i, i)];
+        }
+        y
+    };
+    let backward = |v: &SVector<T, N>| {
+        let mut x = *v;
+        for k in (0..N).rev() {
+            x[k] /= l[(k, k)];
+            let xk = x[k];
+            for i in first[k]..k {
+                x[i] -= l[(k, i)] * xk;
+            }
+        }
+        x
+    };
+    let largest = (0..N).fold(T::zero(), |m, k| m.max(h(k, k)));
+    let smallest = (0..N).fold(largest, |m, k| m.min(l[(k, k)] * l[(k, k)]));
+    if N == 0 || !smallest.is_finite() || smallest < eps.sqrt() * largest {
+        return None;
+    }
+    // The working set: its rows as the columns of Cᵀ, their targets, and what each is.
+    let mut ct = SMatrix::<T, N, N>::zeros();
+    let mut r = SVector::<T, N>::zeros();
+    let mut ids = [0usize; N];
+    let mut m = 0;
+    let mut push = |row: &[T], target: T, id: usize, m: &mut usize| -> Option<()> {
+        if *m >= N || !target.is_finite() || target.abs() >= limit {
+            return None;
+        }
+        for (c, v) in row.iter().enumerate() {
+            ct[(c, *m)] = *v;
+        }
+        r[*m] = target;
+        ids[*m] = id;
+        *m += 1;
+        Some(())
+    };
+    let mut row = [T::zero(); N];
+    for e in 0..E {
+        for (c, v) in row.iter_mut().enumerate() {
+            *v = p.a_eq[(e, c)];
+        }
+        push(&row, p.b_eq[e], e, &mut m)?;
+    }
+    for g in 0..C {
+        let target = match warm.general[g] {
+            Side::Inactive => continue,
+            Side::Lower => p.lo[g],
+            Side::Upper => p.hi[g],
+        };
+        for (c, v) in row.iter_mut().enumerate() {
+            *v = p.g[(g, c)];
+        }
+        push(&row, target, E + g, &mut m)?;
+    }
+    for k in 0..N {
+        let target = match warm.bounds[k] {
+            Side::Inactive => continue,
+            Side::Lower => p.lb[k],
+            Side::Upper => p.ub[k],
+        };
+        row = [T::zero(); N];
+        row[k] = T::one();
+        push(&row, target, E + C + k, &mut m)?;
+    }
+    let mut y = SMatrix::<T, N, N>::zeros();
+    for j in 0..m {
+        y.set_column(j, &forward(&ct.column(j).into_owned()));
+    }
+    let w = forward(&p.f);
+    let mut lambda = SVector::<T, N>::zeros();
+    if m > 0 {
+        // Y = Q R by Gram–Schmidt with reorthogonalisation (twice is enough), over its `m`
+        // columns.
+        let mut q = SMatrix::<T, N, N>::zeros();
+        let mut rr = SMatrix::<T, N, N>::zeros();
+        for j in 0..m {
+            let mut v = y.column(j).into_owned();
+            let before = v.norm();
+            for pass in 0..2 {
+                for i in 0..j {
+                    let rij = q.column(i).dot(&v);
+                    v -= q.column(i) * rij;
+                    rr[(i, j)] += rij;
+                }
+                // A second pass only where the first cancelled much of the column (Kahan).
+                if pass == 0 && v.norm() >= half * before {
+                    break;
+                }
+            }
+            let norm = v.norm();
+            rr[(j, j)] = norm;
+            if norm > T::zero() {
+                q.set_column(j, &(v / norm));
+            }
+        }
+        let big_r = (0..m).fold(T::zero(), |a, i| a.max(rr[(i, i)].abs()));
+        if (0..m).any(|i| rr[(i, i)].abs() <= tiny * big_r || !rr[(i, i)].is_finite()) {
+            return None;
+        }
+        // Rᵀ z = r + Yᵀ w, then R λ = z (the leading m × m triangle).
+        let mut rhs = r;
+        for j in 0..m {
+            rhs[j] += y.column(j).dot(&w);
+        }
+        let mut z = SVector::<T, N>::zeros();
+        for i in 0..m {
+            let mut v = rhs[i];
+            for j in 0..i {
+                v -= rr[(j, i)] * z[j];
+            }
+            z[i] = v / rr[(i, i)];
+        }
+        for i in (0..m).rev() {
+            let mut v = z[i];
+            for j in i + 1..m {
+                v -= rr[(i, j)] * lambda[j];
+            }
+            lambda[i] = v / rr[(i, i)];
+        }
+    }
+    let mut v = -w;
+    for j in 0..m {
+        v += y.column(j) * lambda[j];
+    }
+    let x = backward(&v);
+    if !x.iter().chain(lambda.iter()).all(|v| v.is_finite()) {
+        return None;
+    }
+    // Primal feasibility: the equalities and every inequality within the solver's tolerances.
+    let feas = feasibility::<T, N>();
+    let mut equality_residual = T::zero();
+    for e in 0..E {
+        let a = p.a_eq.row(e);
+        let mag = (0..N).fold(T::zero(), |s, c| s + (a[c] * x[c]).abs());
+        let res = ((a * x)[0] - p.b_eq[e]).abs();
+        if res > row_tolerance(feas, p.b_eq[e], p.b_eq[e], mag) {
+            return None;
+        }
+        equality_residual = equality_residual.max(res);
+    }
+    if !p.meets_inequalities(&x) {
+        return None;
+    }
+    // Dual feasibility: every inequality multiplier of its side's sign (scaled by `‖aᵢ‖`), as
+    // the primal method's release rule (10) asks. `H x` within the envelope.
+    let mut hx = SVector::<T, N>::zeros();
+    for i in 0..N {
+        hx[i] += h(i, i) * x[i];
+        for j in first[i]..i {
+            let hij = h(i, j);
+            hx[i] += hij * x[j];
+            hx[j] += hij * x[i];
+        }
+    }
+    let grad = hx + p.f;
+    let tol = tiny * (T::one() + grad.amax());
+    let mut z_general = SVector::<T, C>::zeros();
+    let mut z_bounds = SVector::<T, N>::zeros();
+    let mut y_eq = SVector::<T, E>::zeros();
+    for t in 0..m {
+        let id = ids[t];
+        if id < E {
+            y_eq[id] = lambda[t];
+            continue;
+        }
+        let (side, lo, hi, norm) = if id < E + C {
+            let g = id - E;
+            (warm.general[g], p.lo[g], p.hi[g], p.g.row(g).norm())
+        } else {
+            let k = id - E - C;
+            (warm.bounds[k], p.lb[k], p.ub[k], T::one())
+        };
+        let mag = (0..N).fold(T::zero(), |s, c| s + (ct[(c, t)] * x[c]).abs());
+        let fixed = hi - lo <= row_tolerance(feas, lo, hi, mag);
+        let v = lambda[t] * norm;
+        let wrong = if side == Side::Upper { v } else { -v };
+        if !fixed && wrong > tol {
+            return None;
+        }
+        if id < E + C {
+            z_general[id - E] = lambda[t];
+        } else {
+            z_bounds[id - E - C] = lambda[t];
+        }
+    }
+    let objective = x.dot(&hx) * half + p.f.dot(&x);
+    let gx = p.g * x;
+    let mut violation = T::zero();
+    for g in 0..C {
+        violation += (p.lo[g] - gx[g]).max(T::zero()) + (gx[g] - p.hi[g]).max(T::zero());
+    }
+    for k in 0..N {
+        violation += (p.lb[k] - x[k]).max(T::zero()) + (x[k] - p.ub[k]).max(T::zero());
+    }
+    Some(Solution {
+        x,
+        status: Status::Optimal,
+        iterations: 0,
+        active: *warm,
+        objective,
+        y_eq,
+        z_general,
+        z_bounds,
+        equality_residual,
+        violation,
+    })
+}
+
 /// [`solve`]'s work.
 fn solve_from<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
     problem: &Problem<T, N, E, C>,

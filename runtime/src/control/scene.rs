@@ -29,6 +29,11 @@
 //! their arms' end-effector Jacobians). Where no coupling is within its influence distance the
 //! arms' rates are unchanged: a scene of one arm steps exactly as its controller does.
 //!
+//! The objective is positive definite (`ε > 0`), so the QP is solved in the range space from
+//! the last step's working set first ([`crate::qp::solve_definite`], checked against the
+//! optimality conditions) and by the primal active-set method where that working set is not
+//! the optimum's.
+//!
 //! Over a sample time the shafts' motion curves their distance, which (S4) sees to first order
 //! only: the step measures each coupling's distance at `q + dt θ̇` (forward kinematics) and,
 //! where it fell short of `d + dt ḋ`, raises that coupling's bound by the shortfall over `dt` and
@@ -49,7 +54,7 @@ use super::hard_limits::{point_velocity_jacobian, rate_box, task_body_jacobian, 
 use super::{ConstrainedKinematics, ControlError, Controller, Rcm, Reference, StepOutput};
 use crate::distance::{segment_distance, SegmentDistance};
 use crate::linalg::SquareDim;
-use crate::qp::{ActiveSet, Problem, Settings, Solution, Status};
+use crate::qp::{solve_definite, ActiveSet, Problem, Settings, Solution, Status};
 use crate::se3::Se3;
 use nalgebra::{Const, RealField, SMatrix, SVector, Vector3};
 
@@ -519,7 +524,7 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
                 status: Status::Optimal,
             });
         }
-        let mut solution = problem.solve(&self.active, &self.settings);
+        let mut solution = solve_definite(&problem, &self.active, &self.settings);
         observe(&problem, &self.active, &solution);
         if solution.status == Status::NonFinite || solution.status == Status::InvalidBounds {
             return Err(SceneError::NonFinite);
@@ -567,7 +572,7 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
         }
         if again {
             let warm = solution.active;
-            let second = problem.solve(&warm, &self.settings);
+            let second = solve_definite(&problem, &warm, &self.settings);
             observe(&problem, &warm, &second);
             if second.status == Status::NonFinite || second.status == Status::InvalidBounds {
                 return Err(SceneError::NonFinite);

@@ -1,0 +1,148 @@
+//! `qp::solve_definite`: the range-space solve (11) from a warm start, against the primal
+//! active-set solve of the same problems (an independent method): the same optimum, status and
+//! active set wherever the range space answers, and it answers for most warm-started steps of a
+//! controller-like sequence; it declines where its working set is not the optimum's (a row
+//! violated, a multiplier of the wrong sign), for a singular `H` and for dependent rows.
+
+mod qp_common;
+
+use qp_common::{perturb, random_problem, rng, uniform, Shape};
+use trocar::qp::{solve_definite, solve_range_space, ActiveSet, Problem, Settings, Side, Status};
+
+/// A sequence of problems moving a little each step, each warm-started from the last solve:
+/// `(steps answered by the range space, steps)`.
+fn sequence<const N: usize, const E: usize, const C: usize>(
+    seed: u64,
+    kappa: f64,
+) -> (usize, usize) {
+    let mut r = rng(seed);
+    let shape = Shape {
+        kappa,
+        j_rows: N.min(6),
+        task: uniform(&mut r, 0.2, 3.0),
+        feasible_eq: true,
+        b_scale: 0.0,
+    };
+    let mut p: Problem<f64, N, E, C> = random_problem(&mut r, &shape);
+    let settings = Settings::default();
+    let mut warm = ActiveSet::<N, C>::EMPTY;
+    let (mut answered, mut steps) = (0, 0);
+    for step in 0..40 {
+        let general = p.solve(&warm, &settings);
+        let fast = solve_definite(&p, &warm, &settings);
+        let range = solve_range_space(&p, &warm);
+        if let Some(range) = range {
+            answered += 1;
+            assert_eq!(
+                range.x, fast.x,
+                "solve_definite returns the range space's answer"
+            );
+            assert_eq!(range.status, Status::Optimal);
+            assert_eq!(general.status, Status::Optimal, "seed {seed} step {step}");
+            let scale = 1.0 + general.x.amax();
+            let dx = (range.x - general.x).amax();
+            assert!(
+                dx <= 1e-9 * scale,
+                "seed {seed} step {step}: x {dx:e} apart"
+            );
+            assert_eq!(range.active, general.active, "seed {seed} step {step}");
+            let dz = (range.z_general - general.z_general)
+                .amax()
+                .max((range.z_bounds - general.z_bounds).amax())
+                .max((range.y_eq - general.y_eq).amax());
+            assert!(
+                dz <= 1e-7
+                    * (1.0
+                        + general.z_bounds.amax()
+                        + general.z_general.amax()
+                        + general.y_eq.amax()),
+                "seed {seed} step {step}: multipliers {dz:e} apart"
+            );
+            assert!(
+                (range.objective - general.objective).abs()
+                    <= 1e-9 * (1.0 + general.objective.abs())
+            );
+        } else {
+            // Declined: the general solve is what solve_definite returns.
+            assert_eq!(fast, general, "seed {seed} step {step}");
+        }
+        steps += 1;
+        warm = general.active;
+        p = perturb(&p, seed.wrapping_mul(31).wrapping_add(step), 2e-3);
+    }
+    (answered, steps)
+}
+
+#[test]
+fn the_range_space_gives_the_primal_optimum() {
+    let (mut answered, mut steps) = (0, 0);
+    for seed in 0..60 {
+        let kappa = [1e-3, 0.05, 0.5][seed as usize % 3];
+        let (a, s) = sequence::<21, 6, 6>(seed, kappa);
+        answered += a;
+        steps += s;
+        let (a, s) = sequence::<7, 2, 1>(1000 + seed, kappa);
+        answered += a;
+        steps += s;
+    }
+    println!("the range space answered {answered} of {steps} warm-started solves");
+    // Most warm starts are right: the range space answers them.
+    assert!(answered * 2 > steps, "{answered} of {steps}");
+}
+
+#[test]
+fn the_range_space_declines_what_it_cannot_answer() {
+    let mut r = rng(7);
+    let shape = Shape {
+        kappa: 0.1,
+        j_rows: 6,
+        task: 2.0,
+        feasible_eq: true,
+        b_scale: 0.0,
+    };
+    let p: Problem<f64, 7, 2, 1> = random_problem(&mut r, &shape);
+    let settings = Settings::default();
+    let optimum = p.solve(&ActiveSet::EMPTY, &settings);
+    assert_eq!(optimum.status, Status::Optimal);
+    assert!(solve_range_space(&p, &optimum.active).is_some());
+    // A bound held that the optimum leaves: its multiplier has the wrong sign, or the point
+    // breaks another row.
+    let free = (0..7)
+        .find(|&k| optimum.active.bounds[k] == Side::Inactive)
+        .expect("a free variable");
+    let mut wrong = optimum.active;
+    wrong.bounds[free] = if optimum.x[free] > 0.0 {
+        Side::Lower
+    } else {
+        Side::Upper
+    };
+    assert!(solve_range_space(&p, &wrong).is_none());
+    assert_eq!(
+        solve_definite(&p, &wrong, &settings).x,
+        p.solve(&wrong, &settings).x
+    );
+    // A singular H (no damping, fewer task rows than joints).
+    let singular: Problem<f64, 7, 2, 1> = random_problem(
+        &mut r,
+        &Shape {
+            kappa: 0.0,
+            j_rows: 4,
+            ..shape
+        },
+    );
+    assert!(solve_range_space(&singular, &ActiveSet::EMPTY).is_none());
+    // Dependent rows: the two equalities the same.
+    let mut dependent = p;
+    let row = dependent.a_eq.row(0).into_owned();
+    dependent.a_eq.set_row(1, &row);
+    dependent.b_eq[1] = dependent.b_eq[0];
+    assert!(solve_range_space(&dependent, &ActiveSet::EMPTY).is_none());
+    // A NaN anywhere.
+    let mut nan = p;
+    nan.h[(0, 0)] = f64::NAN;
+    assert!(solve_range_space(&nan, &ActiveSet::EMPTY).is_none());
+    assert_eq!(
+        solve_definite(&nan, &ActiveSet::EMPTY, &settings).status,
+        Status::NonFinite
+    );
+}
