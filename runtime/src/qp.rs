@@ -419,7 +419,9 @@ pub fn solve_range_space<T: RealField + Copy, const N: usize, const E: usize, co
     for (i, f) in first.iter_mut().enumerate() {
         *f = (0..i).find(|&j| h(i, j) != T::zero()).unwrap_or(i);
     }
+    // `inv[i] = 1 / L_ii`: one division a row, the substitutions multiply.
     let mut l = SMatrix::<T, N, N>::zeros();
+    let mut inv = SVector::<T, N>::zeros();
     for i in 0..N {
         for j in first[i]..=i {
             let mut v = h(i, j);
@@ -431,8 +433,9 @@ pub fn solve_range_space<T: RealField + Copy, const N: usize, const E: usize, co
                     return None;
                 }
                 l[(i, i)] = v.sqrt();
+                inv[i] = T::one() / l[(i, i)];
             } else {
-                l[(i, j)] = v / l[(j, j)];
+                l[(i, j)] = v * inv[j];
             }
         }
     }
@@ -444,14 +447,14 @@ pub fn solve_range_space<T: RealField + Copy, const N: usize, const E: usize, co
             for k in first[i]..i {
                 v -= l[(i, k)] * y[k];
             }
-            y[i] = v / l[(i, i)];
+            y[i] = v * inv[i];
         }
         y
     };
     let backward = |v: &SVector<T, N>| {
         let mut x = *v;
         for k in (0..N).rev() {
-            x[k] /= l[(k, k)];
+            x[k] *= inv[k];
             let xk = x[k];
             for i in first[k]..k {
                 x[i] -= l[(k, i)] * xk;
@@ -509,65 +512,77 @@ pub fn solve_range_space<T: RealField + Copy, const N: usize, const E: usize, co
         row[k] = T::one();
         push(&row, target, E + C + k, &mut m)?;
     }
-    let mut y = SMatrix::<T, N, N>::zeros();
+    // Y = L⁻¹ Cᵀ in place of Cᵀ, column by column within the envelope.
     for j in 0..m {
-        y.set_column(j, &forward(&ct.column(j).into_owned()));
+        for i in 0..N {
+            let mut v = ct[(i, j)];
+            for k in first[i]..i {
+                v -= l[(i, k)] * ct[(k, j)];
+            }
+            ct[(i, j)] = v * inv[i];
+        }
     }
     let w = forward(&p.f);
     let mut lambda = SVector::<T, N>::zeros();
+    let mut v = -w;
     if m > 0 {
-        // Y = Q R by Gram–Schmidt with reorthogonalisation (twice is enough), over its `m`
-        // columns.
-        let mut q = SMatrix::<T, N, N>::zeros();
+        // Y = Q R by Gram–Schmidt with reorthogonalisation (twice is enough), Q in place of Y.
         let mut rr = SMatrix::<T, N, N>::zeros();
         for j in 0..m {
-            let mut v = y.column(j).into_owned();
-            let before = v.norm();
+            let before = ct.column(j).norm();
             for pass in 0..2 {
                 for i in 0..j {
-                    let rij = q.column(i).dot(&v);
-                    v -= q.column(i) * rij;
+                    let rij = ct.column(i).dot(&ct.column(j));
+                    for c in 0..N {
+                        let qi = ct[(c, i)];
+                        ct[(c, j)] -= qi * rij;
+                    }
                     rr[(i, j)] += rij;
                 }
                 // A second pass only where the first cancelled much of the column (Kahan).
-                if pass == 0 && v.norm() >= half * before {
+                if pass == 0 && ct.column(j).norm() >= half * before {
                     break;
                 }
             }
-            let norm = v.norm();
+            let norm = ct.column(j).norm();
             rr[(j, j)] = norm;
             if norm > T::zero() {
-                q.set_column(j, &(v / norm));
+                let scale = T::one() / norm;
+                for c in 0..N {
+                    ct[(c, j)] *= scale;
+                }
             }
         }
         let big_r = (0..m).fold(T::zero(), |a, i| a.max(rr[(i, i)].abs()));
         if (0..m).any(|i| rr[(i, i)].abs() <= tiny * big_r || !rr[(i, i)].is_finite()) {
             return None;
         }
-        // Rᵀ z = r + Yᵀ w, then R λ = z (the leading m × m triangle).
-        let mut rhs = r;
-        for j in 0..m {
-            rhs[j] += y.column(j).dot(&w);
+        // Rᵀ z = r + Yᵀ w = r + Rᵀ Qᵀ w, then R λ = z (the leading m × m triangle); Y λ = Q z.
+        let mut qw = SVector::<T, N>::zeros();
+        for i in 0..m {
+            qw[i] = ct.column(i).dot(&w);
         }
         let mut z = SVector::<T, N>::zeros();
         for i in 0..m {
-            let mut v = rhs[i];
-            for j in 0..i {
-                v -= rr[(j, i)] * z[j];
+            let mut rhs = r[i];
+            for j in 0..=i {
+                rhs += rr[(j, i)] * qw[j];
             }
-            z[i] = v / rr[(i, i)];
+            for j in 0..i {
+                rhs -= rr[(j, i)] * z[j];
+            }
+            z[i] = rhs / rr[(i, i)];
         }
         for i in (0..m).rev() {
-            let mut v = z[i];
+            let mut t = z[i];
             for j in i + 1..m {
-                v -= rr[(i, j)] * lambda[j];
+                t -= rr[(i, j)] * lambda[j];
             }
-            lambda[i] = v / rr[(i, i)];
+            lambda[i] = t / rr[(i, i)];
         }
-    }
-    let mut v = -w;
-    for j in 0..m {
-        v += y.column(j) * lambda[j];
+        for j in 0..m {
+            v += ct.column(j) * z[j];
+        }
     }
     let x = backward(&v);
     if !x.iter().chain(lambda.iter()).all(|v| v.is_finite()) {
@@ -617,7 +632,12 @@ pub fn solve_range_space<T: RealField + Copy, const N: usize, const E: usize, co
             let k = id - E - C;
             (warm.bounds[k], p.lb[k], p.ub[k], T::one())
         };
-        let mag = (0..N).fold(T::zero(), |s, c| s + (ct[(c, t)] * x[c]).abs());
+        let mag = if id < E + C {
+            let g = p.g.row(id - E);
+            (0..N).fold(T::zero(), |s, c| s + (g[c] * x[c]).abs())
+        } else {
+            x[id - E - C].abs()
+        };
         let fixed = hi - lo <= row_tolerance(feas, lo, hi, mag);
         let v = lambda[t] * norm;
         let wrong = if side == Side::Upper { v } else { -v };
