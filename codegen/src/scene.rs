@@ -34,7 +34,9 @@ pub fn generate_scene(
     scene: &SceneDescription,
     options: &ModuleOptions,
 ) -> Result<TokenStream, Error> {
-    let parts = parts(scene, options)?;
+    // Sequentially: inside a procedural macro (the attribute) the compiler's token API may only
+    // be used from the macro's own thread.
+    let parts = parts(scene, options, false)?;
     let (items, rest) = (&parts.arms, &parts.rest);
     Ok(crate::emit::wrap_module(
         &parts.name,
@@ -51,7 +53,8 @@ struct Parts {
     rest: TokenStream,
 }
 
-fn parts(scene: &SceneDescription, options: &ModuleOptions) -> Result<Parts, Error> {
+/// `threads`: each distinct arm derived on a thread of its own (not inside a procedural macro).
+fn parts(scene: &SceneDescription, options: &ModuleOptions, threads: bool) -> Result<Parts, Error> {
     let runtime = match &options.runtime_path {
         None => Runtime::default(),
         Some(p) => Runtime::new(p).ok_or_else(|| Error::BadRuntimePath(p.clone()))?,
@@ -94,19 +97,27 @@ fn parts(scene: &SceneDescription, options: &ModuleOptions) -> Result<Parts, Err
         c_api: false,
         ..options.clone()
     };
-    let specs = std::thread::scope(|s| {
-        let handles: Vec<_> = modules
+    let specs = if threads {
+        std::thread::scope(|s| {
+            let handles: Vec<_> = modules
+                .iter()
+                .map(|(name, desc)| s.spawn(move || spec_for(desc, &arm_options(name))))
+                .collect();
+            handles
+                .into_iter()
+                .map(|h| {
+                    h.join().unwrap_or_else(|_| {
+                        Err(Error::Internal("an arm's derivation panicked".into()))
+                    })
+                })
+                .collect::<Result<Vec<_>, Error>>()
+        })?
+    } else {
+        modules
             .iter()
-            .map(|(name, desc)| s.spawn(move || spec_for(desc, &arm_options(name))))
-            .collect();
-        handles
-            .into_iter()
-            .map(|h| {
-                h.join()
-                    .unwrap_or_else(|_| Err(Error::Internal("an arm's derivation panicked".into())))
-            })
-            .collect::<Result<Vec<_>, Error>>()
-    })?;
+            .map(|(name, desc)| spec_for(desc, &arm_options(name)))
+            .collect::<Result<Vec<_>, Error>>()?
+    };
     let mut items = Vec::with_capacity(modules.len());
     for ((name, desc), spec) in modules.iter().zip(specs) {
         if spec
@@ -477,15 +488,16 @@ fn parts(scene: &SceneDescription, options: &ModuleOptions) -> Result<Parts, Err
 
 /// [`generate_scene`] as a formatted file (prettyplease, headed by the `@generated` line).
 ///
-/// With several arm modules, each is formatted on a thread of its own and set into the formatted
-/// scene module, indented one level (formatting, mostly parsing the tokens again, is most of a
+/// Not for a procedural macro (it uses threads; the attribute takes [`generate_scene`]). With
+/// several arm modules, each is derived and formatted on a thread of its own and set into the
+/// formatted scene module, indented one level (formatting, mostly parsing the tokens again, is most of a
 /// module's generation; the arms' modules are independent).
 pub fn generate_scene_string(
     scene: &SceneDescription,
     options: &ModuleOptions,
 ) -> Result<String, Error> {
     const MARK: &str = "const TROCAR_ARM_MODULES: () = ();";
-    let parts = parts(scene, options)?;
+    let parts = parts(scene, options, true)?;
     if parts.arms.len() == 1 {
         // One arm module: formatted whole (no thread to share it with).
         let (items, rest) = (&parts.arms, &parts.rest);

@@ -589,6 +589,13 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
                 let i = k * N + c;
                 solution.x[i].max(problem.lb[i]).min(problem.ub[i])
             });
+        }
+        // A shared joint is one joint: (S6) holds to rounding, and its rate is the first arm's
+        // in both.
+        for joint in shared {
+            qd[joint.arms.1][joint.joints.1] = qd[joint.arms.0][joint.joints.0];
+        }
+        for k in 0..A {
             let acceleration = (qd[k] - previous[k]) / dt;
             arms[k].set_previous_rates(qd[k], acceleration);
         }
