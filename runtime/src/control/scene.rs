@@ -582,14 +582,13 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
         self.active = solution.active;
         let held = solution.status != Status::InequalitiesRelaxed;
         let coupling_active = solution.z_general.iter().any(|z| *z != T::zero());
-        let mut qd = [SVector::<T, N>::zeros(); A];
-        for k in 0..A {
-            // The boxes hold whatever the rounding: clipped.
-            qd[k] = SVector::from_fn(|c, _| {
+        // The boxes hold whatever the rounding: clipped.
+        let mut qd: [SVector<T, N>; A] = core::array::from_fn(|k| {
+            SVector::from_fn(|c, _| {
                 let i = k * N + c;
                 solution.x[i].max(problem.lb[i]).min(problem.ub[i])
-            });
-        }
+            })
+        });
         // A shared joint is one joint: (S6) holds to rounding, and its rate is the first arm's
         // in both.
         for joint in shared {
