@@ -584,11 +584,14 @@ fn upper_camel(name: &str) -> String {
 }
 
 fn scene_doc(scene: &SceneDescription, modules: &[(String, &RobotDescription)]) -> String {
+    let plural = |n: usize, one: &str, many: &str| {
+        format!("{n} {}", if n == 1 { one } else { many })
+    };
     let mut doc = format!(
-        "The scene `{}`: {} arms, each through its own port (the thesis's §5.2), {} couplings.\n\n",
+        "The scene `{}`: {}, each through its own port (the thesis's §5.2), {}.\n\n",
         scene.name,
-        scene.arms.len(),
-        scene.couplings.len()
+        plural(scene.arms.len(), "arm", "arms"),
+        plural(scene.couplings.len(), "coupling", "couplings")
     );
     for (k, arm) in scene.arms.iter().enumerate() {
         let module = modules
@@ -602,7 +605,8 @@ fn scene_doc(scene: &SceneDescription, modules: &[(String, &RobotDescription)]) 
             if arm.mirror { ", mirrored" } else { "" },
             match arm.shares {
                 Some((other, count)) => format!(
-                    ", its first {count} joint(s) shared with `{}`",
+                    ", its first {} shared with `{}`",
+                    plural(count, "joint", "joints"),
                     scene.arms[other].name
                 ),
                 None => String::new(),
