@@ -584,9 +584,8 @@ fn upper_camel(name: &str) -> String {
 }
 
 fn scene_doc(scene: &SceneDescription, modules: &[(String, &RobotDescription)]) -> String {
-    let plural = |n: usize, one: &str, many: &str| {
-        format!("{n} {}", if n == 1 { one } else { many })
-    };
+    let plural =
+        |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
     let mut doc = format!(
         "The scene `{}`: {}, each through its own port (the thesis's §5.2), {}.\n\n",
         scene.name,
