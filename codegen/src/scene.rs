@@ -85,6 +85,16 @@ fn parts(scene: &SceneDescription, options: &ModuleOptions, threads: bool) -> Re
         if modules.iter().any(|(n, _)| *n == name) {
             name = arm.name.clone();
         }
+        // Still taken (an arm named like another's robot): numbered.
+        let base = name.clone();
+        let mut k = 2;
+        while modules
+            .iter()
+            .any(|(n, _)| *n == name || upper_camel(n) == upper_camel(&name))
+        {
+            name = format!("{base}_{k}");
+            k += 1;
+        }
         arm_module.push(modules.len());
         modules.push((name, &arm.robot));
     }

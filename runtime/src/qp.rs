@@ -406,7 +406,18 @@ pub fn solve_range_space<T: RealField + Copy, const N: usize, const E: usize, co
             .chain(p.f.iter())
             .chain(p.a_eq.iter())
             .chain(p.b_eq.iter());
-    if !all_finite.chain(p.g.iter()).all(|v| v.is_finite()) {
+    if !all_finite
+        .chain(p.g.iter())
+        .chain(p.lo.iter())
+        .chain(p.hi.iter())
+        .chain(p.lb.iter())
+        .chain(p.ub.iter())
+        .all(|v| v.is_finite())
+    {
+        return None;
+    }
+    // Bounds in order, as `solve` asks (it reports the others).
+    if (0..C).any(|r| p.lo[r] > p.hi[r]) || (0..N).any(|k| p.lb[k] > p.ub[k]) {
         return None;
     }
     let half = nalgebra::convert::<f64, T>(0.5);

@@ -228,3 +228,71 @@ fn the_stack_is_admitted_as_a_whole() {
         "{e}"
     );
 }
+
+/// Two arms sharing the torso of a third listed last: one torso in the scene's joints, through
+/// the chain of `shares`.
+#[test]
+fn shared_joints_are_merged_through_every_arm() {
+    let mut scene = SceneDescription::shipped("dia10-dual").unwrap();
+    let mut third = scene.arms[1].clone();
+    third.name = "third".into();
+    third.shares = None;
+    scene.arms[1].shares = Some((2, 1));
+    scene.arms.push(third);
+    // left shares right's torso, right shares third's: one torso for the three.
+    let map = scene.joint_map();
+    assert_eq!(map[0][0], map[1][0]);
+    assert_eq!(map[1][0], map[2][0]);
+    assert_eq!(scene.scene_joints(), 1 + 3 * 7);
+}
+
+/// A mirrored joint counts its angle the other way: its range is negated (the Panda's joint 4,
+/// [−3.0718, −0.0698], becomes [0.0698, 3.0718]).
+#[test]
+fn a_mirror_image_negates_its_joint_ranges() {
+    let d = RobotDescription::preset("panda-laparoscope").unwrap();
+    let m = mirrored(&d, 0);
+    for (a, b) in d.joints.iter().zip(&m.joints) {
+        let [lo, hi] = a.limits.unwrap();
+        assert_eq!(b.limits, Some([-hi, -lo]));
+    }
+}
+
+#[test]
+fn mutual_shares_and_a_second_camera_are_refused() {
+    let head = "[scene]\nname = \"s\"\n";
+    let arm = |name: &str, extra: &str| {
+        format!("[[arms]]\nname = \"{name}\"\nrobot = \"dia10_like_zy\"\n{extra}q0 = [0, -0.3, 0.9, 0.28, -0.62, 0.1, 0.5, 0.3]\n")
+    };
+    let text = format!(
+        "{head}{}{}",
+        arm("a", "shares = { arm = \"b\", joints = 1 }\n"),
+        arm("b", "shares = { arm = \"a\", joints = 1 }\n")
+    );
+    let e = SceneDescription::from_toml_str(&text, None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("arms[0].shares.arm") && e.contains("already shares"),
+        "{e}"
+    );
+    let text = format!(
+        "{head}{}{}{}",
+        arm("a", "base = { xyz = [0, 0, 0] }\n"),
+        arm(
+            "b",
+            "base = { xyz = [1, 0, 0] }\ncamera = { looks_at = [\"a\"], tolerance = 0.01 }\n"
+        ),
+        arm(
+            "c",
+            "base = { xyz = [2, 0, 0] }\ncamera = { looks_at = [\"a\"], tolerance = 0.01 }\n"
+        )
+    );
+    let e = SceneDescription::from_toml_str(&text, None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("arms[2].camera") && e.contains("second camera"),
+        "{e}"
+    );
+}

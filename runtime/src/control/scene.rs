@@ -590,9 +590,19 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
             })
         });
         // A shared joint is one joint: (S6) holds to rounding, and its rate is the first arm's
-        // in both.
-        for joint in shared {
-            qd[joint.arms.1][joint.joints.1] = qd[joint.arms.0][joint.joints.0];
+        // in both, within both arms' boxes; passes enough for a chain of shared joints.
+        for _ in 0..shared.len() {
+            for joint in shared {
+                let (a, b) = (
+                    joint.arms.0 * N + joint.joints.0,
+                    joint.arms.1 * N + joint.joints.1,
+                );
+                let v = qd[joint.arms.0][joint.joints.0]
+                    .max(problem.lb[a].max(problem.lb[b]))
+                    .min(problem.ub[a].min(problem.ub[b]));
+                qd[joint.arms.0][joint.joints.0] = v;
+                qd[joint.arms.1][joint.joints.1] = v;
+            }
         }
         for k in 0..A {
             let acceleration = (qd[k] - previous[k]) / dt;

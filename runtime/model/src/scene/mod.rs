@@ -206,30 +206,59 @@ impl SceneDescription {
     /// order of the arms, each arm's joints in its order). For each arm, the scene index of each
     /// of its joints.
     pub fn joint_map(&self) -> Vec<Vec<usize>> {
-        let mut map: Vec<Vec<usize>> = Vec::with_capacity(self.arms.len());
-        let mut next = 0;
-        // Whether joint `j` of arm `a` is joint `j` of arm `b` (either names the other).
-        let shared = |a: usize, b: usize, j: usize| {
-            let names = |x: usize, y: usize| {
-                self.arms[x]
-                    .shares
-                    .is_some_and(|(other, count)| other == y && j < count)
-            };
-            names(a, b) || names(b, a)
-        };
-        for (k, arm) in self.arms.iter().enumerate() {
-            let mine = (0..arm.robot.joints.len())
-                .map(|j| match (0..k).find(|&e| shared(k, e, j)) {
-                    Some(e) => map[e][j],
-                    None => {
-                        next += 1;
-                        next - 1
-                    }
-                })
-                .collect();
-            map.push(mine);
+        // Union–find over the arms' joints: every `shares` entry joins its joints, through any
+        // chain of arms.
+        let offsets: Vec<usize> = self
+            .arms
+            .iter()
+            .scan(0, |at, a| {
+                let here = *at;
+                *at += a.robot.joints.len();
+                Some(here)
+            })
+            .collect();
+        let total = self.arms.iter().map(|a| a.robot.joints.len()).sum();
+        let mut parent: Vec<usize> = (0..total).collect();
+        fn root(parent: &mut [usize], mut i: usize) -> usize {
+            while parent[i] != i {
+                parent[i] = parent[parent[i]];
+                i = parent[i];
+            }
+            i
         }
-        map
+        for (k, arm) in self.arms.iter().enumerate() {
+            if let Some((other, count)) = arm.shares {
+                let count = count
+                    .min(arm.robot.joints.len())
+                    .min(self.arms[other].robot.joints.len());
+                for j in 0..count {
+                    let (a, b) = (
+                        root(&mut parent, offsets[k] + j),
+                        root(&mut parent, offsets[other] + j),
+                    );
+                    parent[a.max(b)] = a.min(b);
+                }
+            }
+        }
+        // Number the groups in order of first appearance.
+        let mut number = vec![usize::MAX; total];
+        let mut next = 0;
+        self.arms
+            .iter()
+            .enumerate()
+            .map(|(k, arm)| {
+                (0..arm.robot.joints.len())
+                    .map(|j| {
+                        let r = root(&mut parent, offsets[k] + j);
+                        if number[r] == usize::MAX {
+                            number[r] = next;
+                            next += 1;
+                        }
+                        number[r]
+                    })
+                    .collect()
+            })
+            .collect()
     }
 
     /// The number of the scene's joints ([`SceneDescription::joint_map`]).

@@ -244,12 +244,36 @@ pub(super) fn read(text: &str, file: Option<&Path>) -> Result<SceneDescription, 
                         ctx.err(&at("shares.arm"), "an arm cannot share joints with itself")
                     );
                 }
+                if raw.arms[other]
+                    .shares
+                    .as_ref()
+                    .is_some_and(|o| o.arm == a.name)
+                {
+                    return Err(ctx.err(
+                        &at("shares.arm"),
+                        format!(
+                            "`{}` already shares its joints with `{}`: name the shared joints on \
+                             one of the two arms",
+                            s.arm, a.name
+                        ),
+                    ));
+                }
                 if s.joints == 0 {
                     return Err(ctx.err(&at("shares.joints"), "share at least one joint"));
                 }
                 Some((other, s.joints))
             }
         };
+        // The arm's description at the scene's parameter values, admitted as one robot's.
+        robot.validate().map_err(|e| {
+            ctx.err(
+                &at("parameters"),
+                format!(
+                    "`{}` at the scene's parameters is not admitted: {e}",
+                    a.robot
+                ),
+            )
+        })?;
         if a.mirror {
             robot = mirrored(&robot, shares.map_or(0, |s| s.1));
             robot.validate().map_err(|e| {
@@ -352,6 +376,17 @@ pub(super) fn read(text: &str, file: Option<&Path>) -> Result<SceneDescription, 
             shares,
             camera,
         });
+    }
+    if let Some(second) = arms
+        .iter()
+        .enumerate()
+        .filter(|(_, a)| a.camera.is_some())
+        .nth(1)
+    {
+        return Err(ctx.err(
+            &format!("arms[{}].camera", second.0),
+            "a scene has one endoscope: a second camera",
+        ));
     }
     let mut couplings = Vec::with_capacity(raw.couplings.len());
     for (p, c) in raw.couplings.iter().enumerate() {
@@ -524,6 +559,12 @@ pub(super) fn mirrored(d: &RobotDescription, kept: usize) -> RobotDescription {
                     v: [mirror_linear(&v[0]), v[1].clone(), v[2].clone()],
                     w: *w,
                 },
+            },
+            // A mirrored rotation counts its angle the other way: its range is negated.
+            limits: match &j.kind {
+                JointKind::Prismatic { .. } => j.limits,
+                JointKind::Twist { w, .. } if w.iter().all(|c| *c == 0.0) => j.limits,
+                _ => j.limits.map(|[lo, hi]| [negate(hi), negate(lo)]),
             },
             dynamics: {
                 let mut dy = j.dynamics;
