@@ -69,16 +69,18 @@ pub mod evaluate;
 pub mod ir;
 #[doc(hidden)]
 pub mod lower;
+pub mod module;
 mod naming;
 pub mod scene;
 pub mod symbolic;
 
-pub use builder::{
-    generate_c_header, generate_mechanism_string, generate_module, generate_module_string, Builder,
-    ModuleOptions,
-};
+pub use builder::Builder;
 pub use emit::checks::ChecksGate;
 pub use error::Error;
 pub use ir::Real;
+pub use module::{
+    generate_c_header, generate_mechanism_string, generate_module, generate_module_string,
+    ModuleOptions,
+};
 pub use naming::module_name;
 pub use trocar_model::catalogue;

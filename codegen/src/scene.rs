@@ -17,10 +17,10 @@
 //! Everything is `no_std` and allocation-free: the module uses `core` and the runtime's
 //! `emitted` surface only.
 
-use crate::builder::{module_tokens, spec_for, ModuleOptions};
 use crate::emit::Runtime;
 use crate::error::Error;
 use crate::ir::Real;
+use crate::module::{module_tokens, spec_for, ModuleOptions};
 use crate::naming::module_name;
 use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};

@@ -17,7 +17,7 @@ mod inline;
 mod keys;
 
 use self::keys::Source;
-use crate::builder::{generate_module, ModuleOptions};
+use crate::module::{generate_module, ModuleOptions};
 use crate::naming::module_name;
 use proc_macro2::{Span, TokenStream};
 use quote::{format_ident, quote};

@@ -43,37 +43,6 @@ pub(crate) fn run(
         ],
         &reads,
     )?;
-    if let Some(scene) = trocar_api::load_scene(robot)? {
-        if c_header.is_some() || header_to_stdout {
-            return Err(Error::Unsupported(format!(
-                "`{}` is a scene: the C header is written for single robots",
-                scene.name
-            )));
-        }
-        let options = trocar_api::ModuleOptions {
-            real,
-            c_api,
-            functions,
-            fma_at_run_time,
-            ..Default::default()
-        };
-        let code = with_spinner(
-            &format!(
-                "deriving the closed forms of the scene `{}` ({} arms)",
-                scene.name,
-                scene.arms.len()
-            ),
-            || trocar_api::generate_scene(&scene, &options),
-        )?;
-        match output {
-            Some(path) => std::fs::write(outputs.temporary(path), &code)
-                .map_err(|e| Error::Output(format!("-o {}: {e}", path.display())))?,
-            None => write_stdout(&code)?,
-        }
-        outputs.commit()?;
-        return Ok(0);
-    }
-    let robot = Robot::load(robot)?;
     let options = trocar_api::ModuleOptions {
         real,
         c_api,
@@ -85,6 +54,29 @@ pub(crate) fn run(
         std::fs::write(outputs.temporary(path), text)
             .map_err(|e| Error::Output(format!("{option} {}: {e}", path.display())))
     };
+    if let Some(scene) = trocar_api::load_scene(robot)? {
+        if c_header.is_some() || header_to_stdout {
+            return Err(Error::Unsupported(format!(
+                "`{}` is a scene: the C header is written for single robots",
+                scene.name
+            )));
+        }
+        let code = with_spinner(
+            &format!(
+                "deriving the closed forms of the scene `{}` ({} arms)",
+                scene.name,
+                scene.arms.len()
+            ),
+            || trocar_api::generate_scene(&scene, &options),
+        )?;
+        match output {
+            Some(path) => write("-o", path, &code)?,
+            None => write_stdout(&code)?,
+        }
+        outputs.commit()?;
+        return Ok(0);
+    }
+    let robot = Robot::load(robot)?;
     let header = if c_header.is_some() || header_to_stdout {
         Some(with_spinner(
             &format!("deriving the closed forms of `{}`", robot.name()),
