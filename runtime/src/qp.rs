@@ -309,7 +309,27 @@ pub struct Solution<T: RealField + Copy, const N: usize, const E: usize, const C
     pub violation: T,
 }
 
+/// `true` when every value is finite: one pass without an early exit, which the compiler
+/// turns into vector compares (an iterator that stops at the first failure does not vectorise,
+/// and a 21-rate scene's problem has some 800 values).
+pub(crate) fn all_finite<T: RealField + Copy>(values: &[T]) -> bool {
+    values.iter().fold(true, |ok, v| ok & v.is_finite())
+}
+
 impl<T: RealField + Copy, const N: usize, const E: usize, const C: usize> Problem<T, N, E, C> {
+    /// `true` when every number of the problem is finite (the solvers refuse the others).
+    pub fn is_finite(&self) -> bool {
+        all_finite(self.h.as_slice())
+            & all_finite(self.f.as_slice())
+            & all_finite(self.a_eq.as_slice())
+            & all_finite(self.b_eq.as_slice())
+            & all_finite(self.g.as_slice())
+            & all_finite(self.lo.as_slice())
+            & all_finite(self.hi.as_slice())
+            & all_finite(self.lb.as_slice())
+            & all_finite(self.ub.as_slice())
+    }
+
     /// Solves the problem from the warm start `warm` (the previous step's
     /// [`Solution::active`], or [`ActiveSet::EMPTY`]): see [`solve`].
     pub fn solve(&self, warm: &ActiveSet<N, C>, settings: &Settings) -> Solution<T, N, E, C> {
@@ -369,9 +389,13 @@ pub fn solve<T: RealField + Copy, const N: usize, const E: usize, const C: usize
 /// the minimiser of (1) on the working set and its multipliers (`H x + f = Cᵀ λ`). When `x`
 /// meets every row within the solver's tolerances and every inequality multiplier has its sign,
 /// `x` satisfies the Karush–Kuhn–Tucker conditions of (1)–(4) and is the optimum; it is returned
-/// with the warm start as its active set ([`Status::Optimal`], no iteration). Otherwise — `H` not
-/// positive definite to `√ε` of its largest diagonal entry, dependent rows, a row violated or a
-/// multiplier of the wrong sign — [`solve`] solves the problem. The working set of a controller's
+/// with that working set as its active set ([`Status::Optimal`]). Where a row is violated the
+/// most violated one joins the working set, else the multiplier most of the wrong sign leaves
+/// it, and (11) is solved again, up to [`RANGE_SPACE_EXCHANGES`] times
+/// ([`Solution::iterations`] counts them): a warm start a row or two off the optimum's (a
+/// coupling coming in, a joint leaving its bound) is answered here too. Otherwise — `H` not
+/// positive definite to `√ε` of its largest diagonal entry, dependent rows, or no optimum within
+/// the exchanges — [`solve`] solves the problem. The working set of a controller's
 /// warm start is usually right, and the range space costs one Cholesky of `H` and one QR of `Y`
 /// where the primal method orthogonalises the working set and factors the reduced Hessian; its
 /// accuracy is that of `H`'s conditioning (which the threshold bounds by `1/√ε`). Allocates
@@ -391,29 +415,18 @@ pub fn solve_definite<T: RealField + Copy, const N: usize, const E: usize, const
     }
 }
 
-/// (11) on the warm start's working set: the optimum with its multipliers where the working set
-/// is the optimum's, `None` where it is not (or `H` is not positive definite to `√ε`, or the
-/// rows are dependent). [`solve_definite`] falls back on [`solve`] then.
+/// (11) from the warm start's working set, with up to [`RANGE_SPACE_EXCHANGES`] exchanges of
+/// rows ([`solve_definite`]): the optimum with its multipliers where a working set reached is the
+/// optimum's, `None` where none is (or `H` is not positive definite to `√ε`, or the rows are
+/// dependent). [`solve_definite`] falls back on [`solve`] then.
 pub fn solve_range_space<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
     p: &Problem<T, N, E, C>,
     warm: &ActiveSet<N, C>,
 ) -> Option<Solution<T, N, E, C>> {
     let eps = T::default_epsilon();
-    let tiny = eps.powf(nalgebra::convert(2.0 / 3.0));
+    let tiny = (eps * eps).cbrt();
     let limit: T = nalgebra::convert(1e15);
-    let all_finite =
-        p.h.iter()
-            .chain(p.f.iter())
-            .chain(p.a_eq.iter())
-            .chain(p.b_eq.iter());
-    if !all_finite
-        .chain(p.g.iter())
-        .chain(p.lo.iter())
-        .chain(p.hi.iter())
-        .chain(p.lb.iter())
-        .chain(p.ub.iter())
-        .all(|v| v.is_finite())
-    {
+    if !p.is_finite() {
         return None;
     }
     // Bounds in order, as `solve` asks (it reports the others).
@@ -428,7 +441,9 @@ pub fn solve_range_space<T: RealField + Copy, const N: usize, const E: usize, co
     // its blocks' work.
     let mut first = [0usize; N];
     for (i, f) in first.iter_mut().enumerate() {
-        *f = (0..i).find(|&j| h(i, j) != T::zero()).unwrap_or(i);
+        *f = (0..i)
+            .find(|&j| p.h[(i, j)] != T::zero() || p.h[(j, i)] != T::zero())
+            .unwrap_or(i);
     }
     // `inv[i] = 1 / L_ii`: one division a row, the substitutions multiply.
     let mut l = SMatrix::<T, N, N>::zeros();
@@ -478,211 +493,315 @@ pub fn solve_range_space<T: RealField + Copy, const N: usize, const E: usize, co
     if N == 0 || !smallest.is_finite() || smallest < eps.sqrt() * largest {
         return None;
     }
-    // The working set: its rows as the columns of Cᵀ, their targets, and what each is.
-    let mut ct = SMatrix::<T, N, N>::zeros();
-    let mut r = SVector::<T, N>::zeros();
-    let mut ids = [0usize; N];
-    let mut m = 0;
-    let mut push = |row: &[T], target: T, id: usize, m: &mut usize| -> Option<()> {
-        if *m >= N || !target.is_finite() || target.abs() >= limit {
-            return None;
-        }
-        for (c, v) in row.iter().enumerate() {
-            ct[(c, *m)] = *v;
-        }
-        r[*m] = target;
-        ids[*m] = id;
-        *m += 1;
-        Some(())
-    };
-    let mut row = [T::zero(); N];
-    for e in 0..E {
-        for (c, v) in row.iter_mut().enumerate() {
-            *v = p.a_eq[(e, c)];
-        }
-        push(&row, p.b_eq[e], e, &mut m)?;
-    }
-    for g in 0..C {
-        let target = match warm.general[g] {
-            Side::Inactive => continue,
-            Side::Lower => p.lo[g],
-            Side::Upper => p.hi[g],
-        };
-        for (c, v) in row.iter_mut().enumerate() {
-            *v = p.g[(g, c)];
-        }
-        push(&row, target, E + g, &mut m)?;
-    }
-    for k in 0..N {
-        let target = match warm.bounds[k] {
-            Side::Inactive => continue,
-            Side::Lower => p.lb[k],
-            Side::Upper => p.ub[k],
-        };
-        row = [T::zero(); N];
-        row[k] = T::one();
-        push(&row, target, E + C + k, &mut m)?;
-    }
-    // Y = L⁻¹ Cᵀ in place of Cᵀ, column by column within the envelope.
-    for j in 0..m {
-        for i in 0..N {
-            let mut v = ct[(i, j)];
-            for k in first[i]..i {
-                v -= l[(i, k)] * ct[(k, j)];
-            }
-            ct[(i, j)] = v * inv[i];
-        }
-    }
-    let w = forward(&p.f);
-    let mut lambda = SVector::<T, N>::zeros();
-    let mut v = -w;
-    if m > 0 {
-        // Y = Q R by Gram–Schmidt with reorthogonalisation (twice is enough), Q in place of Y.
-        let mut rr = SMatrix::<T, N, N>::zeros();
-        for j in 0..m {
-            let before = ct.column(j).norm();
-            for pass in 0..2 {
-                for i in 0..j {
-                    let rij = ct.column(i).dot(&ct.column(j));
-                    for c in 0..N {
-                        let qi = ct[(c, i)];
-                        ct[(c, j)] -= qi * rij;
+    // The next working set where this one's minimiser is not the optimum: the row it violates
+    // most (scaled by `‖aᵢ‖`) taken in on its violated side, or, where it violates none, the
+    // active row whose multiplier has most the wrong sign released — one exchange of an
+    // active-set method without its step length, so the range space may answer a warm start a
+    // few rows off (a coupling coming in, a joint leaving its bound); the optimality conditions
+    // decide, so no exchange can make a wrong answer.
+    let corrected =
+        |working: &ActiveSet<N, C>, x: &SVector<T, N>, released: Option<(&[usize; N], &[T; N])>| {
+            let mut next = *working;
+            if let Some((ids, wrong)) = released {
+                let mut most = (T::zero(), usize::MAX);
+                for (id, w) in ids.iter().zip(wrong.iter()) {
+                    if *w > most.0 && *id >= E {
+                        most = (*w, *id);
                     }
-                    rr[(i, j)] += rij;
                 }
-                // A second pass only where the first cancelled much of the column (Kahan).
-                if pass == 0 && ct.column(j).norm() >= half * before {
-                    break;
+                let id = most.1;
+                if id < E + C {
+                    next.general[id - E] = Side::Inactive;
+                } else if id < E + C + N {
+                    next.bounds[id - E - C] = Side::Inactive;
+                }
+                return next;
+            }
+            let feas = feasibility::<T, N>();
+            let gx = p.g * x;
+            let mut most = (T::zero(), usize::MAX, Side::Inactive);
+            for g in 0..C {
+                let row = p.g.row(g);
+                let mag = (0..N).fold(T::zero(), |s, c| s + (row[c] * x[c]).abs());
+                let tol = row_tolerance(feas, p.lo[g], p.hi[g], mag);
+                let norm = row.norm();
+                if gx[g] < p.lo[g] - tol && (p.lo[g] - gx[g]) > most.0 * norm {
+                    most = ((p.lo[g] - gx[g]) / norm, E + g, Side::Lower);
+                } else if gx[g] > p.hi[g] + tol && (gx[g] - p.hi[g]) > most.0 * norm {
+                    most = ((gx[g] - p.hi[g]) / norm, E + g, Side::Upper);
                 }
             }
-            let norm = ct.column(j).norm();
-            rr[(j, j)] = norm;
-            if norm > T::zero() {
-                let scale = T::one() / norm;
-                for c in 0..N {
-                    ct[(c, j)] *= scale;
+            for k in 0..N {
+                let tol = row_tolerance(feas, p.lb[k], p.ub[k], x[k].abs());
+                if x[k] < p.lb[k] - tol && p.lb[k] - x[k] > most.0 {
+                    most = (p.lb[k] - x[k], E + C + k, Side::Lower);
+                } else if x[k] > p.ub[k] + tol && x[k] - p.ub[k] > most.0 {
+                    most = (x[k] - p.ub[k], E + C + k, Side::Upper);
                 }
             }
-        }
-        let big_r = (0..m).fold(T::zero(), |a, i| a.max(rr[(i, i)].abs()));
-        if (0..m).any(|i| rr[(i, i)].abs() <= tiny * big_r || !rr[(i, i)].is_finite()) {
-            return None;
-        }
-        // Rᵀ z = r + Yᵀ w = r + Rᵀ Qᵀ w, then R λ = z (the leading m × m triangle); Y λ = Q z.
-        let mut qw = SVector::<T, N>::zeros();
-        for i in 0..m {
-            qw[i] = ct.column(i).dot(&w);
-        }
-        let mut z = SVector::<T, N>::zeros();
-        for i in 0..m {
-            let mut rhs = r[i];
-            for j in 0..=i {
-                rhs += rr[(j, i)] * qw[j];
+            let (_, id, side) = most;
+            if id < E + C {
+                next.general[id - E] = side;
+            } else if id < E + C + N {
+                next.bounds[id - E - C] = side;
             }
-            for j in 0..i {
-                rhs -= rr[(j, i)] * z[j];
-            }
-            z[i] = rhs / rr[(i, i)];
-        }
-        for i in (0..m).rev() {
-            let mut t = z[i];
-            for j in i + 1..m {
-                t -= rr[(i, j)] * lambda[j];
-            }
-            lambda[i] = t / rr[(i, i)];
-        }
-        for j in 0..m {
-            v += ct.column(j) * z[j];
-        }
-    }
-    let x = backward(&v);
-    if !x.iter().chain(lambda.iter()).all(|v| v.is_finite()) {
-        return None;
-    }
-    // Primal feasibility: the equalities and every inequality within the solver's tolerances.
-    let feas = feasibility::<T, N>();
-    let mut equality_residual = T::zero();
-    for e in 0..E {
-        let a = p.a_eq.row(e);
-        let mag = (0..N).fold(T::zero(), |s, c| s + (a[c] * x[c]).abs());
-        let res = ((a * x)[0] - p.b_eq[e]).abs();
-        if res > row_tolerance(feas, p.b_eq[e], p.b_eq[e], mag) {
-            return None;
-        }
-        equality_residual = equality_residual.max(res);
-    }
-    if !p.meets_inequalities(&x) {
-        return None;
-    }
-    // Dual feasibility: every inequality multiplier of its side's sign (scaled by `‖aᵢ‖`), as
-    // the primal method's release rule (10) asks. `H x` within the envelope.
-    let mut hx = SVector::<T, N>::zeros();
-    for i in 0..N {
-        hx[i] += h(i, i) * x[i];
-        for j in first[i]..i {
-            let hij = h(i, j);
-            hx[i] += hij * x[j];
-            hx[j] += hij * x[i];
-        }
-    }
-    let grad = hx + p.f;
-    let tol = tiny * (T::one() + grad.amax());
-    let mut z_general = SVector::<T, C>::zeros();
-    let mut z_bounds = SVector::<T, N>::zeros();
-    let mut y_eq = SVector::<T, E>::zeros();
-    for t in 0..m {
-        let id = ids[t];
-        if id < E {
-            y_eq[id] = lambda[t];
-            continue;
-        }
-        let (side, lo, hi, norm) = if id < E + C {
-            let g = id - E;
-            (warm.general[g], p.lo[g], p.hi[g], p.g.row(g).norm())
-        } else {
-            let k = id - E - C;
-            (warm.bounds[k], p.lb[k], p.ub[k], T::one())
+            next
         };
-        let mag = if id < E + C {
-            let g = p.g.row(id - E);
-            (0..N).fold(T::zero(), |s, c| s + (g[c] * x[c]).abs())
-        } else {
-            x[id - E - C].abs()
+    // (11) on a working set: the optimum, or the next working set to try (`Err(None)`: none).
+    let attempt =
+        |working: &ActiveSet<N, C>| -> Result<Solution<T, N, E, C>, Option<ActiveSet<N, C>>> {
+            // The working set: its rows as the columns of Cᵀ, their targets, and what each is.
+            let mut ct = SMatrix::<T, N, N>::zeros();
+            let mut r = SVector::<T, N>::zeros();
+            let mut ids = [0usize; N];
+            let mut m = 0;
+            let mut push = |row: &[T], target: T, id: usize, m: &mut usize| -> Option<()> {
+                if *m >= N || !target.is_finite() || target.abs() >= limit {
+                    return None;
+                }
+                for (c, v) in row.iter().enumerate() {
+                    ct[(c, *m)] = *v;
+                }
+                r[*m] = target;
+                ids[*m] = id;
+                *m += 1;
+                Some(())
+            };
+            let mut row = [T::zero(); N];
+            for e in 0..E {
+                for (c, v) in row.iter_mut().enumerate() {
+                    *v = p.a_eq[(e, c)];
+                }
+                push(&row, p.b_eq[e], e, &mut m).ok_or(None)?;
+            }
+            for g in 0..C {
+                let target = match working.general[g] {
+                    Side::Inactive => continue,
+                    Side::Lower => p.lo[g],
+                    Side::Upper => p.hi[g],
+                };
+                for (c, v) in row.iter_mut().enumerate() {
+                    *v = p.g[(g, c)];
+                }
+                push(&row, target, E + g, &mut m).ok_or(None)?;
+            }
+            for k in 0..N {
+                let target = match working.bounds[k] {
+                    Side::Inactive => continue,
+                    Side::Lower => p.lb[k],
+                    Side::Upper => p.ub[k],
+                };
+                row = [T::zero(); N];
+                row[k] = T::one();
+                push(&row, target, E + C + k, &mut m).ok_or(None)?;
+            }
+            // Y = L⁻¹ Cᵀ in place of Cᵀ, column by column within the envelope, each column's
+            // nonzeros within `span[j]` (rows `span.0..span.1`): a row of one arm's joints stays
+            // within that arm's block of `L`, and the work below skips what is zero.
+            let mut span = [(0usize, 0usize); N];
+            for (j, sp) in span.iter_mut().enumerate().take(m) {
+                let start = (0..N).find(|&i| ct[(i, j)] != T::zero()).unwrap_or(N);
+                let mut end = start;
+                for i in start..N {
+                    if first[i] >= end && ct[(i, j)] == T::zero() {
+                        continue;
+                    }
+                    let mut v = ct[(i, j)];
+                    for k in first[i].max(start)..i {
+                        v -= l[(i, k)] * ct[(k, j)];
+                    }
+                    ct[(i, j)] = v * inv[i];
+                    end = i + 1;
+                }
+                *sp = (start, end);
+            }
+            let norm_in = |ct: &SMatrix<T, N, N>, j: usize, (a, b): (usize, usize)| {
+                (a..b)
+                    .fold(T::zero(), |s, c| s + ct[(c, j)] * ct[(c, j)])
+                    .sqrt()
+            };
+            let w = forward(&p.f);
+            let mut lambda = SVector::<T, N>::zeros();
+            let mut v = -w;
+            if m > 0 {
+                // Y = Q R by Gram–Schmidt with reorthogonalisation (twice is enough), Q in place of
+                // Y; columns whose spans do not meet are orthogonal already.
+                let mut rr = SMatrix::<T, N, N>::zeros();
+                for j in 0..m {
+                    let before = norm_in(&ct, j, span[j]);
+                    for pass in 0..2 {
+                        for i in 0..j {
+                            let (a, b) = (span[i].0.max(span[j].0), span[i].1.min(span[j].1));
+                            if a >= b {
+                                continue;
+                            }
+                            let rij = (a..b).fold(T::zero(), |s, c| s + ct[(c, i)] * ct[(c, j)]);
+                            for c in span[i].0..span[i].1 {
+                                let qi = ct[(c, i)];
+                                ct[(c, j)] -= qi * rij;
+                            }
+                            span[j] = (span[j].0.min(span[i].0), span[j].1.max(span[i].1));
+                            rr[(i, j)] += rij;
+                        }
+                        // A second pass only where the first cancelled much of the column (Kahan).
+                        if pass == 0 && norm_in(&ct, j, span[j]) >= half * before {
+                            break;
+                        }
+                    }
+                    let norm = norm_in(&ct, j, span[j]);
+                    rr[(j, j)] = norm;
+                    if norm > T::zero() {
+                        let scale = T::one() / norm;
+                        for c in span[j].0..span[j].1 {
+                            ct[(c, j)] *= scale;
+                        }
+                    }
+                }
+                let big_r = (0..m).fold(T::zero(), |a, i| a.max(rr[(i, i)].abs()));
+                if (0..m).any(|i| rr[(i, i)].abs() <= tiny * big_r || !rr[(i, i)].is_finite()) {
+                    return Err(None);
+                }
+                // Rᵀ z = r + Yᵀ w = r + Rᵀ Qᵀ w, then R λ = z (the leading m × m triangle); Y λ = Q z.
+                let mut qw = SVector::<T, N>::zeros();
+                for i in 0..m {
+                    qw[i] = (span[i].0..span[i].1).fold(T::zero(), |s, c| s + ct[(c, i)] * w[c]);
+                }
+                let mut z = SVector::<T, N>::zeros();
+                for i in 0..m {
+                    let mut rhs = r[i];
+                    for j in 0..=i {
+                        rhs += rr[(j, i)] * qw[j];
+                    }
+                    for j in 0..i {
+                        rhs -= rr[(j, i)] * z[j];
+                    }
+                    z[i] = rhs / rr[(i, i)];
+                }
+                for i in (0..m).rev() {
+                    let mut t = z[i];
+                    for j in i + 1..m {
+                        t -= rr[(i, j)] * lambda[j];
+                    }
+                    lambda[i] = t / rr[(i, i)];
+                }
+                for j in 0..m {
+                    for c in span[j].0..span[j].1 {
+                        v[c] += ct[(c, j)] * z[j];
+                    }
+                }
+            }
+            let x = backward(&v);
+            if !(all_finite(x.as_slice()) & all_finite(lambda.as_slice())) {
+                return Err(None);
+            }
+            // Primal feasibility: the equalities and every inequality within the solver's tolerances.
+            let feas = feasibility::<T, N>();
+            let mut equality_residual = T::zero();
+            for e in 0..E {
+                let a = p.a_eq.row(e);
+                let mag = (0..N).fold(T::zero(), |s, c| s + (a[c] * x[c]).abs());
+                let res = ((a * x)[0] - p.b_eq[e]).abs();
+                if res > row_tolerance(feas, p.b_eq[e], p.b_eq[e], mag) {
+                    return Err(None);
+                }
+                equality_residual = equality_residual.max(res);
+            }
+            if !p.meets_inequalities(&x) {
+                return Err(Some(corrected(working, &x, None)));
+            }
+            // Dual feasibility: every inequality multiplier of its side's sign (scaled by `‖aᵢ‖`), as
+            // the primal method's release rule (10) asks. `H x` within the envelope.
+            let mut hx = SVector::<T, N>::zeros();
+            for i in 0..N {
+                hx[i] += h(i, i) * x[i];
+                for j in first[i]..i {
+                    let hij = h(i, j);
+                    hx[i] += hij * x[j];
+                    hx[j] += hij * x[i];
+                }
+            }
+            let grad = hx + p.f;
+            let tol = tiny * (T::one() + grad.amax());
+            let mut z_general = SVector::<T, C>::zeros();
+            let mut z_bounds = SVector::<T, N>::zeros();
+            let mut y_eq = SVector::<T, E>::zeros();
+            let mut wrong_sign = [T::zero(); N];
+            for t in 0..m {
+                let id = ids[t];
+                if id < E {
+                    y_eq[id] = lambda[t];
+                    continue;
+                }
+                let (side, lo, hi, norm) = if id < E + C {
+                    let g = id - E;
+                    (working.general[g], p.lo[g], p.hi[g], p.g.row(g).norm())
+                } else {
+                    let k = id - E - C;
+                    (working.bounds[k], p.lb[k], p.ub[k], T::one())
+                };
+                let mag = if id < E + C {
+                    let g = p.g.row(id - E);
+                    (0..N).fold(T::zero(), |s, c| s + (g[c] * x[c]).abs())
+                } else {
+                    x[id - E - C].abs()
+                };
+                let fixed = hi - lo <= row_tolerance(feas, lo, hi, mag);
+                let v = lambda[t] * norm;
+                let wrong = if side == Side::Upper { v } else { -v };
+                if !fixed && wrong > tol {
+                    wrong_sign[t] = wrong;
+                    continue;
+                }
+                if id < E + C {
+                    z_general[id - E] = lambda[t];
+                } else {
+                    z_bounds[id - E - C] = lambda[t];
+                }
+            }
+            if wrong_sign.iter().any(|w| *w > T::zero()) {
+                return Err(Some(corrected(working, &x, Some((&ids, &wrong_sign)))));
+            }
+            let objective = x.dot(&hx) * half + p.f.dot(&x);
+            let gx = p.g * x;
+            let mut violation = T::zero();
+            for g in 0..C {
+                violation += (p.lo[g] - gx[g]).max(T::zero()) + (gx[g] - p.hi[g]).max(T::zero());
+            }
+            for k in 0..N {
+                violation += (p.lb[k] - x[k]).max(T::zero()) + (x[k] - p.ub[k]).max(T::zero());
+            }
+            Ok(Solution {
+                x,
+                status: Status::Optimal,
+                iterations: 0,
+                active: *working,
+                objective,
+                y_eq,
+                z_general,
+                z_bounds,
+                equality_residual,
+                violation,
+            })
         };
-        let fixed = hi - lo <= row_tolerance(feas, lo, hi, mag);
-        let v = lambda[t] * norm;
-        let wrong = if side == Side::Upper { v } else { -v };
-        if !fixed && wrong > tol {
-            return None;
+    let mut working = *warm;
+    for exchange in 0..RANGE_SPACE_EXCHANGES + 1 {
+        match attempt(&working) {
+            Ok(mut solution) => {
+                solution.iterations = exchange;
+                return Some(solution);
+            }
+            Err(Some(next)) if next != working => working = next,
+            Err(_) => return None,
         }
-        if id < E + C {
-            z_general[id - E] = lambda[t];
-        } else {
-            z_bounds[id - E - C] = lambda[t];
-        }
     }
-    let objective = x.dot(&hx) * half + p.f.dot(&x);
-    let gx = p.g * x;
-    let mut violation = T::zero();
-    for g in 0..C {
-        violation += (p.lo[g] - gx[g]).max(T::zero()) + (gx[g] - p.hi[g]).max(T::zero());
-    }
-    for k in 0..N {
-        violation += (p.lb[k] - x[k]).max(T::zero()) + (x[k] - p.ub[k]).max(T::zero());
-    }
-    Some(Solution {
-        x,
-        status: Status::Optimal,
-        iterations: 0,
-        active: *warm,
-        objective,
-        y_eq,
-        z_general,
-        z_bounds,
-        equality_residual,
-        violation,
-    })
+    None
 }
+
+/// How many times [`solve_range_space`] exchanges rows of its working set before it leaves the
+/// problem to [`solve`]: a warm start one or two steps of the primal–dual active-set method from
+/// the optimum's working set (a coupling coming in, a joint leaving its bound) is answered in the
+/// range space; one that cycles or wanders is not.
+pub const RANGE_SPACE_EXCHANGES: usize = 4;
 
 /// [`solve`]'s work.
 fn solve_from<T: RealField + Copy, const N: usize, const E: usize, const C: usize>(
@@ -703,16 +822,7 @@ fn solve_from<T: RealField + Copy, const N: usize, const E: usize, const C: usiz
         violation: T::zero(),
     };
     let p = problem;
-    let finite = p.h.iter().all(|v| v.is_finite())
-        && p.f.iter().all(|v| v.is_finite())
-        && p.a_eq.iter().all(|v| v.is_finite())
-        && p.b_eq.iter().all(|v| v.is_finite())
-        && p.g.iter().all(|v| v.is_finite())
-        && p.lo.iter().all(|v| v.is_finite())
-        && p.hi.iter().all(|v| v.is_finite())
-        && p.lb.iter().all(|v| v.is_finite())
-        && p.ub.iter().all(|v| v.is_finite());
-    if !finite {
+    if !p.is_finite() {
         return out;
     }
     if p.lo.iter().zip(p.hi.iter()).any(|(l, u)| l > u)

@@ -7,7 +7,10 @@
 mod qp_common;
 
 use qp_common::{perturb, random_problem, rng, uniform, Shape};
-use trocar::qp::{solve_definite, solve_range_space, ActiveSet, Problem, Settings, Side, Status};
+use trocar::qp::{
+    solve_definite, solve_range_space, ActiveSet, Problem, Settings, Side, Status,
+    RANGE_SPACE_EXCHANGES,
+};
 
 /// A sequence of problems moving a little each step, each warm-started from the last solve:
 /// `(steps answered by the range space, steps)`.
@@ -90,6 +93,54 @@ fn the_range_space_gives_the_primal_optimum() {
     assert!(answered * 2 > steps, "{answered} of {steps}");
 }
 
+/// A warm start one row short of the optimum's working set (an active row left out, as when a
+/// coupling comes in): the minimiser breaks that row, and the range space takes it in and
+/// answers with the optimum, saying how many exchanges it took; where it declines,
+/// `solve_definite` still gives the optimum.
+#[test]
+fn the_range_space_exchanges_rows_toward_the_optimum() {
+    let settings = Settings::default();
+    let (mut answered, mut tried) = (0, 0);
+    for seed in 0..300u64 {
+        let mut r = rng(500 + seed);
+        let shape = Shape {
+            kappa: [1e-3, 0.05, 0.5][seed as usize % 3],
+            j_rows: 6,
+            task: 3.0,
+            feasible_eq: true,
+            b_scale: 0.0,
+        };
+        let p: Problem<f64, 21, 6, 6> = random_problem(&mut r, &shape);
+        let optimum = p.solve(&ActiveSet::EMPTY, &settings);
+        if optimum.status != Status::Optimal {
+            continue;
+        }
+        let mut short = optimum.active;
+        if let Some(g) = (0..6).find(|&g| short.general[g] != Side::Inactive) {
+            short.general[g] = Side::Inactive;
+        } else if let Some(k) = (0..21).find(|&k| short.bounds[k] != Side::Inactive) {
+            short.bounds[k] = Side::Inactive;
+        } else {
+            continue;
+        }
+        tried += 1;
+        if let Some(s) = solve_range_space(&p, &short) {
+            answered += 1;
+            assert!(s.iterations >= 1 && s.iterations <= RANGE_SPACE_EXCHANGES);
+            assert_eq!(s.active, optimum.active, "seed {seed}");
+            assert!(
+                (s.x - optimum.x).amax() <= 1e-9 * (1.0 + optimum.x.amax()),
+                "seed {seed}"
+            );
+        }
+        let fast = solve_definite(&p, &short, &settings);
+        assert!((fast.x - optimum.x).amax() <= 1e-9 * (1.0 + optimum.x.amax()));
+    }
+    println!("the range space answered {answered} of {tried} warm starts one row short");
+    assert!(tried >= 50, "only {tried} problems with active rows");
+    assert!(answered * 2 > tried, "{answered} of {tried}");
+}
+
 #[test]
 fn the_range_space_declines_what_it_cannot_answer() {
     let mut r = rng(7);
@@ -106,7 +157,8 @@ fn the_range_space_declines_what_it_cannot_answer() {
     assert_eq!(optimum.status, Status::Optimal);
     assert!(solve_range_space(&p, &optimum.active).is_some());
     // A bound held that the optimum leaves: its multiplier has the wrong sign, or the point
-    // breaks another row.
+    // breaks another row. The range space exchanges rows toward the optimum's working set and
+    // answers with the optimum, or declines; `solve_definite` gives the optimum either way.
     let free = (0..7)
         .find(|&k| optimum.active.bounds[k] == Side::Inactive)
         .expect("a free variable");
@@ -116,11 +168,14 @@ fn the_range_space_declines_what_it_cannot_answer() {
     } else {
         Side::Upper
     };
-    assert!(solve_range_space(&p, &wrong).is_none());
-    assert_eq!(
-        solve_definite(&p, &wrong, &settings).x,
-        p.solve(&wrong, &settings).x
-    );
+    if let Some(s) = solve_range_space(&p, &wrong) {
+        assert!(s.iterations >= 1, "the wrong working set was exchanged");
+        assert_eq!(s.active, optimum.active);
+        assert!((s.x - optimum.x).amax() <= 1e-9 * (1.0 + optimum.x.amax()));
+    }
+    let fast = solve_definite(&p, &wrong, &settings);
+    assert_eq!(fast.status, Status::Optimal);
+    assert!((fast.x - optimum.x).amax() <= 1e-9 * (1.0 + optimum.x.amax()));
     // A singular H (no damping, fewer task rows than joints).
     let singular: Problem<f64, 7, 2, 1> = random_problem(
         &mut r,

@@ -696,6 +696,23 @@ pub fn braking_speed<T: RealField + Copy>(d: T, a: T, dt: T) -> T {
     (distance + travel(n)) / (n + T::one())
 }
 
+/// Whether `v ≤ b(d)` ([`braking_speed`]) surely, without computing `b`: `v ≤ 0`, or `v` within
+/// the integral bound of the sum of (B5), `dt S(v) ≤ dt (v + v²/(2u)) ≤ d` (each term
+/// `max(0, v − k u)` past the first is at most the integral of `v − x u` over the step before
+/// it), with a margin of `256 ε` of `d` for the rounding of both sides. A rate the box already
+/// keeps below this is not bounded by (B3) on that side, so the box is the same bit for bit
+/// without its square root and divisions (the usual case: a joint far from its range).
+fn below_braking_speed<T: RealField + Copy>(v: T, d: T, a: T, dt: T) -> bool {
+    if v <= T::zero() {
+        return true;
+    }
+    let u = a.abs() * dt;
+    let two: T = nalgebra::convert(2.0);
+    let margin = T::one() - T::default_epsilon() * nalgebra::convert::<f64, T>(256.0);
+    // (2 u v + v²) dt ≤ 2 u d (1 − margin), false for any NaN.
+    u > T::zero() && (two * u * v + v * v) * dt <= two * u * d * margin
+}
+
 /// `[lo, hi] ∩ [lo2, hi2]` where it is not empty; else the point of `[lo, hi]` nearest to
 /// `[lo2, hi2]` and `true` (the second set gave way) when the gap is beyond the rounding of the
 /// bounds, `64 ε (1 + |ends|)`, plus `rounding` (that of the positions the bounds come from).
@@ -908,13 +925,17 @@ fn bounds<T: RealField + Copy, const N: usize>(
                     RateRelaxation::Acceleration,
                 );
             }
-            // (B3), (B5).
-            let up = if limits.upper[k].is_finite() {
+            // (B3), (B5); a side the box is surely within leaves it as it is.
+            let up = if limits.upper[k].is_finite()
+                && !below_braking_speed(hi, limits.upper[k] - q[k], a, dt)
+            {
                 braking_speed(limits.upper[k] - q[k], a, dt)
             } else {
                 inf
             };
-            let down = if limits.lower[k].is_finite() {
+            let down = if limits.lower[k].is_finite()
+                && !below_braking_speed(-lo, q[k] - limits.lower[k], a, dt)
+            {
                 -braking_speed(q[k] - limits.lower[k], a, dt)
             } else {
                 -inf
@@ -1206,6 +1227,43 @@ pub(super) fn task_body_jacobian<
 mod tests {
     use super::*;
     use nalgebra::{SMatrix, SVector};
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 20_000, failure_persistence: None, ..ProptestConfig::default() })]
+
+        /// The shortcut of the braking bound never claims a rate below `b(d)` that is not, in
+        /// f64 and f32, from the far side of the range to the last step of braking.
+        #[test]
+        fn a_rate_surely_below_the_braking_speed_is_below_it(
+            d in prop_oneof![0.0..1e-5f64, 0.0..1e-2f64, 0.0..6.0f64],
+            a in 0.1..50.0f64,
+            dt in prop_oneof![Just(1e-3f64), Just(2e-3f64), 1e-4..1e-1f64],
+            fraction in 0.0..1.2f64,
+        ) {
+            let b = braking_speed(d, a, dt);
+            let v = b * fraction;
+            if below_braking_speed(v, d, a, dt) {
+                prop_assert!(v <= b, "v {v} b {b}");
+            }
+            let (b32, v32) = (braking_speed(d as f32, a as f32, dt as f32), (b * fraction) as f32);
+            if below_braking_speed(v32, d as f32, a as f32, dt as f32) {
+                prop_assert!(v32 <= b32, "v {v32} b {b32}");
+            }
+        }
+    }
+
+    /// Far from the range the shortcut holds (it is what spares the square root), and near
+    /// the braking speed it does not.
+    #[test]
+    fn the_braking_shortcut_is_taken_far_from_the_range_only() {
+        let (a, dt) = (10.0, 1e-3);
+        assert!(below_braking_speed(1.0, 1.0, a, dt));
+        let b = braking_speed(1e-3, a, dt);
+        assert!(!below_braking_speed(b, 1e-3, a, dt));
+        assert!(!below_braking_speed(f64::NAN, 1.0, a, dt));
+        assert!(!below_braking_speed(1.0, f64::NAN, a, dt));
+    }
 
     /// A problem of the step's shape (7 rates, 2 trocar rows, the depth row) whose optimum
     /// holds some bounds: `H = JᵀJ + κ²I` from a fixed 4 × 7 `J`, and a linear term that pulls

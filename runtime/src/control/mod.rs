@@ -595,6 +595,7 @@ pub struct Controller<
     qp_active: crate::qp::ActiveSet<N, 1>,
     qp_previous: Option<hard_limits::Previous<T, N, I, R>>,
     previous: PreviousCommand<T, N>,
+    last_box: Option<RateBox<T, N>>,
 }
 
 /// `A = Λ J^B_0i`, the constrained directions of the link's twist as functions of `θ̇_{1..i}`,
@@ -842,6 +843,7 @@ impl<
             qp_active: crate::qp::ActiveSet::EMPTY,
             qp_previous: None,
             previous: PreviousCommand::rest(),
+            last_box: None,
         }
     }
 
@@ -881,6 +883,7 @@ impl<
         self.qp_active = crate::qp::ActiveSet::EMPTY;
         self.qp_previous = None;
         self.previous = PreviousCommand::rest();
+        self.last_box = None;
     }
 
     /// Starts from a known motion: the previous command was `rates` (`θ̇⁻`) with the acceleration
@@ -894,6 +897,15 @@ impl<
             rates,
             acceleration,
         };
+        self.last_box = None;
+    }
+
+    /// The rate box ([`rate_box`]) the last step's rates were kept within, from the command
+    /// before it: what a caller building on the step (a scene's QP, [`scene`]) bounds the same
+    /// joints by without computing it again. `None` before the first step and after
+    /// [`Controller::reset`] or [`Controller::set_previous_rates`].
+    pub fn last_rate_box(&self) -> Option<&RateBox<T, N>> {
+        self.last_box.as_ref()
     }
 
     /// The previous command: the rates of the last step and their acceleration
@@ -1111,6 +1123,7 @@ impl<
         }
         // The joint limits: speed, range over the sample time, acceleration, braking, jerk.
         let rates = hard_limits::rate_box(q, dt, &self.limits, c.max_joint_speed, &self.previous);
+        self.last_box = Some(rates);
         let mut relaxed_rates = rates.relaxed;
         let mut status = StepStatus::Held;
         if !within(&qd, &rates.lower, &rates.upper) {
@@ -1226,6 +1239,7 @@ impl<
             self.config.max_joint_speed,
             &self.previous,
         );
+        self.last_box = Some(rates);
         // (Q7): the trocar rows over the whole sample time, to second order.
         let point = shaft.origin + shaft.direction * l_a;
         let r_0r = s.g_0i.rotation * shaft.rotation;

@@ -413,14 +413,17 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
                 }
                 problem.b_eq[k * R + r] = b;
             }
-            // (S3), and (S1)'s linear term.
-            let rates = rate_box(
-                &q[k],
-                dt,
-                &arms[k].limits,
-                arms[k].config.max_joint_speed,
-                &before,
-            );
+            // (S3), and (S1)'s linear term: the box the arm's own step kept its rates within.
+            let rates = match arms[k].last_rate_box() {
+                Some(b) => *b,
+                None => rate_box(
+                    &q[k],
+                    dt,
+                    &arms[k].limits,
+                    arms[k].config.max_joint_speed,
+                    &before,
+                ),
+            };
             for c in 0..N {
                 let x = out.qd[c];
                 problem.lb[k * N + c] = rates.lower[c].min(x).max(-big);
@@ -504,13 +507,7 @@ impl<T: RealField + Copy, const P: usize, const NS: usize, const C: usize> Scene
             problem.a_eq[(row, joint.arms.1 * N + joint.joints.1)] = -T::one();
             rows_in = true;
         }
-        if !(problem
-            .a_eq
-            .iter()
-            .chain(problem.g.iter())
-            .chain(problem.f.iter()))
-        .all(|v| v.is_finite())
-        {
+        if !problem.is_finite() {
             return Err(SceneError::NonFinite);
         }
         let outputs = outputs.map(|o| o.expect("every arm stepped"));
