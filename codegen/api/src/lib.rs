@@ -31,6 +31,7 @@ mod controller;
 mod error;
 mod evaluation;
 pub mod plant;
+pub mod port;
 mod robot;
 pub mod scene;
 pub mod simulate;
@@ -42,6 +43,7 @@ pub use controller::{
 };
 pub use error::{Error, Result};
 pub use evaluation::Evaluation;
+pub use port::{register_port, shaft_line, JointRows};
 pub use robot::{urdf_jacobian, Evaluator, FusedEvaluator, Robot, MAX_SAMPLES, TWIST};
 pub use scene::{generate_scene, load_scene, SceneStep, SceneStepper};
 pub use simulate::{simulate, RcmOptions, SimulationRun, SpeedLimit};
@@ -51,6 +53,7 @@ pub use trajectory::{
     MAX_TRAJECTORY_STEPS, START_TOLERANCE,
 };
 pub use trocar::control::{RateRelaxation, StepStatus};
+pub use trocar::port::PortEstimate;
 pub use trocar_codegen::{ModuleOptions, Real};
 pub use trocar_model::catalogue::{Function, Fused};
 pub use trocar_model::description::SimulationDesc;

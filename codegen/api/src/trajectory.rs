@@ -64,32 +64,50 @@ pub struct Trajectory {
     pub header_line: usize,
 }
 
+/// The lines of CSV text that hold something, with their 1-based line numbers: a byte-order
+/// mark before the first (as some spreadsheets write UTF-8) skipped, blank lines and `#`
+/// comments left out.
+pub(crate) fn csv_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
+    text.strip_prefix('\u{feff}')
+        .unwrap_or(text)
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'))
+        .map(|(i, l)| (i + 1, l))
+}
+
+/// A user's text file read whole, at most `limit` bytes: errors name the file and `what` it
+/// was read as (`cannot read the trajectory: …`, too large, not UTF-8 with the first bad byte).
+/// At most one byte more than the limit is read, whatever the file is (a device or a pipe
+/// reports no size): one more says it is too large.
+pub(crate) fn read_text(path: &Path, what: &str, limit: u64) -> Result<String> {
+    use std::io::Read;
+    let shown = path.display();
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)
+        .and_then(|f| f.take(limit + 1).read_to_end(&mut bytes))
+        .map_err(|e| Error::Input(format!("{shown}: cannot read {what}: {e}")))?;
+    if bytes.len() as u64 > limit {
+        return Err(Error::Input(format!(
+            "{shown}: {what} is larger than the {limit} bytes ({} MiB) read",
+            limit >> 20
+        )));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        Error::Input(format!(
+            "{shown}: cannot read {what}: not UTF-8 text (byte {})",
+            e.utf8_error().valid_up_to() + 1
+        ))
+    })
+}
+
 impl Trajectory {
     /// Reads a trajectory CSV. Errors name the file, the row (1-based, the header is row 1) and
     /// the column: missing columns, a value that is not a finite number, times that do not
     /// increase, fewer than two rows, a quaternion that is not of unit length.
     pub fn from_csv(path: &Path) -> Result<Self> {
-        use std::io::Read;
         let shown = path.display();
-        let cannot =
-            |e: std::io::Error| Error::Input(format!("{shown}: cannot read the trajectory: {e}"));
-        // At most one byte more than the limit is read, whatever the file is (a device or a
-        // pipe reports no size): one more says it is too large.
-        let mut bytes = Vec::new();
-        std::fs::File::open(path)
-            .and_then(|f| f.take(MAX_TRAJECTORY_BYTES + 1).read_to_end(&mut bytes))
-            .map_err(cannot)?;
-        if bytes.len() as u64 > MAX_TRAJECTORY_BYTES {
-            return Err(Error::Input(format!(
-                "{shown}: the trajectory is larger than the {MAX_TRAJECTORY_BYTES} bytes (64 MiB) read"
-            )));
-        }
-        let text = String::from_utf8(bytes).map_err(|e| {
-            Error::Input(format!(
-                "{shown}: cannot read the trajectory: not UTF-8 text (byte {})",
-                e.utf8_error().valid_up_to() + 1
-            ))
-        })?;
+        let text = read_text(path, "the trajectory", MAX_TRAJECTORY_BYTES)?;
         let mut t = Self::parse(&text, &shown.to_string())?;
         t.source = Some(path.to_path_buf());
         Ok(t)
@@ -99,17 +117,12 @@ impl Trajectory {
     /// spreadsheets write UTF-8) is skipped. Text whose header has no column `t` is not quoted in
     /// the error (it may be any file): the message says how many fields the line has.
     pub fn parse(text: &str, name: &str) -> Result<Self> {
-        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-        let mut lines = text
-            .lines()
-            .enumerate()
-            .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
-        let Some((header_index, header)) = lines.next() else {
+        let mut lines = csv_lines(text);
+        let Some((header_line, header)) = lines.next() else {
             return Err(Error::Input(format!(
                 "{name}: empty trajectory (a header `t,x,y,z` and at least two rows)"
             )));
         };
-        let header_line = header_index + 1;
         let columns: Vec<String> = header.split(',').map(|c| c.trim().to_string()).collect();
         let find = |c: &str| columns.iter().position(|x| x == c);
         if find("t").is_none() {
@@ -168,8 +181,7 @@ impl Trajectory {
                 (None, None) => Orientation::None,
             },
         };
-        for (line, row) in lines {
-            let row_no = line + 1;
+        for (row_no, row) in lines {
             let cells: Vec<&str> = row.split(',').map(str::trim).collect();
             let value = |k: usize| -> Result<f64> {
                 let c = &columns[k];

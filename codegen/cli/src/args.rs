@@ -194,6 +194,32 @@ pub enum Command {
         )]
         snapshot_times: Option<Vec<f64>>,
     },
+    /// Locate the port from measured joint positions of the instrument pivoting about it: the
+    /// point nearest to the shaft's lines (least squares), with its deviation.
+    RegisterPort {
+        /// Robot description with a constraint (TOML file or shipped name).
+        robot: String,
+        /// CSV of joint positions, one pose per row, columns `q1..qn` (other columns, such as
+        /// a `trocar simulate` CSV's, are skipped).
+        #[arg(long, value_name = "F.csv")]
+        joints: PathBuf,
+        /// The least spread of the shaft's directions (degrees, root mean square of their
+        /// angles from their common direction) taken to place the port along the shaft.
+        #[arg(
+            long,
+            default_value_t = 2.0,
+            value_name = "DEG",
+            allow_hyphen_values = true
+        )]
+        least_spread: f64,
+        /// Weigh each pose `1/λ` times the one before (λ in (0, 1]), for a port that moved.
+        #[arg(long, value_name = "LAMBDA", allow_hyphen_values = true)]
+        forgetting: Option<f64>,
+        /// Print JSON: `port`, `covariance` (rows, m²), `deviation` (m), `residual` (m),
+        /// `spread_deg`, `lines`.
+        #[arg(long)]
+        json: bool,
+    },
     /// Print a shipped description (TOML).
     Preset {
         /// Name of the preset.

@@ -7,6 +7,7 @@
 //! trocar jacobian --urdf FILE.urdf --tip LINK --q ... [--frame body|spatial] [--json]
 //! trocar simulate SCENARIO [--method pinv|dls|fi|all] [--drift-correction on|off] [--csv OUT.csv] [--plot OUT.svg] [--animate OUT.gif] [--snapshot OUT.png]
 //! trocar simulate ROBOT.toml [--trajectory PATH.csv] [--q0 ...] [--trocar x,y,z] [--csv ...] [--plot ...] [--animate ...] [--snapshot ...]
+//! trocar register-port ROBOT.toml --joints F.csv [--least-spread DEG] [--forgetting LAMBDA] [--json]
 //! trocar preset unidirectional|bidirectional-zy|bidirectional-zx
 //! trocar list
 //! ```
@@ -154,6 +155,13 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
                 )
             }
         }
+        Command::RegisterPort {
+            robot,
+            joints,
+            least_spread,
+            forgetting,
+            json,
+        } => commands::register_port::run(&robot, &joints, least_spread, forgetting, json),
         Command::Preset { name } => commands::preset::run(&name),
         Command::List => commands::list::run(),
     }

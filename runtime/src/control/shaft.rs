@@ -57,6 +57,16 @@ impl<T: RealField + Copy> Shaft<T> {
         rel.dot(&d) / self.direction.norm_squared()
     }
 
+    /// The shaft's line in the base frame with the link at `g_0i`: through `p_0i + R_0i o` along
+    /// `R_0i d` (normalised), the line the port lies on ([`crate::port`]). `None` where `d = 0`
+    /// or a number is not finite.
+    pub fn line(&self, g_0i: &Se3<T>) -> Option<crate::port::Line<T>> {
+        crate::port::Line::new(
+            g_0i.transform_point(&self.origin),
+            g_0i.rotation * self.direction,
+        )
+    }
+
     /// The pose `g_0r = g_0i g_ir(l_a)` of the constraint frame in the base.
     pub fn constraint_pose(&self, g_0i: &Se3<T>, l_a: T) -> Se3<T> {
         g_0i.compose(&self.frame(l_a))

@@ -6,5 +6,6 @@ pub(crate) mod generate;
 pub(crate) mod jacobian;
 pub(crate) mod list;
 pub(crate) mod preset;
+pub(crate) mod register_port;
 pub(crate) mod simulate;
 pub(crate) mod verify;
