@@ -273,3 +273,137 @@ impl<T: RealField + Copy> PortRegistration<T> {
         Ok(estimate)
     }
 }
+
+impl<T: RealField + Copy> Line<T> {
+    /// The offset of the line from `p`: from `p` to the line's point nearest to it,
+    /// `(I − d dᵀ)(a − p)`, across the line.
+    pub fn offset_from(&self, p: &Vector3<T>) -> Vector3<T> {
+        let v = self.point - p;
+        v - self.direction * self.direction.dot(&v)
+    }
+}
+
+/// The body wall at the port, acting on the shaft where it crosses the port: a spring-damper
+/// across the shaft, `F = −k e − c ė`, with `e` the offset of the shaft's line from the port
+/// ([`Line::offset_from`]) and `ė` its rate. The physics plant's lateral model of the wall, for
+/// the kinematic simulation (the plant adds friction along the shaft, which this leaves out).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Wall<T: RealField + Copy> {
+    /// The lateral stiffness `k` (N/m): 4000 N/m for a shaft in 3 cm of insufflated abdominal
+    /// wall (Young's modulus 42.5 kPa, `k ≈ π E h`).
+    pub stiffness: T,
+    /// The damping `c` (N s/m): `k τ` with a relaxation time of 10 ms, 40 N s/m.
+    pub damping: T,
+}
+
+impl<T: RealField + Copy> Wall<T> {
+    /// The wall of the physics plant's defaults: 4000 N/m, 40 N s/m.
+    pub fn abdominal() -> Self {
+        Wall {
+            stiffness: nalgebra::convert(4000.0),
+            damping: nalgebra::convert(40.0),
+        }
+    }
+
+    /// The wall's force on the shaft (N, base frame) for the offset `e` of the shaft from the
+    /// port and its rate `ė`: `−k e − c ė`.
+    pub fn force(&self, offset: &Vector3<T>, offset_rate: &Vector3<T>) -> Vector3<T> {
+        -(offset * self.stiffness + offset_rate * self.damping)
+    }
+}
+
+/// A port that moves, followed from the wall's force on the shaft: an admittance law that moves
+/// the estimate (where the controller holds the shaft) toward where the wall pushes it,
+///
+/// ```text
+/// ṗ̂ = C (I − d dᵀ) F + α d,   ‖ṗ̂‖ ≤ v_max                                    (R2)
+/// ```
+///
+/// with `F` the wall's force on the shaft (a wrist force/torque sensor's, or the plant's), `d`
+/// the shaft's direction and `C` the compliance (m/(N s)): at rest the force across the shaft
+/// is zero, the estimate on the port's line. The force says nothing of the port's place along
+/// the shaft; where the wall's normal `n` is known (breathing moves the wall along it), `α`
+/// takes, of the motions that explain the force, the one that moves least across `n`:
+/// `α = −((I − n nᵀ) d)·((I − n nᵀ) C F⊥) / ‖(I − n nᵀ) d‖²`, so a port moving along `n` is
+/// followed along the shaft too. `C = 1/(k τ)` for a wall of stiffness `k` follows with the time
+/// constant `τ`. The estimate's rate `ṗ̂` is the trocar's velocity the controller feeds forward
+/// ((3.33)–(3.34)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PortFollower<T: RealField + Copy> {
+    /// The port's estimate (base frame).
+    pub estimate: Vector3<T>,
+    /// Its rate at the last update (m/s).
+    pub rate: Vector3<T>,
+    compliance: T,
+    max_rate: T,
+    normal: Option<Vector3<T>>,
+}
+
+impl<T: RealField + Copy> PortFollower<T> {
+    /// Starts at `estimate` with the compliance `C` (m/(N s), ≥ 0) and the largest rate `v_max`
+    /// (m/s, > 0); [`PortError::Invalid`] otherwise.
+    pub fn new(estimate: Vector3<T>, compliance: T, max_rate: T) -> Result<Self, PortError> {
+        let finite = estimate.iter().all(|v| v.is_finite());
+        if !finite
+            || !compliance.is_finite()
+            || compliance < T::zero()
+            || !max_rate.is_finite()
+            || max_rate <= T::zero()
+        {
+            return Err(PortError::Invalid);
+        }
+        Ok(PortFollower {
+            estimate,
+            rate: Vector3::zeros(),
+            compliance,
+            max_rate,
+            normal: None,
+        })
+    }
+
+    /// The same follower, with the wall's normal `n` (any length but 0) for the part along the
+    /// shaft (R2).
+    pub fn with_normal(mut self, normal: Vector3<T>) -> Result<Self, PortError> {
+        let norm = normal.norm();
+        if !norm.is_finite() || norm <= T::zero() {
+            return Err(PortError::Invalid);
+        }
+        self.normal = Some(normal / norm);
+        Ok(self)
+    }
+
+    /// One step of (R2) over `dt` (s) from the wall's force `force` (N) on a shaft of direction
+    /// `direction`: the estimate moves, and its rate is returned (and kept in
+    /// [`PortFollower::rate`]). A force, direction or `dt` that is not finite (or `dt < 0`, or
+    /// a direction of no length) is refused and changes nothing.
+    pub fn update(
+        &mut self,
+        force: &Vector3<T>,
+        direction: &Vector3<T>,
+        dt: T,
+    ) -> Result<Vector3<T>, PortError> {
+        let norm = direction.norm();
+        let finite = force.iter().chain(direction.iter()).all(|v| v.is_finite());
+        if !finite || !norm.is_finite() || norm <= T::zero() || !dt.is_finite() || dt < T::zero() {
+            return Err(PortError::Invalid);
+        }
+        let d = direction / norm;
+        let across = force - d * d.dot(force);
+        let mut rate = across * self.compliance;
+        if let Some(n) = self.normal {
+            let in_plane = |v: &Vector3<T>| v - n * n.dot(v);
+            let pd = in_plane(&d);
+            let scale = pd.norm_squared();
+            if scale > T::default_epsilon().sqrt() {
+                rate -= d * (pd.dot(&in_plane(&rate)) / scale);
+            }
+        }
+        let speed = rate.norm();
+        if speed > self.max_rate {
+            rate *= self.max_rate / speed;
+        }
+        self.estimate += rate * dt;
+        self.rate = rate;
+        Ok(rate)
+    }
+}

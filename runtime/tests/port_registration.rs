@@ -290,3 +290,67 @@ fn what_cannot_locate_the_port_is_refused_with_what_is_wrong() {
         );
     }
 }
+
+/// The follower (R2) in an ideal loop — the shaft through the estimate along a fixed direction,
+/// the wall's spring on it — against the first-order lag it should be: a port that stepped by
+/// `s` is followed as `s e^(−t/τ)` across the shaft, and with the wall's normal known along the
+/// shaft too; the rate never passes its bound; a bad input changes nothing.
+#[test]
+fn the_follower_closes_on_a_port_that_moved() {
+    let wall = trocar::port::Wall::<f64> {
+        stiffness: 4000.0,
+        damping: 0.0,
+    };
+    let tau = 0.02;
+    let d = Vector3::new(0.0, 0.0, -1.0);
+    let n = Vector3::new(1.0, 0.0, 1.0).normalize();
+    let start = Vector3::new(0.3, 0.0, 0.34);
+    let moved = start + n * 0.004;
+    let dt = 1e-4;
+    for with_normal in [false, true] {
+        let mut f =
+            trocar::port::PortFollower::new(start, 1.0 / (wall.stiffness * tau), 1.0).unwrap();
+        if with_normal {
+            f = f.with_normal(n).unwrap();
+        }
+        let mut t = 0.0;
+        while t < 5.0 * tau {
+            let shaft = Line::new(f.estimate, d).unwrap();
+            let force = wall.force(&shaft.offset_from(&moved), &Vector3::zeros());
+            f.update(&force, &d, dt).unwrap();
+            t += dt;
+        }
+        let across = Line::new(f.estimate, d).unwrap().distance(&moved);
+        let lag = (0.004 * std::f64::consts::FRAC_1_SQRT_2) * (-t / tau).exp();
+        assert!(
+            (across - lag).abs() <= 0.02 * lag,
+            "across {across:e}, first order {lag:e}"
+        );
+        let along = (f.estimate - moved).dot(&d).abs();
+        if with_normal {
+            assert!(along <= 0.02 * 0.004, "along the shaft {along:e}");
+        } else {
+            assert!((along - 0.004 * std::f64::consts::FRAC_1_SQRT_2).abs() <= 1e-12);
+        }
+    }
+    // The bound on the rate, and inputs refused.
+    let mut f = trocar::port::PortFollower::new(start, 1.0, 0.05).unwrap();
+    let rate = f.update(&Vector3::new(1000.0, 0.0, 0.0), &d, 1e-3).unwrap();
+    assert!((rate.norm() - 0.05).abs() <= 1e-15);
+    let before = f;
+    for (force, direction, dt) in [
+        (Vector3::new(f64::NAN, 0.0, 0.0), d, 1e-3),
+        (Vector3::zeros(), Vector3::zeros(), 1e-3),
+        (Vector3::zeros(), d, -1.0),
+        (Vector3::zeros(), d, f64::INFINITY),
+    ] {
+        assert_eq!(f.update(&force, &direction, dt), Err(PortError::Invalid));
+        assert_eq!(f, before);
+    }
+    assert!(trocar::port::PortFollower::new(start, -1.0, 0.05).is_err());
+    assert!(trocar::port::PortFollower::new(start, 1.0, 0.0).is_err());
+    assert!(trocar::port::PortFollower::new(start, 1.0, 0.05)
+        .unwrap()
+        .with_normal(Vector3::zeros())
+        .is_err());
+}

@@ -60,6 +60,7 @@ pub use trocar_model::description::SimulationDesc;
 /// The number rule every value given to the library obeys (finite, not subnormal, at most
 /// 1e6 in magnitude), for callers that check their own inputs the same way.
 pub use trocar_model::validity;
+pub use trocar_sim::breathing::PortMode;
 pub use trocar_sim::plot::{write_comparison, write_time_panels, ImageFormat, TimePanel};
 pub use trocar_sim::simulation::{CsvRows, Method, Scenario, Trace};
 

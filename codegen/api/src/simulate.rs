@@ -3,6 +3,7 @@
 
 use crate::error::{Error, Result};
 use std::path::Path;
+use trocar_sim::breathing::{self, PortMode};
 use trocar_sim::plot::view3d;
 use trocar_sim::simulation::{self, CsvRows, Method};
 use trocar_sim::{closed_chain, plot, scene};
@@ -42,6 +43,9 @@ pub struct RcmOptions {
     pub drift_correction: bool,
     /// The joint speed limit (default: [`simulation::MAX_JOINT_SPEED`]).
     pub max_joint_speed: Option<SpeedLimit>,
+    /// How the controller knows a moving port (`panda-breathing` only; default: followed from
+    /// the wall's force, [`PortMode::Estimated`]).
+    pub port: Option<PortMode>,
 }
 
 impl Default for RcmOptions {
@@ -51,6 +55,7 @@ impl Default for RcmOptions {
             method: None,
             drift_correction: true,
             max_joint_speed: None,
+            port: None,
         }
     }
 }
@@ -60,6 +65,7 @@ pub fn scenario_names() -> Vec<&'static str> {
     let mut names: Vec<&'static str> = simulation::Scenario::ALL.iter().map(|s| s.name()).collect();
     names.extend_from_slice(closed_chain::scenario_names());
     names.extend_from_slice(scene::scenario_names());
+    names.push(breathing::NAME);
     names
 }
 
@@ -204,7 +210,18 @@ pub fn simulate(
     options: &RcmOptions,
     progress: &mut dyn FnMut(f64),
 ) -> Result<SimulationRun> {
-    if is_closed_chain(scenario) {
+    if options.port.is_some() && scenario != breathing::NAME {
+        return Err(Error::argument(
+            "port",
+            format!(
+                "`{scenario}` has a port that does not move; the port's modes are {}'s",
+                breathing::NAME
+            ),
+        ));
+    }
+    if scenario == breathing::NAME {
+        breathing_scenario(options, progress)
+    } else if is_closed_chain(scenario) {
         closed_chain_scenario(scenario, options, progress)
     } else if is_scene(scenario) {
         scene_scenario(scenario, options, progress)
@@ -265,6 +282,56 @@ fn closed_chain_scenario(
     .map_err(|e| Error::Simulation(e.to_string()))?;
     Ok(SimulationRun {
         summary: trace_summary(&trace.columns, &trace.rows),
+        trace: AnyTrace::ClosedChain(trace),
+    })
+}
+
+/// `panda-breathing` with the port known as `options.port` asks (the QP step with the URDF's
+/// limits and the drift correction: no other option).
+fn breathing_scenario(
+    options: &RcmOptions,
+    progress: &mut dyn FnMut(f64),
+) -> Result<SimulationRun> {
+    let mode = options.port.unwrap_or(PortMode::Estimated);
+    let alone = RcmOptions {
+        port: options.port,
+        ..RcmOptions::default()
+    };
+    let qp_only = RcmOptions {
+        method: Some(Method::Qp),
+        ..alone
+    };
+    if *options != alone && *options != qp_only {
+        return Err(Error::Input(format!(
+            "`{}` runs the QP step with the drift correction and the URDF's limits (--method qp \
+             or none, --port fixed|known|estimated; no other option)",
+            breathing::NAME
+        )));
+    }
+    let trace =
+        breathing::simulate(mode, progress).map_err(|e| Error::Simulation(e.to_string()))?;
+    let peak = |name: &str| {
+        trace
+            .column(name)
+            .unwrap_or_default()
+            .into_iter()
+            .fold(0.0, f64::max)
+    };
+    let summary = format!(
+        "scenario {} (qp, the port {}):\n  peak force of the wall on the shaft {:.3} N\n  the shaft at most {:.3e} m from the true port, {:.3e} m from the port held\n  the tip at most {:.3e} m from its target",
+        breathing::NAME,
+        match mode {
+            PortMode::Fixed => "fixed where it was at the start",
+            PortMode::Known => "known: its trajectory fed forward",
+            PortMode::Estimated => "followed from the wall's force",
+        },
+        peak("port_force"),
+        peak("port_offset"),
+        peak("rcm_drift"),
+        peak("ep_norm"),
+    );
+    Ok(SimulationRun {
+        summary,
         trace: AnyTrace::ClosedChain(trace),
     })
 }

@@ -184,6 +184,11 @@ pub enum Command {
         /// description's [simulation] trocar, else the constraint frame's origin at q0.
         #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
         trocar: Option<Vec<f64>>,
+        /// How `panda-breathing`'s controller knows its moving port: `fixed` where it was at the
+        /// start, `known` its trajectory fed forward, `estimated` followed from the wall's force
+        /// on the shaft (the default).
+        #[arg(long, value_name = "MODE", value_parser = port_values())]
+        port: Option<trocar_api::PortMode>,
         /// Times (s) drawn by --snapshot, comma-separated (default: start, middle, end).
         #[arg(
             long,
@@ -253,6 +258,15 @@ pub enum Frame {
 
 /// `--method`'s values: each [`Method`] by its name, and `all` (pinv, dls, fi and qp compared
 /// on one figure).
+fn port_values() -> impl TypedValueParser<Value = trocar_api::PortMode> {
+    PossibleValuesParser::new(
+        trocar_api::PortMode::ALL
+            .iter()
+            .map(|m| PossibleValue::new(m.name())),
+    )
+    .map(|s| trocar_api::PortMode::from_name(&s).expect("one of the names offered"))
+}
+
 fn method_values() -> PossibleValuesParser {
     PossibleValuesParser::new(
         Method::ALL

@@ -6,6 +6,7 @@
 //! trocar verify ROBOT.toml [--samples N]
 //! trocar jacobian --urdf FILE.urdf --tip LINK --q ... [--frame body|spatial] [--json]
 //! trocar simulate SCENARIO [--method pinv|dls|fi|all] [--drift-correction on|off] [--csv OUT.csv] [--plot OUT.svg] [--animate OUT.gif] [--snapshot OUT.png]
+//! trocar simulate panda-breathing [--port fixed|known|estimated] [--csv ...] [--plot ...]
 //! trocar simulate ROBOT.toml [--trajectory PATH.csv] [--q0 ...] [--trocar x,y,z] [--csv ...] [--plot ...] [--animate ...] [--snapshot ...]
 //! trocar register-port ROBOT.toml --joints F.csv [--least-spread DEG] [--forgetting LAMBDA] [--json]
 //! trocar preset unidirectional|bidirectional-zy|bidirectional-zx
@@ -105,17 +106,23 @@ pub fn run(cli: Cli) -> Result<i32, CliError> {
             trajectory,
             q0,
             trocar,
+            port,
         } => {
             let options = trocar_api::RcmOptions {
                 method: args::method(method.as_deref()),
                 drift_correction: drift_correction == OnOff::On,
                 max_joint_speed,
+                port,
             };
             // A robot's own trajectory: given, or named by the description's [simulation].
             let own = trajectory.is_some()
                 || (trocar_api::Scenario::from_name(&scenario).is_err()
                     && std::path::Path::new(&scenario).is_file());
-            if own {
+            if own && port.is_some() {
+                Err(CliError::Input(
+                    "--port: applies to the scenario `panda-breathing` (a port that moves), not to a robot's own trajectory".into(),
+                ))
+            } else if own {
                 commands::simulate::run_trajectory(
                     &scenario,
                     trajectory.as_deref(),

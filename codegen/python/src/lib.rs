@@ -72,6 +72,54 @@ fn method(name: &str) -> PyResult<Method> {
     }
 }
 
+/// `trocar register-port`: the port located from joint positions of the instrument pivoting
+/// about it (one row of `robot.joints` values per pose): the point nearest to the shaft's lines
+/// (`trocar::port`), refused where the lines spread less than `least_spread` degrees. Returns
+/// a dict: `port` (3, base frame, m), `covariance` (3 × 3, m²), `residual` (m, the lines'
+/// root-mean-square distance from it), `spread` (degrees), `lines`. `forgetting` (in (0, 1])
+/// weighs each pose `1/λ` times the one before.
+#[pyfunction]
+#[pyo3(signature = (robot, joints, least_spread = 2.0, forgetting = None))]
+fn register_port<'py>(
+    py: Python<'py>,
+    robot: &Robot,
+    joints: Vec<Vec<f64>>,
+    least_spread: f64,
+    forgetting: Option<f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let rows = trocar_api::JointRows {
+        lines: (1..=joints.len()).collect(),
+        rows: joints,
+    };
+    let e = trocar_api::register_port(&robot.inner, &rows, least_spread.to_radians(), forgetting)
+        .map_err(value_error)?;
+    let out = PyDict::new(py);
+    out.set_item("port", [e.point.x, e.point.y, e.point.z])?;
+    let covariance: Vec<[f64; 3]> = (0..3)
+        .map(|r| {
+            [
+                e.covariance[(r, 0)],
+                e.covariance[(r, 1)],
+                e.covariance[(r, 2)],
+            ]
+        })
+        .collect();
+    out.set_item("covariance", covariance)?;
+    out.set_item("residual", e.residual)?;
+    out.set_item("spread", e.spread.to_degrees())?;
+    out.set_item("lines", e.lines)?;
+    Ok(out)
+}
+
+/// The port's mode of `simulate("panda-breathing", port=...)`.
+fn port_mode(name: &str) -> PyResult<trocar_api::PortMode> {
+    trocar_api::PortMode::from_name(name).ok_or_else(|| {
+        PyValueError::new_err(format!(
+            "port={name:?}: expected \"fixed\", \"known\" or \"estimated\""
+        ))
+    })
+}
+
 /// What `eval` and `eval_many` are asked for: one quantity, or several in one program.
 enum What {
     One(Function),
@@ -1010,9 +1058,11 @@ fn check_rotation(r: &[[f64; 3]; 3]) -> PyResult<()> {
 /// `roll` or `qw,qx,qy,qz`), or when the first argument is a `Robot` or a description file, the
 /// robot is driven along that tip path from `q0`, the trocar at `trocar` (default: the
 /// constraint frame's origin at `q0`); what is not given comes from the description's
-/// `[simulation]` section (`trocar_api::simulate_robot`).
+/// `[simulation]` section (`trocar_api::simulate_robot`). `port` (`"fixed"`, `"known"`,
+/// `"estimated"`; default `"estimated"`) is how `"panda-breathing"`'s controller knows its
+/// moving port.
 #[pyfunction]
-#[pyo3(signature = (scenario, method = None, drift_correction = true, max_joint_speed = MaybeLimit::Default, trajectory = None, q0 = None, trocar = None))]
+#[pyo3(signature = (scenario, method = None, drift_correction = true, max_joint_speed = MaybeLimit::Default, trajectory = None, q0 = None, trocar = None, port = None))]
 #[allow(clippy::too_many_arguments)]
 fn simulate<'py>(
     py: Python<'py>,
@@ -1023,6 +1073,7 @@ fn simulate<'py>(
     trajectory: Option<PathBuf>,
     q0: Option<Vec<f64>>,
     trocar: Option<[f64; 3]>,
+    port: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
     // A scenario's name, a robot's name or a description file: a `str` or any `os.PathLike`.
     let named: Option<PathBuf> = match scenario.cast::<Robot>() {
@@ -1042,6 +1093,11 @@ fn simulate<'py>(
                 .all(|s| Some(*s) != name.to_str())
                 && name.is_file()
         });
+    if own && port.is_some() {
+        return Err(PyValueError::new_err(
+            "port applies to the scenario \"panda-breathing\" (a port that moves), not to a robot's own trajectory",
+        ));
+    }
     let columns = if !own {
         if q0.is_some() || trocar.is_some() {
             return Err(PyValueError::new_err(
@@ -1061,6 +1117,7 @@ fn simulate<'py>(
                 MaybeLimit::Unlimited => Some(SpeedLimit::Unlimited),
                 MaybeLimit::At(v) => Some(SpeedLimit::At(v)),
             },
+            port: port.map(port_mode).transpose()?,
         };
         py.detach(|| trocar_api::simulate(&scenario, &options, &mut |_| {}))
             .map_err(value_error)?
@@ -1319,6 +1376,7 @@ fn _trocar(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Scene>()?;
     m.add_function(wrap_pyfunction!(write_figure, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(register_port, m)?)?;
     m.add_function(wrap_pyfunction!(shipped, m)?)?;
     m.add_function(wrap_pyfunction!(quantities, m)?)?;
     m.add_function(wrap_pyfunction!(panda_reference, m)?)?;

@@ -527,3 +527,34 @@ def test_a_scene_stepped_in_a_loop_of_ones_own_gives_the_shipped_run():
     assert dual.arms == ["left", "right"] and dual.joints == 15 and len(dual.q0) == 15
     scene.reset()
     assert np.array_equal(scene.step(scene.q0, 0.0)["qd"], trocar.Scene("three-ports").step(scene.q0, 0.0)["qd"])
+
+
+def test_register_port_is_the_command_lines_answer():
+    path = ROOT / "examples" / "ports" / "panda-laparoscope-pivot.csv"
+    rows = [line for line in path.read_text().splitlines() if line and not line.startswith("#")]
+    joints = [[float(v) for v in line.split(",")] for line in rows[1:]]
+    robot = trocar.Robot.load("panda-laparoscope")
+    found = trocar.register_port(robot, joints)
+    out = cli("register-port", "panda-laparoscope", "--joints", str(path), "--json")
+    assert out.returncode == 0, out.stderr
+    expected = json.loads(out.stdout)
+    assert np.allclose(found["port"], expected["port"], rtol=0, atol=1e-15)
+    assert found["lines"] == expected["lines"] == len(joints)
+    assert found["spread"] == pytest.approx(expected["spread_deg"], rel=1e-12)
+    # One pose again and again: no spread, refused with the reason.
+    with pytest.raises(ValueError, match="nearly parallel"):
+        trocar.register_port(robot, [joints[0]] * 5)
+    with pytest.raises(ValueError, match="finite|joints"):
+        trocar.register_port(robot, [[float("nan")] * 7, joints[1]])
+
+
+def test_the_breathing_port_followed_from_the_force():
+    fixed = trocar.simulate("panda-breathing", port="fixed")
+    followed = trocar.simulate("panda-breathing", port="estimated")
+    assert {"port_x", "estimate_x", "port_force", "port_offset"} <= set(followed)
+    assert np.max(followed["port_force"]) <= 0.2 * np.max(fixed["port_force"])
+    assert np.max(followed["port_offset"]) <= 5e-4
+    with pytest.raises(ValueError, match="estimated"):
+        trocar.simulate("panda-breathing", port="guessed")
+    with pytest.raises(ValueError, match="does not move"):
+        trocar.simulate("panda-laparoscope", port="known")

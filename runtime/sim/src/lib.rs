@@ -7,6 +7,7 @@
 //! by `trocar-check` (`trocar_check::verify`), which needs none of this crate.
 #![warn(missing_docs)]
 
+pub mod breathing;
 pub mod closed_chain;
 pub mod linalg;
 pub mod plot;

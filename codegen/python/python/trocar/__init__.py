@@ -3,7 +3,8 @@
 The same library as the ``trocar`` command line: :class:`Robot` loads a shipped description or a
 TOML file and evaluates, verifies and generates its closed-form constrained kinematics;
 :class:`Controller` runs the constrained controller on a robot, step by step;
-:func:`simulate` runs the shipped scenarios; :class:`RunSetup` gives what a loop of one's own
+:func:`simulate` runs the shipped scenarios (``"panda-breathing"``'s port fixed, known or followed
+from the wall's force); :func:`register_port` locates a port from joint positions; :class:`RunSetup` gives what a loop of one's own
 needs to replay one; :class:`Scene` steps a shipped scene of several arms in a loop of one's
 own; :mod:`trocar.physics` runs the controller on a robot with dynamics (MuJoCo,
 ``pip install trocar[physics]``). Errors raise :class:`ValueError`
@@ -18,6 +19,7 @@ from ._trocar import (
     __version__,
     panda_reference,
     quantities,
+    register_port,
     shipped,
     simulate,
     write_figure,
@@ -30,6 +32,7 @@ __all__ = [
     "Scene",
     "write_figure",
     "simulate",
+    "register_port",
     "panda_reference",
     "shipped",
     "quantities",

@@ -103,6 +103,7 @@ def simulate(
     trajectory: Optional[Union[str, "os.PathLike[str]"]] = None,
     q0: Optional[Sequence[float]] = None,
     trocar: Optional[Sequence[float]] = None,
+    port: Optional[str] = None,
 ) -> Dict[str, npt.NDArray[np.float64]]:
     """``trocar simulate``: the trace of a scenario, or of a robot along its own trajectory, as
     named columns (``t`` first), the command line's CSV.
@@ -113,6 +114,20 @@ def simulate(
     argument is a ``Robot`` or a description file, the robot is driven along that tip path from
     ``q0``, the trocar at ``trocar``; what is not given comes from the description's
     ``[simulation]`` section (``trajectory``, ``q0``, ``trocar``, ``method``, gains).
+    ``port`` (``"fixed"``, ``"known"``, ``"estimated"``; default ``"estimated"``) is how
+    ``"panda-breathing"``'s controller knows its moving port.
+    """
+
+def register_port(
+    robot: Robot,
+    joints: Sequence[Sequence[float]],
+    least_spread: float = 2.0,
+    forgetting: Optional[float] = None,
+) -> Dict[str, Any]:
+    """``trocar register-port``: the port located from joint positions of the instrument pivoting
+    about it, one row per pose: ``port`` (m, base frame), ``covariance`` (m²), ``residual`` (m),
+    ``spread`` (degrees), ``lines``. Refused (``ValueError``) where the shaft's lines spread less
+    than ``least_spread`` degrees.
     """
 
 class Controller:

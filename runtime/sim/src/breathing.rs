@@ -1,0 +1,269 @@
+//! `panda-breathing`: the Panda laparoscope's port moves with the patient's tissue (thesis
+//! §5.2) — it rises and falls with breathing, 8 mm at 0.25 Hz along the wall's normal (the
+//! instrument enters 45° from it), and the patient shifts 2 cm across between 8 and 12 s — while
+//! the tip's target moves with the anatomy. The body wall at the port is a spring-damper across
+//! the shaft ([`trocar::port::Wall`], 4000 N/m and 40 N s/m), and the controller (the QP step
+//! with the Panda's URDF limits, 1 kHz) holds the shaft at a port that is:
+//!
+//! - [`PortMode::Fixed`]: where it was at the start, as if it did not move;
+//! - [`PortMode::Known`]: the true port, its trajectory fed forward ((3.33)–(3.34));
+//! - [`PortMode::Estimated`]: followed from the wall's force on the shaft
+//!   ([`trocar::port::PortFollower`], time constant 20 ms, the wall's normal known), its rate fed
+//!   forward.
+//!
+//! The trace has the joints and their rates, the true port (`port_x..z`) and its displacement
+//! from the start (`port_dx..dz`), the port the controller holds — its estimate (`estimate_x..z`,
+//! the true port with `known`, the start with `fixed`) — and its distance from the true port
+//! (`estimate_error`), the wall's force (`port_force`, N), the shaft's distance from the true
+//! port (`port_offset`) and from the port held (`rcm_drift`), and the tip's error (`ep_norm`).
+
+use crate::closed_chain::{MechanismTrace, Panel};
+use crate::scene::{controller, panda, SceneRunError};
+use nalgebra::{SVector, Vector3};
+use trocar::control::{ConstrainedKinematics, Rcm, Reference, StepStatus};
+use trocar::port::{PortFollower, Wall};
+use trocar_model::description::RobotDescription;
+use trocar_model::numeric::NumericModel;
+
+/// The scenario's name.
+pub const NAME: &str = "panda-breathing";
+/// The sample time (s): 1 kHz.
+pub const DT: f64 = 0.001;
+/// The duration (s): four breaths, the shift, and two breaths after it.
+pub const DURATION: f64 = 16.0;
+/// Breathing: the port's travel along the wall's normal, peak to peak (m).
+pub const BREATH: f64 = 0.008;
+/// Breathing frequency (Hz).
+pub const BREATH_FREQUENCY: f64 = 0.25;
+/// The patient's shift across (m), along the base's `y`, between [`SHIFT_START`] and
+/// [`SHIFT_END`] (a smooth step).
+pub const SHIFT: f64 = 0.02;
+/// When the shift starts (s).
+pub const SHIFT_START: f64 = 8.0;
+/// When the shift ends (s).
+pub const SHIFT_END: f64 = 12.0;
+/// The follower's time constant (s): its compliance is `1/(k τ)` for the wall's stiffness `k`.
+pub const FOLLOWER_TIME_CONSTANT: f64 = 0.02;
+/// The largest rate of the port's estimate (m/s).
+pub const FOLLOWER_MAX_RATE: f64 = 0.05;
+
+/// How the controller knows the port.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PortMode {
+    /// Where it was at the start: the thesis's fixed trocar.
+    Fixed,
+    /// The true port's trajectory, fed forward.
+    Known,
+    /// Followed from the wall's force on the shaft.
+    Estimated,
+}
+
+impl PortMode {
+    /// All modes, in the order compared.
+    pub const ALL: [PortMode; 3] = [PortMode::Fixed, PortMode::Known, PortMode::Estimated];
+
+    /// The mode's name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            PortMode::Fixed => "fixed",
+            PortMode::Known => "known",
+            PortMode::Estimated => "estimated",
+        }
+    }
+
+    /// The mode of a name ([`PortMode::name`]).
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|m| m.name() == name)
+    }
+}
+
+/// The wall's normal: 45° from the shaft at the start (which points down, `−z`), in the `x z`
+/// plane.
+pub fn wall_normal() -> Vector3<f64> {
+    Vector3::new(1.0, 0.0, 1.0).normalize()
+}
+
+/// The port's displacement from its start at `t` (s) and its velocity: breathing along the
+/// wall's normal, `B (1 − cos 2π f t)/2`, and the shift along `y`, a quintic step.
+pub fn port_motion(t: f64) -> (Vector3<f64>, Vector3<f64>) {
+    let w = 2.0 * std::f64::consts::PI * BREATH_FREQUENCY;
+    let n = wall_normal();
+    let breath = n * (BREATH * (1.0 - (w * t).cos()) / 2.0);
+    let breath_rate = n * (BREATH * w * (w * t).sin() / 2.0);
+    let s = ((t - SHIFT_START) / (SHIFT_END - SHIFT_START)).clamp(0.0, 1.0);
+    let step = s * s * s * (10.0 - 15.0 * s + 6.0 * s * s);
+    let step_rate = if s > 0.0 && s < 1.0 {
+        30.0 * s * s * (1.0 - s) * (1.0 - s) / (SHIFT_END - SHIFT_START)
+    } else {
+        0.0
+    };
+    let y = Vector3::y();
+    (
+        breath + y * (SHIFT * step),
+        breath_rate + y * (SHIFT * step_rate),
+    )
+}
+
+/// Runs `panda-breathing` with the port known as `mode`; `progress` gets the fraction done.
+pub fn simulate(
+    mode: PortMode,
+    mut progress: impl FnMut(f64),
+) -> Result<MechanismTrace, SceneRunError> {
+    let (kin, limits) = panda()?;
+    let mut ctrl = controller(limits);
+    let wall = Wall::<f64>::abdominal();
+    let mut q = SVector::<f64, 7>::from(crate::simulation::PANDA_Q0);
+    let g_0e0 = kin.chain.forward_kinematics(&q);
+    // The Panda laparoscope's sizes: 7 joints, the constraint on link 7, 2 constrained
+    // directions, the task `x y z rz`.
+    type Panda = crate::scene::Kin;
+    let shaft = <Panda as ConstrainedKinematics<f64, 7, 7, 2, 4, 4, 4>>::shaft(&kin);
+    let h = <Panda as ConstrainedKinematics<f64, 7, 7, 2, 4, 4, 4>>::h(&kin);
+    let g_0i = |q: &SVector<f64, 7>| {
+        <Panda as ConstrainedKinematics<f64, 7, 7, 2, 4, 4, 4>>::g_0i(&kin, q)
+    };
+    let line_at = |q: &SVector<f64, 7>| {
+        shaft
+            .line(&g_0i(q))
+            .ok_or_else(|| SceneRunError("the shaft has no direction".into()))
+    };
+    // The port at the start: the constraint frame at the nominal insertion.
+    let l_a = RobotDescription::preset("panda-laparoscope")
+        .ok()
+        .and_then(|d| NumericModel::<f64>::from_description(&d, &[]).ok())
+        .and_then(|m| m.parameters().iter().find(|(n, _)| n == "l_a").map(|p| p.1))
+        .ok_or_else(|| SceneRunError("the Panda laparoscope has no parameter l_a".into()))?;
+    let port0 = shaft.constraint_pose(&g_0i(&q), l_a).translation;
+    let mut follower = PortFollower::new(
+        port0,
+        1.0 / (wall.stiffness * FOLLOWER_TIME_CONSTANT),
+        FOLLOWER_MAX_RATE,
+    )
+    .and_then(|f| f.with_normal(wall_normal()))
+    .map_err(|e| SceneRunError(e.to_string()))?;
+    let mut columns: Vec<String> = vec!["t".into()];
+    columns.extend((1..=7).map(|k| format!("q{k}")));
+    columns.extend((1..=7).map(|k| format!("qd{k}")));
+    for c in [
+        "port_x",
+        "port_y",
+        "port_z",
+        "estimate_x",
+        "estimate_y",
+        "estimate_z",
+        "port_dx",
+        "port_dy",
+        "port_dz",
+        "estimate_error",
+        "port_force",
+        "port_offset",
+        "rcm_drift",
+        "ep_norm",
+    ] {
+        columns.push(c.into());
+    }
+    let steps = (DURATION / DT).round() as usize;
+    let mut rows = Vec::with_capacity(steps + 1);
+    let mut last_offset: Option<Vector3<f64>> = None;
+    let report_every = (steps / 100).max(1);
+    for step in 0..=steps {
+        let t = step as f64 * DT;
+        let (displacement, port_rate) = port_motion(t);
+        let port = port0 + displacement;
+        // The wall's force on the shaft, from the shaft's offset from the true port and its rate.
+        let line = line_at(&q)?;
+        let offset = line.offset_from(&port);
+        let offset_rate = last_offset.map_or_else(Vector3::zeros, |e| (offset - e) / DT);
+        last_offset = Some(offset);
+        let force = wall.force(&offset, &offset_rate);
+        // Where the controller holds the shaft, and how fast that place moves.
+        let (trocar, trocar_rate) = match mode {
+            PortMode::Fixed => (port0, Vector3::zeros()),
+            PortMode::Known => (port, port_rate),
+            PortMode::Estimated => {
+                let rate = follower
+                    .update(&force, &line.direction, DT)
+                    .map_err(|e| SceneRunError(format!("t = {t:.3} s: {e}")))?;
+                (follower.estimate, rate)
+            }
+        };
+        let r_0r = g_0i(&q).rotation * shaft.rotation;
+        let local = r_0r.transpose() * trocar_rate;
+        let dv =
+            SVector::<f64, 2>::from_fn(|r, _| (0..3).map(|c| h[(r, c)] * local[c]).sum::<f64>());
+        let reference = Reference {
+            position: g_0e0.translation + displacement,
+            rotation: g_0e0.rotation,
+            velocity: port_rate,
+            angular_velocity: Vector3::zeros(),
+        };
+        let tip = kin.chain.forward_kinematics(&q).translation;
+        let mut row = vec![t];
+        row.extend(q.iter().copied());
+        let qd = if step < steps {
+            let out = ctrl
+                .step(&kin, &q, &reference, &Rcm { trocar, dv }, DT)
+                .map_err(|e| SceneRunError(format!("t = {t:.3} s: {e}")))?;
+            if out.status == StepStatus::TrocarYielded {
+                return Err(SceneRunError(format!(
+                    "t = {t:.3} s: the port gave way to the joint limits"
+                )));
+            }
+            out.qd
+        } else {
+            SVector::zeros()
+        };
+        row.extend(qd.iter().copied());
+        row.extend(port.iter().copied());
+        row.extend(trocar.iter().copied());
+        row.extend(displacement.iter().copied());
+        row.push((trocar - port).norm());
+        row.push(force.norm());
+        row.push(offset.norm());
+        row.push(line.offset_from(&trocar).norm());
+        row.push((reference.position - tip).norm());
+        if row.iter().any(|v| !v.is_finite()) {
+            return Err(SceneRunError(format!("t = {t:.3} s: a non-finite value")));
+        }
+        rows.push(row);
+        q += qd * DT;
+        if step % report_every == 0 {
+            progress(step as f64 / steps as f64);
+        }
+    }
+    progress(1.0);
+    let panel = |title: &str, y: &str, lines: &[(&str, &str)], non_negative: bool| Panel {
+        title: title.into(),
+        x_label: "t (s)".into(),
+        y_label: y.into(),
+        lines: lines
+            .iter()
+            .map(|(c, l)| ("t".to_string(), c.to_string(), l.to_string()))
+            .collect(),
+        non_negative,
+    };
+    Ok(MechanismTrace {
+        name: format!("{NAME} ({})", mode.name()),
+        columns,
+        rows,
+        panels: vec![
+            panel(
+                "The port's motion from its start: breathing along the wall's normal, the shift across",
+                "m",
+                &[("port_dx", "x (under z)"), ("port_dy", "y"), ("port_dz", "z")],
+                false,
+            ),
+            panel("The wall's force on the shaft", "N", &[("port_force", "|F|")], true),
+            panel(
+                "Distances: the shaft, the true port and the port held",
+                "m",
+                &[
+                    ("port_offset", "shaft from the true port"),
+                    ("rcm_drift", "shaft from the held port"),
+                    ("estimate_error", "held port from the true port"),
+                ],
+                true,
+            ),
+        ],
+    })
+}
