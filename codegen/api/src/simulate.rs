@@ -65,7 +65,7 @@ pub fn scenario_names() -> Vec<&'static str> {
     let mut names: Vec<&'static str> = simulation::Scenario::ALL.iter().map(|s| s.name()).collect();
     names.extend_from_slice(closed_chain::scenario_names());
     names.extend_from_slice(scene::scenario_names());
-    names.push(breathing::NAME);
+    names.extend_from_slice(breathing::scenario_names());
     names
 }
 
@@ -210,17 +210,17 @@ pub fn simulate(
     options: &RcmOptions,
     progress: &mut dyn FnMut(f64),
 ) -> Result<SimulationRun> {
-    if options.port.is_some() && scenario != breathing::NAME {
+    if options.port.is_some() && !breathing::is_moving_port(scenario) {
         return Err(Error::argument(
             "port",
             format!(
-                "`{scenario}` has a port that does not move; the port's modes are {}'s",
-                breathing::NAME
+                "`{scenario}` has a port known exactly; the port's modes are those of {}",
+                breathing::scenario_names().join(" and ")
             ),
         ));
     }
-    if scenario == breathing::NAME {
-        breathing_scenario(options, progress)
+    if breathing::is_moving_port(scenario) {
+        breathing_scenario(scenario, options, progress)
     } else if is_closed_chain(scenario) {
         closed_chain_scenario(scenario, options, progress)
     } else if is_scene(scenario) {
@@ -289,6 +289,7 @@ fn closed_chain_scenario(
 /// `panda-breathing` with the port known as `options.port` asks (the QP step with the URDF's
 /// limits and the drift correction: no other option).
 fn breathing_scenario(
+    scenario: &str,
     options: &RcmOptions,
     progress: &mut dyn FnMut(f64),
 ) -> Result<SimulationRun> {
@@ -303,13 +304,13 @@ fn breathing_scenario(
     };
     if *options != alone && *options != qp_only {
         return Err(Error::Input(format!(
-            "`{}` runs the QP step with the drift correction and the URDF's limits (--method qp \
-             or none, --port fixed|known|estimated; no other option)",
-            breathing::NAME
+            "`{scenario}` runs the QP step with the drift correction and the URDF's limits \
+             (--method qp or none, --port fixed|known|estimated; no other option)"
         )));
     }
-    let trace =
-        breathing::simulate(mode, progress).map_err(|e| Error::Simulation(e.to_string()))?;
+    let trace = breathing::simulate(scenario, mode, progress)
+        .map_err(|e| Error::Simulation(e.to_string()))?;
+    let last = |name: &str| trace.last(name).unwrap_or(f64::NAN);
     let peak = |name: &str| {
         trace
             .column(name)
@@ -318,16 +319,17 @@ fn breathing_scenario(
             .fold(0.0, f64::max)
     };
     let summary = format!(
-        "scenario {} (qp, the port {}):\n  peak force of the wall on the shaft {:.3} N\n  the shaft at most {:.3e} m from the true port, {:.3e} m from the port held\n  the tip at most {:.3e} m from its target",
-        breathing::NAME,
+        "scenario {scenario} (qp, the port {}):\n  peak force of the wall on the shaft {:.3} N (at the end {:.3} N)\n  the shaft at most {:.3e} m from the true port, {:.3e} m from the port held\n  the port held at the end {:.3e} m from the true port\n  the tip at most {:.3e} m from its target",
         match mode {
             PortMode::Fixed => "fixed where it was at the start",
             PortMode::Known => "known: its trajectory fed forward",
             PortMode::Estimated => "followed from the wall's force",
         },
         peak("port_force"),
+        last("port_force"),
         peak("port_offset"),
         peak("rcm_drift"),
+        last("estimate_error"),
         peak("ep_norm"),
     );
     Ok(SimulationRun {

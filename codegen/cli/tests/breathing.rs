@@ -95,7 +95,7 @@ fn the_port_modes_belong_to_the_moving_port() {
     assert_ne!(code, 0);
     assert!(out.is_empty());
     assert!(
-        stderr.contains("does not move") && stderr.contains("panda-breathing"),
+        stderr.contains("known exactly") && stderr.contains("panda-breathing"),
         "{stderr}"
     );
     let (code, _, stderr) = trocar(&["simulate", "panda-breathing", "--method", "dls"]);

@@ -556,5 +556,5 @@ def test_the_breathing_port_followed_from_the_force():
     assert np.max(followed["port_offset"]) <= 5e-4
     with pytest.raises(ValueError, match="estimated"):
         trocar.simulate("panda-breathing", port="guessed")
-    with pytest.raises(ValueError, match="does not move"):
+    with pytest.raises(ValueError, match="known exactly"):
         trocar.simulate("panda-laparoscope", port="known")

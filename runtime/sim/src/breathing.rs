@@ -11,11 +11,18 @@
 //!   ([`trocar::port::PortFollower`], time constant 20 ms, the wall's normal known), its rate fed
 //!   forward.
 //!
+//! `panda-registration` keeps the port still but starts the controller from a nominal port
+//! 10 mm across the shaft from the true one (a port registered that far off): `fixed` pushes
+//! the tissue by that much, `estimated` finds the port from the wall's force.
+//!
 //! The trace has the joints and their rates, the true port (`port_x..z`) and its displacement
 //! from the start (`port_dx..dz`), the port the controller holds — its estimate (`estimate_x..z`,
 //! the true port with `known`, the start with `fixed`) — and its distance from the true port
 //! (`estimate_error`), the wall's force (`port_force`, N), the shaft's distance from the true
-//! port (`port_offset`) and from the port held (`rcm_drift`), and the tip's error (`ep_norm`).
+//! port (`port_offset`) and from the port held (`rcm_drift`), the tip's error (`ep_norm`), and
+//! whether the step held the port's rows (`port_held`, 0 where they gave way to the joints'
+//! limits: a port asked to jump, as a misregistered one is, cannot be reached in one step from
+//! rest).
 
 use crate::closed_chain::{MechanismTrace, Panel};
 use crate::scene::{controller, panda, SceneRunError};
@@ -25,8 +32,25 @@ use trocar::port::{PortFollower, Wall};
 use trocar_model::description::RobotDescription;
 use trocar_model::numeric::NumericModel;
 
-/// The scenario's name.
+/// The breathing scenario's name.
 pub const NAME: &str = "panda-breathing";
+/// The registration scenario's name: the port still, but 10 mm across the shaft from where the
+/// controller believes it at the start.
+pub const REGISTRATION: &str = "panda-registration";
+/// How far the registration scenario's port is from its nominal place, across the shaft (m).
+pub const REGISTRATION_OFFSET: f64 = 0.01;
+/// The registration scenario's duration (s).
+pub const REGISTRATION_DURATION: f64 = 2.0;
+
+/// The names of the moving-port scenarios.
+pub fn scenario_names() -> &'static [&'static str] {
+    &[NAME, REGISTRATION]
+}
+
+/// Whether `name` is one of the moving-port scenarios.
+pub fn is_moving_port(name: &str) -> bool {
+    scenario_names().contains(&name)
+}
 /// The sample time (s): 1 kHz.
 pub const DT: f64 = 0.001;
 /// The duration (s): four breaths, the shift, and two breaths after it.
@@ -104,11 +128,38 @@ pub fn port_motion(t: f64) -> (Vector3<f64>, Vector3<f64>) {
     )
 }
 
-/// Runs `panda-breathing` with the port known as `mode`; `progress` gets the fraction done.
+/// Runs `name` (`panda-breathing` or `panda-registration`) with the port known as `mode`;
+/// `progress` gets the fraction done. In `panda-registration` the port does not move, but it is
+/// [`REGISTRATION_OFFSET`] across the shaft (along the base's `y`) from the nominal port the
+/// controller starts from: `fixed` holds the nominal port, `known` the true one, `estimated`
+/// starts from the nominal one and finds the true one from the wall's force.
 pub fn simulate(
+    name: &str,
     mode: PortMode,
     mut progress: impl FnMut(f64),
 ) -> Result<MechanismTrace, SceneRunError> {
+    let registration = match name {
+        NAME => false,
+        REGISTRATION => true,
+        other => {
+            return Err(SceneRunError(format!(
+                "unknown moving-port scenario `{other}` (expected one of: {})",
+                scenario_names().join(", ")
+            )))
+        }
+    };
+    let motion = |t: f64| {
+        if registration {
+            (Vector3::zeros(), Vector3::zeros())
+        } else {
+            port_motion(t)
+        }
+    };
+    let duration = if registration {
+        REGISTRATION_DURATION
+    } else {
+        DURATION
+    };
     let (kin, limits) = panda()?;
     let mut ctrl = controller(limits);
     let wall = Wall::<f64>::abdominal();
@@ -133,9 +184,17 @@ pub fn simulate(
         .and_then(|d| NumericModel::<f64>::from_description(&d, &[]).ok())
         .and_then(|m| m.parameters().iter().find(|(n, _)| n == "l_a").map(|p| p.1))
         .ok_or_else(|| SceneRunError("the Panda laparoscope has no parameter l_a".into()))?;
+    // The true port at the start: where the shaft crosses the wall at the nominal insertion.
+    // The nominal port the controller starts from: the same, or 10 mm across for the
+    // registration run.
     let port0 = shaft.constraint_pose(&g_0i(&q), l_a).translation;
+    let nominal = if registration {
+        port0 + Vector3::y() * REGISTRATION_OFFSET
+    } else {
+        port0
+    };
     let mut follower = PortFollower::new(
-        port0,
+        nominal,
         1.0 / (wall.stiffness * FOLLOWER_TIME_CONSTANT),
         FOLLOWER_MAX_RATE,
     )
@@ -159,16 +218,17 @@ pub fn simulate(
         "port_offset",
         "rcm_drift",
         "ep_norm",
+        "port_held",
     ] {
         columns.push(c.into());
     }
-    let steps = (DURATION / DT).round() as usize;
+    let steps = (duration / DT).round() as usize;
     let mut rows = Vec::with_capacity(steps + 1);
     let mut last_offset: Option<Vector3<f64>> = None;
     let report_every = (steps / 100).max(1);
     for step in 0..=steps {
         let t = step as f64 * DT;
-        let (displacement, port_rate) = port_motion(t);
+        let (displacement, port_rate) = motion(t);
         let port = port0 + displacement;
         // The wall's force on the shaft, from the shaft's offset from the true port and its rate.
         let line = line_at(&q)?;
@@ -178,7 +238,7 @@ pub fn simulate(
         let force = wall.force(&offset, &offset_rate);
         // Where the controller holds the shaft, and how fast that place moves.
         let (trocar, trocar_rate) = match mode {
-            PortMode::Fixed => (port0, Vector3::zeros()),
+            PortMode::Fixed => (nominal, Vector3::zeros()),
             PortMode::Known => (port, port_rate),
             PortMode::Estimated => {
                 let rate = follower
@@ -198,17 +258,14 @@ pub fn simulate(
             angular_velocity: Vector3::zeros(),
         };
         let tip = kin.chain.forward_kinematics(&q).translation;
+        let mut held = true;
         let mut row = vec![t];
         row.extend(q.iter().copied());
         let qd = if step < steps {
             let out = ctrl
                 .step(&kin, &q, &reference, &Rcm { trocar, dv }, DT)
                 .map_err(|e| SceneRunError(format!("t = {t:.3} s: {e}")))?;
-            if out.status == StepStatus::TrocarYielded {
-                return Err(SceneRunError(format!(
-                    "t = {t:.3} s: the port gave way to the joint limits"
-                )));
-            }
+            held = out.status != StepStatus::TrocarYielded;
             out.qd
         } else {
             SVector::zeros()
@@ -222,6 +279,7 @@ pub fn simulate(
         row.push(offset.norm());
         row.push(line.offset_from(&trocar).norm());
         row.push((reference.position - tip).norm());
+        row.push(if held { 1.0 } else { 0.0 });
         if row.iter().any(|v| !v.is_finite()) {
             return Err(SceneRunError(format!("t = {t:.3} s: a non-finite value")));
         }
@@ -243,17 +301,31 @@ pub fn simulate(
         non_negative,
     };
     Ok(MechanismTrace {
-        name: format!("{NAME} ({})", mode.name()),
+        name: format!("{name} ({})", mode.name()),
         columns,
         rows,
         panels: vec![
+            if registration {
+                panel(
+                    "Finding the port: the port held, from the true one (10 mm at the start)",
+                    "m",
+                    &[("estimate_error", "held port from the true port")],
+                    false,
+                )
+            } else {
+                panel(
+                    "The port's motion from its start: breathing along the wall's normal, the shift across",
+                    "m",
+                    &[("port_dx", "x (under z)"), ("port_dy", "y"), ("port_dz", "z")],
+                    false,
+                )
+            },
             panel(
-                "The port's motion from its start: breathing along the wall's normal, the shift across",
-                "m",
-                &[("port_dx", "x (under z)"), ("port_dy", "y"), ("port_dz", "z")],
-                false,
+                "The wall's force on the shaft",
+                "N",
+                &[("port_force", "|F|")],
+                true,
             ),
-            panel("The wall's force on the shaft", "N", &[("port_force", "|F|")], true),
             panel(
                 "Distances: the shaft, the true port and the port held",
                 "m",
