@@ -273,6 +273,7 @@ trait Stepper: Send + Sync + std::fmt::Debug {
     ) -> std::result::Result<Step, control::ControlError>;
     fn reset(&mut self);
     fn set_previous_rates(&mut self, rates: &[f64], acceleration: &[f64]);
+    fn trocar_rate(&self, q: &[f64], velocity: &[f64; 3]) -> Vec<f64>;
 }
 
 #[derive(Debug)]
@@ -302,6 +303,24 @@ where
     Const<M>: SquareDim,
     Const<P>: SquareDim,
 {
+    fn trocar_rate(&self, q: &[f64], velocity: &[f64; 3]) -> Vec<f64> {
+        type Kinematics<const N: usize, const R: usize, const P: usize> =
+            ChainKinematics<f64, N, R, P>;
+        let q = SVector::<f64, N>::from_column_slice(q);
+        let g_0i =
+            <Kinematics<N, R, P> as control::ConstrainedKinematics<f64, N, I, R, K, M, P>>::g_0i(
+                &self.kin, &q,
+            );
+        let h = <Kinematics<N, R, P> as control::ConstrainedKinematics<f64, N, I, R, K, M, P>>::h(
+            &self.kin,
+        );
+        self.kin
+            .shaft
+            .trocar_rate(&g_0i, &h, &Vector3::from(*velocity))
+            .as_slice()
+            .to_vec()
+    }
+
     fn step(
         &mut self,
         q: &[f64],
@@ -600,6 +619,26 @@ impl RobotController {
                 }
                 e => Error::NotFinite(format!("control step: {e}")),
             })
+    }
+
+    /// The lateral velocity `dv` ([`RobotController::step`]) that carries the constraint frame
+    /// with a trocar moving at `velocity` (base frame, m/s) at joints `q`: its motion across the
+    /// shaft in the constrained directions (`trocar::control::Shaft::trocar_rate`), for a port
+    /// whose motion is known or estimated.
+    pub fn trocar_rate(&self, q: &[f64], velocity: &[f64; 3]) -> Result<Vec<f64>> {
+        if q.len() != self.dof {
+            return Err(Error::Input(format!(
+                "q has {} values, the robot has {} joints",
+                q.len(),
+                self.dof
+            )));
+        }
+        if !q.iter().chain(velocity).all(|v| v.is_finite()) {
+            return Err(Error::Input(
+                "q and the trocar's velocity must be finite".into(),
+            ));
+        }
+        Ok(self.inner.trocar_rate(q, velocity))
     }
 
     /// Restarts the filtered inverse (it re-initialises on the next step) and the QP's warm

@@ -53,7 +53,7 @@ pub use trajectory::{
     MAX_TRAJECTORY_STEPS, START_TOLERANCE,
 };
 pub use trocar::control::{RateRelaxation, StepStatus};
-pub use trocar::port::PortEstimate;
+pub use trocar::port::{PortEstimate, PortFollower, Wall};
 pub use trocar_codegen::{ModuleOptions, Real};
 pub use trocar_model::catalogue::{Function, Fused};
 pub use trocar_model::description::SimulationDesc;

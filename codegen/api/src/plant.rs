@@ -32,6 +32,8 @@
 use crate::{Error, Result, Robot};
 use std::fmt::Write as _;
 use trocar_model::description::{JointKind, Linear, Origin, RobotDescription, Rotation};
+use trocar_sim::breathing;
+use trocar_sim::simulation::Method;
 
 /// The MuJoCo time step the model is written with (s): two physics steps per 1 kHz control
 /// sample.
@@ -357,6 +359,8 @@ pub struct RunSetup {
 
 enum Source {
     Scenario(trocar_sim::simulation::Scenario, trocar::se3::Se3<f64>),
+    /// A moving-port scenario: its name, the tip's pose and the true port at the start.
+    MovingPort(&'static str, trocar::se3::Se3<f64>, [f64; 3]),
     Trajectory(crate::Trajectory, nalgebra::Matrix3<f64>),
 }
 
@@ -366,12 +370,45 @@ impl RunSetup {
     /// limits.
     pub fn scenario(name: &str) -> Result<(Robot, RunSetup)> {
         use trocar_sim::simulation::{Scenario, ScenarioConfig, PANDA_DEPTH_LIMITS, PANDA_Q0};
+        if let Some(&moving) = breathing::scenario_names().iter().find(|n| **n == name) {
+            // The kinematic run's controller: the QP step (κ = 0.01), K_p = K_o = K_r = 10, the
+            // URDF's limits.
+            let robot = Robot::load("panda-laparoscope")?;
+            let q0 = PANDA_Q0.to_vec();
+            let (port, g0) = start(&robot, &q0)?;
+            let registration = moving == breathing::REGISTRATION;
+            let mut trocar = port;
+            if registration {
+                trocar[1] += breathing::REGISTRATION_OFFSET;
+            }
+            let controller = crate::ControllerOptions {
+                method: Method::Qp,
+                kp: 10.0,
+                ko: 10.0,
+                kr: 10.0,
+                qp_kappa: 0.01,
+                max_joint_speed: None,
+                ..Default::default()
+            };
+            let setup = RunSetup {
+                q0,
+                trocar,
+                duration: if registration {
+                    breathing::REGISTRATION_DURATION
+                } else {
+                    breathing::DURATION
+                },
+                controller,
+                source: Source::MovingPort(moving, g0, port),
+            };
+            return Ok((robot, setup));
+        }
         let scenario =
             Scenario::from_name(name).map_err(|e| Error::argument("scenario", e.to_string()))?;
         if !scenario.is_panda() {
             return Err(Error::argument(
                 "scenario",
-                format!("`{name}` is not a Panda scenario: the physics plant runs panda-laparoscope, panda-laparoscope-limits, or a robot along its own trajectory"),
+                format!("`{name}` is not a Panda scenario: the physics plant runs panda-laparoscope, panda-laparoscope-limits, panda-breathing, panda-registration, or a robot along its own trajectory"),
             ));
         }
         let robot = Robot::load("panda-laparoscope")?;
@@ -435,7 +472,66 @@ impl RunSetup {
                 }
             }
             Source::Trajectory(path, r0) => path.at(t, r0),
+            Source::MovingPort(name, g0, _) => {
+                // The tip's target moves with the anatomy, as the port does.
+                let (d, v) = moving_port_motion(name, t);
+                let p = g0.translation + d;
+                crate::Target {
+                    position: p.into(),
+                    rotation: Some(std::array::from_fn(|i| {
+                        std::array::from_fn(|j| g0.rotation[(i, j)])
+                    })),
+                    velocity: v.into(),
+                    angular_velocity: [0.0; 3],
+                }
+            }
         })
+    }
+
+    /// The true port at time `t` (s) and its velocity (base frame) where the port moves
+    /// (`panda-breathing`, `panda-registration`: there the controller starts from
+    /// [`RunSetup::trocar`], 10 mm off); `None` for a port that is where [`RunSetup::trocar`]
+    /// says.
+    pub fn port(&self, t: f64) -> Option<([f64; 3], [f64; 3])> {
+        match &self.source {
+            Source::MovingPort(name, _, start) => {
+                let (d, v) = moving_port_motion(name, t);
+                Some(((nalgebra::Vector3::from(*start) + d).into(), v.into()))
+            }
+            _ => None,
+        }
+    }
+
+    /// How the kinematic run follows a moving port from the wall's force: the follower's time
+    /// constant (s) and its largest rate (m/s) (`trocar::port::PortFollower`); `None` where
+    /// the port does not move.
+    pub fn follower(&self) -> Option<(f64, f64)> {
+        match &self.source {
+            Source::MovingPort(..) => Some((
+                breathing::FOLLOWER_TIME_CONSTANT,
+                breathing::FOLLOWER_MAX_RATE,
+            )),
+            _ => None,
+        }
+    }
+
+    /// The wall's normal where the port moves along it (`panda-breathing`), for a follower of
+    /// the port ([`trocar::port::PortFollower::with_normal`]).
+    pub fn wall_normal(&self) -> Option<[f64; 3]> {
+        match &self.source {
+            Source::MovingPort(..) => Some(breathing::wall_normal().into()),
+            _ => None,
+        }
+    }
+}
+
+/// The displacement of the moving-port scenario `name`'s port from its start at `t` and its
+/// velocity.
+fn moving_port_motion(name: &str, t: f64) -> (nalgebra::Vector3<f64>, nalgebra::Vector3<f64>) {
+    if name == breathing::NAME {
+        breathing::port_motion(t)
+    } else {
+        (nalgebra::Vector3::zeros(), nalgebra::Vector3::zeros())
     }
 }
 

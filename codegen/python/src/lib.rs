@@ -874,6 +874,14 @@ impl Controller {
         Ok(out)
     }
 
+    /// The lateral velocity `dv` of `step` that carries the constraint frame with a trocar moving
+    /// at `velocity` (base frame, m/s) at joints `q`: its motion across the shaft in the
+    /// constrained directions, for a port whose motion is known or estimated.
+    fn trocar_rate(&self, q: &Bound<'_, PyAny>, velocity: [f64; 3]) -> PyResult<Vec<f64>> {
+        let q = joints(q)?;
+        self.inner.trocar_rate(&q, &velocity).map_err(value_error)
+    }
+
     /// Restarts the filtered inverse and the QP's warm start, and takes the arm to be at rest
     /// (with acceleration limits the next rates start from zero).
     fn reset(&mut self) {
@@ -1035,6 +1043,83 @@ impl RunSetup {
             PyArray1::from_slice(py, &r.angular_velocity),
         )?;
         Ok(out)
+    }
+
+    /// The true port at time `t` (s) and its velocity, `(position, velocity)` (base frame), in a
+    /// scenario whose port moves (`"panda-breathing"`, `"panda-registration"`, where `trocar` is
+    /// where the controller starts from); `None` where the port is `trocar`.
+    fn port(&self, t: f64) -> PyResult<Option<([f64; 3], [f64; 3])>> {
+        if !t.is_finite() {
+            return Err(PyValueError::new_err(format!("t = {t}: must be finite")));
+        }
+        Ok(self.inner.port(t))
+    }
+
+    /// The wall's normal where the port moves along it (the moving-port scenarios), else `None`.
+    #[getter]
+    fn wall_normal(&self) -> Option<[f64; 3]> {
+        self.inner.wall_normal()
+    }
+
+    /// How the kinematic run follows a moving port from the wall's force: `(time_constant,
+    /// max_rate)` (s, m/s) of its `PortFollower`; `None` where the port does not move.
+    #[getter]
+    fn follower(&self) -> Option<(f64, f64)> {
+        self.inner.follower()
+    }
+}
+
+/// A port followed from the wall's force on the shaft (`trocar_api::PortFollower`): an
+/// admittance law that moves the estimate along the force across the shaft, `compliance` m/(N s)
+/// (`1/(k τ)` follows a wall of stiffness `k` with the time constant `τ`), its rate at most
+/// `max_rate` m/s; with the wall's `normal`, the part along the shaft too.
+#[pyclass(module = "trocar")]
+struct PortFollower {
+    inner: trocar_api::PortFollower<f64>,
+}
+
+#[pymethods]
+impl PortFollower {
+    #[new]
+    #[pyo3(signature = (estimate, compliance, max_rate, normal = None))]
+    fn new(
+        estimate: [f64; 3],
+        compliance: f64,
+        max_rate: f64,
+        normal: Option<[f64; 3]>,
+    ) -> PyResult<Self> {
+        let refused = |_| {
+            PyValueError::new_err(
+                "PortFollower: a finite estimate, compliance ≥ 0, max_rate > 0 and a normal of some length",
+            )
+        };
+        let mut inner = trocar_api::PortFollower::new(estimate.into(), compliance, max_rate)
+            .map_err(refused)?;
+        if let Some(n) = normal {
+            inner = inner.with_normal(n.into()).map_err(refused)?;
+        }
+        Ok(PortFollower { inner })
+    }
+
+    /// One step over `dt` (s) from the wall's force on the shaft `force` (N, base frame) and
+    /// the shaft's `direction`: moves the estimate and returns its rate (m/s).
+    fn update(&mut self, force: [f64; 3], direction: [f64; 3], dt: f64) -> PyResult<[f64; 3]> {
+        self.inner
+            .update(&force.into(), &direction.into(), dt)
+            .map(Into::into)
+            .map_err(|e| PyValueError::new_err(format!("PortFollower.update: {e}")))
+    }
+
+    /// The port's estimate (base frame, m).
+    #[getter]
+    fn estimate(&self) -> [f64; 3] {
+        self.inner.estimate.into()
+    }
+
+    /// Its rate at the last update (m/s).
+    #[getter]
+    fn rate(&self) -> [f64; 3] {
+        self.inner.rate.into()
     }
 }
 
@@ -1377,6 +1462,7 @@ fn _trocar(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(write_figure, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(register_port, m)?)?;
+    m.add_class::<PortFollower>()?;
     m.add_function(wrap_pyfunction!(shipped, m)?)?;
     m.add_function(wrap_pyfunction!(quantities, m)?)?;
     m.add_function(wrap_pyfunction!(panda_reference, m)?)?;

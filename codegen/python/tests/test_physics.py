@@ -125,6 +125,29 @@ def test_a_short_run_with_noise_and_latency_holds_the_port_and_the_limits():
     assert off["summary"]["max_drift"] > 2 * s["max_drift"]
 
 
+def test_the_breathing_port_followed_from_the_force_on_the_plant():
+    # The same breathing scenario as the kinematic run, on MuJoCo's arm: the port followed from
+    # the wall's lateral force holds the peak force within 2x of the kinematic run's figure, and
+    # far below the fixed port's.
+    kinematic = trocar.simulate("panda-breathing", port="estimated")
+    plant = physics.simulate("panda-breathing")
+    fixed = physics.simulate("panda-breathing", follow="fixed", duration=4.0)
+    peak_kinematic = float(np.max(kinematic["port_force"]))
+    peak_plant = plant["summary"]["peak_port_force"]
+    print(f"peak port force: kinematic {peak_kinematic:.3f} N, MuJoCo {peak_plant:.3f} N, "
+          f"MuJoCo with the port fixed (first breath) {fixed['summary']['peak_port_force']:.2f} N")
+    assert peak_plant <= 2.0 * peak_kinematic
+    assert peak_plant <= 0.2 * fixed["summary"]["peak_port_force"]
+    assert plant["summary"]["yielded_steps"] == 0
+    assert plant["summary"]["position_limit_excess"] <= 0.0
+    assert plant["summary"]["speed_limit_excess"] <= 0.0
+    # The estimate stays on the true port.
+    error = np.sqrt(sum((plant[f"estimate_{a}"] - plant[f"port_{a}"]) ** 2 for a in "xyz"))
+    assert np.max(error[plant["t"] >= 4.0]) <= 1e-3
+    with pytest.raises(ValueError, match="does not move"):
+        physics.simulate("panda-laparoscope", follow="known", duration=0.1)
+
+
 def test_bad_arguments_are_refused():
     for kwargs, words in [
         (dict(noise=-1.0), "noise"),

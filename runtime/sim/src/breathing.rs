@@ -247,10 +247,7 @@ pub fn simulate(
                 (follower.estimate, rate)
             }
         };
-        let r_0r = g_0i(&q).rotation * shaft.rotation;
-        let local = r_0r.transpose() * trocar_rate;
-        let dv =
-            SVector::<f64, 2>::from_fn(|r, _| (0..3).map(|c| h[(r, c)] * local[c]).sum::<f64>());
+        let dv = shaft.trocar_rate(&g_0i(&q), &h, &trocar_rate);
         let reference = Reference {
             position: g_0e0.translation + displacement,
             rotation: g_0e0.rotation,

@@ -67,6 +67,20 @@ impl<T: RealField + Copy> Shaft<T> {
         )
     }
 
+    /// The lateral velocity `dv_0r` (3.30) that carries the constraint frame with a trocar moving
+    /// at `velocity` (base frame), with the link at `g_0i`: `H_v R_0rᵀ v`, the trocar's motion in
+    /// the constrained directions `H` of `F_r` — what the moving-RCM law (3.33)–(3.34) feeds
+    /// forward for a port whose motion is known or estimated.
+    pub fn trocar_rate<const R: usize>(
+        &self,
+        g_0i: &Se3<T>,
+        h: &nalgebra::SMatrix<T, R, 6>,
+        velocity: &Vector3<T>,
+    ) -> nalgebra::SVector<T, R> {
+        let local = (g_0i.rotation * self.rotation).transpose() * velocity;
+        h.fixed_columns::<3>(0) * local
+    }
+
     /// The pose `g_0r = g_0i g_ir(l_a)` of the constraint frame in the base.
     pub fn constraint_pose(&self, g_0i: &Se3<T>, l_a: T) -> Se3<T> {
         g_0i.compose(&self.frame(l_a))

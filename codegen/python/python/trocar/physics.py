@@ -207,6 +207,7 @@ def simulate(
     latency=1,
     port=None,
     *,
+    follow=None,
     drift_correction=True,
     duration=None,
     servo_time_constant=DEFAULT_SERVO_TIME_CONSTANT,
@@ -228,6 +229,10 @@ def simulate(
     encoder noise's standard deviation (rad; 0 for none). ``latency``: samples between a
     measurement and the command it produces taking effect (≥ 0; 1 by default). ``port``: the
     body wall (:class:`Wall`; ``None`` for the default wall, ``False`` for none).
+    ``follow``: in a scenario whose port moves (``"panda-breathing"``, ``"panda-registration"``),
+    how the controller knows it: ``"fixed"`` (where it was at the start), ``"known"`` (its
+    trajectory fed forward) or ``"estimated"`` (the default: followed from the wall's lateral force
+    on the shaft by :class:`trocar.PortFollower`, as the kinematic run follows it).
     ``drift_correction``: the controller's correction toward the trocar (``K_r``).
     ``duration``: seconds to run (default: the run's). ``servo_time_constant`` (s) and
     ``armature`` (kg m², the motors' reflected inertia added to every joint) shape the servo.
@@ -235,7 +240,8 @@ def simulate(
     positions of every 20th step are appended to it (for pictures).
 
     Columns: ``t, ep_norm, eo_norm, rcm_drift, l_a, q1..qn`` (as measured), ``qd1..qdn`` (the
-    commands sent), ``port_x, port_y, port_z`` (the port's true centre), ``port_force`` (N, the
+    commands sent), ``port_x, port_y, port_z`` (the port's true centre), ``estimate_x, estimate_y,
+    estimate_z`` (where the controller holds it), ``port_force`` (N, the
     wall's lateral reaction on the shaft), ``wrist_force`` (N, the wrist sensor's force),
     ``tau1..taun`` (N m, the servos' torques), ``status`` (1 where the step held the trocar, 0
     where it gave way within the limits).
@@ -271,6 +277,31 @@ def simulate(
     plant = _plant(bot, np.array(setup.q0, dtype=float), servo_time_constant, armature)
     model, data, n = plant.model, plant.data, plant.n
     port_centre = np.array(setup.trocar, dtype=float)
+    moving = setup.port(0.0) is not None
+    if follow is not None and not moving:
+        raise ValueError(
+            "follow: the port of this run does not move (panda-breathing and panda-registration have one that does)"
+        )
+    mode = (follow or "estimated") if moving else "fixed"
+    if mode not in ("fixed", "known", "estimated"):
+        raise ValueError(f'follow: "fixed", "known" or "estimated", not {follow!r}')
+    follower = None
+    if mode == "estimated":
+        if wall is None:
+            raise ValueError(
+                'follow="estimated": the port is followed from the wall\'s force; there is no wall (port=False)'
+            )
+        time_constant, max_rate = setup.follower
+        follower = _trocar.PortFollower(
+            list(port_centre), 1.0 / (wall.stiffness * time_constant), max_rate, setup.wall_normal
+        )
+
+    def true_port(t):
+        if not moving:
+            return port_centre, np.zeros(3)
+        position, velocity = setup.port(t)
+        return np.array(position), np.array(velocity)
+
     substeps = round(CONTROL_PERIOD / model.opt.timestep)
     rng = np.random.default_rng(seed)
     steps = int(round(total / CONTROL_PERIOD))
@@ -288,12 +319,23 @@ def simulate(
         t = k * CONTROL_PERIOD
         q_true = data.qpos[:n].copy()
         q_meas = q_true + (rng.normal(0.0, noise, n) if noise > 0.0 else 0.0)
-        out = ctrl.step(q_meas, setup.reference(t), list(port_centre), CONTROL_PERIOD)
+        port_now, port_rate = true_port(t)
+        if mode == "known":
+            held, held_rate = port_now, port_rate
+        elif mode == "estimated":
+            direction = _shaft_line(plant)[1]
+            lateral = force - (force @ direction) * direction
+            rate = follower.update(list(lateral), list(direction), CONTROL_PERIOD)
+            held, held_rate = np.array(follower.estimate), np.array(rate)
+        else:
+            held, held_rate = port_centre, np.zeros(3)
+        dv = ctrl.trocar_rate(q_meas, list(held_rate)) if mode != "fixed" else None
+        out = ctrl.step(q_meas, setup.reference(t), list(held), CONTROL_PERIOD, dv=dv)
         if out["status"] != "Held":
             yielded += 1
         queue.append(np.array(out["qd"]))
         command = queue.pop(0)
-        _, _, offset, along = _wall_force(plant, port_centre, wall)
+        _, _, offset, along = _wall_force(plant, port_now, wall)
         wrist = data.sensordata[plant.wrist_force : plant.wrist_force + 3]
         rows.append(
             [
@@ -304,7 +346,8 @@ def simulate(
                 along,
                 *q_meas,
                 *command,
-                *port_centre,
+                *port_now,
+                *held,
                 float(np.linalg.norm(force - (force @ _shaft_line(plant)[1]) * _shaft_line(plant)[1])),
                 float(np.linalg.norm(wrist)),
                 *data.actuator_force[:n],
@@ -316,8 +359,8 @@ def simulate(
         if k == steps:
             break
         data.ctrl[:n] = command
-        for _ in range(substeps):
-            force, at, _, _ = _wall_force(plant, port_centre, wall)
+        for j in range(substeps):
+            force, at, _, _ = _wall_force(plant, true_port(t + j * model.opt.timestep)[0], wall)
             _apply(plant, force, at)
             mujoco.mj_step(model, data)
             if not np.all(np.isfinite(data.qpos)):
@@ -333,7 +376,7 @@ def simulate(
         ["t", "ep_norm", "eo_norm", "rcm_drift", "l_a"]
         + [f"q{k + 1}" for k in range(n)]
         + [f"qd{k + 1}" for k in range(n)]
-        + ["port_x", "port_y", "port_z", "port_force", "wrist_force"]
+        + ["port_x", "port_y", "port_z", "estimate_x", "estimate_y", "estimate_z", "port_force", "wrist_force"]
         + [f"tau{k + 1}" for k in range(n)]
         + ["status"]
     )
@@ -519,7 +562,8 @@ def main(argv=None) -> int:
         description="Run trocar's constrained controller at 1 kHz on a MuJoCo plant of the robot "
         "(inertia, gravity, velocity servos with torque limits, encoder noise, latency, the body "
         "wall at the port). ROBOT is a shipped Panda scenario (panda-laparoscope, "
-        "panda-laparoscope-limits) or a description with a [simulation] section.",
+        "panda-laparoscope-limits, panda-breathing, panda-registration) or a description with a "
+        "[simulation] section.",
     )
     parser.add_argument("robot", metavar="ROBOT|SCENARIO")
     parser.add_argument("--trajectory", help="a trajectory CSV (t,x,y,z and roll or qw,qx,qy,qz)")
@@ -529,6 +573,12 @@ def main(argv=None) -> int:
     parser.add_argument("--no-wall", action="store_true", help="no body wall at the port")
     parser.add_argument("--wall-stiffness", type=float, default=Wall.stiffness, help="N/m (default 4000)")
     parser.add_argument("--wall-damping", type=float, default=Wall.damping, help="N s/m (default 40)")
+    parser.add_argument(
+        "--follow",
+        choices=["fixed", "known", "estimated"],
+        help="a moving port (panda-breathing, panda-registration): held where it was, its "
+        "trajectory fed forward, or followed from the wall's force (the default)",
+    )
     parser.add_argument("--drift-correction", choices=["on", "off"], default="on")
     parser.add_argument("--duration", type=float, help="seconds (default: the run's)")
     parser.add_argument("--servo-time-constant", type=float, default=DEFAULT_SERVO_TIME_CONSTANT)
@@ -557,6 +607,7 @@ def main(argv=None) -> int:
             noise=args.noise,
             latency=args.latency,
             port=wall,
+            follow=args.follow,
             drift_correction=args.drift_correction == "on",
             duration=args.duration,
             servo_time_constant=args.servo_time_constant,
