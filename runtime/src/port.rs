@@ -26,7 +26,9 @@
 //!   distance from the estimate;
 //! - the **covariance** `σ² A⁻¹` with `σ² = Σ w_k ‖P_k (p̂ − a_k)‖² / (2W − 3)`: each line
 //!   measures the port in the two directions across it, with independent errors of variance
-//!   `σ²` (the least-squares estimate of that variance from the residual).
+//!   `σ²` (the least-squares estimate of that variance from the residual). Exact for equal
+//!   weights; with forgetting it is `σ² A⁻¹ (Σ w_k² P_k) A⁻¹` instead, which this overstates by
+//!   up to `1 + λ` — a bound, not the figure.
 //!
 //! Allocation-free and `no_std`, like the controller.
 //!
@@ -81,8 +83,8 @@ pub enum PortError {
         /// The least spread asked for (rad).
         least: f64,
     },
-    /// A line or a setting with a number that is not finite, a direction of no length, or a
-    /// forgetting factor outside `(0, 1]`.
+    /// A line or a setting with a number that is not finite, a direction of no length, a
+    /// forgetting factor outside `(0.5, 1]`, or a step whose result would not be finite.
     Invalid,
 }
 
@@ -104,7 +106,7 @@ impl core::fmt::Display for PortError {
             PortError::Invalid => write!(
                 f,
                 "a shaft line with a number that is not finite or a direction of no length, or a \
-                 forgetting factor outside (0, 1]"
+                 forgetting factor outside (0.5, 1], or a step whose result would not be finite"
             ),
         }
     }
@@ -139,8 +141,9 @@ impl<T: RealField + Copy> PortEstimate<T> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PortRegistration<T: RealField + Copy> {
     // The sums are kept about the first line's point `r` (each line's point taken as its point
-    // nearest to `r`), so that `c`, the sum of the lines' squared distances from `r`, is small
-    // where the lines pass near the port and the residual loses little to cancellation.
+    // nearest to `r`), so that `c` is the sum of the lines' squared distances from `r` — of the
+    // size of the lines' spread about the port times its distance from `r` — and not of the
+    // points' distances from the base's origin: the residual loses only that to cancellation.
     origin: Option<Vector3<T>>,
     a: Matrix3<T>,
     b: Vector3<T>,
@@ -171,9 +174,11 @@ impl<T: RealField + Copy> PortRegistration<T> {
     }
 
     /// No line yet; each new line weighs `1/λ` times the one before (`w_k = λ^(n−k)`), so the
-    /// estimate follows a port that moves, over about `1/(1 − λ)` lines. `λ` in `(0, 1]`.
+    /// estimate follows a port that moves, over about `1/(1 − λ)` lines. `λ` in `(0.5, 1]`: the
+    /// weight of all the lines tends to `1/(1 − λ)`, which must pass two lines' for an estimate.
     pub fn with_forgetting(lambda: T) -> Result<Self, PortError> {
-        if !(lambda > T::zero() && lambda <= T::one()) {
+        let half: T = nalgebra::convert(0.5);
+        if !(lambda > half && lambda <= T::one()) {
             return Err(PortError::Invalid);
         }
         Ok(PortRegistration {
@@ -325,9 +330,10 @@ impl<T: RealField + Copy> Wall<T> {
 /// the shaft; where the wall's normal `n` is known (breathing moves the wall along it), `α`
 /// takes, of the motions that explain the force, the one that moves least across `n`:
 /// `α = −((I − n nᵀ) d)·((I − n nᵀ) C F⊥) / ‖(I − n nᵀ) d‖²`, so a port moving along `n` is
-/// followed along the shaft too. `C = 1/(k τ)` for a wall of stiffness `k` follows with the time
-/// constant `τ`. The estimate's rate `ṗ̂` is the trocar's velocity the controller feeds forward
-/// ((3.33)–(3.34)).
+/// followed along the shaft too (where the shaft is at least 10° from `n`). With the shaft held
+/// at the estimate, a wall `F = −k e − c ė` makes the estimate close on a still port with the time
+/// constant `1/(C k) + c/k`: `C = 1/(k τ)` follows with `τ + c/k`. The estimate's rate `ṗ̂` is the
+/// trocar's velocity the controller feeds forward ((3.33)–(3.34)).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PortFollower<T: RealField + Copy> {
     /// The port's estimate (base frame).
@@ -391,10 +397,14 @@ impl<T: RealField + Copy> PortFollower<T> {
         let across = force - d * d.dot(force);
         let mut rate = across * self.compliance;
         if let Some(n) = self.normal {
+            // Only where the shaft is at least 10° from the normal: nearer, the part along the
+            // shaft that explains a lateral motion grows as 1/sin of that angle, and a shaft
+            // square to the wall is followed across only.
             let in_plane = |v: &Vector3<T>| v - n * n.dot(v);
             let pd = in_plane(&d);
             let scale = pd.norm_squared();
-            if scale > T::default_epsilon().sqrt() {
+            let least: T = nalgebra::convert(0.030_153_689_607_045_8); // sin²(10°)
+            if scale >= least {
                 rate -= d * (pd.dot(&in_plane(&rate)) / scale);
             }
         }
@@ -402,7 +412,11 @@ impl<T: RealField + Copy> PortFollower<T> {
         if speed > self.max_rate {
             rate *= self.max_rate / speed;
         }
-        self.estimate += rate * dt;
+        let estimate = self.estimate + rate * dt;
+        if !rate.iter().chain(estimate.iter()).all(|v| v.is_finite()) {
+            return Err(PortError::Invalid);
+        }
+        self.estimate = estimate;
         self.rate = rate;
         Ok(rate)
     }

@@ -376,11 +376,7 @@ impl RunSetup {
             let robot = Robot::load("panda-laparoscope")?;
             let q0 = PANDA_Q0.to_vec();
             let (port, g0) = start(&robot, &q0)?;
-            let registration = moving == breathing::REGISTRATION;
-            let mut trocar = port;
-            if registration {
-                trocar[1] += breathing::REGISTRATION_OFFSET;
-            }
+            let trocar = (nalgebra::Vector3::from(port) + breathing::nominal_offset(moving)).into();
             let controller = crate::ControllerOptions {
                 method: Method::Qp,
                 kp: 10.0,
@@ -393,11 +389,7 @@ impl RunSetup {
             let setup = RunSetup {
                 q0,
                 trocar,
-                duration: if registration {
-                    breathing::REGISTRATION_DURATION
-                } else {
-                    breathing::DURATION
-                },
+                duration: breathing::duration_of(moving),
                 controller,
                 source: Source::MovingPort(moving, g0, port),
             };
@@ -474,7 +466,7 @@ impl RunSetup {
             Source::Trajectory(path, r0) => path.at(t, r0),
             Source::MovingPort(name, g0, _) => {
                 // The tip's target moves with the anatomy, as the port does.
-                let (d, v) = moving_port_motion(name, t);
+                let (d, v) = breathing::true_port_motion(name, t);
                 let p = g0.translation + d;
                 crate::Target {
                     position: p.into(),
@@ -495,7 +487,7 @@ impl RunSetup {
     pub fn port(&self, t: f64) -> Option<([f64; 3], [f64; 3])> {
         match &self.source {
             Source::MovingPort(name, _, start) => {
-                let (d, v) = moving_port_motion(name, t);
+                let (d, v) = breathing::true_port_motion(name, t);
                 Some(((nalgebra::Vector3::from(*start) + d).into(), v.into()))
             }
             _ => None,
@@ -522,16 +514,6 @@ impl RunSetup {
             Source::MovingPort(..) => Some(breathing::wall_normal().into()),
             _ => None,
         }
-    }
-}
-
-/// The displacement of the moving-port scenario `name`'s port from its start at `t` and its
-/// velocity.
-fn moving_port_motion(name: &str, t: f64) -> (nalgebra::Vector3<f64>, nalgebra::Vector3<f64>) {
-    if name == breathing::NAME {
-        breathing::port_motion(t)
-    } else {
-        (nalgebra::Vector3::zeros(), nalgebra::Vector3::zeros())
     }
 }
 

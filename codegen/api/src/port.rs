@@ -88,29 +88,53 @@ impl JointRows {
 /// The shaft's line at joints `q` in the robot's base frame: the constrained link's frame from
 /// the numeric model and the shaft of its constraint (`trocar::control::Shaft::line`).
 pub fn shaft_line(robot: &Robot, q: &[f64]) -> Result<Line<f64>> {
-    robot.check_q(q)?;
-    let numeric = robot.numeric()?;
-    let (Some(link), Ok(shaft)) = (numeric.constrained_link(), numeric.model().shaft()) else {
-        return Err(Error::Unsupported(format!(
-            "`{}` has no constraint with a shaft (a constrained link and a parameter `l_a`): there is no shaft line to locate a port from",
-            robot.name()
-        )));
-    };
-    let g_0i = numeric
-        .link_frame(link, q)
-        .map_err(|e| Error::Input(e.to_string()))?;
-    shaft.line(&g_0i).ok_or_else(|| {
-        Error::Input(format!(
-            "the shaft of `{}` has no direction at these joints",
-            robot.name()
-        ))
-    })
+    ShaftLines::of(robot)?.at(q)
 }
+
+/// The shaft of a robot's constraint, read once, for the lines of many poses.
+struct ShaftLines<'r> {
+    robot: &'r Robot,
+    link: usize,
+    shaft: trocar::control::Shaft<f64>,
+}
+
+impl<'r> ShaftLines<'r> {
+    fn of(robot: &'r Robot) -> Result<Self> {
+        let numeric = robot.numeric()?;
+        let (Some(link), Ok(shaft)) = (numeric.constrained_link(), numeric.model().shaft()) else {
+            return Err(Error::Unsupported(format!(
+                "`{}` has no constraint with a shaft (a constrained link and a parameter `l_a`): there is no shaft line to locate a port from",
+                robot.name()
+            )));
+        };
+        Ok(ShaftLines { robot, link, shaft })
+    }
+
+    fn at(&self, q: &[f64]) -> Result<Line<f64>> {
+        self.robot.check_q(q)?;
+        let g_0i = self
+            .robot
+            .numeric()?
+            .link_frame(self.link, q)
+            .map_err(|e| Error::Input(e.to_string()))?;
+        self.shaft.line(&g_0i).ok_or_else(|| {
+            Error::Input(format!(
+                "the shaft of `{}` has no direction at these joints",
+                self.robot.name()
+            ))
+        })
+    }
+}
+
+/// The largest least spread (rad) that lines can reach: lines spread evenly in every direction
+/// have `μ_min(A)/W = 2/3`, so no set of lines spreads by more than `asin √(2/3)` ≈ 54.7°.
+pub const LARGEST_SPREAD: f64 = 0.955_316_618_124_509_3;
 
 /// The port located from joint positions, one pose per row (`trocar register-port`): every
 /// row's shaft line taken, then the point nearest to them (least squares), refused where the
-/// lines spread by less than `least_spread` (rad) or are fewer than two. `forgetting` (in
-/// `(0, 1]`, `None` for 1) weighs each row `1/λ` times the one before, for a port that moved.
+/// lines spread by less than `least_spread` (rad, at most [`LARGEST_SPREAD`]) or are fewer than
+/// two. `forgetting` (in `(0.5, 1]`, `None` for 1) weighs each row `1/λ` times the one before,
+/// for a port that moved.
 pub fn register_port(
     robot: &Robot,
     rows: &JointRows,
@@ -120,19 +144,21 @@ pub fn register_port(
     let mut registration = match forgetting {
         Some(lambda) => PortRegistration::with_forgetting(lambda).map_err(|_| {
             Error::Input(format!(
-                "--forgetting {lambda}: a factor in (0, 1] (1 weighs every pose the same)"
+                "the forgetting factor {lambda}: in (0.5, 1] (1 weighs every pose the same)"
             ))
         })?,
         None => PortRegistration::new(),
     };
-    if !(least_spread.is_finite() && least_spread >= 0.0) {
+    if !(least_spread.is_finite() && (0.0..=LARGEST_SPREAD).contains(&least_spread)) {
         return Err(Error::Input(format!(
-            "--least-spread {}°: an angle of 0° or more",
-            least_spread.to_degrees()
+            "the least spread {}°: an angle from 0° to {:.1}° (no lines spread more)",
+            least_spread.to_degrees(),
+            LARGEST_SPREAD.to_degrees()
         )));
     }
+    let lines = ShaftLines::of(robot)?;
     for (q, line) in rows.rows.iter().zip(&rows.lines) {
-        let shaft = shaft_line(robot, q).map_err(|e| match e {
+        let shaft = lines.at(q).map_err(|e| match e {
             Error::Input(m) => Error::Input(format!("line {line}: {m}")),
             other => other,
         })?;

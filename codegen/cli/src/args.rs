@@ -256,8 +256,7 @@ pub enum Frame {
     Spatial,
 }
 
-/// `--method`'s values: each [`Method`] by its name, and `all` (pinv, dls, fi and qp compared
-/// on one figure).
+/// `--port`'s values: each [`trocar_api::PortMode`] by its name.
 fn port_values() -> impl TypedValueParser<Value = trocar_api::PortMode> {
     PossibleValuesParser::new(
         trocar_api::PortMode::ALL
@@ -267,6 +266,8 @@ fn port_values() -> impl TypedValueParser<Value = trocar_api::PortMode> {
     .map(|s| trocar_api::PortMode::from_name(&s).expect("one of the names offered"))
 }
 
+/// `--method`'s values: each [`Method`] by its name, and `all` (pinv, dls, fi and qp compared
+/// on one figure).
 fn method_values() -> PossibleValuesParser {
     PossibleValuesParser::new(
         Method::ALL

@@ -198,7 +198,7 @@ fn what_cannot_locate_a_port_is_refused_where_it_is_wrong() {
                 "--forgetting".into(),
                 "1.5".into(),
             ],
-            "--forgetting 1.5".into(),
+            "forgetting factor 1.5".into(),
         ),
         (
             vec![
@@ -208,7 +208,7 @@ fn what_cannot_locate_a_port_is_refused_where_it_is_wrong() {
                 "--least-spread".into(),
                 "-1".into(),
             ],
-            "--least-spread".into(),
+            "the least spread".into(),
         ),
         (
             vec!["four-bar".into(), "--joints".into(), still.clone()],

@@ -8,7 +8,7 @@
 //! - [`PortMode::Fixed`]: where it was at the start, as if it did not move;
 //! - [`PortMode::Known`]: the true port, its trajectory fed forward ((3.33)–(3.34));
 //! - [`PortMode::Estimated`]: followed from the wall's force on the shaft
-//!   ([`trocar::port::PortFollower`], time constant 20 ms, the wall's normal known), its rate fed
+//!   ([`trocar::port::PortFollower`], closing with 30 ms, the wall's normal known), its rate fed
 //!   forward.
 //!
 //! `panda-registration` keeps the port still but starts the controller from a nominal port
@@ -66,7 +66,8 @@ pub const SHIFT: f64 = 0.02;
 pub const SHIFT_START: f64 = 8.0;
 /// When the shift ends (s).
 pub const SHIFT_END: f64 = 12.0;
-/// The follower's time constant (s): its compliance is `1/(k τ)` for the wall's stiffness `k`.
+/// The follower's compliance as a time constant (s): `C = 1/(k τ)` for the wall's stiffness `k`;
+/// with the wall's damping `c` it closes on the port with `τ + c/k` (30 ms for the default wall).
 pub const FOLLOWER_TIME_CONSTANT: f64 = 0.02;
 /// The largest rate of the port's estimate (m/s).
 pub const FOLLOWER_MAX_RATE: f64 = 0.05;
@@ -128,6 +129,36 @@ pub fn port_motion(t: f64) -> (Vector3<f64>, Vector3<f64>) {
     )
 }
 
+/// The true port's displacement from its start at `t` (s) and its velocity in the moving-port
+/// scenario `name` ([`port_motion`] in `panda-breathing`; still in `panda-registration`).
+pub fn true_port_motion(name: &str, t: f64) -> (Vector3<f64>, Vector3<f64>) {
+    if name == NAME {
+        port_motion(t)
+    } else {
+        (Vector3::zeros(), Vector3::zeros())
+    }
+}
+
+/// Where the controller starts holding the port in the moving-port scenario `name`, from the
+/// true port at the start: there, or [`REGISTRATION_OFFSET`] across the shaft (the base's `y`)
+/// in `panda-registration`.
+pub fn nominal_offset(name: &str) -> Vector3<f64> {
+    if name == REGISTRATION {
+        Vector3::y() * REGISTRATION_OFFSET
+    } else {
+        Vector3::zeros()
+    }
+}
+
+/// The duration (s) of the moving-port scenario `name`.
+pub fn duration_of(name: &str) -> f64 {
+    if name == REGISTRATION {
+        REGISTRATION_DURATION
+    } else {
+        DURATION
+    }
+}
+
 /// Runs `name` (`panda-breathing` or `panda-registration`) with the port known as `mode`;
 /// `progress` gets the fraction done. In `panda-registration` the port does not move, but it is
 /// [`REGISTRATION_OFFSET`] across the shaft (along the base's `y`) from the nominal port the
@@ -148,18 +179,8 @@ pub fn simulate(
             )))
         }
     };
-    let motion = |t: f64| {
-        if registration {
-            (Vector3::zeros(), Vector3::zeros())
-        } else {
-            port_motion(t)
-        }
-    };
-    let duration = if registration {
-        REGISTRATION_DURATION
-    } else {
-        DURATION
-    };
+    let motion = |t: f64| true_port_motion(name, t);
+    let duration = duration_of(name);
     let (kin, limits) = panda()?;
     let mut ctrl = controller(limits);
     let wall = Wall::<f64>::abdominal();
@@ -188,11 +209,7 @@ pub fn simulate(
     // The nominal port the controller starts from: the same, or 10 mm across for the
     // registration run.
     let port0 = shaft.constraint_pose(&g_0i(&q), l_a).translation;
-    let nominal = if registration {
-        port0 + Vector3::y() * REGISTRATION_OFFSET
-    } else {
-        port0
-    };
+    let nominal = port0 + nominal_offset(name);
     let mut follower = PortFollower::new(
         nominal,
         1.0 / (wall.stiffness * FOLLOWER_TIME_CONSTANT),

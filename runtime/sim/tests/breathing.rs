@@ -77,7 +77,7 @@ fn the_followed_port_holds_the_force_down() {
 }
 
 /// The port registered 10 mm off: held there, the wall pushes the shaft with 40 N for as long as
-/// the run lasts; followed from the wall's force, within 1 s (the slower of the follower's 20 ms
+/// the run lasts; followed from the wall's force, within 1 s (the slower of the follower's 30 ms
 /// and the drift correction's 0.1 s) the shaft passes within 0.01 mm of the port, the force is
 /// below 0.1 N, its peak under a fifth of the misregistered port's, and the port held is within
 /// 0.2 mm of the true one (what remains lies along the shaft, where the force does not see it).

@@ -810,7 +810,7 @@ fn regular<T: RealField + Copy, const C: usize>(
 }
 
 /// Splits `e` on `H`'s linear part: `H_v e`.
-fn h_linear<T: RealField + Copy, const R: usize>(
+pub(crate) fn h_linear<T: RealField + Copy, const R: usize>(
     h: &SMatrix<T, R, 6>,
     e: &Vector3<T>,
 ) -> SVector<T, R> {

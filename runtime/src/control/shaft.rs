@@ -77,8 +77,7 @@ impl<T: RealField + Copy> Shaft<T> {
         h: &nalgebra::SMatrix<T, R, 6>,
         velocity: &Vector3<T>,
     ) -> nalgebra::SVector<T, R> {
-        let local = (g_0i.rotation * self.rotation).transpose() * velocity;
-        h.fixed_columns::<3>(0) * local
+        super::h_linear(h, &((g_0i.rotation * self.rotation).transpose() * velocity))
     }
 
     /// The pose `g_0r = g_0i g_ir(l_a)` of the constraint frame in the base.

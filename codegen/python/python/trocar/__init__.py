@@ -13,6 +13,7 @@ with the command line's message.
 
 from ._trocar import (
     Controller,
+    PortFollower,
     Robot,
     RunSetup,
     Scene,
@@ -30,6 +31,7 @@ __all__ = [
     "Controller",
     "RunSetup",
     "Scene",
+    "PortFollower",
     "write_figure",
     "simulate",
     "register_port",

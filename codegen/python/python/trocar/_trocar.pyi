@@ -167,8 +167,35 @@ class Controller:
         A ``reference`` dict has the keys ``"position"``, ``"rotation"``, ``"velocity"`` and
         ``"angular_velocity"`` only (another key raises ``ValueError``); its rotation must be a
         proper rotation matrix (``|RᵀR − I| ≤ 1e-6`` entry by entry, ``det R > 0``)."""
+    def trocar_rate(
+        self, q: Union[Sequence[float], npt.NDArray[np.float64]], velocity: Sequence[float]
+    ) -> List[float]:
+        """The ``dv`` of ``step`` that carries the constraint frame with a trocar moving at
+        ``velocity`` (base frame, m/s) at joints ``q``."""
     def reset(self) -> None:
         """Restarts the filtered inverse and the QP's warm start."""
+
+class PortFollower:
+    """A port followed from the wall's force on the shaft (an admittance law): the estimate moves
+    along the force across the shaft, ``compliance`` m/(N s), its rate at most ``max_rate`` m/s;
+    with the wall's ``normal``, the part along the shaft too."""
+
+    def __init__(
+        self,
+        estimate: Sequence[float],
+        compliance: float,
+        max_rate: float,
+        normal: Optional[Sequence[float]] = None,
+    ) -> None: ...
+    def update(
+        self, force: Sequence[float], direction: Sequence[float], dt: float
+    ) -> Tuple[float, float, float]:
+        """One step over ``dt`` from the wall's force on a shaft of ``direction``: moves the
+        estimate and returns its rate."""
+    @property
+    def estimate(self) -> Tuple[float, float, float]: ...
+    @property
+    def rate(self) -> Tuple[float, float, float]: ...
 
 def panda_reference(t: float) -> Dict[str, npt.NDArray[np.float64]]:
     """The reference of the ``panda-laparoscope`` scenario at time ``t``, as ``Controller.step``

@@ -166,8 +166,10 @@ def _shaft_line(plant: _Plant):
     return p + r @ plant.start, r @ plant.direction
 
 
-def _wall_force(plant: _Plant, port: np.ndarray, wall: Wall | None):
-    """The wall's force on the shaft where it crosses the port, that point, and the offset."""
+def _wall_force(plant: _Plant, port: np.ndarray, wall: Wall | None, port_velocity=None):
+    """The wall's force on the shaft where it crosses the port, that point, and the offset; the
+    damping and the friction act on the shaft's motion relative to the port (which moves with the
+    tissue at ``port_velocity``, still by default)."""
     mujoco = _mujoco()
     s, d = _shaft_line(plant)
     along = float((port - s) @ d)
@@ -179,6 +181,8 @@ def _wall_force(plant: _Plant, port: np.ndarray, wall: Wall | None):
     jacp = np.zeros((3, plant.model.nv))
     mujoco.mj_jac(plant.model, plant.data, jacp, None, c, plant.instrument)
     v = jacp @ plant.data.qvel
+    if port_velocity is not None:
+        v = v - port_velocity
     v_axial = float(v @ d)
     v_lateral = v - v_axial * d
     force = -wall.stiffness * offset - wall.damping * v_lateral
@@ -242,7 +246,9 @@ def simulate(
     Columns: ``t, ep_norm, eo_norm, rcm_drift, l_a, q1..qn`` (as measured), ``qd1..qdn`` (the
     commands sent), ``port_x, port_y, port_z`` (the port's true centre), ``estimate_x, estimate_y,
     estimate_z`` (where the controller holds it), ``port_force`` (N, the
-    wall's lateral reaction on the shaft), ``wrist_force`` (N, the wrist sensor's force),
+    wall's lateral reaction on the shaft), ``port_offset`` (m, the shaft's axis from the port's
+    true centre; ``rcm_drift`` is from the port held, the same where the port does not move),
+    ``wrist_force`` (N, the wrist sensor's force),
     ``tau1..taun`` (N m, the servos' torques), ``status`` (1 where the step held the trocar, 0
     where it gave way within the limits).
     """
@@ -336,19 +342,21 @@ def simulate(
         queue.append(np.array(out["qd"]))
         command = queue.pop(0)
         _, _, offset, along = _wall_force(plant, port_now, wall)
+        held_offset = _wall_force(plant, held, None)[2]
         wrist = data.sensordata[plant.wrist_force : plant.wrist_force + 3]
         rows.append(
             [
                 t,
                 float(np.linalg.norm(out["position_error"])),
                 float(np.linalg.norm(out["orientation_error"])),
-                float(np.linalg.norm(offset)),
+                float(np.linalg.norm(held_offset)),
                 along,
                 *q_meas,
                 *command,
                 *port_now,
                 *held,
                 float(np.linalg.norm(force - (force @ _shaft_line(plant)[1]) * _shaft_line(plant)[1])),
+                float(np.linalg.norm(offset)),
                 float(np.linalg.norm(wrist)),
                 *data.actuator_force[:n],
                 1.0 if out["status"] == "Held" else 0.0,
@@ -360,7 +368,8 @@ def simulate(
             break
         data.ctrl[:n] = command
         for j in range(substeps):
-            force, at, _, _ = _wall_force(plant, true_port(t + j * model.opt.timestep)[0], wall)
+            at_time = true_port(t + j * model.opt.timestep)
+            force, at, _, _ = _wall_force(plant, at_time[0], wall, at_time[1])
             _apply(plant, force, at)
             mujoco.mj_step(model, data)
             if not np.all(np.isfinite(data.qpos)):
@@ -376,7 +385,7 @@ def simulate(
         ["t", "ep_norm", "eo_norm", "rcm_drift", "l_a"]
         + [f"q{k + 1}" for k in range(n)]
         + [f"qd{k + 1}" for k in range(n)]
-        + ["port_x", "port_y", "port_z", "estimate_x", "estimate_y", "estimate_z", "port_force", "wrist_force"]
+        + ["port_x", "port_y", "port_z", "estimate_x", "estimate_y", "estimate_z", "port_force", "port_offset", "wrist_force"]
         + [f"tau{k + 1}" for k in range(n)]
         + ["status"]
     )
